@@ -1,0 +1,53 @@
+"""tftools: diagnose ROS tf trees on bag files and live systems, with tf2's exact semantics."""
+
+from tftools.core import (
+    DEFAULT_CACHE_TIME,
+    LATEST,
+    NS_PER_S,
+    BatchBuilder,
+    Buffer,
+    ConnectivityError,
+    EdgeHistory,
+    ExtrapolationError,
+    InvalidArgumentError,
+    LookupBatch,
+    Rejection,
+    RejectionCode,
+    SimClock,
+    TfToolsError,
+    Transform,
+    TransformBatch,
+    TransformError,
+    UnknownFrameError,
+    WallClock,
+    format_sec,
+    from_sec,
+    to_sec,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "DEFAULT_CACHE_TIME",
+    "LATEST",
+    "NS_PER_S",
+    "BatchBuilder",
+    "Buffer",
+    "ConnectivityError",
+    "EdgeHistory",
+    "ExtrapolationError",
+    "InvalidArgumentError",
+    "LookupBatch",
+    "Rejection",
+    "RejectionCode",
+    "SimClock",
+    "TfToolsError",
+    "Transform",
+    "TransformBatch",
+    "TransformError",
+    "UnknownFrameError",
+    "WallClock",
+    "format_sec",
+    "from_sec",
+    "to_sec",
+]

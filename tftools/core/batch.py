@@ -1,0 +1,185 @@
+"""``TransformBatch``: transforms in columns, the bulk input of a buffer."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+Int64Array = npt.NDArray[np.int64]
+Int32Array = npt.NDArray[np.int32]
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
+
+
+@dataclass
+class TransformBatch:
+    """Transforms in arrival order, one row each, as sources decode them.
+
+    Frame ids and authorities are indices into the batch's own string tables, which keep the
+    names exactly as received (a leading ``/`` or an empty id included): validating them is the
+    buffer's job. Several batches of one source may share the same tables.
+    """
+
+    frame_names: Sequence[str]
+    authorities: Sequence[str]
+    parent: Int32Array
+    child: Int32Array
+    stamp: Int64Array
+    translation: FloatArray  # (N, 3)
+    rotation: FloatArray  # (N, 4), x y z w
+    static: BoolArray  # received on /tf_static
+    record_time: Int64Array  # when it was received or recorded; 0 where unknown
+    authority: Int32Array = field(default_factory=lambda: np.zeros(0, np.int32))
+
+    def __post_init__(self) -> None:
+        n = len(self.stamp)
+        if len(self.authority) != n:
+            self.authority = np.zeros(n, np.int32)
+        for name in ("parent", "child", "record_time", "static"):
+            if len(getattr(self, name)) != n:
+                raise ValueError(f"TransformBatch.{name} has {len(getattr(self, name))} rows, not {n}")
+        if self.translation.shape != (n, 3) or self.rotation.shape != (n, 4):
+            raise ValueError("TransformBatch needs translation (N, 3) and rotation (N, 4)")
+
+    def __len__(self) -> int:
+        return len(self.stamp)
+
+    @classmethod
+    def empty(cls) -> TransformBatch:
+        return cls(
+            frame_names=[],
+            authorities=[],
+            parent=np.zeros(0, np.int32),
+            child=np.zeros(0, np.int32),
+            stamp=np.zeros(0, np.int64),
+            translation=np.zeros((0, 3)),
+            rotation=np.zeros((0, 4)),
+            static=np.zeros(0, bool),
+            record_time=np.zeros(0, np.int64),
+        )
+
+
+class BatchBuilder:
+    """Collects transforms one by one (or message by message) into ``TransformBatch`` es.
+
+    The fallback decoders and live sources use it; the fast bag decoders fill columns directly.
+    """
+
+    def __init__(self) -> None:
+        self.frame_names: list[str] = []
+        self.authorities: list[str] = []
+        self._frame_ids: dict[str, int] = {}
+        self._authority_ids: dict[str, int] = {}
+        self._clear()
+
+    def _clear(self) -> None:
+        self._ids: list[int] = []  # parent, child pairs
+        self._stamps: list[int] = []
+        self._values: list[float] = []  # 7 per row
+        self._static: list[bool] = []
+        self._record: list[int] = []
+        self._authority: list[int] = []
+
+    def __len__(self) -> int:
+        return len(self._stamps)
+
+    def frame_id(self, name: str) -> int:
+        index = self._frame_ids.get(name)
+        if index is None:
+            index = self._frame_ids[name] = len(self.frame_names)
+            self.frame_names.append(name)
+        return index
+
+    def authority_id(self, name: str) -> int:
+        index = self._authority_ids.get(name)
+        if index is None:
+            index = self._authority_ids[name] = len(self.authorities)
+            self.authorities.append(name)
+        return index
+
+    def add(
+        self,
+        parent: str,
+        child: str,
+        stamp: int,
+        translation: Sequence[float],
+        rotation: Sequence[float],
+        *,
+        static: bool = False,
+        record_time: int = 0,
+        authority: str = "",
+    ) -> None:
+        self._ids += (self.frame_id(parent), self.frame_id(child))
+        self._stamps.append(stamp)
+        self._values += (*translation, *rotation)
+        self._static.append(static)
+        self._record.append(record_time)
+        self._authority.append(self.authority_id(authority))
+
+    def take(self) -> TransformBatch:
+        """The rows added since the last ``take``, as a batch."""
+        ids = np.array(self._ids, np.int32).reshape(-1, 2)
+        values = np.array(self._values, np.float64).reshape(-1, 7)
+        batch = TransformBatch(
+            frame_names=self.frame_names,
+            authorities=self.authorities,
+            parent=ids[:, 0].copy(),
+            child=ids[:, 1].copy(),
+            stamp=np.array(self._stamps, np.int64),
+            translation=values[:, :3].copy(),
+            rotation=values[:, 3:].copy(),
+            static=np.array(self._static, bool),
+            record_time=np.array(self._record, np.int64),
+            authority=np.array(self._authority, np.int32),
+        )
+        self._clear()
+        return batch
+
+
+def concat_batches(batches: Sequence[TransformBatch]) -> TransformBatch:
+    """One batch of all rows, in the given order, over merged string tables."""
+    batches = [b for b in batches if len(b)]
+    if not batches:
+        return TransformBatch.empty()
+    if len(batches) == 1:
+        return batches[0]
+    frame_index: dict[str, int] = {}
+    authority_index: dict[str, int] = {}
+    parents, children, auths = [], [], []
+    for b in batches:
+        fmap = np.array([frame_index.setdefault(n, len(frame_index)) for n in b.frame_names] or [0], np.int32)
+        amap = np.array([authority_index.setdefault(n, len(authority_index)) for n in b.authorities] or [0], np.int32)
+        parents.append(fmap[b.parent])
+        children.append(fmap[b.child])
+        auths.append(amap[b.authority])
+    return TransformBatch(
+        frame_names=list(frame_index),
+        authorities=list(authority_index),
+        parent=np.concatenate(parents),
+        child=np.concatenate(children),
+        stamp=np.concatenate([b.stamp for b in batches]),
+        translation=np.concatenate([b.translation for b in batches]),
+        rotation=np.concatenate([b.rotation for b in batches]),
+        static=np.concatenate([b.static for b in batches]),
+        record_time=np.concatenate([b.record_time for b in batches]),
+        authority=np.concatenate(auths),
+    )
+
+
+def take_rows(batch: TransformBatch, rows: npt.NDArray[np.intp]) -> TransformBatch:
+    """The given rows of ``batch``, in that order, sharing its string tables."""
+    return TransformBatch(
+        frame_names=batch.frame_names,
+        authorities=batch.authorities,
+        parent=batch.parent[rows],
+        child=batch.child[rows],
+        stamp=batch.stamp[rows],
+        translation=batch.translation[rows],
+        rotation=batch.rotation[rows],
+        static=batch.static[rows],
+        record_time=batch.record_time[rows],
+        authority=batch.authority[rows],
+    )

@@ -1,0 +1,440 @@
+"""``Buffer``: tf2's BufferCore over numpy edge histories."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core import walk
+from tftools.core.batch import BatchBuilder, TransformBatch
+from tftools.core.errors import InvalidArgumentError, UnknownFrameError
+from tftools.core.frames import NO_PARENT, FrameTable
+from tftools.core.history import (
+    CHILD_HAD_SLASH,
+    FROM_STATIC_TOPIC,
+    PARENT_HAD_SLASH,
+    EdgeHistory,
+)
+from tftools.core.rejection import Rejection, RejectionCode
+from tftools.core.time import NS_PER_S, Clock, SimClock
+from tftools.core.transform import Transform
+
+#: tf2's default cache length (``BufferCore::DEFAULT_CACHE_TIME``), for live buffers.
+DEFAULT_CACHE_TIME = 10 * NS_PER_S
+
+#: tf2 accepts a quaternion whose squared norm is within this of 1.
+QUATERNION_TOLERANCE = 10e-3
+
+
+@dataclass(frozen=True)
+class LookupBatch:
+    """``Buffer.lookup_many``'s answer: one row per requested time."""
+
+    stamps: npt.NDArray[np.int64]  # the time each lookup was made at (time 0 resolved)
+    translations: npt.NDArray[np.float64]  # (N, 3)
+    rotations: npt.NDArray[np.float64]  # (N, 4), x y z w
+    valid: npt.NDArray[np.bool_]  # where tf2 would have succeeded
+
+    def __len__(self) -> int:
+        return len(self.stamps)
+
+
+class Buffer:
+    """A tf buffer with tf2's semantics: frames, edge histories, lookups.
+
+    ``cache_time`` (nanoseconds) bounds each edge's history as tf2's cache does; ``None`` keeps
+    everything, which is what whole-bag analysis wants. ``clock`` answers "what time is it":
+    a ``SimClock`` (bag time) unless a live source gives a wall clock.
+    """
+
+    def __init__(self, cache_time: int | None = DEFAULT_CACHE_TIME, clock: Clock | None = None):
+        self.cache_time = cache_time
+        self.clock: Clock = clock if clock is not None else SimClock()
+        self.rejections: list[Rejection] = []
+        self.authorities: list[str] = []
+        self._authority_ids: dict[str, int] = {}
+        self._frames = FrameTable()
+        self._histories: list[EdgeHistory | None] = [None]
+        self._arrivals = 0
+
+    # --- frames ------------------------------------------------------------------------------
+
+    @property
+    def frames(self) -> list[str]:
+        """Every frame, in the order tf2 would have interned them."""
+        return self._frames.names[1:]
+
+    def has_frame(self, frame: str) -> bool:
+        return frame in self._frames
+
+    def history(self, child_frame: str) -> EdgeHistory | None:
+        """The samples stored for ``child_frame`` (None for a root or unknown frame)."""
+        return self._histories[self._frames.get(child_frame)]
+
+    def histories(self) -> Iterator[tuple[str, EdgeHistory]]:
+        """Each child frame with its history, in frame order."""
+        names = self._frames.names
+        for frame_id, hist in enumerate(self._histories):
+            if hist is not None:
+                yield names[frame_id], hist
+
+    def frame_name(self, frame_id: int) -> str:
+        return self._frames.names[frame_id]
+
+    def parent(self, frame: str, time: int = 0) -> str | None:
+        """``frame``'s parent at ``time`` (latest if 0), or None (root, unknown, no data then)."""
+        hist = self.history(frame)
+        if hist is None:
+            return None
+        parent = hist.parent_at(time)
+        return None if isinstance(parent, str) else self._frames.names[parent]
+
+    def now(self) -> int:
+        return self.clock.now()
+
+    # --- insertion ---------------------------------------------------------------------------
+
+    def set_transform(
+        self,
+        transform: Transform,
+        authority: str = "",
+        static: bool = False,
+        record_time: int = 0,
+    ) -> bool:
+        """Add one transform as tf2's ``setTransform`` does; False if it was refused."""
+        builder = BatchBuilder()
+        builder.add(
+            transform.frame_id,
+            transform.child_frame_id,
+            transform.stamp,
+            transform.translation,
+            transform.rotation,
+            static=static,
+            record_time=record_time,
+            authority=authority,
+        )
+        return self.insert(builder.take()) == 1
+
+    def insert(self, batch: TransformBatch) -> int:
+        """Add a batch in its row order, exactly as that many ``set_transform`` calls would.
+
+        Returns how many rows were stored. Refused rows are appended to ``rejections``.
+        """
+        n = len(batch)
+        if n == 0:
+            return 0
+        names = _StrippedNames(batch.frame_names, np.concatenate([batch.parent, batch.child]))
+        parent_key, child_key = names.key[batch.parent], names.key[batch.child]
+        values = np.concatenate([batch.translation, batch.rotation], axis=1)
+        sequence = np.arange(self._arrivals, self._arrivals + n, dtype=np.int64)
+        self._arrivals += n
+        authority = self._authority_map(batch.authorities)[batch.authority]
+        flags = (
+            batch.static.astype(np.uint8) * FROM_STATIC_TOPIC
+            | names.slash[batch.parent].astype(np.uint8) * PARENT_HAD_SLASH
+            | names.slash[batch.child].astype(np.uint8) * CHILD_HAD_SLASH
+        )
+        refusals = _validate(values, parent_key, child_key, names.empty_key)
+        self._record_refusals(refusals, batch, names, parent_key, child_key, values, authority)
+        ok = ~np.any(list(refusals.values()), axis=0) if refusals else np.ones(n, bool)
+        rows = np.flatnonzero(ok)
+        if len(rows) == 0:
+            return 0
+        ids = self._intern(names.stripped, child_key[rows], parent_key[rows])
+        child, parent = ids[0], ids[1]
+        stored = 0
+        for frame_id, group in _groups(child):
+            r = rows[group]
+            stored += self._store(
+                frame_id,
+                batch.stamp[r],
+                values[r],
+                parent[group],
+                authority[r],
+                batch.record_time[r],
+                sequence[r],
+                flags[r],
+            )
+        return stored
+
+    def _authority_map(self, authorities: Sequence[str]) -> npt.NDArray[np.int32]:
+        ids = []
+        for name in authorities:
+            if name not in self._authority_ids:
+                self._authority_ids[name] = len(self.authorities)
+                self.authorities.append(name)
+            ids.append(self._authority_ids[name])
+        return np.array(ids or [0], np.int32)
+
+    def _intern(
+        self, stripped: list[str], child_key: npt.NDArray[np.int32], parent_key: npt.NDArray[np.int32]
+    ) -> npt.NDArray[np.int32]:
+        """Frame ids for (child, parent) rows, interning new names child first, as tf2 does."""
+        keys = np.stack([child_key, parent_key])  # (2, rows)
+        interleaved = keys.T.reshape(-1)
+        unique, first = np.unique(interleaved, return_index=True)
+        key_to_id = np.zeros(len(stripped), np.int32)
+        for key in unique[np.argsort(first)]:
+            key_to_id[key] = self._frames.intern(stripped[key])
+        missing = len(self._frames.names) - len(self._histories)
+        self._histories.extend([None] * missing)
+        return key_to_id[keys]
+
+    def _store(
+        self,
+        frame_id: int,
+        stamps: npt.NDArray[np.int64],
+        values: npt.NDArray[np.float64],
+        parents: npt.NDArray[np.int32],
+        authorities: npt.NDArray[np.int32],
+        record_times: npt.NDArray[np.int64],
+        sequence: npt.NDArray[np.int64],
+        flags: npt.NDArray[np.uint8],
+    ) -> int:
+        hist = self._histories[frame_id]
+        if hist is None:
+            # tf2 makes a frame static or dynamic once, by its first accepted sample.
+            static = bool(flags[0] & FROM_STATIC_TOPIC)
+            hist = self._histories[frame_id] = EdgeHistory(static, capacity=len(stamps))
+        keep = np.ones(len(stamps), bool)
+        if not hist.static:
+            old, repeated = self._refused_stamps(hist, stamps)
+            for code, mask in ((RejectionCode.OLD_DATA, old), (RejectionCode.REPEATED_DATA, repeated)):
+                for i in np.flatnonzero(mask):
+                    self.rejections.append(
+                        Rejection(
+                            code,
+                            self._frames.names[parents[i]],
+                            self._frames.names[frame_id],
+                            int(stamps[i]),
+                            self.authorities[authorities[i]],
+                            int(record_times[i]),
+                        )
+                    )
+            keep = ~(old | repeated)
+        hist.add(
+            stamps[keep],
+            values[keep],
+            parents[keep],
+            authorities[keep],
+            record_times[keep],
+            sequence[keep],
+            flags[keep],
+        )
+        if self.cache_time is not None:
+            hist.prune(self.cache_time)
+        return int(keep.sum())
+
+    def _refused_stamps(
+        self, hist: EdgeHistory, stamps: npt.NDArray[np.int64]
+    ) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
+        """tf2's ``TF_OLD_DATA`` and ``TF_REPEATED_DATA`` for rows arriving in this order."""
+        old = np.zeros(len(stamps), bool)
+        if self.cache_time is not None:
+            floor = np.iinfo(np.int64).min
+            latest_before = np.maximum.accumulate(
+                np.concatenate([[hist.latest_stamp if len(hist) else floor], stamps[:-1]])
+            )
+            old = stamps + self.cache_time < latest_before
+        repeated = np.zeros(len(stamps), bool)
+        fresh = np.flatnonzero(~old)
+        if len(hist):
+            repeated[fresh] = hist.contains(stamps[fresh])
+        _, first = np.unique(stamps[fresh], return_index=True)
+        seen_before = np.ones(len(fresh), bool)
+        seen_before[first] = False
+        repeated[fresh[seen_before]] = True
+        return old, repeated
+
+    def _record_refusals(
+        self,
+        refusals: dict[RejectionCode, npt.NDArray[np.bool_]],
+        batch: TransformBatch,
+        names: _StrippedNames,
+        parent_key: npt.NDArray[np.int32],
+        child_key: npt.NDArray[np.int32],
+        values: npt.NDArray[np.float64],
+        authority: npt.NDArray[np.int32],
+    ) -> None:
+        for code, mask in refusals.items():
+            for i in np.flatnonzero(mask):
+                shown = values[i] if code is RejectionCode.NAN_INPUT else values[i, 3:]
+                self.rejections.append(
+                    Rejection(
+                        code,
+                        names.stripped[parent_key[i]],
+                        names.stripped[child_key[i]],
+                        int(batch.stamp[i]),
+                        self.authorities[authority[i]],
+                        int(batch.record_time[i]),
+                        tuple(float(v) for v in shown),
+                    )
+                )
+
+    # --- lookups -----------------------------------------------------------------------------
+
+    def lookup(self, target_frame: str, source_frame: str, time: int = 0) -> Transform:
+        """The transform taking ``source_frame`` data into ``target_frame`` at ``time`` (ns).
+
+        Time 0 means the latest time all edges of the chain share. Raises tf2's errors with
+        tf2's messages: ``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``,
+        ``InvalidArgumentError``.
+        """
+        if target_frame == source_frame:
+            return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
+        target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
+        source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
+        translation, rotation, stamp = walk.lookup(self._tree(), target_id, source_id, time)
+        return Transform(translation, rotation, stamp, target_frame, source_frame)
+
+    def lookup_full(
+        self,
+        target_frame: str,
+        target_time: int,
+        source_frame: str,
+        source_time: int,
+        fixed_frame: str,
+    ) -> Transform:
+        """tf2's "time travel": ``source_frame`` at ``source_time`` into ``target_frame`` at
+        ``target_time``, assuming ``fixed_frame`` does not move between the two times."""
+        self._frame_id("lookupTransform argument target_frame", target_frame)
+        self._frame_id("lookupTransform argument source_frame", source_frame)
+        self._frame_id("lookupTransform argument fixed_frame", fixed_frame)
+        source_in_fixed = self.lookup(fixed_frame, source_frame, source_time)
+        fixed_in_target = self.lookup(target_frame, fixed_frame, target_time)
+        composed = fixed_in_target * source_in_fixed
+        return Transform(
+            composed.translation, composed.rotation, fixed_in_target.stamp, target_frame, source_frame
+        )
+
+    def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
+        """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
+        if target_frame == source_frame:
+            return True
+        target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
+        if NO_PARENT in (target_id, source_id):
+            return False
+        return walk.can_transform(self._tree(), target_id, source_id, time)
+
+    def can_transform_full(
+        self,
+        target_frame: str,
+        target_time: int,
+        source_frame: str,
+        source_time: int,
+        fixed_frame: str,
+    ) -> bool:
+        return self.can_transform(target_frame, fixed_frame, target_time) and self.can_transform(
+            fixed_frame, source_frame, source_time
+        )
+
+    def latest_common_time(self, target_frame: str, source_frame: str) -> int:
+        """The newest time at which every edge between the two frames has data (0: all static)."""
+        target_id = self._frame_id("getLatestCommonTime argument target_frame", target_frame)
+        source_id = self._frame_id("getLatestCommonTime argument source_frame", source_frame)
+        return walk.latest_common_time(self._tree(), target_id, source_id)
+
+    def lookup_many(
+        self, target_frame: str, source_frame: str, times: npt.ArrayLike
+    ) -> LookupBatch:
+        """``lookup`` at many times (int64 ns), vectorized; ``valid`` marks where tf2 succeeds.
+
+        Unknown or invalid frame names raise as ``lookup`` does; every other failure is a
+        ``False`` in ``valid`` (call ``lookup`` at such a time for tf2's reason).
+        """
+        stamps = np.asarray(times, dtype=np.int64).reshape(-1)
+        if target_frame == source_frame:
+            resolved = np.where(stamps == 0, self._identity_stamp(target_frame, 0), stamps)
+            n = len(stamps)
+            return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
+        target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
+        source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
+        return LookupBatch(*walk.lookup_many(self._tree(), target_id, source_id, stamps))
+
+    def chain(self, target_frame: str, source_frame: str, time: int = 0) -> list[str]:
+        """The frames a lookup passes through, from ``source_frame`` to ``target_frame``."""
+        if target_frame == source_frame:
+            return [source_frame]
+        target_id = self._frame_id("chain argument target_frame", target_frame)
+        source_id = self._frame_id("chain argument source_frame", source_frame)
+        return [self._frames.names[f] for f in walk.chain(self._tree(), target_id, source_id, time)]
+
+    # --- tf2's introspection -----------------------------------------------------------------
+
+    def all_frames_as_string(self) -> str:
+        """tf2's ``allFramesAsString``: "Frame X exists with parent Y." per child frame."""
+        return walk.frames_as_string(self._tree())
+
+    def _tree(self) -> walk.Tree:
+        return walk.Tree(self._histories, self._frames.names)
+
+    def _identity_stamp(self, frame: str, time: int) -> int:
+        if time != 0:
+            return time
+        hist = self.history(frame)
+        return hist.latest_stamp if hist is not None else 0
+
+    def _frame_id(self, argument: str, frame: str) -> int:
+        """tf2's ``validateFrameId``."""
+        if not frame:
+            raise InvalidArgumentError.empty(argument)
+        if frame.startswith("/"):
+            raise InvalidArgumentError.leading_slash(frame, argument)
+        frame_id = self._frames.get(frame)
+        if frame_id == NO_PARENT:
+            raise UnknownFrameError.missing(frame, argument)
+        return frame_id
+
+
+class _StrippedNames:
+    """A batch's raw frame names, without their leading ``/``, as local integer keys."""
+
+    def __init__(self, raw: Sequence[str], used: npt.NDArray[np.int32]) -> None:
+        self.stripped: list[str] = []
+        index: dict[str, int] = {}
+        self.key = np.zeros(len(raw), np.int32)
+        self.slash = np.zeros(len(raw), bool)
+        for i in np.unique(used).tolist():
+            name = raw[i]
+            if name.startswith("/"):
+                name = name[1:]
+                self.slash[i] = True
+            key = index.get(name)
+            if key is None:
+                key = index[name] = len(self.stripped)
+                self.stripped.append(name)
+            self.key[i] = key
+        self.empty_key = index.get("", -1)
+
+
+def _validate(
+    values: npt.NDArray[np.float64],
+    parent_key: npt.NDArray[np.int32],
+    child_key: npt.NDArray[np.int32],
+    empty_key: int,
+) -> dict[RejectionCode, npt.NDArray[np.bool_]]:
+    """tf2's checks in ``setTransform``, each a mask of the rows it refuses (only non-empty)."""
+    x, y, z, w = values[:, 3], values[:, 4], values[:, 5], values[:, 6]
+    with np.errstate(invalid="ignore", over="ignore"):
+        norm_error = np.abs((w * w + x * x + y * y + z * z) - 1.0)
+    masks = {
+        RejectionCode.SELF_TRANSFORM: parent_key == child_key,
+        RejectionCode.NO_CHILD_FRAME_ID: child_key == empty_key,
+        RejectionCode.NO_FRAME_ID: parent_key == empty_key,
+        # tf2 checks isnan only and would store an infinite translation; we refuse it too.
+        RejectionCode.NAN_INPUT: ~np.isfinite(values).all(axis=1),
+        RejectionCode.DENORMALIZED_QUATERNION: ~(norm_error < QUATERNION_TOLERANCE),
+    }
+    return {code: mask for code, mask in masks.items() if mask.any()}
+
+
+def _groups(keys: npt.NDArray[np.int32]) -> Iterator[tuple[int, npt.NDArray[np.intp]]]:
+    """Each distinct key with the positions holding it, positions in their original order."""
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    bounds = np.flatnonzero(np.diff(sorted_keys)) + 1
+    for group in np.split(order, bounds):
+        yield int(keys[group[0]]), group

@@ -1,0 +1,57 @@
+"""The one error hierarchy of lookups, with tf2's meanings and tf2's message text."""
+
+from __future__ import annotations
+
+
+class TfToolsError(Exception):
+    """Base of every error tftools raises on purpose; the CLI prints it as one line."""
+
+    hint: str = ""
+
+
+class TransformError(TfToolsError):
+    """A lookup failed: tf2's ``TransformException``."""
+
+
+class UnknownFrameError(TransformError):
+    """A frame is not in the buffer, or the graph loops: tf2's ``LookupException``."""
+
+    @classmethod
+    def missing(cls, frame: str, argument: str) -> UnknownFrameError:
+        return cls(f'"{frame}" passed to {argument} does not exist. ')
+
+    @classmethod
+    def loop(cls, frames_as_string: str) -> UnknownFrameError:
+        return cls(
+            "The tf tree is invalid because it contains a loop.\n" + frames_as_string + "\n"
+        )
+
+
+class ConnectivityError(TransformError):
+    """The two frames are in different trees: tf2's ``ConnectivityException``."""
+
+    @classmethod
+    def between(cls, target: str, source: str) -> ConnectivityError:
+        return cls(
+            f"Could not find a connection between '{target}' and '{source}' because they are "
+            "not part of the same tree.Tf has two or more unconnected trees."
+        )
+
+
+class ExtrapolationError(TransformError):
+    """The time is outside an edge's history: tf2's ``ExtrapolationException``."""
+
+
+class InvalidArgumentError(TransformError):
+    """An empty frame id or one with a leading slash: tf2's ``InvalidArgumentException``."""
+
+    @classmethod
+    def empty(cls, argument: str) -> InvalidArgumentError:
+        return cls(f"Invalid argument passed to {argument} in tf2 frame_ids cannot be empty")
+
+    @classmethod
+    def leading_slash(cls, frame: str, argument: str) -> InvalidArgumentError:
+        return cls(
+            f'Invalid argument "{frame}" passed to {argument} in tf2 frame_ids cannot start '
+            "with a '/' like: "
+        )

@@ -1,0 +1,322 @@
+"""``EdgeHistory``: one child frame's samples in contiguous arrays (tf2's TimeCache/StaticCache)."""
+
+from __future__ import annotations
+
+from bisect import bisect_right
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.rotation import FloatArray, slerp, slerp_many
+from tftools.core.time import format_sec
+
+Int64Array = npt.NDArray[np.int64]
+Int32Array = npt.NDArray[np.int32]
+UInt8Array = npt.NDArray[np.uint8]
+BoolArray = npt.NDArray[np.bool_]
+
+#: ``EdgeHistory.flags`` bits.
+FROM_STATIC_TOPIC = 1
+PARENT_HAD_SLASH = 2
+CHILD_HAD_SLASH = 4
+
+#: A sample as the scalar lookup path uses it: parent id and tx ty tz qx qy qz qw.
+Sample = tuple[int, list[float]]
+
+
+class EdgeHistory:
+    """The samples of one child frame: stamps, values, parents, and where each came from.
+
+    A dynamic history is sorted by stamp with no stamp twice, like tf2's ``TimeCache``; a
+    static history keeps every sample in arrival order and answers with the last one at every
+    time, like tf2's ``StaticCache`` (which keeps only that one). Each row stores the parent,
+    so a frame can change parent over time. The arrays grow in amortized chunks, and pruning
+    (a finite cache time) drops a prefix by moving ``start``.
+    """
+
+    __slots__ = (
+        "_authorities",
+        "_end",
+        "_flags",
+        "_parents",
+        "_record_times",
+        "_sequence",
+        "_stamp_index",
+        "_stamps",
+        "_start",
+        "_values",
+        "static",
+    )
+
+    def __init__(self, static: bool, capacity: int = 8) -> None:
+        self.static = static
+        self._start = 0
+        self._end = 0
+        self._allocate(max(capacity, 1))
+
+    def _allocate(self, capacity: int) -> None:
+        n = self._end - self._start
+        s = slice(self._start, self._end)
+        stamps = np.empty(capacity, np.int64)
+        values = np.empty((capacity, 7), np.float64)
+        parents = np.empty(capacity, np.int32)
+        authorities = np.empty(capacity, np.int32)
+        record_times = np.empty(capacity, np.int64)
+        sequence = np.empty(capacity, np.int64)
+        flags = np.empty(capacity, np.uint8)
+        if n:
+            stamps[:n] = self._stamps[s]
+            values[:n] = self._values[s]
+            parents[:n] = self._parents[s]
+            authorities[:n] = self._authorities[s]
+            record_times[:n] = self._record_times[s]
+            sequence[:n] = self._sequence[s]
+            flags[:n] = self._flags[s]
+        self._stamps, self._values, self._parents = stamps, values, parents
+        self._authorities, self._record_times = authorities, record_times
+        self._sequence, self._flags = sequence, flags
+        self._stamp_index = memoryview(stamps)  # bisect on it yields Python ints, no numpy scalars
+        self._start, self._end = 0, n
+
+    # --- views -------------------------------------------------------------------------------
+
+    def __len__(self) -> int:
+        return self._end - self._start
+
+    @property
+    def stamps(self) -> Int64Array:
+        return self._stamps[self._start : self._end]
+
+    @property
+    def values(self) -> FloatArray:
+        """(N, 7): tx ty tz qx qy qz qw."""
+        return self._values[self._start : self._end]
+
+    @property
+    def translations(self) -> FloatArray:
+        return self._values[self._start : self._end, :3]
+
+    @property
+    def rotations(self) -> FloatArray:
+        return self._values[self._start : self._end, 3:]
+
+    @property
+    def parents(self) -> Int32Array:
+        return self._parents[self._start : self._end]
+
+    @property
+    def authorities(self) -> Int32Array:
+        return self._authorities[self._start : self._end]
+
+    @property
+    def record_times(self) -> Int64Array:
+        return self._record_times[self._start : self._end]
+
+    @property
+    def sequence(self) -> Int64Array:
+        """Arrival order across the whole buffer, to tell when stamps went backwards."""
+        return self._sequence[self._start : self._end]
+
+    @property
+    def flags(self) -> UInt8Array:
+        return self._flags[self._start : self._end]
+
+    @property
+    def latest_stamp(self) -> int:
+        """tf2's ``getLatestTimestamp``: 0 for a static edge or an empty history."""
+        if self.static or self._end == self._start:
+            return 0
+        return self._stamp_index[self._end - 1]
+
+    @property
+    def oldest_stamp(self) -> int:
+        if self.static or self._end == self._start:
+            return 0
+        return self._stamp_index[self._start]
+
+    @property
+    def latest_parent(self) -> int:
+        """The parent of the newest sample (the current one, for a static edge); 0 if empty."""
+        return int(self._parents[self._end - 1]) if self._end > self._start else 0
+
+    # --- insertion ---------------------------------------------------------------------------
+
+    def add(
+        self,
+        stamps: Int64Array,
+        values: FloatArray,
+        parents: Int32Array,
+        authorities: Int32Array,
+        record_times: Int64Array,
+        sequence: Int64Array,
+        flags: UInt8Array,
+    ) -> None:
+        """Store accepted rows: appended for a static edge, merged by stamp for a dynamic one.
+
+        The caller has already refused repeated and too-old stamps, as tf2 does.
+        """
+        k = len(stamps)
+        if k == 0:
+            return
+        in_order = self.static or (
+            (self._end == self._start or stamps[0] > self._stamp_index[self._end - 1])
+            and (k == 1 or bool(np.all(stamps[1:] > stamps[:-1])))
+        )
+        if self._end + k > len(self._stamps):
+            self._allocate(max(2 * (len(self) + k), 8))
+        s = slice(self._end, self._end + k)
+        self._stamps[s], self._values[s], self._parents[s] = stamps, values, parents
+        self._authorities[s], self._record_times[s] = authorities, record_times
+        self._sequence[s], self._flags[s] = sequence, flags
+        self._end += k
+        if not in_order:
+            self._sort()
+
+    def _sort(self) -> None:
+        s = slice(self._start, self._end)
+        order = np.argsort(self._stamps[s], kind="stable")
+        for column in (
+            self._stamps,
+            self._values,
+            self._parents,
+            self._authorities,
+            self._record_times,
+            self._sequence,
+            self._flags,
+        ):
+            column[s] = column[s][order]
+
+    def contains(self, stamps: Int64Array) -> BoolArray:
+        """Which of ``stamps`` a dynamic history already holds."""
+        held = self.stamps
+        i = np.searchsorted(held, stamps)
+        found = np.zeros(len(stamps), bool)
+        inside = i < len(held)
+        found[inside] = held[i[inside]] == stamps[inside]
+        return found
+
+    def prune(self, cache_time: int) -> None:
+        """Drop samples older than ``cache_time`` before the newest, as tf2's ``pruneList``."""
+        if self.static or self._end == self._start:
+            return
+        oldest_kept = self._stamp_index[self._end - 1] - cache_time
+        first = bisect_right(self._stamp_index, oldest_kept - 1, self._start, self._end)
+        self._start = first
+        if self._start > len(self._stamps) // 2:
+            self._allocate(len(self._stamps))
+
+    # --- lookups (tf2's TimeCache::getData / getParent) -------------------------------------
+
+    def sample(self, time: int) -> Sample | str:
+        """The edge at ``time``, interpolated; or tf2's reason why not (empty if no data)."""
+        row = self._row_at(time)
+        if isinstance(row, str):
+            return row
+        if row >= 0:
+            values = self._values[row].tolist()
+            return int(self._parents[row]), values
+        one = -row - 1
+        parent_one = int(self._parents[one])
+        if parent_one != self._parents[one + 1]:
+            return parent_one, self._values[one].tolist()
+        a, b = self._values[one : one + 2].tolist()
+        t0, t1 = self._stamp_index[one], self._stamp_index[one + 1]
+        r = (time - t0) / (t1 - t0)
+        s = 1.0 - r
+        q = slerp((a[3], a[4], a[5], a[6]), (b[3], b[4], b[5], b[6]), r)
+        return parent_one, [s * a[0] + r * b[0], s * a[1] + r * b[1], s * a[2] + r * b[2], *q]
+
+    def parent_at(self, time: int) -> int | str:
+        """The parent at ``time`` (of the older of the two samples around it), or the reason."""
+        row = self._row_at(time)
+        if isinstance(row, str):
+            return row
+        return int(self._parents[row if row >= 0 else -row - 1])
+
+    def _row_at(self, time: int) -> int | str:
+        """tf2's ``findClosest``: a row ``i >= 0`` to use as is, ``-(i + 1)`` to interpolate
+        between rows ``i`` and ``i + 1``, or the extrapolation message."""
+        start, end = self._start, self._end
+        if end == start:
+            return ""
+        if self.static or time == 0:
+            return end - 1
+        stamps = self._stamp_index
+        if end - start == 1:
+            if stamps[start] == time:
+                return start
+            return _single_sample_message(time, stamps[start])
+        latest, earliest = stamps[end - 1], stamps[start]
+        if time == latest:
+            return end - 1
+        if time == earliest:
+            return start
+        if time > latest:
+            return _future_message(time, latest)
+        if time < earliest:
+            return _past_message(time, earliest)
+        return -bisect_right(stamps, time, start, end)  # = -(older row + 1)
+
+    def sample_many(self, times: Int64Array) -> tuple[Int32Array, FloatArray, BoolArray]:
+        """``sample`` over many times at once: parents, values (N, 7), and which succeeded."""
+        n = len(times)
+        start, end = self._start, self._end
+        if end == start:
+            return np.zeros(n, np.int32), np.zeros((n, 7)), np.zeros(n, bool)
+        if self.static:
+            return (
+                np.full(n, self._parents[end - 1], np.int32),
+                np.broadcast_to(self._values[end - 1], (n, 7)),
+                np.ones(n, bool),
+            )
+        stamps = self._stamps[start:end]
+        latest = stamps[-1]
+        times = np.where(times == 0, latest, times)
+        ok = (times >= stamps[0]) & (times <= latest)
+        one = np.searchsorted(stamps, times, side="right") - 1
+        np.clip(one, 0, len(stamps) - 1, out=one)
+        two = np.minimum(one + 1, len(stamps) - 1)
+        parents = self._parents[start:end]
+        values = self._values[start:end]
+        exact = (stamps[one] == times) | (parents[one] != parents[two])
+        out = values[one].copy()
+        blend = ~exact & ok
+        if blend.any():
+            i0, i1 = one[blend], two[blend]
+            t0 = stamps[i0]
+            r = (times[blend] - t0) / (stamps[i1] - t0)
+            a, b = values[i0], values[i1]
+            out[blend, :3] = (1.0 - r)[:, None] * a[:, :3] + r[:, None] * b[:, :3]
+            out[blend, 3:] = slerp_many(a[:, 3:], b[:, 3:], r)
+        return parents[one], out, ok
+
+
+def _fixed(text: str, size: int) -> str:
+    """What C's ``snprintf`` leaves of ``text`` in a buffer of ``size`` bytes."""
+    return text[: size - 1]
+
+
+# tf2 0.7.6 (the version Debian ships) formats these into fixed-size buffers that can cut the
+# text short ("... is in the buffe"); we reproduce the cut so messages match byte for byte.
+def _single_sample_message(time: int, only: int) -> str:
+    return _fixed(
+        f"Lookup would require extrapolation at time {format_sec(time)}, "
+        f"but only time {format_sec(only)} is in the buffer",
+        116,
+    )
+
+
+def _future_message(time: int, latest: int) -> str:
+    return _fixed(
+        f"Lookup would require extrapolation {format_sec(time - latest)}s into the future.  "
+        f"Requested time {format_sec(time)} but the latest data is at time {format_sec(latest)}",
+        163,
+    )
+
+
+def _past_message(time: int, earliest: int) -> str:
+    return _fixed(
+        f"Lookup would require extrapolation {format_sec(earliest - time)}s into the past.  "
+        f"Requested time {format_sec(time)} but the earliest data is at time {format_sec(earliest)}",
+        163,
+    )

@@ -1,0 +1,217 @@
+"""Quaternion and vector math with tf2's formulas and conventions.
+
+Quaternions are (x, y, z, w). Rotations are active: ``quat_rotate(q, v)`` turns ``v`` by ``q``.
+The formulas are tf2's own (``tf2/LinearMath``), not normalised ones, so that results agree with
+tf2 to the last bits even for the slightly non-unit quaternions tf2 accepts (it tolerates
+``|q|^2`` within 0.01 of 1). Each function has a scalar form on tuples, for single lookups
+where numpy's per-call cost dominates, and a ``_many`` form on ``(N, 4)`` / ``(N, 3)`` arrays.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+Vec3 = tuple[float, float, float]
+Quat = tuple[float, float, float, float]
+FloatArray = npt.NDArray[np.float64]
+
+IDENTITY_QUAT: Quat = (0.0, 0.0, 0.0, 1.0)
+ZERO_VEC: Vec3 = (0.0, 0.0, 0.0)
+
+
+def quat_multiply(a: Quat, b: Quat) -> Quat:
+    """The Hamilton product ``a * b``: rotate by ``b``, then by ``a``."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by + ay * bw + az * bx - ax * bz,
+        aw * bz + az * bw + ax * by - ay * bx,
+        aw * bw - ax * bx - ay * by - az * bz,
+    )
+
+
+def quat_conjugate(q: Quat) -> Quat:
+    """tf2's ``Quaternion::inverse``: the conjugate (the inverse of a unit quaternion)."""
+    return (-q[0], -q[1], -q[2], q[3])
+
+
+def quat_rotate(q: Quat, v: Vec3) -> Vec3:
+    """``q * v * conj(q)``, tf2's ``quatRotate``."""
+    qx, qy, qz, qw = q
+    vx, vy, vz = v
+    # q * (v, 0)
+    px = qw * vx + qy * vz - qz * vy
+    py = qw * vy + qz * vx - qx * vz
+    pz = qw * vz + qx * vy - qy * vx
+    pw = -qx * vx - qy * vy - qz * vz
+    # ... * conj(q)
+    return (
+        pw * -qx + px * qw + py * -qz - pz * -qy,
+        pw * -qy + py * qw + pz * -qx - px * -qz,
+        pw * -qz + pz * qw + px * -qy - py * -qx,
+    )
+
+
+def slerp(a: Quat, b: Quat, t: float) -> Quat:
+    """Spherical interpolation from ``a`` (t=0) to ``b`` (t=1) along the shorter arc (tf2's)."""
+    dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+    norms = math.sqrt(
+        (a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3])
+        * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3])
+    )
+    theta = math.acos(_clamp_unit(abs(dot) / norms))
+    if theta == 0.0:
+        return a
+    d = 1.0 / math.sin(theta)
+    s0 = math.sin((1.0 - t) * theta)
+    s1 = math.sin(t * theta) if dot >= 0 else -math.sin(t * theta)
+    return (
+        (a[0] * s0 + b[0] * s1) * d,
+        (a[1] * s0 + b[1] * s1) * d,
+        (a[2] * s0 + b[2] * s1) * d,
+        (a[3] * s0 + b[3] * s1) * d,
+    )
+
+
+def _clamp_unit(x: float) -> float:
+    # For two nearly equal rotations the cosine can round to just above 1, where tf2's acos
+    # yields NaN and its slerp returns NaNs. Clamping returns the (equal) rotation instead;
+    # every value within [-1, 1] is left exactly as tf2 computes it.
+    return 1.0 if x > 1.0 else x
+
+
+def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
+    """Fixed-axis roll (X), pitch (Y), yaw (Z): tf2's ``Quaternion::setRPY``."""
+    cy, sy = math.cos(yaw * 0.5), math.sin(yaw * 0.5)
+    cp, sp = math.cos(pitch * 0.5), math.sin(pitch * 0.5)
+    cr, sr = math.cos(roll * 0.5), math.sin(roll * 0.5)
+    return (
+        sr * cp * cy - cr * sp * sy,
+        cr * sp * cy + sr * cp * sy,
+        cr * cp * sy - sr * sp * cy,
+        cr * cp * cy + sr * sp * sy,
+    )
+
+
+def matrix_from_quat(q: Quat) -> tuple[Vec3, Vec3, Vec3]:
+    """The 3x3 rotation matrix of ``q``, rows first: tf2's ``Matrix3x3::setRotation``."""
+    x, y, z, w = q
+    s = 2.0 / (x * x + y * y + z * z + w * w)
+    xs, ys, zs = x * s, y * s, z * s
+    wx, wy, wz = w * xs, w * ys, w * zs
+    xx, xy, xz = x * xs, x * ys, x * zs
+    yy, yz, zz = y * ys, y * zs, z * zs
+    return (
+        (1.0 - (yy + zz), xy - wz, xz + wy),
+        (xy + wz, 1.0 - (xx + zz), yz - wx),
+        (xz - wy, yz + wx, 1.0 - (xx + yy)),
+    )
+
+
+def rpy_from_quat(q: Quat) -> Vec3:
+    """Roll, pitch, yaw of ``q``: tf2's ``Matrix3x3::getRPY`` (first solution), as tf_echo prints."""
+    m = matrix_from_quat(q)
+    m20 = m[2][0]
+    if abs(m20) >= 1.0:
+        delta = math.atan2(m[2][1], m[2][2])
+        pitch = math.pi / 2 if m20 < 0 else -math.pi / 2
+        return (delta, pitch, 0.0)
+    pitch = -math.asin(m20)
+    c = math.cos(pitch)
+    roll = math.atan2(m[2][1] / c, m[2][2] / c)
+    yaw = math.atan2(m[1][0] / c, m[0][0] / c)
+    return (roll, pitch, yaw)
+
+
+def quat_from_matrix(m: FloatArray) -> Quat:
+    """The unit quaternion of a 3x3 rotation matrix (tf2's ``Matrix3x3::getRotation``)."""
+    trace = m[0, 0] + m[1, 1] + m[2, 2]
+    if trace > 0.0:
+        s = math.sqrt(trace + 1.0)
+        w = s * 0.5
+        s = 0.5 / s
+        return ((m[2, 1] - m[1, 2]) * s, (m[0, 2] - m[2, 0]) * s, (m[1, 0] - m[0, 1]) * s, w)
+    i = 0 if m[0, 0] >= m[1, 1] and m[0, 0] >= m[2, 2] else (1 if m[1, 1] >= m[2, 2] else 2)
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = math.sqrt(m[i, i] - m[j, j] - m[k, k] + 1.0)
+    out = [0.0, 0.0, 0.0, 0.0]
+    out[i] = s * 0.5
+    s = 0.5 / s
+    out[3] = (m[k, j] - m[j, k]) * s
+    out[j] = (m[j, i] + m[i, j]) * s
+    out[k] = (m[k, i] + m[i, k]) * s
+    return (out[0], out[1], out[2], out[3])
+
+
+# --- vectorized forms: the same formulas over rows ----------------------------------------
+
+
+def quat_multiply_many(a: FloatArray, b: FloatArray) -> FloatArray:
+    ax, ay, az, aw = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
+    bx, by, bz, bw = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
+    return np.stack(
+        (
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by + ay * bw + az * bx - ax * bz,
+            aw * bz + az * bw + ax * by - ay * bx,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ),
+        axis=-1,
+    )
+
+
+def quat_conjugate_many(q: FloatArray) -> FloatArray:
+    out = -q
+    out[..., 3] = q[..., 3]
+    return out
+
+
+def quat_rotate_many(q: FloatArray, v: FloatArray) -> FloatArray:
+    qx, qy, qz, qw = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    vx, vy, vz = v[..., 0], v[..., 1], v[..., 2]
+    px = qw * vx + qy * vz - qz * vy
+    py = qw * vy + qz * vx - qx * vz
+    pz = qw * vz + qx * vy - qy * vx
+    pw = -qx * vx - qy * vy - qz * vz
+    return np.stack(
+        (
+            pw * -qx + px * qw + py * -qz - pz * -qy,
+            pw * -qy + py * qw + pz * -qx - px * -qz,
+            pw * -qz + pz * qw + px * -qy - py * -qx,
+        ),
+        axis=-1,
+    )
+
+
+def slerp_many(a: FloatArray, b: FloatArray, t: FloatArray) -> FloatArray:
+    dot = np.einsum("ij,ij->i", a, b)
+    norms = np.sqrt(np.einsum("ij,ij->i", a, a) * np.einsum("ij,ij->i", b, b))
+    theta = np.arccos(np.minimum(np.abs(dot) / norms, 1.0))
+    moving = theta != 0.0
+    safe_theta = np.where(moving, theta, 1.0)
+    d = 1.0 / np.sin(safe_theta)
+    s0 = np.sin((1.0 - t) * safe_theta)
+    s1 = np.sin(t * safe_theta) * np.where(dot >= 0, 1.0, -1.0)
+    out = (a * s0[:, None] + b * s1[:, None]) * d[:, None]
+    return np.where(moving[:, None], out, a)
+
+
+def rpy_from_quat_many(q: FloatArray) -> FloatArray:
+    x, y, z, w = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+    s = 2.0 / (x * x + y * y + z * z + w * w)
+    xs, ys, zs = x * s, y * s, z * s
+    m00 = 1.0 - (y * ys + z * zs)
+    m10 = x * ys + w * zs
+    m20 = x * zs - w * ys
+    m21 = y * zs + w * xs
+    m22 = 1.0 - (x * xs + y * ys)
+    locked = np.abs(m20) >= 1.0
+    pitch = np.where(locked, np.where(m20 < 0, np.pi / 2, -np.pi / 2), -np.arcsin(np.clip(m20, -1, 1)))
+    c = np.where(locked, 1.0, np.cos(pitch))
+    roll = np.where(locked, np.arctan2(m21, m22), np.arctan2(m21 / c, m22 / c))
+    yaw = np.where(locked, 0.0, np.arctan2(m10 / c, m00 / c))
+    return np.stack((roll, pitch, yaw), axis=-1)

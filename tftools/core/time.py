@@ -1,0 +1,80 @@
+"""Time: integer nanoseconds everywhere, with ROS's conversions and clocks."""
+
+from __future__ import annotations
+
+import math
+import threading
+import time as _time
+from typing import Protocol
+
+NS_PER_S = 1_000_000_000
+
+#: Time 0 asks a lookup for the latest time common to every edge of the chain, as in tf2.
+LATEST = 0
+
+
+def to_sec(stamp_ns: int) -> float:
+    """Seconds as ``ros::Time::toSec`` computes them (``sec + 1e-9 * nsec``, floor-normalised)."""
+    sec, nsec = divmod(int(stamp_ns), NS_PER_S)
+    return float(sec) + 1e-9 * float(nsec)
+
+
+def from_sec(seconds: float) -> int:
+    """Nanoseconds nearest to ``seconds``."""
+    if not math.isfinite(seconds):
+        raise ValueError(f"time must be a finite number of seconds, got {seconds}")
+    sec = math.floor(seconds)
+    return int(sec) * NS_PER_S + round((seconds - sec) * NS_PER_S)
+
+
+def format_sec(stamp_ns: int, precision: int = 9) -> str:
+    """``stamp_ns`` in seconds with ``precision`` decimals, as tf2 prints times (``%.09f``)."""
+    return f"{to_sec(stamp_ns):.{precision}f}"
+
+
+class Clock(Protocol):
+    """What answers "what time is it" for a buffer."""
+
+    def now(self) -> int:
+        """The current time in nanoseconds."""
+        ...
+
+
+class WallClock:
+    """The system's real-time clock, for live sources without ``use_sim_time``."""
+
+    def now(self) -> int:
+        return _time.time_ns()
+
+
+class SimClock:
+    """A simulated clock set by its source (bag time, ``/clock``), like ROS's ``use_sim_time``.
+
+    It stays at 0 until the source first sets it, as ``ros::Time::now()`` does before the
+    first ``/clock`` message, and never runs backwards unless ``reset`` is called.
+    """
+
+    def __init__(self, start_ns: int = 0) -> None:
+        self._now = start_ns
+        self._changed = threading.Condition()
+
+    def now(self) -> int:
+        return self._now
+
+    def set(self, now_ns: int) -> None:
+        """Advance the clock to ``now_ns``; an earlier time is ignored."""
+        with self._changed:
+            if now_ns > self._now:
+                self._now = now_ns
+                self._changed.notify_all()
+
+    def reset(self, now_ns: int = 0) -> None:
+        """Jump to ``now_ns``, backwards included (a bag replay that loops)."""
+        with self._changed:
+            self._now = now_ns
+            self._changed.notify_all()
+
+    def wait_until(self, stamp_ns: int, timeout_s: float | None = None) -> bool:
+        """Block until the clock reaches ``stamp_ns`` or ``timeout_s`` of wall time pass."""
+        with self._changed:
+            return self._changed.wait_for(lambda: self._now >= stamp_ns, timeout_s)

@@ -1,0 +1,117 @@
+"""``Transform``: a rigid transform with its stamp and frames, as a lookup returns it."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.rotation import (
+    IDENTITY_QUAT,
+    ZERO_VEC,
+    Quat,
+    Vec3,
+    matrix_from_quat,
+    quat_conjugate,
+    quat_from_matrix,
+    quat_from_rpy,
+    quat_multiply,
+    quat_rotate,
+    rpy_from_quat,
+)
+
+
+@dataclass(frozen=True, slots=True)
+class Transform:
+    """``T_frame^child``: takes points in ``child_frame_id`` to ``frame_id``.
+
+    As in ``geometry_msgs/TransformStamped``: ``translation`` is the child's origin in the parent
+    frame, ``rotation`` (x, y, z, w) the child's orientation, ``stamp`` integer nanoseconds.
+    ``a * b`` composes ``T_a^b * T_b^c = T_a^c``.
+    """
+
+    translation: Vec3 = ZERO_VEC
+    rotation: Quat = IDENTITY_QUAT
+    stamp: int = 0
+    frame_id: str = ""
+    child_frame_id: str = ""
+
+    @classmethod
+    def identity(cls, stamp: int = 0, frame_id: str = "", child_frame_id: str = "") -> Transform:
+        return cls(ZERO_VEC, IDENTITY_QUAT, stamp, frame_id, child_frame_id)
+
+    @classmethod
+    def from_rpy(
+        cls,
+        xyz: Vec3,
+        rpy: Vec3,
+        stamp: int = 0,
+        frame_id: str = "",
+        child_frame_id: str = "",
+    ) -> Transform:
+        """From a translation and fixed-axis roll, pitch, yaw in radians (tf2's ``setRPY``)."""
+        return cls(_vec(xyz), quat_from_rpy(*rpy), stamp, frame_id, child_frame_id)
+
+    @classmethod
+    def from_matrix(
+        cls,
+        matrix: npt.ArrayLike,
+        stamp: int = 0,
+        frame_id: str = "",
+        child_frame_id: str = "",
+    ) -> Transform:
+        """From a 4x4 homogeneous matrix."""
+        m = np.asarray(matrix, dtype=float)
+        if m.shape != (4, 4):
+            raise ValueError(f"expected a 4x4 matrix, got shape {m.shape}")
+        return cls(_vec(m[:3, 3]), quat_from_matrix(m[:3, :3]), stamp, frame_id, child_frame_id)
+
+    def __mul__(self, other: Transform) -> Transform:
+        """``self * other``: the transform from ``other``'s child frame to ``self``'s frame."""
+        if not isinstance(other, Transform):
+            return NotImplemented
+        rotated = quat_rotate(self.rotation, other.translation)
+        translation = (
+            rotated[0] + self.translation[0],
+            rotated[1] + self.translation[1],
+            rotated[2] + self.translation[2],
+        )
+        rotation = quat_multiply(self.rotation, other.rotation)
+        return Transform(translation, rotation, self.stamp, self.frame_id, other.child_frame_id)
+
+    def inverse(self) -> Transform:
+        """The transform back: ``T_child^frame``."""
+        inv = quat_conjugate(self.rotation)
+        t = quat_rotate(inv, self.translation)
+        return Transform((-t[0], -t[1], -t[2]), inv, self.stamp, self.child_frame_id, self.frame_id)
+
+    def rpy(self) -> Vec3:
+        """Roll, pitch, yaw in radians, as tf_echo prints them."""
+        return rpy_from_quat(self.rotation)
+
+    def rpy_degrees(self) -> Vec3:
+        r, p, y = self.rpy()
+        return (math.degrees(r), math.degrees(p), math.degrees(y))
+
+    def as_matrix(self) -> npt.NDArray[np.float64]:
+        """The 4x4 homogeneous matrix."""
+        m = np.eye(4)
+        m[:3, :3] = matrix_from_quat(self.rotation)
+        m[:3, 3] = self.translation
+        return m
+
+    def apply(self, points: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """Points (3,) or (N, 3) in ``child_frame_id`` expressed in ``frame_id``."""
+        p = np.asarray(points, dtype=float)
+        m = self.as_matrix()
+        return p @ m[:3, :3].T + m[:3, 3]
+
+    def with_stamp(self, stamp: int) -> Transform:
+        return replace(self, stamp=stamp)
+
+
+def _vec(values: npt.ArrayLike) -> Vec3:
+    x, y, z = (float(v) for v in np.asarray(values, dtype=float).reshape(3))
+    return (x, y, z)

@@ -1,0 +1,19 @@
+"""Bag files (ROS1 .bag, ROS2 .db3/.mcap bags, MCAP files) turned into transform batches."""
+
+from tftools.sources.bag.contents import (
+    DEFAULT_TOPICS,
+    BagContents,
+    BagFileInfo,
+    ProgressCallback,
+    is_static_topic,
+)
+from tftools.sources.bag.reader import read_bag
+
+__all__ = [
+    "DEFAULT_TOPICS",
+    "BagContents",
+    "BagFileInfo",
+    "ProgressCallback",
+    "is_static_topic",
+    "read_bag",
+]

@@ -1,0 +1,86 @@
+"""``read_bag``: recognise each path's format, read its transforms, merge in record order."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from tftools.core.batch import TransformBatch, concat_batches, take_rows
+from tftools.sources.bag import mcap_file, ros1, rosbag2
+from tftools.sources.bag.contents import DEFAULT_TOPICS, BagContents, BagFileInfo, ProgressCallback
+from tftools.sources.errors import BagNotFoundError, UnknownBagFormatError
+
+#: A format reader: (path, topics, progress over this file's bytes) -> batches and description.
+FormatReader = Callable[[Path, tuple[str, ...], ProgressCallback], tuple[list[TransformBatch], BagFileInfo]]
+
+_ROS1_MAGIC = b"#ROSBAG V2.0\n"
+_SQLITE_MAGIC = b"SQLite format 3\x00"
+_MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+def read_bag(
+    paths: Sequence[str | os.PathLike[str]],
+    topics: Sequence[str] | None = None,
+    progress: ProgressCallback | None = None,
+) -> BagContents:
+    """Every transform on ``topics`` (default ``/tf`` and ``/tf_static``) of the bags at ``paths``.
+
+    Several paths are one recording (a split bag): their rows are merged by record time.
+    Raises ``BagError`` for a path that cannot be read at all; a damaged file is read as far
+    as it goes, and what was lost is listed in its ``BagFileInfo.problems``.
+    """
+    chosen = tuple(topics) if topics else DEFAULT_TOPICS
+    files = [Path(p) for p in paths]
+    readers = [(path, _format_reader(path)) for path in files]
+    sizes = [_size(path) for path in files]
+    total = sum(sizes)
+    batches: list[TransformBatch] = []
+    infos: list[BagFileInfo] = []
+    done = 0
+    for (path, reader), size in zip(readers, sizes):
+        offset = done
+
+        def file_progress(read: int, _of: int, offset: int = offset) -> None:
+            if progress is not None:
+                progress(offset + read, total)
+
+        file_batches, info = reader(path, chosen, file_progress)
+        batches.extend(file_batches)
+        infos.append(info)
+        done += size
+        if progress is not None:
+            progress(done, total)
+    merged = concat_batches(batches)
+    if len(files) > 1 and len(merged) and np.any(np.diff(merged.record_time) < 0):
+        merged = take_rows(merged, np.argsort(merged.record_time, kind="stable"))
+    return BagContents(merged, infos, chosen)
+
+
+def _format_reader(path: Path) -> FormatReader:
+    if not path.exists():
+        raise BagNotFoundError(str(path))
+    if path.is_dir():
+        if (path / "metadata.yaml").exists() or any(path.glob("*.db3")) or any(path.glob("*.mcap")):
+            return rosbag2.read
+        raise UnknownBagFormatError(str(path), "a directory without metadata.yaml, .db3 or .mcap files")
+    try:
+        with path.open("rb") as f:
+            head = f.read(16)
+    except OSError as e:
+        raise UnknownBagFormatError(str(path), e.strerror or str(e)) from None
+    if head.startswith(_ROS1_MAGIC):
+        return ros1.read
+    if head.startswith(_SQLITE_MAGIC):
+        return rosbag2.read
+    if head.startswith(_MCAP_MAGIC):
+        return mcap_file.read
+    raise UnknownBagFormatError(str(path), "unrecognised file header")
+
+
+def _size(path: Path) -> int:
+    if path.is_dir():
+        return sum(p.stat().st_size for p in path.iterdir() if p.is_file())
+    return path.stat().st_size
