@@ -333,8 +333,8 @@ class Buffer:
 
     def latest_common_time(self, target_frame: str, source_frame: str) -> int:
         """The newest time at which every edge between the two frames has data (0: all static)."""
-        target_id = self._frame_id("getLatestCommonTime argument target_frame", target_frame)
-        source_id = self._frame_id("getLatestCommonTime argument source_frame", source_frame)
+        target_id = self._frame_id("get_latest_common_time", target_frame)
+        source_id = self._frame_id("get_latest_common_time", source_frame)
         return walk.latest_common_time(self._tree(), target_id, source_id)
 
     def lookup_many(

@@ -16,6 +16,7 @@ import numpy.typing as npt
 
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
+Matrix3 = tuple[Vec3, Vec3, Vec3]
 FloatArray = npt.NDArray[np.float64]
 
 IDENTITY_QUAT: Quat = (0.0, 0.0, 0.0, 1.0)
@@ -97,7 +98,7 @@ def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
     )
 
 
-def matrix_from_quat(q: Quat) -> tuple[Vec3, Vec3, Vec3]:
+def matrix_from_quat(q: Quat) -> Matrix3:
     """The 3x3 rotation matrix of ``q``, rows first: tf2's ``Matrix3x3::setRotation``."""
     x, y, z, w = q
     s = 2.0 / (x * x + y * y + z * z + w * w)
@@ -127,24 +128,54 @@ def rpy_from_quat(q: Quat) -> Vec3:
     return (roll, pitch, yaw)
 
 
-def quat_from_matrix(m: FloatArray) -> Quat:
-    """The unit quaternion of a 3x3 rotation matrix (tf2's ``Matrix3x3::getRotation``)."""
-    trace = m[0, 0] + m[1, 1] + m[2, 2]
+def quat_from_matrix(m: Matrix3) -> Quat:
+    """The quaternion of a rotation matrix (rows first): tf2's ``Matrix3x3::getRotation``."""
+    trace = m[0][0] + m[1][1] + m[2][2]
     if trace > 0.0:
         s = math.sqrt(trace + 1.0)
         w = s * 0.5
         s = 0.5 / s
-        return ((m[2, 1] - m[1, 2]) * s, (m[0, 2] - m[2, 0]) * s, (m[1, 0] - m[0, 1]) * s, w)
-    i = 0 if m[0, 0] >= m[1, 1] and m[0, 0] >= m[2, 2] else (1 if m[1, 1] >= m[2, 2] else 2)
+        return ((m[2][1] - m[1][2]) * s, (m[0][2] - m[2][0]) * s, (m[1][0] - m[0][1]) * s, w)
+    if m[0][0] < m[1][1]:
+        i = 2 if m[1][1] < m[2][2] else 1
+    else:
+        i = 2 if m[0][0] < m[2][2] else 0
     j, k = (i + 1) % 3, (i + 2) % 3
-    s = math.sqrt(m[i, i] - m[j, j] - m[k, k] + 1.0)
+    s = math.sqrt(m[i][i] - m[j][j] - m[k][k] + 1.0)
     out = [0.0, 0.0, 0.0, 0.0]
     out[i] = s * 0.5
     s = 0.5 / s
-    out[3] = (m[k, j] - m[j, k]) * s
-    out[j] = (m[j, i] + m[i, j]) * s
-    out[k] = (m[k, i] + m[i, k]) * s
+    out[3] = (m[k][j] - m[j][k]) * s
+    out[j] = (m[j][i] + m[i][j]) * s
+    out[k] = (m[k][i] + m[i][k]) * s
     return (out[0], out[1], out[2], out[3])
+
+
+def matrix_multiply(a: Matrix3, b: Matrix3) -> Matrix3:
+    """``a @ b`` for 3x3 matrices given as row tuples."""
+    rows = []
+    for r in a:
+        rows.append(
+            (
+                r[0] * b[0][0] + r[1] * b[1][0] + r[2] * b[2][0],
+                r[0] * b[0][1] + r[1] * b[1][1] + r[2] * b[2][1],
+                r[0] * b[0][2] + r[1] * b[1][2] + r[2] * b[2][2],
+            )
+        )
+    return (rows[0], rows[1], rows[2])
+
+
+def matrix_apply(m: Matrix3, v: Vec3) -> Vec3:
+    """``m @ v``."""
+    return (
+        m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
+        m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
+        m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2],
+    )
+
+
+def matrix_transpose(m: Matrix3) -> Matrix3:
+    return ((m[0][0], m[1][0], m[2][0]), (m[0][1], m[1][1], m[2][1]), (m[0][2], m[1][2], m[2][2]))
 
 
 # --- vectorized forms: the same formulas over rows ----------------------------------------

@@ -13,12 +13,12 @@ from tftools.core.rotation import (
     ZERO_VEC,
     Quat,
     Vec3,
+    matrix_apply,
     matrix_from_quat,
-    quat_conjugate,
+    matrix_multiply,
+    matrix_transpose,
     quat_from_matrix,
     quat_from_rpy,
-    quat_multiply,
-    quat_rotate,
     rpy_from_quat,
 )
 
@@ -29,7 +29,8 @@ class Transform:
 
     As in ``geometry_msgs/TransformStamped``: ``translation`` is the child's origin in the parent
     frame, ``rotation`` (x, y, z, w) the child's orientation, ``stamp`` integer nanoseconds.
-    ``a * b`` composes ``T_a^b * T_b^c = T_a^c``.
+    ``a * b`` composes ``T_a^b * T_b^c = T_a^c``. Composition and inverse go through rotation
+    matrices as ``tf2::Transform`` does, so results (the quaternion's sign included) match it.
     """
 
     translation: Vec3 = ZERO_VEC
@@ -66,26 +67,35 @@ class Transform:
         m = np.asarray(matrix, dtype=float)
         if m.shape != (4, 4):
             raise ValueError(f"expected a 4x4 matrix, got shape {m.shape}")
-        return cls(_vec(m[:3, 3]), quat_from_matrix(m[:3, :3]), stamp, frame_id, child_frame_id)
+        rows = m[:3, :3].tolist()
+        basis = (tuple(rows[0]), tuple(rows[1]), tuple(rows[2]))
+        return cls(_vec(m[:3, 3]), quat_from_matrix(basis), stamp, frame_id, child_frame_id)  # type: ignore[arg-type]
 
     def __mul__(self, other: Transform) -> Transform:
         """``self * other``: the transform from ``other``'s child frame to ``self``'s frame."""
         if not isinstance(other, Transform):
             return NotImplemented
-        rotated = quat_rotate(self.rotation, other.translation)
+        basis = matrix_from_quat(self.rotation)
+        moved = matrix_apply(basis, other.translation)
         translation = (
-            rotated[0] + self.translation[0],
-            rotated[1] + self.translation[1],
-            rotated[2] + self.translation[2],
+            moved[0] + self.translation[0],
+            moved[1] + self.translation[1],
+            moved[2] + self.translation[2],
         )
-        rotation = quat_multiply(self.rotation, other.rotation)
+        rotation = quat_from_matrix(matrix_multiply(basis, matrix_from_quat(other.rotation)))
         return Transform(translation, rotation, self.stamp, self.frame_id, other.child_frame_id)
 
     def inverse(self) -> Transform:
         """The transform back: ``T_child^frame``."""
-        inv = quat_conjugate(self.rotation)
-        t = quat_rotate(inv, self.translation)
-        return Transform((-t[0], -t[1], -t[2]), inv, self.stamp, self.child_frame_id, self.frame_id)
+        inv = matrix_transpose(matrix_from_quat(self.rotation))
+        x, y, z = self.translation
+        return Transform(
+            matrix_apply(inv, (-x, -y, -z)),
+            quat_from_matrix(inv),
+            self.stamp,
+            self.child_frame_id,
+            self.frame_id,
+        )
 
     def rpy(self) -> Vec3:
         """Roll, pitch, yaw in radians, as tf_echo prints them."""

@@ -1,0 +1,19 @@
+"""Shared fixtures."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from tests.oracle import unavailable_reason
+
+
+@pytest.fixture(scope="session")
+def tf2_available() -> None:
+    """Skip unless the real tf2 can run; in CI it must (CI installs it)."""
+    reason = unavailable_reason()
+    if reason is not None:
+        if os.environ.get("CI") == "true":
+            pytest.fail(f"CI must run the tf2 comparison, but {reason}")
+        pytest.skip(reason)

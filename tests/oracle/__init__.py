@@ -1,0 +1,72 @@
+"""The real tf2 as a test oracle: scenarios run through Debian's ROS1 tf2 in a subprocess."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+
+ROS_PYTHON = "/usr/bin/python3"
+HARNESS = Path(__file__).with_name("tf2_harness.py")
+
+ERROR_CLASSES = {
+    "LookupException": "UnknownFrameError",
+    "ConnectivityException": "ConnectivityError",
+    "ExtrapolationException": "ExtrapolationError",
+    "InvalidArgumentException": "InvalidArgumentError",
+}
+
+
+@cache
+def unavailable_reason() -> str | None:
+    """Why the real tf2 cannot be used here, or None when it can."""
+    try:
+        probe = subprocess.run(
+            [ROS_PYTHON, "-c", "import tf2_py, rospy, rosbag"], capture_output=True, timeout=60
+        )
+    except (OSError, subprocess.TimeoutExpired) as e:
+        return f"{ROS_PYTHON} cannot run: {e}"
+    if probe.returncode != 0:
+        return "the real tf2 is not installed (apt-get install python3-tf2 python3-rosbag; see README)"
+    return None
+
+
+def binding_time(ns: int) -> int:
+    """The stamp tf2's Python binding stores for ``ns``: genpy's ``to_sec`` then ``fromSec``."""
+    secs, nsecs = divmod(ns, 1_000_000_000)
+    t = float(secs) + float(nsecs) / 1e9
+    sec = math.floor(t)
+    nsec = math.floor((t - sec) * 1e9 + 0.5)  # boost::math::round, on a non-negative value
+    return sec * 1_000_000_000 + nsec
+
+
+@dataclass
+class Scenario:
+    """Transforms to insert in order (or a ROS1 bag to read) and queries to answer."""
+
+    inserts: list[list] = field(default_factory=list)
+    queries: list[list] = field(default_factory=list)
+    cache_time_s: int = 1_000_000
+    bag: str | None = None
+
+    def to_json(self) -> dict:
+        out: dict = {"cache_time_s": self.cache_time_s, "queries": self.queries}
+        if self.bag is not None:
+            out["bag"] = self.bag
+        else:
+            out["inserts"] = self.inserts
+        return out
+
+
+def run_tf2(scenarios: list[Scenario]) -> list[dict]:
+    """Each scenario's ``{"rejections": [codes], "answers": [...]}`` from the real tf2."""
+    request = json.dumps({"scenarios": [s.to_json() for s in scenarios]})
+    done = subprocess.run(
+        [ROS_PYTHON, str(HARNESS)], input=request, capture_output=True, text=True, timeout=600
+    )
+    if done.returncode != 0:
+        raise RuntimeError(f"tf2 harness failed:\n{done.stderr[-3000:]}")
+    return json.loads(done.stdout)["results"]

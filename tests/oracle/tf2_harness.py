@@ -1,0 +1,125 @@
+"""Runs scenarios through the real tf2 BufferCore; executed by Debian's /usr/bin/python3.
+
+Reads JSON on stdin: {"scenarios": [{"cache_time_s": int, "inserts": [...] | "bag": path,
+"queries": [...]}]} and writes {"results": [{"rejections": [codes], "answers": [...]}]}.
+An insert is [parent, child, sec, nsec, tx, ty, tz, qx, qy, qz, qw, authority, static].
+A query is ["lookup", target, source, sec, nsec], ["lookup_full", target, sec, nsec, source,
+sec, nsec, fixed], ["can", target, source, sec, nsec], ["lct", target, source] or ["frames"].
+"""
+
+import json
+import os
+import re
+import sys
+import tempfile
+
+import rospy
+import tf2_py
+from geometry_msgs.msg import TransformStamped
+
+_CODE = re.compile(r"TF_[A-Z_]+")
+
+
+def message(row):
+    parent, child, sec, nsec, tx, ty, tz, qx, qy, qz, qw = row[:11]
+    t = TransformStamped()
+    t.header.frame_id, t.child_frame_id = parent, child
+    t.header.stamp = rospy.Time(sec, nsec)
+    tr, rot = t.transform.translation, t.transform.rotation
+    tr.x, tr.y, tr.z = tx, ty, tz
+    rot.x, rot.y, rot.z, rot.w = qx, qy, qz, qw
+    return t
+
+
+def insert(core, transform, authority, static):
+    if static:
+        core.set_transform_static(transform, authority)
+    else:
+        core.set_transform(transform, authority)
+
+
+def feed_rows(core, rows):
+    for row in rows:
+        insert(core, message(row), row[11], row[12])
+
+
+def feed_bag(core, path):
+    import rosbag
+
+    with rosbag.Bag(path) as bag:
+        for topic, msg, _t, header in bag.read_messages(topics=["/tf", "/tf_static"], return_connection_header=True):
+            authority = header.get("callerid", topic)
+            for transform in msg.transforms:
+                insert(core, transform, authority, topic == "/tf_static")
+
+
+def capture_stderr(action):
+    """Run ``action`` and return the tf2 codes it logged on file descriptor 2."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as log:
+        os.dup2(log.fileno(), 2)
+        try:
+            action()
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        log.seek(0)
+        return _CODE.findall(log.read().decode("utf-8", "replace"))
+
+
+def stamped(t):
+    tr, rot = t.transform.translation, t.transform.rotation
+    return {
+        "ok": True,
+        "t": [tr.x, tr.y, tr.z],
+        "q": [rot.x, rot.y, rot.z, rot.w],
+        "stamp": [t.header.stamp.secs, t.header.stamp.nsecs],
+        "frame_id": t.header.frame_id,
+        "child_frame_id": t.child_frame_id,
+    }
+
+
+def answer(core, query):
+    kind, args = query[0], query[1:]
+    try:
+        if kind == "lookup":
+            target, source, sec, nsec = args
+            return stamped(core.lookup_transform_core(target, source, rospy.Time(sec, nsec)))
+        if kind == "lookup_full":
+            target, tsec, tnsec, source, ssec, snsec, fixed = args
+            return stamped(
+                core.lookup_transform_full_core(
+                    target, rospy.Time(tsec, tnsec), source, rospy.Time(ssec, snsec), fixed
+                )
+            )
+        if kind == "can":
+            target, source, sec, nsec = args
+            ok, _reason = core.can_transform_core(target, source, rospy.Time(sec, nsec))
+            return {"ok": True, "can": bool(ok)}
+        if kind == "lct":
+            t = core.get_latest_common_time(*args)
+            return {"ok": True, "stamp": [t.secs, t.nsecs]}
+        if kind == "frames":
+            return {"ok": True, "text": core.all_frames_as_string()}
+    except Exception as e:  # noqa: BLE001 - every tf2 exception is an answer to compare
+        return {"ok": False, "error": type(e).__name__, "message": str(e)}
+    raise ValueError(f"unknown query {kind}")
+
+
+def run(scenario):
+    core = tf2_py.BufferCore(rospy.Duration(scenario.get("cache_time_s", 10)))
+    if "bag" in scenario:
+        codes = capture_stderr(lambda: feed_bag(core, scenario["bag"]))
+    else:
+        codes = capture_stderr(lambda: feed_rows(core, scenario["inserts"]))
+    return {"rejections": codes, "answers": [answer(core, q) for q in scenario["queries"]]}
+
+
+def main():
+    request = json.load(sys.stdin)
+    json.dump({"results": [run(s) for s in request["scenarios"]]}, sys.stdout)
+
+
+if __name__ == "__main__":
+    main()
