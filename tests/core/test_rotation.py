@@ -1,0 +1,113 @@
+"""Transform math: tf2's conventions, scalar and vectorized forms agreeing."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from tftools import Transform
+from tftools.core import rotation as r
+
+rng = np.random.default_rng(42)
+QUATS = [tuple(q / np.linalg.norm(q)) for q in rng.normal(size=(50, 4))]
+
+
+def angle_between(a, b) -> float:
+    """The rotation angle from a to b, well conditioned near zero (unlike acos of the dot)."""
+    a, b = np.asarray(a), np.asarray(b)
+    if np.dot(a, b) < 0:
+        b = -b
+    return 4 * math.atan2(np.linalg.norm(a - b), np.linalg.norm(a + b))
+
+
+def same_rotation(a, b, tol=1e-12) -> bool:
+    return angle_between(a, b) < 1e-6 or np.allclose(a, b, atol=tol) or np.allclose(a, np.negative(b), atol=tol)
+
+
+@pytest.mark.parametrize("t", [0.0, 0.25, 0.5, 0.9, 1.0])
+def test_slerp_moves_at_constant_rate_along_the_short_arc(t):
+    for a, b in zip(QUATS, QUATS[1:]):
+        out = r.slerp(a, b, t)
+        assert abs(np.linalg.norm(out) - 1) < 1e-12
+        whole = angle_between(a, b)
+        assert angle_between(a, out) == pytest.approx(t * whole, abs=1e-9)
+        assert angle_between(out, b) == pytest.approx((1 - t) * whole, abs=1e-9)
+
+
+def test_slerp_takes_the_short_arc_when_the_signs_differ():
+    a = r.quat_from_rpy(0, 0, 0.1)
+    b = tuple(-x for x in r.quat_from_rpy(0, 0, 0.3))  # the same rotation as yaw 0.3
+    mid = r.slerp(a, b, 0.5)
+    assert r.rpy_from_quat(mid)[2] == pytest.approx(0.2, abs=1e-12)
+
+
+def test_slerp_of_equal_rotations_is_that_rotation():
+    q = QUATS[0]
+    assert r.slerp(q, q, 0.3) == q
+
+
+def test_rpy_round_trip_and_known_values():
+    assert r.rpy_from_quat(r.quat_from_rpy(0, 0, math.pi / 2)) == pytest.approx((0, 0, math.pi / 2))
+    assert r.quat_from_rpy(math.pi, 0, 0) == pytest.approx((1, 0, 0, 0), abs=1e-15)
+    for roll, pitch, yaw in rng.uniform([-3, -1.5, -3], [3, 1.5, 3], (50, 3)):
+        assert r.rpy_from_quat(r.quat_from_rpy(roll, pitch, yaw)) == pytest.approx((roll, pitch, yaw), abs=1e-9)
+
+
+def test_rpy_at_gimbal_lock_puts_everything_in_roll():
+    roll, pitch, yaw = r.rpy_from_quat(r.quat_from_rpy(0.3, math.pi / 2, 0.0))
+    assert pitch == pytest.approx(math.pi / 2)
+    assert yaw == 0.0
+
+
+def test_vectorized_forms_equal_scalar_forms():
+    a, b = np.array(QUATS[:-1]), np.array(QUATS[1:])
+    t = rng.uniform(0, 1, len(a))
+    v = rng.normal(size=(len(a), 3))
+    np.testing.assert_allclose(r.quat_multiply_many(a, b), [r.quat_multiply(x, y) for x, y in zip(a, b)], atol=1e-15)
+    np.testing.assert_allclose(r.quat_rotate_many(a, v), [r.quat_rotate(x, y) for x, y in zip(a, v)], atol=1e-14)
+    np.testing.assert_allclose(r.slerp_many(a, b, t), [r.slerp(tuple(x), tuple(y), s) for x, y, s in zip(a, b, t)], atol=1e-14)
+    np.testing.assert_allclose(r.rpy_from_quat_many(a), [r.rpy_from_quat(tuple(x)) for x in a], atol=1e-12)
+    np.testing.assert_allclose(r.quat_conjugate_many(a), [r.quat_conjugate(tuple(x)) for x in a])
+
+
+def test_quat_rotate_matches_the_rotation_matrix():
+    for q in QUATS[:10]:
+        v = rng.normal(size=3)
+        m = np.array(r.matrix_from_quat(q))
+        np.testing.assert_allclose(r.quat_rotate(q, tuple(v)), m @ v, atol=1e-12)
+
+
+def test_composition_applies_right_to_left():
+    a = Transform.from_rpy((1, 2, 3), (0.1, 0.2, 0.3), frame_id="a", child_frame_id="b")
+    b = Transform.from_rpy((-1, 0.5, 2), (-0.4, 0.1, 1.2), frame_id="b", child_frame_id="c")
+    ab = a * b
+    assert (ab.frame_id, ab.child_frame_id) == ("a", "c")
+    point = np.array([0.3, -0.7, 1.1])
+    np.testing.assert_allclose(ab.apply(point), a.apply(b.apply(point)), atol=1e-12)
+    np.testing.assert_allclose(ab.as_matrix(), a.as_matrix() @ b.as_matrix(), atol=1e-12)
+
+
+def test_inverse_undoes_the_transform():
+    t = Transform.from_rpy((1, -2, 0.5), (0.3, -0.2, 2.0), stamp=7, frame_id="a", child_frame_id="b")
+    back = t.inverse()
+    assert (back.frame_id, back.child_frame_id, back.stamp) == ("b", "a", 7)
+    identity = t * back
+    np.testing.assert_allclose(identity.translation, (0, 0, 0), atol=1e-12)
+    assert same_rotation(identity.rotation, (0, 0, 0, 1))
+
+
+def test_matrix_round_trip():
+    for q in QUATS[:20]:
+        t = Transform((1.0, 2.0, 3.0), q)
+        back = Transform.from_matrix(t.as_matrix())
+        np.testing.assert_allclose(back.translation, t.translation)
+        assert same_rotation(back.rotation, q)
+    with pytest.raises(ValueError, match="4x4"):
+        Transform.from_matrix(np.eye(3))
+
+
+def test_rpy_degrees():
+    t = Transform.from_rpy((0, 0, 0), (0, 0, math.pi / 2))
+    assert t.rpy_degrees() == pytest.approx((0, 0, 90))
