@@ -25,6 +25,8 @@ from tftools.core import (
     to_sec,
 )
 
+from tftools.sources import Recording, load, read_recording
+
 __version__ = "0.1.0"
 
 __all__ = [
@@ -38,6 +40,7 @@ __all__ = [
     "ExtrapolationError",
     "InvalidArgumentError",
     "LookupBatch",
+    "Recording",
     "Rejection",
     "RejectionCode",
     "SimClock",
@@ -49,5 +52,7 @@ __all__ = [
     "WallClock",
     "format_sec",
     "from_sec",
+    "load",
+    "read_recording",
     "to_sec",
 ]

@@ -78,3 +78,9 @@ class SimClock:
         """Block until the clock reaches ``stamp_ns`` or ``timeout_s`` of wall time pass."""
         with self._changed:
             return self._changed.wait_for(lambda: self._now >= stamp_ns, timeout_s)
+
+
+def format_stamp(stamp_ns: int) -> str:
+    """Exact ``sec.nsec`` with nine digits, as ROS prints a ``ros::Time``."""
+    sec, nsec = divmod(int(stamp_ns), NS_PER_S)
+    return f"{sec}.{nsec:09d}"

@@ -1,0 +1,1 @@
+"""Analyses over a buffer: echo series, frame summaries, monitor statistics, wtf checks."""

@@ -1,0 +1,100 @@
+"""``tfx echo``'s work: the transform between two frames over time, as tf_echo shows it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.buffer import Buffer
+from tftools.core.errors import TransformError
+from tftools.core.history import EdgeHistory
+from tftools.core.rotation import rpy_from_quat_many
+from tftools.core.time import NS_PER_S
+
+
+@dataclass(frozen=True)
+class EchoSeries:
+    """``T_target^source`` at each requested time; failed rows carry tf2's reason."""
+
+    target: str
+    source: str
+    times: npt.NDArray[np.int64]  # requested (ns)
+    stamps: npt.NDArray[np.int64]  # the stamp of each answer (ns)
+    translations: npt.NDArray[np.float64]
+    rotations: npt.NDArray[np.float64]
+    rpy: npt.NDArray[np.float64]
+    valid: npt.NDArray[np.bool_]
+    errors: dict[int, TransformError]  # row -> why it failed
+
+    def __len__(self) -> int:
+        return len(self.times)
+
+
+def echo(buffer: Buffer, target: str, source: str, times: npt.ArrayLike) -> EchoSeries:
+    """Look ``T_target^source`` up at every time (vectorized), with tf2's reason for each failure."""
+    requested = np.asarray(times, np.int64).reshape(-1)
+    batch = buffer.lookup_many(target, source, requested)
+    errors: dict[int, TransformError] = {}
+    for row in np.flatnonzero(~batch.valid):
+        try:
+            buffer.lookup(target, source, int(requested[row]))
+        except TransformError as error:
+            errors[int(row)] = error
+    return EchoSeries(
+        target,
+        source,
+        requested,
+        batch.stamps,
+        batch.translations,
+        batch.rotations,
+        rpy_from_quat_many(batch.rotations),
+        batch.valid,
+        errors,
+    )
+
+
+def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | None:
+    """The stretch of time over which every moving edge between the frames has data.
+
+    ``None`` if the frames aren't connected now or the chain is static only.
+    """
+    edges = _moving_edges(buffer, target, source)
+    if not edges:
+        return None
+    start = max(hist.oldest_stamp for hist in edges)
+    end = min(hist.latest_stamp for hist in edges)
+    return (start, end) if start <= end else None
+
+
+def sample_times(buffer: Buffer, target: str, source: str, start: int, end: int) -> npt.NDArray[np.int64]:
+    """Every stamp of the moving edges between the frames within ``[start, end]``, sorted."""
+    edges = _moving_edges(buffer, target, source)
+    if not edges:
+        return np.zeros(0, np.int64)
+    every = np.unique(np.concatenate([hist.stamps for hist in edges]))
+    return every[(every >= start) & (every <= end)]
+
+
+def _moving_edges(buffer: Buffer, target: str, source: str) -> list[EdgeHistory]:
+    """The dynamic edges a lookup between the frames composes now (latest common time)."""
+    try:
+        frames = buffer.chain(target, source)
+    except TransformError:
+        return []
+    edges = []
+    for name in frames:
+        hist = buffer.history(name)
+        if hist is not None and not hist.static and buffer.frame_name(hist.latest_parent) in frames:
+            edges.append(hist)
+    return edges
+
+
+def ticks(start: int, end: int, rate_hz: float) -> npt.NDArray[np.int64]:
+    """Times from ``start`` to ``end`` inclusive, ``rate_hz`` per second."""
+    if rate_hz <= 0:
+        raise ValueError("the rate must be above 0 Hz")
+    step = NS_PER_S / rate_hz
+    count = int((end - start) // step) + 1 if end >= start else 0
+    return start + np.round(np.arange(count) * step).astype(np.int64)

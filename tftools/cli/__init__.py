@@ -1,0 +1,1 @@
+"""The ``tfx`` command line: parses options, calls the library, renders."""

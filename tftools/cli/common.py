@@ -1,0 +1,140 @@
+"""What every subcommand shares: bag options, reading with progress, times, errors, exit codes."""
+
+from __future__ import annotations
+
+import difflib
+import enum
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Annotated, NoReturn
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, DownloadColumn, Progress, TextColumn, TimeRemainingColumn
+
+from tftools.core.buffer import Buffer
+from tftools.core.errors import TfToolsError
+from tftools.core.time import NS_PER_S, from_sec
+from tftools.sources import Recording, read_recording
+from tftools.sources.bag import ProgressCallback
+
+stdout = Console(highlight=False, soft_wrap=True)
+stderr = Console(stderr=True, highlight=False, soft_wrap=True)
+
+
+class Exit(enum.IntEnum):
+    """Exit codes that scripts and CI can rely on."""
+
+    OK = 0
+    PROBLEMS = 1  # the command ran and found problems (failed lookups, wtf errors)
+    UNUSABLE = 2  # bad arguments or input that could not be used
+
+
+class UsageError(TfToolsError):
+    """Arguments that cannot work together, or name something that is not there."""
+
+    def __init__(self, message: str, hint: str = "") -> None:
+        super().__init__(message)
+        self.hint = hint
+
+
+BagOption = Annotated[
+    list[Path] | None,
+    typer.Option(
+        "--bag", "-b", help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory. "
+        "Repeat for a split recording. Without it, tfx listens to a live system.",
+        show_default=False,
+    ),
+]
+TopicOption = Annotated[
+    list[str] | None,
+    typer.Option("--topic", "-t", help="Topics carrying transforms (default /tf and /tf_static).", show_default=False),
+]
+StartOption = Annotated[
+    str | None,
+    typer.Option(help="Begin at TIME: absolute seconds, +S after the bag's start or -S before its end.", show_default=False),
+]
+EndOption = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as --start).", show_default=False)]
+
+
+def fail(error: TfToolsError) -> NoReturn:
+    """Print the error as one line (with its hint) and exit with ``Exit.UNUSABLE``."""
+    hint = f" ({error.hint})" if error.hint else ""
+    stderr.print(f"[bold red]tfx: error:[/] {error}{hint}", markup=True, highlight=False)
+    raise typer.Exit(Exit.UNUSABLE)
+
+
+def warn(message: str) -> None:
+    stderr.print(f"[yellow]tfx: warning:[/] {message}", markup=True, highlight=False)
+
+
+def require_bags(bags: Sequence[Path] | None) -> Sequence[Path]:
+    if not bags:
+        raise UsageError("live sources are not available yet", "give a recording with -b BAG")
+    return bags
+
+
+@contextmanager
+def progress_bar(enabled: bool) -> Iterator[ProgressCallback | None]:
+    """A progress bar on stderr while bags are read, when stderr is a terminal."""
+    if not enabled or not stderr.is_terminal:
+        yield None
+        return
+    columns = (TextColumn("reading"), BarColumn(), DownloadColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=stderr, transient=True) as bar:
+        task = bar.add_task("read", total=None)
+
+        def update(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update
+
+
+def open_recording(bags: Sequence[Path] | None, topics: Sequence[str] | None) -> Recording:
+    """Read the bags into one recording, with a progress bar; report what could not be read."""
+    paths = require_bags(bags)
+    with progress_bar(enabled=sum(_size(p) for p in paths) > 20_000_000) as progress:
+        recording = read_recording(paths, topics, progress)
+    for problem in recording.problems:
+        warn(problem)
+    return recording
+
+
+def _size(path: Path) -> int:
+    try:
+        return path.stat().st_size if path.is_file() else sum(p.stat().st_size for p in path.iterdir())
+    except OSError:
+        return 0
+
+
+def parse_time(text: str, recording: Recording) -> int:
+    """TIME as nanoseconds: absolute seconds, ``+S`` from the bag's start, ``-S`` from its end."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{text!r} is not a time", "give seconds, e.g. 1700000012.5, +3 or -2") from None
+    if text.startswith("+"):
+        return recording.start + from_sec(value)
+    if text.startswith("-"):
+        return recording.end + from_sec(value)
+    return from_sec(value)
+
+
+def frame_argument(buffer: Buffer, frame: str) -> str:
+    """A frame given on the command line (a leading ``/`` dropped, as tf did); must exist."""
+    name = frame[1:] if frame.startswith("/") else frame
+    if not buffer.has_frame(name):
+        close = difflib.get_close_matches(name, buffer.frames, n=3, cutoff=0.4)
+        rest = sorted(set(buffer.frames) - set(close))
+        listed = ", ".join([*close, *rest][:20]) + (", ..." if len(buffer.frames) > 20 else "")
+        raise UsageError(f"frame {frame!r} does not exist", f"frames: {listed}")
+    return name
+
+
+def seconds(ns: int) -> float:
+    return ns / NS_PER_S
+
+
+def exit_with(code: Exit) -> NoReturn:
+    raise typer.Exit(int(code))

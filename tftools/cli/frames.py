@@ -1,0 +1,39 @@
+"""``tfx frames``: the frame tree in the terminal, or as JSON/YAML for scripts."""
+
+from __future__ import annotations
+
+import enum
+from typing import Annotated
+
+import typer
+
+from tftools.analysis.frames import frame_tree
+from tftools.cli.common import BagOption, TopicOption, open_recording, stdout
+from tftools.render import frames as render
+
+
+class FramesFormat(str, enum.Enum):
+    text = "text"
+    json = "json"
+    yaml = "yaml"
+
+
+def command(
+    bags: BagOption = None,
+    fmt: Annotated[FramesFormat, typer.Option("--format", "-f", help="text (a tree), json, or yaml (tf2's layout).")] = FramesFormat.text,
+    topics: TopicOption = None,
+) -> None:
+    """Show every frame as a tree: its parent, publishers, rate, samples and time span.
+
+    Static frames are marked; a frame with several parents or publishers is flagged.
+
+    Example: [cyan]tfx frames -b robot.bag --format yaml[/]
+    """
+    recording = open_recording(bags, topics)
+    tree = frame_tree(recording.buffer)
+    if fmt is FramesFormat.json:
+        render.write_json(tree, stdout.file)
+    elif fmt is FramesFormat.yaml:
+        render.write_yaml(tree, stdout.file)
+    else:
+        render.write_tree(tree, stdout)

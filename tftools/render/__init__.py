@@ -1,0 +1,1 @@
+"""Renderers: analyses turned into text, JSON, CSV, YAML, and graphs."""

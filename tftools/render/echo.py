@@ -1,0 +1,75 @@
+"""``tfx echo`` output: tf_echo's text, JSON Lines, or CSV."""
+
+from __future__ import annotations
+
+import csv
+import math
+from collections.abc import Iterator
+from typing import Any, TextIO
+
+from tftools.analysis.echo import EchoSeries
+from tftools.core.time import format_stamp, to_sec
+from tftools.core.transform import Transform
+from tftools.render import jsonl
+
+CSV_COLUMNS = (
+    "time", "stamp_ns", "frame_id", "child_frame_id", "x", "y", "z",
+    "qx", "qy", "qz", "qw", "roll", "pitch", "yaw", "error",
+)  # fmt: skip
+
+
+def write_text(series: EchoSeries, out: TextIO, precision: int = 3, matrix: bool = False) -> None:
+    """What tf_echo prints for each time: the transform, or the failure and tf2's reason."""
+    for row in range(len(series)):
+        if not series.valid[row]:
+            out.write(f"Failure at {format_stamp(int(series.times[row]))}\n")
+            out.write(f"Exception thrown:{series.errors[row]}\n")
+            continue
+        f = f".{precision}f"
+        t, q, rpy = series.translations[row], series.rotations[row], series.rpy[row]
+        deg = [math.degrees(a) for a in rpy]
+        out.write(f"At time {to_sec(int(series.stamps[row])):{f}}\n")
+        out.write(f"- Translation: [{t[0]:{f}}, {t[1]:{f}}, {t[2]:{f}}]\n")
+        out.write(f"- Rotation: in Quaternion [{q[0]:{f}}, {q[1]:{f}}, {q[2]:{f}}, {q[3]:{f}}]\n")
+        out.write(f"            in RPY (radian) [{rpy[0]:{f}}, {rpy[1]:{f}}, {rpy[2]:{f}}]\n")
+        out.write(f"            in RPY (degree) [{deg[0]:{f}}, {deg[1]:{f}}, {deg[2]:{f}}]\n")
+        if matrix:
+            m = Transform(tuple(t), tuple(q)).as_matrix()  # type: ignore[arg-type]
+            out.write("- Matrix:\n")
+            for line in m:
+                out.write("  " + " ".join(f"{v:{f}}" for v in line) + "\n")
+
+
+def _records(series: EchoSeries) -> Iterator[dict[str, Any]]:
+    for row in range(len(series)):
+        record: dict[str, Any] = {
+            "time": to_sec(int(series.times[row])),
+            "stamp_ns": int(series.stamps[row] if series.valid[row] else series.times[row]),
+            "frame_id": series.target,
+            "child_frame_id": series.source,
+        }
+        if series.valid[row]:
+            record["translation"] = series.translations[row].tolist()
+            record["rotation"] = series.rotations[row].tolist()
+            record["rpy"] = series.rpy[row].tolist()
+        else:
+            error = series.errors[row]
+            record["error"] = type(error).__name__
+            record["message"] = str(error)
+        yield record
+
+
+def write_json(series: EchoSeries, out: TextIO) -> None:
+    """One JSON object per line: time, stamp_ns, frames, translation, rotation, rpy (or error)."""
+    jsonl.write_lines(_records(series), out)
+
+
+def write_csv(series: EchoSeries, out: TextIO) -> None:
+    """A table for spreadsheets and plotting; failed rows have only the error column filled."""
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(CSV_COLUMNS)
+    for record in _records(series):
+        values = [*record.get("translation", [""] * 3), *record.get("rotation", [""] * 4), *record.get("rpy", [""] * 3)]
+        writer.writerow(
+            [record["time"], record["stamp_ns"], record["frame_id"], record["child_frame_id"], *values, record.get("message", "")]
+        )

@@ -1,0 +1,86 @@
+"""``tfx frames`` output: a rich tree, JSON, or YAML in tf2's ``allFramesAsYAML`` layout."""
+
+from __future__ import annotations
+
+import json
+from typing import Any, TextIO
+
+from rich.console import Console
+from rich.text import Text
+from rich.tree import Tree
+
+from tftools.analysis.frames import FrameSummary, FrameTree
+from tftools.core.time import NS_PER_S, to_sec
+from tftools.render import jsonl
+
+
+def _label(f: FrameSummary) -> Text:
+    label = Text(f.frame, style="bold")
+    if f.parent is None:
+        return label.append("  (root)", style="dim")
+    label.append("  ")
+    label.append("static" if f.static else f"{f.rate_hz:.1f} Hz", style="cyan" if f.static else "green")
+    label.append(f"  {', '.join(f.authorities) or '?'}", style="yellow" if len(f.authorities) > 1 else "magenta")
+    if not f.static:
+        span = (f.last_stamp - f.first_stamp) / NS_PER_S
+        label.append(f"  {f.count} samples, {to_sec(f.first_stamp):.3f} → {to_sec(f.last_stamp):.3f} ({span:.1f} s)", style="dim")
+    if len(f.parents) > 1:
+        label.append(f"  parents over time: {' → '.join(f.parents)}", style="bold red")
+    if len(f.authorities) > 1:
+        label.append("  several publishers", style="bold yellow")
+    return label
+
+
+def write_tree(tree: FrameTree, console: Console) -> None:
+    """The frames as a tree from each root; frames in a loop are listed apart."""
+    shown: set[str] = set()
+
+    def grow(node: Tree, frame: str) -> None:
+        shown.add(frame)
+        for child in sorted(tree.children.get(frame, [])):
+            if child not in shown:
+                grow(node.add(_label(tree.frames[child])), child)
+
+    for root in sorted(tree.roots):
+        node = Tree(_label(tree.frames[root]))
+        grow(node, root)
+        console.print(node)
+    loose = [name for name in tree.frames if name not in shown]
+    if loose:
+        console.print(Text(f"In a loop (no root): {', '.join(sorted(loose))}", style="bold red"))
+
+
+def _as_dict(f: FrameSummary) -> dict[str, Any]:
+    return {
+        "frame": f.frame,
+        "parent": f.parent,
+        "static": f.static,
+        "authorities": list(f.authorities),
+        "count": f.count,
+        "rate_hz": f.rate_hz,
+        "first_stamp": to_sec(f.first_stamp) if f.count else None,
+        "last_stamp": to_sec(f.last_stamp) if f.count else None,
+        "parents": list(f.parents),
+    }
+
+
+def write_json(tree: FrameTree, out: TextIO) -> None:
+    jsonl.write_document({"roots": tree.roots, "frames": [_as_dict(f) for f in tree.frames.values()]}, out)
+
+
+def write_yaml(tree: FrameTree, out: TextIO) -> None:
+    """tf2's ``allFramesAsYAML`` fields per child frame, plus ``static``, ``count`` and ``publishers``."""
+    for f in tree.frames.values():
+        if f.parent is None:
+            continue
+        span = (f.last_stamp - f.first_stamp) / NS_PER_S
+        out.write(f"{json.dumps(f.frame)}:\n")
+        out.write(f"  parent: {json.dumps(f.parent)}\n")
+        out.write(f"  broadcaster: {json.dumps(f.authorities[-1] if f.authorities else '')}\n")
+        out.write(f"  publishers: {json.dumps(list(f.authorities))}\n")
+        out.write(f"  static: {'true' if f.static else 'false'}\n")
+        out.write(f"  count: {f.count}\n")
+        out.write(f"  rate: {f.rate_hz:.3f}\n")
+        out.write(f"  most_recent_transform: {to_sec(f.last_stamp):.3f}\n")
+        out.write(f"  oldest_transform: {to_sec(f.first_stamp):.3f}\n")
+        out.write(f"  buffer_length: {span:.3f}\n")

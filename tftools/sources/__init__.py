@@ -1,0 +1,28 @@
+"""Sources: bags and live systems turned into transforms for a buffer."""
+
+from tftools.sources.bag import DEFAULT_TOPICS, BagContents, BagFileInfo, read_bag
+from tftools.sources.errors import (
+    BagError,
+    BagNotFoundError,
+    CorruptBagError,
+    NoTransformsError,
+    SourceError,
+    UnknownBagFormatError,
+)
+from tftools.sources.recording import Recording, load, read_recording
+
+__all__ = [
+    "DEFAULT_TOPICS",
+    "BagContents",
+    "BagError",
+    "BagFileInfo",
+    "BagNotFoundError",
+    "CorruptBagError",
+    "NoTransformsError",
+    "Recording",
+    "SourceError",
+    "UnknownBagFormatError",
+    "load",
+    "read_bag",
+    "read_recording",
+]
