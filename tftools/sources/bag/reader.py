@@ -9,7 +9,6 @@ from pathlib import Path
 import numpy as np
 
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
-from tftools.sources.bag import mcap_file, ros1, rosbag2
 from tftools.sources.bag.contents import DEFAULT_TOPICS, BagContents, BagFileInfo, ProgressCallback
 from tftools.sources.errors import BagNotFoundError, UnknownBagFormatError
 
@@ -60,10 +59,14 @@ def read_bag(
 
 
 def _format_reader(path: Path) -> FormatReader:
+    # Each format's module is imported only when a file needs it: a ROS1 user pays for no
+    # sqlite or MCAP code.
     if not path.exists():
         raise BagNotFoundError(str(path))
     if path.is_dir():
         if (path / "metadata.yaml").exists() or any(path.glob("*.db3")) or any(path.glob("*.mcap")):
+            from tftools.sources.bag import rosbag2
+
             return rosbag2.read
         raise UnknownBagFormatError(str(path), "a directory without metadata.yaml, .db3 or .mcap files")
     try:
@@ -72,10 +75,16 @@ def _format_reader(path: Path) -> FormatReader:
     except OSError as e:
         raise UnknownBagFormatError(str(path), e.strerror or str(e)) from None
     if head.startswith(_ROS1_MAGIC):
+        from tftools.sources.bag import ros1
+
         return ros1.read
     if head.startswith(_SQLITE_MAGIC):
+        from tftools.sources.bag import rosbag2
+
         return rosbag2.read
     if head.startswith(_MCAP_MAGIC):
+        from tftools.sources.bag import mcap_file
+
         return mcap_file.read
     raise UnknownBagFormatError(str(path), "unrecognised file header")
 
