@@ -1,0 +1,114 @@
+"""``write_bag``: transforms into a ROS1 bag or a ROS2 bag (sqlite3 or MCAP storage)."""
+
+from __future__ import annotations
+
+import enum
+import os
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.sources.errors import BagError
+
+TF_TYPE = "tf2_msgs/msg/TFMessage"
+
+
+class BagFormat(str, enum.Enum):
+    """The formats ``write_bag`` writes; ROS2 bags are directories."""
+
+    ros1 = "ros1"
+    rosbag2_sqlite3 = "rosbag2-sqlite3"
+    rosbag2_mcap = "rosbag2-mcap"
+
+
+@dataclass(frozen=True)
+class TfMessage:
+    """One recorded tf2_msgs/TFMessage: where, when, what, and who sent it (ROS1 callerid)."""
+
+    topic: str
+    record_time: int
+    transforms: Sequence[Transform]
+    publisher: str = ""
+
+
+def write_bag(path: str | os.PathLike[str], messages: Iterable[TfMessage], fmt: BagFormat = BagFormat.ros1) -> Path:
+    """Write ``messages`` (in record order) as a new bag at ``path``; refuses to overwrite."""
+    target = Path(path)
+    if target.exists():
+        raise BagError(str(target), "already exists", "choose another output path or remove it first")
+    if fmt is BagFormat.ros1:
+        _write_ros1(target, messages)
+    else:
+        _write_rosbag2(target, messages, "mcap" if fmt is BagFormat.rosbag2_mcap else "sqlite3")
+    return target
+
+
+def _write_ros1(path: Path, messages: Iterable[TfMessage]) -> None:
+    from rosbags.rosbag1 import Writer
+
+    store = _typestore("ros1")
+    with Writer(path) as writer:
+        connections: dict[tuple[str, str], Any] = {}
+        for message in messages:
+            key = (message.topic, message.publisher)
+            if key not in connections:
+                latching = 1 if message.topic.endswith("tf_static") else None
+                connections[key] = writer.add_connection(
+                    message.topic, TF_TYPE, typestore=store, callerid=message.publisher or None, latching=latching
+                )
+            data = store.serialize_ros1(_tf_message(store, message.transforms), TF_TYPE)
+            writer.write(connections[key], message.record_time, bytes(data))
+
+
+def _write_rosbag2(path: Path, messages: Iterable[TfMessage], storage: str) -> None:
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    store = _typestore("ros2")
+    writer = Writer(path, version=Writer.VERSION_LATEST, storage_plugin=StoragePlugin[storage.upper()])
+    with writer:
+        connections: dict[str, Any] = {}
+        for message in messages:
+            if message.topic not in connections:
+                connections[message.topic] = writer.add_connection(message.topic, TF_TYPE, typestore=store)
+            data = store.serialize_cdr(_tf_message(store, message.transforms), TF_TYPE)
+            writer.write(connections[message.topic], message.record_time, bytes(data))
+
+
+@cache
+def _typestore(ros: str) -> Any:
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC if ros == "ros1" else Stores.ROS2_HUMBLE)
+    if TF_TYPE not in store.types:  # rosbags' ROS1 store lacks tf2_msgs
+        store.register(get_types_from_msg("geometry_msgs/TransformStamped[] transforms", TF_TYPE))
+    return store
+
+
+def _tf_message(store: Any, transforms: Sequence[Transform]) -> Any:
+    types = store.types
+    time_type = types["builtin_interfaces/msg/Time"]
+    stamped = []
+    for t in transforms:
+        sec, nanosec = divmod(t.stamp, NS_PER_S)
+        header = types["std_msgs/msg/Header"](**_header_fields(store, time_type(sec=sec, nanosec=nanosec), t.frame_id))
+        x, y, z = (float(v) for v in t.translation)
+        qx, qy, qz, qw = (float(v) for v in t.rotation)
+        geometry = types["geometry_msgs/msg/Transform"](
+            translation=types["geometry_msgs/msg/Vector3"](x=x, y=y, z=z),
+            rotation=types["geometry_msgs/msg/Quaternion"](x=qx, y=qy, z=qz, w=qw),
+        )
+        stamped_type = types["geometry_msgs/msg/TransformStamped"]
+        stamped.append(stamped_type(header=header, child_frame_id=t.child_frame_id, transform=geometry))
+    return types[TF_TYPE](transforms=stamped)
+
+
+def _header_fields(store: Any, stamp: Any, frame_id: str) -> dict[str, Any]:
+    fields: dict[str, Any] = {"stamp": stamp, "frame_id": frame_id}
+    if any(name == "seq" for name, _ in store.fielddefs["std_msgs/msg/Header"][1]):  # ROS1 only
+        fields["seq"] = 0
+    return fields
+
