@@ -1,0 +1,38 @@
+"""``Finding``: one problem the checker found, with what it involves and how to fix it."""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+
+class Severity(str, enum.Enum):
+    """How badly a problem breaks lookups: errors break them, warnings are tolerated by tf2."""
+
+    error = "error"
+    warning = "warning"
+    info = "info"
+
+    @property
+    def rank(self) -> int:
+        return {"error": 0, "warning": 1, "info": 2}[self.value]
+
+
+@dataclass(frozen=True)
+class Finding:
+    """A problem: its code (e.g. ``cycle``), a one-line message naming what is involved, a hint.
+
+    ``frames`` lists the frames involved (edges as consecutive parent, child pairs where that
+    matters is up to the check), ``first_time``/``last_time`` the stamps or record times (ns)
+    where it shows, ``count`` how many samples or messages show it.
+    """
+
+    severity: Severity
+    code: str
+    message: str
+    hint: str
+    frames: tuple[str, ...] = ()
+    authorities: tuple[str, ...] = ()
+    first_time: int = 0
+    last_time: int = 0
+    count: int = 0
