@@ -4,7 +4,7 @@ Reads JSON on stdin: {"scenarios": [{"cache_time_s": int, "inserts": [...] | "ba
 "queries": [...]}]} and writes {"results": [{"rejections": [codes], "answers": [...]}]}.
 An insert is [parent, child, sec, nsec, tx, ty, tz, qx, qy, qz, qw, authority, static].
 A query is ["lookup", target, source, sec, nsec], ["lookup_full", target, sec, nsec, source,
-sec, nsec, fixed], ["can", target, source, sec, nsec], ["lct", target, source] or ["frames"].
+sec, nsec, fixed], ["can", target, source, sec, nsec], ["lct", target, source], ["frames"] or ["yaml"].
 """
 
 import json
@@ -49,6 +49,8 @@ def feed_bag(core, path):
     with rosbag.Bag(path) as bag:
         for topic, msg, _t, header in bag.read_messages(topics=["/tf", "/tf_static"], return_connection_header=True):
             authority = header.get("callerid", topic)
+            if isinstance(authority, bytes):  # rosbag gives connection header values as bytes
+                authority = authority.decode()
             for transform in msg.transforms:
                 insert(core, transform, authority, topic == "/tf_static")
 
@@ -102,6 +104,8 @@ def answer(core, query):
             return {"ok": True, "stamp": [t.secs, t.nsecs]}
         if kind == "frames":
             return {"ok": True, "text": core.all_frames_as_string()}
+        if kind == "yaml":
+            return {"ok": True, "text": core.all_frames_as_yaml()}
     except Exception as e:  # noqa: BLE001 - every tf2 exception is an answer to compare
         return {"ok": False, "error": type(e).__name__, "message": str(e)}
     raise ValueError(f"unknown query {kind}")

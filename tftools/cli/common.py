@@ -19,8 +19,16 @@ from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources import Recording, read_recording
 from tftools.sources.bag import ProgressCallback
 
-stdout = Console(highlight=False, soft_wrap=True)
-stderr = Console(stderr=True, highlight=False, soft_wrap=True)
+
+def _console(*, to_stderr: bool) -> Console:
+    console = Console(stderr=to_stderr, highlight=False, soft_wrap=True)
+    if not console.is_terminal:  # piped or captured: never crop lines to a guessed 80 columns
+        console.width = 200
+    return console
+
+
+stdout = _console(to_stderr=False)
+stderr = _console(to_stderr=True)
 
 
 class Exit(enum.IntEnum):

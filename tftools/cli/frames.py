@@ -20,7 +20,7 @@ class FramesFormat(str, enum.Enum):
 
 def command(
     bags: BagOption = None,
-    fmt: Annotated[FramesFormat, typer.Option("--format", "-f", help="text (a tree), json, or yaml (tf2's layout).")] = FramesFormat.text,
+    fmt: Annotated[FramesFormat, typer.Option("--format", "-f", help="text (a tree), json, or yaml (exactly tf2's allFramesAsYAML).")] = FramesFormat.text,
     topics: TopicOption = None,
 ) -> None:
     """Show every frame as a tree: its parent, publishers, rate, samples and time span.
@@ -34,6 +34,6 @@ def command(
     if fmt is FramesFormat.json:
         render.write_json(tree, stdout.file)
     elif fmt is FramesFormat.yaml:
-        render.write_yaml(tree, stdout.file)
+        render.write_yaml(recording.buffer.all_frames_as_yaml(), stdout.file)
     else:
         render.write_tree(tree, stdout)

@@ -368,6 +368,10 @@ class Buffer:
         """tf2's ``allFramesAsString``: "Frame X exists with parent Y." per child frame."""
         return walk.frames_as_string(self._tree())
 
+    def all_frames_as_yaml(self) -> str:
+        """tf2's ``allFramesAsYAML``: per child frame its parent, broadcaster, rate and span."""
+        return walk.frames_as_yaml(self._tree(), self.authorities)
+
     def _tree(self) -> walk.Tree:
         return walk.Tree(self._histories, self._frames.names)
 

@@ -29,6 +29,7 @@ from tftools.core.rotation import (
     quat_rotate,
     quat_rotate_many,
 )
+from tftools.core.time import to_sec
 
 #: tf2's ``MAX_GRAPH_DEPTH``: a walk longer than this is taken for a loop.
 MAX_GRAPH_DEPTH = 1000
@@ -224,6 +225,27 @@ def frames_as_string(tree: Tree) -> str:
         if hist is not None:
             lines.append(f"Frame {tree.names[frame_id]} exists with parent {tree.names[hist.latest_parent]}.\n")
     return "".join(lines)
+
+
+def frames_as_yaml(tree: Tree, authorities: Sequence[str]) -> str:
+    """tf2's ``allFramesAsYAML``: parent, latest broadcaster, rate and time span per child frame."""
+    lines = []
+    for frame_id, hist in enumerate(tree.histories):
+        if hist is None or not len(hist):
+            continue
+        latest, oldest = (0, 0) if hist.static else (hist.latest_stamp, hist.oldest_stamp)
+        rate = (1 if hist.static else len(hist)) / max(to_sec(latest) - to_sec(oldest), 0.0001)
+        authority = authorities[int(hist.authorities[int(np.argmax(hist.sequence))])]
+        lines += [
+            f"{tree.names[frame_id]}: ",
+            f"  parent: '{tree.names[hist.latest_parent]}'",
+            f"  broadcaster: '{authority}'",
+            f"  rate: {rate:.3f}",
+            f"  most_recent_transform: {to_sec(latest):.3f}",
+            f"  oldest_transform: {to_sec(oldest):.3f}",
+            f"  buffer_length: {to_sec(latest - oldest):.3f}",
+        ]
+    return "\n".join(lines) + "\n" if lines else "[]"
 
 
 def _inverse(v: Vec3, q: Quat) -> tuple[Vec3, Quat]:

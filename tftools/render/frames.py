@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from typing import Any, TextIO
 
 from rich.console import Console
@@ -68,19 +67,6 @@ def write_json(tree: FrameTree, out: TextIO) -> None:
     jsonl.write_document({"roots": tree.roots, "frames": [_as_dict(f) for f in tree.frames.values()]}, out)
 
 
-def write_yaml(tree: FrameTree, out: TextIO) -> None:
-    """tf2's ``allFramesAsYAML`` fields per child frame, plus ``static``, ``count`` and ``publishers``."""
-    for f in tree.frames.values():
-        if f.parent is None:
-            continue
-        span = (f.last_stamp - f.first_stamp) / NS_PER_S
-        out.write(f"{json.dumps(f.frame)}:\n")
-        out.write(f"  parent: {json.dumps(f.parent)}\n")
-        out.write(f"  broadcaster: {json.dumps(f.authorities[-1] if f.authorities else '')}\n")
-        out.write(f"  publishers: {json.dumps(list(f.authorities))}\n")
-        out.write(f"  static: {'true' if f.static else 'false'}\n")
-        out.write(f"  count: {f.count}\n")
-        out.write(f"  rate: {f.rate_hz:.3f}\n")
-        out.write(f"  most_recent_transform: {to_sec(f.last_stamp):.3f}\n")
-        out.write(f"  oldest_transform: {to_sec(f.first_stamp):.3f}\n")
-        out.write(f"  buffer_length: {span:.3f}\n")
+def write_yaml(yaml_text: str, out: TextIO) -> None:
+    """tf2's ``allFramesAsYAML``, exactly as ``tf2_ros`` prints it."""
+    out.write(yaml_text if yaml_text.endswith("\n") else yaml_text + "\n")

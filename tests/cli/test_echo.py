@@ -1,0 +1,110 @@
+"""``tfx echo`` on the sample bags: tf2's numbers, tf_echo's layout, scriptable formats, clean errors."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from tests.cli.conftest import SAMPLE_BAGS
+from tests.oracle import Scenario, binding_time, run_tf2
+from tftools.core.time import NS_PER_S
+
+FORMATS = list(SAMPLE_BAGS)
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_json_lines_match_tf2_on_the_ros1_bag(tfx, tf2_available: None, fmt: str) -> None:
+    result = tfx("echo", "map", "gripper", "-b", SAMPLE_BAGS[fmt], "--rate", "4", "--format", "json")
+    assert result.code == 0, result.stderr
+    records = [json.loads(line) for line in result.stdout.splitlines()]
+    assert 55 <= len(records) <= 61  # 4 Hz over the ~14.9 s where every edge of the chain has data
+    queries = [["lookup", "map", "gripper", *divmod(binding_time(r["stamp_ns"]), NS_PER_S)] for r in records]
+    (theirs,) = run_tf2([Scenario(queries=queries, bag=str(SAMPLE_BAGS["ros1"]))])
+    for ours, answer in zip(records, theirs["answers"], strict=True):
+        assert answer["ok"], answer
+        np.testing.assert_allclose(ours["translation"], answer["t"], atol=1e-5)
+        np.testing.assert_allclose(ours["rotation"], answer["q"], atol=1e-5)
+
+
+def test_text_has_tf_echo_layout(tfx) -> None:
+    result = tfx("echo", "map", "base_link", "-b", SAMPLE_BAGS["db3"], "--rate", "1", "--end", "+3")
+    assert result.code == 0, result.stderr
+    blocks = result.stdout.strip().split("At time ")[1:]
+    assert len(blocks) == 3
+    number = r"-?\d+\.\d{3}"
+    vector = lambda n: r"\[" + ", ".join([number] * n) + r"\]"  # noqa: E731
+    pattern = (
+        rf"{number}\n- Translation: {vector(3)}\n- Rotation: in Quaternion {vector(4)}\n"
+        rf"\s+in RPY \(radian\) {vector(3)}\n\s+in RPY \(degree\) {vector(3)}\n?"
+    )
+    for block in blocks:
+        assert re.fullmatch(pattern, block), block
+
+
+def test_formats_agree(tfx) -> None:
+    outputs = [tfx("echo", "odom", "arm_link4", "-b", SAMPLE_BAGS[f], "-f", "json", "--rate", "2").stdout for f in FORMATS]
+    parsed = [[json.loads(line) for line in out.splitlines()] for out in outputs]
+    assert len(parsed[0]) > 20
+    for other in parsed[1:]:
+        assert [r["stamp_ns"] for r in other] == [r["stamp_ns"] for r in parsed[0]]
+        np.testing.assert_allclose([r["translation"] for r in other], [r["translation"] for r in parsed[0]], atol=1e-12)
+
+
+def test_csv_columns_and_every_sample(tfx) -> None:
+    result = tfx("echo", "map", "odom", "-b", SAMPLE_BAGS["mcap"], "--all", "--format", "csv")
+    assert result.code == 0, result.stderr
+    rows = list(csv.DictReader(io.StringIO(result.stdout)))
+    assert len(rows) == 150  # amcl published map -> odom 150 times in 15 s
+    assert rows[0].keys() >= {"time", "stamp_ns", "x", "y", "z", "qx", "qy", "qz", "qw", "roll", "pitch", "yaw"}
+    stamps = [int(r["stamp_ns"]) for r in rows]
+    assert stamps == sorted(stamps)
+
+
+def test_failed_lookup_prints_tf2_reason_and_exits_1(tfx) -> None:
+    result = tfx("echo", "map", "gripper", "-b", SAMPLE_BAGS["db3"], "--at", "1600000000")
+    assert result.code == 1
+    assert result.stdout.startswith("Failure at 1600000000.000000000\nException thrown:Lookup would require extrapolation")
+    assert "into the past" in result.stdout
+
+
+def test_unknown_frame_is_one_line_with_close_matches(tfx) -> None:
+    result = tfx("echo", "map", "grippr", "-b", SAMPLE_BAGS["db3"])
+    assert result.code == 2
+    assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
+    assert "frame 'grippr' does not exist" in result.stderr and "gripper" in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("make", "expected"),
+    [
+        (lambda tmp: tmp / "missing.bag", "no such file"),
+        (lambda tmp: _write(tmp / "noise.bag", bytes(range(256)) * 20), "not a ROS1 bag"),
+        (lambda tmp: _write(tmp / "empty.bag", b""), "not a ROS1 bag"),
+    ],
+)
+def test_bad_bags_are_one_line_errors(tfx, tmp_path, make, expected: str) -> None:
+    result = tfx("echo", "map", "odom", "-b", make(tmp_path))
+    assert result.code == 2
+    assert result.stderr.startswith("tfx: error:") and result.stderr.count("\n") == 1
+    assert expected in result.stderr
+
+
+def test_console_script_runs(tmp_path) -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "tftools", "echo", "map", "laser", "-b", SAMPLE_BAGS["ros1"], "--at", "+5"],
+        capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("At time 1700000005.000")
+
+
+def _write(path, data: bytes):
+    path.write_bytes(data)
+    return path

@@ -1,0 +1,43 @@
+"""``tfx frames`` on the sample bags: every frame, its parent, rate and publisher; tf2's YAML."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from tests.cli.conftest import SAMPLE_BAGS
+from tests.oracle import Scenario, run_tf2
+
+TRUE_RATES = {"odom": 10, "base_footprint": 50, "left_wheel": 30, "right_wheel": 30, "arm_link1": 50, "arm_link6": 50}
+STATIC = {"base_link", "laser", "imu_link", "camera_link", "camera_optical_frame", "arm_base", "gripper"}
+
+
+@pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
+def test_json_describes_every_frame(tfx, fmt: str) -> None:
+    result = tfx("frames", "-b", SAMPLE_BAGS[fmt], "--format", "json")
+    assert result.code == 0, result.stderr
+    doc = json.loads(result.stdout)
+    frames = {f["frame"]: f for f in doc["frames"]}
+    assert doc["roots"] == ["map"]
+    assert len(frames) == 18
+    assert {name for name, f in frames.items() if f["static"]} == STATIC
+    for frame, rate in TRUE_RATES.items():
+        assert frames[frame]["rate_hz"] == pytest.approx(rate, rel=0.02)
+    assert frames["arm_link3"]["parent"] == "arm_link2"
+
+
+def test_text_tree_nests_children_under_parents(tfx) -> None:
+    result = tfx("frames", "-b", SAMPLE_BAGS["mcap"])
+    assert result.code == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0].startswith("map") and "(root)" in lines[0]
+    depth = {line.lstrip("│├└─ ").split()[0]: len(line) - len(line.lstrip("│├└─ ")) for line in lines}
+    assert depth["odom"] < depth["base_footprint"] < depth["base_link"] < depth["arm_base"] < depth["gripper"]
+    assert "50.0 Hz" in next(line for line in lines if "arm_link4" in line)
+
+
+def test_yaml_is_tf2s_all_frames_as_yaml(tfx, tf2_available: None) -> None:
+    result = tfx("frames", "-b", SAMPLE_BAGS["ros1"], "--format", "yaml")
+    (theirs,) = run_tf2([Scenario(queries=[["yaml"]], bag=str(SAMPLE_BAGS["ros1"]))])
+    assert result.stdout == theirs["answers"][0]["text"] + "\n"

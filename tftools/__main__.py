@@ -1,0 +1,5 @@
+"""``python -m tftools``: the ``tfx`` command."""
+
+from tftools.cli.app import main
+
+main()
