@@ -20,5 +20,5 @@ if command -v dpkg >/dev/null; then
   fi
 fi
 
-bash scripts/setup.sh test
+bash scripts/setup.sh test,ros2
 exec .venv/bin/python -m pytest "$@"
