@@ -13,6 +13,7 @@ from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 
 Int64Array = npt.NDArray[np.int64]
+BoolArray = npt.NDArray[np.bool_]
 
 
 @dataclass(frozen=True)
@@ -45,48 +46,62 @@ class EdgeStats:
 
 @dataclass(frozen=True)
 class AuthorityStats:
-    """One publisher: its message rate (distinct record times per second) and its edges."""
+    """One publisher: its message rate (distinct record times per second), its edges, and
+    the mean and largest delay of its dynamic transforms (tf_monitor's "Node:" line)."""
 
     authority: str
     messages: int
     rate_hz: float
     edges: tuple[tuple[str, str], ...]
+    delay_mean_s: float = math.nan
+    delay_max_s: float = math.nan
 
 
-def edge_stats(buffer: Buffer, start: int | None = None, end: int | None = None) -> list[EdgeStats]:
-    """Statistics of every edge whose samples have stamps in ``[start, end]`` (static edges always)."""
+def edge_stats(
+    buffer: Buffer, start: int | None = None, end: int | None = None, *, by_record_time: bool = False
+) -> list[EdgeStats]:
+    """Statistics of every edge with samples in ``[start, end]`` (static edges always).
+
+    The window selects samples by stamp, or with ``by_record_time`` by when they were
+    received (the stamp where that is unknown): what a live monitor saw in its last seconds.
+    """
     result = []
     for child, hist in buffer.histories():
+        window = _window(hist, start, end, by_record_time)
         for parent_id in _parents_in_order(hist):
-            rows = hist.parents == parent_id
-            if not hist.static:
-                rows &= _in_window(hist.stamps, start, end)
+            rows = window & (hist.parents == parent_id)
             if rows.any():
                 result.append(_edge(buffer, child, buffer.frame_name(int(parent_id)), hist, rows))
     return result
 
 
-def authority_stats(buffer: Buffer, start: int | None = None, end: int | None = None) -> list[AuthorityStats]:
-    """Each publisher's message rate over the window and the edges it published (static ones too)."""
+def authority_stats(
+    buffer: Buffer, start: int | None = None, end: int | None = None, *, by_record_time: bool = False
+) -> list[AuthorityStats]:
+    """Each publisher's message rate over the window (as ``edge_stats`` selects it) and its edges."""
     record_times: dict[int, list[Int64Array]] = {}
+    delays: dict[int, list[Int64Array]] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
     for child, hist in buffer.histories():
-        window = np.ones(len(hist), bool) if hist.static else _in_window(hist.stamps, start, end)
+        window = _window(hist, start, end, by_record_time)
         for authority in np.unique(hist.authorities[window]):
             mine = window & (hist.authorities == authority)
             record_times.setdefault(int(authority), []).append(hist.record_times[mine])
+            delays.setdefault(int(authority), []).append(_delays(hist, mine))
             for parent_id in np.unique(hist.parents[mine]):
                 edges.setdefault(int(authority), []).append((buffer.frame_name(int(parent_id)), child))
     return [
-        _authority(buffer.authorities[a], np.unique(np.concatenate(times)), tuple(edges[a]))
+        _authority(buffer.authorities[a], np.unique(np.concatenate(times)), tuple(edges[a]), np.concatenate(delays[a]))
         for a, times in sorted(record_times.items(), key=lambda item: buffer.authorities[item[0]])
     ]
 
 
-def _authority(name: str, times: Int64Array, edges: tuple[tuple[str, str], ...]) -> AuthorityStats:
+def _authority(name: str, times: Int64Array, edges: tuple[tuple[str, str], ...], delays: Int64Array) -> AuthorityStats:
+    times = times[times > 0]
     span = int(times[-1] - times[0]) if len(times) else 0
     rate = (len(times) - 1) * NS_PER_S / span if span > 0 else 0.0
-    return AuthorityStats(name, len(times), rate, edges)
+    mean, largest = _mean_max(delays)
+    return AuthorityStats(name, len(times), rate, edges, mean, largest)
 
 
 def _parents_in_order(hist: EdgeHistory) -> list[int]:
@@ -95,39 +110,56 @@ def _parents_in_order(hist: EdgeHistory) -> list[int]:
     return [int(i) for i in ids[np.argsort(first)]]
 
 
-def _in_window(stamps: Int64Array, start: int | None, end: int | None) -> npt.NDArray[np.bool_]:
-    mask = np.ones(len(stamps), bool)
+def _window(hist: EdgeHistory, start: int | None, end: int | None, by_record_time: bool) -> BoolArray:
+    if hist.static:
+        return np.ones(len(hist), bool)
+    times = hist.stamps
+    if by_record_time:
+        records = hist.record_times
+        times = np.where(records > 0, records, times)
+    mask = np.ones(len(times), bool)
     if start is not None:
-        mask &= stamps >= start
+        mask &= times >= start
     if end is not None:
-        mask &= stamps <= end
+        mask &= times <= end
     return mask
 
 
-def _edge(buffer: Buffer, child: str, parent: str, hist: EdgeHistory, rows: npt.NDArray[np.bool_]) -> EdgeStats:
-    stamps = hist.stamps[rows]
+def _delays(hist: EdgeHistory, rows: BoolArray) -> Int64Array:
+    """Record time minus stamp (ns) of the rows where the record time is known; none if static."""
+    if hist.static:
+        return np.zeros(0, np.int64)
     records = hist.record_times[rows]
-    order = np.argsort(stamps, kind="stable")
-    stamps, records = stamps[order], records[order]
-    intervals = np.diff(stamps)
+    known = records > 0
+    return records[known] - hist.stamps[rows][known]
+
+
+def _mean_max(delays_ns: Int64Array) -> tuple[float, float]:
+    if not len(delays_ns):
+        return math.nan, math.nan
+    return float(delays_ns.mean()) / NS_PER_S, float(delays_ns.max()) / NS_PER_S
+
+
+def _edge(buffer: Buffer, child: str, parent: str, hist: EdgeHistory, rows: BoolArray) -> EdgeStats:
+    stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
+    dynamic = not hist.static
+    intervals = np.diff(stamps) if dynamic else np.zeros(0, np.int64)
     gap_index = int(np.argmax(intervals)) if len(intervals) else 0
     span = int(stamps[-1] - stamps[0])
-    dynamic = not hist.static
-    known = records > 0
-    delays = (records[known] - stamps[known]) / NS_PER_S if dynamic else np.zeros(0)
+    delay_mean, delay_max = _mean_max(_delays(hist, rows))
     return EdgeStats(
         parent=parent,
         child=child,
         static=hist.static,
         count=len(stamps),
         authorities=tuple(buffer.authorities[int(a)] for a in np.unique(hist.authorities[rows])),
-        first_stamp=int(stamps[0]),
-        last_stamp=int(stamps[-1]),
+        first_stamp=int(stamps.min()),
+        last_stamp=int(stamps.max()),
         rate_hz=(len(stamps) - 1) * NS_PER_S / span if dynamic and span > 0 else 0.0,
-        jitter_s=float(np.std(intervals)) / NS_PER_S if dynamic and len(intervals) else 0.0,
-        gap_max_s=float(intervals[gap_index]) / NS_PER_S if dynamic and len(intervals) else 0.0,
+        jitter_s=float(np.std(intervals)) / NS_PER_S if len(intervals) else 0.0,
+        gap_max_s=float(intervals[gap_index]) / NS_PER_S if len(intervals) else 0.0,
         gap_start=int(stamps[gap_index]),
-        delay_mean_s=float(delays.mean()) if len(delays) else math.nan,
-        delay_max_s=float(delays.max()) if len(delays) else math.nan,
-        last_record=int(records.max()),
+        delay_mean_s=delay_mean,
+        delay_max_s=delay_max,
+        last_record=int(hist.record_times[rows].max()),
     )

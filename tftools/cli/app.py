@@ -8,7 +8,7 @@ import sys
 import typer
 
 from tftools import __version__
-from tftools.cli import echo, frames
+from tftools.cli import echo, frames, monitor, view_frames
 from tftools.cli.common import Exit, fail
 from tftools.core.errors import TfToolsError
 
@@ -27,6 +27,8 @@ app = typer.Typer(
 )
 app.command("echo")(echo.command)
 app.command("frames")(frames.command)
+app.command("monitor")(monitor.command)
+app.command("view-frames")(view_frames.command)
 
 
 def _version(value: bool) -> None:

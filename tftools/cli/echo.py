@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import enum
+import io
 from typing import Annotated
 
 import numpy as np
 import numpy.typing as npt
 import typer
 
-from tftools.analysis.echo import chain_span, echo, sample_times, ticks
+from tftools.analysis.echo import EchoSeries, chain_span, echo, sample_times, ticks
 from tftools.cli.common import (
     BagOption,
     EndOption,
@@ -23,8 +24,10 @@ from tftools.cli.common import (
     parse_time,
     stdout,
 )
+from tftools.core.buffer import Buffer
 from tftools.render import echo as render
 from tftools.sources import Recording
+from tftools.sources.replay import Replay, follow_into
 
 
 class EchoFormat(str, enum.Enum):
@@ -49,6 +52,9 @@ def command(
     matrix: Annotated[bool, typer.Option(help="Also print the 4x4 homogeneous matrix.")] = False,
     fmt: Annotated[EchoFormat, typer.Option("--format", "-f", help="text (tf_echo's), json (one object per line) or csv.")] = EchoFormat.text,
     topics: TopicOption = None,
+    play: Annotated[
+        bool, typer.Option("--play", help="Replay the bag in real time; print the latest transform --rate times a second.")
+    ] = False,
 ) -> None:
     """Print the transform from SOURCE to TARGET, as tf_echo does: [bold]where SOURCE is in TARGET[/].
 
@@ -65,15 +71,52 @@ def command(
     recording = open_recording(bags, topics)
     target = frame_argument(recording.buffer, target)
     source = frame_argument(recording.buffer, source)
+    if play:
+        exit_with(_play(recording, target, source, rate, start, end, fmt, precision, matrix))
     times = _times(recording, target, source, rate, at, every, start, end)
     series = echo(recording.buffer, target, source, times)
+    _write(series, fmt, precision, matrix)
+    exit_with(Exit.OK if series.valid.all() else Exit.PROBLEMS)
+
+
+def _write(series: EchoSeries, fmt: EchoFormat, precision: int, matrix: bool, header: bool = True) -> None:
     if fmt is EchoFormat.json:
         render.write_json(series, stdout.file)
     elif fmt is EchoFormat.csv:
-        render.write_csv(series, stdout.file)
+        text = io.StringIO()
+        render.write_csv(series, text)
+        stdout.file.write(text.getvalue() if header else text.getvalue().split("\n", 1)[1])
     else:
         render.write_text(series, stdout.file, precision, matrix)
-    exit_with(Exit.OK if series.valid.all() else Exit.PROBLEMS)
+    stdout.file.flush()
+
+
+def _play(
+    recording: Recording,
+    target: str,
+    source: str,
+    rate: float,
+    start: str | None,
+    end: str | None,
+    fmt: EchoFormat,
+    precision: int,
+    matrix: bool,
+) -> Exit:
+    """--play: the bag replayed on a sim clock into a tf2-sized buffer, as tf_echo sees a live
+    system: the latest transform, ``rate`` times a second of wall (= bag) time."""
+    first = parse_time(start, recording) if start is not None else None
+    last = parse_time(end, recording) if end is not None else recording.end
+    replay = Replay(recording.contents.transforms, start=first, end=last)
+    buffer = Buffer(clock=replay.clock)
+    failed: list[bool] = []
+
+    def tick() -> None:
+        series = echo(buffer, target, source, [0])
+        failed.append(not series.valid.all())
+        _write(series, fmt, precision, matrix, header=len(failed) == 1)
+
+    follow_into(replay, buffer, tick, period=1.0 / rate)
+    return Exit.PROBLEMS if any(failed) else Exit.OK
 
 
 def _times(

@@ -1,0 +1,161 @@
+"""``tfx monitor``'s work: tf_monitor's numbers per edge, per publisher, and along a chain."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import threading
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.analysis.edges import AuthorityStats, EdgeStats, authority_stats, edge_stats
+from tftools.core.batch import TransformBatch
+from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.errors import TransformError
+from tftools.core.time import NS_PER_S, Clock
+
+Int64Array = npt.NDArray[np.int64]
+
+
+@dataclass(frozen=True)
+class ChainStats:
+    """The edges a lookup from ``source`` to ``target`` composes, and how stale their latest
+    common time is: at each moment, now minus the oldest of the moving edges' newest stamps
+    (tf_monitor's "Net delay"), averaged over time and at its worst."""
+
+    target: str
+    source: str
+    frames: tuple[str, ...]  # from source to target, as the lookup walks
+    edges: tuple[EdgeStats, ...]  # one per hop with data in the window
+    delay_mean_s: float  # NaN if no moving edge, or their record times are unknown
+    delay_max_s: float
+    limiting: tuple[str, str] | None  # the edge that held the chain back the longest
+
+
+@dataclass(frozen=True)
+class MonitorReport:
+    """Everything ``tfx monitor`` shows for one window of time."""
+
+    start: int | None  # window (ns); None = open
+    end: int | None
+    edges: list[EdgeStats]
+    authorities: list[AuthorityStats]
+    chain: ChainStats | None
+
+
+def monitor(
+    buffer: Buffer,
+    target: str | None = None,
+    source: str | None = None,
+    start: int | None = None,
+    end: int | None = None,
+    *,
+    by_record_time: bool = False,
+) -> MonitorReport:
+    """tf_monitor's statistics over ``[start, end]``; with two frames, their chain too.
+
+    The chain delay is measured over the same window on the record-time axis (``end``
+    defaults to the buffer's clock). Raises tf2's errors when the frames are not connected.
+    """
+    edges = edge_stats(buffer, start, end, by_record_time=by_record_time)
+    authorities = authority_stats(buffer, start, end, by_record_time=by_record_time)
+    chain = None
+    if target is not None and source is not None:
+        chain = chain_stats(buffer, edges, target, source, start, end if end is not None else buffer.now())
+    return MonitorReport(start, end, edges, authorities, chain)
+
+
+def chain_stats(
+    buffer: Buffer, edges: list[EdgeStats], target: str, source: str, start: int | None, end: int
+) -> ChainStats:
+    """The chain between the frames, its edges' numbers (from ``edges``) and its delay."""
+    frames = tuple(buffer.chain(target, source))
+    by_key = {e.key: e for e in edges}
+    hops = [_hop(buffer, a, b) for a, b in itertools.pairwise(frames)]
+    moving = [hop for hop in hops if not _is_static(buffer, hop)]
+    mean, largest, limiting = _chain_delay(buffer, moving, start, end)
+    return ChainStats(
+        target, source, frames, tuple(by_key[h] for h in hops if h in by_key), mean, largest, limiting
+    )
+
+
+def _hop(buffer: Buffer, a: str, b: str) -> tuple[str, str]:
+    """The (parent, child) edge joining two neighbouring frames of a chain."""
+    return (b, a) if buffer.parent(a) == b else (a, b)
+
+
+def _is_static(buffer: Buffer, edge: tuple[str, str]) -> bool:
+    hist = buffer.history(edge[1])
+    return hist is None or hist.static
+
+
+def _newest_stamps(buffer: Buffer, edge: tuple[str, str], end: int) -> tuple[Int64Array, Int64Array]:
+    """When each sample of ``edge`` arrived (sorted) and the newest stamp known from then on."""
+    hist = buffer.history(edge[1])
+    assert hist is not None
+    parent_ids = [i for i in np.unique(hist.parents) if buffer.frame_name(int(i)) == edge[0]]
+    rows = np.isin(hist.parents, parent_ids) & (hist.record_times > 0) & (hist.record_times <= end)
+    records, stamps = hist.record_times[rows], hist.stamps[rows]
+    order = np.argsort(records, kind="stable")
+    return records[order], np.maximum.accumulate(stamps[order]) if len(stamps) else stamps
+
+
+def _chain_delay(
+    buffer: Buffer, moving: list[tuple[str, str]], start: int | None, end: int
+) -> tuple[float, float, tuple[str, str] | None]:
+    """Mean and max over ``[start, end]`` of (t - latest common stamp at t), and the limiting edge.
+
+    The latest common stamp is a step function that changes only when a sample arrives,
+    so the delay is a sawtooth: its integral and maximum are computed exactly per step.
+    """
+    series = [_newest_stamps(buffer, edge, end) for edge in moving]
+    if not series or any(len(records) == 0 for records, _ in series):
+        return math.nan, math.nan, None
+    first = max(int(records[0]) for records, _ in series)  # every edge has data from here on
+    begin = max(first, start) if start is not None else first
+    if begin >= end:
+        return math.nan, math.nan, None
+    arrivals = np.concatenate([records for records, _ in series])
+    steps = np.unique(np.concatenate([[begin], arrivals[(arrivals > begin) & (arrivals < end)]]))
+    common = np.full(len(steps), np.iinfo(np.int64).max, np.int64)
+    limiting = np.zeros(len(steps), np.int64)
+    for index, (records, newest) in enumerate(series):
+        known = newest[np.searchsorted(records, steps, side="right") - 1]
+        older = known < common
+        common[older], limiting[older] = known[older], index
+    bounds = np.append(steps, end)
+    rise = (bounds[:-1] - common) / NS_PER_S, (bounds[1:] - common) / NS_PER_S
+    integral = float(np.sum(rise[1] ** 2 - rise[0] ** 2)) / 2
+    held = np.bincount(limiting, weights=np.diff(bounds).astype(float), minlength=len(series))
+    return integral * NS_PER_S / (end - begin), float(rise[1].max()), moving[int(np.argmax(held))]
+
+
+class LiveMonitor:
+    """A buffer fed batch by batch (by a replay or a live source) and summed up on demand
+    over the last ``window`` of its clock's time, as ``tfx monitor`` refreshes its table."""
+
+    def __init__(self, clock: Clock, window: int = DEFAULT_CACHE_TIME) -> None:
+        self.window = window
+        # Keep a little more than the window: samples that arrive late still fall inside it.
+        self.buffer = Buffer(cache_time=window + DEFAULT_CACHE_TIME, clock=clock)
+        self._lock = threading.Lock()
+
+    def add(self, batch: TransformBatch) -> None:
+        """Insert a batch; safe to call from a source's thread."""
+        with self._lock:
+            self.buffer.insert(batch)
+
+    def report(self, target: str | None = None, source: str | None = None) -> MonitorReport:
+        """The statistics of what arrived over the last window; the chain once it exists."""
+        with self._lock:
+            now = self.buffer.now()
+            start = now - self.window
+            both = target is not None and source is not None
+            if both and not (self.buffer.has_frame(target) and self.buffer.has_frame(source)):  # type: ignore[arg-type]
+                target = source = None
+            try:
+                return monitor(self.buffer, target, source, start, now, by_record_time=True)
+            except TransformError:  # the chain is not connected (yet): show the rest
+                return monitor(self.buffer, None, None, start, now, by_record_time=True)

@@ -1,0 +1,139 @@
+"""``tfx monitor [TARGET SOURCE]``: tf_monitor's rates, gaps and delays, per edge and publisher."""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Callable
+from typing import Annotated
+
+import typer
+from rich.console import RenderableType
+from rich.live import Live
+
+from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
+from tftools.cli.common import (
+    BagOption,
+    EndOption,
+    StartOption,
+    TopicOption,
+    UsageError,
+    frame_argument,
+    open_recording,
+    parse_time,
+    stdout,
+)
+from tftools.core.time import NS_PER_S, from_sec, to_sec
+from tftools.render import monitor as render
+from tftools.sources import Recording
+from tftools.sources.replay import Feed, Replay, follow
+
+
+class MonitorFormat(str, enum.Enum):
+    text = "text"
+    json = "json"
+
+
+TargetArgument = Annotated[
+    str | None, typer.Argument(help="With SOURCE: the chain between them (tf_monitor's framea).", show_default=False)
+]
+SourceArgument = Annotated[
+    str | None, typer.Argument(help="The other end of the chain (tf_monitor's frameb).", show_default=False)
+]
+PlayOption = Annotated[
+    bool, typer.Option("--play", help="Replay the bag on a simulated clock and refresh the table live.")
+]
+RateOption = Annotated[float, typer.Option("--rate", "-r", help="With --play: replay speed, 1 = real time.")]
+WindowOption = Annotated[float, typer.Option(help="Live: the table covers the last WINDOW seconds.")]
+DurationOption = Annotated[
+    float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.", show_default=False)
+]
+FormatOption = Annotated[
+    MonitorFormat, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")
+]
+
+
+def command(
+    target: TargetArgument = None,
+    source: SourceArgument = None,
+    bags: BagOption = None,
+    start: StartOption = None,
+    end: EndOption = None,
+    play: PlayOption = False,
+    rate: RateOption = 1.0,
+    window: WindowOption = 10.0,
+    duration: DurationOption = None,
+    fmt: FormatOption = MonitorFormat.text,
+    topics: TopicOption = None,
+) -> None:
+    """Rates, jitter, gaps and delays of every edge and publisher, as tf_monitor shows them.
+
+    The delay is how late a transform arrives behind its stamp (record time minus stamp);
+    with TARGET and SOURCE, the chain between them and its net delay: how far behind the
+    newest transform between them lags, the oldest edge deciding (what "extrapolation into
+    the future" errors are about). On a bag: over the whole recording, or --start/--end
+    (times of recording). With --play: live, over the last --window seconds.
+
+    Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/]
+    """
+    if (target is None) != (source is None):
+        raise UsageError("give two frames or none", "tfx monitor TARGET SOURCE, e.g. tfx monitor map base_link")
+    if rate <= 0 or window <= 0 or (duration is not None and duration <= 0):
+        raise UsageError("--rate, --window and --duration must be above 0", "e.g. --rate 2 --window 5")
+    recording = open_recording(bags, topics)
+    if target is not None and source is not None:
+        target = frame_argument(recording.buffer, target)
+        source = frame_argument(recording.buffer, source)
+    first = parse_time(start, recording) if start is not None else None
+    last = parse_time(end, recording) if end is not None else None
+    if first is not None and last is not None and last < first:
+        raise UsageError("the time range is empty", "--start must come before --end")
+    if play:
+        last = last if last is not None else recording.end
+        replay = Replay(recording.contents.transforms, rate=rate, start=first, end=last)
+        watch(replay, target, source, from_sec(window), duration, fmt, f"rate {rate:g}x")
+        return
+    report = monitor(recording.buffer, target, source, first, last, by_record_time=True)
+    if fmt is MonitorFormat.json:
+        render.write_json(report, stdout.file)
+    else:
+        stdout.print(render.renderable(report, _header(recording, report)))
+
+
+def watch(
+    feed: Feed,
+    target: str | None,
+    source: str | None,
+    window: int,
+    duration: float | None,
+    fmt: MonitorFormat,
+    note: str = "",
+) -> None:
+    """The live table: ``feed`` into a monitor, its report over the last ``window`` (ns) once
+    a second, until ``duration`` wall seconds pass or the feed ends. Works with any feed:
+    a replay or a live source."""
+    live_monitor = LiveMonitor(feed.clock, window)
+    started = feed.clock.now()
+
+    def table() -> RenderableType:
+        now = feed.clock.now()
+        header = f"time {to_sec(now):.3f} (+{(now - started) / NS_PER_S:.1f} s), last {window / NS_PER_S:g} s"
+        header += f", {note}" if note else ""
+        return render.renderable(live_monitor.report(target, source), header, target, source)
+
+    def run(on_tick: Callable[[], None]) -> None:
+        follow(feed, live_monitor.add, on_tick, duration=duration)
+
+    if fmt is MonitorFormat.json:
+        run(lambda: render.write_json_line(live_monitor.report(target, source), stdout.file))
+    elif stdout.is_terminal:
+        with Live(console=stdout, auto_refresh=False) as screen:
+            run(lambda: screen.update(table(), refresh=True))
+    else:  # piped: one table per refresh, as tf_monitor prints its results
+        run(lambda: stdout.print(table(), "\n"))
+
+
+def _header(recording: Recording, report: MonitorReport) -> str:
+    first = report.start if report.start is not None else recording.start
+    last = report.end if report.end is not None else recording.end
+    span = f"{(last - first) / NS_PER_S:.3f} s from {to_sec(first):.3f} to {to_sec(last):.3f}"
+    return f"{', '.join(recording.paths)}: {span}"

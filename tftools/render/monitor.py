@@ -1,0 +1,161 @@
+"""``tfx monitor`` output: tf_monitor's results as rich tables, or one JSON object."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, TextIO
+
+from rich.console import Group, RenderableType
+from rich.table import Table
+from rich.text import Text
+
+from tftools.analysis.edges import AuthorityStats, EdgeStats
+from tftools.analysis.monitor import ChainStats, MonitorReport
+from tftools.core.time import to_sec
+from tftools.render import jsonl
+
+
+def _sec(value: float) -> str:
+    return "-" if math.isnan(value) else f"{value:.4f}"
+
+
+def _edges_table(edges: list[EdgeStats] | tuple[EdgeStats, ...]) -> Table:
+    table = Table(title="Frames:", title_justify="left", title_style="bold", header_style="bold", box=None)
+    for name in ("Parent", "Frame", "published by", "Samples", "Rate (Hz)", "Jitter (s)", "Largest gap (s)"):
+        table.add_column(name, justify="right" if name[0] in "SRJL" else "left")
+    table.add_column("Average Delay (s)", justify="right")
+    table.add_column("Max Delay (s)", justify="right")
+    for e in edges:
+        late_gap = not e.static and e.rate_hz > 0 and e.gap_max_s > 2.0 / e.rate_hz
+        table.add_row(
+            e.parent,
+            Text(e.child, style="bold"),
+            Text(", ".join(e.authorities) or "?", style="yellow" if len(e.authorities) > 1 else "magenta"),
+            str(e.count),
+            Text("static", style="cyan") if e.static else f"{e.rate_hz:.2f}",
+            "" if e.static else _sec(e.jitter_s),
+            "" if e.static else Text(_sec(e.gap_max_s), style="yellow" if late_gap else ""),
+            "" if e.static else _sec(e.delay_mean_s),
+            "" if e.static else _sec(e.delay_max_s),
+        )
+    return table
+
+
+def _authorities_table(authorities: list[AuthorityStats]) -> Table:
+    table = Table(title="All Broadcasters:", title_justify="left", title_style="bold", header_style="bold", box=None)
+    table.add_column("Node")
+    for name in ("Messages", "Rate (Hz)", "Average Delay (s)", "Max Delay (s)"):
+        table.add_column(name, justify="right")
+    table.add_column("Edges")
+    for a in authorities:
+        table.add_row(
+            Text(a.authority or "?", style="magenta"),
+            str(a.messages),
+            f"{a.rate_hz:.2f}",
+            _sec(a.delay_mean_s),
+            _sec(a.delay_max_s),
+            Text(", ".join(child for _, child in a.edges), style="dim"),
+        )
+    return table
+
+
+def _chain_lines(chain: ChainStats) -> Text:
+    text = Text(f"RESULTS: for {chain.target} to {chain.source}\n", style="bold")
+    text.append(f"Chain is: {' -> '.join(chain.frames)}\n")
+    text.append(f"Net delay     avg = {_sec(chain.delay_mean_s)}: max = {_sec(chain.delay_max_s)}")
+    if chain.limiting is not None:
+        text.append(f"  (held back most by {chain.limiting[0]} -> {chain.limiting[1]})", style="dim")
+    elif all(e.static for e in chain.edges):
+        text.append("  (every edge is static: never stale)", style="dim")
+    return text
+
+
+def renderable(
+    report: MonitorReport, header: str = "", target: str | None = None, source: str | None = None
+) -> RenderableType:
+    """The report as tf_monitor lays it out: results heading (and chain), frames, broadcasters.
+
+    ``target``/``source`` name a chain still being waited for when the report has none.
+    """
+    parts: list[RenderableType] = []
+    if header:
+        parts.append(Text(header, style="dim"))
+    if report.chain is not None:
+        parts.append(_chain_lines(report.chain))
+        edges: list[EdgeStats] | tuple[EdgeStats, ...] = report.chain.edges
+    elif target is not None and source is not None:
+        waiting = f"Waiting for transform chain to become available between {target} and {source}"
+        parts.append(Text(waiting, style="bold"))
+        edges = report.edges
+    else:
+        parts.append(Text("RESULTS: for all Frames", style="bold"))
+        edges = report.edges
+    parts += [Text(""), _edges_table(edges), Text(""), _authorities_table(report.authorities)]
+    return Group(*parts)
+
+
+def _edge_dict(e: EdgeStats) -> dict[str, Any]:
+    return {
+        "parent": e.parent,
+        "child": e.child,
+        "authorities": list(e.authorities),
+        "count": e.count,
+        "rate_hz": e.rate_hz,
+        "jitter_s": e.jitter_s,
+        "gap_max_s": e.gap_max_s,
+        "gap_start": to_sec(e.gap_start),
+        "delay_mean_s": e.delay_mean_s,
+        "delay_max_s": e.delay_max_s,
+        "static": e.static,
+        "first_stamp": to_sec(e.first_stamp),
+        "last_stamp": to_sec(e.last_stamp),
+    }
+
+
+def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
+    return {
+        "authority": a.authority,
+        "messages": a.messages,
+        "rate_hz": a.rate_hz,
+        "delay_mean_s": a.delay_mean_s,
+        "delay_max_s": a.delay_max_s,
+        "edges": [list(edge) for edge in a.edges],
+    }
+
+
+def _chain_dict(c: ChainStats) -> dict[str, Any]:
+    return {
+        "target": c.target,
+        "source": c.source,
+        "frames": list(c.frames),
+        "edges": [_edge_dict(e) for e in c.edges],
+        "delay_mean_s": c.delay_mean_s,
+        "delay_max_s": c.delay_max_s,
+        "limiting": list(c.limiting) if c.limiting is not None else None,
+    }
+
+
+def as_dict(report: MonitorReport) -> dict[str, Any]:
+    """The JSON object: window, ``edges``, ``authorities`` and, with two frames, ``chain``."""
+    result: dict[str, Any] = {
+        "window": {
+            "start": to_sec(report.start) if report.start is not None else None,
+            "end": to_sec(report.end) if report.end is not None else None,
+        },
+        "edges": [_edge_dict(e) for e in report.edges],
+        "authorities": [_authority_dict(a) for a in report.authorities],
+    }
+    if report.chain is not None:
+        result["chain"] = _chain_dict(report.chain)
+    return result
+
+
+def write_json(report: MonitorReport, out: TextIO) -> None:
+    """One JSON document (NaN as null)."""
+    jsonl.write_document(as_dict(report), out)
+
+
+def write_json_line(report: MonitorReport, out: TextIO) -> None:
+    """One compact JSON object per line, for each refresh of a live monitor."""
+    jsonl.write_lines([as_dict(report)], out)
+    out.flush()
