@@ -1,0 +1,135 @@
+"""``tfx view-frames``: the frame graph as a PDF (SVG, PNG, dot) that shows its problems, like view_frames."""
+
+from __future__ import annotations
+
+import enum
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.graph import engine_findings, frame_graph
+from tftools.cli.common import BagOption, Exit, TopicOption, UsageError, exit_with, open_recording, stderr
+from tftools.render import graph as render
+
+
+class GraphFormat(str, enum.Enum):
+    pdf = "pdf"
+    svg = "svg"
+    png = "png"
+    dot = "dot"
+
+
+class RankDir(str, enum.Enum):
+    TB = "TB"
+    LR = "LR"
+    BT = "BT"
+    RL = "RL"
+
+
+SUFFIXES = {
+    ".pdf": GraphFormat.pdf,
+    ".svg": GraphFormat.svg,
+    ".png": GraphFormat.png,
+    ".gv": GraphFormat.dot,
+    ".dot": GraphFormat.dot,
+}
+DEFAULT_NAMES = {
+    GraphFormat.pdf: "frames.pdf",
+    GraphFormat.svg: "frames.svg",
+    GraphFormat.png: "frames.png",
+    GraphFormat.dot: "frames.gv",
+}
+
+
+def command(
+    bags: BagOption = None,
+    output: Annotated[
+        str | None,
+        typer.Option(
+            "--output",
+            "-o",
+            help="Where to write; - for stdout (default frames.pdf, or frames.FORMAT).",
+            show_default=False,
+        ),
+    ] = None,
+    fmt: Annotated[
+        GraphFormat | None,
+        typer.Option(
+            "--format",
+            "-f",
+            help="pdf, svg, png, or dot (the Graphviz source); default: from -o's suffix, else pdf.",
+            show_default=False,
+        ),
+    ] = None,
+    rankdir: Annotated[
+        RankDir, typer.Option(help="Tree direction: TB top-down, LR left-right (wide trees), BT, RL.")
+    ] = RankDir.TB,
+    brief: Annotated[bool, typer.Option("--brief", help="Short edge labels: publisher and rate only.")] = False,
+    topics: TopicOption = None,
+) -> None:
+    """Draw the tf tree, view_frames style: each edge with its broadcaster, average rate, samples,
+    most recent and oldest transform and largest gap; static edges dashed and blue.
+
+    Problems are drawn where they are, red (errors) or orange (warnings), and listed in the
+    legend: several trees, a frame with several parents or publishers, a loop, an edge that went
+    stale or silent, rejected samples. The legend gives the bag's time span and file names.
+
+    Writes frames.pdf in the current directory unless told otherwise (-o). Drawing needs
+    Graphviz's `dot` program; without it the Graphviz source is written beside the output
+    (frames.gv) with one line saying how to install Graphviz, and the exit code is 1.
+
+    Exit codes: 0 drawn, no errors; 1 drawn with errors shown (or dot missing); 2 unusable input.
+
+    Examples: [cyan]tfx view-frames -b robot.bag[/]
+
+    [cyan]tfx view-frames -b robot.bag -o tree.svg --rankdir LR --brief[/]
+    """
+    chosen, target = _output(output, fmt)
+    recording = open_recording(bags, topics)
+    findings = engine_findings(recording.buffer)
+    graph = frame_graph(recording.buffer, findings)
+    dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)
+    if target == "-":
+        sys.stdout.buffer.write(render.draw(dot, chosen.value))
+        sys.stdout.flush()
+    else:
+        try:
+            render.write_graph(dot, target, chosen.value)
+        except render.GraphvizMissingError as missing:
+            stderr.print(f"[bold red]tfx: error:[/] {missing} ({missing.hint})", markup=True, highlight=False)
+            exit_with(Exit.PROBLEMS)
+    errors = sum(f.severity is Severity.error for f in findings)
+    where = "stdout" if target == "-" else target
+    stderr.print(
+        f"wrote {where}: {len(graph.nodes)} frames, {len(graph.edges)} transforms, {_problems(findings)}",
+        highlight=False,
+    )
+    if errors:
+        exit_with(Exit.PROBLEMS)
+
+
+def _output(output: str | None, fmt: GraphFormat | None) -> tuple[GraphFormat, str]:
+    """The format and the path: from -o's suffix, --format, or view_frames' default frames.pdf."""
+    if output is None or output == "-":
+        chosen = fmt or GraphFormat.pdf
+        return chosen, output or DEFAULT_NAMES[chosen]
+    implied = SUFFIXES.get(Path(output).suffix.lower())
+    if fmt is not None and implied is not None and implied is not fmt:
+        raise UsageError(
+            f"--format {fmt.value} does not match the output name {output}",
+            f"name it {Path(output).with_suffix('.' + fmt.value if fmt.value != 'dot' else '.gv')}",
+        )
+    if Path(output).is_dir():
+        raise UsageError(f"{output} is a directory", f"give a file name, e.g. {Path(output) / 'frames.pdf'}")
+    return fmt or implied or GraphFormat.pdf, output
+
+
+def _problems(findings: Sequence[Finding]) -> str:
+    if not findings:
+        return "no problems"
+    counts = {s: sum(f.severity is s for f in findings) for s in Severity}
+    return ", ".join(f"{n} {s.value}{'s' if n != 1 else ''}" for s, n in counts.items() if n)

@@ -1,0 +1,273 @@
+"""The frame graph as Graphviz dot source (view_frames' labels, problems in colour) and as PDF/SVG/PNG files."""
+
+from __future__ import annotations
+
+import html
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+import graphviz
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode, frame_graph
+from tftools.core.buffer import Buffer
+from tftools.core.errors import TfToolsError
+from tftools.core.time import NS_PER_S, format_sec
+from tftools.sources.recording import Recording
+
+#: The first line of every dot source tfx writes, to recognise its own files.
+SIGNATURE = "tfx view-frames"
+FORMATS = ("pdf", "svg", "png", "dot")
+RANKDIRS = ("TB", "LR", "BT", "RL")
+INSTALL_HINT = (
+    "install Graphviz: sudo apt-get install graphviz, brew install graphviz, or https://graphviz.org/download"
+)
+
+FONT = "Helvetica"
+INK = "#333333"
+STATIC_INK = "#2b6cb0"
+ROOT_FILL = "#dbe7f6"
+FRAME_FILL = "#f4f6f9"
+COLOURS = {Severity.error: "#d62728", Severity.warning: "#e67e00", Severity.info: "#6b6b6b"}
+FILLS = {Severity.error: "#fde2e1", Severity.warning: "#fff0d9", Severity.info: FRAME_FILL}
+
+
+class GraphvizMissingError(TfToolsError):
+    """Graphviz's ``dot`` is not installed: the picture could not be drawn (its source may have been written)."""
+
+    def __init__(self, output: str, source_path: str | None = None) -> None:
+        wrote = f"; wrote its source {source_path}" if source_path else ""
+        super().__init__(f"Graphviz's `dot` program was not found, so {output} was not drawn{wrote}")
+        then = f"; then: dot -T{Path(output).suffix.lstrip('.')} {source_path} -o {output}" if source_path else ""
+        self.hint = f"{INSTALL_HINT}{then}"
+        self.source_path = source_path
+
+
+class OutputExistsError(TfToolsError):
+    """A file tfx did not ask for would be overwritten."""
+
+    def __init__(self, path: str) -> None:
+        super().__init__(f"{path} exists and was not written by tfx view-frames; not overwriting it")
+        self.hint = "move it away, or name the output with -o"
+
+
+def dot_source(
+    buffer: Buffer,
+    findings: Sequence[Finding] | None = None,
+    *,
+    legend: Sequence[str] = (),
+    rankdir: str = "TB",
+    brief: bool = False,
+) -> str:
+    """Graphviz source of ``buffer``'s frame graph, ``findings`` (default: the engine's own) in colour."""
+    lines = legend or (f"Recorded at time: {format_sec(buffer.now(), 3)}",)
+    source: str = to_digraph(frame_graph(buffer, findings), lines, rankdir=rankdir, brief=brief).source
+    return source
+
+
+def recording_legend(recording: Recording) -> list[str]:
+    """What the legend says of a recording: its time span, as view_frames' "Recorded at time", and files."""
+    span = (recording.end - recording.start) / NS_PER_S
+    names = [Path(p).name for p in recording.paths]
+    return [
+        f"Recorded at time: {format_sec(recording.start, 3)} to {format_sec(recording.end, 3)} ({span:.3f} s)",
+        f"{'Bag' if len(names) == 1 else 'Bags'}: {', '.join(names)}",
+    ]
+
+
+def to_digraph(
+    graph: FrameGraph, legend: Sequence[str], *, rankdir: str = "TB", brief: bool = False
+) -> graphviz.Digraph:
+    """The graph as a ``graphviz.Digraph``: nodes, labelled edges, a legend listing the problems."""
+    dot = graphviz.Digraph("frames", comment=SIGNATURE)
+    dot.attr(rankdir=rankdir, fontname=FONT, nodesep="0.3", ranksep="0.45", labelloc="t")
+    dot.attr("node", fontname=FONT, fontsize="12", shape="box", style="rounded,filled", color=INK, fontcolor=INK)
+    dot.attr("edge", fontname=FONT, fontsize="9", color=INK, fontcolor=INK, arrowsize="0.7")
+    if not graph.nodes:
+        dot.node("No tf data received", shape="plaintext", style="")
+        return dot
+    for node in graph.nodes:
+        _add_node(dot, graph, node)
+    for edge in graph.edges:
+        _add_edge(dot, graph, edge, brief)
+    _add_legend(dot, graph, legend)
+    return dot
+
+
+def _add_node(dot: graphviz.Digraph, graph: FrameGraph, node: GraphNode) -> None:
+    severity = graph.severity(node.problems)
+    lines = [f"<B>{_esc(node.name)}</B>"]
+    if node.root:
+        lines.append('<FONT POINT-SIZE="9" COLOR="#555555">root</FONT>')
+    lines += [_problem_line(graph, i) for i in node.problems]
+    colour = COLOURS[severity] if severity else INK
+    fill = FILLS[severity] if severity else ROOT_FILL if node.root else FRAME_FILL
+    width = "2.5" if severity or node.root else "1"
+    label = f"<{'<BR/>'.join(lines)}>"
+    tooltip = _tooltip(graph, node.problems, node.name)
+    dot.node(node.name, label, color=colour, fillcolor=fill, penwidth=width, tooltip=tooltip)
+
+
+def _add_edge(dot: graphviz.Digraph, graph: FrameGraph, edge: GraphEdge, brief: bool) -> None:
+    severity = graph.severity(edge.problems)
+    lines = _brief_lines(edge) if brief else _full_lines(edge, graph.now)
+    lines += [f'<FONT COLOR="{COLOURS[Severity.error]}">rejected: {n} x {code}</FONT>' for code, n in edge.rejected]
+    lines += [_problem_line(graph, i) for i in edge.problems]
+    label = "".join(f'{line}<BR ALIGN="LEFT"/>' for line in lines)
+    style = "dotted" if edge.stats is None else "dashed" if edge.static else "solid"
+    colour = COLOURS[severity] if severity else STATIC_INK if edge.static else INK
+    width = "2.5" if severity is Severity.error else "2" if severity else "1.2"
+    dot.edge(
+        edge.parent,
+        edge.child,
+        f"<{label}>",
+        style=style,
+        color=colour,
+        fontcolor=STATIC_INK if edge.static and not severity else INK,
+        penwidth=width,
+        tooltip=_tooltip(graph, edge.problems, f"{edge.parent} -> {edge.child}"),
+    )
+
+
+def _full_lines(edge: GraphEdge, now: int) -> list[str]:
+    s = edge.stats
+    if s is None:
+        return ["no sample accepted"]
+    broadcaster = f"Broadcaster{'s' if len(s.authorities) > 1 else ''}: {_esc(', '.join(s.authorities) or '?')}"
+    if s.static:
+        return [broadcaster, "<B>static</B>" + (f" ({s.count} samples)" if s.count > 1 else "")]
+    return [
+        broadcaster,
+        f"Average rate: {s.rate_hz:.2f} Hz",
+        f"Samples: {s.count}",
+        f"Most recent transform: {format_sec(s.last_stamp, 3)} ({(now - s.last_stamp) / NS_PER_S:.3f} s old)",
+        f"Oldest transform: {format_sec(s.first_stamp, 3)}",
+        f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s",
+        f"Largest gap: {s.gap_max_s:.3f} s",
+    ]
+
+
+def _brief_lines(edge: GraphEdge) -> list[str]:
+    s = edge.stats
+    if s is None:
+        return []
+    who = _esc(", ".join(s.authorities) or "?")
+    return [who, "<B>static</B>" if s.static else f"{s.rate_hz:.1f} Hz"]
+
+
+def _problem_line(graph: FrameGraph, index: int) -> str:
+    finding = graph.findings[index]
+    return f'<FONT COLOR="{COLOURS[finding.severity]}"><B>[{index + 1}] {_esc(finding.code)}</B></FONT>'
+
+
+def _tooltip(graph: FrameGraph, problems: Sequence[int], default: str) -> str:
+    return "\n".join(f"[{i + 1}] {graph.findings[i].message}" for i in problems) or default
+
+
+def _add_legend(dot: graphviz.Digraph, graph: FrameGraph, legend: Sequence[str]) -> None:
+    static = sum(edge.static for edge in graph.edges)
+    trees = len(graph.roots)
+    rows = [_row(_esc(line)) for line in legend]
+    rows.append(
+        _row(
+            f"{len(graph.nodes)} frames, {len(graph.edges)} transforms ({static} static), "
+            f"{trees} tree{'s' if trees != 1 else ''}"
+        )
+    )
+    rows += _problem_rows(graph)
+    with dot.subgraph(name="cluster_legend") as box:
+        box.attr(label=f"<<B>{SIGNATURE}</B>>", style="rounded", color="#999999", fontsize="12")
+        box.node("legend", _table(rows), shape="plaintext", style="", fontsize="10")
+        box.node("legend_key", _table(_key_rows(graph)), shape="plaintext", style="", fontsize="10")
+    for root in graph.roots or [graph.nodes[0].name]:  # as view_frames does: the legend sits above the tree(s)
+        dot.edge("legend", root, style="invis")
+
+
+def _table(rows: Sequence[str]) -> str:
+    return f'<<TABLE BORDER="0" CELLBORDER="0" CELLSPACING="1" CELLPADDING="1">{"".join(rows)}</TABLE>>'
+
+
+def _key_rows(graph: FrameGraph) -> list[str]:
+    """The colour key: a short line of each kind, and what it means."""
+    key = [
+        _swatch(INK, "solid", "1", "transform on /tf"),
+        _swatch(STATIC_INK, "dashed", "1", "static transform (/tf_static)"),
+        _swatch(COLOURS[Severity.error], "solid", "3", "error: lookups fail here"),
+        _swatch(COLOURS[Severity.warning], "solid", "2", "warning: tf2 copes, something is off"),
+    ]
+    if any(edge.stats is None for edge in graph.edges):
+        key.append(_swatch(COLOURS[Severity.error], "dotted", "2", "every sample rejected"))
+    return key
+
+
+def _problem_rows(graph: FrameGraph) -> list[str]:
+    if not graph.findings:
+        return [_row('<FONT COLOR="#2e8b57"><B>No problems found</B></FONT>')]
+    counts = {s: sum(f.severity is s for f in graph.findings) for s in Severity}
+    summary = ", ".join(f"{n} {s.value}{'s' if n != 1 else ''}" for s, n in counts.items() if n)
+    rows = [_row(f"<B>Problems: {summary}</B>")]
+    for index, finding in enumerate(graph.findings):
+        colour = COLOURS[finding.severity]
+        text = f'<FONT COLOR="{colour}"><B>[{index + 1}] {finding.severity.value}</B></FONT> {_esc(finding.message)}'
+        rows.append(_row(text))
+    return rows
+
+
+def _row(content: str) -> str:
+    return f'<TR><TD ALIGN="LEFT">{content}</TD></TR>'
+
+
+def _swatch(colour: str, style: str, width: str, meaning: str) -> str:
+    """A key row: a short line drawn as a cell's bottom border, then what it means."""
+    line = (
+        f'<TD WIDTH="34" HEIGHT="10" FIXEDSIZE="TRUE" BORDER="{width}" SIDES="B" STYLE="{style}" COLOR="{colour}"></TD>'
+    )
+    return f'<TR>{line}<TD ALIGN="LEFT">  {meaning}</TD></TR>'
+
+
+def _esc(text: str) -> str:
+    return html.escape(text, quote=True)
+
+
+# --- files ---------------------------------------------------------------------------------
+
+
+def draw(dot: graphviz.Digraph, fmt: str, output: str = "the graph") -> bytes:
+    """``dot`` drawn as ``fmt`` (pdf, svg, png; dot: the source itself) by Graphviz's ``dot`` program."""
+    if fmt == "dot":
+        return str(dot.source).encode()
+    try:
+        return bytes(dot.pipe(format=fmt, engine="dot"))
+    except graphviz.ExecutableNotFound:
+        raise GraphvizMissingError(output) from None
+
+
+def write_graph(dot: graphviz.Digraph, output: str | os.PathLike[str], fmt: str) -> Path:
+    """Write ``dot`` drawn as ``fmt`` to ``output``.
+
+    Without Graphviz's ``dot`` program, writes the source beside ``output`` (``.gv``), never over
+    a file tfx did not write, and raises ``GraphvizMissingError`` naming it.
+    """
+    target = Path(output)
+    try:
+        picture = draw(dot, fmt, str(target))
+    except GraphvizMissingError:
+        source_path = target.with_suffix(".gv")
+        _refuse_foreign(source_path)
+        source_path.write_text(dot.source)
+        raise GraphvizMissingError(str(target), str(source_path)) from None
+    target.write_bytes(picture)
+    return target
+
+
+def _refuse_foreign(path: Path) -> None:
+    if not path.exists():
+        return
+    try:
+        with path.open(encoding="utf-8", errors="replace") as f:
+            first = f.readline()
+    except OSError:
+        first = ""
+    if SIGNATURE not in first:
+        raise OutputExistsError(str(path))
