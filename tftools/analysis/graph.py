@@ -247,12 +247,16 @@ def silence_limit_s(stats: EdgeStats) -> float:
 
 
 def _silences(stats: Sequence[EdgeStats], now: int) -> list[Finding]:
+    """Edges that stopped (unless their frame went on under another parent) or paused."""
+    latest: dict[str, int] = {}
+    for s in stats:
+        latest[s.child] = max(latest.get(s.child, s.last_stamp), s.last_stamp)
     findings = []
     for s in stats:
         if s.static:
             continue
         age = (now - s.last_stamp) / NS_PER_S
-        if age > silence_limit_s(s):
+        if age > silence_limit_s(s) and latest[s.child] == s.last_stamp:
             findings.append(
                 Finding(
                     Severity.error,

@@ -1,0 +1,227 @@
+"""``tfx view-frames`` on the sample bags and on a bag full of problems: files, their text, exit codes."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+import os
+import shutil
+import subprocess
+from collections import Counter
+from pathlib import Path
+
+import graphviz
+import pytest
+
+from tests.cli.conftest import SAMPLE_BAGS
+from tftools.analysis.edges import edge_stats
+from tftools.analysis.findings import Severity
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.render.graph import COLOURS, SIGNATURE
+from tftools.sources import read_recording
+from tftools.sources.bag.write import BagFormat, TfMessage, write_bag
+
+ROS1_READER = importlib.util.find_spec("tftools.sources.bag.ros1") is not None
+START = 1_700_000_000 * NS_PER_S
+MAGIC = {"pdf": b"%PDF", "png": b"\x89PNG", "svg": b"<svg", "dot": f"// {SIGNATURE}".encode()}
+WRITE_FORMATS = {"ros1": BagFormat.ros1, "db3": BagFormat.rosbag2_sqlite3, "mcap": BagFormat.rosbag2_mcap}
+
+
+def bag_formats() -> list[object]:
+    return [
+        pytest.param(f, marks=pytest.mark.skipif(f == "ros1" and not ROS1_READER, reason="no ROS1 bag reader yet"))
+        for f in SAMPLE_BAGS
+    ]
+
+
+def need(program: str) -> None:
+    if shutil.which(program) is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail(f"CI must have {program}")
+        pytest.skip(f"{program} is not installed")
+
+
+def pdf_lines(path: Path) -> list[str]:
+    need("pdftotext")
+    text = subprocess.run(["pdftotext", "-raw", str(path), "-"], check=True, capture_output=True, text=True).stdout
+    return [line.strip() for line in text.splitlines()]
+
+
+def contains_block(lines: list[str], block: list[str]) -> bool:
+    """Whether ``block`` appears as consecutive lines of ``lines``."""
+    n = len(block)
+    return any(lines[i : i + n] == block for i in range(len(lines) - n + 1))
+
+
+def _t(parent: str, child: str, stamp: int, q: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 1.0)) -> Transform:
+    return Transform((0.1, 0.0, 0.0), q, stamp, parent, child)
+
+
+def problem_messages() -> list[TfMessage]:
+    """10 s of a small robot with a second tree, a loop, a re-parented frame, a stale edge, a gap, a NaN."""
+    statics = [_t("base_link", "laser", START), _t("world", "rig", START), _t("rig", "rig_camera", START)]
+    messages = [TfMessage("/tf_static", START + 1000, statics, "/rsp")]
+    for i in range(100):
+        stamp = START + i * 100_000_000
+        ts = [] if 30 <= i < 60 else [_t("map", "odom", stamp)]  # silent from 3 s to 6 s
+        ts += [_t("odom", "base_link", stamp), _t("loop_a", "loop_b", stamp), _t("loop_b", "loop_a", stamp)]
+        if i < 40:
+            ts.append(_t("base_link", "wheel", stamp))  # stops at 4 s
+        if i % 10 == 0:
+            ts.append(_t("base_link" if i < 50 else "odom", "imu", stamp))  # re-parented at 5 s
+        if i == 70:
+            ts.append(_t("base_link", "arm", stamp, (math.nan, 0.0, 0.0, 1.0)))
+        messages.append(TfMessage("/tf", stamp + 2_000_000, ts, "/node"))
+    return messages
+
+
+@pytest.fixture(scope="module")
+def problem_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    folder = tmp_path_factory.mktemp("problems")
+    return {
+        name: write_bag(folder / f"problems_{name}", problem_messages(), fmt) for name, fmt in WRITE_FORMATS.items()
+    }
+
+
+@pytest.mark.parametrize("bag", bag_formats())
+@pytest.mark.parametrize("fmt", ["pdf", "svg", "png", "dot"])
+def test_sample_bag_in_every_format(tfx, tmp_path: Path, bag: str, fmt: str) -> None:
+    need("dot")
+    output = tmp_path / f"graph.{'gv' if fmt == 'dot' else fmt}"
+    result = tfx("view-frames", "-b", SAMPLE_BAGS[bag], "-o", output)
+    assert result.code == 0, result.stderr
+    assert MAGIC[fmt] in output.read_bytes()[:300]
+    assert f"wrote {output}: 18 frames, 17 transforms, no problems" in result.stderr
+    assert list(tmp_path.iterdir()) == [output]  # nothing else written
+
+
+@pytest.mark.parametrize("bag", bag_formats())
+def test_pdf_shows_every_frame_and_each_edges_numbers(tfx, tmp_path: Path, bag: str) -> None:
+    need("dot")
+    output = tmp_path / "frames.pdf"
+    assert tfx("view-frames", "-b", SAMPLE_BAGS[bag], "-o", output).code == 0
+    lines = pdf_lines(output)
+    recording = read_recording([SAMPLE_BAGS[bag]])
+    for frame in recording.buffer.frames:
+        assert frame in lines
+    for s in edge_stats(recording.buffer):
+        who = f"Broadcaster: {', '.join(s.authorities)}"
+        if s.static:
+            assert contains_block(lines, [who, "static"]), s.key
+            continue
+        age = (recording.end - s.last_stamp) / NS_PER_S
+        block = [
+            who,
+            f"Average rate: {s.rate_hz:.2f} Hz",
+            f"Samples: {s.count}",
+            f"Most recent transform: {s.last_stamp / NS_PER_S:.3f} ({age:.3f} s old)",
+            f"Oldest transform: {s.first_stamp / NS_PER_S:.3f}",
+            f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s",
+            f"Largest gap: {s.gap_max_s:.3f} s",
+        ]
+        assert contains_block(lines, block), s.key
+    span = (recording.end - recording.start) / NS_PER_S
+    recorded = f"Recorded at time: {recording.start / NS_PER_S:.3f} to {recording.end / NS_PER_S:.3f} ({span:.3f} s)"
+    assert recorded in lines
+    assert f"Bag: {SAMPLE_BAGS[bag].name}" in lines
+    assert "No problems found" in lines
+
+
+@pytest.mark.parametrize("bag", bag_formats())
+def test_problems_are_drawn_listed_and_fail_the_exit_code(tfx, tmp_path: Path, problem_bags, bag: str) -> None:
+    need("dot")
+    output = tmp_path / "problems.pdf"
+    result = tfx("view-frames", "-b", problem_bags[bag], "-o", output)
+    assert result.code == 1, result.stderr
+    assert "5 errors, 1 warning" in result.stderr
+    lines = pdf_lines(output)
+    codes = Counter(line.split("] ", 1)[1] for line in lines if line.startswith("[") and "] " in line)
+    assert codes["cycle"] == 2 and codes["disconnected"] == 2 and codes["multiple_parents"] == 2
+    assert codes["stale"] == 1 and codes["rate"] == 1 and codes["invalid_values"] == 1
+    text = "\n".join(lines)
+    assert "2 separate trees, rooted at world (3 frames), map (6 frames)" in text
+    assert "base_link -> wheel stopped at 1700000003.900, 6.002 s before the end" in text
+    assert "map -> odom went silent for 3.100 s from 1700000002.900" in text
+    assert "rejected: 1 x TF_NAN_INPUT" in lines and "no sample accepted" in lines
+
+
+def test_dot_on_stdout_carries_the_colours(tfx, problem_bags) -> None:
+    need("dot")
+    result = tfx("view-frames", "-b", problem_bags["mcap"], "--format", "dot", "-o", "-")
+    assert result.code == 1
+    data = json.loads(graphviz.Source(result.stdout).pipe(format="json0"))
+    names = {o["_gvid"]: o["name"] for o in data["objects"]}
+    edges = {(names[e["tail"]], names[e["head"]]): e for e in data["edges"]}
+    red = COLOURS[Severity.error]
+    assert edges[("base_link", "wheel")]["color"] == red
+    assert edges[("loop_a", "loop_b")]["color"] == red and edges[("loop_b", "loop_a")]["color"] == red
+    assert edges[("map", "odom")]["color"] == COLOURS[Severity.warning]
+    assert edges[("world", "rig")]["style"] == "dashed"
+    assert edges[("odom", "base_link")]["color"] != red
+
+
+def test_without_dot_the_source_is_written_with_one_line_saying_how_to_get_graphviz(
+    tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    empty = tmp_path / "bin"
+    empty.mkdir()
+    monkeypatch.setenv("PATH", str(empty))
+    result = tfx("view-frames", "-b", SAMPLE_BAGS["mcap"], "-o", tmp_path / "frames.pdf")
+    assert result.code == 1
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert "dot" in result.stderr and "apt-get install graphviz" in result.stderr
+    assert not (tmp_path / "frames.pdf").exists()
+    source = (tmp_path / "frames.gv").read_text()
+    assert source.startswith(f"// {SIGNATURE}")
+    assert "\tmap -> odom [label=<Broadcaster: /tf<BR" in source
+    again = tfx("view-frames", "-b", SAMPLE_BAGS["mcap"], "-o", tmp_path / "frames.pdf")
+    assert again.code == 1  # its own .gv may be replaced
+
+
+def test_without_dot_a_foreign_gv_file_is_not_overwritten(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "frames.gv").write_text("digraph mine {}\n")
+    monkeypatch.setenv("PATH", str(tmp_path / "nothing"))
+    result = tfx("view-frames", "-b", SAMPLE_BAGS["mcap"], "-o", tmp_path / "frames.pdf")
+    assert result.code == 2
+    assert "not overwriting" in result.stderr and len(result.stderr.strip().splitlines()) == 1
+    assert (tmp_path / "frames.gv").read_text() == "digraph mine {}\n"
+
+
+def test_default_output_is_frames_pdf_in_the_current_directory(
+    tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    need("dot")
+    monkeypatch.chdir(tmp_path)
+    assert tfx("view-frames", "-b", SAMPLE_BAGS["db3"]).code == 0
+    assert tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "--format", "svg", "--rankdir", "LR", "--brief").code == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frames.pdf", "frames.svg"]
+    assert (tmp_path / "frames.pdf").read_bytes().startswith(b"%PDF")
+    svg = (tmp_path / "frames.svg").read_text()
+    assert "50.0 Hz" in svg and "Most recent transform" not in svg
+
+
+@pytest.mark.parametrize(
+    ("args", "says"),
+    [
+        (["-o", "x.png", "--format", "pdf"], "does not match"),
+        (["-o", "."], "is a directory"),
+        (["--rankdir", "XY"], "XY"),
+    ],
+)
+def test_bad_arguments_are_one_line_and_exit_2(tfx, tmp_path: Path, monkeypatch, args: list[str], says: str) -> None:
+    monkeypatch.chdir(tmp_path)
+    result = tfx("view-frames", "-b", SAMPLE_BAGS["mcap"], *args)
+    assert result.code == 2
+    assert says in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_missing_bag_writes_nothing(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    result = tfx("view-frames", "-b", tmp_path / "nope.bag")
+    assert result.code == 2
+    assert "nope.bag" in result.stderr and "Traceback" not in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
