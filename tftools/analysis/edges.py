@@ -64,14 +64,20 @@ def edge_stats(
 
     The window selects samples by stamp, or with ``by_record_time`` by when they were
     received (the stamp where that is unknown): what a live monitor saw in its last seconds.
+    The largest gap counts every interval that overlaps the window: the one from the last
+    sample before it, and with ``by_record_time`` and an ``end``, the silence since the last
+    arrival (so an edge that stopped shows it at once, not when it leaves the window).
     """
     result = []
     for child, hist in buffer.histories():
         window = _window(hist, start, end, by_record_time)
         for parent_id in _parents_in_order(hist):
-            rows = window & (hist.parents == parent_id)
+            mine = hist.parents == parent_id
+            rows = window & mine
             if rows.any():
-                result.append(_edge(buffer, child, buffer.frame_name(int(parent_id)), hist, rows))
+                before = _previous_stamp(hist, mine, rows) if start is not None else None
+                silence_end = end if by_record_time else None
+                result.append(_edge(buffer, child, buffer.frame_name(int(parent_id)), hist, rows, before, silence_end))
     return result
 
 
@@ -125,6 +131,14 @@ def _window(hist: EdgeHistory, start: int | None, end: int | None, by_record_tim
     return mask
 
 
+def _previous_stamp(hist: EdgeHistory, mine: BoolArray, rows: BoolArray) -> int | None:
+    """The stamp of the edge's sample just before the first one in the window, if any."""
+    if hist.static:
+        return None
+    earlier = np.flatnonzero(mine[: int(np.argmax(rows))])
+    return int(hist.stamps[earlier[-1]]) if len(earlier) else None
+
+
 def _delays(hist: EdgeHistory, rows: BoolArray) -> Int64Array:
     """Record time minus stamp (ns) of the rows where the record time is known; none if static."""
     if hist.static:
@@ -140,12 +154,21 @@ def _mean_max(delays_ns: Int64Array) -> tuple[float, float]:
     return float(delays_ns.mean()) / NS_PER_S, float(delays_ns.max()) / NS_PER_S
 
 
-def _edge(buffer: Buffer, child: str, parent: str, hist: EdgeHistory, rows: BoolArray) -> EdgeStats:
+def _edge(
+    buffer: Buffer,
+    child: str,
+    parent: str,
+    hist: EdgeHistory,
+    rows: BoolArray,
+    before: int | None = None,
+    silence_end: int | None = None,
+) -> EdgeStats:
     stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
+    records = hist.record_times[rows]
     dynamic = not hist.static
     intervals = np.diff(stamps) if dynamic else np.zeros(0, np.int64)
-    gap_index = int(np.argmax(intervals)) if len(intervals) else 0
     span = int(stamps[-1] - stamps[0])
+    gap, gap_start = _largest_gap(stamps, intervals, before, silence_end - int(records.max()) if silence_end else 0)
     delay_mean, delay_max = _mean_max(_delays(hist, rows))
     return EdgeStats(
         parent=parent,
@@ -157,9 +180,23 @@ def _edge(buffer: Buffer, child: str, parent: str, hist: EdgeHistory, rows: Bool
         last_stamp=int(stamps.max()),
         rate_hz=(len(stamps) - 1) * NS_PER_S / span if dynamic and span > 0 else 0.0,
         jitter_s=float(np.std(intervals)) / NS_PER_S if len(intervals) else 0.0,
-        gap_max_s=float(intervals[gap_index]) / NS_PER_S if len(intervals) else 0.0,
-        gap_start=int(stamps[gap_index]),
+        gap_max_s=gap / NS_PER_S if dynamic else 0.0,
+        gap_start=gap_start,
         delay_mean_s=delay_mean,
         delay_max_s=delay_max,
-        last_record=int(hist.record_times[rows].max()),
+        last_record=int(records.max()),
     )
+
+
+def _largest_gap(stamps: Int64Array, intervals: Int64Array, before: int | None, silence: int) -> tuple[int, int]:
+    """The longest interval (ns) and the stamp it begins at: between samples, from the one
+    before the window, or the silence since the last arrival."""
+    candidates = [(0, int(stamps[0]))]
+    if len(intervals):
+        i = int(np.argmax(intervals))
+        candidates.append((int(intervals[i]), int(stamps[i])))
+    if before is not None:
+        candidates.append((int(stamps[0]) - before, before))
+    if silence > 0:
+        candidates.append((silence, int(stamps[-1])))
+    return max(candidates, key=lambda c: c[0])

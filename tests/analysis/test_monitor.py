@@ -1,0 +1,185 @@
+"""tf_monitor's numbers on recordings whose truth is known: rates, jitter, gaps, delays, chains."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import statistics
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.analysis.monitor_scenes import (
+    DROP,
+    FORMATS,
+    JITTER_SIGMA,
+    LAG,
+    START,
+    Scene,
+    scene,
+    scene_buffer,
+    write_scene,
+)
+from tftools.analysis.edges import EdgeStats
+from tftools.analysis.monitor import MonitorReport, monitor
+from tftools.core.buffer import Buffer
+from tftools.core.errors import ConnectivityError
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.sources import read_recording
+from tftools.sources.bag.write import BagFormat
+
+MS = 1_000_000
+
+
+@pytest.fixture(scope="module")
+def truth_scene() -> Scene:
+    return scene()
+
+
+def _by_child(report: MonitorReport) -> dict[str, EdgeStats]:
+    return {e.child: e for e in report.edges}
+
+
+def _check_edges_against_truth(report: MonitorReport, truth_scene: Scene) -> None:
+    edges = _by_child(report)
+    assert set(edges) == {*truth_scene.truth, "laser"}
+    for child, t in truth_scene.truth.items():
+        e = edges[child]
+        assert (e.parent, e.static, e.count) == (t.parent, False, len(t.stamps))
+        span_s = (t.stamps[-1] - t.stamps[0]) / NS_PER_S
+        assert e.rate_hz == pytest.approx((len(t.stamps) - 1) / span_s, rel=1e-9)
+        intervals = [b - a for a, b in itertools.pairwise(t.stamps)]
+        assert e.jitter_s == pytest.approx(statistics.pstdev(intervals) / NS_PER_S, rel=1e-6)
+        assert e.gap_max_s == pytest.approx(max(intervals) / NS_PER_S, abs=1e-9)
+        assert e.delay_mean_s == pytest.approx(statistics.mean(t.delays) / NS_PER_S, rel=1e-9)
+        assert e.delay_max_s == pytest.approx(max(t.delays) / NS_PER_S, abs=1e-9)
+        assert (e.first_stamp, e.last_stamp) == (t.stamps[0], t.stamps[-1])
+        if child != "odom":  # the hole lowers the localizer's average rate
+            assert e.rate_hz == pytest.approx(t.hz, rel=0.01)
+    laser = edges["laser"]
+    assert (laser.parent, laser.static, laser.rate_hz) == ("base_link", True, 0.0)
+    assert math.isnan(laser.delay_mean_s) and math.isnan(laser.delay_max_s)
+
+
+def _check_designed_effects(report: MonitorReport) -> None:
+    """The effects the scene was built with, in the units a user reads."""
+    edges = _by_child(report)
+    # Stamp noise of sigma on each stamp spreads the intervals by sigma * sqrt(2).
+    assert edges["base_link"].jitter_s == pytest.approx(JITTER_SIGMA * math.sqrt(2) / NS_PER_S, rel=0.15)
+    assert edges["wheel"].jitter_s < 1e-9  # a perfect clock
+    hole = edges["odom"]
+    assert hole.gap_max_s == pytest.approx((DROP[1] - DROP[0] + 50 * MS) / NS_PER_S, abs=1e-6)
+    assert DROP[0] - 50 * MS <= hole.gap_start - START < DROP[0]
+    assert hole.rate_hz == pytest.approx(20 * (1 - 2.5 / 30), rel=0.01)  # 50 samples missing of 600
+    lagging = edges["camera"]
+    assert LAG[0] / NS_PER_S <= lagging.delay_mean_s <= (LAG[0] + LAG[1]) / NS_PER_S
+    assert lagging.delay_mean_s == pytest.approx((LAG[0] + LAG[1] / 2) / NS_PER_S, abs=0.004)
+    assert all(edges[c].delay_max_s < 0.004 for c in ("base_link", "odom", "wheel"))
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_bag_numbers_match_the_truth(tmp_path: Path, truth_scene: Scene, fmt: BagFormat) -> None:
+    recording = read_recording([write_scene(tmp_path, fmt, truth_scene.messages)])
+    report = monitor(recording.buffer, by_record_time=True)
+    _check_edges_against_truth(report, truth_scene)
+    _check_designed_effects(report)
+
+
+def test_publishers_rates_delays_and_edges(truth_scene: Scene) -> None:
+    report = monitor(scene_buffer(truth_scene.messages))
+    publishers = {a.authority: a for a in report.authorities}
+    assert set(publishers) == {t.publisher for t in truth_scene.truth.values()}
+    for t in truth_scene.truth.values():
+        p = publishers[t.publisher]
+        records = sorted(set(t.records))
+        if t.publisher == "/state_publisher":  # also sent the static laser (its record time counts as a message)
+            records = sorted({*records, START})
+            assert set(p.edges) == {("base_link", "wheel"), ("base_link", "laser")}
+        else:
+            assert p.edges == ((t.parent, t.child),)
+        assert p.messages == len(records)
+        assert p.rate_hz == pytest.approx((len(records) - 1) * NS_PER_S / (records[-1] - records[0]), rel=1e-9)
+        assert p.delay_mean_s == pytest.approx(statistics.mean(t.delays) / NS_PER_S, rel=1e-9)
+        assert p.delay_max_s == pytest.approx(max(t.delays) / NS_PER_S, abs=1e-9)
+    assert publishers["/odometry"].rate_hz == pytest.approx(40, rel=0.01)
+
+
+def test_two_publishers_of_one_edge_are_both_named() -> None:
+    buffer = Buffer(cache_time=None)
+    for k in range(10):
+        stamp = START + k * 100 * MS
+        publisher = "/a" if k % 2 else "/b"
+        odom = Transform((0, 0, 0), (0, 0, 0, 1), stamp, "map", "odom")
+        buffer.set_transform(odom, publisher, record_time=stamp + MS)
+    (edge,) = monitor(buffer).edges
+    assert sorted(edge.authorities) == ["/a", "/b"]
+    assert edge.rate_hz == pytest.approx(10.0, rel=1e-9)
+
+
+def test_a_window_counts_only_what_arrived_in_it(truth_scene: Scene) -> None:
+    buffer = scene_buffer(truth_scene.messages)
+    start, end = START + 5 * NS_PER_S, START + 8 * NS_PER_S
+    edges = _by_child(monitor(buffer, start=start, end=end, by_record_time=True))
+    for child, t in truth_scene.truth.items():
+        inside = [s for s, r in zip(t.stamps, t.records, strict=True) if start <= r <= end]
+        assert edges[child].count == len(inside)
+        assert edges[child].first_stamp == inside[0]
+        assert edges[child].rate_hz == pytest.approx(t.hz, rel=0.02)
+    assert edges["laser"].static  # static edges hold at every time: always listed
+
+
+def _chain_delay_by_lookups(buffer: Buffer, messages: list, target: str, source: str, times: np.ndarray) -> np.ndarray:
+    """tf_monitor's way: at each moment, now minus the stamp a latest-time lookup gets."""
+    live = Buffer(cache_time=None)
+    delays = []
+    m = 0
+    for now in times:
+        while m < len(messages) and messages[m].record_time <= now:
+            for t in messages[m].transforms:
+                live.set_transform(t, messages[m].publisher, static=messages[m].topic == "/tf_static")
+            m += 1
+        delays.append((now - live.lookup(target, source, 0).stamp) / NS_PER_S)
+    return np.array(delays)
+
+
+def test_chain_and_its_delay_match_latest_lookups(truth_scene: Scene) -> None:
+    buffer = scene_buffer(truth_scene.messages)
+    begin = START + NS_PER_S  # (a latest-time lookup fails in the first milliseconds: stamps jitter)
+    chain = monitor(buffer, "map", "camera", start=begin).chain
+    assert chain is not None
+    assert chain.frames == ("camera", "base_link", "odom", "map")
+    assert [e.key for e in chain.edges] == [("base_link", "camera"), ("odom", "base_link"), ("map", "odom")]
+    grid = np.arange(begin, truth_scene.end, MS // 2)
+    expected = _chain_delay_by_lookups(buffer, truth_scene.messages, "map", "camera", grid)
+    assert chain.delay_mean_s == pytest.approx(expected.mean(), rel=0.002)
+    assert expected.max() <= chain.delay_max_s <= expected.max() + 0.0005
+    # The camera lags 250+ ms: it holds the chain back, except across the localizer's hole.
+    assert chain.limiting == ("base_link", "camera")
+    assert chain.delay_max_s == pytest.approx((DROP[1] - DROP[0] + 50 * MS) / NS_PER_S, abs=0.005)
+
+
+def test_chain_delay_over_a_window(truth_scene: Scene) -> None:
+    buffer = scene_buffer(truth_scene.messages)
+    start, end = START + 20 * NS_PER_S, START + 25 * NS_PER_S
+    chain = monitor(buffer, "odom", "wheel", start, end, by_record_time=True).chain
+    assert chain is not None
+    grid = np.arange(start, end, MS // 2)
+    expected = _chain_delay_by_lookups(buffer, truth_scene.messages, "odom", "wheel", grid)
+    assert chain.delay_mean_s == pytest.approx(expected.mean(), rel=0.002)
+    assert chain.delay_max_s == pytest.approx(expected.max(), abs=0.0006)
+
+
+def test_a_static_chain_never_goes_stale(truth_scene: Scene) -> None:
+    chain = monitor(scene_buffer(truth_scene.messages), "base_link", "laser").chain
+    assert chain is not None and chain.frames == ("laser", "base_link")
+    assert math.isnan(chain.delay_mean_s) and math.isnan(chain.delay_max_s) and chain.limiting is None
+
+
+def test_unconnected_frames_raise_tf2s_error() -> None:
+    buffer = Buffer(cache_time=None)
+    buffer.set_transform(Transform((0, 0, 0), (0, 0, 0, 1), START, "a", "b"), "/x", record_time=START)
+    buffer.set_transform(Transform((0, 0, 0), (0, 0, 0, 1), START, "c", "d"), "/x", record_time=START)
+    with pytest.raises(ConnectivityError):
+        monitor(buffer, "a", "d")

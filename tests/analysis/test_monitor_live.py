@@ -1,0 +1,106 @@
+"""The live monitor on a replay: each refresh shows the numbers of its window, as they unfold."""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+from rich.console import Console
+
+from tests.analysis.monitor_scenes import START, Scene, scene, scene_buffer
+from tests.sources.test_replay import FakeTime
+from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
+from tftools.core.batch import BatchBuilder, TransformBatch
+from tftools.core.time import NS_PER_S
+from tftools.render import monitor as render
+from tftools.sources.replay import OnBatch, Replay, follow
+
+WINDOW = 4 * NS_PER_S
+
+
+def _batch(truth: Scene) -> TransformBatch:
+    builder = BatchBuilder()
+    for m in truth.messages:
+        for t in m.transforms:
+            builder.add(t.frame_id, t.child_frame_id, t.stamp, t.translation, t.rotation,
+                        static=m.topic == "/tf_static", record_time=m.record_time, authority=m.publisher)  # fmt: skip
+    return builder.take()
+
+
+def _play(truth: Scene, rate: float, target: str | None, source: str | None) -> list[tuple[int, MonitorReport, str]]:
+    """Replay at ``rate`` on a fake wall clock; at each once-a-second refresh, the clock, report and table."""
+    wall = FakeTime()
+    replay = Replay(_batch(truth), rate=rate)
+    live = LiveMonitor(replay.clock, WINDOW)
+    refreshes: list[tuple[int, MonitorReport, str]] = []
+
+    class HandDriven:
+        clock = replay.clock
+        finished = property(lambda self: replay.finished)
+
+        def start(self, on_batch: OnBatch) -> None:
+            replay.attach(on_batch)
+
+        def close(self) -> None:
+            pass
+
+    def sleep(seconds: float) -> None:
+        wall.sleep(seconds)
+        replay.advance_to(replay.begin + round((wall.now - 100.0) * rate * NS_PER_S))
+
+    def refresh() -> None:
+        report = live.report(target, source)
+        console = Console(file=io.StringIO(), width=200)
+        console.print(render.renderable(report, "", target, source))
+        refreshes.append((replay.clock.now(), report, console.file.getvalue()))  # type: ignore[attr-defined]
+
+    follow(HandDriven(), live.add, refresh, sleep=sleep, monotonic=wall.monotonic)
+    return refreshes
+
+
+@pytest.mark.parametrize("rate", [1.0, 3.0])
+def test_each_refresh_shows_its_windows_numbers(rate: float) -> None:
+    truth = scene()
+    whole = scene_buffer(truth.messages)
+    refreshes = _play(truth, rate, "map", "camera")
+    assert len(refreshes) == int((truth.end - truth.start) / NS_PER_S / rate) + 1  # once a second, and the end
+    for i, (now, _, _) in enumerate(refreshes[:-1]):
+        assert now == truth.start + round((i + 1) * rate * NS_PER_S)  # sim time = bag time x rate
+    for now, report, text in refreshes:
+        expected = monitor(whole, start=now - WINDOW, end=now, by_record_time=True)
+        assert (report.start, report.end) == (now - WINDOW, now)
+        assert [(e.key, e.count) for e in report.edges] == [(e.key, e.count) for e in expected.edges]
+        for ours, theirs in zip(report.edges, expected.edges, strict=True):
+            assert ours.rate_hz == pytest.approx(theirs.rate_hz, rel=1e-12, nan_ok=True)
+            assert ours.delay_max_s == pytest.approx(theirs.delay_max_s, rel=1e-12, nan_ok=True)
+            assert ours.gap_max_s == pytest.approx(theirs.gap_max_s, rel=1e-12)
+        assert [(a.authority, a.messages) for a in report.authorities] == [
+            (a.authority, a.messages) for a in expected.authorities
+        ]
+        if report.chain is not None:
+            chain = monitor(whole, "map", "camera", now - WINDOW, now, by_record_time=True).chain
+            assert chain is not None and report.chain.delay_mean_s == pytest.approx(chain.delay_mean_s, rel=1e-9)
+            assert f"avg = {report.chain.delay_mean_s:.4f}" in text
+        odom = next(e for e in report.edges if e.child == "base_link")
+        assert f"{odom.rate_hz:.2f}" in text and f"{odom.delay_mean_s:.4f}" in text
+
+
+def test_the_hole_shows_while_it_is_in_the_window() -> None:
+    refreshes = _play(scene(), 1.0, None, None)
+    gap = {round((now - START) / NS_PER_S): next(e for e in r.edges if e.child == "odom").gap_max_s
+           for now, r, _ in refreshes}  # fmt: skip
+    assert gap[9] == pytest.approx(0.05, abs=1e-6)  # before the hole (it starts at 10 s)
+    assert 1.03 < gap[11] < 1.05  # the silence so far: at once, not when the last sample leaves the window
+    assert gap[14] == pytest.approx(2.55, abs=1e-6)  # the whole hole, though its first sample is before the window
+    assert gap[20] == pytest.approx(0.05, abs=1e-6)  # gone by
+
+
+def test_waits_for_a_chain_that_does_not_exist_yet() -> None:
+    truth = scene()
+    camera_starts = START + 5 * NS_PER_S
+    late = [m for m in truth.messages if m.transforms[0].child_frame_id != "camera" or m.record_time >= camera_starts]
+    refreshes = _play(Scene(late, truth.truth, truth.static), 1.0, "map", "camera")
+    waiting = "Waiting for transform chain to become available between map and camera"
+    assert all(r.chain is None and waiting in text for now, r, text in refreshes if now < START + 5 * NS_PER_S)
+    assert all(r.chain is not None and "Chain is: camera -> base_link -> odom -> map" in text
+               for now, r, text in refreshes if now > START + 6 * NS_PER_S)  # fmt: skip

@@ -1,0 +1,169 @@
+"""``tfx monitor`` as a user runs it: sample bags' true rates, text and JSON, chains, errors, --play."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
+from tests.analysis.monitor_scenes import ros1_reader_available as ros1_ready
+from tests.cli.conftest import SAMPLE_BAGS
+from tftools.analysis.monitor import monitor
+from tftools.core.time import NS_PER_S, to_sec
+from tftools.sources import read_recording
+from tftools.sources.bag.write import BagFormat
+
+# The truth sample_bags/generate.py wrote (its docstring): child frame -> publishing rate.
+ARM = [f"arm_link{i}" for i in range(1, 7)]
+TRUE_RATES = {"odom": 10, "base_footprint": 50, "left_wheel": 30, "right_wheel": 30, **dict.fromkeys(ARM, 50)}
+STATIC = {"base_link", "laser", "imu_link", "camera_link", "camera_optical_frame", "arm_base", "gripper"}
+PUBLISHER_RATES = {"/amcl": 10, "/ekf_localization": 50, "/robot_state_publisher": 30, "/arm/robot_state_publisher": 50}
+
+EDGE_KEYS = {"parent", "child", "authorities", "count", "rate_hz", "jitter_s", "gap_max_s", "gap_start",
+             "delay_mean_s", "delay_max_s", "static", "first_stamp", "last_stamp"}  # fmt: skip
+SAMPLES = [
+    pytest.param(fmt, marks=pytest.mark.skipif(fmt == "ros1" and not ros1_ready(), reason="no ROS1 reader yet"))
+    for fmt in SAMPLE_BAGS
+]
+
+
+@pytest.mark.parametrize("fmt", SAMPLES)
+def test_sample_bags_every_edge_at_its_true_rate(tfx, fmt: str) -> None:
+    result = tfx("monitor", "-b", SAMPLE_BAGS[fmt], "--format", "json")
+    assert result.code == 0, result.stderr
+    edges = {e["child"]: e for e in json.loads(result.stdout)["edges"]}
+    assert set(edges) == set(TRUE_RATES) | STATIC
+    for child, hz in TRUE_RATES.items():
+        assert edges[child]["rate_hz"] == pytest.approx(hz, rel=0.02), child
+        assert edges[child]["count"] == pytest.approx(15 * hz, abs=1)
+        assert edges[child]["gap_max_s"] == pytest.approx(1 / hz, abs=0.001)  # no message lost: +-0.3 ms jitter
+        assert 0.001 <= edges[child]["delay_mean_s"] <= edges[child]["delay_max_s"] <= 0.005  # recorded 1-5 ms late
+    assert {c for c, e in edges.items() if e["static"]} == STATIC
+    if fmt == "ros1":  # ROS1 bags name each publisher
+        publishers = {a["authority"]: a for a in json.loads(result.stdout)["authorities"]}
+        for name, hz in PUBLISHER_RATES.items():
+            assert publishers[name]["rate_hz"] == pytest.approx(hz, rel=0.02), name
+
+
+def test_json_schema_with_a_chain(tfx) -> None:
+    result = tfx("monitor", "map", "gripper", "-b", SAMPLE_BAGS["mcap"], "-f", "json")
+    assert result.code == 0, result.stderr
+    doc = json.loads(result.stdout)
+    assert set(doc) == {"window", "edges", "authorities", "chain"}
+    for edge in doc["edges"]:
+        assert set(edge) == EDGE_KEYS
+        assert isinstance(edge["authorities"], list) and isinstance(edge["count"], int)
+        if edge["static"]:  # NaN in Python, null in JSON
+            assert edge["delay_mean_s"] is None and edge["delay_max_s"] is None
+        else:
+            assert all(isinstance(edge[k], float) for k in ("rate_hz", "jitter_s", "gap_max_s", "delay_mean_s"))
+    for authority in doc["authorities"]:
+        assert set(authority) == {"authority", "messages", "rate_hz", "delay_mean_s", "delay_max_s", "edges"}
+    chain = doc["chain"]
+    assert chain["frames"][0] == "gripper" and chain["frames"][-1] == "map" and len(chain["frames"]) == 12
+    assert [e["child"] for e in chain["edges"]] == chain["frames"][:-1]
+    # map -> odom at 10 Hz holds the chain back: its newest stamp is up to 0.1 s + 5 ms old.
+    assert chain["limiting"] == ["map", "odom"]
+    assert 0.05 <= chain["delay_mean_s"] <= 0.056 and 0.1 <= chain["delay_max_s"] <= 0.106
+    assert "chain" not in json.loads(tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "-f", "json").stdout)
+
+
+def test_text_uses_tf_monitors_words(tfx) -> None:
+    result = tfx("monitor", "-b", SAMPLE_BAGS["db3"])
+    assert result.code == 0, result.stderr
+    out = result.stdout
+    for words in ("RESULTS: for all Frames", "Frames:", "All Broadcasters:", "Average Delay", "Max Delay"):
+        assert words in out
+    for child in [*TRUE_RATES, *STATIC]:
+        assert re.search(rf"\s{child}\s", out), child
+    odom = next(line for line in out.splitlines() if re.match(r"\s*map\s+odom\s", line))
+    assert re.search(r"\s150\s+10\.00\s", odom)  # samples and rate
+    chained = tfx("monitor", "odom", "left_wheel", "-b", SAMPLE_BAGS["db3"]).stdout
+    assert "RESULTS: for odom to left_wheel" in chained
+    assert "Chain is: left_wheel -> base_link -> base_footprint -> odom" in chained
+    assert re.search(r"Net delay\s+avg = 0\.0\d+: max = 0\.0\d+", chained)
+    assert "arm_link3" not in chained.split("All Broadcasters:")[0]  # only the chain's frames, as tf_monitor
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_unseen_bags_text_and_json_agree_with_the_truth(tfx, tmp_path: Path, fmt: BagFormat) -> None:
+    truth = scene(seed=11)
+    bag = write_scene(tmp_path, fmt, truth.messages)
+    doc = json.loads(tfx("monitor", "-b", bag, "-f", "json").stdout)
+    edges = {e["child"]: e for e in doc["edges"]}
+    for child, t in truth.truth.items():
+        assert edges[child]["count"] == len(t.stamps)
+        assert edges[child]["delay_max_s"] == pytest.approx(max(t.delays) / NS_PER_S, abs=1e-9)
+    text = tfx("monitor", "-b", bag).stdout
+    camera = next(line for line in text.splitlines() if re.match(r"\s*base_link\s+camera\s", line))
+    assert f"{edges['camera']['delay_mean_s']:.4f}" in camera and f"{edges['camera']['gap_max_s']:.4f}" in camera
+
+
+def test_start_and_end_select_a_stretch(tfx) -> None:
+    whole = json.loads(tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "-f", "json").stdout)
+    part = json.loads(tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "-f", "json", "--start", "+5", "--end", "+10").stdout)
+    counts = {e["child"]: e["count"] for e in part["edges"]}
+    assert counts["odom"] == pytest.approx(50, abs=1) and counts["base_footprint"] == pytest.approx(250, abs=1)
+    assert part["window"]["end"] - part["window"]["start"] == pytest.approx(5.0)
+    assert whole["window"] == {"start": None, "end": None}
+
+
+@pytest.mark.parametrize(
+    ("args", "says"),
+    [
+        (("-b", "/nonexistent/robot.bag"), "robot.bag"),
+        (("map", "base_lnk", "-b", SAMPLE_BAGS["mcap"]), "base_link"),  # the close match is offered
+        (("map", "-b", SAMPLE_BAGS["mcap"]), "two frames"),
+        (("-b", SAMPLE_BAGS["mcap"], "--play", "--rate", "0"), "--rate"),
+        (("-b", SAMPLE_BAGS["mcap"], "--start", "+10", "--end", "+5"), "empty"),
+    ],
+)
+def test_unusable_input_is_one_line_and_exit_2(tfx, args: tuple, says: str) -> None:
+    result = tfx("monitor", *args)
+    assert result.code == 2
+    assert result.stderr.startswith("tfx: error:") and says in result.stderr
+    assert "Traceback" not in result.stderr and result.stderr.count("\n") == 1
+
+
+def test_play_ends_on_the_numbers_of_its_last_window(tfx) -> None:
+    result = tfx("monitor", "map", "base_footprint", "-b", SAMPLE_BAGS["mcap"], "--play", "--rate", "500",
+                 "--window", "4", "-f", "json")  # fmt: skip
+    assert result.code == 0, result.stderr
+    last = json.loads(result.stdout.splitlines()[-1])
+    recording = read_recording([SAMPLE_BAGS["mcap"]])
+    end = recording.end
+    expected = monitor(recording.buffer, "map", "base_footprint", end - 4 * NS_PER_S, end, by_record_time=True)
+    assert last["window"] == {"start": to_sec(end - 4 * NS_PER_S), "end": to_sec(end)}
+    for theirs, ours in zip(last["edges"], expected.edges, strict=True):
+        assert (theirs["child"], theirs["count"]) == (ours.child, ours.count)
+        assert theirs["rate_hz"] == pytest.approx(ours.rate_hz, rel=1e-12)
+    assert last["chain"]["delay_mean_s"] == pytest.approx(expected.chain.delay_mean_s, rel=1e-12)
+
+
+def test_play_text_shows_the_live_header_and_table(tfx) -> None:
+    result = tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "--play", "--rate", "500")
+    assert result.code == 0, result.stderr
+    assert re.search(r"time 1700000014\.999 \(\+15\.0 s\), last 10 s, rate 500x", result.stdout)
+    assert "RESULTS: for all Frames" in result.stdout and "All Broadcasters:" in result.stdout
+
+
+def test_echo_play_prints_the_latest_transform_in_bag_time(tfx) -> None:
+    # One second of bag at real speed, two lines a second: the one test here that takes wall time.
+    result = tfx("echo", "map", "base_footprint", "-b", SAMPLE_BAGS["mcap"], "--play", "--start", "-1", "--rate", "4",
+                 "-f", "json")  # fmt: skip
+    assert result.code == 0, result.stderr
+    lines = [json.loads(line) for line in result.stdout.splitlines()]
+    stamps = [line["stamp_ns"] for line in lines]
+    assert len(lines) >= 3 and stamps == sorted(stamps)
+    end = read_recording([SAMPLE_BAGS["mcap"]]).end
+    assert end - NS_PER_S - 100_000_000 <= stamps[0] and end - 100_000_000 <= stamps[-1] <= end
+    assert all(line["time"] == 0 for line in lines)  # tf_echo looks up the latest transform
+
+
+def test_static_chain_text_says_it_never_goes_stale(tfx, tmp_path: Path) -> None:
+    bag = write_scene(tmp_path, BagFormat.rosbag2_mcap, scene().messages)
+    out = tfx("monitor", "base_link", "laser", "-b", bag).stdout
+    assert "Net delay     avg = -: max = -" in out and "never stale" in out

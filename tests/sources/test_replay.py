@@ -1,0 +1,182 @@
+"""The replay clock: sim time follows bag time at --rate, rows arrive in order, never early."""
+
+from __future__ import annotations
+
+import itertools
+import threading
+
+import numpy as np
+import pytest
+
+from tests.analysis.monitor_scenes import START, scene, scene_buffer
+from tftools.core.batch import BatchBuilder, TransformBatch
+from tftools.core.buffer import Buffer
+from tftools.core.time import NS_PER_S
+from tftools.sources.replay import CLOCK_HZ, OnBatch, Replay, follow, follow_into
+
+MS = 1_000_000
+
+
+class FakeTime:
+    """A wall clock that moves only when slept on."""
+
+    def __init__(self) -> None:
+        self.now = 100.0
+        self.sleeps: list[float] = []
+
+    def monotonic(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        assert seconds >= 0
+        self.sleeps.append(seconds)
+        self.now += seconds
+
+
+def recorded(times_ms: list[int], static: list[bool] | None = None) -> TransformBatch:
+    """One row per record time (ms after START); the stamp is the record time."""
+    builder = BatchBuilder()
+    for i, t in enumerate(times_ms):
+        is_static = bool(static and static[i])
+        builder.add("a", f"f{i}", START + t * MS, (0, 0, 0), (0, 0, 0, 1), static=is_static, record_time=START + t * MS)
+    return builder.take()
+
+
+@pytest.mark.parametrize("rate", [0.5, 1.0, 4.0])
+def test_sim_time_follows_bag_time_at_the_rate(rate: float) -> None:
+    batch = recorded([0, 5, 5, 130, 900, 2500])
+    wall = FakeTime()
+    replay = Replay(batch, rate=rate, sleep=wall.sleep, monotonic=wall.monotonic)
+    deliveries: list[tuple[float, int, list[int]]] = []  # wall, clock before delivery, rows' record times
+
+    def on_batch(b: TransformBatch) -> None:
+        deliveries.append((wall.now, replay.clock.now(), b.record_time.tolist()))
+
+    replay.run(on_batch)
+    delivered = [t for _, _, times in deliveries for t in times]
+    assert delivered == batch.record_time.tolist()  # every row once, in record order
+    for now, _, times in deliveries:
+        bag_now = START + round((now - 100.0) * rate * NS_PER_S)
+        assert max(times) <= bag_now  # never before its time
+    assert all(clock <= min(times) for _, clock, times in deliveries)  # the clock moves after delivery
+    # Rows with one record time arrive together, each as soon as it is due (within a clock tick):
+    assert [len(times) for _, _, times in deliveries] == [1, 2, 1, 1, 1]
+    for now, _, times in deliveries:
+        due = 100.0 + (times[0] - START) / NS_PER_S / rate
+        assert due <= now < due + 1.0 / CLOCK_HZ + 1e-9
+    assert replay.clock.now() == START + 2500 * MS and replay.finished
+    assert max(wall.sleeps) <= 1.0 / CLOCK_HZ  # the clock ticks at least at 100 Hz
+    assert wall.now - 100.0 == pytest.approx(2.5 / rate, abs=1.0 / CLOCK_HZ)
+
+
+def test_clock_ticks_between_messages() -> None:
+    wall = FakeTime()
+    replay = Replay(recorded([0, 1000]), rate=2.0, sleep=wall.sleep, monotonic=wall.monotonic)
+    seen: list[tuple[float, int]] = []
+    original = wall.sleep
+
+    def sleep(seconds: float) -> None:
+        original(seconds)
+        seen.append((wall.now, replay.clock.now()))
+
+    replay._sleep = sleep  # observe the clock at every tick
+    replay.run(lambda b: None)
+    # After each sleep, the clock is where bag time was at the previous tick: wall x rate.
+    for (before, _), (_, clock) in itertools.pairwise(seen):
+        assert clock == START + round((before - 100.0) * 2.0 * NS_PER_S)
+    assert len(seen) >= 0.5 * CLOCK_HZ - 1  # 0.5 s of wall at 100 Hz
+
+
+def test_start_and_end_play_a_stretch_with_the_static_rows_first() -> None:
+    batch = recorded([0, 10, 20, 30, 40, 50], static=[True, False, True, False, False, False])
+    wall = FakeTime()
+    replay = Replay(batch, start=START + 25 * MS, end=START + 40 * MS, sleep=wall.sleep, monotonic=wall.monotonic)
+    deliveries: list[list[int]] = []
+    replay.run(lambda b: deliveries.append(((b.record_time - START) // MS).tolist()))
+    assert deliveries[0] == [0, 20]  # latched static transforms recorded before the start
+    assert [t for d in deliveries[1:] for t in d] == [30, 40]  # not 10 (dynamic, before), not 50 (after the end)
+    assert replay.clock.now() == START + 40 * MS
+
+
+def test_advance_to_drives_the_replay_by_hand() -> None:
+    replay = Replay(recorded([0, 10, 20]))
+    got: list[int] = []
+    replay.attach(lambda b: got.extend(b.record_time.tolist()))
+    replay.advance_to(START + 15 * MS)
+    assert got == [START, START + 10 * MS] and replay.clock.now() == START + 15 * MS and not replay.finished
+    replay.advance_to(START + 5 * MS)  # the clock never runs backwards
+    assert replay.clock.now() == START + 15 * MS
+    replay.advance_to(START + 99 * MS)
+    assert got[-1] == START + 20 * MS and replay.clock.now() == START + 20 * MS and replay.finished
+
+
+def test_close_stops_a_background_replay() -> None:
+    replay = Replay(recorded([0, 3_600_000]))  # an hour of bag at real speed
+    got = threading.Event()
+    replay.start(lambda b: got.set())
+    assert got.wait(5.0)
+    replay.close()
+    assert replay.finished and replay.clock.now() < START + 3_600_000 * MS
+
+
+def test_follow_ticks_once_a_second_until_the_feed_ends() -> None:
+    wall = FakeTime()
+    replay = Replay(recorded(list(range(0, 3500, 100))))  # 3.4 s of bag
+    ticks: list[int] = []
+
+    class HandDriven:  # the replay, moved by the fake wall clock instead of its own thread
+        clock = replay.clock
+        finished = property(lambda self: replay.finished)
+
+        def start(self, on_batch: OnBatch) -> None:
+            replay.attach(on_batch)
+
+        def close(self) -> None:
+            pass
+
+    def sleep(seconds: float) -> None:
+        wall.sleep(seconds)
+        replay.advance_to(START + round((wall.now - 100.0) * NS_PER_S))
+
+    rows: list[int] = []
+    follow(HandDriven(), lambda b: rows.extend(b.record_time.tolist()), lambda: ticks.append(replay.clock.now()),
+           sleep=sleep, monotonic=wall.monotonic)  # fmt: skip
+    assert len(rows) == 35
+    # One tick per wall second (bag time = wall time here), then the final state.
+    assert [round((t - START) / NS_PER_S, 1) for t in ticks] == [1.0, 2.0, 3.0, 3.4]
+
+
+def test_follow_stops_after_its_duration() -> None:
+    wall = FakeTime()
+    closed: list[bool] = []
+
+    class Endless:
+        clock = Buffer().clock
+
+        def start(self, on_batch: OnBatch) -> None:
+            pass
+
+        def close(self) -> None:
+            closed.append(True)
+
+    ticks: list[float] = []
+    follow(Endless(), lambda b: None, lambda: ticks.append(wall.now), duration=2.5, sleep=wall.sleep,
+           monotonic=wall.monotonic)  # fmt: skip
+    assert ticks == [101.0, 102.0, 102.5] and closed == [True]
+
+
+def test_follow_into_a_buffer_sees_the_whole_bag() -> None:
+    truth = scene()
+    everything = scene_buffer(truth.messages)
+    builder = BatchBuilder()
+    for m in truth.messages:
+        for t in m.transforms:
+            builder.add(t.frame_id, t.child_frame_id, t.stamp, t.translation, t.rotation,
+                        static=m.topic == "/tf_static", record_time=m.record_time, authority=m.publisher)  # fmt: skip
+    live = Buffer(cache_time=None)
+    follow_into(Replay(builder.take(), rate=1e6), live, lambda: None)  # 30 s of bag in 30 us
+    assert sorted(live.frames) == sorted(everything.frames)
+    for child, hist in everything.histories():
+        ours = live.history(child)
+        assert ours is not None and np.array_equal(ours.stamps, hist.stamps)
+        assert np.array_equal(ours.record_times, hist.record_times)
