@@ -13,12 +13,14 @@ import graphviz
 import pytest
 
 from tests.analysis.test_graph import END, START, healthy, publish, publish_static
+from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
 from tftools.render.graph import COLOURS, INK, SIGNATURE, STATIC_INK, dot_source
+from tftools.sources import read_recording
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -140,3 +142,11 @@ def test_awkward_frame_names_survive() -> None:
 
 def test_no_data_says_so() -> None:
     assert "No tf data received" in parse(dot_source(Buffer(None))).nodes
+
+
+def test_a_recording_gives_its_span_and_files_to_the_legend() -> None:
+    recording = read_recording([SAMPLE_BAGS["mcap"]])
+    legend = parse(dot_source(recording)).nodes["legend"]["label"]
+    start, end, span = (t / NS_PER_S for t in (recording.start, recording.end, recording.end - recording.start))
+    assert f"Recorded at time: {start:.3f} to {end:.3f} ({span:.3f} s)" in legend
+    assert "Bag: robot_mcap" in legend and "18 frames, 17 transforms (7 static), 1 tree" in legend

@@ -53,17 +53,25 @@ class OutputExistsError(TfToolsError):
 
 
 def dot_source(
-    buffer: Buffer,
+    source: Buffer | Recording,
     findings: Sequence[Finding] | None = None,
     *,
     legend: Sequence[str] = (),
     rankdir: str = "TB",
     brief: bool = False,
 ) -> str:
-    """Graphviz source of ``buffer``'s frame graph, ``findings`` (default: the engine's own) in colour."""
-    lines = legend or (f"Recorded at time: {format_sec(buffer.now(), 3)}",)
-    source: str = to_digraph(frame_graph(buffer, findings), lines, rankdir=rankdir, brief=brief).source
-    return source
+    """Graphviz source of the frame graph of a buffer or recording, ``findings`` (default: the
+    engine's own) in colour; the legend says ``legend``, else the recording's span and files."""
+    buffer = source.buffer if isinstance(source, Recording) else source
+    if not legend:
+        legend = (
+            recording_legend(source)
+            if isinstance(source, Recording)
+            else [f"Recorded at time: {format_sec(buffer.now(), 3)}"]
+        )
+    graph = frame_graph(buffer, findings)
+    text: str = to_digraph(graph, legend, rankdir=rankdir, brief=brief).source
+    return text
 
 
 def recording_legend(recording: Recording) -> list[str]:
