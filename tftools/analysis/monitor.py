@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from tftools.analysis.edges import AuthorityStats, EdgeStats, authority_stats, edge_stats
+from tftools.analysis.edges import AuthorityStats, EdgeStats, authority_stats, edge_stats, sorted_unique
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError
@@ -95,7 +95,7 @@ def _newest_stamps(buffer: Buffer, edge: tuple[str, str], end: int) -> tuple[Int
     """When each sample of ``edge`` arrived (sorted) and the newest stamp known from then on."""
     hist = buffer.history(edge[1])
     assert hist is not None
-    parent_ids = [i for i in np.unique(hist.parents) if buffer.frame_name(int(i)) == edge[0]]
+    parent_ids = [i for i in np.flatnonzero(np.bincount(hist.parents)) if buffer.frame_name(int(i)) == edge[0]]
     rows = np.isin(hist.parents, parent_ids) & (hist.record_times > 0) & (hist.record_times <= end)
     records, stamps = hist.record_times[rows], hist.stamps[rows]
     order = np.argsort(records, kind="stable")
@@ -118,7 +118,7 @@ def _chain_delay(
     if begin >= end:
         return math.nan, math.nan, None
     arrivals = np.concatenate([records for records, _ in series])
-    steps = np.unique(np.concatenate([[begin], arrivals[(arrivals > begin) & (arrivals < end)]]))
+    steps = sorted_unique(np.concatenate([[begin], arrivals[(arrivals > begin) & (arrivals < end)]]))
     common = np.full(len(steps), np.iinfo(np.int64).max, np.int64)
     limiting = np.zeros(len(steps), np.int64)
     for index, (records, newest) in enumerate(series):

@@ -53,7 +53,7 @@ def command(
     fmt: Annotated[EchoFormat, typer.Option("--format", "-f", help="text (tf_echo's), json (one object per line) or csv.")] = EchoFormat.text,
     topics: TopicOption = None,
     play: Annotated[
-        bool, typer.Option("--play", help="Replay the bag in real time; print the latest transform --rate times a second.")
+        bool, typer.Option("--play", help="Replay the bag in real time; the latest transform --rate times a second.")
     ] = False,
 ) -> None:
     """Print the transform from SOURCE to TARGET, as tf_echo does: [bold]where SOURCE is in TARGET[/].
