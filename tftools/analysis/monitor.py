@@ -152,9 +152,8 @@ class LiveMonitor:
         with self._lock:
             now = self.buffer.now()
             start = now - self.window
-            both = target is not None and source is not None
-            if both and not (self.buffer.has_frame(target) and self.buffer.has_frame(source)):  # type: ignore[arg-type]
-                target = source = None
+            if not all(frame is not None and self.buffer.has_frame(frame) for frame in (target, source)):
+                target = source = None  # no chain asked for, or its frames not seen yet
             try:
                 return monitor(self.buffer, target, source, start, now, by_record_time=True)
             except TransformError:  # the chain is not connected (yet): show the rest
