@@ -84,27 +84,35 @@ def edge_stats(
 def authority_stats(
     buffer: Buffer, start: int | None = None, end: int | None = None, *, by_record_time: bool = False
 ) -> list[AuthorityStats]:
-    """Each publisher's message rate over the window (as ``edge_stats`` selects it) and its edges."""
-    record_times: dict[int, list[Int64Array]] = {}
+    """Each publisher's messages over the window (as ``edge_stats`` selects it) and its edges.
+
+    Its rate counts the messages of its moving edges only: a latched static message sent
+    once is not part of a rhythm (tf_monitor lists static publishers apart).
+    """
+    moving: dict[int, list[Int64Array]] = {}
+    static: dict[int, list[Int64Array]] = {}
     delays: dict[int, list[Int64Array]] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
     for child, hist in buffer.histories():
         window = _window(hist, start, end, by_record_time)
         for authority in _ids(hist.authorities[window]):
+            a = int(authority)
             mine = window & (hist.authorities == authority)
-            record_times.setdefault(int(authority), []).append(hist.record_times[mine])
-            delays.setdefault(int(authority), []).append(_delays(hist, mine))
-            for parent_id in _ids(hist.parents[mine]):
-                edges.setdefault(int(authority), []).append((buffer.frame_name(int(parent_id)), child))
+            (static if hist.static else moving).setdefault(a, []).append(hist.record_times[mine])
+            delays.setdefault(a, []).append(_delays(hist, mine))
+            edges.setdefault(a, []).extend((buffer.frame_name(int(p)), child) for p in _ids(hist.parents[mine]))
     return [
-        _authority(
-            buffer.authorities[a],
-            sorted_unique(np.concatenate(record_times[a])),
-            tuple(edges[a]),
-            np.concatenate(delays[a]),
-        )
-        for a in sorted(record_times, key=lambda a: buffer.authorities[a])
+        _authority(buffer.authorities[a], _arrivals(moving.get(a)), _arrivals(static.get(a)), edges[a], delays[a])
+        for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]
+
+
+def _arrivals(record_times: list[Int64Array] | None) -> Int64Array:
+    """The distinct known record times: one per message."""
+    if not record_times:
+        return np.zeros(0, np.int64)
+    times = sorted_unique(np.concatenate(record_times))
+    return times[times > 0]
 
 
 def sorted_unique(values: Int64Array) -> Int64Array:
@@ -118,12 +126,14 @@ def sorted_unique(values: Int64Array) -> Int64Array:
     return ordered[keep]
 
 
-def _authority(name: str, times: Int64Array, edges: tuple[tuple[str, str], ...], delays: Int64Array) -> AuthorityStats:
-    times = times[times > 0]
-    span = int(times[-1] - times[0]) if len(times) else 0
-    rate = (len(times) - 1) * NS_PER_S / span if span > 0 else 0.0
-    mean, largest = _mean_max(delays)
-    return AuthorityStats(name, len(times), rate, edges, mean, largest)
+def _authority(
+    name: str, moving: Int64Array, static: Int64Array, edges: list[tuple[str, str]], delays: list[Int64Array]
+) -> AuthorityStats:
+    span = int(moving[-1] - moving[0]) if len(moving) else 0
+    rate = (len(moving) - 1) * NS_PER_S / span if span > 0 else 0.0
+    messages = len(np.union1d(moving, static)) if len(static) else len(moving)
+    mean, largest = _mean_max(np.concatenate(delays))
+    return AuthorityStats(name, messages, rate, tuple(edges), mean, largest)
 
 
 def _ids(values: npt.NDArray[np.int32]) -> npt.NDArray[np.intp]:

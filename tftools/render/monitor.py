@@ -41,17 +41,17 @@ def _edges_table(edges: list[EdgeStats] | tuple[EdgeStats, ...]) -> Table:
     return table
 
 
-def _authorities_table(authorities: list[AuthorityStats]) -> Table:
+def _authorities_table(authorities: list[AuthorityStats], static: set[tuple[str, str]]) -> Table:
     table = Table(title="All Broadcasters:", title_justify="left", title_style="bold", header_style="bold", box=None)
     table.add_column("Node")
     for name in ("Messages", "Rate (Hz)", "Average Delay (s)", "Max Delay (s)"):
         table.add_column(name, justify="right")
-    table.add_column("Edges")
+    table.add_column("Frames")
     for a in authorities:
         table.add_row(
             Text(a.authority or "?", style="magenta"),
             str(a.messages),
-            f"{a.rate_hz:.2f}",
+            Text("static", style="cyan") if set(a.edges) <= static else f"{a.rate_hz:.2f}",
             _sec(a.delay_mean_s),
             _sec(a.delay_max_s),
             Text(", ".join(child for _, child in a.edges), style="dim"),
@@ -90,7 +90,8 @@ def renderable(
     else:
         parts.append(Text("RESULTS: for all Frames", style="bold"))
         edges = report.edges
-    parts += [Text(""), _edges_table(edges), Text(""), _authorities_table(report.authorities)]
+    static = {e.key for e in report.edges if e.static}
+    parts += [Text(""), _edges_table(edges), Text(""), _authorities_table(report.authorities, static)]
     return Group(*parts)
 
 
