@@ -119,6 +119,7 @@ def test_start_and_end_select_a_stretch(tfx) -> None:
         (("map", "-b", SAMPLE_BAGS["mcap"]), "two frames"),
         (("-b", SAMPLE_BAGS["mcap"], "--play", "--rate", "0"), "--rate"),
         (("-b", SAMPLE_BAGS["mcap"], "--start", "+10", "--end", "+5"), "empty"),
+        (("-b", SAMPLE_BAGS["mcap"], "--start", "+20", "--play"), "outside the recording"),
     ],
 )
 def test_unusable_input_is_one_line_and_exit_2(tfx, args: tuple, says: str) -> None:

@@ -87,6 +87,9 @@ def command(
     last = parse_time(end, recording) if end is not None else None
     if first is not None and last is not None and last < first:
         raise UsageError("the time range is empty", "--start must come before --end")
+    if (first is not None and first > recording.end) or (last is not None and last < recording.start):
+        span = f"{to_sec(recording.start):.3f} to {to_sec(recording.end):.3f}"
+        raise UsageError("the time range is outside the recording", f"it runs from {span}")
     if play:
         last = last if last is not None else recording.end
         replay = Replay(recording.contents.transforms, rate=rate, start=first, end=last)
