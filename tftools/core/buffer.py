@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+import threading
+import time as _time
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
+from functools import wraps
+from typing import Any, TypeVar
 
 import numpy as np
 import numpy.typing as npt
 
 from tftools.core import walk
 from tftools.core.batch import BatchBuilder, TransformBatch
-from tftools.core.errors import InvalidArgumentError, UnknownFrameError
+from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT, FrameTable
 from tftools.core.history import (
     CHILD_HAD_SLASH,
@@ -27,6 +31,19 @@ DEFAULT_CACHE_TIME = 10 * NS_PER_S
 
 #: tf2 accepts a quaternion whose squared norm is within this of 1.
 QUATERNION_TOLERANCE = 10e-3
+
+_Method = TypeVar("_Method", bound=Callable[..., Any])
+
+
+def _locked(method: _Method) -> _Method:
+    """Run ``method`` holding the buffer's lock, so a live source may insert from its thread."""
+
+    @wraps(method)
+    def run(self: Buffer, *args: Any, **kwargs: Any) -> Any:
+        with self._changed:
+            return method(self, *args, **kwargs)
+
+    return run  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)
@@ -59,6 +76,21 @@ class Buffer:
         self._frames = FrameTable()
         self._histories: list[EdgeHistory | None] = [None]
         self._arrivals = 0
+        self._changed = threading.Condition(threading.RLock())
+
+    @property
+    def lock(self) -> threading.Condition:
+        """Held by every insertion and lookup; hold it to make several reads see one state."""
+        return self._changed
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = self.__dict__.copy()
+        del state["_changed"]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._changed = threading.Condition(threading.RLock())
 
     # --- frames ------------------------------------------------------------------------------
 
@@ -84,6 +116,7 @@ class Buffer:
     def frame_name(self, frame_id: int) -> str:
         return self._frames.names[frame_id]
 
+    @_locked
     def parent(self, frame: str, time: int = 0) -> str | None:
         """``frame``'s parent at ``time`` (latest if 0), or None (root, unknown, no data then)."""
         hist = self.history(frame)
@@ -122,7 +155,14 @@ class Buffer:
         """Add a batch in its row order, exactly as that many ``set_transform`` calls would.
 
         Returns how many rows were stored. Refused rows are appended to ``rejections``.
+        Safe to call from another thread than the lookups; wakes ``wait_for_transform``.
         """
+        with self._changed:
+            stored = self._insert(batch)
+            self._changed.notify_all()
+        return stored
+
+    def _insert(self, batch: TransformBatch) -> int:
         n = len(batch)
         if n == 0:
             return 0
@@ -276,6 +316,7 @@ class Buffer:
 
     # --- lookups -----------------------------------------------------------------------------
 
+    @_locked
     def lookup(self, target_frame: str, source_frame: str, time: int = 0) -> Transform:
         """The transform taking ``source_frame`` data into ``target_frame`` at ``time`` (ns).
 
@@ -290,6 +331,7 @@ class Buffer:
         translation, rotation, stamp = walk.lookup(self._tree(), target_id, source_id, time)
         return Transform(translation, rotation, stamp, target_frame, source_frame)
 
+    @_locked
     def lookup_full(
         self,
         target_frame: str,
@@ -310,6 +352,7 @@ class Buffer:
             composed.translation, composed.rotation, fixed_in_target.stamp, target_frame, source_frame
         )
 
+    @_locked
     def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
         """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
         if target_frame == source_frame:
@@ -319,6 +362,7 @@ class Buffer:
             return False
         return walk.can_transform(self._tree(), target_id, source_id, time)
 
+    @_locked
     def can_transform_full(
         self,
         target_frame: str,
@@ -331,12 +375,14 @@ class Buffer:
             fixed_frame, source_frame, source_time
         )
 
+    @_locked
     def latest_common_time(self, target_frame: str, source_frame: str) -> int:
         """The newest time at which every edge between the two frames has data (0: all static)."""
         target_id = self._frame_id("get_latest_common_time", target_frame)
         source_id = self._frame_id("get_latest_common_time", source_frame)
         return walk.latest_common_time(self._tree(), target_id, source_id)
 
+    @_locked
     def lookup_many(
         self, target_frame: str, source_frame: str, times: npt.ArrayLike
     ) -> LookupBatch:
@@ -354,6 +400,7 @@ class Buffer:
         source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
         return LookupBatch(*walk.lookup_many(self._tree(), target_id, source_id, stamps))
 
+    @_locked
     def chain(self, target_frame: str, source_frame: str, time: int = 0) -> list[str]:
         """The frames a lookup passes through, from ``source_frame`` to ``target_frame``."""
         if target_frame == source_frame:
@@ -362,12 +409,30 @@ class Buffer:
         source_id = self._frame_id("chain argument source_frame", source_frame)
         return [self._frames.names[f] for f in walk.chain(self._tree(), target_id, source_id, time)]
 
+    def wait_for_transform(
+        self, target_frame: str, source_frame: str, time: int = 0, timeout_s: float = 0.0
+    ) -> Transform:
+        """``lookup``, waiting up to ``timeout_s`` wall seconds for the data it needs to arrive
+        (tf2's ``lookupTransform`` with a timeout); then raises the lookup's error."""
+        deadline = _time.monotonic() + timeout_s
+        with self._changed:
+            while True:
+                try:
+                    return self.lookup(target_frame, source_frame, time)
+                except TransformError:
+                    remaining = deadline - _time.monotonic()
+                    if remaining <= 0:
+                        raise
+                    self._changed.wait(remaining)
+
     # --- tf2's introspection -----------------------------------------------------------------
 
+    @_locked
     def all_frames_as_string(self) -> str:
         """tf2's ``allFramesAsString``: "Frame X exists with parent Y." per child frame."""
         return walk.frames_as_string(self._tree())
 
+    @_locked
     def all_frames_as_yaml(self) -> str:
         """tf2's ``allFramesAsYAML``: per child frame its parent, broadcaster, rate and span."""
         return walk.frames_as_yaml(self._tree(), self.authorities)
