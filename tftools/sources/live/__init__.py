@@ -1,0 +1,71 @@
+"""Live systems: transforms as they arrive from a running ROS1 (or, later, ROS2) system."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import Literal
+
+from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
+from tftools.sources.live.errors import (
+    LiveError,
+    MasterRefusedError,
+    MasterUnreachableError,
+    NoRosSelectedError,
+    Ros2NotAvailableError,
+)
+
+Ros = Literal["ros1", "ros2"]
+
+
+def choose_ros(ros: str | None = None) -> Ros:
+    """``ros`` if given, else ROS1 where ``ROS_MASTER_URI`` is set (ROS2 where only ROS2's
+    variables are); raises ``NoRosSelectedError`` when nothing says which."""
+    if ros in ("ros1", "ros2"):
+        return ros  # type: ignore[return-value]
+    if ros is not None:
+        raise LiveError(f"unknown ROS version {ros!r}", "use ros1 or ros2")
+    if os.environ.get("ROS_MASTER_URI"):
+        return "ros1"
+    if os.environ.get("ROS_VERSION") == "2" or os.environ.get("ROS_DOMAIN_ID"):
+        return "ros2"
+    raise NoRosSelectedError()
+
+
+def open_live(
+    ros: str | None = None,
+    use_sim_time: bool | None = None,
+    topics: Sequence[str] | None = None,
+    *,
+    master_uri: str | None = None,
+    on_notice: OnNotice | None = None,
+    name: str = "tfx",
+) -> LiveSource:
+    """A live source, not yet started: ROS1 through its master (``master_uri`` or
+    ``ROS_MASTER_URI``), chosen as ``choose_ros`` says.
+
+    ``use_sim_time``: follow ``/clock``; ``None`` does as the system says (ROS1: the master's
+    ``/use_sim_time``). ``on_notice`` hears one-line notices (lost publishers, wrong types).
+    Raises ``LiveError`` (e.g. ``MasterUnreachableError``) when the system cannot be reached.
+    """
+    chosen = "ros1" if master_uri else choose_ros(ros)
+    if chosen == "ros2":
+        raise Ros2NotAvailableError()
+    from tftools.sources.live.ros1 import Ros1Source
+
+    return Ros1Source(master_uri, topics, use_sim_time, on_notice, name)
+
+
+__all__ = [
+    "LiveError",
+    "LiveSource",
+    "MasterRefusedError",
+    "MasterUnreachableError",
+    "NoRosSelectedError",
+    "OnBatch",
+    "OnNotice",
+    "Ros",
+    "Ros2NotAvailableError",
+    "choose_ros",
+    "open_live",
+]

@@ -1,0 +1,122 @@
+"""The two message types tftools speaks on ROS1: ``tf2_msgs/TFMessage`` and ``rosgraph_msgs/Clock``.
+
+Their definitions and md5sums come from rosbags' Noetic typestore; TFMessage is decoded with
+``struct`` for its variable-length strings and numpy for the numbers, no object per field.
+"""
+
+from __future__ import annotations
+
+import functools
+import struct
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from tftools.core.batch import TransformBatch
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+
+
+@dataclass(frozen=True)
+class MessageType:
+    """What a TCPROS connection header says about a message type."""
+
+    name: str  # ROS1 spelling: "tf2_msgs/TFMessage"
+    md5sum: str
+    definition: str
+
+
+TF_MESSAGE = "tf2_msgs/msg/TFMessage"
+CLOCK = "rosgraph_msgs/msg/Clock"
+
+
+@functools.cache
+def message_type(typename: str) -> MessageType:
+    """``typename`` (rosbags' ``pkg/msg/Name``) with its ROS1 md5sum and full definition."""
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    if typename == TF_MESSAGE and typename not in store.fielddefs:
+        store.register(get_types_from_msg("geometry_msgs/TransformStamped[] transforms", TF_MESSAGE))
+    definition, md5sum = store.generate_msgdef(typename, ros_version=1)
+    return MessageType(typename.replace("/msg/", "/"), md5sum, definition)
+
+
+_COUNT = struct.Struct("<I")
+_HEADER_TIME = struct.Struct("<III")  # seq, stamp sec, stamp nsec
+_VALUES = 7 * 8  # translation xyz, rotation xyzw, float64 each
+_VALUE_OFFSETS = np.arange(_VALUES)
+
+
+def decode_tf_message(
+    data: bytes, *, static: bool, authority: str, record_time: int
+) -> TransformBatch:
+    """One ``tf2_msgs/TFMessage`` as a batch; ``ValueError`` if ``data`` is not one."""
+    try:
+        (count,) = _COUNT.unpack_from(data, 0)
+        names: dict[bytes, int] = {}
+        ids: list[int] = []
+        times: list[int] = []
+        value_offsets: list[int] = []
+        offset = 4
+        for _ in range(count):
+            _seq, sec, nsec = _HEADER_TIME.unpack_from(data, offset)
+            times += (sec, nsec)
+            offset += 12
+            for _name in range(2):  # header.frame_id, then child_frame_id
+                (size,) = _COUNT.unpack_from(data, offset)
+                name = data[offset + 4 : offset + 4 + size]
+                ids.append(names.setdefault(name, len(names)))
+                offset += 4 + size
+            value_offsets.append(offset)
+            offset += _VALUES
+    except struct.error as error:
+        raise ValueError(f"not a TFMessage: {error}") from None
+    if offset > len(data):
+        raise ValueError("not a TFMessage: it ends early")
+    raw = np.frombuffer(data, np.uint8)
+    values = raw[np.array(value_offsets, np.intp).reshape(-1, 1) + _VALUE_OFFSETS].copy().view("<f8")
+    pairs = np.array(ids, np.int32).reshape(-1, 2)
+    stamp = np.array(times, np.int64).reshape(-1, 2)
+    return TransformBatch(
+        frame_names=[n.decode("utf-8", "replace") for n in names],
+        authorities=[authority],
+        parent=pairs[:, 0].copy(),
+        child=pairs[:, 1].copy(),
+        stamp=stamp[:, 0] * NS_PER_S + stamp[:, 1],
+        translation=values[:, :3].astype(np.float64),
+        rotation=values[:, 3:].astype(np.float64),
+        static=np.full(count, static),
+        record_time=np.full(count, record_time, np.int64),
+        authority=np.zeros(count, np.int32),
+    )
+
+
+def encode_tf_message(transforms: Sequence[Transform]) -> bytes:
+    """``transforms`` as one serialized ``tf2_msgs/TFMessage``."""
+    parts = [_COUNT.pack(len(transforms))]
+    for t in transforms:
+        sec, nsec = divmod(t.stamp, NS_PER_S)
+        parts.append(_HEADER_TIME.pack(0, sec, nsec))
+        for name in (t.frame_id, t.child_frame_id):
+            encoded = name.encode()
+            parts.append(_COUNT.pack(len(encoded)) + encoded)
+        parts.append(struct.pack("<7d", *t.translation, *t.rotation))
+    return b"".join(parts)
+
+
+_TIME = struct.Struct("<II")
+
+
+def decode_clock(data: bytes) -> int:
+    """A ``rosgraph_msgs/Clock``'s time in nanoseconds."""
+    try:
+        sec, nsec = _TIME.unpack_from(data, 0)
+    except struct.error:
+        raise ValueError("not a Clock message") from None
+    return sec * NS_PER_S + nsec
+
+
+def encode_clock(now: int) -> bytes:
+    return _TIME.pack(*divmod(now, NS_PER_S))

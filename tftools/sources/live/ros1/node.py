@@ -1,0 +1,142 @@
+"""A ROS1 node in pure Python: registered with the master, serving the slave API, subscribing
+and publishing over TCPROS."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import threading
+from typing import Any
+
+from tftools.sources.live.base import OnNotice
+from tftools.sources.live.errors import LiveError
+from tftools.sources.live.ros1 import network
+from tftools.sources.live.ros1.messages import MessageType
+from tftools.sources.live.ros1.publisher import Publication, TcpRosServer
+from tftools.sources.live.ros1.subscriber import OnMessage, Subscription
+from tftools.sources.live.ros1.xmlrpc import MasterClient, SlaveServer
+
+Reply = list[Any]  # the ROS API's [code, status message, value]
+
+
+def _ignore(_message: str) -> None:
+    pass
+
+
+class Node:
+    """One node: ``subscribe`` and ``advertise`` topics; ``close`` unregisters everything.
+
+    The master and other nodes reach it through its slave XML-RPC server; ``shutdown_requested``
+    is set when one of them asks it to stop (``rosnode kill``).
+    """
+
+    def __init__(self, name: str, master_uri: str | None = None, on_notice: OnNotice | None = None) -> None:
+        self.name = name
+        self.master = MasterClient(network.master_uri(master_uri), name)
+        self.host = network.advertised_host()
+        self._bind = network.bind_address(self.host)
+        self._on_notice = on_notice or _ignore
+        self.shutdown_requested = threading.Event()
+        self._subscriptions: dict[str, Subscription] = {}
+        self._publications: dict[str, Publication] = {}
+        self._tcpros: TcpRosServer | None = None
+        self._lock = threading.Lock()
+        try:
+            self._slave = SlaveServer(self._bind, self.host, self._handlers())
+        except OSError as error:
+            raise LiveError(f"cannot open this node's XML-RPC server on {self._bind}: {error.strerror}") from None
+        self._slave.start()
+
+    @property
+    def uri(self) -> str:
+        return self._slave.uri
+
+    # --- what the node does ------------------------------------------------------------------
+
+    def subscribe(self, topic: str, msg_type: MessageType, on_message: OnMessage) -> Subscription:
+        """Listen to ``topic`` from its publishers now and later (raises if the master is not there)."""
+        subscription = Subscription(self.name, topic, msg_type, on_message, self._on_notice)
+        with self._lock:
+            self._subscriptions[topic] = subscription
+        subscription.update(self.master.register_subscriber(topic, msg_type.name, self.uri))
+        return subscription
+
+    def advertise(self, topic: str, msg_type: MessageType, latched: bool = False) -> Publication:
+        """Publish ``topic``; the master tells its subscribers, who then connect."""
+        with self._lock:
+            if self._tcpros is None:
+                self._tcpros = TcpRosServer(self._bind, self.host, self._publications.get)
+                self._tcpros.start()
+            publication = self._publications[topic] = Publication(self.name, topic, msg_type, latched)
+        self.master.register_publisher(topic, msg_type.name, self.uri)
+        return publication
+
+    def close(self) -> None:
+        """Unregister from the master (if it still answers) and stop every connection."""
+        with self._lock:
+            subscriptions, self._subscriptions = list(self._subscriptions.values()), {}
+            publications, self._publications = list(self._publications.values()), {}
+        for subscription in subscriptions:
+            with contextlib.suppress(LiveError):
+                self.master.unregister_subscriber(subscription.topic, self.uri)
+            subscription.close()
+        for publication in publications:
+            with contextlib.suppress(LiveError):
+                self.master.unregister_publisher(publication.topic, self.uri)
+            publication.close()
+        if self._tcpros is not None:
+            self._tcpros.close()
+        self._slave.close()
+
+    # --- the slave API (http://wiki.ros.org/ROS/Slave_API) -----------------------------------
+
+    def _handlers(self) -> dict[str, Any]:
+        return {
+            "getBusStats": lambda _caller: [1, "", [[], [], []]],
+            "getBusInfo": self._bus_info,
+            "getMasterUri": lambda _caller: [1, "", self.master.uri],
+            "shutdown": self._shutdown,
+            "getPid": lambda _caller: [1, "", os.getpid()],
+            "getSubscriptions": lambda _caller: [1, "", [[s.topic, s.type.name] for s in self._subs()]],
+            "getPublications": lambda _caller: [1, "", [[p.topic, p.type.name] for p in self._pubs()]],
+            "paramUpdate": lambda _caller, _key, _value: [1, "", 0],
+            "publisherUpdate": self._publisher_update,
+            "requestTopic": self._request_topic,
+        }
+
+    def _subs(self) -> list[Subscription]:
+        with self._lock:
+            return list(self._subscriptions.values())
+
+    def _pubs(self) -> list[Publication]:
+        with self._lock:
+            return list(self._publications.values())
+
+    def _bus_info(self, _caller: str) -> Reply:
+        rows: list[list[Any]] = []
+        for sub in self._subs():
+            rows += [[len(rows), uri, "i", "TCPROS", sub.topic, True] for uri, _callerid in sub.connections]
+        for pub in self._pubs():
+            rows += [[len(rows), callerid, "o", "TCPROS", pub.topic, True] for callerid in pub.subscribers]
+        return [1, "", rows]
+
+    def _shutdown(self, caller: str, message: str = "") -> Reply:
+        self._on_notice(f"shut down by {caller}" + (f": {message}" if message else ""))
+        self.shutdown_requested.set()
+        return [1, "shutdown", 0]
+
+    def _publisher_update(self, _caller: str, topic: str, publishers: list[str]) -> Reply:
+        with self._lock:
+            subscription = self._subscriptions.get(topic)
+        if subscription is not None:
+            subscription.update(list(publishers))
+        return [1, "", 0]
+
+    def _request_topic(self, _caller: str, topic: str, protocols: list[list[Any]]) -> Reply:
+        with self._lock:
+            known = topic in self._publications and self._tcpros is not None
+        if not known or self._tcpros is None:
+            return [0, f"not a publisher of {topic}", []]
+        if not any(p and p[0] == "TCPROS" for p in protocols):
+            return [0, "no supported protocol: tfx speaks TCPROS only", []]
+        return [1, "ready", ["TCPROS", self._tcpros.host, self._tcpros.port]]

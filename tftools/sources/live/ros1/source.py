@@ -1,0 +1,139 @@
+"""``Ros1Source``: /tf and /tf_static from a ROS1 system, as a ``LiveSource``."""
+
+from __future__ import annotations
+
+import queue
+import threading
+from collections.abc import Sequence
+
+from tftools.core.batch import TransformBatch, concat_batches
+from tftools.core.time import Clock, SimClock, WallClock
+from tftools.sources.bag.contents import DEFAULT_TOPICS, is_static_topic
+from tftools.sources.live.base import ContextManaged, OnBatch, OnNotice
+from tftools.sources.live.ros1 import network
+from tftools.sources.live.ros1.messages import CLOCK, TF_MESSAGE, decode_clock, decode_tf_message, message_type
+from tftools.sources.live.ros1.node import Node
+
+
+class Ros1Source(ContextManaged):
+    """Subscribes to ``topics`` (tf2_msgs/TFMessage) through the master at ``master_uri``
+    (``ROS_MASTER_URI``), following publishers as they come and go.
+
+    ``use_sim_time``: follow ``/clock``; ``None`` asks the master's ``/use_sim_time`` parameter,
+    as every ROS node does (which also checks that the master answers).
+    """
+
+    format = "ros1-live"
+
+    def __init__(
+        self,
+        master_uri: str | None = None,
+        topics: Sequence[str] | None = None,
+        use_sim_time: bool | None = None,
+        on_notice: OnNotice | None = None,
+        name: str = "tfx",
+    ) -> None:
+        self.topics = tuple(topics) if topics else DEFAULT_TOPICS
+        self.message_count = 0
+        self._count_lock = threading.Lock()
+        self._on_notice = on_notice or (lambda _message: None)
+        self._node = Node(network.anonymous_name(name), master_uri, self._notice_once)
+        self._noticed: set[str] = set()
+        try:
+            if use_sim_time is None:
+                use_sim_time = bool(self._node.master.get_param("/use_sim_time"))
+        except BaseException:
+            self._node.close()
+            raise
+        self.use_sim_time = use_sim_time
+        self._clock: Clock = SimClock() if use_sim_time else WallClock()
+        self._queue: queue.SimpleQueue[TransformBatch | None] = queue.SimpleQueue()
+        self._closed = threading.Event()
+        self._delivery: threading.Thread | None = None
+
+    @property
+    def clock(self) -> Clock:
+        return self._clock
+
+    @property
+    def master_uri(self) -> str:
+        return self._node.master.uri
+
+    @property
+    def finished(self) -> bool:
+        return self._closed.is_set() or self._node.shutdown_requested.is_set()
+
+    def describe(self) -> str:
+        return f"ROS1 master {self.master_uri}"
+
+    def start(self, on_batch: OnBatch) -> None:
+        """Register with the master and listen; raises ``LiveError`` if the master is not there."""
+        self._delivery = threading.Thread(target=self._deliver, args=(on_batch,), name="tfx-delivery", daemon=True)
+        self._delivery.start()
+        try:
+            if isinstance(self._clock, SimClock):
+                self._node.subscribe("/clock", message_type(CLOCK), self._on_clock)
+            tf_type = message_type(TF_MESSAGE)
+            for topic in self.topics:
+                self._node.subscribe(topic, tf_type, self._receiver(topic))
+        except BaseException:
+            self.close()
+            raise
+
+    def close(self) -> None:
+        if self._closed.is_set():
+            return
+        self._closed.set()
+        self._node.close()
+        self._queue.put(None)
+        if self._delivery is not None and self._delivery is not threading.current_thread():
+            self._delivery.join(timeout=1.0)
+
+    # --- receiving ---------------------------------------------------------------------------
+
+    def _receiver(self, topic: str):  # noqa: ANN202 - a closure
+        static = is_static_topic(topic)
+
+        def receive(data: bytes, callerid: str) -> None:
+            try:
+                batch = decode_tf_message(data, static=static, authority=callerid, record_time=self._clock.now())
+            except ValueError as error:
+                self._notice_once(f"{callerid} sent an unreadable message on {topic} ({error})")
+                return
+            with self._count_lock:
+                self.message_count += 1
+            self._queue.put(batch)
+
+        return receive
+
+    def _on_clock(self, data: bytes, callerid: str) -> None:
+        assert isinstance(self._clock, SimClock)
+        try:
+            now = decode_clock(data)
+        except ValueError as error:
+            self._notice_once(f"{callerid} sent an unreadable message on /clock ({error})")
+            return
+        if now < self._clock.now():  # a replay that loops or restarts: ROS time jumps back too
+            self._clock.reset(now)
+        else:
+            self._clock.set(now)
+
+    def _deliver(self, on_batch: OnBatch) -> None:
+        """One thread calls ``on_batch``, with whatever arrived while it was busy merged."""
+        while True:
+            batches = [self._queue.get()]
+            while not self._queue.empty():
+                batches.append(self._queue.get())
+            ready = [b for b in batches if b is not None]
+            if ready:
+                try:
+                    on_batch(concat_batches(ready))
+                except Exception as error:  # the consumer's bug must not stop the listening
+                    self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")
+            if len(ready) < len(batches):
+                return
+
+    def _notice_once(self, message: str) -> None:
+        if message not in self._noticed:
+            self._noticed.add(message)
+            self._on_notice(message)

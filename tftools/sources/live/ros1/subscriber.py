@@ -1,0 +1,171 @@
+"""A subscription: one TCPROS connection per publisher, kept up while the master lists it."""
+
+from __future__ import annotations
+
+import contextlib
+import http.client
+import socket
+import threading
+import xmlrpc.client
+from collections.abc import Callable
+
+from tftools.sources.live.base import OnNotice
+from tftools.sources.live.ros1 import tcpros
+from tftools.sources.live.ros1 import xmlrpc as ros_xmlrpc
+from tftools.sources.live.ros1.messages import MessageType
+
+#: Called with each message's bytes and its publisher's callerid, from the connection's thread.
+OnMessage = Callable[[bytes, str], None]
+
+#: What losing or failing a connection can raise: each means "try again later".
+_CONNECTION_ERRORS = (
+    OSError, EOFError, tcpros.ProtocolError, xmlrpc.client.Error, http.client.HTTPException, ValueError
+)
+
+#: Seconds between attempts to reach a publisher, doubling from the first to the last.
+RETRY_FIRST, RETRY_MAX = 0.1, 2.0
+
+
+class _RefusedError(Exception):
+    """The publisher will not serve us (another message type): do not retry."""
+
+
+class Subscription:
+    """``topic`` from every publisher the master names, each over its own connection."""
+
+    def __init__(
+        self, caller_id: str, topic: str, msg_type: MessageType, on_message: OnMessage, on_notice: OnNotice
+    ) -> None:
+        self.caller_id = caller_id
+        self.topic = topic
+        self.type = msg_type
+        self._on_message = on_message
+        self._on_notice = on_notice
+        self._links: dict[str, _PublisherLink] = {}
+        self._lock = threading.Lock()
+        self._closed = False
+
+    def update(self, publishers: list[str]) -> None:
+        """The publishers' slave URIs now (from registration or ``publisherUpdate``)."""
+        with self._lock:
+            if self._closed:
+                return
+            wanted = set(publishers)
+            for uri in set(self._links) - wanted:
+                self._links.pop(uri).stop()
+            for uri in wanted - set(self._links):
+                link = self._links[uri] = _PublisherLink(self, uri)
+                link.start()
+
+    @property
+    def connections(self) -> list[tuple[str, str]]:
+        """(publisher URI, its callerid or "") of each link that is connected."""
+        with self._lock:
+            return [(uri, link.callerid) for uri, link in self._links.items() if link.connected]
+
+    def close(self) -> None:
+        with self._lock:
+            self._closed = True
+            links, self._links = list(self._links.values()), {}
+        for link in links:
+            link.stop()
+        for link in links:
+            link.join(timeout=1.0)
+
+    def notice(self, message: str) -> None:
+        self._on_notice(message)
+
+    def deliver(self, data: bytes, callerid: str) -> None:
+        self._on_message(data, callerid)
+
+
+class _PublisherLink(threading.Thread):
+    """The connection to one publisher: ask it for the topic, read messages, reconnect when lost."""
+
+    def __init__(self, subscription: Subscription, uri: str) -> None:
+        super().__init__(name=f"tfx-sub {subscription.topic} {uri}", daemon=True)
+        self.sub = subscription
+        self.uri = uri
+        self.callerid = ""
+        self.connected = False
+        self._stopped = threading.Event()
+        self._sock: socket.socket | None = None
+
+    def stop(self) -> None:
+        self._stopped.set()
+        sock = self._sock
+        if sock is not None:
+            with contextlib.suppress(OSError):
+                sock.shutdown(socket.SHUT_RDWR)  # wakes the blocked recv
+
+    def run(self) -> None:
+        delay = RETRY_FIRST
+        complained = False
+        while not self._stopped.is_set():
+            try:
+                self._serve()
+                delay = RETRY_FIRST
+            except _RefusedError as refusal:
+                self.sub.notice(str(refusal))
+                return
+            except _CONNECTION_ERRORS as error:
+                if self._stopped.is_set():
+                    return
+                if self.connected:
+                    self.sub.notice(f"lost {self.sub.topic} from {self.callerid or self.uri} ({error}); reconnecting")
+                    delay, complained = RETRY_FIRST, False
+                elif not complained:
+                    self.sub.notice(f"cannot reach {self.uri}, a publisher of {self.sub.topic} ({error}); retrying")
+                    complained = True
+            finally:
+                self.connected = False
+                self._close_socket()
+            self._stopped.wait(delay)
+            delay = min(delay * 2, RETRY_MAX)
+
+    def _serve(self) -> None:
+        host, port = self._request_topic()
+        sock = self._sock = socket.create_connection((host, port), timeout=ros_xmlrpc.CALL_TIMEOUT)
+        if self._stopped.is_set():
+            return
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        t = self.sub.type
+        sock.sendall(
+            tcpros.encode_header(
+                {
+                    "callerid": self.sub.caller_id,
+                    "topic": self.sub.topic,
+                    "type": t.name,
+                    "md5sum": t.md5sum,
+                    "message_definition": t.definition,
+                    "tcp_nodelay": "1",
+                }
+            )
+        )
+        header = tcpros.read_header(sock)
+        self.callerid = header.get("callerid", "")
+        who = self.callerid or self.uri
+        if "error" in header:
+            raise _RefusedError(f"{who} refused to send {self.sub.topic}: {header['error']}")
+        if header.get("md5sum", "*") not in ("*", t.md5sum):
+            raise _RefusedError(
+                f"{who} publishes {self.sub.topic} as {header.get('type', '?')} (md5sum {header.get('md5sum')}), "
+                f"not {t.name}: ignored"
+            )
+        sock.settimeout(None)
+        self.connected = True
+        while not self._stopped.is_set():
+            self.sub.deliver(tcpros.read_frame(sock), self.callerid)
+
+    def _request_topic(self) -> tuple[str, int]:
+        code, message, protocol = ros_xmlrpc.call(
+            self.uri, "requestTopic", self.sub.caller_id, self.sub.topic, [["TCPROS"]]
+        )
+        if code != 1 or not protocol or protocol[0] != "TCPROS":
+            raise ValueError(f"it does not offer the topic over TCPROS: {message}")
+        return str(protocol[1]), int(protocol[2])
+
+    def _close_socket(self) -> None:
+        sock, self._sock = self._sock, None
+        if sock is not None:
+            sock.close()
