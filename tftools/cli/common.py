@@ -79,7 +79,7 @@ def warn(message: str) -> None:
 
 def require_bags(bags: Sequence[Path] | None) -> Sequence[Path]:
     if not bags:
-        raise UsageError("live sources are not available yet", "give a recording with -b BAG")
+        raise UsageError("this needs a recording", "give one with -b BAG")
     return bags
 
 
@@ -100,7 +100,13 @@ def progress_bar(enabled: bool) -> Iterator[ProgressCallback | None]:
 
 
 def open_recording(bags: Sequence[Path] | None, topics: Sequence[str] | None) -> Recording:
-    """Read the bags into one recording, with a progress bar; report what could not be read."""
+    """Read the bags into one recording, with a progress bar; report what could not be read.
+
+    Without bags: what the live system says in 5 s (``tftools.cli.live`` for more options)."""
+    if not bags:
+        from tftools.cli.live import capture_recording  # the live modules load only when listening
+
+        return capture_recording(topics=topics)
     paths = require_bags(bags)
     with progress_bar(enabled=sum(_size(p) for p in paths) > 20_000_000) as progress:
         recording = read_recording(paths, topics, progress)

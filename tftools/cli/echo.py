@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import io
 from typing import Annotated
@@ -11,6 +12,7 @@ import numpy.typing as npt
 import typer
 
 from tftools.analysis.echo import EchoSeries, chain_span, echo, sample_times, ticks
+from tftools.cli import live
 from tftools.cli.common import (
     BagOption,
     EndOption,
@@ -27,6 +29,7 @@ from tftools.cli.common import (
 from tftools.core.buffer import Buffer
 from tftools.render import echo as render
 from tftools.sources import Recording
+from tftools.sources.live.capture import listen
 from tftools.sources.replay import Replay, follow_into
 
 
@@ -55,6 +58,16 @@ def command(
     play: Annotated[
         bool, typer.Option("--play", help="Replay the bag in real time; the latest transform --rate times a second.")
     ] = False,
+    count: Annotated[
+        int | None, typer.Option("--count", "-n", min=1, help="Live: stop after N lines.", show_default=False)
+    ] = None,
+    wait: Annotated[
+        float | None,
+        typer.Option(help="Live: give up if the transform is not there within WAIT seconds.", show_default=False),
+    ] = None,
+    ros1: live.RosOption = None,
+    use_sim_time: live.UseSimTimeOption = None,
+    cache: live.CacheOption = 10.0,
 ) -> None:
     """Print the transform from SOURCE to TARGET, as tf_echo does: [bold]where SOURCE is in TARGET[/].
 
@@ -68,6 +81,9 @@ def command(
         raise UsageError("--rate must be above 0", "e.g. --rate 10")
     if at is not None and every:
         raise UsageError("--at and --all do not go together", "use one of them")
+    if not bags:
+        live.no_bag_options(**{"--at": at, "--all": every, "--start": start, "--end": end, "--play": play})
+        exit_with(_live(target, source, rate, count, wait, ros1, use_sim_time, cache, topics, fmt, precision, matrix))
     recording = open_recording(bags, topics)
     target = frame_argument(recording.buffer, target)
     source = frame_argument(recording.buffer, source)
@@ -116,6 +132,44 @@ def _play(
         _write(series, fmt, precision, matrix, header=len(failed) == 1)
 
     follow_into(replay, buffer, tick, period=1.0 / rate)
+    return Exit.PROBLEMS if any(failed) else Exit.OK
+
+
+def _live(
+    target: str,
+    source: str,
+    rate: float,
+    count: int | None,
+    wait: float | None,
+    ros1: bool | None,
+    use_sim_time: bool | None,
+    cache: float,
+    topics: list[str] | None,
+    fmt: EchoFormat,
+    precision: int,
+    matrix: bool,
+) -> Exit:
+    """Without -b, as tf_echo: wait for the transform, then the latest one ``rate`` times a second
+    (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
+    target, source = target.removeprefix("/"), source.removeprefix("/")
+    cache_ns = live.cache_time(cache)
+    feed = live.open_source(ros1, use_sim_time, topics)
+    failed: list[bool] = []
+    with feed:
+        buffer = listen(feed, cache_ns)
+        live.wait_for_transform(buffer, target, source, feed.describe(), wait)
+
+        def tick() -> None:
+            with buffer.lock:
+                series = dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()]))
+                frames = buffer.all_frames_as_string()
+            failed.append(not series.valid.all())
+            _write(series, fmt, precision, matrix, header=len(failed) == 1)
+            if failed[-1] and fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
+                stdout.file.write(f"The current list of frames is:\n{frames}\n")
+                stdout.file.flush()
+
+        live.every(rate, count, lambda: feed.finished, tick)
     return Exit.PROBLEMS if any(failed) else Exit.OK
 
 

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from tftools.analysis.frames import frame_tree
+from tftools.cli import live
 from tftools.cli.common import BagOption, TopicOption, open_recording, stdout
 from tftools.render import frames as render
 
@@ -22,14 +23,19 @@ def command(
     bags: BagOption = None,
     fmt: Annotated[FramesFormat, typer.Option("--format", "-f", help="text (a tree), json, or yaml (exactly tf2's allFramesAsYAML).")] = FramesFormat.text,
     topics: TopicOption = None,
+    duration: live.ListenOption = 5.0,
+    ros1: live.RosOption = None,
+    use_sim_time: live.UseSimTimeOption = None,
 ) -> None:
     """Show every frame as a tree: its parent, publishers, rate, samples and time span.
 
     Static frames are marked; a frame with several parents or publishers is flagged.
 
+    Without -b, listens --duration seconds to the live system first, as view_frames does.
+
     Example: [cyan]tfx frames -b robot.bag --format yaml[/]
     """
-    recording = open_recording(bags, topics)
+    recording = open_recording(bags, topics) if bags else live.capture_recording(ros1, use_sim_time, duration, topics)
     tree = frame_tree(recording.buffer)
     if fmt is FramesFormat.json:
         render.write_json(tree, stdout.file)

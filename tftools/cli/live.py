@@ -1,0 +1,128 @@
+"""What the commands share when they listen to a live system instead of reading a bag."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from typing import Annotated
+
+import typer
+
+from tftools.cli.common import UsageError, stderr, warn
+from tftools.core.buffer import Buffer
+from tftools.core.errors import TransformError
+from tftools.core.time import from_sec
+from tftools.sources import Recording
+from tftools.sources.live import LiveSource, open_live
+
+#: Seconds between "still waiting" notices.
+REMIND_EVERY = 5.0
+
+RosOption = Annotated[
+    bool | None,
+    typer.Option(
+        "--ros1/--ros2",
+        help="Without -b: listen to ROS1 (the master at ROS_MASTER_URI) or ROS2. Default: as the environment says.",
+        show_default=False,
+    ),
+]
+UseSimTimeOption = Annotated[
+    bool | None,
+    typer.Option(
+        "--use-sim-time/--wall-time",
+        help="Without -b: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
+        "Default: the master's /use_sim_time parameter.",
+        show_default=False,
+    ),
+]
+CacheOption = Annotated[
+    float, typer.Option("--cache", help="Without -b: seconds of history kept per edge, as tf2's buffer.")
+]
+ListenOption = Annotated[
+    float, typer.Option("--duration", "-d", help="Without -b: seconds to listen before answering.")
+]
+
+
+def ros_name(ros1: bool | None) -> str | None:
+    """``--ros1/--ros2`` as ``open_live`` names them (None: neither given)."""
+    return None if ros1 is None else ("ros1" if ros1 else "ros2")
+
+
+def open_source(
+    ros1: bool | None = None, use_sim_time: bool | None = None, topics: Sequence[str] | None = None
+) -> LiveSource:
+    """The live system the environment or ``--ros1/--ros2`` names, its notices as warnings."""
+    return open_live(ros_name(ros1), use_sim_time, topics, on_notice=warn, name="tfx")
+
+
+def cache_time(seconds: float) -> int:
+    if not seconds > 0:
+        raise UsageError("--cache must be above 0 seconds", "tf2's default is 10")
+    return from_sec(seconds)
+
+
+def capture_recording(
+    ros1: bool | None = None,
+    use_sim_time: bool | None = None,
+    duration: float = 5.0,
+    topics: Sequence[str] | None = None,
+) -> Recording:
+    """Listen ``duration`` seconds to the live system and return what was heard; an error if nothing."""
+    if not duration > 0:
+        raise UsageError("--duration must be above 0 seconds", "e.g. --duration 5")
+    from tftools.sources.live.capture import capture
+
+    source = open_source(ros1, use_sim_time, topics)
+    stderr.print(f"tfx: listening to {source.describe()} for {duration:g} s", highlight=False)
+    recording = capture(source, duration)
+    if not len(recording.contents.transforms):
+        heard = ", ".join(recording.contents.topics)
+        raise UsageError(
+            f"no transforms on {heard} from {source.describe()} in {duration:g} s",
+            "is anything publishing? (rostopic info /tf) listen longer with --duration",
+        )
+    return recording
+
+
+def no_bag_options(**given: object) -> None:
+    """Refuse options that only make sense on a bag (``given``: option name -> value if given)."""
+    used = [name for name, value in given.items() if value not in (None, False)]
+    if used:
+        raise UsageError(f"{', '.join(used)} only work on a bag", "give one with -b BAG")
+
+
+def wait_for_transform(buffer: Buffer, target: str, source: str, what: str, timeout: float | None) -> None:
+    """Block until ``target`` <- ``source`` can be looked up, saying on stderr what is awaited
+    (and, every few seconds, why it is not there yet); ``timeout`` seconds (None: for ever)."""
+    started = time.monotonic()
+    stderr.print(f"tfx: listening to {what}; waiting for the transform {target} <- {source}", highlight=False)
+    while True:
+        patience = REMIND_EVERY if timeout is None else min(REMIND_EVERY, started + timeout - time.monotonic())
+        try:
+            buffer.wait_for_transform(target, source, 0, max(patience, 0.0))
+            return
+        except TransformError as error:
+            reason = str(error).strip().split("\n")[0]
+            waited = time.monotonic() - started
+            if timeout is not None and waited >= timeout:
+                raise UsageError(
+                    f"no transform {target} <- {source} from {what} after {waited:.1f} s: {reason}",
+                    "check the frame names with `tfx frames`, or wait longer with --wait",
+                ) from None
+            frames = ", ".join(buffer.frames[:12]) or "none yet"
+            stderr.print(f"tfx: still waiting ({waited:.0f} s): {reason} Frames heard: {frames}", highlight=False)
+
+
+def every(rate: float, count: int | None, stop: Callable[[], bool], on_tick: Callable[[], None]) -> None:
+    """Call ``on_tick`` ``rate`` times a wall second, ``count`` times (None: until ``stop()`` or Ctrl-C)."""
+    started = time.monotonic()
+    done = 0
+    try:
+        while (count is None or done < count) and not stop():
+            on_tick()
+            done += 1
+            pause = started + done / rate - time.monotonic()
+            if pause > 0 and (count is None or done < count):
+                time.sleep(pause)
+    except KeyboardInterrupt:
+        pass

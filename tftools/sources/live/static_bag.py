@@ -1,0 +1,173 @@
+"""A copy of a bag with static transforms added on ``/tf_static``, as if a static_transform_publisher
+had run while it was recorded (``tfx static ... -b IN -o OUT``). The input is never modified."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from collections.abc import Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
+from tftools.sources.live.ros1.messages import TF_MESSAGE, encode_tf_message, message_type
+
+STATIC_TOPIC = "/tf_static"
+
+#: The callerid of the connection carrying the added transforms in a ROS1 bag: their authority.
+PUBLISHER = "/tfx_static"
+
+
+def add_static_transforms(
+    bag: str | os.PathLike[str],
+    output: str | os.PathLike[str],
+    transforms: Sequence[Transform],
+    *,
+    force: bool = False,
+) -> Path:
+    """Write ``output``: every connection and message of ``bag`` plus one ``/tf_static`` message
+    holding ``transforms``, stamped and recorded at the bag's start. ``bag`` is a ROS1 .bag
+    file or a ROS2 bag directory; ``output`` of the same kind. Refuses an existing ``output``
+    unless ``force``."""
+    source, target = Path(bag), Path(output)
+    if not source.exists():
+        raise BagNotFoundError(str(source))
+    if target.exists():
+        if not force:
+            raise BagError(str(target), "already exists", "choose another output path, or --force to replace it")
+        if target.resolve() == source.resolve():
+            raise BagError(str(target), "is the input bag", "write the copy elsewhere: the input is never modified")
+    if not (source.is_dir() or _is_ros1(source)):
+        raise UnknownBagFormatError(
+            str(source), "static transforms are added to ROS1 .bag files and ROS2 bag directories"
+        )
+    # Written beside the target under its own name (a ROS2 bag names its files after its
+    # directory), then moved into place: an interrupted copy leaves no half bag at ``output``.
+    try:
+        scratch = Path(tempfile.mkdtemp(prefix=".tfx-static-", dir=target.parent))
+    except OSError as error:
+        raise BagError(str(target), f"cannot be written ({error.strerror})") from None
+    partial = scratch / target.name
+    try:
+        (_copy_rosbag2 if source.is_dir() else _copy_ros1)(source, partial, transforms)
+        _remove(target)
+        partial.rename(target)
+    except Exception as error:  # rosbags' reader and writer errors, disk full...
+        raise BagError(str(source), f"could not be copied ({type(error).__name__}: {error})") from None
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    return target
+
+
+def _is_ros1(path: Path) -> bool:
+    try:
+        with path.open("rb") as f:
+            return f.read(13) == b"#ROSBAG V2.0\n"
+    except OSError:
+        return False
+
+
+def _remove(path: Path) -> None:
+    if path.is_dir():
+        shutil.rmtree(path)
+    elif path.exists():
+        path.unlink()
+
+
+def _stamped(transforms: Sequence[Transform], stamp: int) -> list[Transform]:
+    return [replace(t, stamp=stamp) for t in transforms]
+
+
+def _copy_ros1(source: Path, target: Path, transforms: Sequence[Transform]) -> None:
+    from rosbags.rosbag1 import Reader, Writer
+
+    with Reader(source) as reader, Writer(target) as writer:
+        start = reader.start_time if reader.message_count else 0
+        connections = {}
+        for c in reader.connections:
+            connections[c.id] = writer.add_connection(
+                c.topic,
+                c.msgtype,
+                msgdef=c.msgdef.data,
+                md5sum=c.digest,
+                callerid=c.ext.callerid,
+                latching=c.ext.latching,
+            )
+        tf_type = message_type(TF_MESSAGE)
+        added = writer.add_connection(
+            STATIC_TOPIC, TF_MESSAGE, msgdef=tf_type.definition, md5sum=tf_type.md5sum, callerid=PUBLISHER, latching=1
+        )
+        writer.write(added, start, encode_tf_message(_stamped(transforms, start)))
+        for connection, timestamp, data in reader.messages():
+            writer.write(connections[connection.id], timestamp, data)
+
+
+def _copy_rosbag2(source: Path, target: Path, transforms: Sequence[Transform]) -> None:
+    from rosbags.rosbag2 import Reader, StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    plugin = StoragePlugin.MCAP if any(source.glob("*.mcap")) else StoragePlugin.SQLITE3
+    with Reader(source) as reader:
+        writer = Writer(target, version=8, storage_plugin=plugin)
+        if reader.compression_mode and reader.compression_format:
+            writer.set_compression(
+                Writer.CompressionMode[reader.compression_mode.upper()],
+                Writer.CompressionFormat[reader.compression_format.upper()],
+            )
+        with writer:
+            start = reader.start_time if reader.message_count else 0
+            connections = {}
+            for c in reader.connections:
+                connections[c.id] = writer.add_connection(
+                    c.topic,
+                    c.msgtype,
+                    msgdef=c.msgdef.data,
+                    rihs01=c.digest if c.digest.startswith("RIHS01_") else None,
+                    serialization_format=c.ext.serialization_format,
+                    offered_qos_profiles=c.ext.offered_qos_profiles,
+                    typestore=store,
+                )
+            existing = [c for c in reader.connections if c.topic == STATIC_TOPIC and c.msgtype == TF_MESSAGE]
+            added = connections[existing[0].id] if existing else writer.add_connection(
+                STATIC_TOPIC, TF_MESSAGE, typestore=store, offered_qos_profiles=[_static_qos()]
+            )
+            message = _ros2_message(store, _stamped(transforms, start))
+            writer.write(added, start, store.serialize_cdr(message, TF_MESSAGE))
+            for connection, timestamp, data in reader.messages():
+                writer.write(connections[connection.id], timestamp, data)
+
+
+def _ros2_message(store: Any, transforms: Sequence[Transform]) -> Any:
+    t = store.types
+    return t[TF_MESSAGE](
+        transforms=[
+            t["geometry_msgs/msg/TransformStamped"](
+                header=t["std_msgs/msg/Header"](
+                    stamp=t["builtin_interfaces/msg/Time"](sec=x.stamp // NS_PER_S, nanosec=x.stamp % NS_PER_S),
+                    frame_id=x.frame_id,
+                ),
+                child_frame_id=x.child_frame_id,
+                transform=t["geometry_msgs/msg/Transform"](
+                    translation=t["geometry_msgs/msg/Vector3"](*x.translation),
+                    rotation=t["geometry_msgs/msg/Quaternion"](*x.rotation),
+                ),
+            )
+            for x in transforms
+        ]
+    )
+
+
+def _static_qos() -> Any:
+    """tf2_ros' static QoS: reliable, transient local, keep last 1 (StaticBroadcasterQoS)."""
+    from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
+
+    never = QosTime(0, 0)
+    return Qos(
+        QosHistory.KEEP_LAST, 1, QosReliability.RELIABLE, QosDurability.TRANSIENT_LOCAL,
+        never, never, QosLiveliness.SYSTEM_DEFAULT, never, False,
+    )  # fmt: skip
