@@ -22,7 +22,7 @@ RosOption = Annotated[
     bool | None,
     typer.Option(
         "--ros1/--ros2",
-        help="Without -b: listen to ROS1 (the master at ROS_MASTER_URI) or ROS2. Default: as the environment says.",
+        help="Live: ROS1 (the master at ROS_MASTER_URI) or ROS2. Default: as the environment says.",
         show_default=False,
     ),
 ]
@@ -30,16 +30,16 @@ UseSimTimeOption = Annotated[
     bool | None,
     typer.Option(
         "--use-sim-time/--wall-time",
-        help="Without -b: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
+        help="Live: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
         "Default: the master's /use_sim_time parameter.",
         show_default=False,
     ),
 ]
 CacheOption = Annotated[
-    float, typer.Option("--cache", help="Without -b: seconds of history kept per edge, as tf2's buffer.")
+    float, typer.Option("--cache", help="Live: seconds of history kept per edge, as tf2's buffer.")
 ]
 ListenOption = Annotated[
-    float, typer.Option("--duration", "-d", help="Without -b: seconds to listen before answering.")
+    float, typer.Option("--duration", "-d", help="Live: seconds to listen before answering.")
 ]
 
 

@@ -25,9 +25,14 @@ _QUATERNION_KEYS = ("qx", "qy", "qz", "qw")
 
 
 class StaticFileError(SourceError):
-    def __init__(self, path: str, problem: str) -> None:
+    def __init__(
+        self,
+        path: str,
+        problem: str,
+        hint: str = "each entry needs frame_id, child_frame_id, and x y z with qx qy qz qw or roll pitch yaw",
+    ) -> None:
         super().__init__(f"{path}: {problem}")
-        self.hint = "each entry needs frame_id, child_frame_id, and x y z with qx qy qz qw or roll pitch yaw"
+        self.hint = hint
 
 
 def read_static_transforms(path: str | os.PathLike[str]) -> list[Transform]:
@@ -38,9 +43,9 @@ def read_static_transforms(path: str | os.PathLike[str]) -> list[Transform]:
     try:
         documents = list(YAML(typ="safe").load_all(Path(path).read_text(encoding="utf-8")))
     except FileNotFoundError:
-        raise StaticFileError(name, "no such file") from None
+        raise StaticFileError(name, "no such file", "check the path") from None
     except (OSError, UnicodeDecodeError) as error:
-        raise StaticFileError(name, f"cannot be read ({error})") from None
+        raise StaticFileError(name, f"cannot be read ({error})", "give a YAML text file") from None
     except YAMLError as error:
         raise StaticFileError(name, f"not YAML ({str(error).splitlines()[0]})") from None
     entries = [entry for document in documents for entry in _entries(name, document)]

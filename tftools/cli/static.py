@@ -1,0 +1,189 @@
+"""``tfx static``: publish static transforms on /tf_static (latched), or add them to a copy of a bag."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import replace
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from tftools.cli import live
+from tftools.cli.common import UsageError, stderr, stdout, warn
+from tftools.core.transform import Transform
+from tftools.sources.live import open_static_broadcaster
+from tftools.sources.live.static_bag import STATIC_TOPIC, add_static_transforms
+from tftools.sources.live.static_file import read_static_transforms
+
+CONTEXT = {"ignore_unknown_options": True}  # so that negative numbers are arguments, not options
+
+
+def _flag(name: str) -> object:
+    return typer.Option(f"--{name}", help=f"ROS2 form: {name}.", show_default=False, rich_help_panel="ROS2 form")
+
+
+def command(
+    arguments: Annotated[
+        list[str] | None,
+        typer.Argument(
+            help="ROS1 form: x y z yaw pitch roll FRAME CHILD, or x y z qx qy qz qw FRAME CHILD (radians, meters).",
+            show_default=False,
+            metavar="[X Y Z YAW PITCH ROLL | X Y Z QX QY QZ QW] FRAME CHILD",
+        ),
+    ] = None,
+    x: Annotated[float | None, _flag("x")] = None,
+    y: Annotated[float | None, _flag("y")] = None,
+    z: Annotated[float | None, _flag("z")] = None,
+    qx: Annotated[float | None, _flag("qx")] = None,
+    qy: Annotated[float | None, _flag("qy")] = None,
+    qz: Annotated[float | None, _flag("qz")] = None,
+    qw: Annotated[float | None, _flag("qw")] = None,
+    roll: Annotated[float | None, _flag("roll")] = None,
+    pitch: Annotated[float | None, _flag("pitch")] = None,
+    yaw: Annotated[float | None, _flag("yaw")] = None,
+    frame_id: Annotated[str | None, _flag("frame-id")] = None,
+    child_frame_id: Annotated[str | None, _flag("child-frame-id")] = None,
+    from_file: Annotated[
+        Path | None,
+        typer.Option("--from", help="A YAML file of several transforms (see tfx static --help).", show_default=False),
+    ] = None,
+    bag: Annotated[
+        Path | None,
+        typer.Option("--bag", "-b", help="Add the transforms to a copy of this bag (needs -o).", show_default=False),
+    ] = None,
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="With -b: the copy to write.", show_default=False)
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="With -o: replace an existing output.")] = False,
+    duration: Annotated[
+        float | None, typer.Option(help="Stop publishing after DURATION seconds (default: Ctrl-C).", show_default=False)
+    ] = None,
+    ros1: live.RosOption = None,
+) -> None:
+    """Publish static transforms on /tf_static, latched, until Ctrl-C,
+    as static_transform_publisher does.
+
+    All go out in one latched message, as tf2_ros sends them: nodes that
+    start later get them too. --from FILE.yaml lists several: what
+    `rostopic echo /tf_static` prints, or entries like
+    [cyan]{frame_id: base_link, child_frame_id: laser, x: 0.2, yaw: 3.14}[/].
+
+    With -b IN -o OUT: a copy of the bag (ROS1 .bag or ROS2 bag directory)
+    with the transforms added on /tf_static at its start; the input bag is
+    never modified.
+
+    Examples: [cyan]tfx static 0.1 0 0.2 0 0 0 base_link laser[/]
+    [cyan]tfx static --x 0.1 --yaw 1.57 --frame-id base_link --child-frame-id laser[/]
+    [cyan]tfx static --from extrinsics.yaml -b in.bag -o out.bag[/]
+    """
+    numbers = {"x": x, "y": y, "z": z, "qx": qx, "qy": qy, "qz": qz, "qw": qw, "roll": roll, "pitch": pitch, "yaw": yaw}
+    transforms = read_static_transforms(from_file) if from_file is not None else []
+    transforms += _given(arguments or [], numbers, frame_id, child_frame_id)
+    if not transforms:
+        raise UsageError("no transform given", "e.g. tfx static 0 0 1 0 0 0 base_link laser, or --from FILE.yaml")
+    transforms = [_checked(t) for t in transforms]
+    if bag is not None or output is not None:
+        _write_bag(bag, output, transforms, force)
+        return
+    if duration is not None and not duration > 0:
+        raise UsageError("--duration must be above 0 seconds", "e.g. --duration 10")
+    _publish(transforms, live.ros_name(ros1), duration)
+
+
+def _given(
+    arguments: list[str], numbers: dict[str, float | None], frame: str | None, child: str | None
+) -> list[Transform]:
+    """The transform of the positional arguments or of the flags (None of either: none)."""
+    flags_used = any(v is not None for v in numbers.values()) or frame is not None or child is not None
+    if arguments and flags_used:
+        raise UsageError("give the positional form or the --x ... --frame-id form, not both", "tfx static --help")
+    if arguments:
+        return [_positional(arguments)]
+    if not flags_used:
+        return []
+    if frame is None or child is None:
+        raise UsageError("--frame-id and --child-frame-id are both needed", "e.g. --frame-id map --child-frame-id odom")
+    value = {k: (v if v is not None else 0.0) for k, v in numbers.items()}
+    translation = (value["x"], value["y"], value["z"])
+    if any(numbers[k] is not None for k in ("qx", "qy", "qz", "qw")):
+        if any(numbers[k] is not None for k in ("roll", "pitch", "yaw")):
+            raise UsageError("give a quaternion or roll/pitch/yaw, not both", "--qx .. --qw or --roll --pitch --yaw")
+        qw_given = numbers["qw"] if numbers["qw"] is not None else 1.0
+        return [Transform(translation, (value["qx"], value["qy"], value["qz"], qw_given), 0, frame, child)]
+    return [Transform.from_rpy(translation, (value["roll"], value["pitch"], value["yaw"]), 0, frame, child)]
+
+
+def _positional(arguments: list[str]) -> Transform:
+    """static_transform_publisher's positional forms; tf1's trailing period is accepted and ignored."""
+    if len(arguments) == 9 and not _is_number(arguments[6]) and _is_number(arguments[8]):
+        warn("the period (tf1's last argument) is not needed: /tf_static is latched")
+        arguments = arguments[:8]
+    elif len(arguments) == 10 and _is_number(arguments[9]):
+        warn("the period (tf1's last argument) is not needed: /tf_static is latched")
+        arguments = arguments[:9]
+    if len(arguments) not in (8, 9):
+        raise UsageError(
+            f"{len(arguments)} arguments: expected 8 (x y z yaw pitch roll frame child) "
+            "or 9 (x y z qx qy qz qw frame child)",
+            "tfx static --help",
+        )
+    *values, frame, child = arguments
+    numbers = [_number(v) for v in values]
+    if len(numbers) == 6:
+        x, y, z, yaw, pitch, roll = numbers
+        return Transform.from_rpy((x, y, z), (roll, pitch, yaw), 0, frame, child)
+    x, y, z, *quaternion = numbers
+    return Transform((x, y, z), tuple(quaternion), 0, frame, child)  # type: ignore[arg-type]
+
+
+def _is_number(text: str) -> bool:
+    try:
+        return math.isfinite(float(text))
+    except ValueError:
+        return False
+
+
+def _number(text: str) -> float:
+    if not _is_number(text):
+        raise UsageError(f"{text!r} is not a number", "x y z and angles in meters and radians, e.g. 0.1 or -1.57")
+    return float(text)
+
+
+def _checked(t: Transform) -> Transform:
+    """Frames as tf2 wants them; the quaternion normalized (tf2 would refuse a denormalized one)."""
+    frame, child = t.frame_id.removeprefix("/"), t.child_frame_id.removeprefix("/")
+    if not frame or not child:
+        raise UsageError("frame ids cannot be empty", f"got {t.frame_id!r} -> {t.child_frame_id!r}")
+    if frame == child:
+        raise UsageError(f"the frame and the child frame are the same ({frame}): this cannot work", "name two frames")
+    values = (*t.translation, *t.rotation)
+    if not all(math.isfinite(v) for v in values):
+        raise UsageError(f"{frame} -> {child}: not a finite number in {values}", "check the numbers")
+    norm = math.sqrt(sum(q * q for q in t.rotation))
+    if norm < 1e-9:
+        raise UsageError(f"{frame} -> {child}: the quaternion is zero", "the identity is qx 0 qy 0 qz 0 qw 1")
+    return Transform(t.translation, tuple(q / norm for q in t.rotation), 0, frame, child)  # type: ignore[arg-type]
+
+
+def _write_bag(bag: Path | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
+    if bag is None or output is None:
+        raise UsageError("-b BAG and -o OUTPUT go together", "e.g. tfx static ... -b in.bag -o out.bag")
+    written = add_static_transforms(bag, output, transforms, force=force)
+    stdout.print(f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}")
+
+
+def _publish(transforms: list[Transform], ros: str | None, duration: float | None) -> None:
+    stamp = time.time_ns()
+    with open_static_broadcaster(ros, on_notice=warn) as broadcaster:
+        broadcaster.send([replace(t, stamp=stamp) for t in transforms])
+        edges = ", ".join(f"{t.frame_id} -> {t.child_frame_id}" for t in transforms)
+        until = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
+        stderr.print(f"tfx: publishing {edges} on {STATIC_TOPIC} to {broadcaster.describe()} {until}", highlight=False)
+        deadline = None if duration is None else time.monotonic() + duration
+        try:
+            while not broadcaster.finished and (deadline is None or time.monotonic() < deadline):
+                time.sleep(0.1)
+        except KeyboardInterrupt:
+            pass
