@@ -169,7 +169,7 @@ def _live(
                 stdout.file.write(f"The current list of frames is:\n{frames}\n")
                 stdout.file.flush()
 
-        live.every(rate, count, lambda: feed.finished, tick)
+        live.every(rate, count, lambda: feed.finished, tick, feed.clock)
     return Exit.PROBLEMS if any(failed) else Exit.OK
 
 

@@ -11,7 +11,7 @@ import typer
 from tftools.cli.common import UsageError, stderr, warn
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
-from tftools.core.time import from_sec
+from tftools.core.time import Clock, SimClock, from_sec
 from tftools.sources import Recording
 from tftools.sources.live import LiveSource, open_live
 
@@ -113,11 +113,19 @@ def wait_for_transform(buffer: Buffer, target: str, source: str, what: str, time
             stderr.print(f"tfx: still waiting ({waited:.0f} s): {reason} Frames heard: {frames}", highlight=False)
 
 
-def every(rate: float, count: int | None, stop: Callable[[], bool], on_tick: Callable[[], None]) -> None:
-    """Call ``on_tick`` ``rate`` times a wall second, ``count`` times (None: until ``stop()`` or Ctrl-C)."""
-    started = time.monotonic()
+def every(
+    rate: float, count: int | None, stop: Callable[[], bool], on_tick: Callable[[], None], clock: Clock | None = None
+) -> None:
+    """Call ``on_tick`` ``rate`` times a second, ``count`` times (None: until ``stop()`` or Ctrl-C).
+
+    Seconds of ``clock`` when it is a ``SimClock`` (``/clock``, as ``ros::Rate`` under sim time),
+    else of the wall."""
     done = 0
     try:
+        if isinstance(clock, SimClock):
+            _every_sim(rate, count, stop, on_tick, clock)
+            return
+        started = time.monotonic()
         while (count is None or done < count) and not stop():
             on_tick()
             done += 1
@@ -126,3 +134,18 @@ def every(rate: float, count: int | None, stop: Callable[[], bool], on_tick: Cal
                 time.sleep(pause)
     except KeyboardInterrupt:
         pass
+
+
+def _every_sim(
+    rate: float, count: int | None, stop: Callable[[], bool], on_tick: Callable[[], None], clock: SimClock
+) -> None:
+    period = from_sec(1.0 / rate)
+    done = 0
+    due = clock.now()
+    while (count is None or done < count) and not stop():
+        if clock.now() < due - period:  # the clock jumped back (a replay restarted): start again from there
+            due = clock.now()
+        if clock.wait_until(due, timeout_s=0.1):
+            on_tick()
+            done += 1
+            due += period

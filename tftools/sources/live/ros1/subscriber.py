@@ -112,10 +112,10 @@ class _PublisherLink(threading.Thread):
                 if self._stopped.is_set():
                     return
                 if self.connected:
-                    self.sub.notice(f"lost {self.sub.topic} from {self.callerid or self.uri} ({error}); reconnecting")
+                    self.sub.notice(f"lost the connection to {self.callerid or self.uri} ({error}); reconnecting")
                     delay, complained = RETRY_FIRST, False
-                elif not complained:
-                    self.sub.notice(f"cannot reach {self.uri}, a publisher of {self.sub.topic} ({error}); retrying")
+                elif not complained:  # often a node killed without unregistering: the master still lists it
+                    self.sub.notice(f"cannot reach the publisher at {self.uri} ({error}); retrying while listed")
                     complained = True
             finally:
                 self.connected = False
