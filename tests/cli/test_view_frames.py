@@ -178,6 +178,8 @@ def test_without_dot_the_source_is_written_with_one_line_saying_how_to_get_graph
     assert "\tmap -> odom [label=<Broadcaster: /tf<BR" in source
     again = tfx("view-frames", "-b", SAMPLE_BAGS["mcap"], "-o", tmp_path / "frames.pdf")
     assert again.code == 1  # its own .gv may be replaced
+    piped = tfx("view-frames", "-b", SAMPLE_BAGS["mcap"], "-o", "-")
+    assert piped.code == 1 and piped.stdout == "" and "apt-get install graphviz" in piped.stderr
 
 
 def test_without_dot_a_foreign_gv_file_is_not_overwritten(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import enum
 import sys
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Severity
 from tftools.analysis.graph import engine_findings, frame_graph
+from tftools.cli import live
 from tftools.cli.common import BagOption, Exit, TopicOption, UsageError, exit_with, open_recording, stderr
 from tftools.render import graph as render
 
@@ -70,6 +70,9 @@ def command(
     ] = RankDir.TB,
     brief: Annotated[bool, typer.Option("--brief", help="Short edge labels: publisher and rate only.")] = False,
     topics: TopicOption = None,
+    duration: live.ListenOption = 5.0,
+    ros1: live.RosOption = None,
+    use_sim_time: live.UseSimTimeOption = None,
 ) -> None:
     """Draw the tf tree, view_frames style: each edge with its broadcaster, average rate, samples,
     most recent and oldest transform and largest gap; static edges dashed and blue.
@@ -77,6 +80,8 @@ def command(
     Problems are drawn where they are, red (errors) or orange (warnings), and listed in the
     legend: several trees, a frame with several parents or publishers, a loop, an edge that went
     stale or silent, rejected samples. The legend gives the bag's time span and file names.
+
+    Without -b, listens --duration seconds to the live system first, as view_frames does.
 
     Writes frames.pdf in the current directory unless told otherwise (-o). Drawing needs
     Graphviz's `dot` program; without it the Graphviz source is written beside the output
@@ -89,23 +94,23 @@ def command(
     [cyan]tfx view-frames -b robot.bag -o tree.svg --rankdir LR --brief[/]
     """
     chosen, target = _output(output, fmt)
-    recording = open_recording(bags, topics)
+    recording = open_recording(bags, topics) if bags else live.capture_recording(ros1, use_sim_time, duration, topics)
     findings = engine_findings(recording.buffer)
     graph = frame_graph(recording.buffer, findings)
     dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)
-    if target == "-":
-        sys.stdout.buffer.write(render.draw(dot, chosen.value))
-        sys.stdout.flush()
-    else:
-        try:
+    try:
+        if target == "-":
+            sys.stdout.buffer.write(render.draw(dot, chosen.value))
+            sys.stdout.flush()
+        else:
             render.write_graph(dot, target, chosen.value)
-        except render.GraphvizMissingError as missing:
-            stderr.print(f"[bold red]tfx: error:[/] {missing} ({missing.hint})", markup=True, highlight=False)
-            exit_with(Exit.PROBLEMS)
+    except render.GraphvizMissingError as missing:
+        stderr.print(f"[bold red]tfx: error:[/] {missing} ({missing.hint})", markup=True, highlight=False)
+        exit_with(Exit.PROBLEMS)
     errors = sum(f.severity is Severity.error for f in findings)
-    where = "stdout" if target == "-" else target
+    where = "the graph to stdout" if target == "-" else target
     stderr.print(
-        f"wrote {where}: {len(graph.nodes)} frames, {len(graph.edges)} transforms, {_problems(findings)}",
+        f"wrote {where}: {render.graph_summary(graph)}, {render.problem_summary(findings)}",
         highlight=False,
     )
     if errors:
@@ -126,10 +131,3 @@ def _output(output: str | None, fmt: GraphFormat | None) -> tuple[GraphFormat, s
     if Path(output).is_dir():
         raise UsageError(f"{output} is a directory", f"give a file name, e.g. {Path(output) / 'frames.pdf'}")
     return fmt or implied or GraphFormat.pdf, output
-
-
-def _problems(findings: Sequence[Finding]) -> str:
-    if not findings:
-        return "no problems"
-    counts = {s: sum(f.severity is s for f in findings) for s in Severity}
-    return ", ".join(f"{n} {s.value}{'s' if n != 1 else ''}" for s, n in counts.items() if n)

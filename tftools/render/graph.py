@@ -75,13 +75,16 @@ def dot_source(
 
 
 def recording_legend(recording: Recording) -> list[str]:
-    """What the legend says of a recording: its time span, as view_frames' "Recorded at time", and files."""
+    """What the legend says of a recording: its time span, as view_frames' "Recorded at time", and
+    its files (or the live system it listened to)."""
     span = (recording.end - recording.start) / NS_PER_S
-    names = [Path(p).name for p in recording.paths]
-    return [
-        f"Recorded at time: {format_sec(recording.start, 3)} to {format_sec(recording.end, 3)} ({span:.3f} s)",
-        f"{'Bag' if len(names) == 1 else 'Bags'}: {', '.join(names)}",
-    ]
+    lines = [f"Recorded at time: {format_sec(recording.start, 3)} to {format_sec(recording.end, 3)} ({span:.3f} s)"]
+    files = recording.contents.files
+    bags = [Path(f.path).name for f in files if not f.format.endswith("live")]
+    lines += [f"Listened to: {f.path}" for f in files if f.format.endswith("live")]
+    if bags:
+        lines.append(f"{'Bag' if len(bags) == 1 else 'Bags'}: {', '.join(bags)}")
+    return lines
 
 
 def to_digraph(
@@ -175,14 +178,8 @@ def _tooltip(graph: FrameGraph, problems: Sequence[int], default: str) -> str:
 
 def _add_legend(dot: graphviz.Digraph, graph: FrameGraph, legend: Sequence[str]) -> None:
     static = sum(edge.static for edge in graph.edges)
-    trees = len(graph.roots)
     rows = [_row(_esc(line)) for line in legend]
-    rows.append(
-        _row(
-            f"{len(graph.nodes)} frames, {len(graph.edges)} transforms ({static} static), "
-            f"{trees} tree{'s' if trees != 1 else ''}"
-        )
-    )
+    rows.append(_row(f"{graph_summary(graph)} ({static} static), {counted(len(graph.roots), 'tree')}"))
     rows += _problem_rows(graph)
     with dot.subgraph(name="cluster_legend") as box:
         box.attr(label=f"<<B>{SIGNATURE}</B>>", style="rounded", color="#999999", fontsize="12")
@@ -212,14 +209,27 @@ def _key_rows(graph: FrameGraph) -> list[str]:
 def _problem_rows(graph: FrameGraph) -> list[str]:
     if not graph.findings:
         return [_row('<FONT COLOR="#2e8b57"><B>No problems found</B></FONT>')]
-    counts = {s: sum(f.severity is s for f in graph.findings) for s in Severity}
-    summary = ", ".join(f"{n} {s.value}{'s' if n != 1 else ''}" for s, n in counts.items() if n)
-    rows = [_row(f"<B>Problems: {summary}</B>")]
+    rows = [_row(f"<B>Problems: {problem_summary(graph.findings)}</B>")]
     for index, finding in enumerate(graph.findings):
         colour = COLOURS[finding.severity]
         text = f'<FONT COLOR="{colour}"><B>[{index + 1}] {finding.severity.value}</B></FONT> {_esc(finding.message)}'
         rows.append(_row(text))
     return rows
+
+
+def graph_summary(graph: FrameGraph) -> str:
+    """``"18 frames, 17 transforms"``."""
+    return f"{counted(len(graph.nodes), 'frame')}, {counted(len(graph.edges), 'transform')}"
+
+
+def problem_summary(findings: Sequence[Finding]) -> str:
+    """``"2 errors, 1 warning"``, or ``"no problems"``."""
+    counts = [(s, sum(f.severity is s for f in findings)) for s in Severity]
+    return ", ".join(counted(n, s.value) for s, n in counts if n) or "no problems"
+
+
+def counted(n: int, noun: str) -> str:
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def _row(content: str) -> str:
