@@ -11,6 +11,7 @@ from rich.console import RenderableType
 from rich.live import Live
 
 from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
+from tftools.cli import live
 from tftools.cli.common import (
     BagOption,
     EndOption,
@@ -64,6 +65,8 @@ def command(
     duration: DurationOption = None,
     fmt: FormatOption = MonitorFormat.text,
     topics: TopicOption = None,
+    ros1: live.RosOption = None,
+    use_sim_time: live.UseSimTimeOption = None,
 ) -> None:
     """Rates, jitter, gaps and delays of every edge and publisher, as tf_monitor shows them.
 
@@ -71,7 +74,8 @@ def command(
     with TARGET and SOURCE, the chain between them and its net delay: how far behind the
     newest transform between them lags, the oldest edge deciding (what "extrapolation into
     the future" errors are about). On a bag: over the whole recording, or --start/--end
-    (times of recording). With --play: live, over the last --window seconds.
+    (times of recording). Without -b, on the live system, and with --play on a bag's replay:
+    refreshed once a second over the last --window seconds.
 
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/]
     """
@@ -79,6 +83,13 @@ def command(
         raise UsageError("give two frames or none", "tfx monitor TARGET SOURCE, e.g. tfx monitor map base_link")
     if rate <= 0 or window <= 0 or (duration is not None and duration <= 0):
         raise UsageError("--rate, --window and --duration must be above 0", "e.g. --rate 2 --window 5")
+    if not bags:
+        live.no_bag_options(**{"--start": start, "--end": end, "--play": play})
+        if target is not None and source is not None:
+            target, source = target.removeprefix("/"), source.removeprefix("/")
+        with live.open_source(ros1, use_sim_time, topics) as feed:
+            watch(feed, target, source, from_sec(window), duration, fmt, feed.describe())
+        return
     recording = open_recording(bags, topics)
     if target is not None and source is not None:
         target = frame_argument(recording.buffer, target)
@@ -126,13 +137,16 @@ def watch(
     def run(on_tick: Callable[[], None]) -> None:
         follow(feed, live_monitor.add, on_tick, duration=duration)
 
-    if fmt is MonitorFormat.json:
-        run(lambda: render.write_json_line(live_monitor.report(target, source), stdout.file))
-    elif stdout.is_terminal:
-        with Live(console=stdout, auto_refresh=False) as screen:
-            run(lambda: screen.update(table(), refresh=True))
-    else:  # piped: one table per refresh, as tf_monitor prints its results
-        run(lambda: stdout.print(table(), "\n"))
+    try:
+        if fmt is MonitorFormat.json:
+            run(lambda: render.write_json_line(live_monitor.report(target, source), stdout.file))
+        elif stdout.is_terminal:
+            with Live(console=stdout, auto_refresh=False) as screen:
+                run(lambda: screen.update(table(), refresh=True))
+        else:  # piped: one table per refresh, as tf_monitor prints its results
+            run(lambda: stdout.print(table(), "\n"))
+    except KeyboardInterrupt:  # Ctrl-C is how a live monitor ends: the last table stays
+        pass
 
 
 def _header(recording: Recording, report: MonitorReport) -> str:
