@@ -1,0 +1,96 @@
+"""ROS1 nodes for the live tests, run by Debian's /usr/bin/python3 with rospy (never imported by pytest).
+
+    ros1_nodes.py dynamic NODE PARENT CHILD X [HZ]   TransformBroadcaster: translation (X, stamp mod 1000, 0), yaw 0.3
+    ros1_nodes.py wrong_type NODE TOPIC             a std_msgs/String publisher on TOPIC (another md5sum)
+    ros1_nodes.py static_listener                   prints the first /tf_static message as JSON, with its header
+    ros1_nodes.py write_bag PATH PARENT CHILD       10 s of /tf at 20 Hz from t = 1000 s, x = t - 1000, real rosbag
+"""
+
+import json
+import math
+import sys
+
+
+def dynamic(node, parent, child, x, hz="20"):
+    import rospy
+    import tf2_ros
+    from geometry_msgs.msg import TransformStamped
+
+    rospy.init_node(node, anonymous=False, disable_signals=True)
+    broadcaster = tf2_ros.TransformBroadcaster()
+    rate = rospy.Rate(float(hz))
+    print("ready", flush=True)
+    while not rospy.is_shutdown():
+        now = rospy.Time.now()
+        t = TransformStamped()
+        t.header.stamp = now
+        t.header.frame_id = parent
+        t.child_frame_id = child
+        t.transform.translation.x = float(x)
+        t.transform.translation.y = now.to_sec() % 1000
+        t.transform.rotation.z = math.sin(0.15)
+        t.transform.rotation.w = math.cos(0.15)
+        broadcaster.sendTransform(t)
+        rate.sleep()
+
+
+def wrong_type(node, topic):
+    import rospy
+    from std_msgs.msg import String
+
+    rospy.init_node(node, anonymous=False, disable_signals=True)
+    publisher = rospy.Publisher(topic, String, queue_size=1)
+    print("ready", flush=True)
+    while not rospy.is_shutdown():
+        publisher.publish(String("not a transform"))
+        rospy.sleep(0.05)
+
+
+def static_listener():
+    import rospy
+    from tf2_msgs.msg import TFMessage
+
+    rospy.init_node("static_listener", anonymous=True, disable_signals=True)
+    message = rospy.wait_for_message("/tf_static", TFMessage, timeout=20)
+    header = message._connection_header
+    print(
+        json.dumps(
+            {
+                "callerid": header["callerid"],
+                "latching": header.get("latching"),
+                "transforms": [
+                    {
+                        "frame_id": t.header.frame_id,
+                        "child_frame_id": t.child_frame_id,
+                        "stamp": t.header.stamp.to_nsec(),
+                        "translation": [getattr(t.transform.translation, k) for k in "xyz"],
+                        "rotation": [getattr(t.transform.rotation, k) for k in "xyzw"],
+                    }
+                    for t in message.transforms
+                ],
+            }
+        ),
+        flush=True,
+    )
+
+
+def write_bag(path, parent, child):
+    import genpy
+    import rosbag
+    from geometry_msgs.msg import TransformStamped
+    from tf2_msgs.msg import TFMessage
+
+    with rosbag.Bag(path, "w") as bag:
+        for i in range(200):
+            stamp = genpy.Time(1000) + genpy.Duration.from_sec(i * 0.05)
+            t = TransformStamped()
+            t.header.stamp = stamp
+            t.header.frame_id = parent
+            t.child_frame_id = child
+            t.transform.translation.x = i * 0.05
+            t.transform.rotation.w = 1.0
+            bag.write("/tf", TFMessage([t]), stamp)
+
+
+if __name__ == "__main__":
+    globals()[sys.argv[1]](*sys.argv[2:])
