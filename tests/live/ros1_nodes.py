@@ -16,7 +16,7 @@ def dynamic(node, parent, child, x, hz="20"):
     import tf2_ros
     from geometry_msgs.msg import TransformStamped
 
-    rospy.init_node(node, anonymous=False, disable_signals=True)
+    rospy.init_node(node.lstrip("/"), anonymous=False, disable_signals=True)
     broadcaster = tf2_ros.TransformBroadcaster()
     rate = rospy.Rate(float(hz))
     print("ready", flush=True)
@@ -38,7 +38,7 @@ def wrong_type(node, topic):
     import rospy
     from std_msgs.msg import String
 
-    rospy.init_node(node, anonymous=False, disable_signals=True)
+    rospy.init_node(node.lstrip("/"), anonymous=False, disable_signals=True)
     publisher = rospy.Publisher(topic, String, queue_size=1)
     print("ready", flush=True)
     while not rospy.is_shutdown():

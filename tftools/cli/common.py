@@ -11,6 +11,7 @@ from typing import Annotated, NoReturn
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, DownloadColumn, Progress, TextColumn, TimeRemainingColumn
 
 from tftools.core.buffer import Buffer
@@ -69,12 +70,12 @@ EndOption = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as
 def fail(error: TfToolsError) -> NoReturn:
     """Print the error as one line (with its hint) and exit with ``Exit.UNUSABLE``."""
     hint = f" ({error.hint})" if error.hint else ""
-    stderr.print(f"[bold red]tfx: error:[/] {error}{hint}", markup=True, highlight=False)
+    stderr.print(f"[bold red]tfx: error:[/] {escape(str(error) + hint)}", markup=True, highlight=False)
     raise typer.Exit(Exit.UNUSABLE)
 
 
 def warn(message: str) -> None:
-    stderr.print(f"[yellow]tfx: warning:[/] {message}", markup=True, highlight=False)
+    stderr.print(f"[yellow]tfx: warning:[/] {escape(message)}", markup=True, highlight=False)
 
 
 def require_bags(bags: Sequence[Path] | None) -> Sequence[Path]:

@@ -43,6 +43,11 @@ ListenOption = Annotated[
 ]
 
 
+def say(message: str) -> None:
+    """A line on stderr about what tfx is doing, printed as it is (no markup)."""
+    stderr.print(f"tfx: {message}", highlight=False, markup=False)
+
+
 def ros_name(ros1: bool | None) -> str | None:
     """``--ros1/--ros2`` as ``open_live`` names them (None: neither given)."""
     return None if ros1 is None else ("ros1" if ros1 else "ros2")
@@ -73,7 +78,7 @@ def capture_recording(
     from tftools.sources.live.capture import capture
 
     source = open_source(ros1, use_sim_time, topics)
-    stderr.print(f"tfx: listening to {source.describe()} for {duration:g} s", highlight=False)
+    say(f"listening to {source.describe()} for {duration:g} s")
     recording = capture(source, duration)
     if not len(recording.contents.transforms):
         heard = ", ".join(recording.contents.topics)
@@ -95,7 +100,7 @@ def wait_for_transform(buffer: Buffer, target: str, source: str, what: str, time
     """Block until ``target`` <- ``source`` can be looked up, saying on stderr what is awaited
     (and, every few seconds, why it is not there yet); ``timeout`` seconds (None: for ever)."""
     started = time.monotonic()
-    stderr.print(f"tfx: listening to {what}; waiting for the transform {target} <- {source}", highlight=False)
+    say(f"listening to {what}; waiting for the transform {target} <- {source}")
     while True:
         patience = REMIND_EVERY if timeout is None else min(REMIND_EVERY, started + timeout - time.monotonic())
         try:
@@ -110,7 +115,7 @@ def wait_for_transform(buffer: Buffer, target: str, source: str, what: str, time
                     "check the frame names with `tfx frames`, or wait longer with --wait",
                 ) from None
             frames = ", ".join(buffer.frames[:12]) or "none yet"
-            stderr.print(f"tfx: still waiting ({waited:.0f} s): {reason} Frames heard: {frames}", highlight=False)
+            say(f"still waiting ({waited:.0f} s): {reason} Frames heard: {frames}")
 
 
 def every(

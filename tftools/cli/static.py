@@ -11,7 +11,7 @@ from typing import Annotated
 import typer
 
 from tftools.cli import live
-from tftools.cli.common import UsageError, stderr, stdout, warn
+from tftools.cli.common import UsageError, stdout, warn
 from tftools.core.transform import Transform
 from tftools.sources.live import open_static_broadcaster
 from tftools.sources.live.static_bag import STATIC_TOPIC, add_static_transforms
@@ -171,7 +171,11 @@ def _write_bag(bag: Path | None, output: Path | None, transforms: list[Transform
     if bag is None or output is None:
         raise UsageError("-b BAG and -o OUTPUT go together", "e.g. tfx static ... -b in.bag -o out.bag")
     written = add_static_transforms(bag, output, transforms, force=force)
-    stdout.print(f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}")
+    stdout.print(
+        f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}",
+        highlight=False,
+        markup=False,
+    )
 
 
 def _publish(transforms: list[Transform], ros: str | None, duration: float | None) -> None:
@@ -180,7 +184,7 @@ def _publish(transforms: list[Transform], ros: str | None, duration: float | Non
         broadcaster.send([replace(t, stamp=stamp) for t in transforms])
         edges = ", ".join(f"{t.frame_id} -> {t.child_frame_id}" for t in transforms)
         until = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
-        stderr.print(f"tfx: publishing {edges} on {STATIC_TOPIC} to {broadcaster.describe()} {until}", highlight=False)
+        live.say(f"publishing {edges} on {STATIC_TOPIC} to {broadcaster.describe()} {until}")
         deadline = None if duration is None else time.monotonic() + duration
         try:
             while not broadcaster.finished and (deadline is None or time.monotonic() < deadline):

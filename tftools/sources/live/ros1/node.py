@@ -55,7 +55,7 @@ class Node:
 
     def subscribe(self, topic: str, msg_type: MessageType, on_message: OnMessage) -> Subscription:
         """Listen to ``topic`` from its publishers now and later (raises if the master is not there)."""
-        subscription = Subscription(self.name, topic, msg_type, on_message, self._on_notice)
+        subscription = Subscription(self.name, topic, msg_type, on_message, self._on_notice, self.master.node_name)
         with self._lock:
             self._subscriptions[topic] = subscription
         subscription.update(self.master.register_subscriber(topic, msg_type.name, self.uri))

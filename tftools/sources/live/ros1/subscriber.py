@@ -34,9 +34,16 @@ class Subscription:
     """``topic`` from every publisher the master names, each over its own connection."""
 
     def __init__(
-        self, caller_id: str, topic: str, msg_type: MessageType, on_message: OnMessage, on_notice: OnNotice
+        self,
+        caller_id: str,
+        topic: str,
+        msg_type: MessageType,
+        on_message: OnMessage,
+        on_notice: OnNotice,
+        name_of: Callable[[str], str] = str,
     ) -> None:
         self.caller_id = caller_id
+        self.name_of = name_of  # a publisher's node name from its URI, for messages
         self.topic = topic
         self.type = msg_type
         self._on_message = on_message
@@ -144,7 +151,7 @@ class _PublisherLink(threading.Thread):
         )
         header = tcpros.read_header(sock)
         self.callerid = header.get("callerid", "")
-        who = self.callerid or self.uri
+        who = self.callerid or self.sub.name_of(self.uri)
         if "error" in header:
             raise _RefusedError(f"{who} refused to send {self.sub.topic}: {header['error']}")
         if header.get("md5sum", "*") not in ("*", t.md5sum):

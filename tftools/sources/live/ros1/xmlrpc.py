@@ -70,6 +70,18 @@ class MasterClient:
     def unregister_publisher(self, topic: str, caller_api: str) -> None:
         self._call("unregisterPublisher", topic, caller_api)
 
+    def node_name(self, uri: str) -> str:
+        """The name of the node whose slave API is at ``uri`` (``uri`` itself if the master cannot say)."""
+        try:
+            _code, _message, (publishers, subscribers, _services) = call(self.uri, "getSystemState", self.caller_id)
+            for name in sorted({node for _topic, nodes in publishers + subscribers for node in nodes}):
+                code, _message, node_uri = call(self.uri, "lookupNode", self.caller_id, name)
+                if code == 1 and node_uri == uri:
+                    return str(name)
+        except (OSError, xmlrpc.client.Error, http.client.HTTPException, ValueError, TypeError):
+            pass
+        return uri
+
     def get_param(self, key: str) -> Any:
         """The parameter's value, or None where it is not set."""
         try:
