@@ -8,7 +8,7 @@ import sys
 import typer
 
 from tftools import __version__
-from tftools.cli import echo, frames, monitor, static, view_frames
+from tftools.cli import echo, frames, monitor, static, view_frames, wtf
 from tftools.cli.common import Exit, fail
 from tftools.core.errors import TfToolsError
 
@@ -29,6 +29,7 @@ app.command("echo")(echo.command)
 app.command("frames")(frames.command)
 app.command("monitor")(monitor.command)
 app.command("view-frames")(view_frames.command)
+app.command("wtf")(wtf.command)
 app.command("static", context_settings=static.CONTEXT)(static.command)
 
 

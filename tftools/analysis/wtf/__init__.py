@@ -1,0 +1,31 @@
+"""``tfx wtf``'s checker: every check (``CHECKS``) run over a recording, as ``Finding`` s."""
+
+from __future__ import annotations
+
+from collections.abc import Collection
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf import source, structure, timing, topics, values  # noqa: F401  (they register their checks)
+from tftools.analysis.wtf.registry import CHECKS, Check
+from tftools.analysis.wtf.scene import Scene
+from tftools.analysis.wtf.thresholds import Thresholds
+from tftools.sources.recording import Recording
+
+__all__ = ["CHECKS", "Check", "Finding", "Severity", "Thresholds", "check"]
+
+
+def check(recording: Recording, thresholds: Thresholds | None = None, ignore: Collection[str] = ()) -> list[Finding]:
+    """Every problem of ``recording``, errors first, then warnings, then notes (each in check order).
+
+    ``ignore`` lists codes not to run. Raises ``ValueError`` for a code that does not exist.
+    """
+    unknown = set(ignore) - set(CHECKS)
+    if unknown:
+        raise ValueError(f"no such check: {', '.join(sorted(unknown))}")
+    scene = Scene(recording, thresholds)
+    found: list[Finding] = []
+    for c in CHECKS.values():
+        if c.run is None or c.code in ignore or (c.needs_transforms and not len(scene.rows)):
+            continue
+        found.extend(c.run(scene))
+    return sorted(found, key=lambda f: f.severity.rank)

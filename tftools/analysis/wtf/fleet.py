@@ -1,0 +1,104 @@
+"""Checking bags: one recording (one bag or a split one) into a ``BagReport``, and many in parallel."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Collection, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf import check
+from tftools.analysis.wtf.thresholds import Thresholds
+from tftools.core.errors import TfToolsError
+from tftools.sources.bag import ProgressCallback
+from tftools.sources.recording import Recording, read_recording
+
+
+@dataclass
+class BagReport:
+    """What checking one recording found; ``error`` (code ``unreadable``) when it could not be read."""
+
+    paths: tuple[str, ...]
+    findings: list[Finding] = field(default_factory=list)
+    error: Finding | None = None
+    formats: tuple[str, ...] = ()
+    start: int = 0  # record time of its first message (ns)
+    end: int = 0
+    transforms: int = 0
+    frames: int = 0
+
+    @property
+    def name(self) -> str:
+        return " + ".join(self.paths)
+
+    @property
+    def usable(self) -> bool:
+        return self.error is None
+
+    def count(self, severity: Severity) -> int:
+        return sum(f.severity is severity for f in self.findings) + (
+            self.error is not None and severity is Severity.error
+        )
+
+    def failed(self, strict: bool = False) -> bool:
+        """Errors (or, ``strict``, warnings too) found, or the bag could not be read."""
+        return self.count(Severity.error) > 0 or (strict and self.count(Severity.warning) > 0)
+
+
+def report(recording: Recording, findings: list[Finding]) -> BagReport:
+    """A checked recording's report."""
+    return BagReport(
+        paths=tuple(recording.paths),
+        findings=findings,
+        formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
+        start=recording.start,
+        end=recording.end,
+        transforms=len(recording.contents.transforms),
+        frames=len(recording.buffer.frames),
+    )
+
+
+def check_bags(
+    paths: Sequence[str | os.PathLike[str]],
+    topics: Sequence[str] | None = None,
+    thresholds: Thresholds | None = None,
+    ignore: Collection[str] = (),
+    progress: ProgressCallback | None = None,
+) -> BagReport:
+    """Read ``paths`` as one recording and check it; a bag that cannot be read is reported, not raised."""
+    names = tuple(str(p) for p in paths)
+    try:
+        recording = read_recording(paths, topics, progress, allow_empty=True)
+    except TfToolsError as error:
+        return unreadable(names, str(error), error.hint)
+    except Exception as error:  # a reader's bug on a strange file must not stop a fleet
+        return unreadable(names, f"{names[0]}: could not be read ({type(error).__name__}: {error})", "")
+    return report(recording, check(recording, thresholds, ignore))
+
+
+def unreadable(paths: tuple[str, ...], message: str, hint: str) -> BagReport:
+    hint = hint or "check that the file is a complete bag"
+    return BagReport(paths, error=Finding(Severity.error, "unreadable", message, hint))
+
+
+def check_fleet(
+    groups: Sequence[Sequence[str | os.PathLike[str]]],
+    topics: Sequence[str] | None = None,
+    thresholds: Thresholds | None = None,
+    ignore: Collection[str] = (),
+    jobs: int = 1,
+) -> list[BagReport]:
+    """Each group of paths checked as its own recording, ``jobs`` at a time; reports in the given order."""
+    if jobs <= 1 or len(groups) <= 1:
+        return [check_bags(g, topics, thresholds, ignore) for g in groups]
+    with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
+        futures = [pool.submit(check_bags, [str(p) for p in g], topics, thresholds, tuple(ignore)) for g in groups]
+        return [f.result() for f in futures]
+
+
+def outcome(reports: Sequence[BagReport], strict: bool = False) -> int:
+    """The exit code: 2 when no recording could be read, 1 when any failed (or could not be read), else 0."""
+    if not any(r.usable for r in reports):
+        return 2
+    return 1 if any(r.failed(strict) for r in reports) else 0

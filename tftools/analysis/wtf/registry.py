@@ -1,0 +1,50 @@
+"""The checks by code: what each looks for, its usual severity, and the function that runs it."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from tftools.analysis.findings import Finding, Severity
+
+if TYPE_CHECKING:
+    from tftools.analysis.wtf.scene import Scene
+
+CheckFunction = Callable[["Scene"], Iterable[Finding]]
+
+
+@dataclass(frozen=True)
+class Check:
+    """One check: ``code`` names it in findings, ``severity`` is its usual one (a finding may be
+    milder), ``title`` says what it looks for. ``run`` is None for what the bag runner reports
+    itself (a bag it could not read); ``needs_transforms`` checks are skipped on an empty recording."""
+
+    code: str
+    severity: Severity
+    title: str
+    run: CheckFunction | None = None
+    needs_transforms: bool = True
+
+
+#: Every check, in the order findings of one severity are listed.
+CHECKS: dict[str, Check] = {}
+
+
+def register(
+    code: str, severity: Severity, title: str, *, needs_transforms: bool = True
+) -> Callable[[CheckFunction], CheckFunction]:
+    """Decorator: make ``function(scene) -> findings`` the check named ``code``."""
+
+    def add(function: CheckFunction) -> CheckFunction:
+        if code in CHECKS:
+            raise ValueError(f"check {code!r} registered twice")
+        CHECKS[code] = Check(code, severity, title, function, needs_transforms)
+        return function
+
+    return add
+
+
+def declare(code: str, severity: Severity, title: str) -> None:
+    """A code that no function produces here (the bag runner reports it)."""
+    CHECKS[code] = Check(code, severity, title, None, needs_transforms=False)

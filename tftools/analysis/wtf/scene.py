@@ -1,0 +1,244 @@
+"""``Scene``: one recording prepared for the checks: its rows under tf2's frame names, and how to name things."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.analysis.edges import EdgeStats, edge_stats
+from tftools.analysis.frames import FrameTree, frame_tree
+from tftools.analysis.wtf.thresholds import Thresholds
+from tftools.core.batch import TransformBatch
+from tftools.core.buffer import QUATERNION_TOLERANCE
+from tftools.core.history import FROM_STATIC_TOPIC
+from tftools.core.time import NS_PER_S, from_sec
+from tftools.sources.recording import Recording
+
+Int64Array = npt.NDArray[np.int64]
+Int32Array = npt.NDArray[np.int32]
+IntpArray = npt.NDArray[np.intp]
+BoolArray = npt.NDArray[np.bool_]
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Rows:
+    """Every transform read (refused ones too) in arrival order, its frames under tf2's names
+    (one leading ``/`` dropped; the empty name kept), and what tf2's ``setTransform`` would say."""
+
+    names: list[str]  # tf2's frame names; ``parent``/``child`` index them
+    raw_names: Sequence[str]  # the names as sent; ``raw_parent``/``raw_child`` index them
+    authorities: Sequence[str]
+    parent: Int32Array
+    child: Int32Array
+    raw_parent: Int32Array
+    raw_child: Int32Array
+    stamp: Int64Array
+    record_time: Int64Array
+    values: FloatArray  # (N, 7): tx ty tz qx qy qz qw
+    static: BoolArray
+    authority: Int32Array
+
+    def __len__(self) -> int:
+        return len(self.stamp)
+
+    @cached_property
+    def named(self) -> BoolArray:
+        """Both frames named, and not the same frame."""
+        empty = self.names.index("") if "" in self.names else -1
+        named: BoolArray = (self.parent != empty) & (self.child != empty) & (self.parent != self.child)
+        return named
+
+    @cached_property
+    def finite(self) -> BoolArray:
+        finite: BoolArray = np.asarray(np.isfinite(self.values).all(axis=1), bool)
+        return finite
+
+    @cached_property
+    def norm_error(self) -> FloatArray:
+        """|x² + y² + z² + w² - 1|, as tf2 tests it (NaN where a value is not finite)."""
+        q = self.values[:, 3:]
+        with np.errstate(invalid="ignore", over="ignore"):
+            error: FloatArray = np.abs((q * q).sum(axis=1) - 1.0)
+        return error
+
+    @cached_property
+    def usable(self) -> BoolArray:
+        """The rows tf2 would not refuse on their face (repeated stamps aside)."""
+        return self.named & self.finite & (self.norm_error < QUATERNION_TOLERANCE)
+
+
+def rows_of(batch: TransformBatch) -> Rows:
+    """``batch`` with each frame name also under the name tf2 stores it by."""
+    names: dict[str, int] = {}
+    stripped = np.array(
+        [names.setdefault(n[1:] if n.startswith("/") else n, len(names)) for n in batch.frame_names] or [0], np.int32
+    )
+    return Rows(
+        names=list(names),
+        raw_names=batch.frame_names,
+        authorities=batch.authorities,
+        parent=stripped[batch.parent],
+        child=stripped[batch.child],
+        raw_parent=batch.parent,
+        raw_child=batch.child,
+        stamp=batch.stamp,
+        record_time=batch.record_time,
+        values=np.concatenate([batch.translation, batch.rotation], axis=1),
+        static=batch.static,
+        authority=batch.authority,
+    )
+
+
+@dataclass(frozen=True)
+class EdgeSamples:
+    """The samples tf2 stored for one parent -> child edge (dynamic), sorted by stamp."""
+
+    parent: str
+    child: str
+    stamps: Int64Array
+    record_times: Int64Array
+    values: FloatArray
+    from_static_topic: BoolArray
+    authorities: tuple[str, ...]
+
+
+class Scene:
+    """A recording as the checks see it: the buffer tf2 would hold, the raw rows, the thresholds,
+    and the wording shared by findings (edges, publishers, times)."""
+
+    def __init__(self, recording: Recording, thresholds: Thresholds | None = None) -> None:
+        self.recording = recording
+        self.buffer = recording.buffer
+        self.thresholds = thresholds if thresholds is not None else Thresholds()
+        self.start = recording.start
+        self.end = recording.end
+
+    @cached_property
+    def rows(self) -> Rows:
+        return rows_of(self.recording.contents.transforms)
+
+    @cached_property
+    def tree(self) -> FrameTree:
+        return frame_tree(self.buffer)
+
+    @cached_property
+    def stats(self) -> list[EdgeStats]:
+        return edge_stats(self.buffer)
+
+    @cached_property
+    def publishers_known(self) -> bool:
+        """ROS1 (bags and live) names each publisher; ROS2 bags only the topic, as the authority."""
+        return any(f.format.startswith("ros1") for f in self.recording.contents.files)
+
+    @cached_property
+    def dynamic_edges(self) -> list[EdgeSamples]:
+        """Each moving edge's stored samples, per parent the child ever had."""
+        result = []
+        for child, hist in self.buffer.histories():
+            if hist.static:
+                continue
+            for parent_id in np.unique(hist.parents):
+                mine = hist.parents == parent_id
+                result.append(
+                    EdgeSamples(
+                        parent=self.buffer.frame_name(int(parent_id)),
+                        child=child,
+                        stamps=hist.stamps[mine],
+                        record_times=hist.record_times[mine],
+                        values=hist.values[mine],
+                        from_static_topic=(hist.flags[mine] & FROM_STATIC_TOPIC) > 0,
+                        authorities=tuple(self.buffer.authorities[int(a)] for a in np.unique(hist.authorities[mine])),
+                    )
+                )
+        return result
+
+    # --- grouping rows ----------------------------------------------------------------------
+
+    def by_edge(self, mask: BoolArray) -> Iterator[tuple[int, int, IntpArray]]:
+        """(parent id, child id, rows) for each edge among the ``mask`` rows, in order of first arrival."""
+        rows = self.rows
+        keys = rows.parent.astype(np.int64) * max(len(rows.names), 1) + rows.child
+        for rows_of_key in _groups(keys, mask):
+            first = rows_of_key[0]
+            yield int(rows.parent[first]), int(rows.child[first]), rows_of_key
+
+    def by_child(self, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
+        """(child id, rows) for each child frame among the ``mask`` rows, in order of first arrival."""
+        for rows_of_key in _groups(self.rows.child.astype(np.int64), mask):
+            yield int(self.rows.child[rows_of_key[0]]), rows_of_key
+
+    def authorities_of(self, rows: IntpArray) -> tuple[str, ...]:
+        """The publishers of ``rows``, in order of first appearance."""
+        ids = self.rows.authority[rows]
+        _, first = np.unique(ids, return_index=True)
+        return tuple(self.rows.authorities[int(ids[i])] for i in sorted(first))
+
+    def arrival(self, rows: IntpArray) -> Int64Array:
+        """When ``rows`` arrived: record times, or stamps where those are unknown."""
+        records = self.rows.record_time[rows]
+        return np.where(records > 0, records, self.rows.stamp[rows])
+
+    # --- wording ----------------------------------------------------------------------------
+
+    def by(self, authorities: Sequence[str]) -> str:
+        """ "by /a and /b" (ROS1 publishers), "on /tf" (a ROS2 bag's topics), or "" if unknown."""
+        named = [a for a in authorities if a]
+        if not named:
+            return ""
+        return ("by " if self.publishers_known else "on ") + _and(named)
+
+    def at(self, ns: int) -> str:
+        """A moment: absolute seconds, and seconds into the recording."""
+        return f"{ns / NS_PER_S:.3f} ({self.rel(ns)})"
+
+    def rel(self, ns: int) -> str:
+        return f"{(ns - self.start) / NS_PER_S:+.1f} s"
+
+    def ns(self, seconds: float) -> int:
+        return from_sec(seconds)
+
+
+def edge(parent: str, child: str) -> str:
+    return f"{parent} -> {child}"
+
+
+def duration(seconds: float) -> str:
+    """``seconds`` in the unit a person would use."""
+    s = abs(seconds)
+    if s < 1:
+        return f"{seconds:.3f} s"
+    if s < 120:
+        return f"{seconds:.1f} s"
+    if s < 2 * 3600:
+        return f"{seconds / 60:.1f} min"
+    if s < 2 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.1f} days"
+
+
+def listed(items: Sequence[str], most: int = 6) -> str:
+    """ "a, b, c" with at most ``most`` items, then "and N more"."""
+    if len(items) <= most:
+        return ", ".join(items)
+    return f"{', '.join(items[:most])} and {len(items) - most} more"
+
+
+def _and(items: Sequence[str]) -> str:
+    return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
+
+
+def _groups(keys: Int64Array, mask: BoolArray) -> Iterator[IntpArray]:
+    """The ``mask`` row indices grouped by key, each group in row order, groups by first row."""
+    rows = np.flatnonzero(mask)
+    if not len(rows):
+        return
+    order = np.argsort(keys[rows], kind="stable")
+    ordered = rows[order]
+    bounds = np.flatnonzero(np.diff(keys[ordered])) + 1
+    groups = np.split(ordered, bounds)
+    yield from sorted(groups, key=lambda g: int(g[0]))

@@ -1,0 +1,49 @@
+"""Checks of the input itself: no transforms at all, files read only in part, files not read."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.registry import declare, register
+from tftools.analysis.wtf.scene import Scene, listed
+
+
+@register("no_tf", Severity.error, "no transforms at all (or none on /tf)", needs_transforms=False)
+def no_tf(scene: Scene) -> Iterator[Finding]:
+    contents = scene.recording.contents
+    live = any("live" in f.format for f in contents.files)
+    where = ("from " if live else "in ") + ", ".join(f.path for f in contents.files)
+    if not len(scene.rows):
+        found = sorted({t for f in contents.files for t in f.topics} - set(contents.topics))
+        present = f"; topics present: {listed(found, 10)}" if found else ("" if live else "; it holds no messages")
+        hint = (
+            "is anything publishing? (rostopic info /tf, ros2 topic info /tf); name other topics with --topic"
+            if live
+            else "record the transforms with the rest (rosbag record /tf /tf_static, ros2 bag record /tf "
+            "/tf_static), or name the topics that carry them with --topic"
+        )
+        yield Finding(Severity.error, "no_tf", f"no transforms on {', '.join(contents.topics)} {where}{present}", hint)
+    elif scene.rows.static.all():
+        yield Finding(
+            Severity.info,
+            "no_tf",
+            f"only static transforms {where}: nothing moves ({len(scene.rows)} on /tf_static, none on /tf)",
+            "fine for a fixed setup; otherwise check that the moving transforms' publishers ran and were recorded",
+            count=len(scene.rows),
+        )
+
+
+@register("bag_problem", Severity.warning, "a bag read only in part", needs_transforms=False)
+def bag_problem(scene: Scene) -> Iterator[Finding]:
+    for problem in scene.recording.problems:
+        yield Finding(
+            Severity.warning,
+            "bag_problem",
+            problem,
+            "what could be read was checked; `rosbag reindex` may recover more of a ROS1 bag, and a file cut "
+            "short may need copying again",
+        )
+
+
+declare("unreadable", Severity.error, "a bag that could not be read at all")

@@ -1,0 +1,33 @@
+"""``Thresholds``: how far a recording may stray before the checker calls it a problem."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+#: An edge counts as stale, or a pause as a gap, only when it lasts this many of its periods too.
+PERIODS = 10
+
+
+@dataclass(frozen=True)
+class Thresholds:
+    """Limits in seconds; the defaults stay silent on a healthy robot.
+
+    ``stale_after``: an edge silent this long before the recording ends has stopped (and at
+    least ``PERIODS`` of its periods). ``max_gap``: a pause inside the recording longer than this
+    (and ``PERIODS`` periods) is a gap. ``delay``: transforms arriving this much after their stamp
+    are late (costmap_2d's default ``transform_tolerance``). ``future``: stamps this much ahead of
+    their arrival are from the future (roswtf's limit). ``clock``: a median offset between stamps
+    and arrival beyond this is another clock altogether.
+    """
+
+    stale_after: float = 1.0
+    max_gap: float = 1.0
+    delay: float = 0.2
+    future: float = 1.0
+    clock: float = 10.0
+
+    def __post_init__(self) -> None:
+        for name in ("stale_after", "max_gap", "delay", "future", "clock"):
+            value = getattr(self, name)
+            if not value > 0:
+                raise ValueError(f"threshold {name} must be above 0 seconds, got {value}")

@@ -1,0 +1,334 @@
+"""Checks of time: edges that stop or pause, stamps on another clock, from the future, late, or going back."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import numpy as np
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.scene import EdgeSamples, Int64Array, Scene, duration, edge, listed
+from tftools.analysis.wtf.thresholds import PERIODS
+from tftools.core.buffer import DEFAULT_CACHE_TIME
+from tftools.core.history import FROM_STATIC_TOPIC
+from tftools.core.time import NS_PER_S
+
+#: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
+EPOCH_FLOOR = 1_000_000_000 * NS_PER_S
+#: Intervals whose standard deviation exceeds their mean this many times make a rate irregular.
+IRREGULAR = 1.0
+IRREGULAR_MIN_INTERVALS = 20
+
+_CLOCK_HINTS = {
+    "boot": "the publisher stamps with a clock other than ROS time (time since boot, a steady or sensor clock), "
+    "or runs with use_sim_time while nothing publishes /clock: stamp with ros::Time::now() (the node's clock in "
+    "ROS2) and set use_sim_time the same for every node",
+    "simulated": "the recorder runs on simulated time (use_sim_time, /clock) but this publisher stamps wall-clock "
+    "time: set use_sim_time true for it too (and replay bags with rosbag play --clock)",
+    "behind": "stamps from an older time: a bag replayed without --clock while nodes run on wall time (use "
+    "rosbag play --clock with use_sim_time true), or this publisher's machine clock is behind: sync the clocks "
+    "(chrony/NTP)",
+    "ahead": "this publisher's machine clock runs ahead of the recorder's: sync the clocks (chrony/NTP)",
+}
+
+
+@register("stale", Severity.error, "an edge that stops updating while the recording goes on")
+def stale(scene: Scene) -> Iterator[Finding]:
+    latest: dict[str, int] = {}
+    for s in scene.stats:
+        latest[s.child] = max(latest.get(s.child, 0), s.last_record)
+    for s in scene.stats:
+        if s.static or s.last_record == 0 or s.last_record < latest[s.child]:
+            continue  # a frame that went on under another parent has not stopped
+        silent = (scene.end - s.last_record) / NS_PER_S
+        limit = max(scene.thresholds.stale_after, PERIODS / s.rate_hz if s.rate_hz > 0 else 0.0)
+        if silent <= limit:
+            continue
+        by = scene.by(s.authorities)
+        if s.count == 1:
+            message = f"{edge(s.parent, s.child)} was sent once on /tf{' ' + by if by else ''}"
+            message += f", stamped {scene.at(s.last_stamp)}"
+            hint = (
+                "a /tf transform holds only at its stamp, so lookups at any other time fail: publish a fixed "
+                "transform on /tf_static (static_transform_publisher), or keep publishing it"
+            )
+        else:
+            message = f"{edge(s.parent, s.child)}{' ' + by if by else ''} stopped at {scene.at(s.last_stamp)}"
+            hint = (
+                "its publisher stopped (crashed, shut down or stalled) while the recording went on: lookups after "
+                "its last stamp fail with 'Lookup would require extrapolation into the future'; check that node"
+            )
+        yield Finding(
+            Severity.error,
+            "stale",
+            f"{message}, {duration(silent)} before the recording ends",
+            hint,
+            s.key,
+            s.authorities,
+            s.last_stamp,
+            scene.end,
+            s.count,
+        )
+
+
+def _arrivals(e: EdgeSamples) -> tuple[Int64Array, Int64Array]:
+    """Stamps and record times of the samples that came on /tf with a known record time."""
+    keep = (e.record_times > 0) & ~e.from_static_topic
+    return e.stamps[keep], e.record_times[keep]
+
+
+def clock_kind(scene: Scene, e: EdgeSamples) -> str | None:
+    """How an edge's stamps relate to the recording's clock when they are on another one."""
+    stamps, records = _arrivals(e)
+    if not len(stamps):
+        return None
+    stamp, record = int(np.median(stamps)), int(np.median(records))
+    offset = float(np.median(records - stamps)) / NS_PER_S
+    if stamp < EPOCH_FLOOR <= record:
+        return "boot"
+    if record < EPOCH_FLOOR <= stamp:
+        return "simulated"
+    if offset > scene.thresholds.clock:
+        return "behind"
+    if offset < -scene.thresholds.clock:
+        return "ahead"
+    return None
+
+
+@register("clock", Severity.error, "stamps on another clock than the recording's (the use_sim_time mistake)")
+def clock(scene: Scene) -> Iterator[Finding]:
+    groups: dict[tuple[str, tuple[str, ...]], list[EdgeSamples]] = {}
+    for e in scene.dynamic_edges:
+        kind = clock_kind(scene, e)
+        if kind is not None:
+            groups.setdefault((kind, e.authorities), []).append(e)
+    for (kind, authorities), edges in groups.items():
+        stamps = np.concatenate([_arrivals(e)[0] for e in edges])
+        records = np.concatenate([_arrivals(e)[1] for e in edges])
+        stamp, record = np.median(stamps) / NS_PER_S, np.median(records) / NS_PER_S
+        offset = float(np.median(records - stamps)) / NS_PER_S
+        what = (
+            f"{listed([edge(e.parent, e.child) for e in edges], 4)}{' ' + scene.by(authorities) if authorities else ''}"
+        )
+        said = {
+            "boot": f"stamped around {stamp:.1f} s, a clock counting from boot or a simulation's start, while the "
+            f"recording's clock reads {record:.1f} s (epoch time)",
+            "simulated": f"stamped with wall-clock time ({stamp:.1f} s) while the recording runs on a simulated "
+            f"clock ({record:.1f} s)",
+            "behind": f"stamped {duration(offset)} before they were recorded: another clock than the recording's",
+            "ahead": f"stamped {duration(-offset)} after they were recorded: another clock than the recording's",
+        }[kind]
+        yield Finding(
+            Severity.error,
+            "clock",
+            f"{what}: {said} (median of {len(stamps)} transforms)",
+            _CLOCK_HINTS[kind]
+            + "; until then lookups combining these with other frames fail with extrapolation errors",
+            tuple(f for e in edges for f in (e.parent, e.child)),
+            authorities,
+            int(stamps.min()),
+            int(stamps.max()),
+            len(stamps),
+        )
+
+
+@register("future", Severity.error, "stamps ahead of the time they were recorded")
+def future(scene: Scene) -> Iterator[Finding]:
+    limit = scene.ns(scene.thresholds.future)
+    for e in scene.dynamic_edges:
+        stamps, records = _arrivals(e)
+        ahead = stamps - records
+        early = ahead > limit
+        if not early.any() or clock_kind(scene, e) is not None:
+            continue
+        by = scene.by(e.authorities)
+        yield Finding(
+            Severity.error,
+            "future",
+            f"{edge(e.parent, e.child)}{' ' + by if by else ''}: {int(early.sum())} of {len(stamps)} transforms "
+            f"stamped up to {duration(ahead.max() / NS_PER_S)} after they were recorded, first at "
+            f"{scene.at(int(records[early][0]))}",
+            "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates its "
+            f"transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's transform_tolerance): "
+            "listeners then hold transforms for times that have not come yet",
+            (e.parent, e.child),
+            e.authorities,
+            int(stamps[early].min()),
+            int(stamps[early].max()),
+            int(early.sum()),
+        )
+
+
+@register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")
+def delay(scene: Scene) -> Iterator[Finding]:
+    limit = scene.ns(scene.thresholds.delay)
+    for e in scene.dynamic_edges:
+        stamps, records = _arrivals(e)
+        if not len(stamps):
+            continue
+        delays = records - stamps
+        if np.percentile(delays, 90) <= limit or clock_kind(scene, e) is not None:
+            continue
+        late = delays > limit
+        by = scene.by(e.authorities)
+        yield Finding(
+            Severity.warning,
+            "delay",
+            f"{edge(e.parent, e.child)}{' ' + by if by else ''} arrives late: {int(late.sum())} of {len(stamps)} "
+            f"transforms more than {scene.thresholds.delay:g} s after their stamp (median "
+            f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)})",
+            "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
+            "waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
+            "delays it (a busy publisher, a slow link, stamping with an old acquisition time)",
+            (e.parent, e.child),
+            e.authorities,
+            int(stamps[late].min()) if late.any() else 0,
+            int(stamps[late].max()) if late.any() else 0,
+            int(late.sum()),
+        )
+
+
+@register("rate", Severity.warning, "irregular publishing and long gaps")
+def rate(scene: Scene) -> Iterator[Finding]:
+    for child, hist in scene.buffer.histories():
+        stamps = hist.stamps[(hist.flags & FROM_STATIC_TOPIC) == 0] if not hist.static else hist.stamps[:0]
+        if len(stamps) < 3:
+            continue
+        intervals = np.diff(stamps)
+        period = float(np.median(intervals))
+        limit = max(scene.ns(scene.thresholds.max_gap), PERIODS * period)
+        parent = scene.buffer.frame_name(hist.latest_parent)
+        authorities = tuple(scene.buffer.authorities[int(a)] for a in np.unique(hist.authorities))
+        by = scene.by(authorities)
+        gaps = np.flatnonzero(intervals > limit)
+        what = f"{edge(parent, child)}{' ' + by if by else ''}"
+        if len(gaps):
+            longest = int(gaps[np.argmax(intervals[gaps])])
+            yield Finding(
+                Severity.warning,
+                "rate",
+                f"{what} went silent {len(gaps)} time{'s' if len(gaps) > 1 else ''} (it publishes every "
+                f"{duration(period / NS_PER_S)}): the longest for {duration(intervals[longest] / NS_PER_S)} from "
+                f"{scene.at(int(stamps[longest]))}",
+                "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
+                "the publisher's load, its rate parameter and its connection",
+                (parent, child),
+                authorities,
+                int(stamps[gaps[0]]),
+                int(stamps[gaps[-1] + 1]),
+                len(gaps),
+            )
+            continue
+        mean, spread = float(intervals.mean()), float(intervals.std())
+        if len(intervals) >= IRREGULAR_MIN_INTERVALS and spread > IRREGULAR * mean:
+            yield Finding(
+                Severity.warning,
+                "rate",
+                f"{what} publishes irregularly: intervals from {duration(intervals.min() / NS_PER_S)} to "
+                f"{duration(intervals.max() / NS_PER_S)} (mean {duration(mean / NS_PER_S)}, standard deviation "
+                f"{duration(spread / NS_PER_S)})",
+                "interpolation between far-apart samples is coarse: publish on a timer at a steady rate",
+                (parent, child),
+                authorities,
+                int(stamps[0]),
+                int(stamps[-1]),
+                len(stamps),
+            )
+
+
+@register("time_backwards", Severity.error, "an edge's stamps going back or repeating")
+def time_backwards(scene: Scene) -> Iterator[Finding]:
+    rows = scene.rows
+    for child_id, mine in scene.by_child(rows.usable & ~rows.static):
+        stamps = rows.stamp[mine]
+        if len(stamps) < 2:
+            continue
+        before = np.concatenate([[np.iinfo(np.int64).min], np.maximum.accumulate(stamps)[:-1]])
+        back = stamps < before
+        repeat, same = _repeats(stamps, rows.values[mine])
+        repeat &= ~back
+        parent = rows.names[rows.parent[mine[-1]]]
+        name = edge(parent, rows.names[child_id])
+        if back.any():
+            yield _went_back(scene, name, (parent, rows.names[child_id]), mine, back, before - stamps)
+        for again, identical in ((repeat & ~same, False), (repeat & same, True)):
+            if again.any():
+                yield _repeated(scene, name, (parent, rows.names[child_id]), mine[again], identical)
+
+
+def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Which rows repeat an earlier row's stamp, and which of those repeat its values too."""
+    n = len(stamps)
+    order = np.argsort(stamps, kind="stable")
+    ordered = stamps[order]
+    again = np.concatenate([[False], ordered[1:] == ordered[:-1]])
+    starts = np.maximum.accumulate(np.where(again, 0, np.arange(n)))
+    repeat = np.zeros(n, bool)
+    repeat[order] = again
+    first = np.empty(n, np.intp)
+    first[order] = order[starts]
+    same = np.all(values == values[first], axis=1)
+    return repeat, same
+
+
+def _went_back(
+    scene: Scene, name: str, frames: tuple[str, str], mine: np.ndarray, back: np.ndarray, step: Int64Array
+) -> Finding:
+    largest = int(step[back].max())
+    offenders = mine[back]
+    who = scene.authorities_of(mine)
+    by = scene.by(scene.authorities_of(offenders))
+    if largest > DEFAULT_CACHE_TIME:
+        hint = (
+            "time jumped back (a bag replayed in a loop, a restarted simulation, a clock reset): tf2 refuses data "
+            "older than its cache (10 s) behind the newest (TF_OLD_DATA), so listeners must be restarted or reset "
+            "after a time jump"
+        )
+    elif len(who) > 1:
+        hint = "several publishers send this frame with different stamps: let one of them publish it"
+    else:
+        hint = "the publisher sends stamps out of order: stamp each transform with the current time, in order"
+    return Finding(
+        Severity.error,
+        "time_backwards",
+        f"stamps of {name}{' ' + by if by else ''} went back {int(back.sum())} time{'s' if back.sum() > 1 else ''}, "
+        f"by up to {duration(largest / NS_PER_S)}, first at {scene.at(int(scene.arrival(offenders).min()))}",
+        hint,
+        frames,
+        who,
+        int(scene.rows.stamp[offenders].min()),
+        int(scene.rows.stamp[offenders].max()),
+        int(back.sum()),
+    )
+
+
+def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.ndarray, same: bool) -> Finding:
+    who = scene.authorities_of(offenders)
+    by = scene.by(who)
+    first = scene.at(int(scene.arrival(offenders).min()))
+    if same:
+        return Finding(
+            Severity.warning,
+            "time_backwards",
+            f"{name}{' ' + by if by else ''} sent {len(offenders)} transforms again with a stamp and values it had "
+            f"already sent, first at {first}: tf2 ignores each, logging TF_REPEATED_DATA",
+            "publish each stamp once (a timer faster than its input republishes the last transform)",
+            frames,
+            who,
+            int(scene.rows.stamp[offenders].min()),
+            int(scene.rows.stamp[offenders].max()),
+            len(offenders),
+        )
+    return Finding(
+        Severity.error,
+        "time_backwards",
+        f"{name}{' ' + by if by else ''} sent {len(offenders)} transforms with a stamp it had already sent but other "
+        f"values, first at {first}: tf2 ignores them (TF_REPEATED_DATA), so those updates are lost",
+        "stamp each update with the time it describes; two publishers or a stamp that does not advance repeat it",
+        frames,
+        who,
+        int(scene.rows.stamp[offenders].min()),
+        int(scene.rows.stamp[offenders].max()),
+        len(offenders),
+    )

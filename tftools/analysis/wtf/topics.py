@@ -1,0 +1,112 @@
+"""Checks of /tf against /tf_static: fixed transforms sent as moving ones, moving ones sent as fixed, and both."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+
+import numpy as np
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.scene import Scene, duration, edge, listed
+from tftools.core.time import NS_PER_S
+
+#: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
+STATIC_MIN_SAMPLES = 10
+STATIC_MIN_RATE_HZ = 1.0
+STATIC_MIN_SPAN_S = 1.0
+
+
+def _by(scene: Scene, who: Sequence[str]) -> str:
+    """ " by /node" where ROS1 names publishers; nothing where the authority is only the topic."""
+    return f" by {', '.join(a for a in who if a)}" if scene.publishers_known and any(who) else ""
+
+
+@register("static_on_dynamic", Severity.warning, "a constant transform sent on /tf at a high rate")
+def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
+    rows = scene.rows
+    for parent, child, mine in scene.by_edge(rows.usable & ~rows.static):
+        if len(mine) < STATIC_MIN_SAMPLES:
+            continue
+        values = rows.values[mine]
+        stamps = rows.stamp[mine]
+        span = (int(stamps.max()) - int(stamps.min())) / NS_PER_S
+        if span < STATIC_MIN_SPAN_S or (len(mine) - 1) / span < STATIC_MIN_RATE_HZ or not (values == values[0]).all():
+            continue
+        who = scene.authorities_of(mine)
+        yield Finding(
+            Severity.warning,
+            "static_on_dynamic",
+            f"{edge(rows.names[parent], rows.names[child])} never changes, yet it is sent on /tf{_by(scene, who)} "
+            f"{(len(mine) - 1) / span:.1f} times a second ({len(mine)} transforms over {duration(span)})",
+            "publish it once on /tf_static (static_transform_publisher, or a fixed joint for robot_state_publisher): "
+            "it then holds at every time and /tf carries less; ignore this if it is a joint that did not move "
+            "during this recording",
+            (rows.names[parent], rows.names[child]),
+            who,
+            int(stamps.min()),
+            int(stamps.max()),
+            len(mine),
+        )
+
+
+@register("dynamic_on_static", Severity.error, "a changing transform on /tf_static")
+def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
+    rows = scene.rows
+    for parent, child, mine in scene.by_edge(rows.usable & rows.static):
+        values = rows.values[mine]
+        changed = np.flatnonzero((values[1:] != values[:-1]).any(axis=1)) + 1
+        if not len(changed):
+            continue
+        distinct = len(np.unique(values, axis=0))
+        when = scene.arrival(mine[changed])
+        who = scene.authorities_of(mine)
+        yield Finding(
+            Severity.error,
+            "dynamic_on_static",
+            f"{edge(rows.names[parent], rows.names[child])} takes {distinct} different values on /tf_static"
+            f"{_by(scene, who)}: it changed {len(changed)} time{'s' if len(changed) > 1 else ''}, first at "
+            f"{scene.at(int(when[0]))}",
+            "a static transform holds at every time, so tf2 applies its latest value to the past too: send a "
+            "moving transform on /tf with current stamps (a TransformBroadcaster), and on /tf_static only what "
+            "never moves",
+            (rows.names[parent], rows.names[child]),
+            who,
+            int(when[0]),
+            int(when[-1]),
+            len(changed),
+        )
+
+
+@register("mixed_static", Severity.error, "one frame sent both on /tf_static and on /tf")
+def mixed_static(scene: Scene) -> Iterator[Finding]:
+    rows = scene.rows
+    for child, mine in scene.by_child(rows.usable):
+        static = rows.static[mine]
+        if static.all() or not static.any():
+            continue
+        name = rows.names[child]
+        fixed, moving = mine[static], mine[~static]
+        if static[0]:
+            effect = (
+                "tf2 made it a static frame (its first transform came on /tf_static), so each /tf transform "
+                "replaces its value for every time"
+            )
+        else:
+            effect = (
+                "tf2 made it a moving frame (its first transform came on /tf), so the /tf_static one counts only "
+                "at its stamp"
+            )
+        parents = listed(sorted({rows.names[p] for p in rows.parent[mine].tolist()}))
+        yield Finding(
+            Severity.error,
+            "mixed_static",
+            f"{name} (under {parents}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
+            f"({len(fixed)} transforms) and on /tf{_by(scene, scene.authorities_of(moving))} ({len(moving)}): {effect}",
+            "send each frame on one topic: /tf_static if it never moves, /tf otherwise",
+            (name, *sorted({rows.names[p] for p in rows.parent[mine].tolist()})),
+            scene.authorities_of(mine),
+            int(scene.arrival(mine).min()),
+            int(scene.arrival(mine).max()),
+            len(mine),
+        )

@@ -1,0 +1,184 @@
+"""Checks of what each transform says: numbers tf2 refuses, frames it cannot use, names it rewrites."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import numpy as np
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.scene import BoolArray, IntpArray, Scene, edge, listed
+from tftools.core.buffer import QUATERNION_TOLERANCE
+
+#: roswtf's limit on | |q| - 1 | for a rotation to count as normalised.
+ROSWTF_NORM_TOLERANCE = 1e-6
+#: Above this, a rotation tf2 accepts still visibly scales what goes through it.
+VISIBLE_NORM_ERROR = 1e-3
+
+
+@register("invalid_values", Severity.error, "NaN, infinity, or a rotation that is not a unit quaternion")
+def invalid_values(scene: Scene) -> Iterator[Finding]:
+    rows = scene.rows
+    nan: BoolArray = np.asarray(np.isnan(rows.values).any(axis=1), bool)
+    inf = ~rows.finite & ~nan
+    bad_quaternion = rows.finite & ~(rows.norm_error < QUATERNION_TOLERANCE)
+    refused = nan | inf | bad_quaternion
+    for parent, child, mine in scene.by_edge(refused):
+        yield _refused(scene, rows.names[parent], rows.names[child], mine, nan, inf)
+    length_error = np.abs(np.sqrt(np.where(rows.finite, (rows.values[:, 3:] ** 2).sum(axis=1), 1.0)) - 1.0)
+    slightly = rows.finite & ~bad_quaternion & (length_error > ROSWTF_NORM_TOLERANCE)
+    for parent, child, mine in scene.by_edge(slightly):
+        worst = float(length_error[mine].max())
+        yield Finding(
+            Severity.warning if worst > VISIBLE_NORM_ERROR else Severity.info,
+            "invalid_values",
+            f"rotations of {edge(rows.names[parent], rows.names[child])} {scene.by(scene.authorities_of(mine))} "
+            f"are not unit length in {len(mine)} transforms (| |q| - 1 | up to {worst:.2g}): tf2 accepts them, "
+            "but points through this edge get scaled",
+            "normalise the quaternion before publishing (tf2::Quaternion::normalize()); roswtf flags rotations "
+            f"off by more than {ROSWTF_NORM_TOLERANCE:g}",
+            (rows.names[parent], rows.names[child]),
+            scene.authorities_of(mine),
+            int(rows.stamp[mine].min()),
+            int(rows.stamp[mine].max()),
+            len(mine),
+        )
+
+
+def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.ndarray, inf: np.ndarray) -> Finding:
+    rows = scene.rows
+    kinds, hints = [], []
+    n_nan, n_inf = int(nan[mine].sum()), int(inf[mine].sum())
+    n_quat = len(mine) - n_nan - n_inf
+    if n_nan:
+        kinds.append(f"NaN in {n_nan}")
+    if n_inf:
+        kinds.append(f"infinity in {n_inf}")
+    if n_nan or n_inf:
+        hints.append(
+            "guard the publisher's math (a division by zero, an uninitialised pose, a failed sensor read) and "
+            "publish nothing until the values are valid"
+        )
+    if n_quat:
+        quat_rows = mine[~nan[mine] & ~inf[mine]]
+        zero = int((np.abs(rows.values[quat_rows, 3:]).sum(axis=1) == 0).sum())
+        lengths = np.sqrt((rows.values[quat_rows, 3:] ** 2).sum(axis=1))
+        kinds.append(
+            f"a rotation of length {lengths.min():.3g}"
+            + (f" to {lengths.max():.3g}" if lengths.max() - lengths.min() > 5e-4 else "")
+            + f" in {n_quat}"
+        )
+        hint = "normalise the quaternion before publishing (tf2::Quaternion::normalize())"
+        if zero:
+            hint += "; for no rotation send x=y=z=0, w=1, not all zeros"
+        hints.append(hint)
+    times = scene.arrival(mine)
+    who = scene.authorities_of(mine)
+    by = scene.by(who)
+    return Finding(
+        Severity.error,
+        "invalid_values",
+        f"{len(mine)} transforms {edge(parent or '(empty)', child or '(empty)')}{' ' + by if by else ''} "
+        f"refused by tf2 ({', '.join(kinds)}), first at {scene.at(int(times.min()))}",
+        "tf2 drops them (TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION), so lookups miss these updates: " + "; ".join(hints),
+        tuple(f for f in (parent, child) if f),
+        who,
+        int(rows.stamp[mine].min()),
+        int(rows.stamp[mine].max()),
+        len(mine),
+    )
+
+
+@register("self_transform", Severity.error, "a transform from a frame to itself")
+def self_transform(scene: Scene) -> Iterator[Finding]:
+    rows = scene.rows
+    same = (rows.parent == rows.child) & (np.array([n != "" for n in rows.names] or [False])[rows.child])
+    for _, child, mine in scene.by_edge(same):
+        frame = rows.names[child]
+        spelled = sorted({f"{rows.raw_names[p]} -> {rows.raw_names[c]}" for p, c in _raw_pairs(scene, mine)})
+        sent = f", sent as {listed(spelled)}: one frame to tf2" if any(n.startswith("/") for n in spelled) else ""
+        who = scene.authorities_of(mine)
+        by = scene.by(who)
+        yield Finding(
+            Severity.error,
+            "self_transform",
+            f"{len(mine)} transforms from {frame} to itself{' ' + by if by else ''}{sent}, "
+            f"first at {scene.at(int(scene.arrival(mine).min()))}: tf2 ignores them (TF_SELF_TRANSFORM)",
+            "header.frame_id must name the parent and child_frame_id the frame that moves: set them to two "
+            "different frames (a name with and without a leading '/' is the same frame)",
+            (frame,),
+            who,
+            int(rows.stamp[mine].min()),
+            int(rows.stamp[mine].max()),
+            len(mine),
+        )
+
+
+def _raw_pairs(scene: Scene, mine: IntpArray) -> set[tuple[int, int]]:
+    rows = scene.rows
+    return set(zip(rows.raw_parent[mine].tolist(), rows.raw_child[mine].tolist(), strict=True))
+
+
+@register("empty_frame_id", Severity.error, "a transform without frame_id or child_frame_id")
+def empty_frame_id(scene: Scene) -> Iterator[Finding]:
+    rows = scene.rows
+    if "" not in rows.names:
+        return
+    empty = rows.names.index("")
+    for field, other_field, missing, other in (
+        ("frame_id", "child_frame_id", rows.parent, rows.child),
+        ("child_frame_id", "frame_id", rows.child, rows.parent),
+    ):
+        for other_id, mine in _group_by(other, missing == empty):
+            named = rows.names[other_id]
+            who = scene.authorities_of(mine)
+            by = scene.by(who)
+            yield Finding(
+                Severity.error,
+                "empty_frame_id",
+                f"{len(mine)} transforms{' ' + by if by else ''} with an empty {field} "
+                f"({other_field} {named or 'empty too'}), first at {scene.at(int(scene.arrival(mine).min()))}: "
+                f"tf2 ignores them (TF_NO_{'CHILD_' if field == 'child_frame_id' else ''}FRAME_ID)",
+                "set both header.frame_id and child_frame_id (an empty frame parameter in a launch file or "
+                "config is the usual cause)",
+                (named,) if named else (),
+                who,
+                int(rows.stamp[mine].min()),
+                int(rows.stamp[mine].max()),
+                len(mine),
+            )
+
+
+def _group_by(keys: np.ndarray, mask: np.ndarray) -> Iterator[tuple[int, IntpArray]]:
+    rows = np.flatnonzero(mask)
+    for key in dict.fromkeys(keys[rows].tolist()):
+        yield key, rows[keys[rows] == key]
+
+
+@register("leading_slash", Severity.warning, "frame ids starting with '/' (tf_prefix style)")
+def leading_slash(scene: Scene) -> Iterator[Finding]:
+    rows = scene.rows
+    slashed = np.array([n.startswith("/") for n in rows.raw_names] or [False])
+    uses = slashed[rows.raw_parent] | slashed[rows.raw_child]
+    for authority, mine in _group_by(rows.authority, uses):
+        names = sorted(
+            {rows.raw_names[i] for i in (*rows.raw_parent[mine].tolist(), *rows.raw_child[mine].tolist())}
+            & {n for n in rows.raw_names if n.startswith("/")}
+        )
+        who = (rows.authorities[authority],)
+        by = scene.by(who)
+        yield Finding(
+            Severity.warning,
+            "leading_slash",
+            f"frame ids with a leading '/'{' ' + by if by else ''}: {listed(names)} "
+            f"(in {len(mine)} transforms, first at {scene.at(int(scene.arrival(mine).min()))})",
+            "tf2 drops the '/' when it stores them, but lookups by those names fail ('frame_ids cannot start with "
+            "a /') and tools comparing names see two frames: remove the '/' from the publisher's frame names "
+            "(tf_prefix is gone since ROS Hydro)",
+            tuple(n[1:] for n in names),
+            who,
+            int(rows.stamp[mine].min()),
+            int(rows.stamp[mine].max()),
+            len(mine),
+        )

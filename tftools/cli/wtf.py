@@ -1,0 +1,191 @@
+"""``tfx wtf [BAG ...] [-b BAG ...]``: roswtf's tf checks and more, on bags, fleets of bags and live systems."""
+
+from __future__ import annotations
+
+import difflib
+import enum
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.table import Table
+
+from tftools.analysis.wtf import CHECKS, Thresholds, check
+from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, outcome, report
+from tftools.cli import live
+from tftools.cli.common import BagOption, Exit, TopicOption, UsageError, exit_with, progress_bar, stderr, stdout, warn
+from tftools.render import wtf as render
+
+
+class WtfFormat(str, enum.Enum):
+    text = "text"
+    json = "json"
+    junit = "junit"
+
+
+_DEFAULTS = Thresholds()
+
+PathsArgument = Annotated[
+    list[Path] | None,
+    typer.Argument(
+        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory.",
+        show_default=False,
+    ),
+]
+FormatOption = Annotated[
+    WtfFormat, typer.Option("--format", "-f", help="text, json (one document), or junit (XML for CI).")
+]
+StrictOption = Annotated[bool, typer.Option("--strict", help="Warnings fail too (exit 1, JUnit failures).")]
+JobsOption = Annotated[
+    int, typer.Option("--jobs", "-j", help="Check this many recordings at once (0: one per CPU).", min=0)
+]
+IgnoreOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--ignore", help="Skip the check with this code (repeat for more; see --list-checks).", show_default=False
+    ),
+]
+ListOption = Annotated[
+    bool, typer.Option("--list-checks", help="List the checks, their codes and severities, and exit.")
+]
+StaleOption = Annotated[
+    float,
+    typer.Option("--stale-after", help="An edge silent this many seconds before the end has stopped (and 10 periods)."),
+]
+GapOption = Annotated[
+    float, typer.Option("--max-gap", help="A pause longer than this many seconds (and 10 periods) is a gap.")
+]
+DelayOption = Annotated[
+    float, typer.Option("--delay", help="Transforms arriving this many seconds after their stamp are late.")
+]
+FutureOption = Annotated[
+    float, typer.Option("--future", help="Stamps this many seconds ahead of their arrival are from the future.")
+]
+ClockOption = Annotated[
+    float, typer.Option("--clock", help="Stamps this many seconds off their arrival (median) are on another clock.")
+]
+
+
+def command(
+    paths: PathsArgument = None,
+    bags: BagOption = None,
+    fmt: FormatOption = WtfFormat.text,
+    strict: StrictOption = False,
+    jobs: JobsOption = 1,
+    ignore: IgnoreOption = None,
+    list_checks: ListOption = False,
+    stale_after: StaleOption = _DEFAULTS.stale_after,
+    max_gap: GapOption = _DEFAULTS.max_gap,
+    delay: DelayOption = _DEFAULTS.delay,
+    future: FutureOption = _DEFAULTS.future,
+    clock: ClockOption = _DEFAULTS.clock,
+    topics: TopicOption = None,
+    duration: live.ListenOption = 5.0,
+    ros1: live.RosOption = None,
+    use_sim_time: live.UseSimTimeOption = None,
+) -> None:
+    """Check tf for what breaks lookups, and say how to fix each problem (roswtf's tf checks and more).
+
+    Each BAG is checked on its own (a fleet: [cyan]tfx wtf logs/*.bag --jobs 4[/]); the -b bags together
+    make one more recording (a split bag). Without bags, listens --duration seconds to the live system.
+
+    Errors (loops, several trees, re-parenting, stale edges, stamps on another clock or from the
+    future, NaN or bad rotations, empty or self frame ids, stamps going back, no tf) break lookups;
+    warnings (several publishers, leading '/', fixed transforms on /tf, gaps, late arrival) are
+    tolerated by tf2 but off; notes are for information. --list-checks lists every check.
+
+    Exit codes: 0 no errors (warnings allowed, unless --strict); 1 errors found, or some recordings
+    could not be read (each reported as an error of its own); 2 no recording could be read, or bad
+    arguments.
+
+    Examples: [cyan]tfx wtf robot.bag[/], [cyan]tfx wtf logs/*.bag --format junit > wtf.xml[/],
+    [cyan]tfx wtf -b run_0.bag -b run_1.bag --strict[/]
+    """
+    if list_checks:
+        _list_checks()
+        return
+    thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
+    ignored = _ignored(ignore or [])
+    groups: list[list[Path]] = [[p] for p in paths or []] + ([list(bags)] if bags else [])
+    if groups:
+        reports = _check_groups(groups, topics, thresholds, ignored, jobs or os.cpu_count() or 1)
+    else:
+        reports = [_check_live(ros1, use_sim_time, duration, topics, thresholds, ignored)]
+    code = outcome(reports, strict)
+    if fmt is WtfFormat.json:
+        render.write_json(reports, sys.stdout, strict, thresholds, code)
+    elif fmt is WtfFormat.junit:
+        render.write_junit(reports, sys.stdout, strict, ignored)
+    elif len(reports) == 1 and reports[0].error is not None:
+        error = reports[0].error
+        raise UsageError(error.message, error.hint)
+    else:
+        render.write_text(reports, stdout, strict)
+    exit_with(Exit(code))
+
+
+def _thresholds(**seconds: float) -> Thresholds:
+    try:
+        return Thresholds(**seconds)
+    except ValueError:
+        bad = [f"--{name.replace('_', '-')}" for name, value in seconds.items() if not value > 0]
+        raise UsageError(f"{', '.join(bad)} must be above 0 seconds", "e.g. --delay 0.5") from None
+
+
+def _ignored(codes: Sequence[str]) -> tuple[str, ...]:
+    for code in codes:
+        if code not in CHECKS:
+            close = difflib.get_close_matches(code, list(CHECKS), n=1)
+            hint = f"did you mean {close[0]}?" if close else "see tfx wtf --list-checks"
+            raise UsageError(f"--ignore {code}: there is no such check", hint)
+    return tuple(codes)
+
+
+def _check_groups(
+    groups: list[list[Path]], topics: Sequence[str] | None, thresholds: Thresholds, ignore: Sequence[str], jobs: int
+) -> list[BagReport]:
+    if len(groups) == 1:
+        size = sum(_size(p) for p in groups[0])
+        with progress_bar(enabled=size > 20_000_000) as progress:
+            return [check_bags(groups[0], topics, thresholds, ignore, progress)]
+    return check_fleet(groups, topics, thresholds, ignore, jobs)
+
+
+def _size(path: Path) -> int:
+    try:
+        return path.stat().st_size if path.is_file() else sum(p.stat().st_size for p in path.iterdir())
+    except OSError:
+        return 0
+
+
+def _check_live(
+    ros1: bool | None,
+    use_sim_time: bool | None,
+    duration: float,
+    topics: Sequence[str] | None,
+    thresholds: Thresholds,
+    ignore: Sequence[str],
+) -> BagReport:
+    """Listen ``duration`` seconds and check what was heard (nothing heard is the ``no_tf`` error)."""
+    if not duration > 0:
+        raise UsageError("--duration must be above 0 seconds", "e.g. --duration 5")
+    from tftools.sources.live.capture import capture
+
+    source = live.open_source(ros1, use_sim_time, topics)
+    stderr.print(f"tfx: listening to {source.describe()} for {duration:g} s", highlight=False)
+    recording = capture(source, duration)
+    for problem in recording.problems:
+        warn(problem)
+    return report(recording, check(recording, thresholds, ignore))
+
+
+def _list_checks() -> None:
+    table = Table(box=None, header_style="bold")
+    for name in ("Code", "Severity", "Looks for"):
+        table.add_column(name)
+    for code, c in CHECKS.items():
+        table.add_row(code, c.severity.value, c.title)
+    stdout.print(table)

@@ -1,0 +1,211 @@
+"""``tfx wtf`` output: findings grouped by severity as text, one JSON document, or JUnit XML for CI."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from collections.abc import Sequence
+from dataclasses import asdict
+from typing import Any, TextIO
+
+from rich.console import Console
+from rich.text import Text
+
+from tftools import __version__
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf import CHECKS, Thresholds
+from tftools.analysis.wtf.fleet import BagReport
+from tftools.core.time import NS_PER_S
+from tftools.render import jsonl
+
+_HEADINGS = {Severity.error: "errors", Severity.warning: "warnings", Severity.info: "notes"}
+_MARKS = {Severity.error: ("✗", "bold red"), Severity.warning: ("!", "yellow"), Severity.info: ("·", "cyan")}
+
+
+def counted(n: int, severity: Severity) -> str:
+    word = _HEADINGS[severity]
+    return f"{n} {word if n != 1 else word[:-1]}"
+
+
+# --- text -------------------------------------------------------------------------------------
+
+
+def write_text(reports: Sequence[BagReport], console: Console, strict: bool = False) -> None:
+    """Each recording's findings by severity with a hint each, then a one-line verdict."""
+    for i, bag in enumerate(reports):
+        if i:
+            console.print()
+        _write_bag(bag, console, strict)
+    if len(reports) > 1:
+        console.print()
+        console.print(_fleet_line(reports, strict))
+
+
+def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
+    header = Text(bag.name, style="bold")
+    if bag.usable:
+        seconds = (bag.end - bag.start) / NS_PER_S
+        header.append(f"  {', '.join(bag.formats)}, {seconds:.1f} s, {bag.transforms} transforms, {bag.frames} frames")
+    console.print(header)
+    findings = [bag.error] if bag.error is not None else bag.findings
+    for severity in Severity:
+        mine = [f for f in findings if f.severity is severity]
+        if not mine:
+            continue
+        console.print(Text(f"{_HEADINGS[severity].upper()} ({len(mine)})", style=_MARKS[severity][1]))
+        for finding in mine:
+            _write_finding(finding, console)
+    console.print(_bag_line(bag, strict))
+
+
+def _write_finding(finding: Finding, console: Console) -> None:
+    mark, style = _MARKS[finding.severity]
+    line = Text(f"  {mark} ", style=style)
+    line.append(finding.code, style=style)
+    line.append(f": {finding.message}")
+    console.print(line)
+    if finding.hint:
+        console.print(Text(f"      hint: {finding.hint}", style="dim"))
+
+
+def _bag_line(bag: BagReport, strict: bool) -> Text:
+    if not bag.usable:
+        return Text("could not be read: UNUSABLE", style="bold red")
+    counts = [bag.count(s) for s in Severity]
+    if not any(counts):
+        return Text("no problems found: PASSED", style="bold green")
+    summary = ", ".join(counted(n, s) for n, s in zip(counts, Severity, strict=True))
+    if bag.failed(strict):
+        return Text(f"{summary}: FAILED", style="bold red")
+    return Text(f"{summary}: PASSED", style="bold green")
+
+
+def _fleet_line(reports: Sequence[BagReport], strict: bool) -> Text:
+    unusable = sum(not r.usable for r in reports)
+    failed = sum(r.usable and r.failed(strict) for r in reports)
+    passed = len(reports) - unusable - failed
+    totals = ", ".join(counted(sum(r.count(s) for r in reports if r.usable), s) for s in Severity)
+    failing = [r.name for r in reports if r.failed(strict)]
+    line = Text(f"{len(reports)} recordings checked: {passed} passed, {failed} failed, {unusable} unusable ({totals})")
+    if failing:
+        line.append(f"; failing: {', '.join(failing)}", style="red")
+    return line
+
+
+# --- JSON -------------------------------------------------------------------------------------
+
+
+def finding_dict(finding: Finding) -> dict[str, Any]:
+    """A finding with times in seconds (null where unknown) and lists for tuples."""
+    return {
+        "severity": finding.severity.value,
+        "code": finding.code,
+        "message": finding.message,
+        "hint": finding.hint,
+        "frames": list(finding.frames),
+        "authorities": list(finding.authorities),
+        "first_time": finding.first_time / NS_PER_S if finding.first_time else None,
+        "last_time": finding.last_time / NS_PER_S if finding.last_time else None,
+        "count": finding.count,
+    }
+
+
+def _counts(reports: Sequence[BagReport]) -> dict[str, int]:
+    return {_HEADINGS[s]: sum(r.count(s) for r in reports if r.usable) for s in Severity}
+
+
+def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
+    return {
+        "paths": list(bag.paths),
+        "formats": list(bag.formats),
+        "start": bag.start / NS_PER_S if bag.usable else None,
+        "end": bag.end / NS_PER_S if bag.usable else None,
+        "transforms": bag.transforms,
+        "frames": bag.frames,
+        "passed": not bag.failed(strict),
+        "error": finding_dict(bag.error) if bag.error is not None else None,
+        "summary": _counts([bag]),
+        "findings": [finding_dict(f) for f in bag.findings],
+    }
+
+
+def as_dict(reports: Sequence[BagReport], strict: bool, thresholds: Thresholds, exit_code: int) -> dict[str, Any]:
+    """The whole run: settings, a summary, and one entry per recording (``bags``) in the order given."""
+    return {
+        "tool": "tfx wtf",
+        "version": __version__,
+        "strict": strict,
+        "thresholds": asdict(thresholds),
+        "exit_code": exit_code,
+        "summary": {
+            "recordings": len(reports),
+            "passed": sum(not r.failed(strict) for r in reports),
+            "failed": sum(r.usable and r.failed(strict) for r in reports),
+            "unusable": sum(not r.usable for r in reports),
+            **_counts(reports),
+        },
+        "bags": [bag_dict(r, strict) for r in reports],
+    }
+
+
+def write_json(reports: Sequence[BagReport], out: TextIO, strict: bool, thresholds: Thresholds, exit_code: int) -> None:
+    jsonl.write_document(as_dict(reports, strict, thresholds, exit_code), out)
+
+
+# --- JUnit ------------------------------------------------------------------------------------
+
+
+def junit(reports: Sequence[BagReport], strict: bool = False, ignore: Sequence[str] = ()) -> ET.Element:
+    """``<testsuites>``: one suite per recording, one case per check; errors fail (warnings too if
+    ``strict``); other findings go to the case's ``system-out``. A recording that could not be read
+    is a suite with one ``read`` case in error."""
+    root = ET.Element("testsuites", name="tfx wtf")
+    totals = {"tests": 0, "failures": 0, "errors": 0}
+    for bag in reports:
+        suite = ET.SubElement(root, "testsuite", name=bag.name)
+        properties = ET.SubElement(suite, "properties")
+        for path in bag.paths:
+            ET.SubElement(properties, "property", name="path", value=path)
+        counts = _bag_suite(suite, bag, strict, ignore)
+        for key, value in counts.items():
+            suite.set(key, str(value))
+            totals[key] += value
+    for key, value in totals.items():
+        root.set(key, str(value))
+    return root
+
+
+def _bag_suite(suite: ET.Element, bag: BagReport, strict: bool, ignore: Sequence[str]) -> dict[str, int]:
+    if bag.error is not None:
+        case = ET.SubElement(suite, "testcase", classname=bag.name, name="read")
+        failure = ET.SubElement(case, "error", type=bag.error.code, message=bag.error.message)
+        failure.text = _finding_text(bag.error)
+        return {"tests": 1, "failures": 0, "errors": 1}
+    failures = tests = 0
+    for code, check in CHECKS.items():
+        if check.run is None or code in ignore:
+            continue
+        tests += 1
+        case = ET.SubElement(suite, "testcase", classname=bag.name, name=code)
+        mine = [f for f in bag.findings if f.code == code]
+        failing = [f for f in mine if f.severity is Severity.error or (strict and f.severity is Severity.warning)]
+        if failing:
+            failures += 1
+            severity = failing[0].severity.value
+            failure = ET.SubElement(case, "failure", type=severity, message=failing[0].message)
+            failure.text = "\n\n".join(_finding_text(f) for f in failing)
+        rest = [f for f in mine if f not in failing]
+        if rest:
+            ET.SubElement(case, "system-out").text = "\n\n".join(_finding_text(f) for f in rest)
+    return {"tests": tests, "failures": failures, "errors": 0}
+
+
+def _finding_text(finding: Finding) -> str:
+    return f"{finding.severity.value}: {finding.code}: {finding.message}\nhint: {finding.hint}"
+
+
+def write_junit(reports: Sequence[BagReport], out: TextIO, strict: bool = False, ignore: Sequence[str] = ()) -> None:
+    tree = ET.ElementTree(junit(reports, strict, ignore))
+    ET.indent(tree)
+    out.write('<?xml version="1.0" encoding="UTF-8"?>\n')
+    tree.write(out, encoding="unicode")
+    out.write("\n")
