@@ -76,5 +76,9 @@ def listen(source: LiveSource, cache_time: int | None = DEFAULT_CACHE_TIME) -> B
     filled from then on in the background, as a ``tf2_ros::TransformListener`` fills its buffer.
     Close the source to stop."""
     buffer = Buffer(cache_time=cache_time, clock=source.clock)
-    source.start(buffer.insert)
+
+    def insert(batch: TransformBatch) -> None:
+        buffer.insert(batch)
+
+    source.start(insert)
     return buffer

@@ -83,19 +83,16 @@ def _stamped(transforms: Sequence[Transform], stamp: int) -> list[Transform]:
 
 
 def _copy_ros1(source: Path, target: Path, transforms: Sequence[Transform]) -> None:
+    from rosbags.interfaces import ConnectionExtRosbag1
     from rosbags.rosbag1 import Reader, Writer
 
     with Reader(source) as reader, Writer(target) as writer:
         start = reader.start_time if reader.message_count else 0
         connections = {}
         for c in reader.connections:
+            ext = c.ext if isinstance(c.ext, ConnectionExtRosbag1) else ConnectionExtRosbag1(None, None)
             connections[c.id] = writer.add_connection(
-                c.topic,
-                c.msgtype,
-                msgdef=c.msgdef.data,
-                md5sum=c.digest,
-                callerid=c.ext.callerid,
-                latching=c.ext.latching,
+                c.topic, c.msgtype, msgdef=c.msgdef.data, md5sum=c.digest, callerid=ext.callerid, latching=ext.latching
             )
         tf_type = message_type(TF_MESSAGE)
         added = writer.add_connection(
@@ -107,7 +104,8 @@ def _copy_ros1(source: Path, target: Path, transforms: Sequence[Transform]) -> N
 
 
 def _copy_rosbag2(source: Path, target: Path, transforms: Sequence[Transform]) -> None:
-    from rosbags.rosbag2 import Reader, StoragePlugin, Writer
+    from rosbags.interfaces import ConnectionExtRosbag2
+    from rosbags.rosbag2 import CompressionFormat, CompressionMode, Reader, StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS2_HUMBLE)
@@ -116,20 +114,20 @@ def _copy_rosbag2(source: Path, target: Path, transforms: Sequence[Transform]) -
         writer = Writer(target, version=8, storage_plugin=plugin)
         if reader.compression_mode and reader.compression_format:
             writer.set_compression(
-                Writer.CompressionMode[reader.compression_mode.upper()],
-                Writer.CompressionFormat[reader.compression_format.upper()],
+                CompressionMode[reader.compression_mode.upper()], CompressionFormat[reader.compression_format.upper()]
             )
         with writer:
             start = reader.start_time if reader.message_count else 0
             connections = {}
             for c in reader.connections:
+                ext = c.ext if isinstance(c.ext, ConnectionExtRosbag2) else ConnectionExtRosbag2("cdr", [])
                 connections[c.id] = writer.add_connection(
                     c.topic,
                     c.msgtype,
                     msgdef=c.msgdef.data,
                     rihs01=c.digest if c.digest.startswith("RIHS01_") else None,
-                    serialization_format=c.ext.serialization_format,
-                    offered_qos_profiles=c.ext.offered_qos_profiles,
+                    serialization_format=ext.serialization_format,
+                    offered_qos_profiles=ext.offered_qos_profiles,
                     typestore=store,
                 )
             existing = [c for c in reader.connections if c.topic == STATIC_TOPIC and c.msgtype == TF_MESSAGE]

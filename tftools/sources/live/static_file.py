@@ -37,7 +37,8 @@ class StaticFileError(SourceError):
 
 def read_static_transforms(path: str | os.PathLike[str]) -> list[Transform]:
     """The transforms listed in the YAML file at ``path`` (stamp 0), in file order."""
-    from ruamel.yaml import YAML, YAMLError
+    from ruamel.yaml import YAML
+    from ruamel.yaml.error import YAMLError
 
     name = str(path)
     try:

@@ -115,7 +115,7 @@ def decode_clock(data: bytes) -> int:
         sec, nsec = _TIME.unpack_from(data, 0)
     except struct.error:
         raise ValueError("not a Clock message") from None
-    return sec * NS_PER_S + nsec
+    return int(sec) * NS_PER_S + int(nsec)
 
 
 def encode_clock(now: int) -> bytes:

@@ -13,6 +13,7 @@ from tftools.sources.live.base import ContextManaged, OnBatch, OnNotice
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.messages import CLOCK, TF_MESSAGE, decode_clock, decode_tf_message, message_type
 from tftools.sources.live.ros1.node import Node
+from tftools.sources.live.ros1.subscriber import OnMessage
 
 
 class Ros1Source(ContextManaged):
@@ -91,7 +92,7 @@ class Ros1Source(ContextManaged):
 
     # --- receiving ---------------------------------------------------------------------------
 
-    def _receiver(self, topic: str):  # noqa: ANN202 - a closure
+    def _receiver(self, topic: str) -> OnMessage:
         static = is_static_topic(topic)
 
         def receive(data: bytes, callerid: str) -> None:
