@@ -1,0 +1,123 @@
+"""Cyclone DDS as ROS 2's rmw_cyclonedds uses it: the domain, participants, QoS, raw samples."""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+from cyclonedds.core import DDSException, InstanceState, Policy, Qos, SampleState, ViewState
+from cyclonedds.domain import Domain, DomainParticipant
+from cyclonedds.internal import SampleInfo
+from cyclonedds.pub import DataWriter
+from cyclonedds.sub import DataReader
+from cyclonedds.topic import Topic
+
+from tftools.sources.live.ros2.conventions import QosProfile, discovery_config
+from tftools.sources.live.ros2.errors import DdsError
+
+_INFINITY = 0x7FFFFFFFFFFFFFFF  # DDS_INFINITY
+_ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any
+
+#: A participant's user data as rmw_cyclonedds sets it (rmw_node.cpp): the security enclave.
+ROS_PARTICIPANT_USER_DATA = b"enclave=/;"
+
+
+def qos(profile: QosProfile, *, writer: bool = False) -> Qos:
+    """``profile`` as rmw_cyclonedds's create_readwrite_qos makes it, XCDR1 only as its sertype allows."""
+    history = Policy.History.KeepAll if profile.keep_all else Policy.History.KeepLast(profile.depth)
+    policies: list[Any] = [
+        history,
+        Policy.Reliability.Reliable(_INFINITY) if profile.reliable else Policy.Reliability.BestEffort,
+        Policy.Durability.TransientLocal if profile.transient_local else Policy.Durability.Volatile,
+        Policy.DataRepresentation(use_cdrv0_representation=True),
+    ]
+    if profile.transient_local:  # Cyclone keeps a transient local writer's history as its durability service
+        policies.append(Policy.DurabilityService(0, history, -1, -1, -1))
+    if writer:
+        policies.append(Policy.WriterDataLifecycle(autodispose=False))
+    return Qos(*policies)
+
+
+class _Domains:
+    """Domains of this process, created once with ROS 2's discovery settings and shared (as
+    rmw_cyclonedds's check_create_domain does): Cyclone refuses a second domain of the same id."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._domains: dict[int, tuple[Domain, int]] = {}
+
+    def acquire(self, domain_id: int) -> None:
+        with self._lock:
+            domain, users = self._domains.get(domain_id) or (None, 0)
+            if domain is None:
+                try:
+                    domain = Domain(domain_id, discovery_config())
+                except DDSException as error:
+                    raise DdsError(f"join DDS domain {domain_id}", error) from None
+            self._domains[domain_id] = (domain, users + 1)
+
+    def release(self, domain_id: int) -> None:
+        with self._lock:
+            domain, users = self._domains[domain_id]
+            if users > 1:
+                self._domains[domain_id] = (domain, users - 1)
+                return
+            del self._domains[domain_id]
+            domain.__del__()  # deletes the domain now, not when Python collects it
+
+
+_DOMAINS = _Domains()
+
+
+class Participant:
+    """A DDS participant on ROS 2 domain ``domain_id``, announced as a ROS 2 participant."""
+
+    def __init__(self, domain_id: int) -> None:
+        self.domain_id = domain_id
+        _DOMAINS.acquire(domain_id)
+        try:
+            self.dds = DomainParticipant(domain_id, qos=Qos(Policy.Userdata(ROS_PARTICIPANT_USER_DATA)))
+        except DDSException as error:
+            _DOMAINS.release(domain_id)
+            raise DdsError(f"join DDS domain {domain_id}", error) from None
+        self._topics: dict[str, Topic[Any]] = {}
+        self._closed = False
+
+    @property
+    def guid(self) -> bytes:
+        return self.dds.guid.bytes
+
+    def topic(self, name: str, data_type: type[Any]) -> Topic[Any]:
+        if name not in self._topics:
+            self._topics[name] = Topic(self.dds, name, data_type)
+        return self._topics[name]
+
+    def reader(self, name: str, data_type: type[Any], profile: QosProfile) -> DataReader[Any]:
+        return DataReader(self.dds, self.topic(name, data_type), qos=qos(profile))
+
+    def writer(self, name: str, data_type: type[Any], profile: QosProfile) -> DataWriter:
+        return DataWriter(self.dds, self.topic(name, data_type), qos=qos(profile, writer=True))
+
+    def close(self) -> None:
+        """Leave the domain: its readers and writers go with it (other participants see them go)."""
+        if self._closed:
+            return
+        self._closed = True
+        self.dds.__del__()  # dds_delete: the participant and all its entities, now
+        _DOMAINS.release(self.domain_id)
+
+
+def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, SampleInfo]]:
+    """Up to ``limit`` samples as the CDR bytes that arrived (encapsulation header first), each with
+    its sample info: decoded by tftools in bulk rather than into one Python object per field."""
+    from cyclonedds._clayer import ddspy_take  # what DataReader.take calls before deserializing
+
+    taken = ddspy_take(reader._ref, _ANY_SAMPLE, limit)
+    if isinstance(taken, int):
+        raise DDSException(taken, f"Occurred while taking data in {reader!r}")
+    return [(data, info) for data, info in taken if info.valid_data]
+
+
+def guid_bytes(key: Any) -> bytes:
+    """A GUID (``uuid.UUID`` as Cyclone's Python API gives them) as its 16 bytes."""
+    return bytes(key.bytes)

@@ -1,0 +1,213 @@
+"""``Ros2Source``: /tf and /tf_static from a ROS 2 system over DDS, as a ``LiveSource``."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from cyclonedds.core import DDSException, GuardCondition, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
+from cyclonedds.util import duration
+
+from tftools.core.batch import TransformBatch, concat_batches
+from tftools.core.time import Clock, SimClock, WallClock
+from tftools.sources.bag.contents import DEFAULT_TOPICS, is_static_topic
+from tftools.sources.live.base import ContextManaged, OnBatch, OnNotice
+from tftools.sources.live.ros2 import conventions as ros2
+from tftools.sources.live.ros2.cdr import decode_clock, decode_tf_message
+from tftools.sources.live.ros2.dds import Participant, take_raw
+from tftools.sources.live.ros2.errors import DdsError
+from tftools.sources.live.ros2.graph import Graph, Writer
+from tftools.sources.live.ros2.idl import Clock as ClockMsg
+from tftools.sources.live.ros2.idl import TFMessage
+
+_ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any
+
+
+@dataclass(frozen=True)
+class _Subscription:
+    topic: str  # the ROS name, e.g. "/tf"
+    reader: Any
+    static: bool
+
+
+@dataclass(frozen=True)
+class _Sample:
+    """A transform message received, waiting for its publisher to be named."""
+
+    subscription: _Subscription
+    data: bytes
+    handle: int
+    record_time: int
+
+
+@dataclass
+class _Listening:
+    graph: Graph
+    subscriptions: list[_Subscription]
+    clock: Any  # the /clock reader under sim time, else None
+    waitset: WaitSet
+    conditions: list[Any]  # kept: Python deleting a condition would delete (detach) its DDS entity
+    pending: list[_Sample] = field(default_factory=list)
+
+
+class Ros2Source(ContextManaged):
+    """Subscribes to ``topics`` (tf2_msgs/msg/TFMessage) on DDS domain ``domain_id`` (``ROS_DOMAIN_ID``)
+    with tf2_ros's TransformListener QoS; each sample's authority is its publisher's node.
+
+    ``use_sim_time``: follow ``/clock``; ROS 2 nodes do so only when their parameter says so, so
+    ``None`` means wall time.
+    """
+
+    format = "ros2-live"
+
+    def __init__(
+        self,
+        topics: Sequence[str] | None = None,
+        use_sim_time: bool | None = None,
+        on_notice: OnNotice | None = None,
+        domain_id: int | None = None,
+    ) -> None:
+        self.topics = tuple(topics) if topics else DEFAULT_TOPICS
+        self.domain_id = ros2.domain_id() if domain_id is None else domain_id
+        self.use_sim_time = bool(use_sim_time)
+        self.message_count = 0
+        self._clock: Clock = SimClock() if self.use_sim_time else WallClock()
+        self._on_notice = on_notice or (lambda _message: None)
+        self._noticed: set[str] = set()
+        self._participant = Participant(self.domain_id)
+        self._closed = threading.Event()
+        self._wake: GuardCondition | None = None
+        self._thread: threading.Thread | None = None
+
+    @property
+    def clock(self) -> Clock:
+        return self._clock
+
+    @property
+    def finished(self) -> bool:
+        return self._closed.is_set()
+
+    def describe(self) -> str:
+        return f"ROS2 DDS domain {self.domain_id}"
+
+    def start(self, on_batch: OnBatch) -> None:
+        """Create the readers (transient local ones get what was published before) and listen."""
+        try:
+            listening = self._listen()
+        except DDSException as error:
+            self.close()
+            raise DdsError(f"listen on DDS domain {self.domain_id}", error) from None
+        self._thread = threading.Thread(target=self._run, args=(on_batch, listening), name="tfx-dds", daemon=True)
+        self._thread.start()
+
+    def close(self) -> None:
+        if self._closed.is_set():
+            return
+        self._closed.set()
+        if self._wake is not None:
+            self._wake.set(True)
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=2.0)
+        self._participant.close()
+
+    # --- receiving ---------------------------------------------------------------------------
+
+    def _listen(self) -> _Listening:
+        participant = self._participant
+        graph = Graph(participant, self._check_writer)
+        subscriptions = [
+            _Subscription(
+                topic,
+                participant.reader(ros2.dds_topic(topic), TFMessage, ros2.listener_qos(topic)),
+                is_static_topic(topic),
+            )
+            for topic in self.topics
+        ]
+        clock = None
+        if self.use_sim_time:
+            clock = participant.reader(ros2.dds_topic(ros2.CLOCK_TOPIC), ClockMsg, ros2.CLOCK_QOS)
+        readers = [*graph.readers, *(s.reader for s in subscriptions), *([clock] if clock is not None else [])]
+        self._wake = GuardCondition(participant.dds)
+        conditions = [*(ReadCondition(reader, _ANY_SAMPLE) for reader in readers), self._wake]
+        waitset = WaitSet(participant.dds)
+        for condition in conditions:
+            waitset.attach(condition)
+        return _Listening(graph, subscriptions, clock, waitset, conditions)
+
+    def _run(self, on_batch: OnBatch, listening: _Listening) -> None:
+        """One thread takes every sample and calls ``on_batch`` with what one wake-up brought."""
+        while not self._closed.is_set():
+            listening.waitset.wait(duration(milliseconds=50) if listening.pending else duration(seconds=1))
+            if self._closed.is_set():
+                return
+            listening.graph.poll()
+            if listening.clock is not None:
+                self._tick(listening.clock, listening.graph)
+            batch = self._take(listening)
+            if len(batch):
+                try:
+                    on_batch(batch)
+                except Exception as error:  # the consumer's bug must not stop the listening
+                    self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")
+
+    def _take(self, listening: _Listening) -> TransformBatch:
+        """New samples, and those held back until their publisher's node is known (a node's
+        ``ros_discovery_info`` may come a moment after its first transforms)."""
+        graph = listening.graph
+        samples = listening.pending
+        for subscription in listening.subscriptions:
+            for data, info in take_raw(subscription.reader):
+                samples.append(_Sample(subscription, data, info.publication_handle, self._clock.now()))
+        listening.pending = [s for s in samples if not graph.settled(s.handle, s.subscription.reader)]
+        batches = [self._decode(s, graph) for s in samples if graph.settled(s.handle, s.subscription.reader)]
+        return concat_batches([b for b in batches if b is not None])
+
+    def _decode(self, sample: _Sample, graph: Graph) -> TransformBatch | None:
+        authority = graph.authority(sample.handle, sample.subscription.reader)
+        static = sample.subscription.static
+        try:
+            batch = decode_tf_message(sample.data, static=static, authority=authority, record_time=sample.record_time)
+        except ValueError as error:
+            self._notice_once(f"{authority} sent an unreadable message on {sample.subscription.topic} ({error})")
+            return None
+        self.message_count += 1
+        return batch
+
+    def _tick(self, reader: Any, graph: Graph) -> None:
+        assert isinstance(self._clock, SimClock)
+        for data, info in take_raw(reader):
+            try:
+                now = decode_clock(data)
+            except ValueError as error:
+                who = graph.authority(info.publication_handle, reader)
+                self._notice_once(f"{who} sent an unreadable /clock ({error})")
+                continue
+            if now < self._clock.now():  # a replay that loops or restarts: ROS time jumps back too
+                self._clock.reset(now)
+            else:
+                self._clock.set(now)
+
+    def _check_writer(self, writer: Writer, who: str) -> None:
+        """Say why a publisher on a listened topic will not be heard (as tf2_ros would not hear it)."""
+        topics = {ros2.dds_topic(t): (t, ros2.TF_MESSAGE) for t in self.topics}
+        if self.use_sim_time:
+            topics[ros2.dds_topic(ros2.CLOCK_TOPIC)] = (ros2.CLOCK_TOPIC, ros2.CLOCK)
+        topic, expected = topics.get(writer.topic, ("", ""))
+        if not topic:
+            return
+        if writer.type_name != expected:
+            sent, wanted = ros2.ros_type(writer.type_name), ros2.ros_type(expected)
+            self._notice_once(f"{who} publishes {topic} as {sent}, not {wanted}: not heard")
+        elif expected == ros2.TF_MESSAGE:
+            qos = ros2.listener_qos(topic)
+            if qos.transient_local and not writer.transient_local:
+                self._notice_once(f"{who} publishes {topic} volatile: tf2 listeners (transient local) do not hear it")
+            elif qos.reliable and not writer.reliable:
+                self._notice_once(f"{who} publishes {topic} best effort: tf2 listeners (reliable) do not hear it")
+
+    def _notice_once(self, message: str) -> None:
+        if message not in self._noticed:
+            self._noticed.add(message)
+            self._on_notice(message)
