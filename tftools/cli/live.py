@@ -22,7 +22,8 @@ RosOption = Annotated[
     bool | None,
     typer.Option(
         "--ros1/--ros2",
-        help="Live: ROS1 (the master at ROS_MASTER_URI) or ROS2. Default: as the environment says.",
+        help="Live: ROS1 (the master at ROS_MASTER_URI) or ROS2 (DDS domain ROS_DOMAIN_ID). "
+        "Default: as the environment says (ROS_VERSION, ROS_MASTER_URI, ROS_DOMAIN_ID).",
         show_default=False,
     ),
 ]
@@ -31,7 +32,7 @@ UseSimTimeOption = Annotated[
     typer.Option(
         "--use-sim-time/--wall-time",
         help="Live: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
-        "Default: the master's /use_sim_time parameter.",
+        "Default: the master's /use_sim_time parameter (ROS1), the wall clock (ROS2).",
         show_default=False,
     ),
 ]

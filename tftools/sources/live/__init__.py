@@ -1,4 +1,4 @@
-"""Live systems: transforms as they arrive from a running ROS1 (or, later, ROS2) system."""
+"""Live systems: transforms as they arrive from a running ROS1 or ROS2 system."""
 
 from __future__ import annotations
 
@@ -19,15 +19,19 @@ Ros = Literal["ros1", "ros2"]
 
 
 def choose_ros(ros: str | None = None) -> Ros:
-    """``ros`` if given, else ROS1 where ``ROS_MASTER_URI`` is set (ROS2 where only ROS2's
-    variables are); raises ``NoRosSelectedError`` when nothing says which."""
+    """``ros`` if given, else what the environment says: ``ROS_VERSION`` (1 or 2, set by ROS's
+    setup scripts), else ROS1 where ``ROS_MASTER_URI`` is set, else ROS2 where ``ROS_DOMAIN_ID`` is;
+    raises ``NoRosSelectedError`` when nothing says which."""
     if ros in ("ros1", "ros2"):
         return ros  # type: ignore[return-value]
     if ros is not None:
         raise LiveError(f"unknown ROS version {ros!r}", "use ros1 or ros2")
+    version = os.environ.get("ROS_VERSION", "").strip()
+    if version in ("1", "2"):
+        return "ros1" if version == "1" else "ros2"
     if os.environ.get("ROS_MASTER_URI"):
         return "ros1"
-    if os.environ.get("ROS_VERSION") == "2" or os.environ.get("ROS_DOMAIN_ID"):
+    if os.environ.get("ROS_DOMAIN_ID"):
         return "ros2"
     raise NoRosSelectedError()
 
@@ -42,15 +46,18 @@ def open_live(
     name: str = "tfx",
 ) -> LiveSource:
     """A live source, not yet started: ROS1 through its master (``master_uri`` or
-    ``ROS_MASTER_URI``), chosen as ``choose_ros`` says.
+    ``ROS_MASTER_URI``) or ROS2 over DDS (domain ``ROS_DOMAIN_ID``), chosen as ``choose_ros`` says.
 
     ``use_sim_time``: follow ``/clock``; ``None`` does as the system says (ROS1: the master's
-    ``/use_sim_time``). ``on_notice`` hears one-line notices (lost publishers, wrong types).
+    ``/use_sim_time``; ROS2: wall time, a node's default). ``on_notice`` hears one-line notices
+    (lost publishers, wrong types).
     Raises ``LiveError`` (e.g. ``MasterUnreachableError``) when the system cannot be reached.
     """
     chosen = "ros1" if master_uri else choose_ros(ros)
     if chosen == "ros2":
-        raise Ros2NotAvailableError()
+        from tftools.sources.live import ros2
+
+        return ros2.open_source(topics, use_sim_time, on_notice)
     from tftools.sources.live.ros1 import Ros1Source
 
     return Ros1Source(master_uri, topics, use_sim_time, on_notice, name)
@@ -60,10 +67,13 @@ def open_static_broadcaster(
     ros: str | None = None, *, master_uri: str | None = None, on_notice: OnNotice | None = None
 ) -> StaticBroadcaster:
     """A static transform publisher on the system ``choose_ros`` picks (ROS1: a node registered
-    with the master at ``master_uri`` or ``ROS_MASTER_URI``, latched ``/tf_static``)."""
+    with the master at ``master_uri`` or ``ROS_MASTER_URI``, latched ``/tf_static``; ROS2: a DDS
+    writer on ``rt/tf_static``, transient local, keep last 1)."""
     chosen = "ros1" if master_uri else choose_ros(ros)
     if chosen == "ros2":
-        raise Ros2NotAvailableError()
+        from tftools.sources.live import ros2
+
+        return ros2.open_static_broadcaster(on_notice)
     from tftools.sources.live.ros1.broadcaster import Ros1StaticBroadcaster
 
     return Ros1StaticBroadcaster(master_uri, on_notice)

@@ -29,8 +29,9 @@ class MasterRefusedError(LiveError):
 class NoRosSelectedError(LiveError):
     def __init__(self) -> None:
         super().__init__(
-            "no live ROS system to listen to: ROS_MASTER_URI is not set",
-            "give a bag with -b BAG, or set ROS_MASTER_URI (e.g. http://localhost:11311), or pass --ros1",
+            "no live ROS system to listen to: ROS_MASTER_URI is not set (nor ROS_VERSION, nor ROS_DOMAIN_ID)",
+            "give a bag with -b BAG, or set ROS_MASTER_URI (e.g. http://localhost:11311), or pass --ros1, "
+            "or --ros2 for ROS 2 (DDS domain ROS_DOMAIN_ID, default 0)",
         )
 
 
