@@ -186,11 +186,11 @@ class Scene:
     # --- wording ----------------------------------------------------------------------------
 
     def by(self, authorities: Sequence[str]) -> str:
-        """ "by /a and /b" (ROS1 publishers), "on /tf" (a ROS2 bag's topics), or "" if unknown."""
+        """' by /a and /b' (ROS1 names publishers), ' on /tf' (a ROS2 bag, the topics), or '' if unknown."""
         named = [a for a in authorities if a]
         if not named:
             return ""
-        return ("by " if self.publishers_known else "on ") + _and(named)
+        return (" by " if self.publishers_known else " on ") + _and(named)
 
     def at(self, ns: int) -> str:
         """A moment: absolute seconds, and seconds into the recording."""
@@ -205,6 +205,10 @@ class Scene:
 
 def edge(parent: str, child: str) -> str:
     return f"{parent} -> {child}"
+
+
+def transforms(n: int) -> str:
+    return f"{n} transform{'' if n == 1 else 's'}"
 
 
 def duration(seconds: float) -> str:

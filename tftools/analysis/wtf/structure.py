@@ -10,7 +10,7 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed
+from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
 
 #: tf2's words when a lookup meets a loop.
 TF2_LOOP = "The tf tree is invalid because it contains a loop."
@@ -91,7 +91,7 @@ def _loop_finding(scene: Scene, loop: list[str], what: str, span: tuple[int, int
     for parent, child, mine in scene.by_edge(rows.usable):
         if (rows.names[parent], rows.names[child]) in pairs:
             authorities.extend(a for a in scene.authorities_of(mine) if a not in authorities)
-    publishers = f" ({scene.by(authorities)})" if authorities else ""
+    publishers = f" ({scene.by(authorities).strip()})" if authorities else ""
     if span is None:
         stamps = [h.latest_stamp for f in loop if (h := scene.buffer.history(f)) is not None]
         first, last = min(stamps), max(stamps)
@@ -187,7 +187,7 @@ def _parents_finding(scene: Scene, child_id: int, mine: np.ndarray, switches: np
         publishers.append(set(who))
         by = scene.by(who)
         described.append(
-            f"{rows.names[parent_id]} ({by + ', ' if by else ''}{len(theirs)} transforms "
+            f"{rows.names[parent_id]} ({by.strip() + ', ' if by else ''}{transforms(len(theirs))} "
             f"from {scene.rel(int(times.min()))} to {scene.rel(int(times.max()))})"
         )
     hist = scene.buffer.history(child)
@@ -245,7 +245,7 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
         times = scene.arrival(theirs)
         spans.append((rows.authorities[int(authority)], len(theirs), int(times.min()), int(times.max())))
     together = any(a[2] <= b[3] and b[2] <= a[3] for i, a in enumerate(spans) for b in spans[i + 1 :])
-    parts = "; ".join(f"{n} ({c} transforms from {scene.rel(s)} to {scene.rel(e)})" for n, c, s, e in spans)
+    parts = "; ".join(f"{n} ({transforms(c)} from {scene.rel(s)} to {scene.rel(e)})" for n, c, s, e in spans)
     first, last = min(s[2] for s in spans), max(s[3] for s in spans)
     source = "nodes" if scene.publishers_known else "topics"
     if together:

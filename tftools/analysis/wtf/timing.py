@@ -8,7 +8,7 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import EdgeSamples, Int64Array, Scene, duration, edge, listed
+from tftools.analysis.wtf.scene import EdgeSamples, Int64Array, Scene, duration, edge, listed, transforms
 from tftools.analysis.wtf.thresholds import PERIODS
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.history import FROM_STATIC_TOPIC
@@ -16,8 +16,9 @@ from tftools.core.time import NS_PER_S
 
 #: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
 EPOCH_FLOOR = 1_000_000_000 * NS_PER_S
-#: Intervals whose standard deviation exceeds their mean this many times make a rate irregular.
-IRREGULAR = 1.0
+#: A rate is irregular when more than IRREGULAR_SHARE of its intervals are off the median by IRREGULAR of it.
+IRREGULAR = 0.5
+IRREGULAR_SHARE = 0.25
 IRREGULAR_MIN_INTERVALS = 20
 
 _CLOCK_HINTS = {
@@ -47,14 +48,14 @@ def stale(scene: Scene) -> Iterator[Finding]:
             continue
         by = scene.by(s.authorities)
         if s.count == 1:
-            message = f"{edge(s.parent, s.child)} was sent once on /tf{' ' + by if by else ''}"
+            message = f"{edge(s.parent, s.child)} was sent once on /tf{by}"
             message += f", stamped {scene.at(s.last_stamp)}"
             hint = (
                 "a /tf transform holds only at its stamp, so lookups at any other time fail: publish a fixed "
                 "transform on /tf_static (static_transform_publisher), or keep publishing it"
             )
         else:
-            message = f"{edge(s.parent, s.child)}{' ' + by if by else ''} stopped at {scene.at(s.last_stamp)}"
+            message = f"{edge(s.parent, s.child)}{by} stopped at {scene.at(s.last_stamp)}"
             hint = (
                 "its publisher stopped (crashed, shut down or stalled) while the recording went on: lookups after "
                 "its last stamp fail with 'Lookup would require extrapolation into the future'; check that node"
@@ -98,19 +99,18 @@ def clock_kind(scene: Scene, e: EdgeSamples) -> str | None:
 
 @register("clock", Severity.error, "stamps on another clock than the recording's (the use_sim_time mistake)")
 def clock(scene: Scene) -> Iterator[Finding]:
-    groups: dict[tuple[str, tuple[str, ...]], list[EdgeSamples]] = {}
+    groups: dict[str, list[EdgeSamples]] = {}
     for e in scene.dynamic_edges:
         kind = clock_kind(scene, e)
         if kind is not None:
-            groups.setdefault((kind, e.authorities), []).append(e)
-    for (kind, authorities), edges in groups.items():
+            groups.setdefault(kind, []).append(e)
+    for kind, edges in groups.items():
+        authorities = tuple(dict.fromkeys(a for e in edges for a in e.authorities))
         stamps = np.concatenate([_arrivals(e)[0] for e in edges])
         records = np.concatenate([_arrivals(e)[1] for e in edges])
         stamp, record = np.median(stamps) / NS_PER_S, np.median(records) / NS_PER_S
         offset = float(np.median(records - stamps)) / NS_PER_S
-        what = (
-            f"{listed([edge(e.parent, e.child) for e in edges], 4)}{' ' + scene.by(authorities) if authorities else ''}"
-        )
+        what = f"{listed([edge(e.parent, e.child) for e in edges], 4)}{scene.by(authorities)}"
         said = {
             "boot": f"stamped around {stamp:.1f} s, a clock counting from boot or a simulation's start, while the "
             f"recording's clock reads {record:.1f} s (epoch time)",
@@ -122,7 +122,7 @@ def clock(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.error,
             "clock",
-            f"{what}: {said} (median of {len(stamps)} transforms)",
+            f"{what}: {said} (median of {transforms(len(stamps))})",
             _CLOCK_HINTS[kind]
             + "; until then lookups combining these with other frames fail with extrapolation errors",
             tuple(f for e in edges for f in (e.parent, e.child)),
@@ -146,7 +146,7 @@ def future(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.error,
             "future",
-            f"{edge(e.parent, e.child)}{' ' + by if by else ''}: {int(early.sum())} of {len(stamps)} transforms "
+            f"{edge(e.parent, e.child)}{by}: {int(early.sum())} of {transforms(len(stamps))} "
             f"stamped up to {duration(ahead.max() / NS_PER_S)} after they were recorded, first at "
             f"{scene.at(int(records[early][0]))}",
             "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates its "
@@ -175,8 +175,8 @@ def delay(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.warning,
             "delay",
-            f"{edge(e.parent, e.child)}{' ' + by if by else ''} arrives late: {int(late.sum())} of {len(stamps)} "
-            f"transforms more than {scene.thresholds.delay:g} s after their stamp (median "
+            f"{edge(e.parent, e.child)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
+            f"more than {scene.thresholds.delay:g} s after their stamp (median "
             f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)})",
             "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
             "waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
@@ -202,7 +202,7 @@ def rate(scene: Scene) -> Iterator[Finding]:
         authorities = tuple(scene.buffer.authorities[int(a)] for a in np.unique(hist.authorities))
         by = scene.by(authorities)
         gaps = np.flatnonzero(intervals > limit)
-        what = f"{edge(parent, child)}{' ' + by if by else ''}"
+        what = f"{edge(parent, child)}{by}"
         if len(gaps):
             longest = int(gaps[np.argmax(intervals[gaps])])
             yield Finding(
@@ -220,14 +220,14 @@ def rate(scene: Scene) -> Iterator[Finding]:
                 len(gaps),
             )
             continue
-        mean, spread = float(intervals.mean()), float(intervals.std())
-        if len(intervals) >= IRREGULAR_MIN_INTERVALS and spread > IRREGULAR * mean:
+        off = (intervals < (1 - IRREGULAR) * period) | (intervals > (1 + IRREGULAR) * period)
+        if len(intervals) >= IRREGULAR_MIN_INTERVALS and off.mean() > IRREGULAR_SHARE:
             yield Finding(
                 Severity.warning,
                 "rate",
-                f"{what} publishes irregularly: intervals from {duration(intervals.min() / NS_PER_S)} to "
-                f"{duration(intervals.max() / NS_PER_S)} (mean {duration(mean / NS_PER_S)}, standard deviation "
-                f"{duration(spread / NS_PER_S)})",
+                f"{what} publishes irregularly: {off.mean():.0%} of its intervals are more than {IRREGULAR:.0%} "
+                f"off the usual {duration(period / NS_PER_S)} (from {duration(intervals.min() / NS_PER_S)} to "
+                f"{duration(intervals.max() / NS_PER_S)})",
                 "interpolation between far-apart samples is coarse: publish on a timer at a steady rate",
                 (parent, child),
                 authorities,
@@ -244,7 +244,7 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
         stamps = rows.stamp[mine]
         if len(stamps) < 2:
             continue
-        before = np.concatenate([[np.iinfo(np.int64).min], np.maximum.accumulate(stamps)[:-1]])
+        before = np.concatenate([stamps[:1], np.maximum.accumulate(stamps)[:-1]])  # the newest stamp so far
         back = stamps < before
         repeat, same = _repeats(stamps, rows.values[mine])
         repeat &= ~back
@@ -273,18 +273,21 @@ def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 def _went_back(
-    scene: Scene, name: str, frames: tuple[str, str], mine: np.ndarray, back: np.ndarray, step: Int64Array
+    scene: Scene, name: str, frames: tuple[str, str], mine: np.ndarray, back: np.ndarray, behind: Int64Array
 ) -> Finding:
-    largest = int(step[back].max())
+    """``back`` marks the rows stamped before the newest stamp so far, ``behind`` by how much."""
+    stamps = scene.rows.stamp[mine]
+    jumps = int((stamps[1:] < stamps[:-1]).sum())
+    largest = int(behind[back].max())
     offenders = mine[back]
     who = scene.authorities_of(mine)
-    by = scene.by(scene.authorities_of(offenders))
-    if largest > DEFAULT_CACHE_TIME:
+    if largest >= NS_PER_S:
         hint = (
-            "time jumped back (a bag replayed in a loop, a restarted simulation, a clock reset): tf2 refuses data "
-            "older than its cache (10 s) behind the newest (TF_OLD_DATA), so listeners must be restarted or reset "
-            "after a time jump"
+            "time jumped back (a bag replayed in a loop, a restarted simulation, a clock reset): listeners keep "
+            "the newer data and must be reset (tf2_ros clears its buffer when ROS time jumps back)"
         )
+        if largest > DEFAULT_CACHE_TIME:
+            hint += "; tf2 refuses samples older than its 10 s cache behind the newest (TF_OLD_DATA)"
     elif len(who) > 1:
         hint = "several publishers send this frame with different stamps: let one of them publish it"
     else:
@@ -292,14 +295,15 @@ def _went_back(
     return Finding(
         Severity.error,
         "time_backwards",
-        f"stamps of {name}{' ' + by if by else ''} went back {int(back.sum())} time{'s' if back.sum() > 1 else ''}, "
-        f"by up to {duration(largest / NS_PER_S)}, first at {scene.at(int(scene.arrival(offenders).min()))}",
+        f"stamps of {name}{scene.by(scene.authorities_of(offenders))} went back {jumps} time{'s' if jumps > 1 else ''}"
+        f", by up to {duration(largest / NS_PER_S)}, first at {scene.at(int(scene.arrival(offenders).min()))}: "
+        f"{transforms(len(offenders))} stamped before one already sent",
         hint,
         frames,
         who,
         int(scene.rows.stamp[offenders].min()),
         int(scene.rows.stamp[offenders].max()),
-        int(back.sum()),
+        len(offenders),
     )
 
 
@@ -311,7 +315,7 @@ def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.nd
         return Finding(
             Severity.warning,
             "time_backwards",
-            f"{name}{' ' + by if by else ''} sent {len(offenders)} transforms again with a stamp and values it had "
+            f"{name}{by} sent {transforms(len(offenders))} again with a stamp and values it had "
             f"already sent, first at {first}: tf2 ignores each, logging TF_REPEATED_DATA",
             "publish each stamp once (a timer faster than its input republishes the last transform)",
             frames,
@@ -323,7 +327,7 @@ def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.nd
     return Finding(
         Severity.error,
         "time_backwards",
-        f"{name}{' ' + by if by else ''} sent {len(offenders)} transforms with a stamp it had already sent but other "
+        f"{name}{by} sent {transforms(len(offenders))} with a stamp it had already sent but other "
         f"values, first at {first}: tf2 ignores them (TF_REPEATED_DATA), so those updates are lost",
         "stamp each update with the time it describes; two publishers or a stamp that does not advance repeat it",
         frames,

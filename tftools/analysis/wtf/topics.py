@@ -8,7 +8,7 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed
+from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
@@ -38,7 +38,7 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
             Severity.warning,
             "static_on_dynamic",
             f"{edge(rows.names[parent], rows.names[child])} never changes, yet it is sent on /tf{_by(scene, who)} "
-            f"{(len(mine) - 1) / span:.1f} times a second ({len(mine)} transforms over {duration(span)})",
+            f"{(len(mine) - 1) / span:.1f} times a second ({transforms(len(mine))} over {duration(span)})",
             "publish it once on /tf_static (static_transform_publisher, or a fixed joint for robot_state_publisher): "
             "it then holds at every time and /tf carries less; ignore this if it is a joint that did not move "
             "during this recording",
@@ -102,7 +102,8 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
             Severity.error,
             "mixed_static",
             f"{name} (under {parents}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
-            f"({len(fixed)} transforms) and on /tf{_by(scene, scene.authorities_of(moving))} ({len(moving)}): {effect}",
+            f"({transforms(len(fixed))}) and on /tf{_by(scene, scene.authorities_of(moving))} "
+            f"({transforms(len(moving))}): {effect}",
             "send each frame on one topic: /tf_static if it never moves, /tf otherwise",
             (name, *sorted({rows.names[p] for p in rows.parent[mine].tolist()})),
             scene.authorities_of(mine),

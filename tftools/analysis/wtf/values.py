@@ -8,7 +8,7 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import BoolArray, IntpArray, Scene, edge, listed
+from tftools.analysis.wtf.scene import BoolArray, IntpArray, Scene, edge, listed, transforms
 from tftools.core.buffer import QUATERNION_TOLERANCE
 
 #: roswtf's limit on | |q| - 1 | for a rotation to count as normalised.
@@ -33,8 +33,8 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.warning if worst > VISIBLE_NORM_ERROR else Severity.info,
             "invalid_values",
-            f"rotations of {edge(rows.names[parent], rows.names[child])} {scene.by(scene.authorities_of(mine))} "
-            f"are not unit length in {len(mine)} transforms (| |q| - 1 | up to {worst:.2g}): tf2 accepts them, "
+            f"rotations of {edge(rows.names[parent], rows.names[child])}{scene.by(scene.authorities_of(mine))} "
+            f"are not unit length in {transforms(len(mine))} (| |q| - 1 | up to {worst:.2g}): tf2 accepts them, "
             "but points through this edge get scaled",
             "normalise the quaternion before publishing (tf2::Quaternion::normalize()); roswtf flags rotations "
             f"off by more than {ROSWTF_NORM_TOLERANCE:g}",
@@ -79,7 +79,7 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
     return Finding(
         Severity.error,
         "invalid_values",
-        f"{len(mine)} transforms {edge(parent or '(empty)', child or '(empty)')}{' ' + by if by else ''} "
+        f"{transforms(len(mine))} {edge(parent or '(empty)', child or '(empty)')}{by} "
         f"refused by tf2 ({', '.join(kinds)}), first at {scene.at(int(times.min()))}",
         "tf2 drops them (TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION), so lookups miss these updates: " + "; ".join(hints),
         tuple(f for f in (parent, child) if f),
@@ -103,7 +103,7 @@ def self_transform(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.error,
             "self_transform",
-            f"{len(mine)} transforms from {frame} to itself{' ' + by if by else ''}{sent}, "
+            f"{transforms(len(mine))} from {frame} to itself{by}{sent}, "
             f"first at {scene.at(int(scene.arrival(mine).min()))}: tf2 ignores them (TF_SELF_TRANSFORM)",
             "header.frame_id must name the parent and child_frame_id the frame that moves: set them to two "
             "different frames (a name with and without a leading '/' is the same frame)",
@@ -137,7 +137,7 @@ def empty_frame_id(scene: Scene) -> Iterator[Finding]:
             yield Finding(
                 Severity.error,
                 "empty_frame_id",
-                f"{len(mine)} transforms{' ' + by if by else ''} with an empty {field} "
+                f"{transforms(len(mine))}{by} with an empty {field} "
                 f"({other_field} {named or 'empty too'}), first at {scene.at(int(scene.arrival(mine).min()))}: "
                 f"tf2 ignores them (TF_NO_{'CHILD_' if field == 'child_frame_id' else ''}FRAME_ID)",
                 "set both header.frame_id and child_frame_id (an empty frame parameter in a launch file or "
@@ -171,8 +171,8 @@ def leading_slash(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.warning,
             "leading_slash",
-            f"frame ids with a leading '/'{' ' + by if by else ''}: {listed(names)} "
-            f"(in {len(mine)} transforms, first at {scene.at(int(scene.arrival(mine).min()))})",
+            f"frame ids with a leading '/'{by}: {listed(names)} "
+            f"(in {transforms(len(mine))}, first at {scene.at(int(scene.arrival(mine).min()))})",
             "tf2 drops the '/' when it stores them, but lookups by those names fail ('frame_ids cannot start with "
             "a /') and tools comparing names see two frames: remove the '/' from the publisher's frame names "
             "(tf_prefix is gone since ROS Hydro)",

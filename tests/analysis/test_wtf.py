@@ -1,0 +1,274 @@
+"""The checker on recordings made to show one problem each: the finding it must give, and silence otherwise."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.analysis.wtf_scenes import (
+    MS,
+    PROBLEMS,
+    START,
+    TfMessage,
+    _s,
+    _t,
+    amcl,
+    ekf,
+    healthy,
+    odom_base,
+    periodic,
+    recording,
+    statics,
+    with_extra,
+)
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf import CHECKS, Thresholds, check
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+
+
+def loud(findings: list[Finding]) -> list[Finding]:
+    return [f for f in findings if f.severity is not Severity.info]
+
+
+def only(findings: list[Finding], code: str) -> Finding:
+    found = [f for f in findings if f.code == code]
+    assert len(found) == 1, findings
+    return found[0]
+
+
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+def test_a_healthy_robot_gives_no_finding_at_all(ros1: bool) -> None:
+    assert check(recording(healthy(), ros1=ros1)) == []
+
+
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+@pytest.mark.parametrize("name", list(PROBLEMS))
+def test_each_problem_gives_exactly_its_finding_naming_frames_and_publisher(name: str, ros1: bool) -> None:
+    problem = PROBLEMS[name]
+    findings = check(recording(problem.make(), problem.topics, ros1=ros1))
+    assert [f.code for f in loud(findings)] == [problem.code], findings
+    finding = findings[0]
+    assert finding.severity.value == problem.severity
+    assert set(problem.frames) <= set(finding.frames)
+    for frame in problem.frames:
+        assert frame in finding.message
+    for word in problem.words:
+        assert word in finding.message + finding.hint
+    if ros1 and problem.publisher:
+        assert problem.publisher in finding.authorities and problem.publisher in finding.message
+    assert finding.hint and "\n" not in finding.message
+    assert finding.first_time <= finding.last_time
+
+
+def test_every_registered_check_has_a_scene() -> None:
+    shown = {p.code for p in PROBLEMS.values()}
+    assert set(CHECKS) - shown == {"bag_problem", "unreadable"}  # both tested on files (tests/cli)
+
+
+def test_findings_come_errors_first() -> None:
+    messages = with_extra(
+        periodic("/sonar_tf", 10, lambda t: [_t("base_link", "sonar", t, 0.3)]), ekf=ekf(end=4.0)
+    )  # a warning and an error
+    findings = check(recording(messages))
+    assert [f.code for f in findings] == ["stale", "static_on_dynamic"]
+
+
+# --- thresholds and options ------------------------------------------------------------------
+
+
+def test_thresholds_move_the_limits() -> None:
+    late = recording(PROBLEMS["delay"].make())
+    assert check(late, Thresholds(delay=1.0)) == []
+    assert [f.code for f in check(late, Thresholds(delay=0.4))] == ["delay"]
+    stopped = recording(PROBLEMS["stale"].make())
+    assert check(stopped, Thresholds(stale_after=7.0)) == []
+    gap = recording(PROBLEMS["rate"].make())
+    assert check(gap, Thresholds(max_gap=4.0)) == []
+    ahead = recording(PROBLEMS["future"].make())
+    assert check(ahead, Thresholds(future=5.0)) == []
+    assert [f.code for f in check(ahead, Thresholds(future=5.0, clock=2.0))] == ["clock"]
+
+
+def test_thresholds_must_be_positive() -> None:
+    with pytest.raises(ValueError, match="delay"):
+        Thresholds(delay=0)
+
+
+def test_ignored_checks_do_not_run_and_unknown_codes_are_refused() -> None:
+    stopped = recording(PROBLEMS["stale"].make())
+    assert check(stopped, ignore={"stale"}) == []
+    with pytest.raises(ValueError, match="no such check: stail"):
+        check(stopped, ignore={"stail"})
+
+
+# --- what each finding says, case by case ----------------------------------------------------
+
+
+def test_cycle_of_the_latest_parents_names_the_loop_in_order_and_tf2s_error() -> None:
+    finding = only(check(recording(PROBLEMS["cycle"].make())), "cycle")
+    assert "base_link -> map -> odom -> base_link" in finding.message  # map's parent is base_link
+    assert "contains a loop" in finding.message
+    assert set(finding.authorities) == {"/amcl", "/ekf", "/rogue"}
+
+
+def test_a_loop_only_in_the_raw_data_is_found_with_the_times_it_held() -> None:
+    # odom stays under map, but between 2 s and 5 s it was also sent under base_link
+    messages = with_extra(
+        periodic("/rogue", 10, lambda t: [_t("base_link", "odom", t, _s(t))], start=2.0, end=5.0, phase=0.05)
+    )
+    findings = check(recording(messages))
+    assert {f.code for f in loud(findings)} == {"cycle", "multiple_parents"}
+    loop = only(findings, "cycle")
+    assert "transforms stamped" in loop.message and "+2.0 s" in loop.message
+    assert START + 2 * NS_PER_S <= loop.first_time <= loop.last_time <= START + 5 * NS_PER_S
+
+
+def test_a_loop_across_times_that_never_overlap_is_no_cycle() -> None:
+    # base_link under odom until 4 s, then under map; odom under base_link from 5 s: never a loop at one time
+    messages = with_extra(
+        periodic("/ekf", 50, lambda t: [_t("map", "base_link", t, _s(t))], start=4.0),
+        periodic("/rogue", 50, lambda t: [_t("base_link", "odom", t, _s(t))], start=5.0, phase=0.01),
+        ekf=ekf(end=4.0),
+    )
+    codes = {f.code for f in loud(check(recording(messages)))}
+    assert "multiple_parents" in codes and "cycle" not in codes
+
+
+def test_disconnected_lists_each_tree_and_spots_a_misspelt_root() -> None:
+    typo = TfMessage("/tf_static", START + 3 * MS, [_t("base_lnk", "sonar", START)], "/rsp")
+    finding = only(check(recording(with_extra([typo]))), "disconnected")
+    assert finding.frames == ("map", "base_lnk")
+    assert "map (6 frames" in finding.message and "base_lnk (2 frames: base_lnk, sonar)" in finding.message
+    assert "'base_lnk' looks like a misspelling of 'base_link'" in finding.hint
+
+
+def test_multiple_parents_says_who_set_each_parent_and_when() -> None:
+    finding = only(check(recording(PROBLEMS["multiple_parents"].make())), "multiple_parents")
+    assert finding.frames == ("base_link", "odom", "map")
+    assert "odom (by /ekf, 500 transforms" in finding.message and "map (by /rogue, 50 transforms" in finding.message
+    assert "fight over it" in finding.hint
+    assert finding.first_time == START + 5_010 * MS + 2 * MS  # the first /rogue message's arrival
+    assert finding.count == 100  # base_link flips at every /rogue message and back
+
+
+def test_an_edge_handed_over_from_one_publisher_to_another_is_a_note() -> None:
+    messages = healthy(ekf=ekf(end=5.0) + periodic("/ekf_new", 50, odom_base, start=5.5))
+    findings = check(recording(messages))
+    assert loud(findings) == []
+    note = only(findings, "multiple_authorities")
+    assert note.severity is Severity.info and note.authorities == ("/ekf", "/ekf_new")
+
+
+def test_a_transform_sent_once_on_tf_is_stale_with_the_static_advice() -> None:
+    once = TfMessage("/tf", START + 3 * MS, [_t("base_link", "sonar", START)], "/sonar")
+    finding = only(check(recording(with_extra([once]))), "stale")
+    assert "sent once on /tf" in finding.message and "/tf_static" in finding.hint
+
+
+def test_a_frame_moved_under_another_parent_is_not_stale() -> None:
+    messages = healthy(ekf=ekf(end=5.0)) + periodic("/ekf", 50, lambda t: [_t("map", "base_link", t, _s(t))], start=5.0)
+    codes = {f.code for f in check(recording(sorted(messages, key=lambda m: m.record_time)))}
+    assert "stale" not in codes and "multiple_parents" in codes
+
+
+def test_clock_tells_a_recording_on_simulated_time_from_stamps_on_wall_time() -> None:
+    sim = 500 * NS_PER_S  # the recorder's /clock
+    messages = [TfMessage(m.topic, m.record_time - START + sim, m.transforms, m.publisher) for m in healthy()]
+    finding = only(check(recording(sorted(messages, key=lambda m: m.record_time))), "clock")
+    assert "simulated clock" in finding.message and "use_sim_time true" in finding.hint
+    assert set(finding.frames) == {"map", "odom", "base_link", "wheel"}
+
+
+def test_clock_ahead_is_another_clock_not_a_future_stamp() -> None:
+    ahead = recording(healthy(ekf=ekf(stamp=lambda t: t + 60 * NS_PER_S)))
+    finding = only(check(ahead), "clock")
+    assert "60.0 s after they were recorded" in finding.message and "chrony" in finding.hint
+
+
+@pytest.mark.parametrize(("length", "severity"), [(1.0001, Severity.info), (1.002, Severity.warning)])
+def test_a_slightly_long_rotation_tf2_accepts_is_a_warning_or_a_note(length: float, severity: Severity) -> None:
+    def long_rotation(stamp: int) -> list[Transform]:
+        return [Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, length), stamp, "odom", "base_link")]
+
+    findings = check(recording(healthy(ekf=periodic("/ekf", 50, long_rotation))))
+    finding = only(findings, "invalid_values")
+    assert finding.severity is severity and finding.count == 500
+    assert f"{length - 1:.2g}" in finding.message and "tf2 accepts them" in finding.message
+
+
+def test_infinity_is_refused_like_nan() -> None:
+    def infinite(stamp: int) -> list[Transform]:
+        if 2.0 <= _s(stamp) < 2.1:
+            return [Transform((float("inf"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "odom", "base_link")]
+        return odom_base(stamp)
+
+    finding = only(check(recording(healthy(ekf=periodic("/ekf", 50, infinite)))), "invalid_values")
+    assert "infinity in 5" in finding.message and finding.severity is Severity.error
+
+
+def test_a_self_transform_spelt_with_a_slash_says_it_is_one_frame() -> None:
+    messages = with_extra(periodic("/rogue", 5, lambda t: [_t("/base_link", "base_link", t)]))
+    findings = check(recording(messages))
+    finding = only(findings, "self_transform")
+    assert "sent as /base_link -> base_link" in finding.message
+    assert {f.code for f in loud(findings)} == {"self_transform", "leading_slash"}
+
+
+def test_empty_child_frame_id_is_named_as_such() -> None:
+    messages = with_extra(periodic("/rogue", 5, lambda t: [_t("base_link", "", t)]))
+    finding = only(check(recording(messages)), "empty_frame_id")
+    assert "empty child_frame_id (frame_id base_link)" in finding.message and "TF_NO_CHILD_FRAME_ID" in finding.message
+
+
+def test_stamps_jumping_back_beyond_tf2s_cache_suggest_a_time_jump() -> None:
+    def looped(t: int) -> int:  # a bag played with -l: stamps restart after 6 s
+        return t - 6 * NS_PER_S if t >= START + 6 * NS_PER_S else t
+
+    finding = only(check(recording(healthy(ekf=ekf(stamp=looped)))), "time_backwards")
+    assert "went back 1 time, by up to 6.0 s" in finding.message
+    assert "200 transforms stamped before one already sent" in finding.message
+    assert "time jumped back" in finding.hint
+    # under tf2's 10 s cache the samples are stored, so no advice about TF_OLD_DATA
+    assert "TF_OLD_DATA" not in finding.hint
+
+
+def test_repeated_stamps_with_new_values_are_an_error() -> None:
+    def stuck(stamp: int) -> int:  # the stamp advances every 0.1 s only, the values every 0.02 s
+        return START + (stamp - START) // (100 * MS) * 100 * MS
+
+    messages = healthy(ekf=periodic("/ekf", 50, lambda t: [_t("odom", "base_link", stuck(t), _s(t))]))
+    finding = only(check(recording(messages)), "time_backwards")
+    assert finding.severity is Severity.error and finding.count == 400
+    assert "other values" in finding.message
+
+
+def test_mixed_static_first_on_tf_says_the_static_one_counts_at_its_stamp_only() -> None:
+    late_static = TfMessage("/tf_static", START + 5 * NS_PER_S, [_t("odom", "base_link", START)], "/rsp")
+    finding = only(check(recording(with_extra([late_static]))), "mixed_static")
+    assert "first transform came on /tf)" in finding.message
+
+
+def test_only_static_transforms_is_a_note() -> None:
+    findings = check(recording([statics()]))
+    assert loud(findings) == []
+    assert only(findings, "no_tf").severity is Severity.info
+
+
+def test_no_transforms_at_all_runs_no_other_check() -> None:
+    findings = check(recording(PROBLEMS["no_tf"].make()))
+    assert [f.code for f in findings] == ["no_tf"]
+
+
+def test_amcl_post_dating_below_a_second_is_no_future_error() -> None:
+    assert check(recording(healthy(amcl=amcl(stamp=lambda t: t + 900 * MS)))) == []
+
+
+def test_a_publisher_that_stutters_is_irregular_but_one_pause_is_a_gap() -> None:
+    def stutter(seconds: float) -> bool:  # one 0.1 s slot in four is dropped
+        return int(seconds * 10) % 4 == 1
+
+    messages = [m for m in amcl() if not stutter((m.record_time - START) / NS_PER_S)]
+    finding = only(check(recording(healthy(amcl=messages))), "rate")
+    assert "publishes irregularly" in finding.message and finding.frames == ("map", "odom")
+    gap = only(check(recording(PROBLEMS["rate"].make())), "rate")
+    assert "went silent 1 time" in gap.message and "3.1 s" in gap.message

@@ -1,0 +1,328 @@
+"""A small healthy robot, and one recording per problem the checker knows, each showing exactly that problem."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from tftools.core.batch import BatchBuilder
+from tftools.core.buffer import Buffer
+from tftools.core.time import NS_PER_S, SimClock
+from tftools.core.transform import Transform
+from tftools.sources.bag.contents import DEFAULT_TOPICS, BagContents, BagFileInfo, is_static_topic
+from tftools.sources.bag.write import BagFormat, TfMessage, write_bag
+from tftools.sources.recording import Recording
+
+START = 1_700_000_000 * NS_PER_S
+SECONDS = 10.0
+MS = 1_000_000
+DELAY = 2 * MS  # how long after its stamp each healthy message is recorded
+
+Make = Callable[[int], list[Transform]]
+
+
+def _t(parent: str, child: str, stamp: int, x: float = 0.0, yaw: float = 0.0) -> Transform:
+    return Transform.from_rpy((x, 0.0, 0.1), (0.0, 0.0, yaw), stamp, parent, child)
+
+
+def _s(stamp: int) -> float:
+    return (stamp - START) / NS_PER_S
+
+
+def periodic(
+    publisher: str,
+    hz: float,
+    make: Make,
+    *,
+    topic: str = "/tf",
+    start: float = 0.0,
+    end: float = SECONDS,
+    phase: float = 0.0,
+    delay: int = DELAY,
+    stamp: Callable[[int], int] = lambda t: t,
+    skip: tuple[float, float] | None = None,
+) -> list[TfMessage]:
+    """``make(stamp)`` every 1/``hz`` s over [start, end) after START (+ ``phase``), recorded
+    ``delay`` after its true time; ``stamp`` maps the true time to the stamp sent."""
+    messages = []
+    for i in range(round((end - start) * hz)):
+        seconds = start + phase + i / hz
+        if skip and skip[0] <= seconds < skip[1]:
+            continue
+        t = START + round(seconds * NS_PER_S)
+        messages.append(TfMessage(topic, t + delay, make(stamp(t)), publisher))
+    return messages
+
+
+def map_odom(stamp: int) -> list[Transform]:
+    return [_t("map", "odom", stamp, 1.0 + 0.01 * _s(stamp), 0.002 * _s(stamp))]
+
+
+def odom_base(stamp: int) -> list[Transform]:
+    return [_t("odom", "base_link", stamp, 0.4 * _s(stamp), 0.1 * _s(stamp))]
+
+
+def wheel(stamp: int) -> list[Transform]:
+    return [Transform.from_rpy((0.0, 0.2, 0.0), (0.0, 4.0 * _s(stamp) % math.pi, 0.0), stamp, "base_link", "wheel")]
+
+
+def statics(record: int = START + DELAY, laser_x: float = 0.2) -> TfMessage:
+    return TfMessage(
+        "/tf_static", record, [_t("base_link", "laser", START, laser_x), _t("base_link", "camera", START, 0.1)], "/rsp"
+    )
+
+
+def amcl(**kw: object) -> list[TfMessage]:
+    return periodic("/amcl", 10, map_odom, **kw)  # type: ignore[arg-type]
+
+
+def ekf(**kw: object) -> list[TfMessage]:
+    return periodic("/ekf", 50, odom_base, **kw)  # type: ignore[arg-type]
+
+
+def wheels(**kw: object) -> list[TfMessage]:
+    return periodic("/rsp", 20, wheel, **kw)  # type: ignore[arg-type]
+
+
+def healthy(**parts: list[TfMessage]) -> list[TfMessage]:
+    """The robot: map -> odom (/amcl 10 Hz), odom -> base_link (/ekf 50 Hz), base_link -> wheel
+    (/rsp 20 Hz), base_link -> laser, camera (/rsp, /tf_static); ``parts`` replace any of amcl, ekf,
+    wheels, statics."""
+    chosen = {"statics": [statics()], "amcl": amcl(), "ekf": ekf(), "wheels": wheels(), **parts}
+    return sorted((m for group in chosen.values() for m in group), key=lambda m: m.record_time)
+
+
+def with_extra(*extra: list[TfMessage], **parts: list[TfMessage]) -> list[TfMessage]:
+    messages = healthy(**parts)
+    for group in extra:
+        messages.extend(group)
+    return sorted(messages, key=lambda m: m.record_time)
+
+
+def _swap_pairs(messages: list[TfMessage], every: int) -> list[TfMessage]:
+    """Every ``every``-th pair of messages sent in the wrong order (record times kept)."""
+    out = list(messages)
+    for i in range(every, len(out) - 1, every):
+        a, b = out[i], out[i + 1]
+        out[i] = TfMessage(a.topic, a.record_time, b.transforms, a.publisher)
+        out[i + 1] = TfMessage(b.topic, b.record_time, a.transforms, b.publisher)
+    return out
+
+
+def _twice(messages: list[TfMessage]) -> list[TfMessage]:
+    return [
+        m
+        for message in messages
+        for m in (
+            message,
+            TfMessage(message.topic, message.record_time + MS // 2, message.transforms, message.publisher),
+        )
+    ]
+
+
+def _nan_and_zero_rotation(stamp: int) -> list[Transform]:
+    s = _s(stamp)
+    if 3.0 <= s < 3.2:
+        return [Transform((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "odom", "base_link")]
+    if 6.0 <= s < 6.1:
+        return [Transform((0.4 * s, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0), stamp, "odom", "base_link")]
+    return odom_base(stamp)
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A recording showing one problem: the code it must raise, and what the finding must name."""
+
+    code: str
+    make: Callable[[], list[TfMessage]]
+    frames: tuple[str, ...]  # frames the finding must name
+    publisher: str | None = None  # the ROS1 publisher it must name
+    severity: str = "error"
+    topics: tuple[str, ...] | None = None
+    words: tuple[str, ...] = ()  # words the message (or hint) must hold
+
+
+PROBLEMS = {
+    "cycle": Problem(
+        "cycle",
+        lambda: with_extra(periodic("/rogue", 10, lambda t: [_t("base_link", "map", t, _s(t))], phase=0.05)),
+        ("map", "odom", "base_link"),
+        "/rogue",
+        words=("loop",),
+    ),
+    "disconnected": Problem(
+        "disconnected",
+        lambda: with_extra(
+            [TfMessage("/tf_static", START + 3 * MS, [_t("world", "rig", START)], "/rig_rsp")],
+            periodic("/rig", 10, lambda t: [_t("rig", "cam", t, _s(t))]),
+        ),
+        ("map", "world"),
+        words=("2 separate trees", "rig", "cam"),
+    ),
+    "multiple_parents": Problem(
+        "multiple_parents",
+        lambda: with_extra(periodic("/rogue", 10, lambda t: [_t("map", "base_link", t, _s(t))], start=5.0, phase=0.01)),
+        ("base_link", "odom", "map"),
+        "/rogue",
+    ),
+    "multiple_authorities": Problem(
+        "multiple_authorities",
+        lambda: with_extra(periodic("/ekf2", 50, odom_base, phase=0.01, topic="/tf_alt")),
+        ("odom", "base_link"),
+        "/ekf2",
+        severity="warning",
+        topics=("/tf", "/tf_alt", "/tf_static"),
+    ),
+    "stale": Problem("stale", lambda: healthy(ekf=ekf(end=4.0)), ("odom", "base_link"), "/ekf", words=("stopped",)),
+    "clock": Problem(
+        "clock",
+        lambda: healthy(ekf=ekf(stamp=lambda t: t - START + 1234 * NS_PER_S)),
+        ("odom", "base_link"),
+        "/ekf",
+        words=("boot", "use_sim_time"),
+    ),
+    "clock_replay": Problem(
+        "clock",
+        lambda: healthy(
+            amcl=amcl(stamp=lambda t: t - 3 * 86400 * NS_PER_S), ekf=ekf(stamp=lambda t: t - 3 * 86400 * NS_PER_S)
+        ),
+        ("map", "odom", "base_link"),
+        "/ekf",
+        words=("3.0 days", "--clock"),
+    ),
+    "future": Problem(
+        "future",
+        lambda: healthy(amcl=amcl(stamp=lambda t: t + 3 * NS_PER_S)),
+        ("map", "odom"),
+        "/amcl",
+        words=("3.0 s",),
+    ),
+    "delay": Problem(
+        "delay", lambda: healthy(ekf=ekf(delay=500 * MS)), ("odom", "base_link"), "/ekf", "warning", words=("late",)
+    ),
+    "rate": Problem(
+        "rate", lambda: healthy(amcl=amcl(skip=(3.0, 6.0))), ("map", "odom"), "/amcl", "warning", words=("silent",)
+    ),
+    "invalid_values": Problem(
+        "invalid_values",
+        lambda: healthy(ekf=periodic("/ekf", 50, _nan_and_zero_rotation)),
+        ("odom", "base_link"),
+        "/ekf",
+        words=("NaN in 10", "length 0 in 5", "w=1"),
+    ),
+    "self_transform": Problem(
+        "self_transform",
+        lambda: with_extra(periodic("/rogue", 5, lambda t: [_t("base_link", "base_link", t)])),
+        ("base_link",),
+        "/rogue",
+    ),
+    "empty_frame_id": Problem(
+        "empty_frame_id",
+        lambda: with_extra(periodic("/rogue", 5, lambda t: [_t("", "sonar", t)])),
+        ("sonar",),
+        "/rogue",
+    ),
+    "leading_slash": Problem(
+        "leading_slash",
+        lambda: healthy(ekf=periodic("/ekf", 50, lambda t: [_t("/odom", "/base_link", t, 0.4 * _s(t))])),
+        ("odom", "base_link"),
+        "/ekf",
+        "warning",
+        words=("/odom", "/base_link"),
+    ),
+    "time_backwards": Problem(
+        "time_backwards",
+        lambda: healthy(ekf=_swap_pairs(ekf(), 25)),
+        ("odom", "base_link"),
+        "/ekf",
+        words=("went back",),
+    ),
+    "time_repeated": Problem(
+        "time_backwards",
+        lambda: healthy(ekf=_twice(ekf())),
+        ("odom", "base_link"),
+        "/ekf",
+        "warning",
+        words=("TF_REPEATED_DATA",),
+    ),
+    "static_on_dynamic": Problem(
+        "static_on_dynamic",
+        lambda: with_extra(periodic("/sonar_tf", 10, lambda t: [_t("base_link", "sonar", t, 0.3)])),
+        ("base_link", "sonar"),
+        "/sonar_tf",
+        "warning",
+        words=("/tf_static",),
+    ),
+    "dynamic_on_static": Problem(
+        "dynamic_on_static",
+        lambda: with_extra([statics(START + 5 * NS_PER_S, laser_x=0.35)]),
+        ("base_link", "laser"),
+        "/rsp",
+        words=("2 different values",),
+    ),
+    "mixed_static": Problem(
+        "mixed_static",
+        lambda: with_extra(periodic("/laser_driver", 10, lambda t: [_t("base_link", "laser", t, 0.2 + 0.01 * _s(t))])),
+        ("laser",),
+        "/laser_driver",
+    ),
+    "no_tf": Problem(
+        "no_tf",
+        lambda: [
+            TfMessage("/robot/odom_tf", START + i * 100 * MS, odom_base(START + i * 100 * MS), "/ekf")
+            for i in range(20)
+        ],
+        (),
+        words=("/robot/odom_tf",),
+    ),
+}
+
+
+def ros1_reader_available() -> bool:
+    return importlib.util.find_spec("tftools.sources.bag.ros1") is not None
+
+
+#: Every bag format, ROS1 skipped until its reader exists.
+FORMATS = [
+    pytest.param(BagFormat.ros1, marks=pytest.mark.skipif(not ros1_reader_available(), reason="no ROS1 reader yet")),
+    BagFormat.rosbag2_sqlite3,
+    BagFormat.rosbag2_mcap,
+]
+
+
+def write(directory: Path, name: str, fmt: BagFormat, messages: list[TfMessage]) -> Path:
+    return write_bag(directory / (f"{name}.bag" if fmt is BagFormat.ros1 else f"{name}_{fmt.value}"), messages, fmt)
+
+
+def recording(messages: list[TfMessage], topics: tuple[str, ...] | None = None, ros1: bool = True) -> Recording:
+    """The messages as a recording without a file: a ROS1 bag's (publishers named) or a ROS2 bag's
+    (the topic stands in for the publisher)."""
+    chosen = topics or DEFAULT_TOPICS
+    builder = BatchBuilder()
+    for m in messages:
+        if m.topic not in chosen:
+            continue
+        for t in m.transforms:
+            builder.add(
+                t.frame_id, t.child_frame_id, t.stamp, t.translation, t.rotation,
+                static=is_static_topic(m.topic), record_time=m.record_time, authority=m.publisher if ros1 else m.topic,
+            )  # fmt: skip
+    batch = builder.take()
+    times = [m.record_time for m in messages]
+    info = BagFileInfo(
+        "memory.bag" if ros1 else "memory_db3",
+        "ros1" if ros1 else "rosbag2-sqlite3",
+        min(times, default=0),
+        max(times, default=0),
+        len(messages),
+        {m.topic: "tf2_msgs/msg/TFMessage" for m in messages},
+        len(batch),
+    )
+    buffer = Buffer(cache_time=None, clock=SimClock(info.end))
+    buffer.insert(batch)
+    return Recording(buffer, BagContents(batch, [info], chosen))
