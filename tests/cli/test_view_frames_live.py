@@ -26,6 +26,7 @@ while not rospy.is_shutdown():
     t = TransformStamped()
     t.header.stamp = rospy.Time.now()
     t.header.frame_id, t.child_frame_id = "odom", "base_link"
+    t.transform.translation.x = rospy.get_time() % 10.0  # moving, or it belongs on /tf_static
     t.transform.rotation.w = 1.0
     broadcaster.sendTransform(t)
     rate.sleep()

@@ -10,7 +10,8 @@ from typing import Annotated
 import typer
 
 from tftools.analysis.findings import Severity
-from tftools.analysis.graph import engine_findings, frame_graph
+from tftools.analysis.graph import frame_graph
+from tftools.analysis.wtf import check
 from tftools.cli import live
 from tftools.cli.common import BagOption, Exit, TopicOption, UsageError, exit_with, open_recording, stderr
 from tftools.render import graph as render
@@ -77,9 +78,10 @@ def command(
     """Draw the tf tree, view_frames style: each edge with its broadcaster, average rate, samples,
     most recent and oldest transform and largest gap; static edges dashed and blue.
 
-    Problems are drawn where they are, red (errors) or orange (warnings), and listed in the
-    legend: several trees, a frame with several parents or publishers, a loop, an edge that went
-    stale or silent, rejected samples. The legend gives the bag's time span and file names.
+    Problems (those `tfx wtf` finds) are drawn where they are, red (errors) or orange
+    (warnings), and listed in the legend: several trees, a frame with several parents or
+    publishers, a loop, an edge that went stale or silent, rejected samples, ... The legend gives
+    the bag's time span and file names.
 
     Without -b, listens --duration seconds to the live system first, as view_frames does.
 
@@ -95,7 +97,7 @@ def command(
     """
     chosen, target = _output(output, fmt)
     recording = open_recording(bags, topics) if bags else live.capture_recording(ros1, use_sim_time, duration, topics)
-    findings = engine_findings(recording.buffer)
+    findings = check(recording)  # tfx wtf's findings, drawn where they are
     graph = frame_graph(recording.buffer, findings)
     dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)
     try:

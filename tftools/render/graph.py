@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import html
 import os
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -11,6 +12,7 @@ import graphviz
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode, frame_graph
+from tftools.analysis.wtf import check
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TfToolsError
 from tftools.core.time import NS_PER_S, format_sec
@@ -23,6 +25,11 @@ RANKDIRS = ("TB", "LR", "BT", "RL")
 INSTALL_HINT = (
     "install Graphviz: sudo apt-get install graphviz, brew install graphviz, or https://graphviz.org/download"
 )
+
+#: Problems in the legend wrap at this many characters, and stop after this many lines (tfx wtf says all).
+MESSAGE_WIDTH = 110
+MESSAGE_LINES = 4
+HANGING_INDENT = "&#160;" * 8
 
 FONT = "Helvetica"
 INK = "#333333"
@@ -60,15 +67,18 @@ def dot_source(
     rankdir: str = "TB",
     brief: bool = False,
 ) -> str:
-    """Graphviz source of the frame graph of a buffer or recording, ``findings`` (default: the
-    engine's own) in colour; the legend says ``legend``, else the recording's span and files."""
-    buffer = source.buffer if isinstance(source, Recording) else source
-    if not legend:
-        legend = (
-            recording_legend(source)
-            if isinstance(source, Recording)
-            else [f"Recorded at time: {format_sec(buffer.now(), 3)}"]
-        )
+    """Graphviz source of the frame graph of a recording or buffer, ``findings`` in colour.
+
+    By default a recording's findings are ``tfx wtf``'s (``tftools.analysis.wtf.check``); a bare
+    buffer has no raw rows to check, so its own records give them (``engine_findings``). The
+    legend says ``legend``, else the recording's span and files."""
+    if isinstance(source, Recording):
+        buffer = source.buffer
+        legend = legend or recording_legend(source)
+        findings = check(source) if findings is None else findings
+    else:
+        buffer = source
+        legend = legend or [f"Recorded at time: {format_sec(buffer.now(), 3)}"]
     graph = frame_graph(buffer, findings)
     text: str = to_digraph(graph, legend, rankdir=rankdir, brief=brief).source
     return text
@@ -173,7 +183,9 @@ def _problem_line(graph: FrameGraph, index: int) -> str:
 
 
 def _tooltip(graph: FrameGraph, problems: Sequence[int], default: str) -> str:
-    return "\n".join(f"[{i + 1}] {graph.findings[i].message}" for i in problems) or default
+    """What an SVG viewer shows on hover: each problem's message and hint."""
+    lines = [f"[{i + 1}] {graph.findings[i].message} ({graph.findings[i].hint})" for i in problems]
+    return "\n".join(lines) or default
 
 
 def _add_legend(dot: graphviz.Digraph, graph: FrameGraph, legend: Sequence[str]) -> None:
@@ -212,8 +224,9 @@ def _problem_rows(graph: FrameGraph) -> list[str]:
     rows = [_row(f"<B>Problems: {problem_summary(graph.findings)}</B>")]
     for index, finding in enumerate(graph.findings):
         colour = COLOURS[finding.severity]
-        text = f'<FONT COLOR="{colour}"><B>[{index + 1}] {finding.severity.value}</B></FONT> {_esc(finding.message)}'
-        rows.append(_row(text))
+        lines = textwrap.wrap(finding.message, MESSAGE_WIDTH, max_lines=MESSAGE_LINES, placeholder=" ...")
+        text = f'<BR ALIGN="LEFT"/>{HANGING_INDENT}'.join(_esc(line) for line in lines)
+        rows.append(_row(f'<FONT COLOR="{colour}"><B>[{index + 1}] {finding.severity.value}</B></FONT> {text}'))
     return rows
 
 
@@ -233,7 +246,7 @@ def counted(n: int, noun: str) -> str:
 
 
 def _row(content: str) -> str:
-    return f'<TR><TD ALIGN="LEFT">{content}</TD></TR>'
+    return f'<TR><TD ALIGN="LEFT" BALIGN="LEFT">{content}</TD></TR>'
 
 
 def _swatch(colour: str, style: str, width: str, meaning: str) -> str:
