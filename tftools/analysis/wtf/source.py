@@ -41,8 +41,8 @@ def bag_problem(scene: Scene) -> Iterator[Finding]:
             Severity.warning,
             "bag_problem",
             problem,
-            "what could be read was checked; `rosbag reindex` may recover more of a ROS1 bag, and a file cut "
-            "short may need copying again",
+            "the findings cover only what could be read: repair the bag as the problem says, or copy it again "
+            "if it was cut short",
         )
 
 
