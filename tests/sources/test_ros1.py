@@ -1,0 +1,380 @@
+"""The ROS1 bag reader against rosbags' reader, on bags the real rosbag and rosbags wrote, whole and damaged."""
+
+from __future__ import annotations
+
+import itertools
+import os
+import shutil
+import struct
+import subprocess
+import sys
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rosbags.rosbag1 import Reader
+
+from tests.sources.ros1_helpers import (
+    NS,
+    T0,
+    Msg,
+    reference_rows,
+    rosbag_unavailable,
+    rows_of,
+    varied_messages,
+    write_rosbag,
+    write_rosbags,
+)
+from tftools.sources.bag import ros1, ros1_scan
+from tftools.sources.bag.reader import read_bag
+from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
+
+TOPICS = ("/tf", "/tf_static")
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag"
+
+
+@pytest.fixture(scope="session")
+def rosbag_available() -> None:
+    """Skip unless the real rosbag can write bags; in CI it must."""
+    reason = rosbag_unavailable()
+    if reason is not None:
+        if os.environ.get("CI") == "true":
+            pytest.fail(f"CI must test against the real rosbag, but {reason}")
+        pytest.skip(reason)
+
+
+@pytest.fixture(scope="module")
+def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """Varied bags by the real rosbag, small chunks: name -> path (written once per module)."""
+    if rosbag_unavailable() is not None:
+        return {}
+    folder = tmp_path_factory.mktemp("ros1")
+    made: dict[str, Path] = {}
+    for kind, messages in (("", varied_messages(1, 300)), ("ordered_", varied_messages(1, 300, ordered=True))):
+        for c in ("none", "bz2", "lz4"):
+            made[kind + c] = write_rosbag(folder / f"{kind}{c}.bag", messages, c, chunk_threshold=100_000)
+    for c in ("none", "bz2"):
+        made[f"open_{c}"] = write_rosbag(
+            folder / f"open_{c}.bag", varied_messages(1, 300, ordered=True), c, 100_000, close=False
+        )
+    return made
+
+
+def read(path: Path, topics: tuple[str, ...] = TOPICS, decoder: str = "fast"):
+    return ros1.read(path, topics, lambda *_: None, decoder=decoder)  # type: ignore[arg-type]
+
+
+def tf_messages(path: Path, topics: tuple[str, ...] = TOPICS) -> int:
+    with Reader(path) as reader:
+        return sum(1 for _ in reader.messages([c for c in reader.connections if c.topic in topics]))
+
+
+def tf_counts(path: Path, topics: tuple[str, ...] = TOPICS) -> list[int]:
+    """Transform messages per chunk, in file order, from rosbags' reading of the index."""
+    with Reader(path) as reader:
+        wanted = {c.id for c in reader.connections if c.topic in topics}
+        infos = sorted(reader.chunk_infos, key=lambda info: info.pos)
+        return [sum(n for conn, n in info.connection_counts.items() if conn in wanted) for info in infos]
+
+
+# Whole bags: every row as rosbags reads it.
+
+
+@pytest.mark.parametrize("compression", ["none", "bz2", "lz4"])
+def test_rosbag_bags_read_as_rosbags_reads_them(
+    rosbag_available: None, bags: dict[str, Path], compression: str
+) -> None:
+    bag = bags[compression]
+    batches, info = read(bag)
+    expected = reference_rows(bag)
+    assert len(expected) > 400
+    assert rows_of(batches) == expected
+    with Reader(bag) as reader:
+        assert (info.start, info.end, info.message_count) == (reader.start_time, reader.end_time - 1, 300)
+        assert info.topics == {c.topic: c.msgtype.replace("/msg/", "/") for c in reader.connections}
+    assert info.transform_count == len(expected)
+    assert info.format == "ros1" and info.problems == []
+
+
+@pytest.mark.parametrize("compression", ["none", "bz2", "lz4"])
+def test_several_publishers_on_one_topic_and_tf1_messages(tmp_path: Path, compression: str) -> None:
+    bag = write_rosbags(tmp_path / "b.bag", varied_messages(seed=2), compression, chunk_threshold=60_000)
+    topics = ("/tf", "/tf_static", "/tf_old")
+    batches, info = read(bag, topics)
+    assert rows_of(batches) == reference_rows(bag, topics)
+    (batch,) = batches
+    # /tf has three connections: two callerids and one without (whose publisher is the topic)
+    assert {"/amcl", "/ekf", "/tf", "/robot_state_publisher", "/legacy"} == set(batch.authorities)
+    assert info.topics["/tf_old"] == "tf/tfMessage"
+    assert batch.static.any() and not batch.static.all()
+
+
+@pytest.mark.parametrize("seed", [3, 4, 5])
+def test_fast_decoding_equals_rosbags_deserializer(tmp_path: Path, seed: int) -> None:
+    bag = write_rosbags(tmp_path / "b.bag", varied_messages(seed=seed, count=600), "none", chunk_threshold=30_000)
+    topics = ("/tf", "/tf_static", "/tf_old")
+    fast, fast_info = read(bag, topics)
+    slow, slow_info = read(bag, topics, decoder="reference")
+    assert rows_of(fast) == rows_of(slow) == reference_rows(bag, topics)
+    assert fast_info == slow_info
+
+
+def test_malformed_messages_are_skipped_alike_by_both_decoders(tmp_path: Path) -> None:
+    good = _tf_payload([("map", "odom", T0, 1.0)])
+    malformed = [
+        good + b"\x00",  # a byte too many
+        good[:-1],  # a byte short
+        struct.pack("<I", 2) + good[4:],  # says two transforms, holds one
+        _tf_payload([("map", "od\xff", T0, 1.0)]),  # frame id not UTF-8
+        b"",
+        struct.pack("<I", 0) + b"\x01",
+    ]
+    bag = _raw_bag(tmp_path / "m.bag", [good, *malformed, struct.pack("<I", 0), good])
+    fast, fast_info = read(bag)
+    slow, slow_info = read(bag, decoder="reference")
+    assert rows_of(fast) == rows_of(slow)
+    assert len(rows_of(fast)) == 2
+    (line,) = fast_info.problems
+    assert line.startswith("/tf: 6 of 9 messages could not be decoded as tf2_msgs/TFMessage, skipped (first: ")
+    assert fast_info.problems == slow_info.problems
+
+
+@pytest.mark.parametrize("threshold", [10_000_000, 500])
+def test_one_big_chunk_or_hundreds_of_small_ones(tmp_path: Path, threshold: int) -> None:
+    bag = write_rosbags(tmp_path / "b.bag", varied_messages(seed=6, image_bytes=1_000), "lz4", threshold)
+    chunks = len(tf_counts(bag))
+    assert chunks == 1 if threshold > 1_000_000 else chunks > 100
+    assert rows_of(read(bag)[0]) == reference_rows(bag)
+
+
+def test_only_chunks_holding_transforms_are_decompressed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A bag whose bulk is images: its image-only chunks are never read."""
+    early = [
+        Msg("/tf", "tf2", T0 + i * NS // 10, "/amcl", [("map", "odom", T0 + i, [0.0] * 6 + [1.0])]) for i in range(50)
+    ]
+    images = [Msg("/camera/image", "string", T0 + 6 * NS + i * NS // 10, "/camera", "x" * 200_000) for i in range(40)]
+    bag = write_rosbags(tmp_path / "b.bag", early + images, "bz2", chunk_threshold=100_000)
+    decompressed: list[int] = []
+    real = ros1_scan.decompress
+
+    def counting(compression: str, raw: bytes, size: int):
+        decompressed.append(size)
+        return real(compression, raw, size)
+
+    monkeypatch.setattr(ros1_scan, "decompress", counting)
+    batches, info = read(bag)
+    counts = tf_counts(bag)
+    assert len(counts) > 20
+    assert len(decompressed) == sum(1 for n in counts if n) < 5
+    assert len(rows_of(batches)) == 50 and info.message_count == 90
+
+
+def test_the_sample_bag(rosbag_available: None) -> None:
+    batches, info = read(SAMPLE)
+    assert rows_of(batches) == reference_rows(SAMPLE)
+    assert info.transform_count == 6307
+
+
+def test_read_bag_reports_progress_and_other_types(tmp_path: Path) -> None:
+    messages = [
+        Msg("/tf", "string", T0, "/confused", "not a transform"),
+        Msg("/tf_static", "tf2", T0 + 1, "/rsp", [("base", "laser", T0, [0.0] * 6 + [1.0])]),
+    ]
+    bag = write_rosbags(tmp_path / "b.bag", messages)
+    seen: list[tuple[int, int]] = []
+    contents = read_bag([bag], progress=lambda done, total: seen.append((done, total)))
+    assert contents.problems == ["/tf: std_msgs/String is not a transform message, skipped"]
+    assert rows_of(contents.transforms) == [
+        ("base", "laser", T0, np.array([0.0] * 6 + [1.0]).tobytes(), T0 + 1, "/rsp", True)
+    ]
+    assert seen[-1] == (bag.stat().st_size,) * 2
+    assert all(a[0] <= b[0] for a, b in itertools.pairwise(seen))
+
+
+# Damaged bags: what can be read is read, each problem is one line.
+
+
+@pytest.mark.parametrize("compression", ["none", "bz2", "lz4"])
+def test_truncated_bags_read_what_is_left(
+    rosbag_available: None, bags: dict[str, Path], tmp_path: Path, compression: str
+) -> None:
+    bag = bags[f"ordered_{compression}"]
+    data = bag.read_bytes()
+    full = reference_rows(bag)
+    with Reader(bag) as reader:
+        first_chunk = min(c.pos for c in reader.chunk_infos)
+    read_before = -1
+    for cut in [first_chunk + 50, len(data) // 3, len(data) // 2, 2 * len(data) // 3]:
+        cut_bag = tmp_path / "cut.bag"
+        cut_bag.write_bytes(data[:cut])
+        batches, info = read(cut_bag)
+        rows = rows_of(batches)
+        assert rows == full[: len(rows)]  # what was recorded before the cut
+        assert len(rows) >= read_before
+        read_before = len(rows)
+        (line,) = info.problems
+        assert line.startswith(f"cut.bag: truncated after {cut} of more than ")
+        assert f"; read {_messages(batches)} of " in line
+        assert line.endswith("(run `rosbag reindex` on a copy to repair it)")
+    assert read_before > 0
+
+
+@pytest.mark.parametrize("compression", ["none", "bz2"])
+def test_a_bag_cut_in_its_index_is_read_whole(
+    rosbag_available: None, bags: dict[str, Path], tmp_path: Path, compression: str
+) -> None:
+    data = bags[compression].read_bytes()
+    for cut in (len(data) - 1, len(data) - 150):
+        cut_bag = tmp_path / "cut.bag"
+        cut_bag.write_bytes(data[:cut])
+        batches, info = read(cut_bag)
+        assert rows_of(batches) == reference_rows(bags[compression])
+        (line,) = info.problems
+        assert line.startswith("cut.bag: has a damaged index (") and "by scanning its chunks" in line
+
+
+@pytest.mark.parametrize("cut", [0, 5, 13, 20])
+def test_a_bag_cut_in_its_header_is_corrupt(bags: dict[str, Path], tmp_path: Path, cut: int) -> None:
+    bag = tmp_path / "cut.bag"
+    bag.write_bytes(SAMPLE.read_bytes()[:cut])
+    with pytest.raises((CorruptBagError, UnknownBagFormatError)):
+        read_bag([bag])
+
+
+def test_not_a_bag(tmp_path: Path) -> None:
+    bag = tmp_path / "x.bag"
+    bag.write_bytes(b"#ROSBAG V2.0\n" + b"\xff" * 5000)
+    with pytest.raises(CorruptBagError, match=r"x\.bag: corrupt or unreadable"):
+        read(bag)
+    bag.write_bytes(b"no bag at all" * 100)
+    with pytest.raises(UnknownBagFormatError):
+        read_bag([bag])
+
+
+@pytest.mark.parametrize("compression", ["none", "bz2"])
+def test_an_unclosed_bag_reads_as_rosbag_reindex_repairs_it(
+    rosbag_available: None, bags: dict[str, Path], tmp_path: Path, compression: str
+) -> None:
+    bag = bags[f"open_{compression}"]
+    copy = shutil.copy(bag, tmp_path / "copy.bag")
+    (tmp_path / "re").mkdir()
+    done = subprocess.run(["rosbag", "reindex", "--output-dir", str(tmp_path / "re"), copy], capture_output=True)
+    assert done.returncode == 0, done.stderr
+    batches, info = read(bag)
+    repaired = reference_rows(tmp_path / "re" / "copy.bag")
+    if compression == "none":  # rosbag reindex drops the open chunk's messages; all are on disk
+        assert rows_of(batches) == reference_rows(bags["ordered_none"])
+        assert not Counter(repaired) - Counter(rows_of(batches))
+    else:  # the open chunk is still in the compressor: lost for both
+        assert rows_of(batches) == repaired
+    (line,) = info.problems
+    assert line.startswith(f"{bag.name}: has no index (its recording was not closed); read {_messages(batches)} ")
+
+
+@pytest.mark.parametrize("compression", ["bz2", "lz4"])
+def test_a_damaged_chunk_loses_its_messages_only(
+    rosbag_available: None, bags: dict[str, Path], tmp_path: Path, compression: str
+) -> None:
+    bag = bags[f"ordered_{compression}"]
+    data = bytearray(bag.read_bytes())
+    with Reader(bag) as reader:
+        info = sorted(reader.chunk_infos, key=lambda i: i.pos)[2]
+        chunk = reader.chunks[info.pos]
+    middle = chunk.datapos + chunk.datasize // 2
+    data[middle : middle + 40] = b"\xa5" * 40
+    damaged = tmp_path / "damaged.bag"
+    damaged.write_bytes(bytes(data))
+    batches, problems = read(damaged)[0], read(damaged)[1].problems
+    in_chunk = [row for row in reference_rows(bag) if info.start_time <= row[4] < info.end_time]
+    assert in_chunk
+    assert rows_of(batches) == [row for row in reference_rows(bag) if row not in in_chunk]
+    (line,) = problems
+    assert line.startswith(f"damaged.bag: a damaged part could not be read (first at byte {info.pos}: {compression}")
+    assert line.endswith(f"; {tf_counts(bag)[2]} transform messages lost")
+
+
+def test_a_damaged_message_header_loses_that_message(
+    rosbag_available: None, bags: dict[str, Path], tmp_path: Path
+) -> None:
+    bag, data = bags["ordered_none"], bytearray(bags["ordered_none"].read_bytes())
+    with Reader(bag) as reader:
+        tf = next(c for c in reader.connections if c.topic == "/tf")
+        entry = reader.indexes[tf.id][10]
+        record = reader.chunks[entry.chunk_pos].datapos + entry.offset
+    data[record + 4 : record + 12] = b"\x00" * 8
+    damaged = tmp_path / "damaged.bag"
+    damaged.write_bytes(bytes(data))
+    batches, info = read(damaged)
+    assert rows_of(batches) == [row for row in reference_rows(bag) if row[4] != entry.time]
+    (line,) = info.problems
+    assert line.endswith("; 1 transform messages lost")
+
+
+def test_without_lz4_its_chunks_are_one_problem_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    bag = write_rosbags(tmp_path / "b.bag", varied_messages(seed=7), "lz4", chunk_threshold=50_000)
+    monkeypatch.setitem(sys.modules, "lz4.frame", None)  # import fails
+    batches, info = read(bag)
+    assert batches == []
+    (line,) = info.problems
+    assert "the lz4 package is not installed (pip install lz4)" in line
+    assert line.endswith(f"; {sum(tf_counts(bag))} transform messages lost")
+
+
+def test_any_damage_reads_or_raises_corrupt_bag(tmp_path: Path) -> None:
+    """Cut, overwritten or deleted bytes anywhere: what is read or one CorruptBagError, never another exception."""
+    rng = np.random.default_rng(11)
+    for compression in ("none", "bz2"):
+        bag = write_rosbags(
+            tmp_path / f"{compression}.bag", varied_messages(8, 120, 5_000, ordered=True), compression, 20_000
+        )
+        data, full = bag.read_bytes(), reference_rows(bag)
+        for k in range(40):
+            damaged = bytearray(data)
+            at = int(rng.integers(13, len(data)))
+            if k % 3 == 0:
+                del damaged[at:]
+            elif k % 3 == 1:
+                damaged[at : at + 300] = rng.integers(0, 256, 300, dtype=np.uint8).tobytes()
+            else:
+                del damaged[at : at + int(rng.integers(1, 3000))]
+            fuzzed = tmp_path / "fuzz.bag"
+            fuzzed.write_bytes(bytes(damaged))
+            try:
+                batches, info = read(fuzzed)
+            except CorruptBagError as e:
+                assert str(e).startswith(f"{fuzzed}: corrupt or unreadable (")
+                continue
+            assert all("\n" not in line for line in info.problems)
+            if k % 3 == 0:  # cut: what was recorded before the cut
+                rows = rows_of(batches)
+                assert rows == full[: len(rows)] and info.problems
+
+
+def _messages(batches) -> int:
+    """Messages that the rows came from (each message's rows share a record time and publisher)."""
+    rows = rows_of(batches)
+    return len({(r[4], r[5]) for r in rows}) if rows else 0
+
+
+def _tf_payload(transforms: list[tuple[str, str, int, float]]) -> bytes:
+    parts = [struct.pack("<I", len(transforms))]
+    for parent, child, stamp, x in transforms:
+        parts.append(struct.pack("<III", 0, stamp // NS, stamp % NS))
+        for name in (parent, child):
+            raw = name.encode("latin-1")
+            parts.append(struct.pack("<I", len(raw)) + raw)
+        parts.append(struct.pack("<7d", x, 0, 0, 0, 0, 0, 1))
+    return b"".join(parts)
+
+
+def _raw_bag(path: Path, payloads: list[bytes]) -> Path:
+    from rosbags.rosbag1 import Writer
+
+    with Writer(path) as writer:
+        connection = writer.add_connection(
+            "/tf", "tf2_msgs/msg/TFMessage", msgdef="geometry_msgs/TransformStamped[] transforms", md5sum="0" * 32
+        )
+        for i, payload in enumerate(payloads):
+            writer.write(connection, T0 + i, payload)
+    return path

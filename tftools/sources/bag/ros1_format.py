@@ -1,0 +1,211 @@
+"""The records of a ROS bag v2.0 file (http://wiki.ros.org/Bags/Format/2.0), read from a buffer."""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.time import NS_PER_S
+
+MAGIC = b"#ROSBAG V2.0\n"
+
+OP_MESSAGE = 0x02
+OP_BAG_HEADER = 0x03
+OP_INDEX = 0x04
+OP_CHUNK = 0x05
+OP_CHUNK_INFO = 0x06
+OP_CONNECTION = 0x07
+
+#: Message types laid out as tf2_msgs/TFMessage.
+TF_TYPES = ("tf2_msgs/TFMessage", "tf/tfMessage")
+
+_U32 = struct.Struct("<I")
+_U64 = struct.Struct("<Q")
+_TIME = struct.Struct("<II")
+_INDEX_ENTRY = np.dtype([("sec", "<u4"), ("nsec", "<u4"), ("offset", "<u4")])
+_CHUNK_COUNT = np.dtype([("conn", "<u4"), ("count", "<u4")])
+
+Buffer = bytes | memoryview
+
+
+class FormatError(ValueError):
+    """Bytes that are not the record the format promises there."""
+
+
+def u32(buf: Buffer, pos: int) -> int:
+    if pos < 0 or pos + 4 > len(buf):
+        raise FormatError(f"a length at byte {pos} lies beyond the end")
+    return int(_U32.unpack_from(buf, pos)[0])
+
+
+def header_fields(buf: Buffer, start: int, end: int) -> dict[str, bytes]:
+    """The ``name=value`` fields of a record header (or connection header) in ``buf[start:end]``."""
+    fields: dict[str, bytes] = {}
+    pos = start
+    while pos < end:
+        size = u32(buf, pos)
+        pos += 4
+        if pos + size > end:
+            raise FormatError(f"a header field at byte {pos - 4} runs past its header")
+        item = bytes(buf[pos : pos + size])
+        name, equals, value = item.partition(b"=")
+        if not equals:
+            raise FormatError(f"a header field at byte {pos - 4} has no '='")
+        fields[name.decode("ascii", "replace")] = value
+        pos += size
+    return fields
+
+
+@dataclass(frozen=True)
+class Record:
+    """One record: its header's fields and where its data lies in the buffer."""
+
+    op: int
+    fields: dict[str, bytes]
+    start: int  # first byte of the record (its header length)
+    data_start: int
+    data_end: int
+
+    def uint(self, name: str) -> int:
+        value = self._field(name)
+        if len(value) == 4:
+            return int(_U32.unpack(value)[0])
+        if len(value) == 8:
+            return int(_U64.unpack(value)[0])
+        raise FormatError(f"record field {name} has {len(value)} bytes")
+
+    def time(self, name: str) -> int:
+        value = self._field(name)
+        if len(value) != 8:
+            raise FormatError(f"record field {name} has {len(value)} bytes, not a time")
+        sec, nsec = _TIME.unpack(value)
+        return int(sec) * NS_PER_S + int(nsec)
+
+    def text(self, name: str, default: str | None = None) -> str:
+        if default is not None and name not in self.fields:
+            return default
+        return self._field(name).decode("utf-8", "replace")
+
+    def _field(self, name: str) -> bytes:
+        try:
+            return self.fields[name]
+        except KeyError:
+            raise FormatError(f"record at byte {self.start} lacks its {name} field") from None
+
+
+def read_record(buf: Buffer, pos: int, end: int | None = None) -> Record:
+    """The record starting at ``pos``; ``FormatError`` if it is malformed or not all there."""
+    limit = len(buf) if end is None else end
+    header_len = u32(buf, pos)
+    header_end = pos + 4 + header_len
+    if header_end + 4 > limit:
+        raise FormatError(f"the record at byte {pos} is cut short")
+    fields = header_fields(buf, pos + 4, header_end)
+    data_len = u32(buf, header_end)
+    data_start = header_end + 4
+    op = fields.get("op", b"")
+    if len(op) != 1:
+        raise FormatError(f"the record at byte {pos} has no op code")
+    return Record(op[0], fields, pos, data_start, data_start + data_len)
+
+
+@dataclass(frozen=True)
+class BagHeader:
+    index_pos: int  # 0: the bag was never closed (no index)
+    conn_count: int
+    chunk_count: int
+    encryptor: str
+    data_start: int  # where the first record after the bag header begins
+
+
+def read_bag_header(buf: Buffer) -> BagHeader:
+    if bytes(buf[: len(MAGIC)]) != MAGIC:
+        raise FormatError("it does not start with #ROSBAG V2.0")
+    record = read_record(buf, len(MAGIC))
+    if record.op != OP_BAG_HEADER:
+        raise FormatError("its first record is not a bag header")
+    return BagHeader(
+        record.uint("index_pos"),
+        record.uint("conn_count"),
+        record.uint("chunk_count"),
+        record.text("encryptor", ""),
+        record.data_end,
+    )
+
+
+@dataclass(frozen=True)
+class Connection:
+    """A topic as one publisher (callerid) recorded it."""
+
+    id: int
+    topic: str
+    type: str
+    callerid: str  # "" when the bag does not say
+
+
+def read_connection(buf: Buffer, record: Record) -> Connection:
+    data = header_fields(buf, record.data_start, record.data_end)
+    topic = record.text("topic")
+    return Connection(
+        record.uint("conn"),
+        topic,
+        data.get("type", b"").decode("utf-8", "replace"),
+        data.get("callerid", b"").decode("utf-8", "replace"),
+    )
+
+
+@dataclass(frozen=True)
+class ChunkInfo:
+    """What the index says about one chunk: where, when, and how many messages per connection."""
+
+    pos: int
+    start: int
+    end: int
+    counts: dict[int, int] = field(default_factory=dict)
+
+
+def read_chunk_info(buf: Buffer, record: Record) -> ChunkInfo:
+    if record.uint("ver") != 1:
+        raise FormatError(f"chunk info version {record.uint('ver')} is unknown")
+    count = record.uint("count")
+    if record.data_end - record.data_start < count * _CHUNK_COUNT.itemsize or record.data_end > len(buf):
+        raise FormatError(f"the chunk info at byte {record.start} is cut short")
+    pairs = np.frombuffer(buf, _CHUNK_COUNT, count, record.data_start)
+    counts = dict(zip(pairs["conn"].tolist(), pairs["count"].tolist(), strict=True))
+    return ChunkInfo(record.uint("chunk_pos"), record.time("start_time"), record.time("end_time"), counts)
+
+
+@dataclass(frozen=True)
+class Chunk:
+    pos: int
+    compression: str
+    size: int  # uncompressed bytes
+    data_start: int
+    data_end: int
+
+
+def read_chunk(record: Record) -> Chunk:
+    return Chunk(record.start, record.text("compression"), record.uint("size"), record.data_start, record.data_end)
+
+
+@dataclass(frozen=True)
+class IndexEntries:
+    """One connection's messages in one chunk: record times and offsets into the chunk's data."""
+
+    conn: int
+    times: npt.NDArray[np.int64]
+    offsets: npt.NDArray[np.int64]
+
+
+def read_index(buf: Buffer, record: Record) -> IndexEntries:
+    if record.uint("ver") != 1:
+        raise FormatError(f"index data version {record.uint('ver')} is unknown")
+    count = record.uint("count")
+    if record.data_end - record.data_start < count * _INDEX_ENTRY.itemsize or record.data_end > len(buf):
+        raise FormatError(f"the index data at byte {record.start} is cut short")
+    entries = np.frombuffer(buf, _INDEX_ENTRY, count, record.data_start)
+    times = entries["sec"].astype(np.int64) * NS_PER_S + entries["nsec"]
+    return IndexEntries(record.uint("conn"), times, entries["offset"].astype(np.int64))

@@ -1,0 +1,284 @@
+"""Finding a ROS1 bag's wanted messages: by its index, or chunk after chunk when it has none."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.ros1_chunks import CompressionUnavailableError, IntArray, Located, decompress, locate, walk
+from tftools.sources.bag.ros1_format import (
+    OP_CHUNK,
+    OP_CHUNK_INFO,
+    OP_CONNECTION,
+    OP_INDEX,
+    OP_MESSAGE,
+    TF_TYPES,
+    BagHeader,
+    Buffer,
+    ChunkInfo,
+    Connection,
+    FormatError,
+    Record,
+    read_chunk,
+    read_chunk_info,
+    read_connection,
+    read_index,
+    read_record,
+)
+from tftools.sources.bag.ros1_messages import MessageCollector
+
+_REPAIR = "run `rosbag reindex` on a copy to repair it"
+_CHUNK_HEADER_OP = b"\x04\x00\x00\x00op=\x05"  # the op field of a chunk record header
+_HEADER_REACH = 96  # how far before its op field a chunk record header may start
+
+
+@dataclass
+class _Damage:
+    """Chunks (or bytes between them) that could not be read: how many, the first, messages lost."""
+
+    places: int = 0
+    first: str = ""
+    lost: int = 0
+    lost_known: bool = True  # the index says how many messages each chunk held
+
+    def note(self, pos: int, reason: str, lost: int | None) -> None:
+        self.places += 1
+        self.first = self.first or f"first at byte {pos}: {reason}"
+        if lost is None:
+            self.lost_known = False
+        else:
+            self.lost += lost
+
+
+class BagScan:
+    """One bag file read: its wanted messages (undecoded), description and problems."""
+
+    def __init__(self, name: str, buf: Buffer, topics: tuple[str, ...], progress: ProgressCallback) -> None:
+        self.name = name
+        self.buf = buf
+        self.size = len(buf)
+        self.wanted_topics = topics
+        self.progress = progress
+        self.messages = MessageCollector()
+        self.topics: dict[str, str] = {}
+        self.connections: dict[int, Connection] = {}
+        self.start = self.end = self.message_count = 0
+        self.problems: list[str] = []
+        self.skipped: list[str] = []
+        self.damage = _Damage()
+        self.chunk_ordinal = 0
+        self.scanned = 0  # where the scan of the chunks stopped
+        self.tail = ""  # what the scan could not read at the end
+
+    def read(self, header: BagHeader) -> None:
+        if header.index_pos == 0:
+            self._scan(header.data_start, self.size)
+            self._note_scan("has no index (its recording was not closed)")
+        elif header.index_pos > self.size:
+            self._scan(header.data_start, self.size)
+            self._note_truncated(header)
+        else:
+            try:
+                infos = self._read_index(header)
+            except FormatError as e:
+                self._scan(header.data_start, header.index_pos)
+                self._note_scan(f"has a damaged index ({e})")
+            else:
+                self._read_indexed(infos)
+        self._note_damage()
+
+    # Connections and what they mean.
+
+    def _connect(self, connection: Connection) -> None:
+        if connection.id in self.connections:
+            return
+        self.connections[connection.id] = connection
+        self.topics.setdefault(connection.topic, connection.type)
+        if connection.topic not in self.wanted_topics:
+            return
+        if connection.type in TF_TYPES:
+            self.messages.want(connection)
+        else:
+            line = f"{connection.topic}: {connection.type or 'no type'} is not a transform message, skipped"
+            if line not in self.skipped:
+                self.skipped.append(line)
+
+    # Reading by the index.
+
+    def _read_index(self, header: BagHeader) -> list[ChunkInfo]:
+        pos = header.index_pos
+        connections: list[Connection] = []
+        infos: list[ChunkInfo] = []
+        for _ in range(header.conn_count):
+            record = self._record(pos, OP_CONNECTION)
+            connections.append(read_connection(self.buf, record))
+            pos = record.data_end
+        for _ in range(header.chunk_count):
+            record = self._record(pos, OP_CHUNK_INFO)
+            infos.append(read_chunk_info(self.buf, record))
+            pos = record.data_end
+        for connection in connections:
+            self._connect(connection)
+        return sorted(infos, key=lambda info: info.pos)
+
+    def _record(self, pos: int, op: int) -> Record:
+        record = read_record(self.buf, pos)
+        if record.op != op or record.data_end > self.size:
+            raise FormatError(f"no readable record with op {op} at byte {pos}")
+        return record
+
+    def _read_indexed(self, infos: list[ChunkInfo]) -> None:
+        counted = [info for info in infos if info.counts]
+        self.message_count = sum(sum(info.counts.values()) for info in counted)
+        self.start = min((info.start for info in counted), default=0)
+        self.end = max((info.end for info in counted), default=0)
+        for ordinal, info in enumerate(infos):
+            wanted = sum(n for conn, n in info.counts.items() if self.messages.wants(conn))
+            if wanted:
+                self._indexed_chunk(ordinal, info, wanted)
+                self.progress(min(info.pos, self.size), self.size)
+
+    def _indexed_chunk(self, ordinal: int, info: ChunkInfo, wanted: int) -> None:
+        try:
+            record = self._record(info.pos, OP_CHUNK)
+            chunk = read_chunk(record)
+            unpacked = decompress(chunk.compression, self.buf[chunk.data_start : chunk.data_end], chunk.size)
+        except (FormatError, CompressionUnavailableError) as e:
+            self.damage.note(info.pos, str(e), wanted)
+            return
+        offsets = self._index_offsets(record.data_end, info)
+        if offsets is None:
+            located = locate(unpacked.data, walk(unpacked.data)[0], follow=False)
+        else:
+            located = locate(unpacked.data, offsets, follow=True)
+        got = self.messages.add(ordinal, unpacked.data, located)
+        if got < wanted:
+            reason = unpacked.problem or located.first_error or "its index points at no message"
+            self.damage.note(info.pos, reason, wanted - got)
+
+    def _index_offsets(self, pos: int, info: ChunkInfo) -> IntArray | None:
+        """Offsets of the wanted messages in the chunk's data, from the index records after it;
+        None when those are unreadable."""
+        offsets: list[IntArray] = []
+        try:
+            for _ in range(len(info.counts)):
+                record = self._record(pos, OP_INDEX)
+                entries = read_index(self.buf, record)
+                if self.messages.wants(entries.conn):
+                    offsets.append(entries.offsets)
+                pos = record.data_end
+        except FormatError:
+            return None
+        return np.unique(np.concatenate(offsets)) if offsets else np.zeros(0, np.int64)
+
+    # Reading chunk after chunk.
+
+    def _scan(self, pos: int, stop: int) -> None:
+        """Read the records from ``pos`` to ``stop`` one after the other, over damage if need be."""
+        self.scanned = pos
+        while pos < stop:
+            try:
+                pos = self._scanned_record(pos, stop)
+            except FormatError as e:
+                found = self._resync(pos + 1, stop)
+                if found is None:
+                    self.tail = f"the last {stop - pos} bytes are no readable record"
+                    break
+                self.damage.note(pos, f"{found - pos} unreadable bytes skipped ({e})", None)
+                pos = found
+            self.scanned = min(pos, stop)
+            self.progress(self.scanned, self.size)
+
+    def _scanned_record(self, pos: int, stop: int) -> int:
+        """Read the record at ``pos``; returns where the next one begins."""
+        record = read_record(self.buf, pos, stop)
+        if record.op == OP_CHUNK:
+            return self._scanned_chunk(record, stop)
+        if record.op == OP_MESSAGE:  # an unfinished chunk's records follow its header
+            self._records(self.buf[pos:stop])
+            return stop
+        if record.op == OP_CONNECTION and record.data_end <= stop:
+            self._connect(read_connection(self.buf, record))
+        return record.data_end
+
+    def _scanned_chunk(self, record: Record, stop: int) -> int:
+        chunk = read_chunk(record)
+        unfinished = chunk.data_end == chunk.data_start and chunk.size == 0
+        if unfinished and chunk.compression == "none":
+            return chunk.data_end  # its records are next, outside any chunk
+        end = min(chunk.data_end, stop)
+        if unfinished:
+            end = stop
+            self.tail = f"its unfinished last chunk ({chunk.compression}) is read as far as it can be"
+        elif chunk.data_end > stop:  # cut short, or its length is damaged: up to the next chunk
+            end = self._resync(chunk.data_start, stop) or stop
+        try:
+            unpacked = decompress(chunk.compression, self.buf[chunk.data_start : end], chunk.size)
+        except CompressionUnavailableError as e:
+            self.damage.note(chunk.pos, str(e), None)
+            return end
+        if unpacked.problem and chunk.data_end <= stop:
+            self.damage.note(chunk.pos, unpacked.problem, None)
+        self._records(unpacked.data)
+        return end
+
+    def _records(self, data: bytes) -> None:
+        offsets, _ = walk(data)
+        located = locate(data, offsets, follow=False)
+        for connection in located.connections:
+            self._connect(connection)
+        self._count(located)
+        self.messages.add(self.chunk_ordinal, data, located)
+        self.chunk_ordinal += 1
+
+    def _count(self, located: Located) -> None:
+        if not len(located.time):
+            return
+        first, last = int(located.time.min()), int(located.time.max())
+        self.start = min(self.start, first) if self.message_count else first
+        self.end = max(self.end, last)
+        self.message_count += len(located.time)
+
+    def _resync(self, pos: int, stop: int) -> int | None:
+        """Where the next readable chunk record begins after damage at ``pos``."""
+        while (hit := self.buf.find(_CHUNK_HEADER_OP, pos, stop)) >= 0:
+            for start in range(max(pos, hit - _HEADER_REACH), hit - 3):
+                try:
+                    record = read_record(self.buf, start, stop)
+                except FormatError:
+                    continue
+                if record.op == OP_CHUNK:
+                    return start
+            pos = hit + 1
+        return None
+
+    # Problems, one line each.
+
+    def _note_scan(self, why: str) -> None:
+        n = self.messages.count
+        tail = f"; {self.tail}" if self.tail else ""
+        self.problems.append(
+            f"{self.name}: {why}; read {n} transform messages by scanning its chunks{tail} ({_REPAIR})"
+        )
+
+    def _note_truncated(self, header: BagHeader) -> None:
+        n = self.messages.count
+        span, seen = header.index_pos - header.data_start, self.scanned - header.data_start
+        expected = f"~{round(n * span / seen)}" if seen > 0 and n else "an unknown number of"
+        self.problems.append(
+            f"{self.name}: truncated after {self.size} of more than {header.index_pos} bytes; "
+            f"read {n} of {expected} transform messages ({_REPAIR})"
+        )
+
+    def _note_damage(self) -> None:
+        d = self.damage
+        if not d.places:
+            return
+        what = "a damaged part" if d.places == 1 else f"{d.places} damaged parts"
+        if d.lost_known:
+            lost = f"{d.lost} transform messages lost"
+        else:
+            lost = f"at least {d.lost} transform messages lost" if d.lost else "the transform messages there are lost"
+        self.problems.append(f"{self.name}: {what} could not be read ({d.first}); {lost}")
