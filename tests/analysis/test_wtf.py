@@ -86,7 +86,8 @@ def test_thresholds_move_the_limits() -> None:
     assert check(gap, Thresholds(max_gap=4.0)) == []
     ahead = recording(PROBLEMS["future"].make())
     assert check(ahead, Thresholds(future=5.0)) == []
-    assert [f.code for f in check(ahead, Thresholds(future=5.0, clock=2.0))] == ["clock"]
+    replayed = recording(PROBLEMS["clock_replay"].make())  # 3 days behind: on another clock, or just late
+    assert {f.code for f in check(replayed, Thresholds(clock=400_000.0))} == {"delay"}
 
 
 def test_thresholds_must_be_positive() -> None:
@@ -152,7 +153,7 @@ def test_multiple_parents_says_who_set_each_parent_and_when() -> None:
 
 
 def test_an_edge_handed_over_from_one_publisher_to_another_is_a_note() -> None:
-    messages = healthy(ekf=ekf(end=5.0) + periodic("/ekf_new", 50, odom_base, start=5.5))
+    messages = healthy(ekf=ekf(end=5.0) + periodic("/ekf_new", 50, odom_base, start=5.3))
     findings = check(recording(messages))
     assert loud(findings) == []
     note = only(findings, "multiple_authorities")
@@ -179,10 +180,11 @@ def test_clock_tells_a_recording_on_simulated_time_from_stamps_on_wall_time() ->
     assert set(finding.frames) == {"map", "odom", "base_link", "wheel"}
 
 
-def test_clock_ahead_is_another_clock_not_a_future_stamp() -> None:
-    ahead = recording(healthy(ekf=ekf(stamp=lambda t: t + 60 * NS_PER_S)))
-    finding = only(check(ahead), "clock")
-    assert "60.0 s after they were recorded" in finding.message and "chrony" in finding.hint
+def test_a_clock_far_ahead_is_future_with_the_advice_to_sync_clocks() -> None:
+    ahead = recording(healthy(ekf=ekf(stamp=lambda t: t + 3600 * NS_PER_S)))
+    finding = only(check(ahead), "future")
+    assert "500 of 500 transforms stamped up to 60.0 min after they were recorded" in finding.message
+    assert "chrony" in finding.hint
 
 
 @pytest.mark.parametrize(("length", "severity"), [(1.0001, Severity.info), (1.002, Severity.warning)])
@@ -272,3 +274,32 @@ def test_a_publisher_that_stutters_is_irregular_but_one_pause_is_a_gap() -> None
     assert "publishes irregularly" in finding.message and finding.frames == ("map", "odom")
     gap = only(check(recording(PROBLEMS["rate"].make())), "rate")
     assert "went silent 1 time" in gap.message and "3.1 s" in gap.message
+
+
+def test_a_robot_standing_still_is_healthy_though_odom_is_constant() -> None:
+    parked = periodic("/ekf", 50, lambda t: [_t("odom", "base_link", t, 2.0)])
+    assert check(recording(healthy(ekf=parked))) == []
+
+
+@pytest.mark.parametrize("name", ["cycle", "multiple_parents", "multiple_authorities"])
+def test_a_constant_rogue_transform_is_reported_once_as_what_it_breaks(name: str) -> None:
+    rogue = {
+        "cycle": periodic("/rogue", 10, lambda t: [_t("base_link", "map", t)], phase=0.05),
+        "multiple_parents": periodic("/rogue", 10, lambda t: [_t("map", "base_link", t)], phase=0.01),
+        "multiple_authorities": periodic("/rogue", 10, lambda t: [_t("base_link", "wheel", t)], phase=0.01),
+    }[name]
+    assert [f.code for f in loud(check(recording(with_extra(rogue))))] == [name]
+
+
+def test_a_few_late_arrivals_are_enough_for_a_delay_warning() -> None:
+    messages = ekf()
+    late = [
+        TfMessage(m.topic, m.record_time + (800 * MS if i % 10 == 0 else 0), m.transforms, m.publisher)
+        for i, m in enumerate(messages)
+    ]
+    finding = only(check(recording(healthy(ekf=late))), "delay")
+    assert "50 of 500 transforms more than 0.2 s after their stamp" in finding.message
+    # tolerated lateness: what remains is that newer transforms overtook them, which tf2 copes with
+    (overtaken,) = check(recording(healthy(ekf=late)), Thresholds(delay=0.9))
+    assert overtaken.code == "time_backwards" and overtaken.severity is Severity.warning
+    assert "50 transforms arrived out of order" in overtaken.message

@@ -30,7 +30,7 @@ ROSWTF_CODES = {
     "cycle_detection": {"cycle", "self_transform"},
     "multiple_authority": {"multiple_authorities", "multiple_parents", "self_transform"},
     "not_normalized": {"invalid_values"},
-    "rostime_delta": {"clock", "future", "delay"},
+    "rostime_delta": {"clock", "future", "delay", "time_backwards"},  # a jump back in time leaves stamps behind
     "no_msgs": {"no_tf"},
 }
 #: The rule of roswtf that must see each scene's problem (where roswtf checks for it at all).

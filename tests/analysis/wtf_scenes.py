@@ -240,14 +240,21 @@ PROBLEMS = {
         lambda: healthy(ekf=_swap_pairs(ekf(), 25)),
         ("odom", "base_link"),
         "/ekf",
-        words=("went back",),
+        "warning",
+        words=("arrived out of order",),
+    ),
+    "time_jump": Problem(
+        "time_backwards",
+        lambda: healthy(ekf=ekf(stamp=lambda t: t - 3 * NS_PER_S if t >= START + 5 * NS_PER_S else t)),
+        ("odom", "base_link"),
+        "/ekf",
+        words=("went back 1 time, by up to 3.0 s", "time jumped back"),
     ),
     "time_repeated": Problem(
         "time_backwards",
         lambda: healthy(ekf=_twice(ekf())),
         ("odom", "base_link"),
         "/ekf",
-        "warning",
         words=("TF_REPEATED_DATA",),
     ),
     "static_on_dynamic": Problem(

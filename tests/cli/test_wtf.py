@@ -123,7 +123,7 @@ def test_json_findings_carry_every_field_with_times_in_seconds(tfx, bags: dict[s
     result = tfx("wtf", bags["stale"], "--format", "json")
     report = as_json(result.stdout)
     assert report["tool"] == "tfx wtf" and report["strict"] is False
-    assert report["thresholds"] == {"stale_after": 1.0, "max_gap": 1.0, "delay": 0.2, "future": 1.0, "clock": 10.0}
+    assert report["thresholds"] == {"stale_after": 1.0, "max_gap": 0.5, "delay": 0.2, "future": 1.0, "clock": 10.0}
     bag = report["bags"][0]
     assert bag["formats"] == ["rosbag2-sqlite3"] and bag["frames"] == 6
     assert bag["start"] == pytest.approx(1_700_000_000.002) and bag["end"] == pytest.approx(1_700_000_009.982)

@@ -65,7 +65,7 @@ FutureOption = Annotated[
     float, typer.Option("--future", help="Stamps this many seconds ahead of their arrival are from the future.")
 ]
 ClockOption = Annotated[
-    float, typer.Option("--clock", help="Stamps this many seconds off their arrival (median) are on another clock.")
+    float, typer.Option("--clock", help="Stamps this many seconds behind their arrival (median) are on another clock.")
 ]
 
 

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TypeVar, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -23,6 +24,7 @@ Int32Array = npt.NDArray[np.int32]
 IntpArray = npt.NDArray[np.intp]
 BoolArray = npt.NDArray[np.bool_]
 FloatArray = npt.NDArray[np.float64]
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -117,6 +119,13 @@ class Scene:
         self.thresholds = thresholds if thresholds is not None else Thresholds()
         self.start = recording.start
         self.end = recording.end
+        self._shared: dict[str, object] = {}
+
+    def shared(self, key: str, compute: Callable[[], T]) -> T:
+        """What several checks need, computed once per scene."""
+        if key not in self._shared:
+            self._shared[key] = compute()
+        return cast(T, self._shared[key])
 
     @cached_property
     def rows(self) -> Rows:

@@ -16,12 +16,13 @@ class Thresholds:
     least ``PERIODS`` of its periods). ``max_gap``: a pause inside the recording longer than this
     (and ``PERIODS`` periods) is a gap. ``delay``: transforms arriving this much after their stamp
     are late (costmap_2d's default ``transform_tolerance``). ``future``: stamps this much ahead of
-    their arrival are from the future (roswtf's limit). ``clock``: a median offset between stamps
-    and arrival beyond this is another clock altogether.
+    their arrival are from the future (roswtf's limit). ``clock``: stamps this much behind their
+    arrival (the median) are on another clock altogether, like stamps counting from boot next to
+    epoch time.
     """
 
     stale_after: float = 1.0
-    max_gap: float = 1.0
+    max_gap: float = 0.5
     delay: float = 0.2
     future: float = 1.0
     clock: float = 10.0

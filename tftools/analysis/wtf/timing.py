@@ -8,7 +8,17 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import EdgeSamples, Int64Array, Scene, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import (
+    BoolArray,
+    EdgeSamples,
+    Int64Array,
+    IntpArray,
+    Scene,
+    duration,
+    edge,
+    listed,
+    transforms,
+)
 from tftools.analysis.wtf.thresholds import PERIODS
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.history import FROM_STATIC_TOPIC
@@ -16,6 +26,10 @@ from tftools.core.time import NS_PER_S
 
 #: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
 EPOCH_FLOOR = 1_000_000_000 * NS_PER_S
+#: Stamps going back this far (ns) are a jump in time, never transforms that arrived late.
+TIME_JUMP = NS_PER_S
+#: An edge arrives late when more than this share of its transforms do.
+DELAY_SHARE = 0.05
 #: A rate is irregular when more than IRREGULAR_SHARE of its intervals are off the median by IRREGULAR of it.
 IRREGULAR = 0.5
 IRREGULAR_SHARE = 0.25
@@ -30,7 +44,6 @@ _CLOCK_HINTS = {
     "behind": "stamps from an older time: a bag replayed without --clock while nodes run on wall time (use "
     "rosbag play --clock with use_sim_time true), or this publisher's machine clock is behind: sync the clocks "
     "(chrony/NTP)",
-    "ahead": "this publisher's machine clock runs ahead of the recorder's: sync the clocks (chrony/NTP)",
 }
 
 
@@ -92,9 +105,7 @@ def clock_kind(scene: Scene, e: EdgeSamples) -> str | None:
         return "simulated"
     if offset > scene.thresholds.clock:
         return "behind"
-    if offset < -scene.thresholds.clock:
-        return "ahead"
-    return None
+    return None  # far ahead on the same time base is a clock running ahead: ``future`` says so
 
 
 @register("clock", Severity.error, "stamps on another clock than the recording's (the use_sim_time mistake)")
@@ -117,7 +128,6 @@ def clock(scene: Scene) -> Iterator[Finding]:
             "simulated": f"stamped with wall-clock time ({stamp:.1f} s) while the recording runs on a simulated "
             f"clock ({record:.1f} s)",
             "behind": f"stamped {duration(offset)} before they were recorded: another clock than the recording's",
-            "ahead": f"stamped {duration(-offset)} after they were recorded: another clock than the recording's",
         }[kind]
         yield Finding(
             Severity.error,
@@ -148,10 +158,10 @@ def future(scene: Scene) -> Iterator[Finding]:
             "future",
             f"{edge(e.parent, e.child)}{by}: {int(early.sum())} of {transforms(len(stamps))} "
             f"stamped up to {duration(ahead.max() / NS_PER_S)} after they were recorded, first at "
-            f"{scene.at(int(records[early][0]))}",
+            f"{scene.at(int(records[early].min()))}",
             "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates its "
             f"transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's transform_tolerance): "
-            "listeners then hold transforms for times that have not come yet",
+            "listeners then take them for the newest data and lookups at the present extrapolate wrongly or fail",
             (e.parent, e.child),
             e.authorities,
             int(stamps[early].min()),
@@ -168,9 +178,11 @@ def delay(scene: Scene) -> Iterator[Finding]:
         if not len(stamps):
             continue
         delays = records - stamps
-        if np.percentile(delays, 90) <= limit or clock_kind(scene, e) is not None:
-            continue
         late = delays > limit
+        if late.mean() <= DELAY_SHARE or clock_kind(scene, e) is not None:
+            continue
+        if e.child in scene.shared("time_jumps", lambda: _jumped(scene)):
+            continue  # stamps behind arrival since a jump back in time: ``time_backwards`` says so
         by = scene.by(e.authorities)
         yield Finding(
             Severity.warning,
@@ -221,7 +233,8 @@ def rate(scene: Scene) -> Iterator[Finding]:
             )
             continue
         off = (intervals < (1 - IRREGULAR) * period) | (intervals > (1 + IRREGULAR) * period)
-        if len(intervals) >= IRREGULAR_MIN_INTERVALS and off.mean() > IRREGULAR_SHARE:
+        # two publishers interleaving make any rhythm irregular: ``multiple_authorities`` says so
+        if len(authorities) == 1 and len(intervals) >= IRREGULAR_MIN_INTERVALS and off.mean() > IRREGULAR_SHARE:
             yield Finding(
                 Severity.warning,
                 "rate",
@@ -239,22 +252,61 @@ def rate(scene: Scene) -> Iterator[Finding]:
 
 @register("time_backwards", Severity.error, "an edge's stamps going back or repeating")
 def time_backwards(scene: Scene) -> Iterator[Finding]:
+    """Per frame and publisher: what two publishers do to each other's stamps is theirs to answer for
+    (``multiple_authorities``, ``multiple_parents``)."""
+    for child_id, mine in _streams(scene):
+        yield from _stamps_of(scene, child_id, mine)
+
+
+def _streams(scene: Scene) -> Iterator[tuple[int, IntpArray]]:
+    """Each child frame's moving transforms from each of its publishers, in arrival order."""
     rows = scene.rows
-    for child_id, mine in scene.by_child(rows.usable & ~rows.static):
-        stamps = rows.stamp[mine]
-        if len(stamps) < 2:
-            continue
-        before = np.concatenate([stamps[:1], np.maximum.accumulate(stamps)[:-1]])  # the newest stamp so far
-        back = stamps < before
-        repeat, same = _repeats(stamps, rows.values[mine])
-        repeat &= ~back
-        parent = rows.names[rows.parent[mine[-1]]]
-        name = edge(parent, rows.names[child_id])
-        if back.any():
-            yield _went_back(scene, name, (parent, rows.names[child_id]), mine, back, before - stamps)
-        for again, identical in ((repeat & ~same, False), (repeat & same, True)):
-            if again.any():
-                yield _repeated(scene, name, (parent, rows.names[child_id]), mine[again], identical)
+    for child_id, frame_rows in scene.by_child(rows.usable & ~rows.static):
+        publishers = rows.authority[frame_rows]
+        for publisher in dict.fromkeys(publishers.tolist()):
+            yield child_id, frame_rows[publishers == publisher]
+
+
+def _behind(stamps: Int64Array) -> tuple[Int64Array, BoolArray]:
+    """How far each stamp is behind the newest one before it, and which rows went back: stamped
+    earlier, or as early as the newest right after rows that did (the end of a jump back)."""
+    before = np.concatenate([stamps[:1], np.maximum.accumulate(stamps)[:-1]])
+    back = stamps < before
+    back |= (stamps == before) & np.concatenate([[False], back[:-1]])
+    return before - stamps, back
+
+
+def _jumped(scene: Scene) -> set[str]:
+    """Child frames whose stamps jumped back in time, by any publisher."""
+    rows = scene.rows
+    found = set()
+    for child_id, mine in _streams(scene):
+        behind, back = _behind(rows.stamp[mine])
+        if back.any() and behind[back].max() >= TIME_JUMP:
+            found.add(rows.names[child_id])
+    return found
+
+
+def _stamps_of(scene: Scene, child_id: int, mine: np.ndarray) -> Iterator[Finding]:
+    rows = scene.rows
+    stamps = rows.stamp[mine]
+    if len(stamps) < 2:
+        return
+    behind, back = _behind(stamps)
+    before = stamps + behind
+    repeat, same = _repeats(stamps, rows.values[mine])
+    repeat &= ~back
+    records = rows.record_time[mine]
+    late = (records > 0) & (records - stamps > scene.ns(scene.thresholds.delay))
+    if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
+        back &= ~(late & (before - stamps < TIME_JUMP))
+    parent = rows.names[rows.parent[mine[-1]]]
+    frames = (parent, rows.names[child_id])
+    if back.any():
+        yield _went_back(scene, edge(*frames), frames, mine, back, before - stamps)
+    for again, identical in ((repeat & ~same, False), (repeat & same, True)):
+        if again.any():
+            yield _repeated(scene, edge(*frames), frames, mine[again], identical)
 
 
 def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -275,32 +327,43 @@ def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.nda
 def _went_back(
     scene: Scene, name: str, frames: tuple[str, str], mine: np.ndarray, back: np.ndarray, behind: Int64Array
 ) -> Finding:
-    """``back`` marks the rows stamped before the newest stamp so far, ``behind`` by how much."""
-    stamps = scene.rows.stamp[mine]
-    jumps = int((stamps[1:] < stamps[:-1]).sum())
+    """``back`` marks the rows stamped before the newest stamp so far, ``behind`` by how much: a jump
+    back in time (an error), or transforms out of order by less, which tf2 sorts into place (a warning)."""
     largest = int(behind[back].max())
     offenders = mine[back]
-    who = scene.authorities_of(mine)
-    if largest >= NS_PER_S:
+    by = scene.by(scene.authorities_of(offenders))
+    first = scene.at(int(scene.arrival(offenders).min()))
+    if largest >= TIME_JUMP:
+        jumps = int((back[1:] & ~back[:-1]).sum() + back[0])
         hint = (
-            "time jumped back (a bag replayed in a loop, a restarted simulation, a clock reset): listeners keep "
-            "the newer data and must be reset (tf2_ros clears its buffer when ROS time jumps back)"
+            "time jumped back (a bag replayed in a loop, a restarted simulation, a clock reset): listeners then "
+            "mix two timelines and must be reset (tf2_ros clears its buffer when ROS time jumps back)"
         )
         if largest > DEFAULT_CACHE_TIME:
             hint += "; tf2 refuses samples older than its 10 s cache behind the newest (TF_OLD_DATA)"
-    elif len(who) > 1:
-        hint = "several publishers send this frame with different stamps: let one of them publish it"
+        severity = Severity.error
+        message = (
+            f"stamps of {name}{by} went back {jumps} time{'s' if jumps > 1 else ''}, by up to "
+            f"{duration(largest / NS_PER_S)}, first at {first}: {transforms(len(offenders))} stamped before one "
+            "already sent"
+        )
     else:
-        hint = "the publisher sends stamps out of order: stamp each transform with the current time, in order"
+        severity = Severity.warning
+        hint = (
+            "tf2 sorts them into its cache, so lookups cope, but something reorders them: the publisher stamps "
+            "before it sends from several threads, or the link reorders; stamp and send in order"
+        )
+        message = (
+            f"{name}{by}: {transforms(len(offenders))} arrived out of order, stamped up to "
+            f"{duration(largest / NS_PER_S)} before one already received, first at {first}"
+        )
     return Finding(
-        Severity.error,
+        severity,
         "time_backwards",
-        f"stamps of {name}{scene.by(scene.authorities_of(offenders))} went back {jumps} time{'s' if jumps > 1 else ''}"
-        f", by up to {duration(largest / NS_PER_S)}, first at {scene.at(int(scene.arrival(offenders).min()))}: "
-        f"{transforms(len(offenders))} stamped before one already sent",
+        message,
         hint,
         frames,
-        who,
+        scene.authorities_of(mine),
         int(scene.rows.stamp[offenders].min()),
         int(scene.rows.stamp[offenders].max()),
         len(offenders),
@@ -313,10 +376,11 @@ def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.nd
     first = scene.at(int(scene.arrival(offenders).min()))
     if same:
         return Finding(
-            Severity.warning,
+            Severity.error,
             "time_backwards",
             f"{name}{by} sent {transforms(len(offenders))} again with a stamp and values it had "
-            f"already sent, first at {first}: tf2 ignores each, logging TF_REPEATED_DATA",
+            f"already sent, first at {first}: tf2 ignores each, logging TF_REPEATED_DATA (nothing is lost, but "
+            "the log floods)",
             "publish each stamp once (a timer faster than its input republishes the last transform)",
             frames,
             who,

@@ -15,6 +15,8 @@ from tftools.core.time import NS_PER_S
 STATIC_MIN_SAMPLES = 10
 STATIC_MIN_RATE_HZ = 1.0
 STATIC_MIN_SPAN_S = 1.0
+#: Frames whose children move by nature (REP 105), though a robot standing still sends them constant.
+WORLD_FRAMES = frozenset({"map", "odom", "world", "earth"})
 
 
 def _by(scene: Scene, who: Sequence[str]) -> str:
@@ -24,9 +26,14 @@ def _by(scene: Scene, who: Sequence[str]) -> str:
 
 @register("static_on_dynamic", Severity.warning, "a constant transform sent on /tf at a high rate")
 def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
+    """Not for edges moving by nature (REP 105's map -> odom -> base: a robot standing still), nor
+    for edges another finding accounts for (a second parent or publisher, a loop)."""
     rows = scene.rows
+    contested = _contested(scene)
     for parent, child, mine in scene.by_edge(rows.usable & ~rows.static):
-        if len(mine) < STATIC_MIN_SAMPLES:
+        if len(mine) < STATIC_MIN_SAMPLES or rows.child[mine[0]] in contested:
+            continue
+        if _moving_by_nature(rows.names[parent]) or _in_loop(scene, rows.names[parent], rows.names[child]):
             continue
         values = rows.values[mine]
         stamps = rows.stamp[mine]
@@ -48,6 +55,36 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
             int(stamps.max()),
             len(mine),
         )
+
+
+def _contested(scene: Scene) -> set[int]:
+    """Child frames with more than one parent or publisher."""
+    rows = scene.rows
+    found = set()
+    for child, mine in scene.by_child(rows.usable):
+        parents, publishers = rows.parent[mine], rows.authority[mine]
+        if parents.min() != parents.max() or publishers.min() != publishers.max():
+            found.add(child)
+    return found
+
+
+def _moving_by_nature(parent: str) -> bool:
+    """map, odom, world, earth (REP 105): what is under them moves even when it stands still."""
+    base = parent.rsplit("/", 1)[-1]
+    return base in WORLD_FRAMES or base.startswith("odom")
+
+
+def _in_loop(scene: Scene, parent: str, child: str) -> bool:
+    """Whether ``child`` is among ``parent``'s ancestors by the latest parents."""
+    frames = scene.tree.frames
+    seen: set[str] = set()
+    frame: str | None = parent
+    while frame is not None and frame not in seen:
+        if frame == child:
+            return True
+        seen.add(frame)
+        frame = frames[frame].parent if frame in frames else None
+    return False
 
 
 @register("dynamic_on_static", Severity.error, "a changing transform on /tf_static")
