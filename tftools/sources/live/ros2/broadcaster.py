@@ -16,6 +16,7 @@ from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.cdr import decode_participant_entities
 from tftools.sources.live.ros2.dds import Participant, take_raw
 from tftools.sources.live.ros2.errors import DdsError
+from tftools.sources.live.ros2.graph import discovery_readers
 from tftools.sources.live.ros2.idl import TFMessage, announcement, participant_entities_info
 
 #: How long to listen for other nodes' ``ros_discovery_info`` to learn their Gid size.
@@ -90,12 +91,10 @@ class Ros2StaticBroadcaster(ContextManaged):
         distro = os.environ.get("ROS_DISTRO", "").strip().lower()
         if distro:
             return 24 if distro in _GID24_DISTROS else 16
-        reader = self._participant.reader(
-            ros2.DISCOVERY_TOPIC, participant_entities_info(16), ros2.DISCOVERY_READER_QOS
-        )
+        readers = discovery_readers(self._participant)
         deadline = time.monotonic() + LEARN_GID_SIZE_FOR
         while time.monotonic() < deadline:
-            for data, _info in take_raw(reader):
+            for data, _info in (sample for reader in readers for sample in take_raw(reader)):
                 try:
                     return decode_participant_entities(data).gid_size
                 except ValueError:

@@ -80,7 +80,7 @@ class Participant:
         except DDSException as error:
             _DOMAINS.release(domain_id)
             raise DdsError(f"join DDS domain {domain_id}", error) from None
-        self._topics: dict[str, Topic[Any]] = {}
+        self._topics: dict[tuple[str, type[Any]], Topic[Any]] = {}
         self._closed = False
 
     @property
@@ -88,9 +88,11 @@ class Participant:
         return self.dds.guid.bytes
 
     def topic(self, name: str, data_type: type[Any]) -> Topic[Any]:
-        if name not in self._topics:
-            self._topics[name] = Topic(self.dds, name, data_type)
-        return self._topics[name]
+        """The topic ``name`` of ``data_type`` (Cyclone allows several types under one name)."""
+        key = (name, data_type)
+        if key not in self._topics:
+            self._topics[key] = Topic(self.dds, name, data_type)
+        return self._topics[key]
 
     def reader(self, name: str, data_type: type[Any], profile: QosProfile) -> DataReader[Any]:
         return DataReader(self.dds, self.topic(name, data_type), qos=qos(profile))

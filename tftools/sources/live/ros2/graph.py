@@ -32,6 +32,16 @@ class Writer:
     transient_local: bool
 
 
+def discovery_readers(participant: Participant) -> list[DataReader[Any]]:
+    """Readers of ``ros_discovery_info`` in both Gid sizes: ROS 2's rmw_cyclonedds sends no XTypes
+    type information, so both match it by type name, but a DDS peer that does (Cyclone DDS's Python
+    package) is only matched by the reader of its own size. tftools decodes the bytes either way."""
+    return [
+        participant.reader(ros2.DISCOVERY_TOPIC, participant_entities_info(size), ros2.DISCOVERY_READER_QOS)
+        for size in ros2.GID_SIZES
+    ]
+
+
 def participant_name(guid: bytes) -> str:
     """A participant no node was announced for: its GUID prefix (12 bytes), as Cyclone logs it."""
     prefix = guid[:12].hex()
@@ -46,10 +56,7 @@ class Graph:
     def __init__(self, participant: Participant, on_writer: Callable[[Writer, str], None] | None = None) -> None:
         self._on_writer = on_writer or (lambda _writer, _name: None)
         self.publications = BuiltinDataReader(participant.dds, BuiltinTopicDcpsPublication)
-        # Read with the 16-byte Gid type: only its name matters to DDS, tftools decodes the bytes.
-        self.discovery = participant.reader(
-            ros2.DISCOVERY_TOPIC, participant_entities_info(16), ros2.DISCOVERY_READER_QOS
-        )
+        self.discovery = discovery_readers(participant)
         self._writers: dict[int, Writer] = {}
         self._nodes: dict[bytes, dict[bytes, str]] = {}  # participant -> writer GUID -> node name
         self._node_of_writer: dict[bytes, str] = {}
@@ -57,14 +64,14 @@ class Graph:
 
     @property
     def readers(self) -> tuple[Any, ...]:
-        return (self.publications, self.discovery)
+        return (self.publications, *self.discovery)
 
     def poll(self) -> None:
         """Take what the two discovery readers received."""
         for endpoint in self.publications.take(256):
             if isinstance(endpoint, DcpsEndpoint):
                 self._add_writer(endpoint)
-        for data, _info in take_raw(self.discovery):
+        for data, _info in (sample for reader in self.discovery for sample in take_raw(reader)):
             try:
                 entities = decode_participant_entities(data)
             except ValueError:
