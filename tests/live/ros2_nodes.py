@@ -1,0 +1,244 @@
+# ruff: noqa: N801 - the structs carry the names ROS 2 gives them on the wire
+"""Stand-ins for ROS 2 nodes, for the live ROS 2 tests (run as scripts, never imported by pytest).
+
+No ROS 2 exists on the test machines: these talk DDS through Cyclone DDS the way rmw_cyclonedds
+does (ROS 2 topic and type names, keyless XCDR1 types, rclcpp's QoS, ros_discovery_info), with
+their own type definitions (tftools' are not used, so a mistake there cannot hide here).
+
+    ros2_nodes.py dynamic NAME PARENT CHILD [--gid 16|24|0] [--hz 50] [--sim START]
+        A TransformBroadcaster node /NAME: translation (stamp mod 100 s, 0.5, 0), identity rotation.
+        --gid: the Gid size of its ros_discovery_info announcement (0: no announcement, a plain DDS
+        writer). --sim START: also publishes /clock from START seconds, and stamps with it.
+    ros2_nodes.py wrong_type TOPIC      a std_msgs/msg/String writer on TOPIC
+    ros2_nodes.py volatile_static       a /tf_static writer that is volatile (tf2 listeners cannot hear it)
+    ros2_nodes.py static_listener       listens to /tf_static with tf2_ros's StaticListenerQoS for 1.5 s and
+                                        prints as JSON each sample and its writer's QoS as DDS discovered it
+Each prints "ready" once its writers exist, then runs until killed.
+"""
+
+import json
+import sys
+import time
+from dataclasses import dataclass, field
+
+from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication
+from cyclonedds.core import Policy, Qos
+from cyclonedds.domain import DomainParticipant
+from cyclonedds.idl import IdlStruct
+from cyclonedds.idl.types import array, bounded_str, float64, int32, sequence, uint8, uint32
+from cyclonedds.pub import DataWriter
+from cyclonedds.sub import DataReader
+from cyclonedds.topic import Topic
+from cyclonedds.util import duration
+
+
+@dataclass
+class Time_(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
+    sec: int32 = 0
+    nanosec: uint32 = 0
+
+
+@dataclass
+class Header_(IdlStruct, typename="std_msgs::msg::dds_::Header_"):
+    stamp: Time_ = field(default_factory=Time_)
+    frame_id: str = ""
+
+
+@dataclass
+class Vector3_(IdlStruct, typename="geometry_msgs::msg::dds_::Vector3_"):
+    x: float64 = 0.0
+    y: float64 = 0.0
+    z: float64 = 0.0
+
+
+@dataclass
+class Quaternion_(IdlStruct, typename="geometry_msgs::msg::dds_::Quaternion_"):
+    x: float64 = 0.0
+    y: float64 = 0.0
+    z: float64 = 0.0
+    w: float64 = 1.0
+
+
+@dataclass
+class Transform_(IdlStruct, typename="geometry_msgs::msg::dds_::Transform_"):
+    translation: Vector3_ = field(default_factory=Vector3_)
+    rotation: Quaternion_ = field(default_factory=Quaternion_)
+
+
+@dataclass
+class TransformStamped_(IdlStruct, typename="geometry_msgs::msg::dds_::TransformStamped_"):
+    header: Header_ = field(default_factory=Header_)
+    child_frame_id: str = ""
+    transform: Transform_ = field(default_factory=Transform_)
+
+
+@dataclass
+class TFMessage_(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
+    transforms: sequence[TransformStamped_] = field(default_factory=list)
+
+
+@dataclass
+class Clock_(IdlStruct, typename="rosgraph_msgs::msg::dds_::Clock_"):
+    clock: Time_ = field(default_factory=Time_)
+
+
+@dataclass
+class String_(IdlStruct, typename="std_msgs::msg::dds_::String_"):
+    data: str = ""
+
+
+def gid_types(size):
+    @dataclass
+    class Gid_(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
+        data: array[uint8, size] = field(default_factory=lambda: [0] * size)
+
+    @dataclass
+    class NodeEntitiesInfo_(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
+        node_namespace: bounded_str[256] = "/"
+        node_name: bounded_str[256] = ""
+        reader_gid_seq: sequence[Gid_, 1024] = field(default_factory=list)
+        writer_gid_seq: sequence[Gid_, 1024] = field(default_factory=list)
+
+    @dataclass
+    class ParticipantEntitiesInfo_(IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"):
+        gid: Gid_ = field(default_factory=Gid_)
+        node_entities_info_seq: sequence[NodeEntitiesInfo_, 1024] = field(default_factory=list)
+
+    return Gid_, NodeEntitiesInfo_, ParticipantEntitiesInfo_
+
+
+def qos(depth, reliable=True, transient_local=False):
+    """rclcpp's QoS as rmw_cyclonedds sets it."""
+    history = Policy.History.KeepLast(depth) if depth else Policy.History.KeepAll
+    policies = [
+        history,
+        Policy.Reliability.Reliable(duration(infinite=True)) if reliable else Policy.Reliability.BestEffort,
+        Policy.Durability.TransientLocal if transient_local else Policy.Durability.Volatile,
+        Policy.DataRepresentation(use_cdrv0_representation=True),
+        Policy.WriterDataLifecycle(autodispose=False),
+    ]
+    if transient_local:
+        policies.append(Policy.DurabilityService(0, history, -1, -1, -1))
+    return Qos(*policies)
+
+
+def announce(dp, name, writers, size):
+    """ros_discovery_info as rmw_dds_common's GraphCache publishes it."""
+    gid, node, info = gid_types(size)
+
+    def of(guid):
+        return gid(list(guid.bytes.ljust(size, b"\0")))
+
+    topic = Topic(dp, "ros_discovery_info", info)
+    writer = DataWriter(dp, topic, qos=qos(1, transient_local=True))
+    writer.write(info(of(dp.guid), [node("/", name, [], [of(w.guid) for w in writers])]))
+    return writer
+
+
+def dynamic(dp, name, parent, child, gid="16", hz="50", sim=None):
+    tf = DataWriter(dp, Topic(dp, "rt/tf", TFMessage_), qos=qos(100))
+    clock = None
+    if sim is not None:
+        clock = DataWriter(dp, Topic(dp, "rt/clock", Clock_), qos=qos(1, reliable=False))
+    keep = announce(dp, name, [tf, *([clock] if clock else [])], int(gid)) if int(gid) else None
+    print("ready", flush=True)
+    started = time.time_ns()
+    while True:
+        now = time.time_ns()
+        if sim is not None:
+            now = int(float(sim) * 1e9) + now - started
+            clock.write(Clock_(Time_(*divmod(now, 1_000_000_000))))
+        stamp = Time_(*divmod(now, 1_000_000_000))
+        x = (now % 100_000_000_000) / 1e9
+        message = TransformStamped_(Header_(stamp, parent), child, Transform_(Vector3_(x, 0.5, 0.0)))
+        tf.write(TFMessage_([message]))
+        time.sleep(1 / float(hz))
+    del keep
+
+
+def wrong_type(dp, topic):
+    writer = DataWriter(dp, Topic(dp, "rt/" + topic.strip("/"), String_), qos=qos(100))
+    print("ready", flush=True)
+    while True:
+        writer.write(String_("not a transform"))
+        time.sleep(0.1)
+
+
+def volatile_static(dp):
+    writer = DataWriter(dp, Topic(dp, "rt/tf_static", TFMessage_), qos=qos(1))
+    print("ready", flush=True)
+    while True:
+        writer.write(TFMessage_([TransformStamped_(Header_(Time_(1, 0), "a"), "b")]))
+        time.sleep(0.1)
+
+
+def static_listener(dp):
+    topic = Topic(dp, "rt/tf_static", TFMessage_)
+    reader = DataReader(dp, topic, qos=qos(100, transient_local=True))
+    publications = BuiltinDataReader(dp, BuiltinTopicDcpsPublication)
+    print("ready", flush=True)
+    samples = []
+    deadline = time.monotonic() + 1.5
+    while time.monotonic() < deadline:
+        for sample in reader.take(10):
+            samples.append(sample)
+        time.sleep(0.02)
+    writers = {}
+    for endpoint in publications.take(100):
+        if getattr(endpoint, "topic_name", None) == "rt/tf_static":
+            q = endpoint.qos
+            writers[str(endpoint.key)] = {
+                "type": endpoint.type_name,
+                "reliability": type(q[Policy.Reliability]).__name__,
+                "durability": str(q[Policy.Durability]),
+                "history": str(q[Policy.History]),
+                "durability_service": str(q[Policy.DurabilityService]),
+            }
+    out = {
+        "samples": [
+            [
+                {
+                    "frame_id": t.header.frame_id,
+                    "child_frame_id": t.child_frame_id,
+                    "stamp": [t.header.stamp.sec, t.header.stamp.nanosec],
+                    "translation": [t.transform.translation.x, t.transform.translation.y, t.transform.translation.z],
+                    "rotation": [
+                        t.transform.rotation.x,
+                        t.transform.rotation.y,
+                        t.transform.rotation.z,
+                        t.transform.rotation.w,
+                    ],
+                }
+                for t in sample.transforms
+            ]
+            for sample in samples
+        ],
+        "writers": writers,
+    }
+    print(json.dumps(out), flush=True)
+
+
+def main():
+    import os
+
+    domain = int(os.environ.get("ROS_DOMAIN_ID", "0"))
+    dp = DomainParticipant(domain, qos=Qos(Policy.Userdata(b"enclave=/;")))
+    mode, *arguments = sys.argv[1:]
+    options = {}
+    positional = []
+    while arguments:
+        word = arguments.pop(0)
+        if word.startswith("--"):
+            options[word[2:]] = arguments.pop(0)
+        else:
+            positional.append(word)
+    {
+        "dynamic": dynamic,
+        "wrong_type": wrong_type,
+        "volatile_static": volatile_static,
+        "static_listener": static_listener,
+    }[mode](dp, *positional, **options)
+
+
+if __name__ == "__main__":
+    main()
