@@ -86,9 +86,10 @@ def test_rosbag_bags_read_as_rosbags_reads_them(
     rosbag_available: None, bags: dict[str, Path], compression: str
 ) -> None:
     bag = bags[compression]
-    batches, info = read(bag)
-    expected = reference_rows(bag)
-    assert len(expected) > 400
+    topics = (*TOPICS, "/tf_old")  # tf/tfMessage
+    batches, info = read(bag, topics)
+    expected = reference_rows(bag, topics)
+    assert len(expected) > 400 and "/legacy" in batches[0].authorities
     assert rows_of(batches) == expected
     with Reader(bag) as reader:
         assert (info.start, info.end, info.message_count) == (reader.start_time, reader.end_time - 1, 300)

@@ -8,17 +8,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
-from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.ros1_format import (
     OP_CONNECTION,
     OP_MESSAGE,
+    Buffer,
     Connection,
     FormatError,
+    bytes_at,
     read_connection,
     read_record,
     u32,
+    u32_at,
 )
 
 IntArray = npt.NDArray[np.int64]
@@ -35,11 +37,11 @@ class CompressionUnavailableError(Exception):
 class Unpacked:
     """A chunk's uncompressed bytes; ``problem`` says why they end before the chunk does."""
 
-    data: bytes
+    data: bytes | memoryview
     problem: str = ""
 
 
-def decompress(compression: str, raw: bytes, size: int) -> Unpacked:
+def decompress(compression: str, raw: bytes | memoryview, size: int) -> Unpacked:
     """``raw`` decompressed; a damaged or cut stream gives what precedes the damage."""
     if compression == "none":
         cut = f"cut short at {len(raw)} of {size} bytes" if len(raw) < size else ""
@@ -55,16 +57,17 @@ def _decompressor(compression: str) -> Callable[[bytes], bytes]:
             from lz4.frame import LZ4FrameDecompressor
         except ImportError:
             raise CompressionUnavailableError("the lz4 package is not installed (pip install lz4)") from None
-        return LZ4FrameDecompressor().decompress
+        decompressor: Callable[[bytes], bytes] = LZ4FrameDecompressor().decompress
+        return decompressor
     raise CompressionUnavailableError(f"the compression {compression!r} is unknown")
 
 
-def _streamed(compression: str, feed: Callable[[bytes], bytes], raw: bytes, size: int) -> Unpacked:
+def _streamed(compression: str, feed: Callable[[bytes], bytes], raw: bytes | memoryview, size: int) -> Unpacked:
     parts: list[bytes] = []
     problem = ""
     for start in range(0, len(raw), _PIECE):
         try:
-            parts.append(feed(raw[start : start + _PIECE]))
+            parts.append(feed(bytes(raw[start : start + _PIECE])))
         except (OSError, EOFError, RuntimeError, ValueError) as e:  # what bz2 and lz4 raise on bad data
             problem = f"{compression} data damaged ({e})"
             break
@@ -74,7 +77,7 @@ def _streamed(compression: str, feed: Callable[[bytes], bytes], raw: bytes, size
     return Unpacked(data, problem)
 
 
-def walk(data: bytes | memoryview, start: int = 0, end: int | None = None) -> tuple[IntArray, int]:
+def walk(data: Buffer, start: int = 0, end: int | None = None) -> tuple[IntArray, int]:
     """Where each record in ``data[start:end]`` begins, and where the walk stopped (at ``end``
     unless a record is cut short there)."""
     limit = len(data) if end is None else end
@@ -103,11 +106,10 @@ class Located:
     data_start: IntArray = field(default_factory=lambda: _NO_ROWS)
     data_len: IntArray = field(default_factory=lambda: _NO_ROWS)
     connections: list[Connection] = field(default_factory=list)  # connection records met
-    unreadable: int = 0  # records asked for that are no message
-    first_error: str = ""
+    first_error: str = ""  # why the first record asked for that is not a message
 
 
-def locate(data: bytes, offsets: IntArray, *, follow: bool) -> Located:
+def locate(data: Buffer, offsets: IntArray, *, follow: bool) -> Located:
     """The message records at ``offsets``; with ``follow``, connection records before a
     message are stepped over (index entries may point at them).
 
@@ -117,7 +119,7 @@ def locate(data: bytes, offsets: IntArray, *, follow: bool) -> Located:
     raw = np.frombuffer(data, np.uint8)
     inside = (offsets >= 0) & (offsets + 8 <= len(raw))
     header_len = np.full(len(offsets), -1, np.int64)
-    header_len[inside] = _u32_at(raw, offsets[inside])
+    header_len[inside] = u32_at(raw, offsets[inside])
     found = np.zeros(len(offsets), bool)
     conn = np.zeros(len(offsets), np.int64)
     time = np.zeros(len(offsets), np.int64)
@@ -134,19 +136,17 @@ def locate(data: bytes, offsets: IntArray, *, follow: bool) -> Located:
     located = Located(conn[found], time[found], offsets[found], data_start[found], data_len[found])
     slow = np.flatnonzero(~found)
     if len(slow):
-        _one_by_one(data, offsets, slow, found, located, follow)
+        _one_by_one(data, offsets[slow], located, follow)
     return located
 
 
-def _one_by_one(
-    data: bytes, offsets: IntArray, slow: IntArray, found: npt.NDArray[np.bool_], located: Located, follow: bool
-) -> None:
+def _one_by_one(data: Buffer, offsets: IntArray, located: Located, follow: bool) -> None:
+    """Read the records at ``offsets`` in Python, merging the messages into ``located``."""
     rows: list[tuple[int, int, int, int, int]] = []
-    for index in slow.tolist():
+    for offset in offsets.tolist():
         try:
-            message = _message_at(data, int(offsets[index]), located.connections, follow)
+            message = _message_at(data, offset, located.connections, follow)
         except FormatError as e:
-            located.unreadable += 1
             located.first_error = located.first_error or str(e)
             continue
         if message is not None:
@@ -164,7 +164,7 @@ def _one_by_one(
 
 
 def _message_at(
-    data: bytes, pos: int, connections: list[Connection], follow: bool
+    data: Buffer, pos: int, connections: list[Connection], follow: bool
 ) -> tuple[int, int, int, int, int] | None:
     """(conn, time, offset, data start, data length) of the message record at ``pos``; None for a
     connection record (noted in ``connections``) when not following."""
@@ -200,7 +200,7 @@ class _Template:
         self.time_at = time_at + 4
 
     @classmethod
-    def learn(cls, data: bytes, pos: int) -> _Template | None:
+    def learn(cls, data: Buffer, pos: int) -> _Template | None:
         """The template of the message record at ``pos``; None when it is something else."""
         try:
             record = read_record(data, pos)
@@ -219,14 +219,13 @@ class _Template:
         length_at = offsets + 4 + self.length
         hit = length_at + 4 <= len(raw)
         fits = np.flatnonzero(hit)
-        headers = sliding_window_view(raw, 4 + self.length)[offsets[fits]] if len(fits) else raw[:0].reshape(0, 1)
-        hit[fits] = (headers[:, self.fixed] == self.expected).all(axis=1)
+        hit[fits] = (bytes_at(raw, offsets[fits], 4 + self.length)[:, self.fixed] == self.expected).all(axis=1)
         data_len = np.zeros(len(offsets), np.int64)
-        data_len[fits] = _u32_at(raw, length_at[fits])
+        data_len[fits] = u32_at(raw, length_at[fits])
         hit &= length_at + 4 + data_len <= len(raw)
         at = offsets[hit]
-        sec, nsec = _u32_at(raw, at + self.time_at), _u32_at(raw, at + self.time_at + 4)
-        return hit, (_u32_at(raw, at + self.conn_at), sec * NS_PER_S + nsec, length_at[hit] + 4, data_len[hit])
+        sec, nsec = u32_at(raw, at + self.time_at), u32_at(raw, at + self.time_at + 4)
+        return hit, (u32_at(raw, at + self.conn_at), sec * NS_PER_S + nsec, length_at[hit] + 4, data_len[hit])
 
 
 def _value_at(header: bytes, name: bytes) -> int:
@@ -240,14 +239,7 @@ def _value_at(header: bytes, name: bytes) -> int:
     raise FormatError(f"no {name!r} field")  # learn() checked that it is there
 
 
-def _u32_at(raw: npt.NDArray[np.uint8], at: IntArray) -> IntArray:
-    """Little-endian uint32 at each of the byte positions ``at``."""
-    if not len(at):
-        return _NO_ROWS
-    return sliding_window_view(raw, 4)[at].view("<u4").reshape(-1).astype(np.int64)
-
-
-def pieces(data: bytes, starts: IntArray, lengths: IntArray) -> Iterator[memoryview]:
+def pieces(data: Buffer, starts: IntArray, lengths: IntArray) -> Iterator[memoryview]:
     """The byte ranges of ``data``, without copying."""
     view = memoryview(data)
     for start, length in zip(starts.tolist(), lengths.tolist(), strict=True):

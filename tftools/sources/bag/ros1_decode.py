@@ -12,9 +12,9 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.core.time import NS_PER_S
+from tftools.sources.bag.ros1_format import bytes_at, u32_at
 
 IntArray = npt.NDArray[np.int64]
 Int32Array = npt.NDArray[np.int32]
@@ -70,7 +70,7 @@ def decode_tf_messages(raw: ByteArray, starts: IntArray, lengths: IntArray, fram
     ends = starts + lengths
     readable = lengths >= 4
     counts = np.zeros(n, np.int64)
-    counts[readable] = _u32(raw, starts[readable])
+    counts[readable] = u32_at(raw, starts[readable])
     bad = ~readable | (counts * _SMALLEST > lengths - 4) | ((counts == 0) & (lengths != 4))
     counts[bad] = 0
     steps = _walk(raw, starts + 4, ends, counts, bad)
@@ -104,16 +104,16 @@ def _walk(
     while active:
         at, end = cursor[:active], ends[:active]
         ok = at + 16 <= end
-        head = _bytes_at(raw, np.where(ok, at, 0) + 4, 12).view("<u4").astype(np.int64)  # sec, nsec, frame_id length
+        head = bytes_at(raw, np.where(ok, at, 0) + 4, 12).view("<u4").astype(np.int64)  # sec, nsec, frame_id length
         frame_start = at + 16
         child_len_at = frame_start + head[:, 2]
         ok &= child_len_at + 4 <= end
         child_start = child_len_at + 4
-        child_len = _u32(raw, np.where(ok, child_len_at, 0))
+        child_len = u32_at(raw, np.where(ok, child_len_at, 0))
         values_at = child_start + child_len
         ok &= values_at + 56 <= end
         values_at = np.where(ok, values_at, 0)
-        values = _bytes_at(raw, np.minimum(values_at, size - 56), 56).view("<f8")
+        values = bytes_at(raw, np.minimum(values_at, size - 56), 56).view("<f8")
         messages = order[:active]
         bad[messages[~ok]] = True
         steps.append(
@@ -204,7 +204,7 @@ def intern(
         if length == 0:
             ids[rows] = frames.id("")
             continue
-        matrix = _bytes_at(raw, starts[rows], length)
+        matrix = bytes_at(raw, starts[rows], length)
         firsts, inverse = _distinct(matrix)
         table = np.zeros(len(firsts), np.int32)
         broken = np.zeros(len(firsts), bool)
@@ -235,17 +235,6 @@ def _distinct(matrix: ByteArray) -> tuple[IntArray, IntArray]:
     return firsts, inverse.reshape(-1)
 
 
-def _bytes_at(raw: ByteArray, at: IntArray, width: int) -> ByteArray:
-    """The ``width`` bytes at each position of ``at``, one row each (a copy)."""
-    if len(raw) < width:
-        return np.zeros((0, width), np.uint8)
-    return sliding_window_view(raw, width)[at]
-
-
-def _u32(raw: ByteArray, at: IntArray) -> IntArray:
-    return _bytes_at(raw, at, 4).view("<u4").reshape(-1).astype(np.int64)
-
-
 # The reference: rosbags' own deserializer, message by message.
 
 
@@ -270,7 +259,7 @@ def reference_transforms(payload: bytes | memoryview, type_name: str) -> list[tu
         message = _typestore().deserialize_ros1(bytes(payload), f"{package}/msg/{name}")
     except SerdeError as e:
         raise ValueError(str(e)) from None
-    rows = []
+    rows: list[tuple[str, str, int, tuple[float, ...]]] = []
     for t in message.transforms:
         # ROS1 times are unsigned; rosbags reads their seconds into a signed int32.
         stamp = (t.header.stamp.sec & 0xFFFFFFFF) * NS_PER_S + t.header.stamp.nanosec

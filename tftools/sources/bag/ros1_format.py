@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import mmap
 import struct
 from dataclasses import dataclass, field
 
@@ -28,7 +29,23 @@ _TIME = struct.Struct("<II")
 _INDEX_ENTRY = np.dtype([("sec", "<u4"), ("nsec", "<u4"), ("offset", "<u4")])
 _CHUNK_COUNT = np.dtype([("conn", "<u4"), ("count", "<u4")])
 
-Buffer = bytes | memoryview
+#: A bag file, mapped or read.
+FileBuffer = bytes | mmap.mmap
+#: A bag file or a chunk's data (a view into the mapped file when it is not compressed).
+Buffer = bytes | memoryview | mmap.mmap
+
+
+def bytes_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64], width: int) -> npt.NDArray[np.uint8]:
+    """The ``width`` bytes at each position of ``at`` (all within ``raw``), one row each."""
+    if len(raw) < width:
+        return np.zeros((0, width), np.uint8)
+    windows = np.ndarray((len(raw) - width + 1, width), np.uint8, raw, strides=(1, 1))  # a view
+    return windows[at]
+
+
+def u32_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+    """The little-endian uint32 at each position of ``at``."""
+    return bytes_at(raw, at, 4).view("<u4").reshape(-1).astype(np.int64)
 
 
 class FormatError(ValueError):

@@ -12,7 +12,7 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import is_static_topic
 from tftools.sources.bag.ros1_chunks import IntArray, Located, pieces
 from tftools.sources.bag.ros1_decode import Decoded, FrameTable, decode_tf_messages, reference_transforms
-from tftools.sources.bag.ros1_format import Connection
+from tftools.sources.bag.ros1_format import Buffer, Connection
 
 #: "fast": numpy over many messages at once; "reference": rosbags' deserializer, message by message.
 Decoder = Literal["fast", "reference"]
@@ -50,7 +50,7 @@ class MessageCollector:
     def wants(self, conn: int) -> bool:
         return conn in self._channel_of
 
-    def add(self, chunk: int, data: bytes, located: Located) -> int:
+    def add(self, chunk: int, data: Buffer, located: Located) -> int:
         """Keep the wanted messages among ``located`` (records of ``data``); returns how many."""
         channel = self._channels(located.conn)
         keep = np.flatnonzero(channel >= 0)
@@ -58,7 +58,7 @@ class MessageCollector:
             return 0
         starts, lengths = located.data_start[keep], located.data_len[keep]
         if 2 * int(lengths.sum()) >= len(data):  # mostly transforms: keep the chunk whole, copy nothing
-            payload = data
+            payload = bytes(data)
         else:
             payload = b"".join(pieces(data, starts, lengths))
             starts = np.cumsum(lengths) - lengths
@@ -152,10 +152,9 @@ class MessageCollector:
         if not parts:
             return TransformBatch.empty()
         message = np.concatenate([p.message for p in parts])
+        order: IntArray | slice = slice(None)
         if rank is not None or (len(parts) > 1 and np.any(np.diff(message) < 0)):
             order = np.argsort(message if rank is None else rank[message], kind="stable")
-        else:
-            order = slice(None)
         message = message[order]
         values = np.concatenate([p.values for p in parts])[order]
         authorities = list(dict.fromkeys(c.callerid or c.topic for c in self.channels))

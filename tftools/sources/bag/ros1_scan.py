@@ -7,7 +7,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.ros1_chunks import CompressionUnavailableError, IntArray, Located, decompress, locate, walk
+from tftools.sources.bag.ros1_chunks import (
+    CompressionUnavailableError,
+    IntArray,
+    Located,
+    Unpacked,
+    decompress,
+    locate,
+    walk,
+)
 from tftools.sources.bag.ros1_format import (
     OP_CHUNK,
     OP_CHUNK_INFO,
@@ -17,8 +25,10 @@ from tftools.sources.bag.ros1_format import (
     TF_TYPES,
     BagHeader,
     Buffer,
+    Chunk,
     ChunkInfo,
     Connection,
+    FileBuffer,
     FormatError,
     Record,
     read_chunk,
@@ -55,7 +65,7 @@ class _Damage:
 class BagScan:
     """One bag file read: its wanted messages (undecoded), description and problems."""
 
-    def __init__(self, name: str, buf: Buffer, topics: tuple[str, ...], progress: ProgressCallback) -> None:
+    def __init__(self, name: str, buf: FileBuffer, topics: tuple[str, ...], progress: ProgressCallback) -> None:
         self.name = name
         self.buf = buf
         self.size = len(buf)
@@ -144,7 +154,7 @@ class BagScan:
         try:
             record = self._record(info.pos, OP_CHUNK)
             chunk = read_chunk(record)
-            unpacked = decompress(chunk.compression, self.buf[chunk.data_start : chunk.data_end], chunk.size)
+            unpacked = self._unpacked(chunk, chunk.data_end)
         except (FormatError, CompressionUnavailableError) as e:
             self.damage.note(info.pos, str(e), wanted)
             return
@@ -197,7 +207,7 @@ class BagScan:
         if record.op == OP_CHUNK:
             return self._scanned_chunk(record, stop)
         if record.op == OP_MESSAGE:  # an unfinished chunk's records follow its header
-            self._records(self.buf[pos:stop])
+            self._records(memoryview(self.buf)[pos:stop])
             return stop
         if record.op == OP_CONNECTION and record.data_end <= stop:
             self._connect(read_connection(self.buf, record))
@@ -215,7 +225,7 @@ class BagScan:
         elif chunk.data_end > stop:  # cut short, or its length is damaged: up to the next chunk
             end = self._resync(chunk.data_start, stop) or stop
         try:
-            unpacked = decompress(chunk.compression, self.buf[chunk.data_start : end], chunk.size)
+            unpacked = self._unpacked(chunk, end)
         except CompressionUnavailableError as e:
             self.damage.note(chunk.pos, str(e), None)
             return end
@@ -224,7 +234,14 @@ class BagScan:
         self._records(unpacked.data)
         return end
 
-    def _records(self, data: bytes) -> None:
+    def _unpacked(self, chunk: Chunk, end: int) -> Unpacked:
+        """The chunk's data up to ``end``: uncompressed, a view into the file (only the records
+        asked for are then read from disk)."""
+        if chunk.compression == "none":
+            return decompress("none", memoryview(self.buf)[chunk.data_start : end], chunk.size)
+        return decompress(chunk.compression, self.buf[chunk.data_start : end], chunk.size)
+
+    def _records(self, data: Buffer) -> None:
         offsets, _ = walk(data)
         located = locate(data, offsets, follow=False)
         for connection in located.connections:
