@@ -100,6 +100,10 @@ def test_ignored_checks_do_not_run_and_unknown_codes_are_refused() -> None:
     assert check(stopped, ignore={"stale"}) == []
     with pytest.raises(ValueError, match="no such check: stail"):
         check(stopped, ignore={"stail"})
+    # in a ROS2 bag the rhythm check speaks for multiple_authorities: ignoring that code silences it too
+    twins = recording(PROBLEMS["multiple_authorities_one_topic"].make(), ros1=False)
+    assert [f.code for f in check(twins)] == ["multiple_authorities"]
+    assert check(twins, ignore={"multiple_authorities"}) == []
 
 
 # --- what each finding says, case by case ----------------------------------------------------

@@ -178,6 +178,13 @@ PROBLEMS = {
         severity="warning",
         topics=("/tf", "/tf_alt", "/tf_static"),
     ),
+    "multiple_authorities_one_topic": Problem(
+        "multiple_authorities",
+        lambda: with_extra(periodic("/ekf2", 50, odom_base, phase=0.003)),  # taking turns: 3 ms, 17 ms, 3 ms...
+        ("odom", "base_link"),
+        "/ekf2",
+        severity="warning",
+    ),
     "stale": Problem("stale", lambda: healthy(ekf=ekf(end=4.0)), ("odom", "base_link"), "/ekf", words=("stopped",)),
     "clock": Problem(
         "clock",

@@ -27,5 +27,5 @@ def check(recording: Recording, thresholds: Thresholds | None = None, ignore: Co
     for c in CHECKS.values():
         if c.run is None or c.code in ignore or (c.needs_transforms and not len(scene.rows)):
             continue
-        found.extend(c.run(scene))
+        found.extend(f for f in c.run(scene) if f.code not in ignore)  # a check may speak for another
     return sorted(found, key=lambda f: f.severity.rank)

@@ -21,7 +21,6 @@ from tftools.analysis.wtf.scene import (
 )
 from tftools.analysis.wtf.thresholds import PERIODS
 from tftools.core.buffer import DEFAULT_CACHE_TIME
-from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S
 
 #: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
@@ -203,65 +202,109 @@ def delay(scene: Scene) -> Iterator[Finding]:
 
 @register("rate", Severity.warning, "irregular publishing and long gaps")
 def rate(scene: Scene) -> Iterator[Finding]:
-    for child, hist in scene.buffer.histories():
-        stamps = hist.stamps[(hist.flags & FROM_STATIC_TOPIC) == 0] if not hist.static else hist.stamps[:0]
-        if len(stamps) < 3:
+    """Each publisher's rhythm per frame, by when its transforms arrived (a stamp sent again at once
+    counted once): what it sent, refused values included, whatever their stamps say (other checks
+    judge those)."""
+    rows = scene.rows
+    for child_id, mine in _streams(scene, rows.named & ~rows.static):
+        stamps = rows.stamp[mine]
+        fresh = np.concatenate([[True], stamps[1:] != stamps[:-1]])
+        arrivals = np.sort(scene.arrival(mine[fresh]))
+        if len(arrivals) < 3:
             continue
-        intervals = np.diff(stamps)
-        period = float(np.median(intervals))
-        limit = max(scene.ns(scene.thresholds.max_gap), PERIODS * period)
-        parent = scene.buffer.frame_name(hist.latest_parent)
-        authorities = tuple(scene.buffer.authorities[int(a)] for a in np.unique(hist.authorities))
-        by = scene.by(authorities)
-        gaps = np.flatnonzero(intervals > limit)
-        what = f"{edge(parent, child)}{by}"
-        if len(gaps):
-            longest = int(gaps[np.argmax(intervals[gaps])])
-            yield Finding(
-                Severity.warning,
-                "rate",
-                f"{what} went silent {len(gaps)} time{'s' if len(gaps) > 1 else ''} (it publishes every "
-                f"{duration(period / NS_PER_S)}): the longest for {duration(intervals[longest] / NS_PER_S)} from "
-                f"{scene.at(int(stamps[longest]))}",
-                "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
-                "the publisher's load, its rate parameter and its connection",
-                (parent, child),
-                authorities,
-                int(stamps[gaps[0]]),
-                int(stamps[gaps[-1] + 1]),
-                len(gaps),
-            )
-            continue
-        off = (intervals < (1 - IRREGULAR) * period) | (intervals > (1 + IRREGULAR) * period)
-        # two publishers interleaving make any rhythm irregular: ``multiple_authorities`` says so
-        if len(authorities) == 1 and len(intervals) >= IRREGULAR_MIN_INTERVALS and off.mean() > IRREGULAR_SHARE:
-            yield Finding(
-                Severity.warning,
-                "rate",
-                f"{what} publishes irregularly: {off.mean():.0%} of its intervals are more than {IRREGULAR:.0%} "
-                f"off the usual {duration(period / NS_PER_S)} (from {duration(intervals.min() / NS_PER_S)} to "
-                f"{duration(intervals.max() / NS_PER_S)})",
-                "interpolation between far-apart samples is coarse: publish on a timer at a steady rate",
-                (parent, child),
-                authorities,
-                int(stamps[0]),
-                int(stamps[-1]),
-                len(stamps),
-            )
+        frames = (rows.names[rows.parent[mine[-1]]], rows.names[child_id])
+        yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals)
+
+
+def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array) -> Iterator[Finding]:
+    intervals = np.diff(arrivals)
+    period = float(np.median(intervals))
+    limit = max(scene.ns(scene.thresholds.max_gap), PERIODS * period)
+    what = f"{edge(*frames)}{scene.by(who)}"
+    gaps = np.flatnonzero(intervals > limit)
+    if len(gaps):
+        longest = int(gaps[np.argmax(intervals[gaps])])
+        yield Finding(
+            Severity.warning,
+            "rate",
+            f"{what} went silent {len(gaps)} time{'s' if len(gaps) > 1 else ''} (it publishes every "
+            f"{duration(period / NS_PER_S)}): the longest for {duration(intervals[longest] / NS_PER_S)} from "
+            f"{scene.at(int(arrivals[longest]))}",
+            "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
+            "the publisher's load, its rate parameter and its connection",
+            frames,
+            who,
+            int(arrivals[gaps[0]]),
+            int(arrivals[gaps[-1] + 1]),
+            len(gaps),
+        )
+        return
+    off = _off_share(intervals)
+    if len(intervals) < IRREGULAR_MIN_INTERVALS or off <= IRREGULAR_SHARE:
+        return
+    if not scene.publishers_known and _interleaved(arrivals):
+        yield _two_publishers(scene, frames, who, arrivals)
+        return
+    yield Finding(
+        Severity.warning,
+        "rate",
+        f"{what} publishes irregularly: {off:.0%} of its intervals are more than {IRREGULAR:.0%} "
+        f"off the usual {duration(period / NS_PER_S)} (from {duration(intervals.min() / NS_PER_S)} to "
+        f"{duration(intervals.max() / NS_PER_S)})",
+        "interpolation between far-apart samples is coarse: publish on a timer at a steady rate",
+        frames,
+        who,
+        int(arrivals[0]),
+        int(arrivals[-1]),
+        len(arrivals),
+    )
+
+
+def _off_share(intervals: Int64Array) -> float:
+    """The share of intervals more than IRREGULAR off their median."""
+    period = float(np.median(intervals))
+    return float(((intervals < (1 - IRREGULAR) * period) | (intervals > (1 + IRREGULAR) * period)).mean())
+
+
+def _interleaved(arrivals: Int64Array) -> bool:
+    """Two steady rhythms of one rate taking turns: two publishers, where the bag does not name them."""
+    first, second = np.diff(arrivals[0::2]), np.diff(arrivals[1::2])
+    if min(len(first), len(second)) < IRREGULAR_MIN_INTERVALS // 2:
+        return False
+    steady = _off_share(first) <= IRREGULAR_SHARE / 2 and _off_share(second) <= IRREGULAR_SHARE / 2
+    return steady and abs(float(np.median(first)) / float(np.median(second)) - 1) < IRREGULAR / 2
+
+
+def _two_publishers(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array) -> Finding:
+    hz = NS_PER_S / float(np.median(np.diff(arrivals[0::2])))
+    return Finding(
+        Severity.warning,
+        "multiple_authorities",
+        f"{edge(*frames)}{scene.by(who)} arrives as two steady {hz:.1f} Hz streams taking turns: two publishers "
+        "of one edge, it seems (this bag does not name publishers)",
+        "tf2 takes every sample as it comes, so lookups mix both publishers' values: find them (ros2 topic info "
+        "/tf --verbose) and turn the transform off in all but one",
+        frames,
+        who,
+        int(arrivals[0]),
+        int(arrivals[-1]),
+        len(arrivals),
+    )
 
 
 @register("time_backwards", Severity.error, "an edge's stamps going back or repeating")
 def time_backwards(scene: Scene) -> Iterator[Finding]:
     """Per frame and publisher: what two publishers do to each other's stamps is theirs to answer for
     (``multiple_authorities``, ``multiple_parents``)."""
-    for child_id, mine in _streams(scene):
+    rows = scene.rows
+    for child_id, mine in _streams(scene, rows.usable & ~rows.static):
         yield from _stamps_of(scene, child_id, mine)
 
 
-def _streams(scene: Scene) -> Iterator[tuple[int, IntpArray]]:
-    """Each child frame's moving transforms from each of its publishers, in arrival order."""
+def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
+    """The ``mask`` rows of each child frame from each of its publishers, in arrival order."""
     rows = scene.rows
-    for child_id, frame_rows in scene.by_child(rows.usable & ~rows.static):
+    for child_id, frame_rows in scene.by_child(mask):
         publishers = rows.authority[frame_rows]
         for publisher in dict.fromkeys(publishers.tolist()):
             yield child_id, frame_rows[publishers == publisher]
@@ -280,7 +323,7 @@ def _jumped(scene: Scene) -> set[str]:
     """Child frames whose stamps jumped back in time, by any publisher."""
     rows = scene.rows
     found = set()
-    for child_id, mine in _streams(scene):
+    for child_id, mine in _streams(scene, rows.usable & ~rows.static):
         behind, back = _behind(rows.stamp[mine])
         if back.any() and behind[back].max() >= TIME_JUMP:
             found.add(rows.names[child_id])
