@@ -157,7 +157,7 @@ def rows_of(batches: list[TransformBatch] | TransformBatch) -> list[Row]:
 
 
 NAMES = ["map", "odom", "base_link", "/base_footprint", "", "a", "laser mount", "kamera_ö_光", "x" * 70,
-         "arm/link_1", "arm/link_2", "arm/link_10"]  # fmt: skip
+         "arm/link_1", "arm/link_2", "arm/link_10", "robot_1/base_link", "robot_2/base_link"]  # fmt: skip
 SPECIAL = [math.nan, math.inf, -math.inf, -0.0, 1e-300, 1e300]
 
 

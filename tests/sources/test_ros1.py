@@ -26,7 +26,7 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
-from tftools.sources.bag import ros1, ros1_scan
+from tftools.sources.bag import ros1, ros1_decode, ros1_scan
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 
@@ -139,6 +139,17 @@ def test_malformed_messages_are_skipped_alike_by_both_decoders(tmp_path: Path) -
     (line,) = fast_info.problems
     assert line.startswith("/tf: 6 of 9 messages could not be decoded as tf2_msgs/TFMessage, skipped (first: ")
     assert fast_info.problems == slow_info.problems
+
+
+def test_frame_ids_with_colliding_hashes_stay_apart(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Frame ids are told apart by a hash, checked byte for byte: collisions fall back to the bytes."""
+    bag = write_rosbags(tmp_path / "b.bag", varied_messages(seed=9), "none")
+    expected = reference_rows(bag)
+    # Every hash is then a name's last 8 bytes: robot_1/base_link and robot_2/base_link collide.
+    monkeypatch.setattr(ros1_decode, "_HASH_PRIME", np.uint64(0))
+    (batch,), _ = read(bag)
+    assert {"robot_1/base_link", "robot_2/base_link"} <= set(batch.frame_names)
+    assert rows_of(batch) == expected
 
 
 @pytest.mark.parametrize("threshold", [10_000_000, 500])
