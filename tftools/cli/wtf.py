@@ -32,6 +32,7 @@ PathsArgument = Annotated[
     list[Path] | None,
     typer.Argument(
         help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory.",
+        metavar="BAG",
         show_default=False,
     ),
 ]
@@ -59,7 +60,10 @@ GapOption = Annotated[
     float, typer.Option("--max-gap", help="A pause longer than this many seconds (and 10 periods) is a gap.")
 ]
 DelayOption = Annotated[
-    float, typer.Option("--delay", help="Transforms arriving this many seconds after their stamp are late.")
+    float,
+    typer.Option(
+        "--delay", help="An edge whose transforms arrive this many seconds after their stamp (over 5%) is late."
+    ),
 ]
 FutureOption = Annotated[
     float, typer.Option("--future", help="Stamps this many seconds ahead of their arrival are from the future.")

@@ -11,6 +11,7 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
+from tftools.core.time import NS_PER_S
 
 #: tf2's words when a lookup meets a loop.
 TF2_LOOP = "The tf tree is invalid because it contains a loop."
@@ -88,25 +89,34 @@ def _loop_finding(scene: Scene, loop: list[str], what: str, span: tuple[int, int
     chain = " -> ".join([loop[0], *reversed(loop)])
     rows = scene.rows
     authorities: list[str] = []
+    began: dict[tuple[str, str], tuple[int, tuple[str, ...]]] = {}  # each loop edge: first arrival, publishers
     for parent, child, mine in scene.by_edge(rows.usable):
-        if (rows.names[parent], rows.names[child]) in pairs:
-            authorities.extend(a for a in scene.authorities_of(mine) if a not in authorities)
+        key = (rows.names[parent], rows.names[child])
+        if key in pairs:
+            who = scene.authorities_of(mine)
+            authorities.extend(a for a in who if a not in authorities)
+            began[key] = (int(scene.arrival(mine).min()), who)
     publishers = f" ({scene.by(authorities).strip()})" if authorities else ""
+    closing = max(began, key=lambda k: began[k][0])
     if span is None:
         stamps = [h.latest_stamp for f in loop if (h := scene.buffer.history(f)) is not None]
         first, last = min(stamps), max(stamps)
-        when = "lookups through these frames fail"
+        when = f"lookups through these frames fail (since {scene.at(began[closing][0])})"
     else:
         first, last = (0, 0) if span == _ALWAYS else span
         when = "always" if span == _ALWAYS else f"from {scene.at(first)} to {scene.at(last)}"
         when = f"lookups at those times fail ({when})"
+    starts = sorted(t for t, _ in began.values())
+    suspect = ""
+    if len(starts) > 1 and starts[-1] - starts[-2] > NS_PER_S:  # one came well after the rest: it closed the loop
+        suspect = f"; {edge(*closing)}{scene.by(began[closing][1])} closed it, at {scene.at(began[closing][0])}"
     return Finding(
         Severity.error,
         "cycle",
         f"{what} form a loop {chain}{publishers}: {when} with tf2's error '{TF2_LOOP}'",
-        "each frame has one parent and cannot be its own ancestor: find the transform that closes the loop "
-        f"({listed([edge(p, c) for p, c in pairs])}) and stop it, or send it the other way round "
-        "(header.frame_id is the parent, child_frame_id the child)",
+        "each frame has one parent and cannot be its own ancestor: of the loop's transforms "
+        f"({listed([edge(p, c) for p, c in pairs])}) stop the one that does not belong, or send it the other "
+        f"way round (header.frame_id is the parent, child_frame_id the child){suspect}",
         tuple(loop),
         tuple(authorities),
         first,

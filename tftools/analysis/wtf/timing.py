@@ -131,7 +131,7 @@ def clock(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.error,
             "clock",
-            f"{what}: {said} (median of {transforms(len(stamps))})",
+            f"{what}: {said} (median of {transforms(len(stamps))}, from {scene.at(int(records.min()))})",
             _CLOCK_HINTS[kind]
             + "; until then lookups combining these with other frames fail with extrapolation errors",
             tuple(f for e in edges for f in (e.parent, e.child)),
@@ -188,7 +188,8 @@ def delay(scene: Scene) -> Iterator[Finding]:
             "delay",
             f"{edge(e.parent, e.child)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
             f"more than {scene.thresholds.delay:g} s after their stamp (median "
-            f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)})",
+            f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)}), "
+            f"first at {scene.at(int(records[late].min()))}",
             "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
             "waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
             "delays it (a busy publisher, a slow link, stamping with an old acquisition time)",

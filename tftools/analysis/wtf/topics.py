@@ -140,7 +140,7 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
             "mixed_static",
             f"{name} (under {parents}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
             f"({transforms(len(fixed))}) and on /tf{_by(scene, scene.authorities_of(moving))} "
-            f"({transforms(len(moving))}): {effect}",
+            f"({transforms(len(moving))}, from {scene.at(int(scene.arrival(moving).min()))}): {effect}",
             "send each frame on one topic: /tf_static if it never moves, /tf otherwise",
             (name, *sorted({rows.names[p] for p in rows.parent[mine].tolist()})),
             scene.authorities_of(mine),
