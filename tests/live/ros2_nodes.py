@@ -11,6 +11,9 @@ their own type definitions (tftools' are not used, so a mistake there cannot hid
         writer). --sim START: also publishes /clock from START seconds, and stamps with it.
     ros2_nodes.py wrong_type TOPIC      a std_msgs/msg/String writer on TOPIC
     ros2_nodes.py volatile_static       a /tf_static writer that is volatile (tf2 listeners cannot hear it)
+    ros2_nodes.py discovery_listener SIZE   prints the nodes of each ros_discovery_info sample its reader of
+                                        SIZE-byte Gids gets, as JSON (a typed DDS peer of the other size is
+                                        not matched: the listener of a Humble or of a later system)
     ros2_nodes.py static_listener       listens to /tf_static with tf2_ros's StaticListenerQoS for 1.5 s and
                                         prints as JSON each sample and its writer's QoS as DDS discovered it
 Each prints "ready" once its writers exist, then runs until killed.
@@ -189,7 +192,7 @@ def static_listener(dp):
             q = endpoint.qos
             writers[str(endpoint.key)] = {
                 "type": endpoint.type_name,
-                "reliability": type(q[Policy.Reliability]).__name__,
+                "reliability": str(q[Policy.Reliability]),
                 "durability": str(q[Policy.Durability]),
                 "history": str(q[Policy.History]),
                 "durability_service": str(q[Policy.DurabilityService]),
@@ -218,6 +221,17 @@ def static_listener(dp):
     print(json.dumps(out), flush=True)
 
 
+def discovery_listener(dp, size):
+    _gid, _node, info = gid_types(int(size))
+    reader = DataReader(dp, Topic(dp, "ros_discovery_info", info), qos=qos(0, transient_local=True))
+    print("ready", flush=True)
+    while True:
+        for sample in reader.take(10):
+            names = [f"{n.node_namespace.rstrip('/')}/{n.node_name}" for n in sample.node_entities_info_seq]
+            print(json.dumps({"nodes": names}), flush=True)
+        time.sleep(0.05)
+
+
 def main():
     import os
 
@@ -237,6 +251,7 @@ def main():
         "wrong_type": wrong_type,
         "volatile_static": volatile_static,
         "static_listener": static_listener,
+        "discovery_listener": discovery_listener,
     }[mode](dp, *positional, **options)
 
 

@@ -69,7 +69,7 @@ class Graph:
     def poll(self) -> None:
         """Take what the two discovery readers received."""
         for endpoint in self.publications.take(256):
-            if isinstance(endpoint, DcpsEndpoint):
+            if isinstance(endpoint, DcpsEndpoint) and endpoint.qos is not None:  # not a writer's disposal
                 self._add_writer(endpoint)
         for data, _info in (sample for reader in self.discovery for sample in take_raw(reader)):
             try:
@@ -88,7 +88,7 @@ class Graph:
                 endpoint = reader.get_matched_publication_data(handle)
             except DDSException:
                 return None
-            if isinstance(endpoint, DcpsEndpoint):
+            if isinstance(endpoint, DcpsEndpoint) and endpoint.qos is not None:
                 found = self._add_writer(endpoint, handle)
         return found
 

@@ -142,15 +142,22 @@ class Ros2Source(ContextManaged):
             listening.waitset.wait(duration(milliseconds=50) if listening.pending else duration(seconds=1))
             if self._closed.is_set():
                 return
-            listening.graph.poll()
-            if listening.clock is not None:
-                self._tick(listening.clock, listening.graph)
-            batch = self._take(listening)
+            try:
+                batch = self._receive(listening)
+            except Exception as error:
+                self._notice_once(f"dropped DDS samples: {type(error).__name__}: {error}")
+                continue
             if len(batch):
                 try:
                     on_batch(batch)
                 except Exception as error:  # the consumer's bug must not stop the listening
                     self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")
+
+    def _receive(self, listening: _Listening) -> TransformBatch:
+        listening.graph.poll()
+        if listening.clock is not None:
+            self._tick(listening.clock, listening.graph)
+        return self._take(listening)
 
     def _take(self, listening: _Listening) -> TransformBatch:
         """New samples, and those held back until their publisher's node is known (a node's

@@ -1,0 +1,147 @@
+"""Live ROS 2 over DDS, between processes on a private domain (random id, loopback only): tfx
+processes, tftools in this process, and stand-in ROS 2 nodes (``ros2_nodes.py``: Cyclone DDS with
+their own type definitions, as rmw_cyclonedds talks). No ROS 2 exists here to be the other side."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from tests.live.ros2_processes import Ros2Domain, domain_fixture  # noqa: F401 - the fixture `domain`
+from tftools.core.time import NS_PER_S
+from tftools.sources.live import open_live
+from tftools.sources.live.capture import capture, listen
+
+
+def edges(recording) -> dict[tuple[str, str], dict]:
+    """Per (parent, child): the authorities, stamps, x values and record times heard."""
+    batch = recording.contents.transforms
+    names, authorities = list(batch.frame_names), list(batch.authorities)
+    found: dict[tuple[str, str], dict] = {}
+    for row in range(len(batch)):
+        edge = found.setdefault((names[batch.parent[row]], names[batch.child[row]]), {"by": set(), "rows": []})
+        edge["by"].add(authorities[batch.authority[row]])
+        edge["rows"].append(row)
+    for edge in found.values():
+        rows = np.array(edge["rows"])
+        edge.update(stamp=batch.stamp[rows], x=batch.translation[rows, 0], record=batch.record_time[rows])
+    return found
+
+
+def test_static_transforms_reach_late_joiners_in_one_transient_local_message(domain: Ros2Domain, tmp_path) -> None:
+    extrinsics = tmp_path / "extrinsics.yaml"
+    extrinsics.write_text("- {frame_id: base_link, child_frame_id: camera, x: 0.1, z: 0.3, roll: -1.5707963}\n")
+    publisher = domain.tfx("static", "--ros2", "--from", str(extrinsics), "0.2", "0", "0.1", "1.0", "0", "0",
+                           "base_link", "laser")  # fmt: skip
+    node = publisher.wait_for("publishing base_link -> camera, base_link -> laser").split(" as node ")[1].split()[0]
+    # Late joiners: a stand-in node with tf2_ros's StaticListenerQoS, and tfx.
+    listener = domain.node("static_listener")
+    echo = domain.tfx("echo", "--ros2", "base_link", "laser", "--count", "1", "--wait", "10")
+    frames = domain.tfx("frames", "--ros2", "-d", "1")
+
+    report = json.loads(listener.wait_for('"samples"'))
+    assert len(report["samples"]) == 1  # one message holding both
+    (sample,) = report["samples"]
+    assert [(t["frame_id"], t["child_frame_id"]) for t in sample] == [("base_link", "camera"), ("base_link", "laser")]
+    assert sample[0]["translation"] == [0.1, 0.0, 0.3] and sample[1]["translation"] == [0.2, 0.0, 0.1]
+    assert sample[1]["rotation"] == pytest.approx([0, 0, math.sin(0.5), math.cos(0.5)], abs=1e-12)  # yaw 1
+    assert sample[0]["stamp"] == sample[1]["stamp"] and sample[0]["stamp"][0] > 1_600_000_000
+    # ... as static_transform_publisher's writer offers it (tf2_ros StaticBroadcasterQoS, rmw_cyclonedds).
+    (writer,) = report["writers"].values()
+    assert writer["type"] == "tf2_msgs::msg::dds_::TFMessage_"
+    assert writer["reliability"].startswith("Policy.Reliability.Reliable(")
+    assert writer["durability"] == "Policy.Durability.TransientLocal"
+    assert writer["history"] == "Policy.History.KeepLast(depth=1)"
+    assert "history=Policy.History.KeepLast(depth=1)" in writer["durability_service"]
+
+    echoed = echo.finish()
+    assert echoed.returncode == 0, echoed.stderr
+    assert "- Translation: [0.200, 0.000, 0.100]" in echoed.stdout
+    assert [line.endswith(", 1.000]") for line in echoed.stdout.splitlines() if "in RPY (radian)" in line] == [True]
+    # tfx names the publisher by the node it announced on ros_discovery_info.
+    listed = frames.finish()
+    assert node.startswith("/tfx_static_") and f"camera  static  {node}" in listed.stdout, listed.stdout
+
+
+def test_publishers_are_heard_and_named_by_their_nodes(domain: Ros2Domain) -> None:
+    for node in (
+        domain.node("dynamic", "jazzy_node", "odom", "base_link", "--gid", "16"),
+        domain.node("dynamic", "humble_node", "map", "odom", "--gid", "24"),
+        domain.node("dynamic", "plain_dds", "base_link", "camera", "--gid", "0"),
+    ):
+        node.wait_for("ready")
+    echo = domain.tfx("echo", "--ros2", "map", "camera", "--count", "2", "--rate", "10", "--wait", "10")
+    source = open_live("ros2")
+    assert source.describe() == f"ROS2 DDS domain {domain.id}"
+    recording = capture(source, duration=1.0)
+
+    heard = edges(recording)
+    assert set(heard) == {("map", "odom"), ("odom", "base_link"), ("base_link", "camera")}
+    assert heard["map", "odom"]["by"] == {"/humble_node"}  # 24-byte Gids (Humble)
+    assert heard["odom", "base_link"]["by"] == {"/jazzy_node"}  # 16-byte Gids (Iron on)
+    (plain,) = heard["base_link", "camera"]["by"]  # no ros_discovery_info: the DDS participant
+    assert plain.startswith("dds:") and len(plain) == len("dds:") + 26
+    for edge in heard.values():
+        assert len(edge["stamp"]) >= 10 and np.all(np.diff(edge["stamp"]) > 0)
+        assert np.array_equal(edge["x"], (edge["stamp"] % (100 * NS_PER_S)) / 1e9)  # the nodes' x: stamp mod 100 s
+        assert np.all(edge["record"] >= edge["stamp"]) and np.all(edge["record"] - edge["stamp"] < 5 * NS_PER_S)
+    assert source.message_count == len(recording.contents.transforms)
+    assert recording.contents.files[0].format == "ros2-live"
+
+    echoed = echo.finish()
+    assert echoed.returncode == 0, echoed.stderr
+    assert echoed.stdout.count("At time ") == 2 and "- Translation: [" in echoed.stdout
+
+
+def test_publishers_that_come_late_and_go_are_followed(domain: Ros2Domain) -> None:
+    with open_live("ros2") as source:
+        buffer = listen(source)
+        first = domain.node("dynamic", "first", "odom", "base_link")
+        buffer.wait_for_transform("odom", "base_link", 0, timeout_s=10)
+        first.stop()
+        domain.node("dynamic", "second", "odom", "camera", "--gid", "24")
+        buffer.wait_for_transform("odom", "camera", 0, timeout_s=10)
+        assert set(buffer.authorities) >= {"/first", "/second"}
+
+
+def test_sim_time_follows_clock(domain: Ros2Domain) -> None:
+    domain.node("dynamic", "player", "odom", "base_link", "--sim", "1000").wait_for("ready")
+    echo = domain.tfx("echo", "--ros2", "--use-sim-time", "odom", "base_link", "--count", "2", "--wait", "10")
+    source = open_live("ros2", use_sim_time=True)
+    recording = capture(source, duration=1.0)
+    heard = edges(recording)["odom", "base_link"]
+    assert np.all((heard["stamp"] >= 1000 * NS_PER_S) & (heard["stamp"] < 1060 * NS_PER_S))
+    assert np.all((heard["record"] >= 1000 * NS_PER_S) & (heard["record"] < 1060 * NS_PER_S))  # /clock, not the wall
+    assert 1000 * NS_PER_S < source.clock.now() < 1060 * NS_PER_S
+
+    echoed = echo.finish()
+    assert echoed.returncode == 0, echoed.stderr
+    stamps = [float(line.split()[2]) for line in echoed.stdout.splitlines() if line.startswith("At time ")]
+    assert len(stamps) == 2 and all(1000 < s < 1060 for s in stamps)
+
+
+def test_publishers_tf2_would_not_hear_are_named(domain: Ros2Domain) -> None:
+    for node in (domain.node("wrong_type", "/tf"), domain.node("volatile_static")):
+        node.wait_for("ready")
+    notices: list[str] = []
+    recording = capture(open_live("ros2", on_notice=notices.append), duration=1.0)
+    assert not len(recording.contents.transforms)
+    assert any("publishes /tf as std_msgs/msg/String, not tf2_msgs/msg/TFMessage: not heard" in n for n in notices)
+    assert any("publishes /tf_static volatile: tf2 listeners (transient local) do not hear it" in n for n in notices)
+
+
+def test_the_static_publisher_is_announced_in_the_systems_gid_size(domain: Ros2Domain, monkeypatch) -> None:
+    from tftools.sources.live import open_static_broadcaster
+
+    monkeypatch.delenv("ROS_DISTRO", raising=False)
+    humble_graph = domain.node("discovery_listener", "24")
+    humble_graph.wait_for("ready")
+    with open_static_broadcaster("ros2") as broadcaster:
+        assert broadcaster.gid_size == 16  # Iron on, until the system shows otherwise
+        domain.node("dynamic", "humble_node", "odom", "base_link", "--gid", "24")
+        humble_graph.wait_for('"/humble_node"')
+        humble_graph.wait_for(f'"/{broadcaster.node_name}"')  # announced again, in Humble's size
+        assert broadcaster.gid_size == 24
