@@ -22,6 +22,7 @@ from tests.analysis.wtf_scenes import (
 )
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import CHECKS, Thresholds, check
+from tftools.core.errors import ExtrapolationError, TransformError
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 
@@ -316,3 +317,20 @@ def test_the_transform_that_closed_a_loop_late_is_named_in_the_hint() -> None:
     assert finding.hint.endswith("base_link -> map by /rogue closed it, at 1700000003.052 (+3.0 s)")
     early = only(check(recording(PROBLEMS["cycle"].make())), "cycle")  # all began together: no guess
     assert "closed it" not in early.hint
+
+
+def test_what_cycle_claims_holds_lookups_through_the_loop_fail_with_tf2s_loop_error() -> None:
+    looped = recording(PROBLEMS["cycle"].make())
+    finding = only(check(looped), "cycle")
+    with pytest.raises(TransformError, match="contains a loop"):
+        looped.buffer.lookup("laser", "odom")
+    assert "contains a loop" in finding.message
+
+
+def test_what_stale_claims_holds_lookups_after_the_last_stamp_extrapolate_into_the_future() -> None:
+    stopped = recording(PROBLEMS["stale"].make())
+    finding = only(check(stopped), "stale")
+    stopped.buffer.lookup("map", "base_link", finding.first_time)
+    with pytest.raises(ExtrapolationError, match="into the future"):
+        stopped.buffer.lookup("map", "base_link", finding.first_time + 100 * MS)
+    assert "extrapolation into the future" in finding.hint
