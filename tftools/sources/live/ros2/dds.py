@@ -97,7 +97,7 @@ class Participant:
     def reader(self, name: str, data_type: type[Any], profile: QosProfile) -> DataReader[Any]:
         return DataReader(self.dds, self.topic(name, data_type), qos=qos(profile))
 
-    def writer(self, name: str, data_type: type[Any], profile: QosProfile) -> DataWriter:
+    def writer(self, name: str, data_type: type[Any], profile: QosProfile) -> DataWriter[Any]:
         return DataWriter(self.dds, self.topic(name, data_type), qos=qos(profile, writer=True))
 
     def close(self) -> None:

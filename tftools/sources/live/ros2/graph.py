@@ -120,7 +120,7 @@ class Graph:
             reliable=qos[Policy.Reliability] != Policy.Reliability.BestEffort,  # a writer's default: reliable
             transient_local=qos[Policy.Durability] not in (None, Policy.Durability.Volatile),
         )
-        key = endpoint.sample_info.instance_handle if handle is None else handle
+        key = endpoint.sample_info.instance_handle if handle is None else handle  # type: ignore[attr-defined]
         if key not in self._writers:
             self._writers[key] = writer
             self._on_writer(writer, self.name_of(writer))

@@ -4,6 +4,8 @@ Keyless and final, as rmw_cyclonedds registers every ROS type (serdata.cpp creat
 TOPICKIND_NO_KEY, XCDR1 only), so they match ROS 2's readers and writers by name.
 """
 
+# mypy: disable-error-code="type-arg, assignment, arg-type, valid-type, attr-defined"
+# (Cyclone DDS's IDL annotations are not types mypy knows.)
 # No `from __future__ import annotations`: Cyclone DDS reads these annotations as types at run time.
 
 import functools
@@ -93,22 +95,22 @@ def participant_entities_info(gid_size: int) -> type[Any]:
 
     @dataclass
     class Gid(IdlStruct, typename=ros2.GID):
-        data: array[uint8, gid_size] = field(default_factory=lambda: [0] * gid_size)  # type: ignore[valid-type]
+        data: array[uint8, gid_size] = field(default_factory=lambda: [0] * gid_size)
 
     @dataclass
     class NodeEntitiesInfo(IdlStruct, typename=ros2.NODE_ENTITIES_INFO):
-        node_namespace: bounded_str[256] = "/"  # type: ignore[valid-type]
-        node_name: bounded_str[256] = ""  # type: ignore[valid-type]
-        reader_gid_seq: sequence[Gid, 1024] = field(default_factory=list)  # type: ignore[valid-type]
-        writer_gid_seq: sequence[Gid, 1024] = field(default_factory=list)  # type: ignore[valid-type]
+        node_namespace: bounded_str[256] = "/"
+        node_name: bounded_str[256] = ""
+        reader_gid_seq: sequence[Gid, 1024] = field(default_factory=list)
+        writer_gid_seq: sequence[Gid, 1024] = field(default_factory=list)
 
     @dataclass
     class ParticipantEntitiesInfo(IdlStruct, typename=ros2.PARTICIPANT_ENTITIES_INFO):
         gid: Gid = field(default_factory=Gid)
-        node_entities_info_seq: sequence[NodeEntitiesInfo, 1024] = field(default_factory=list)  # type: ignore[valid-type]
+        node_entities_info_seq: sequence[NodeEntitiesInfo, 1024] = field(default_factory=list)
 
-    ParticipantEntitiesInfo.Gid = Gid  # type: ignore[attr-defined]
-    ParticipantEntitiesInfo.NodeEntitiesInfo = NodeEntitiesInfo  # type: ignore[attr-defined]
+    ParticipantEntitiesInfo.Gid = Gid
+    ParticipantEntitiesInfo.NodeEntitiesInfo = NodeEntitiesInfo
     return ParticipantEntitiesInfo
 
 
