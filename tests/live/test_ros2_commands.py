@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from tests.live.ros2_processes import Ros2Domain, domain_fixture  # noqa: F401 - the fixture `domain`
+from tests.live.ros2_processes import Ros2Domain, domain_fixture, require_cyclonedds  # noqa: F401 - fixture `domain`
 from tftools.sources.live import NoRosSelectedError, choose_ros
 
 
@@ -76,7 +76,7 @@ def test_without_the_ros2_extra_ros2_says_how_to_install_it(tfx, monkeypatch: py
 
 
 def test_a_bad_domain_id_is_one_line(tfx, monkeypatch: pytest.MonkeyPatch) -> None:
-    pytest.importorskip("cyclonedds", reason="Cyclone DDS's Python package (extra ros2) is not installed")
+    require_cyclonedds()
     monkeypatch.setenv("ROS_DOMAIN_ID", "300")
     result = tfx("frames", "--ros2")
     assert result.code == 2 and result.stderr.count("\n") == 1

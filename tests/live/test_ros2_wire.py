@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 from rosbags.typesys import Stores, get_typestore
 from rosbags.typesys.base import Nodetype
 
+from tests.live.ros2_processes import require_cyclonedds
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.live.ros2 import conventions as ros2
@@ -233,7 +234,7 @@ def test_discovery_settings_become_cyclone_configuration_as_in_rmw_cyclonedds() 
 
 @pytest.fixture(scope="module")
 def idl():
-    pytest.importorskip("cyclonedds", reason="Cyclone DDS's Python package (extra ros2) is not installed")
+    require_cyclonedds()
     from tftools.sources.live.ros2 import idl
 
     return idl
