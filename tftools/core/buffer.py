@@ -22,6 +22,7 @@ from tftools.core.history import (
     PARENT_HAD_SLASH,
     EdgeHistory,
 )
+from tftools.core.kernels_table import EdgeTable, compiled
 from tftools.core.rejection import Rejection, RejectionCode
 from tftools.core.time import NS_PER_S, Clock, SimClock
 from tftools.core.transform import Transform
@@ -77,6 +78,9 @@ class Buffer:
         self._histories: list[EdgeHistory | None] = [None]
         self._arrivals = 0
         self._changed = threading.Condition(threading.RLock())
+        self._table: EdgeTable | None = None  # built by the first compiled lookup
+        self._scratch_values = np.zeros(7)
+        self._scratch_stamp = np.zeros(1, np.int64)
 
     @property
     def lock(self) -> threading.Condition:
@@ -86,6 +90,7 @@ class Buffer:
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
         del state["_changed"]
+        state["_table"] = None  # memory addresses: rebuilt where the copy is used
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
@@ -266,6 +271,8 @@ class Buffer:
         )
         if self.cache_time is not None:
             hist.prune(self.cache_time)
+        if self._table is not None:
+            self._table.update(frame_id, hist)
         return int(keep.sum())
 
     def _refused_stamps(
@@ -328,6 +335,14 @@ class Buffer:
             return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
         target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
         source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
+        kernels = compiled()
+        if kernels is not None:
+            values, stamp = self._scratch_values, self._scratch_stamp
+            if kernels.lookup(self._edge_table(), target_id, source_id, time, values, stamp) == kernels.OK:
+                v = values.tolist()
+                translation, rotation = (v[0], v[1], v[2]), (v[3], v[4], v[5], v[6])
+                return Transform(translation, rotation, int(stamp[0]), target_frame, source_frame)
+        # The Python walk: the reference, and the one place tf2's error messages are made.
         translation, rotation, stamp = walk.lookup(self._tree(), target_id, source_id, time)
         return Transform(translation, rotation, stamp, target_frame, source_frame)
 
@@ -360,6 +375,9 @@ class Buffer:
         target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
         if NO_PARENT in (target_id, source_id):
             return False
+        kernels = compiled()
+        if kernels is not None:
+            return bool(kernels.can_transform(self._edge_table(), target_id, source_id, time))
         return walk.can_transform(self._tree(), target_id, source_id, time)
 
     @_locked
@@ -439,6 +457,12 @@ class Buffer:
 
     def _tree(self) -> walk.Tree:
         return walk.Tree(self._histories, self._frames.names)
+
+    def _edge_table(self) -> npt.NDArray[np.int64]:
+        """The compiled kernels' view of the histories (built once, then kept up to date)."""
+        if self._table is None:
+            self._table = EdgeTable(self._histories)
+        return self._table.rows
 
     def _identity_stamp(self, frame: str, time: int) -> int:
         if time != 0:

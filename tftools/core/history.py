@@ -139,6 +139,13 @@ class EdgeHistory:
         """The parent of the newest sample (the current one, for a static edge); 0 if empty."""
         return int(self._parents[self._end - 1]) if self._end > self._start else 0
 
+    def storage(self) -> tuple[Int64Array, FloatArray, Int32Array, int, int]:
+        """The whole backing arrays (stamps, values, parents) and the rows in use, ``start:end``.
+
+        For compiled kernels; the arrays move when the history grows or is pruned.
+        """
+        return self._stamps, self._values, self._parents, self._start, self._end
+
     # --- insertion ---------------------------------------------------------------------------
 
     def add(

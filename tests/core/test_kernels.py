@@ -1,0 +1,104 @@
+"""The compiled kernels against the Python walk they mirror: same verdicts, same numbers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.core import scenarios
+from tftools import Buffer, Transform, TransformError
+from tftools.core import walk
+from tftools.core.kernels_table import compiled
+
+kernels = compiled()
+pytestmark = pytest.mark.skipif(kernels is None, reason="numba is not importable here")
+
+S = scenarios.S
+CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(2) for f in (None, *scenarios.FEATURES)]
+
+
+def python_walk(buffer: Buffer, target: str, source: str, time: int):
+    """walk.lookup's answer (translation + rotation, stamp) or None where it raises."""
+    tree = buffer._tree()
+    try:
+        v, q, stamp = walk.lookup(tree, buffer._frames.get(target), buffer._frames.get(source), time)
+    except TransformError:
+        return None
+    return [*v, *q], stamp
+
+
+def kernel_walk(buffer: Buffer, target: str, source: str, time: int):
+    values, stamp = np.zeros(7), np.zeros(1, np.int64)
+    ids = buffer._frames.get(target), buffer._frames.get(source)
+    status = kernels.lookup(buffer._edge_table(), *ids, time, values, stamp)
+    return None if status != kernels.OK else (values.tolist(), int(stamp[0]))
+
+
+def lookups(built: scenarios.Built, buffer: Buffer):
+    for kind, *args in built.scenario.queries:
+        if kind not in ("lookup", "can"):
+            continue
+        target, source = args[0], args[1]
+        if target != source and buffer.has_frame(target) and buffer.has_frame(source):
+            yield target, source, args[2] * S + args[3]
+
+
+def _case_id(value: object) -> str:
+    return "-".join(sorted(value)) or "healthy" if isinstance(value, frozenset) else str(value)
+
+
+@pytest.mark.parametrize(("seed", "features"), CASES, ids=_case_id)
+def test_kernels_answer_as_the_python_walk(seed, features):
+    built = scenarios.build(seed, features, 1_700_000_000)
+    buffer = scenarios.load_into_buffer(built.scenario)
+    asked = 0
+    for target, source, time in lookups(built, buffer):
+        for t in (time, 0):
+            expected, got = python_walk(buffer, target, source, t), kernel_walk(buffer, target, source, t)
+            assert (got is None) == (expected is None), (target, source, t)
+            if expected is not None:
+                assert got[1] == expected[1]
+                np.testing.assert_allclose(got[0], expected[0], rtol=0, atol=1e-12)
+            tree, ids = buffer._tree(), (buffer._frames.get(target), buffer._frames.get(source))
+            assert kernels.can_transform(buffer._edge_table(), *ids, t) == walk.can_transform(tree, *ids, t)
+            asked += 1
+    assert asked > 50
+
+
+def test_the_table_follows_growth_pruning_and_new_frames():
+    buffer = Buffer(cache_time=3 * S)
+    buffer.set_transform(Transform((1.0, 0, 0), (0, 0, 0, 1), S, "a", "b"))
+    buffer.set_transform(Transform((2.0, 0, 0), (0, 0, 0, 1), 2 * S, "a", "b"))
+    assert buffer.lookup("a", "b", S + S // 2).translation[0] == 1.5
+    for k in range(3, 200):  # grows, then prunes (moving the arrays) many times
+        buffer.set_transform(Transform((float(k), 0, 0), (0, 0, 0, 1), k * S, "a", "b"))
+        buffer.set_transform(Transform((0, float(k), 0), (0, 0, 0, 1), k * S, "b", f"c{k}"))
+        assert buffer.lookup("a", f"c{k}", k * S).translation == (float(k), float(k), 0.0)
+        assert buffer.lookup("a", "b", 0).stamp == k * S
+    with pytest.raises(TransformError, match="into the past"):
+        buffer.lookup("a", "b", 100 * S)
+    assert not buffer.can_transform("a", "b", 100 * S)
+
+
+def test_a_copied_buffer_gets_its_own_table():
+    buffer = Buffer(cache_time=None)
+    buffer.set_transform(Transform((1.0, 0, 0), (0, 0, 0, 1), S, "a", "b"))
+    buffer.lookup("a", "b")
+    state = buffer.__getstate__()  # what pickle and copy take
+    assert state["_table"] is None, "memory addresses must not travel"
+    copy = Buffer.__new__(Buffer)
+    copy.__setstate__(state)
+    copy.set_transform(Transform((2.0, 0, 0), (0, 0, 0, 1), S, "a", "c"))
+    assert copy.lookup("a", "c").translation == (2.0, 0.0, 0.0)
+
+
+def test_without_numba_the_python_walk_answers(monkeypatch):
+    from tftools.core import buffer as buffer_module
+
+    built = scenarios.build(3, frozenset({"reparent"}), 1_700_000_000)
+    buffer = scenarios.load_into_buffer(built.scenario)
+    fast = [scenarios.answer(buffer, query) for query in built.scenario.queries]
+    monkeypatch.setattr(buffer_module, "compiled", lambda: None)
+    slow = [scenarios.answer(buffer, query) for query in built.scenario.queries]
+    assert slow == fast  # the very same bits
+    assert sum(a["ok"] for a in fast) > 100

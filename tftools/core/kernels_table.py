@@ -1,0 +1,75 @@
+"""``EdgeTable``: where each frame's history lies in memory, one int64 row per frame, for the kernels.
+
+A compiled call pays for every array it is given, so the kernels take this one table instead
+of each history's arrays: a row holds a history's bounds and the addresses of its stamps,
+values and parents. The buffer updates a row whenever it stores into that frame's history
+(which may move its arrays); the table also keeps the arrays it points to alive, so a row
+can at worst be stale, never dangling. Nothing here imports numba: ``compiled()`` does, once.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from types import ModuleType
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.history import EdgeHistory
+
+#: Columns of a row. A frame without history (a root, or not yet seen) has HAS == 0.
+HAS, STATIC, START, END, STAMPS, VALUES, PARENTS = range(7)
+COLUMNS = 7
+
+
+class EdgeTable:
+    """One row per frame id describing its history's storage (see the module docstring)."""
+
+    def __init__(self, histories: Sequence[EdgeHistory | None]) -> None:
+        self.rows: npt.NDArray[np.int64] = np.zeros((max(len(histories), 8), COLUMNS), np.int64)
+        self._pinned: list[object] = [None] * len(self.rows)
+        for frame_id, hist in enumerate(histories):
+            if hist is not None:
+                self.update(frame_id, hist)
+
+    def update(self, frame_id: int, hist: EdgeHistory) -> None:
+        """Describe ``hist``, the history of ``frame_id``, as it is now."""
+        if frame_id >= len(self.rows):
+            self._grow(frame_id + 1)
+        stamps, values, parents, start, end = hist.storage()
+        self._pinned[frame_id] = (stamps, values, parents)
+        self.rows[frame_id] = (
+            1,
+            hist.static,
+            start,
+            end,
+            stamps.ctypes.data,
+            values.ctypes.data,
+            parents.ctypes.data,
+        )
+
+    def _grow(self, frames: int) -> None:
+        rows = np.zeros((max(frames, 2 * len(self.rows)), COLUMNS), np.int64)
+        rows[: len(self.rows)] = self.rows
+        self._pinned += [None] * (len(rows) - len(self.rows))
+        self.rows = rows
+
+
+_compiled: ModuleType | None = None
+_tried = False
+
+
+def compiled() -> ModuleType | None:
+    """The compiled kernels (``tftools.core.kernels``), or None where numba cannot be imported.
+
+    Imported on first use only, so commands that never look up pay nothing for numba.
+    """
+    global _compiled, _tried
+    if not _tried:
+        _tried = True
+        try:
+            from tftools.core import kernels
+        except ImportError:  # numba missing on this platform: the Python walk answers alone
+            kernels = None
+        _compiled = kernels
+    return _compiled
