@@ -1,0 +1,122 @@
+"""Transforms per second of ``read_bag`` on ROS2 bags (sqlite3, mcap) and a Foxglove MCAP file of a
+17-frame robot recorded 600 s (252k transforms).
+
+Run: ``python3 benchmarks/ros2_ingest.py``; bags are written once under /tmp/tftools-bench.
+Prints figures, asserts nothing.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+from mcap.writer import Writer as McapWriter
+from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.typesys import Stores, get_typestore
+
+from tftools.sources.bag import rosbag2
+from tftools.sources.bag.reader import read_bag
+
+NS = 1_000_000_000
+START = 1_700_000_000 * NS
+SECONDS = 600
+OUT = Path("/tmp/tftools-bench")
+ARM = [f"arm_link{i}" for i in range(1, 7)]
+PUBLISHERS = [  # Hz, (parent, child) pairs
+    (10, [("map", "odom")]),
+    (50, [("odom", "base_footprint")]),
+    (30, [("base_link", "left_wheel"), ("base_link", "right_wheel")]),
+    (50, list(zip(["arm_base", *ARM[:-1]], ARM, strict=True))),
+]
+STATIC = [("base_footprint", "base_link"), ("base_link", "laser"), ("base_link", "imu_link"),
+          ("base_link", "camera_link"), ("camera_link", "camera_optical_frame"), ("base_link", "arm_base"),
+          ("arm_link6", "gripper")]  # fmt: skip
+
+
+def tf_cdr(stamp: int, pairs: list[tuple[str, str]], phase: float) -> bytes:
+    """A little-endian CDR ``tf2_msgs/msg/TFMessage`` (as rosbags would serialize it)."""
+    sec, nsec = divmod(stamp, NS)
+    out = bytearray(b"\x00\x01\x00\x00") + struct.pack("<I", len(pairs))
+    for i, (parent, child) in enumerate(pairs):
+        angle = 0.3 * math.sin(stamp / NS + phase + i)
+        out += b"\x00" * (-(len(out) - 4) % 4) + struct.pack("<iI", sec, nsec)
+        for name in (parent, child):
+            out += b"\x00" * (-(len(out) - 4) % 4) + struct.pack("<I", len(name) + 1) + name.encode() + b"\x00"
+        out += b"\x00" * (-(len(out) - 4) % 8)
+        out += struct.pack("<7d", 0.1 * i, 0.0, 0.05, 0.0, 0.0, math.sin(angle / 2), math.cos(angle / 2))
+    return bytes(out)
+
+
+def messages() -> list[tuple[int, str, bytes]]:
+    """(record time, topic, payload) in record order."""
+    out = [(START + 1_000_000, "/tf_static", tf_cdr(START, STATIC, 0.0))]
+    for hz, pairs in PUBLISHERS:
+        period = NS // hz
+        for k, stamp in enumerate(range(START + period // 3, START + SECONDS * NS, period)):
+            out.append((stamp + 1_000_000 + (k * 7919) % 3_000_000, "/tf", tf_cdr(stamp, pairs, hz)))
+    return sorted(out, key=lambda m: m[0])
+
+
+def write_rosbag2(path: Path, storage: str) -> Path:
+    if path.exists():
+        return path
+    path.parent.mkdir(parents=True, exist_ok=True)
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    with Writer(path, version=Writer.VERSION_LATEST, storage_plugin=StoragePlugin[storage.upper()]) as writer:
+        connections = {}
+        for record_time, topic, payload in messages():
+            if topic not in connections:
+                connections[topic] = writer.add_connection(topic, "tf2_msgs/msg/TFMessage", typestore=store)
+            writer.write(connections[topic], record_time, payload)
+    return path
+
+
+def write_foxglove(path: Path) -> Path:
+    """FrameTransforms in ros2msg (CDR) encoding: the same bytes as a TFMessage."""
+    if path.exists():
+        return path
+    with path.open("wb") as f:
+        writer = McapWriter(f)
+        writer.start(profile="", library="tftools-bench")
+        schema = writer.register_schema("foxglove_msgs/msg/FrameTransforms", "ros2msg", b"")
+        channels = {}
+        for record_time, topic, payload in messages():
+            if topic not in channels:
+                channels[topic] = writer.register_channel(topic, "cdr", schema)
+            writer.add_message(channels[topic], record_time, payload, record_time)
+        writer.finish()
+    return path
+
+
+def timed(label: str, run: Callable[[], int], repeat: int = 3) -> int:
+    best, count = math.inf, 0
+    for _ in range(repeat):
+        began = time.perf_counter()
+        count = run()
+        best = min(best, time.perf_counter() - began)
+    print(f"{label:<44} {count:>8} transforms  {best:6.3f} s  {count / best / 1000:8.0f}k transforms/s")
+    return count
+
+
+def main() -> None:
+    bags = {
+        "sqlite3": write_rosbag2(OUT / "robot_600s_db3", "sqlite3"),
+        "mcap": write_rosbag2(OUT / "robot_600s_mcap", "mcap"),
+        "foxglove mcap": write_foxglove(OUT / "robot_600s_foxglove.mcap"),
+    }
+    for name, bag in bags.items():
+        size = sum(p.stat().st_size for p in bag.iterdir()) if bag.is_dir() else bag.stat().st_size
+        timed(f"read_bag, {name} ({size / 1e6:.0f} MB)", lambda bag=bag: len(read_bag([bag]).transforms))
+    bag = bags["sqlite3"]
+    timed(
+        "rosbag2.read, rosbags' deserializer (reference)",
+        lambda: rosbag2.read(bag, ("/tf", "/tf_static"), lambda *_: None, decoder="reference")[1].transform_count,
+        repeat=1,
+    )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,155 @@
+"""rosbag2 sqlite3 files (.db3): the transform messages of one file (of its intact pages when damaged)."""
+
+from __future__ import annotations
+
+import mmap
+import sqlite3
+from collections.abc import Iterator
+from contextlib import contextmanager
+from functools import cache
+from pathlib import Path
+from typing import Any
+from urllib.parse import quote
+
+import numpy as np
+
+from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.db3_pages import salvage
+from tftools.sources.bag.decode import FileScan, MessageSet, Unpack, select
+from tftools.sources.errors import CorruptBagError
+
+SQLITE_MAGIC = b"SQLite format 3\x00"
+ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
+_FETCH = 1 << 15  # rows per fetch: progress is reported between fetches
+
+Row = tuple[int, int, bytes]  # topic id, record time, payload
+
+
+def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, unpack: Unpack | None = None) -> FileScan:
+    """The transform messages and description of one rosbag2 sqlite3 file, undecoded.
+
+    Payloads compressed one by one (zstd) are decompressed with ``unpack``, or on their own when
+    they look compressed. Raises ``CorruptBagError`` when nothing could be read.
+    """
+    result = FileScan(MessageSet(unpack))
+    with _connect(path) as db:
+        channels = _channels(db, path, topics, result)
+        _statistics(db, result)
+        rows = _messages(db, path, channels, result, progress)
+    _add_rows(rows, channels, result)
+    wal = path.with_name(path.name + "-wal")
+    if wal.exists() and wal.stat().st_size:
+        result.note_problem(
+            f"{wal.name} holds writes never merged into the database; they were not read"
+            " (opening the bag once with sqlite3 merges them)"
+        )
+    return result
+
+
+@contextmanager
+def _connect(path: Path) -> Iterator[sqlite3.Connection]:
+    """Read-only and immutable: sqlite neither writes nor creates -wal/-shm files next to it."""
+    try:
+        with path.open("rb") as f:
+            if f.read(len(SQLITE_MAGIC)) != SQLITE_MAGIC:
+                raise CorruptBagError(str(path), "not an SQLite database")
+        db = sqlite3.connect(f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1", uri=True)
+        # A file cut short says it has more pages than it holds; sqlite then refuses it whole
+        # unless the schema is "writable" (a flag of this read-only connection, nothing written).
+        db.execute("PRAGMA writable_schema=ON")
+    except (OSError, sqlite3.Error) as e:
+        raise CorruptBagError(str(path), str(e)) from None
+    try:
+        yield db
+    finally:
+        db.close()
+
+
+def _channels(db: sqlite3.Connection, path: Path, topics: tuple[str, ...], result: FileScan) -> dict[int, int]:
+    """Topic ids to read -> MessageSet channels; fills the description's topics."""
+    try:
+        rows = db.execute("SELECT id, name, type, serialization_format FROM topics").fetchall()
+    except sqlite3.Error as e:
+        raise CorruptBagError(str(path), f"its topics table cannot be read: {e}") from None
+    wanted: dict[int, int] = {}
+    for topic_id, name, type_name, encoding in rows:
+        result.topics[name] = type_name
+        codec, problem = select(name, type_name, encoding, topics)
+        result.note_skipped(problem)
+        if codec is not None:
+            wanted[topic_id] = result.messages.channel(name, codec)
+    return wanted
+
+
+def _statistics(db: sqlite3.Connection, result: FileScan) -> None:
+    try:
+        count, start, end = db.execute("SELECT count(*), min(timestamp), max(timestamp) FROM messages").fetchone()
+    except sqlite3.Error:
+        return  # a damaged database: the messages read set them
+    result.message_count, result.start, result.end = count, start or 0, end or 0
+
+
+def _messages(
+    db: sqlite3.Connection, path: Path, channels: dict[int, int], result: FileScan, progress: ProgressCallback
+) -> list[Row]:
+    """The wanted topics' messages in record-time order; from the intact pages of a damaged file."""
+    if not channels:
+        return []
+    size = path.stat().st_size
+    rows: list[Row] = []
+    ids = ",".join(str(int(i)) for i in channels)
+    query = f"SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN ({ids}) ORDER BY timestamp, id"
+    try:
+        cursor = db.execute(query)
+        while batch := cursor.fetchmany(_FETCH):
+            rows += batch
+            progress(_estimate(batch[-1][1], result, size), size)
+    except sqlite3.Error as e:
+        rows = _salvage(path, channels, result, str(e))
+    return rows
+
+
+def _estimate(timestamp: int, result: FileScan, size: int) -> int:
+    span = result.end - result.start
+    return int(size * (timestamp - result.start) / span) if span > 0 else 0
+
+
+def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str) -> list[Row]:
+    with path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
+        found = salvage(data)
+    rows = [(topic, time, payload) for _, topic, time, payload in found.rows if topic in channels]
+    if not rows:
+        raise CorruptBagError(str(path), f"no message could be read (sqlite: {error})")
+    if not result.message_count:  # the statistics could not be read either
+        result.message_count = len(found.rows)
+        result.start, result.end = found.rows[0][2], max(row[2] for row in found.rows)
+    lost = f", {found.lost} more lost their data" if found.lost else ""
+    result.note_problem(
+        f"the database is damaged (sqlite: {error}): read the {len(rows)} transform messages of its intact pages"
+        f"{lost}; those in missing or damaged pages are lost"
+    )
+    return rows
+
+
+def _add_rows(rows: list[Row], channels: dict[int, int], result: FileScan) -> None:
+    if not rows:
+        return
+    topic_ids, times, payloads = zip(*rows, strict=True)
+    if result.messages.unpack is None and payloads[0][:4] == ZSTD_MAGIC:
+        result.messages.unpack = unzstd  # a bare .db3 of a bag compressed message by message
+    lookup = np.zeros(max(channels) + 1, np.int32)
+    lookup[list(channels)] = list(channels.values())
+    which = lookup[np.array(topic_ids, np.int64)] if len(channels) > 1 else next(iter(channels.values()))
+    result.messages.add(which, times, np.arange(len(rows)), payloads)
+
+
+def unzstd(data: bytes) -> bytes:
+    """One zstd-compressed message (a frame that may not state its size)."""
+    return bytes(_zstd().decompressobj().decompress(data))
+
+
+@cache
+def _zstd() -> Any:
+    import zstandard
+
+    return zstandard.ZstdDecompressor()

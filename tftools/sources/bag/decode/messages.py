@@ -1,0 +1,177 @@
+"""Transform messages gathered from a file, grouped by codec and length, decoded into a batch."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.batch import TransformBatch
+from tftools.sources.bag.decode.codec import Codec, Decoder
+from tftools.sources.bag.decode.rows import Channel, Rows
+from tftools.sources.bag.decode.template import Block, IntArray, decode_group, one_by_one
+
+Int32Array = npt.NDArray[np.int32]
+ChannelIds = int | Int32Array | Sequence[int]
+Unpack = Callable[[bytes], bytes]
+
+
+@dataclass
+class _Group:
+    """Payloads of one codec and one length: concatenated bytes, and their message numbers."""
+
+    pieces: list[bytes] = field(default_factory=list)
+    ids: list[IntArray] = field(default_factory=list)
+
+    def matrix(self, length: int) -> tuple[npt.NDArray[np.uint8], IntArray]:
+        ids = np.concatenate(self.ids)
+        data = np.frombuffer(b"".join(self.pieces), np.uint8)
+        self.pieces.clear()
+        return data.reshape(len(ids), length), ids
+
+
+class MessageSet:
+    """The transform messages of one file, added in any order; ``decode`` puts them in record
+    time order, ties in ``position`` order (their order in the file)."""
+
+    def __init__(self, unpack: Unpack | None = None) -> None:
+        self.unpack = unpack  # applied to every payload first, e.g. decompression
+        self.channels: list[Channel] = []
+        self._channel_ids: dict[Channel, int] = {}
+        self._codecs: list[Codec] = []
+        self._codec_of: list[int] = []  # per channel
+        self._times: list[IntArray] = []
+        self._positions: list[IntArray] = []
+        self._channel_of: list[Int32Array] = []
+        self._groups: dict[tuple[Codec, int], _Group] = {}
+        self._unpack_failed: dict[int, list[str]] = {}
+        self.count = 0
+
+    def __len__(self) -> int:
+        return self.count
+
+    def channel(self, topic: str, codec: Codec) -> int:
+        """The number of the channel ``topic`` decoded with ``codec``, to ``add`` messages to."""
+        key = Channel(topic, codec)
+        if key not in self._channel_ids:
+            self._channel_ids[key] = len(self.channels)
+            self.channels.append(key)
+            if codec not in self._codecs:
+                self._codecs.append(codec)
+            self._codec_of.append(self._codecs.index(codec))
+        return self._channel_ids[key]
+
+    def add(
+        self,
+        channel: ChannelIds,
+        record_times: IntArray | Sequence[int],
+        positions: IntArray | Sequence[int],
+        payloads: Sequence[bytes],
+    ) -> None:
+        """Messages of one channel (an int) or of several (one channel number per message)."""
+        channels = np.broadcast_to(np.asarray(channel, np.int32), (len(payloads),))
+        if self.unpack is not None:
+            channels, record_times, positions, payloads = self._unpacked(channels, record_times, positions, payloads)
+        n = len(payloads)
+        if not n:
+            return
+        ids = np.arange(self.count, self.count + n, dtype=np.int64)
+        self._times.append(np.asarray(record_times, np.int64))
+        self._positions.append(np.asarray(positions, np.int64))
+        self._channel_of.append(channels.copy())
+        self.count += n
+        codec_of = np.array(self._codec_of, np.int64)[channels]
+        keys = (codec_of << 40) | np.fromiter(map(len, payloads), np.int64, n)
+        if (keys == keys[0]).all():
+            self._group(int(keys[0]), b"".join(payloads), ids)
+            return
+        order = np.argsort(keys, kind="stable")
+        for part in np.split(order, np.flatnonzero(np.diff(keys[order])) + 1):
+            rows = part.tolist()
+            self._group(int(keys[rows[0]]), b"".join([payloads[i] for i in rows]), ids[part])
+
+    def _unpacked(
+        self,
+        channels: Int32Array,
+        record_times: IntArray | Sequence[int],
+        positions: IntArray | Sequence[int],
+        payloads: Sequence[bytes],
+    ) -> tuple[Int32Array, list[int], list[int], list[bytes]]:
+        assert self.unpack is not None
+        kept_channels, kept_times, kept_positions, kept_payloads = [], [], [], []
+        for channel, time, position, payload in zip(
+            channels.tolist(), list(record_times), list(positions), payloads, strict=True
+        ):
+            try:
+                kept_payloads.append(self.unpack(payload))
+            except Exception as e:  # any decompressor error: this message is lost
+                self._unpack_failed.setdefault(channel, []).append(f"{type(e).__name__}: {e}")
+                continue
+            kept_channels.append(channel)
+            kept_times.append(int(time))
+            kept_positions.append(int(position))
+        return np.array(kept_channels, np.int32), kept_times, kept_positions, kept_payloads
+
+    def _group(self, key: int, joined: bytes, ids: IntArray) -> None:
+        codec, length = self._codecs[key >> 40], key & ((1 << 40) - 1)
+        group = self._groups.setdefault((codec, length), _Group())
+        group.pieces.append(joined)
+        group.ids.append(ids)
+
+    def decode(self, decoder: Decoder = "fast") -> tuple[TransformBatch, list[str]]:
+        """Every transform, in record-time order, and a line per channel with lost messages."""
+        times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
+        channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
+        rows = Rows(self.channels, times, channel_of, _rank(times, self._positions))
+        failed: dict[int, list[str]] = {}
+        while self._groups:
+            (codec, length), group = self._groups.popitem()
+            matrix, ids = group.matrix(length)
+            blocks, failures = _decode(matrix, codec, decoder)
+            for block in blocks:
+                rows.add(ids[block.rows], block)
+            for row, reason in failures:
+                failed.setdefault(int(channel_of[ids[row]]), []).append(reason)
+        return rows.batch(), self._problems(failed, channel_of)
+
+    def _problems(self, failed: dict[int, list[str]], channel_of: Int32Array) -> list[str]:
+        totals = np.bincount(channel_of, minlength=len(self.channels))
+        lines = [
+            f"{self.channels[index].topic}: {len(reasons)} messages could not be decompressed, "
+            f"skipped (first: {reasons[0]})"
+            for index, reasons in sorted(self._unpack_failed.items())
+        ]
+        for index, reasons in sorted(failed.items()):
+            channel = self.channels[index]
+            lines.append(
+                f"{channel.topic}: {len(reasons)} of {totals[index]} messages could not be decoded "
+                f"as {channel.codec.name}, skipped (first: {reasons[0]})"
+            )
+        return lines
+
+
+def _rank(times: IntArray, positions: list[IntArray]) -> IntArray:
+    """Each message's place in (record time, position) order."""
+    if not len(times):
+        return np.zeros(0, np.int64)
+    where = np.concatenate(positions)
+    step, after = np.diff(times), np.diff(where)
+    if np.all((step > 0) | ((step == 0) & (after > 0))):
+        return np.arange(len(times), dtype=np.int64)
+    rank = np.empty(len(times), np.int64)
+    rank[np.lexsort((where, times))] = np.arange(len(times))
+    return rank
+
+
+def _decode(
+    matrix: npt.NDArray[np.uint8], codec: Codec, decoder: Decoder
+) -> tuple[list[Block], list[tuple[int, str]]]:
+    if decoder == "fast" and codec.templated:
+        return decode_group(matrix, codec.parse)
+    blocks: list[Block] = []
+    failures: list[tuple[int, str]] = []
+    rows = np.arange(len(matrix), dtype=np.int64)
+    one_by_one(matrix, rows, codec.parser(decoder), blocks, failures)
+    return blocks, failures

@@ -1,0 +1,70 @@
+"""``FileScan``: what one bag file held, undecoded; ``file_result``: scans made a bag's result."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from tftools.core.batch import TransformBatch, concat_batches, take_rows
+from tftools.sources.bag.contents import BagFileInfo
+from tftools.sources.bag.decode.codec import Decoder
+from tftools.sources.bag.decode.messages import MessageSet
+
+
+@dataclass
+class FileScan:
+    """One file's transform messages (undecoded) and description."""
+
+    messages: MessageSet
+    start: int = 0  # record times over every topic (ns)
+    end: int = 0
+    message_count: int = 0  # every topic
+    topics: dict[str, str] = field(default_factory=dict)
+    problems: list[str] = field(default_factory=list)  # damage: what was lost
+    skipped: list[str] = field(default_factory=list)  # asked-for topics that carry no transforms
+
+    def note_problem(self, line: str) -> None:
+        if line and line not in self.problems:
+            self.problems.append(line)
+
+    def note_skipped(self, line: str) -> None:
+        if line and line not in self.skipped:
+            self.skipped.append(line)
+
+
+def file_result(
+    path: Path, fmt: str, scans: Sequence[FileScan], decoder: Decoder, labels: Sequence[str] = ()
+) -> tuple[list[TransformBatch], BagFileInfo]:
+    """Decode the scans of one bag's files into one batch in record order, and describe the bag.
+
+    ``labels`` (one per scan, e.g. file names) prefix each file's problem lines.
+    """
+    batches: list[TransformBatch] = []
+    problems: list[str] = []
+    for index, scan in enumerate(scans):
+        batch, undecodable = scan.messages.decode(decoder)
+        batches.append(batch)
+        label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
+        problems += [label + line for line in scan.problems + undecodable]
+    merged = concat_batches(batches)
+    if len(merged) and np.any(np.diff(merged.record_time) < 0):
+        merged = take_rows(merged, np.argsort(merged.record_time, kind="stable"))
+    counted = [s for s in scans if s.message_count]
+    topics: dict[str, str] = {}
+    for scan in scans:
+        topics.update(scan.topics)
+    skipped = list(dict.fromkeys(line for scan in scans for line in scan.skipped))
+    info = BagFileInfo(
+        path=str(path),
+        format=fmt,
+        start=min((s.start for s in counted), default=0),
+        end=max((s.end for s in counted), default=0),
+        message_count=sum(s.message_count for s in counted),
+        topics=topics,
+        transform_count=len(merged),
+        problems=skipped + problems,
+    )
+    return ([merged] if len(merged) else []), info

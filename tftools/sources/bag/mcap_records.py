@@ -1,0 +1,182 @@
+"""MCAP records: opcodes and layouts, a bounds-checked reader of record contents, chunks unpacked,
+and the channels met in a file with the codec each is read with."""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+
+from tftools.sources.bag.decode import FileScan, select
+
+MAGIC = b"\x89MCAP0\r\n"
+HEADER, FOOTER, SCHEMA, CHANNEL, MESSAGE, CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
+MESSAGE_INDEX, CHUNK_INDEX, STATISTICS, DATA_END = 0x07, 0x08, 0x0B, 0x0F
+RECORD = struct.Struct("<BQ")  # opcode, content length
+MESSAGE_HEAD = struct.Struct("<HIQQ")  # channel id, sequence, log time, publish time
+U16, U32, U64 = struct.Struct("<H"), struct.Struct("<I"), struct.Struct("<Q")
+_CHUNK_HEAD = struct.Struct("<QQQI")  # start time, end time, uncompressed size, crc
+
+
+class McapDamageError(Exception):
+    """Bytes that are not what the MCAP format says they should be."""
+
+
+class Body:
+    """A cursor over a record's content, raising ``McapDamageError`` past its end."""
+
+    def __init__(self, data: bytes, pos: int = 0) -> None:
+        self.data = data
+        self.pos = pos
+
+    def take(self, fmt: struct.Struct) -> tuple[int, ...]:
+        try:
+            values = fmt.unpack_from(self.data, self.pos)
+        except struct.error:
+            raise McapDamageError("record shorter than its fields") from None
+        self.pos += fmt.size
+        return values
+
+    def int(self, fmt: struct.Struct) -> int:
+        return int(self.take(fmt)[0])
+
+    def bytes(self, length_fmt: struct.Struct) -> bytes:
+        length = self.int(length_fmt)
+        if self.pos + length > len(self.data):
+            raise McapDamageError("field runs past its record")
+        self.pos += length
+        return self.data[self.pos - length : self.pos]
+
+    def string(self) -> str:
+        return self.bytes(U32).decode("utf-8", "replace")
+
+
+def records(data: bytes) -> list[tuple[int, int, int]]:
+    """(opcode, content start, content end) of the records that fill ``data``."""
+    out = []
+    pos = 0
+    while pos + RECORD.size <= len(data):
+        opcode, length = RECORD.unpack_from(data, pos)
+        start = pos + RECORD.size
+        if start + length > len(data):
+            raise McapDamageError(f"record at byte {pos} runs past its section")
+        out.append((opcode, start, start + length))
+        pos = start + length
+    return out
+
+
+def chunk_records(content: bytes, *, partial: bool) -> bytes:
+    """The records inside a chunk, decompressed (as far as they go when ``partial``)."""
+    body = Body(content)
+    _, _, uncompressed, _ = body.take(_CHUNK_HEAD)
+    compression = body.string()
+    length = body.int(U64)
+    data = content[body.pos : body.pos + length]
+    if len(data) < length and not partial:
+        raise McapDamageError("chunk shorter than it says")
+    try:
+        return _decompress(compression, data, uncompressed, partial=partial or len(data) < length)
+    except McapDamageError:
+        raise
+    except Exception as e:  # the decompressors' own error types
+        raise McapDamageError(f"{compression} chunk cannot be decompressed ({e})") from None
+
+
+def _decompress(compression: str, data: bytes, size: int, *, partial: bool) -> bytes:
+    if compression == "":
+        return data
+    if compression == "zstd":
+        import zstandard
+
+        if partial:
+            return bytes(zstandard.ZstdDecompressor().decompressobj().decompress(data))
+        return bytes(zstandard.ZstdDecompressor().decompress(data, max_output_size=size))
+    if compression == "lz4":
+        import lz4.frame
+
+        if partial:
+            return bytes(lz4.frame.LZ4FrameDecompressor().decompress(data))
+        return bytes(lz4.frame.decompress(data))
+    raise McapDamageError(f"unsupported chunk compression {compression!r}")
+
+
+class Channels:
+    """Schemas and channels as they are met, and which channels are read as transforms."""
+
+    def __init__(self, topics: tuple[str, ...], result: FileScan) -> None:
+        self.topics = topics
+        self.result = result
+        self.schemas: dict[int, str] = {}
+        self.known: set[int] = set()
+        self.wanted: dict[int, int] = {}  # MCAP channel id -> MessageSet channel
+
+    def register(self, opcode: int, content: bytes) -> None:
+        """A schema or channel record."""
+        body = Body(content)
+        if opcode == SCHEMA:
+            schema_id = body.int(U16)
+            self.schemas[schema_id] = body.string()
+            return
+        channel_id, schema_id = body.int(U16), body.int(U16)
+        topic, encoding = body.string(), body.string()
+        if channel_id in self.known:
+            return
+        self.known.add(channel_id)
+        type_name = self.schemas.get(schema_id, "")
+        self.result.topics[topic] = type_name
+        codec, problem = select(topic, type_name, encoding, self.topics)
+        self.result.note_skipped(problem)
+        if codec is not None:
+            self.wanted[channel_id] = self.result.messages.channel(topic, codec)
+
+
+@dataclass
+class Stats:
+    """Message count and record-time span over every channel, as messages are met."""
+
+    count: int = 0
+    start: int = 0
+    end: int = 0
+
+    def add(self, times: list[int]) -> None:
+        if times:
+            low, high = min(times), max(times)
+            self.start = min(self.start, low) if self.count else low
+            self.end = max(self.end, high) if self.count else high
+            self.count += len(times)
+
+
+def scan_records(data: bytes, number: int, channels: Channels, stats: Stats | None) -> str:
+    """Take the wanted messages of a chunk's records (chunk ``number`` of the file), walking them
+    one by one; returns what was wrong if they end in damage, else ""."""
+    found: dict[int, tuple[list[int], list[int], list[bytes]]] = {}
+    times: list[int] = []
+    pos, size, damage = 0, len(data), ""
+    while pos < size:
+        if pos + RECORD.size > size:
+            damage = "record cut short"
+            break
+        opcode, length = RECORD.unpack_from(data, pos)
+        start, end = pos + RECORD.size, pos + RECORD.size + length
+        if end > size or (opcode == MESSAGE and length < MESSAGE_HEAD.size):
+            damage = "record cut short"
+            break
+        if opcode == MESSAGE:
+            channel_id, _, log_time, _ = MESSAGE_HEAD.unpack_from(data, start)
+            times.append(log_time)
+            if channel_id in channels.wanted:
+                log_times, positions, payloads = found.setdefault(channel_id, ([], [], []))
+                log_times.append(log_time)
+                positions.append((number << 32) + pos)
+                payloads.append(data[start + MESSAGE_HEAD.size : end])
+        elif opcode in (SCHEMA, CHANNEL):
+            try:
+                channels.register(opcode, data[start:end])
+            except McapDamageError as e:
+                damage = str(e)
+                break
+        pos = end
+    if stats is not None:
+        stats.add(times)
+    for channel_id, (log_times, positions, payloads) in found.items():
+        channels.result.messages.add(channels.wanted[channel_id], log_times, positions, payloads)
+    return damage

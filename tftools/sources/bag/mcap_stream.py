@@ -1,0 +1,128 @@
+"""Reading an MCAP file record after record from its start: files without a usable summary
+(a recording killed before its end, a damaged footer) are read up to the damage."""
+
+from __future__ import annotations
+
+from typing import BinaryIO
+
+from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.decode import FileScan
+from tftools.sources.bag.mcap_records import (
+    CHANNEL,
+    CHUNK,
+    DATA_END,
+    FOOTER,
+    HEADER,
+    MAGIC,
+    MESSAGE,
+    MESSAGE_HEAD,
+    RECORD,
+    SCHEMA,
+    Channels,
+    McapDamageError,
+    Stats,
+    chunk_records,
+    scan_records,
+)
+
+_PROGRESS_STEP = 1 << 24
+
+
+class UnreadableError(Exception):
+    """Nothing at all could be read."""
+
+
+def stream(f: BinaryIO, size: int, channels: Channels, result: FileScan, progress: ProgressCallback) -> None:
+    """Read the records from the start up to the end of the data or the damage, noting what is lost.
+
+    Raises ``UnreadableError`` when the damage comes before anything could be read.
+    """
+    reader = _Stream(f, size, channels)
+    damage = reader.run(progress)
+    stats = reader.stats
+    result.message_count, result.start, result.end = stats.count, stats.start, stats.end
+    if reader.lost_chunks:
+        result.note_problem(f"{reader.lost_chunks} chunks are damaged; their messages are lost")
+    if not damage:
+        return
+    if not stats.count and not reader.chunks_read:
+        raise UnreadableError(damage)
+    result.note_problem(
+        f"cut short or damaged at byte {reader.pos} of {size} ({damage}): read the {stats.count} messages "
+        f"before it, up to record time {stats.end / 1e9:.3f} s; the rest is lost"
+    )
+
+
+class _Stream:
+    """Top-level records one by one; messages outside chunks are read only when wanted."""
+
+    def __init__(self, f: BinaryIO, size: int, channels: Channels) -> None:
+        self.f, self.size, self.channels = f, size, channels
+        self.stats = Stats()
+        self.pos = len(MAGIC)
+        self.number = 0  # of the record: orders the messages of equal record time
+        self.lost_chunks = self.chunks_read = 0
+
+    def run(self, progress: ProgressCallback) -> str:
+        """Returns the damage met, or "" at a clean end."""
+        self.f.seek(self.pos)
+        reported = 0
+        while True:
+            head = self.f.read(RECORD.size)
+            if len(head) < RECORD.size:
+                return "the file ends without a footer"
+            opcode, length = RECORD.unpack_from(head)
+            if self.number == 0 and opcode != HEADER:
+                raise UnreadableError("no MCAP header record")
+            if opcode == 0 or 0x10 <= opcode < 0x80:
+                return f"unknown record type {opcode:#04x}"
+            if opcode in (FOOTER, DATA_END):
+                return ""
+            end = self.pos + RECORD.size + length
+            if end > self.size:
+                if opcode == CHUNK:
+                    self._chunk(self.f.read(), partial=True)
+                return "a record runs past the end of the file"
+            try:
+                self._record(opcode, length)
+            except McapDamageError as e:
+                return str(e)
+            self.pos, self.number = end, self.number + 1
+            if self.pos - reported >= _PROGRESS_STEP:
+                progress(self.pos, self.size)
+                reported = self.pos
+
+    def _record(self, opcode: int, length: int) -> None:
+        if opcode == MESSAGE:
+            self._message(length)
+        elif opcode in (CHUNK, SCHEMA, CHANNEL):
+            content = self.f.read(length)
+            if opcode == CHUNK:
+                self._chunk(content, partial=False)
+            else:
+                self.channels.register(opcode, content)
+        else:
+            self.f.seek(length, 1)
+
+    def _message(self, length: int) -> None:
+        if length < MESSAGE_HEAD.size:
+            raise McapDamageError("message record too short")
+        channel_id, _, log_time, _ = MESSAGE_HEAD.unpack(self.f.read(MESSAGE_HEAD.size))
+        self.stats.add([log_time])
+        rest = length - MESSAGE_HEAD.size
+        target = self.channels.wanted.get(channel_id)
+        if target is None:
+            self.f.seek(rest, 1)
+        else:
+            self.channels.result.messages.add(target, [log_time], [self.number << 32], [self.f.read(rest)])
+
+    def _chunk(self, content: bytes, *, partial: bool) -> None:
+        """A chunk's records; a damaged complete chunk is counted lost and skipped."""
+        try:
+            data = chunk_records(content, partial=partial)
+        except McapDamageError:
+            self.lost_chunks += not partial
+            return
+        self.chunks_read += 1
+        if scan_records(data, self.number, self.channels, self.stats) and not partial:
+            self.lost_chunks += 1

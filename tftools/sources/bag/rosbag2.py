@@ -1,0 +1,142 @@
+"""ROS2 bags: a directory (metadata.yaml, one or several sqlite3 or mcap files) or a bare .db3."""
+
+from __future__ import annotations
+
+import re
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from tftools.core.batch import TransformBatch
+from tftools.sources.bag import db3_file, mcap_file
+from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
+from tftools.sources.bag.decode import Decoder, FileScan, file_result
+from tftools.sources.errors import CorruptBagError
+
+
+def read(
+    path: Path, topics: tuple[str, ...], progress: ProgressCallback, *, decoder: Decoder = "fast"
+) -> tuple[list[TransformBatch], BagFileInfo]:
+    """The transforms of a ROS2 bag directory or a bare .db3 file (see ``reader.read_bag``)."""
+    if not path.is_dir():
+        if path.suffix == ".mcap":
+            return file_result(path, "rosbag2-mcap", [mcap_file.scan(path, topics, progress)], decoder)
+        return file_result(path, "rosbag2-sqlite3", [db3_file.scan(path, topics, progress)], decoder)
+    bag = _layout(path)
+    scans, labels = _scan_files(path, bag, topics, progress)
+    batches, info = file_result(path, f"rosbag2-{bag.storage}", scans, decoder, labels)
+    info.problems[:0] = bag.problems
+    return batches, info
+
+
+@dataclass
+class _Bag:
+    """What a bag directory is made of, from its metadata.yaml or, failing that, its files."""
+
+    storage: str  # "sqlite3" or "mcap"
+    files: list[Path]
+    compression_mode: str = ""  # "", "file" or "message"
+    problems: list[str] = field(default_factory=list)
+
+
+def _layout(path: Path) -> _Bag:
+    problems: list[str] = []
+    info = _metadata(path / "metadata.yaml", problems)
+    if info is not None:
+        storage = str(info.get("storage_identifier") or "sqlite3")
+        files = [_bag_file(path, str(name)) for name in info.get("relative_file_paths") or []]
+        mode = str(info.get("compression_mode") or "").lower()
+        if files:
+            return _Bag(storage, files, mode, problems)
+        problems.append("metadata.yaml lists no files, read the bag files found instead")
+    files = sorted((*path.glob("*.db3"), *path.glob("*.mcap"), *path.glob("*.db3.zstd"), *path.glob("*.mcap.zstd")),
+                   key=_natural)
+    storage = "mcap" if files and ".mcap" in files[0].suffixes else "sqlite3"
+    return _Bag(storage, files, "", problems)
+
+
+def _metadata(path: Path, problems: list[str]) -> dict[str, Any] | None:
+    if not path.exists():
+        return None
+    from ruamel.yaml import YAML, YAMLError
+
+    try:
+        document = YAML(typ="safe").load(path.read_text("utf-8", "replace"))
+    except (YAMLError, OSError, ValueError) as e:
+        problems.append(f"metadata.yaml is unreadable ({type(e).__name__}), read the bag files found instead")
+        return None
+    info = document.get("rosbag2_bagfile_information") if isinstance(document, dict) else None
+    if not isinstance(info, dict):
+        problems.append("metadata.yaml has no rosbag2_bagfile_information, read the bag files found instead")
+        return None
+    return info
+
+
+def _bag_file(directory: Path, name: str) -> Path:
+    """Old bags list paths with the bag directory in front; keep the names that exist."""
+    candidate = directory / name
+    return candidate if candidate.exists() else directory / Path(name).name
+
+
+def _natural(path: Path) -> list[Any]:
+    """Sort key of split files: bag_2 before bag_10."""
+    return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", path.name)]
+
+
+def _scan_files(
+    path: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback
+) -> tuple[list[FileScan], list[str]]:
+    """Each file's scan, and a label per scan for its problems (the file name when there are several)."""
+    scans: list[FileScan] = []
+    labels: list[str] = []
+    lost: list[str] = []
+    sizes = [file.stat().st_size if file.exists() else 0 for file in bag.files]
+    total, done = sum(sizes), 0
+    for file, size in zip(bag.files, sizes, strict=True):
+
+        def file_progress(read: int, _of: int, done: int = done) -> None:
+            progress(done + read, total)
+
+        if not file.exists():
+            lost.append(f"{file.name} is listed in metadata.yaml but missing; its messages are lost")
+            continue
+        try:
+            scans.append(_scan_file(file, bag, topics, file_progress))
+            labels.append(file.name if len(bag.files) > 1 else "")
+        except CorruptBagError as e:
+            lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
+        done += size
+        progress(done, total)
+    if not scans:
+        raise CorruptBagError(str(path), "; ".join(lost) or "no bag files in it")
+    bag.problems += lost
+    return scans, labels
+
+
+def _scan_file(file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback) -> FileScan:
+    unpack = db3_file.unzstd if bag.compression_mode == "message" else None
+    with _uncompressed(file) as plain:
+        if plain.suffix == ".mcap":
+            return mcap_file.scan(plain, topics, progress, unpack)
+        return db3_file.scan(plain, topics, progress, unpack)
+
+
+@contextmanager
+def _uncompressed(file: Path) -> Iterator[Path]:
+    """A file compressed whole (``.zstd``) is decompressed into a temporary file first."""
+    if file.suffix != ".zstd":
+        yield file
+        return
+    import zstandard
+
+    with tempfile.TemporaryDirectory(prefix="tftools-") as tmp:
+        plain = Path(tmp) / file.stem
+        try:
+            with file.open("rb") as src, plain.open("wb") as dst:
+                zstandard.ZstdDecompressor().copy_stream(src, dst)
+        except (zstandard.ZstdError, OSError) as e:
+            raise CorruptBagError(str(file), f"cannot be decompressed ({e})") from None
+        yield plain
