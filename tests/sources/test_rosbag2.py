@@ -333,7 +333,7 @@ def test_missing_file_listed_in_metadata(tmp_path: Path) -> None:
 def test_every_file_missing(tmp_path: Path) -> None:
     bag = write_rosbag2(tmp_path / "bag", MESSAGES)
     (bag / "bag.db3").unlink()
-    with pytest.raises(CorruptBagError, match="bag.db3 is listed in metadata.yaml but missing"):
+    with pytest.raises(CorruptBagError, match=r"bag\.db3 is listed in metadata\.yaml but missing"):
         read_bag([bag])
 
 

@@ -4,6 +4,7 @@ and the channels met in a file with the codec each is read with."""
 from __future__ import annotations
 
 import struct
+import zlib
 from dataclasses import dataclass
 
 from tftools.sources.bag.decode import FileScan, select
@@ -67,18 +68,21 @@ def records(data: bytes) -> list[tuple[int, int, int]]:
 def chunk_records(content: bytes, *, partial: bool) -> bytes:
     """The records inside a chunk, decompressed (as far as they go when ``partial``)."""
     body = Body(content)
-    _, _, uncompressed, _ = body.take(_CHUNK_HEAD)
+    _, _, uncompressed, crc = body.take(_CHUNK_HEAD)
     compression = body.string()
     length = body.int(U64)
     data = content[body.pos : body.pos + length]
     if len(data) < length and not partial:
         raise McapDamageError("chunk shorter than it says")
     try:
-        return _decompress(compression, data, uncompressed, partial=partial or len(data) < length)
+        records = _decompress(compression, data, uncompressed, partial=partial or len(data) < length)
     except McapDamageError:
         raise
     except Exception as e:  # the decompressors' own error types
         raise McapDamageError(f"{compression} chunk cannot be decompressed ({e})") from None
+    if not partial and crc and zlib.crc32(records) != crc:  # a CRC of 0 is none
+        raise McapDamageError("chunk fails its CRC check")
+    return records
 
 
 def _decompress(compression: str, data: bytes, size: int, *, partial: bool) -> bytes:

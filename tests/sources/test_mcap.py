@@ -1,0 +1,281 @@
+"""The MCAP reader against the mcap library (with protobuf's, json's and rosbags' decoders):
+Foxglove FrameTransform(s) in protobuf, JSON and CDR, tf2 channels, every layout the mcap
+writer makes, and files cut short or damaged."""
+
+from __future__ import annotations
+
+import struct
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from mcap.writer import CompressionType, IndexType
+
+from tests.sources.ros2_helpers import (
+    NS,
+    T0,
+    TF_TYPE,
+    FoxgloveChannel,
+    McapOptions,
+    Msg,
+    Other,
+    Tf,
+    batch_rows,
+    expected_rows,
+    mcap_reference_rows,
+    string_cdr,
+    tf_cdr,
+    varied_transform,
+    write_foxglove_mcap,
+)
+from tftools.sources.bag import mcap_file
+from tftools.sources.bag.reader import read_bag
+from tftools.sources.errors import BagError, CorruptBagError
+
+DEFAULT = ("/tf", "/tf_static")
+CHANNELS = [
+    FoxgloveChannel("/fox/pb", "protobuf"),
+    FoxgloveChannel("/fox/pb_one", "protobuf", single=True),
+    FoxgloveChannel("/fox/json", "json"),
+    FoxgloveChannel("/fox/json_one", "json", single=True),
+    FoxgloveChannel("/fox/cdr", "ros2msg"),
+    FoxgloveChannel("/fox/tf_static", "ros2msg", single=True),
+]
+SINGLE = {c.topic for c in CHANNELS if c.single}
+FOXGLOVE = tuple(c.topic for c in CHANNELS)
+READ_BY_DEFAULT = (*DEFAULT, *FOXGLOVE)
+
+
+@cache
+def scene(seed: int, count: int = 400) -> tuple[list[Msg], list[Other], list[Msg]]:
+    """(foxglove messages, other messages, every transform message in the order written): the
+    foxglove channels, tf2 TFMessages on /tf, /tf_static and /robot/tf, and String on /chatter."""
+    rng = np.random.default_rng(seed)
+    foxglove: list[Msg] = []
+    others: list[Other] = []
+    tf2: dict[int, Msg] = {}  # id of the Other written -> its transforms
+    topics = [*FOXGLOVE, "/tf", "/tf_static", "/robot/tf", "/chatter"]
+    for i in range(count):
+        record_time = T0 + int(rng.integers(0, 10 * NS)) if i % 11 else T0 + 3 * NS
+        topic = topics[int(rng.integers(0, len(topics)))]
+        if topic == "/chatter":
+            others.append(Other(topic, record_time, string_cdr(f"hello {i}")))
+            continue
+        k = 1 if topic in SINGLE else int(rng.choice([0, 1, 2, 5, 30], p=[0.05, 0.5, 0.25, 0.15, 0.05]))
+        message = Msg(topic, record_time, tuple(varied_transform(rng) for _ in range(k)))
+        if topic.startswith("/fox"):
+            foxglove.append(message)
+        else:
+            others.append(Other(topic, record_time, tf_cdr(message.transforms), TF_TYPE))
+            tf2[id(others[-1])] = message
+    stream = sorted([*foxglove, *others], key=lambda m: m.record_time)  # as write_foxglove_mcap does
+    written = [m if isinstance(m, Msg) else tf2[id(m)] for m in stream if isinstance(m, Msg) or id(m) in tf2]
+    return foxglove, others, written
+
+
+FOXGLOVE_MESSAGES, OTHERS, WRITTEN = scene(1)
+
+LAYOUTS = {
+    "chunked_zstd": McapOptions(),
+    "chunked_lz4": McapOptions(compression=CompressionType.LZ4),
+    "chunked_plain": McapOptions(compression=CompressionType.NONE),
+    "small_chunks": McapOptions(chunk_size=3000),
+    "chunk_index_only": McapOptions(chunk_size=3000, index_types=IndexType.CHUNK),
+    "no_index": McapOptions(chunk_size=3000, index_types=IndexType.NONE),
+    "no_statistics": McapOptions(chunk_size=3000, use_statistics=False),
+    "unchunked": McapOptions(use_chunking=False),
+}
+
+
+def write(path: Path, layout: str, messages: list[Msg] = FOXGLOVE_MESSAGES, others: list[Other] = OTHERS) -> Path:
+    options = LAYOUTS[layout]
+    options.extra = others
+    return write_foxglove_mcap(path, CHANNELS, messages, options)
+
+
+def by_time(rows: list[tuple[Any, ...]]) -> list[tuple[Any, ...]]:
+    return sorted(rows, key=lambda row: (row[6], repr(row)))
+
+
+@pytest.mark.parametrize("layout", list(LAYOUTS))
+def test_layouts(tmp_path: Path, layout: str) -> None:
+    path = write(tmp_path / "x.mcap", layout)
+    contents = read_bag([path])
+    rows = batch_rows(contents.transforms)
+    assert rows == expected_rows(WRITTEN, READ_BY_DEFAULT)
+    reference = [row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT]
+    assert by_time(rows) == by_time(reference)
+    (info,) = contents.files
+    times = [m.record_time for m in [*FOXGLOVE_MESSAGES, *OTHERS]]
+    assert info.problems == [] and info.format == "mcap"
+    assert (info.message_count, info.start, info.end) == (len(times), min(times), max(times))
+    assert info.topics["/fox/pb"] == "foxglove.FrameTransforms"
+    assert info.topics["/fox/json_one"] == "foxglove.FrameTransform"
+    assert info.topics["/fox/cdr"] == "foxglove_msgs/msg/FrameTransforms"
+    assert info.topics["/chatter"] == "std_msgs/msg/String"
+
+
+def test_static_flag_and_publishers(tmp_path: Path) -> None:
+    """Rows published by their topic; static on a tf_static topic, whatever the message type."""
+    batch = read_bag([write(tmp_path / "x.mcap", "chunked_zstd")]).transforms
+    topics = [batch.authorities[a] for a in batch.authority]
+    assert set(topics) == set(READ_BY_DEFAULT)
+    assert batch.static.tolist() == [t.endswith("tf_static") for t in topics]
+
+
+def test_chosen_topics(tmp_path: Path) -> None:
+    """Asked for topics, only they are read (foxglove channels elsewhere too)."""
+    path = write(tmp_path / "x.mcap", "small_chunks")
+    topics = ("/robot/tf", "/fox/json", "/chatter")
+    contents = read_bag([path], topics)
+    assert batch_rows(contents.transforms) == expected_rows(WRITTEN, topics[:2])
+    assert contents.problems == [
+        "/chatter: std_msgs/msg/String (cdr) is not a transform message tftools reads, skipped"
+    ]
+
+
+@pytest.mark.parametrize("encoding", ["protobuf", "json", "ros2msg"])
+def test_zero_and_absent_fields(tmp_path: Path, encoding: str) -> None:
+    """proto3 leaves zeros off the wire: messages with and without them, of equal lengths too."""
+    zeros = [Tf("", "", 0), Tf("a", "b", 0, 5), Tf("a", "b", 7, 0, (0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 0.0)),
+             Tf("a", "b", -3, 0, (-0.0, 0.0, 2.0), (1.0, 0.0, 0.0, 0.0)),
+             Tf("ab", "b", 1, 1, (1.0, 0.0, 0.0))]  # fmt: skip
+    messages = [Msg("/z", T0 + i, (tf,)) for i, tf in enumerate(zeros * 3)]
+    messages += [Msg("/zs", T0 + 100 + i, tuple(zeros[i:])) for i in range(len(zeros))]
+    channels = [FoxgloveChannel("/z", encoding, single=True), FoxgloveChannel("/zs", encoding)]
+    path = write_foxglove_mcap(tmp_path / "z.mcap", channels, messages)
+    rows = batch_rows(read_bag([path]).transforms)
+    assert rows == expected_rows(messages, ("/z", "/zs")) == mcap_reference_rows(path)
+
+
+def test_decoders_agree(tmp_path: Path) -> None:
+    path = write(tmp_path / "x.mcap", "small_chunks")
+    results = [mcap_file.read(path, DEFAULT, lambda *_: None, decoder=d)[0] for d in ("fast", "simple", "reference")]
+    assert batch_rows(results[0]) == batch_rows(results[1]) == batch_rows(results[2])
+
+
+def test_ros2_bag_storage_file_alone(tmp_path: Path) -> None:
+    """The .mcap of a rosbag2 directory is an MCAP file like any other."""
+    from tests.sources.ros2_helpers import varied_messages, write_rosbag2
+
+    messages = varied_messages(4)
+    bag = write_rosbag2(tmp_path / "bag", messages, storage="mcap")
+    rows = batch_rows(read_bag([bag / "bag.mcap"]).transforms)
+    assert rows == expected_rows(messages)
+
+
+# --- damaged files ---------------------------------------------------------------------------
+
+
+def assert_partial(rows: list[tuple[Any, ...]], expected: list[tuple[Any, ...]], problems: list[str]) -> None:
+    it = iter(expected)
+    assert all(row in it for row in rows), "rows read are not a subsequence of the file's rows"
+    assert all(line and "\n" not in line for line in problems)
+
+
+@pytest.mark.parametrize("layout", ["small_chunks", "chunked_lz4", "unchunked", "no_index"])
+def test_cut_short(tmp_path: Path, layout: str) -> None:
+    """Cut anywhere: what comes before the cut is read, with one line on what was lost; a file
+    cut before its first message is a corrupt bag."""
+    data = write(tmp_path / "whole.mcap", layout).read_bytes()
+    expected = expected_rows(WRITTEN, READ_BY_DEFAULT)
+    counts = []
+    for fraction in np.linspace(0.0, 1.0, 31)[:-1]:
+        cut = tmp_path / "cut.mcap"
+        cut.write_bytes(data[: int(len(data) * fraction)])
+        try:
+            contents = read_bag([cut])
+        except BagError as e:  # too short to be recognised, or nothing readable
+            assert fraction < 0.1 and "\n" not in str(e), e
+            counts.append(0)
+            continue
+        rows = batch_rows(contents.transforms)
+        assert_partial(rows, expected, contents.problems)
+        if rows != expected:  # else cut in the summary: nothing lost
+            (line,) = contents.problems
+            assert "cut short or damaged" in line
+        counts.append(len(rows))
+    assert counts == sorted(counts) and counts[-1] > 0.8 * len(expected)
+
+
+@pytest.mark.parametrize("compression", [CompressionType.ZSTD, CompressionType.LZ4, CompressionType.NONE])
+def test_damaged_chunk(tmp_path: Path, compression: CompressionType) -> None:
+    """Bytes overwritten inside one chunk: that chunk's messages are lost, the others are read."""
+    messages, others, _ = scene(2, 1500)
+    options = McapOptions(chunk_size=10_000, compression=compression, extra=others)
+    path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, messages, options)
+    expected = batch_rows(read_bag([path]).transforms)
+    data = bytearray(path.read_bytes())
+    chunks = chunk_offsets(bytes(data))
+    assert len(chunks) > 3
+    start, length = chunks[len(chunks) // 2]
+    middle = start + length // 2
+    data[middle : middle + 64] = bytes(range(64))
+    path.write_bytes(bytes(data))
+    contents = read_bag([path])
+    rows = batch_rows(contents.transforms)
+    assert_partial(rows, expected, contents.problems)
+    assert 0.5 * len(expected) < len(rows) < len(expected)
+    (line,) = contents.problems
+    assert "could not be" in line or "damaged" in line, line
+
+
+def chunk_offsets(data: bytes) -> list[tuple[int, int]]:
+    """(record start, record length) of the top-level chunk records."""
+    pos, out = 8, []
+    while pos + 9 <= len(data):
+        opcode, length = struct.unpack_from("<BQ", data, pos)
+        if opcode == 0x06:
+            out.append((pos, 9 + length))
+        if opcode == 0x02:
+            break
+        pos += 9 + length
+    return out
+
+
+def test_damaged_footer_reads_everything(tmp_path: Path) -> None:
+    """Without a usable summary the records are read one by one, all of them."""
+    path = write(tmp_path / "x.mcap", "small_chunks")
+    data = bytearray(path.read_bytes())
+    data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # summary start beyond the end
+    path.write_bytes(bytes(data))
+    contents = read_bag([path])
+    assert batch_rows(contents.transforms) == expected_rows(WRITTEN, READ_BY_DEFAULT)
+    assert contents.problems == []
+
+
+def test_damaged_message_index(tmp_path: Path) -> None:
+    path = write(tmp_path / "x.mcap", "small_chunks")
+    expected = batch_rows(read_bag([path]).transforms)
+    data = bytearray(path.read_bytes())
+    start, length = chunk_offsets(bytes(data))[2]
+    index = start + length  # the chunk's message index records follow it
+    assert data[index] == 0x07
+    data[index + 9 + 2 + 4 + 8 : index + 9 + 2 + 4 + 16] = struct.pack("<Q", 10**9)  # an offset out of the chunk
+    path.write_bytes(bytes(data))
+    contents = read_bag([path])
+    rows = batch_rows(contents.transforms)
+    assert_partial(rows, expected, contents.problems)
+    assert len(rows) < len(expected)
+    (line,) = contents.problems
+    assert line.startswith("1 of ") and "message index" in line
+
+
+def test_undecodable_messages(tmp_path: Path) -> None:
+    bad = [Other("/tf", T0 + 20 * NS + i, b"\x00\x01\x00\x00\xff\xff\xff\x7f", TF_TYPE) for i in range(4)]
+    path = write(tmp_path / "x.mcap", "small_chunks", others=[*OTHERS, *bad])
+    contents = read_bag([path])
+    assert batch_rows(contents.transforms) == expected_rows(WRITTEN, READ_BY_DEFAULT)
+    (line,) = contents.problems
+    assert line.startswith("/tf: 4 of ") and "could not be decoded as tf2_msgs/msg/TFMessage (cdr)" in line
+
+
+@pytest.mark.parametrize("content", [b"\x89MCAP0\r\n", b"\x89MCAP0\r\n" + b"\x01" * 40, b"\x89MCAP", b"plain text"])
+def test_not_mcap(tmp_path: Path, content: bytes) -> None:
+    path = tmp_path / "x.mcap"
+    path.write_bytes(content)
+    with pytest.raises(CorruptBagError) as caught:
+        mcap_file.read(path, DEFAULT, lambda *_: None)
+    assert "\n" not in str(caught.value)
