@@ -124,8 +124,9 @@ class MessageSet:
         """Every transform, in record-time order, and a line per channel with lost messages."""
         times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
         channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
-        rows = Rows(self.channels, times, channel_of, _rank(times, self._positions))
-        failed: dict[int, list[str]] = {}
+        rank = _rank(times, self._positions)
+        rows = Rows(self.channels, times, channel_of, rank)
+        failed: dict[int, list[tuple[int, str]]] = {}  # channel -> (rank, reason) of its undecodable messages
         while self._groups:
             (codec, length), group = self._groups.popitem()
             matrix, ids = group.matrix(length)
@@ -133,10 +134,10 @@ class MessageSet:
             for block in blocks:
                 rows.add(ids[block.rows], block)
             for row, reason in failures:
-                failed.setdefault(int(channel_of[ids[row]]), []).append(reason)
+                failed.setdefault(int(channel_of[ids[row]]), []).append((int(rank[ids[row]]), reason))
         return rows.batch(), self._problems(failed, channel_of)
 
-    def _problems(self, failed: dict[int, list[str]], channel_of: Int32Array) -> list[str]:
+    def _problems(self, failed: dict[int, list[tuple[int, str]]], channel_of: Int32Array) -> list[str]:
         totals = np.bincount(channel_of, minlength=len(self.channels))
         lines = [
             f"{self.channels[index].topic}: {len(reasons)} messages could not be decompressed, "
@@ -147,7 +148,7 @@ class MessageSet:
             channel = self.channels[index]
             lines.append(
                 f"{channel.topic}: {len(reasons)} of {totals[index]} messages could not be decoded "
-                f"as {channel.codec.name}, skipped (first: {reasons[0]})"
+                f"as {channel.codec.name}, skipped (first: {min(reasons)[1]})"
             )
         return lines
 

@@ -16,6 +16,8 @@ FloatArray = npt.NDArray[np.float64]
 #: After this many templates in a row that each matched almost nothing, the rest goes one by one.
 _MAX_POOR_TEMPLATES = 3
 _POOR_MATCH = 8
+_MIN_STAMP, _MAX_STAMP = -(2**63), 2**63 - 1
+_MAX_SECONDS = 9_223_372_030  # beyond, a stamp may not fit in int64 nanoseconds (checked one by one)
 
 
 class DecodeError(ValueError):
@@ -76,6 +78,8 @@ Parser = Callable[[bytes], Parsed]
 def block_of(row: int, parsed: Parsed) -> Block:
     """A block of one message decoded in Python."""
     k = len(parsed.stamps)
+    if any(not _MIN_STAMP <= stamp <= _MAX_STAMP for stamp in parsed.stamps):
+        raise DecodeError("a stamp beyond the int64 nanoseconds of ROS time")
     return Block(
         rows=np.array([row], np.int64),
         parents=parsed.parents,
@@ -105,10 +109,17 @@ class Template:
             got &= self.masks
         return np.asarray((got == self.expected).all(axis=1))
 
-    def decode(self, rows: IntArray, block: ByteMatrix) -> Block:
+    def decode(self, rows: IntArray, block: ByteMatrix) -> tuple[Block, IntArray]:
+        """The block of ``rows`` (their bytes in ``block``), and the rows left out: those with
+        seconds too far out for int64 nanoseconds (protobuf's are int64), to be parsed apart."""
         sec = _numbers(block, self.layout.sec, self.layout.order)
         nsec = _numbers(block, self.layout.nsec, self.layout.order)
-        return Block(rows, self.parents, self.children, sec * 1_000_000_000 + nsec, _floats(block, self.layout))
+        fits = (np.abs(sec) <= _MAX_SECONDS).all(axis=1)
+        left_out = rows[~fits]
+        if len(left_out):
+            rows, block, sec, nsec = rows[fits], block[fits], sec[fits], nsec[fits]
+        stamps = sec * 1_000_000_000 + nsec
+        return Block(rows, self.parents, self.children, stamps, _floats(block, self.layout)), left_out
 
 
 def decode_group(matrix: ByteMatrix, parse: Parser) -> tuple[list[Block], list[tuple[int, str]]]:
@@ -120,6 +131,7 @@ def decode_group(matrix: ByteMatrix, parse: Parser) -> tuple[list[Block], list[t
     blocks: list[Block] = []
     failures: list[tuple[int, str]] = []
     remaining = np.arange(len(matrix), dtype=np.int64)
+    stragglers: list[IntArray] = []
     poor = 0
     while len(remaining) and poor < _MAX_POOR_TEMPLATES:
         sample = matrix[remaining[0]].tobytes()
@@ -134,10 +146,12 @@ def decode_group(matrix: ByteMatrix, parse: Parser) -> tuple[list[Block], list[t
         template = Template(parsed.layout, sample, parsed)
         candidates = matrix if len(remaining) == len(matrix) else matrix[remaining]
         hit = template.matches(candidates)
-        blocks.append(template.decode(remaining[hit], candidates[hit]))
+        block, left_out = template.decode(remaining[hit], candidates[hit])
+        blocks.append(block)
+        stragglers.append(left_out)
         poor = poor + 1 if hit.sum() < _POOR_MATCH else 0
         remaining = remaining[~hit]
-    one_by_one(matrix, remaining, parse, blocks, failures)
+    one_by_one(matrix, np.concatenate([remaining, *stragglers]), parse, blocks, failures)
     return blocks, failures
 
 

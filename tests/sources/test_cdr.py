@@ -1,0 +1,277 @@
+"""The bulk decoders of transform messages against the reference decoders: rosbags for CDR, the
+protobuf library for Foxglove protobuf, ``json`` for Foxglove JSON; malformed payloads skipped."""
+
+from __future__ import annotations
+
+import json
+import struct
+from typing import Any
+
+import numpy as np
+import pytest
+
+from tests.sources.ros2_helpers import (
+    Tf,
+    batch_rows,
+    foxglove_cdr,
+    proto_message,
+    proto_transform,
+    tf_cdr,
+    varied_transform,
+)
+from tftools.sources.bag.decode.codec import CODECS
+from tftools.sources.bag.decode.messages import MessageSet
+from tftools.sources.bag.decode.template import DecodeError
+
+TF = ("tf2_msgs/msg/TFMessage", "cdr")
+DECODERS = ("fast", "simple", "reference")
+
+
+def decode(
+    payloads: list[bytes], key: tuple[str, str], decoder: str = "fast"
+) -> tuple[dict[int, list[Any]], list[str]]:
+    """Rows by message number (the record time given to each payload), and the problem lines."""
+    messages = MessageSet()
+    channel = messages.channel("/tf", CODECS[key])
+    numbers = list(range(len(payloads)))
+    messages.add(channel, numbers, numbers, payloads)
+    batch, problems = messages.decode(decoder)  # type: ignore[arg-type]
+    rows: dict[int, list[Any]] = {}
+    for row in batch_rows(batch):
+        rows.setdefault(row[6], []).append(row[:5])
+    return rows, problems
+
+
+def expected(messages: list[list[Tf]]) -> dict[int, list[Any]]:
+    return {
+        i: [(t.parent, t.child, t.stamp, tuple(map(float.hex, t.translation)), tuple(map(float.hex, t.rotation)))
+            for t in tfs]
+        for i, tfs in enumerate(messages) if tfs
+    }  # fmt: skip
+
+
+def varied(seed: int, count: int, most: int = 6) -> list[list[Tf]]:
+    rng = np.random.default_rng(seed)
+    return [[varied_transform(rng) for _ in range(int(rng.integers(0, most + 1)))] for _ in range(count)]
+
+
+# --- CDR -------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("decoder", DECODERS)
+def test_tf_messages_both_byte_orders(decoder: str) -> None:
+    """Every frame id length (so every alignment), both byte orders mixed in one topic."""
+    messages = varied(1, 600)
+    payloads = [tf_cdr(tfs, little_endian=i % 3 > 0) for i, tfs in enumerate(messages)]
+    rows, problems = decode(payloads, TF, decoder)
+    assert rows == expected(messages) and problems == []
+
+
+def test_same_length_other_layout() -> None:
+    """Messages of equal length whose strings split differently do not share a template."""
+    messages = [[Tf("ab", "c", 1)], [Tf("a", "bc", 2)], [Tf("abc", "", 3)]] * 20
+    messages += [[Tf("abcde", "f", 4), Tf("g", "hijkl", 5)], [Tf("a", "b", 6), Tf("cdefg", "hijkl", 7)]] * 20
+    payloads = [tf_cdr(tfs) for tfs in messages]
+    assert len({len(p) for p in payloads[:3]}) == 1
+    assert decode(payloads, TF)[0] == expected(messages)
+
+
+def test_many_messages_of_one_layout() -> None:
+    """A template learnt once decodes thousands of look-alikes: the same values as rosbags."""
+    rng = np.random.default_rng(5)
+    stamps = zip(rng.integers(-(2**31), 2**31, 5000), rng.integers(0, 10**9, 5000), strict=True)
+    messages = [[Tf("odom", "base_link", int(s), int(n), tuple(rng.normal(size=3)), tuple(rng.normal(size=4)))]
+                for s, n in stamps]  # fmt: skip
+    payloads = [tf_cdr(tfs) for tfs in messages]
+    assert decode(payloads, TF)[0] == decode(payloads, TF, "reference")[0] == expected(messages)
+
+
+def test_truncated_and_padded_payloads() -> None:
+    """No prefix of a message decodes; trailing padding does not matter; every decoder agrees
+    with rosbags on what it decodes."""
+    messages = varied(2, 5, most=4)
+    whole = [tf_cdr(tfs) for tfs in messages if tfs]
+    payloads = [p[:i] for p in whole for i in range(len(p))] + [p + b"\x00" * 3 for p in whole]
+    reference, _ = decode(payloads, TF, "reference")
+    for decoder in ("fast", "simple"):
+        rows, problems = decode(payloads, TF, decoder)
+        assert sorted(rows) == list(range(len(payloads) - len(whole), len(payloads)))
+        assert rows == reference
+        (line,) = problems
+        count = len(payloads) - len(whole) - sum(1 for p in whole if p[4:8] == b"\x00" * 4)
+        assert line.startswith(f"/tf: {count} of {len(payloads)} messages could not be decoded")
+
+
+def test_corrupt_payloads_never_raise() -> None:
+    """Random bytes, huge counts and string lengths, unknown encapsulations: skipped with reasons."""
+    rng = np.random.default_rng(3)
+    good = [tf_cdr(tfs) for tfs in varied(4, 50)]
+    bad = [bytes(rng.integers(0, 256, int(rng.integers(0, 300)), dtype=np.uint8)) for _ in range(200)]
+    bad += [b"\x00\x01\x00\x00" + struct.pack("<I", 2**31), b"\x00\x03\x00\x00" + good[0][4:]]
+    bad += [good[1][:8] + struct.pack("<I", 2**30) + good[1][12:]]
+    for payload in good:  # each byte of each message flipped in turn, at a few places
+        for at in rng.integers(0, len(payload), 3):
+            broken = bytearray(payload)
+            broken[at] ^= 0xFF
+            bad.append(bytes(broken))
+    reference, _ = decode(good + bad, TF, "reference")
+    for decoder in ("fast", "simple"):
+        rows, problems = decode(good + bad, TF, decoder)
+        assert all(rows[i] == reference.get(i) for i in rows if i < len(good))
+        assert {i for i in rows if i < len(good)} == {i for i in reference if i < len(good)}
+        assert len(problems) == 1 and "\n" not in problems[0]
+
+
+@pytest.mark.parametrize("single", [True, False], ids=["FrameTransform", "FrameTransforms"])
+def test_foxglove_cdr(single: bool) -> None:
+    messages = [tfs[:1] if single else tfs for tfs in varied(6, 300) if tfs]
+    key = (f"foxglove_msgs/msg/FrameTransform{'' if single else 's'}", "cdr")
+    payloads = [foxglove_cdr(tfs, single=single) for tfs in messages]
+    for decoder in DECODERS:
+        assert decode(payloads, key, decoder) == (expected(messages), [])
+
+
+# --- protobuf --------------------------------------------------------------------------------
+
+
+def protobuf_rows(payloads: list[bytes], single: bool) -> dict[int, list[Any]]:
+    """What the protobuf library reads."""
+    from tests.sources.ros2_helpers import proto_classes
+
+    cls = proto_classes()["FrameTransform" if single else "FrameTransforms"]
+    out: dict[int, list[Any]] = {}
+    for i, payload in enumerate(payloads):
+        message = cls.FromString(payload)
+        for t in [message] if single else message.transforms:
+            v, q = t.translation, t.rotation
+            out.setdefault(i, []).append(
+                (t.parent_frame_id, t.child_frame_id, t.timestamp.seconds * 1_000_000_000 + t.timestamp.nanos,
+                 tuple(map(float.hex, (v.x, v.y, v.z))), tuple(map(float.hex, (q.x, q.y, q.z, q.w))))
+            )  # fmt: skip
+    return out
+
+
+@pytest.mark.parametrize("single", [True, False], ids=["FrameTransform", "FrameTransforms"])
+@pytest.mark.parametrize("decoder", ["fast", "simple"])
+def test_protobuf(single: bool, decoder: str) -> None:
+    messages = [tfs[:1] if single else tfs for tfs in varied(7, 400) if tfs]
+    rng = np.random.default_rng(8)
+    for tfs in messages[::5]:  # zeros are left off the wire: messages of other layouts
+        zero = rng.integers(0, 7)
+        t = tfs[0]
+        values = [*t.translation, *t.rotation]
+        values[zero] = 0.0
+        tfs[0] = Tf(t.parent, t.child, 0 if zero % 2 else t.sec, t.nsec, tuple(values[:3]), tuple(values[3:]))
+    payloads = [proto_message(tfs, single=single).SerializeToString() for tfs in messages]
+    key = (f"foxglove.FrameTransform{'' if single else 's'}", "protobuf")
+    assert decode(payloads, key, decoder) == (protobuf_rows(payloads, single), [])
+    assert decode(payloads, key, decoder)[0] == expected(messages)
+
+
+def test_protobuf_wire_variants() -> None:
+    """Fields in any order, repeated (the last counts), unknown fields, negative and big seconds."""
+    base = proto_transform(Tf("map", "odom", 5, 6, (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 1.0)))
+    variants = [
+        _fields(base, order=[5, 4, 3, 2, 1]),
+        _fields(base, order=[1, 2, 3, 4, 5]) + _tag(9, 0) + b"\x96\x01",  # unknown varint field 9
+        _fields(base, order=[1, 2, 3, 4, 5]) + _tag(12, 2) + b"\x03abc",  # unknown length-delimited field
+        _fields(base, order=[2, 2, 3, 1, 4, 5]),  # a repeated string: the last one counts
+        proto_transform(Tf("a", "b", -(2**33), 999_999_999)).SerializeToString(),
+        proto_transform(Tf("a", "b", 2**33, -5)).SerializeToString(),
+    ]
+    for _ in range(3):  # look-alikes of each, so templates are used
+        variants += variants[:6]
+    key = ("foxglove.FrameTransform", "protobuf")
+    assert decode(variants, key, "fast") == decode(variants, key, "simple") == (protobuf_rows(variants, True), [])
+
+
+@pytest.mark.parametrize("decoder", ["fast", "simple"])
+def test_protobuf_stamps_beyond_int64_nanoseconds(decoder: str) -> None:
+    """Seconds are int64 in protobuf: those whose nanoseconds would overflow are not decoded."""
+    fine = proto_transform(Tf("a", "b", 2**33, 1)).SerializeToString()
+    far = [proto_transform(Tf("a", "b", s, 0)).SerializeToString() for s in (2**40, -(2**40), 2**62)]
+    rows, problems = decode([fine] * 10 + far * 10, ("foxglove.FrameTransform", "protobuf"), decoder)
+    assert sorted(rows) == list(range(10))
+    assert problems == [
+        "/tf: 30 of 40 messages could not be decoded as foxglove.FrameTransform (protobuf), skipped"
+        " (first: a stamp beyond the int64 nanoseconds of ROS time)"
+    ]
+
+
+def _tag(number: int, wire: int) -> bytes:
+    return bytes([number << 3 | wire])
+
+
+def _fields(message: Any, order: list[int]) -> bytes:
+    """``message`` serialized one field at a time in ``order``."""
+    out = b""
+    for number in order:
+        field = message.DESCRIPTOR.fields_by_number[number]
+        single = type(message)()
+        if field.message_type:
+            getattr(single, field.name).CopyFrom(getattr(message, field.name))
+        else:
+            setattr(single, field.name, getattr(message, field.name))
+        out += single.SerializeToString()
+    return out
+
+
+def test_protobuf_malformed() -> None:
+    good = proto_transform(Tf("map", "odom", 5, 6, (1.0, 2.0, 3.0))).SerializeToString()
+    bad = [good[:i] for i in range(1, len(good)) if _truncation_breaks(good[:i])]
+    bad += [b"\x0f", b"\x12\xff\xff\xff\xff\x0f", b"\x08" + b"\xff" * 11]
+    rows, problems = decode([good, *bad], ("foxglove.FrameTransform", "protobuf"))
+    assert list(rows) == [0]
+    (line,) = problems
+    assert line.startswith(f"/tf: {len(bad)} of {len(bad) + 1} messages could not be decoded")
+
+
+def _truncation_breaks(data: bytes) -> bool:
+    from google.protobuf.message import DecodeError as ProtobufError
+
+    from tests.sources.ros2_helpers import proto_classes
+
+    try:
+        proto_classes()["FrameTransform"].FromString(data)
+    except ProtobufError:
+        return True
+    return False
+
+
+# --- JSON ------------------------------------------------------------------------------------
+
+
+def test_json() -> None:
+    messages = [tfs for tfs in varied(9, 200) if tfs]
+    payloads = [json.dumps({"transforms": [_json(t) for t in tfs]}).encode() for tfs in messages]
+    key = ("foxglove.FrameTransforms", "json")
+    for decoder in DECODERS:
+        assert decode(payloads, key, decoder) == (expected(messages), [])
+
+
+def test_json_defaults_and_malformed() -> None:
+    """Missing numbers are 0 (as in protobuf), ``nanosec`` is nsec; malformed ones are skipped."""
+    payloads = [b"{}", b'{"timestamp": {"sec": 3, "nanosec": 4}, "rotation": {"w": 1}}', b"[1]", b"{bad",
+                b'{"timestamp": {"sec": "x"}}', b'{"parent_frame_id": 5}', b'{"translation": {"x": null}}']  # fmt: skip
+    rows, problems = decode(payloads, ("foxglove.FrameTransform", "json"))
+    zero, one = "0x0.0p+0", "0x1.0000000000000p+0"
+    assert rows == {
+        0: [("", "", 0, (zero,) * 3, (zero,) * 4)],
+        1: [("", "", 3_000_000_004, (zero,) * 3, (zero, zero, zero, one))],
+    }
+    (line,) = problems
+    assert line.startswith("/tf: 5 of 7 messages could not be decoded as foxglove.FrameTransform (json)")
+
+
+def _json(t: Tf) -> dict[str, Any]:
+    return {"timestamp": {"sec": t.sec, "nsec": t.nsec}, "parent_frame_id": t.parent, "child_frame_id": t.child,
+            "translation": dict(zip("xyz", t.translation, strict=True)),
+            "rotation": dict(zip("xyzw", t.rotation, strict=True))}  # fmt: skip
+
+
+def test_decode_error_is_a_value_error() -> None:
+    """Parsers signal malformed input with DecodeError only."""
+    bad = {"cdr": b"\x00\x09", "protobuf": b"\x0f", "json": b"{"}
+    for (_, encoding), codec in CODECS.items():
+        with pytest.raises(DecodeError):
+            codec.parse(bad[encoding])
