@@ -102,3 +102,24 @@ def test_without_numba_the_python_walk_answers(monkeypatch):
     slow = [scenarios.answer(buffer, query) for query in built.scenario.queries]
     assert slow == fast  # the very same bits
     assert sum(a["ok"] for a in fast) > 100
+
+
+@pytest.mark.parametrize(("seed", "features"), CASES[::3], ids=_case_id)
+def test_lookup_many_answers_as_single_lookups(seed, features, monkeypatch):
+    from tftools.core import kernels_table
+
+    monkeypatch.setattr(kernels_table, "_TIMES_PER_THREAD", 7)  # several threads even here
+    built = scenarios.build(seed, features, 1_700_000_000)
+    buffer = scenarios.load_into_buffer(built.scenario)
+    pairs = {(target, source) for target, source, _ in lookups(built, buffer)}
+    times = [t for *_, t in lookups(built, buffer)] + [0, 0]
+    for target, source in sorted(pairs):
+        for asked in (np.array(times), np.sort(times)):  # unordered (sorted inside), ordered
+            got = buffer.lookup_many(target, source, asked)
+            for i, time in enumerate(asked.tolist()):
+                expected = python_walk(buffer, target, source, time)
+                assert got.valid[i] == (expected is not None), (target, source, time)
+                if expected is not None:
+                    assert got.stamps[i] == expected[1]
+                    np.testing.assert_allclose(got.translations[i], expected[0][:3], rtol=0, atol=1e-12)
+                    np.testing.assert_allclose(got.rotations[i], expected[0][3:], rtol=0, atol=1e-12)

@@ -22,7 +22,7 @@ from tftools.core.history import (
     PARENT_HAD_SLASH,
     EdgeHistory,
 )
-from tftools.core.kernels_table import EdgeTable, compiled
+from tftools.core.kernels_table import EdgeTable, compiled, lookup_in_parallel
 from tftools.core.rejection import Rejection, RejectionCode
 from tftools.core.time import NS_PER_S, Clock, SimClock
 from tftools.core.transform import Transform
@@ -416,7 +416,11 @@ class Buffer:
             return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
         target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
         source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
-        return LookupBatch(*walk.lookup_many(self._tree(), target_id, source_id, stamps))
+        kernels = compiled()
+        if kernels is None:
+            return LookupBatch(*walk.lookup_many(self._tree(), target_id, source_id, stamps))
+        resolved, values, valid = lookup_in_parallel(kernels, self._edge_table(), target_id, source_id, stamps)
+        return LookupBatch(resolved, values[:, :3], values[:, 3:], valid)
 
     @_locked
     def chain(self, target_frame: str, source_frame: str, time: int = 0) -> list[str]:

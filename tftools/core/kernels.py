@@ -27,6 +27,7 @@ TIME_MAX = np.iinfo(np.int64).max
 
 _TABLE = types.int64[:, ::1]
 _jit = njit(cache=True, nogil=True, error_model="numpy")
+_inline = njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
 
 @intrinsic
@@ -43,7 +44,7 @@ def _at(typingctx, address, dtype):
 # --- rotation.py's formulas -----------------------------------------------------------------
 
 
-@_jit
+@_inline
 def _multiply(ax, ay, az, aw, bx, by, bz, bw):
     return (
         aw * bx + ax * bw + ay * bz - az * by,
@@ -53,7 +54,7 @@ def _multiply(ax, ay, az, aw, bx, by, bz, bw):
     )
 
 
-@_jit
+@_inline
 def _rotate(qx, qy, qz, qw, vx, vy, vz):
     px = qw * vx + qy * vz - qz * vy
     py = qw * vy + qz * vx - qx * vz
@@ -66,25 +67,80 @@ def _rotate(qx, qy, qz, qw, vx, vy, vz):
     )
 
 
-@_jit
-def _slerp(ax, ay, az, aw, bx, by, bz, bw, t):
+@_inline
+def _arc(ax, ay, az, aw, bx, by, bz, bw):
+    """(theta, 1 / sin(theta), sign of the dot product): what slerp needs of two samples."""
     dot = ax * bx + ay * by + az * bz + aw * bw
     norms = math.sqrt((ax * ax + ay * ay + az * az + aw * aw) * (bx * bx + by * by + bz * bz + bw * bw))
     cosine = abs(dot) / norms
     theta = math.acos(1.0 if cosine > 1.0 else cosine)
     if theta == 0.0:
+        return theta, 0.0, 1.0
+    return theta, 1.0 / math.sin(theta), 1.0 if dot >= 0 else -1.0
+
+
+@_inline
+def _slerp(ax, ay, az, aw, bx, by, bz, bw, t, theta, d, sign, batch):
+    """rotation.slerp, given ``_arc``'s constants; ``batch`` takes ``_sin`` for ``math.sin``."""
+    if theta == 0.0:
         return ax, ay, az, aw
-    d = 1.0 / math.sin(theta)
-    s0 = math.sin((1.0 - t) * theta)
-    s1 = math.sin(t * theta) if dot >= 0 else -math.sin(t * theta)
+    s0 = _sin((1.0 - t) * theta, batch)
+    s1 = _sin(t * theta, batch) * sign
     return (ax * s0 + bx * s1) * d, (ay * s0 + by * s1) * d, (az * s0 + bz * s1) * d, (aw * s0 + bw * s1) * d
 
 
+@_inline
+def _sin(x, batch):
+    """math.sin; for batches, small angles (the usual arc between two samples) by their Taylor
+    series, within an ulp of it and several times faster (terms past x**9 are below 1e-20 x)."""
+    if not batch or abs(x) > 0.0625:
+        return math.sin(x)
+    x2 = x * x
+    return x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880))))
+
+
 # --- one edge: EdgeHistory.sample / _row_at ---------------------------------------------------
+#
+# ``memo`` (int64, one row per frame: the last row used, the row ``arcs`` holds) and ``arcs``
+# (float64: ``_arc`` of that row and the next) let a walk over ascending times move a cursor
+# instead of bisecting, and compute each interval's slerp constants once. Empty: no memo.
 
 
 @_jit
-def _row_at(table, frame, time):
+def _new_memo(frames):
+    return np.full((frames, 2), -1, np.int64), np.zeros((frames, 3))
+
+
+@_jit
+def _no_memo():
+    return np.empty((0, 2), np.int64), np.empty((0, 3))
+
+
+@_inline
+def _find(stamps, start, end, time, memo, frame):
+    """bisect_right(stamps, time, start, end): from the memo's cursor when it has one."""
+    lo, hi = start, end
+    if memo.shape[0]:
+        cursor = memo[frame, 0]
+        if start <= cursor < end and stamps[cursor] <= time:
+            lo, step = cursor + 1, 1  # gallop forward from the cursor
+            while lo + step < end and stamps[lo + step] <= time:
+                lo += step
+                step *= 2
+            hi = min(lo + step, end)
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if time < stamps[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    if memo.shape[0]:
+        memo[frame, 0] = lo - 1
+    return lo
+
+
+@_inline
+def _row_at(table, frame, time, memo):
     """(kind, row, interpolate): the row to use, or the older of two to interpolate between."""
     if frame >= table.shape[0] or table[frame, HAS] == 0:
         return ROOT, 0, False
@@ -103,20 +159,13 @@ def _row_at(table, frame, time):
         return FOUND, start, False
     if time > latest or time < earliest:
         return GAP, 0, False
-    lo, hi = start, end  # bisect_right: the first row stamped after ``time``
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if time < stamps[mid]:
-            hi = mid
-        else:
-            lo = mid + 1
-    return FOUND, lo - 1, True
+    return FOUND, _find(stamps, start, end, time, memo, frame) - 1, True
 
 
-@_jit
-def _sample(table, frame, time):
+@_inline
+def _sample(table, frame, time, memo, arcs):
     """(kind, parent, tx, ty, tz, qx, qy, qz, qw) of ``frame``'s edge at ``time``."""
-    kind, row, interpolate = _row_at(table, frame, time)
+    kind, row, interpolate = _row_at(table, frame, time, memo)
     if kind != FOUND:
         return kind, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
     parents = _at(table[frame, PARENTS], np.int32)
@@ -130,14 +179,23 @@ def _sample(table, frame, time):
     r = (time - t0) / (stamps[row + 1] - t0)
     s = 1.0 - r
     j = i + 7
-    qx, qy, qz, qw = _slerp(v[i + 3], v[i + 4], v[i + 5], v[i + 6], v[j + 3], v[j + 4], v[j + 5], v[j + 6], r)
+    ax, ay, az, aw, bx, by, bz, bw = v[i + 3], v[i + 4], v[i + 5], v[i + 6], v[j + 3], v[j + 4], v[j + 5], v[j + 6]
+    if memo.shape[0] == 0:
+        theta, d, sign = _arc(ax, ay, az, aw, bx, by, bz, bw)
+    elif memo[frame, 1] == row:
+        theta, d, sign = arcs[frame, 0], arcs[frame, 1], arcs[frame, 2]
+    else:
+        theta, d, sign = _arc(ax, ay, az, aw, bx, by, bz, bw)
+        memo[frame, 1] = row
+        arcs[frame, 0], arcs[frame, 1], arcs[frame, 2] = theta, d, sign
+    qx, qy, qz, qw = _slerp(ax, ay, az, aw, bx, by, bz, bw, r, theta, d, sign, memo.shape[0] > 0)
     return FOUND, parent, s * v[i] + r * v[j], s * v[i + 1] + r * v[j + 1], s * v[i + 2] + r * v[j + 2], qx, qy, qz, qw
 
 
-@_jit
-def _parent_at(table, frame, time):
+@_inline
+def _parent_at(table, frame, time, memo):
     """(kind, parent): ``_sample`` without the values, for ``can_transform``."""
-    kind, row, _ = _row_at(table, frame, time)
+    kind, row, _ = _row_at(table, frame, time, memo)
     if kind != FOUND:
         return kind, 0
     return kind, np.int64(_at(table[frame, PARENTS], np.int32)[row])
@@ -146,7 +204,7 @@ def _parent_at(table, frame, time):
 # --- the walk: walk.lookup / walk.latest_common_time -----------------------------------------
 
 
-@_jit
+@_inline
 def _latest(table, frame):
     """(has data, latest stamp, latest parent): EdgeHistory.latest_stamp and latest_parent."""
     if frame >= table.shape[0] or table[frame, HAS] == 0 or table[frame, END] == table[frame, START]:
@@ -211,14 +269,14 @@ def _latest_common_time(table, target, source):
 
 
 @_jit
-def _walk(table, target, source, time):
+def _walk(table, target, source, time, memo, arcs):
     """(status, tx, ty, tz, qx, qy, qz, qw): walk.lookup at a resolved ``time``."""
     # Up from the source, accumulating T_top^source.
     svx, svy, svz, sqx, sqy, sqz, sqw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
     frame = top = source
     depth = 0
     while True:
-        kind, parent, vx, vy, vz, qx, qy, qz, qw = _sample(table, frame, time)
+        kind, parent, vx, vy, vz, qx, qy, qz, qw = _sample(table, frame, time, memo, arcs)
         if kind != FOUND:
             top = frame
             break
@@ -237,7 +295,7 @@ def _walk(table, target, source, time):
     frame = target
     depth = 0
     while frame != top:
-        kind, parent, vx, vy, vz, qx, qy, qz, qw = _sample(table, frame, time)
+        kind, parent, vx, vy, vz, qx, qy, qz, qw = _sample(table, frame, time, memo, arcs)
         if kind == ROOT:
             break
         if kind == GAP:
@@ -262,12 +320,12 @@ def _walk(table, target, source, time):
 
 
 @_jit
-def _connected(table, target, source, time):
+def _connected(table, target, source, time, memo):
     """walk.chain's verdict (what can_transform answers) at a resolved ``time``."""
     frame = top = source
     depth = 0
     while True:
-        kind, parent = _parent_at(table, frame, time)
+        kind, parent = _parent_at(table, frame, time, memo)
         if kind != FOUND:
             top = frame
             break
@@ -280,7 +338,7 @@ def _connected(table, target, source, time):
     frame = target
     depth = 0
     while frame != top:
-        kind, parent = _parent_at(table, frame, time)
+        kind, parent = _parent_at(table, frame, time, memo)
         if kind == ROOT:
             break
         if kind == GAP:
@@ -307,7 +365,8 @@ def lookup(table, target, source, time, values, stamp):
         status, time = _latest_common_time(table, target, source)
         if status != OK:
             return FAILED
-    status, vx, vy, vz, qx, qy, qz, qw = _walk(table, target, source, time)
+    memo, arcs = _no_memo()
+    status, vx, vy, vz, qx, qy, qz, qw = _walk(table, target, source, time, memo, arcs)
     values[0], values[1], values[2], values[3], values[4], values[5], values[6] = vx, vy, vz, qx, qy, qz, qw
     stamp[0] = time
     return status
@@ -320,4 +379,31 @@ def can_transform(table, target, source, time):
         status, time = _latest_common_time(table, target, source)
         if status != OK:
             return False
-    return _connected(table, target, source, time)
+    return _connected(table, target, source, time, _no_memo()[0])
+
+
+_LOOKUP_MANY = types.void(
+    _TABLE, types.int64, types.int64, types.int64[::1], types.int64[::1], types.float64[:, ::1], types.boolean[::1]
+)
+
+
+@njit(_LOOKUP_MANY, cache=True, nogil=True)
+def lookup_many(table, target, source, times, stamps, values, valid):
+    """``lookup`` at each of ``times`` (fastest in ascending order), into the same rows of the outputs.
+
+    ``stamps`` gets each time used (0 resolved to the latest common time), ``values`` the
+    transform (identity where it failed), ``valid`` whether tf2 would have succeeded.
+    """
+    memo, arcs = _new_memo(table.shape[0])
+    common_status, common = _latest_common_time(table, target, source)
+    for i in range(times.shape[0]):
+        time = times[i]
+        if time == 0:
+            time = common
+        stamps[i] = time
+        status, vx, vy, vz, qx, qy, qz, qw = _walk(table, target, source, time, memo, arcs)
+        valid[i] = status == OK and (times[i] != 0 or common_status == OK)
+        if not valid[i]:
+            vx, vy, vz, qx, qy, qz, qw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
+        values[i, 0], values[i, 1], values[i, 2] = vx, vy, vz
+        values[i, 3], values[i, 4], values[i, 5], values[i, 6] = qx, qy, qz, qw

@@ -9,6 +9,8 @@ can at worst be stale, never dangling. Nothing here imports numba: ``compiled()`
 
 from __future__ import annotations
 
+import os
+import threading
 from collections.abc import Sequence
 from types import ModuleType
 
@@ -73,3 +75,43 @@ def compiled() -> ModuleType | None:
             kernels = None
         _compiled = kernels
     return _compiled
+
+
+#: Fewer times than this per thread are not worth a thread.
+_TIMES_PER_THREAD = 50_000
+
+
+def lookup_in_parallel(
+    kernels: ModuleType,
+    table: npt.NDArray[np.int64],
+    target_id: int,
+    source_id: int,
+    times: npt.NDArray[np.int64],
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """``kernels.lookup_many`` over ``times`` in ascending order, split across the CPUs.
+
+    Returns the times used, values (N, 7) and validity, in the order of ``times``.
+    """
+    n = len(times)
+    ascending = n < 2 or bool(np.all(times[1:] >= times[:-1]))
+    order = None if ascending else np.argsort(times)
+    ordered = np.ascontiguousarray(times if order is None else times[order])
+    stamps, values, valid = np.empty(n, np.int64), np.empty((n, 7)), np.empty(n, bool)
+    threads = max(1, min(os.cpu_count() or 1, n // _TIMES_PER_THREAD))
+    bounds = np.linspace(0, n, threads + 1).astype(int)
+
+    def run(part: int) -> None:
+        s = slice(bounds[part], bounds[part + 1])
+        kernels.lookup_many(table, target_id, source_id, ordered[s], stamps[s], values[s], valid[s])
+
+    helpers = [threading.Thread(target=run, args=(part,)) for part in range(1, threads)]
+    for helper in helpers:
+        helper.start()
+    run(0)
+    for helper in helpers:
+        helper.join()
+    if order is None:
+        return stamps, values, valid
+    unsorted_stamps, unsorted_values, unsorted_valid = np.empty_like(stamps), np.empty_like(values), np.empty_like(valid)
+    unsorted_stamps[order], unsorted_values[order], unsorted_valid[order] = stamps, values, valid
+    return unsorted_stamps, unsorted_values, unsorted_valid
