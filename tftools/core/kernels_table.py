@@ -112,6 +112,6 @@ def lookup_in_parallel(
         helper.join()
     if order is None:
         return stamps, values, valid
-    unsorted_stamps, unsorted_values, unsorted_valid = np.empty_like(stamps), np.empty_like(values), np.empty_like(valid)
-    unsorted_stamps[order], unsorted_values[order], unsorted_valid[order] = stamps, values, valid
-    return unsorted_stamps, unsorted_values, unsorted_valid
+    back = np.empty_like(order)
+    back[order] = np.arange(n)
+    return stamps[back], values[back], valid[back]
