@@ -94,6 +94,39 @@ def _ros(tf: Tf) -> Any:
     )
 
 
+ROS1_TF2, ROS1_TF1 = "tf2_msgs/TFMessage", "tf/tfMessage"
+ROS1_TF_DEFINITION = "geometry_msgs/TransformStamped[] transforms\n"  # the dependencies left out
+
+
+@cache
+def ros1_typestore() -> Any:
+    store = get_typestore(Stores.ROS1_NOETIC)  # without tf2_msgs
+    store.register(get_types_from_msg(ROS1_TF_DEFINITION, TF_TYPE))
+    return store
+
+
+def tf_ros1(transforms: Sequence[Tf], seq: int = 7) -> bytes:
+    """A ROS1-serialized TFMessage: seconds are unsigned there (rosbags takes them as int32)."""
+    t = ros1_typestore().types
+    stamped = [
+        t["geometry_msgs/msg/TransformStamped"](
+            header=t["std_msgs/msg/Header"](
+                seq=seq + i,
+                stamp=t["builtin_interfaces/msg/Time"](sec=tf.sec - (tf.sec >= 2**31) * 2**32, nanosec=tf.nsec),
+                frame_id=tf.parent,
+            ),
+            child_frame_id=tf.child,
+            transform=t["geometry_msgs/msg/Transform"](
+                translation=t["geometry_msgs/msg/Vector3"](*tf.translation),
+                rotation=t["geometry_msgs/msg/Quaternion"](*tf.rotation),
+            ),
+        )
+        for i, tf in enumerate(transforms)
+    ]
+    message = t[TF_TYPE](transforms=stamped)
+    return bytes(ros1_typestore().serialize_ros1(message, TF_TYPE))
+
+
 def tf_cdr(transforms: Sequence[Tf], *, little_endian: bool = True) -> bytes:
     message = typestore().types[TF_TYPE](transforms=[_ros(tf) for tf in transforms])
     return bytes(typestore().serialize_cdr(message, TF_TYPE, little_endian=little_endian))
@@ -183,8 +216,11 @@ def write_split_rosbag2(path: Path, parts: Sequence[Sequence[Msg | Other]], *, s
 
 @dataclass
 class FoxgloveChannel:
+    """A channel of foxglove FrameTransform(s), or with ``encoding`` "ros1" of a ROS1 TFMessage
+    (``single``: of the older tf/tfMessage)."""
+
     topic: str
-    encoding: str  # "protobuf", "json" or "ros2msg"
+    encoding: str  # "protobuf", "json", "ros2msg" or "ros1"
     single: bool = False  # FrameTransform rather than FrameTransforms
 
 
@@ -237,6 +273,10 @@ def _register_ros2(writer: McapWriter, topic: str, type_name: str) -> int:
 
 def _register(writer: McapWriter, channel: FoxgloveChannel) -> int:
     name = "FrameTransform" if channel.single else "FrameTransforms"
+    if channel.encoding == "ros1":
+        type_name = ROS1_TF1 if channel.single else ROS1_TF2
+        schema = writer.register_schema(type_name, "ros1msg", ROS1_TF_DEFINITION.encode())
+        return writer.register_channel(channel.topic, "ros1", schema)
     if channel.encoding == "ros2msg":
         nested = "=" * 80 + "\nMSG: foxglove_msgs/FrameTransform\n" + FRAME_TRANSFORM_MSG
         text = FRAME_TRANSFORM_MSG if channel.single else FRAME_TRANSFORMS_MSG + nested
@@ -252,6 +292,8 @@ def _register(writer: McapWriter, channel: FoxgloveChannel) -> int:
 
 
 def _foxglove_payload(channel: FoxgloveChannel, transforms: Sequence[Tf]) -> bytes:
+    if channel.encoding == "ros1":
+        return tf_ros1(transforms)
     if channel.encoding == "ros2msg":
         return foxglove_cdr(transforms, single=channel.single)
     if channel.encoding == "json":
@@ -428,12 +470,15 @@ def mcap_reference_rows(path: Path) -> list[tuple[Any, ...]]:
 
 
 def _is_transform_schema(name: str) -> bool:
-    return name in (TF_TYPE, "foxglove.FrameTransform", "foxglove.FrameTransforms",
+    return name in (TF_TYPE, ROS1_TF1, ROS1_TF2, "foxglove.FrameTransform", "foxglove.FrameTransforms",
                     "foxglove_msgs/msg/FrameTransform", "foxglove_msgs/msg/FrameTransforms")  # fmt: skip
 
 
 def _mcap_transforms(schema: str, encoding: str, data: bytes) -> list[Tf]:
     single = not schema.endswith("s")
+    if encoding == "ros1":
+        message = ros1_typestore().deserialize_ros1(data, TF_TYPE)
+        return [_tf_of_ros(t) for t in message.transforms]
     if encoding == "cdr":
         message = typestore().deserialize_cdr(data, schema)
         if schema == TF_TYPE:
@@ -455,7 +500,8 @@ def _mcap_transforms(schema: str, encoding: str, data: bytes) -> list[Tf]:
 
 def _tf_of_ros(t: Any) -> Tf:
     v = t.transform
-    return Tf(t.header.frame_id, t.child_frame_id, t.header.stamp.sec, t.header.stamp.nanosec,
+    sec = t.header.stamp.sec if "seq" not in t.header.__dataclass_fields__ else t.header.stamp.sec & 0xFFFFFFFF
+    return Tf(t.header.frame_id, t.child_frame_id, sec, t.header.stamp.nanosec,
               _xyz(v.translation), _xyzw(v.rotation))  # fmt: skip
 
 

@@ -17,6 +17,7 @@ from tests.sources.ros2_helpers import (
     proto_message,
     proto_transform,
     tf_cdr,
+    tf_ros1,
     varied_transform,
 )
 from tftools.sources.bag.decode.codec import CODECS
@@ -129,6 +130,23 @@ def test_foxglove_cdr(single: bool) -> None:
     payloads = [foxglove_cdr(tfs, single=single) for tfs in messages]
     for decoder in DECODERS:
         assert decode(payloads, key, decoder) == (expected(messages), [])
+
+
+# --- ROS1, as MCAP files recorded from ROS1 hold it --------------------------------------------
+
+
+@pytest.mark.parametrize("decoder", DECODERS)
+@pytest.mark.parametrize("type_name", ["tf2_msgs/TFMessage", "tf/tfMessage"])
+def test_ros1_tf_messages(decoder: str, type_name: str) -> None:
+    """Unsigned seconds, sequence numbers that differ between look-alikes; no prefix decodes."""
+    messages = [[Tf(t.parent, t.child, t.sec % 2**32, t.nsec, t.translation, t.rotation) for t in tfs]
+                for tfs in varied(10, 400)]  # fmt: skip
+    payloads = [tf_ros1(tfs, seq=i * 7919) for i, tfs in enumerate(messages)]
+    prefixes = [p[:i] for p in payloads[:5] if len(p) > 4 for i in range(len(p))]
+    rows, problems = decode(payloads + prefixes, (type_name, "ros1"), decoder)
+    assert rows == expected(messages)
+    (line,) = problems
+    assert line.startswith(f"/tf: {len(prefixes)} of ")
 
 
 # --- protobuf --------------------------------------------------------------------------------
@@ -271,7 +289,7 @@ def _json(t: Tf) -> dict[str, Any]:
 
 def test_decode_error_is_a_value_error() -> None:
     """Parsers signal malformed input with DecodeError only."""
-    bad = {"cdr": b"\x00\x09", "protobuf": b"\x0f", "json": b"{"}
+    bad = {"cdr": b"\x00\x09", "ros1": b"\x01\x00", "protobuf": b"\x0f", "json": b"{"}
     for (_, encoding), codec in CODECS.items():
         with pytest.raises(DecodeError):
             codec.parse(bad[encoding])

@@ -150,6 +150,26 @@ def test_zero_and_absent_fields(tmp_path: Path, encoding: str) -> None:
     assert rows == expected_rows(messages, ("/z", "/zs")) == mcap_reference_rows(path)
 
 
+def test_ros1_channels(tmp_path: Path) -> None:
+    """MCAP files recorded from ROS1: tf2_msgs/TFMessage and tf/tfMessage in ROS1 serialization."""
+    rng = np.random.default_rng(12)
+    messages = []
+    for i in range(300):
+        topic = ["/tf", "/tf_static", "/tf_old"][i % 3]
+        tfs = [varied_transform(rng) for _ in range(int(rng.integers(0, 4)))]
+        tfs = [Tf(t.parent, t.child, t.sec % 2**32, t.nsec, t.translation, t.rotation) for t in tfs]
+        messages.append(Msg(topic, T0 + int(rng.integers(0, 5 * NS)), tuple(tfs)))
+    channels = [FoxgloveChannel("/tf", "ros1"), FoxgloveChannel("/tf_static", "ros1"),
+                FoxgloveChannel("/tf_old", "ros1", single=True)]  # fmt: skip
+    path = write_foxglove_mcap(tmp_path / "ros1.mcap", channels, messages, McapOptions(chunk_size=5000))
+    topics = ("/tf", "/tf_static", "/tf_old")
+    contents = read_bag([path], topics)
+    rows = batch_rows(contents.transforms)
+    assert rows == expected_rows(messages, topics)
+    assert by_time(rows) == by_time(mcap_reference_rows(path))
+    assert contents.problems == [] and contents.files[0].topics["/tf_old"] == "tf/tfMessage"
+
+
 def test_decoders_agree(tmp_path: Path) -> None:
     path = write(tmp_path / "x.mcap", "small_chunks")
     results = [mcap_file.read(path, DEFAULT, lambda *_: None, decoder=d)[0] for d in ("fast", "simple", "reference")]

@@ -61,7 +61,8 @@ def _layout(path: Path) -> _Bag:
 def _metadata(path: Path, problems: list[str]) -> dict[str, Any] | None:
     if not path.exists():
         return None
-    from ruamel.yaml import YAML, YAMLError
+    from ruamel.yaml import YAML
+    from ruamel.yaml.error import YAMLError
 
     try:
         document = YAML(typ="safe").load(path.read_text("utf-8", "replace"))

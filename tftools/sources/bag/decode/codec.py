@@ -6,19 +6,21 @@ from dataclasses import dataclass
 from typing import Literal
 
 from tftools.sources.bag.contents import DEFAULT_TOPICS
-from tftools.sources.bag.decode import cdr, foxglove_json, foxglove_protobuf
+from tftools.sources.bag.decode import cdr, foxglove_json, foxglove_protobuf, ros1
 from tftools.sources.bag.decode.reference import (
     FRAME_TRANSFORM,
     FRAME_TRANSFORMS,
+    ROS1_TF_MESSAGES,
     TF_MESSAGE,
     reference_frame_transform,
     reference_frame_transforms,
+    reference_ros1_tf_message,
     reference_tf_message,
 )
 from tftools.sources.bag.decode.template import Parser
 
 #: "fast": templates with numpy, "simple": every message parsed in Python, "reference": rosbags
-#: deserializes CDR messages (other encodings as "simple").
+#: deserializes CDR and ROS1 messages (other encodings as "simple").
 Decoder = Literal["fast", "simple", "reference"]
 
 
@@ -41,8 +43,12 @@ class Codec:
 
 def _codecs() -> dict[tuple[str, str], Codec]:
     pb, js = foxglove_protobuf, foxglove_json
+    tf2, tf1 = ROS1_TF_MESSAGES
     table = [
+        # type name, message encoding, parser, reference parser, templated, foxglove
         Codec(TF_MESSAGE, "cdr", cdr.parse_tf_message, reference_tf_message, True, False),
+        Codec(tf2, "ros1", ros1.parse_tf_message, reference_ros1_tf_message, True, False),
+        Codec(tf1, "ros1", ros1.parse_tf_message, reference_ros1_tf_message, True, False),
         Codec(FRAME_TRANSFORMS, "cdr", cdr.parse_tf_message, reference_frame_transforms, True, True),
         Codec(FRAME_TRANSFORM, "cdr", cdr.parse_frame_transform, reference_frame_transform, True, True),
         Codec("foxglove.FrameTransforms", "protobuf", pb.parse_frame_transforms, pb.parse_frame_transforms, True, True),

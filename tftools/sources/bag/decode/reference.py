@@ -1,4 +1,4 @@
-"""Reference CDR decoding with rosbags' deserializer, the yardstick of the fast decoders."""
+"""Reference decoding with rosbags' deserializers (CDR and ROS1), the yardstick of the fast decoders."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from typing import Any
 from tftools.sources.bag.decode.template import DecodeError, Parsed
 
 TF_MESSAGE = "tf2_msgs/msg/TFMessage"
+ROS1_TF_MESSAGES = ("tf2_msgs/TFMessage", "tf/tfMessage")  # as MCAP files of ROS1 name them
 FRAME_TRANSFORM = "foxglove_msgs/msg/FrameTransform"
 FRAME_TRANSFORMS = "foxglove_msgs/msg/FrameTransforms"
 
@@ -31,8 +32,19 @@ def _typestore() -> Any:
     return store
 
 
-def _deserialize(data: bytes, type_name: str) -> Any:
+@cache
+def _ros1_typestore() -> Any:
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)  # without tf2_msgs
+    store.register(get_types_from_msg("geometry_msgs/TransformStamped[] transforms", TF_MESSAGE))
+    return store
+
+
+def _deserialize(data: bytes, type_name: str, *, ros1: bool = False) -> Any:
     try:
+        if ros1:
+            return _ros1_typestore().deserialize_ros1(data, type_name)
         return _typestore().deserialize_cdr(data, type_name)
     except Exception as e:  # rosbags raises many kinds on malformed bytes
         raise DecodeError(f"rosbags cannot deserialize it ({type(e).__name__}: {e})") from None
@@ -43,6 +55,16 @@ def reference_tf_message(data: bytes) -> Parsed:
     for t in _deserialize(data, TF_MESSAGE).transforms:
         stamp, v = t.header.stamp, t.transform
         _add(parsed, t.header.frame_id, t.child_frame_id, stamp.sec, stamp.nanosec, v.translation, v.rotation)
+    return parsed
+
+
+def reference_ros1_tf_message(data: bytes) -> Parsed:
+    """A ROS1 ``tf2_msgs/TFMessage`` or ``tf/tfMessage`` (the same bytes)."""
+    parsed = Parsed([], [], [], [])
+    for t in _deserialize(data, TF_MESSAGE, ros1=True).transforms:
+        stamp, v = t.header.stamp, t.transform
+        sec = stamp.sec & 0xFFFFFFFF  # rosbags reads ROS1's unsigned seconds as int32
+        _add(parsed, t.header.frame_id, t.child_frame_id, sec, stamp.nanosec, v.translation, v.rotation)
     return parsed
 
 

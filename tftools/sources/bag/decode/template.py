@@ -203,8 +203,11 @@ def _varints(raw: ByteMatrix, kind: str) -> IntArray:
     shifts = (7 * np.arange(raw.shape[2], dtype=np.uint64)).astype(np.uint64)
     value = ((raw & 0x7F).astype(np.uint64) << shifts).sum(axis=2, dtype=np.uint64)
     if kind == "varint32":
-        return (value & np.uint64(0xFFFFFFFF)).astype(np.uint32).view(np.int32).astype(np.int64)
-    return value.view(np.int64)
+        value &= np.uint64(0xFFFFFFFF)
+        signed: IntArray = value.astype(np.uint32).view(np.int32).astype(np.int64)
+    else:
+        signed = value.view(np.int64)
+    return signed
 
 
 def _floats(block: ByteMatrix, layout: Layout) -> FloatArray:
