@@ -178,12 +178,14 @@ def test_input_is_not_modified(tmp_path: Path) -> None:
     assert {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in bag.iterdir()} == before
 
 
-def test_progress_reaches_the_end(tmp_path: Path) -> None:
-    bag = write_split_rosbag2(tmp_path / "bag", [varied_messages(s, 50) for s in range(3)])
+@pytest.mark.parametrize("compression", ["", "file"])
+def test_progress_reaches_the_end(tmp_path: Path, compression: str) -> None:
+    bag = write_rosbag2(tmp_path / "bag", big_messages(1000), compression=compression)
     calls: list[tuple[int, int]] = []
     read_bag([bag], progress=lambda done, total: calls.append((done, total)))
     total = sum(p.stat().st_size for p in bag.iterdir())
-    assert calls[-1] == (total, total)
+    assert calls[-1] == (total, total) and len(calls) > 2
+    assert [done for done, _ in calls] == sorted(done for done, _ in calls)
     assert all(0 <= done <= total for done, _ in calls)
 
 
@@ -375,6 +377,22 @@ def test_undecodable_messages(tmp_path: Path) -> None:
     (line,) = contents.problems
     total = sum(1 for m in good if m.topic == "/tf") + 3
     assert line.startswith(f"/tf: 3 of {total} messages could not be decoded as tf2_msgs/msg/TFMessage (cdr)")
+
+
+def test_message_that_cannot_be_decompressed(tmp_path: Path) -> None:
+    bag = write_rosbag2(tmp_path / "bag", MESSAGES, compression="message")
+    db = sqlite3.connect(bag / "bag.db3")
+    (tf,) = db.execute("SELECT id FROM topics WHERE name = '/tf'").fetchone()
+    (first,) = db.execute("SELECT min(id) FROM messages WHERE topic_id = ?", (tf,)).fetchone()
+    db.execute("UPDATE messages SET data = ? WHERE id = ?", (b"\x28\xb5\x2f\xfd broken", first))
+    db.commit()
+    db.close()
+    rows, contents = read_rows(bag)
+    broken = next(m for m in MESSAGES if m.topic == "/tf")
+    assert rows == expected_rows([m for m in MESSAGES if m is not broken])
+    (line,) = contents.problems
+    total = sum(1 for m in MESSAGES if m.topic == "/tf")
+    assert line.startswith(f"/tf: 1 of {total} messages could not be decompressed, skipped (first: ZstdError")
 
 
 @pytest.mark.parametrize("content", [b"", b"hello, not a bag\n", b"SQLite format 3\x00" + b"\x07" * 4000])

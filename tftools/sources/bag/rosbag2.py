@@ -98,8 +98,8 @@ def _scan_files(
     total, done = sum(sizes), 0
     for file, size in zip(bag.files, sizes, strict=True):
 
-        def file_progress(read: int, _of: int, done: int = done) -> None:
-            progress(done + read, total)
+        def file_progress(read: int, of: int, done: int = done, size: int = size) -> None:
+            progress(done + size * read // max(of, 1), total)  # ``of``: the file decompressed
 
         if not file.exists():
             lost.append(f"{file.name} is listed in metadata.yaml but missing; its messages are lost")

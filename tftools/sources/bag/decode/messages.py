@@ -72,14 +72,16 @@ class MessageSet:
     ) -> None:
         """Messages of one channel (an int) or of several (one channel number per message)."""
         channels = np.broadcast_to(np.asarray(channel, np.int32), (len(payloads),))
+        times, where = np.asarray(record_times, np.int64), np.asarray(positions, np.int64)
         if self.unpack is not None:
-            channels, record_times, positions, payloads = self._unpacked(channels, record_times, positions, payloads)
+            payloads, unpacked = self._unpacked(channels, payloads)
+            channels, times, where = channels[unpacked], times[unpacked], where[unpacked]
         n = len(payloads)
         if not n:
             return
         ids = np.arange(self.count, self.count + n, dtype=np.int64)
-        self._times.append(np.asarray(record_times, np.int64))
-        self._positions.append(np.asarray(positions, np.int64))
+        self._times.append(times)
+        self._positions.append(where)
         self._channel_of.append(channels.copy())
         self.count += n
         codec_of = np.array(self._codec_of, np.int64)[channels]
@@ -92,27 +94,18 @@ class MessageSet:
             rows = part.tolist()
             self._group(int(keys[rows[0]]), b"".join([payloads[i] for i in rows]), ids[part])
 
-    def _unpacked(
-        self,
-        channels: Int32Array,
-        record_times: IntArray | Sequence[int],
-        positions: IntArray | Sequence[int],
-        payloads: Sequence[bytes],
-    ) -> tuple[Int32Array, list[int], list[int], list[bytes]]:
+    def _unpacked(self, channels: Int32Array, payloads: Sequence[bytes]) -> tuple[list[bytes], npt.NDArray[np.bool_]]:
+        """The payloads that could be unpacked, and which ones they are; the others are noted."""
         assert self.unpack is not None
-        kept_channels, kept_times, kept_positions, kept_payloads = [], [], [], []
-        for channel, time, position, payload in zip(
-            channels.tolist(), list(record_times), list(positions), payloads, strict=True
-        ):
+        kept: list[bytes] = []
+        unpacked = np.ones(len(payloads), bool)
+        for i, payload in enumerate(payloads):
             try:
-                kept_payloads.append(self.unpack(payload))
+                kept.append(self.unpack(payload))
             except Exception as e:  # any decompressor error: this message is lost
-                self._unpack_failed.setdefault(channel, []).append(f"{type(e).__name__}: {e}")
-                continue
-            kept_channels.append(channel)
-            kept_times.append(int(time))
-            kept_positions.append(int(position))
-        return np.array(kept_channels, np.int32), kept_times, kept_positions, kept_payloads
+                unpacked[i] = False
+                self._unpack_failed.setdefault(int(channels[i]), []).append(f"{type(e).__name__}: {e}")
+        return kept, unpacked
 
     def _group(self, key: int, joined: bytes, ids: IntArray) -> None:
         codec, length = self._codecs[key >> 40], key & ((1 << 40) - 1)
@@ -140,8 +133,8 @@ class MessageSet:
     def _problems(self, failed: dict[int, list[tuple[int, str]]], channel_of: Int32Array) -> list[str]:
         totals = np.bincount(channel_of, minlength=len(self.channels))
         lines = [
-            f"{self.channels[index].topic}: {len(reasons)} messages could not be decompressed, "
-            f"skipped (first: {reasons[0]})"
+            f"{self.channels[index].topic}: {len(reasons)} of {totals[index] + len(reasons)} messages could not be"
+            f" decompressed, skipped (first: {reasons[0]})"
             for index, reasons in sorted(self._unpack_failed.items())
         ]
         for index, reasons in sorted(failed.items()):
