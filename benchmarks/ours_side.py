@@ -1,0 +1,85 @@
+"""tftools' side of the benchmark, one measurement per process so peak memory is its own.
+
+``ingest BAG``: ``read_recording`` (read every tf message, build the buffer), split into reading
+and inserting. ``lookups BAG N SECONDS``: ``Buffer.lookup`` and ``can_transform`` in a Python loop
+at tf2_side's times, then ``lookup_many`` at a million times. Prints one JSON object.
+"""
+
+from __future__ import annotations
+
+import json
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import robot
+
+from tftools.core.buffer import Buffer
+from tftools.sources.bag.reader import read_bag
+from tftools.sources.recording import read_recording
+
+BATCH = 1_000_000
+
+
+def peak_rss() -> int:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+
+def ingest(path: str) -> dict:
+    before = peak_rss()
+    began = time.perf_counter()
+    contents = read_bag([path])
+    read_s = time.perf_counter() - began
+    buffer = Buffer(cache_time=None)
+    began = time.perf_counter()
+    buffer.insert(contents.transforms)
+    insert_s = time.perf_counter() - began
+    return {"transforms": len(contents.transforms), "read_s": read_s, "insert_s": insert_s,
+            "ingest_s": read_s + insert_s, "peak_rss_bytes": peak_rss(), "rss_before_bytes": before}
+
+
+def lookup_times(count: int, seconds: int) -> list[int]:
+    """The times tf2_side looks up at (same formula)."""
+    first, span = robot.START + robot.NS, (seconds - 2) * robot.NS
+    return [first + (k * 7_919_000_017) % span for k in range(count)]
+
+
+def per_call(action, items) -> float:
+    began = time.perf_counter()
+    for item in items:
+        action(item)
+    return (time.perf_counter() - began) / len(items)
+
+
+def lookups(path: str, count: int, seconds: int) -> dict:
+    buffer = read_recording([path]).buffer
+    target, source = robot.TARGET, robot.SOURCE
+    times = lookup_times(count, seconds)
+    buffer.lookup(target, source, times[0])  # loads compiled kernels, as a first lookup would
+    lookup_s = per_call(lambda t: buffer.lookup(target, source, t), times)
+    can_s = per_call(lambda t: buffer.can_transform(target, source, t), times)
+    rng = np.random.default_rng(1)
+    many = rng.integers(robot.START + robot.NS, robot.START + (seconds - 1) * robot.NS, BATCH)
+    buffer.lookup_many(target, source, many[:10])
+    result = {"lookup_s": lookup_s, "can_transform_s": can_s}
+    for order, asked in (("random", many), ("sorted", np.sort(many))):
+        began = time.perf_counter()
+        got = buffer.lookup_many(target, source, asked)
+        result[f"lookup_many_{order}_s"] = (time.perf_counter() - began) / BATCH
+        assert got.valid.all()
+    first = [buffer.lookup(target, source, t).translation for t in times[:1000]]
+    return {**result, "checksum": float(np.sum(first))}
+
+
+def main() -> None:
+    command, path = sys.argv[1], sys.argv[2]
+    result = ingest(path) if command == "ingest" else lookups(path, int(sys.argv[3]), int(sys.argv[4]))
+    print(json.dumps(result))
+
+
+if __name__ == "__main__":
+    main()
