@@ -1,5 +1,5 @@
-"""Transforms per second of ``read_bag`` on ROS2 bags (sqlite3, mcap) and a Foxglove MCAP file of a
-17-frame robot recorded 600 s (252k transforms).
+"""Transforms per second of ``read_bag`` on ROS2 bags (sqlite3, mcap, zstd-compressed) and Foxglove
+MCAP files (CDR, protobuf) of a 17-frame robot recorded 600 s (252k transforms).
 
 Run: ``python3 benchmarks/ros2_ingest.py``; bags are written once under /tmp/tftools-bench.
 Prints figures, asserts nothing.
@@ -13,8 +13,9 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 from mcap.writer import Writer as McapWriter
-from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
 from tftools.sources.bag import rosbag2
@@ -60,12 +61,15 @@ def messages() -> list[tuple[int, str, bytes]]:
     return sorted(out, key=lambda m: m[0])
 
 
-def write_rosbag2(path: Path, storage: str) -> Path:
+def write_rosbag2(path: Path, storage: str, compression: str = "") -> Path:
     if path.exists():
         return path
     path.parent.mkdir(parents=True, exist_ok=True)
     store = get_typestore(Stores.ROS2_HUMBLE)
-    with Writer(path, version=Writer.VERSION_LATEST, storage_plugin=StoragePlugin[storage.upper()]) as writer:
+    writer = Writer(path, version=Writer.VERSION_LATEST, storage_plugin=StoragePlugin[storage.upper()])
+    if compression:
+        writer.set_compression(CompressionMode[compression.upper()], CompressionFormat.ZSTD)
+    with writer:
         connections = {}
         for record_time, topic, payload in messages():
             if topic not in connections:
@@ -74,21 +78,56 @@ def write_rosbag2(path: Path, storage: str) -> Path:
     return path
 
 
-def write_foxglove(path: Path) -> Path:
-    """FrameTransforms in ros2msg (CDR) encoding: the same bytes as a TFMessage."""
+def write_foxglove(path: Path, encoding: str) -> Path:
+    """FrameTransforms in ros2msg (CDR) encoding (the same bytes as a TFMessage), or in protobuf."""
     if path.exists():
         return path
     with path.open("wb") as f:
         writer = McapWriter(f)
         writer.start(profile="", library="tftools-bench")
-        schema = writer.register_schema("foxglove_msgs/msg/FrameTransforms", "ros2msg", b"")
+        if encoding == "protobuf":
+            schema = writer.register_schema("foxglove.FrameTransforms", "protobuf", b"")
+        else:
+            schema = writer.register_schema("foxglove_msgs/msg/FrameTransforms", "ros2msg", b"")
         channels = {}
         for record_time, topic, payload in messages():
             if topic not in channels:
-                channels[topic] = writer.register_channel(topic, "cdr", schema)
-            writer.add_message(channels[topic], record_time, payload, record_time)
+                message_encoding = "protobuf" if encoding == "protobuf" else "cdr"
+                channels[topic] = writer.register_channel(topic, message_encoding, schema)
+            data = to_protobuf(payload) if encoding == "protobuf" else payload
+            writer.add_message(channels[topic], record_time, data, record_time)
         writer.finish()
     return path
+
+
+def to_protobuf(cdr: bytes) -> bytes:
+    """A CDR TFMessage as foxglove.FrameTransforms on the protobuf wire."""
+    from tftools.sources.bag.decode.cdr import parse_tf_message
+
+    parsed = parse_tf_message(cdr)
+    out = b""
+    for parent, child, stamp, values in zip(parsed.parents, parsed.children, parsed.stamps, parsed.values, strict=True):
+        sec, nsec = divmod(stamp, NS)
+        timestamp = _field(1, 0, _varint(sec)) + _field(2, 0, _varint(nsec))
+        vector = b"".join(_field(i, 1, struct.pack("<d", v)) for i, v in enumerate(values[:3], 1))
+        quaternion = b"".join(_field(i, 1, struct.pack("<d", v)) for i, v in enumerate(values[3:], 1))
+        transform = (_field(1, 2, timestamp) + _field(2, 2, parent.encode()) + _field(3, 2, child.encode())
+                     + _field(4, 2, vector) + _field(5, 2, quaternion))  # fmt: skip
+        out += _field(1, 2, transform)
+    return out
+
+
+def _field(number: int, wire: int, value: bytes) -> bytes:
+    return _varint(number << 3 | wire) + (_varint(len(value)) if wire == 2 else b"") + value
+
+
+def _varint(value: int) -> bytes:
+    out = bytearray()
+    while True:
+        out.append(value & 0x7F | (0x80 if value > 0x7F else 0))
+        value >>= 7
+        if not value:
+            return bytes(out)
 
 
 def timed(label: str, run: Callable[[], int], repeat: int = 3) -> int:
@@ -97,7 +136,7 @@ def timed(label: str, run: Callable[[], int], repeat: int = 3) -> int:
         began = time.perf_counter()
         count = run()
         best = min(best, time.perf_counter() - began)
-    print(f"{label:<44} {count:>8} transforms  {best:6.3f} s  {count / best / 1000:8.0f}k transforms/s")
+    print(f"{label:<52} {count:>8} transforms  {best:6.3f} s  {count / best / 1000:8.0f}k transforms/s")
     return count
 
 
@@ -105,11 +144,20 @@ def main() -> None:
     bags = {
         "sqlite3": write_rosbag2(OUT / "robot_600s_db3", "sqlite3"),
         "mcap": write_rosbag2(OUT / "robot_600s_mcap", "mcap"),
-        "foxglove mcap": write_foxglove(OUT / "robot_600s_foxglove.mcap"),
+        "sqlite3, zstd by message": write_rosbag2(OUT / "robot_600s_db3_zstd_message", "sqlite3", "message"),
+        "sqlite3, zstd file": write_rosbag2(OUT / "robot_600s_db3_zstd_file", "sqlite3", "file"),
+        "foxglove mcap, CDR": write_foxglove(OUT / "robot_600s_foxglove.mcap", "cdr"),
+        "foxglove mcap, protobuf": write_foxglove(OUT / "robot_600s_foxglove_pb.mcap", "protobuf"),
     }
+    first = None
     for name, bag in bags.items():
         size = sum(p.stat().st_size for p in bag.iterdir()) if bag.is_dir() else bag.stat().st_size
         timed(f"read_bag, {name} ({size / 1e6:.0f} MB)", lambda bag=bag: len(read_bag([bag]).transforms))
+        batch = read_bag([bag]).transforms
+        values = np.hstack([batch.stamp[:, None].astype(float), batch.translation, batch.rotation])
+        first = values if first is None else first
+        if not np.array_equal(values, first):
+            print(f"  {name}: NOT the same transforms as {next(iter(bags))}")
     bag = bags["sqlite3"]
     timed(
         "rosbag2.read, rosbags' deserializer (reference)",
