@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -46,6 +46,26 @@ class TransformBatch:
 
     def __len__(self) -> int:
         return len(self.stamp)
+
+    def slices(self, rows: int) -> Iterator[TransformBatch]:
+        """The batch in consecutive parts of at most ``rows`` rows (views, not copies)."""
+        if len(self) <= rows:
+            yield self
+            return
+        for start in range(0, len(self), rows):
+            part = slice(start, start + rows)
+            yield TransformBatch(
+                self.frame_names,
+                self.authorities,
+                self.parent[part],
+                self.child[part],
+                self.stamp[part],
+                self.translation[part],
+                self.rotation[part],
+                self.static[part],
+                self.record_time[part],
+                self.authority[part],
+            )
 
     @classmethod
     def empty(cls) -> TransformBatch:

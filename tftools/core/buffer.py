@@ -163,7 +163,8 @@ class Buffer:
         Safe to call from another thread than the lookups; wakes ``wait_for_transform``.
         """
         with self._changed:
-            stored = self._insert(batch)
+            # In slices, so a whole bag's temporaries stay small beside its histories.
+            stored = sum(self._insert(part) for part in batch.slices(_INSERT_ROWS))
             self._changed.notify_all()
         return stored
 
@@ -188,10 +189,13 @@ class Buffer:
         rows = np.flatnonzero(ok)
         if len(rows) == 0:
             return 0
-        ids = self._intern(names.stripped, child_key[rows], parent_key[rows])
-        child, parent = ids[0], ids[1]
+        child_key, parent_key = child_key[rows], parent_key[rows]
+        children = _Runs(child_key, len(names.stripped))
+        key_to_id = self._intern(names.stripped, children, _Runs(parent_key, len(names.stripped)))
+        parent = key_to_id[parent_key]
         stored = 0
-        for frame_id, group in _groups(child):
+        for key, group in children.groups():
+            frame_id = int(key_to_id[key])
             r = rows[group]
             stored += self._store(
                 frame_id,
@@ -214,19 +218,16 @@ class Buffer:
             ids.append(self._authority_ids[name])
         return np.array(ids or [0], np.int32)
 
-    def _intern(
-        self, stripped: list[str], child_key: npt.NDArray[np.int32], parent_key: npt.NDArray[np.int32]
-    ) -> npt.NDArray[np.int32]:
-        """Frame ids for (child, parent) rows, interning new names child first, as tf2 does."""
-        keys = np.stack([child_key, parent_key])  # (2, rows)
-        interleaved = keys.T.reshape(-1)
-        unique, first = np.unique(interleaved, return_index=True)
+    def _intern(self, stripped: list[str], children: _Runs, parents: _Runs) -> npt.NDArray[np.int32]:
+        """Frame ids of the names' keys, interning new names in order of first appearance,
+        each row's child before its parent, as tf2 does."""
+        appearance = np.minimum(2 * children.first_row(), 2 * parents.first_row() + 1)
         key_to_id = np.zeros(len(stripped), np.int32)
-        for key in unique[np.argsort(first)]:
+        for key in np.argsort(appearance)[: np.count_nonzero(appearance < _NEVER)].tolist():
             key_to_id[key] = self._frames.intern(stripped[key])
         missing = len(self._frames.names) - len(self._histories)
         self._histories.extend([None] * missing)
-        return key_to_id[keys]
+        return key_to_id
 
     def _store(
         self,
@@ -528,10 +529,30 @@ def _validate(
     return {code: mask for code, mask in masks.items() if mask.any()}
 
 
-def _groups(keys: npt.NDArray[np.int32]) -> Iterator[tuple[int, npt.NDArray[np.intp]]]:
-    """Each distinct key with the positions holding it, positions in their original order."""
-    order = np.argsort(keys, kind="stable")
-    sorted_keys = keys[order]
-    bounds = np.flatnonzero(np.diff(sorted_keys)) + 1
-    for group in np.split(order, bounds):
-        yield int(keys[group[0]]), group
+#: Rows per slice of a batch being inserted.
+_INSERT_ROWS = 1 << 16
+_NEVER = np.iinfo(np.int64).max // 4
+
+
+class _Runs:
+    """Rows grouped by a small integer key (a stable sort, linear for keys below 2**16)."""
+
+    def __init__(self, keys: npt.NDArray[np.int32], key_count: int) -> None:
+        self.key_count = key_count
+        sortable = keys.astype(np.uint16) if key_count <= 1 << 16 else keys
+        self.order = np.argsort(sortable, kind="stable")
+        sorted_keys = keys[self.order]
+        self.starts = np.flatnonzero(np.concatenate([[True], sorted_keys[1:] != sorted_keys[:-1]]))
+        self.keys = sorted_keys[self.starts]
+
+    def first_row(self) -> npt.NDArray[np.int64]:
+        """Per key, the first row holding it (a large number for absent keys)."""
+        first = np.full(self.key_count, _NEVER, np.int64)
+        first[self.keys] = self.order[self.starts]
+        return first
+
+    def groups(self) -> Iterator[tuple[int, npt.NDArray[np.intp]]]:
+        """Each key with the rows holding it, in their original order."""
+        bounds = [*self.starts.tolist(), len(self.order)]
+        for key, start, stop in zip(self.keys.tolist(), bounds[:-1], bounds[1:], strict=True):
+            yield key, self.order[start:stop]

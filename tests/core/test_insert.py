@@ -1,0 +1,50 @@
+"""A batch inserted in slices leaves the buffer as inserting it whole (or row by row) does."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from tests.core import scenarios
+from tftools.core import buffer as buffer_module
+
+CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(3) for f in (None, *scenarios.FEATURES)]
+CASES += [(100 + seed, frozenset(scenarios.FEATURES) - {"cycle"}) for seed in range(3)]
+
+
+def state(buffer):
+    histories = {
+        name: (hist.stamps.tolist(), hist.values.tolist(), hist.parents.tolist(), hist.authorities.tolist(),
+               hist.sequence.tolist(), hist.flags.tolist(), hist.static)
+        for name, hist in buffer.histories()
+    }  # fmt: skip
+    rejections = Counter((r.code, r.frame_id, r.child_frame_id, r.stamp, r.authority) for r in buffer.rejections)
+    return buffer.frames, [buffer.authorities[i] for i in range(len(buffer.authorities))], histories, rejections
+
+
+@pytest.mark.parametrize(("seed", "features"), CASES)
+def test_sliced_insertion_equals_whole_and_one_by_one(seed, features, monkeypatch):
+    built = scenarios.build(seed, features, 1_700_000_000)
+    whole = scenarios.load_into_buffer(built.scenario)
+    one_by_one = scenarios.load_one_by_one(built.scenario)
+    monkeypatch.setattr(buffer_module, "_INSERT_ROWS", 7)
+    sliced = scenarios.load_into_buffer(built.scenario)
+    assert state(sliced) == state(whole)
+    frames, _, histories, rejections = state(one_by_one)
+    assert (frames, rejections) == state(whole)[::3]
+    assert {k: v[:3] for k, v in histories.items()} == {k: v[:3] for k, v in state(whole)[2].items()}
+
+
+def test_frames_are_interned_child_first_in_order_of_appearance():
+    from tftools import BatchBuilder, Buffer
+
+    builder = BatchBuilder()
+    for parent, child in [("a", "b"), ("c", "d"), ("/b", "e"), ("f", "c")]:
+        builder.add(parent, child, 1, (0, 0, 0), (0, 0, 0, 1))
+    builder.add("g", "g", 1, (0, 0, 0), (0, 0, 0, 1))  # refused: interns nothing
+    buffer = Buffer(cache_time=None)
+    buffer.insert(builder.take())
+    assert buffer.frames == ["b", "a", "d", "c", "e", "f"]
+    assert np.array_equal(buffer.history("e").parents, [buffer._frames.get("b")])
