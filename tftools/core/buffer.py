@@ -172,7 +172,7 @@ class Buffer:
         n = len(batch)
         if n == 0:
             return 0
-        names = _StrippedNames(batch.frame_names, np.concatenate([batch.parent, batch.child]))
+        names = _StrippedNames(batch.frame_names, batch.parent, batch.child)
         parent_key, child_key = names.key[batch.parent], names.key[batch.child]
         values = np.concatenate([batch.translation, batch.rotation], axis=1)
         sequence = np.arange(self._arrivals, self._arrivals + n, dtype=np.int64)
@@ -281,6 +281,8 @@ class Buffer:
     ) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
         """tf2's ``TF_OLD_DATA`` and ``TF_REPEATED_DATA`` for rows arriving in this order."""
         old = np.zeros(len(stamps), bool)
+        if (not len(hist) or stamps[0] > hist.latest_stamp) and bool(np.all(stamps[1:] > stamps[:-1])):
+            return old, old.copy()  # the usual case: newer than all before, in order
         if self.cache_time is not None:
             floor = np.iinfo(np.int64).min
             latest_before = np.maximum.accumulate(
@@ -490,12 +492,15 @@ class Buffer:
 class _StrippedNames:
     """A batch's raw frame names, without their leading ``/``, as local integer keys."""
 
-    def __init__(self, raw: Sequence[str], used: npt.NDArray[np.int32]) -> None:
+    def __init__(self, raw: Sequence[str], parent: npt.NDArray[np.int32], child: npt.NDArray[np.int32]) -> None:
         self.stripped: list[str] = []
         index: dict[str, int] = {}
         self.key = np.zeros(len(raw), np.int32)
         self.slash = np.zeros(len(raw), bool)
-        for i in np.unique(used).tolist():
+        used = np.zeros(len(raw), bool)
+        used[parent] = True
+        used[child] = True
+        for i in np.flatnonzero(used).tolist():
             name = raw[i]
             if name.startswith("/"):
                 name = name[1:]
