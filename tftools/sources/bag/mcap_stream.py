@@ -48,8 +48,8 @@ def stream(f: BinaryIO, size: int, channels: Channels, result: FileScan, progres
     if not stats.count and not reader.chunks_read:
         raise UnreadableError(damage)
     result.note_problem(
-        f"cut short or damaged at byte {reader.pos} of {size} ({damage}): read the {stats.count} messages "
-        f"before it, up to record time {stats.end / 1e9:.3f} s; the rest is lost"
+        f"{damage}: read the {stats.count} messages before it, up to record time {stats.end / 1e9:.3f} s;"
+        " the rest is lost"
     )
 
 
@@ -64,29 +64,29 @@ class _Stream:
         self.lost_chunks = self.chunks_read = 0
 
     def run(self, progress: ProgressCallback) -> str:
-        """Returns the damage met, or "" at a clean end."""
+        """Returns where and what the damage met is, or "" at a clean end."""
         self.f.seek(self.pos)
         reported = 0
         while True:
             head = self.f.read(RECORD.size)
             if len(head) < RECORD.size:
-                return "the file ends without a footer"
+                return f"cut short at byte {self.size}"
             opcode, length = RECORD.unpack_from(head)
             if self.number == 0 and opcode != HEADER:
                 raise UnreadableError("no MCAP header record")
             if opcode == 0 or 0x10 <= opcode < 0x80:
-                return f"unknown record type {opcode:#04x}"
+                return f"damaged at byte {self.pos} (unknown record type {opcode:#04x})"
             if opcode in (FOOTER, DATA_END):
                 return ""
             end = self.pos + RECORD.size + length
             if end > self.size:
                 if opcode == CHUNK:
                     self._chunk(self.f.read(), partial=True)
-                return "a record runs past the end of the file"
+                return f"cut short at byte {self.size}, inside the record at byte {self.pos}"
             try:
                 self._record(opcode, length)
             except McapDamageError as e:
-                return str(e)
+                return f"damaged at byte {self.pos} ({e})"
             self.pos, self.number = end, self.number + 1
             if self.pos - reported >= _PROGRESS_STEP:
                 progress(self.pos, self.size)
