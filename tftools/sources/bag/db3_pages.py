@@ -1,10 +1,9 @@
-"""The message records of a damaged rosbag2 .db3 read straight from its pages, where sqlite gives up.
+"""The message records of a damaged rosbag2 .db3 read straight from its pages, where sqlite gives up."""
 
-A file cut short or with damaged pages loses the b-tree pages that lead to the messages, so sqlite
-refuses every query that passes through them; the table's leaf pages that survive still hold whole
-records. A rosbag2 ``messages`` row is the only record of its shape in the file: (id as rowid,
-integer topic_id, integer timestamp, blob data).
-"""
+# A file cut short or with damaged pages loses b-tree pages that lead to the messages, so sqlite
+# refuses every query that passes through them; the table's leaf pages that survive still hold whole
+# records. A rosbag2 ``messages`` row is the only record of its shape in the file: (id as rowid,
+# integer topic_id, integer timestamp, blob data).
 
 from __future__ import annotations
 

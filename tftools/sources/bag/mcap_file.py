@@ -1,5 +1,4 @@
-"""MCAP files: transforms of their tf and foxglove channels, read through the summary's chunk
-index, or by streaming the records when there is no usable summary (a killed recording)."""
+"""MCAP files: the transforms of their tf and foxglove channels, through the summary's index or record by record."""
 
 from __future__ import annotations
 

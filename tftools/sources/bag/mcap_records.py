@@ -1,5 +1,4 @@
-"""MCAP records: opcodes and layouts, a bounds-checked reader of record contents, chunks unpacked,
-and the channels met in a file with the codec each is read with."""
+"""MCAP records: opcodes, a bounds-checked reader of their contents, chunks unpacked, channels and their codecs."""
 
 from __future__ import annotations
 

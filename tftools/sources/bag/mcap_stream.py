@@ -1,5 +1,4 @@
-"""Reading an MCAP file record after record from its start: files without a usable summary
-(a recording killed before its end, a damaged footer) are read up to the damage."""
+"""An MCAP file without a usable summary (a killed recording) read record by record, up to any damage."""
 
 from __future__ import annotations
 

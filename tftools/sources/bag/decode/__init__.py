@@ -1,4 +1,4 @@
-"""Transform messages of ROS2 bags and MCAP files (CDR, protobuf, JSON) decoded in bulk into batches."""
+"""Transform messages of ROS2 bags and MCAP files (CDR, ROS1, protobuf, JSON) decoded in bulk into batches."""
 
 from tftools.sources.bag.decode.codec import Decoder, select
 from tftools.sources.bag.decode.messages import MessageSet, Unpack

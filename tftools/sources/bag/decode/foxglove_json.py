@@ -1,5 +1,7 @@
-"""JSON ``foxglove.FrameTransform(s)``: {"timestamp": {"sec", "nsec"}, "parent_frame_id",
-"child_frame_id", "translation": {x, y, z}, "rotation": {x, y, z, w}}; missing numbers are 0."""
+"""Parser of ``foxglove.FrameTransform(s)`` in JSON; missing numbers are 0, as in protobuf."""
+
+# {"timestamp": {"sec", "nsec"}, "parent_frame_id", "child_frame_id", "translation": {x, y, z},
+#  "rotation": {x, y, z, w}}; FrameTransforms: {"transforms": [...]}
 
 from __future__ import annotations
 

@@ -1,10 +1,9 @@
-"""Protobuf wire-format parser of ``foxglove.FrameTransform(s)``, learning their layout.
+"""Parser of ``foxglove.FrameTransform(s)`` on the protobuf wire, learning their layout."""
 
-FrameTransform { google.protobuf.Timestamp timestamp = 1 (int64 seconds = 1, int32 nanos = 2);
-string parent_frame_id = 2; string child_frame_id = 3; Vector3 translation = 4 (double x y z = 1..3);
-Quaternion rotation = 5 (double x y z w = 1..4) }; FrameTransforms { repeated FrameTransform
-transforms = 1 }. proto3 leaves zero values off the wire: a missing ``w`` is 0.0.
-"""
+# FrameTransform { google.protobuf.Timestamp timestamp = 1 (int64 seconds = 1, int32 nanos = 2);
+# string parent_frame_id = 2; string child_frame_id = 3; Vector3 translation = 4 (double x y z = 1..3);
+# Quaternion rotation = 5 (double x y z w = 1..4) }; FrameTransforms { repeated FrameTransform
+# transforms = 1 }. proto3 leaves zero values off the wire: a missing ``w`` is 0.0.
 
 from __future__ import annotations
 

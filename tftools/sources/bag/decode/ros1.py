@@ -1,5 +1,4 @@
-"""Struct-based parser of ROS1-serialized ``tf2_msgs/TFMessage`` (and ``tf/tfMessage``, the same
-bytes), as MCAP files recorded from ROS1 hold them, learning their layout."""
+"""Parser of ROS1-serialized TFMessages (as MCAP files recorded from ROS1 hold them), learning their layout."""
 
 from __future__ import annotations
 
