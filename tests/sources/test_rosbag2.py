@@ -238,11 +238,16 @@ def real_ros1_bag(path: Path) -> Path:
     return write_rosbag(path, messages, "lz4", chunk_threshold=20_000)
 
 
+@pytest.fixture(scope="module")
+def real_rosbag(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return real_ros1_bag(tmp_path_factory.mktemp("ros1") / "real.bag")
+
+
 @pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
 @pytest.mark.parametrize("source", ["sample", "real_rosbag"])
-def test_converted_from_ros1(tmp_path: Path, storage: str, source: str) -> None:
+def test_converted_from_ros1(request: pytest.FixtureRequest, tmp_path: Path, storage: str, source: str) -> None:
     """A ROS1 bag converted to ROS2: the same transforms, stamps, frame names and record times."""
-    ros1 = SAMPLE if source == "sample" else real_ros1_bag(tmp_path / "real.bag")
+    ros1 = SAMPLE if source == "sample" else request.getfixturevalue("real_rosbag")
     bag = convert(ros1, tmp_path / "ros2", storage)
     rows, contents = read_rows(bag)
     assert len(rows) > 100 and contents.problems == []
