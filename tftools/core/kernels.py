@@ -6,9 +6,9 @@ walk on any failure, so tf2's error messages come from one place. Compiled once 
 (``cache=True``); warm the cache with ``python3 -c "import tftools.core.kernels"``.
 """
 
-# Kernels are typed by numba (their signatures, and inference inside): no Python annotations.
+# Kernels are typed by numba (their signatures, and inference inside), which mypy cannot follow.
 # ruff: noqa: ANN001, ANN201, ANN202
-# mypy: disable-error-code="no-untyped-def"
+# mypy: ignore-errors
 from __future__ import annotations
 
 import math

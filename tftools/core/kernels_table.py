@@ -9,6 +9,7 @@ can at worst be stale, never dangling. Nothing here imports numba: ``compiled()`
 
 from __future__ import annotations
 
+import importlib
 import os
 import threading
 from collections.abc import Sequence
@@ -70,10 +71,9 @@ def compiled() -> ModuleType | None:
     if not _tried:
         _tried = True
         try:
-            from tftools.core import kernels
+            _compiled = importlib.import_module("tftools.core.kernels")
         except ImportError:  # numba missing on this platform: the Python walk answers alone
-            kernels = None
-        _compiled = kernels
+            _compiled = None
     return _compiled
 
 
