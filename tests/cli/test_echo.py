@@ -102,7 +102,7 @@ def test_console_script_runs(tmp_path) -> None:
         capture_output=True, text=True, timeout=60,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    assert done.stdout.startswith("At time 1700000005.000")
+    assert done.stdout.startswith("At time 1700000005.002")  # 5 s after the first record (1700000000.002)
 
 
 def _write(path, data: bytes):

@@ -40,4 +40,5 @@ def test_text_tree_nests_children_under_parents(tfx) -> None:
 def test_yaml_is_tf2s_all_frames_as_yaml(tfx, tf2_available: None) -> None:
     result = tfx("frames", "-b", SAMPLE_BAGS["ros1"], "--format", "yaml")
     (theirs,) = run_tf2([Scenario(queries=[["yaml"]], bag=str(SAMPLE_BAGS["ros1"]))])
-    assert result.stdout == theirs["answers"][0]["text"] + "\n"
+    text = theirs["answers"][0]["text"]
+    assert text.endswith("\n") and result.stdout == text

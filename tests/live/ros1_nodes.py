@@ -1,9 +1,9 @@
 """ROS1 nodes for the live tests, run by Debian's /usr/bin/python3 with rospy (never imported by pytest).
 
-    ros1_nodes.py dynamic NODE PARENT CHILD X [HZ]   TransformBroadcaster: translation (X, stamp mod 1000, 0), yaw 0.3
-    ros1_nodes.py wrong_type NODE TOPIC             a std_msgs/String publisher on TOPIC (another md5sum)
-    ros1_nodes.py static_listener                   prints the first /tf_static message as JSON, with its header
-    ros1_nodes.py write_bag PATH PARENT CHILD       10 s of /tf at 20 Hz from t = 1000 s, x = t - 1000, real rosbag
+ros1_nodes.py dynamic NODE PARENT CHILD X [HZ]   TransformBroadcaster: translation (X, stamp mod 1000, 0), yaw 0.3
+ros1_nodes.py wrong_type NODE TOPIC             a std_msgs/String publisher on TOPIC (another md5sum)
+ros1_nodes.py static_listener                   prints the first /tf_static message as JSON, with its header
+ros1_nodes.py write_bag PATH PARENT CHILD       10 s of /tf at 20 Hz from t = 1000 s, x = t - 1000, real rosbag
 """
 
 import json

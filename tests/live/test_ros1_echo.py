@@ -117,7 +117,11 @@ def test_a_dead_master_is_a_one_line_error(ros: Ros, command: list[str]) -> None
     env = {**ros.env, "ROS_MASTER_URI": f"http://127.0.0.1:{free_port()}"}
     result = ros.run_tfx(*command, env=env, timeout=20)
     assert result.returncode == 2
-    assert result.stderr.strip().splitlines()[-1].startswith("tfx: error: cannot reach the ROS master at http://127.0.0.1:")
+    assert (
+        result.stderr.strip()
+        .splitlines()[-1]
+        .startswith("tfx: error: cannot reach the ROS master at http://127.0.0.1:")
+    )
     assert "connection refused" in result.stderr and "Traceback" not in result.stderr
 
 

@@ -8,6 +8,7 @@ from collections.abc import Callable, Sequence
 
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.kernels_table import compiled
 from tftools.core.time import SimClock
 from tftools.sources.bag.contents import BagContents, BagFileInfo
 from tftools.sources.live import open_live
@@ -75,6 +76,7 @@ def listen(source: LiveSource, cache_time: int | None = DEFAULT_CACHE_TIME) -> B
     """Start ``source`` into a new buffer (tf2's cache length by default) on the source's clock,
     filled from then on in the background, as a ``tf2_ros::TransformListener`` fills its buffer.
     Close the source to stop."""
+    compiled()  # load the compiled lookups now: loading them later would stall the receiving threads
     buffer = Buffer(cache_time=cache_time, clock=source.clock)
 
     def insert(batch: TransformBatch) -> None:
