@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Iterator
-from typing import Any, TextIO
+from typing import IO, Any
 
 from tftools.analysis.echo import EchoSeries
 from tftools.core.time import format_stamp, to_sec
@@ -18,7 +18,7 @@ CSV_COLUMNS = (
 )  # fmt: skip
 
 
-def write_text(series: EchoSeries, out: TextIO, precision: int = 3, matrix: bool = False) -> None:
+def write_text(series: EchoSeries, out: IO[str], precision: int = 3, matrix: bool = False) -> None:
     """What tf_echo prints for each time: the transform, or the failure and tf2's reason."""
     for row in range(len(series)):
         if not series.valid[row]:
@@ -34,7 +34,7 @@ def write_text(series: EchoSeries, out: TextIO, precision: int = 3, matrix: bool
         out.write(f"            in RPY (radian) [{rpy[0]:{f}}, {rpy[1]:{f}}, {rpy[2]:{f}}]\n")
         out.write(f"            in RPY (degree) [{deg[0]:{f}}, {deg[1]:{f}}, {deg[2]:{f}}]\n")
         if matrix:
-            m = Transform(tuple(t), tuple(q)).as_matrix()  # type: ignore[arg-type]
+            m = Transform(tuple(t), tuple(q)).as_matrix()
             out.write("- Matrix:\n")
             for line in m:
                 out.write("  " + " ".join(f"{v:{f}}" for v in line) + "\n")
@@ -59,17 +59,24 @@ def _records(series: EchoSeries) -> Iterator[dict[str, Any]]:
         yield record
 
 
-def write_json(series: EchoSeries, out: TextIO) -> None:
+def write_json(series: EchoSeries, out: IO[str]) -> None:
     """One JSON object per line: time, stamp_ns, frames, translation, rotation, rpy (or error)."""
     jsonl.write_lines(_records(series), out)
 
 
-def write_csv(series: EchoSeries, out: TextIO) -> None:
+def write_csv(series: EchoSeries, out: IO[str]) -> None:
     """A table for spreadsheets and plotting; failed rows have only the error column filled."""
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(CSV_COLUMNS)
     for record in _records(series):
         values = [*record.get("translation", [""] * 3), *record.get("rotation", [""] * 4), *record.get("rpy", [""] * 3)]
         writer.writerow(
-            [record["time"], record["stamp_ns"], record["frame_id"], record["child_frame_id"], *values, record.get("message", "")]
+            [
+                record["time"],
+                record["stamp_ns"],
+                record["frame_id"],
+                record["child_frame_id"],
+                *values,
+                record.get("message", ""),
+            ]
         )

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, TextIO
+from typing import IO, Any
 
 from rich.console import Console
 from rich.text import Text
@@ -22,7 +22,9 @@ def _label(f: FrameSummary) -> Text:
     label.append(f"  {', '.join(f.authorities) or '?'}", style="yellow" if len(f.authorities) > 1 else "magenta")
     if not f.static:
         span = (f.last_stamp - f.first_stamp) / NS_PER_S
-        label.append(f"  {f.count} samples, {to_sec(f.first_stamp):.3f} → {to_sec(f.last_stamp):.3f} ({span:.1f} s)", style="dim")
+        label.append(
+            f"  {f.count} samples, {to_sec(f.first_stamp):.3f} → {to_sec(f.last_stamp):.3f} ({span:.1f} s)", style="dim"
+        )
     if len(f.parents) > 1:
         label.append(f"  parents over time: {' → '.join(f.parents)}", style="bold red")
     if len(f.authorities) > 1:
@@ -63,10 +65,10 @@ def _as_dict(f: FrameSummary) -> dict[str, Any]:
     }
 
 
-def write_json(tree: FrameTree, out: TextIO) -> None:
+def write_json(tree: FrameTree, out: IO[str]) -> None:
     jsonl.write_document({"roots": tree.roots, "frames": [_as_dict(f) for f in tree.frames.values()]}, out)
 
 
-def write_yaml(yaml_text: str, out: TextIO) -> None:
+def write_yaml(yaml_text: str, out: IO[str]) -> None:
     """tf2's ``allFramesAsYAML``, exactly as ``tf2_ros`` prints it."""
     out.write(yaml_text if yaml_text.endswith("\n") else yaml_text + "\n")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Iterable
-from typing import Any, TextIO
+from typing import IO, Any
 
 
 def _finite(value: Any) -> Any:
@@ -19,11 +19,11 @@ def _finite(value: Any) -> Any:
     return value
 
 
-def write_lines(objects: Iterable[dict[str, Any]], out: TextIO) -> None:
+def write_lines(objects: Iterable[dict[str, Any]], out: IO[str]) -> None:
     for obj in objects:
         out.write(json.dumps(_finite(obj), separators=(",", ":")) + "\n")
 
 
-def write_document(obj: dict[str, Any], out: TextIO) -> None:
+def write_document(obj: dict[str, Any], out: IO[str]) -> None:
     json.dump(_finite(obj), out, indent=2)
     out.write("\n")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Any, TextIO
+from typing import IO, Any
 
 from rich.console import Group, RenderableType
 from rich.table import Table
@@ -151,12 +151,12 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
     return result
 
 
-def write_json(report: MonitorReport, out: TextIO) -> None:
+def write_json(report: MonitorReport, out: IO[str]) -> None:
     """One JSON document (NaN as null)."""
     jsonl.write_document(as_dict(report), out)
 
 
-def write_json_line(report: MonitorReport, out: TextIO) -> None:
+def write_json_line(report: MonitorReport, out: IO[str]) -> None:
     """One compact JSON object per line, for each refresh of a live monitor."""
     jsonl.write_lines([as_dict(report)], out)
     out.flush()

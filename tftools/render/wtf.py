@@ -5,7 +5,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from dataclasses import asdict
-from typing import Any, TextIO
+from typing import IO, Any
 
 from rich.console import Console
 from rich.text import Text
@@ -147,7 +147,9 @@ def as_dict(reports: Sequence[BagReport], strict: bool, thresholds: Thresholds, 
     }
 
 
-def write_json(reports: Sequence[BagReport], out: TextIO, strict: bool, thresholds: Thresholds, exit_code: int) -> None:
+def write_json(
+    reports: Sequence[BagReport], out: IO[str], strict: bool, thresholds: Thresholds, exit_code: int
+) -> None:
     jsonl.write_document(as_dict(reports, strict, thresholds, exit_code), out)
 
 
@@ -203,7 +205,7 @@ def _finding_text(finding: Finding) -> str:
     return f"{finding.severity.value}: {finding.code}: {finding.message}\nhint: {finding.hint}"
 
 
-def write_junit(reports: Sequence[BagReport], out: TextIO, strict: bool = False, ignore: Sequence[str] = ()) -> None:
+def write_junit(reports: Sequence[BagReport], out: IO[str], strict: bool = False, ignore: Sequence[str] = ()) -> None:
     tree = ET.ElementTree(junit(reports, strict, ignore))
     ET.indent(tree)
     out.write('<?xml version="1.0" encoding="UTF-8"?>\n')

@@ -131,8 +131,12 @@ def _copy_rosbag2(source: Path, target: Path, transforms: Sequence[Transform]) -
                     typestore=store,
                 )
             existing = [c for c in reader.connections if c.topic == STATIC_TOPIC and c.msgtype == TF_MESSAGE]
-            added = connections[existing[0].id] if existing else writer.add_connection(
-                STATIC_TOPIC, TF_MESSAGE, typestore=store, offered_qos_profiles=[_static_qos()]
+            added = (
+                connections[existing[0].id]
+                if existing
+                else writer.add_connection(
+                    STATIC_TOPIC, TF_MESSAGE, typestore=store, offered_qos_profiles=[_static_qos()]
+                )
             )
             message = _ros2_message(store, _stamped(transforms, start))
             writer.write(added, start, store.serialize_cdr(message, TF_MESSAGE))

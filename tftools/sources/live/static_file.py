@@ -105,8 +105,8 @@ def _rotation(name: str, index: int, entry: Mapping[str, Any]) -> tuple[float, f
     if has_quaternion:
         x, y, z, w = (_number(entry.get(k, 1 if k == "qw" else 0)) for k in _QUATERNION_KEYS)
         return x, y, z, w
-    roll, pitch, yaw = (_number(v) for v in entry["rpy"]) if "rpy" in entry else (
-        _number(entry.get(k, 0)) for k in _RPY_KEYS
+    roll, pitch, yaw = (
+        (_number(v) for v in entry["rpy"]) if "rpy" in entry else (_number(entry.get(k, 0)) for k in _RPY_KEYS)
     )
     return Transform.from_rpy((0.0, 0.0, 0.0), (roll, pitch, yaw)).rotation
 

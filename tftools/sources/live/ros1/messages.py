@@ -11,11 +11,10 @@ import struct
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numpy as np
-
 from tftools.core.batch import TransformBatch
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.live.tf_batch import VALUES_SIZE, tf_batch
 
 
 @dataclass(frozen=True)
@@ -45,13 +44,9 @@ def message_type(typename: str) -> MessageType:
 
 _COUNT = struct.Struct("<I")
 _HEADER_TIME = struct.Struct("<III")  # seq, stamp sec, stamp nsec
-_VALUES = 7 * 8  # translation xyz, rotation xyzw, float64 each
-_VALUE_OFFSETS = np.arange(_VALUES)
 
 
-def decode_tf_message(
-    data: bytes, *, static: bool, authority: str, record_time: int
-) -> TransformBatch:
+def decode_tf_message(data: bytes, *, static: bool, authority: str, record_time: int) -> TransformBatch:
     """One ``tf2_msgs/TFMessage`` as a batch; ``ValueError`` if ``data`` is not one."""
     try:
         (count,) = _COUNT.unpack_from(data, 0)
@@ -70,26 +65,13 @@ def decode_tf_message(
                 ids.append(names.setdefault(name, len(names)))
                 offset += 4 + size
             value_offsets.append(offset)
-            offset += _VALUES
+            offset += VALUES_SIZE
     except struct.error as error:
         raise ValueError(f"not a TFMessage: {error}") from None
     if offset > len(data):
         raise ValueError("not a TFMessage: it ends early")
-    raw = np.frombuffer(data, np.uint8)
-    values = raw[np.array(value_offsets, np.intp).reshape(-1, 1) + _VALUE_OFFSETS].copy().view("<f8")
-    pairs = np.array(ids, np.int32).reshape(-1, 2)
-    stamp = np.array(times, np.int64).reshape(-1, 2)
-    return TransformBatch(
-        frame_names=[n.decode("utf-8", "replace") for n in names],
-        authorities=[authority],
-        parent=pairs[:, 0].copy(),
-        child=pairs[:, 1].copy(),
-        stamp=stamp[:, 0] * NS_PER_S + stamp[:, 1],
-        translation=values[:, :3].astype(np.float64),
-        rotation=values[:, 3:].astype(np.float64),
-        static=np.full(count, static),
-        record_time=np.full(count, record_time, np.int64),
-        authority=np.zeros(count, np.int32),
+    return tf_batch(
+        data, list(names), ids, times, value_offsets, "<", static=static, authority=authority, record_time=record_time
     )
 
 

@@ -19,7 +19,12 @@ OnMessage = Callable[[bytes, str], None]
 
 #: What losing or failing a connection can raise: each means "try again later".
 _CONNECTION_ERRORS = (
-    OSError, EOFError, tcpros.ProtocolError, xmlrpc.client.Error, http.client.HTTPException, ValueError
+    OSError,
+    EOFError,
+    tcpros.ProtocolError,
+    xmlrpc.client.Error,
+    http.client.HTTPException,
+    ValueError,
 )
 
 #: Seconds between attempts to reach a publisher, doubling from the first to the last.

@@ -11,16 +11,13 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass
 
-import numpy as np
-
 from tftools.core.batch import TransformBatch
 from tftools.core.time import NS_PER_S
 from tftools.sources.live.ros2.conventions import GID_SIZES, GUID_SIZE
+from tftools.sources.live.tf_batch import VALUES_SIZE, tf_batch
 
 _HEADER = 4
 _ENCODINGS = {0x00: (">", 8), 0x01: ("<", 8), 0x06: (">", 4), 0x07: ("<", 4)}  # order, largest alignment
-_VALUES = 7 * 8  # translation xyz, rotation xyzw, float64 each
-_VALUE_OFFSETS = np.arange(_VALUES)
 
 
 class _Reader:
@@ -80,31 +77,26 @@ def decode_tf_message(data: bytes, *, static: bool, authority: str, record_time:
     value_offsets: list[int] = []
     try:
         count = reader.uint()
-        if count * (8 + 4 + 4 + _VALUES) > len(data):
+        if count * (8 + 4 + 4 + VALUES_SIZE) > len(data):
             raise ValueError("not a TFMessage: it ends early")
         for _ in range(count):
             times += reader.time()  # header.stamp
             for _name in range(2):  # header.frame_id, then child_frame_id
                 ids.append(names.setdefault(reader.string(), len(names)))
             reader.align(8)
-            value_offsets.append(reader.need(_VALUES))
+            value_offsets.append(reader.need(VALUES_SIZE))
     except struct.error as error:
         raise ValueError(f"not a TFMessage: {error}") from None
-    raw = np.frombuffer(data, np.uint8)
-    values = raw[np.array(value_offsets, np.intp).reshape(-1, 1) + _VALUE_OFFSETS].copy().view(f"{reader.order}f8")
-    pairs = np.array(ids, np.int32).reshape(-1, 2)
-    stamp = np.array(times, np.int64).reshape(-1, 2)
-    return TransformBatch(
-        frame_names=[n.decode("utf-8", "replace") for n in names],
-        authorities=[authority],
-        parent=pairs[:, 0].copy(),
-        child=pairs[:, 1].copy(),
-        stamp=stamp[:, 0] * NS_PER_S + stamp[:, 1],
-        translation=values[:, :3].astype(np.float64),
-        rotation=values[:, 3:].astype(np.float64),
-        static=np.full(count, static),
-        record_time=np.full(count, record_time, np.int64),
-        authority=np.zeros(count, np.int32),
+    return tf_batch(
+        data,
+        list(names),
+        ids,
+        times,
+        value_offsets,
+        reader.order,
+        static=static,
+        authority=authority,
+        record_time=record_time,
     )
 
 
