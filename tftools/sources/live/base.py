@@ -19,6 +19,19 @@ OnBatch = Callable[[TransformBatch], None]
 OnNotice = Callable[[str], None]
 
 
+class NoticeOnce:
+    """Passes each distinct notice on once: a publisher failing at every message is told of once."""
+
+    def __init__(self, on_notice: OnNotice | None) -> None:
+        self._on_notice = on_notice or (lambda _message: None)
+        self._noticed: set[str] = set()
+
+    def __call__(self, message: str) -> None:
+        if message not in self._noticed:
+            self._noticed.add(message)
+            self._on_notice(message)
+
+
 @runtime_checkable
 class LiveSource(Protocol):
     """A live system's transforms as they arrive, and the clock they arrive on.

@@ -9,7 +9,7 @@ from collections.abc import Sequence
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.time import Clock, SimClock, WallClock
 from tftools.sources.bag.contents import DEFAULT_TOPICS, is_static_topic
-from tftools.sources.live.base import ContextManaged, OnBatch, OnNotice
+from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.messages import CLOCK, TF_MESSAGE, decode_clock, decode_tf_message, message_type
 from tftools.sources.live.ros1.node import Node
@@ -37,9 +37,8 @@ class Ros1Source(ContextManaged):
         self.topics = tuple(topics) if topics else DEFAULT_TOPICS
         self.message_count = 0
         self._count_lock = threading.Lock()
-        self._on_notice = on_notice or (lambda _message: None)
+        self._notice_once = NoticeOnce(on_notice)
         self._node = Node(network.anonymous_name(name), master_uri, self._notice_once)
-        self._noticed: set[str] = set()
         try:
             if use_sim_time is None:
                 use_sim_time = bool(self._node.master.get_param("/use_sim_time"))
@@ -133,8 +132,3 @@ class Ros1Source(ContextManaged):
                     self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")
             if len(ready) < len(batches):
                 return
-
-    def _notice_once(self, message: str) -> None:
-        if message not in self._noticed:
-            self._noticed.add(message)
-            self._on_notice(message)

@@ -13,7 +13,7 @@ from cyclonedds.util import duration
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.time import Clock, SimClock, WallClock
 from tftools.sources.bag.contents import DEFAULT_TOPICS, is_static_topic
-from tftools.sources.live.base import ContextManaged, OnBatch, OnNotice
+from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.cdr import decode_clock, decode_tf_message
 from tftools.sources.live.ros2.dds import Participant, take_raw
@@ -74,8 +74,7 @@ class Ros2Source(ContextManaged):
         self.use_sim_time = bool(use_sim_time)
         self.message_count = 0
         self._clock: Clock = SimClock() if self.use_sim_time else WallClock()
-        self._on_notice = on_notice or (lambda _message: None)
-        self._noticed: set[str] = set()
+        self._notice_once = NoticeOnce(on_notice)
         self._participant = Participant(self.domain_id)
         self._closed = threading.Event()
         self._wake: GuardCondition | None = None
@@ -213,8 +212,3 @@ class Ros2Source(ContextManaged):
                 self._notice_once(f"{who} publishes {topic} volatile: tf2 listeners (transient local) do not hear it")
             elif qos.reliable and not writer.reliable:
                 self._notice_once(f"{who} publishes {topic} best effort: tf2 listeners (reliable) do not hear it")
-
-    def _notice_once(self, message: str) -> None:
-        if message not in self._noticed:
-            self._noticed.add(message)
-            self._on_notice(message)
