@@ -8,12 +8,12 @@ import pytest
 from rich.console import Console
 
 from tests.analysis.monitor_scenes import START, Scene, scene, scene_buffer
-from tests.sources.test_replay import FakeTime
+from tests.sources.test_replay import FakeTime, HandDriven
 from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.time import NS_PER_S
 from tftools.render import monitor as render
-from tftools.sources.replay import OnBatch, Replay, follow
+from tftools.sources.replay import Replay, follow
 
 WINDOW = 4 * NS_PER_S
 
@@ -34,27 +34,14 @@ def _play(truth: Scene, rate: float, target: str | None, source: str | None) -> 
     live = LiveMonitor(replay.clock, WINDOW)
     refreshes: list[tuple[int, MonitorReport, str]] = []
 
-    class HandDriven:
-        clock = replay.clock
-        finished = property(lambda self: replay.finished)
-
-        def start(self, on_batch: OnBatch) -> None:
-            replay.attach(on_batch)
-
-        def close(self) -> None:
-            pass
-
-    def sleep(seconds: float) -> None:
-        wall.sleep(seconds)
-        replay.advance_to(replay.begin + round((wall.now - 100.0) * rate * NS_PER_S))
-
     def refresh() -> None:
         report = live.report(target, source)
         console = Console(file=io.StringIO(), width=200)
         console.print(render.renderable(report, "", target, source))
         refreshes.append((replay.clock.now(), report, console.file.getvalue()))  # type: ignore[attr-defined]
 
-    follow(HandDriven(), live.add, refresh, sleep=sleep, monotonic=wall.monotonic)
+    driven = HandDriven(replay, wall)
+    follow(driven, live.add, refresh, sleep=driven.sleep, monotonic=wall.monotonic)
     return refreshes
 
 

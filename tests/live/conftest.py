@@ -211,3 +211,16 @@ def read_line(process: subprocess.Popen[str], contains: str, timeout: float, str
                 return lines
     finally:
         selector.unregister(pipe)
+
+
+STATIC_PUBLISHER = "/usr/lib/tf2_ros/static_transform_publisher"
+TF_ECHO = "/usr/lib/tf/tf_echo"
+
+
+def tf_echo_block(ros: Ros, target: str, source: str) -> str:
+    """The first transform the real tf_echo prints."""
+    echo = ros.spawn(TF_ECHO, target, source)
+    lines = read_line(echo, "in RPY (degree)", timeout=20)
+    echo.kill()
+    start = max(i for i, line in enumerate(lines) if line.startswith("At time"))
+    return "".join(lines[start:])

@@ -9,26 +9,14 @@ import socket
 
 import pytest
 
-from tests.live.conftest import Ros, free_port, read_line, wait_until
-
-STATIC_PUBLISHER = "/usr/lib/tf2_ros/static_transform_publisher"
-TF_ECHO = "/usr/lib/tf/tf_echo"
-
-
-def _tf_echo_block(ros: Ros, target: str, source: str) -> str:
-    """The first transform the real tf_echo prints."""
-    echo = ros.spawn(TF_ECHO, target, source)
-    lines = read_line(echo, "in RPY (degree)", timeout=20)
-    echo.kill()
-    start = max(i for i, line in enumerate(lines) if line.startswith("At time"))
-    return "".join(lines[start:])
+from tests.live.conftest import STATIC_PUBLISHER, Ros, free_port, read_line, tf_echo_block, wait_until
 
 
 def test_echo_prints_what_tf_echo_prints_for_a_static_publisher(ros: Ros) -> None:
     ros.spawn(STATIC_PUBLISHER, "1", "-2", "0.5", "0.3", "-0.2", "0.1", "echo_map", "echo_odom")
     result = ros.run_tfx("echo", "echo_map", "echo_odom", "-n", "2", "-r", "20", "--wait", "20")
     assert result.returncode == 0, result.stderr
-    assert result.stdout == _tf_echo_block(ros, "echo_map", "echo_odom") * 2
+    assert result.stdout == tf_echo_block(ros, "echo_map", "echo_odom") * 2
     assert "waiting for the transform echo_map <- echo_odom" in result.stderr
 
 

@@ -7,7 +7,7 @@ import threading
 import numpy as np
 import pytest
 
-from tests.live.conftest import Master, Ros, read_line, wait_until
+from tests.live.conftest import STATIC_PUBLISHER, Master, Ros, read_line, wait_until
 from tftools.core.batch import TransformBatch
 from tftools.core.time import WallClock
 from tftools.core.transform import Transform
@@ -15,8 +15,6 @@ from tftools.sources.live import LiveError, LiveSource, open_live, open_static_b
 from tftools.sources.live.capture import capture, listen
 from tftools.sources.live.ros1 import Node, Ros1Source
 from tftools.sources.live.ros1.messages import TF_MESSAGE, encode_tf_message, message_type
-
-STATIC_PUBLISHER = "/usr/lib/tf2_ros/static_transform_publisher"
 
 
 @pytest.fixture(autouse=True)

@@ -7,18 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.live.conftest import Ros, read_line, wait_until
-
-STATIC_PUBLISHER = "/usr/lib/tf2_ros/static_transform_publisher"
-TF_ECHO = "/usr/lib/tf/tf_echo"
-
-
-def _tf_echo_block(ros: Ros, target: str, source: str) -> str:
-    echo = ros.spawn(TF_ECHO, target, source)
-    lines = read_line(echo, "in RPY (degree)", timeout=20)
-    echo.kill()
-    start = max(i for i, line in enumerate(lines) if line.startswith("At time"))
-    return "".join(lines[start:])
+from tests.live.conftest import STATIC_PUBLISHER, Ros, read_line, tf_echo_block, wait_until
 
 
 @pytest.mark.parametrize(
@@ -33,15 +22,15 @@ def test_tf_echo_hears_tfx_static_as_it_hears_static_transform_publisher(ros: Ro
     form = "q" if len(numbers) == 7 else "r"
     ros.tfx("static", *numbers, f"ours_{form}", f"ours_{form}_child")
     ros.spawn(STATIC_PUBLISHER, *numbers, f"theirs_{form}", f"theirs_{form}_child")
-    ours = _tf_echo_block(ros, f"ours_{form}", f"ours_{form}_child")
-    assert ours == _tf_echo_block(ros, f"theirs_{form}", f"theirs_{form}_child")
+    ours = tf_echo_block(ros, f"ours_{form}", f"ours_{form}_child")
+    assert ours == tf_echo_block(ros, f"theirs_{form}", f"theirs_{form}_child")
     assert "Translation: [0.100, -0.200, 0.300]" in ours
 
 
 def test_ros2_flag_form(ros: Ros) -> None:
     ros.tfx("static", "--x", "-1.5", "--yaw", "0.5", "--frame-id", "flag_parent", "--child-frame-id", "flag_child")
     ros.spawn(STATIC_PUBLISHER, "-1.5", "0", "0", "0.5", "0", "0", "ref_parent", "ref_child")
-    assert _tf_echo_block(ros, "flag_parent", "flag_child") == _tf_echo_block(ros, "ref_parent", "ref_child")
+    assert tf_echo_block(ros, "flag_parent", "flag_child") == tf_echo_block(ros, "ref_parent", "ref_child")
 
 
 def test_several_from_a_file_go_out_in_one_latched_message(ros: Ros, tmp_path: Path) -> None:
@@ -64,7 +53,7 @@ def test_several_from_a_file_go_out_in_one_latched_message(ros: Ros, tmp_path: P
         ("file_camera", "file_optical"),
     ]
     assert message["transforms"][1]["translation"] == [0.1, 0.0, 0.3]
-    chain = _tf_echo_block(ros, "file_base", "file_optical")  # through two of them
+    chain = tf_echo_block(ros, "file_base", "file_optical")  # through two of them
     assert "Translation: [0.100, 0.000, 0.300]" in chain
     assert "in RPY (degree) [-90.000, -0.000, -90.000]" in chain
 

@@ -33,6 +33,29 @@ class FakeTime:
         self.now += seconds
 
 
+class HandDriven:
+    """A replay as a live source for ``follow``, moved by a fake wall clock instead of its own thread."""
+
+    def __init__(self, replay: Replay, wall: FakeTime) -> None:
+        self.replay, self.wall = replay, wall
+        self.clock = replay.clock
+
+    @property
+    def finished(self) -> bool:
+        return self.replay.finished
+
+    def start(self, on_batch: OnBatch) -> None:
+        self.replay.attach(on_batch)
+
+    def close(self) -> None:
+        pass
+
+    def sleep(self, seconds: float) -> None:
+        """The wall clock sleeps; the replay catches up at its rate."""
+        self.wall.sleep(seconds)
+        self.replay.advance_to(self.replay.begin + round((self.wall.now - 100.0) * self.replay.rate * NS_PER_S))
+
+
 def recorded(times_ms: list[int], static: list[bool] | None = None) -> TransformBatch:
     """One row per record time (ms after START); the stamp is the record time."""
     builder = BatchBuilder()
@@ -124,23 +147,10 @@ def test_follow_ticks_once_a_second_until_the_feed_ends() -> None:
     replay = Replay(recorded(list(range(0, 3500, 100))))  # 3.4 s of bag
     ticks: list[int] = []
 
-    class HandDriven:  # the replay, moved by the fake wall clock instead of its own thread
-        clock = replay.clock
-        finished = property(lambda self: replay.finished)
-
-        def start(self, on_batch: OnBatch) -> None:
-            replay.attach(on_batch)
-
-        def close(self) -> None:
-            pass
-
-    def sleep(seconds: float) -> None:
-        wall.sleep(seconds)
-        replay.advance_to(START + round((wall.now - 100.0) * NS_PER_S))
-
+    driven = HandDriven(replay, wall)
     rows: list[int] = []
-    follow(HandDriven(), lambda b: rows.extend(b.record_time.tolist()), lambda: ticks.append(replay.clock.now()),
-           sleep=sleep, monotonic=wall.monotonic)  # fmt: skip
+    follow(driven, lambda b: rows.extend(b.record_time.tolist()), lambda: ticks.append(replay.clock.now()),
+           sleep=driven.sleep, monotonic=wall.monotonic)  # fmt: skip
     assert len(rows) == 35
     # One tick per wall second (bag time = wall time here), then the final state.
     assert [round((t - START) / NS_PER_S, 1) for t in ticks] == [1.0, 2.0, 3.0, 3.4]
