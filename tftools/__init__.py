@@ -24,7 +24,6 @@ from tftools.core import (
     from_sec,
     to_sec,
 )
-
 from tftools.sources import Recording, load, read_recording
 
 __version__ = "0.1.0"

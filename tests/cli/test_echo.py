@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
@@ -15,6 +16,7 @@ import pytest
 from tests.cli.conftest import SAMPLE_BAGS
 from tests.oracle import Scenario, binding_time, run_tf2
 from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
 
 FORMATS = list(SAMPLE_BAGS)
 
@@ -49,7 +51,9 @@ def test_text_has_tf_echo_layout(tfx) -> None:
 
 
 def test_formats_agree(tfx) -> None:
-    outputs = [tfx("echo", "odom", "arm_link4", "-b", SAMPLE_BAGS[f], "-f", "json", "--rate", "2").stdout for f in FORMATS]
+    outputs = [
+        tfx("echo", "odom", "arm_link4", "-b", SAMPLE_BAGS[f], "-f", "json", "--rate", "2").stdout for f in FORMATS
+    ]
     parsed = [[json.loads(line) for line in out.splitlines()] for out in outputs]
     assert len(parsed[0]) > 20
     for other in parsed[1:]:
@@ -70,7 +74,9 @@ def test_csv_columns_and_every_sample(tfx) -> None:
 def test_failed_lookup_prints_tf2_reason_and_exits_1(tfx) -> None:
     result = tfx("echo", "map", "gripper", "-b", SAMPLE_BAGS["db3"], "--at", "1600000000")
     assert result.code == 1
-    assert result.stdout.startswith("Failure at 1600000000.000000000\nException thrown:Lookup would require extrapolation")
+    assert result.stdout.startswith(
+        "Failure at 1600000000.000000000\nException thrown:Lookup would require extrapolation"
+    )
     assert "into the past" in result.stdout
 
 
@@ -108,3 +114,37 @@ def test_console_script_runs(tmp_path) -> None:
 def _write(path, data: bytes):
     path.write_bytes(data)
     return path
+
+
+def test_precision_sets_the_decimals_and_matrix_adds_the_homogeneous_matrix(tfx) -> None:
+    args = ("echo", "map", "laser", "-b", SAMPLE_BAGS["ros1"], "--at", "+5")
+    six = tfx(*args, "--precision", "6", "--matrix")
+    assert six.code == 0, six.stderr
+    assert re.match(r"At time 1700000005\.002000\n- Translation: \[-?\d+\.\d{6}, ", six.stdout)
+    lines = six.stdout.splitlines()
+    rows = lines[lines.index("- Matrix:") + 1 :]
+    matrix = np.array([[float(v) for v in row.split()] for row in rows])
+    (record,) = [json.loads(line) for line in tfx(*args, "-f", "json").stdout.splitlines()]
+    expected = Transform(tuple(record["translation"]), tuple(record["rotation"])).as_matrix()
+    np.testing.assert_allclose(matrix, expected, atol=1e-6)
+    assert "- Matrix:" not in tfx(*args).stdout  # --no-matrix is the default
+    assert tfx(*args, "--precision", "13").code == 2
+
+
+def test_cache_sets_the_live_buffers_length(tfx, monkeypatch: pytest.MonkeyPatch) -> None:
+    asked: list[int | None] = []
+
+    class ListenedError(Exception):
+        pass
+
+    def listen(source, cache_time):
+        asked.append(cache_time)
+        raise ListenedError
+
+    monkeypatch.setattr("tftools.cli.echo.live.open_source", lambda *args: contextlib.nullcontext())
+    monkeypatch.setattr("tftools.cli.echo.listen", listen)
+    with pytest.raises(ListenedError):
+        tfx("echo", "map", "odom", "--cache", "2.5")
+    assert asked == [2_500_000_000]
+    refused = tfx("echo", "map", "odom", "--cache", "0")
+    assert refused.code == 2 and "--cache must be above 0 seconds" in refused.stderr

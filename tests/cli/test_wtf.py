@@ -21,7 +21,7 @@ def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """A healthy bag, one per problem (db3), a corrupt one, one cut short, and a recording split in two."""
     directory = tmp_path_factory.mktemp("wtf")
     made = {"healthy": write(directory, "healthy", DB3, healthy())}
-    for name in ("stale", "rate", "cycle", "delay"):
+    for name in ("stale", "rate", "cycle", "delay", "future", "clock_replay"):
         made[name] = write(directory, name, DB3, PROBLEMS[name].make())
     corrupt = directory / "corrupt.mcap"
     corrupt.write_bytes(b"\x89MCAP0\r\n" + b"not a bag" * 100)
@@ -183,6 +183,20 @@ def test_thresholds_have_flags(tfx, bags: dict[str, Path]) -> None:
     assert "no problems found" in tfx("wtf", bags["rate"], "--max-gap", "5").stdout
     bad = tfx("wtf", bags["delay"], "--delay", "0")
     assert bad.code == 2 and "--delay must be above 0 seconds" in bad.stderr
+
+
+def test_future_and_clock_thresholds_have_flags(tfx, bags: dict[str, Path]) -> None:
+    def codes(*args: str) -> set[str]:
+        (bag,) = as_json(tfx("wtf", *args, "--format", "json").stdout)["bags"]
+        return {f["code"] for f in bag["findings"]}
+
+    assert "future" in codes(bags["future"])  # stamps 3 s ahead of their arrival
+    assert "future" in codes(bags["future"], "--future", "2.5")
+    assert "future" not in codes(bags["future"], "--future", "3.5")
+    assert "clock" in codes(bags["clock_replay"])  # stamps 3 days behind their arrival
+    assert "clock" not in codes(bags["clock_replay"], "--clock", str(4 * 86400))
+    bad = tfx("wtf", bags["future"], "--future", "-1")
+    assert bad.code == 2 and "--future" in bad.stderr
 
 
 def test_ignore_skips_checks_and_refuses_unknown_codes(tfx, bags: dict[str, Path]) -> None:

@@ -24,9 +24,7 @@ ERROR_CLASSES = {
 def unavailable_reason() -> str | None:
     """Why the real tf2 cannot be used here, or None when it can."""
     try:
-        probe = subprocess.run(
-            [ROS_PYTHON, "-c", "import tf2_py, rospy, rosbag"], capture_output=True, timeout=60
-        )
+        probe = subprocess.run([ROS_PYTHON, "-c", "import tf2_py, rospy, rosbag"], capture_output=True, timeout=60)
     except (OSError, subprocess.TimeoutExpired) as e:
         return f"{ROS_PYTHON} cannot run: {e}"
     if probe.returncode != 0:
@@ -64,9 +62,7 @@ class Scenario:
 def run_tf2(scenarios: list[Scenario]) -> list[dict]:
     """Each scenario's ``{"rejections": [codes], "answers": [...]}`` from the real tf2."""
     request = json.dumps({"scenarios": [s.to_json() for s in scenarios]})
-    done = subprocess.run(
-        [ROS_PYTHON, str(HARNESS)], input=request, capture_output=True, text=True, timeout=600
-    )
+    done = subprocess.run([ROS_PYTHON, str(HARNESS)], input=request, capture_output=True, text=True, timeout=600)
     if done.returncode != 0:
         raise RuntimeError(f"tf2 harness failed:\n{done.stderr[-3000:]}")
     return json.loads(done.stdout)["results"]

@@ -76,9 +76,7 @@ def chain_stats(
     hops = [_hop(buffer, a, b) for a, b in itertools.pairwise(frames)]
     moving = [hop for hop in hops if not _is_static(buffer, hop)]
     mean, largest, limiting = _chain_delay(buffer, moving, start, end)
-    return ChainStats(
-        target, source, frames, tuple(by_key[h] for h in hops if h in by_key), mean, largest, limiting
-    )
+    return ChainStats(target, source, frames, tuple(by_key[h] for h in hops if h in by_key), mean, largest, limiting)
 
 
 def _hop(buffer: Buffer, a: str, b: str) -> tuple[str, str]:

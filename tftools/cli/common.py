@@ -51,7 +51,9 @@ class UsageError(TfToolsError):
 BagOption = Annotated[
     list[Path] | None,
     typer.Option(
-        "--bag", "-b", help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory. "
+        "--bag",
+        "-b",
+        help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory. "
         "Repeat for a split recording. Without it, tfx listens to a live system.",
         show_default=False,
     ),
@@ -62,7 +64,9 @@ TopicOption = Annotated[
 ]
 StartOption = Annotated[
     str | None,
-    typer.Option(help="Begin at TIME: absolute seconds, +S after the bag's start or -S before its end.", show_default=False),
+    typer.Option(
+        help="Begin at TIME: absolute seconds, +S after the bag's start or -S before its end.", show_default=False
+    ),
 ]
 EndOption = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as --start).", show_default=False)]
 

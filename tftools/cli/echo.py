@@ -40,20 +40,27 @@ class EchoFormat(str, enum.Enum):
 
 
 def command(
-    target: Annotated[str, typer.Argument(help="The frame to express the transform in (tf_echo's first frame), e.g. map.")],
+    target: Annotated[
+        str, typer.Argument(help="The frame to express the transform in (tf_echo's first frame), e.g. map.")
+    ],
     source: Annotated[str, typer.Argument(help="The frame whose pose is shown, e.g. base_link.")],
     bags: BagOption = None,
     rate: Annotated[float, typer.Option("--rate", "-r", help="Lines per second of bag time.")] = 1.0,
     at: Annotated[
         str | None,
-        typer.Option(help="One lookup at TIME: absolute seconds, +S after the start, -S before the end, 0 = latest.", show_default=False),
+        typer.Option(
+            help="One lookup at TIME: absolute seconds, +S after the start, -S before the end, 0 = latest.",
+            show_default=False,
+        ),
     ] = None,
     every: Annotated[bool, typer.Option("--all", help="A line at every sample of the chain's moving edges.")] = False,
     start: StartOption = None,
     end: EndOption = None,
     precision: Annotated[int, typer.Option(min=1, max=12, help="Decimals in text output.")] = 3,
     matrix: Annotated[bool, typer.Option(help="Also print the 4x4 homogeneous matrix.")] = False,
-    fmt: Annotated[EchoFormat, typer.Option("--format", "-f", help="text (tf_echo's), json (one object per line) or csv.")] = EchoFormat.text,
+    fmt: Annotated[
+        EchoFormat, typer.Option("--format", "-f", help="text (tf_echo's), json (one object per line) or csv.")
+    ] = EchoFormat.text,
     topics: TopicOption = None,
     play: Annotated[
         bool, typer.Option("--play", help="Replay the bag in real time; the latest transform --rate times a second.")

@@ -21,7 +21,10 @@ class FramesFormat(str, enum.Enum):
 
 def command(
     bags: BagOption = None,
-    fmt: Annotated[FramesFormat, typer.Option("--format", "-f", help="text (a tree), json, or yaml (exactly tf2's allFramesAsYAML).")] = FramesFormat.text,
+    fmt: Annotated[
+        FramesFormat,
+        typer.Option("--format", "-f", help="text (a tree), json, or yaml (exactly tf2's allFramesAsYAML)."),
+    ] = FramesFormat.text,
     topics: TopicOption = None,
     duration: live.ListenOption = 5.0,
     ros1: live.RosOption = None,

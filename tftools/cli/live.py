@@ -36,12 +36,8 @@ UseSimTimeOption = Annotated[
         show_default=False,
     ),
 ]
-CacheOption = Annotated[
-    float, typer.Option("--cache", help="Live: seconds of history kept per edge, as tf2's buffer.")
-]
-ListenOption = Annotated[
-    float, typer.Option("--duration", "-d", help="Live: seconds to listen before answering.")
-]
+CacheOption = Annotated[float, typer.Option("--cache", help="Live: seconds of history kept per edge, as tf2's buffer.")]
+ListenOption = Annotated[float, typer.Option("--duration", "-d", help="Live: seconds to listen before answering.")]
 
 
 def say(message: str) -> None:

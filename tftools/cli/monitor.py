@@ -48,9 +48,7 @@ WindowOption = Annotated[float, typer.Option(help="Live: the table covers the la
 DurationOption = Annotated[
     float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.", show_default=False)
 ]
-FormatOption = Annotated[
-    MonitorFormat, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")
-]
+FormatOption = Annotated[MonitorFormat, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")]
 
 
 def command(
