@@ -165,3 +165,20 @@ def test_ros1_copy_reads_in_the_real_rosbag(tfx, tmp_path: Path, ros1_available:
     before = json.loads(original.stdout)
     assert seen["count"] == before["count"] + 1
     assert record_time == before["first"] == seen["first"]  # at the bag's start
+
+
+@pytest.mark.parametrize(
+    ("rotation_flags", "expected"),
+    [
+        (["--qx", "0", "--qy", "0.6", "--qz", "0", "--qw", "0.8"], (0.0, 0.6, 0.0, 0.8)),
+        (["--roll", "0.1", "--pitch", "0.2", "--yaw", "0.3"], Transform.from_rpy((0, 0, 0), (0.1, 0.2, 0.3)).rotation),
+    ],
+)
+def test_ros2_flag_form_into_a_bag_copy(tfx, tmp_path: Path, rotation_flags: list[str], expected) -> None:
+    output = tmp_path / "out"
+    args = ["--x", "1", "--y", "-2", "--z", "0.5", *rotation_flags, "--frame-id", "base_link", "--child-frame-id", "f"]
+    result = tfx("static", *args, "-b", SAMPLE_BAGS["db3"], "-o", output)
+    assert result.code == 0, result.stderr
+    added = read_recording([output]).buffer.lookup("base_link", "f")
+    assert added.translation == (1.0, -2.0, 0.5)
+    np.testing.assert_allclose(added.rotation, expected, atol=1e-12)
