@@ -32,9 +32,9 @@ def read(
             raise CorruptBagError(
                 str(path), f"encrypted with {header.encryptor}; decrypt it with `rosbag decrypt` first"
             )
-        scan = BagScan(path.name, buf, topics, progress)
+        scan = BagScan(path.name, buf, topics, progress, decoder)
         scan.read(header)
-        batch, undecodable = scan.messages.decode(decoder)
+        batch, undecodable = scan.messages.decode()
     info = BagFileInfo(
         path=str(path),
         format="ros1",

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -18,28 +18,65 @@ from tftools.sources.bag.ros1_format import Buffer, Connection
 Decoder = Literal["fast", "reference"]
 
 _SLICE = 1 << 16  # messages decoded together: bounds the temporary arrays
+_GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
 
 
 @dataclass
 class _Found:
-    """Wanted messages of one chunk."""
+    """Wanted messages of one chunk, until their group is decoded."""
 
     channel: IntArray
-    time: IntArray
-    chunk: int  # ordinal of the chunk in the file
-    offset: IntArray
     starts: IntArray  # of each message in ``payload``
     lengths: IntArray
     payload: bytes
 
 
-class MessageCollector:
-    """Wanted messages (transform topics) gathered chunk by chunk, undecoded."""
+class _Columns:
+    """The decoded rows, group after group, as the batch's own columns (frames, stamps, values)."""
 
     def __init__(self) -> None:
+        self.parts: dict[str, list[npt.NDArray[Any]]] = {k: [] for k in _COLUMNS}
+
+    def add(self, decoded: Decoded) -> None:
+        values = decoded.values
+        for name, column in zip(
+            _COLUMNS, (decoded.parent, decoded.child, decoded.stamp, values[:, :3], values[:, 3:]), strict=True
+        ):
+            self.parts[name].append(np.ascontiguousarray(column))
+
+    def take(self, name: str, order: IntArray | None) -> npt.NDArray[Any]:
+        """One whole column, its parts freed: only one column is ever held twice."""
+        parts = self.parts.pop(name)
+        column = np.concatenate(parts) if len(parts) != 1 else parts[0]
+        del parts
+        return column if order is None else column[order]
+
+
+_COLUMNS = ("parent", "child", "stamp", "translation", "rotation")
+
+
+class MessageCollector:
+    """Wanted messages (transform topics) gathered chunk by chunk and decoded a few megabytes at a
+    time, so that neither the bag nor all its payloads are ever held at once.
+
+    Per message only its channel, record time, place (chunk, offset) and row count are kept, to
+    put the rows in rosbag's playback order at the end.
+    """
+
+    def __init__(self, decoder: Decoder = "fast") -> None:
+        self.decoder = decoder
         self.channels: list[Connection] = []  # the connections read, by channel number
         self._channel_of: dict[int, int] = {}
-        self._found: list[_Found] = []
+        self._pending: list[_Found] = []
+        self._pending_bytes = 0
+        self._channel: list[IntArray] = []
+        self._time: list[IntArray] = []
+        self._chunk: list[IntArray] = []
+        self._offset: list[IntArray] = []
+        self._rows: list[IntArray] = []  # per message, its transforms decoded
+        self._columns = _Columns()
+        self._frames = FrameTable()
+        self._failures: dict[int, tuple[int, str]] = {}  # channel -> (count, first reason)
         self.count = 0
 
     def want(self, connection: Connection) -> None:
@@ -51,20 +88,28 @@ class MessageCollector:
         return conn in self._channel_of
 
     def add(self, chunk: int, data: Buffer, located: Located) -> int:
-        """Keep the wanted messages among ``located`` (records of ``data``); returns how many."""
+        """Keep the wanted messages among ``located`` (records of ``data``); returns how many.
+
+        Their payloads are copied out of ``data``, which the caller may then release."""
         channel = self._channels(located.conn)
         keep = np.flatnonzero(channel >= 0)
         if not len(keep):
             return 0
         starts, lengths = located.data_start[keep], located.data_len[keep]
-        if 2 * int(lengths.sum()) >= len(data):  # mostly transforms: keep the chunk whole, copy nothing
+        if 2 * int(lengths.sum()) >= len(data):  # mostly transforms: one copy of the chunk
             payload = bytes(data)
         else:
             payload = b"".join(pieces(data, starts, lengths))
             starts = np.cumsum(lengths) - lengths
-        found = _Found(channel[keep], located.time[keep], chunk, located.offset[keep], starts, lengths, payload)
-        self._found.append(found)
+        self._pending.append(_Found(channel[keep], starts, lengths, payload))
+        self._pending_bytes += len(payload)
+        self._channel.append(channel[keep])
+        self._time.append(located.time[keep])
+        self._chunk.append(np.full(len(keep), chunk, np.int64))
+        self._offset.append(located.offset[keep])
         self.count += len(keep)
+        if self._pending_bytes >= _GROUP_BYTES:
+            self._decode_pending()
         return len(keep)
 
     def _channels(self, conn: IntArray) -> IntArray:
@@ -74,28 +119,70 @@ class MessageCollector:
         table = np.array([self._channel_of.get(c, -1) for c in distinct.tolist()], np.int64)
         return table[inverse.reshape(-1)]
 
-    def decode(self, decoder: Decoder) -> tuple[TransformBatch, list[str]]:
-        """Every transform in record order (as rosbag plays them); a line per topic with messages
-        that could not be decoded."""
-        if not self._found:
-            return TransformBatch.empty(), []
-        found, self._found = self._found, []
+    def _decode_pending(self) -> None:
+        """Decode the gathered payloads into columns and let them go."""
+        found, self._pending, self._pending_bytes = self._pending, [], 0
+        if not found:
+            return
         channel = np.concatenate([f.channel for f in found])
-        time = np.concatenate([f.time for f in found])
         lengths = np.concatenate([f.lengths for f in found])
         bases = np.cumsum([0] + [len(f.payload) for f in found])
         starts = np.concatenate([f.starts + base for f, base in zip(found, bases.tolist(), strict=False)])
         raw = np.frombuffer(b"".join(f.payload for f in found), np.uint8)
-        frames = FrameTable()
-        if decoder == "fast":
-            decoded, failures = self._fast(raw, starts, lengths, channel, frames)
+        del found
+        if self.decoder == "fast":
+            parts, failures = self._fast(raw, starts, lengths, channel, self._frames)
         else:
-            decoded, failures = self._reference(raw, starts, lengths, channel, range(len(channel)), frames)
-        chunk = np.concatenate([np.full(len(f.channel), f.chunk, np.int64) for f in found])
-        offset = np.concatenate([f.offset for f in found])
-        conn = np.array([c.id for c in self.channels], np.int64)[channel]
-        batch = self._batch(decoded, channel, time, _rank(time, conn, chunk, offset), frames)
-        return batch, self._problems(failures, channel)
+            parts, failures = self._reference(raw, starts, lengths, channel, range(len(channel)), self._frames)
+        for index, (count, reason) in failures.items():
+            before, first = self._failures.get(index, (0, reason))
+            self._failures[index] = (before + count, first)
+        parts = [p for p in parts if len(p.message)]
+        message = np.concatenate([p.message for p in parts]) if parts else np.zeros(0, np.int64)
+        self._rows.append(np.bincount(message, minlength=len(channel)))
+        if not parts:
+            return
+        decoded = parts[0] if len(parts) == 1 else _joined(parts)
+        if len(decoded.message) > 1 and np.any(np.diff(decoded.message) < 0):  # rosbags' rows came last
+            decoded = _taken(decoded, np.argsort(decoded.message, kind="stable"))
+        self._columns.add(decoded)
+
+    def decode(self) -> tuple[TransformBatch, list[str]]:
+        """Every transform in record order (as rosbag plays them); a line per topic with messages
+        that could not be decoded."""
+        self._decode_pending()
+        if not self.count:
+            return TransformBatch.empty(), []
+        channel = np.concatenate(self._channel)
+        time = np.concatenate(self._time)
+        rows = np.concatenate(self._rows)
+        rank = _rank(time, np.array([c.id for c in self.channels], np.int64)[channel], *self._places())
+        problems = self._problems(self._failures, channel)
+        total = int(rows.sum())
+        if not total:
+            return TransformBatch.empty(), problems
+        # Each row's message: the messages' rows are consecutive, in the order decoded.
+        message = np.repeat(np.arange(len(rows)), rows)
+        order = None if rank is None else np.argsort(rank[message], kind="stable")
+        if order is not None:
+            message = message[order]
+        columns = {name: self._columns.take(name, order) for name in _COLUMNS}
+        authorities = list(dict.fromkeys(c.callerid or c.topic for c in self.channels))
+        authority_of = np.array([authorities.index(c.callerid or c.topic) for c in self.channels], np.int32)
+        static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
+        row_channel = channel[message]
+        batch = TransformBatch(
+            frame_names=self._frames.names,
+            authorities=authorities,
+            static=static_of[row_channel],
+            record_time=time[message],
+            authority=authority_of[row_channel],
+            **columns,
+        )
+        return batch, problems
+
+    def _places(self) -> tuple[IntArray, IntArray]:
+        return np.concatenate(self._chunk), np.concatenate(self._offset)
 
     def _fast(
         self, raw: npt.NDArray[np.uint8], starts: IntArray, lengths: IntArray, channel: IntArray, frames: FrameTable
@@ -145,35 +232,6 @@ class MessageCollector:
         )
         return [decoded], failures
 
-    def _batch(
-        self, parts: list[Decoded], channel: IntArray, time: IntArray, rank: IntArray | None, frames: FrameTable
-    ) -> TransformBatch:
-        parts = [p for p in parts if len(p.message)]
-        if not parts:
-            return TransformBatch.empty()
-        message = np.concatenate([p.message for p in parts])
-        order: IntArray | slice = slice(None)
-        if rank is not None or (len(parts) > 1 and np.any(np.diff(message) < 0)):
-            order = np.argsort(message if rank is None else rank[message], kind="stable")
-        message = message[order]
-        values = np.concatenate([p.values for p in parts])[order]
-        authorities = list(dict.fromkeys(c.callerid or c.topic for c in self.channels))
-        authority_of = np.array([authorities.index(c.callerid or c.topic) for c in self.channels], np.int32)
-        static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
-        row_channel = channel[message]
-        return TransformBatch(
-            frame_names=frames.names,
-            authorities=authorities,
-            parent=np.concatenate([p.parent for p in parts])[order],
-            child=np.concatenate([p.child for p in parts])[order],
-            stamp=np.concatenate([p.stamp for p in parts])[order],
-            translation=np.ascontiguousarray(values[:, :3]),
-            rotation=np.ascontiguousarray(values[:, 3:]),
-            static=static_of[row_channel],
-            record_time=time[message],
-            authority=authority_of[row_channel],
-        )
-
     def _problems(self, failures: dict[int, tuple[int, str]], channel: IntArray) -> list[str]:
         """One line per topic and type: how many of its messages were lost, and the first reason."""
         totals: dict[tuple[str, str], int] = {}
@@ -190,6 +248,28 @@ class MessageCollector:
             f"skipped (first: {reason})"
             for (topic, type_name), (count, reason) in lost.items()
         ]
+
+
+def _joined(parts: list[Decoded]) -> Decoded:
+    return Decoded(
+        np.concatenate([p.message for p in parts]),
+        np.concatenate([p.parent for p in parts]),
+        np.concatenate([p.child for p in parts]),
+        np.concatenate([p.stamp for p in parts]),
+        np.concatenate([p.values for p in parts]),
+        np.zeros(0, np.int64),
+    )
+
+
+def _taken(decoded: Decoded, order: IntArray) -> Decoded:
+    return Decoded(
+        decoded.message[order],
+        decoded.parent[order],
+        decoded.child[order],
+        decoded.stamp[order],
+        decoded.values[order],
+        decoded.failed,
+    )
 
 
 def _rank(time: IntArray, conn: IntArray, chunk: IntArray, offset: IntArray) -> IntArray | None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import mmap
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,7 +38,7 @@ from tftools.sources.bag.ros1_format import (
     read_index,
     read_record,
 )
-from tftools.sources.bag.ros1_messages import MessageCollector
+from tftools.sources.bag.ros1_messages import Decoder, MessageCollector
 
 _REPAIR = "run `rosbag reindex` on a copy to repair it"
 _CHUNK_HEADER_OP = b"\x04\x00\x00\x00op=\x05"  # the op field of a chunk record header
@@ -65,13 +66,20 @@ class _Damage:
 class BagScan:
     """One bag file read: its wanted messages (undecoded), description and problems."""
 
-    def __init__(self, name: str, buf: FileBuffer, topics: tuple[str, ...], progress: ProgressCallback) -> None:
+    def __init__(
+        self,
+        name: str,
+        buf: FileBuffer,
+        topics: tuple[str, ...],
+        progress: ProgressCallback,
+        decoder: Decoder = "fast",
+    ) -> None:
         self.name = name
         self.buf = buf
         self.size = len(buf)
         self.wanted_topics = topics
         self.progress = progress
-        self.messages = MessageCollector()
+        self.messages = MessageCollector(decoder)
         self.topics: dict[str, str] = {}
         self.connections: dict[int, Connection] = {}
         self.start = self.end = self.message_count = 0
@@ -164,6 +172,7 @@ class BagScan:
         else:
             located = locate(unpacked.data, offsets, follow=True)
         got = self.messages.add(ordinal, unpacked.data, located)
+        self._release(info.pos, record.data_end)
         if got < wanted:
             reason = unpacked.problem or located.first_error or "its index points at no message"
             self.damage.note(info.pos, reason, wanted - got)
@@ -232,7 +241,18 @@ class BagScan:
         if unpacked.problem and chunk.data_end <= stop:
             self.damage.note(chunk.pos, unpacked.problem, None)
         self._records(unpacked.data)
+        self._release(chunk.pos, end)
         return end
+
+    def _release(self, start: int, end: int) -> None:
+        """Unmap the pages of a chunk that has been read: the file's pages then stay in the page
+        cache instead of counting towards this process's resident memory (the messages wanted
+        are copied out by then)."""
+        if not isinstance(self.buf, mmap.mmap) or not hasattr(mmap, "MADV_DONTNEED"):
+            return
+        start -= start % mmap.PAGESIZE
+        if end > start:
+            self.buf.madvise(mmap.MADV_DONTNEED, start, min(end, self.size) - start)
 
     def _unpacked(self, chunk: Chunk, end: int) -> Unpacked:
         """The chunk's data up to ``end``: uncompressed, a view into the file (only the records
