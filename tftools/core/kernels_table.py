@@ -88,21 +88,36 @@ def lookup_in_parallel(
     source_id: int,
     times: npt.NDArray[np.int64],
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
-    """``kernels.lookup_many`` over ``times`` in ascending order, split across the CPUs.
+    """``kernels.lookup_many`` over ``times``, split across the CPUs.
 
-    Returns the times used, values (N, 7) and validity, in the order of ``times``.
+    Each thread takes a span of time, so that it streams through its own part of the
+    histories; the kernel is fastest over ascending times. Unless the times are ascending
+    already (then the spans are contiguous parts), they are partitioned by rank and each
+    thread sorts its part, walks it, and scatters the answers back to their rows (numpy's
+    sorting and indexing let go of the GIL, so all of it runs in parallel). Returns the times
+    used, values (N, 7) and validity, in the order of ``times``.
     """
     n = len(times)
+    times = np.ascontiguousarray(times)
     ascending = n < 2 or bool(np.all(times[1:] >= times[:-1]))
-    order = None if ascending else np.argsort(times)
-    ordered = np.ascontiguousarray(times if order is None else times[order])
     stamps, values, valid = np.empty(n, np.int64), np.empty((n, 7)), np.empty(n, bool)
     threads = max(1, min(os.cpu_count() or 1, n // _TIMES_PER_THREAD))
     bounds = np.linspace(0, n, threads + 1).astype(int)
+    ranked = None
+    if not ascending:  # the k-th thread's rows: ranked[bounds[k]:bounds[k + 1]], unsorted
+        ranked = np.argpartition(times, bounds[1:-1]) if threads > 1 else np.arange(n)
 
     def run(part: int) -> None:
-        s = slice(bounds[part], bounds[part + 1])
-        kernels.lookup_many(table, target_id, source_id, ordered[s], stamps[s], values[s], valid[s])
+        start, end = int(bounds[part]), int(bounds[part + 1])
+        if ranked is None:
+            s = slice(start, end)
+            kernels.lookup_many(table, target_id, source_id, times[s], stamps[s], values[s], valid[s])
+            return
+        rows = ranked[start:end]
+        rows = rows[np.argsort(times[rows])]
+        got = np.empty(len(rows), np.int64), np.empty((len(rows), 7)), np.empty(len(rows), bool)
+        kernels.lookup_many(table, target_id, source_id, times[rows], *got)
+        stamps[rows], values[rows], valid[rows] = got
 
     helpers = [threading.Thread(target=run, args=(part,)) for part in range(1, threads)]
     for helper in helpers:
@@ -110,8 +125,4 @@ def lookup_in_parallel(
     run(0)
     for helper in helpers:
         helper.join()
-    if order is None:
-        return stamps, values, valid
-    back = np.empty_like(order)
-    back[order] = np.arange(n)
-    return stamps[back], values[back], valid[back]
+    return stamps, values, valid
