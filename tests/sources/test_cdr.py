@@ -32,11 +32,11 @@ def decode(
     payloads: list[bytes], key: tuple[str, str], decoder: str = "fast"
 ) -> tuple[dict[int, list[Any]], list[str]]:
     """Rows by message number (the record time given to each payload), and the problem lines."""
-    messages = MessageSet()
+    messages = MessageSet(decoder=decoder)  # type: ignore[arg-type]
     channel = messages.channel("/tf", CODECS[key])
     numbers = list(range(len(payloads)))
     messages.add(channel, numbers, numbers, payloads)
-    batch, problems = messages.decode(decoder)  # type: ignore[arg-type]
+    batch, problems = messages.decode()
     rows: dict[int, list[Any]] = {}
     for row in batch_rows(batch):
         rows.setdefault(row[6], []).append(row[:5])

@@ -15,28 +15,34 @@ import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.db3_pages import salvage
-from tftools.sources.bag.decode import FileScan, MessageSet, Unpack, select
+from tftools.sources.bag.decode import Decoder, FileScan, MessageSet, Unpack, select
 from tftools.sources.errors import CorruptBagError
 
 SQLITE_MAGIC = b"SQLite format 3\x00"
 ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
-_FETCH = 1 << 15  # rows per fetch: progress is reported between fetches
+_FETCH = 1 << 12  # rows per fetch: progress is reported between fetches
 
 Row = tuple[int, int, bytes]  # topic id, record time, payload
 
 
-def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, unpack: Unpack | None = None) -> FileScan:
+def scan(
+    path: Path,
+    topics: tuple[str, ...],
+    progress: ProgressCallback,
+    unpack: Unpack | None = None,
+    *,
+    decoder: Decoder = "fast",
+) -> FileScan:
     """The transform messages and description of one rosbag2 sqlite3 file, undecoded.
 
     Payloads compressed one by one (zstd) are decompressed with ``unpack``, or on their own when
     they look compressed. Raises ``CorruptBagError`` when nothing could be read.
     """
-    result = FileScan(MessageSet(unpack))
+    result = FileScan(MessageSet(unpack, decoder))
     with _connect(path) as db:
         channels = _channels(db, path, topics, result)
         _statistics(db, result)
-        rows = _messages(db, path, channels, result, progress)
-    _add_rows(rows, channels, result)
+        _messages(db, path, channels, result, progress)
     wal = path.with_name(path.name + "-wal")
     if wal.exists() and wal.stat().st_size:
         result.note_problem(
@@ -91,22 +97,25 @@ def _statistics(db: sqlite3.Connection, result: FileScan) -> None:
 
 def _messages(
     db: sqlite3.Connection, path: Path, channels: dict[int, int], result: FileScan, progress: ProgressCallback
-) -> list[Row]:
-    """The wanted topics' messages in record-time order; from the intact pages of a damaged file."""
+) -> None:
+    """Add the wanted topics' messages in record-time order, fetch after fetch (decoded as they
+    come, so they are never all held at once); from the intact pages of a damaged file."""
     if not channels:
-        return []
+        return
     size = path.stat().st_size
-    rows: list[Row] = []
+    added = 0
     ids = ",".join(str(int(i)) for i in channels)
     query = f"SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN ({ids}) ORDER BY timestamp, id"
     try:
         cursor = db.execute(query)
         while batch := cursor.fetchmany(_FETCH):
-            rows += batch
+            _add_rows(batch, channels, result, added)
+            added += len(batch)
             progress(_estimate(batch[-1][1], result, size), size)
     except sqlite3.Error as e:
-        rows = _salvage(path, channels, result, str(e))
-    return rows
+        if added:  # start again from the pages, forgetting what the query gave
+            result.messages = result.messages.emptied()
+        _add_rows(_salvage(path, channels, result, str(e)), channels, result, 0)
 
 
 def _estimate(timestamp: int, result: FileScan, size: int) -> int:
@@ -131,7 +140,8 @@ def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str)
     return rows
 
 
-def _add_rows(rows: list[Row], channels: dict[int, int], result: FileScan) -> None:
+def _add_rows(rows: list[Row], channels: dict[int, int], result: FileScan, first: int) -> None:
+    """Add ``rows``, the ``first``-th row read onwards."""
     if not rows:
         return
     topic_ids, times, payloads = zip(*rows, strict=True)
@@ -140,7 +150,7 @@ def _add_rows(rows: list[Row], channels: dict[int, int], result: FileScan) -> No
     lookup = np.zeros(max(channels) + 1, np.int32)
     lookup[list(channels)] = list(channels.values())
     which = lookup[np.array(topic_ids, np.int64)] if len(channels) > 1 else next(iter(channels.values()))
-    result.messages.add(which, times, np.arange(len(rows)), payloads)
+    result.messages.add(which, times, np.arange(first, first + len(rows)), payloads)
 
 
 def unzstd(data: bytes) -> bytes:

@@ -48,15 +48,22 @@ def read(
     path: Path, topics: tuple[str, ...], progress: ProgressCallback, *, decoder: Decoder = "fast"
 ) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms of a bare ``.mcap`` file (see ``reader.read_bag``)."""
-    return file_result(path, "mcap", [scan(path, topics, progress)], decoder)
+    return file_result(path, "mcap", [scan(path, topics, progress, decoder=decoder)], decoder)
 
 
-def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, unpack: Unpack | None = None) -> FileScan:
+def scan(
+    path: Path,
+    topics: tuple[str, ...],
+    progress: ProgressCallback,
+    unpack: Unpack | None = None,
+    *,
+    decoder: Decoder = "fast",
+) -> FileScan:
     """The transform messages and description of one MCAP file, undecoded.
 
     Raises ``CorruptBagError`` when nothing could be read; a damaged file is read up to the damage.
     """
-    result = FileScan(MessageSet(unpack))
+    result = FileScan(MessageSet(unpack, decoder))
     try:
         with path.open("rb") as f:
             size = path.stat().st_size

@@ -23,10 +23,10 @@ def read(
     """The transforms of a ROS2 bag directory or a bare .db3 file (see ``reader.read_bag``)."""
     if not path.is_dir():
         if path.suffix == ".mcap":
-            return file_result(path, "rosbag2-mcap", [mcap_file.scan(path, topics, progress)], decoder)
-        return file_result(path, "rosbag2-sqlite3", [db3_file.scan(path, topics, progress)], decoder)
+            return file_result(path, "rosbag2-mcap", [mcap_file.scan(path, topics, progress, decoder=decoder)], decoder)
+        return file_result(path, "rosbag2-sqlite3", [db3_file.scan(path, topics, progress, decoder=decoder)], decoder)
     bag = _layout(path)
-    scans, labels = _scan_files(path, bag, topics, progress)
+    scans, labels = _scan_files(path, bag, topics, progress, decoder)
     batches, info = file_result(path, f"rosbag2-{bag.storage}", scans, decoder, labels)
     info.problems[:0] = bag.problems
     return batches, info
@@ -52,8 +52,9 @@ def _layout(path: Path) -> _Bag:
         if files:
             return _Bag(storage, files, mode, problems)
         problems.append("metadata.yaml lists no files, read the bag files found instead")
-    files = sorted((*path.glob("*.db3"), *path.glob("*.mcap"), *path.glob("*.db3.zstd"), *path.glob("*.mcap.zstd")),
-                   key=_natural)
+    files = sorted(
+        (*path.glob("*.db3"), *path.glob("*.mcap"), *path.glob("*.db3.zstd"), *path.glob("*.mcap.zstd")), key=_natural
+    )
     storage = "mcap" if files and ".mcap" in files[0].suffixes else "sqlite3"
     return _Bag(storage, files, "", problems)
 
@@ -88,7 +89,7 @@ def _natural(path: Path) -> list[Any]:
 
 
 def _scan_files(
-    path: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback
+    path: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, decoder: Decoder
 ) -> tuple[list[FileScan], list[str]]:
     """Each file's scan, and a label per scan for its problems (the file name when there are several)."""
     scans: list[FileScan] = []
@@ -105,7 +106,7 @@ def _scan_files(
             lost.append(f"{file.name} is listed in metadata.yaml but missing; its messages are lost")
             continue
         try:
-            scans.append(_scan_file(file, bag, topics, file_progress))
+            scans.append(_scan_file(file, bag, topics, file_progress, decoder))
             labels.append(file.name if len(bag.files) > 1 else "")
         except CorruptBagError as e:
             lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
@@ -117,12 +118,14 @@ def _scan_files(
     return scans, labels
 
 
-def _scan_file(file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback) -> FileScan:
+def _scan_file(
+    file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, decoder: Decoder
+) -> FileScan:
     unpack = db3_file.unzstd if bag.compression_mode == "message" else None
     with _uncompressed(file) as plain:
         if plain.suffix == ".mcap":
-            return mcap_file.scan(plain, topics, progress, unpack)
-        return db3_file.scan(plain, topics, progress, unpack)
+            return mcap_file.scan(plain, topics, progress, unpack, decoder=decoder)
+        return db3_file.scan(plain, topics, progress, unpack, decoder=decoder)
 
 
 @contextmanager

@@ -17,6 +17,8 @@ Int32Array = npt.NDArray[np.int32]
 ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
 
+_GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
+
 
 @dataclass
 class _Group:
@@ -34,10 +36,16 @@ class _Group:
 
 class MessageSet:
     """The transform messages of one file, added in any order; ``decode`` puts them in record
-    time order, ties in ``position`` order (their order in the file)."""
+    time order, ties in ``position`` order (their order in the file).
 
-    def __init__(self, unpack: Unpack | None = None) -> None:
+    Payloads are decoded with ``decoder`` a few megabytes at a time as they are added, so that
+    a file's payloads are never all held at once; per message only its record time, position
+    and channel are kept until ``decode``.
+    """
+
+    def __init__(self, unpack: Unpack | None = None, decoder: Decoder = "fast") -> None:
         self.unpack = unpack  # applied to every payload first, e.g. decompression
+        self.decoder = decoder
         self.channels: list[Channel] = []
         self._channel_ids: dict[Channel, int] = {}
         self._codecs: list[Codec] = []
@@ -47,10 +55,21 @@ class MessageSet:
         self._channel_of: list[Int32Array] = []
         self._groups: dict[tuple[Codec, int], _Group] = {}
         self._unpack_failed: dict[int, list[str]] = {}
+        self._pending_bytes = 0
+        self._decoded_any = False
+        self._rows = Rows(self.channels)
+        self._failed: list[tuple[int, str]] = []  # (message, reason) of the undecodable ones
         self.count = 0
 
     def __len__(self) -> int:
         return self.count
+
+    def emptied(self) -> MessageSet:
+        """A set without messages but with the same channels (numbered alike), unpack and decoder."""
+        fresh = MessageSet(self.unpack, self.decoder)
+        for channel in self.channels:
+            fresh.channel(channel.topic, channel.codec)
+        return fresh
 
     def channel(self, topic: str, codec: Codec) -> int:
         """The number of the channel ``topic`` decoded with ``codec``, to ``add`` messages to."""
@@ -88,11 +107,13 @@ class MessageSet:
         keys = (codec_of << 40) | np.fromiter(map(len, payloads), np.int64, n)
         if (keys == keys[0]).all():
             self._group(int(keys[0]), b"".join(payloads), ids)
-            return
-        order = np.argsort(keys, kind="stable")
-        for part in np.split(order, np.flatnonzero(np.diff(keys[order])) + 1):
-            rows = part.tolist()
-            self._group(int(keys[rows[0]]), b"".join([payloads[i] for i in rows]), ids[part])
+        else:
+            order = np.argsort(keys, kind="stable")
+            for part in np.split(order, np.flatnonzero(np.diff(keys[order])) + 1):
+                rows = part.tolist()
+                self._group(int(keys[rows[0]]), b"".join([payloads[i] for i in rows]), ids[part])
+        if self._pending_bytes >= _GROUP_BYTES:
+            self._decode_groups()
 
     def _unpacked(self, channels: Int32Array, payloads: Sequence[bytes]) -> tuple[list[bytes], npt.NDArray[np.bool_]]:
         """The payloads that could be unpacked, and which ones they are; the others are noted."""
@@ -112,23 +133,37 @@ class MessageSet:
         group = self._groups.setdefault((codec, length), _Group())
         group.pieces.append(joined)
         group.ids.append(ids)
+        self._pending_bytes += len(joined)
 
-    def decode(self, decoder: Decoder = "fast") -> tuple[TransformBatch, list[str]]:
-        """Every transform, in record-time order, and a line per channel with lost messages."""
-        times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
-        channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
-        rank = _rank(times, self._positions)
-        rows = Rows(self.channels, times, channel_of, rank)
-        failed: dict[int, list[tuple[int, str]]] = {}  # channel -> (rank, reason) of its undecodable messages
+    def _decode_groups(self) -> None:
+        """Decode the payloads gathered so far into rows, and let them go."""
         while self._groups:
             (codec, length), group = self._groups.popitem()
             matrix, ids = group.matrix(length)
-            blocks, failures = _decode(matrix, codec, decoder)
+            blocks, failures = _decode(matrix, codec, self.decoder)
             for block in blocks:
-                rows.add(ids[block.rows], block)
-            for row, reason in failures:
-                failed.setdefault(int(channel_of[ids[row]]), []).append((int(rank[ids[row]]), reason))
-        return rows.batch(), self._problems(failed, channel_of)
+                self._rows.add(ids[block.rows], block)
+            self._failed += [(int(ids[row]), reason) for row, reason in failures]
+            self._decoded_any = True
+        self._pending_bytes = 0
+
+    def decode(self, decoder: Decoder | None = None) -> tuple[TransformBatch, list[str]]:
+        """Every transform, in record-time order, and a line per channel with lost messages.
+
+        ``decoder``, when given, replaces the one the set was made with, which must then not
+        have decoded anything yet."""
+        if decoder is not None and decoder != self.decoder:
+            if self._decoded_any:
+                raise ValueError(f"messages were decoded with {self.decoder!r} already, not {decoder!r}")
+            self.decoder = decoder
+        self._decode_groups()
+        times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
+        channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
+        rank = _rank(times, self._positions)
+        failed: dict[int, list[tuple[int, str]]] = {}  # channel -> (rank, reason) of its undecodable messages
+        for message, reason in self._failed:
+            failed.setdefault(int(channel_of[message]), []).append((int(rank[message]), reason))
+        return self._rows.batch(times, channel_of, rank), self._problems(failed, channel_of)
 
     def _problems(self, failed: dict[int, list[tuple[int, str]]], channel_of: Int32Array) -> list[str]:
         totals = np.bincount(channel_of, minlength=len(self.channels))
@@ -159,9 +194,7 @@ def _rank(times: IntArray, positions: list[IntArray]) -> IntArray:
     return rank
 
 
-def _decode(
-    matrix: npt.NDArray[np.uint8], codec: Codec, decoder: Decoder
-) -> tuple[list[Block], list[tuple[int, str]]]:
+def _decode(matrix: npt.NDArray[np.uint8], codec: Codec, decoder: Decoder) -> tuple[list[Block], list[tuple[int, str]]]:
     if decoder == "fast" and codec.templated:
         return decode_group(matrix, codec.parse)
     blocks: list[Block] = []

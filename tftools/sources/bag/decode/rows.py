@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -22,21 +23,12 @@ class Channel:
 
 
 class Rows:
-    """Columns of decoded transforms; frame names interned as they come."""
+    """Columns of decoded transforms, block after block; frame names interned as they come."""
 
-    def __init__(
-        self, channels: list[Channel], times: IntArray, channel_of: npt.NDArray[np.int32], rank: IntArray
-    ) -> None:
+    def __init__(self, channels: list[Channel]) -> None:
         self.channels = channels
-        self.times = times  # per message
-        self.channel_of = channel_of  # per message
-        self.rank = rank  # per message: its place in record order
         self.frames: dict[str, int] = {}
-        self.messages: list[IntArray] = []
-        self.parents: list[npt.NDArray[np.int32]] = []
-        self.children: list[npt.NDArray[np.int32]] = []
-        self.stamps: list[IntArray] = []
-        self.values: list[npt.NDArray[np.float64]] = []
+        self.columns: dict[str, list[npt.NDArray[Any]]] = {name: [] for name in _COLUMNS}
 
     def _ids(self, names: list[str]) -> npt.NDArray[np.int32]:
         return np.array([self.frames.setdefault(name, len(self.frames)) for name in names], np.int32)
@@ -46,32 +38,47 @@ class Rows:
         n, k = block.stamps.shape
         if not n * k:
             return
-        self.messages.append(np.repeat(messages, k))
-        self.parents.append(np.tile(self._ids(block.parents), n))
-        self.children.append(np.tile(self._ids(block.children), n))
-        self.stamps.append(block.stamps.reshape(-1))
-        self.values.append(block.values.reshape(-1, 7))
+        values = block.values.reshape(-1, 7)
+        for name, column in (
+            ("message", np.repeat(messages, k)),
+            ("parent", np.tile(self._ids(block.parents), n)),
+            ("child", np.tile(self._ids(block.children), n)),
+            ("stamp", block.stamps.reshape(-1)),
+            ("translation", np.ascontiguousarray(values[:, :3])),
+            ("rotation", np.ascontiguousarray(values[:, 3:])),
+        ):
+            self.columns[name].append(column)
 
-    def batch(self) -> TransformBatch:
-        if not self.messages:
+    def batch(self, times: IntArray, channel_of: npt.NDArray[np.int32], rank: IntArray) -> TransformBatch:
+        """The rows in record order, given each message's record time, channel and place in
+        that order. Column after column, each freed as it is taken: one is held twice at most."""
+        if not self.columns["message"]:
             return TransformBatch.empty()
-        messages = np.concatenate(self.messages)
-        order = np.argsort(self.rank[messages], kind="stable")
-        messages = messages[order]
-        values = np.concatenate(self.values)[order]
+        messages = self._take("message", None)
+        order = np.argsort(rank[messages], kind="stable")
+        if np.array_equal(order, np.arange(len(order))):
+            order = None
+        else:
+            messages = messages[order]
+        taken = {name: self._take(name, order) for name in _COLUMNS[1:]}
         authorities = list(dict.fromkeys(c.topic for c in self.channels))
         authority_of = np.array([authorities.index(c.topic) for c in self.channels], np.int32)
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
-        channel = self.channel_of[messages]
+        channel = channel_of[messages]
         return TransformBatch(
             frame_names=list(self.frames),
             authorities=authorities,
-            parent=np.concatenate(self.parents)[order],
-            child=np.concatenate(self.children)[order],
-            stamp=np.concatenate(self.stamps)[order],
-            translation=np.ascontiguousarray(values[:, :3]),
-            rotation=np.ascontiguousarray(values[:, 3:]),
             static=static_of[channel],
-            record_time=self.times[messages],
+            record_time=times[messages],
             authority=authority_of[channel],
+            **taken,
         )
+
+    def _take(self, name: str, order: IntArray | None) -> npt.NDArray[Any]:
+        parts = self.columns.pop(name)
+        column = parts[0] if len(parts) == 1 else np.concatenate(parts)
+        del parts
+        return column if order is None else column[order]
+
+
+_COLUMNS = ("message", "parent", "child", "stamp", "translation", "rotation")
