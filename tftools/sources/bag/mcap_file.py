@@ -186,7 +186,7 @@ def _read_chunk(f: BinaryIO, chunk: _ChunkIndex, number: int, wanted: list[int],
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
         raise McapDamageError(f"no chunk at byte {chunk.offset}")
-    data = chunk_records(raw[RECORD.size :], partial=False)
+    data = chunk_records(memoryview(raw)[RECORD.size :], partial=False)  # no copy of the chunk
     if not chunk.index_offsets:
         damage = scan_records(data, number, channels, None)
         if damage:
@@ -209,7 +209,7 @@ def _message_index(index: bytes, at: int) -> npt.NDArray[np.void]:
 
 
 def _take_messages(
-    data: bytes, entries: npt.NDArray[np.void], number: int, channel_id: int, channels: Channels
+    data: bytes | memoryview, entries: npt.NDArray[np.void], number: int, channel_id: int, channels: Channels
 ) -> None:
     """Slice the indexed messages' payloads out of the chunk's records, checking the index against them."""
     if not len(entries):

@@ -24,7 +24,7 @@ class McapDamageError(Exception):
 class Body:
     """A cursor over a record's content, raising ``McapDamageError`` past its end."""
 
-    def __init__(self, data: bytes, pos: int = 0) -> None:
+    def __init__(self, data: bytes | memoryview, pos: int = 0) -> None:
         self.data = data
         self.pos = pos
 
@@ -39,7 +39,7 @@ class Body:
     def int(self, fmt: struct.Struct) -> int:
         return int(self.take(fmt)[0])
 
-    def bytes(self, length_fmt: struct.Struct) -> bytes:
+    def bytes(self, length_fmt: struct.Struct) -> bytes | memoryview:
         length = self.int(length_fmt)
         if self.pos + length > len(self.data):
             raise McapDamageError("field runs past its record")
@@ -47,7 +47,7 @@ class Body:
         return self.data[self.pos - length : self.pos]
 
     def string(self) -> str:
-        return self.bytes(U32).decode("utf-8", "replace")
+        return bytes(self.bytes(U32)).decode("utf-8", "replace")
 
 
 def records(data: bytes) -> list[tuple[int, int, int]]:
@@ -64,8 +64,9 @@ def records(data: bytes) -> list[tuple[int, int, int]]:
     return out
 
 
-def chunk_records(content: bytes, *, partial: bool) -> bytes:
-    """The records inside a chunk, decompressed (as far as they go when ``partial``)."""
+def chunk_records(content: bytes | memoryview, *, partial: bool) -> bytes | memoryview:
+    """The records inside a chunk, decompressed (as far as they go when ``partial``); a view
+    into ``content`` when it is a view and the chunk is not compressed."""
     body = Body(content)
     _, _, uncompressed, crc = body.take(_CHUNK_HEAD)
     compression = body.string()
@@ -84,7 +85,7 @@ def chunk_records(content: bytes, *, partial: bool) -> bytes:
     return records
 
 
-def _decompress(compression: str, data: bytes, size: int, *, partial: bool) -> bytes:
+def _decompress(compression: str, data: bytes | memoryview, size: int, *, partial: bool) -> bytes | memoryview:
     if compression == "":
         return data
     if compression == "zstd":
@@ -112,7 +113,7 @@ class Channels:
         self.known: set[int] = set()
         self.wanted: dict[int, int] = {}  # MCAP channel id -> MessageSet channel
 
-    def register(self, opcode: int, content: bytes) -> None:
+    def register(self, opcode: int, content: bytes | memoryview) -> None:
         """A schema or channel record."""
         body = Body(content)
         if opcode == SCHEMA:
@@ -148,10 +149,10 @@ class Stats:
             self.count += len(times)
 
 
-def scan_records(data: bytes, number: int, channels: Channels, stats: Stats | None) -> str:
+def scan_records(data: bytes | memoryview, number: int, channels: Channels, stats: Stats | None) -> str:
     """Take the wanted messages of a chunk's records (chunk ``number`` of the file), walking them
     one by one; returns what was wrong if they end in damage, else ""."""
-    found: dict[int, tuple[list[int], list[int], list[bytes]]] = {}
+    found: dict[int, tuple[list[int], list[int], list[bytes | memoryview]]] = {}
     times: list[int] = []
     pos, size, damage = 0, len(data), ""
     while pos < size:

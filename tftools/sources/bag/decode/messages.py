@@ -87,7 +87,7 @@ class MessageSet:
         channel: ChannelIds,
         record_times: IntArray | Sequence[int],
         positions: IntArray | Sequence[int],
-        payloads: Sequence[bytes],
+        payloads: Sequence[bytes | memoryview],
     ) -> None:
         """Messages of one channel (an int) or of several (one channel number per message)."""
         channels = np.broadcast_to(np.asarray(channel, np.int32), (len(payloads),))
@@ -115,14 +115,16 @@ class MessageSet:
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
 
-    def _unpacked(self, channels: Int32Array, payloads: Sequence[bytes]) -> tuple[list[bytes], npt.NDArray[np.bool_]]:
+    def _unpacked(
+        self, channels: Int32Array, payloads: Sequence[bytes | memoryview]
+    ) -> tuple[list[bytes], npt.NDArray[np.bool_]]:
         """The payloads that could be unpacked, and which ones they are; the others are noted."""
         assert self.unpack is not None
         kept: list[bytes] = []
         unpacked = np.ones(len(payloads), bool)
         for i, payload in enumerate(payloads):
             try:
-                kept.append(self.unpack(payload))
+                kept.append(self.unpack(bytes(payload)))  # bytes as they are, not copied
             except Exception as e:  # any decompressor error: this message is lost
                 unpacked[i] = False
                 self._unpack_failed.setdefault(int(channels[i]), []).append(f"{type(e).__name__}: {e}")

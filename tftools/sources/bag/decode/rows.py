@@ -55,10 +55,9 @@ class Rows:
         if not self.columns["message"]:
             return TransformBatch.empty()
         messages = self._take("message", None)
-        order = np.argsort(rank[messages], kind="stable")
-        if np.array_equal(order, np.arange(len(order))):
-            order = None
-        else:
+        sorting = np.argsort(rank[messages], kind="stable")
+        order = None if np.array_equal(sorting, np.arange(len(messages))) else sorting
+        if order is not None:
             messages = messages[order]
         taken = {name: self._take(name, order) for name in _COLUMNS[1:]}
         authorities = list(dict.fromkeys(c.topic for c in self.channels))
