@@ -23,7 +23,7 @@ def read(
     A bag without (or with a damaged) index is read by scanning its chunks; what could not be
     read is one line each in the description's ``problems``.
     """
-    with _mapped(path) as buf:
+    with _mapped(path) as buf, path.open("rb") as file:
         try:
             header = read_bag_header(buf)
         except FormatError as e:
@@ -32,7 +32,7 @@ def read(
             raise CorruptBagError(
                 str(path), f"encrypted with {header.encryptor}; decrypt it with `rosbag decrypt` first"
             )
-        scan = BagScan(path.name, buf, topics, progress, decoder)
+        scan = BagScan(path.name, buf, topics, progress, decoder, file.fileno())
         scan.read(header)
         batch, undecodable = scan.messages.decode()
     info = BagFileInfo(
@@ -50,7 +50,8 @@ def read(
 
 @contextmanager
 def _mapped(path: Path) -> Iterator[mmap.mmap]:
-    """The file mapped read-only: chunks are sliced out of it, only those that are needed."""
+    """The file mapped read-only: headers and index records are read from it (chunks' data is
+    read from the file)."""
     try:
         with path.open("rb") as f:
             buf = mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ)

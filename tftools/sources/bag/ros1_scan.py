@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import mmap
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -73,9 +74,11 @@ class BagScan:
         topics: tuple[str, ...],
         progress: ProgressCallback,
         decoder: Decoder = "fast",
+        fd: int | None = None,
     ) -> None:
         self.name = name
         self.buf = buf
+        self.fd = fd  # the file ``buf`` maps, to read chunks from without mapping their pages
         self.size = len(buf)
         self.wanted_topics = topics
         self.progress = progress
@@ -255,11 +258,17 @@ class BagScan:
             self.buf.madvise(mmap.MADV_DONTNEED, start, min(end, self.size) - start)
 
     def _unpacked(self, chunk: Chunk, end: int) -> Unpacked:
-        """The chunk's data up to ``end``: uncompressed, a view into the file (only the records
-        asked for are then read from disk)."""
+        """The chunk's data up to ``end``, uncompressed."""
         if chunk.compression == "none":
-            return decompress("none", memoryview(self.buf)[chunk.data_start : end], chunk.size)
-        return decompress(chunk.compression, self.buf[chunk.data_start : end], chunk.size)
+            return decompress("none", self._bytes(chunk.data_start, end), chunk.size)
+        return decompress(chunk.compression, self._bytes(chunk.data_start, end), chunk.size)
+
+    def _bytes(self, start: int, end: int) -> bytes | memoryview:
+        """``buf[start:end]``: read from the file when it is known (faulting in the pages of a
+        mapping costs more than the copy a read makes, and they would count as resident)."""
+        if self.fd is not None:
+            return os.pread(self.fd, max(0, min(end, self.size) - start), start)
+        return memoryview(self.buf)[start:end]
 
     def _records(self, data: Buffer) -> None:
         offsets, _ = walk(data)
