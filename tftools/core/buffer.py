@@ -68,7 +68,7 @@ class Buffer:
     a ``SimClock`` (bag time) unless a live source gives a wall clock.
     """
 
-    def __init__(self, cache_time: int | None = DEFAULT_CACHE_TIME, clock: Clock | None = None):
+    def __init__(self, cache_time: int | None = DEFAULT_CACHE_TIME, clock: Clock | None = None) -> None:
         self.cache_time = cache_time
         self.clock: Clock = clock if clock is not None else SimClock()
         self.rejections: list[Rejection] = []
@@ -77,6 +77,7 @@ class Buffer:
         self._frames = FrameTable()
         self._histories: list[EdgeHistory | None] = [None]
         self._arrivals = 0
+        self._expected: dict[str, int] = {}  # rows per child frame still to come in this insert
         self._changed = threading.Condition(threading.RLock())
         self._table: EdgeTable | None = None  # built by the first compiled lookup
         self._scratch_values = np.zeros(7)
@@ -163,8 +164,14 @@ class Buffer:
         Safe to call from another thread than the lookups; wakes ``wait_for_transform``.
         """
         with self._changed:
-            # In slices, so a whole bag's temporaries stay small beside its histories.
-            stored = sum(self._insert(part) for part in batch.slices(_INSERT_ROWS))
+            # In slices, so a whole bag's temporaries stay small beside its histories; without
+            # a cache time, each history is sized once for all its rows (not grown by doubling).
+            if self.cache_time is None and len(batch) > _INSERT_ROWS:
+                self._expected = _rows_per_child(batch)
+            try:
+                stored = sum(self._insert(part) for part in batch.slices(_INSERT_ROWS))
+            finally:
+                self._expected = {}
             self._changed.notify_all()
         return stored
 
@@ -241,10 +248,13 @@ class Buffer:
         flags: npt.NDArray[np.uint8],
     ) -> int:
         hist = self._histories[frame_id]
+        expected = self._expected.pop(self._frames.names[frame_id], 0) if self._expected else 0
         if hist is None:
             # tf2 makes a frame static or dynamic once, by its first accepted sample.
             static = bool(flags[0] & FROM_STATIC_TOPIC)
-            hist = self._histories[frame_id] = EdgeHistory(static, capacity=len(stamps))
+            hist = self._histories[frame_id] = EdgeHistory(static, capacity=max(len(stamps), expected))
+        elif expected:
+            hist.reserve(expected)
         keep = np.ones(len(stamps), bool)
         if not hist.static:
             old, repeated = self._refused_stamps(hist, stamps)
@@ -366,9 +376,7 @@ class Buffer:
         source_in_fixed = self.lookup(fixed_frame, source_frame, source_time)
         fixed_in_target = self.lookup(target_frame, fixed_frame, target_time)
         composed = fixed_in_target * source_in_fixed
-        return Transform(
-            composed.translation, composed.rotation, fixed_in_target.stamp, target_frame, source_frame
-        )
+        return Transform(composed.translation, composed.rotation, fixed_in_target.stamp, target_frame, source_frame)
 
     @_locked
     def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
@@ -404,9 +412,7 @@ class Buffer:
         return walk.latest_common_time(self._tree(), target_id, source_id)
 
     @_locked
-    def lookup_many(
-        self, target_frame: str, source_frame: str, times: npt.ArrayLike
-    ) -> LookupBatch:
+    def lookup_many(self, target_frame: str, source_frame: str, times: npt.ArrayLike) -> LookupBatch:
         """``lookup`` at many times (int64 ns), vectorized; ``valid`` marks where tf2 succeeds.
 
         Unknown or invalid frame names raise as ``lookup`` does; every other failure is a
@@ -511,6 +517,17 @@ class _StrippedNames:
                 self.stripped.append(name)
             self.key[i] = key
         self.empty_key = index.get("", -1)
+
+
+def _rows_per_child(batch: TransformBatch) -> dict[str, int]:
+    """How many rows of ``batch`` each child frame (named as the buffer names it) has."""
+    counts = np.bincount(batch.child, minlength=len(batch.frame_names))
+    expected: dict[str, int] = {}
+    for i in np.flatnonzero(counts).tolist():
+        name = batch.frame_names[i]
+        name = name[1:] if name.startswith("/") else name
+        expected[name] = expected.get(name, 0) + int(counts[i])
+    return expected
 
 
 def _validate(

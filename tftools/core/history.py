@@ -193,6 +193,11 @@ class EdgeHistory:
         ):
             column[s] = column[s][order]
 
+    def reserve(self, rows: int) -> None:
+        """Make room for ``rows`` more samples at once."""
+        if self._end + rows > len(self._stamps):
+            self._allocate(len(self) + rows)
+
     def contains(self, stamps: Int64Array) -> BoolArray:
         """Which of ``stamps`` a dynamic history already holds."""
         held = self.stamps
