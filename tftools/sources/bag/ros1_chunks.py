@@ -17,6 +17,7 @@ from tftools.sources.bag.ros1_format import (
     Connection,
     FormatError,
     bytes_at,
+    distinct,
     read_connection,
     read_record,
     u32,
@@ -125,7 +126,7 @@ def locate(data: Buffer, offsets: IntArray, *, follow: bool) -> Located:
     time = np.zeros(len(offsets), np.int64)
     data_start = np.zeros(len(offsets), np.int64)
     data_len = np.zeros(len(offsets), np.int64)
-    for length in np.unique(header_len[header_len >= 0]).tolist():
+    for length in distinct(header_len[header_len >= 0]).tolist():
         rows = np.flatnonzero(header_len == length)
         template = _Template.learn(data, int(offsets[rows[0]]))
         if template is not None:

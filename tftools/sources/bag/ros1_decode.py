@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.ros1_format import bytes_at, u32_at
+from tftools.sources.bag.ros1_format import bytes_at, distinct, u32_at
 
 IntArray = npt.NDArray[np.int64]
 Int32Array = npt.NDArray[np.int32]
@@ -199,7 +199,7 @@ def intern(
     """
     ids = np.zeros(len(starts), np.int32)
     undecodable = np.zeros(len(starts), bool)
-    for length in np.unique(lengths).tolist():
+    for length in distinct(lengths).tolist():
         rows = np.flatnonzero(lengths == length)
         if length == 0:
             ids[rows] = frames.id("")
@@ -227,12 +227,37 @@ def _distinct(matrix: ByteArray) -> tuple[IntArray, IntArray]:
     key = np.full(n, width, np.uint64)
     for column in words.T:
         key = key * _HASH_PRIME ^ column
-    _, firsts, inverse = np.unique(key, return_index=True, return_inverse=True)
+    firsts, inverse = _peel(key)
     if np.array_equal(matrix[firsts][inverse], matrix):
-        return firsts, inverse.reshape(-1)
+        return firsts, inverse
     rows = np.ascontiguousarray(matrix).view(f"V{width}").reshape(-1)
     _, firsts, inverse = np.unique(rows, return_index=True, return_inverse=True)
     return firsts, inverse.reshape(-1)
+
+
+def _peel(key: npt.NDArray[np.uint64]) -> tuple[IntArray, IntArray]:
+    """A first row of each distinct value of ``key``, and each row's index among them.
+
+    Frame names are few and repeat, so the rows of each value are picked out in turn (a pass
+    each, no sort); past ``_PEELED`` values, the rest are sorted out by ``np.unique``."""
+    n = len(key)
+    inverse = np.empty(n, np.int64)
+    firsts: list[int] = []
+    rows = np.arange(n)
+    rest = key
+    while len(rows) and len(firsts) < _PEELED:
+        same = rest == rest[0]
+        inverse[rows[same]] = len(firsts)
+        firsts.append(int(rows[0]))
+        rows, rest = rows[~same], rest[~same]
+    if len(rows):
+        _, more, index = np.unique(rest, return_index=True, return_inverse=True)
+        inverse[rows] = len(firsts) + index.reshape(-1)
+        return np.concatenate([np.array(firsts, np.int64), rows[more]]), inverse
+    return np.array(firsts, np.int64), inverse
+
+
+_PEELED = 16
 
 
 # The reference: rosbags' own deserializer, message by message.

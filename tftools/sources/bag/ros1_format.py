@@ -48,6 +48,15 @@ def u32_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64]) -> npt.NDArray
     return bytes_at(raw, at, 4).view("<u4").reshape(-1).astype(np.int64)
 
 
+def distinct(values: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+    """``np.unique(values)``, without its cost where they are in order already (and without the
+    numpy.ma import plain ``np.unique`` makes)."""
+    if len(values) < 2 or bool(np.all(values[1:] > values[:-1])):
+        return values
+    ordered = np.sort(values)
+    return ordered[np.concatenate(([True], ordered[1:] != ordered[:-1]))]
+
+
 class FormatError(ValueError):
     """Bytes that are not the record the format promises there."""
 

@@ -33,6 +33,7 @@ from tftools.sources.bag.ros1_format import (
     FileBuffer,
     FormatError,
     Record,
+    distinct,
     read_chunk,
     read_chunk_info,
     read_connection,
@@ -193,7 +194,7 @@ class BagScan:
                 pos = record.data_end
         except FormatError:
             return None
-        return np.unique(np.concatenate(offsets)) if offsets else np.zeros(0, np.int64)
+        return distinct(np.concatenate(offsets)) if offsets else np.zeros(0, np.int64)
 
     # Reading chunk after chunk.
 
