@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import mmap
+import queue
 import sqlite3
+import threading
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -59,7 +61,10 @@ def _connect(path: Path) -> Iterator[sqlite3.Connection]:
         with path.open("rb") as f:
             if f.read(len(SQLITE_MAGIC)) != SQLITE_MAGIC:
                 raise CorruptBagError(str(path), "not an SQLite database")
-        db = sqlite3.connect(f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1", uri=True)
+        # Not bound to this thread: ``_fetched`` steps the query in a helper thread.
+        db = sqlite3.connect(
+            f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1", uri=True, check_same_thread=False
+        )
         # A file cut short says it has more pages than it holds; sqlite then refuses it whole
         # unless the schema is "writable" (a flag of this read-only connection, nothing written).
         db.execute("PRAGMA writable_schema=ON")
@@ -107,8 +112,7 @@ def _messages(
     ids = ",".join(str(int(i)) for i in channels)
     query = f"SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN ({ids}) ORDER BY timestamp, id"
     try:
-        cursor = db.execute(query)
-        while batch := cursor.fetchmany(_FETCH):
+        for batch in _fetched(db, query):
             _add_rows(batch, channels, result, added)
             added += len(batch)
             progress(_estimate(batch[-1][1], result, size), size)
@@ -116,6 +120,37 @@ def _messages(
         if added:  # start again from the pages, forgetting what the query gave
             result.messages = result.messages.emptied()
         _add_rows(_salvage(path, channels, result, str(e)), channels, result, 0)
+
+
+def _fetched(db: sqlite3.Connection, query: str) -> Iterator[list[Row]]:
+    """The query's rows, fetch after fetch, stepped by a helper thread while the caller decodes
+    the previous fetches (sqlite lets go of the GIL while it steps); its error raised here."""
+    fetches: queue.Queue[list[Row] | BaseException | None] = queue.Queue(maxsize=2)
+    stop = threading.Event()
+
+    def fetch() -> None:
+        try:
+            cursor = db.execute(query)
+            while not stop.is_set() and (batch := cursor.fetchmany(_FETCH)):
+                fetches.put(batch)
+            cursor.close()
+            fetches.put(None)
+        except BaseException as e:  # handed to the caller, which raises it
+            fetches.put(e)
+
+    helper = threading.Thread(target=fetch, name="db3-fetch", daemon=True)
+    helper.start()
+    try:
+        while (item := fetches.get()) is not None:
+            if isinstance(item, BaseException):
+                raise item
+            yield item
+    finally:
+        stop.set()
+        while helper.is_alive():  # let it see ``stop`` if it waits to put a fetch
+            with suppress(queue.Empty):
+                fetches.get(timeout=0.01)
+        helper.join()
 
 
 def _estimate(timestamp: int, result: FileScan, size: int) -> int:

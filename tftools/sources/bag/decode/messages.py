@@ -147,6 +147,7 @@ class MessageSet:
                 self._rows.add(ids[block.rows], block)
             self._failed += [(int(ids[row]), reason) for row, reason in failures]
             self._decoded_any = True
+        self._rows.settle()
         self._pending_bytes = 0
 
     def decode(self, decoder: Decoder | None = None) -> tuple[TransformBatch, list[str]]:

@@ -23,12 +23,17 @@ class Channel:
 
 
 class Rows:
-    """Columns of decoded transforms, block after block; frame names interned as they come."""
+    """Columns of decoded transforms, block after block; frame names interned as they come.
+
+    Blocks come grouped by message layout; ``settle`` puts those added since the last call in
+    message order, so that rows read in record order need no reordering of the whole batch.
+    """
 
     def __init__(self, channels: list[Channel]) -> None:
         self.channels = channels
         self.frames: dict[str, int] = {}
         self.columns: dict[str, list[npt.NDArray[Any]]] = {name: [] for name in _COLUMNS}
+        self.settled = 0  # parts of each column in message order
 
     def _ids(self, names: list[str]) -> npt.NDArray[np.int32]:
         return np.array([self.frames.setdefault(name, len(self.frames)) for name in names], np.int32)
@@ -49,14 +54,26 @@ class Rows:
         ):
             self.columns[name].append(column)
 
+    def settle(self) -> None:
+        """Merge the parts added since the last call into one, in message order (a few
+        megabytes at most: reordered while in cache)."""
+        added = {name: parts[self.settled :] for name, parts in self.columns.items()}
+        if len(added["message"]) > 1:
+            messages = np.concatenate(added["message"])
+            order = np.argsort(messages, kind="stable")
+            for name, parts in added.items():
+                self.columns[name][self.settled :] = [np.concatenate(parts)[order]]
+        self.settled = len(self.columns["message"])
+
     def batch(self, times: IntArray, channel_of: npt.NDArray[np.int32], rank: IntArray) -> TransformBatch:
         """The rows in record order, given each message's record time, channel and place in
         that order. Column after column, each freed as it is taken: one is held twice at most."""
+        self.settle()
         if not self.columns["message"]:
             return TransformBatch.empty()
         messages = self._take("message", None)
-        sorting = np.argsort(rank[messages], kind="stable")
-        order = None if np.array_equal(sorting, np.arange(len(messages))) else sorting
+        ranks = rank[messages]
+        order = None if bool(np.all(ranks[1:] >= ranks[:-1])) else np.argsort(ranks, kind="stable")
         if order is not None:
             messages = messages[order]
         taken = {name: self._take(name, order) for name in _COLUMNS[1:]}
