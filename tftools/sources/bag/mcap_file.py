@@ -224,6 +224,7 @@ def _take_messages(
     starts = offsets + _PAYLOAD
     if (ids != channel_id).any() or (lengths < 0).any() or (starts + lengths > len(raw)).any():
         raise McapDamageError("message index does not match its chunk")
-    payloads = [data[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)]
     times = entries["time"].astype(np.int64)
-    channels.result.messages.add(channels.wanted[channel_id], times, (number << 32) + offsets, payloads)
+    channels.result.messages.add_spans(
+        channels.wanted[channel_id], times, (number << 32) + offsets, data, starts, lengths
+    )

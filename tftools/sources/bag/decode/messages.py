@@ -98,11 +98,7 @@ class MessageSet:
         n = len(payloads)
         if not n:
             return
-        ids = np.arange(self.count, self.count + n, dtype=np.int64)
-        self._times.append(times)
-        self._positions.append(where)
-        self._channel_of.append(channels.copy())
-        self.count += n
+        ids = self._numbered(channels, times, where)
         codec_of = np.array(self._codec_of, np.int64)[channels]
         keys = (codec_of << 40) | np.fromiter(map(len, payloads), np.int64, n)
         if (keys == keys[0]).all():
@@ -114,6 +110,47 @@ class MessageSet:
                 self._group(int(keys[rows[0]]), b"".join([payloads[i] for i in rows]), ids[part])
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
+
+    def add_spans(
+        self,
+        channel: int,
+        record_times: IntArray,
+        positions: IntArray,
+        data: bytes | memoryview,
+        starts: IntArray,
+        lengths: IntArray,
+    ) -> None:
+        """``add`` of one channel's payloads ``data[starts[i] : starts[i] + lengths[i]]``, copied
+        out length by length in bulk rather than sliced one by one."""
+        if self.unpack is not None:
+            view = memoryview(data)
+            pieces = [view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)]
+            self.add(channel, record_times, positions, pieces)
+            return
+        if not len(starts):
+            return
+        channels = np.full(len(starts), channel, np.int32)
+        ids = self._numbered(channels, np.asarray(record_times, np.int64), np.asarray(positions, np.int64))
+        raw = np.frombuffer(data, np.uint8)
+        order = np.argsort(lengths, kind="stable")
+        for part in np.split(order, np.flatnonzero(np.diff(lengths[order])) + 1):
+            length = int(lengths[part[0]])
+            # One item per position, each ``length`` bytes from there: a gather copies whole items.
+            items = np.ndarray((len(raw) - length + 1,), f"V{length}", raw, strides=(1,)) if length else None
+            joined = items[starts[part]].tobytes() if items is not None else b""
+            self._group((self._codec_of[channel] << 40) | length, joined, ids[part])
+        if self._pending_bytes >= _GROUP_BYTES:
+            self._decode_groups()
+
+    def _numbered(self, channels: Int32Array, times: IntArray, where: IntArray) -> IntArray:
+        """Note the messages' channels, record times and positions; their message numbers."""
+        n = len(channels)
+        ids = np.arange(self.count, self.count + n, dtype=np.int64)
+        self._times.append(times)
+        self._positions.append(where)
+        self._channel_of.append(channels.copy())
+        self.count += n
+        return ids
 
     def _unpacked(
         self, channels: Int32Array, payloads: Sequence[bytes | memoryview]
