@@ -11,7 +11,6 @@ from pathlib import Path
 from typing import Any
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag import db3_file, mcap_file
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
 from tftools.sources.bag.decode import Decoder, FileScan, file_result
 from tftools.sources.errors import CorruptBagError
@@ -23,7 +22,11 @@ def read(
     """The transforms of a ROS2 bag directory or a bare .db3 file (see ``reader.read_bag``)."""
     if not path.is_dir():
         if path.suffix == ".mcap":
+            from tftools.sources.bag import mcap_file
+
             return file_result(path, "rosbag2-mcap", [mcap_file.scan(path, topics, progress, decoder=decoder)], decoder)
+        from tftools.sources.bag import db3_file
+
         return file_result(path, "rosbag2-sqlite3", [db3_file.scan(path, topics, progress, decoder=decoder)], decoder)
     bag = _layout(path)
     scans, labels = _scan_files(path, bag, topics, progress, decoder)
@@ -121,10 +124,19 @@ def _scan_files(
 def _scan_file(
     file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, decoder: Decoder
 ) -> FileScan:
-    unpack = db3_file.unzstd if bag.compression_mode == "message" else None
+    # Each storage's module is imported only when a file needs it.
+    unpack = None
+    if bag.compression_mode == "message":
+        from tftools.sources.bag.db3_file import unzstd
+
+        unpack = unzstd
     with _uncompressed(file) as plain:
         if plain.suffix == ".mcap":
+            from tftools.sources.bag import mcap_file
+
             return mcap_file.scan(plain, topics, progress, unpack, decoder=decoder)
+        from tftools.sources.bag import db3_file
+
         return db3_file.scan(plain, topics, progress, unpack, decoder=decoder)
 
 
