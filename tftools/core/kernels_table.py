@@ -114,9 +114,10 @@ def lookup_in_parallel(
             kernels.lookup_many(table, target_id, source_id, times[s], stamps[s], values[s], valid[s])
             return
         rows = ranked[start:end]
-        rows = rows[np.argsort(times[rows])]
+        order, ordered = _sorted(times[rows])
+        rows = rows[order]
         got = np.empty(len(rows), np.int64), np.empty((len(rows), 7)), np.empty(len(rows), bool)
-        kernels.lookup_many(table, target_id, source_id, times[rows], *got)
+        kernels.lookup_many(table, target_id, source_id, ordered, *got)
         stamps[rows], values[rows], valid[rows] = got
 
     helpers = [threading.Thread(target=run, args=(part,)) for part in range(1, threads)]
@@ -126,3 +127,20 @@ def lookup_in_parallel(
     for helper in helpers:
         helper.join()
     return stamps, values, valid
+
+
+def _sorted(values: npt.NDArray[np.int64]) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """``np.argsort(values)`` and the values in that order.
+
+    When their span leaves room, each value and its index are packed in one int64 and sorted as
+    plain integers, several times faster than an argsort (ties come out by index, as a stable
+    sort would give them)."""
+    n = len(values)
+    bits = max(1, (n - 1).bit_length())
+    low = int(values.min()) if n else 0
+    if n < 2 or int(values.max()) - low >= 1 << (63 - bits):
+        order = np.argsort(values, kind="stable")
+        return order, values[order]
+    packed = ((values - low) << bits) | np.arange(n, dtype=np.int64)
+    packed.sort()
+    return packed & ((1 << bits) - 1), (packed >> bits) + low
