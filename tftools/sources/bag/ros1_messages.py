@@ -1,4 +1,4 @@
-"""The wanted messages of a ROS1 bag as they are found, then decoded into one batch in record order."""
+"""A ROS1 bag's wanted messages, decoded a few megabytes at a time as found, into one batch in record order."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Transform messages gathered from a file, grouped by codec and length, decoded into a batch."""
+"""Transform messages of a file, grouped by codec and length, decoded a few megabytes at a time into a batch."""
 
 from __future__ import annotations
 
