@@ -37,10 +37,12 @@ Buffer = bytes | memoryview | mmap.mmap
 
 def bytes_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64], width: int) -> npt.NDArray[np.uint8]:
     """The ``width`` bytes at each position of ``at`` (all within ``raw``), one row each."""
-    if len(raw) < width:
-        return np.zeros((0, width), np.uint8)
-    windows = np.ndarray((len(raw) - width + 1, width), np.uint8, raw, strides=(1, 1))  # a view
-    return windows[at]
+    if len(raw) < width or width == 0:
+        return np.zeros((len(at) if width == 0 else 0, width), np.uint8)
+    # A view with one ``width``-byte item at every position: gathering items copies whole rows.
+    windows = np.ndarray((len(raw) - width + 1,), f"V{width}", raw, strides=(1,))
+    rows: npt.NDArray[np.uint8] = windows[at].view(np.uint8).reshape(-1, width)
+    return rows
 
 
 def u32_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
