@@ -38,8 +38,14 @@ def ingest(path: str) -> dict:
     began = time.perf_counter()
     buffer.insert(contents.transforms)
     insert_s = time.perf_counter() - began
-    return {"transforms": len(contents.transforms), "read_s": read_s, "insert_s": insert_s,
-            "ingest_s": read_s + insert_s, "peak_rss_bytes": peak_rss(), "rss_before_bytes": before}
+    return {
+        "transforms": len(contents.transforms),
+        "read_s": read_s,
+        "insert_s": insert_s,
+        "ingest_s": read_s + insert_s,
+        "peak_rss_bytes": peak_rss(),
+        "rss_before_bytes": before,
+    }
 
 
 def lookup_times(count: int, seconds: int) -> list[int]:

@@ -24,8 +24,13 @@ def write(path, seconds, images):
     with rosbag.Bag(path, "w") as bag:
         for record, topic, callerid, content in robot.messages(seconds, images):
             kind = Image if topic == robot.IMAGE_TOPIC else TFMessage
-            header = {"type": kind._type, "md5sum": kind._md5sum, "message_definition": kind._full_text,
-                      "callerid": callerid, "latching": "1" if topic == "/tf_static" else "0"}
+            header = {
+                "type": kind._type,
+                "md5sum": kind._md5sum,
+                "message_definition": kind._full_text,
+                "callerid": callerid,
+                "latching": "1" if topic == "/tf_static" else "0",
+            }
             msg = (kind._type, robot.ros1_payload(topic, content), kind._md5sum, None, kind)
             bag.write(topic, msg, rospy.Time(*divmod(record, robot.NS)), raw=True, connection_header=header)
 
@@ -67,14 +72,18 @@ def measure(path, lookups, seconds):
     lookup_s = per_call(lambda t: core.lookup_transform_core(target, source, t), times)
     can_s = per_call(lambda t: core.can_transform_core(target, source, t), times)
     first = [core.lookup_transform_core(target, source, t).transform.translation for t in times[:1000]]
-    print(json.dumps({
-        "checksum": sum(v.x + v.y + v.z for v in first),
-        "transforms": count,
-        "ingest_s": ingest_s,
-        "lookup_s": lookup_s,
-        "can_transform_s": can_s,
-        "peak_rss_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
-    }))
+    print(
+        json.dumps(
+            {
+                "checksum": sum(v.x + v.y + v.z for v in first),
+                "transforms": count,
+                "ingest_s": ingest_s,
+                "lookup_s": lookup_s,
+                "can_transform_s": can_s,
+                "peak_rss_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+            }
+        )
+    )
 
 
 def main():

@@ -156,8 +156,13 @@ def scale_rows(table: Table, scale: int, images: bool = False) -> None:
     table.add(f"lookup {robot.TARGET}->{robot.SOURCE} (10 edges)", label, shown(theirs, "lookup_s", "us", 1e6),
               f"{mine['lookup_s'] * 1e6:.2f} us", ratio(theirs, "lookup_s", mine["lookup_s"]),
               f">= {GOALS['lookup']}x")  # fmt: skip
-    table.add("can_transform", label, shown(theirs, "can_transform_s", "us", 1e6),
-              f"{mine['can_transform_s'] * 1e6:.2f} us", ratio(theirs, "can_transform_s", mine["can_transform_s"]))
+    table.add(
+        "can_transform",
+        label,
+        shown(theirs, "can_transform_s", "us", 1e6),
+        f"{mine['can_transform_s'] * 1e6:.2f} us",
+        ratio(theirs, "can_transform_s", mine["can_transform_s"]),
+    )
     for order in ("random", "sorted"):
         per_time = mine[f"lookup_many_{order}_s"]
         table.add(f"lookup_many, 1M {order} times", label, shown(theirs, "lookup_s", "us/call", 1e6),

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tests.oracle import Scenario, binding_time
-from tftools import Buffer, BatchBuilder, Transform, TransformError
+from tftools import BatchBuilder, Buffer, Transform, TransformError
 
 S = 1_000_000_000
 
@@ -59,7 +59,9 @@ def build(seed: int, features: frozenset[str], base_s: int) -> Built:
 
     def add(parent: str, child: str, stamp: int, values: list[float], authority: str, is_static: bool) -> None:
         stamp = binding_time(stamp)
-        rows.append((stamp + int(rng.integers(0, 3_000_000)), [parent, child, *sec_nsec(stamp), *values, authority, is_static]))
+        rows.append(
+            (stamp + int(rng.integers(0, 3_000_000)), [parent, child, *sec_nsec(stamp), *values, authority, is_static])
+        )
 
     for child, parent in parent_of.items():
         count = int(rng.integers(1, 3)) if "sparse" in features and rng.random() < 0.5 else int(rng.integers(5, 40))

@@ -32,7 +32,13 @@ def test_rejections_are_recorded_not_printed(capsys):
     assert capsys.readouterr() == ("", "")
     nan, self_tf = buffer.rejections
     assert (nan.code, nan.frame_id, nan.child_frame_id, nan.stamp, nan.authority, nan.record_time) == (
-        RejectionCode.NAN_INPUT, "a", "b", 5 * S, "/nav", 6 * S)
+        RejectionCode.NAN_INPUT,
+        "a",
+        "b",
+        5 * S,
+        "/nav",
+        6 * S,
+    )
     assert "TF_NAN_INPUT" in nan.message and '"b"' in nan.message
     assert self_tf.code is RejectionCode.SELF_TRANSFORM
     assert buffer.frames == []  # refused samples intern no frame, as in tf2
@@ -111,7 +117,9 @@ def test_lookup_many_agrees_with_lookup_on_a_moving_chain():
     for k in range(50):
         for parent, child in (("map", "odom"), ("odom", "base"), ("base", "arm")):
             q = rng.normal(size=4)
-            buffer.set_transform(Transform(tuple(rng.normal(size=3)), tuple(q / np.linalg.norm(q)), k * S // 10 + 1, parent, child))
+            buffer.set_transform(
+                Transform(tuple(rng.normal(size=3)), tuple(q / np.linalg.norm(q)), k * S // 10 + 1, parent, child)
+            )
     times = rng.integers(0, 6 * S, 300)
     got = buffer.lookup_many("arm", "map", times)
     for i, t in enumerate(times):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -28,7 +29,7 @@ def same_rotation(a, b, tol=1e-12) -> bool:
 
 @pytest.mark.parametrize("t", [0.0, 0.25, 0.5, 0.9, 1.0])
 def test_slerp_moves_at_constant_rate_along_the_short_arc(t):
-    for a, b in zip(QUATS, QUATS[1:]):
+    for a, b in itertools.pairwise(QUATS):
         out = r.slerp(a, b, t)
         assert abs(np.linalg.norm(out) - 1) < 1e-12
         whole = angle_between(a, b)
@@ -56,7 +57,7 @@ def test_rpy_round_trip_and_known_values():
 
 
 def test_rpy_at_gimbal_lock_puts_everything_in_roll():
-    roll, pitch, yaw = r.rpy_from_quat(r.quat_from_rpy(0.3, math.pi / 2, 0.0))
+    _roll, pitch, yaw = r.rpy_from_quat(r.quat_from_rpy(0.3, math.pi / 2, 0.0))
     assert pitch == pytest.approx(math.pi / 2)
     assert yaw == 0.0
 
@@ -65,9 +66,15 @@ def test_vectorized_forms_equal_scalar_forms():
     a, b = np.array(QUATS[:-1]), np.array(QUATS[1:])
     t = rng.uniform(0, 1, len(a))
     v = rng.normal(size=(len(a), 3))
-    np.testing.assert_allclose(r.quat_multiply_many(a, b), [r.quat_multiply(x, y) for x, y in zip(a, b)], atol=1e-15)
-    np.testing.assert_allclose(r.quat_rotate_many(a, v), [r.quat_rotate(x, y) for x, y in zip(a, v)], atol=1e-14)
-    np.testing.assert_allclose(r.slerp_many(a, b, t), [r.slerp(tuple(x), tuple(y), s) for x, y, s in zip(a, b, t)], atol=1e-14)
+    np.testing.assert_allclose(
+        r.quat_multiply_many(a, b), [r.quat_multiply(x, y) for x, y in zip(a, b, strict=True)], atol=1e-15
+    )
+    np.testing.assert_allclose(
+        r.quat_rotate_many(a, v), [r.quat_rotate(x, y) for x, y in zip(a, v, strict=True)], atol=1e-14
+    )
+    np.testing.assert_allclose(
+        r.slerp_many(a, b, t), [r.slerp(tuple(x), tuple(y), s) for x, y, s in zip(a, b, t, strict=True)], atol=1e-14
+    )
     np.testing.assert_allclose(r.rpy_from_quat_many(a), [r.rpy_from_quat(tuple(x)) for x in a], atol=1e-12)
     np.testing.assert_allclose(r.quat_conjugate_many(a), [r.quat_conjugate(tuple(x)) for x in a])
 

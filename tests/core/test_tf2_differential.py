@@ -33,7 +33,7 @@ CASES = _cases()
 def oracle(tf2_available: None) -> dict[str, tuple[scenarios.Built, dict]]:
     built = {name: scenarios.build(seed, features, base) for name, seed, features, base in CASES}
     results = run_tf2([b.scenario for b in built.values()])
-    return {name: (b, r) for (name, b), r in zip(built.items(), results)}
+    return {name: (b, r) for (name, b), r in zip(built.items(), results, strict=True)}
 
 
 def assert_same(ours: dict, theirs: dict, query: list) -> None:
@@ -81,7 +81,7 @@ def test_lookup_many_matches_tf2(oracle, name: str) -> None:
     built, result = oracle[name]
     buffer = scenarios.load_into_buffer(built.scenario)
     by_pair: dict[tuple[str, str], list[tuple[int, dict]]] = defaultdict(list)
-    for query, theirs in zip(built.scenario.queries, result["answers"]):
+    for query, theirs in zip(built.scenario.queries, result["answers"], strict=True):
         kind, *args = query
         if kind == "lookup" and buffer.has_frame(args[0]) and buffer.has_frame(args[1]):
             by_pair[(args[0], args[1])].append((args[2] * scenarios.S + args[3], theirs))
@@ -105,7 +105,9 @@ def test_binding_time_is_what_tf2_stores(tf2_available) -> None:
     rng = np.random.default_rng(5)
     stamps = [int(s) for s in rng.integers(1_600_000_000 * scenarios.S, 1_800_000_000 * scenarios.S, 200)]
     scenario = Scenario(
-        inserts=[["a", f"b{i}", *divmod(s, scenarios.S), 0, 0, 0, 0, 0, 0, 1, "x", False] for i, s in enumerate(stamps)],
+        inserts=[
+            ["a", f"b{i}", *divmod(s, scenarios.S), 0, 0, 0, 0, 0, 0, 1, "x", False] for i, s in enumerate(stamps)
+        ],
         queries=[["lookup", "a", f"b{i}", 0, 0] for i in range(len(stamps))],
     )
     answers = run_tf2([scenario])[0]["answers"]

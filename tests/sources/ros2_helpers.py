@@ -331,8 +331,13 @@ def proto_classes() -> dict[str, Any]:
     classes: dict[str, Any] = {}
     for name in ("FrameTransform", "FrameTransforms"):
         cls = message_factory.GetMessageClass(pool.FindMessageTypeByName(f"foxglove.{name}"))
-        wanted = {"google/protobuf/timestamp.proto", "foxglove/Vector3.proto", "foxglove/Quaternion.proto",
-                  "foxglove/FrameTransform.proto", f"foxglove/{name}.proto"}
+        wanted = {
+            "google/protobuf/timestamp.proto",
+            "foxglove/Vector3.proto",
+            "foxglove/Quaternion.proto",
+            "foxglove/FrameTransform.proto",
+            f"foxglove/{name}.proto",
+        }
         needed = descriptor_pb2.FileDescriptorSet(file=[f for f in files if f.name in wanted])
         cls.DESCRIPTOR_SET = needed.SerializeToString()
         classes[name] = cls
@@ -414,8 +419,16 @@ def expected_rows(
     for m in sorted(tf_messages, key=lambda m: m.record_time):
         for tf in m.transforms:
             rows.append(
-                (tf.parent, tf.child, tf.stamp, _bits(tf.translation), _bits(tf.rotation),
-                 is_static_topic(m.topic), m.record_time, m.topic)
+                (
+                    tf.parent,
+                    tf.child,
+                    tf.stamp,
+                    _bits(tf.translation),
+                    _bits(tf.rotation),
+                    is_static_topic(m.topic),
+                    m.record_time,
+                    m.topic,
+                )
             )
     return rows
 
@@ -428,8 +441,16 @@ def batch_rows(batches: TransformBatch | Sequence[TransformBatch]) -> list[tuple
     for b in batches:
         for i in range(len(b)):
             rows.append(
-                (b.frame_names[b.parent[i]], b.frame_names[b.child[i]], int(b.stamp[i]), _bits(b.translation[i]),
-                 _bits(b.rotation[i]), bool(b.static[i]), int(b.record_time[i]), b.authorities[b.authority[i]])
+                (
+                    b.frame_names[b.parent[i]],
+                    b.frame_names[b.child[i]],
+                    int(b.stamp[i]),
+                    _bits(b.translation[i]),
+                    _bits(b.rotation[i]),
+                    bool(b.static[i]),
+                    int(b.record_time[i]),
+                    b.authorities[b.authority[i]],
+                )
             )
     return rows
 

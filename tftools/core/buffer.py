@@ -356,8 +356,8 @@ class Buffer:
                 translation, rotation = (v[0], v[1], v[2]), (v[3], v[4], v[5], v[6])
                 return Transform(translation, rotation, int(stamp[0]), target_frame, source_frame)
         # The Python walk: the reference, and the one place tf2's error messages are made.
-        translation, rotation, stamp = walk.lookup(self._tree(), target_id, source_id, time)
-        return Transform(translation, rotation, stamp, target_frame, source_frame)
+        translation, rotation, found = walk.lookup(self._tree(), target_id, source_id, time)
+        return Transform(translation, rotation, found, target_frame, source_frame)
 
     @_locked
     def lookup_full(

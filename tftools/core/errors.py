@@ -22,9 +22,7 @@ class UnknownFrameError(TransformError):
 
     @classmethod
     def loop(cls, frames_as_string: str) -> UnknownFrameError:
-        return cls(
-            "The tf tree is invalid because it contains a loop.\n" + frames_as_string + "\n"
-        )
+        return cls("The tf tree is invalid because it contains a loop.\n" + frames_as_string + "\n")
 
 
 class ConnectivityError(TransformError):
@@ -51,7 +49,4 @@ class InvalidArgumentError(TransformError):
 
     @classmethod
     def leading_slash(cls, frame: str, argument: str) -> InvalidArgumentError:
-        return cls(
-            f'Invalid argument "{frame}" passed to {argument} in tf2 frame_ids cannot start '
-            "with a '/' like: "
-        )
+        return cls(f"Invalid argument \"{frame}\" passed to {argument} in tf2 frame_ids cannot start with a '/' like: ")

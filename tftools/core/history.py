@@ -47,6 +47,14 @@ class EdgeHistory:
         "_values",
         "static",
     )
+    _stamps: Int64Array
+    _values: FloatArray
+    _parents: Int32Array
+    _authorities: Int32Array
+    _record_times: Int64Array
+    _sequence: Int64Array
+    _flags: UInt8Array
+    _stamp_index: memoryview
 
     def __init__(self, static: bool, capacity: int = 8) -> None:
         self.static = static
@@ -75,7 +83,7 @@ class EdgeHistory:
         self._stamps, self._values, self._parents = stamps, values, parents
         self._authorities, self._record_times = authorities, record_times
         self._sequence, self._flags = sequence, flags
-        self._stamp_index = memoryview(stamps)  # bisect on it yields Python ints, no numpy scalars
+        self._stamp_index = stamps.data  # bisect on it yields Python ints, no numpy scalars
         self._start, self._end = 0, n
 
     # --- views -------------------------------------------------------------------------------

@@ -136,10 +136,7 @@ def quat_from_matrix(m: Matrix3) -> Quat:
         w = s * 0.5
         s = 0.5 / s
         return ((m[2][1] - m[1][2]) * s, (m[0][2] - m[2][0]) * s, (m[1][0] - m[0][1]) * s, w)
-    if m[0][0] < m[1][1]:
-        i = 2 if m[1][1] < m[2][2] else 1
-    else:
-        i = 2 if m[0][0] < m[2][2] else 0
+    i = max(range(3), key=lambda d: m[d][d])  # tf2's choice: the largest diagonal term, the first of equals
     j, k = (i + 1) % 3, (i + 2) % 3
     s = math.sqrt(m[i][i] - m[j][j] - m[k][k] + 1.0)
     out = [0.0, 0.0, 0.0, 0.0]

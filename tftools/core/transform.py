@@ -69,7 +69,7 @@ class Transform:
             raise ValueError(f"expected a 4x4 matrix, got shape {m.shape}")
         rows = m[:3, :3].tolist()
         basis = (tuple(rows[0]), tuple(rows[1]), tuple(rows[2]))
-        return cls(_vec(m[:3, 3]), quat_from_matrix(basis), stamp, frame_id, child_frame_id)  # type: ignore[arg-type]
+        return cls(_vec(m[:3, 3]), quat_from_matrix(basis), stamp, frame_id, child_frame_id)
 
     def __mul__(self, other: Transform) -> Transform:
         """``self * other``: the transform from ``other``'s child frame to ``self``'s frame."""
@@ -116,7 +116,8 @@ class Transform:
         """Points (3,) or (N, 3) in ``child_frame_id`` expressed in ``frame_id``."""
         p = np.asarray(points, dtype=float)
         m = self.as_matrix()
-        return p @ m[:3, :3].T + m[:3, 3]
+        moved: npt.NDArray[np.float64] = p @ m[:3, :3].T + m[:3, 3]
+        return moved
 
     def with_stamp(self, stamp: int) -> Transform:
         return replace(self, stamp=stamp)

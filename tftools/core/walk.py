@@ -90,7 +90,7 @@ def lookup(tree: Tree, target_id: int, source_id: int, time: int) -> tuple[Vec3,
         if isinstance(got, str):
             raise ExtrapolationError(_while_looking_up(got, tree, source_id, target_id))
         if frame == source_id:
-            return _inverse(tv, tq) + (time,)
+            return (*_inverse(tv, tq), time)
         parent, v = got
         q = (v[3], v[4], v[5], v[6])
         r = quat_rotate(q, tv)
@@ -256,8 +256,7 @@ def _inverse(v: Vec3, q: Quat) -> tuple[Vec3, Quat]:
 
 def _while_looking_up(reason: str, tree: Tree, source_id: int, target_id: int) -> str:
     text = (
-        f"{reason}, when looking up transform from frame [{tree.names[source_id]}] "
-        f"to frame [{tree.names[target_id]}]"
+        f"{reason}, when looking up transform from frame [{tree.names[source_id]}] to frame [{tree.names[target_id]}]"
     )
     return text[:999]  # tf2 formats it into char[1000]
 
@@ -300,9 +299,7 @@ class _Side:
 
 def lookup_many(
     tree: Tree, target_id: int, source_id: int, times: npt.NDArray[np.int64]
-) -> tuple[
-    npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_]
-]:
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
     """``lookup`` at each of ``times``, step by step as tf2 walks but over all times at once.
 
     Returns the times used (0 resolved to the latest common time), translations, rotations
@@ -323,7 +320,7 @@ def lookup_many(
     source.active &= ~failed
     top = np.full(n, source_id, np.int32)
     target_is_ancestor = np.zeros(n, bool)
-    for depth in range(MAX_GRAPH_DEPTH + 1):
+    for _depth in range(MAX_GRAPH_DEPTH + 1):
         for frame, rows in source.steps():
             hist = histories[frame]
             if hist is None:
@@ -344,14 +341,12 @@ def lookup_many(
             source.frame[rows] = parents
         if not source.active.any():
             break
-    else:
-        failed |= source.active  # a loop
-    failed |= source.active
+    failed |= source.active  # still walking after MAX_GRAPH_DEPTH steps: a loop
 
     target = _Side(target_id, n)
     target.active = ~(failed | target_is_ancestor) & (top != target_id)
     source_is_ancestor = np.zeros(n, bool)
-    for depth in range(MAX_GRAPH_DEPTH + 1):
+    for _depth in range(MAX_GRAPH_DEPTH + 1):
         for frame, rows in target.steps():
             hist = histories[frame]
             if hist is None:
@@ -370,10 +365,7 @@ def lookup_many(
             target.active[rows] = parents != top[rows]
         if not target.active.any():
             break
-    else:
-        failed |= target.active
     failed |= target.active
-    del depth
 
     reached = target.frame == top
     valid = ~failed & (target_is_ancestor | source_is_ancestor | reached)

@@ -20,7 +20,9 @@ class BagError(SourceError):
 
 class BagNotFoundError(BagError):
     def __init__(self, path: str) -> None:
-        super().__init__(path, "no such file or directory", "check the path; globs like logs/*.bag are expanded by the shell")
+        super().__init__(
+            path, "no such file or directory", "check the path; globs like logs/*.bag are expanded by the shell"
+        )
 
 
 class UnknownBagFormatError(BagError):
@@ -36,7 +38,11 @@ class CorruptBagError(BagError):
     """Nothing could be read; a bag that is only partly damaged is read as far as it goes."""
 
     def __init__(self, path: str, detail: str) -> None:
-        super().__init__(path, f"corrupt or unreadable ({detail})", "for a ROS1 bag try `rosbag reindex`; re-copy the file if it was cut short")
+        super().__init__(
+            path,
+            f"corrupt or unreadable ({detail})",
+            "for a ROS1 bag try `rosbag reindex`; re-copy the file if it was cut short",
+        )
 
 
 class NoTransformsError(SourceError):

@@ -39,7 +39,7 @@ def read_bag(
     batches: list[TransformBatch] = []
     infos: list[BagFileInfo] = []
     done = 0
-    for (path, reader), size in zip(readers, sizes):
+    for (path, reader), size in zip(readers, sizes, strict=True):
         offset = done
 
         def file_progress(read: int, _of: int, offset: int = offset) -> None:

@@ -111,4 +111,3 @@ def _header_fields(store: Any, stamp: Any, frame_id: str) -> dict[str, Any]:
     if any(name == "seq" for name, _ in store.fielddefs["std_msgs/msg/Header"][1]):  # ROS1 only
         fields["seq"] = 0
     return fields
-

@@ -52,8 +52,7 @@ def _add(parsed: Parsed, transform: dict[str, Any]) -> None:
     parsed.children.append(_text(transform.get("child_frame_id", "")))
     parsed.stamps.append(_integer(stamp.get("sec", 0)) * 1_000_000_000 + _integer(nsec))
     parsed.values.append(
-        tuple(_number(translation.get(k, 0.0)) for k in "xyz")
-        + tuple(_number(rotation.get(k, 0.0)) for k in "xyzw")
+        tuple(_number(translation.get(k, 0.0)) for k in "xyz") + tuple(_number(rotation.get(k, 0.0)) for k in "xyzw")
     )
 
 

@@ -15,8 +15,15 @@ from tftools.sources.bag.decode.template import ABSENT, DecodeError, Layout, Num
 _VARINT, _FIXED64, _LEN, _FIXED32 = 0, 1, 2, 5
 _DOUBLE = struct.Struct("<d")
 _TRANSLATION, _ROTATION = 4, 5
-_VALUE_SLOT = {(_TRANSLATION, 1): 0, (_TRANSLATION, 2): 1, (_TRANSLATION, 3): 2,
-               (_ROTATION, 1): 3, (_ROTATION, 2): 4, (_ROTATION, 3): 5, (_ROTATION, 4): 6}
+_VALUE_SLOT = {
+    (_TRANSLATION, 1): 0,
+    (_TRANSLATION, 2): 1,
+    (_TRANSLATION, 3): 2,
+    (_ROTATION, 1): 3,
+    (_ROTATION, 2): 4,
+    (_ROTATION, 3): 5,
+    (_ROTATION, 4): 6,
+}
 
 
 class _Wire:
