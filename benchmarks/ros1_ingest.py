@@ -10,10 +10,10 @@ from __future__ import annotations
 import argparse
 import math
 import struct
-import time
 from pathlib import Path
 
 from rosbags.rosbag1 import Writer
+from timing import timed
 
 from tftools.sources.bag import ros1
 from tftools.sources.bag.reader import read_bag
@@ -78,16 +78,6 @@ def write(path: Path, compression: str, images: bool) -> Path:
                 )
             writer.write(connections[(topic, callerid)], record_time, payload)
     return path
-
-
-def timed(label: str, run, transforms: int | None = None, repeat: int = 3) -> int:
-    best, count = math.inf, 0
-    for _ in range(repeat):
-        began = time.perf_counter()
-        count = run()
-        best = min(best, time.perf_counter() - began)
-    print(f"{label:<44} {count:>8} transforms  {best:6.3f} s  {count / best / 1000:8.0f}k transforms/s")
-    return count
 
 
 def main() -> None:

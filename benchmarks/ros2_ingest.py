@@ -9,14 +9,13 @@ from __future__ import annotations
 
 import math
 import struct
-import time
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 from mcap.writer import Writer as McapWriter
 from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
+from timing import timed
 
 from tftools.sources.bag import rosbag2
 from tftools.sources.bag.reader import read_bag
@@ -128,16 +127,6 @@ def _varint(value: int) -> bytes:
         value >>= 7
         if not value:
             return bytes(out)
-
-
-def timed(label: str, run: Callable[[], int], repeat: int = 3) -> int:
-    best, count = math.inf, 0
-    for _ in range(repeat):
-        began = time.perf_counter()
-        count = run()
-        best = min(best, time.perf_counter() - began)
-    print(f"{label:<52} {count:>8} transforms  {best:6.3f} s  {count / best / 1000:8.0f}k transforms/s")
-    return count
 
 
 def main() -> None:
