@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import importlib.util
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
@@ -101,16 +99,8 @@ def scene_buffer(messages: list[TfMessage], cache_time: int | None = None) -> Bu
     return buffer
 
 
-def ros1_reader_available() -> bool:
-    return importlib.util.find_spec("tftools.sources.bag.ros1") is not None
-
-
-#: Every bag format, ROS1 skipped until its reader exists.
-FORMATS = [
-    pytest.param(BagFormat.ros1, marks=pytest.mark.skipif(not ros1_reader_available(), reason="no ROS1 reader yet")),
-    BagFormat.rosbag2_sqlite3,
-    BagFormat.rosbag2_mcap,
-]
+#: Every bag format tftools writes and reads.
+FORMATS = list(BagFormat)
 
 
 def write_scene(directory: Path, fmt: BagFormat, messages: list[TfMessage]) -> Path:

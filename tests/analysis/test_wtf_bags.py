@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.analysis.wtf_scenes import FORMATS, PROBLEMS, TfMessage, healthy, recording, ros1_reader_available, write
+from tests.analysis.wtf_scenes import FORMATS, PROBLEMS, TfMessage, healthy, recording, write
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import check
 from tftools.sources.bag.write import BagFormat
@@ -135,7 +135,6 @@ def test_roswtf_and_we_see_the_same_loop(roswtf: dict[str, dict[str, object]]) -
         assert set(said.split("\n")[1].split(" -> ")) == set(finding.frames)
 
 
-@pytest.mark.skipif(not ros1_reader_available(), reason="no ROS1 reader yet")
 @pytest.mark.parametrize("name", ["invalid_values", "leading_slash", "self_transform", "empty_frame_id"])
 def test_bags_written_by_the_real_rosbag_give_the_finding(tf2_available: None, tmp_path: Path, name: str) -> None:
     problem = PROBLEMS[name]

@@ -2,13 +2,10 @@
 
 from __future__ import annotations
 
-import importlib.util
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-
-import pytest
 
 from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
@@ -297,16 +294,8 @@ PROBLEMS = {
 }
 
 
-def ros1_reader_available() -> bool:
-    return importlib.util.find_spec("tftools.sources.bag.ros1") is not None
-
-
-#: Every bag format, ROS1 skipped until its reader exists.
-FORMATS = [
-    pytest.param(BagFormat.ros1, marks=pytest.mark.skipif(not ros1_reader_available(), reason="no ROS1 reader yet")),
-    BagFormat.rosbag2_sqlite3,
-    BagFormat.rosbag2_mcap,
-]
+#: Every bag format tftools writes and reads.
+FORMATS = list(BagFormat)
 
 
 def write(directory: Path, name: str, fmt: BagFormat, messages: list[TfMessage]) -> Path:

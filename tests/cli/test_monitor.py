@@ -9,7 +9,6 @@ from pathlib import Path
 import pytest
 
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
-from tests.analysis.monitor_scenes import ros1_reader_available as ros1_ready
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.monitor import monitor
 from tftools.core.time import NS_PER_S, to_sec
@@ -24,10 +23,7 @@ PUBLISHER_RATES = {"/amcl": 10, "/ekf_localization": 50, "/robot_state_publisher
 
 EDGE_KEYS = {"parent", "child", "authorities", "count", "rate_hz", "jitter_s", "gap_max_s", "gap_start",
              "delay_mean_s", "delay_max_s", "static", "first_stamp", "last_stamp"}  # fmt: skip
-SAMPLES = [
-    pytest.param(fmt, marks=pytest.mark.skipif(fmt == "ros1" and not ros1_ready(), reason="no ROS1 reader yet"))
-    for fmt in SAMPLE_BAGS
-]
+SAMPLES = list(SAMPLE_BAGS)
 
 
 @pytest.mark.parametrize("fmt", SAMPLES)
