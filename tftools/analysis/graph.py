@@ -139,7 +139,7 @@ def _rejected_edges(rejections: Sequence[Rejection]) -> dict[tuple[str, str], di
     return result
 
 
-# --- problems from the engine's own records (until the checker, tfx wtf, provides findings) ---
+# --- problems from a bare buffer's own records (recordings get tfx wtf's findings: analysis.wtf.check) ---
 
 
 def engine_findings(
