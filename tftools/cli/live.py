@@ -143,6 +143,8 @@ def _every_sim(
 ) -> None:
     period = from_sec(1.0 / rate)
     done = 0
+    while clock.now() == 0 and not stop():  # no /clock yet: wait for a valid time, as ros::Time::waitForValid
+        clock.wait_until(1, timeout_s=0.1)
     due = clock.now()
     while (count is None or done < count) and not stop():
         if clock.now() < due - period:  # the clock jumped back (a replay restarted): start again from there
