@@ -17,6 +17,7 @@ import numpy as np
 from numba import njit, types
 from numba.extending import intrinsic
 
+from tftools.core import rotation
 from tftools.core.kernels_table import END, HAS, PARENTS, STAMPS, START, STATIC, VALUES
 
 OK, FAILED = 0, 1
@@ -44,27 +45,19 @@ def _at(typingctx, address, dtype):
 # --- rotation.py's formulas -----------------------------------------------------------------
 
 
+# rotation.py's functions themselves, compiled; the kernels pass scalars, as they keep them.
+_quat_multiply = _inline(rotation.quat_multiply)
+_quat_rotate = _inline(rotation.quat_rotate)
+
+
 @_inline
 def _multiply(ax, ay, az, aw, bx, by, bz, bw):
-    return (
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by + ay * bw + az * bx - ax * bz,
-        aw * bz + az * bw + ax * by - ay * bx,
-        aw * bw - ax * bx - ay * by - az * bz,
-    )
+    return _quat_multiply((ax, ay, az, aw), (bx, by, bz, bw))
 
 
 @_inline
 def _rotate(qx, qy, qz, qw, vx, vy, vz):
-    px = qw * vx + qy * vz - qz * vy
-    py = qw * vy + qz * vx - qx * vz
-    pz = qw * vz + qx * vy - qy * vx
-    pw = -qx * vx - qy * vy - qz * vz
-    return (
-        pw * -qx + px * qw + py * -qz - pz * -qy,
-        pw * -qy + py * qw + pz * -qx - px * -qz,
-        pw * -qz + pz * qw + px * -qy - py * -qx,
-    )
+    return _quat_rotate((qx, qy, qz, qw), (vx, vy, vz))
 
 
 @_inline
