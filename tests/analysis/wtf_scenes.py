@@ -8,12 +8,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tftools.core.batch import BatchBuilder
-from tftools.core.buffer import Buffer
-from tftools.core.time import NS_PER_S, SimClock
+from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.bag.contents import DEFAULT_TOPICS, BagContents, BagFileInfo, is_static_topic
 from tftools.sources.bag.write import BagFormat, TfMessage, write_bag
-from tftools.sources.recording import Recording
+from tftools.sources.recording import Recording, recording_of
 
 START = 1_700_000_000 * NS_PER_S
 SECONDS = 10.0
@@ -326,6 +325,4 @@ def recording(messages: list[TfMessage], topics: tuple[str, ...] | None = None, 
         {m.topic: "tf2_msgs/msg/TFMessage" for m in messages},
         len(batch),
     )
-    buffer = Buffer(cache_time=None, clock=SimClock(info.end))
-    buffer.insert(batch)
-    return Recording(buffer, BagContents(batch, [info], chosen))
+    return recording_of(BagContents([batch] if len(batch) else [], [info], chosen))

@@ -50,7 +50,7 @@ def test_capture_is_a_recording_of_the_live_source(ros: Ros) -> None:
     (info,) = recording.contents.files
     assert info.path == f"ROS1 master {ros.master.uri}" and info.format == "ros1-live"
     assert info.topics == {"/tf": "tf2_msgs/msg/TFMessage", "/tf_static": "tf2_msgs/msg/TFMessage"}
-    transforms = recording.contents.transforms
+    transforms = recording.transforms
     assert info.transform_count == len(transforms) >= 30 and info.message_count >= 30
     assert (info.start <= transforms.record_time).all() and (transforms.record_time <= info.end).all()
     assert 0.9e9 <= info.end - info.start < 5e9

@@ -124,8 +124,9 @@ def test_bag_copy_adds_the_transforms_at_the_start(tfx, tmp_path: Path, fmt: str
     assert added.translation == (0.5, 0.0, 0.25)
     assert ours.buffer.history("tool_x").static
     # every transform of the input is still there, in the same order
-    mask = np.array([ours.contents.transforms.frame_names[c] != "tool_x" for c in ours.contents.transforms.child])
-    np.testing.assert_array_equal(ours.contents.transforms.stamp[mask], theirs.contents.transforms.stamp)
+    rows = ours.transforms
+    mask = np.array([rows.frame_names[c] != "tool_x" for c in rows.child])
+    np.testing.assert_array_equal(rows.stamp[mask], theirs.transforms.stamp)
 
 
 def test_bag_copy_refuses_to_overwrite_without_force(tfx, tmp_path: Path) -> None:

@@ -18,7 +18,7 @@ from tftools.sources.live.capture import capture, listen
 
 def edges(recording) -> dict[tuple[str, str], dict]:
     """Per (parent, child): the authorities, stamps, x values and record times heard."""
-    batch = recording.contents.transforms
+    batch = recording.transforms
     names, authorities = list(batch.frame_names), list(batch.authorities)
     found: dict[tuple[str, str], dict] = {}
     for row in range(len(batch)):
@@ -88,7 +88,7 @@ def test_publishers_are_heard_and_named_by_their_nodes(domain: Ros2Domain) -> No
         assert len(edge["stamp"]) >= 10 and np.all(np.diff(edge["stamp"]) > 0)
         assert np.array_equal(edge["x"], (edge["stamp"] % (100 * NS_PER_S)) / 1e9)  # the nodes' x: stamp mod 100 s
         assert np.all(edge["record"] >= edge["stamp"]) and np.all(edge["record"] - edge["stamp"] < 5 * NS_PER_S)
-    assert source.message_count == len(recording.contents.transforms)
+    assert source.message_count == len(recording.transforms)
     assert recording.contents.files[0].format == "ros2-live"
 
     echoed = echo.finish()
@@ -132,7 +132,7 @@ def test_publishers_tf2_would_not_hear_are_named(domain: Ros2Domain) -> None:
         node.wait_for("ready")
     notices: list[str] = []
     recording = capture(open_live("ros2", on_notice=notices.append), duration=1.0)
-    assert not len(recording.contents.transforms)
+    assert not len(recording.transforms)
     assert any("publishes /tf as std_msgs/msg/String, not tf2_msgs/msg/TFMessage: not heard" in n for n in notices)
     assert any("publishes /tf_static volatile: tf2 listeners (transient local) do not hear it" in n for n in notices)
 

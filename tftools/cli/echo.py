@@ -129,7 +129,7 @@ def _play(
     system: the latest transform, ``rate`` times a second of wall (= bag) time."""
     first = parse_time(start, recording) if start is not None else None
     last = parse_time(end, recording) if end is not None else recording.end
-    replay = Replay(recording.contents.transforms, start=first, end=last)
+    replay = Replay(recording.transforms, start=first, end=last)
     buffer = Buffer(clock=replay.clock)
     failed: list[bool] = []
 

@@ -77,7 +77,7 @@ def capture_recording(
     source = open_source(ros1, use_sim_time, topics)
     say(f"listening to {source.describe()} for {duration:g} s")
     recording = capture(source, duration)
-    if not len(recording.contents.transforms):
+    if not recording.transform_count:
         heard = ", ".join(recording.contents.topics)
         raise UsageError(
             f"no transforms on {heard} from {source.describe()} in {duration:g} s",

@@ -101,7 +101,7 @@ def command(
         raise UsageError("the time range is outside the recording", f"it runs from {span}")
     if play:
         last = last if last is not None else recording.end
-        replay = Replay(recording.contents.transforms, rate=rate, start=first, end=last)
+        replay = Replay(recording.transforms, rate=rate, start=first, end=last)
         watch(replay, target, source, from_sec(window), duration, fmt, f"rate {rate:g}x")
         return
     report = monitor(recording.buffer, target, source, first, last, by_record_time=True)

@@ -47,6 +47,12 @@ class TransformBatch:
     def __len__(self) -> int:
         return len(self.stamp)
 
+    @property
+    def nbytes(self) -> int:
+        """The bytes of its columns (not of its string tables)."""
+        columns = (self.parent, self.child, self.stamp, self.translation, self.rotation, self.static)
+        return sum(c.nbytes for c in (*columns, self.record_time, self.authority))
+
     def slices(self, rows: int) -> Iterator[TransformBatch]:
         """The batch in consecutive parts of at most ``rows`` rows (views, not copies)."""
         if len(self) <= rows:

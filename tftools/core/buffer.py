@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import threading
 import time as _time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import wraps
 from typing import Any, TypeVar
@@ -77,11 +77,16 @@ class Buffer:
         self._frames = FrameTable()
         self._histories: list[EdgeHistory | None] = [None]
         self._arrivals = 0
-        self._expected: dict[str, int] = {}  # rows per child frame still to come in this insert
+        self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
         self._changed = threading.Condition(threading.RLock())
         self._table: EdgeTable | None = None  # built by the first compiled lookup
         self._scratch_values = np.zeros(7)
         self._scratch_stamp = np.zeros(1, np.int64)
+
+    @property
+    def arrivals(self) -> int:
+        """Samples offered so far, stored or refused: the next one's ``sequence`` number."""
+        return self._arrivals
 
     @property
     def lock(self) -> threading.Condition:
@@ -166,14 +171,19 @@ class Buffer:
         with self._changed:
             # In slices, so a whole bag's temporaries stay small beside its histories; without
             # a cache time, each history is sized once for all its rows (not grown by doubling).
-            if self.cache_time is None and len(batch) > _INSERT_ROWS:
-                self._expected = _rows_per_child(batch)
-            try:
-                stored = sum(self._insert(part) for part in batch.slices(_INSERT_ROWS))
-            finally:
-                self._expected = {}
+            if self.cache_time is None and len(batch) > _INSERT_ROWS and not self._expected:
+                self.reserve([batch])
+            stored = sum(self._insert(part) for part in batch.slices(_INSERT_ROWS))
             self._changed.notify_all()
         return stored
+
+    def reserve(self, batches: Iterable[TransformBatch]) -> None:
+        """Size each history once for the rows of ``batches``, about to be inserted: a bulk load
+        in parts then grows no history by doubling (what is never stored stays reserved)."""
+        with self._changed:
+            for batch in batches:
+                for name, rows in _rows_per_child(batch).items():
+                    self._expected[name] = self._expected.get(name, 0) + rows
 
     def _insert(self, batch: TransformBatch) -> int:
         n = len(batch)
@@ -191,7 +201,7 @@ class Buffer:
             | names.slash[batch.child].astype(np.uint8) * CHILD_HAD_SLASH
         )
         refusals = _validate(values, parent_key, child_key, names.empty_key)
-        self._record_refusals(refusals, batch, names, parent_key, child_key, values, authority)
+        self._record_refusals(refusals, batch, names, (parent_key, child_key), values, authority, sequence)
         ok = ~np.any(list(refusals.values()), axis=0) if refusals else np.ones(n, bool)
         rows = np.flatnonzero(ok)
         if len(rows) == 0:
@@ -268,6 +278,7 @@ class Buffer:
                             int(stamps[i]),
                             self.authorities[authorities[i]],
                             int(record_times[i]),
+                            sequence=int(sequence[i]),
                         )
                     )
             keep = ~(old | repeated)
@@ -314,11 +325,12 @@ class Buffer:
         refusals: dict[RejectionCode, npt.NDArray[np.bool_]],
         batch: TransformBatch,
         names: _StrippedNames,
-        parent_key: npt.NDArray[np.int32],
-        child_key: npt.NDArray[np.int32],
+        keys: tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]],
         values: npt.NDArray[np.float64],
         authority: npt.NDArray[np.int32],
+        sequence: npt.NDArray[np.int64],
     ) -> None:
+        parent_key, child_key = keys
         for code, mask in refusals.items():
             for i in np.flatnonzero(mask):
                 shown = values[i] if code is RejectionCode.NAN_INPUT else values[i, 3:]
@@ -331,6 +343,7 @@ class Buffer:
                         self.authorities[authority[i]],
                         int(batch.record_time[i]),
                         tuple(float(v) for v in shown),
+                        int(sequence[i]),
                     )
                 )
 

@@ -202,9 +202,9 @@ class EdgeHistory:
             column[s] = column[s][order]
 
     def reserve(self, rows: int) -> None:
-        """Make room for ``rows`` more samples at once."""
+        """Make room for ``rows`` more samples at once (exactly, into an empty history)."""
         if self._end + rows > len(self._stamps):
-            self._allocate(len(self) + rows)
+            self._allocate(max(len(self) + rows, 3 * len(self) // 2))
 
     def contains(self, stamps: Int64Array) -> BoolArray:
         """Which of ``stamps`` a dynamic history already holds."""

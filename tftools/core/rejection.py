@@ -34,6 +34,7 @@ class Rejection:
     authority: str
     record_time: int = 0
     values: tuple[float, ...] = ()
+    sequence: int = -1  # the sample's arrival number in its buffer (``EdgeHistory.sequence``)
 
     @property
     def message(self) -> str:

@@ -4,20 +4,32 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import Buffer
+from tftools.core.stored import stored_rows
 from tftools.core.time import SimClock
 from tftools.sources.bag import BagContents, ProgressCallback, read_bag
 from tftools.sources.errors import NoTransformsError
+from tftools.sources.memory import FreedMemory
 
 
 @dataclass
 class Recording:
-    """One recording (one bag or a split bag): its buffer on bag time, and its description."""
+    """One recording (one bag or a split bag): its buffer on bag time, and its description.
+
+    The buffer's histories are the only copy of the transforms; ``transforms`` gives them back
+    as rows in record order (with the rows the buffer refused, kept aside).
+    """
 
     buffer: Buffer
     contents: BagContents
+    refused: TransformBatch = field(default_factory=TransformBatch.empty)
+    refused_sequence: npt.NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
 
     @property
     def start(self) -> int:
@@ -37,6 +49,20 @@ class Recording:
         """What could not be read, one line each; the rest was read."""
         return self.contents.problems
 
+    @property
+    def transform_count(self) -> int:
+        """Transforms read, stored or refused."""
+        return sum(f.transform_count for f in self.contents.files)
+
+    @property
+    def transforms(self) -> TransformBatch:
+        """Every transform read, in record order, as rows (rebuilt from the buffer: a copy)."""
+        stored, sequence = stored_rows(self.buffer)
+        if not len(self.refused):
+            return stored
+        merged = concat_batches([stored, self.refused])
+        return take_rows(merged, np.argsort(np.concatenate([sequence, self.refused_sequence]), kind="stable"))
+
 
 def read_recording(
     paths: Sequence[str | os.PathLike[str]],
@@ -50,12 +76,36 @@ def read_recording(
     Raises ``NoTransformsError`` when no transform was found, unless ``allow_empty``.
     """
     contents = read_bag(paths, topics, progress)
-    if not len(contents.transforms) and not allow_empty:
+    if not contents.parts and not allow_empty:
         found = sorted({t for f in contents.files for t in f.topics})
         raise NoTransformsError(", ".join(str(p) for p in paths), ", ".join(contents.topics), ", ".join(found))
+    return recording_of(contents)
+
+
+def recording_of(contents: BagContents) -> Recording:
+    """The buffer of ``contents``, which it takes: each part is inserted, then let go, so that
+    the transforms are held once (in the buffer's histories) rather than twice."""
     buffer = Buffer(cache_time=None, clock=SimClock(contents.end))
-    buffer.insert(contents.transforms)
-    return Recording(buffer, contents)
+    refused: list[TransformBatch] = []
+    refused_sequence: list[npt.NDArray[np.int64]] = []
+    parts, contents.parts = contents.parts, []
+    buffer.reserve(parts)
+    parts.reverse()
+    memory = FreedMemory()
+    while parts:
+        part = parts.pop()
+        first, seen = buffer.arrivals, len(buffer.rejections)
+        buffer.insert(part)
+        sequence = np.array([r.sequence for r in buffer.rejections[seen:]], np.int64)
+        if len(sequence):
+            refused.append(take_rows(part, sequence - first))
+            refused_sequence.append(sequence)
+        memory.freed(part.nbytes)
+        del part
+    memory.release()
+    if not refused:
+        return Recording(buffer, contents)
+    return Recording(buffer, contents, concat_batches(refused), np.concatenate(refused_sequence))
 
 
 def load(

@@ -54,7 +54,7 @@ def report(recording: Recording, findings: list[Finding]) -> BagReport:
         formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
         start=recording.start,
         end=recording.end,
-        transforms=len(recording.contents.transforms),
+        transforms=recording.transform_count,
         frames=len(recording.buffer.frames),
     )
 

@@ -129,7 +129,7 @@ class Scene:
 
     @cached_property
     def rows(self) -> Rows:
-        return rows_of(self.recording.contents.transforms)
+        return rows_of(self.recording.transforms)
 
     @cached_property
     def tree(self) -> FrameTree:

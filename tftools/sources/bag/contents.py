@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from tftools.core.batch import TransformBatch
+import numpy as np
+
+from tftools.core.batch import TransformBatch, concat_batches, take_rows
 
 #: The topics read unless told otherwise.
 DEFAULT_TOPICS = ("/tf", "/tf_static")
@@ -17,6 +20,16 @@ ProgressCallback = Callable[[int, int], None]
 def is_static_topic(topic: str) -> bool:
     """Transforms on ``/tf_static`` (or a namespaced ``.../tf_static``) hold at every time."""
     return topic.rstrip("/").endswith("tf_static")
+
+
+def in_record_order(batches: list[TransformBatch]) -> list[TransformBatch]:
+    """``batches`` (each in record order) as consecutive parts in record order: as they are when
+    they follow each other, else merged into one batch, sorted (ties keep their order)."""
+    batches = [b for b in batches if len(b)]
+    if all(int(a.record_time[-1]) <= int(b.record_time[0]) for a, b in itertools.pairwise(batches)):
+        return batches
+    merged = concat_batches(batches)
+    return [take_rows(merged, np.argsort(merged.record_time, kind="stable"))]
 
 
 @dataclass
@@ -35,11 +48,18 @@ class BagFileInfo:
 
 @dataclass
 class BagContents:
-    """Every transform of the bags in record-time order, and the files' descriptions."""
+    """Every transform of the bags in record-time order (in consecutive parts, as decoded), and
+    the files' descriptions."""
 
-    transforms: TransformBatch
+    parts: list[TransformBatch]
     files: list[BagFileInfo]
     topics: tuple[str, ...]
+
+    @property
+    def transforms(self) -> TransformBatch:
+        """Every transform, in one batch (a copy, unless there is one part); none once a
+        ``Recording`` took the parts (its ``transforms`` gives them back)."""
+        return concat_batches(self.parts)
 
     @property
     def start(self) -> int:

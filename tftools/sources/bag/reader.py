@@ -6,10 +6,8 @@ import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-import numpy as np
-
-from tftools.core.batch import TransformBatch, concat_batches, take_rows
-from tftools.sources.bag.contents import DEFAULT_TOPICS, BagContents, BagFileInfo, ProgressCallback
+from tftools.core.batch import TransformBatch
+from tftools.sources.bag.contents import DEFAULT_TOPICS, BagContents, BagFileInfo, ProgressCallback, in_record_order
 from tftools.sources.errors import BagNotFoundError, UnknownBagFormatError
 
 #: A format reader: (path, topics, progress over this file's bytes) -> batches and description.
@@ -52,10 +50,7 @@ def read_bag(
         done += size
         if progress is not None:
             progress(done, total)
-    merged = concat_batches(batches)
-    if len(files) > 1 and len(merged) and np.any(np.diff(merged.record_time) < 0):
-        merged = take_rows(merged, np.argsort(merged.record_time, kind="stable"))
-    return BagContents(merged, infos, chosen)
+    return BagContents(in_record_order(batches), infos, chosen)
 
 
 def _format_reader(path: Path) -> FormatReader:

@@ -34,7 +34,7 @@ def read(
             )
         scan = BagScan(path.name, buf, topics, progress, decoder, file.fileno())
         scan.read(header)
-        batch, undecodable = scan.messages.decode()
+        batches, undecodable = scan.messages.decode()
     info = BagFileInfo(
         path=str(path),
         format="ros1",
@@ -42,10 +42,10 @@ def read(
         end=scan.end,
         message_count=scan.message_count,
         topics=scan.topics,
-        transform_count=len(batch),
+        transform_count=sum(len(b) for b in batches),
         problems=scan.skipped + scan.problems + undecodable,
     )
-    return ([batch] if len(batch) else []), info
+    return batches, info
 
 
 @contextmanager

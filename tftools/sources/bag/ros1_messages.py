@@ -1,4 +1,4 @@
-"""A ROS1 bag's wanted messages, decoded a few megabytes at a time as found, into one batch in record order."""
+"""A ROS1 bag's wanted messages, decoded a few megabytes at a time as found, into batches in record order."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ from tftools.sources.bag.ros1_format import Buffer, Connection
 Decoder = Literal["fast", "reference"]
 
 _SLICE = 1 << 16  # messages decoded together: bounds the temporary arrays
-_GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
+_GROUP_BYTES = 2 << 20  # payload bytes gathered before they are decoded (and then freed)
 
 
 @dataclass
@@ -44,12 +44,18 @@ class _Columns:
         ):
             self.parts[name].append(np.ascontiguousarray(column))
 
-    def take(self, name: str, order: IntArray | None) -> npt.NDArray[Any]:
-        """One whole column, its parts freed: only one column is ever held twice."""
+    def take(self, order: IntArray | None) -> list[dict[str, npt.NDArray[Any]]]:
+        """The columns of each group as decoded, or (given an ``order``) of all rows in that
+        order, column after column with its parts freed: only one column is ever held twice."""
+        if order is None:
+            parts = [dict(zip(_COLUMNS, group, strict=True)) for group in zip(*self.parts.values(), strict=True)]
+            self.parts = {k: [] for k in _COLUMNS}
+            return parts
+        return [{name: self._whole(name)[order] for name in _COLUMNS}]
+
+    def _whole(self, name: str) -> npt.NDArray[Any]:
         parts = self.parts.pop(name)
-        column = np.concatenate(parts) if len(parts) != 1 else parts[0]
-        del parts
-        return column if order is None else column[order]
+        return np.concatenate(parts) if len(parts) != 1 else parts[0]
 
 
 _COLUMNS = ("parent", "child", "stamp", "translation", "rotation")
@@ -147,39 +153,43 @@ class MessageCollector:
             decoded = _taken(decoded, np.argsort(decoded.message, kind="stable"))
         self._columns.add(decoded)
 
-    def decode(self) -> tuple[TransformBatch, list[str]]:
-        """Every transform in record order (as rosbag plays them); a line per topic with messages
-        that could not be decoded."""
+    def decode(self) -> tuple[list[TransformBatch], list[str]]:
+        """Every transform in record order (as rosbag plays them), in consecutive batches; a line
+        per topic with messages that could not be decoded."""
         self._decode_pending()
         if not self.count:
-            return TransformBatch.empty(), []
+            return [], []
         channel = np.concatenate(self._channel)
         time = np.concatenate(self._time)
         rows = np.concatenate(self._rows)
         rank = _rank(time, np.array([c.id for c in self.channels], np.int64)[channel], *self._places())
         problems = self._problems(self._failures, channel)
-        total = int(rows.sum())
-        if not total:
-            return TransformBatch.empty(), problems
+        if not int(rows.sum()):
+            return [], problems
         # Each row's message: the messages' rows are consecutive, in the order decoded.
         message = np.repeat(np.arange(len(rows)), rows)
         order = None if rank is None else np.argsort(rank[message], kind="stable")
         if order is not None:
             message = message[order]
-        columns = {name: self._columns.take(name, order) for name in _COLUMNS}
         authorities = list(dict.fromkeys(c.callerid or c.topic for c in self.channels))
         authority_of = np.array([authorities.index(c.callerid or c.topic) for c in self.channels], np.int32)
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
-        row_channel = channel[message]
-        batch = TransformBatch(
-            frame_names=self._frames.names,
-            authorities=authorities,
-            static=static_of[row_channel],
-            record_time=time[message],
-            authority=authority_of[row_channel],
-            **columns,
-        )
-        return batch, problems
+        batches = []
+        first = 0
+        for columns in self._columns.take(order):
+            part = message[first : first + len(columns["stamp"])]
+            first += len(part)
+            batches.append(
+                TransformBatch(
+                    frame_names=self._frames.names,
+                    authorities=authorities,
+                    static=static_of[channel[part]],
+                    record_time=time[part],
+                    authority=authority_of[channel[part]],
+                    **columns,
+                )
+            )
+        return batches, problems
 
     def _places(self) -> tuple[IntArray, IntArray]:
         return np.concatenate(self._chunk), np.concatenate(self._offset)

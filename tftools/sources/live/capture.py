@@ -9,11 +9,10 @@ from collections.abc import Callable, Sequence
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.kernels_table import compiled
-from tftools.core.time import SimClock
 from tftools.sources.bag.contents import BagContents, BagFileInfo
 from tftools.sources.live import open_live
 from tftools.sources.live.base import LiveSource
-from tftools.sources.recording import Recording
+from tftools.sources.recording import Recording, recording_of
 
 TF_TYPE = "tf2_msgs/msg/TFMessage"
 
@@ -67,9 +66,7 @@ def _recording(source: LiveSource, transforms: TransformBatch, begin: int, end: 
         topics=dict.fromkeys(source.topics, TF_TYPE),
         transform_count=len(transforms),
     )
-    buffer = Buffer(cache_time=None, clock=SimClock(end))
-    buffer.insert(transforms)
-    return Recording(buffer, BagContents(transforms, [info], tuple(source.topics)))
+    return recording_of(BagContents([transforms] if len(transforms) else [], [info], tuple(source.topics)))
 
 
 def listen(source: LiveSource, cache_time: int | None = DEFAULT_CACHE_TIME) -> Buffer:

@@ -187,8 +187,9 @@ class MessageSet:
         self._rows.settle()
         self._pending_bytes = 0
 
-    def decode(self, decoder: Decoder | None = None) -> tuple[TransformBatch, list[str]]:
-        """Every transform, in record-time order, and a line per channel with lost messages.
+    def decode(self, decoder: Decoder | None = None) -> tuple[list[TransformBatch], list[str]]:
+        """Every transform in record-time order, in consecutive batches; a line per channel
+        with lost messages.
 
         ``decoder``, when given, replaces the one the set was made with, which must then not
         have decoded anything yet."""
@@ -203,7 +204,7 @@ class MessageSet:
         failed: dict[int, list[tuple[int, str]]] = {}  # channel -> (rank, reason) of its undecodable messages
         for message, reason in self._failed:
             failed.setdefault(int(channel_of[message]), []).append((int(rank[message]), reason))
-        return self._rows.batch(times, channel_of, rank), self._problems(failed, channel_of)
+        return self._rows.batches(times, channel_of, rank), self._problems(failed, channel_of)
 
     def _problems(self, failed: dict[int, list[tuple[int, str]]], channel_of: Int32Array) -> list[str]:
         totals = np.bincount(channel_of, minlength=len(self.channels))

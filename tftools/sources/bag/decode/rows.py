@@ -1,7 +1,8 @@
-"""Decoded blocks of transforms gathered into one ``TransformBatch`` in record order."""
+"""Decoded blocks of transforms gathered into ``TransformBatch`` es in record order."""
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from typing import Any
 
@@ -65,30 +66,41 @@ class Rows:
                 self.columns[name][self.settled :] = [np.concatenate(parts)[order]]
         self.settled = len(self.columns["message"])
 
-    def batch(self, times: IntArray, channel_of: npt.NDArray[np.int32], rank: IntArray) -> TransformBatch:
+    def batches(self, times: IntArray, channel_of: npt.NDArray[np.int32], rank: IntArray) -> list[TransformBatch]:
         """The rows in record order, given each message's record time, channel and place in
-        that order. Column after column, each freed as it is taken: one is held twice at most."""
+        that order: the parts as settled when they are in that order already, else one batch
+        made column after column, each freed as it is taken (one is held twice at most)."""
         self.settle()
         if not self.columns["message"]:
-            return TransformBatch.empty()
-        messages = self._take("message", None)
-        ranks = rank[messages]
-        order = None if bool(np.all(ranks[1:] >= ranks[:-1])) else np.argsort(ranks, kind="stable")
-        if order is not None:
-            messages = messages[order]
-        taken = {name: self._take(name, order) for name in _COLUMNS[1:]}
+            return []
         authorities = list(dict.fromkeys(c.topic for c in self.channels))
         authority_of = np.array([authorities.index(c.topic) for c in self.channels], np.int32)
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
-        channel = channel_of[messages]
-        return TransformBatch(
-            frame_names=list(self.frames),
-            authorities=authorities,
-            static=static_of[channel],
-            record_time=times[messages],
-            authority=authority_of[channel],
-            **taken,
-        )
+        names = list(self.frames)
+
+        def batch(columns: dict[str, npt.NDArray[Any]]) -> TransformBatch:
+            messages = columns.pop("message")
+            channel = channel_of[messages]
+            return TransformBatch(
+                frame_names=names,
+                authorities=authorities,
+                static=static_of[channel],
+                record_time=times[messages],
+                authority=authority_of[channel],
+                **columns,
+            )
+
+        ranks = [rank[m] for m in self.columns["message"]]
+        if all(bool(np.all(r[1:] >= r[:-1])) for r in ranks) and all(
+            a[-1] <= b[0] for a, b in itertools.pairwise(ranks)
+        ):
+            parts = [dict(zip(_COLUMNS, group, strict=True)) for group in zip(*self.columns.values(), strict=True)]
+            self.columns = {name: [] for name in _COLUMNS}
+            return [batch(columns) for columns in parts]
+        del ranks
+        messages = self._take("message", None)
+        order = np.argsort(rank[messages], kind="stable")
+        return [batch({"message": messages[order], **{name: self._take(name, order) for name in _COLUMNS[1:]}})]
 
     def _take(self, name: str, order: IntArray | None) -> npt.NDArray[Any]:
         parts = self.columns.pop(name)

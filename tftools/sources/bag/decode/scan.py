@@ -6,10 +6,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
-
-from tftools.core.batch import TransformBatch, concat_batches, take_rows
-from tftools.sources.bag.contents import BagFileInfo
+from tftools.core.batch import TransformBatch
+from tftools.sources.bag.contents import BagFileInfo, in_record_order
 from tftools.sources.bag.decode.codec import Decoder
 from tftools.sources.bag.decode.messages import MessageSet
 
@@ -38,20 +36,18 @@ class FileScan:
 def file_result(
     path: Path, fmt: str, scans: Sequence[FileScan], decoder: Decoder, labels: Sequence[str] = ()
 ) -> tuple[list[TransformBatch], BagFileInfo]:
-    """Decode the scans of one bag's files into one batch in record order, and describe the bag.
+    """Decode the scans of one bag's files into batches in record order, and describe the bag.
 
     ``labels`` (one per scan, e.g. file names) prefix each file's problem lines.
     """
     batches: list[TransformBatch] = []
     problems: list[str] = []
     for index, scan in enumerate(scans):
-        batch, undecodable = scan.messages.decode(decoder)
-        batches.append(batch)
+        decoded, undecodable = scan.messages.decode(decoder)
+        batches += decoded
         label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
         problems += [label + line for line in scan.problems + undecodable]
-    merged = concat_batches(batches)
-    if len(merged) and np.any(np.diff(merged.record_time) < 0):
-        merged = take_rows(merged, np.argsort(merged.record_time, kind="stable"))
+    batches = in_record_order(batches)
     counted = [s for s in scans if s.message_count]
     topics: dict[str, str] = {}
     for scan in scans:
@@ -64,7 +60,7 @@ def file_result(
         end=max((s.end for s in counted), default=0),
         message_count=sum(s.message_count for s in counted),
         topics=topics,
-        transform_count=len(merged),
+        transform_count=sum(len(b) for b in batches),
         problems=skipped + problems,
     )
-    return ([merged] if len(merged) else []), info
+    return batches, info

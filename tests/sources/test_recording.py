@@ -1,0 +1,95 @@
+"""A recording holds its transforms once, in the buffer's histories, and gives them back as read."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from tests.sources.ros2_helpers import batch_rows
+from tftools.core.batch import BatchBuilder, TransformBatch
+from tftools.core.rejection import RejectionCode
+from tftools.sources.bag.contents import BagContents, BagFileInfo, in_record_order
+from tftools.sources.bag.reader import read_bag
+from tftools.sources.recording import read_recording, recording_of
+
+SAMPLE_BAGS = Path(__file__).resolve().parents[2] / "sample_bags"
+IDENTITY = (0.0, 0.0, 0.0, 1.0)
+
+
+def _part(builder: BatchBuilder, first_record: int, rows: list[tuple[str, str, int, float]]) -> TransformBatch:
+    for k, (parent, child, stamp, x) in enumerate(rows):
+        static = child.endswith("laser")
+        builder.add(
+            parent, child, stamp, (x, 0.0, 0.0), IDENTITY,
+            static=static, record_time=first_record + k, authority="/static" if static else "/ekf",
+        )  # fmt: skip
+    return builder.take()
+
+
+def _contents(parts: list[TransformBatch]) -> BagContents:
+    end = max(int(p.record_time[-1]) for p in parts)
+    info = BagFileInfo("memory.bag", "ros1", 1, end, sum(map(len, parts)), transform_count=sum(map(len, parts)))
+    return BagContents(parts, [info], ("/tf", "/tf_static"))
+
+
+def test_rows_come_back_in_record_order_with_the_refused_ones() -> None:
+    builder = BatchBuilder()
+    first = _part(
+        builder,
+        1,
+        [
+            ("/map", "odom", 10, 1.0),  # a slash tf2 strips
+            ("odom", "base", 10, 2.0),
+            ("base", "laser", 5, 3.0),  # static
+            ("odom", "base", 10, 9.0),  # TF_REPEATED_DATA
+            ("odom", "odom", 11, 0.0),  # TF_SELF_TRANSFORM
+            ("odom", "base", 8, 4.0),  # older than the newest: stored, sorted in
+        ],
+    )
+    second = _part(
+        builder,
+        100,
+        [
+            ("map", "/odom", 20, math.nan),  # TF_NAN_INPUT
+            ("", "base", 21, 5.0),  # TF_NO_FRAME_ID
+            ("map", "base", 30, 6.0),  # re-parented
+            ("map", "odom", 20, 7.0),
+        ],
+    )
+    expected = batch_rows([first, second])
+    recording = recording_of(_contents([first, second]))
+    assert not recording.contents.parts  # taken by the buffer: held once
+    refused = sorted((r.sequence, r.code) for r in recording.buffer.rejections)
+    assert refused == [
+        (3, RejectionCode.REPEATED_DATA),
+        (4, RejectionCode.SELF_TRANSFORM),
+        (6, RejectionCode.NAN_INPUT),
+        (7, RejectionCode.NO_FRAME_ID),
+    ]
+    assert batch_rows(recording.transforms) == expected
+    assert recording.transform_count == len(expected) == 10
+    assert recording.buffer.lookup("map", "base", 30).translation == (6.0, 0.0, 0.0)
+
+
+def test_a_bag_read_into_a_recording_gives_back_every_row_as_read() -> None:
+    bag = SAMPLE_BAGS / "robot.bag"
+    read = read_bag([bag])
+    assert len(read.parts) >= 1
+    recording = read_recording([bag])
+    assert batch_rows(recording.transforms) == batch_rows(read.transforms)
+    history = recording.buffer.history("base_link")
+    assert history is not None and len(history) == np.count_nonzero(
+        np.array(read.transforms.frame_names)[read.transforms.child] == "base_link"
+    )
+
+
+def test_parts_that_overlap_in_record_time_are_merged_in_order() -> None:
+    builder = BatchBuilder()
+    early = _part(builder, 1, [("a", "b", 1, 0.0), ("a", "b", 2, 0.0), ("a", "b", 3, 0.0)])
+    late = _part(builder, 3, [("a", "b", 4, 0.0), ("a", "b", 5, 0.0)])
+    assert in_record_order([early, late]) == [early, late]  # they follow each other: kept as they are
+    (merged,) = in_record_order([late, early])
+    assert merged.record_time.tolist() == [1, 2, 3, 3, 4]
+    assert merged.stamp.tolist() == [1, 2, 4, 3, 5]  # a tie keeps the order given
