@@ -130,7 +130,11 @@ def shown(theirs: dict, key: str, unit: str, factor: float = 1.0, digits: int = 
     return f"{theirs[key] * factor:.{digits}f} {unit}" if key in theirs else "n/a"
 
 
-def scale_rows(table: Table, scale: int, images: bool = False) -> None:
+#: Per format, (transforms, peak memory grown) at each scale measured: for the growth per transform.
+Memory = dict[str, list[tuple[int, int]]]
+
+
+def scale_rows(table: Table, scale: int, memory: Memory, images: bool = False) -> None:
     seconds = UNIT_SECONDS * scale
     label = f"{scale}x{' +img' if images else ''}"
     bags = write_bags(seconds, images)
@@ -148,6 +152,8 @@ def scale_rows(table: Table, scale: int, images: bool = False) -> None:
             f">= {GOALS['ingest']:.0f}x",
         )
         grown = mine["peak_rss_bytes"] - mine["rss_before_bytes"]
+        if not images:
+            memory.setdefault(fmt, []).append((count, grown))
         table.add(f"  peak memory {fmt}", label, shown(theirs, "peak_rss_bytes", "MB", 1e-6, 0),
                   f"+{grown / 1e6:.0f} MB = {grown / count:.0f} B/tf", None, "<= ~100 B/tf")  # fmt: skip
     if images:
@@ -171,6 +177,18 @@ def scale_rows(table: Table, scale: int, images: bool = False) -> None:
     if theirs:
         agree = abs(mine["checksum"] - theirs["checksum"]) < 1e-5 * max(1.0, abs(theirs["checksum"]))
         table.add("  same answers as tf2 (1000 lookups' sum)", label, "", "yes" if agree else "NO")
+
+
+def memory_rows(table: Table, memory: Memory) -> None:
+    """Peak memory's growth per transform between the shortest and the longest bag: what each
+    transform costs, without the fixed costs (imports, buffers) the shortest bag carries."""
+    for fmt, points in memory.items():
+        (n0, m0), (n1, m1) = min(points), max(points)
+        if n1 > n0:
+            scales = f"{n0 // 1000}k-{n1 // 1000}k"
+            table.add(
+                f"peak memory growth {fmt}", scales, "", f"{(m1 - m0) / (n1 - n0):.0f} B/tf", None, "<= ~100 B/tf"
+            )
 
 
 def command_rows(table: Table) -> None:
@@ -203,10 +221,12 @@ def main() -> None:
     if not real_rosbag():
         print(f"tf2 is missing ({ROS_PYTHON} -c 'import rosbag, tf2_py' fails): tftools' figures only\n")
     table = Table()
+    memory: Memory = {}
     for scale in args.scales:
-        scale_rows(table, scale)
+        scale_rows(table, scale, memory)
+    memory_rows(table, memory)
     if args.images:
-        scale_rows(table, 1, images=True)
+        scale_rows(table, 1, memory, images=True)
     if args.commands:
         command_rows(table)
     table.print()

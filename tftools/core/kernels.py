@@ -376,13 +376,21 @@ def can_transform(table, target, source, time):
 
 
 _LOOKUP_MANY = types.void(
-    _TABLE, types.int64, types.int64, types.int64[::1], types.int64[::1], types.float64[:, ::1], types.boolean[::1]
+    _TABLE,
+    types.int64,
+    types.int64,
+    types.int64[::1],
+    types.int64[::1],
+    types.int64[::1],
+    types.float64[:, ::1],
+    types.boolean[::1],
 )
 
 
 @njit(_LOOKUP_MANY, cache=True, nogil=True)
-def lookup_many(table, target, source, times, stamps, values, valid):
-    """``lookup`` at each of ``times`` (fastest in ascending order), into the same rows of the outputs.
+def lookup_many(table, target, source, times, rows, stamps, values, valid):
+    """``lookup`` at each of ``times`` (fastest in ascending order), into row ``rows[i]`` of the
+    outputs (threads that split the times write their answers in place).
 
     ``stamps`` gets each time used (0 resolved to the latest common time), ``values`` the
     transform (identity where it failed), ``valid`` whether tf2 would have succeeded.
@@ -393,10 +401,11 @@ def lookup_many(table, target, source, times, stamps, values, valid):
         time = times[i]
         if time == 0:
             time = common
-        stamps[i] = time
         status, vx, vy, vz, qx, qy, qz, qw = _walk(table, target, source, time, memo, arcs)
-        valid[i] = status == OK and (times[i] != 0 or common_status == OK)
-        if not valid[i]:
+        ok = status == OK and (times[i] != 0 or common_status == OK)
+        if not ok:
             vx, vy, vz, qx, qy, qz, qw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
-        values[i, 0], values[i, 1], values[i, 2] = vx, vy, vz
-        values[i, 3], values[i, 4], values[i, 5], values[i, 6] = qx, qy, qz, qw
+        row = rows[i]
+        stamps[row], valid[row] = time, ok
+        values[row, 0], values[row, 1], values[row, 2] = vx, vy, vz
+        values[row, 3], values[row, 4], values[row, 5], values[row, 6] = qx, qy, qz, qw

@@ -93,14 +93,14 @@ def lookup_in_parallel(
     Each thread takes a span of time, so that it streams through its own part of the
     histories; the kernel is fastest over ascending times. Unless the times are ascending
     already (then the spans are contiguous parts), they are partitioned by rank and each
-    thread sorts its part, walks it, and scatters the answers back to their rows (numpy's
-    sorting and indexing let go of the GIL, so all of it runs in parallel). Returns the times
-    used, values (N, 7) and validity, in the order of ``times``.
+    thread sorts its part and walks it, the kernel writing each answer to its row (numpy's
+    sorting lets go of the GIL, so all of it runs in parallel). Returns the times used,
+    values (N, 7) and validity, in the order of ``times``.
     """
     n = len(times)
     times = np.ascontiguousarray(times)
     ascending = n < 2 or bool(np.all(times[1:] >= times[:-1]))
-    stamps, values, valid = np.empty(n, np.int64), np.empty((n, 7)), np.empty(n, bool)
+    outputs = np.empty(n, np.int64), np.empty((n, 7)), np.empty(n, bool)
     threads = max(1, min(os.cpu_count() or 1, n // _TIMES_PER_THREAD))
     bounds = np.linspace(0, n, threads + 1).astype(int)
     ranked = None
@@ -110,15 +110,12 @@ def lookup_in_parallel(
     def run(part: int) -> None:
         start, end = int(bounds[part]), int(bounds[part + 1])
         if ranked is None:
-            s = slice(start, end)
-            kernels.lookup_many(table, target_id, source_id, times[s], stamps[s], values[s], valid[s])
-            return
-        rows = ranked[start:end]
-        order, ordered = _sorted(times[rows])
-        rows = rows[order]
-        got = np.empty(len(rows), np.int64), np.empty((len(rows), 7)), np.empty(len(rows), bool)
-        kernels.lookup_many(table, target_id, source_id, ordered, *got)
-        stamps[rows], values[rows], valid[rows] = got
+            rows, ordered = np.arange(start, end), times[start:end]
+        else:
+            rows = ranked[start:end]
+            order, ordered = _sorted(times[rows])
+            rows = rows[order]
+        kernels.lookup_many(table, target_id, source_id, ordered, rows, *outputs)
 
     helpers = [threading.Thread(target=run, args=(part,)) for part in range(1, threads)]
     for helper in helpers:
@@ -126,7 +123,7 @@ def lookup_in_parallel(
     run(0)
     for helper in helpers:
         helper.join()
-    return stamps, values, valid
+    return outputs
 
 
 def _sorted(values: npt.NDArray[np.int64]) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
