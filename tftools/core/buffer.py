@@ -169,10 +169,7 @@ class Buffer:
         Safe to call from another thread than the lookups; wakes ``wait_for_transform``.
         """
         with self._changed:
-            # In slices, so a whole bag's temporaries stay small beside its histories; without
-            # a cache time, each history is sized once for all its rows (not grown by doubling).
-            if self.cache_time is None and len(batch) > _INSERT_ROWS and not self._expected:
-                self.reserve([batch])
+            # In slices, so a whole bag's temporaries stay small beside its histories.
             stored = sum(self._insert(part) for part in batch.slices(_INSERT_ROWS))
             self._changed.notify_all()
         return stored
