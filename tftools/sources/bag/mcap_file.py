@@ -48,7 +48,7 @@ def read(
     path: Path, topics: tuple[str, ...], progress: ProgressCallback, *, decoder: Decoder = "fast"
 ) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms of a bare ``.mcap`` file (see ``reader.read_bag``)."""
-    return file_result(path, "mcap", [scan(path, topics, progress, decoder=decoder)], decoder)
+    return file_result(path, "mcap", [scan(path, topics, progress, decoder=decoder)])
 
 
 def scan(

@@ -260,8 +260,6 @@ class BagScan:
 
     def _unpacked(self, chunk: Chunk, end: int) -> Unpacked:
         """The chunk's data up to ``end``, uncompressed."""
-        if chunk.compression == "none":
-            return decompress("none", self._bytes(chunk.data_start, end), chunk.size)
         return decompress(chunk.compression, self._bytes(chunk.data_start, end), chunk.size)
 
     def _bytes(self, start: int, end: int) -> bytes | memoryview:

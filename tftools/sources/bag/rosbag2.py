@@ -21,16 +21,11 @@ def read(
 ) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms of a ROS2 bag directory or a bare .db3 file (see ``reader.read_bag``)."""
     if not path.is_dir():
-        if path.suffix == ".mcap":
-            from tftools.sources.bag import mcap_file
-
-            return file_result(path, "rosbag2-mcap", [mcap_file.scan(path, topics, progress, decoder=decoder)], decoder)
-        from tftools.sources.bag import db3_file
-
-        return file_result(path, "rosbag2-sqlite3", [db3_file.scan(path, topics, progress, decoder=decoder)], decoder)
+        bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path])
+        return file_result(path, f"rosbag2-{bag.storage}", [_scan_file(path, bag, topics, progress, decoder)])
     bag = _layout(path)
     scans, labels = _scan_files(path, bag, topics, progress, decoder)
-    batches, info = file_result(path, f"rosbag2-{bag.storage}", scans, decoder, labels)
+    batches, info = file_result(path, f"rosbag2-{bag.storage}", scans, labels)
     info.problems[:0] = bag.problems
     return batches, info
 

@@ -56,7 +56,6 @@ class MessageSet:
         self._groups: dict[tuple[Codec, int], _Group] = {}
         self._unpack_failed: dict[int, list[str]] = {}
         self._pending_bytes = 0
-        self._decoded_any = False
         self._rows = Rows(self.channels)
         self._failed: list[tuple[int, str]] = []  # (message, reason) of the undecodable ones
         self.count = 0
@@ -183,20 +182,12 @@ class MessageSet:
             for block in blocks:
                 self._rows.add(ids[block.rows], block)
             self._failed += [(int(ids[row]), reason) for row, reason in failures]
-            self._decoded_any = True
         self._rows.settle()
         self._pending_bytes = 0
 
-    def decode(self, decoder: Decoder | None = None) -> tuple[list[TransformBatch], list[str]]:
+    def decode(self) -> tuple[list[TransformBatch], list[str]]:
         """Every transform in record-time order, in consecutive batches; a line per channel
-        with lost messages.
-
-        ``decoder``, when given, replaces the one the set was made with, which must then not
-        have decoded anything yet."""
-        if decoder is not None and decoder != self.decoder:
-            if self._decoded_any:
-                raise ValueError(f"messages were decoded with {self.decoder!r} already, not {decoder!r}")
-            self.decoder = decoder
+        with lost messages."""
         self._decode_groups()
         times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
         channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)

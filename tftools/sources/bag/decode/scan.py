@@ -8,7 +8,6 @@ from pathlib import Path
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order
-from tftools.sources.bag.decode.codec import Decoder
 from tftools.sources.bag.decode.messages import MessageSet
 
 
@@ -34,7 +33,7 @@ class FileScan:
 
 
 def file_result(
-    path: Path, fmt: str, scans: Sequence[FileScan], decoder: Decoder, labels: Sequence[str] = ()
+    path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequence[str] = ()
 ) -> tuple[list[TransformBatch], BagFileInfo]:
     """Decode the scans of one bag's files into batches in record order, and describe the bag.
 
@@ -43,7 +42,7 @@ def file_result(
     batches: list[TransformBatch] = []
     problems: list[str] = []
     for index, scan in enumerate(scans):
-        decoded, undecodable = scan.messages.decode(decoder)
+        decoded, undecodable = scan.messages.decode()
         batches += decoded
         label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
         problems += [label + line for line in scan.problems + undecodable]
