@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch
+from tftools.sources.bag.columns import ColumnParts
 from tftools.sources.bag.contents import is_static_topic
 from tftools.sources.bag.ros1_chunks import IntArray, Located, pieces
 from tftools.sources.bag.ros1_decode import Decoded, FrameTable, decode_tf_messages, reference_transforms
@@ -29,33 +30,6 @@ class _Found:
     starts: IntArray  # of each message in ``payload``
     lengths: IntArray
     payload: bytes
-
-
-class _Columns:
-    """The decoded rows, group after group, as the batch's own columns (frames, stamps, values)."""
-
-    def __init__(self) -> None:
-        self.parts: dict[str, list[npt.NDArray[Any]]] = {k: [] for k in _COLUMNS}
-
-    def add(self, decoded: Decoded) -> None:
-        values = decoded.values
-        for name, column in zip(
-            _COLUMNS, (decoded.parent, decoded.child, decoded.stamp, values[:, :3], values[:, 3:]), strict=True
-        ):
-            self.parts[name].append(np.ascontiguousarray(column))
-
-    def take(self, order: IntArray | None) -> list[dict[str, npt.NDArray[Any]]]:
-        """The columns of each group as decoded, or (given an ``order``) of all rows in that
-        order, column after column with its parts freed: only one column is ever held twice."""
-        if order is None:
-            parts = [dict(zip(_COLUMNS, group, strict=True)) for group in zip(*self.parts.values(), strict=True)]
-            self.parts = {k: [] for k in _COLUMNS}
-            return parts
-        return [{name: self._whole(name)[order] for name in _COLUMNS}]
-
-    def _whole(self, name: str) -> npt.NDArray[Any]:
-        parts = self.parts.pop(name)
-        return np.concatenate(parts) if len(parts) != 1 else parts[0]
 
 
 _COLUMNS = ("parent", "child", "stamp", "translation", "rotation")
@@ -80,7 +54,7 @@ class MessageCollector:
         self._chunk: list[IntArray] = []
         self._offset: list[IntArray] = []
         self._rows: list[IntArray] = []  # per message, its transforms decoded
-        self._columns = _Columns()
+        self._columns = ColumnParts(_COLUMNS)
         self._frames = FrameTable()
         self._failures: dict[int, tuple[int, str]] = {}  # channel -> (count, first reason)
         self.count = 0
@@ -151,7 +125,14 @@ class MessageCollector:
         decoded = parts[0] if len(parts) == 1 else _joined(parts)
         if len(decoded.message) > 1 and np.any(np.diff(decoded.message) < 0):  # rosbags' rows came last
             decoded = _taken(decoded, np.argsort(decoded.message, kind="stable"))
-        self._columns.add(decoded)
+        values = decoded.values
+        self._columns.add(
+            parent=decoded.parent,
+            child=decoded.child,
+            stamp=decoded.stamp,
+            translation=np.ascontiguousarray(values[:, :3]),
+            rotation=np.ascontiguousarray(values[:, 3:]),
+        )
 
     def decode(self) -> tuple[list[TransformBatch], list[str]]:
         """Every transform in record order (as rosbag plays them), in consecutive batches; a line
@@ -176,7 +157,7 @@ class MessageCollector:
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
         batches = []
         first = 0
-        for columns in self._columns.take(order):
+        for columns in self._columns.take_parts() if order is None else [self._columns.take_whole(order)]:
             part = message[first : first + len(columns["stamp"])]
             first += len(part)
             batches.append(

@@ -10,6 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch
+from tftools.sources.bag.columns import ColumnParts
 from tftools.sources.bag.contents import is_static_topic
 from tftools.sources.bag.decode.codec import Codec
 from tftools.sources.bag.decode.template import Block, IntArray
@@ -33,7 +34,7 @@ class Rows:
     def __init__(self, channels: list[Channel]) -> None:
         self.channels = channels
         self.frames: dict[str, int] = {}
-        self.columns: dict[str, list[npt.NDArray[Any]]] = {name: [] for name in _COLUMNS}
+        self.columns = ColumnParts(_COLUMNS)
         self.settled = 0  # parts of each column in message order
 
     def _ids(self, names: list[str]) -> npt.NDArray[np.int32]:
@@ -45,33 +46,32 @@ class Rows:
         if not n * k:
             return
         values = block.values.reshape(-1, 7)
-        for name, column in (
-            ("message", np.repeat(messages, k)),
-            ("parent", np.tile(self._ids(block.parents), n)),
-            ("child", np.tile(self._ids(block.children), n)),
-            ("stamp", block.stamps.reshape(-1)),
-            ("translation", np.ascontiguousarray(values[:, :3])),
-            ("rotation", np.ascontiguousarray(values[:, 3:])),
-        ):
-            self.columns[name].append(column)
+        self.columns.add(
+            message=np.repeat(messages, k),
+            parent=np.tile(self._ids(block.parents), n),
+            child=np.tile(self._ids(block.children), n),
+            stamp=block.stamps.reshape(-1),
+            translation=np.ascontiguousarray(values[:, :3]),
+            rotation=np.ascontiguousarray(values[:, 3:]),
+        )
 
     def settle(self) -> None:
         """Merge the parts added since the last call into one, in message order (a few
         megabytes at most: reordered while in cache)."""
-        added = {name: parts[self.settled :] for name, parts in self.columns.items()}
+        added = {name: parts[self.settled :] for name, parts in self.columns.parts.items()}
         if len(added["message"]) > 1:
             messages = np.concatenate(added["message"])
             order = np.argsort(messages, kind="stable")
             for name, parts in added.items():
-                self.columns[name][self.settled :] = [np.concatenate(parts)[order]]
-        self.settled = len(self.columns["message"])
+                self.columns.parts[name][self.settled :] = [np.concatenate(parts)[order]]
+        self.settled = len(self.columns)
 
     def batches(self, times: IntArray, channel_of: npt.NDArray[np.int32], rank: IntArray) -> list[TransformBatch]:
         """The rows in record order, given each message's record time, channel and place in
         that order: the parts as settled when they are in that order already, else one batch
         made column after column, each freed as it is taken (one is held twice at most)."""
         self.settle()
-        if not self.columns["message"]:
+        if not len(self.columns):
             return []
         authorities = list(dict.fromkeys(c.topic for c in self.channels))
         authority_of = np.array([authorities.index(c.topic) for c in self.channels], np.int32)
@@ -90,23 +90,14 @@ class Rows:
                 **columns,
             )
 
-        ranks = [rank[m] for m in self.columns["message"]]
+        ranks = [rank[m] for m in self.columns.parts["message"]]
         if all(bool(np.all(r[1:] >= r[:-1])) for r in ranks) and all(
             a[-1] <= b[0] for a, b in itertools.pairwise(ranks)
         ):
-            parts = [dict(zip(_COLUMNS, group, strict=True)) for group in zip(*self.columns.values(), strict=True)]
-            self.columns = {name: [] for name in _COLUMNS}
-            return [batch(columns) for columns in parts]
+            return [batch(columns) for columns in self.columns.take_parts()]
+        order = np.argsort(np.concatenate(ranks), kind="stable")
         del ranks
-        messages = self._take("message", None)
-        order = np.argsort(rank[messages], kind="stable")
-        return [batch({"message": messages[order], **{name: self._take(name, order) for name in _COLUMNS[1:]}})]
-
-    def _take(self, name: str, order: IntArray | None) -> npt.NDArray[Any]:
-        parts = self.columns.pop(name)
-        column = parts[0] if len(parts) == 1 else np.concatenate(parts)
-        del parts
-        return column if order is None else column[order]
+        return [batch(self.columns.take_whole(order))]
 
 
 _COLUMNS = ("message", "parent", "child", "stamp", "translation", "rotation")
