@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import shutil
 import subprocess
 import sys
 import time
@@ -200,7 +199,7 @@ def command_rows(table: Table) -> None:
         ["frames", "-b", bag], ["echo", robot.TARGET, "gripper", "-b", bag], ["monitor", "-b", bag],
         ["monitor", robot.TARGET, "gripper", "-b", bag], ["view-frames", "-b", bag, "-o", str(out)], ["wtf", bag],
     ]  # fmt: skip
-    tfx = shutil.which("tfx") or "tfx"
+    tfx = str(Path(sys.executable).with_name("tfx"))  # this interpreter's: its scripts need not be on PATH
     for args in commands:
         began = time.perf_counter()
         subprocess.run([tfx, *args], capture_output=True, check=False)

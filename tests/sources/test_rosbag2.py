@@ -8,6 +8,7 @@ import os
 import shutil
 import sqlite3
 import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -209,7 +210,18 @@ def ros1_rows(path: Path) -> list[tuple[Any, ...]]:
 
 
 def convert(source: Path, target: Path, storage: str) -> Path:
-    command = ["rosbags-convert", "--src", str(source), "--dst", str(target), "--dst-typestore", "ros2_humble"]
+    # rosbags' own command, from the interpreter running the tests (its scripts need not be on PATH)
+    command = [
+        sys.executable,
+        "-m",
+        "rosbags.convert",
+        "--src",
+        str(source),
+        "--dst",
+        str(target),
+        "--dst-typestore",
+        "ros2_humble",
+    ]
     if storage == "mcap":
         command += ["--dst-storage", "mcap"]
     done = subprocess.run(command, capture_output=True, text=True, timeout=120)
