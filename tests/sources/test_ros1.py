@@ -26,7 +26,7 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
-from tftools.sources.bag import ros1, ros1_decode, ros1_scan
+from tftools.sources.bag import ros1, ros1_decode, ros1_scan, ros1_spans
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 
@@ -180,6 +180,91 @@ def test_only_chunks_holding_transforms_are_decompressed(tmp_path: Path, monkeyp
     assert len(counts) > 20
     assert len(decompressed) == sum(1 for n in counts if n) < 5
     assert len(rows_of(batches)) == 50 and info.message_count == 90
+
+
+# Uncompressed chunks: only the wanted records are read, by the chunks' indexes.
+
+
+def interleaved(images: int, image_bytes: int) -> list[Msg]:
+    """Three /tf messages between consecutive camera images, as a robot with a camera records."""
+    messages = []
+    for i in range(images):
+        t = T0 + i * NS // 10
+        messages.append(Msg("/camera/image", "image", t, "/camera", image_bytes))
+        for k in range(1, 4):
+            transform = ("odom", "base_link", t + k, [0.1 * i, 0.2 * k, 0.0, 0.0, 0.0, 0.0, 1.0])
+            messages.append(Msg("/tf", "tf2", t + k, "/ekf", [transform]))
+    return messages
+
+
+def test_the_images_of_an_uncompressed_bag_are_not_read(
+    rosbag_available: None, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    bag = write_rosbag(tmp_path / "b.bag", interleaved(60, 300_000), "none", chunk_threshold=768 * 1024)
+    read_bytes: list[int] = []
+    real = os.pread
+
+    def counting(fd: int, length: int, offset: int) -> bytes:
+        read_bytes.append(length)
+        return real(fd, length, offset)
+
+    monkeypatch.setattr(ros1_spans.os, "pread", counting)
+    batches, info = read(bag)
+    assert rows_of(batches) == reference_rows(bag) and len(rows_of(batches)) == 180 and info.problems == []
+    assert len(tf_counts(bag)) > 20 and bag.stat().st_size > 18_000_000
+    assert 0 < sum(read_bytes) < 100_000  # the transforms' records, not the 18 MB of images
+
+
+@pytest.mark.parametrize("batch_bytes", [1, 200_000, 1 << 30])
+def test_records_read_in_batches_of_any_size_read_alike(
+    rosbag_available: None, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch, batch_bytes: int
+) -> None:
+    """Chunk after chunk, a few chunks at a time, or the whole bag at once: the same rows."""
+    monkeypatch.setattr(ros1_scan, "_SPAN_BYTES", batch_bytes)
+    for name in ("none", "ordered_none"):
+        batches, info = read(bags[name], (*TOPICS, "/tf_old"))
+        assert rows_of(batches) == reference_rows(bags[name], (*TOPICS, "/tf_old")) and info.problems == []
+
+
+def test_an_index_entry_pointing_at_another_topics_record_loses_that_message(
+    rosbag_available: None, tmp_path: Path
+) -> None:
+    bag = write_rosbag(tmp_path / "b.bag", interleaved(10, 5_000), "none", chunk_threshold=1 << 20)
+    data = bytearray(bag.read_bytes())
+    with Reader(bag) as reader:
+        tf, image = (next(c for c in reader.connections if c.topic == t) for t in ("/tf", "/camera/image"))
+        entry, target = reader.indexes[tf.id][4], reader.indexes[image.id][2]
+    # The index data record of /tf lists (sec, nsec, offset) entries; point the fifth at an image.
+    needle = struct.pack("<III", entry.time // NS, entry.time % NS, entry.offset)
+    assert data.count(needle) == 1
+    at = data.index(needle)
+    data[at + 8 : at + 12] = struct.pack("<I", target.offset)
+    damaged = tmp_path / "damaged.bag"
+    damaged.write_bytes(bytes(data))
+    batches, info = read(damaged)
+    assert rows_of(batches) == [row for row in reference_rows(bag) if row[4] != entry.time]
+    (line,) = info.problems
+    assert line.startswith("damaged.bag: a damaged part could not be read (first at byte ")
+    assert line.endswith("its index points at no message); 1 transform messages lost")
+
+
+def test_a_record_longer_than_its_index_allows_loses_that_message(rosbag_available: None, tmp_path: Path) -> None:
+    """Its length would reach into the next record read: it is refused, not decoded from foreign bytes."""
+    bag = write_rosbag(tmp_path / "b.bag", interleaved(10, 5_000), "none", chunk_threshold=1 << 20)
+    data = bytearray(bag.read_bytes())
+    with Reader(bag) as reader:
+        tf = next(c for c in reader.connections if c.topic == "/tf")
+        entry = reader.indexes[tf.id][4]
+        record = reader.chunks[entry.chunk_pos].datapos + entry.offset
+    (header_len,) = struct.unpack_from("<I", data, record)
+    (data_len,) = struct.unpack_from("<I", data, record + 4 + header_len)
+    struct.pack_into("<I", data, record + 4 + header_len, data_len + 64)
+    damaged = tmp_path / "damaged.bag"
+    damaged.write_bytes(bytes(data))
+    batches, info = read(damaged)
+    assert rows_of(batches) == [row for row in reference_rows(bag) if row[4] != entry.time]
+    (line,) = info.problems
+    assert line.endswith("; 1 transform messages lost")
 
 
 def test_the_sample_bag(rosbag_available: None) -> None:

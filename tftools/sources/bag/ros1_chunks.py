@@ -109,6 +109,18 @@ class Located:
     connections: list[Connection] = field(default_factory=list)  # connection records met
     first_error: str = ""  # why the first record asked for that is not a message
 
+    def taken(self, rows: npt.NDArray[np.bool_]) -> Located:
+        """The messages where ``rows`` is true."""
+        return Located(
+            self.conn[rows],
+            self.time[rows],
+            self.offset[rows],
+            self.data_start[rows],
+            self.data_len[rows],
+            self.connections,
+            self.first_error,
+        )
+
 
 def locate(data: Buffer, offsets: IntArray, *, follow: bool) -> Located:
     """The message records at ``offsets``; with ``follow``, connection records before a

@@ -140,6 +140,70 @@ def read_record(buf: Buffer, pos: int, end: int | None = None) -> Record:
     return Record(op[0], fields, pos, data_start, data_start + data_len)
 
 
+#: Per op code, the header fields whose values differ from record to record (fixed-width ones):
+#: the rest of a header repeats, so ``RecordReader`` matches it instead of parsing it.
+_CHANGING = {
+    OP_CHUNK: ("size",),
+    OP_INDEX: ("conn", "count"),
+    OP_CHUNK_INFO: ("chunk_pos", "start_time", "end_time", "count"),
+}
+
+
+class _Layout:
+    """A record header's bytes, with where the changing fields' values lie."""
+
+    def __init__(self, record: Record, header: bytes, changing: tuple[str, ...]) -> None:
+        self.record = record
+        self.length = len(header)
+        self.places = sorted((_value_at(header, name), len(record.fields[name]), name) for name in changing)
+        bounds = [0, *(edge for at, width, _ in self.places for edge in (at, at + width)), len(header)]
+        self.fixed = [(a, b, header[a:b]) for a, b in zip(bounds[::2], bounds[1::2], strict=True)]
+
+    def read(self, buf: Buffer, pos: int, limit: int) -> Record | None:
+        """The record at ``pos`` if its header has this layout, else None."""
+        header_end = pos + 4 + self.length
+        if header_end + 4 > limit:
+            return None
+        header = buf[pos + 4 : header_end]
+        if any(header[a:b] != expected for a, b, expected in self.fixed):
+            return None
+        fields = dict(self.record.fields)
+        for at, width, name in self.places:
+            fields[name] = bytes(header[at : at + width])
+        data_start = header_end + 4
+        return Record(self.record.op, fields, pos, data_start, data_start + u32(buf, header_end))
+
+
+def _value_at(header: bytes, name: str) -> int:
+    """Where the value of field ``name`` begins in a record header."""
+    pos, key = 0, name.encode() + b"="
+    while header[pos + 4 : pos + 4 + len(key)] != key:
+        pos += 4 + int(_U32.unpack_from(header, pos)[0])
+    return pos + 4 + len(key)
+
+
+class RecordReader:
+    """``read_record`` for many records of one file: the headers of chunks, index records and chunk
+    infos, which a writer repeats but for a few values, are matched against one learnt from the
+    first of each length instead of being parsed field by field."""
+
+    def __init__(self, buf: Buffer) -> None:
+        self.buf = buf
+        self._layouts: dict[int, _Layout] = {}  # by header length
+
+    def read(self, pos: int, end: int | None = None) -> Record:
+        limit = len(self.buf) if end is None else end
+        layout = self._layouts.get(u32(self.buf, pos))
+        if layout is not None and (record := layout.read(self.buf, pos, limit)) is not None:
+            return record
+        record = read_record(self.buf, pos, end)
+        changing = _CHANGING.get(record.op, ())
+        if changing and all(name in record.fields for name in changing):
+            header = bytes(self.buf[pos + 4 : record.data_start - 4])
+            self._layouts[len(header)] = _Layout(record, header, changing)
+        return record
+
+
 @dataclass(frozen=True)
 class BagHeader:
     index_pos: int  # 0: the bag was never closed (no index)
@@ -228,12 +292,24 @@ class IndexEntries:
     offsets: npt.NDArray[np.int64]
 
 
-def read_index(buf: Buffer, record: Record) -> IndexEntries:
+def index_offsets(buf: Buffer, record: Record) -> npt.NDArray[np.uint32]:
+    """Where the messages an index data record lists begin in its chunk's data (``read_index``
+    without the times)."""
+    count = _index_count(buf, record)
+    return np.frombuffer(buf, "<u4", 3 * count, record.data_start)[2::3]
+
+
+def _index_count(buf: Buffer, record: Record) -> int:
     if record.uint("ver") != 1:
         raise FormatError(f"index data version {record.uint('ver')} is unknown")
     count = record.uint("count")
     if record.data_end - record.data_start < count * _INDEX_ENTRY.itemsize or record.data_end > len(buf):
         raise FormatError(f"the index data at byte {record.start} is cut short")
+    return count
+
+
+def read_index(buf: Buffer, record: Record) -> IndexEntries:
+    count = _index_count(buf, record)
     entries = np.frombuffer(buf, _INDEX_ENTRY, count, record.data_start)
     times = entries["sec"].astype(np.int64) * NS_PER_S + entries["nsec"]
     return IndexEntries(record.uint("conn"), times, entries["offset"].astype(np.int64))

@@ -67,14 +67,16 @@ class MessageCollector:
     def wants(self, conn: int) -> bool:
         return conn in self._channel_of
 
-    def add(self, chunk: int, data: Buffer, located: Located) -> int:
-        """Keep the wanted messages among ``located`` (records of ``data``); returns how many.
+    def add(self, chunk: int | IntArray, data: Buffer, located: Located) -> npt.NDArray[np.bool_]:
+        """Keep the wanted messages among ``located`` (records of ``data``, in chunk ``chunk``, or
+        each in its own); returns which were kept.
 
         Their payloads are copied out of ``data``, which the caller may then release."""
         channel = self._channels(located.conn)
-        keep = np.flatnonzero(channel >= 0)
+        kept = channel >= 0
+        keep = np.flatnonzero(kept)
         if not len(keep):
-            return 0
+            return kept
         starts, lengths = located.data_start[keep], located.data_len[keep]
         if 2 * int(lengths.sum()) >= len(data):  # mostly transforms: one copy of the chunk
             payload = bytes(data)
@@ -85,12 +87,12 @@ class MessageCollector:
         self._pending_bytes += len(payload)
         self._channel.append(channel[keep])
         self._time.append(located.time[keep])
-        self._chunk.append(np.full(len(keep), chunk, np.int64))
+        self._chunk.append(np.broadcast_to(np.asarray(chunk, np.int64), len(channel))[keep])
         self._offset.append(located.offset[keep])
         self.count += len(keep)
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_pending()
-        return len(keep)
+        return kept
 
     def _channels(self, conn: IntArray) -> IntArray:
         if not len(conn):

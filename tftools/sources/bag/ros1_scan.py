@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import mmap
 import os
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.ros1_chunks import (
@@ -33,18 +35,31 @@ from tftools.sources.bag.ros1_format import (
     FileBuffer,
     FormatError,
     Record,
+    RecordReader,
     distinct,
+    index_offsets,
     read_chunk,
     read_chunk_info,
     read_connection,
-    read_index,
     read_record,
 )
 from tftools.sources.bag.ros1_messages import Decoder, MessageCollector
+from tftools.sources.bag.ros1_spans import ChunkSpans
 
 _REPAIR = "run `rosbag reindex` on a copy to repair it"
 _CHUNK_HEADER_OP = b"\x04\x00\x00\x00op=\x05"  # the op field of a chunk record header
 _HEADER_REACH = 96  # how far before its op field a chunk record header may start
+_SPAN_BYTES = 8 << 20  # records of uncompressed chunks gathered before they are read
+
+
+@dataclass
+class _ChunkIndex:
+    """What a chunk's index records say: the offsets of its wanted messages, of every message, and
+    where the records end."""
+
+    wanted: IntArray
+    every: IntArray
+    end: int
 
 
 @dataclass
@@ -65,6 +80,10 @@ class _Damage:
             self.lost += lost
 
 
+def _joined(offsets: list[npt.NDArray[np.uint32]]) -> IntArray:
+    return np.concatenate(offsets, dtype=np.int64) if offsets else np.zeros(0, np.int64)
+
+
 class BagScan:
     """One bag file read: its wanted messages (undecoded), description and problems."""
 
@@ -79,6 +98,7 @@ class BagScan:
     ) -> None:
         self.name = name
         self.buf = buf
+        self.records = RecordReader(buf)
         self.fd = fd  # the file ``buf`` maps, to read chunks from without mapping their pages
         self.size = len(buf)
         self.wanted_topics = topics
@@ -91,6 +111,9 @@ class BagScan:
         self.skipped: list[str] = []
         self.damage = _Damage()
         self.chunk_ordinal = 0
+        self.spans = ChunkSpans()  # wanted records of uncompressed chunks, until read
+        self.expected: dict[int, tuple[int, int]] = {}  # their chunks: ordinal -> (position, messages wanted)
+        self.gathered_end = 0  # where the index of the last chunk gathered ends
         self.scanned = 0  # where the scan of the chunks stopped
         self.tail = ""  # what the scan could not read at the end
 
@@ -146,7 +169,7 @@ class BagScan:
         return sorted(infos, key=lambda info: info.pos)
 
     def _record(self, pos: int, op: int) -> Record:
-        record = read_record(self.buf, pos)
+        record = self.records.read(pos)
         if record.op != op or record.data_end > self.size:
             raise FormatError(f"no readable record with op {op} at byte {pos}")
         return record
@@ -161,40 +184,79 @@ class BagScan:
             if wanted:
                 self._indexed_chunk(ordinal, info, wanted)
                 self.progress(min(info.pos, self.size), self.size)
+        self._read_spans()
 
     def _indexed_chunk(self, ordinal: int, info: ChunkInfo, wanted: int) -> None:
         try:
             record = self._record(info.pos, OP_CHUNK)
             chunk = read_chunk(record)
-            unpacked = self._unpacked(chunk, chunk.data_end)
-        except (FormatError, CompressionUnavailableError) as e:
+        except FormatError as e:
             self.damage.note(info.pos, str(e), wanted)
             return
-        offsets = self._index_offsets(record.data_end, info)
-        if offsets is None:
+        index = self._chunk_index(record.data_end, info)
+        if chunk.compression == "none" and index is not None and self.fd is not None:
+            self._gather(ordinal, info.pos, chunk, index, wanted)
+            return
+        self._release(info.pos, record.data_start if index is None else index.end)
+        self._read_spans()  # what was gathered comes first: the messages stay in record order
+        try:
+            unpacked = self._unpacked(chunk, chunk.data_end)
+        except CompressionUnavailableError as e:
+            self.damage.note(info.pos, str(e), wanted)
+            return
+        if index is None:
             located = locate(unpacked.data, walk(unpacked.data)[0], follow=False)
         else:
-            located = locate(unpacked.data, offsets, follow=True)
-        got = self.messages.add(ordinal, unpacked.data, located)
+            located = locate(unpacked.data, distinct(index.wanted), follow=True)
+        got = int(self.messages.add(ordinal, unpacked.data, located).sum())
         self._release(info.pos, record.data_end)
         if got < wanted:
             reason = unpacked.problem or located.first_error or "its index points at no message"
             self.damage.note(info.pos, reason, wanted - got)
 
-    def _index_offsets(self, pos: int, info: ChunkInfo) -> IntArray | None:
-        """Offsets of the wanted messages in the chunk's data, from the index records after it;
-        None when those are unreadable."""
-        offsets: list[IntArray] = []
+    def _chunk_index(self, pos: int, info: ChunkInfo) -> _ChunkIndex | None:
+        """The message offsets in the chunk's data, from the index records after it; None when
+        those are unreadable."""
+        wanted: list[npt.NDArray[np.uint32]] = []
+        every: list[npt.NDArray[np.uint32]] = []
         try:
             for _ in range(len(info.counts)):
                 record = self._record(pos, OP_INDEX)
-                entries = read_index(self.buf, record)
-                if self.messages.wants(entries.conn):
-                    offsets.append(entries.offsets)
+                offsets = index_offsets(self.buf, record)
+                every.append(offsets)
+                if self.messages.wants(record.uint("conn")):
+                    wanted.append(offsets)
                 pos = record.data_end
         except FormatError:
             return None
-        return distinct(np.concatenate(offsets)) if offsets else np.zeros(0, np.int64)
+        return _ChunkIndex(_joined(wanted), _joined(every), pos)
+
+    def _gather(self, ordinal: int, pos: int, chunk: Chunk, index: _ChunkIndex, wanted: int) -> None:
+        """Note the wanted records of an uncompressed chunk, to be read with other chunks' (and
+        its header's and index's pages released with theirs)."""
+        self.spans.add(ordinal, chunk.data_start, chunk.data_end - chunk.data_start, index.wanted, index.every)
+        self.expected[ordinal] = (pos, wanted)
+        self.gathered_end = index.end
+        if self.spans.nbytes >= _SPAN_BYTES:
+            self._read_spans()
+
+    def _read_spans(self) -> None:
+        """Read the wanted records gathered from uncompressed chunks; a record must end before the
+        next one its chunk's index knows of."""
+        if not self.spans:
+            return
+        self._release(next(iter(self.expected.values()))[0], self.gathered_end)
+        batch = self.spans.read(self.fd or 0)
+        located = locate(batch.data, batch.offsets, follow=True)
+        row = np.searchsorted(batch.offsets, located.offset, side="right") - 1
+        within = located.data_start + located.data_len <= batch.ends[row]
+        kept = self.messages.add(batch.chunk[row[within]], batch.data, located.taken(within))
+        got = Counter(batch.chunk[row[within][kept]].tolist())
+        reason = located.first_error or "its index points at no message"
+        for ordinal, (pos, wanted) in self.expected.items():
+            if got[ordinal] < wanted:
+                self.damage.note(pos, reason, wanted - got[ordinal])
+        self.expected.clear()
 
     # Reading chunk after chunk.
 
