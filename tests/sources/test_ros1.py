@@ -215,12 +215,13 @@ def test_the_images_of_an_uncompressed_bag_are_not_read(
     assert 0 < sum(read_bytes) < 100_000  # the transforms' records, not the 18 MB of images
 
 
-@pytest.mark.parametrize("batch_bytes", [1, 200_000, 1 << 30])
+@pytest.mark.parametrize(("records", "nbytes"), [(1, 1 << 30), (1 << 30, 1), (40, 1 << 30), (1 << 30, 1 << 30)])
 def test_records_read_in_batches_of_any_size_read_alike(
-    rosbag_available: None, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch, batch_bytes: int
+    rosbag_available: None, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch, records: int, nbytes: int
 ) -> None:
     """Chunk after chunk, a few chunks at a time, or the whole bag at once: the same rows."""
-    monkeypatch.setattr(ros1_scan, "_SPAN_BYTES", batch_bytes)
+    monkeypatch.setattr(ros1_scan, "_SPAN_RECORDS", records)
+    monkeypatch.setattr(ros1_scan, "_SPAN_BYTES", nbytes)
     for name in ("none", "ordered_none"):
         batches, info = read(bags[name], (*TOPICS, "/tf_old"))
         assert rows_of(batches) == reference_rows(bags[name], (*TOPICS, "/tf_old")) and info.problems == []

@@ -49,7 +49,9 @@ from tftools.sources.bag.ros1_spans import ChunkSpans
 _REPAIR = "run `rosbag reindex` on a copy to repair it"
 _CHUNK_HEADER_OP = b"\x04\x00\x00\x00op=\x05"  # the op field of a chunk record header
 _HEADER_REACH = 96  # how far before its op field a chunk record header may start
-_SPAN_BYTES = 8 << 20  # records of uncompressed chunks gathered before they are read
+#: Records of uncompressed chunks are gathered until there are this many, or their chunks hold
+#: this many bytes, then read (a few megabytes of transforms; the cap bounds a batch of huge ones).
+_SPAN_RECORDS, _SPAN_BYTES = 8192, 64 << 20
 
 
 @dataclass
@@ -237,7 +239,7 @@ class BagScan:
         self.spans.add(ordinal, chunk.data_start, chunk.data_end - chunk.data_start, index.wanted, index.every)
         self.expected[ordinal] = (pos, wanted)
         self.gathered_end = index.end
-        if self.spans.nbytes >= _SPAN_BYTES:
+        if self.spans.records >= _SPAN_RECORDS or self.spans.nbytes >= _SPAN_BYTES:
             self._read_spans()
 
     def _read_spans(self) -> None:

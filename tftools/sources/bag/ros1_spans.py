@@ -40,6 +40,7 @@ class ChunkSpans:
     sizes: list[int] = field(default_factory=list)
     wanted: list[IntArray] = field(default_factory=list)
     indexed: list[IntArray] = field(default_factory=list)
+    records: int = 0  # offsets wanted (about what reading them will take, whatever else the chunks hold)
     nbytes: int = 0  # their chunks' data: at most what reading them will take
 
     def __bool__(self) -> bool:
@@ -54,6 +55,7 @@ class ChunkSpans:
         self.sizes.append(size)
         self.wanted.append(wanted)
         self.indexed.append(indexed)
+        self.records += len(wanted)
         self.nbytes += size
 
     def read(self, fd: int) -> SpanBatch:
@@ -74,7 +76,7 @@ class ChunkSpans:
 
     def _clear(self) -> None:
         self.ordinals, self.data_starts, self.sizes, self.wanted, self.indexed = [], [], [], [], []
-        self.nbytes = 0
+        self.records = self.nbytes = 0
 
     def _ranges(self) -> tuple[IntArray, IntArray, IntArray]:
         """Where each wanted record begins and ends in the file, and its chunk's ordinal, in file
