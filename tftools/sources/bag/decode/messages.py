@@ -94,21 +94,8 @@ class MessageSet:
         if self.unpack is not None:
             payloads, unpacked = self._unpacked(channels, payloads)
             channels, times, where = channels[unpacked], times[unpacked], where[unpacked]
-        n = len(payloads)
-        if not n:
-            return
-        ids = self._numbered(channels, times, where)
-        codec_of = np.array(self._codec_of, np.int64)[channels]
-        keys = (codec_of << 40) | np.fromiter(map(len, payloads), np.int64, n)
-        if (keys == keys[0]).all():
-            self._group(int(keys[0]), b"".join(payloads), ids)
-        else:
-            order = np.argsort(keys, kind="stable")
-            for part in np.split(order, np.flatnonzero(np.diff(keys[order])) + 1):
-                rows = part.tolist()
-                self._group(int(keys[rows[0]]), b"".join([payloads[i] for i in rows]), ids[part])
-        if self._pending_bytes >= _GROUP_BYTES:
-            self._decode_groups()
+        lengths = np.fromiter(map(len, payloads), np.int64, len(payloads))
+        self._add_joined(channels, times, where, b"".join(payloads), np.cumsum(lengths) - lengths, lengths)
 
     def add_spans(
         self,
@@ -126,18 +113,32 @@ class MessageSet:
             pieces = [view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)]
             self.add(channel, record_times, positions, pieces)
             return
+        channels = np.full(len(starts), channel, np.int32)
+        times, where = np.asarray(record_times, np.int64), np.asarray(positions, np.int64)
+        self._add_joined(channels, times, where, data, starts, lengths)
+
+    def _add_joined(
+        self,
+        channels: Int32Array,
+        times: IntArray,
+        where: IntArray,
+        data: bytes | memoryview,
+        starts: IntArray,
+        lengths: IntArray,
+    ) -> None:
+        """Group the payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec and length."""
         if not len(starts):
             return
-        channels = np.full(len(starts), channel, np.int32)
-        ids = self._numbered(channels, np.asarray(record_times, np.int64), np.asarray(positions, np.int64))
+        ids = self._numbered(channels, times, where)
         raw = np.frombuffer(data, np.uint8)
-        order = np.argsort(lengths, kind="stable")
-        for part in np.split(order, np.flatnonzero(np.diff(lengths[order])) + 1):
+        keys = (np.array(self._codec_of, np.int64)[channels] << 40) | lengths
+        order = np.argsort(keys, kind="stable")
+        for part in np.split(order, np.flatnonzero(np.diff(keys[order])) + 1):
             length = int(lengths[part[0]])
             # One item per position, each ``length`` bytes from there: a gather copies whole items.
             items = np.ndarray((len(raw) - length + 1,), f"V{length}", raw, strides=(1,)) if length else None
             joined = items[starts[part]].tobytes() if items is not None else b""
-            self._group((self._codec_of[channel] << 40) | length, joined, ids[part])
+            self._group(int(keys[part[0]]), joined, ids[part])
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
 
