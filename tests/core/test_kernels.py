@@ -98,7 +98,7 @@ def test_without_numba_the_python_walk_answers(monkeypatch):
     built = scenarios.build(3, frozenset({"reparent"}), 1_700_000_000)
     buffer = scenarios.load_into_buffer(built.scenario)
     fast = [scenarios.answer(buffer, query) for query in built.scenario.queries]
-    monkeypatch.setattr(buffer_module, "compiled", lambda: None)
+    monkeypatch.setattr(buffer_module, "compiled", lambda *_: None)
     slow = [scenarios.answer(buffer, query) for query in built.scenario.queries]
     assert slow == fast  # the very same bits
     assert sum(a["ok"] for a in fast) > 100
@@ -123,3 +123,26 @@ def test_lookup_many_answers_as_single_lookups(seed, features, monkeypatch):
                     assert got.stamps[i] == expected[1]
                     np.testing.assert_allclose(got.translations[i], expected[0][:3], rtol=0, atol=1e-12)
                     np.testing.assert_allclose(got.rotations[i], expected[0][3:], rtol=0, atol=1e-12)
+
+
+def test_the_kernels_load_once_the_walk_would_have_paid_for_them(monkeypatch):
+    """A few hundred lookups never load numba; a long loop of them, or one big batch, does."""
+    from tftools.core import kernels_table
+
+    built = scenarios.build(3, frozenset(), 1_700_000_000)
+    buffer = scenarios.load_into_buffer(built.scenario)
+    target, source, time = next(iter(lookups(built, buffer)))
+    for fresh in ("_tried", "_walked", "_compiled"):
+        monkeypatch.setattr(kernels_table, fresh, {"_tried": False, "_walked": 0.0, "_compiled": None}[fresh])
+    buffer.lookup_many(target, source, np.full(300, time))
+    buffer.lookup(target, source, time)
+    assert not kernels_table._tried
+    loop = int(kernels_table.LOAD_SECONDS / kernels_table.WALK_LOOKUP_S)
+    for _ in range(loop):
+        buffer.lookup(target, source, time)
+    assert kernels_table._tried and kernels_table.compiled(0.0) is kernels
+
+    monkeypatch.setattr(kernels_table, "_tried", False)
+    monkeypatch.setattr(kernels_table, "_walked", 0.0)
+    buffer.lookup_many(target, source, np.full(int(kernels_table.LOAD_SECONDS / kernels_table.WALK_TIME_S), time))
+    assert kernels_table._tried

@@ -22,7 +22,15 @@ from tftools.core.history import (
     PARENT_HAD_SLASH,
     EdgeHistory,
 )
-from tftools.core.kernels_table import EdgeTable, compiled, lookup_in_parallel
+from tftools.core.kernels_table import (
+    WALK_BATCH_S,
+    WALK_CAN_TRANSFORM_S,
+    WALK_LOOKUP_S,
+    WALK_TIME_S,
+    EdgeTable,
+    compiled,
+    lookup_in_parallel,
+)
 from tftools.core.rejection import Rejection, RejectionCode
 from tftools.core.time import NS_PER_S, Clock, SimClock
 from tftools.core.transform import Transform
@@ -358,7 +366,7 @@ class Buffer:
             return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
         target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
         source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
-        kernels = compiled()
+        kernels = compiled(WALK_LOOKUP_S)
         if kernels is not None:
             values, stamp = self._scratch_values, self._scratch_stamp
             if kernels.lookup(self._edge_table(), target_id, source_id, time, values, stamp) == kernels.OK:
@@ -396,7 +404,7 @@ class Buffer:
         target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
         if NO_PARENT in (target_id, source_id):
             return False
-        kernels = compiled()
+        kernels = compiled(WALK_CAN_TRANSFORM_S)
         if kernels is not None:
             return bool(kernels.can_transform(self._edge_table(), target_id, source_id, time))
         return walk.can_transform(self._tree(), target_id, source_id, time)
@@ -435,7 +443,7 @@ class Buffer:
             return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
         target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
         source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
-        kernels = compiled()
+        kernels = compiled(WALK_BATCH_S + WALK_TIME_S * len(stamps))
         if kernels is None:
             return LookupBatch(*walk.lookup_many(self._tree(), target_id, source_id, stamps))
         resolved, values, valid = lookup_in_parallel(kernels, self._edge_table(), target_id, source_id, stamps)

@@ -4,12 +4,13 @@ A compiled call pays for every array it is given, so the kernels take this one t
 of each history's arrays: a row holds a history's bounds and the addresses of its stamps,
 values and parents. The buffer updates a row whenever it stores into that frame's history
 (which may move its arrays); the table also keeps the arrays it points to alive, so a row
-can at worst be stale, never dangling. Nothing here imports numba: ``compiled()`` does, once.
+can at worst be stale, never dangling. Nothing here imports numba: ``compiled()`` does, once it pays.
 """
 
 from __future__ import annotations
 
 import importlib
+import math
 import os
 import threading
 from collections.abc import Sequence
@@ -58,22 +59,36 @@ class EdgeTable:
         self.rows = rows
 
 
+#: What loading the kernels costs, about (mostly numba's import; the machine code is cached).
+LOAD_SECONDS = 0.5
+#: What the Python walk takes, about: per lookup, per ``can_transform``, per batch and per time of one.
+WALK_LOOKUP_S, WALK_CAN_TRANSFORM_S, WALK_BATCH_S, WALK_TIME_S = 50e-6, 15e-6, 2e-3, 5e-6
+
 _compiled: ModuleType | None = None
 _tried = False
+_walked = 0.0  # what the Python walk took so far, by estimate, while the kernels were not loaded
 
 
-def compiled() -> ModuleType | None:
-    """The compiled kernels (``tftools.core.kernels``), or None where numba cannot be imported.
+def compiled(walk_seconds: float = math.inf) -> ModuleType | None:
+    """The compiled kernels (``tftools.core.kernels``) if they are loaded or worth loading, else None.
 
-    Imported on first use only, so commands that never look up pay nothing for numba.
+    ``walk_seconds`` is what the Python walk would take for the call at hand. The kernels are
+    loaded once the walk's time so far reaches what loading them costs, as one rents skis until
+    the rent would have bought them: a command that looks up a few hundred times never pays for
+    numba, a loop of lookups pays once, early, and never more than twice what the best choice in
+    hindsight would have cost. None also where numba cannot be imported (the walk answers alone).
     """
-    global _compiled, _tried
-    if not _tried:
-        _tried = True
-        try:
-            _compiled = importlib.import_module("tftools.core.kernels")
-        except ImportError:  # numba missing on this platform: the Python walk answers alone
-            _compiled = None
+    global _compiled, _tried, _walked
+    if _tried:
+        return _compiled
+    _walked += walk_seconds
+    if _walked < LOAD_SECONDS:
+        return None
+    _tried = True
+    try:
+        _compiled = importlib.import_module("tftools.core.kernels")
+    except ImportError:  # numba missing on this platform
+        _compiled = None
     return _compiled
 
 
