@@ -240,11 +240,7 @@ def test_an_index_entry_pointing_at_another_topics_record_loses_that_message(
     assert data.count(needle) == 1
     at = data.index(needle)
     data[at + 8 : at + 12] = struct.pack("<I", target.offset)
-    damaged = tmp_path / "damaged.bag"
-    damaged.write_bytes(bytes(data))
-    batches, info = read(damaged)
-    assert rows_of(batches) == [row for row in reference_rows(bag) if row[4] != entry.time]
-    (line,) = info.problems
+    line = read_losing_one(bag, data, entry.time, tmp_path)
     assert line.startswith("damaged.bag: a damaged part could not be read (first at byte ")
     assert line.endswith("its index points at no message); 1 transform messages lost")
 
@@ -260,12 +256,18 @@ def test_a_record_longer_than_its_index_allows_loses_that_message(rosbag_availab
     (header_len,) = struct.unpack_from("<I", data, record)
     (data_len,) = struct.unpack_from("<I", data, record + 4 + header_len)
     struct.pack_into("<I", data, record + 4 + header_len, data_len + 64)
+    assert read_losing_one(bag, data, entry.time, tmp_path).endswith("; 1 transform messages lost")
+
+
+def read_losing_one(bag: Path, data: bytearray, record_time: int, tmp_path: Path) -> str:
+    """``bag`` damaged into ``data``, read: all its rows but the message recorded at ``record_time``'s;
+    its one problem line."""
     damaged = tmp_path / "damaged.bag"
     damaged.write_bytes(bytes(data))
     batches, info = read(damaged)
-    assert rows_of(batches) == [row for row in reference_rows(bag) if row[4] != entry.time]
+    assert rows_of(batches) == [row for row in reference_rows(bag) if row[4] != record_time]
     (line,) = info.problems
-    assert line.endswith("; 1 transform messages lost")
+    return line
 
 
 def test_the_sample_bag(rosbag_available: None) -> None:
