@@ -16,11 +16,13 @@ from urllib.parse import quote
 import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.db3_btree import Bytes, Cells, UnhandledFileError, read_messages
+from tftools.sources.bag.db3_format import MAGIC
 from tftools.sources.bag.db3_pages import salvage
 from tftools.sources.bag.decode import Decoder, FileScan, MessageSet, Unpack, select
+from tftools.sources.bag.decode.messages import Int32Array
 from tftools.sources.errors import CorruptBagError
 
-SQLITE_MAGIC = b"SQLite format 3\x00"
 ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
 _FETCH = 1 << 12  # rows per fetch: progress is reported between fetches
 
@@ -41,12 +43,14 @@ def scan(
     they look compressed. Raises ``CorruptBagError`` when nothing could be read.
     """
     result = FileScan(MessageSet(unpack, decoder))
+    wal = path.with_name(path.name + "-wal")
+    unmerged = wal.exists() and wal.stat().st_size > 0
     with _connect(path) as db:
         channels = _channels(db, path, topics, result)
-        _statistics(db, result)
-        _messages(db, path, channels, result, progress)
-    wal = path.with_name(path.name + "-wal")
-    if wal.exists() and wal.stat().st_size:
+        if unmerged or not _read_pages(db, path, channels, result, progress):
+            _statistics(db, result)
+            _messages(db, path, channels, result, progress)
+    if unmerged:
         result.note_problem(
             f"{wal.name} holds writes never merged into the database; they were not read"
             " (opening the bag once with sqlite3 merges them)"
@@ -59,7 +63,7 @@ def _connect(path: Path) -> Iterator[sqlite3.Connection]:
     """Read-only and immutable: sqlite neither writes nor creates -wal/-shm files next to it."""
     try:
         with path.open("rb") as f:
-            if f.read(len(SQLITE_MAGIC)) != SQLITE_MAGIC:
+            if f.read(len(MAGIC)) != MAGIC:
                 raise CorruptBagError(str(path), "not an SQLite database")
         # Not bound to this thread: ``_fetched`` steps the query in a helper thread.
         db = sqlite3.connect(
@@ -90,6 +94,57 @@ def _channels(db: sqlite3.Connection, path: Path, topics: tuple[str, ...], resul
         if codec is not None:
             wanted[topic_id] = result.messages.channel(name, codec)
     return wanted
+
+
+def _read_pages(
+    db: sqlite3.Connection, path: Path, channels: dict[int, int], result: FileScan, progress: ProgressCallback
+) -> bool:
+    """Add the wanted topics' messages, and note the statistics, reading the messages table's pages
+    (``db3_btree``); False, with nothing added, when sqlite is to read this file instead."""
+    root = _messages_root(db) if channels else None
+    if root is None:
+        return False
+    lookup = _channel_lookup(channels)
+    counted: list[Cells] = []  # of every topic
+    size = path.stat().st_size
+    try:
+        with path.open("rb") as f:
+            for cells in read_messages(f.fileno(), root, np.array(list(channels), np.int64)):
+                _add_cells(cells, lookup, result)
+                if cells.count:
+                    counted.append(cells)
+                progress(size * cells.pages_read // cells.leaf_pages, size)
+    except UnhandledFileError:
+        result.messages = result.messages.emptied()
+        return False
+    result.message_count = sum(cells.count for cells in counted)
+    result.start = min((cells.first_time for cells in counted), default=0)
+    result.end = max((cells.last_time for cells in counted), default=0)
+    return True
+
+
+def _messages_root(db: sqlite3.Connection) -> int | None:
+    """The root page of the messages table, if it is a rowid table of rosbag2's columns."""
+    try:
+        columns = db.execute("PRAGMA table_info(messages)").fetchall()
+        found = db.execute("SELECT rootpage FROM sqlite_master WHERE type = 'table' AND name = 'messages'").fetchone()
+    except sqlite3.Error:
+        return None
+    names = [(name, str(kind).upper(), pk) for _, name, kind, _, _, pk in columns]
+    expected = [("id", "INTEGER", 1), ("topic_id", "INTEGER", 0), ("timestamp", "INTEGER", 0), ("data", "BLOB", 0)]
+    if names != expected or found is None or not isinstance(found[0], int):
+        return None
+    return int(found[0])
+
+
+def _add_cells(cells: Cells, lookup: Int32Array, result: FileScan) -> None:
+    if not len(cells.starts):
+        return
+    if result.messages.unpack is None and _zstd_compressed(cells.data[cells.starts[0] : cells.starts[0] + 4]):
+        result.messages.unpack = unzstd
+    result.messages.add_spans(
+        lookup[cells.topic_ids], cells.times, cells.ids, cells.data.data, cells.starts, cells.lengths
+    )
 
 
 def _statistics(db: sqlite3.Connection, result: FileScan) -> None:
@@ -180,12 +235,22 @@ def _add_rows(rows: list[Row], channels: dict[int, int], result: FileScan, first
     if not rows:
         return
     topic_ids, times, payloads = zip(*rows, strict=True)
-    if result.messages.unpack is None and payloads[0][:4] == ZSTD_MAGIC:
-        result.messages.unpack = unzstd  # a bare .db3 of a bag compressed message by message
+    if result.messages.unpack is None and _zstd_compressed(payloads[0]):
+        result.messages.unpack = unzstd
+    which = _channel_lookup(channels)[np.array(topic_ids, np.int64)]
+    result.messages.add(which, times, np.arange(first, first + len(rows)), payloads)
+
+
+def _channel_lookup(channels: dict[int, int]) -> Int32Array:
+    """Topic id -> channel."""
     lookup = np.zeros(max(channels) + 1, np.int32)
     lookup[list(channels)] = list(channels.values())
-    which = lookup[np.array(topic_ids, np.int64)] if len(channels) > 1 else next(iter(channels.values()))
-    result.messages.add(which, times, np.arange(first, first + len(rows)), payloads)
+    return lookup
+
+
+def _zstd_compressed(payload: bytes | Bytes) -> bool:
+    """Whether a payload is compressed: a bare .db3 of a bag compressed message by message."""
+    return bytes(payload[:4]) == ZSTD_MAGIC
 
 
 def unzstd(data: bytes) -> bytes:

@@ -99,21 +99,21 @@ class MessageSet:
 
     def add_spans(
         self,
-        channel: int,
+        channel: ChannelIds,
         record_times: IntArray,
         positions: IntArray,
         data: bytes | memoryview,
         starts: IntArray,
         lengths: IntArray,
     ) -> None:
-        """``add`` of one channel's payloads ``data[starts[i] : starts[i] + lengths[i]]``, copied
-        out length by length in bulk rather than sliced one by one."""
+        """``add`` of the payloads ``data[starts[i] : starts[i] + lengths[i]]``, copied out length
+        by length in bulk rather than sliced one by one."""
         if self.unpack is not None:
             view = memoryview(data)
             pieces = [view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)]
             self.add(channel, record_times, positions, pieces)
             return
-        channels = np.full(len(starts), channel, np.int32)
+        channels = np.broadcast_to(np.asarray(channel, np.int32), (len(starts),))
         times, where = np.asarray(record_times, np.int64), np.asarray(positions, np.int64)
         self._add_joined(channels, times, where, data, starts, lengths)
 
