@@ -8,7 +8,6 @@ from pathlib import Path
 from typing import BinaryIO
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
@@ -30,11 +29,13 @@ from tftools.sources.bag.mcap_records import (
     U64,
     Body,
     Channels,
+    ChunkIndex,
     McapDamageError,
     chunk_records,
     records,
     scan_records,
 )
+from tftools.sources.bag.mcap_spans import Entries, IntArray, Queued, SpanReader, prefetch
 from tftools.sources.bag.mcap_stream import UnreadableError, stream
 from tftools.sources.errors import CorruptBagError
 
@@ -80,18 +81,10 @@ def scan(
 
 
 @dataclass
-class _ChunkIndex:
-    offset: int
-    length: int
-    index_offsets: dict[int, int]  # channel id -> file offset of its MessageIndex record
-    index_length: int
-
-
-@dataclass
 class _Summary:
     schemas: list[bytes] = field(default_factory=list)
     channels: list[bytes] = field(default_factory=list)
-    chunks: list[_ChunkIndex] = field(default_factory=list)
+    chunks: list[ChunkIndex] = field(default_factory=list)
     statistics: tuple[int, int, int] | None = None  # message count, start, end
 
 
@@ -113,21 +106,61 @@ def _read_indexed(f: BinaryIO, size: int, channels: Channels, progress: Progress
         return False  # messages outside chunks, or unindexed
     result = channels.result
     result.message_count, result.start, result.end = count, start, end
-    lost: list[str] = []
     chunks = sorted(summary.chunks, key=lambda c: c.offset)
-    for number, chunk in enumerate(chunks):
-        wanted = [c for c in chunk.index_offsets if c in channels.wanted]
-        if wanted or not chunk.index_offsets:
-            try:
-                _read_chunk(f, chunk, number, wanted, channels)
-            except McapDamageError as e:
-                lost.append(str(e))
-        progress(chunk.offset + chunk.length, size)
+    lost = _read_chunks(f, chunks, channels, progress, size)
     if lost:
         result.note_problem(
             f"{len(lost)} of {len(chunks)} chunks could not be read ({lost[0]}); their messages are lost"
         )
     return True
+
+
+def _read_chunks(
+    f: BinaryIO, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback, size: int
+) -> list[str]:
+    """The wanted messages of the chunks (in file order): uncompressed ones gathered to be read in
+    ranges, the others read whole. Returns what is wrong with each chunk that could not be read."""
+    lost: dict[int, str] = {}
+    spans = SpanReader(f.fileno(), channels)
+    indexed = [c for c in chunks if c.compression == "" and _wanted(c, channels)]
+    ends = np.array([c.end for c in indexed], np.int64)
+    prefetch(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
+
+    def read_whole(number: int, chunk: ChunkIndex, wanted: list[int], index: bytes | None) -> None:
+        try:
+            _read_chunk(f, chunk, number, wanted, channels, index)
+        except McapDamageError as e:
+            lost[number] = str(e)
+
+    def flush() -> None:
+        for queued in spans.flush():
+            read_whole(queued.number, queued.chunk, _wanted(queued.chunk, channels), queued.index)
+
+    for number, chunk in enumerate(chunks):
+        wanted = _wanted(chunk, channels)
+        if wanted and chunk.compression == "":
+            index = _read_at(f, chunk.end, chunk.index_length)
+            entries = _message_indexes(index, chunk)
+            if entries is None:
+                read_whole(number, chunk, wanted, index)
+            else:
+                spans.queue(Queued(number, chunk, index, entries))
+        elif wanted or not chunk.index_offsets:
+            read_whole(number, chunk, wanted, None)
+        if spans.full:
+            flush()
+        progress(chunk.end, size)
+    flush()
+    return [lost[number] for number in sorted(lost)]
+
+
+def _wanted(chunk: ChunkIndex, channels: Channels) -> list[int]:
+    return [c for c in chunk.index_offsets if c in channels.wanted]
+
+
+def _read_at(f: BinaryIO, offset: int, length: int) -> bytes:
+    f.seek(offset)
+    return f.read(length)
 
 
 def _summary(f: BinaryIO, size: int) -> _Summary | None:
@@ -167,7 +200,7 @@ def _parse_summary(data: bytes) -> _Summary:
     return summary
 
 
-def _chunk_index(content: bytes) -> _ChunkIndex:
+def _chunk_index(content: bytes) -> ChunkIndex:
     body = Body(content)
     body.pos += 16  # message start and end times
     offset, length = body.int(U64), body.int(U64)
@@ -175,14 +208,17 @@ def _chunk_index(content: bytes) -> _ChunkIndex:
     if len(entries) % _ID_OFFSET.size:
         raise McapDamageError("bad message index offsets")
     offsets = dict(_ID_OFFSET.iter_unpack(entries))
-    return _ChunkIndex(offset, length, offsets, body.int(U64))
+    index_length = body.int(U64)
+    compression = body.string()
+    return ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64))
 
 
-def _read_chunk(f: BinaryIO, chunk: _ChunkIndex, number: int, wanted: list[int], channels: Channels) -> None:
-    """The wanted channels' messages of one chunk, found through its message indexes (or, in a
-    chunk without them, by walking its records)."""
-    f.seek(chunk.offset)
-    raw = f.read(chunk.length)
+def _read_chunk(
+    f: BinaryIO, chunk: ChunkIndex, number: int, wanted: list[int], channels: Channels, index: bytes | None
+) -> None:
+    """The wanted channels' messages of one chunk read whole, found through its message indexes
+    (``index``, read here when None) or, in a chunk without them, by walking its records."""
+    raw = _read_at(f, chunk.offset, chunk.length)
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
         raise McapDamageError(f"no chunk at byte {chunk.offset}")
@@ -192,13 +228,24 @@ def _read_chunk(f: BinaryIO, chunk: _ChunkIndex, number: int, wanted: list[int],
         if damage:
             raise McapDamageError(damage)
         return
-    index = f.read(chunk.index_length)
-    for channel_id in wanted:
-        at = chunk.index_offsets[channel_id] - chunk.offset - chunk.length
-        _take_messages(data, _message_index(index, at), number, channel_id, channels)
+    if index is None:
+        index = f.read(chunk.index_length)
+    found = [_located(data, _message_index(index, chunk.index_offsets[c] - chunk.end), c) for c in wanted]
+    for channel_id, (times, offsets, starts, lengths) in zip(wanted, found, strict=True):  # none if one is damaged
+        channels.result.messages.add_spans(
+            channels.wanted[channel_id], times, (number << 32) + offsets, data, starts, lengths
+        )
 
 
-def _message_index(index: bytes, at: int) -> npt.NDArray[np.void]:
+def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, Entries] | None:
+    """Every channel's message index entries in the chunk, or None when one is damaged."""
+    try:
+        return {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
+    except McapDamageError:
+        return None
+
+
+def _message_index(index: bytes, at: int) -> Entries:
     body = Body(index, at)
     opcode, _ = body.take(RECORD)
     body.int(U16)
@@ -208,15 +255,14 @@ def _message_index(index: bytes, at: int) -> npt.NDArray[np.void]:
     return np.frombuffer(entries, _INDEX_ENTRY)
 
 
-def _take_messages(
-    data: bytes | memoryview, entries: npt.NDArray[np.void], number: int, channel_id: int, channels: Channels
-) -> None:
-    """Slice the indexed messages' payloads out of the chunk's records, checking the index against them."""
-    if not len(entries):
-        return
+def _located(
+    data: bytes | memoryview, entries: Entries, channel_id: int
+) -> tuple[IntArray, IntArray, IntArray, IntArray]:
+    """The indexed messages' record times, offsets, payload starts and lengths in the chunk's
+    records, the index checked against them."""
     offsets = entries["offset"].astype(np.int64)
     raw = np.frombuffer(data, np.uint8)
-    if offsets.min() < 0 or offsets.max() + _PAYLOAD > len(raw) or (raw[offsets] != MESSAGE).any():
+    if len(offsets) and (offsets.min() < 0 or offsets.max() + _PAYLOAD > len(raw) or (raw[offsets] != MESSAGE).any()):
         raise McapDamageError("message index does not match its chunk")
     head = raw[offsets[:, None] + np.arange(1, 11)]  # record length (8 bytes), channel id (2)
     lengths = head[:, :8].copy().view("<u8").ravel().astype(np.int64) - MESSAGE_HEAD.size
@@ -224,7 +270,4 @@ def _take_messages(
     starts = offsets + _PAYLOAD
     if (ids != channel_id).any() or (lengths < 0).any() or (starts + lengths > len(raw)).any():
         raise McapDamageError("message index does not match its chunk")
-    times = entries["time"].astype(np.int64)
-    channels.result.messages.add_spans(
-        channels.wanted[channel_id], times, (number << 32) + offsets, data, starts, lengths
-    )
+    return entries["time"].astype(np.int64), offsets, starts, lengths
