@@ -331,12 +331,13 @@ LOST = " their messages are lost"
 
 
 def with_images(messages: list[Msg | Other], every: int = 10, size: int = 40_000) -> list[Msg | Other]:
-    """The messages with a camera image (``size`` bytes, never decoded) after every ``every``-th."""
+    """The messages with a camera image (``size`` random bytes, never decoded) after every ``every``-th."""
+    rng = np.random.default_rng(size)
     out: list[Msg | Other] = []
     for i, message in enumerate(messages):
         out.append(message)
         if i % every == every - 1:
-            out.append(Other("/camera/image", message.record_time, bytes([i % 251]) * size, IMAGE_TYPE))
+            out.append(Other("/camera/image", message.record_time, rng.bytes(size), IMAGE_TYPE))
     return out
 
 
@@ -360,28 +361,31 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     return seen
 
 
-def rosbags_mcap(tmp_path: Path, messages: list[Msg | Other]) -> Path:
+def rosbags_mcap(tmp_path: Path, messages: list[Msg | Other], compression: str = "") -> Path:
     """An MCAP file as the rosbags library writes it (uncompressed chunks of about 1 MB, CRC 0)."""
-    return write_rosbag2(tmp_path / "bag", messages, storage="mcap") / "bag.mcap"
+    return write_rosbag2(tmp_path / "bag", messages, storage="mcap", compression=compression) / "bag.mcap"
 
 
-def test_images_between_transforms_read_in_ranges(tmp_path: Path, reads: list[tuple[str, int]]) -> None:
+@pytest.mark.parametrize("compression", ["", "message"])
+def test_images_between_transforms_read_in_ranges(
+    tmp_path: Path, reads: list[tuple[str, int]], compression: str
+) -> None:
     """A bag whose bulk is images: its transforms read by index, as rosbags and the record by record
-    reader read them (ties in record time kept in file order), and little more than them read."""
+    reader read them (ties in record time kept in file order), and little more than them read; with
+    every message zstd-compressed on its own too (the bag directory says so)."""
     messages = with_images(varied_messages(21, 1200))
-    path = rosbags_mcap(tmp_path, messages)
-    contents = read_bag([path], RANGE_TOPICS)
+    path = rosbags_mcap(tmp_path, messages, compression)
+    contents = read_bag([path.parent if compression else path], RANGE_TOPICS)
     rows = batch_rows(contents.transforms)
     assert rows == expected_rows(messages, RANGE_TOPICS)
-    assert by_time(rows) == by_time(reference_rows(path, RANGE_TOPICS))
+    assert by_time(rows) == by_time(reference_rows(path.parent, RANGE_TOPICS))
     assert contents.problems == [] and contents.files[0].topics["/camera/image"] == IMAGE_TYPE
     assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.1 * path.stat().st_size
     assert len(mcap_file._summary(path.open("rb"), path.stat().st_size).chunks) > 3  # type: ignore[union-attr]
     data = bytearray(path.read_bytes())
     data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # no summary: read record by record
-    streamed = tmp_path / "streamed.mcap"
-    streamed.write_bytes(bytes(data))
-    assert batch_rows(read_bag([streamed], RANGE_TOPICS).transforms) == rows
+    path.write_bytes(bytes(data))
+    assert batch_rows(read_bag([path.parent if compression else path], RANGE_TOPICS).transforms) == rows
 
 
 def test_foxglove_channels_between_images(tmp_path: Path, reads: list[tuple[str, int]]) -> None:

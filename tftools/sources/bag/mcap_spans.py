@@ -205,7 +205,12 @@ def prefetch(fd: int, starts: IntArray, ends: IntArray) -> None:
 def _read_into(fd: int, view: memoryview, offset: int) -> bool:
     """Fill ``view`` from the file at ``offset``; False when the file ends first."""
     while len(view):
-        got = os.preadv(fd, [view], offset)
+        if hasattr(os, "preadv"):
+            got = os.preadv(fd, [view], offset)
+        else:  # a system without it (e.g. an older macOS): read, then copy
+            part = os.pread(fd, len(view), offset)
+            view[: len(part)] = part
+            got = len(part)
         if not got:
             return False
         view, offset = view[got:], offset + got
