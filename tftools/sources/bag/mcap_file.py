@@ -24,7 +24,6 @@ from tftools.sources.bag.mcap_records import (
     RECORD,
     SCHEMA,
     STATISTICS,
-    U16,
     U32,
     U64,
     Body,
@@ -35,13 +34,13 @@ from tftools.sources.bag.mcap_records import (
     records,
     scan_records,
 )
-from tftools.sources.bag.mcap_spans import Entries, IntArray, Queued, SpanReader, prefetch
+from tftools.sources.bag.mcap_spans import INDEX_ENTRY, IntArray, Queued, SpanReader, prefetch
 from tftools.sources.bag.mcap_stream import UnreadableError, stream
 from tftools.sources.errors import CorruptBagError
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _PAYLOAD = RECORD.size + MESSAGE_HEAD.size  # a message's data, from the start of its record
-_INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])
+_INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
 _ID_OFFSET = struct.Struct("<HQ")
 
 
@@ -237,7 +236,7 @@ def _read_chunk(
         )
 
 
-def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, Entries] | None:
+def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, bytes] | None:
     """Every channel's message index entries in the chunk, or None when one is damaged."""
     try:
         return {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
@@ -245,21 +244,23 @@ def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, Entries] | No
         return None
 
 
-def _message_index(index: bytes, at: int) -> Entries:
-    body = Body(index, at)
-    opcode, _ = body.take(RECORD)
-    body.int(U16)
-    entries = body.bytes(U32)
-    if opcode != MESSAGE_INDEX or len(entries) % _INDEX_ENTRY.itemsize:
+def _message_index(index: bytes, at: int) -> bytes:
+    """The entries of the MessageIndex record at ``index[at:]``."""
+    if not 0 <= at <= len(index) - _INDEX_HEAD.size:
         raise McapDamageError("bad message index")
-    return np.frombuffer(entries, _INDEX_ENTRY)
+    opcode, _, _, length = _INDEX_HEAD.unpack_from(index, at)
+    start = at + _INDEX_HEAD.size
+    if opcode != MESSAGE_INDEX or length % INDEX_ENTRY.itemsize or start + length > len(index):
+        raise McapDamageError("bad message index")
+    return index[start : start + length]
 
 
 def _located(
-    data: bytes | memoryview, entries: Entries, channel_id: int
+    data: bytes | memoryview, index_entries: bytes, channel_id: int
 ) -> tuple[IntArray, IntArray, IntArray, IntArray]:
     """The indexed messages' record times, offsets, payload starts and lengths in the chunk's
     records, the index checked against them."""
+    entries = np.frombuffer(index_entries, INDEX_ENTRY)
     offsets = entries["offset"].astype(np.int64)
     raw = np.frombuffer(data, np.uint8)
     if len(offsets) and (offsets.min() < 0 or offsets.max() + _PAYLOAD > len(raw) or (raw[offsets] != MESSAGE).any()):

@@ -21,7 +21,7 @@ from tftools.sources.bag.mcap_records import (
 )
 
 IntArray = npt.NDArray[np.int64]
-Entries = npt.NDArray[np.void]  # a message index's (record time, offset in the chunk's records) pairs
+INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])  # of a message, offset in its chunk's records
 
 MAX_GAP = 16 << 10  # bytes between two wanted ranges read along with them: cheaper than one more read
 _BATCH_BYTES = 64 << 20  # of chunks whose wanted ranges are gathered and read together
@@ -37,7 +37,7 @@ class Queued:
     number: int  # its place in the file, which orders its messages
     chunk: ChunkIndex
     index: bytes  # its message index records
-    entries: dict[int, Entries]  # of every channel in it, by channel id
+    entries: dict[int, bytes]  # the message index entries of every channel in it, by channel id
 
 
 @dataclass
@@ -127,16 +127,16 @@ class SpanReader:
 
 def _indexed(batch: list[Queued], wanted: dict[int, int]) -> _Messages:
     """Every message the batch's indexes list, in no particular order, without file ranges yet."""
-    parts: list[Entries] = []
+    parts: list[bytes] = []
     chunk_of: list[int] = []
     channel_of: list[int] = []
     for i, queued in enumerate(batch):
-        for channel_id, entries in queued.entries.items():
-            parts.append(entries)
+        for channel_id, part in queued.entries.items():
+            parts.append(part)
             chunk_of.append(i)
             channel_of.append(channel_id)
-    counts = np.fromiter(map(len, parts), np.int64, len(parts))
-    entries = np.concatenate(parts)
+    counts = np.fromiter((len(part) // INDEX_ENTRY.itemsize for part in parts), np.int64, len(parts))
+    entries = np.frombuffer(b"".join(parts), INDEX_ENTRY)
     offsets = entries["offset"].astype(np.int64)  # an offset past 2**63 turns negative: caught as outside
     channels = np.array(channel_of, np.int64)
     targets = np.array([wanted.get(c, -1) for c in channel_of], np.int64)
