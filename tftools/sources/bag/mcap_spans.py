@@ -64,6 +64,7 @@ class SpanReader:
 
     A chunk whose wanted messages fill most of it is read whole instead (its CRC checked), and so
     is one whose ranges do not hold what its indexes say: read whole, its damage is found and told.
+    A chunk read in ranges is checked against its index and head, not its CRC (that needs it all).
     """
 
     def __init__(self, fd: int, channels: Channels) -> None:
