@@ -34,6 +34,7 @@ from tests.sources.ros2_helpers import (
     write_rosbag2,
 )
 from tftools.sources.bag import mcap_file, mcap_spans
+from tftools.sources.bag.decode import MessageSet
 from tftools.sources.bag.mcap_records import ChunkIndex
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import BagError, CorruptBagError
@@ -361,6 +362,20 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     return seen
 
 
+@pytest.fixture
+def handed_on(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The positions (file order) of the messages handed to the message set, in the order handed on."""
+    seen: list[int] = []
+    add_spans = MessageSet.add_spans
+
+    def noted(self: MessageSet, channel: Any, times: Any, positions: Any, *rest: Any) -> None:
+        seen.extend(np.asarray(positions).tolist())
+        add_spans(self, channel, times, positions, *rest)
+
+    monkeypatch.setattr(MessageSet, "add_spans", noted)
+    return seen
+
+
 def rosbags_mcap(tmp_path: Path, messages: list[Msg | Other], compression: str = "") -> Path:
     """An MCAP file as the rosbags library writes it (uncompressed chunks of about 1 MB, CRC 0)."""
     return write_rosbag2(tmp_path / "bag", messages, storage="mcap", compression=compression) / "bag.mcap"
@@ -401,8 +416,9 @@ def test_foxglove_channels_between_images(tmp_path: Path, reads: list[tuple[str,
     assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.2 * path.stat().st_size
 
 
-def test_compressed_and_uncompressed_chunks(tmp_path: Path, reads: list[tuple[str, int]]) -> None:
-    """Chunks compressed and not in one file: the compressed read whole, the others in ranges."""
+def test_compressed_and_uncompressed_chunks(tmp_path: Path, reads: list[tuple[str, int]], handed_on: list[int]) -> None:
+    """Chunks compressed and not in one file: the compressed read whole, the others in ranges, their
+    messages handed on in file order all the same."""
     images = [m for m in with_images(list(OTHERS), every=3, size=20_000) if m.topic == "/camera/image"]
     kinds = (CompressionType.NONE, CompressionType.ZSTD, CompressionType.NONE, CompressionType.LZ4)
     options = McapOptions(
@@ -415,6 +431,7 @@ def test_compressed_and_uncompressed_chunks(tmp_path: Path, reads: list[tuple[st
     assert by_time(rows) == by_time([row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT])
     assert contents.problems == []
     assert {kind for kind, _ in reads} == {"range", "zstd", "lz4"}
+    assert handed_on == sorted(handed_on) and len(handed_on) == len(set(handed_on)) > 100
 
 
 def chunks_of(path: Path) -> list[ChunkIndex]:

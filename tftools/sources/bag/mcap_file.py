@@ -117,13 +117,10 @@ def _read_indexed(f: BinaryIO, size: int, channels: Channels, progress: Progress
 def _read_chunks(
     f: BinaryIO, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback, size: int
 ) -> list[str]:
-    """The wanted messages of the chunks (in file order): uncompressed ones gathered to be read in
-    ranges, the others read whole. Returns what is wrong with each chunk that could not be read."""
+    """The wanted messages of the chunks (in file order): uncompressed ones with unwanted channels
+    gathered to be read in ranges, the others read whole. Returns what is wrong with each chunk
+    that could not be read."""
     lost: dict[int, str] = {}
-    spans = SpanReader(f.fileno(), channels)
-    indexed = [c for c in chunks if c.compression == "" and _wanted(c, channels)]
-    ends = np.array([c.end for c in indexed], np.int64)
-    prefetch(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
 
     def read_whole(number: int, chunk: ChunkIndex, wanted: list[int], index: bytes | None) -> None:
         try:
@@ -131,30 +128,40 @@ def _read_chunks(
         except McapDamageError as e:
             lost[number] = str(e)
 
-    def flush() -> None:
-        for queued in spans.flush():
-            read_whole(queued.number, queued.chunk, _wanted(queued.chunk, channels), queued.index)
+    def read_queued_whole(queued: Queued) -> None:
+        read_whole(queued.number, queued.chunk, _wanted(queued.chunk, channels), queued.index)
 
+    spans = SpanReader(f.fileno(), channels, read_queued_whole)
+    indexed = [c for c in chunks if _in_ranges(c, _wanted(c, channels))]
+    ends = np.array([c.end for c in indexed], np.int64)
+    prefetch(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
     for number, chunk in enumerate(chunks):
         wanted = _wanted(chunk, channels)
-        if wanted and chunk.compression == "":
+        if _in_ranges(chunk, wanted):
             index = _read_at(f, chunk.end, chunk.index_length)
             entries = _message_indexes(index, chunk)
-            if entries is None:
-                read_whole(number, chunk, wanted, index)
-            else:
+            if entries is not None:
                 spans.queue(Queued(number, chunk, index, entries))
+            else:
+                spans.flush()  # the chunks before first: messages are handed on in file order
+                read_whole(number, chunk, wanted, index)
         elif wanted or not chunk.index_offsets:
+            spans.flush()
             read_whole(number, chunk, wanted, None)
         if spans.full:
-            flush()
+            spans.flush()
         progress(chunk.end, size)
-    flush()
+    spans.flush()
     return [lost[number] for number in sorted(lost)]
 
 
 def _wanted(chunk: ChunkIndex, channels: Channels) -> list[int]:
     return [c for c in chunk.index_offsets if c in channels.wanted]
+
+
+def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
+    """Whether the chunk may be read in ranges: uncompressed, with channels wanted and others not."""
+    return chunk.compression == "" and 0 < len(wanted) < len(chunk.index_offsets)
 
 
 def _read_at(f: BinaryIO, offset: int, length: int) -> bytes:
@@ -230,10 +237,14 @@ def _read_chunk(
     if index is None:
         index = f.read(chunk.index_length)
     found = [_located(data, _message_index(index, chunk.index_offsets[c] - chunk.end), c) for c in wanted]
-    for channel_id, (times, offsets, starts, lengths) in zip(wanted, found, strict=True):  # none if one is damaged
-        channels.result.messages.add_spans(
-            channels.wanted[channel_id], times, (number << 32) + offsets, data, starts, lengths
-        )
+    if not found:
+        return
+    targets = np.repeat([channels.wanted[c] for c in wanted], [len(times) for times, *_ in found]).astype(np.int32)
+    times, offsets, starts, lengths = (np.concatenate(column) for column in zip(*found, strict=True))
+    order = np.argsort(offsets, kind="stable")  # handed on in file order, every channel's at once
+    channels.result.messages.add_spans(
+        targets[order], times[order], (number << 32) + offsets[order], data, starts[order], lengths[order]
+    )
 
 
 def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, bytes] | None:

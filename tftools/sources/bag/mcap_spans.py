@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,9 +68,10 @@ class SpanReader:
     A chunk read in ranges is checked against its index and head, not its CRC (that needs it all).
     """
 
-    def __init__(self, fd: int, channels: Channels) -> None:
+    def __init__(self, fd: int, channels: Channels, read_whole: Callable[[Queued], None]) -> None:
         self.fd = fd
         self.channels = channels
+        self.read_whole = read_whole
         self.queued: list[Queued] = []
         self.queued_bytes = 0
 
@@ -81,11 +83,12 @@ class SpanReader:
     def full(self) -> bool:
         return self.queued_bytes >= _BATCH_BYTES
 
-    def flush(self) -> list[Queued]:
-        """Read the queued chunks' wanted messages; returns the chunks to read whole instead."""
+    def flush(self) -> None:
+        """Read the queued chunks, in ranges or whole, their messages handed on in file order (in
+        another order the message set would have to sort them all)."""
         batch, self.queued, self.queued_bytes = self.queued, [], 0
         if not batch:
-            return []
+            return
         records_start = np.array([q.chunk.records_start for q in batch], np.int64)
         records_end = records_start + np.array([q.chunk.records_length for q in batch], np.int64)
         messages, whole = _bounded(_indexed(batch, self.channels.wanted), records_start, records_end)
@@ -93,19 +96,23 @@ class SpanReader:
         wanted_bytes = np.bincount(messages.chunk, messages.end - messages.start, len(batch))
         whole |= wanted_bytes > _SPARSE * (records_end - records_start)
         messages = messages.rows(~whole[messages.chunk])
-        in_ranges = np.flatnonzero(np.bincount(messages.chunk, minlength=len(batch)))
-        whole |= self._read(batch, in_ranges, messages)
-        return [q for q, w in zip(batch, whole.tolist(), strict=True) if w]
+        data, where, lengths, damaged = self._read(batch, messages)
+        whole |= damaged
+        keep = ~whole[messages.chunk]
+        self._hand_on(batch, whole, messages.rows(keep), data, where[keep], lengths[keep])
 
-    def _read(self, batch: list[Queued], chunks: IntArray, messages: _Messages) -> npt.NDArray[np.bool_]:
-        """Read the messages (of the batch's ``chunks``) and hand on those of undamaged chunks;
-        which chunks are damaged."""
+    def _read(
+        self, batch: list[Queued], messages: _Messages
+    ) -> tuple[npt.NDArray[np.uint8], IntArray, IntArray, npt.NDArray[np.bool_]]:
+        """The bytes of the messages' ranges and of their chunks' heads, where each message begins in
+        them, its payload's length, and which chunks are damaged."""
         damaged = np.zeros(len(batch), bool)
         if not len(messages.start):
-            return damaged
+            return np.zeros(0, np.uint8), messages.start, messages.start, damaged
+        chunks = np.flatnonzero(np.bincount(messages.chunk, minlength=len(batch)))
         heads = [batch[i].chunk for i in chunks.tolist()]
-        starts = np.concatenate([[c.offset for c in heads], messages.start])
-        ends = np.concatenate([[c.records_start for c in heads], messages.end])
+        starts = np.concatenate([[c.offset for c in heads], messages.start]).astype(np.int64)
+        ends = np.concatenate([[c.records_start for c in heads], messages.end]).astype(np.int64)
         data, where, read = _read_ranges(self.fd, starts, ends)
         n = len(heads)
         for i, chunk, at, whole in zip(chunks.tolist(), heads, where[:n].tolist(), read[:n].tolist(), strict=True):
@@ -113,17 +120,36 @@ class SpanReader:
         where = where[n:]
         lengths, fits = _message_lengths(data, where, messages, read[n:])
         damaged[messages.chunk[~fits]] = True
-        keep = ~damaged[messages.chunk]
-        numbers = np.array([q.number for q in batch], np.int64)[messages.chunk[keep]]
-        self.channels.result.messages.add_spans(
-            messages.target[keep].astype(np.int32),
-            messages.time[keep],
-            (numbers << 32) + messages.offset[keep],
-            data.data,
-            where[keep] + _PAYLOAD,
-            lengths[keep],
-        )
-        return damaged
+        return data, where, lengths, damaged
+
+    def _hand_on(
+        self,
+        batch: list[Queued],
+        whole: npt.NDArray[np.bool_],
+        messages: _Messages,
+        data: npt.NDArray[np.uint8],
+        where: IntArray,
+        lengths: IntArray,
+    ) -> None:
+        """Add the messages read in ranges, and have the chunks to be read whole read between them."""
+        numbers = np.array([q.number for q in batch], np.int64)
+        wholes = np.flatnonzero(whole).tolist()
+        ends = [*np.searchsorted(messages.chunk, wholes).tolist(), len(messages.chunk)]
+        begin = 0
+        for chunk, end in zip([*wholes, None], ends, strict=True):
+            if end > begin:
+                part = slice(begin, end)
+                self.channels.result.messages.add_spans(
+                    messages.target[part].astype(np.int32),
+                    messages.time[part],
+                    (numbers[messages.chunk[part]] << 32) + messages.offset[part],
+                    data.data,
+                    where[part] + _PAYLOAD,
+                    lengths[part],
+                )
+            if chunk is not None:
+                self.read_whole(batch[chunk])
+            begin = end
 
 
 def _indexed(batch: list[Queued], wanted: dict[int, int]) -> _Messages:
