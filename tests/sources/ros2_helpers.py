@@ -232,6 +232,8 @@ class McapOptions:
     index_types: IndexType = IndexType.ALL
     use_statistics: bool = True
     extra: list[Other] = field(default_factory=list)
+    messages_per_chunk: int = 0  # when set, a chunk ends after so many messages,
+    chunk_compressions: tuple[CompressionType, ...] = ()  # and the next is compressed with the next of these
 
 
 def write_foxglove_mcap(
@@ -253,7 +255,9 @@ def write_foxglove_mcap(
         kinds = {c.topic: c for c in channels}
         others: dict[str, int] = {}
         stream: list[Msg | Other] = sorted([*messages, *options.extra], key=lambda m: m.record_time)
-        for message in stream:
+        for i, message in enumerate(stream):
+            if options.messages_per_chunk and i and i % options.messages_per_chunk == 0:
+                _next_chunk(writer, options, i // options.messages_per_chunk)
             if isinstance(message, Other):
                 if message.topic not in others:
                     others[message.topic] = _register_ros2(writer, message.topic, message.type_name)
@@ -263,6 +267,13 @@ def write_foxglove_mcap(
                 writer.add_message(ids[message.topic], message.record_time, data, message.record_time)
         writer.finish()
     return path
+
+
+def _next_chunk(writer: McapWriter, options: McapOptions, chunk: int) -> None:
+    writer.flush()
+    if options.chunk_compressions:  # the writer has no public way to change it between chunks
+        compression = options.chunk_compressions[chunk % len(options.chunk_compressions)]
+        writer._Writer__compression = compression  # type: ignore[attr-defined]
 
 
 def _register_ros2(writer: McapWriter, topic: str, type_name: str) -> int:

@@ -25,12 +25,17 @@ from tests.sources.ros2_helpers import (
     batch_rows,
     expected_rows,
     mcap_reference_rows,
+    reference_rows,
     string_cdr,
     tf_cdr,
+    varied_messages,
     varied_transform,
     write_foxglove_mcap,
+    write_rosbag2,
 )
-from tftools.sources.bag import mcap_file
+from tftools.sources.bag import mcap_file, mcap_spans
+from tftools.sources.bag.decode import MessageSet
+from tftools.sources.bag.mcap_records import ChunkIndex
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import BagError, CorruptBagError
 
@@ -317,3 +322,200 @@ def test_not_mcap(tmp_path: Path, content: bytes) -> None:
     with pytest.raises(CorruptBagError) as caught:
         mcap_file.read(path, DEFAULT, lambda *_: None)
     assert "\n" not in str(caught.value)
+
+
+# --- uncompressed chunks, read in ranges -----------------------------------------------------
+
+IMAGE_TYPE = "sensor_msgs/msg/Image"
+RANGE_TOPICS = ("/tf", "/tf_static", "/robot/tf", "/robot/tf_static")
+LOST = " their messages are lost"
+
+
+def with_images(messages: list[Msg | Other], every: int = 10, size: int = 40_000) -> list[Msg | Other]:
+    """The messages with a camera image (``size`` random bytes, never decoded) after every ``every``-th."""
+    rng = np.random.default_rng(size)
+    out: list[Msg | Other] = []
+    for i, message in enumerate(messages):
+        out.append(message)
+        if i % every == every - 1:
+            out.append(Other("/camera/image", message.record_time, rng.bytes(size), IMAGE_TYPE))
+    return out
+
+
+@pytest.fixture
+def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
+    """What the MCAP reader reads of its chunks, as it reads it: ("range", bytes) of the ranges
+    read from uncompressed chunks, (compression, bytes) of a chunk read whole."""
+    seen: list[tuple[str, int]] = []
+    read_into, read_chunk = mcap_spans._read_into, mcap_file._read_chunk
+
+    def counted_range(fd: int, view: memoryview, offset: int) -> bool:
+        seen.append(("range", len(view)))
+        return read_into(fd, view, offset)
+
+    def counted_chunk(f: Any, chunk: ChunkIndex, *rest: Any) -> None:
+        seen.append((chunk.compression or "none", chunk.length))
+        read_chunk(f, chunk, *rest)
+
+    monkeypatch.setattr(mcap_spans, "_read_into", counted_range)
+    monkeypatch.setattr(mcap_file, "_read_chunk", counted_chunk)
+    return seen
+
+
+@pytest.fixture
+def handed_on(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The positions (file order) of the messages handed to the message set, in the order handed on."""
+    seen: list[int] = []
+    add_spans = MessageSet.add_spans
+
+    def noted(self: MessageSet, channel: Any, times: Any, positions: Any, *rest: Any) -> None:
+        seen.extend(np.asarray(positions).tolist())
+        add_spans(self, channel, times, positions, *rest)
+
+    monkeypatch.setattr(MessageSet, "add_spans", noted)
+    return seen
+
+
+def rosbags_mcap(tmp_path: Path, messages: list[Msg | Other], compression: str = "") -> Path:
+    """An MCAP file as the rosbags library writes it (uncompressed chunks of about 1 MB, CRC 0)."""
+    return write_rosbag2(tmp_path / "bag", messages, storage="mcap", compression=compression) / "bag.mcap"
+
+
+@pytest.mark.parametrize("compression", ["", "message"])
+def test_images_between_transforms_read_in_ranges(
+    tmp_path: Path, reads: list[tuple[str, int]], compression: str
+) -> None:
+    """A bag whose bulk is images: its transforms read by index, as rosbags and the record by record
+    reader read them (ties in record time kept in file order), and little more than them read; with
+    every message zstd-compressed on its own too (the bag directory says so)."""
+    messages = with_images(varied_messages(21, 1200))
+    path = rosbags_mcap(tmp_path, messages, compression)
+    contents = read_bag([path.parent if compression else path], RANGE_TOPICS)
+    rows = batch_rows(contents.transforms)
+    assert rows == expected_rows(messages, RANGE_TOPICS)
+    assert by_time(rows) == by_time(reference_rows(path.parent, RANGE_TOPICS))
+    assert contents.problems == [] and contents.files[0].topics["/camera/image"] == IMAGE_TYPE
+    assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.1 * path.stat().st_size
+    assert len(mcap_file._summary(path.open("rb"), path.stat().st_size).chunks) > 3  # type: ignore[union-attr]
+    data = bytearray(path.read_bytes())
+    data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # no summary: read record by record
+    path.write_bytes(bytes(data))
+    assert batch_rows(read_bag([path.parent if compression else path], RANGE_TOPICS).transforms) == rows
+
+
+def test_foxglove_channels_between_images(tmp_path: Path, reads: list[tuple[str, int]]) -> None:
+    """The mcap library's uncompressed chunks, with every kind of transform channel among images."""
+    images = [m for m in with_images(list(OTHERS), every=3, size=20_000) if m.topic == "/camera/image"]
+    options = McapOptions(chunk_size=150_000, compression=CompressionType.NONE, extra=[*OTHERS, *images])
+    path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, FOXGLOVE_MESSAGES, options)
+    contents = read_bag([path])
+    rows = batch_rows(contents.transforms)
+    assert rows == expected_rows(WRITTEN, READ_BY_DEFAULT)
+    assert by_time(rows) == by_time([row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT])
+    assert contents.problems == []
+    assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.2 * path.stat().st_size
+
+
+def test_compressed_and_uncompressed_chunks(tmp_path: Path, reads: list[tuple[str, int]], handed_on: list[int]) -> None:
+    """Chunks compressed and not in one file: the compressed read whole, the others in ranges, their
+    messages handed on in file order all the same."""
+    images = [m for m in with_images(list(OTHERS), every=3, size=20_000) if m.topic == "/camera/image"]
+    kinds = (CompressionType.NONE, CompressionType.ZSTD, CompressionType.NONE, CompressionType.LZ4)
+    options = McapOptions(
+        compression=kinds[0], extra=[*OTHERS, *images], messages_per_chunk=40, chunk_compressions=kinds
+    )
+    path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, FOXGLOVE_MESSAGES, options)
+    contents = read_bag([path])
+    rows = batch_rows(contents.transforms)
+    assert rows == expected_rows(WRITTEN, READ_BY_DEFAULT)
+    assert by_time(rows) == by_time([row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT])
+    assert contents.problems == []
+    assert {kind for kind, _ in reads} == {"range", "zstd", "lz4"}
+    assert handed_on == sorted(handed_on) and len(handed_on) == len(set(handed_on)) > 100
+
+
+def chunks_of(path: Path) -> list[ChunkIndex]:
+    with path.open("rb") as f:
+        summary = mcap_file._summary(f, path.stat().st_size)
+    assert summary is not None
+    return sorted(summary.chunks, key=lambda c: c.offset)
+
+
+def rows_outside(rows: list[tuple[Any, ...]], data: bytes, chunk: ChunkIndex) -> list[tuple[Any, ...]]:
+    """The rows not recorded in the time span of ``chunk`` (messages written in record-time order)."""
+    start, end = struct.unpack_from("<QQ", data, chunk.offset + 9)
+    return [row for row in rows if not start <= row[6] <= end]
+
+
+def damaged_rosbags_mcap(tmp_path: Path, seed: int) -> tuple[Path, list[Msg | Other], bytearray, ChunkIndex, int]:
+    """A rosbags MCAP of images and transforms in record-time order: its path, messages, bytes,
+    the chunk in the middle (to damage) and the number of chunks."""
+    messages = with_images(sorted(varied_messages(seed, 1200, ties=False), key=lambda m: m.record_time))
+    path = rosbags_mcap(tmp_path, messages)
+    chunks = chunks_of(path)
+    return path, messages, bytearray(path.read_bytes()), chunks[len(chunks) // 2], len(chunks)
+
+
+@pytest.mark.parametrize("where", ["past_the_chunk", "inside_a_record", "swapped_with_an_image"])
+def test_index_entry_pointing_elsewhere(tmp_path: Path, where: str) -> None:
+    """A /tf index entry of an uncompressed chunk read in ranges that does not point at a /tf
+    message: that chunk's messages are lost with one line, the other chunks' are read."""
+    path, messages, data, chunk, count = damaged_rosbags_mcap(tmp_path, 22)
+    tf, image = [chunk.index_offsets[c] for c in _channel_ids(path, "/tf", "/camera/image")]
+    tf_entry, image_entry = tf + 9 + 2 + 4 + 16 * 3 + 8, image + 9 + 2 + 4 + 8  # offsets of a /tf message, an image
+    (offset,), (image_offset,) = struct.unpack_from("<Q", data, tf_entry), struct.unpack_from("<Q", data, image_entry)
+    moved = {"past_the_chunk": 10**9, "inside_a_record": offset + 3, "swapped_with_an_image": image_offset}[where]
+    struct.pack_into("<Q", data, tf_entry, moved)
+    if where.startswith("swapped"):
+        struct.pack_into("<Q", data, image_entry, offset)
+    path.write_bytes(bytes(data))
+    contents = read_bag([path], RANGE_TOPICS)
+    assert batch_rows(contents.transforms) == rows_outside(expected_rows(messages, RANGE_TOPICS), bytes(data), chunk)
+    (line,) = contents.problems
+    assert line == f"1 of {count} chunks could not be read (message index does not match its chunk);" + LOST
+
+
+@pytest.mark.parametrize("field", ["opcode", "records_length"])
+def test_chunk_head_damaged(tmp_path: Path, field: str) -> None:
+    """The head of a chunk read in ranges is not what the summary says: only its messages are lost."""
+    path, messages, data, chunk, count = damaged_rosbags_mcap(tmp_path, 24)
+    if field == "opcode":
+        data[chunk.offset] = 0x50
+    else:
+        struct.pack_into("<Q", data, chunk.records_start - 8, chunk.records_length + 1)
+    path.write_bytes(bytes(data))
+    contents = read_bag([path], RANGE_TOPICS)
+    assert batch_rows(contents.transforms) == rows_outside(expected_rows(messages, RANGE_TOPICS), bytes(data), chunk)
+    (line,) = contents.problems
+    assert line.startswith(f"1 of {count} chunks could not be read (") and line.endswith(LOST)
+
+
+@pytest.mark.parametrize("fraction", [0.02, 0.5, 0.98])
+def test_cut_inside_a_chunk_summary_kept(tmp_path: Path, fraction: float) -> None:
+    """A file cut inside its last chunk, its summary and footer put back after the cut: the ranges
+    of that chunk run past the end or into the summary; only its messages are lost."""
+    messages = with_images(sorted(varied_messages(23, 1200, ties=False), key=lambda m: m.record_time))
+    path = rosbags_mcap(tmp_path, messages)
+    data = path.read_bytes()
+    chunks = chunks_of(path)
+    last = chunks[-1]
+    cut = last.offset + int(last.length * fraction)
+    summary_start, summary_offsets = struct.unpack_from("<QQ", data, len(data) - 8 - 20)
+    moved = summary_start - cut
+    footer = struct.pack("<BQQQI", 0x02, 20, summary_start - moved, summary_offsets - moved, 0) + data[-8:]
+    path.write_bytes(data[:cut] + data[summary_start : len(data) - 8 - 29] + footer)
+    contents = read_bag([path], RANGE_TOPICS)
+    expected = expected_rows(messages, RANGE_TOPICS)
+    assert batch_rows(contents.transforms) == rows_outside(expected, data, last)
+    (line,) = contents.problems
+    assert line.startswith(f"1 of {len(chunks)} chunks could not be read (") and "\n" not in line
+
+
+def _channel_ids(path: Path, *topics: str) -> list[int]:
+    from mcap.reader import make_reader
+
+    with path.open("rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None
+    ids = {channel.topic: channel.id for channel in summary.channels.values()}
+    return [ids[topic] for topic in topics]

@@ -8,7 +8,6 @@ from pathlib import Path
 from typing import BinaryIO
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
@@ -25,22 +24,23 @@ from tftools.sources.bag.mcap_records import (
     RECORD,
     SCHEMA,
     STATISTICS,
-    U16,
     U32,
     U64,
     Body,
     Channels,
+    ChunkIndex,
     McapDamageError,
     chunk_records,
     records,
     scan_records,
 )
+from tftools.sources.bag.mcap_spans import INDEX_ENTRY, IntArray, Queued, SpanReader, prefetch
 from tftools.sources.bag.mcap_stream import UnreadableError, stream
 from tftools.sources.errors import CorruptBagError
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _PAYLOAD = RECORD.size + MESSAGE_HEAD.size  # a message's data, from the start of its record
-_INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])
+_INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
 _ID_OFFSET = struct.Struct("<HQ")
 
 
@@ -80,18 +80,10 @@ def scan(
 
 
 @dataclass
-class _ChunkIndex:
-    offset: int
-    length: int
-    index_offsets: dict[int, int]  # channel id -> file offset of its MessageIndex record
-    index_length: int
-
-
-@dataclass
 class _Summary:
     schemas: list[bytes] = field(default_factory=list)
     channels: list[bytes] = field(default_factory=list)
-    chunks: list[_ChunkIndex] = field(default_factory=list)
+    chunks: list[ChunkIndex] = field(default_factory=list)
     statistics: tuple[int, int, int] | None = None  # message count, start, end
 
 
@@ -113,21 +105,68 @@ def _read_indexed(f: BinaryIO, size: int, channels: Channels, progress: Progress
         return False  # messages outside chunks, or unindexed
     result = channels.result
     result.message_count, result.start, result.end = count, start, end
-    lost: list[str] = []
     chunks = sorted(summary.chunks, key=lambda c: c.offset)
-    for number, chunk in enumerate(chunks):
-        wanted = [c for c in chunk.index_offsets if c in channels.wanted]
-        if wanted or not chunk.index_offsets:
-            try:
-                _read_chunk(f, chunk, number, wanted, channels)
-            except McapDamageError as e:
-                lost.append(str(e))
-        progress(chunk.offset + chunk.length, size)
+    lost = _read_chunks(f, chunks, channels, progress, size)
     if lost:
         result.note_problem(
             f"{len(lost)} of {len(chunks)} chunks could not be read ({lost[0]}); their messages are lost"
         )
     return True
+
+
+def _read_chunks(
+    f: BinaryIO, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback, size: int
+) -> list[str]:
+    """The wanted messages of the chunks (in file order): uncompressed ones with unwanted channels
+    gathered to be read in ranges, the others read whole. Returns what is wrong with each chunk
+    that could not be read."""
+    lost: dict[int, str] = {}
+
+    def read_whole(number: int, chunk: ChunkIndex, wanted: list[int], index: bytes | None) -> None:
+        try:
+            _read_chunk(f, chunk, number, wanted, channels, index)
+        except McapDamageError as e:
+            lost[number] = str(e)
+
+    def read_queued_whole(queued: Queued) -> None:
+        read_whole(queued.number, queued.chunk, _wanted(queued.chunk, channels), queued.index)
+
+    spans = SpanReader(f.fileno(), channels, read_queued_whole)
+    indexed = [c for c in chunks if _in_ranges(c, _wanted(c, channels))]
+    ends = np.array([c.end for c in indexed], np.int64)
+    prefetch(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
+    for number, chunk in enumerate(chunks):
+        wanted = _wanted(chunk, channels)
+        if _in_ranges(chunk, wanted):
+            index = _read_at(f, chunk.end, chunk.index_length)
+            entries = _message_indexes(index, chunk)
+            if entries is not None:
+                spans.queue(Queued(number, chunk, index, entries))
+            else:
+                spans.flush()  # the chunks before first: messages are handed on in file order
+                read_whole(number, chunk, wanted, index)
+        elif wanted or not chunk.index_offsets:
+            spans.flush()
+            read_whole(number, chunk, wanted, None)
+        if spans.full:
+            spans.flush()
+        progress(chunk.end, size)
+    spans.flush()
+    return [lost[number] for number in sorted(lost)]
+
+
+def _wanted(chunk: ChunkIndex, channels: Channels) -> list[int]:
+    return [c for c in chunk.index_offsets if c in channels.wanted]
+
+
+def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
+    """Whether the chunk may be read in ranges: uncompressed, with channels wanted and others not."""
+    return chunk.compression == "" and 0 < len(wanted) < len(chunk.index_offsets)
+
+
+def _read_at(f: BinaryIO, offset: int, length: int) -> bytes:
+    f.seek(offset)
+    return f.read(length)
 
 
 def _summary(f: BinaryIO, size: int) -> _Summary | None:
@@ -167,7 +206,7 @@ def _parse_summary(data: bytes) -> _Summary:
     return summary
 
 
-def _chunk_index(content: bytes) -> _ChunkIndex:
+def _chunk_index(content: bytes) -> ChunkIndex:
     body = Body(content)
     body.pos += 16  # message start and end times
     offset, length = body.int(U64), body.int(U64)
@@ -175,14 +214,17 @@ def _chunk_index(content: bytes) -> _ChunkIndex:
     if len(entries) % _ID_OFFSET.size:
         raise McapDamageError("bad message index offsets")
     offsets = dict(_ID_OFFSET.iter_unpack(entries))
-    return _ChunkIndex(offset, length, offsets, body.int(U64))
+    index_length = body.int(U64)
+    compression = body.string()
+    return ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64))
 
 
-def _read_chunk(f: BinaryIO, chunk: _ChunkIndex, number: int, wanted: list[int], channels: Channels) -> None:
-    """The wanted channels' messages of one chunk, found through its message indexes (or, in a
-    chunk without them, by walking its records)."""
-    f.seek(chunk.offset)
-    raw = f.read(chunk.length)
+def _read_chunk(
+    f: BinaryIO, chunk: ChunkIndex, number: int, wanted: list[int], channels: Channels, index: bytes | None
+) -> None:
+    """The wanted channels' messages of one chunk read whole, found through its message indexes
+    (``index``, read here when None) or, in a chunk without them, by walking its records."""
+    raw = _read_at(f, chunk.offset, chunk.length)
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
         raise McapDamageError(f"no chunk at byte {chunk.offset}")
@@ -192,31 +234,47 @@ def _read_chunk(f: BinaryIO, chunk: _ChunkIndex, number: int, wanted: list[int],
         if damage:
             raise McapDamageError(damage)
         return
-    index = f.read(chunk.index_length)
-    for channel_id in wanted:
-        at = chunk.index_offsets[channel_id] - chunk.offset - chunk.length
-        _take_messages(data, _message_index(index, at), number, channel_id, channels)
-
-
-def _message_index(index: bytes, at: int) -> npt.NDArray[np.void]:
-    body = Body(index, at)
-    opcode, _ = body.take(RECORD)
-    body.int(U16)
-    entries = body.bytes(U32)
-    if opcode != MESSAGE_INDEX or len(entries) % _INDEX_ENTRY.itemsize:
-        raise McapDamageError("bad message index")
-    return np.frombuffer(entries, _INDEX_ENTRY)
-
-
-def _take_messages(
-    data: bytes | memoryview, entries: npt.NDArray[np.void], number: int, channel_id: int, channels: Channels
-) -> None:
-    """Slice the indexed messages' payloads out of the chunk's records, checking the index against them."""
-    if not len(entries):
+    if index is None:
+        index = f.read(chunk.index_length)
+    found = [_located(data, _message_index(index, chunk.index_offsets[c] - chunk.end), c) for c in wanted]
+    if not found:
         return
+    targets = np.repeat([channels.wanted[c] for c in wanted], [len(times) for times, *_ in found]).astype(np.int32)
+    times, offsets, starts, lengths = (np.concatenate(column) for column in zip(*found, strict=True))
+    order = np.argsort(offsets, kind="stable")  # handed on in file order, every channel's at once
+    channels.result.messages.add_spans(
+        targets[order], times[order], (number << 32) + offsets[order], data, starts[order], lengths[order]
+    )
+
+
+def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, bytes] | None:
+    """Every channel's message index entries in the chunk, or None when one is damaged."""
+    try:
+        return {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
+    except McapDamageError:
+        return None
+
+
+def _message_index(index: bytes, at: int) -> bytes:
+    """The entries of the MessageIndex record at ``index[at:]``."""
+    if not 0 <= at <= len(index) - _INDEX_HEAD.size:
+        raise McapDamageError("bad message index")
+    opcode, _, _, length = _INDEX_HEAD.unpack_from(index, at)
+    start = at + _INDEX_HEAD.size
+    if opcode != MESSAGE_INDEX or length % INDEX_ENTRY.itemsize or start + length > len(index):
+        raise McapDamageError("bad message index")
+    return index[start : start + length]
+
+
+def _located(
+    data: bytes | memoryview, index_entries: bytes, channel_id: int
+) -> tuple[IntArray, IntArray, IntArray, IntArray]:
+    """The indexed messages' record times, offsets, payload starts and lengths in the chunk's
+    records, the index checked against them."""
+    entries = np.frombuffer(index_entries, INDEX_ENTRY)
     offsets = entries["offset"].astype(np.int64)
     raw = np.frombuffer(data, np.uint8)
-    if offsets.min() < 0 or offsets.max() + _PAYLOAD > len(raw) or (raw[offsets] != MESSAGE).any():
+    if len(offsets) and (offsets.min() < 0 or offsets.max() + _PAYLOAD > len(raw) or (raw[offsets] != MESSAGE).any()):
         raise McapDamageError("message index does not match its chunk")
     head = raw[offsets[:, None] + np.arange(1, 11)]  # record length (8 bytes), channel id (2)
     lengths = head[:, :8].copy().view("<u8").ravel().astype(np.int64) - MESSAGE_HEAD.size
@@ -224,7 +282,4 @@ def _take_messages(
     starts = offsets + _PAYLOAD
     if (ids != channel_id).any() or (lengths < 0).any() or (starts + lengths > len(raw)).any():
         raise McapDamageError("message index does not match its chunk")
-    times = entries["time"].astype(np.int64)
-    channels.result.messages.add_spans(
-        channels.wanted[channel_id], times, (number << 32) + offsets, data, starts, lengths
-    )
+    return entries["time"].astype(np.int64), offsets, starts, lengths

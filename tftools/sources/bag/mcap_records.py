@@ -14,11 +14,33 @@ MESSAGE_INDEX, CHUNK_INDEX, STATISTICS, DATA_END = 0x07, 0x08, 0x0B, 0x0F
 RECORD = struct.Struct("<BQ")  # opcode, content length
 MESSAGE_HEAD = struct.Struct("<HIQQ")  # channel id, sequence, log time, publish time
 U16, U32, U64 = struct.Struct("<H"), struct.Struct("<I"), struct.Struct("<Q")
-_CHUNK_HEAD = struct.Struct("<QQQI")  # start time, end time, uncompressed size, crc
+CHUNK_HEAD = struct.Struct("<QQQI")  # start time, end time, uncompressed size, crc
 
 
 class McapDamageError(Exception):
     """Bytes that are not what the MCAP format says they should be."""
+
+
+@dataclass
+class ChunkIndex:
+    """Where a chunk and its message indexes are, as the summary says."""
+
+    offset: int
+    length: int
+    index_offsets: dict[int, int]  # channel id -> file offset of its MessageIndex record
+    index_length: int
+    compression: str
+    records_length: int  # of its records as stored (compressed or not)
+
+    @property
+    def records_start(self) -> int:
+        """The file offset of the chunk's records, after its fields (which end in the compression's name)."""
+        return self.offset + RECORD.size + CHUNK_HEAD.size + U32.size + len(self.compression.encode()) + U64.size
+
+    @property
+    def end(self) -> int:
+        """The file offset just past the chunk record, where its message indexes begin."""
+        return self.offset + self.length
 
 
 class Body:
@@ -68,7 +90,7 @@ def chunk_records(content: bytes | memoryview, *, partial: bool) -> bytes | memo
     """The records inside a chunk, decompressed (as far as they go when ``partial``); a view
     into ``content`` when it is a view and the chunk is not compressed."""
     body = Body(content)
-    _, _, uncompressed, crc = body.take(_CHUNK_HEAD)
+    _, _, uncompressed, crc = body.take(CHUNK_HEAD)
     compression = body.string()
     length = body.int(U64)
     data = content[body.pos : body.pos + length]

@@ -18,6 +18,7 @@ ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
 
 _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
+_LENGTH_MASK = (1 << 40) - 1  # a group's key: its codec's number << 40 | its payloads' length
 
 
 @dataclass
@@ -106,8 +107,9 @@ class MessageSet:
         starts: IntArray,
         lengths: IntArray,
     ) -> None:
-        """``add`` of the payloads ``data[starts[i] : starts[i] + lengths[i]]``, copied out length
-        by length in bulk rather than sliced one by one."""
+        """``add`` of the payloads ``data[starts[i] : starts[i] + lengths[i]]``, of one channel (an
+        int) or of several (one channel number per message), copied out length by length in bulk
+        rather than sliced one by one."""
         if self.unpack is not None:
             view = memoryview(data)
             pieces = [view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)]
@@ -134,11 +136,12 @@ class MessageSet:
         keys = (np.array(self._codec_of, np.int64)[channels] << 40) | lengths
         order = np.argsort(keys, kind="stable")
         for part in np.split(order, np.flatnonzero(np.diff(keys[order])) + 1):
-            length = int(lengths[part[0]])
+            key = int(keys[part[0]])
+            length = key & _LENGTH_MASK
             # One item per position, each ``length`` bytes from there: a gather copies whole items.
             items = np.ndarray((len(raw) - length + 1,), f"V{length}", raw, strides=(1,)) if length else None
             joined = items[starts[part]].tobytes() if items is not None else b""
-            self._group(int(keys[part[0]]), joined, ids[part])
+            self._group(key, joined, ids[part])
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
 
@@ -168,7 +171,7 @@ class MessageSet:
         return kept, unpacked
 
     def _group(self, key: int, joined: bytes, ids: IntArray) -> None:
-        codec, length = self._codecs[key >> 40], key & ((1 << 40) - 1)
+        codec, length = self._codecs[key >> 40], key & _LENGTH_MASK
         group = self._groups.setdefault((codec, length), _Group())
         group.pieces.append(joined)
         group.ids.append(ids)
