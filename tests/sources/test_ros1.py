@@ -26,7 +26,7 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
-from tftools.sources.bag import ros1, ros1_decode, ros1_scan, ros1_spans
+from tftools.sources.bag import ranges, ros1, ros1_decode, ros1_scan
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 
@@ -202,13 +202,18 @@ def test_the_images_of_an_uncompressed_bag_are_not_read(
 ) -> None:
     bag = write_rosbag(tmp_path / "b.bag", interleaved(60, 300_000), "none", chunk_threshold=768 * 1024)
     read_bytes: list[int] = []
-    real = os.pread
+    pread, read_into = os.pread, ranges._read_into
 
-    def counting(fd: int, length: int, offset: int) -> bytes:
+    def counted_pread(fd: int, length: int, offset: int) -> bytes:  # a chunk read whole
         read_bytes.append(length)
-        return real(fd, length, offset)
+        return pread(fd, length, offset)
 
-    monkeypatch.setattr(ros1_spans.os, "pread", counting)
+    def counted_range(fd: int, view: memoryview, offset: int) -> bool:
+        read_bytes.append(len(view))
+        return read_into(fd, view, offset)
+
+    monkeypatch.setattr(os, "pread", counted_pread)
+    monkeypatch.setattr(ranges, "_read_into", counted_range)
     batches, info = read(bag)
     assert rows_of(batches) == reference_rows(bag) and len(rows_of(batches)) == 180 and info.problems == []
     assert len(tf_counts(bag)) > 20 and bag.stat().st_size > 18_000_000

@@ -34,8 +34,9 @@ from tftools.sources.bag.mcap_records import (
     records,
     scan_records,
 )
-from tftools.sources.bag.mcap_spans import INDEX_ENTRY, IntArray, Queued, SpanReader, prefetch
+from tftools.sources.bag.mcap_spans import INDEX_ENTRY, IntArray, Queued, SpanReader
 from tftools.sources.bag.mcap_stream import UnreadableError, stream
+from tftools.sources.bag.ranges import prefetch
 from tftools.sources.errors import CorruptBagError
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -20,11 +19,11 @@ from tftools.sources.bag.mcap_records import (
     Channels,
     ChunkIndex,
 )
+from tftools.sources.bag.ranges import read_ranges
 
 IntArray = npt.NDArray[np.int64]
 INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])  # of a message, offset in its chunk's records
 
-MAX_GAP = 16 << 10  # bytes between two wanted ranges read along with them: cheaper than one more read
 _BATCH_BYTES = 64 << 20  # of chunks whose wanted ranges are gathered and read together
 _SPARSE = 0.5  # the largest share of a chunk's records wanted for it to be read in ranges (else whole)
 _PAYLOAD = RECORD.size + MESSAGE_HEAD.size  # a message's data, from the start of its record
@@ -113,7 +112,7 @@ class SpanReader:
         heads = [batch[i].chunk for i in chunks.tolist()]
         starts = np.concatenate([[c.offset for c in heads], messages.start]).astype(np.int64)
         ends = np.concatenate([[c.records_start for c in heads], messages.end]).astype(np.int64)
-        data, where, read = _read_ranges(self.fd, starts, ends)
+        data, where, read = read_ranges(self.fd, starts, ends)
         n = len(heads)
         for i, chunk, at, whole in zip(chunks.tolist(), heads, where[:n].tolist(), read[:n].tolist(), strict=True):
             damaged[i] = not whole or not _is_head_of(data, at, chunk)
@@ -189,59 +188,6 @@ def _bounded(
     following = np.append(messages.chunk[1:] == messages.chunk[:-1], False)
     messages.end = np.where(following, np.append(messages.start[1:], 0), records_end[messages.chunk])
     return messages, damaged
-
-
-def _read_ranges(
-    fd: int, starts: IntArray, ends: IntArray
-) -> tuple[npt.NDArray[np.uint8], IntArray, npt.NDArray[np.bool_]]:
-    """The file's bytes ``starts[i]:ends[i]``, read in runs (ranges closer than ``MAX_GAP`` share
-    one read): the runs' bytes, where each range begins in them, and whether it was read whole."""
-    order = np.argsort(starts, kind="stable")
-    low, high = starts[order], ends[order]
-    reach = np.maximum.accumulate(high)
-    first = np.append(True, low[1:] - reach[:-1] > MAX_GAP)
-    firsts = np.flatnonzero(first)
-    run = np.cumsum(first) - 1
-    run_start, run_end = low[firsts], np.maximum.reduceat(high, firsts)
-    placed = np.cumsum(run_end - run_start) - (run_end - run_start)  # where each run goes in the bytes
-    prefetch(fd, run_start, run_end)
-    data = np.empty(int((run_end - run_start).sum()), np.uint8)
-    view = data.data  # the array's bytes, read into in place
-    complete = np.array(
-        [
-            _read_into(fd, view[at : at + end - start], start)
-            for start, end, at in zip(run_start.tolist(), run_end.tolist(), placed.tolist(), strict=True)
-        ],
-        bool,
-    )
-    where = np.empty(len(starts), np.int64)
-    where[order] = placed[run] + low - run_start[run]
-    read = np.empty(len(starts), bool)
-    read[order] = complete[run]
-    return data, where, read
-
-
-def prefetch(fd: int, starts: IntArray, ends: IntArray) -> None:
-    """Have the system start reading these byte ranges of the file, all at once: read one after the
-    other, a file not in the page cache would cost a disk's latency per range."""
-    if hasattr(os, "posix_fadvise"):
-        for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
-            os.posix_fadvise(fd, start, end - start, os.POSIX_FADV_WILLNEED)
-
-
-def _read_into(fd: int, view: memoryview, offset: int) -> bool:
-    """Fill ``view`` from the file at ``offset``; False when the file ends first."""
-    while len(view):
-        if hasattr(os, "preadv"):
-            got = os.preadv(fd, [view], offset)
-        else:  # a system without it (e.g. an older macOS): read, then copy
-            part = os.pread(fd, len(view), offset)
-            view[: len(part)] = part
-            got = len(part)
-        if not got:
-            return False
-        view, offset = view[got:], offset + got
-    return True
 
 
 def _is_head_of(data: npt.NDArray[np.uint8], at: int, chunk: ChunkIndex) -> bool:

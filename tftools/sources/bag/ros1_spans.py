@@ -2,30 +2,26 @@
 
 A chunk's index records give the offset of every message in it, of every connection, so a
 wanted record ends at the next offset (or at the chunk's end) and only those bytes need reading.
-Records close together are read as one run: a chunk of transforms only is read whole, one whose
+Records close together are read as one run (``ranges``): a chunk of transforms only is read whole, one whose
 bulk is camera images costs little more than its transforms.
 """
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from tftools.sources.bag.ranges import read_ranges
 from tftools.sources.bag.ros1_chunks import IntArray
 from tftools.sources.bag.ros1_format import distinct
-
-#: Records less than this apart are read in one run: reading the gap costs about what another
-#: read call would.
-_GAP = 16 << 10
 
 
 @dataclass
 class SpanBatch:
     """Wanted records of several chunks, read into one buffer."""
 
-    data: bytes
+    data: memoryview
     offsets: IntArray  # where each record begins in ``data``, ascending
     ends: IntArray  # where it must end: where the chunk's next indexed record begins, or the chunk does
     chunk: IntArray  # the ordinal of its chunk
@@ -59,20 +55,14 @@ class ChunkSpans:
         self.nbytes += size
 
     def read(self, fd: int) -> SpanBatch:
-        """Read the gathered records from the file ``fd``, and start gathering anew. Bytes past the
-        end of the file read as zeros (the records there then fail to parse)."""
+        """Read the gathered records from the file ``fd``, and start gathering anew. Records cut
+        short by the end of the file are left out."""
         starts, ends, chunk = self._ranges()
         self._clear()
-        reach = np.maximum.accumulate(ends)
-        # A run begins after a gap, or where a damaged index turns back.
-        first = np.flatnonzero(np.concatenate(([True], (starts[1:] > reach[:-1] + _GAP) | (starts[1:] < starts[:-1]))))
-        run_start = starts[first]
-        lengths = np.maximum.reduceat(ends, first) - run_start
-        placed = np.cumsum(lengths) - lengths  # where each run goes in the buffer
-        runs = (_pread(fd, start, length) for start, length in zip(run_start.tolist(), lengths.tolist(), strict=True))
-        data = b"".join(runs)  # one run: no copy
-        shift: IntArray = np.repeat(placed - run_start, np.diff(first, append=len(starts)))
-        return SpanBatch(data, starts + shift, ends + shift, chunk)
+        data, where, complete = read_ranges(fd, starts, ends)
+        return SpanBatch(
+            data.data, where[complete], ends[complete] - starts[complete] + where[complete], chunk[complete]
+        )
 
     def _clear(self) -> None:
         self.ordinals, self.data_starts, self.sizes, self.wanted, self.indexed = [], [], [], [], []
@@ -98,9 +88,3 @@ def _in_file(offsets: list[IntArray], data_starts: IntArray, sizes: IntArray) ->
     inside = (relative >= 0) & (relative < np.repeat(sizes, counts))
     placed: IntArray = (relative + np.repeat(data_starts, counts))[inside]
     return placed
-
-
-def _pread(fd: int, start: int, length: int) -> bytes:
-    """``length`` bytes of the file from ``start``, zeros past its end."""
-    data = os.pread(fd, length, start)
-    return data if len(data) == length else data.ljust(length, b"\0")

@@ -1,0 +1,66 @@
+"""Byte ranges of a file read in few calls: ranges close together share one read, and the system
+is asked to fetch them all first, so a file not in the page cache costs one disk wait, not one per range."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import numpy.typing as npt
+
+IntArray = npt.NDArray[np.int64]
+
+MAX_GAP = 16 << 10  # bytes between two wanted ranges read along with them: cheaper than one more read
+
+
+def read_ranges(
+    fd: int, starts: IntArray, ends: IntArray
+) -> tuple[npt.NDArray[np.uint8], IntArray, npt.NDArray[np.bool_]]:
+    """The file's bytes ``starts[i]:ends[i]``, read in runs (ranges closer than ``MAX_GAP`` share
+    one read): the runs' bytes, where each range begins in them, and whether it was read whole."""
+    order = np.argsort(starts, kind="stable")
+    low, high = starts[order], ends[order]
+    reach = np.maximum.accumulate(high)
+    first = np.append(True, low[1:] - reach[:-1] > MAX_GAP)
+    firsts = np.flatnonzero(first)
+    run = np.cumsum(first) - 1
+    run_start, run_end = low[firsts], np.maximum.reduceat(high, firsts)
+    placed = np.cumsum(run_end - run_start) - (run_end - run_start)  # where each run goes in the bytes
+    prefetch(fd, run_start, run_end)
+    data = np.empty(int((run_end - run_start).sum()), np.uint8)
+    view = data.data  # the array's bytes, read into in place
+    complete = np.array(
+        [
+            _read_into(fd, view[at : at + end - start], start)
+            for start, end, at in zip(run_start.tolist(), run_end.tolist(), placed.tolist(), strict=True)
+        ],
+        bool,
+    )
+    where = np.empty(len(starts), np.int64)
+    where[order] = placed[run] + low - run_start[run]
+    read = np.empty(len(starts), bool)
+    read[order] = complete[run]
+    return data, where, read
+
+
+def prefetch(fd: int, starts: IntArray, ends: IntArray) -> None:
+    """Have the system start reading these byte ranges of the file, all at once: read one after the
+    other, a file not in the page cache would cost a disk's latency per range."""
+    if hasattr(os, "posix_fadvise"):
+        for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
+            os.posix_fadvise(fd, start, end - start, os.POSIX_FADV_WILLNEED)
+
+
+def _read_into(fd: int, view: memoryview, offset: int) -> bool:
+    """Fill ``view`` from the file at ``offset``; False when the file ends first."""
+    while len(view):
+        if hasattr(os, "preadv"):
+            got = os.preadv(fd, [view], offset)
+        else:  # a system without it (e.g. an older macOS): read, then copy
+            part = os.pread(fd, len(view), offset)
+            view[: len(part)] = part
+            got = len(part)
+        if not got:
+            return False
+        view, offset = view[got:], offset + got
+    return True
