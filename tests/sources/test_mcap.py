@@ -405,33 +405,31 @@ def test_images_between_transforms_read_in_ranges(
 
 def test_foxglove_channels_between_images(tmp_path: Path, reads: list[tuple[str, int]]) -> None:
     """The mcap library's uncompressed chunks, with every kind of transform channel among images."""
-    images = [m for m in with_images(list(OTHERS), every=3, size=20_000) if m.topic == "/camera/image"]
-    options = McapOptions(chunk_size=150_000, compression=CompressionType.NONE, extra=[*OTHERS, *images])
-    path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, FOXGLOVE_MESSAGES, options)
-    contents = read_bag([path])
-    rows = batch_rows(contents.transforms)
-    assert rows == expected_rows(WRITTEN, READ_BY_DEFAULT)
-    assert by_time(rows) == by_time([row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT])
-    assert contents.problems == []
+    path = foxglove_among_images(tmp_path, chunk_size=150_000, compression=CompressionType.NONE)
     assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.2 * path.stat().st_size
 
 
 def test_compressed_and_uncompressed_chunks(tmp_path: Path, reads: list[tuple[str, int]], handed_on: list[int]) -> None:
     """Chunks compressed and not in one file: the compressed read whole, the others in ranges, their
     messages handed on in file order all the same."""
-    images = [m for m in with_images(list(OTHERS), every=3, size=20_000) if m.topic == "/camera/image"]
     kinds = (CompressionType.NONE, CompressionType.ZSTD, CompressionType.NONE, CompressionType.LZ4)
-    options = McapOptions(
-        compression=kinds[0], extra=[*OTHERS, *images], messages_per_chunk=40, chunk_compressions=kinds
-    )
-    path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, FOXGLOVE_MESSAGES, options)
+    foxglove_among_images(tmp_path, compression=kinds[0], messages_per_chunk=40, chunk_compressions=kinds)
+    assert {kind for kind, _ in reads} == {"range", "zstd", "lz4"}
+    assert handed_on == sorted(handed_on) and len(handed_on) == len(set(handed_on)) > 100
+
+
+def foxglove_among_images(tmp_path: Path, **options: Any) -> Path:
+    """An MCAP file by the mcap library with every kind of transform channel among camera images,
+    read: the transforms written, in order, as the mcap library reads them, and no problem."""
+    images = [m for m in with_images(list(OTHERS), every=3, size=20_000) if m.topic == "/camera/image"]
+    written = McapOptions(extra=[*OTHERS, *images], **options)
+    path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, FOXGLOVE_MESSAGES, written)
     contents = read_bag([path])
     rows = batch_rows(contents.transforms)
     assert rows == expected_rows(WRITTEN, READ_BY_DEFAULT)
     assert by_time(rows) == by_time([row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT])
     assert contents.problems == []
-    assert {kind for kind, _ in reads} == {"range", "zstd", "lz4"}
-    assert handed_on == sorted(handed_on) and len(handed_on) == len(set(handed_on)) > 100
+    return path
 
 
 def chunks_of(path: Path) -> list[ChunkIndex]:
