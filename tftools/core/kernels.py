@@ -3,7 +3,7 @@
 ``walk.py`` stays the reference: each kernel follows it line by line with the same formulas
 (``rotation.py``'s), and reports only success or failure. The buffer falls back to the Python
 walk on any failure, so tf2's error messages come from one place. Compiled once per machine
-(``cache=True``); warm the cache with ``python3 -c "import tftools.core.kernels"``.
+(``cache=True``); warm the cache with ``python3 -c "import tftools.core.kernels_chain"``.
 """
 
 # Kernels are typed by numba (their signatures, and inference inside), which mypy cannot follow.
@@ -77,8 +77,12 @@ def _slerp(ax, ay, az, aw, bx, by, bz, bw, t, theta, d, sign, batch):
     """rotation.slerp, given ``_arc``'s constants; ``batch`` takes ``_sin`` for ``math.sin``."""
     if theta == 0.0:
         return ax, ay, az, aw
-    s0 = _sin((1.0 - t) * theta, batch)
-    s1 = _sin(t * theta, batch) * sign
+    return _weigh(ax, ay, az, aw, bx, by, bz, bw, _sin((1.0 - t) * theta, batch), _sin(t * theta, batch) * sign, d)
+
+
+@_inline
+def _weigh(ax, ay, az, aw, bx, by, bz, bw, s0, s1, d):
+    """Slerp's last step: (a s0 + b s1) d."""
     return (ax * s0 + bx * s1) * d, (ay * s0 + by * s1) * d, (az * s0 + bz * s1) * d, (aw * s0 + bw * s1) * d
 
 
@@ -86,8 +90,18 @@ def _slerp(ax, ay, az, aw, bx, by, bz, bw, t, theta, d, sign, batch):
 def _sin(x, batch):
     """math.sin; for batches, small angles (the usual arc between two samples) by their Taylor
     series, within an ulp of it and several times faster (terms past x**9 are below 1e-20 x)."""
-    if not batch or abs(x) > 0.0625:
+    if not batch or abs(x) > SMALL_ANGLE:
         return math.sin(x)
+    return _small_sin(x)
+
+
+#: Up to this angle, ``_sin`` takes ``_small_sin``.
+SMALL_ANGLE = 0.0625
+
+
+@_inline
+def _small_sin(x):
+    """sin(x) for ``|x| <= SMALL_ANGLE``, by its Taylor series."""
     x2 = x * x
     return x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880))))
 
@@ -388,9 +402,10 @@ _LOOKUP_MANY = types.void(
 
 
 @njit(_LOOKUP_MANY, cache=True, nogil=True)
-def lookup_many(table, target, source, times, rows, stamps, values, valid):
+def lookup_each(table, target, source, times, rows, stamps, values, valid):
     """``lookup`` at each of ``times`` (fastest in ascending order), into row ``rows[i]`` of the
-    outputs (threads that split the times write their answers in place).
+    outputs (threads that split the times write their answers in place): the walk at each time,
+    which ``kernels_chain.lookup_many`` answers as, bit for bit, and falls back to.
 
     ``stamps`` gets each time used (0 resolved to the latest common time), ``values`` the
     transform (identity where it failed), ``valid`` whether tf2 would have succeeded.
