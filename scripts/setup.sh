@@ -25,5 +25,5 @@ spec="."
 [ -n "$extras" ] && spec=".[${extras}]"
 .venv/bin/python -m pip install -q -e "$spec"
 # Compile the lookup kernels once now (numba caches them), not during the first command.
-.venv/bin/python -c "import tftools.core.kernels_chain"
+.venv/bin/python -c "import tftools.core.kernels"
 echo "setup: ready; run .venv/bin/tfx --help" >&2

@@ -146,17 +146,15 @@ def test_the_answers_are_single_lookups():
 
 def _block(buffer: Buffer, target: str, source: str, times) -> bool | None:
     """Whether ``_chain_block`` takes ``times`` (None: the chain does not resolve at the first)."""
-    from tftools.core import kernels_chain as chain_kernels
-
     table, times = buffer._edge_table(), np.ascontiguousarray(times, np.int64)
-    chain = np.zeros((2, chain_kernels.MAX_GRAPH_DEPTH + 2, 3), np.int64)
-    ending, n_source, n_target = chain_kernels._resolve(table, *_ids(buffer, target, source), times[0], chain)
-    if ending == chain_kernels.IRREGULAR:
+    chain = np.zeros((2, kernels.MAX_GRAPH_DEPTH + 2, 3), np.int64)
+    ending, n_source, n_target = kernels._resolve(table, *_ids(buffer, target, source), times[0], chain)
+    if ending == kernels.IRREGULAR:
         return None
-    memo, arcs = chain_kernels._new_memo(table.shape[0])
-    acc = np.empty((2, 8 * chain_kernels.BLOCK))
+    memo, arcs = kernels._new_memo(table.shape[0])
+    acc = np.empty((2, 8 * kernels.BLOCK))
     args = (table, chain, ending, n_source, n_target, times, len(times), acc, memo, arcs)
-    return bool(chain_kernels._chain_block(*args))
+    return bool(kernels._chain_block(*args))
 
 
 def test_the_chain_takes_healthy_blocks_and_leaves_the_others_to_the_walk():

@@ -63,8 +63,7 @@ _tried = False
 
 
 def compiled() -> ModuleType | None:
-    """The compiled kernels (``tftools.core.kernels_chain``, which passes on ``tftools.core.kernels``'
-    single lookups), or None where numba cannot be imported.
+    """The compiled kernels (``tftools.core.kernels``), or None where numba cannot be imported.
 
     Imported on first use only, so commands that never look up pay nothing for numba.
     """
@@ -72,7 +71,7 @@ def compiled() -> ModuleType | None:
     if not _tried:
         _tried = True
         try:
-            _compiled = importlib.import_module("tftools.core.kernels_chain")
+            _compiled = importlib.import_module("tftools.core.kernels")
         except ImportError:  # numba missing on this platform: the Python walk answers alone
             _compiled = None
     return _compiled
