@@ -152,7 +152,7 @@ def _block(buffer: Buffer, target: str, source: str, times) -> bool | None:
     if ending == kernels.IRREGULAR:
         return None
     memo, arcs = kernels._new_memo(table.shape[0])
-    acc = np.empty((2, 8 * kernels.BLOCK))
+    acc = np.empty(2 * kernels.SIDE)
     args = (table, chain, ending, n_source, n_target, times, len(times), acc, memo, arcs)
     return bool(kernels._chain_block(*args))
 

@@ -446,13 +446,15 @@ def lookup_each(table, target, source, times, rows, stamps, values, valid):
 
 # --- many lookups along a resolved chain (see the module docstring) ---------------------------
 
-#: Times per block: the accumulators (2 x 8 x BLOCK doubles) stay in the L1 cache.
+#: Times per block: the accumulators (2 SIDE doubles) stay in the L1 cache.
 BLOCK = 256
 #: A side's accumulator ``acc`` is flat: component ``c`` (tx ty tz qx qy qz qw) of the k-th time
 #: at ``acc[c * BLOCK + k]``, then scratch (``LAG + k``). All at constant distances from each
 #: other, so that the compiler sees that the loops over k have no dependence between times
 #: (with separate arrays, or strides known only at run time, it would not vectorize them).
 LAG = 7 * BLOCK
+#: Where the target side's accumulator begins, after the source side's.
+SIDE = 8 * BLOCK
 B = BLOCK
 #: Indices are made unsigned in the loops meant to vectorize: numba checks a signed index for
 #: being negative (to count from the end), a branch that keeps the compiler from vectorizing.
@@ -645,25 +647,26 @@ def _side_block(table, chain, side, n_edges, times, n, acc, memo, arcs):
 
 @_jit
 def _chain_block(table, chain, ending, n_source, n_target, times, n, acc, memo, arcs):
-    """``_walk`` at ``times[:n]`` along the resolved chain, the answers in ``acc[0]``;
-    False where any time does not fit it (``acc`` is then of no use)."""
-    if not _side_block(table, chain, 0, n_source, times, n, acc[0], memo, arcs):
+    """``_walk`` at ``times[:n]`` along the resolved chain, the answers in the source side of
+    ``acc`` (the target side's follows at ``SIDE``); False where any time does not fit it (``acc``
+    is then of no use). The last loops index ``acc`` whole, so that they vectorize too."""
+    if not _side_block(table, chain, 0, n_source, times, n, acc[:SIDE], memo, arcs):
         return False
-    if not _side_block(table, chain, 1, n_target, times, n, acc[1], memo, arcs):
+    if not _side_block(table, chain, 1, n_target, times, n, acc[SIDE:], memo, arcs):
         return False
-    out, t = acc[0], acc[1]
-    if ending == AT_TARGET:
-        return True
-    for k in range(n):
-        tvx, tvy, tvz, tqx, tqy, tqz, tqw = _get(t, k)
-        ix, iy, iz = _rotate(-tqx, -tqy, -tqz, tqw, -tvx, -tvy, -tvz)
-        if ending == AT_SOURCE:
-            _set(out, k, ix, iy, iz, -tqx, -tqy, -tqz, tqw)
-            continue
-        svx, svy, svz, sqx, sqy, sqz, sqw = _get(out, k)
-        rx, ry, rz = _rotate(-tqx, -tqy, -tqz, tqw, svx, svy, svz)
-        qx, qy, qz, qw = _multiply(-tqx, -tqy, -tqz, tqw, sqx, sqy, sqz, sqw)
-        _set(out, k, rx + ix, ry + iy, rz + iz, qx, qy, qz, qw)
+    if ending == AT_SOURCE:  # the inverse of the target side
+        for k in range(n):
+            tvx, tvy, tvz, tqx, tqy, tqz, tqw = _get(acc, k + SIDE)
+            ix, iy, iz = _rotate(-tqx, -tqy, -tqz, tqw, -tvx, -tvy, -tvz)
+            _set(acc, k, ix, iy, iz, -tqx, -tqy, -tqz, tqw)
+    elif ending == AT_TOP:  # the inverse of the target side times the source side
+        for k in range(n):
+            tvx, tvy, tvz, tqx, tqy, tqz, tqw = _get(acc, k + SIDE)
+            ix, iy, iz = _rotate(-tqx, -tqy, -tqz, tqw, -tvx, -tvy, -tvz)
+            svx, svy, svz, sqx, sqy, sqz, sqw = _get(acc, k)
+            rx, ry, rz = _rotate(-tqx, -tqy, -tqz, tqw, svx, svy, svz)
+            qx, qy, qz, qw = _multiply(-tqx, -tqy, -tqz, tqw, sqx, sqy, sqz, sqw)
+            _set(acc, k, rx + ix, ry + iy, rz + iz, qx, qy, qz, qw)
     return True
 
 
@@ -710,7 +713,7 @@ def lookup_many(table, target, source, times, rows, stamps, values, valid):
     memo, arcs = _new_memo(table.shape[0])
     common_status, common = _latest_common_time(table, target, source)
     chain = np.zeros((2, MAX_GRAPH_DEPTH + 2, 3), np.int64)
-    acc = np.empty((2, 8 * BLOCK))
+    acc = np.empty(2 * SIDE)
     ending, n_source, n_target = IRREGULAR, 0, 0
     resolve = True  # at the next block's first time: at first, and after a block did not fit
     for lo in range(0, times.shape[0], BLOCK):
@@ -721,7 +724,7 @@ def lookup_many(table, target, source, times, rows, stamps, values, valid):
             resolve = False
         fits = ending != IRREGULAR and np.count_nonzero(block) == n
         if fits and _chain_block(table, chain, ending, n_source, n_target, block, n, acc, memo, arcs):
-            _scatter(acc[0], block, block_rows, n, stamps, values, valid)
+            _scatter(acc, block, block_rows, n, stamps, values, valid)
             continue
         resolve = True
         _each_block(
