@@ -1,0 +1,176 @@
+"""``lookup_many`` along a resolved chain against ``lookup_each`` (the walk at each time): the very
+same bits, on the blocks it takes and on every kind of block it must leave to the walk."""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+import pytest
+
+from tftools import Buffer, Transform, TransformError
+from tftools.core.kernels_table import compiled
+
+kernels = compiled()
+pytestmark = pytest.mark.skipif(kernels is None, reason="numba is not importable here")
+
+S = 1_000_000_000
+T0 = 1_700_000_000 * S
+SPAN = 20 * S
+#: tool changes parent (arm2 -> base) here.
+REPARENT = T0 + 12 * S
+
+
+def _quat(axis: int, angle: float) -> tuple[float, float, float, float]:
+    q = [0.0, 0.0, 0.0, math.cos(angle / 2)]
+    q[axis] = math.sin(angle / 2)
+    return q[0], q[1], q[2], q[3]
+
+
+def _edge(buffer: Buffer, parent: str, child: str, hz: int, axis: int, angle, start: int = T0, end: int = T0 + SPAN):
+    period = S // hz
+    for k, stamp in enumerate(range(start + period // 3, end, period)):
+        s = (stamp - T0) / S
+        buffer.set_transform(Transform((0.1 * k, 0.01 * s, 0.2), _quat(axis, angle(k, s)), stamp, parent, child))
+
+
+@functools.cache
+def robot() -> Buffer:
+    """map -> odom -> base -> arm0 -> arm1 (static) -> arm2 -> tool (re-parented to base), base ->
+    wheel, and an island; built once (the tests only read it). arm2's rotation holds still at
+    times (equal samples: no arc) and jumps at others (arcs too wide for the Taylor sine)."""
+    buffer = Buffer(cache_time=None)
+    _edge(buffer, "map", "odom", 10, 2, lambda k, s: 0.3 * math.sin(s))
+    _edge(buffer, "odom", "base", 50, 2, lambda k, s: 0.6 * math.sin(0.5 * s))
+    for parent, child, axis in (("base", "arm0", 0), ("arm0", "arm1", 1)):
+        buffer.set_transform(Transform((0.1, 0.2, 0.3), _quat(axis, 0.4), T0, parent, child), static=True)
+    _edge(buffer, "arm1", "arm2", 100, 1, lambda k, s: 0.0 if (k // 50) % 3 == 1 else 0.7 * k + 0.3)
+    _edge(buffer, "base", "wheel", 100, 0, lambda k, s: 3.0 * s)
+    _edge(buffer, "arm2", "tool", 100, 2, lambda k, s: 0.2 * s, end=REPARENT)
+    _edge(buffer, "base", "tool", 100, 2, lambda k, s: 0.2 * s, start=REPARENT)
+    _edge(buffer, "island_root", "island", 20, 0, lambda k, s: s)
+    return buffer
+
+
+def _ids(buffer: Buffer, target: str, source: str) -> tuple[int, int]:
+    return buffer._frames.get(target), buffer._frames.get(source)
+
+
+def _run(kernel, buffer: Buffer, target: str, source: str, times, rows):
+    n = len(times)
+    out = np.zeros(n, np.int64), np.zeros((n, 7)), np.zeros(n, bool)
+    kernel(buffer._edge_table(), *_ids(buffer, target, source), times, rows, *out)
+    return out
+
+
+def assert_same_bits(buffer: Buffer, target: str, source: str, times) -> np.ndarray:
+    """lookup_many and lookup_each at ``times`` (in their order, answers to shuffled rows)."""
+    times = np.ascontiguousarray(times, np.int64)
+    rows = np.random.default_rng(0).permutation(len(times))
+    fast = _run(kernels.lookup_many, buffer, target, source, times, rows)
+    each = _run(kernels.lookup_each, buffer, target, source, times, rows)
+    np.testing.assert_array_equal(fast[0], each[0])
+    np.testing.assert_array_equal(fast[2], each[2])
+    np.testing.assert_array_equal(fast[1].view(np.int64), each[1].view(np.int64))  # -0.0 and NaN too
+    return fast[2][np.argsort(rows)]
+
+
+def times_of(kind: str) -> np.ndarray:
+    rng = np.random.default_rng(7)
+    inside = rng.integers(T0 + S, T0 + SPAN - S, 20_000)
+    if kind == "sorted":
+        return np.sort(inside)
+    if kind == "random":
+        return inside
+    if kind == "sparse":  # about one time per interval or fewer
+        return np.sort(rng.integers(T0 + S, T0 + SPAN - S, 300))
+    if kind == "stamps":  # exactly on samples: interior ones interpolate at 0, first and last do not
+        arm2, odom = np.arange(T0 + S // 300, T0 + SPAN, S // 100), np.arange(T0 + S // 30, T0 + SPAN, S // 10)
+        return np.sort(np.concatenate([arm2, arm2 + 1, arm2 - 1, odom, odom + 1, inside[:2000]]))
+    if kind == "outside":  # before and after every history, and around their ends
+        return np.sort(np.concatenate([inside[:5000], T0 - S + inside[:300] % S, T0 + SPAN + inside[:300] % S]))
+    if kind == "first_stamp_later":  # arm2's first stamp after a later time of its first interval
+        first = T0 + S // 300
+        return np.array([first + 5, first, first + 1, first + S // 100 + 7])
+    if kind == "reparent":  # blocks that end between tool's last sample on arm2 and first on base
+        return np.sort(rng.integers(REPARENT - S // 50, REPARENT + S // 500, 1000))
+    if kind == "zeros":
+        return np.concatenate([np.zeros(300, np.int64), np.sort(inside[:3000]), np.zeros(3, np.int64)])
+    raise AssertionError(kind)
+
+
+PAIRS = [
+    ("map", "arm2"),  # the source walk reaches the root: target side empty
+    ("wheel", "arm2"),  # two sides meeting at the root
+    ("base", "arm2"),  # the source walk reaches the target
+    ("arm0", "arm2"),  # ... through one dynamic edge: its first and last stamps decide
+    ("arm2", "base"),  # the target walk reaches the source
+    ("odom", "tool"),  # tool changes parent part way
+    ("base", "arm1"),  # static edges only
+    ("arm0", "map"),
+    ("island", "arm2"),  # unconnected: every time fails
+]
+KINDS = ["sorted", "random", "sparse", "stamps", "first_stamp_later", "outside", "reparent", "zeros"]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize(("target", "source"), PAIRS)
+def test_lookup_many_is_the_walk_at_each_time_bit_for_bit(target, source, kind):
+    buffer = robot()
+    valid = assert_same_bits(buffer, target, source, times_of(kind))
+    if target == "island":
+        assert not valid.any()
+    elif kind in ("sorted", "random", "sparse"):
+        assert valid.all()
+
+
+def test_the_answers_are_single_lookups():
+    buffer = robot()
+    times = np.concatenate([times_of("random")[:800], times_of("outside")[-50:], [0, REPARENT]])
+    for target, source in PAIRS:
+        got = buffer.lookup_many(target, source, times)
+        for i, time in enumerate(times.tolist()):
+            try:
+                expected = buffer.lookup(target, source, time)
+            except TransformError:
+                assert not got.valid[i], (target, source, time)
+                continue
+            assert got.valid[i] and got.stamps[i] == expected.stamp, (target, source, time)
+            np.testing.assert_allclose(got.translations[i], expected.translation, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(got.rotations[i], expected.rotation, rtol=0, atol=1e-12)
+
+
+# --- which blocks the chain takes ------------------------------------------------------------
+
+
+def _block(buffer: Buffer, target: str, source: str, times) -> bool | None:
+    """Whether ``_chain_block`` takes ``times`` (None: the chain does not resolve at the first)."""
+    table, times = buffer._edge_table(), np.ascontiguousarray(times, np.int64)
+    chain = np.zeros((2, kernels.MAX_GRAPH_DEPTH + 2, 3), np.int64)
+    ending, n_source, n_target = kernels._resolve(table, *_ids(buffer, target, source), times[0], chain)
+    if ending == kernels.IRREGULAR:
+        return None
+    memo, arcs = kernels._new_memo(table.shape[0])
+    acc = np.empty(2 * kernels.SIDE)
+    args = (table, chain, ending, n_source, n_target, times, len(times), acc, memo, arcs)
+    return bool(kernels._chain_block(*args))
+
+
+def test_the_chain_takes_healthy_blocks_and_leaves_the_others_to_the_walk():
+    buffer = robot()
+    inside = np.sort(np.random.default_rng(3).integers(T0 + S, T0 + 3 * S, 200))
+    for target, source in PAIRS[:6]:
+        assert _block(buffer, target, source, inside), (target, source)
+    assert _block(buffer, "arm0", "arm1", [-5, 1, T0 + 100 * SPAN])  # static only: any time but 0
+    first, last, step = T0 + S // 300, T0 + S // 300 + SPAN - S // 100, S // 100  # arm2's stamps
+    assert _block(buffer, "arm1", "arm2", [first + 1, first + step, last - 1])  # interior stamps interpolate
+    assert not _block(buffer, "arm1", "arm2", [first, *inside[:10]])  # on the first stamp
+    assert not _block(buffer, "arm1", "arm2", [first + 5, first])  # ... after a time of the first interval
+    assert not _block(buffer, "arm1", "arm2", [*inside[:10], last])  # on the last stamp
+    assert not _block(buffer, "map", "arm2", [*inside[:10], T0 + SPAN + S])  # past the end
+    assert not _block(buffer, "map", "arm2", [T0 + S // 50, *inside[:10]])  # before odom's first stamp
+    assert not _block(buffer, "odom", "tool", [REPARENT - S, REPARENT + S])  # re-parented between
+    assert not _block(buffer, "odom", "tool", [REPARENT - S, REPARENT + 1])  # between its samples on each parent
+    assert _block(buffer, "odom", "tool", [REPARENT + S, REPARENT + 2 * S])  # after: the other chain
+    assert _block(buffer, "island", "arm2", inside) is None
