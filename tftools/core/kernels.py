@@ -419,31 +419,6 @@ _LOOKUP_MANY = types.void(
 )
 
 
-@njit(_LOOKUP_MANY, cache=True, nogil=True)
-def lookup_each(table, target, source, times, rows, stamps, values, valid):
-    """``lookup`` at each of ``times`` (fastest in ascending order), into row ``rows[i]`` of the
-    outputs (threads that split the times write their answers in place): the walk at each time,
-    which ``lookup_many`` answers as, bit for bit, and falls back to.
-
-    ``stamps`` gets each time used (0 resolved to the latest common time), ``values`` the
-    transform (identity where it failed), ``valid`` whether tf2 would have succeeded.
-    """
-    memo, arcs = _new_memo(table.shape[0])
-    common_status, common = _latest_common_time(table, target, source)
-    for i in range(times.shape[0]):
-        time = times[i]
-        if time == 0:
-            time = common
-        status, vx, vy, vz, qx, qy, qz, qw = _walk(table, target, source, time, memo, arcs)
-        ok = status == OK and (times[i] != 0 or common_status == OK)
-        if not ok:
-            vx, vy, vz, qx, qy, qz, qw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
-        row = rows[i]
-        stamps[row], valid[row] = time, ok
-        values[row, 0], values[row, 1], values[row, 2] = vx, vy, vz
-        values[row, 3], values[row, 4], values[row, 5], values[row, 6] = qx, qy, qz, qw
-
-
 # --- many lookups along a resolved chain (see the module docstring) ---------------------------
 
 #: Times per block: the accumulators (2 SIDE doubles) stay in the L1 cache.
@@ -699,6 +674,21 @@ def _each_block(table, target, source, times, rows, n, common_status, common, st
 
 
 # --- entry point ----------------------------------------------------------------------------
+
+
+@njit(_LOOKUP_MANY, cache=True, nogil=True)
+def lookup_each(table, target, source, times, rows, stamps, values, valid):
+    """``lookup`` at each of ``times`` (fastest in ascending order), into row ``rows[i]`` of the
+    outputs (threads that split the times write their answers in place): the walk at each time,
+    which ``lookup_many`` answers as, bit for bit, and falls back to.
+
+    ``stamps`` gets each time used (0 resolved to the latest common time), ``values`` the
+    transform (identity where it failed), ``valid`` whether tf2 would have succeeded.
+    """
+    memo, arcs = _new_memo(table.shape[0])
+    common_status, common = _latest_common_time(table, target, source)
+    n = times.shape[0]
+    _each_block(table, target, source, times, rows, n, common_status, common, stamps, values, valid, memo, arcs)
 
 
 @njit(_LOOKUP_MANY, cache=True, nogil=True)
