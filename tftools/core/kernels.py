@@ -673,7 +673,7 @@ def _each_block(table, target, source, times, rows, n, common_status, common, st
         values[row, 3], values[row, 4], values[row, 5], values[row, 6] = qx, qy, qz, qw
 
 
-# --- entry point ----------------------------------------------------------------------------
+# --- entry points: many lookups -------------------------------------------------------------
 
 
 @njit(_LOOKUP_MANY, cache=True, nogil=True)
