@@ -203,3 +203,13 @@ def _transform(rng: np.random.Generator) -> tuple[str, str, int, list[float]]:
     if rng.random() < 0.1:
         values[int(rng.integers(0, 7))] = float(rng.choice(SPECIAL))
     return parent, child, stamp, values
+
+
+def covered(ranges: list[tuple[int, int]], start: int, end: int) -> bool:
+    """Whether the byte ranges ``[a, b)`` of ``ranges`` together cover ``[start, end)``."""
+    reach = start
+    for a, b in sorted(ranges):
+        if a > reach:
+            break
+        reach = max(reach, b)
+    return reach >= end

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from rosbags.rosbag2 import StoragePlugin, Writer
 
+from tests.sources.ros1_helpers import covered
 from tests.sources.ros2_helpers import (
     NS,
     T0,
@@ -30,7 +31,7 @@ from tests.sources.ros2_helpers import (
     varied_messages,
     write_rosbag2,
 )
-from tftools.sources.bag import db3_file
+from tftools.sources.bag import db3_btree, db3_file
 from tftools.sources.bag.db3_btree import UnhandledFileError, read_messages
 from tftools.sources.bag.reader import read_bag
 
@@ -326,6 +327,30 @@ def test_the_pages_of_blobs_not_read_are_not_touched(tmp_path: Path, monkeypatch
     monkeypatch.setattr(os, "pread", counted_pread)
     assert page_rows(db3, (1,)) == sqlite_rows(db3, (1,))
     assert 0 < read < 0.02 * db3.stat().st_size
+
+
+def test_the_leaf_pages_are_prefetched_before_they_are_read(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Scattered among the images' overflow pages, the leaf pages are asked for all at once first
+    (from a file not in the page cache, each read would otherwise wait for the disk), and only they."""
+    rows = [(i, 1 if i % 4 else 3, T0 + i, tf_payload(i) if i % 4 else bytes(300_000)) for i in range(400)]
+    db3 = write_db3(tmp_path / "a.db3", rows)
+    prefetched: list[tuple[int, int]] = []
+    read_after: list[tuple[int, int]] = []
+    preadv = os.preadv
+
+    def noted_prefetch(fd: int, starts: np.ndarray, ends: np.ndarray) -> None:
+        prefetched.extend(zip(starts.tolist(), ends.tolist(), strict=True))
+
+    def noted_preadv(fd: int, buffers: list[Any], offset: int) -> int:
+        if prefetched:
+            read_after.append((offset, offset + sum(len(b) for b in buffers)))
+        return preadv(fd, buffers, offset)
+
+    monkeypatch.setattr(db3_btree, "prefetch", noted_prefetch)
+    monkeypatch.setattr(os, "preadv", noted_preadv)
+    assert page_rows(db3, (1,)) == sqlite_rows(db3, (1,))
+    assert read_after and all(covered(prefetched, start, end) for start, end in read_after)
+    assert sum(end - start for start, end in prefetched) < 0.02 * db3.stat().st_size
 
 
 # --- falling back to sqlite -------------------------------------------------------------------

@@ -19,6 +19,7 @@ from tests.sources.ros1_helpers import (
     NS,
     T0,
     Msg,
+    covered,
     reference_rows,
     rosbag_unavailable,
     rows_of,
@@ -28,6 +29,7 @@ from tests.sources.ros1_helpers import (
 )
 from tftools.sources.bag import ranges, ros1, ros1_decode, ros1_scan
 from tftools.sources.bag.reader import read_bag
+from tftools.sources.bag.ros1_format import read_bag_header
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 
 TOPICS = ("/tf", "/tf_static")
@@ -218,6 +220,29 @@ def test_the_images_of_an_uncompressed_bag_are_not_read(
     assert rows_of(batches) == reference_rows(bag) and len(rows_of(batches)) == 180 and info.problems == []
     assert len(tf_counts(bag)) > 20 and bag.stat().st_size > 18_000_000
     assert 0 < sum(read_bytes) < 100_000  # the transforms' records, not the 18 MB of images
+
+
+def test_chunk_headers_and_indexes_are_prefetched(
+    rosbag_available: None, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each chunk's header and index records are asked for all at once first: from a file not in
+    the page cache, reading them one chunk after another would wait for the disk at each."""
+    bag = write_rosbag(tmp_path / "b.bag", interleaved(60, 300_000), "none", chunk_threshold=768 * 1024)
+    prefetched: list[tuple[int, int]] = []
+
+    def noted(fd: int, starts: np.ndarray, ends: np.ndarray) -> None:
+        prefetched.extend(zip(starts.tolist(), ends.tolist(), strict=True))
+
+    monkeypatch.setattr(ros1_scan, "prefetch", noted)
+    assert rows_of(read(bag)[0]) == reference_rows(bag)
+    with Reader(bag) as reader:
+        infos = sorted(reader.chunk_infos, key=lambda info: info.pos)
+        ends = [*(info.pos for info in infos[1:]), read_bag_header(bag.read_bytes()).index_pos]
+        for info, end in zip(infos, ends, strict=True):
+            chunk = reader.chunks[info.pos]
+            assert covered(prefetched, info.pos, chunk.datapos)  # the chunk's header
+            assert covered(prefetched, chunk.datapos + chunk.datasize, end)  # its index records
+    assert len(infos) > 20 and sum(b - a for a, b in prefetched) < 0.01 * bag.stat().st_size
 
 
 @pytest.mark.parametrize(("records", "nbytes"), [(1, 1 << 30), (1 << 30, 1), (40, 1 << 30), (1 << 30, 1 << 30)])

@@ -33,6 +33,7 @@ from tftools.sources.bag.db3_format import (
     IntArray,
     PageLayout,
 )
+from tftools.sources.bag.ranges import prefetch
 
 Bytes = npt.NDArray[np.uint8]
 
@@ -72,6 +73,7 @@ def read_messages(fd: int, root: int, wanted: IntArray) -> Iterator[Cells]:
     those of topic ids ``wanted`` with their payloads. Raises ``UnhandledFileError``."""
     pages = _Pages(fd, _layout(os.pread(fd, FILE_HEADER, 0)), os.fstat(fd).st_size)
     leaves = pages.leaves(root)
+    pages.prefetch(leaves)
     read = 0
     for part in pages.parts(leaves):
         cells = pages.cells(part, wanted)
@@ -116,6 +118,15 @@ class _Pages:
             if os.preadv(self.fd, [place], (int(numbers[first]) - 1) * size) != len(place):
                 raise UnhandledFileError
         return pages
+
+    def prefetch(self, numbers: IntArray) -> None:
+        """Have the system fetch pages ``numbers`` all at once: scattered among the overflow pages of
+        large messages, read one run after another from a file not in the page cache, each run would
+        wait for the disk."""
+        first = np.flatnonzero(np.diff(numbers, prepend=-1) != 1)  # runs of consecutive pages
+        last = np.append(first[1:], len(numbers)) - 1
+        size = self.layout.page_size
+        prefetch(self.fd, (numbers[first] - 1) * size, numbers[last] * size)
 
     def leaves(self, root: int) -> IntArray:
         """The table's leaf pages in key order. Its b-tree has all its leaves at one depth: a level

@@ -11,6 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.ranges import prefetch
 from tftools.sources.bag.ros1_chunks import (
     CompressionUnavailableError,
     IntArray,
@@ -52,6 +53,8 @@ _HEADER_REACH = 96  # how far before its op field a chunk record header may star
 #: Records of uncompressed chunks are gathered until there are this many, or their chunks hold
 #: this many bytes, then read (a few megabytes of transforms; the cap bounds a batch of huge ones).
 _SPAN_RECORDS, _SPAN_BYTES = 8192, 64 << 20
+#: Bytes of a chunk record's header, at most, and of an index data record: a header, and 12 per message.
+_CHUNK_HEADER_BYTES, _INDEX_RECORD_BYTES, _INDEX_ENTRY_BYTES = 4096, 128, 12
 
 
 @dataclass
@@ -133,6 +136,7 @@ class BagScan:
                 self._scan(header.data_start, header.index_pos)
                 self._note_scan(f"has a damaged index ({e})")
             else:
+                self._prefetch(infos, header.index_pos)
                 self._read_indexed(infos)
         self._note_damage()
 
@@ -169,6 +173,23 @@ class BagScan:
         for connection in connections:
             self._connect(connection)
         return sorted(infos, key=lambda info: info.pos)
+
+    def _prefetch(self, infos: list[ChunkInfo], index_pos: int) -> None:
+        """Have the system fetch the headers and index records of the chunks holding wanted
+        messages all at once: read one by one from a file not in the page cache, each would wait
+        for the disk. A chunk's index records end where the next chunk (or the bag's index) begins,
+        about ``_INDEX_ENTRY_BYTES`` a message before it."""
+        if self.fd is None:
+            return
+        ends = [*(info.pos for info in infos[1:]), index_pos]
+        starts: list[int] = []
+        stops: list[int] = []
+        for info, end in zip(infos, ends, strict=True):
+            if any(self.messages.wants(conn) for conn in info.counts):
+                index_bytes = sum(_INDEX_RECORD_BYTES + _INDEX_ENTRY_BYTES * n for n in info.counts.values())
+                starts += [info.pos, max(info.pos, end - index_bytes)]
+                stops += [info.pos + _CHUNK_HEADER_BYTES, end]
+        prefetch(self.fd, np.array(starts, np.int64), np.array(stops, np.int64))
 
     def _record(self, pos: int, op: int) -> Record:
         record = self.records.read(pos)
