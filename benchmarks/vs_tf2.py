@@ -6,7 +6,8 @@ real rosbag writer where Debian's ROS is installed, else rosbags'), a ROS2 db3 a
 bag; bags are written once under /tmp/tftools-bench. Each measurement runs in its own process
 (``tf2_side.py`` under /usr/bin/python3, ``ours_side.py`` under this interpreter), so peak
 memory is its own. tf2 reads ROS1 bags only: every format's ingest is compared with tf2 on the
-ROS1 bag of the same messages. ``--images`` adds a 1x bag whose bulk is camera images;
+ROS1 bag of the same messages. Each side reads a bag that is in the page cache; ``--images``
+adds a 1x bag whose bulk is camera images, read so and also out of the page cache (cold);
 ``--commands`` times each ``tfx`` command on the 1x bag.
 """
 
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import subprocess
 import sys
 import time
@@ -90,6 +92,20 @@ def measure(command: list[str]) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+def settle(bag: Path, cold: bool) -> None:
+    """The bag's files put in the page cache (read once), or out of it (as just copied off a robot)."""
+    for file in bag.iterdir() if bag.is_dir() else [bag]:
+        fd = os.open(file, os.O_RDONLY)
+        try:
+            if cold:
+                os.posix_fadvise(fd, 0, 0, os.POSIX_FADV_DONTNEED)
+            else:
+                while os.read(fd, 1 << 24):
+                    pass
+        finally:
+            os.close(fd)
+
+
 def tf2(bag: Path, seconds: int) -> dict:
     if not real_rosbag():
         return {}
@@ -133,12 +149,16 @@ def shown(theirs: dict, key: str, unit: str, factor: float = 1.0, digits: int = 
 Memory = dict[str, list[tuple[int, int]]]
 
 
-def scale_rows(table: Table, scale: int, memory: Memory, images: bool = False) -> None:
+def scale_rows(table: Table, scale: int, memory: Memory, images: bool = False, cold: bool = False) -> None:
+    """Ingest (and, but for images, lookups) at one scale; each side reads a bag in the page cache,
+    or with ``cold`` one out of it."""
     seconds = UNIT_SECONDS * scale
-    label = f"{scale}x{' +img' if images else ''}"
+    label = f"{scale}x{' +img' if images else ''}{' cold' if cold else ''}"
     bags = write_bags(seconds, images)
+    settle(bags["ros1"], cold)
     theirs = tf2(bags["ros1"], seconds)
     for fmt, bag in bags.items():
+        settle(bag, cold)
         mine = ours("ingest", bag)
         count = mine["transforms"]
         assert theirs.get("transforms", count) == count, (fmt, count, theirs["transforms"])
@@ -226,6 +246,7 @@ def main() -> None:
     memory_rows(table, memory)
     if args.images:
         scale_rows(table, 1, memory, images=True)
+        scale_rows(table, 1, memory, images=True, cold=True)
     if args.commands:
         command_rows(table)
     table.print()
