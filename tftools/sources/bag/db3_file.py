@@ -105,21 +105,21 @@ def _read_pages(
     if root is None:
         return False
     lookup = _channel_lookup(channels)
-    counted: list[Cells] = []  # of every topic
     size = path.stat().st_size
+    count, start, end = 0, 0, 0  # of the messages of every topic (each batch's arrays are let go)
     try:
         with path.open("rb") as f:
             for cells in read_messages(f.fileno(), root, np.array(list(channels), np.int64)):
                 _add_cells(cells, lookup, result)
                 if cells.count:
-                    counted.append(cells)
+                    start = min(start, cells.first_time) if count else cells.first_time
+                    end = max(end, cells.last_time)
+                    count += cells.count
                 progress(size * cells.pages_read // cells.leaf_pages, size)
     except UnhandledFileError:
         result.messages = result.messages.emptied()
         return False
-    result.message_count = sum(cells.count for cells in counted)
-    result.start = min((cells.first_time for cells in counted), default=0)
-    result.end = max((cells.last_time for cells in counted), default=0)
+    result.message_count, result.start, result.end = count, start, end
     return True
 
 
