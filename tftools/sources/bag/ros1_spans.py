@@ -2,8 +2,8 @@
 
 A chunk's index records give the offset of every message in it, of every connection, so a
 wanted record ends at the next offset (or at the chunk's end) and only those bytes need reading.
-Records close together are read as one run (``ranges``): a chunk of transforms only is read whole, one whose
-bulk is camera images costs little more than its transforms.
+Records close together are read as one run (``ranges``): a chunk of transforms only is read
+whole, one whose bulk is camera images costs little more than its transforms.
 """
 
 from __future__ import annotations
@@ -60,9 +60,8 @@ class ChunkSpans:
         starts, ends, chunk = self._ranges()
         self._clear()
         data, where, complete = read_ranges(fd, starts, ends)
-        return SpanBatch(
-            data.data, where[complete], ends[complete] - starts[complete] + where[complete], chunk[complete]
-        )
+        where, length = where[complete], (ends - starts)[complete]
+        return SpanBatch(data.data, where, where + length, chunk[complete])
 
     def _clear(self) -> None:
         self.ordinals, self.data_starts, self.sizes, self.wanted, self.indexed = [], [], [], [], []
