@@ -272,6 +272,15 @@ def test_read_bag_robot(robot_bag: Path, monkeypatch: pytest.MonkeyPatch, paths_
     assert len(contents.transforms) > 6 * 850
 
 
+def test_read_bag_robot_without_preadv(
+    robot_bag: Path, monkeypatch: pytest.MonkeyPatch, paths_taken: list[bool]
+) -> None:
+    """A system without ``os.preadv`` (an older macOS): the pages are read with ``os.pread`` all the same."""
+    monkeypatch.delattr(os, "preadv")
+    contents = assert_reads_like_sqlite(robot_bag.parent, monkeypatch, paths_taken, pages=True)
+    assert len(contents.transforms) > 6 * 850
+
+
 def test_read_bag_several_topics(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, paths_taken: list[bool]) -> None:
     bag = many_topics_bag(tmp_path / "bag")
     assert_reads_like_sqlite(bag.parent, monkeypatch, paths_taken, pages=True)

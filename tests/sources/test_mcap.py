@@ -347,7 +347,7 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     """What the MCAP reader reads of its chunks, as it reads it: ("range", bytes) of the ranges
     read from uncompressed chunks, (compression, bytes) of a chunk read whole."""
     seen: list[tuple[str, int]] = []
-    read_into, read_chunk = ranges._read_into, mcap_file._read_chunk
+    read_into, read_chunk = ranges.read_into, mcap_file._read_chunk
 
     def counted_range(fd: int, view: memoryview, offset: int) -> bool:
         seen.append(("range", len(view)))
@@ -357,7 +357,7 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
         seen.append((chunk.compression or "none", chunk.length))
         read_chunk(f, chunk, *rest)
 
-    monkeypatch.setattr(ranges, "_read_into", counted_range)
+    monkeypatch.setattr(ranges, "read_into", counted_range)
     monkeypatch.setattr(mcap_file, "_read_chunk", counted_chunk)
     return seen
 

@@ -204,7 +204,7 @@ def test_the_images_of_an_uncompressed_bag_are_not_read(
 ) -> None:
     bag = write_rosbag(tmp_path / "b.bag", interleaved(60, 300_000), "none", chunk_threshold=768 * 1024)
     read_bytes: list[int] = []
-    pread, read_into = os.pread, ranges._read_into
+    pread, read_into = os.pread, ranges.read_into
 
     def counted_pread(fd: int, length: int, offset: int) -> bytes:  # a chunk read whole
         read_bytes.append(length)
@@ -215,7 +215,7 @@ def test_the_images_of_an_uncompressed_bag_are_not_read(
         return read_into(fd, view, offset)
 
     monkeypatch.setattr(os, "pread", counted_pread)
-    monkeypatch.setattr(ranges, "_read_into", counted_range)
+    monkeypatch.setattr(ranges, "read_into", counted_range)
     batches, info = read(bag)
     assert rows_of(batches) == reference_rows(bag) and len(rows_of(batches)) == 180 and info.problems == []
     assert len(tf_counts(bag)) > 20 and bag.stat().st_size > 18_000_000

@@ -33,7 +33,7 @@ from tftools.sources.bag.db3_format import (
     IntArray,
     PageLayout,
 )
-from tftools.sources.bag.ranges import prefetch
+from tftools.sources.bag.ranges import prefetch, read_into
 
 Bytes = npt.NDArray[np.uint8]
 
@@ -94,7 +94,7 @@ def _layout(header: bytes) -> PageLayout:
 
 
 class _Pages:
-    """The b-tree pages of one table, read with ``os.preadv`` into a buffer reused read after read."""
+    """The b-tree pages of one table, read (``ranges.read_into``) into a buffer reused read after read."""
 
     def __init__(self, fd: int, layout: PageLayout, file_size: int) -> None:
         self.fd, self.layout = fd, layout
@@ -115,7 +115,7 @@ class _Pages:
         view = pages.data
         for first, end in zip([0, *runs.tolist()], [*runs.tolist(), len(numbers)], strict=True):
             place = view[first * size : end * size]
-            if os.preadv(self.fd, [place], (int(numbers[first]) - 1) * size) != len(place):
+            if not read_into(self.fd, place, (int(numbers[first]) - 1) * size):
                 raise UnhandledFileError
         return pages
 

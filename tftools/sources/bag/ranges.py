@@ -31,7 +31,7 @@ def read_ranges(
     view = data.data  # the array's bytes, read into in place
     complete = np.array(
         [
-            _read_into(fd, view[at : at + end - start], start)
+            read_into(fd, view[at : at + end - start], start)
             for start, end, at in zip(run_start.tolist(), run_end.tolist(), placed.tolist(), strict=True)
         ],
         bool,
@@ -51,7 +51,7 @@ def prefetch(fd: int, starts: IntArray, ends: IntArray) -> None:
             os.posix_fadvise(fd, start, end - start, os.POSIX_FADV_WILLNEED)
 
 
-def _read_into(fd: int, view: memoryview, offset: int) -> bool:
+def read_into(fd: int, view: memoryview, offset: int) -> bool:
     """Fill ``view`` from the file at ``offset``; False when the file ends first."""
     while len(view):
         if hasattr(os, "preadv"):
