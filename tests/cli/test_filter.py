@@ -132,3 +132,23 @@ def test_wtf_reports_the_sensor_data_that_tf_lets_down(tfx, bags: dict[str, Path
     assert "did you mean 'camera'?" in codes["sensor_frame"]["message"]
     waiting = codes["sensor_wait"]  # each scan waits 68 ms for the laser's next transform: a note
     assert waiting["severity"] == "info" and "/scan" in waiting["message"] and "odom" in waiting["message"]
+
+
+def test_wtf_says_which_frame_sensor_data_was_checked_in(tfx, bags: dict[str, Path]) -> None:
+    (usual,) = json.loads(tfx("wtf", bags["ros1"], "-f", "json").stdout)["bags"]
+    assert usual["sensor_data"] == {
+        "topics": ["/camera/image_raw", "/imu", "/scan"],  # /diagnostics names no frame: not tf's business
+        "target": "odom",
+        "target_reason": "REP 105's odom frame",
+    }
+    text = tfx("wtf", bags["ros1"])
+    assert "3 topics of sensor data checked in odom (REP 105's odom frame)" in text.stdout
+
+    (laser,) = json.loads(tfx("wtf", bags["ros1"], "--target", "/laser", "-f", "json").stdout)["bags"]
+    assert (laser["sensor_data"]["target"], laser["sensor_data"]["target_reason"]) == ("laser", "asked for")
+    waits = {f["message"].split(":")[0] for f in laser["findings"] if f["code"] == "sensor_wait"}
+    assert "/imu" in waits  # in the laser's frame the IMU waits for base_link -> laser, 30 ms late
+
+    (elsewhere,) = json.loads(tfx("wtf", bags["ros1"], "--target", "nowhere", "-f", "json").stdout)["bags"]
+    assert elsewhere["sensor_data"]["target"] == "odom"  # a fleet's robots may lack the frame: the usual one
+    assert "'nowhere', asked for, is not a frame of this recording" in elsewhere["sensor_data"]["target_reason"]

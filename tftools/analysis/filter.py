@@ -271,6 +271,22 @@ def default_target(buffer: Buffer) -> tuple[str, str]:
     return max(sizes, key=lambda r: sizes[r], default=""), "the root of the largest tree"
 
 
+def tied_to_tf(stream: StampedMessages) -> bool:
+    """Whether some message of ``stream`` names a frame (a header with an empty frame_id only is not tf's)."""
+    return any(stream.frame_ids)
+
+
+def choose_target(buffer: Buffer, asked: str | None = None) -> tuple[str, str]:
+    """The target frame and why it was chosen: ``asked`` where it is a frame of ``buffer``, else
+    ``default_target`` (saying that ``asked`` is not there: a fleet's robots may differ)."""
+    if asked is None:
+        return default_target(buffer)
+    if buffer.has_frame(asked.removeprefix("/")):  # a leading '/' dropped, as tf's tools do
+        return asked.removeprefix("/"), "asked for"
+    target, reason = default_target(buffer)
+    return target, f"{reason}: '{asked}', asked for, is not a frame of this recording"
+
+
 def filter_report(
     buffer: Buffer,
     streams: Sequence[StampedMessages],
@@ -279,14 +295,12 @@ def filter_report(
     wait: int | None = None,
     queue: int | None = None,
 ) -> FilterReport:
-    """What a MessageFilter into ``target`` (default: ``default_target``) with a ``cache_time`` cache,
+    """What a MessageFilter into ``target`` (see ``choose_target``) with a ``cache_time`` cache,
     and optionally a timeout ``wait`` (ns) or a queue of ``queue`` messages, did to each stream."""
-    reason = "asked for"
-    if target is None:
-        target, reason = default_target(buffer)
+    target, reason = choose_target(buffer, target)
     reports, skipped = [], []
     for stream in streams:
-        if all(not f for f in stream.frame_ids):
+        if not tied_to_tf(stream):
             skipped.append(stream.topic)
             continue
         reports.append(_stream_report(buffer, stream, target, cache_time, wait, queue))

@@ -81,6 +81,15 @@ DelayOption = Annotated[
 FutureOption = Annotated[
     float, typer.Option("--future", help="Stamps this many seconds ahead of their arrival are from the future.")
 ]
+TargetOption = Annotated[
+    str | None,
+    typer.Option(
+        "--target",
+        help="Check sensor data (messages with a header) against tf in this frame "
+        "(default: odom or map, else the tree's root; so too where a recording lacks the frame).",
+        show_default=False,
+    ),
+]
 ClockOption = Annotated[
     float, typer.Option("--clock", help="Stamps this many seconds behind their arrival (median) are on another clock.")
 ]
@@ -101,6 +110,7 @@ def command(
     clock: ClockOption = _DEFAULTS.clock,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
+    target: TargetOption = None,
     duration: live.ListenOption = 5.0,
     ros1: live.RosOption = None,
     use_sim_time: live.UseSimTimeOption = None,
@@ -113,7 +123,9 @@ def command(
     Errors (loops, several trees, re-parenting, stale edges, stamps on another clock or from the
     future, NaN or bad rotations, empty or self frame ids, stamps going back, no tf) break lookups;
     warnings (several publishers, leading '/', fixed transforms on /tf, gaps, late arrival) are
-    tolerated by tf2 but off; notes are for information. --list-checks lists every check.
+    tolerated by tf2 but off; notes are for information. --list-checks lists every check. Sensor data
+    in the bag (messages with a header) is replayed through a tf2 MessageFilter into --target: frames
+    not in the tree, streams that wait for tf, and messages lost for good are reported too.
 
     Exit codes: 0 no errors (warnings allowed, unless --strict); 1 errors found, or some recordings
     could not be read (each reported as an error of its own); 2 no recording could be read, or bad
@@ -129,7 +141,7 @@ def command(
     ignored = _ignored(ignore or [])
     groups: list[list[Path]] = [[p] for p in paths or []] + ([list(bags)] if bags else [])
     if groups:
-        reports = _check_groups(groups, topics, thresholds, ignored, jobs or os.cpu_count() or 1, tf2)
+        reports = _check_groups(groups, topics, thresholds, ignored, jobs or os.cpu_count() or 1, tf2, target)
     else:
         reports = [_check_live(ros1, use_sim_time, duration, topics, thresholds, ignored, tf2)]
     code = outcome(reports, strict)
@@ -171,12 +183,13 @@ def _check_groups(
     ignore: Sequence[str],
     jobs: int,
     semantics: Semantics | None,
+    target: str | None,
 ) -> list[BagReport]:
     if len(groups) == 1:
         size = sum(_size(p) for p in groups[0])
         with progress_bar(enabled=size > 20_000_000) as progress:
-            return [check_bags(groups[0], topics, thresholds, ignore, progress, semantics)]
-    return check_fleet(groups, topics, thresholds, ignore, jobs, semantics)
+            return [check_bags(groups[0], topics, thresholds, ignore, progress, semantics, target)]
+    return check_fleet(groups, topics, thresholds, ignore, jobs, semantics, target)
 
 
 def _size(path: Path) -> int:

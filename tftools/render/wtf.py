@@ -48,6 +48,12 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
         header.append(
             f"  {printable(', '.join(bag.formats))}, {seconds:.1f} s, {bag.transforms} transforms, {bag.frames} frames"
         )
+        if bag.sensor_topics:
+            count = len(bag.sensor_topics)
+            header.append(
+                f", {count} topic{'s' if count > 1 else ''} of sensor data checked in "
+                f"{printable(bag.sensor_target)} ({printable(bag.sensor_target_reason)})"
+            )
     console.print(header)
     findings = [bag.error] if bag.error is not None else bag.findings
     for severity in Severity:
@@ -124,6 +130,13 @@ def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
         "end": bag.end / NS_PER_S if bag.usable else None,
         "transforms": bag.transforms,
         "frames": bag.frames,
+        "sensor_data": {
+            "topics": list(bag.sensor_topics),
+            "target": bag.sensor_target,
+            "target_reason": bag.sensor_target_reason,
+        }
+        if bag.sensor_topics
+        else None,
         "passed": not bag.failed(strict),
         "error": finding_dict(bag.error) if bag.error is not None else None,
         "summary": _counts([bag]),

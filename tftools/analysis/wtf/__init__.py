@@ -20,16 +20,18 @@ def check(
     thresholds: Thresholds | None = None,
     ignore: Collection[str] = (),
     streams: Sequence[StampedMessages] = (),
+    target: str | None = None,
 ) -> list[Finding]:
     """Every problem of ``recording``, errors first, then warnings, then notes (each in check order).
 
-    ``streams``: its sensor data (``read_stamped``), for the checks of data against tf. ``ignore``
+    ``streams``: its sensor data (``read_stamped``), for the checks of data against tf, transformed
+    into ``target`` (default and fallback: ``analysis.filter.choose_target``). ``ignore``
     lists codes not to run. Raises ``ValueError`` for a code that does not exist.
     """
     unknown = set(ignore) - set(CHECKS)
     if unknown:
         raise ValueError(f"no such check: {', '.join(sorted(unknown))}")
-    scene = Scene(recording, thresholds, streams)
+    scene = Scene(recording, thresholds, streams, target)
     found: list[Finding] = []
     for c in CHECKS.values():
         if c.run is None or c.code in ignore or (c.needs_transforms and not len(scene.rows)):

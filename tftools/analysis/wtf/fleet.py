@@ -7,6 +7,7 @@ from collections.abc import Collection, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
+from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import check
 from tftools.analysis.wtf.thresholds import Thresholds
@@ -29,6 +30,9 @@ class BagReport:
     end: int = 0
     transforms: int = 0
     frames: int = 0
+    sensor_topics: tuple[str, ...] = ()  # topics of data with a header, checked against tf
+    sensor_target: str = ""  # the frame that data was checked in
+    sensor_target_reason: str = ""
 
     @property
     def name(self) -> str:
@@ -68,8 +72,10 @@ def check_bags(
     ignore: Collection[str] = (),
     progress: ProgressCallback | None = None,
     semantics: Semantics | None = None,
+    target: str | None = None,
 ) -> BagReport:
-    """Read ``paths`` as one recording and check it; a bag that cannot be read is reported, not raised."""
+    """Read ``paths`` as one recording and check it, its sensor data against tf in ``target``
+    (``choose_target``); a bag that cannot be read is reported, not raised."""
     names = tuple(str(p) for p in paths)
     try:
         recording = read_recording(paths, topics, progress, allow_empty=True, semantics=semantics)
@@ -81,7 +87,12 @@ def check_bags(
             f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
-    return report(recording, check(recording, thresholds, ignore, sensor_data(paths)))
+    streams = sensor_data(paths)
+    checked = report(recording, check(recording, thresholds, ignore, streams, target))
+    if any(tied_to_tf(s) for s in streams):
+        checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
+        checked.sensor_target, checked.sensor_target_reason = choose_target(recording.buffer, target)
+    return checked
 
 
 def sensor_data(paths: Sequence[str | os.PathLike[str]]) -> list[StampedMessages]:
@@ -105,13 +116,14 @@ def check_fleet(
     ignore: Collection[str] = (),
     jobs: int = 1,
     semantics: Semantics | None = None,
+    target: str | None = None,
 ) -> list[BagReport]:
     """Each group of paths checked as its own recording, ``jobs`` at a time; reports in the given order."""
     if jobs <= 1 or len(groups) <= 1:
-        return [check_bags(g, topics, thresholds, ignore, None, semantics) for g in groups]
+        return [check_bags(g, topics, thresholds, ignore, None, semantics, target) for g in groups]
     with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
         futures = [
-            pool.submit(check_bags, [str(p) for p in g], topics, thresholds, tuple(ignore), None, semantics)
+            pool.submit(check_bags, [str(p) for p in g], topics, thresholds, tuple(ignore), None, semantics, target)
             for g in groups
         ]
         return [f.result() for f in futures]

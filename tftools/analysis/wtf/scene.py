@@ -121,9 +121,11 @@ class Scene:
         recording: Recording,
         thresholds: Thresholds | None = None,
         streams: Sequence[StampedMessages] = (),
+        target: str | None = None,
     ) -> None:
         self.recording = recording
         self.streams = streams  # the recording's sensor data (messages with a header), for the sensor checks
+        self.target = target  # the frame that data is transformed into (None: the usual one)
         self.buffer = recording.buffer
         self.thresholds = thresholds if thresholds is not None else Thresholds()
         self.timeline: Timeline = recording.timeline
@@ -148,8 +150,8 @@ class Scene:
 
     @cached_property
     def sensors(self) -> FilterReport:
-        """What a MessageFilter into the usual target frame made of each sensor stream."""
-        return filter_report(self.buffer, self.streams)
+        """What a MessageFilter into the target frame made of each sensor stream."""
+        return filter_report(self.buffer, self.streams, self.target)
 
     @cached_property
     def tree(self) -> FrameTree:
