@@ -3,7 +3,7 @@
 # oracle and live peers, and the benchmark's reference. Without root, says what will be missing.
 set -euo pipefail
 
-reference=(python3-tf2 python3-tf2-ros python3-tf2-geometry-msgs python3-rosbag python3-tf python3-roswtf
+reference=(python3-tf2 python3-tf2-ros python3-tf2-geometry-msgs python3-sensor-msgs python3-rosbag python3-tf python3-roswtf
            tf2-tools tf-tools ros-core graphviz poppler-utils)
 command -v dpkg >/dev/null || exit 0
 need=$(for p in "${reference[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || echo "$p"; done)

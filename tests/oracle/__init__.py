@@ -24,7 +24,7 @@ ERROR_CLASSES = {
 def unavailable_reason() -> str | None:
     """Why the real tf2 cannot be used here, or None when it can."""
     try:
-        imports = "import tf2_py, rospy, rosbag, tf2_geometry_msgs"
+        imports = "import tf2_py, rospy, rosbag, tf2_geometry_msgs, sensor_msgs.msg"
         probe = subprocess.run([ROS_PYTHON, "-c", imports], capture_output=True, timeout=60)
     except (OSError, subprocess.TimeoutExpired) as e:
         return f"{ROS_PYTHON} cannot run: {e}"

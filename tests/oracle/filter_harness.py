@@ -27,8 +27,8 @@ def transform(row):
     return t
 
 
-def main():
-    request = json.load(sys.stdin)
+def ready_times(request):
+    """When each of ``request["messages"]`` became transformable (record ns), or None: see the module."""
     core = tf2_py.BufferCore(rospy.Duration(request["cache_s"]))
     target = request["target"]
     events = [(row[0], 0, i) for i, row in enumerate(request["tf"])]
@@ -61,7 +61,11 @@ def main():
             ready[i] = record
         else:
             pending.append(i)
-    json.dump({"ready": ready}, sys.stdout)
+    return ready
+
+
+def main():
+    json.dump({"ready": ready_times(json.load(sys.stdin))}, sys.stdout)
 
 
 if __name__ == "__main__":

@@ -21,10 +21,12 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from tftools.analysis.edges import PERIODS
 from tftools.analysis.frames import frame_tree
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
 from tftools.core.history import EdgeHistory
+from tftools.core.time import NS_PER_S
 from tftools.sources.bag.stamped import StampedMessages
 
 Int64Array = npt.NDArray[np.int64]
@@ -109,6 +111,17 @@ class _Edge:
         index[stamps == 0] = len(self.records)
         return _at(self.records, index)
 
+    def would_reach(self, stamps: Int64Array, end: int) -> BoolArray:
+        """Whether the edge's next transforms, had the recording not ended at ``end``, would soon have
+        reached each of ``stamps``: it was still being published (silent since its last arrival for no
+        more than ``PERIODS`` of its usual intervals, as ``stale`` has it), and the stamp is within
+        ``PERIODS`` intervals of its newest."""
+        if self.static or len(self.records) < 2:
+            return np.zeros(len(stamps), np.bool_)
+        period = PERIODS * int(np.median(np.diff(self.records)))
+        publishing = end - int(self.records[-1]) <= period
+        return np.asarray(publishing & (stamps - int(self.newest[-1]) <= period), np.bool_)
+
     def newest_at(self, times: Int64Array) -> Int64Array:
         """The newest stamp held at each of ``times`` (-1 before the first arrival)."""
         index = np.searchsorted(self.records, times, side="right") - 1
@@ -116,10 +129,16 @@ class _Edge:
 
 
 def message_fates(
-    buffer: Buffer, messages: StampedMessages, target: str, cache_time: int = DEFAULT_CACHE_TIME
+    buffer: Buffer,
+    messages: StampedMessages,
+    target: str,
+    cache_time: int = DEFAULT_CACHE_TIME,
+    end: int | None = None,
 ) -> Fates:
     """Replay a MessageFilter on ``messages`` against a listener filled with ``buffer``'s transforms in
-    the order they arrived (record times), its cache ``cache_time`` long."""
+    the order they arrived (record times), its cache ``cache_time`` long, until the recording's
+    ``end`` (record time; default: its last transform or message)."""
+    end = recording_end(buffer, [messages]) if end is None else end
     n = len(messages)
     fate = np.zeros(n, np.int8)
     ready = np.full(n, NEVER, np.int64)
@@ -134,7 +153,7 @@ def message_fates(
             fate[rows] = chain
             continue
         arrived, stamps = messages.record_time[rows], messages.stamp[rows]
-        fate[rows], ready[rows], lag[rows], limiting = _judge(chain, arrived, stamps)
+        fate[rows], ready[rows], lag[rows], limiting = _judge(chain, arrived, stamps, end)
         for row, edge in zip(rows.tolist(), limiting, strict=True):
             decided[row] = edge
     return Fates(fate, ready, decided, lag)
@@ -180,10 +199,17 @@ def _oldest_held(stamps: Int64Array, newest: Int64Array, cache_time: int) -> Int
     return oldest
 
 
+def recording_end(buffer: Buffer, streams: Sequence[StampedMessages]) -> int:
+    """The record time of the last transform or message: where a replay of the recording stops."""
+    last = [int(hist.record_times.max()) for _, hist in buffer.histories() if len(hist.record_times)]
+    last += [int(s.record_time[-1]) for s in streams if len(s)]
+    return max(last, default=0)
+
+
 def _judge(
-    chain: list[_Edge], arrived: Int64Array, stamps: Int64Array
+    chain: list[_Edge], arrived: Int64Array, stamps: Int64Array, end: int
 ) -> tuple[npt.NDArray[np.int8], Int64Array, Int64Array, list[tuple[str, str] | None]]:
-    """Fate, ready time, lag and deciding edge of messages of one frame."""
+    """Fate, ready time, lag and deciding edge of messages of one frame, in a recording ending at ``end``."""
     n = len(stamps)
     if not chain:  # the frame is the target itself
         return np.zeros(n, np.int8), arrived.copy(), np.zeros(n, np.int64), [None] * n
@@ -197,11 +223,13 @@ def _judge(
     fate[(ready_from != NEVER) & (ready >= ready_until)] = Fate.OLDER_THAN_CACHE
     ready[fate >= Fate.NEEDS_NEWER_TF] = NEVER
     deciding = np.where(fate == Fate.OLDER_THAN_CACHE, dropped_by, waited_for)
-    # What the recording's own edges cut off: tf that began after the stamp, or ended before it came.
+    # What the recording cut off: tf that began after the stamp, ended before the message came, or
+    # was still coming when the recording stopped (its next transform would have come after the end).
     began = np.array([e.oldest.min() if len(e.oldest) else NEVER for e in chain])[deciding]
     ended = np.array([e.records[-1] if len(e.records) else 0 for e in chain])[deciding]
+    reach = np.stack([e.would_reach(stamps, end) for e in chain])[deciding, np.arange(n)]
     fate[(fate == Fate.OLDER_THAN_CACHE) & (stamps < began)] = Fate.BEFORE_RECORDED_TF
-    fate[(fate == Fate.NEEDS_NEWER_TF) & (ended <= arrived)] = Fate.AFTER_RECORDED_TF
+    fate[(fate == Fate.NEEDS_NEWER_TF) & ((ended <= arrived) | reach)] = Fate.AFTER_RECORDED_TF
     newest = np.stack([e.newest_at(arrived) for e in chain])
     lag = np.maximum(stamps - newest[deciding, np.arange(n)], 0)
     lag[(fate == Fate.OLDER_THAN_CACHE) | (fate == Fate.BEFORE_RECORDED_TF)] = 0
@@ -298,19 +326,26 @@ def filter_report(
     """What a MessageFilter into ``target`` (see ``choose_target``) with a ``cache_time`` cache,
     and optionally a timeout ``wait`` (ns) or a queue of ``queue`` messages, did to each stream."""
     target, reason = choose_target(buffer, target)
+    end = recording_end(buffer, streams)
     reports, skipped = [], []
     for stream in streams:
         if not tied_to_tf(stream):
             skipped.append(stream.topic)
             continue
-        reports.append(_stream_report(buffer, stream, target, cache_time, wait, queue))
+        reports.append(_stream_report(buffer, stream, target, cache_time, wait, queue, end))
     return FilterReport(target, reason, cache_time / 1e9, reports, skipped)
 
 
 def _stream_report(
-    buffer: Buffer, stream: StampedMessages, target: str, cache_time: int, wait: int | None, queue: int | None
+    buffer: Buffer,
+    stream: StampedMessages,
+    target: str,
+    cache_time: int,
+    wait: int | None,
+    queue: int | None,
+    end: int,
 ) -> StreamReport:
-    fates = message_fates(buffer, stream, target, cache_time)
+    fates = message_fates(buffer, stream, target, cache_time, end)
     counts = np.bincount(fates.fate, minlength=len(Fate))
     waits = fates.waits(stream)
     later = np.flatnonzero(fates.fate == Fate.LATER).tolist()
@@ -332,7 +367,7 @@ def _stream_report(
         late_by_s=float(np.median(lags)) / 1e9 if len(lags) else 0.0,
         wait_needed_s=_wait_needed(fates, stream),
         queue_needed=_queue_needed(fates, stream),
-        cache_needed_s=_cache_needed(buffer, stream, target, fates),
+        cache_needed_s=_cache_needed(buffer, stream, target, fates, end),
         dropped_by_wait=None if wait is None else int(never + (waits > wait).sum()),
         dropped_by_queue=None if queue is None else _dropped_by_queue(fates, stream, queue),
     )
@@ -388,13 +423,13 @@ def _dropped_by_queue(fates: Fates, stream: StampedMessages, queue: int) -> int:
     return dropped
 
 
-def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates) -> float | None:
+def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int) -> float | None:
     """The smallest cache (from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length."""
     if not (fates.fate == Fate.OLDER_THAN_CACHE).any():
         return None
     allowed = (1 - KEEP) * (len(stream) - int(np.isin(fates.fate, UNDECIDED).sum()))
     for seconds in CACHES_S:
-        tried = message_fates(buffer, stream, target, seconds * 1_000_000_000)
+        tried = message_fates(buffer, stream, target, seconds * NS_PER_S, end)
         if (tried.fate == Fate.OLDER_THAN_CACHE).sum() <= allowed:
             return float(seconds)
     return None
