@@ -286,18 +286,8 @@ def read_chunk(record: Record) -> Chunk:
     return Chunk(record.start, record.text("compression"), record.uint("size"), record.data_start, record.data_end)
 
 
-@dataclass(frozen=True)
-class IndexEntries:
-    """One connection's messages in one chunk: record times and offsets into the chunk's data."""
-
-    conn: int
-    times: npt.NDArray[np.int64]
-    offsets: npt.NDArray[np.int64]
-
-
 def index_offsets(buf: Buffer, record: Record) -> npt.NDArray[np.uint32]:
-    """Where the messages an index data record lists begin in its chunk's data (``read_index``
-    without the times)."""
+    """Where the messages an index data record lists begin in its chunk's data."""
     count = _index_count(buf, record)
     return np.frombuffer(buf, "<u4", 3 * count, record.data_start)[2::3]
 
@@ -309,10 +299,3 @@ def _index_count(buf: Buffer, record: Record) -> int:
     if record.data_end - record.data_start < count * _INDEX_ENTRY.itemsize or record.data_end > len(buf):
         raise FormatError(f"the index data at byte {record.start} is cut short")
     return count
-
-
-def read_index(buf: Buffer, record: Record) -> IndexEntries:
-    count = _index_count(buf, record)
-    entries = np.frombuffer(buf, _INDEX_ENTRY, count, record.data_start)
-    times = entries["sec"].astype(np.int64) * NS_PER_S + entries["nsec"]
-    return IndexEntries(record.uint("conn"), times, entries["offset"].astype(np.int64))

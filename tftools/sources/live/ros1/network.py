@@ -36,8 +36,3 @@ def bind_address(host: str) -> str:
 def anonymous_name(base: str) -> str:
     """A node name no other node has, like rospy's ``anonymous=True``: ``/base_PID_MILLIS``."""
     return f"/{base}_{os.getpid()}_{int(time.time() * 1000)}"
-
-
-def host_port(uri: str) -> tuple[str, int]:
-    parts = urlsplit(uri)
-    return parts.hostname or "localhost", parts.port or 80
