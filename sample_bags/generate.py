@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import shutil
+import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -27,7 +28,9 @@ import numpy as np
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.bag.write import BagFormat, TfMessage, write_bag
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository, for its test bag writer
+from tests.bags import BagFormat, TfMessage, write_bag
 
 START = 1_700_000_000 * NS_PER_S
 DURATION = 15 * NS_PER_S

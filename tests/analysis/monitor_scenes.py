@@ -7,11 +7,11 @@ from pathlib import Path
 
 import numpy as np
 
+from tests.bags import BagFormat, TfMessage, write_bag
 from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
-from tftools.sources.bag.write import BagFormat, TfMessage, write_bag
 
 START = 1_600_000_000 * NS_PER_S
 DURATION = 30 * NS_PER_S

@@ -21,6 +21,7 @@ from tests.analysis.monitor_scenes import (
     scene_buffer,
     write_scene,
 )
+from tests.bags import BagFormat
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.monitor import MonitorReport, monitor
 from tftools.core.buffer import Buffer
@@ -28,7 +29,6 @@ from tftools.core.errors import ConnectivityError
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
-from tftools.sources.bag.write import BagFormat
 
 MS = 1_000_000
 

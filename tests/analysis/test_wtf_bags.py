@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from tests.analysis.wtf_scenes import FORMATS, PROBLEMS, TfMessage, healthy, recording, write
+from tests.bags import BagFormat
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import check
-from tftools.sources.bag.write import BagFormat
 from tftools.sources.recording import read_recording
 
 SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"

@@ -59,9 +59,9 @@ HOSTILE_PUBLISHER = "/pub\x1b]0;title\x07[red]x"
 @pytest.fixture(scope="session")
 def hostile_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """A chain map -> each of ``HOSTILE_NAMES`` in turn, 2 s at 10 Hz, in the three formats."""
+    from tests.bags import BagFormat, TfMessage, write_bag
     from tftools.core.time import NS_PER_S
     from tftools.core.transform import Transform
-    from tftools.sources.bag.write import BagFormat, TfMessage, write_bag
 
     start = 1_700_000_000 * NS_PER_S
     chain = ["map", *HOSTILE_NAMES]

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from tests.analysis.test_filter import START, robot
+from tests.bags import write_bag
 from tests.sources.test_rosbag2 import convert
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.write import write_bag
 
 MS = 1_000_000
 

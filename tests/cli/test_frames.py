@@ -46,9 +46,9 @@ def test_yaml_is_tf2s_all_frames_as_yaml(tfx, tf2_available: None) -> None:
 
 def test_text_tree_of_a_chain_of_thousands_of_frames(tfx, tmp_path) -> None:
     """No recursion and no lines of thousands of indents: past a depth it is written out instead."""
+    from tests.bags import TfMessage, write_bag
     from tftools.core.transform import Transform
     from tftools.render.frames import MAX_DRAWN_DEPTH
-    from tftools.sources.bag.write import TfMessage, write_bag
 
     chain = [Transform((0.1, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), 1, f"f{i}", f"f{i + 1}") for i in range(3000)]
     bag = write_bag(tmp_path / "chain.bag", [TfMessage("/tf_static", 1_000_000_000, chain, "/rsp")])

@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
+from tests.bags import BagFormat
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.monitor import monitor
 from tftools.core.time import NS_PER_S, to_sec
 from tftools.sources import read_recording
-from tftools.sources.bag.write import BagFormat
 
 # The truth sample_bags/generate.py wrote (its docstring): child frame -> publishing rate.
 ARM = [f"arm_link{i}" for i in range(1, 7)]

@@ -12,6 +12,7 @@ from pathlib import Path
 import graphviz
 import pytest
 
+from tests.bags import BagFormat, TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
@@ -20,7 +21,6 @@ from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.render.graph import COLOURS, SIGNATURE
 from tftools.sources import read_recording
-from tftools.sources.bag.write import BagFormat, TfMessage, write_bag
 
 START = 1_700_000_000 * NS_PER_S
 MAGIC = {"pdf": b"%PDF", "png": b"\x89PNG", "svg": b"<svg", "dot": f"// {SIGNATURE}".encode()}

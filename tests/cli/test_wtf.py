@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from tests.analysis.wtf_scenes import MS, PROBLEMS, TfMessage, ekf, healthy, write
+from tests.bags import BagFormat
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.wtf import CHECKS
-from tftools.sources.bag.write import BagFormat
 
 DB3 = BagFormat.rosbag2_sqlite3
 

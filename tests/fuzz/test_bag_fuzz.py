@@ -18,13 +18,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from tests.bags import BagFormat, TfMessage, write_bag
 from tests.sources import hostile
 from tftools.core.errors import TfToolsError
 from tftools.core.transform import Transform
 from tftools.sources.bag.decode.codec import CODECS
 from tftools.sources.bag.decode.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
-from tftools.sources.bag.write import BagFormat, TfMessage, write_bag
 
 EXAMPLES = int(os.environ.get("TFTOOLS_FUZZ_EXAMPLES", "25"))
 FUZZ = settings(
