@@ -14,7 +14,7 @@ import typer
 from rich.table import Table
 
 from tftools.analysis.wtf import CHECKS, Thresholds, check
-from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, outcome, report
+from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, report
 from tftools.cli import live
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
@@ -158,7 +158,14 @@ def command(
         first = next(r.error for r in reports if r.error is not None)
         more = f" (and {len(reports) - 1} more recordings)" if len(reports) > 1 else ""
         say_error(f"{first.message}{more} ({first.hint})" if first.hint else f"{first.message}{more}")
-    exit_with(Exit(code))
+    exit_with(code)
+
+
+def outcome(reports: Sequence[BagReport], strict: bool = False) -> Exit:
+    """UNUSABLE when no recording could be read, PROBLEMS when any failed (or could not be read), else OK."""
+    if not any(r.usable for r in reports):
+        return Exit.UNUSABLE
+    return Exit.PROBLEMS if any(r.failed(strict) for r in reports) else Exit.OK
 
 
 def _thresholds(**seconds: float) -> Thresholds:

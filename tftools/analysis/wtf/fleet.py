@@ -127,10 +127,3 @@ def check_fleet(
             for g in groups
         ]
         return [f.result() for f in futures]
-
-
-def outcome(reports: Sequence[BagReport], strict: bool = False) -> int:
-    """The exit code: 2 when no recording could be read, 1 when any failed (or could not be read), else 0."""
-    if not any(r.usable for r in reports):
-        return 2
-    return 1 if any(r.failed(strict) for r in reports) else 0
