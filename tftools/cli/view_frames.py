@@ -26,6 +26,7 @@ from tftools.cli.common import (
     stderr,
 )
 from tftools.cli.outputs import check_output
+from tftools.render import drawing
 from tftools.render import graph as render
 from tftools.render.escape import printable
 
@@ -119,11 +120,11 @@ def command(
     dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)
     try:
         if target == "-":
-            sys.stdout.buffer.write(render.draw(dot, chosen.value))
+            sys.stdout.buffer.write(drawing.draw(dot, chosen.value))
             sys.stdout.flush()
         else:
-            render.write_graph(dot, target, chosen.value)
-    except render.GraphvizMissingError as missing:
+            drawing.write_graph(dot, target, chosen.value)
+    except drawing.GraphvizMissingError as missing:
         fail(missing, Exit.PROBLEMS)
     errors = sum(f.severity is Severity.error for f in findings)
     where = "the graph to stdout" if target == "-" else printable(target)
