@@ -32,8 +32,5 @@ class FrameTable:
             self.names.append(name)
         return frame_id
 
-    def intern_all(self, names: Iterable[str]) -> list[int]:
-        return [self.intern(name) for name in names]
-
     def __iter__(self) -> Iterable[str]:
         return iter(self.names[1:])
