@@ -144,5 +144,5 @@ def test_the_kernels_load_once_the_walk_would_have_paid_for_them(monkeypatch):
 
     monkeypatch.setattr(kernels_table, "_tried", False)
     monkeypatch.setattr(kernels_table, "_walked", 0.0)
-    buffer.lookup_many(target, source, np.full(int(kernels_table.LOAD_SECONDS / kernels_table.WALK_TIME_S), time))
+    buffer.lookup_many(target, source, np.full(int(kernels_table.LOAD_SECONDS / kernels_table.WALK_LOOKUP_S), time))
     assert kernels_table._tried

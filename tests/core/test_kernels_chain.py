@@ -1,5 +1,5 @@
-"""``lookup_many`` along a resolved chain against ``lookup_each`` (the walk at each time): the very
-same bits, on the blocks it takes and on every kind of block it must leave to the walk."""
+"""``lookup_many`` along a resolved chain against the walk at each time (what it falls back to): the
+very same bits, on the blocks it takes and on every kind of block it must leave to the walk."""
 
 from __future__ import annotations
 
@@ -64,12 +64,22 @@ def _run(kernel, buffer: Buffer, target: str, source: str, times, rows):
     return out
 
 
+def walk_each(table, target, source, times, rows, stamps, values, valid) -> None:
+    """The compiled walk at each of ``times``, as ``lookup_many`` does at the blocks it leaves."""
+    memo, arcs = kernels._new_memo(table.shape[0])
+    common = kernels._latest_common_time(table, target, source)
+    chain = kernels._new_chain()
+    kernels._each_block(
+        table, target, source, times, rows, len(times), common, stamps, values, valid, chain, memo, arcs
+    )
+
+
 def assert_same_bits(buffer: Buffer, target: str, source: str, times) -> np.ndarray:
-    """lookup_many and lookup_each at ``times`` (in their order, answers to shuffled rows)."""
+    """lookup_many and the walk at each of ``times`` (in their order, answers to shuffled rows)."""
     times = np.ascontiguousarray(times, np.int64)
     rows = np.random.default_rng(0).permutation(len(times))
     fast = _run(kernels.lookup_many, buffer, target, source, times, rows)
-    each = _run(kernels.lookup_each, buffer, target, source, times, rows)
+    each = _run(walk_each, buffer, target, source, times, rows)
     np.testing.assert_array_equal(fast[0], each[0])
     np.testing.assert_array_equal(fast[2], each[2])
     np.testing.assert_array_equal(fast[1].view(np.int64), each[1].view(np.int64))  # -0.0 and NaN too
@@ -147,11 +157,11 @@ def test_the_answers_are_single_lookups():
 def _block(buffer: Buffer, target: str, source: str, times) -> bool | None:
     """Whether ``_chain_block`` takes ``times`` (None: the chain does not resolve at the first)."""
     table, times = buffer._edge_table(), np.ascontiguousarray(times, np.int64)
-    chain = np.zeros((2, kernels.MAX_GRAPH_DEPTH + 2, 3), np.int64)
-    ending, n_source, n_target = kernels._resolve(table, *_ids(buffer, target, source), times[0], chain)
-    if ending == kernels.IRREGULAR:
-        return None
+    chain = kernels._new_chain()
     memo, arcs = kernels._new_memo(table.shape[0])
+    ending, n_source, n_target, rooted = kernels._walk(table, *_ids(buffer, target, source), times[0], chain, memo)
+    if ending == kernels.NO_PATH or not rooted:
+        return None
     acc = np.empty(2 * kernels.SIDE)
     args = (table, chain, ending, n_source, n_target, times, len(times), acc, memo, arcs)
     return bool(kernels._chain_block(*args))

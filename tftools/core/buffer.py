@@ -24,10 +24,8 @@ from tftools.core.history import (
     EdgeHistory,
 )
 from tftools.core.kernels_table import (
-    WALK_BATCH_S,
     WALK_CAN_TRANSFORM_S,
     WALK_LOOKUP_S,
-    WALK_TIME_S,
     EdgeTable,
     compiled,
     lookup_in_parallel,
@@ -585,10 +583,11 @@ class Buffer:
             return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
         target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
         source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
-        kernels = compiled(WALK_BATCH_S + WALK_TIME_S * len(stamps))
+        kernels = compiled(WALK_LOOKUP_S * len(stamps))
         if kernels is None:
-            return LookupBatch(*walk.lookup_many(self._tree(), target_id, source_id, stamps))
-        resolved, values, valid = lookup_in_parallel(kernels, self._edge_table(), target_id, source_id, stamps)
+            resolved, values, valid = walk.lookup_many(self._tree(), target_id, source_id, stamps)
+        else:
+            resolved, values, valid = lookup_in_parallel(kernels, self._edge_table(), target_id, source_id, stamps)
         return LookupBatch(resolved, values[:, :3], values[:, 3:], valid)
 
     def transform_points(

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-
 #: Id 0 is tf2's "no parent": a frame's parent is never 0.
 NO_PARENT = 0
 
@@ -14,9 +12,6 @@ class FrameTable:
     def __init__(self) -> None:
         self._ids: dict[str, int] = {}
         self.names: list[str] = ["NO_PARENT"]
-
-    def __len__(self) -> int:
-        return len(self.names) - 1
 
     def __contains__(self, name: object) -> bool:
         return name in self._ids
@@ -31,9 +26,3 @@ class FrameTable:
             frame_id = self._ids[name] = len(self.names)
             self.names.append(name)
         return frame_id
-
-    def intern_all(self, names: Iterable[str]) -> list[int]:
-        return [self.intern(name) for name in names]
-
-    def __iter__(self) -> Iterable[str]:
-        return iter(self.names[1:])

@@ -8,7 +8,7 @@ from typing import NamedTuple
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.rotation import FloatArray, slerp, slerp_many
+from tftools.core.rotation import FloatArray, slerp
 
 Int64Array = npt.NDArray[np.int64]
 Int32Array = npt.NDArray[np.int32]
@@ -299,37 +299,3 @@ class EdgeHistory:
         if time < earliest:
             return Gap(PAST, time, earliest)
         return -bisect_right(stamps, time, start, end)  # = -(older row + 1)
-
-    def sample_many(self, times: Int64Array) -> tuple[Int32Array, FloatArray, BoolArray]:
-        """``sample`` over many times at once: parents, values (N, 7), and which succeeded."""
-        n = len(times)
-        start, end = self._start, self._end
-        if end == start:
-            return np.zeros(n, np.int32), np.zeros((n, 7)), np.zeros(n, bool)
-        if self.static:
-            return (
-                np.full(n, self._parents[end - 1], np.int32),
-                np.broadcast_to(self._values[end - 1], (n, 7)),
-                np.ones(n, bool),
-            )
-        stamps = self._stamps[start:end]
-        latest = stamps[-1]
-        times = np.where(times == 0, latest, times)
-        ok = (times >= stamps[0]) & (times <= latest)
-        one = np.searchsorted(stamps, times, side="right") - 1
-        one[(times == stamps[0]) & (times != latest)] = 0  # the first of several at the oldest stamp
-        np.clip(one, 0, len(stamps) - 1, out=one)
-        two = np.minimum(one + 1, len(stamps) - 1)
-        parents = self._parents[start:end]
-        values = self._values[start:end]
-        exact = (stamps[one] == times) | (parents[one] != parents[two])
-        out = values[one].copy()
-        blend = ~exact & ok
-        if blend.any():
-            i0, i1 = one[blend], two[blend]
-            t0 = stamps[i0]
-            r = (times[blend] - t0) / (stamps[i1] - t0)
-            a, b = values[i0], values[i1]
-            out[blend, :3] = (1.0 - r)[:, None] * a[:, :3] + r[:, None] * b[:, :3]
-            out[blend, 3:] = slerp_many(a[:, 3:], b[:, 3:], r)
-        return parents[one], out, ok

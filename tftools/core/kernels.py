@@ -1,27 +1,28 @@
 """Compiled lookups (numba): ``walk.py``'s tf2 walk over an ``EdgeTable``, step for step.
 
-``walk.py`` stays the reference: each kernel follows it line by line with the same formulas
-(``rotation.py``'s), and reports only success or failure. The buffer falls back to the Python
-walk on any failure, so tf2's error messages come from one place. Compiled once per machine
-(``cache=True``); warm the cache with ``python3 -c "import tftools.core.kernels"``. (One module:
-numba's cache of a function is refreshed when its own file changes, not when a file it inlines
-from does.)
+``walk.py`` stays the reference: ``_walk`` is its ``walk_to_top_parent``, recording the edges it
+takes (each one's row) instead of composing them as it goes; ``_side_at`` and ``_end`` then do
+what its ``TransformAccum`` does, with the same formulas (``rotation.py``'s). The kernels report
+only success or failure; the buffer falls back to the Python walk on any failure, so tf2's error
+messages come from one place. Compiled once per machine (``cache=True``); warm the cache with
+``python3 -c "import tftools.core.kernels"``. (One module: numba's cache of a function is
+refreshed when its own file changes, not when a file it inlines from does.)
 
-``lookup_many``: many lookups along one chain of edges, resolved once, edge by edge.
+``lookup_many``: many lookups along one chain of edges, walked once, then composed edge by edge.
 
 Over a span of time where no frame of the chain changes parent and every time falls strictly
 inside every dynamic edge's history, ``_walk`` takes the same steps at each time: the
-same frames, each sampled by interpolation, composed in the same order. Such a span is walked
-here edge-major: the chain is resolved once (``_resolve``), then for a block of times each edge
-in turn is sampled at every time of the block and composed into per-time accumulators
-(``_edge_block``), with exactly ``_walk``'s operations in ``_walk``'s order, so the answers are
+same frames, each sampled by interpolation, composed in the same order. Such a span is composed
+here edge-major: the chain is walked once, at the block's first time, then for a block of times
+each edge in turn is sampled at every time of the block and composed into per-time accumulators
+(``_edge_block``), with exactly ``_side_at``'s operations in its order, so the answers are
 bit-identical. Per time, a one-time walk is a long chain of dependent multiplications (each
 edge waits for the previous one); across the times of a block they are independent, which lets
 the processor overlap them, and the per-time frame lookups, parent checks and branches go away.
 
 Whatever does not fit (a time of 0, a time on or outside a history's first or last stamp, a
 parent that changes, an unconnected chain, a gap) makes its whole block fall back to
-``_walk`` at each time (``lookup_each``, which answers everything).
+``_lookup_at`` at each time, which answers everything.
 """
 
 # Kernels are typed by numba (their signatures, and inference inside), which mypy cannot follow.
@@ -39,7 +40,7 @@ from tftools.core import rotation
 from tftools.core.kernels_table import END, HAS, PARENTS, STAMPS, START, STATIC, VALUES
 
 OK, FAILED = 0, 1
-#: What ``_sample`` found at a frame.
+#: What ``_row_at`` found at a frame.
 FOUND, GAP, ROOT = 0, 1, 2
 MAX_GRAPH_DEPTH = 1000  # walk.MAX_GRAPH_DEPTH
 TIME_MAX = np.iinfo(np.int64).max
@@ -188,17 +189,14 @@ def _row_at(table, frame, time, memo):
 
 
 @_inline
-def _sample(table, frame, time, memo, arcs):
-    """(kind, parent, tx, ty, tz, qx, qy, qz, qw) of ``frame``'s edge at ``time``."""
-    kind, row, interpolate = _row_at(table, frame, time, memo)
-    if kind != FOUND:
-        return kind, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
+def _edge_at(table, frame, row, interpolate, time, memo, arcs):
+    """(tx, ty, tz, qx, qy, qz, qw): ``frame``'s edge at ``time`` from the row ``_row_at`` found
+    (EdgeHistory.sample)."""
     parents = _at(table[frame, PARENTS], np.int32)
     v = _at(table[frame, VALUES], np.float64)
-    parent = np.int64(parents[row])
     i = 7 * row
-    if not interpolate or parents[row + 1] != parent:
-        return FOUND, parent, v[i], v[i + 1], v[i + 2], v[i + 3], v[i + 4], v[i + 5], v[i + 6]
+    if not interpolate or parents[row + 1] != parents[row]:
+        return v[i], v[i + 1], v[i + 2], v[i + 3], v[i + 4], v[i + 5], v[i + 6]
     stamps = _at(table[frame, STAMPS], np.int64)
     t0 = stamps[row]
     r = (time - t0) / (stamps[row + 1] - t0)
@@ -214,19 +212,10 @@ def _sample(table, frame, time, memo, arcs):
         memo[frame, 1] = row
         arcs[frame, 0], arcs[frame, 1], arcs[frame, 2] = theta, d, sign
     qx, qy, qz, qw = _slerp(ax, ay, az, aw, bx, by, bz, bw, r, theta, d, sign, memo.shape[0] > 0)
-    return FOUND, parent, s * v[i] + r * v[j], s * v[i + 1] + r * v[j + 1], s * v[i + 2] + r * v[j + 2], qx, qy, qz, qw
+    return s * v[i] + r * v[j], s * v[i + 1] + r * v[j + 1], s * v[i + 2] + r * v[j + 2], qx, qy, qz, qw
 
 
-@_inline
-def _parent_at(table, frame, time, memo):
-    """(kind, parent): ``_sample`` without the values, for ``can_transform``."""
-    kind, row, _ = _row_at(table, frame, time, memo)
-    if kind != FOUND:
-        return kind, 0
-    return kind, np.int64(_at(table[frame, PARENTS], np.int32)[row])
-
-
-# --- the walk: walk.lookup / walk.latest_common_time -----------------------------------------
+# --- the walk: walk.walk_to_top_parent / walk.latest_common_time -----------------------------------------
 
 
 @_inline
@@ -293,88 +282,101 @@ def _latest_common_time(table, target, source):
     return OK, 0 if common == TIME_MAX else common
 
 
+#: How a walk ends: walk.py's TARGET_PARENT_OF_SOURCE, SOURCE_PARENT_OF_TARGET, FULL_PATH, or
+#: NO_PATH where it fails.
+AT_TARGET, AT_SOURCE, AT_TOP, NO_PATH = 0, 1, 2, -1
+#: Columns of a walked chain's rows (one per edge): the frame, its parent, whether it is composed
+#: (an edge the walk only samples, for its verdict, is not), the row ``_row_at`` found and
+#: whether to interpolate from it.
+FRAME, PARENT, COMPOSED, ROW, INTERPOLATE = range(5)
+
+
 @_jit
-def _walk(table, target, source, time, memo, arcs):
-    """(status, tx, ty, tz, qx, qy, qz, qw): walk.lookup at a resolved ``time``."""
-    # Up from the source, accumulating T_top^source.
-    svx, svy, svz, sqx, sqy, sqz, sqw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
-    frame = top = source
-    depth = 0
+def _new_chain():
+    return np.empty((2, MAX_GRAPH_DEPTH + 2, 5), np.int64)
+
+
+@_jit
+def _walk(table, target, source, time, chain, memo):
+    """walk.walk_to_top_parent at a resolved ``time``: (ending, edges up from the source, edges up
+    from the target, whether the source side stopped at a frame without history rather than at
+    a gap). The edges go to ``chain[0]`` (source side) and ``chain[1]`` (target side), for
+    ``_side_at`` to compose as walk.TransformAccum does."""
+    frame, top, n_source, rooted = source, source, 0, True
     while True:
-        kind, parent, vx, vy, vz, qx, qy, qz, qw = _sample(table, frame, time, memo, arcs)
+        kind, row, interpolate = _row_at(table, frame, time, memo)
         if kind != FOUND:
-            top = frame
+            top, rooted = frame, kind == ROOT
             break
+        parent = np.int64(_at(table[frame, PARENTS], np.int32)[row])
+        _put(chain, 0, n_source, frame, parent, frame != target, row, interpolate)
+        n_source += 1
         if frame == target:
-            return OK, svx, svy, svz, sqx, sqy, sqz, sqw
-        rx, ry, rz = _rotate(qx, qy, qz, qw, svx, svy, svz)
-        svx, svy, svz = rx + vx, ry + vy, rz + vz
-        sqx, sqy, sqz, sqw = _multiply(qx, qy, qz, qw, sqx, sqy, sqz, sqw)
-        top, frame = frame, parent
-        depth += 1
-        if depth > MAX_GRAPH_DEPTH:
-            return FAILED, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
-
-    # Up from the target until the frame the first walk stopped at, accumulating T_top^target.
-    tvx, tvy, tvz, tqx, tqy, tqz, tqw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
-    frame = target
-    depth = 0
-    while frame != top:
-        kind, parent, vx, vy, vz, qx, qy, qz, qw = _sample(table, frame, time, memo, arcs)
-        if kind == ROOT:
-            break
-        if kind == GAP:
-            return FAILED, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
-        if frame == source:
-            ix, iy, iz = _rotate(-tqx, -tqy, -tqz, tqw, -tvx, -tvy, -tvz)
-            return OK, ix, iy, iz, -tqx, -tqy, -tqz, tqw
-        rx, ry, rz = _rotate(qx, qy, qz, qw, tvx, tvy, tvz)
-        tvx, tvy, tvz = rx + vx, ry + vy, rz + vz
-        tqx, tqy, tqz, tqw = _multiply(qx, qy, qz, qw, tqx, tqy, tqz, tqw)
+            return AT_TARGET, n_source, 0, rooted
         frame = parent
-        depth += 1
-        if depth > MAX_GRAPH_DEPTH:
-            return FAILED, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
+        if n_source > MAX_GRAPH_DEPTH:
+            return NO_PATH, 0, 0, rooted
+    frame, n_target = target, 0
+    while frame != top:
+        kind, row, interpolate = _row_at(table, frame, time, memo)
+        if kind != FOUND:  # a gap, or a root that is not where the source side stopped
+            return NO_PATH, 0, 0, rooted
+        parent = np.int64(_at(table[frame, PARENTS], np.int32)[row])
+        _put(chain, 1, n_target, frame, parent, frame != source, row, interpolate)
+        n_target += 1
+        if frame == source:  # the inverse of T_source^target: the source side is not used
+            chain[0, :n_source, COMPOSED] = 0
+            return AT_SOURCE, n_source, n_target, rooted
+        frame = parent
+        if n_target > MAX_GRAPH_DEPTH:
+            return NO_PATH, 0, 0, rooted
+    return AT_TOP, n_source, n_target, rooted
 
-    if frame != top:
-        return FAILED, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
+
+@_inline
+def _put(chain, side, i, frame, parent, composed, row, interpolate):
+    chain[side, i, FRAME], chain[side, i, PARENT], chain[side, i, COMPOSED] = frame, parent, composed
+    chain[side, i, ROW], chain[side, i, INTERPOLATE] = row, interpolate
+
+
+@_inline
+def _side_at(table, chain, side, n_edges, time, memo, arcs):
+    """One side of ``_walk``'s chain composed at ``time``, edge by edge (walk.TransformAccum.accum)."""
+    vx, vy, vz, qx, qy, qz, qw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
+    for e in range(n_edges):
+        if chain[side, e, COMPOSED] == 0:
+            continue
+        frame, row, interpolate = chain[side, e, FRAME], chain[side, e, ROW], chain[side, e, INTERPOLATE] != 0
+        ex, ey, ez, eqx, eqy, eqz, eqw = _edge_at(table, frame, row, interpolate, time, memo, arcs)
+        rx, ry, rz = _rotate(eqx, eqy, eqz, eqw, vx, vy, vz)
+        vx, vy, vz = rx + ex, ry + ey, rz + ez
+        qx, qy, qz, qw = _multiply(eqx, eqy, eqz, eqw, qx, qy, qz, qw)
+    return vx, vy, vz, qx, qy, qz, qw
+
+
+@_inline
+def _end(ending, svx, svy, svz, sqx, sqy, sqz, sqw, tvx, tvy, tvz, tqx, tqy, tqz, tqw):
+    """T_target^source from the source and target sides (walk.TransformAccum.finalize)."""
+    if ending == AT_TARGET:
+        return svx, svy, svz, sqx, sqy, sqz, sqw
     ix, iy, iz = _rotate(-tqx, -tqy, -tqz, tqw, -tvx, -tvy, -tvz)
+    if ending == AT_SOURCE:
+        return ix, iy, iz, -tqx, -tqy, -tqz, tqw
     rx, ry, rz = _rotate(-tqx, -tqy, -tqz, tqw, svx, svy, svz)
     qx, qy, qz, qw = _multiply(-tqx, -tqy, -tqz, tqw, sqx, sqy, sqz, sqw)
-    return OK, rx + ix, ry + iy, rz + iz, qx, qy, qz, qw
+    return rx + ix, ry + iy, rz + iz, qx, qy, qz, qw
 
 
 @_jit
-def _connected(table, target, source, time, memo):
-    """walk.chain's verdict (what can_transform answers) at a resolved ``time``."""
-    frame = top = source
-    depth = 0
-    while True:
-        kind, parent = _parent_at(table, frame, time, memo)
-        if kind != FOUND:
-            top = frame
-            break
-        if frame == target:
-            return True
-        top, frame = frame, parent
-        depth += 1
-        if depth > MAX_GRAPH_DEPTH:
-            return False
-    frame = target
-    depth = 0
-    while frame != top:
-        kind, parent = _parent_at(table, frame, time, memo)
-        if kind == ROOT:
-            break
-        if kind == GAP:
-            return False
-        if frame == source:
-            return True
-        frame = parent
-        depth += 1
-        if depth > MAX_GRAPH_DEPTH:
-            return False
-    return frame == top
+def _lookup_at(table, target, source, time, chain, memo, arcs):
+    """(status, tx, ty, tz, qx, qy, qz, qw): walk.lookup at a resolved ``time``."""
+    ending, n_source, n_target, _ = _walk(table, target, source, time, chain, memo)
+    if ending == NO_PATH:
+        return FAILED, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
+    svx, svy, svz, sqx, sqy, sqz, sqw = _side_at(table, chain, 0, n_source, time, memo, arcs)
+    tvx, tvy, tvz, tqx, tqy, tqz, tqw = _side_at(table, chain, 1, n_target, time, memo, arcs)
+    vx, vy, vz, qx, qy, qz, qw = _end(ending, svx, svy, svz, sqx, sqy, sqz, sqw, tvx, tvy, tvz, tqx, tqy, tqz, tqw)
+    return OK, vx, vy, vz, qx, qy, qz, qw
 
 
 # --- entry points ---------------------------------------------------------------------------
@@ -391,7 +393,7 @@ def lookup(table, target, source, time, values, stamp):
         if status != OK:
             return FAILED
     memo, arcs = _no_memo()
-    status, vx, vy, vz, qx, qy, qz, qw = _walk(table, target, source, time, memo, arcs)
+    status, vx, vy, vz, qx, qy, qz, qw = _lookup_at(table, target, source, time, _new_chain(), memo, arcs)
     values[0], values[1], values[2], values[3], values[4], values[5], values[6] = vx, vy, vz, qx, qy, qz, qw
     stamp[0] = time
     return status
@@ -404,7 +406,7 @@ def can_transform(table, target, source, time):
         status, time = _latest_common_time(table, target, source)
         if status != OK:
             return False
-    return _connected(table, target, source, time, _no_memo()[0])
+    return _walk(table, target, source, time, _new_chain(), _no_memo()[0])[0] != NO_PATH
 
 
 _LOOKUP_MANY = types.void(
@@ -419,7 +421,7 @@ _LOOKUP_MANY = types.void(
 )
 
 
-# --- many lookups along a resolved chain (see the module docstring) ---------------------------
+# --- many lookups along a walked chain (see the module docstring) ---------------------------
 
 #: Times per block: the accumulators (2 SIDE doubles) stay in the L1 cache.
 BLOCK = 256
@@ -434,59 +436,6 @@ B = BLOCK
 #: Indices are made unsigned in the loops meant to vectorize: numba checks a signed index for
 #: being negative (to count from the end), a branch that keeps the compiler from vectorizing.
 _U = np.uint64
-#: How the walk ends (``_walk``'s three returns that succeed).
-AT_TARGET, AT_SOURCE, AT_TOP = 0, 1, 2
-#: ``_resolve``'s answer when the walk is not one this module can repeat.
-IRREGULAR = -1
-#: Columns of a resolved chain's rows: the frame, its parent, whether it is composed (an edge
-#: the walk only samples, for its verdict, is checked but not composed).
-FRAME, PARENT, COMPOSED = range(3)
-
-
-# --- the chain ------------------------------------------------------------------------------
-
-
-@_jit
-def _resolve(table, target, source, time, chain):
-    """(ending, edges up from the source, edges up from the target) of ``_walk`` at ``time``.
-
-    ``chain[0]`` and ``chain[1]`` get the source and target sides' edges (FRAME, PARENT,
-    COMPOSED). IRREGULAR where the walk fails, or stops at anything but a frame without
-    history, which could change with time.
-    """
-    no_memo = _no_memo()[0]
-    frame, top, n_source = source, source, 0
-    while True:
-        kind, parent = _parent_at(table, frame, time, no_memo)
-        if kind == ROOT:
-            top = frame
-            break
-        if kind != FOUND or n_source > MAX_GRAPH_DEPTH:
-            return IRREGULAR, 0, 0
-        _put(chain, 0, n_source, frame, parent, frame != target)
-        n_source += 1
-        if frame == target:  # _walk returns T_target^source itself
-            return AT_TARGET, n_source, 0
-        frame = parent
-    frame, n_target = target, 0
-    while frame != top:
-        kind, parent = _parent_at(table, frame, time, no_memo)
-        if kind != FOUND or n_target > MAX_GRAPH_DEPTH:
-            return IRREGULAR, 0, 0
-        _put(chain, 1, n_target, frame, parent, frame != source)
-        n_target += 1
-        if frame == source:  # _walk returns the inverse of T_source^target; the source side is unused
-            chain[0, :n_source, COMPOSED] = 0
-            return AT_SOURCE, n_source, n_target
-        frame = parent
-    return AT_TOP, n_source, n_target
-
-
-@_inline
-def _put(chain, side, i, frame, parent, composed):
-    chain[side, i, FRAME], chain[side, i, PARENT], chain[side, i, COMPOSED] = frame, parent, composed
-
-
 # --- one edge over a block ------------------------------------------------------------------
 
 
@@ -536,14 +485,14 @@ def _static_block(table, frame, parent, n, acc, composed):
 
 @_jit
 def _edge_block(table, frame, parent, times, n, acc, memo, arcs, composed):
-    """Compose ``frame``'s edge at ``times[:n]`` into ``acc`` as ``_sample`` and ``_walk``
+    """Compose ``frame``'s edge at ``times[:n]`` into ``acc`` as ``_row_at``, ``_edge_at`` and ``_side_at``
     do. False (``acc`` then half done) unless each time lies strictly between the history's first
-    and last stamps and both rows it interpolates between have ``parent``: then ``_sample``
+    and last stamps and both rows it interpolates between have ``parent``: then ``_edge_at``
     interpolates at every time, which is all this does.
 
     The hot loop: for each run of times within one interval of the history, the row is found
     (``_find``, galloping from the cursor), its parents checked and its slerp constants taken
-    (memoized per row in ``arcs``, as ``_sample`` does) once; ``_interval`` then composes the run.
+    (memoized per row in ``arcs``, as ``_edge_at`` does) once; ``_interval`` then composes the run.
     """
     if table[frame, STATIC] != 0:
         return _static_block(table, frame, parent, n, acc, composed)
@@ -563,7 +512,7 @@ def _edge_block(table, frame, parent, times, n, acc, memo, arcs, composed):
         if parents[row] != parent or parents[row + 1] != parent:
             return False
         t0, t1 = stamps[row], stamps[row + 1]
-        low = t0 if row > start else t0 + 1  # at the first stamp itself, _sample does not interpolate
+        low = t0 if row > start else t0 + 1  # at the first stamp itself, _row_at does not interpolate
         last = k + 1  # the run: times[k:last], all within [low, t1)
         acc[LAG + k] = time - t0
         while last < n and low <= times[last] < t1:
@@ -584,7 +533,7 @@ def _edge_block(table, frame, parent, times, n, acc, memo, arcs, composed):
 @_inline
 def _interval(acc, k0, k1, v, i, span, theta, d, sign):
     """Compose, at the times ``k0:k1`` (at ``LAG``: each less the older sample's stamp), the
-    edge interpolated between the samples at ``v[i:i + 7]`` and ``v[i + 7:i + 14]``: ``_sample``'s
+    edge interpolated between the samples at ``v[i:i + 7]`` and ``v[i + 7:i + 14]``: ``_edge_at``'s
     lerp and ``_slerp``. Where every angle is small enough for ``_small_sin`` (the arc is), the
     loop has no branch, and compiles to vector instructions."""
     j = i + 7
@@ -622,26 +571,21 @@ def _side_block(table, chain, side, n_edges, times, n, acc, memo, arcs):
 
 @_jit
 def _chain_block(table, chain, ending, n_source, n_target, times, n, acc, memo, arcs):
-    """``_walk`` at ``times[:n]`` along the resolved chain, the answers in the source side of
+    """``_lookup_at`` at ``times[:n]`` along the walked chain, the answers in the source side of
     ``acc`` (the target side's follows at ``SIDE``); False where any time does not fit it (``acc``
-    is then of no use). The last loops index ``acc`` whole, so that they vectorize too."""
+    is then of no use). The last loop indexes ``acc`` whole, so that it vectorizes too."""
     if not _side_block(table, chain, 0, n_source, times, n, acc[:SIDE], memo, arcs):
         return False
     if not _side_block(table, chain, 1, n_target, times, n, acc[SIDE:], memo, arcs):
         return False
-    if ending == AT_SOURCE:  # the inverse of the target side
+    if ending != AT_TARGET:
         for k in range(n):
-            tvx, tvy, tvz, tqx, tqy, tqz, tqw = _get(acc, k + SIDE)
-            ix, iy, iz = _rotate(-tqx, -tqy, -tqz, tqw, -tvx, -tvy, -tvz)
-            _set(acc, k, ix, iy, iz, -tqx, -tqy, -tqz, tqw)
-    elif ending == AT_TOP:  # the inverse of the target side times the source side
-        for k in range(n):
-            tvx, tvy, tvz, tqx, tqy, tqz, tqw = _get(acc, k + SIDE)
-            ix, iy, iz = _rotate(-tqx, -tqy, -tqz, tqw, -tvx, -tvy, -tvz)
             svx, svy, svz, sqx, sqy, sqz, sqw = _get(acc, k)
-            rx, ry, rz = _rotate(-tqx, -tqy, -tqz, tqw, svx, svy, svz)
-            qx, qy, qz, qw = _multiply(-tqx, -tqy, -tqz, tqw, sqx, sqy, sqz, sqw)
-            _set(acc, k, rx + ix, ry + iy, rz + iz, qx, qy, qz, qw)
+            tvx, tvy, tvz, tqx, tqy, tqz, tqw = _get(acc, k + SIDE)
+            vx, vy, vz, qx, qy, qz, qw = _end(
+                ending, svx, svy, svz, sqx, sqy, sqz, sqw, tvx, tvy, tvz, tqx, tqy, tqz, tqw
+            )
+            _set(acc, k, vx, vy, vz, qx, qy, qz, qw)
     return True
 
 
@@ -657,13 +601,15 @@ def _scatter(acc, times, rows, n, stamps, values, valid):
 
 
 @_jit
-def _each_block(table, target, source, times, rows, n, common_status, common, stamps, values, valid, memo, arcs):
-    """``_walk`` at each time of a block, as ``kernels.lookup_each``: what answers any time."""
+def _each_block(table, target, source, times, rows, n, common, stamps, values, valid, chain, memo, arcs):
+    """``_lookup_at`` at each time of a block: what answers any time. ``common`` is
+    ``_latest_common_time``'s answer, for the times of 0."""
+    common_status, common_time = common
     for k in range(n):
         time = times[k]
         if time == 0:
-            time = common
-        status, vx, vy, vz, qx, qy, qz, qw = _walk(table, target, source, time, memo, arcs)
+            time = common_time
+        status, vx, vy, vz, qx, qy, qz, qw = _lookup_at(table, target, source, time, chain, memo, arcs)
         ok = status == OK and (times[k] != 0 or common_status == OK)
         if not ok:
             vx, vy, vz, qx, qy, qz, qw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
@@ -673,50 +619,34 @@ def _each_block(table, target, source, times, rows, n, common_status, common, st
         values[row, 3], values[row, 4], values[row, 5], values[row, 6] = qx, qy, qz, qw
 
 
-# --- entry points: many lookups -------------------------------------------------------------
-
-
-@njit(_LOOKUP_MANY, cache=True, nogil=True)
-def lookup_each(table, target, source, times, rows, stamps, values, valid):
-    """``lookup`` at each of ``times`` (fastest in ascending order), into row ``rows[i]`` of the
-    outputs (threads that split the times write their answers in place): the walk at each time,
-    which ``lookup_many`` answers as, bit for bit, and falls back to.
-
-    ``stamps`` gets each time used (0 resolved to the latest common time), ``values`` the
-    transform (identity where it failed), ``valid`` whether tf2 would have succeeded.
-    """
-    memo, arcs = _new_memo(table.shape[0])
-    common_status, common = _latest_common_time(table, target, source)
-    n = times.shape[0]
-    _each_block(table, target, source, times, rows, n, common_status, common, stamps, values, valid, memo, arcs)
+# --- entry point: many lookups --------------------------------------------------------------
 
 
 @njit(_LOOKUP_MANY, cache=True, nogil=True)
 def lookup_many(table, target, source, times, rows, stamps, values, valid):
     """``lookup`` at each of ``times`` (fastest in ascending order), into row ``rows[i]`` of the
-    outputs (threads that split the times write their answers in place); as ``lookup_each``,
-    bit for bit, along a resolved chain where it can (see the module docstring).
+    outputs (threads that split the times write their answers in place): along a walked chain
+    where it can (see the module docstring), else ``_lookup_at`` at each time.
 
     ``stamps`` gets each time used (0 resolved to the latest common time), ``values`` the
     transform (identity where it failed), ``valid`` whether tf2 would have succeeded.
     """
     memo, arcs = _new_memo(table.shape[0])
-    common_status, common = _latest_common_time(table, target, source)
-    chain = np.zeros((2, MAX_GRAPH_DEPTH + 2, 3), np.int64)
+    common = _latest_common_time(table, target, source)
+    chain, scratch = _new_chain(), _new_chain()
     acc = np.empty(2 * SIDE)
-    ending, n_source, n_target = IRREGULAR, 0, 0
+    ending, n_source, n_target, rooted = NO_PATH, 0, 0, False
     resolve = True  # at the next block's first time: at first, and after a block did not fit
     for lo in range(0, times.shape[0], BLOCK):
         n = min(BLOCK, times.shape[0] - lo)
         block, block_rows = times[lo : lo + n], rows[lo : lo + n]
         if resolve and block[0] != 0:
-            ending, n_source, n_target = _resolve(table, target, source, block[0], chain)
+            ending, n_source, n_target, rooted = _walk(table, target, source, block[0], chain, memo)
             resolve = False
-        fits = ending != IRREGULAR and np.count_nonzero(block) == n
+        # A walk stopped at a gap may take another way at another time: blocks need a root.
+        fits = ending != NO_PATH and rooted and np.count_nonzero(block) == n
         if fits and _chain_block(table, chain, ending, n_source, n_target, block, n, acc, memo, arcs):
             _scatter(acc, block, block_rows, n, stamps, values, valid)
             continue
         resolve = True
-        _each_block(
-            table, target, source, block, block_rows, n, common_status, common, stamps, values, valid, memo, arcs
-        )
+        _each_block(table, target, source, block, block_rows, n, common, stamps, values, valid, scratch, memo, arcs)

@@ -61,8 +61,8 @@ class EdgeTable:
 
 #: What loading the kernels costs, about (mostly numba's import; the machine code is cached).
 LOAD_SECONDS = 0.5
-#: What the Python walk takes, about: per lookup, per ``can_transform``, per batch and per time of one.
-WALK_LOOKUP_S, WALK_CAN_TRANSFORM_S, WALK_BATCH_S, WALK_TIME_S = 50e-6, 15e-6, 2e-3, 5e-6
+#: What the Python walk takes, about: per lookup (or time of a batch) and per ``can_transform``.
+WALK_LOOKUP_S, WALK_CAN_TRANSFORM_S = 50e-6, 15e-6
 
 _compiled: ModuleType | None = None
 _tried = False

@@ -192,12 +192,6 @@ def quat_multiply_many(a: FloatArray, b: FloatArray) -> FloatArray:
     )
 
 
-def quat_conjugate_many(q: FloatArray) -> FloatArray:
-    out = -q
-    out[..., 3] = q[..., 3]
-    return out
-
-
 def quat_rotate_many(q: FloatArray, v: FloatArray) -> FloatArray:
     qx, qy, qz, qw = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     vx, vy, vz = v[..., 0], v[..., 1], v[..., 2]
@@ -213,19 +207,6 @@ def quat_rotate_many(q: FloatArray, v: FloatArray) -> FloatArray:
         ),
         axis=-1,
     )
-
-
-def slerp_many(a: FloatArray, b: FloatArray, t: FloatArray) -> FloatArray:
-    dot = np.einsum("ij,ij->i", a, b)
-    norms = np.sqrt(np.einsum("ij,ij->i", a, a) * np.einsum("ij,ij->i", b, b))
-    theta = np.arccos(np.minimum(np.abs(dot) / norms, 1.0))
-    moving = theta != 0.0
-    safe_theta = np.where(moving, theta, 1.0)
-    d = 1.0 / np.sin(safe_theta)
-    s0 = np.sin((1.0 - t) * safe_theta)
-    s1 = np.sin(t * safe_theta) * np.where(dot >= 0, 1.0, -1.0)
-    out = (a * s0[:, None] + b * s1[:, None]) * d[:, None]
-    return np.where(moving[:, None], out, a)
 
 
 def rpy_from_quat_many(q: FloatArray) -> FloatArray:

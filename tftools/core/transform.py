@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
@@ -118,9 +118,6 @@ class Transform:
         m = self.as_matrix()
         moved: npt.NDArray[np.float64] = p @ m[:3, :3].T + m[:3, 3]
         return moved
-
-    def with_stamp(self, stamp: int) -> Transform:
-        return replace(self, stamp=stamp)
 
 
 def _vec(values: npt.ArrayLike) -> Vec3:

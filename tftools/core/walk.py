@@ -2,8 +2,10 @@
 
 A lookup walks from the source frame towards the root, accumulating each edge, then from the
 target frame until it meets the frame where the first walk stopped; the two halves compose into
-the answer. Where a walk stops, which edge failed first and which message is raised follow tf2
-step by step, because users compare our errors with theirs.
+the answer. As in tf2, one walk serves every question, an accumulator deciding what it gathers
+at each edge: the transform (``lookup``), or the parent only (``can_transform``, ``chain``).
+Where a walk stops, which edge failed first and which message is raised follow tf2 step by
+step, because users compare our errors with theirs. ``kernels.py`` compiles the same walk.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.errors import ConnectivityError, ExtrapolationError, UnknownFrameError
+from tftools.core.errors import ConnectivityError, ExtrapolationError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT
 from tftools.core.history import EdgeHistory, Gap
 from tftools.core.rotation import (
@@ -23,11 +25,8 @@ from tftools.core.rotation import (
     Quat,
     Vec3,
     quat_conjugate,
-    quat_conjugate_many,
     quat_multiply,
-    quat_multiply_many,
     quat_rotate,
-    quat_rotate_many,
 )
 from tftools.core.semantics import ROS1, Dialect
 from tftools.core.time import duration_to_sec, to_sec
@@ -47,80 +46,81 @@ class Tree(NamedTuple):
     dialect: Dialect = ROS1
 
 
-# --- scalar walk ----------------------------------------------------------------------------
+# --- the walk ------------------------------------------------------------------------------
+
+#: How a walk succeeds (tf2's ``WalkEnding``): the target is an ancestor of the source, the
+#: source an ancestor of the target, or both meet at one top frame.
+TARGET_PARENT_OF_SOURCE, SOURCE_PARENT_OF_TARGET, FULL_PATH = range(3)
 
 
-def lookup(tree: Tree, target_id: int, source_id: int, time: int) -> tuple[Vec3, Quat, int]:
-    """Translation, rotation and stamp of ``T_target^source`` at ``time`` (0: latest common)."""
-    if time == 0:
-        time = latest_common_time(tree, target_id, source_id)
-    histories = tree.histories
+class CanTransformAccum:
+    """tf2's ``CanTransformAccum``: each edge's parent only."""
 
-    # Up from the source, accumulating T_top^source.
-    sv, sq = ZERO_VEC, IDENTITY_QUAT
-    frame = top = source_id
-    source_gap: Gap | None = None
-    depth = 0
-    while True:
-        hist = histories[frame]
-        if hist is None:
-            top = frame
-            break
+    def gather(self, hist: EdgeHistory, time: int) -> int | Gap:
+        return hist.parent_at(time)
+
+    def accum(self, source_side: bool) -> None:
+        pass
+
+    def finalize(self, ending: int, time: int) -> None:
+        pass
+
+
+class TransformAccum(CanTransformAccum):
+    """tf2's ``TransformAccum``: each side's edges composed up to where the walk stopped, then
+    ``T_target^source`` and the ``time`` it was looked up at."""
+
+    def __init__(self) -> None:
+        self.edge: list[float] = []
+        self.source: tuple[Vec3, Quat] = (ZERO_VEC, IDENTITY_QUAT)
+        self.target: tuple[Vec3, Quat] = (ZERO_VEC, IDENTITY_QUAT)
+        self.result: tuple[Vec3, Quat] = (ZERO_VEC, IDENTITY_QUAT)
+        self.time = 0
+
+    def gather(self, hist: EdgeHistory, time: int) -> int | Gap:
         got = hist.sample(time)
         if isinstance(got, Gap):
-            top, source_gap = frame, got
-            break
-        if frame == target_id:
-            return sv, sq, time
-        parent, v = got
+            return got
+        parent, self.edge = got
+        return parent
+
+    def accum(self, source_side: bool) -> None:
+        v = self.edge
         q = (v[3], v[4], v[5], v[6])
-        r = quat_rotate(q, sv)
-        sv, sq = (r[0] + v[0], r[1] + v[1], r[2] + v[2]), quat_multiply(q, sq)
-        top, frame = frame, parent
-        depth += 1
-        if depth > MAX_GRAPH_DEPTH:
-            raise UnknownFrameError.loop(frames_as_string(tree))
+        av, aq = self.source if source_side else self.target
+        r = quat_rotate(q, av)
+        composed = (r[0] + v[0], r[1] + v[1], r[2] + v[2]), quat_multiply(q, aq)
+        if source_side:
+            self.source = composed
+        else:
+            self.target = composed
 
-    # Up from the target until the frame the first walk stopped at, accumulating T_top^target.
-    tv, tq = ZERO_VEC, IDENTITY_QUAT
-    frame = target_id
-    depth = 0
-    while frame != top:
-        hist = histories[frame]
-        if hist is None:
-            break
-        got = hist.sample(time)
-        if isinstance(got, Gap):
-            raise _extrapolation(tree, got, source_id, target_id)
-        if frame == source_id:
-            return (*_inverse(tv, tq), time)
-        parent, v = got
-        q = (v[3], v[4], v[5], v[6])
-        r = quat_rotate(q, tv)
-        tv, tq = (r[0] + v[0], r[1] + v[1], r[2] + v[2]), quat_multiply(q, tq)
-        frame = parent
-        depth += 1
-        if depth > MAX_GRAPH_DEPTH:
-            raise UnknownFrameError.loop(frames_as_string(tree))
-
-    if frame != top:
-        _raise_unconnected(tree, source_gap, source_id, target_id)
-    iv, iq = _inverse(tv, tq)
-    r = quat_rotate(iq, sv)
-    return (r[0] + iv[0], r[1] + iv[1], r[2] + iv[2]), quat_multiply(iq, sq), time
+    def finalize(self, ending: int, time: int) -> None:
+        self.time = time
+        if ending == TARGET_PARENT_OF_SOURCE:
+            self.result = self.source
+            return
+        iv, iq = _inverse(*self.target)
+        if ending == SOURCE_PARENT_OF_TARGET:
+            self.result = iv, iq
+            return
+        sv, sq = self.source
+        r = quat_rotate(iq, sv)
+        self.result = (r[0] + iv[0], r[1] + iv[1], r[2] + iv[2]), quat_multiply(iq, sq)
 
 
-def can_transform(tree: Tree, target_id: int, source_id: int, time: int) -> bool:
-    """Whether ``lookup`` succeeds, walking parents only (tf2's ``CanTransformAccum``)."""
-    try:
-        chain(tree, target_id, source_id, time)
-    except (UnknownFrameError, ConnectivityError, ExtrapolationError):
-        return False
-    return True
-
-
-def chain(tree: Tree, target_id: int, source_id: int, time: int) -> list[int]:
-    """The frame ids from source to target that a lookup at ``time`` composes."""
+def walk_to_top_parent(
+    tree: Tree,
+    target_id: int,
+    source_id: int,
+    time: int,
+    accum: CanTransformAccum,
+    frames: list[int] | None = None,
+) -> None:
+    """tf2's ``walkToTopParent``: up from the source towards the root, then up from the target
+    until the frame the first walk stopped at, ``accum`` gathering each edge and composing it
+    (time 0: the latest common time). Raises tf2's error where it fails. ``frames`` gets the
+    frames from source to target that the answer composes (tf2's frame chain)."""
     if time == 0:
         time = latest_common_time(tree, target_id, source_id)
     histories = tree.histories
@@ -133,15 +133,20 @@ def chain(tree: Tree, target_id: int, source_id: int, time: int) -> list[int]:
         if hist is None:
             top = frame
             break
-        parent = hist.parent_at(time)
+        parent = accum.gather(hist, time)
         if isinstance(parent, Gap):
             top, source_gap = frame, parent
             break
         if frame == target_id:
-            return up
+            accum.finalize(TARGET_PARENT_OF_SOURCE, time)
+            if frames is not None:
+                frames += up
+            return
+        accum.accum(True)
         top, frame = frame, parent
         if len(up) > MAX_GRAPH_DEPTH:
             raise UnknownFrameError.loop(frames_as_string(tree))
+
     down: list[int] = []
     frame = target_id
     while frame != top:
@@ -149,21 +154,80 @@ def chain(tree: Tree, target_id: int, source_id: int, time: int) -> list[int]:
         hist = histories[frame]
         if hist is None:
             break
-        parent = hist.parent_at(time)
+        parent = accum.gather(hist, time)
         if isinstance(parent, Gap):
             raise _extrapolation(tree, parent, source_id, target_id)
         if frame == source_id:
-            return down[::-1]
+            accum.finalize(SOURCE_PARENT_OF_TARGET, time)
+            if frames is not None:
+                frames += down[::-1]
+            return
+        accum.accum(False)
         frame = parent
         if len(down) > MAX_GRAPH_DEPTH:
             raise UnknownFrameError.loop(frames_as_string(tree))
+
     if frame != top:
-        _raise_unconnected(tree, source_gap, source_id, target_id)
-    # Both walks reached ``top``; keep the source side up to the first frame they share.
-    shared = set(down) | {top}
-    meet = next(i for i, f in enumerate(up) if f in shared)
-    below_meet = down[: down.index(up[meet])] if up[meet] in down else down
-    return up[: meet + 1] + below_meet[::-1]
+        if source_gap is not None:
+            raise _extrapolation(tree, source_gap, source_id, target_id)
+        raise ConnectivityError.between(tree.names[target_id], tree.names[source_id])
+    accum.finalize(FULL_PATH, time)
+    if frames is not None:
+        # Both walks reached ``top``; keep the source side up to the first frame they share.
+        shared = set(down) | {top}
+        meet = next(i for i, f in enumerate(up) if f in shared)
+        below_meet = down[: down.index(up[meet])] if up[meet] in down else down
+        frames += up[: meet + 1] + below_meet[::-1]
+
+
+def lookup(tree: Tree, target_id: int, source_id: int, time: int) -> tuple[Vec3, Quat, int]:
+    """Translation, rotation and stamp of ``T_target^source`` at ``time`` (0: latest common)."""
+    accum = TransformAccum()
+    walk_to_top_parent(tree, target_id, source_id, time, accum)
+    return (*accum.result, accum.time)
+
+
+def can_transform(tree: Tree, target_id: int, source_id: int, time: int) -> bool:
+    """Whether ``lookup`` succeeds, walking parents only."""
+    try:
+        walk_to_top_parent(tree, target_id, source_id, time, CanTransformAccum())
+    except TransformError:
+        return False
+    return True
+
+
+def chain(tree: Tree, target_id: int, source_id: int, time: int) -> list[int]:
+    """The frame ids from source to target that a lookup at ``time`` composes."""
+    frames: list[int] = []
+    walk_to_top_parent(tree, target_id, source_id, time, CanTransformAccum(), frames)
+    return frames
+
+
+def lookup_many(
+    tree: Tree, target_id: int, source_id: int, times: npt.NDArray[np.int64]
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """``lookup`` at each of ``times``: the times used (0 resolved to the latest common time),
+    values (N, 7: tx ty tz qx qy qz qw; identity where it failed) and where it succeeded."""
+    n = len(times)
+    stamps = times.copy()
+    values = np.zeros((n, 7))
+    values[:, 6] = 1.0
+    valid = np.zeros(n, bool)
+    unresolved = np.zeros(n, bool)
+    latest = stamps == 0
+    if latest.any():
+        try:
+            stamps[latest] = latest_common_time(tree, target_id, source_id)
+        except TransformError:
+            unresolved = latest
+    for i in np.flatnonzero(~unresolved).tolist():
+        try:
+            v, q, _ = lookup(tree, target_id, source_id, int(stamps[i]))
+        except TransformError:
+            continue
+        values[i] = (*v, *q)
+        valid[i] = True
+    return stamps, values, valid
 
 
 def latest_common_time(tree: Tree, target_id: int, source_id: int) -> int:
@@ -272,123 +336,3 @@ def _inverse(v: Vec3, q: Quat) -> tuple[Vec3, Quat]:
 
 def _extrapolation(tree: Tree, gap: Gap, source_id: int, target_id: int) -> ExtrapolationError:
     return tree.dialect.extrapolation(gap, tree.names[source_id], tree.names[target_id])
-
-
-def _raise_unconnected(tree: Tree, source_gap: Gap | None, source_id: int, target_id: int) -> None:
-    if source_gap is not None:
-        raise _extrapolation(tree, source_gap, source_id, target_id)
-    raise ConnectivityError.between(tree.names[target_id], tree.names[source_id])
-
-
-# --- vectorized walk ------------------------------------------------------------------------
-
-
-class _Side:
-    """One half of a vectorized walk: per time, the frame reached and the accumulated transform."""
-
-    def __init__(self, start: int, n: int) -> None:
-        self.frame = np.full(n, start, np.int32)
-        self.active = np.ones(n, bool)
-        self.v = np.zeros((n, 3))
-        self.q = np.zeros((n, 4))
-        self.q[:, 3] = 1.0
-
-    def accumulate(self, rows: npt.NDArray[np.intp], values: npt.NDArray[np.float64]) -> None:
-        q = values[:, 3:]
-        self.v[rows] = quat_rotate_many(q, self.v[rows]) + values[:, :3]
-        self.q[rows] = quat_multiply_many(q, self.q[rows])
-
-    def steps(self) -> list[tuple[int, npt.NDArray[np.intp]]]:
-        """The active times grouped by the frame they stand at."""
-        rows = np.flatnonzero(self.active)
-        if len(rows) == 0:
-            return []
-        frames = self.frame[rows]
-        first = frames[0]
-        if np.all(frames == first):
-            return [(int(first), rows)]
-        return [(int(f), rows[frames == f]) for f in np.unique(frames)]
-
-
-def lookup_many(
-    tree: Tree, target_id: int, source_id: int, times: npt.NDArray[np.int64]
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
-    """``lookup`` at each of ``times``, step by step as tf2 walks but over all times at once.
-
-    Returns the times used (0 resolved to the latest common time), translations, rotations
-    and a mask of the times where tf2 would have succeeded.
-    """
-    n = len(times)
-    times = times.copy()
-    failed = np.zeros(n, bool)
-    latest = times == 0
-    if latest.any():
-        try:
-            times[latest] = latest_common_time(tree, target_id, source_id)
-        except (UnknownFrameError, ConnectivityError):
-            failed |= latest
-
-    histories = tree.histories
-    source = _Side(source_id, n)
-    source.active &= ~failed
-    top = np.full(n, source_id, np.int32)
-    target_is_ancestor = np.zeros(n, bool)
-    for _depth in range(MAX_GRAPH_DEPTH + 1):
-        for frame, rows in source.steps():
-            hist = histories[frame]
-            if hist is None:
-                top[rows] = frame
-                source.active[rows] = False
-                continue
-            parents, values, ok = hist.sample_many(times[rows])
-            stopped = rows[~ok]
-            top[stopped] = frame
-            source.active[stopped] = False
-            rows, parents, values = rows[ok], parents[ok], values[ok]
-            if frame == target_id:
-                target_is_ancestor[rows] = True
-                source.active[rows] = False
-                continue
-            source.accumulate(rows, values)
-            top[rows] = frame
-            source.frame[rows] = parents
-        if not source.active.any():
-            break
-    failed |= source.active  # still walking after MAX_GRAPH_DEPTH steps: a loop
-
-    target = _Side(target_id, n)
-    target.active = ~(failed | target_is_ancestor) & (top != target_id)
-    source_is_ancestor = np.zeros(n, bool)
-    for _depth in range(MAX_GRAPH_DEPTH + 1):
-        for frame, rows in target.steps():
-            hist = histories[frame]
-            if hist is None:
-                target.active[rows] = False
-                continue
-            parents, values, ok = hist.sample_many(times[rows])
-            failed[rows[~ok]] = True
-            target.active[rows[~ok]] = False
-            rows, parents, values = rows[ok], parents[ok], values[ok]
-            if frame == source_id:
-                source_is_ancestor[rows] = True
-                target.active[rows] = False
-                continue
-            target.accumulate(rows, values)
-            target.frame[rows] = parents
-            target.active[rows] = parents != top[rows]
-        if not target.active.any():
-            break
-    failed |= target.active
-
-    reached = target.frame == top
-    valid = ~failed & (target_is_ancestor | source_is_ancestor | reached)
-
-    inv_q = quat_conjugate_many(target.q)
-    inv_v = quat_rotate_many(inv_q, -target.v)
-    translations = quat_rotate_many(inv_q, source.v) + inv_v
-    rotations = quat_multiply_many(inv_q, source.q)
-    translations[source_is_ancestor] = inv_v[source_is_ancestor]
-    rotations[source_is_ancestor] = inv_q[source_is_ancestor]
-    translations[target_is_ancestor] = source.v[target_is_ancestor]
-    rotations[target_is_ancestor] = source.q[target_is_ancestor]
-    return times, translations, rotations, valid
