@@ -53,6 +53,7 @@ class Ros1HeaderListener:
         self._node = Node(network.anonymous_name("tfx_filter"), master_uri, store.notice)
         self._subscribed: set[str] = set()
         self._stopped = threading.Event()
+        self._closing = threading.Lock()  # no subscription begins once closing began
         self._discovery: threading.Thread | None = None
 
     def start(self) -> None:
@@ -67,7 +68,8 @@ class Ros1HeaderListener:
         self._discovery.start()
 
     def close(self) -> None:
-        self._stopped.set()
+        with self._closing:
+            self._stopped.set()
         if self._discovery is not None:
             self._discovery.join(timeout=DISCOVER_EVERY)
         self._node.close()
@@ -104,4 +106,6 @@ class Ros1HeaderListener:
         def receive(data: bytes, _callerid: str) -> None:
             store.heard(topic, msgtype, parse_ros1_header(data))
 
-        self._node.subscribe(topic, ANY_TYPE, receive, admit)
+        with self._closing:
+            if not self._stopped.is_set():
+                self._node.subscribe(topic, ANY_TYPE, receive, admit)
