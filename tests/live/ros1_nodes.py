@@ -2,6 +2,7 @@
 
 ros1_nodes.py dynamic NODE PARENT CHILD X [HZ]   TransformBroadcaster: translation (X, stamp mod 1000, 0), yaw 0.3
 ros1_nodes.py wrong_type NODE TOPIC             a std_msgs/String publisher on TOPIC (another md5sum)
+ros1_nodes.py scan NODE TOPIC FRAME [HZ]        a sensor_msgs/LaserScan publisher on TOPIC, stamped now, in FRAME
 ros1_nodes.py static_listener                   prints the first /tf_static message as JSON, with its header
 ros1_nodes.py write_bag PATH PARENT CHILD [S]   S (10) s of /tf at 20 Hz from t = 1000 s, x = t - 1000, real rosbag
 """
@@ -44,6 +45,23 @@ def wrong_type(node, topic):
     while not rospy.is_shutdown():
         publisher.publish(String("not a transform"))
         rospy.sleep(0.05)
+
+
+def scan(node, topic, frame, hz="10"):
+    import rospy
+    from sensor_msgs.msg import LaserScan
+
+    rospy.init_node(node.lstrip("/"), anonymous=False, disable_signals=True)
+    publisher = rospy.Publisher(topic, LaserScan, queue_size=10)
+    rate = rospy.Rate(float(hz))
+    print("ready", flush=True)
+    while not rospy.is_shutdown():
+        message = LaserScan(angle_min=-1.0, angle_max=1.0, angle_increment=0.5, range_max=10.0)
+        message.header.stamp = rospy.Time.now()
+        message.header.frame_id = frame
+        message.ranges = [1.0, 2.0, 3.0, 4.0, 5.0]
+        publisher.publish(message)
+        rate.sleep()
 
 
 def static_listener():

@@ -10,6 +10,8 @@ their own type definitions (tftools' are not used, so a mistake there cannot hid
         --gid: the Gid size of its ros_discovery_info announcement (0: no announcement, a plain DDS
         writer). --sim START: also publishes /clock from START seconds, and stamps with it; --loop:
         back to START every SECONDS, as a replay that loops.
+    ros2_nodes.py scan TOPIC FRAME [--hz 10]   a sensor_msgs/msg/LaserScan writer on TOPIC (rclcpp's SensorDataQoS:
+                                        best effort, keep last 5), stamped now, in FRAME
     ros2_nodes.py wrong_type TOPIC      a std_msgs/msg/String writer on TOPIC
     ros2_nodes.py volatile_static       a /tf_static writer that is volatile (tf2 listeners cannot hear it)
     ros2_nodes.py discovery_listener SIZE   prints the nodes of each ros_discovery_info sample its reader of
@@ -29,7 +31,7 @@ from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import DomainParticipant
 from cyclonedds.idl import IdlStruct
-from cyclonedds.idl.types import array, bounded_str, float64, int32, sequence, uint8, uint32
+from cyclonedds.idl.types import array, bounded_str, float32, float64, int32, sequence, uint8, uint32
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
@@ -84,6 +86,20 @@ class TFMessage_(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
 @dataclass
 class Clock_(IdlStruct, typename="rosgraph_msgs::msg::dds_::Clock_"):
     clock: Time_ = field(default_factory=Time_)
+
+
+@dataclass
+class LaserScan_(IdlStruct, typename="sensor_msgs::msg::dds_::LaserScan_"):
+    header: Header_ = field(default_factory=Header_)
+    angle_min: float32 = 0.0
+    angle_max: float32 = 0.0
+    angle_increment: float32 = 0.0
+    time_increment: float32 = 0.0
+    scan_time: float32 = 0.0
+    range_min: float32 = 0.0
+    range_max: float32 = 0.0
+    ranges: sequence[float32] = field(default_factory=list)
+    intensities: sequence[float32] = field(default_factory=list)
 
 
 @dataclass
@@ -159,6 +175,15 @@ def dynamic(dp, name, parent, child, gid="16", hz="50", sim=None, loop=None):
         tf.write(TFMessage_([message]))
         time.sleep(1 / float(hz))
     del keep
+
+
+def scan(dp, topic, frame, hz="10"):
+    writer = DataWriter(dp, Topic(dp, "rt/" + topic.strip("/"), LaserScan_), qos=qos(5, reliable=False))
+    print("ready", flush=True)
+    while True:
+        stamp = Time_(*divmod(time.time_ns(), 1_000_000_000))
+        writer.write(LaserScan_(Header_(stamp, frame), -1.0, 1.0, 0.5, range_max=10.0, ranges=[1.0, 2.0, 3.0]))
+        time.sleep(1 / float(hz))
 
 
 def wrong_type(dp, topic):
@@ -250,6 +275,7 @@ def main():
             positional.append(word)
     {
         "dynamic": dynamic,
+        "scan": scan,
         "wrong_type": wrong_type,
         "volatile_static": volatile_static,
         "static_listener": static_listener,

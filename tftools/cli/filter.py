@@ -9,6 +9,7 @@ from typing import Annotated
 import typer
 
 from tftools.analysis.filter import filter_report
+from tftools.cli import live
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
     BagOption,
@@ -18,7 +19,6 @@ from tftools.cli.common import (
     exit_with,
     frame_argument,
     open_recording,
-    require_bags,
     stdout,
     warn,
 )
@@ -56,6 +56,9 @@ def command(
     ] = None,
     fmt: Annotated[FilterFormat, typer.Option("--format", "-f", help="text (a table) or json.")] = FilterFormat.text,
     tf2: Tf2Option = None,
+    duration: live.ListenOption = 5.0,
+    ros1: live.RosOption = None,
+    use_sim_time: live.UseSimTimeOption = None,
 ) -> None:
     """Replay a tf2_ros MessageFilter on every stamped message of a recording.
 
@@ -66,23 +69,28 @@ def command(
     arrival, later (wait p50/p99/max) or never; the edge they waited for; the smallest timeout,
     queue and cache that keep 99.9% of them.
 
+    Without -b, listens --duration seconds to the live system: to tf, and to the topics (default:
+    every advertised topic whose messages start with a Header), each message's arrival time
+    and header; then reports as on a bag.
+
     Exit codes: 0 every message transformable (at once or after a wait); 1 some never were, or a
     given --wait/--queue drops some; 2 unusable input.
 
-    Examples: [cyan]tfx filter -b robot.bag --target odom[/], [cyan]tfx filter /scan -b run.mcap --queue 5 -f json[/]
+    Examples: [cyan]tfx filter -b robot.bag --target odom[/], [cyan]tfx filter /scan -b run.mcap --queue 5 -f json[/],
+    [cyan]tfx filter /scan --ros1 -d 10 --target odom[/] (live)
     """
     cache = positive_seconds(cache, "--cache", "10 (tf2's default)")
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
-    paths = require_bags(bags)
-    recording = open_recording(paths, None, tf2)
+    if bags:
+        recording, stamped = open_recording(bags, None, tf2), read_stamped([Path(p) for p in bags], topics)
+    else:
+        recording, stamped = live.capture_with_headers(ros1, use_sim_time, duration, topics, tf2)
     chosen = frame_argument(recording.buffer, target) if target is not None else None
-    stamped = read_stamped([Path(p) for p in paths], topics)
     if not stamped.streams:
         why = f": {'; '.join(stamped.problems)}" if stamped.problems else ""
-        raise UsageError(
-            f"no topic with a Header to check{why}", "name topics of stamped messages, e.g. tfx filter /scan -b BAG"
-        )
+        example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
+        raise UsageError(f"no topic with a Header to check{why}", f"name topics of stamped messages, e.g. {example}")
     for problem in stamped.problems:
         warn(problem)
     report = filter_report(
@@ -91,6 +99,6 @@ def command(
     if fmt is FilterFormat.json:
         render.write_json(report, stdout.file)
     else:
-        stdout.print(render.renderable(report, ", ".join(str(p) for p in paths)))
+        stdout.print(render.renderable(report, ", ".join(f.path for f in recording.contents.files)))
     lost = any(s.never or s.dropped_by_wait or s.dropped_by_queue for s in report.streams)
     exit_with(Exit.PROBLEMS if lost else Exit.OK)

@@ -16,6 +16,7 @@ from tftools.core.semantics import Semantics
 from tftools.core.time import Clock, SimClock, from_sec
 from tftools.render.escape import printable
 from tftools.sources import Recording
+from tftools.sources.headers import StampedRead
 from tftools.sources.live import LiveSource, open_live
 
 #: Seconds between "still waiting" notices.
@@ -72,12 +73,38 @@ def capture_recording(
     semantics: Semantics | None = None,
 ) -> Recording:
     """Listen ``duration`` seconds to the live system and return what was heard; an error if nothing."""
-    positive_seconds(duration, "--duration")
     from tftools.sources.live.capture import capture
 
+    source = _start_listening(ros1, use_sim_time, duration, topics)
+    return _transforms_heard(capture(source, duration, semantics=semantics), source, duration)
+
+
+def capture_with_headers(
+    ros1: bool | None = None,
+    use_sim_time: bool | None = None,
+    duration: float = 5.0,
+    sensor_topics: Sequence[str] | None = None,
+    semantics: Semantics | None = None,
+) -> tuple[Recording, StampedRead]:
+    """As ``capture_recording`` (tf on /tf and /tf_static), and the headers of the sensor topics
+    heard meanwhile (default: every topic whose messages start with a header)."""
+    from tftools.sources.live.sensor_headers import capture_stamped
+
+    source = _start_listening(ros1, use_sim_time, duration)
+    recording, stamped = capture_stamped(source, duration, sensor_topics, semantics=semantics)
+    return _transforms_heard(recording, source, duration), stamped
+
+
+def _start_listening(
+    ros1: bool | None, use_sim_time: bool | None, duration: float, topics: Sequence[str] | None = None
+) -> LiveSource:
+    positive_seconds(duration, "--duration")
     source = open_source(ros1, use_sim_time, topics)
     say(f"listening to {source.describe()} for {duration:g} s")
-    recording = capture(source, duration, semantics=semantics)
+    return source
+
+
+def _transforms_heard(recording: Recording, source: LiveSource, duration: float) -> Recording:
     if not recording.transform_count:
         heard = ", ".join(recording.contents.topics)
         raise UsageError(

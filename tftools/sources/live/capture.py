@@ -28,6 +28,7 @@ def capture(
     *,
     until: Callable[[], bool] | None = None,
     semantics: Semantics | None = None,
+    on_jump: Callable[[TimeJump], None] | None = None,
 ) -> Recording:
     """Listen ``duration`` wall seconds (as view_frames does) and return what was heard as a recording.
 
@@ -37,13 +38,20 @@ def capture(
     http://127.0.0.1:11311``, format ``ros1-live``); record times are receive times, and the
     recording spans from the start of listening to its end on the source's clock. When that clock
     jumps back (a replay that loops), what was heard so far is forgotten but for static transforms,
-    as a tf2 listener clears its buffer, and the recording spans from the jump.
+    as a tf2 listener clears its buffer, and the recording spans from the jump; ``on_jump`` is
+    told of each such jump (from the source's thread).
     """
     if source is None:
         source = open_live(topics=topics)
     heard = _Heard()
+
+    def forget(jump: TimeJump) -> None:
+        heard.forget_dynamic(jump)
+        if on_jump is not None:
+            on_jump(jump)
+
     with source:
-        source.start(watch_jumps(source, heard.keep, heard.forget_dynamic))
+        source.start(watch_jumps(source, heard.keep, forget))
         heard.since(source.clock.now())
         deadline = time.monotonic() + duration
         while time.monotonic() < deadline and not source.finished and not (until is not None and until()):

@@ -15,7 +15,7 @@ from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.messages import MessageType
 from tftools.sources.live.ros1.publisher import Publication, TcpRosServer
-from tftools.sources.live.ros1.subscriber import OnMessage, Subscription
+from tftools.sources.live.ros1.subscriber import Admit, OnMessage, Subscription
 from tftools.sources.live.ros1.xmlrpc import CALL_TIMEOUT, MasterClient, ReplyError, SlaveServer, uri_list
 
 Reply = list[Any]  # the ROS API's [code, status message, value]
@@ -55,9 +55,14 @@ class Node:
 
     # --- what the node does ------------------------------------------------------------------
 
-    def subscribe(self, topic: str, msg_type: MessageType, on_message: OnMessage) -> Subscription:
-        """Listen to ``topic`` from its publishers now and later (raises if the master is not there)."""
-        subscription = Subscription(self.name, topic, msg_type, on_message, self._on_notice, self.master.node_name)
+    def subscribe(
+        self, topic: str, msg_type: MessageType, on_message: OnMessage, admit: Admit | None = None
+    ) -> Subscription:
+        """Listen to ``topic`` from its publishers now and later (raises if the master is not there);
+        ``admit`` may decline a publisher from its connection header."""
+        subscription = Subscription(
+            self.name, topic, msg_type, on_message, self._on_notice, self.master.node_name, admit
+        )
         with self._lock:
             self._subscriptions[topic] = subscription
         subscription.update(self.master.register_subscriber(topic, msg_type.name, self.uri))

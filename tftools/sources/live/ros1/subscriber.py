@@ -6,7 +6,7 @@ import contextlib
 import socket
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 from tftools.sources.live.base import OnNotice, printable
 from tftools.sources.live.ros1 import tcpros
@@ -15,6 +15,10 @@ from tftools.sources.live.ros1.messages import MessageType
 
 #: Called with each message's bytes and its publisher's callerid, from the connection's thread.
 OnMessage = Callable[[bytes, str], None]
+
+#: Called with a publisher's connection header (its type, message_definition, callerid...) before
+#: its messages: False declines them, quietly (the connection ends, not retried).
+Admit = Callable[[Mapping[str, str]], bool]
 
 #: What losing or failing a connection can raise: each means "try again later".
 _CONNECTION_ERRORS = (OSError, EOFError, tcpros.ProtocolError)
@@ -38,6 +42,10 @@ class _RefusedError(Exception):
     """The publisher will not serve us (another message type, not TCPROS): do not retry."""
 
 
+class _DeclinedError(Exception):
+    """Its messages are not wanted (the subscriber's ``admit`` said so): do not retry, say nothing."""
+
+
 class Subscription:
     """``topic`` from every publisher the master names, each over its own connection."""
 
@@ -49,8 +57,10 @@ class Subscription:
         on_message: OnMessage,
         on_notice: OnNotice,
         name_of: Callable[[str], str] = str,
+        admit: Admit | None = None,
     ) -> None:
         self.caller_id = caller_id
+        self.admit = admit
         self.name_of = name_of  # a publisher's node name from its URI, for messages
         self.topic = topic
         self.type = msg_type
@@ -155,6 +165,8 @@ class _PublisherLink(threading.Thread):
             try:
                 self._serve()
                 delay = RETRY_FIRST
+            except _DeclinedError:
+                return
             except _RefusedError as refusal:
                 self.sub.notice(f"{printable(self.callerid or self.sub.name_of(self.uri))} {refusal}")
                 return
@@ -213,9 +225,11 @@ class _PublisherLink(threading.Thread):
         for field in ("callerid", "md5sum"):
             if not header.get(field):
                 raise _RefusedError(f"sent a connection header without {field}, as no ROS publisher does: ignored")
-        if header["md5sum"] not in ("*", t.md5sum):
+        if "*" not in (header["md5sum"], t.md5sum) and header["md5sum"] != t.md5sum:
             kind, md5sum = printable(header.get("type", "?")), printable(header["md5sum"], 64)
             raise _RefusedError(f"publishes {self.sub.topic} as {kind} (md5sum {md5sum}), not {t.name}: ignored")
+        if self.sub.admit is not None and not self.sub.admit(header):
+            raise _DeclinedError
         self.connected = True
         while not self._stopped.is_set():
             self.sub.deliver(tcpros.read_message(sock), self.callerid)

@@ -247,6 +247,16 @@ class MasterClient:
             pass
         return uri
 
+    def published_topics(self) -> list[tuple[str, str]]:
+        """Each topic some node publishes now, with its type (``getPublishedTopics``); a reply that
+        is not a list of (topic, type) pairs is a ``MasterReplyError``."""
+        value = self._call("getPublishedTopics", "")
+        if not isinstance(value, list) or not all(
+            isinstance(pair, list) and len(pair) == 2 and all(isinstance(name, str) for name in pair) for pair in value
+        ):
+            raise MasterReplyError(self.uri, "getPublishedTopics", "its answer is not a list of topics and types")
+        return [(topic, msg_type) for topic, msg_type in value]
+
     def get_param(self, key: str) -> Any:
         """The parameter's value, or None where it is not set."""
         try:

@@ -89,6 +89,11 @@ TF_STATIC_BROADCASTER_QOS = QosProfile(depth=1, transient_local=True)
 # reliable writers too, e.g. `ros2 bag play --clock`).
 CLOCK_QOS = QosProfile(depth=1, reliable=False)
 
+# Sensor topics, read as a diagnostic tool reads them: best effort and volatile, so every writer
+# matches (reliable or not, transient local or not); keep last 100, as rclcpp's default depth
+# does not lose a burst (rclcpp::SensorDataQoS keeps 5).
+SENSOR_QOS = QosProfile(depth=100, reliable=False)
+
 # rmw_cyclonedds rmw_node.cpp: ros_discovery_info is written reliable, transient local, keep last
 # 1, and read keep all.
 DISCOVERY_WRITER_QOS = QosProfile(depth=1, transient_local=True)

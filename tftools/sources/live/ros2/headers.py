@@ -1,0 +1,123 @@
+"""Sensor headers from a ROS 2 system over DDS: a participant of tfx's own reads each sensor topic
+as its writers advertise it (DDS discovery: topic ``rt/...`` and type name), with a reader whose
+type matches theirs (``sensor_types``), and decodes each sample's header from its CDR bytes."""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass
+from typing import Any
+
+from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, DcpsEndpoint
+from cyclonedds.core import DDSException, GuardCondition, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
+from cyclonedds.util import duration
+
+from tftools.sources.headers import parse_cdr_header
+from tftools.sources.live.ros2 import conventions as ros2
+from tftools.sources.live.ros2.dds import Participant, take_raw
+from tftools.sources.live.ros2.errors import DdsError
+from tftools.sources.live.ros2.sensor_types import sensor_type
+from tftools.sources.live.sensor_headers import MAX_TOPICS, HeaderStore
+
+_ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any
+
+
+@dataclass(frozen=True)
+class _SensorReader:
+    topic: str  # the ROS name, e.g. "/scan"
+    msgtype: str  # rosidl's, e.g. "sensor_msgs/msg/LaserScan"
+    reader: Any
+
+
+class Ros2HeaderListener:
+    """The headers of ``store``'s topics on DDS domain ``domain_id``: those it names (of any type a
+    header can be read from), or every topic whose type ROS 2 defines with a header first, up to
+    ``MAX_TOPICS`` (topic, type) pairs, each read as ``conventions.SENSOR_QOS`` says."""
+
+    def __init__(self, domain_id: int, store: HeaderStore) -> None:
+        self._store = store
+        self._participant = Participant(domain_id)
+        self._readers: dict[tuple[str, str], _SensorReader | None] = {}  # None: not read (no header)
+        self._wake = GuardCondition(self._participant.dds)
+        self._closed = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def start(self) -> None:
+        """Watch for sensor topics' writers and read them, in the background."""
+        dds = self._participant.dds
+        try:
+            publications = BuiltinDataReader(dds, BuiltinTopicDcpsPublication)
+            waitset = WaitSet(dds)
+            conditions = [ReadCondition(publications, _ANY_SAMPLE), self._wake]
+            for condition in conditions:
+                waitset.attach(condition)
+        except DDSException as error:
+            raise DdsError(f"listen on DDS domain {self._participant.domain_id}", error) from None
+        self._thread = threading.Thread(
+            target=self._run, args=(publications, waitset, conditions), name="tfx-dds-sensors", daemon=True
+        )
+        self._thread.start()
+
+    def close(self) -> None:
+        if self._closed.is_set():
+            return
+        self._closed.set()
+        self._wake.set(True)
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+        self._participant.close()
+
+    def _run(self, publications: Any, waitset: WaitSet, conditions: list[Any]) -> None:
+        """One thread: new writers give new readers (whose data wakes it too); each sample taken is
+        one message heard, now."""
+        while not self._closed.is_set():
+            waitset.wait(duration(seconds=1))
+            if self._closed.is_set():
+                return
+            try:
+                for reader in self._discover(publications):
+                    condition = ReadCondition(reader, _ANY_SAMPLE)
+                    conditions.append(condition)  # kept: deleting the Python object would detach it
+                    waitset.attach(condition)
+                self._take()
+            except Exception as error:  # a peer's or tfx's fault: said once, listening goes on
+                self._store.notice(f"dropped DDS samples of sensor topics: {type(error).__name__}: {error}")
+
+    def _discover(self, publications: Any) -> list[Any]:
+        """Readers for the sensor topics' writers discovered since the last call."""
+        created = []
+        for endpoint in publications.take(256):
+            if not isinstance(endpoint, DcpsEndpoint) or not endpoint.topic_name.startswith(f"{ros2.TOPIC_PREFIX}/"):
+                continue
+            topic = "/" + endpoint.topic_name.removeprefix(f"{ros2.TOPIC_PREFIX}/")
+            key = (topic, endpoint.type_name)
+            if key in self._readers or not self._store.wants(topic):
+                continue
+            if len(self._readers) >= MAX_TOPICS:
+                self._store.notice(f"more than {MAX_TOPICS} topics are advertised: tfx listens to the first ones")
+                break
+            sensor = self._readers[key] = self._sensor_reader(topic, endpoint)
+            if sensor is not None:
+                created.append(sensor.reader)
+        return created
+
+    def _sensor_reader(self, topic: str, endpoint: DcpsEndpoint) -> _SensorReader | None:
+        """A reader of ``topic`` matching ``endpoint``'s type, or None (no header, or no reader possible)."""
+        msgtype = ros2.ros_type(endpoint.type_name)
+        try:
+            data_type = sensor_type(endpoint.type_name, unknown_too=self._store.topics is not None)
+            if data_type is None:
+                self._store.without_header(topic, msgtype)
+                return None
+            reader = self._participant.reader(endpoint.topic_name, data_type, ros2.SENSOR_QOS)
+        except Exception as error:  # DDSException, or a type the IDL cannot express: that topic only
+            self._store.notice(f"cannot read {topic} ({msgtype}): {type(error).__name__}: {error}")
+            return None
+        return _SensorReader(topic, msgtype, reader)
+
+    def _take(self) -> None:
+        for sensor in self._readers.values():
+            if sensor is None:
+                continue
+            for data, _info in take_raw(sensor.reader):
+                self._store.heard(sensor.topic, sensor.msgtype, parse_cdr_header(data))

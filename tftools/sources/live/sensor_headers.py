@@ -1,0 +1,141 @@
+"""Sensor data heard live beside tf: each message's header and arrival time, what ``tfx filter`` replays.
+
+While a capture listens to tf, a listener of the same system subscribes the sensor topics (those
+named, or every advertised one whose type starts with a ``std_msgs/Header``, but /tf, /tf_static
+and /clock) and keeps, per message, when it arrived on the capture's clock (the clock of the
+transforms' record times) and its header, decoded by the parsers bags use
+(``tftools.sources.headers``): the same ``StampedMessages`` as a bag gives.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Sequence
+from typing import Protocol
+
+from tftools.core.semantics import Semantics
+from tftools.core.time import Clock
+from tftools.sources.headers import NOT_SENSOR_DATA, Header, HeaderCollector, StampedRead
+from tftools.sources.live.base import LiveSource, NoticeOnce, OnNotice
+from tftools.sources.live.capture import capture
+from tftools.sources.live.time_jump import TimeJump
+from tftools.sources.recording import Recording
+
+#: Headers kept per topic, at most (a 1 kHz IMU for 200 s): past it, messages are counted, not kept.
+MAX_HEADERS_PER_TOPIC = 200_000
+
+#: Sensor topics listened to, at most: each is a subscription (ROS 1: a thread per publisher).
+MAX_TOPICS = 256
+
+
+class HeaderStore:
+    """The headers heard per topic, from any listening thread, each with its arrival time on ``clock``.
+
+    ``topics``: those to keep (None: every topic but /tf, /tf_static and /clock)."""
+
+    def __init__(
+        self,
+        clock: Clock,
+        topics: Sequence[str] | None = None,
+        on_notice: OnNotice | None = None,
+        limit: int = MAX_HEADERS_PER_TOPIC,
+    ) -> None:
+        self.clock = clock
+        self.topics = tuple(topics) if topics is not None else None
+        self.notice = NoticeOnce(on_notice)
+        self._limit = limit
+        self._lock = threading.Lock()
+        self._collected: dict[str, HeaderCollector] = {}
+        self._without_header: dict[str, str] = {}
+
+    def wants(self, topic: str) -> bool:
+        """Whether ``topic`` is one to listen to."""
+        return topic in self.topics if self.topics is not None else topic not in NOT_SENSOR_DATA
+
+    def heard(self, topic: str, msgtype: str, header: Header | None) -> None:
+        """A message of ``topic`` arrived now; ``header`` None: one whose bytes hold no header."""
+        arrived = self.clock.now()
+        with self._lock:
+            collector = self._collected.get(topic)
+            if collector is None:
+                collector = self._collected[topic] = HeaderCollector(msgtype, self._limit)
+            collector.add(arrived, header)
+            if collector.left_out == 1:
+                self.notice(f"{topic}: {self._limit} messages heard, tfx's limit per topic: later ones are not checked")
+
+    def without_header(self, topic: str, msgtype: str) -> None:
+        """``topic`` turned out to be of ``msgtype``, whose messages do not start with a header."""
+        with self._lock:
+            self._without_header[topic] = msgtype
+
+    def forget(self, _jump: TimeJump | None = None) -> None:
+        """Forget what was heard (the clock jumped back: the capture forgets its transforms too)."""
+        with self._lock:
+            self._collected.clear()
+
+    def read(self) -> StampedRead:
+        """Each topic's stamped messages so far, and what could not be kept."""
+        with self._lock:
+            streams = [c.done(topic) for topic, c in sorted(self._collected.items())]
+            problems = [line for topic, c in sorted(self._collected.items()) for line in c.problems(topic)]
+            unheard = [t for t in self.topics or () if t not in self._collected]
+            problems += [
+                f"{t}: {self._without_header[t]} messages have no header"
+                if t in self._without_header
+                else f"{t}: no message heard (is it published?)"
+                for t in unheard
+            ]
+        return StampedRead(streams, problems)
+
+
+class HeaderListener(Protocol):
+    """Subscribes the sensor topics of one live system into a ``HeaderStore``, until ``close``."""
+
+    def start(self) -> None: ...
+
+    def close(self) -> None: ...
+
+
+def header_listener(source: LiveSource, store: HeaderStore) -> HeaderListener:
+    """A listener of the system ``source`` listens to (its ROS 1 master or its ROS 2 domain)."""
+    from tftools.sources.live.ros1 import Ros1Source
+
+    if isinstance(source, Ros1Source):
+        from tftools.sources.live.ros1.headers import Ros1HeaderListener
+
+        return Ros1HeaderListener(source.master_uri, store)
+    from tftools.sources.live.ros2.headers import Ros2HeaderListener
+    from tftools.sources.live.ros2.source import Ros2Source
+
+    if not isinstance(source, Ros2Source):
+        raise TypeError(f"no sensor headers from a {type(source).__name__}")
+    return Ros2HeaderListener(source.domain_id, store)
+
+
+def capture_stamped(
+    source: LiveSource,
+    duration: float = 5.0,
+    topics: Sequence[str] | None = None,
+    *,
+    semantics: Semantics | None = None,
+    limit: int = MAX_HEADERS_PER_TOPIC,
+) -> tuple[Recording, StampedRead]:
+    """Listen ``duration`` wall seconds to ``source`` (not yet started; closed on return) as
+    ``capture`` does, and meanwhile to the sensor ``topics`` of its system (default: every one
+    whose messages start with a header): the recording, and each topic's headers (at most ``limit``
+    a topic) with their arrival times on the recording's record clock, for ``filter_report``."""
+    store = HeaderStore(source.clock, topics, source.notice, limit)
+    try:
+        listener = header_listener(source, store)
+    except BaseException:
+        source.close()
+        raise
+    try:
+        listener.start()
+        recording = capture(source, duration, semantics=semantics, on_jump=store.forget)
+    except BaseException:
+        source.close()  # capture closes it, but not when the listener failed first
+        raise
+    finally:
+        listener.close()
+    return recording, store.read()
