@@ -13,9 +13,10 @@ _LENGTH = struct.Struct("<I")
 #: is a wrong port, garbage, or a peer trying to exhaust memory: the connection is dropped.
 MAX_MESSAGE = 64 << 20
 
-#: The largest connection header accepted: tf2_msgs/TFMessage's (with its full message definition)
-#: is about 1.2 KB; a header names a type and a node, it does not carry data.
-MAX_HEADER = 16 << 10
+#: The largest connection header accepted. It carries the publisher's full message definition, with
+#: comments: 2 KB for tf2_msgs/TFMessage, 8 KB for sensor_msgs/CameraInfo, more for a custom type
+#: nesting many; it never carries data.
+MAX_HEADER = 1 << 20
 
 #: Seconds a peer has to send a whole connection header, from the first byte asked for.
 HEADER_TIMEOUT = 3.0
