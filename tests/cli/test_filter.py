@@ -149,6 +149,9 @@ def test_wtf_says_which_frame_sensor_data_was_checked_in(tfx, bags: dict[str, Pa
     waits = {f["message"].split(":")[0] for f in laser["findings"] if f["code"] == "sensor_wait"}
     assert "/imu" in waits  # in the laser's frame the IMU waits for base_link -> laser, 30 ms late
 
+    (scan,) = json.loads(tfx("wtf", bags["db3"], "--sensor", "/scan", "-f", "json").stdout)["bags"]
+    assert scan["sensor_data"]["topics"] == ["/scan"] and "sensor_frame" not in {f["code"] for f in scan["findings"]}
+
     (elsewhere,) = json.loads(tfx("wtf", bags["ros1"], "--target", "nowhere", "-f", "json").stdout)["bags"]
     assert elsewhere["sensor_data"]["target"] == "odom"  # a fleet's robots may lack the frame: the usual one
     assert "'nowhere', asked for, is not a frame of this recording" in elsewhere["sensor_data"]["target_reason"]

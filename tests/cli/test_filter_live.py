@@ -78,3 +78,18 @@ def test_ros2_live_filter_passes_the_scans_and_loses_a_misspelt_frame(domain: Ro
     assert result.returncode == 1, result.stderr
     _assert_scans_go_through_and_the_misspelt_never(json.loads(result.stdout))
     assert "listening to ROS2 DDS domain" in result.stderr
+
+
+def test_ros1_live_wtf_checks_the_sensor_topics_it_is_given(ros: Ros) -> None:
+    ros.spawn(STATIC_PUBLISHER, "0.2", "0", "0.1", "0", "0", "0", "base_link", "laser")
+    ros.node("dynamic", "/odometry", "odom", "base_link", "0", "20")
+    ros.node("scan", "/misspelt_driver", "/scan_misspelt", "lasr", "10")
+    wait_until(lambda: ros.master.publishers("/tf") and ros.master.publishers("/scan_misspelt"), 20, "the publishers")
+    plain = json.loads(ros.run_tfx("wtf", "--ros1", "-d", "2", "-f", "json").stdout)["bags"][0]
+    assert plain["sensor_data"] is None  # live, no sensor data unless named: it could load the network
+    result = ros.run_tfx("wtf", "--ros1", "-d", "3", "--sensor", "/scan_misspelt", "-f", "json")
+    assert result.returncode == 1, result.stderr
+    (report,) = json.loads(result.stdout)["bags"]
+    assert report["sensor_data"]["topics"] == ["/scan_misspelt"] and report["sensor_data"]["target"] == "odom"
+    (finding,) = [f for f in report["findings"] if f["code"] == "sensor_frame"]
+    assert "'lasr' (did you mean 'laser'?)" in finding["message"]

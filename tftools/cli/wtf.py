@@ -13,8 +13,8 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from tftools.analysis.wtf import CHECKS, Thresholds, check
-from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, report
+from tftools.analysis.wtf import CHECKS, Thresholds
+from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_recording
 from tftools.cli import live
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
@@ -90,6 +90,15 @@ TargetOption = Annotated[
         show_default=False,
     ),
 ]
+SensorOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--sensor",
+        help="Check this topic's data against tf (repeat for more). Default: every topic of a bag whose messages "
+        "start with a Header; live, none (listening to every camera would load the network).",
+        show_default=False,
+    ),
+]
 ClockOption = Annotated[
     float, typer.Option("--clock", help="Stamps this many seconds behind their arrival (median) are on another clock.")
 ]
@@ -111,6 +120,7 @@ def command(
     topics: TopicOption = None,
     tf2: Tf2Option = None,
     target: TargetOption = None,
+    sensors: SensorOption = None,
     duration: live.ListenOption = 5.0,
     ros1: live.RosOption = None,
     use_sim_time: live.UseSimTimeOption = None,
@@ -124,8 +134,9 @@ def command(
     future, NaN or bad rotations, empty or self frame ids, stamps going back, no tf) break lookups;
     warnings (several publishers, leading '/', fixed transforms on /tf, gaps, late arrival) are
     tolerated by tf2 but off; notes are for information. --list-checks lists every check. Sensor data
-    in the bag (messages with a header) is replayed through a tf2 MessageFilter into --target: frames
-    not in the tree, streams that wait for tf, and messages lost for good are reported too.
+    (a bag's messages with a header, or the --sensor topics) is replayed through a tf2 MessageFilter
+    into --target: frames not in the tree, streams that wait for tf, and messages lost for good are
+    reported too.
 
     Exit codes: 0 no errors (warnings allowed, unless --strict); 1 errors found, or some recordings
     could not be read (each reported as an error of its own); 2 no recording could be read, or bad
@@ -141,9 +152,10 @@ def command(
     ignored = _ignored(ignore or [])
     groups: list[list[Path]] = [[p] for p in paths or []] + ([list(bags)] if bags else [])
     if groups:
-        reports = _check_groups(groups, topics, thresholds, ignored, jobs or os.cpu_count() or 1, tf2, target)
+        jobs = jobs or os.cpu_count() or 1
+        reports = _check_groups(groups, topics, thresholds, ignored, jobs, tf2, target, sensors)
     else:
-        reports = [_check_live(ros1, use_sim_time, duration, topics, thresholds, ignored, tf2)]
+        reports = [_check_live(ros1, use_sim_time, duration, topics, thresholds, ignored, tf2, target, sensors)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:
         render.write_json(reports, sys.stdout, strict, thresholds, code)
@@ -191,12 +203,13 @@ def _check_groups(
     jobs: int,
     semantics: Semantics | None,
     target: str | None,
+    sensors: Sequence[str] | None,
 ) -> list[BagReport]:
     if len(groups) == 1:
         size = sum(_size(p) for p in groups[0])
         with progress_bar(enabled=size > 20_000_000) as progress:
-            return [check_bags(groups[0], topics, thresholds, ignore, progress, semantics, target)]
-    return check_fleet(groups, topics, thresholds, ignore, jobs, semantics, target)
+            return [check_bags(groups[0], topics, thresholds, ignore, progress, semantics, target, sensors)]
+    return check_fleet(groups, topics, thresholds, ignore, jobs, semantics, target, sensors)
 
 
 def _size(path: Path) -> int:
@@ -214,17 +227,27 @@ def _check_live(
     thresholds: Thresholds,
     ignore: Sequence[str],
     semantics: Semantics | None,
+    target: str | None,
+    sensors: Sequence[str] | None,
 ) -> BagReport:
-    """Listen ``duration`` seconds and check what was heard (nothing heard is the ``no_tf`` error)."""
+    """Listen ``duration`` seconds and check what was heard (nothing heard is the ``no_tf`` error),
+    with the data of the ``sensors`` topics (none unless named)."""
     positive_seconds(duration, "--duration")
     from tftools.sources.live.capture import capture
+    from tftools.sources.live.sensor_headers import capture_stamped
 
     source = live.open_source(ros1, use_sim_time, topics)
     live.say(f"listening to {source.describe()} for {duration:g} s")
-    recording = capture(source, duration, semantics=semantics)
+    if not sensors:
+        recording, streams = capture(source, duration, semantics=semantics), []
+    else:
+        recording, stamped = capture_stamped(source, duration, sensors, semantics=semantics)
+        streams = stamped.streams
+        for problem in stamped.problems:
+            warn(problem)
     for problem in recording.problems:
         warn(problem)
-    return report(recording, check(recording, thresholds, ignore))
+    return check_recording(recording, streams, thresholds, ignore, target)
 
 
 def _list_checks() -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Collection, Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -73,9 +74,11 @@ def check_bags(
     progress: ProgressCallback | None = None,
     semantics: Semantics | None = None,
     target: str | None = None,
+    sensor_topics: Sequence[str] | None = None,
 ) -> BagReport:
-    """Read ``paths`` as one recording and check it, its sensor data against tf in ``target``
-    (``choose_target``); a bag that cannot be read is reported, not raised."""
+    """Read ``paths`` as one recording and check it, its sensor data (``sensor_topics``, default:
+    every topic whose messages start with a header) against tf in ``target`` (``choose_target``);
+    a bag that cannot be read is reported, not raised."""
     names = tuple(str(p) for p in paths)
     try:
         recording = read_recording(paths, topics, progress, allow_empty=True, semantics=semantics)
@@ -87,7 +90,17 @@ def check_bags(
             f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
-    streams = sensor_data(paths)
+    return check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target)
+
+
+def check_recording(
+    recording: Recording,
+    streams: Sequence[StampedMessages] = (),
+    thresholds: Thresholds | None = None,
+    ignore: Collection[str] = (),
+    target: str | None = None,
+) -> BagReport:
+    """Check a recording read (or heard) and its sensor data ``streams`` against tf in ``target``."""
     checked = report(recording, check(recording, thresholds, ignore, streams, target))
     if any(tied_to_tf(s) for s in streams):
         checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
@@ -95,11 +108,11 @@ def check_bags(
     return checked
 
 
-def sensor_data(paths: Sequence[str | os.PathLike[str]]) -> list[StampedMessages]:
-    """The recording's messages with a header, for the checks of data against tf; none where they
-    cannot be read (the transforms were: the other checks still run)."""
+def sensor_data(paths: Sequence[str | os.PathLike[str]], topics: Sequence[str] | None = None) -> list[StampedMessages]:
+    """The recording's messages with a header (on ``topics``, default all), for the checks of data
+    against tf; none where they cannot be read (the transforms were: the other checks still run)."""
     try:
-        return read_stamped(paths).streams
+        return read_stamped(paths, topics).streams
     except TfToolsError:
         return []
 
@@ -117,13 +130,20 @@ def check_fleet(
     jobs: int = 1,
     semantics: Semantics | None = None,
     target: str | None = None,
+    sensor_topics: Sequence[str] | None = None,
 ) -> list[BagReport]:
     """Each group of paths checked as its own recording, ``jobs`` at a time; reports in the given order."""
+    one = functools.partial(
+        check_bags,
+        topics=topics,
+        thresholds=thresholds,
+        ignore=tuple(ignore),
+        semantics=semantics,
+        target=target,
+        sensor_topics=sensor_topics,
+    )
     if jobs <= 1 or len(groups) <= 1:
-        return [check_bags(g, topics, thresholds, ignore, None, semantics, target) for g in groups]
+        return [one(g) for g in groups]
     with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
-        futures = [
-            pool.submit(check_bags, [str(p) for p in g], topics, thresholds, tuple(ignore), None, semantics, target)
-            for g in groups
-        ]
+        futures = [pool.submit(one, [str(p) for p in g]) for g in groups]
         return [f.result() for f in futures]
