@@ -11,7 +11,8 @@ from tests.live.conftest import STATIC_PUBLISHER, Master, Ros, read_line, wait_u
 from tftools.core.batch import TransformBatch
 from tftools.core.time import WallClock
 from tftools.core.transform import Transform
-from tftools.sources.live import LiveError, LiveSource, open_live, open_static_broadcaster
+from tftools.sinks import open_static_broadcaster
+from tftools.sources.live import LiveError, LiveSource, open_live
 from tftools.sources.live.capture import capture, listen
 from tftools.sources.live.ros1 import Node, Ros1Source
 from tftools.sources.live.ros1.messages import TF_MESSAGE, encode_tf_message, message_type

@@ -189,8 +189,8 @@ def test_the_library_never_replaces_an_input_even_with_force(tmp_path: Path, whe
     import shutil
 
     from tftools.core.transform import Transform
+    from tftools.sinks.static_bag import add_static_transforms
     from tftools.sources.errors import BagError
-    from tftools.sources.live.static_bag import add_static_transforms
 
     bag = Path(
         shutil.copytree(Path(__file__).resolve().parents[2] / "sample_bags" / "robot_db3", tmp_path / "in" / "bag")

@@ -163,7 +163,7 @@ def test_publishers_tf2_would_not_hear_are_named(domain: Ros2Domain) -> None:
 
 
 def test_the_static_publisher_is_announced_in_the_systems_gid_size(domain: Ros2Domain, monkeypatch) -> None:
-    from tftools.sources.live import open_static_broadcaster
+    from tftools.sinks import open_static_broadcaster
 
     monkeypatch.delenv("ROS_DISTRO", raising=False)
     humble_graph = domain.node("discovery_listener", "24")

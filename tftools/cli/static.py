@@ -16,8 +16,8 @@ from tftools.cli.common import UsageError, stdout, warn
 from tftools.cli.outputs import check_output, check_replaceable
 from tftools.core.transform import Transform
 from tftools.render.escape import printable
-from tftools.sources.live import open_static_broadcaster
-from tftools.sources.live.static_bag import STATIC_TOPIC, add_static_transforms
+from tftools.sinks import open_static_broadcaster
+from tftools.sinks.static_bag import STATIC_TOPIC, add_static_transforms
 from tftools.sources.live.static_file import read_static_transforms
 
 CONTEXT = {"ignore_unknown_options": True}  # so that negative numbers are arguments, not options

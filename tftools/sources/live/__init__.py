@@ -6,7 +6,7 @@ import os
 from collections.abc import Sequence
 from typing import Literal
 
-from tftools.sources.live.base import LiveSource, OnBatch, OnNotice, StaticBroadcaster
+from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
 from tftools.sources.live.errors import (
     LiveError,
     MasterRefusedError,
@@ -63,22 +63,6 @@ def open_live(
     return Ros1Source(master_uri, topics, use_sim_time, on_notice, name)
 
 
-def open_static_broadcaster(
-    ros: str | None = None, *, master_uri: str | None = None, on_notice: OnNotice | None = None
-) -> StaticBroadcaster:
-    """A static transform publisher on the system ``choose_ros`` picks (ROS1: a node registered
-    with the master at ``master_uri`` or ``ROS_MASTER_URI``, latched ``/tf_static``; ROS2: a DDS
-    writer on ``rt/tf_static``, transient local, keep last 1)."""
-    chosen = "ros1" if master_uri else choose_ros(ros)
-    if chosen == "ros2":
-        from tftools.sources.live import ros2
-
-        return ros2.open_static_broadcaster(on_notice)
-    from tftools.sources.live.ros1.broadcaster import Ros1StaticBroadcaster
-
-    return Ros1StaticBroadcaster(master_uri, on_notice)
-
-
 __all__ = [
     "LiveError",
     "LiveSource",
@@ -89,8 +73,6 @@ __all__ = [
     "OnNotice",
     "Ros",
     "Ros2NotAvailableError",
-    "StaticBroadcaster",
     "choose_ros",
     "open_live",
-    "open_static_broadcaster",
 ]

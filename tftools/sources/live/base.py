@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from types import TracebackType
 from typing import Protocol, TypeVar, runtime_checkable
 
 from tftools.core.batch import TransformBatch
 from tftools.core.time import Clock
-from tftools.core.transform import Transform
 
 #: Called with each batch of transforms received, from the source's delivery thread (one thread,
 #: so calls never overlap); rows are static where they came on ``/tf_static``, with the publisher
@@ -90,31 +89,6 @@ class LiveSource(Protocol):
 
 
 _Self = TypeVar("_Self", bound="ContextManaged")
-
-
-@runtime_checkable
-class StaticBroadcaster(Protocol):
-    """Publishes static transforms as the system's static_transform_publisher does (latched /
-    transient local: subscribers that come later get them too), until ``close``."""
-
-    @property
-    def finished(self) -> bool:
-        """True once the system asked it to stop."""
-        ...
-
-    def send(self, transforms: Sequence[Transform]) -> None:
-        """Publish ``transforms`` with those sent before (same child frame: replaced), in one message."""
-        ...
-
-    def describe(self) -> str: ...
-
-    def close(self) -> None: ...
-
-    def __enter__(self) -> StaticBroadcaster: ...
-
-    def __exit__(
-        self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
-    ) -> None: ...
 
 
 class ContextManaged:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from tftools.sources.live.base import LiveSource, OnNotice, StaticBroadcaster
+from tftools.sources.live.base import LiveSource, OnNotice
 from tftools.sources.live.ros2.errors import CycloneDdsMissingError
 
 
@@ -30,12 +30,4 @@ def open_source(
     return Ros2Source(topics, use_sim_time, on_notice, domain_id)
 
 
-def open_static_broadcaster(on_notice: OnNotice | None = None, domain_id: int | None = None) -> StaticBroadcaster:
-    """A ``Ros2StaticBroadcaster`` on ``domain_id`` (``ROS_DOMAIN_ID``)."""
-    require_cyclonedds()
-    from tftools.sources.live.ros2.broadcaster import Ros2StaticBroadcaster
-
-    return Ros2StaticBroadcaster(on_notice, domain_id)
-
-
-__all__ = ["CycloneDdsMissingError", "open_source", "open_static_broadcaster", "require_cyclonedds"]
+__all__ = ["CycloneDdsMissingError", "open_source", "require_cyclonedds"]
