@@ -32,8 +32,8 @@ _U16, _U32 = struct.Struct(">H"), struct.Struct(">I")
 
 @dataclass
 class Salvaged:
-    """The wanted topics' messages found, in (record time, id) order; what every topic's add up to;
-    how many wanted ones were lost with their overflow pages."""
+    """The wanted topics' messages found, in (record time, id) order; the count and time span of
+    every topic's; how many wanted ones lost their overflow pages."""
 
     rows: list[Row] = field(default_factory=list)
     count: int = 0
