@@ -167,3 +167,33 @@ def _local(size: int, usable: int) -> int:
         return size
     local = min_local + (size - min_local) % (usable - 4)
     return local if local <= max_local else min_local
+
+
+def db3_shared_overflow(records: int, chain: int) -> bytes:
+    """A database image of 512-byte pages whose ``records`` /tf message records (topic id 1) all
+    claim the one overflow chain of ``chain`` pages: read naively, ``records * chain`` pages."""
+    page, min_local = 512, (512 - 12) * 32 // 255 - 23
+    size = min_local + (page - 4) * chain  # the cell keeps ``min_local`` bytes, the chain the rest
+    header = bytes([9, 0, 1, 1]) + _varint5(12 + 2 * (size - 11))  # id as rowid, topic id, time, blob
+    leaf_pages = -(-records // 9)
+    first_overflow = 2 + leaf_pages
+    cells = [
+        _varint5(size) + _varint5(i + 1) + (header + bytes([1, i % 100]) + bytes(min_local))[:min_local]
+        + struct.pack(">I", first_overflow)
+        for i in range(records)
+    ]  # fmt: skip
+    image = bytearray(page * (1 + leaf_pages + chain))
+    image[:16] = b"SQLite format 3\x00"
+    struct.pack_into(">HBBBBBB", image, 16, page, 1, 1, 0, 64, 32, 32)
+    for number in range(2, 2 + leaf_pages):
+        base, mine = (number - 1) * page, cells[(number - 2) * 9 : (number - 1) * 9]
+        image[base] = 0x0D
+        struct.pack_into(">H", image, base + 3, len(mine))
+        end = base + page
+        for k, cell in enumerate(mine):
+            end -= len(cell)
+            image[end : end + len(cell)] = cell
+            struct.pack_into(">H", image, base + 8 + 2 * k, end - base)
+    for k in range(chain):  # each overflow page links to the next, the last to none
+        struct.pack_into(">I", image, (first_overflow + k - 1) * page, first_overflow + k + 1 if k + 1 < chain else 0)
+    return bytes(image)

@@ -16,6 +16,7 @@ import pytest
 from tests.sources import hostile
 from tftools.core.errors import TfToolsError
 from tftools.sources.bag import rosbag2, unpack
+from tftools.sources.bag.db3_salvage import salvage
 from tftools.sources.bag.ranges import prefetch
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import CorruptBagError
@@ -185,17 +186,24 @@ def test_db3_overflow_chain_looping_on_itself(tmp_path: Path) -> None:
     assert "refused:" in done.stdout and "corrupt" in done.stdout
 
 
-@pytest.mark.parametrize("declared", [900_000_000, 3_900_000_000])
-def test_db3_page_reader_refuses_overflow_past_the_file(tmp_path: Path, declared: int) -> None:
-    from tftools.sources.bag.db3_btree import UnhandledFileError, read_messages
+def test_db3_salvage_reads_no_more_overflow_pages_than_the_file_holds() -> None:
+    """200 records claiming one 20-page overflow chain in a 44-page file: read until 44 overflow
+    pages have been read, not 4,000; the others lost."""
+    (one,) = salvage(hostile.db3_shared_overflow(1, 20), {1}).rows
+    image = hostile.db3_shared_overflow(200, 20)
+    found = salvage(image, {1})
+    pages = len(image) // 512
+    assert len(found.rows) == pages // 20 and found.lost == 200 - pages // 20
+    assert all(payload == one[2] for _, _, payload in found.rows)
 
-    bag = hostile.db3_looping_overflow(tmp_path / "loop.db3", declared)
-    fd = os.open(bag, os.O_RDONLY)
-    try:
-        with pytest.raises(UnhandledFileError):
-            list(read_messages(fd, 3, np.array([1], np.int64)))
-    finally:
-        os.close(fd)
+
+@pytest.mark.parametrize("declared", [150_000, 3_900_000_000])
+def test_db3_salvage_of_an_overflow_chain_looping_on_itself(tmp_path: Path, declared: int) -> None:
+    """A chain that loops within the file's size is lost; a payload larger than the file is no record."""
+    data = hostile.db3_looping_overflow(tmp_path / "loop.db3", declared).read_bytes()
+    assert declared > len(data) or declared < len(data) // 2
+    found = salvage(data, {1})
+    assert (found.rows, found.lost) == ([], 0 if declared > len(data) else 1)
 
 
 def test_db3_rows_of_the_wrong_types(tmp_path: Path) -> None:

@@ -1,32 +1,27 @@
-"""rosbag2 sqlite3 files (.db3): the transform messages of one file (of its intact pages when damaged)."""
+"""rosbag2 sqlite3 files (.db3): the transform messages of one file, read by sqlite (when damaged, from its pages)."""
 
 from __future__ import annotations
 
 import mmap
-import queue
 import sqlite3
-import threading
 from collections.abc import Iterator
-from contextlib import contextmanager, suppress
+from contextlib import contextmanager
 from pathlib import Path
 from urllib.parse import quote
 
 import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.db3_btree import Bytes, Cells, UnhandledFileError, read_messages
-from tftools.sources.bag.db3_format import MAGIC
-from tftools.sources.bag.db3_pages import salvage
+from tftools.sources.bag.db3_salvage import Row, salvage
 from tftools.sources.bag.decode import Decoder, FileScan, MessageSet, Unpack, select
 from tftools.sources.bag.decode.messages import Int32Array
 from tftools.sources.bag.unpack import zstd_messages
 from tftools.sources.errors import CorruptBagError
 
+MAGIC = b"SQLite format 3\x00"
 ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
 _FETCH = 1 << 12  # rows per fetch: progress is reported between fetches
 _MAX_TOPIC_ID = 1 << 24  # topic ids index a lookup array: rosbag2 numbers them from 1
-
-Row = tuple[int, int, bytes]  # topic id, record time, payload
 
 
 def scan(
@@ -47,9 +42,8 @@ def scan(
     unmerged = wal.exists() and wal.stat().st_size > 0
     with _connect(path) as db:
         channels = _channels(db, path, topics, result)
-        if unmerged or not _read_pages(db, path, channels, result, progress):
-            _statistics(db, result)
-            _messages(db, path, channels, result, progress)
+        _statistics(db, result)
+        _messages(db, path, channels, result, progress)
     if unmerged:
         result.note_problem(
             f"{wal.name} holds writes never merged into the database; they were not read"
@@ -65,10 +59,7 @@ def _connect(path: Path) -> Iterator[sqlite3.Connection]:
         with path.open("rb") as f:
             if f.read(len(MAGIC)) != MAGIC:
                 raise CorruptBagError(str(path), "not an SQLite database")
-        # Not bound to this thread: ``_fetched`` steps the query in a helper thread.
-        db = sqlite3.connect(
-            f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1", uri=True, check_same_thread=False
-        )
+        db = sqlite3.connect(f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1", uri=True)
         # A file cut short says it has more pages than it holds; sqlite then refuses it whole
         # unless the schema is "writable" (a flag of this read-only connection, nothing written).
         db.execute("PRAGMA writable_schema=ON")
@@ -100,60 +91,13 @@ def _channels(db: sqlite3.Connection, path: Path, topics: tuple[str, ...], resul
     return wanted
 
 
-def _read_pages(
-    db: sqlite3.Connection, path: Path, channels: dict[int, int], result: FileScan, progress: ProgressCallback
-) -> bool:
-    """Add the wanted topics' messages, and note the statistics, reading the messages table's pages
-    (``db3_btree``); False, with nothing added, when sqlite is to read this file instead."""
-    root = _messages_root(db) if channels else None
-    if root is None:
-        return False
-    lookup = _channel_lookup(channels)
-    size = path.stat().st_size
-    count, start, end = 0, 0, 0  # of the messages of every topic (each batch's arrays are let go)
-    try:
-        with path.open("rb") as f:
-            for cells in read_messages(f.fileno(), root, np.array(list(channels), np.int64)):
-                _add_cells(cells, lookup, result, size)
-                if cells.count:
-                    start = min(start, cells.first_time) if count else cells.first_time
-                    end = max(end, cells.last_time)
-                    count += cells.count
-                progress(size * cells.pages_read // cells.leaf_pages, size)
-    except UnhandledFileError:
-        result.messages = result.messages.emptied()
-        return False
-    result.message_count, result.start, result.end = count, start, end
-    return True
-
-
-def _messages_root(db: sqlite3.Connection) -> int | None:
-    """The root page of the messages table, if it is a rowid table of rosbag2's columns."""
-    try:
-        columns = db.execute("PRAGMA table_info(messages)").fetchall()
-        found = db.execute("SELECT rootpage FROM sqlite_master WHERE type = 'table' AND name = 'messages'").fetchone()
-    except sqlite3.Error:
-        return None
-    names = [(name, str(kind).upper(), pk) for _, name, kind, _, _, pk in columns]
-    expected = [("id", "INTEGER", 1), ("topic_id", "INTEGER", 0), ("timestamp", "INTEGER", 0), ("data", "BLOB", 0)]
-    if names != expected or found is None or not isinstance(found[0], int):
-        return None
-    return int(found[0])
-
-
-def _add_cells(cells: Cells, lookup: Int32Array, result: FileScan, size: int) -> None:
-    if not len(cells.starts):
-        return
-    if result.messages.unpack is None and _zstd_compressed(cells.data[cells.starts[0] : cells.starts[0] + 4]):
-        result.messages.unpack = zstd_messages(size)
-    result.messages.add_spans(
-        lookup[cells.topic_ids], cells.times, cells.ids, cells.data.data, cells.starts, cells.lengths
-    )
-
-
 def _statistics(db: sqlite3.Connection, result: FileScan) -> None:
     try:
-        count, start, end = db.execute("SELECT count(*), min(timestamp), max(timestamp) FROM messages").fetchone()
+        # One aggregate a query: min and max then search the timestamp index, count(*) counts its cells.
+        count, start, end = db.execute(
+            "SELECT (SELECT count(*) FROM messages), (SELECT min(timestamp) FROM messages),"
+            " (SELECT max(timestamp) FROM messages)"
+        ).fetchone()
     except sqlite3.Error:
         return  # a damaged database: the messages read set them
     result.message_count, result.start, result.end = (v if isinstance(v, int) else 0 for v in (count, start, end))
@@ -167,6 +111,7 @@ def _messages(
     if not channels:
         return
     size = path.stat().st_size
+    lookup = _channel_lookup(channels)
     added = 0
     ids = ",".join(str(int(i)) for i in channels)
     # Rows of other types (sqlite stores any value in any column) are not messages: left out.
@@ -175,45 +120,15 @@ def _messages(
         " AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob' ORDER BY timestamp, id"
     )
     try:
-        for batch in _fetched(db, query):
-            _add_rows(batch, channels, result, added, size)
+        cursor = db.execute(query)
+        while batch := cursor.fetchmany(_FETCH):
+            _add_rows(batch, lookup, result, added, size)
             added += len(batch)
             progress(_estimate(batch[-1][1], result, size), size)
     except sqlite3.Error as e:
         if added:  # start again from the pages, forgetting what the query gave
             result.messages = result.messages.emptied()
-        _add_rows(_salvage(path, channels, result, str(e)), channels, result, 0, size)
-
-
-def _fetched(db: sqlite3.Connection, query: str) -> Iterator[list[Row]]:
-    """The query's rows, fetch after fetch, stepped by a helper thread while the caller decodes
-    the previous fetches (sqlite lets go of the GIL while it steps); its error raised here."""
-    fetches: queue.Queue[list[Row] | BaseException | None] = queue.Queue(maxsize=2)
-    stop = threading.Event()
-
-    def fetch() -> None:
-        try:
-            cursor = db.execute(query)
-            while not stop.is_set() and (batch := cursor.fetchmany(_FETCH)):
-                fetches.put(batch)
-            cursor.close()
-            fetches.put(None)
-        except BaseException as e:  # handed to the caller, which raises it
-            fetches.put(e)
-
-    helper = threading.Thread(target=fetch, name="db3-fetch", daemon=True)
-    helper.start()
-    try:
-        while (item := fetches.get()) is not None:
-            if isinstance(item, BaseException):
-                raise item
-            yield item
-    finally:
-        stop.set()
-        while helper.is_alive():  # let it see ``stop`` if it waits to put a fetch
-            with suppress(queue.Empty):
-                fetches.get(timeout=0.01)
-        helper.join()
+        _add_rows(_salvage(path, channels, result, str(e)), lookup, result, 0, size)
 
 
 def _estimate(timestamp: int, result: FileScan, size: int) -> int:
@@ -223,13 +138,12 @@ def _estimate(timestamp: int, result: FileScan, size: int) -> int:
 
 def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str) -> list[Row]:
     with path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
-        found = salvage(data)
-    rows = [(topic, time, payload) for _, topic, time, payload in found.rows if topic in channels]
+        found = salvage(data, channels)
+    rows = found.rows
     if not rows:
         raise CorruptBagError(str(path), f"no message could be read (sqlite: {error})")
     if not result.message_count:  # the statistics could not be read either
-        result.message_count = len(found.rows)
-        result.start, result.end = found.rows[0][2], max(row[2] for row in found.rows)
+        result.message_count, result.start, result.end = found.count, found.start, found.end
     lost = f", {found.lost} more lost their data" if found.lost else ""
     result.note_problem(
         f"the database is damaged (sqlite: {error}): read the {len(rows)} transform messages of its intact pages"
@@ -238,14 +152,15 @@ def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str)
     return rows
 
 
-def _add_rows(rows: list[Row], channels: dict[int, int], result: FileScan, first: int, size: int) -> None:
-    """Add ``rows``, the ``first``-th row read onwards, of a file of ``size`` bytes."""
+def _add_rows(rows: list[Row], lookup: Int32Array, result: FileScan, first: int, size: int) -> None:
+    """Add ``rows`` (``lookup`` gives their topics' channels), the ``first``-th row read onwards,
+    of a file of ``size`` bytes."""
     if not rows:
         return
     topic_ids, times, payloads = zip(*rows, strict=True)
     if result.messages.unpack is None and _zstd_compressed(payloads[0]):
         result.messages.unpack = zstd_messages(size)
-    which = _channel_lookup(channels)[np.array(topic_ids, np.int64)]
+    which = lookup[np.array(topic_ids, np.int64)]
     result.messages.add(which, times, np.arange(first, first + len(rows)), payloads)
 
 
@@ -265,6 +180,6 @@ def _text(value: object) -> str:
     return "" if value is None else str(value)
 
 
-def _zstd_compressed(payload: bytes | Bytes) -> bool:
+def _zstd_compressed(payload: bytes) -> bool:
     """Whether a payload is compressed: a bare .db3 of a bag compressed message by message."""
-    return bytes(payload[:4]) == ZSTD_MAGIC
+    return payload[:4] == ZSTD_MAGIC

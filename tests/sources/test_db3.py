@@ -1,0 +1,210 @@
+"""The .db3 reader: sqlite reads the tf topics' rows fetch after fetch and writes nothing beside the
+file; a file sqlite refuses is salvaged from its intact pages, within bounds."""
+
+from __future__ import annotations
+
+import hashlib
+import sqlite3
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.sources.ros2_helpers import NS, T0, Tf, string_cdr, tf_cdr
+from tftools.sources.bag import db3_file
+from tftools.sources.bag.decode import MessageSet
+from tftools.sources.bag.reader import read_bag
+
+TOPICS = [
+    (1, "/tf", "tf2_msgs/msg/TFMessage"),
+    (2, "/tf_static", "tf2_msgs/msg/TFMessage"),
+    (3, "/camera/image_raw", "sensor_msgs/msg/Image"),
+    (4, "/chatter", "std_msgs/msg/String"),
+]
+MESSAGES_TABLE = (
+    "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL,"
+    " data BLOB NOT NULL)"
+)
+PAGE = 4096
+DbRow = tuple[int, int, int, bytes]  # id, topic id, timestamp, data
+
+
+def write_db3(path: Path, rows: Sequence[DbRow], *, table: str = MESSAGES_TABLE, pragmas: Sequence[str] = ()) -> Path:
+    """A bare rosbag2 .db3 made with sqlite: rows inserted in the order given."""
+    with sqlite3.connect(path) as db:
+        db.execute(f"PRAGMA page_size = {PAGE}")
+        for pragma in pragmas:
+            db.execute(f"PRAGMA {pragma}")
+        db.execute(
+            "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,"
+            " serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL)"
+        )
+        db.executemany("INSERT INTO topics VALUES (?, ?, ?, 'cdr', '')", TOPICS)
+        db.execute(table)
+        db.execute("CREATE INDEX timestamp_idx ON messages (timestamp ASC)")
+        db.executemany("INSERT INTO messages (id, topic_id, timestamp, data) VALUES (?, ?, ?, ?)", rows)
+    db.close()
+    return path
+
+
+def tf_payload(i: int, transforms: int = 1) -> bytes:
+    """A /tf message whose transforms are stamped ``i`` s after 1_700_000_000, children link_0.."""
+    return tf_cdr(tuple(Tf("odom", f"link_{j}", 1_700_000_000 + i, j, (i, j, 0.5)) for j in range(transforms)))
+
+
+def mixed_rows(count: int) -> list[DbRow]:
+    """/tf (some large enough to spill into overflow pages), /chatter and image-sized blobs, ties of
+    three record times, and one /tf_static."""
+    rows = []
+    for i in range(count):
+        topic, data = 1, tf_payload(i, 1 + i % 7)
+        if i % 11 == 0:
+            topic, data = 4, string_cdr("chat " * (i % 90))
+        if i % 97 == 0:
+            topic, data = 3, bytes([i % 256]) * (20_000 + 50 * i)
+        if i % 53 == 0:
+            topic, data = 1, tf_payload(i, 200)
+        rows.append((1 + i, topic, T0 + (i // 3) * NS // 100, data))
+    rows.append((1 + count, 2, T0, tf_payload(count, 3)))
+    return rows
+
+
+def expected(rows: Sequence[DbRow]) -> list[tuple[int, int, str]]:
+    """(record time, stamp's seconds, child) of each transform of the tf rows, in (time, id) order."""
+    out = []
+    for _, topic, time, data in sorted(rows, key=lambda row: (row[2], row[0])):
+        if topic in (1, 2):
+            count = int.from_bytes(data[4:8], "little")
+            seconds = int.from_bytes(data[8:12], "little")
+            out += [(time, seconds, f"link_{j}") for j in range(count)]
+    return out
+
+
+def read(path: Path) -> tuple[list[tuple[int, int, str]], Any]:
+    contents = read_bag([path])
+    batch = contents.transforms
+    got = [
+        (int(batch.record_time[i]), int(batch.stamp[i] // NS), batch.frame_names[batch.child[i]])
+        for i in range(len(batch))
+    ]
+    return got, contents
+
+
+# --- sqlite reads ----------------------------------------------------------------------------
+
+
+def test_ties_and_integers_of_every_width_in_record_order(tmp_path: Path) -> None:
+    """Timestamps and topic ids stored in 0 to 8 bytes, rows inserted out of id and time order:
+    transforms in (record time, id) order."""
+    times = [0, 1, 5, 300, 40_000, 2**23 - 1, 2**31, 2**47 - 1, T0, 2**62]
+    rows = [(1000 - 7 * i, 1 + i % 2, time, tf_payload(i, 1 + i % 3)) for i, time in enumerate(times * 3)]
+    rows += [(5000 + i, 4, 7, string_cdr("tie")) for i in range(5)]
+    db3 = write_db3(tmp_path / "a.db3", rows[::-1])
+    got, contents = read(db3)
+    assert got == expected(rows) and contents.problems == []
+    assert (contents.files[0].message_count, contents.start, contents.end) == (len(rows), 0, 2**62)
+
+
+def test_rows_fetched_a_batch_at_a_time_and_only_the_tf_topics(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Memory stays bounded: the decoder is handed each fetch on its own, never an image's blob."""
+    rows = mixed_rows(3000)
+    db3 = write_db3(tmp_path / "a.db3", rows)
+    handed: list[list[int]] = []  # the payload lengths of each call
+    add = MessageSet.add
+
+    def spy(self: MessageSet, channel: Any, times: Any, positions: Any, payloads: Sequence[bytes]) -> None:
+        handed.append([len(p) for p in payloads])
+        add(self, channel, times, positions, payloads)
+
+    monkeypatch.setattr(MessageSet, "add", spy)
+    monkeypatch.setattr(db3_file, "_FETCH", 100)
+    got, _ = read(db3)
+    assert got == expected(rows)
+    tf_rows = [row for row in rows if row[1] in (1, 2)]
+    assert max(map(len, handed)) == 100 and sum(map(len, handed)) == len(tf_rows)
+    assert max(max(lengths) for lengths in handed) == max(len(row[3]) for row in tf_rows) < 20_000
+
+
+def fingerprint(folder: Path) -> dict[str, tuple[str, int]]:
+    return {p.name: (hashlib.sha256(p.read_bytes()).hexdigest(), p.stat().st_mtime_ns) for p in folder.iterdir()}
+
+
+@pytest.mark.parametrize("journal", ["DELETE", "WAL"])
+@pytest.mark.parametrize("damaged", [False, True])
+def test_nothing_written_beside_the_file(tmp_path: Path, journal: str, damaged: bool) -> None:
+    """No -journal, -wal or -shm file made, the file's bytes and time unchanged, in WAL mode too, and
+    when the file is damaged (salvaged)."""
+    rows = mixed_rows(500)
+    db3 = write_db3(tmp_path / "a.db3", rows, pragmas=[f"journal_mode = {journal}"])
+    if damaged:
+        db3.write_bytes(db3.read_bytes()[: db3.stat().st_size // 2])
+    before = fingerprint(tmp_path)
+    assert list(before) == ["a.db3"]
+    got, contents = read(db3)
+    assert got and ("damaged" in contents.problems[0] if damaged else got == expected(rows))
+    assert fingerprint(tmp_path) == before
+
+
+@pytest.mark.parametrize(
+    "table",
+    [
+        MESSAGES_TABLE.replace("data BLOB NOT NULL", "data BLOB NOT NULL, extra INTEGER"),
+        MESSAGES_TABLE.replace("topic_id INTEGER NOT NULL, timestamp", "timestamp INTEGER NOT NULL, topic_id"),
+        MESSAGES_TABLE.replace("id INTEGER PRIMARY KEY", "id INT PRIMARY KEY"),  # not the rowid
+        MESSAGES_TABLE + " WITHOUT ROWID",
+    ],
+    ids=["extra_column", "columns_swapped", "id_not_rowid", "without_rowid"],
+)
+def test_other_table_shapes(tmp_path: Path, table: str) -> None:
+    rows = mixed_rows(300)
+    got, contents = read(write_db3(tmp_path / "a.db3", rows, table=table))
+    assert got == expected(rows) and contents.problems == []
+
+
+# --- damaged files: salvaged -------------------------------------------------------------------
+
+
+def one_spilling_tf_message(path: Path) -> tuple[list[DbRow], list[int]]:
+    """A .db3 whose only record larger than a page is a 200-transform /tf message (id 151); its
+    overflow pages in chain order. In a file of fewer than 2**24 pages, an overflow page's first byte
+    (that of the next page's number) is 0, never a b-tree page type."""
+    rows = [(i + 1, 1, T0 + i, tf_payload(i, 200 if i == 150 else 2)) for i in range(300)]
+    data = write_db3(path, rows).read_bytes()
+    overflow = [p for p in range(2, len(data) // PAGE + 1) if data[(p - 1) * PAGE] == 0]
+    following = {p: int.from_bytes(data[(p - 1) * PAGE : (p - 1) * PAGE + 4], "big") for p in overflow}
+    (page,) = set(overflow) - set(following.values())
+    chain = [page]
+    while following[chain[-1]]:
+        chain.append(following[chain[-1]])
+    assert len(chain) == len(overflow) > 2
+    return rows, chain
+
+
+def damaged_copy(db3: Path, page: int, offset: int, data: bytes) -> Path:
+    damaged = bytearray(db3.read_bytes())
+    damaged[(page - 1) * PAGE + offset : (page - 1) * PAGE + offset + len(data)] = data
+    path = db3.with_name("damaged.db3")
+    path.write_bytes(bytes(damaged))
+    return path
+
+
+@pytest.mark.parametrize("damage", ["chain_past_the_end", "chain_cut", "leaf_type"])
+def test_damaged_file_salvaged(tmp_path: Path, damage: str) -> None:
+    """sqlite refuses the file: every message of the intact pages is read, with one line on the loss."""
+    db3 = tmp_path / "a.db3"
+    rows, chain = one_spilling_tf_message(db3)
+    pages = db3.stat().st_size // PAGE
+    leaves = [p for p in range(2, pages + 1) if db3.read_bytes()[(p - 1) * PAGE] == 0x0D]
+    page, offset, data = {
+        "chain_past_the_end": (chain[0], 0, (pages + 1).to_bytes(4, "big")),
+        "chain_cut": (chain[1], 0, bytes(4)),
+        "leaf_type": (leaves[-1], 0, b"\x07"),
+    }[damage]
+    got, contents = read(damaged_copy(db3, page, offset, data))
+    (problem,) = contents.problems
+    assert problem.startswith("the database is damaged (sqlite: database disk image is malformed)")
+    if damage == "leaf_type":  # the messages of that page are lost
+        assert 0 < len(got) < len(expected(rows)) and all(row in expected(rows) for row in got)
+    else:  # the spilling message is lost
+        assert got == expected([row for row in rows if row[0] != 151]) and "1 more lost their data" in problem

@@ -1,0 +1,197 @@
+"""The messages of a damaged rosbag2 .db3 read straight from its intact pages, where sqlite gives up."""
+
+# A file cut short or with damaged pages loses b-tree pages that lead to the messages, so sqlite
+# refuses every query that passes through them; the table's leaf pages that survive still hold whole
+# records. A rosbag2 ``messages`` row is the only record of its shape in the file: (id as rowid,
+# integer topic_id, integer timestamp, blob data).
+#
+# From https://www.sqlite.org/fileformat2.html (integers big-endian): the 100-byte file header on
+# page 1 gives the page size (u16 at 16, 1 meaning 65536) and the bytes reserved at each page's end
+# (u8 at 20). A table leaf page starts (after that header on page 1) with its type, 0x0D, a u16 at 3
+# counting its cells, and after its 8-byte header its cells' u16 offsets. A cell is a varint payload
+# size, a varint rowid, the payload's first bytes (all of it when it fits), and if it spills the u32
+# number of its first overflow page; an overflow page holds the next one's number, then bytes. A
+# record is a varint header size (counting itself), a varint serial type per column, then the values.
+
+from __future__ import annotations
+
+import mmap
+import struct
+from collections.abc import Collection
+from dataclasses import dataclass, field
+
+Buffer = bytes | mmap.mmap
+Row = tuple[int, int, bytes]  # topic id, record time, payload
+
+_FILE_HEADER = 100
+_TABLE_LEAF, _LEAF_HEADER = 0x0D, 8
+_INT_SIZES = {1: 1, 2: 2, 3: 3, 4: 4, 5: 6, 6: 8}  # serial type -> bytes of a big-endian signed integer
+_INT_CONSTANTS = (8, 9)  # serial types of the integers 0 and 1, stored in no bytes
+_U16, _U32 = struct.Struct(">H"), struct.Struct(">I")
+
+
+@dataclass
+class Salvaged:
+    """The wanted topics' messages found, in (record time, id) order; the count and time span of
+    every topic's; how many wanted ones lost their overflow pages."""
+
+    rows: list[Row] = field(default_factory=list)
+    count: int = 0
+    start: int = 0
+    end: int = 0
+    lost: int = 0
+
+
+def salvage(data: Buffer, topic_ids: Collection[int]) -> Salvaged:
+    """Every messages record in the whole leaf pages of the database image ``data``, with the
+    payloads of those of ``topic_ids``. Reads no byte outside ``data``, follows no overflow chain
+    round a loop, and in all no more overflow pages than the file holds (however many records
+    claim the same ones)."""
+    pages = _Pages.of(data)
+    if pages is None:
+        return Salvaged()
+    times: dict[int, int] = {}  # rowid -> record time, of every message: freed pages may repeat a row
+    wanted: dict[int, Row] = {}
+    lost = 0
+    for number in range(1, pages.count + 1):
+        for cell in pages.leaf_cells(number):
+            try:
+                message = pages.message(cell, topic_ids)
+            except _MalformedError:
+                continue
+            except _LostOverflowError:
+                lost += 1
+                continue
+            if message is not None:
+                rowid, topic_id, time, payload = message
+                times[rowid] = time
+                if payload is not None:
+                    wanted[rowid] = (topic_id, time, payload)
+    rows = [wanted[rowid] for rowid in sorted(wanted, key=lambda rowid: (wanted[rowid][1], rowid))]
+    first, last = (min(times.values()), max(times.values())) if times else (0, 0)
+    return Salvaged(rows, len(times), first, last, lost)
+
+
+class _MalformedError(Exception):
+    """Bytes that do not follow the file format."""
+
+
+class _LostOverflowError(Exception):
+    """A record whose overflow pages are missing or damaged."""
+
+
+class _Pages:
+    def __init__(self, data: Buffer, page_size: int, usable: int) -> None:
+        self.data, self.page_size, self.usable = data, page_size, usable
+        self.count = len(data) // page_size
+        self.overflow_budget = self.count  # overflow pages still to be read
+
+    @classmethod
+    def of(cls, data: Buffer) -> _Pages | None:
+        """The pages of ``data``, if its header states a valid page size."""
+        if len(data) < _FILE_HEADER:
+            return None
+        size = _U16.unpack_from(data, 16)[0]
+        size = 65536 if size == 1 else size
+        if size < 512 or size & (size - 1) or size - data[20] < 480:
+            return None
+        return cls(data, size, size - data[20])
+
+    def leaf_cells(self, number: int) -> list[int]:
+        """Offsets of the cells of page ``number`` if it is a table leaf."""
+        base = (number - 1) * self.page_size
+        header = base + (_FILE_HEADER if number == 1 else 0)
+        if self.data[header] != _TABLE_LEAF:
+            return []
+        pointers = header + _LEAF_HEADER
+        end = pointers + 2 * _U16.unpack_from(self.data, header + 3)[0]
+        if end > base + self.usable:
+            return []
+        cells = [base + offset for (offset,) in _U16.iter_unpack(self.data[pointers:end])]
+        return [cell for cell in cells if end <= cell < base + self.usable]
+
+    def message(self, cell: int, topic_ids: Collection[int]) -> tuple[int, int, int, bytes | None] | None:
+        """(id, topic id, record time, payload) of the messages record at ``cell``, the payload only
+        for ``topic_ids``; None for other tables' records."""
+        page_end = cell - cell % self.page_size + self.usable
+        size, at = _varint(self.data, cell, page_end)
+        rowid, at = _varint(self.data, at, page_end)
+        local = self._local_size(size)
+        spills = local < size
+        if at + local + 4 * spills > page_end or size > len(self.data):
+            raise _MalformedError
+        record = self.data[at : at + local]
+        header_size, head = _varint(record, 0, len(record))
+        types: list[int] = []
+        while head < header_size and len(types) < 5:
+            serial, head = _varint(record, head, header_size)
+            types.append(serial)
+        if types[:1] != [0] or len(types) != 4 or not all(map(_is_integer, types[1:3])) or not _is_blob(types[3]):
+            return None
+        topic_id, head = _integer(record, header_size, types[1])
+        time, head = _integer(record, head, types[2])
+        if head + (types[3] - 12) // 2 != size:
+            raise _MalformedError
+        rowid -= (1 << 64) * (rowid >> 63)
+        if topic_id not in topic_ids:
+            return rowid, topic_id, time, None
+        rest = self._overflow(_U32.unpack_from(self.data, at + local)[0], size - local) if spills else b""
+        return rowid, topic_id, time, record[head:] + rest
+
+    def _local_size(self, size: int) -> int:
+        """The bytes of a table leaf cell's ``size``-byte payload kept in the cell itself."""
+        max_local = self.usable - 35
+        if size <= max_local:
+            return size
+        min_local = (self.usable - 12) * 32 // 255 - 23
+        local = min_local + (size - min_local) % (self.usable - 4)
+        return local if local <= max_local else min_local
+
+    def _overflow(self, page: int, remaining: int) -> bytes:
+        """``remaining`` bytes of the overflow chain from ``page`` on."""
+        parts = []
+        seen = set()
+        while remaining > 0:
+            start = (page - 1) * self.page_size
+            if not 2 <= page <= self.count or page in seen or self.overflow_budget <= 0:
+                raise _LostOverflowError
+            seen.add(page)
+            self.overflow_budget -= 1
+            take = min(remaining, self.usable - 4)
+            parts.append(self.data[start + 4 : start + 4 + take])
+            (page,) = _U32.unpack_from(self.data, start)
+            remaining -= take
+        return b"".join(parts)
+
+
+def _varint(data: Buffer, pos: int, end: int) -> tuple[int, int]:
+    """SQLite's big-endian varint at ``pos``, before ``end`` (up to 9 bytes, the ninth contributing
+    all 8 bits), and the position after it."""
+    value = 0
+    for i in range(9):
+        if pos + i >= min(end, len(data)):
+            raise _MalformedError
+        byte = data[pos + i]
+        if i == 8:
+            return (value << 8) | byte, pos + 9
+        value = (value << 7) | (byte & 0x7F)
+        if byte < 0x80:
+            return value, pos + i + 1
+    raise _MalformedError  # unreachable: the loop returns by the ninth byte
+
+
+def _is_integer(serial: int) -> bool:
+    return serial in _INT_SIZES or serial in _INT_CONSTANTS
+
+
+def _is_blob(serial: int) -> bool:
+    return serial >= 12 and serial % 2 == 0
+
+
+def _integer(record: bytes, at: int, serial: int) -> tuple[int, int]:
+    if serial in _INT_CONSTANTS:
+        return serial - 8, at
+    size = _INT_SIZES[serial]
+    if at + size > len(record):
+        raise _MalformedError
+    return int.from_bytes(record[at : at + size], "big", signed=True), at + size
