@@ -6,14 +6,9 @@ from bisect import bisect_right
 from typing import NamedTuple
 
 import numpy as np
-import numpy.typing as npt
 
-from tftools.core.rotation import FloatArray, slerp
-
-Int64Array = npt.NDArray[np.int64]
-Int32Array = npt.NDArray[np.int32]
-UInt8Array = npt.NDArray[np.uint8]
-BoolArray = npt.NDArray[np.bool_]
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.rotation import slerp
 
 #: ``EdgeHistory.flags`` bits.
 FROM_STATIC_TOPIC = 1

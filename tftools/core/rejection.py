@@ -10,6 +10,7 @@ from typing import Any, NamedTuple, overload
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import FloatArray, Int32Array, Int64Array
 from tftools.core.semantics import Semantics, dialect
 from tftools.core.time import to_sec
 
@@ -157,12 +158,12 @@ class RejectionLog(Sequence[Rejection]):
         names: Sequence[str],
         parent: npt.NDArray[np.integer[Any]],
         child: npt.NDArray[np.integer[Any]],
-        stamp: npt.NDArray[np.int64],
+        stamp: Int64Array,
         authorities: Sequence[str],
         authority: npt.NDArray[np.integer[Any]],
-        record_time: npt.NDArray[np.int64],
-        sequence: npt.NDArray[np.int64],
-        values: npt.NDArray[np.float64] | None = None,
+        record_time: Int64Array,
+        sequence: Int64Array,
+        values: FloatArray | None = None,
     ) -> None:
         """Refusals of one ``code``, a row each: frames and publishers as indices into ``names``
         and ``authorities`` (interned here, once per distinct one); ``values`` (N, 7) where shown."""
@@ -238,9 +239,9 @@ class RejectionLog(Sequence[Rejection]):
             self.semantics,
         )
 
-    def sequences(self, start: int = 0) -> npt.NDArray[np.int64]:
+    def sequences(self, start: int = 0) -> Int64Array:
         """The arrival numbers of the rejections from the ``start``-th kept one on, in order."""
-        sequence: npt.NDArray[np.int64] = self._join()["sequence"][start:].copy()
+        sequence: Int64Array = self._join()["sequence"][start:].copy()
         return sequence
 
     def by_edge(self, groups: Mapping[RejectionCode, str] | None = None) -> dict[tuple[str, str, str], EdgeRejections]:
@@ -279,7 +280,7 @@ class RejectionLog(Sequence[Rejection]):
 
 def _interned(
     ids: npt.NDArray[np.integer[Any]], names: Sequence[str], table: list[str], index: dict[str, int]
-) -> npt.NDArray[np.int32]:
+) -> Int32Array:
     """``ids`` (into ``names``) as indices into ``table``, adding each new name once."""
     distinct, where = np.unique(np.asarray(ids), return_inverse=True)
     mapped = np.empty(len(distinct), np.int32)

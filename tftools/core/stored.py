@@ -7,12 +7,13 @@ from collections.abc import Callable
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH, EdgeHistory
 
 
-def stored_rows(buffer: Buffer) -> tuple[TransformBatch, npt.NDArray[np.int64]]:
+def stored_rows(buffer: Buffer) -> tuple[TransformBatch, Int64Array]:
     """Every sample ``buffer`` stored, in arrival order, and each one's arrival number.
 
     The rows are as they were inserted: frame names with the leading ``/`` tf2 strips where

@@ -7,8 +7,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
@@ -33,7 +33,7 @@ class Recording:
     contents: BagContents
     timeline: Timeline
     refused: TransformBatch = field(default_factory=TransformBatch.empty)
-    refused_sequence: npt.NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
+    refused_sequence: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
 
     @property
     def start(self) -> int:
@@ -104,7 +104,7 @@ def recording_of(contents: BagContents, semantics: Semantics | None = None) -> R
     clock = SimClock(contents.end)
     buffer = Buffer(cache_time=None, clock=clock, semantics=semantics or semantics_of(contents))
     refused: list[TransformBatch] = []
-    refused_sequence: list[npt.NDArray[np.int64]] = []
+    refused_sequence: list[Int64Array] = []
     parts, contents.parts = contents.parts, []
     buffer.reserve(parts)
     parts.reverse()

@@ -8,12 +8,12 @@ from functools import cached_property
 from typing import TypeVar, cast
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.analysis.edges import EdgeStats, edge_stats
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.thresholds import Thresholds
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import QUATERNION_TOLERANCE
 from tftools.core.history import FROM_STATIC_TOPIC
@@ -22,11 +22,6 @@ from tftools.sources.bag.stamped import StampedMessages
 from tftools.sources.recording import Recording
 from tftools.sources.timeline import Timeline
 
-Int64Array = npt.NDArray[np.int64]
-Int32Array = npt.NDArray[np.int32]
-IntpArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
-FloatArray = npt.NDArray[np.float64]
 T = TypeVar("T")
 
 

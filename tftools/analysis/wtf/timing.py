@@ -9,16 +9,8 @@ import numpy as np
 from tftools.analysis.edges import PERIODS, edge_gaps
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import (
-    BoolArray,
-    EdgeSamples,
-    Int64Array,
-    IntpArray,
-    Scene,
-    duration,
-    edge,
-    transforms,
-)
+from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
+from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.time import NS_PER_S
 
