@@ -107,7 +107,9 @@ class Buffer:
     everything, which is what whole-bag analysis wants. ``clock`` answers "what time is it":
     a ``SimClock`` (bag time) unless a live source gives a wall clock. ``semantics`` chooses
     the tf2 to answer as: ``"ros1"`` (ROS 1 bags and systems) or ``"ros2"`` (``.db3``/``.mcap``
-    and ROS 2 systems); ``tftools.core.semantics`` lists how they differ.
+    and ROS 2 systems); ``tftools.core.semantics`` lists how they differ. ``warm_up`` loads the
+    compiled lookups now rather than once they pay: for a buffer other threads fill while it is
+    looked up (a live listener's), whose first lookups would otherwise stall them while numba loads.
     """
 
     def __init__(
@@ -115,7 +117,11 @@ class Buffer:
         cache_time: int | None = DEFAULT_CACHE_TIME,
         clock: Clock | None = None,
         semantics: Semantics = "ros1",
+        *,
+        warm_up: bool = False,
     ) -> None:
+        if warm_up:
+            compiled()
         self.cache_time = cache_time
         self.clock: Clock = clock if clock is not None else SimClock()
         self.semantics: Semantics = check_semantics(semantics)

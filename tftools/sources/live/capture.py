@@ -10,7 +10,6 @@ import numpy as np
 
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
-from tftools.core.kernels_table import compiled
 from tftools.core.semantics import Semantics
 from tftools.sources.bag.contents import BagContents, BagFileInfo
 from tftools.sources.live import open_live
@@ -121,8 +120,7 @@ def listen(
     filled from then on in the background, as a ``tf2_ros::TransformListener`` fills its buffer,
     and cleared as it clears it when the clock jumps back (static transforms kept, one notice
     said through the source). Close the source to stop."""
-    compiled()  # load the compiled lookups now: loading them later would stall the receiving threads
-    buffer = Buffer(cache_time=cache_time, clock=source.clock, semantics=semantics or live_semantics(source))
+    buffer = Buffer(cache_time, source.clock, semantics or live_semantics(source), warm_up=True)
     deliver = watch_jumps(source, buffer.insert, lambda _jump: buffer.clear())
 
     def insert(batch: TransformBatch) -> None:
