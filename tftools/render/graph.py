@@ -81,8 +81,8 @@ def recording_legend(recording: Recording) -> list[str]:
     elif timeline.reference is Reference.NONE:
         lines.append(f"Ages from the newest tf stamp ({format_sec(timeline.tf_end, 3)}): {timeline.reason}")
     files = recording.contents.files
-    bags = [Path(f.path).name for f in files if not f.format.endswith("live")]
-    lines += [f"Listened to: {f.path}" for f in files if f.format.endswith("live")]
+    bags = [Path(f.path).name for f in files if not f.live]
+    lines += [f"Listened to: {f.path}" for f in files if f.live]
     if bags:
         lines.append(f"{'Bag' if len(bags) == 1 else 'Bags'}: {', '.join(bags)}")
     return lines

@@ -14,7 +14,8 @@ from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.time import SimClock
-from tftools.sources.bag import BagContents, ProgressCallback, read_bag
+from tftools.sources.bag import ProgressCallback, read_bag
+from tftools.sources.contents import RecordingContents
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.memory import FreedMemory
 from tftools.sources.timeline import Timeline, timeline_of
@@ -30,7 +31,7 @@ class Recording:
     """
 
     buffer: Buffer
-    contents: BagContents
+    contents: RecordingContents
     timeline: Timeline
     refused: TransformBatch = field(default_factory=TransformBatch.empty)
     refused_sequence: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
@@ -90,14 +91,14 @@ def read_recording(
     return recording_of(contents, semantics)
 
 
-def semantics_of(contents: BagContents) -> Semantics:
+def semantics_of(contents: RecordingContents) -> Semantics:
     """ROS 1's tf2 for ROS 1 bags and live ROS 1, ROS 2's for rosbag2 and MCAP files and live ROS 2
     (a split recording: its first file's)."""
     formats = [f.format for f in contents.files]
     return "ros1" if not formats or formats[0].startswith("ros1") else "ros2"
 
 
-def recording_of(contents: BagContents, semantics: Semantics | None = None) -> Recording:
+def recording_of(contents: RecordingContents, semantics: Semantics | None = None) -> Recording:
     """The buffer of ``contents``, which it takes: each part is inserted, then let go, so that
     the transforms are held once (in the buffer's histories) rather than twice. Rows the buffer
     refused, or took for identical ones it holds (ROS 2), are kept aside for ``transforms``."""

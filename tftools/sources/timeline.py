@@ -24,7 +24,7 @@ from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.contents import ClockSamples
+from tftools.sources.contents import ClockSamples
 
 #: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
 EPOCH_FLOOR = 1_000_000_000 * NS_PER_S

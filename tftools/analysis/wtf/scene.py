@@ -159,7 +159,7 @@ class Scene:
     @cached_property
     def publishers_known(self) -> bool:
         """ROS1 bags and live systems name each publisher; ROS2 bags only the topic, as the authority."""
-        return any(f.format.startswith("ros1") or f.format.endswith("-live") for f in self.recording.contents.files)
+        return any(f.names_publishers for f in self.recording.contents.files)
 
     @cached_property
     def dynamic_edges(self) -> list[EdgeSamples]:
