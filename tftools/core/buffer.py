@@ -276,7 +276,7 @@ class Buffer:
             | names.slash[batch.child].astype(np.uint8) * CHILD_HAD_SLASH
         )
         refusals = _validate(values, parent_key, child_key, names.empty_key)
-        self._record_refusals(refusals, batch, names, (parent_key, child_key), values, authority, sequence)
+        self._record_refusals(refusals, batch, names, (parent_key, child_key), (values, flags), authority, sequence)
         ok = ~np.any(list(refusals.values()), axis=0) if refusals else np.ones(n, bool)
         rows = np.flatnonzero(ok)
         if len(rows) == 0:
@@ -380,6 +380,8 @@ class Buffer:
                         authorities[mask],
                         record_times[mask],
                         sequence[mask],
+                        values[mask],
+                        flags[mask],
                     )
             keep = ~(old | ignored)
             accepted = keep
@@ -472,11 +474,12 @@ class Buffer:
         batch: TransformBatch,
         names: _StrippedNames,
         keys: tuple[Int32Array, Int32Array],
-        values: FloatArray,
+        samples: tuple[FloatArray, UInt8Array],
         authority: Int32Array,
         sequence: Int64Array,
     ) -> None:
         parent_key, child_key = keys
+        values, flags = samples
         for code, mask in refusals.items():
             self.rejections.add(
                 code,
@@ -489,6 +492,7 @@ class Buffer:
                 batch.record_time[mask],
                 sequence[mask],
                 values[mask],
+                flags[mask],
             )
 
     # --- lookups -----------------------------------------------------------------------------

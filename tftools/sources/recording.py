@@ -1,4 +1,4 @@
-"""``Recording``: bags read into a buffer, with what the files held."""
+"""``Recording``: bags read into a buffer (or a live system heard, or a buffer as it is), with what they held."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.time import SimClock
 from tftools.sources.bag import ProgressCallback, read_bag
-from tftools.sources.contents import RecordingContents
+from tftools.sources.contents import BUFFER_FORMAT, DEFAULT_TOPICS, ClockSamples, RecordingContents, SourceInfo
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.memory import FreedMemory
 from tftools.sources.timeline import Timeline, timeline_of
@@ -23,7 +23,7 @@ from tftools.sources.timeline import Timeline, timeline_of
 
 @dataclass
 class Recording:
-    """One recording (one bag or a split bag): its buffer, its clocks, and its description.
+    """One recording (one bag or a split bag, a live capture, a buffer): its buffer, its clocks, and its description.
 
     The buffer's clock stands at the recording's end in ROS time (``timeline.end``). The buffer's
     histories are the only copy of the transforms; ``transforms`` gives them back
@@ -127,6 +127,21 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
     if not refused:
         return Recording(buffer, contents, timeline)
     return Recording(buffer, contents, timeline, concat_batches(refused), np.concatenate(refused_sequence))
+
+
+def recording_of_buffer(buffer: Buffer) -> Recording:
+    """``buffer`` as it is (filled by hand, or by a live source) as a recording, for the checks: the
+    samples it stored and those its rejection log keeps, spanning from the first arrival to the
+    buffer's time. Where a sample's arrival is unknown (no record time), its stamp stands for it."""
+    stored, _ = stored_rows(buffer)
+    refused, refused_sequence = buffer.rejections.rows()
+    arrivals = np.concatenate([np.where(b.record_time > 0, b.record_time, b.stamp) for b in (stored, refused)])
+    start = int(arrivals.min()) if len(arrivals) else buffer.now()
+    end = max(buffer.now(), int(arrivals.max()) if len(arrivals) else 0)
+    info = SourceInfo("the buffer", BUFFER_FORMAT, start, end, len(arrivals), transform_count=len(arrivals))
+    contents = RecordingContents([], [info], DEFAULT_TOPICS)
+    timeline = timeline_of(buffer, ClockSamples.empty(), start, end)
+    return Recording(buffer, contents, timeline, refused, refused_sequence)
 
 
 def load(
