@@ -9,7 +9,8 @@ import numpy as np
 
 from tftools.core.batch import TransformBatch
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.contents import DEFAULT_TOPICS, BagContents, BagFileInfo
+from tftools.sources.bag.contents import BagContents, BagFileInfo
+from tftools.sources.contents import DEFAULT_TOPICS
 from tftools.sources.recording import Recording, recording_of
 
 START = 1_700_000_000 * NS_PER_S

@@ -117,7 +117,7 @@ def test_problems_are_coloured_where_they_are_and_listed_in_the_legend() -> None
     assert parsed.nodes["odom"]["color"] == INK
     legend = parsed.nodes["legend"]["label"]
     assert "3 errors, 1 warning" in legend
-    assert "base_link -&gt; wheel stopped at" in legend  # HTML-escaped in the source
+    assert "base_link -&gt; wheel by /node stopped at" in legend  # HTML-escaped in the source
     assert "every sample rejected" in parsed.nodes["legend_key"]["label"]
 
 

@@ -33,7 +33,7 @@ from tftools.analysis.wtf import CHECKS, Thresholds, check
 from tftools.core.errors import ExtrapolationError, TransformError
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.bag.contents import ClockSamples
+from tftools.sources.contents import ClockSamples
 
 
 def loud(findings: list[Finding]) -> list[Finding]:

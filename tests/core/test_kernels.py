@@ -146,3 +146,15 @@ def test_the_kernels_load_once_the_walk_would_have_paid_for_them(monkeypatch):
     monkeypatch.setattr(kernels_table, "_walked", 0.0)
     buffer.lookup_many(target, source, np.full(int(kernels_table.LOAD_SECONDS / kernels_table.WALK_LOOKUP_S), time))
     assert kernels_table._tried
+
+
+def test_a_buffer_made_to_warm_up_loads_the_kernels_before_any_lookup(monkeypatch):
+    """A live listener's buffer: loading numba at its first lookups would stall the threads filling it."""
+    from tftools.core import kernels_table
+
+    for fresh in ("_tried", "_walked", "_compiled"):
+        monkeypatch.setattr(kernels_table, fresh, {"_tried": False, "_walked": 0.0, "_compiled": None}[fresh])
+    Buffer()
+    assert not kernels_table._tried
+    Buffer(warm_up=True)
+    assert kernels_table._tried and kernels_table.compiled(0.0) is kernels

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import is_static_topic
+from tftools.sources.contents import is_static_topic
 
 ROS_PYTHON = "/usr/bin/python3"
 WRITER = Path(__file__).with_name("ros1_rosbag_writer.py")

@@ -24,7 +24,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from ruamel.yaml import YAML
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import is_static_topic
+from tftools.sources.contents import is_static_topic
 
 NS = 1_000_000_000
 T0 = 1_700_000_000 * NS

@@ -9,10 +9,11 @@ import numpy as np
 
 from tests.sources.ros2_helpers import batch_rows
 from tftools.core.batch import BatchBuilder, TransformBatch
+from tftools.core.buffer import Buffer
 from tftools.core.rejection import RejectionCode
 from tftools.sources.bag.contents import BagContents, BagFileInfo, in_record_order
 from tftools.sources.bag.reader import read_bag
-from tftools.sources.recording import read_recording, recording_of
+from tftools.sources.recording import read_recording, recording_of, recording_of_buffer
 
 SAMPLE_BAGS = Path(__file__).resolve().parents[2] / "sample_bags"
 IDENTITY = (0.0, 0.0, 0.0, 1.0)
@@ -34,7 +35,7 @@ def _contents(parts: list[TransformBatch]) -> BagContents:
     return BagContents(parts, [info], ("/tf", "/tf_static"))
 
 
-def test_rows_come_back_in_record_order_with_the_refused_ones() -> None:
+def _two_parts() -> tuple[TransformBatch, TransformBatch]:
     builder = BatchBuilder()
     first = _part(
         builder,
@@ -58,6 +59,11 @@ def test_rows_come_back_in_record_order_with_the_refused_ones() -> None:
             ("map", "odom", 20, 7.0),
         ],
     )
+    return first, second
+
+
+def test_rows_come_back_in_record_order_with_the_refused_ones() -> None:
+    first, second = _two_parts()
     expected = batch_rows([first, second])
     recording = recording_of(_contents([first, second]))
     assert not recording.contents.parts  # taken by the buffer: held once
@@ -71,6 +77,17 @@ def test_rows_come_back_in_record_order_with_the_refused_ones() -> None:
     assert batch_rows(recording.transforms) == expected
     assert recording.transform_count == len(expected) == 10
     assert recording.buffer.lookup("map", "base", 30).translation == (6.0, 0.0, 0.0)
+
+
+def test_a_buffer_as_a_recording_gives_back_its_rows_and_the_refused_ones_its_log_keeps() -> None:
+    first, second = _two_parts()
+    buffer = Buffer(None)
+    buffer.insert(first)
+    buffer.insert(second)
+    recording = recording_of_buffer(buffer)
+    assert batch_rows(recording.transforms) == batch_rows([first, second])  # a slash, static, NaN and all
+    assert (recording.start, recording.end, recording.transform_count) == (1, 103, 10)
+    assert [(f.format, f.live) for f in recording.contents.files] == [("buffer", False)]
 
 
 def test_a_bag_read_into_a_recording_gives_back_every_row_as_read() -> None:

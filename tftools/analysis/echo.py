@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
 from tftools.core.history import EdgeHistory
@@ -20,12 +21,12 @@ class EchoSeries:
 
     target: str
     source: str
-    times: npt.NDArray[np.int64]  # requested (ns)
-    stamps: npt.NDArray[np.int64]  # the stamp of each answer (ns)
-    translations: npt.NDArray[np.float64]
-    rotations: npt.NDArray[np.float64]
-    rpy: npt.NDArray[np.float64]
-    valid: npt.NDArray[np.bool_]
+    times: Int64Array  # requested (ns)
+    stamps: Int64Array  # the stamp of each answer (ns)
+    translations: FloatArray
+    rotations: FloatArray
+    rpy: FloatArray
+    valid: BoolArray
     errors: dict[int, TransformError]  # row -> why it failed
 
     def __len__(self) -> int:
@@ -68,7 +69,7 @@ def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | No
     return (start, end) if start <= end else None
 
 
-def sample_times(buffer: Buffer, target: str, source: str, start: int, end: int) -> npt.NDArray[np.int64]:
+def sample_times(buffer: Buffer, target: str, source: str, start: int, end: int) -> Int64Array:
     """Every stamp of the moving edges between the frames within ``[start, end]``, sorted."""
     edges = _moving_edges(buffer, target, source)
     if not edges:
@@ -91,7 +92,7 @@ def _moving_edges(buffer: Buffer, target: str, source: str) -> list[EdgeHistory]
     return edges
 
 
-def ticks(start: int, end: int, rate_hz: float) -> npt.NDArray[np.int64]:
+def ticks(start: int, end: int, rate_hz: float) -> Int64Array:
     """Times from ``start`` to ``end`` inclusive, ``rate_hz`` per second."""
     if rate_hz <= 0:
         raise ValueError("the rate must be above 0 Hz")

@@ -6,15 +6,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.buffer import Buffer
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
-
-Int64Array = npt.NDArray[np.int64]
-BoolArray = npt.NDArray[np.bool_]
 
 #: An edge counts as stale, or a pause as a gap, only when it lasts this many of its periods too.
 PERIODS = 10
@@ -188,7 +185,7 @@ def _authority(
     return AuthorityStats(name, messages, rate, tuple(edges), mean, largest)
 
 
-def _ids(values: npt.NDArray[np.int32]) -> npt.NDArray[np.intp]:
+def _ids(values: Int32Array) -> IntpArray:
     """The distinct small non-negative ids in ``values``, ascending (faster than ``np.unique``)."""
     return np.flatnonzero(np.bincount(values)) if len(values) else np.zeros(0, np.intp)
 

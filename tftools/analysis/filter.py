@@ -19,19 +19,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.analysis.edges import PERIODS
 from tftools.analysis.frames import frame_tree
+from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.stamped import StampedMessages
-
-Int64Array = npt.NDArray[np.int64]
-Int32Array = npt.NDArray[np.int32]
-BoolArray = npt.NDArray[np.bool_]
 
 #: A time that never comes.
 NEVER = np.iinfo(np.int64).max
@@ -65,7 +61,7 @@ class Fates:
     ``edge`` the (parent, child) that decided it (made it wait, never caught up, or had dropped its
     stamp), ``lag`` how far that edge's newest stamp was behind the message's stamp at arrival (ns)."""
 
-    fate: npt.NDArray[np.int8]
+    fate: Int8Array
     ready: Int64Array
     edge: Sequence[tuple[str, str] | None]
     lag: Int64Array
@@ -208,7 +204,7 @@ def recording_end(buffer: Buffer, streams: Sequence[StampedMessages]) -> int:
 
 def _judge(
     chain: list[_Edge], arrived: Int64Array, stamps: Int64Array, end: int
-) -> tuple[npt.NDArray[np.int8], Int64Array, Int64Array, list[tuple[str, str] | None]]:
+) -> tuple[Int8Array, Int64Array, Int64Array, list[tuple[str, str] | None]]:
     """Fate, ready time, lag and deciding edge of messages of one frame, in a recording ending at ``end``."""
     n = len(stamps)
     if not chain:  # the frame is the target itself
@@ -238,7 +234,7 @@ def _judge(
     return fate, ready, lag, edges
 
 
-def _at(values: Int64Array, index: npt.NDArray[np.intp]) -> Int64Array:
+def _at(values: Int64Array, index: IntpArray) -> Int64Array:
     """``values[index]``, NEVER where the index is past the end."""
     inside = index < len(values)
     return np.where(inside, values[np.minimum(index, len(values) - 1)], NEVER)

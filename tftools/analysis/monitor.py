@@ -8,17 +8,15 @@ import threading
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.analysis.edges import AuthorityStats, EdgeStats, authority_stats, edge_stats, sorted_unique
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, Clock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
-
-Int64Array = npt.NDArray[np.int64]
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,6 @@ import io
 from typing import Annotated
 
 import numpy as np
-import numpy.typing as npt
 import typer
 
 from tftools.analysis.echo import EchoSeries, chain_span, echo, sample_times, ticks
@@ -27,6 +26,7 @@ from tftools.cli.common import (
     open_recording,
     stdout,
 )
+from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.render import echo as render
@@ -200,7 +200,7 @@ def _times(
     every: bool,
     start: str | None,
     end: str | None,
-) -> npt.NDArray[np.int64]:
+) -> Int64Array:
     if at is not None:
         return np.array([0 if at.strip() == "0" else parse_time(at, recording, "--at")], np.int64)
     span = chain_span(recording.buffer, target, source) or (recording.timeline.tf_start, recording.timeline.tf_end)

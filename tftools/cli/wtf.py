@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import difflib
 import enum
+import functools
 import os
 import sys
 from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Annotated
 
@@ -14,7 +16,7 @@ import typer
 from rich.table import Table
 
 from tftools.analysis.wtf import CHECKS, Thresholds
-from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_recording
+from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
 from tftools.cli import live
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
@@ -205,11 +207,25 @@ def _check_groups(
     target: str | None,
     sensors: Sequence[str] | None,
 ) -> list[BagReport]:
+    """Each group of paths checked as its own recording, ``jobs`` at a time; reports in the given order."""
+    one = functools.partial(
+        check_bags,
+        topics=topics,
+        thresholds=thresholds,
+        ignore=tuple(ignore),
+        semantics=semantics,
+        target=target,
+        sensor_topics=sensors,
+    )
     if len(groups) == 1:
         size = sum(_size(p) for p in groups[0])
         with progress_bar(enabled=size > 20_000_000) as progress:
-            return [check_bags(groups[0], topics, thresholds, ignore, progress, semantics, target, sensors)]
-    return check_fleet(groups, topics, thresholds, ignore, jobs, semantics, target, sensors)
+            return [one(groups[0], progress=progress)]
+    if jobs <= 1:
+        return [one(g) for g in groups]
+    with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
+        futures = [pool.submit(one, [str(p) for p in g]) for g in groups]
+        return [f.result() for f in futures]
 
 
 def _size(path: Path) -> int:

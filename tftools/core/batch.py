@@ -6,12 +6,8 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
-Int64Array = npt.NDArray[np.int64]
-Int32Array = npt.NDArray[np.int32]
-FloatArray = npt.NDArray[np.float64]
-BoolArray = npt.NDArray[np.bool_]
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
 
 
 @dataclass
@@ -195,7 +191,7 @@ def concat_batches(batches: Sequence[TransformBatch]) -> TransformBatch:
     )
 
 
-def take_rows(batch: TransformBatch, rows: npt.NDArray[np.intp]) -> TransformBatch:
+def take_rows(batch: TransformBatch, rows: IntpArray) -> TransformBatch:
     """The given rows of ``batch``, in that order, sharing its string tables."""
     return TransformBatch(
         frame_names=batch.frame_names,

@@ -14,6 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core import walk
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray, UInt8Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT, FrameTable
@@ -60,38 +61,36 @@ def _locked(method: _Method) -> _Method:
 class LookupBatch:
     """``Buffer.lookup_many``'s answer: one row per requested time."""
 
-    stamps: npt.NDArray[np.int64]  # the time each lookup was made at (time 0 resolved)
-    translations: npt.NDArray[np.float64]  # (N, 3)
-    rotations: npt.NDArray[np.float64]  # (N, 4), x y z w
-    valid: npt.NDArray[np.bool_]  # where tf2 would have succeeded
+    stamps: Int64Array  # the time each lookup was made at (time 0 resolved)
+    translations: FloatArray  # (N, 3)
+    rotations: FloatArray  # (N, 4), x y z w
+    valid: BoolArray  # where tf2 would have succeeded
 
     def __len__(self) -> int:
         return len(self.stamps)
 
-    def apply_to_points(self, points: npt.ArrayLike) -> npt.NDArray[np.float64]:
+    def apply_to_points(self, points: npt.ArrayLike) -> FloatArray:
         """Each (x, y, z) expressed in the target frame, as tf2_geometry_msgs transforms a PointStamped:
         rotated, then translated. NaN rows where the lookup failed."""
         return self._failed_as_nan(quat_rotate_many(self.rotations, _rows(points, 3, len(self))) + self.translations)
 
-    def apply_to_vectors(self, vectors: npt.ArrayLike) -> npt.NDArray[np.float64]:
+    def apply_to_vectors(self, vectors: npt.ArrayLike) -> FloatArray:
         """Each (x, y, z) direction in the target frame, as tf2_geometry_msgs transforms a Vector3Stamped:
         rotated only. NaN rows where the lookup failed."""
         return self._failed_as_nan(quat_rotate_many(self.rotations, _rows(vectors, 3, len(self))))
 
-    def apply_to_poses(
-        self, positions: npt.ArrayLike, orientations: npt.ArrayLike
-    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    def apply_to_poses(self, positions: npt.ArrayLike, orientations: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
         """Poses (positions, x y z w orientations) in the target frame, as tf2_geometry_msgs transforms a
         PoseStamped: the position as a point, the orientation composed after the transform's rotation."""
         rotated = quat_multiply_many(self.rotations, _rows(orientations, 4, len(self)))
         return self.apply_to_points(positions), self._failed_as_nan(rotated)
 
-    def _failed_as_nan(self, values: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    def _failed_as_nan(self, values: FloatArray) -> FloatArray:
         values[~self.valid] = np.nan
         return values
 
 
-def _rows(values: npt.ArrayLike, width: int, count: int) -> npt.NDArray[np.float64]:
+def _rows(values: npt.ArrayLike, width: int, count: int) -> FloatArray:
     """``values`` as ``count`` rows of ``width`` (one row is repeated)."""
     array = np.asarray(values, np.float64)
     if array.shape == (width,):
@@ -108,7 +107,9 @@ class Buffer:
     everything, which is what whole-bag analysis wants. ``clock`` answers "what time is it":
     a ``SimClock`` (bag time) unless a live source gives a wall clock. ``semantics`` chooses
     the tf2 to answer as: ``"ros1"`` (ROS 1 bags and systems) or ``"ros2"`` (``.db3``/``.mcap``
-    and ROS 2 systems); ``tftools.core.semantics`` lists how they differ.
+    and ROS 2 systems); ``tftools.core.semantics`` lists how they differ. ``warm_up`` loads the
+    compiled lookups now rather than once they pay: for a buffer other threads fill while it is
+    looked up (a live listener's), whose first lookups would otherwise stall them while numba loads.
     """
 
     def __init__(
@@ -116,7 +117,11 @@ class Buffer:
         cache_time: int | None = DEFAULT_CACHE_TIME,
         clock: Clock | None = None,
         semantics: Semantics = "ros1",
+        *,
+        warm_up: bool = False,
     ) -> None:
+        if warm_up:
+            compiled()
         self.cache_time = cache_time
         self.clock: Clock = clock if clock is not None else SimClock()
         self.semantics: Semantics = check_semantics(semantics)
@@ -271,7 +276,7 @@ class Buffer:
             | names.slash[batch.child].astype(np.uint8) * CHILD_HAD_SLASH
         )
         refusals = _validate(values, parent_key, child_key, names.empty_key)
-        self._record_refusals(refusals, batch, names, (parent_key, child_key), values, authority, sequence)
+        self._record_refusals(refusals, batch, names, (parent_key, child_key), (values, flags), authority, sequence)
         ok = ~np.any(list(refusals.values()), axis=0) if refusals else np.ones(n, bool)
         rows = np.flatnonzero(ok)
         if len(rows) == 0:
@@ -297,7 +302,7 @@ class Buffer:
                 )
         return accepted
 
-    def _cache_runs(self, flags: npt.NDArray[np.uint8]) -> list[slice]:
+    def _cache_runs(self, flags: UInt8Array) -> list[slice]:
         """A frame's rows in parts that go to one cache: all of them, except under ROS 2,
         where each change between static and dynamic replaces the frame's cache."""
         static = (flags & FROM_STATIC_TOPIC) != 0
@@ -306,7 +311,7 @@ class Buffer:
         bounds = [0, *(np.flatnonzero(static[1:] != static[:-1]) + 1).tolist(), len(static)]
         return [slice(a, b) for a, b in itertools.pairwise(bounds)]
 
-    def _authority_map(self, authorities: Sequence[str]) -> npt.NDArray[np.int32]:
+    def _authority_map(self, authorities: Sequence[str]) -> Int32Array:
         ids = []
         for name in authorities:
             if name not in self._authority_ids:
@@ -315,7 +320,7 @@ class Buffer:
             ids.append(self._authority_ids[name])
         return np.array(ids or [0], np.int32)
 
-    def _intern(self, stripped: list[str], children: _Runs, parents: _Runs) -> npt.NDArray[np.int32]:
+    def _intern(self, stripped: list[str], children: _Runs, parents: _Runs) -> Int32Array:
         """Frame ids of the names' keys, interning new names in order of first appearance,
         each row's child before its parent, as tf2 does."""
         appearance = np.minimum(2 * children.first_row(), 2 * parents.first_row() + 1)
@@ -329,13 +334,13 @@ class Buffer:
     def _store(
         self,
         frame_id: int,
-        stamps: npt.NDArray[np.int64],
-        values: npt.NDArray[np.float64],
-        parents: npt.NDArray[np.int32],
-        authorities: npt.NDArray[np.int32],
-        record_times: npt.NDArray[np.int64],
-        sequence: npt.NDArray[np.int64],
-        flags: npt.NDArray[np.uint8],
+        stamps: Int64Array,
+        values: FloatArray,
+        parents: Int32Array,
+        authorities: Int32Array,
+        record_times: Int64Array,
+        sequence: Int64Array,
+        flags: UInt8Array,
     ) -> int:
         """Offer one frame's rows, in arrival order, to its cache; returns how many tf2 accepted."""
         hist = self._histories[frame_id]
@@ -375,6 +380,8 @@ class Buffer:
                         authorities[mask],
                         record_times[mask],
                         sequence[mask],
+                        values[mask],
+                        flags[mask],
                     )
             keep = ~(old | ignored)
             accepted = keep
@@ -408,10 +415,10 @@ class Buffer:
     def _refused_stamps(
         self,
         hist: EdgeHistory,
-        stamps: npt.NDArray[np.int64],
-        values: npt.NDArray[np.float64],
-        parents: npt.NDArray[np.int32],
-    ) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
+        stamps: Int64Array,
+        values: FloatArray,
+        parents: Int32Array,
+    ) -> tuple[BoolArray, BoolArray]:
         """For rows arriving in this order: ``TF_OLD_DATA``, and the rows not stored because of
         an earlier sample at their stamp (ROS 1: ``TF_REPEATED_DATA``; ROS 2: an identical one)."""
         old = np.zeros(len(stamps), bool)
@@ -437,12 +444,12 @@ class Buffer:
     @staticmethod
     def _identical_to_earlier(
         hist: EdgeHistory,
-        stamps: npt.NDArray[np.int64],
-        values: npt.NDArray[np.float64],
-        parents: npt.NDArray[np.int32],
-        fresh: npt.NDArray[np.bool_],
-        candidates: npt.NDArray[np.bool_],
-    ) -> npt.NDArray[np.bool_]:
+        stamps: Int64Array,
+        values: FloatArray,
+        parents: Int32Array,
+        fresh: BoolArray,
+        candidates: BoolArray,
+    ) -> BoolArray:
         """Which ``candidates`` (fresh rows whose stamp came before) equal an earlier sample of
         that stamp, held or stored from this batch: tf2's ``TransformStorage ==`` (values
         compared as doubles, so 0.0 == -0.0), which ROS 2's ``insertData`` checks first."""
@@ -463,15 +470,16 @@ class Buffer:
 
     def _record_refusals(
         self,
-        refusals: dict[RejectionCode, npt.NDArray[np.bool_]],
+        refusals: dict[RejectionCode, BoolArray],
         batch: TransformBatch,
         names: _StrippedNames,
-        keys: tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]],
-        values: npt.NDArray[np.float64],
-        authority: npt.NDArray[np.int32],
-        sequence: npt.NDArray[np.int64],
+        keys: tuple[Int32Array, Int32Array],
+        samples: tuple[FloatArray, UInt8Array],
+        authority: Int32Array,
+        sequence: Int64Array,
     ) -> None:
         parent_key, child_key = keys
+        values, flags = samples
         for code, mask in refusals.items():
             self.rejections.add(
                 code,
@@ -484,6 +492,7 @@ class Buffer:
                 batch.record_time[mask],
                 sequence[mask],
                 values[mask],
+                flags[mask],
             )
 
     # --- lookups -----------------------------------------------------------------------------
@@ -592,14 +601,14 @@ class Buffer:
 
     def transform_points(
         self, target_frame: str, source_frame: str, times: npt.ArrayLike, points: npt.ArrayLike
-    ) -> npt.NDArray[np.float64]:
+    ) -> FloatArray:
         """Points (N, 3) of ``source_frame`` at ``times`` (N, or one for all) in ``target_frame``;
         NaN rows where tf2 could not look the transform up (``lookup`` at that time says why)."""
         return self.lookup_many(target_frame, source_frame, _times_for(times, points)).apply_to_points(points)
 
     def transform_vectors(
         self, target_frame: str, source_frame: str, times: npt.ArrayLike, vectors: npt.ArrayLike
-    ) -> npt.NDArray[np.float64]:
+    ) -> FloatArray:
         """Vectors (N, 3) rotated into ``target_frame`` (no translation), as ``transform_points``."""
         return self.lookup_many(target_frame, source_frame, _times_for(times, vectors)).apply_to_vectors(vectors)
 
@@ -610,7 +619,7 @@ class Buffer:
         times: npt.ArrayLike,
         positions: npt.ArrayLike,
         orientations: npt.ArrayLike,
-    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    ) -> tuple[FloatArray, FloatArray]:
         """Poses (positions (N, 3), orientations (N, 4) x y z w) in ``target_frame``, as ``transform_points``."""
         batch = self.lookup_many(target_frame, source_frame, _times_for(times, positions))
         return batch.apply_to_poses(positions, orientations)
@@ -657,7 +666,7 @@ class Buffer:
     def _tree(self) -> walk.Tree:
         return walk.Tree(self._histories, self._frames.names, dialect(self.semantics))
 
-    def _edge_table(self) -> npt.NDArray[np.int64]:
+    def _edge_table(self) -> Int64Array:
         """The compiled kernels' view of the histories (built once, then kept up to date)."""
         if self._table is None:
             self._table = EdgeTable(self._histories)
@@ -684,7 +693,7 @@ class Buffer:
 class _StrippedNames:
     """A batch's raw frame names, without their leading ``/``, as local integer keys."""
 
-    def __init__(self, raw: Sequence[str], parent: npt.NDArray[np.int32], child: npt.NDArray[np.int32]) -> None:
+    def __init__(self, raw: Sequence[str], parent: Int32Array, child: Int32Array) -> None:
         self.stripped: list[str] = []
         index: dict[str, int] = {}
         self.key = np.zeros(len(raw), np.int32)
@@ -717,11 +726,11 @@ def _rows_per_child(batch: TransformBatch) -> dict[str, int]:
 
 
 def _validate(
-    values: npt.NDArray[np.float64],
-    parent_key: npt.NDArray[np.int32],
-    child_key: npt.NDArray[np.int32],
+    values: FloatArray,
+    parent_key: Int32Array,
+    child_key: Int32Array,
     empty_key: int,
-) -> dict[RejectionCode, npt.NDArray[np.bool_]]:
+) -> dict[RejectionCode, BoolArray]:
     """tf2's checks in ``setTransform``, each a mask of the rows it refuses (only non-empty)."""
     x, y, z, w = values[:, 3], values[:, 4], values[:, 5], values[:, 6]
     with np.errstate(invalid="ignore", over="ignore"):
@@ -745,7 +754,7 @@ _NEVER = np.iinfo(np.int64).max // 4
 class _Runs:
     """Rows grouped by a small integer key (a stable sort, linear for keys below 2**16)."""
 
-    def __init__(self, keys: npt.NDArray[np.int32], key_count: int) -> None:
+    def __init__(self, keys: Int32Array, key_count: int) -> None:
         self.key_count = key_count
         sortable = keys.astype(np.uint16) if key_count <= 1 << 16 else keys
         self.order = np.argsort(sortable, kind="stable")
@@ -753,20 +762,20 @@ class _Runs:
         self.starts = np.flatnonzero(np.concatenate([[True], sorted_keys[1:] != sorted_keys[:-1]]))
         self.keys = sorted_keys[self.starts]
 
-    def first_row(self) -> npt.NDArray[np.int64]:
+    def first_row(self) -> Int64Array:
         """Per key, the first row holding it (a large number for absent keys)."""
         first = np.full(self.key_count, _NEVER, np.int64)
         first[self.keys] = self.order[self.starts]
         return first
 
-    def groups(self) -> Iterator[tuple[int, npt.NDArray[np.intp]]]:
+    def groups(self) -> Iterator[tuple[int, IntpArray]]:
         """Each key with the rows holding it, in their original order."""
         bounds = [*self.starts.tolist(), len(self.order)]
         for key, start, stop in zip(self.keys.tolist(), bounds[:-1], bounds[1:], strict=True):
             yield key, self.order[start:stop]
 
 
-def _times_for(times: npt.ArrayLike, rows: npt.ArrayLike) -> npt.NDArray[np.int64]:
+def _times_for(times: npt.ArrayLike, rows: npt.ArrayLike) -> Int64Array:
     """One time per row: ``times`` as given, or one time repeated for every row."""
     stamps = np.asarray(times, np.int64).reshape(-1)
     shape = np.shape(rows)

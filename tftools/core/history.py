@@ -3,22 +3,49 @@
 from __future__ import annotations
 
 from bisect import bisect_right
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
-import numpy.typing as npt
 
-from tftools.core.rotation import FloatArray, slerp
-
-Int64Array = npt.NDArray[np.int64]
-Int32Array = npt.NDArray[np.int32]
-UInt8Array = npt.NDArray[np.uint8]
-BoolArray = npt.NDArray[np.bool_]
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.batch import TransformBatch
+from tftools.core.rotation import slerp
 
 #: ``EdgeHistory.flags`` bits.
 FROM_STATIC_TOPIC = 1
 PARENT_HAD_SLASH = 2
 CHILD_HAD_SLASH = 4
+
+
+def rows_as_sent(
+    names: Sequence[str],
+    authorities: Sequence[str],
+    frames: tuple[Int32Array, Int32Array],
+    flags: UInt8Array,
+    stamp: Int64Array,
+    values: FloatArray,
+    record_time: Int64Array,
+    authority: Int32Array,
+) -> TransformBatch:
+    """Samples as a buffer keeps them (``frames``: parent and child ids into tf2's ``names``, ``flags``
+    as ``EdgeHistory.flags``) back as the rows that were sent: a name that had a leading ``/`` has
+    it again, and rows from ``/tf_static`` are static."""
+    parent, child = frames
+    slashed = len(names)  # a name that had a slash: the stripped name's id, shifted past every stripped name
+    return TransformBatch(
+        frame_names=[*names, *("/" + n for n in names)],
+        authorities=authorities,
+        parent=np.where(flags & PARENT_HAD_SLASH, parent + slashed, parent).astype(np.int32, copy=False),
+        child=np.where(flags & CHILD_HAD_SLASH, child + slashed, child).astype(np.int32, copy=False),
+        stamp=stamp,
+        translation=values[:, :3],
+        rotation=values[:, 3:],
+        static=(flags & FROM_STATIC_TOPIC) != 0,
+        record_time=record_time,
+        authority=authority,
+    )
+
 
 #: A sample as the scalar lookup path uses it: parent id and tx ty tz qx qy qz qw.
 Sample = tuple[int, list[float]]

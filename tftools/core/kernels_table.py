@@ -17,8 +17,8 @@ from collections.abc import Sequence
 from types import ModuleType
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.history import EdgeHistory
 
 #: Columns of a row. A frame without history (a root, or not yet seen) has HAS == 0.
@@ -30,7 +30,7 @@ class EdgeTable:
     """One row per frame id describing its history's storage (see the module docstring)."""
 
     def __init__(self, histories: Sequence[EdgeHistory | None]) -> None:
-        self.rows: npt.NDArray[np.int64] = np.zeros((max(len(histories), 8), COLUMNS), np.int64)
+        self.rows: Int64Array = np.zeros((max(len(histories), 8), COLUMNS), np.int64)
         self._pinned: list[object] = [None] * len(self.rows)
         for frame_id, hist in enumerate(histories):
             if hist is not None:
@@ -98,11 +98,11 @@ _TIMES_PER_THREAD = 50_000
 
 def lookup_in_parallel(
     kernels: ModuleType,
-    table: npt.NDArray[np.int64],
+    table: Int64Array,
     target_id: int,
     source_id: int,
-    times: npt.NDArray[np.int64],
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    times: Int64Array,
+) -> tuple[Int64Array, FloatArray, BoolArray]:
     """``kernels.lookup_many`` over ``times``, split across the CPUs.
 
     Each thread takes a span of time, so that it streams through its own part of the
@@ -141,7 +141,7 @@ def lookup_in_parallel(
     return outputs
 
 
-def _sorted(values: npt.NDArray[np.int64]) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+def _sorted(values: Int64Array) -> tuple[Int64Array, Int64Array]:
     """``np.argsort(values)`` and the values in that order.
 
     When their span leaves room, each value and its index are packed in one int64 and sorted as

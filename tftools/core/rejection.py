@@ -10,6 +10,9 @@ from typing import Any, NamedTuple, overload
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.batch import TransformBatch
+from tftools.core.history import rows_as_sent
 from tftools.core.semantics import Semantics, dialect
 from tftools.core.time import to_sec
 
@@ -107,8 +110,8 @@ LIVE_REJECTIONS_KEPT = 10_000
 
 _CODES = list(RejectionCode)
 _CODE_INDEX = {code: i for i, code in enumerate(_CODES)}
-#: How many of a refused sample's 7 values its ``Rejection`` keeps (the last ones): all for NaN,
-#: the rotation for the other checks of ``setTransform``, none for a stamp tf2 refuses.
+#: How many of a refused sample's 7 values its ``Rejection`` shows (the last ones), as tf2's log
+#: line does: all for NaN, the rotation for the other checks of ``setTransform``, none for a stamp.
 _SHOWN_VALUES = {
     RejectionCode.NAN_INPUT: 7,
     RejectionCode.DENORMALIZED_QUATERNION: 4,
@@ -134,6 +137,7 @@ class EdgeRejections(NamedTuple):
 class RejectionLog(Sequence[Rejection]):
     """A buffer's refused samples, in the order refused, held as columns: a ``Rejection`` is
     made only when one is read, so a million refusals cost tens of megabytes, not a gigabyte.
+    Each keeps the whole sample, so that ``rows`` gives back what was sent.
 
     ``limit`` keeps only the latest that many (a live buffer's); ``total`` counts every one.
     """
@@ -157,19 +161,20 @@ class RejectionLog(Sequence[Rejection]):
         names: Sequence[str],
         parent: npt.NDArray[np.integer[Any]],
         child: npt.NDArray[np.integer[Any]],
-        stamp: npt.NDArray[np.int64],
+        stamp: Int64Array,
         authorities: Sequence[str],
         authority: npt.NDArray[np.integer[Any]],
-        record_time: npt.NDArray[np.int64],
-        sequence: npt.NDArray[np.int64],
-        values: npt.NDArray[np.float64] | None = None,
+        record_time: Int64Array,
+        sequence: Int64Array,
+        values: FloatArray,
+        flags: UInt8Array,
     ) -> None:
-        """Refusals of one ``code``, a row each: frames and publishers as indices into ``names``
-        and ``authorities`` (interned here, once per distinct one); ``values`` (N, 7) where shown."""
+        """Refusals of one ``code``, a row each: frames (as tf2 names them) and publishers as indices
+        into ``names`` and ``authorities`` (interned here, once per distinct one), ``values`` (N, 7),
+        ``flags`` as ``EdgeHistory.flags``."""
         n = len(stamp)
         if n == 0:
             return
-        shown = _SHOWN_VALUES.get(code, 0)
         columns: dict[str, npt.NDArray[Any]] = {
             "code": np.full(n, _CODE_INDEX[code], np.uint8),
             "parent": _interned(parent, names, self._names, self._name_ids),
@@ -178,7 +183,8 @@ class RejectionLog(Sequence[Rejection]):
             "authority": _interned(authority, authorities, self._authorities, self._authority_ids),
             "record_time": np.array(record_time, np.int64),
             "sequence": np.array(sequence, np.int64),
-            "values": np.array(values, np.float64) if values is not None and shown else np.zeros((n, 7)),
+            "values": np.array(values, np.float64),
+            "flags": np.array(flags, np.uint8),
         }
         self._parts.append(columns)
         self.total += n
@@ -238,9 +244,26 @@ class RejectionLog(Sequence[Rejection]):
             self.semantics,
         )
 
-    def sequences(self, start: int = 0) -> npt.NDArray[np.int64]:
+    def rows(self) -> tuple[TransformBatch, Int64Array]:
+        """The kept refused samples as they were sent, in arrival order, one row per sample (tf2 may
+        refuse one for several reasons), and each one's arrival number."""
+        c = self._join()
+        sequence, first = np.unique(c["sequence"], return_index=True)
+        batch = rows_as_sent(
+            self._names,
+            self._authorities,
+            (c["parent"][first], c["child"][first]),
+            c["flags"][first],
+            c["stamp"][first],
+            c["values"][first],
+            c["record_time"][first],
+            c["authority"][first],
+        )
+        return batch, sequence
+
+    def sequences(self, start: int = 0) -> Int64Array:
         """The arrival numbers of the rejections from the ``start``-th kept one on, in order."""
-        sequence: npt.NDArray[np.int64] = self._join()["sequence"][start:].copy()
+        sequence: Int64Array = self._join()["sequence"][start:].copy()
         return sequence
 
     def by_edge(self, groups: Mapping[RejectionCode, str] | None = None) -> dict[tuple[str, str, str], EdgeRejections]:
@@ -279,7 +302,7 @@ class RejectionLog(Sequence[Rejection]):
 
 def _interned(
     ids: npt.NDArray[np.integer[Any]], names: Sequence[str], table: list[str], index: dict[str, int]
-) -> npt.NDArray[np.int32]:
+) -> Int32Array:
     """``ids`` (into ``names``) as indices into ``table``, adding each new name once."""
     distinct, where = np.unique(np.asarray(ids), return_inverse=True)
     mapped = np.empty(len(distinct), np.int32)
@@ -303,4 +326,5 @@ def _empty_columns() -> dict[str, npt.NDArray[Any]]:
         "record_time": np.zeros(0, np.int64),
         "sequence": np.zeros(0, np.int64),
         "values": np.zeros((0, 7)),
+        "flags": np.zeros(0, np.uint8),
     }

@@ -12,12 +12,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import numpy.typing as npt
+
+from tftools.core.arrays import FloatArray
 
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
 Matrix3 = tuple[Vec3, Vec3, Vec3]
-FloatArray = npt.NDArray[np.float64]
 
 IDENTITY_QUAT: Quat = (0.0, 0.0, 0.0, 1.0)
 ZERO_VEC: Vec3 = (0.0, 0.0, 0.0)

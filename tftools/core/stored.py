@@ -7,12 +7,13 @@ from collections.abc import Callable
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
-from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH, EdgeHistory
+from tftools.core.history import EdgeHistory, rows_as_sent
 
 
-def stored_rows(buffer: Buffer) -> tuple[TransformBatch, npt.NDArray[np.int64]]:
+def stored_rows(buffer: Buffer) -> tuple[TransformBatch, Int64Array]:
     """Every sample ``buffer`` stored, in arrival order, and each one's arrival number.
 
     The rows are as they were inserted: frame names with the leading ``/`` tf2 strips where
@@ -30,25 +31,20 @@ def stored_rows(buffer: Buffer) -> tuple[TransformBatch, npt.NDArray[np.int64]]:
             return TransformBatch.empty(), np.zeros(0, np.int64)
         sequence = np.concatenate([h.sequence for _, h in histories])
         order = np.argsort(sequence, kind="stable")
+        child = np.concatenate([np.full(len(h), frame_id, np.int32) for frame_id, h in histories])[order]
 
         def column(of: Callable[[EdgeHistory], npt.NDArray[np.generic]]) -> npt.NDArray[np.generic]:
             return np.concatenate([of(h) for _, h in histories])[order]
 
-        flags = column(lambda h: h.flags).astype(np.uint8, copy=False)
-        child = np.concatenate([np.full(len(h), frame_id, np.int32) for frame_id, h in histories])[order]
-        parent = column(lambda h: h.parents)
-        batch = TransformBatch(
-            # A name that had a slash: the stripped name's id, shifted past every stripped name.
-            frame_names=names + ["/" + n for n in names],
-            authorities=authorities,
-            parent=np.where(flags & PARENT_HAD_SLASH, parent + len(names), parent).astype(np.int32, copy=False),
-            child=np.where(flags & CHILD_HAD_SLASH, child + len(names), child).astype(np.int32, copy=False),
-            stamp=column(lambda h: h.stamps).astype(np.int64, copy=False),
-            translation=column(lambda h: h.translations).astype(np.float64, copy=False),
-            rotation=column(lambda h: h.rotations).astype(np.float64, copy=False),
-            static=(flags & FROM_STATIC_TOPIC) != 0,
-            record_time=column(lambda h: h.record_times).astype(np.int64, copy=False),
-            authority=column(lambda h: h.authorities).astype(np.int32, copy=False),
+        batch = rows_as_sent(
+            names,
+            authorities,
+            (column(lambda h: h.parents).astype(np.int32, copy=False), child),
+            column(lambda h: h.flags).astype(np.uint8, copy=False),
+            column(lambda h: h.stamps).astype(np.int64, copy=False),
+            column(lambda h: h.values).astype(np.float64, copy=False),
+            column(lambda h: h.record_times).astype(np.int64, copy=False),
+            column(lambda h: h.authorities).astype(np.int32, copy=False),
         )
     return batch, sequence[order]
 

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import FloatArray
 from tftools.core.rotation import (
     IDENTITY_QUAT,
     ZERO_VEC,
@@ -105,18 +106,18 @@ class Transform:
         r, p, y = self.rpy()
         return (math.degrees(r), math.degrees(p), math.degrees(y))
 
-    def as_matrix(self) -> npt.NDArray[np.float64]:
+    def as_matrix(self) -> FloatArray:
         """The 4x4 homogeneous matrix."""
         m = np.eye(4)
         m[:3, :3] = matrix_from_quat(self.rotation)
         m[:3, 3] = self.translation
         return m
 
-    def apply(self, points: npt.ArrayLike) -> npt.NDArray[np.float64]:
+    def apply(self, points: npt.ArrayLike) -> FloatArray:
         """Points (3,) or (N, 3) in ``child_frame_id`` expressed in ``frame_id``."""
         p = np.asarray(points, dtype=float)
         m = self.as_matrix()
-        moved: npt.NDArray[np.float64] = p @ m[:3, :3].T + m[:3, 3]
+        moved: FloatArray = p @ m[:3, :3].T + m[:3, 3]
         return moved
 
 

@@ -14,8 +14,8 @@ from collections.abc import Mapping, Sequence
 from typing import NamedTuple
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.errors import ConnectivityError, ExtrapolationError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT
 from tftools.core.history import EdgeHistory, Gap
@@ -204,8 +204,8 @@ def chain(tree: Tree, target_id: int, source_id: int, time: int) -> list[int]:
 
 
 def lookup_many(
-    tree: Tree, target_id: int, source_id: int, times: npt.NDArray[np.int64]
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    tree: Tree, target_id: int, source_id: int, times: Int64Array
+) -> tuple[Int64Array, FloatArray, BoolArray]:
     """``lookup`` at each of ``times``: the times used (0 resolved to the latest common time),
     values (N, 7: tx ty tz qx qy qz qw; identity where it failed) and where it succeeded."""
     n = len(times)

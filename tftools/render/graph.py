@@ -53,19 +53,16 @@ def dot_source(
     rankdir: str = "TB",
     brief: bool = False,
 ) -> str:
-    """Graphviz source of the frame graph of a recording or buffer, ``findings`` in colour.
-
-    By default a recording's findings are ``tfx wtf``'s (``tftools.analysis.wtf.check``); a bare
-    buffer has no raw rows to check, so its own records give them (``engine_findings``). The
-    legend says ``legend``, else the recording's span and files."""
+    """Graphviz source of the frame graph of a recording or buffer, ``findings`` (default: ``tfx wtf``'s,
+    ``tftools.analysis.wtf.check``) in colour. The legend says ``legend``, else the recording's span
+    and files (a buffer's: its time)."""
     if isinstance(source, Recording):
         buffer = source.buffer
         legend = legend or recording_legend(source)
-        findings = check(source) if findings is None else findings
     else:
         buffer = source
         legend = legend or [f"Recorded at time: {format_sec(buffer.now(), 3)}"]
-    graph = frame_graph(buffer, findings)
+    graph = frame_graph(buffer, check(source) if findings is None else findings)
     text: str = to_digraph(graph, legend, rankdir=rankdir, brief=brief).source
     return text
 
@@ -81,8 +78,8 @@ def recording_legend(recording: Recording) -> list[str]:
     elif timeline.reference is Reference.NONE:
         lines.append(f"Ages from the newest tf stamp ({format_sec(timeline.tf_end, 3)}): {timeline.reason}")
     files = recording.contents.files
-    bags = [Path(f.path).name for f in files if not f.format.endswith("live")]
-    lines += [f"Listened to: {f.path}" for f in files if f.format.endswith("live")]
+    bags = [Path(f.path).name for f in files if not f.live]
+    lines += [f"Listened to: {f.path}" for f in files if f.live]
     if bags:
         lines.append(f"{'Bag' if len(bags) == 1 else 'Bags'}: {', '.join(bags)}")
     return lines

@@ -1,6 +1,7 @@
 """Sources: bags and live systems turned into transforms for a buffer."""
 
-from tftools.sources.bag import DEFAULT_TOPICS, BagContents, BagFileInfo, read_bag
+from tftools.sources.bag import BagContents, BagFileInfo, read_bag
+from tftools.sources.contents import DEFAULT_TOPICS, RecordingContents, SourceInfo
 from tftools.sources.errors import (
     BagError,
     BagNotFoundError,
@@ -20,7 +21,9 @@ __all__ = [
     "CorruptBagError",
     "NoTransformsError",
     "Recording",
+    "RecordingContents",
     "SourceError",
+    "SourceInfo",
     "UnknownBagFormatError",
     "load",
     "read_bag",

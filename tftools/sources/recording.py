@@ -1,4 +1,4 @@
-"""``Recording``: bags read into a buffer, with what the files held."""
+"""``Recording``: bags read into a buffer (or a live system heard, or a buffer as it is), with what they held."""
 
 from __future__ import annotations
 
@@ -7,14 +7,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.time import SimClock
-from tftools.sources.bag import BagContents, ProgressCallback, read_bag
+from tftools.sources.bag import ProgressCallback, read_bag
+from tftools.sources.contents import BUFFER_FORMAT, DEFAULT_TOPICS, ClockSamples, RecordingContents, SourceInfo
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.memory import FreedMemory
 from tftools.sources.timeline import Timeline, timeline_of
@@ -22,7 +23,7 @@ from tftools.sources.timeline import Timeline, timeline_of
 
 @dataclass
 class Recording:
-    """One recording (one bag or a split bag): its buffer, its clocks, and its description.
+    """One recording (one bag or a split bag, a live capture, a buffer): its buffer, its clocks, and its description.
 
     The buffer's clock stands at the recording's end in ROS time (``timeline.end``). The buffer's
     histories are the only copy of the transforms; ``transforms`` gives them back
@@ -30,10 +31,10 @@ class Recording:
     """
 
     buffer: Buffer
-    contents: BagContents
+    contents: RecordingContents
     timeline: Timeline
     refused: TransformBatch = field(default_factory=TransformBatch.empty)
-    refused_sequence: npt.NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
+    refused_sequence: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
 
     @property
     def start(self) -> int:
@@ -90,21 +91,21 @@ def read_recording(
     return recording_of(contents, semantics)
 
 
-def semantics_of(contents: BagContents) -> Semantics:
+def semantics_of(contents: RecordingContents) -> Semantics:
     """ROS 1's tf2 for ROS 1 bags and live ROS 1, ROS 2's for rosbag2 and MCAP files and live ROS 2
     (a split recording: its first file's)."""
     formats = [f.format for f in contents.files]
     return "ros1" if not formats or formats[0].startswith("ros1") else "ros2"
 
 
-def recording_of(contents: BagContents, semantics: Semantics | None = None) -> Recording:
+def recording_of(contents: RecordingContents, semantics: Semantics | None = None) -> Recording:
     """The buffer of ``contents``, which it takes: each part is inserted, then let go, so that
     the transforms are held once (in the buffer's histories) rather than twice. Rows the buffer
     refused, or took for identical ones it holds (ROS 2), are kept aside for ``transforms``."""
     clock = SimClock(contents.end)
     buffer = Buffer(cache_time=None, clock=clock, semantics=semantics or semantics_of(contents))
     refused: list[TransformBatch] = []
-    refused_sequence: list[npt.NDArray[np.int64]] = []
+    refused_sequence: list[Int64Array] = []
     parts, contents.parts = contents.parts, []
     buffer.reserve(parts)
     parts.reverse()
@@ -126,6 +127,21 @@ def recording_of(contents: BagContents, semantics: Semantics | None = None) -> R
     if not refused:
         return Recording(buffer, contents, timeline)
     return Recording(buffer, contents, timeline, concat_batches(refused), np.concatenate(refused_sequence))
+
+
+def recording_of_buffer(buffer: Buffer) -> Recording:
+    """``buffer`` as it is (filled by hand, or by a live source) as a recording, for the checks: the
+    samples it stored and those its rejection log keeps, spanning from the first arrival to the
+    buffer's time. Where a sample's arrival is unknown (no record time), its stamp stands for it."""
+    stored, _ = stored_rows(buffer)
+    refused, refused_sequence = buffer.rejections.rows()
+    arrivals = np.concatenate([np.where(b.record_time > 0, b.record_time, b.stamp) for b in (stored, refused)])
+    start = int(arrivals.min()) if len(arrivals) else buffer.now()
+    end = max(buffer.now(), int(arrivals.max()) if len(arrivals) else 0)
+    info = SourceInfo("the buffer", BUFFER_FORMAT, start, end, len(arrivals), transform_count=len(arrivals))
+    contents = RecordingContents([], [info], DEFAULT_TOPICS)
+    timeline = timeline_of(buffer, ClockSamples.empty(), start, end)
+    return Recording(buffer, contents, timeline, refused, refused_sequence)
 
 
 def load(

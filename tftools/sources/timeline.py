@@ -20,13 +20,11 @@ from functools import cached_property
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.contents import ClockSamples
-
-Int64Array = npt.NDArray[np.int64]
-BoolArray = npt.NDArray[np.bool_]
+from tftools.sources.contents import ClockSamples
 
 #: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
 EPOCH_FLOOR = 1_000_000_000 * NS_PER_S

@@ -9,20 +9,22 @@ from tftools.analysis.wtf import clocks, sensors, source, structure, timing, top
 from tftools.analysis.wtf.registry import CHECKS, Check
 from tftools.analysis.wtf.scene import Scene
 from tftools.analysis.wtf.thresholds import Thresholds
+from tftools.core.buffer import Buffer
 from tftools.sources.bag.stamped import StampedMessages
-from tftools.sources.recording import Recording
+from tftools.sources.recording import Recording, recording_of_buffer
 
 __all__ = ["CHECKS", "Check", "Finding", "Severity", "Thresholds", "check"]
 
 
 def check(
-    recording: Recording,
+    recording: Recording | Buffer,
     thresholds: Thresholds | None = None,
     ignore: Collection[str] = (),
     streams: Sequence[StampedMessages] = (),
     target: str | None = None,
 ) -> list[Finding]:
-    """Every problem of ``recording``, errors first, then warnings, then notes (each in check order).
+    """Every problem of ``recording``, errors first, then warnings, then notes (each in check order);
+    a bare buffer is checked as the recording of what it holds (``recording_of_buffer``).
 
     ``streams``: its sensor data (``read_stamped``), for the checks of data against tf, transformed
     into ``target`` (default and fallback: ``analysis.filter.choose_target``). ``ignore``
@@ -31,6 +33,8 @@ def check(
     unknown = set(ignore) - set(CHECKS)
     if unknown:
         raise ValueError(f"no such check: {', '.join(sorted(unknown))}")
+    if isinstance(recording, Buffer):
+        recording = recording_of_buffer(recording)
     scene = Scene(recording, thresholds, streams, target)
     found: list[Finding] = []
     for c in CHECKS.values():

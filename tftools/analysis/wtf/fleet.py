@@ -1,11 +1,9 @@
-"""Checking bags: one recording (one bag or a split one) into a ``BagReport``, and many in parallel."""
+"""Checking bags: each recording of a fleet (one bag or a split one) into a ``BagReport``."""
 
 from __future__ import annotations
 
-import functools
 import os
 from collections.abc import Collection, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 from tftools.analysis.filter import choose_target, tied_to_tf
@@ -120,30 +118,3 @@ def sensor_data(paths: Sequence[str | os.PathLike[str]], topics: Sequence[str] |
 def unreadable(paths: tuple[str, ...], message: str, hint: str) -> BagReport:
     hint = hint or "check that the file is a complete bag"
     return BagReport(paths, error=Finding(Severity.error, "unreadable", message, hint))
-
-
-def check_fleet(
-    groups: Sequence[Sequence[str | os.PathLike[str]]],
-    topics: Sequence[str] | None = None,
-    thresholds: Thresholds | None = None,
-    ignore: Collection[str] = (),
-    jobs: int = 1,
-    semantics: Semantics | None = None,
-    target: str | None = None,
-    sensor_topics: Sequence[str] | None = None,
-) -> list[BagReport]:
-    """Each group of paths checked as its own recording, ``jobs`` at a time; reports in the given order."""
-    one = functools.partial(
-        check_bags,
-        topics=topics,
-        thresholds=thresholds,
-        ignore=tuple(ignore),
-        semantics=semantics,
-        target=target,
-        sensor_topics=sensor_topics,
-    )
-    if jobs <= 1 or len(groups) <= 1:
-        return [one(g) for g in groups]
-    with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
-        futures = [pool.submit(one, [str(p) for p in g]) for g in groups]
-        return [f.result() for f in futures]

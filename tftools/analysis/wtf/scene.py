@@ -8,12 +8,12 @@ from functools import cached_property
 from typing import TypeVar, cast
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.analysis.edges import EdgeStats, edge_stats
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.thresholds import Thresholds
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import QUATERNION_TOLERANCE
 from tftools.core.history import FROM_STATIC_TOPIC
@@ -22,11 +22,6 @@ from tftools.sources.bag.stamped import StampedMessages
 from tftools.sources.recording import Recording
 from tftools.sources.timeline import Timeline
 
-Int64Array = npt.NDArray[np.int64]
-Int32Array = npt.NDArray[np.int32]
-IntpArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
-FloatArray = npt.NDArray[np.float64]
 T = TypeVar("T")
 
 
@@ -164,7 +159,7 @@ class Scene:
     @cached_property
     def publishers_known(self) -> bool:
         """ROS1 bags and live systems name each publisher; ROS2 bags only the topic, as the authority."""
-        return any(f.format.startswith("ros1") or f.format.endswith("-live") for f in self.recording.contents.files)
+        return any(f.names_publishers for f in self.recording.contents.files)
 
     @cached_property
     def dynamic_edges(self) -> list[EdgeSamples]:

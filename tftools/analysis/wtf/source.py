@@ -12,7 +12,7 @@ from tftools.analysis.wtf.scene import Scene, listed
 @register("no_tf", Severity.error, "no transforms at all (or none on /tf)", needs_transforms=False)
 def no_tf(scene: Scene) -> Iterator[Finding]:
     contents = scene.recording.contents
-    live = any("live" in f.format for f in contents.files)
+    live = contents.live
     where = ("from " if live else "in ") + ", ".join(f.path for f in contents.files)
     if not len(scene.rows) and contents.unread:
         yield Finding(

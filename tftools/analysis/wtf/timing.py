@@ -6,19 +6,11 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from tftools.analysis.edges import PERIODS, edge_gaps
+from tftools.analysis.edges import PERIODS, EdgeStats, edge_gaps
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import (
-    BoolArray,
-    EdgeSamples,
-    Int64Array,
-    IntpArray,
-    Scene,
-    duration,
-    edge,
-    transforms,
-)
+from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
+from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.time import NS_PER_S
 
@@ -38,11 +30,11 @@ CYCLIC_SHARE = 0.8
 def stale(scene: Scene) -> Iterator[Finding]:
     latest: dict[str, int] = {}
     for s in scene.stats:
-        latest[s.child] = max(latest.get(s.child, 0), s.last_record)
+        latest[s.child] = max(latest.get(s.child, 0), _last_arrival(s))
     for s in scene.stats:
-        if s.static or s.last_record == 0 or s.last_record < latest[s.child]:
+        if s.static or _last_arrival(s) < latest[s.child]:
             continue  # a frame that went on under another parent has not stopped
-        silent = (scene.end - s.last_record) / NS_PER_S
+        silent = (scene.end - _last_arrival(s)) / NS_PER_S
         limit = max(scene.thresholds.stale_after, PERIODS / s.rate_hz if s.rate_hz > 0 else 0.0)
         if silent <= limit:
             continue
@@ -71,6 +63,12 @@ def stale(scene: Scene) -> Iterator[Finding]:
             scene.end,
             s.count,
         )
+
+
+def _last_arrival(s: EdgeStats) -> int:
+    """When an edge's last transform arrived: its record time, or its stamp where that is unknown
+    (a buffer filled by hand)."""
+    return s.last_record or s.last_stamp
 
 
 def _arrivals(scene: Scene, e: EdgeSamples) -> tuple[Int64Array, Int64Array]:

@@ -8,7 +8,8 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import BoolArray, IntpArray, Scene, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, edge, listed, transforms
+from tftools.core.arrays import BoolArray, IntpArray
 from tftools.core.buffer import QUATERNION_TOLERANCE
 
 #: roswtf's limit on | |q| - 1 | for a rotation to count as normalised.

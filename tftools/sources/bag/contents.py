@@ -1,29 +1,31 @@
-"""What reading bags yields: every transform in record order, and what the files held."""
+"""What bag readers share: progress callbacks, record order, the merged /clock, and their names for a description."""
 
 from __future__ import annotations
 
 import itertools
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
+from tftools.sources.contents import DEFAULT_TOPICS, ClockSamples, RecordingContents, SourceInfo
 
-#: The topics read unless told otherwise.
-DEFAULT_TOPICS = ("/tf", "/tf_static")
+__all__ = [
+    "CLOCK_TOPIC",
+    "DEFAULT_TOPICS",  # the decoders' until they import it from sources.contents
+    "BagContents",
+    "BagFileInfo",
+    "ClockSamples",
+    "ProgressCallback",
+    "in_record_order",
+    "merged_clock",
+]
 
 #: Called with (bytes done, bytes in all) as bags are read, for progress bars.
 ProgressCallback = Callable[[int, int], None]
 
 #: The topic preferred when a recording has several of rosgraph_msgs/Clock.
 CLOCK_TOPIC = "/clock"
-
-
-def is_static_topic(topic: str) -> bool:
-    """Transforms on ``/tf_static`` (or a namespaced ``.../tf_static``) hold at every time."""
-    return topic.rstrip("/").endswith("tf_static")
 
 
 def in_record_order(batches: list[TransformBatch]) -> list[TransformBatch]:
@@ -34,22 +36,6 @@ def in_record_order(batches: list[TransformBatch]) -> list[TransformBatch]:
         return batches
     merged = concat_batches(batches)
     return [take_rows(merged, np.argsort(merged.record_time, kind="stable"))]
-
-
-@dataclass(frozen=True)
-class ClockSamples:
-    """The recorded /clock: when each message was recorded and the time it carried."""
-
-    topic: str  # "" when the recording has no /clock
-    record_time: npt.NDArray[np.int64]  # ns, record (receive) time of each message, sorted as recorded
-    clock: npt.NDArray[np.int64]  # ns, the message's clock value
-
-    @classmethod
-    def empty(cls) -> ClockSamples:
-        return cls("", np.zeros(0, np.int64), np.zeros(0, np.int64))
-
-    def __len__(self) -> int:
-        return len(self.record_time)
 
 
 def merged_clock(clocks: Sequence[ClockSamples]) -> ClockSamples:
@@ -73,54 +59,7 @@ def merged_clock(clocks: Sequence[ClockSamples]) -> ClockSamples:
     return ClockSamples(topic, record_time, clock)
 
 
-@dataclass
-class BagFileInfo:
-    """One file (or ROS2 bag directory) as read."""
-
-    path: str
-    format: str  # "ros1", "rosbag2-sqlite3", "rosbag2-mcap", "mcap"
-    start: int  # first message's record time (ns), every topic counted
-    end: int  # last message's record time (ns)
-    message_count: int  # messages of every topic
-    topics: dict[str, str] = field(default_factory=dict)  # topic -> message type, all topics
-    transform_count: int = 0  # transforms read from this file
-    problems: list[str] = field(default_factory=list)  # damage: what could not be read, one line each
-    # Topics asked for (or foxglove transform channels) of a type or encoding tfx does not read,
-    # one line each: a healthy file, nothing to repair.
-    unread: list[str] = field(default_factory=list)
-    clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # this file's /clock
-
-
-@dataclass
-class BagContents:
-    """Every transform of the bags in record-time order (in consecutive parts, as decoded), and
-    the files' descriptions."""
-
-    parts: list[TransformBatch]
-    files: list[BagFileInfo]
-    topics: tuple[str, ...]
-    clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # the files' merged
-
-    @property
-    def transforms(self) -> TransformBatch:
-        """Every transform, in one batch (a copy, unless there is one part); none once a
-        ``Recording`` took the parts (its ``transforms`` gives them back)."""
-        return concat_batches(self.parts)
-
-    @property
-    def start(self) -> int:
-        return min((f.start for f in self.files if f.message_count), default=0)
-
-    @property
-    def end(self) -> int:
-        return max((f.end for f in self.files if f.message_count), default=0)
-
-    @property
-    def unread(self) -> list[str]:
-        """Topics of a type or encoding tfx does not read, one line each (no repeats)."""
-        return list(dict.fromkeys(line for f in self.files for line in f.unread))
-
-    @property
-    def problems(self) -> list[str]:
-        """Everything to warn about: the topics not read, then each file's damage."""
-        return self.unread + [p for f in self.files for p in f.problems]
+#: What reading bags yields, under the names bag readers use: each file's ``SourceInfo``, and the
+#: ``RecordingContents`` of them all.
+BagFileInfo = SourceInfo
+BagContents = RecordingContents

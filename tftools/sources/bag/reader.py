@@ -7,14 +7,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import (
-    DEFAULT_TOPICS,
-    BagContents,
-    BagFileInfo,
-    ProgressCallback,
-    in_record_order,
-    merged_clock,
-)
+from tftools.sources.bag.contents import BagContents, BagFileInfo, ProgressCallback, in_record_order, merged_clock
+from tftools.sources.contents import DEFAULT_TOPICS
 from tftools.sources.errors import BagNotFoundError, UnknownBagFormatError
 
 #: A format reader: (path, topics, progress over this file's bytes) -> batches and description.

@@ -10,12 +10,12 @@ import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.columns import ColumnParts
-from tftools.sources.bag.contents import ClockSamples, is_static_topic
 from tftools.sources.bag.decode.clock import ClockParts, ros1_clocks
 from tftools.sources.bag.decode.template import gathered
 from tftools.sources.bag.ros1_chunks import IntArray, Located, pieces
 from tftools.sources.bag.ros1_decode import Decoded, FrameTable, decode_tf_messages, reference_transforms
 from tftools.sources.bag.ros1_format import Buffer, Connection
+from tftools.sources.contents import ClockSamples, is_static_topic
 
 #: "fast": numpy over many messages at once; "reference": rosbags' deserializer, message by message.
 Decoder = Literal["fast", "reference"]

@@ -53,7 +53,7 @@ class LiveSource(Protocol):
     #: The transform topics listened to, e.g. ``("/tf", "/tf_static")``.
     topics: tuple[str, ...]
 
-    #: What a capture's file entry calls this kind of source, e.g. ``"ros1-live"``.
+    #: What a capture's ``SourceInfo`` calls this kind of source, e.g. ``"ros1-live"``.
     format: str
 
     #: Transform messages received so far.

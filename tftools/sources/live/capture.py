@@ -10,9 +10,8 @@ import numpy as np
 
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
-from tftools.core.kernels_table import compiled
 from tftools.core.semantics import Semantics
-from tftools.sources.bag.contents import BagContents, BagFileInfo
+from tftools.sources.contents import RecordingContents, SourceInfo
 from tftools.sources.live import open_live
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.time_jump import TimeJump, watch_jumps
@@ -34,7 +33,7 @@ def capture(
 
     ``source``: a live source not yet started (closed on return); ``None`` opens one as
     ``open_live(topics=topics)`` does. ``until`` may end the capture early (checked ten times a
-    second). Its one file entry describes the source (path e.g. ``ROS1 master
+    second). Its one ``SourceInfo`` describes the source (path e.g. ``ROS1 master
     http://127.0.0.1:11311``, format ``ros1-live``); record times are receive times, and the
     recording spans from the start of listening to its end on the source's clock. When that clock
     jumps back (a replay that loops), what was heard so far is forgotten but for static transforms,
@@ -96,7 +95,7 @@ def _recording(
     if len(transforms):  # a sim clock may start at 0 and jump: span what was heard too
         begin = min(begin, int(transforms.record_time.min()))
         end = max(end, int(transforms.record_time.max()))
-    info = BagFileInfo(
+    info = SourceInfo(
         path=source.describe(),
         format=source.format,
         start=begin,
@@ -105,7 +104,7 @@ def _recording(
         topics=dict.fromkeys(source.topics, TF_TYPE),
         transform_count=len(transforms),
     )
-    contents = BagContents([transforms] if len(transforms) else [], [info], tuple(source.topics))
+    contents = RecordingContents([transforms] if len(transforms) else [], [info], tuple(source.topics))
     return recording_of(contents, semantics)
 
 
@@ -121,8 +120,7 @@ def listen(
     filled from then on in the background, as a ``tf2_ros::TransformListener`` fills its buffer,
     and cleared as it clears it when the clock jumps back (static transforms kept, one notice
     said through the source). Close the source to stop."""
-    compiled()  # load the compiled lookups now: loading them later would stall the receiving threads
-    buffer = Buffer(cache_time=cache_time, clock=source.clock, semantics=semantics or live_semantics(source))
+    buffer = Buffer(cache_time, source.clock, semantics or live_semantics(source), warm_up=True)
     deliver = watch_jumps(source, buffer.insert, lambda _jump: buffer.clear())
 
     def insert(batch: TransformBatch) -> None:

@@ -18,13 +18,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.time import Clock, SimClock, to_sec
 from tftools.sources.live.base import LiveSource, OnBatch
-
-BoolArray = npt.NDArray[np.bool_]
 
 
 @dataclass(frozen=True)

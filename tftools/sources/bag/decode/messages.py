@@ -9,11 +9,11 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import ClockSamples
 from tftools.sources.bag.decode.clock import ClockParts
 from tftools.sources.bag.decode.codec import ClockCodec, Codec, Decoder
 from tftools.sources.bag.decode.rows import Channel, Rows
 from tftools.sources.bag.decode.template import Block, IntArray, decode_group, gathered, one_by_one
+from tftools.sources.contents import ClockSamples
 
 Int32Array = npt.NDArray[np.int32]
 ChannelIds = int | Int32Array | Sequence[int]

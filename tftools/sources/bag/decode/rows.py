@@ -11,9 +11,9 @@ import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.columns import ColumnParts
-from tftools.sources.bag.contents import is_static_topic
 from tftools.sources.bag.decode.codec import ClockCodec, Codec
 from tftools.sources.bag.decode.template import Block, IntArray
+from tftools.sources.contents import is_static_topic
 
 
 @dataclass(frozen=True)

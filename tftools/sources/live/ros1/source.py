@@ -8,7 +8,7 @@ from collections.abc import Sequence
 
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.time import Clock, SimClock, WallClock
-from tftools.sources.bag.contents import DEFAULT_TOPICS, is_static_topic
+from tftools.sources.contents import DEFAULT_TOPICS, is_static_topic
 from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice, ignore_notice, printable
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.messages import CLOCK, TF_MESSAGE, decode_clock, decode_tf_message, message_type

@@ -12,7 +12,7 @@ from cyclonedds.util import duration
 
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.time import Clock, SimClock, WallClock
-from tftools.sources.bag.contents import DEFAULT_TOPICS, is_static_topic
+from tftools.sources.contents import DEFAULT_TOPICS, is_static_topic
 from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice, ignore_notice, printable
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.cdr import decode_clock, decode_tf_message

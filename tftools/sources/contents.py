@@ -1,0 +1,107 @@
+"""What a recording holds and where it came from (files, a live system or a buffer), and tf's topics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tftools.core.arrays import Int64Array
+from tftools.core.batch import TransformBatch, concat_batches
+
+#: The topics read unless told otherwise.
+DEFAULT_TOPICS = ("/tf", "/tf_static")
+
+
+def is_static_topic(topic: str) -> bool:
+    """Transforms on ``/tf_static`` (or a namespaced ``.../tf_static``) hold at every time."""
+    return topic.rstrip("/").endswith("tf_static")
+
+
+@dataclass(frozen=True)
+class ClockSamples:
+    """The recorded /clock: when each message was recorded and the time it carried."""
+
+    topic: str  # "" when the recording has no /clock
+    record_time: Int64Array  # ns, record (receive) time of each message, sorted as recorded
+    clock: Int64Array  # ns, the message's clock value
+
+    @classmethod
+    def empty(cls) -> ClockSamples:
+        return cls("", np.zeros(0, np.int64), np.zeros(0, np.int64))
+
+    def __len__(self) -> int:
+        return len(self.record_time)
+
+
+#: ``SourceInfo.format`` of a buffer checked as it is (``recording_of_buffer``).
+BUFFER_FORMAT = "buffer"
+
+
+@dataclass
+class SourceInfo:
+    """One source as read: a file (or ROS 2 bag directory), a live system listened to, or a buffer."""
+
+    path: str  # the file, or the live system (``LiveSource.describe``: "ROS1 master http://...")
+    format: str  # "ros1", "rosbag2-sqlite3", "rosbag2-mcap", "mcap"; "ros1-live", "ros2-live"; "buffer"
+    start: int  # first message's record (receive) time (ns), every topic counted
+    end: int  # last message's record time (ns)
+    message_count: int  # messages of every topic
+    topics: dict[str, str] = field(default_factory=dict)  # topic -> message type, all topics
+    transform_count: int = 0  # transforms read from this source
+    problems: list[str] = field(default_factory=list)  # damage: what could not be read, one line each
+    # Topics asked for (or foxglove transform channels) of a type or encoding tfx does not read,
+    # one line each: a healthy file, nothing to repair.
+    unread: list[str] = field(default_factory=list)
+    clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # this source's /clock
+
+    @property
+    def live(self) -> bool:
+        """Heard from a live system, not read from a file."""
+        return self.format.endswith("-live")
+
+    @property
+    def names_publishers(self) -> bool:
+        """Whether each transform's authority is its publisher: ROS 1 bags, live systems and buffers
+        name the node; ROS 2 bags and MCAP files only the topic."""
+        return not self.format.startswith(("rosbag2", "mcap"))
+
+
+@dataclass
+class RecordingContents:
+    """Every transform read, in record-time order (in consecutive parts, as decoded), and a
+    description of each source it came from."""
+
+    parts: list[TransformBatch]
+    files: list[SourceInfo]  # the files read, or the live system heard
+    topics: tuple[str, ...]
+    clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # the files' merged
+
+    @property
+    def transforms(self) -> TransformBatch:
+        """Every transform, in one batch (a copy, unless there is one part); none once a
+        ``Recording`` took the parts (its ``transforms`` gives them back)."""
+        return concat_batches(self.parts)
+
+    @property
+    def start(self) -> int:
+        return min((f.start for f in self.files if f.message_count), default=0)
+
+    @property
+    def end(self) -> int:
+        return max((f.end for f in self.files if f.message_count), default=0)
+
+    @property
+    def live(self) -> bool:
+        """Heard from a live system."""
+        return any(f.live for f in self.files)
+
+    @property
+    def unread(self) -> list[str]:
+        """Topics of a type or encoding tfx does not read, one line each (no repeats)."""
+        return list(dict.fromkeys(line for f in self.files for line in f.unread))
+
+    @property
+    def problems(self) -> list[str]:
+        """Everything to warn about: the topics not read, then each file's damage."""
+        return self.unread + [p for f in self.files for p in f.problems]
