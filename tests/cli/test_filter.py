@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 from tests.analysis.test_filter import START, robot
-from tests.bags import write_bag
+from tests.bags import TfMessage, write_bag
 from tests.sources.test_rosbag2 import convert
 from tftools.core.time import NS_PER_S
 
@@ -58,21 +60,24 @@ def _sensor_messages(store) -> list[tuple[str, str, int, object]]:
 @pytest.fixture(scope="module")
 def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """The robot's tf and the sensor data in a ROS1 bag, and its ROS2 copies (.db3 and .mcap)."""
-    from rosbags.rosbag1 import Writer
+    return sensor_bags(tmp_path_factory.mktemp("filter"), robot(), _sensor_messages)
+
+
+def sensor_bags(
+    folder: Path, tf: list[TfMessage], sensors: Callable[[Any], list[tuple[str, str, int, object]]]
+) -> dict[str, Path]:
+    """``tf`` and the ``sensors(typestore)`` messages (topic, type, record time, message) in a ROS1 bag,
+    and its ROS2 copies (.db3 and .mcap)."""
+    from rosbags.rosbag1 import Reader, Writer
     from rosbags.typesys import Stores, get_typestore
 
-    folder = tmp_path_factory.mktemp("filter")
-    tf_only = write_bag(folder / "tf.bag", robot())
+    tf_only = write_bag(folder / "tf.bag", tf)
     store = get_typestore(Stores.ROS1_NOETIC)
     ros1 = folder / "robot.bag"
-    from rosbags.rosbag1 import Reader
-
     with Reader(tf_only) as reader, Writer(ros1) as writer:
         added = {}
         rows = [(t, c.topic, c.msgtype, raw, c) for c, t, raw in reader.messages()]
-        rows += [
-            (t, topic, kind, store.serialize_ros1(msg, kind), None) for topic, kind, t, msg in _sensor_messages(store)
-        ]
+        rows += [(t, topic, kind, store.serialize_ros1(msg, kind), None) for topic, kind, t, msg in sensors(store)]
         for record, topic, kind, raw, connection in sorted(rows, key=lambda r: r[0]):
             if topic not in added:
                 definition = connection.msgdef.data if connection else None
