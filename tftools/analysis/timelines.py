@@ -16,6 +16,7 @@ import numpy.typing as npt
 
 from tftools.analysis.edges import gap_rows
 from tftools.analysis.filter import LOST, UNDECIDED, Fate, StreamReport, message_fates, recording_end
+from tftools.analysis.monitor import MonitorReport
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
@@ -275,3 +276,58 @@ def stream_timelines(
         _, wait_max = _mean_max(where[later], fates.waits(stream) / NS_PER_S, bins.count)
         result.append(StreamTimeline(report, counts, wait_max))
     return result
+
+
+@dataclass(frozen=True)
+class EdgeSeries:
+    """One edge's rate and mean delay over time (NaN where unknown): what ``--plot`` draws."""
+
+    parent: str
+    child: str
+    times: Int64Array
+    rate_hz: FloatArray
+    delay_s: FloatArray
+
+
+def edge_series(
+    buffer: Buffer,
+    timeline: Timeline,
+    start: int | None = None,
+    end: int | None = None,
+    keys: Sequence[tuple[str, str]] | None = None,
+) -> list[EdgeSeries]:
+    """The moving edges' rates and delays over ``[start, end]`` (default: their span), in bins (their
+    middles), those of ``keys`` only when given."""
+    span = edge_axis(buffer, timeline) or (timeline.tf_start, timeline.tf_end)
+    bins = bins_over(span[0] if start is None else start, span[1] if end is None else end)
+    middles = bins.edges()[:-1] + bins.width // 2
+    edges = edge_timelines(buffer, timeline, bins, gap_floor=0, keys=keys)
+    return [EdgeSeries(e.parent, e.child, middles, e.rate_hz, e.delay_mean_s) for e in edges if not e.static]
+
+
+class MonitorTrace:
+    """The reports of a refreshing ``tfx monitor`` (live, or a replay), kept as each edge's rate and mean
+    delay at each refresh."""
+
+    def __init__(self) -> None:
+        self._times: list[int] = []
+        self._figures: dict[tuple[str, str], dict[int, tuple[float, float]]] = {}
+
+    def add(self, time: int, report: MonitorReport) -> None:
+        """The figures of ``report``, shown at ``time`` (ns)."""
+        refresh = len(self._times)
+        self._times.append(time)
+        for e in report.edges:
+            if not e.static:
+                self._figures.setdefault(e.key, {})[refresh] = (e.rate_hz, e.delay_mean_s)
+
+    def series(self) -> list[EdgeSeries]:
+        """Each edge seen, over every refresh (NaN at those before it appeared or after it left the window)."""
+        times = np.array(self._times, np.int64)
+        result = []
+        for (parent, child), figures in self._figures.items():
+            rate, delay = np.full(len(times), np.nan), np.full(len(times), np.nan)
+            for refresh, (hz, seconds) in figures.items():
+                rate[refresh], delay[refresh] = hz, seconds
+            result.append(EdgeSeries(parent, child, times, rate, delay))
+        return result
