@@ -4,6 +4,8 @@ are lost once its tf stops, and a camera names a frame that is not in the tree."
 
 from __future__ import annotations
 
+import json
+import re
 from pathlib import Path
 from typing import Any
 
@@ -54,3 +56,10 @@ def troubled_sensors(store: Any) -> list[tuple[str, str, int, object]]:
 def troubled_bags(folder: Path) -> dict[str, Path]:
     """The troubled robot as a ROS1 bag and its ROS2 copies: {"ros1": ..., "db3": ..., "mcap": ...}."""
     return sensor_bags(folder, troubled_tf(), troubled_sensors)
+
+
+def page_data(page: Path) -> list[dict[str, Any]]:
+    """The data each readable recording's section of a ``tfx report`` page carries for its plots."""
+    text = page.read_text(encoding="utf-8")
+    found = re.findall(r'<script type="application/json" class="report-data">(.*?)</script>', text, flags=re.S)
+    return [json.loads(data) for data in found]

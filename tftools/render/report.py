@@ -277,6 +277,7 @@ def _finding_data(report: RecordingReport, index: int, rows: Sequence[int], anch
     nodes = [f"{anchor}-node{j + 1}" for j, node in enumerate(graph.nodes) if index in node.problems]
     first, last = finding.first_time or finding.last_time, finding.last_time or finding.first_time
     return {
+        "code": finding.code,
         "severity": finding.severity.value,
         "from": _seconds(first, origin) if first else None,
         "to": _seconds(last, origin) if last else None,
