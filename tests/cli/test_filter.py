@@ -27,18 +27,28 @@ def _stamped(store, msgtype: str, frame_id: str, stamp: int, **fields):
     return types[msgtype](header=header, **fields)
 
 
+def scan(store, frame_id: str, stamp: int):
+    """An empty sensor_msgs/LaserScan."""
+    empty = np.zeros(0, np.float32)
+    return _stamped(store, "sensor_msgs/msg/LaserScan", frame_id, stamp, angle_min=0.0, angle_max=1.0,
+                    angle_increment=0.1, time_increment=0.0, scan_time=0.0, range_min=0.0, range_max=1.0,
+                    ranges=empty, intensities=empty)  # fmt: skip
+
+
+def image(store, frame_id: str, stamp: int):
+    """A one-pixel sensor_msgs/Image."""
+    return _stamped(store, "sensor_msgs/msg/Image", frame_id, stamp, height=1, width=1, encoding="mono8",
+                    is_bigendian=0, step=1, data=np.zeros(1, np.uint8))  # fmt: skip
+
+
 def _sensor_messages(store) -> list[tuple[str, str, int, object]]:
     """(topic, type, record time, message): a laser whose tf comes late, an IMU that is fine, a camera
     whose frame_id is misspelt, and a status topic with a header but no frame_id."""
     types = store.types
-    empty = np.zeros(0, np.float32)
     out = []
     for i in range(1, 200):
         stamp = START + i * 50 * MS + 7 * MS
-        scan = _stamped(store, "sensor_msgs/msg/LaserScan", "laser", stamp, angle_min=0.0, angle_max=1.0,
-                        angle_increment=0.1, time_increment=0.0, scan_time=0.0, range_min=0.0, range_max=1.0,
-                        ranges=empty, intensities=empty)  # fmt: skip
-        out.append(("/scan", "sensor_msgs/msg/LaserScan", stamp + 5 * MS, scan))
+        out.append(("/scan", "sensor_msgs/msg/LaserScan", stamp + 5 * MS, scan(store, "laser", stamp)))
         quaternion = types["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)
         vector = types["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0)
         covariance = np.zeros(9, np.float64)
@@ -49,9 +59,7 @@ def _sensor_messages(store) -> list[tuple[str, str, int, object]]:
         out.append(("/imu", "sensor_msgs/msg/Imu", stamp + 25 * MS, imu))
     for i in range(1, 10):
         stamp = START + i * NS_PER_S
-        image = _stamped(store, "sensor_msgs/msg/Image", "camra", stamp, height=1, width=1, encoding="mono8",
-                         is_bigendian=0, step=1, data=np.zeros(1, np.uint8))  # fmt: skip
-        out.append(("/camera/image_raw", "sensor_msgs/msg/Image", stamp + 3 * MS, image))
+        out.append(("/camera/image_raw", "sensor_msgs/msg/Image", stamp + 3 * MS, image(store, "camra", stamp)))
         status = _stamped(store, "diagnostic_msgs/msg/DiagnosticArray", "", stamp, status=[])
         out.append(("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray", stamp + 3 * MS, status))
     return out

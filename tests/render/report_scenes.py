@@ -9,11 +9,9 @@ import re
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from tests.analysis.wtf_scenes import START, amcl, ekf, periodic, with_extra
 from tests.bags import TfMessage
-from tests.cli.test_filter import _stamped, sensor_bags
+from tests.cli.test_filter import image, scan, sensor_bags
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 
@@ -37,19 +35,13 @@ def troubled_tf() -> list[TfMessage]:
 
 def troubled_sensors(store: Any) -> list[tuple[str, str, int, object]]:
     """(topic, type, record time, message): a laser at 20 Hz in frame laser, a camera at 2 Hz in 'camra'."""
-    empty = np.zeros(0, np.float32)
     out: list[tuple[str, str, int, object]] = []
     for i in range(1, 200):
         stamp = START + i * 50 * MS + 7 * MS
-        scan = _stamped(store, "sensor_msgs/msg/LaserScan", "laser", stamp, angle_min=0.0, angle_max=1.0,
-                        angle_increment=0.1, time_increment=0.0, scan_time=0.0, range_min=0.0, range_max=1.0,
-                        ranges=empty, intensities=empty)  # fmt: skip
-        out.append(("/scan", "sensor_msgs/msg/LaserScan", stamp + 5 * MS, scan))
+        out.append(("/scan", "sensor_msgs/msg/LaserScan", stamp + 5 * MS, scan(store, "laser", stamp)))
     for i in range(1, 20):
         stamp = START + i * NS_PER_S // 2
-        image = _stamped(store, "sensor_msgs/msg/Image", "camra", stamp, height=1, width=1, encoding="mono8",
-                         is_bigendian=0, step=1, data=np.zeros(1, np.uint8))  # fmt: skip
-        out.append(("/camera/image_raw", "sensor_msgs/msg/Image", stamp + 3 * MS, image))
+        out.append(("/camera/image_raw", "sensor_msgs/msg/Image", stamp + 3 * MS, image(store, "camra", stamp)))
     return out
 
 
