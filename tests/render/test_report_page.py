@@ -5,15 +5,18 @@ shows the findings and the frames, zooms every timeline together, and a finding 
 
 from __future__ import annotations
 
+import itertools
 import os
 import shutil
 from pathlib import Path
 
 import pytest
 
+from tests.bags import TfMessage, write_bag
 from tests.browser import chromium, open_page, png_size, screenshot
-from tests.cli.conftest import SAMPLE_BAGS, tfx
+from tests.cli.conftest import HOSTILE_NAMES, SAMPLE_BAGS, tfx
 from tests.render.report_scenes import EKF_STOPS, troubled_bags
+from tftools.core.transform import Transform
 
 __all__ = ["chromium", "tfx"]  # fixtures, for pytest
 
@@ -90,3 +93,24 @@ def test_a_fleet_in_a_browser(tfx, chromium: str, troubled, tmp_path: Path) -> N
     assert result["others"][0] > 14  # the other recording (15 s) keeps its own axis
     picture = screenshot(page, tmp_path / "fleet.png", height=1200)
     assert png_size(picture) == (1400, 1200)
+
+
+#: A frame name that, were it pasted into the page as HTML or script, would run and say so.
+INJECTION = '</script><img src=x onerror="__errors.push(\'injected\')"><b id="injected">'
+
+
+def test_names_from_the_bag_stay_text(tfx, chromium: str, tmp_path: Path) -> None:
+    start = 1_700_000_000 * 10**9
+    frames = ["map", INJECTION, *HOSTILE_NAMES[:5]]
+    messages = [
+        TfMessage("/tf", start + i * 10**8 + 10**6, [
+            Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), start + i * 10**8, parent, child)
+            for parent, child in itertools.pairwise(frames)
+        ], INJECTION)
+        for i in range(20)
+    ]  # fmt: skip
+    page = tmp_path / "hostile.html"
+    assert tfx("report", "-b", write_bag(tmp_path / "hostile.bag", messages), "-o", page).code in (0, 1)
+    opened = open_page(page, 'return [document.getElementById("injected"), document.querySelectorAll("b").length];')
+    assert opened.errors == [] and opened.results[0] is None
+    assert INJECTION in opened.text and "<b>html</b>" in opened.text  # shown, as text

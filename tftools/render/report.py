@@ -71,12 +71,13 @@ def recording_section(index: int, report: RecordingReport, legend: Sequence[str]
     anchor = f"r{index}"
     verdict, summary = _verdict(report.findings)
     rows = [i for i, e in enumerate(report.edges) if not e.static]
+    svg_ids = _svg_ids(report, anchor)
     tree = _tree(report, legend, anchor)
     data = {
         "anchor": anchor,
         "axis": {"step": report.bins.width / NS_PER_S, "count": report.bins.count},
-        "edges": [_edge_data(report, report.edges[i], anchor) for i in rows],
-        "findings": [_finding_data(report, i, rows, anchor) for i in range(len(report.findings))],
+        "edges": [_edge_data(report, report.edges[i], svg_ids) for i in rows],
+        "findings": [_finding_data(report, i, rows, svg_ids, anchor) for i in range(len(report.findings))],
         "streams": [_stream_data(s) for s in report.streams],
     }
     origin = report.bins.start
@@ -252,11 +253,11 @@ def _svg_ids(report: RecordingReport, anchor: str) -> dict[tuple[str, str], str]
     return {(e.parent, e.child): f"{anchor}-edge{k + 1}" for k, e in enumerate(report.graph.edges)}
 
 
-def _edge_data(report: RecordingReport, edge: EdgeTimeline, anchor: str) -> dict[str, Any]:
+def _edge_data(report: RecordingReport, edge: EdgeTimeline, svg_ids: dict[tuple[str, str], str]) -> dict[str, Any]:
     origin = report.bins.start
     return {
         "name": printable(f"{edge.parent} -> {edge.child}"),
-        "svg": _svg_ids(report, anchor).get(edge.key, ""),
+        "svg": svg_ids.get(edge.key, ""),
         "samples": edge.samples.tolist(),
         "rate": _figures(edge.rate_hz),
         "delayMean": _figures(edge.delay_mean_s * 1000),
@@ -268,11 +269,13 @@ def _edge_data(report: RecordingReport, edge: EdgeTimeline, anchor: str) -> dict
     }
 
 
-def _finding_data(report: RecordingReport, index: int, rows: Sequence[int], anchor: str) -> dict[str, Any]:
+def _finding_data(
+    report: RecordingReport, index: int, rows: Sequence[int], svg_ids: dict[tuple[str, str], str], anchor: str
+) -> dict[str, Any]:
     """Where a finding is: its time span on the axis, the timeline rows and tree elements it is pinned on
     (Graphviz numbers nodes in the order they were added, as edges)."""
     origin = report.bins.start
-    graph, finding, svg_ids = report.graph, report.findings[index], _svg_ids(report, anchor)
+    graph, finding = report.graph, report.findings[index]
     keys = {(e.parent, e.child) for e in graph.edges if index in e.problems}
     nodes = [f"{anchor}-node{j + 1}" for j, node in enumerate(graph.nodes) if index in node.problems]
     first, last = finding.first_time or finding.last_time, finding.last_time or finding.first_time
