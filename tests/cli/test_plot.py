@@ -142,3 +142,13 @@ def test_without_matplotlib_plot_says_how_to_get_it(tfx, tmp_path: Path, monkeyp
     assert result.code == 2 and result.stdout == ""
     assert result.stderr.startswith("tfx: error: --plot needs matplotlib, which is not installed")
     assert result.stderr.endswith("(install it: pip install 'tftools[plot]')\n")
+
+
+def test_echo_play_prints_its_lines_and_plots_them_when_it_ends(tfx, tmp_path: Path) -> None:
+    picture = tmp_path / "replay.svg"
+    result = tfx("echo", "map", "base_footprint", "-b", SAMPLE_BAGS["db3"], "--play", "--start", "-1", "--rate", "4",
+                 "-f", "csv", "--plot", picture)  # fmt: skip
+    assert result.code == 0, result.stderr
+    lines = result.stdout.splitlines()[1:]  # below the CSV header
+    assert len(lines) >= 3 and result.stderr == f"wrote {picture}: {len(lines)} lookups of map <- base_footprint\n"
+    assert "translation (m)" in labels(picture)

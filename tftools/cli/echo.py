@@ -145,9 +145,10 @@ class Lines:
     plot: Path | None
     shown: list[EchoSeries] = field(default_factory=list)
 
-    def write(self, series: EchoSeries) -> None:
+    def write(self, series: EchoSeries, now: int) -> None:
+        """Print a lookup of the latest transform; the picture shows it at ``now``."""
         _write(series, self.fmt, self.precision, self.matrix, header=not self.shown)
-        self.shown.append(series)
+        self.shown.append(dataclasses.replace(series, times=np.array([now], np.int64)))
 
     @property
     def failed(self) -> bool:
@@ -192,7 +193,7 @@ def _play(
     buffer = Buffer(clock=replay.clock, semantics=recording.buffer.semantics)
 
     def tick() -> None:
-        lines.write(dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()])))
+        lines.write(echo(buffer, target, source, [0]), buffer.now())
 
     follow_into(replay, buffer, tick, period=1.0 / rate)
     return lines.done()
@@ -221,7 +222,7 @@ def _live(
             with buffer.lock:
                 series = dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()]))
                 frames = buffer.all_frames_as_string()
-            lines.write(series)
+            lines.write(series, int(series.times[0]))
             if not series.valid.all() and lines.fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
                 listed = "".join(printable(line) + "\n" for line in frames.removesuffix("\n").split("\n"))
                 stdout.file.write(f"The current list of frames is:\n{listed}")
