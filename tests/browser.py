@@ -21,7 +21,8 @@ from typing import Any
 import pytest
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--hide-scrollbars", "--mute-audio")
+FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--no-first-run")
+VIEW = "--hide-scrollbars"
 #: How long the page may run its timers (virtual time: no real waiting once it is idle), in ms.
 BUDGET_MS = 5000
 
@@ -97,7 +98,7 @@ def open_page(page: Path, script: str = "return null;") -> Opened:
 def screenshot(page: Path, picture: Path, width: int = 1400, height: int = 2200) -> Path:
     """A PNG of ``page`` as a ``width`` x ``height`` window shows it."""
     budget = f"--virtual-time-budget={BUDGET_MS}"
-    _run(f"--screenshot={picture}", f"--window-size={width},{height}", budget, page.as_uri())
+    _run(f"--screenshot={picture}", VIEW, f"--window-size={width},{height}", budget, page.as_uri())
     assert picture.is_file() and picture.stat().st_size > 0, f"no screenshot written to {picture}"
     return picture
 
