@@ -22,6 +22,7 @@ COMMANDS = {
     "filter-json": ("filter", "-b", "BAG", "--queue", "2", "-f", "json"),
     "wtf-b": ("wtf", "-b", "BAG", "-f", "junit"),
     "static": ("static", "0", "0", "1", "0", "0", "0", "base_link", "extra", "-b", "BAG", "-o", "OUT"),
+    "report": ("report", "-b", "BAG", "-o", "OUT"),
 }
 
 

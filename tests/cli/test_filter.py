@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 from tests.analysis.test_filter import START, robot
-from tests.bags import write_bag
+from tests.bags import TfMessage, write_bag
 from tests.sources.test_rosbag2 import convert
 from tftools.core.time import NS_PER_S
 
@@ -25,18 +27,28 @@ def _stamped(store, msgtype: str, frame_id: str, stamp: int, **fields):
     return types[msgtype](header=header, **fields)
 
 
+def scan(store, frame_id: str, stamp: int):
+    """An empty sensor_msgs/LaserScan."""
+    empty = np.zeros(0, np.float32)
+    return _stamped(store, "sensor_msgs/msg/LaserScan", frame_id, stamp, angle_min=0.0, angle_max=1.0,
+                    angle_increment=0.1, time_increment=0.0, scan_time=0.0, range_min=0.0, range_max=1.0,
+                    ranges=empty, intensities=empty)  # fmt: skip
+
+
+def image(store, frame_id: str, stamp: int):
+    """A one-pixel sensor_msgs/Image."""
+    return _stamped(store, "sensor_msgs/msg/Image", frame_id, stamp, height=1, width=1, encoding="mono8",
+                    is_bigendian=0, step=1, data=np.zeros(1, np.uint8))  # fmt: skip
+
+
 def _sensor_messages(store) -> list[tuple[str, str, int, object]]:
     """(topic, type, record time, message): a laser whose tf comes late, an IMU that is fine, a camera
     whose frame_id is misspelt, and a status topic with a header but no frame_id."""
     types = store.types
-    empty = np.zeros(0, np.float32)
     out = []
     for i in range(1, 200):
         stamp = START + i * 50 * MS + 7 * MS
-        scan = _stamped(store, "sensor_msgs/msg/LaserScan", "laser", stamp, angle_min=0.0, angle_max=1.0,
-                        angle_increment=0.1, time_increment=0.0, scan_time=0.0, range_min=0.0, range_max=1.0,
-                        ranges=empty, intensities=empty)  # fmt: skip
-        out.append(("/scan", "sensor_msgs/msg/LaserScan", stamp + 5 * MS, scan))
+        out.append(("/scan", "sensor_msgs/msg/LaserScan", stamp + 5 * MS, scan(store, "laser", stamp)))
         quaternion = types["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)
         vector = types["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0)
         covariance = np.zeros(9, np.float64)
@@ -47,9 +59,7 @@ def _sensor_messages(store) -> list[tuple[str, str, int, object]]:
         out.append(("/imu", "sensor_msgs/msg/Imu", stamp + 25 * MS, imu))
     for i in range(1, 10):
         stamp = START + i * NS_PER_S
-        image = _stamped(store, "sensor_msgs/msg/Image", "camra", stamp, height=1, width=1, encoding="mono8",
-                         is_bigendian=0, step=1, data=np.zeros(1, np.uint8))  # fmt: skip
-        out.append(("/camera/image_raw", "sensor_msgs/msg/Image", stamp + 3 * MS, image))
+        out.append(("/camera/image_raw", "sensor_msgs/msg/Image", stamp + 3 * MS, image(store, "camra", stamp)))
         status = _stamped(store, "diagnostic_msgs/msg/DiagnosticArray", "", stamp, status=[])
         out.append(("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray", stamp + 3 * MS, status))
     return out
@@ -58,21 +68,24 @@ def _sensor_messages(store) -> list[tuple[str, str, int, object]]:
 @pytest.fixture(scope="module")
 def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """The robot's tf and the sensor data in a ROS1 bag, and its ROS2 copies (.db3 and .mcap)."""
-    from rosbags.rosbag1 import Writer
+    return sensor_bags(tmp_path_factory.mktemp("filter"), robot(), _sensor_messages)
+
+
+def sensor_bags(
+    folder: Path, tf: list[TfMessage], sensors: Callable[[Any], list[tuple[str, str, int, object]]]
+) -> dict[str, Path]:
+    """``tf`` and the ``sensors(typestore)`` messages (topic, type, record time, message) in a ROS1 bag,
+    and its ROS2 copies (.db3 and .mcap)."""
+    from rosbags.rosbag1 import Reader, Writer
     from rosbags.typesys import Stores, get_typestore
 
-    folder = tmp_path_factory.mktemp("filter")
-    tf_only = write_bag(folder / "tf.bag", robot())
+    tf_only = write_bag(folder / "tf.bag", tf)
     store = get_typestore(Stores.ROS1_NOETIC)
     ros1 = folder / "robot.bag"
-    from rosbags.rosbag1 import Reader
-
     with Reader(tf_only) as reader, Writer(ros1) as writer:
         added = {}
         rows = [(t, c.topic, c.msgtype, raw, c) for c, t, raw in reader.messages()]
-        rows += [
-            (t, topic, kind, store.serialize_ros1(msg, kind), None) for topic, kind, t, msg in _sensor_messages(store)
-        ]
+        rows += [(t, topic, kind, store.serialize_ros1(msg, kind), None) for topic, kind, t, msg in sensors(store)]
         for record, topic, kind, raw, connection in sorted(rows, key=lambda r: r[0]):
             if topic not in added:
                 definition = connection.msgdef.data if connection else None

@@ -44,6 +44,13 @@ CASES = {
     "static-inside": (*STATIC, "-b", "BAG", "-o", "INSIDE", "--force"),
     "static-holder": (*STATIC, "-b", "BAG", "-o", "HOLDER", "--force"),
     "static-metadata": (*STATIC, "-b", "BAG", "-o", "METADATA", "--force"),
+    "report": ("report", "-b", "BAG", "-o", "OUT.html"),
+    "report-fleet": ("report", "BAG", "BAG", "-o", "OUT.html"),
+    "report-onto-input": ("report", "-b", "BAG", "-o", "BAG"),
+    "report-inside": ("report", "BAG", "-o", "INSIDE"),
+    "echo-plot": ("echo", "map", FRAME, "-b", "BAG", "--plot", "OUT.svg"),
+    "monitor-plot-play": ("monitor", "-b", "BAG", "--play", "--start", "-1", "--rate", "4", "--plot", "OUT.png"),
+    "echo-plot-onto-input": ("echo", "map", FRAME, "-b", "BAG", "--plot", "BAG"),
 }
 
 #: The cases that must be refused (exit 2, one line); every other one runs (exit 0 or 1).
@@ -73,6 +80,9 @@ def test_inputs_unchanged(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, 
         "BAG": str(bag),
         "OUT": str(tmp_path / f"out{'.bag' if fmt == 'ros1' else ''}"),
         "OUT.gv": str(tmp_path / "out.gv"),
+        "OUT.html": str(tmp_path / "out.html"),
+        "OUT.svg": str(tmp_path / "out.svg"),
+        "OUT.png": str(tmp_path / "out.png"),
         "INSIDE": str(bag / "inside" if bag.is_dir() else bag.with_suffix(".bag.d") / "x"),
         "HOLDER": str(holder),
         "METADATA": str(bag / "metadata.yaml" if bag.is_dir() else bag),

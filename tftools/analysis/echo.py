@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -99,3 +100,20 @@ def ticks(start: int, end: int, rate_hz: float) -> Int64Array:
     step = NS_PER_S / rate_hz
     count = int((end - start) // step) + 1 if end >= start else 0
     return start + np.round(np.arange(count) * step).astype(np.int64)
+
+
+def joined(parts: Sequence[EchoSeries]) -> EchoSeries:
+    """Series of the same two frames as one, in order (a live echo's lines); at least one part."""
+    offsets = np.cumsum([0, *(len(p) for p in parts)]).tolist()
+    errors = {offset + row: error for p, offset in zip(parts, offsets, strict=False) for row, error in p.errors.items()}
+    return EchoSeries(
+        parts[0].target,
+        parts[0].source,
+        np.concatenate([p.times for p in parts]),
+        np.concatenate([p.stamps for p in parts]),
+        np.concatenate([p.translations for p in parts]),
+        np.concatenate([p.rotations for p in parts]),
+        np.concatenate([p.rpy for p in parts]),
+        np.concatenate([p.valid for p in parts]),
+        errors,
+    )

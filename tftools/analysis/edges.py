@@ -35,9 +35,7 @@ def edge_gaps(stamps: Int64Array, floor: int) -> Gaps | None:
     is of the longest interval."""
     if len(stamps) < 3:
         return None
-    intervals = np.diff(stamps)
-    period = int(np.median(intervals))
-    gaps = np.flatnonzero(intervals > max(floor, PERIODS * period))
+    period, intervals, gaps = gap_rows(stamps, floor)
     if not len(gaps):
         return None
     longest = int(gaps[np.argmax(intervals[gaps])])
@@ -49,6 +47,14 @@ def edge_gaps(stamps: Int64Array, floor: int) -> Gaps | None:
         int(stamps[gaps[0]]),
         int(stamps[gaps[-1] + 1]),
     )
+
+
+def gap_rows(stamps: Int64Array, floor: int) -> tuple[int, Int64Array, IntpArray]:
+    """The median interval of sorted ``stamps``, the intervals, and the rows ``i`` where the interval
+    from ``stamps[i]`` to ``stamps[i + 1]`` is a gap (see ``edge_gaps``)."""
+    intervals = np.diff(stamps)
+    period = int(np.median(intervals)) if len(intervals) else 0
+    return period, intervals, np.flatnonzero(intervals > max(floor, PERIODS * period))
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@ import sys
 import typer
 
 from tftools import __version__
-from tftools.cli import echo, filter, frames, monitor, static, view_frames, wtf
+from tftools.cli import echo, filter, frames, monitor, report, static, view_frames, wtf
 from tftools.cli.common import Exit, UsageError, fail
 from tftools.core.errors import TfToolsError
 
@@ -31,6 +31,7 @@ app.command("echo")(echo.command)
 app.command("filter")(filter.command)
 app.command("frames")(frames.command)
 app.command("monitor")(monitor.command)
+app.command("report")(report.command)
 app.command("view-frames")(view_frames.command)
 app.command("wtf")(wtf.command)
 app.command("static", context_settings=static.CONTEXT)(static.command)

@@ -5,12 +5,14 @@ from __future__ import annotations
 import dataclasses
 import enum
 import io
+from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
 import typer
 
-from tftools.analysis.echo import EchoSeries, chain_span, echo, sample_times, ticks
+from tftools.analysis.echo import EchoSeries, chain_span, echo, joined, sample_times, ticks
 from tftools.cli import live
 from tftools.cli.arguments import echo_line_count, parse_time, positive_seconds, rate_hz
 from tftools.cli.common import (
@@ -26,11 +28,13 @@ from tftools.cli.common import (
     open_recording,
     stdout,
 )
+from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.render import echo as render
 from tftools.render.escape import printable
+from tftools.render.plots import echo_figure
 from tftools.sources import Recording
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.capture import listen
@@ -50,8 +54,11 @@ def command(
     source: Annotated[str, typer.Argument(help="The frame whose pose is shown, e.g. base_link.")],
     bags: BagOption = None,
     rate: Annotated[
-        float, typer.Option("--rate", "-r", help="Lines per second of bag time (a million lines at most).")
-    ] = 1.0,
+        float | None,
+        typer.Option(
+            "--rate", "-r", help="Lines a second of bag time (at most a million lines; default 1).", show_default=False
+        ),
+    ] = None,
     at: Annotated[
         str | None,
         typer.Option(
@@ -82,6 +89,15 @@ def command(
     ros1: live.RosOption = None,
     use_sim_time: live.UseSimTimeOption = None,
     cache: live.CacheOption = 10.0,
+    plot: Annotated[
+        Path | None,
+        typer.Option(
+            "--plot",
+            help=f"Draw translation and roll/pitch/yaw over time into this picture ({PLOT_FILE}): on a bag instead of "
+            "the lines (every sample, unless --rate), live and with --play when they end.",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """Print the transform from SOURCE to TARGET, as tf_echo does: [bold]where SOURCE is in TARGET[/].
 
@@ -89,9 +105,13 @@ def command(
     edge between the frames has data (or --start/--end), interpolating as tf2 does; a lookup
     that fails prints tf2's reason and echo goes on. Exit code 1 if any lookup failed.
 
-    Example: [cyan]tfx echo map base_link -b robot.bag --all --format csv > pose.csv[/]
+    Examples: [cyan]tfx echo map base_link -b robot.bag --all --format csv > pose.csv[/],
+    [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/]
     """
-    rate = rate_hz(rate)
+    if plot is not None:
+        check_plot(plot, bags or [])
+    every = every or (plot is not None and rate is None and at is None)
+    rate = rate_hz(1.0 if rate is None else rate)
     if wait is not None:
         wait = positive_seconds(wait, "--wait", "10")
     cache = positive_seconds(cache, "--cache", "10")
@@ -100,16 +120,46 @@ def command(
     if not bags:
         live.no_bag_options(**{"--at": at, "--all": every, "--start": start, "--end": end, "--play": play})
         feed = live.open_source(ros1, use_sim_time, topics)
-        exit_with(_live(feed, target, source, rate, count, wait, cache, tf2, fmt, precision, matrix))
+        exit_with(_live(feed, target, source, rate, count, wait, cache, tf2, Lines(fmt, precision, matrix, plot)))
     recording = open_recording(bags, topics, tf2)
     target = frame_argument(recording.buffer, target)
     source = frame_argument(recording.buffer, source)
     if play:
-        exit_with(_play(recording, target, source, rate, start, end, fmt, precision, matrix))
+        exit_with(_play(recording, target, source, rate, start, end, Lines(fmt, precision, matrix, plot)))
     times = _times(recording, target, source, rate, at, every, start, end)
     series = echo(recording.buffer, target, source, times)
-    _write(series, fmt, precision, matrix)
+    if plot is not None:
+        write_plot(echo_figure(series), plot, f"{len(series)} lookups of {target} <- {source}")
+    else:
+        _write(series, fmt, precision, matrix)
     exit_with(Exit.OK if series.valid.all() else Exit.PROBLEMS)
+
+
+@dataclass(frozen=True)
+class Lines:
+    """How a replayed or live echo shows its lines, and the picture it draws of them when it ends."""
+
+    fmt: EchoFormat
+    precision: int
+    matrix: bool
+    plot: Path | None
+    shown: list[EchoSeries] = field(default_factory=list)
+
+    def write(self, series: EchoSeries, now: int) -> None:
+        """Print a lookup of the latest transform; the picture shows it at ``now``."""
+        _write(series, self.fmt, self.precision, self.matrix, header=not self.shown)
+        self.shown.append(dataclasses.replace(series, times=np.array([now], np.int64)))
+
+    @property
+    def failed(self) -> bool:
+        return not all(s.valid.all() for s in self.shown)
+
+    def done(self) -> Exit:
+        """Draw the picture, if asked for and anything was shown; PROBLEMS if a lookup failed."""
+        if self.plot is not None and self.shown:
+            series = joined(self.shown)
+            write_plot(echo_figure(series), self.plot, f"{len(series)} lookups of {series.target} <- {series.source}")
+        return Exit.PROBLEMS if self.failed else Exit.OK
 
 
 def _write(series: EchoSeries, fmt: EchoFormat, precision: int, matrix: bool, header: bool = True) -> None:
@@ -131,9 +181,7 @@ def _play(
     rate: float,
     start: str | None,
     end: str | None,
-    fmt: EchoFormat,
-    precision: int,
-    matrix: bool,
+    lines: Lines,
 ) -> Exit:
     """--play: the bag replayed on a sim clock into a tf2-sized buffer, as tf_echo sees a live
     system: the latest transform, ``rate`` times a second of wall (= bag) time."""
@@ -143,15 +191,12 @@ def _play(
         raise UsageError("the time range is empty", "--start must come before --end")
     replay = replay_of(recording, start=first, end=last)
     buffer = Buffer(clock=replay.clock, semantics=recording.buffer.semantics)
-    failed: list[bool] = []
 
     def tick() -> None:
-        series = echo(buffer, target, source, [0])
-        failed.append(not series.valid.all())
-        _write(series, fmt, precision, matrix, header=len(failed) == 1)
+        lines.write(echo(buffer, target, source, [0]), buffer.now())
 
     follow_into(replay, buffer, tick, period=1.0 / rate)
-    return Exit.PROBLEMS if any(failed) else Exit.OK
+    return lines.done()
 
 
 def _live(
@@ -163,15 +208,12 @@ def _live(
     wait: float | None,
     cache: float,
     semantics: Semantics | None,
-    fmt: EchoFormat,
-    precision: int,
-    matrix: bool,
+    lines: Lines,
 ) -> Exit:
     """Without -b, as tf_echo: wait for the transform, then the latest one ``rate`` times a second
     (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
     target, source = target.removeprefix("/"), source.removeprefix("/")
     cache_ns = live.cache_time(cache)
-    failed: list[bool] = []
     with feed:
         buffer = listen(feed, cache_ns, semantics)
         live.wait_for_transform(buffer, target, source, feed.describe(), wait)
@@ -180,15 +222,14 @@ def _live(
             with buffer.lock:
                 series = dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()]))
                 frames = buffer.all_frames_as_string()
-            failed.append(not series.valid.all())
-            _write(series, fmt, precision, matrix, header=len(failed) == 1)
-            if failed[-1] and fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
+            lines.write(series, int(series.times[0]))
+            if not series.valid.all() and lines.fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
                 listed = "".join(printable(line) + "\n" for line in frames.removesuffix("\n").split("\n"))
                 stdout.file.write(f"The current list of frames is:\n{listed}")
                 stdout.file.flush()
 
         live.every(rate, count, lambda: feed.finished, tick, feed.clock)
-    return Exit.PROBLEMS if any(failed) else Exit.OK
+    return lines.done()
 
 
 def _times(

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import enum
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -11,6 +12,7 @@ from rich.console import RenderableType
 from rich.live import Live
 
 from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
+from tftools.analysis.timelines import EdgeSeries, MonitorTrace, edge_series
 from tftools.cli import live
 from tftools.cli.arguments import parse_time, positive_seconds, rate_hz
 from tftools.cli.common import (
@@ -23,10 +25,13 @@ from tftools.cli.common import (
     frame_argument,
     open_recording,
     stdout,
+    warn,
 )
+from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec
 from tftools.render import monitor as render
+from tftools.render.plots import monitor_figure
 from tftools.sources import Recording
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.capture import live_semantics
@@ -55,6 +60,15 @@ DurationOption = Annotated[
     float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.", show_default=False)
 ]
 FormatOption = Annotated[MonitorFormat, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")]
+PlotOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--plot",
+        help=f"Draw each edge's rate and delay over time into this picture ({PLOT_FILE}): on a bag instead of the "
+        "table (with TARGET SOURCE, the chain's edges), live and with --play each refresh's, when it ends.",
+        show_default=False,
+    ),
+]
 
 
 def command(
@@ -72,6 +86,7 @@ def command(
     tf2: Tf2Option = None,
     ros1: live.RosOption = None,
     use_sim_time: live.UseSimTimeOption = None,
+    plot: PlotOption = None,
 ) -> None:
     """Rates, jitter, gaps and delays of every edge and publisher, as tf_monitor shows them.
 
@@ -82,8 +97,12 @@ def command(
     (times of recording). Without -b, on the live system, and with --play on a bag's replay:
     refreshed once a second over the last --window seconds.
 
-    Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/]
+    Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
+    [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
     """
+    if plot is not None:
+        check_plot(plot, bags or [])
+    trace = MonitorTrace() if plot is not None else None
     if (target is None) != (source is None):
         raise UsageError("give two frames or none", "tfx monitor TARGET SOURCE, e.g. tfx monitor map base_link")
     rate = rate_hz(rate, example="2")
@@ -105,7 +124,9 @@ def command(
                 feed.describe(),
                 None,
                 tf2 or live_semantics(feed),
+                trace,
             )
+        _write_trace(trace, plot, feed.describe())
         return
     recording = open_recording(bags, topics, tf2)
     if target is not None and source is not None:
@@ -122,12 +143,16 @@ def command(
     if play:
         replay = replay_of(recording, rate=rate, start=first, end=last)
         note = f"rate {rate:g}x"
-        watch(
-            replay, target, source, from_sec(window), duration, fmt, note, timeline.played(), recording.buffer.semantics
-        )
+        semantics = recording.buffer.semantics
+        watch(replay, target, source, from_sec(window), duration, fmt, note, timeline.played(), semantics, trace)
+        _write_trace(trace, plot, ", ".join(recording.paths))
         return
     report = monitor(recording.buffer, target, source, first, last, by_record_time=True, timeline=recording.timeline)
-    if fmt is MonitorFormat.json:
+    if plot is not None:
+        keys = [e.key for e in report.chain.edges] if report.chain is not None else None
+        series = edge_series(recording.buffer, recording.timeline, first, last, keys)
+        write_plot(monitor_figure(series, _header(recording, report)), plot, _plotted(series))
+    elif fmt is MonitorFormat.json:
         render.write_json(report, stdout.file)
     else:
         stdout.print(render.renderable(report, _header(recording, report)))
@@ -143,18 +168,25 @@ def watch(
     note: str = "",
     timeline: Timeline | None = None,
     semantics: Semantics = "ros1",
+    trace: MonitorTrace | None = None,
 ) -> None:
     """The live table: ``feed`` into a monitor, its report over the last ``window`` (ns) once
-    a second, until ``duration`` wall seconds pass or the feed ends. Works with any feed:
-    a replay or a live source."""
+    a second, until ``duration`` wall seconds pass or the feed ends; each report kept in ``trace``
+    if given. Works with any feed: a replay or a live source."""
     live_monitor = LiveMonitor(feed.clock, window, timeline, semantics)
     started = feed.clock.now()
+
+    def report() -> MonitorReport:
+        current = live_monitor.report(target, source)
+        if trace is not None:
+            trace.add(feed.clock.now(), current)
+        return current
 
     def table() -> RenderableType:
         now = feed.clock.now()
         header = f"time {to_sec(now):.3f} (+{(now - started) / NS_PER_S:.1f} s), last {window / NS_PER_S:g} s"
         header += f", {note}" if note else ""
-        return render.renderable(live_monitor.report(target, source), header, target, source)
+        return render.renderable(report(), header, target, source)
 
     on_batch = (
         watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add
@@ -165,7 +197,7 @@ def watch(
 
     try:
         if fmt is MonitorFormat.json:
-            run(lambda: render.write_json_line(live_monitor.report(target, source), stdout.file))
+            run(lambda: render.write_json_line(report(), stdout.file))
         elif stdout.is_terminal:
             with Live(console=stdout, auto_refresh=False) as screen:
                 run(lambda: screen.update(table(), refresh=True))
@@ -173,6 +205,21 @@ def watch(
             run(lambda: stdout.print(table(), "\n"))
     except KeyboardInterrupt:  # Ctrl-C is how a live monitor ends: the last table stays
         pass
+
+
+def _write_trace(trace: MonitorTrace | None, plot: Path | None, what: str) -> None:
+    """The picture of a refreshing monitor's reports, once it ended (nothing if none came)."""
+    if trace is None or plot is None:
+        return
+    series = trace.series()
+    if not series:
+        warn(f"no moving transform was seen: {plot} not drawn")
+        return
+    write_plot(monitor_figure(series, f"tfx monitor: {what}"), plot, _plotted(series))
+
+
+def _plotted(series: Sequence[EdgeSeries]) -> str:
+    return f"rate and delay of {len(series)} edges over {len(series[0].times) if series else 0} points"
 
 
 def _header(recording: Recording, report: MonitorReport) -> str:

@@ -1,0 +1,133 @@
+"""``tfx report``: the page's content on bags of every format, fleets, and bad input (tests/render has the
+browser's view of it)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.test_bad_input import check_stderr
+from tests.render.report_scenes import EKF_STOPS, GAP, REPARENTED, page_data, troubled_bags
+
+FORMATS = list(SAMPLE_BAGS)
+
+
+@pytest.fixture(scope="module")
+def troubled(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    return troubled_bags(tmp_path_factory.mktemp("troubled"))
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_the_page_shows_each_problem_on_its_edge_and_at_its_time(tfx, troubled, tmp_path: Path, fmt: str) -> None:
+    page = tmp_path / "report.html"
+    result = tfx("report", "-b", troubled[fmt], "-o", page)
+    assert result.code == 1 and result.stdout == "", result.stderr
+    assert result.stderr == f"wrote {page}: 3 errors, 1 warning\n"
+    (data,) = page_data(page)
+    edges = {e["name"]: e for e in data["edges"]}
+    assert list(edges) == ["map -> odom", "odom -> base_link", "map -> base_link", "base_link -> wheel"]  # tree order
+    step = data["axis"]["step"]
+    assert data["axis"]["count"] * step == pytest.approx(10.0, abs=0.1) and step == 0.02  # 9.95 s in 500 bins
+
+    gaps = edges["map -> odom"]["gaps"]
+    assert gaps == [pytest.approx([GAP[0] - 0.1, GAP[1]])]  # from the last sample before the pause to the first after
+    odom = edges["odom -> base_link"]
+    samples = np.array(odom["samples"])
+    stop = round(EKF_STOPS / step)
+    assert samples[:stop].sum() == EKF_STOPS * 50 and samples[stop:].sum() == 0
+    assert np.nanmedian(np.array(odom["rate"], float)) == pytest.approx(50.0)
+    assert np.nanmedian(np.array(odom["delayMean"], float)) == pytest.approx(2.0)  # ms: recorded 2 ms after the stamp
+    changes = odom["reparentings"]
+    assert len(changes) == 20 and [c[1] for c in changes[:2]] == ["base_link: odom -> map", "base_link: map -> odom"]
+    assert all(REPARENTED[0] <= t <= REPARENTED[1] for t, _ in changes)
+    assert edges["map -> base_link"]["reparentings"] == changes
+
+    findings = {f["code"]: f for f in data["findings"]}
+    assert set(findings) == {"sensor_frame", "multiple_parents", "stale", "rate"}
+    rows = list(edges)
+    stale = findings["stale"]
+    assert [rows[i] for i in stale["rows"]] == ["odom -> base_link"] and stale["severity"] == "error"
+    assert stale["from"] == pytest.approx(EKF_STOPS - 0.02) and stale["to"] == pytest.approx(9.962)
+    assert [rows[i] for i in findings["rate"]["rows"]] == ["map -> odom"]
+    assert {rows[i] for i in findings["multiple_parents"]["rows"]} == {"map -> base_link", "odom -> base_link"}
+    assert all(re.fullmatch(r"r0-edge\d+", drawn) for drawn in stale["svg"])
+
+    streams = {s["topic"]: s["fates"] for s in data["streams"]}
+    camera, scan = streams["/camera/image_raw"], streams["/scan"]
+    assert sum(camera["lost"]) == 19 and sum(camera["on_arrival"]) + sum(camera["later"]) == 0
+    assert sum(sum(counts) for counts in scan.values()) == 199
+    assert sum(scan["undecided"][:stop]) == 0 and sum(scan["undecided"][stop + 1 :]) > 30  # its tf stopped at 8 s
+
+    text = page.read_text()
+    for shown in ("sensor_frame", "did you mean &#x27;camera&#x27;?", "went silent", "stopped", "Files", "Clocks"):
+        assert shown in text
+    assert re.search(r'<g id="r0-edge\d+" class="edge">', text) and "<title>base_link</title>" in text  # the tree
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_a_healthy_robot_passes(tfx, tmp_path: Path, fmt: str) -> None:
+    page = tmp_path / "robot.html"
+    result = tfx("report", "-b", SAMPLE_BAGS[fmt], "-o", page)
+    assert result.code == 0 and result.stderr == f"wrote {page}: no problems\n"
+    (data,) = page_data(page)
+    assert len(data["edges"]) == 10 and data["findings"] == [] and data["streams"] == []
+    text = page.read_text()
+    assert "No problems found." in text and 'class="verdict passed"' in text
+    assert "Static transforms" in text and "camera_link &#8594; camera_optical_frame" in text
+
+
+def test_the_page_needs_nothing_from_outside(tfx, tmp_path: Path) -> None:
+    page = tmp_path / "robot.html"
+    tfx("report", "-b", SAMPLE_BAGS["ros1"], "-o", page)
+    text = page.read_text()
+    assert not re.search(r"<(link|img|iframe)\b", text, re.I)
+    assert not re.search(r"""\b(src|href)\s*=\s*["']?(https?:|//)""", text, re.I)
+    assert not re.search(r"@import|url\(\s*['\"]?(https?:|//)", text, re.I)
+    assert text.count("<script>") == 2 and "uPlot" in text  # the library and the page's script, inline
+    assert 60_000 < len(text.encode()) < 250_000
+
+
+def test_a_fleet_gets_a_section_and_a_verdict_each(tfx, troubled, tmp_path: Path) -> None:
+    page = tmp_path / "fleet.html"
+    missing = tmp_path / "missing.bag"
+    result = tfx("report", SAMPLE_BAGS["ros1"], troubled["mcap"], missing, "-o", page)
+    assert result.code == 1
+    check_stderr(result.stderr, result.code)
+    assert result.stderr.endswith(f"wrote {page}: 2 of 3 failed\n") and str(missing) in result.stderr
+    assert len(page_data(page)) == 2  # the unreadable one has no plots
+    text = page.read_text()
+    verdicts = re.findall(r'<section class="recording (\w+)" id="(r\d)">', text)
+    assert verdicts == [("passed", "r0"), ("failed", "r1"), ("failed", "r2")]
+    assert "3 recordings, 2 failed" in text and text.count('<a href="#r') == 3
+    assert "could not be read" in text
+
+
+@pytest.mark.parametrize(
+    ("args", "said"),
+    [
+        (("-b", "MISSING"), "no such file"),
+        (("MISSING", "MISSING"), "no such file"),
+        (("-b", "BAG", "-o", "NOFOLDER"), "does not exist"),
+        (("-b", "BAG", "-o", "FOLDER"), "is a directory"),
+        (("-b", "BAG", "-o", "BAG"), "is the input"),
+        (("-b", "BAG", "--tf2", "ros3"), "Invalid value"),
+    ],
+)
+def test_bad_input_is_one_line_and_writes_nothing(tfx, tmp_path: Path, args: tuple[str, ...], said: str) -> None:
+    names = {
+        "MISSING": str(tmp_path / "missing.bag"),
+        "BAG": str(SAMPLE_BAGS["ros1"]),
+        "NOFOLDER": str(tmp_path / "no" / "such" / "report.html"),
+        "FOLDER": str(tmp_path),
+    }
+    arguments = [names.get(a, a) for a in args] + ([] if "-o" in args else ["-o", str(tmp_path / "out.html")])
+    before = sorted(tmp_path.iterdir())
+    result = tfx("report", *arguments)
+    assert result.code == 2 and result.stdout == ""
+    check_stderr(result.stderr, result.code)
+    assert said in result.stderr
+    assert sorted(tmp_path.iterdir()) == before

@@ -1,0 +1,136 @@
+"""``tfx report``'s data: one recording's facts, ``tfx wtf``'s findings, its frame graph, and its edges and
+sensor streams over time (``analysis.timelines``) on one axis."""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Sequence
+from dataclasses import dataclass
+from datetime import datetime, timezone
+
+from tftools.analysis.filter import filter_report, tied_to_tf
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.frames import frame_tree
+from tftools.analysis.graph import FrameGraph, frame_graph
+from tftools.analysis.timelines import (
+    Bins,
+    EdgeTimeline,
+    StreamTimeline,
+    bins_over,
+    edge_axis,
+    edge_timelines,
+    stream_axis,
+    stream_timelines,
+)
+from tftools.analysis.wtf import Thresholds, check
+from tftools.core.buffer import Buffer
+from tftools.core.time import NS_PER_S, format_sec, from_sec
+from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.recording import Recording
+from tftools.sources.timeline import EPOCH_FLOOR, Reference
+
+#: What the tf2 semantics are called on the page.
+TF2_NAMES = {"ros1": "ROS 1's (Noetic)", "ros2": "ROS 2's (Rolling, Jazzy)"}
+
+
+@dataclass(frozen=True)
+class RecordingReport:
+    """What the page shows of one recording. Times on the axis are ns; ``bins.start`` is shown as 0 s."""
+
+    name: str
+    facts: tuple[tuple[str, str], ...]
+    findings: tuple[Finding, ...]
+    graph: FrameGraph
+    bins: Bins
+    edges: tuple[EdgeTimeline, ...]
+    streams: tuple[StreamTimeline, ...]
+    delays_unavailable: str  # why delays cannot be measured ("" when they can)
+
+    def count(self, severity: Severity) -> int:
+        return sum(f.severity is severity for f in self.findings)
+
+
+def recording_report(
+    recording: Recording,
+    streams: Sequence[StampedMessages] = (),
+    thresholds: Thresholds | None = None,
+    target: str | None = None,
+    ignore: Collection[str] = (),
+) -> RecordingReport:
+    """The report of ``recording`` and its sensor data ``streams``, checked as ``tfx wtf`` checks them
+    (into ``target``, ``analysis.filter.choose_target``)."""
+    thresholds = thresholds or Thresholds()
+    findings = check(recording, thresholds, ignore, streams, target)
+    graph = frame_graph(recording.buffer, findings)
+    buffer, timeline = recording.buffer, recording.timeline
+    sensors = filter_report(buffer, streams, target) if any(tied_to_tf(s) for s in streams) else None
+    bins = bins_over(*_axis(recording, streams))
+    edges = edge_timelines(buffer, timeline, bins, from_sec(thresholds.max_gap), _tree_order(graph, buffer))
+    flows = stream_timelines(buffer, timeline, bins, streams, sensors.streams, sensors.target) if sensors else []
+    facts = list(recording_facts(recording))
+    if sensors:
+        topics = ", ".join(s.topic for s in sensors.streams)
+        facts.append(("Sensor data", f"{topics}: checked in {sensors.target} ({sensors.target_reason})"))
+    return RecordingReport(
+        " + ".join(recording.paths),
+        tuple(facts),
+        tuple(findings),
+        graph,
+        bins,
+        tuple(edges),
+        tuple(flows),
+        "" if timeline.available else timeline.reason,
+    )
+
+
+def _tree_order(graph: FrameGraph, buffer: Buffer) -> list[tuple[str, str]]:
+    """The graph's edges as the tree's lines run, top to bottom (``FrameTree.walk``); edges into frames
+    under no root (a loop) last."""
+    line = {frame: i for i, (_, frame) in enumerate(frame_tree(buffer).walk())}
+    keys = [(e.parent, e.child) for e in graph.edges]
+    return sorted(keys, key=lambda key: line.get(key[1], len(line)))
+
+
+def _axis(recording: Recording, streams: Sequence[StampedMessages]) -> tuple[int, int]:
+    """The stretch the timelines cover: the dynamic edges', and the sensor data's arrivals within as long
+    again on either side (a stamp far off must not squash the rest into a point)."""
+    timeline = recording.timeline
+    start, end = edge_axis(recording.buffer, timeline) or (timeline.tf_start, timeline.tf_end)
+    data = stream_axis(streams, timeline)
+    if data is not None:
+        slack = max(end - start, NS_PER_S)
+        start, end = min(start, max(data[0], start - slack)), max(end, min(data[1], end + slack))
+    return start, end
+
+
+def recording_facts(recording: Recording) -> list[tuple[str, str]]:
+    """What the recording is: its files and formats, clocks, span and contents, and what could not be read."""
+    contents, timeline, buffer = recording.contents, recording.timeline, recording.buffer
+    length = (recording.end - recording.start) / NS_PER_S
+    tf_length = (timeline.tf_end - timeline.tf_start) / NS_PER_S
+    clocks = timeline.describe()
+    if len(timeline.clock) and timeline.reference is not Reference.CLOCK:
+        clocks += f"; {len(timeline.clock)} messages on {timeline.clock.topic} recorded"
+    edges = [hist.static for _, hist in buffer.histories()]
+    facts = [
+        ("Files", ", ".join(recording.paths)),
+        ("Format", ", ".join(dict.fromkeys(f.format for f in contents.files))),
+        ("tf2 semantics", TF2_NAMES.get(buffer.semantics, buffer.semantics)),
+        ("Recorded", f"{_when(recording.start)} to {_when(recording.end)} ({length:.3f} s, record clock)"),
+        ("tf stamps", f"{_when(timeline.tf_start)} to {_when(timeline.tf_end)} ({tf_length:.3f} s)"),
+        ("Clocks", clocks),
+        ("Transforms", f"{recording.transform_count} on {', '.join(contents.topics)}"),
+        (
+            "Frames",
+            f"{len(buffer.frames)} frames; {edges.count(False)} moving and {edges.count(True)} static transforms",
+        ),
+    ]
+    facts += [("Could not read", problem) for problem in recording.problems]
+    return facts
+
+
+def _when(ns: int) -> str:
+    """A time as seconds, with its UTC date where it counts from the epoch."""
+    seconds = format_sec(ns, 3)
+    if ns < EPOCH_FLOOR:
+        return seconds
+    return f"{seconds} ({datetime.fromtimestamp(ns / NS_PER_S, timezone.utc):%Y-%m-%d %H:%M:%S} UTC)"

@@ -1,0 +1,329 @@
+"""Edges and sensor streams over time, on one time axis cut into equal bins: what ``tfx report`` draws.
+
+Each figure is the local form of ``analysis.edges``' (a rate is samples over a stretch of stamps, a
+delay is ``Timeline.delays``, a gap is ``edges.gap_rows``') and of ``analysis.filter``'s fates. The
+axis is the tf stamps' clock; a frame stamped on another clock (``Timeline.off_reference``) is placed
+at its arrival instead, so that every row of a recording shares one axis.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from tftools.analysis.edges import gap_rows
+from tftools.analysis.filter import LOST, UNDECIDED, Fate, StreamReport, message_fates, recording_end
+from tftools.analysis.monitor import MonitorReport
+from tftools.core.arrays import FloatArray, Int64Array, IntpArray
+from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.history import EdgeHistory
+from tftools.core.time import NS_PER_S
+from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.timeline import Timeline
+
+#: The axis is cut into at most this many bins, each at least ``FINEST_BIN`` long.
+MAX_BINS = 500
+FINEST_BIN = NS_PER_S // 1000
+#: At most this many re-parentings of one frame are kept (two publishers disagreeing at 50 Hz make thousands).
+MAX_REPARENTINGS = 200
+#: What became of sensor messages, in the order they are stacked.
+FATE_GROUPS = {
+    "on_arrival": (Fate.ON_ARRIVAL,),
+    "later": (Fate.LATER,),
+    "lost": LOST,
+    "undecided": UNDECIDED,
+}
+
+
+@dataclass(frozen=True)
+class Bins:
+    """``count`` equal stretches of ``width`` ns from ``start``."""
+
+    start: int
+    width: int
+    count: int
+
+    @property
+    def end(self) -> int:
+        return self.start + self.width * self.count
+
+    def edges(self) -> Int64Array:
+        """The ``count + 1`` times between bins."""
+        return self.start + self.width * np.arange(self.count + 1, dtype=np.int64)
+
+    def index(self, times: Int64Array) -> IntpArray:
+        """The bin of each time; times outside the axis fall into its first or last bin."""
+        return np.clip((times - self.start) // self.width, 0, self.count - 1).astype(np.intp)
+
+
+def bins_over(start: int, end: int, most: int = MAX_BINS) -> Bins:
+    """At most ``most`` bins covering ``[start, end]``, each 1, 2 or 5 times a power of ten ns long and
+    none shorter than ``FINEST_BIN``."""
+    span = max(end - start, 1)
+    width = _round_up(max(-(-span // most), FINEST_BIN))
+    return Bins(start, width, max(1, -(-span // width)))
+
+
+def _round_up(ns: int) -> int:
+    """The least 1, 2 or 5 times a power of ten at or above ``ns``."""
+    power: int = 10 ** (len(str(ns)) - 1)
+    return next(step * power for step in (1, 2, 5, 10) if step * power >= ns)  # 10: ns was above 5 * power
+
+
+@dataclass(frozen=True)
+class Reparenting:
+    """A frame's parent changed at ``time`` (axis time of the first sample under the new one)."""
+
+    time: int
+    child: str
+    before: str
+    after: str
+
+
+@dataclass(frozen=True)
+class EdgeTimeline:
+    """One parent -> child edge over the axis: per bin its samples, rate, mean and largest delay (NaN
+    where there is none, outside its span, or where delays cannot be measured); its gaps as (start, end)
+    axis times; its frame's re-parentings."""
+
+    parent: str
+    child: str
+    static: bool
+    at_arrival: bool  # placed at arrival: its stamps are on another clock than the reference
+    samples: Int64Array
+    rate_hz: FloatArray
+    delay_mean_s: FloatArray
+    delay_max_s: FloatArray
+    gaps: tuple[tuple[int, int], ...]
+    reparentings: tuple[Reparenting, ...]
+
+    @property
+    def key(self) -> tuple[str, str]:
+        return (self.parent, self.child)
+
+
+@dataclass(frozen=True)
+class StreamTimeline:
+    """One sensor topic through a MessageFilter: its report, and per bin of arrival how many of its
+    messages went through on arrival, later, never (lost), or cannot be judged (``FATE_GROUPS``), and the
+    longest wait of those that waited (NaN where none)."""
+
+    report: StreamReport
+    fates: dict[str, Int64Array]
+    wait_max_s: FloatArray
+
+
+@dataclass(frozen=True)
+class _Rows:
+    """One edge's samples: where they sit on the axis, and their stamps and record times."""
+
+    axis: Int64Array
+    stamps: Int64Array
+    records: Int64Array
+
+
+def edge_axis(buffer: Buffer, timeline: Timeline) -> tuple[int, int] | None:
+    """The span of the dynamic edges on the axis (None without any)."""
+    spans = [
+        (int(axis[0]), int(axis[-1]))
+        for child, hist in buffer.histories()
+        if not hist.static and len(hist)
+        for axis in [_axis(timeline, child, hist.stamps, hist.record_times)]
+    ]
+    return (min(s for s, _ in spans), max(e for _, e in spans)) if spans else None
+
+
+def edge_timelines(
+    buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int, keys: Sequence[tuple[str, str]] | None = None
+) -> list[EdgeTimeline]:
+    """Every edge's timeline (static ones too, flat), in the order of ``keys`` when given (edges not
+    among them left out); a gap is a pause longer than ``gap_floor`` ns and ``PERIODS`` periods."""
+    found = {(parent, child): made for parent, child, made in _timelines(buffer, timeline, bins, gap_floor)}
+    return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
+
+
+def _timelines(
+    buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int
+) -> Iterator[tuple[str, str, EdgeTimeline]]:
+    for child, hist in buffer.histories():
+        changes = _reparentings(buffer, child, hist, timeline)
+        for parent_id in np.unique(hist.parents).tolist():
+            parent = buffer.frame_name(parent_id)
+            mine = hist.parents == parent_id
+            rows = _Rows(
+                _axis(timeline, child, hist.stamps[mine], hist.record_times[mine]),
+                hist.stamps[mine],
+                hist.record_times[mine],
+            )
+            near = tuple(c for c in changes if parent in (c.before, c.after))
+            yield parent, child, _timeline(parent, child, hist.static, rows, timeline, bins, gap_floor, near)
+
+
+def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array) -> Int64Array:
+    """Where samples sit on the axis: their stamps, or their arrival where the frame is on another clock
+    (made non-decreasing, as stamps are)."""
+    if child not in timeline.off_reference:
+        return stamps
+    return np.maximum.accumulate(timeline.arrival(stamps, records)) if len(stamps) else stamps
+
+
+def _timeline(
+    parent: str,
+    child: str,
+    static: bool,
+    rows: _Rows,
+    timeline: Timeline,
+    bins: Bins,
+    gap_floor: int,
+    reparentings: tuple[Reparenting, ...],
+) -> EdgeTimeline:
+    if static:  # latched once, stamped at any time (often 0): nothing to place on the axis
+        nothing = np.full(bins.count, np.nan)
+        none = np.zeros(bins.count, np.int64)
+        return EdgeTimeline(parent, child, True, False, none, nothing, nothing, nothing, (), reparentings)
+    where = bins.index(rows.axis)
+    samples = np.bincount(where, minlength=bins.count).astype(np.int64)
+    mean, largest = _delays(child, rows, where, timeline, bins.count)
+    _, _, gaps = gap_rows(rows.stamps, gap_floor)
+    spans = tuple((int(rows.axis[i]), int(rows.axis[i + 1])) for i in gaps.tolist())
+    at_arrival = child in timeline.off_reference
+    rate = local_rate(rows.axis, bins)
+    return EdgeTimeline(parent, child, False, at_arrival, samples, rate, mean, largest, spans, reparentings)
+
+
+def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
+    """Samples per second in each bin, of samples at sorted ``times``: the intervals between samples
+    that fall in a bin, each counted for the share of it that does, over the bin's length; over the
+    whole span this is ``EdgeStats.rate_hz``. NaN outside the span, and for fewer than two samples."""
+    if len(times) < 2 or times[-1] == times[0]:
+        return np.full(bins.count, np.nan)
+    edges = bins.edges().astype(np.float64)
+    count = np.interp(edges, times.astype(np.float64), np.arange(len(times), dtype=np.float64))
+    rate: FloatArray = np.diff(count) * NS_PER_S / bins.width
+    outside = (edges[1:] <= times[0]) | (edges[:-1] >= times[-1])
+    rate[outside] = np.nan
+    return rate
+
+
+def _delays(child: str, rows: _Rows, where: IntpArray, timeline: Timeline, count: int) -> tuple[FloatArray, FloatArray]:
+    """Mean and largest delay (s) of the samples in each bin: ``Timeline.delays`` of those whose arrival is known."""
+    _, known = timeline.ros_time(rows.records)
+    delays = timeline.delays(child, rows.stamps[known], rows.records[known])
+    if not len(delays):
+        return np.full(count, np.nan), np.full(count, np.nan)
+    return _mean_max(where[known], delays / NS_PER_S, count)
+
+
+def _mean_max(where: IntpArray, values: FloatArray, count: int) -> tuple[FloatArray, FloatArray]:
+    """Per bin, the mean and the largest of ``values`` (NaN where a bin has none)."""
+    n = np.bincount(where, minlength=count)
+    total = np.bincount(where, weights=values, minlength=count)
+    largest = np.full(count, -np.inf)
+    np.maximum.at(largest, where, values)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(n > 0, total / n, np.nan)
+    return mean, np.where(n > 0, largest, np.nan)
+
+
+def _reparentings(buffer: Buffer, child: str, hist: EdgeHistory, timeline: Timeline) -> tuple[Reparenting, ...]:
+    """Where the frame's parent changes, in stamp order (the first ``MAX_REPARENTINGS``)."""
+    parents = hist.parents
+    if hist.static or not len(parents) or parents.min() == parents.max():
+        return ()
+    changes = np.flatnonzero(parents[1:] != parents[:-1])[:MAX_REPARENTINGS] + 1
+    axis = _axis(timeline, child, hist.stamps, hist.record_times)
+    return tuple(
+        Reparenting(int(axis[i]), child, buffer.frame_name(int(parents[i - 1])), buffer.frame_name(int(parents[i])))
+        for i in changes.tolist()
+    )
+
+
+def stream_axis(streams: Sequence[StampedMessages], timeline: Timeline) -> tuple[int, int] | None:
+    """The span of the sensor messages' arrivals on the axis (None without any)."""
+    arrivals = [timeline.arrival(s.stamp, s.record_time) for s in streams if len(s)]
+    spans = [(int(axis.min()), int(axis.max())) for axis in arrivals]
+    return (min(s for s, _ in spans), max(e for _, e in spans)) if spans else None
+
+
+def stream_timelines(
+    buffer: Buffer,
+    timeline: Timeline,
+    bins: Bins,
+    streams: Sequence[StampedMessages],
+    reports: Sequence[StreamReport],
+    target: str,
+    cache_time: int = DEFAULT_CACHE_TIME,
+) -> list[StreamTimeline]:
+    """Each reported stream's fates over the axis, binned at the messages' arrival in ROS time."""
+    by_topic = {s.topic: s for s in streams}
+    end = recording_end(buffer, streams)
+    result = []
+    for report in reports:
+        stream = by_topic[report.topic]
+        fates = message_fates(buffer, stream, target, cache_time, end)
+        where = bins.index(timeline.arrival(stream.stamp, stream.record_time))
+        counts = {
+            name: np.bincount(where[np.isin(fates.fate, group)], minlength=bins.count).astype(np.int64)
+            for name, group in FATE_GROUPS.items()
+        }
+        later = fates.fate == Fate.LATER
+        _, wait_max = _mean_max(where[later], fates.waits(stream) / NS_PER_S, bins.count)
+        result.append(StreamTimeline(report, counts, wait_max))
+    return result
+
+
+@dataclass(frozen=True)
+class EdgeSeries:
+    """One edge's rate and mean delay over time (NaN where unknown): what ``--plot`` draws."""
+
+    parent: str
+    child: str
+    times: Int64Array
+    rate_hz: FloatArray
+    delay_s: FloatArray
+
+
+def edge_series(
+    buffer: Buffer,
+    timeline: Timeline,
+    start: int | None = None,
+    end: int | None = None,
+    keys: Sequence[tuple[str, str]] | None = None,
+) -> list[EdgeSeries]:
+    """The moving edges' rates and delays over ``[start, end]`` (default: their span), in bins (their
+    middles), those of ``keys`` only when given."""
+    span = edge_axis(buffer, timeline) or (timeline.tf_start, timeline.tf_end)
+    bins = bins_over(span[0] if start is None else start, span[1] if end is None else end)
+    middles = bins.edges()[:-1] + bins.width // 2
+    edges = edge_timelines(buffer, timeline, bins, gap_floor=0, keys=keys)
+    return [EdgeSeries(e.parent, e.child, middles, e.rate_hz, e.delay_mean_s) for e in edges if not e.static]
+
+
+class MonitorTrace:
+    """The reports of a refreshing ``tfx monitor`` (live, or a replay), kept as each edge's rate and mean
+    delay at each refresh."""
+
+    def __init__(self) -> None:
+        self._times: list[int] = []
+        self._figures: dict[tuple[str, str], dict[int, tuple[float, float]]] = {}
+
+    def add(self, time: int, report: MonitorReport) -> None:
+        """The figures of ``report``, shown at ``time`` (ns)."""
+        refresh = len(self._times)
+        self._times.append(time)
+        for e in report.edges:
+            if not e.static:
+                self._figures.setdefault(e.key, {})[refresh] = (e.rate_hz, e.delay_mean_s)
+
+    def series(self) -> list[EdgeSeries]:
+        """Each edge seen, over every refresh (NaN at those before it appeared or after it left the window)."""
+        times = np.array(self._times, np.int64)
+        result = []
+        for (parent, child), figures in self._figures.items():
+            rate, delay = np.full(len(times), np.nan), np.full(len(times), np.nan)
+            for refresh, (hz, seconds) in figures.items():
+                rate[refresh], delay[refresh] = hz, seconds
+            result.append(EdgeSeries(parent, child, times, rate, delay))
+        return result

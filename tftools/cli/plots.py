@@ -1,0 +1,39 @@
+"""``--plot FILE`` of ``tfx echo`` and ``tfx monitor``: the picture checked before any work, written after."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from tftools.cli.common import UsageError, stderr
+from tftools.cli.outputs import check_output
+from tftools.render.escape import printable
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+#: What ``--plot`` says of its file in each command's help.
+PLOT_FILE = "a .png, .svg or .pdf file; needs matplotlib: pip install 'tftools[plot]'"
+
+
+def check_plot(plot: Path, inputs: Sequence[Path]) -> None:
+    """A picture ``--plot`` can write: matplotlib installed, a suffix it draws, never over or into an input."""
+    from tftools.render.plots import SUFFIXES, plot_format, require_matplotlib
+
+    if plot_format(plot) is None:
+        raise UsageError(
+            f"--plot {plot}: not a picture tfx draws", f"name a {', '.join(SUFFIXES)} file, e.g. --plot {plot.stem}.png"
+        )
+    check_output(plot, inputs, option="--plot")
+    if plot.is_dir():
+        raise UsageError(f"--plot {plot} is a directory", f"give a file name, e.g. --plot {plot / 'plot.png'}")
+    require_matplotlib()
+
+
+def write_plot(figure: Figure, plot: Path, what: str) -> None:
+    """Write the picture, and say so on stderr."""
+    from tftools.render.plots import write_figure
+
+    write_figure(figure, plot)
+    stderr.print(f"wrote {printable(str(plot))}: {printable(what)}")

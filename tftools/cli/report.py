@@ -1,0 +1,149 @@
+"""``tfx report``: one HTML page a person can look at: a recording's (or a fleet's) tree, timelines, findings
+and sensor data."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from tftools.analysis.report import recording_report
+from tftools.analysis.wtf.fleet import sensor_data
+from tftools.cli import live
+from tftools.cli.common import (
+    BagOption,
+    Exit,
+    Tf2Option,
+    TopicOption,
+    UsageError,
+    exit_with,
+    open_recording,
+    stderr,
+    warn,
+)
+from tftools.cli.outputs import check_output
+from tftools.cli.wtf import PathsArgument, SensorOption, TargetOption
+from tftools.core.errors import TfToolsError
+from tftools.core.semantics import Semantics
+from tftools.render.escape import printable
+from tftools.render.files import write_atomically
+from tftools.render.graph import counted, recording_legend
+from tftools.render.report import Section, page, recording_section, unreadable_section
+from tftools.sources import Recording
+from tftools.sources.bag.stamped import StampedMessages
+
+DEFAULT_OUTPUT = "report.html"
+
+OutputOption = Annotated[
+    Path,
+    typer.Option("--output", "-o", help="The HTML file to write (never over, into or above an input)."),
+]
+
+
+def command(
+    paths: PathsArgument = None,
+    bags: BagOption = None,
+    output: OutputOption = Path(DEFAULT_OUTPUT),
+    topics: TopicOption = None,
+    tf2: Tf2Option = None,
+    target: TargetOption = None,
+    sensors: SensorOption = None,
+    duration: live.ListenOption = 5.0,
+    ros1: live.RosOption = None,
+    use_sim_time: live.UseSimTimeOption = None,
+) -> None:
+    """Write one HTML page to look at rather than read: the tree as view-frames draws it (problems in
+    colour), each edge over time (rate, delay, samples, gaps, re-parentings) on one time axis, tfx wtf's
+    findings linked to the edges and times they are about, the sensor data a tf2 MessageFilter would have
+    dropped and when, and the recording's facts (files, formats, clocks, span).
+
+    The file holds everything it shows (scripts and styles too): it opens in any browser without a
+    network or a server, and can be attached to a bug report. Click a finding to zoom every timeline to
+    its time; drag across a timeline to zoom, double-click to zoom out.
+
+    Each BAG is a recording of its own (a fleet: one section and verdict each, [cyan]tfx report logs/*.bag[/]);
+    the -b bags together make one more (a split bag). Without bags, listens --duration seconds to the
+    live system (and to the --sensor topics).
+
+    Exit codes: 0 written, no errors found; 1 written, errors found (or some recordings could not be
+    read); 2 unusable input, nothing written.
+
+    Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
+    [cyan]tfx report --ros1 -d 10 -o live.html[/]
+    """
+    groups: list[list[Path]] = [[p] for p in paths or []] + ([list(bags)] if bags else [])
+    _check_output(output, [p for group in groups for p in group])
+    if groups:
+        sections = _bag_sections(groups, topics, tf2, target, sensors)
+    else:
+        recording, streams = _listen(ros1, use_sim_time, duration, topics, tf2, sensors)
+        sections = [_section(0, recording, streams, target)]
+    title = "tfx report: " + (sections[0].name if len(sections) == 1 else counted(len(sections), "recording"))
+    write_atomically(output, page(title, sections).encode())
+    failed = sum(s.verdict == "failed" for s in sections)
+    said = ", ".join(s.summary for s in sections) if len(sections) == 1 else f"{failed} of {len(sections)} failed"
+    stderr.print(f"wrote {printable(str(output))}: {said}")
+    exit_with(Exit.PROBLEMS if failed else Exit.OK)
+
+
+def _check_output(output: Path, inputs: Sequence[Path]) -> None:
+    """Refuse, before any reading, an output that would touch an input, a folder, or a place not writable."""
+    check_output(output, inputs)
+    if output.is_dir():
+        raise UsageError(f"-o {output} is a directory", f"give a file name, e.g. -o {output / DEFAULT_OUTPUT}")
+    folder = output.resolve().parent
+    if not os.access(folder, os.W_OK):
+        raise UsageError(f"-o {output}: cannot write in {folder}", "write elsewhere with -o")
+
+
+def _bag_sections(
+    groups: Sequence[Sequence[Path]],
+    topics: Sequence[str] | None,
+    semantics: Semantics | None,
+    target: str | None,
+    sensors: Sequence[str] | None,
+) -> list[Section]:
+    """One section per recording; one that cannot be read is an error of its own in a fleet, and the
+    command's error when it is the only one (or none can be read)."""
+    sections: list[Section] = []
+    unread: list[TfToolsError] = []
+    for index, group in enumerate(groups):
+        try:
+            recording = open_recording(group, topics, semantics)
+        except TfToolsError as error:
+            if len(groups) == 1:
+                raise
+            warn(f"{error} ({error.hint})" if error.hint else str(error))
+            unread.append(error)
+            name = " + ".join(str(p) for p in group)
+            sections.append(unreadable_section(index, name, str(error), error.hint))
+            continue
+        sections.append(_section(index, recording, sensor_data(group, sensors), target))
+    if len(unread) == len(groups):
+        raise unread[0]
+    return sections
+
+
+def _section(index: int, recording: Recording, streams: Sequence[StampedMessages], target: str | None) -> Section:
+    return recording_section(index, recording_report(recording, streams, target=target), recording_legend(recording))
+
+
+def _listen(
+    ros1: bool | None,
+    use_sim_time: bool | None,
+    duration: float,
+    topics: Sequence[str] | None,
+    semantics: Semantics | None,
+    sensors: Sequence[str] | None,
+) -> tuple[Recording, list[StampedMessages]]:
+    """What the live system says in ``duration`` seconds: tf, and the headers of the ``sensors`` topics
+    (none unless named: listening to every camera would load the network)."""
+    if not sensors:
+        return live.capture_recording(ros1, use_sim_time, duration, topics, semantics), []
+    recording, stamped = live.capture_with_headers(ros1, use_sim_time, duration, sensors, semantics)
+    for problem in stamped.problems:
+        warn(problem)
+    return recording, stamped.streams

@@ -1,0 +1,319 @@
+"""``tfx report``'s page: one self-contained HTML file (its script, styles and plotting library inside) that
+shows recordings' facts, findings, trees and timelines, and opens without a network or a server.
+
+The text is written here, escaped; the page's script (``page/report.js``) only draws the timelines from
+the data embedded as JSON, and links findings, tree and timelines together.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from importlib import resources
+from typing import Any
+
+from tftools import __version__
+from tftools.analysis.edges import EdgeStats
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.graph import GraphEdge
+from tftools.analysis.report import RecordingReport
+from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
+from tftools.core.arrays import FloatArray
+from tftools.core.time import NS_PER_S, format_sec
+from tftools.render import drawing
+from tftools.render.escape import printable
+from tftools.render.graph import counted, problem_summary, to_digraph
+
+#: Significant digits of the plotted figures: what a plot can show, and a smaller file.
+DIGITS = 4
+SEVERITY_WORDS = {Severity.error: "error", Severity.warning: "warning", Severity.info: "note"}
+
+
+@dataclass(frozen=True)
+class Section:
+    """One recording's part of the page, and what the fleet's summary says of it."""
+
+    anchor: str
+    name: str
+    verdict: str  # "failed", "warnings" or "passed"
+    summary: str
+    html: str
+
+
+def page(title: str, sections: Sequence[Section]) -> str:
+    """The whole page: a summary of the recordings when there are several, then each one's section."""
+    assets = resources.files("tftools.render") / "page"
+    vendor = assets / "vendor"
+    style = (vendor / "uPlot.min.css").read_text() + (assets / "report.css").read_text()
+    scripts = [(vendor / "uPlot.iife.min.js").read_text(), (assets / "report.js").read_text()]
+    fleet = _fleet_table(sections) if len(sections) > 1 else ""
+    body = "".join(s.html for s in sections)
+    inline = "".join(f"<script>{_script_text(s)}</script>" for s in scripts)
+    return (
+        f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
+        f'<meta name="viewport" content="width=device-width, initial-scale=1">'
+        f'<meta name="generator" content="tfx report {__version__}"><title>{_esc(title)}</title>'
+        f"<style>{style}</style></head><body><header><h1>{_esc(title)}</h1>"
+        f'<p class="about">Written by tfx report {__version__}. Click a finding to zoom every timeline to its time '
+        f"and mark its edges; drag across a timeline to zoom, double-click to zoom out.</p></header>"
+        f"{fleet}{body}{inline}</body></html>"
+    )
+
+
+def recording_section(index: int, report: RecordingReport, legend: Sequence[str]) -> Section:
+    """One recording's section: verdict, facts, findings, tree, timelines and sensor streams."""
+    anchor = f"r{index}"
+    verdict, summary = _verdict(report.findings)
+    rows = [i for i, e in enumerate(report.edges) if not e.static]
+    svg_ids = _svg_ids(report, anchor)
+    tree = _tree(report, legend, anchor)
+    data = {
+        "anchor": anchor,
+        "axis": {"step": report.bins.width / NS_PER_S, "count": report.bins.count},
+        "edges": [_edge_data(report, report.edges[i], svg_ids) for i in rows],
+        "findings": [_finding_data(report, i, rows, svg_ids, anchor) for i in range(len(report.findings))],
+        "streams": [_stream_data(s) for s in report.streams],
+    }
+    origin = report.bins.start
+    parts = [
+        f'<section class="recording {verdict}" id="{anchor}">',
+        f'<h2><span class="verdict {verdict}">{verdict}</span> {_esc(report.name)}</h2>',
+        f'<p class="summary">{_esc(summary)}</p><div class="top">',
+        _facts(report.facts),
+        _findings(report.findings, origin),
+        "</div>",
+        f'<h3>Tree</h3><div class="tree">{tree}</div>',
+        _timelines(report, rows, origin),
+        _streams(report.streams),
+        _statics(report.graph.edges),
+        f'<script type="application/json" class="report-data">{_json(data)}</script></section>',
+    ]
+    return Section(anchor, report.name, verdict, summary, "".join(parts))
+
+
+def unreadable_section(index: int, name: str, message: str, hint: str) -> Section:
+    """A recording of a fleet that could not be read: what went wrong, and what to do."""
+    anchor = f"r{index}"
+    text = f"could not be read: {message}"
+    return Section(
+        anchor,
+        name,
+        "failed",
+        text,
+        f'<section class="recording failed" id="{anchor}"><h2><span class="verdict failed">failed</span> '
+        f'{_esc(name)}</h2><p class="summary">{_esc(text)}</p><p class="hint">{_esc(hint)}</p></section>',
+    )
+
+
+def _verdict(findings: Sequence[Finding]) -> tuple[str, str]:
+    errors = any(f.severity is Severity.error for f in findings)
+    warnings = any(f.severity is Severity.warning for f in findings)
+    verdict = "failed" if errors else "warnings" if warnings else "passed"
+    return verdict, problem_summary(findings).replace("info", "note")
+
+
+def _fleet_table(sections: Sequence[Section]) -> str:
+    rows = "".join(
+        f'<tr><td><span class="verdict {s.verdict}">{s.verdict}</span></td>'
+        f'<td><a href="#{s.anchor}">{_esc(s.name)}</a></td><td>{_esc(s.summary)}</td></tr>'
+        for s in sections
+    )
+    failed = sum(s.verdict == "failed" for s in sections)
+    return (
+        f'<section class="fleet"><h2>{counted(len(sections), "recording")}, {failed} failed</h2>'
+        f"<table><thead><tr><th>verdict</th><th>recording</th><th>findings</th></tr></thead>"
+        f"<tbody>{rows}</tbody></table></section>"
+    )
+
+
+def _facts(facts: Sequence[tuple[str, str]]) -> str:
+    rows = "".join(f"<tr><th>{_esc(label)}</th><td>{_esc(value)}</td></tr>" for label, value in facts)
+    return f'<table class="facts">{rows}</table>'
+
+
+def _findings(findings: Sequence[Finding], origin: int) -> str:
+    if not findings:
+        return '<div class="findings"><h3>Findings</h3><p class="healthy">No problems found.</p></div>'
+    items = []
+    for i, f in enumerate(findings):
+        word = SEVERITY_WORDS[f.severity]
+        when = f' <span class="when">{_esc(_span_text(f, origin))}</span>' if f.first_time or f.last_time else ""
+        items.append(
+            f'<li class="finding {f.severity.value}" data-finding="{i}" tabindex="0">'
+            f'<span class="badge {f.severity.value}">[{i + 1}] {word}</span> <code>{_esc(f.code)}</code>{when}'
+            f'<div class="message">{_esc(f.message)}</div><div class="hint">{_esc(f.hint)}</div></li>'
+        )
+    return f'<div class="findings"><h3>Findings</h3><ol>{"".join(items)}</ol></div>'
+
+
+def _span_text(finding: Finding, origin: int) -> str:
+    first, last = finding.first_time or finding.last_time, finding.last_time or finding.first_time
+    if first == last:
+        return f"at {_offset(first, origin)}"
+    return f"{_offset(first, origin)} to {_offset(last, origin)}"
+
+
+def _offset(ns: int, origin: int) -> str:
+    return f"{(ns - origin) / NS_PER_S:+.3f} s"
+
+
+def _tree(report: RecordingReport, legend: Sequence[str], anchor: str) -> str:
+    """The frame graph as view-frames draws it (short labels), as inline SVG with ids unique on the page;
+    without Graphviz, a line saying how to get it."""
+    dot = to_digraph(report.graph, legend, rankdir="LR", brief=True)
+    try:
+        svg = drawing.draw(dot, "svg").decode()
+    except drawing.GraphvizMissingError as missing:
+        return f'<p class="missing">{_esc(str(missing))} ({_esc(missing.hint)})</p>'
+    svg = svg[svg.index("<svg") :]
+    svg = re.sub(r'\b(id="|href="#|url\(#)', lambda m: f"{m.group(1)}{anchor}-", svg)
+    return svg
+
+
+def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str:
+    if not rows:
+        return '<h3>Timelines</h3><p class="none">No moving transforms: nothing changes over time.</p>'
+    header = (
+        f'<h3>Timelines</h3><p class="axis">Time in seconds from {_esc(format_sec(origin, 3))} (the stamps\' clock); '
+        f"rate in Hz, delay in ms. Shaded: gaps; violet lines: re-parentings; red and orange: the findings' times. "
+        f'<button type="button" class="reset">Zoom out</button></p>'
+    )
+    if report.delays_unavailable:
+        header += f'<p class="note">Delays unavailable: {_esc(report.delays_unavailable)}</p>'
+    stats = {(e.parent, e.child): e.stats for e in report.graph.edges}
+    parts = []
+    for row, i in enumerate(rows):
+        e = report.edges[i]
+        about = _edge_about(stats.get(e.key))
+        if e.at_arrival:
+            about += "; placed at arrival: stamped on another clock"
+        parts.append(
+            f'<div class="row edge" data-row="{row}"><div class="label"><b>{_esc(e.parent)} &#8594; {_esc(e.child)}'
+            f'</b><small>{_esc(about)}</small></div><div class="plot"></div></div>'
+        )
+    return header + f'<div class="timelines">{"".join(parts)}</div>'
+
+
+def _edge_about(stats: EdgeStats | None) -> str:
+    """An edge's figures over the whole recording, as ``tfx monitor`` gives them, and its publishers."""
+    if stats is None:
+        return ""
+    delay = ""
+    if not math.isnan(stats.delay_mean_s):
+        delay = f", delay {stats.delay_mean_s * 1000:.1f} ms (max {stats.delay_max_s * 1000:.1f})"
+    return (
+        f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {stats.gap_max_s:.3f} s{delay}; "
+        f"{', '.join(stats.authorities)}"
+    )
+
+
+def _streams(streams: Sequence[StreamTimeline]) -> str:
+    if not streams:
+        return ""
+    parts = []
+    for row, s in enumerate(streams):
+        r = s.report
+        lost = f", {r.never} lost ({', '.join(f'{n} {why}' for why, n in r.reasons.items())})" if r.never else ""
+        wait = f" (wait p50 {r.wait_s['p50']:.3f} s, p99 {r.wait_s['p99']:.3f} s)" if r.later else ""
+        about = (
+            f"{r.type} in {', '.join(r.frame_ids)}: {r.messages} messages, {r.on_arrival} on arrival, "
+            f"{r.later} later{wait}{lost}"
+        )
+        parts.append(
+            f'<div class="row stream" data-stream="{row}"><div class="label"><b>{_esc(r.topic)}</b>'
+            f'<small>{_esc(about)}</small></div><div class="plot"></div></div>'
+        )
+    return (
+        '<h3>Sensor data through a tf2 MessageFilter</h3><p class="axis">Messages per bin at their arrival: '
+        "green on arrival, orange after a wait for tf, red lost for good, grey undecided (the recording "
+        f'ended or began first).</p><div class="streams">{"".join(parts)}</div>'
+    )
+
+
+def _statics(edges: Sequence[GraphEdge]) -> str:
+    static = [e for e in edges if e.static and e.stats is not None]
+    if not static:
+        return ""
+    items = "".join(
+        f"<li>{_esc(e.parent)} &#8594; {_esc(e.child)} <small>{_esc(', '.join(e.stats.authorities))}</small></li>"
+        for e in static
+        if e.stats is not None
+    )
+    return f'<h3>Static transforms</h3><ul class="statics">{items}</ul>'
+
+
+def _svg_ids(report: RecordingReport, anchor: str) -> dict[tuple[str, str], str]:
+    """Each edge's id in the tree's SVG: Graphviz numbers edges in the order they were added."""
+    return {(e.parent, e.child): f"{anchor}-edge{k + 1}" for k, e in enumerate(report.graph.edges)}
+
+
+def _edge_data(report: RecordingReport, edge: EdgeTimeline, svg_ids: dict[tuple[str, str], str]) -> dict[str, Any]:
+    origin = report.bins.start
+    return {
+        "name": printable(f"{edge.parent} -> {edge.child}"),
+        "svg": svg_ids.get(edge.key, ""),
+        "samples": edge.samples.tolist(),
+        "rate": _figures(edge.rate_hz),
+        "delayMean": _figures(edge.delay_mean_s * 1000),
+        "delayMax": _figures(edge.delay_max_s * 1000),
+        "gaps": [[_seconds(a, origin), _seconds(b, origin)] for a, b in edge.gaps],
+        "reparentings": [
+            [_seconds(r.time, origin), printable(f"{r.child}: {r.before} -> {r.after}")] for r in edge.reparentings
+        ],
+    }
+
+
+def _finding_data(
+    report: RecordingReport, index: int, rows: Sequence[int], svg_ids: dict[tuple[str, str], str], anchor: str
+) -> dict[str, Any]:
+    """Where a finding is: its time span on the axis, the timeline rows and tree elements it is pinned on
+    (Graphviz numbers nodes in the order they were added, as edges)."""
+    origin = report.bins.start
+    graph, finding = report.graph, report.findings[index]
+    keys = {(e.parent, e.child) for e in graph.edges if index in e.problems}
+    nodes = [f"{anchor}-node{j + 1}" for j, node in enumerate(graph.nodes) if index in node.problems]
+    first, last = finding.first_time or finding.last_time, finding.last_time or finding.first_time
+    return {
+        "code": finding.code,
+        "severity": finding.severity.value,
+        "from": _seconds(first, origin) if first else None,
+        "to": _seconds(last, origin) if last else None,
+        "rows": [row for row, i in enumerate(rows) if report.edges[i].key in keys],
+        "svg": [svg_ids[key] for key in keys if key in svg_ids] + nodes,
+    }
+
+
+def _stream_data(stream: StreamTimeline) -> dict[str, Any]:
+    return {
+        "topic": printable(stream.report.topic),
+        "fates": {name: stream.fates[name].tolist() for name in FATE_GROUPS},
+        "waitMax": _figures(stream.wait_max_s),
+    }
+
+
+def _figures(values: FloatArray) -> list[float | None]:
+    """Values rounded to ``DIGITS`` significant digits, NaN as null (JSON has no NaN)."""
+    return [None if math.isnan(v) else float(f"{v:.{DIGITS}g}") for v in values.tolist()]
+
+
+def _seconds(ns: int, origin: int) -> float:
+    return round((ns - origin) / NS_PER_S, 6)
+
+
+def _json(data: Any) -> str:
+    """JSON safe inside a <script> element: no '<', '>' or '&' to end it or open a comment."""
+    text = json.dumps(data, separators=(",", ":"), allow_nan=False)
+    return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+
+
+def _script_text(text: str) -> str:
+    """A script's text as a <script> element's content: a '</script' inside it would end it early."""
+    return re.sub(r"</(script)", r"<\\/\1", text, flags=re.IGNORECASE)
+
+
+def _esc(text: str) -> str:
+    return html.escape(printable(text), quote=True)
