@@ -4,7 +4,13 @@
 (``read_bag``) and inserting (``recording_of``), the readers' modules imported first.
 
 ``lookups BAG N SECONDS``: ``Buffer.lookup`` and ``can_transform`` in a Python loop
-at tf2_side's times, then ``lookup_many`` at a million times. Prints one JSON object.
+at tf2_side's times, then ``lookup_many`` at a million times, and ``set_transform`` one call
+per transform into a new buffer (tf2_side's transforms).
+
+``batch BAG SECONDS``: the first ``lookup_many`` of a million times in a process that has looked
+nothing up yet (what loading the compiled lookups costs a script), then the next.
+
+Each prints one JSON object.
 """
 
 from __future__ import annotations
@@ -20,11 +26,14 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import robot
 
+from tftools.core.buffer import Buffer
 from tftools.core.kernels_table import compiled
+from tftools.core.transform import Transform
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.recording import read_recording, recording_of
 
 BATCH = 1_000_000
+SET_CALLS = 100_000  # as tf2_side
 
 
 def peak_rss() -> int:
@@ -79,8 +88,7 @@ def lookups(path: str, count: int, seconds: int) -> dict:
     compiled()  # loaded, as a long loop of lookups loads them early on: the steady state is measured
     lookup_s = per_call(lambda t: buffer.lookup(target, source, t), times)
     can_s = per_call(lambda t: buffer.can_transform(target, source, t), times)
-    rng = np.random.default_rng(1)
-    many = rng.integers(robot.START + robot.NS, robot.START + (seconds - 1) * robot.NS, BATCH)
+    many = random_times(seconds)
     buffer.lookup_many(target, source, many[:10])
     result = {"lookup_s": lookup_s, "can_transform_s": can_s}
     for order, asked in (("random", many), ("sorted", np.sort(many))):
@@ -89,12 +97,39 @@ def lookups(path: str, count: int, seconds: int) -> dict:
         result[f"lookup_many_{order}_s"] = (time.perf_counter() - began) / BATCH
         assert got.valid.all()
     first = [buffer.lookup(target, source, t).translation for t in times[:1000]]
-    return {**result, "checksum": float(np.sum(first))}
+    return {**result, "set_transform_s": set_transform_per_call(seconds), "checksum": float(np.sum(first))}
+
+
+def set_transform_per_call(seconds: int) -> float:
+    """One ``Buffer.set_transform`` call's time, on tf2_side's transforms built beforehand."""
+    calls = [
+        (Transform(values[:3], values[3:], stamp, parent, child), callerid)
+        for parent, child, stamp, values, callerid in robot.dynamic_transforms(seconds, SET_CALLS)
+    ]
+    buffer = Buffer(cache_time=None)
+    return per_call(lambda call: buffer.set_transform(*call), calls)
+
+
+def random_times(seconds: int):
+    rng = np.random.default_rng(1)
+    return rng.integers(robot.START + robot.NS, robot.START + (seconds - 1) * robot.NS, BATCH)
+
+
+def batch(path: str, seconds: int) -> dict:
+    buffer = read_recording([path]).buffer
+    result = {}
+    for which in ("first", "next"):
+        times = random_times(seconds)
+        began = time.perf_counter()
+        buffer.lookup_many(robot.TARGET, robot.SOURCE, times)
+        result[f"batch_{which}_s"] = (time.perf_counter() - began) / BATCH
+    return result
 
 
 def main() -> None:
-    command, path = sys.argv[1], sys.argv[2]
-    result = ingest(path) if command == "ingest" else lookups(path, int(sys.argv[3]), int(sys.argv[4]))
+    command, path, *numbers = sys.argv[1:]
+    commands = {"ingest": ingest, "lookups": lookups, "batch": batch}
+    result = commands[command](path, *map(int, numbers))
     print(json.dumps(result))
 
 

@@ -61,6 +61,19 @@ def messages(seconds: int, images: bool = False) -> Iterator[Message]:
     return heapq.merge(iter([first]), *streams, key=lambda m: m[0])
 
 
+def dynamic_transforms(seconds: int, count: int) -> list[tuple[str, str, int, tuple[float, ...], str]]:
+    """The first ``count`` moving transforms of ``messages``, in record order, as one
+    ``set_transform`` call each takes them: (parent, child, stamp, tx ty tz qx qy qz qw, callerid)."""
+    out = []
+    for _record, topic, callerid, content in messages(seconds):
+        if topic == "/tf":
+            rows: list = content  # type: ignore[assignment]
+            out += [(parent, child, stamp, values, callerid) for parent, child, stamp, values in rows]
+            if len(out) >= count:
+                return out[:count]
+    return out
+
+
 def _periodic(seconds: int, callerid: str, hz: int, pairs: list[tuple[str, str]]) -> Iterator[Message]:
     period = NS // hz
     for k in range(seconds * hz):

@@ -1,8 +1,9 @@
 """tf2's side of the benchmark, run by Debian's /usr/bin/python3 (the real rosbag and tf2_py).
 
 ``write BAG SECONDS [images]``: the robot's ROS1 bag through the real rosbag writer.
-``measure BAG LOOKUPS``: rosbag + BufferCore ingest, then lookups and can_transform through the
-binding in a Python loop; prints one JSON object.
+``measure BAG LOOKUPS SECONDS``: rosbag + BufferCore ingest, then lookups and can_transform through
+the binding in a Python loop, and ``set_transform`` one call per transform into a new BufferCore;
+prints one JSON object.
 """
 
 import json
@@ -15,7 +16,10 @@ import robot
 import rosbag
 import rospy
 import tf2_py
+from geometry_msgs.msg import TransformStamped
 from tf2_msgs.msg import TFMessage
+
+SET_CALLS = 100_000
 
 
 def write(path, seconds, images):
@@ -61,6 +65,20 @@ def per_call(action, items):
     return (time.perf_counter() - began) / len(items)
 
 
+def set_transform_per_call(seconds):
+    """One ``set_transform`` call's time, on the robot's first moving transforms built beforehand."""
+    messages = []
+    for parent, child, stamp, values, callerid in robot.dynamic_transforms(seconds, SET_CALLS):
+        msg = TransformStamped()
+        msg.header.frame_id, msg.child_frame_id = parent, child
+        msg.header.stamp = rospy.Time(*divmod(stamp, robot.NS))
+        t, r = msg.transform.translation, msg.transform.rotation
+        t.x, t.y, t.z, r.x, r.y, r.z, r.w = values
+        messages.append((msg, callerid))
+    core = tf2_py.BufferCore(rospy.Duration(1_000_000))
+    return per_call(lambda m: core.set_transform(*m), messages)
+
+
 def measure(path, lookups, seconds):
     began = time.perf_counter()
     core, count = ingest(path)
@@ -80,6 +98,7 @@ def measure(path, lookups, seconds):
                 "ingest_s": ingest_s,
                 "lookup_s": lookup_s,
                 "can_transform_s": can_s,
+                "set_transform_s": set_transform_per_call(seconds),
                 "peak_rss_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
             }
         )

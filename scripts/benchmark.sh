@@ -1,8 +1,14 @@
 #!/usr/bin/env bash
-# tftools against rosbag + tf2, side by side (benchmarks/vs_tf2.py), installing both first.
-# Usage: bash scripts/benchmark.sh [--scales 1 4 16] [--images] [--commands]
+# Issue 17's goals, each with tftools' figure, tf2's and transform-tree's (benchmarks/goals.py),
+# installing all three first. With --vs-tf2, issue 8's side-by-side table instead (benchmarks/vs_tf2.py).
+# Usage: bash scripts/benchmark.sh [--parts calls ingest startup fresh memory] [--runs 5]
+#        bash scripts/benchmark.sh --vs-tf2 [--scales 1 4 16] [--images] [--commands]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-reference.sh
-bash scripts/setup.sh
-exec .venv/bin/python benchmarks/vs_tf2.py "$@"
+bash scripts/setup.sh bench
+if [ "${1:-}" = "--vs-tf2" ]; then
+  shift
+  exec .venv/bin/python benchmarks/vs_tf2.py "$@"
+fi
+exec .venv/bin/python benchmarks/goals.py "$@"

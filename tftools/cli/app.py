@@ -1,58 +1,36 @@
-"""``tfx``: the application, its subcommands, and the one place errors become exit codes."""
+"""``tfx``: the entry point, and the one place errors become exit codes.
+
+``tfx --version`` answers before anything else loads; any other command line goes to the typer
+application (``tftools.cli.commands``), which imports only the subcommand it runs."""
 
 from __future__ import annotations
 
 import os
 import sys
-
-import typer
+from typing import TYPE_CHECKING
 
 from tftools import __version__
-from tftools.cli import echo, filter, frames, monitor, report, static, view_frames, wtf
-from tftools.cli.common import Exit, UsageError, fail
-from tftools.core.errors import TfToolsError
 
-app = typer.Typer(
-    name="tfx",
-    help="Diagnose ROS tf trees: on bag files (ROS1 .bag, ROS2 .db3/.mcap, MCAP) in seconds, and live "
-    "on ROS1 and ROS2 systems (without -b), with tf2's exact semantics.\n\nExamples:\n\n"
-    "  tfx frames -b robot.bag\n\n"
-    "  tfx echo map base_link -b robot.bag --rate 2\n\n"
-    "  tfx wtf logs/*.bag\n\n"
-    "  tfx monitor --ros2\n\n"
-    "Exit codes: 0 fine, 1 problems found (failed lookups, checker errors), 2 unusable input.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-    rich_markup_mode="rich",
-    context_settings={"help_option_names": ["-h", "--help"]},
-)
-app.command("echo")(echo.command)
-app.command("filter")(filter.command)
-app.command("frames")(frames.command)
-app.command("monitor")(monitor.command)
-app.command("report")(report.command)
-app.command("view-frames")(view_frames.command)
-app.command("wtf")(wtf.command)
-app.command("static", context_settings=static.CONTEXT)(static.command)
+if TYPE_CHECKING:
+    import typer
 
+    from tftools.core.errors import TfToolsError
 
-def _version(value: bool) -> None:
-    if value:
-        typer.echo(f"tfx {__version__}")
-        raise typer.Exit()
-
-
-@app.callback()
-def _root(
-    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Print the version."),
-) -> None:
-    """Diagnose ROS tf trees."""
+VERSION_LINE = f"tfx {__version__}"
 
 
 def main() -> None:
     """Run ``tfx``: tftools' errors and wrong arguments print as one line and exit with code 2; so does
     any other exception (an internal error, named as such; ``TFX_DEBUG=1`` shows its traceback)."""
+    if sys.argv[1:] == ["--version"]:  # the one answer that needs neither the parser nor a subcommand
+        print(VERSION_LINE)
+        sys.exit(0)
+    import typer
+
+    from tftools.cli.commands import app
+    from tftools.cli.common import Exit, InternalError
+    from tftools.core.errors import TfToolsError
+
     try:
         code = app(standalone_mode=False)
     except TfToolsError as error:
@@ -73,20 +51,12 @@ def main() -> None:
     sys.exit(int(code or 0))
 
 
-class InternalError(TfToolsError):
-    """An exception tfx did not expect: a bug, reported on one line."""
-
-    def __init__(self, error: BaseException) -> None:
-        if isinstance(error, MemoryError):
-            super().__init__("out of memory")
-            self.hint = "narrow the input (fewer bags, --start/--end, --topic), or report it to tftools if it is small"
-        else:
-            super().__init__(f"internal error: {type(error).__name__}: {error}")
-            self.hint = "this is a bug in tfx: please report it with the command; TFX_DEBUG=1 shows the traceback"
-
-
 def _failed(error: TfToolsError) -> int:
     """``fail``'s one line, and its exit code."""
+    import typer
+
+    from tftools.cli.common import fail
+
     try:
         fail(error)
     except typer.Exit as done:
@@ -95,6 +65,8 @@ def _failed(error: TfToolsError) -> int:
 
 def _usage_error(error: typer.TyperException) -> int:
     """Click's usage errors as tfx's one line, naming the command's --help (no arguments: click printed the help)."""
+    from tftools.cli.common import Exit, UsageError
+
     if type(error).__name__ == "NoArgsIsHelpError":
         return int(Exit.UNUSABLE)
     context = getattr(error, "ctx", None)

@@ -52,6 +52,18 @@ class UsageError(TfToolsError):
         self.hint = hint
 
 
+class InternalError(TfToolsError):
+    """An exception tfx did not expect: a bug, reported on one line."""
+
+    def __init__(self, error: BaseException) -> None:
+        if isinstance(error, MemoryError):
+            super().__init__("out of memory")
+            self.hint = "narrow the input (fewer bags, --start/--end, --topic), or report it to tftools if it is small"
+        else:
+            super().__init__(f"internal error: {type(error).__name__}: {error}")
+            self.hint = "this is a bug in tfx: please report it with the command; TFX_DEBUG=1 shows the traceback"
+
+
 BagOption = Annotated[
     list[Path] | None,
     typer.Option(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -17,7 +17,9 @@ from tftools.core.time import Clock, SimClock, from_sec
 from tftools.render.escape import printable
 from tftools.sources import Recording
 from tftools.sources.headers import StampedRead
-from tftools.sources.live import LiveSource, open_live
+
+if TYPE_CHECKING:
+    from tftools.sources.live import LiveSource
 
 #: Seconds between "still waiting" notices.
 REMIND_EVERY = 5.0
@@ -58,6 +60,8 @@ def open_source(
     ros1: bool | None = None, use_sim_time: bool | None = None, topics: Sequence[str] | None = None
 ) -> LiveSource:
     """The live system the environment or ``--ros1/--ros2`` names, its notices as warnings."""
+    from tftools.sources.live import open_live  # the live modules load only when listening
+
     return open_live(ros_name(ros1), use_sim_time, topics, on_notice=warn, name="tfx")
 
 

@@ -1,0 +1,65 @@
+"""Start-up imports only what is used: ``import tftools`` and ``tfx --version`` load no numpy, parser,
+live stack, Graphviz or numba, and ``tfx frames -b`` loads no other subcommand nor live stack."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+from tests.cli.conftest import SAMPLE_BAGS
+
+REPO = Path(__file__).resolve().parents[2]
+#: Module prefixes no start-up needs.
+HEAVY = ("numpy", "numba", "graphviz", "matplotlib", "typer", "rich", "tftools.sources.live", "tftools.core")
+#: What ``tfx frames -b`` does not use.
+NOT_FOR_FRAMES = (
+    "numba",
+    "graphviz",
+    "matplotlib",
+    "tftools.sources.live",
+    "tftools.core.kernels",
+    "tftools.cli.echo",
+    "tftools.cli.wtf",
+    "tftools.cli.view_frames",
+    "tftools.cli.static",
+    "tftools.analysis.wtf",
+)
+
+
+def modules_after(code: str) -> list[str]:
+    """The modules loaded once ``code`` has run, in a fresh interpreter started in the repository."""
+    listing = "import json, sys; print(json.dumps(sorted(sys.modules)))"
+    script = f"try:\n    {code}\nexcept SystemExit:\n    pass\n{listing}"
+    done = subprocess.run([sys.executable, "-c", script], cwd=REPO, capture_output=True, text=True, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def loaded(modules: list[str], prefixes: tuple[str, ...]) -> list[str]:
+    return [m for m in modules if any(m == p or m.startswith(p + ".") for p in prefixes)]
+
+
+def test_import_tftools_loads_nothing_heavy() -> None:
+    modules = modules_after("import tftools")
+    assert "tftools" in modules
+    assert loaded(modules, HEAVY) == []
+
+
+def test_public_names_still_load_on_use() -> None:
+    modules = modules_after("import tftools; tftools.Buffer; tftools.read_recording")
+    assert "tftools.core.buffer" in modules and "tftools.sources.recording" in modules
+
+
+def test_tfx_version_loads_nothing_heavy() -> None:
+    modules = modules_after("import sys; sys.argv = ['tfx', '--version']; from tftools.cli.app import main; main()")
+    assert "tftools.cli.app" in modules
+    assert loaded(modules, HEAVY) == []
+
+
+def test_tfx_frames_loads_only_its_own_subcommand() -> None:
+    bag = SAMPLE_BAGS["ros1"]
+    code = f"import sys; sys.argv = ['tfx', 'frames', '-b', {str(bag)!r}]; from tftools.cli.app import main; main()"
+    modules = modules_after(code)
+    assert "tftools.cli.frames" in modules and "tftools.sources.recording" in modules
+    assert loaded(modules, NOT_FOR_FRAMES) == []

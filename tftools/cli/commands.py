@@ -1,0 +1,100 @@
+"""tfx's typer application, whose subcommands load on demand.
+
+A run imports only the subcommand it runs (``SUBCOMMANDS``): each module loads, and its click
+command is built, when the command line names it (``tfx --help`` loads them all, for their help)."""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Iterator, MutableMapping
+from typing import Any
+
+import typer
+import typer.core
+import typer.main
+import typer.models
+
+from tftools.cli.app import VERSION_LINE
+
+#: Each subcommand's module in ``tftools.cli``: its ``command`` function, and its click
+#: ``CONTEXT`` settings where it has some.
+SUBCOMMANDS = {
+    "echo": "echo",
+    "filter": "filter",
+    "frames": "frames",
+    "monitor": "monitor",
+    "report": "report",
+    "view-frames": "view_frames",
+    "wtf": "wtf",
+    "static": "static",
+}
+
+
+class _Subcommands(MutableMapping[str, Any]):
+    """The group's click commands by name (click's own or typer's copy of it: ``Any``), each built
+    from its module on first use; listing their names imports nothing."""
+
+    def __init__(self) -> None:
+        self._built: dict[str, Any] = {}
+
+    def __getitem__(self, name: str) -> Any:
+        if name not in self._built:
+            module = importlib.import_module(f"tftools.cli.{SUBCOMMANDS[name]}")
+            info = typer.models.CommandInfo(
+                name, callback=module.command, context_settings=getattr(module, "CONTEXT", None)
+            )
+            self._built[name] = typer.main.get_command_from_info(
+                info, pretty_exceptions_short=True, rich_markup_mode="rich"
+            )
+        return self._built[name]
+
+    def __setitem__(self, name: str, command: Any) -> None:
+        self._built[name] = command
+
+    def __delitem__(self, name: str) -> None:
+        raise TypeError("tfx's subcommands are fixed")
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(SUBCOMMANDS)
+
+    def __len__(self) -> int:
+        return len(SUBCOMMANDS)
+
+
+class _LazyGroup(typer.core.TyperGroup):
+    """A typer group whose subcommands are ``_Subcommands``."""
+
+    def __init__(self, **attrs: Any) -> None:
+        super().__init__(**attrs)
+        self.commands = _Subcommands()
+
+
+app = typer.Typer(
+    cls=_LazyGroup,
+    name="tfx",
+    help="Diagnose ROS tf trees: on bag files (ROS1 .bag, ROS2 .db3/.mcap, MCAP) in seconds, and live "
+    "on ROS1 and ROS2 systems (without -b), with tf2's exact semantics.\n\nExamples:\n\n"
+    "  tfx frames -b robot.bag\n\n"
+    "  tfx echo map base_link -b robot.bag --rate 2\n\n"
+    "  tfx wtf logs/*.bag\n\n"
+    "  tfx monitor --ros2\n\n"
+    "Exit codes: 0 fine, 1 problems found (failed lookups, checker errors), 2 unusable input.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode="rich",
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(VERSION_LINE)
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Print the version."),
+) -> None:
+    """Diagnose ROS tf trees."""
