@@ -46,6 +46,13 @@ def test_the_rate_over_the_whole_span_is_monitors_and_a_pause_shows_as_its_lengt
     assert np.isnan(local_rate(stamps[:1], bins)).all()
 
 
+def test_a_steady_edge_keeps_its_rate_in_the_bins_its_span_starts_and_ends_in() -> None:
+    stamps = START + 7 * MS + np.arange(0, 14_980, 20) * MS  # 50 Hz from 7 ms into a bin to 13 ms before one ends
+    rate = local_rate(stamps, Bins(START, NS_PER_S, 16))
+    assert rate[:15] == pytest.approx(np.full(15, 50.0))
+    assert np.isnan(rate[15])
+
+
 def test_each_edge_over_time_agrees_with_monitor_and_wtf() -> None:
     rec = recording(PROBLEMS["rate"].make())  # map -> odom silent from 3 s to 6 s
     span = edge_axis(rec.buffer, rec.timeline)

@@ -195,15 +195,18 @@ def _timeline(
 
 def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
     """Samples per second in each bin, of samples at sorted ``times``: the intervals between samples
-    that fall in a bin, each counted for the share of it that does, over the bin's length; over the
+    that fall in a bin, each counted for the share of it that does, over the part of the bin inside
+    the samples' span (a bin the span only starts or ends in is not read as a slower rate); over the
     whole span this is ``EdgeStats.rate_hz``. NaN outside the span, and for fewer than two samples."""
     if len(times) < 2 or times[-1] == times[0]:
         return np.full(bins.count, np.nan)
     edges = bins.edges().astype(np.float64)
+    first, last = float(times[0]), float(times[-1])
     count = np.interp(edges, times.astype(np.float64), np.arange(len(times), dtype=np.float64))
-    rate: FloatArray = np.diff(count) * NS_PER_S / bins.width
-    outside = (edges[1:] <= times[0]) | (edges[:-1] >= times[-1])
-    rate[outside] = np.nan
+    covered = np.minimum(edges[1:], last) - np.maximum(edges[:-1], first)
+    rate: FloatArray = np.full(bins.count, np.nan)
+    inside = covered > 0
+    rate[inside] = np.diff(count)[inside] * NS_PER_S / covered[inside]
     return rate
 
 
