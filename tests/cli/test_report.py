@@ -9,6 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.analysis.wtf_scenes import simulated, write
+from tests.bags import BagFormat
 from tests.cli.conftest import SAMPLE_BAGS
 from tests.cli.test_bad_input import check_stderr
 from tests.render.report_scenes import EKF_STOPS, GAP, REPARENTED, page_data, troubled_bags
@@ -131,3 +133,14 @@ def test_bad_input_is_one_line_and_writes_nothing(tfx, tmp_path: Path, args: tup
     check_stderr(result.stderr, result.code)
     assert said in result.stderr
     assert sorted(tmp_path.iterdir()) == before
+
+
+def test_an_edge_names_no_delay_where_the_clocks_give_none(tfx, tmp_path: Path) -> None:
+    bag = write(tmp_path, "simulated", BagFormat.rosbag2_sqlite3, simulated())  # sim stamps, wall-clock record times
+    page = tmp_path / "report.html"
+    result = tfx("report", "-b", bag, "-o", page)
+    assert result.code == 0, result.stderr
+    html = page.read_text()
+    assert "Delays unavailable" in html
+    labels = re.findall(r'<div class="row edge".*?<small>(.*?)</small>', html)
+    assert labels and all("Hz" in label and "delay" not in label for label in labels)

@@ -188,7 +188,7 @@ def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str
     parts = []
     for row, i in enumerate(rows):
         e = report.edges[i]
-        about = _edge_about(stats.get(e.key))
+        about = _edge_about(stats.get(e.key), delays_known=not report.delays_unavailable)
         if e.at_arrival:
             about += "; placed at arrival: stamped on another clock"
         parts.append(
@@ -198,12 +198,13 @@ def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str
     return header + f'<div class="timelines">{"".join(parts)}</div>'
 
 
-def _edge_about(stats: EdgeStats | None) -> str:
-    """An edge's figures over the whole recording, as ``tfx monitor`` gives them, and its publishers."""
+def _edge_about(stats: EdgeStats | None, *, delays_known: bool) -> str:
+    """An edge's figures over the whole recording, as ``tfx monitor`` gives them (delays only where the
+    recording's clocks allow them), and its publishers."""
     if stats is None:
         return ""
     delay = ""
-    if not math.isnan(stats.delay_mean_s):
+    if delays_known and not math.isnan(stats.delay_mean_s):
         delay = f", delay {stats.delay_mean_s * 1000:.1f} ms (max {stats.delay_max_s * 1000:.1f})"
     return (
         f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {stats.gap_max_s:.3f} s{delay}; "
