@@ -127,5 +127,5 @@ def _value(f: FrameShape) -> str:
     if f.translation is None or f.rotation is None:
         return "unknown"
     xyz = ", ".join(f"{v:.4f}" for v in f.translation)
-    rpy = ", ".join(f"{math.degrees(v):.2f}" for v in rpy_from_quat(f.rotation))
+    rpy = ", ".join(f"{round(math.degrees(v), 2) + 0.0:.2f}" for v in rpy_from_quat(f.rotation))  # no -0.00
     return f"xyz [{xyz}] m rpy [{rpy}]°"

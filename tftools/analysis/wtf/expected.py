@@ -1,0 +1,87 @@
+"""Checks against the expected tree (``tfx wtf --expect tree.yaml``): frames missing or new, other
+parents, static edges moved, edges slower, other publishers; each a ``Difference`` of ``analysis.diff``."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from tftools.analysis.diff import Change, Difference, compare, describe
+from tftools.analysis.expected import shape_of
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.scene import Scene
+
+HERE = "this recording"
+
+
+def _differences(scene: Scene, change: Change) -> Iterator[Difference]:
+    expected = scene.expected
+    if expected is None:
+        return
+    found = scene.shared("expected", lambda: compare(expected, shape_of(scene.recording), expected.tolerances))
+    yield from (d for d in found if d.change is change)
+
+
+def _finding(scene: Scene, d: Difference, severity: Severity, code: str, hint: str) -> Finding:
+    shape = d.after or d.before
+    assert shape is not None and scene.expected is not None
+    parent = (d.before or shape).parent
+    return Finding(
+        severity,
+        code,
+        describe(d, scene.expected.source, HERE),
+        hint,
+        frames=(parent, d.frame) if parent is not None else (d.frame,),
+        authorities=tuple(shape.publishers or ()),
+    )
+
+
+@register("expect_missing", Severity.error, "a frame of the expected tree is missing (--expect)")
+def expect_missing(scene: Scene) -> Iterator[Finding]:
+    for d in _differences(scene, Change.lost):
+        hint = "did its publisher run, and was its topic recorded? (or remove the frame from the expected tree)"
+        yield _finding(scene, d, Severity.error, "expect_missing", hint)
+
+
+@register("expect_new", Severity.warning, "a frame the expected tree does not have (--expect)")
+def expect_new(scene: Scene) -> Iterator[Finding]:
+    for d in _differences(scene, Change.added):
+        hint = "a new sensor or a misnamed frame? add it to the expected tree if it belongs there"
+        yield _finding(scene, d, Severity.warning, "expect_new", hint)
+
+
+@register("expect_parent", Severity.error, "a frame under another parent than expected (--expect)")
+def expect_parent(scene: Scene) -> Iterator[Finding]:
+    for d in _differences(scene, Change.reparented):
+        hint = "check which node publishes this frame and its parent's name (URDF, launch files)"
+        yield _finding(scene, d, Severity.error, "expect_parent", hint)
+
+
+@register("expect_static", Severity.error, "a static edge moved beyond the tolerance, or static no longer (--expect)")
+def expect_static(scene: Scene) -> Iterator[Finding]:
+    for change in (Change.static, Change.moved):
+        for d in _differences(scene, change):
+            hint = (
+                "recalibrated on purpose? update the expected tree (tfx wtf --init); else check the URDF, "
+                "the calibration files and static_transform_publisher arguments (--tolerance-mm, --tolerance-deg)"
+            )
+            yield _finding(scene, d, Severity.error, "expect_static", hint)
+
+
+@register("expect_rate", Severity.warning, "an edge slower than expected (--expect)")
+def expect_rate(scene: Scene) -> Iterator[Finding]:
+    for d in _differences(scene, Change.rate):
+        slower = d.rate_change < 0
+        hint = (
+            "an overloaded node or a throttled publisher? compare tfx monitor's rates (--tolerance-rate)"
+            if slower
+            else "faster than expected: harmless for lookups; update the expected tree if it is the new normal"
+        )
+        yield _finding(scene, d, Severity.warning if slower else Severity.info, "expect_rate", hint)
+
+
+@register("expect_publishers", Severity.info, "an edge published by other nodes than expected (--expect)")
+def expect_publishers(scene: Scene) -> Iterator[Finding]:
+    for d in _differences(scene, Change.publishers):
+        hint = "a renamed or replaced node: update the expected tree if it is intended"
+        yield _finding(scene, d, Severity.info, "expect_publishers", hint)
