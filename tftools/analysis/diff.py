@@ -68,9 +68,9 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
         change = after.rate_hz / before.rate_hz - 1.0
         if abs(change) * 100 > tolerances.rate_percent:
             found.append(Difference(Change.rate, name, before, after, rate_change=change))
-    if before.publishers is not None and after.publishers is not None:
-        if set(before.publishers) != set(after.publishers):
-            found.append(Difference(Change.publishers, name, before, after))
+    known = before.publishers is not None and after.publishers is not None
+    if known and set(before.publishers or ()) != set(after.publishers or ()):
+        found.append(Difference(Change.publishers, name, before, after))
     return found
 
 

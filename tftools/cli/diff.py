@@ -30,9 +30,7 @@ def _side(help_text: str) -> object:
 def command(
     first: Annotated[Path, _side("A: a recording (.bag, .db3, .mcap, bag directory) or a tree file (.yaml).")],
     second: Annotated[Path, _side("B: the same, compared with A.")],
-    fmt: Annotated[
-        DiffFormat, typer.Option("--format", "-f", help="text, or json (one document).")
-    ] = DiffFormat.text,
+    fmt: Annotated[DiffFormat, typer.Option("--format", "-f", help="text, or json (one document).")] = DiffFormat.text,
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
     tolerance_rate: expected_tree.ToleranceRateOption = None,

@@ -104,7 +104,8 @@ SensorOption = Annotated[
     ),
 ]
 InitOption = Annotated[
-    bool, typer.Option("--init", help="Write the bag's tree as a tree file for --expect (tfx wtf --init BAG > tree.yaml).")
+    bool,
+    typer.Option("--init", help="Write the bag's tree as a tree file for --expect (tfx wtf --init BAG > tree.yaml)."),
 ]
 ExpectOption = Annotated[
     Path | None,

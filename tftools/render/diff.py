@@ -18,9 +18,7 @@ def write_text(a: TreeShape, b: TreeShape, differences: list[Difference], tolera
         out.write(printable(f"{label}: {tree.source} ({len(tree.frames)} frames)") + "\n")
     for d in differences:
         out.write(printable(f"  {d.change.value:<11} {describe(d)}") + "\n")
-    within = (
-        f"{tolerances.translation_mm:g} mm, {tolerances.rotation_deg:g}°, rates {tolerances.rate_percent:g}%"
-    )
+    within = f"{tolerances.translation_mm:g} mm, {tolerances.rotation_deg:g}°, rates {tolerances.rate_percent:g}%"
     count = len(differences)
     verdict = f"{count} difference{'' if count == 1 else 's'}" if count else "no differences"
     out.write(f"{verdict} beyond the tolerances ({within})\n")

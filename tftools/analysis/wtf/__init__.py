@@ -6,7 +6,7 @@ from collections.abc import Collection, Sequence
 
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf import clocks, expected, sensors, source, structure, timing, topics, values  # noqa: F401  (they register their checks)
+from tftools.analysis.wtf import clocks, expectations, sensors, source, structure, timing, topics, values  # noqa: F401  (they register their checks)
 from tftools.analysis.wtf.registry import CHECKS, Check
 from tftools.analysis.wtf.scene import Scene
 from tftools.analysis.wtf.thresholds import Thresholds
