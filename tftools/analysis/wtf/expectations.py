@@ -36,36 +36,46 @@ def _finding(scene: Scene, d: Difference, severity: Severity, code: str, hint: s
     )
 
 
-@register("expect_missing", Severity.error, "a frame of the expected tree is missing (--expect)")
-def expect_missing(scene: Scene) -> Iterator[Finding]:
-    for d in _differences(scene, Change.lost):
-        hint = "did its publisher run, and was its topic recorded? (or remove the frame from the expected tree)"
-        yield _finding(scene, d, Severity.error, "expect_missing", hint)
+def _differences_as(code: str, severity: Severity, title: str, changes: tuple[Change, ...], hint: str) -> None:
+    """Register the check ``code``: each difference of one of ``changes``, a finding with ``hint``."""
+
+    def run(scene: Scene) -> Iterator[Finding]:
+        for change in changes:
+            for d in _differences(scene, change):
+                yield _finding(scene, d, severity, code, hint)
+
+    register(code, severity, title)(run)
 
 
-@register("expect_new", Severity.warning, "a frame the expected tree does not have (--expect)")
-def expect_new(scene: Scene) -> Iterator[Finding]:
-    for d in _differences(scene, Change.added):
-        hint = "a new sensor or a misnamed frame? add it to the expected tree if it belongs there"
-        yield _finding(scene, d, Severity.warning, "expect_new", hint)
-
-
-@register("expect_parent", Severity.error, "a frame under another parent than expected (--expect)")
-def expect_parent(scene: Scene) -> Iterator[Finding]:
-    for d in _differences(scene, Change.reparented):
-        hint = "check which node publishes this frame and its parent's name (URDF, launch files)"
-        yield _finding(scene, d, Severity.error, "expect_parent", hint)
-
-
-@register("expect_static", Severity.error, "a static edge moved beyond the tolerance, or static no longer (--expect)")
-def expect_static(scene: Scene) -> Iterator[Finding]:
-    for change in (Change.static, Change.moved):
-        for d in _differences(scene, change):
-            hint = (
-                "recalibrated on purpose? update the expected tree (tfx wtf --init); else check the URDF, "
-                "the calibration files and static_transform_publisher arguments (--tolerance-mm, --tolerance-deg)"
-            )
-            yield _finding(scene, d, Severity.error, "expect_static", hint)
+_differences_as(
+    "expect_missing",
+    Severity.error,
+    "a frame of the expected tree is missing (--expect)",
+    (Change.lost,),
+    "did its publisher run, and was its topic recorded? (or remove the frame from the expected tree)",
+)
+_differences_as(
+    "expect_new",
+    Severity.warning,
+    "a frame the expected tree does not have (--expect)",
+    (Change.added,),
+    "a new sensor or a misnamed frame? add it to the expected tree if it belongs there",
+)
+_differences_as(
+    "expect_parent",
+    Severity.error,
+    "a frame under another parent than expected (--expect)",
+    (Change.reparented,),
+    "check which node publishes this frame and its parent's name (URDF, launch files)",
+)
+_differences_as(
+    "expect_static",
+    Severity.error,
+    "a static edge moved beyond the tolerance, or static no longer (--expect)",
+    (Change.static, Change.moved),
+    "recalibrated on purpose? update the expected tree (tfx wtf --init); else check the URDF, the calibration "
+    "files and static_transform_publisher arguments (--tolerance-mm, --tolerance-deg)",
+)
 
 
 @register("expect_rate", Severity.warning, "an edge slower than expected (--expect)")
@@ -80,8 +90,10 @@ def expect_rate(scene: Scene) -> Iterator[Finding]:
         yield _finding(scene, d, Severity.warning if slower else Severity.info, "expect_rate", hint)
 
 
-@register("expect_publishers", Severity.info, "an edge published by other nodes than expected (--expect)")
-def expect_publishers(scene: Scene) -> Iterator[Finding]:
-    for d in _differences(scene, Change.publishers):
-        hint = "a renamed or replaced node: update the expected tree if it is intended"
-        yield _finding(scene, d, Severity.info, "expect_publishers", hint)
+_differences_as(
+    "expect_publishers",
+    Severity.info,
+    "an edge published by other nodes than expected (--expect)",
+    (Change.publishers,),
+    "a renamed or replaced node: update the expected tree if it is intended",
+)
