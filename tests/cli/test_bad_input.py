@@ -23,6 +23,9 @@ COMMANDS = {
     "wtf-b": ("wtf", "-b", "BAG", "-f", "junit"),
     "static": ("static", "0", "0", "1", "0", "0", "0", "base_link", "extra", "-b", "BAG", "-o", "OUT"),
     "report": ("report", "-b", "BAG", "-o", "OUT"),
+    "diff": ("diff", "BAG", "BAG", "-f", "json"),
+    "wtf-init": ("wtf", "--init", "BAG"),
+    "echo-static": ("echo", "map", "gripper", "-b", "BAG", "-f", "static"),
 }
 
 
@@ -108,6 +111,7 @@ def test_bad_input_is_one_line(tfx, inputs: dict[str, Path], tmp_path: Path, nam
         ("echo", "map", "base_link", "-b", SAMPLE_BAGS["mcap"], "--start", "nan"),
         ("monitor", "-b", SAMPLE_BAGS["ros1"], "--end", "nan"),
         ("wtf", SAMPLE_BAGS["ros1"], "--delay", "nan"),
+        ("diff", SAMPLE_BAGS["ros1"], SAMPLE_BAGS["db3"], "--tolerance-mm", "nan"),
         ("echo", "map", "base_link", "-b", SAMPLE_BAGS["ros1"], "--topic", "/nothing"),
     ],
 )

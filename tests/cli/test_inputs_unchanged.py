@@ -51,6 +51,10 @@ CASES = {
     "echo-plot": ("echo", "map", FRAME, "-b", "BAG", "--plot", "OUT.svg"),
     "monitor-plot-play": ("monitor", "-b", "BAG", "--play", "--start", "-1", "--rate", "4", "--plot", "OUT.png"),
     "echo-plot-onto-input": ("echo", "map", FRAME, "-b", "BAG", "--plot", "BAG"),
+    "diff-json": ("diff", "BAG", "BAG", "-f", "json", "--tolerance-mm", "2"),
+    "wtf-init": ("wtf", "--init", "BAG"),
+    "echo-static": ("echo", "map", "gripper", "-b", "BAG", "-f", "static"),
+    "echo-urdf-at": ("echo", "map", "gripper", "-b", "BAG", "-f", "urdf", "--at", "+2"),
 }
 
 #: The cases that must be refused (exit 2, one line); every other one runs (exit 0 or 1).

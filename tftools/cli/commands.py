@@ -19,6 +19,7 @@ from tftools.cli.app import VERSION_LINE
 #: Each subcommand's module in ``tftools.cli``: its ``command`` function, and its click
 #: ``CONTEXT`` settings where it has some.
 SUBCOMMANDS = {
+    "diff": "diff",
     "echo": "echo",
     "filter": "filter",
     "frames": "frames",

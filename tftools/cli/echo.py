@@ -45,6 +45,17 @@ class EchoFormat(str, enum.Enum):
     text = "text"
     json = "json"
     csv = "csv"
+    static = "static"
+    urdf = "urdf"
+    yaml = "yaml"
+
+
+#: Formats to paste elsewhere, and their writers: one lookup, the latest, unless --at or --all says otherwise.
+PASTE_FORMATS = {
+    EchoFormat.static: render.write_static,
+    EchoFormat.urdf: render.write_urdf,
+    EchoFormat.yaml: render.write_yaml,
+}
 
 
 def command(
@@ -72,7 +83,14 @@ def command(
     precision: Annotated[int, typer.Option(min=1, max=12, help="Decimals in text output.")] = 3,
     matrix: Annotated[bool, typer.Option(help="Also print the 4x4 homogeneous matrix.")] = False,
     fmt: Annotated[
-        EchoFormat, typer.Option("--format", "-f", help="text (tf_echo's), json (one object per line) or csv.")
+        EchoFormat,
+        typer.Option(
+            "--format",
+            "-f",
+            help="text (tf_echo's), json (one object per line), csv; to paste elsewhere (the latest transform "
+            "unless --at): static (static_transform_publisher's ROS 1 and ROS 2 command lines), urdf (a fixed "
+            "joint's <origin xyz rpy>), yaml (an entry of tfx static --from).",
+        ),
     ] = EchoFormat.text,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
@@ -106,17 +124,20 @@ def command(
     that fails prints tf2's reason and echo goes on. Exit code 1 if any lookup failed.
 
     Examples: [cyan]tfx echo map base_link -b robot.bag --all --format csv > pose.csv[/],
-    [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/]
+    [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/],
+    [cyan]tfx echo base_link camera -b robot.bag --at +5 --format static[/]
     """
     if plot is not None:
         check_plot(plot, bags or [])
     every = every or (plot is not None and rate is None and at is None)
-    rate = rate_hz(1.0 if rate is None else rate)
+    rate_given, rate = rate, rate_hz(1.0 if rate is None else rate)
     if wait is not None:
         wait = positive_seconds(wait, "--wait", "10")
     cache = positive_seconds(cache, "--cache", "10")
     if at is not None and every:
         raise UsageError("--at and --all do not go together", "use one of them")
+    if fmt in PASTE_FORMATS and at is None and not every and rate_given is None and start is None and end is None:
+        at = "0"
     if not bags:
         live.no_bag_options(**{"--at": at, "--all": every, "--start": start, "--end": end, "--play": play})
         feed = live.open_source(ros1, use_sim_time, topics)
@@ -165,6 +186,8 @@ class Lines:
 def _write(series: EchoSeries, fmt: EchoFormat, precision: int, matrix: bool, header: bool = True) -> None:
     if fmt is EchoFormat.json:
         render.write_json(series, stdout.file)
+    elif fmt in PASTE_FORMATS:
+        PASTE_FORMATS[fmt](series, stdout.file)
     elif fmt is EchoFormat.csv:
         text = io.StringIO()
         render.write_csv(series, text)

@@ -48,6 +48,9 @@ def command(
     yaw: Annotated[float | None, _flag("yaw")] = None,
     frame_id: Annotated[str | None, _flag("frame-id")] = None,
     child_frame_id: Annotated[str | None, _flag("child-frame-id")] = None,
+    degrees: Annotated[
+        bool, typer.Option("--deg", help="Yaw, pitch and roll (either form) are in degrees, not radians.")
+    ] = False,
     from_file: Annotated[
         Path | None,
         typer.Option("--from", help="A YAML file of several transforms (see tfx static --help).", show_default=False),
@@ -81,12 +84,13 @@ def command(
     never modified.
 
     Examples: [cyan]tfx static 0.1 0 0.2 0 0 0 base_link laser[/]
+    [cyan]tfx static 0.1 0 0.2 90 0 0 base_link laser --deg[/]
     [cyan]tfx static --x 0.1 --yaw 1.57 --frame-id base_link --child-frame-id laser[/]
     [cyan]tfx static --from extrinsics.yaml -b in.bag -o out.bag[/]
     """
     numbers = {"x": x, "y": y, "z": z, "qx": qx, "qy": qy, "qz": qz, "qw": qw, "roll": roll, "pitch": pitch, "yaw": yaw}
     transforms = read_static_transforms(from_file) if from_file is not None else []
-    transforms += _given(arguments or [], numbers, frame_id, child_frame_id)
+    transforms += _given(arguments or [], numbers, frame_id, child_frame_id, degrees)
     if not transforms:
         raise UsageError("no transform given", "e.g. tfx static 0 0 1 0 0 0 base_link laser, or --from FILE.yaml")
     transforms = [_checked(t) for t in transforms]
@@ -99,14 +103,19 @@ def command(
 
 
 def _given(
-    arguments: list[str], numbers: dict[str, float | None], frame: str | None, child: str | None
+    arguments: list[str], numbers: dict[str, float | None], frame: str | None, child: str | None, degrees: bool
 ) -> list[Transform]:
-    """The transform of the positional arguments or of the flags (None of either: none)."""
+    """The transform of the positional arguments or of the flags (None of either: none); with
+    ``degrees``, their yaw, pitch and roll are in degrees."""
     flags_used = any(v is not None for v in numbers.values()) or frame is not None or child is not None
     if arguments and flags_used:
         raise UsageError("give the positional form or the --x ... --frame-id form, not both", "tfx static --help")
+    rpy_used = len(arguments) in (8, 9) and _is_number(arguments[5]) and not _is_number(arguments[6])
+    rpy_used = rpy_used or (flags_used and not any(numbers[k] is not None for k in ("qx", "qy", "qz", "qw")))
+    if degrees and not rpy_used:
+        raise UsageError("--deg is for yaw, pitch and roll", "e.g. tfx static 0 0 1 90 0 0 base_link laser --deg")
     if arguments:
-        return [_positional(arguments)]
+        return [_positional(arguments, degrees)]
     if not flags_used:
         return []
     if frame is None or child is None:
@@ -118,10 +127,15 @@ def _given(
             raise UsageError("give a quaternion or roll/pitch/yaw, not both", "--qx .. --qw or --roll --pitch --yaw")
         qw_given = numbers["qw"] if numbers["qw"] is not None else 1.0
         return [Transform(translation, (value["qx"], value["qy"], value["qz"], qw_given), 0, frame, child)]
-    return [Transform.from_rpy(translation, (value["roll"], value["pitch"], value["yaw"]), 0, frame, child)]
+    rpy = (_angle(value["roll"], degrees), _angle(value["pitch"], degrees), _angle(value["yaw"], degrees))
+    return [Transform.from_rpy(translation, rpy, 0, frame, child)]
 
 
-def _positional(arguments: list[str]) -> Transform:
+def _angle(value: float, degrees: bool) -> float:
+    return math.radians(value) if degrees else value
+
+
+def _positional(arguments: list[str], degrees: bool = False) -> Transform:
     """static_transform_publisher's positional forms; tf1's trailing period is accepted and ignored."""
     if len(arguments) == 9 and not _is_number(arguments[6]) and _is_number(arguments[8]):
         warn("the period (tf1's last argument) is not needed: /tf_static is latched")
@@ -139,7 +153,8 @@ def _positional(arguments: list[str]) -> Transform:
     numbers = [_number(v) for v in values]
     if len(numbers) == 6:
         x, y, z, yaw, pitch, roll = numbers
-        return Transform.from_rpy((x, y, z), (roll, pitch, yaw), 0, frame, child)
+        rpy = (_angle(roll, degrees), _angle(pitch, degrees), _angle(yaw, degrees))
+        return Transform.from_rpy((x, y, z), rpy, 0, frame, child)
     x, y, z, *quaternion = numbers
     return Transform((x, y, z), tuple(quaternion), 0, frame, child)  # type: ignore[arg-type]
 

@@ -15,8 +15,10 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
+from tftools.analysis.expected import TreeShape
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
+from tftools.cli import expected as expected_tree
 from tftools.cli import live
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
@@ -101,6 +103,19 @@ SensorOption = Annotated[
         show_default=False,
     ),
 ]
+InitOption = Annotated[
+    bool,
+    typer.Option("--init", help="Write the bag's tree as a tree file for --expect (tfx wtf --init BAG > tree.yaml)."),
+]
+ExpectOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--expect",
+        help="Check against this tree file (--init writes one): frames missing or new, other parents, static "
+        "edges moved beyond the tolerances, slower edges, other publishers.",
+        show_default=False,
+    ),
+]
 ClockOption = Annotated[
     float, typer.Option("--clock", help="Stamps this many seconds behind their arrival (median) are on another clock.")
 ]
@@ -123,6 +138,11 @@ def command(
     tf2: Tf2Option = None,
     target: TargetOption = None,
     sensors: SensorOption = None,
+    init: InitOption = False,
+    expect: ExpectOption = None,
+    tolerance_mm: expected_tree.ToleranceMmOption = None,
+    tolerance_deg: expected_tree.ToleranceDegOption = None,
+    tolerance_rate: expected_tree.ToleranceRateOption = None,
     duration: live.ListenOption = 5.0,
     ros1: live.RosOption = None,
     use_sim_time: live.UseSimTimeOption = None,
@@ -144,20 +164,33 @@ def command(
     could not be read (each reported as an error of its own); 2 no recording could be read, or bad
     arguments.
 
+    The expected tree: [cyan]tfx wtf --init good.bag > tree.yaml[/] writes what a healthy recording
+    looks like (hand-editable YAML); [cyan]tfx wtf --expect tree.yaml run.bag[/] reports what differs.
+
     Examples: [cyan]tfx wtf robot.bag[/], [cyan]tfx wtf logs/*.bag --format junit > wtf.xml[/],
     [cyan]tfx wtf -b run_0.bag -b run_1.bag --strict[/]
     """
     if list_checks:
         _list_checks()
         return
+    if init:
+        if len(paths or []) + bool(bags) > 1:
+            raise UsageError("--init writes the tree of one recording", "give one bag (or its parts with -b)")
+        expected_tree.write_init(list(paths or []) or list(bags or []), topics, tf2)
+        return
+    tolerances = (tolerance_mm, tolerance_deg, tolerance_rate)
+    if expect is None and any(t is not None for t in tolerances):
+        raise UsageError("the tolerances are for --expect", "e.g. tfx wtf --expect tree.yaml run.bag --tolerance-mm 2")
+    expected = expected_tree.read_expected(expect, *tolerances) if expect is not None else None
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
     groups: list[list[Path]] = [[p] for p in paths or []] + ([list(bags)] if bags else [])
     if groups:
         jobs = jobs or os.cpu_count() or 1
-        reports = _check_groups(groups, topics, thresholds, ignored, jobs, tf2, target, sensors)
+        reports = _check_groups(groups, topics, thresholds, ignored, jobs, tf2, target, sensors, expected)
     else:
-        reports = [_check_live(ros1, use_sim_time, duration, topics, thresholds, ignored, tf2, target, sensors)]
+        feed = (ros1, use_sim_time, duration)
+        reports = [_check_live(*feed, topics, thresholds, ignored, tf2, target, sensors, expected)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:
         render.write_json(reports, sys.stdout, strict, thresholds, code)
@@ -206,6 +239,7 @@ def _check_groups(
     semantics: Semantics | None,
     target: str | None,
     sensors: Sequence[str] | None,
+    expected: TreeShape | None,
 ) -> list[BagReport]:
     """Each group of paths checked as its own recording, ``jobs`` at a time; reports in the given order."""
     one = functools.partial(
@@ -216,6 +250,7 @@ def _check_groups(
         semantics=semantics,
         target=target,
         sensor_topics=sensors,
+        expected=expected,
     )
     if len(groups) == 1:
         size = sum(_size(p) for p in groups[0])
@@ -245,6 +280,7 @@ def _check_live(
     semantics: Semantics | None,
     target: str | None,
     sensors: Sequence[str] | None,
+    expected: TreeShape | None,
 ) -> BagReport:
     """Listen ``duration`` seconds and check what was heard (nothing heard is the ``no_tf`` error),
     with the data of the ``sensors`` topics (none unless named)."""
@@ -263,7 +299,7 @@ def _check_live(
             warn(problem)
     for problem in recording.problems:
         warn(problem)
-    return check_recording(recording, streams, thresholds, ignore, target)
+    return check_recording(recording, streams, thresholds, ignore, target, expected)
 
 
 def _list_checks() -> None:

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Collection, Sequence
 
+from tftools.analysis.expected import TreeShape
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf import clocks, sensors, source, structure, timing, topics, values  # noqa: F401  (they register their checks)
+from tftools.analysis.wtf import clocks, expectations, sensors, source, structure, timing, topics, values  # noqa: F401  (they register their checks)
 from tftools.analysis.wtf.registry import CHECKS, Check
 from tftools.analysis.wtf.scene import Scene
 from tftools.analysis.wtf.thresholds import Thresholds
@@ -22,12 +23,14 @@ def check(
     ignore: Collection[str] = (),
     streams: Sequence[StampedMessages] = (),
     target: str | None = None,
+    expected: TreeShape | None = None,
 ) -> list[Finding]:
     """Every problem of ``recording``, errors first, then warnings, then notes (each in check order);
     a bare buffer is checked as the recording of what it holds (``recording_of_buffer``).
 
     ``streams``: its sensor data (``read_stamped``), for the checks of data against tf, transformed
-    into ``target`` (default and fallback: ``analysis.filter.choose_target``). ``ignore``
+    into ``target`` (default and fallback: ``analysis.filter.choose_target``). ``expected``: the
+    tree it should have (``tfx wtf --expect``), within its tolerances. ``ignore``
     lists codes not to run. Raises ``ValueError`` for a code that does not exist.
     """
     unknown = set(ignore) - set(CHECKS)
@@ -35,7 +38,7 @@ def check(
         raise ValueError(f"no such check: {', '.join(sorted(unknown))}")
     if isinstance(recording, Buffer):
         recording = recording_of_buffer(recording)
-    scene = Scene(recording, thresholds, streams, target)
+    scene = Scene(recording, thresholds, streams, target, expected)
     found: list[Finding] = []
     for c in CHECKS.values():
         if c.run is None or c.code in ignore or (c.needs_transforms and not len(scene.rows)):

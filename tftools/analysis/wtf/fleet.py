@@ -6,6 +6,7 @@ import os
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 
+from tftools.analysis.expected import TreeShape
 from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import check
@@ -73,10 +74,11 @@ def check_bags(
     semantics: Semantics | None = None,
     target: str | None = None,
     sensor_topics: Sequence[str] | None = None,
+    expected: TreeShape | None = None,
 ) -> BagReport:
     """Read ``paths`` as one recording and check it, its sensor data (``sensor_topics``, default:
-    every topic whose messages start with a header) against tf in ``target`` (``choose_target``);
-    a bag that cannot be read is reported, not raised."""
+    every topic whose messages start with a header) against tf in ``target`` (``choose_target``),
+    and against the ``expected`` tree if given; a bag that cannot be read is reported, not raised."""
     names = tuple(str(p) for p in paths)
     try:
         recording = read_recording(paths, topics, progress, allow_empty=True, semantics=semantics)
@@ -88,7 +90,7 @@ def check_bags(
             f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
-    return check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target)
+    return check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target, expected)
 
 
 def check_recording(
@@ -97,9 +99,11 @@ def check_recording(
     thresholds: Thresholds | None = None,
     ignore: Collection[str] = (),
     target: str | None = None,
+    expected: TreeShape | None = None,
 ) -> BagReport:
-    """Check a recording read (or heard) and its sensor data ``streams`` against tf in ``target``."""
-    checked = report(recording, check(recording, thresholds, ignore, streams, target))
+    """Check a recording read (or heard) and its sensor data ``streams`` against tf in ``target``
+    (and against the ``expected`` tree)."""
+    checked = report(recording, check(recording, thresholds, ignore, streams, target, expected))
     if any(tied_to_tf(s) for s in streams):
         checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
         checked.sensor_target, checked.sensor_target_reason = choose_target(recording.buffer, target)

@@ -10,6 +10,7 @@ from typing import TypeVar, cast
 import numpy as np
 
 from tftools.analysis.edges import EdgeStats, edge_stats
+from tftools.analysis.expected import TreeShape
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.thresholds import Thresholds
@@ -117,10 +118,12 @@ class Scene:
         thresholds: Thresholds | None = None,
         streams: Sequence[StampedMessages] = (),
         target: str | None = None,
+        expected: TreeShape | None = None,
     ) -> None:
         self.recording = recording
         self.streams = streams  # the recording's sensor data (messages with a header), for the sensor checks
         self.target = target  # the frame that data is transformed into (None: the usual one)
+        self.expected = expected  # the tree it should have (--expect), if any
         self.buffer = recording.buffer
         self.thresholds = thresholds if thresholds is not None else Thresholds()
         self.timeline: Timeline = recording.timeline

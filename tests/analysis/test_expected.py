@@ -1,0 +1,220 @@
+"""The expected tree: its file, and each difference from it written into a bag of every format."""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from tests.analysis.wtf_scenes import (
+    FORMATS,
+    START,
+    TfMessage,
+    _t,
+    amcl,
+    ekf,
+    healthy,
+    map_odom,
+    periodic,
+    statics,
+    wheel,
+    wheels,
+    with_extra,
+    write,
+)
+from tests.bags import BagFormat
+from tftools.analysis.diff import Change, compare, rotation_angle_deg
+from tftools.analysis.expected import Tolerances, shape_of
+from tftools.analysis.findings import Severity
+from tftools.analysis.tree_file import TreeFileError, read_tree, write_tree
+from tftools.analysis.wtf import CHECKS, check
+from tftools.core.transform import Transform
+from tftools.sources.recording import read_recording
+
+
+def _sonar(stamp: int) -> list[Transform]:
+    return [_t("base_link", "sonar", stamp, (stamp - START) * 1e-10)]
+
+
+def _odom_wheel(stamp: int) -> list[Transform]:
+    return [dataclasses.replace(t, frame_id="odom") for t in wheel(stamp)]
+
+
+#: Each recording differs from the healthy robot in one way: (the code, the frames it must name, words).
+DIFFERENT: dict[str, tuple[Callable[[], list[TfMessage]], str, tuple[str, ...], tuple[str, ...]]] = {
+    "missing": (lambda: healthy(wheels=[]), "expect_missing", ("base_link", "wheel"), ("not in this recording",)),
+    "new": (
+        lambda: with_extra(periodic("/sonar", 10, _sonar, phase=0.01)),
+        "expect_new",
+        ("base_link", "sonar"),
+        ("sonar is in this recording",),
+    ),
+    "parent": (
+        lambda: healthy(wheels=periodic("/rsp", 20, _odom_wheel)),
+        "expect_parent",
+        ("base_link", "wheel"),
+        ("a child of base_link in", "a child of odom in this recording"),
+    ),
+    "static_moved": (
+        lambda: healthy(statics=[statics(laser_x=0.21)]),
+        "expect_static",
+        ("base_link", "laser"),
+        ("moved by 10.0 mm and 0.00°",),
+    ),
+    "slower": (
+        lambda: healthy(amcl=periodic("/amcl", 4, map_odom)),
+        "expect_rate",
+        ("map", "odom"),
+        ("4.0 Hz in this recording, 10.0 Hz in", "-60%"),
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def expected_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """``tfx wtf --init``'s file of the healthy robot, from its ROS 1 bag (publishers named)."""
+    directory = tmp_path_factory.mktemp("expected")
+    bag = write(directory, "healthy", BagFormat.ros1, healthy())
+    path = directory / "tree.yaml"
+    with path.open("w") as out:
+        write_tree(shape_of(read_recording([bag])), out)
+    return path
+
+
+def test_the_file_holds_the_tree_and_reads_back_the_same(expected_file: Path) -> None:
+    text = expected_file.read_text()
+    assert "odom: {parent: map, rate_hz: 10.0, publishers: [/amcl]}" in text
+    assert "laser: {parent: base_link, static: true, translation: [0.2, 0.0, 0.1], rpy_deg: [0.0, 0.0, 0.0]" in text
+    tree = read_tree(expected_file)
+    assert list(tree.frames) == ["map", "odom", "base_link", "camera", "laser", "wheel"]  # from the root down
+    assert tree.frames["map"].parent is None and tree.frames["wheel"].publishers == ("/rsp",)
+    assert compare(tree, shape_of(read_recording([expected_file.parent / "healthy.bag"])), Tolerances()) == []
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_the_healthy_robot_meets_its_expected_tree_in_every_format(
+    tmp_path: Path, expected_file: Path, fmt: BagFormat
+) -> None:
+    bag = write(tmp_path, "again", fmt, healthy())
+    assert check(read_recording([bag]), expected=read_tree(expected_file)) == []
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+@pytest.mark.parametrize("name", list(DIFFERENT))
+def test_each_difference_written_to_a_bag_gives_its_finding(
+    tmp_path: Path, expected_file: Path, fmt: BagFormat, name: str
+) -> None:
+    make, code, frames, words = DIFFERENT[name]
+    bag = write(tmp_path, name, fmt, make())
+    findings = check(read_recording([bag]), expected=read_tree(expected_file))
+    assert [f.code for f in findings] == [code], findings
+    assert findings[0].severity is CHECKS[code].severity
+    assert set(frames) <= set(findings[0].frames)
+    for word in words:
+        assert word in findings[0].message
+    assert str(expected_file) in findings[0].message
+
+
+def test_other_publishers_are_a_note_where_both_name_them(tmp_path: Path, expected_file: Path) -> None:
+    renamed = periodic("/amcl_new", 10, map_odom)
+    expected = read_tree(expected_file)
+    ros1 = write(tmp_path, "ros1", BagFormat.ros1, healthy(amcl=renamed))
+    findings = check(read_recording([ros1]), expected=expected)
+    assert [(f.code, f.severity, f.authorities) for f in findings] == [
+        ("expect_publishers", Severity.info, ("/amcl_new",))
+    ]
+    ros2 = write(tmp_path, "ros2", BagFormat.rosbag2_mcap, healthy(amcl=renamed))  # names topics, not nodes
+    assert check(read_recording([ros2]), expected=expected) == []
+
+
+def test_a_faster_edge_is_a_note(tmp_path: Path, expected_file: Path) -> None:
+    bag = write(tmp_path, "fast", BagFormat.ros1, healthy(amcl=periodic("/amcl", 20, map_odom)))
+    findings = check(read_recording([bag]), expected=read_tree(expected_file))
+    assert [(f.code, f.severity) for f in findings] == [("expect_rate", Severity.info)]
+
+
+def test_tolerances_decide_what_differs(tmp_path: Path, expected_file: Path) -> None:
+    bag = write(tmp_path, "moved", BagFormat.ros1, healthy(statics=[statics(laser_x=0.21)], ekf=ekf()))
+    moved = shape_of(read_recording([bag]))
+    expected = read_tree(expected_file)
+    assert [d.change for d in compare(expected, moved, Tolerances(translation_mm=9.9))] == [Change.moved]
+    assert compare(expected, moved, Tolerances(translation_mm=10.1)) == []
+    wide = dataclasses.replace(expected, tolerances=Tolerances(translation_mm=20))
+    assert check(read_recording([bag]), expected=wide) == []
+
+
+def test_a_static_edge_that_turned_is_measured_in_degrees(tmp_path: Path, expected_file: Path) -> None:
+    turned = TfMessage("/tf_static", START + 1, [_t("base_link", "laser", START, 0.2, yaw=math.radians(2.0))], "/rsp")
+    camera = TfMessage("/tf_static", START + 2, [_t("base_link", "camera", START, 0.1)], "/rsp")
+    bag = write(tmp_path, "turned", BagFormat.rosbag2_sqlite3, healthy(statics=[turned, camera]))
+    (d,) = compare(read_tree(expected_file), shape_of(read_recording([bag])), Tolerances())
+    assert d.change is Change.moved and d.translation_mm == pytest.approx(0, abs=1e-9)
+    assert d.rotation_deg == pytest.approx(2.0)
+
+
+def test_a_frame_that_became_static_differs(tmp_path: Path, expected_file: Path) -> None:
+    fixed = [TfMessage("/tf_static", START + 3, wheel(START), "/rsp")]
+    bag = write(tmp_path, "fixed", BagFormat.ros1, healthy(wheels=[], amcl=amcl(), statics=[statics(), *fixed]))
+    findings = check(read_recording([bag]), expected=read_tree(expected_file))
+    assert [f.code for f in findings] == ["expect_static"]
+    assert "is moving at 20.0 Hz in" in findings[0].message and "static in this recording" in findings[0].message
+
+
+def test_a_hand_written_file_with_its_own_tolerances_and_quaternions(tmp_path: Path) -> None:
+    path = tmp_path / "tree.yaml"
+    path.write_text(
+        "tolerances: {translation_mm: 5, rate_percent: 50}\n"
+        "frames:\n"
+        "  map:\n"
+        "  odom: {parent: map}\n"
+        "  laser: {parent: odom, static: true, translation: [1, 2, 3], rotation: [0, 0, 1, 0]}\n"
+        "  camera: {parent: odom, static: true}\n"
+    )
+    tree = read_tree(path)
+    assert tree.tolerances == Tolerances(translation_mm=5.0, rotation_deg=0.1, rate_percent=50.0)
+    assert tree.frames["map"].parent is None and tree.frames["odom"].rate_hz == 0
+    assert tree.frames["laser"].rotation == (0.0, 0.0, 1.0, 0.0)
+    assert tree.frames["camera"].translation is None  # any value
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("frames: [a, b]\n", "no 'frames:' mapping"),
+        ("frames: {a: {parnet: b}}\n", "unknown key 'parnet'"),
+        ("frames: {a: {parent: b, rate_hz: fast}}\n", "'fast' is not a finite number"),
+        ("frames: {a: {parent: b, rate_hz: -1}}\n", "below 0"),
+        ("frames: {a: {parent: b, translation: [1, 2, 3]}}\n", "static: true"),
+        ("frames: {a: {parent: b, static: true, translation: [1, 2]}}\n", "list of 3 numbers"),
+        ("tolerances: {translation_mm: -1}\nframes: {}\n", "translation_mm"),
+        ("frames: {a: [\n", "cannot be read"),
+    ],
+)
+def test_a_bad_file_is_one_error_naming_the_problem(tmp_path: Path, text: str, words: str) -> None:
+    path = tmp_path / "tree.yaml"
+    path.write_text(text)
+    with pytest.raises(TreeFileError, match=r"tree\.yaml") as raised:
+        read_tree(path)
+    assert words in str(raised.value)
+
+
+def test_names_that_look_like_other_yaml_types_stay_names(tmp_path: Path) -> None:
+    odd = ["null", "true", "1.5", "a: b", "#x", "'q'", "line\nbreak", "\x1b[31m"]
+    messages = [TfMessage("/tf_static", START + i, [_t("map", name, START)], "/p") for i, name in enumerate(odd, 1)]
+    shape = shape_of(read_recording([write(tmp_path, "odd", BagFormat.ros1, [*messages, *wheels()])]))
+    text = io.StringIO()
+    write_tree(shape, text)
+    path = tmp_path / "odd.yaml"
+    path.write_text(text.getvalue())
+    assert set(odd) <= set(read_tree(path).frames)
+    assert compare(shape, read_tree(path), Tolerances()) == []
+
+
+def test_the_angle_between_rotations_is_sign_blind() -> None:
+    q = Transform.from_rpy((0, 0, 0), (0.1, 0.2, 0.3)).rotation
+    assert rotation_angle_deg(q, tuple(-v for v in q)) == pytest.approx(0, abs=1e-6)  # type: ignore[arg-type]
+    assert rotation_angle_deg((0, 0, 0, 1), (0, 0, math.sin(0.5), math.cos(0.5))) == pytest.approx(math.degrees(1))

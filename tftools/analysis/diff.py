@@ -1,0 +1,131 @@
+"""Where two tree shapes differ: the one definition of "differs", for ``tfx diff`` and ``tfx wtf --expect``."""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass
+
+from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
+from tftools.core.rotation import Quat, rpy_from_quat
+
+
+class Change(str, enum.Enum):
+    """What differs about one frame from the first tree (A) to the second (B)."""
+
+    lost = "lost"  # in A, not in B
+    added = "added"  # in B, not in A
+    reparented = "reparented"
+    static = "static"  # static in one, moving in the other
+    moved = "moved"  # a static edge's value, beyond the tolerances
+    rate = "rate"  # a moving edge's rate, beyond the tolerance
+    publishers = "publishers"
+
+
+@dataclass(frozen=True)
+class Difference:
+    """One frame's difference; ``before`` is the frame in A, ``after`` in B (None where absent).
+    ``translation_mm``/``rotation_deg`` say how far a static edge moved, ``rate_change`` the
+    rate's relative change (B / A - 1)."""
+
+    change: Change
+    frame: str
+    before: FrameShape | None
+    after: FrameShape | None
+    translation_mm: float = 0.0
+    rotation_deg: float = 0.0
+    rate_change: float = 0.0
+
+
+def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
+    """Every difference from ``a`` to ``b`` beyond ``tolerances``: A's frames in its order, then B's new ones.
+    Publishers are compared where both name them; rates where A's edge has one (two samples or more)."""
+    found: list[Difference] = []
+    for name, before in a.frames.items():
+        after = b.frames.get(name)
+        if after is None:
+            found.append(Difference(Change.lost, name, before, None))
+        else:
+            found.extend(_frame(before, after, tolerances))
+    found.extend(Difference(Change.added, name, None, f) for name, f in b.frames.items() if name not in a.frames)
+    return found
+
+
+def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
+    name = before.frame
+    if before.parent != after.parent:
+        return [Difference(Change.reparented, name, before, after)]
+    if before.parent is None:
+        return []
+    found = []
+    if before.static != after.static:
+        found.append(Difference(Change.static, name, before, after))
+    elif before.static:
+        mm, deg = _moved(before, after)
+        if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
+            found.append(Difference(Change.moved, name, before, after, translation_mm=mm, rotation_deg=deg))
+    elif before.rate_hz > 0:
+        change = after.rate_hz / before.rate_hz - 1.0
+        if abs(change) * 100 > tolerances.rate_percent:
+            found.append(Difference(Change.rate, name, before, after, rate_change=change))
+    known = before.publishers is not None and after.publishers is not None
+    if known and set(before.publishers or ()) != set(after.publishers or ()):
+        found.append(Difference(Change.publishers, name, before, after))
+    return found
+
+
+def _moved(before: FrameShape, after: FrameShape) -> tuple[float, float]:
+    """How far a static edge moved: the translation's distance (mm) and the rotation's angle (degrees)."""
+    if before.translation is None or after.translation is None or before.rotation is None or after.rotation is None:
+        return 0.0, 0.0
+    mm = 1000.0 * math.dist(before.translation, after.translation)
+    return mm, rotation_angle_deg(before.rotation, after.rotation)
+
+
+def rotation_angle_deg(a: Quat, b: Quat) -> float:
+    """The angle of the rotation from ``a`` to ``b`` (degrees, 0 to 180), for quaternions of any norm."""
+    norms = math.hypot(*a) * math.hypot(*b)
+    cosine = min(1.0, abs(sum(x * y for x, y in zip(a, b, strict=True))) / norms) if norms > 0 else 1.0
+    return math.degrees(2.0 * math.acos(cosine))
+
+
+def describe(d: Difference, a: str = "A", b: str = "B") -> str:
+    """One line saying what differs, the first tree called ``a``, the second ``b``."""
+    before, after = d.before, d.after
+    if d.change is Change.lost and before is not None:
+        return f"{d.frame} is in {a} ({_place(before)}), not in {b}"
+    if d.change is Change.added and after is not None:
+        return f"{d.frame} is in {b} ({_place(after)}), not in {a}"
+    assert before is not None and after is not None
+    edge = f"{before.parent} -> {d.frame}"
+    if d.change is Change.reparented:
+        return f"{d.frame} is {_place(before)} in {a}, {_place(after)} in {b}"
+    if d.change is Change.static:
+        return f"{edge} is {_kind(before)} in {a}, {_kind(after)} in {b}"
+    if d.change is Change.moved:
+        return (
+            f"{edge} (static) moved by {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}°: "
+            f"{_value(before)} in {a}, {_value(after)} in {b}"
+        )
+    if d.change is Change.rate:
+        return f"{edge} at {after.rate_hz:.1f} Hz in {b}, {before.rate_hz:.1f} Hz in {a} ({d.rate_change:+.0%})"
+    return (
+        f"{edge} published by {', '.join(after.publishers or ()) or 'nobody'} in {b}, "
+        f"by {', '.join(before.publishers or ()) or 'nobody'} in {a}"
+    )
+
+
+def _place(f: FrameShape) -> str:
+    return f"a child of {f.parent}" if f.parent is not None else "a root"
+
+
+def _kind(f: FrameShape) -> str:
+    return "static" if f.static else f"moving at {f.rate_hz:.1f} Hz"
+
+
+def _value(f: FrameShape) -> str:
+    if f.translation is None or f.rotation is None:
+        return "unknown"
+    xyz = ", ".join(f"{v:.4f}" for v in f.translation)
+    rpy = ", ".join(f"{round(math.degrees(v), 2) + 0.0:.2f}" for v in rpy_from_quat(f.rotation))  # no -0.00
+    return f"xyz [{xyz}] m rpy [{rpy}]°"

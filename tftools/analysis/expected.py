@@ -1,0 +1,87 @@
+"""A tree's shape: each frame's parent, which edges are static and their values, publishers, rates.
+
+What ``tfx wtf --init`` writes of a healthy recording (``analysis.tree_file``), what ``tfx wtf
+--expect`` and ``tfx diff`` compare (``analysis.diff``), and the tolerances they compare within.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from tftools.analysis.frames import frame_tree
+from tftools.core.rotation import Quat, Vec3
+from tftools.sources.recording import Recording
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """How far two trees may differ and still count as the same: a static edge's translation (mm)
+    and rotation (degrees), a moving edge's rate (percent of the first tree's)."""
+
+    translation_mm: float = 1.0
+    rotation_deg: float = 0.1
+    rate_percent: float = 20.0
+
+    def __post_init__(self) -> None:
+        for name in ("translation_mm", "rotation_deg", "rate_percent"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"tolerance {name} must be a finite number from 0 up, got {value}")
+
+
+@dataclass(frozen=True)
+class FrameShape:
+    """One frame: its parent (None for a root); a static edge's value, a moving edge's rate;
+    its publishers (None where the source does not name them: a ROS 2 bag names topics)."""
+
+    frame: str
+    parent: str | None
+    static: bool = False
+    rate_hz: float = 0.0
+    publishers: tuple[str, ...] | None = None
+    translation: Vec3 | None = None  # static edges only
+    rotation: Quat | None = None
+
+
+@dataclass(frozen=True)
+class TreeShape:
+    """Every frame of a tree by name, where it came from (a path), and the tolerances it asks for
+    (a tree file may set them; a recording has the defaults)."""
+
+    frames: dict[str, FrameShape]
+    source: str
+    tolerances: Tolerances = Tolerances()
+
+
+def shape_of(recording: Recording) -> TreeShape:
+    """The shape of ``recording``'s tree, from its roots down: each frame's latest parent, the latest
+    value of its static edges, the rate of its moving ones over their span, their publishers where
+    the bag names them."""
+    buffer = recording.buffer
+    named = any(f.names_publishers for f in recording.contents.files)
+    tree = frame_tree(buffer)
+    in_order = dict.fromkeys([frame for _, frame in tree.walk()] + list(tree.frames))  # roots down; loops last
+    frames: dict[str, FrameShape] = {}
+    for name in in_order:
+        summary = tree.frames[name]
+        translation: Vec3 | None = None
+        rotation: Quat | None = None
+        hist = buffer.history(name)
+        if summary.static and hist is not None and len(hist):
+            latest = int(np.argmax(hist.sequence))
+            tx, ty, tz = (float(v) for v in hist.translations[latest])
+            qx, qy, qz, qw = (float(v) for v in hist.rotations[latest])
+            translation, rotation = (tx, ty, tz), (qx, qy, qz, qw)
+        frames[name] = FrameShape(
+            frame=name,
+            parent=summary.parent,
+            static=summary.static,
+            rate_hz=summary.rate_hz,
+            publishers=tuple(sorted(summary.authorities)) if named and summary.parent is not None else None,
+            translation=translation,
+            rotation=rotation,
+        )
+    return TreeShape(frames, " + ".join(recording.paths))

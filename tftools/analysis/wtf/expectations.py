@@ -1,0 +1,99 @@
+"""Checks against the expected tree (``tfx wtf --expect tree.yaml``): frames missing or new, other
+parents, static edges moved, edges slower, other publishers; each a ``Difference`` of ``analysis.diff``."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from tftools.analysis.diff import Change, Difference, compare, describe
+from tftools.analysis.expected import shape_of
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.scene import Scene
+
+HERE = "this recording"
+
+
+def _differences(scene: Scene, change: Change) -> Iterator[Difference]:
+    expected = scene.expected
+    if expected is None:
+        return
+    found = scene.shared("expected", lambda: compare(expected, shape_of(scene.recording), expected.tolerances))
+    yield from (d for d in found if d.change is change)
+
+
+def _finding(scene: Scene, d: Difference, severity: Severity, code: str, hint: str) -> Finding:
+    shape = d.after or d.before
+    assert shape is not None and scene.expected is not None
+    parent = (d.before or shape).parent
+    return Finding(
+        severity,
+        code,
+        describe(d, scene.expected.source, HERE),
+        hint,
+        frames=(parent, d.frame) if parent is not None else (d.frame,),
+        authorities=tuple(shape.publishers or ()),
+    )
+
+
+def _differences_as(code: str, severity: Severity, title: str, changes: tuple[Change, ...], hint: str) -> None:
+    """Register the check ``code``: each difference of one of ``changes``, a finding with ``hint``."""
+
+    def run(scene: Scene) -> Iterator[Finding]:
+        for change in changes:
+            for d in _differences(scene, change):
+                yield _finding(scene, d, severity, code, hint)
+
+    register(code, severity, title)(run)
+
+
+_differences_as(
+    "expect_missing",
+    Severity.error,
+    "a frame of the expected tree is missing (--expect)",
+    (Change.lost,),
+    "did its publisher run, and was its topic recorded? (or remove the frame from the expected tree)",
+)
+_differences_as(
+    "expect_new",
+    Severity.warning,
+    "a frame the expected tree does not have (--expect)",
+    (Change.added,),
+    "a new sensor or a misnamed frame? add it to the expected tree if it belongs there",
+)
+_differences_as(
+    "expect_parent",
+    Severity.error,
+    "a frame under another parent than expected (--expect)",
+    (Change.reparented,),
+    "check which node publishes this frame and its parent's name (URDF, launch files)",
+)
+_differences_as(
+    "expect_static",
+    Severity.error,
+    "a static edge moved beyond the tolerance, or static no longer (--expect)",
+    (Change.static, Change.moved),
+    "recalibrated on purpose? update the expected tree (tfx wtf --init); else check the URDF, the calibration "
+    "files and static_transform_publisher arguments (--tolerance-mm, --tolerance-deg)",
+)
+
+
+@register("expect_rate", Severity.warning, "an edge slower than expected (--expect)")
+def expect_rate(scene: Scene) -> Iterator[Finding]:
+    for d in _differences(scene, Change.rate):
+        slower = d.rate_change < 0
+        hint = (
+            "an overloaded node or a throttled publisher? compare tfx monitor's rates (--tolerance-rate)"
+            if slower
+            else "faster than expected: harmless for lookups; update the expected tree if it is the new normal"
+        )
+        yield _finding(scene, d, Severity.warning if slower else Severity.info, "expect_rate", hint)
+
+
+_differences_as(
+    "expect_publishers",
+    Severity.info,
+    "an edge published by other nodes than expected (--expect)",
+    (Change.publishers,),
+    "a renamed or replaced node: update the expected tree if it is intended",
+)

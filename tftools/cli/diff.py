@@ -1,0 +1,72 @@
+"""``tfx diff A B``: where two recordings' tf trees differ (or a recording's and a tree file's)."""
+
+from __future__ import annotations
+
+import enum
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from tftools.analysis.diff import compare
+from tftools.analysis.expected import TreeShape, shape_of
+from tftools.analysis.tree_file import read_tree
+from tftools.cli import expected as expected_tree
+from tftools.cli.common import Exit, Tf2Option, TopicOption, exit_with, open_recording
+from tftools.core.semantics import Semantics
+from tftools.render import diff as render
+
+
+class DiffFormat(str, enum.Enum):
+    text = "text"
+    json = "json"
+
+
+def _side(help_text: str) -> object:
+    return typer.Argument(help=help_text, show_default=False)
+
+
+def command(
+    first: Annotated[Path, _side("A: a recording (.bag, .db3, .mcap, bag directory) or a tree file (.yaml).")],
+    second: Annotated[Path, _side("B: the same, compared with A.")],
+    fmt: Annotated[DiffFormat, typer.Option("--format", "-f", help="text, or json (one document).")] = DiffFormat.text,
+    tolerance_mm: expected_tree.ToleranceMmOption = None,
+    tolerance_deg: expected_tree.ToleranceDegOption = None,
+    tolerance_rate: expected_tree.ToleranceRateOption = None,
+    topics: TopicOption = None,
+    tf2: Tf2Option = None,
+) -> None:
+    """Where the tf trees of A and B differ: frames added and lost, re-parented frames, static edges
+    (extrinsics) moved, by how much in mm and degrees, rates and publishers changed.
+
+    A or B may be a tree file ([cyan]tfx wtf --init good.bag > tree.yaml[/]); its tolerances count
+    unless given here. Publishers are compared where both sides name them (ROS 1 bags, tree files
+    written from them); rates where A's edge has one.
+
+    Exit codes: 0 no differences beyond the tolerances; 1 differences; 2 unusable input.
+
+    Examples: [cyan]tfx diff monday.bag tuesday.bag[/], [cyan]tfx diff tree.yaml run_db3 --tolerance-mm 2[/],
+    [cyan]tfx diff before.mcap after.mcap --format json[/]
+    """
+    a, b = _read(first, topics, tf2), _read(second, topics, tf2)
+    base = a.tolerances if _is_tree_file(first) else b.tolerances  # a recording's are the defaults
+    tolerances = expected_tree.tolerances(base, tolerance_mm, tolerance_deg, tolerance_rate)
+    differences = compare(a, b, tolerances)
+    code = Exit.PROBLEMS if differences else Exit.OK
+    if fmt is DiffFormat.json:
+        render.write_json(a, b, differences, tolerances, int(code), sys.stdout)
+    else:
+        render.write_text(a, b, differences, tolerances, sys.stdout)
+    exit_with(code)
+
+
+def _is_tree_file(path: Path) -> bool:
+    """A YAML file other than a rosbag2 bag's own ``metadata.yaml``."""
+    return path.suffix in (".yaml", ".yml") and path.name != "metadata.yaml"
+
+
+def _read(path: Path, topics: list[str] | None, semantics: Semantics | None) -> TreeShape:
+    if _is_tree_file(path):
+        return read_tree(path)
+    return shape_of(open_recording([path], topics, semantics))

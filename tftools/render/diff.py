@@ -1,0 +1,56 @@
+"""``tfx diff`` output: a line per difference, or one JSON document."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from typing import IO, Any
+
+from tftools import __version__
+from tftools.analysis.diff import Difference, describe
+from tftools.analysis.expected import Tolerances, TreeShape
+from tftools.render import jsonl
+from tftools.render.escape import printable
+
+
+def write_text(a: TreeShape, b: TreeShape, differences: list[Difference], tolerances: Tolerances, out: IO[str]) -> None:
+    """Which is A and which B, each difference on its line, and a verdict naming the tolerances."""
+    for label, tree in (("A", a), ("B", b)):
+        out.write(printable(f"{label}: {tree.source} ({len(tree.frames)} frames)") + "\n")
+    for d in differences:
+        out.write(printable(f"  {d.change.value:<11} {describe(d)}") + "\n")
+    within = f"{tolerances.translation_mm:g} mm, {tolerances.rotation_deg:g}°, rates {tolerances.rate_percent:g}%"
+    count = len(differences)
+    verdict = f"{count} difference{'' if count == 1 else 's'}" if count else "no differences"
+    out.write(f"{verdict} beyond the tolerances ({within})\n")
+
+
+def write_json(
+    a: TreeShape, b: TreeShape, differences: list[Difference], tolerances: Tolerances, exit_code: int, out: IO[str]
+) -> None:
+    """One document: the two sides, the tolerances, whether they differ, and each difference with its message."""
+    jsonl.write_document(
+        {
+            "tool": "tfx diff",
+            "version": __version__,
+            "a": a.source,
+            "b": b.source,
+            "tolerances": asdict(tolerances),
+            "differ": bool(differences),
+            "exit_code": exit_code,
+            "differences": [_difference(d) for d in differences],
+        },
+        out,
+    )
+
+
+def _difference(d: Difference) -> dict[str, Any]:
+    return {
+        "change": d.change.value,
+        "frame": d.frame,
+        "message": describe(d),
+        "a": asdict(d.before) if d.before is not None else None,
+        "b": asdict(d.after) if d.after is not None else None,
+        "translation_mm": d.translation_mm,
+        "rotation_deg": d.rotation_deg,
+        "rate_change": d.rate_change,
+    }
