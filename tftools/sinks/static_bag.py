@@ -152,7 +152,7 @@ def _copy_rosbag2(source: Path, target: Path, transforms: Sequence[Transform]) -
                 connections[existing[0].id]
                 if existing
                 else writer.add_connection(
-                    STATIC_TOPIC, TF_MESSAGE, typestore=store, offered_qos_profiles=[_static_qos()]
+                    STATIC_TOPIC, TF_MESSAGE, typestore=store, offered_qos_profiles=[static_qos()]
                 )
             )
             message = _ros2_message(store, _stamped(transforms, start))
@@ -181,7 +181,7 @@ def _ros2_message(store: Any, transforms: Sequence[Transform]) -> Any:
     )
 
 
-def _static_qos() -> Any:
+def static_qos() -> Any:
     """tf2_ros' static QoS: reliable, transient local, keep last 1 (StaticBroadcasterQoS)."""
     from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 
