@@ -3,6 +3,7 @@ correction, an odometry reset), and REP 105's layout (map -> odom -> base_link) 
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 
@@ -62,8 +63,8 @@ def _neighbour_speed(steps: FloatArray, seconds: FloatArray) -> FloatArray:
     padded = np.pad(speed, NEIGHBOURS, constant_values=np.nan)
     windows = sliding_window_view(padded, 2 * NEIGHBOURS + 1)
     around = np.delete(windows, NEIGHBOURS, axis=1)
-    with np.errstate(invalid="ignore"), np.testing.suppress_warnings() as quiet:
-        quiet.filter(RuntimeWarning)  # a window with no speed at all: no motion to explain a step
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a window with no speed at all: no motion to explain a step
         median: FloatArray = np.nan_to_num(np.nanmedian(around, axis=1), nan=0.0)
     return median
 

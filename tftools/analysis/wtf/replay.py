@@ -30,12 +30,13 @@ REPAIR_HINT = "tfx static --repair -b IN -o OUT writes a copy whose statics are 
 )
 def static_volatile(scene: Scene) -> Iterator[Finding]:
     """rosbag2 plays a topic with the QoS its publishers offered (metadata.yaml's offered_qos_profiles):
-    transient local only when every profile was; none recorded plays its default, volatile."""
+    transient local only when every profile was; none recorded plays its default, volatile. Only
+    recordings on disk are replayed: one assembled in memory has no QoS to check."""
     rows = scene.rows
     if not rows.static.any():
         return
     for file in scene.recording.contents.files:
-        if not file.format.startswith("rosbag2"):
+        if not file.format.startswith("rosbag2") or not Path(file.path).exists():
             continue
         for topic, profiles in _static_qos(file).items():
             if profiles and all(_durability(p) in TRANSIENT_LOCAL for p in profiles):
@@ -96,15 +97,16 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
     last = int(records.max())
     if length < LONG_RECORDING_S or last - scene.start > EARLY_S * NS_PER_S:
         return
+    who = scene.authorities_of(np.flatnonzero(rows.static))
     yield Finding(
         Severity.warning,
         "statics_early",
-        f"the static transforms ({listed(_static_edges(scene))}) were recorded only in the first "
-        f"{duration((last - scene.start) / NS_PER_S)} of {duration(length)}: played from later on, split "
-        "or filtered by time, the copy has none and lookups through them fail",
+        f"the static transforms{scene.by(who)} ({listed(_static_edges(scene))}) were recorded only at the start, "
+        f"the last {duration((last - scene.start) / NS_PER_S)} into {duration(length)}: played from later on, "
+        "split or filtered by time, the copy has none and lookups through them fail",
         f"{REPAIR_HINT} through the recording; or play it from its start",
         _static_frames(scene),
-        scene.authorities_of(np.flatnonzero(rows.static)),
+        who,
         scene.start,
         last,
         int(rows.static.sum()),
