@@ -68,7 +68,9 @@ def odom_base(stamp: int) -> list[Transform]:
 
 
 def wheel(stamp: int) -> list[Transform]:
-    return [Transform.from_rpy((0.0, 0.2, 0.0), (0.0, 4.0 * _s(stamp) % (2 * math.pi), 0.0), stamp, "base_link", "wheel")]
+    return [
+        Transform.from_rpy((0.0, 0.2, 0.0), (0.0, 4.0 * _s(stamp) % (2 * math.pi), 0.0), stamp, "base_link", "wheel")
+    ]
 
 
 def statics(record: int = START + DELAY, laser_x: float = 0.2) -> TfMessage:
@@ -405,7 +407,9 @@ PROBLEMS = {
     ),
     "rep105": Problem(
         "rep105",
-        lambda: healthy(ekf=periodic("/localizer", 50, lambda t: [_t("map", "base_link", t, 0.4 * _s(t), 0.1 * _s(t))])),
+        lambda: healthy(
+            ekf=periodic("/localizer", 50, lambda t: [_t("map", "base_link", t, 0.4 * _s(t), 0.1 * _s(t))])
+        ),
         ("odom", "base_link"),
         severity="warning",
         words=("map -> base_link",),

@@ -35,7 +35,7 @@ class _Plan:
     """What the copy adds: ``transforms`` at the start and, with ``every`` (ns), again that often;
     ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2).
     ``senders``: per transform, the /tf_static connection that sent it in the bag (a ROS 1 callerid,
-    a ROS 2 topic) to send it again on, so that it keeps its publisher; "" for the added connection."""
+    a ROS 2 topic) to send it again on, so that it keeps its publisher; none: tfx's own (``PUBLISHER``)."""
 
     transforms: Sequence[Transform]
     every: int = 0
@@ -46,7 +46,7 @@ class _Plan:
         """The transforms stamped ``stamp``, one message per sender."""
         groups: dict[str, list[Transform]] = {}
         for i, t in enumerate(self.transforms):
-            groups.setdefault(self.senders[i] if self.senders else "", []).append(replace(t, stamp=stamp))
+            groups.setdefault(self.senders[i] if self.senders else PUBLISHER, []).append(replace(t, stamp=stamp))
         return groups
 
 
@@ -194,13 +194,20 @@ def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
             if _sends_statics(c):
                 static[ext.callerid or ""] = connections[c.id]
         tf_type = message_type(TF_MESSAGE)
-        added = writer.add_connection(
-            STATIC_TOPIC, TF_MESSAGE, msgdef=tf_type.definition, md5sum=tf_type.md5sum, callerid=PUBLISHER, latching=1
-        )
+        if set(plan.by_sender(0)) - set(static):  # transforms of no publisher in the bag: tfx's own connection
+            static[PUBLISHER] = writer.add_connection(
+                STATIC_TOPIC,
+                TF_MESSAGE,
+                msgdef=tf_type.definition,
+                md5sum=tf_type.md5sum,
+                callerid=PUBLISHER,
+                latching=1,
+            )
         for connection, timestamp, data in _marks(plan, start, reader.messages()):
             if connection is None:
                 for sender, transforms in plan.by_sender(timestamp).items():
-                    writer.write(static.get(sender, added), timestamp, encode_tf_message(transforms))
+                    sending = static[sender if sender in static else PUBLISHER]
+                    writer.write(sending, timestamp, encode_tf_message(transforms))
             else:
                 writer.write(connections[connection.id], timestamp, data)
 
