@@ -8,22 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.analysis.wtf_scenes import (
-    FORMATS,
-    LONG,
-    PROBLEMS,
-    START,
-    _s,
-    _t,
-    amcl,
-    ekf,
-    healthy,
-    odom_base,
-    periodic,
-    recording,
-    wheels,
-    write,
-)
+from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
 from tftools.analysis.findings import Finding, Severity
@@ -33,7 +18,7 @@ from tftools.core.time import NS_PER_S
 from tftools.sinks.static_bag import REPAIR_EVERY_S, repair_static_transforms
 from tftools.sources.recording import read_recording
 
-ROS2_FORMATS = [f for f in FORMATS if f is not BagFormat.ros1]
+ROS2_FORMATS = [f for f in scenes.FORMATS if f is not BagFormat.ros1]
 
 
 def loud(findings: list[Finding]) -> list[Finding]:
@@ -59,9 +44,9 @@ def _digest(path: Path) -> str:
 
 @pytest.mark.parametrize("fmt", ROS2_FORMATS)
 def test_tf_static_offered_volatile_is_a_warning_and_transient_local_is_quiet(tmp_path: Path, fmt: BagFormat) -> None:
-    durable = write(tmp_path, "durable", fmt, healthy())
+    durable = scenes.write(tmp_path, "durable", fmt, scenes.healthy())
     assert check(read_recording([durable])) == []
-    volatile = _volatile(write(tmp_path, "volatile", fmt, healthy()))
+    volatile = _volatile(scenes.write(tmp_path, "volatile", fmt, scenes.healthy()))
     (finding,) = check(read_recording([volatile]))
     assert (finding.code, finding.severity) == ("static_volatile", Severity.warning)
     assert "volatile" in finding.message and "--repair" in finding.hint
@@ -69,18 +54,18 @@ def test_tf_static_offered_volatile_is_a_warning_and_transient_local_is_quiet(tm
 
 
 def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -> None:
-    bag = write(tmp_path, "bag", BagFormat.rosbag2_sqlite3, healthy())
+    bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_sqlite3, scenes.healthy())
     (file,) = bag.glob("*.db3")
     (finding,) = check(read_recording([file]))
     assert finding.skipped and finding.code == "static_volatile" and finding.severity is Severity.info
     assert "not checked" in finding.message and "metadata.yaml" in finding.message
 
 
-@pytest.mark.parametrize("fmt", FORMATS)
+@pytest.mark.parametrize("fmt", scenes.FORMATS)
 def test_repair_makes_statics_durable_complete_and_repeated_and_leaves_the_input(
     tmp_path: Path, fmt: BagFormat
 ) -> None:
-    bag = write(tmp_path, "long", fmt, PROBLEMS["statics_early"].make())
+    bag = scenes.write(tmp_path, "long", fmt, scenes.PROBLEMS["statics_early"].make())
     if fmt is not BagFormat.ros1:
         _volatile(bag)
     before = _digest(bag)
@@ -95,7 +80,7 @@ def test_repair_makes_statics_durable_complete_and_repeated_and_leaves_the_input
     assert check(repaired) == []
     batch = repaired.transforms
     times = np.unique(batch.record_time[batch.static])
-    assert len(times) >= LONG / REPAIR_EVERY_S and np.diff(times).max() <= REPAIR_EVERY_S * NS_PER_S
+    assert len(times) >= scenes.LONG / REPAIR_EVERY_S and np.diff(times).max() <= REPAIR_EVERY_S * NS_PER_S
     if fmt is BagFormat.ros1:
         from rosbags.rosbag1 import Reader
 
@@ -105,7 +90,7 @@ def test_repair_makes_statics_durable_complete_and_repeated_and_leaves_the_input
 
 
 def test_repair_on_the_command_line_never_writes_over_its_input(tmp_path: Path, tfx) -> None:  # noqa: F811
-    bag = write(tmp_path, "in", BagFormat.ros1, healthy())
+    bag = scenes.write(tmp_path, "in", BagFormat.ros1, scenes.healthy())
     before = _digest(bag)
     refused: Result = tfx("static", "--repair", "-b", bag, "-o", bag)
     assert refused.code == 2 and "input" in refused.stderr and _digest(bag) == before
@@ -116,10 +101,15 @@ def test_repair_on_the_command_line_never_writes_over_its_input(tmp_path: Path, 
 
 
 def test_statics_repeated_through_a_long_recording_are_quiet() -> None:
-    repeated = [TfMessage("/tf_static", START + i * 5 * NS_PER_S + 1, m.transforms, "/rsp") for i in range(14) for m in
-                [PROBLEMS["statics_early"].make()[0]]]  # fmt: skip
-    messages = healthy(statics=repeated, amcl=amcl(end=LONG), ekf=ekf(end=LONG), wheels=wheels(end=LONG))
-    assert check(recording(messages)) == []
+    statics = scenes.statics().transforms
+    repeated = [TfMessage("/tf_static", scenes.START + i * 5 * NS_PER_S + 1, statics, "/rsp") for i in range(14)]
+    messages = scenes.healthy(
+        statics=repeated,
+        amcl=scenes.amcl(end=scenes.LONG),
+        ekf=scenes.ekf(end=scenes.LONG),
+        wheels=scenes.wheels(end=scenes.LONG),
+    )
+    assert check(scenes.recording(messages)) == []
 
 
 # --- jumps and REP 105 -----------------------------------------------------------------------
@@ -127,9 +117,9 @@ def test_statics_repeated_through_a_long_recording_are_quiet() -> None:
 
 def test_a_jump_on_another_edge_is_a_warning_with_when_and_how_far() -> None:
     def arm(stamp: int) -> list:  # type: ignore[type-arg]
-        return [_t("base_link", "arm", stamp, 0.1 * _s(stamp) + (0.5 if _s(stamp) >= 6 else 0.0))]
+        return [scenes._t("base_link", "arm", stamp, 0.1 * scenes._s(stamp) + (0.5 if scenes._s(stamp) >= 6 else 0.0))]
 
-    (finding,) = check(recording(healthy(wheels=[*wheels(), *periodic("/arm", 20, arm)])))
+    (finding,) = check(scenes.recording(scenes.healthy(wheels=[*scenes.wheels(), *scenes.periodic("/arm", 20, arm)])))
     assert (finding.code, finding.severity, finding.frames) == ("jump", Severity.warning, ("base_link", "arm"))
     assert "0.505 m" in finding.message and "+6.0 s" in finding.message
 
@@ -151,7 +141,11 @@ def test_motion_from_rest_fast_turns_and_a_gap_are_explained_by_the_edge_s_own_m
 
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
 def test_the_healthy_robots_jumps_and_rep105_stay_quiet(ros1: bool) -> None:
-    assert not [f for f in check(recording(healthy(), ros1=ros1)) if f.code in {"jump", "map_corrections", "rep105"}]
+    assert not [
+        f
+        for f in check(scenes.recording(scenes.healthy(), ros1=ros1))
+        if f.code in {"jump", "map_corrections", "rep105"}
+    ]
 
 
 # --- several broadcasters where the bag names none -------------------------------------------
@@ -159,12 +153,12 @@ def test_the_healthy_robots_jumps_and_rep105_stay_quiet(ros1: bool) -> None:
 
 def _fighting(stamp: int) -> list:  # type: ignore[type-arg]
     """A second odometry, 0.3 m off the first."""
-    return [_t("odom", "base_link", stamp, 0.4 * _s(stamp) + 0.3, 0.1 * _s(stamp))]
+    return [scenes._t("odom", "base_link", stamp, 0.4 * scenes._s(stamp) + 0.3, 0.1 * scenes._s(stamp))]
 
 
 def _late_twin(stamp: int) -> list:  # type: ignore[type-arg]
     """A second broadcaster of the same motion whose stamps lag 30 ms behind."""
-    return odom_base(stamp - 30_000_000)
+    return scenes.odom_base(stamp - 30_000_000)
 
 
 @pytest.mark.parametrize("fmt", ROS2_FORMATS)
@@ -174,8 +168,10 @@ def _late_twin(stamp: int) -> list:  # type: ignore[type-arg]
 def test_two_broadcasters_taking_turns_are_inferred_in_ros2_bags(
     tmp_path: Path, fmt: BagFormat, second: object, sign: str
 ) -> None:
-    other = periodic("/ekf2", 50, second, phase=0.01)  # type: ignore[arg-type]
-    bag = write(tmp_path, "two", fmt, healthy(ekf=sorted(ekf() + other, key=lambda m: m.record_time)))
+    other = scenes.periodic("/ekf2", 50, second, phase=0.01)  # type: ignore[arg-type]
+    bag = scenes.write(
+        tmp_path, "two", fmt, scenes.healthy(ekf=sorted(scenes.ekf() + other, key=lambda m: m.record_time))
+    )
     findings = loud(check(read_recording([bag])))
     assert [f.code for f in findings] == ["multiple_authorities"], findings
     assert sign in findings[0].message and findings[0].frames == ("odom", "base_link")
