@@ -90,7 +90,8 @@ def sensor_bags(
             if topic not in added:
                 definition = connection.msgdef.data if connection else None
                 added[topic] = writer.add_connection(topic, kind, typestore=store, msgdef=definition,
-                                                     md5sum=connection.digest if connection else None)  # fmt: skip
+                                                     md5sum=connection.digest if connection else None,
+                                                     latching=connection.ext.latching if connection else None)  # fmt: skip
             writer.write(added[topic], record, bytes(raw))
     return {
         "ros1": ros1,
