@@ -151,18 +151,23 @@ def _far(found: Jumps, i: int) -> str:
 @register("rep105", Severity.warning, "REP 105's layout broken: map -> odom -> base_link where those frames exist")
 def rep105(scene: Scene) -> Iterator[Finding]:
     """Per namespace (a prefix like robot1/), where odom exists: map, if present, above it, and the
-    base frames below it."""
+    base frames below it. Frames in separate trees are ``disconnected``'s to report."""
     frames = scene.tree.frames
     for name in frames:
         if _base(name) != ODOM:
             continue
         prefix = name[: -len(ODOM)]
-        above = _ancestors(scene, name)
-        if prefix + MAP in frames and prefix + MAP not in above:
+        if _together(scene, prefix + MAP, name) and prefix + MAP not in _ancestors(scene, name):
             yield _layout(scene, prefix + MAP, name, f"{prefix + MAP} is not above it")
         for base in (prefix + b for b in BASES):
-            if base in frames and name not in _ancestors(scene, base):
+            if _together(scene, name, base) and name not in _ancestors(scene, base):
                 yield _layout(scene, name, base, f"{base} is not under it")
+
+
+def _together(scene: Scene, a: str, b: str) -> bool:
+    """Both frames exist, in one tree."""
+    frames = scene.tree.frames
+    return a in frames and b in frames and ([a, *_ancestors(scene, a)][-1] == [b, *_ancestors(scene, b)][-1])
 
 
 def _ancestors(scene: Scene, frame: str) -> list[str]:
