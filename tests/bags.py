@@ -13,6 +13,7 @@ from typing import Any
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sinks.static_bag import static_qos
 from tftools.sources.errors import BagError
 
 TF_TYPE = "tf2_msgs/msg/TFMessage"
@@ -96,7 +97,11 @@ def _write_rosbag2(path: Path, messages: Iterable[Message], storage: str) -> Non
         for message in messages:
             kind = _type(message)
             if message.topic not in connections:
-                connections[message.topic] = writer.add_connection(message.topic, kind, typestore=store)
+                # as ros2 bag record does: the QoS the publishers offered (tf2_ros': transient local on /tf_static)
+                offered = [static_qos()] if message.topic.endswith("tf_static") else []
+                connections[message.topic] = writer.add_connection(
+                    message.topic, kind, typestore=store, offered_qos_profiles=offered
+                )
             data = store.serialize_cdr(_message(store, message), kind)
             writer.write(connections[message.topic], message.record_time, bytes(data))
 

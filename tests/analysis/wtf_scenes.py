@@ -68,13 +68,25 @@ def odom_base(stamp: int) -> list[Transform]:
 
 
 def wheel(stamp: int) -> list[Transform]:
-    return [Transform.from_rpy((0.0, 0.2, 0.0), (0.0, 4.0 * _s(stamp) % math.pi, 0.0), stamp, "base_link", "wheel")]
+    return [
+        Transform.from_rpy((0.0, 0.2, 0.0), (0.0, 4.0 * _s(stamp) % (2 * math.pi), 0.0), stamp, "base_link", "wheel")
+    ]
 
 
 def statics(record: int = START + DELAY, laser_x: float = 0.2) -> TfMessage:
     return TfMessage(
         "/tf_static", record, [_t("base_link", "laser", START, laser_x), _t("base_link", "camera", START, 0.1)], "/rsp"
     )
+
+
+#: A recording long enough to be played from the middle, split or filtered (statics_early).
+LONG = 70.0
+
+
+def _odometry_reset(stamp: int) -> list[Transform]:
+    """odom -> base_link starting again from zero 5 s in (2 m further along by then)."""
+    s = _s(stamp) - (5.0 if _s(stamp) >= 5.0 else 0.0)
+    return [_t("odom", "base_link", stamp, 0.4 * s, 0.1 * s)]
 
 
 def amcl(**kw: object) -> list[TfMessage]:
@@ -369,6 +381,38 @@ PROBLEMS = {
         lambda: with_extra(periodic("/laser_driver", 10, lambda t: [_t("base_link", "laser", t, 0.2 + 0.01 * _s(t))])),
         ("laser",),
         "/laser_driver",
+    ),
+    "statics_early": Problem(
+        "statics_early",
+        lambda: healthy(amcl=amcl(end=LONG), ekf=ekf(end=LONG), wheels=wheels(end=LONG)),
+        ("base_link", "laser", "camera"),
+        "/rsp",
+        "info",
+        words=("only at the start", "tfx static --repair"),
+    ),
+    "jump": Problem(
+        "jump",
+        lambda: healthy(ekf=periodic("/ekf", 50, _odometry_reset)),
+        ("odom", "base_link"),
+        "/ekf",
+        words=("REP 105", "1.992 m", "28.5°"),
+    ),
+    "map_corrections": Problem(
+        "map_corrections",
+        lambda: healthy(amcl=periodic("/amcl", 10, lambda t: [_t("map", "odom", t, 1.0 + 0.2 * (_s(t) // 2))])),
+        ("map", "odom"),
+        "/amcl",
+        "info",
+        words=("corrected 4 times", "0.200 m"),
+    ),
+    "rep105": Problem(
+        "rep105",
+        lambda: healthy(
+            ekf=periodic("/localizer", 50, lambda t: [_t("map", "base_link", t, 0.4 * _s(t), 0.1 * _s(t))])
+        ),
+        ("odom", "base_link"),
+        severity="warning",
+        words=("map -> base_link",),
     ),
     "no_tf": Problem(
         "no_tf",

@@ -89,8 +89,10 @@ def sensor_bags(
         for record, topic, kind, raw, connection in sorted(rows, key=lambda r: r[0]):
             if topic not in added:
                 definition = connection.msgdef.data if connection else None
+                latching = connection.ext.latching if connection else None  # /tf_static stays latched
                 added[topic] = writer.add_connection(topic, kind, typestore=store, msgdef=definition,
-                                                     md5sum=connection.digest if connection else None)  # fmt: skip
+                                                     md5sum=connection.digest if connection else None,
+                                                     latching=latching)  # fmt: skip
             writer.write(added[topic], record, bytes(raw))
     return {
         "ros1": ros1,

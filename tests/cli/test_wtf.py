@@ -129,9 +129,10 @@ def test_json_findings_carry_every_field_with_times_in_seconds(tfx, bags: dict[s
     assert bag["start"] == pytest.approx(1_700_000_000.002) and bag["end"] == pytest.approx(1_700_000_009.982)
     (finding,) = bag["findings"]
     assert set(finding) == {
-        "severity", "code", "message", "hint", "frames", "authorities", "first_time", "last_time", "count",
+        "severity", "code", "message", "hint", "frames", "authorities", "first_time", "last_time", "count", "skipped",
     }  # fmt: skip
     assert finding["severity"] == "error" and finding["frames"] == ["odom", "base_link"]
+    assert finding["skipped"] is False
     assert finding["authorities"] == ["/tf"] and finding["count"] == 200
     assert finding["first_time"] == pytest.approx(1_700_000_003.98) and finding["last_time"] == bag["end"]
 

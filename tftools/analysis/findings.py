@@ -24,7 +24,8 @@ class Finding:
 
     ``frames`` lists the frames involved (edges as consecutive parent, child pairs where that
     matters is up to the check), ``first_time``/``last_time`` the stamps or record times (ns)
-    where it shows, ``count`` how many samples or messages show it.
+    where it shows, ``count`` how many samples or messages show it. A ``skipped`` finding says that
+    its check could not run on this recording, and why: never a silent pass.
     """
 
     severity: Severity
@@ -36,3 +37,4 @@ class Finding:
     first_time: int = 0
     last_time: int = 0
     count: int = 0
+    skipped: bool = False

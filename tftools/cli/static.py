@@ -17,7 +17,7 @@ from tftools.cli.outputs import check_output, check_replaceable
 from tftools.core.transform import Transform
 from tftools.render.escape import printable
 from tftools.sinks import open_static_broadcaster
-from tftools.sinks.static_bag import STATIC_TOPIC, add_static_transforms
+from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC, add_static_transforms, repair_static_transforms
 from tftools.sources.live.static_file import read_static_transforms
 
 CONTEXT = {"ignore_unknown_options": True}  # so that negative numbers are arguments, not options
@@ -62,6 +62,14 @@ def command(
     output: Annotated[
         Path | None, typer.Option("--output", "-o", help="With -b: the copy to write.", show_default=False)
     ] = None,
+    repair: Annotated[
+        bool,
+        typer.Option(
+            "--repair",
+            help="With -b IN -o OUT: a copy whose own static transforms are complete, latched / transient local, "
+            "and repeated through it (tfx wtf: static_volatile, statics_early).",
+        ),
+    ] = False,
     force: Annotated[
         bool,
         typer.Option("--force", help="With -o: replace an earlier output (a file or bag directory, never the input)."),
@@ -81,13 +89,25 @@ def command(
 
     With -b IN -o OUT: a copy of the bag (ROS1 .bag or ROS2 bag directory)
     with the transforms added on /tf_static at its start; the input bag is
-    never modified.
+    never modified. With --repair -b IN -o OUT: a copy whose own static
+    transforms survive a replay (latched / transient local, complete, and
+    repeated every few seconds, for playing from the middle or splitting).
 
     Examples: [cyan]tfx static 0.1 0 0.2 0 0 0 base_link laser[/]
     [cyan]tfx static 0.1 0 0.2 90 0 0 base_link laser --deg[/]
     [cyan]tfx static --x 0.1 --yaw 1.57 --frame-id base_link --child-frame-id laser[/]
     [cyan]tfx static --from extrinsics.yaml -b in.bag -o out.bag[/]
+    [cyan]tfx static --repair -b recording/ -o repaired/[/]
     """
+    if repair:
+        if (
+            arguments
+            or from_file is not None
+            or any(v is not None for v in (x, y, z, qx, qy, qz, qw, roll, pitch, yaw))
+        ):
+            raise UsageError("--repair takes no transforms: it uses the bag's own", "tfx static --repair -b IN -o OUT")
+        _repair_bag(bag, output, force)
+        return
     numbers = {"x": x, "y": y, "z": z, "qx": qx, "qy": qy, "qz": qz, "qw": qw, "roll": roll, "pitch": pitch, "yaw": yaw}
     transforms = read_static_transforms(from_file) if from_file is not None else []
     transforms += _given(arguments or [], numbers, frame_id, child_frame_id, degrees)
@@ -188,11 +208,28 @@ def _checked(t: Transform) -> Transform:
     return Transform(t.translation, tuple(q / norm for q in t.rotation), 0, frame, child)  # type: ignore[arg-type]
 
 
-def _write_bag(bag: Path | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
+def _bag_and_output(bag: Path | None, output: Path | None, force: bool) -> tuple[Path, Path]:
     if bag is None or output is None:
         raise UsageError("-b BAG and -o OUTPUT go together", "e.g. tfx static ... -b in.bag -o out.bag")
     check_output(output, [bag])
     check_replaceable(output, force)
+    return bag, output
+
+
+def _repair_bag(bag: Path | None, output: Path | None, force: bool) -> None:
+    bag, output = _bag_and_output(bag, output, force)
+    written, statics = repair_static_transforms(bag, output, force=force)
+    edges = ", ".join(f"{t.frame_id} -> {t.child_frame_id}" for t in statics)
+    stdout.print(
+        printable(
+            f"{written}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {len(statics)} static "
+            f"transform(s) ({edges}) at its start and every {REPAIR_EVERY_S:g} s"
+        )
+    )
+
+
+def _write_bag(bag: Path | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
+    bag, output = _bag_and_output(bag, output, force)
     written = add_static_transforms(bag, output, transforms, force=force)
     stdout.print(
         printable(f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}")

@@ -224,3 +224,14 @@ def rpy_from_quat_many(q: FloatArray) -> FloatArray:
     roll = np.where(locked, np.arctan2(m21, m22), np.arctan2(m21 / c, m22 / c))
     yaw = np.where(locked, 0.0, np.arctan2(m10 / c, m00 / c))
     return np.stack((roll, pitch, yaw), axis=-1)
+
+
+def angle_between_many(a: FloatArray, b: FloatArray) -> FloatArray:
+    """The rotation (radians, 0 to pi) taking each quaternion of ``a`` to the one of ``b``, by their
+    chord (exact near zero, where an arccos of the dot product is not); q and -q are one rotation."""
+    a = a / np.linalg.norm(a, axis=-1, keepdims=True)
+    b = b / np.linalg.norm(b, axis=-1, keepdims=True)
+    b = np.where(((a * b).sum(axis=-1) < 0)[..., None], -b, b)
+    chord = np.minimum(np.linalg.norm(a - b, axis=-1) / 2, 1.0)
+    angles: FloatArray = 4 * np.arcsin(chord)
+    return angles

@@ -115,6 +115,7 @@ def finding_dict(finding: Finding) -> dict[str, Any]:
         "first_time": finding.first_time / NS_PER_S if finding.first_time else None,
         "last_time": finding.last_time / NS_PER_S if finding.last_time else None,
         "count": finding.count,
+        "skipped": finding.skipped,
     }
 
 
@@ -174,8 +175,8 @@ def write_json(
 
 def junit(reports: Sequence[BagReport], strict: bool = False, ignore: Sequence[str] = ()) -> ET.Element:
     """``<testsuites>``: one suite per recording, one case per check; errors fail (warnings too if
-    ``strict``); other findings go to the case's ``system-out``. A recording that could not be read
-    is a suite with one ``read`` case in error."""
+    ``strict``); a check that could not run is ``skipped``; other findings go to the case's
+    ``system-out``. A recording that could not be read is a suite with one ``read`` case in error."""
     root = ET.Element("testsuites", name="tfx wtf")
     totals = {"tests": 0, "failures": 0, "errors": 0}
     for bag in reports:
@@ -211,7 +212,10 @@ def _bag_suite(suite: ET.Element, bag: BagReport, strict: bool, ignore: Sequence
             severity = failing[0].severity.value
             failure = ET.SubElement(case, "failure", type=severity, message=printable(failing[0].message))
             failure.text = "\n\n".join(_finding_text(f) for f in failing)
-        rest = [f for f in mine if f not in failing]
+        not_run = [f for f in mine if f.skipped]
+        if not_run and not failing:
+            ET.SubElement(case, "skipped", message=printable(not_run[0].message))
+        rest = [f for f in mine if f not in failing and not f.skipped]
         if rest:
             ET.SubElement(case, "system-out").text = "\n\n".join(_finding_text(f) for f in rest)
     return {"tests": tests, "failures": failures, "errors": 0}

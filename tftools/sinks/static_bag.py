@@ -1,18 +1,22 @@
 """A copy of a bag with static transforms added on ``/tf_static``, as if a static_transform_publisher
-had run while it was recorded (``tfx static ... -b IN -o OUT``). The input is never modified."""
+had run while it was recorded (``tfx static ... -b IN -o OUT``), or with its own static transforms
+made safe to replay (``tfx static --repair``). The input is never modified."""
 
 from __future__ import annotations
 
 import os
 import shutil
 import tempfile
-from collections.abc import Sequence
-from dataclasses import replace
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.contents import is_static_topic
 from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
 from tftools.sources.live.ros1.messages import TF_MESSAGE, encode_tf_message, message_type
 
@@ -20,6 +24,30 @@ STATIC_TOPIC = "/tf_static"
 
 #: The callerid of the connection carrying the added transforms in a ROS1 bag: their authority.
 PUBLISHER = "/tfx_static"
+
+#: A repaired copy repeats its static transforms this often (s of record time), so that playing it
+#: from any point, splitting it or filtering it by time keeps them.
+REPAIR_EVERY_S = 5.0
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """What the copy adds: ``transforms`` at the start and, with ``every`` (ns), again that often;
+    ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2).
+    ``senders``: per transform, the /tf_static connection that sent it in the bag (a ROS 1 callerid,
+    a ROS 2 topic) to send it again on, so that it keeps its publisher; none: tfx's own (``PUBLISHER``)."""
+
+    transforms: Sequence[Transform]
+    every: int = 0
+    durable: bool = False
+    senders: Sequence[str] = ()
+
+    def by_sender(self, stamp: int) -> dict[str, list[Transform]]:
+        """The transforms stamped ``stamp``, one message per sender."""
+        groups: dict[str, list[Transform]] = {}
+        for i, t in enumerate(self.transforms):
+            groups.setdefault(self.senders[i] if self.senders else PUBLISHER, []).append(replace(t, stamp=stamp))
+        return groups
 
 
 def add_static_transforms(
@@ -33,7 +61,50 @@ def add_static_transforms(
     holding ``transforms``, stamped and recorded at the bag's start. ``bag`` is a ROS1 .bag
     file or a ROS2 bag directory; ``output`` of the same kind. Refuses an existing ``output``
     unless ``force``."""
-    source, target = Path(bag), Path(output)
+    return _write_copy(Path(bag), Path(output), _Plan(transforms), force)
+
+
+def repair_static_transforms(
+    bag: str | os.PathLike[str], output: str | os.PathLike[str], *, force: bool = False
+) -> tuple[Path, list[Transform]]:
+    """Write ``output``: ``bag`` with its static transforms complete (the latest value of each, all in
+    one message) at its start and every ``REPAIR_EVERY_S`` s, and ``/tf_static`` latched (ROS 1) or
+    offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to late
+    subscribers and a copy from any point keeps them. Returns the copy and the transforms."""
+    source = Path(bag)
+    if not source.exists():
+        raise BagNotFoundError(str(source))
+    statics, senders = _latest_statics(source)
+    plan = _Plan(statics, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, senders=senders)
+    return _write_copy(source, Path(output), plan, force), statics
+
+
+def _latest_statics(source: Path) -> tuple[list[Transform], list[str]]:
+    """The latest value of each static transform of the recording at ``source`` (in first-seen
+    order), and who sent it (``_Plan.senders``)."""
+    from tftools.sources.recording import read_recording
+
+    batch = read_recording([source]).transforms
+    latest: dict[tuple[int, int], int] = {}
+    for row in np.flatnonzero(batch.static).tolist():
+        latest[(int(batch.parent[row]), int(batch.child[row]))] = row
+    if not latest:
+        raise BagError(str(source), "holds no static transforms", "add them with tfx static X Y Z ... -b IN -o OUT")
+    names = batch.frame_names
+    senders = [batch.authorities[int(batch.authority[row])] for row in latest.values()]
+    return [
+        Transform(
+            tuple(batch.translation[row].tolist()),
+            tuple(batch.rotation[row].tolist()),
+            0,
+            names[parent],
+            names[child],
+        )
+        for (parent, child), row in latest.items()
+    ], senders
+
+
+def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
     if not source.exists():
         raise BagNotFoundError(str(source))
     _never_over_the_input(source, target)
@@ -54,7 +125,7 @@ def add_static_transforms(
         raise BagError(str(target), f"cannot be written ({error.strerror})") from None
     partial = scratch / target.name
     try:
-        (_copy_rosbag2 if source.is_dir() else _copy_ros1)(source, partial, transforms)
+        (_copy_rosbag2 if source.is_dir() else _copy_ros1)(source, partial, plan)
         _remove(target)
         partial.rename(target)
     except OSError as error:  # disk full, read-only folder...
@@ -95,32 +166,53 @@ def _remove(path: Path) -> None:
         path.unlink()
 
 
-def _stamped(transforms: Sequence[Transform], stamp: int) -> list[Transform]:
-    return [replace(t, stamp=stamp) for t in transforms]
+def _marks(plan: _Plan, start: int, messages: Iterator[tuple[Any, int, bytes]]) -> Iterator[tuple[Any, int, bytes]]:
+    """``messages`` (connection, record time, data) with ``(None, time, b"")`` where the plan's
+    transforms go: at ``start``, then every ``plan.every`` ns up to the last message."""
+    yield None, start, b""
+    mark = start + plan.every
+    for connection, timestamp, data in messages:
+        while plan.every and timestamp >= mark:
+            yield None, mark, b""
+            mark += plan.every
+        yield connection, timestamp, data
 
 
-def _copy_ros1(source: Path, target: Path, transforms: Sequence[Transform]) -> None:
+def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
     from rosbags.interfaces import ConnectionExtRosbag1
     from rosbags.rosbag1 import Reader, Writer
 
     with Reader(source) as reader, Writer(target) as writer:
         start = reader.start_time if reader.message_count else 0
-        connections = {}
+        connections, static = {}, {}
         for c in reader.connections:
             ext = c.ext if isinstance(c.ext, ConnectionExtRosbag1) else ConnectionExtRosbag1(None, None)
+            latching = 1 if plan.durable and is_static_topic(c.topic) else ext.latching
             connections[c.id] = writer.add_connection(
-                c.topic, c.msgtype, msgdef=c.msgdef.data, md5sum=c.digest, callerid=ext.callerid, latching=ext.latching
+                c.topic, c.msgtype, msgdef=c.msgdef.data, md5sum=c.digest, callerid=ext.callerid, latching=latching
             )
+            if _sends_statics(c):
+                static[ext.callerid or ""] = connections[c.id]
         tf_type = message_type(TF_MESSAGE)
-        added = writer.add_connection(
-            STATIC_TOPIC, TF_MESSAGE, msgdef=tf_type.definition, md5sum=tf_type.md5sum, callerid=PUBLISHER, latching=1
-        )
-        writer.write(added, start, encode_tf_message(_stamped(transforms, start)))
-        for connection, timestamp, data in reader.messages():
-            writer.write(connections[connection.id], timestamp, data)
+        if set(plan.by_sender(0)) - set(static):  # transforms of no publisher in the bag: tfx's own connection
+            static[PUBLISHER] = writer.add_connection(
+                STATIC_TOPIC,
+                TF_MESSAGE,
+                msgdef=tf_type.definition,
+                md5sum=tf_type.md5sum,
+                callerid=PUBLISHER,
+                latching=1,
+            )
+        for connection, timestamp, data in _marks(plan, start, reader.messages()):
+            if connection is None:
+                for sender, transforms in plan.by_sender(timestamp).items():
+                    sending = static[sender if sender in static else PUBLISHER]
+                    writer.write(sending, timestamp, encode_tf_message(transforms))
+            else:
+                writer.write(connections[connection.id], timestamp, data)
 
 
-def _copy_rosbag2(source: Path, target: Path, transforms: Sequence[Transform]) -> None:
+def _copy_rosbag2(source: Path, target: Path, plan: _Plan) -> None:
     from rosbags.interfaces import ConnectionExtRosbag2
     from rosbags.rosbag2 import CompressionFormat, CompressionMode, Reader, StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
@@ -144,7 +236,9 @@ def _copy_rosbag2(source: Path, target: Path, transforms: Sequence[Transform]) -
                     msgdef=c.msgdef.data,
                     rihs01=c.digest if c.digest.startswith("RIHS01_") else None,
                     serialization_format=ext.serialization_format,
-                    offered_qos_profiles=ext.offered_qos_profiles,
+                    offered_qos_profiles=[static_qos()]
+                    if plan.durable and is_static_topic(c.topic)
+                    else ext.offered_qos_profiles,
                     typestore=store,
                 )
             existing = [c for c in reader.connections if c.topic == STATIC_TOPIC and c.msgtype == TF_MESSAGE]
@@ -152,13 +246,21 @@ def _copy_rosbag2(source: Path, target: Path, transforms: Sequence[Transform]) -
                 connections[existing[0].id]
                 if existing
                 else writer.add_connection(
-                    STATIC_TOPIC, TF_MESSAGE, typestore=store, offered_qos_profiles=[_static_qos()]
+                    STATIC_TOPIC, TF_MESSAGE, typestore=store, offered_qos_profiles=[static_qos()]
                 )
             )
-            message = _ros2_message(store, _stamped(transforms, start))
-            writer.write(added, start, store.serialize_cdr(message, TF_MESSAGE))
-            for connection, timestamp, data in reader.messages():
-                writer.write(connections[connection.id], timestamp, data)
+            static = {c.topic: connections[c.id] for c in reader.connections if _sends_statics(c)}
+            for connection, timestamp, data in _marks(plan, start, reader.messages()):
+                if connection is None:
+                    for sender, transforms in plan.by_sender(timestamp).items():
+                        message = store.serialize_cdr(_ros2_message(store, transforms), TF_MESSAGE)
+                        writer.write(static.get(sender, added), timestamp, message)
+                else:
+                    writer.write(connections[connection.id], timestamp, data)
+
+
+def _sends_statics(connection: Any) -> bool:
+    return bool(is_static_topic(connection.topic) and connection.msgtype == TF_MESSAGE)
 
 
 def _ros2_message(store: Any, transforms: Sequence[Transform]) -> Any:
@@ -181,7 +283,7 @@ def _ros2_message(store: Any, transforms: Sequence[Transform]) -> Any:
     )
 
 
-def _static_qos() -> Any:
+def static_qos() -> Any:
     """tf2_ros' static QoS: reliable, transient local, keep last 1 (StaticBroadcasterQoS)."""
     from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 

@@ -6,15 +6,26 @@ from collections.abc import Collection, Sequence
 
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf import clocks, expectations, sensors, source, structure, timing, topics, values  # noqa: F401  (they register their checks)
-from tftools.analysis.wtf.registry import CHECKS, Check
+from tftools.analysis.wtf import (  # noqa: F401  (they register their checks)
+    clocks,
+    expectations,
+    jumps,
+    replay,
+    sensors,
+    source,
+    structure,
+    timing,
+    topics,
+    values,
+)
+from tftools.analysis.wtf.registry import CHECKS, Check, CheckSkippedError, skipped
 from tftools.analysis.wtf.scene import Scene
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.buffer import Buffer
 from tftools.sources.bag.stamped import StampedMessages
 from tftools.sources.recording import Recording, recording_of_buffer
 
-__all__ = ["CHECKS", "Check", "Finding", "Severity", "Thresholds", "check"]
+__all__ = ["CHECKS", "Check", "CheckSkippedError", "Finding", "Severity", "Thresholds", "check"]
 
 
 def check(
@@ -43,5 +54,8 @@ def check(
     for c in CHECKS.values():
         if c.run is None or c.code in ignore or (c.needs_transforms and not len(scene.rows)):
             continue
-        found.extend(f for f in c.run(scene) if f.code not in ignore)  # a check may speak for another
+        try:
+            found.extend(f for f in c.run(scene) if f.code not in ignore)  # a check may speak for another
+        except CheckSkippedError as why:
+            found.append(skipped(c.code, why))
     return sorted(found, key=lambda f: f.severity.rank)

@@ -14,6 +14,21 @@ if TYPE_CHECKING:
 CheckFunction = Callable[["Scene"], Iterable[Finding]]
 
 
+class CheckSkippedError(Exception):
+    """Raised by a check that cannot run on a recording: ``reason`` says why (what the recording
+    lacks), ``hint`` how to get the check to run. ``wtf`` reports it as a skipped finding."""
+
+    def __init__(self, reason: str, hint: str) -> None:
+        super().__init__(reason)
+        self.reason = reason
+        self.hint = hint
+
+
+def skipped(code: str, why: CheckSkippedError) -> Finding:
+    """The note that check ``code`` did not run, and why."""
+    return Finding(Severity.info, code, f"not checked: {why.reason}", why.hint, skipped=True)
+
+
 @dataclass(frozen=True)
 class Check:
     """One check: ``code`` names it in findings, ``severity`` is its usual one (a finding may be

@@ -11,6 +11,7 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.loops import find_loops
+from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
@@ -256,6 +257,8 @@ def _parents_finding(scene: Scene, child_id: int, mine: np.ndarray, switches: np
 
 @register("multiple_authorities", Severity.warning, "two publishers of one edge")
 def multiple_authorities(scene: Scene) -> Iterator[Finding]:
+    """Where the recording names no publishers (ROS 2 bags), several are inferred from each edge's stream."""
+    yield from inferred_broadcasters(scene)
     rows = scene.rows
     for static in (False, True):
         for parent, child, mine in scene.by_edge(rows.usable & (rows.static == static)):

@@ -8,6 +8,7 @@ import numpy as np
 
 from tftools.analysis.edges import PERIODS, EdgeStats, edge_gaps
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
@@ -191,7 +192,8 @@ def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrival
     if len(intervals) < IRREGULAR_MIN_INTERVALS or off <= IRREGULAR_SHARE:
         return
     if not scene.publishers_known and _interleaved(arrivals):
-        yield _two_publishers(scene, frames, who, arrivals)
+        if frames not in {f.frames for f in inferred_broadcasters(scene)}:  # else already said
+            yield _two_publishers(scene, frames, who, arrivals)
         return
     if _cyclic(intervals):  # a driver sending two messages every 100 ms, 33 then 67 ms apart, is regular
         return
@@ -258,8 +260,10 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     """Per frame and publisher: what two publishers do to each other's stamps is theirs to answer for
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
+    taking_turns = {f.frames[1] for f in inferred_broadcasters(scene)}
     for child_id, mine in _streams(scene, rows.usable & ~rows.static):
-        yield from _stamps_of(scene, child_id, mine)
+        if rows.names[child_id] not in taking_turns:
+            yield from _stamps_of(scene, child_id, mine)
 
 
 def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:

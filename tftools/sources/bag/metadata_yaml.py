@@ -17,9 +17,6 @@ class MetadataError(Exception):
 def load(path: Path) -> Any:
     """The document of the YAML file at ``path``. Raises ``MetadataError`` for a file too large,
     too deep, expanding to too many nodes through its aliases, or not YAML."""
-    from ruamel.yaml import YAML
-    from ruamel.yaml.error import YAMLError
-
     try:
         with path.open("rb") as f:
             raw = f.read(MAX_BYTES + 1)
@@ -27,7 +24,17 @@ def load(path: Path) -> Any:
         raise MetadataError(e.strerror or str(e)) from None
     if len(raw) > MAX_BYTES:
         raise MetadataError(f"larger than {MAX_BYTES >> 20} MiB")
-    text = raw.decode("utf-8", "replace")
+    return load_text(raw.decode("utf-8", "replace"))
+
+
+def load_text(text: str) -> Any:
+    """The document of YAML ``text`` (a QoS profile list that metadata.yaml holds as a string),
+    within the same limits as ``load``."""
+    from ruamel.yaml import YAML
+    from ruamel.yaml.error import YAMLError
+
+    if len(text) > MAX_BYTES:
+        raise MetadataError(f"larger than {MAX_BYTES >> 20} MiB")
     try:
         _check(YAML(typ="safe").parse(text))
         return YAML(typ="safe").load(text)

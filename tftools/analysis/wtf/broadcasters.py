@@ -1,0 +1,93 @@
+"""Several broadcasters of one edge where the recording does not name publishers (ROS 2 bags, MCAP):
+inferred from the edge's own stream, its stamps going back and forth or its values alternating
+between two places, sample after sample."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.scene import Scene, edge, listed
+from tftools.core.arrays import FloatArray, Int64Array
+from tftools.core.rotation import angle_between_many
+
+#: A sign must show in this many samples, and this share of them, to tell two broadcasters.
+TURNS_MIN = 5
+TURNS_SHARE = 0.1
+#: Two values this far apart (m, degrees) are two places; coming back within a quarter of it, the same one.
+APART_M = 0.01
+APART_DEG = 1.0
+
+
+def inferred_broadcasters(scene: Scene) -> list[Finding]:
+    """One ``multiple_authorities`` finding per moving edge that looks like several broadcasters
+    taking turns, where the recording names no publishers (none elsewhere); computed once per scene."""
+    return scene.shared("inferred_broadcasters", lambda: list(_infer(scene)))
+
+
+def _infer(scene: Scene) -> list[Finding]:
+    if scene.publishers_known:
+        return []
+    rows = scene.rows
+    found = []
+    for parent, child, mine in scene.by_edge(rows.usable & ~rows.static):
+        stamps, values = rows.stamp[mine], rows.values[mine]
+        back = _back_and_forth(stamps)
+        alternating = _alternating(values)
+        signs = [
+            f"its stamps went back {back} times" if _enough(back, len(mine)) else "",
+            f"its value alternated between two places {alternating} times" if _enough(alternating, len(mine)) else "",
+        ]
+        if not any(signs):
+            continue
+        frames = (rows.names[parent], rows.names[child])
+        who = scene.authorities_of(mine)
+        times = scene.arrival(mine)
+        found.append(
+            Finding(
+                Severity.warning,
+                "multiple_authorities",
+                f"{edge(*frames)}{scene.by(who)} seems to come from several broadcasters taking turns: "
+                f"{listed([s for s in signs if s])} in {len(mine)} samples (this recording does not name publishers)",
+                "tf2 takes every sample as it comes, so lookups mix the broadcasters' values: find them "
+                "(ros2 topic info /tf --verbose) and turn the transform off in all but one",
+                frames,
+                who,
+                int(times.min()),
+                int(times.max()),
+                len(mine),
+            )
+        )
+    return found
+
+
+def _enough(count: int, samples: int) -> bool:
+    return count >= TURNS_MIN and count >= TURNS_SHARE * samples
+
+
+def _back_and_forth(stamps: Int64Array) -> int:
+    """Stamps (in arrival order) earlier than the one before them, each followed by a later one again:
+    one late message, or a clock jumped back once, is not a turn."""
+    steps = np.sign(np.diff(stamps))
+    return int(((steps[:-1] < 0) & (steps[1:] > 0)).sum())
+
+
+def _alternating(values: FloatArray) -> int:
+    """Samples (in arrival order) far from the one before and the one after, which are close to each
+    other: a value that goes somewhere else and comes back, sample after sample."""
+    if len(values) < 3:
+        return 0
+    metres = np.linalg.norm(values[2:, :3] - values[:-2, :3], axis=1)
+    out = np.linalg.norm(values[1:-1, :3] - values[:-2, :3], axis=1)
+    back = np.linalg.norm(values[2:, :3] - values[1:-1, :3], axis=1)
+    rotation_out = _degrees(values[:-2, 3:], values[1:-1, 3:])
+    rotation_back = _degrees(values[1:-1, 3:], values[2:, 3:])
+    rotation_round = _degrees(values[:-2, 3:], values[2:, 3:])
+    moved = ((out > APART_M) & (back > APART_M) & (metres < out / 4)) | (
+        (rotation_out > APART_DEG) & (rotation_back > APART_DEG) & (rotation_round < rotation_out / 4)
+    )
+    return int(moved.sum())
+
+
+def _degrees(a: FloatArray, b: FloatArray) -> FloatArray:
+    return np.degrees(angle_between_many(a, b))

@@ -1,0 +1,124 @@
+"""Checks of how a recording's static transforms survive a replay: offered durably (latched /
+transient local) so a late subscriber gets them, and present past the first seconds."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.registry import CheckSkippedError, register
+from tftools.analysis.wtf.scene import Scene, duration, edge, listed
+from tftools.core.time import NS_PER_S
+from tftools.sources.bag import metadata_yaml
+from tftools.sources.contents import SourceInfo, is_static_topic
+
+#: A recording this long (s) is one people play from the middle, split or filter.
+LONG_RECORDING_S = 60.0
+#: Statics whose last message came within this many seconds of the start came "only at the start".
+EARLY_S = 10.0
+#: rosbag2's durability policy, as metadata.yaml writes it: a number (Humble and before) or a name.
+TRANSIENT_LOCAL = (1, "transient_local")
+
+REPAIR_HINT = "tfx static --repair -b IN -o OUT writes a copy whose statics are complete, latched and repeated"
+
+
+@register(
+    "static_volatile", Severity.warning, "/tf_static offered volatile: ros2 bag play never gives it to late subscribers"
+)
+def static_volatile(scene: Scene) -> Iterator[Finding]:
+    """rosbag2 plays a topic with the QoS its publishers offered (metadata.yaml's offered_qos_profiles):
+    transient local only when every profile was; none recorded plays its default, volatile. Only
+    recordings on disk are replayed: one assembled in memory has no QoS to check."""
+    rows = scene.rows
+    if not rows.static.any():
+        return
+    for file in scene.recording.contents.files:
+        if not file.format.startswith("rosbag2") or not Path(file.path).exists():
+            continue
+        for topic, profiles in _static_qos(file).items():
+            if profiles and all(_durability(p) in TRANSIENT_LOCAL for p in profiles):
+                continue
+            offered = "records no QoS for it" if not profiles else "offers it volatile"
+            yield Finding(
+                Severity.warning if profiles else Severity.info,  # none recorded: a conversion, most likely
+                "static_volatile",
+                f"{file.path} {offered} ({topic}, metadata.yaml's offered_qos_profiles): ros2 bag play publishes "
+                f"it volatile, so a node that subscribes after its first message never gets the static transforms",
+                f"{REPAIR_HINT} (offered transient local); or play with --qos-profile-overrides-path naming "
+                f"{topic} durability: transient_local",
+                _static_frames(scene),
+                (topic,),
+                count=len(profiles),
+            )
+
+
+def _static_qos(file: SourceInfo) -> dict[str, list[object]]:
+    """Each static topic's offered QoS profiles, from the bag directory's metadata.yaml."""
+    metadata = Path(file.path) / "metadata.yaml"
+    if not metadata.is_file():
+        raise CheckSkippedError(
+            f"{file.path} has no metadata.yaml beside it, where rosbag2 keeps the QoS it plays /tf_static with",
+            "check the bag directory, not one of its files",
+        )
+    try:
+        info = metadata_yaml.load(metadata)["rosbag2_bagfile_information"]
+        found = {}
+        for entry in info.get("topics_with_message_count") or []:
+            topic = entry["topic_metadata"]
+            if is_static_topic(str(topic["name"])):
+                profiles = topic.get("offered_qos_profiles") or []
+                found[str(topic["name"])] = (
+                    list(metadata_yaml.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
+                )
+        return found
+    except (metadata_yaml.MetadataError, KeyError, TypeError, AttributeError) as error:
+        raise CheckSkippedError(
+            f"{metadata} does not say the QoS of /tf_static ({error})", "repair or regenerate metadata.yaml"
+        ) from None
+
+
+def _durability(profile: object) -> object:
+    value = profile.get("durability") if isinstance(profile, dict) else None
+    return value.lower() if isinstance(value, str) else value
+
+
+# A note, not a warning: a healthy ROS 1 recording holds its latched statics once, at the start.
+@register("statics_early", Severity.info, "static transforms only in the first seconds of a long recording")
+def statics_early(scene: Scene) -> Iterator[Finding]:
+    """Playing from later on (rosbag play -s, ros2 bag play --start-offset), a split's later files
+    and a filter by time lose them, and every lookup through them fails."""
+    rows = scene.rows
+    records = rows.record_time[rows.static]
+    if scene.recording.contents.live or not len(records) or not (records > 0).all():
+        return
+    length = (scene.end - scene.start) / NS_PER_S
+    last = int(records.max())
+    if length < LONG_RECORDING_S or last - scene.start > EARLY_S * NS_PER_S:
+        return
+    who = scene.authorities_of(np.flatnonzero(rows.static))
+    yield Finding(
+        Severity.info,
+        "statics_early",
+        f"the static transforms{scene.by(who)} ({listed(_static_edges(scene))}) were recorded only at the start, "
+        f"the last {duration((last - scene.start) / NS_PER_S)} into {duration(length)}: played from later on, "
+        "split or filtered by time, the copy has none and lookups through them fail",
+        f"{REPAIR_HINT} through the recording; or play it from its start",
+        _static_frames(scene),
+        who,
+        scene.start,
+        last,
+        int(rows.static.sum()),
+    )
+
+
+def _static_edges(scene: Scene) -> list[str]:
+    rows = scene.rows
+    return [edge(rows.names[p], rows.names[c]) for p, c, _ in scene.by_edge(rows.static)]
+
+
+def _static_frames(scene: Scene) -> tuple[str, ...]:
+    rows = scene.rows
+    return tuple(rows.names[f] for p, c, _ in scene.by_edge(rows.static) for f in (p, c))
