@@ -6,7 +6,8 @@ import struct
 import zlib
 from dataclasses import dataclass
 
-from tftools.sources.bag.decode import FileScan, select
+from tftools.sources.bag.decode.codec import select
+from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, unpack
 
 MAGIC = b"\x89MCAP0\r\n"

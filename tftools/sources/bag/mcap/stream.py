@@ -5,8 +5,7 @@ from __future__ import annotations
 from typing import BinaryIO
 
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.decode import FileScan
-from tftools.sources.bag.mcap_records import (
+from tftools.sources.bag.mcap.records import (
     CHANNEL,
     CHUNK,
     DATA_END,
@@ -24,6 +23,7 @@ from tftools.sources.bag.mcap_records import (
     known,
     scan_records,
 )
+from tftools.sources.bag.scan import FileScan
 
 _PROGRESS_STEP = 1 << 24
 
