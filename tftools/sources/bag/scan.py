@@ -24,6 +24,13 @@ class FileScan:
     problems: list[str] = field(default_factory=list)  # damage: what was lost
     skipped: list[Unread] = field(default_factory=list)  # asked-for topics of types or encodings not read
 
+    def note_times(self, first: int, last: int, count: int) -> None:
+        """``count`` messages of any topic met, recorded from ``first`` to ``last`` (when no index
+        or summary counts them)."""
+        self.start = min(self.start, first) if self.message_count else first
+        self.end = max(self.end, last) if self.message_count else last
+        self.message_count += count
+
     def note_problem(self, line: str) -> None:
         if line and line not in self.problems:
             self.problems.append(line)

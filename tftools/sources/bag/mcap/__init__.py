@@ -36,7 +36,7 @@ def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messag
                 raise CorruptBagError(str(path), "no MCAP magic at the start")
             channels = Channels(topics, result, size)
             if not read_indexed(f, size, channels, progress):
-                stream(f, size, channels, result, progress)
+                stream(f, size, channels, progress)
     except OSError as e:
         raise CorruptBagError(str(path), e.strerror or str(e)) from None
     except UnreadableError as e:

@@ -9,7 +9,7 @@ from typing import BinaryIO
 import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.mcap.ranged import INDEX_ENTRY, PAYLOAD, Queued, RangedReader
+from tftools.sources.bag.mcap.ranged import INDEX_ENTRY, Queued, RangedReader, indexed, payloads
 from tftools.sources.bag.mcap.records import (
     CHANNEL,
     CHUNK,
@@ -17,8 +17,6 @@ from tftools.sources.bag.mcap.records import (
     FOOTER,
     I64,
     MAGIC,
-    MESSAGE,
-    MESSAGE_HEAD,
     MESSAGE_INDEX,
     RECORD,
     SCHEMA,
@@ -34,7 +32,6 @@ from tftools.sources.bag.mcap.records import (
     scan_records,
 )
 from tftools.sources.bag.ranges import prefetch
-from tftools.sources.bag.spans import Spans, joined
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
@@ -201,16 +198,17 @@ def _read_chunk(
         raise McapDamageError(f"no chunk at byte {chunk.offset}")
     data = chunk_records(memoryview(raw)[RECORD.size :], partial=False, budget=channels.budget)  # no copy of the chunk
     if not chunk.index_offsets:
-        damage = scan_records(data, number, channels, None)
+        damage = scan_records(data, number, channels, counted=False)
         if damage:
             raise McapDamageError(damage)
         return
     if index is None:
         index = f.read(chunk.index_length)
-    found = joined(
-        [_located(data, _message_index(index, chunk.index_offsets[c] - chunk.end), c, number) for c in wanted]
-    )
+    found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
     found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
+    found.end = np.full(len(found), len(data), np.int64)
+    if not payloads(np.frombuffer(data, np.uint8), found.offset, found, np.ones(len(found), bool)).all():
+        raise McapDamageError("message index does not match its chunk")
     channels.result.messages.add_spans(found.looked_up(channels.wanted).astype(np.int32), found, data)
 
 
@@ -231,23 +229,3 @@ def _message_index(index: bytes, at: int) -> bytes:
     if opcode != MESSAGE_INDEX or length % INDEX_ENTRY.itemsize or start + length > len(index):
         raise McapDamageError("bad message index")
     return index[start : start + length]
-
-
-def _located(data: bytes | memoryview, index_entries: bytes, channel_id: int, number: int) -> Spans:
-    """The indexed messages of one channel in chunk ``number``'s records ``data``, the index
-    checked against them."""
-    entries = np.frombuffer(index_entries, INDEX_ENTRY)
-    offsets = entries["offset"].astype(np.int64)
-    raw = np.frombuffer(data, np.uint8)
-    if len(offsets) and (offsets.min() < 0 or offsets.max() + PAYLOAD > len(raw) or (raw[offsets] != MESSAGE).any()):
-        raise McapDamageError("message index does not match its chunk")
-    head = raw[offsets[:, None] + np.arange(1, 11)]  # record length (8 bytes), channel id (2)
-    lengths = head[:, :8].copy().view("<u8").ravel().astype(np.int64) - MESSAGE_HEAD.size
-    ids = head[:, 8:].copy().view("<u2").ravel()
-    starts = offsets + PAYLOAD
-    if (ids != channel_id).any() or (lengths < 0).any() or (starts + lengths > len(raw)).any():
-        raise McapDamageError("message index does not match its chunk")
-    n = len(offsets)
-    return Spans(
-        np.full(n, number), offsets, np.full(n, channel_id), entries["time"].astype(np.int64), starts, starts + lengths
-    )

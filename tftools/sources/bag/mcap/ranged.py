@@ -61,7 +61,8 @@ class RangedReader:
             return
         records_start = np.array([q.chunk.records_start for q in batch], np.int64)
         records_end = records_start + np.array([q.chunk.records_length for q in batch], np.int64)
-        messages, whole = bounded(_indexed(batch), records_start, records_end)
+        entries = [(i, channel_id, part) for i, q in enumerate(batch) for channel_id, part in q.entries.items()]
+        messages, whole = bounded(indexed(entries), records_start, records_end)
         messages = messages.rows(~whole[messages.chunk] & (messages.looked_up(self.channels.wanted) >= 0))
         wanted_bytes = np.bincount(messages.chunk, messages.end - messages.start, len(batch))
         whole |= wanted_bytes > _SPARSE * (records_end - records_start)
@@ -84,7 +85,7 @@ class RangedReader:
         n = len(heads)
         for i, chunk, at, whole in zip(chunks.tolist(), heads, where[:n].tolist(), read[:n].tolist(), strict=True):
             damaged[i] = not whole or not _is_head_of(data, at, chunk)
-        fits = _payloads(data, where[n:], messages, read[n:])
+        fits = payloads(data, where[n:], messages, read[n:])
         damaged[messages.chunk[~fits]] = True
         return data, damaged
 
@@ -107,24 +108,13 @@ class RangedReader:
             begin = end
 
 
-def _indexed(batch: list[Queued]) -> Spans:
-    """Every message the batch's indexes list (its chunk: its place in the batch), in no particular
-    order, without file ranges yet."""
-    parts: list[bytes] = []
-    chunk_of: list[int] = []
-    channel_of: list[int] = []
-    for i, queued in enumerate(batch):
-        for channel_id, part in queued.entries.items():
-            parts.append(part)
-            chunk_of.append(i)
-            channel_of.append(channel_id)
-    counts = np.fromiter((len(part) // INDEX_ENTRY.itemsize for part in parts), np.int64, len(parts))
-    entries = np.frombuffer(b"".join(parts), INDEX_ENTRY)
-    offsets = entries["offset"].astype(np.int64)  # an offset past 2**63 turns negative: caught as outside
-    return Spans(
-        np.repeat(np.array(chunk_of, np.int64), counts), offsets, np.repeat(np.array(channel_of, np.int64), counts),
-        entries["time"].astype(np.int64), offsets, offsets,
-    )  # fmt: skip
+def indexed(entries: list[tuple[int, int, bytes]]) -> Spans:
+    """The messages that (chunk, channel id, message index entries) list, without file ranges yet."""
+    counts = np.fromiter((len(part) // INDEX_ENTRY.itemsize for _, _, part in entries), np.int64, len(entries))
+    table = np.frombuffer(b"".join(part for _, _, part in entries), INDEX_ENTRY)
+    offsets = table["offset"].astype(np.int64)  # an offset past 2**63 turns negative: caught as outside
+    chunk, channel = (np.repeat(np.array([e[i] for e in entries], np.int64), counts) for i in (0, 1))
+    return Spans(chunk, offsets, channel, table["time"].astype(np.int64), offsets, offsets)
 
 
 def _is_head_of(data: npt.NDArray[np.uint8], at: int, chunk: ChunkIndex) -> bool:
@@ -136,19 +126,17 @@ def _is_head_of(data: npt.NDArray[np.uint8], at: int, chunk: ChunkIndex) -> bool
     return opcode == CHUNK and length == chunk.length - RECORD.size and head.endswith(fields)
 
 
-def _payloads(
+def payloads(
     data: npt.NDArray[np.uint8], where: IntArray, messages: Spans, complete: npt.NDArray[np.bool_]
 ) -> npt.NDArray[np.bool_]:
     """Whether each message is a whole message record of its channel inside its range (read to
     ``where`` in ``data``); its ``start`` and ``end`` made its payload's there."""
     room = messages.end - messages.start
-    fits = complete & (room >= PAYLOAD)
-    at = np.where(fits, where, 0)  # a range too short to hold a record head is not looked into
-    head = data[at[:, None] + np.arange(_HEAD)]
-    opcodes = head[:, 0]
-    lengths = head[:, 1:9].copy().view("<u8").ravel().astype(np.int64)
-    ids = head[:, 9:].copy().view("<u2").ravel()
-    fits &= (opcodes == MESSAGE) & (ids == messages.channel)
+    fits = complete & (where >= 0) & (room >= PAYLOAD)  # else the range cannot hold a record head
+    head = data[where[fits][:, None] + np.arange(_HEAD)]
+    lengths = np.zeros(len(where), np.int64)
+    lengths[fits] = head[:, 1:9].copy().view("<u8").ravel().astype(np.int64)
+    fits[fits] = (head[:, 0] == MESSAGE) & (head[:, 9:].copy().view("<u2").ravel() == messages.channel[fits])
     fits &= (lengths >= MESSAGE_HEAD.size) & (lengths <= room - RECORD.size)
     messages.start = where + PAYLOAD
     messages.end = messages.start + lengths - MESSAGE_HEAD.size

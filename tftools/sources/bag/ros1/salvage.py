@@ -106,16 +106,13 @@ class _Scanner:
 
     def _messages(self, data: bytes | memoryview) -> None:
         """The messages of a chunk's records (every one counted; the wanted ones kept)."""
-        bag, scan = self.bag, self.bag.scan
+        bag = self.bag
         messages, connections, _ = locate(data, walk(data, self.chunk_ordinal), follow=False)
         self.chunk_ordinal += 1
         for connection in connections:
             bag.connect(connection)
         if len(messages):
-            first, last = int(messages.time.min()), int(messages.time.max())
-            scan.start = min(scan.start, first) if scan.message_count else first
-            scan.end = max(scan.end, last)
-            scan.message_count += len(messages)
+            bag.scan.note_times(int(messages.time.min()), int(messages.time.max()), len(messages))
         bag.add(data, messages)
 
     def _resync(self, pos: int, stop: int) -> int | None:
