@@ -35,7 +35,7 @@ from tests.sources.ros2_helpers import (
 )
 from tftools.sources.bag import mcap, ranges
 from tftools.sources.bag.mcap import index as mcap_index
-from tftools.sources.bag.mcap.records import ChunkIndex
+from tftools.sources.bag.mcap.records import CHUNK_HEAD, Body, ChunkIndex
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.spans import Spans
@@ -349,18 +349,20 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     """What the MCAP reader reads of its chunks, as it reads it: ("range", bytes) of the ranges
     read from uncompressed chunks, (compression, bytes) of a chunk read whole."""
     seen: list[tuple[str, int]] = []
-    read_into, read_chunk = ranges.read_into, mcap_index._read_chunk
+    read_into, chunk_records = ranges.read_into, mcap_index.chunk_records
 
     def counted_range(fd: int, view: memoryview, offset: int) -> bool:
         seen.append(("range", len(view)))
         return read_into(fd, view, offset)
 
-    def counted_chunk(f: Any, chunk: ChunkIndex, *rest: Any) -> None:
-        seen.append((chunk.compression or "none", chunk.length))
-        read_chunk(f, chunk, *rest)
+    def counted_chunk(content: memoryview, **options: Any) -> bytes | memoryview:
+        body = Body(content)
+        body.take(CHUNK_HEAD)
+        seen.append((body.string() or "none", len(content)))
+        return chunk_records(content, **options)
 
     monkeypatch.setattr(ranges, "read_into", counted_range)
-    monkeypatch.setattr(mcap_index, "_read_chunk", counted_chunk)
+    monkeypatch.setattr(mcap_index, "chunk_records", counted_chunk)
     return seen
 
 

@@ -26,7 +26,7 @@ _MIN_HEADER = 4 + len("op=") + 1  # a record header holds at least its op field
 
 
 def walk(data: Buffer, chunk: int) -> Spans:
-    """The records of ``data``, the records of chunk ``chunk``, up to the end or one cut short (their
+    """The records in ``data``, chunk ``chunk``'s records, up to their end or one cut short (their
     channels and times unknown until ``locate`` reads them)."""
     starts = array("q")  # 8 bytes a record, not a Python int's 36: a chunk may hold millions
     pos, limit = 0, len(data)
@@ -70,7 +70,7 @@ def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[C
     header_len = np.full(len(records), -1, np.int64)
     header_len[inside] = u32_at(raw, records.start[inside])
     found = np.zeros(len(records), bool)
-    conn, time, data_start, data_end = (np.zeros(len(records), np.int64) for _ in range(4))
+    header = np.zeros((4, len(records)), np.int64)  # conn, time, data start and end of each
     for length in distinct(header_len[header_len >= 0]).tolist():
         rows = np.flatnonzero(header_len == length)
         template = _Template.learn(data, int(records.start[rows[0]]))
@@ -78,14 +78,8 @@ def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[C
             hit, values = template.match(raw, records.start[rows], limit[rows])
             hit_rows = rows[hit]
             found[hit_rows] = True
-            conn[hit_rows], time[hit_rows], data_start[hit_rows], data_end[hit_rows] = values
-    messages = records.rows(found)
-    messages.channel, messages.time, messages.start, messages.end = (
-        conn[found],
-        time[found],
-        data_start[found],
-        data_end[found],
-    )
+            header[:, hit_rows] = values
+    messages = Spans(records.chunk[found], records.offset[found], *header[:, found])
     slow = records.rows(~found)
     connections: list[Connection] = []
     if not len(slow):
@@ -99,8 +93,8 @@ def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[C
             first_error = first_error or str(e)
             continue
         if message is not None:
-            skipped, *header = message
-            more.append((int(slow.chunk[row]), int(slow.offset[row]) + skipped, *header))
+            skipped, *fields = message
+            more.append((int(slow.chunk[row]), int(slow.offset[row]) + skipped, *fields))
     if more:
         messages = joined([messages, Spans(*np.array(more, np.int64).T)])
         messages = messages.rows(np.lexsort((messages.offset, messages.chunk)))  # in file order

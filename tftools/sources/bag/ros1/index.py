@@ -108,11 +108,11 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
     except FormatError as e:
         bag.damage.note(info.pos, str(e), wanted)
         return
-    indexed = _chunk_index(bag, record.data_end, info)
+    indexed, index_end = _chunk_index(bag, record, info)
     if chunk.compression == "none" and indexed is not None and bag.fd is not None:
-        gathered.add(bag, _Pending(ordinal, info.pos, wanted, indexed[0], chunk.data_start, chunk.data_end), indexed[1])
+        gathered.add(bag, _Pending(ordinal, info.pos, wanted, indexed, chunk.data_start, chunk.data_end), index_end)
         return
-    bag.release(info.pos, record.data_start if indexed is None else indexed[1])
+    bag.release(info.pos, index_end)
     gathered.read(bag)  # what was gathered comes first: the messages stay in record order
     try:
         unpacked = bag.unpacked(chunk, chunk.data_end)
@@ -123,7 +123,7 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
     if indexed is None:
         messages, _, first_error = locate(data, walk(data, ordinal), follow=False)
     else:
-        offsets = distinct(indexed[0].offset[_wanted(bag, indexed[0])])
+        offsets = distinct(indexed.offset[_wanted(bag, indexed)])
         messages, _, first_error = locate(data, in_chunk(offsets, ordinal, len(data)), follow=True)
     got = int(bag.add(data, messages).sum())
     bag.release(info.pos, record.data_end)
@@ -136,17 +136,18 @@ def _wanted(bag: BagFile, spans: Spans) -> npt.NDArray[np.bool_]:
     return spans.looked_up(bag.channels) >= 0
 
 
-def _chunk_index(bag: BagFile, pos: int, info: ChunkInfo) -> tuple[Spans, int] | None:
-    """Every message the index records after a chunk list, and where those records end; None
-    when they are unreadable."""
+def _chunk_index(bag: BagFile, chunk: Record, info: ChunkInfo) -> tuple[Spans | None, int]:
+    """Every message the index records after a chunk list, and where those records end; (None,
+    where the chunk's data begins) when they are unreadable."""
     parts: list[tuple[int, IntArray, IntArray]] = []
+    pos = chunk.data_end
     try:
         for _ in range(len(info.counts)):
             record = _record(bag, pos, OP_INDEX)
             parts.append((record.uint("conn"), *index_entries(bag.buf, record)))
             pos = record.data_end
     except FormatError:
-        return None
+        return None, chunk.data_start
     counts = [len(offsets) for _, _, offsets in parts]
     conn = np.repeat(np.array([c for c, _, _ in parts], np.int64), counts)
     time = np.concatenate([t for _, t, _ in parts]) if parts else np.zeros(0, np.int64)
