@@ -21,8 +21,8 @@ ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
 Failures = list[tuple[int, str]]  # (message, reason) of the messages that could not be decoded
 
-_GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
-_SLICE = 1 << 16  # messages decoded in step at once: bounds the temporary arrays
+_GROUP_BYTES = 2 << 20  # payload bytes gathered before they are decoded (and then freed)
+_STEP_BYTES = 1 << 20  # payload bytes decoded in step at once: bounds the temporary arrays
 _LENGTH_BITS = 40  # a group's key: its codec's number << 40 | its payloads' length
 _ANY_LENGTH = (1 << _LENGTH_BITS) - 1  # the length in the key of a group of payloads of every length
 
@@ -216,8 +216,10 @@ class MessageSet:
         if self.decoder != "fast":
             return self._one_by_one(raw, starts, lengths, ids, range(len(ids)), codec)
         failed = []
-        for first in range(0, len(ids), _SLICE):
-            part = slice(first, first + _SLICE)
+        step = (np.cumsum(lengths) - lengths) // _STEP_BYTES  # of each payload, by the bytes before it
+        firsts = np.flatnonzero(np.diff(step, prepend=-1)).tolist()
+        for first, stop in zip(firsts, [*firsts[1:], len(ids)], strict=True):
+            part = slice(first, stop)
             decoded = decode_tf_messages(raw, starts[part], lengths[part], self._rows.frames)
             self._rows.add_rows(
                 ids[part][decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values
