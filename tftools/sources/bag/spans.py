@@ -64,8 +64,8 @@ def bounded(spans: Spans, records_start: IntArray, records_end: IntArray) -> tup
     range each may take, up to the next record indexed or the end of its chunk's records. Also
     which chunks have an index that cannot be trusted: with an entry outside their records (left
     out) or two at one offset."""
-    start = records_start[spans.chunk] + spans.offset
-    outside = (spans.offset < 0) | (start >= records_end[spans.chunk])
+    outside = (spans.offset < 0) | (spans.offset >= (records_end - records_start)[spans.chunk])
+    start = records_start[spans.chunk] + spans.offset  # past int64 only where outside
     damaged = np.zeros(len(records_start), bool)
     damaged[spans.chunk[outside]] = True
     inside = np.flatnonzero(~outside)

@@ -60,8 +60,8 @@ class BagFile:
         self.scan = FileScan(MessageSet(decoder=decoder))
         self.damage = Damage()
         self.transform_messages = 0  # wanted, found (clock messages are not counted)
-        self._met: set[int] = set()  # connection ids
         self.channels: dict[int, int] = {}  # connection id -> message set channel, of those wanted
+        self._met: set[int] = set()  # connection ids
         self._clocks: set[int] = set()  # message set channels of clock connections
 
     def connect(self, connection: Connection) -> None:
