@@ -22,7 +22,7 @@ Unpack = Callable[[bytes], bytes]
 Failures = list[tuple[int, str]]  # (message, reason) of the messages that could not be decoded
 
 _GROUP_BYTES = 2 << 20  # payload bytes gathered before they are decoded (and then freed)
-_STEP_BYTES = 1 << 20  # payload bytes decoded in step at once: bounds the temporary arrays
+_SLICE = 1 << 16  # messages decoded in step at once: bounds the temporary arrays
 _LENGTH_BITS = 40  # a group's key: its codec's number << 40 | its payloads' length
 _ANY_LENGTH = (1 << _LENGTH_BITS) - 1  # the length in the key of a group of payloads of every length
 
@@ -44,10 +44,12 @@ class _Group:
         self.ids.append(ids)
 
     def joined(self) -> tuple[npt.NDArray[np.uint8], IntArray, IntArray, IntArray]:
-        """All the bytes, each payload's start and length in them, and its message number."""
+        """All the bytes (the pieces let go), each payload's start and length in them, and its
+        message number."""
         bases = np.cumsum([0] + [len(p) for p in self.pieces[:-1]])
         starts = np.concatenate([s + base for s, base in zip(self.starts, bases.tolist(), strict=True)])
         raw = np.frombuffer(self.pieces[0] if len(self.pieces) == 1 else b"".join(self.pieces), np.uint8)
+        self.pieces.clear()
         return raw, starts, np.concatenate(self.lengths), np.concatenate(self.ids)
 
 
@@ -145,22 +147,23 @@ class MessageSet:
         if not len(starts):
             return
         ids = self._numbered(channels, times, where)
-        raw = np.frombuffer(data, np.uint8)
         keys = np.array(self._codec_key, np.int64)[channels]
         keys = np.where(keys & _ANY_LENGTH, keys, keys | lengths)
         order = np.argsort(keys, kind="stable")
         for part in np.split(order, np.flatnonzero(np.diff(keys[order])) + 1):
-            key = int(keys[part[0]])
-            group = self._groups.setdefault(key, _Group())
-            length = key & _ANY_LENGTH
-            if length == _ANY_LENGTH:
-                piece, at = _copied(data, starts[part], lengths[part])
-            else:
-                piece, at = gathered(raw, starts[part], length).tobytes(), length * np.arange(len(part))
-            group.add(piece, at, lengths[part], ids[part])
-            self._pending_bytes += len(piece)
+            self._group(int(keys[part[0]]), data, starts[part], lengths[part], ids[part])
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
+
+    def _group(self, key: int, data: bytes | memoryview, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
+        """Copy the payloads of one group out of ``data``, into that group."""
+        length = key & _ANY_LENGTH
+        if length == _ANY_LENGTH:
+            piece, at = _copied(data, starts, lengths)
+        else:
+            piece, at = gathered(np.frombuffer(data, np.uint8), starts, length).tobytes(), length * np.arange(len(ids))
+        self._groups.setdefault(key, _Group()).add(piece, at, lengths, ids)
+        self._pending_bytes += len(piece)
 
     def _numbered(self, channels: Int32Array, times: IntArray, where: IntArray) -> IntArray:
         """Note the messages' channels, record times and positions; their message numbers."""
@@ -216,10 +219,8 @@ class MessageSet:
         if self.decoder != "fast":
             return self._one_by_one(raw, starts, lengths, ids, range(len(ids)), codec)
         failed = []
-        step = (np.cumsum(lengths) - lengths) // _STEP_BYTES  # of each payload, by the bytes before it
-        firsts = np.flatnonzero(np.diff(step, prepend=-1)).tolist()
-        for first, stop in zip(firsts, [*firsts[1:], len(ids)], strict=True):
-            part = slice(first, stop)
+        for first in range(0, len(ids), _SLICE):
+            part = slice(first, first + _SLICE)
             decoded = decode_tf_messages(raw, starts[part], lengths[part], self._rows.frames)
             self._rows.add_rows(
                 ids[part][decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values

@@ -45,7 +45,9 @@ class Rows:
         self.channels = channels
         self.frames = FrameTable()
         self.parts: dict[str, list[Column]] = {name: [] for name in _COLUMNS}
-        self.settled = 0  # parts of each column in message order
+        self.messages: list[IntArray] = []  # of each part added since ``settle``: each row's message number
+        #: Of each part settled: its messages, and how many rows each has there (8 bytes a row less).
+        self.runs: list[tuple[IntArray, IntArray]] = []
 
     def _ids(self, names: list[str]) -> Int32Array:
         return np.array([self.frames.id(name) for name in names], np.int32)
@@ -64,30 +66,32 @@ class Rows:
         self, message: IntArray, parent: Int32Array, child: Int32Array, stamp: IntArray, values: FloatArray
     ) -> None:
         """Rows of frame ids in ``frames``: ``message`` being each one's message number."""
-        columns: list[Column] = [message, parent, child, stamp, values[:, :3].copy(), values[:, 3:].copy()]
+        self.messages.append(message)
+        columns: list[Column] = [parent, child, stamp, values[:, :3].copy(), values[:, 3:].copy()]
         for name, column in zip(_COLUMNS, columns, strict=True):
             self.parts[name].append(column)
-
-    def __len__(self) -> int:
-        """How many parts each column has."""
-        return len(self.parts["message"])
 
     def settle(self) -> None:
         """Merge the parts added since the last call into one, in message order (a few
         megabytes at most: reordered while in cache)."""
-        added = {name: parts[self.settled :] for name, parts in self.parts.items()}
-        if len(added["message"]) > 1:
-            order = np.argsort(np.concatenate(added["message"]), kind="stable")
-            for name, parts in added.items():
-                self.parts[name][self.settled :] = [np.concatenate(parts)[order]]
-        self.settled = len(self)
+        if not self.messages:
+            return
+        message = self.messages[0]
+        if len(self.messages) > 1:
+            order = np.argsort(np.concatenate(self.messages), kind="stable")
+            message = np.concatenate(self.messages)[order]
+            for parts in self.parts.values():
+                parts[len(self.runs) :] = [np.concatenate(parts[len(self.runs) :])[order]]
+        self.messages = []
+        firsts = np.flatnonzero(np.diff(message, prepend=-1))
+        self.runs.append((message[firsts], np.diff(np.append(firsts, len(message)))))
 
     def batches(self, times: IntArray, channel_of: Int32Array, rank: IntArray) -> list[TransformBatch]:
         """The rows in record order, given each message's record time, channel and place in
         that order: the parts as settled when they are in that order already, else one batch
         made column after column, each freed as it is taken (one is held twice at most)."""
         self.settle()
-        if not len(self):
+        if not self.runs:
             return []
         transforms = [c for c in self.channels if isinstance(c.codec, Codec)]
         authorities = list(dict.fromkeys(c.authority for c in transforms))
@@ -96,8 +100,7 @@ class Rows:
         )
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
 
-        def batch(columns: dict[str, Column]) -> TransformBatch:
-            messages = columns.pop("message")
+        def batch(messages: IntArray, columns: dict[str, Column]) -> TransformBatch:
             channel = channel_of[messages]
             return TransformBatch(
                 frame_names=self.frames.names,
@@ -108,16 +111,18 @@ class Rows:
                 **columns,
             )
 
-        ranks = [rank[m] for m in self.parts["message"]]
+        runs, self.runs = self.runs, []
+        ranks = [rank[messages] for messages, _ in runs]
         if all(bool(np.all(r[1:] >= r[:-1])) for r in ranks) and all(
             a[-1] <= b[0] for a, b in itertools.pairwise(ranks)
         ):
             parts = [dict(zip(_COLUMNS, part, strict=True)) for part in zip(*self.parts.values(), strict=True)]
             self.parts = {name: [] for name in _COLUMNS}
-            return [batch(columns) for columns in parts]
-        order = np.argsort(np.concatenate(ranks), kind="stable")
-        del ranks
-        return [batch({name: self._whole(name)[order] for name in _COLUMNS})]
+            return [batch(np.repeat(*run), columns) for run, columns in zip(runs, parts, strict=True)]
+        message = np.concatenate([np.repeat(*run) for run in runs])
+        order = np.argsort(rank[message], kind="stable")
+        del ranks, runs
+        return [batch(message[order], {name: self._whole(name)[order] for name in _COLUMNS})]
 
     def _whole(self, name: str) -> Column:
         """A column whole, its parts freed as it is taken: only one column is ever held twice."""
@@ -126,4 +131,4 @@ class Rows:
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
 
-_COLUMNS = ("message", "parent", "child", "stamp", "translation", "rotation")
+_COLUMNS = ("parent", "child", "stamp", "translation", "rotation")

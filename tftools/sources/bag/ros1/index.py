@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.time import NS_PER_S
 from tftools.sources.bag.gather import distinct
 from tftools.sources.bag.ranges import prefetch, read_ranges
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
@@ -32,7 +33,7 @@ from tftools.sources.bag.ros1.records import (
     read_chunk_info,
     read_connection,
 )
-from tftools.sources.bag.spans import IntArray, Spans, bounded, joined
+from tftools.sources.bag.spans import IntArray, Spans, bounded
 from tftools.sources.bag.unpack import CompressionUnavailableError
 
 #: Records of uncompressed chunks are gathered until there are this many, or their chunks hold
@@ -108,11 +109,12 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
     except FormatError as e:
         bag.damage.note(info.pos, str(e), wanted)
         return
-    indexed, index_end = _chunk_index(bag, record, info)
-    if chunk.compression == "none" and indexed is not None and bag.fd is not None:
-        gathered.add(bag, _Pending(ordinal, info.pos, wanted, indexed, chunk.data_start, chunk.data_end), index_end)
+    index = _chunk_index(bag, record, info)
+    if chunk.compression == "none" and index is not None and bag.fd is not None:
+        gathered.add(bag, _Pending(ordinal, info.pos, wanted, index, chunk.data_start, chunk.data_end))
         return
-    bag.release(info.pos, index_end)
+    offsets = None if index is None else _wanted_offsets(bag, index)  # before the index's pages are let go
+    bag.release(info.pos, record.data_start if index is None else index.end)
     gathered.read(bag)  # what was gathered comes first: the messages stay in record order
     try:
         unpacked = bag.unpacked(chunk, chunk.data_end)
@@ -120,10 +122,9 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         bag.damage.note(info.pos, str(e), wanted)
         return
     data = unpacked.data
-    if indexed is None:
+    if offsets is None:
         messages, _, first_error = locate(data, walk(data, ordinal), follow=False)
     else:
-        offsets = distinct(indexed.offset[_wanted(bag, indexed)])
         messages, _, first_error = locate(data, in_chunk(offsets, ordinal, len(data)), follow=True)
     got = int(bag.add(data, messages).sum())
     bag.release(info.pos, record.data_end)
@@ -136,23 +137,50 @@ def _wanted(bag: BagFile, spans: Spans) -> npt.NDArray[np.bool_]:
     return spans.looked_up(bag.channels) >= 0
 
 
-def _chunk_index(bag: BagFile, chunk: Record, info: ChunkInfo) -> tuple[Spans | None, int]:
-    """Every message the index records after a chunk list, and where those records end; (None,
-    where the chunk's data begins) when they are unreadable."""
-    parts: list[tuple[int, IntArray, IntArray]] = []
-    pos = chunk.data_end
+def _wanted_offsets(bag: BagFile, index: _Index) -> IntArray:
+    """Where the records a chunk's index lists under wanted connections begin in its data, once each."""
+    indexed = _indexed([index])
+    return distinct(indexed.offset[_wanted(bag, indexed)])
+
+
+@dataclass
+class _Index:
+    """The index records after a chunk: each one's connection and entries (rows of the record
+    time's seconds and nanoseconds, and the offset in the chunk's data, of each message), and
+    where they end."""
+
+    conns: list[int]
+    entries: list[npt.NDArray[np.uint32]]
+    end: int
+
+
+def _chunk_index(bag: BagFile, chunk: Record, info: ChunkInfo) -> _Index | None:
+    """The index records after a chunk; None when they are unreadable."""
+    index = _Index([], [], chunk.data_end)
     try:
         for _ in range(len(info.counts)):
-            record = _record(bag, pos, OP_INDEX)
-            parts.append((record.uint("conn"), *index_entries(bag.buf, record)))
-            pos = record.data_end
+            record = _record(bag, index.end, OP_INDEX)
+            index.conns.append(record.uint("conn"))
+            index.entries.append(index_entries(bag.buf, record))
+            index.end = record.data_end
     except FormatError:
-        return None, chunk.data_start
-    counts = [len(offsets) for _, _, offsets in parts]
-    conn = np.repeat(np.array([c for c, _, _ in parts], np.int64), counts)
-    time = np.concatenate([t for _, t, _ in parts]) if parts else np.zeros(0, np.int64)
-    offset = np.concatenate([o for _, _, o in parts]) if parts else np.zeros(0, np.int64)
-    return Spans(np.zeros(len(offset), np.int64), offset, conn, time, offset, offset), pos
+        return None
+    return index
+
+
+def _indexed(indexes: list[_Index]) -> Spans:
+    """Every message the indexes of some chunks list (its chunk: the place of its index in
+    ``indexes``), without file ranges yet."""
+    parts = [entries for index in indexes for entries in index.entries]
+    if not parts:
+        return Spans.empty()
+    counts = [len(p) for p in parts]
+    entries = np.concatenate(parts)
+    offset = entries[:, 2].astype(np.int64)
+    chunk = np.repeat(np.arange(len(indexes)), [len(index.entries) for index in indexes])
+    conn = np.array([c for index in indexes for c in index.conns], np.int64)
+    time = entries[:, 0].astype(np.int64) * NS_PER_S + entries[:, 1]
+    return Spans(np.repeat(chunk, counts), offset, np.repeat(conn, counts), time, offset, offset)
 
 
 @dataclass
@@ -162,7 +190,7 @@ class _Pending:
     ordinal: int
     pos: int
     wanted: int  # messages, as its chunk info counts them
-    indexed: Spans  # every record its index lists
+    index: _Index
     data_start: int  # where its data begins in the file
     data_end: int
 
@@ -174,16 +202,13 @@ class _Gathered:
     chunks: list[_Pending] = field(default_factory=list)
     records: int = 0  # wanted (about what reading them will take, whatever else the chunks hold)
     nbytes: int = 0  # the chunks' data: at most what reading them will take
-    index_end: int = 0  # where the index records of the last chunk gathered end
 
-    def add(self, bag: BagFile, pending: _Pending, index_end: int) -> None:
+    def add(self, bag: BagFile, pending: _Pending) -> None:
         """Note an uncompressed chunk, to be read with others (and its header's and index's pages
         released with theirs)."""
-        pending.indexed.chunk[:] = len(self.chunks)
         self.chunks.append(pending)
         self.records += pending.wanted
         self.nbytes += pending.data_end - pending.data_start
-        self.index_end = index_end
         if self.records >= _SPAN_RECORDS or self.nbytes >= _SPAN_BYTES:
             self.read(bag)
 
@@ -194,12 +219,10 @@ class _Gathered:
         chunks, self.chunks, self.records, self.nbytes = self.chunks, [], 0, 0
         if not chunks:
             return
-        bag.release(chunks[0].pos, self.index_end)
-        records, _ = bounded(
-            joined([c.indexed for c in chunks]),
-            np.array([c.data_start for c in chunks], np.int64),
-            np.array([c.data_end for c in chunks], np.int64),
-        )
+        indexed = _indexed([c.index for c in chunks])  # read before the indexes' pages are let go
+        bag.release(chunks[0].pos, chunks[-1].index.end)
+        starts, ends = np.array([[c.data_start, c.data_end] for c in chunks], np.int64).T
+        records, _ = bounded(indexed, starts, ends)
         records = records.rows(_wanted(bag, records))
         records = records.rows(np.diff(records.start, prepend=-1) != 0)  # once each
         data, where, complete = read_ranges(bag.fd or 0, records.start, records.end)

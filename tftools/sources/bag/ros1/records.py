@@ -23,8 +23,6 @@ OP_CONNECTION = 0x07
 _U32 = struct.Struct("<I")
 _U64 = struct.Struct("<Q")
 _TIME = struct.Struct("<II")
-_INDEX_ENTRY = np.dtype([("sec", "<u4"), ("nsec", "<u4"), ("offset", "<u4")])
-_CHUNK_COUNT = np.dtype([("conn", "<u4"), ("count", "<u4")])
 
 #: A bag file, mapped or read.
 FileBuffer = bytes | mmap.mmap
@@ -234,19 +232,19 @@ class ChunkInfo:
     counts: dict[int, int] = field(default_factory=dict)
 
 
-def _entries(buf: Buffer, record: Record, entry: np.dtype[np.void], what: str) -> npt.NDArray[np.void]:
-    """The ``count`` entries of version 1 that a chunk info or index data ``record`` holds."""
+def _entries(buf: Buffer, record: Record, width: int, what: str) -> npt.NDArray[np.uint32]:
+    """The ``count`` entries of version 1 that a chunk info or index data ``record`` holds, one
+    row of ``width`` uint32 each."""
     if record.uint("ver") != 1:
         raise FormatError(f"{what} version {record.uint('ver')} is unknown")
     count = record.uint("count")
-    if record.data_end - record.data_start < count * entry.itemsize or record.data_end > len(buf):
+    if record.data_end - record.data_start < count * 4 * width or record.data_end > len(buf):
         raise FormatError(f"the {what} at byte {record.start} is cut short")
-    return np.frombuffer(buf, entry, count, record.data_start)
+    return np.frombuffer(buf, "<u4", count * width, record.data_start).reshape(count, width)
 
 
 def read_chunk_info(buf: Buffer, record: Record) -> ChunkInfo:
-    pairs = _entries(buf, record, _CHUNK_COUNT, "chunk info")
-    counts = dict(zip(pairs["conn"].tolist(), pairs["count"].tolist(), strict=True))
+    counts = dict(_entries(buf, record, 2, "chunk info").tolist())  # connection id -> messages
     pos = record.uint("chunk_pos")
     if pos >= len(buf):
         raise FormatError(f"the chunk info at byte {record.start} points past the end of the file")
@@ -266,9 +264,7 @@ def read_chunk(record: Record) -> Chunk:
     return Chunk(record.start, record.text("compression"), record.uint("size"), record.data_start, record.data_end)
 
 
-def index_entries(buf: Buffer, record: Record) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
-    """The record times of the messages an index data record lists, and where they begin in its
-    chunk's data."""
-    entries = _entries(buf, record, _INDEX_ENTRY, "index data")
-    times = entries["sec"].astype(np.int64) * NS_PER_S + entries["nsec"]
-    return times, entries["offset"].astype(np.int64)
+def index_entries(buf: Buffer, record: Record) -> npt.NDArray[np.uint32]:
+    """The entries of an index data record, a row per message it lists: its record time (seconds,
+    nanoseconds), and where it begins in its chunk's data."""
+    return _entries(buf, record, 3, "index data")
