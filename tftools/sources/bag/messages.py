@@ -21,7 +21,7 @@ ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
 Failures = list[tuple[int, str]]  # (message, reason) of the messages that could not be decoded
 
-_GROUP_BYTES = 2 << 20  # payload bytes gathered before they are decoded (and then freed)
+_GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
 _SLICE = 1 << 16  # messages decoded in step at once: bounds the temporary arrays
 _LENGTH_BITS = 40  # a group's key: its codec's number << 40 | its payloads' length
 _ANY_LENGTH = (1 << _LENGTH_BITS) - 1  # the length in the key of a group of payloads of every length
@@ -160,6 +160,7 @@ class MessageSet:
         length = key & _ANY_LENGTH
         if length == _ANY_LENGTH:
             piece, at = _copied(data, starts, lengths)
+            self._pending_bytes += len(piece)  # counted twice: decoding in step takes as much again
         else:
             piece, at = gathered(np.frombuffer(data, np.uint8), starts, length).tobytes(), length * np.arange(len(ids))
         self._groups.setdefault(key, _Group()).add(piece, at, lengths, ids)
