@@ -40,10 +40,12 @@ class Spans:
 
     def looked_up(self, table: dict[int, int]) -> IntArray:
         """Each row's ``table[channel]``, -1 where its channel is not in ``table``."""
-        if not len(self):
-            return np.zeros(0, np.int64)
-        channels, inverse = np.unique(self.channel, return_inverse=True)
-        return np.array([table.get(c, -1) for c in channels.tolist()], np.int64)[inverse.reshape(-1)]
+        keys = np.array(sorted(table), np.int64)
+        if not len(keys):
+            return np.full(len(self), -1, np.int64)
+        at = np.minimum(np.searchsorted(keys, self.channel), len(keys) - 1)
+        values = np.array([table[k] for k in keys.tolist()], np.int64)
+        return np.where(keys[at] == self.channel, values[at], -1)
 
     @property
     def position(self) -> IntArray:
@@ -73,7 +75,7 @@ def bounded(spans: Spans, records_start: IntArray, records_end: IntArray) -> tup
     spans = spans.rows(order)
     spans.start = start[order]
     damaged[spans.chunk[1:][spans.start[1:] == spans.start[:-1]]] = True
-    # The chunks do not overlap (if they do, a record only gets less room): every bound sorts as one list.
-    bounds = np.sort(np.concatenate([spans.start, records_end]))
-    spans.end = np.minimum(bounds[np.searchsorted(bounds, spans.start, side="right")], records_end[spans.chunk])
+    # The next record further on (past those at the same offset) begins in this chunk, or after its end.
+    further = np.append(spans.start, np.iinfo(np.int64).max)[np.searchsorted(spans.start, spans.start, side="right")]
+    spans.end = np.minimum(further, records_end[spans.chunk])
     return spans, damaged
