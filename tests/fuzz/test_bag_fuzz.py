@@ -23,7 +23,7 @@ from tests.sources import hostile
 from tftools.core.errors import TfToolsError
 from tftools.core.transform import Transform
 from tftools.sources.bag.decode.codec import CODECS
-from tftools.sources.bag.decode.messages import MessageSet
+from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
 
 EXAMPLES = int(os.environ.get("TFTOOLS_FUZZ_EXAMPLES", "25"))

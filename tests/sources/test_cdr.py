@@ -21,8 +21,8 @@ from tests.sources.ros2_helpers import (
     varied_transform,
 )
 from tftools.sources.bag.decode.codec import CODECS
-from tftools.sources.bag.decode.messages import MessageSet
 from tftools.sources.bag.decode.template import DecodeError
+from tftools.sources.bag.messages import MessageSet
 
 TF = ("tf2_msgs/msg/TFMessage", "cdr")
 DECODERS = ("fast", "simple", "reference")

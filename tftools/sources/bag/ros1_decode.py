@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.ros1_format import bytes_at, distinct, u32_at
+from tftools.sources.bag.gather import bytes_at, distinct, u32_at
 
 IntArray = npt.NDArray[np.int64]
 Int32Array = npt.NDArray[np.int32]

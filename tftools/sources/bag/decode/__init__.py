@@ -1,7 +1,5 @@
-"""Transform messages of ROS2 bags and MCAP files (CDR, ROS1, protobuf, JSON) decoded in bulk into batches."""
+"""Transform and clock messages (CDR, ROS1, protobuf, JSON) decoded in bulk."""
 
 from tftools.sources.bag.decode.codec import Decoder, select
-from tftools.sources.bag.decode.messages import MessageSet, Unpack
-from tftools.sources.bag.decode.scan import FileScan, file_result
 
-__all__ = ["Decoder", "FileScan", "MessageSet", "Unpack", "file_result", "select"]
+__all__ = ["Decoder", "select"]
