@@ -17,7 +17,7 @@ import pytest
 from tests.cli.test_view_frames import need, pdf_lines
 
 DYNAMIC_PUBLISHER = """
-import rospy, tf2_ros
+import math, rospy, tf2_ros
 from geometry_msgs.msg import TransformStamped
 rospy.init_node("odometry")
 broadcaster = tf2_ros.TransformBroadcaster()
@@ -26,7 +26,8 @@ while not rospy.is_shutdown():
     t = TransformStamped()
     t.header.stamp = rospy.Time.now()
     t.header.frame_id, t.child_frame_id = "odom", "base_link"
-    t.transform.translation.x = rospy.get_time() % 10.0  # moving, or it belongs on /tf_static
+    # moving (or it belongs on /tf_static), smoothly (a wrap would be an odom jump: an error under REP 105)
+    t.transform.translation.x = math.sin(rospy.get_time())
     t.transform.rotation.w = 1.0
     broadcaster.sendTransform(t)
     rate.sleep()
