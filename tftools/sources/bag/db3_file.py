@@ -13,9 +13,10 @@ import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.db3_salvage import Row, salvage
-from tftools.sources.bag.decode import Decoder, FileScan, MessageSet, Unpack, select
+from tftools.sources.bag.decode import FileScan, MessageSet, Unpack
 from tftools.sources.bag.decode.messages import Int32Array
 from tftools.sources.bag.unpack import zstd_messages
+from tftools.sources.codecs.select import select
 from tftools.sources.errors import CorruptBagError
 
 MAGIC = b"SQLite format 3\x00"
@@ -29,15 +30,13 @@ def scan(
     topics: tuple[str, ...],
     progress: ProgressCallback,
     unpack: Unpack | None = None,
-    *,
-    decoder: Decoder = "fast",
 ) -> FileScan:
     """The transform messages and description of one rosbag2 sqlite3 file, undecoded.
 
     Payloads compressed one by one (zstd) are decompressed with ``unpack``, or on their own when
     they look compressed. Raises ``CorruptBagError`` when nothing could be read.
     """
-    result = FileScan(MessageSet(unpack, decoder))
+    result = FileScan(MessageSet(unpack))
     wal = path.with_name(path.name + "-wal")
     unmerged = wal.exists() and wal.stat().st_size > 0
     with _connect(path) as db:

@@ -11,7 +11,7 @@ import numpy as np
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
-from tftools.sources.bag.decode import Decoder, FileScan, MessageSet, Unpack, file_result
+from tftools.sources.bag.decode import FileScan, MessageSet, Unpack, file_result
 from tftools.sources.bag.mcap_records import (
     CHANNEL,
     CHUNK,
@@ -46,11 +46,9 @@ _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, 
 _ID_OFFSET = struct.Struct("<HQ")
 
 
-def read(
-    path: Path, topics: tuple[str, ...], progress: ProgressCallback, *, decoder: Decoder = "fast"
-) -> tuple[list[TransformBatch], BagFileInfo]:
+def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms of a bare ``.mcap`` file (see ``reader.read_bag``)."""
-    return file_result(path, "mcap", [scan(path, topics, progress, decoder=decoder)])
+    return file_result(path, "mcap", [scan(path, topics, progress)])
 
 
 def scan(
@@ -58,14 +56,12 @@ def scan(
     topics: tuple[str, ...],
     progress: ProgressCallback,
     unpack: Unpack | None = None,
-    *,
-    decoder: Decoder = "fast",
 ) -> FileScan:
     """The transform messages and description of one MCAP file, undecoded.
 
     Raises ``CorruptBagError`` when nothing could be read; a damaged file is read up to the damage.
     """
-    result = FileScan(MessageSet(unpack, decoder))
+    result = FileScan(MessageSet(unpack))
     try:
         with path.open("rb") as f:
             size = path.stat().st_size

@@ -10,14 +10,11 @@ from pathlib import Path
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
 from tftools.sources.bag.ros1_format import FormatError, read_bag_header
-from tftools.sources.bag.ros1_messages import Decoder
 from tftools.sources.bag.ros1_scan import BagScan
 from tftools.sources.errors import CorruptBagError
 
 
-def read(
-    path: Path, topics: tuple[str, ...], progress: ProgressCallback, *, decoder: Decoder = "fast"
-) -> tuple[list[TransformBatch], BagFileInfo]:
+def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms on ``topics`` and the clock of the ROS1 bag at ``path`` (see ``reader.read_bag``).
 
     A bag without (or with a damaged) index is read by scanning its chunks; what could not be
@@ -32,7 +29,7 @@ def read(
             raise CorruptBagError(
                 str(path), f"encrypted with {header.encryptor}; decrypt it with `rosbag decrypt` first"
             )
-        scan = BagScan(path.name, buf, topics, progress, decoder, file.fileno())
+        scan = BagScan(path.name, buf, topics, progress, file.fileno())
         scan.read(header)
         batches, clock, undecodable = scan.messages.decode()
     info = BagFileInfo(

@@ -20,9 +20,6 @@ OP_CHUNK = 0x05
 OP_CHUNK_INFO = 0x06
 OP_CONNECTION = 0x07
 
-#: Message types laid out as tf2_msgs/TFMessage.
-TF_TYPES = ("tf2_msgs/TFMessage", "tf/tfMessage")
-
 _U32 = struct.Struct("<I")
 _U64 = struct.Struct("<Q")
 _TIME = struct.Struct("<II")

@@ -3,22 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
 
 import numpy as np
 import numpy.typing as npt
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.columns import ColumnParts
-from tftools.sources.bag.decode.clock import ClockParts, ros1_clocks
-from tftools.sources.bag.decode.template import gathered
+from tftools.sources.bag.decode.clock import ClockParts
 from tftools.sources.bag.ros1_chunks import IntArray, Located, pieces
-from tftools.sources.bag.ros1_decode import Decoded, FrameTable, decode_tf_messages, reference_transforms
 from tftools.sources.bag.ros1_format import Buffer, Connection
+from tftools.sources.codecs.decoded import Decoded, FrameTable
+from tftools.sources.codecs.ros1 import decode_clocks, decode_tf
 from tftools.sources.contents import ClockSamples, is_static_topic
-
-#: "fast": numpy over many messages at once; "reference": rosbags' deserializer, message by message.
-Decoder = Literal["fast", "reference"]
 
 _SLICE = 1 << 16  # messages decoded together: bounds the temporary arrays
 _GROUP_BYTES = 2 << 20  # payload bytes gathered before they are decoded (and then freed)
@@ -46,8 +42,7 @@ class MessageCollector:
     put the rows in rosbag's playback order at the end.
     """
 
-    def __init__(self, decoder: Decoder = "fast") -> None:
-        self.decoder = decoder
+    def __init__(self) -> None:
         self.channels: list[Connection] = []  # the connections read, by channel number
         self._channel_of: dict[int, int] = {}
         self._is_clock: list[bool] = []  # per channel
@@ -106,20 +101,17 @@ class MessageCollector:
     def _add_clocks(
         self, chunk: int | IntArray, data: Buffer, located: Located, channel: IntArray, clock: npt.NDArray[np.bool_]
     ) -> None:
-        """Decode the clock messages among ``located`` (payloads of one length at a time)."""
-        raw = np.frombuffer(data, np.uint8)
+        """Decode the clock messages among ``located``."""
         which = np.flatnonzero(clock)
         position = (np.broadcast_to(np.asarray(chunk, np.int64), len(channel))[which] << 32) + located.offset[which]
-        lengths = located.data_len[which]
-        for length in np.unique(lengths).tolist():
-            of_length = np.flatnonzero(lengths == length)
-            rows, values, failures = ros1_clocks(gathered(raw, located.data_start[which[of_length]], length))
-            taken = which[of_length[rows]]
-            self._clock.add(channel[taken].astype(np.int32), located.time[taken], position[of_length[rows]], values)
-            for row, reason in failures:
-                index = int(channel[which[of_length[row]]])
-                before, first = self._failures.get(index, (0, reason))
-                self._failures[index] = (before + 1, first)
+        raw = np.frombuffer(data, np.uint8)
+        rows, values, failures = decode_clocks(raw, located.data_start[which], located.data_len[which])
+        taken = which[rows]
+        self._clock.add(channel[taken].astype(np.int32), located.time[taken], position[rows], values)
+        for row, reason in failures:
+            index = int(channel[which[row]])
+            before, first = self._failures.get(index, (0, reason))
+            self._failures[index] = (before + 1, first)
 
     def _channels(self, conn: IntArray) -> IntArray:
         if not len(conn):
@@ -139,21 +131,19 @@ class MessageCollector:
         starts = np.concatenate([f.starts + base for f, base in zip(found, bases.tolist(), strict=False)])
         raw = np.frombuffer(b"".join(f.payload for f in found), np.uint8)
         del found
-        if self.decoder == "fast":
-            parts, failures = self._fast(raw, starts, lengths, channel, self._frames)
-        else:
-            parts, failures = self._reference(raw, starts, lengths, channel, range(len(channel)), self._frames)
-        for index, (count, reason) in failures.items():
-            before, first = self._failures.get(index, (0, reason))
-            self._failures[index] = (before + count, first)
-        parts = [p for p in parts if len(p.message)]
-        message = np.concatenate([p.message for p in parts]) if parts else np.zeros(0, np.int64)
-        self._rows.append(np.bincount(message, minlength=len(channel)))
-        if not parts:
+        parts = []
+        for first in range(0, len(starts), _SLICE):
+            part = decode_tf(raw, starts[first : first + _SLICE], lengths[first : first + _SLICE], self._frames)
+            part.message += first
+            parts.append(part)
+            for message, reason in part.failures:
+                index = int(channel[first + message])
+                before, first_reason = self._failures.get(index, (0, reason))
+                self._failures[index] = (before + 1, first_reason)
+        decoded = Decoded.joined(parts)
+        self._rows.append(np.bincount(decoded.message, minlength=len(channel)))
+        if not len(decoded.message):
             return
-        decoded = parts[0] if len(parts) == 1 else _joined(parts)
-        if len(decoded.message) > 1 and np.any(np.diff(decoded.message) < 0):  # rosbags' rows came last
-            decoded = _taken(decoded, np.argsort(decoded.message, kind="stable"))
         values = decoded.values
         self._columns.add(
             parent=decoded.parent,
@@ -212,54 +202,6 @@ class MessageCollector:
     def _places(self) -> tuple[IntArray, IntArray]:
         return np.concatenate(self._chunk), np.concatenate(self._offset)
 
-    def _fast(
-        self, raw: npt.NDArray[np.uint8], starts: IntArray, lengths: IntArray, channel: IntArray, frames: FrameTable
-    ) -> tuple[list[Decoded], dict[int, tuple[int, str]]]:
-        parts: list[Decoded] = []
-        failed: list[IntArray] = []
-        for first in range(0, len(starts), _SLICE):
-            part = decode_tf_messages(raw, starts[first : first + _SLICE], lengths[first : first + _SLICE], frames)
-            part.message += first
-            parts.append(part)
-            failed.append(part.failed + first)
-        # What numpy could not parse, rosbags either parses (then its rows count) or explains.
-        again, failures = self._reference(raw, starts, lengths, channel, np.concatenate(failed).tolist(), frames)
-        return parts + again, failures
-
-    def _reference(
-        self,
-        raw: npt.NDArray[np.uint8],
-        starts: IntArray,
-        lengths: IntArray,
-        channel: IntArray,
-        messages: range | list[int],
-        frames: FrameTable,
-    ) -> tuple[list[Decoded], dict[int, tuple[int, str]]]:
-        rows: list[tuple[int, int, int, int, tuple[float, ...]]] = []
-        failures: dict[int, tuple[int, str]] = {}  # channel -> (count, first reason)
-        for index in messages:
-            payload = raw[starts[index] : starts[index] + lengths[index]].tobytes()
-            type_name = self.channels[channel[index]].type
-            try:
-                transforms = reference_transforms(payload, type_name)
-            except ValueError as e:
-                count, reason = failures.get(int(channel[index]), (0, str(e)))
-                failures[int(channel[index])] = (count + 1, reason)
-                continue
-            rows += [(index, frames.id(p), frames.id(c), stamp, values) for p, c, stamp, values in transforms]
-        if not rows:
-            return [], failures
-        message, parent, child, stamp, values = zip(*rows, strict=True)
-        decoded = Decoded(
-            np.array(message, np.int64),
-            np.array(parent, np.int32),
-            np.array(child, np.int32),
-            np.array(stamp, np.int64),
-            np.array(values, np.float64).reshape(-1, 7),
-            np.zeros(0, np.int64),
-        )
-        return [decoded], failures
-
     def _problems(self, failures: dict[int, tuple[int, str]], channel: IntArray) -> list[str]:
         """One line per topic and type: how many of its messages were lost, and the first reason."""
         totals: dict[tuple[str, str], int] = {}
@@ -276,28 +218,6 @@ class MessageCollector:
             f"skipped (first: {reason})"
             for (topic, type_name), (count, reason) in lost.items()
         ]
-
-
-def _joined(parts: list[Decoded]) -> Decoded:
-    return Decoded(
-        np.concatenate([p.message for p in parts]),
-        np.concatenate([p.parent for p in parts]),
-        np.concatenate([p.child for p in parts]),
-        np.concatenate([p.stamp for p in parts]),
-        np.concatenate([p.values for p in parts]),
-        np.zeros(0, np.int64),
-    )
-
-
-def _taken(decoded: Decoded, order: IntArray) -> Decoded:
-    return Decoded(
-        decoded.message[order],
-        decoded.parent[order],
-        decoded.child[order],
-        decoded.stamp[order],
-        decoded.values[order],
-        decoded.failed,
-    )
 
 
 def _rank(time: IntArray, conn: IntArray, chunk: IntArray, offset: IntArray) -> IntArray | None:

@@ -10,7 +10,6 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.decode.clock import CLOCK_TYPES
 from tftools.sources.bag.ranges import prefetch
 from tftools.sources.bag.ros1_chunks import (
     IntArray,
@@ -24,7 +23,6 @@ from tftools.sources.bag.ros1_format import (
     OP_CONNECTION,
     OP_INDEX,
     OP_MESSAGE,
-    TF_TYPES,
     BagHeader,
     Buffer,
     Chunk,
@@ -41,9 +39,11 @@ from tftools.sources.bag.ros1_format import (
     read_connection,
     read_record,
 )
-from tftools.sources.bag.ros1_messages import Decoder, MessageCollector
+from tftools.sources.bag.ros1_messages import MessageCollector
 from tftools.sources.bag.ros1_spans import ChunkSpans
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, Unpacked, unpack
+from tftools.sources.codecs.select import CLOCK_TYPES
+from tftools.sources.codecs.select import ROS1_TF_TYPES as TF_TYPES
 
 _REPAIR = "run `rosbag reindex` on a copy to repair it"
 _CHUNK_HEADER_OP = b"\x04\x00\x00\x00op=\x05"  # the op field of a chunk record header
@@ -96,7 +96,6 @@ class BagScan:
         buf: FileBuffer,
         topics: tuple[str, ...],
         progress: ProgressCallback,
-        decoder: Decoder = "fast",
         fd: int | None = None,
     ) -> None:
         self.name = name
@@ -107,7 +106,7 @@ class BagScan:
         self.budget = Budget(self.size)  # what its chunks may decompress to in all
         self.wanted_topics = topics
         self.progress = progress
-        self.messages = MessageCollector(decoder)
+        self.messages = MessageCollector()
         self.topics: dict[str, str] = {}
         self.connections: dict[int, Connection] = {}
         self.start = self.end = self.message_count = 0

@@ -1,7 +1,6 @@
-"""Transform messages of ROS2 bags and MCAP files (CDR, ROS1, protobuf, JSON) decoded in bulk into batches."""
+"""Transform and clock messages of ROS2 bags and MCAP files gathered, and decoded by the codecs into batches."""
 
-from tftools.sources.bag.decode.codec import Decoder, select
 from tftools.sources.bag.decode.messages import MessageSet, Unpack
 from tftools.sources.bag.decode.scan import FileScan, file_result
 
-__all__ = ["Decoder", "FileScan", "MessageSet", "Unpack", "file_result", "select"]
+__all__ = ["FileScan", "MessageSet", "Unpack", "file_result"]

@@ -8,11 +8,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.batch import Int64Array as IntArray
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.decode.clock import ClockParts
-from tftools.sources.bag.decode.codec import ClockCodec, Codec, Decoder
 from tftools.sources.bag.decode.rows import Channel, Rows
-from tftools.sources.bag.decode.template import Block, IntArray, decode_group, gathered, one_by_one
+from tftools.sources.codecs.decoded import gathered
+from tftools.sources.codecs.select import ClockCodec, Codec
 from tftools.sources.contents import ClockSamples
 
 Int32Array = npt.NDArray[np.int32]
@@ -41,14 +42,13 @@ class MessageSet:
     """The transform and clock messages of one file, added in any order; ``decode`` puts them in
     record time order, ties in ``position`` order (their order in the file).
 
-    Payloads are decoded with ``decoder`` a few megabytes at a time as they are added, so that
+    Payloads are decoded a few megabytes at a time as they are added, so that
     a file's payloads are never all held at once; per message only its record time, position
     and channel are kept until ``decode``.
     """
 
-    def __init__(self, unpack: Unpack | None = None, decoder: Decoder = "fast") -> None:
+    def __init__(self, unpack: Unpack | None = None) -> None:
         self.unpack = unpack  # applied to every payload first, e.g. decompression
-        self.decoder = decoder
         self.channels: list[Channel] = []
         self._channel_ids: dict[Channel, int] = {}
         self._codecs: list[Codec | ClockCodec] = []
@@ -68,8 +68,8 @@ class MessageSet:
         return self.count
 
     def emptied(self) -> MessageSet:
-        """A set without messages but with the same channels (numbered alike), unpack and decoder."""
-        fresh = MessageSet(self.unpack, self.decoder)
+        """A set without messages but with the same channels (numbered alike) and unpack."""
+        fresh = MessageSet(self.unpack)
         for channel in self.channels:
             fresh.channel(channel.topic, channel.codec)
         return fresh
@@ -181,14 +181,14 @@ class MessageSet:
         while self._groups:
             (codec, length), group = self._groups.popitem()
             matrix, ids = group.matrix(length)
+            starts, lengths = np.arange(len(ids), dtype=np.int64) * length, np.full(len(ids), length, np.int64)
             if isinstance(codec, ClockCodec):
-                rows, values, failures = codec.decode(matrix)
+                rows, values, failures = codec.decode(matrix.reshape(-1), starts, lengths)
                 self._clocks.append((ids[rows], values))
-                self._failed += [(int(ids[row]), reason) for row, reason in failures]
-                continue
-            blocks, failures = _decode(matrix, codec, self.decoder)
-            for block in blocks:
-                self._rows.add(ids[block.rows], block)
+            else:
+                decoded = codec.decode(matrix.reshape(-1), starts, lengths, self._rows.frames)
+                self._rows.add(ids[decoded.message], decoded)
+                failures = decoded.failures
             self._failed += [(int(ids[row]), reason) for row, reason in failures]
         self._rows.settle()
         self._pending_bytes = 0
@@ -236,13 +236,3 @@ def _rank(times: IntArray, positions: list[IntArray]) -> IntArray:
     rank = np.empty(len(times), np.int64)
     rank[np.lexsort((where, times))] = np.arange(len(times))
     return rank
-
-
-def _decode(matrix: npt.NDArray[np.uint8], codec: Codec, decoder: Decoder) -> tuple[list[Block], list[tuple[int, str]]]:
-    if decoder == "fast" and codec.templated:
-        return decode_group(matrix, codec.parse)
-    blocks: list[Block] = []
-    failures: list[tuple[int, str]] = []
-    rows = np.arange(len(matrix), dtype=np.int64)
-    one_by_one(matrix, rows, codec.parser(decoder), blocks, failures)
-    return blocks, failures

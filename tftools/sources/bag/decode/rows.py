@@ -9,10 +9,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.batch import Int64Array as IntArray
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.columns import ColumnParts
-from tftools.sources.bag.decode.codec import ClockCodec, Codec
-from tftools.sources.bag.decode.template import Block, IntArray
+from tftools.sources.codecs.decoded import Decoded, FrameTable
+from tftools.sources.codecs.select import ClockCodec, Codec
 from tftools.sources.contents import is_static_topic
 
 
@@ -25,34 +26,29 @@ class Channel:
 
 
 class Rows:
-    """Columns of decoded transforms, block after block; frame names interned as they come.
+    """Columns of decoded transforms, part after part; frame names interned as they come.
 
-    Blocks come grouped by message layout; ``settle`` puts those added since the last call in
-    message order, so that rows read in record order need no reordering of the whole batch.
+    Parts come grouped by codec and payload length; ``settle`` puts those added since the last call
+    in message order, so that rows read in record order need no reordering of the whole batch.
     """
 
     def __init__(self, channels: list[Channel]) -> None:
         self.channels = channels
-        self.frames: dict[str, int] = {}
+        self.frames = FrameTable()
         self.columns = ColumnParts(_COLUMNS)
         self.settled = 0  # parts of each column in message order
 
-    def _ids(self, names: list[str]) -> npt.NDArray[np.int32]:
-        return np.array([self.frames.setdefault(name, len(self.frames)) for name in names], np.int32)
-
-    def add(self, messages: IntArray, block: Block) -> None:
-        """The block's rows, ``messages`` being the message number of each of its rows."""
-        n, k = block.stamps.shape
-        if not n * k:
+    def add(self, messages: IntArray, decoded: Decoded) -> None:
+        """The decoded rows, ``messages`` being the message number of each (its frames in ``frames``)."""
+        if not len(messages):
             return
-        values = block.values.reshape(-1, 7)
         self.columns.add(
-            message=np.repeat(messages, k),
-            parent=np.tile(self._ids(block.parents), n),
-            child=np.tile(self._ids(block.children), n),
-            stamp=block.stamps.reshape(-1),
-            translation=np.ascontiguousarray(values[:, :3]),
-            rotation=np.ascontiguousarray(values[:, 3:]),
+            message=messages,
+            parent=decoded.parent,
+            child=decoded.child,
+            stamp=decoded.stamp,
+            translation=np.ascontiguousarray(decoded.values[:, :3]),
+            rotation=np.ascontiguousarray(decoded.values[:, 3:]),
         )
 
     def settle(self) -> None:
@@ -78,7 +74,7 @@ class Rows:
             [authorities.index(c.topic) if isinstance(c.codec, Codec) else -1 for c in self.channels], np.int32
         )
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
-        names = list(self.frames)
+        names = self.frames.names
 
         def batch(columns: dict[str, npt.NDArray[Any]]) -> TransformBatch:
             messages = columns.pop("message")
