@@ -30,7 +30,7 @@ from tests.sources.ros1_helpers import (
 from tftools.sources.bag import ranges, ros1, ros1_scan
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.ros1_format import read_bag_header
-from tftools.sources.codecs import wire
+from tftools.sources.codecs import decoded
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.ros1 import decode_tf
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
@@ -153,7 +153,7 @@ def test_frame_ids_with_colliding_hashes_stay_apart(tmp_path: Path, monkeypatch:
     bag = write_rosbags(tmp_path / "b.bag", varied_messages(seed=9), "none")
     expected = reference_rows(bag)
     # Every hash is then a name's last 8 bytes: robot_1/base_link and robot_2/base_link collide.
-    monkeypatch.setattr(wire, "_HASH_PRIME", np.uint64(0))
+    monkeypatch.setattr(decoded, "_HASH_PRIME", np.uint64(0))
     (batch,), _ = read(bag)
     assert {"robot_1/base_link", "robot_2/base_link"} <= set(batch.frame_names)
     assert rows_of(batch) == expected

@@ -12,7 +12,7 @@ from tftools.sources.bag.columns import ColumnParts
 from tftools.sources.bag.decode.clock import ClockParts
 from tftools.sources.bag.ros1_chunks import IntArray, Located, pieces
 from tftools.sources.bag.ros1_format import Buffer, Connection
-from tftools.sources.codecs.decoded import Decoded, FrameTable
+from tftools.sources.codecs.decoded import Decoded, FrameNames
 from tftools.sources.codecs.ros1 import decode_clocks, decode_tf
 from tftools.sources.contents import ClockSamples, is_static_topic
 
@@ -55,7 +55,7 @@ class MessageCollector:
         self._offset: list[IntArray] = []
         self._rows: list[IntArray] = []  # per message, its transforms decoded
         self._columns = ColumnParts(_COLUMNS)
-        self._frames = FrameTable()
+        self._frames = FrameNames()
         self._failures: dict[int, tuple[int, str]] = {}  # channel -> (count, first reason)
         self.count = 0
 

@@ -10,8 +10,9 @@ counts from just after it, 8-byte values aligned to 8 in CDR and to 4 in XCDR2.
 from __future__ import annotations
 
 from tftools.core.batch import Int64Array
-from tftools.sources.codecs.decoded import ByteArray, BytesLike, Clocks, Decoded, FrameTable
-from tftools.sources.codecs.wire import Header, Wire, decode_times, decode_transforms, parse_header
+from tftools.sources.codecs.decoded import ByteArray, BytesLike, Clocks, Decoded, FrameNames
+from tftools.sources.codecs.stepped import decode_transforms
+from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header
 
 WIRES = tuple(
     Wire(order, origin=4, align=align, seq=False, signed_sec=True, nul=True, exact=False, encapsulation=kind)
@@ -19,12 +20,12 @@ WIRES = tuple(
 )
 
 
-def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable) -> Decoded:
+def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     """TFMessages (or FrameTransforms), as ``wire.decode_transforms`` decodes them."""
     return decode_transforms(raw, starts, lengths, frames, WIRES)
 
 
-def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable) -> Decoded:
+def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     """Single foxglove FrameTransforms: a transform each, without a count."""
     return decode_transforms(raw, starts, lengths, frames, WIRES, counted=False)
 

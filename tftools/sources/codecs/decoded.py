@@ -1,5 +1,5 @@
-"""What every transform decoder gives: rows of transforms, message by message, their frame names
-interned once per source."""
+"""What every decoder gives: rows of transforms, message by message, their frame names interned
+once per source; clocks; and the one-message use of a bulk decoder."""
 
 from __future__ import annotations
 
@@ -9,18 +9,26 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.batch import FloatArray, Int32Array, Int64Array, TransformBatch
+from tftools.core.batch import BoolArray, FloatArray, Int32Array, Int64Array, TransformBatch
 
 ByteArray = npt.NDArray[np.uint8]
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
 BytesLike = bytes | memoryview | ByteArray
+
+#: Names this few are interned one by one rather than told apart by a hash of their bytes.
+_FEW_NAMES = 32
+_HASH_PRIME = np.uint64(0x100000001B3)
+#: Distinct hashes picked out one pass each before the rest are sorted out.
+_PEELED = 16
+#: Names shorter than this have their distinct lengths counted rather than sorted.
+_COUNTED_LENGTHS = 1 << 16
 
 
 class DecodeError(ValueError):
     """A payload that is not a well-formed message of its type."""
 
 
-class FrameTable:
+class FrameNames:
     """Frame names interned once for a whole source: name -> index into ``names``."""
 
     def __init__(self) -> None:
@@ -34,11 +42,45 @@ class FrameTable:
             self.names.append(name)
         return index
 
+    def intern(self, raw: ByteArray, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
+        """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]``, and which are not UTF-8.
+
+        Names of one length are told apart by a 64-bit hash of their bytes, checked byte for byte
+        afterwards (a collision falls back to sorting the bytes themselves).
+        """
+        if len(starts) <= _FEW_NAMES:
+            data = raw.data
+            found = []
+            for start, length in zip(starts.tolist(), lengths.tolist(), strict=True):
+                try:
+                    found.append(self.id(str(data[start : start + length], "utf-8")))
+                except UnicodeDecodeError:
+                    found.append(-1)
+            few = np.array(found, np.int32)
+            return np.maximum(few, 0), few < 0
+        ids = np.zeros(len(starts), np.int32)
+        undecodable = np.zeros(len(starts), bool)
+        distinct = np.flatnonzero(np.bincount(lengths)) if lengths.max() < _COUNTED_LENGTHS else np.unique(lengths)
+        for length in distinct.tolist():
+            rows = np.flatnonzero(lengths == length)
+            matrix = gathered(raw, starts[rows], length)
+            firsts, inverse = _distinct_rows(matrix)
+            table = np.zeros(len(firsts), np.int32)
+            broken = np.zeros(len(firsts), bool)
+            for i, row in enumerate(firsts.tolist()):
+                try:
+                    table[i] = self.id(matrix[row].tobytes().decode("utf-8"))
+                except UnicodeDecodeError:
+                    broken[i] = True
+            ids[rows] = table[inverse]
+            undecodable[rows] = broken[inverse]
+        return ids, undecodable
+
 
 @dataclass
 class Decoded:
     """Transforms of decoded messages, message by message in order: ``message`` is each row's
-    message (an index into the payloads given), ``parent`` and ``child`` ids of a ``FrameTable``;
+    message (an index into the payloads given), ``parent`` and ``child`` ids of a ``FrameNames``;
     ``failures`` the (message, reason) of payloads that are not well-formed messages."""
 
     message: Int64Array
@@ -67,7 +109,12 @@ class Decoded:
         message, parent, child, stamp, values = columns
         return cls(message, parent, child, stamp, values, sorted(f for p in parts for f in p.failures))
 
-    def batch(self, frames: FrameTable, *, static: bool, authority: str, record_time: int) -> TransformBatch:
+    def renumbered(self, numbers: Int64Array) -> Decoded:
+        """The same rows and failures, message ``i`` renumbered ``numbers[i]``."""
+        failures = [(int(numbers[message]), reason) for message, reason in self.failures]
+        return Decoded(numbers[self.message], self.parent, self.child, self.stamp, self.values, failures)
+
+    def batch(self, frames: FrameNames, *, static: bool, authority: str, record_time: int) -> TransformBatch:
         """The rows as one source's batch, every row from ``authority`` at ``record_time``."""
         n = len(self.message)
         return TransformBatch(
@@ -84,46 +131,37 @@ class Decoded:
 
 
 _COLUMNS = ("message", "parent", "child", "stamp", "values")
-_MIN_STAMP, _MAX_STAMP = -(2**63), 2**63 - 1
+
+#: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.
+BulkDecoder = Callable[[ByteArray, Int64Array, Int64Array, FrameNames], Decoded]
+#: Clocks of many payloads: the messages well-formed, their times (ns), and the (message, reason) of the others.
+Clocks = tuple[Int64Array, Int64Array, list[tuple[int, str]]]
+ClockDecoder = Callable[[ByteArray, Int64Array, Int64Array], Clocks]
 
 
-@dataclass
-class Parsed:
-    """One message parsed in Python: its transforms (stamps in ns, values x y z qx qy qz qw)."""
+def message_batch(
+    decode: BulkDecoder, data: bytes, *, static: bool, authority: str, record_time: int
+) -> TransformBatch:
+    """One message decoded by the bulk decoder ``decode`` (as live sources receive them), as a batch;
+    ``DecodeError`` when it is not well-formed."""
+    frames = FrameNames()
+    decoded = decode(*_one(data), frames)
+    if decoded.failures:
+        raise DecodeError(decoded.failures[0][1])
+    return decoded.batch(frames, static=static, authority=authority, record_time=record_time)
 
-    parents: list[str] = field(default_factory=list)
-    children: list[str] = field(default_factory=list)
-    stamps: list[int] = field(default_factory=list)
-    values: list[tuple[float, ...]] = field(default_factory=list)
+
+def message_clock(decode: ClockDecoder, data: bytes) -> int:
+    """One clock message's time (ns), decoded by the bulk decoder ``decode``; ``DecodeError`` when
+    it is not well-formed."""
+    _, times, failures = decode(*_one(data))
+    if failures:
+        raise DecodeError(failures[0][1])
+    return int(times[0])
 
 
-def parsed_one_by_one(
-    raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable, parse: Callable[[bytes], Parsed]
-) -> Decoded:
-    """The payloads parsed one by one in Python, by ``parse`` (which raises ``DecodeError``)."""
-    rows: list[tuple[int, int, int, int, tuple[float, ...]]] = []
-    failures: list[tuple[int, str]] = []
-    for number, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
-        try:
-            parsed = parse(raw[start : start + length].tobytes())
-            if any(not _MIN_STAMP <= stamp <= _MAX_STAMP for stamp in parsed.stamps):
-                raise DecodeError("a stamp beyond the int64 nanoseconds of ROS time")
-        except DecodeError as e:
-            failures.append((number, str(e)))
-            continue
-        ids = [(frames.id(p), frames.id(c)) for p, c in zip(parsed.parents, parsed.children, strict=True)]
-        rows += [(number, *pair, s, v) for pair, s, v in zip(ids, parsed.stamps, parsed.values, strict=True)]
-    if not rows:
-        return Decoded.empty(failures)
-    message, parent, child, stamp, values = zip(*rows, strict=True)
-    return Decoded(
-        np.array(message, np.int64),
-        np.array(parent, np.int32),
-        np.array(child, np.int32),
-        np.array(stamp, np.int64),
-        np.array(values, np.float64).reshape(-1, 7),
-        failures,
-    )
+def _one(data: bytes) -> tuple[ByteArray, Int64Array, Int64Array]:
+    return np.frombuffer(data, np.uint8), np.zeros(1, np.int64), np.array([len(data)], np.int64)
 
 
 def gathered(raw: ByteArray, starts: Int64Array, length: int) -> ByteArray:
@@ -136,31 +174,38 @@ def gathered(raw: ByteArray, starts: Int64Array, length: int) -> ByteArray:
     return rows
 
 
-#: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.
-BulkDecoder = Callable[[ByteArray, Int64Array, Int64Array, FrameTable], Decoded]
+def _distinct_rows(matrix: ByteArray) -> tuple[Int64Array, Int64Array]:
+    """A first row of each distinct row of ``matrix``, and each row's index among them."""
+    n, width = matrix.shape
+    padded = np.zeros((n, -(-width // 8) * 8), np.uint8)
+    padded[:, :width] = matrix
+    key = np.full(n, width, np.uint64)
+    for column in padded.view("<u8").T:
+        key = key * _HASH_PRIME ^ column
+    firsts, inverse = _peel(key)
+    if np.array_equal(matrix[firsts][inverse], matrix):
+        return firsts, inverse
+    rows = np.ascontiguousarray(matrix).view(f"V{width}").reshape(-1)
+    _, firsts, inverse = np.unique(rows, return_index=True, return_inverse=True)
+    return firsts, inverse.reshape(-1)
 
 
-#: Clocks of many payloads: the messages well-formed, their times (ns), and the (message, reason) of the others.
-Clocks = tuple[Int64Array, Int64Array, list[tuple[int, str]]]
-ClockDecoder = Callable[[ByteArray, Int64Array, Int64Array], Clocks]
+def _peel(key: npt.NDArray[np.uint64]) -> tuple[Int64Array, Int64Array]:
+    """A first row of each distinct value of ``key``, and each row's index among them.
 
-
-def message_batch(
-    decode: BulkDecoder, data: bytes, *, static: bool, authority: str, record_time: int
-) -> TransformBatch:
-    """One message decoded by the bulk decoder ``decode`` (as live sources receive them), as a batch;
-    ``DecodeError`` when it is not well-formed."""
-    frames = FrameTable()
-    decoded = decode(np.frombuffer(data, np.uint8), np.zeros(1, np.int64), np.array([len(data)], np.int64), frames)
-    if decoded.failures:
-        raise DecodeError(decoded.failures[0][1])
-    return decoded.batch(frames, static=static, authority=authority, record_time=record_time)
-
-
-def message_clock(decode: ClockDecoder, data: bytes) -> int:
-    """One clock message's time (ns), decoded by the bulk decoder ``decode``; ``DecodeError`` when
-    it is not well-formed."""
-    _, times, failures = decode(np.frombuffer(data, np.uint8), np.zeros(1, np.int64), np.array([len(data)], np.int64))
-    if failures:
-        raise DecodeError(failures[0][1])
-    return int(times[0])
+    Frame names are few and repeat, so the rows of each value are picked out in turn (a pass
+    each, no sort); past ``_PEELED`` values, the rest are sorted out by ``np.unique``."""
+    inverse = np.empty(len(key), np.int64)
+    firsts: list[int] = []
+    rows = np.arange(len(key))
+    rest = key
+    while len(rows) and len(firsts) < _PEELED:
+        same = rest == rest[0]
+        inverse[rows[same]] = len(firsts)
+        firsts.append(int(rows[0]))
+        rows, rest = rows[~same], rest[~same]
+    if len(rows):
+        _, more, index = np.unique(rest, return_index=True, return_inverse=True)
+        inverse[rows] = len(firsts) + index.reshape(-1)
+        return np.concatenate([np.array(firsts, np.int64), rows[more]]), inverse
+    return np.array(firsts, np.int64), inverse

@@ -17,30 +17,23 @@ from typing import Any
 import numpy as np
 
 from tftools.core.batch import Int64Array
-from tftools.sources.codecs.decoded import (
-    ByteArray,
-    Clocks,
-    Decoded,
-    DecodeError,
-    FrameTable,
-    Parsed,
-    parsed_one_by_one,
-)
+from tftools.sources.codecs.decoded import ByteArray, Clocks, Decoded, DecodeError, FrameNames
+from tftools.sources.codecs.parsed import Parsed, one_by_one
 
 #: Reads one transform object into ``parsed``.
 _Transform = Callable[[Parsed, dict[str, Any]], None]
 
 
-def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable) -> Decoded:
-    return parsed_one_by_one(raw, starts, lengths, frames, _frame_transform)
+def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    return one_by_one(raw, starts, lengths, frames, _frame_transform)
 
 
-def decode_frame_transforms(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable) -> Decoded:
-    return parsed_one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _foxglove))
+def decode_frame_transforms(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    return one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _foxglove))
 
 
-def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable) -> Decoded:
-    return parsed_one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _ros))
+def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    return one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _ros))
 
 
 def decode_clocks(raw: ByteArray, starts: Int64Array, lengths: Int64Array) -> Clocks:

@@ -12,7 +12,8 @@ import struct
 from collections.abc import Iterator
 
 from tftools.core.batch import Int64Array
-from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameTable, Parsed
+from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameNames
+from tftools.sources.codecs.parsed import Parsed
 from tftools.sources.codecs.template import ABSENT, Layout, Varint, decode_templated
 
 _VARINT, _FIXED64, _LEN, _FIXED32 = 0, 1, 2, 5
@@ -80,11 +81,11 @@ class _Transform:
         self.offsets = [-1] * 7
 
 
-def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable) -> Decoded:
+def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     return decode_templated(raw, starts, lengths, frames, learn_frame_transform)
 
 
-def decode_frame_transforms(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable) -> Decoded:
+def decode_frame_transforms(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     return decode_templated(raw, starts, lengths, frames, learn_frame_transforms)
 
 

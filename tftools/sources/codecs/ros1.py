@@ -9,8 +9,9 @@ from collections.abc import Sequence
 from tftools.core.batch import Int64Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import ByteArray, BytesLike, Clocks, Decoded, FrameTable
-from tftools.sources.codecs.wire import Header, Wire, decode_times, decode_transforms, parse_header
+from tftools.sources.codecs.decoded import ByteArray, BytesLike, Clocks, Decoded, FrameNames
+from tftools.sources.codecs.stepped import decode_transforms
+from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header
 
 WIRES = (Wire("<", origin=0, align=1, seq=True, signed_sec=False, nul=False, exact=True),)
 
@@ -20,7 +21,7 @@ _TIME = struct.Struct("<II")
 _VALUES = struct.Struct("<7d")
 
 
-def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable) -> Decoded:
+def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     """TFMessages, as ``wire.decode_transforms`` decodes them."""
     return decode_transforms(raw, starts, lengths, frames, WIRES)
 

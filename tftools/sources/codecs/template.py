@@ -10,15 +10,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tftools.core.batch import BoolArray, FloatArray, Int64Array
-from tftools.sources.codecs.decoded import (
-    ByteArray,
-    Decoded,
-    DecodeError,
-    FrameTable,
-    Parsed,
-    gathered,
-    parsed_one_by_one,
-)
+from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameNames, gathered
+from tftools.sources.codecs.parsed import Parsed, one_by_one
 
 #: After this many templates in a row that each matched almost nothing, the rest goes one by one.
 _MAX_POOR_TEMPLATES = 3
@@ -55,23 +48,19 @@ Learner = Callable[[bytes], tuple[Parsed, Layout]]
 
 
 def decode_templated(
-    raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameTable, learn: Learner
+    raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames, learn: Learner
 ) -> Decoded:
     """The payloads decoded by templates ``learn`` teaches, payloads of each length together."""
-    parts = []
-    for length in np.unique(lengths).tolist():
-        members = np.flatnonzero(lengths == length)
-        decoded = _decode_group(gathered(raw, starts[members], length), frames, learn)
-        decoded.message = members[decoded.message]
-        decoded.failures = [(int(members[m]), reason) for m, reason in decoded.failures]
-        parts.append(decoded)
-    return Decoded.joined(parts)
+    groups = [np.flatnonzero(lengths == length) for length in np.unique(lengths).tolist()]
+    return Decoded.joined(
+        [_decode_group(gathered(raw, starts[g], int(lengths[g[0]])), frames, learn).renumbered(g) for g in groups]
+    )
 
 
 class _Template:
     """A layout compiled against its sample message, to test and decode a byte matrix."""
 
-    def __init__(self, layout: Layout, sample: bytes, parsed: Parsed, frames: FrameTable) -> None:
+    def __init__(self, layout: Layout, sample: bytes, parsed: Parsed, frames: FrameNames) -> None:
         exact = _positions(layout.exact)
         loose = _positions(layout.varints)
         self.positions = np.concatenate([exact, loose])
@@ -102,7 +91,7 @@ class _Template:
         return decoded, left_out
 
 
-def _decode_group(matrix: ByteArray, frames: FrameTable, learn: Learner) -> Decoded:
+def _decode_group(matrix: ByteArray, frames: FrameNames, learn: Learner) -> Decoded:
     """Messages of equal length (rows of ``matrix``): a template learnt from the first undecoded
     row takes every row that has its fixed bytes; the stragglers are parsed one by one."""
     parts: list[Decoded] = []
@@ -128,15 +117,10 @@ def _decode_group(matrix: ByteArray, frames: FrameTable, learn: Learner) -> Deco
         remaining = remaining[~hit]
     rest = np.concatenate([remaining, *stragglers])
     width = matrix.shape[1]
-    one_by_one = parsed_one_by_one(
+    stragglers_decoded = one_by_one(
         matrix.reshape(-1), rest * width, np.full(len(rest), width), frames, lambda data: learn(data)[0]
     )
-    one_by_one.message = rest[one_by_one.message]
-    one_by_one.failures = [(int(rest[m]), reason) for m, reason in one_by_one.failures]
-    parts.append(one_by_one)
-    joined = Decoded.joined(parts)
-    joined.failures = sorted(failures + joined.failures)
-    return joined
+    return Decoded.joined([*parts, stragglers_decoded.renumbered(rest), Decoded.empty(failures)])
 
 
 def _positions(ranges: list[tuple[int, int]]) -> Int64Array:

@@ -12,7 +12,7 @@ import numpy.typing as npt
 from tftools.core.batch import Int64Array as IntArray
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.columns import ColumnParts
-from tftools.sources.codecs.decoded import Decoded, FrameTable
+from tftools.sources.codecs.decoded import Decoded, FrameNames
 from tftools.sources.codecs.select import ClockCodec, Codec
 from tftools.sources.contents import is_static_topic
 
@@ -34,7 +34,7 @@ class Rows:
 
     def __init__(self, channels: list[Channel]) -> None:
         self.channels = channels
-        self.frames = FrameTable()
+        self.frames = FrameNames()
         self.columns = ColumnParts(_COLUMNS)
         self.settled = 0  # parts of each column in message order
 

@@ -1,0 +1,205 @@
+"""Transform sequences of ROS1 and CDR (``tf2_msgs/TFMessage``, foxglove's FrameTransform(s)) decoded
+in step: every message's j-th transform read by the same few numpy operations. A few messages are
+read field by field, each on its own, and so is a message that does not read to a well-formed
+end, to say why."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from tftools.core.batch import BoolArray, FloatArray, Int64Array
+from tftools.core.time import NS_PER_S
+from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameNames, gathered
+from tftools.sources.codecs.wire import Cursor, Wire, partition, wire_of
+
+_VALUES_SIZE = 56  # translation and rotation: 7 float64
+#: When this few messages are left to read, each is read on its own, field by field: in step, one
+#: message of a million transforms would take a million numpy rounds.
+_FEW_MESSAGES = 8
+
+
+def decode_transforms(
+    raw: ByteArray,
+    starts: Int64Array,
+    lengths: Int64Array,
+    frames: FrameNames,
+    wires: Sequence[Wire],
+    *,
+    counted: bool = True,
+) -> Decoded:
+    """The transform sequences at ``raw[starts[i] : starts[i] + lengths[i]]`` in one of ``wires``
+    (``counted``: a count of transforms first, else a single transform each)."""
+    parts: list[Decoded] = []
+    alone: Sequence[int] = range(len(starts))
+    if len(starts) > _FEW_MESSAGES:
+        walked = np.zeros(len(starts), bool)
+        left: list[Int64Array] = []
+        for wire, members in partition(raw, starts, lengths, wires):
+            walked[members] = True
+            decoded, bad = _in_step(raw, starts[members], lengths[members], frames, wire, counted)
+            parts.append(decoded.renumbered(members))
+            left.append(members[bad])
+        alone = np.sort(np.concatenate([*left, np.flatnonzero(~walked)])).tolist()
+    for message in alone:
+        parts.append(_alone(raw, int(starts[message]), int(lengths[message]), frames, wires, counted, message))
+    return Decoded.joined(parts)
+
+
+@dataclass
+class _Step:
+    """The j-th transforms of the messages that have one (or, read on its own, the j-th onwards of one)."""
+
+    j: Int64Array
+    message: Int64Array
+    stamp: Int64Array
+    frame_start: Int64Array  # where the name's bytes start in ``raw``
+    frame_length: Int64Array
+    child_start: Int64Array
+    child_length: Int64Array
+    values: FloatArray
+
+
+def _in_step(
+    raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wire: Wire, counted: bool
+) -> tuple[Decoded, Int64Array]:
+    """The rows of the messages read to a well-formed end, and which messages are left to be read alone."""
+    if counted:
+        readable = lengths >= wire.origin + 4
+        counts = np.zeros(len(starts), np.int64)
+        counts[readable] = gathered(raw, starts[readable] + wire.origin, 4).view(f"{wire.order}u4").reshape(-1)
+        bad = ~readable | (counts * wire.smallest > lengths - wire.origin - 4)
+        if wire.exact:
+            bad |= (counts == 0) & (lengths != wire.origin + 4)
+    else:
+        counts = np.ones(len(starts), np.int64)
+        bad = np.zeros(len(starts), bool)
+    counts[bad] = 0
+    steps = _walk(raw, starts, starts + wire.origin + 4 * counted, starts + lengths, counts, bad, wire)
+    counts[bad] = 0
+    decoded, lost = _assemble(raw, steps, [~bad[step.message] for step in steps], counts, frames)
+    bad[lost] = True
+    return decoded, np.flatnonzero(bad)
+
+
+def _walk(
+    raw: ByteArray,
+    starts: Int64Array,
+    cursor: Int64Array,
+    ends: Int64Array,
+    counts: Int64Array,
+    bad: BoolArray,
+    wire: Wire,
+) -> list[_Step]:
+    """The messages' transforms, marking in ``bad`` those that do not read to a well-formed end (and
+    the few read last, to be read alone)."""
+    # Messages sorted by count, most first: those with a j-th transform are a prefix.
+    order = np.argsort(-counts, kind="stable")
+    starts, cursor, ends, sorted_counts = starts[order], cursor[order], ends[order], counts[order]
+    origin = starts + wire.origin
+    steps: list[_Step] = []
+    active = int(np.count_nonzero(sorted_counts))
+    j = 0
+    while active > _FEW_MESSAGES:
+        at, end = cursor[:active] + 4 * wire.seq, ends[:active]
+        ok = at + 12 <= end
+        head = gathered(raw, np.where(ok, at, 0), 12).view(wire.head).reshape(-1)
+        frame_length = head["length"].astype(np.int64)
+        child_at = _aligned(at + 12 + frame_length, origin[:active], 4, wire)
+        ok &= child_at + 4 <= end
+        child_length = gathered(raw, np.where(ok, child_at, 0), 4).view(f"{wire.order}u4").reshape(-1).astype(np.int64)
+        values_at = _aligned(child_at + 4 + child_length, origin[:active], 8, wire)
+        ok &= values_at + _VALUES_SIZE <= end
+        values_at = np.where(ok, values_at, 0)
+        values = gathered(raw, np.minimum(values_at, len(raw) - _VALUES_SIZE), _VALUES_SIZE)
+        bad[order[:active][~ok]] = True
+        step = _Step(
+            np.full(active, j),
+            order[:active],
+            head["sec"].astype(np.int64) * NS_PER_S + head["nsec"],
+            at + 12,
+            np.maximum(frame_length - wire.nul, 0),
+            child_at + 4,
+            np.maximum(child_length - wire.nul, 0),
+            values.view(f"{wire.order}f8"),
+        )
+        steps.append(step)
+        cursor[:active] = values_at + _VALUES_SIZE
+        j += 1
+        while active and sorted_counts[active - 1] <= j:
+            active -= 1
+    bad[order[:active]] = True
+    if wire.exact:  # of the messages read to their last transform, those that go on
+        bad[order[active:][(sorted_counts[active:] > 0) & (cursor[active:] != ends[active:])]] = True
+    return steps
+
+
+def _aligned(at: Int64Array, origin: Int64Array, size: int, wire: Wire) -> Int64Array:
+    """``at`` moved on to the next multiple of ``size`` (at most the wire's alignment) from ``origin``."""
+    size = min(size, wire.align)
+    return at if size == 1 else at + (origin - at) % size
+
+
+def _alone(
+    raw: ByteArray, start: int, length: int, frames: FrameNames, wires: Sequence[Wire], counted: bool, message: int
+) -> Decoded:
+    """One message read field by field: its rows, or why it is not well-formed."""
+    try:
+        cursor = Cursor(raw, wire_of(raw, start, length, wires), start, start + length)
+        count = cursor.uint() if counted else 1
+        if count * cursor.wire.smallest > cursor.rest:
+            raise DecodeError(f"{count} transform{'s' * (count != 1)} cannot fit in {length} bytes")
+        rows = [_transform(cursor) for _ in range(count)]
+        if cursor.wire.exact and cursor.rest:
+            raise DecodeError(f"{cursor.rest} byte{'s' * (cursor.rest > 1)} after the last transform")
+    except DecodeError as e:
+        return Decoded.empty([(message, str(e))])
+    if not rows:
+        return Decoded.empty()
+    stamp, frame_start, frame_length, child_start, child_length, values_at = zip(*rows, strict=True)
+    ids, undecodable = frames.intern(
+        raw, np.array(frame_start + child_start, np.int64), np.array(frame_length + child_length, np.int64)
+    )
+    if undecodable.any():
+        return Decoded.empty([(message, "a frame id is not UTF-8")])
+    values = gathered(raw, np.array(values_at, np.int64), _VALUES_SIZE).view(f"{cursor.wire.order}f8")
+    return Decoded(
+        np.full(count, message), ids[:count], ids[count:], np.array(stamp, np.int64), values.astype(np.float64)
+    )
+
+
+def _transform(cursor: Cursor) -> tuple[int, int, int, int, int, int]:
+    """A transform's stamp, where its names' bytes start and how many, and where its values start."""
+    stamp, frame_start, frame_length = cursor.header()
+    child_start, child_length = cursor.string()
+    return stamp, frame_start, frame_length, child_start, child_length, cursor.take(_VALUES_SIZE, 8)
+
+
+def _assemble(
+    raw: ByteArray, steps: list[_Step], keep: list[BoolArray], counts: Int64Array, frames: FrameNames
+) -> tuple[Decoded, Int64Array]:
+    """The kept rows of the steps in message order (``counts`` of each message), and the messages
+    lost to a frame id that is not UTF-8."""
+    total = int(counts.sum())
+    if not total:
+        return Decoded.empty(), np.zeros(0, np.int64)
+    steps = [
+        s if k.all() else _Step(*(getattr(s, c.name)[k] for c in fields(_Step)))
+        for s, k in zip(steps, keep, strict=True)
+    ]
+    rows = {c.name: np.concatenate([getattr(s, c.name) for s in steps]) for c in fields(_Step)}
+    # The rows came step by step: ``order`` takes them message by message.
+    order = np.empty(total, np.int64)
+    order[(np.cumsum(counts) - counts)[rows["message"]] + rows["j"]] = np.arange(total)
+    starts = np.concatenate([rows["frame_start"][order], rows["child_start"][order]])
+    lengths = np.concatenate([rows["frame_length"][order], rows["child_length"][order]])
+    ids, undecodable = frames.intern(raw, starts, lengths)
+    message, stamp, values = rows["message"][order], rows["stamp"][order], rows["values"][order]
+    parent, child = ids[:total], ids[total:]
+    lost = np.unique(message[undecodable[:total] | undecodable[total:]])
+    if len(lost):
+        kept = ~np.isin(message, lost)
+        message, parent, child, stamp, values = message[kept], parent[kept], child[kept], stamp[kept], values[kept]
+    return Decoded(message, parent, child, stamp, values.astype(np.float64, copy=False)), lost
