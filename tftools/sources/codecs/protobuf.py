@@ -82,21 +82,21 @@ class _Transform:
 
 
 def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
-    return decode_templated(raw, starts, lengths, frames, learn_frame_transform)
+    return decode_templated(raw, starts, lengths, frames, _learn_frame_transform)
 
 
 def decode_frame_transforms(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
-    return decode_templated(raw, starts, lengths, frames, learn_frame_transforms)
+    return decode_templated(raw, starts, lengths, frames, _learn_frame_transforms)
 
 
-def learn_frame_transform(data: bytes) -> tuple[Parsed, Layout]:
+def _learn_frame_transform(data: bytes) -> tuple[Parsed, Layout]:
     wire = _Wire(data)
     parsed = Parsed()
     _add(parsed, wire.layout, _transform(wire, 0, len(data)))
     return parsed, wire.layout
 
 
-def learn_frame_transforms(data: bytes) -> tuple[Parsed, Layout]:
+def _learn_frame_transforms(data: bytes) -> tuple[Parsed, Layout]:
     wire = _Wire(data)
     parsed = Parsed()
     for number, kind, start, end in wire.fields(0, len(data)):

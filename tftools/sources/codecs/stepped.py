@@ -1,7 +1,10 @@
-"""Transform sequences of ROS1 and CDR (``tf2_msgs/TFMessage``, foxglove's FrameTransform(s)) decoded
-in step: every message's j-th transform read by the same few numpy operations. A few messages are
-read field by field, each on its own, and so is a message that does not read to a well-formed
-end, to say why."""
+"""Transform sequences of ROS1 and CDR decoded in step: every message's j-th transform read by the
+same few numpy operations. A few messages are read field by field, each on its own, and so is a
+message that does not read to a well-formed end, to say why.
+
+A ``tf2_msgs/TFMessage`` (and foxglove's FrameTransforms, the same bytes) is a uint32 count of
+transforms, a foxglove FrameTransform a single one.
+"""
 
 from __future__ import annotations
 
@@ -13,9 +16,8 @@ import numpy as np
 from tftools.core.batch import BoolArray, FloatArray, Int64Array
 from tftools.core.time import NS_PER_S
 from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameNames, gathered
-from tftools.sources.codecs.wire import Cursor, Wire, partition, wire_of
+from tftools.sources.codecs.wire import VALUES_SIZE, Cursor, Wire, partition, wire_of
 
-_VALUES_SIZE = 56  # translation and rotation: 7 float64
 #: When this few messages are left to read, each is read on its own, field by field: in step, one
 #: message of a million transforms would take a million numpy rounds.
 _FEW_MESSAGES = 8
@@ -111,9 +113,9 @@ def _walk(
         ok &= child_at + 4 <= end
         child_length = gathered(raw, np.where(ok, child_at, 0), 4).view(f"{wire.order}u4").reshape(-1).astype(np.int64)
         values_at = _aligned(child_at + 4 + child_length, origin[:active], 8, wire)
-        ok &= values_at + _VALUES_SIZE <= end
+        ok &= values_at + VALUES_SIZE <= end
         values_at = np.where(ok, values_at, 0)
-        values = gathered(raw, np.minimum(values_at, len(raw) - _VALUES_SIZE), _VALUES_SIZE)
+        values = gathered(raw, np.minimum(values_at, len(raw) - VALUES_SIZE), VALUES_SIZE)
         bad[order[:active][~ok]] = True
         step = _Step(
             np.full(active, j),
@@ -126,7 +128,7 @@ def _walk(
             values.view(f"{wire.order}f8"),
         )
         steps.append(step)
-        cursor[:active] = values_at + _VALUES_SIZE
+        cursor[:active] = values_at + VALUES_SIZE
         j += 1
         while active and sorted_counts[active - 1] <= j:
             active -= 1
@@ -164,7 +166,7 @@ def _alone(
     )
     if undecodable.any():
         return Decoded.empty([(message, "a frame id is not UTF-8")])
-    values = gathered(raw, np.array(values_at, np.int64), _VALUES_SIZE).view(f"{cursor.wire.order}f8")
+    values = gathered(raw, np.array(values_at, np.int64), VALUES_SIZE).view(f"{cursor.wire.order}f8")
     return Decoded(
         np.full(count, message), ids[:count], ids[count:], np.array(stamp, np.int64), values.astype(np.float64)
     )
@@ -174,7 +176,7 @@ def _transform(cursor: Cursor) -> tuple[int, int, int, int, int, int]:
     """A transform's stamp, where its names' bytes start and how many, and where its values start."""
     stamp, frame_start, frame_length = cursor.header()
     child_start, child_length = cursor.string()
-    return stamp, frame_start, frame_length, child_start, child_length, cursor.take(_VALUES_SIZE, 8)
+    return stamp, frame_start, frame_length, child_start, child_length, cursor.take(VALUES_SIZE, 8)
 
 
 def _assemble(

@@ -1,10 +1,10 @@
-"""ROS1 and CDR: fields of fixed kinds one after another, packed (ROS1) or aligned (CDR). Their
-transform sequences decoded in step for many messages, field by field for a few, and their times.
+"""ROS1 and CDR: fields of fixed kinds one after another, packed (ROS1) or aligned (CDR). How each
+lays them out (``Wire``), a payload read field by field (``Cursor``), and the messages that start
+with a header or a time, read so.
 
-A transform is a header (in ROS1 a uint32 seq first; a stamp: seconds and nanoseconds, 4 bytes
-each; a string frame_id), a string child_frame_id and 7 float64 (translation, rotation); a string
-is a uint32 length then its bytes, in CDR counting a terminating NUL. A TFMessage (and foxglove's
-FrameTransforms) is a uint32 count of them, a foxglove FrameTransform a single one.
+A header is, in ROS1, a uint32 seq, then in both a stamp (seconds and nanoseconds, 4 bytes each)
+and a string frame_id; a string is a uint32 length then its bytes, in CDR counting a terminating
+NUL. A transform is a header, a string child_frame_id and 7 float64 (translation, rotation).
 """
 
 from __future__ import annotations
@@ -26,15 +26,8 @@ Header = tuple[int, str]
 MAX_FRAME_ID = 4096
 #: A time's bytes: seconds and nanoseconds.
 TIME_SIZE = 8
-_VALUES_SIZE = 56
-#: When this few messages are left to read, each is read on its own, field by field: in step, one
-#: message of a million transforms would take a million numpy rounds.
-_FEW_MESSAGES = 8
-#: Frame names this few are interned one by one rather than told apart by a hash of their bytes.
-_FEW_NAMES = 32
-_HASH_PRIME = np.uint64(0x100000001B3)
-_PEELED = 16
-_COUNTED_LENGTHS = 1 << 16
+#: A transform's translation and rotation: 7 float64.
+VALUES_SIZE = 56
 
 
 @dataclass(frozen=True)
@@ -53,7 +46,7 @@ class Wire:
     @property
     def smallest(self) -> int:
         """The fewest bytes a transform takes."""
-        return 4 * self.seq + TIME_SIZE + 4 + 4 + _VALUES_SIZE
+        return 4 * self.seq + TIME_SIZE + 4 + 4 + VALUES_SIZE
 
     @cached_property
     def stamp(self) -> np.dtype[np.void]:
