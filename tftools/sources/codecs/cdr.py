@@ -9,8 +9,8 @@ counts from just after it, 8-byte values aligned to 8 in CDR and to 4 in XCDR2.
 
 from __future__ import annotations
 
-from tftools.core.batch import Int64Array
-from tftools.sources.codecs.decoded import ByteArray, BytesLike, Clocks, Decoded, FrameNames
+from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.sources.codecs.decoded import BytesLike, Clocks, Decoded, FrameNames
 from tftools.sources.codecs.stepped import decode_transforms
 from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header
 
@@ -20,17 +20,17 @@ WIRES = tuple(
 )
 
 
-def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+def decode_tf(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     """TFMessages (or FrameTransforms), as ``wire.decode_transforms`` decodes them."""
     return decode_transforms(raw, starts, lengths, frames, WIRES)
 
 
-def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+def decode_frame_transform(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     """Single foxglove FrameTransforms: a transform each, without a count."""
     return decode_transforms(raw, starts, lengths, frames, WIRES, counted=False)
 
 
-def decode_clocks(raw: ByteArray, starts: Int64Array, lengths: Int64Array) -> Clocks:
+def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
     """Clocks, as ``wire.decode_times`` decodes them."""
     return decode_times(raw, starts, lengths, WIRES)
 

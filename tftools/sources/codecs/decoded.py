@@ -9,11 +9,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.batch import BoolArray, FloatArray, Int32Array, Int64Array, TransformBatch
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.batch import TransformBatch
 
-ByteArray = npt.NDArray[np.uint8]
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
-BytesLike = bytes | memoryview | ByteArray
+BytesLike = bytes | memoryview | UInt8Array
 
 #: Names this few are interned one by one rather than told apart by a hash of their bytes.
 _FEW_NAMES = 32
@@ -42,7 +42,7 @@ class FrameNames:
             self.names.append(name)
         return index
 
-    def intern(self, raw: ByteArray, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
+    def intern(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
         """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]``, and which are not UTF-8.
 
         Names of one length are told apart by a 64-bit hash of their bytes, checked byte for byte
@@ -133,10 +133,10 @@ class Decoded:
 _COLUMNS = ("message", "parent", "child", "stamp", "values")
 
 #: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.
-BulkDecoder = Callable[[ByteArray, Int64Array, Int64Array, FrameNames], Decoded]
+BulkDecoder = Callable[[UInt8Array, Int64Array, Int64Array, FrameNames], Decoded]
 #: Clocks of many payloads: the messages well-formed, their times (ns), and the (message, reason) of the others.
 Clocks = tuple[Int64Array, Int64Array, list[tuple[int, str]]]
-ClockDecoder = Callable[[ByteArray, Int64Array, Int64Array], Clocks]
+ClockDecoder = Callable[[UInt8Array, Int64Array, Int64Array], Clocks]
 
 
 def message_batch(
@@ -160,21 +160,21 @@ def message_clock(decode: ClockDecoder, data: bytes) -> int:
     return int(times[0])
 
 
-def _one(data: bytes) -> tuple[ByteArray, Int64Array, Int64Array]:
+def _one(data: bytes) -> tuple[UInt8Array, Int64Array, Int64Array]:
     return np.frombuffer(data, np.uint8), np.zeros(1, np.int64), np.array([len(data)], np.int64)
 
 
-def gathered(raw: ByteArray, starts: Int64Array, length: int) -> ByteArray:
+def gathered(raw: UInt8Array, starts: Int64Array, length: int) -> UInt8Array:
     """The ``length`` bytes from each of ``starts`` in ``raw`` (a flat byte array, each run within
     it), as the rows of a matrix: one gather of whole items rather than a slice per row."""
     if not length or len(raw) < length:
         return np.zeros((len(starts) if not length else 0, length), np.uint8)
     items = np.ndarray((len(raw) - length + 1,), f"V{length}", raw, strides=(1,))
-    rows: ByteArray = items[starts].view(np.uint8).reshape(len(starts), length)
+    rows: UInt8Array = items[starts].view(np.uint8).reshape(len(starts), length)
     return rows
 
 
-def _distinct_rows(matrix: ByteArray) -> tuple[Int64Array, Int64Array]:
+def _distinct_rows(matrix: UInt8Array) -> tuple[Int64Array, Int64Array]:
     """A first row of each distinct row of ``matrix``, and each row's index among them."""
     n, width = matrix.shape
     padded = np.zeros((n, -(-width // 8) * 8), np.uint8)

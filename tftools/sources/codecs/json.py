@@ -16,27 +16,27 @@ from typing import Any
 
 import numpy as np
 
-from tftools.core.batch import Int64Array
-from tftools.sources.codecs.decoded import ByteArray, Clocks, Decoded, DecodeError, FrameNames
+from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.sources.codecs.decoded import Clocks, Decoded, DecodeError, FrameNames
 from tftools.sources.codecs.parsed import Parsed, one_by_one
 
 #: Reads one transform object into ``parsed``.
 _Transform = Callable[[Parsed, dict[str, Any]], None]
 
 
-def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+def decode_frame_transform(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     return one_by_one(raw, starts, lengths, frames, _frame_transform)
 
 
-def decode_frame_transforms(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+def decode_frame_transforms(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     return one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _foxglove))
 
 
-def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+def decode_tf(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     return one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _ros))
 
 
-def decode_clocks(raw: ByteArray, starts: Int64Array, lengths: Int64Array) -> Clocks:
+def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
     """``rosgraph_msgs/Clock`` messages, as ``decoded.ClockDecoder`` says."""
     messages: list[int] = []
     times: list[int] = []

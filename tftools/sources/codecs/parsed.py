@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tftools.core.batch import Int64Array
-from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameNames
+from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames
 
 _MIN_STAMP, _MAX_STAMP = -(2**63), 2**63 - 1
 
@@ -24,7 +24,7 @@ class Parsed:
 
 
 def one_by_one(
-    raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames, parse: Callable[[bytes], Parsed]
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, parse: Callable[[bytes], Parsed]
 ) -> Decoded:
     """The payloads parsed one by one by ``parse`` (which raises ``DecodeError``)."""
     rows: list[tuple[int, int, int, int, tuple[float, ...]]] = []

@@ -11,8 +11,8 @@ from __future__ import annotations
 import struct
 from collections.abc import Iterator
 
-from tftools.core.batch import Int64Array
-from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameNames
+from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames
 from tftools.sources.codecs.parsed import Parsed
 from tftools.sources.codecs.template import ABSENT, Layout, Varint, decode_templated
 
@@ -81,11 +81,11 @@ class _Transform:
         self.offsets = [-1] * 7
 
 
-def decode_frame_transform(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+def decode_frame_transform(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     return decode_templated(raw, starts, lengths, frames, _learn_frame_transform)
 
 
-def decode_frame_transforms(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+def decode_frame_transforms(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     return decode_templated(raw, starts, lengths, frames, _learn_frame_transforms)
 
 

@@ -6,10 +6,10 @@ from __future__ import annotations
 import struct
 from collections.abc import Sequence
 
-from tftools.core.batch import Int64Array
+from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import ByteArray, BytesLike, Clocks, Decoded, FrameNames
+from tftools.sources.codecs.decoded import BytesLike, Clocks, Decoded, FrameNames
 from tftools.sources.codecs.stepped import decode_transforms
 from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header
 
@@ -21,12 +21,12 @@ _TIME = struct.Struct("<II")
 _VALUES = struct.Struct("<7d")
 
 
-def decode_tf(raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+def decode_tf(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
     """TFMessages, as ``wire.decode_transforms`` decodes them."""
     return decode_transforms(raw, starts, lengths, frames, WIRES)
 
 
-def decode_clocks(raw: ByteArray, starts: Int64Array, lengths: Int64Array) -> Clocks:
+def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
     """Clocks, as ``wire.decode_times`` decodes them."""
     return decode_times(raw, starts, lengths, WIRES)
 

@@ -13,9 +13,9 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from tftools.core.batch import BoolArray, FloatArray, Int64Array
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
-from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameNames, gathered
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames, gathered
 from tftools.sources.codecs.wire import VALUES_SIZE, Cursor, Wire, partition, wire_of
 
 #: When this few messages are left to read, each is read on its own, field by field: in step, one
@@ -24,7 +24,7 @@ _FEW_MESSAGES = 8
 
 
 def decode_transforms(
-    raw: ByteArray,
+    raw: UInt8Array,
     starts: Int64Array,
     lengths: Int64Array,
     frames: FrameNames,
@@ -65,7 +65,7 @@ class _Step:
 
 
 def _in_step(
-    raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wire: Wire, counted: bool
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wire: Wire, counted: bool
 ) -> tuple[Decoded, Int64Array]:
     """The rows of the messages read to a well-formed end, and which messages are left to be read alone."""
     if counted:
@@ -87,7 +87,7 @@ def _in_step(
 
 
 def _walk(
-    raw: ByteArray,
+    raw: UInt8Array,
     starts: Int64Array,
     cursor: Int64Array,
     ends: Int64Array,
@@ -145,7 +145,7 @@ def _aligned(at: Int64Array, origin: Int64Array, size: int, wire: Wire) -> Int64
 
 
 def _alone(
-    raw: ByteArray, start: int, length: int, frames: FrameNames, wires: Sequence[Wire], counted: bool, message: int
+    raw: UInt8Array, start: int, length: int, frames: FrameNames, wires: Sequence[Wire], counted: bool, message: int
 ) -> Decoded:
     """One message read field by field: its rows, or why it is not well-formed."""
     try:
@@ -180,7 +180,7 @@ def _transform(cursor: Cursor) -> tuple[int, int, int, int, int, int]:
 
 
 def _assemble(
-    raw: ByteArray, steps: list[_Step], keep: list[BoolArray], counts: Int64Array, frames: FrameNames
+    raw: UInt8Array, steps: list[_Step], keep: list[BoolArray], counts: Int64Array, frames: FrameNames
 ) -> tuple[Decoded, Int64Array]:
     """The kept rows of the steps in message order (``counts`` of each message), and the messages
     lost to a frame id that is not UTF-8."""

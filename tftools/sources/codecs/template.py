@@ -9,8 +9,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tftools.core.batch import BoolArray, FloatArray, Int64Array
-from tftools.sources.codecs.decoded import ByteArray, Decoded, DecodeError, FrameNames, gathered
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array, UInt8Array
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames, gathered
 from tftools.sources.codecs.parsed import Parsed, one_by_one
 
 #: After this many templates in a row that each matched almost nothing, the rest goes one by one.
@@ -48,7 +48,7 @@ Learner = Callable[[bytes], tuple[Parsed, Layout]]
 
 
 def decode_templated(
-    raw: ByteArray, starts: Int64Array, lengths: Int64Array, frames: FrameNames, learn: Learner
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, learn: Learner
 ) -> Decoded:
     """The payloads decoded by templates ``learn`` teaches, payloads of each length together."""
     groups = [np.flatnonzero(lengths == length) for length in np.unique(lengths).tolist()]
@@ -70,10 +70,10 @@ class _Template:
         self.parents = np.array([frames.id(name) for name in parsed.parents], np.int32)
         self.children = np.array([frames.id(name) for name in parsed.children], np.int32)
 
-    def matches(self, block: ByteArray) -> BoolArray:
+    def matches(self, block: UInt8Array) -> BoolArray:
         return np.asarray(((np.take(block, self.positions, axis=1) & self.masks) == self.expected).all(axis=1))
 
-    def decode(self, rows: Int64Array, block: ByteArray) -> tuple[Decoded, Int64Array]:
+    def decode(self, rows: Int64Array, block: UInt8Array) -> tuple[Decoded, Int64Array]:
         """The rows of messages ``rows`` (their bytes in ``block``), and the messages left out:
         those with seconds too far out for int64 nanoseconds, to be parsed apart."""
         sec, nsec = _varints(block, self.layout.sec), _varints(block, self.layout.nsec)
@@ -91,7 +91,7 @@ class _Template:
         return decoded, left_out
 
 
-def _decode_group(matrix: ByteArray, frames: FrameNames, learn: Learner) -> Decoded:
+def _decode_group(matrix: UInt8Array, frames: FrameNames, learn: Learner) -> Decoded:
     """Messages of equal length (rows of ``matrix``): a template learnt from the first undecoded
     row takes every row that has its fixed bytes; the stragglers are parsed one by one."""
     parts: list[Decoded] = []
@@ -129,7 +129,7 @@ def _positions(ranges: list[tuple[int, int]]) -> Int64Array:
     return np.concatenate([np.arange(a, b, dtype=np.int64) for a, b in ranges])
 
 
-def _varints(block: ByteArray, numbers: list[Varint]) -> Int64Array:
+def _varints(block: UInt8Array, numbers: list[Varint]) -> Int64Array:
     """The (n, k) integers of ``numbers`` in every row; gathered by width and size in one go."""
     out = np.zeros((len(block), len(numbers)), np.int64)
     by_kind: dict[tuple[int, int], list[int]] = defaultdict(list)
@@ -148,7 +148,7 @@ def _varints(block: ByteArray, numbers: list[Varint]) -> Int64Array:
     return out
 
 
-def _floats(block: ByteArray, layout: Layout) -> FloatArray:
+def _floats(block: UInt8Array, layout: Layout) -> FloatArray:
     offsets = np.array(layout.values, np.int64).reshape(-1)
     present = np.flatnonzero(offsets >= 0)
     out = np.zeros((len(block), len(offsets)), np.float64)

@@ -16,9 +16,9 @@ from functools import cached_property
 
 import numpy as np
 
-from tftools.core.batch import Int64Array
+from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
-from tftools.sources.codecs.decoded import ByteArray, BytesLike, Clocks, DecodeError, gathered
+from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError, gathered
 
 #: A message's header: its stamp (ns) and frame_id.
 Header = tuple[int, str]
@@ -126,7 +126,7 @@ def wire_of(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> W
 
 
 def partition(
-    raw: ByteArray, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire]
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire]
 ) -> list[tuple[Wire, Int64Array]]:
     """The payloads in each wire (indices into ``starts``), as ``wire_of`` would find them."""
     if wires[0].encapsulation is None:
@@ -153,7 +153,7 @@ def parse_header(raw: BytesLike, wires: Sequence[Wire]) -> Header | None:
 # --- times --------------------------------------------------------------------------------------
 
 
-def decode_times(raw: ByteArray, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire]) -> Clocks:
+def decode_times(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire]) -> Clocks:
     """Messages whose first field is a time (``rosgraph_msgs/Clock``): those well-formed, their
     times (ns), and the (message, reason) of the others."""
     taken: list[Int64Array] = []

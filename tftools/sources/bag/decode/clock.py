@@ -7,7 +7,7 @@ from collections.abc import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.batch import Int64Array as IntArray
+from tftools.core.arrays import Int64Array as IntArray
 from tftools.sources.bag.contents import merged_clock
 from tftools.sources.contents import ClockSamples
 

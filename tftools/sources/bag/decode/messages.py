@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.batch import Int64Array as IntArray
+from tftools.core.arrays import Int64Array as IntArray
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.decode.clock import ClockParts
 from tftools.sources.bag.decode.rows import Channel, Rows

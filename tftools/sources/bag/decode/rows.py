@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.batch import Int64Array as IntArray
+from tftools.core.arrays import Int64Array as IntArray
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.columns import ColumnParts
 from tftools.sources.codecs.decoded import Decoded, FrameNames
