@@ -18,9 +18,11 @@ from tftools.core.time import NS_PER_S
 from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames, gathered
 from tftools.sources.codecs.wire import VALUES_SIZE, Cursor, Wire, partition, wire_of
 
-#: When this few messages are left to read, each is read on its own, field by field: in step, one
-#: message of a million transforms would take a million numpy rounds.
+#: This few messages are read each on its own, field by field; so are those left when no more
+#: remain with ``_MANY_STEPS`` transforms still to read: in step, one message of a million
+#: transforms would take a million numpy rounds.
 _FEW_MESSAGES = 8
+_MANY_STEPS = 64
 
 
 def decode_transforms(
@@ -104,7 +106,7 @@ def _walk(
     steps: list[_Step] = []
     active = int(np.count_nonzero(sorted_counts))
     j = 0
-    while active > _FEW_MESSAGES:
+    while active and (active > _FEW_MESSAGES or sorted_counts[0] - j <= _MANY_STEPS):
         at, end = cursor[:active] + 4 * wire.seq, ends[:active]
         ok = at + 12 <= end
         head = gathered(raw, np.where(ok, at, 0), 12).view(wire.head).reshape(-1)
