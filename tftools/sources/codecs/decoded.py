@@ -20,6 +20,8 @@ _FEW_NAMES = 32
 _HASH_PRIME = np.uint64(0x100000001B3)
 #: Distinct hashes picked out one pass each before the rest are sorted out.
 _PEELED = 16
+#: Names as rows of 8-byte words.
+Words = npt.NDArray[np.uint64]
 #: Names shorter than this have their distinct lengths counted rather than sorted.
 _COUNTED_LENGTHS = 1 << 16
 
@@ -45,8 +47,9 @@ class FrameNames:
     def intern(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
         """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]``, and which are not UTF-8.
 
-        Names of one length are told apart by a 64-bit hash of their bytes, checked byte for byte
-        afterwards (a collision falls back to sorting the bytes themselves).
+        Names of one length are told apart by their bytes, compared with the name before (equal
+        names mostly come in runs: a publisher's, message after message) and, the first of each
+        run, by a 64-bit hash checked word for word (a collision falls back to sorting the words).
         """
         if len(starts) <= _FEW_NAMES:
             data = raw.data
@@ -63,13 +66,13 @@ class FrameNames:
         distinct = np.flatnonzero(np.bincount(lengths)) if lengths.max() < _COUNTED_LENGTHS else np.unique(lengths)
         for length in distinct.tolist():
             rows = np.flatnonzero(lengths == length)
-            matrix = gathered(raw, starts[rows], length)
-            firsts, inverse = _distinct_rows(matrix)
+            words = _words(raw, starts[rows], length)
+            firsts, inverse = _distinct_rows(words)
             table = np.zeros(len(firsts), np.int32)
             broken = np.zeros(len(firsts), bool)
             for i, row in enumerate(firsts.tolist()):
                 try:
-                    table[i] = self.id(matrix[row].tobytes().decode("utf-8"))
+                    table[i] = self.id(words[row].tobytes()[:length].decode("utf-8"))
                 except UnicodeDecodeError:
                     broken[i] = True
             ids[rows] = table[inverse]
@@ -174,18 +177,37 @@ def gathered(raw: UInt8Array, starts: Int64Array, length: int) -> UInt8Array:
     return rows
 
 
-def _distinct_rows(matrix: UInt8Array) -> tuple[Int64Array, Int64Array]:
-    """A first row of each distinct row of ``matrix``, and each row's index among them."""
-    n, width = matrix.shape
-    padded = np.zeros((n, -(-width // 8) * 8), np.uint8)
-    padded[:, :width] = matrix
-    key = np.full(n, width, np.uint64)
-    for column in padded.view("<u8").T:
+def _words(raw: UInt8Array, starts: Int64Array, length: int) -> Words:
+    """The ``length`` bytes at each of ``starts`` as a row of 8-byte words, the last one padded with zeros."""
+    width = -(-length // 8) * 8
+    if width and int(starts.max()) + width <= len(raw):  # read on past each name, then clear what follows it
+        words: Words = gathered(raw, starts, width).view("<u8")
+        if width > length:
+            words[:, -1] &= np.uint64((1 << 8 * (length % 8)) - 1)
+        return words
+    padded = np.zeros((len(starts), width), np.uint8)
+    padded[:, :length] = gathered(raw, starts, length)
+    return padded.view("<u8")
+
+
+def _distinct_rows(words: Words) -> tuple[Int64Array, Int64Array]:
+    """A first row of each distinct row of ``words``, and each row's index among them."""
+    starts_run = np.ones(len(words), bool)
+    starts_run[1:] = (words[1:] != words[:-1]).any(axis=1)
+    heads = np.flatnonzero(starts_run)
+    run = np.cumsum(starts_run) - 1
+    firsts, inverse = _distinct_heads(words[heads])
+    return heads[firsts], inverse[run]
+
+
+def _distinct_heads(words: Words) -> tuple[Int64Array, Int64Array]:
+    key = np.full(len(words), words.shape[1], np.uint64)
+    for column in words.T:
         key = key * _HASH_PRIME ^ column
     firsts, inverse = _peel(key)
-    if np.array_equal(matrix[firsts][inverse], matrix):
+    if np.array_equal(words[firsts][inverse], words):
         return firsts, inverse
-    rows = np.ascontiguousarray(matrix).view(f"V{width}").reshape(-1)
+    rows = np.ascontiguousarray(words).view(f"V{8 * words.shape[1]}").reshape(-1)
     _, firsts, inverse = np.unique(rows, return_index=True, return_inverse=True)
     return firsts, inverse.reshape(-1)
 

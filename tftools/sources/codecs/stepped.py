@@ -194,15 +194,14 @@ def _assemble(
         for s, k in zip(steps, keep, strict=True)
     ]
     rows = {c.name: np.concatenate([getattr(s, c.name) for s in steps]) for c in fields(_Step)}
-    # The rows came step by step: ``order`` takes them message by message.
+    # Names are interned step by step (where they repeat), the rows then taken message by message.
+    starts = np.concatenate([rows["frame_start"], rows["child_start"]])
+    ids, undecodable = frames.intern(raw, starts, np.concatenate([rows["frame_length"], rows["child_length"]]))
     order = np.empty(total, np.int64)
     order[(np.cumsum(counts) - counts)[rows["message"]] + rows["j"]] = np.arange(total)
-    starts = np.concatenate([rows["frame_start"][order], rows["child_start"][order]])
-    lengths = np.concatenate([rows["frame_length"][order], rows["child_length"][order]])
-    ids, undecodable = frames.intern(raw, starts, lengths)
     message, stamp, values = rows["message"][order], rows["stamp"][order], rows["values"][order]
-    parent, child = ids[:total], ids[total:]
-    lost = np.unique(message[undecodable[:total] | undecodable[total:]])
+    parent, child = ids[:total][order], ids[total:][order]
+    lost = np.unique(message[(undecodable[:total] | undecodable[total:])[order]])
     if len(lost):
         kept = ~np.isin(message, lost)
         message, parent, child, stamp, values = message[kept], parent[kept], child[kept], stamp[kept], values[kept]

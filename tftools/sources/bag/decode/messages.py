@@ -9,6 +9,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.arrays import Int64Array as IntArray
+from tftools.core.arrays import UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.decode.clock import ClockParts
 from tftools.sources.bag.decode.rows import Channel, Rows
@@ -26,16 +27,19 @@ _LENGTH_MASK = (1 << 40) - 1  # a group's key: its codec's number << 40 | its pa
 
 @dataclass
 class _Group:
-    """Payloads of one codec and one length: concatenated bytes, and their message numbers."""
+    """Payloads of one codec, gathered length by length: concatenated bytes, and their message numbers."""
 
     pieces: list[bytes] = field(default_factory=list)
+    lengths: list[IntArray] = field(default_factory=list)
     ids: list[IntArray] = field(default_factory=list)
 
-    def matrix(self, length: int) -> tuple[npt.NDArray[np.uint8], IntArray]:
-        ids = np.concatenate(self.ids)
-        data = np.frombuffer(b"".join(self.pieces), np.uint8)
+    def payloads(self) -> tuple[UInt8Array, IntArray, IntArray, IntArray]:
+        """The bytes, and each payload's start and length in them and message number, in message order."""
+        lengths, ids = np.concatenate(self.lengths), np.concatenate(self.ids)
+        raw = np.frombuffer(b"".join(self.pieces), np.uint8)
         self.pieces.clear()
-        return data.reshape(len(ids), length), ids
+        order = np.argsort(ids, kind="stable")
+        return raw, (np.cumsum(lengths) - lengths)[order], lengths[order], ids[order]
 
 
 class MessageSet:
@@ -56,7 +60,7 @@ class MessageSet:
         self._times: list[IntArray] = []
         self._positions: list[IntArray] = []
         self._channel_of: list[Int32Array] = []
-        self._groups: dict[tuple[Codec | ClockCodec, int], _Group] = {}
+        self._groups: dict[Codec | ClockCodec, _Group] = {}
         self._unpack_failed: dict[int, list[str]] = {}
         self._pending_bytes = 0
         self._rows = Rows(self.channels)
@@ -171,22 +175,22 @@ class MessageSet:
 
     def _group(self, key: int, joined: bytes, ids: IntArray) -> None:
         codec, length = self._codecs[key >> 40], key & _LENGTH_MASK
-        group = self._groups.setdefault((codec, length), _Group())
+        group = self._groups.setdefault(codec, _Group())
         group.pieces.append(joined)
+        group.lengths.append(np.full(len(ids), length, np.int64))
         group.ids.append(ids)
         self._pending_bytes += len(joined)
 
     def _decode_groups(self) -> None:
-        """Decode the payloads gathered so far into rows, and let them go."""
+        """Decode the payloads gathered so far into rows, each codec's at once, and let them go."""
         while self._groups:
-            (codec, length), group = self._groups.popitem()
-            matrix, ids = group.matrix(length)
-            starts, lengths = np.arange(len(ids), dtype=np.int64) * length, np.full(len(ids), length, np.int64)
+            codec, group = self._groups.popitem()
+            raw, starts, lengths, ids = group.payloads()
             if isinstance(codec, ClockCodec):
-                rows, values, failures = codec.decode(matrix.reshape(-1), starts, lengths)
+                rows, values, failures = codec.decode(raw, starts, lengths)
                 self._clocks.append((ids[rows], values))
             else:
-                decoded = codec.decode(matrix.reshape(-1), starts, lengths, self._rows.frames)
+                decoded = codec.decode(raw, starts, lengths, self._rows.frames)
                 self._rows.add(ids[decoded.message], decoded)
                 failures = decoded.failures
             self._failed += [(int(ids[row]), reason) for row, reason in failures]

@@ -28,7 +28,7 @@ class Channel:
 class Rows:
     """Columns of decoded transforms, part after part; frame names interned as they come.
 
-    Parts come grouped by codec and payload length; ``settle`` puts those added since the last call
+    Parts come codec by codec; ``settle`` puts those added since the last call
     in message order, so that rows read in record order need no reordering of the whole batch.
     """
 
