@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from tests.fuzz.test_live_fuzz import mutants
 from tests.sources.ros2_helpers import Tf, foxglove_cdr, tf_cdr, tf_ros1, varied_transform
 from tftools.sources.codecs.decoded import Decoded, FrameNames
-from tftools.sources.codecs.select import CODECS
+from tftools.sources.codecs.select import CLOCK_CODECS, CODECS
 
 EXAMPLES = int(os.environ.get("TFTOOLS_FUZZ_EXAMPLES", "40"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -77,5 +77,26 @@ def test_in_bulk_as_one_by_one(key: tuple[str, str]) -> None:
             alone = decode(np.frombuffer(payload, np.uint8), np.zeros(1, np.int64), lengths[i : i + 1], alone_frames)
             assert rows(bulk, frames, i) == rows(alone, alone_frames, 0)
             assert [reason for m, reason in bulk.failures if m == i] == [reason for _, reason in alone.failures]
+
+    check()
+
+
+@pytest.mark.parametrize("encoding", ["ros1", "cdr", "json"])
+def test_clocks_in_bulk_as_one_by_one(encoding: str) -> None:
+    decode = CLOCK_CODECS[("rosgraph_msgs/msg/Clock", encoding)].decode
+    clock = {"ros1": b"\x01\x00\x00\x00\x02\x00\x00\x00", "cdr": b"\x00\x01\x00\x00" + b"\x01\x00\x00\x00" * 2}
+    seed = clock.get(encoding, b'{"clock": {"sec": 1, "nanosec": 2}}')
+
+    @FUZZ
+    @given(st.lists(st.sampled_from([seed]) | mutants(seed), max_size=20))
+    def check(payloads: list[bytes]) -> None:
+        lengths = np.array([len(p) for p in payloads], np.int64)
+        messages, times, failures = decode(
+            np.frombuffer(b"".join(payloads), np.uint8), np.cumsum(lengths) - lengths, lengths
+        )
+        for i, payload in enumerate(payloads):
+            alone = decode(np.frombuffer(payload, np.uint8), np.zeros(1, np.int64), lengths[i : i + 1])
+            assert times[messages == i].tolist() == alone[1].tolist()
+            assert [reason for m, reason in failures if m == i] == [reason for _, reason in alone[2]]
 
     check()

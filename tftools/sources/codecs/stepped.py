@@ -54,7 +54,7 @@ def decode_transforms(
 
 @dataclass
 class _Step:
-    """The j-th transforms of the messages that have one (or, read on its own, the j-th onwards of one)."""
+    """The j-th transforms of the messages that have one."""
 
     j: Int64Array
     message: Int64Array
@@ -82,7 +82,7 @@ def _in_step(
         bad = np.zeros(len(starts), bool)
     counts[bad] = 0
     steps = _walk(raw, starts, starts + wire.origin + 4 * counted, starts + lengths, counts, bad, wire)
-    counts[bad] = 0
+    counts[bad] = 0  # of those found bad on the way too: their rows take no place
     decoded, lost = _assemble(raw, steps, [~bad[step.message] for step in steps], counts, frames)
     bad[lost] = True
     return decoded, np.flatnonzero(bad)
@@ -134,7 +134,7 @@ def _walk(
         j += 1
         while active and sorted_counts[active - 1] <= j:
             active -= 1
-    bad[order[:active]] = True
+    bad[order[:active]] = True  # those left
     if wire.exact:  # of the messages read to their last transform, those that go on
         bad[order[active:][(sorted_counts[active:] > 0) & (cursor[active:] != ends[active:])]] = True
     return steps

@@ -156,8 +156,8 @@ def parse_header(raw: BytesLike, wires: Sequence[Wire]) -> Header | None:
 def decode_times(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire]) -> Clocks:
     """Messages whose first field is a time (``rosgraph_msgs/Clock``): those well-formed, their
     times (ns), and the (message, reason) of the others."""
-    taken: list[Int64Array] = []
-    times: list[Int64Array] = []
+    taken: list[Int64Array] = [np.zeros(0, np.int64)]
+    times: list[Int64Array] = [np.zeros(0, np.int64)]
     for wire, members in partition(raw, starts, lengths, wires):
         members = members[lengths[members] >= wire.origin + TIME_SIZE]
         time = gathered(raw, starts[members] + wire.origin, TIME_SIZE).view(wire.stamp).reshape(-1)
