@@ -15,11 +15,8 @@ from tftools.core.batch import TransformBatch
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
 BytesLike = bytes | memoryview | UInt8Array
 
-#: Names this few are interned one by one rather than told apart by a hash of their bytes.
+#: Names this few are interned one by one rather than told apart in bulk.
 _FEW_NAMES = 32
-_HASH_PRIME = np.uint64(0x100000001B3)
-#: Distinct hashes picked out one pass each before the rest are sorted out.
-_PEELED = 16
 #: Names as rows of 8-byte words.
 Words = npt.NDArray[np.uint64]
 #: Names shorter than this have their distinct lengths counted rather than sorted.
@@ -47,9 +44,9 @@ class FrameNames:
     def intern(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
         """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]``, and which are not UTF-8.
 
-        Names of one length are told apart by their bytes, compared with the name before (equal
-        names mostly come in runs: a publisher's, message after message) and, the first of each
-        run, by a 64-bit hash checked word for word (a collision falls back to sorting the words).
+        Names of one length are told apart by their bytes: compared with the name before (equal
+        names mostly come in runs: a publisher's, message after message), then the first of each
+        run sorted.
         """
         if len(starts) <= _FEW_NAMES:
             data = raw.data
@@ -192,42 +189,12 @@ def _words(raw: UInt8Array, starts: Int64Array, length: int) -> Words:
 
 def _distinct_rows(words: Words) -> tuple[Int64Array, Int64Array]:
     """A first row of each distinct row of ``words``, and each row's index among them."""
+    if not words.shape[1]:  # empty names
+        return np.zeros(1, np.int64), np.zeros(len(words), np.int64)
     starts_run = np.ones(len(words), bool)
     starts_run[1:] = (words[1:] != words[:-1]).any(axis=1)
     heads = np.flatnonzero(starts_run)
     run = np.cumsum(starts_run) - 1
-    firsts, inverse = _distinct_heads(words[heads])
-    return heads[firsts], inverse[run]
-
-
-def _distinct_heads(words: Words) -> tuple[Int64Array, Int64Array]:
-    key = np.full(len(words), words.shape[1], np.uint64)
-    for column in words.T:
-        key = key * _HASH_PRIME ^ column
-    firsts, inverse = _peel(key)
-    if np.array_equal(words[firsts][inverse], words):
-        return firsts, inverse
-    rows = np.ascontiguousarray(words).view(f"V{8 * words.shape[1]}").reshape(-1)
-    _, firsts, inverse = np.unique(rows, return_index=True, return_inverse=True)
-    return firsts, inverse.reshape(-1)
-
-
-def _peel(key: npt.NDArray[np.uint64]) -> tuple[Int64Array, Int64Array]:
-    """A first row of each distinct value of ``key``, and each row's index among them.
-
-    Frame names are few and repeat, so the rows of each value are picked out in turn (a pass
-    each, no sort); past ``_PEELED`` values, the rest are sorted out by ``np.unique``."""
-    inverse = np.empty(len(key), np.int64)
-    firsts: list[int] = []
-    rows = np.arange(len(key))
-    rest = key
-    while len(rows) and len(firsts) < _PEELED:
-        same = rest == rest[0]
-        inverse[rows[same]] = len(firsts)
-        firsts.append(int(rows[0]))
-        rows, rest = rows[~same], rest[~same]
-    if len(rows):
-        _, more, index = np.unique(rest, return_index=True, return_inverse=True)
-        inverse[rows] = len(firsts) + index.reshape(-1)
-        return np.concatenate([np.array(firsts, np.int64), rows[more]]), inverse
-    return np.array(firsts, np.int64), inverse
+    distinct = np.ascontiguousarray(words[heads]).view(f"V{8 * words.shape[1]}").reshape(-1)
+    _, firsts, inverse = np.unique(distinct, return_index=True, return_inverse=True)
+    return heads[firsts], inverse.reshape(-1)[run]
