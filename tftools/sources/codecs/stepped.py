@@ -13,7 +13,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from tftools.core.arrays import BoolArray, FloatArray, Int64Array, UInt8Array
+from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames, gathered
 from tftools.sources.codecs.wire import VALUES_SIZE, Cursor, Wire, partition, wire_of
@@ -63,7 +63,7 @@ class _Step:
     frame_length: Int64Array
     child_start: Int64Array
     child_length: Int64Array
-    values: FloatArray
+    values_at: Int64Array  # where the 7 float64 start
 
 
 def _in_step(
@@ -83,7 +83,7 @@ def _in_step(
     counts[bad] = 0
     steps = _walk(raw, starts, starts + wire.origin + 4 * counted, starts + lengths, counts, bad, wire)
     counts[bad] = 0  # of those found bad on the way too: their rows take no place
-    decoded, lost = _assemble(raw, steps, [~bad[step.message] for step in steps], counts, frames)
+    decoded, lost = _assemble(raw, steps, [~bad[step.message] for step in steps], counts, frames, wire)
     bad[lost] = True
     return decoded, np.flatnonzero(bad)
 
@@ -116,8 +116,6 @@ def _walk(
         child_length = gathered(raw, np.where(ok, child_at, 0), 4).view(f"{wire.order}u4").reshape(-1).astype(np.int64)
         values_at = _aligned(child_at + 4 + child_length, origin[:active], 8, wire)
         ok &= values_at + VALUES_SIZE <= end
-        values_at = np.where(ok, values_at, 0)
-        values = gathered(raw, np.minimum(values_at, len(raw) - VALUES_SIZE), VALUES_SIZE)
         bad[order[:active][~ok]] = True
         step = _Step(
             np.full(active, j),
@@ -127,7 +125,7 @@ def _walk(
             np.maximum(frame_length - wire.nul, 0),
             child_at + 4,
             np.maximum(child_length - wire.nul, 0),
-            values.view(f"{wire.order}f8"),
+            values_at,
         )
         steps.append(step)
         cursor[:active] = values_at + VALUES_SIZE
@@ -182,7 +180,7 @@ def _transform(cursor: Cursor) -> tuple[int, int, int, int, int, int]:
 
 
 def _assemble(
-    raw: UInt8Array, steps: list[_Step], keep: list[BoolArray], counts: Int64Array, frames: FrameNames
+    raw: UInt8Array, steps: list[_Step], keep: list[BoolArray], counts: Int64Array, frames: FrameNames, wire: Wire
 ) -> tuple[Decoded, Int64Array]:
     """The kept rows of the steps in message order (``counts`` of each message), and the messages
     lost to a frame id that is not UTF-8."""
@@ -193,16 +191,24 @@ def _assemble(
         s if k.all() else _Step(*(getattr(s, c.name)[k] for c in fields(_Step)))
         for s, k in zip(steps, keep, strict=True)
     ]
-    rows = {c.name: np.concatenate([getattr(s, c.name) for s in steps]) for c in fields(_Step)}
-    # Names are interned step by step (where they repeat), the rows then taken message by message.
-    starts = np.concatenate([rows["frame_start"], rows["child_start"]])
-    ids, undecodable = frames.intern(raw, starts, np.concatenate([rows["frame_length"], rows["child_length"]]))
-    order = np.empty(total, np.int64)
-    order[(np.cumsum(counts) - counts)[rows["message"]] + rows["j"]] = np.arange(total)
-    message, stamp, values = rows["message"][order], rows["stamp"][order], rows["values"][order]
-    parent, child = ids[:total][order], ids[total:][order]
-    lost = np.unique(message[(undecodable[:total] | undecodable[total:])[order]])
-    if len(lost):
-        kept = ~np.isin(message, lost)
+    # Each step's rows go to their places message by message; names are interned step by step,
+    # where they repeat.
+    first = np.cumsum(counts) - counts  # each message's first row
+    places = [first[s.message] + s.j for s in steps]
+    message, stamp, values_at = np.empty(total, np.int64), np.empty(total, np.int64), np.empty(total, np.int64)
+    for step, place in zip(steps, places, strict=True):
+        message[place], stamp[place], values_at[place] = step.message, step.stamp, step.values_at
+    values = gathered(raw, values_at, VALUES_SIZE).view(f"{wire.order}f8").astype(np.float64, copy=False)
+    starts = np.concatenate([s.frame_start for s in steps] + [s.child_start for s in steps])
+    ids, undecodable = frames.intern(
+        raw, starts, np.concatenate([s.frame_length for s in steps] + [s.child_length for s in steps])
+    )
+    place = np.concatenate(places)
+    parent, child, broken = np.empty(total, np.int32), np.empty(total, np.int32), np.empty(total, bool)
+    parent[place], child[place], broken[place] = ids[:total], ids[total:], undecodable[:total] | undecodable[total:]
+    lost = np.zeros(len(counts), bool)
+    lost[message[broken]] = True
+    if broken.any():
+        kept = ~lost[message]
         message, parent, child, stamp, values = message[kept], parent[kept], child[kept], stamp[kept], values[kept]
-    return Decoded(message, parent, child, stamp, values.astype(np.float64, copy=False)), lost
+    return Decoded(message, parent, child, stamp, values), np.flatnonzero(lost)

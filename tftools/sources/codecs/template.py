@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, UInt8Array
-from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames, gathered
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames, gathered, grouped
 from tftools.sources.codecs.parsed import Parsed, one_by_one
 
 #: After this many templates in a row that each matched almost nothing, the rest goes one by one.
@@ -51,9 +51,11 @@ def decode_templated(
     raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, learn: Learner
 ) -> Decoded:
     """The payloads decoded by templates ``learn`` teaches, payloads of each length together."""
-    groups = [np.flatnonzero(lengths == length) for length in np.unique(lengths).tolist()]
     return Decoded.joined(
-        [_decode_group(gathered(raw, starts[g], int(lengths[g[0]])), frames, learn).renumbered(g) for g in groups]
+        [
+            _decode_group(gathered(raw, starts[g], int(lengths[g[0]])), frames, learn).renumbered(g)
+            for g in grouped(lengths)
+        ]
     )
 
 

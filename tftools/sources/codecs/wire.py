@@ -164,8 +164,10 @@ def decode_times(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires
         taken.append(members)
         times.append(time["sec"].astype(np.int64) * NS_PER_S + time["nsec"])
     messages = np.concatenate(taken)
+    failed = np.ones(len(starts), bool)
+    failed[messages] = False
     failures = []
-    for message in np.setdiff1d(np.arange(len(starts)), messages).tolist():
+    for message in np.flatnonzero(failed).tolist():
         start, length = int(starts[message]), int(lengths[message])
         try:
             needed = wire_of(raw, start, length, wires).origin + TIME_SIZE
