@@ -21,11 +21,16 @@ def timed(label: str, run: Callable[[], int], repeat: int = 3) -> int:
 
 def rosbags_transforms(bag: Path) -> int:
     """Every tf message of ``bag`` read and deserialized by rosbags, for comparison: its transforms."""
-    from rosbags.highlevel import AnyReader
-
     from tftools.sources.codecs.types import typestore
 
-    store = typestore("ros1_noetic" if bag.suffix == ".bag" else "ros2_humble")
-    with AnyReader([bag], default_typestore=store) as reader:
+    if bag.suffix == ".bag":
+        from rosbags.rosbag1 import Reader
+
+        deserialize = typestore("ros1_noetic").deserialize_ros1
+    else:
+        from rosbags.rosbag2 import Reader  # type: ignore[assignment]
+
+        deserialize = typestore("ros2_humble").deserialize_cdr
+    with Reader(bag) as reader:
         tf = [c for c in reader.connections if c.topic in ("/tf", "/tf_static")]
-        return sum(len(reader.deserialize(raw, c.msgtype).transforms) for c, _, raw in reader.messages(connections=tf))
+        return sum(len(deserialize(raw, c.msgtype).transforms) for c, _, raw in reader.messages(connections=tf))

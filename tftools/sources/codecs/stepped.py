@@ -56,7 +56,7 @@ def decode_transforms(
 class _Step:
     """The j-th transforms of the messages that have one."""
 
-    j: Int64Array
+    j: int
     message: Int64Array
     stamp: Int64Array
     frame_start: Int64Array  # where the name's bytes start in ``raw``
@@ -109,22 +109,23 @@ def _walk(
     while active and (active > _FEW_MESSAGES or sorted_counts[0] - j <= _MANY_STEPS):
         at, end = cursor[:active] + 4 * wire.seq, ends[:active]
         ok = at + 12 <= end
-        head = gathered(raw, np.where(ok, at, 0), 12).view(wire.head).reshape(-1)
+        head = gathered(raw, _within(at, ok), 12).view(wire.head).reshape(-1)
         frame_length = head["length"].astype(np.int64)
         child_at = _aligned(at + 12 + frame_length, origin[:active], 4, wire)
         ok &= child_at + 4 <= end
-        child_length = gathered(raw, np.where(ok, child_at, 0), 4).view(f"{wire.order}u4").reshape(-1).astype(np.int64)
+        child_length = gathered(raw, _within(child_at, ok), 4).view(f"{wire.order}u4").reshape(-1).astype(np.int64)
         values_at = _aligned(child_at + 4 + child_length, origin[:active], 8, wire)
         ok &= values_at + VALUES_SIZE <= end
-        bad[order[:active][~ok]] = True
+        if not ok.all():
+            bad[order[:active][~ok]] = True
         step = _Step(
-            np.full(active, j),
+            j,
             order[:active],
             head["sec"].astype(np.int64) * NS_PER_S + head["nsec"],
             at + 12,
-            np.maximum(frame_length - wire.nul, 0),
+            np.maximum(frame_length - 1, 0) if wire.nul else frame_length,
             child_at + 4,
-            np.maximum(child_length - wire.nul, 0),
+            np.maximum(child_length - 1, 0) if wire.nul else child_length,
             values_at,
         )
         steps.append(step)
@@ -136,6 +137,11 @@ def _walk(
     if wire.exact:  # of the messages read to their last transform, those that go on
         bad[order[active:][(sorted_counts[active:] > 0) & (cursor[active:] != ends[active:])]] = True
     return steps
+
+
+def _within(at: Int64Array, ok: BoolArray) -> Int64Array:
+    """``at``, where ``ok`` (0 elsewhere: a place to read that is in ``raw``)."""
+    return at if ok.all() else np.where(ok, at, 0)
 
 
 def _aligned(at: Int64Array, origin: Int64Array, size: int, wire: Wire) -> Int64Array:
@@ -188,7 +194,7 @@ def _assemble(
     if not total:
         return Decoded.empty(), np.zeros(0, np.int64)
     steps = [
-        s if k.all() else _Step(*(getattr(s, c.name)[k] for c in fields(_Step)))
+        s if k.all() else _Step(s.j, *(getattr(s, c.name)[k] for c in fields(_Step)[1:]))
         for s, k in zip(steps, keep, strict=True)
     ]
     # Each step's rows go to their places message by message; names are interned step by step,
