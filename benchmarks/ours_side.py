@@ -65,7 +65,8 @@ def import_readers() -> None:
     ``vs_tf2.py --commands`` counts, in each command's whole run)."""
     import ruamel.yaml  # noqa: F401 (rosbag2's metadata.yaml)
 
-    from tftools.sources.bag import db3_file, mcap_file, ros1, rosbag2  # noqa: F401
+    from tftools.sources.bag import mcap, ros1, rosbag2  # noqa: F401
+    from tftools.sources.bag.rosbag2 import db3  # noqa: F401
 
 
 def lookup_times(count: int, seconds: int) -> list[int]:

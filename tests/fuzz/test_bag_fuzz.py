@@ -22,7 +22,7 @@ from tests.bags import BagFormat, TfMessage, write_bag
 from tests.sources import hostile
 from tftools.core.errors import TfToolsError
 from tftools.core.transform import Transform
-from tftools.sources.bag.decode.messages import MessageSet
+from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.codecs.select import CODECS
 

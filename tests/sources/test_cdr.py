@@ -21,7 +21,7 @@ from tests.sources.ros2_helpers import (
     tf_ros1,
     varied_transform,
 )
-from tftools.sources.bag.decode.messages import MessageSet
+from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.select import CODECS
 

@@ -12,9 +12,9 @@ from typing import Any
 import pytest
 
 from tests.sources.ros2_helpers import NS, T0, Tf, string_cdr, tf_cdr
-from tftools.sources.bag import db3_file
-from tftools.sources.bag.decode import MessageSet
+from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
+from tftools.sources.bag.rosbag2 import db3 as db3_reader
 
 TOPICS = [
     (1, "/tf", "tf2_msgs/msg/TFMessage"),
@@ -118,7 +118,7 @@ def test_rows_fetched_a_batch_at_a_time_and_only_the_tf_topics(tmp_path: Path, m
         add(self, channel, times, positions, payloads)
 
     monkeypatch.setattr(MessageSet, "add", spy)
-    monkeypatch.setattr(db3_file, "_FETCH", 100)
+    monkeypatch.setattr(db3_reader, "_FETCH", 100)
     got, _ = read(db3)
     assert got == expected(rows)
     tf_rows = [row for row in rows if row[1] in (1, 2)]

@@ -16,9 +16,9 @@ import pytest
 from tests.sources import hostile
 from tftools.core.errors import TfToolsError
 from tftools.sources.bag import rosbag2, unpack
-from tftools.sources.bag.db3_salvage import salvage
 from tftools.sources.bag.ranges import prefetch
 from tftools.sources.bag.reader import read_bag
+from tftools.sources.bag.rosbag2.db3_salvage import salvage
 from tftools.sources.errors import CorruptBagError
 
 MiB = 1 << 20
@@ -93,9 +93,10 @@ def test_mcap_chunk_bomb_is_cut_and_lost(tmp_path: Path, summary: bool, monkeypa
 def test_message_compressed_db3_bomb_loses_that_message(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(unpack, "MAX_UNPACKED", 4 * MiB)
     bag = hostile.db3(tmp_path / "bomb.db3", [hostile.compressed_zeros("zstd", 16 * MiB)])
-    from tftools.sources.bag import db3_file
+    from tftools.sources.bag.messages import MessageSet
+    from tftools.sources.bag.rosbag2 import db3
 
-    scan = db3_file.scan(bag, ("/tf",), lambda _a, _b: None)
+    scan = db3.scan(bag, ("/tf",), lambda _a, _b: None, MessageSet())
     _, _, lost = scan.messages.decode()
     assert lost and "could not be decompressed" in lost[0] and "4 MiB a piece" in lost[0]
 

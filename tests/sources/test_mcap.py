@@ -33,10 +33,12 @@ from tests.sources.ros2_helpers import (
     write_foxglove_mcap,
     write_rosbag2,
 )
-from tftools.sources.bag import mcap_file, ranges
-from tftools.sources.bag.decode import MessageSet
-from tftools.sources.bag.mcap_records import ChunkIndex
+from tftools.sources.bag import mcap, ranges
+from tftools.sources.bag.mcap import index as mcap_index
+from tftools.sources.bag.mcap.records import CHUNK_HEAD, Body, ChunkIndex
+from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
+from tftools.sources.bag.spans import Spans
 from tftools.sources.errors import BagError, CorruptBagError
 
 DEFAULT = ("/tf", "/tf_static")
@@ -314,7 +316,7 @@ def test_not_mcap(tmp_path: Path, content: bytes) -> None:
     path = tmp_path / "x.mcap"
     path.write_bytes(content)
     with pytest.raises(CorruptBagError) as caught:
-        mcap_file.read(path, DEFAULT, lambda *_: None)
+        mcap.read(path, DEFAULT, lambda *_: None)
     assert "\n" not in str(caught.value)
 
 
@@ -341,18 +343,20 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     """What the MCAP reader reads of its chunks, as it reads it: ("range", bytes) of the ranges
     read from uncompressed chunks, (compression, bytes) of a chunk read whole."""
     seen: list[tuple[str, int]] = []
-    read_into, read_chunk = ranges.read_into, mcap_file._read_chunk
+    read_into, chunk_records = ranges.read_into, mcap_index.chunk_records
 
     def counted_range(fd: int, view: memoryview, offset: int) -> bool:
         seen.append(("range", len(view)))
         return read_into(fd, view, offset)
 
-    def counted_chunk(f: Any, chunk: ChunkIndex, *rest: Any) -> None:
-        seen.append((chunk.compression or "none", chunk.length))
-        read_chunk(f, chunk, *rest)
+    def counted_chunk(content: memoryview, **options: Any) -> bytes | memoryview:
+        body = Body(content)
+        body.take(CHUNK_HEAD)
+        seen.append((body.string() or "none", len(content)))
+        return chunk_records(content, **options)
 
     monkeypatch.setattr(ranges, "read_into", counted_range)
-    monkeypatch.setattr(mcap_file, "_read_chunk", counted_chunk)
+    monkeypatch.setattr(mcap_index, "chunk_records", counted_chunk)
     return seen
 
 
@@ -362,9 +366,9 @@ def handed_on(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     seen: list[int] = []
     add_spans = MessageSet.add_spans
 
-    def noted(self: MessageSet, channel: Any, times: Any, positions: Any, *rest: Any) -> None:
-        seen.extend(np.asarray(positions).tolist())
-        add_spans(self, channel, times, positions, *rest)
+    def noted(self: MessageSet, channel: Any, spans: Spans, data: Any) -> None:
+        seen.extend(spans.position.tolist())
+        add_spans(self, channel, spans, data)
 
     monkeypatch.setattr(MessageSet, "add_spans", noted)
     return seen
@@ -390,7 +394,7 @@ def test_images_between_transforms_read_in_ranges(
     assert by_time(rows) == by_time(reference_rows(path.parent, RANGE_TOPICS))
     assert contents.problems == [] and contents.files[0].topics["/camera/image"] == IMAGE_TYPE
     assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.1 * path.stat().st_size
-    assert len(mcap_file._summary(path.open("rb"), path.stat().st_size).chunks) > 3  # type: ignore[union-attr]
+    assert len(mcap_index._summary(path.open("rb"), path.stat().st_size).chunks) > 3  # type: ignore[union-attr]
     data = bytearray(path.read_bytes())
     data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # no summary: read record by record
     path.write_bytes(bytes(data))
@@ -428,7 +432,7 @@ def foxglove_among_images(tmp_path: Path, **options: Any) -> Path:
 
 def chunks_of(path: Path) -> list[ChunkIndex]:
     with path.open("rb") as f:
-        summary = mcap_file._summary(f, path.stat().st_size)
+        summary = mcap_index._summary(f, path.stat().st_size)
     assert summary is not None
     return sorted(summary.chunks, key=lambda c: c.offset)
 

@@ -27,9 +27,11 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
-from tftools.sources.bag import ranges, ros1, ros1_scan
+from tftools.sources.bag import ranges, ros1
 from tftools.sources.bag.reader import read_bag
-from tftools.sources.bag.ros1_format import read_bag_header
+from tftools.sources.bag.ros1 import file as ros1_file
+from tftools.sources.bag.ros1 import index as ros1_index
+from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.ros1 import decode_tf
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
@@ -139,8 +141,8 @@ def test_malformed_messages_are_skipped_with_a_reason(tmp_path: Path) -> None:
     assert [(row[:3], row[4]) for row in rows_of(batches)] == [(("map", "odom", T0), T0), (("map", "odom", T0), T0 + 8)]
     (line,) = info.problems
     assert line == (
-        "/tf: 6 of 9 messages could not be decoded as tf2_msgs/TFMessage, skipped"
-        " (first: 1 byte after the last transform)"
+        "/tf: 6 of 9 messages could not be decoded as tf2_msgs/TFMessage (ros1),"
+        " skipped (first: 1 byte after the last transform)"
     )
     for payload, reason in malformed.items():  # as live sources decode them
         with pytest.raises(ValueError, match=reason):
@@ -172,13 +174,13 @@ def test_only_chunks_holding_transforms_are_decompressed(tmp_path: Path, monkeyp
     images = [Msg("/camera/image", "string", T0 + 6 * NS + i * NS // 10, "/camera", "x" * 200_000) for i in range(40)]
     bag = write_rosbags(tmp_path / "b.bag", early + images, "bz2", chunk_threshold=100_000)
     decompressed: list[int] = []
-    real = ros1_scan.unpack
+    real = ros1_file.unpack
 
     def counting(compression: str, raw: bytes, size: int, budget: object = None):
         decompressed.append(size)
         return real(compression, raw, size, budget)
 
-    monkeypatch.setattr(ros1_scan, "unpack", counting)
+    monkeypatch.setattr(ros1_file, "unpack", counting)
     batches, info = read(bag)
     counts = tf_counts(bag)
     assert len(counts) > 20
@@ -235,7 +237,7 @@ def test_chunk_headers_and_indexes_are_prefetched(
     def noted(fd: int, starts: np.ndarray, ends: np.ndarray) -> None:
         prefetched.extend(zip(starts.tolist(), ends.tolist(), strict=True))
 
-    monkeypatch.setattr(ros1_scan, "prefetch", noted)
+    monkeypatch.setattr(ros1_index, "prefetch", noted)
     assert rows_of(read(bag)[0]) == reference_rows(bag)
     with Reader(bag) as reader:
         infos = sorted(reader.chunk_infos, key=lambda info: info.pos)
@@ -252,8 +254,8 @@ def test_records_read_in_batches_of_any_size_read_alike(
     rosbag_available: None, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch, records: int, nbytes: int
 ) -> None:
     """Chunk after chunk, a few chunks at a time, or the whole bag at once: the same rows."""
-    monkeypatch.setattr(ros1_scan, "_SPAN_RECORDS", records)
-    monkeypatch.setattr(ros1_scan, "_SPAN_BYTES", nbytes)
+    monkeypatch.setattr(ros1_index, "_SPAN_RECORDS", records)
+    monkeypatch.setattr(ros1_index, "_SPAN_BYTES", nbytes)
     for name in ("none", "ordered_none"):
         batches, info = read(bags[name], (*TOPICS, "/tf_old"))
         assert rows_of(batches) == reference_rows(bags[name], (*TOPICS, "/tf_old")) and info.problems == []
@@ -316,7 +318,7 @@ def test_read_bag_reports_progress_and_other_types(tmp_path: Path) -> None:
     bag = write_rosbags(tmp_path / "b.bag", messages)
     seen: list[tuple[int, int]] = []
     contents = read_bag([bag], progress=lambda done, total: seen.append((done, total)))
-    assert contents.problems == ["/tf: std_msgs/String is not a transform message, skipped"]
+    assert contents.problems == ["/tf: std_msgs/String (ros1) is not a transform message tftools reads, skipped"]
     assert rows_of(contents.transforms) == [
         ("base", "laser", T0, np.array([0.0] * 6 + [1.0]).tobytes(), T0 + 1, "/rsp", True)
     ]

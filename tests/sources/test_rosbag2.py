@@ -30,7 +30,7 @@ from tests.sources.ros2_helpers import (
     write_rosbag2,
     write_split_rosbag2,
 )
-from tftools.sources.bag import mcap_file, rosbag2
+from tftools.sources.bag import mcap, rosbag2
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import BagError, CorruptBagError
 
@@ -440,7 +440,7 @@ def test_unmerged_wal(tmp_path: Path) -> None:
 def test_mcap_scan_is_the_bare_reader(tmp_path: Path) -> None:
     """A bag's .mcap file read by the MCAP reader and by the bag reader gives the same rows."""
     bag = write_rosbag2(tmp_path / "bag", MESSAGES, storage="mcap")
-    alone = mcap_file.read(bag / "bag.mcap", TOPICS, lambda *_: None)
+    alone = mcap.read(bag / "bag.mcap", TOPICS, lambda *_: None)
     in_bag = rosbag2.read(bag, TOPICS, lambda *_: None)
     assert batch_rows(alone[0]) == batch_rows(in_bag[0])
 

@@ -24,7 +24,7 @@ from typing import IO, Any
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, quat_from_rpy, rpy_from_quat
-from tftools.sources.bag.metadata_yaml import MetadataError, load
+from tftools.sources.bag.rosbag2.metadata_yaml import MetadataError, load
 
 _FRAME_KEYS = ("parent", "static", "rate_hz", "publishers", "translation", "rpy_deg", "rotation")
 _HEADER = """\

@@ -12,7 +12,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import CheckSkippedError, register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag import metadata_yaml
+from tftools.sources.bag.rosbag2 import metadata_yaml
 from tftools.sources.contents import SourceInfo, is_static_topic
 
 #: A recording this long (s) is one people play from the middle, split or filter.

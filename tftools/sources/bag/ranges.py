@@ -19,6 +19,8 @@ def read_ranges(
 ) -> tuple[npt.NDArray[np.uint8], IntArray, npt.NDArray[np.bool_]]:
     """The file's bytes ``starts[i]:ends[i]``, read in runs (ranges closer than ``MAX_GAP`` share
     one read): the runs' bytes, where each range begins in them, and whether it was read whole."""
+    if not len(starts):
+        return np.zeros(0, np.uint8), starts, np.zeros(0, bool)
     order = np.argsort(starts, kind="stable")
     low, high = starts[order], ends[order]
     reach = np.maximum.accumulate(high)

@@ -80,9 +80,9 @@ def _format_reader(path: Path) -> FormatReader:
 
         return rosbag2.read
     if head.startswith(_MCAP_MAGIC):
-        from tftools.sources.bag import mcap_file
+        from tftools.sources.bag import mcap
 
-        return mcap_file.read
+        return mcap.read
     raise UnknownBagFormatError(str(path), "unrecognised file header")
 
 

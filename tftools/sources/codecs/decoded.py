@@ -5,13 +5,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
+from tftools.sources.codecs.gather import bytes_at, first_and_inverse, grouped
 
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
 BytesLike = bytes | memoryview | UInt8Array
@@ -162,26 +162,16 @@ def _one(data: bytes) -> tuple[UInt8Array, Int64Array, Int64Array]:
     return np.frombuffer(data, np.uint8), np.zeros(1, np.int64), np.array([len(data)], np.int64)
 
 
-def gathered(raw: UInt8Array, starts: Int64Array, length: int) -> UInt8Array:
-    """The ``length`` bytes from each of ``starts`` in ``raw`` (a flat byte array, each run within
-    it), as the rows of a matrix: one gather of whole items rather than a slice per row."""
-    if not length or len(raw) < length:
-        return np.zeros((len(starts) if not length else 0, length), np.uint8)
-    items = np.ndarray((len(raw) - length + 1,), f"V{length}", raw, strides=(1,))
-    rows: UInt8Array = items[starts].view(np.uint8).reshape(len(starts), length)
-    return rows
-
-
 def _words(raw: UInt8Array, starts: Int64Array, length: int) -> Words:
     """The ``length`` bytes at each of ``starts`` as a row of 8-byte words, the last one padded with zeros."""
     width = -(-length // 8) * 8
     if width and int(starts.max()) + width <= len(raw):  # read on past each name, then clear what follows it
-        words: Words = gathered(raw, starts, width).view("<u8")
+        words: Words = bytes_at(raw, starts, width).view("<u8")
         if width > length:
             words[:, -1] &= np.uint64((1 << 8 * (length % 8)) - 1)
         return words
     padded = np.zeros((len(starts), width), np.uint8)
-    padded[:, :length] = gathered(raw, starts, length)
+    padded[:, :length] = bytes_at(raw, starts, length)
     return padded.view("<u8")
 
 
@@ -193,24 +183,5 @@ def _distinct_rows(words: Words) -> tuple[Int64Array, Int64Array]:
     starts_run[1:] = (words[1:] != words[:-1]).any(axis=1)
     heads = np.flatnonzero(starts_run)
     run = np.cumsum(starts_run) - 1
-    firsts, inverse = distinct(np.ascontiguousarray(words[heads]).view(f"V{8 * words.shape[1]}").reshape(-1))
+    firsts, inverse = first_and_inverse(np.ascontiguousarray(words[heads]).view(f"V{8 * words.shape[1]}").reshape(-1))
     return heads[firsts], inverse[run]
-
-
-def distinct(values: npt.NDArray[Any]) -> tuple[Int64Array, Int64Array]:
-    """The first index of each distinct value, and each value's index among them: ``np.unique``'s,
-    without the numpy.ma import it makes on first use (a tenth of reading a small bag)."""
-    order = np.argsort(values, kind="stable")
-    ordered = values[order]
-    new = np.ones(len(values), bool)
-    new[1:] = ordered[1:] != ordered[:-1]
-    inverse = np.empty(len(values), np.int64)
-    inverse[order] = np.cumsum(new) - 1
-    return order[new], inverse
-
-
-def grouped(values: Int64Array) -> list[Int64Array]:
-    """The indices of each distinct value, together."""
-    firsts, inverse = distinct(values)
-    order = np.argsort(inverse, kind="stable")
-    return np.split(order, np.cumsum(np.bincount(inverse, minlength=len(firsts)))[:-1])

@@ -15,7 +15,8 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
-from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames, gathered
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames
+from tftools.sources.codecs.gather import bytes_at
 from tftools.sources.codecs.wire import VALUES_SIZE, Cursor, Wire, partition, wire_of
 
 #: This few messages are read each on its own, field by field; so are those left when no more
@@ -73,7 +74,7 @@ def _in_step(
     if counted:
         readable = lengths >= wire.origin + 4
         counts = np.zeros(len(starts), np.int64)
-        counts[readable] = gathered(raw, starts[readable] + wire.origin, 4).view(f"{wire.order}u4").reshape(-1)
+        counts[readable] = bytes_at(raw, starts[readable] + wire.origin, 4).view(f"{wire.order}u4").reshape(-1)
         bad = ~readable | (counts * wire.smallest > lengths - wire.origin - 4)
         if wire.exact:
             bad |= (counts == 0) & (lengths != wire.origin + 4)
@@ -109,11 +110,11 @@ def _walk(
     while active and (active > _FEW_MESSAGES or sorted_counts[0] - j <= _MANY_STEPS):
         at, end = cursor[:active] + 4 * wire.seq, ends[:active]
         ok = at + 12 <= end
-        head = gathered(raw, _within(at, ok), 12).view(wire.head).reshape(-1)
+        head = bytes_at(raw, _within(at, ok), 12).view(wire.head).reshape(-1)
         frame_length = head["length"].astype(np.int64)
         child_at = _aligned(at + 12 + frame_length, origin[:active], 4, wire)
         ok &= child_at + 4 <= end
-        child_length = gathered(raw, _within(child_at, ok), 4).view(f"{wire.order}u4").reshape(-1).astype(np.int64)
+        child_length = bytes_at(raw, _within(child_at, ok), 4).view(f"{wire.order}u4").reshape(-1).astype(np.int64)
         values_at = _aligned(child_at + 4 + child_length, origin[:active], 8, wire)
         ok &= values_at + VALUES_SIZE <= end
         if not ok.all():
@@ -172,7 +173,7 @@ def _alone(
     )
     if undecodable.any():
         return Decoded.empty([(message, "a frame id is not UTF-8")])
-    values = gathered(raw, np.array(values_at, np.int64), VALUES_SIZE).view(f"{cursor.wire.order}f8")
+    values = bytes_at(raw, np.array(values_at, np.int64), VALUES_SIZE).view(f"{cursor.wire.order}f8")
     return Decoded(
         np.full(count, message), ids[:count], ids[count:], np.array(stamp, np.int64), values.astype(np.float64)
     )
@@ -204,7 +205,7 @@ def _assemble(
     message, stamp, values_at = np.empty(total, np.int64), np.empty(total, np.int64), np.empty(total, np.int64)
     for step, place in zip(steps, places, strict=True):
         message[place], stamp[place], values_at[place] = step.message, step.stamp, step.values_at
-    values = gathered(raw, values_at, VALUES_SIZE).view(f"{wire.order}f8").astype(np.float64, copy=False)
+    values = bytes_at(raw, values_at, VALUES_SIZE).view(f"{wire.order}f8").astype(np.float64, copy=False)
     starts = np.concatenate([s.frame_start for s in steps] + [s.child_start for s in steps])
     ids, undecodable = frames.intern(
         raw, starts, np.concatenate([s.frame_length for s in steps] + [s.child_length for s in steps])

@@ -10,7 +10,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, UInt8Array
-from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames, gathered, grouped
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames
+from tftools.sources.codecs.gather import bytes_at, grouped
 from tftools.sources.codecs.parsed import Parsed, one_by_one
 
 #: After this many templates in a row that each matched almost nothing, the rest goes one by one.
@@ -53,7 +54,7 @@ def decode_templated(
     """The payloads decoded by templates ``learn`` teaches, payloads of each length together."""
     return Decoded.joined(
         [
-            _decode_group(gathered(raw, starts[g], int(lengths[g[0]])), frames, learn).renumbered(g)
+            _decode_group(bytes_at(raw, starts[g], int(lengths[g[0]])), frames, learn).renumbered(g)
             for g in grouped(lengths)
         ]
     )

@@ -18,7 +18,8 @@ import numpy as np
 
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
-from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError, gathered
+from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError
+from tftools.sources.codecs.gather import bytes_at
 
 #: A message's header: its stamp (ns) and frame_id.
 Header = tuple[int, str]
@@ -132,7 +133,7 @@ def partition(
     if wires[0].encapsulation is None:
         return [(wires[0], np.arange(len(starts), dtype=np.int64))]
     readable = lengths >= wires[0].origin
-    head = gathered(raw, np.where(readable, starts, 0), 2) if len(raw) >= 2 else np.ones((len(starts), 2), np.uint8)
+    head = bytes_at(raw, np.where(readable, starts, 0), 2) if len(raw) >= 2 else np.ones((len(starts), 2), np.uint8)
     plain = readable & (head[:, 0] == 0)
     found = [(wire, np.flatnonzero(plain & (head[:, 1] == wire.encapsulation))) for wire in wires]
     return [(wire, members) for wire, members in found if len(members)]
@@ -160,7 +161,7 @@ def decode_times(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires
     times: list[Int64Array] = [np.zeros(0, np.int64)]
     for wire, members in partition(raw, starts, lengths, wires):
         members = members[lengths[members] >= wire.origin + TIME_SIZE]
-        time = gathered(raw, starts[members] + wire.origin, TIME_SIZE).view(wire.stamp).reshape(-1)
+        time = bytes_at(raw, starts[members] + wire.origin, TIME_SIZE).view(wire.stamp).reshape(-1)
         taken.append(members)
         times.append(time["sec"].astype(np.int64) * NS_PER_S + time["nsec"])
     messages = np.concatenate(taken)

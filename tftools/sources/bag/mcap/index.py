@@ -1,26 +1,22 @@
-"""MCAP files: the transforms of their tf and foxglove channels, through the summary's index or record by record."""
+"""An MCAP file read through its summary: the chunks holding wanted channels, found by their message indexes."""
 
 from __future__ import annotations
 
 import struct
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import BinaryIO
 
 import numpy as np
 
-from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
-from tftools.sources.bag.decode import FileScan, MessageSet, Unpack, file_result
-from tftools.sources.bag.mcap_records import (
+from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.mcap.ranged import INDEX_ENTRY, Queued, RangedReader, indexed, payloads
+from tftools.sources.bag.mcap.records import (
     CHANNEL,
     CHUNK,
     CHUNK_INDEX,
     FOOTER,
     I64,
     MAGIC,
-    MESSAGE,
-    MESSAGE_HEAD,
     MESSAGE_INDEX,
     RECORD,
     SCHEMA,
@@ -35,46 +31,11 @@ from tftools.sources.bag.mcap_records import (
     records,
     scan_records,
 )
-from tftools.sources.bag.mcap_spans import INDEX_ENTRY, IntArray, Queued, SpanReader
-from tftools.sources.bag.mcap_stream import UnreadableError, stream
 from tftools.sources.bag.ranges import prefetch
-from tftools.sources.errors import CorruptBagError
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
-_PAYLOAD = RECORD.size + MESSAGE_HEAD.size  # a message's data, from the start of its record
 _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
 _ID_OFFSET = struct.Struct("<HQ")
-
-
-def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tuple[list[TransformBatch], BagFileInfo]:
-    """The transforms of a bare ``.mcap`` file (see ``reader.read_bag``)."""
-    return file_result(path, "mcap", [scan(path, topics, progress)])
-
-
-def scan(
-    path: Path,
-    topics: tuple[str, ...],
-    progress: ProgressCallback,
-    unpack: Unpack | None = None,
-) -> FileScan:
-    """The transform messages and description of one MCAP file, undecoded.
-
-    Raises ``CorruptBagError`` when nothing could be read; a damaged file is read up to the damage.
-    """
-    result = FileScan(MessageSet(unpack))
-    try:
-        with path.open("rb") as f:
-            size = path.stat().st_size
-            if f.read(len(MAGIC)) != MAGIC:
-                raise CorruptBagError(str(path), "no MCAP magic at the start")
-            channels = Channels(topics, result, size)
-            if not _read_indexed(f, size, channels, progress):
-                stream(f, size, channels, result, progress)
-    except OSError as e:
-        raise CorruptBagError(str(path), e.strerror or str(e)) from None
-    except UnreadableError as e:
-        raise CorruptBagError(str(path), str(e)) from None
-    return result
 
 
 @dataclass
@@ -85,7 +46,7 @@ class _Summary:
     statistics: tuple[int, int, int] | None = None  # message count, start, end
 
 
-def _read_indexed(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallback) -> bool:
+def read_indexed(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallback) -> bool:
     """Read through the summary; False when it is missing or not enough (then stream instead)."""
     summary = _summary(f, size)
     if summary is None or summary.statistics is None:
@@ -129,7 +90,7 @@ def _read_chunks(
     def read_queued_whole(queued: Queued) -> None:
         read_whole(queued.number, queued.chunk, _wanted(queued.chunk, channels), queued.index)
 
-    spans = SpanReader(f.fileno(), channels, read_queued_whole)
+    ranged = RangedReader(f.fileno(), channels, read_queued_whole)
     indexed = [c for c in chunks if _in_ranges(c, _wanted(c, channels))]
     ends = np.array([c.end for c in indexed], np.int64)
     prefetch(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
@@ -139,17 +100,17 @@ def _read_chunks(
             index = _read_at(f, chunk.end, chunk.index_length)
             entries = _message_indexes(index, chunk)
             if entries is not None:
-                spans.queue(Queued(number, chunk, index, entries))
+                ranged.queue(Queued(number, chunk, index, entries))
             else:
-                spans.flush()  # the chunks before first: messages are handed on in file order
+                ranged.flush()  # the chunks before first: messages are handed on in file order
                 read_whole(number, chunk, wanted, index)
         elif wanted or not chunk.index_offsets:
-            spans.flush()
+            ranged.flush()
             read_whole(number, chunk, wanted, None)
-        if spans.full:
-            spans.flush()
+        if ranged.full:
+            ranged.flush()
         progress(chunk.end, size)
-    spans.flush()
+    ranged.flush()
     return [lost[number] for number in sorted(lost)]
 
 
@@ -237,21 +198,18 @@ def _read_chunk(
         raise McapDamageError(f"no chunk at byte {chunk.offset}")
     data = chunk_records(memoryview(raw)[RECORD.size :], partial=False, budget=channels.budget)  # no copy of the chunk
     if not chunk.index_offsets:
-        damage = scan_records(data, number, channels, None)
+        damage = scan_records(data, number, channels, counted=False)
         if damage:
             raise McapDamageError(damage)
         return
     if index is None:
         index = f.read(chunk.index_length)
-    found = [_located(data, _message_index(index, chunk.index_offsets[c] - chunk.end), c) for c in wanted]
-    if not found:
-        return
-    targets = np.repeat([channels.wanted[c] for c in wanted], [len(times) for times, *_ in found]).astype(np.int32)
-    times, offsets, starts, lengths = (np.concatenate(column) for column in zip(*found, strict=True))
-    order = np.argsort(offsets, kind="stable")  # handed on in file order, every channel's at once
-    channels.result.messages.add_spans(
-        targets[order], times[order], (number << 32) + offsets[order], data, starts[order], lengths[order]
-    )
+    found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
+    found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
+    found.end = np.full(len(found), len(data), np.int64)
+    if not payloads(np.frombuffer(data, np.uint8), found.offset, found, np.ones(len(found), bool)).all():
+        raise McapDamageError("message index does not match its chunk")
+    channels.result.messages.add_spans(found.looked_up(channels.wanted).astype(np.int32), found, data)
 
 
 def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, bytes] | None:
@@ -271,22 +229,3 @@ def _message_index(index: bytes, at: int) -> bytes:
     if opcode != MESSAGE_INDEX or length % INDEX_ENTRY.itemsize or start + length > len(index):
         raise McapDamageError("bad message index")
     return index[start : start + length]
-
-
-def _located(
-    data: bytes | memoryview, index_entries: bytes, channel_id: int
-) -> tuple[IntArray, IntArray, IntArray, IntArray]:
-    """The indexed messages' record times, offsets, payload starts and lengths in the chunk's
-    records, the index checked against them."""
-    entries = np.frombuffer(index_entries, INDEX_ENTRY)
-    offsets = entries["offset"].astype(np.int64)
-    raw = np.frombuffer(data, np.uint8)
-    if len(offsets) and (offsets.min() < 0 or offsets.max() + _PAYLOAD > len(raw) or (raw[offsets] != MESSAGE).any()):
-        raise McapDamageError("message index does not match its chunk")
-    head = raw[offsets[:, None] + np.arange(1, 11)]  # record length (8 bytes), channel id (2)
-    lengths = head[:, :8].copy().view("<u8").ravel().astype(np.int64) - MESSAGE_HEAD.size
-    ids = head[:, 8:].copy().view("<u2").ravel()
-    starts = offsets + _PAYLOAD
-    if (ids != channel_id).any() or (lengths < 0).any() or (starts + lengths > len(raw)).any():
-        raise McapDamageError("message index does not match its chunk")
-    return entries["time"].astype(np.int64), offsets, starts, lengths

@@ -11,10 +11,11 @@ from urllib.parse import quote
 
 import numpy as np
 
+from tftools.core.arrays import Int32Array
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.db3_salvage import Row, salvage
-from tftools.sources.bag.decode import FileScan, MessageSet, Unpack
-from tftools.sources.bag.decode.messages import Int32Array
+from tftools.sources.bag.messages import MessageSet
+from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
+from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import zstd_messages
 from tftools.sources.codecs.select import select
 from tftools.sources.errors import CorruptBagError
@@ -25,18 +26,13 @@ _FETCH = 1 << 12  # rows per fetch: progress is reported between fetches
 _MAX_TOPIC_ID = 1 << 24  # topic ids index a lookup array: rosbag2 numbers them from 1
 
 
-def scan(
-    path: Path,
-    topics: tuple[str, ...],
-    progress: ProgressCallback,
-    unpack: Unpack | None = None,
-) -> FileScan:
-    """The transform messages and description of one rosbag2 sqlite3 file, undecoded.
+def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messages: MessageSet) -> FileScan:
+    """The transform messages (into ``messages``) and description of one rosbag2 sqlite3 file.
 
-    Payloads compressed one by one (zstd) are decompressed with ``unpack``, or on their own when
-    they look compressed. Raises ``CorruptBagError`` when nothing could be read.
+    Payloads compressed one by one (zstd) are decompressed with ``messages.unpack``, or on their
+    own when they look compressed. Raises ``CorruptBagError`` when nothing could be read.
     """
-    result = FileScan(MessageSet(unpack))
+    result = FileScan(messages)
     wal = path.with_name(path.name + "-wal")
     unmerged = wal.exists() and wal.stat().st_size > 0
     with _connect(path) as db:

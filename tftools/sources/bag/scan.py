@@ -8,7 +8,7 @@ from pathlib import Path
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
-from tftools.sources.bag.decode.messages import MessageSet
+from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.select import Unread, unread_lines
 from tftools.sources.contents import ClockSamples
 
@@ -24,6 +24,13 @@ class FileScan:
     topics: dict[str, str] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)  # damage: what was lost
     skipped: list[Unread] = field(default_factory=list)  # asked-for topics of types or encodings not read
+
+    def note_times(self, first: int, last: int, count: int) -> None:
+        """``count`` messages of any topic met, recorded from ``first`` to ``last`` (when no index
+        or summary counts them)."""
+        self.start = min(self.start, first) if self.message_count else first
+        self.end = max(self.end, last) if self.message_count else last
+        self.message_count += count
 
     def note_problem(self, line: str) -> None:
         if line and line not in self.problems:

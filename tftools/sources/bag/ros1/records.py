@@ -23,37 +23,11 @@ OP_CONNECTION = 0x07
 _U32 = struct.Struct("<I")
 _U64 = struct.Struct("<Q")
 _TIME = struct.Struct("<II")
-_INDEX_ENTRY = np.dtype([("sec", "<u4"), ("nsec", "<u4"), ("offset", "<u4")])
-_CHUNK_COUNT = np.dtype([("conn", "<u4"), ("count", "<u4")])
 
 #: A bag file, mapped or read.
 FileBuffer = bytes | mmap.mmap
 #: A bag file or a chunk's data (a view into the mapped file when it is not compressed).
 Buffer = bytes | memoryview | mmap.mmap
-
-
-def bytes_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64], width: int) -> npt.NDArray[np.uint8]:
-    """The ``width`` bytes at each position of ``at`` (all within ``raw``), one row each."""
-    if len(raw) < width or width == 0:
-        return np.zeros((len(at) if width == 0 else 0, width), np.uint8)
-    # A view with one ``width``-byte item at every position: gathering items copies whole rows.
-    windows = np.ndarray((len(raw) - width + 1,), f"V{width}", raw, strides=(1,))
-    rows: npt.NDArray[np.uint8] = windows[at].view(np.uint8).reshape(-1, width)
-    return rows
-
-
-def u32_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
-    """The little-endian uint32 at each position of ``at``."""
-    return bytes_at(raw, at, 4).view("<u4").reshape(-1).astype(np.int64)
-
-
-def distinct(values: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
-    """``np.unique(values)``, without its cost where they are in order already (and without the
-    numpy.ma import plain ``np.unique`` makes)."""
-    if len(values) < 2 or bool(np.all(values[1:] > values[:-1])):
-        return values
-    ordered = np.sort(values)
-    return ordered[np.concatenate(([True], ordered[1:] != ordered[:-1]))]
 
 
 class FormatError(ValueError):
@@ -152,7 +126,7 @@ class _Layout:
     def __init__(self, record: Record, header: bytes, changing: tuple[str, ...]) -> None:
         self.record = record
         self.length = len(header)
-        self.places = sorted((_value_at(header, name), len(record.fields[name]), name) for name in changing)
+        self.places = sorted((value_at(header, name), len(record.fields[name]), name) for name in changing)
         bounds = [0, *(edge for at, width, _ in self.places for edge in (at, at + width)), len(header)]
         self.fixed = [(a, b, header[a:b]) for a, b in zip(bounds[::2], bounds[1::2], strict=True)]
 
@@ -171,12 +145,14 @@ class _Layout:
         return Record(self.record.op, fields, pos, data_start, data_start + u32(buf, header_end))
 
 
-def _value_at(header: bytes, name: str) -> int:
-    """Where the value of field ``name`` begins in a record header."""
+def value_at(header: bytes, name: str) -> int:
+    """Where the value of field ``name`` begins in a record header (its fields length-prefixed)."""
     pos, key = 0, name.encode() + b"="
-    while header[pos + 4 : pos + 4 + len(key)] != key:
-        pos += 4 + int(_U32.unpack_from(header, pos)[0])
-    return pos + 4 + len(key)
+    while pos < len(header):
+        if header[pos + 4 : pos + 4 + len(key)] == key:
+            return pos + 4 + len(key)
+        pos += 4 + int.from_bytes(header[pos : pos + 4], "little")
+    raise FormatError(f"no {name} field")
 
 
 class RecordReader:
@@ -256,14 +232,19 @@ class ChunkInfo:
     counts: dict[int, int] = field(default_factory=dict)
 
 
-def read_chunk_info(buf: Buffer, record: Record) -> ChunkInfo:
+def _entries(buf: Buffer, record: Record, width: int, what: str) -> npt.NDArray[np.uint32]:
+    """The ``count`` entries of version 1 that a chunk info or index data ``record`` holds, one
+    row of ``width`` uint32 each."""
     if record.uint("ver") != 1:
-        raise FormatError(f"chunk info version {record.uint('ver')} is unknown")
+        raise FormatError(f"{what} version {record.uint('ver')} is unknown")
     count = record.uint("count")
-    if record.data_end - record.data_start < count * _CHUNK_COUNT.itemsize or record.data_end > len(buf):
-        raise FormatError(f"the chunk info at byte {record.start} is cut short")
-    pairs = np.frombuffer(buf, _CHUNK_COUNT, count, record.data_start)
-    counts = dict(zip(pairs["conn"].tolist(), pairs["count"].tolist(), strict=True))
+    if record.data_end - record.data_start < count * 4 * width or record.data_end > len(buf):
+        raise FormatError(f"the {what} at byte {record.start} is cut short")
+    return np.frombuffer(buf, "<u4", count * width, record.data_start).reshape(count, width)
+
+
+def read_chunk_info(buf: Buffer, record: Record) -> ChunkInfo:
+    counts = dict(_entries(buf, record, 2, "chunk info").tolist())  # connection id -> messages
     pos = record.uint("chunk_pos")
     if pos >= len(buf):
         raise FormatError(f"the chunk info at byte {record.start} points past the end of the file")
@@ -283,16 +264,7 @@ def read_chunk(record: Record) -> Chunk:
     return Chunk(record.start, record.text("compression"), record.uint("size"), record.data_start, record.data_end)
 
 
-def index_offsets(buf: Buffer, record: Record) -> npt.NDArray[np.uint32]:
-    """Where the messages an index data record lists begin in its chunk's data."""
-    count = _index_count(buf, record)
-    return np.frombuffer(buf, "<u4", 3 * count, record.data_start)[2::3]
-
-
-def _index_count(buf: Buffer, record: Record) -> int:
-    if record.uint("ver") != 1:
-        raise FormatError(f"index data version {record.uint('ver')} is unknown")
-    count = record.uint("count")
-    if record.data_end - record.data_start < count * _INDEX_ENTRY.itemsize or record.data_end > len(buf):
-        raise FormatError(f"the index data at byte {record.start} is cut short")
-    return count
+def index_entries(buf: Buffer, record: Record) -> npt.NDArray[np.uint32]:
+    """The entries of an index data record, a row per message it lists: its record time (seconds,
+    nanoseconds), and where it begins in its chunk's data."""
+    return _entries(buf, record, 3, "index data")

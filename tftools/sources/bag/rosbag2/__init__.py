@@ -11,9 +11,10 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag import metadata_yaml
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
-from tftools.sources.bag.decode import FileScan, file_result
+from tftools.sources.bag.messages import MessageSet
+from tftools.sources.bag.rosbag2 import metadata_yaml
+from tftools.sources.bag.scan import FileScan, file_result
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
 from tftools.sources.errors import CorruptBagError
 
@@ -143,14 +144,15 @@ def _scan_files(
 def _scan_file(file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback) -> FileScan:
     # Each storage's module is imported only when a file needs it.
     unpack = zstd_messages(file.stat().st_size) if bag.compression_mode == "message" else None
+    messages = MessageSet(unpack)
     with _uncompressed(file, bag.problems) as plain:
         if plain.suffix == ".mcap":
-            from tftools.sources.bag import mcap_file
+            from tftools.sources.bag import mcap
 
-            return mcap_file.scan(plain, topics, progress, unpack)
-        from tftools.sources.bag import db3_file
+            return mcap.scan(plain, topics, progress, messages)
+        from tftools.sources.bag.rosbag2 import db3
 
-        return db3_file.scan(plain, topics, progress, unpack)
+        return db3.scan(plain, topics, progress, messages)
 
 
 @contextmanager

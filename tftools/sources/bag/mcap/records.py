@@ -6,7 +6,7 @@ import struct
 import zlib
 from dataclasses import dataclass
 
-from tftools.sources.bag.decode import FileScan
+from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, unpack
 from tftools.sources.codecs.select import select
 
@@ -151,25 +151,10 @@ class Channels:
             self.wanted[channel_id] = self.result.messages.channel(topic, codec)
 
 
-@dataclass
-class Stats:
-    """Message count and record-time span over every channel, as messages are met."""
-
-    count: int = 0
-    start: int = 0
-    end: int = 0
-
-    def add(self, times: list[int]) -> None:
-        if times:
-            low, high = min(times), max(times)
-            self.start = min(self.start, low) if self.count else low
-            self.end = max(self.end, high) if self.count else high
-            self.count += len(times)
-
-
-def scan_records(data: bytes | memoryview, number: int, channels: Channels, stats: Stats | None) -> str:
+def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, counted: bool) -> str:
     """Take the wanted messages of a chunk's records (chunk ``number`` of the file), walking them
-    one by one; returns what was wrong if they end in damage, else ""."""
+    one by one (with ``counted``, every message is counted in the description); returns what was
+    wrong if they end in damage, else ""."""
     found: dict[int, tuple[list[int], list[int], list[bytes | memoryview]]] = {}
     times: list[int] = []
     pos, size, damage = 0, len(data), ""
@@ -200,8 +185,8 @@ def scan_records(data: bytes | memoryview, number: int, channels: Channels, stat
                 damage = str(e)
                 break
         pos = end
-    if stats is not None:
-        stats.add(times)
+    if counted and times:
+        channels.result.note_times(min(times), max(times), len(times))
     for channel_id, (log_times, positions, payloads) in found.items():
         channels.result.messages.add(channels.wanted[channel_id], log_times, positions, payloads)
     return damage

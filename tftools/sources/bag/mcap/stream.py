@@ -5,8 +5,7 @@ from __future__ import annotations
 from typing import BinaryIO
 
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.decode import FileScan
-from tftools.sources.bag.mcap_records import (
+from tftools.sources.bag.mcap.records import (
     CHANNEL,
     CHUNK,
     DATA_END,
@@ -19,7 +18,6 @@ from tftools.sources.bag.mcap_records import (
     SCHEMA,
     Channels,
     McapDamageError,
-    Stats,
     chunk_records,
     known,
     scan_records,
@@ -32,23 +30,21 @@ class UnreadableError(Exception):
     """Nothing at all could be read."""
 
 
-def stream(f: BinaryIO, size: int, channels: Channels, result: FileScan, progress: ProgressCallback) -> None:
+def stream(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallback) -> None:
     """Read the records from the start up to the end of the data or the damage, noting what is lost.
 
     Raises ``UnreadableError`` when the damage comes before anything could be read.
     """
-    reader = _Stream(f, size, channels)
+    reader, result = _Stream(f, size, channels), channels.result
     damage = reader.run(progress)
-    stats = reader.stats
-    result.message_count, result.start, result.end = stats.count, stats.start, stats.end
     if reader.lost_chunks:
         result.note_problem(f"{reader.lost_chunks} chunks are damaged; their messages are lost")
     if not damage:
         return
-    if not stats.count and not reader.chunks_read:
+    if not result.message_count and not reader.chunks_read:
         raise UnreadableError(damage)
     result.note_problem(
-        f"{damage}: read the {stats.count} messages before it, up to record time {stats.end / 1e9:.3f} s;"
+        f"{damage}: read the {result.message_count} messages before it, up to record time {result.end / 1e9:.3f} s;"
         " the rest is lost"
     )
 
@@ -58,7 +54,6 @@ class _Stream:
 
     def __init__(self, f: BinaryIO, size: int, channels: Channels) -> None:
         self.f, self.size, self.channels = f, size, channels
-        self.stats = Stats()
         self.pos = len(MAGIC)
         self.number = 0  # of the record: orders the messages of equal record time
         self.lost_chunks = self.chunks_read = 0
@@ -108,7 +103,7 @@ class _Stream:
         if length < MESSAGE_HEAD.size:
             raise McapDamageError("message record too short")
         channel_id, _, log_time, _ = MESSAGE_HEAD.unpack(self.f.read(MESSAGE_HEAD.size))
-        self.stats.add([log_time])
+        self.channels.result.note_times(log_time, log_time, 1)
         rest = length - MESSAGE_HEAD.size
         target = self.channels.wanted.get(channel_id)
         if target is None:
@@ -124,5 +119,5 @@ class _Stream:
             self.lost_chunks += not partial
             return
         self.chunks_read += 1
-        if scan_records(data, self.number, self.channels, self.stats) and not partial:
+        if scan_records(data, self.number, self.channels, counted=True) and not partial:
             self.lost_chunks += 1

@@ -1,4 +1,5 @@
-"""ROS1 bags (format 2.0): the transforms of the wanted topics, read through the bag's index."""
+"""ROS1 bags (format 2.0): the transforms of the wanted topics, read through the bag's index
+(``index``) or, without one, chunk after chunk (``salvage``)."""
 
 from __future__ import annotations
 
@@ -9,8 +10,11 @@ from pathlib import Path
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
-from tftools.sources.bag.ros1_format import FormatError, read_bag_header
-from tftools.sources.bag.ros1_scan import BagScan
+from tftools.sources.bag.ros1.file import BagFile
+from tftools.sources.bag.ros1.index import read_index, read_indexed
+from tftools.sources.bag.ros1.records import FormatError, read_bag_header
+from tftools.sources.bag.ros1.salvage import read_unindexed
+from tftools.sources.bag.scan import file_result
 from tftools.sources.errors import CorruptBagError
 
 
@@ -29,22 +33,18 @@ def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tup
             raise CorruptBagError(
                 str(path), f"encrypted with {header.encryptor}; decrypt it with `rosbag decrypt` first"
             )
-        scan = BagScan(path.name, buf, topics, progress, file.fileno())
-        scan.read(header)
-        batches, clock, undecodable = scan.messages.decode()
-    info = BagFileInfo(
-        path=str(path),
-        format="ros1",
-        start=scan.start,
-        end=scan.end,
-        message_count=scan.message_count,
-        topics=scan.topics,
-        transform_count=sum(len(b) for b in batches),
-        problems=scan.problems + undecodable,
-        unread=scan.skipped,
-        clock=clock,
-    )
-    return batches, info
+        bag = BagFile(path.name, buf, file.fileno(), topics, progress)
+        if 0 < header.index_pos <= bag.size:
+            try:
+                infos = read_index(bag, header)
+            except FormatError as e:
+                read_unindexed(bag, header, str(e))
+            else:
+                read_indexed(bag, infos, header.index_pos)
+        else:
+            read_unindexed(bag, header)
+        bag.note_damage()
+    return file_result(path, "ros1", [bag.scan])
 
 
 @contextmanager

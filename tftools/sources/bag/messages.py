@@ -1,0 +1,265 @@
+"""``MessageSet``: a file's transform and clock messages, whatever its format, decoded a few megabytes at a time."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.arrays import Int32Array, UInt8Array
+from tftools.core.arrays import Int64Array as IntArray
+from tftools.core.batch import TransformBatch
+from tftools.sources.bag.clock import ClockParts
+from tftools.sources.bag.rows import Channel, Rows
+from tftools.sources.bag.spans import Spans
+from tftools.sources.codecs.select import ClockCodec, Codec
+from tftools.sources.contents import ClockSamples
+
+ChannelIds = int | Int32Array | Sequence[int]
+Unpack = Callable[[bytes], bytes]
+Failures = list[tuple[int, str]]  # (message, reason) of the messages that could not be decoded
+
+_GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
+
+
+@dataclass
+class _Group:
+    """Payloads of one codec: bytes, where each payload begins in them and how long it is, and
+    their message numbers."""
+
+    pieces: list[bytes] = field(default_factory=list)
+    starts: list[IntArray] = field(default_factory=list)
+    lengths: list[IntArray] = field(default_factory=list)
+    ids: list[IntArray] = field(default_factory=list)
+
+    def add(self, piece: bytes, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
+        self.pieces.append(piece)
+        self.starts.append(starts)
+        self.lengths.append(lengths)
+        self.ids.append(ids)
+
+    def joined(self) -> tuple[UInt8Array, IntArray, IntArray, IntArray]:
+        """All the bytes (the pieces let go), each payload's start and length in them, and its
+        message number."""
+        bases = np.cumsum([0] + [len(p) for p in self.pieces[:-1]])
+        starts = np.concatenate([s + base for s, base in zip(self.starts, bases.tolist(), strict=True)])
+        raw = np.frombuffer(self.pieces[0] if len(self.pieces) == 1 else b"".join(self.pieces), np.uint8)
+        self.pieces.clear()
+        return raw, starts, np.concatenate(self.lengths), np.concatenate(self.ids)
+
+
+class MessageSet:
+    """The transform and clock messages of one file, added in any order; ``decode`` puts them in
+    record time order, ties in channel ``tie`` then ``position`` order (their order in the file).
+
+    Payloads are decoded by their codecs a few megabytes at a time as they are added, so that
+    a file's payloads are never all held at once; per message only its record time, position
+    and channel are kept until ``decode``.
+    """
+
+    def __init__(self, unpack: Unpack | None = None) -> None:
+        self.unpack = unpack  # applied to every payload first, e.g. decompression
+        self.channels: list[Channel] = []
+        self._channel_ids: dict[Channel, int] = {}
+        self._codecs: list[Codec | ClockCodec] = []
+        self._codec_of: list[int] = []  # per channel: its codec's number
+        self._times: list[IntArray] = []
+        self._positions: list[IntArray] = []
+        self._channel_of: list[Int32Array] = []
+        self._groups: dict[int, _Group] = {}
+        self._unpack_failed: dict[int, list[str]] = {}
+        self._pending_bytes = 0
+        self._rows = Rows(self.channels)
+        self._failed: Failures = []
+        self._clocks: list[tuple[IntArray, IntArray]] = []  # message numbers and clock values
+        self.count = 0
+
+    def emptied(self) -> MessageSet:
+        """A set without messages but with the same channels (numbered alike) and unpack."""
+        fresh = MessageSet(self.unpack)
+        for c in self.channels:
+            fresh.channel(c.topic, c.codec, publisher=c.publisher, tie=c.tie)
+        return fresh
+
+    def channel(self, topic: str, codec: Codec | ClockCodec, *, publisher: str = "", tie: int = 0) -> int:
+        """The number of the channel ``topic`` decoded with ``codec`` (see ``Channel``), to ``add``
+        messages to."""
+        key = Channel(topic, codec, publisher, tie)
+        if key not in self._channel_ids:
+            self._channel_ids[key] = len(self.channels)
+            self.channels.append(key)
+            if codec not in self._codecs:
+                self._codecs.append(codec)
+            self._codec_of.append(self._codecs.index(codec))
+        return self._channel_ids[key]
+
+    def add(
+        self,
+        channel: ChannelIds,
+        record_times: IntArray | Sequence[int],
+        positions: IntArray | Sequence[int],
+        payloads: Sequence[bytes | memoryview],
+    ) -> None:
+        """Messages of one channel (an int) or of several (one channel number per message)."""
+        channels = np.broadcast_to(np.asarray(channel, np.int32), (len(payloads),))
+        times, where = np.asarray(record_times, np.int64), np.asarray(positions, np.int64)
+        if self.unpack is not None:
+            payloads, unpacked = self._unpacked(channels, payloads)
+            channels, times, where = channels[unpacked], times[unpacked], where[unpacked]
+        lengths = np.fromiter(map(len, payloads), np.int64, len(payloads))
+        self._add_joined(channels, times, where, b"".join(payloads), np.cumsum(lengths) - lengths, lengths)
+
+    def add_spans(self, channel: ChannelIds, spans: Spans, data: bytes | memoryview) -> None:
+        """``add`` of the payloads ``data[spans.start[i] : spans.end[i]]``, of one channel (an int)
+        or of several (one channel number per message), copied out in bulk rather than one by one."""
+        lengths = spans.end - spans.start
+        if self.unpack is not None:
+            view = memoryview(data)
+            pieces = [view[s : s + n] for s, n in zip(spans.start.tolist(), lengths.tolist(), strict=True)]
+            self.add(channel, spans.time, spans.position, pieces)
+            return
+        channels = np.broadcast_to(np.asarray(channel, np.int32), (len(spans),))
+        self._add_joined(channels, spans.time, spans.position, data, spans.start, lengths)
+
+    def _add_joined(
+        self,
+        channels: Int32Array,
+        times: IntArray,
+        where: IntArray,
+        data: bytes | memoryview,
+        starts: IntArray,
+        lengths: IntArray,
+    ) -> None:
+        """Group the payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec."""
+        if not len(starts):
+            return
+        ids = self._numbered(channels, times, where)
+        codecs = np.array(self._codec_of, np.int64)[channels]
+        order = np.argsort(codecs, kind="stable")
+        for part in np.split(order, np.flatnonzero(np.diff(codecs[order])) + 1):
+            self._group(int(codecs[part[0]]), data, starts[part], lengths[part], ids[part])
+        if self._pending_bytes >= _GROUP_BYTES:
+            self._decode_groups()
+
+    def _group(self, codec: int, data: bytes | memoryview, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
+        """Copy the payloads of one codec out of ``data``, into its group."""
+        piece, at = _copied(data, starts, lengths)
+        self._groups.setdefault(codec, _Group()).add(piece, at, lengths, ids)
+        self._pending_bytes += 2 * len(piece)  # counted twice: decoding takes as much again
+
+    def _numbered(self, channels: Int32Array, times: IntArray, where: IntArray) -> IntArray:
+        """Note the messages' channels, record times and positions; their message numbers."""
+        n = len(channels)
+        ids = np.arange(self.count, self.count + n, dtype=np.int64)
+        self._times.append(times)
+        self._positions.append(where)
+        self._channel_of.append(channels.copy())
+        self.count += n
+        return ids
+
+    def _unpacked(
+        self, channels: Int32Array, payloads: Sequence[bytes | memoryview]
+    ) -> tuple[list[bytes], npt.NDArray[np.bool_]]:
+        """The payloads that could be unpacked, and which ones they are; the others are noted."""
+        assert self.unpack is not None
+        kept: list[bytes] = []
+        unpacked = np.ones(len(payloads), bool)
+        for i, payload in enumerate(payloads):
+            try:
+                kept.append(self.unpack(bytes(payload)))  # bytes as they are, not copied
+            except Exception as e:  # any decompressor error: this message is lost
+                unpacked[i] = False
+                self._unpack_failed.setdefault(int(channels[i]), []).append(f"{type(e).__name__}: {e}")
+        return kept, unpacked
+
+    def _decode_groups(self) -> None:
+        """Decode the payloads gathered so far into rows, each codec's at once, and let them go."""
+        while self._groups:
+            number, group = self._groups.popitem()
+            codec = self._codecs[number]
+            raw, starts, lengths, ids = group.joined()
+            del group
+            if isinstance(codec, ClockCodec):
+                rows, values, failures = codec.decode(raw, starts, lengths)
+                self._clocks.append((ids[rows], values))
+            else:
+                decoded = codec.decode(raw, starts, lengths, self._rows.frames)
+                self._rows.add_rows(ids[decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values)
+                failures = decoded.failures
+            self._failed += [(int(ids[row]), reason) for row, reason in failures]
+        self._rows.settle()
+        self._pending_bytes = 0
+
+    def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[str]]:
+        """Every transform in record-time order, in consecutive batches; the clock; a line per
+        topic with lost messages."""
+        self._decode_groups()
+        times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
+        channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
+        ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
+        rank = _rank(times, ties, np.concatenate(self._positions) if self.count else times)
+        clock = ClockParts()
+        for ids, values in self._clocks:
+            clock.add(channel_of[ids], times[ids], rank[ids], values)
+        topics = [c.topic for c in self.channels]
+        batches = self._rows.batches(times, channel_of, rank)
+        return batches, clock.samples(topics), self._problems(channel_of, rank)
+
+    def _problems(self, channel_of: Int32Array, rank: IntArray) -> list[str]:
+        """A line per topic and codec with messages that could not be decompressed, and one with
+        messages that could not be decoded (its first in record order named)."""
+        totals: dict[tuple[str, str], int] = {}
+        for index, count in enumerate(np.bincount(channel_of, minlength=len(self.channels)).tolist()):
+            key = self._topic_and_codec(index)
+            totals[key] = totals.get(key, 0) + count
+        packed: dict[tuple[str, str], list[str]] = {}
+        for index, reasons in sorted(self._unpack_failed.items()):
+            packed.setdefault(self._topic_and_codec(index), []).extend(reasons)
+        undecoded: dict[tuple[str, str], list[tuple[int, str]]] = {}
+        for message, reason in self._failed:
+            key = self._topic_and_codec(int(channel_of[message]))
+            undecoded.setdefault(key, []).append((int(rank[message]), reason))
+        lines = [
+            f"{topic}: {len(reasons)} of {totals[topic, name] + len(reasons)} messages could not be decompressed,"
+            f" skipped (first: {reasons[0]})"
+            for (topic, name), reasons in packed.items()
+        ]
+        return lines + [
+            f"{topic}: {len(undecoded[topic, name])} of {totals[topic, name]} messages could not be decoded as"
+            f" {name}, skipped (first: {min(undecoded[topic, name])[1]})"
+            for topic, name in totals  # in channel order
+            if (topic, name) in undecoded
+        ]
+
+    def _topic_and_codec(self, channel: int) -> tuple[str, str]:
+        return self.channels[channel].topic, self.channels[channel].codec.name
+
+
+def _copied(data: bytes | memoryview, starts: IntArray, lengths: IntArray) -> tuple[bytes, IntArray]:
+    """The payloads of every length at ``starts``: a copy of ``data`` whole when they are most of
+    it, else of them one after the other; and where each begins in it."""
+    if 2 * int(lengths.sum()) >= len(data):
+        return bytes(data), starts
+    view = memoryview(data)
+    joined = b"".join([view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)])
+    return joined, np.cumsum(lengths) - lengths
+
+
+def _rank(times: IntArray, ties: IntArray, positions: IntArray) -> IntArray:
+    """Each message's place in (record time, tie, position) order."""
+    if not len(times):
+        return np.zeros(0, np.int64)
+    keys = (times, ties, positions)
+    later = np.zeros(len(times) - 1, bool)
+    equal = np.ones(len(times) - 1, bool)
+    for key in keys:
+        step = np.diff(key)
+        later |= equal & (step > 0)
+        equal &= step == 0
+    if later.all():
+        return np.arange(len(times), dtype=np.int64)
+    rank = np.empty(len(times), np.int64)
+    rank[np.lexsort(keys[::-1])] = np.arange(len(times))
+    return rank

@@ -1,0 +1,161 @@
+"""A chunk's message records: where they begin, and what their headers say, read in bulk."""
+
+from __future__ import annotations
+
+from array import array
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.time import NS_PER_S
+from tftools.sources.bag.ros1.records import (
+    OP_CONNECTION,
+    OP_MESSAGE,
+    Buffer,
+    Connection,
+    FormatError,
+    read_connection,
+    read_record,
+    u32,
+    value_at,
+)
+from tftools.sources.bag.spans import IntArray, Spans, joined
+from tftools.sources.codecs.gather import bytes_at, distinct, u32_at
+
+_MIN_HEADER = 4 + len("op=") + 1  # a record header holds at least its op field
+
+
+def walk(data: Buffer, chunk: int) -> Spans:
+    """The records in ``data``, chunk ``chunk``'s records, up to their end or one cut short (their
+    channels and times unknown until ``locate`` reads them)."""
+    starts = array("q")  # 8 bytes a record, not a Python int's 36: a chunk may hold millions
+    pos, limit = 0, len(data)
+    try:
+        while pos + 8 <= limit:
+            header_length = u32(data, pos)
+            if header_length < _MIN_HEADER:
+                break
+            header_end = pos + 4 + header_length
+            record_end = header_end + 4 + u32(data, header_end) if header_end + 4 <= limit else limit + 1
+            if record_end > limit:
+                break
+            starts.append(pos)
+            pos = record_end
+    except FormatError:
+        pass
+    return in_chunk(np.frombuffer(starts, np.int64).copy() if starts else np.zeros(0, np.int64), chunk, limit)
+
+
+def in_chunk(offsets: IntArray, chunk: int, size: int) -> Spans:
+    """The records at ``offsets`` of chunk ``chunk``'s data (``size`` bytes), each of them reaching
+    at most to its end (channels and times unknown until ``locate`` reads them)."""
+    unknown = np.full(len(offsets), -1, np.int64)
+    return Spans(
+        np.full(len(offsets), chunk, np.int64), offsets, unknown, unknown, offsets, np.full(len(offsets), size)
+    )
+
+
+def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[Connection], str]:
+    """The message records among ``records`` (each at ``start`` in ``data``, within ``end``),
+    with their connections, times and payloads; the connection records met; why the first that
+    is not a message is not. With ``follow``, connection records before a message are stepped
+    over (index entries may point at them).
+
+    Records are recognised in bulk by their header's layout, learnt from the first record of
+    each header length; any other record is read one by one.
+    """
+    raw = np.frombuffer(data, np.uint8)
+    limit = np.minimum(records.end, len(raw))
+    inside = (records.start >= 0) & (records.start + 8 <= limit)
+    header_len = np.full(len(records), -1, np.int64)
+    header_len[inside] = u32_at(raw, records.start[inside])
+    found = np.zeros(len(records), bool)
+    header = np.zeros((4, len(records)), np.int64)  # conn, time, data start and end of each
+    for length in distinct(header_len[header_len >= 0]).tolist():
+        rows = np.flatnonzero(header_len == length)
+        template = _Template.learn(data, int(records.start[rows[0]]))
+        if template is not None:
+            hit, values = template.match(raw, records.start[rows], limit[rows])
+            hit_rows = rows[hit]
+            found[hit_rows] = True
+            header[:, hit_rows] = values
+    messages = Spans(records.chunk[found], records.offset[found], *header[:, found])
+    slow = records.rows(~found)
+    connections: list[Connection] = []
+    if not len(slow):
+        return messages, connections, ""
+    more: list[tuple[int, ...]] = []
+    first_error = ""
+    for row, end in enumerate(limit[~found].tolist()):
+        try:
+            message = _message_at(data, int(slow.start[row]), end, connections, follow)
+        except FormatError as e:
+            first_error = first_error or str(e)
+            continue
+        if message is not None:
+            skipped, *fields = message
+            more.append((int(slow.chunk[row]), int(slow.offset[row]) + skipped, *fields))
+    if more:
+        messages = joined([messages, Spans(*np.array(more, np.int64).T)])
+        messages = messages.rows(np.lexsort((messages.offset, messages.chunk)))  # in file order
+    return messages, connections, first_error
+
+
+def _message_at(
+    data: Buffer, pos: int, end: int, connections: list[Connection], follow: bool
+) -> tuple[int, int, int, int, int] | None:
+    """(bytes stepped over, conn, time, data start, data end) of the message record at ``pos``;
+    None for a connection record (noted in ``connections``) when not following."""
+    at = pos
+    while True:
+        record = read_record(data, at, end)
+        if record.data_end > end:
+            raise FormatError(f"the record at byte {at} of the chunk is cut short")
+        if record.op == OP_MESSAGE:
+            return at - pos, record.uint("conn"), record.time("time"), record.data_start, record.data_end
+        if record.op != OP_CONNECTION:
+            raise FormatError(f"the record at byte {at} of the chunk has op {record.op}, not a message")
+        connections.append(read_connection(data, record))
+        if not follow:
+            return None
+        at = record.data_end
+
+
+class _Template:
+    """The fixed bytes of a message record header of one length, and where conn and time sit."""
+
+    def __init__(self, header: bytes, conn_at: int, time_at: int) -> None:
+        self.length = len(header)
+        variable = set(range(conn_at, conn_at + 4)) | set(range(time_at, time_at + 8))
+        self.fixed = np.array([i for i in range(self.length) if i not in variable], np.int64) + 4
+        self.expected = np.frombuffer(header, np.uint8)[self.fixed - 4]
+        self.conn_at = conn_at + 4
+        self.time_at = time_at + 4
+
+    @classmethod
+    def learn(cls, data: Buffer, pos: int) -> _Template | None:
+        """The template of the message record at ``pos``; None when it is something else."""
+        try:
+            record = read_record(data, pos)
+        except FormatError:
+            return None
+        fields = record.fields
+        if record.op != OP_MESSAGE or len(fields.get("conn", b"")) != 4 or len(fields.get("time", b"")) != 8:
+            return None
+        header = bytes(data[pos + 4 : record.data_start - 4])
+        return cls(header, value_at(header, "conn"), value_at(header, "time"))
+
+    def match(
+        self, raw: npt.NDArray[np.uint8], offsets: IntArray, limit: IntArray
+    ) -> tuple[npt.NDArray[np.bool_], tuple[IntArray, ...]]:
+        """Which records have this layout and end within ``limit``; their conn, time, data start and end."""
+        length_at = offsets + 4 + self.length
+        hit = length_at + 4 <= limit
+        fits = np.flatnonzero(hit)
+        hit[fits] = (bytes_at(raw, offsets[fits], 4 + self.length)[:, self.fixed] == self.expected).all(axis=1)
+        data_end = np.zeros(len(offsets), np.int64)
+        data_end[fits] = length_at[fits] + 4 + u32_at(raw, length_at[fits])
+        hit &= data_end <= limit
+        at = offsets[hit]
+        sec, nsec = u32_at(raw, at + self.time_at), u32_at(raw, at + self.time_at + 4)
+        return hit, (u32_at(raw, at + self.conn_at), sec * NS_PER_S + nsec, length_at[hit] + 4, data_end[hit])

@@ -1,0 +1,124 @@
+"""One ROS1 bag being read: its bytes, the connections wanted, the messages found, the damage met."""
+
+from __future__ import annotations
+
+import mmap
+import os
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.messages import MessageSet
+from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, RecordReader
+from tftools.sources.bag.scan import FileScan
+from tftools.sources.bag.spans import Spans
+from tftools.sources.bag.unpack import Budget, Unpacked, unpack
+from tftools.sources.codecs.select import ClockCodec, select
+
+
+@dataclass
+class Damage:
+    """Chunks (or bytes between them) that could not be read: how many, the first, messages lost."""
+
+    places: int = 0
+    first: str = ""
+    lost: int = 0
+    lost_known: bool = True  # the index says how many messages each chunk held
+
+    def note(self, pos: int, reason: str, lost: int | None) -> None:
+        self.places += 1
+        self.first = self.first or f"first at byte {pos}: {reason}"
+        if lost is None:
+            self.lost_known = False
+        else:
+            self.lost += lost
+
+
+class BagFile:
+    """A ROS1 bag's bytes (``buf``, mapped from the file ``fd`` when there is one), being read for
+    the messages of ``topics``: into ``scan``, its description and transform and clock messages."""
+
+    def __init__(
+        self,
+        name: str,
+        buf: FileBuffer,
+        fd: int | None,
+        topics: tuple[str, ...],
+        progress: ProgressCallback,
+    ) -> None:
+        self.name = name
+        self.buf = buf
+        self.fd = fd  # the file ``buf`` maps, to read chunks from without mapping their pages
+        self.size = len(buf)
+        self.records = RecordReader(buf)
+        self.budget = Budget(self.size)  # what its chunks may decompress to in all
+        self.topics = topics
+        self.progress = progress
+        self.scan = FileScan(MessageSet())
+        self.damage = Damage()
+        self.transform_messages = 0  # wanted, found (clock messages are not counted)
+        self.channels: dict[int, int] = {}  # connection id -> message set channel, of those wanted
+        self._met: set[int] = set()  # connection ids
+        self._clocks: set[int] = set()  # message set channels of clock connections
+
+    def connect(self, connection: Connection) -> None:
+        """A connection record met: its topic described, and read if it is wanted."""
+        if connection.id in self._met:
+            return
+        self._met.add(connection.id)
+        self.scan.topics.setdefault(connection.topic, connection.type)
+        codec, unread = select(connection.topic, connection.type, "ros1", self.topics)
+        self.scan.note_skipped(unread)
+        if codec is not None:
+            channel = self.scan.messages.channel(
+                connection.topic, codec, publisher=connection.callerid, tie=connection.id
+            )
+            self.channels[connection.id] = channel
+            if isinstance(codec, ClockCodec):
+                self._clocks.add(channel)
+
+    def wants(self, conn: int) -> bool:
+        return conn in self.channels
+
+    def add(self, data: bytes | memoryview, messages: Spans) -> npt.NDArray[np.bool_]:
+        """Keep the wanted ones of ``messages`` (their payloads in ``data``, which the caller may
+        then release); returns which were kept."""
+        channel = messages.looked_up(self.channels)
+        kept = channel >= 0
+        self.scan.messages.add_spans(channel[kept].astype(np.int32), messages.rows(kept), data)
+        self.transform_messages += int(np.count_nonzero(kept & ~np.isin(channel, list(self._clocks))))
+        return kept
+
+    def release(self, start: int, end: int) -> None:
+        """Unmap the pages of a chunk that has been read: the file's pages then stay in the page
+        cache instead of counting towards this process's resident memory (the messages wanted
+        are copied out by then)."""
+        if not isinstance(self.buf, mmap.mmap) or not hasattr(mmap, "MADV_DONTNEED"):
+            return
+        start -= start % mmap.PAGESIZE
+        if end > start:
+            self.buf.madvise(mmap.MADV_DONTNEED, start, min(end, self.size) - start)
+
+    def unpacked(self, chunk: Chunk, end: int) -> Unpacked:
+        """The chunk's data up to ``end``, uncompressed."""
+        return unpack(chunk.compression, self._bytes(chunk.data_start, end), chunk.size, self.budget)
+
+    def _bytes(self, start: int, end: int) -> bytes | memoryview:
+        """``buf[start:end]``: read from the file when it is known (faulting in the pages of a
+        mapping costs more than the copy a read makes, and they would count as resident)."""
+        if self.fd is not None:
+            return os.pread(self.fd, max(0, min(end, self.size) - start), start)
+        return memoryview(self.buf)[start:end]
+
+    def note_damage(self) -> None:
+        d = self.damage
+        if not d.places:
+            return
+        what = "a damaged part" if d.places == 1 else f"{d.places} damaged parts"
+        if d.lost_known:
+            lost = f"{d.lost} transform messages lost"
+        else:
+            lost = f"at least {d.lost} transform messages lost" if d.lost else "the transform messages there are lost"
+        self.scan.note_problem(f"{self.name}: {what} could not be read ({d.first}); {lost}")

@@ -1,0 +1,236 @@
+"""A ROS1 bag read by its index: only the chunks holding wanted messages, and of uncompressed ones
+only the wanted records.
+
+A chunk's index records give the offset of every message in it, of every connection, so a
+wanted record ends at the next offset (or at the chunk's end) and only those bytes need reading.
+Records close together are read as one run (``ranges``): a chunk of transforms only is read
+whole, one whose bulk is camera images costs little more than its transforms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.time import NS_PER_S
+from tftools.sources.bag.ranges import prefetch, read_ranges
+from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
+from tftools.sources.bag.ros1.file import BagFile
+from tftools.sources.bag.ros1.records import (
+    OP_CHUNK,
+    OP_CHUNK_INFO,
+    OP_CONNECTION,
+    OP_INDEX,
+    BagHeader,
+    ChunkInfo,
+    FormatError,
+    Record,
+    index_entries,
+    read_chunk,
+    read_chunk_info,
+    read_connection,
+)
+from tftools.sources.bag.spans import IntArray, Spans, bounded
+from tftools.sources.bag.unpack import CompressionUnavailableError
+from tftools.sources.codecs.gather import distinct
+
+#: Records of uncompressed chunks are gathered until there are this many, or their chunks hold
+#: this many bytes, then read (a few megabytes of transforms; the cap bounds a batch of huge ones).
+_SPAN_RECORDS, _SPAN_BYTES = 8192, 64 << 20
+#: Bytes of a chunk record's header, at most, and of an index data record: a header, and 12 per message.
+_CHUNK_HEADER_BYTES, _INDEX_RECORD_BYTES, _INDEX_ENTRY_BYTES = 4096, 128, 12
+
+
+def read_index(bag: BagFile, header: BagHeader) -> list[ChunkInfo]:
+    """The connections and chunk infos at the bag's end (connections met); ``FormatError`` if damaged."""
+    pos = header.index_pos
+    records = []
+    for op, count in ((OP_CONNECTION, header.conn_count), (OP_CHUNK_INFO, header.chunk_count)):
+        for _ in range(count):
+            records.append(_record(bag, pos, op))
+            pos = records[-1].data_end
+    connections = [read_connection(bag.buf, r) for r in records[: header.conn_count]]
+    infos = [read_chunk_info(bag.buf, r) for r in records[header.conn_count :]]
+    for connection in connections:
+        bag.connect(connection)
+    return sorted(infos, key=lambda info: info.pos)
+
+
+def read_indexed(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
+    """The wanted messages of the chunks ``infos`` describe."""
+    counted = [info for info in infos if info.counts]
+    scan = bag.scan
+    scan.message_count = sum(sum(info.counts.values()) for info in counted)
+    scan.start = min((info.start for info in counted), default=0)
+    scan.end = max((info.end for info in counted), default=0)
+    _prefetch(bag, infos, index_pos)
+    gathered = _Gathered()
+    for ordinal, info in enumerate(infos):
+        wanted = sum(n for conn, n in info.counts.items() if bag.wants(conn))
+        if wanted:
+            _read_chunk(bag, gathered, ordinal, info, wanted)
+            bag.progress(min(info.pos, bag.size), bag.size)
+    gathered.read(bag)
+
+
+def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
+    """Have the system fetch the headers and index records of the chunks holding wanted
+    messages all at once: read one by one from a file not in the page cache, each would wait
+    for the disk. A chunk's index records end where the next chunk (or the bag's index) begins,
+    about ``_INDEX_ENTRY_BYTES`` a message before it."""
+    if bag.fd is None:
+        return
+    ends = [*(info.pos for info in infos[1:]), index_pos]
+    starts: list[int] = []
+    stops: list[int] = []
+    for info, end in zip(infos, ends, strict=True):
+        if any(bag.wants(conn) for conn in info.counts):
+            index_bytes = sum(_INDEX_RECORD_BYTES + _INDEX_ENTRY_BYTES * n for n in info.counts.values())
+            starts += [info.pos, max(info.pos, end - index_bytes)]
+            stops += [info.pos + _CHUNK_HEADER_BYTES, end]
+    prefetch(bag.fd, np.array(starts, np.int64), np.array(stops, np.int64))
+
+
+def _record(bag: BagFile, pos: int, op: int) -> Record:
+    record = bag.records.read(pos)
+    if record.op != op or record.data_end > bag.size:
+        raise FormatError(f"no readable record with op {op} at byte {pos}")
+    return record
+
+
+def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo, wanted: int) -> None:
+    """The wanted messages of a chunk: an uncompressed one's gathered to be read with others', a
+    compressed one's read now, located by its index (or, when that is unreadable, by walking it)."""
+    try:
+        record = _record(bag, info.pos, OP_CHUNK)
+        chunk = read_chunk(record)
+    except FormatError as e:
+        bag.damage.note(info.pos, str(e), wanted)
+        return
+    index = _chunk_index(bag, record, info)
+    if chunk.compression == "none" and index is not None and bag.fd is not None:
+        gathered.add(bag, _Pending(ordinal, info.pos, wanted, index, chunk.data_start, chunk.data_end))
+        return
+    offsets = None if index is None else _wanted_offsets(bag, index)  # before the index's pages are let go
+    bag.release(info.pos, record.data_start if index is None else index.end)
+    gathered.read(bag)  # what was gathered comes first: the messages stay in record order
+    try:
+        unpacked = bag.unpacked(chunk, chunk.data_end)
+    except CompressionUnavailableError as e:
+        bag.damage.note(info.pos, str(e), wanted)
+        return
+    data = unpacked.data
+    if offsets is None:
+        messages, _, first_error = locate(data, walk(data, ordinal), follow=False)
+    else:
+        messages, _, first_error = locate(data, in_chunk(offsets, ordinal, len(data)), follow=True)
+    got = int(bag.add(data, messages).sum())
+    bag.release(info.pos, record.data_end)
+    if got < wanted:
+        bag.damage.note(info.pos, unpacked.loss or first_error or "its index points at no message", wanted - got)
+
+
+def _wanted(bag: BagFile, spans: Spans) -> npt.NDArray[np.bool_]:
+    """Which records the index lists under a wanted connection."""
+    return spans.looked_up(bag.channels) >= 0
+
+
+def _wanted_offsets(bag: BagFile, index: _Index) -> IntArray:
+    """Where the records a chunk's index lists under wanted connections begin in its data, once each."""
+    indexed = _indexed([index])
+    return distinct(indexed.offset[_wanted(bag, indexed)])
+
+
+@dataclass
+class _Index:
+    """The index records after a chunk: each one's connection and entries (rows of the record
+    time's seconds and nanoseconds, and the offset in the chunk's data, of each message), and
+    where they end."""
+
+    conns: list[int]
+    entries: list[npt.NDArray[np.uint32]]
+    end: int
+
+
+def _chunk_index(bag: BagFile, chunk: Record, info: ChunkInfo) -> _Index | None:
+    """The index records after a chunk; None when they are unreadable."""
+    index = _Index([], [], chunk.data_end)
+    try:
+        for _ in range(len(info.counts)):
+            record = _record(bag, index.end, OP_INDEX)
+            index.conns.append(record.uint("conn"))
+            index.entries.append(index_entries(bag.buf, record))
+            index.end = record.data_end
+    except FormatError:
+        return None
+    return index
+
+
+def _indexed(indexes: list[_Index]) -> Spans:
+    """Every message the indexes of some chunks list (its chunk: the place of its index in
+    ``indexes``), without file ranges yet."""
+    parts = [entries for index in indexes for entries in index.entries]
+    if not parts:
+        return Spans.empty()
+    counts = [len(p) for p in parts]
+    entries = np.concatenate(parts)
+    offset = entries[:, 2].astype(np.int64)
+    chunk = np.repeat(np.arange(len(indexes)), [len(index.entries) for index in indexes])
+    conn = np.array([c for index in indexes for c in index.conns], np.int64)
+    time = entries[:, 0].astype(np.int64) * NS_PER_S + entries[:, 1]
+    return Spans(np.repeat(chunk, counts), offset, np.repeat(conn, counts), time, offset, offset)
+
+
+@dataclass
+class _Pending:
+    """An uncompressed chunk whose wanted records wait to be read."""
+
+    ordinal: int
+    pos: int
+    wanted: int  # messages, as its chunk info counts them
+    index: _Index
+    data_start: int  # where its data begins in the file
+    data_end: int
+
+
+@dataclass
+class _Gathered:
+    """Uncompressed chunks, gathered in file order until their wanted records are read together."""
+
+    chunks: list[_Pending] = field(default_factory=list)
+    records: int = 0  # wanted (about what reading them will take, whatever else the chunks hold)
+    nbytes: int = 0  # the chunks' data: at most what reading them will take
+
+    def add(self, bag: BagFile, pending: _Pending) -> None:
+        """Note an uncompressed chunk, to be read with others (and its header's and index's pages
+        released with theirs)."""
+        self.chunks.append(pending)
+        self.records += pending.wanted
+        self.nbytes += pending.data_end - pending.data_start
+        if self.records >= _SPAN_RECORDS or self.nbytes >= _SPAN_BYTES:
+            self.read(bag)
+
+    def read(self, bag: BagFile) -> None:
+        """Read the wanted records gathered, and start gathering anew. A record must end before
+        the next one its chunk's index knows of; records cut short by the end of the file are
+        left out (and counted lost)."""
+        chunks, self.chunks, self.records, self.nbytes = self.chunks, [], 0, 0
+        if not chunks:
+            return
+        indexed = _indexed([c.index for c in chunks])  # read before the indexes' pages are let go
+        bag.release(chunks[0].pos, chunks[-1].index.end)
+        starts, ends = np.array([[c.data_start, c.data_end] for c in chunks], np.int64).T
+        records, _ = bounded(indexed, starts, ends)
+        records = records.rows(_wanted(bag, records))
+        records = records.rows(np.diff(records.start, prepend=-1) != 0)  # once each
+        data, where, complete = read_ranges(bag.fd or 0, records.start, records.end)
+        records = records.rows(complete)
+        records.start, records.end = where[complete], where[complete] + records.end - records.start
+        messages, _, first_error = locate(data.data, records, follow=True)
+        in_batch, messages.chunk = messages.chunk, np.array([c.ordinal for c in chunks], np.int64)[messages.chunk]
+        got = np.bincount(in_batch[bag.add(data.data, messages)], minlength=len(chunks))
+        for chunk, count in zip(chunks, got.tolist(), strict=True):
+            if count < chunk.wanted:
+                bag.damage.note(chunk.pos, first_error or "its index points at no message", chunk.wanted - count)

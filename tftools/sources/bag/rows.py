@@ -1,0 +1,121 @@
+"""Decoded transforms gathered column by column, and made ``TransformBatch`` es in record order."""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.arrays import FloatArray, Int32Array
+from tftools.core.arrays import Int64Array as IntArray
+from tftools.core.batch import TransformBatch
+from tftools.sources.codecs.decoded import FrameNames
+from tftools.sources.codecs.select import ClockCodec, Codec
+from tftools.sources.contents import is_static_topic
+
+Column = npt.NDArray[Any]
+
+
+@dataclass(frozen=True)
+class Channel:
+    """A topic read with a codec (a clock's channel has no rows), as one publisher recorded it."""
+
+    topic: str
+    codec: Codec | ClockCodec
+    publisher: str = ""  # a ROS1 connection's callerid; "" when the recording does not say
+    tie: int = 0  # messages of equal record time and channels of unequal ``tie``: the lower first
+
+    @property
+    def authority(self) -> str:
+        """Whose transforms they are: the publisher, else the topic."""
+        return self.publisher or self.topic
+
+
+class Rows:
+    """Columns of decoded transforms, part after part; frame names interned as they come.
+
+    Parts come codec by codec; ``settle`` puts those added since the last call in message order,
+    so that rows read in record order need no reordering of the whole batch.
+    """
+
+    def __init__(self, channels: list[Channel]) -> None:
+        self.channels = channels
+        self.frames = FrameNames()
+        self.parts: dict[str, list[Column]] = {name: [] for name in _COLUMNS}
+        self.messages: list[IntArray] = []  # of each part added since ``settle``: each row's message number
+        #: Of each part settled: its messages, and how many rows each has there (8 bytes a row less).
+        self.runs: list[tuple[IntArray, IntArray]] = []
+
+    def add_rows(
+        self, message: IntArray, parent: Int32Array, child: Int32Array, stamp: IntArray, values: FloatArray
+    ) -> None:
+        """Rows of frame ids in ``frames``: ``message`` being each one's message number."""
+        self.messages.append(message)
+        columns: list[Column] = [parent, child, stamp, values[:, :3].copy(), values[:, 3:].copy()]
+        for name, column in zip(_COLUMNS, columns, strict=True):
+            self.parts[name].append(column)
+
+    def settle(self) -> None:
+        """Merge the parts added since the last call into one, in message order (a few
+        megabytes at most: reordered while in cache)."""
+        if not self.messages:
+            return
+        message = self.messages[0]
+        if len(self.messages) > 1:
+            order = np.argsort(np.concatenate(self.messages), kind="stable")
+            message = np.concatenate(self.messages)[order]
+            for parts in self.parts.values():
+                parts[len(self.runs) :] = [np.concatenate(parts[len(self.runs) :])[order]]
+        self.messages = []
+        firsts = np.flatnonzero(np.diff(message, prepend=-1))
+        self.runs.append((message[firsts], np.diff(np.append(firsts, len(message)))))
+
+    def batches(self, times: IntArray, channel_of: Int32Array, rank: IntArray) -> list[TransformBatch]:
+        """The rows in record order, given each message's record time, channel and place in
+        that order: the parts as settled when they are in that order already, else one batch
+        made column after column, each freed as it is taken (one is held twice at most)."""
+        self.settle()
+        if not self.runs:
+            return []
+        transforms = [c for c in self.channels if isinstance(c.codec, Codec)]
+        authorities = list(dict.fromkeys(c.authority for c in transforms))
+        authority_of = np.array(
+            [authorities.index(c.authority) if c in transforms else -1 for c in self.channels], np.int32
+        )
+        static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
+
+        def batch(messages: IntArray, columns: dict[str, Column]) -> TransformBatch:
+            channel = channel_of[messages]
+            return TransformBatch(
+                frame_names=self.frames.names,
+                authorities=authorities,
+                static=static_of[channel],
+                record_time=times[messages],
+                authority=authority_of[channel],
+                **columns,
+            )
+
+        runs, self.runs = self.runs, []
+        ranks = [rank[messages] for messages, _ in runs]
+        if all(bool(np.all(r[1:] >= r[:-1])) for r in ranks) and all(
+            a[-1] <= b[0] for a, b in itertools.pairwise(ranks)
+        ):
+            parts = [dict(zip(_COLUMNS, part, strict=True)) for part in zip(*self.parts.values(), strict=True)]
+            self.parts = {name: [] for name in _COLUMNS}
+            return [batch(np.repeat(*run), columns) for run, columns in zip(runs, parts, strict=True)]
+        message = np.concatenate([np.repeat(*run) for run in runs])
+        order = np.argsort(rank[message], kind="stable")
+        del ranks, runs
+        return [batch(message[order], {name: self._whole(name)[order] for name in _COLUMNS})]
+
+    def _whole(self, name: str) -> Column:
+        """A column whole, its parts freed as it is taken: only one column is ever held twice."""
+        parts = self.parts.pop(name)
+        self.parts[name] = []
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+
+_COLUMNS = ("parent", "child", "stamp", "translation", "rotation")

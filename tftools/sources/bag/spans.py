@@ -1,0 +1,81 @@
+"""``Spans``: message records, one row each, as every bag format finds them and the message set takes them."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, fields
+
+import numpy as np
+import numpy.typing as npt
+
+IntArray = npt.NDArray[np.int64]
+
+
+@dataclass
+class Spans:
+    """Message records, one row each: where each sits in its file, its channel and record time,
+    and the bytes it spans. Those are first where its record lies in the file (its end: as far as
+    it may reach), then in the bytes read, and once its header is read, where its payload lies."""
+
+    chunk: IntArray  # the ordinal of its chunk in the file
+    offset: IntArray  # where its record begins in its chunk's records
+    channel: IntArray  # as the format numbers them (a ROS1 connection, an MCAP channel id)
+    time: IntArray  # record time (ns)
+    start: IntArray
+    end: IntArray
+
+    @classmethod
+    def empty(cls) -> Spans:
+        none = np.zeros(0, np.int64)
+        return cls(none, none, none, none, none, none)
+
+    def __len__(self) -> int:
+        return len(self.start)
+
+    def rows(self, which: npt.NDArray[np.bool_] | IntArray) -> Spans:
+        return Spans(
+            self.chunk[which], self.offset[which], self.channel[which],
+            self.time[which], self.start[which], self.end[which],
+        )  # fmt: skip
+
+    def looked_up(self, table: dict[int, int]) -> IntArray:
+        """Each row's ``table[channel]``, -1 where its channel is not in ``table``."""
+        keys = np.array(sorted(table), np.int64)
+        if not len(keys):
+            return np.full(len(self), -1, np.int64)
+        at = np.minimum(np.searchsorted(keys, self.channel), len(keys) - 1)
+        values = np.array([table[k] for k in keys.tolist()], np.int64)
+        return np.where(keys[at] == self.channel, values[at], -1)
+
+    @property
+    def position(self) -> IntArray:
+        """Each record's place in the file: orders the messages of equal record time."""
+        return (self.chunk << 32) + self.offset
+
+
+def joined(parts: Sequence[Spans]) -> Spans:
+    """The rows of every part, one after the other."""
+    if not parts:
+        return Spans.empty()
+    return Spans(*(np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(Spans)))
+
+
+def bounded(spans: Spans, records_start: IntArray, records_end: IntArray) -> tuple[Spans, npt.NDArray[np.bool_]]:
+    """The records of chunks whose records lie at ``records_start[chunk]:records_end[chunk]`` of the
+    file, as their index lists them (every record, of every channel): in file order, with the file
+    range each may take, up to the next record indexed or the end of its chunk's records. Also
+    which chunks have an index that cannot be trusted: with an entry outside their records (left
+    out) or two at one offset."""
+    outside = (spans.offset < 0) | (spans.offset >= (records_end - records_start)[spans.chunk])
+    start = records_start[spans.chunk] + spans.offset  # past int64 only where outside
+    damaged = np.zeros(len(records_start), bool)
+    damaged[spans.chunk[outside]] = True
+    inside = np.flatnonzero(~outside)
+    order = inside[np.argsort(start[inside], kind="stable")]
+    spans = spans.rows(order)
+    spans.start = start[order]
+    damaged[spans.chunk[1:][spans.start[1:] == spans.start[:-1]]] = True
+    # The next record further on (past those at the same offset) begins in this chunk, or after its end.
+    further = np.append(spans.start, np.iinfo(np.int64).max)[np.searchsorted(spans.start, spans.start, side="right")]
+    spans.end = np.minimum(further, records_end[spans.chunk])
+    return spans, damaged
