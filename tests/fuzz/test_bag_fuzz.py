@@ -208,6 +208,7 @@ FOUND = [
     ("mcap-zstd-bomb", [("flip", 380, 127)]),  # ValueError: a chunk offset past what seek takes
     # OverflowError: a chunk info's position past the file, prefetched
     ("ros1-bz2", [("u32", 6819, 1 << 32), ("flip", 8291, 0x7FFFFFFF), ("u64", 3782, (1 << 64) - 1)]),
+    ("ros1-bz2-bomb", [("flip", 39, 0)]),  # ValueError: an index without chunk infos, prefetched
 ]
 
 

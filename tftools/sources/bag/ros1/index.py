@@ -80,7 +80,7 @@ def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
     messages all at once: read one by one from a file not in the page cache, each would wait
     for the disk. A chunk's index records end where the next chunk (or the bag's index) begins,
     about ``_INDEX_ENTRY_BYTES`` a message before it."""
-    if bag.fd is None:
+    if bag.fd is None or not infos:
         return
     ends = [*(info.pos for info in infos[1:]), index_pos]
     starts: list[int] = []
