@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 
 def timed(label: str, run: Callable[[], int], repeat: int = 3) -> int:
@@ -16,3 +17,20 @@ def timed(label: str, run: Callable[[], int], repeat: int = 3) -> int:
         best = min(best, time.perf_counter() - began)
     print(f"{label:<52} {count:>8} transforms  {best:6.3f} s  {count / best / 1000:8.0f}k transforms/s")
     return count
+
+
+def rosbags_transforms(bag: Path) -> int:
+    """Every tf message of ``bag`` read and deserialized by rosbags, for comparison: its transforms."""
+    from tftools.sources.codecs.types import typestore
+
+    if bag.suffix == ".bag":
+        from rosbags.rosbag1 import Reader
+
+        deserialize = typestore("ros1_noetic").deserialize_ros1
+    else:
+        from rosbags.rosbag2 import Reader  # type: ignore[assignment]
+
+        deserialize = typestore("ros2_humble").deserialize_cdr
+    with Reader(bag) as reader:
+        tf = [c for c in reader.connections if c.topic in ("/tf", "/tf_static")]
+        return sum(len(deserialize(raw, c.msgtype).transforms) for c, _, raw in reader.messages(connections=tf))

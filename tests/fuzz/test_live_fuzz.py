@@ -16,10 +16,11 @@ import xmlrpc.client
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tftools.sources.live.ros1 import messages as ros1
+from tftools.sources.codecs import cdr, ros1
+from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.live.ros1 import tcpros
 from tftools.sources.live.ros1 import xmlrpc as ros_xmlrpc
-from tftools.sources.live.ros2 import cdr
+from tftools.sources.live.ros2.entities import decode_participant_entities
 
 EXAMPLES = int(os.environ.get("TFTOOLS_FUZZ_EXAMPLES", "60"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -71,7 +72,7 @@ def _apply(seed: bytes, changes: list[tuple[int, int]]) -> bytearray:
 @given(mutants(_tf_message(3)))
 def test_ros1_tf_decoder(data: bytes) -> None:
     try:
-        batch = ros1.decode_tf_message(data, static=False, authority="/x", record_time=0)
+        batch = message_batch(ros1.decode_tf, data, static=False, authority="/x", record_time=0)
     except ValueError:
         return
     assert len(batch) * 76 <= len(data)  # never more transforms than the bytes can hold
@@ -81,14 +82,14 @@ def test_ros1_tf_decoder(data: bytes) -> None:
 @given(mutants(b"\x01\x00\x00\x00\x02\x00\x00\x00"))
 def test_ros1_clock_decoder(data: bytes) -> None:
     with contextlib.suppress(ValueError):
-        ros1.decode_clock(data)
+        message_clock(ros1.decode_clocks, data)
 
 
 @FUZZ
 @given(mutants(_cdr_tf_message(3)))
 def test_ros2_tf_decoder(data: bytes) -> None:
     try:
-        batch = cdr.decode_tf_message(data, static=False, authority="/x", record_time=0)
+        batch = message_batch(cdr.decode_tf, data, static=False, authority="/x", record_time=0)
     except ValueError:
         return
     assert len(batch) * 72 <= len(data)
@@ -98,14 +99,14 @@ def test_ros2_tf_decoder(data: bytes) -> None:
 @given(mutants(b"\x00\x01\x00\x00\x01\x00\x00\x00\x02\x00\x00\x00"))
 def test_ros2_clock_decoder(data: bytes) -> None:
     with contextlib.suppress(ValueError):
-        cdr.decode_clock(data)
+        message_clock(cdr.decode_clocks, data)
 
 
 @FUZZ
 @given(st.binary(max_size=600))
 def test_ros2_discovery_decoder(data: bytes) -> None:
     with contextlib.suppress(ValueError):
-        cdr.decode_participant_entities(b"\x00\x01\x00\x00" + data)
+        decode_participant_entities(b"\x00\x01\x00\x00" + data)
 
 
 HEADER = tcpros.encode_header({"callerid": "/talker", "md5sum": "94810edda583a504dfda3829e70d7eec", "type": "x/Y"})

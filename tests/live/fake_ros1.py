@@ -10,8 +10,8 @@ import time
 import xmlrpc.client
 from collections.abc import Callable, Iterator
 
+from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type
 from tftools.sources.live.ros1 import tcpros
-from tftools.sources.live.ros1.messages import TF_MESSAGE, message_type
 
 #: An HTTP reply body, or the raw bytes to send (when it starts with b"HTTP/"), or a callable
 #: writing whatever it likes on the socket.
@@ -125,7 +125,7 @@ def endless(sock: socket.socket) -> None:
         sock.sendall(block)
 
 
-TF_TYPE = message_type(TF_MESSAGE)
+TF_TYPE = ros1_message_type(TF_MESSAGE)
 
 
 class FakeTcpRos(_Server):

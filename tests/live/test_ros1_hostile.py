@@ -30,11 +30,11 @@ from tests.live.fake_ros1 import (
     trickle,
 )
 from tftools.core.batch import TransformBatch
+from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type
 from tftools.sources.live.errors import LiveError, MasterTimeoutError
 from tftools.sources.live.ros1 import node as node_module
 from tftools.sources.live.ros1 import publisher, subscriber, tcpros
 from tftools.sources.live.ros1 import xmlrpc as ros_xmlrpc
-from tftools.sources.live.ros1.messages import TF_MESSAGE, message_type
 from tftools.sources.live.ros1.source import Ros1Source, _DeliveryQueue
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -201,7 +201,7 @@ def listening_node() -> Iterator[tuple[node_module.Node, list[str]]]:
     notices: list[str] = []
     with fake_master() as master:
         node = node_module.Node("/tfx_test", master.uri, notices.append)
-        node.subscribe("/tf", message_type(TF_MESSAGE), lambda _data, _callerid: None)
+        node.subscribe("/tf", ros1_message_type(TF_MESSAGE), lambda _data, _callerid: None)
         try:
             yield node, notices
         finally:
@@ -406,11 +406,11 @@ def test_a_good_message_is_still_read_whole() -> None:
 
 
 def _batch(rows: int) -> TransformBatch:
-    from tftools.sources.live.ros1.messages import decode_tf_message
-
-    one = decode_tf_message(tf_message(), static=False, authority="/x", record_time=0)
     from tftools.core.batch import concat_batches
+    from tftools.sources.codecs.decoded import message_batch
+    from tftools.sources.codecs.ros1 import decode_tf
 
+    one = message_batch(decode_tf, tf_message(), static=False, authority="/x", record_time=0)
     return concat_batches([one] * rows)
 
 

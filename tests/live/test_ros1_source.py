@@ -12,10 +12,11 @@ from tftools.core.batch import TransformBatch
 from tftools.core.time import WallClock
 from tftools.core.transform import Transform
 from tftools.sinks import open_static_broadcaster
+from tftools.sources.codecs.ros1 import encode_tf_message
+from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type
 from tftools.sources.live import LiveError, LiveSource, open_live
 from tftools.sources.live.capture import capture, listen
 from tftools.sources.live.ros1 import Node, Ros1Source
-from tftools.sources.live.ros1.messages import TF_MESSAGE, encode_tf_message, message_type
 
 
 @pytest.fixture(autouse=True)
@@ -79,7 +80,7 @@ def test_a_dropped_connection_is_made_again(ros: Ros) -> None:
     collected = Collected()
     node = Node("/drop_publisher")
     try:
-        publication = node.advertise("/tf_static", message_type(TF_MESSAGE), latched=True)
+        publication = node.advertise("/tf_static", ros1_message_type(TF_MESSAGE), latched=True)
         publication.publish(encode_tf_message([Transform((1, 2, 3), (0, 0, 0, 1), 5, "drop_a", "drop_b")]))
         with Ros1Source(topics=["/tf_static"], on_notice=collected.notices.append) as source:
             source.start(collected.add)

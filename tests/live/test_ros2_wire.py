@@ -19,9 +19,11 @@ from rosbags.typesys.base import Nodetype
 from tests.live.ros2_processes import require_cyclonedds
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.codecs import cdr
+from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.cdr import decode_clock, decode_participant_entities, decode_tf_message
 from tftools.sources.live.ros2.conventions import QosProfile
+from tftools.sources.live.ros2.entities import decode_participant_entities
 from tftools.sources.live.ros2.errors import DomainIdError
 
 #: Distributions and their rmw_dds_common Gid size (24 through Humble, 16 since Iron).
@@ -121,7 +123,7 @@ def rosbags_tf_message(typestore, transforms: list[Transform]):
 def test_tfmessages_serialized_by_ros2_decode_exactly(transforms: list[Transform], little: bool, distro: str) -> None:
     typestore = store(distro)
     data = bytes(typestore.serialize_cdr(rosbags_tf_message(typestore, transforms), TF, little_endian=little))
-    batch = decode_tf_message(data, static=True, authority="/node", record_time=7)
+    batch = message_batch(cdr.decode_tf, data, static=True, authority="/node", record_time=7)
     assert len(batch) == len(transforms)
     names = list(batch.frame_names)
     assert [(names[p], names[c]) for p, c in zip(batch.parent, batch.child, strict=True)] == [
@@ -138,7 +140,7 @@ def test_clock_serialized_by_ros2_decodes() -> None:
     time = typestore.types["builtin_interfaces/msg/Time"](sec=1234, nanosec=567)
     for little in (True, False):
         data = bytes(typestore.serialize_cdr(typestore.types[CLOCK](clock=time), CLOCK, little_endian=little))
-        assert decode_clock(data) == 1234 * NS_PER_S + 567
+        assert message_clock(cdr.decode_clocks, data) == 1234 * NS_PER_S + 567
 
 
 def rosbags_participant_info(typestore, gid_size: int, participant: bytes, nodes: list[tuple[str, str, list[bytes]]]):
@@ -180,9 +182,16 @@ def test_ros_discovery_info_of_either_gid_size_decodes(distro: str, node_count: 
 def test_what_is_not_a_message_is_refused() -> None:
     typestore = store("jazzy")
     good = bytes(typestore.serialize_cdr(rosbags_tf_message(typestore, [Transform.identity(0, "a", "b")]), TF))
-    for bad in (good[:-9], good[:10], b"", b"\x00\x09" + good[2:], good[:4] + b"\xff\xff\xff\x7f" + good[8:]):
-        with pytest.raises(ValueError, match="not a TFMessage"):
-            decode_tf_message(bad, static=False, authority="", record_time=0)
+    refused = {
+        good[:-9]: f"message ends at byte {len(good) - 9}, a field needs {len(good)}",
+        good[:10]: "1 transform cannot fit in 10 bytes",
+        b"": "not a CDR payload",
+        b"\x00\x09" + good[2:]: "not a CDR payload",
+        good[:4] + b"\xff\xff\xff\x7f" + good[8:]: "2147483647 transforms cannot fit",
+    }
+    for bad, reason in refused.items():
+        with pytest.raises(ValueError, match=reason):
+            message_batch(cdr.decode_tf, bad, static=False, authority="", record_time=0)
     with pytest.raises(ValueError, match="not a ParticipantEntitiesInfo"):
         decode_participant_entities(good)
 
@@ -320,7 +329,8 @@ def test_cyclone_accepts_each_discovery_configuration(idl, scope: str, monkeypat
 
 def test_transforms_round_trip_through_tftools_types(idl) -> None:
     transforms = [Transform.from_rpy((1.0, -2.0, 3.5), (0.1, 0.2, math.pi / 2), 5 * NS_PER_S + 7, "map", "odom")]
-    batch = decode_tf_message(idl.TFMessage.of(transforms).serialize(), static=False, authority="a", record_time=1)
+    data = idl.TFMessage.of(transforms).serialize()
+    batch = message_batch(cdr.decode_tf, data, static=False, authority="a", record_time=1)
     assert batch.translation.tolist() == [list(transforms[0].translation)]
     assert batch.rotation.tolist() == [list(transforms[0].rotation)]
     assert batch.stamp.tolist() == [transforms[0].stamp]

@@ -14,15 +14,15 @@ import pytest
 from tests.live.fake_ros1 import fake_master, fake_publisher, ros_reply, silence
 from tests.live.test_ros1_hostile import finishes
 from tftools.core.time import NS_PER_S, WallClock
+from tftools.sources.codecs.types import definition_starts_with_header, ros1_message_type
 from tftools.sources.headers import StampedRead
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import subscriber, tcpros
-from tftools.sources.live.ros1.headers import Ros1HeaderListener, starts_with_header
-from tftools.sources.live.ros1.messages import message_type
+from tftools.sources.live.ros1.headers import Ros1HeaderListener
 from tftools.sources.live.sensor_headers import HeaderStore
 
-SCAN = message_type("sensor_msgs/msg/LaserScan")
-STRING = message_type("std_msgs/msg/String")
+SCAN = ros1_message_type("sensor_msgs/msg/LaserScan")
+STRING = ros1_message_type("std_msgs/msg/String")
 PUBLISHED = ros_reply([["/scan", "sensor_msgs/LaserScan"], ["/tf", "tf2_msgs/TFMessage"]])
 
 
@@ -146,12 +146,13 @@ DEFINITIONS = {
     "a header later": ("float64 x\nHeader header\n", False),
     "a header only nested": ("geometry_msgs/Pose pose\n" + "=" * 80 + "\nMSG: std_msgs/Header\n", False),
     "empty": ("", False),
+    "not a definition": ("uint8[ broken\n", False),
 }
 
 
 @pytest.mark.parametrize(("definition", "header"), DEFINITIONS.values(), ids=DEFINITIONS.keys())
 def test_a_definition_starts_with_a_header_or_not(definition: str, header: bool) -> None:
-    assert starts_with_header(definition) is header
+    assert definition_starts_with_header("tfx_test/msg/Custom", definition) is header
 
 
 def test_the_store_keeps_a_bounded_number_of_headers_a_topic_and_says_so_once() -> None:

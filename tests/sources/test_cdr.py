@@ -1,4 +1,4 @@
-"""The bulk decoders of transform messages against the reference decoders: rosbags for CDR, the
+"""The bulk decoders of transform messages against the references: rosbags for CDR and ROS1, the
 protobuf library for Foxglove protobuf, ``json`` for Foxglove JSON; malformed payloads skipped."""
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tests.sources.reference import reference_rows
 from tests.sources.ros2_helpers import (
     Tf,
     batch_rows,
@@ -20,19 +21,16 @@ from tests.sources.ros2_helpers import (
     tf_ros1,
     varied_transform,
 )
-from tftools.sources.bag.decode.codec import CODECS
-from tftools.sources.bag.decode.template import DecodeError
 from tftools.sources.bag.messages import MessageSet
+from tftools.sources.codecs.decoded import message_batch
+from tftools.sources.codecs.select import CODECS
 
 TF = ("tf2_msgs/msg/TFMessage", "cdr")
-DECODERS = ("fast", "simple", "reference")
 
 
-def decode(
-    payloads: list[bytes], key: tuple[str, str], decoder: str = "fast"
-) -> tuple[dict[int, list[Any]], list[str]]:
+def decode(payloads: list[bytes], key: tuple[str, str]) -> tuple[dict[int, list[Any]], list[str]]:
     """Rows by message number (the record time given to each payload), and the problem lines."""
-    messages = MessageSet(decoder=decoder)  # type: ignore[arg-type]
+    messages = MessageSet()
     channel = messages.channel("/tf", CODECS[key])
     numbers = list(range(len(payloads)))
     messages.add(channel, numbers, numbers, payloads)
@@ -59,17 +57,42 @@ def varied(seed: int, count: int, most: int = 6) -> list[list[Tf]]:
 # --- CDR -------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("decoder", DECODERS)
-def test_tf_messages_both_byte_orders(decoder: str) -> None:
+def test_tf_messages_both_byte_orders() -> None:
     """Every frame id length (so every alignment), both byte orders mixed in one topic."""
     messages = varied(1, 600)
     payloads = [tf_cdr(tfs, little_endian=i % 3 > 0) for i, tfs in enumerate(messages)]
-    rows, problems = decode(payloads, TF, decoder)
-    assert rows == expected(messages) and problems == []
+    rows, problems = decode(payloads, TF)
+    assert rows == expected(messages) == reference_rows(payloads, TF) and problems == []
+
+
+def test_xcdr2_samples() -> None:
+    """XCDR2 (encapsulation 0x0006/0x0007, as final types are sent): 8-byte values aligned to 4."""
+    messages = [tfs for tfs in varied(11, 200) if tfs]
+    payloads = [_as_xcdr2(tfs, little_endian=i % 2 == 0) for i, tfs in enumerate(messages)]
+    assert any(len(p) < len(tf_cdr(tfs)) for p, tfs in zip(payloads, messages, strict=True))  # padding left out
+    assert decode(payloads, TF) == (expected(messages), [])
+
+
+def _as_xcdr2(transforms: list[Tf], *, little_endian: bool) -> bytes:
+    order = "<" if little_endian else ">"
+    out = bytearray(b"\x00\x07\x00\x00" if little_endian else b"\x00\x06\x00\x00") + struct.pack(
+        f"{order}I", len(transforms)
+    )
+    for t in transforms:
+        out += struct.pack(f"{order}iI", t.sec, t.nsec)
+        for name in (t.parent, t.child):
+            out += (
+                b"\x00" * (-(len(out) - 4) % 4)
+                + struct.pack(f"{order}I", len(name.encode()) + 1)
+                + name.encode()
+                + b"\x00"
+            )
+        out += b"\x00" * (-(len(out) - 4) % 4) + struct.pack(f"{order}7d", *t.translation, *t.rotation)
+    return bytes(out)
 
 
 def test_same_length_other_layout() -> None:
-    """Messages of equal length whose strings split differently do not share a template."""
+    """Messages of equal length whose strings split differently."""
     messages = [[Tf("ab", "c", 1)], [Tf("a", "bc", 2)], [Tf("abc", "", 3)]] * 20
     messages += [[Tf("abcde", "f", 4), Tf("g", "hijkl", 5)], [Tf("a", "b", 6), Tf("cdefg", "hijkl", 7)]] * 20
     payloads = [tf_cdr(tfs) for tfs in messages]
@@ -78,29 +101,26 @@ def test_same_length_other_layout() -> None:
 
 
 def test_many_messages_of_one_layout() -> None:
-    """A template learnt once decodes thousands of look-alikes: the same values as rosbags."""
+    """Thousands of look-alikes: the same values as rosbags."""
     rng = np.random.default_rng(5)
     stamps = zip(rng.integers(-(2**31), 2**31, 5000), rng.integers(0, 10**9, 5000), strict=True)
     messages = [[Tf("odom", "base_link", int(s), int(n), tuple(rng.normal(size=3)), tuple(rng.normal(size=4)))]
                 for s, n in stamps]  # fmt: skip
     payloads = [tf_cdr(tfs) for tfs in messages]
-    assert decode(payloads, TF)[0] == decode(payloads, TF, "reference")[0] == expected(messages)
+    assert decode(payloads, TF)[0] == reference_rows(payloads, TF) == expected(messages)
 
 
 def test_truncated_and_padded_payloads() -> None:
-    """No prefix of a message decodes; trailing padding does not matter; every decoder agrees
-    with rosbags on what it decodes."""
+    """No prefix of a message decodes; trailing padding does not matter; what decodes is what
+    rosbags decodes."""
     messages = varied(2, 5, most=4)
     whole = [tf_cdr(tfs) for tfs in messages if tfs]
     payloads = [p[:i] for p in whole for i in range(len(p))] + [p + b"\x00" * 3 for p in whole]
-    reference, _ = decode(payloads, TF, "reference")
-    for decoder in ("fast", "simple"):
-        rows, problems = decode(payloads, TF, decoder)
-        assert sorted(rows) == list(range(len(payloads) - len(whole), len(payloads)))
-        assert rows == reference
-        (line,) = problems
-        count = len(payloads) - len(whole) - sum(1 for p in whole if p[4:8] == b"\x00" * 4)
-        assert line.startswith(f"/tf: {count} of {len(payloads)} messages could not be decoded")
+    rows, problems = decode(payloads, TF)
+    assert sorted(rows) == list(range(len(payloads) - len(whole), len(payloads)))
+    assert rows == reference_rows(payloads, TF)
+    (line,) = problems
+    assert line.startswith(f"/tf: {len(payloads) - len(whole)} of {len(payloads)} messages could not be decoded")
 
 
 def test_corrupt_payloads_never_raise() -> None:
@@ -115,12 +135,11 @@ def test_corrupt_payloads_never_raise() -> None:
             broken = bytearray(payload)
             broken[at] ^= 0xFF
             bad.append(bytes(broken))
-    reference, _ = decode(good + bad, TF, "reference")
-    for decoder in ("fast", "simple"):
-        rows, problems = decode(good + bad, TF, decoder)
-        assert all(rows[i] == reference.get(i) for i in rows if i < len(good))
-        assert {i for i in rows if i < len(good)} == {i for i in reference if i < len(good)}
-        assert len(problems) == 1 and "\n" not in problems[0]
+    reference = reference_rows(good + bad, TF)
+    rows, problems = decode(good + bad, TF)
+    assert all(rows[i] == reference.get(i) for i in rows if i < len(good))
+    assert {i for i in rows if i < len(good)} == {i for i in reference if i < len(good)}
+    assert len(problems) == 1 and "\n" not in problems[0]
 
 
 @pytest.mark.parametrize("single", [True, False], ids=["FrameTransform", "FrameTransforms"])
@@ -128,23 +147,22 @@ def test_foxglove_cdr(single: bool) -> None:
     messages = [tfs[:1] if single else tfs for tfs in varied(6, 300) if tfs]
     key = (f"foxglove_msgs/msg/FrameTransform{'' if single else 's'}", "cdr")
     payloads = [foxglove_cdr(tfs, single=single) for tfs in messages]
-    for decoder in DECODERS:
-        assert decode(payloads, key, decoder) == (expected(messages), [])
+    assert decode(payloads, key) == (expected(messages), [])
+    assert reference_rows(payloads, key) == expected(messages)
 
 
 # --- ROS1, as MCAP files recorded from ROS1 hold it --------------------------------------------
 
 
-@pytest.mark.parametrize("decoder", DECODERS)
 @pytest.mark.parametrize("type_name", ["tf2_msgs/TFMessage", "tf/tfMessage"])
-def test_ros1_tf_messages(decoder: str, type_name: str) -> None:
+def test_ros1_tf_messages(type_name: str) -> None:
     """Unsigned seconds, sequence numbers that differ between look-alikes; no prefix decodes."""
     messages = [[Tf(t.parent, t.child, t.sec % 2**32, t.nsec, t.translation, t.rotation) for t in tfs]
                 for tfs in varied(10, 400)]  # fmt: skip
     payloads = [tf_ros1(tfs, seq=i * 7919) for i, tfs in enumerate(messages)]
     prefixes = [p[:i] for p in payloads[:5] if len(p) > 4 for i in range(len(p))]
-    rows, problems = decode(payloads + prefixes, (type_name, "ros1"), decoder)
-    assert rows == expected(messages)
+    rows, problems = decode(payloads + prefixes, (type_name, "ros1"))
+    assert rows == expected(messages) == reference_rows(payloads + prefixes, (type_name, "ros1"))
     (line,) = problems
     assert line.startswith(f"/tf: {len(prefixes)} of ")
 
@@ -170,8 +188,7 @@ def protobuf_rows(payloads: list[bytes], single: bool) -> dict[int, list[Any]]:
 
 
 @pytest.mark.parametrize("single", [True, False], ids=["FrameTransform", "FrameTransforms"])
-@pytest.mark.parametrize("decoder", ["fast", "simple"])
-def test_protobuf(single: bool, decoder: str) -> None:
+def test_protobuf(single: bool) -> None:
     messages = [tfs[:1] if single else tfs for tfs in varied(7, 400) if tfs]
     rng = np.random.default_rng(8)
     for tfs in messages[::5]:  # zeros are left off the wire: messages of other layouts
@@ -182,8 +199,8 @@ def test_protobuf(single: bool, decoder: str) -> None:
         tfs[0] = Tf(t.parent, t.child, 0 if zero % 2 else t.sec, t.nsec, tuple(values[:3]), tuple(values[3:]))
     payloads = [proto_message(tfs, single=single).SerializeToString() for tfs in messages]
     key = (f"foxglove.FrameTransform{'' if single else 's'}", "protobuf")
-    assert decode(payloads, key, decoder) == (protobuf_rows(payloads, single), [])
-    assert decode(payloads, key, decoder)[0] == expected(messages)
+    assert decode(payloads, key) == (protobuf_rows(payloads, single), [])
+    assert decode(payloads, key)[0] == expected(messages)
 
 
 def test_protobuf_wire_variants() -> None:
@@ -200,15 +217,15 @@ def test_protobuf_wire_variants() -> None:
     for _ in range(3):  # look-alikes of each, so templates are used
         variants += variants[:6]
     key = ("foxglove.FrameTransform", "protobuf")
-    assert decode(variants, key, "fast") == decode(variants, key, "simple") == (protobuf_rows(variants, True), [])
+    assert decode(variants, key) == (protobuf_rows(variants, True), [])
+    assert decode(variants[:6], key) == (protobuf_rows(variants[:6], True), [])  # each on its own
 
 
-@pytest.mark.parametrize("decoder", ["fast", "simple"])
-def test_protobuf_stamps_beyond_int64_nanoseconds(decoder: str) -> None:
+def test_protobuf_stamps_beyond_int64_nanoseconds() -> None:
     """Seconds are int64 in protobuf: those whose nanoseconds would overflow are not decoded."""
     fine = proto_transform(Tf("a", "b", 2**33, 1)).SerializeToString()
     far = [proto_transform(Tf("a", "b", s, 0)).SerializeToString() for s in (2**40, -(2**40), 2**62)]
-    rows, problems = decode([fine] * 10 + far * 10, ("foxglove.FrameTransform", "protobuf"), decoder)
+    rows, problems = decode([fine] * 10 + far * 10, ("foxglove.FrameTransform", "protobuf"))
     assert sorted(rows) == list(range(10))
     assert problems == [
         "/tf: 30 of 40 messages could not be decoded as foxglove.FrameTransform (protobuf), skipped"
@@ -262,9 +279,7 @@ def _truncation_breaks(data: bytes) -> bool:
 def test_json() -> None:
     messages = [tfs for tfs in varied(9, 200) if tfs]
     payloads = [json.dumps({"transforms": [_json(t) for t in tfs]}).encode() for tfs in messages]
-    key = ("foxglove.FrameTransforms", "json")
-    for decoder in DECODERS:
-        assert decode(payloads, key, decoder) == (expected(messages), [])
+    assert decode(payloads, ("foxglove.FrameTransforms", "json")) == (expected(messages), [])
 
 
 def test_json_defaults_and_malformed() -> None:
@@ -287,9 +302,12 @@ def _json(t: Tf) -> dict[str, Any]:
             "rotation": dict(zip("xyzw", t.rotation, strict=True))}  # fmt: skip
 
 
-def test_decode_error_is_a_value_error() -> None:
-    """Parsers signal malformed input with DecodeError only."""
+def test_one_malformed_message_is_a_value_error() -> None:
+    """A message decoded on its own (as live sources do) that is not well-formed raises ValueError
+    (with the reason a bag's problem line gives)."""
     bad = {"cdr": b"\x00\x09", "ros1": b"\x01\x00", "protobuf": b"\x0f", "json": b"{"}
-    for (_, encoding), codec in CODECS.items():
-        with pytest.raises(DecodeError):
-            codec.parse(bad[encoding])
+    for key, codec in CODECS.items():
+        (line,) = decode([bad[key[1]]], key)[1]
+        with pytest.raises(ValueError) as error:
+            message_batch(codec.decode, bad[key[1]], static=False, authority="", record_time=0)
+        assert line.endswith(f"(first: {error.value})")

@@ -177,12 +177,6 @@ def test_ros1_channels(tmp_path: Path) -> None:
     assert contents.problems == [] and contents.files[0].topics["/tf_old"] == "tf/tfMessage"
 
 
-def test_decoders_agree(tmp_path: Path) -> None:
-    path = write(tmp_path / "x.mcap", "small_chunks")
-    results = [mcap.read(path, DEFAULT, lambda *_: None, decoder=d)[0] for d in ("fast", "simple", "reference")]
-    assert batch_rows(results[0]) == batch_rows(results[1]) == batch_rows(results[2])
-
-
 def test_ros2_bag_storage_file_alone(tmp_path: Path) -> None:
     """The .mcap of a rosbag2 directory is an MCAP file like any other."""
     from tests.sources.ros2_helpers import varied_messages, write_rosbag2

@@ -27,11 +27,13 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
-from tftools.sources.bag import ranges, ros1, ros1_decode
+from tftools.sources.bag import ranges, ros1
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.ros1 import file as ros1_file
 from tftools.sources.bag.ros1 import index as ros1_index
 from tftools.sources.bag.ros1.records import read_bag_header
+from tftools.sources.codecs.decoded import message_batch
+from tftools.sources.codecs.ros1 import decode_tf
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 
 TOPICS = ("/tf", "/tf_static")
@@ -65,8 +67,8 @@ def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     return made
 
 
-def read(path: Path, topics: tuple[str, ...] = TOPICS, decoder: str = "fast"):
-    return ros1.read(path, topics, lambda *_: None, decoder=decoder)  # type: ignore[arg-type]
+def read(path: Path, topics: tuple[str, ...] = TOPICS):
+    return ros1.read(path, topics, lambda *_: None)
 
 
 def tf_messages(path: Path, topics: tuple[str, ...] = TOPICS) -> int:
@@ -116,41 +118,41 @@ def test_several_publishers_on_one_topic_and_tf1_messages(tmp_path: Path, compre
 
 
 @pytest.mark.parametrize("seed", [3, 4, 5])
-def test_fast_decoding_equals_rosbags_deserializer(tmp_path: Path, seed: int) -> None:
+def test_decoding_equals_rosbags_deserializer(tmp_path: Path, seed: int) -> None:
     bag = write_rosbags(tmp_path / "b.bag", varied_messages(seed=seed, count=600), "none", chunk_threshold=30_000)
     topics = ("/tf", "/tf_static", "/tf_old")
-    fast, fast_info = read(bag, topics)
-    slow, slow_info = read(bag, topics, decoder="reference")
-    assert rows_of(fast) == rows_of(slow) == reference_rows(bag, topics)
-    assert fast_info == slow_info
+    batches, info = read(bag, topics)
+    assert rows_of(batches) == reference_rows(bag, topics) and info.problems == []
 
 
-def test_malformed_messages_are_skipped_alike_by_both_decoders(tmp_path: Path) -> None:
+def test_malformed_messages_are_skipped_with_a_reason(tmp_path: Path) -> None:
     good = _tf_payload([("map", "odom", T0, 1.0)])
-    malformed = [
-        good + b"\x00",  # a byte too many
-        good[:-1],  # a byte short
-        struct.pack("<I", 2) + good[4:],  # says two transforms, holds one
-        _tf_payload([("map", "od\xff", T0, 1.0)]),  # frame id not UTF-8
-        b"",
-        struct.pack("<I", 0) + b"\x01",
-    ]
+    size = len(good)
+    malformed = {
+        good + b"\x00": "1 byte after the last transform",
+        good[:-1]: f"message ends at byte {size - 1}, a field needs {size}",
+        struct.pack("<I", 2) + good[4:]: f"2 transforms cannot fit in {size} bytes",
+        _tf_payload([("map", "od\xff", T0, 1.0)]): "a frame id is not UTF-8",
+        b"": "message ends at byte 0, a field needs 4",
+        struct.pack("<I", 0) + b"\x01": "1 byte after the last transform",
+    }
     bag = _raw_bag(tmp_path / "m.bag", [good, *malformed, struct.pack("<I", 0), good])
-    fast, fast_info = read(bag)
-    slow, slow_info = read(bag, decoder="reference")
-    assert rows_of(fast) == rows_of(slow)
-    assert len(rows_of(fast)) == 2
-    (line,) = fast_info.problems
-    assert line.startswith("/tf: 6 of 9 messages could not be decoded as tf2_msgs/TFMessage (ros1), skipped (first: ")
-    assert fast_info.problems == slow_info.problems
+    batches, info = read(bag)
+    assert [(row[:3], row[4]) for row in rows_of(batches)] == [(("map", "odom", T0), T0), (("map", "odom", T0), T0 + 8)]
+    (line,) = info.problems
+    assert line == (
+        "/tf: 6 of 9 messages could not be decoded as tf2_msgs/TFMessage (ros1),"
+        " skipped (first: 1 byte after the last transform)"
+    )
+    for payload, reason in malformed.items():  # as live sources decode them
+        with pytest.raises(ValueError, match=reason):
+            message_batch(decode_tf, payload, static=False, authority="", record_time=0)
 
 
-def test_frame_ids_with_colliding_hashes_stay_apart(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Frame ids are told apart by a hash, checked byte for byte: collisions fall back to the bytes."""
+def test_frame_ids_that_differ_in_one_byte_stay_apart(tmp_path: Path) -> None:
+    """Frame ids of one length are told apart by all their bytes: robot_1/base_link and robot_2/base_link."""
     bag = write_rosbags(tmp_path / "b.bag", varied_messages(seed=9), "none")
     expected = reference_rows(bag)
-    # Every hash is then a name's last 8 bytes: robot_1/base_link and robot_2/base_link collide.
-    monkeypatch.setattr(ros1_decode, "_HASH_PRIME", np.uint64(0))
     (batch,), _ = read(bag)
     assert {"robot_1/base_link", "robot_2/base_link"} <= set(batch.frame_names)
     assert rows_of(batch) == expected
@@ -519,9 +521,9 @@ def test_a_message_of_thousands_of_transforms_among_small_ones(tmp_path: Path) -
     messages = [*varied_messages(seed=6, count=60), Msg("/tf", "tf2", T0 + 3 * NS, "/big", big)]
     bag = write_rosbags(tmp_path / "b.bag", messages, "none", chunk_threshold=30_000)
     topics = ("/tf", "/tf_static", "/tf_old")
-    fast, _ = read(bag, topics)
-    assert rows_of(fast) == rows_of(read(bag, topics, decoder="reference")[0]) == reference_rows(bag, topics)
-    assert len(rows_of(fast)) > 3000
+    batches, _ = read(bag, topics)
+    assert rows_of(batches) == reference_rows(bag, topics)
+    assert len(rows_of(batches)) > 3000
 
 
 def test_when_damage_takes_every_transform_the_error_says_so(tmp_path: Path) -> None:

@@ -164,14 +164,6 @@ def test_messages_out_of_order_in_the_file(tmp_path: Path) -> None:
     assert rows == expected_rows(messages)
 
 
-def test_decoders_agree(tmp_path: Path) -> None:
-    """The fast decoder gives what rosbags' deserializer gives through the same reader."""
-    bag = write_rosbag2(tmp_path / "bag", MESSAGES)
-    fast = rosbag2.read(bag, TOPICS, lambda *_: None)
-    reference = rosbag2.read(bag, TOPICS, lambda *_: None, decoder="reference")
-    assert batch_rows(fast[0]) == batch_rows(reference[0]) == expected_rows(MESSAGES)
-
-
 def test_input_is_not_modified(tmp_path: Path) -> None:
     bag = write_rosbag2(tmp_path / "bag", MESSAGES)
     before = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in bag.iterdir()}

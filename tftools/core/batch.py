@@ -87,7 +87,7 @@ class TransformBatch:
 class BatchBuilder:
     """Collects transforms one by one (or message by message) into ``TransformBatch`` es.
 
-    The fallback decoders and live sources use it; the fast bag decoders fill columns directly.
+    For transforms made in Python (a buffer's ``set_transform``, tests); decoders fill columns directly.
     """
 
     def __init__(self) -> None:

@@ -5,9 +5,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from tftools.core.transform import Transform
+from tftools.sources.codecs.ros1 import encode_tf_message
+from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type
 from tftools.sources.live.base import ContextManaged, OnNotice
 from tftools.sources.live.ros1 import network
-from tftools.sources.live.ros1.messages import TF_MESSAGE, encode_tf_message, message_type
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.publisher import Publication
 
@@ -43,7 +44,7 @@ class Ros1StaticBroadcaster(ContextManaged):
         for transform in transforms:
             self._transforms[transform.child_frame_id] = transform
         if self._publication is None:
-            self._publication = self._node.advertise(STATIC_TOPIC, message_type(TF_MESSAGE), latched=True)
+            self._publication = self._node.advertise(STATIC_TOPIC, ros1_message_type(TF_MESSAGE), latched=True)
         self._publication.publish(encode_tf_message(list(self._transforms.values())))
 
     def close(self) -> None:

@@ -16,9 +16,10 @@ import numpy as np
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.codecs.ros1 import encode_tf_message
+from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type, typestore
 from tftools.sources.contents import is_static_topic
 from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
-from tftools.sources.live.ros1.messages import TF_MESSAGE, encode_tf_message, message_type
 
 STATIC_TOPIC = "/tf_static"
 
@@ -193,7 +194,7 @@ def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
             )
             if _sends_statics(c):
                 static[ext.callerid or ""] = connections[c.id]
-        tf_type = message_type(TF_MESSAGE)
+        tf_type = ros1_message_type(TF_MESSAGE)
         if set(plan.by_sender(0)) - set(static):  # transforms of no publisher in the bag: tfx's own connection
             static[PUBLISHER] = writer.add_connection(
                 STATIC_TOPIC,
@@ -215,9 +216,8 @@ def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
 def _copy_rosbag2(source: Path, target: Path, plan: _Plan) -> None:
     from rosbags.interfaces import ConnectionExtRosbag2
     from rosbags.rosbag2 import CompressionFormat, CompressionMode, Reader, StoragePlugin, Writer
-    from rosbags.typesys import Stores, get_typestore
 
-    store = get_typestore(Stores.ROS2_HUMBLE)
+    store = typestore("ros2_humble")
     plugin = StoragePlugin.MCAP if any(source.glob("*.mcap")) else StoragePlugin.SQLITE3
     with Reader(source) as reader:
         writer = Writer(target, version=8, storage_plugin=plugin)

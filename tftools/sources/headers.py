@@ -1,69 +1,19 @@
-"""Stamped messages, from bags and live alike: each message's ``std_msgs/Header`` (stamp and frame_id).
-
-Only the header's bytes are decoded, never the payload after it (image pixels, points), one
-parser per encoding: a ROS 1 header is ``uint32 seq, uint32 sec, uint32 nsec, string frame_id``;
-a ROS 2 (CDR) one, after the 4-byte encapsulation, ``int32 sec, uint32 nanosec, string frame_id``.
-"""
+"""Stamped messages, from bags and live alike: each message's ``std_msgs/Header`` (stamp and frame_id),
+as the codecs parse it, gathered per topic."""
 
 from __future__ import annotations
 
-import struct
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.time import NS_PER_S
-from tftools.sources.bag.contents import DEFAULT_TOPICS
+from tftools.sources.codecs.wire import Header
+from tftools.sources.contents import DEFAULT_TOPICS
 
-HEADER_TYPES = frozenset({"std_msgs/msg/Header", "std_msgs/Header"})
 #: Topics never read as sensor data: the transforms and the clock themselves.
 NOT_SENSOR_DATA = frozenset({*DEFAULT_TOPICS, "/clock"})
-#: A frame_id longer than this is damage, not a name.
-MAX_FRAME_ID = 4096
-
-#: A message's header: its stamp (ns) and frame_id.
-Header = tuple[int, str]
-
-_ROS1 = struct.Struct("<IIII")  # seq, sec, nsec, frame_id length
-_CDR_LE = struct.Struct("<iII")  # sec, nanosec, frame_id length (with its NUL)
-_CDR_BE = struct.Struct(">iII")
-
-
-def starts_with_header(msgtype: str, fielddefs: Mapping[str, Any]) -> bool:
-    """Whether ``msgtype``'s first field is a std_msgs/Header, as a rosbags type store
-    (``fielddefs``) defines it."""
-    definition = fielddefs.get(msgtype)
-    if not definition or not definition[1]:
-        return False
-    _name, (_kind, detail) = definition[1][0]
-    return detail in HEADER_TYPES
-
-
-def parse_ros1_header(raw: bytes | memoryview) -> Header | None:
-    """The header a ROS 1 message starts with; None where ``raw`` is too short for one."""
-    if len(raw) < _ROS1.size:
-        return None
-    _seq, sec, nsec, length = _ROS1.unpack_from(raw)
-    return _stamped(sec, nsec, raw, _ROS1.size, length)
-
-
-def parse_cdr_header(raw: bytes | memoryview) -> Header | None:
-    """The header a ROS 2 message (CDR, encapsulation first) starts with; None where it cannot be one."""
-    if len(raw) < 4 + _CDR_LE.size:
-        return None
-    little = raw[1] == 1  # the encapsulation: CDR_LE is 0x0001, CDR_BE 0x0000
-    sec, nanosec, length = (_CDR_LE if little else _CDR_BE).unpack_from(raw, 4)
-    return _stamped(sec, nanosec, raw, 4 + _CDR_LE.size, max(length - 1, 0))
-
-
-def _stamped(sec: int, nsec: int, raw: bytes | memoryview, start: int, length: int) -> Header | None:
-    if length > MAX_FRAME_ID or start + length > len(raw):
-        return None
-    frame_id = bytes(raw[start : start + length]).decode("utf-8", "replace")
-    return sec * NS_PER_S + nsec, frame_id
 
 
 @dataclass(frozen=True)

@@ -8,13 +8,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import Int32Array, UInt8Array
+from tftools.core.arrays import Int64Array as IntArray
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.decode.clock import ClockParts
-from tftools.sources.bag.decode.codec import ClockCodec, Codec, Decoder
-from tftools.sources.bag.decode.template import Block, DecodeError, IntArray, Parser, block_of, decode_group, gathered
-from tftools.sources.bag.ros1_decode import decode_tf_messages
-from tftools.sources.bag.rows import Channel, Int32Array, Rows
+from tftools.sources.bag.clock import ClockParts
+from tftools.sources.bag.rows import Channel, Rows
 from tftools.sources.bag.spans import Spans
+from tftools.sources.codecs.select import ClockCodec, Codec
 from tftools.sources.contents import ClockSamples
 
 ChannelIds = int | Int32Array | Sequence[int]
@@ -22,15 +22,12 @@ Unpack = Callable[[bytes], bytes]
 Failures = list[tuple[int, str]]  # (message, reason) of the messages that could not be decoded
 
 _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
-_SLICE = 1 << 16  # messages decoded in step at once: bounds the temporary arrays
-_LENGTH_BITS = 40  # a group's key: its codec's number << 40 | its payloads' length
-_ANY_LENGTH = (1 << _LENGTH_BITS) - 1  # the length in the key of a group of payloads of every length
 
 
 @dataclass
 class _Group:
-    """Payloads of one codec (and one length, unless decoded in step): bytes, where each payload
-    begins in them and how long it is, and their message numbers."""
+    """Payloads of one codec: bytes, where each payload begins in them and how long it is, and
+    their message numbers."""
 
     pieces: list[bytes] = field(default_factory=list)
     starts: list[IntArray] = field(default_factory=list)
@@ -43,7 +40,7 @@ class _Group:
         self.lengths.append(lengths)
         self.ids.append(ids)
 
-    def joined(self) -> tuple[npt.NDArray[np.uint8], IntArray, IntArray, IntArray]:
+    def joined(self) -> tuple[UInt8Array, IntArray, IntArray, IntArray]:
         """All the bytes (the pieces let go), each payload's start and length in them, and its
         message number."""
         bases = np.cumsum([0] + [len(p) for p in self.pieces[:-1]])
@@ -53,28 +50,21 @@ class _Group:
         return raw, starts, np.concatenate(self.lengths), np.concatenate(self.ids)
 
 
-def _in_step(codec: Codec | ClockCodec) -> bool:
-    """ROS1 TFMessages are decoded in step, every length at once (``ros1_decode``): a template per
-    length, as for the other encodings, falls behind where their layouts vary message to message."""
-    return isinstance(codec, Codec) and codec.encoding == "ros1"
-
-
 class MessageSet:
     """The transform and clock messages of one file, added in any order; ``decode`` puts them in
     record time order, ties in channel ``tie`` then ``position`` order (their order in the file).
 
-    Payloads are decoded with ``decoder`` a few megabytes at a time as they are added, so that
+    Payloads are decoded by their codecs a few megabytes at a time as they are added, so that
     a file's payloads are never all held at once; per message only its record time, position
     and channel are kept until ``decode``.
     """
 
-    def __init__(self, unpack: Unpack | None = None, decoder: Decoder = "fast") -> None:
+    def __init__(self, unpack: Unpack | None = None) -> None:
         self.unpack = unpack  # applied to every payload first, e.g. decompression
-        self.decoder = decoder
         self.channels: list[Channel] = []
         self._channel_ids: dict[Channel, int] = {}
         self._codecs: list[Codec | ClockCodec] = []
-        self._codec_key: list[int] = []  # per channel: its codec's number << 40, | _ANY_LENGTH if decoded in step
+        self._codec_of: list[int] = []  # per channel: its codec's number
         self._times: list[IntArray] = []
         self._positions: list[IntArray] = []
         self._channel_of: list[Int32Array] = []
@@ -87,8 +77,8 @@ class MessageSet:
         self.count = 0
 
     def emptied(self) -> MessageSet:
-        """A set without messages but with the same channels (numbered alike), unpack and decoder."""
-        fresh = MessageSet(self.unpack, self.decoder)
+        """A set without messages but with the same channels (numbered alike) and unpack."""
+        fresh = MessageSet(self.unpack)
         for c in self.channels:
             fresh.channel(c.topic, c.codec, publisher=c.publisher, tie=c.tie)
         return fresh
@@ -102,8 +92,7 @@ class MessageSet:
             self.channels.append(key)
             if codec not in self._codecs:
                 self._codecs.append(codec)
-            step = _ANY_LENGTH if _in_step(codec) else 0
-            self._codec_key.append(self._codecs.index(codec) << _LENGTH_BITS | step)
+            self._codec_of.append(self._codecs.index(codec))
         return self._channel_ids[key]
 
     def add(
@@ -143,28 +132,22 @@ class MessageSet:
         starts: IntArray,
         lengths: IntArray,
     ) -> None:
-        """Group the payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec and length."""
+        """Group the payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec."""
         if not len(starts):
             return
         ids = self._numbered(channels, times, where)
-        keys = np.array(self._codec_key, np.int64)[channels]
-        keys = np.where(keys & _ANY_LENGTH, keys, keys | lengths)
-        order = np.argsort(keys, kind="stable")
-        for part in np.split(order, np.flatnonzero(np.diff(keys[order])) + 1):
-            self._group(int(keys[part[0]]), data, starts[part], lengths[part], ids[part])
+        codecs = np.array(self._codec_of, np.int64)[channels]
+        order = np.argsort(codecs, kind="stable")
+        for part in np.split(order, np.flatnonzero(np.diff(codecs[order])) + 1):
+            self._group(int(codecs[part[0]]), data, starts[part], lengths[part], ids[part])
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
 
-    def _group(self, key: int, data: bytes | memoryview, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
-        """Copy the payloads of one group out of ``data``, into that group."""
-        length = key & _ANY_LENGTH
-        if length == _ANY_LENGTH:
-            piece, at = _copied(data, starts, lengths)
-            self._pending_bytes += len(piece)  # counted twice: decoding in step takes as much again
-        else:
-            piece, at = gathered(np.frombuffer(data, np.uint8), starts, length).tobytes(), length * np.arange(len(ids))
-        self._groups.setdefault(key, _Group()).add(piece, at, lengths, ids)
-        self._pending_bytes += len(piece)
+    def _group(self, codec: int, data: bytes | memoryview, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
+        """Copy the payloads of one codec out of ``data``, into its group."""
+        piece, at = _copied(data, starts, lengths)
+        self._groups.setdefault(codec, _Group()).add(piece, at, lengths, ids)
+        self._pending_bytes += 2 * len(piece)  # counted twice: decoding takes as much again
 
     def _numbered(self, channels: Int32Array, times: IntArray, where: IntArray) -> IntArray:
         """Note the messages' channels, record times and positions; their message numbers."""
@@ -192,69 +175,22 @@ class MessageSet:
         return kept, unpacked
 
     def _decode_groups(self) -> None:
-        """Decode the payloads gathered so far into rows, and let them go."""
+        """Decode the payloads gathered so far into rows, each codec's at once, and let them go."""
         while self._groups:
-            key, group = self._groups.popitem()
-            codec, length = self._codecs[key >> _LENGTH_BITS], key & _ANY_LENGTH
+            number, group = self._groups.popitem()
+            codec = self._codecs[number]
             raw, starts, lengths, ids = group.joined()
             del group
             if isinstance(codec, ClockCodec):
-                rows, values, failures = codec.decode(raw.reshape(len(ids), length))
+                rows, values, failures = codec.decode(raw, starts, lengths)
                 self._clocks.append((ids[rows], values))
-            elif length == _ANY_LENGTH:
-                failures = self._decode_in_step(raw, starts, lengths, ids, codec)
-            elif self.decoder == "fast" and codec.templated:
-                blocks, failures = decode_group(raw.reshape(len(ids), length), codec.parse)
-                self._add_blocks(ids, blocks)
             else:
-                failures = self._one_by_one(raw, starts, lengths, ids, range(len(ids)), codec)
+                decoded = codec.decode(raw, starts, lengths, self._rows.frames)
+                self._rows.add_rows(ids[decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values)
+                failures = decoded.failures
             self._failed += [(int(ids[row]), reason) for row, reason in failures]
         self._rows.settle()
         self._pending_bytes = 0
-
-    def _decode_in_step(
-        self, raw: npt.NDArray[np.uint8], starts: IntArray, lengths: IntArray, ids: IntArray, codec: Codec
-    ) -> Failures:
-        """Payloads of every length decoded in step, those it cannot parse exactly left to the
-        reference parser (which reads them, or says why not); one by one unless ``fast``."""
-        if self.decoder != "fast":
-            return self._one_by_one(raw, starts, lengths, ids, range(len(ids)), codec)
-        failed = []
-        for first in range(0, len(ids), _SLICE):
-            part = slice(first, first + _SLICE)
-            decoded = decode_tf_messages(raw, starts[part], lengths[part], self._rows.frames)
-            self._rows.add_rows(
-                ids[part][decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values
-            )
-            failed.append(decoded.failed + first)
-        return self._one_by_one(raw, starts, lengths, ids, np.concatenate(failed).tolist(), codec, codec.reference)
-
-    def _one_by_one(
-        self,
-        raw: npt.NDArray[np.uint8],
-        starts: IntArray,
-        lengths: IntArray,
-        ids: IntArray,
-        rows: Sequence[int],
-        codec: Codec,
-        parse: Parser | None = None,
-    ) -> Failures:
-        """The payloads ``rows`` parsed in Python, by ``parse`` or else the decoder's parser."""
-        blocks: list[Block] = []
-        failures: Failures = []
-        parse = parse or codec.parser(self.decoder)
-        for row in rows:
-            start = int(starts[row])
-            try:
-                blocks.append(block_of(row, parse(raw[start : start + int(lengths[row])].tobytes())))
-            except DecodeError as e:
-                failures.append((row, str(e)))
-        self._add_blocks(ids, blocks)
-        return failures
-
-    def _add_blocks(self, ids: IntArray, blocks: list[Block]) -> None:
-        for block in blocks:
-            self._rows.add(ids[block.rows], block)
 
     def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[str]]:
         """Every transform in record-time order, in consecutive batches; the clock; a line per

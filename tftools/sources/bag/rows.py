@@ -9,14 +9,14 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import FloatArray, Int32Array
+from tftools.core.arrays import Int64Array as IntArray
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.decode.codec import ClockCodec, Codec
-from tftools.sources.bag.decode.template import Block, FloatArray, IntArray
-from tftools.sources.bag.ros1_decode import FrameTable
+from tftools.sources.codecs.decoded import FrameNames
+from tftools.sources.codecs.select import ClockCodec, Codec
 from tftools.sources.contents import is_static_topic
 
 Column = npt.NDArray[Any]
-Int32Array = npt.NDArray[np.int32]
 
 
 @dataclass(frozen=True)
@@ -37,30 +37,17 @@ class Channel:
 class Rows:
     """Columns of decoded transforms, part after part; frame names interned as they come.
 
-    Parts come grouped by message layout; ``settle`` puts those added since the last call in
-    message order, so that rows read in record order need no reordering of the whole batch.
+    Parts come codec by codec; ``settle`` puts those added since the last call in message order,
+    so that rows read in record order need no reordering of the whole batch.
     """
 
     def __init__(self, channels: list[Channel]) -> None:
         self.channels = channels
-        self.frames = FrameTable()
+        self.frames = FrameNames()
         self.parts: dict[str, list[Column]] = {name: [] for name in _COLUMNS}
         self.messages: list[IntArray] = []  # of each part added since ``settle``: each row's message number
         #: Of each part settled: its messages, and how many rows each has there (8 bytes a row less).
         self.runs: list[tuple[IntArray, IntArray]] = []
-
-    def _ids(self, names: list[str]) -> Int32Array:
-        return np.array([self.frames.id(name) for name in names], np.int32)
-
-    def add(self, messages: IntArray, block: Block) -> None:
-        """The block's rows, ``messages`` being the message number of each of its rows."""
-        n, k = block.stamps.shape
-        if n * k:
-            ids = self._ids(block.parents + block.children)
-            self.add_rows(
-                np.repeat(messages, k), np.tile(ids[:k], n), np.tile(ids[k:], n),
-                block.stamps.reshape(-1), block.values.reshape(-1, 7),
-            )  # fmt: skip
 
     def add_rows(
         self, message: IntArray, parent: Int32Array, child: Int32Array, stamp: IntArray, values: FloatArray

@@ -8,8 +8,8 @@ from pathlib import Path
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
-from tftools.sources.bag.decode.codec import Unread, unread_lines
 from tftools.sources.bag.messages import MessageSet
+from tftools.sources.codecs.select import Unread, unread_lines
 from tftools.sources.contents import ClockSamples
 
 

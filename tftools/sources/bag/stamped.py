@@ -2,7 +2,7 @@
 
 Any message type whose first field is a ``std_msgs/Header`` qualifies (sensor_msgs, nav_msgs,
 geometry_msgs ``*Stamped``, custom types alike), found from the type definitions the recording
-carries. Only the header's bytes are decoded (``tftools.sources.headers``, shared with live systems).
+carries. Only the header's bytes are decoded (by the codecs, as for live systems).
 """
 
 from __future__ import annotations
@@ -12,16 +12,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from tftools.sources.codecs import cdr, ros1
+from tftools.sources.codecs.types import starts_with_header
 from tftools.sources.errors import BagError, BagNotFoundError
-from tftools.sources.headers import (
-    NOT_SENSOR_DATA,
-    HeaderCollector,
-    StampedMessages,
-    StampedRead,
-    parse_cdr_header,
-    parse_ros1_header,
-    starts_with_header,
-)
+from tftools.sources.headers import NOT_SENSOR_DATA, HeaderCollector, StampedMessages, StampedRead
 
 __all__ = ["StampedMessages", "StampedRead", "read_stamped"]
 
@@ -47,7 +41,7 @@ def _read(reader: Any, topics: Sequence[str] | None) -> StampedRead:
     fielddefs = reader.typestore.fielddefs
     chosen = [c for c in reader.connections if _wanted(c, topics, fielddefs)]
     collected: dict[str, HeaderCollector] = {}
-    parse = parse_cdr_header if reader.is2 else parse_ros1_header
+    parse = cdr.header if reader.is2 else ros1.header
     for connection, record_time, raw in reader.messages(connections=chosen) if chosen else ():  # none: all
         stream = collected.setdefault(connection.topic, HeaderCollector(connection.msgtype))
         stream.add(record_time, parse(raw))

@@ -6,9 +6,9 @@ import struct
 import zlib
 from dataclasses import dataclass
 
-from tftools.sources.bag.decode.codec import select
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, unpack
+from tftools.sources.codecs.select import select
 
 MAGIC = b"\x89MCAP0\r\n"
 HEADER, FOOTER, SCHEMA, CHANNEL, MESSAGE, CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06

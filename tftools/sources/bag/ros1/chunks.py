@@ -8,7 +8,6 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.gather import bytes_at, distinct, u32_at
 from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
     OP_MESSAGE,
@@ -21,6 +20,7 @@ from tftools.sources.bag.ros1.records import (
     value_at,
 )
 from tftools.sources.bag.spans import IntArray, Spans, joined
+from tftools.sources.codecs.gather import bytes_at, distinct, u32_at
 
 _MIN_HEADER = 4 + len("op=") + 1  # a record header holds at least its op field
 

@@ -10,12 +10,12 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.decode.codec import ClockCodec, Decoder, select
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, RecordReader
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import Budget, Unpacked, unpack
+from tftools.sources.codecs.select import ClockCodec, select
 
 
 @dataclass
@@ -47,7 +47,6 @@ class BagFile:
         fd: int | None,
         topics: tuple[str, ...],
         progress: ProgressCallback,
-        decoder: Decoder,
     ) -> None:
         self.name = name
         self.buf = buf
@@ -57,7 +56,7 @@ class BagFile:
         self.budget = Budget(self.size)  # what its chunks may decompress to in all
         self.topics = topics
         self.progress = progress
-        self.scan = FileScan(MessageSet(decoder=decoder))
+        self.scan = FileScan(MessageSet())
         self.damage = Damage()
         self.transform_messages = 0  # wanted, found (clock messages are not counted)
         self.channels: dict[int, int] = {}  # connection id -> message set channel, of those wanted

@@ -15,7 +15,6 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.gather import distinct
 from tftools.sources.bag.ranges import prefetch, read_ranges
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
 from tftools.sources.bag.ros1.file import BagFile
@@ -35,6 +34,7 @@ from tftools.sources.bag.ros1.records import (
 )
 from tftools.sources.bag.spans import IntArray, Spans, bounded
 from tftools.sources.bag.unpack import CompressionUnavailableError
+from tftools.sources.codecs.gather import distinct
 
 #: Records of uncompressed chunks are gathered until there are this many, or their chunks hold
 #: this many bytes, then read (a few megabytes of transforms; the cap bounds a batch of huge ones).
@@ -80,7 +80,7 @@ def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
     messages all at once: read one by one from a file not in the page cache, each would wait
     for the disk. A chunk's index records end where the next chunk (or the bag's index) begins,
     about ``_INDEX_ENTRY_BYTES`` a message before it."""
-    if bag.fd is None:
+    if bag.fd is None or not infos:
         return
     ends = [*(info.pos for info in infos[1:]), index_pos]
     starts: list[int] = []

@@ -12,7 +12,6 @@ from typing import Any
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
-from tftools.sources.bag.decode.codec import Decoder
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2 import metadata_yaml
 from tftools.sources.bag.scan import FileScan, file_result
@@ -20,15 +19,13 @@ from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd
 from tftools.sources.errors import CorruptBagError
 
 
-def read(
-    path: Path, topics: tuple[str, ...], progress: ProgressCallback, *, decoder: Decoder = "fast"
-) -> tuple[list[TransformBatch], BagFileInfo]:
+def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms of a ROS2 bag directory or a bare .db3 file (see ``reader.read_bag``)."""
     if not path.is_dir():
         bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path])
-        return file_result(path, f"rosbag2-{bag.storage}", [_scan_file(path, bag, topics, progress, decoder)])
+        return file_result(path, f"rosbag2-{bag.storage}", [_scan_file(path, bag, topics, progress)])
     bag = _layout(path)
-    scans, labels = _scan_files(path, bag, topics, progress, decoder)
+    scans, labels = _scan_files(path, bag, topics, progress)
     batches, info = file_result(path, f"rosbag2-{bag.storage}", scans, labels)
     info.problems[:0] = bag.problems
     return batches, info
@@ -115,7 +112,7 @@ def _natural(path: Path) -> list[Any]:
 
 
 def _scan_files(
-    path: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, decoder: Decoder
+    path: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback
 ) -> tuple[list[FileScan], list[str]]:
     """Each file's scan, and a label per scan for its problems (the file name when there are several)."""
     scans: list[FileScan] = []
@@ -132,7 +129,7 @@ def _scan_files(
             lost.append(f"{_shown(file.name)} is listed in metadata.yaml but missing; its messages are lost")
             continue
         try:
-            scans.append(_scan_file(file, bag, topics, file_progress, decoder))
+            scans.append(_scan_file(file, bag, topics, file_progress))
             labels.append(file.name if len(bag.files) > 1 else "")
         except CorruptBagError as e:
             lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
@@ -144,12 +141,10 @@ def _scan_files(
     return scans, labels
 
 
-def _scan_file(
-    file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, decoder: Decoder
-) -> FileScan:
+def _scan_file(file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback) -> FileScan:
     # Each storage's module is imported only when a file needs it.
     unpack = zstd_messages(file.stat().st_size) if bag.compression_mode == "message" else None
-    messages = MessageSet(unpack, decoder)
+    messages = MessageSet(unpack)
     with _uncompressed(file, bag.problems) as plain:
         if plain.suffix == ".mcap":
             from tftools.sources.bag import mcap

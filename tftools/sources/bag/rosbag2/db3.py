@@ -11,13 +11,13 @@ from urllib.parse import quote
 
 import numpy as np
 
+from tftools.core.arrays import Int32Array
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.decode.codec import select
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
-from tftools.sources.bag.rows import Int32Array
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import zstd_messages
+from tftools.sources.codecs.select import select
 from tftools.sources.errors import CorruptBagError
 
 MAGIC = b"SQLite format 3\x00"

@@ -7,10 +7,10 @@ from __future__ import annotations
 import threading
 from collections.abc import Mapping
 
-from tftools.sources.headers import parse_ros1_header
+from tftools.sources.codecs import ros1
+from tftools.sources.codecs.types import MessageType, definition_starts_with_header
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
-from tftools.sources.live.ros1.messages import MessageType
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.sensor_headers import MAX_TOPICS, HeaderStore
 
@@ -19,21 +19,6 @@ ANY_TYPE = MessageType("*", "*", "")
 
 #: Seconds between asks to the master for topics advertised since (listening to all of them).
 DISCOVER_EVERY = 1.0
-
-_HEADER_FIELD_TYPES = ("Header", "std_msgs/Header")
-
-
-def starts_with_header(definition: str) -> bool:
-    """Whether a ROS 1 message definition (``message_definition`` of a connection header) has a
-    ``Header`` as its first field (constants and comments aside)."""
-    for line in definition.splitlines():
-        if line.startswith("=" * 10):  # the nested types' definitions follow: the message's own are done
-            return False
-        code = line.split("#", 1)[0].strip()
-        if not code or "=" in code:  # a blank line, a comment or a constant
-            continue
-        return code.split()[0] in _HEADER_FIELD_TYPES
-    return False
 
 
 def ros2_style(msgtype: str) -> str:
@@ -98,13 +83,13 @@ class Ros1HeaderListener:
         def admit(header: Mapping[str, str]) -> bool:
             nonlocal msgtype
             msgtype = ros2_style(header.get("type", ""))
-            if starts_with_header(header.get("message_definition", "")):
+            if definition_starts_with_header(msgtype, header.get("message_definition", "")):
                 return True
             store.without_header(topic, msgtype)
             return False
 
         def receive(data: bytes, _callerid: str) -> None:
-            store.heard(topic, msgtype, parse_ros1_header(data))
+            store.heard(topic, msgtype, ros1.header(data))
 
         with self._closing:
             if not self._stopped.is_set():

@@ -10,10 +10,10 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from tftools.sources.codecs.types import MessageType
 from tftools.sources.live.base import OnNotice
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
-from tftools.sources.live.ros1.messages import MessageType
 from tftools.sources.live.ros1.publisher import Publication, TcpRosServer
 from tftools.sources.live.ros1.subscriber import Admit, OnMessage, Subscription
 from tftools.sources.live.ros1.xmlrpc import CALL_TIMEOUT, MasterClient, ReplyError, SlaveServer, uri_list

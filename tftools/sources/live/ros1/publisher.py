@@ -7,8 +7,8 @@ import socket
 import threading
 from collections.abc import Callable
 
+from tftools.sources.codecs.types import MessageType
 from tftools.sources.live.ros1 import tcpros
-from tftools.sources.live.ros1.messages import MessageType
 from tftools.sources.live.ros1.xmlrpc import CALL_TIMEOUT
 
 

@@ -8,10 +8,12 @@ from collections.abc import Sequence
 
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.time import Clock, SimClock, WallClock
+from tftools.sources.codecs import ros1
+from tftools.sources.codecs.decoded import message_batch, message_clock
+from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, ros1_message_type
 from tftools.sources.contents import DEFAULT_TOPICS, is_static_topic
 from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice, ignore_notice, printable
 from tftools.sources.live.ros1 import network
-from tftools.sources.live.ros1.messages import CLOCK, TF_MESSAGE, decode_clock, decode_tf_message, message_type
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.subscriber import OnMessage
 
@@ -123,8 +125,8 @@ class Ros1Source(ContextManaged):
         self._delivery.start()
         try:
             if isinstance(self._clock, SimClock):
-                self._node.subscribe("/clock", message_type(CLOCK), self._on_clock)
-            tf_type = message_type(TF_MESSAGE)
+                self._node.subscribe("/clock", ros1_message_type(CLOCK), self._on_clock)
+            tf_type = ros1_message_type(TF_MESSAGE)
             for topic in self.topics:
                 self._node.subscribe(topic, tf_type, self._receiver(topic))
         except BaseException:
@@ -147,7 +149,9 @@ class Ros1Source(ContextManaged):
 
         def receive(data: bytes, callerid: str) -> None:
             try:
-                batch = decode_tf_message(data, static=static, authority=callerid, record_time=self._clock.now())
+                batch = message_batch(
+                    ros1.decode_tf, data, static=static, authority=callerid, record_time=self._clock.now()
+                )
             except Exception as error:  # ValueError: not a TFMessage; anything else would be a decoder bug
                 self._unreadable(callerid, topic, error)
                 return
@@ -160,7 +164,7 @@ class Ros1Source(ContextManaged):
     def _on_clock(self, data: bytes, callerid: str) -> None:
         assert isinstance(self._clock, SimClock)
         try:
-            now = decode_clock(data)
+            now = message_clock(ros1.decode_clocks, data)
         except ValueError as error:
             self._unreadable(callerid, "/clock", error)
             return

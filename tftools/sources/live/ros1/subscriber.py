@@ -8,10 +8,10 @@ import threading
 import time
 from collections.abc import Callable, Mapping
 
+from tftools.sources.codecs.types import MessageType
 from tftools.sources.live.base import OnNotice, printable
 from tftools.sources.live.ros1 import tcpros
 from tftools.sources.live.ros1 import xmlrpc as ros_xmlrpc
-from tftools.sources.live.ros1.messages import MessageType
 
 #: Called with each message's bytes and its publisher's callerid, from the connection's thread.
 OnMessage = Callable[[bytes, str], None]

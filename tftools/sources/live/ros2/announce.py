@@ -11,8 +11,8 @@ from cyclonedds.core import DDSException
 
 from tftools.sources.live.base import OnNotice
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.cdr import decode_participant_entities
 from tftools.sources.live.ros2.dds import Participant, take_raw
+from tftools.sources.live.ros2.entities import decode_participant_entities
 from tftools.sources.live.ros2.graph import discovery_readers
 from tftools.sources.live.ros2.idl import announcement, participant_entities_info
 

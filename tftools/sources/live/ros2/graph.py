@@ -12,8 +12,8 @@ from cyclonedds.core import DDSException, Policy
 from cyclonedds.sub import DataReader
 
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.cdr import decode_participant_entities
 from tftools.sources.live.ros2.dds import Participant, guid_bytes, take_raw
+from tftools.sources.live.ros2.entities import decode_participant_entities
 from tftools.sources.live.ros2.idl import participant_entities_info
 
 #: Seconds a new writer's samples wait for its node to be announced before going out unnamed.

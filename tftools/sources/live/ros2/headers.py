@@ -12,7 +12,7 @@ from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, D
 from cyclonedds.core import DDSException, GuardCondition, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
 from cyclonedds.util import duration
 
-from tftools.sources.headers import parse_cdr_header
+from tftools.sources.codecs import cdr
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, take_raw
 from tftools.sources.live.ros2.errors import DdsError
@@ -120,4 +120,4 @@ class Ros2HeaderListener:
             if sensor is None:
                 continue
             for data, _info in take_raw(sensor.reader):
-                self._store.heard(sensor.topic, sensor.msgtype, parse_cdr_header(data))
+                self._store.heard(sensor.topic, sensor.msgtype, cdr.header(data))

@@ -16,7 +16,7 @@ from typing import Any
 from cyclonedds.idl import IdlStruct, make_idl_struct
 from cyclonedds.idl import types as idl
 
-from tftools.sources.headers import starts_with_header
+from tftools.sources.codecs.types import ROS2_STORES, starts_with_header, typestore
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.idl import Header
 
@@ -40,12 +40,8 @@ _PRIMITIVES: dict[str, Any] = {
 }
 
 
-@functools.cache
-def _definitions() -> tuple[dict[str, Any], ...]:
-    """rosbags' newest ROS 2 definitions first, then Humble's (the long-term release most run)."""
-    from rosbags.typesys import Stores, get_typestore
-
-    return tuple(get_typestore(store).fielddefs for store in (Stores.LATEST, Stores.ROS2_HUMBLE))
+def _definitions() -> list[dict[str, Any]]:
+    return [typestore(name).fielddefs for name in ROS2_STORES]
 
 
 def sensor_type(dds_type_name: str, *, unknown_too: bool = False) -> type[IdlStruct] | None:

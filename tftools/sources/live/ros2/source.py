@@ -12,10 +12,11 @@ from cyclonedds.util import duration
 
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.time import Clock, SimClock, WallClock
+from tftools.sources.codecs import cdr
+from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.contents import DEFAULT_TOPICS, is_static_topic
 from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice, ignore_notice, printable
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.cdr import decode_clock, decode_tf_message
 from tftools.sources.live.ros2.dds import Participant, take_raw
 from tftools.sources.live.ros2.errors import DdsError
 from tftools.sources.live.ros2.graph import Graph, Writer
@@ -178,7 +179,9 @@ class Ros2Source(ContextManaged):
         authority = graph.authority(sample.handle, sample.subscription.reader)
         static = sample.subscription.static
         try:
-            batch = decode_tf_message(sample.data, static=static, authority=authority, record_time=sample.record_time)
+            batch = message_batch(
+                cdr.decode_tf, sample.data, static=static, authority=authority, record_time=sample.record_time
+            )
         except Exception as error:  # ValueError: not a TFMessage; anything else, a decoder bug: either way, one sample
             reason = str(error) if isinstance(error, ValueError) else f"tfx's {type(error).__name__}: {error}"
             self._notice_once(
@@ -192,7 +195,7 @@ class Ros2Source(ContextManaged):
         assert isinstance(self._clock, SimClock)
         for data, info in take_raw(reader):
             try:
-                now = decode_clock(data)
+                now = message_clock(cdr.decode_clocks, data)
             except ValueError as error:
                 who = graph.authority(info.publication_handle, reader)
                 self._notice_once(f"{printable(who)} sent an unreadable /clock ({error})")

@@ -1,4 +1,5 @@
-"""Parser of ``foxglove.FrameTransform(s)`` on the protobuf wire, learning their layout."""
+"""``foxglove.FrameTransform(s)`` on the protobuf wire: parsed one by one, learning their layout,
+and decoded in bulk by the templates those layouts make."""
 
 # FrameTransform { google.protobuf.Timestamp timestamp = 1 (int64 seconds = 1, int32 nanos = 2);
 # string parent_frame_id = 2; string child_frame_id = 3; Vector3 translation = 4 (double x y z = 1..3);
@@ -10,7 +11,10 @@ from __future__ import annotations
 import struct
 from collections.abc import Iterator
 
-from tftools.sources.bag.decode.template import ABSENT, DecodeError, Layout, Number, Parsed
+from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames
+from tftools.sources.codecs.parsed import Parsed
+from tftools.sources.codecs.template import ABSENT, Layout, Varint, decode_templated
 
 _VARINT, _FIXED64, _LEN, _FIXED32 = 0, 1, 2, 5
 _DOUBLE = struct.Struct("<d")
@@ -31,7 +35,7 @@ class _Wire:
 
     def __init__(self, data: bytes) -> None:
         self.data = data
-        self.layout = Layout("<")
+        self.layout = Layout()
 
     def varint(self, pos: int, end: int) -> tuple[int, int]:
         value = shift = 0
@@ -77,31 +81,37 @@ class _Transform:
         self.offsets = [-1] * 7
 
 
-def parse_frame_transform(data: bytes) -> Parsed:
-    wire = _Wire(data)
-    parsed = Parsed([], [], [], [], wire.layout)
-    _add(parsed, _transform(wire, 0, len(data)))
-    return parsed
+def decode_frame_transform(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    return decode_templated(raw, starts, lengths, frames, _learn_frame_transform)
 
 
-def parse_frame_transforms(data: bytes) -> Parsed:
+def decode_frame_transforms(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    return decode_templated(raw, starts, lengths, frames, _learn_frame_transforms)
+
+
+def _learn_frame_transform(data: bytes) -> tuple[Parsed, Layout]:
     wire = _Wire(data)
-    parsed = Parsed([], [], [], [], wire.layout)
+    parsed = Parsed()
+    _add(parsed, wire.layout, _transform(wire, 0, len(data)))
+    return parsed, wire.layout
+
+
+def _learn_frame_transforms(data: bytes) -> tuple[Parsed, Layout]:
+    wire = _Wire(data)
+    parsed = Parsed()
     for number, kind, start, end in wire.fields(0, len(data)):
         if number == 1 and kind == _LEN:
-            _add(parsed, _transform(wire, start, end))
+            _add(parsed, wire.layout, _transform(wire, start, end))
         else:
             wire.layout.exact.append((start, end))
-    return parsed
+    return parsed, wire.layout
 
 
-def _add(parsed: Parsed, t: _Transform) -> None:
+def _add(parsed: Parsed, layout: Layout, t: _Transform) -> None:
     parsed.parents.append(t.parent)
     parsed.children.append(t.child)
     parsed.stamps.append(t.sec * 1_000_000_000 + t.nsec)
     parsed.values.append(tuple(t.values))
-    layout = parsed.layout
-    assert layout is not None
     layout.sec.append(t.sec_at)
     layout.nsec.append(t.nsec_at)
     layout.values.append(t.offsets)
@@ -114,7 +124,7 @@ def _transform(wire: _Wire, pos: int, end: int) -> _Transform:
             _timestamp(wire, t, start, stop)
         elif number in (2, 3) and kind == _LEN:
             wire.layout.exact.append((start, stop))
-            name = wire.data[start:stop].decode("utf-8", "replace")
+            name = _text(wire.data[start:stop])
             t.parent, t.child = (name, t.child) if number == 2 else (t.parent, name)
         elif number in (_TRANSLATION, _ROTATION) and kind == _LEN:
             _vector(wire, t, number, start, stop)
@@ -129,9 +139,9 @@ def _timestamp(wire: _Wire, t: _Transform, pos: int, end: int) -> None:
             wire.layout.varints.append((start, stop))
             value, _ = wire.varint(start, stop)
             if number == 1:
-                t.sec, t.sec_at = _signed(value, 64), Number(start, stop - start, "varint64")
+                t.sec, t.sec_at = _signed(value, 64), Varint(start, stop - start, 64)
             else:
-                t.nsec, t.nsec_at = _signed(value, 32), Number(start, stop - start, "varint32")
+                t.nsec, t.nsec_at = _signed(value, 32), Varint(start, stop - start, 32)
         else:
             wire.layout.exact.append((start, stop))
 
@@ -149,3 +159,10 @@ def _vector(wire: _Wire, t: _Transform, field: int, pos: int, end: int) -> None:
 def _signed(value: int, bits: int) -> int:
     value &= (1 << bits) - 1
     return value - (1 << bits) if value >> (bits - 1) else value
+
+
+def _text(data: bytes) -> str:
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise DecodeError("a frame id is not UTF-8") from None

@@ -1,4 +1,4 @@
-"""Parsers of messages in JSON, as Foxglove writes them: missing numbers are 0, as in protobuf."""
+"""Messages in JSON, as Foxglove writes them, parsed one by one: missing numbers are 0, as in protobuf."""
 
 # foxglove.FrameTransform: {"timestamp": {"sec", "nsec"}, "parent_frame_id", "child_frame_id",
 #   "translation": {x, y, z}, "rotation": {x, y, z, w}}; FrameTransforms: {"transforms": [...]}.
@@ -14,29 +14,46 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from tftools.sources.bag.decode.template import DecodeError, Parsed
+import numpy as np
+
+from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.sources.codecs.decoded import Clocks, Decoded, DecodeError, FrameNames
+from tftools.sources.codecs.parsed import Parsed, one_by_one
 
 #: Reads one transform object into ``parsed``.
 _Transform = Callable[[Parsed, dict[str, Any]], None]
 
 
-def parse_frame_transform(data: bytes) -> Parsed:
-    parsed = Parsed([], [], [], [])
+def decode_frame_transform(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    return one_by_one(raw, starts, lengths, frames, _frame_transform)
+
+
+def decode_frame_transforms(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    return one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _foxglove))
+
+
+def decode_tf(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    return one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _ros))
+
+
+def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
+    """``rosgraph_msgs/Clock`` messages, as ``decoded.ClockDecoder`` says."""
+    messages: list[int] = []
+    times: list[int] = []
+    failures: list[tuple[int, str]] = []
+    for message, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
+        try:
+            times.append(_time(_object(load(raw[start : start + length].tobytes()).get("clock"), "clock")))
+            messages.append(message)
+        except DecodeError as e:
+            failures.append((message, str(e)))
+    return np.array(messages, np.int64), np.array(times, np.int64), failures
+
+
+def _frame_transform(data: bytes) -> Parsed:
+    parsed = Parsed()
     _foxglove(parsed, load(data))
     return parsed
-
-
-def parse_frame_transforms(data: bytes) -> Parsed:
-    return _transforms(data, _foxglove)
-
-
-def parse_tf_message(data: bytes) -> Parsed:
-    return _transforms(data, _ros)
-
-
-def parse_clock(data: bytes) -> int:
-    """The time of a ``rosgraph_msgs/Clock``, in ns."""
-    return _time(_object(load(data).get("clock"), "clock"))
 
 
 def load(data: bytes) -> dict[str, Any]:
@@ -48,7 +65,7 @@ def load(data: bytes) -> dict[str, Any]:
 
 
 def _transforms(data: bytes, add: _Transform) -> Parsed:
-    parsed = Parsed([], [], [], [])
+    parsed = Parsed()
     transforms = load(data).get("transforms", [])
     if not isinstance(transforms, list):
         raise DecodeError("'transforms' is not a list")

@@ -4,26 +4,17 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
 
-from tftools.sources.bag.contents import DEFAULT_TOPICS
-from tftools.sources.bag.decode import cdr, foxglove_protobuf, json_messages, ros1
-from tftools.sources.bag.decode.clock import CLOCK_TYPES, ClockDecoder, cdr_clocks, json_clocks, ros1_clocks
-from tftools.sources.bag.decode.reference import (
-    FRAME_TRANSFORM,
-    FRAME_TRANSFORMS,
-    ROS1_TF_MESSAGES,
-    TF_MESSAGE,
-    reference_frame_transform,
-    reference_frame_transforms,
-    reference_ros1_tf_message,
-    reference_tf_message,
-)
-from tftools.sources.bag.decode.template import Parser
+from tftools.sources.codecs import cdr, json, protobuf, ros1
+from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder
+from tftools.sources.codecs.types import CLOCK, TF_MESSAGE
+from tftools.sources.contents import DEFAULT_TOPICS
 
-#: "fast": templates with numpy, "simple": every message parsed in Python, "reference": rosbags
-#: deserializes CDR and ROS1 messages (other encodings as "simple").
-Decoder = Literal["fast", "simple", "reference"]
+#: ROS1's names of TFMessage (and of tf's, the same bytes), as ROS1 bags and MCAP files of ROS1 name them.
+ROS1_TF_TYPES = ("tf2_msgs/TFMessage", "tf/tfMessage")
+CLOCK_TYPES = (CLOCK, "rosgraph_msgs/Clock")
+FRAME_TRANSFORM = "foxglove_msgs/msg/FrameTransform"
+FRAME_TRANSFORMS = "foxglove_msgs/msg/FrameTransforms"
 
 
 @dataclass(frozen=True)
@@ -40,15 +31,10 @@ class Encoded:
 
 @dataclass(frozen=True)
 class Codec(Encoded):
-    """How transform messages of a type and encoding are parsed."""
+    """How transform messages of a type and encoding are decoded."""
 
-    parse: Parser
-    reference: Parser
-    templated: bool  # messages have fixed layouts that templates can learn
+    decode: BulkDecoder
     foxglove: bool  # read on every topic when the default topics are asked for
-
-    def parser(self, decoder: Decoder) -> Parser:
-        return self.reference if decoder == "reference" else self.parse
 
 
 @dataclass(frozen=True)
@@ -59,27 +45,26 @@ class ClockCodec(Encoded):
 
 
 def _codecs() -> dict[tuple[str, str], Codec]:
-    pb, js = foxglove_protobuf, json_messages
-    tf2, tf1 = ROS1_TF_MESSAGES
+    tf2, tf1 = ROS1_TF_TYPES
     table = [
-        # type name, message encoding, parser, reference parser, templated, foxglove
-        Codec(TF_MESSAGE, "cdr", cdr.parse_tf_message, reference_tf_message, True, False),
-        Codec(TF_MESSAGE, "json", js.parse_tf_message, js.parse_tf_message, False, False),
-        Codec(tf2, "ros1", ros1.parse_tf_message, reference_ros1_tf_message, True, False),
-        Codec(tf1, "ros1", ros1.parse_tf_message, reference_ros1_tf_message, True, False),
-        Codec(tf2, "json", js.parse_tf_message, js.parse_tf_message, False, False),
-        Codec(FRAME_TRANSFORMS, "cdr", cdr.parse_tf_message, reference_frame_transforms, True, True),
-        Codec(FRAME_TRANSFORM, "cdr", cdr.parse_frame_transform, reference_frame_transform, True, True),
-        Codec("foxglove.FrameTransforms", "protobuf", pb.parse_frame_transforms, pb.parse_frame_transforms, True, True),
-        Codec("foxglove.FrameTransform", "protobuf", pb.parse_frame_transform, pb.parse_frame_transform, True, True),
-        Codec("foxglove.FrameTransforms", "json", js.parse_frame_transforms, js.parse_frame_transforms, False, True),
-        Codec("foxglove.FrameTransform", "json", js.parse_frame_transform, js.parse_frame_transform, False, True),
+        # type name, message encoding, bulk decoder, foxglove
+        Codec(TF_MESSAGE, "cdr", cdr.decode_tf, False),
+        Codec(TF_MESSAGE, "json", json.decode_tf, False),
+        Codec(tf2, "ros1", ros1.decode_tf, False),
+        Codec(tf1, "ros1", ros1.decode_tf, False),
+        Codec(tf2, "json", json.decode_tf, False),
+        Codec(FRAME_TRANSFORMS, "cdr", cdr.decode_tf, True),
+        Codec(FRAME_TRANSFORM, "cdr", cdr.decode_frame_transform, True),
+        Codec("foxglove.FrameTransforms", "protobuf", protobuf.decode_frame_transforms, True),
+        Codec("foxglove.FrameTransform", "protobuf", protobuf.decode_frame_transform, True),
+        Codec("foxglove.FrameTransforms", "json", json.decode_frame_transforms, True),
+        Codec("foxglove.FrameTransform", "json", json.decode_frame_transform, True),
     ]
     return {(c.type_name, c.encoding): c for c in table}
 
 
 CODECS = _codecs()
-_CLOCK_DECODERS = {"cdr": cdr_clocks, "ros1": ros1_clocks, "json": json_clocks}
+_CLOCK_DECODERS = {"cdr": cdr.decode_clocks, "ros1": ros1.decode_clocks, "json": json.decode_clocks}
 CLOCK_CODECS = {(t, e): ClockCodec(t, e, d) for t in CLOCK_TYPES for e, d in _CLOCK_DECODERS.items()}
 _FOXGLOVE_TYPES = {c.type_name for c in CODECS.values() if c.foxglove}
 

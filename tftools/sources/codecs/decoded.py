@@ -1,0 +1,187 @@
+"""What every decoder gives: rows of transforms, message by message, their frame names interned
+once per source; clocks; and the one-message use of a bulk decoder."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.batch import TransformBatch
+from tftools.sources.codecs.gather import bytes_at, first_and_inverse, grouped
+
+#: A payload: bytes as received, a view into a file, or a numpy array of them.
+BytesLike = bytes | memoryview | UInt8Array
+
+#: Names this few are interned one by one rather than told apart in bulk.
+_FEW_NAMES = 32
+#: Names as rows of 8-byte words.
+Words = npt.NDArray[np.uint64]
+
+
+class DecodeError(ValueError):
+    """A payload that is not a well-formed message of its type."""
+
+
+class FrameNames:
+    """Frame names interned once for a whole source: name -> index into ``names``."""
+
+    def __init__(self) -> None:
+        self.names: list[str] = []
+        self.ids: dict[str, int] = {}
+
+    def id(self, name: str) -> int:
+        index = self.ids.get(name)
+        if index is None:
+            index = self.ids[name] = len(self.names)
+            self.names.append(name)
+        return index
+
+    def intern(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
+        """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]``, and which are not UTF-8.
+
+        Names of one length are told apart by their bytes: compared with the name before (equal
+        names mostly come in runs: a publisher's, message after message), then the first of each
+        run sorted.
+        """
+        if len(starts) <= _FEW_NAMES:
+            data = raw.data
+            found = []
+            for start, length in zip(starts.tolist(), lengths.tolist(), strict=True):
+                try:
+                    found.append(self.id(str(data[start : start + length], "utf-8")))
+                except UnicodeDecodeError:
+                    found.append(-1)
+            few = np.array(found, np.int32)
+            return np.maximum(few, 0), few < 0
+        ids = np.zeros(len(starts), np.int32)
+        undecodable = np.zeros(len(starts), bool)
+        for rows in grouped(lengths):
+            length = int(lengths[rows[0]])
+            words = _words(raw, starts[rows], length)
+            firsts, inverse = _distinct_rows(words)
+            table = np.zeros(len(firsts), np.int32)
+            broken = np.zeros(len(firsts), bool)
+            for i, row in enumerate(firsts.tolist()):
+                try:
+                    table[i] = self.id(words[row].tobytes()[:length].decode("utf-8"))
+                except UnicodeDecodeError:
+                    broken[i] = True
+            ids[rows] = table[inverse]
+            undecodable[rows] = broken[inverse]
+        return ids, undecodable
+
+
+@dataclass
+class Decoded:
+    """Transforms of decoded messages, message by message in order: ``message`` is each row's
+    message (an index into the payloads given), ``parent`` and ``child`` ids of a ``FrameNames``;
+    ``failures`` the (message, reason) of payloads that are not well-formed messages."""
+
+    message: Int64Array
+    parent: Int32Array
+    child: Int32Array
+    stamp: Int64Array
+    values: FloatArray  # (N, 7): x y z qx qy qz qw
+    failures: list[tuple[int, str]] = field(default_factory=list)
+
+    @classmethod
+    def empty(cls, failures: Sequence[tuple[int, str]] = ()) -> Decoded:
+        none, ids = np.zeros(0, np.int64), np.zeros(0, np.int32)
+        return cls(none, ids, ids, none, np.zeros((0, 7)), list(failures))
+
+    @classmethod
+    def joined(cls, parts: Sequence[Decoded]) -> Decoded:
+        """The parts' rows as one, in message order (rows of a message keep their order)."""
+        if len(parts) == 1:
+            return parts[0]
+        if not parts:
+            return cls.empty()
+        columns = [np.concatenate([getattr(p, name) for p in parts]) for name in _COLUMNS]
+        if np.any(columns[0][1:] < columns[0][:-1]):
+            order = np.argsort(columns[0], kind="stable")
+            columns = [column[order] for column in columns]
+        message, parent, child, stamp, values = columns
+        return cls(message, parent, child, stamp, values, sorted(f for p in parts for f in p.failures))
+
+    def renumbered(self, numbers: Int64Array) -> Decoded:
+        """The same rows and failures, message ``i`` renumbered ``numbers[i]``."""
+        failures = [(int(numbers[message]), reason) for message, reason in self.failures]
+        return Decoded(numbers[self.message], self.parent, self.child, self.stamp, self.values, failures)
+
+    def batch(self, frames: FrameNames, *, static: bool, authority: str, record_time: int) -> TransformBatch:
+        """The rows as one source's batch, every row from ``authority`` at ``record_time``."""
+        n = len(self.message)
+        return TransformBatch(
+            frame_names=frames.names,
+            authorities=[authority],
+            parent=self.parent,
+            child=self.child,
+            stamp=self.stamp,
+            translation=np.ascontiguousarray(self.values[:, :3]),
+            rotation=np.ascontiguousarray(self.values[:, 3:]),
+            static=np.full(n, static),
+            record_time=np.full(n, record_time, np.int64),
+        )
+
+
+_COLUMNS = ("message", "parent", "child", "stamp", "values")
+
+#: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.
+BulkDecoder = Callable[[UInt8Array, Int64Array, Int64Array, FrameNames], Decoded]
+#: Clocks of many payloads: the messages well-formed, their times (ns), and the (message, reason) of the others.
+Clocks = tuple[Int64Array, Int64Array, list[tuple[int, str]]]
+ClockDecoder = Callable[[UInt8Array, Int64Array, Int64Array], Clocks]
+
+
+def message_batch(
+    decode: BulkDecoder, data: bytes, *, static: bool, authority: str, record_time: int
+) -> TransformBatch:
+    """One message decoded by the bulk decoder ``decode`` (as live sources receive them), as a batch;
+    ``DecodeError`` when it is not well-formed."""
+    frames = FrameNames()
+    decoded = decode(*_one(data), frames)
+    if decoded.failures:
+        raise DecodeError(decoded.failures[0][1])
+    return decoded.batch(frames, static=static, authority=authority, record_time=record_time)
+
+
+def message_clock(decode: ClockDecoder, data: bytes) -> int:
+    """One clock message's time (ns), decoded by the bulk decoder ``decode``; ``DecodeError`` when
+    it is not well-formed."""
+    _, times, failures = decode(*_one(data))
+    if failures:
+        raise DecodeError(failures[0][1])
+    return int(times[0])
+
+
+def _one(data: bytes) -> tuple[UInt8Array, Int64Array, Int64Array]:
+    return np.frombuffer(data, np.uint8), np.zeros(1, np.int64), np.array([len(data)], np.int64)
+
+
+def _words(raw: UInt8Array, starts: Int64Array, length: int) -> Words:
+    """The ``length`` bytes at each of ``starts`` as a row of 8-byte words, the last one padded with zeros."""
+    width = -(-length // 8) * 8
+    if width and int(starts.max()) + width <= len(raw):  # read on past each name, then clear what follows it
+        words: Words = bytes_at(raw, starts, width).view("<u8")
+        if width > length:
+            words[:, -1] &= np.uint64((1 << 8 * (length % 8)) - 1)
+        return words
+    padded = np.zeros((len(starts), width), np.uint8)
+    padded[:, :length] = bytes_at(raw, starts, length)
+    return padded.view("<u8")
+
+
+def _distinct_rows(words: Words) -> tuple[Int64Array, Int64Array]:
+    """A first row of each distinct row of ``words``, and each row's index among them."""
+    if not words.shape[1]:  # empty names
+        return np.zeros(1, np.int64), np.zeros(len(words), np.int64)
+    starts_run = np.ones(len(words), bool)
+    starts_run[1:] = (words[1:] != words[:-1]).any(axis=1)
+    heads = np.flatnonzero(starts_run)
+    run = np.cumsum(starts_run) - 1
+    firsts, inverse = first_and_inverse(np.ascontiguousarray(words[heads]).view(f"V{8 * words.shape[1]}").reshape(-1))
+    return heads[firsts], inverse[run]

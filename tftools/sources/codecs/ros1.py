@@ -1,0 +1,53 @@
+"""ROS1's serialization, little endian and packed: ``tf2_msgs/TFMessage`` (and ``tf/tfMessage``,
+the same bytes) decoded and encoded, ``rosgraph_msgs/Clock`` too, ``std_msgs/Header`` parsed."""
+
+from __future__ import annotations
+
+import struct
+from collections.abc import Sequence
+
+from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.sources.codecs.decoded import BytesLike, Clocks, Decoded, FrameNames
+from tftools.sources.codecs.stepped import decode_transforms
+from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header
+
+WIRES = (Wire("<", origin=0, align=1, seq=True, signed_sec=False, nul=False, exact=True),)
+
+_COUNT = struct.Struct("<I")
+_HEADER = struct.Struct("<III")  # seq, stamp sec, stamp nsec
+_TIME = struct.Struct("<II")
+_VALUES = struct.Struct("<7d")
+
+
+def decode_tf(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
+    """TFMessages, as ``wire.decode_transforms`` decodes them."""
+    return decode_transforms(raw, starts, lengths, frames, WIRES)
+
+
+def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
+    """Clocks, as ``wire.decode_times`` decodes them."""
+    return decode_times(raw, starts, lengths, WIRES)
+
+
+def header(raw: BytesLike) -> Header | None:
+    """The header a ROS1 message starts with (seq, stamp, frame_id); None where it cannot be one."""
+    return parse_header(raw, WIRES)
+
+
+def encode_tf_message(transforms: Sequence[Transform]) -> bytes:
+    """``transforms`` as one serialized ``tf2_msgs/TFMessage`` (every seq 0)."""
+    parts = [_COUNT.pack(len(transforms))]
+    for t in transforms:
+        parts.append(_HEADER.pack(0, *divmod(t.stamp, NS_PER_S)))
+        for name in (t.frame_id, t.child_frame_id):
+            encoded = name.encode()
+            parts.append(_COUNT.pack(len(encoded)) + encoded)
+        parts.append(_VALUES.pack(*t.translation, *t.rotation))
+    return b"".join(parts)
+
+
+def encode_clock(now: int) -> bytes:
+    """A serialized ``rosgraph_msgs/Clock`` at ``now`` (ns)."""
+    return _TIME.pack(*divmod(now, NS_PER_S))

@@ -1,0 +1,179 @@
+"""ROS1 and CDR: fields of fixed kinds one after another, packed (ROS1) or aligned (CDR). How each
+lays them out (``Wire``), a payload read field by field (``Cursor``), and the messages that start
+with a header or a time, read so.
+
+A header is, in ROS1, a uint32 seq, then in both a stamp (seconds and nanoseconds, 4 bytes each)
+and a string frame_id; a string is a uint32 length then its bytes, in CDR counting a terminating
+NUL. A transform is a header, a string child_frame_id and 7 float64 (translation, rotation).
+"""
+
+from __future__ import annotations
+
+import struct
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.core.time import NS_PER_S
+from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError
+from tftools.sources.codecs.gather import bytes_at
+
+#: A message's header: its stamp (ns) and frame_id.
+Header = tuple[int, str]
+#: A frame_id longer than this is damage, not a name.
+MAX_FRAME_ID = 4096
+#: A time's bytes: seconds and nanoseconds.
+TIME_SIZE = 8
+#: A transform's translation and rotation: 7 float64.
+VALUES_SIZE = 56
+
+
+@dataclass(frozen=True)
+class Wire:
+    """How an encoding lays out its fields."""
+
+    order: str  # "<" or ">"
+    origin: int  # bytes before the fields (CDR's encapsulation), from which alignment counts
+    align: int  # the largest alignment: 1 when packed (ROS1), 8 (CDR), 4 (XCDR2)
+    seq: bool  # a header has a uint32 seq before its stamp (ROS1)
+    signed_sec: bool  # int32 seconds (ROS 2) rather than uint32 (ROS1)
+    nul: bool  # a string's length counts its terminating NUL (CDR)
+    exact: bool  # nothing may follow the last field (ROS1); DDS may pad CDR samples
+    encapsulation: int | None = None  # CDR: the payloads in this wire, by their second byte
+
+    @property
+    def smallest(self) -> int:
+        """The fewest bytes a transform takes."""
+        return 4 * self.seq + TIME_SIZE + 4 + 4 + VALUES_SIZE
+
+    @cached_property
+    def stamp(self) -> np.dtype[np.void]:
+        """A time: seconds and nanoseconds."""
+        return np.dtype([("sec", f"{self.order}{'i' if self.signed_sec else 'u'}4"), ("nsec", f"{self.order}u4")])
+
+    @cached_property
+    def head(self) -> np.dtype[np.void]:
+        """A stamp and the length of the string after it."""
+        return np.dtype([*self.stamp.descr, ("length", f"{self.order}u4")])
+
+    @cached_property
+    def uint32(self) -> struct.Struct:
+        return struct.Struct(f"{self.order}I")
+
+    @cached_property
+    def time(self) -> struct.Struct:
+        return struct.Struct(f"{self.order}{'i' if self.signed_sec else 'I'}I")
+
+
+class Cursor:
+    """A position in one payload, ``raw[start:end]``, read field by field in a wire's layout;
+    ``DecodeError`` where a field runs past the end."""
+
+    def __init__(self, raw: BytesLike, wire: Wire, start: int = 0, end: int | None = None) -> None:
+        self.raw = raw.data if isinstance(raw, np.ndarray) else raw
+        self.wire = wire
+        self.start = start
+        self.end = len(raw) if end is None else end
+        self.pos = start + wire.origin
+        self._origin = self.pos
+        self._align = wire.align
+        self._uint32 = wire.uint32.unpack_from
+
+    @property
+    def rest(self) -> int:
+        """The bytes after the position."""
+        return self.end - self.pos
+
+    def take(self, size: int, align: int = 1) -> int:
+        """Where the next ``size`` bytes start, aligned to ``align`` (at most the wire's alignment);
+        the position moves past them."""
+        at = self.pos
+        if align > 1 and self._align > 1:
+            at += (self._origin - at) % min(align, self._align)
+        if at + size > self.end:
+            raise DecodeError(f"message ends at byte {self.end - self.start}, a field needs {at + size - self.start}")
+        self.pos = at + size
+        return at
+
+    def uint(self) -> int:
+        return int(self._uint32(self.raw, self.take(4, 4))[0])
+
+    def string(self) -> tuple[int, int]:
+        """Where a string's bytes start, and how many (a NUL left out)."""
+        length = self.uint()
+        return self.take(length), max(length - self.wire.nul, 0)
+
+    def header(self) -> tuple[int, int, int]:
+        """A header's stamp (ns), and where its frame_id's bytes start and how many."""
+        if self.wire.seq:
+            self.take(4)
+        sec, nsec = self.wire.time.unpack_from(self.raw, self.take(TIME_SIZE, 4))
+        return sec * NS_PER_S + nsec, *self.string()
+
+
+def wire_of(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> Wire:
+    """The wire of the payload ``raw[start : start + length]``: the one wire, or the one its CDR
+    encapsulation names (``DecodeError`` for another)."""
+    if wires[0].encapsulation is None:
+        return wires[0]
+    head = bytes(raw[start : start + min(length, 2)])
+    for wire in wires:
+        if length >= wire.origin and head == bytes((0, wire.encapsulation or 0)):
+            return wire
+    raise DecodeError(f"not a CDR payload (encapsulation {head.hex() or 'missing'})")
+
+
+def partition(
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire]
+) -> list[tuple[Wire, Int64Array]]:
+    """The payloads in each wire (indices into ``starts``), as ``wire_of`` would find them."""
+    if wires[0].encapsulation is None:
+        return [(wires[0], np.arange(len(starts), dtype=np.int64))]
+    readable = lengths >= wires[0].origin
+    head = bytes_at(raw, np.where(readable, starts, 0), 2) if len(raw) >= 2 else np.ones((len(starts), 2), np.uint8)
+    plain = readable & (head[:, 0] == 0)
+    found = [(wire, np.flatnonzero(plain & (head[:, 1] == wire.encapsulation))) for wire in wires]
+    return [(wire, members) for wire, members in found if len(members)]
+
+
+def parse_header(raw: BytesLike, wires: Sequence[Wire]) -> Header | None:
+    """The ``std_msgs/Header`` a message starts with (only its bytes are read, never the rest:
+    image pixels, points); None where ``raw`` cannot start with one."""
+    try:
+        stamp, start, length = Cursor(raw, wire_of(raw, 0, len(raw), wires)).header()
+    except DecodeError:
+        return None
+    if length > MAX_FRAME_ID:
+        return None
+    return stamp, bytes(raw[start : start + length]).decode("utf-8", "replace")
+
+
+# --- times --------------------------------------------------------------------------------------
+
+
+def decode_times(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire]) -> Clocks:
+    """Messages whose first field is a time (``rosgraph_msgs/Clock``): those well-formed, their
+    times (ns), and the (message, reason) of the others."""
+    taken: list[Int64Array] = [np.zeros(0, np.int64)]
+    times: list[Int64Array] = [np.zeros(0, np.int64)]
+    for wire, members in partition(raw, starts, lengths, wires):
+        members = members[lengths[members] >= wire.origin + TIME_SIZE]
+        time = bytes_at(raw, starts[members] + wire.origin, TIME_SIZE).view(wire.stamp).reshape(-1)
+        taken.append(members)
+        times.append(time["sec"].astype(np.int64) * NS_PER_S + time["nsec"])
+    messages = np.concatenate(taken)
+    failed = np.ones(len(starts), bool)
+    failed[messages] = False
+    failures = []
+    for message in np.flatnonzero(failed).tolist():
+        start, length = int(starts[message]), int(lengths[message])
+        try:
+            needed = wire_of(raw, start, length, wires).origin + TIME_SIZE
+            failures.append((message, f"message ends at byte {length}, a Clock needs {needed}"))
+        except DecodeError as e:
+            failures.append((message, str(e)))
+    order = np.argsort(messages, kind="stable")
+    return messages[order], np.concatenate(times)[order], failures
