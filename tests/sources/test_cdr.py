@@ -311,3 +311,36 @@ def test_one_malformed_message_is_a_value_error() -> None:
         with pytest.raises(ValueError) as error:
             message_batch(codec.decode, bad[key[1]], static=False, authority="", record_time=0)
         assert line.endswith(f"(first: {error.value})")
+
+
+@pytest.mark.parametrize("names", [("map", "odom"), ("a", "base_link_long"), ("wörld", ""), ("odom", "bc")])
+def test_the_cdr_encoder_writes_rosbags_bytes(names: tuple[str, str]) -> None:
+    from rosbags.typesys import Stores, get_typestore
+
+    from tftools.core.transform import Transform
+    from tftools.sources.codecs import cdr
+
+    parent, child = names
+    transforms = [
+        Transform((1.5, -2.0, 0.25), (0.0, 0.0, 0.6, 0.8), 1_700_000_000_123_456_789, parent, child),
+        Transform(stamp=5, frame_id=child, child_frame_id=parent + "x"),
+    ]
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    t = store.types
+    message = t["tf2_msgs/msg/TFMessage"](
+        transforms=[
+            t["geometry_msgs/msg/TransformStamped"](
+                header=t["std_msgs/msg/Header"](
+                    stamp=t["builtin_interfaces/msg/Time"](sec=x.stamp // 10**9, nanosec=x.stamp % 10**9),
+                    frame_id=x.frame_id,
+                ),
+                child_frame_id=x.child_frame_id,
+                transform=t["geometry_msgs/msg/Transform"](
+                    translation=t["geometry_msgs/msg/Vector3"](*x.translation),
+                    rotation=t["geometry_msgs/msg/Quaternion"](*x.rotation),
+                ),
+            )
+            for x in transforms
+        ]
+    )
+    assert cdr.encode_tf_message(transforms) == bytes(store.serialize_cdr(message, "tf2_msgs/msg/TFMessage"))

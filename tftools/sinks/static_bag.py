@@ -16,6 +16,7 @@ import numpy as np
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.codecs import cdr
 from tftools.sources.codecs.ros1 import encode_tf_message
 from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type, typestore
 from tftools.sources.contents import is_static_topic
@@ -253,34 +254,13 @@ def _copy_rosbag2(source: Path, target: Path, plan: _Plan) -> None:
             for connection, timestamp, data in _marks(plan, start, reader.messages()):
                 if connection is None:
                     for sender, transforms in plan.by_sender(timestamp).items():
-                        message = store.serialize_cdr(_ros2_message(store, transforms), TF_MESSAGE)
-                        writer.write(static.get(sender, added), timestamp, message)
+                        writer.write(static.get(sender, added), timestamp, cdr.encode_tf_message(transforms))
                 else:
                     writer.write(connections[connection.id], timestamp, data)
 
 
 def _sends_statics(connection: Any) -> bool:
     return bool(is_static_topic(connection.topic) and connection.msgtype == TF_MESSAGE)
-
-
-def _ros2_message(store: Any, transforms: Sequence[Transform]) -> Any:
-    t = store.types
-    return t[TF_MESSAGE](
-        transforms=[
-            t["geometry_msgs/msg/TransformStamped"](
-                header=t["std_msgs/msg/Header"](
-                    stamp=t["builtin_interfaces/msg/Time"](sec=x.stamp // NS_PER_S, nanosec=x.stamp % NS_PER_S),
-                    frame_id=x.frame_id,
-                ),
-                child_frame_id=x.child_frame_id,
-                transform=t["geometry_msgs/msg/Transform"](
-                    translation=t["geometry_msgs/msg/Vector3"](*x.translation),
-                    rotation=t["geometry_msgs/msg/Quaternion"](*x.rotation),
-                ),
-            )
-            for x in transforms
-        ]
-    )
 
 
 def static_qos() -> Any:
