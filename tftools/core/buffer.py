@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 import threading
 import time as _time
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -46,7 +47,7 @@ def _locked(method: _Method) -> _Method:
 
     @wraps(method)
     def run(self: Buffer, *args: Any, **kwargs: Any) -> Any:
-        with self._changed:
+        with self._mutex:
             return method(self, *args, **kwargs)
 
     return run  # type: ignore[return-value]
@@ -127,7 +128,8 @@ class Buffer:
         self._broadcasters: dict[int, int] = {}  # frame id -> authority of its last accepted sample
         self._arrivals = 0
         self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
-        self._changed = threading.Condition(threading.RLock())
+        self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
+        self._changed = threading.Condition(self._mutex)
         self._table: EdgeTable | None = None  # built by the first lookup
 
     @property
@@ -142,13 +144,14 @@ class Buffer:
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        del state["_changed"]
+        del state["_changed"], state["_mutex"]
         state["_table"] = None  # memory addresses: rebuilt where the copy is used
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
-        self._changed = threading.Condition(threading.RLock())
+        self._mutex = threading.RLock()
+        self._changed = threading.Condition(self._mutex)
 
     @property
     def _ros2(self) -> bool:
@@ -201,6 +204,10 @@ class Buffer:
     ) -> bool:
         """Add one transform as tf2's ``setTransform`` does; False if it was refused (ROS 2's
         tf2 accepts a sample identical to one it holds, and stores it once)."""
+        with self._changed:
+            if self._append(transform, authority, static, record_time):
+                self._changed.notify_all()
+                return True
         builder = BatchBuilder()
         builder.add(
             transform.frame_id,
@@ -213,6 +220,38 @@ class Buffer:
             authority=authority,
         )
         return self.insert(builder.take()) == 1
+
+    def _append(self, transform: Transform, authority: str, static: bool, record_time: int) -> bool:
+        """``set_transform``'s common case, stored without building a batch: both frames known
+        (named without a slash, and different), a valid sample, newer than the child's newest
+        (unless static) and of its kind, from a known publisher, no rows reserved. False, having
+        stored nothing, in every other case, which ``insert`` takes."""
+        child_id, parent_id = self._frames.get(transform.child_frame_id), self._frames.get(transform.frame_id)
+        hist = self._histories[child_id]
+        if hist is None or parent_id in (NO_PARENT, child_id) or hist.static != static or self._expected:
+            return False
+        if transform.frame_id[0] == "/" or transform.child_frame_id[0] == "/":
+            return False
+        (tx, ty, tz), (x, y, z, w) = transform.translation, transform.rotation
+        # The sum of infinities and NaNs is not finite (of large values neither: ``insert`` decides those).
+        if not math.isfinite(tx + ty + tz + x + y + z + w) or not abs((w * w + x * x + y * y + z * z) - 1.0) < (
+            QUATERNION_TOLERANCE
+        ):
+            return False
+        authority_id = self._authority_ids.get(authority)
+        if authority_id is None:
+            return False
+        newest = hist.latest_stamp if len(hist) else None
+        flags = FROM_STATIC_TOPIC if static else 0
+        values = (tx, ty, tz, x, y, z, w)
+        if not hist.append(transform.stamp, values, parent_id, authority_id, record_time, self._arrivals, flags):
+            return False
+        self._arrivals += 1
+        if self.cache_time is not None:  # as ``_store`` prunes: ROS 2's tf2 before storing
+            hist.prune(self.cache_time, newest if self._ros2 and newest is not None else None)
+        self._track(child_id, hist)
+        self._broadcasters[child_id] = authority_id
+        return True
 
     def insert(self, batch: TransformBatch) -> int:
         """Add a batch in its row order, exactly as that many ``set_transform`` calls would.
@@ -491,8 +530,7 @@ class Buffer:
         """
         if target_frame == source_frame:
             return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
-        target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
-        source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
+        target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
         found = self._edge_table().lookup(target_id, source_id, time)
         if found is not None:
             return Transform(found[:3], found[3:7], found[7], target_frame, source_frame)
@@ -568,8 +606,7 @@ class Buffer:
             resolved = np.where(stamps == 0, self._identity_stamp(target_frame, 0), stamps)
             n = len(stamps)
             return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
-        target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
-        source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
+        target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
         resolved, values, valid = lookup_in_parallel(self._edge_table(), target_id, source_id, stamps)
         return LookupBatch(resolved, values[:, :3], values[:, 3:], valid)
 
@@ -656,6 +693,14 @@ class Buffer:
             return time
         hist = self.history(frame)
         return hist.latest_stamp if hist is not None else 0
+
+    def _frame_ids(self, call: str, target_frame: str, source_frame: str) -> tuple[int, int]:
+        """The ids of a lookup's two frames, checked as tf2's ``validateFrameId`` checks them."""
+        target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
+        if not target_id or not source_id or target_frame[0] == "/" or source_frame[0] == "/":
+            target_id = self._frame_id(f"{call} argument target_frame", target_frame)
+            source_id = self._frame_id(f"{call} argument source_frame", source_frame)
+        return target_id, source_id
 
     def _frame_id(self, argument: str, frame: str) -> int:
         """tf2's ``validateFrameId``."""
