@@ -59,7 +59,7 @@ def filesystem(url: str) -> tuple[AbstractFileSystem, str]:
 def _options(protocol: str) -> dict[str, Any]:
     if protocol == "s3":
         timeouts = {"connect_timeout": CONNECT_TIMEOUT, "read_timeout": READ_TIMEOUT}
-        return {"config_kwargs": {**timeouts, "retries": {"max_attempts": 2}}, "retries": 2}
+        return {"config_kwargs": {**timeouts, "retries": {"max_attempts": 2}}}
     if protocol in ("http", "https"):
         import aiohttp  # fsspec's HTTP filesystem is built on it
 

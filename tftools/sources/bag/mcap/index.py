@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import struct
 from dataclasses import dataclass, field
 from typing import BinaryIO
@@ -124,9 +125,10 @@ def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
 
 
 def _read_at(f: BinaryIO, offset: int, length: int) -> bytes:
+    """``length`` bytes at ``offset``, past ``f``'s buffer: what it may hold of a remote file's copy
+    can have been read before that part was fetched."""
     need(f.fileno(), offset, offset + length)
-    f.seek(offset)
-    return f.read(length)
+    return os.pread(f.fileno(), length, offset)
 
 
 def _summary(f: BinaryIO, size: int) -> _Summary | None:
