@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any
 
-from tftools.sources.errors import BagNotFoundError, MissingExtraError, RemoteError
+from tftools.sources.errors import BagError, BagNotFoundError, MissingExtraError, RemoteError
 from tftools.sources.storage import copies
 from tftools.sources.storage.locations import BAG_SUFFIXES, is_glob, recordings_in
 
@@ -77,7 +77,7 @@ def _remote(url: str, doing: str) -> Iterator[None]:
     libraries' exceptions (botocore's, aiohttp's, ...), not only ``OSError``."""
     try:
         yield
-    except (RemoteError, MissingExtraError):
+    except (BagError, MissingExtraError):  # said already
         raise
     except FileNotFoundError:
         raise BagNotFoundError(url) from None
