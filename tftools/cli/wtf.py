@@ -28,6 +28,7 @@ from tftools.cli.common import (
     TopicOption,
     UsageError,
     exit_with,
+    local_size,
     progress_bar,
     say_error,
     stdout,
@@ -35,6 +36,7 @@ from tftools.cli.common import (
 )
 from tftools.core.semantics import Semantics
 from tftools.render import wtf as render
+from tftools.sources.storage.locations import expand
 
 
 class WtfFormat(str, enum.Enum):
@@ -46,9 +48,11 @@ class WtfFormat(str, enum.Enum):
 _DEFAULTS = Thresholds()
 
 PathsArgument = Annotated[
-    list[Path] | None,
+    list[str] | None,
     typer.Argument(
-        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory.",
+        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory, "
+        "local or a URL (s3://bucket/fleet/ checks every recording below it, 's3://bucket/*.bag' the matches; "
+        "needs tftools[fleet]).",
         metavar="BAG",
         show_default=False,
     ),
@@ -184,7 +188,7 @@ def command(
     expected = expected_tree.read_expected(expect, *tolerances) if expect is not None else None
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
-    groups: list[list[Path]] = [[p] for p in paths or []] + ([list(bags)] if bags else [])
+    groups: list[list[str]] = [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
     if groups:
         jobs = jobs or os.cpu_count() or 1
         reports = _check_groups(groups, topics, thresholds, ignored, jobs, tf2, target, sensors, expected)
@@ -231,7 +235,7 @@ def _ignored(codes: Sequence[str]) -> tuple[str, ...]:
 
 
 def _check_groups(
-    groups: list[list[Path]],
+    groups: list[list[str]],
     topics: Sequence[str] | None,
     thresholds: Thresholds,
     ignore: Sequence[str],
@@ -253,7 +257,7 @@ def _check_groups(
         expected=expected,
     )
     if len(groups) == 1:
-        size = sum(_size(p) for p in groups[0])
+        size = sum(local_size(p) for p in groups[0])
         with progress_bar(enabled=size > 20_000_000) as progress:
             return [one(groups[0], progress=progress)]
     if jobs <= 1:
@@ -261,13 +265,6 @@ def _check_groups(
     with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
         futures = [pool.submit(one, [str(p) for p in g]) for g in groups]
         return [f.result() for f in futures]
-
-
-def _size(path: Path) -> int:
-    try:
-        return path.stat().st_size if path.is_file() else sum(p.stat().st_size for p in path.iterdir())
-    except OSError:
-        return 0
 
 
 def _check_live(
