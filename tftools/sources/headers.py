@@ -5,30 +5,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from itertools import groupby
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.sources.codecs.wire import Header
-from tftools.sources.contents import DEFAULT_TOPICS
-
-#: Topics never read as sensor data: the transforms and the clock themselves.
-NOT_SENSOR_DATA = frozenset({*DEFAULT_TOPICS, "/clock"})
-
-
-@dataclass(frozen=True)
-class StampedMessages:
-    """One topic's messages with a header: when each arrived, its stamp and frame (index into ``frame_ids``)."""
-
-    topic: str
-    type: str
-    record_time: npt.NDArray[np.int64]
-    stamp: npt.NDArray[np.int64]
-    frame: npt.NDArray[np.int32]
-    frame_ids: Sequence[str]
-
-    def __len__(self) -> int:
-        return len(self.record_time)
+from tftools.sources.contents import StampedMessages
 
 
 @dataclass(frozen=True)
@@ -86,3 +68,22 @@ class HeaderCollector:
             np.array(self.frame, np.int32)[order],
             list(self.frame_ids),
         )
+
+
+def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:
+    """One stream per topic of several (a split recording's files, a topic's publishers), in topic
+    order, each in record time order (ties keep their order)."""
+    merged = []
+    for topic, parts in groupby(sorted(streams, key=lambda s: s.topic), key=lambda s: s.topic):
+        pieces = list(parts)
+        if len(pieces) == 1:
+            merged.append(pieces[0])
+            continue
+        names: dict[str, int] = {}
+        frames = [np.array([names.setdefault(n, len(names)) for n in p.frame_ids], np.int32)[p.frame] for p in pieces]
+        record_time = np.concatenate([p.record_time for p in pieces])
+        order = np.argsort(record_time, kind="stable")
+        stamp = np.concatenate([p.stamp for p in pieces])[order]
+        frame = np.concatenate(frames)[order]
+        merged.append(StampedMessages(topic, pieces[0].type, record_time[order], stamp, frame, list(names)))
+    return merged

@@ -1,4 +1,5 @@
-"""``MessageSet``: a file's transform and clock messages, whatever its format, decoded a few megabytes at a time."""
+"""``MessageSet``: a file's transform, clock and stamped messages, whatever its format, decoded a few
+megabytes at a time."""
 
 from __future__ import annotations
 
@@ -14,8 +15,10 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.bag.clock import ClockParts
 from tftools.sources.bag.rows import Channel, Rows
 from tftools.sources.bag.spans import Spans
-from tftools.sources.codecs.select import ClockCodec, Codec
-from tftools.sources.contents import ClockSamples
+from tftools.sources.codecs.gather import first_and_inverse
+from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec
+from tftools.sources.codecs.wire import HEADER_BYTES
+from tftools.sources.contents import ClockSamples, StampedMessages
 
 ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
@@ -51,7 +54,7 @@ class _Group:
 
 
 class MessageSet:
-    """The transform and clock messages of one file, added in any order; ``decode`` puts them in
+    """The transform, clock and stamped messages of one file, added in any order; ``decode`` puts them in
     record time order, ties in channel ``tie`` then ``position`` order (their order in the file).
 
     Payloads are decoded by their codecs a few megabytes at a time as they are added, so that
@@ -63,7 +66,7 @@ class MessageSet:
         self.unpack = unpack  # applied to every payload first, e.g. decompression
         self.channels: list[Channel] = []
         self._channel_ids: dict[Channel, int] = {}
-        self._codecs: list[Codec | ClockCodec] = []
+        self._codecs: list[AnyCodec] = []
         self._codec_of: list[int] = []  # per channel: its codec's number
         self._times: list[IntArray] = []
         self._positions: list[IntArray] = []
@@ -74,6 +77,7 @@ class MessageSet:
         self._rows = Rows(self.channels)
         self._failed: Failures = []
         self._clocks: list[tuple[IntArray, IntArray]] = []  # message numbers and clock values
+        self._headers: list[tuple[IntArray, IntArray, Int32Array]] = []  # message numbers, stamps, frames
         self.count = 0
 
     def emptied(self) -> MessageSet:
@@ -83,7 +87,7 @@ class MessageSet:
             fresh.channel(c.topic, c.codec, publisher=c.publisher, tie=c.tie)
         return fresh
 
-    def channel(self, topic: str, codec: Codec | ClockCodec, *, publisher: str = "", tie: int = 0) -> int:
+    def channel(self, topic: str, codec: AnyCodec, *, publisher: str = "", tie: int = 0) -> int:
         """The number of the channel ``topic`` decoded with ``codec`` (see ``Channel``), to ``add``
         messages to."""
         key = Channel(topic, codec, publisher, tie)
@@ -108,6 +112,11 @@ class MessageSet:
         if self.unpack is not None:
             payloads, unpacked = self._unpacked(channels, payloads)
             channels, times, where = channels[unpacked], times[unpacked], where[unpacked]
+        headed = np.array([isinstance(c, HeaderCodec) for c in self._codecs], bool)[self._codec_of][channels]
+        if headed.any():  # of stamped messages, only the bytes that may hold their header are joined
+            payloads = [
+                memoryview(p)[:HEADER_BYTES] if h else p for p, h in zip(payloads, headed.tolist(), strict=True)
+            ]
         lengths = np.fromiter(map(len, payloads), np.int64, len(payloads))
         self._add_joined(channels, times, where, b"".join(payloads), np.cumsum(lengths) - lengths, lengths)
 
@@ -144,7 +153,10 @@ class MessageSet:
             self._decode_groups()
 
     def _group(self, codec: int, data: bytes | memoryview, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
-        """Copy the payloads of one codec out of ``data``, into its group."""
+        """Copy the payloads of one codec out of ``data``, into its group: of stamped messages, only
+        the bytes that may hold their header."""
+        if isinstance(self._codecs[codec], HeaderCodec):
+            lengths = np.minimum(lengths, HEADER_BYTES)
         piece, at = _copied(data, starts, lengths)
         self._groups.setdefault(codec, _Group()).add(piece, at, lengths, ids)
         self._pending_bytes += 2 * len(piece)  # counted twice: decoding takes as much again
@@ -184,6 +196,10 @@ class MessageSet:
             if isinstance(codec, ClockCodec):
                 rows, values, failures = codec.decode(raw, starts, lengths)
                 self._clocks.append((ids[rows], values))
+            elif isinstance(codec, HeaderCodec):
+                headers = codec.decode(raw, starts, lengths, self._rows.frames)
+                self._headers.append((ids[headers.message], headers.stamp, headers.frame))
+                failures = headers.failures
             else:
                 decoded = codec.decode(raw, starts, lengths, self._rows.frames)
                 self._rows.add_rows(ids[decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values)
@@ -192,9 +208,9 @@ class MessageSet:
         self._rows.settle()
         self._pending_bytes = 0
 
-    def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[str]]:
-        """Every transform in record-time order, in consecutive batches; the clock; a line per
-        topic with lost messages."""
+    def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[StampedMessages], list[str]]:
+        """Every transform in record-time order, in consecutive batches; the clock; the headers of
+        each topic read so; a line per topic with lost messages."""
         self._decode_groups()
         times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
         channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
@@ -205,7 +221,29 @@ class MessageSet:
             clock.add(channel_of[ids], times[ids], rank[ids], values)
         topics = [c.topic for c in self.channels]
         batches = self._rows.batches(times, channel_of, rank)
-        return batches, clock.samples(topics), self._problems(channel_of, rank)
+        stamped = self._stamped(times, channel_of, rank)
+        return batches, clock.samples(topics), stamped, self._problems(channel_of, rank)
+
+    def _stamped(self, times: IntArray, channel_of: Int32Array, rank: IntArray) -> list[StampedMessages]:
+        """The headers read, per topic in record order (one for every topic read so, even without
+        any), each with the frame_ids its own messages name, as they first come."""
+        headed = [c for c in self.channels if isinstance(c.codec, HeaderCodec)]
+        if not headed:
+            return []
+        names = self._rows.frames.names
+        parts = self._headers or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int32))]
+        ids, stamps, frames = (np.concatenate(column) for column in zip(*parts, strict=True))
+        order = np.argsort(rank[ids], kind="stable")
+        ids, stamps, frames = ids[order], stamps[order], frames[order]
+        topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
+        streams = []
+        for topic in sorted({c.topic for c in headed}):
+            mine = topic_of == topic
+            frame, seen = _first_seen(frames[mine])
+            type_name = next(c.codec.type_name for c in headed if c.topic == topic)
+            frame_ids = [names[i] for i in seen.tolist()]
+            streams.append(StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frame, frame_ids))
+        return streams
 
     def _problems(self, channel_of: Int32Array, rank: IntArray) -> list[str]:
         """A line per topic and codec with messages that could not be decompressed, and one with
@@ -245,6 +283,13 @@ def _copied(data: bytes | memoryview, starts: IntArray, lengths: IntArray) -> tu
     view = memoryview(data)
     joined = b"".join([view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)])
     return joined, np.cumsum(lengths) - lengths
+
+
+def _first_seen(values: Int32Array) -> tuple[Int32Array, Int32Array]:
+    """Each value's index among the distinct values in the order they first come, and those values."""
+    firsts, inverse = first_and_inverse(values)
+    seen = np.argsort(firsts, kind="stable")
+    return np.argsort(seen).astype(np.int32)[inverse], values[firsts[seen]]
 
 
 def _rank(times: IntArray, ties: IntArray, positions: IntArray) -> IntArray:

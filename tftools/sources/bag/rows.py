@@ -13,7 +13,7 @@ from tftools.core.arrays import FloatArray, Int32Array
 from tftools.core.arrays import Int64Array as IntArray
 from tftools.core.batch import TransformBatch
 from tftools.sources.codecs.decoded import FrameNames
-from tftools.sources.codecs.select import ClockCodec, Codec
+from tftools.sources.codecs.select import AnyCodec, Codec
 from tftools.sources.contents import is_static_topic
 
 Column = npt.NDArray[Any]
@@ -21,10 +21,10 @@ Column = npt.NDArray[Any]
 
 @dataclass(frozen=True)
 class Channel:
-    """A topic read with a codec (a clock's channel has no rows), as one publisher recorded it."""
+    """A topic read with a codec (a clock's or stamped messages' channel has no rows), as one publisher recorded it."""
 
     topic: str
-    codec: Codec | ClockCodec
+    codec: AnyCodec
     publisher: str = ""  # a ROS1 connection's callerid; "" when the recording does not say
     tie: int = 0  # messages of equal record time and channels of unequal ``tie``: the lower first
 

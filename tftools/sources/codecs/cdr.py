@@ -15,9 +15,9 @@ from collections.abc import Sequence
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import BytesLike, Clocks, Decoded, FrameNames
+from tftools.sources.codecs.decoded import BytesLike, Clocks, Decoded, FrameNames, Headers
 from tftools.sources.codecs.stepped import decode_transforms
-from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header
+from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header, read_headers
 
 WIRES = tuple(
     Wire(order, origin=4, align=align, seq=False, signed_sec=True, nul=True, exact=False, encapsulation=kind)
@@ -43,6 +43,11 @@ def decode_frame_transform(raw: UInt8Array, starts: Int64Array, lengths: Int64Ar
 def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
     """Clocks, as ``wire.decode_times`` decodes them."""
     return decode_times(raw, starts, lengths, WIRES)
+
+
+def decode_headers(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Headers:
+    """The headers CDR messages start with, as ``wire.read_headers`` reads them."""
+    return read_headers(raw, starts, lengths, frames, WIRES)
 
 
 def header(raw: BytesLike) -> Header | None:

@@ -130,11 +130,26 @@ class Decoded:
 
 _COLUMNS = ("message", "parent", "child", "stamp", "values")
 
+
+@dataclass
+class Headers:
+    """The headers of decoded messages, in message order: ``message`` is each one's message (an index
+    into the payloads given), ``frame`` ids of a ``FrameNames``; ``failures`` the (message, reason)
+    of payloads that do not start with a header."""
+
+    message: Int64Array
+    stamp: Int64Array
+    frame: Int32Array
+    failures: list[tuple[int, str]]
+
+
 #: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.
 BulkDecoder = Callable[[UInt8Array, Int64Array, Int64Array, FrameNames], Decoded]
 #: Clocks of many payloads: the messages well-formed, their times (ns), and the (message, reason) of the others.
 Clocks = tuple[Int64Array, Int64Array, list[tuple[int, str]]]
 ClockDecoder = Callable[[UInt8Array, Int64Array, Int64Array], Clocks]
+#: Headers of many payloads (their first ``wire.HEADER_BYTES`` at most), frames interned in the table.
+HeaderDecoder = Callable[[UInt8Array, Int64Array, Int64Array, FrameNames], Headers]
 
 
 def message_batch(

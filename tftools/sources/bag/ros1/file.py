@@ -69,7 +69,7 @@ class BagFile:
             return
         self._met.add(connection.id)
         self.scan.topics.setdefault(connection.topic, connection.type)
-        codec, unread = select(connection.topic, connection.type, "ros1", self.topics)
+        codec, unread = select(connection.topic, connection.type, "ros1", self.topics, connection.definition)
         self.scan.note_skipped(unread)
         if codec is not None:
             channel = self.scan.messages.channel(
