@@ -9,6 +9,7 @@ from itertools import groupby
 
 import numpy as np
 
+from tftools.core.frames import Names
 from tftools.sources.codecs.wire import Header
 from tftools.sources.contents import StampedMessages
 
@@ -30,7 +31,7 @@ class HeaderCollector:
     record_time: list[int] = field(default_factory=list)
     stamp: list[int] = field(default_factory=list)
     frame: list[int] = field(default_factory=list)
-    frame_ids: dict[str, int] = field(default_factory=dict)
+    frame_ids: Names = field(default_factory=Names)
     damaged: int = 0
     left_out: int = 0
 
@@ -44,7 +45,7 @@ class HeaderCollector:
             stamp, frame_id = header
             self.record_time.append(record_time)
             self.stamp.append(stamp)
-            self.frame.append(self.frame_ids.setdefault(frame_id, len(self.frame_ids)))
+            self.frame.append(self.frame_ids.intern(frame_id))
 
     def problems(self, topic: str) -> list[str]:
         """What was not kept of the topic, in a line each."""
@@ -66,7 +67,7 @@ class HeaderCollector:
             np.array(self.record_time, np.int64)[order],
             np.array(self.stamp, np.int64)[order],
             np.array(self.frame, np.int32)[order],
-            list(self.frame_ids),
+            list(self.frame_ids.names),
         )
 
 
@@ -79,11 +80,11 @@ def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:
         if len(pieces) == 1:
             merged.append(pieces[0])
             continue
-        names: dict[str, int] = {}
-        frames = [np.array([names.setdefault(n, len(names)) for n in p.frame_ids], np.int32)[p.frame] for p in pieces]
+        names = Names()
+        frames = [np.array([names.intern(n) for n in p.frame_ids], np.int32)[p.frame] for p in pieces]
         record_time = np.concatenate([p.record_time for p in pieces])
         order = np.argsort(record_time, kind="stable")
         stamp = np.concatenate([p.stamp for p in pieces])[order]
         frame = np.concatenate(frames)[order]
-        merged.append(StampedMessages(topic, pieces[0].type, record_time[order], stamp, frame, list(names)))
+        merged.append(StampedMessages(topic, pieces[0].type, record_time[order], stamp, frame, names.names))
     return merged

@@ -11,6 +11,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
+from tftools.core.frames import Names
 from tftools.sources.codecs.gather import bytes_at, first_and_inverse, grouped
 
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
@@ -26,21 +27,11 @@ class DecodeError(ValueError):
     """A payload that is not a well-formed message of its type."""
 
 
-class FrameNames:
-    """Frame names interned once for a whole source: name -> index into ``names``."""
+class FrameNames(Names):
+    """Frame names interned once for a whole source, from decoded names or in bulk from the bytes
+    that hold them."""
 
-    def __init__(self) -> None:
-        self.names: list[str] = []
-        self.ids: dict[str, int] = {}
-
-    def id(self, name: str) -> int:
-        index = self.ids.get(name)
-        if index is None:
-            index = self.ids[name] = len(self.names)
-            self.names.append(name)
-        return index
-
-    def intern(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
+    def intern_all(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
         """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]``, and which are not UTF-8.
 
         Names of one length are told apart by their bytes: compared with the name before (equal
@@ -52,7 +43,7 @@ class FrameNames:
             found = []
             for start, length in zip(starts.tolist(), lengths.tolist(), strict=True):
                 try:
-                    found.append(self.id(str(data[start : start + length], "utf-8")))
+                    found.append(self.intern(str(data[start : start + length], "utf-8")))
                 except UnicodeDecodeError:
                     found.append(-1)
             few = np.array(found, np.int32)
@@ -67,7 +58,7 @@ class FrameNames:
             broken = np.zeros(len(firsts), bool)
             for i, row in enumerate(firsts.tolist()):
                 try:
-                    table[i] = self.id(words[row].tobytes()[:length].decode("utf-8"))
+                    table[i] = self.intern(words[row].tobytes()[:length].decode("utf-8"))
                 except UnicodeDecodeError:
                     broken[i] = True
             ids[rows] = table[inverse]

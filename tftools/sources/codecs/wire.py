@@ -169,7 +169,7 @@ def read_headers(
             continue
         read.append(message)
         stamps.append(stamp)
-        ids.append(frames.id(frame_id))
+        ids.append(frames.intern(frame_id))
     return Headers(np.array(read, np.int64), np.array(stamps, np.int64), np.array(ids, np.int32), failures)
 
 
