@@ -7,10 +7,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
-from tftools.core.arrays import Int32Array, UInt8Array
-from tftools.core.arrays import Int64Array as IntArray
+from tftools.core.arrays import BoolArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.clock import ClockParts
 from tftools.sources.bag.rows import Channel, Rows
@@ -33,17 +31,17 @@ class _Group:
     their message numbers."""
 
     pieces: list[bytes] = field(default_factory=list)
-    starts: list[IntArray] = field(default_factory=list)
-    lengths: list[IntArray] = field(default_factory=list)
-    ids: list[IntArray] = field(default_factory=list)
+    starts: list[Int64Array] = field(default_factory=list)
+    lengths: list[Int64Array] = field(default_factory=list)
+    ids: list[Int64Array] = field(default_factory=list)
 
-    def add(self, piece: bytes, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
+    def add(self, piece: bytes, starts: Int64Array, lengths: Int64Array, ids: Int64Array) -> None:
         self.pieces.append(piece)
         self.starts.append(starts)
         self.lengths.append(lengths)
         self.ids.append(ids)
 
-    def joined(self) -> tuple[UInt8Array, IntArray, IntArray, IntArray]:
+    def joined(self) -> tuple[UInt8Array, Int64Array, Int64Array, Int64Array]:
         """All the bytes (the pieces let go), each payload's start and length in them, and its
         message number."""
         bases = np.cumsum([0] + [len(p) for p in self.pieces[:-1]])
@@ -68,16 +66,16 @@ class MessageSet:
         self._channel_ids: dict[Channel, int] = {}
         self._codecs: list[AnyCodec] = []
         self._codec_of: list[int] = []  # per channel: its codec's number
-        self._times: list[IntArray] = []
-        self._positions: list[IntArray] = []
+        self._times: list[Int64Array] = []
+        self._positions: list[Int64Array] = []
         self._channel_of: list[Int32Array] = []
         self._groups: dict[int, _Group] = {}
         self._unpack_failed: dict[int, list[str]] = {}
         self._pending_bytes = 0
         self._rows = Rows(self.channels)
         self._failed: Failures = []
-        self._clocks: list[tuple[IntArray, IntArray]] = []  # message numbers and clock values
-        self._headers: list[tuple[IntArray, IntArray, Int32Array]] = []  # message numbers, stamps, frames
+        self._clocks: list[tuple[Int64Array, Int64Array]] = []  # message numbers and clock values
+        self._headers: list[tuple[Int64Array, Int64Array, Int32Array]] = []  # message numbers, stamps, frames
         self.count = 0
 
     def emptied(self) -> MessageSet:
@@ -102,8 +100,8 @@ class MessageSet:
     def add(
         self,
         channel: ChannelIds,
-        record_times: IntArray | Sequence[int],
-        positions: IntArray | Sequence[int],
+        record_times: Int64Array | Sequence[int],
+        positions: Int64Array | Sequence[int],
         payloads: Sequence[bytes | memoryview],
     ) -> None:
         """Messages of one channel (an int) or of several (one channel number per message)."""
@@ -135,11 +133,11 @@ class MessageSet:
     def _add_joined(
         self,
         channels: Int32Array,
-        times: IntArray,
-        where: IntArray,
+        times: Int64Array,
+        where: Int64Array,
         data: bytes | memoryview,
-        starts: IntArray,
-        lengths: IntArray,
+        starts: Int64Array,
+        lengths: Int64Array,
     ) -> None:
         """Group the payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec."""
         if not len(starts):
@@ -152,7 +150,9 @@ class MessageSet:
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
 
-    def _group(self, codec: int, data: bytes | memoryview, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
+    def _group(
+        self, codec: int, data: bytes | memoryview, starts: Int64Array, lengths: Int64Array, ids: Int64Array
+    ) -> None:
         """Copy the payloads of one codec out of ``data``, into its group: of stamped messages, only
         the bytes that may hold their header."""
         if isinstance(self._codecs[codec], HeaderCodec):
@@ -161,7 +161,7 @@ class MessageSet:
         self._groups.setdefault(codec, _Group()).add(piece, at, lengths, ids)
         self._pending_bytes += 2 * len(piece)  # counted twice: decoding takes as much again
 
-    def _numbered(self, channels: Int32Array, times: IntArray, where: IntArray) -> IntArray:
+    def _numbered(self, channels: Int32Array, times: Int64Array, where: Int64Array) -> Int64Array:
         """Note the messages' channels, record times and positions; their message numbers."""
         n = len(channels)
         ids = np.arange(self.count, self.count + n, dtype=np.int64)
@@ -171,9 +171,7 @@ class MessageSet:
         self.count += n
         return ids
 
-    def _unpacked(
-        self, channels: Int32Array, payloads: Sequence[bytes | memoryview]
-    ) -> tuple[list[bytes], npt.NDArray[np.bool_]]:
+    def _unpacked(self, channels: Int32Array, payloads: Sequence[bytes | memoryview]) -> tuple[list[bytes], BoolArray]:
         """The payloads that could be unpacked, and which ones they are; the others are noted."""
         assert self.unpack is not None
         kept: list[bytes] = []
@@ -224,7 +222,7 @@ class MessageSet:
         stamped = self._stamped(times, channel_of, rank)
         return batches, clock.samples(topics), stamped, self._problems(channel_of, rank)
 
-    def _stamped(self, times: IntArray, channel_of: Int32Array, rank: IntArray) -> list[StampedMessages]:
+    def _stamped(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[StampedMessages]:
         """The headers read, per topic in record order (one for every topic read so, even without
         any), each with the frame_ids its own messages name, as they first come."""
         headed = [c for c in self.channels if isinstance(c.codec, HeaderCodec)]
@@ -245,7 +243,7 @@ class MessageSet:
             streams.append(StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frame, frame_ids))
         return streams
 
-    def _problems(self, channel_of: Int32Array, rank: IntArray) -> list[str]:
+    def _problems(self, channel_of: Int32Array, rank: Int64Array) -> list[str]:
         """A line per topic and codec with messages that could not be decompressed, and one with
         messages that could not be decoded (its first in record order named)."""
         totals: dict[tuple[str, str], int] = {}
@@ -275,7 +273,7 @@ class MessageSet:
         return self.channels[channel].topic, self.channels[channel].codec.name
 
 
-def _copied(data: bytes | memoryview, starts: IntArray, lengths: IntArray) -> tuple[bytes, IntArray]:
+def _copied(data: bytes | memoryview, starts: Int64Array, lengths: Int64Array) -> tuple[bytes, Int64Array]:
     """The payloads of every length at ``starts``: a copy of ``data`` whole when they are most of
     it, else of them one after the other; and where each begins in it."""
     if 2 * int(lengths.sum()) >= len(data):
@@ -292,7 +290,7 @@ def _first_seen(values: Int32Array) -> tuple[Int32Array, Int32Array]:
     return np.argsort(seen).astype(np.int32)[inverse], values[firsts[seen]]
 
 
-def _rank(times: IntArray, ties: IntArray, positions: IntArray) -> IntArray:
+def _rank(times: Int64Array, ties: Int64Array, positions: Int64Array) -> Int64Array:
     """Each message's place in (record time, tie, position) order."""
     if not len(times):
         return np.zeros(0, np.int64)

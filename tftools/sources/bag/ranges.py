@@ -7,16 +7,13 @@ import os
 from contextlib import suppress
 
 import numpy as np
-import numpy.typing as npt
 
-IntArray = npt.NDArray[np.int64]
+from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 
 MAX_GAP = 16 << 10  # bytes between two wanted ranges read along with them: cheaper than one more read
 
 
-def read_ranges(
-    fd: int, starts: IntArray, ends: IntArray
-) -> tuple[npt.NDArray[np.uint8], IntArray, npt.NDArray[np.bool_]]:
+def read_ranges(fd: int, starts: Int64Array, ends: Int64Array) -> tuple[UInt8Array, Int64Array, BoolArray]:
     """The file's bytes ``starts[i]:ends[i]``, read in runs (ranges closer than ``MAX_GAP`` share
     one read): the runs' bytes, where each range begins in them, and whether it was read whole."""
     if not len(starts):
@@ -46,7 +43,7 @@ def read_ranges(
     return data, where, read
 
 
-def prefetch(fd: int, starts: IntArray, ends: IntArray) -> None:
+def prefetch(fd: int, starts: Int64Array, ends: Int64Array) -> None:
     """Have the system start reading these byte ranges of the file, all at once: read one after the
     other, a file not in the page cache would cost a disk's latency per range."""
     if not hasattr(os, "posix_fadvise"):

@@ -7,8 +7,8 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, RecordReader
@@ -82,7 +82,7 @@ class BagFile:
     def wants(self, conn: int) -> bool:
         return conn in self.channels
 
-    def add(self, data: bytes | memoryview, messages: Spans) -> npt.NDArray[np.bool_]:
+    def add(self, data: bytes | memoryview, messages: Spans) -> BoolArray:
         """Keep the wanted ones of ``messages`` (their payloads in ``data``, which the caller may
         then release); returns which were kept."""
         channel = messages.looked_up(self.channels)
