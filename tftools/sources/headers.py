@@ -10,7 +10,7 @@ from itertools import groupby
 import numpy as np
 
 from tftools.core.frames import Names
-from tftools.sources.codecs.wire import Header
+from tftools.sources.codecs.decoded import Header
 from tftools.sources.contents import StampedMessages
 
 

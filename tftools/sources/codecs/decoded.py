@@ -16,6 +16,8 @@ from tftools.sources.codecs.gather import bytes_at, first_and_inverse, grouped
 
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
 BytesLike = bytes | memoryview | UInt8Array
+#: A message's header: its stamp (ns) and frame_id.
+Header = tuple[int, str]
 
 #: Names this few are interned one by one rather than told apart in bulk.
 _FEW_NAMES = 32
@@ -162,6 +164,16 @@ def message_clock(decode: ClockDecoder, data: bytes) -> int:
     if failures:
         raise DecodeError(failures[0][1])
     return int(times[0])
+
+
+def message_header(decode: HeaderDecoder, data: bytes) -> Header | None:
+    """The header one message starts with, decoded by the bulk decoder ``decode``; None where it
+    cannot start with one."""
+    frames = FrameNames()
+    headers = decode(*_one(data), frames)
+    if headers.failures:
+        return None
+    return int(headers.stamp[0]), frames.names[int(headers.frame[0])]
 
 
 def _one(data: bytes) -> tuple[UInt8Array, Int64Array, Int64Array]:

@@ -9,9 +9,9 @@ from collections.abc import Sequence
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import BytesLike, Clocks, Decoded, FrameNames, Headers
+from tftools.sources.codecs.decoded import Clocks, Decoded, FrameNames, Headers
 from tftools.sources.codecs.stepped import decode_transforms
-from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header, read_headers
+from tftools.sources.codecs.wire import Wire, decode_times, read_headers
 
 WIRES = (Wire("<", origin=0, align=1, seq=True, signed_sec=False, nul=False, exact=True),)
 
@@ -34,11 +34,6 @@ def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> C
 def decode_headers(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Headers:
     """The headers ROS1 messages start with, as ``wire.read_headers`` reads them."""
     return read_headers(raw, starts, lengths, frames, WIRES)
-
-
-def header(raw: BytesLike) -> Header | None:
-    """The header a ROS1 message starts with (seq, stamp, frame_id); None where it cannot be one."""
-    return parse_header(raw, WIRES)
 
 
 def encode_tf_message(transforms: Sequence[Transform]) -> bytes:

@@ -18,11 +18,9 @@ import numpy as np
 
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
-from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError, FrameNames, Headers
+from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError, FrameNames, Header, Headers
 from tftools.sources.codecs.gather import bytes_at
 
-#: A message's header: its stamp (ns) and frame_id.
-Header = tuple[int, str]
 #: A frame_id longer than this is damage, not a name.
 MAX_FRAME_ID = 4096
 #: The bytes of a message that hold its header, at most: a seq, a stamp and a frame_id's length after
@@ -142,20 +140,12 @@ def partition(
     return [(wire, members) for wire, members in found if len(members)]
 
 
-def parse_header(raw: BytesLike, wires: Sequence[Wire]) -> Header | None:
-    """The ``std_msgs/Header`` a message starts with (only its bytes are read, never the rest:
-    image pixels, points); None where ``raw`` cannot start with one."""
-    try:
-        return _header(raw, 0, len(raw), wires)
-    except DecodeError:
-        return None
-
-
 def read_headers(
     raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wires: Sequence[Wire]
 ) -> Headers:
-    """The headers many messages start with, their frame_ids interned in ``frames``; only the first
-    ``HEADER_BYTES`` of each message need be given."""
+    """The ``std_msgs/Header`` many messages start with, their frame_ids interned in ``frames``: only
+    their bytes are read, never the rest (image pixels, points), so only the first ``HEADER_BYTES``
+    of each message need be given."""
     view = raw.data
     read: list[int] = []
     stamps: list[int] = []

@@ -15,7 +15,7 @@ from typing import Protocol
 
 from tftools.core.semantics import Semantics
 from tftools.core.time import Clock
-from tftools.sources.codecs.wire import Header
+from tftools.sources.codecs.decoded import Header
 from tftools.sources.contents import NOT_SENSOR_DATA
 from tftools.sources.headers import HeaderCollector, StampedRead
 from tftools.sources.live.base import LiveSource, NoticeOnce, OnNotice
