@@ -17,7 +17,6 @@ WIRES = (Wire("<", origin=0, align=1, seq=True, signed_sec=False, nul=False, exa
 
 _COUNT = struct.Struct("<I")
 _HEADER = struct.Struct("<III")  # seq, stamp sec, stamp nsec
-_TIME = struct.Struct("<II")
 _VALUES = struct.Struct("<7d")
 
 
@@ -46,8 +45,3 @@ def encode_tf_message(transforms: Sequence[Transform]) -> bytes:
             parts.append(_COUNT.pack(len(encoded)) + encoded)
         parts.append(_VALUES.pack(*t.translation, *t.rotation))
     return b"".join(parts)
-
-
-def encode_clock(now: int) -> bytes:
-    """A serialized ``rosgraph_msgs/Clock`` at ``now`` (ns)."""
-    return _TIME.pack(*divmod(now, NS_PER_S))
