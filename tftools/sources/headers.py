@@ -11,6 +11,7 @@ import numpy as np
 
 from tftools.core.frames import Names
 from tftools.sources.codecs.decoded import Header
+from tftools.sources.codecs.gather import first_and_inverse
 from tftools.sources.contents import StampedMessages
 
 
@@ -72,19 +73,23 @@ class HeaderCollector:
 
 
 def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:
-    """One stream per topic of several (a split recording's files, a topic's publishers), in topic
-    order, each in record time order (ties keep their order)."""
+    """One stream per topic of several (a split recording's files), in topic order, each in record
+    time order (ties keep their order) and naming only its messages' frames, as they first come."""
     merged = []
     for topic, parts in groupby(sorted(streams, key=lambda s: s.topic), key=lambda s: s.topic):
         pieces = list(parts)
-        if len(pieces) == 1:
-            merged.append(pieces[0])
-            continue
-        names = Names()
-        frames = [np.array([names.intern(n) for n in p.frame_ids], np.int32)[p.frame] for p in pieces]
         record_time = np.concatenate([p.record_time for p in pieces])
         order = np.argsort(record_time, kind="stable")
+        offsets = np.cumsum([0] + [len(p.frame_ids) for p in pieces]).tolist()
+        frame = np.concatenate([p.frame + offset for p, offset in zip(pieces, offsets, strict=False)])[order]
+        every_name = [name for p in pieces for name in p.frame_ids]
+        firsts, inverse = first_and_inverse(frame)
+        names = Names()
+        ids = np.array([names.intern(every_name[i]) for i in frame[np.sort(firsts)].tolist()], np.int32)
+        renumbered = np.empty(len(firsts), np.int32)
+        renumbered[np.argsort(firsts, kind="stable")] = ids
         stamp = np.concatenate([p.stamp for p in pieces])[order]
-        frame = np.concatenate(frames)[order]
-        merged.append(StampedMessages(topic, pieces[0].type, record_time[order], stamp, frame, names.names))
+        merged.append(
+            StampedMessages(topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names)
+        )
     return merged

@@ -13,7 +13,6 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.bag.clock import ClockParts
 from tftools.sources.bag.rows import Channel, Rows
 from tftools.sources.bag.spans import Spans
-from tftools.sources.codecs.gather import first_and_inverse
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.contents import ClockSamples, StampedMessages
@@ -224,23 +223,18 @@ class MessageSet:
 
     def _stamped(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[StampedMessages]:
         """The headers read, per topic in record order (one for every topic read so, even without
-        any), each with the frame_ids its own messages name, as they first come."""
+        any), their frames ids of every frame name of the file."""
         headed = [c for c in self.channels if isinstance(c.codec, HeaderCodec)]
-        if not headed:
-            return []
-        names = self._rows.frames.names
         parts = self._headers or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int32))]
         ids, stamps, frames = (np.concatenate(column) for column in zip(*parts, strict=True))
         order = np.argsort(rank[ids], kind="stable")
         ids, stamps, frames = ids[order], stamps[order], frames[order]
         topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
         streams = []
-        for topic in sorted({c.topic for c in headed}):
+        for topic, type_name in dict((c.topic, c.codec.type_name) for c in headed).items():
             mine = topic_of == topic
-            frame, seen = _first_seen(frames[mine])
-            type_name = next(c.codec.type_name for c in headed if c.topic == topic)
-            frame_ids = [names[i] for i in seen.tolist()]
-            streams.append(StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frame, frame_ids))
+            names = self._rows.frames.names
+            streams.append(StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names))
         return streams
 
     def _problems(self, channel_of: Int32Array, rank: Int64Array) -> list[str]:
@@ -281,13 +275,6 @@ def _copied(data: bytes | memoryview, starts: Int64Array, lengths: Int64Array) -
     view = memoryview(data)
     joined = b"".join([view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)])
     return joined, np.cumsum(lengths) - lengths
-
-
-def _first_seen(values: Int32Array) -> tuple[Int32Array, Int32Array]:
-    """Each value's index among the distinct values in the order they first come, and those values."""
-    firsts, inverse = first_and_inverse(values)
-    seen = np.argsort(firsts, kind="stable")
-    return np.argsort(seen).astype(np.int32)[inverse], values[firsts[seen]]
 
 
 def _rank(times: Int64Array, ties: Int64Array, positions: Int64Array) -> Int64Array:
