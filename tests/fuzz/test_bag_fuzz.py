@@ -163,7 +163,7 @@ def test_tf_decoders_on_any_payload(key: tuple[str, str]) -> None:
         messages = MessageSet()
         channel = messages.channel("/tf", codec)
         messages.add(channel, np.arange(len(payloads)), np.arange(len(payloads)), payloads)
-        _, _, problems = messages.decode()
+        _, _, _, problems = messages.decode()
         assert all("\n" not in p for p in problems)
 
     check()

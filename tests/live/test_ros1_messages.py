@@ -11,7 +11,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.codecs.decoded import message_batch, message_clock
-from tftools.sources.codecs.ros1 import decode_clocks, decode_tf, encode_clock, encode_tf_message
+from tftools.sources.codecs.ros1 import decode_clocks, decode_tf, encode_tf_message
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, ros1_message_type
 from tftools.sources.live.ros1 import tcpros
 
@@ -86,12 +86,11 @@ def test_a_truncated_message_is_refused(store) -> None:
             message_batch(decode_tf, data[:cut], static=False, authority="", record_time=0)
 
 
-def test_clock_round_trip_and_rosbags(store) -> None:
+def test_clock_decodes_as_rosbags_wrote_it(store) -> None:
     now = 1_700_000_123_456_789_012
     t = store.types
     message = t[CLOCK](clock=t["builtin_interfaces/msg/Time"](sec=now // NS_PER_S, nanosec=now % NS_PER_S))
-    assert encode_clock(now) == bytes(store.serialize_ros1(message, CLOCK))
-    assert message_clock(decode_clocks, encode_clock(now)) == now
+    assert message_clock(decode_clocks, bytes(store.serialize_ros1(message, CLOCK))) == now
 
 
 def test_md5sums_are_noetics() -> None:

@@ -34,7 +34,7 @@ def decode(payloads: list[bytes], key: tuple[str, str]) -> tuple[dict[int, list[
     channel = messages.channel("/tf", CODECS[key])
     numbers = list(range(len(payloads)))
     messages.add(channel, numbers, numbers, payloads)
-    batch, _, problems = messages.decode()
+    batch, _, _, problems = messages.decode()
     rows: dict[int, list[Any]] = {}
     for row in batch_rows(batch):
         rows.setdefault(row[6], []).append(row[:5])

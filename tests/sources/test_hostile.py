@@ -97,7 +97,7 @@ def test_message_compressed_db3_bomb_loses_that_message(tmp_path: Path, monkeypa
     from tftools.sources.bag.rosbag2 import db3
 
     scan = db3.scan(bag, ("/tf",), lambda _a, _b: None, MessageSet())
-    _, _, lost = scan.messages.decode()
+    _, _, _, lost = scan.messages.decode()
     assert lost and "could not be decompressed" in lost[0] and "4 MiB a piece" in lost[0]
 
 

@@ -27,7 +27,7 @@ from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.contents import StampedMessages
 
 #: A time that never comes.
 NEVER = np.iinfo(np.int64).max

@@ -24,7 +24,7 @@ from tftools.analysis.timelines import (
 from tftools.analysis.wtf import Thresholds, check
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, format_sec, from_sec
-from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording
 from tftools.sources.timeline import EPOCH_FLOOR, Reference
 

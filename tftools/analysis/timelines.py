@@ -20,7 +20,7 @@ from tftools.core.arrays import FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.contents import StampedMessages
 from tftools.sources.timeline import Timeline
 
 #: The axis is cut into at most this many bins, each at least ``FINEST_BIN`` long.

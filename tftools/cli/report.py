@@ -33,7 +33,7 @@ from tftools.render.files import write_atomically
 from tftools.render.graph import counted, recording_legend
 from tftools.render.report import Section, page, recording_section, unreadable_section
 from tftools.sources import Recording
-from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.contents import StampedMessages
 from tftools.sources.storage.locations import expand
 
 DEFAULT_OUTPUT = "report.html"

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
+from tftools.core.frames import Names
 
 
 @dataclass
@@ -91,10 +92,10 @@ class BatchBuilder:
     """
 
     def __init__(self) -> None:
-        self.frame_names: list[str] = []
-        self.authorities: list[str] = []
-        self._frame_ids: dict[str, int] = {}
-        self._authority_ids: dict[str, int] = {}
+        self._frames = Names()
+        self._authorities = Names()
+        self.frame_names = self._frames.names
+        self.authorities = self._authorities.names
         self._clear()
 
     def _clear(self) -> None:
@@ -108,20 +109,6 @@ class BatchBuilder:
     def __len__(self) -> int:
         return len(self._stamps)
 
-    def frame_id(self, name: str) -> int:
-        index = self._frame_ids.get(name)
-        if index is None:
-            index = self._frame_ids[name] = len(self.frame_names)
-            self.frame_names.append(name)
-        return index
-
-    def authority_id(self, name: str) -> int:
-        index = self._authority_ids.get(name)
-        if index is None:
-            index = self._authority_ids[name] = len(self.authorities)
-            self.authorities.append(name)
-        return index
-
     def add(
         self,
         parent: str,
@@ -134,12 +121,12 @@ class BatchBuilder:
         record_time: int = 0,
         authority: str = "",
     ) -> None:
-        self._ids += (self.frame_id(parent), self.frame_id(child))
+        self._ids += (self._frames.intern(parent), self._frames.intern(child))
         self._stamps.append(stamp)
         self._values += (*translation, *rotation)
         self._static.append(static)
         self._record.append(record_time)
-        self._authority.append(self.authority_id(authority))
+        self._authority.append(self._authorities.intern(authority))
 
     def take(self) -> TransformBatch:
         """The rows added since the last ``take``, as a batch."""
@@ -168,18 +155,17 @@ def concat_batches(batches: Sequence[TransformBatch]) -> TransformBatch:
         return TransformBatch.empty()
     if len(batches) == 1:
         return batches[0]
-    frame_index: dict[str, int] = {}
-    authority_index: dict[str, int] = {}
+    frames, authorities = Names(), Names()
     parents, children, auths = [], [], []
     for b in batches:
-        fmap = np.array([frame_index.setdefault(n, len(frame_index)) for n in b.frame_names] or [0], np.int32)
-        amap = np.array([authority_index.setdefault(n, len(authority_index)) for n in b.authorities] or [0], np.int32)
+        fmap = np.array([frames.intern(n) for n in b.frame_names] or [0], np.int32)
+        amap = np.array([authorities.intern(n) for n in b.authorities] or [0], np.int32)
         parents.append(fmap[b.parent])
         children.append(fmap[b.child])
         auths.append(amap[b.authority])
     return TransformBatch(
-        frame_names=list(frame_index),
-        authorities=list(authority_index),
+        frame_names=frames.names,
+        authorities=authorities.names,
         parent=np.concatenate(parents),
         child=np.concatenate(children),
         stamp=np.concatenate([b.stamp for b in batches]),

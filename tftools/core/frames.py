@@ -1,28 +1,38 @@
-"""``FrameTable``: frame names interned as integer ids, in tf2's order."""
+"""``Names``: names interned as integer ids, the one interning of frames and authorities; ``FrameTable``,
+tf2's, whose ids start at 1."""
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 #: Id 0 is tf2's "no parent": a frame's parent is never 0.
 NO_PARENT = 0
 
 
-class FrameTable:
-    """Names to ids and back. Ids start at 1 and follow first insertion, as tf2's do."""
+class Names:
+    """Names to ids and back: ids follow first insertion, after the ``reserved`` names (never interned)."""
 
-    def __init__(self) -> None:
+    def __init__(self, reserved: Sequence[str] = ()) -> None:
         self._ids: dict[str, int] = {}
-        self.names: list[str] = ["NO_PARENT"]
+        self.names: list[str] = list(reserved)
 
     def __contains__(self, name: object) -> bool:
         return name in self._ids
 
+    def intern(self, name: str) -> int:
+        index = self._ids.get(name)
+        if index is None:
+            index = self._ids[name] = len(self.names)
+            self.names.append(name)
+        return index
+
+
+class FrameTable(Names):
+    """Frame names to ids and back, as tf2 numbers them: from 1, 0 being ``NO_PARENT``."""
+
+    def __init__(self) -> None:
+        super().__init__(["NO_PARENT"])
+
     def get(self, name: str) -> int:
         """The id of ``name``, or ``NO_PARENT`` if unknown."""
         return self._ids.get(name, NO_PARENT)
-
-    def intern(self, name: str) -> int:
-        frame_id = self._ids.get(name)
-        if frame_id is None:
-            frame_id = self._ids[name] = len(self.names)
-            self.names.append(name)
-        return frame_id

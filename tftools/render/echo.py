@@ -25,10 +25,7 @@ CSV_COLUMNS = (
 
 def write_text(series: EchoSeries, out: IO[str], precision: int = 3, matrix: bool = False) -> None:
     """What tf_echo prints for each time: the transform, or the failure and tf2's reason."""
-    for row in range(len(series)):
-        if not series.valid[row]:
-            _failure(series, row, out)
-            continue
+    for row in _lookups(series, out):
         f = f".{precision}f"
         t, q, rpy = series.translations[row], series.rotations[row], series.rpy[row]
         deg = [math.degrees(a) for a in rpy]
@@ -44,11 +41,6 @@ def write_text(series: EchoSeries, out: IO[str], precision: int = 3, matrix: boo
                 out.write("  " + " ".join(f"{v:{f}}" for v in line) + "\n")
 
 
-def _failure(series: EchoSeries, row: int, out: IO[str]) -> None:
-    out.write(f"Failure at {format_stamp(int(series.times[row]))}\n")
-    out.write(f"Exception thrown:{printable(str(series.errors[row]))}\n")
-
-
 def _exact(values: Iterable[float]) -> list[str]:
     """Each number as Python's shortest text that reads back to the same double."""
     return [repr(float(v)) for v in values]
@@ -58,24 +50,28 @@ def write_static(series: EchoSeries, out: IO[str]) -> None:
     """For each lookup, the static_transform_publisher command lines that publish it: ROS 1's
     (x y z qx qy qz qw frame child) and ROS 2's (--x ... --frame-id ... --child-frame-id ...)."""
     parent, child = printable(shlex.quote(series.target)), printable(shlex.quote(series.source))
-    for row in range(len(series)):
-        if not series.valid[row]:
-            _failure(series, row, out)
-            continue
+    for row in _lookups(series, out):
         values = _exact([*series.translations[row], *series.rotations[row]])
         out.write(f"rosrun tf2_ros static_transform_publisher {' '.join(values)} {parent} {child}\n")
         flags = " ".join(f"--{k} {v}" for k, v in zip(("x", "y", "z", "qx", "qy", "qz", "qw"), values, strict=True))
         out.write(f"ros2 run tf2_ros static_transform_publisher {flags} --frame-id {parent} --child-frame-id {child}\n")
 
 
+def _lookups(series: EchoSeries, out: IO[str]) -> Iterator[int]:
+    """The rows of the lookups that succeeded; for each failed one, what tf_echo prints is written."""
+    for row in range(len(series)):
+        if series.valid[row]:
+            yield row
+        else:
+            out.write(f"Failure at {format_stamp(int(series.times[row]))}\n")
+            out.write(f"Exception thrown:{printable(str(series.errors[row]))}\n")
+
+
 def write_urdf(series: EchoSeries, out: IO[str]) -> None:
     """For each lookup, a fixed URDF joint from the target link to the source link: its ``<origin>``'s
     ``rpy`` is URDF's (fixed-axis roll about x, then pitch about y, then yaw about z, radians)."""
     parent, child = printable(series.target), printable(series.source)
-    for row in range(len(series)):
-        if not series.valid[row]:
-            _failure(series, row, out)
-            continue
+    for row in _lookups(series, out):
         xyz, rpy = " ".join(_exact(series.translations[row])), " ".join(_exact(series.rpy[row]))
         out.write(f'<joint name={quoteattr(f"{parent}_to_{child}")} type="fixed">\n')
         out.write(f"  <parent link={quoteattr(parent)}/>\n  <child link={quoteattr(child)}/>\n")
@@ -85,10 +81,7 @@ def write_urdf(series: EchoSeries, out: IO[str]) -> None:
 def write_yaml(series: EchoSeries, out: IO[str]) -> None:
     """For each lookup, an entry of a ``tfx static --from`` file: frames, translation, quaternion."""
     parent, child = (printable(json.dumps(n, ensure_ascii=False)) for n in (series.target, series.source))
-    for row in range(len(series)):
-        if not series.valid[row]:
-            _failure(series, row, out)
-            continue
+    for row in _lookups(series, out):
         translation, rotation = ", ".join(_exact(series.translations[row])), ", ".join(_exact(series.rotations[row]))
         out.write(
             f"- {{frame_id: {parent}, child_frame_id: {child}, translation: [{translation}], rotation: [{rotation}]}}\n"

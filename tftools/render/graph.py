@@ -21,8 +21,6 @@ from tftools.sources.timeline import Reference
 
 #: The first line of every dot source tfx writes, to recognise its own files.
 SIGNATURE = "tfx view-frames"
-FORMATS = ("pdf", "svg", "png", "dot")
-RANKDIRS = ("TB", "LR", "BT", "RL")
 
 #: Problems in the legend wrap at this many characters, and stop after this many lines (tfx wtf says all).
 MESSAGE_WIDTH = 110

@@ -1,16 +1,20 @@
-"""What a recording holds and where it came from (files, a live system or a buffer), and tf's topics."""
+"""What a recording holds and where it came from (files, a live system or a buffer), its sensor data's
+headers, and tf's topics."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from tftools.core.arrays import Int64Array
+from tftools.core.arrays import Int32Array, Int64Array
 from tftools.core.batch import TransformBatch, concat_batches
 
 #: The topics read unless told otherwise.
 DEFAULT_TOPICS = ("/tf", "/tf_static")
+#: Topics never read as sensor data: the transforms and the clock themselves.
+NOT_SENSOR_DATA = frozenset({*DEFAULT_TOPICS, "/clock"})
 
 
 def is_static_topic(topic: str) -> bool:
@@ -29,6 +33,21 @@ class ClockSamples:
     @classmethod
     def empty(cls) -> ClockSamples:
         return cls("", np.zeros(0, np.int64), np.zeros(0, np.int64))
+
+    def __len__(self) -> int:
+        return len(self.record_time)
+
+
+@dataclass(frozen=True)
+class StampedMessages:
+    """One topic's messages with a header: when each arrived, its stamp and frame (index into ``frame_ids``)."""
+
+    topic: str
+    type: str
+    record_time: Int64Array
+    stamp: Int64Array
+    frame: Int32Array
+    frame_ids: Sequence[str]
 
     def __len__(self) -> int:
         return len(self.record_time)
@@ -77,6 +96,7 @@ class SourceInfo:
     unread: list[str] = field(default_factory=list)
     clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # this source's /clock
     fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
+    stamped: list[StampedMessages] = field(default_factory=list, repr=False, compare=False)  # headers read
 
     @property
     def live(self) -> bool:

@@ -5,30 +5,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from itertools import groupby
 
 import numpy as np
-import numpy.typing as npt
 
-from tftools.sources.codecs.wire import Header
-from tftools.sources.contents import DEFAULT_TOPICS
-
-#: Topics never read as sensor data: the transforms and the clock themselves.
-NOT_SENSOR_DATA = frozenset({*DEFAULT_TOPICS, "/clock"})
-
-
-@dataclass(frozen=True)
-class StampedMessages:
-    """One topic's messages with a header: when each arrived, its stamp and frame (index into ``frame_ids``)."""
-
-    topic: str
-    type: str
-    record_time: npt.NDArray[np.int64]
-    stamp: npt.NDArray[np.int64]
-    frame: npt.NDArray[np.int32]
-    frame_ids: Sequence[str]
-
-    def __len__(self) -> int:
-        return len(self.record_time)
+from tftools.core.frames import Names
+from tftools.sources.codecs.decoded import Header
+from tftools.sources.codecs.gather import first_and_inverse
+from tftools.sources.contents import StampedMessages
 
 
 @dataclass(frozen=True)
@@ -48,7 +32,7 @@ class HeaderCollector:
     record_time: list[int] = field(default_factory=list)
     stamp: list[int] = field(default_factory=list)
     frame: list[int] = field(default_factory=list)
-    frame_ids: dict[str, int] = field(default_factory=dict)
+    frame_ids: Names = field(default_factory=Names)
     damaged: int = 0
     left_out: int = 0
 
@@ -62,7 +46,7 @@ class HeaderCollector:
             stamp, frame_id = header
             self.record_time.append(record_time)
             self.stamp.append(stamp)
-            self.frame.append(self.frame_ids.setdefault(frame_id, len(self.frame_ids)))
+            self.frame.append(self.frame_ids.intern(frame_id))
 
     def problems(self, topic: str) -> list[str]:
         """What was not kept of the topic, in a line each."""
@@ -84,5 +68,28 @@ class HeaderCollector:
             np.array(self.record_time, np.int64)[order],
             np.array(self.stamp, np.int64)[order],
             np.array(self.frame, np.int32)[order],
-            list(self.frame_ids),
+            list(self.frame_ids.names),
         )
+
+
+def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:
+    """One stream per topic of several (a split recording's files), in topic order, each in record
+    time order (ties keep their order) and naming only its messages' frames, as they first come."""
+    merged = []
+    for topic, parts in groupby(sorted(streams, key=lambda s: s.topic), key=lambda s: s.topic):
+        pieces = list(parts)
+        record_time = np.concatenate([p.record_time for p in pieces])
+        order = np.argsort(record_time, kind="stable")
+        offsets = np.cumsum([0] + [len(p.frame_ids) for p in pieces]).tolist()
+        frame = np.concatenate([p.frame + offset for p, offset in zip(pieces, offsets, strict=False)])[order]
+        every_name = [name for p in pieces for name in p.frame_ids]
+        firsts, inverse = first_and_inverse(frame)
+        names = Names()
+        ids = np.array([names.intern(every_name[i]) for i in frame[np.sort(firsts)].tolist()], np.int32)
+        renumbered = np.empty(len(firsts), np.int32)
+        renumbered[np.argsort(firsts, kind="stable")] = ids
+        stamp = np.concatenate([p.stamp for p in pieces])[order]
+        merged.append(
+            StampedMessages(topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names)
+        )
+    return merged

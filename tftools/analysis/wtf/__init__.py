@@ -22,7 +22,7 @@ from tftools.analysis.wtf.registry import CHECKS, Check, CheckSkippedError, skip
 from tftools.analysis.wtf.scene import Scene
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.buffer import Buffer
-from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording, recording_of_buffer
 
 __all__ = ["CHECKS", "Check", "CheckSkippedError", "Finding", "Severity", "Thresholds", "check"]

@@ -14,8 +14,8 @@ from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.sources.bag import ProgressCallback
-from tftools.sources.bag.stamped import StampedMessages, read_stamped
-from tftools.sources.contents import Fetched
+from tftools.sources.bag.stamped import read_stamped
+from tftools.sources.contents import Fetched, StampedMessages
 from tftools.sources.recording import Recording, read_recording
 
 

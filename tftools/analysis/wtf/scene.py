@@ -19,7 +19,7 @@ from tftools.core.batch import TransformBatch
 from tftools.core.buffer import QUATERNION_TOLERANCE
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S, from_sec
-from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording
 from tftools.sources.timeline import Timeline
 

@@ -41,9 +41,7 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
             f"off by more than {ROSWTF_NORM_TOLERANCE:g}",
             (rows.names[parent], rows.names[child]),
             scene.authorities_of(mine),
-            int(rows.stamp[mine].min()),
-            int(rows.stamp[mine].max()),
-            len(mine),
+            *_shown_in(scene, mine),
         )
 
 
@@ -85,9 +83,7 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
         "tf2 drops them (TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION), so lookups miss these updates: " + "; ".join(hints),
         tuple(f for f in (parent, child) if f),
         who,
-        int(rows.stamp[mine].min()),
-        int(rows.stamp[mine].max()),
-        len(mine),
+        *_shown_in(scene, mine),
     )
 
 
@@ -110,10 +106,14 @@ def self_transform(scene: Scene) -> Iterator[Finding]:
             "different frames (a name with and without a leading '/' is the same frame)",
             (frame,),
             who,
-            int(rows.stamp[mine].min()),
-            int(rows.stamp[mine].max()),
-            len(mine),
+            *_shown_in(scene, mine),
         )
+
+
+def _shown_in(scene: Scene, mine: IntpArray) -> tuple[int, int, int]:
+    """A finding's first and last stamps and count: of the transforms ``mine``."""
+    stamps = scene.rows.stamp[mine]
+    return int(stamps.min()), int(stamps.max()), len(mine)
 
 
 def _raw_pairs(scene: Scene, mine: IntpArray) -> set[tuple[int, int]]:
@@ -145,9 +145,7 @@ def empty_frame_id(scene: Scene) -> Iterator[Finding]:
                 "config is the usual cause)",
                 (named,) if named else (),
                 who,
-                int(rows.stamp[mine].min()),
-                int(rows.stamp[mine].max()),
-                len(mine),
+                *_shown_in(scene, mine),
             )
 
 
@@ -179,7 +177,5 @@ def leading_slash(scene: Scene) -> Iterator[Finding]:
             "(tf_prefix is gone since ROS Hydro)",
             tuple(n[1:] for n in names),
             who,
-            int(rows.stamp[mine].min()),
-            int(rows.stamp[mine].max()),
-            len(mine),
+            *_shown_in(scene, mine),
         )

@@ -5,9 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-import numpy.typing as npt
 
-from tftools.core.arrays import Int64Array as IntArray
+from tftools.core.arrays import Int32Array, Int64Array
 from tftools.sources.bag.contents import merged_clock
 from tftools.sources.contents import ClockSamples
 
@@ -16,19 +15,19 @@ class ClockParts:
     """The decoded clock messages of one file, channel by channel, until made samples."""
 
     def __init__(self) -> None:
-        self._channel: list[npt.NDArray[np.int32]] = []
-        self._time: list[IntArray] = []
-        self._position: list[IntArray] = []  # orders messages of equal record time
-        self._value: list[IntArray] = []
+        self._channel: list[Int32Array] = []
+        self._time: list[Int64Array] = []
+        self._position: list[Int64Array] = []  # orders messages of equal record time
+        self._value: list[Int64Array] = []
 
-    def add(self, channel: npt.NDArray[np.int32], record_time: IntArray, position: IntArray, value: IntArray) -> None:
+    def add(self, channel: Int32Array, record_time: Int64Array, position: Int64Array, value: Int64Array) -> None:
         if len(value):
             self._channel.append(channel)
             self._time.append(record_time)
             self._position.append(position)
             self._value.append(value)
 
-    def channels(self) -> npt.NDArray[np.int32]:
+    def channels(self) -> Int32Array:
         """The channel of every message kept."""
         return np.concatenate(self._channel) if self._channel else np.zeros(0, np.int32)
 
@@ -50,6 +49,6 @@ class ClockParts:
         return merged_clock(found)
 
 
-def _in_order(time: IntArray, position: IntArray) -> bool:
+def _in_order(time: Int64Array, position: Int64Array) -> bool:
     step = np.diff(time)
     return bool(np.all((step > 0) | ((step == 0) & (np.diff(position) > 0))))

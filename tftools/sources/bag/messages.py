@@ -1,4 +1,5 @@
-"""``MessageSet``: a file's transform and clock messages, whatever its format, decoded a few megabytes at a time."""
+"""``MessageSet``: a file's transform, clock and stamped messages, whatever its format, decoded a few
+megabytes at a time."""
 
 from __future__ import annotations
 
@@ -6,16 +7,15 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
-from tftools.core.arrays import Int32Array, UInt8Array
-from tftools.core.arrays import Int64Array as IntArray
+from tftools.core.arrays import BoolArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.clock import ClockParts
 from tftools.sources.bag.rows import Channel, Rows
 from tftools.sources.bag.spans import Spans
-from tftools.sources.codecs.select import ClockCodec, Codec
-from tftools.sources.contents import ClockSamples
+from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec
+from tftools.sources.codecs.wire import HEADER_BYTES
+from tftools.sources.contents import ClockSamples, StampedMessages
 
 ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
@@ -30,17 +30,17 @@ class _Group:
     their message numbers."""
 
     pieces: list[bytes] = field(default_factory=list)
-    starts: list[IntArray] = field(default_factory=list)
-    lengths: list[IntArray] = field(default_factory=list)
-    ids: list[IntArray] = field(default_factory=list)
+    starts: list[Int64Array] = field(default_factory=list)
+    lengths: list[Int64Array] = field(default_factory=list)
+    ids: list[Int64Array] = field(default_factory=list)
 
-    def add(self, piece: bytes, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
+    def add(self, piece: bytes, starts: Int64Array, lengths: Int64Array, ids: Int64Array) -> None:
         self.pieces.append(piece)
         self.starts.append(starts)
         self.lengths.append(lengths)
         self.ids.append(ids)
 
-    def joined(self) -> tuple[UInt8Array, IntArray, IntArray, IntArray]:
+    def joined(self) -> tuple[UInt8Array, Int64Array, Int64Array, Int64Array]:
         """All the bytes (the pieces let go), each payload's start and length in them, and its
         message number."""
         bases = np.cumsum([0] + [len(p) for p in self.pieces[:-1]])
@@ -51,7 +51,7 @@ class _Group:
 
 
 class MessageSet:
-    """The transform and clock messages of one file, added in any order; ``decode`` puts them in
+    """The transform, clock and stamped messages of one file, added in any order; ``decode`` puts them in
     record time order, ties in channel ``tie`` then ``position`` order (their order in the file).
 
     Payloads are decoded by their codecs a few megabytes at a time as they are added, so that
@@ -63,17 +63,18 @@ class MessageSet:
         self.unpack = unpack  # applied to every payload first, e.g. decompression
         self.channels: list[Channel] = []
         self._channel_ids: dict[Channel, int] = {}
-        self._codecs: list[Codec | ClockCodec] = []
+        self._codecs: list[AnyCodec] = []
         self._codec_of: list[int] = []  # per channel: its codec's number
-        self._times: list[IntArray] = []
-        self._positions: list[IntArray] = []
+        self._times: list[Int64Array] = []
+        self._positions: list[Int64Array] = []
         self._channel_of: list[Int32Array] = []
         self._groups: dict[int, _Group] = {}
         self._unpack_failed: dict[int, list[str]] = {}
         self._pending_bytes = 0
         self._rows = Rows(self.channels)
         self._failed: Failures = []
-        self._clocks: list[tuple[IntArray, IntArray]] = []  # message numbers and clock values
+        self._clocks: list[tuple[Int64Array, Int64Array]] = []  # message numbers and clock values
+        self._headers: list[tuple[Int64Array, Int64Array, Int32Array]] = []  # message numbers, stamps, frames
         self.count = 0
 
     def emptied(self) -> MessageSet:
@@ -83,7 +84,7 @@ class MessageSet:
             fresh.channel(c.topic, c.codec, publisher=c.publisher, tie=c.tie)
         return fresh
 
-    def channel(self, topic: str, codec: Codec | ClockCodec, *, publisher: str = "", tie: int = 0) -> int:
+    def channel(self, topic: str, codec: AnyCodec, *, publisher: str = "", tie: int = 0) -> int:
         """The number of the channel ``topic`` decoded with ``codec`` (see ``Channel``), to ``add``
         messages to."""
         key = Channel(topic, codec, publisher, tie)
@@ -98,8 +99,8 @@ class MessageSet:
     def add(
         self,
         channel: ChannelIds,
-        record_times: IntArray | Sequence[int],
-        positions: IntArray | Sequence[int],
+        record_times: Int64Array | Sequence[int],
+        positions: Int64Array | Sequence[int],
         payloads: Sequence[bytes | memoryview],
     ) -> None:
         """Messages of one channel (an int) or of several (one channel number per message)."""
@@ -108,6 +109,11 @@ class MessageSet:
         if self.unpack is not None:
             payloads, unpacked = self._unpacked(channels, payloads)
             channels, times, where = channels[unpacked], times[unpacked], where[unpacked]
+        headed = np.array([isinstance(c, HeaderCodec) for c in self._codecs], bool)[self._codec_of][channels]
+        if headed.any():  # of stamped messages, only the bytes that may hold their header are joined
+            payloads = [
+                memoryview(p)[:HEADER_BYTES] if h else p for p, h in zip(payloads, headed.tolist(), strict=True)
+            ]
         lengths = np.fromiter(map(len, payloads), np.int64, len(payloads))
         self._add_joined(channels, times, where, b"".join(payloads), np.cumsum(lengths) - lengths, lengths)
 
@@ -126,11 +132,11 @@ class MessageSet:
     def _add_joined(
         self,
         channels: Int32Array,
-        times: IntArray,
-        where: IntArray,
+        times: Int64Array,
+        where: Int64Array,
         data: bytes | memoryview,
-        starts: IntArray,
-        lengths: IntArray,
+        starts: Int64Array,
+        lengths: Int64Array,
     ) -> None:
         """Group the payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec."""
         if not len(starts):
@@ -143,13 +149,18 @@ class MessageSet:
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
 
-    def _group(self, codec: int, data: bytes | memoryview, starts: IntArray, lengths: IntArray, ids: IntArray) -> None:
-        """Copy the payloads of one codec out of ``data``, into its group."""
+    def _group(
+        self, codec: int, data: bytes | memoryview, starts: Int64Array, lengths: Int64Array, ids: Int64Array
+    ) -> None:
+        """Copy the payloads of one codec out of ``data``, into its group: of stamped messages, only
+        the bytes that may hold their header."""
+        if isinstance(self._codecs[codec], HeaderCodec):
+            lengths = np.minimum(lengths, HEADER_BYTES)
         piece, at = _copied(data, starts, lengths)
         self._groups.setdefault(codec, _Group()).add(piece, at, lengths, ids)
         self._pending_bytes += 2 * len(piece)  # counted twice: decoding takes as much again
 
-    def _numbered(self, channels: Int32Array, times: IntArray, where: IntArray) -> IntArray:
+    def _numbered(self, channels: Int32Array, times: Int64Array, where: Int64Array) -> Int64Array:
         """Note the messages' channels, record times and positions; their message numbers."""
         n = len(channels)
         ids = np.arange(self.count, self.count + n, dtype=np.int64)
@@ -159,9 +170,7 @@ class MessageSet:
         self.count += n
         return ids
 
-    def _unpacked(
-        self, channels: Int32Array, payloads: Sequence[bytes | memoryview]
-    ) -> tuple[list[bytes], npt.NDArray[np.bool_]]:
+    def _unpacked(self, channels: Int32Array, payloads: Sequence[bytes | memoryview]) -> tuple[list[bytes], BoolArray]:
         """The payloads that could be unpacked, and which ones they are; the others are noted."""
         assert self.unpack is not None
         kept: list[bytes] = []
@@ -184,6 +193,10 @@ class MessageSet:
             if isinstance(codec, ClockCodec):
                 rows, values, failures = codec.decode(raw, starts, lengths)
                 self._clocks.append((ids[rows], values))
+            elif isinstance(codec, HeaderCodec):
+                headers = codec.decode(raw, starts, lengths, self._rows.frames)
+                self._headers.append((ids[headers.message], headers.stamp, headers.frame))
+                failures = headers.failures
             else:
                 decoded = codec.decode(raw, starts, lengths, self._rows.frames)
                 self._rows.add_rows(ids[decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values)
@@ -192,9 +205,9 @@ class MessageSet:
         self._rows.settle()
         self._pending_bytes = 0
 
-    def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[str]]:
-        """Every transform in record-time order, in consecutive batches; the clock; a line per
-        topic with lost messages."""
+    def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[StampedMessages], list[str]]:
+        """Every transform in record-time order, in consecutive batches; the clock; the headers of
+        each topic read so; a line per topic with lost messages."""
         self._decode_groups()
         times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
         channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
@@ -205,9 +218,26 @@ class MessageSet:
             clock.add(channel_of[ids], times[ids], rank[ids], values)
         topics = [c.topic for c in self.channels]
         batches = self._rows.batches(times, channel_of, rank)
-        return batches, clock.samples(topics), self._problems(channel_of, rank)
+        stamped = self._stamped(times, channel_of, rank)
+        return batches, clock.samples(topics), stamped, self._problems(channel_of, rank)
 
-    def _problems(self, channel_of: Int32Array, rank: IntArray) -> list[str]:
+    def _stamped(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[StampedMessages]:
+        """The headers read, per topic in record order (one for every topic read so, even without
+        any), their frames ids of every frame name of the file."""
+        headed = [c for c in self.channels if isinstance(c.codec, HeaderCodec)]
+        parts = self._headers or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int32))]
+        ids, stamps, frames = (np.concatenate(column) for column in zip(*parts, strict=True))
+        order = np.argsort(rank[ids], kind="stable")
+        ids, stamps, frames = ids[order], stamps[order], frames[order]
+        topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
+        streams = []
+        for topic, type_name in dict((c.topic, c.codec.type_name) for c in headed).items():
+            mine = topic_of == topic
+            names = self._rows.frames.names
+            streams.append(StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names))
+        return streams
+
+    def _problems(self, channel_of: Int32Array, rank: Int64Array) -> list[str]:
         """A line per topic and codec with messages that could not be decompressed, and one with
         messages that could not be decoded (its first in record order named)."""
         totals: dict[tuple[str, str], int] = {}
@@ -237,7 +267,7 @@ class MessageSet:
         return self.channels[channel].topic, self.channels[channel].codec.name
 
 
-def _copied(data: bytes | memoryview, starts: IntArray, lengths: IntArray) -> tuple[bytes, IntArray]:
+def _copied(data: bytes | memoryview, starts: Int64Array, lengths: Int64Array) -> tuple[bytes, Int64Array]:
     """The payloads of every length at ``starts``: a copy of ``data`` whole when they are most of
     it, else of them one after the other; and where each begins in it."""
     if 2 * int(lengths.sum()) >= len(data):
@@ -247,7 +277,7 @@ def _copied(data: bytes | memoryview, starts: IntArray, lengths: IntArray) -> tu
     return joined, np.cumsum(lengths) - lengths
 
 
-def _rank(times: IntArray, ties: IntArray, positions: IntArray) -> IntArray:
+def _rank(times: Int64Array, ties: Int64Array, positions: Int64Array) -> Int64Array:
     """Each message's place in (record time, tie, position) order."""
     if not len(times):
         return np.zeros(0, np.int64)

@@ -11,18 +11,14 @@ import os
 from contextlib import suppress
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.sources.storage.copies import copy_of
-
-IntArray = npt.NDArray[np.int64]
 
 MAX_GAP = 16 << 10  # bytes between two wanted ranges read along with them: cheaper than one more read
 
 
-def read_ranges(
-    fd: int, starts: IntArray, ends: IntArray
-) -> tuple[npt.NDArray[np.uint8], IntArray, npt.NDArray[np.bool_]]:
+def read_ranges(fd: int, starts: Int64Array, ends: Int64Array) -> tuple[UInt8Array, Int64Array, BoolArray]:
     """The file's bytes ``starts[i]:ends[i]``, read in runs (ranges closer than ``MAX_GAP`` share
     one read): the runs' bytes, where each range begins in them, and whether it was read whole."""
     if not len(starts):
@@ -52,7 +48,7 @@ def read_ranges(
     return data, where, read
 
 
-def ahead(fd: int, starts: IntArray, ends: IntArray) -> None:
+def ahead(fd: int, starts: Int64Array, ends: Int64Array) -> None:
     """These byte ranges of the file will be read soon: a remote file's copy fetches them now, a
     local file's are read ahead (``prefetch``)."""
     copy = copy_of(fd)
@@ -69,7 +65,7 @@ def need(fd: int, start: int, end: int) -> None:
         copy.fill([start], [end])
 
 
-def prefetch(fd: int, starts: IntArray, ends: IntArray) -> None:
+def prefetch(fd: int, starts: Int64Array, ends: Int64Array) -> None:
     """Have the system start reading these byte ranges of the file, all at once: read one after the
     other, a file not in the page cache would cost a disk's latency per range."""
     if not hasattr(os, "posix_fadvise"):

@@ -41,6 +41,16 @@ def read_bag(
     as it goes, and what was lost is listed in its ``BagFileInfo.problems``.
     """
     chosen = tuple(topics) if topics else DEFAULT_TOPICS
+    batches, infos = read_files(paths, chosen, progress)
+    return BagContents(in_record_order(batches), infos, chosen, merged_clock([f.clock for f in infos]))
+
+
+def read_files(
+    paths: Sequence[str | os.PathLike[str]], topics: tuple[str, ...], progress: ProgressCallback | None = None
+) -> tuple[list[TransformBatch], list[BagFileInfo]]:
+    """Each file at ``paths`` (local or a URL) read by its format's reader for ``topics`` (a
+    ``HeaderTopics`` reads sensor data's headers into each ``BagFileInfo.stamped`` instead): the
+    batches of all, and one ``BagFileInfo`` per file."""
     with ExitStack() as stack:
         places = [_place(os.fspath(p), stack) for p in paths]
         readers = [(place, _format_reader(place)) for place in places]
@@ -56,13 +66,13 @@ def read_bag(
                 if progress is not None:
                     progress(offset + read, total)
 
-            file_batches, info = place.said(reader, chosen, file_progress)
+            file_batches, info = place.said(reader, topics, file_progress)
             batches.extend(file_batches)
             infos.append(info)
             done += size
             if progress is not None:
                 progress(done, total)
-    return BagContents(in_record_order(batches), infos, chosen, merged_clock([f.clock for f in infos]))
+    return batches, infos
 
 
 @dataclass

@@ -9,11 +9,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.arrays import FloatArray, Int32Array
-from tftools.core.arrays import Int64Array as IntArray
+from tftools.core.arrays import FloatArray, Int32Array, Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.codecs.decoded import FrameNames
-from tftools.sources.codecs.select import ClockCodec, Codec
+from tftools.sources.codecs.select import AnyCodec, Codec
 from tftools.sources.contents import is_static_topic
 
 Column = npt.NDArray[Any]
@@ -21,10 +20,10 @@ Column = npt.NDArray[Any]
 
 @dataclass(frozen=True)
 class Channel:
-    """A topic read with a codec (a clock's channel has no rows), as one publisher recorded it."""
+    """A topic read with a codec (a clock's or stamped messages' channel has no rows), as one publisher recorded it."""
 
     topic: str
-    codec: Codec | ClockCodec
+    codec: AnyCodec
     publisher: str = ""  # a ROS1 connection's callerid; "" when the recording does not say
     tie: int = 0  # messages of equal record time and channels of unequal ``tie``: the lower first
 
@@ -45,12 +44,12 @@ class Rows:
         self.channels = channels
         self.frames = FrameNames()
         self.parts: dict[str, list[Column]] = {name: [] for name in _COLUMNS}
-        self.messages: list[IntArray] = []  # of each part added since ``settle``: each row's message number
+        self.messages: list[Int64Array] = []  # of each part added since ``settle``: each row's message number
         #: Of each part settled: its messages, and how many rows each has there (8 bytes a row less).
-        self.runs: list[tuple[IntArray, IntArray]] = []
+        self.runs: list[tuple[Int64Array, Int64Array]] = []
 
     def add_rows(
-        self, message: IntArray, parent: Int32Array, child: Int32Array, stamp: IntArray, values: FloatArray
+        self, message: Int64Array, parent: Int32Array, child: Int32Array, stamp: Int64Array, values: FloatArray
     ) -> None:
         """Rows of frame ids in ``frames``: ``message`` being each one's message number."""
         self.messages.append(message)
@@ -73,7 +72,7 @@ class Rows:
         firsts = np.flatnonzero(np.diff(message, prepend=-1))
         self.runs.append((message[firsts], np.diff(np.append(firsts, len(message)))))
 
-    def batches(self, times: IntArray, channel_of: Int32Array, rank: IntArray) -> list[TransformBatch]:
+    def batches(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[TransformBatch]:
         """The rows in record order, given each message's record time, channel and place in
         that order: the parts as settled when they are in that order already, else one batch
         made column after column, each freed as it is taken (one is held twice at most)."""
@@ -87,7 +86,7 @@ class Rows:
         )
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
 
-        def batch(messages: IntArray, columns: dict[str, Column]) -> TransformBatch:
+        def batch(messages: Int64Array, columns: dict[str, Column]) -> TransformBatch:
             channel = channel_of[messages]
             return TransformBatch(
                 frame_names=self.frames.names,

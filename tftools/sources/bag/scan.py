@@ -10,12 +10,13 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.select import Unread, unread_lines
-from tftools.sources.contents import ClockSamples
+from tftools.sources.contents import ClockSamples, StampedMessages
+from tftools.sources.headers import merged
 
 
 @dataclass
 class FileScan:
-    """One file's transform and clock messages (undecoded) and description."""
+    """One file's transform, clock and stamped messages (undecoded) and description."""
 
     messages: MessageSet
     start: int = 0  # record times over every topic (ns)
@@ -50,11 +51,13 @@ def file_result(
     """
     batches: list[TransformBatch] = []
     clocks: list[ClockSamples] = []
+    stamped: list[StampedMessages] = []
     problems: list[str] = []
     for index, scan in enumerate(scans):
-        decoded, clock, undecodable = scan.messages.decode()
+        decoded, clock, headers, undecodable = scan.messages.decode()
         batches += decoded
         clocks.append(clock)
+        stamped += headers
         label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
         problems += [label + line for line in scan.problems + undecodable]
     batches = in_record_order(batches)
@@ -73,5 +76,6 @@ def file_result(
         problems=problems,
         unread=unread_lines([u for scan in scans for u in scan.skipped]),
         clock=merged_clock(clocks),
+        stamped=merged(stamped),
     )
     return batches, info

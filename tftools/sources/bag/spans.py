@@ -6,9 +6,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
 import numpy as np
-import numpy.typing as npt
 
-IntArray = npt.NDArray[np.int64]
+from tftools.core.arrays import BoolArray, Int64Array
 
 
 @dataclass
@@ -17,12 +16,12 @@ class Spans:
     and the bytes it spans. Those are first where its record lies in the file (its end: as far as
     it may reach), then in the bytes read, and once its header is read, where its payload lies."""
 
-    chunk: IntArray  # the ordinal of its chunk in the file
-    offset: IntArray  # where its record begins in its chunk's records
-    channel: IntArray  # as the format numbers them (a ROS1 connection, an MCAP channel id)
-    time: IntArray  # record time (ns)
-    start: IntArray
-    end: IntArray
+    chunk: Int64Array  # the ordinal of its chunk in the file
+    offset: Int64Array  # where its record begins in its chunk's records
+    channel: Int64Array  # as the format numbers them (a ROS1 connection, an MCAP channel id)
+    time: Int64Array  # record time (ns)
+    start: Int64Array
+    end: Int64Array
 
     @classmethod
     def empty(cls) -> Spans:
@@ -32,13 +31,13 @@ class Spans:
     def __len__(self) -> int:
         return len(self.start)
 
-    def rows(self, which: npt.NDArray[np.bool_] | IntArray) -> Spans:
+    def rows(self, which: BoolArray | Int64Array) -> Spans:
         return Spans(
             self.chunk[which], self.offset[which], self.channel[which],
             self.time[which], self.start[which], self.end[which],
         )  # fmt: skip
 
-    def looked_up(self, table: dict[int, int]) -> IntArray:
+    def looked_up(self, table: dict[int, int]) -> Int64Array:
         """Each row's ``table[channel]``, -1 where its channel is not in ``table``."""
         keys = np.array(sorted(table), np.int64)
         if not len(keys):
@@ -48,7 +47,7 @@ class Spans:
         return np.where(keys[at] == self.channel, values[at], -1)
 
     @property
-    def position(self) -> IntArray:
+    def position(self) -> Int64Array:
         """Each record's place in the file: orders the messages of equal record time."""
         return (self.chunk << 32) + self.offset
 
@@ -60,7 +59,7 @@ def joined(parts: Sequence[Spans]) -> Spans:
     return Spans(*(np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(Spans)))
 
 
-def bounded(spans: Spans, records_start: IntArray, records_end: IntArray) -> tuple[Spans, npt.NDArray[np.bool_]]:
+def bounded(spans: Spans, records_start: Int64Array, records_end: Int64Array) -> tuple[Spans, BoolArray]:
     """The records of chunks whose records lie at ``records_start[chunk]:records_end[chunk]`` of the
     file, as their index lists them (every record, of every channel): in file order, with the file
     range each may take, up to the next record indexed or the end of its chunk's records. Also

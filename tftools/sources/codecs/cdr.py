@@ -15,9 +15,9 @@ from collections.abc import Sequence
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import BytesLike, Clocks, Decoded, FrameNames
+from tftools.sources.codecs.decoded import Clocks, Decoded, FrameNames, Headers
 from tftools.sources.codecs.stepped import decode_transforms
-from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header
+from tftools.sources.codecs.wire import Wire, decode_times, read_headers
 
 WIRES = tuple(
     Wire(order, origin=4, align=align, seq=False, signed_sec=True, nul=True, exact=False, encapsulation=kind)
@@ -45,9 +45,9 @@ def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> C
     return decode_times(raw, starts, lengths, WIRES)
 
 
-def header(raw: BytesLike) -> Header | None:
-    """The header a CDR message starts with (after its encapsulation); None where it cannot be one."""
-    return parse_header(raw, WIRES)
+def decode_headers(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Headers:
+    """The headers CDR messages start with, as ``wire.read_headers`` reads them."""
+    return read_headers(raw, starts, lengths, frames, WIRES)
 
 
 def encode_tf_message(transforms: Sequence[Transform]) -> bytes:

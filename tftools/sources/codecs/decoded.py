@@ -11,10 +11,13 @@ import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
+from tftools.core.frames import Names
 from tftools.sources.codecs.gather import bytes_at, first_and_inverse, grouped
 
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
 BytesLike = bytes | memoryview | UInt8Array
+#: A message's header: its stamp (ns) and frame_id.
+Header = tuple[int, str]
 
 #: Names this few are interned one by one rather than told apart in bulk.
 _FEW_NAMES = 32
@@ -26,21 +29,11 @@ class DecodeError(ValueError):
     """A payload that is not a well-formed message of its type."""
 
 
-class FrameNames:
-    """Frame names interned once for a whole source: name -> index into ``names``."""
+class FrameNames(Names):
+    """Frame names interned once for a whole source, from decoded names or in bulk from the bytes
+    that hold them."""
 
-    def __init__(self) -> None:
-        self.names: list[str] = []
-        self.ids: dict[str, int] = {}
-
-    def id(self, name: str) -> int:
-        index = self.ids.get(name)
-        if index is None:
-            index = self.ids[name] = len(self.names)
-            self.names.append(name)
-        return index
-
-    def intern(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
+    def intern_all(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
         """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]``, and which are not UTF-8.
 
         Names of one length are told apart by their bytes: compared with the name before (equal
@@ -52,7 +45,7 @@ class FrameNames:
             found = []
             for start, length in zip(starts.tolist(), lengths.tolist(), strict=True):
                 try:
-                    found.append(self.id(str(data[start : start + length], "utf-8")))
+                    found.append(self.intern(str(data[start : start + length], "utf-8")))
                 except UnicodeDecodeError:
                     found.append(-1)
             few = np.array(found, np.int32)
@@ -67,7 +60,7 @@ class FrameNames:
             broken = np.zeros(len(firsts), bool)
             for i, row in enumerate(firsts.tolist()):
                 try:
-                    table[i] = self.id(words[row].tobytes()[:length].decode("utf-8"))
+                    table[i] = self.intern(words[row].tobytes()[:length].decode("utf-8"))
                 except UnicodeDecodeError:
                     broken[i] = True
             ids[rows] = table[inverse]
@@ -130,11 +123,26 @@ class Decoded:
 
 _COLUMNS = ("message", "parent", "child", "stamp", "values")
 
+
+@dataclass
+class Headers:
+    """The headers of decoded messages, in message order: ``message`` is each one's message (an index
+    into the payloads given), ``frame`` ids of a ``FrameNames``; ``failures`` the (message, reason)
+    of payloads that do not start with a header."""
+
+    message: Int64Array
+    stamp: Int64Array
+    frame: Int32Array
+    failures: list[tuple[int, str]]
+
+
 #: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.
 BulkDecoder = Callable[[UInt8Array, Int64Array, Int64Array, FrameNames], Decoded]
 #: Clocks of many payloads: the messages well-formed, their times (ns), and the (message, reason) of the others.
 Clocks = tuple[Int64Array, Int64Array, list[tuple[int, str]]]
 ClockDecoder = Callable[[UInt8Array, Int64Array, Int64Array], Clocks]
+#: Headers of many payloads (their first ``wire.HEADER_BYTES`` at most), frames interned in the table.
+HeaderDecoder = Callable[[UInt8Array, Int64Array, Int64Array, FrameNames], Headers]
 
 
 def message_batch(
@@ -156,6 +164,16 @@ def message_clock(decode: ClockDecoder, data: bytes) -> int:
     if failures:
         raise DecodeError(failures[0][1])
     return int(times[0])
+
+
+def message_header(decode: HeaderDecoder, data: bytes) -> Header | None:
+    """The header one message starts with, decoded by the bulk decoder ``decode``; None where it
+    cannot start with one."""
+    frames = FrameNames()
+    headers = decode(*_one(data), frames)
+    if headers.failures:
+        return None
+    return int(headers.stamp[0]), frames.names[int(headers.frame[0])]
 
 
 def _one(data: bytes) -> tuple[UInt8Array, Int64Array, Int64Array]:

@@ -8,23 +8,25 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import Int64Array, UInt8Array
 
-def bytes_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64], width: int) -> npt.NDArray[np.uint8]:
+
+def bytes_at(raw: UInt8Array, at: Int64Array, width: int) -> UInt8Array:
     """The ``width`` bytes at each position of ``at`` (all within ``raw``), one row each."""
     if len(raw) < width or width == 0:
         return np.zeros((len(at) if width == 0 else 0, width), np.uint8)
     # A view with one ``width``-byte item at every position: gathering items copies whole rows.
     windows = np.ndarray((len(raw) - width + 1,), f"V{width}", raw, strides=(1,))
-    rows: npt.NDArray[np.uint8] = windows[at].view(np.uint8).reshape(-1, width)
+    rows: UInt8Array = windows[at].view(np.uint8).reshape(-1, width)
     return rows
 
 
-def u32_at(raw: npt.NDArray[np.uint8], at: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+def u32_at(raw: UInt8Array, at: Int64Array) -> Int64Array:
     """The little-endian uint32 at each position of ``at``."""
     return bytes_at(raw, at, 4).view("<u4").reshape(-1).astype(np.int64)
 
 
-def distinct(values: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+def distinct(values: Int64Array) -> Int64Array:
     """``np.unique(values)``, without its cost where they are in order already."""
     if len(values) < 2 or bool(np.all(values[1:] > values[:-1])):
         return values
@@ -32,7 +34,7 @@ def distinct(values: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
     return ordered[np.concatenate(([True], ordered[1:] != ordered[:-1]))]
 
 
-def first_and_inverse(values: npt.NDArray[Any]) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+def first_and_inverse(values: npt.NDArray[Any]) -> tuple[Int64Array, Int64Array]:
     """The first index of each distinct value, and each value's index among them (``np.unique``'s)."""
     order = np.argsort(values, kind="stable")
     ordered = values[order]
@@ -43,7 +45,7 @@ def first_and_inverse(values: npt.NDArray[Any]) -> tuple[npt.NDArray[np.int64], 
     return order[new], inverse
 
 
-def grouped(values: npt.NDArray[np.int64]) -> list[npt.NDArray[np.int64]]:
+def grouped(values: Int64Array) -> list[Int64Array]:
     """The indices of each distinct value, together."""
     firsts, inverse = first_and_inverse(values)
     order = np.argsort(inverse, kind="stable")

@@ -37,7 +37,7 @@ def one_by_one(
         except DecodeError as e:
             failures.append((number, str(e)))
             continue
-        ids = [(frames.id(p), frames.id(c)) for p, c in zip(parsed.parents, parsed.children, strict=True)]
+        ids = [(frames.intern(p), frames.intern(c)) for p, c in zip(parsed.parents, parsed.children, strict=True)]
         rows += [(number, *pair, s, v) for pair, s, v in zip(ids, parsed.stamps, parsed.values, strict=True)]
     if not rows:
         return Decoded.empty(failures)

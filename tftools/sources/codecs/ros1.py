@@ -9,15 +9,14 @@ from collections.abc import Sequence
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import BytesLike, Clocks, Decoded, FrameNames
+from tftools.sources.codecs.decoded import Clocks, Decoded, FrameNames, Headers
 from tftools.sources.codecs.stepped import decode_transforms
-from tftools.sources.codecs.wire import Header, Wire, decode_times, parse_header
+from tftools.sources.codecs.wire import Wire, decode_times, read_headers
 
 WIRES = (Wire("<", origin=0, align=1, seq=True, signed_sec=False, nul=False, exact=True),)
 
 _COUNT = struct.Struct("<I")
 _HEADER = struct.Struct("<III")  # seq, stamp sec, stamp nsec
-_TIME = struct.Struct("<II")
 _VALUES = struct.Struct("<7d")
 
 
@@ -31,9 +30,9 @@ def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> C
     return decode_times(raw, starts, lengths, WIRES)
 
 
-def header(raw: BytesLike) -> Header | None:
-    """The header a ROS1 message starts with (seq, stamp, frame_id); None where it cannot be one."""
-    return parse_header(raw, WIRES)
+def decode_headers(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Headers:
+    """The headers ROS1 messages start with, as ``wire.read_headers`` reads them."""
+    return read_headers(raw, starts, lengths, frames, WIRES)
 
 
 def encode_tf_message(transforms: Sequence[Transform]) -> bytes:
@@ -46,8 +45,3 @@ def encode_tf_message(transforms: Sequence[Transform]) -> bytes:
             parts.append(_COUNT.pack(len(encoded)) + encoded)
         parts.append(_VALUES.pack(*t.translation, *t.rotation))
     return b"".join(parts)
-
-
-def encode_clock(now: int) -> bytes:
-    """A serialized ``rosgraph_msgs/Clock`` at ``now`` (ns)."""
-    return _TIME.pack(*divmod(now, NS_PER_S))

@@ -6,9 +6,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from tftools.sources.codecs import cdr, json, protobuf, ros1
-from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder
-from tftools.sources.codecs.types import CLOCK, TF_MESSAGE
-from tftools.sources.contents import DEFAULT_TOPICS
+from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
+from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, has_header, rosidl_name
+from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA
 
 #: ROS1's names of TFMessage (and of tf's, the same bytes), as ROS1 bags and MCAP files of ROS1 name them.
 ROS1_TF_TYPES = ("tf2_msgs/TFMessage", "tf/tfMessage")
@@ -44,6 +44,24 @@ class ClockCodec(Encoded):
     decode: ClockDecoder
 
 
+@dataclass(frozen=True)
+class HeaderCodec(Encoded):
+    """How the headers of messages of a type and encoding are decoded (the rest of each is not)."""
+
+    decode: HeaderDecoder
+
+
+class HeaderTopics(tuple[str, ...]):
+    """Topics whose messages' headers are read, rather than transforms (none named: every topic whose
+    type starts with a header, but tf's and the clock's): given to a bag reader as its topics."""
+
+    def wants(self, topic: str) -> bool:
+        return topic in self if self else topic not in NOT_SENSOR_DATA
+
+
+AnyCodec = Codec | ClockCodec | HeaderCodec
+
+
 def _codecs() -> dict[tuple[str, str], Codec]:
     tf2, tf1 = ROS1_TF_TYPES
     table = [
@@ -67,6 +85,7 @@ CODECS = _codecs()
 _CLOCK_DECODERS = {"cdr": cdr.decode_clocks, "ros1": ros1.decode_clocks, "json": json.decode_clocks}
 CLOCK_CODECS = {(t, e): ClockCodec(t, e, d) for t in CLOCK_TYPES for e, d in _CLOCK_DECODERS.items()}
 _FOXGLOVE_TYPES = {c.type_name for c in CODECS.values() if c.foxglove}
+_HEADER_DECODERS = {"ros1": ros1.decode_headers, "cdr": cdr.decode_headers}
 
 
 def readable() -> str:
@@ -91,11 +110,17 @@ class Unread:
 
 
 def select(
-    topic: str, type_name: str, encoding: str, topics: tuple[str, ...]
-) -> tuple[Codec | ClockCodec | None, Unread | None]:
+    topic: str, type_name: str, encoding: str, topics: tuple[str, ...], definition: str = ""
+) -> tuple[AnyCodec | None, Unread | None]:
     """The codec to read a channel with (None: skip it), and what is not read when a channel asked
     for (or a foxglove transform channel, with the default topics) is skipped. Clocks are read on
-    any topic."""
+    any topic; with ``HeaderTopics``, only headers are (``definition``: the type's, when the
+    recording gives it)."""
+    if isinstance(topics, HeaderTopics):
+        decoder = _HEADER_DECODERS.get(encoding)
+        if decoder is None or not topics.wants(topic) or not has_header(type_name, encoding, definition):
+            return None, None
+        return HeaderCodec(rosidl_name(type_name), encoding, decoder), None
     clock = CLOCK_CODECS.get((type_name, encoding))
     if clock is not None:
         return clock, None

@@ -168,7 +168,7 @@ def _alone(
     if not rows:
         return Decoded.empty()
     stamp, frame_start, frame_length, child_start, child_length, values_at = zip(*rows, strict=True)
-    ids, undecodable = frames.intern(
+    ids, undecodable = frames.intern_all(
         raw, np.array(frame_start + child_start, np.int64), np.array(frame_length + child_length, np.int64)
     )
     if undecodable.any():
@@ -207,7 +207,7 @@ def _assemble(
         message[place], stamp[place], values_at[place] = step.message, step.stamp, step.values_at
     values = bytes_at(raw, values_at, VALUES_SIZE).view(f"{wire.order}f8").astype(np.float64, copy=False)
     starts = np.concatenate([s.frame_start for s in steps] + [s.child_start for s in steps])
-    ids, undecodable = frames.intern(
+    ids, undecodable = frames.intern_all(
         raw, starts, np.concatenate([s.frame_length for s in steps] + [s.child_length for s in steps])
     )
     place = np.concatenate(places)

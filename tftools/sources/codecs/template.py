@@ -70,8 +70,8 @@ class _Template:
         self.masks = np.concatenate([np.full(len(exact), 0xFF, np.uint8), np.full(len(loose), 0x80, np.uint8)])
         self.expected = np.frombuffer(sample, np.uint8)[self.positions] & self.masks
         self.layout = layout
-        self.parents = np.array([frames.id(name) for name in parsed.parents], np.int32)
-        self.children = np.array([frames.id(name) for name in parsed.children], np.int32)
+        self.parents = np.array([frames.intern(name) for name in parsed.parents], np.int32)
+        self.children = np.array([frames.intern(name) for name in parsed.children], np.int32)
 
     def matches(self, block: UInt8Array) -> BoolArray:
         return np.asarray(((np.take(block, self.positions, axis=1) & self.masks) == self.expected).all(axis=1))

@@ -62,3 +62,20 @@ def definition_starts_with_header(msgtype: str, definition: str) -> bool:
     except Exception:  # rosbags raises several kinds on what it cannot parse: then it is no header
         return False
     return starts_with_header(msgtype, fielddefs)
+
+
+def rosidl_name(type_name: str) -> str:
+    """A type's name as ROS 2 and rosbags spell it: ROS1's ``pkg/Name`` as ``pkg/msg/Name``."""
+    package, _, name = type_name.partition("/")
+    return type_name if "/" in name or not name else f"{package}/msg/{name}"
+
+
+@functools.cache
+def has_header(type_name: str, encoding: str, definition: str = "") -> bool:
+    """Whether messages of ``type_name`` start with a std_msgs/Header: as ``definition`` (a ROS1 or
+    ROS 2 .msg text, nested types included) says, else as the type stores of ``encoding`` define it
+    (Noetic's for ROS1, ROS 2's for CDR)."""
+    if definition:
+        return definition_starts_with_header(rosidl_name(type_name), definition)
+    stores = ("ros1_noetic",) if encoding == "ros1" else ROS2_STORES
+    return any(starts_with_header(rosidl_name(type_name), typestore(name).fielddefs) for name in stores)

@@ -18,13 +18,14 @@ import numpy as np
 
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
-from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError
+from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError, FrameNames, Header, Headers
 from tftools.sources.codecs.gather import bytes_at
 
-#: A message's header: its stamp (ns) and frame_id.
-Header = tuple[int, str]
 #: A frame_id longer than this is damage, not a name.
 MAX_FRAME_ID = 4096
+#: The bytes of a message that hold its header, at most: a seq, a stamp and a frame_id's length after
+#: CDR's encapsulation and alignment, then the frame_id.
+HEADER_BYTES = 24 + MAX_FRAME_ID
 #: A time's bytes: seconds and nanoseconds.
 TIME_SIZE = 8
 #: A transform's translation and rotation: 7 float64.
@@ -139,16 +140,34 @@ def partition(
     return [(wire, members) for wire, members in found if len(members)]
 
 
-def parse_header(raw: BytesLike, wires: Sequence[Wire]) -> Header | None:
-    """The ``std_msgs/Header`` a message starts with (only its bytes are read, never the rest:
-    image pixels, points); None where ``raw`` cannot start with one."""
-    try:
-        stamp, start, length = Cursor(raw, wire_of(raw, 0, len(raw), wires)).header()
-    except DecodeError:
-        return None
-    if length > MAX_FRAME_ID:
-        return None
-    return stamp, bytes(raw[start : start + length]).decode("utf-8", "replace")
+def read_headers(
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wires: Sequence[Wire]
+) -> Headers:
+    """The ``std_msgs/Header`` many messages start with, their frame_ids interned in ``frames``: only
+    their bytes are read, never the rest (image pixels, points), so only the first ``HEADER_BYTES``
+    of each message need be given."""
+    view = raw.data
+    read: list[int] = []
+    stamps: list[int] = []
+    ids: list[int] = []
+    failures: list[tuple[int, str]] = []
+    for message, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
+        try:
+            stamp, frame_id = _header(view, start, length, wires)
+        except DecodeError as e:
+            failures.append((message, str(e)))
+            continue
+        read.append(message)
+        stamps.append(stamp)
+        ids.append(frames.intern(frame_id))
+    return Headers(np.array(read, np.int64), np.array(stamps, np.int64), np.array(ids, np.int32), failures)
+
+
+def _header(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> Header:
+    stamp, at, size = Cursor(raw, wire_of(raw, start, length, wires), start, start + length).header()
+    if size > MAX_FRAME_ID:
+        raise DecodeError(f"a frame_id of {size} bytes")
+    return stamp, bytes(raw[at : at + size]).decode("utf-8", "replace")
 
 
 # --- times --------------------------------------------------------------------------------------

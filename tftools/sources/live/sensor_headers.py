@@ -15,8 +15,9 @@ from typing import Protocol
 
 from tftools.core.semantics import Semantics
 from tftools.core.time import Clock
-from tftools.sources.codecs.wire import Header
-from tftools.sources.headers import NOT_SENSOR_DATA, HeaderCollector, StampedRead
+from tftools.sources.codecs.decoded import Header
+from tftools.sources.contents import NOT_SENSOR_DATA
+from tftools.sources.headers import HeaderCollector, StampedRead
 from tftools.sources.live.base import LiveSource, NoticeOnce, OnNotice
 from tftools.sources.live.capture import capture
 from tftools.sources.live.time_jump import TimeJump

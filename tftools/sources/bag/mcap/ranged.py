@@ -6,11 +6,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.sources.bag.mcap.records import CHUNK, MESSAGE, MESSAGE_HEAD, RECORD, U16, U32, U64, Channels, ChunkIndex
 from tftools.sources.bag.ranges import read_ranges
-from tftools.sources.bag.spans import IntArray, Spans, bounded
+from tftools.sources.bag.spans import Spans, bounded
 
 INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])  # of a message, offset in its chunk's records
 PAYLOAD = RECORD.size + MESSAGE_HEAD.size  # a message's data, from the start of its record
@@ -71,7 +71,7 @@ class RangedReader:
         whole |= damaged
         self._hand_on(batch, whole, messages.rows(~whole[messages.chunk]), data)
 
-    def _read(self, batch: list[Queued], messages: Spans) -> tuple[npt.NDArray[np.uint8], npt.NDArray[np.bool_]]:
+    def _read(self, batch: list[Queued], messages: Spans) -> tuple[UInt8Array, BoolArray]:
         """The bytes of the messages' ranges and of their chunks' heads, and which chunks are
         damaged; each message's ``start`` and ``end`` made its payload's in those bytes."""
         damaged = np.zeros(len(batch), bool)
@@ -89,9 +89,7 @@ class RangedReader:
         damaged[messages.chunk[~fits]] = True
         return data, damaged
 
-    def _hand_on(
-        self, batch: list[Queued], whole: npt.NDArray[np.bool_], messages: Spans, data: npt.NDArray[np.uint8]
-    ) -> None:
+    def _hand_on(self, batch: list[Queued], whole: BoolArray, messages: Spans, data: UInt8Array) -> None:
         """Add the messages read in ranges, and have the chunks to be read whole read between them."""
         numbers = np.array([q.number for q in batch], np.int64)
         wholes = np.flatnonzero(whole).tolist()
@@ -117,7 +115,7 @@ def indexed(entries: list[tuple[int, int, bytes]]) -> Spans:
     return Spans(chunk, offsets, channel, table["time"].astype(np.int64), offsets, offsets)
 
 
-def _is_head_of(data: npt.NDArray[np.uint8], at: int, chunk: ChunkIndex) -> bool:
+def _is_head_of(data: UInt8Array, at: int, chunk: ChunkIndex) -> bool:
     """Whether ``data[at:]`` begins with the chunk record the summary describes."""
     head = data[at : at + chunk.records_start - chunk.offset].tobytes()
     opcode, length = RECORD.unpack_from(head)
@@ -126,9 +124,7 @@ def _is_head_of(data: npt.NDArray[np.uint8], at: int, chunk: ChunkIndex) -> bool
     return opcode == CHUNK and length == chunk.length - RECORD.size and head.endswith(fields)
 
 
-def payloads(
-    data: npt.NDArray[np.uint8], where: IntArray, messages: Spans, complete: npt.NDArray[np.bool_]
-) -> npt.NDArray[np.bool_]:
+def payloads(data: UInt8Array, where: Int64Array, messages: Spans, complete: BoolArray) -> BoolArray:
     """Whether each message is a whole message record of its channel inside its range (read to
     ``where`` in ``data``); its ``start`` and ``end`` made its payload's there."""
     room = messages.end - messages.start

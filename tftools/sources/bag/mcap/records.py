@@ -120,6 +120,10 @@ def chunk_records(content: bytes | memoryview, *, partial: bool, budget: Budget 
     return records
 
 
+#: Schema encodings whose data is a .msg definition (nested types included).
+_MSG_DEFINITIONS = ("ros1msg", "ros2msg")
+
+
 class Channels:
     """Schemas and channels as they are met, and which channels are read as transforms."""
 
@@ -127,7 +131,7 @@ class Channels:
         self.topics = topics
         self.result = result
         self.budget = Budget(file_size)  # what the file's chunks may decompress to in all
-        self.schemas: dict[int, str] = {}
+        self.schemas: dict[int, tuple[str, str]] = {}  # schema id -> type name, .msg definition ("": none)
         self.known: set[int] = set()
         self.wanted: dict[int, int] = {}  # MCAP channel id -> MessageSet channel
 
@@ -135,17 +139,18 @@ class Channels:
         """A schema or channel record."""
         body = Body(content)
         if opcode == SCHEMA:
-            schema_id = body.int(U16)
-            self.schemas[schema_id] = body.string()
+            schema_id, name, encoding = body.int(U16), body.string(), body.string()
+            definition = body.string() if encoding in _MSG_DEFINITIONS else ""
+            self.schemas[schema_id] = (name, definition)
             return
         channel_id, schema_id = body.int(U16), body.int(U16)
         topic, encoding = body.string(), body.string()
         if channel_id in self.known:
             return
         self.known.add(channel_id)
-        type_name = self.schemas.get(schema_id, "")
+        type_name, definition = self.schemas.get(schema_id, ("", ""))
         self.result.topics[topic] = type_name
-        codec, unread = select(topic, type_name, encoding, self.topics)
+        codec, unread = select(topic, type_name, encoding, self.topics, definition)
         self.result.note_skipped(unread)
         if codec is not None:
             self.wanted[channel_id] = self.result.messages.channel(topic, codec)

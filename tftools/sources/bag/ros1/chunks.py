@@ -5,8 +5,8 @@ from __future__ import annotations
 from array import array
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
@@ -19,7 +19,7 @@ from tftools.sources.bag.ros1.records import (
     u32,
     value_at,
 )
-from tftools.sources.bag.spans import IntArray, Spans, joined
+from tftools.sources.bag.spans import Spans, joined
 from tftools.sources.codecs.gather import bytes_at, distinct, u32_at
 
 _MIN_HEADER = 4 + len("op=") + 1  # a record header holds at least its op field
@@ -46,7 +46,7 @@ def walk(data: Buffer, chunk: int) -> Spans:
     return in_chunk(np.frombuffer(starts, np.int64).copy() if starts else np.zeros(0, np.int64), chunk, limit)
 
 
-def in_chunk(offsets: IntArray, chunk: int, size: int) -> Spans:
+def in_chunk(offsets: Int64Array, chunk: int, size: int) -> Spans:
     """The records at ``offsets`` of chunk ``chunk``'s data (``size`` bytes), each of them reaching
     at most to its end (channels and times unknown until ``locate`` reads them)."""
     unknown = np.full(len(offsets), -1, np.int64)
@@ -146,8 +146,8 @@ class _Template:
         return cls(header, value_at(header, "conn"), value_at(header, "time"))
 
     def match(
-        self, raw: npt.NDArray[np.uint8], offsets: IntArray, limit: IntArray
-    ) -> tuple[npt.NDArray[np.bool_], tuple[IntArray, ...]]:
+        self, raw: UInt8Array, offsets: Int64Array, limit: Int64Array
+    ) -> tuple[BoolArray, tuple[Int64Array, ...]]:
         """Which records have this layout and end within ``limit``; their conn, time, data start and end."""
         length_at = offsets + 4 + self.length
         hit = length_at + 4 <= limit

@@ -7,8 +7,8 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.ranges import need
@@ -70,7 +70,7 @@ class BagFile:
             return
         self._met.add(connection.id)
         self.scan.topics.setdefault(connection.topic, connection.type)
-        codec, unread = select(connection.topic, connection.type, "ros1", self.topics)
+        codec, unread = select(connection.topic, connection.type, "ros1", self.topics, connection.definition)
         self.scan.note_skipped(unread)
         if codec is not None:
             channel = self.scan.messages.channel(
@@ -83,7 +83,7 @@ class BagFile:
     def wants(self, conn: int) -> bool:
         return conn in self.channels
 
-    def add(self, data: bytes | memoryview, messages: Spans) -> npt.NDArray[np.bool_]:
+    def add(self, data: bytes | memoryview, messages: Spans) -> BoolArray:
         """Keep the wanted ones of ``messages`` (their payloads in ``data``, which the caller may
         then release); returns which were kept."""
         channel = messages.looked_up(self.channels)

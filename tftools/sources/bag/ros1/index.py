@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.ranges import ahead, need, read_ranges
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
@@ -32,7 +33,7 @@ from tftools.sources.bag.ros1.records import (
     read_chunk_info,
     read_connection,
 )
-from tftools.sources.bag.spans import IntArray, Spans, bounded
+from tftools.sources.bag.spans import Spans, bounded
 from tftools.sources.bag.unpack import CompressionUnavailableError
 from tftools.sources.codecs.gather import distinct
 
@@ -134,12 +135,12 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         bag.damage.note(info.pos, unpacked.loss or first_error or "its index points at no message", wanted - got)
 
 
-def _wanted(bag: BagFile, spans: Spans) -> npt.NDArray[np.bool_]:
+def _wanted(bag: BagFile, spans: Spans) -> BoolArray:
     """Which records the index lists under a wanted connection."""
     return spans.looked_up(bag.channels) >= 0
 
 
-def _wanted_offsets(bag: BagFile, index: _Index) -> IntArray:
+def _wanted_offsets(bag: BagFile, index: _Index) -> Int64Array:
     """Where the records a chunk's index lists under wanted connections begin in its data, once each."""
     indexed = _indexed([index])
     return distinct(indexed.offset[_wanted(bag, indexed)])

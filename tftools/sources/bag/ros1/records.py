@@ -209,6 +209,7 @@ class Connection:
     topic: str
     type: str
     callerid: str  # "" when the bag does not say
+    definition: str = ""  # its type's message_definition
 
 
 def read_connection(buf: Buffer, record: Record) -> Connection:
@@ -219,6 +220,7 @@ def read_connection(buf: Buffer, record: Record) -> Connection:
         topic,
         data.get("type", b"").decode("utf-8", "replace"),
         data.get("callerid", b"").decode("utf-8", "replace"),
+        data.get("message_definition", b"").decode("utf-8", "replace"),
     )
 
 

@@ -8,6 +8,7 @@ import threading
 from collections.abc import Mapping
 
 from tftools.sources.codecs import ros1
+from tftools.sources.codecs.decoded import message_header
 from tftools.sources.codecs.types import MessageType, definition_starts_with_header
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
@@ -89,7 +90,7 @@ class Ros1HeaderListener:
             return False
 
         def receive(data: bytes, _callerid: str) -> None:
-            store.heard(topic, msgtype, ros1.header(data))
+            store.heard(topic, msgtype, message_header(ros1.decode_headers, data))
 
         with self._closing:
             if not self._stopped.is_set():

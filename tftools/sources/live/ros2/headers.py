@@ -13,6 +13,7 @@ from cyclonedds.core import DDSException, GuardCondition, InstanceState, ReadCon
 from cyclonedds.util import duration
 
 from tftools.sources.codecs import cdr
+from tftools.sources.codecs.decoded import message_header
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, take_raw
 from tftools.sources.live.ros2.errors import DdsError
@@ -120,4 +121,4 @@ class Ros2HeaderListener:
             if sensor is None:
                 continue
             for data, _info in take_raw(sensor.reader):
-                self._store.heard(sensor.topic, sensor.msgtype, cdr.header(data))
+                self._store.heard(sensor.topic, sensor.msgtype, message_header(cdr.decode_headers, data))
