@@ -132,7 +132,9 @@ def test_dask_without_distributed_names_the_extra(tfx, bags: dict[str, Path], mo
         (("--timeout", "0"), "--timeout"),
     ],
 )
-def test_bad_fleet_arguments_are_one_line_and_exit_2(tfx, bags: dict[str, Path], args: tuple[str, ...], says: str) -> None:
+def test_bad_fleet_arguments_are_one_line_and_exit_2(
+    tfx, bags: dict[str, Path], args: tuple[str, ...], says: str
+) -> None:
     result = tfx("wtf", bags["healthy"], *args)
     assert result.code == 2 and result.stderr.count("\n") == 1 and says in result.stderr
 

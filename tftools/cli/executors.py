@@ -61,7 +61,7 @@ def on_dask(groups: Sequence[Sequence[str]], check: CheckGroup, address: str) ->
     logging.getLogger("distributed").setLevel(logging.ERROR)  # its rescheduling notices are ours to report
     with _connect(address) as client:
         futures = {client.submit(check, list(group), retries=1, pure=False): i for i, group in enumerate(groups)}
-        for future in finished(futures):  # type: ignore[no-untyped-call]
+        for future in finished(futures, loop=client.loop):  # type: ignore[no-untyped-call]
             index = futures[future]
             group = groups[index]
             try:
@@ -93,4 +93,5 @@ def _timed_out(group: Sequence[str], error: CheckTimeoutError, retried: bool) ->
 
 
 def _failed(group: Sequence[str], error: BaseException) -> BagReport:
-    return unchecked(tuple(group), f"its task failed ({type(error).__name__}: {error})", _WORKER_HINT)
+    said = " ".join(str(error).split())  # Dask's messages run over several lines
+    return unchecked(tuple(group), f"its task failed ({type(error).__name__}: {said})", _WORKER_HINT)
