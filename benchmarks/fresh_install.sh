@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # First use after a fresh install: tftools installed non-editable into a throwaway venv, its
-# site-packages then made read-only and numba's cache dir empty (a CI container, a system
-# install); times its first `tfx echo --all` on BAG, then RUNS later ones. Prints one JSON object.
-# Usage: bash benchmarks/fresh_install.sh BAG [RUNS]   (root ignores the read-only bits: the empty
-# NUMBA_CACHE_DIR, and no cache written beside the installed sources, stand for them then)
+# site-packages then made read-only (a CI container, a system install); times its first
+# `tfx echo --all` on BAG, then RUNS later ones. Prints one JSON object.
+# Usage: bash benchmarks/fresh_install.sh BAG [RUNS]   (root ignores the read-only bits)
 set -euo pipefail
 bag="$1"; runs="${2:-3}"
 repo="$(cd "$(dirname "$0")/.." && pwd)"
@@ -12,10 +11,7 @@ trap 'chmod -R u+w "$tmp"; rm -rf "$tmp"' EXIT
 python3 -m venv "$tmp/venv"
 "$tmp/venv/bin/python" -m pip install -q "$repo" >&2
 site="$("$tmp/venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
-find "$site" \( -name '*.nbi' -o -name '*.nbc' \) -delete
 chmod -R a-w "$site"
-mkdir "$tmp/numba-cache"
-export NUMBA_CACHE_DIR="$tmp/numba-cache"
 seconds() {  # wall seconds of one `tfx echo --all` run from an empty working directory
   local began ended
   began=$(date +%s.%N)

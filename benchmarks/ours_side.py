@@ -8,7 +8,7 @@ at tf2_side's times, then ``lookup_many`` at a million times, and ``set_transfor
 per transform into a new buffer (tf2_side's transforms).
 
 ``batch BAG SECONDS``: the first ``lookup_many`` of a million times in a process that has looked
-nothing up yet (what loading the compiled lookups costs a script), then the next.
+nothing up yet (what a script's first batch costs), then the next.
 
 Each prints one JSON object.
 """
@@ -27,7 +27,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import robot
 
 from tftools.core.buffer import Buffer
-from tftools.core.kernels_table import compiled
 from tftools.core.transform import Transform
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.recording import read_recording, recording_of
@@ -86,7 +85,6 @@ def lookups(path: str, count: int, seconds: int) -> dict:
     buffer = read_recording([path]).buffer
     target, source = robot.TARGET, robot.SOURCE
     times = lookup_times(count, seconds)
-    compiled()  # loaded, as a long loop of lookups loads them early on: the steady state is measured
     lookup_s = per_call(lambda t: buffer.lookup(target, source, t), times)
     can_s = per_call(lambda t: buffer.can_transform(target, source, t), times)
     many = random_times(seconds)

@@ -1,5 +1,5 @@
 """Start-up imports only what is used: ``import tftools`` and ``tfx --version`` load no numpy, parser,
-live stack, Graphviz or numba, and ``tfx frames -b`` loads no other subcommand nor live stack."""
+live stack or Graphviz, and ``tfx frames -b`` loads no other subcommand nor live stack."""
 
 from __future__ import annotations
 
@@ -12,14 +12,12 @@ from tests.cli.conftest import SAMPLE_BAGS
 
 REPO = Path(__file__).resolve().parents[2]
 #: Module prefixes no start-up needs.
-HEAVY = ("numpy", "numba", "graphviz", "matplotlib", "typer", "rich", "tftools.sources.live", "tftools.core")
+HEAVY = ("numpy", "graphviz", "matplotlib", "typer", "rich", "tftools.sources.live", "tftools.core")
 #: What ``tfx frames -b`` does not use.
 NOT_FOR_FRAMES = (
-    "numba",
     "graphviz",
     "matplotlib",
     "tftools.sources.live",
-    "tftools.core.kernels",
     "tftools.cli.echo",
     "tftools.cli.wtf",
     "tftools.cli.view_frames",

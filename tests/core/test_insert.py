@@ -8,7 +8,10 @@ import numpy as np
 import pytest
 
 from tests.core import scenarios
+from tftools import Buffer, Transform
 from tftools.core import buffer as buffer_module
+
+S = scenarios.S
 
 CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(3) for f in (None, *scenarios.FEATURES)]
 CASES += [(100 + seed, frozenset(scenarios.FEATURES) - {"cycle"}) for seed in range(3)]
@@ -48,3 +51,32 @@ def test_frames_are_interned_child_first_in_order_of_appearance():
     buffer.insert(builder.take())
     assert buffer.frames == ["b", "a", "d", "c", "e", "f"]
     assert np.array_equal(buffer.history("e").parents, [buffer._frames.get("b")])
+
+
+def test_in_order_samples_of_known_frames_skip_the_batch_path(monkeypatch):
+    """``set_transform``'s common case stores the sample itself (and prunes, and keeps the compiled
+    lookups' view up to date); a frame's first sample, an older stamp, a new publisher take ``insert``."""
+    buffer = Buffer(cache_time=3 * S)
+    assert buffer.set_transform(Transform((0.0, 0, 0), (0, 0, 0, 1), S, "a", "b"), "pub")
+    assert buffer.lookup("a", "b").stamp == S  # the lookups' table exists from here on
+
+    def batch_path(batch):
+        raise AssertionError("took the batch path")
+
+    monkeypatch.setattr(buffer, "insert", batch_path)
+    for k in range(2, 50):
+        assert buffer.set_transform(Transform((float(k), 0, 0), (0, 0, 0, 1), k * S, "a", "b"), "pub")
+    assert buffer.lookup("a", "b", 0).translation == (49.0, 0.0, 0.0)
+    assert buffer.history("b").stamps.tolist() == [46 * S, 47 * S, 48 * S, 49 * S]  # pruned as tf2 prunes
+    assert buffer.history("b").sequence.tolist() == [45, 46, 47, 48]
+    for refused_here in (
+        Transform((0.0, 0, 0), (0, 0, 0, 1), 48 * S, "a", "b"),  # not newer
+        Transform((0.0, 0, 0), (0, 0, 0, 1.2), 50 * S, "a", "b"),  # not normalized
+        Transform((float("nan"), 0, 0), (0, 0, 0, 1), 50 * S, "a", "b"),
+        Transform((0.0, 0, 0), (0, 0, 0, 1), 50 * S, "/a", "b"),
+        Transform((0.0, 0, 0), (0, 0, 0, 1), 50 * S, "a", "c"),  # a new frame
+    ):
+        with pytest.raises(AssertionError, match="batch path"):
+            buffer.set_transform(refused_here, "pub")
+    with pytest.raises(AssertionError, match="batch path"):
+        buffer.set_transform(Transform((0.0, 0, 0), (0, 0, 0, 1), 50 * S, "a", "b"), "another publisher")

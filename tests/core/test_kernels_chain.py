@@ -10,10 +10,6 @@ import numpy as np
 import pytest
 
 from tftools import Buffer, Transform, TransformError
-from tftools.core.kernels_table import compiled
-
-kernels = compiled()
-pytestmark = pytest.mark.skipif(kernels is None, reason="numba is not importable here")
 
 S = 1_000_000_000
 T0 = 1_700_000_000 * S
@@ -57,29 +53,20 @@ def _ids(buffer: Buffer, target: str, source: str) -> tuple[int, int]:
     return buffer._frames.get(target), buffer._frames.get(source)
 
 
-def _run(kernel, buffer: Buffer, target: str, source: str, times, rows):
+def _run(buffer: Buffer, target: str, source: str, times, rows, chained: bool):
+    """``lookup_many`` along the chain where it can, or (not ``chained``) the walk at each time."""
     n = len(times)
     out = np.zeros(n, np.int64), np.zeros((n, 7)), np.zeros(n, bool)
-    kernel(buffer._edge_table(), *_ids(buffer, target, source), times, rows, *out)
+    buffer._edge_table().lookup_many(*_ids(buffer, target, source), times, rows, *out, chained=chained)
     return out
-
-
-def walk_each(table, target, source, times, rows, stamps, values, valid) -> None:
-    """The compiled walk at each of ``times``, as ``lookup_many`` does at the blocks it leaves."""
-    memo, arcs = kernels._new_memo(table.shape[0])
-    common = kernels._latest_common_time(table, target, source)
-    chain = kernels._new_chain()
-    kernels._each_block(
-        table, target, source, times, rows, len(times), common, stamps, values, valid, chain, memo, arcs
-    )
 
 
 def assert_same_bits(buffer: Buffer, target: str, source: str, times) -> np.ndarray:
     """lookup_many and the walk at each of ``times`` (in their order, answers to shuffled rows)."""
     times = np.ascontiguousarray(times, np.int64)
     rows = np.random.default_rng(0).permutation(len(times))
-    fast = _run(kernels.lookup_many, buffer, target, source, times, rows)
-    each = _run(walk_each, buffer, target, source, times, rows)
+    fast = _run(buffer, target, source, times, rows, chained=True)
+    each = _run(buffer, target, source, times, rows, chained=False)
     np.testing.assert_array_equal(fast[0], each[0])
     np.testing.assert_array_equal(fast[2], each[2])
     np.testing.assert_array_equal(fast[1].view(np.int64), each[1].view(np.int64))  # -0.0 and NaN too
@@ -155,16 +142,9 @@ def test_the_answers_are_single_lookups():
 
 
 def _block(buffer: Buffer, target: str, source: str, times) -> bool | None:
-    """Whether ``_chain_block`` takes ``times`` (None: the chain does not resolve at the first)."""
-    table, times = buffer._edge_table(), np.ascontiguousarray(times, np.int64)
-    chain = kernels._new_chain()
-    memo, arcs = kernels._new_memo(table.shape[0])
-    ending, n_source, n_target, rooted = kernels._walk(table, *_ids(buffer, target, source), times[0], chain, memo)
-    if ending == kernels.NO_PATH or not rooted:
-        return None
-    acc = np.empty(2 * kernels.SIDE)
-    args = (table, chain, ending, n_source, n_target, times, len(times), acc, memo, arcs)
-    return bool(kernels._chain_block(*args))
+    """Whether ``lookup_many`` takes ``times`` as one block (None: the chain does not resolve at the first)."""
+    taken = buffer._edge_table().chain_takes(*_ids(buffer, target, source), np.ascontiguousarray(times, np.int64))
+    return None if taken < 0 else bool(taken)
 
 
 def test_the_chain_takes_healthy_blocks_and_leaves_the_others_to_the_walk():

@@ -19,7 +19,7 @@ from tftools.core import (
     walk,
 )
 from tftools.core import buffer as buffer_module
-from tftools.core.kernels_table import compiled, lookup_in_parallel
+from tftools.core.kernels import lookup_in_parallel
 from tftools.core.stored import stored_rows
 from tftools.core.time import format_sec
 
@@ -71,11 +71,10 @@ def test_ros2_insertion_paths_agree(seed: int, features: frozenset[str], monkeyp
 @pytest.mark.parametrize("semantics", ["ros1", "ros2"])
 @pytest.mark.parametrize(("seed", "features"), CASES)
 def test_batch_lookups_answer_as_single_ones(seed: int, features: frozenset[str], semantics: str) -> None:
-    """``lookup_many`` (the walk at each time, the kernels) equals ``walk.lookup`` at every time."""
+    """``lookup_many`` (the compiled lookups, in parallel) equals ``walk.lookup`` at every time."""
     built = ros2_scenario(seed, features)
     buffer = scenarios.load_into_buffer(built.scenario, semantics)  # type: ignore[arg-type]
     tree = buffer._tree()
-    kernels = compiled()
     stamps = sorted({r[2] * S + r[3] for r in built.scenario.inserts})
     times = np.array([0, *stamps, *(t + 1 for t in stamps), *(t - 1 for t in stamps)], np.int64)
     pairs = [(a, b) for a in buffer.frames for b in buffer.frames if a != b][:40]
@@ -88,16 +87,13 @@ def test_batch_lookups_answer_as_single_ones(seed: int, features: frozenset[str]
                 expected.append((stamp, [*v, *q]))
             except TransformError:
                 expected.append(None)
-        answers = [walk.lookup_many(tree, *ids, times)]
-        if kernels is not None:
-            answers.append(lookup_in_parallel(kernels, buffer._edge_table(), *ids, times))
-        for resolved, values, valid in answers:
-            for i, want in enumerate(expected):
-                where = (target, source, int(times[i]))
-                assert bool(valid[i]) == (want is not None), where
-                if want is not None:
-                    assert int(resolved[i]) == want[0], where
-                    np.testing.assert_allclose(values[i], want[1], atol=1e-12, err_msg=str(where))
+        resolved, values, valid = lookup_in_parallel(buffer._edge_table(), *ids, times)
+        for i, want in enumerate(expected):
+            where = (target, source, int(times[i]))
+            assert bool(valid[i]) == (want is not None), where
+            if want is not None:
+                assert int(resolved[i]) == want[0], where
+                np.testing.assert_allclose(values[i], want[1], atol=1e-12, err_msg=str(where))
 
 
 def test_several_samples_at_one_stamp() -> None:

@@ -6,7 +6,8 @@ does (ROS 2 topic and type names, keyless XCDR1 types, rclcpp's QoS, ros_discove
 their own type definitions (tftools' are not used, so a mistake there cannot hide here).
 
     ros2_nodes.py dynamic NAME PARENT CHILD [--gid 16|24|0] [--hz 50] [--sim START [--loop SECONDS]]
-        A TransformBroadcaster node /NAME: translation (stamp mod 100 s, 0.5, 0), identity rotation.
+        A TransformBroadcaster node /NAME: translation (x, 0.5, 0), identity rotation, x going from 0 to
+        100 m and back at 1 m/s of stamp time (continuous: a wrap would be a jump that `wtf` reports).
         --gid: the Gid size of its ros_discovery_info announcement (0: no announcement, a plain DDS
         writer). --sim START: also publishes /clock from START seconds, and stamps with it; --loop:
         back to START every SECONDS, as a replay that loops.
@@ -170,7 +171,7 @@ def dynamic(dp, name, parent, child, gid="16", hz="50", sim=None, loop=None):
             now = int(float(sim) * 1e9) + (elapsed % int(float(loop) * 1e9) if loop else elapsed)
             clock.write(Clock_(Time_(*divmod(now, 1_000_000_000))))
         stamp = Time_(*divmod(now, 1_000_000_000))
-        x = (now % 100_000_000_000) / 1e9
+        x = 100 - abs(now % 200_000_000_000 - 100_000_000_000) / 1e9
         message = TransformStamped_(Header_(stamp, parent), child, Transform_(Vector3_(x, 0.5, 0.0)))
         tf.write(TFMessage_([message]))
         time.sleep(1 / float(hz))

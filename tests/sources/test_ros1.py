@@ -237,7 +237,7 @@ def test_chunk_headers_and_indexes_are_prefetched(
     def noted(fd: int, starts: np.ndarray, ends: np.ndarray) -> None:
         prefetched.extend(zip(starts.tolist(), ends.tolist(), strict=True))
 
-    monkeypatch.setattr(ros1_index, "prefetch", noted)
+    monkeypatch.setattr(ros1_index, "ahead", noted)
     assert rows_of(read(bag)[0]) == reference_rows(bag)
     with Reader(bag) as reader:
         infos = sorted(reader.chunk_infos, key=lambda info: info.pos)

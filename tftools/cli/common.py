@@ -72,11 +72,12 @@ class InternalError(TfToolsError):
 
 
 BagOption = Annotated[
-    list[Path] | None,
+    list[str] | None,
     typer.Option(
         "--bag",
         "-b",
-        help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory. "
+        help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory, local or a URL "
+        "(s3://, gs://, az://, http(s)://; needs tftools[fleet]). "
         "Repeat for a split recording. Without it, tfx listens to a live system.",
         show_default=False,
     ),
@@ -128,7 +129,7 @@ def warn(message: str) -> None:
     stderr.print(Text("tfx: warning:", style="yellow"), Text(printable(message)))
 
 
-def require_bags(bags: Sequence[Path] | None) -> Sequence[Path]:
+def require_bags(bags: Sequence[str] | None) -> Sequence[str]:
     if not bags:
         raise UsageError("this needs a recording", "give one with -b BAG")
     return bags
@@ -163,7 +164,7 @@ def count_bar(what: str, total: int) -> Iterator[Callable[[], None]]:
 
 
 def open_recording(
-    bags: Sequence[Path] | None, topics: Sequence[str] | None, semantics: Semantics | None = None
+    bags: Sequence[str] | None, topics: Sequence[str] | None, semantics: Semantics | None = None
 ) -> Recording:
     """Read the bags into one recording, with a progress bar; report what could not be read.
 
@@ -173,14 +174,16 @@ def open_recording(
 
         return capture_recording(topics=topics)
     paths = require_bags(bags)
-    with progress_bar(enabled=sum(_size(p) for p in paths) > 20_000_000) as progress:
+    with progress_bar(enabled=sum(local_size(p) for p in paths) > 20_000_000) as progress:
         recording = read_recording(paths, topics, progress, semantics=semantics)
     for problem in recording.problems:
         warn(problem)
     return recording
 
 
-def _size(path: Path) -> int:
+def local_size(location: str) -> int:
+    """Bytes of a local bag file or directory; 0 for a URL or what cannot be read."""
+    path = Path(location)
     try:
         return path.stat().st_size if path.is_file() else sum(p.stat().st_size for p in path.iterdir())
     except OSError:

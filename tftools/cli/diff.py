@@ -16,6 +16,7 @@ from tftools.cli import expected as expected_tree
 from tftools.cli.common import Exit, Tf2Option, TopicOption, exit_with, open_recording
 from tftools.core.semantics import Semantics
 from tftools.render import diff as render
+from tftools.sources.storage.locations import is_url
 
 
 class DiffFormat(str, enum.Enum):
@@ -28,8 +29,8 @@ def _side(help_text: str) -> object:
 
 
 def command(
-    first: Annotated[Path, _side("A: a recording (.bag, .db3, .mcap, bag directory) or a tree file (.yaml).")],
-    second: Annotated[Path, _side("B: the same, compared with A.")],
+    first: Annotated[str, _side("A: a recording (.bag, .db3, .mcap, bag directory, or a URL) or a tree file (.yaml).")],
+    second: Annotated[str, _side("B: the same, compared with A.")],
     fmt: Annotated[DiffFormat, typer.Option("--format", "-f", help="text, or json (one document).")] = DiffFormat.text,
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
@@ -61,12 +62,13 @@ def command(
     exit_with(code)
 
 
-def _is_tree_file(path: Path) -> bool:
-    """A YAML file other than a rosbag2 bag's own ``metadata.yaml``."""
-    return path.suffix in (".yaml", ".yml") and path.name != "metadata.yaml"
+def _is_tree_file(location: str) -> bool:
+    """A local YAML file other than a rosbag2 bag's own ``metadata.yaml``."""
+    path = Path(location)
+    return not is_url(location) and path.suffix in (".yaml", ".yml") and path.name != "metadata.yaml"
 
 
-def _read(path: Path, topics: list[str] | None, semantics: Semantics | None) -> TreeShape:
-    if _is_tree_file(path):
-        return read_tree(path)
-    return shape_of(open_recording([path], topics, semantics))
+def _read(location: str, topics: list[str] | None, semantics: Semantics | None) -> TreeShape:
+    if _is_tree_file(location):
+        return read_tree(Path(location))
+    return shape_of(open_recording([location], topics, semantics))

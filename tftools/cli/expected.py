@@ -60,7 +60,7 @@ def read_expected(path: Path, mm: float | None, deg: float | None, rate: float |
     return dataclasses.replace(tree, tolerances=tolerances(tree.tolerances, mm, deg, rate))
 
 
-def write_init(bags: Sequence[Path], topics: Sequence[str] | None, semantics: Semantics | None) -> None:
+def write_init(bags: Sequence[str], topics: Sequence[str] | None, semantics: Semantics | None) -> None:
     """``tfx wtf --init``: the tree of the bags (one recording) as a tree file, on stdout."""
     if not bags:
         raise UsageError("--init needs a recording", "e.g. tfx wtf --init good_run.bag > tree.yaml")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import enum
-from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -83,7 +82,7 @@ def command(
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
     if bags:
-        recording, stamped = open_recording(bags, None, tf2), read_stamped([Path(p) for p in bags], topics)
+        recording, stamped = open_recording(bags, None, tf2), read_stamped(bags, topics)
     else:
         recording, stamped = live.capture_with_headers(ros1, use_sim_time, duration, topics, tf2)
     chosen = frame_argument(recording.buffer, target) if target is not None else None

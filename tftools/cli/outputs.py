@@ -7,17 +7,21 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from tftools.cli.common import UsageError
+from tftools.sources.storage.locations import is_url
 
 #: What a rosbag2 directory holds: its metadata and storage files (compressed or not, sqlite's journals).
 BAG_DIRECTORY_SUFFIXES = frozenset({".yaml", ".db3", ".mcap", ".zstd", ".db3-shm", ".db3-wal", ".db3-journal"})
 METADATA = "metadata.yaml"
 
 
-def protected(bags: Iterable[Path]) -> list[Path]:
-    """Every path an output must keep clear of, resolved: each input, and the rosbag2 directory
-    around an input given as one of its files (``-b bag/bag.db3`` or ``-b bag/metadata.yaml``)."""
+def protected(bags: Iterable[str | os.PathLike[str]]) -> list[Path]:
+    """Every path an output must keep clear of, resolved: each local input, and the rosbag2 directory
+    around an input given as one of its files (``-b bag/bag.db3`` or ``-b bag/metadata.yaml``).
+    A URL is never written: outputs are local."""
     paths: list[Path] = []
     for bag in bags:
+        if is_url(bag):
+            continue
         path = Path(bag).resolve()
         paths.append(path)
         if path.name == METADATA or (path.parent / METADATA).is_file():
@@ -25,7 +29,7 @@ def protected(bags: Iterable[Path]) -> list[Path]:
     return paths
 
 
-def check_output(output: Path, bags: Sequence[Path], *, option: str = "-o") -> Path:
+def check_output(output: Path, bags: Sequence[str | os.PathLike[str]], *, option: str = "-o") -> Path:
     """``output`` if writing it leaves every input in ``bags`` untouched: a ``UsageError`` when it is an
     input (or a link to one), lies inside a rosbag2 input directory, or is a folder holding an input;
     or when its folder does not exist."""

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 PLOT_FILE = "a .png, .svg or .pdf file; needs matplotlib: pip install 'tftools[plot]'"
 
 
-def check_plot(plot: Path, inputs: Sequence[Path]) -> None:
+def check_plot(plot: Path, inputs: Sequence[str]) -> None:
     """A picture ``--plot`` can write: matplotlib installed, a suffix it draws, never over or into an input."""
     from tftools.render.plots import SUFFIXES, plot_format, require_matplotlib
 

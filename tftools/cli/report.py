@@ -34,6 +34,7 @@ from tftools.render.graph import counted, recording_legend
 from tftools.render.report import Section, page, recording_section, unreadable_section
 from tftools.sources import Recording
 from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.storage.locations import expand
 
 DEFAULT_OUTPUT = "report.html"
 
@@ -74,7 +75,7 @@ def command(
     Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
     [cyan]tfx report --ros1 -d 10 -o live.html[/]
     """
-    groups: list[list[Path]] = [[p] for p in paths or []] + ([list(bags)] if bags else [])
+    groups: list[list[str]] = [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
     _check_output(output, [p for group in groups for p in group])
     if groups:
         sections = _bag_sections(groups, topics, tf2, target, sensors)
@@ -89,7 +90,7 @@ def command(
     exit_with(Exit.PROBLEMS if failed else Exit.OK)
 
 
-def _check_output(output: Path, inputs: Sequence[Path]) -> None:
+def _check_output(output: Path, inputs: Sequence[str]) -> None:
     """Refuse, before any reading, an output that would touch an input, a folder, or a place not writable."""
     check_output(output, inputs)
     if output.is_dir():
@@ -100,7 +101,7 @@ def _check_output(output: Path, inputs: Sequence[Path]) -> None:
 
 
 def _bag_sections(
-    groups: Sequence[Sequence[Path]],
+    groups: Sequence[Sequence[str]],
     topics: Sequence[str] | None,
     semantics: Semantics | None,
     target: str | None,

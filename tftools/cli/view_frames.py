@@ -133,7 +133,7 @@ def command(
         exit_with(Exit.PROBLEMS)
 
 
-def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[Path]) -> tuple[GraphFormat, str]:
+def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[str]) -> tuple[GraphFormat, str]:
     """The format and the path: from -o's suffix, --format, or view_frames' default frames.pdf;
     never an input, inside one or above one (``outputs.check_output``)."""
     if output == "-":

@@ -30,6 +30,7 @@ from tftools.cli.common import (
     UsageError,
     count_bar,
     exit_with,
+    local_size,
     progress_bar,
     say_error,
     stdout,
@@ -39,6 +40,7 @@ from tftools.cli.deadline import timed
 from tftools.core.semantics import Semantics
 from tftools.render import wtf as render
 from tftools.render import wtf_lines as render_lines
+from tftools.sources.storage.locations import expand
 
 
 class WtfFormat(str, enum.Enum):
@@ -51,9 +53,11 @@ class WtfFormat(str, enum.Enum):
 _DEFAULTS = Thresholds()
 
 PathsArgument = Annotated[
-    list[Path] | None,
+    list[str] | None,
     typer.Argument(
-        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory.",
+        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory, "
+        "local or a URL (s3://bucket/fleet/ checks every recording below it, 's3://bucket/*.bag' the matches; "
+        "needs tftools[fleet]).",
         metavar="BAG",
         show_default=False,
     ),
@@ -231,7 +235,7 @@ def command(
     expected = expected_tree.read_expected(expect, *tolerances) if expect is not None else None
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
-    groups: list[list[str]] = [[str(p)] for p in paths or []] + ([[str(b) for b in bags]] if bags else [])
+    groups: list[list[str]] = [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
     if groups:
         one = functools.partial(
             check_bags,
@@ -335,7 +339,7 @@ def _results(todo: list[list[str]], one: Callable[..., BagReport], fleet: Fleet)
     if fleet.dask is not None:
         yield from executors.on_dask(todo, check, fleet.dask)
     elif len(todo) == 1:  # one local recording: a bar of the bytes read, when it is large
-        with progress_bar(enabled=sum(_size(Path(p)) for p in todo[0]) > 20_000_000) as progress:
+        with progress_bar(enabled=sum(local_size(p) for p in todo[0]) > 20_000_000) as progress:
             yield from executors.in_process(todo, timed(functools.partial(one, progress=progress), fleet.timeout))
     elif fleet.jobs <= 1:
         yield from executors.in_process(todo, check)
@@ -352,13 +356,6 @@ def _resumed(path: Path) -> list[BagReport]:
     if resumed.cut_short:
         warn(f"{path}: its last line was cut short; that recording is checked again")
     return resumed.reports
-
-
-def _size(path: Path) -> int:
-    try:
-        return path.stat().st_size if path.is_file() else sum(p.stat().st_size for p in path.iterdir())
-    except OSError:
-        return 0
 
 
 def _check_live(

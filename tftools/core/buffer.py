@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 import threading
 import time as _time
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -14,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core import walk
+from tftools.core._kernels import EdgeTable
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray, UInt8Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
@@ -24,13 +26,7 @@ from tftools.core.history import (
     PARENT_HAD_SLASH,
     EdgeHistory,
 )
-from tftools.core.kernels_table import (
-    WALK_CAN_TRANSFORM_S,
-    WALK_LOOKUP_S,
-    EdgeTable,
-    compiled,
-    lookup_in_parallel,
-)
+from tftools.core.kernels import edge_table, lookup_in_parallel, track
 from tftools.core.rejection import LIVE_REJECTIONS_KEPT, RejectionCode, RejectionLog
 from tftools.core.rotation import quat_multiply_many, quat_rotate_many
 from tftools.core.semantics import Semantics, check_semantics, dialect
@@ -51,7 +47,7 @@ def _locked(method: _Method) -> _Method:
 
     @wraps(method)
     def run(self: Buffer, *args: Any, **kwargs: Any) -> Any:
-        with self._changed:
+        with self._mutex:
             return method(self, *args, **kwargs)
 
     return run  # type: ignore[return-value]
@@ -107,9 +103,7 @@ class Buffer:
     everything, which is what whole-bag analysis wants. ``clock`` answers "what time is it":
     a ``SimClock`` (bag time) unless a live source gives a wall clock. ``semantics`` chooses
     the tf2 to answer as: ``"ros1"`` (ROS 1 bags and systems) or ``"ros2"`` (``.db3``/``.mcap``
-    and ROS 2 systems); ``tftools.core.semantics`` lists how they differ. ``warm_up`` loads the
-    compiled lookups now rather than once they pay: for a buffer other threads fill while it is
-    looked up (a live listener's), whose first lookups would otherwise stall them while numba loads.
+    and ROS 2 systems); ``tftools.core.semantics`` lists how they differ.
     """
 
     def __init__(
@@ -117,11 +111,7 @@ class Buffer:
         cache_time: int | None = DEFAULT_CACHE_TIME,
         clock: Clock | None = None,
         semantics: Semantics = "ros1",
-        *,
-        warm_up: bool = False,
     ) -> None:
-        if warm_up:
-            compiled()
         self.cache_time = cache_time
         self.clock: Clock = clock if clock is not None else SimClock()
         self.semantics: Semantics = check_semantics(semantics)
@@ -138,10 +128,9 @@ class Buffer:
         self._broadcasters: dict[int, int] = {}  # frame id -> authority of its last accepted sample
         self._arrivals = 0
         self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
-        self._changed = threading.Condition(threading.RLock())
-        self._table: EdgeTable | None = None  # built by the first compiled lookup
-        self._scratch_values = np.zeros(7)
-        self._scratch_stamp = np.zeros(1, np.int64)
+        self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
+        self._changed = threading.Condition(self._mutex)
+        self._table: EdgeTable | None = None  # built by the first lookup
 
     @property
     def arrivals(self) -> int:
@@ -155,13 +144,14 @@ class Buffer:
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        del state["_changed"]
+        del state["_changed"], state["_mutex"]
         state["_table"] = None  # memory addresses: rebuilt where the copy is used
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
-        self._changed = threading.Condition(threading.RLock())
+        self._mutex = threading.RLock()
+        self._changed = threading.Condition(self._mutex)
 
     @property
     def _ros2(self) -> bool:
@@ -214,6 +204,10 @@ class Buffer:
     ) -> bool:
         """Add one transform as tf2's ``setTransform`` does; False if it was refused (ROS 2's
         tf2 accepts a sample identical to one it holds, and stores it once)."""
+        with self._changed:
+            if self._append(transform, authority, static, record_time):
+                self._changed.notify_all()
+                return True
         builder = BatchBuilder()
         builder.add(
             transform.frame_id,
@@ -226,6 +220,38 @@ class Buffer:
             authority=authority,
         )
         return self.insert(builder.take()) == 1
+
+    def _append(self, transform: Transform, authority: str, static: bool, record_time: int) -> bool:
+        """``set_transform``'s common case, stored without building a batch: both frames known
+        (named without a slash, and different), a valid sample, newer than the child's newest
+        (unless static) and of its kind, from a known publisher, no rows reserved. False, having
+        stored nothing, in every other case, which ``insert`` takes."""
+        child_id, parent_id = self._frames.get(transform.child_frame_id), self._frames.get(transform.frame_id)
+        hist = self._histories[child_id]
+        if hist is None or parent_id in (NO_PARENT, child_id) or hist.static != static or self._expected:
+            return False
+        if transform.frame_id[0] == "/" or transform.child_frame_id[0] == "/":
+            return False
+        (tx, ty, tz), (x, y, z, w) = transform.translation, transform.rotation
+        # The sum of infinities and NaNs is not finite (of large values neither: ``insert`` decides those).
+        if not math.isfinite(tx + ty + tz + x + y + z + w) or not abs((w * w + x * x + y * y + z * z) - 1.0) < (
+            QUATERNION_TOLERANCE
+        ):
+            return False
+        authority_id = self._authority_ids.get(authority)
+        if authority_id is None:
+            return False
+        newest = hist.latest_stamp if len(hist) else None
+        flags = FROM_STATIC_TOPIC if static else 0
+        values = (tx, ty, tz, x, y, z, w)
+        if not hist.append(transform.stamp, values, parent_id, authority_id, record_time, self._arrivals, flags):
+            return False
+        self._arrivals += 1
+        if self.cache_time is not None:  # as ``_store`` prunes: ROS 2's tf2 before storing
+            hist.prune(self.cache_time, newest if self._ros2 and newest is not None else None)
+        self._track(child_id, hist)
+        self._broadcasters[child_id] = authority_id
+        return True
 
     def insert(self, batch: TransformBatch) -> int:
         """Add a batch in its row order, exactly as that many ``set_transform`` calls would.
@@ -248,8 +274,7 @@ class Buffer:
                 if hist is None or hist.static:
                     continue
                 emptied = self._histories[frame_id] = EdgeHistory(static=False)
-                if self._table is not None:  # the compiled lookups' view of the histories
-                    self._table.update(frame_id, emptied)
+                self._track(frame_id, emptied)
             self._changed.notify_all()
 
     def reserve(self, batches: Iterable[TransformBatch]) -> None:
@@ -354,8 +379,7 @@ class Buffer:
             self._histories[frame_id] = hist
             if len(stamps) == 1:  # a new cache takes its first sample as it is (a frame seen once)
                 hist.add(stamps, values, parents, authorities, record_times, sequence, flags)
-                if self._table is not None:
-                    self._table.update(frame_id, hist)
+                self._track(frame_id, hist)
                 self._broadcasters[frame_id] = int(authorities[0])
                 return 1
         elif expected:
@@ -405,8 +429,7 @@ class Buffer:
         )
         if self.cache_time is not None:
             hist.prune(self.cache_time, prune_from)
-        if self._table is not None:
-            self._table.update(frame_id, hist)
+        self._track(frame_id, hist)
         last = np.flatnonzero(accepted)
         if len(last):
             self._broadcasters[frame_id] = int(authorities[last[-1]])
@@ -507,18 +530,13 @@ class Buffer:
         """
         if target_frame == source_frame:
             return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
-        target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
-        source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
-        kernels = compiled(WALK_LOOKUP_S)
-        if kernels is not None:
-            values, stamp = self._scratch_values, self._scratch_stamp
-            if kernels.lookup(self._edge_table(), target_id, source_id, time, values, stamp) == kernels.OK:
-                v = values.tolist()
-                translation, rotation = (v[0], v[1], v[2]), (v[3], v[4], v[5], v[6])
-                return Transform(translation, rotation, int(stamp[0]), target_frame, source_frame)
+        target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
+        found = self._edge_table().lookup(target_id, source_id, time)
+        if found is not None:
+            return Transform(found[:3], found[3:7], found[7], target_frame, source_frame)
         # The Python walk: the reference, and the one place tf2's error messages are made.
-        translation, rotation, found = walk.lookup(self._tree(), target_id, source_id, time)
-        return Transform(translation, rotation, found, target_frame, source_frame)
+        translation, rotation, stamp = walk.lookup(self._tree(), target_id, source_id, time)
+        return Transform(translation, rotation, stamp, target_frame, source_frame)
 
     @_locked
     def lookup_full(
@@ -547,10 +565,7 @@ class Buffer:
         target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
         if NO_PARENT in (target_id, source_id):
             return False
-        kernels = compiled(WALK_CAN_TRANSFORM_S)
-        if kernels is not None:
-            return bool(kernels.can_transform(self._edge_table(), target_id, source_id, time))
-        return walk.can_transform(self._tree(), target_id, source_id, time)
+        return self._edge_table().can_transform(target_id, source_id, time)
 
     @_locked
     def can_transform_full(
@@ -576,7 +591,8 @@ class Buffer:
         """The newest time at which every edge between the two frames has data (0: all static)."""
         target_id = self._frame_id("get_latest_common_time", target_frame)
         source_id = self._frame_id("get_latest_common_time", source_frame)
-        return walk.latest_common_time(self._tree(), target_id, source_id)
+        found = self._edge_table().latest_common_time(target_id, source_id) if target_id != source_id else None
+        return found if found is not None else walk.latest_common_time(self._tree(), target_id, source_id)
 
     @_locked
     def lookup_many(self, target_frame: str, source_frame: str, times: npt.ArrayLike) -> LookupBatch:
@@ -590,13 +606,8 @@ class Buffer:
             resolved = np.where(stamps == 0, self._identity_stamp(target_frame, 0), stamps)
             n = len(stamps)
             return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
-        target_id = self._frame_id("lookupTransform argument target_frame", target_frame)
-        source_id = self._frame_id("lookupTransform argument source_frame", source_frame)
-        kernels = compiled(WALK_LOOKUP_S * len(stamps))
-        if kernels is None:
-            resolved, values, valid = walk.lookup_many(self._tree(), target_id, source_id, stamps)
-        else:
-            resolved, values, valid = lookup_in_parallel(kernels, self._edge_table(), target_id, source_id, stamps)
+        target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
+        resolved, values, valid = lookup_in_parallel(self._edge_table(), target_id, source_id, stamps)
         return LookupBatch(resolved, values[:, :3], values[:, 3:], valid)
 
     def transform_points(
@@ -666,17 +677,30 @@ class Buffer:
     def _tree(self) -> walk.Tree:
         return walk.Tree(self._histories, self._frames.names, dialect(self.semantics))
 
-    def _edge_table(self) -> Int64Array:
-        """The compiled kernels' view of the histories (built once, then kept up to date)."""
+    def _edge_table(self) -> EdgeTable:
+        """The compiled lookups' view of the histories (built once, then kept up to date)."""
         if self._table is None:
-            self._table = EdgeTable(self._histories)
-        return self._table.rows
+            self._table = edge_table(self._histories)
+        return self._table
+
+    def _track(self, frame_id: int, hist: EdgeHistory) -> None:
+        """Tell the compiled lookups (if loaded) that ``frame_id``'s history changed."""
+        if self._table is not None:
+            track(self._table, frame_id, hist)
 
     def _identity_stamp(self, frame: str, time: int) -> int:
         if time != 0:
             return time
         hist = self.history(frame)
         return hist.latest_stamp if hist is not None else 0
+
+    def _frame_ids(self, call: str, target_frame: str, source_frame: str) -> tuple[int, int]:
+        """The ids of a lookup's two frames, checked as tf2's ``validateFrameId`` checks them."""
+        target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
+        if not target_id or not source_id or target_frame[0] == "/" or source_frame[0] == "/":
+            target_id = self._frame_id(f"{call} argument target_frame", target_frame)
+            source_id = self._frame_id(f"{call} argument source_frame", source_frame)
+        return target_id, source_id
 
     def _frame_id(self, argument: str, frame: str) -> int:
         """tf2's ``validateFrameId``."""

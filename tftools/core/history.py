@@ -77,6 +77,7 @@ class EdgeHistory:
 
     __slots__ = (
         "_authorities",
+        "_columns",
         "_end",
         "_flags",
         "_parents",
@@ -97,6 +98,7 @@ class EdgeHistory:
     _sequence: Int64Array
     _flags: UInt8Array
     _stamp_index: memoryview
+    _columns: tuple[memoryview[float], memoryview, memoryview, memoryview, memoryview, memoryview]
 
     def __init__(self, static: bool, capacity: int = 8, replaced: EdgeHistory | None = None) -> None:
         self.static = static
@@ -127,6 +129,15 @@ class EdgeHistory:
         self._authorities, self._record_times = authorities, record_times
         self._sequence, self._flags = sequence, flags
         self._stamp_index = stamps.data  # bisect on it yields Python ints, no numpy scalars
+        # One sample stored through memoryviews costs a tenth of numpy's item assignments.
+        self._columns = (
+            values.reshape(-1).data.cast("B").cast("d"),
+            parents.data,
+            authorities.data,
+            record_times.data,
+            sequence.data,
+            flags.data,
+        )
         self._start, self._end = 0, n
 
     # --- views -------------------------------------------------------------------------------
@@ -229,6 +240,34 @@ class EdgeHistory:
         self._end += k
         if not in_order:
             self._sort()
+
+    def append(
+        self,
+        stamp: int,
+        values: tuple[float, ...],
+        parent: int,
+        authority: int,
+        record_time: int,
+        sequence: int,
+        flags: int,
+    ) -> bool:
+        """Store one accepted sample after the others, as ``add`` would, where that is all ``add``
+        would do: the history is static, empty, or ``stamp`` newer than its newest. False
+        otherwise (nothing stored: call ``add``)."""
+        end = self._end
+        if not (self.static or end == self._start or stamp > self._stamp_index[end - 1]):
+            return False
+        if end == len(self._stamps):
+            self._allocate(max(2 * len(self), 8))
+            end = self._end
+        self._stamp_index[end] = stamp
+        flat, parents, authorities, record_times, sequences, flag_column = self._columns
+        i = 7 * end
+        flat[i], flat[i + 1], flat[i + 2], flat[i + 3], flat[i + 4], flat[i + 5], flat[i + 6] = values
+        parents[end], authorities[end], record_times[end], sequences[end] = parent, authority, record_time, sequence
+        flag_column[end] = flags
+        self._end = end + 1
+        return True
 
     def _sort(self) -> None:
         s = slice(self._start, self._end)

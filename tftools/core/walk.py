@@ -5,7 +5,7 @@ target frame until it meets the frame where the first walk stopped; the two halv
 the answer. As in tf2, one walk serves every question, an accumulator deciding what it gathers
 at each edge: the transform (``lookup``), or the parent only (``can_transform``, ``chain``).
 Where a walk stops, which edge failed first and which message is raised follow tf2 step by
-step, because users compare our errors with theirs. ``kernels.py`` compiles the same walk.
+step, because users compare our errors with theirs. ``native/`` compiles the same walk (``kernels.py``).
 """
 
 from __future__ import annotations
@@ -15,7 +15,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.errors import ConnectivityError, ExtrapolationError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT
 from tftools.core.history import EdgeHistory, Gap
@@ -201,33 +200,6 @@ def chain(tree: Tree, target_id: int, source_id: int, time: int) -> list[int]:
     frames: list[int] = []
     walk_to_top_parent(tree, target_id, source_id, time, CanTransformAccum(), frames)
     return frames
-
-
-def lookup_many(
-    tree: Tree, target_id: int, source_id: int, times: Int64Array
-) -> tuple[Int64Array, FloatArray, BoolArray]:
-    """``lookup`` at each of ``times``: the times used (0 resolved to the latest common time),
-    values (N, 7: tx ty tz qx qy qz qw; identity where it failed) and where it succeeded."""
-    n = len(times)
-    stamps = times.copy()
-    values = np.zeros((n, 7))
-    values[:, 6] = 1.0
-    valid = np.zeros(n, bool)
-    unresolved = np.zeros(n, bool)
-    latest = stamps == 0
-    if latest.any():
-        try:
-            stamps[latest] = latest_common_time(tree, target_id, source_id)
-        except TransformError:
-            unresolved = latest
-    for i in np.flatnonzero(~unresolved).tolist():
-        try:
-            v, q, _ = lookup(tree, target_id, source_id, int(stamps[i]))
-        except TransformError:
-            continue
-        values[i] = (*v, *q)
-        valid[i] = True
-    return stamps, values, valid
 
 
 def latest_common_time(tree: Tree, target_id: int, source_id: int) -> int:

@@ -77,6 +77,8 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
         header.append(
             f"  {printable(', '.join(bag.formats))}, {seconds:.1f} s, {bag.transforms} transforms, {bag.frames} frames"
         )
+        for fetched in bag.fetched:
+            header.append(f", {fetched.describe()}")
         if bag.sensor_topics:
             count = len(bag.sensor_topics)
             header.append(
@@ -161,6 +163,7 @@ def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
         "end": bag.end / NS_PER_S if bag.usable else None,
         "transforms": bag.transforms,
         "frames": bag.frames,
+        "fetched": [asdict(f) for f in bag.fetched] or None,
         "sensor_data": {
             "topics": list(bag.sensor_topics),
             "target": bag.sensor_target,

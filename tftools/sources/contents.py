@@ -38,6 +38,28 @@ class ClockSamples:
 BUFFER_FORMAT = "buffer"
 
 
+@dataclass(frozen=True)
+class Fetched:
+    """What reading a remote recording fetched: bytes received of its files' ``size``; ``whole`` when
+    a file had to be fetched whole (a .db3: SQLite reads only a local file)."""
+
+    received: int
+    size: int
+    whole: bool = False
+
+    @property
+    def share(self) -> float:
+        return self.received / self.size if self.size else 0.0
+
+    def describe(self) -> str:
+        line = f"fetched {_megabytes(self.received)} of {_megabytes(self.size)} ({self.share:.1%})"
+        return line + (", .db3 files whole (SQLite reads a local file)" if self.whole else "")
+
+
+def _megabytes(n: int) -> str:
+    return f"{n / 1e6:.2f} MB" if n >= 10_000 else f"{n} bytes"
+
+
 @dataclass
 class SourceInfo:
     """One source as read: a file (or ROS 2 bag directory), a live system listened to, or a buffer."""
@@ -54,6 +76,7 @@ class SourceInfo:
     # one line each: a healthy file, nothing to repair.
     unread: list[str] = field(default_factory=list)
     clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # this source's /clock
+    fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
 
     @property
     def live(self) -> bool:

@@ -17,7 +17,12 @@ class BagError(SourceError):
     def __init__(self, path: str, problem: str, hint: str = "") -> None:
         super().__init__(f"{path}: {problem}")
         self.path = path
+        self.problem = problem
         self.hint = hint
+
+    def said_of(self, path: str) -> BagError:
+        """This error said of ``path`` (a URL) rather than of the local copy it was met in."""
+        return BagError(path, self.problem.replace(self.path, path), self.hint)
 
 
 class BagNotFoundError(BagError):
@@ -75,4 +80,22 @@ class NoTransformsError(SourceError):
             "`tfx wtf` names their type and encoding; pick other topics with --topic"
             if unreadable
             else "was /tf recorded? pick other topics with --topic"
+        )
+
+
+class MissingExtraError(SourceError):
+    """A URL (or a fleet option) given without the packages it needs installed."""
+
+    def __init__(self, what: str, extra: str = "fleet") -> None:
+        super().__init__(f"{what} needs tftools[{extra}]: pip install 'tftools[{extra}]'")
+
+
+class RemoteError(BagError):
+    """A remote recording that could not be listed or fetched (missing, refused, timed out, ...)."""
+
+    def __init__(self, url: str, problem: str) -> None:
+        super().__init__(
+            url,
+            problem,
+            "check the URL and the credentials and endpoint in the environment (e.g. AWS_PROFILE, AWS_ENDPOINT_URL)",
         )

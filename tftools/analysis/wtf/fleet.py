@@ -15,6 +15,7 @@ from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.sources.bag import ProgressCallback
 from tftools.sources.bag.stamped import StampedMessages, read_stamped
+from tftools.sources.contents import Fetched
 from tftools.sources.recording import Recording, read_recording
 
 
@@ -33,6 +34,7 @@ class BagReport:
     sensor_topics: tuple[str, ...] = ()  # topics of data with a header, checked against tf
     sensor_target: str = ""  # the frame that data was checked in
     sensor_target_reason: str = ""
+    fetched: tuple[Fetched, ...] = ()  # of each file read by URL: what was fetched of it
 
     @property
     def name(self) -> str:
@@ -62,6 +64,7 @@ def report(recording: Recording, findings: list[Finding]) -> BagReport:
         end=recording.end,
         transforms=recording.transform_count,
         frames=len(recording.buffer.frames),
+        fetched=tuple(f.fetched for f in recording.contents.files if f.fetched is not None),
     )
 
 

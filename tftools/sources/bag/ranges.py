@@ -1,5 +1,9 @@
 """Byte ranges of a file read in few calls: ranges close together share one read, and the system
-is asked to fetch them all first, so a file not in the page cache costs one disk wait, not one per range."""
+is asked to fetch them all first, so a file not in the page cache costs one disk wait, not one per range.
+
+A remote file's local copy (``storage.copies``) is filled instead: ``ahead`` and ``need`` are where the
+readers say which ranges they are about to read.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +12,8 @@ from contextlib import suppress
 
 import numpy as np
 import numpy.typing as npt
+
+from tftools.sources.storage.copies import copy_of
 
 IntArray = npt.NDArray[np.int64]
 
@@ -29,7 +35,7 @@ def read_ranges(
     run = np.cumsum(first) - 1
     run_start, run_end = low[firsts], np.maximum.reduceat(high, firsts)
     placed = np.cumsum(run_end - run_start) - (run_end - run_start)  # where each run goes in the bytes
-    prefetch(fd, run_start, run_end)
+    ahead(fd, run_start, run_end)
     data = np.empty(int((run_end - run_start).sum()), np.uint8)
     view = data.data  # the array's bytes, read into in place
     complete = np.array(
@@ -44,6 +50,23 @@ def read_ranges(
     read = np.empty(len(starts), bool)
     read[order] = complete[run]
     return data, where, read
+
+
+def ahead(fd: int, starts: IntArray, ends: IntArray) -> None:
+    """These byte ranges of the file will be read soon: a remote file's copy fetches them now, a
+    local file's are read ahead (``prefetch``)."""
+    copy = copy_of(fd)
+    if copy is None:
+        prefetch(fd, starts, ends)
+    else:
+        copy.fill(starts.tolist(), ends.tolist())
+
+
+def need(fd: int, start: int, end: int) -> None:
+    """``start:end`` of the file is read next: a remote file's copy fetches it (a local file's is there)."""
+    copy = copy_of(fd)
+    if copy is not None:
+        copy.fill([start], [end])
 
 
 def prefetch(fd: int, starts: IntArray, ends: IntArray) -> None:

@@ -4,12 +4,19 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
+from contextlib import ExitStack
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagContents, BagFileInfo, ProgressCallback, in_record_order, merged_clock
-from tftools.sources.contents import DEFAULT_TOPICS
-from tftools.sources.errors import BagNotFoundError, UnknownBagFormatError
+from tftools.sources.contents import DEFAULT_TOPICS, Fetched
+from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
+from tftools.sources.storage.locations import is_url
+
+if TYPE_CHECKING:
+    from tftools.sources.storage.remote import LocalView
 
 #: A format reader: (path, topics, progress over this file's bytes) -> batches and description.
 FormatReader = Callable[[Path, tuple[str, ...], ProgressCallback], tuple[list[TransformBatch], BagFileInfo]]
@@ -27,35 +34,79 @@ def read_bag(
     """Every transform on ``topics`` (default ``/tf`` and ``/tf_static``) of the bags at ``paths``,
     and their recorded clock (a rosgraph_msgs/Clock topic, whatever ``topics`` are).
 
+    A path may be a URL (``s3://``, ``gs://``, ``az://``, ``http(s)://``; ``tftools[fleet]``): only
+    the ranges the readers need are fetched, and its ``BagFileInfo.fetched`` says how much.
     Several paths are one recording (a split bag): their rows are merged by record time.
     Raises ``BagError`` for a path that cannot be read at all; a damaged file is read as far
     as it goes, and what was lost is listed in its ``BagFileInfo.problems``.
     """
     chosen = tuple(topics) if topics else DEFAULT_TOPICS
-    files = [Path(p) for p in paths]
-    readers = [(path, _format_reader(path)) for path in files]
-    sizes = [_size(path) for path in files]
-    total = sum(sizes)
-    batches: list[TransformBatch] = []
-    infos: list[BagFileInfo] = []
-    done = 0
-    for (path, reader), size in zip(readers, sizes, strict=True):
-        offset = done
+    with ExitStack() as stack:
+        places = [_place(os.fspath(p), stack) for p in paths]
+        readers = [(place, _format_reader(place)) for place in places]
+        sizes = [_size(place.path) for place in places]
+        total = sum(sizes)
+        batches: list[TransformBatch] = []
+        infos: list[BagFileInfo] = []
+        done = 0
+        for (place, reader), size in zip(readers, sizes, strict=True):
+            offset = done
 
-        def file_progress(read: int, _of: int, offset: int = offset) -> None:
+            def file_progress(read: int, _of: int, offset: int = offset) -> None:
+                if progress is not None:
+                    progress(offset + read, total)
+
+            file_batches, info = place.said(reader, chosen, file_progress)
+            batches.extend(file_batches)
+            infos.append(info)
+            done += size
             if progress is not None:
-                progress(offset + read, total)
-
-        file_batches, info = reader(path, chosen, file_progress)
-        batches.extend(file_batches)
-        infos.append(info)
-        done += size
-        if progress is not None:
-            progress(done, total)
+                progress(done, total)
     return BagContents(in_record_order(batches), infos, chosen, merged_clock([f.clock for f in infos]))
 
 
-def _format_reader(path: Path) -> FormatReader:
+@dataclass
+class _Place:
+    """Where a bag is read: its local path, or a remote one's local view (and its URL)."""
+
+    path: Path
+    url: str = ""
+    view: LocalView | None = None
+
+    def said(
+        self, reader: FormatReader, topics: tuple[str, ...], progress: ProgressCallback
+    ) -> tuple[list[TransformBatch], BagFileInfo]:
+        """The reader's result, said of the URL (with what was fetched) for a remote bag."""
+        if self.view is None:
+            return reader(self.path, topics, progress)
+        try:
+            batches, info = reader(self.path, topics, progress)
+        except BagError as e:
+            raise e.said_of(self.url) from None
+        local = str(self.path)
+        info.path = self.url
+        info.problems = [line.replace(local, self.url) for line in info.problems]
+        info.fetched = Fetched(self.view.fetched, self.view.size, self.view.whole)
+        return batches, info
+
+
+def _place(location: str, stack: ExitStack) -> _Place:
+    if not is_url(location):
+        return _Place(Path(location))
+    from tftools.sources.storage.remote import local_view  # fsspec loads only for a URL
+
+    view = stack.enter_context(local_view(location))
+    return _Place(view.path, location, view)
+
+
+def _format_reader(place: _Place) -> FormatReader:
+    try:
+        return _format_of(place.path)
+    except BagError as e:
+        raise e if place.view is None else e.said_of(place.url) from None
+
+
+def _format_of(path: Path) -> FormatReader:
     # Each format's module is imported only when a file needs it: a ROS1 user pays for no
     # sqlite or MCAP code.
     if not path.exists():

@@ -120,7 +120,7 @@ def listen(
     filled from then on in the background, as a ``tf2_ros::TransformListener`` fills its buffer,
     and cleared as it clears it when the clock jumps back (static transforms kept, one notice
     said through the source). Close the source to stop."""
-    buffer = Buffer(cache_time, source.clock, semantics or live_semantics(source), warm_up=True)
+    buffer = Buffer(cache_time, source.clock, semantics or live_semantics(source))
     deliver = watch_jumps(source, buffer.insert, lambda _jump: buffer.clear())
 
     def insert(batch: TransformBatch) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import struct
 from dataclasses import dataclass, field
 from typing import BinaryIO
@@ -31,7 +32,7 @@ from tftools.sources.bag.mcap.records import (
     records,
     scan_records,
 )
-from tftools.sources.bag.ranges import prefetch
+from tftools.sources.bag.ranges import ahead, need
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
@@ -93,7 +94,7 @@ def _read_chunks(
     ranged = RangedReader(f.fileno(), channels, read_queued_whole)
     indexed = [c for c in chunks if _in_ranges(c, _wanted(c, channels))]
     ends = np.array([c.end for c in indexed], np.int64)
-    prefetch(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
+    ahead(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
     for number, chunk in enumerate(chunks):
         wanted = _wanted(chunk, channels)
         if _in_ranges(chunk, wanted):
@@ -124,8 +125,10 @@ def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
 
 
 def _read_at(f: BinaryIO, offset: int, length: int) -> bytes:
-    f.seek(offset)
-    return f.read(length)
+    """``length`` bytes at ``offset``, past ``f``'s buffer: what it may hold of a remote file's copy
+    can have been read before that part was fetched."""
+    need(f.fileno(), offset, offset + length)
+    return os.pread(f.fileno(), length, offset)
 
 
 def _summary(f: BinaryIO, size: int) -> _Summary | None:
@@ -133,16 +136,14 @@ def _summary(f: BinaryIO, size: int) -> _Summary | None:
     tail = _FOOTER_RECORD.size + len(MAGIC)
     if size < len(MAGIC) + tail:
         return None
-    f.seek(size - tail)
-    footer = f.read(tail)
+    footer = _read_at(f, size - tail, tail)
     opcode, length, summary_start, _, _ = _FOOTER_RECORD.unpack_from(footer)
     if footer[-len(MAGIC) :] != MAGIC or opcode != FOOTER or length != 20:
         return None
     if not len(MAGIC) <= summary_start <= size - tail:
         return None
-    f.seek(summary_start)
     try:
-        return _parse_summary(f.read(size - tail - summary_start), size)
+        return _parse_summary(_read_at(f, summary_start, size - tail - summary_start), size)
     except McapDamageError:
         return None
 
@@ -203,7 +204,7 @@ def _read_chunk(
             raise McapDamageError(damage)
         return
     if index is None:
-        index = f.read(chunk.index_length)
+        index = _read_at(f, chunk.end, chunk.index_length)
     found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
     found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
     found.end = np.full(len(found), len(data), np.int64)

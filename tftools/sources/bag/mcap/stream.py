@@ -22,6 +22,7 @@ from tftools.sources.bag.mcap.records import (
     known,
     scan_records,
 )
+from tftools.sources.bag.ranges import need
 
 _PROGRESS_STEP = 1 << 24
 
@@ -35,6 +36,7 @@ def stream(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallbac
 
     Raises ``UnreadableError`` when the damage comes before anything could be read.
     """
+    need(f.fileno(), 0, size)  # a remote file is fetched whole: every record is read
     reader, result = _Stream(f, size, channels), channels.result
     damage = reader.run(progress)
     if reader.lost_chunks:

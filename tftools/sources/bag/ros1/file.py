@@ -11,6 +11,7 @@ import numpy.typing as npt
 
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.messages import MessageSet
+from tftools.sources.bag.ranges import need
 from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, RecordReader
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
@@ -109,6 +110,7 @@ class BagFile:
         """``buf[start:end]``: read from the file when it is known (faulting in the pages of a
         mapping costs more than the copy a read makes, and they would count as resident)."""
         if self.fd is not None:
+            need(self.fd, start, end)
             return os.pread(self.fd, max(0, min(end, self.size) - start), start)
         return memoryview(self.buf)[start:end]
 

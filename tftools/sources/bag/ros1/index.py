@@ -15,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.ranges import prefetch, read_ranges
+from tftools.sources.bag.ranges import ahead, need, read_ranges
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.records import (
@@ -46,6 +46,8 @@ _CHUNK_HEADER_BYTES, _INDEX_RECORD_BYTES, _INDEX_ENTRY_BYTES = 4096, 128, 12
 def read_index(bag: BagFile, header: BagHeader) -> list[ChunkInfo]:
     """The connections and chunk infos at the bag's end (connections met); ``FormatError`` if damaged."""
     pos = header.index_pos
+    if bag.fd is not None:
+        need(bag.fd, pos, bag.size)
     records = []
     for op, count in ((OP_CONNECTION, header.conn_count), (OP_CHUNK_INFO, header.chunk_count)):
         for _ in range(count):
@@ -90,7 +92,7 @@ def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
             index_bytes = sum(_INDEX_RECORD_BYTES + _INDEX_ENTRY_BYTES * n for n in info.counts.values())
             starts += [info.pos, max(info.pos, end - index_bytes)]
             stops += [info.pos + _CHUNK_HEADER_BYTES, end]
-    prefetch(bag.fd, np.array(starts, np.int64), np.array(stops, np.int64))
+    ahead(bag.fd, np.array(starts, np.int64), np.array(stops, np.int64))
 
 
 def _record(bag: BagFile, pos: int, op: int) -> Record:

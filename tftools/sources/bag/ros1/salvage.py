@@ -3,6 +3,7 @@ is damaged) read chunk after chunk, over damage: whatever can be read of it."""
 
 from __future__ import annotations
 
+from tftools.sources.bag.ranges import need
 from tftools.sources.bag.ros1.chunks import locate, walk
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.records import (
@@ -27,6 +28,8 @@ def read_unindexed(bag: BagFile, header: BagHeader, index_damage: str = "") -> N
     """Read the bag's records one after the other, up to its index when ``index_damage`` says
     what is wrong with it (else there is none, or it lies past the end of the file), and say so."""
     scanner = _Scanner(bag)
+    if bag.fd is not None:  # a remote bag is fetched whole: every record is read
+        need(bag.fd, header.data_start, bag.size)
     truncated = header.index_pos > bag.size
     scanner.scan(header.data_start, header.index_pos if index_damage else bag.size)
     n = bag.transform_messages

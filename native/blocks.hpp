@@ -1,0 +1,207 @@
+// Many lookups along one chain of edges, walked once, then composed edge by edge.
+//
+// Over a span of time where no frame of the chain changes parent and every time falls strictly
+// inside every dynamic edge's history, `walk` takes the same steps at each time: the same frames,
+// each sampled by interpolation, composed in the same order. Such a span is composed here
+// edge-major: the chain is walked once, at the block's first time, then for a block of times each
+// edge in turn is sampled at every time of the block and composed into per-time accumulators
+// (`edge_block`), with exactly `side_at`'s operations in its order, so the answers are
+// bit-identical. Per time, a one-time walk is a long chain of dependent multiplications (each edge
+// waits for the previous one); across the times of a block they are independent, which lets the
+// processor overlap them (and the compiler vectorize them), and the per-time frame lookups,
+// parent checks and branches go away.
+//
+// Whatever does not fit (a time of 0, a time on or outside a history's first or last stamp, a
+// parent that changes, an unconnected chain, a gap) makes its whole block fall back to
+// `lookup_at` at each time, which answers everything.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <memory>
+
+#include "walk.hpp"
+
+namespace tfcore {
+
+// Times per block: the accumulators (2 SIDE doubles) stay in the L1 cache.
+constexpr int64_t BLOCK = 256;
+
+// A side's accumulator: component c (tx ty tz qx qy qz qw) of the k-th time at c[c][k], and the
+// k-th time less the older sample's stamp at lag[k]. Fixed strides, so that the loops over k
+// have no dependence the compiler cannot see.
+struct Accumulator {
+    alignas(64) double c[7][BLOCK];
+    alignas(64) double lag[BLOCK];
+
+    void reset(int64_t n) {
+        for (int i = 0; i < 7; ++i) std::fill(c[i], c[i] + n, i == 6 ? 1.0 : 0.0);
+    }
+    Pose get(int64_t k) const { return {{c[0][k], c[1][k], c[2][k]}, {c[3][k], c[4][k], c[5][k], c[6][k]}}; }
+    void set(int64_t k, const Pose& p) {
+        c[0][k] = p.v.x, c[1][k] = p.v.y, c[2][k] = p.v.z;
+        c[3][k] = p.q.x, c[4][k] = p.q.y, c[5][k] = p.q.z, c[6][k] = p.q.w;
+    }
+    // The k-th time's accumulator = edge * it, as `walk` accumulates.
+    void compose_at(int64_t k, const Pose& edge) { set(k, compose(edge, get(k))); }
+};
+
+// Where a lookup answers: row `rows[k]` of the outputs for the k-th time.
+struct Outputs {
+    const int64_t* rows;
+    int64_t* stamps;  // the time used (0 resolved to the latest common time)
+    double* values;   // 7 per row; identity where it failed
+    bool* valid;      // whether tf2 would have succeeded
+};
+
+// A static edge: its last sample at every time (`row_at`). False if it has none (or another parent).
+inline bool static_block(const History& h, int64_t parent, int64_t n, Accumulator& acc, bool composed) {
+    if (h.end == h.start || h.parents[h.end - 1] != parent) return false;
+    if (composed) {
+        const Pose edge = pose_at(h.values, h.end - 1);
+        for (int64_t k = 0; k < n; ++k) acc.compose_at(k, edge);
+    }
+    return true;
+}
+
+// Compose, at the times k0..k1 (at `lag`), the edge interpolated between the samples at `row`
+// and `row + 1`: `edge_at`'s lerp and slerp. Where every angle is small enough for small_sin
+// (the arc is), the loop has no branch, and compiles to vector instructions.
+inline void interval(Accumulator& acc, int64_t k0, int64_t k1, const double* values, int64_t row, double span,
+                     const Arc& c) {
+    const Pose a = pose_at(values, row), b = pose_at(values, row + 1);
+    if (c.theta == 0.0 || c.theta > SMALL_ANGLE) {
+        for (int64_t k = k0; k < k1; ++k) {
+            const double r = acc.lag[k] / span, s = 1.0 - r;
+            const Quat q = slerp(a.q, b.q, r, c, true);
+            acc.compose_at(k, {{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q});
+        }
+        return;
+    }
+    for (int64_t k = k0; k < k1; ++k) {  // slerp where both sines are small_sin: (1 - r) * theta <= theta
+        const double r = acc.lag[k] / span, s = 1.0 - r;
+        const double s0 = small_sin((1.0 - r) * c.theta), s1 = small_sin(r * c.theta) * c.sign;
+        const Quat q = weigh(a.q, b.q, s0, s1, c.d);
+        acc.compose_at(k, {{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q});
+    }
+}
+
+// Compose `step`'s edge at times[0..n) into `acc` as row_at, edge_at and side_at do. False (`acc`
+// then half done) unless each time lies strictly between the history's first and last stamps and
+// both rows it interpolates between have the step's parent: then edge_at interpolates at every
+// time, which is all this does. For each run of times within one interval of the history, the
+// row is found (galloping from the cursor), its parents checked and its arc taken once.
+inline bool edge_block(const Histories& histories, const Step& step, const int64_t* times, int64_t n,
+                       Accumulator& acc, Memo& memo) {
+    const History& h = histories[step.frame];
+    if (h.is_static) return static_block(h, step.parent, n, acc, step.composed);
+    if (h.end - h.start < 2) return false;
+    const int64_t earliest = h.stamps[h.start], latest = h.stamps[h.end - 1];
+    int64_t k = 0;
+    while (k < n) {
+        const int64_t time = times[k];
+        if (time <= earliest || time >= latest) return false;
+        const int64_t row = find(h.stamps, h.start, h.end, time, memo, step.frame) - 1;
+        if (h.parents[row] != step.parent || h.parents[row + 1] != step.parent) return false;
+        const int64_t t0 = h.stamps[row], t1 = h.stamps[row + 1];
+        const int64_t low = row > h.start ? t0 : t0 + 1;  // at the first stamp itself, row_at does not interpolate
+        int64_t last = k + 1;  // the run: times[k..last), all within [low, t1)
+        acc.lag[k] = static_cast<double>(time - t0);
+        while (last < n && low <= times[last] && times[last] < t1) {
+            acc.lag[last] = static_cast<double>(times[last] - t0);
+            ++last;
+        }
+        if (step.composed) {
+            interval(acc, k, last, h.values, row, static_cast<double>(t1 - t0), arc_at(h, step.frame, row, memo));
+        }
+        k = last;
+    }
+    return true;
+}
+
+// Identity into `acc`, then each edge of one side of the chain, in walk order.
+inline bool side_block(const Histories& histories, const std::vector<Step>& side, const int64_t* times, int64_t n,
+                       Accumulator& acc, Memo& memo) {
+    acc.reset(n);
+    for (const Step& step : side) {
+        if (!edge_block(histories, step, times, n, acc, memo)) return false;
+    }
+    return true;
+}
+
+// lookup_at at times[0..n) along the walked chain, the answers in `source`; false where any
+// time does not fit it (the accumulators are then of no use).
+inline bool chain_block(const Histories& histories, const Chain& chain, const int64_t* times, int64_t n,
+                        Accumulator& source, Accumulator& target, Memo& memo) {
+    if (!side_block(histories, chain.sides[0], times, n, source, memo)) return false;
+    if (!side_block(histories, chain.sides[1], times, n, target, memo)) return false;
+    if (chain.ending != Ending::AT_TARGET) {
+        for (int64_t k = 0; k < n; ++k) source.set(k, finish(chain.ending, source.get(k), target.get(k)));
+    }
+    return true;
+}
+
+inline void put(const Outputs& out, int64_t k, int64_t time, bool ok, const Pose& p) {
+    const int64_t row = out.rows[k];
+    out.stamps[row] = time;
+    out.valid[row] = ok;
+    double* v = out.values + 7 * row;
+    v[0] = p.v.x, v[1] = p.v.y, v[2] = p.v.z, v[3] = p.q.x, v[4] = p.q.y, v[5] = p.q.z, v[6] = p.q.w;
+}
+
+// lookup_at at each time of a block: what answers any time. `common` is latest_common_time's
+// answer (`common_ok` whether it had one), for the times of 0.
+inline void each_block(const Histories& histories, int64_t target, int64_t source, const int64_t* times, int64_t n,
+                       bool common_ok, int64_t common, const Outputs& out, Chain& chain, Memo& memo) {
+    for (int64_t k = 0; k < n; ++k) {
+        const int64_t time = times[k] == 0 ? common : times[k];
+        Pose p;
+        const bool ok = lookup_at(histories, target, source, time, chain, memo, p) && (times[k] != 0 || common_ok);
+        put(out, k, time, ok, ok ? p : Pose{});
+    }
+}
+
+// walk.lookup at each of times[0..n) (fastest in ascending order), into out's rows: along a walked
+// chain where it can, else lookup_at at each time. `chained` false takes the second way always
+// (what the tests compare the first with).
+inline void lookup_many(const Histories& histories, int64_t target, int64_t source, const int64_t* times, int64_t n,
+                        const Outputs& out, bool chained) {
+    Memo memo(histories.size());
+    int64_t common = 0;
+    const bool common_ok = latest_common_time(histories, target, source, common);
+    Chain chain, scratch;
+    auto accumulators = std::make_unique<std::array<Accumulator, 2>>();
+    auto& [source_acc, target_acc] = *accumulators;
+    bool resolve = true;  // at the next block's first time: at first, and after a block did not fit
+    for (int64_t lo = 0; lo < n; lo += BLOCK) {
+        const int64_t m = std::min(BLOCK, n - lo);
+        const int64_t* block = times + lo;
+        const Outputs part{out.rows + lo, out.stamps, out.values, out.valid};
+        if (resolve && block[0] != 0) {
+            walk(histories, target, source, block[0], chain, memo);
+            resolve = false;
+        }
+        // A walk stopped at a gap may take another way at another time: blocks need a root.
+        const bool fits = chained && chain.ending != Ending::NO_PATH && chain.rooted &&
+                          std::find(block, block + m, 0) == block + m;
+        if (fits && chain_block(histories, chain, block, m, source_acc, target_acc, memo)) {
+            for (int64_t k = 0; k < m; ++k) put(part, k, block[k], true, source_acc.get(k));
+            continue;
+        }
+        resolve = true;
+        each_block(histories, target, source, block, m, common_ok, common, part, scratch, memo);
+    }
+}
+
+// Whether lookup_many takes times[0..n) as one block along its chain (-1: the chain does not
+// resolve at the first time), for the tests.
+inline int chain_takes(const Histories& histories, int64_t target, int64_t source, const int64_t* times, int64_t n) {
+    Memo memo(histories.size());
+    Chain chain;
+    walk(histories, target, source, times[0], chain, memo);
+    if (chain.ending == Ending::NO_PATH || !chain.rooted) return -1;
+    auto accumulators = std::make_unique<std::array<Accumulator, 2>>();
+    return chain_block(histories, chain, times, n, (*accumulators)[0], (*accumulators)[1], memo) ? 1 : 0;
+}
+
+}  // namespace tfcore

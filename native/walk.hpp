@@ -1,0 +1,350 @@
+// tf2's walk over the edge histories, step for step as tftools/core/walk.py takes it.
+//
+// walk.py stays the reference: `walk` is its walk_to_top_parent, recording the edges it takes
+// (each one's row) instead of composing them as it goes; `side_at` and `finish` then do what its
+// TransformAccum does, with rotation.py's formulas in their order (compiled without contraction
+// into fused multiply-adds or fast math, so the answers are bit-identical). Failures are only
+// reported: the buffer asks walk.py for tf2's error, so its messages come from one place.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace tfcore {
+
+// One frame's history as the buffer stores it (EdgeHistory.storage()): rows start..end of the
+// arrays; `has` is false for a root or a frame not yet seen.
+struct History {
+    bool has = false;
+    bool is_static = false;
+    int64_t start = 0;
+    int64_t end = 0;
+    const int64_t* stamps = nullptr;
+    const double* values = nullptr;  // 7 per row: tx ty tz qx qy qz qw
+    const int32_t* parents = nullptr;
+};
+
+using Histories = std::vector<History>;
+
+constexpr int64_t MAX_GRAPH_DEPTH = 1000;  // walk.MAX_GRAPH_DEPTH
+
+struct Vec { double x = 0.0, y = 0.0, z = 0.0; };
+struct Quat { double x = 0.0, y = 0.0, z = 0.0, w = 1.0; };
+struct Pose { Vec v; Quat q; };
+
+// --- rotation.py ------------------------------------------------------------------------------
+
+inline Quat multiply(const Quat& a, const Quat& b) {
+    return {a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z,
+            a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x, a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z};
+}
+
+inline Vec rotate(const Quat& q, const Vec& v) {
+    const double px = q.w * v.x + q.y * v.z - q.z * v.y;
+    const double py = q.w * v.y + q.z * v.x - q.x * v.z;
+    const double pz = q.w * v.z + q.x * v.y - q.y * v.x;
+    const double pw = -q.x * v.x - q.y * v.y - q.z * v.z;
+    return {pw * -q.x + px * q.w + py * -q.z - pz * -q.y, pw * -q.y + py * q.w + pz * -q.x - px * -q.z,
+            pw * -q.z + pz * q.w + px * -q.y - py * -q.x};
+}
+
+inline Quat conjugate(const Quat& q) { return {-q.x, -q.y, -q.z, q.w}; }
+
+// `edge` applied after `acc`, as TransformAccum.accum composes.
+inline Pose compose(const Pose& edge, const Pose& acc) {
+    const Vec r = rotate(edge.q, acc.v);
+    return {{r.x + edge.v.x, r.y + edge.v.y, r.z + edge.v.z}, multiply(edge.q, acc.q)};
+}
+
+// What slerp needs of two samples: the angle, 1 / sin(angle), the sign of the dot product.
+struct Arc { double theta = 0.0, d = 0.0, sign = 1.0; };
+
+inline Arc arc(const Quat& a, const Quat& b) {
+    const double dot = a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w;
+    const double norms = std::sqrt((a.x * a.x + a.y * a.y + a.z * a.z + a.w * a.w) *
+                                   (b.x * b.x + b.y * b.y + b.z * b.z + b.w * b.w));
+    const double cosine = std::fabs(dot) / norms;
+    const double theta = std::acos(cosine > 1.0 ? 1.0 : cosine);
+    if (theta == 0.0) return {0.0, 0.0, 1.0};
+    return {theta, 1.0 / std::sin(theta), dot >= 0 ? 1.0 : -1.0};
+}
+
+// Up to this angle, batches take `small_sin` for std::sin.
+constexpr double SMALL_ANGLE = 0.0625;
+
+// sin(x) for |x| <= SMALL_ANGLE by its Taylor series: within an ulp of it and several times
+// faster (the terms past x**9 are below 1e-20 x).
+inline double small_sin(double x) {
+    const double x2 = x * x;
+    return x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880))));
+}
+
+inline double sine(double x, bool batch) { return (!batch || std::fabs(x) > SMALL_ANGLE) ? std::sin(x) : small_sin(x); }
+
+// Slerp's last step: (a s0 + b s1) d.
+inline Quat weigh(const Quat& a, const Quat& b, double s0, double s1, double d) {
+    return {(a.x * s0 + b.x * s1) * d, (a.y * s0 + b.y * s1) * d, (a.z * s0 + b.z * s1) * d,
+            (a.w * s0 + b.w * s1) * d};
+}
+
+// rotation.slerp given `arc`'s constants; `batch` takes small_sin for small angles.
+inline Quat slerp(const Quat& a, const Quat& b, double t, const Arc& c, bool batch) {
+    if (c.theta == 0.0) return a;
+    return weigh(a, b, sine((1.0 - t) * c.theta, batch), sine(t * c.theta, batch) * c.sign, c.d);
+}
+
+inline Pose pose_at(const double* values, int64_t row) {
+    const double* v = values + 7 * row;
+    return {{v[0], v[1], v[2]}, {v[3], v[4], v[5], v[6]}};
+}
+
+// --- one edge: EdgeHistory.sample ----------------------------------------------------------------
+
+// Per frame, the last row a walk used (a cursor: a walk over ascending times moves it instead of
+// bisecting) and the row whose arc to the next `arcs` holds. Off for single lookups.
+struct Memo {
+    bool on = false;
+    std::vector<int64_t> cursor, arc_row;
+    std::vector<Arc> arcs;
+
+    Memo() = default;
+    explicit Memo(size_t frames) : on(true), cursor(frames, -1), arc_row(frames, -1), arcs(frames) {}
+};
+
+// bisect_right(stamps, time, start, end), galloping from the memo's cursor when it has one.
+inline int64_t find(const int64_t* stamps, int64_t start, int64_t end, int64_t time, Memo& memo, int64_t frame) {
+    int64_t lo = start, hi = end;
+    if (memo.on) {
+        const int64_t cursor = memo.cursor[frame];
+        if (start <= cursor && cursor < end && stamps[cursor] <= time) {
+            lo = cursor + 1;
+            int64_t step = 1;
+            while (lo + step < end && stamps[lo + step] <= time) {
+                lo += step;
+                step *= 2;
+            }
+            hi = std::min(lo + step, end);
+        }
+    }
+    while (lo < hi) {
+        const int64_t mid = (lo + hi) >> 1;
+        if (time < stamps[mid]) hi = mid;
+        else lo = mid + 1;
+    }
+    if (memo.on) memo.cursor[frame] = lo - 1;
+    return lo;
+}
+
+enum class Kind { FOUND, GAP, ROOT };
+
+// EdgeHistory._row_at: the row to use, or the older of two to interpolate between.
+struct RowAt {
+    Kind kind;
+    int64_t row = 0;
+    bool interpolate = false;
+};
+
+inline RowAt row_at(const Histories& histories, int64_t frame, int64_t time, Memo& memo) {
+    if (frame >= static_cast<int64_t>(histories.size()) || !histories[frame].has) return {Kind::ROOT};
+    const History& h = histories[frame];
+    if (h.end == h.start) return {Kind::GAP};
+    if (h.is_static || time == 0) return {Kind::FOUND, h.end - 1};
+    if (h.end - h.start == 1) return h.stamps[h.start] == time ? RowAt{Kind::FOUND, h.start} : RowAt{Kind::GAP};
+    const int64_t latest = h.stamps[h.end - 1], earliest = h.stamps[h.start];
+    if (time == latest) return {Kind::FOUND, h.end - 1};
+    if (time == earliest) return {Kind::FOUND, h.start};
+    if (time > latest || time < earliest) return {Kind::GAP};
+    return {Kind::FOUND, find(h.stamps, h.start, h.end, time, memo, frame) - 1, true};
+}
+
+// The arc between `row` and the next, memoized per frame.
+inline Arc arc_at(const History& h, int64_t frame, int64_t row, Memo& memo) {
+    const double* v = h.values + 7 * row;
+    if (!memo.on) return arc({v[3], v[4], v[5], v[6]}, {v[10], v[11], v[12], v[13]});
+    if (memo.arc_row[frame] != row) {
+        memo.arc_row[frame] = row;
+        memo.arcs[frame] = arc({v[3], v[4], v[5], v[6]}, {v[10], v[11], v[12], v[13]});
+    }
+    return memo.arcs[frame];
+}
+
+// `frame`'s edge at `time` from the row `row_at` found (EdgeHistory.sample).
+inline Pose edge_at(const Histories& histories, int64_t frame, const RowAt& at, int64_t time, Memo& memo) {
+    const History& h = histories[frame];
+    const int64_t row = at.row;
+    if (!at.interpolate || h.parents[row + 1] != h.parents[row]) return pose_at(h.values, row);
+    const int64_t t0 = h.stamps[row];
+    const double r = static_cast<double>(time - t0) / static_cast<double>(h.stamps[row + 1] - t0);
+    const double s = 1.0 - r;
+    const Pose a = pose_at(h.values, row), b = pose_at(h.values, row + 1);
+    const Quat q = slerp(a.q, b.q, r, arc_at(h, frame, row, memo), memo.on);
+    return {{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q};
+}
+
+// --- the walk ----------------------------------------------------------------------------------
+
+// How a walk ends: walk.py's TARGET_PARENT_OF_SOURCE, SOURCE_PARENT_OF_TARGET, FULL_PATH; or no path.
+enum class Ending { AT_TARGET, AT_SOURCE, AT_TOP, NO_PATH };
+
+// One edge a walk took: its frame and parent, whether the answer composes it (an edge sampled
+// only for its verdict is not), and where `row_at` found it.
+struct Step {
+    int64_t frame, parent;
+    bool composed;
+    RowAt at;
+};
+
+// The edges of a walk, up from the source (sides[0]) and up from the target (sides[1]).
+struct Chain {
+    Ending ending = Ending::NO_PATH;
+    bool rooted = false;  // the source side stopped at a frame without history, not at a gap
+    std::vector<Step> sides[2];
+};
+
+// walk.walk_to_top_parent at a resolved `time`, into `chain`.
+inline void walk(const Histories& histories, int64_t target, int64_t source, int64_t time, Chain& chain, Memo& memo) {
+    auto& up = chain.sides[0];
+    auto& down = chain.sides[1];
+    up.clear();
+    down.clear();
+    chain.rooted = true;
+    int64_t frame = source, top = source;
+    while (true) {
+        const RowAt at = row_at(histories, frame, time, memo);
+        if (at.kind != Kind::FOUND) {
+            top = frame;
+            chain.rooted = at.kind == Kind::ROOT;
+            break;
+        }
+        const int64_t parent = histories[frame].parents[at.row];
+        up.push_back({frame, parent, frame != target, at});
+        if (frame == target) {
+            chain.ending = Ending::AT_TARGET;
+            return;
+        }
+        frame = parent;
+        if (static_cast<int64_t>(up.size()) > MAX_GRAPH_DEPTH) {
+            chain.ending = Ending::NO_PATH;
+            return;
+        }
+    }
+    frame = target;
+    while (frame != top) {
+        const RowAt at = row_at(histories, frame, time, memo);
+        if (at.kind != Kind::FOUND) {  // a gap, or a root that is not where the source side stopped
+            chain.ending = Ending::NO_PATH;
+            return;
+        }
+        const int64_t parent = histories[frame].parents[at.row];
+        down.push_back({frame, parent, frame != source, at});
+        if (frame == source) {  // the inverse of T_source^target: the source side is not used
+            for (Step& step : up) step.composed = false;
+            chain.ending = Ending::AT_SOURCE;
+            return;
+        }
+        frame = parent;
+        if (static_cast<int64_t>(down.size()) > MAX_GRAPH_DEPTH) {
+            chain.ending = Ending::NO_PATH;
+            return;
+        }
+    }
+    chain.ending = Ending::AT_TOP;
+}
+
+// One side of a walked chain composed at `time`, edge by edge (TransformAccum.accum).
+inline Pose side_at(const Histories& histories, const std::vector<Step>& side, int64_t time, Memo& memo) {
+    Pose acc;
+    for (const Step& step : side) {
+        if (step.composed) acc = compose(edge_at(histories, step.frame, step.at, time, memo), acc);
+    }
+    return acc;
+}
+
+// T_target^source from the source and target sides (TransformAccum.finalize).
+inline Pose finish(Ending ending, const Pose& source, const Pose& target) {
+    if (ending == Ending::AT_TARGET) return source;
+    const Quat iq = conjugate(target.q);
+    const Vec iv = rotate(iq, {-target.v.x, -target.v.y, -target.v.z});
+    if (ending == Ending::AT_SOURCE) return {iv, iq};
+    const Vec r = rotate(iq, source.v);
+    return {{r.x + iv.x, r.y + iv.y, r.z + iv.z}, multiply(iq, source.q)};
+}
+
+// walk.lookup at a resolved `time`; false where tf2 fails.
+inline bool lookup_at(const Histories& histories, int64_t target, int64_t source, int64_t time, Chain& chain,
+                      Memo& memo, Pose& out) {
+    walk(histories, target, source, time, chain, memo);
+    if (chain.ending == Ending::NO_PATH) return false;
+    const Pose s = side_at(histories, chain.sides[0], time, memo);
+    const Pose t = side_at(histories, chain.sides[1], time, memo);
+    out = finish(chain.ending, s, t);
+    return true;
+}
+
+// --- walk.latest_common_time --------------------------------------------------------------------
+
+struct Latest {
+    bool has;
+    int64_t stamp, parent;
+};
+
+// EdgeHistory.latest_stamp and latest_parent, where the history has data.
+inline Latest latest(const Histories& histories, int64_t frame) {
+    if (frame >= static_cast<int64_t>(histories.size())) return {false, 0, 0};
+    const History& h = histories[frame];
+    if (!h.has || h.end == h.start) return {false, 0, 0};
+    return {true, h.is_static ? 0 : h.stamps[h.end - 1], h.parents[h.end - 1]};
+}
+
+constexpr int64_t TIME_MAX = INT64_MAX;
+
+// walk.latest_common_time (for two different frames); false where it fails.
+inline bool latest_common_time(const Histories& histories, int64_t target, int64_t source, int64_t& out) {
+    std::vector<Latest> side;  // (stamp, parent) of each edge up from the source
+    int64_t common = TIME_MAX;
+    int64_t frame = source;
+    while (true) {
+        const Latest l = latest(histories, frame);
+        if (!l.has) break;
+        if (l.stamp) common = std::min(common, l.stamp);
+        side.push_back(l);
+        frame = l.parent;
+        if (frame == target) {
+            out = common == TIME_MAX ? 0 : common;
+            return true;
+        }
+        if (static_cast<int64_t>(side.size()) > MAX_GRAPH_DEPTH) return false;
+    }
+    common = TIME_MAX;
+    int64_t common_parent = 0;
+    frame = target;
+    int64_t depth = 0;
+    while (true) {
+        const Latest l = latest(histories, frame);
+        if (!l.has) break;
+        if (l.stamp) common = std::min(common, l.stamp);
+        bool shared = false;
+        for (const Latest& s : side) shared = shared || s.parent == l.parent;
+        if (shared) {
+            common_parent = l.parent;
+            break;
+        }
+        frame = l.parent;
+        if (frame == source) {
+            out = common == TIME_MAX ? 0 : common;
+            return true;
+        }
+        if (++depth > MAX_GRAPH_DEPTH) return false;
+    }
+    if (common_parent == 0) return false;
+    for (const Latest& s : side) {
+        if (s.stamp) common = std::min(common, s.stamp);
+        if (s.parent == common_parent) break;
+    }
+    out = common == TIME_MAX ? 0 : common;
+    return true;
+}
+
+}  // namespace tfcore

@@ -1,0 +1,90 @@
+"""Recording locations: a local path or a URL (``s3://``, ``gs://``, ``az://``, ``http(s)://``, any
+fsspec protocol), and the recordings a glob or a prefix ending in ``/`` stands for."""
+
+from __future__ import annotations
+
+import glob
+import os
+import re
+from collections.abc import Iterable, Sequence
+from pathlib import Path, PurePosixPath
+
+from tftools.sources.errors import BagNotFoundError
+
+#: Files that are recordings (a ROS 2 bag directory, with its metadata.yaml, is one too).
+BAG_SUFFIXES = (".bag", ".mcap", ".db3")
+METADATA = "metadata.yaml"
+GLOB_CHARACTERS = frozenset("*?[")
+
+_URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
+
+
+def is_url(location: str | os.PathLike[str]) -> bool:
+    """Whether ``location`` names a remote recording (``scheme://...``), not a local path."""
+    return bool(_URL.match(os.fspath(location)))
+
+
+def is_glob(location: str) -> bool:
+    return any(c in GLOB_CHARACTERS for c in location)
+
+
+def expand(arguments: Sequence[str | os.PathLike[str]]) -> list[str]:
+    """Each argument's recordings, in order: a glob's matches and, for a prefix ending in ``/`` that
+    is not itself a ROS 2 bag, every recording below it (sorted); any other argument as it is.
+
+    URLs need ``tftools[fleet]`` (``MissingExtraError`` without it); a URL, glob or prefix that
+    names no recording raises ``BagNotFoundError``.
+    """
+    found: list[str] = []
+    for argument in [os.fspath(a) for a in arguments]:
+        if is_url(argument):
+            from tftools.sources.storage import remote  # fsspec loads only for a URL
+
+            found += remote.expand(argument)
+        else:
+            found += _expand_local(argument)
+    return found
+
+
+def recordings_in(files: Iterable[str]) -> list[str]:
+    """The recordings among ``files`` ('/'-separated paths below a prefix): each ROS 2 bag directory
+    (a folder with a metadata.yaml) once, and each bag file outside one; sorted."""
+    names = [PurePosixPath(f) for f in files]
+    bag_directories = {name.parent for name in names if name.name == METADATA}
+    found = {str(d) if str(d) != "." else "" for d in bag_directories}
+    for name in names:
+        if name.suffix in BAG_SUFFIXES and not bag_directories.intersection(name.parents):
+            found.add(str(name))
+    return sorted(found)
+
+
+def _expand_local(argument: str) -> list[str]:
+    if is_glob(argument) and not os.path.lexists(argument):  # quoted, so the shell left it
+        matches = sorted(glob.glob(argument, recursive=True))
+        if not matches:
+            raise BagNotFoundError(argument)
+        return [recording for match in matches for recording in _below_local(match, listed_only=False)]
+    if argument.endswith(("/", os.sep)) and os.path.isdir(argument):
+        return _below_local(argument, listed_only=True)
+    return [argument]
+
+
+def _below_local(path: str, *, listed_only: bool) -> list[str]:
+    """The recordings at or below ``path``: itself when it is a file or a ROS 2 bag directory."""
+    directory = Path(path)
+    if not directory.is_dir() or _is_bag_directory(directory):
+        return [path]
+    files = [
+        str(PurePosixPath(os.path.relpath(os.path.join(root, name), directory)))
+        for root, _, names in os.walk(directory)
+        for name in names
+    ]
+    found = [str(directory / name) for name in recordings_in(files)]
+    if not found and listed_only:
+        raise BagNotFoundError(path)
+    return found
+
+
+def _is_bag_directory(directory: Path) -> bool:
+    """A ROS 2 bag as the readers take one: a metadata.yaml, or .db3/.mcap files, directly inside."""
+    return (directory / METADATA).exists() or any(directory.glob("*.db3")) or any(directory.glob("*.mcap"))

@@ -1,0 +1,250 @@
+"""Remote recordings read through fsspec: listed, and each file made a local sparse copy of its size
+that the readers fill range by range (``copies``), so that only the ranges they read are fetched.
+
+SQLite needs a whole file: ``.db3`` files (and whole-compressed ``.zstd`` ones, and metadata.yaml)
+are fetched whole. Credentials and endpoints come from each filesystem's standard environment
+(``AWS_PROFILE``, ``AWS_ENDPOINT_URL``, ``GOOGLE_APPLICATION_CREDENTIALS``, ``AZURE_STORAGE_*``).
+Nothing at a URL is ever written: files are only listed and read.
+
+Remote reads are bounded: every request has a connect and a read timeout, asks at most
+``PIECE_BYTES`` and holds at most ``BATCH_BYTES`` in memory at once; a reply longer than asked is
+refused, a shorter one (a file smaller than its listed size) leaves zeros the readers find damaged,
+and no file is taken to be larger than ``MAX_FILE_BYTES``.
+"""
+
+from __future__ import annotations
+
+import bisect
+import os
+import tempfile
+from collections.abc import Iterator, Sequence
+from contextlib import ExitStack, contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path, PurePosixPath
+from typing import Any
+
+from tftools.sources.errors import BagError, BagNotFoundError, MissingExtraError, RemoteError
+from tftools.sources.storage import copies
+from tftools.sources.storage.locations import BAG_SUFFIXES, is_glob, recordings_in
+
+try:
+    import fsspec
+    from fsspec import AbstractFileSystem
+except ImportError:  # pragma: no cover - the extra's absence is tested in a subprocess
+    raise MissingExtraError("reading recordings by URL") from None
+
+PIECE_BYTES = 8 << 20  # asked in one request
+BATCH_BYTES = 64 << 20  # asked at once (the replies are held in memory until written)
+GAP_BYTES = 64 << 10  # between two ranges fetched along with them: cheaper than one more request
+MAX_FILE_BYTES = 1 << 40
+CONNECT_TIMEOUT, READ_TIMEOUT = 10, 30  # seconds
+#: Fetched whole: SQLite reads a file through its own pages, a .zstd file is decompressed whole.
+_WHOLE_SUFFIXES = (".db3", ".zstd", ".yaml")
+#: Files of a ROS 2 bag directory worth copying.
+_BAG_DIRECTORY_SUFFIXES = (*BAG_SUFFIXES, ".zstd", ".yaml")
+
+
+def filesystem(url: str) -> tuple[AbstractFileSystem, str]:
+    """The fsspec filesystem of ``url`` (with timeouts and few retries) and the path in it."""
+    protocol = url.partition("://")[0].lower()
+    try:
+        fs, path = fsspec.core.url_to_fs(url, **_options(protocol))
+    except ImportError:
+        raise MissingExtraError(f"reading {protocol}:// URLs") from None
+    except ValueError as e:  # an unknown protocol
+        raise RemoteError(url, f"cannot be read ({e})") from None
+    return fs, path
+
+
+def _options(protocol: str) -> dict[str, Any]:
+    if protocol == "s3":
+        timeouts = {"connect_timeout": CONNECT_TIMEOUT, "read_timeout": READ_TIMEOUT}
+        return {"config_kwargs": {**timeouts, "retries": {"max_attempts": 2}}}
+    if protocol in ("http", "https"):
+        import aiohttp  # fsspec's HTTP filesystem is built on it
+
+        return {
+            "client_kwargs": {"timeout": aiohttp.ClientTimeout(sock_connect=CONNECT_TIMEOUT, sock_read=READ_TIMEOUT)}
+        }
+    if protocol in ("gs", "gcs"):
+        return {"requests_timeout": READ_TIMEOUT}
+    return {}
+
+
+@contextmanager
+def _remote(url: str, doing: str) -> Iterator[None]:
+    """Any failure of a remote call as one ``RemoteError`` line: the filesystems raise their own
+    libraries' exceptions (botocore's, aiohttp's, ...), not only ``OSError``."""
+    try:
+        yield
+    except (BagError, MissingExtraError):  # said already
+        raise
+    except FileNotFoundError:
+        raise BagNotFoundError(url) from None
+    except Exception as e:
+        detail = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise RemoteError(url, f"{doing} failed ({detail})") from None
+
+
+def expand(url: str) -> list[str]:
+    """The recordings ``url`` names (see ``locations.expand``): a glob's matches, a prefix's
+    recordings, or the one recording (file or ROS 2 bag directory) it is, which must exist."""
+    fs, path = filesystem(url)
+    with _remote(url, "listing"):
+        if is_glob(path):
+            matches = sorted(fs.glob(path))
+            if not matches:
+                raise BagNotFoundError(url)
+            return [found for match in matches for found in _below(fs, match, url)]
+        if url.endswith("/"):
+            found = _below(fs, path.rstrip("/"), url)
+            if not found:
+                raise BagNotFoundError(url)
+            return found
+        if not fs.exists(path):
+            raise BagNotFoundError(url)
+    return [url]
+
+
+def _below(fs: AbstractFileSystem, path: str, url: str) -> list[str]:
+    """The recordings at or below ``path``: itself when it is a file."""
+    if not fs.isdir(path):
+        return [fs.unstrip_protocol(path)] if path.endswith(BAG_SUFFIXES) else []
+    files = [PurePosixPath(f).relative_to(path).as_posix() for f in fs.find(path)]
+    return [fs.unstrip_protocol(f"{path}/{name}" if name else path) for name in recordings_in(files)]
+
+
+@dataclass
+class RemoteCopy:
+    """A remote file's local sparse copy (of its listed size), filled range by range."""
+
+    fs: AbstractFileSystem
+    url: str
+    path: str  # in ``fs``
+    size: int
+    fd: int
+    fetched: int = 0  # bytes received
+    _have_starts: list[int] = field(default_factory=list)  # the ranges fetched, sorted, apart
+    _have_ends: list[int] = field(default_factory=list)
+
+    def fill(self, starts: Sequence[int], ends: Sequence[int]) -> None:
+        """Fetch what of ``starts[i]:ends[i]`` is not here yet (ranges closer than ``GAP_BYTES``
+        fetched as one), ``BATCH_BYTES`` at a time."""
+        runs = _merged([(max(0, int(s)), min(self.size, int(e))) for s, e in zip(starts, ends, strict=True)], GAP_BYTES)
+        missing = [gap for start, end in runs for gap in self._missing(start, end)]
+        pieces = [(s, min(s + PIECE_BYTES, end)) for start, end in missing for s in range(start, end, PIECE_BYTES)]
+        batch: list[tuple[int, int]] = []
+        for piece in pieces:
+            if batch and sum(e - s for s, e in batch) + piece[1] - piece[0] > BATCH_BYTES:
+                self._fetch(batch)
+                batch = []
+            batch.append(piece)
+        if batch:
+            self._fetch(batch)
+
+    def _missing(self, start: int, end: int) -> Iterator[tuple[int, int]]:
+        i = bisect.bisect_right(self._have_ends, start)
+        while start < end:
+            if i == len(self._have_starts) or self._have_starts[i] >= end:
+                yield start, end
+                return
+            if self._have_starts[i] > start:
+                yield start, self._have_starts[i]
+            start = max(start, self._have_ends[i])
+            i += 1
+
+    def _fetch(self, pieces: list[tuple[int, int]]) -> None:
+        with _remote(self.url, "reading"):
+            replies = self.fs.cat_ranges(
+                [self.path] * len(pieces), [s for s, _ in pieces], [e for _, e in pieces], on_error="return"
+            )
+        for (start, end), reply in zip(pieces, replies, strict=True):
+            if isinstance(reply, BaseException):
+                with _remote(self.url, f"reading bytes {start}-{end}"):
+                    raise reply
+            if len(reply) > end - start:
+                raise RemoteError(self.url, f"the server sent {len(reply)} bytes for {end - start} asked")
+            os.pwrite(self.fd, reply, start)
+            self.fetched += len(reply)
+        merged = _merged([*zip(self._have_starts, self._have_ends, strict=True), *pieces], 0)
+        self._have_starts = [s for s, _ in merged]
+        self._have_ends = [e for _, e in merged]
+
+
+def _merged(ranges: list[tuple[int, int]], gap: int) -> list[tuple[int, int]]:
+    """``ranges`` sorted, those closer than ``gap`` (or touching) joined; empty ones left out."""
+    merged: list[tuple[int, int]] = []
+    for start, end in sorted(r for r in ranges if r[0] < r[1]):
+        if merged and start - merged[-1][1] <= gap:
+            merged[-1] = (merged[-1][0], max(merged[-1][1], end))
+        else:
+            merged.append((start, end))
+    return merged
+
+
+@dataclass
+class LocalView:
+    """A remote recording as the readers see it: ``path``, a local file or ROS 2 bag directory of
+    sparse copies; what was fetched of how much, and whether some file had to be fetched whole."""
+
+    path: Path
+    copies: list[RemoteCopy]
+    whole: bool
+
+    @property
+    def fetched(self) -> int:
+        return sum(c.fetched for c in self.copies)
+
+    @property
+    def size(self) -> int:
+        return sum(c.size for c in self.copies)
+
+
+@contextmanager
+def local_view(url: str) -> Iterator[LocalView]:
+    """``url`` (a file or ROS 2 bag directory) as local sparse copies in a temporary directory, for
+    as long as the context lasts: files fetched whole are fetched now, the others as read."""
+    fs, path = filesystem(url.rstrip("/"))
+    with ExitStack() as stack:
+        folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="tftools-remote-")))
+        with _remote(url, "listing"):
+            if fs.isdir(path):
+                local = folder / (PurePosixPath(path).name or "bag")
+                local.mkdir()
+                listed = [f for f in fs.find(path, maxdepth=1) if f.endswith(_BAG_DIRECTORY_SUFFIXES)]
+                files = [(f, local / PurePosixPath(f).name) for f in listed]
+            else:
+                local = folder / (PurePosixPath(path).name or "recording")
+                files = [(path, local)]
+            sizes = [_size(fs, url, f) for f, _ in files]
+        made = [
+            stack.enter_context(_copy(fs, url, f, target, size)) for (f, target), size in zip(files, sizes, strict=True)
+        ]
+        whole = [c for c, (f, _) in zip(made, files, strict=True) if f.endswith(_WHOLE_SUFFIXES)]
+        for copy in whole:
+            copy.fill([0], [copy.size])
+        yield LocalView(local, made, any(not c.path.endswith(".yaml") for c in whole))
+
+
+def _size(fs: AbstractFileSystem, url: str, path: str) -> int:
+    size = fs.info(path).get("size")
+    if not isinstance(size, int) or not 0 <= size <= MAX_FILE_BYTES:
+        raise RemoteError(url, f"{PurePosixPath(path).name} has no usable size ({size!r})")
+    return size
+
+
+@contextmanager
+def _copy(fs: AbstractFileSystem, url: str, path: str, target: Path, size: int) -> Iterator[RemoteCopy]:
+    """A sparse copy of ``path`` at ``target``, registered for the readers while the context lasts."""
+    fd = os.open(target, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o600)
+    try:
+        os.ftruncate(fd, size)
+        copy = RemoteCopy(fs, url, path, size, fd)
+        copy.fill([0], [min(size, GAP_BYTES)])  # its magic and header: how it is recognised
+        copies.register(fd, copy)
+        try:
+            yield copy
+        finally:
+            copies.unregister(fd)
+    finally:
+        os.close(fd)
