@@ -61,3 +61,12 @@ def test_tfx_frames_loads_only_its_own_subcommand() -> None:
     modules = modules_after(code)
     assert "tftools.cli.frames" in modules and "tftools.sources.recording" in modules
     assert loaded(modules, NOT_FOR_FRAMES) == []
+
+
+def test_tfx_wtf_loads_dask_only_for_dask() -> None:
+    bag = SAMPLE_BAGS["ros1"]
+    argv = ["tfx", "wtf", str(bag), str(bag)]
+    code = f"import sys; sys.argv = {argv!r}; from tftools.cli.app import main; main()"
+    modules = modules_after(code)
+    assert "tftools.cli.executors" in modules
+    assert loaded(modules, ("dask", "distributed")) == []

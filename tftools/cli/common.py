@@ -4,14 +4,21 @@ from __future__ import annotations
 
 import difflib
 import enum
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, NoReturn
 
 import typer
 from rich.console import Console
-from rich.progress import BarColumn, DownloadColumn, Progress, TextColumn, TimeRemainingColumn
+from rich.progress import (
+    BarColumn,
+    DownloadColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeRemainingColumn,
+)
 from rich.text import Text
 
 from tftools.core.buffer import Buffer
@@ -142,6 +149,18 @@ def progress_bar(enabled: bool) -> Iterator[ProgressCallback | None]:
             bar.update(task, completed=done, total=total)
 
         yield update
+
+
+@contextmanager
+def count_bar(what: str, total: int) -> Iterator[Callable[[], None]]:
+    """A bar on stderr counting ``what`` done of ``total``, when stderr is a terminal; yields ``advance()``."""
+    if not stderr.is_terminal:
+        yield lambda: None
+        return
+    columns = (TextColumn(what), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=stderr, transient=True) as bar:
+        task = bar.add_task(what, total=total)
+        yield lambda: bar.advance(task)
 
 
 def open_recording(

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import enum
 import functools
 import os
 import sys
-from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated
 
@@ -18,8 +19,8 @@ from rich.table import Table
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
+from tftools.cli import executors, live
 from tftools.cli import expected as expected_tree
-from tftools.cli import live
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
     BagOption,
@@ -27,6 +28,7 @@ from tftools.cli.common import (
     Tf2Option,
     TopicOption,
     UsageError,
+    count_bar,
     exit_with,
     local_size,
     progress_bar,
@@ -34,14 +36,17 @@ from tftools.cli.common import (
     stdout,
     warn,
 )
+from tftools.cli.deadline import timed
 from tftools.core.semantics import Semantics
 from tftools.render import wtf as render
+from tftools.render import wtf_lines as render_lines
 from tftools.sources.storage.locations import expand
 
 
 class WtfFormat(str, enum.Enum):
     text = "text"
     json = "json"
+    jsonl = "jsonl"
     junit = "junit"
 
 
@@ -58,11 +63,45 @@ PathsArgument = Annotated[
     ),
 ]
 FormatOption = Annotated[
-    WtfFormat, typer.Option("--format", "-f", help="text, json (one document), or junit (XML for CI).")
+    WtfFormat,
+    typer.Option(
+        "--format",
+        "-f",
+        help="text, json (one document), jsonl (a line per recording as it finishes, then a summary line: "
+        "a long run can be followed, and resumed), or junit (XML for CI).",
+    ),
 ]
 StrictOption = Annotated[bool, typer.Option("--strict", help="Warnings fail too (exit 1, JUnit failures).")]
 JobsOption = Annotated[
     int, typer.Option("--jobs", "-j", help="Check this many recordings at once (0: one per CPU).", min=0)
+]
+DaskOption = Annotated[
+    str | None,
+    typer.Option(
+        "--dask",
+        envvar="DASK_SCHEDULER_ADDRESS",
+        help="Check each recording as a task on this Dask cluster (its scheduler's address, e.g. "
+        "tcp://10.0.0.5:8786; needs pip install 'tftools[fleet]' here and tftools on the workers). A task that "
+        "fails runs once more; one whose workers die is retried as the scheduler's allowed-failures says.",
+        show_default=False,
+    ),
+]
+TimeoutOption = Annotated[
+    float | None,
+    typer.Option(
+        "--timeout",
+        help="Give up a recording's check after this many seconds (reported as not checked; on Dask, tried twice).",
+        show_default=False,
+    ),
+]
+ResumeOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--resume",
+        help="Skip the recordings this earlier --format jsonl report has done, and include its results "
+        "(tfx wtf logs/*.bag -f jsonl --resume run1.jsonl > run2.jsonl).",
+        show_default=False,
+    ),
 ]
 IgnoreOption = Annotated[
     list[str] | None,
@@ -131,6 +170,9 @@ def command(
     fmt: FormatOption = WtfFormat.text,
     strict: StrictOption = False,
     jobs: JobsOption = 1,
+    dask: DaskOption = None,
+    timeout: TimeoutOption = None,
+    resume: ResumeOption = None,
     ignore: IgnoreOption = None,
     list_checks: ListOption = False,
     stale_after: StaleOption = _DEFAULTS.stale_after,
@@ -171,6 +213,11 @@ def command(
     The expected tree: [cyan]tfx wtf --init good.bag > tree.yaml[/] writes what a healthy recording
     looks like (hand-editable YAML); [cyan]tfx wtf --expect tree.yaml run.bag[/] reports what differs.
 
+    Fleets: [cyan]--jobs N[/] checks N recordings at once here, [cyan]--dask ADDRESS[/] each as a task on a
+    Dask cluster; results come as they finish ([cyan]--format jsonl[/] streams them, [cyan]--resume[/] skips
+    those an earlier jsonl report has), then what each check found across the fleet (worst recordings
+    first) and the day a problem started, when the recordings span several days.
+
     Examples: [cyan]tfx wtf robot.bag[/], [cyan]tfx wtf logs/*.bag --format junit > wtf.xml[/],
     [cyan]tfx wtf -b run_0.bag -b run_1.bag --strict[/]
     """
@@ -190,14 +237,29 @@ def command(
     ignored = _ignored(ignore or [])
     groups: list[list[str]] = [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
     if groups:
-        jobs = jobs or os.cpu_count() or 1
-        reports = _check_groups(groups, topics, thresholds, ignored, jobs, tf2, target, sensors, expected)
+        one = functools.partial(
+            check_bags,
+            topics=topics,
+            thresholds=thresholds,
+            ignore=ignored,
+            semantics=tf2,
+            target=target,
+            sensor_topics=sensors,
+            expected=expected,
+        )
+        fleet = Fleet(jobs or os.cpu_count() or 1, dask, timeout, resume)
+        stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
+        reports = _check_groups(groups, one, fleet, stream if fmt is WtfFormat.jsonl else None)
+    elif dask is not None or resume is not None or timeout is not None:
+        raise UsageError("--dask, --resume and --timeout are for recordings", "e.g. tfx wtf logs/*.bag --dask ADDRESS")
     else:
         feed = (ros1, use_sim_time, duration)
         reports = [_check_live(*feed, topics, thresholds, ignored, tf2, target, sensors, expected)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:
         render.write_json(reports, sys.stdout, strict, thresholds, code)
+    elif fmt is WtfFormat.jsonl:
+        render_lines.write_summary(reports, sys.stdout, strict, thresholds, code)
     elif fmt is WtfFormat.junit:
         render.write_junit(reports, sys.stdout, strict, ignored)
     elif len(reports) == 1 and reports[0].error is not None:
@@ -234,37 +296,66 @@ def _ignored(codes: Sequence[str]) -> tuple[str, ...]:
     return tuple(codes)
 
 
+@dataclass(frozen=True)
+class Fleet:
+    """How a fleet is checked: ``jobs`` local processes, or on the Dask scheduler at ``dask``; each
+    recording within ``timeout`` seconds; skipping those the ``resume`` report has done."""
+
+    jobs: int
+    dask: str | None
+    timeout: float | None
+    resume: Path | None
+
+    def __post_init__(self) -> None:
+        if self.dask is not None and self.jobs != 1:
+            raise UsageError("--jobs and --dask: choose one", "--dask runs as many at once as the cluster has threads")
+        if self.timeout is not None:
+            positive_seconds(self.timeout, "--timeout", "600")
+
+
 def _check_groups(
-    groups: list[list[str]],
-    topics: Sequence[str] | None,
-    thresholds: Thresholds,
-    ignore: Sequence[str],
-    jobs: int,
-    semantics: Semantics | None,
-    target: str | None,
-    sensors: Sequence[str] | None,
-    expected: TreeShape | None,
+    groups: list[list[str]], one: Callable[..., BagReport], fleet: Fleet, stream: Callable[[BagReport], None] | None
 ) -> list[BagReport]:
-    """Each group of paths checked as its own recording, ``jobs`` at a time; reports in the given order."""
-    one = functools.partial(
-        check_bags,
-        topics=topics,
-        thresholds=thresholds,
-        ignore=tuple(ignore),
-        semantics=semantics,
-        target=target,
-        sensor_topics=sensors,
-        expected=expected,
-    )
-    if len(groups) == 1:
-        size = sum(local_size(p) for p in groups[0])
-        with progress_bar(enabled=size > 20_000_000) as progress:
-            return [one(groups[0], progress=progress)]
-    if jobs <= 1:
-        return [one(g) for g in groups]
-    with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
-        futures = [pool.submit(one, [str(p) for p in g]) for g in groups]
-        return [f.result() for f in futures]
+    """Each group of paths checked as its own recording, ``stream`` ed as it finishes (those resumed first);
+    reports in the given order (then those resumed that were not given)."""
+    done = _resumed(fleet.resume) if fleet.resume is not None else []
+    finished = {bag.paths: bag for bag in done}
+    todo = [g for g in groups if tuple(g) not in finished]
+    for bag in done:
+        if stream is not None:
+            stream(bag)
+    with count_bar("checking", len(todo)) if len(todo) > 1 else contextlib.nullcontext(lambda: None) as advance:
+        for index, bag in _results(todo, one, fleet):
+            finished[tuple(todo[index])] = bag
+            if stream is not None:
+                stream(bag)
+            advance()
+    given = [finished[tuple(g)] for g in groups]
+    return given + [bag for paths, bag in finished.items() if list(paths) not in groups]
+
+
+def _results(todo: list[list[str]], one: Callable[..., BagReport], fleet: Fleet) -> executors.Results:
+    check = timed(one, fleet.timeout)
+    if fleet.dask is not None:
+        yield from executors.on_dask(todo, check, fleet.dask)
+    elif len(todo) == 1:  # one local recording: a bar of the bytes read, when it is large
+        with progress_bar(enabled=sum(local_size(p) for p in todo[0]) > 20_000_000) as progress:
+            yield from executors.in_process(todo, timed(functools.partial(one, progress=progress), fleet.timeout))
+    elif fleet.jobs <= 1:
+        yield from executors.in_process(todo, check)
+    else:
+        yield from executors.in_processes(todo, check, fleet.jobs)
+
+
+def _resumed(path: Path) -> list[BagReport]:
+    try:
+        with path.open("rb") as source:
+            resumed = render_lines.read_report(source, str(path))
+    except OSError as error:
+        raise UsageError(f"--resume {path}: {error.strerror or error}", "give the report of an earlier run") from None
+    if resumed.cut_short:
+        warn(f"{path}: its last line was cut short; that recording is checked again")
+    return resumed.reports
 
 
 def _check_live(

@@ -14,6 +14,7 @@ from tftools import __version__
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport
+from tftools.analysis.wtf.fleet_report import recordings_per_day, tally, trends, verdict
 from tftools.core.time import NS_PER_S
 from tftools.render import jsonl
 from tftools.render.escape import printable
@@ -38,7 +39,35 @@ def write_text(reports: Sequence[BagReport], console: Console, strict: bool = Fa
         _write_bag(bag, console, strict)
     if len(reports) > 1:
         console.print()
+        _write_fleet(reports, console)
         console.print(_fleet_line(reports, strict))
+
+
+#: How many recordings the text names per check (JSON names them all).
+NAMED = 5
+
+
+def _write_fleet(reports: Sequence[BagReport], console: Console) -> None:
+    """Per check, how many recordings have it and the worst of them; per check, the day it started."""
+    tallies = tally(reports)
+    if tallies:
+        console.print(Text("ACROSS THE FLEET", style="bold"))
+    for checked in tallies:
+        mark, style = _MARKS[checked.severity]
+        line = Text(f"  {mark} ", style=style)
+        line.append(checked.code, style=style)
+        named = ", ".join(checked.recordings[:NAMED])
+        more = f" and {len(checked.recordings) - NAMED} more" if len(checked.recordings) > NAMED else ""
+        line.append(f": {len(checked.recordings)} of {len(reports)} recordings: {printable(named)}{more}")
+        console.print(line)
+    days = recordings_per_day(reports)
+    started = [(t.code, t.since, t.per_day) for t in trends(reports) if t.since is not None]
+    if started:
+        console.print(Text(f"TRENDS ({len(days)} days, {min(days)} to {max(days)})", style="bold"))
+    for code, since, per_day in started:
+        having = sum(n for day, n in per_day.items() if day >= since)
+        dated = sum(n for day, n in days.items() if day >= since)
+        console.print(f"  {code}: started on {since}, every day since: {having} of the {dated} recordings")
 
 
 def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
@@ -80,7 +109,8 @@ def _write_finding(finding: Finding, console: Console) -> None:
 
 def _bag_line(bag: BagReport, strict: bool) -> Text:
     if not bag.usable:
-        return Text("could not be read: UNUSABLE", style="bold red")
+        done = "read" if bag.error is not None and bag.error.code == "unreadable" else "checked"
+        return Text(f"could not be {done}: UNUSABLE", style="bold red")
     counts = [bag.count(s) for s in Severity]
     if not any(counts):
         return Text("no problems found: PASSED", style="bold green")
@@ -142,6 +172,7 @@ def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
         if bag.sensor_topics
         else None,
         "passed": not bag.failed(strict),
+        "verdict": verdict(bag, strict).value,
         "error": finding_dict(bag.error) if bag.error is not None else None,
         "summary": _counts([bag]),
         "findings": [finding_dict(f) for f in bag.findings],
@@ -163,7 +194,28 @@ def as_dict(reports: Sequence[BagReport], strict: bool, thresholds: Thresholds, 
             "unusable": sum(not r.usable for r in reports),
             **_counts(reports),
         },
+        "fleet": fleet_dict(reports),
         "bags": [bag_dict(r, strict) for r in reports],
+    }
+
+
+def fleet_dict(reports: Sequence[BagReport]) -> dict[str, Any]:
+    """Per check the recordings that have it (worst first); recordings per day, and per check its days."""
+    return {
+        "checks": [
+            {"code": t.code, "severity": t.severity.value, "count": len(t.recordings), "recordings": list(t.recordings)}
+            for t in tally(reports)
+        ],
+        "days": {str(day): n for day, n in recordings_per_day(reports).items()},
+        "trends": [
+            {
+                "code": t.code,
+                "first_day": str(t.first_day),
+                "since": str(t.since) if t.since is not None else None,
+                "per_day": {str(day): n for day, n in t.per_day.items()},
+            }
+            for t in trends(reports)
+        ],
     }
 
 

@@ -125,3 +125,9 @@ def sensor_data(paths: Sequence[str | os.PathLike[str]], topics: Sequence[str] |
 def unreadable(paths: tuple[str, ...], message: str, hint: str) -> BagReport:
     hint = hint or "check that the file is a complete bag"
     return BagReport(paths, error=Finding(Severity.error, "unreadable", message, hint))
+
+
+def unchecked(paths: tuple[str, ...], why: str, hint: str) -> BagReport:
+    """A recording whose check did not finish (its worker died, it ran out of time): said, not passed."""
+    message = f"{' + '.join(paths)}: not checked: {why}"
+    return BagReport(paths, error=Finding(Severity.error, "unchecked", message, hint))
