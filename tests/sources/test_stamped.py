@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
-import numpy as np
+from pathlib import Path
+from typing import Any
 
+import numpy as np
+import pytest
+
+from tests.sources.ros2_helpers import Other, typestore, write_rosbag2
+from tftools.sources.bag.stamped import read_stamped
 from tftools.sources.contents import StampedMessages
 from tftools.sources.headers import merged
+
+IMAGE = "sensor_msgs/msg/Image"
 
 
 def _stream(topic: str, times: list[int], frames: list[int], names: list[str]) -> StampedMessages:
@@ -24,3 +32,24 @@ def test_a_topic_of_two_files_is_one_stream_in_record_order_naming_only_its_fram
     assert list(imu.frame_ids) == ["imu_left", "imu_right"]
     assert [imu.frame_ids[f] for f in imu.frame.tolist()] == ["imu_left", "imu_right", "imu_left", "imu_left"]
     assert (scan.topic, list(scan.frame_ids), scan.frame.tolist()) == ("/scan", ["laser"], [0])
+
+
+def _image(store: Any, sec: int, frame: str, size: int) -> bytes:
+    header = store.types["std_msgs/msg/Header"](store.types["builtin_interfaces/msg/Time"](sec, 250), frame)
+    pixels = np.random.default_rng(sec).integers(0, 256, size, np.uint8)  # incompressible
+    image = store.types[IMAGE](header, 1, size, "mono8", 0, size, pixels)
+    return bytes(store.serialize_cdr(image, "sensor_msgs/msg/Image"))
+
+
+@pytest.mark.parametrize("compression", ["", "message", "file"])
+def test_a_db3_gives_each_images_header_whole_or_compressed(tmp_path: Path, compression: str) -> None:
+    """sqlite hands over only a header's bytes of an uncompressed image (and a compressed one whole):
+    the stamps and frames are those written, long frame names included."""
+    store = typestore()
+    frames = ["camera", "c" * 3000]
+    images = [Other("/camera", 1_000 + i, _image(store, 100 + i, frames[i % 2], 50_000), IMAGE) for i in range(6)]
+    bag = write_rosbag2(tmp_path / "images", images, compression=compression)
+    (stream,) = read_stamped([bag]).streams
+    assert stream.record_time.tolist() == [1_000 + i for i in range(6)]
+    assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 + 250 for i in range(6)]
+    assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [frames[i % 2] for i in range(6)]

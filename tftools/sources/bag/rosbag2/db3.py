@@ -17,7 +17,8 @@ from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import zstd_messages
-from tftools.sources.codecs.select import select
+from tftools.sources.codecs.select import HeaderTopics, select
+from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.errors import CorruptBagError
 
 MAGIC = b"SQLite format 3\x00"
@@ -38,7 +39,7 @@ def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messag
     with _connect(path) as db:
         channels = _channels(db, path, topics, result)
         _statistics(db, result)
-        _messages(db, path, channels, result, progress)
+        _messages(db, path, channels, result, progress, headers_only=isinstance(topics, HeaderTopics))
     if unmerged:
         result.note_problem(
             f"{wal.name} holds writes never merged into the database; they were not read"
@@ -99,10 +100,18 @@ def _statistics(db: sqlite3.Connection, result: FileScan) -> None:
 
 
 def _messages(
-    db: sqlite3.Connection, path: Path, channels: dict[int, int], result: FileScan, progress: ProgressCallback
+    db: sqlite3.Connection,
+    path: Path,
+    channels: dict[int, int],
+    result: FileScan,
+    progress: ProgressCallback,
+    *,
+    headers_only: bool,
 ) -> None:
     """Add the wanted topics' messages in record-time order, fetch after fetch (decoded as they
-    come, so they are never all held at once); from the intact pages of a damaged file."""
+    come, so they are never all held at once); from the intact pages of a damaged file. With
+    ``headers_only``, sqlite hands over only the bytes that can hold a header of each message (a
+    compressed one whole), not the images or points after it."""
     if not channels:
         return
     size = path.stat().st_size
@@ -110,8 +119,14 @@ def _messages(
     added = 0
     ids = ",".join(str(int(i)) for i in channels)
     # Rows of other types (sqlite stores any value in any column) are not messages: left out.
+    data = (
+        f"CASE WHEN substr(data, 1, {len(ZSTD_MAGIC)}) = x'{ZSTD_MAGIC.hex()}' THEN data"
+        f" ELSE substr(data, 1, {HEADER_BYTES}) END"
+        if headers_only
+        else "data"
+    )
     query = (
-        f"SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN ({ids})"
+        f"SELECT topic_id, timestamp, {data} FROM messages WHERE topic_id IN ({ids})"
         " AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob' ORDER BY timestamp, id"
     )
     try:
