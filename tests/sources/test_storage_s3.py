@@ -137,6 +137,23 @@ def test_a_missing_object_or_bucket_is_one_line(s3_env: dict[str, str], bucket: 
     assert done.returncode == 2 and said in done.stderr and "Traceback" not in done.stderr
 
 
+@pytest.mark.parametrize("name", ["robot.bag", "robot_mcap"])
+def test_static_repair_copies_a_recording_from_the_bucket(
+    s3_env: dict[str, str], fleet: Path, bucket: str, tmp_path: Path, name: str
+) -> None:
+    """A bag copier reads every byte: the recording is fetched whole, the copy written locally, as
+    from the local file (the same transforms and statics)."""
+    remote, local = tmp_path / "remote", tmp_path / "local"
+    done = tfx("static", "--repair", "-b", bucket + name, "-o", str(remote), env=s3_env)
+    assert done.returncode == 0, done.stderr
+    assert f"a copy of {bucket}{name} whose /tf_static is durable, with its 7 static" in done.stdout
+    assert tfx("static", "--repair", "-b", str(fleet / name), "-o", str(local), env=s3_env).returncode == 0
+    checked = [
+        json.loads(tfx("wtf", str(out), "--format", "json", env=s3_env).stdout)["bags"][0] for out in (remote, local)
+    ]
+    assert checked[0]["transforms"] == checked[1]["transforms"] > 6000 and checked[0]["findings"] == []
+
+
 def test_a_url_without_the_extra_is_one_line_with_the_pip_command(tmp_path: Path) -> None:
     blocked = "import sys; sys.modules['fsspec'] = None; from tftools.cli.app import main; main()"
     done = subprocess.run(

@@ -19,6 +19,7 @@ from tftools.render.escape import printable
 from tftools.sinks import open_static_broadcaster
 from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC, add_static_transforms, repair_static_transforms
 from tftools.sources.live.static_file import read_static_transforms
+from tftools.sources.storage import local_recording
 
 CONTEXT = {"ignore_unknown_options": True}  # so that negative numbers are arguments, not options
 
@@ -56,8 +57,10 @@ def command(
         typer.Option("--from", help="A YAML file of several transforms (see tfx static --help).", show_default=False),
     ] = None,
     bag: Annotated[
-        Path | None,
-        typer.Option("--bag", "-b", help="Add the transforms to a copy of this bag (needs -o).", show_default=False),
+        str | None,
+        typer.Option(
+            "--bag", "-b", help="Add the transforms to a copy of this bag (path or URL; needs -o).", show_default=False
+        ),
     ] = None,
     output: Annotated[
         Path | None, typer.Option("--output", "-o", help="With -b: the copy to write.", show_default=False)
@@ -208,7 +211,7 @@ def _checked(t: Transform) -> Transform:
     return Transform(t.translation, tuple(q / norm for q in t.rotation), 0, frame, child)  # type: ignore[arg-type]
 
 
-def _bag_and_output(bag: Path | None, output: Path | None, force: bool) -> tuple[Path, Path]:
+def _bag_and_output(bag: str | None, output: Path | None, force: bool) -> tuple[str, Path]:
     if bag is None or output is None:
         raise UsageError("-b BAG and -o OUTPUT go together", "e.g. tfx static ... -b in.bag -o out.bag")
     check_output(output, [bag])
@@ -216,9 +219,10 @@ def _bag_and_output(bag: Path | None, output: Path | None, force: bool) -> tuple
     return bag, output
 
 
-def _repair_bag(bag: Path | None, output: Path | None, force: bool) -> None:
+def _repair_bag(bag: str | None, output: Path | None, force: bool) -> None:
     bag, output = _bag_and_output(bag, output, force)
-    written, statics = repair_static_transforms(bag, output, force=force)
+    with local_recording(bag) as local:
+        written, statics = repair_static_transforms(local, output, force=force)
     edges = ", ".join(f"{t.frame_id} -> {t.child_frame_id}" for t in statics)
     stdout.print(
         printable(
@@ -228,9 +232,10 @@ def _repair_bag(bag: Path | None, output: Path | None, force: bool) -> None:
     )
 
 
-def _write_bag(bag: Path | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
+def _write_bag(bag: str | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
     bag, output = _bag_and_output(bag, output, force)
-    written = add_static_transforms(bag, output, transforms, force=force)
+    with local_recording(bag) as local:
+        written = add_static_transforms(local, output, transforms, force=force)
     stdout.print(
         printable(f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}")
     )

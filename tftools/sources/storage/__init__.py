@@ -5,6 +5,6 @@ fsspec; ``remote`` (imported only for a URL) makes each remote file a local spar
 readers fill range by range through ``copies``.
 """
 
-from tftools.sources.storage.locations import BAG_SUFFIXES, expand, is_url, recordings_in
+from tftools.sources.storage.locations import BAG_SUFFIXES, expand, is_url, local_recording, recordings_in
 
-__all__ = ["BAG_SUFFIXES", "expand", "is_url", "recordings_in"]
+__all__ = ["BAG_SUFFIXES", "expand", "is_url", "local_recording", "recordings_in"]

@@ -6,7 +6,8 @@ from __future__ import annotations
 import glob
 import os
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path, PurePosixPath
 
 from tftools.sources.errors import BagNotFoundError
@@ -88,3 +89,16 @@ def _below_local(path: str, *, listed_only: bool) -> list[str]:
 def _is_bag_directory(directory: Path) -> bool:
     """A ROS 2 bag as the readers take one: a metadata.yaml, or .db3/.mcap files, directly inside."""
     return (directory / METADATA).exists() or any(directory.glob("*.db3")) or any(directory.glob("*.mcap"))
+
+
+@contextmanager
+def local_recording(location: str | os.PathLike[str]) -> Iterator[Path]:
+    """``location`` as a local path: itself, or a URL's recording fetched whole for as long as the
+    context lasts (``tftools[fleet]``)."""
+    if not is_url(location):
+        yield Path(location)
+        return
+    from tftools.sources.storage.remote import whole_copy  # fsspec loads only for a URL
+
+    with whole_copy(os.fspath(location)) as local:
+        yield local

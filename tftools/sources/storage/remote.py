@@ -226,6 +226,16 @@ def local_view(url: str) -> Iterator[LocalView]:
         yield LocalView(local, made, any(not c.path.endswith(".yaml") for c in whole))
 
 
+@contextmanager
+def whole_copy(url: str) -> Iterator[Path]:
+    """``url`` (a file or ROS 2 bag directory) fetched whole into a temporary directory, for as long
+    as the context lasts: for what reads every byte of a recording (a bag copier)."""
+    with local_view(url) as view:
+        for copy in view.copies:
+            copy.fill([0], [copy.size])
+        yield view.path
+
+
 def _size(fs: AbstractFileSystem, url: str, path: str) -> int:
     size = fs.info(path).get("size")
     if not isinstance(size, int) or not 0 <= size <= MAX_FILE_BYTES:
