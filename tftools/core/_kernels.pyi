@@ -47,6 +47,19 @@ class EdgeTable:
         Along the chain walked once where the times allow, else the walk at each time (always,
         if not ``chained``): the very same bits. Lets go of the GIL."""
 
+    def lookup_in_parallel(
+        self,
+        target: int,
+        source: int,
+        times: Int64Array,
+        stamps: Int64Array,
+        values: FloatArray,
+        valid: BoolArray,
+        threads: int,
+    ) -> None:
+        """``lookup_many`` at ``times`` in any order (put in order inside), the k-th answer into
+        row k, on ``threads`` threads. Lets go of the GIL."""
+
     def chain_takes(self, target: int, source: int, times: Int64Array) -> int:
         """Whether ``lookup_many`` takes ``times`` (1 to ``BLOCK``) as one block along the chain
         walked at the first: 1 or 0, -1 where that walk does not end at a root."""
