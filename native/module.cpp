@@ -21,8 +21,8 @@ using Int64s = Array<const int64_t, nb::ndim<1>>;
 using Rows = Array<const double, nb::shape<-1, 7>>;
 using Int32s = Array<const int32_t, nb::ndim<1>>;
 
-//: A lookup's answer: tx ty tz qx qy qz qw and the time it was made at.
-using Found = std::tuple<double, double, double, double, double, double, double, int64_t>;
+// A lookup's answer as Transform takes it: (tx, ty, tz), (qx, qy, qz, qw) and the time it was made at.
+using Found = std::tuple<std::tuple<double, double, double>, std::tuple<double, double, double, double>, int64_t>;
 
 // The arrays a history's row points into, held so that they outlive it.
 struct Pinned {
@@ -54,7 +54,7 @@ class EdgeTable {
         thread_local tfcore::Chain chain;
         tfcore::Pose p;
         if (!tfcore::lookup_at(histories_, target, source, time, chain, memo, p)) return std::nullopt;
-        return Found{p.v.x, p.v.y, p.v.z, p.q.x, p.q.y, p.q.z, p.q.w, time};
+        return Found{{p.v.x, p.v.y, p.v.z}, {p.q.x, p.q.y, p.q.z, p.q.w}, time};
     }
 
     bool can_transform(int64_t target, int64_t source, int64_t time) const {

@@ -22,8 +22,9 @@ class EdgeTable:
 
     def lookup(
         self, target: int, source: int, time: int
-    ) -> tuple[float, float, float, float, float, float, float, int] | None:
-        """walk.lookup: tx ty tz qx qy qz qw and the time used (0: the latest common time); None where tf2 fails."""
+    ) -> tuple[tuple[float, float, float], tuple[float, float, float, float], int] | None:
+        """walk.lookup: (tx, ty, tz), (qx, qy, qz, qw) and the time used (0: the latest common time);
+        None where tf2 fails."""
 
     def can_transform(self, target: int, source: int, time: int) -> bool:
         """walk.can_transform."""
