@@ -130,6 +130,7 @@ class Buffer:
         self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
         self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
         self._changed = threading.Condition(self._mutex)
+        self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
         self._table: EdgeTable | None = None  # built by the first lookup
 
     @property
@@ -146,6 +147,7 @@ class Buffer:
         state = self.__dict__.copy()
         del state["_changed"], state["_mutex"]
         state["_table"] = None  # memory addresses: rebuilt where the copy is used
+        state["_waiting"] = 0
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
@@ -204,9 +206,10 @@ class Buffer:
     ) -> bool:
         """Add one transform as tf2's ``setTransform`` does; False if it was refused (ROS 2's
         tf2 accepts a sample identical to one it holds, and stores it once)."""
-        with self._changed:
+        with self._mutex:
             if self._append(transform, authority, static, record_time):
-                self._changed.notify_all()
+                if self._waiting:  # notify_all is Python, and costs a third of this call
+                    self._changed.notify_all()
                 return True
         builder = BatchBuilder()
         builder.add(
@@ -241,14 +244,14 @@ class Buffer:
         authority_id = self._authority_ids.get(authority)
         if authority_id is None:
             return False
-        newest = hist.latest_stamp if len(hist) else None
+        newest = hist.latest_stamp if self._ros2 and len(hist) else None
         flags = FROM_STATIC_TOPIC if static else 0
         values = (tx, ty, tz, x, y, z, w)
         if not hist.append(transform.stamp, values, parent_id, authority_id, record_time, self._arrivals, flags):
             return False
         self._arrivals += 1
         if self.cache_time is not None:  # as ``_store`` prunes: ROS 2's tf2 before storing
-            hist.prune(self.cache_time, newest if self._ros2 and newest is not None else None)
+            hist.prune(self.cache_time, newest)
         self._track(child_id, hist)
         self._broadcasters[child_id] = authority_id
         return True
@@ -657,7 +660,11 @@ class Buffer:
                     remaining = deadline - _time.monotonic()
                     if remaining <= 0:
                         raise
-                    self._changed.wait(remaining)
+                    self._waiting += 1
+                    try:
+                        self._changed.wait(remaining)
+                    finally:
+                        self._waiting -= 1
 
     # --- tf2's introspection -----------------------------------------------------------------
 
