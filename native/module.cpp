@@ -8,7 +8,7 @@
 #include <string>
 #include <tuple>
 
-#include "blocks.hpp"
+#include "many.hpp"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -21,8 +21,8 @@ using Int64s = Array<const int64_t, nb::ndim<1>>;
 using Rows = Array<const double, nb::shape<-1, 7>>;
 using Int32s = Array<const int32_t, nb::ndim<1>>;
 
-//: A lookup's answer: tx ty tz qx qy qz qw and the time it was made at.
-using Found = std::tuple<double, double, double, double, double, double, double, int64_t>;
+// A lookup's answer as Transform takes it: (tx, ty, tz), (qx, qy, qz, qw) and the time it was made at.
+using Found = std::tuple<std::tuple<double, double, double>, std::tuple<double, double, double, double>, int64_t>;
 
 // The arrays a history's row points into, held so that they outlive it.
 struct Pinned {
@@ -54,7 +54,7 @@ class EdgeTable {
         thread_local tfcore::Chain chain;
         tfcore::Pose p;
         if (!tfcore::lookup_at(histories_, target, source, time, chain, memo, p)) return std::nullopt;
-        return Found{p.v.x, p.v.y, p.v.z, p.q.x, p.q.y, p.q.z, p.q.w, time};
+        return Found{{p.v.x, p.v.y, p.v.z}, {p.q.x, p.q.y, p.q.z, p.q.w}, time};
     }
 
     bool can_transform(int64_t target, int64_t source, int64_t time) const {
@@ -92,6 +92,20 @@ class EdgeTable {
                             {rows.data(), stamps.data(), values.data(), valid.data()}, chained);
     }
 
+    void lookup_in_parallel(int64_t target, int64_t source, Int64s times, Array<int64_t, nb::ndim<1>> stamps,
+                            Array<double, nb::shape<-1, 7>> values, Array<bool, nb::ndim<1>> valid, int threads) const {
+        check_frames(target, source);
+        const auto n = static_cast<int64_t>(times.shape(0));
+        if (static_cast<int64_t>(stamps.shape(0)) != n || static_cast<int64_t>(values.shape(0)) != n ||
+            static_cast<int64_t>(valid.shape(0)) != n) {
+            throw nb::value_error("EdgeTable.lookup_in_parallel: the times and the outputs differ in length");
+        }
+        if (threads < 1) throw nb::value_error("EdgeTable.lookup_in_parallel: at least one thread");
+        nb::gil_scoped_release unlocked;
+        tfcore::lookup_any_order(histories_, target, source, times.data(), n,
+                                 {nullptr, stamps.data(), values.data(), valid.data()}, threads);
+    }
+
     int chain_takes(int64_t target, int64_t source, Int64s times) const {
         check_frames(target, source);
         const auto n = static_cast<int64_t>(times.shape(0));
@@ -122,5 +136,7 @@ NB_MODULE(_kernels, m) {
         .def("latest_common_time", &EdgeTable::latest_common_time, "target"_a, "source"_a)
         .def("lookup_many", &EdgeTable::lookup_many, "target"_a, "source"_a, "times"_a, "rows"_a, "stamps"_a,
              "values"_a, "valid"_a, "chained"_a = true)
+        .def("lookup_in_parallel", &EdgeTable::lookup_in_parallel, "target"_a, "source"_a, "times"_a, "stamps"_a,
+             "values"_a, "valid"_a, "threads"_a)
         .def("chain_takes", &EdgeTable::chain_takes, "target"_a, "source"_a, "times"_a);
 }

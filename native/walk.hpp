@@ -203,6 +203,18 @@ struct Chain {
     std::vector<Step> sides[2];
 };
 
+// Start loading the samples `at` points to: a lookup at a time not looked at lately misses the
+// cache on them, and the rest of the walk (more misses, on the other histories) then waits for
+// them at the same time instead of one after the other.
+inline void prefetch(const History& h, const RowAt& at) {
+    const double* v = h.values + 7 * at.row;
+    __builtin_prefetch(v);
+    if (at.interpolate) {  // two rows: 14 doubles over up to three cache lines
+        __builtin_prefetch(v + 7);
+        __builtin_prefetch(v + 13);
+    }
+}
+
 // walk.walk_to_top_parent at a resolved `time`, into `chain`.
 inline void walk(const Histories& histories, int64_t target, int64_t source, int64_t time, Chain& chain, Memo& memo) {
     auto& up = chain.sides[0];
@@ -218,6 +230,7 @@ inline void walk(const Histories& histories, int64_t target, int64_t source, int
             chain.rooted = at.kind == Kind::ROOT;
             break;
         }
+        prefetch(histories[frame], at);
         const int64_t parent = histories[frame].parents[at.row];
         up.push_back({frame, parent, frame != target, at});
         if (frame == target) {
@@ -237,6 +250,7 @@ inline void walk(const Histories& histories, int64_t target, int64_t source, int
             chain.ending = Ending::NO_PATH;
             return;
         }
+        prefetch(histories[frame], at);
         const int64_t parent = histories[frame].parents[at.row];
         down.push_back({frame, parent, frame != source, at});
         if (frame == source) {  // the inverse of T_source^target: the source side is not used

@@ -25,7 +25,7 @@ def python_walk(buffer: Buffer, target: str, source: str, time: int):
 
 def kernel_walk(buffer: Buffer, target: str, source: str, time: int):
     found = buffer._edge_table().lookup(buffer._frames.get(target), buffer._frames.get(source), time)
-    return None if found is None else (list(found[:7]), found[7])
+    return None if found is None else ([*found[0], *found[1]], found[2])
 
 
 def lookups(built: scenarios.Built, buffer: Buffer):

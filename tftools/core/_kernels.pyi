@@ -22,8 +22,9 @@ class EdgeTable:
 
     def lookup(
         self, target: int, source: int, time: int
-    ) -> tuple[float, float, float, float, float, float, float, int] | None:
-        """walk.lookup: tx ty tz qx qy qz qw and the time used (0: the latest common time); None where tf2 fails."""
+    ) -> tuple[tuple[float, float, float], tuple[float, float, float, float], int] | None:
+        """walk.lookup: (tx, ty, tz), (qx, qy, qz, qw) and the time used (0: the latest common time);
+        None where tf2 fails."""
 
     def can_transform(self, target: int, source: int, time: int) -> bool:
         """walk.can_transform."""
@@ -46,6 +47,19 @@ class EdgeTable:
         of ``stamps`` (the time used), ``values`` (N, 7; identity where it failed) and ``valid``.
         Along the chain walked once where the times allow, else the walk at each time (always,
         if not ``chained``): the very same bits. Lets go of the GIL."""
+
+    def lookup_in_parallel(
+        self,
+        target: int,
+        source: int,
+        times: Int64Array,
+        stamps: Int64Array,
+        values: FloatArray,
+        valid: BoolArray,
+        threads: int,
+    ) -> None:
+        """``lookup_many`` at ``times`` in any order (put in order inside), the k-th answer into
+        row k, on ``threads`` threads. Lets go of the GIL."""
 
     def chain_takes(self, target: int, source: int, times: Int64Array) -> int:
         """Whether ``lookup_many`` takes ``times`` (1 to ``BLOCK``) as one block along the chain

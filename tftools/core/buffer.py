@@ -130,6 +130,7 @@ class Buffer:
         self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
         self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
         self._changed = threading.Condition(self._mutex)
+        self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
         self._table: EdgeTable | None = None  # built by the first lookup
 
     @property
@@ -146,6 +147,7 @@ class Buffer:
         state = self.__dict__.copy()
         del state["_changed"], state["_mutex"]
         state["_table"] = None  # memory addresses: rebuilt where the copy is used
+        state["_waiting"] = 0
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
@@ -204,9 +206,10 @@ class Buffer:
     ) -> bool:
         """Add one transform as tf2's ``setTransform`` does; False if it was refused (ROS 2's
         tf2 accepts a sample identical to one it holds, and stores it once)."""
-        with self._changed:
+        with self._mutex:
             if self._append(transform, authority, static, record_time):
-                self._changed.notify_all()
+                if self._waiting:  # notify_all is Python, and costs a third of this call
+                    self._changed.notify_all()
                 return True
         builder = BatchBuilder()
         builder.add(
@@ -241,14 +244,14 @@ class Buffer:
         authority_id = self._authority_ids.get(authority)
         if authority_id is None:
             return False
-        newest = hist.latest_stamp if len(hist) else None
+        newest = hist.latest_stamp if self._ros2 and len(hist) else None
         flags = FROM_STATIC_TOPIC if static else 0
         values = (tx, ty, tz, x, y, z, w)
         if not hist.append(transform.stamp, values, parent_id, authority_id, record_time, self._arrivals, flags):
             return False
         self._arrivals += 1
         if self.cache_time is not None:  # as ``_store`` prunes: ROS 2's tf2 before storing
-            hist.prune(self.cache_time, newest if self._ros2 and newest is not None else None)
+            hist.prune(self.cache_time, newest)
         self._track(child_id, hist)
         self._broadcasters[child_id] = authority_id
         return True
@@ -520,7 +523,6 @@ class Buffer:
 
     # --- lookups -----------------------------------------------------------------------------
 
-    @_locked
     def lookup(self, target_frame: str, source_frame: str, time: int = 0) -> Transform:
         """The transform taking ``source_frame`` data into ``target_frame`` at ``time`` (ns).
 
@@ -528,15 +530,14 @@ class Buffer:
         tf2's messages: ``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``,
         ``InvalidArgumentError``.
         """
-        if target_frame == source_frame:
-            return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
-        target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-        found = self._edge_table().lookup(target_id, source_id, time)
-        if found is not None:
-            return Transform(found[:3], found[3:7], found[7], target_frame, source_frame)
-        # The Python walk: the reference, and the one place tf2's error messages are made.
-        translation, rotation, stamp = walk.lookup(self._tree(), target_id, source_id, time)
-        return Transform(translation, rotation, stamp, target_frame, source_frame)
+        with self._mutex:  # not ``_locked``: its wrapper costs a fifth of a compiled lookup
+            if target_frame == source_frame:
+                return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
+            target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
+            found = self._edge_table().lookup(target_id, source_id, time)
+            if found is None:  # the Python walk: the reference, and the one place tf2's error messages are made
+                found = walk.lookup(self._tree(), target_id, source_id, time)
+            return Transform(*found, target_frame, source_frame)
 
     @_locked
     def lookup_full(
@@ -557,15 +558,15 @@ class Buffer:
         composed = fixed_in_target * source_in_fixed
         return Transform(composed.translation, composed.rotation, fixed_in_target.stamp, target_frame, source_frame)
 
-    @_locked
     def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
         """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
-        if target_frame == source_frame:
-            return True
-        target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
-        if NO_PARENT in (target_id, source_id):
-            return False
-        return self._edge_table().can_transform(target_id, source_id, time)
+        with self._mutex:  # as ``lookup``
+            if target_frame == source_frame:
+                return True
+            target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
+            if NO_PARENT in (target_id, source_id):
+                return False
+            return self._edge_table().can_transform(target_id, source_id, time)
 
     @_locked
     def can_transform_full(
@@ -659,7 +660,11 @@ class Buffer:
                     remaining = deadline - _time.monotonic()
                     if remaining <= 0:
                         raise
-                    self._changed.wait(remaining)
+                    self._waiting += 1
+                    try:
+                        self._changed.wait(remaining)
+                    finally:
+                        self._waiting -= 1
 
     # --- tf2's introspection -----------------------------------------------------------------
 

@@ -11,7 +11,6 @@ whenever it stores into that frame's history (which may move its arrays).
 from __future__ import annotations
 
 import os
-import threading
 from collections.abc import Sequence
 
 import numpy as np
@@ -45,56 +44,12 @@ def lookup_in_parallel(
     source_id: int,
     times: Int64Array,
 ) -> tuple[Int64Array, FloatArray, BoolArray]:
-    """``table.lookup_many`` over ``times``, split across the CPUs.
+    """``table.lookup_in_parallel`` over ``times``, on as many of the CPUs as they are worth.
 
-    Each thread takes a span of time, so that it streams through its own part of the
-    histories; the kernel is fastest over ascending times. Unless the times are ascending
-    already (then the spans are contiguous parts), they are partitioned by rank and each
-    thread sorts its part and walks it, the kernel writing each answer to its row (numpy's
-    sorting and the kernel let go of the GIL, so all of it runs in parallel). Returns the times used,
-    values (N, 7) and validity, in the order of ``times``.
+    Returns the times used, values (N, 7) and validity, in the order of ``times``.
     """
     n = len(times)
-    times = np.ascontiguousarray(times)
-    ascending = n < 2 or bool(np.all(times[1:] >= times[:-1]))
-    outputs = np.empty(n, np.int64), np.empty((n, 7)), np.empty(n, bool)
+    stamps, values, valid = np.empty(n, np.int64), np.empty((n, 7)), np.empty(n, bool)
     threads = max(1, min(os.cpu_count() or 1, n // _TIMES_PER_THREAD))
-    bounds = np.linspace(0, n, threads + 1).astype(int)
-    ranked = None
-    if not ascending:  # the k-th thread's rows: ranked[bounds[k]:bounds[k + 1]], unsorted
-        ranked = np.argpartition(times, bounds[1:-1]) if threads > 1 else np.arange(n)
-
-    def run(part: int) -> None:
-        start, end = int(bounds[part]), int(bounds[part + 1])
-        if ranked is None:
-            rows, ordered = np.arange(start, end), times[start:end]
-        else:
-            rows = ranked[start:end]
-            order, ordered = _sorted(times[rows])
-            rows = rows[order]
-        table.lookup_many(target_id, source_id, ordered, rows, *outputs)
-
-    helpers = [threading.Thread(target=run, args=(part,)) for part in range(1, threads)]
-    for helper in helpers:
-        helper.start()
-    run(0)
-    for helper in helpers:
-        helper.join()
-    return outputs
-
-
-def _sorted(values: Int64Array) -> tuple[Int64Array, Int64Array]:
-    """``np.argsort(values)`` and the values in that order.
-
-    When their span leaves room, each value and its index are packed in one int64 and sorted as
-    plain integers, several times faster than an argsort (ties come out by index, as a stable
-    sort would give them)."""
-    n = len(values)
-    bits = max(1, (n - 1).bit_length())
-    low = int(values.min()) if n else 0
-    if n < 2 or int(values.max()) - low >= 1 << (63 - bits):
-        order = np.argsort(values, kind="stable")
-        return order, values[order]
-    packed = ((values - low) << bits) | np.arange(n, dtype=np.int64)
-    packed.sort()
-    return packed & ((1 << bits) - 1), (packed >> bits) + low
+    table.lookup_in_parallel(target_id, source_id, np.ascontiguousarray(times), stamps, values, valid, threads)
+    return stamps, values, valid

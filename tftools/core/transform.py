@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 import numpy.typing as npt
@@ -24,7 +24,7 @@ from tftools.core.rotation import (
 )
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, init=False)
 class Transform:
     """``T_frame^child``: takes points in ``child_frame_id`` to ``frame_id``.
 
@@ -39,6 +39,22 @@ class Transform:
     stamp: int = 0
     frame_id: str = ""
     child_frame_id: str = ""
+
+    def __init__(
+        self,
+        translation: Vec3 = ZERO_VEC,
+        rotation: Quat = IDENTITY_QUAT,
+        stamp: int = 0,
+        frame_id: str = "",
+        child_frame_id: str = "",
+    ) -> None:
+        # The slots' own setters: a frozen dataclass's __init__ calls object.__setattr__ per
+        # field, which made building a lookup's answer cost as much as the compiled lookup.
+        _set_translation(self, translation)
+        _set_rotation(self, rotation)
+        _set_stamp(self, stamp)
+        _set_frame_id(self, frame_id)
+        _set_child_frame_id(self, child_frame_id)
 
     @classmethod
     def identity(cls, stamp: int = 0, frame_id: str = "", child_frame_id: str = "") -> Transform:
@@ -119,6 +135,12 @@ class Transform:
         m = self.as_matrix()
         moved: FloatArray = p @ m[:3, :3].T + m[:3, 3]
         return moved
+
+
+# The fields' slot descriptors' setters (what object.__setattr__ looks up on every call).
+_set_translation, _set_rotation, _set_stamp, _set_frame_id, _set_child_frame_id = (
+    vars(Transform)[field.name].__set__ for field in fields(Transform)
+)
 
 
 def _vec(values: npt.ArrayLike) -> Vec3:

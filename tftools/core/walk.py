@@ -212,14 +212,11 @@ def latest_common_time(tree: Tree, target_id: int, source_id: int) -> int:
     source_side: list[tuple[int, int]] = []  # (latest stamp, parent) of each edge walked
     common = _TIME_MAX
     frame = source_id
-    while True:
-        hist = histories[frame]
-        if hist is None or len(hist) == 0:
-            break
-        stamp, parent = hist.latest_stamp, hist.latest_parent
+    while (latest := _latest(histories, frame)) is not None:
+        stamp, parent = latest
         if stamp:
             common = min(common, stamp)
-        source_side.append((stamp, parent))
+        source_side.append(latest)
         frame = parent
         if frame == target_id:
             return 0 if common == _TIME_MAX else common
@@ -230,11 +227,8 @@ def latest_common_time(tree: Tree, target_id: int, source_id: int) -> int:
     common_parent = NO_PARENT
     frame = target_id
     depth = 0
-    while True:
-        hist = histories[frame]
-        if hist is None or len(hist) == 0:
-            break
-        stamp, parent = hist.latest_stamp, hist.latest_parent
+    while (latest := _latest(histories, frame)) is not None:
+        stamp, parent = latest
         if stamp:
             common = min(common, stamp)
         if any(p == parent for _, p in source_side):
@@ -255,6 +249,14 @@ def latest_common_time(tree: Tree, target_id: int, source_id: int) -> int:
         if parent == common_parent:
             break
     return 0 if common == _TIME_MAX else common
+
+
+def _latest(histories: Sequence[EdgeHistory | None], frame: int) -> tuple[int, int] | None:
+    """The latest stamp and parent of ``frame``'s edge; None where it has no samples."""
+    hist = histories[frame]
+    if hist is None or len(hist) == 0:
+        return None
+    return hist.latest_stamp, hist.latest_parent
 
 
 def frames_as_string(tree: Tree) -> str:
