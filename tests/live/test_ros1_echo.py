@@ -74,9 +74,10 @@ def test_a_publisher_of_another_type_is_named_and_ignored(ros: Ros) -> None:
     ros.node("wrong_type", "/stringy", "/tf")
     ros.spawn(STATIC_PUBLISHER, "0", "1", "0", "0", "0", "0", "wt_a", "wt_b")
     wait_until(lambda: "/stringy" in ros.master.publishers("/tf"), 20, "the String publisher")
-    result = ros.run_tfx("echo", "wt_a", "wt_b", "-n", "1", "--wait", "20", "-f", "json")
+    # Two lines a second apart: time for the String publisher's refusal, which races the static's answer.
+    result = ros.run_tfx("echo", "wt_a", "wt_b", "-n", "2", "-r", "1", "--wait", "20", "-f", "json")
     assert result.returncode == 0, result.stderr
-    assert json.loads(result.stdout)["translation"] == [0.0, 1.0, 0.0]
+    assert [json.loads(line)["translation"] for line in result.stdout.splitlines()] == [[0.0, 1.0, 0.0]] * 2
     warnings = [line for line in result.stderr.splitlines() if "/stringy" in line]
     assert len(warnings) == 1 and "tfx: warning: /stringy refused to send /tf" in warnings[0]
     assert "[tf2_msgs/TFMessage] vs. [std_msgs/String]" in warnings[0]  # rospy's words, brackets and all
