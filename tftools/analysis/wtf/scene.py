@@ -101,8 +101,10 @@ class Scene:
         for child, hist in self.buffer.histories():
             if hist.static:
                 continue
-            for parent_id in np.unique(hist.parents):
-                mine = hist.parents == parent_id
+            parents = np.unique(hist.parents)
+            for parent_id in parents:
+                # one parent (the usual case): the history's own arrays, not copies
+                mine = slice(None) if len(parents) == 1 else hist.parents == parent_id
                 result.append(
                     EdgeSamples(
                         parent=self.buffer.frame_name(int(parent_id)),
