@@ -220,9 +220,9 @@ def sim_clock(scene: Scene) -> Iterator[Finding]:
 def _before_clock(scene: Scene) -> Iterator[Finding]:
     clock = scene.timeline.clock
     rows = scene.rows
-    early = np.flatnonzero(
-        (rows.record_time > 0) & (rows.record_time < clock.record_time[0] - BEFORE_CLOCK) & ~rows.static
-    )
+    records = rows.record_time.whole()
+    early = np.flatnonzero((records > 0) & (records < clock.record_time[0] - BEFORE_CLOCK) & ~rows.static)
+    del records
     if scene.timeline.reference is not Reference.CLOCK or not len(early):
         return
     yield Finding(

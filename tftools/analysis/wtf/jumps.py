@@ -23,6 +23,7 @@ from tftools.core.time import NS_PER_S
 #: times its interval, plus a floor for noise and the first motion from rest.
 JUMP_FACTOR = 5.0
 NEIGHBOURS = 3
+WINDOWS_AT_ONCE = 65536
 FLOOR_M = 0.05
 FLOOR_DEG = 3.0
 
@@ -62,10 +63,12 @@ def _neighbour_speed(steps: FloatArray, seconds: FloatArray) -> FloatArray:
         speed = np.where(seconds > 0, steps / seconds, np.nan)
     padded = np.pad(speed, NEIGHBOURS, constant_values=np.nan)
     windows = sliding_window_view(padded, 2 * NEIGHBOURS + 1)
-    around = np.delete(windows, NEIGHBOURS, axis=1)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a window with no speed at all: no motion to explain a step
-        median: FloatArray = np.nan_to_num(np.nanmedian(around, axis=1), nan=0.0)
+    median: FloatArray = np.empty(len(speed))
+    for start in range(0, len(speed), WINDOWS_AT_ONCE):  # the windows copied a block at a time: bounded memory
+        around = np.delete(windows[start : start + WINDOWS_AT_ONCE], NEIGHBOURS, axis=1)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a window with no speed at all: no motion to explain
+            median[start : start + WINDOWS_AT_ONCE] = np.nan_to_num(np.nanmedian(around, axis=1), nan=0.0)
     return median
 
 

@@ -13,10 +13,9 @@ from tftools.analysis.edges import EdgeStats, edge_stats
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.frames import FrameTree, frame_tree
+from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
-from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
-from tftools.core.batch import TransformBatch
-from tftools.core.buffer import QUATERNION_TOLERANCE
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import StampedMessages
@@ -24,75 +23,6 @@ from tftools.sources.recording import Recording
 from tftools.sources.timeline import Timeline
 
 T = TypeVar("T")
-
-
-@dataclass(frozen=True)
-class Rows:
-    """Every transform read (refused ones too) in arrival order, its frames under tf2's names
-    (one leading ``/`` dropped; the empty name kept), and what tf2's ``setTransform`` would say."""
-
-    names: list[str]  # tf2's frame names; ``parent``/``child`` index them
-    raw_names: Sequence[str]  # the names as sent; ``raw_parent``/``raw_child`` index them
-    authorities: Sequence[str]
-    parent: Int32Array
-    child: Int32Array
-    raw_parent: Int32Array
-    raw_child: Int32Array
-    stamp: Int64Array
-    record_time: Int64Array
-    values: FloatArray  # (N, 7): tx ty tz qx qy qz qw
-    static: BoolArray
-    authority: Int32Array
-
-    def __len__(self) -> int:
-        return len(self.stamp)
-
-    @cached_property
-    def named(self) -> BoolArray:
-        """Both frames named, and not the same frame."""
-        empty = self.names.index("") if "" in self.names else -1
-        named: BoolArray = (self.parent != empty) & (self.child != empty) & (self.parent != self.child)
-        return named
-
-    @cached_property
-    def finite(self) -> BoolArray:
-        finite: BoolArray = np.asarray(np.isfinite(self.values).all(axis=1), bool)
-        return finite
-
-    @cached_property
-    def norm_error(self) -> FloatArray:
-        """|x² + y² + z² + w² - 1|, as tf2 tests it (NaN where a value is not finite)."""
-        q = self.values[:, 3:]
-        with np.errstate(invalid="ignore", over="ignore"):
-            error: FloatArray = np.abs((q * q).sum(axis=1) - 1.0)
-        return error
-
-    @cached_property
-    def usable(self) -> BoolArray:
-        """The rows tf2 would not refuse on their face (repeated stamps aside)."""
-        return self.named & self.finite & (self.norm_error < QUATERNION_TOLERANCE)
-
-
-def rows_of(batch: TransformBatch) -> Rows:
-    """``batch`` with each frame name also under the name tf2 stores it by."""
-    names: dict[str, int] = {}
-    stripped = np.array(
-        [names.setdefault(n[1:] if n.startswith("/") else n, len(names)) for n in batch.frame_names] or [0], np.int32
-    )
-    return Rows(
-        names=list(names),
-        raw_names=batch.frame_names,
-        authorities=batch.authorities,
-        parent=stripped[batch.parent],
-        child=stripped[batch.child],
-        raw_parent=batch.parent,
-        raw_child=batch.child,
-        stamp=batch.stamp,
-        record_time=batch.record_time,
-        values=np.concatenate([batch.translation, batch.rotation], axis=1),
-        static=batch.static,
-        authority=batch.authority,
-    )
 
 
 @dataclass(frozen=True)
@@ -139,7 +69,7 @@ class Scene:
 
     @cached_property
     def rows(self) -> Rows:
-        return rows_of(self.recording.transforms)
+        return rows_of(self.recording)
 
     @cached_property
     def off_clock(self) -> frozenset[str]:
@@ -171,8 +101,10 @@ class Scene:
         for child, hist in self.buffer.histories():
             if hist.static:
                 continue
-            for parent_id in np.unique(hist.parents):
-                mine = hist.parents == parent_id
+            parents = np.unique(hist.parents)
+            for parent_id in parents:
+                # one parent (the usual case): the history's own arrays, not copies
+                mine = slice(None) if len(parents) == 1 else hist.parents == parent_id
                 result.append(
                     EdgeSamples(
                         parent=self.buffer.frame_name(int(parent_id)),
@@ -190,16 +122,12 @@ class Scene:
 
     def by_edge(self, mask: BoolArray) -> Iterator[tuple[int, int, IntpArray]]:
         """(parent id, child id, rows) for each edge among the ``mask`` rows, in order of first arrival."""
-        rows = self.rows
-        keys = rows.parent.astype(np.int64) * max(len(rows.names), 1) + rows.child
-        for rows_of_key in _groups(keys, mask):
-            first = rows_of_key[0]
-            yield int(rows.parent[first]), int(rows.child[first]), rows_of_key
+        return self.rows.groups(mask, by_parent=True)
 
     def by_child(self, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
         """(child id, rows) for each child frame among the ``mask`` rows, in order of first arrival."""
-        for rows_of_key in _groups(self.rows.child.astype(np.int64), mask):
-            yield int(self.rows.child[rows_of_key[0]]), rows_of_key
+        for _, child, rows in self.rows.groups(mask, by_parent=False):
+            yield child, rows
 
     def authorities_of(self, rows: IntpArray) -> tuple[str, ...]:
         """The publishers of ``rows``, in order of first appearance."""
@@ -274,15 +202,3 @@ def listed(items: Sequence[str], most: int = 6) -> str:
 
 def _and(items: Sequence[str]) -> str:
     return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
-
-
-def _groups(keys: Int64Array, mask: BoolArray) -> Iterator[IntpArray]:
-    """The ``mask`` row indices grouped by key, each group in row order, groups by first row."""
-    rows = np.flatnonzero(mask)
-    if not len(rows):
-        return
-    order = np.argsort(keys[rows], kind="stable")
-    ordered = rows[order]
-    bounds = np.flatnonzero(np.diff(keys[ordered])) + 1
-    groups = np.split(ordered, bounds)
-    yield from sorted(groups, key=lambda g: int(g[0]))

@@ -160,7 +160,7 @@ def rate(scene: Scene) -> Iterator[Finding]:
         fresh = np.concatenate([[True], stamps[1:] != stamps[:-1]])
         arrivals = np.sort(scene.received(mine[fresh]))
         if len(arrivals) >= 3:
-            frames = (rows.names[rows.parent[mine[-1]]], rows.names[child_id])
+            frames = (rows.names[rows.parent[mine[-1:]][0]], rows.names[child_id])
             yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals)
 
 
@@ -308,7 +308,7 @@ def _stamps_of(scene: Scene, child_id: int, mine: np.ndarray) -> Iterator[Findin
     late = (records > 0) & (records - stamps > scene.ns(scene.thresholds.delay))
     if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
         back &= ~(late & (before - stamps < TIME_JUMP))
-    parent = rows.names[rows.parent[mine[-1]]]
+    parent = rows.names[rows.parent[mine[-1:]][0]]
     frames = (parent, rows.names[child_id])
     if back.any():
         yield _went_back(scene, edge(*frames), frames, mine, back, before - stamps)

@@ -8,7 +8,8 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Rows, Scene, duration, edge, listed, transforms
+from tftools.analysis.wtf.rows import Rows
+from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
@@ -43,7 +44,7 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
         else:
             moving[mine] = True
     for parent, child, mine in constant:
-        if len(mine) < STATIC_MIN_SAMPLES or rows.child[mine[0]] in contested:
+        if len(mine) < STATIC_MIN_SAMPLES or child in contested:
             continue
         if _moving_by_nature(rows.names[parent]) or _in_loop(scene, rows.names[parent], rows.names[child]):
             continue
@@ -83,7 +84,7 @@ def _joint_at_rest(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
     together = np.zeros(len(mine), bool)
     for authority in np.unique(rows.authority[mine]):
         theirs = rows.authority[mine] == authority
-        others = np.flatnonzero(moving & (rows.authority == authority))
+        others = np.flatnonzero(moving & (rows.authority.whole() == authority))
         keys = _message_keys(rows, mine[theirs])
         together[theirs] = np.isin(keys, _message_keys(rows, others))
     return bool(together.mean() >= JOINT_SHARE)

@@ -8,8 +8,9 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.rows import norm_error
 from tftools.analysis.wtf.scene import Scene, edge, listed, transforms
-from tftools.core.arrays import BoolArray, IntpArray
+from tftools.core.arrays import BoolArray, FloatArray, IntpArray
 from tftools.core.buffer import QUATERNION_TOLERANCE
 
 #: roswtf's limit on | |q| - 1 | for a rotation to count as normalised.
@@ -21,16 +22,15 @@ VISIBLE_NORM_ERROR = 1e-3
 @register("invalid_values", Severity.error, "NaN, infinity, or a rotation that is not a unit quaternion")
 def invalid_values(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    nan: BoolArray = np.asarray(np.isnan(rows.values).any(axis=1), bool)
+    nan: BoolArray = rows.of_values(lambda v: np.asarray(np.isnan(v).any(axis=1), bool))
     inf = ~rows.finite & ~nan
-    bad_quaternion = rows.finite & ~(rows.norm_error < QUATERNION_TOLERANCE)
+    bad_quaternion = rows.finite & ~rows.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
     refused = nan | inf | bad_quaternion
     for parent, child, mine in scene.by_edge(refused):
         yield _refused(scene, rows.names[parent], rows.names[child], mine, nan, inf)
-    length_error = np.abs(np.sqrt(np.where(rows.finite, (rows.values[:, 3:] ** 2).sum(axis=1), 1.0)) - 1.0)
-    slightly = rows.finite & ~bad_quaternion & (length_error > ROSWTF_NORM_TOLERANCE)
+    slightly = rows.finite & ~bad_quaternion & rows.of_values(lambda v: _length_error(v) > ROSWTF_NORM_TOLERANCE)
     for parent, child, mine in scene.by_edge(slightly):
-        worst = float(length_error[mine].max())
+        worst = float(_length_error(rows.values[mine]).max())
         yield Finding(
             Severity.warning if worst > VISIBLE_NORM_ERROR else Severity.info,
             "invalid_values",
@@ -43,6 +43,13 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
             scene.authorities_of(mine),
             *_shown_in(scene, mine),
         )
+
+
+def _length_error(values: FloatArray) -> FloatArray:
+    """| |q| - 1 | of ``values``' rotations (0 where a value is not finite)."""
+    finite = np.isfinite(values).all(axis=1)
+    error: FloatArray = np.abs(np.sqrt(np.where(finite, (values[:, 3:] ** 2).sum(axis=1), 1.0)) - 1.0)
+    return error
 
 
 def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.ndarray, inf: np.ndarray) -> Finding:
@@ -61,8 +68,8 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
         )
     if n_quat:
         quat_rows = mine[~nan[mine] & ~inf[mine]]
-        zero = int((np.abs(rows.values[quat_rows, 3:]).sum(axis=1) == 0).sum())
-        lengths = np.sqrt((rows.values[quat_rows, 3:] ** 2).sum(axis=1))
+        zero = int((np.abs(rows.values[quat_rows][:, 3:]).sum(axis=1) == 0).sum())
+        lengths = np.sqrt((rows.values[quat_rows][:, 3:] ** 2).sum(axis=1))
         kinds.append(
             f"a rotation of length {lengths.min():.3g}"
             + (f" to {lengths.max():.3g}" if lengths.max() - lengths.min() > 5e-4 else "")
@@ -90,7 +97,9 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
 @register("self_transform", Severity.error, "a transform from a frame to itself")
 def self_transform(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    same = (rows.parent == rows.child) & (np.array([n != "" for n in rows.names] or [False])[rows.child])
+    parents, children = rows.parent.whole(), rows.child.whole()
+    same = (parents == children) & (children != 0)
+    del parents, children
     for _, child, mine in scene.by_edge(same):
         frame = rows.names[child]
         spelled = sorted({f"{rows.raw_names[p]} -> {rows.raw_names[c]}" for p, c in _raw_pairs(scene, mine)})
@@ -124,14 +133,12 @@ def _raw_pairs(scene: Scene, mine: IntpArray) -> set[tuple[int, int]]:
 @register("empty_frame_id", Severity.error, "a transform without frame_id or child_frame_id")
 def empty_frame_id(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    if "" not in rows.names:
-        return
-    empty = rows.names.index("")
+    parent, child = rows.parent.whole(), rows.child.whole()
     for field, other_field, missing, other in (
-        ("frame_id", "child_frame_id", rows.parent, rows.child),
-        ("child_frame_id", "frame_id", rows.child, rows.parent),
+        ("frame_id", "child_frame_id", parent, child),
+        ("child_frame_id", "frame_id", child, parent),
     ):
-        for other_id, mine in _group_by(other, missing == empty):
+        for other_id, mine in _group_by(other, missing == 0):
             named = rows.names[other_id]
             who = scene.authorities_of(mine)
             by = scene.by(who)
@@ -159,8 +166,8 @@ def _group_by(keys: np.ndarray, mask: np.ndarray) -> Iterator[tuple[int, IntpArr
 def leading_slash(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     slashed = np.array([n.startswith("/") for n in rows.raw_names] or [False])
-    uses = slashed[rows.raw_parent] | slashed[rows.raw_child]
-    for authority, mine in _group_by(rows.authority, uses):
+    uses = slashed[rows.raw_parent.whole()] | slashed[rows.raw_child.whole()]
+    for authority, mine in _group_by(rows.authority.whole(), uses):
         names = sorted(
             {rows.raw_names[i] for i in (*rows.raw_parent[mine].tolist(), *rows.raw_child[mine].tolist())}
             & {n for n in rows.raw_names if n.startswith("/")}

@@ -1,0 +1,242 @@
+"""``Rows``: every transform read, in record order, as the checks see it: read in place from the
+buffer's histories (the only copy of the transforms), never copied out of them whole."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Generic, NamedTuple, TypeVar
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray, UInt8Array
+from tftools.core.buffer import QUATERNION_TOLERANCE
+from tftools.core.frames import Names
+from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH, EdgeHistory
+from tftools.sources.recording import Recording
+
+S = TypeVar("S", bound=np.generic)
+
+
+class Segment(NamedTuple):
+    """Rows held together (one history, or the refused rows), as the buffer keeps them: frames by
+    tf2's ids, ``flags`` as ``EdgeHistory.flags``, ``sequence`` their arrival numbers."""
+
+    parent: Int32Array
+    child: Int32Array
+    flags: UInt8Array
+    stamp: Int64Array
+    record_time: Int64Array
+    values: FloatArray  # (N, 7): tx ty tz qx qy qz qw
+    authority: Int32Array
+    sequence: Int64Array
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where each row (in record order) lies among the segments, laid end to end, and back."""
+
+    segments: list[Segment]
+    starts: Int64Array  # each segment's first place
+    place: Int32Array  # row -> place
+    row: Int32Array  # place -> row
+
+    def __len__(self) -> int:
+        return len(self.place)
+
+    def gather(self, column: Callable[[int], npt.NDArray[S]], rows: IntpArray | BoolArray) -> npt.NDArray[S]:
+        """``column``'s values (a segment's, given its index) of ``rows``, in their order."""
+        places = self.place[np.flatnonzero(rows) if rows.dtype == np.bool_ else rows]
+        which = np.searchsorted(self.starts, places, side="right") - 1
+        found = np.unique(which)
+        if len(found) <= 1:
+            s = int(found[0]) if len(found) else 0
+            one: npt.NDArray[S] = column(s)[places - self.starts[s]]
+            return one
+        first = column(int(found[0]))
+        out = np.empty((len(places), *first.shape[1:]), first.dtype)
+        for s in found.tolist():
+            mine = which == s
+            out[mine] = column(s)[places[mine] - self.starts[s]]
+        return out
+
+    def whole(self, column: Callable[[int], npt.NDArray[S]]) -> npt.NDArray[S]:
+        """``column`` for every row, in record order (a copy)."""
+        return np.concatenate([column(s) for s in range(len(self.segments))])[self.place]
+
+    def groups(self, mask: BoolArray, by_parent: bool) -> Iterator[tuple[int, int, IntpArray]]:
+        """(parent id, child id, rows) for each edge (or child, parent 0) among the ``mask`` rows, each
+        in record order, in order of first arrival."""
+        in_place = np.zeros(len(self), bool)
+        in_place[self.place] = mask
+        found: dict[tuple[int, int], list[Int32Array]] = {}
+        for start, segment in zip(self.starts.tolist(), self.segments, strict=True):
+            local = np.flatnonzero(in_place[start : start + len(segment.stamp)])
+            if not len(local):
+                continue
+            parents = segment.parent[local] if by_parent else np.zeros(len(local), np.int32)
+            keys = np.stack([parents, segment.child[local]], axis=1)
+            for parent, child in np.unique(keys, axis=0).tolist():
+                theirs = (parents == parent) & (segment.child[local] == child)
+                found.setdefault((parent, child), []).append(self.row[start + local[theirs]])
+        firsts = sorted((min(int(p.min()) for p in parts), key) for key, parts in found.items())
+        for _, (parent, child) in firsts:
+            yield parent, child, np.sort(np.concatenate(found.pop((parent, child)))).astype(np.intp)
+
+
+class Column(Generic[S]):
+    """One column of the rows, in record order: ``column[rows]`` reads just those rows (a copy)."""
+
+    def __init__(self, layout: Layout, of: Callable[[Segment], npt.NDArray[S]]) -> None:
+        self._layout = layout
+        self._of = of
+
+    def _segment(self, index: int) -> npt.NDArray[S]:
+        return self._of(self._layout.segments[index])
+
+    def __getitem__(self, rows: IntpArray | BoolArray) -> npt.NDArray[S]:
+        return self._layout.gather(self._segment, rows)
+
+    def whole(self) -> npt.NDArray[S]:
+        """Every row's (a copy: for a check that looks at all rows at once)."""
+        return self._layout.whole(self._segment)
+
+
+class Rows:
+    """Every transform read (refused ones too) in arrival order, its frames under tf2's names
+    (one leading ``/`` dropped; the empty name kept), and what tf2's ``setTransform`` would say.
+
+    The columns read the buffer's histories where they lie; only a few flags per row are held."""
+
+    def __init__(self, layout: Layout, names: list[str], authorities: list[str]) -> None:
+        self.names = names  # tf2's frame names; ``parent``/``child`` index them
+        self.raw_names = [*names, *("/" + n for n in names)]  # as sent; ``raw_parent``/``raw_child`` index them
+        self.authorities = authorities
+        self._layout = layout
+        slashed = len(names)
+        self.parent: Column[np.int32] = Column(layout, lambda s: s.parent)
+        self.child: Column[np.int32] = Column(layout, lambda s: s.child)
+        self.raw_parent: Column[np.int32] = Column(
+            layout, lambda s: np.where(s.flags & PARENT_HAD_SLASH, s.parent + slashed, s.parent).astype(np.int32)
+        )
+        self.raw_child: Column[np.int32] = Column(
+            layout, lambda s: np.where(s.flags & CHILD_HAD_SLASH, s.child + slashed, s.child).astype(np.int32)
+        )
+        self.stamp: Column[np.int64] = Column(layout, lambda s: s.stamp)
+        self.record_time: Column[np.int64] = Column(layout, lambda s: s.record_time)
+        self.values: Column[np.float64] = Column(layout, lambda s: s.values)
+        self.authority: Column[np.int32] = Column(layout, lambda s: s.authority)
+
+    def __len__(self) -> int:
+        return len(self._layout)
+
+    def of_values(self, compute: Callable[[FloatArray], npt.NDArray[S]]) -> npt.NDArray[S]:
+        """``compute`` of the values (N, 7), for every row in record order, computed a segment at a time."""
+        return self._layout.whole(lambda s: compute(self._layout.segments[s].values))
+
+    def groups(self, mask: BoolArray, by_parent: bool) -> Iterator[tuple[int, int, IntpArray]]:
+        return self._layout.groups(mask, by_parent)
+
+    @cached_property
+    def static(self) -> BoolArray:
+        """Received on /tf_static."""
+        return self._layout.whole(lambda s: (self._layout.segments[s].flags & FROM_STATIC_TOPIC) != 0)
+
+    @cached_property
+    def named(self) -> BoolArray:
+        """Both frames named, and not the same frame."""
+        parent, child = self.parent.whole(), self.child.whole()
+        named: BoolArray = (parent != 0) & (child != 0) & (parent != child)
+        return named
+
+    @cached_property
+    def finite(self) -> BoolArray:
+        return self.of_values(lambda v: np.asarray(np.isfinite(v).all(axis=1), bool))
+
+    @cached_property
+    def usable(self) -> BoolArray:
+        """The rows tf2 would not refuse on their face (repeated stamps aside)."""
+        return self.named & self.finite & self.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
+
+
+def rows_of(recording: Recording) -> Rows:
+    """The rows of ``recording``: its buffer's histories (the histories they replaced too), and the
+    rows the buffer refused, under one table of names (``""`` first) and one of publishers."""
+    buffer = recording.buffer
+    with buffer.lock:
+        names, authorities = Names(), Names()
+        for name in ("", *buffer.frames):  # id = the buffer's frame id
+            names.intern(name)
+        for name in buffer.authorities:
+            authorities.intern(name)
+        segments = [
+            _history_segment(names.intern(child), h) for child, hist in buffer.histories() for h in _chain(hist)
+        ]
+    segments.append(_refused_segment(recording, names, authorities))
+    return Rows(_layout(segments), names.names, authorities.names)
+
+
+def _chain(hist: EdgeHistory) -> Iterator[EdgeHistory]:
+    """``hist``, then the histories it replaced (ROS 2), newest first."""
+    current: EdgeHistory | None = hist
+    while current is not None:
+        yield current
+        current = current.replaced
+
+
+def _history_segment(child: int, hist: EdgeHistory) -> Segment:
+    n = len(hist)
+    child_ids: Int32Array = np.broadcast_to(np.int32(child), (n,))
+    columns = (hist.flags, hist.stamps, hist.record_times, hist.values, hist.authorities, hist.sequence)
+    return Segment(hist.parents, child_ids, *columns)
+
+
+def _refused_segment(recording: Recording, names: Names, authorities: Names) -> Segment:
+    """The rows the buffer refused, under tf2's names, with the flags a history would give them."""
+    batch = recording.refused
+    raw = batch.frame_names
+    stripped = np.array([names.intern(n[1:] if n.startswith("/") else n) for n in raw] or [0], np.int32)
+    slash = np.array([n.startswith("/") for n in raw] or [False])
+    publishers = np.array([authorities.intern(a) for a in batch.authorities] or [0], np.int32)
+    flags = (
+        np.where(batch.static, FROM_STATIC_TOPIC, 0)
+        | np.where(slash[batch.parent], PARENT_HAD_SLASH, 0)
+        | np.where(slash[batch.child], CHILD_HAD_SLASH, 0)
+    ).astype(np.uint8)
+    return Segment(
+        stripped[batch.parent],
+        stripped[batch.child],
+        flags,
+        batch.stamp,
+        batch.record_time,
+        np.concatenate([batch.translation, batch.rotation], axis=1),
+        publishers[batch.authority],
+        recording.refused_sequence,
+    )
+
+
+def _layout(segments: list[Segment]) -> Layout:
+    """The segments' rows in record order: by arrival number."""
+    lengths = np.array([len(s.stamp) for s in segments], np.int64)
+    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64)
+    total = int(lengths.sum())
+    place = np.full(total, -1, np.int32)
+    top = max((int(s.sequence.max()) for s in segments if len(s.sequence)), default=-1)
+    if top == total - 1:  # arrival numbers 0..N-1, each once: a row's number is its place in record order
+        for start, segment in zip(starts.tolist(), segments, strict=True):
+            place[segment.sequence] = np.arange(start, start + len(segment.sequence), dtype=np.int32)
+    if (place < 0).any():  # numbers missing (a live buffer dropped old samples) or twice
+        place = np.argsort(np.concatenate([s.sequence for s in segments]), kind="stable").astype(np.int32)
+    row = np.empty(total, np.int32)
+    row[place] = np.arange(total, dtype=np.int32)
+    return Layout(segments, starts, place, row)
+
+
+def norm_error(values: FloatArray) -> FloatArray:
+    """|x² + y² + z² + w² - 1| of ``values``' rotations, as tf2 tests it (NaN where a value is not finite)."""
+    q = values[:, 3:]
+    with np.errstate(invalid="ignore", over="ignore"):
+        error: FloatArray = np.abs((q * q).sum(axis=1) - 1.0)
+    return error
