@@ -76,11 +76,15 @@ class Layout:
             local = np.flatnonzero(in_place[start : start + len(segment.stamp)])
             if not len(local):
                 continue
-            parents = segment.parent[local] if by_parent else np.zeros(len(local), np.int32)
-            keys = np.stack([parents, segment.child[local]], axis=1)
-            for parent, child in np.unique(keys, axis=0).tolist():
-                theirs = (parents == parent) & (segment.child[local] == child)
-                found.setdefault((parent, child), []).append(self.row[start + local[theirs]])
+            children = segment.child[local].astype(np.int64)
+            keys = (segment.parent[local].astype(np.int64) << 32 | children) if by_parent else children
+            if keys[0] == keys[-1] and (keys == keys[0]).all():  # a history of one parent: the usual case
+                edges, which = keys[:1], None
+            else:
+                edges, which = np.unique(keys, return_inverse=True)
+            for k, key in enumerate(edges.tolist()):
+                theirs = local if which is None else local[which == k]
+                found.setdefault((key >> 32, key & 0xFFFFFFFF), []).append(self.row[start + theirs])
         firsts = sorted((min(int(p.min()) for p in parts), key) for key, parts in found.items())
         for _, (parent, child) in firsts:
             yield parent, child, np.sort(np.concatenate(found.pop((parent, child)))).astype(np.intp)
