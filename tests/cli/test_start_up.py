@@ -18,11 +18,13 @@ NOT_FOR_FRAMES = (
     "graphviz",
     "matplotlib",
     "tftools.sources.live",
+    "tftools.cli.live",
     "tftools.cli.echo",
     "tftools.cli.wtf",
     "tftools.cli.view_frames",
     "tftools.cli.static",
     "tftools.analysis.wtf",
+    "rich.progress",  # drawn only on a terminal, for a large bag
 )
 
 

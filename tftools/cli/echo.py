@@ -28,6 +28,7 @@ from tftools.cli.common import (
     open_recording,
     stdout,
 )
+from tftools.cli.live_options import CacheOption, RosOption, UseSimTimeOption
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
@@ -104,9 +105,9 @@ def command(
         float | None,
         typer.Option(help="Live: give up if the transform is not there within WAIT seconds.", show_default=False),
     ] = None,
-    ros1: live.RosOption = None,
-    use_sim_time: live.UseSimTimeOption = None,
-    cache: live.CacheOption = 10.0,
+    ros1: RosOption = None,
+    use_sim_time: UseSimTimeOption = None,
+    cache: CacheOption = 10.0,
     plot: Annotated[
         Path | None,
         typer.Option(

@@ -21,6 +21,7 @@ from tftools.cli.common import (
     stdout,
     warn,
 )
+from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.core.time import from_sec
 from tftools.render import filter as render
 from tftools.sources.bag.stamped import read_stamped
@@ -55,9 +56,9 @@ def command(
     ] = None,
     fmt: Annotated[FilterFormat, typer.Option("--format", "-f", help="text (a table) or json.")] = FilterFormat.text,
     tf2: Tf2Option = None,
-    duration: live.ListenOption = 5.0,
-    ros1: live.RosOption = None,
-    use_sim_time: live.UseSimTimeOption = None,
+    duration: ListenOption = 5.0,
+    ros1: RosOption = None,
+    use_sim_time: UseSimTimeOption = None,
 ) -> None:
     """Replay a tf2_ros MessageFilter on every stamped message of a recording.
 

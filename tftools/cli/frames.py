@@ -8,8 +8,8 @@ from typing import Annotated
 import typer
 
 from tftools.analysis.frames import frame_tree
-from tftools.cli import live
 from tftools.cli.common import BagOption, Tf2Option, TopicOption, open_recording, stdout
+from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.render import frames as render
 
 
@@ -27,9 +27,9 @@ def command(
     ] = FramesFormat.text,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
-    duration: live.ListenOption = 5.0,
-    ros1: live.RosOption = None,
-    use_sim_time: live.UseSimTimeOption = None,
+    duration: ListenOption = 5.0,
+    ros1: RosOption = None,
+    use_sim_time: UseSimTimeOption = None,
 ) -> None:
     """Show every frame as a tree: its parent, publishers, rate, samples and time span.
 
@@ -39,9 +39,12 @@ def command(
 
     Example: [cyan]tfx frames -b robot.bag --format yaml[/]
     """
-    recording = (
-        open_recording(bags, topics, tf2) if bags else live.capture_recording(ros1, use_sim_time, duration, topics, tf2)
-    )
+    if bags:
+        recording = open_recording(bags, topics, tf2)
+    else:
+        from tftools.cli.live import capture_recording  # loads only to listen
+
+        recording = capture_recording(ros1, use_sim_time, duration, topics, tf2)
     tree = frame_tree(recording.buffer)
     if fmt is FramesFormat.json:
         render.write_json(tree, stdout.file)

@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Annotated
-
-import typer
+from typing import TYPE_CHECKING
 
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import UsageError, stderr, warn
@@ -16,34 +14,13 @@ from tftools.core.semantics import Semantics
 from tftools.core.time import Clock, SimClock, from_sec
 from tftools.render.escape import printable
 from tftools.sources import Recording
-from tftools.sources.headers import StampedRead
 
 if TYPE_CHECKING:
+    from tftools.sources.headers import StampedRead
     from tftools.sources.live import LiveSource
 
 #: Seconds between "still waiting" notices.
 REMIND_EVERY = 5.0
-
-RosOption = Annotated[
-    bool | None,
-    typer.Option(
-        "--ros1/--ros2",
-        help="Live: ROS1 (the master at ROS_MASTER_URI) or ROS2 (DDS domain ROS_DOMAIN_ID). "
-        "Default: as the environment says (ROS_VERSION, ROS_MASTER_URI, ROS_DOMAIN_ID).",
-        show_default=False,
-    ),
-]
-UseSimTimeOption = Annotated[
-    bool | None,
-    typer.Option(
-        "--use-sim-time/--wall-time",
-        help="Live: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
-        "Default: the master's /use_sim_time parameter (ROS1), the wall clock (ROS2).",
-        show_default=False,
-    ),
-]
-CacheOption = Annotated[float, typer.Option("--cache", help="Live: seconds of history kept per edge, as tf2's buffer.")]
-ListenOption = Annotated[float, typer.Option("--duration", "-d", help="Live: seconds to listen before answering.")]
 
 
 def say(message: str) -> None:

@@ -27,6 +27,7 @@ from tftools.cli.common import (
     stdout,
     warn,
 )
+from tftools.cli.live_options import RosOption, UseSimTimeOption
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec
@@ -84,8 +85,8 @@ def command(
     fmt: FormatOption = MonitorFormat.text,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
-    ros1: live.RosOption = None,
-    use_sim_time: live.UseSimTimeOption = None,
+    ros1: RosOption = None,
+    use_sim_time: UseSimTimeOption = None,
     plot: PlotOption = None,
 ) -> None:
     """Rates, jitter, gaps and delays of every edge and publisher, as tf_monitor shows them.

@@ -24,6 +24,7 @@ from tftools.cli.common import (
     stderr,
     warn,
 )
+from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.cli.outputs import check_output
 from tftools.cli.wtf import PathsArgument, SensorOption, TargetOption
 from tftools.core.errors import TfToolsError
@@ -52,9 +53,9 @@ def command(
     tf2: Tf2Option = None,
     target: TargetOption = None,
     sensors: SensorOption = None,
-    duration: live.ListenOption = 5.0,
-    ros1: live.RosOption = None,
-    use_sim_time: live.UseSimTimeOption = None,
+    duration: ListenOption = 5.0,
+    ros1: RosOption = None,
+    use_sim_time: UseSimTimeOption = None,
 ) -> None:
     """Write one HTML page to look at rather than read: the tree as view-frames draws it (problems in
     colour), each edge over time (rate, delay, samples, gaps, re-parentings) on one time axis, tfx wtf's

@@ -13,6 +13,7 @@ import typer
 from tftools.cli import live
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import UsageError, stdout, warn
+from tftools.cli.live_options import RosOption
 from tftools.cli.outputs import check_output, check_replaceable
 from tftools.core.transform import Transform
 from tftools.render.escape import printable
@@ -80,7 +81,7 @@ def command(
     duration: Annotated[
         float | None, typer.Option(help="Stop publishing after DURATION seconds (default: Ctrl-C).", show_default=False)
     ] = None,
-    ros1: live.RosOption = None,
+    ros1: RosOption = None,
 ) -> None:
     """Publish static transforms on /tf_static, latched, until Ctrl-C,
     as static_transform_publisher does.

@@ -25,6 +25,7 @@ from tftools.cli.common import (
     open_recording,
     stderr,
 )
+from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.cli.outputs import check_output
 from tftools.render import drawing
 from tftools.render import graph as render
@@ -87,9 +88,9 @@ def command(
     brief: Annotated[bool, typer.Option("--brief", help="Short edge labels: publisher and rate only.")] = False,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
-    duration: live.ListenOption = 5.0,
-    ros1: live.RosOption = None,
-    use_sim_time: live.UseSimTimeOption = None,
+    duration: ListenOption = 5.0,
+    ros1: RosOption = None,
+    use_sim_time: UseSimTimeOption = None,
 ) -> None:
     """Draw the tf tree, view_frames style: each edge with its broadcaster, average rate, samples,
     most recent and oldest transform and largest gap; static edges dashed and blue.

@@ -37,6 +37,7 @@ from tftools.cli.common import (
     warn,
 )
 from tftools.cli.deadline import timed
+from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.core.semantics import Semantics
 from tftools.render import wtf as render
 from tftools.render import wtf_lines as render_lines
@@ -189,9 +190,9 @@ def command(
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
     tolerance_rate: expected_tree.ToleranceRateOption = None,
-    duration: live.ListenOption = 5.0,
-    ros1: live.RosOption = None,
-    use_sim_time: live.UseSimTimeOption = None,
+    duration: ListenOption = 5.0,
+    ros1: RosOption = None,
+    use_sim_time: UseSimTimeOption = None,
 ) -> None:
     """Check tf for what breaks lookups, and say how to fix each problem (roswtf's tf checks and more).
 
