@@ -32,7 +32,31 @@ nb::object attribute(nb::handle object, const nb::str& name) { return nb::steal(
 struct Names {
     nb::str translation{"translation"}, rotation{"rotation"}, stamp{"stamp"}, frame_id{"frame_id"},
         child_frame_id{"child_frame_id"}, storage{"storage"}, is_static{"static"}, start{"_start"}, end{"_end"},
-        prune{"prune"}, grow{"grow"};
+        prune{"prune"}, grow{"grow"}, acquire{"acquire"}, release{"release"};
+};
+
+// `lock` (the buffer's threading.RLock) held for a scope: acquired as Python's `with` acquires it
+// (letting go of the GIL while it waits).
+class Locked {
+   public:
+    Locked(nb::handle lock, const Names& names) : lock_(lock), names_(names) {
+        PyObject* self = lock_.ptr();
+        PyObject* taken = PyObject_VectorcallMethod(names_.acquire.ptr(), &self, 1 | PY_VECTORCALL_ARGUMENTS_OFFSET, nullptr);
+        if (taken == nullptr) throw nb::python_error();
+        Py_DECREF(taken);
+    }
+    Locked(const Locked&) = delete;
+    Locked& operator=(const Locked&) = delete;
+    ~Locked() {
+        PyObject* self = lock_.ptr();
+        PyObject* released = PyObject_VectorcallMethod(names_.release.ptr(), &self, 1 | PY_VECTORCALL_ARGUMENTS_OFFSET, nullptr);
+        if (released == nullptr) PyErr_WriteUnraisable(lock_.ptr());  // cannot happen: this thread holds it
+        Py_XDECREF(released);
+    }
+
+   private:
+    nb::handle lock_;
+    const Names& names_;
 };
 
 // An int in `dict` under `key` (a frame's or a publisher's id); 0 where it has none.
@@ -109,9 +133,10 @@ int64_t below(int64_t x, int64_t y) {
 
 class EdgeTable {
    public:
-    EdgeTable(nb::dict frames, nb::handle answer, nb::dict authorities, nb::dict broadcasters, nb::dict reserved,
-              std::optional<int64_t> cache_time, bool ros2, double tolerance)
-        : frames_(std::move(frames)),
+    EdgeTable(nb::object lock, nb::dict frames, nb::handle answer, nb::dict authorities, nb::dict broadcasters,
+              nb::dict reserved, std::optional<int64_t> cache_time, bool ros2, double tolerance)
+        : lock_(std::move(lock)),
+          frames_(std::move(frames)),
           authorities_(std::move(authorities)),
           broadcasters_(std::move(broadcasters)),
           reserved_(std::move(reserved)),
@@ -164,70 +189,20 @@ class EdgeTable {
         held_[frame] = std::move(held);
     }
 
-    // Buffer.set_transform's common case, stored in place: see Buffer._append.
-    bool append(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time,
-                int64_t sequence) {
-        if (PyDict_GET_SIZE(reserved_.ptr()) != 0) return false;
-        const nb::object child_name = attribute(transform, names_.child_frame_id);
-        const nb::object parent_name = attribute(transform, names_.frame_id);
-        if (!child_name.is_valid() || !parent_name.is_valid()) return clear_error();
-        const int64_t child = id_in(frames_, child_name), parent = id_in(frames_, parent_name);
-        if (child <= 0 || parent <= 0 || parent == child || child >= static_cast<int64_t>(histories_.size())) {
-            return false;
-        }
-        tfcore::History& h = histories_[child];
-        const int wanted_static = PyObject_IsTrue(is_static.ptr());
-        if (wanted_static < 0) return clear_error();
-        if (!h.has || h.is_static != static_cast<bool>(wanted_static)) return false;
-        if (!plain_name(child_name) || !plain_name(parent_name)) return false;
-        double v[7];
-        int64_t stamp = 0, recorded = 0;
-        const nb::object translation = attribute(transform, names_.translation);
-        const nb::object rotation = attribute(transform, names_.rotation);
-        const nb::object stamp_object = attribute(transform, names_.stamp);
-        if (!translation.is_valid() || !rotation.is_valid() || !stamp_object.is_valid()) return clear_error();
-        if (!read_numbers(translation, 3, v) || !read_numbers(rotation, 4, v + 3) || !read_int(stamp_object, stamp) ||
-            !read_int(record_time, recorded)) {
-            return false;
-        }
-        const double x = v[3], y = v[4], z = v[5], w = v[6];
-        // The sum of infinities and NaNs is not finite (of large values neither: the batch path decides those).
-        if (!std::isfinite(v[0] + v[1] + v[2] + x + y + z + w) ||
-            !(std::fabs((w * w + x * x + y * y + z * z) - 1.0) < tolerance_)) {
-            return false;
-        }
-        const nb::object authority_id = nb::borrow(PyDict_GetItemWithError(authorities_.ptr(), authority.ptr()));
-        if (!authority_id.is_valid()) return clear_error();
-        Held& held = held_[child];
-        int64_t end = h.end;
-        const bool empty = end == h.start;
-        if (!(h.is_static || empty || stamp > h.stamps[end - 1])) return false;
-        if (end == capacity_of(held)) {  // the arrays move: `h` and `held` describe the new ones
-            attribute(held.history, names_.grow)(1);
-            update(child, nb::object(held.history));
-            end = h.end;
-        }
-        const int64_t newest = ros2_ && !empty ? h.stamps[end - 1] : stamp;  // what ROS 2's tf2 prunes by
-
-        held.stamps.data()[end] = stamp;
-        std::copy(v, v + 7, held.values.data() + 7 * end);
-        held.parents.data()[end] = static_cast<int32_t>(parent);
-        held.authorities.data()[end] = static_cast<int32_t>(PyLong_AsLong(authority_id.ptr()));
-        held.record_times.data()[end] = recorded;
-        held.sequence.data()[end] = sequence;
-        held.flags.data()[end] = h.is_static ? FROM_STATIC_TOPIC : 0;
-        h.end = end + 1;
-        set_bound(held.history, names_.end, h.end);
-        if (cache_time_ && !h.is_static) prune(child, newest);
-        const nb::object key = nb::int_(child);
-        if (PyDict_SetItem(broadcasters_.ptr(), key.ptr(), authority_id.ptr()) < 0) throw nb::python_error();
+    // Buffer.set_transform's common case, stored in place under the buffer's lock: see _kernels.pyi.
+    bool set_transform(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
+        const Locked locked(lock_, names_);
+        if (!append(transform, authority, is_static, record_time)) return false;
+        ++arrivals;
         return true;
     }
 
-    // Buffer.lookup where the compiled walk answers: a `answer` (Transform); None for the
-    // Python path (a frame to itself, an unknown or invalid name, a failure to explain).
+    // Buffer.lookup where the compiled walk answers, under the buffer's lock: a `answer`
+    // (Transform); None for the Python path (a frame to itself, an unknown or invalid name, a
+    // failure to explain).
     nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
+        const Locked locked(lock_, names_);
         const int64_t target = id_in(frames_, target_frame), source = id_in(frames_, source_frame);
         if (target <= 0 || source <= 0 || target == source) return nb::none();
         tfcore::Pose p;
@@ -235,14 +210,20 @@ class EdgeTable {
         return make_answer(p, time, target_frame, source_frame);
     }
 
-    // Buffer.can_transform.
+    // Buffer.can_transform, under the buffer's lock.
     bool can_transform_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
         const int same = PyObject_RichCompareBool(target_frame.ptr(), source_frame.ptr(), Py_EQ);
         if (same < 0) throw nb::python_error();
         if (same) return true;
+        const Locked locked(lock_, names_);
         const int64_t target = id_in(frames_, target_frame), source = id_in(frames_, source_frame);
         return target > 0 && source > 0 && can_transform(target, source, time);
     }
+
+    // Samples offered to the buffer so far, stored or refused: the next one's sequence number.
+    int64_t arrivals = 0;
+
+
 
     std::optional<Found> lookup(int64_t target, int64_t source, int64_t time) const {
         tfcore::Pose p;
@@ -307,6 +288,65 @@ class EdgeTable {
     }
 
    private:
+    // set_transform's sample stored, if it is the common case: see _kernels.pyi's EdgeTable.set_transform.
+    bool append(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
+        if (PyDict_GET_SIZE(reserved_.ptr()) != 0) return false;
+        const nb::object child_name = attribute(transform, names_.child_frame_id);
+        const nb::object parent_name = attribute(transform, names_.frame_id);
+        if (!child_name.is_valid() || !parent_name.is_valid()) return clear_error();
+        const int64_t child = id_in(frames_, child_name), parent = id_in(frames_, parent_name);
+        if (child <= 0 || parent <= 0 || parent == child || child >= static_cast<int64_t>(histories_.size())) {
+            return false;
+        }
+        tfcore::History& h = histories_[child];
+        const int wanted_static = PyObject_IsTrue(is_static.ptr());
+        if (wanted_static < 0) return clear_error();
+        if (!h.has || h.is_static != static_cast<bool>(wanted_static)) return false;
+        if (!plain_name(child_name) || !plain_name(parent_name)) return false;
+        double v[7];
+        int64_t stamp = 0, recorded = 0;
+        const nb::object translation = attribute(transform, names_.translation);
+        const nb::object rotation = attribute(transform, names_.rotation);
+        const nb::object stamp_object = attribute(transform, names_.stamp);
+        if (!translation.is_valid() || !rotation.is_valid() || !stamp_object.is_valid()) return clear_error();
+        if (!read_numbers(translation, 3, v) || !read_numbers(rotation, 4, v + 3) || !read_int(stamp_object, stamp) ||
+            !read_int(record_time, recorded)) {
+            return false;
+        }
+        const double x = v[3], y = v[4], z = v[5], w = v[6];
+        // The sum of infinities and NaNs is not finite (of large values neither: the batch path decides those).
+        if (!std::isfinite(v[0] + v[1] + v[2] + x + y + z + w) ||
+            !(std::fabs((w * w + x * x + y * y + z * z) - 1.0) < tolerance_)) {
+            return false;
+        }
+        const nb::object authority_id = nb::borrow(PyDict_GetItemWithError(authorities_.ptr(), authority.ptr()));
+        if (!authority_id.is_valid()) return clear_error();
+        Held& held = held_[child];
+        int64_t end = h.end;
+        const bool empty = end == h.start;
+        if (!(h.is_static || empty || stamp > h.stamps[end - 1])) return false;
+        if (end == capacity_of(held)) {  // the arrays move: `h` and `held` describe the new ones
+            attribute(held.history, names_.grow)(1);
+            update(child, nb::object(held.history));
+            end = h.end;
+        }
+        const int64_t newest = ros2_ && !empty ? h.stamps[end - 1] : stamp;  // what ROS 2's tf2 prunes by
+
+        held.stamps.data()[end] = stamp;
+        std::copy(v, v + 7, held.values.data() + 7 * end);
+        held.parents.data()[end] = static_cast<int32_t>(parent);
+        held.authorities.data()[end] = static_cast<int32_t>(PyLong_AsLong(authority_id.ptr()));
+        held.record_times.data()[end] = recorded;
+        held.sequence.data()[end] = arrivals;
+        held.flags.data()[end] = h.is_static ? FROM_STATIC_TOPIC : 0;
+        h.end = end + 1;
+        set_bound(held.history, names_.end, h.end);
+        if (cache_time_ && !h.is_static) prune(child, newest);
+        const nb::object key = nb::int_(child);
+        if (PyDict_SetItem(broadcasters_.ptr(), key.ptr(), authority_id.ptr()) < 0) throw nb::python_error();
+        return true;
+    }
+
     // walk.lookup; false where tf2 fails. `time` 0 becomes the latest common time.
     bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p) const {
         check_frames(target, source);
@@ -373,6 +413,7 @@ class EdgeTable {
     }
 
     Names names_;
+    nb::object lock_;  // the buffer's
     nb::dict frames_;  // frame name -> id (FrameTable.ids)
     // What a sample stored in place needs of its buffer: publishers' ids, each child frame's last
     // publisher, the rows reserved, the cache's length, the tf2 answered as, the norm's tolerance.
@@ -392,11 +433,13 @@ NB_MODULE(_kernels, m) {
     m.doc() = "The compiled lookups: tftools.core.walk's tf2 walk over the buffer's edge histories.";
     m.attr("BLOCK") = tfcore::BLOCK;
     nb::class_<EdgeTable>(m, "EdgeTable")
-        .def(nb::init<nb::dict, nb::handle, nb::dict, nb::dict, nb::dict, std::optional<int64_t>, bool, double>(),
-             "frames"_a, "answer"_a, "authorities"_a, "broadcasters"_a, "reserved"_a, "cache_time"_a.none(), "ros2"_a,
+        .def(nb::init<nb::object, nb::dict, nb::handle, nb::dict, nb::dict, nb::dict, std::optional<int64_t>, bool,
+                      double>(),
+             "lock"_a, "frames"_a, "answer"_a, "authorities"_a, "broadcasters"_a, "reserved"_a, "cache_time"_a.none(), "ros2"_a,
              "tolerance"_a)
         .def("update", &EdgeTable::update, "frame"_a, "history"_a.none())
-        .def("append", &EdgeTable::append, "transform"_a, "authority"_a, "static"_a, "record_time"_a, "sequence"_a)
+        .def_rw("arrivals", &EdgeTable::arrivals)
+        .def("set_transform", &EdgeTable::set_transform, "transform"_a, "authority"_a, "static"_a, "record_time"_a)
         .def("lookup_frames", &EdgeTable::lookup_frames, "target_frame"_a, "source_frame"_a, "time"_a)
         .def("can_transform_frames", &EdgeTable::can_transform_frames, "target_frame"_a, "source_frame"_a, "time"_a)
         .def("lookup", &EdgeTable::lookup, "target"_a, "source"_a, "time"_a)

@@ -125,7 +125,6 @@ class Buffer:
         self._frames = FrameTable()
         self._histories: list[EdgeHistory | None] = [None]
         self._broadcasters: dict[int, int] = {}  # frame id -> authority of its last accepted sample
-        self._arrivals = 0
         self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
         self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
         self._changed = threading.Condition(self._mutex)
@@ -143,7 +142,7 @@ class Buffer:
     @property
     def arrivals(self) -> int:
         """Samples offered so far, stored or refused: the next one's ``sequence`` number."""
-        return self._arrivals
+        return self._table.arrivals
 
     @property
     def lock(self) -> threading.Condition:
@@ -154,14 +153,18 @@ class Buffer:
         state = self.__dict__.copy()
         del state["_changed"], state["_mutex"]
         state["_table"] = None  # memory addresses: rebuilt where the copy is used
+        state["_arrivals"] = self.arrivals
         state["_waiting"] = 0
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
+        state = state.copy()
+        arrivals = state.pop("_arrivals")
         self.__dict__.update(state)
         self._mutex = threading.RLock()
         self._changed = threading.Condition(self._mutex)
         self._table = self._new_table()
+        self._table.arrivals = arrivals
 
     @property
     def _ros2(self) -> bool:
@@ -214,16 +217,16 @@ class Buffer:
     ) -> bool:
         """Add one transform as tf2's ``setTransform`` does; False if it was refused (ROS 2's
         tf2 accepts a sample identical to one it holds, and stores it once)."""
-        with self._mutex:
-            # The common case, stored in place: both frames known (named without a slash, and
-            # different), a valid sample, newer than the child's newest (unless static) and of its
-            # kind, from a known publisher, room in its history, no rows reserved. Every other
-            # sample (nothing stored yet) takes the batch path.
-            if self._table.append(transform, authority, static, record_time, self._arrivals):
-                self._arrivals += 1
-                if self._waiting:  # notify_all is Python, and costs a third of this call
+        # The common case, stored in place under the lock: both frames known (named without a
+        # slash, and different), a valid sample, newer than the child's newest (unless static) and
+        # of its kind, from a known publisher, no rows reserved. Every other sample (nothing
+        # stored yet) takes the batch path.
+        if self._table.set_transform(transform, authority, static, record_time):
+            # A waiter counts itself before it waits, holding the lock this sample was stored under.
+            if self._waiting:
+                with self._changed:
                     self._changed.notify_all()
-                return True
+            return True
         builder = BatchBuilder()
         builder.add(
             transform.frame_id,
@@ -276,8 +279,9 @@ class Buffer:
         names = _StrippedNames(batch.frame_names, batch.parent, batch.child)
         parent_key, child_key = names.key[batch.parent], names.key[batch.child]
         values = np.concatenate([batch.translation, batch.rotation], axis=1)
-        sequence = np.arange(self._arrivals, self._arrivals + n, dtype=np.int64)
-        self._arrivals += n
+        first = self._table.arrivals
+        sequence = np.arange(first, first + n, dtype=np.int64)
+        self._table.arrivals = first + n
         authority = self._authority_map(batch.authorities)[batch.authority]
         flags = (
             batch.static.astype(np.uint8) * FROM_STATIC_TOPIC
@@ -511,10 +515,10 @@ class Buffer:
         tf2's messages: ``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``,
         ``InvalidArgumentError``.
         """
-        with self._mutex:  # not ``_locked``: its wrapper costs a fifth of a compiled lookup
-            found = self._table.lookup_frames(target_frame, source_frame, time)
-            return found if found is not None else self._lookup_in_python(target_frame, source_frame, time)
+        found = self._table.lookup_frames(target_frame, source_frame, time)  # holds the lock itself
+        return found if found is not None else self._lookup_in_python(target_frame, source_frame, time)
 
+    @_locked
     def _lookup_in_python(self, target_frame: str, source_frame: str, time: int) -> Transform:
         """``lookup`` where the compiled one does not answer: a frame to itself, and every failure
         (the Python walk is the one place tf2's error messages are made)."""
@@ -545,8 +549,7 @@ class Buffer:
 
     def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
         """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
-        with self._mutex:  # as ``lookup``
-            return self._table.can_transform_frames(target_frame, source_frame, time)
+        return self._table.can_transform_frames(target_frame, source_frame, time)  # holds the lock itself
 
     @_locked
     def can_transform_full(
@@ -665,6 +668,7 @@ class Buffer:
     def _new_table(self) -> EdgeTable:
         """The compiled calls' view of the buffer: its frames, publishers and histories."""
         table = EdgeTable(
+            self._mutex,
             self._frames.ids,
             Transform,
             self._authority_ids,
