@@ -28,6 +28,9 @@ constexpr uint8_t FROM_STATIC_TOPIC = 1;
 // `object.name`, or an invalid object with the error set.
 nb::object attribute(nb::handle object, const nb::str& name) { return nb::steal(PyObject_GetAttr(object.ptr(), name.ptr())); }
 
+// The answer's (Transform's) fields, in its order.
+enum Field { TRANSLATION, ROTATION, STAMP, FRAME_ID, CHILD_FRAME_ID };
+
 // The attributes the table reads and sets, their names made once.
 struct Names {
     nb::str translation{"translation"}, rotation{"rotation"}, stamp{"stamp"}, frame_id{"frame_id"},
@@ -149,8 +152,8 @@ class EdgeTable {
         const nb::str* fields[] = {&names_.translation, &names_.rotation, &names_.stamp, &names_.frame_id,
                                    &names_.child_frame_id};
         for (int i = 0; i < 5; ++i) {
-            setters_[i] = slots[*fields[i]];
-            if (Py_TYPE(setters_[i].ptr())->tp_descr_set == nullptr) {
+            fields_[i] = slots[*fields[i]];
+            if (Py_TYPE(fields_[i].ptr())->tp_descr_set == nullptr || Py_TYPE(fields_[i].ptr())->tp_descr_get == nullptr) {
                 throw nb::type_error("EdgeTable: answer's fields must be slots");
             }
         }
@@ -291,8 +294,8 @@ class EdgeTable {
     // set_transform's sample stored, if it is the common case: see _kernels.pyi's EdgeTable.set_transform.
     bool append(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
         if (PyDict_GET_SIZE(reserved_.ptr()) != 0) return false;
-        const nb::object child_name = attribute(transform, names_.child_frame_id);
-        const nb::object parent_name = attribute(transform, names_.frame_id);
+        const nb::object child_name = field(transform, CHILD_FRAME_ID, names_.child_frame_id);
+        const nb::object parent_name = field(transform, FRAME_ID, names_.frame_id);
         if (!child_name.is_valid() || !parent_name.is_valid()) return clear_error();
         const int64_t child = id_in(frames_, child_name), parent = id_in(frames_, parent_name);
         if (child <= 0 || parent <= 0 || parent == child || child >= static_cast<int64_t>(histories_.size())) {
@@ -305,9 +308,9 @@ class EdgeTable {
         if (!plain_name(child_name) || !plain_name(parent_name)) return false;
         double v[7];
         int64_t stamp = 0, recorded = 0;
-        const nb::object translation = attribute(transform, names_.translation);
-        const nb::object rotation = attribute(transform, names_.rotation);
-        const nb::object stamp_object = attribute(transform, names_.stamp);
+        const nb::object translation = field(transform, TRANSLATION, names_.translation);
+        const nb::object rotation = field(transform, ROTATION, names_.rotation);
+        const nb::object stamp_object = field(transform, STAMP, names_.stamp);
         if (!translation.is_valid() || !rotation.is_valid() || !stamp_object.is_valid()) return clear_error();
         if (!read_numbers(translation, 3, v) || !read_numbers(rotation, 4, v + 3) || !read_int(stamp_object, stamp) ||
             !read_int(record_time, recorded)) {
@@ -340,7 +343,7 @@ class EdgeTable {
         held.sequence.data()[end] = arrivals;
         held.flags.data()[end] = h.is_static ? FROM_STATIC_TOPIC : 0;
         h.end = end + 1;
-        set_bound(held.history, names_.end, h.end);
+        set_bound(held.history, Bound::END, h.end);
         if (cache_time_ && !h.is_static) prune(child, newest);
         const nb::object key = nb::int_(child);
         if (PyDict_SetItem(broadcasters_.ptr(), key.ptr(), authority_id.ptr()) < 0) throw nb::python_error();
@@ -368,7 +371,7 @@ class EdgeTable {
             nb::int_(stamp), nb::borrow(target_frame), nb::borrow(source_frame)};
         if (!answer.is_valid() || !values[0].is_valid() || !values[1].is_valid()) throw nb::python_error();
         for (int i = 0; i < 5; ++i) {
-            if (Py_TYPE(setters_[i].ptr())->tp_descr_set(setters_[i].ptr(), answer.ptr(), values[i].ptr()) < 0) {
+            if (Py_TYPE(fields_[i].ptr())->tp_descr_set(fields_[i].ptr(), answer.ptr(), values[i].ptr()) < 0) {
                 throw nb::python_error();
             }
         }
@@ -388,12 +391,33 @@ class EdgeTable {
             update(frame, nb::object(held.history));
         } else if (first != h.start) {
             h.start = first;
-            set_bound(held.history, names_.start, first);
+            set_bound(held.history, Bound::START, first);
         }
     }
 
-    static void set_bound(nb::handle history, const nb::str& name, int64_t value) {
-        if (PyObject_SetAttr(history.ptr(), name.ptr(), nb::int_(value).ptr()) < 0) throw nb::python_error();
+    // `transform`'s field (the answer's `index`-th) read through its slot where it is an answer
+    // (what Python's attribute lookup would find, minus the search), else as an attribute.
+    nb::object field(nb::handle transform, int index, const nb::str& name) const {
+        if (Py_TYPE(transform.ptr()) != reinterpret_cast<PyTypeObject*>(answer_.ptr())) return attribute(transform, name);
+        PyObject* slot = fields_[index].ptr();
+        return nb::steal(Py_TYPE(slot)->tp_descr_get(slot, transform.ptr(), answer_.ptr()));
+    }
+
+    enum class Bound { START, END };
+
+    // history._start or _end = `value`, through the slot of the histories' type (looked up once; its
+    // descriptors keep the type alive).
+    void set_bound(nb::handle history, Bound bound, int64_t value) {
+        const nb::object number = nb::int_(value);
+        PyTypeObject* type = Py_TYPE(history.ptr());
+        if (type != bounds_type_) {
+            bounds_type_ = type;
+            const nb::object slots = nb::getattr(nb::handle(reinterpret_cast<PyObject*>(type)), "__dict__");
+            start_slot_ = slots[names_.start];
+            end_slot_ = slots[names_.end];
+        }
+        PyObject* slot = (bound == Bound::START ? start_slot_ : end_slot_).ptr();
+        if (Py_TYPE(slot)->tp_descr_set(slot, history.ptr(), number.ptr()) < 0) throw nb::python_error();
     }
 
     static int64_t capacity_of(const Held& held) {
@@ -422,7 +446,9 @@ class EdgeTable {
     bool ros2_;
     double tolerance_;
     nb::object answer_;
-    nb::object setters_[5];
+    PyTypeObject* bounds_type_ = nullptr;  // the type of the history whose _start and _end slots are these
+    nb::object start_slot_, end_slot_;
+    nb::object fields_[5];  // the answer's fields' slot descriptors, in FIELD order
     tfcore::Histories histories_;
     std::vector<Held> held_;
 };
