@@ -26,7 +26,9 @@ using Found = std::tuple<std::tuple<double, double, double>, std::tuple<double, 
 constexpr uint8_t FROM_STATIC_TOPIC = 1;
 
 // `object.name`, or an invalid object with the error set.
-nb::object attribute(nb::handle object, const nb::str& name) { return nb::steal(PyObject_GetAttr(object.ptr(), name.ptr())); }
+nb::object attribute(nb::handle object, const nb::str& name) {
+    return nb::steal(PyObject_GetAttr(object.ptr(), name.ptr()));
+}
 
 // The answer's (Transform's) fields, in its order.
 enum Field { TRANSLATION, ROTATION, STAMP, FRAME_ID, CHILD_FRAME_ID };
@@ -38,21 +40,25 @@ struct Names {
         prune{"prune"}, grow{"grow"}, acquire{"acquire"}, release{"release"};
 };
 
+// `lock.method()`, or nullptr with the error set.
+PyObject* call(nb::handle lock, const nb::str& method) {
+    PyObject* self = lock.ptr();
+    return PyObject_VectorcallMethod(method.ptr(), &self, 1 | PY_VECTORCALL_ARGUMENTS_OFFSET, nullptr);
+}
+
 // `lock` (the buffer's threading.RLock) held for a scope: acquired as Python's `with` acquires it
 // (letting go of the GIL while it waits).
 class Locked {
    public:
     Locked(nb::handle lock, const Names& names) : lock_(lock), names_(names) {
-        PyObject* self = lock_.ptr();
-        PyObject* taken = PyObject_VectorcallMethod(names_.acquire.ptr(), &self, 1 | PY_VECTORCALL_ARGUMENTS_OFFSET, nullptr);
+        PyObject* taken = call(lock_, names_.acquire);
         if (taken == nullptr) throw nb::python_error();
         Py_DECREF(taken);
     }
     Locked(const Locked&) = delete;
     Locked& operator=(const Locked&) = delete;
     ~Locked() {
-        PyObject* self = lock_.ptr();
-        PyObject* released = PyObject_VectorcallMethod(names_.release.ptr(), &self, 1 | PY_VECTORCALL_ARGUMENTS_OFFSET, nullptr);
+        PyObject* released = call(lock_, names_.release);
         if (released == nullptr) PyErr_WriteUnraisable(lock_.ptr());  // cannot happen: this thread holds it
         Py_XDECREF(released);
     }
@@ -100,7 +106,7 @@ bool read_numbers(nb::handle sequence, Py_ssize_t count, double* out) {
     return true;
 }
 
-// An exact int as int64; false for anything else or out of range.
+// An int as int64; false for anything else or out of range.
 bool read_int(nb::handle number, int64_t& out) {
     if (!PyLong_Check(number.ptr())) return false;
     int overflow = 0;
@@ -125,7 +131,6 @@ struct Held {
     Column<int64_t> record_times, sequence;
     Column<uint8_t> flags;
 };
-
 
 // x - y - 1 within int64 (EdgeHistory.prune's bound, past which Python's ints would go).
 int64_t below(int64_t x, int64_t y) {
@@ -153,7 +158,8 @@ class EdgeTable {
                                    &names_.child_frame_id};
         for (int i = 0; i < 5; ++i) {
             fields_[i] = slots[*fields[i]];
-            if (Py_TYPE(fields_[i].ptr())->tp_descr_set == nullptr || Py_TYPE(fields_[i].ptr())->tp_descr_get == nullptr) {
+            const PyTypeObject* kind = Py_TYPE(fields_[i].ptr());
+            if (kind->tp_descr_get == nullptr || kind->tp_descr_set == nullptr) {
                 throw nb::type_error("EdgeTable: answer's fields must be slots");
             }
         }
@@ -185,10 +191,8 @@ class EdgeTable {
         if (start < 0 || start > end || end > capacity) {
             throw nb::value_error("EdgeTable.update: rows outside the history's arrays");
         }
-        histories_[frame] = {true,          nb::cast<bool>(attribute(history, names_.is_static)),
-                             start,         end,
-                             held.stamps.data(), held.values.data(),
-                             held.parents.data()};
+        const bool is_static = nb::cast<bool>(attribute(history, names_.is_static));
+        histories_[frame] = {true, is_static, start, end, held.stamps.data(), held.values.data(), held.parents.data()};
         held_[frame] = std::move(held);
     }
 
@@ -225,8 +229,6 @@ class EdgeTable {
 
     // Samples offered to the buffer so far, stored or refused: the next one's sequence number.
     int64_t arrivals = 0;
-
-
 
     std::optional<Found> lookup(int64_t target, int64_t source, int64_t time) const {
         tfcore::Pose p;
@@ -398,7 +400,9 @@ class EdgeTable {
     // `transform`'s field (the answer's `index`-th) read through its slot where it is an answer
     // (what Python's attribute lookup would find, minus the search), else as an attribute.
     nb::object field(nb::handle transform, int index, const nb::str& name) const {
-        if (Py_TYPE(transform.ptr()) != reinterpret_cast<PyTypeObject*>(answer_.ptr())) return attribute(transform, name);
+        if (Py_TYPE(transform.ptr()) != reinterpret_cast<PyTypeObject*>(answer_.ptr())) {
+            return attribute(transform, name);
+        }
         PyObject* slot = fields_[index].ptr();
         return nb::steal(Py_TYPE(slot)->tp_descr_get(slot, transform.ptr(), answer_.ptr()));
     }
@@ -411,10 +415,10 @@ class EdgeTable {
         const nb::object number = nb::int_(value);
         PyTypeObject* type = Py_TYPE(history.ptr());
         if (type != bounds_type_) {
-            bounds_type_ = type;
             const nb::object slots = nb::getattr(nb::handle(reinterpret_cast<PyObject*>(type)), "__dict__");
             start_slot_ = slots[names_.start];
             end_slot_ = slots[names_.end];
+            bounds_type_ = type;
         }
         PyObject* slot = (bound == Bound::START ? start_slot_ : end_slot_).ptr();
         if (Py_TYPE(slot)->tp_descr_set(slot, history.ptr(), number.ptr()) < 0) throw nb::python_error();
@@ -461,8 +465,8 @@ NB_MODULE(_kernels, m) {
     nb::class_<EdgeTable>(m, "EdgeTable")
         .def(nb::init<nb::object, nb::dict, nb::handle, nb::dict, nb::dict, nb::dict, std::optional<int64_t>, bool,
                       double>(),
-             "lock"_a, "frames"_a, "answer"_a, "authorities"_a, "broadcasters"_a, "reserved"_a, "cache_time"_a.none(), "ros2"_a,
-             "tolerance"_a)
+             "lock"_a, "frames"_a, "answer"_a, "authorities"_a, "broadcasters"_a, "reserved"_a,
+             "cache_time"_a.none(), "ros2"_a, "tolerance"_a)
         .def("update", &EdgeTable::update, "frame"_a, "history"_a.none())
         .def_rw("arrivals", &EdgeTable::arrivals)
         .def("set_transform", &EdgeTable::set_transform, "transform"_a, "authority"_a, "static"_a, "record_time"_a)

@@ -147,8 +147,10 @@ inline int64_t gallop(const int64_t* stamps, int64_t start, int64_t end, int64_t
 // [start, end), for stamps[start] < time < stamps[end - 1].
 inline int64_t interpolated(const int64_t* stamps, int64_t start, int64_t end, int64_t time) {
     // Unsigned differences: any two int64 stamps are at most 2**64 - 1 apart.
-    const double span = static_cast<double>(static_cast<uint64_t>(stamps[end - 1]) - static_cast<uint64_t>(stamps[start]));
-    const double offset = static_cast<double>(static_cast<uint64_t>(time) - static_cast<uint64_t>(stamps[start]));
+    const auto after_first = [&](int64_t t) {
+        return static_cast<double>(static_cast<uint64_t>(t) - static_cast<uint64_t>(stamps[start]));
+    };
+    const double span = after_first(stamps[end - 1]), offset = after_first(time);
     const auto row = start + static_cast<int64_t>(offset / span * static_cast<double>(end - 1 - start));
     return std::clamp(row, start, end - 1);
 }

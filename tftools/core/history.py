@@ -200,6 +200,11 @@ class EdgeHistory:
         sample after ``end`` and move ``_start`` and ``_end``; the arrays move when the history
         grows or is pruned.
         """
+        return (*self._columns(), self._start, self._end)
+
+    def _columns(self) -> tuple[Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, UInt8Array]:
+        """The backing arrays, one row per sample: stamps, values, parents, authorities, record
+        times, sequence, flags."""
         return (
             self._stamps,
             self._values,
@@ -208,8 +213,6 @@ class EdgeHistory:
             self._record_times,
             self._sequence,
             self._flags,
-            self._start,
-            self._end,
         )
 
     # --- insertion ---------------------------------------------------------------------------
@@ -252,15 +255,7 @@ class EdgeHistory:
     def _sort(self) -> None:
         s = slice(self._start, self._end)
         order = np.argsort(self._stamps[s], kind="stable")
-        for column in (
-            self._stamps,
-            self._values,
-            self._parents,
-            self._authorities,
-            self._record_times,
-            self._sequence,
-            self._flags,
-        ):
+        for column in self._columns():
             column[s] = column[s][order]
 
     def reserve(self, rows: int) -> None:
