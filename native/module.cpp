@@ -18,42 +18,221 @@ namespace {
 template <typename T, typename... Shape>
 using Array = nb::ndarray<T, nb::c_contig, nb::device::cpu, Shape...>;
 using Int64s = Array<const int64_t, nb::ndim<1>>;
-using Rows = Array<const double, nb::shape<-1, 7>>;
-using Int32s = Array<const int32_t, nb::ndim<1>>;
 
 // A lookup's answer as Transform takes it: (tx, ty, tz), (qx, qy, qz, qw) and the time it was made at.
 using Found = std::tuple<std::tuple<double, double, double>, std::tuple<double, double, double, double>, int64_t>;
 
-// The arrays a history's row points into, held so that they outlive it.
-struct Pinned {
-    Int64s stamps;
-    Rows values;
-    Int32s parents;
+// history.FROM_STATIC_TOPIC: the flag of a sample from /tf_static.
+constexpr uint8_t FROM_STATIC_TOPIC = 1;
+
+// `object.name`, or an invalid object with the error set.
+nb::object attribute(nb::handle object, const nb::str& name) {
+    return nb::steal(PyObject_GetAttr(object.ptr(), name.ptr()));
+}
+
+// The answer's (Transform's) fields, in its order.
+enum Field { TRANSLATION, ROTATION, STAMP, FRAME_ID, CHILD_FRAME_ID };
+
+// The attributes the table reads and sets, their names made once.
+struct Names {
+    nb::str translation{"translation"}, rotation{"rotation"}, stamp{"stamp"}, frame_id{"frame_id"},
+        child_frame_id{"child_frame_id"}, storage{"storage"}, is_static{"static"}, start{"_start"}, end{"_end"},
+        prune{"prune"}, grow{"grow"}, acquire{"acquire"}, release{"release"};
 };
+
+// `lock.method()`, or nullptr with the error set.
+PyObject* call(nb::handle lock, const nb::str& method) {
+    PyObject* self = lock.ptr();
+    return PyObject_VectorcallMethod(method.ptr(), &self, 1 | PY_VECTORCALL_ARGUMENTS_OFFSET, nullptr);
+}
+
+// `lock` (the buffer's threading.RLock) held for a scope: acquired as Python's `with` acquires it
+// (letting go of the GIL while it waits).
+class Locked {
+   public:
+    Locked(nb::handle lock, const Names& names) : lock_(lock), names_(names) {
+        PyObject* taken = call(lock_, names_.acquire);
+        if (taken == nullptr) throw nb::python_error();
+        Py_DECREF(taken);
+    }
+    Locked(const Locked&) = delete;
+    Locked& operator=(const Locked&) = delete;
+    ~Locked() {
+        PyObject* released = call(lock_, names_.release);
+        if (released == nullptr) PyErr_WriteUnraisable(lock_.ptr());  // cannot happen: this thread holds it
+        Py_XDECREF(released);
+    }
+
+   private:
+    nb::handle lock_;
+    const Names& names_;
+};
+
+// An int in `dict` under `key` (a frame's or a publisher's id); 0 where it has none.
+int64_t id_in(nb::handle dict, nb::handle key) {
+    PyObject* value = PyDict_GetItemWithError(dict.ptr(), key.ptr());
+    if (value == nullptr) {
+        PyErr_Clear();  // an unhashable key: the caller's Python path says what is wrong
+        return 0;
+    }
+    return PyLong_AsLongLong(value);
+}
+
+// A frame name as tf2's validateFrameId takes it as is: a str, not empty, without a leading slash.
+bool plain_name(nb::handle name) {
+    return PyUnicode_Check(name.ptr()) && PyUnicode_GET_LENGTH(name.ptr()) > 0 &&
+           PyUnicode_READ_CHAR(name.ptr(), 0) != '/';
+}
+
+// `count` numbers of a tuple or list of floats or ints into `out`; false for anything else.
+bool read_numbers(nb::handle sequence, Py_ssize_t count, double* out) {
+    PyObject* s = sequence.ptr();
+    const bool tuple = PyTuple_Check(s);
+    if (!(tuple || PyList_Check(s)) || Py_SIZE(s) != count) return false;
+    for (Py_ssize_t i = 0; i < count; ++i) {
+        PyObject* item = tuple ? PyTuple_GET_ITEM(s, i) : PyList_GET_ITEM(s, i);
+        if (PyFloat_Check(item)) {
+            out[i] = PyFloat_AS_DOUBLE(item);
+        } else if (PyLong_Check(item)) {
+            out[i] = PyLong_AsDouble(item);
+            if (out[i] == -1.0 && PyErr_Occurred()) {
+                PyErr_Clear();
+                return false;
+            }
+        } else {
+            return false;
+        }
+    }
+    return true;
+}
+
+// An int as int64; false for anything else or out of range.
+bool read_int(nb::handle number, int64_t& out) {
+    if (!PyLong_Check(number.ptr())) return false;
+    int overflow = 0;
+    out = PyLong_AsLongLongAndOverflow(number.ptr(), &overflow);
+    if (overflow || (out == -1 && PyErr_Occurred())) {
+        PyErr_Clear();
+        return false;
+    }
+    return true;
+}
+
+template <typename T>
+using Column = Array<T, nb::ndim<1>>;
+
+// One EdgeHistory as the table holds it: the object (whose bounds an append in place moves)
+// and its columns (EdgeHistory.storage()), held so that they outlive its row.
+struct Held {
+    nb::object history;
+    Column<int64_t> stamps;
+    Array<double, nb::shape<-1, 7>> values;
+    Column<int32_t> parents, authorities;
+    Column<int64_t> record_times, sequence;
+    Column<uint8_t> flags;
+};
+
+// x - y - 1 within int64 (EdgeHistory.prune's bound, past which Python's ints would go).
+int64_t below(int64_t x, int64_t y) {
+    int64_t difference = 0;
+    if (__builtin_sub_overflow(x, y, &difference)) return y > 0 ? INT64_MIN : INT64_MAX;
+    return difference == INT64_MIN ? difference : difference - 1;
+}
 
 class EdgeTable {
    public:
-    void update(int64_t frame, bool is_static, Int64s stamps, Rows values, Int32s parents, int64_t start,
-                int64_t end) {
-        const auto capacity = static_cast<int64_t>(std::min({stamps.shape(0), values.shape(0), parents.shape(0)}));
-        if (frame < 0 || start < 0 || start > end || end > capacity) {
-            throw nb::value_error("EdgeTable.update: rows outside the history's arrays");
+    EdgeTable(nb::object lock, nb::dict frames, nb::handle answer, nb::dict authorities, nb::dict broadcasters,
+              nb::dict reserved, std::optional<int64_t> cache_time, bool ros2, double tolerance)
+        : lock_(std::move(lock)),
+          frames_(std::move(frames)),
+          authorities_(std::move(authorities)),
+          broadcasters_(std::move(broadcasters)),
+          reserved_(std::move(reserved)),
+          cache_time_(cache_time),
+          ros2_(ros2),
+          tolerance_(tolerance) {
+        if (!PyType_Check(answer.ptr())) throw nb::type_error("EdgeTable: answer must be a type");
+        answer_ = nb::borrow(answer);
+        const nb::object slots = nb::getattr(answer, "__dict__");
+        const nb::str* fields[] = {&names_.translation, &names_.rotation, &names_.stamp, &names_.frame_id,
+                                   &names_.child_frame_id};
+        for (int i = 0; i < 5; ++i) {
+            fields_[i] = slots[*fields[i]];
+            const PyTypeObject* kind = Py_TYPE(fields_[i].ptr());
+            if (kind->tp_descr_get == nullptr || kind->tp_descr_set == nullptr) {
+                throw nb::type_error("EdgeTable: answer's fields must be slots");
+            }
         }
-        if (frame >= static_cast<int64_t>(histories_.size())) {
-            histories_.resize(frame + 1);
-            pinned_.resize(frame + 1);
-        }
-        histories_[frame] = {true, is_static, start, end, stamps.data(), values.data(), parents.data()};
-        pinned_[frame] = {std::move(stamps), std::move(values), std::move(parents)};
     }
 
-    std::optional<Found> lookup(int64_t target, int64_t source, int64_t time) const {
-        check_frames(target, source);
-        if (time == 0 && !tfcore::latest_common_time(histories_, target, source, time)) return std::nullopt;
-        tfcore::Memo memo;
-        thread_local tfcore::Chain chain;
+    // Describe `history` (an EdgeHistory, or None), the history of `frame`, as it is now.
+    void update(int64_t frame, nb::handle history) {
+        if (frame < 0) throw nb::value_error("EdgeTable.update: a negative frame id");
+        if (frame >= static_cast<int64_t>(histories_.size())) {
+            histories_.resize(frame + 1);
+            held_.resize(frame + 1);
+        }
+        if (history.is_none()) {
+            histories_[frame] = {};
+            held_[frame] = {};
+            return;
+        }
+        const nb::tuple storage = nb::cast<nb::tuple>(attribute(history, names_.storage)());
+        Held held{nb::borrow(history),
+                  nb::cast<Column<int64_t>>(storage[0]),
+                  nb::cast<Array<double, nb::shape<-1, 7>>>(storage[1]),
+                  nb::cast<Column<int32_t>>(storage[2]),
+                  nb::cast<Column<int32_t>>(storage[3]),
+                  nb::cast<Column<int64_t>>(storage[4]),
+                  nb::cast<Column<int64_t>>(storage[5]),
+                  nb::cast<Column<uint8_t>>(storage[6])};
+        const int64_t start = nb::cast<int64_t>(storage[7]), end = nb::cast<int64_t>(storage[8]);
+        const int64_t capacity = capacity_of(held);
+        if (start < 0 || start > end || end > capacity) {
+            throw nb::value_error("EdgeTable.update: rows outside the history's arrays");
+        }
+        const bool is_static = nb::cast<bool>(attribute(history, names_.is_static));
+        histories_[frame] = {true, is_static, start, end, held.stamps.data(), held.values.data(), held.parents.data()};
+        held_[frame] = std::move(held);
+    }
+
+    // Buffer.set_transform's common case, stored in place under the buffer's lock: see _kernels.pyi.
+    bool set_transform(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
+        const Locked locked(lock_, names_);
+        if (!append(transform, authority, is_static, record_time)) return false;
+        ++arrivals;
+        return true;
+    }
+
+    // Buffer.lookup where the compiled walk answers, under the buffer's lock: a `answer`
+    // (Transform); None for the Python path (a frame to itself, an unknown or invalid name, a
+    // failure to explain).
+    nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
+        if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
+        const Locked locked(lock_, names_);
+        const int64_t target = id_in(frames_, target_frame), source = id_in(frames_, source_frame);
+        if (target <= 0 || source <= 0 || target == source) return nb::none();
         tfcore::Pose p;
-        if (!tfcore::lookup_at(histories_, target, source, time, chain, memo, p)) return std::nullopt;
+        if (!lookup_pose(target, source, time, p)) return nb::none();
+        return make_answer(p, time, target_frame, source_frame);
+    }
+
+    // Buffer.can_transform, under the buffer's lock.
+    bool can_transform_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
+        const int same = PyObject_RichCompareBool(target_frame.ptr(), source_frame.ptr(), Py_EQ);
+        if (same < 0) throw nb::python_error();
+        if (same) return true;
+        const Locked locked(lock_, names_);
+        const int64_t target = id_in(frames_, target_frame), source = id_in(frames_, source_frame);
+        return target > 0 && source > 0 && can_transform(target, source, time);
+    }
+
+    // Samples offered to the buffer so far, stored or refused: the next one's sequence number.
+    int64_t arrivals = 0;
+
+    std::optional<Found> lookup(int64_t target, int64_t source, int64_t time) const {
+        tfcore::Pose p;
+        if (!lookup_pose(target, source, time, p)) return std::nullopt;
         return Found{{p.v.x, p.v.y, p.v.z}, {p.q.x, p.q.y, p.q.z, p.q.w}, time};
     }
 
@@ -114,12 +293,168 @@ class EdgeTable {
     }
 
    private:
+    // set_transform's sample stored, if it is the common case: see _kernels.pyi's EdgeTable.set_transform.
+    bool append(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
+        if (PyDict_GET_SIZE(reserved_.ptr()) != 0) return false;
+        const nb::object child_name = field(transform, CHILD_FRAME_ID, names_.child_frame_id);
+        const nb::object parent_name = field(transform, FRAME_ID, names_.frame_id);
+        if (!child_name.is_valid() || !parent_name.is_valid()) return clear_error();
+        const int64_t child = id_in(frames_, child_name), parent = id_in(frames_, parent_name);
+        if (child <= 0 || parent <= 0 || parent == child || child >= static_cast<int64_t>(histories_.size())) {
+            return false;
+        }
+        tfcore::History& h = histories_[child];
+        const int wanted_static = PyObject_IsTrue(is_static.ptr());
+        if (wanted_static < 0) return clear_error();
+        if (!h.has || h.is_static != static_cast<bool>(wanted_static)) return false;
+        if (!plain_name(child_name) || !plain_name(parent_name)) return false;
+        double v[7];
+        int64_t stamp = 0, recorded = 0;
+        const nb::object translation = field(transform, TRANSLATION, names_.translation);
+        const nb::object rotation = field(transform, ROTATION, names_.rotation);
+        const nb::object stamp_object = field(transform, STAMP, names_.stamp);
+        if (!translation.is_valid() || !rotation.is_valid() || !stamp_object.is_valid()) return clear_error();
+        if (!read_numbers(translation, 3, v) || !read_numbers(rotation, 4, v + 3) || !read_int(stamp_object, stamp) ||
+            !read_int(record_time, recorded)) {
+            return false;
+        }
+        const double x = v[3], y = v[4], z = v[5], w = v[6];
+        // The sum of infinities and NaNs is not finite (of large values neither: the batch path decides those).
+        if (!std::isfinite(v[0] + v[1] + v[2] + x + y + z + w) ||
+            !(std::fabs((w * w + x * x + y * y + z * z) - 1.0) < tolerance_)) {
+            return false;
+        }
+        const nb::object authority_id = nb::borrow(PyDict_GetItemWithError(authorities_.ptr(), authority.ptr()));
+        if (!authority_id.is_valid()) return clear_error();
+        Held& held = held_[child];
+        int64_t end = h.end;
+        const bool empty = end == h.start;
+        if (!(h.is_static || empty || stamp > h.stamps[end - 1])) return false;
+        if (end == capacity_of(held)) {  // the arrays move: `h` and `held` describe the new ones
+            attribute(held.history, names_.grow)(1);
+            update(child, nb::object(held.history));
+            end = h.end;
+        }
+        const int64_t newest = ros2_ && !empty ? h.stamps[end - 1] : stamp;  // what ROS 2's tf2 prunes by
+
+        held.stamps.data()[end] = stamp;
+        std::copy(v, v + 7, held.values.data() + 7 * end);
+        held.parents.data()[end] = static_cast<int32_t>(parent);
+        held.authorities.data()[end] = static_cast<int32_t>(PyLong_AsLong(authority_id.ptr()));
+        held.record_times.data()[end] = recorded;
+        held.sequence.data()[end] = arrivals;
+        held.flags.data()[end] = h.is_static ? FROM_STATIC_TOPIC : 0;
+        h.end = end + 1;
+        set_bound(held.history, Bound::END, h.end);
+        if (cache_time_ && !h.is_static) prune(child, newest);
+        const nb::object key = nb::int_(child);
+        if (PyDict_SetItem(broadcasters_.ptr(), key.ptr(), authority_id.ptr()) < 0) throw nb::python_error();
+        return true;
+    }
+
+    // walk.lookup; false where tf2 fails. `time` 0 becomes the latest common time.
+    bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p) const {
+        check_frames(target, source);
+        if (time == 0 && !tfcore::latest_common_time(histories_, target, source, time)) return false;
+        tfcore::Memo memo;
+        thread_local tfcore::Chain chain;
+        return tfcore::lookup_at(histories_, target, source, time, chain, memo, p);
+    }
+
+    // A new `answer` (Transform) through its slots' setters (its frozen __setattr__ refuses).
+    nb::object make_answer(const tfcore::Pose& p, int64_t stamp, nb::handle target_frame,
+                           nb::handle source_frame) const {
+        auto* type = reinterpret_cast<PyTypeObject*>(answer_.ptr());
+        const nb::object answer = nb::steal(type->tp_alloc(type, 0));
+        const nb::object values[5] = {
+            nb::steal(PyTuple_Pack(3, nb::float_(p.v.x).ptr(), nb::float_(p.v.y).ptr(), nb::float_(p.v.z).ptr())),
+            nb::steal(PyTuple_Pack(4, nb::float_(p.q.x).ptr(), nb::float_(p.q.y).ptr(), nb::float_(p.q.z).ptr(),
+                                   nb::float_(p.q.w).ptr())),
+            nb::int_(stamp), nb::borrow(target_frame), nb::borrow(source_frame)};
+        if (!answer.is_valid() || !values[0].is_valid() || !values[1].is_valid()) throw nb::python_error();
+        for (int i = 0; i < 5; ++i) {
+            if (Py_TYPE(fields_[i].ptr())->tp_descr_set(fields_[i].ptr(), answer.ptr(), values[i].ptr()) < 0) {
+                throw nb::python_error();
+            }
+        }
+        return answer;
+    }
+
+    // EdgeHistory.prune after an append to `frame`, against `latest`: the history's start moved
+    // here, or by EdgeHistory.prune itself where it also moves the samples to the arrays' front.
+    void prune(int64_t frame, int64_t latest) {
+        tfcore::History& h = histories_[frame];
+        Held& held = held_[frame];
+        const int64_t cache_time = *cache_time_;
+        const int64_t first = std::upper_bound(h.stamps + h.start, h.stamps + h.end, below(latest, cache_time)) -
+                              h.stamps;
+        if (first > capacity_of(held) / 2) {
+            attribute(held.history, names_.prune)(cache_time, latest);
+            update(frame, nb::object(held.history));
+        } else if (first != h.start) {
+            h.start = first;
+            set_bound(held.history, Bound::START, first);
+        }
+    }
+
+    // `transform`'s field (the answer's `index`-th) read through its slot where it is an answer
+    // (what Python's attribute lookup would find, minus the search), else as an attribute.
+    nb::object field(nb::handle transform, int index, const nb::str& name) const {
+        if (Py_TYPE(transform.ptr()) != reinterpret_cast<PyTypeObject*>(answer_.ptr())) {
+            return attribute(transform, name);
+        }
+        PyObject* slot = fields_[index].ptr();
+        return nb::steal(Py_TYPE(slot)->tp_descr_get(slot, transform.ptr(), answer_.ptr()));
+    }
+
+    enum class Bound { START, END };
+
+    // history._start or _end = `value`, through the slot of the histories' type (looked up once; its
+    // descriptors keep the type alive).
+    void set_bound(nb::handle history, Bound bound, int64_t value) {
+        const nb::object number = nb::int_(value);
+        PyTypeObject* type = Py_TYPE(history.ptr());
+        if (type != bounds_type_) {
+            const nb::object slots = nb::getattr(nb::handle(reinterpret_cast<PyObject*>(type)), "__dict__");
+            start_slot_ = slots[names_.start];
+            end_slot_ = slots[names_.end];
+            bounds_type_ = type;
+        }
+        PyObject* slot = (bound == Bound::START ? start_slot_ : end_slot_).ptr();
+        if (Py_TYPE(slot)->tp_descr_set(slot, history.ptr(), number.ptr()) < 0) throw nb::python_error();
+    }
+
+    static int64_t capacity_of(const Held& held) {
+        return static_cast<int64_t>(std::min({held.stamps.shape(0), held.values.shape(0), held.parents.shape(0),
+                                              held.authorities.shape(0), held.record_times.shape(0),
+                                              held.sequence.shape(0), held.flags.shape(0)}));
+    }
+
+    // An attribute missing or a value refusing conversion: the Python path will meet it again.
+    static bool clear_error() {
+        PyErr_Clear();
+        return false;
+    }
+
     static void check_frames(int64_t target, int64_t source) {
         if (target < 0 || source < 0) throw nb::value_error("EdgeTable: a negative frame id");
     }
 
+    Names names_;
+    nb::object lock_;  // the buffer's
+    nb::dict frames_;  // frame name -> id (FrameTable.ids)
+    // What a sample stored in place needs of its buffer: publishers' ids, each child frame's last
+    // publisher, the rows reserved, the cache's length, the tf2 answered as, the norm's tolerance.
+    nb::dict authorities_, broadcasters_, reserved_;
+    std::optional<int64_t> cache_time_;
+    bool ros2_;
+    double tolerance_;
+    nb::object answer_;
+    PyTypeObject* bounds_type_ = nullptr;  // the type of the history whose _start and _end slots are these
+    nb::object start_slot_, end_slot_;
+    nb::object fields_[5];  // the answer's fields' slot descriptors, in FIELD order
     tfcore::Histories histories_;
-    std::vector<Pinned> pinned_;
+    std::vector<Held> held_;
 };
 
 }  // namespace
@@ -128,9 +463,15 @@ NB_MODULE(_kernels, m) {
     m.doc() = "The compiled lookups: tftools.core.walk's tf2 walk over the buffer's edge histories.";
     m.attr("BLOCK") = tfcore::BLOCK;
     nb::class_<EdgeTable>(m, "EdgeTable")
-        .def(nb::init<>())
-        .def("update", &EdgeTable::update, "frame"_a, "static"_a, "stamps"_a, "values"_a, "parents"_a, "start"_a,
-             "end"_a)
+        .def(nb::init<nb::object, nb::dict, nb::handle, nb::dict, nb::dict, nb::dict, std::optional<int64_t>, bool,
+                      double>(),
+             "lock"_a, "frames"_a, "answer"_a, "authorities"_a, "broadcasters"_a, "reserved"_a,
+             "cache_time"_a.none(), "ros2"_a, "tolerance"_a)
+        .def("update", &EdgeTable::update, "frame"_a, "history"_a.none())
+        .def_rw("arrivals", &EdgeTable::arrivals)
+        .def("set_transform", &EdgeTable::set_transform, "transform"_a, "authority"_a, "static"_a, "record_time"_a)
+        .def("lookup_frames", &EdgeTable::lookup_frames, "target_frame"_a, "source_frame"_a, "time"_a)
+        .def("can_transform_frames", &EdgeTable::can_transform_frames, "target_frame"_a, "source_frame"_a, "time"_a)
         .def("lookup", &EdgeTable::lookup, "target"_a, "source"_a, "time"_a)
         .def("can_transform", &EdgeTable::can_transform, "target"_a, "source"_a, "time"_a)
         .def("latest_common_time", &EdgeTable::latest_common_time, "target"_a, "source"_a)

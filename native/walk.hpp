@@ -113,26 +113,58 @@ struct Memo {
     explicit Memo(size_t frames) : on(true), cursor(frames, -1), arc_row(frames, -1), arcs(frames) {}
 };
 
-// bisect_right(stamps, time, start, end), galloping from the memo's cursor when it has one.
-inline int64_t find(const int64_t* stamps, int64_t start, int64_t end, int64_t time, Memo& memo, int64_t frame) {
-    int64_t lo = start, hi = end;
-    if (memo.on) {
-        const int64_t cursor = memo.cursor[frame];
-        if (start <= cursor && cursor < end && stamps[cursor] <= time) {
-            lo = cursor + 1;
-            int64_t step = 1;
-            while (lo + step < end && stamps[lo + step] <= time) {
-                lo += step;
-                step *= 2;
-            }
-            hi = std::min(lo + step, end);
-        }
-    }
+// bisect_right(stamps, time, lo, hi) knowing that it is at least `lo` and at most `hi`.
+inline int64_t bisect(const int64_t* stamps, int64_t lo, int64_t hi, int64_t time) {
     while (lo < hi) {
         const int64_t mid = (lo + hi) >> 1;
         if (time < stamps[mid]) hi = mid;
         else lo = mid + 1;
     }
+    return lo;
+}
+
+// bisect_right(stamps, time, start, end), galloping from row `guess` (up or down, doubling each
+// step) to the interval that holds the answer, then bisecting it: few loads where the guess is near.
+inline int64_t gallop(const int64_t* stamps, int64_t start, int64_t end, int64_t time, int64_t guess) {
+    int64_t step = 1;
+    if (stamps[guess] <= time) {
+        int64_t lo = guess + 1;
+        while (lo + step - 1 < end && stamps[lo + step - 1] <= time) {
+            lo += step;
+            step *= 2;
+        }
+        return bisect(stamps, lo, std::min(lo + step - 1, end), time);
+    }
+    int64_t hi = guess;
+    while (hi - step >= start && stamps[hi - step] > time) {
+        hi -= step;
+        step *= 2;
+    }
+    return bisect(stamps, std::max(hi - step + 1, start), hi, time);
+}
+
+// Where `time` would lie were the stamps evenly spaced (a broadcaster's period): a row of
+// [start, end), for stamps[start] < time < stamps[end - 1].
+inline int64_t interpolated(const int64_t* stamps, int64_t start, int64_t end, int64_t time) {
+    // Unsigned differences: any two int64 stamps are at most 2**64 - 1 apart.
+    const auto after_first = [&](int64_t t) {
+        return static_cast<double>(static_cast<uint64_t>(t) - static_cast<uint64_t>(stamps[start]));
+    };
+    const double span = after_first(stamps[end - 1]), offset = after_first(time);
+    const auto row = start + static_cast<int64_t>(offset / span * static_cast<double>(end - 1 - start));
+    return std::clamp(row, start, end - 1);
+}
+
+// bisect_right(stamps, time, start, end) for stamps[start] < time < stamps[end - 1], galloping
+// from the memo's cursor when it has one (times ascending), else from where the stamps'
+// spacing puts `time`: a single lookup's searches then miss the cache once or twice, not ~log n times.
+inline int64_t find(const int64_t* stamps, int64_t start, int64_t end, int64_t time, Memo& memo, int64_t frame) {
+    int64_t guess = -1;
+    if (memo.on) {
+        const int64_t cursor = memo.cursor[frame];
+        if (start <= cursor && cursor < end && stamps[cursor] <= time) guess = cursor;
+    }
+    const int64_t lo = gallop(stamps, start, end, time, guess >= 0 ? guess : interpolated(stamps, start, end, time));
     if (memo.on) memo.cursor[frame] = lo - 1;
     return lo;
 }

@@ -1,24 +1,54 @@
 """The compiled lookups (native/module.cpp): tftools.core.walk's tf2 walk over the buffer's edge histories."""
 
-from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array
+import threading
+
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array
+from tftools.core.history import EdgeHistory
+from tftools.core.transform import Transform
 
 #: Times per block of ``EdgeTable.lookup_many``'s chain path.
 BLOCK: int
 
 class EdgeTable:
-    """Per frame id, where its history's samples lie (see ``tftools.core.kernels``)."""
+    """Per frame id, where its history's samples lie (see ``tftools.core.kernels``), and what
+    ``Buffer``'s single calls need of their buffer, read as it changes."""
 
-    def update(
+    #: Samples offered to the buffer so far, stored or refused: the next one's sequence number.
+    arrivals: int
+
+    def __init__(
         self,
-        frame: int,
-        static: bool,
-        stamps: Int64Array,
-        values: FloatArray,
-        parents: Int32Array,
-        start: int,
-        end: int,
+        lock: threading.RLock,
+        frames: dict[str, int],
+        answer: type[Transform],
+        authorities: dict[str, int],
+        broadcasters: dict[int, int],
+        reserved: dict[str, int],
+        cache_time: int | None,
+        ros2: bool,
+        tolerance: float,
     ) -> None:
-        """Describe ``frame``'s history: rows ``start:end`` of the arrays (which the table keeps alive)."""
+        """``lock``: the buffer's, which ``set_transform``, ``lookup_frames`` and
+        ``can_transform_frames`` hold (the GIL let go while they wait for it); ``frames``: name to id
+        (``FrameTable.ids``); ``answer``: the type lookups return, built through its fields' slots;
+        the rest: the buffer's publishers' ids, each child frame's last publisher, the rows it
+        reserved, its cache's length, whether it answers as ROS 2's tf2, and the squared quaternion
+        norm's tolerance."""
+
+    def update(self, frame: int, history: EdgeHistory | None) -> None:
+        """Describe ``history`` (``frame``'s) as it is now, by its ``storage()`` (arrays the table keeps alive)."""
+
+    def set_transform(self, transform: Transform, authority: str, static: bool, record_time: int) -> bool:
+        """``Buffer.set_transform``'s common case stored in place (the arrays, grown if full, the
+        history's bounds, its pruning, the publisher, ``arrivals``): both frames known and plain, a
+        valid sample of the child's kind, newer than its newest (unless static), a known publisher,
+        nothing reserved. False, having stored nothing, in every other case."""
+
+    def lookup_frames(self, target_frame: str, source_frame: str, time: int) -> Transform | None:
+        """``Buffer.lookup`` of two different known plain frames where tf2 succeeds; None otherwise."""
+
+    def can_transform_frames(self, target_frame: str, source_frame: str, time: int) -> bool:
+        """``Buffer.can_transform``."""
 
     def lookup(
         self, target: int, source: int, time: int

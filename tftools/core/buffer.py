@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import itertools
-import math
 import threading
 import time as _time
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -26,7 +25,7 @@ from tftools.core.history import (
     PARENT_HAD_SLASH,
     EdgeHistory,
 )
-from tftools.core.kernels import edge_table, lookup_in_parallel, track
+from tftools.core.kernels import lookup_in_parallel
 from tftools.core.rejection import LIVE_REJECTIONS_KEPT, RejectionCode, RejectionLog
 from tftools.core.rotation import quat_multiply_many, quat_rotate_many
 from tftools.core.semantics import Semantics, check_semantics, dialect
@@ -112,9 +111,9 @@ class Buffer:
         clock: Clock | None = None,
         semantics: Semantics = "ros1",
     ) -> None:
-        self.cache_time = cache_time
+        self._cache_time = cache_time
         self.clock: Clock = clock if clock is not None else SimClock()
-        self.semantics: Semantics = check_semantics(semantics)
+        self._semantics: Semantics = check_semantics(semantics)
         #: What tf2 refused (``RejectionLog``: a sequence of ``Rejection`` s, held as columns; a
         #: live buffer keeps the latest ``LIVE_REJECTIONS_KEPT``, and counts every one in ``total``).
         self.rejections = RejectionLog(self.semantics, None if cache_time is None else LIVE_REJECTIONS_KEPT)
@@ -126,17 +125,24 @@ class Buffer:
         self._frames = FrameTable()
         self._histories: list[EdgeHistory | None] = [None]
         self._broadcasters: dict[int, int] = {}  # frame id -> authority of its last accepted sample
-        self._arrivals = 0
         self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
         self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
         self._changed = threading.Condition(self._mutex)
         self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
-        self._table: EdgeTable | None = None  # built by the first lookup
+        self._table = self._new_table()
+
+    @property
+    def cache_time(self) -> int | None:
+        return self._cache_time
+
+    @property
+    def semantics(self) -> Semantics:
+        return self._semantics
 
     @property
     def arrivals(self) -> int:
         """Samples offered so far, stored or refused: the next one's ``sequence`` number."""
-        return self._arrivals
+        return self._table.arrivals
 
     @property
     def lock(self) -> threading.Condition:
@@ -147,13 +153,18 @@ class Buffer:
         state = self.__dict__.copy()
         del state["_changed"], state["_mutex"]
         state["_table"] = None  # memory addresses: rebuilt where the copy is used
+        state["_arrivals"] = self.arrivals
         state["_waiting"] = 0
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
+        state = state.copy()
+        arrivals = state.pop("_arrivals")
         self.__dict__.update(state)
         self._mutex = threading.RLock()
         self._changed = threading.Condition(self._mutex)
+        self._table = self._new_table()
+        self._table.arrivals = arrivals
 
     @property
     def _ros2(self) -> bool:
@@ -206,11 +217,16 @@ class Buffer:
     ) -> bool:
         """Add one transform as tf2's ``setTransform`` does; False if it was refused (ROS 2's
         tf2 accepts a sample identical to one it holds, and stores it once)."""
-        with self._mutex:
-            if self._append(transform, authority, static, record_time):
-                if self._waiting:  # notify_all is Python, and costs a third of this call
+        # The common case, stored in place under the lock: both frames known (named without a
+        # slash, and different), a valid sample, newer than the child's newest (unless static) and
+        # of its kind, from a known publisher, no rows reserved. Every other sample (nothing
+        # stored yet) takes the batch path.
+        if self._table.set_transform(transform, authority, static, record_time):
+            # A waiter counts itself before it waits, holding the lock this sample was stored under.
+            if self._waiting:
+                with self._changed:
                     self._changed.notify_all()
-                return True
+            return True
         builder = BatchBuilder()
         builder.add(
             transform.frame_id,
@@ -223,38 +239,6 @@ class Buffer:
             authority=authority,
         )
         return self.insert(builder.take()) == 1
-
-    def _append(self, transform: Transform, authority: str, static: bool, record_time: int) -> bool:
-        """``set_transform``'s common case, stored without building a batch: both frames known
-        (named without a slash, and different), a valid sample, newer than the child's newest
-        (unless static) and of its kind, from a known publisher, no rows reserved. False, having
-        stored nothing, in every other case, which ``insert`` takes."""
-        child_id, parent_id = self._frames.get(transform.child_frame_id), self._frames.get(transform.frame_id)
-        hist = self._histories[child_id]
-        if hist is None or parent_id in (NO_PARENT, child_id) or hist.static != static or self._expected:
-            return False
-        if transform.frame_id[0] == "/" or transform.child_frame_id[0] == "/":
-            return False
-        (tx, ty, tz), (x, y, z, w) = transform.translation, transform.rotation
-        # The sum of infinities and NaNs is not finite (of large values neither: ``insert`` decides those).
-        if not math.isfinite(tx + ty + tz + x + y + z + w) or not abs((w * w + x * x + y * y + z * z) - 1.0) < (
-            QUATERNION_TOLERANCE
-        ):
-            return False
-        authority_id = self._authority_ids.get(authority)
-        if authority_id is None:
-            return False
-        newest = hist.latest_stamp if self._ros2 and len(hist) else None
-        flags = FROM_STATIC_TOPIC if static else 0
-        values = (tx, ty, tz, x, y, z, w)
-        if not hist.append(transform.stamp, values, parent_id, authority_id, record_time, self._arrivals, flags):
-            return False
-        self._arrivals += 1
-        if self.cache_time is not None:  # as ``_store`` prunes: ROS 2's tf2 before storing
-            hist.prune(self.cache_time, newest)
-        self._track(child_id, hist)
-        self._broadcasters[child_id] = authority_id
-        return True
 
     def insert(self, batch: TransformBatch) -> int:
         """Add a batch in its row order, exactly as that many ``set_transform`` calls would.
@@ -295,8 +279,9 @@ class Buffer:
         names = _StrippedNames(batch.frame_names, batch.parent, batch.child)
         parent_key, child_key = names.key[batch.parent], names.key[batch.child]
         values = np.concatenate([batch.translation, batch.rotation], axis=1)
-        sequence = np.arange(self._arrivals, self._arrivals + n, dtype=np.int64)
-        self._arrivals += n
+        first = self._table.arrivals
+        sequence = np.arange(first, first + n, dtype=np.int64)
+        self._table.arrivals = first + n
         authority = self._authority_map(batch.authorities)[batch.authority]
         flags = (
             batch.static.astype(np.uint8) * FROM_STATIC_TOPIC
@@ -530,14 +515,18 @@ class Buffer:
         tf2's messages: ``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``,
         ``InvalidArgumentError``.
         """
-        with self._mutex:  # not ``_locked``: its wrapper costs a fifth of a compiled lookup
-            if target_frame == source_frame:
-                return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
-            target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-            found = self._edge_table().lookup(target_id, source_id, time)
-            if found is None:  # the Python walk: the reference, and the one place tf2's error messages are made
-                found = walk.lookup(self._tree(), target_id, source_id, time)
-            return Transform(*found, target_frame, source_frame)
+        found = self._table.lookup_frames(target_frame, source_frame, time)  # holds the lock itself
+        return found if found is not None else self._lookup_in_python(target_frame, source_frame, time)
+
+    @_locked
+    def _lookup_in_python(self, target_frame: str, source_frame: str, time: int) -> Transform:
+        """``lookup`` where the compiled one does not answer: a frame to itself, and every failure
+        (the Python walk is the one place tf2's error messages are made)."""
+        if target_frame == source_frame:
+            return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
+        target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
+        found = walk.lookup(self._tree(), target_id, source_id, time)
+        return Transform(*found, target_frame, source_frame)
 
     @_locked
     def lookup_full(
@@ -560,13 +549,7 @@ class Buffer:
 
     def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
         """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
-        with self._mutex:  # as ``lookup``
-            if target_frame == source_frame:
-                return True
-            target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
-            if NO_PARENT in (target_id, source_id):
-                return False
-            return self._edge_table().can_transform(target_id, source_id, time)
+        return self._table.can_transform_frames(target_frame, source_frame, time)  # holds the lock itself
 
     @_locked
     def can_transform_full(
@@ -682,16 +665,29 @@ class Buffer:
     def _tree(self) -> walk.Tree:
         return walk.Tree(self._histories, self._frames.names, dialect(self.semantics))
 
+    def _new_table(self) -> EdgeTable:
+        """The compiled calls' view of the buffer: its frames, publishers and histories."""
+        table = EdgeTable(
+            self._mutex,
+            self._frames.ids,
+            Transform,
+            self._authority_ids,
+            self._broadcasters,
+            self._expected,
+            self._cache_time,
+            self._ros2,
+            QUATERNION_TOLERANCE,
+        )
+        for frame_id, hist in enumerate(self._histories):
+            table.update(frame_id, hist)
+        return table
+
     def _edge_table(self) -> EdgeTable:
-        """The compiled lookups' view of the histories (built once, then kept up to date)."""
-        if self._table is None:
-            self._table = edge_table(self._histories)
         return self._table
 
     def _track(self, frame_id: int, hist: EdgeHistory) -> None:
-        """Tell the compiled lookups (if loaded) that ``frame_id``'s history changed."""
-        if self._table is not None:
-            track(self._table, frame_id, hist)
+        """Tell the compiled calls that ``frame_id``'s history changed (its arrays may have moved)."""
+        self._table.update(frame_id, hist)
 
     def _identity_stamp(self, frame: str, time: int) -> int:
         if time != 0:

@@ -33,6 +33,11 @@ class FrameTable(Names):
     def __init__(self) -> None:
         super().__init__(["NO_PARENT"])
 
+    @property
+    def ids(self) -> dict[str, int]:
+        """Name to id, the table itself (the compiled calls read it as it grows): not to be modified."""
+        return self._ids
+
     def get(self, name: str) -> int:
         """The id of ``name``, or ``NO_PARENT`` if unknown."""
         return self._ids.get(name, NO_PARENT)

@@ -77,7 +77,6 @@ class EdgeHistory:
 
     __slots__ = (
         "_authorities",
-        "_columns",
         "_end",
         "_flags",
         "_parents",
@@ -98,7 +97,6 @@ class EdgeHistory:
     _sequence: Int64Array
     _flags: UInt8Array
     _stamp_index: memoryview
-    _columns: tuple[memoryview[float], memoryview, memoryview, memoryview, memoryview, memoryview]
 
     def __init__(self, static: bool, capacity: int = 8, replaced: EdgeHistory | None = None) -> None:
         self.static = static
@@ -129,15 +127,6 @@ class EdgeHistory:
         self._authorities, self._record_times = authorities, record_times
         self._sequence, self._flags = sequence, flags
         self._stamp_index = stamps.data  # bisect on it yields Python ints, no numpy scalars
-        # One sample stored through memoryviews costs a tenth of numpy's item assignments.
-        self._columns = (
-            values.reshape(-1).data.cast("B").cast("d"),
-            parents.data,
-            authorities.data,
-            record_times.data,
-            sequence.data,
-            flags.data,
-        )
         self._start, self._end = 0, n
 
     # --- views -------------------------------------------------------------------------------
@@ -201,12 +190,30 @@ class EdgeHistory:
         """The parent of the newest sample (the current one, for a static edge); 0 if empty."""
         return int(self._parents[self._end - 1]) if self._end > self._start else 0
 
-    def storage(self) -> tuple[Int64Array, FloatArray, Int32Array, int, int]:
-        """The whole backing arrays (stamps, values, parents) and the rows in use, ``start:end``.
+    def storage(
+        self,
+    ) -> tuple[Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, UInt8Array, int, int]:
+        """The whole backing arrays (stamps, values, parents, authorities, record times, sequence,
+        flags) and the rows in use, ``start:end``.
 
-        For compiled kernels; the arrays move when the history grows or is pruned.
+        For the compiled calls (``EdgeTable.update``), which read the arrays and may store one
+        sample after ``end`` and move ``_start`` and ``_end``; the arrays move when the history
+        grows or is pruned.
         """
-        return self._stamps, self._values, self._parents, self._start, self._end
+        return (*self._columns(), self._start, self._end)
+
+    def _columns(self) -> tuple[Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, UInt8Array]:
+        """The backing arrays, one row per sample: stamps, values, parents, authorities, record
+        times, sequence, flags."""
+        return (
+            self._stamps,
+            self._values,
+            self._parents,
+            self._authorities,
+            self._record_times,
+            self._sequence,
+            self._flags,
+        )
 
     # --- insertion ---------------------------------------------------------------------------
 
@@ -232,7 +239,7 @@ class EdgeHistory:
             and (k == 1 or bool(np.all(stamps[1:] > stamps[:-1])))
         )
         if self._end + k > len(self._stamps):
-            self._allocate(max(2 * (len(self) + k), 8))
+            self.grow(k)
         s = slice(self._end, self._end + k)
         self._stamps[s], self._values[s], self._parents[s] = stamps, values, parents
         self._authorities[s], self._record_times[s] = authorities, record_times
@@ -241,46 +248,14 @@ class EdgeHistory:
         if not in_order:
             self._sort()
 
-    def append(
-        self,
-        stamp: int,
-        values: tuple[float, ...],
-        parent: int,
-        authority: int,
-        record_time: int,
-        sequence: int,
-        flags: int,
-    ) -> bool:
-        """Store one accepted sample after the others, as ``add`` would, where that is all ``add``
-        would do: the history is static, empty, or ``stamp`` newer than its newest. False
-        otherwise (nothing stored: call ``add``)."""
-        end = self._end
-        if not (self.static or end == self._start or stamp > self._stamp_index[end - 1]):
-            return False
-        if end == len(self._stamps):
-            self._allocate(max(2 * len(self), 8))
-            end = self._end
-        self._stamp_index[end] = stamp
-        flat, parents, authorities, record_times, sequences, flag_column = self._columns
-        i = 7 * end
-        flat[i], flat[i + 1], flat[i + 2], flat[i + 3], flat[i + 4], flat[i + 5], flat[i + 6] = values
-        parents[end], authorities[end], record_times[end], sequences[end] = parent, authority, record_time, sequence
-        flag_column[end] = flags
-        self._end = end + 1
-        return True
+    def grow(self, rows: int) -> None:
+        """Room for ``rows`` more samples and as many again (the arrays move): amortized growth."""
+        self._allocate(max(2 * (len(self) + rows), 8))
 
     def _sort(self) -> None:
         s = slice(self._start, self._end)
         order = np.argsort(self._stamps[s], kind="stable")
-        for column in (
-            self._stamps,
-            self._values,
-            self._parents,
-            self._authorities,
-            self._record_times,
-            self._sequence,
-            self._flags,
-        ):
+        for column in self._columns():
             column[s] = column[s][order]
 
     def reserve(self, rows: int) -> None:

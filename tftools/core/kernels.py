@@ -6,33 +6,20 @@ which the buffer asks the Python walk why. A compiled call pays for every array 
 the lookups read one ``EdgeTable``: per frame, its history's bounds and arrays (which the table
 holds, so a row can at worst be stale, never dangling). The buffer updates a frame's row
 whenever it stores into that frame's history (which may move its arrays).
+
+The table also answers ``Buffer.lookup`` and ``can_transform`` from the frames' names, building
+the ``Transform`` itself, and stores ``set_transform``'s common case in place (``EdgeTable.append``):
+one crossing per call, the buffer's lock held around it.
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
 
 import numpy as np
 
 from tftools.core._kernels import EdgeTable
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
-from tftools.core.history import EdgeHistory
-
-
-def edge_table(histories: Sequence[EdgeHistory | None]) -> EdgeTable:
-    """A table describing ``histories`` (indexed by frame id) as they are now."""
-    table = EdgeTable()
-    for frame_id, hist in enumerate(histories):
-        if hist is not None:
-            track(table, frame_id, hist)
-    return table
-
-
-def track(table: EdgeTable, frame_id: int, hist: EdgeHistory) -> None:
-    """Describe ``hist``, the history of ``frame_id``, in ``table`` as it is now."""
-    table.update(frame_id, hist.static, *hist.storage())
-
 
 #: Fewer times than this per thread are not worth a thread.
 _TIMES_PER_THREAD = 50_000
