@@ -54,21 +54,21 @@ class Reader {
         }
         const size_t first = rows.message.size(), names = rows.name_start.size();
         for (uint64_t j = 0; j < count; ++j) {
-            if (!transform(id, rows)) return forget(rows, first, names);
+            if (!transform(id, j, rows)) return forget(rows, first, names);
         }
         if (wire_.exact && pos_ != end_) return forget(rows, first, names);
         return true;
     }
 
    private:
-    bool transform(int64_t id, Rows& rows) {
+    bool transform(int64_t id, uint64_t j, Rows& rows) {
         int64_t at;
         if (wire_.seq && !take(4, 1, at)) return false;
         if (!take(8, 4, at)) return false;
         const int64_t sec = wire_.signed_sec ? static_cast<int64_t>(static_cast<int32_t>(u32(at))) : u32(at);
         const int64_t stamp = sec * 1'000'000'000 + u32(at + 4);
         int32_t parent, child;
-        if (!name(rows, parent) || !name(rows, child)) return false;
+        if (!name(rows, 2 * j, parent) || !name(rows, 2 * j + 1, child)) return false;
         if (!take(56, 8, at)) return false;
         rows.message.push_back(id);
         rows.stamp.push_back(stamp);
@@ -78,21 +78,38 @@ class Reader {
         return true;
     }
 
-    // A string's id among the names seen (a NUL left out).
-    bool name(Rows& rows, int32_t& id) {
+    // A string's id among the names seen (a NUL left out). ``slot`` is where it stands in its
+    // message: the name there in the message before mostly repeats (a publisher's frames, in
+    // order), compared before the names are hashed.
+    bool name(Rows& rows, uint64_t slot, int32_t& id) {
         int64_t at;
         if (!take(4, 4, at)) return false;
         const int64_t size = u32(at);
         if (!take(size, 1, at)) return false;
         const int64_t kept = wire_.nul ? (size > 0 ? size - 1 : 0) : size;
         const std::string_view bytes(reinterpret_cast<const char*>(raw_ + at), static_cast<size_t>(kept));
+        if (slot < recent_.size()) {
+            const int32_t last = recent_[slot];
+            if (last >= 0 && last < static_cast<int32_t>(rows.name_start.size()) && seen(rows, last) == bytes) {
+                id = last;
+                return true;
+            }
+        } else if (slot < kRecentSlots) {
+            recent_.resize(slot + 1, -1);
+        }
         auto [place, added] = ids_.try_emplace(bytes, static_cast<int32_t>(rows.name_start.size()));
         if (added) {
             rows.name_start.push_back(at);
             rows.name_length.push_back(kept);
         }
         id = place->second;
+        if (slot < recent_.size()) recent_[slot] = id;
         return true;
+    }
+
+    std::string_view seen(const Rows& rows, int32_t name) const {
+        return {reinterpret_cast<const char*>(raw_ + rows.name_start[name]),
+                static_cast<size_t>(rows.name_length[name])};
     }
 
     // Where the next ``size`` bytes start, aligned to ``align`` (at most the wire's) from the origin.
@@ -122,10 +139,7 @@ class Reader {
 
     // The rows from ``first`` on and the names from ``names`` on let go: false.
     bool forget(Rows& rows, size_t first, size_t names) {
-        for (size_t k = names; k < rows.name_start.size(); ++k) {
-            ids_.erase(std::string_view(reinterpret_cast<const char*>(raw_ + rows.name_start[k]),
-                                        static_cast<size_t>(rows.name_length[k])));
-        }
+        for (size_t k = names; k < rows.name_start.size(); ++k) ids_.erase(seen(rows, static_cast<int32_t>(k)));
         rows.name_start.resize(names);
         rows.name_length.resize(names);
         rows.message.resize(first);
@@ -139,6 +153,8 @@ class Reader {
     const uint8_t* raw_;
     Wire wire_;
     int64_t origin_ = 0, end_ = 0, pos_ = 0;
+    static constexpr uint64_t kRecentSlots = 256;  // names of a message's first 128 transforms
+    std::vector<int32_t> recent_;                  // per slot: the name last there
     std::unordered_map<std::string_view, int32_t> ids_;
 };
 
