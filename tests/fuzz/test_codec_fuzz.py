@@ -1,6 +1,7 @@
 """Property-based fuzzing of the ROS1 and CDR transform decoders: mutants of well-formed messages
-decoded in bulk (the step walk) read as each is read on its own (field by field, as live sources
-decode them): the same rows, the same messages refused, for the same reasons.
+decoded in bulk (compiled, native/tf_wire.hpp) read as each is read on its own, field by field in
+Python (``stepped.read_alone``) and through the bulk decoder as live sources decode them: the same
+rows, the same messages refused, for the same reasons.
 
 ``TFTOOLS_FUZZ_EXAMPLES`` raises the number of examples (default: a quick run for CI).
 """
@@ -17,8 +18,10 @@ from hypothesis import strategies as st
 
 from tests.fuzz.test_live_fuzz import mutants
 from tests.sources.ros2_helpers import Tf, foxglove_cdr, tf_cdr, tf_ros1, varied_transform
+from tftools.sources.codecs import cdr, ros1
 from tftools.sources.codecs.decoded import Decoded, FrameNames
 from tftools.sources.codecs.select import CLOCK_CODECS, CODECS
+from tftools.sources.codecs.stepped import read_alone
 
 EXAMPLES = int(os.environ.get("TFTOOLS_FUZZ_EXAMPLES", "40"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -72,11 +75,16 @@ def test_in_bulk_as_one_by_one(key: tuple[str, str]) -> None:
         frames = FrameNames()
         bulk = decode(raw, np.cumsum(lengths) - lengths, lengths, frames)
         assert np.all(np.diff(bulk.message) >= 0)
+        wires = ros1.WIRES if key[1] == "ros1" else cdr.WIRES
+        counted = not key[0].endswith("FrameTransform")
         for i, payload in enumerate(payloads):
-            alone_frames = FrameNames()
-            alone = decode(np.frombuffer(payload, np.uint8), np.zeros(1, np.int64), lengths[i : i + 1], alone_frames)
-            assert rows(bulk, frames, i) == rows(alone, alone_frames, 0)
-            assert [reason for m, reason in bulk.failures if m == i] == [reason for _, reason in alone.failures]
+            data = np.frombuffer(payload, np.uint8)
+            one_frames, read_frames = FrameNames(), FrameNames()
+            one = decode(data, np.zeros(1, np.int64), lengths[i : i + 1], one_frames)
+            read = read_alone(data, 0, len(payload), read_frames, wires, counted, 0)
+            for alone, alone_frames in ((one, one_frames), (read, read_frames)):
+                assert rows(bulk, frames, i) == rows(alone, alone_frames, 0)
+                assert [reason for m, reason in bulk.failures if m == i] == [reason for _, reason in alone.failures]
 
     check()
 

@@ -22,6 +22,7 @@ from tests.sources.ros2_helpers import (
     varied_transform,
 )
 from tftools.sources.bag.messages import MessageSet
+from tftools.sources.codecs import _wire
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.select import CODECS
 
@@ -344,3 +345,11 @@ def test_the_cdr_encoder_writes_rosbags_bytes(names: tuple[str, str]) -> None:
         ]
     )
     assert cdr.encode_tf_message(transforms) == bytes(store.serialize_cdr(message, "tf2_msgs/msg/TFMessage"))
+
+
+@pytest.mark.parametrize("starts, lengths", [([0], [200]), ([-1], [4]), ([8], [-1]), ([0, 0], [4])])
+def test_compiled_reader_refuses_payloads_outside_its_bytes(starts: list[int], lengths: list[int]) -> None:
+    raw = np.frombuffer(tf_cdr([varied_transform(np.random.default_rng(1))]), np.uint8)
+    wire = dict(big_endian=False, origin=4, align=8, seq=False, signed_sec=True, nul=True, exact=False)
+    with pytest.raises(ValueError):
+        _wire.decode_transforms(raw, np.array(starts, np.int64), np.array(lengths, np.int64), **wire, counted=True)

@@ -7,22 +7,15 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.core.frames import Names
-from tftools.sources.codecs.gather import bytes_at, first_and_inverse, grouped
 
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
 BytesLike = bytes | memoryview | UInt8Array
 #: A message's header: its stamp (ns) and frame_id.
 Header = tuple[int, str]
-
-#: Names this few are interned one by one rather than told apart in bulk.
-_FEW_NAMES = 32
-#: Names as rows of 8-byte words.
-Words = npt.NDArray[np.uint64]
 
 
 class DecodeError(ValueError):
@@ -30,42 +23,21 @@ class DecodeError(ValueError):
 
 
 class FrameNames(Names):
-    """Frame names interned once for a whole source, from decoded names or in bulk from the bytes
-    that hold them."""
+    """Frame names interned once for a whole source, from decoded names or from the bytes that
+    hold them."""
 
     def intern_all(self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[Int32Array, BoolArray]:
-        """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]``, and which are not UTF-8.
-
-        Names of one length are told apart by their bytes: compared with the name before (equal
-        names mostly come in runs: a publisher's, message after message), then the first of each
-        run sorted.
-        """
-        if len(starts) <= _FEW_NAMES:
-            data = raw.data
-            found = []
-            for start, length in zip(starts.tolist(), lengths.tolist(), strict=True):
-                try:
-                    found.append(self.intern(str(data[start : start + length], "utf-8")))
-                except UnicodeDecodeError:
-                    found.append(-1)
-            few = np.array(found, np.int32)
-            return np.maximum(few, 0), few < 0
-        ids = np.zeros(len(starts), np.int32)
-        undecodable = np.zeros(len(starts), bool)
-        for rows in grouped(lengths):
-            length = int(lengths[rows[0]])
-            words = _words(raw, starts[rows], length)
-            firsts, inverse = _distinct_rows(words)
-            table = np.zeros(len(firsts), np.int32)
-            broken = np.zeros(len(firsts), bool)
-            for i, row in enumerate(firsts.tolist()):
-                try:
-                    table[i] = self.intern(words[row].tobytes()[:length].decode("utf-8"))
-                except UnicodeDecodeError:
-                    broken[i] = True
-            ids[rows] = table[inverse]
-            undecodable[rows] = broken[inverse]
-        return ids, undecodable
+        """The ids of the names ``raw[starts[i] : starts[i] + lengths[i]]`` (a message's few, or the
+        distinct names of many messages), and which are not UTF-8."""
+        data = raw.data
+        found = []
+        for start, length in zip(starts.tolist(), lengths.tolist(), strict=True):
+            try:
+                found.append(self.intern(str(data[start : start + length], "utf-8")))
+            except UnicodeDecodeError:
+                found.append(-1)
+        ids = np.array(found, np.int32)
+        return np.maximum(ids, 0), ids < 0
 
 
 @dataclass
@@ -178,28 +150,3 @@ def message_header(decode: HeaderDecoder, data: bytes) -> Header | None:
 
 def _one(data: bytes) -> tuple[UInt8Array, Int64Array, Int64Array]:
     return np.frombuffer(data, np.uint8), np.zeros(1, np.int64), np.array([len(data)], np.int64)
-
-
-def _words(raw: UInt8Array, starts: Int64Array, length: int) -> Words:
-    """The ``length`` bytes at each of ``starts`` as a row of 8-byte words, the last one padded with zeros."""
-    width = -(-length // 8) * 8
-    if width and int(starts.max()) + width <= len(raw):  # read on past each name, then clear what follows it
-        words: Words = bytes_at(raw, starts, width).view("<u8")
-        if width > length:
-            words[:, -1] &= np.uint64((1 << 8 * (length % 8)) - 1)
-        return words
-    padded = np.zeros((len(starts), width), np.uint8)
-    padded[:, :length] = bytes_at(raw, starts, length)
-    return padded.view("<u8")
-
-
-def _distinct_rows(words: Words) -> tuple[Int64Array, Int64Array]:
-    """A first row of each distinct row of ``words``, and each row's index among them."""
-    if not words.shape[1]:  # empty names
-        return np.zeros(1, np.int64), np.zeros(len(words), np.int64)
-    starts_run = np.ones(len(words), bool)
-    starts_run[1:] = (words[1:] != words[:-1]).any(axis=1)
-    heads = np.flatnonzero(starts_run)
-    run = np.cumsum(starts_run) - 1
-    firsts, inverse = first_and_inverse(np.ascontiguousarray(words[heads]).view(f"V{8 * words.shape[1]}").reshape(-1))
-    return heads[firsts], inverse[run]

@@ -1,0 +1,67 @@
+// tftools.sources.codecs._wire: TFMessages of ROS1 and CDR decoded in bulk (tf_wire.hpp).
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/tuple.h>
+
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "tf_wire.hpp"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace {
+
+template <typename T, typename... Shape>
+using Input = nb::ndarray<const T, nb::c_contig, nb::device::cpu, Shape...>;
+template <typename T>
+using Output = nb::ndarray<nb::numpy, T>;
+
+// ``values`` as a numpy array that owns them, of ``rows`` rows of ``width`` (1: a vector).
+template <typename T>
+Output<T> owned(std::vector<T>&& values, size_t width = 1) {
+    auto* held = new std::vector<T>(std::move(values));
+    nb::capsule owner(held, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+    const size_t rows = held->size() / width;
+    if (width == 1) return Output<T>(held->data(), {rows}, owner);
+    return Output<T>(held->data(), {rows, width}, owner);
+}
+
+using Decoded = std::tuple<Output<int64_t>, Output<int64_t>, Output<double>, Output<int32_t>, Output<int32_t>,
+                           Output<int64_t>, Output<int64_t>, Output<int64_t>>;
+
+Decoded decode_transforms(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::ndim<1>> starts,
+                          Input<int64_t, nb::ndim<1>> lengths, bool big_endian, int64_t origin, int64_t align,
+                          bool seq, bool signed_sec, bool nul, bool exact, bool counted) {
+    const auto n = static_cast<int64_t>(starts.shape(0));
+    const auto size = static_cast<int64_t>(raw.shape(0));
+    if (static_cast<int64_t>(lengths.shape(0)) != n) throw nb::value_error("decode_transforms: starts and lengths differ");
+    if (origin < 0 || align < 1) throw nb::value_error("decode_transforms: a wire without an origin or alignment");
+    for (int64_t i = 0; i < n; ++i) {
+        const int64_t start = starts.data()[i], length = lengths.data()[i];
+        if (start < 0 || length < 0 || length > size - start) {
+            throw nb::value_error("decode_transforms: a payload outside the bytes given");
+        }
+    }
+    tfwire::Rows rows;
+    {
+        nb::gil_scoped_release unlocked;
+        tfwire::Reader reader(raw.data(), {big_endian, origin, align, seq, signed_sec, nul, exact, counted});
+        for (int64_t i = 0; i < n; ++i) {
+            if (!reader.read(i, starts.data()[i], lengths.data()[i], rows)) rows.bad.push_back(i);
+        }
+    }
+    return {owned(std::move(rows.message)),     owned(std::move(rows.stamp)),       owned(std::move(rows.values), 7),
+            owned(std::move(rows.parent)),      owned(std::move(rows.child)),       owned(std::move(rows.name_start)),
+            owned(std::move(rows.name_length)), owned(std::move(rows.bad))};
+}
+
+}  // namespace
+
+NB_MODULE(_wire, m) {
+    m.doc() = "TFMessages of ROS1 and CDR decoded in bulk: tftools.sources.codecs.wire's Cursor, compiled.";
+    m.def("decode_transforms", &decode_transforms, "raw"_a, "starts"_a, "lengths"_a, "big_endian"_a, "origin"_a,
+          "align"_a, "seq"_a, "signed_sec"_a, "nul"_a, "exact"_a, "counted"_a);
+}
