@@ -24,5 +24,5 @@ fi
 .venv/bin/python -m pip install -q --upgrade pip
 spec="."
 [ -n "$extras" ] && spec=".[${extras}]"
-.venv/bin/python -m pip install -q -e "$spec"
+.venv/bin/python -m pip install -q -c scripts/constraints.txt -e "$spec"
 echo "setup: ready; run .venv/bin/tfx --help" >&2
