@@ -6,10 +6,8 @@ from __future__ import annotations
 
 import json
 import os
-import socket
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -17,7 +15,7 @@ import pytest
 
 from tests.sources.ros1_helpers import write_rosbag
 from tests.sources.test_ros1 import interleaved, rosbag_available  # noqa: F401 (a fixture)
-from tests.sources.test_storage_s3 import IMAGE_BYTES, IMAGES, fleet, free_port, tfx  # noqa: F401 (a fixture)
+from tests.sources.test_storage_s3 import IMAGE_BYTES, IMAGES, fleet, free_port, server_on, tfx  # noqa: F401 (a fixture)
 
 pytestmark = pytest.mark.slow
 NO_GRPC = {"GCSFS_EXPERIMENTAL_ZB_HNS_SUPPORT": "false"}
@@ -28,21 +26,9 @@ def gcs_env() -> Iterator[dict[str, str]]:
     """The emulator on a free port of 127.0.0.1 (in memory), and the environment gcsfs finds it by."""
     port = free_port()
     command = [sys.executable, "-m", "gcp_storage_emulator", "start", "--host", "127.0.0.1", "--port", str(port)]
-    server = subprocess.Popen([*command, "--in-memory"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        deadline = time.monotonic() + 30
-        while True:
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=1).close()
-                break
-            except OSError:
-                assert time.monotonic() < deadline and server.poll() is None, "the GCS emulator did not start"
-                time.sleep(0.2)
+    with server_on(port, [*command, "--in-memory"], "the GCS emulator"):
         # The emulator speaks JSON over HTTP only: gcsfs's gRPC probe of a bucket's kind would wait 60 s.
         yield {**os.environ, "STORAGE_EMULATOR_HOST": f"http://127.0.0.1:{port}", **NO_GRPC}
-    finally:
-        server.terminate()
-        server.wait(timeout=10)
 
 
 def test_wtf_reads_a_gcs_bucket_as_the_local_copies(

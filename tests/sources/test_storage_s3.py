@@ -15,6 +15,7 @@ import sys
 import threading
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -34,6 +35,26 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
+@contextmanager
+def server_on(port: int, command: list[str], name: str) -> Iterator[None]:
+    """``command`` (a server on ``port`` of 127.0.0.1) running, once it accepts connections, for as long
+    as the context lasts."""
+    server = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 30
+        while True:
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                assert time.monotonic() < deadline and server.poll() is None, f"{name} did not start"
+                time.sleep(0.2)
+        yield
+    finally:
+        server.terminate()
+        server.wait(timeout=10)
+
+
 def tfx(*args: str, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
         [sys.executable, "-m", "tftools", *args], cwd=REPO, env=env, capture_output=True, text=True, timeout=300
@@ -44,20 +65,8 @@ def tfx(*args: str, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
 def s3_env() -> Iterator[dict[str, str]]:
     """A moto S3 server on a free port of 127.0.0.1, and the environment that points at it."""
     port = free_port()
-    server = subprocess.Popen(
-        [sys.executable, "-c", "from moto.server import main; main()", "-H", "127.0.0.1", "-p", str(port)],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    try:
-        deadline = time.monotonic() + 30
-        while True:
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=1).close()
-                break
-            except OSError:
-                assert time.monotonic() < deadline and server.poll() is None, "moto's server did not start"
-                time.sleep(0.2)
+    command = [sys.executable, "-c", "from moto.server import main; main()", "-H", "127.0.0.1", "-p", str(port)]
+    with server_on(port, command, "moto's server"):
         yield {
             **os.environ,
             "AWS_ENDPOINT_URL": f"http://127.0.0.1:{port}",
@@ -65,9 +74,6 @@ def s3_env() -> Iterator[dict[str, str]]:
             "AWS_SECRET_ACCESS_KEY": "testing",
             "AWS_DEFAULT_REGION": "us-east-1",
         }
-    finally:
-        server.terminate()
-        server.wait(timeout=10)
 
 
 @pytest.fixture(scope="module")
