@@ -112,7 +112,7 @@ def _type(message: Message) -> str:
 
 def _message(store: Any, message: Message) -> Any:
     if isinstance(message, TfMessage):
-        return _tf_message(store, message.transforms)
+        return rosbags_tf_message(store, message.transforms)
     sec, nanosec = divmod(message.clock, NS_PER_S)
     return store.types[CLOCK_TYPE](clock=store.types["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec))
 
@@ -127,7 +127,8 @@ def _typestore(ros: str) -> Any:
     return store
 
 
-def _tf_message(store: Any, transforms: Sequence[Transform]) -> Any:
+def rosbags_tf_message(store: Any, transforms: Sequence[Transform]) -> Any:
+    """``transforms`` as rosbags' TFMessage of ``store`` (ROS 1's or ROS 2's types), to serialize."""
     types = store.types
     time_type = types["builtin_interfaces/msg/Time"]
     stamped = []

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tests.bags import rosbags_tf_message
 from tests.sources.reference import reference_rows
 from tests.sources.ros2_helpers import (
     Tf,
@@ -327,23 +328,7 @@ def test_the_cdr_encoder_writes_rosbags_bytes(names: tuple[str, str]) -> None:
         Transform(stamp=5, frame_id=child, child_frame_id=parent + "x"),
     ]
     store = get_typestore(Stores.ROS2_HUMBLE)
-    t = store.types
-    message = t["tf2_msgs/msg/TFMessage"](
-        transforms=[
-            t["geometry_msgs/msg/TransformStamped"](
-                header=t["std_msgs/msg/Header"](
-                    stamp=t["builtin_interfaces/msg/Time"](sec=x.stamp // 10**9, nanosec=x.stamp % 10**9),
-                    frame_id=x.frame_id,
-                ),
-                child_frame_id=x.child_frame_id,
-                transform=t["geometry_msgs/msg/Transform"](
-                    translation=t["geometry_msgs/msg/Vector3"](*x.translation),
-                    rotation=t["geometry_msgs/msg/Quaternion"](*x.rotation),
-                ),
-            )
-            for x in transforms
-        ]
-    )
+    message = rosbags_tf_message(store, transforms)
     assert cdr.encode_tf_message(transforms) == bytes(store.serialize_cdr(message, "tf2_msgs/msg/TFMessage"))
 
 
