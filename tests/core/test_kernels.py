@@ -24,7 +24,7 @@ def python_walk(buffer: Buffer, target: str, source: str, time: int):
 
 
 def kernel_walk(buffer: Buffer, target: str, source: str, time: int):
-    found = buffer._edge_table().lookup(buffer._frames.get(target), buffer._frames.get(source), time)
+    found = buffer._table.lookup(buffer._frames.get(target), buffer._frames.get(source), time)
     return None if found is None else ([*found[0], *found[1]], found[2])
 
 
@@ -52,8 +52,8 @@ def test_kernels_answer_as_the_python_walk(seed, features):
             assert (got is None) == (expected is None), (target, source, t)
             assert got == expected  # the very same bits
             tree, ids = buffer._tree(), (buffer._frames.get(target), buffer._frames.get(source))
-            assert buffer._edge_table().can_transform(*ids, t) == walk.can_transform(tree, *ids, t)
-            common = buffer._edge_table().latest_common_time(*ids)
+            assert buffer._table.can_transform(*ids, t) == walk.can_transform(tree, *ids, t)
+            common = buffer._table.latest_common_time(*ids)
             try:
                 assert common == walk.latest_common_time(tree, *ids)
             except TransformError:

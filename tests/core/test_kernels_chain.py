@@ -57,7 +57,7 @@ def _run(buffer: Buffer, target: str, source: str, times, rows, chained: bool):
     """``lookup_many`` along the chain where it can, or (not ``chained``) the walk at each time."""
     n = len(times)
     out = np.zeros(n, np.int64), np.zeros((n, 7)), np.zeros(n, bool)
-    buffer._edge_table().lookup_many(*_ids(buffer, target, source), times, rows, *out, chained=chained)
+    buffer._table.lookup_many(*_ids(buffer, target, source), times, rows, *out, chained=chained)
     return out
 
 
@@ -143,7 +143,7 @@ def test_the_answers_are_single_lookups():
 
 def _block(buffer: Buffer, target: str, source: str, times) -> bool | None:
     """Whether ``lookup_many`` takes ``times`` as one block (None: the chain does not resolve at the first)."""
-    taken = buffer._edge_table().chain_takes(*_ids(buffer, target, source), np.ascontiguousarray(times, np.int64))
+    taken = buffer._table.chain_takes(*_ids(buffer, target, source), np.ascontiguousarray(times, np.int64))
     return None if taken < 0 else bool(taken)
 
 

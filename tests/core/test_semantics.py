@@ -87,7 +87,7 @@ def test_batch_lookups_answer_as_single_ones(seed: int, features: frozenset[str]
                 expected.append((stamp, [*v, *q]))
             except TransformError:
                 expected.append(None)
-        resolved, values, valid = lookup_in_parallel(buffer._edge_table(), *ids, times)
+        resolved, values, valid = lookup_in_parallel(buffer._table, *ids, times)
         for i, want in enumerate(expected):
             where = (target, source, int(times[i]))
             assert bool(valid[i]) == (want is not None), where

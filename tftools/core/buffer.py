@@ -575,7 +575,7 @@ class Buffer:
         """The newest time at which every edge between the two frames has data (0: all static)."""
         target_id = self._frame_id("get_latest_common_time", target_frame)
         source_id = self._frame_id("get_latest_common_time", source_frame)
-        found = self._edge_table().latest_common_time(target_id, source_id) if target_id != source_id else None
+        found = self._table.latest_common_time(target_id, source_id) if target_id != source_id else None
         return found if found is not None else walk.latest_common_time(self._tree(), target_id, source_id)
 
     @_locked
@@ -591,7 +591,7 @@ class Buffer:
             n = len(stamps)
             return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
         target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-        resolved, values, valid = lookup_in_parallel(self._edge_table(), target_id, source_id, stamps)
+        resolved, values, valid = lookup_in_parallel(self._table, target_id, source_id, stamps)
         return LookupBatch(resolved, values[:, :3], values[:, 3:], valid)
 
     def transform_points(
@@ -681,9 +681,6 @@ class Buffer:
         for frame_id, hist in enumerate(self._histories):
             table.update(frame_id, hist)
         return table
-
-    def _edge_table(self) -> EdgeTable:
-        return self._table
 
     def _track(self, frame_id: int, hist: EdgeHistory) -> None:
         """Tell the compiled calls that ``frame_id``'s history changed (its arrays may have moved)."""

@@ -8,7 +8,7 @@ holds, so a row can at worst be stale, never dangling). The buffer updates a fra
 whenever it stores into that frame's history (which may move its arrays).
 
 The table also answers ``Buffer.lookup`` and ``can_transform`` from the frames' names, building
-the ``Transform`` itself, and stores ``set_transform``'s common case in place (``EdgeTable.append``):
+the ``Transform`` itself, and stores ``set_transform``'s common case in place (``EdgeTable.set_transform``):
 one crossing per call, the buffer's lock held around it.
 """
 
