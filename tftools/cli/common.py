@@ -71,18 +71,15 @@ BagOption = Annotated[
         help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory, local or a URL "
         "(s3://, gs://, az://, http(s)://; needs tftools[fleet]). "
         "Repeat for a split recording. Without it, tfx listens to a live system.",
-        show_default=False,
     ),
 ]
 TopicOption = Annotated[
     list[str] | None,
-    typer.Option("--topic", "-t", help="Topics carrying transforms (default /tf and /tf_static).", show_default=False),
+    typer.Option("--topic", "-t", help="Topics carrying transforms (default /tf and /tf_static)."),
 ]
 StartOption = Annotated[
     str | None,
-    typer.Option(
-        help="Begin at TIME: absolute seconds, +S after the first tf stamp or -S before the last.", show_default=False
-    ),
+    typer.Option(help="Begin at TIME: absolute seconds, +S after the first tf stamp or -S before the last."),
 ]
 Tf2Option = Annotated[
     Semantics | None,
@@ -90,10 +87,9 @@ Tf2Option = Annotated[
         "--tf2",
         help="Answer as ROS 1's or ROS 2's tf2 (they differ on repeated stamps, statics after dynamics, "
         "error wording); default: the recording's own (ros1 for .bag, ros2 for .db3/.mcap), or the live system's.",
-        show_default=False,
     ),
 ]
-EndOption = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as --start).", show_default=False)]
+EndOption = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as --start).")]
 
 
 def fail(error: TfToolsError, code: Exit = Exit.UNUSABLE) -> NoReturn:

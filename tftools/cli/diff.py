@@ -25,7 +25,7 @@ class DiffFormat(str, enum.Enum):
 
 
 def _side(help_text: str) -> object:
-    return typer.Argument(help=help_text, show_default=False)
+    return typer.Argument(help=help_text)
 
 
 def command(

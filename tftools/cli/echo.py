@@ -67,15 +67,12 @@ def command(
     bags: BagOption = None,
     rate: Annotated[
         float | None,
-        typer.Option(
-            "--rate", "-r", help="Lines a second of bag time (at most a million lines; default 1).", show_default=False
-        ),
+        typer.Option("--rate", "-r", help="Lines a second of bag time (at most a million lines; default 1)."),
     ] = None,
     at: Annotated[
         str | None,
         typer.Option(
             help="One lookup at TIME: absolute seconds, +S after the start, -S before the end, 0 = latest.",
-            show_default=False,
         ),
     ] = None,
     every: Annotated[bool, typer.Option("--all", help="A line at every sample of the chain's moving edges.")] = False,
@@ -98,12 +95,10 @@ def command(
     play: Annotated[
         bool, typer.Option("--play", help="Replay the bag in real time; the latest transform --rate times a second.")
     ] = False,
-    count: Annotated[
-        int | None, typer.Option("--count", "-n", min=1, help="Live: stop after N lines.", show_default=False)
-    ] = None,
+    count: Annotated[int | None, typer.Option("--count", "-n", min=1, help="Live: stop after N lines.")] = None,
     wait: Annotated[
         float | None,
-        typer.Option(help="Live: give up if the transform is not there within WAIT seconds.", show_default=False),
+        typer.Option(help="Live: give up if the transform is not there within WAIT seconds."),
     ] = None,
     ros1: RosOption = None,
     use_sim_time: UseSimTimeOption = None,
@@ -114,7 +109,6 @@ def command(
             "--plot",
             help=f"Draw translation and roll/pitch/yaw over time into this picture ({PLOT_FILE}): on a bag instead of "
             "the lines (every sample, unless --rate), live and with --play when they end.",
-            show_default=False,
         ),
     ] = None,
 ) -> None:

@@ -22,7 +22,6 @@ ToleranceMmOption = Annotated[
         "--tolerance-mm",
         help=f"A static edge that moved more than this many mm differs (default: the tree file's, else "
         f"{_DEFAULTS.translation_mm:g}).",
-        show_default=False,
     ),
 ]
 ToleranceDegOption = Annotated[
@@ -31,7 +30,6 @@ ToleranceDegOption = Annotated[
         "--tolerance-deg",
         help=f"A static edge that turned more than this many degrees differs (default: the tree file's, else "
         f"{_DEFAULTS.rotation_deg:g}).",
-        show_default=False,
     ),
 ]
 ToleranceRateOption = Annotated[
@@ -40,7 +38,6 @@ ToleranceRateOption = Annotated[
         "--tolerance-rate",
         help=f"A rate that changed more than this many percent differs (default: the tree file's, else "
         f"{_DEFAULTS.rate_percent:g}).",
-        show_default=False,
     ),
 ]
 

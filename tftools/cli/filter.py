@@ -35,25 +35,18 @@ class FilterFormat(str, enum.Enum):
 def command(
     topics: Annotated[
         list[str] | None,
-        typer.Argument(
-            help="Topics to check (default: every topic whose messages start with a Header).", show_default=False
-        ),
+        typer.Argument(help="Topics to check (default: every topic whose messages start with a Header)."),
     ] = None,
     bags: BagOption = None,
     target: Annotated[
         str | None,
         typer.Option(
             help="The frame the data is transformed into (default: odom or map, else the tree's root).",
-            show_default=False,
         ),
     ] = None,
     cache: Annotated[float, typer.Option(help="The listener's cache length, seconds (tf2's default 10).")] = 10.0,
-    wait: Annotated[
-        float | None, typer.Option(help="A filter timeout, seconds: count what it would drop.", show_default=False)
-    ] = None,
-    queue: Annotated[
-        int | None, typer.Option(min=1, help="A filter queue size: count what it would drop.", show_default=False)
-    ] = None,
+    wait: Annotated[float | None, typer.Option(help="A filter timeout, seconds: count what it would drop.")] = None,
+    queue: Annotated[int | None, typer.Option(min=1, help="A filter queue size: count what it would drop.")] = None,
     fmt: Annotated[FilterFormat, typer.Option("--format", "-f", help="text (a table) or json.")] = FilterFormat.text,
     tf2: Tf2Option = None,
     duration: ListenOption = 5.0,

@@ -13,7 +13,6 @@ RosOption = Annotated[
         "--ros1/--ros2",
         help="Live: ROS1 (the master at ROS_MASTER_URI) or ROS2 (DDS domain ROS_DOMAIN_ID). "
         "Default: as the environment says (ROS_VERSION, ROS_MASTER_URI, ROS_DOMAIN_ID).",
-        show_default=False,
     ),
 ]
 UseSimTimeOption = Annotated[
@@ -22,7 +21,6 @@ UseSimTimeOption = Annotated[
         "--use-sim-time/--wall-time",
         help="Live: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
         "Default: the master's /use_sim_time parameter (ROS1), the wall clock (ROS2).",
-        show_default=False,
     ),
 ]
 CacheOption = Annotated[float, typer.Option("--cache", help="Live: seconds of history kept per edge, as tf2's buffer.")]

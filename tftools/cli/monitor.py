@@ -47,19 +47,15 @@ class MonitorFormat(str, enum.Enum):
 
 
 TargetArgument = Annotated[
-    str | None, typer.Argument(help="With SOURCE: the chain between them (tf_monitor's framea).", show_default=False)
+    str | None, typer.Argument(help="With SOURCE: the chain between them (tf_monitor's framea).")
 ]
-SourceArgument = Annotated[
-    str | None, typer.Argument(help="The other end of the chain (tf_monitor's frameb).", show_default=False)
-]
+SourceArgument = Annotated[str | None, typer.Argument(help="The other end of the chain (tf_monitor's frameb).")]
 PlayOption = Annotated[
     bool, typer.Option("--play", help="Replay the bag on a simulated clock and refresh the table live.")
 ]
 RateOption = Annotated[float, typer.Option("--rate", "-r", help="With --play: replay speed, 1 = real time.")]
 WindowOption = Annotated[float, typer.Option(help="Live: the table covers the last WINDOW seconds.")]
-DurationOption = Annotated[
-    float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.", show_default=False)
-]
+DurationOption = Annotated[float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.")]
 FormatOption = Annotated[MonitorFormat, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")]
 PlotOption = Annotated[
     Path | None,
@@ -67,7 +63,6 @@ PlotOption = Annotated[
         "--plot",
         help=f"Draw each edge's rate and delay over time into this picture ({PLOT_FILE}): on a bag instead of the "
         "table (with TARGET SOURCE, the chain's edges), live and with --play each refresh's, when it ends.",
-        show_default=False,
     ),
 ]
 

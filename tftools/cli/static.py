@@ -26,7 +26,7 @@ CONTEXT = {"ignore_unknown_options": True}  # so that negative numbers are argum
 
 
 def _flag(name: str) -> object:
-    return typer.Option(f"--{name}", help=f"ROS2 form: {name}.", show_default=False, rich_help_panel="ROS2 form")
+    return typer.Option(f"--{name}", help=f"ROS2 form: {name}.", rich_help_panel="ROS2 form")
 
 
 def command(
@@ -34,7 +34,6 @@ def command(
         list[str] | None,
         typer.Argument(
             help="ROS1 form: x y z yaw pitch roll FRAME CHILD, or x y z qx qy qz qw FRAME CHILD (radians, meters).",
-            show_default=False,
             metavar="[X Y Z YAW PITCH ROLL | X Y Z QX QY QZ QW] FRAME CHILD",
         ),
     ] = None,
@@ -55,17 +54,13 @@ def command(
     ] = False,
     from_file: Annotated[
         Path | None,
-        typer.Option("--from", help="A YAML file of several transforms (see tfx static --help).", show_default=False),
+        typer.Option("--from", help="A YAML file of several transforms (see tfx static --help)."),
     ] = None,
     bag: Annotated[
         str | None,
-        typer.Option(
-            "--bag", "-b", help="Add the transforms to a copy of this bag (path or URL; needs -o).", show_default=False
-        ),
+        typer.Option("--bag", "-b", help="Add the transforms to a copy of this bag (path or URL; needs -o)."),
     ] = None,
-    output: Annotated[
-        Path | None, typer.Option("--output", "-o", help="With -b: the copy to write.", show_default=False)
-    ] = None,
+    output: Annotated[Path | None, typer.Option("--output", "-o", help="With -b: the copy to write.")] = None,
     repair: Annotated[
         bool,
         typer.Option(
@@ -79,7 +74,7 @@ def command(
         typer.Option("--force", help="With -o: replace an earlier output (a file or bag directory, never the input)."),
     ] = False,
     duration: Annotated[
-        float | None, typer.Option(help="Stop publishing after DURATION seconds (default: Ctrl-C).", show_default=False)
+        float | None, typer.Option(help="Stop publishing after DURATION seconds (default: Ctrl-C).")
     ] = None,
     ros1: RosOption = None,
 ) -> None:

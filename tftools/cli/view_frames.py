@@ -70,7 +70,6 @@ def command(
             "-o",
             help="Where to write (never over, into or above the input); - for stdout "
             "(default frames.pdf, or frames.FORMAT).",
-            show_default=False,
         ),
     ] = None,
     fmt: Annotated[
@@ -79,7 +78,6 @@ def command(
             "--format",
             "-f",
             help="pdf, svg, png, or dot (the Graphviz source); default: from -o's suffix, else pdf.",
-            show_default=False,
         ),
     ] = None,
     rankdir: Annotated[

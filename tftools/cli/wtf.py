@@ -60,7 +60,6 @@ PathsArgument = Annotated[
         "local or a URL (s3://bucket/fleet/ checks every recording below it, 's3://bucket/*.bag' the matches; "
         "needs tftools[fleet]).",
         metavar="BAG",
-        show_default=False,
     ),
 ]
 FormatOption = Annotated[
@@ -84,7 +83,6 @@ DaskOption = Annotated[
         help="Check each recording as a task on this Dask cluster (its scheduler's address, e.g. "
         "tcp://10.0.0.5:8786; needs pip install 'tftools[fleet]' here and tftools on the workers). A task that "
         "fails runs once more; one whose workers die is retried as the scheduler's allowed-failures says.",
-        show_default=False,
     ),
 ]
 TimeoutOption = Annotated[
@@ -92,7 +90,6 @@ TimeoutOption = Annotated[
     typer.Option(
         "--timeout",
         help="Give up a recording's check after this many seconds (reported as not checked; on Dask, tried twice).",
-        show_default=False,
     ),
 ]
 ResumeOption = Annotated[
@@ -101,14 +98,11 @@ ResumeOption = Annotated[
         "--resume",
         help="Skip the recordings this earlier --format jsonl report has done, and include its results "
         "(tfx wtf logs/*.bag -f jsonl --resume run1.jsonl > run2.jsonl).",
-        show_default=False,
     ),
 ]
 IgnoreOption = Annotated[
     list[str] | None,
-    typer.Option(
-        "--ignore", help="Skip the check with this code (repeat for more; see --list-checks).", show_default=False
-    ),
+    typer.Option("--ignore", help="Skip the check with this code (repeat for more; see --list-checks)."),
 ]
 ListOption = Annotated[
     bool, typer.Option("--list-checks", help="List the checks, their codes and severities, and exit.")
@@ -135,7 +129,6 @@ TargetOption = Annotated[
         "--target",
         help="Check sensor data (messages with a header) against tf in this frame "
         "(default: odom or map, else the tree's root; so too where a recording lacks the frame).",
-        show_default=False,
     ),
 ]
 SensorOption = Annotated[
@@ -144,7 +137,6 @@ SensorOption = Annotated[
         "--sensor",
         help="Check this topic's data against tf (repeat for more). Default: every topic of a bag whose messages "
         "start with a Header; live, none (listening to every camera would load the network).",
-        show_default=False,
     ),
 ]
 InitOption = Annotated[
@@ -157,7 +149,6 @@ ExpectOption = Annotated[
         "--expect",
         help="Check against this tree file (--init writes one): frames missing or new, other parents, static "
         "edges moved beyond the tolerances, slower edges, other publishers.",
-        show_default=False,
     ),
 ]
 ClockOption = Annotated[
