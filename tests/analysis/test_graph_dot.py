@@ -6,6 +6,7 @@ import itertools
 import json
 import os
 import shutil
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -16,11 +17,13 @@ from tests.analysis.test_graph import END, START, healthy, publish, publish_stat
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
+from tftools.analysis.graph import frame_graph
+from tftools.analysis.wtf import check
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
-from tftools.render.graph import COLOURS, INK, SIGNATURE, STATIC_INK, dot_source
-from tftools.sources import read_recording
+from tftools.render.graph import COLOURS, INK, SIGNATURE, STATIC_INK, recording_legend, to_digraph
+from tftools.sources import Recording, read_recording
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -36,6 +39,17 @@ class Parsed:
     graph: dict[str, Any]
     nodes: dict[str, dict[str, Any]]
     edges: dict[tuple[str, str], dict[str, Any]]
+
+
+def dot_source(
+    source: Buffer | Recording, *, legend: Sequence[str] = (), rankdir: str = "TB", brief: bool = False
+) -> str:
+    """What view-frames draws of ``source``, tfx wtf's findings in colour; the legend a recording's own."""
+    if isinstance(source, Recording):
+        buffer, legend = source.buffer, legend or recording_legend(source)
+    else:
+        buffer = source
+    return str(to_digraph(frame_graph(buffer, check(source)), legend, rankdir=rankdir, brief=brief).source)
 
 
 def parse(source: str) -> Parsed:

@@ -16,19 +16,9 @@ import typer.models
 
 from tftools.cli.app import VERSION_LINE
 
-#: Each subcommand's module in ``tftools.cli``: its ``command`` function, and its click
-#: ``CONTEXT`` settings where it has some.
-SUBCOMMANDS = {
-    "diff": "diff",
-    "echo": "echo",
-    "filter": "filter",
-    "frames": "frames",
-    "monitor": "monitor",
-    "report": "report",
-    "view-frames": "view_frames",
-    "wtf": "wtf",
-    "static": "static",
-}
+#: The subcommands, each a module of ``tftools.cli`` (``view-frames``: ``view_frames``) with its ``command``
+#: function, and its click ``CONTEXT`` settings where it has some.
+SUBCOMMANDS = ("diff", "echo", "filter", "frames", "monitor", "report", "view-frames", "wtf", "static")
 
 
 class _Subcommands(MutableMapping[str, Any]):
@@ -39,8 +29,10 @@ class _Subcommands(MutableMapping[str, Any]):
         self._built: dict[str, Any] = {}
 
     def __getitem__(self, name: str) -> Any:
+        if name not in SUBCOMMANDS:
+            raise KeyError(name)
         if name not in self._built:
-            module = importlib.import_module(f"tftools.cli.{SUBCOMMANDS[name]}")
+            module = importlib.import_module(f"tftools.cli.{name.replace('-', '_')}")
             info = typer.models.CommandInfo(
                 name, callback=module.command, context_settings=getattr(module, "CONTEXT", None)
             )

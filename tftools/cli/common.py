@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import enum
+import functools
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -123,42 +124,38 @@ def require_bags(bags: Sequence[str] | None) -> Sequence[str]:
     return bags
 
 
+#: Local bags larger than this together are read with a progress bar.
+LARGE_BYTES = 20_000_000
+
+
 @contextmanager
-def progress_bar(enabled: bool) -> Iterator[ProgressCallback | None]:
-    """A progress bar on stderr while bags are read, when stderr is a terminal."""
-    if not enabled or not stderr.is_terminal:
-        yield None
-        return
-    from rich.progress import BarColumn, DownloadColumn, Progress, TextColumn, TimeRemainingColumn  # only when drawn
-
-    columns = (TextColumn("reading"), BarColumn(), DownloadColumn(), TimeRemainingColumn())
-    with Progress(*columns, console=stderr, transient=True) as bar:
-        task = bar.add_task("read", total=None)
-
-        def update(done: int, total: int) -> None:
-            bar.update(task, completed=done, total=total)
-
-        yield update
+def progress_bar(bags: Sequence[str]) -> Iterator[ProgressCallback | None]:
+    """A bar on stderr of the bytes read, when the local ``bags`` are large and stderr is a terminal."""
+    with _bar("reading", None, enabled=sum(local_size(p) for p in bags) > LARGE_BYTES) as update:
+        yield None if update is None else lambda done, total: update(completed=done, total=total)
 
 
 @contextmanager
 def count_bar(what: str, total: int) -> Iterator[Callable[[], None]]:
     """A bar on stderr counting ``what`` done of ``total``, when stderr is a terminal; yields ``advance()``."""
-    if not stderr.is_terminal:
-        yield lambda: None
-        return
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeRemainingColumn,
-    )  # only when drawn
+    with _bar(what, total) as update:
+        yield (lambda: None) if update is None else lambda: update(advance=1)
 
-    columns = (TextColumn(what), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
-    with Progress(*columns, console=stderr, transient=True) as bar:
-        task = bar.add_task(what, total=total)
-        yield lambda: bar.advance(task)
+
+@contextmanager
+def _bar(label: str, total: int | None, enabled: bool = True) -> Iterator[Callable[..., None] | None]:
+    """A transient bar on stderr, of bytes (``total`` None: known later) or of a count; yields its task's
+    ``update`` (None when not drawn)."""
+    if not enabled or not stderr.is_terminal:
+        yield None
+        return
+    from rich.progress import BarColumn, DownloadColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    counter = DownloadColumn() if total is None else MofNCompleteColumn()
+    with Progress(
+        TextColumn(label), BarColumn(), counter, TimeRemainingColumn(), console=stderr, transient=True
+    ) as bar:
+        yield functools.partial(bar.update, bar.add_task(label, total=total))
 
 
 def open_recording(
@@ -172,7 +169,7 @@ def open_recording(
 
         return capture_recording(topics=topics)
     paths = require_bags(bags)
-    with progress_bar(enabled=sum(local_size(p) for p in paths) > 20_000_000) as progress:
+    with progress_bar(paths) as progress:
         recording = read_recording(paths, topics, progress, semantics=semantics)
     for problem in recording.problems:
         warn(problem)

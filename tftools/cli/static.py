@@ -98,16 +98,12 @@ def command(
     [cyan]tfx static --from extrinsics.yaml -b in.bag -o out.bag[/]
     [cyan]tfx static --repair -b recording/ -o repaired/[/]
     """
+    numbers = {"x": x, "y": y, "z": z, "qx": qx, "qy": qy, "qz": qz, "qw": qw, "roll": roll, "pitch": pitch, "yaw": yaw}
     if repair:
-        if (
-            arguments
-            or from_file is not None
-            or any(v is not None for v in (x, y, z, qx, qy, qz, qw, roll, pitch, yaw))
-        ):
+        if arguments or from_file is not None or any(v is not None for v in numbers.values()):
             raise UsageError("--repair takes no transforms: it uses the bag's own", "tfx static --repair -b IN -o OUT")
         _repair_bag(bag, output, force)
         return
-    numbers = {"x": x, "y": y, "z": z, "qx": qx, "qy": qy, "qz": qz, "qw": qw, "roll": roll, "pitch": pitch, "yaw": yaw}
     transforms = read_static_transforms(from_file) if from_file is not None else []
     transforms += _given(arguments or [], numbers, frame_id, child_frame_id, degrees)
     if not transforms:

@@ -46,18 +46,13 @@ class RankDir(str, enum.Enum):
     RL = "RL"
 
 
+#: The format each output suffix names; the first of a format is its own (``frames.gv`` for dot).
 SUFFIXES = {
     ".pdf": GraphFormat.pdf,
     ".svg": GraphFormat.svg,
     ".png": GraphFormat.png,
     ".gv": GraphFormat.dot,
     ".dot": GraphFormat.dot,
-}
-DEFAULT_NAMES = {
-    GraphFormat.pdf: "frames.pdf",
-    GraphFormat.svg: "frames.svg",
-    GraphFormat.png: "frames.png",
-    GraphFormat.dot: "frames.gv",
 }
 
 
@@ -139,15 +134,20 @@ def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[str]) ->
         return fmt or GraphFormat.pdf, output
     if output is None:
         chosen = fmt or GraphFormat.pdf
-        check_output(Path(DEFAULT_NAMES[chosen]), bags, option="the default output")
-        return chosen, DEFAULT_NAMES[chosen]
+        default = f"frames{_suffix(chosen)}"
+        check_output(Path(default), bags, option="the default output")
+        return chosen, default
     implied = SUFFIXES.get(Path(output).suffix.lower())
     if fmt is not None and implied is not None and implied is not fmt:
         raise UsageError(
             f"--format {fmt.value} does not match the output name {output}",
-            f"name it {Path(output).with_suffix('.' + fmt.value if fmt.value != 'dot' else '.gv')}",
+            f"name it {Path(output).with_suffix(_suffix(fmt))}",
         )
     check_output(Path(output), bags)
     if Path(output).is_dir():
         raise UsageError(f"{output} is a directory", f"give a file name, e.g. {Path(output) / 'frames.pdf'}")
     return fmt or implied or GraphFormat.pdf, output
+
+
+def _suffix(fmt: GraphFormat) -> str:
+    return next(suffix for suffix, named in SUFFIXES.items() if named is fmt)

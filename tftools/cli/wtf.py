@@ -30,7 +30,6 @@ from tftools.cli.common import (
     UsageError,
     count_bar,
     exit_with,
-    local_size,
     progress_bar,
     say_error,
     stdout,
@@ -331,7 +330,7 @@ def _results(todo: list[list[str]], one: Callable[..., BagReport], fleet: Fleet)
     if fleet.dask is not None:
         yield from executors.on_dask(todo, check, fleet.dask)
     elif len(todo) == 1:  # one local recording: a bar of the bytes read, when it is large
-        with progress_bar(enabled=sum(local_size(p) for p in todo[0]) > 20_000_000) as progress:
+        with progress_bar(todo[0]) as progress:
             yield from executors.in_process(todo, timed(functools.partial(one, progress=progress), fleet.timeout))
     elif fleet.jobs <= 1:
         yield from executors.in_process(todo, check)

@@ -11,9 +11,7 @@ from typing import cast
 import graphviz
 
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode, frame_graph
-from tftools.analysis.wtf import check
-from tftools.core.buffer import Buffer
+from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import is_printable, printable
 from tftools.sources.recording import Recording
@@ -41,28 +39,6 @@ ROOT_FILL = "#dbe7f6"
 FRAME_FILL = "#f4f6f9"
 COLOURS = {Severity.error: "#d62728", Severity.warning: "#e67e00", Severity.info: "#6b6b6b"}
 FILLS = {Severity.error: "#fde2e1", Severity.warning: "#fff0d9", Severity.info: FRAME_FILL}
-
-
-def dot_source(
-    source: Buffer | Recording,
-    findings: Sequence[Finding] | None = None,
-    *,
-    legend: Sequence[str] = (),
-    rankdir: str = "TB",
-    brief: bool = False,
-) -> str:
-    """Graphviz source of the frame graph of a recording or buffer, ``findings`` (default: ``tfx wtf``'s,
-    ``tftools.analysis.wtf.check``) in colour. The legend says ``legend``, else the recording's span
-    and files (a buffer's: its time)."""
-    if isinstance(source, Recording):
-        buffer = source.buffer
-        legend = legend or recording_legend(source)
-    else:
-        buffer = source
-        legend = legend or [f"Recorded at time: {format_sec(buffer.now(), 3)}"]
-    graph = frame_graph(buffer, check(source) if findings is None else findings)
-    text: str = to_digraph(graph, legend, rankdir=rankdir, brief=brief).source
-    return text
 
 
 def recording_legend(recording: Recording) -> list[str]:
