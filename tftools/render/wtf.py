@@ -136,18 +136,12 @@ def _fleet_line(reports: Sequence[BagReport], strict: bool) -> Text:
 
 
 def finding_dict(finding: Finding) -> dict[str, Any]:
-    """A finding with times in seconds (null where unknown) and lists for tuples."""
+    """A finding's fields, its times in seconds (null where unknown)."""
     return {
+        **asdict(finding),
         "severity": finding.severity.value,
-        "code": finding.code,
-        "message": finding.message,
-        "hint": finding.hint,
-        "frames": list(finding.frames),
-        "authorities": list(finding.authorities),
         "first_time": finding.first_time / NS_PER_S if finding.first_time else None,
         "last_time": finding.last_time / NS_PER_S if finding.last_time else None,
-        "count": finding.count,
-        "skipped": finding.skipped,
     }
 
 
