@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import TypeVar
 
 from tftools.cli.common import UsageError
 from tftools.core.time import NS_PER_S, from_sec, to_sec
@@ -51,6 +52,21 @@ def parse_time(text: str, recording: Recording, option: str = "TIME") -> int:
             f"give {TIME_FORMS}, e.g. {option} +{length / 2:.1f}",
         )
     return base + from_sec(value)
+
+
+Default = TypeVar("Default", int, None)
+
+
+def time_range(
+    recording: Recording, start: str | None, end: str | None, default: tuple[Default, Default]
+) -> tuple[int | Default, int | Default]:
+    """``--start`` and ``--end`` as nanoseconds (``default`` where not given); a ``UsageError`` when
+    the range is empty."""
+    first = parse_time(start, recording, "--start") if start is not None else default[0]
+    last = parse_time(end, recording, "--end") if end is not None else default[1]
+    if first is not None and last is not None and last < first:
+        raise UsageError("the time range is empty", "--start must come before --end")
+    return first, last
 
 
 def positive_seconds(value: float, option: str, example: str = "5") -> float:

@@ -14,7 +14,7 @@ import typer
 
 from tftools.analysis.echo import EchoSeries, chain_span, echo, joined, sample_times, ticks
 from tftools.cli import live
-from tftools.cli.arguments import echo_line_count, parse_time, positive_seconds, rate_hz
+from tftools.cli.arguments import echo_line_count, parse_time, positive_seconds, rate_hz, time_range
 from tftools.cli.common import (
     BagOption,
     EndOption,
@@ -203,10 +203,7 @@ def _play(
 ) -> Exit:
     """--play: the bag replayed on a sim clock into a tf2-sized buffer, as tf_echo sees a live
     system: the latest transform, ``rate`` times a second of wall (= bag) time."""
-    first = parse_time(start, recording, "--start") if start is not None else None
-    last = parse_time(end, recording, "--end") if end is not None else None
-    if first is not None and last is not None and last < first:
-        raise UsageError("the time range is empty", "--start must come before --end")
+    first, last = time_range(recording, start, end, default=(None, None))
     replay = replay_of(recording, start=first, end=last)
     buffer = Buffer(clock=replay.clock, semantics=recording.buffer.semantics)
 
@@ -263,10 +260,7 @@ def _times(
     if at is not None:
         return np.array([0 if at.strip() == "0" else parse_time(at, recording, "--at")], np.int64)
     span = chain_span(recording.buffer, target, source) or (recording.timeline.tf_start, recording.timeline.tf_end)
-    first = parse_time(start, recording, "--start") if start is not None else span[0]
-    last = parse_time(end, recording, "--end") if end is not None else span[1]
-    if last < first:
-        raise UsageError("the time range is empty", "--start must come before --end")
+    first, last = time_range(recording, start, end, default=span)
     if every:
         return sample_times(recording.buffer, target, source, first, last)
     echo_line_count(first, last, rate)

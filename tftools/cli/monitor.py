@@ -14,7 +14,7 @@ from rich.live import Live
 from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
 from tftools.analysis.timelines import EdgeSeries, MonitorTrace, edge_series
 from tftools.cli import live
-from tftools.cli.arguments import parse_time, positive_seconds, rate_hz
+from tftools.cli.arguments import positive_seconds, rate_hz, time_range
 from tftools.cli.common import (
     BagOption,
     EndOption,
@@ -128,10 +128,7 @@ def command(
     if target is not None and source is not None:
         target = frame_argument(recording.buffer, target)
         source = frame_argument(recording.buffer, source)
-    first = parse_time(start, recording, "--start") if start is not None else None
-    last = parse_time(end, recording, "--end") if end is not None else None
-    if first is not None and last is not None and last < first:
-        raise UsageError("the time range is empty", "--start must come before --end")
+    first, last = time_range(recording, start, end, default=(None, None))
     timeline = recording.timeline
     if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
         span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
