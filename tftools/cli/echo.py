@@ -106,7 +106,6 @@ def command(
     plot: Annotated[
         Path | None,
         typer.Option(
-            "--plot",
             help=f"Draw translation and roll/pitch/yaw over time into this picture ({PLOT_FILE}): on a bag instead of "
             "the lines (every sample, unless --rate), live and with --play when they end.",
         ),

@@ -46,43 +46,34 @@ class MonitorFormat(str, enum.Enum):
     json = "json"
 
 
-TargetArgument = Annotated[
-    str | None, typer.Argument(help="With SOURCE: the chain between them (tf_monitor's framea).")
-]
-SourceArgument = Annotated[str | None, typer.Argument(help="The other end of the chain (tf_monitor's frameb).")]
-PlayOption = Annotated[
-    bool, typer.Option("--play", help="Replay the bag on a simulated clock and refresh the table live.")
-]
-RateOption = Annotated[float, typer.Option("--rate", "-r", help="With --play: replay speed, 1 = real time.")]
-WindowOption = Annotated[float, typer.Option(help="Live: the table covers the last WINDOW seconds.")]
-DurationOption = Annotated[float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.")]
-FormatOption = Annotated[MonitorFormat, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")]
-PlotOption = Annotated[
-    Path | None,
-    typer.Option(
-        "--plot",
-        help=f"Draw each edge's rate and delay over time into this picture ({PLOT_FILE}): on a bag instead of the "
-        "table (with TARGET SOURCE, the chain's edges), live and with --play each refresh's, when it ends.",
-    ),
-]
-
-
 def command(
-    target: TargetArgument = None,
-    source: SourceArgument = None,
+    target: Annotated[
+        str | None, typer.Argument(help="With SOURCE: the chain between them (tf_monitor's framea).")
+    ] = None,
+    source: Annotated[str | None, typer.Argument(help="The other end of the chain (tf_monitor's frameb).")] = None,
     bags: BagOption = None,
     start: StartOption = None,
     end: EndOption = None,
-    play: PlayOption = False,
-    rate: RateOption = 1.0,
-    window: WindowOption = 10.0,
-    duration: DurationOption = None,
-    fmt: FormatOption = MonitorFormat.text,
+    play: Annotated[
+        bool, typer.Option("--play", help="Replay the bag on a simulated clock and refresh the table live.")
+    ] = False,
+    rate: Annotated[float, typer.Option("--rate", "-r", help="With --play: replay speed, 1 = real time.")] = 1.0,
+    window: Annotated[float, typer.Option(help="Live: the table covers the last WINDOW seconds.")] = 10.0,
+    duration: Annotated[float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.")] = None,
+    fmt: Annotated[
+        MonitorFormat, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")
+    ] = MonitorFormat.text,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
     ros1: RosOption = None,
     use_sim_time: UseSimTimeOption = None,
-    plot: PlotOption = None,
+    plot: Annotated[
+        Path | None,
+        typer.Option(
+            help=f"Draw each edge's rate and delay over time into this picture ({PLOT_FILE}): on a bag instead of the "
+            "table (with TARGET SOURCE, the chain's edges), live and with --play each refresh's, when it ends.",
+        ),
+    ] = None,
 ) -> None:
     """Rates, jitter, gaps and delays of every edge and publisher, as tf_monitor shows them.
 

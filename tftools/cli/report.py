@@ -39,16 +39,14 @@ from tftools.sources.storage.locations import expand
 
 DEFAULT_OUTPUT = "report.html"
 
-OutputOption = Annotated[
-    Path,
-    typer.Option("--output", "-o", help="The HTML file to write (never over, into or above an input)."),
-]
-
 
 def command(
     paths: PathsArgument = None,
     bags: BagOption = None,
-    output: OutputOption = Path(DEFAULT_OUTPUT),
+    output: Annotated[
+        Path,
+        typer.Option("--output", "-o", help="The HTML file to write (never over, into or above an input)."),
+    ] = Path(DEFAULT_OUTPUT),
     topics: TopicOption = None,
     tf2: Tf2Option = None,
     target: TargetOption = None,

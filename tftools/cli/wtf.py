@@ -61,67 +61,6 @@ PathsArgument = Annotated[
         metavar="BAG",
     ),
 ]
-FormatOption = Annotated[
-    WtfFormat,
-    typer.Option(
-        "--format",
-        "-f",
-        help="text, json (one document), jsonl (a line per recording as it finishes, then a summary line: "
-        "a long run can be followed, and resumed), or junit (XML for CI).",
-    ),
-]
-StrictOption = Annotated[bool, typer.Option("--strict", help="Warnings fail too (exit 1, JUnit failures).")]
-JobsOption = Annotated[
-    int, typer.Option("--jobs", "-j", help="Check this many recordings at once (0: one per CPU).", min=0)
-]
-DaskOption = Annotated[
-    str | None,
-    typer.Option(
-        "--dask",
-        envvar="DASK_SCHEDULER_ADDRESS",
-        help="Check each recording as a task on this Dask cluster (its scheduler's address, e.g. "
-        "tcp://10.0.0.5:8786; needs pip install 'tftools[fleet]' here and tftools on the workers). A task that "
-        "fails runs once more; one whose workers die is retried as the scheduler's allowed-failures says.",
-    ),
-]
-TimeoutOption = Annotated[
-    float | None,
-    typer.Option(
-        "--timeout",
-        help="Give up a recording's check after this many seconds (reported as not checked; on Dask, tried twice).",
-    ),
-]
-ResumeOption = Annotated[
-    Path | None,
-    typer.Option(
-        "--resume",
-        help="Skip the recordings this earlier --format jsonl report has done, and include its results "
-        "(tfx wtf logs/*.bag -f jsonl --resume run1.jsonl > run2.jsonl).",
-    ),
-]
-IgnoreOption = Annotated[
-    list[str] | None,
-    typer.Option("--ignore", help="Skip the check with this code (repeat for more; see --list-checks)."),
-]
-ListOption = Annotated[
-    bool, typer.Option("--list-checks", help="List the checks, their codes and severities, and exit.")
-]
-StaleOption = Annotated[
-    float,
-    typer.Option("--stale-after", help="An edge silent this many seconds before the end has stopped (and 10 periods)."),
-]
-GapOption = Annotated[
-    float, typer.Option("--max-gap", help="A pause longer than this many seconds (and 10 periods) is a gap.")
-]
-DelayOption = Annotated[
-    float,
-    typer.Option(
-        "--delay", help="An edge whose transforms arrive this many seconds after their stamp (over 5%) is late."
-    ),
-]
-FutureOption = Annotated[
-    float, typer.Option("--future", help="Stamps this many seconds ahead of their arrival are from the future.")
-]
 TargetOption = Annotated[
     str | None,
     typer.Option(
@@ -138,45 +77,88 @@ SensorOption = Annotated[
         "start with a Header; live, none (listening to every camera would load the network).",
     ),
 ]
-InitOption = Annotated[
-    bool,
-    typer.Option("--init", help="Write the bag's tree as a tree file for --expect (tfx wtf --init BAG > tree.yaml)."),
-]
-ExpectOption = Annotated[
-    Path | None,
-    typer.Option(
-        "--expect",
-        help="Check against this tree file (--init writes one): frames missing or new, other parents, static "
-        "edges moved beyond the tolerances, slower edges, other publishers.",
-    ),
-]
-ClockOption = Annotated[
-    float, typer.Option("--clock", help="Stamps this many seconds behind their arrival (median) are on another clock.")
-]
 
 
 def command(
     paths: PathsArgument = None,
     bags: BagOption = None,
-    fmt: FormatOption = WtfFormat.text,
-    strict: StrictOption = False,
-    jobs: JobsOption = 1,
-    dask: DaskOption = None,
-    timeout: TimeoutOption = None,
-    resume: ResumeOption = None,
-    ignore: IgnoreOption = None,
-    list_checks: ListOption = False,
-    stale_after: StaleOption = _DEFAULTS.stale_after,
-    max_gap: GapOption = _DEFAULTS.max_gap,
-    delay: DelayOption = _DEFAULTS.delay,
-    future: FutureOption = _DEFAULTS.future,
-    clock: ClockOption = _DEFAULTS.clock,
+    fmt: Annotated[
+        WtfFormat,
+        typer.Option(
+            "--format",
+            "-f",
+            help="text, json (one document), jsonl (a line per recording as it finishes, then a summary line: "
+            "a long run can be followed, and resumed), or junit (XML for CI).",
+        ),
+    ] = WtfFormat.text,
+    strict: Annotated[bool, typer.Option("--strict", help="Warnings fail too (exit 1, JUnit failures).")] = False,
+    jobs: Annotated[
+        int, typer.Option("--jobs", "-j", help="Check this many recordings at once (0: one per CPU).", min=0)
+    ] = 1,
+    dask: Annotated[
+        str | None,
+        typer.Option(
+            envvar="DASK_SCHEDULER_ADDRESS",
+            help="Check each recording as a task on this Dask cluster (its scheduler's address, e.g. "
+            "tcp://10.0.0.5:8786; needs pip install 'tftools[fleet]' here and tftools on the workers). A task that "
+            "fails runs once more; one whose workers die is retried as the scheduler's allowed-failures says.",
+        ),
+    ] = None,
+    timeout: Annotated[
+        float | None,
+        typer.Option(
+            help="Give up a recording's check after this many seconds (reported as not checked; on Dask, tried twice).",
+        ),
+    ] = None,
+    resume: Annotated[
+        Path | None,
+        typer.Option(
+            help="Skip the recordings this earlier --format jsonl report has done, and include its results "
+            "(tfx wtf logs/*.bag -f jsonl --resume run1.jsonl > run2.jsonl).",
+        ),
+    ] = None,
+    ignore: Annotated[
+        list[str] | None,
+        typer.Option(help="Skip the check with this code (repeat for more; see --list-checks)."),
+    ] = None,
+    list_checks: Annotated[
+        bool, typer.Option("--list-checks", help="List the checks, their codes and severities, and exit.")
+    ] = False,
+    stale_after: Annotated[
+        float,
+        typer.Option(help="An edge silent this many seconds before the end has stopped (and 10 periods)."),
+    ] = _DEFAULTS.stale_after,
+    max_gap: Annotated[
+        float, typer.Option(help="A pause longer than this many seconds (and 10 periods) is a gap.")
+    ] = _DEFAULTS.max_gap,
+    delay: Annotated[
+        float,
+        typer.Option(help="An edge whose transforms arrive this many seconds after their stamp (over 5%) is late."),
+    ] = _DEFAULTS.delay,
+    future: Annotated[
+        float, typer.Option(help="Stamps this many seconds ahead of their arrival are from the future.")
+    ] = _DEFAULTS.future,
+    clock: Annotated[
+        float,
+        typer.Option(help="Stamps this many seconds behind their arrival (median) are on another clock."),
+    ] = _DEFAULTS.clock,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
     target: TargetOption = None,
     sensors: SensorOption = None,
-    init: InitOption = False,
-    expect: ExpectOption = None,
+    init: Annotated[
+        bool,
+        typer.Option(
+            "--init", help="Write the bag's tree as a tree file for --expect (tfx wtf --init BAG > tree.yaml)."
+        ),
+    ] = False,
+    expect: Annotated[
+        Path | None,
+        typer.Option(
+            help="Check against this tree file (--init writes one): frames missing or new, other parents, static "
+            "edges moved beyond the tolerances, slower edges, other publishers.",
+        ),
+    ] = None,
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
     tolerance_rate: expected_tree.ToleranceRateOption = None,
