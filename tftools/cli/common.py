@@ -44,6 +44,13 @@ class Exit(enum.IntEnum):
     UNUSABLE = 2  # bad arguments or input that could not be used
 
 
+class TextOrJson(str, enum.Enum):
+    """``--format`` of a command that prints text or one JSON document."""
+
+    text = "text"
+    json = "json"
+
+
 class UsageError(TfToolsError):
     """Arguments that cannot work together, or name something that is not there."""
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import enum
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -13,25 +12,18 @@ from tftools.analysis.diff import compare
 from tftools.analysis.expected import TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
 from tftools.cli import expected as expected_tree
-from tftools.cli.common import Exit, Tf2Option, TopicOption, exit_with, open_recording
+from tftools.cli.common import Exit, TextOrJson, Tf2Option, TopicOption, exit_with, open_recording
 from tftools.core.semantics import Semantics
 from tftools.render import diff as render
 from tftools.sources.storage.locations import is_url
 
 
-class DiffFormat(str, enum.Enum):
-    text = "text"
-    json = "json"
-
-
-def _side(help_text: str) -> object:
-    return typer.Argument(help=help_text)
-
-
 def command(
-    first: Annotated[str, _side("A: a recording (.bag, .db3, .mcap, bag directory, or a URL) or a tree file (.yaml).")],
-    second: Annotated[str, _side("B: the same, compared with A.")],
-    fmt: Annotated[DiffFormat, typer.Option("--format", "-f", help="text, or json (one document).")] = DiffFormat.text,
+    first: Annotated[
+        str, typer.Argument(help="A: a recording (.bag, .db3, .mcap, bag directory, or a URL) or a tree file (.yaml).")
+    ],
+    second: Annotated[str, typer.Argument(help="B: the same, compared with A.")],
+    fmt: Annotated[TextOrJson, typer.Option("--format", "-f", help="text, or json (one document).")] = TextOrJson.text,
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
     tolerance_rate: expected_tree.ToleranceRateOption = None,
@@ -55,7 +47,7 @@ def command(
     tolerances = expected_tree.tolerances(base, tolerance_mm, tolerance_deg, tolerance_rate)
     differences = compare(a, b, tolerances)
     code = Exit.PROBLEMS if differences else Exit.OK
-    if fmt is DiffFormat.json:
+    if fmt is TextOrJson.json:
         render.write_json(a, b, differences, tolerances, int(code), sys.stdout)
     else:
         render.write_text(a, b, differences, tolerances, sys.stdout)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import enum
 from typing import Annotated
 
 import typer
@@ -13,6 +12,7 @@ from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
     BagOption,
     Exit,
+    TextOrJson,
     Tf2Option,
     UsageError,
     exit_with,
@@ -25,11 +25,6 @@ from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.core.time import from_sec
 from tftools.render import filter as render
 from tftools.sources.bag.stamped import read_stamped
-
-
-class FilterFormat(str, enum.Enum):
-    text = "text"
-    json = "json"
 
 
 def command(
@@ -47,7 +42,7 @@ def command(
     cache: Annotated[float, typer.Option(help="The listener's cache length, seconds (tf2's default 10).")] = 10.0,
     wait: Annotated[float | None, typer.Option(help="A filter timeout, seconds: count what it would drop.")] = None,
     queue: Annotated[int | None, typer.Option(min=1, help="A filter queue size: count what it would drop.")] = None,
-    fmt: Annotated[FilterFormat, typer.Option("--format", "-f", help="text (a table) or json.")] = FilterFormat.text,
+    fmt: Annotated[TextOrJson, typer.Option("--format", "-f", help="text (a table) or json.")] = TextOrJson.text,
     tf2: Tf2Option = None,
     duration: ListenOption = 5.0,
     ros1: RosOption = None,
@@ -89,7 +84,7 @@ def command(
     report = filter_report(
         recording.buffer, stamped.streams, chosen, from_sec(cache), from_sec(wait) if wait is not None else None, queue
     )
-    if fmt is FilterFormat.json:
+    if fmt is TextOrJson.json:
         render.write_json(report, stdout.file)
     else:
         stdout.print(render.renderable(report, ", ".join(f.path for f in recording.contents.files)))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import enum
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Annotated
@@ -19,6 +18,7 @@ from tftools.cli.common import (
     BagOption,
     EndOption,
     StartOption,
+    TextOrJson,
     Tf2Option,
     TopicOption,
     UsageError,
@@ -41,11 +41,6 @@ from tftools.sources.replay import Feed, follow, replay_of
 from tftools.sources.timeline import Timeline
 
 
-class MonitorFormat(str, enum.Enum):
-    text = "text"
-    json = "json"
-
-
 def command(
     target: Annotated[
         str | None, typer.Argument(help="With SOURCE: the chain between them (tf_monitor's framea).")
@@ -61,8 +56,8 @@ def command(
     window: Annotated[float, typer.Option(help="Live: the table covers the last WINDOW seconds.")] = 10.0,
     duration: Annotated[float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.")] = None,
     fmt: Annotated[
-        MonitorFormat, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")
-    ] = MonitorFormat.text,
+        TextOrJson, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")
+    ] = TextOrJson.text,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
     ros1: RosOption = None,
@@ -136,7 +131,7 @@ def command(
         keys = [e.key for e in report.chain.edges] if report.chain is not None else None
         series = edge_series(recording.buffer, recording.timeline, first, last, keys)
         write_plot(monitor_figure(series, _header(recording, report)), plot, _plotted(series))
-    elif fmt is MonitorFormat.json:
+    elif fmt is TextOrJson.json:
         render.write_json(report, stdout.file)
     else:
         stdout.print(render.renderable(report, _header(recording, report)))
@@ -148,7 +143,7 @@ def watch(
     source: str | None,
     window: int,
     duration: float | None,
-    fmt: MonitorFormat,
+    fmt: TextOrJson,
     note: str = "",
     timeline: Timeline | None = None,
     semantics: Semantics = "ros1",
@@ -180,7 +175,7 @@ def watch(
         follow(feed, on_batch, on_tick, duration=duration)
 
     try:
-        if fmt is MonitorFormat.json:
+        if fmt is TextOrJson.json:
             run(lambda: render.write_json_line(report(), stdout.file))
         elif stdout.is_terminal:
             with Live(console=stdout, auto_refresh=False) as screen:

@@ -51,6 +51,14 @@ class WtfFormat(str, enum.Enum):
 
 
 _DEFAULTS = Thresholds()
+#: The --help of each of the checks' thresholds (``Thresholds``, in seconds).
+_THRESHOLD_HELP = {
+    "stale_after": "An edge silent this many seconds before the end has stopped (and 10 periods).",
+    "max_gap": "A pause longer than this many seconds (and 10 periods) is a gap.",
+    "delay": "An edge whose transforms arrive this many seconds after their stamp (over 5%) is late.",
+    "future": "Stamps this many seconds ahead of their arrival are from the future.",
+    "clock": "Stamps this many seconds behind their arrival (median) are on another clock.",
+}
 
 PathsArgument = Annotated[
     list[str] | None,
@@ -124,24 +132,11 @@ def command(
     list_checks: Annotated[
         bool, typer.Option("--list-checks", help="List the checks, their codes and severities, and exit.")
     ] = False,
-    stale_after: Annotated[
-        float,
-        typer.Option(help="An edge silent this many seconds before the end has stopped (and 10 periods)."),
-    ] = _DEFAULTS.stale_after,
-    max_gap: Annotated[
-        float, typer.Option(help="A pause longer than this many seconds (and 10 periods) is a gap.")
-    ] = _DEFAULTS.max_gap,
-    delay: Annotated[
-        float,
-        typer.Option(help="An edge whose transforms arrive this many seconds after their stamp (over 5%) is late."),
-    ] = _DEFAULTS.delay,
-    future: Annotated[
-        float, typer.Option(help="Stamps this many seconds ahead of their arrival are from the future.")
-    ] = _DEFAULTS.future,
-    clock: Annotated[
-        float,
-        typer.Option(help="Stamps this many seconds behind their arrival (median) are on another clock."),
-    ] = _DEFAULTS.clock,
+    stale_after: Annotated[float, typer.Option(help=_THRESHOLD_HELP["stale_after"])] = _DEFAULTS.stale_after,
+    max_gap: Annotated[float, typer.Option(help=_THRESHOLD_HELP["max_gap"])] = _DEFAULTS.max_gap,
+    delay: Annotated[float, typer.Option(help=_THRESHOLD_HELP["delay"])] = _DEFAULTS.delay,
+    future: Annotated[float, typer.Option(help=_THRESHOLD_HELP["future"])] = _DEFAULTS.future,
+    clock: Annotated[float, typer.Option(help=_THRESHOLD_HELP["clock"])] = _DEFAULTS.clock,
     topics: TopicOption = None,
     tf2: Tf2Option = None,
     target: TargetOption = None,
