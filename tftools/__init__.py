@@ -40,34 +40,11 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 
 __all__ = [
-    "DEFAULT_CACHE_TIME",
-    "LATEST",
-    "NS_PER_S",
-    "SEMANTICS",
-    "BatchBuilder",
-    "Buffer",
-    "ConnectivityError",
-    "EdgeHistory",
-    "ExtrapolationError",
-    "InvalidArgumentError",
-    "LookupBatch",
-    "Recording",
-    "Rejection",
-    "RejectionCode",
-    "Semantics",
-    "SimClock",
-    "TfToolsError",
-    "Transform",
-    "TransformBatch",
-    "TransformError",
-    "UnknownFrameError",
-    "WallClock",
-    "format_sec",
-    "from_sec",
-    "load",
-    "read_recording",
-    "to_sec",
-]
+    "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "ConnectivityError",
+    "EdgeHistory", "ExtrapolationError", "InvalidArgumentError", "LookupBatch", "Recording", "Rejection",
+    "RejectionCode", "Semantics", "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError",
+    "UnknownFrameError", "WallClock", "format_sec", "from_sec", "load", "read_recording", "to_sec",
+]  # fmt: skip
 
 #: The names ``tftools.sources`` exports; the others come from ``tftools.core``.
 _FROM_SOURCES = {"Recording", "load", "read_recording"}
