@@ -125,12 +125,6 @@ def warn(message: str) -> None:
     stderr.print(Text("tfx: warning:", style="yellow"), Text(printable(message)))
 
 
-def require_bags(bags: Sequence[str] | None) -> Sequence[str]:
-    if not bags:
-        raise UsageError("this needs a recording", "give one with -b BAG")
-    return bags
-
-
 #: Local bags larger than this together are read with a progress bar.
 LARGE_BYTES = 20_000_000
 
@@ -166,18 +160,22 @@ def _bar(label: str, total: int | None, enabled: bool = True) -> Iterator[Callab
 
 
 def open_recording(
-    bags: Sequence[str] | None, topics: Sequence[str] | None, semantics: Semantics | None = None
+    bags: Sequence[str] | None,
+    topics: Sequence[str] | None,
+    semantics: Semantics | None = None,
+    ros1: bool | None = None,
+    use_sim_time: bool | None = None,
+    duration: float = 5.0,
 ) -> Recording:
     """Read the bags into one recording, with a progress bar; report what could not be read.
 
-    Without bags: what the live system says in 5 s (``tftools.cli.live`` for more options)."""
+    Without bags: what the live system says in ``duration`` seconds (``tftools.cli.live``)."""
     if not bags:
-        from tftools.cli.live import capture_recording  # the live modules load only when listening
+        from tftools.cli.live import capture_live  # the live modules load only when listening
 
-        return capture_recording(topics=topics)
-    paths = require_bags(bags)
-    with progress_bar(paths) as progress:
-        recording = read_recording(paths, topics, progress, semantics=semantics)
+        return capture_live(ros1, use_sim_time, duration, topics, semantics)[0]
+    with progress_bar(bags) as progress:
+        recording = read_recording(bags, topics, progress, semantics=semantics)
     for problem in recording.problems:
         warn(problem)
     return recording

@@ -39,12 +39,7 @@ def command(
 
     Example: [cyan]tfx frames -b robot.bag --format yaml[/]
     """
-    if bags:
-        recording = open_recording(bags, topics, tf2)
-    else:
-        from tftools.cli.live import capture_recording  # loads only to listen
-
-        recording = capture_recording(ros1, use_sim_time, duration, topics, tf2)
+    recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
     tree = frame_tree(recording.buffer)
     if fmt is FramesFormat.json:
         render.write_json(tree, stdout.file)

@@ -16,6 +16,7 @@ from tftools.render.escape import printable
 from tftools.sources import Recording
 
 if TYPE_CHECKING:
+    from tftools.sources.contents import StampedMessages
     from tftools.sources.headers import StampedRead
     from tftools.sources.live import LiveSource
 
@@ -46,18 +47,31 @@ def cache_time(seconds: float) -> int:
     return from_sec(positive_seconds(seconds, "--cache", "10 (tf2's default)"))
 
 
-def capture_recording(
-    ros1: bool | None = None,
-    use_sim_time: bool | None = None,
-    duration: float = 5.0,
+def capture_live(
+    ros1: bool | None,
+    use_sim_time: bool | None,
+    duration: float,
     topics: Sequence[str] | None = None,
     semantics: Semantics | None = None,
-) -> Recording:
-    """Listen ``duration`` seconds to the live system and return what was heard; an error if nothing."""
+    sensors: Sequence[str] | None = None,
+    *,
+    require_tf: bool = True,
+) -> tuple[Recording, list[StampedMessages]]:
+    """What the live system says in ``duration`` seconds: tf, and the headers of the ``sensors`` topics
+    (none unless named: listening to every camera would load the network), their problems as warnings.
+    Hearing no transform is an error, unless not ``require_tf``."""
     from tftools.sources.live.capture import capture
+    from tftools.sources.live.sensor_headers import capture_stamped
 
     source = _start_listening(ros1, use_sim_time, duration, topics)
-    return _transforms_heard(capture(source, duration, semantics=semantics), source, duration)
+    if not sensors:
+        recording, streams = capture(source, duration, semantics=semantics), []
+    else:
+        recording, stamped = capture_stamped(source, duration, sensors, semantics=semantics)
+        streams = stamped.streams
+        for problem in stamped.problems:
+            warn(problem)
+    return _transforms_heard(recording, source, duration) if require_tf else recording, streams
 
 
 def capture_with_headers(
@@ -67,8 +81,8 @@ def capture_with_headers(
     sensor_topics: Sequence[str] | None = None,
     semantics: Semantics | None = None,
 ) -> tuple[Recording, StampedRead]:
-    """As ``capture_recording`` (tf on /tf and /tf_static), and the headers of the sensor topics
-    heard meanwhile (default: every topic whose messages start with a header)."""
+    """As ``capture_live`` (tf on /tf and /tf_static), and the headers of the sensor topics heard
+    meanwhile (default: every topic whose messages start with a header), their problems not yet said."""
     from tftools.sources.live.sensor_headers import capture_stamped
 
     source = _start_listening(ros1, use_sim_time, duration)

@@ -79,7 +79,7 @@ def command(
     if groups:
         sections = _bag_sections(groups, topics, tf2, target, sensors)
     else:
-        recording, streams = _listen(ros1, use_sim_time, duration, topics, tf2, sensors)
+        recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors)
         sections = [_section(0, recording, streams, target)]
     title = "tfx report: " + (sections[0].name if len(sections) == 1 else counted(len(sections), "recording"))
     write_atomically(output, page(title, sections).encode())
@@ -129,21 +129,3 @@ def _bag_sections(
 
 def _section(index: int, recording: Recording, streams: Sequence[StampedMessages], target: str | None) -> Section:
     return recording_section(index, recording_report(recording, streams, target=target), recording_legend(recording))
-
-
-def _listen(
-    ros1: bool | None,
-    use_sim_time: bool | None,
-    duration: float,
-    topics: Sequence[str] | None,
-    semantics: Semantics | None,
-    sensors: Sequence[str] | None,
-) -> tuple[Recording, list[StampedMessages]]:
-    """What the live system says in ``duration`` seconds: tf, and the headers of the ``sensors`` topics
-    (none unless named: listening to every camera would load the network)."""
-    if not sensors:
-        return live.capture_recording(ros1, use_sim_time, duration, topics, semantics), []
-    recording, stamped = live.capture_with_headers(ros1, use_sim_time, duration, sensors, semantics)
-    for problem in stamped.problems:
-        warn(problem)
-    return recording, stamped.streams

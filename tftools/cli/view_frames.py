@@ -13,7 +13,6 @@ import typer
 from tftools.analysis.findings import Severity
 from tftools.analysis.graph import frame_graph
 from tftools.analysis.wtf import check
-from tftools.cli import live
 from tftools.cli.common import (
     BagOption,
     Exit,
@@ -106,9 +105,7 @@ def command(
     [cyan]tfx view-frames -b robot.bag -o tree.svg --rankdir LR --brief[/]
     """
     chosen, target = _output(output, fmt, bags or [])
-    recording = (
-        open_recording(bags, topics, tf2) if bags else live.capture_recording(ros1, use_sim_time, duration, topics, tf2)
-    )
+    recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
     findings = check(recording)  # tfx wtf's findings, drawn where they are
     graph = frame_graph(recording.buffer, findings)
     dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)

@@ -340,19 +340,7 @@ def _check_live(
 ) -> BagReport:
     """Listen ``duration`` seconds and check what was heard (nothing heard is the ``no_tf`` error),
     with the data of the ``sensors`` topics (none unless named)."""
-    positive_seconds(duration, "--duration")
-    from tftools.sources.live.capture import capture
-    from tftools.sources.live.sensor_headers import capture_stamped
-
-    source = live.open_source(ros1, use_sim_time, topics)
-    live.say(f"listening to {source.describe()} for {duration:g} s")
-    if not sensors:
-        recording, streams = capture(source, duration, semantics=semantics), []
-    else:
-        recording, stamped = capture_stamped(source, duration, sensors, semantics=semantics)
-        streams = stamped.streams
-        for problem in stamped.problems:
-            warn(problem)
+    recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, semantics, sensors, require_tf=False)
     for problem in recording.problems:
         warn(problem)
     return check_recording(recording, streams, thresholds, ignore, target, expected)
