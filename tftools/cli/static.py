@@ -142,22 +142,22 @@ def _given(
             raise UsageError("give a quaternion or roll/pitch/yaw, not both", "--qx .. --qw or --roll --pitch --yaw")
         qw_given = numbers["qw"] if numbers["qw"] is not None else 1.0
         return [Transform(translation, (value["qx"], value["qy"], value["qz"], qw_given), 0, frame, child)]
-    rpy = (_angle(value["roll"], degrees), _angle(value["pitch"], degrees), _angle(value["yaw"], degrees))
-    return [Transform.from_rpy(translation, rpy, 0, frame, child)]
+    return [_from_rpy(translation, (value["roll"], value["pitch"], value["yaw"]), degrees, frame, child)]
 
 
-def _angle(value: float, degrees: bool) -> float:
-    return math.radians(value) if degrees else value
+def _from_rpy(
+    translation: tuple[float, float, float], rpy: tuple[float, float, float], degrees: bool, frame: str, child: str
+) -> Transform:
+    roll, pitch, yaw = (math.radians(angle) if degrees else angle for angle in rpy)
+    return Transform.from_rpy(translation, (roll, pitch, yaw), 0, frame, child)
 
 
 def _positional(arguments: list[str], degrees: bool = False) -> Transform:
     """static_transform_publisher's positional forms; tf1's trailing period is accepted and ignored."""
-    if len(arguments) == 9 and not _is_number(arguments[6]) and _is_number(arguments[8]):
+    with_period = len(arguments) == 10 or (len(arguments) == 9 and not _is_number(arguments[6]))
+    if with_period and _is_number(arguments[-1]):
         warn("the period (tf1's last argument) is not needed: /tf_static is latched")
-        arguments = arguments[:8]
-    elif len(arguments) == 10 and _is_number(arguments[9]):
-        warn("the period (tf1's last argument) is not needed: /tf_static is latched")
-        arguments = arguments[:9]
+        arguments = arguments[:-1]
     if len(arguments) not in (8, 9):
         raise UsageError(
             f"{len(arguments)} arguments: expected 8 (x y z yaw pitch roll frame child) "
@@ -168,8 +168,7 @@ def _positional(arguments: list[str], degrees: bool = False) -> Transform:
     numbers = [_number(v) for v in values]
     if len(numbers) == 6:
         x, y, z, yaw, pitch, roll = numbers
-        rpy = (_angle(roll, degrees), _angle(pitch, degrees), _angle(yaw, degrees))
-        return Transform.from_rpy((x, y, z), rpy, 0, frame, child)
+        return _from_rpy((x, y, z), (roll, pitch, yaw), degrees, frame, child)
     x, y, z, *quaternion = numbers
     return Transform((x, y, z), tuple(quaternion), 0, frame, child)  # type: ignore[arg-type]
 
