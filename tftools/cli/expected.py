@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -16,29 +16,22 @@ from tftools.core.semantics import Semantics
 
 _DEFAULTS = Tolerances()
 
+
+def _tolerance(option: str, beyond: str, default: float) -> Any:
+    return typer.Option(option, help=f"{beyond} differs (default: the tree file's, else {default:g}).")
+
+
 ToleranceMmOption = Annotated[
     float | None,
-    typer.Option(
-        "--tolerance-mm",
-        help=f"A static edge that moved more than this many mm differs (default: the tree file's, else "
-        f"{_DEFAULTS.translation_mm:g}).",
-    ),
+    _tolerance("--tolerance-mm", "A static edge that moved more than this many mm", _DEFAULTS.translation_mm),
 ]
 ToleranceDegOption = Annotated[
     float | None,
-    typer.Option(
-        "--tolerance-deg",
-        help=f"A static edge that turned more than this many degrees differs (default: the tree file's, else "
-        f"{_DEFAULTS.rotation_deg:g}).",
-    ),
+    _tolerance("--tolerance-deg", "A static edge that turned more than this many degrees", _DEFAULTS.rotation_deg),
 ]
 ToleranceRateOption = Annotated[
     float | None,
-    typer.Option(
-        "--tolerance-rate",
-        help=f"A rate that changed more than this many percent differs (default: the tree file's, else "
-        f"{_DEFAULTS.rate_percent:g}).",
-    ),
+    _tolerance("--tolerance-rate", "A rate that changed more than this many percent", _DEFAULTS.rate_percent),
 ]
 
 

@@ -96,18 +96,8 @@ def command(
         if target is not None and source is not None:
             target, source = target.removeprefix("/"), source.removeprefix("/")
         with live.open_source(ros1, use_sim_time, topics) as feed:
-            watch(
-                feed,
-                target,
-                source,
-                from_sec(window),
-                duration,
-                fmt,
-                feed.describe(),
-                None,
-                tf2 or live_semantics(feed),
-                trace,
-            )
+            semantics = tf2 or live_semantics(feed)
+            watch(feed, target, source, from_sec(window), duration, fmt, feed.describe(), None, semantics, trace)
         _write_trace(trace, plot, feed.describe())
         return
     recording = open_recording(bags, topics, tf2)

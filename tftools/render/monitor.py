@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import asdict
 from typing import IO, Any
 
 from rich.console import Group, RenderableType
@@ -128,15 +129,7 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
 
 
 def _chain_dict(c: ChainStats) -> dict[str, Any]:
-    return {
-        "target": c.target,
-        "source": c.source,
-        "frames": list(c.frames),
-        "edges": [_edge_dict(e) for e in c.edges],
-        "delay_mean_s": c.delay_mean_s,
-        "delay_max_s": c.delay_max_s,
-        "limiting": list(c.limiting) if c.limiting is not None else None,
-    }
+    return {**asdict(c), "edges": [_edge_dict(e) for e in c.edges]}
 
 
 def as_dict(report: MonitorReport) -> dict[str, Any]:
