@@ -132,27 +132,27 @@ def command(
         raise UsageError("--at and --all do not go together", "use one of them")
     if fmt in PASTE_FORMATS and at is None and not every and rate_given is None and start is None and end is None:
         at = "0"
+    lines = Lines(fmt, precision, matrix, plot)
     if not bags:
         live.no_bag_options(**{"--at": at, "--all": every, "--start": start, "--end": end, "--play": play})
         feed = live.open_source(ros1, use_sim_time, topics)
-        exit_with(_live(feed, target, source, rate, count, wait, cache, tf2, Lines(fmt, precision, matrix, plot)))
+        exit_with(_live(feed, target, source, rate, count, wait, cache, tf2, lines))
     recording = open_recording(bags, topics, tf2)
     target = frame_argument(recording.buffer, target)
     source = frame_argument(recording.buffer, source)
     if play:
-        exit_with(_play(recording, target, source, rate, start, end, Lines(fmt, precision, matrix, plot)))
+        exit_with(_play(recording, target, source, rate, start, end, lines))
     times = _times(recording, target, source, rate, at, every, start, end)
     series = echo(recording.buffer, target, source, times)
-    if plot is not None:
-        write_plot(echo_figure(series), plot, f"{len(series)} lookups of {target} <- {source}")
-    else:
-        _write(series, fmt, precision, matrix)
-    exit_with(Exit.OK if series.valid.all() else Exit.PROBLEMS)
+    if plot is None:  # on a bag, the picture instead of the lines
+        lines.print(series)
+    lines.shown.append(series)
+    exit_with(lines.done())
 
 
 @dataclass(frozen=True)
 class Lines:
-    """How a replayed or live echo shows its lines, and the picture it draws of them when it ends."""
+    """How echo shows its lookups: lines on stdout, and the picture it draws of those ``shown`` when it ends."""
 
     fmt: EchoFormat
     precision: int
@@ -160,9 +160,23 @@ class Lines:
     plot: Path | None
     shown: list[EchoSeries] = field(default_factory=list)
 
+    def print(self, series: EchoSeries) -> None:
+        """Print the lookups (CSV's header only before the first)."""
+        if self.fmt is EchoFormat.json:
+            render.write_json(series, stdout.file)
+        elif self.fmt in PASTE_FORMATS:
+            PASTE_FORMATS[self.fmt](series, stdout.file)
+        elif self.fmt is EchoFormat.csv:
+            text = io.StringIO()
+            render.write_csv(series, text)
+            stdout.file.write(text.getvalue().split("\n", 1)[1] if self.shown else text.getvalue())
+        else:
+            render.write_text(series, stdout.file, self.precision, self.matrix)
+        stdout.file.flush()
+
     def write(self, series: EchoSeries, now: int) -> None:
         """Print a lookup of the latest transform; the picture shows it at ``now``."""
-        _write(series, self.fmt, self.precision, self.matrix, header=not self.shown)
+        self.print(series)
         self.shown.append(dataclasses.replace(series, times=np.array([now], np.int64)))
 
     @property
@@ -175,20 +189,6 @@ class Lines:
             series = joined(self.shown)
             write_plot(echo_figure(series), self.plot, f"{len(series)} lookups of {series.target} <- {series.source}")
         return Exit.PROBLEMS if self.failed else Exit.OK
-
-
-def _write(series: EchoSeries, fmt: EchoFormat, precision: int, matrix: bool, header: bool = True) -> None:
-    if fmt is EchoFormat.json:
-        render.write_json(series, stdout.file)
-    elif fmt in PASTE_FORMATS:
-        PASTE_FORMATS[fmt](series, stdout.file)
-    elif fmt is EchoFormat.csv:
-        text = io.StringIO()
-        render.write_csv(series, text)
-        stdout.file.write(text.getvalue() if header else text.getvalue().split("\n", 1)[1])
-    else:
-        render.write_text(series, stdout.file, precision, matrix)
-    stdout.file.flush()
 
 
 def _play(
