@@ -17,7 +17,6 @@ from rich.text import Text
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
-from tftools.core.time import NS_PER_S
 from tftools.render.escape import printable
 from tftools.sources import Recording, read_recording
 from tftools.sources.bag import ProgressCallback
@@ -199,10 +198,6 @@ def frame_argument(buffer: Buffer, frame: str) -> str:
         listed = ", ".join([*close, *rest][:20]) + (", ..." if len(buffer.frames) > 20 else "")
         raise UsageError(f"frame {frame!r} does not exist", f"frames: {listed}")
     return name
-
-
-def seconds(ns: int) -> float:
-    return ns / NS_PER_S
 
 
 def exit_with(code: Exit) -> NoReturn:

@@ -29,10 +29,12 @@ def protected(bags: Iterable[str | os.PathLike[str]]) -> list[Path]:
     return paths
 
 
-def check_output(output: Path, bags: Sequence[str | os.PathLike[str]], *, option: str = "-o") -> Path:
+def check_output(
+    output: Path, bags: Sequence[str | os.PathLike[str]], *, option: str = "-o", file_name: str | None = None
+) -> Path:
     """``output`` if writing it leaves every input in ``bags`` untouched: a ``UsageError`` when it is an
     input (or a link to one), lies inside a rosbag2 input directory, or is a folder holding an input;
-    or when its folder does not exist."""
+    when its folder does not exist; or, for a ``file_name`` (the example in the hint), when it is a folder."""
     target = Path(output).resolve()
     for path in protected(bags):
         said = f"{option} {output}"
@@ -49,6 +51,8 @@ def check_output(output: Path, bags: Sequence[str | os.PathLike[str]], *, option
         raise UsageError(
             f"{option} {output}: the folder {folder} does not exist", f"create it first: mkdir -p {folder}"
         )
+    if file_name is not None and output.is_dir():
+        raise UsageError(f"{option} {output} is a directory", f"give a file name, e.g. {option} {output / file_name}")
     return Path(output)
 
 

@@ -25,9 +25,7 @@ def check_plot(plot: Path, inputs: Sequence[str]) -> None:
         raise UsageError(
             f"--plot {plot}: not a picture tfx draws", f"name a {', '.join(SUFFIXES)} file, e.g. --plot {plot.stem}.png"
         )
-    check_output(plot, inputs, option="--plot")
-    if plot.is_dir():
-        raise UsageError(f"--plot {plot} is a directory", f"give a file name, e.g. --plot {plot / 'plot.png'}")
+    check_output(plot, inputs, option="--plot", file_name="plot.png")
     require_matplotlib()
 
 

@@ -91,9 +91,7 @@ def command(
 
 def _check_output(output: Path, inputs: Sequence[str]) -> None:
     """Refuse, before any reading, an output that would touch an input, a folder, or a place not writable."""
-    check_output(output, inputs)
-    if output.is_dir():
-        raise UsageError(f"-o {output} is a directory", f"give a file name, e.g. -o {output / DEFAULT_OUTPUT}")
+    check_output(output, inputs, file_name=DEFAULT_OUTPUT)
     folder = output.resolve().parent
     if not os.access(folder, os.W_OK):
         raise UsageError(f"-o {output}: cannot write in {folder}", "write elsewhere with -o")

@@ -140,9 +140,7 @@ def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[str]) ->
             f"--format {fmt.value} does not match the output name {output}",
             f"name it {Path(output).with_suffix(_suffix(fmt))}",
         )
-    check_output(Path(output), bags)
-    if Path(output).is_dir():
-        raise UsageError(f"{output} is a directory", f"give a file name, e.g. {Path(output) / 'frames.pdf'}")
+    check_output(Path(output), bags, file_name="frames.pdf")
     return fmt or implied or GraphFormat.pdf, output
 
 

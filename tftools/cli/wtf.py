@@ -16,7 +16,6 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from tftools.analysis.expected import TreeShape
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
 from tftools.cli import executors, live
@@ -37,7 +36,6 @@ from tftools.cli.common import (
 )
 from tftools.cli.deadline import timed
 from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
-from tftools.core.semantics import Semantics
 from tftools.render import wtf as render
 from tftools.render import wtf_lines as render_lines
 from tftools.sources.storage.locations import expand
@@ -221,8 +219,11 @@ def command(
     elif dask is not None or resume is not None or timeout is not None:
         raise UsageError("--dask, --resume and --timeout are for recordings", "e.g. tfx wtf logs/*.bag --dask ADDRESS")
     else:
-        feed = (ros1, use_sim_time, duration)
-        reports = [_check_live(*feed, topics, thresholds, ignored, tf2, target, sensors, expected)]
+        # nothing heard is the no_tf error; sensor data only from the topics named
+        heard, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors, require_tf=False)
+        for problem in heard.problems:
+            warn(problem)
+        reports = [check_recording(heard, streams, thresholds, ignored, target, expected)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:
         render.write_json(reports, sys.stdout, strict, thresholds, code)
@@ -324,26 +325,6 @@ def _resumed(path: Path) -> list[BagReport]:
     if resumed.cut_short:
         warn(f"{path}: its last line was cut short; that recording is checked again")
     return resumed.reports
-
-
-def _check_live(
-    ros1: bool | None,
-    use_sim_time: bool | None,
-    duration: float,
-    topics: Sequence[str] | None,
-    thresholds: Thresholds,
-    ignore: Sequence[str],
-    semantics: Semantics | None,
-    target: str | None,
-    sensors: Sequence[str] | None,
-    expected: TreeShape | None,
-) -> BagReport:
-    """Listen ``duration`` seconds and check what was heard (nothing heard is the ``no_tf`` error),
-    with the data of the ``sensors`` topics (none unless named)."""
-    recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, semantics, sensors, require_tf=False)
-    for problem in recording.problems:
-        warn(problem)
-    return check_recording(recording, streams, thresholds, ignore, target, expected)
 
 
 def _list_checks() -> None:
