@@ -53,14 +53,10 @@ def main() -> None:
 
 def _failed(error: TfToolsError) -> int:
     """``fail``'s one line, and its exit code."""
-    import typer
+    from tftools.cli.common import Exit, hinted, say_error
 
-    from tftools.cli.common import fail
-
-    try:
-        fail(error)
-    except typer.Exit as done:
-        return int(done.exit_code)
+    say_error(hinted(str(error), error.hint))
+    return int(Exit.UNUSABLE)
 
 
 def _usage_error(error: typer.TyperException) -> int:

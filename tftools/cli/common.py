@@ -101,9 +101,13 @@ EndOption = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as
 
 def fail(error: TfToolsError, code: Exit = Exit.UNUSABLE) -> NoReturn:
     """Print the error as one line (with its hint) and exit with ``code``."""
-    hint = f" ({error.hint})" if error.hint else ""
-    say_error(str(error) + hint)
+    say_error(hinted(str(error), error.hint))
     raise typer.Exit(code)
+
+
+def hinted(message: str, hint: str) -> str:
+    """``message (hint)``, or the message alone when there is no hint."""
+    return f"{message} ({hint})" if hint else message
 
 
 #: An error line longer than this is cut (tf2's loop error names every frame of a 10,000-frame chain).

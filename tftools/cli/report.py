@@ -20,6 +20,7 @@ from tftools.cli.common import (
     TopicOption,
     UsageError,
     exit_with,
+    hinted,
     open_recording,
     stderr,
     warn,
@@ -114,7 +115,7 @@ def _bag_sections(
         except TfToolsError as error:
             if len(groups) == 1:
                 raise
-            warn(f"{error} ({error.hint})" if error.hint else str(error))
+            warn(hinted(str(error), error.hint))
             unread.append(error)
             name = " + ".join(str(p) for p in group)
             sections.append(unreadable_section(index, name, str(error), error.hint))

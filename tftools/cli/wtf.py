@@ -29,6 +29,7 @@ from tftools.cli.common import (
     UsageError,
     count_bar,
     exit_with,
+    hinted,
     progress_bar,
     say_error,
     stdout,
@@ -239,7 +240,7 @@ def command(
     if code == Exit.UNUSABLE and fmt is not WtfFormat.text:  # the document says it; so does stderr, in one line
         first = next(r.error for r in reports if r.error is not None)
         more = f" (and {len(reports) - 1} more recordings)" if len(reports) > 1 else ""
-        say_error(f"{first.message}{more} ({first.hint})" if first.hint else f"{first.message}{more}")
+        say_error(hinted(f"{first.message}{more}", first.hint))
     exit_with(code)
 
 
