@@ -1,4 +1,5 @@
-"""What every subcommand shares: bag options, reading with progress, times, errors, exit codes."""
+"""What every subcommand shares: the options of reading bags and listening, reading with progress, errors,
+exit codes."""
 
 from __future__ import annotations
 
@@ -97,6 +98,47 @@ Tf2Option = Annotated[
     ),
 ]
 EndOption = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as --start).")]
+RosOption = Annotated[
+    bool | None,
+    typer.Option(
+        "--ros1/--ros2",
+        help="Live: ROS1 (the master at ROS_MASTER_URI) or ROS2 (DDS domain ROS_DOMAIN_ID). "
+        "Default: as the environment says (ROS_VERSION, ROS_MASTER_URI, ROS_DOMAIN_ID).",
+    ),
+]
+UseSimTimeOption = Annotated[
+    bool | None,
+    typer.Option(
+        "--use-sim-time/--wall-time",
+        help="Live: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
+        "Default: the master's /use_sim_time parameter (ROS1), the wall clock (ROS2).",
+    ),
+]
+ListenOption = Annotated[float, typer.Option("--duration", "-d", help="Live: seconds to listen before answering.")]
+PathsArgument = Annotated[
+    list[str] | None,
+    typer.Argument(
+        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory, "
+        "local or a URL (s3://bucket/fleet/ checks every recording below it, 's3://bucket/*.bag' the matches; "
+        "needs tftools[fleet]).",
+        metavar="BAG",
+    ),
+]
+TargetOption = Annotated[
+    str | None,
+    typer.Option(
+        help="Check sensor data (messages with a header) against tf in this frame "
+        "(default: odom or map, else the tree's root; so too where a recording lacks the frame).",
+    ),
+]
+SensorOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--sensor",
+        help="Check this topic's data against tf (repeat for more). Default: every topic of a bag whose messages "
+        "start with a Header; live, none (listening to every camera would load the network).",
+    ),
+]
 
 
 def fail(error: TfToolsError, code: Exit = Exit.UNUSABLE) -> NoReturn:

@@ -19,20 +19,22 @@ from tftools.cli.common import (
     BagOption,
     EndOption,
     Exit,
+    RosOption,
     StartOption,
     Tf2Option,
     TopicOption,
     UsageError,
+    UseSimTimeOption,
     exit_with,
     frame_argument,
     open_recording,
     stdout,
 )
-from tftools.cli.live_options import CacheOption, RosOption, UseSimTimeOption
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
+from tftools.core.time import from_sec
 from tftools.render import echo as render
 from tftools.render.escape import printable
 from tftools.render.plots import echo_figure
@@ -102,7 +104,7 @@ def command(
     ] = None,
     ros1: RosOption = None,
     use_sim_time: UseSimTimeOption = None,
-    cache: CacheOption = 10.0,
+    cache: Annotated[float, typer.Option(help="Live: seconds of history kept per edge, as tf2's buffer.")] = 10.0,
     plot: Annotated[
         Path | None,
         typer.Option(
@@ -227,9 +229,8 @@ def _live(
     """Without -b, as tf_echo: wait for the transform, then the latest one ``rate`` times a second
     (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
     target, source = target.removeprefix("/"), source.removeprefix("/")
-    cache_ns = live.cache_time(cache)
     with feed:
-        buffer = listen(feed, cache_ns, semantics)
+        buffer = listen(feed, from_sec(cache), semantics)
         live.wait_for_transform(buffer, target, source, feed.describe(), wait)
 
         def tick() -> None:

@@ -12,16 +12,18 @@ from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
     BagOption,
     Exit,
+    ListenOption,
+    RosOption,
     TextOrJson,
     Tf2Option,
     UsageError,
+    UseSimTimeOption,
     exit_with,
     frame_argument,
     open_recording,
     stdout,
     warn,
 )
-from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.core.time import from_sec
 from tftools.render import filter as render
 from tftools.sources.bag.stamped import read_stamped

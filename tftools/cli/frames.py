@@ -8,8 +8,16 @@ from typing import Annotated
 import typer
 
 from tftools.analysis.frames import frame_tree
-from tftools.cli.common import BagOption, Tf2Option, TopicOption, open_recording, stdout
-from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
+from tftools.cli.common import (
+    BagOption,
+    ListenOption,
+    RosOption,
+    Tf2Option,
+    TopicOption,
+    UseSimTimeOption,
+    open_recording,
+    stdout,
+)
 from tftools.render import frames as render
 
 

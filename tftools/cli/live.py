@@ -43,10 +43,6 @@ def open_source(
     return open_live(ros_name(ros1), use_sim_time, topics, on_notice=warn, name="tfx")
 
 
-def cache_time(seconds: float) -> int:
-    return from_sec(positive_seconds(seconds, "--cache", "10 (tf2's default)"))
-
-
 def capture_live(
     ros1: bool | None,
     use_sim_time: bool | None,

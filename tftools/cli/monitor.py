@@ -17,17 +17,18 @@ from tftools.cli.arguments import positive_seconds, rate_hz, time_range
 from tftools.cli.common import (
     BagOption,
     EndOption,
+    RosOption,
     StartOption,
     TextOrJson,
     Tf2Option,
     TopicOption,
     UsageError,
+    UseSimTimeOption,
     frame_argument,
     open_recording,
     stdout,
     warn,
 )
-from tftools.cli.live_options import RosOption, UseSimTimeOption
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec

@@ -16,18 +16,22 @@ from tftools.cli import live
 from tftools.cli.common import (
     BagOption,
     Exit,
+    ListenOption,
+    PathsArgument,
+    RosOption,
+    SensorOption,
+    TargetOption,
     Tf2Option,
     TopicOption,
     UsageError,
+    UseSimTimeOption,
     exit_with,
     hinted,
     open_recording,
     stderr,
     warn,
 )
-from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.cli.outputs import check_output
-from tftools.cli.wtf import PathsArgument, SensorOption, TargetOption
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.render.escape import printable

@@ -12,8 +12,7 @@ import typer
 
 from tftools.cli import live
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import UsageError, stdout, warn
-from tftools.cli.live_options import RosOption
+from tftools.cli.common import RosOption, UsageError, stdout, warn
 from tftools.cli.outputs import check_output, check_replaceable
 from tftools.core.transform import Transform
 from tftools.render.escape import printable

@@ -16,15 +16,17 @@ from tftools.analysis.wtf import check
 from tftools.cli.common import (
     BagOption,
     Exit,
+    ListenOption,
+    RosOption,
     Tf2Option,
     TopicOption,
     UsageError,
+    UseSimTimeOption,
     exit_with,
     fail,
     open_recording,
     stderr,
 )
-from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.cli.outputs import check_output
 from tftools.render import drawing
 from tftools.render import graph as render

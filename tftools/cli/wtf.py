@@ -24,9 +24,15 @@ from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import (
     BagOption,
     Exit,
+    ListenOption,
+    PathsArgument,
+    RosOption,
+    SensorOption,
+    TargetOption,
     Tf2Option,
     TopicOption,
     UsageError,
+    UseSimTimeOption,
     count_bar,
     exit_with,
     hinted,
@@ -36,7 +42,6 @@ from tftools.cli.common import (
     warn,
 )
 from tftools.cli.deadline import timed
-from tftools.cli.live_options import ListenOption, RosOption, UseSimTimeOption
 from tftools.render import wtf as render
 from tftools.render import wtf_lines as render_lines
 from tftools.sources.storage.locations import expand
@@ -58,32 +63,6 @@ _THRESHOLD_HELP = {
     "future": "Stamps this many seconds ahead of their arrival are from the future.",
     "clock": "Stamps this many seconds behind their arrival (median) are on another clock.",
 }
-
-PathsArgument = Annotated[
-    list[str] | None,
-    typer.Argument(
-        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory, "
-        "local or a URL (s3://bucket/fleet/ checks every recording below it, 's3://bucket/*.bag' the matches; "
-        "needs tftools[fleet]).",
-        metavar="BAG",
-    ),
-]
-TargetOption = Annotated[
-    str | None,
-    typer.Option(
-        "--target",
-        help="Check sensor data (messages with a header) against tf in this frame "
-        "(default: odom or map, else the tree's root; so too where a recording lacks the frame).",
-    ),
-]
-SensorOption = Annotated[
-    list[str] | None,
-    typer.Option(
-        "--sensor",
-        help="Check this topic's data against tf (repeat for more). Default: every topic of a bag whose messages "
-        "start with a Header; live, none (listening to every camera would load the network).",
-    ),
-]
 
 
 def command(
@@ -216,7 +195,7 @@ def command(
         )
         fleet = Fleet(jobs or os.cpu_count() or 1, dask, timeout, resume)
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
-        reports = _check_groups(groups, one, fleet, stream if fmt is WtfFormat.jsonl else None)
+        reports = _check_groups(groups, one, fleet, stream if fmt is WtfFormat.jsonl else lambda bag: None)
     elif dask is not None or resume is not None or timeout is not None:
         raise UsageError("--dask, --resume and --timeout are for recordings", "e.g. tfx wtf logs/*.bag --dask ADDRESS")
     else:
@@ -284,7 +263,7 @@ class Fleet:
 
 
 def _check_groups(
-    groups: list[list[str]], one: Callable[..., BagReport], fleet: Fleet, stream: Callable[[BagReport], None] | None
+    groups: list[list[str]], one: Callable[..., BagReport], fleet: Fleet, stream: Callable[[BagReport], None]
 ) -> list[BagReport]:
     """Each group of paths checked as its own recording, ``stream`` ed as it finishes (those resumed first);
     reports in the given order (then those resumed that were not given)."""
@@ -292,13 +271,11 @@ def _check_groups(
     finished = {bag.paths: bag for bag in done}
     todo = [g for g in groups if tuple(g) not in finished]
     for bag in done:
-        if stream is not None:
-            stream(bag)
+        stream(bag)
     with count_bar("checking", len(todo)) if len(todo) > 1 else contextlib.nullcontext(lambda: None) as advance:
         for index, bag in _results(todo, one, fleet):
             finished[tuple(todo[index])] = bag
-            if stream is not None:
-                stream(bag)
+            stream(bag)
             advance()
     given = [finished[tuple(g)] for g in groups]
     return given + [bag for paths, bag in finished.items() if list(paths) not in groups]
