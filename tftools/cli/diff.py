@@ -12,7 +12,8 @@ from tftools.analysis.diff import compare
 from tftools.analysis.expected import TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
 from tftools.cli import expected as expected_tree
-from tftools.cli.common import Exit, TextOrJson, Tf2Option, TopicOption, exit_with, open_recording
+from tftools.cli import options
+from tftools.cli.common import Exit, TextOrJson, exit_with, open_recording
 from tftools.core.semantics import Semantics
 from tftools.render import diff as render
 from tftools.sources.storage.locations import is_url
@@ -27,8 +28,8 @@ def command(
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
     tolerance_rate: expected_tree.ToleranceRateOption = None,
-    topics: TopicOption = None,
-    tf2: Tf2Option = None,
+    topics: options.Topics = None,
+    tf2: options.Tf2 = None,
 ) -> None:
     """Where the tf trees of A and B differ: frames added and lost, re-parented frames, static edges
     (extrinsics) moved, by how much in mm and degrees, rates and publishers changed.

@@ -13,23 +13,9 @@ import numpy as np
 import typer
 
 from tftools.analysis.echo import EchoSeries, chain_span, echo, joined, sample_times, ticks
-from tftools.cli import live
+from tftools.cli import live, options
 from tftools.cli.arguments import echo_line_count, parse_time, positive_seconds, rate_hz, time_range
-from tftools.cli.common import (
-    BagOption,
-    EndOption,
-    Exit,
-    RosOption,
-    StartOption,
-    Tf2Option,
-    TopicOption,
-    UsageError,
-    UseSimTimeOption,
-    exit_with,
-    frame_argument,
-    open_recording,
-    stdout,
-)
+from tftools.cli.common import Exit, UsageError, exit_with, frame_argument, open_recording, stdout
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
@@ -66,7 +52,7 @@ def command(
         str, typer.Argument(help="The frame to express the transform in (tf_echo's first frame), e.g. map.")
     ],
     source: Annotated[str, typer.Argument(help="The frame whose pose is shown, e.g. base_link.")],
-    bags: BagOption = None,
+    bags: options.Bags = None,
     rate: Annotated[
         float | None,
         typer.Option("--rate", "-r", help="Lines a second of bag time (at most a million lines; default 1)."),
@@ -78,8 +64,8 @@ def command(
         ),
     ] = None,
     every: Annotated[bool, typer.Option("--all", help="A line at every sample of the chain's moving edges.")] = False,
-    start: StartOption = None,
-    end: EndOption = None,
+    start: options.Start = None,
+    end: options.End = None,
     precision: Annotated[int, typer.Option(min=1, max=12, help="Decimals in text output.")] = 3,
     matrix: Annotated[bool, typer.Option(help="Also print the 4x4 homogeneous matrix.")] = False,
     fmt: Annotated[
@@ -92,8 +78,8 @@ def command(
             "joint's <origin xyz rpy>), yaml (an entry of tfx static --from).",
         ),
     ] = EchoFormat.text,
-    topics: TopicOption = None,
-    tf2: Tf2Option = None,
+    topics: options.Topics = None,
+    tf2: options.Tf2 = None,
     play: Annotated[
         bool, typer.Option("--play", help="Replay the bag in real time; the latest transform --rate times a second.")
     ] = False,
@@ -102,8 +88,8 @@ def command(
         float | None,
         typer.Option(help="Live: give up if the transform is not there within WAIT seconds."),
     ] = None,
-    ros1: RosOption = None,
-    use_sim_time: UseSimTimeOption = None,
+    ros1: options.Ros = None,
+    use_sim_time: options.SimTime = None,
     cache: Annotated[float, typer.Option(help="Live: seconds of history kept per edge, as tf2's buffer.")] = 10.0,
     plot: Annotated[
         Path | None,

@@ -7,23 +7,9 @@ from typing import Annotated
 import typer
 
 from tftools.analysis.filter import filter_report
-from tftools.cli import live
+from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import (
-    BagOption,
-    Exit,
-    ListenOption,
-    RosOption,
-    TextOrJson,
-    Tf2Option,
-    UsageError,
-    UseSimTimeOption,
-    exit_with,
-    frame_argument,
-    open_recording,
-    stdout,
-    warn,
-)
+from tftools.cli.common import Exit, TextOrJson, UsageError, exit_with, frame_argument, open_recording, stdout, warn
 from tftools.core.time import from_sec
 from tftools.render import filter as render
 from tftools.sources.bag.stamped import read_stamped
@@ -34,7 +20,7 @@ def command(
         list[str] | None,
         typer.Argument(help="Topics to check (default: every topic whose messages start with a Header)."),
     ] = None,
-    bags: BagOption = None,
+    bags: options.Bags = None,
     target: Annotated[
         str | None,
         typer.Option(
@@ -45,10 +31,10 @@ def command(
     wait: Annotated[float | None, typer.Option(help="A filter timeout, seconds: count what it would drop.")] = None,
     queue: Annotated[int | None, typer.Option(min=1, help="A filter queue size: count what it would drop.")] = None,
     fmt: Annotated[TextOrJson, typer.Option("--format", "-f", help="text (a table) or json.")] = TextOrJson.text,
-    tf2: Tf2Option = None,
-    duration: ListenOption = 5.0,
-    ros1: RosOption = None,
-    use_sim_time: UseSimTimeOption = None,
+    tf2: options.Tf2 = None,
+    duration: options.Listen = 5.0,
+    ros1: options.Ros = None,
+    use_sim_time: options.SimTime = None,
 ) -> None:
     """Replay a tf2_ros MessageFilter on every stamped message of a recording.
 

@@ -8,16 +8,8 @@ from typing import Annotated
 import typer
 
 from tftools.analysis.frames import frame_tree
-from tftools.cli.common import (
-    BagOption,
-    ListenOption,
-    RosOption,
-    Tf2Option,
-    TopicOption,
-    UseSimTimeOption,
-    open_recording,
-    stdout,
-)
+from tftools.cli import options
+from tftools.cli.common import open_recording, stdout
 from tftools.render import frames as render
 
 
@@ -28,16 +20,16 @@ class FramesFormat(str, enum.Enum):
 
 
 def command(
-    bags: BagOption = None,
+    bags: options.Bags = None,
     fmt: Annotated[
         FramesFormat,
         typer.Option("--format", "-f", help="text (a tree), json, or yaml (exactly tf2's allFramesAsYAML)."),
     ] = FramesFormat.text,
-    topics: TopicOption = None,
-    tf2: Tf2Option = None,
-    duration: ListenOption = 5.0,
-    ros1: RosOption = None,
-    use_sim_time: UseSimTimeOption = None,
+    topics: options.Topics = None,
+    tf2: options.Tf2 = None,
+    duration: options.Listen = 5.0,
+    ros1: options.Ros = None,
+    use_sim_time: options.SimTime = None,
 ) -> None:
     """Show every frame as a tree: its parent, publishers, rate, samples and time span.
 

@@ -12,23 +12,9 @@ from rich.live import Live
 
 from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
 from tftools.analysis.timelines import EdgeSeries, MonitorTrace, edge_series
-from tftools.cli import live
+from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds, rate_hz, time_range
-from tftools.cli.common import (
-    BagOption,
-    EndOption,
-    RosOption,
-    StartOption,
-    TextOrJson,
-    Tf2Option,
-    TopicOption,
-    UsageError,
-    UseSimTimeOption,
-    frame_argument,
-    open_recording,
-    stdout,
-    warn,
-)
+from tftools.cli.common import TextOrJson, UsageError, frame_argument, open_recording, stdout, warn
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec
@@ -47,9 +33,9 @@ def command(
         str | None, typer.Argument(help="With SOURCE: the chain between them (tf_monitor's framea).")
     ] = None,
     source: Annotated[str | None, typer.Argument(help="The other end of the chain (tf_monitor's frameb).")] = None,
-    bags: BagOption = None,
-    start: StartOption = None,
-    end: EndOption = None,
+    bags: options.Bags = None,
+    start: options.Start = None,
+    end: options.End = None,
     play: Annotated[
         bool, typer.Option("--play", help="Replay the bag on a simulated clock and refresh the table live.")
     ] = False,
@@ -59,10 +45,10 @@ def command(
     fmt: Annotated[
         TextOrJson, typer.Option("--format", "-f", help="text (tf_monitor's, as tables) or json.")
     ] = TextOrJson.text,
-    topics: TopicOption = None,
-    tf2: Tf2Option = None,
-    ros1: RosOption = None,
-    use_sim_time: UseSimTimeOption = None,
+    topics: options.Topics = None,
+    tf2: options.Tf2 = None,
+    ros1: options.Ros = None,
+    use_sim_time: options.SimTime = None,
     plot: Annotated[
         Path | None,
         typer.Option(

@@ -12,25 +12,8 @@ import typer
 
 from tftools.analysis.report import recording_report
 from tftools.analysis.wtf.fleet import sensor_data
-from tftools.cli import live
-from tftools.cli.common import (
-    BagOption,
-    Exit,
-    ListenOption,
-    PathsArgument,
-    RosOption,
-    SensorOption,
-    TargetOption,
-    Tf2Option,
-    TopicOption,
-    UsageError,
-    UseSimTimeOption,
-    exit_with,
-    hinted,
-    open_recording,
-    stderr,
-    warn,
-)
+from tftools.cli import live, options
+from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, stderr, warn
 from tftools.cli.outputs import check_output
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
@@ -46,19 +29,19 @@ DEFAULT_OUTPUT = "report.html"
 
 
 def command(
-    paths: PathsArgument = None,
-    bags: BagOption = None,
+    paths: options.Paths = None,
+    bags: options.Bags = None,
     output: Annotated[
         Path,
         typer.Option("--output", "-o", help="The HTML file to write (never over, into or above an input)."),
     ] = Path(DEFAULT_OUTPUT),
-    topics: TopicOption = None,
-    tf2: Tf2Option = None,
-    target: TargetOption = None,
-    sensors: SensorOption = None,
-    duration: ListenOption = 5.0,
-    ros1: RosOption = None,
-    use_sim_time: UseSimTimeOption = None,
+    topics: options.Topics = None,
+    tf2: options.Tf2 = None,
+    target: options.Target = None,
+    sensors: options.Sensors = None,
+    duration: options.Listen = 5.0,
+    ros1: options.Ros = None,
+    use_sim_time: options.SimTime = None,
 ) -> None:
     """Write one HTML page to look at rather than read: the tree as view-frames draws it (problems in
     colour), each edge over time (rate, delay, samples, gaps, re-parentings) on one time axis, tfx wtf's

@@ -10,9 +10,9 @@ from typing import Annotated
 
 import typer
 
-from tftools.cli import live
+from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import RosOption, UsageError, stdout, warn
+from tftools.cli.common import UsageError, stdout, warn
 from tftools.cli.outputs import check_output, check_replaceable
 from tftools.core.transform import Transform
 from tftools.render.escape import printable
@@ -75,7 +75,7 @@ def command(
     duration: Annotated[
         float | None, typer.Option(help="Stop publishing after DURATION seconds (default: Ctrl-C).")
     ] = None,
-    ros1: RosOption = None,
+    ros1: options.Ros = None,
 ) -> None:
     """Publish static transforms on /tf_static, latched, until Ctrl-C,
     as static_transform_publisher does.

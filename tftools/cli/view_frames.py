@@ -13,20 +13,8 @@ import typer
 from tftools.analysis.findings import Severity
 from tftools.analysis.graph import frame_graph
 from tftools.analysis.wtf import check
-from tftools.cli.common import (
-    BagOption,
-    Exit,
-    ListenOption,
-    RosOption,
-    Tf2Option,
-    TopicOption,
-    UsageError,
-    UseSimTimeOption,
-    exit_with,
-    fail,
-    open_recording,
-    stderr,
-)
+from tftools.cli import options
+from tftools.cli.common import Exit, UsageError, exit_with, fail, open_recording, stderr
 from tftools.cli.outputs import check_output
 from tftools.render import drawing
 from tftools.render import graph as render
@@ -58,7 +46,7 @@ SUFFIXES = {
 
 
 def command(
-    bags: BagOption = None,
+    bags: options.Bags = None,
     output: Annotated[
         str | None,
         typer.Option(
@@ -80,11 +68,11 @@ def command(
         RankDir, typer.Option(help="Tree direction: TB top-down, LR left-right (wide trees), BT, RL.")
     ] = RankDir.TB,
     brief: Annotated[bool, typer.Option("--brief", help="Short edge labels: publisher and rate only.")] = False,
-    topics: TopicOption = None,
-    tf2: Tf2Option = None,
-    duration: ListenOption = 5.0,
-    ros1: RosOption = None,
-    use_sim_time: UseSimTimeOption = None,
+    topics: options.Topics = None,
+    tf2: options.Tf2 = None,
+    duration: options.Listen = 5.0,
+    ros1: options.Ros = None,
+    use_sim_time: options.SimTime = None,
 ) -> None:
     """Draw the tf tree, view_frames style: each edge with its broadcaster, average rate, samples,
     most recent and oldest transform and largest gap; static edges dashed and blue.

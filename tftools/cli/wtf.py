@@ -18,29 +18,10 @@ from rich.table import Table
 
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
-from tftools.cli import executors, live
+from tftools.cli import executors, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import (
-    BagOption,
-    Exit,
-    ListenOption,
-    PathsArgument,
-    RosOption,
-    SensorOption,
-    TargetOption,
-    Tf2Option,
-    TopicOption,
-    UsageError,
-    UseSimTimeOption,
-    count_bar,
-    exit_with,
-    hinted,
-    progress_bar,
-    say_error,
-    stdout,
-    warn,
-)
+from tftools.cli.common import Exit, UsageError, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
 from tftools.cli.deadline import timed
 from tftools.render import wtf as render
 from tftools.render import wtf_lines as render_lines
@@ -66,8 +47,8 @@ _THRESHOLD_HELP = {
 
 
 def command(
-    paths: PathsArgument = None,
-    bags: BagOption = None,
+    paths: options.Paths = None,
+    bags: options.Bags = None,
     fmt: Annotated[
         WtfFormat,
         typer.Option(
@@ -115,10 +96,10 @@ def command(
     delay: Annotated[float, typer.Option(help=_THRESHOLD_HELP["delay"])] = _DEFAULTS.delay,
     future: Annotated[float, typer.Option(help=_THRESHOLD_HELP["future"])] = _DEFAULTS.future,
     clock: Annotated[float, typer.Option(help=_THRESHOLD_HELP["clock"])] = _DEFAULTS.clock,
-    topics: TopicOption = None,
-    tf2: Tf2Option = None,
-    target: TargetOption = None,
-    sensors: SensorOption = None,
+    topics: options.Topics = None,
+    tf2: options.Tf2 = None,
+    target: options.Target = None,
+    sensors: options.Sensors = None,
     init: Annotated[
         bool,
         typer.Option(
@@ -135,9 +116,9 @@ def command(
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
     tolerance_rate: expected_tree.ToleranceRateOption = None,
-    duration: ListenOption = 5.0,
-    ros1: RosOption = None,
-    use_sim_time: UseSimTimeOption = None,
+    duration: options.Listen = 5.0,
+    ros1: options.Ros = None,
+    use_sim_time: options.SimTime = None,
 ) -> None:
     """Check tf for what breaks lookups, and say how to fix each problem (roswtf's tf checks and more).
 

@@ -1,0 +1,78 @@
+"""The options and arguments several commands take, each declared once: ``bags: options.Bags = None``."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+
+from tftools.core.semantics import Semantics
+
+Bags = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--bag",
+        "-b",
+        help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory, local or a URL "
+        "(s3://, gs://, az://, http(s)://; needs tftools[fleet]). "
+        "Repeat for a split recording. Without it, tfx listens to a live system.",
+    ),
+]
+Topics = Annotated[
+    list[str] | None,
+    typer.Option("--topic", "-t", help="Topics carrying transforms (default /tf and /tf_static)."),
+]
+Start = Annotated[
+    str | None,
+    typer.Option(help="Begin at TIME: absolute seconds, +S after the first tf stamp or -S before the last."),
+]
+Tf2 = Annotated[
+    Semantics | None,
+    typer.Option(
+        "--tf2",
+        help="Answer as ROS 1's or ROS 2's tf2 (they differ on repeated stamps, statics after dynamics, "
+        "error wording); default: the recording's own (ros1 for .bag, ros2 for .db3/.mcap), or the live system's.",
+    ),
+]
+End = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as --start).")]
+Ros = Annotated[
+    bool | None,
+    typer.Option(
+        "--ros1/--ros2",
+        help="Live: ROS1 (the master at ROS_MASTER_URI) or ROS2 (DDS domain ROS_DOMAIN_ID). "
+        "Default: as the environment says (ROS_VERSION, ROS_MASTER_URI, ROS_DOMAIN_ID).",
+    ),
+]
+SimTime = Annotated[
+    bool | None,
+    typer.Option(
+        "--use-sim-time/--wall-time",
+        help="Live: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
+        "Default: the master's /use_sim_time parameter (ROS1), the wall clock (ROS2).",
+    ),
+]
+Listen = Annotated[float, typer.Option("--duration", "-d", help="Live: seconds to listen before answering.")]
+Paths = Annotated[
+    list[str] | None,
+    typer.Argument(
+        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory, "
+        "local or a URL (s3://bucket/fleet/ checks every recording below it, 's3://bucket/*.bag' the matches; "
+        "needs tftools[fleet]).",
+        metavar="BAG",
+    ),
+]
+Target = Annotated[
+    str | None,
+    typer.Option(
+        help="Check sensor data (messages with a header) against tf in this frame "
+        "(default: odom or map, else the tree's root; so too where a recording lacks the frame).",
+    ),
+]
+Sensors = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--sensor",
+        help="Check this topic's data against tf (repeat for more). Default: every topic of a bag whose messages "
+        "start with a Header; live, none (listening to every camera would load the network).",
+    ),
+]
