@@ -128,8 +128,16 @@ def command(
     recording = open_recording(bags, topics, tf2)
     target = frame_argument(recording.buffer, target)
     source = frame_argument(recording.buffer, source)
-    if play:
-        exit_with(_play(recording, target, source, rate, start, end, lines))
+    if play:  # as tf_echo sees a live system: the bag replayed on a sim clock into a tf2-sized buffer
+        first, last = time_range(recording, start, end, default=(None, None))
+        replay = replay_of(recording, start=first, end=last)
+        buffer = Buffer(clock=replay.clock, semantics=recording.buffer.semantics)
+
+        def tick() -> None:
+            lines.write(echo(buffer, target, source, [0]), buffer.now())
+
+        follow_into(replay, buffer, tick, period=1.0 / rate)
+        exit_with(lines.done())
     times = _times(recording, target, source, rate, at, every, start, end)
     series = echo(recording.buffer, target, source, times)
     if plot is None:  # on a bag, the picture instead of the lines
@@ -177,28 +185,6 @@ class Lines:
             series = joined(self.shown)
             write_plot(echo_figure(series), self.plot, f"{len(series)} lookups of {series.target} <- {series.source}")
         return Exit.PROBLEMS if self.failed else Exit.OK
-
-
-def _play(
-    recording: Recording,
-    target: str,
-    source: str,
-    rate: float,
-    start: str | None,
-    end: str | None,
-    lines: Lines,
-) -> Exit:
-    """--play: the bag replayed on a sim clock into a tf2-sized buffer, as tf_echo sees a live
-    system: the latest transform, ``rate`` times a second of wall (= bag) time."""
-    first, last = time_range(recording, start, end, default=(None, None))
-    replay = replay_of(recording, start=first, end=last)
-    buffer = Buffer(clock=replay.clock, semantics=recording.buffer.semantics)
-
-    def tick() -> None:
-        lines.write(echo(buffer, target, source, [0]), buffer.now())
-
-    follow_into(replay, buffer, tick, period=1.0 / rate)
-    return lines.done()
 
 
 def _live(
