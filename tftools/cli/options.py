@@ -14,7 +14,7 @@ Bags = Annotated[
         "--bag",
         "-b",
         help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory, local or a URL "
-        "(s3://, gs://, az://, http(s)://; needs tftools[fleet]). "
+        "(s3://, gs://, az://, http(s)://; needs tftools\\[fleet]). "
         "Repeat for a split recording. Without it, tfx listens to a live system.",
     ),
 ]
@@ -57,7 +57,7 @@ Paths = Annotated[
     typer.Argument(
         help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory, "
         "local or a URL (s3://bucket/fleet/ checks every recording below it, 's3://bucket/*.bag' the matches; "
-        "needs tftools[fleet]).",
+        "needs tftools\\[fleet]).",
         metavar="BAG",
     ),
 ]

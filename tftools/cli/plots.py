@@ -13,8 +13,8 @@ from tftools.render.escape import printable
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-#: What ``--plot`` says of its file in each command's help.
-PLOT_FILE = "a .png, .svg or .pdf file; needs matplotlib: pip install 'tftools[plot]'"
+#: What ``--plot`` says of its file in each command's help (``\\[``: not rich markup).
+PLOT_FILE = "a .png, .svg or .pdf file; needs matplotlib: pip install 'tftools\\[plot]'"
 
 
 def check_plot(plot: Path, inputs: Sequence[str]) -> None:
