@@ -22,7 +22,7 @@ from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.core.time import from_sec
 from tftools.render import echo as render
-from tftools.render.escape import printable
+from tftools.render.escape import printable_lines
 from tftools.render.plots import echo_figure
 from tftools.sources import Recording
 from tftools.sources.live.base import LiveSource
@@ -211,8 +211,7 @@ def _live(
                 frames = buffer.all_frames_as_string()
             lines.write(series, int(series.times[0]))
             if not series.valid.all() and lines.fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
-                listed = "".join(printable(line) + "\n" for line in frames.removesuffix("\n").split("\n"))
-                stdout.file.write(f"The current list of frames is:\n{listed}")
+                stdout.file.write(f"The current list of frames is:\n{printable_lines(frames)}")
                 stdout.file.flush()
 
         live.every(rate, count, lambda: feed.finished, tick, feed.clock)

@@ -34,6 +34,11 @@ def printable(text: str) -> str:
     return _UNSAFE.sub(lambda m: _escaped(m.group()), text)
 
 
+def printable_lines(text: str) -> str:
+    """Each line of ``text`` made ``printable``, each ending in a newline."""
+    return "".join(printable(line) + "\n" for line in text.removesuffix("\n").split("\n"))
+
+
 def is_printable(text: str) -> bool:
     """True when ``printable`` would leave ``text`` unchanged."""
     return _UNSAFE.search(text) is None

@@ -10,7 +10,7 @@ from rich.text import Text
 from tftools.analysis.frames import FrameSummary, FrameTree
 from tftools.core.time import NS_PER_S, to_sec
 from tftools.render import jsonl
-from tftools.render.escape import printable
+from tftools.render.escape import printable, printable_lines
 
 
 def _label(f: FrameSummary) -> Text:
@@ -85,5 +85,4 @@ def write_json(tree: FrameTree, out: IO[str]) -> None:
 def write_yaml(yaml_text: str, out: IO[str]) -> None:
     """tf2's ``allFramesAsYAML``, exactly as ``tf2_ros`` prints it, but for control characters in names
     (shown escaped, as ``printable`` does; a newline in a name still ends its line)."""
-    lines = yaml_text.removesuffix("\n").split("\n")
-    out.write("".join(printable(line) + "\n" for line in lines))
+    out.write(printable_lines(yaml_text))
