@@ -43,7 +43,7 @@ def parse_time(text: str, recording: Recording, option: str = "TIME") -> int:
     timeline = recording.timeline
     base = timeline.tf_start if given.startswith("+") else timeline.tf_end if given.startswith("-") else 0
     seconds = to_sec(base) + value
-    span = tf_span(recording)
+    span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
     length = (timeline.tf_end - timeline.tf_start) / NS_PER_S
     if not (to_sec(timeline.tf_start) - TIME_SLACK_S <= seconds <= to_sec(timeline.tf_end) + TIME_SLACK_S):
         where = "before" if seconds < to_sec(timeline.tf_start) else "after"
@@ -52,11 +52,6 @@ def parse_time(text: str, recording: Recording, option: str = "TIME") -> int:
             f"give {TIME_FORMS}, e.g. {option} +{length / 2:.1f}",
         )
     return base + from_sec(value)
-
-
-def tf_span(recording: Recording) -> str:
-    """``START to END`` of the recording's tf stamps, in seconds."""
-    return f"{to_sec(recording.timeline.tf_start):.3f} to {to_sec(recording.timeline.tf_end):.3f}"
 
 
 Default = TypeVar("Default", int, None)

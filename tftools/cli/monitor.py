@@ -13,7 +13,7 @@ from rich.live import Live
 from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
 from tftools.analysis.timelines import EdgeSeries, MonitorTrace, edge_series
 from tftools.cli import live, options
-from tftools.cli.arguments import positive_seconds, rate_hz, tf_span, time_range
+from tftools.cli.arguments import positive_seconds, rate_hz, time_range
 from tftools.cli.common import TextOrJson, UsageError, frame_argument, open_recording, stdout, warn
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.semantics import Semantics
@@ -94,7 +94,8 @@ def command(
     first, last = time_range(recording, start, end, default=(None, None))
     timeline = recording.timeline
     if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
-        raise UsageError("the time range is outside the recording", f"its tf runs from {tf_span(recording)}")
+        span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
+        raise UsageError("the time range is outside the recording", f"its tf runs from {span}")
     if play:
         replay = replay_of(recording, rate=rate, start=first, end=last)
         note = f"rate {rate:g}x"
