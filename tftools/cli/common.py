@@ -20,7 +20,6 @@ from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
 from tftools.sources import Recording, read_recording
 from tftools.sources.bag import ProgressCallback
-from tftools.sources.storage.locations import expand
 
 
 def _console(*, to_stderr: bool) -> Console:
@@ -154,11 +153,6 @@ def open_recording(
     for problem in recording.problems:
         warn(problem)
     return recording
-
-
-def recording_groups(paths: Sequence[str] | None, bags: Sequence[str] | None) -> list[list[str]]:
-    """The recordings given: each BAG argument one of its own (folders and globs expanded), the -b bags one."""
-    return [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
 
 
 def local_size(location: str) -> int:

@@ -13,7 +13,7 @@ import typer
 from tftools.analysis.report import recording_report
 from tftools.analysis.wtf.fleet import sensor_data
 from tftools.cli import live, options
-from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, recording_groups, stderr, warn
+from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, stderr, warn
 from tftools.cli.outputs import check_output
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
@@ -23,6 +23,7 @@ from tftools.render.graph import counted, recording_legend
 from tftools.render.report import Section, page, recording_section, unreadable_section
 from tftools.sources import Recording
 from tftools.sources.contents import StampedMessages
+from tftools.sources.storage.locations import expand
 
 DEFAULT_OUTPUT = "report.html"
 
@@ -61,7 +62,7 @@ def command(
     Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
     [cyan]tfx report --ros1 -d 10 -o live.html[/]
     """
-    groups = recording_groups(paths, bags)
+    groups: list[list[str]] = [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
     _check_output(output, [p for group in groups for p in group])
     if groups:
         sections = _bag_sections(groups, topics, tf2, target, sensors)
