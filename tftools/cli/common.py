@@ -124,6 +124,7 @@ def _bar(label: str, total: int | None, enabled: bool = True) -> Iterator[Callab
     if not enabled or not stderr.is_terminal:
         yield None
         return
+    # imported only when a bar is drawn
     from rich.progress import BarColumn, DownloadColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
     counter = DownloadColumn() if total is None else MofNCompleteColumn()
