@@ -80,9 +80,7 @@ def recording_section(index: int, report: RecordingReport, legend: Sequence[str]
     }
     origin = report.bins.start
     parts = [
-        f'<section class="recording {verdict}" id="{anchor}">',
-        f'<h2><span class="verdict {verdict}">{verdict}</span> {_esc(report.name)}</h2>',
-        f'<p class="summary">{_esc(summary)}</p><div class="top">',
+        '<div class="top">',
         _facts(report.facts),
         _findings(report.findings, origin),
         "</div>",
@@ -90,23 +88,23 @@ def recording_section(index: int, report: RecordingReport, legend: Sequence[str]
         _timelines(report, rows, origin),
         _streams(report.streams),
         _statics(report.graph.edges),
-        f'<script type="application/json" class="report-data">{_json(data)}</script></section>',
+        f'<script type="application/json" class="report-data">{_json(data)}</script>',
     ]
-    return Section(anchor, report.name, verdict, summary, "".join(parts))
+    return _section(anchor, report.name, verdict, summary, "".join(parts))
 
 
 def unreadable_section(index: int, name: str, message: str, hint: str) -> Section:
     """A recording of a fleet that could not be read: what went wrong, and what to do."""
-    anchor = f"r{index}"
-    text = f"could not be read: {message}"
-    return Section(
-        anchor,
-        name,
-        "failed",
-        text,
-        f'<section class="recording failed" id="{anchor}"><h2><span class="verdict failed">failed</span> '
-        f'{_esc(name)}</h2><p class="summary">{_esc(text)}</p><p class="hint">{_esc(hint)}</p></section>',
+    return _section(f"r{index}", name, "failed", f"could not be read: {message}", f'<p class="hint">{_esc(hint)}</p>')
+
+
+def _section(anchor: str, name: str, verdict: str, summary: str, body: str) -> Section:
+    """A recording's section: its verdict and name, its summary, then ``body``."""
+    html = (
+        f'<section class="recording {verdict}" id="{anchor}"><h2><span class="verdict {verdict}">{verdict}</span> '
+        f'{_esc(name)}</h2><p class="summary">{_esc(summary)}</p>{body}</section>'
     )
+    return Section(anchor, name, verdict, summary, html)
 
 
 def _verdict(findings: Sequence[Finding]) -> tuple[str, str]:
