@@ -55,9 +55,12 @@ def open_live(
     """
     chosen = "ros1" if master_uri else choose_ros(ros)
     if chosen == "ros2":
-        from tftools.sources.live import ros2
+        from tftools.sources.live.ros2 import require_cyclonedds
 
-        return ros2.open_source(topics, use_sim_time, on_notice)
+        require_cyclonedds()
+        from tftools.sources.live.ros2.source import Ros2Source
+
+        return Ros2Source(topics, use_sim_time, on_notice)
     from tftools.sources.live.ros1 import Ros1Source
 
     return Ros1Source(master_uri, topics, use_sim_time, on_notice, name)

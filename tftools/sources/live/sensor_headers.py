@@ -98,22 +98,6 @@ class HeaderListener(Protocol):
     def close(self) -> None: ...
 
 
-def header_listener(source: LiveSource, store: HeaderStore) -> HeaderListener:
-    """A listener of the system ``source`` listens to (its ROS 1 master or its ROS 2 domain)."""
-    from tftools.sources.live.ros1 import Ros1Source
-
-    if isinstance(source, Ros1Source):
-        from tftools.sources.live.ros1.headers import Ros1HeaderListener
-
-        return Ros1HeaderListener(source.master_uri, store)
-    from tftools.sources.live.ros2.headers import Ros2HeaderListener
-    from tftools.sources.live.ros2.source import Ros2Source
-
-    if not isinstance(source, Ros2Source):
-        raise TypeError(f"no sensor headers from a {type(source).__name__}")
-    return Ros2HeaderListener(source.domain_id, store)
-
-
 def capture_stamped(
     source: LiveSource,
     duration: float = 5.0,
@@ -128,16 +112,12 @@ def capture_stamped(
     a topic) with their arrival times on the recording's record clock, for ``filter_report``."""
     store = HeaderStore(source.clock, topics, source.notice, limit)
     try:
-        listener = header_listener(source, store)
-    except BaseException:
-        source.close()
-        raise
-    try:
-        listener.start()
-        recording = capture(source, duration, semantics=semantics, on_jump=store.forget)
-    except BaseException:
-        source.close()  # capture closes it, but not when the listener failed first
-        raise
+        listener = source.header_listener(store)
+        try:
+            listener.start()
+            recording = capture(source, duration, semantics=semantics, on_jump=store.forget)
+        finally:
+            listener.close()
     finally:
-        listener.close()
+        source.close()  # capture closes it, but not when the listener failed first
     return recording, store.read()

@@ -5,12 +5,23 @@ from __future__ import annotations
 import threading
 from typing import Any
 
-from cyclonedds.core import DDSException, InstanceState, Policy, Qos, SampleState, ViewState
+from cyclonedds.core import (
+    DDSException,
+    GuardCondition,
+    InstanceState,
+    Policy,
+    Qos,
+    ReadCondition,
+    SampleState,
+    ViewState,
+    WaitSet,
+)
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.internal import SampleInfo
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
+from cyclonedds.util import duration
 
 from tftools.sources.live.ros2.conventions import QosProfile, discovery_config
 from tftools.sources.live.ros2.errors import DdsError
@@ -107,6 +118,29 @@ class Participant:
         self._closed = True
         self.dds.__del__()  # dds_delete: the participant and all its entities, now
         _DOMAINS.release(self.domain_id)
+
+
+class Waiter:
+    """One thread's wait for samples on the readers it ``watch``es, until another thread ``wake``s it."""
+
+    def __init__(self, participant: Participant) -> None:
+        self._waitset = WaitSet(participant.dds)
+        self._wake = GuardCondition(participant.dds)
+        self._conditions: list[Any] = []  # kept: Python deleting a condition would delete (detach) its DDS entity
+        self._attach(self._wake)
+
+    def watch(self, reader: DataReader[Any]) -> None:
+        self._attach(ReadCondition(reader, _ANY_SAMPLE))
+
+    def _attach(self, condition: Any) -> None:
+        self._conditions.append(condition)
+        self._waitset.attach(condition)
+
+    def wait(self, seconds: float) -> None:
+        self._waitset.wait(duration(seconds=seconds))
+
+    def wake(self) -> None:
+        self._wake.set(True)
 
 
 def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, SampleInfo]]:

@@ -9,18 +9,15 @@ from dataclasses import dataclass
 from typing import Any
 
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, DcpsEndpoint
-from cyclonedds.core import DDSException, GuardCondition, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
-from cyclonedds.util import duration
+from cyclonedds.core import DDSException
 
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_header
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.dds import Participant, take_raw
+from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.errors import DdsError
 from tftools.sources.live.ros2.sensor_types import sensor_type
 from tftools.sources.live.sensor_headers import MAX_TOPICS, HeaderStore
-
-_ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any
 
 
 @dataclass(frozen=True)
@@ -39,47 +36,39 @@ class Ros2HeaderListener:
         self._store = store
         self._participant = Participant(domain_id)
         self._readers: dict[tuple[str, str], _SensorReader | None] = {}  # None: not read (no header)
-        self._wake = GuardCondition(self._participant.dds)
+        self._waiter = Waiter(self._participant)
         self._closed = threading.Event()
         self._thread: threading.Thread | None = None
 
     def start(self) -> None:
         """Watch for sensor topics' writers and read them, in the background."""
-        dds = self._participant.dds
         try:
-            publications = BuiltinDataReader(dds, BuiltinTopicDcpsPublication)
-            waitset = WaitSet(dds)
-            conditions = [ReadCondition(publications, _ANY_SAMPLE), self._wake]
-            for condition in conditions:
-                waitset.attach(condition)
+            publications = BuiltinDataReader(self._participant.dds, BuiltinTopicDcpsPublication)
+            self._waiter.watch(publications)
         except DDSException as error:
             raise DdsError(f"listen on DDS domain {self._participant.domain_id}", error) from None
-        self._thread = threading.Thread(
-            target=self._run, args=(publications, waitset, conditions), name="tfx-dds-sensors", daemon=True
-        )
+        self._thread = threading.Thread(target=self._run, args=(publications,), name="tfx-dds-sensors", daemon=True)
         self._thread.start()
 
     def close(self) -> None:
         if self._closed.is_set():
             return
         self._closed.set()
-        self._wake.set(True)
+        self._waiter.wake()
         if self._thread is not None:
             self._thread.join(timeout=2.0)
         self._participant.close()
 
-    def _run(self, publications: Any, waitset: WaitSet, conditions: list[Any]) -> None:
+    def _run(self, publications: Any) -> None:
         """One thread: new writers give new readers (whose data wakes it too); each sample taken is
         one message heard, now."""
         while not self._closed.is_set():
-            waitset.wait(duration(seconds=1))
+            self._waiter.wait(1.0)
             if self._closed.is_set():
                 return
             try:
                 for reader in self._discover(publications):
-                    condition = ReadCondition(reader, _ANY_SAMPLE)
-                    conditions.append(condition)  # kept: deleting the Python object would detach it
-                    waitset.attach(condition)
+                    self._waiter.watch(reader)
                 self._take()
             except Exception as error:  # a peer's or tfx's fault: said once, listening goes on
                 self._store.notice(f"dropped DDS samples of sensor topics: {type(error).__name__}: {error}")

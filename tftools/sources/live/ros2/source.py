@@ -5,25 +5,24 @@ from __future__ import annotations
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from cyclonedds.core import DDSException, GuardCondition, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
-from cyclonedds.util import duration
+from cyclonedds.core import DDSException
 
 from tftools.core.batch import TransformBatch, concat_batches
-from tftools.core.time import Clock, SimClock, WallClock
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_batch, message_clock
-from tftools.sources.contents import DEFAULT_TOPICS, is_static_topic
-from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice, ignore_notice, printable
+from tftools.sources.contents import is_static_topic
+from tftools.sources.live.base import LiveSource, OnBatch, OnNotice, printable, unreadable_reason
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.dds import Participant, take_raw
+from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.errors import DdsError
 from tftools.sources.live.ros2.graph import Graph, Writer
 from tftools.sources.live.ros2.idl import Clock as ClockMsg
 from tftools.sources.live.ros2.idl import TFMessage
 
-_ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any
+if TYPE_CHECKING:
+    from tftools.sources.live.sensor_headers import HeaderListener, HeaderStore
 
 
 @dataclass(frozen=True)
@@ -48,12 +47,10 @@ class _Listening:
     graph: Graph
     subscriptions: list[_Subscription]
     clock: Any  # the /clock reader under sim time, else None
-    waitset: WaitSet
-    conditions: list[Any]  # kept: Python deleting a condition would delete (detach) its DDS entity
     pending: list[_Sample] = field(default_factory=list)
 
 
-class Ros2Source(ContextManaged):
+class Ros2Source(LiveSource):
     """Subscribes to ``topics`` (tf2_msgs/msg/TFMessage) on DDS domain ``domain_id`` (``ROS_DOMAIN_ID``)
     with tf2_ros's TransformListener QoS; each sample's authority is its publisher's node.
 
@@ -70,31 +67,19 @@ class Ros2Source(ContextManaged):
         on_notice: OnNotice | None = None,
         domain_id: int | None = None,
     ) -> None:
-        self.topics = tuple(topics) if topics else DEFAULT_TOPICS
+        super().__init__(topics, bool(use_sim_time), on_notice)
         self.domain_id = ros2.domain_id() if domain_id is None else domain_id
-        self.use_sim_time = bool(use_sim_time)
-        self.message_count = 0
-        self._clock: Clock = SimClock() if self.use_sim_time else WallClock()
-        self._on_notice = on_notice or ignore_notice
-        self._notice_once = NoticeOnce(on_notice)
         self._participant = Participant(self.domain_id)
-        self._closed = threading.Event()
-        self._wake: GuardCondition | None = None
+        self._waiter = Waiter(self._participant)
         self._thread: threading.Thread | None = None
-
-    @property
-    def clock(self) -> Clock:
-        return self._clock
-
-    @property
-    def finished(self) -> bool:
-        return self._closed.is_set()
-
-    def notice(self, message: str) -> None:
-        self._on_notice(message)
 
     def describe(self) -> str:
         return f"ROS2 DDS domain {self.domain_id}"
+
+    def header_listener(self, store: HeaderStore) -> HeaderListener:
+        from tftools.sources.live.ros2.headers import Ros2HeaderListener
+
+        return Ros2HeaderListener(self.domain_id, store)
 
     def start(self, on_batch: OnBatch) -> None:
         """Create the readers (transient local ones get what was published before) and listen."""
@@ -110,8 +95,7 @@ class Ros2Source(ContextManaged):
         if self._closed.is_set():
             return
         self._closed.set()
-        if self._wake is not None:
-            self._wake.set(True)
+        self._waiter.wake()
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=2.0)
         self._participant.close()
@@ -132,36 +116,26 @@ class Ros2Source(ContextManaged):
         clock = None
         if self.use_sim_time:
             clock = participant.reader(ros2.dds_topic(ros2.CLOCK_TOPIC), ClockMsg, ros2.CLOCK_QOS)
-        readers = [*graph.readers, *(s.reader for s in subscriptions), *([clock] if clock is not None else [])]
-        self._wake = GuardCondition(participant.dds)
-        conditions = [*(ReadCondition(reader, _ANY_SAMPLE) for reader in readers), self._wake]
-        waitset = WaitSet(participant.dds)
-        for condition in conditions:
-            waitset.attach(condition)
-        return _Listening(graph, subscriptions, clock, waitset, conditions)
+        for reader in [*graph.readers, *(s.reader for s in subscriptions), *([clock] if clock is not None else [])]:
+            self._waiter.watch(reader)
+        return _Listening(graph, subscriptions, clock)
 
     def _run(self, on_batch: OnBatch, listening: _Listening) -> None:
         """One thread takes every sample and calls ``on_batch`` with what one wake-up brought."""
         while not self._closed.is_set():
-            listening.waitset.wait(duration(milliseconds=50) if listening.pending else duration(seconds=1))
+            self._waiter.wait(0.05 if listening.pending else 1.0)
             if self._closed.is_set():
                 return
             try:
-                batch = self._receive(listening)
+                listening.graph.poll()
+                if listening.clock is not None:
+                    self._tick(listening.clock, listening.graph)
+                batch = self._take(listening)
             except Exception as error:
                 self._notice_once(f"dropped DDS samples: {type(error).__name__}: {error}")
                 continue
             if len(batch):
-                try:
-                    on_batch(batch)
-                except Exception as error:  # the consumer's bug must not stop the listening
-                    self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")
-
-    def _receive(self, listening: _Listening) -> TransformBatch:
-        listening.graph.poll()
-        if listening.clock is not None:
-            self._tick(listening.clock, listening.graph)
-        return self._take(listening)
+                self._pass_on(on_batch, batch)
 
     def _take(self, listening: _Listening) -> TransformBatch:
         """New samples, and those held back until their publisher's node is known (a node's
@@ -183,27 +157,19 @@ class Ros2Source(ContextManaged):
                 cdr.decode_tf, sample.data, static=static, authority=authority, record_time=sample.record_time
             )
         except Exception as error:  # ValueError: not a TFMessage; anything else, a decoder bug: either way, one sample
-            reason = str(error) if isinstance(error, ValueError) else f"tfx's {type(error).__name__}: {error}"
-            self._notice_once(
-                f"{printable(authority)} sent an unreadable message on {sample.subscription.topic} ({reason})"
-            )
+            topic, reason = sample.subscription.topic, unreadable_reason(error)
+            self._notice_once(f"{printable(authority)} sent an unreadable message on {topic} ({reason})")
             return None
         self.message_count += 1
         return batch
 
     def _tick(self, reader: Any, graph: Graph) -> None:
-        assert isinstance(self._clock, SimClock)
         for data, info in take_raw(reader):
             try:
-                now = message_clock(cdr.decode_clocks, data)
+                self._clock_message(message_clock(cdr.decode_clocks, data))
             except ValueError as error:
                 who = graph.authority(info.publication_handle, reader)
                 self._notice_once(f"{printable(who)} sent an unreadable /clock ({error})")
-                continue
-            if now < self._clock.now():  # a replay that loops or restarts: ROS time jumps back too
-                self._clock.reset(now)
-            else:
-                self._clock.set(now)
 
     def _check_writer(self, writer: Writer, who: str) -> None:
         """Say why a publisher on a listened topic will not be heard (as tf2_ros would not hear it)."""
