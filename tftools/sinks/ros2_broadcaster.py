@@ -12,10 +12,10 @@ from cyclonedds.core import DDSException
 from tftools.core.transform import Transform
 from tftools.sinks import StaticBroadcaster
 from tftools.sources.live.base import OnNotice
+from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.announce import NodeAnnouncer
 from tftools.sources.live.ros2.dds import Participant
-from tftools.sources.live.ros2.errors import DdsError
 from tftools.sources.live.ros2.idl import TFMessage
 
 

@@ -12,7 +12,6 @@ from tftools.sources.live.errors import (
     MasterRefusedError,
     MasterUnreachableError,
     NoRosSelectedError,
-    Ros2NotAvailableError,
 )
 
 Ros = Literal["ros1", "ros2"]
@@ -75,7 +74,6 @@ __all__ = [
     "OnBatch",
     "OnNotice",
     "Ros",
-    "Ros2NotAvailableError",
     "choose_ros",
     "open_live",
 ]

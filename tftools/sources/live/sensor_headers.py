@@ -1,11 +1,5 @@
-"""Sensor data heard live beside tf: each message's header and arrival time, what ``tfx filter`` replays.
-
-While a capture listens to tf, a listener of the same system subscribes the sensor topics (those
-named, or every advertised one whose type starts with a ``std_msgs/Header``, but /tf, /tf_static
-and /clock) and keeps, per message, when it arrived on the capture's clock (the clock of the
-transforms' record times) and its header, decoded by the parsers bags use
-(``tftools.sources.headers``): the same ``StampedMessages`` as a bag gives.
-"""
+"""Sensor data heard live beside tf, what ``tfx filter`` replays: each message's header, decoded by the
+parsers bags use, and its arrival time on the capture's clock: the same ``StampedMessages`` as a bag gives."""
 
 from __future__ import annotations
 
@@ -104,13 +98,12 @@ def capture_stamped(
     topics: Sequence[str] | None = None,
     *,
     semantics: Semantics | None = None,
-    limit: int = MAX_HEADERS_PER_TOPIC,
 ) -> tuple[Recording, StampedRead]:
     """Listen ``duration`` wall seconds to ``source`` (not yet started; closed on return) as
     ``capture`` does, and meanwhile to the sensor ``topics`` of its system (default: every one
-    whose messages start with a header): the recording, and each topic's headers (at most ``limit``
-    a topic) with their arrival times on the recording's record clock, for ``filter_report``."""
-    store = HeaderStore(source.clock, topics, source.notice, limit)
+    whose messages start with a header, but /tf, /tf_static and /clock): the recording, and each
+    topic's headers with their arrival times on the recording's record clock."""
+    store = HeaderStore(source.clock, topics, source.notice)
     try:
         listener = source.header_listener(store)
         try:

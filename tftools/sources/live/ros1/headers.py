@@ -9,7 +9,7 @@ from collections.abc import Mapping
 
 from tftools.sources.codecs import ros1
 from tftools.sources.codecs.decoded import message_header
-from tftools.sources.codecs.types import MessageType, definition_starts_with_header
+from tftools.sources.codecs.types import MessageType, definition_starts_with_header, rosidl_name
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
@@ -20,12 +20,6 @@ ANY_TYPE = MessageType("*", "*", "")
 
 #: Seconds between asks to the master for topics advertised since (listening to all of them).
 DISCOVER_EVERY = 1.0
-
-
-def ros2_style(msgtype: str) -> str:
-    """A ROS 1 type name as bags name it when read (``sensor_msgs/LaserScan`` -> ``sensor_msgs/msg/LaserScan``)."""
-    package, _, name = msgtype.partition("/")
-    return f"{package}/msg/{name}" if name and "/" not in name else msgtype
 
 
 class Ros1HeaderListener:
@@ -83,7 +77,7 @@ class Ros1HeaderListener:
 
         def admit(header: Mapping[str, str]) -> bool:
             nonlocal msgtype
-            msgtype = ros2_style(header.get("type", ""))
+            msgtype = rosidl_name(header.get("type", ""))  # as bags name it when read
             if definition_starts_with_header(msgtype, header.get("message_definition", "")):
                 return True
             store.without_header(topic, msgtype)

@@ -11,7 +11,7 @@ from collections.abc import Callable
 from typing import Any
 
 from tftools.sources.codecs.types import MessageType
-from tftools.sources.live.base import OnNotice
+from tftools.sources.live.base import OnNotice, ignore_notice
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.publisher import Publication, TcpRosServer
@@ -19,10 +19,6 @@ from tftools.sources.live.ros1.subscriber import Admit, OnMessage, Subscription
 from tftools.sources.live.ros1.xmlrpc import CALL_TIMEOUT, MasterClient, ReplyError, SlaveServer, uri_list
 
 Reply = list[Any]  # the ROS API's [code, status message, value]
-
-
-def _ignore(_message: str) -> None:
-    pass
 
 
 class Node:
@@ -37,7 +33,7 @@ class Node:
         self.master = MasterClient(network.master_uri(master_uri), name)
         self.host = network.advertised_host()
         self._bind = network.bind_address(self.host)
-        self._on_notice = on_notice or _ignore
+        self._on_notice = on_notice or ignore_notice
         self.shutdown_requested = threading.Event()
         self._subscriptions: dict[str, Subscription] = {}
         self._publications: dict[str, Publication] = {}

@@ -3,7 +3,7 @@ system as a participant speaking ROS 2's topic names, types and QoS."""
 
 from __future__ import annotations
 
-from tftools.sources.live.ros2.errors import CycloneDdsMissingError
+from tftools.sources.live.errors import CycloneDdsMissingError
 
 
 def require_cyclonedds() -> None:

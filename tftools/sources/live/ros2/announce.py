@@ -9,7 +9,7 @@ from typing import Any
 
 from cyclonedds.core import DDSException
 
-from tftools.sources.live.base import OnNotice
+from tftools.sources.live.base import OnNotice, ignore_notice
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, take_raw
 from tftools.sources.live.ros2.entities import decode_participant_entities
@@ -31,7 +31,7 @@ class NodeAnnouncer:
     ) -> None:
         self._participant = participant
         self._node = (name, list(writers))
-        self._on_notice = on_notice or (lambda _message: None)
+        self._on_notice = on_notice or ignore_notice
         self._closed = threading.Event()
         self._writer: Any = None
         distro = os.environ.get("ROS_DISTRO", "").strip().lower()

@@ -9,7 +9,7 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from tftools.sources.live.ros2.errors import DomainIdError
+from tftools.sources.live.errors import DomainIdError
 
 # ROS 2 topic "/tf" is DDS topic "rt/tf": the "rt" prefix marks ROS topics (design.ros2.org,
 # "Topic and Service name mapping to DDS"; rmw_cyclonedds namespace_prefix.hpp ROS_TOPIC_PREFIX).

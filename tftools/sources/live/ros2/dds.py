@@ -23,8 +23,8 @@ from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
+from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2.conventions import QosProfile, discovery_config
-from tftools.sources.live.ros2.errors import DdsError
 
 _INFINITY = 0x7FFFFFFFFFFFFFFF  # DDS_INFINITY
 _ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any

@@ -53,8 +53,8 @@ class Graph:
     gives as ``publication_handle``) and the nodes that own them (``ros_discovery_info``, where every
     ROS 2 participant lists its nodes and their writers' GUIDs)."""
 
-    def __init__(self, participant: Participant, on_writer: Callable[[Writer, str], None] | None = None) -> None:
-        self._on_writer = on_writer or (lambda _writer, _name: None)
+    def __init__(self, participant: Participant, on_writer: Callable[[Writer, str], None]) -> None:
+        self._on_writer = on_writer  # told of each writer discovered, with its name
         self.publications = BuiltinDataReader(participant.dds, BuiltinTopicDcpsPublication)
         self.discovery = discovery_readers(participant)
         self._writers: dict[int, Writer] = {}

@@ -13,9 +13,9 @@ from cyclonedds.core import DDSException
 
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_header
+from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
-from tftools.sources.live.ros2.errors import DdsError
 from tftools.sources.live.ros2.sensor_types import sensor_type
 from tftools.sources.live.sensor_headers import MAX_TOPICS, HeaderStore
 

@@ -14,9 +14,9 @@ from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.contents import is_static_topic
 from tftools.sources.live.base import LiveSource, OnBatch, OnNotice, printable, unreadable_reason
+from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
-from tftools.sources.live.ros2.errors import DdsError
 from tftools.sources.live.ros2.graph import Graph, Writer
 from tftools.sources.live.ros2.idl import Clock as ClockMsg
 from tftools.sources.live.ros2.idl import TFMessage
