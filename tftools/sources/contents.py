@@ -66,12 +66,9 @@ class Fetched:
     size: int
     whole: bool = False
 
-    @property
-    def share(self) -> float:
-        return self.received / self.size if self.size else 0.0
-
     def describe(self) -> str:
-        line = f"fetched {_megabytes(self.received)} of {_megabytes(self.size)} ({self.share:.1%})"
+        share = self.received / self.size if self.size else 0.0
+        line = f"fetched {_megabytes(self.received)} of {_megabytes(self.size)} ({share:.1%})"
         return line + (", .db3 files whole (SQLite reads a local file)" if self.whole else "")
 
 

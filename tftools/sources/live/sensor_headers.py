@@ -59,6 +59,13 @@ class HeaderStore:
             if collector.left_out == 1:
                 self.notice(f"{topic}: {self._limit} messages heard, tfx's limit per topic: later ones are not checked")
 
+    def full(self, listened: int) -> bool:
+        """Whether ``listened`` topics are already as many as tfx listens to (said once)."""
+        if listened < MAX_TOPICS:
+            return False
+        self.notice(f"more than {MAX_TOPICS} topics are advertised: tfx listens to the first ones")
+        return True
+
     def without_header(self, topic: str, msgtype: str) -> None:
         """``topic`` turned out to be of ``msgtype``, whose messages do not start with a header."""
         with self._lock:

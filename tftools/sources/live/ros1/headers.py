@@ -13,7 +13,7 @@ from tftools.sources.codecs.types import MessageType, definition_starts_with_hea
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
-from tftools.sources.live.sensor_headers import MAX_TOPICS, HeaderStore
+from tftools.sources.live.sensor_headers import HeaderStore
 
 #: Any message type: a publisher answers with its own type, md5sum and definition.
 ANY_TYPE = MessageType("*", "*", "")
@@ -24,9 +24,7 @@ DISCOVER_EVERY = 1.0
 
 class Ros1HeaderListener:
     """The headers of ``store``'s topics from the ROS 1 master at ``master_uri``: those it names, or
-    every topic advertised (now and while listening, up to ``MAX_TOPICS``) whose messages start
-    with a header. Each publisher is one TCPROS connection with tftools' limits (message size,
-    timeouts, threads per topic)."""
+    every topic advertised (now and while listening) whose messages start with a header."""
 
     def __init__(self, master_uri: str, store: HeaderStore) -> None:
         self._store = store
@@ -65,8 +63,7 @@ class Ros1HeaderListener:
         for topic, _type in self._node.master.published_topics():
             if topic in self._subscribed or not self._store.wants(topic):
                 continue
-            if len(self._subscribed) >= MAX_TOPICS:
-                self._store.notice(f"more than {MAX_TOPICS} topics are advertised: tfx listens to the first ones")
+            if self._store.full(len(self._subscribed)):
                 return
             self._subscribe(topic)
 

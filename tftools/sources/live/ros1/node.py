@@ -49,8 +49,6 @@ class Node:
     def uri(self) -> str:
         return self._slave.uri
 
-    # --- what the node does ------------------------------------------------------------------
-
     def subscribe(
         self, topic: str, msg_type: MessageType, on_message: OnMessage, admit: Admit | None = None
     ) -> Subscription:

@@ -139,8 +139,6 @@ class Ros1Source(LiveSource):
         if self._delivery is not None and self._delivery is not threading.current_thread():
             self._delivery.join(timeout=1.0)
 
-    # --- receiving ---------------------------------------------------------------------------
-
     def _receiver(self, topic: str) -> OnMessage:
         static = is_static_topic(topic)
 

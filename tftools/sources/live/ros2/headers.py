@@ -17,7 +17,7 @@ from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.sensor_types import sensor_type
-from tftools.sources.live.sensor_headers import MAX_TOPICS, HeaderStore
+from tftools.sources.live.sensor_headers import HeaderStore
 
 
 @dataclass(frozen=True)
@@ -29,8 +29,7 @@ class _SensorReader:
 
 class Ros2HeaderListener:
     """The headers of ``store``'s topics on DDS domain ``domain_id``: those it names (of any type a
-    header can be read from), or every topic whose type ROS 2 defines with a header first, up to
-    ``MAX_TOPICS`` (topic, type) pairs, each read as ``conventions.SENSOR_QOS`` says."""
+    header can be read from), or every topic whose type ROS 2 defines with a header first."""
 
     def __init__(self, domain_id: int, store: HeaderStore) -> None:
         self._store = store
@@ -83,8 +82,7 @@ class Ros2HeaderListener:
             key = (topic, endpoint.type_name)
             if key in self._readers or not self._store.wants(topic):
                 continue
-            if len(self._readers) >= MAX_TOPICS:
-                self._store.notice(f"more than {MAX_TOPICS} topics are advertised: tfx listens to the first ones")
+            if self._store.full(len(self._readers)):
                 break
             sensor = self._readers[key] = self._sensor_reader(topic, endpoint)
             if sensor is not None:

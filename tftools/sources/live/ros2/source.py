@@ -100,8 +100,6 @@ class Ros2Source(LiveSource):
             self._thread.join(timeout=2.0)
         self._participant.close()
 
-    # --- receiving ---------------------------------------------------------------------------
-
     def _listen(self) -> _Listening:
         participant = self._participant
         graph = Graph(participant, self._check_writer)
