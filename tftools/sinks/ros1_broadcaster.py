@@ -17,11 +17,9 @@ STATIC_TOPIC = "/tf_static"
 class Ros1StaticBroadcaster(StaticBroadcaster):
     """A node publishing ``/tf_static`` latched."""
 
-    def __init__(
-        self, master_uri: str | None = None, on_notice: OnNotice | None = None, name: str = "tfx_static"
-    ) -> None:
+    def __init__(self, master_uri: str | None = None, on_notice: OnNotice | None = None) -> None:
         super().__init__()
-        self._node = Node(network.anonymous_name(name), master_uri, on_notice)
+        self._node = Node(network.anonymous_name("tfx_static"), master_uri, on_notice)
         self._publication: Publication | None = None
 
     @property

@@ -23,12 +23,10 @@ class Ros2StaticBroadcaster(StaticBroadcaster):
     """A DDS writer on ``rt/tf_static`` with tf2_ros's StaticBroadcasterQoS, announced on
     ``ros_discovery_info`` as node ``/NAME`` so that ROS 2 tools (and tftools) name it."""
 
-    def __init__(
-        self, on_notice: OnNotice | None = None, domain_id: int | None = None, name: str | None = None
-    ) -> None:
+    def __init__(self, on_notice: OnNotice | None = None) -> None:
         super().__init__()
-        self.domain_id = ros2.domain_id() if domain_id is None else domain_id
-        self.node_name = name or f"tfx_static_{os.getpid()}_{int(time.time() * 1000) % 1_000_000}"
+        self.domain_id = ros2.domain_id()
+        self.node_name = f"tfx_static_{os.getpid()}_{int(time.time() * 1000) % 1_000_000}"
         self._participant = Participant(self.domain_id)
         self._closed = threading.Event()
         try:

@@ -44,14 +44,10 @@ def open_live(
     on_notice: OnNotice | None = None,
     name: str = "tfx",
 ) -> LiveSource:
-    """A live source, not yet started: ROS1 through its master (``master_uri`` or
-    ``ROS_MASTER_URI``) or ROS2 over DDS (domain ``ROS_DOMAIN_ID``), chosen as ``choose_ros`` says.
-
-    ``use_sim_time``: follow ``/clock``; ``None`` does as the system says (ROS1: the master's
-    ``/use_sim_time``; ROS2: wall time, a node's default). ``on_notice`` hears one-line notices
-    (lost publishers, wrong types).
-    Raises ``LiveError`` (e.g. ``MasterUnreachableError``) when the system cannot be reached.
-    """
+    """A live source, not yet started: ROS1 through its master (``master_uri`` or ``ROS_MASTER_URI``) or
+    ROS2 over DDS (domain ``ROS_DOMAIN_ID``), as ``choose_ros`` says. ``use_sim_time``: follow ``/clock``;
+    ``None`` does as the system says (ROS1: the master's ``/use_sim_time``; ROS2: wall time).
+    ``on_notice`` hears one-line notices. Raises ``LiveError`` when the system cannot be reached."""
     chosen = "ros1" if master_uri else choose_ros(ros)
     if chosen == "ros2":
         from tftools.sources.live.ros2 import require_cyclonedds

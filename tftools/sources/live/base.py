@@ -73,12 +73,9 @@ class ContextManaged:
 
 
 class LiveSource(ContextManaged):
-    """A live system's transforms on ``topics`` as they arrive, and the clock they arrive on: wall
-    time, or the system's ``/clock`` under ``use_sim_time``.
-
-    ``start`` joins the system and returns once listening (raising ``LiveError`` if it cannot,
-    e.g. no master), then ``on_batch`` is called with each batch until ``close``.
-    """
+    """A live system's transforms on ``topics`` as they arrive, and the clock they arrive on (wall time,
+    or ``/clock`` under ``use_sim_time``). ``start`` joins the system and returns once listening (raising
+    ``LiveError`` if it cannot), then ``on_batch`` is called with each batch until ``close``."""
 
     #: What a capture's ``SourceInfo`` calls this kind of source, e.g. ``"ros1-live"``.
     format: str

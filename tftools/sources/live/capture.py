@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 
 import numpy as np
 
@@ -13,31 +13,24 @@ from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.semantics import Semantics
 from tftools.sources.codecs.types import TF_MESSAGE
 from tftools.sources.contents import RecordingContents, SourceInfo
-from tftools.sources.live import open_live
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.time_jump import OnJump, TimeJump, watch_jumps
 from tftools.sources.recording import Recording, recording_of
 
 
 def capture(
-    source: LiveSource | None = None,
+    source: LiveSource,
     duration: float = 5.0,
-    topics: Sequence[str] | None = None,
     *,
     until: Callable[[], bool] | None = None,
     semantics: Semantics | None = None,
     on_jump: OnJump | None = None,
 ) -> Recording:
-    """Listen ``duration`` wall seconds (as view_frames does) and return what was heard as a recording
-    whose record times are receive times on the source's clock.
-
-    ``source``: not yet started (closed on return); ``None`` opens one as ``open_live(topics=topics)``
-    does. ``until`` may end the capture early (checked ten times a second). When the source's clock
-    jumps back (a replay that loops), what was heard is forgotten but for static transforms, as a tf2
-    listener clears its buffer, and the recording spans from the jump; ``on_jump`` is told of each.
-    """
-    if source is None:
-        source = open_live(topics=topics)
+    """Listen ``duration`` wall seconds to ``source`` (not yet started; closed on return) as view_frames
+    does, or until ``until()`` (asked ten times a second), and return what was heard as a recording
+    whose record times are receive times on the source's clock. When that clock jumps back (a replay
+    that loops), what was heard is forgotten but for static transforms, as a tf2 listener clears its
+    buffer, and the recording spans from the jump; ``on_jump`` is told of each."""
     heard = _Heard(on_jump)
     with source:
         source.start(watch_jumps(source, heard.keep, heard.forget_dynamic))

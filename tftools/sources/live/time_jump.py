@@ -62,15 +62,13 @@ class JumpDetector:
 
 def watch_jumps(source: LiveSource, on_batch: Callable[[TransformBatch], object], on_jump: OnJump) -> OnBatch:
     """``on_batch`` as ``source.start`` takes it, with jumps back of the source's clock seen first:
-    ``on_jump`` is called (to clear what was heard), one line goes through ``source.notice``, then
-    the batch that revealed the jump is passed on, as tf2_ros stores the message whose callback
-    cleared its buffer.
+    ``on_jump`` is called (to clear what was heard) and said through ``source.notice``, then the batch
+    that revealed the jump is passed on, as tf2_ros stores the message whose callback cleared its buffer.
 
-    ``/clock`` and ``/tf`` come on separate connections, so around a replay's loop transforms of
-    either pass may be delivered after the clock went back. Those of the pass before (``stale``)
-    are dropped from the batch that revealed the jump; if that leaves none of the new pass's, the
-    clearing waits for the next batch, so that lookups never find the cleared buffer empty.
-    """
+    ``/clock`` and ``/tf`` come on separate connections, so around a replay's loop either pass's
+    transforms may come after the clock went back: the pass before's (``stale``) are dropped, and if
+    none of the new pass's are left, the clearing waits for the next batch, so that lookups never
+    find the cleared buffer empty."""
     detector = JumpDetector(source.clock)
     waiting: TimeJump | None = None  # a jump whose batch held only the pass before's transforms
 

@@ -22,11 +22,8 @@ Reply = list[Any]  # the ROS API's [code, status message, value]
 
 
 class Node:
-    """One node: ``subscribe`` and ``advertise`` topics; ``close`` unregisters everything.
-
-    The master and other nodes reach it through its slave XML-RPC server; ``shutdown_requested``
-    is set when one of them asks it to stop (``rosnode kill``).
-    """
+    """One node: ``subscribe`` and ``advertise`` topics; ``close`` unregisters everything. Others reach it
+    through its slave XML-RPC server; ``shutdown_requested`` is set when one asks it to stop (``rosnode kill``)."""
 
     def __init__(self, name: str, master_uri: str | None = None, on_notice: OnNotice | None = None) -> None:
         self.name = name

@@ -68,12 +68,9 @@ class _DeliveryQueue:
 
 
 class Ros1Source(LiveSource):
-    """Subscribes to ``topics`` (tf2_msgs/TFMessage) through the master at ``master_uri``
-    (``ROS_MASTER_URI``), following publishers as they come and go.
-
-    ``use_sim_time``: follow ``/clock``; ``None`` asks the master's ``/use_sim_time`` parameter,
-    as every ROS node does (which also checks that the master answers).
-    """
+    """Subscribes to ``topics`` (tf2_msgs/TFMessage) through the master at ``master_uri`` (``ROS_MASTER_URI``),
+    following publishers as they come and go. ``use_sim_time`` ``None`` asks the master's ``/use_sim_time``,
+    as every ROS node does (which also checks that the master answers)."""
 
     format = "ros1-live"
 

@@ -182,7 +182,9 @@ class _PublisherLink(threading.Thread):
                 return
             finally:
                 self.connected = False
-                self._close_socket()
+                sock, self._sock = self._sock, None
+                if sock is not None:
+                    sock.close()
             self._stopped.wait(delay)
             delay = min(delay * 2, RETRY_MAX)
 
@@ -246,8 +248,3 @@ class _PublisherLink(threading.Thread):
         ):
             raise ros_xmlrpc.ReplyError("its requestTopic answer is not a TCPROS host and port")
         return protocol[1], protocol[2]
-
-    def _close_socket(self) -> None:
-        sock, self._sock = self._sock, None
-        if sock is not None:
-            sock.close()

@@ -1,11 +1,8 @@
 """ROS1's XML-RPC: calls to the master and to other nodes, and this node's slave server.
 
-Every exchange is bounded: a whole call (connect, send, the reply) within ``CALL_TIMEOUT`` seconds,
-a reply within ``MAX_REPLY`` bytes, a request to this node within ``MAX_REQUEST`` bytes and
-``REQUEST_TIMEOUT`` seconds, at most ``MAX_CONCURRENT_REQUESTS`` served at once. XML is parsed by
-Python's expat with document type declarations refused: XML-RPC has none, and a DTD is how entity
-bombs ("billion laughs") come in. This needs no third-party parser (``defusedxml`` refuses DTDs
-the same way, by the same expat handlers).
+Every exchange is bounded in time and size (the limits below). XML is parsed by Python's expat with
+document type declarations refused, as ``defusedxml`` refuses them: XML-RPC has none, and a DTD is
+how entity bombs ("billion laughs") come in.
 """
 
 from __future__ import annotations

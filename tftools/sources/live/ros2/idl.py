@@ -1,8 +1,5 @@
-"""The ROS 2 message types tftools writes, as Cyclone DDS IDL structs with ROS 2's DDS type names.
-
-Keyless and final, as rmw_cyclonedds registers every ROS type (serdata.cpp create_sertype:
-TOPICKIND_NO_KEY, XCDR1 only), so they match ROS 2's readers and writers by name.
-"""
+"""The ROS 2 message types tftools writes, as Cyclone DDS IDL structs with ROS 2's DDS type names: keyless
+and final, as rmw_cyclonedds registers every ROS type (serdata.cpp create_sertype), so they match by name."""
 
 # mypy: disable-error-code="type-arg, assignment, arg-type, valid-type, attr-defined"
 # (Cyclone DDS's IDL annotations are not types mypy knows.)

@@ -1,12 +1,8 @@
-"""DDS types for reading ROS 2 sensor topics: which advertised types start with a Header, and an
-IDL struct for each that a publisher's writer matches.
-
-ROS 2's rmw_cyclonedds sends no XTypes type information, so its writers match a reader by type
-name alone; a DDS peer that sends it (Cyclone DDS's Python package) is matched only by a reader
-of the same layout. So a type ROS 2 defines (rosbags' type stores) is read with its whole layout,
-built from that definition; a type no store knows, with its name and a header alone. Either way
-tftools takes the samples' bytes and decodes the header only.
-"""
+"""DDS types for reading ROS 2 sensor topics: which advertised types start with a Header, and an IDL
+struct for each that a publisher's writer matches. rmw_cyclonedds's writers match a reader by type name
+alone, but a DDS peer sending XTypes information (Cyclone DDS's Python package) only a reader of the same
+layout: so a type ROS 2 defines is read with its whole layout (from rosbags' type stores). Either way
+tftools takes the samples' bytes and decodes the header only."""
 
 from __future__ import annotations
 

@@ -51,12 +51,9 @@ class _Listening:
 
 
 class Ros2Source(LiveSource):
-    """Subscribes to ``topics`` (tf2_msgs/msg/TFMessage) on DDS domain ``domain_id`` (``ROS_DOMAIN_ID``)
-    with tf2_ros's TransformListener QoS; each sample's authority is its publisher's node.
-
-    ``use_sim_time``: follow ``/clock``; ROS 2 nodes do so only when their parameter says so, so
-    ``None`` means wall time.
-    """
+    """Subscribes to ``topics`` (tf2_msgs/msg/TFMessage) on DDS domain ``ROS_DOMAIN_ID`` with tf2_ros's
+    TransformListener QoS; each sample's authority is its publisher's node. ``use_sim_time`` ``None``
+    means wall time, as for a ROS 2 node whose parameter does not say otherwise."""
 
     format = "ros2-live"
 
@@ -65,10 +62,9 @@ class Ros2Source(LiveSource):
         topics: Sequence[str] | None = None,
         use_sim_time: bool | None = None,
         on_notice: OnNotice | None = None,
-        domain_id: int | None = None,
     ) -> None:
         super().__init__(topics, bool(use_sim_time), on_notice)
-        self.domain_id = ros2.domain_id() if domain_id is None else domain_id
+        self.domain_id = ros2.domain_id()
         self._participant = Participant(self.domain_id)
         self._waiter = Waiter(self._participant)
         self._thread: threading.Thread | None = None
