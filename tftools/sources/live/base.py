@@ -31,12 +31,6 @@ def printable(text: str, limit: int = 200) -> str:
     return shown + ("..." if len(text) > limit else "")
 
 
-def unreadable_reason(error: Exception) -> str:
-    """Why a peer's message could not be decoded: a ``ValueError`` is the message's fault, anything
-    else a bug of tfx's decoder."""
-    return str(error) if isinstance(error, ValueError) else f"tfx's {type(error).__name__}: {error}"
-
-
 def ignore_notice(_message: str) -> None:
     """An ``OnNotice`` for no one."""
 
@@ -88,6 +82,8 @@ class LiveSource(ContextManaged):
         self._on_notice = on_notice or ignore_notice
         self._notice_once = NoticeOnce(on_notice)
         self._closed = threading.Event()
+        self._lock = threading.Lock()  # the receiving threads' counts and what they told
+        self._told_unreadable: set[tuple[str, str]] = set()
 
     @property
     def clock(self) -> Clock:
@@ -117,6 +113,16 @@ class LiveSource(ContextManaged):
         """A ``/clock`` message: ROS time is now ``now``, back too (a replay that loops or restarts)."""
         assert isinstance(self._clock, SimClock)
         self._clock.reset(now)
+
+    def _unreadable(self, sender: str, topic: str, error: Exception) -> None:
+        """Say once per publisher and topic that its messages cannot be read (they are dropped): a
+        ``ValueError`` is the message's fault, anything else a bug of tfx's decoder."""
+        with self._lock:
+            if (sender, topic) in self._told_unreadable:
+                return
+            self._told_unreadable.add((sender, topic))
+        reason = str(error) if isinstance(error, ValueError) else f"tfx's {type(error).__name__}: {error}"
+        self._notice_once(f"{printable(sender)} sent an unreadable message on {topic} ({reason}); such are dropped")
 
     def _pass_on(self, on_batch: OnBatch, batch: TransformBatch) -> None:
         try:

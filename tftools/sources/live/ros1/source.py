@@ -12,7 +12,7 @@ from tftools.sources.codecs import ros1
 from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, ros1_message_type
 from tftools.sources.contents import is_static_topic
-from tftools.sources.live.base import LiveSource, NoticeOnce, OnBatch, OnNotice, printable, unreadable_reason
+from tftools.sources.live.base import LiveSource, NoticeOnce, OnBatch, OnNotice
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.subscriber import OnMessage
@@ -92,8 +92,6 @@ class Ros1Source(LiveSource):
             raise
         super().__init__(topics, use_sim_time, on_notice)
         self._notice_once = notice_once
-        self._count_lock = threading.Lock()
-        self._told_unreadable: set[tuple[str, str]] = set()
         self._queue = _DeliveryQueue(self._notice_once)
         self._delivery: threading.Thread | None = None
 
@@ -147,7 +145,7 @@ class Ros1Source(LiveSource):
             except Exception as error:  # ValueError: not a TFMessage; anything else would be a decoder bug
                 self._unreadable(callerid, topic, error)
                 return
-            with self._count_lock:
+            with self._lock:
                 self.message_count += 1
             self._queue.put(batch)
 
@@ -158,15 +156,6 @@ class Ros1Source(LiveSource):
             self._clock_message(message_clock(ros1.decode_clocks, data))
         except ValueError as error:
             self._unreadable(callerid, "/clock", error)
-
-    def _unreadable(self, callerid: str, topic: str, error: Exception) -> None:
-        """Say once per publisher and topic that its messages cannot be read (they are dropped)."""
-        with self._count_lock:
-            if (callerid, topic) in self._told_unreadable:
-                return
-            self._told_unreadable.add((callerid, topic))
-        reason = unreadable_reason(error)
-        self._notice_once(f"{printable(callerid)} sent an unreadable message on {topic} ({reason}); such are dropped")
 
     def _deliver(self, on_batch: OnBatch) -> None:
         """One thread calls ``on_batch``, with whatever arrived while it was busy merged."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from typing import Any
 
 from cyclonedds.core import (
@@ -121,13 +122,36 @@ class Participant:
 
 
 class Waiter:
-    """One thread's wait for samples on the readers it ``watch``es, until another thread ``wake``s it."""
+    """A thread that waits for samples on the readers it ``watch``es and calls ``step`` after each wait,
+    until ``stop``; ``step`` returns the seconds to wait at most before the next call."""
 
     def __init__(self, participant: Participant) -> None:
         self._waitset = WaitSet(participant.dds)
         self._wake = GuardCondition(participant.dds)
         self._conditions: list[Any] = []  # kept: Python deleting a condition would delete (detach) its DDS entity
         self._attach(self._wake)
+        self._stopped = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def start(self, step: Callable[[], float], name: str) -> None:
+        self._thread = threading.Thread(target=self._run, args=(step,), name=name, daemon=True)
+        self._thread.start()
+
+    def _run(self, step: Callable[[], float]) -> None:
+        seconds = 1.0
+        while not self._stopped.is_set():
+            self._waitset.wait(duration(seconds=seconds))
+            if self._stopped.is_set():
+                return
+            seconds = step()
+
+    def stop(self) -> None:
+        if self._stopped.is_set():
+            return
+        self._stopped.set()
+        self._wake.set(True)
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=2.0)
 
     def watch(self, reader: DataReader[Any]) -> None:
         self._attach(ReadCondition(reader, _ANY_SAMPLE))
@@ -135,12 +159,6 @@ class Waiter:
     def _attach(self, condition: Any) -> None:
         self._conditions.append(condition)
         self._waitset.attach(condition)
-
-    def wait(self, seconds: float) -> None:
-        self._waitset.wait(duration(seconds=seconds))
-
-    def wake(self) -> None:
-        self._wake.set(True)
 
 
 def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, SampleInfo]]:

@@ -4,7 +4,6 @@ type matches theirs (``sensor_types``), and decodes each sample's header from it
 
 from __future__ import annotations
 
-import threading
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,8 +35,6 @@ class Ros2HeaderListener:
         self._participant = Participant(domain_id)
         self._readers: dict[tuple[str, str], _SensorReader | None] = {}  # None: not read (no header)
         self._waiter = Waiter(self._participant)
-        self._closed = threading.Event()
-        self._thread: threading.Thread | None = None
 
     def start(self) -> None:
         """Watch for sensor topics' writers and read them, in the background."""
@@ -46,31 +43,22 @@ class Ros2HeaderListener:
             self._waiter.watch(publications)
         except DDSException as error:
             raise DdsError(f"listen on DDS domain {self._participant.domain_id}", error) from None
-        self._thread = threading.Thread(target=self._run, args=(publications,), name="tfx-dds-sensors", daemon=True)
-        self._thread.start()
+        self._waiter.start(lambda: self._step(publications), "tfx-dds-sensors")
 
     def close(self) -> None:
-        if self._closed.is_set():
-            return
-        self._closed.set()
-        self._waiter.wake()
-        if self._thread is not None:
-            self._thread.join(timeout=2.0)
+        self._waiter.stop()
         self._participant.close()
 
-    def _run(self, publications: Any) -> None:
-        """One thread: new writers give new readers (whose data wakes it too); each sample taken is
-        one message heard, now."""
-        while not self._closed.is_set():
-            self._waiter.wait(1.0)
-            if self._closed.is_set():
-                return
-            try:
-                for reader in self._discover(publications):
-                    self._waiter.watch(reader)
-                self._take()
-            except Exception as error:  # a peer's or tfx's fault: said once, listening goes on
-                self._store.notice(f"dropped DDS samples of sensor topics: {type(error).__name__}: {error}")
+    def _step(self, publications: Any) -> float:
+        """New writers give new readers (whose data wakes the thread too); each sample taken is one
+        message heard, now."""
+        try:
+            for reader in self._discover(publications):
+                self._waiter.watch(reader)
+            self._take()
+        except Exception as error:  # a peer's or tfx's fault: said once, listening goes on
+            self._store.notice(f"dropped DDS samples of sensor topics: {type(error).__name__}: {error}")
+        return 1.0
 
     def _discover(self, publications: Any) -> list[Any]:
         """Readers for the sensor topics' writers discovered since the last call."""

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -13,7 +12,7 @@ from tftools.core.batch import TransformBatch, concat_batches
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.contents import is_static_topic
-from tftools.sources.live.base import LiveSource, OnBatch, OnNotice, printable, unreadable_reason
+from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
 from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
@@ -67,7 +66,6 @@ class Ros2Source(LiveSource):
         self.domain_id = ros2.domain_id()
         self._participant = Participant(self.domain_id)
         self._waiter = Waiter(self._participant)
-        self._thread: threading.Thread | None = None
 
     def describe(self) -> str:
         return f"ROS2 DDS domain {self.domain_id}"
@@ -84,16 +82,11 @@ class Ros2Source(LiveSource):
         except DDSException as error:
             self.close()
             raise DdsError(f"listen on DDS domain {self.domain_id}", error) from None
-        self._thread = threading.Thread(target=self._run, args=(on_batch, listening), name="tfx-dds", daemon=True)
-        self._thread.start()
+        self._waiter.start(lambda: self._step(on_batch, listening), "tfx-dds")
 
     def close(self) -> None:
-        if self._closed.is_set():
-            return
         self._closed.set()
-        self._waiter.wake()
-        if self._thread is not None and self._thread is not threading.current_thread():
-            self._thread.join(timeout=2.0)
+        self._waiter.stop()
         self._participant.close()
 
     def _listen(self) -> _Listening:
@@ -114,22 +107,20 @@ class Ros2Source(LiveSource):
             self._waiter.watch(reader)
         return _Listening(graph, subscriptions, clock)
 
-    def _run(self, on_batch: OnBatch, listening: _Listening) -> None:
-        """One thread takes every sample and calls ``on_batch`` with what one wake-up brought."""
-        while not self._closed.is_set():
-            self._waiter.wait(0.05 if listening.pending else 1.0)
-            if self._closed.is_set():
-                return
-            try:
-                listening.graph.poll()
-                if listening.clock is not None:
-                    self._tick(listening.clock, listening.graph)
-                batch = self._take(listening)
-            except Exception as error:
-                self._notice_once(f"dropped DDS samples: {type(error).__name__}: {error}")
-                continue
+    def _step(self, on_batch: OnBatch, listening: _Listening) -> float:
+        """Take every sample and call ``on_batch`` with what one wake-up brought; sooner again while
+        samples wait for their publisher to be named."""
+        try:
+            listening.graph.poll()
+            if listening.clock is not None:
+                self._tick(listening.clock, listening.graph)
+            batch = self._take(listening)
+        except Exception as error:
+            self._notice_once(f"dropped DDS samples: {type(error).__name__}: {error}")
+        else:
             if len(batch):
                 self._pass_on(on_batch, batch)
+        return 0.05 if listening.pending else 1.0
 
     def _take(self, listening: _Listening) -> TransformBatch:
         """New samples, and those held back until their publisher's node is known (a node's
@@ -151,8 +142,7 @@ class Ros2Source(LiveSource):
                 cdr.decode_tf, sample.data, static=static, authority=authority, record_time=sample.record_time
             )
         except Exception as error:  # ValueError: not a TFMessage; anything else, a decoder bug: either way, one sample
-            topic, reason = sample.subscription.topic, unreadable_reason(error)
-            self._notice_once(f"{printable(authority)} sent an unreadable message on {topic} ({reason})")
+            self._unreadable(authority, sample.subscription.topic, error)
             return None
         self.message_count += 1
         return batch
@@ -162,8 +152,7 @@ class Ros2Source(LiveSource):
             try:
                 self._clock_message(message_clock(cdr.decode_clocks, data))
             except ValueError as error:
-                who = graph.authority(info.publication_handle, reader)
-                self._notice_once(f"{printable(who)} sent an unreadable /clock ({error})")
+                self._unreadable(graph.authority(info.publication_handle, reader), ros2.CLOCK_TOPIC, error)
 
     def _check_writer(self, writer: Writer, who: str) -> None:
         """Say why a publisher on a listened topic will not be heard (as tf2_ros would not hear it)."""
