@@ -35,9 +35,9 @@ REPAIR_EVERY_S = 5.0
 @dataclass(frozen=True)
 class _Plan:
     """What the copy adds: ``transforms`` at the start and, with ``every`` (ns), again that often;
-    ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2).
-    ``senders``: per transform, the /tf_static connection that sent it in the bag (a ROS 1 callerid,
-    a ROS 2 topic) to send it again on, so that it keeps its publisher; none: tfx's own (``PUBLISHER``)."""
+    ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2);
+    ``senders``: per transform, the /tf_static connection (a ROS 1 callerid, a ROS 2 topic) that sent
+    it in the bag, so that it keeps its publisher; none: tfx's own (``PUBLISHER``)."""
 
     transforms: Sequence[Transform]
     every: int = 0
@@ -59,10 +59,9 @@ def add_static_transforms(
     *,
     force: bool = False,
 ) -> Path:
-    """Write ``output``: every connection and message of ``bag`` plus one ``/tf_static`` message
-    holding ``transforms``, stamped and recorded at the bag's start. ``bag`` is a ROS1 .bag
-    file or a ROS2 bag directory; ``output`` of the same kind. Refuses an existing ``output``
-    unless ``force``."""
+    """Write ``output``: every connection and message of ``bag`` (a ROS1 .bag file or a ROS2 bag
+    directory) plus one ``/tf_static`` message holding ``transforms``, stamped and recorded at the
+    bag's start. Refuses an existing ``output`` unless ``force``."""
     return _write_copy(Path(bag), Path(output), _Plan(transforms), force)
 
 

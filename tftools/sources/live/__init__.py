@@ -7,12 +7,7 @@ from collections.abc import Sequence
 from typing import Literal
 
 from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
-from tftools.sources.live.errors import (
-    LiveError,
-    MasterRefusedError,
-    MasterUnreachableError,
-    NoRosSelectedError,
-)
+from tftools.sources.live.errors import LiveError, MasterRefusedError, MasterUnreachableError, NoRosSelectedError
 
 Ros = Literal["ros1", "ros2"]
 

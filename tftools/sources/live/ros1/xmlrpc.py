@@ -21,12 +21,7 @@ from xml.parsers import expat
 from xmlrpc.server import SimpleXMLRPCRequestHandler, SimpleXMLRPCServer
 
 from tftools.sources.live.base import printable
-from tftools.sources.live.errors import (
-    MasterRefusedError,
-    MasterReplyError,
-    MasterTimeoutError,
-    MasterUnreachableError,
-)
+from tftools.sources.live.errors import MasterRefusedError, MasterReplyError, MasterTimeoutError, MasterUnreachableError
 
 #: Seconds a whole call to the master or another node may take (connect, send, the whole reply).
 CALL_TIMEOUT = 3.0
