@@ -7,6 +7,7 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from tftools.sources.contents import is_static_topic
 from tftools.sources.live.errors import DomainIdError
 
 # ROS 2 topic "/tf" is DDS topic "rt/tf": the "rt" prefix marks ROS topics (design.ros2.org,
@@ -100,7 +101,7 @@ DISCOVERY_READER_QOS = QosProfile(depth=0, transient_local=True)
 
 def listener_qos(ros_topic: str) -> QosProfile:
     """How tf2_ros's TransformListener subscribes ``ros_topic``."""
-    return TF_STATIC_LISTENER_QOS if ros_topic.rstrip("/").endswith("tf_static") else TF_QOS
+    return TF_STATIC_LISTENER_QOS if is_static_topic(ros_topic) else TF_QOS
 
 
 def domain_id(environ: Mapping[str, str] | None = None) -> int:

@@ -25,17 +25,11 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True)
-class _Subscription:
-    topic: str  # the ROS name, e.g. "/tf"
-    reader: Any
-    static: bool
-
-
-@dataclass(frozen=True)
 class _Sample:
     """A transform message received, waiting for its publisher to be named."""
 
-    subscription: _Subscription
+    topic: str  # the ROS name, e.g. "/tf"
+    reader: Any
     data: bytes
     handle: int
     record_time: int
@@ -44,7 +38,7 @@ class _Sample:
 @dataclass
 class _Listening:
     graph: Graph
-    subscriptions: list[_Subscription]
+    readers: dict[str, Any]  # of each topic
     clock: Any  # the /clock reader under sim time, else None
     pending: list[_Sample] = field(default_factory=list)
 
@@ -92,20 +86,13 @@ class Ros2Source(LiveSource):
     def _listen(self) -> _Listening:
         participant = self._participant
         graph = Graph(participant, self._check_writer)
-        subscriptions = [
-            _Subscription(
-                topic,
-                participant.reader(ros2.dds_topic(topic), TFMessage, ros2.listener_qos(topic)),
-                is_static_topic(topic),
-            )
-            for topic in self.topics
-        ]
+        readers = {t: participant.reader(ros2.dds_topic(t), TFMessage, ros2.listener_qos(t)) for t in self.topics}
         clock = None
         if self.use_sim_time:
             clock = participant.reader(ros2.dds_topic(ros2.CLOCK_TOPIC), ClockMsg, ros2.CLOCK_QOS)
-        for reader in [*graph.readers, *(s.reader for s in subscriptions), *([clock] if clock is not None else [])]:
+        for reader in [*graph.readers, *readers.values(), *([clock] if clock is not None else [])]:
             self._waiter.watch(reader)
-        return _Listening(graph, subscriptions, clock)
+        return _Listening(graph, readers, clock)
 
     def _step(self, on_batch: OnBatch, listening: _Listening) -> float:
         """Take every sample and call ``on_batch`` with what one wake-up brought; sooner again while
@@ -127,22 +114,22 @@ class Ros2Source(LiveSource):
         ``ros_discovery_info`` may come a moment after its first transforms)."""
         graph = listening.graph
         samples = listening.pending
-        for subscription in listening.subscriptions:
-            for data, info in take_raw(subscription.reader):
-                samples.append(_Sample(subscription, data, info.publication_handle, self._clock.now()))
-        listening.pending = [s for s in samples if not graph.settled(s.handle, s.subscription.reader)]
-        batches = [self._decode(s, graph) for s in samples if graph.settled(s.handle, s.subscription.reader)]
+        for topic, reader in listening.readers.items():
+            for data, info in take_raw(reader):
+                samples.append(_Sample(topic, reader, data, info.publication_handle, self._clock.now()))
+        listening.pending = [s for s in samples if not graph.settled(s.handle, s.reader)]
+        batches = [self._decode(s, graph) for s in samples if graph.settled(s.handle, s.reader)]
         return concat_batches([b for b in batches if b is not None])
 
     def _decode(self, sample: _Sample, graph: Graph) -> TransformBatch | None:
-        authority = graph.authority(sample.handle, sample.subscription.reader)
-        static = sample.subscription.static
+        authority = graph.authority(sample.handle, sample.reader)
+        static = is_static_topic(sample.topic)
         try:
             batch = message_batch(
                 cdr.decode_tf, sample.data, static=static, authority=authority, record_time=sample.record_time
             )
         except Exception as error:  # ValueError: not a TFMessage; anything else, a decoder bug: either way, one sample
-            self._unreadable(authority, sample.subscription.topic, error)
+            self._unreadable(authority, sample.topic, error)
             return None
         self.message_count += 1
         return batch
