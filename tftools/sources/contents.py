@@ -97,7 +97,6 @@ class SourceInfo:
 
     @property
     def live(self) -> bool:
-        """Heard from a live system, not read from a file."""
         return self.format.endswith("-live")
 
     @property
@@ -133,7 +132,6 @@ class RecordingContents:
 
     @property
     def live(self) -> bool:
-        """Heard from a live system."""
         return any(f.live for f in self.files)
 
     @property

@@ -171,17 +171,15 @@ def clock_at(clock: ClockSamples, record_times: Int64Array) -> tuple[Int64Array,
     return np.where(known, clock.clock[np.maximum(index, 0)], 0), known
 
 
-def timeline_of(
-    buffer: Buffer, clock: ClockSamples, record_start: int, record_end: int, tolerance: int = SAME_CLOCK
-) -> Timeline:
+def timeline_of(buffer: Buffer, clock: ClockSamples, record_start: int, record_end: int) -> Timeline:
     """The timeline of a recording read into ``buffer``, with its recorded ``clock``: on ``/clock`` when
     some frame's stamps follow it, else on the record clock when some frame's follow that, else on none
     (the reason says why); frames that follow neither are ``off_reference``."""
     edges = tuple(_edge_clocks(buffer, clock))
     tf_start, tf_end = _tf_span(buffer, record_start, record_end)
-    if any(e.agrees(True, tolerance) for e in edges):
+    if any(e.agrees(True, SAME_CLOCK) for e in edges):
         reference, reason = Reference.CLOCK, ""
-    elif any(e.agrees(False, tolerance) for e in edges) or not edges:
+    elif any(e.agrees(False, SAME_CLOCK) for e in edges) or not edges:
         reference, reason = Reference.RECORD, ""
     else:
         reference, reason = Reference.NONE, _why_none(edges, clock)

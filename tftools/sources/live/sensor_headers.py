@@ -45,7 +45,6 @@ class HeaderStore:
         self._without_header: dict[str, str] = {}
 
     def wants(self, topic: str) -> bool:
-        """Whether ``topic`` is one to listen to."""
         return topic in self.topics if self.topics is not None else topic not in NOT_SENSOR_DATA
 
     def heard(self, topic: str, msgtype: str, header: Header | None) -> None:

@@ -79,11 +79,11 @@ class Graph:
             self._nodes[entities.participant] = {w: n.full_name for n in entities.nodes for w in n.writers}
             self._node_of_writer = {w: n for nodes in self._nodes.values() for w, n in nodes.items()}
 
-    def writer(self, handle: int, reader: DataReader[Any] | None = None) -> Writer | None:
-        """The writer of a sample (its info's ``publication_handle``) as discovered; ``reader`` is
-        asked when the builtin topic has not told yet."""
+    def writer(self, handle: int, reader: DataReader[Any]) -> Writer | None:
+        """The writer of a sample (its info's ``publication_handle``) as discovered; ``reader``, the one
+        the sample came on, is asked when the builtin topic has not told yet."""
         found = self._writers.get(handle)
-        if found is None and reader is not None:
+        if found is None:
             try:
                 endpoint = reader.get_matched_publication_data(handle)
             except DDSException:
@@ -92,7 +92,7 @@ class Graph:
                 found = self._add_writer(endpoint, handle)
         return found
 
-    def settled(self, handle: int, reader: DataReader[Any] | None = None) -> bool:
+    def settled(self, handle: int, reader: DataReader[Any]) -> bool:
         """Whether a sample's writer can be named for good: its node is known, or ``NAMING_GRACE``
         seconds passed since tftools first asked (a plain DDS writer has no node)."""
         writer = self.writer(handle, reader)
@@ -101,7 +101,7 @@ class Graph:
         first = self._first_asked.setdefault(handle, time.monotonic())
         return time.monotonic() - first >= NAMING_GRACE
 
-    def authority(self, handle: int, reader: DataReader[Any] | None = None) -> str:
+    def authority(self, handle: int, reader: DataReader[Any]) -> str:
         """Who sent a sample: its writer's node (``/namespace/name``), else its DDS participant."""
         writer = self.writer(handle, reader)
         return "unknown publisher" if writer is None else self.name_of(writer)
