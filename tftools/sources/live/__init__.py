@@ -6,8 +6,8 @@ import os
 from collections.abc import Sequence
 from typing import Literal
 
-from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
-from tftools.sources.live.errors import LiveError, MasterRefusedError, MasterUnreachableError, NoRosSelectedError
+from tftools.sources.live.base import LiveSource, OnNotice
+from tftools.sources.live.errors import LiveError, NoRosSelectedError
 
 Ros = Literal["ros1", "ros2"]
 
@@ -56,15 +56,4 @@ def open_live(
     return Ros1Source(master_uri, topics, use_sim_time, on_notice, name)
 
 
-__all__ = [
-    "LiveError",
-    "LiveSource",
-    "MasterRefusedError",
-    "MasterUnreachableError",
-    "NoRosSelectedError",
-    "OnBatch",
-    "OnNotice",
-    "Ros",
-    "choose_ros",
-    "open_live",
-]
+__all__ = ["LiveError", "LiveSource", "NoRosSelectedError", "OnNotice", "Ros", "choose_ros", "open_live"]
