@@ -153,10 +153,6 @@ def call(uri: str, method: str, *args: Any, timeout: float = CALL_TIMEOUT) -> tu
     return code, message, value
 
 
-#: What a failed call to the master or another node raises.
-CALL_ERRORS = (OSError, ReplyError)
-
-
 def uri_list(value: Any, what: str) -> list[str]:
     """``value`` checked to be a list of slave API URIs (``http://host:port/``); ``ReplyError`` if not."""
     if not isinstance(value, list):
@@ -228,7 +224,7 @@ class MasterClient:
                 code, _message, node_uri = call(self.uri, "lookupNode", self.caller_id, name, timeout=left)
                 if code == 1 and node_uri == uri:
                     return str(name)
-        except (*CALL_ERRORS, ValueError, TypeError, IndexError, KeyError):
+        except (OSError, ReplyError, ValueError, TypeError, IndexError, KeyError):  # a failed call, an odd reply
             pass
         return uri
 

@@ -170,8 +170,3 @@ def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, Sam
     if isinstance(taken, int):
         raise DDSException(taken, f"Occurred while taking data in {reader!r}")
     return [(data, info) for data, info in taken if info.valid_data]
-
-
-def guid_bytes(key: Any) -> bytes:
-    """A GUID (``uuid.UUID`` as Cyclone's Python API gives them) as its 16 bytes."""
-    return bytes(key.bytes)

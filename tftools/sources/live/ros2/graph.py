@@ -12,7 +12,7 @@ from cyclonedds.core import DDSException, Policy
 from cyclonedds.sub import DataReader
 
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.dds import Participant, guid_bytes, take_raw
+from tftools.sources.live.ros2.dds import Participant, take_raw
 from tftools.sources.live.ros2.entities import decode_participant_entities
 from tftools.sources.live.ros2.idl import participant_entities_info
 
@@ -113,8 +113,8 @@ class Graph:
     def _add_writer(self, endpoint: DcpsEndpoint, handle: int | None = None) -> Writer:
         qos = endpoint.qos
         writer = Writer(
-            guid=guid_bytes(endpoint.key),
-            participant=guid_bytes(endpoint.participant_key),
+            guid=endpoint.key.bytes,  # a uuid.UUID's 16 bytes
+            participant=endpoint.participant_key.bytes,
             topic=endpoint.topic_name,
             type_name=endpoint.type_name,
             reliable=qos[Policy.Reliability] != Policy.Reliability.BestEffort,  # a writer's default: reliable

@@ -23,11 +23,6 @@ class Time(IdlStruct, typename=ros2.TIME):
     sec: int32 = 0
     nanosec: uint32 = 0
 
-    @classmethod
-    def of(cls, stamp: int) -> "Time":
-        sec, nanosec = divmod(stamp, NS_PER_S)
-        return cls(sec, nanosec)
-
 
 @dataclass
 class Header(IdlStruct, typename=ros2.HEADER):
@@ -65,7 +60,7 @@ class TransformStamped(IdlStruct, typename=ros2.TRANSFORM_STAMPED):
     @classmethod
     def of(cls, t: Transform) -> "TransformStamped":
         return cls(
-            Header(Time.of(t.stamp), t.frame_id),
+            Header(Time(*divmod(t.stamp, NS_PER_S)), t.frame_id),
             t.child_frame_id,
             TransformMsg(Vector3(*t.translation), Quaternion(*t.rotation)),
         )
