@@ -28,21 +28,22 @@ MAX_QUEUED_TRANSFORMS = 2_000_000
 class _DeliveryQueue:
     """Batches from the connections' threads to the one delivery thread, bounded in transforms."""
 
-    def __init__(self, on_notice: OnNotice) -> None:
+    def __init__(self, on_notice: OnNotice, limit: int = MAX_QUEUED_TRANSFORMS) -> None:
         self._ready = threading.Condition()
         self._batches: deque[TransformBatch] = deque()
         self._queued = 0
+        self._limit = limit
         self._closed = False
         self._on_notice = on_notice
         self.dropped = 0
 
     def put(self, batch: TransformBatch) -> None:
         with self._ready:
-            if self._batches and self._queued + len(batch) > MAX_QUEUED_TRANSFORMS:
+            if self._batches and self._queued + len(batch) > self._limit:
                 self.dropped += 1
                 if self.dropped == 1:
                     self._on_notice(
-                        f"tfx cannot keep up: more than {MAX_QUEUED_TRANSFORMS} transforms wait to be handled; "
+                        f"tfx cannot keep up: more than {self._limit} transforms wait to be handled; "
                         "messages are dropped until it catches up"
                     )
                 return
