@@ -21,10 +21,10 @@ from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_batch, message_clock
+from tftools.sources.live.errors import DomainIdError
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.conventions import QosProfile
 from tftools.sources.live.ros2.entities import decode_participant_entities
-from tftools.sources.live.ros2.errors import DomainIdError
 
 #: Distributions and their rmw_dds_common Gid size (24 through Humble, 16 since Iron).
 STORES = {"humble": (Stores.ROS2_HUMBLE, 24), "jazzy": (Stores.ROS2_JAZZY, 16)}

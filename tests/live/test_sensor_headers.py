@@ -175,7 +175,7 @@ def test_ros2_sensor_topics_are_read_with_their_types_whole_layout() -> None:
     from tests.live.ros2_processes import require_cyclonedds
 
     require_cyclonedds()
-    from tftools.sources.live.ros2.sensor_types import sensor_type
+    from tftools.sources.live.ros2.headers import sensor_type
 
     scan = sensor_type("sensor_msgs::msg::dds_::LaserScan_")
     assert scan is not None and scan.__idl_typename__ == "sensor_msgs::msg::dds_::LaserScan_"

@@ -16,28 +16,27 @@ from tftools.core.errors import ConnectivityError
 from tftools.core.rejection import RejectionCode
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
-from tftools.sources.live.base import ContextManaged, LiveSource, OnBatch
+from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.capture import capture, listen
 from tftools.sources.live.time_jump import JumpDetector, TimeJump
 
 S = NS_PER_S
 
 
-class SimSource(ContextManaged):
+class SimSource(LiveSource):
     """A live source whose /clock and transforms the test sends, on the test's thread."""
 
-    topics = ("/tf", "/tf_static")
     format = "test-live"
 
     def __init__(self) -> None:
-        self.message_count = 0
         self.notices: list[str] = []
-        self._clock = SimClock()
+        super().__init__(None, True, self.notices.append)
         self._on_batch: OnBatch | None = None
         self.closed = False
 
     @property
     def clock(self) -> SimClock:
+        assert isinstance(self._clock, SimClock)
         return self._clock
 
     @property
@@ -47,9 +46,6 @@ class SimSource(ContextManaged):
     def start(self, on_batch: OnBatch) -> None:
         self._on_batch = on_batch
 
-    def notice(self, message: str) -> None:
-        self.notices.append(message)
-
     def describe(self) -> str:
         return "a test"
 
@@ -58,11 +54,7 @@ class SimSource(ContextManaged):
 
     def tick(self, seconds: float) -> None:
         """A /clock message, as the sources handle it: a replay that loops resets the clock."""
-        now = round(seconds * S)
-        if now < self._clock.now():
-            self._clock.reset(now)
-        else:
-            self._clock.set(now)
+        self._clock_message(round(seconds * S))
 
     def send(self, *rows: tuple[str, str, float, float], static: bool = False, received: float | None = None) -> None:
         """(parent, child, stamp s, x) rows in one message, received now (or at ``received`` s)."""

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
 from tftools.core.transform import Transform
+from tftools.sinks import StaticBroadcaster
 from tftools.sources.codecs.ros1 import encode_tf_message
 from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type
-from tftools.sources.live.base import ContextManaged, OnNotice
+from tftools.sources.live.base import OnNotice
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.publisher import Publication
@@ -15,16 +14,13 @@ from tftools.sources.live.ros1.publisher import Publication
 STATIC_TOPIC = "/tf_static"
 
 
-class Ros1StaticBroadcaster(ContextManaged):
-    """A node publishing ``/tf_static`` latched: every transform sent so far in one message, a
-    newer one replacing an older one of the same child frame (tf2_ros' StaticTransformBroadcaster)."""
+class Ros1StaticBroadcaster(StaticBroadcaster):
+    """A node publishing ``/tf_static`` latched."""
 
-    def __init__(
-        self, master_uri: str | None = None, on_notice: OnNotice | None = None, name: str = "tfx_static"
-    ) -> None:
-        self._node = Node(network.anonymous_name(name), master_uri, on_notice)
+    def __init__(self, master_uri: str | None = None, on_notice: OnNotice | None = None) -> None:
+        super().__init__()
+        self._node = Node(network.anonymous_name("tfx_static"), master_uri, on_notice)
         self._publication: Publication | None = None
-        self._transforms: dict[str, Transform] = {}
 
     @property
     def name(self) -> str:
@@ -33,19 +29,15 @@ class Ros1StaticBroadcaster(ContextManaged):
 
     @property
     def finished(self) -> bool:
-        """True once the system asked this node to stop (``rosnode kill``)."""
-        return self._node.shutdown_requested.is_set()
+        return self._node.shutdown_requested.is_set()  # rosnode kill
 
     def describe(self) -> str:
         return f"ROS1 master {self._node.master.uri}"
 
-    def send(self, transforms: Sequence[Transform]) -> None:
-        """Add ``transforms`` and publish them all (raises ``LiveError`` if the master is not there)."""
-        for transform in transforms:
-            self._transforms[transform.child_frame_id] = transform
+    def _publish(self, transforms: list[Transform]) -> None:
         if self._publication is None:
             self._publication = self._node.advertise(STATIC_TOPIC, ros1_message_type(TF_MESSAGE), latched=True)
-        self._publication.publish(encode_tf_message(list(self._transforms.values())))
+        self._publication.publish(encode_tf_message(transforms))
 
     def close(self) -> None:
         self._node.close()

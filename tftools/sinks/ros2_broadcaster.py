@@ -1,36 +1,43 @@
 """``Ros2StaticBroadcaster``: static transforms on /tf_static as ROS 2's static_transform_publisher
-sends them: one transient local message (keep last 1) holding them all."""
+sends them (one transient local message, keep last 1, holding them all), from a node announced on
+``ros_discovery_info`` so that ROS 2 tools (and tftools) name it."""
 
 from __future__ import annotations
 
 import os
 import threading
 import time
-from collections.abc import Sequence
+from typing import Any
 
 from cyclonedds.core import DDSException
 
 from tftools.core.transform import Transform
-from tftools.sources.live.base import ContextManaged, OnNotice
+from tftools.sinks import StaticBroadcaster
+from tftools.sources.live.base import OnNotice, ignore_notice
+from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.announce import NodeAnnouncer
-from tftools.sources.live.ros2.dds import Participant
-from tftools.sources.live.ros2.errors import DdsError
-from tftools.sources.live.ros2.idl import TFMessage
+from tftools.sources.live.ros2.dds import Participant, take_raw
+from tftools.sources.live.ros2.entities import decode_participant_entities
+from tftools.sources.live.ros2.graph import discovery_readers
+from tftools.sources.live.ros2.idl import TFMessage, announcement, participant_entities_info
+
+#: Distributions whose rmw_dds_common has 24-byte Gids; later ones have 16.
+GID24_DISTROS = frozenset({"ardent", "bouncy", "crystal", "dashing", "eloquent", "foxy", "galactic", "humble"})
 
 
-class Ros2StaticBroadcaster(ContextManaged):
-    """A DDS writer on ``rt/tf_static`` with tf2_ros's StaticBroadcasterQoS, announced on
-    ``ros_discovery_info`` as node ``/NAME`` so that ROS 2 tools (and tftools) name it."""
+class Ros2StaticBroadcaster(StaticBroadcaster):
+    """A DDS writer on ``rt/tf_static`` with tf2_ros's StaticBroadcasterQoS, announced as node ``/NAME``
+    as rmw_dds_common's GraphCache does, in the system's ``gid_size``: ``ROS_DISTRO``'s where set; else
+    16 (Iron on) at once, switched to 24 for good when another participant's announcement shows
+    Humble's size. A node of the other size cannot read the announcement and ignores it, nothing worse."""
 
-    def __init__(
-        self, on_notice: OnNotice | None = None, domain_id: int | None = None, name: str | None = None
-    ) -> None:
-        self.domain_id = ros2.domain_id() if domain_id is None else domain_id
-        self.node_name = name or f"tfx_static_{os.getpid()}_{int(time.time() * 1000) % 1_000_000}"
+    def __init__(self, on_notice: OnNotice | None = None) -> None:
+        super().__init__()
+        self.domain_id = ros2.domain_id()
+        self.node_name = f"tfx_static_{os.getpid()}_{int(time.time() * 1000) % 1_000_000}"
+        self._on_notice = on_notice or ignore_notice
         self._participant = Participant(self.domain_id)
         self._closed = threading.Event()
-        self._transforms: dict[str, Transform] = {}
         try:
             self._writer = self._participant.writer(
                 ros2.dds_topic("/tf_static"), TFMessage, ros2.TF_STATIC_BROADCASTER_QOS
@@ -38,23 +45,21 @@ class Ros2StaticBroadcaster(ContextManaged):
         except DDSException as error:
             self._participant.close()
             raise DdsError(f"publish on DDS domain {self.domain_id}", error) from None
-        self._announcer = NodeAnnouncer(self._participant, self.node_name, [self._writer.guid.bytes], on_notice)
+        self._announcer: Any = None  # kept: deleting it would take the (transient local) announcement back
+        distro = os.environ.get("ROS_DISTRO", "").strip().lower()
+        self.gid_size = 24 if distro in GID24_DISTROS else 16
+        self._announce(self.gid_size)
+        self._watcher: threading.Thread | None = None
+        if not distro:
+            self._watcher = threading.Thread(target=self._watch_gid_size, name="tfx-ros2-announce", daemon=True)
+            self._watcher.start()
 
     @property
     def finished(self) -> bool:
         return self._closed.is_set()
 
-    def send(self, transforms: Sequence[Transform]) -> None:
-        """Publish ``transforms`` with those sent before, one per child frame (tf2_ros's
-        StaticTransformBroadcaster::sendTransform replaces a child's transform), in one message."""
-        for t in transforms:
-            self._transforms[t.child_frame_id] = t
-        self._writer.write(TFMessage.of(list(self._transforms.values())))
-
-    @property
-    def gid_size(self) -> int:
-        """The Gid size its node is announced with (16 or 24), as the system's nodes use."""
-        return self._announcer.gid_size
+    def _publish(self, transforms: list[Transform]) -> None:
+        self._writer.write(TFMessage.of(transforms))
 
     def describe(self) -> str:
         return f"ROS2 DDS domain {self.domain_id} as node /{self.node_name}"
@@ -63,5 +68,30 @@ class Ros2StaticBroadcaster(ContextManaged):
         if self._closed.is_set():
             return
         self._closed.set()
-        self._announcer.close()
+        if self._watcher is not None:
+            self._watcher.join(timeout=1.0)
         self._participant.close()
+
+    def _announce(self, gid_size: int) -> None:
+        try:
+            announcer = self._participant.writer(
+                ros2.DISCOVERY_TOPIC, participant_entities_info(gid_size), ros2.DISCOVERY_WRITER_QOS
+            )
+            writers = [self._writer.guid.bytes]
+            announcer.write(announcement(gid_size, self._participant.guid, "/", self.node_name, writers))
+        except DDSException as error:
+            self._on_notice(f"could not announce node /{self.node_name} on {ros2.DISCOVERY_TOPIC}: {error}")
+            return
+        self._announcer, self.gid_size = announcer, gid_size
+
+    def _watch_gid_size(self) -> None:
+        readers = discovery_readers(self._participant)
+        while not self._closed.wait(0.2):
+            for data, _info in (sample for reader in readers for sample in take_raw(reader)):
+                try:
+                    heard = decode_participant_entities(data)
+                except ValueError:
+                    continue
+                if heard.participant != self._participant.guid and heard.gid_size != self.gid_size:
+                    self._announce(heard.gid_size)
+                    return

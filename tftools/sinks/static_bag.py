@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -35,9 +35,9 @@ REPAIR_EVERY_S = 5.0
 @dataclass(frozen=True)
 class _Plan:
     """What the copy adds: ``transforms`` at the start and, with ``every`` (ns), again that often;
-    ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2).
-    ``senders``: per transform, the /tf_static connection that sent it in the bag (a ROS 1 callerid,
-    a ROS 2 topic) to send it again on, so that it keeps its publisher; none: tfx's own (``PUBLISHER``)."""
+    ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2);
+    ``senders``: per transform, the /tf_static connection (a ROS 1 callerid, a ROS 2 topic) that sent
+    it in the bag, so that it keeps its publisher; none: tfx's own (``PUBLISHER``)."""
 
     transforms: Sequence[Transform]
     every: int = 0
@@ -59,10 +59,9 @@ def add_static_transforms(
     *,
     force: bool = False,
 ) -> Path:
-    """Write ``output``: every connection and message of ``bag`` plus one ``/tf_static`` message
-    holding ``transforms``, stamped and recorded at the bag's start. ``bag`` is a ROS1 .bag
-    file or a ROS2 bag directory; ``output`` of the same kind. Refuses an existing ``output``
-    unless ``force``."""
+    """Write ``output``: every connection and message of ``bag`` (a ROS1 .bag file or a ROS2 bag
+    directory) plus one ``/tf_static`` message holding ``transforms``, stamped and recorded at the
+    bag's start. Refuses an existing ``output`` unless ``force``."""
     return _write_copy(Path(bag), Path(output), _Plan(transforms), force)
 
 
@@ -168,24 +167,11 @@ def _remove(path: Path) -> None:
         path.unlink()
 
 
-def _marks(plan: _Plan, start: int, messages: Iterator[tuple[Any, int, bytes]]) -> Iterator[tuple[Any, int, bytes]]:
-    """``messages`` (connection, record time, data) with ``(None, time, b"")`` where the plan's
-    transforms go: at ``start``, then every ``plan.every`` ns up to the last message."""
-    yield None, start, b""
-    mark = start + plan.every
-    for connection, timestamp, data in messages:
-        while plan.every and timestamp >= mark:
-            yield None, mark, b""
-            mark += plan.every
-        yield connection, timestamp, data
-
-
 def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
     from rosbags.interfaces import ConnectionExtRosbag1
     from rosbags.rosbag1 import Reader, Writer
 
     with Reader(source) as reader, Writer(target) as writer:
-        start = reader.start_time if reader.message_count else 0
         connections, static = {}, {}
         for c in reader.connections:
             ext = c.ext if isinstance(c.ext, ConnectionExtRosbag1) else ConnectionExtRosbag1(None, None)
@@ -196,8 +182,9 @@ def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
             if _sends_statics(c):
                 static[ext.callerid or ""] = connections[c.id]
         tf_type = ros1_message_type(TF_MESSAGE)
+        own = None
         if set(plan.by_sender(0)) - set(static):  # transforms of no publisher in the bag: tfx's own connection
-            static[PUBLISHER] = writer.add_connection(
+            own = writer.add_connection(
                 STATIC_TOPIC,
                 TF_MESSAGE,
                 msgdef=tf_type.definition,
@@ -205,13 +192,7 @@ def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
                 callerid=PUBLISHER,
                 latching=1,
             )
-        for connection, timestamp, data in _marks(plan, start, reader.messages()):
-            if connection is None:
-                for sender, transforms in plan.by_sender(timestamp).items():
-                    sending = static[sender if sender in static else PUBLISHER]
-                    writer.write(sending, timestamp, encode_tf_message(transforms))
-            else:
-                writer.write(connections[connection.id], timestamp, data)
+        _copy_messages(plan, reader, writer, connections, static, own, encode_tf_message)
 
 
 def _copy_rosbag2(source: Path, target: Path, plan: _Plan) -> None:
@@ -227,7 +208,6 @@ def _copy_rosbag2(source: Path, target: Path, plan: _Plan) -> None:
                 CompressionMode[reader.compression_mode.upper()], CompressionFormat[reader.compression_format.upper()]
             )
         with writer:
-            start = reader.start_time if reader.message_count else 0
             connections = {}
             for c in reader.connections:
                 ext = c.ext if isinstance(c.ext, ConnectionExtRosbag2) else ConnectionExtRosbag2("cdr", [])
@@ -251,12 +231,33 @@ def _copy_rosbag2(source: Path, target: Path, plan: _Plan) -> None:
                 )
             )
             static = {c.topic: connections[c.id] for c in reader.connections if _sends_statics(c)}
-            for connection, timestamp, data in _marks(plan, start, reader.messages()):
-                if connection is None:
-                    for sender, transforms in plan.by_sender(timestamp).items():
-                        writer.write(static.get(sender, added), timestamp, cdr.encode_tf_message(transforms))
-                else:
-                    writer.write(connections[connection.id], timestamp, data)
+            _copy_messages(plan, reader, writer, connections, static, added, cdr.encode_tf_message)
+
+
+def _copy_messages(
+    plan: _Plan,
+    reader: Any,
+    writer: Any,
+    connections: dict[int, Any],
+    static: dict[str, Any],
+    own: Any,
+    encode: Callable[[list[Transform]], bytes],
+) -> None:
+    """Every message of ``reader`` on its copy in ``connections``, and the plan's transforms at the
+    bag's start, then every ``plan.every`` ns up to the last message: each on its sender's connection
+    in ``static``, else on ``own``."""
+
+    def add(stamp: int) -> None:
+        for sender, transforms in plan.by_sender(stamp).items():
+            writer.write(static.get(sender, own), stamp, encode(transforms))
+
+    mark = reader.start_time if reader.message_count else 0
+    add(mark)
+    for connection, timestamp, data in reader.messages():
+        while plan.every and timestamp >= mark + plan.every:
+            mark += plan.every
+            add(mark)
+        writer.write(connections[connection.id], timestamp, data)
 
 
 def _sends_statics(connection: Any) -> bool:

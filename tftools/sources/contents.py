@@ -66,12 +66,9 @@ class Fetched:
     size: int
     whole: bool = False
 
-    @property
-    def share(self) -> float:
-        return self.received / self.size if self.size else 0.0
-
     def describe(self) -> str:
-        line = f"fetched {_megabytes(self.received)} of {_megabytes(self.size)} ({self.share:.1%})"
+        share = self.received / self.size if self.size else 0.0
+        line = f"fetched {_megabytes(self.received)} of {_megabytes(self.size)} ({share:.1%})"
         return line + (", .db3 files whole (SQLite reads a local file)" if self.whole else "")
 
 
@@ -100,7 +97,6 @@ class SourceInfo:
 
     @property
     def live(self) -> bool:
-        """Heard from a live system, not read from a file."""
         return self.format.endswith("-live")
 
     @property
@@ -136,7 +132,6 @@ class RecordingContents:
 
     @property
     def live(self) -> bool:
-        """Heard from a live system."""
         return any(f.live for f in self.files)
 
     @property

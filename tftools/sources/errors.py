@@ -86,8 +86,8 @@ class NoTransformsError(SourceError):
 class MissingExtraError(SourceError):
     """A URL (or a fleet option) given without the packages it needs installed."""
 
-    def __init__(self, what: str, extra: str = "fleet") -> None:
-        super().__init__(f"{what} needs tftools[{extra}]: pip install 'tftools[{extra}]'")
+    def __init__(self, what: str) -> None:
+        super().__init__(f"{what} needs tftools[fleet]: pip install 'tftools[fleet]'")
 
 
 class RemoteError(BagError):

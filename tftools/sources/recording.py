@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import ctypes
+import functools
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,18 +19,14 @@ from tftools.core.time import SimClock
 from tftools.sources.bag import ProgressCallback, read_bag
 from tftools.sources.contents import BUFFER_FORMAT, DEFAULT_TOPICS, ClockSamples, RecordingContents, SourceInfo
 from tftools.sources.errors import NoTransformsError
-from tftools.sources.memory import FreedMemory
 from tftools.sources.timeline import Timeline, timeline_of
 
 
 @dataclass
 class Recording:
-    """One recording (one bag or a split bag, a live capture, a buffer): its buffer, its clocks, and its description.
-
-    The buffer's clock stands at the recording's end in ROS time (``timeline.end``). The buffer's
-    histories are the only copy of the transforms; ``transforms`` gives them back
-    as rows in record order (with the rows the buffer refused, kept aside).
-    """
+    """One recording (one bag or a split bag, a live capture, a buffer): its buffer, whose clock stands
+    at the recording's end in ROS time (``timeline.end``) and whose histories are the only copy of the
+    transforms, its clocks, and its description."""
 
     buffer: Buffer
     contents: RecordingContents
@@ -77,11 +75,8 @@ def read_recording(
     allow_empty: bool = False,
     semantics: Semantics | None = None,
 ) -> Recording:
-    """Read bags into a whole-recording buffer (no cache limit; clock at the recording's end).
-
-    ``semantics``: the tf2 the buffer answers as; by default the recording's own (``semantics_of``).
-    Raises ``NoTransformsError`` when no transform was found, unless ``allow_empty``.
-    """
+    """Read bags into a whole-recording buffer (no cache limit) answering as ``semantics`` (by default
+    the recording's own); ``NoTransformsError`` when no transform was found, unless ``allow_empty``."""
     contents = read_bag(paths, topics, progress)
     if not contents.parts and not allow_empty:
         found = sorted({t for f in contents.files for t in f.topics})
@@ -99,9 +94,10 @@ def semantics_of(contents: RecordingContents) -> Semantics:
 
 
 def recording_of(contents: RecordingContents, semantics: Semantics | None = None) -> Recording:
-    """The buffer of ``contents``, which it takes: each part is inserted, then let go, so that
-    the transforms are held once (in the buffer's histories) rather than twice. Rows the buffer
-    refused, or took for identical ones it holds (ROS 2), are kept aside for ``transforms``."""
+    """The buffer of ``contents``, which it takes: each part is inserted, then let go and its memory
+    given back (``_give_back_freed_memory``), so that the transforms are held once, in the buffer's
+    histories. Rows the buffer refused, or took for identical ones it holds (ROS 2), are kept aside
+    for ``transforms``."""
     clock = SimClock(contents.end)
     buffer = Buffer(cache_time=None, clock=clock, semantics=semantics or semantics_of(contents))
     refused: list[TransformBatch] = []
@@ -109,7 +105,7 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
     parts, contents.parts = contents.parts, []
     buffer.reserve(parts)
     parts.reverse()
-    memory = FreedMemory()
+    freed = 0
     while parts:
         part = parts.pop()
         first, seen, seen_again = buffer.arrivals, len(buffer.rejections), len(buffer.duplicates)
@@ -119,14 +115,39 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
         if len(sequence):
             refused.append(take_rows(part, sequence - first))
             refused_sequence.append(sequence)
-        memory.freed(part.nbytes)
+        freed += part.nbytes
         del part
-    memory.release()
+        if freed >= FREED_BYTES_TO_GIVE_BACK:
+            _give_back_freed_memory()
+            freed = 0
+    _give_back_freed_memory()
     timeline = timeline_of(buffer, contents.clock, contents.start, contents.end)
     clock.reset(timeline.end)
     if not refused:
         return Recording(buffer, contents, timeline)
     return Recording(buffer, contents, timeline, concat_batches(refused), np.concatenate(refused_sequence))
+
+
+#: Bytes of decoded parts freed before their pages are given back to the system.
+FREED_BYTES_TO_GIVE_BACK = 8 << 20
+
+
+def _give_back_freed_memory() -> None:
+    """Return the C heap's free pages to the system. glibc keeps freed memory for reuse, but the
+    histories, being larger, cannot reuse a freed part's: the rows would count twice in peak memory."""
+    trim = _malloc_trim()
+    if trim is not None:
+        trim(0)
+
+
+@functools.cache
+def _malloc_trim() -> Callable[[int], int] | None:
+    """glibc's ``malloc_trim``; None elsewhere (other allocators return memory their own way)."""
+    try:
+        trim: Callable[[int], int] = ctypes.CDLL(None).malloc_trim
+    except (OSError, AttributeError):
+        return None
+    return trim
 
 
 def recording_of_buffer(buffer: Buffer) -> Recording:

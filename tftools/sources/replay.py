@@ -22,10 +22,8 @@ CLOCK_HZ = 100.0
 
 
 class Feed(Protocol):
-    """Transforms as they arrive and the clock they arrive on: a replay or a live source.
-
-    ``start`` returns at once; ``on_batch`` is then called (from any thread) with each batch.
-    """
+    """Transforms as they arrive and the clock they arrive on: a replay or a live source. ``start``
+    returns at once; ``on_batch`` is then called (from any thread) with each batch."""
 
     @property
     def clock(self) -> Clock: ...
@@ -36,13 +34,10 @@ class Feed(Protocol):
 
 
 class Replay:
-    """Plays transforms in record order at ``rate`` times real speed while a ``SimClock``
-    follows bag time: ``rosbag play --clock`` seen by a node with ``use_sim_time``.
-
-    Playing starts at ``start`` (default: the first row), delivering first the static
-    transforms recorded before it (a latched ``/tf_static`` a late subscriber still gets),
-    and ends at ``end`` (default: the last row). ``sleep`` and ``monotonic`` are injectable
-    so that tests need not wait for real time.
+    """Plays transforms in record order at ``rate`` times real speed while a ``SimClock`` follows bag
+    time: ``rosbag play --clock`` seen by a node with ``use_sim_time``. Playing starts at ``start``
+    (default: the first row), first delivering the statics recorded before it (a latched
+    ``/tf_static`` a late subscriber still gets), and ends at ``end`` (default: the last row).
     """
 
     def __init__(
@@ -149,9 +144,8 @@ def follow(
     sleep: Callable[[float], None] = time.sleep,
     monotonic: Callable[[], float] = time.monotonic,
 ) -> None:
-    """Start ``feed`` into ``on_batch`` and call ``on_tick`` every ``period`` wall seconds,
-    until ``duration`` seconds have passed or the feed is finished (a replay at its end);
-    a last ``on_tick`` shows the final state. The feed is closed on the way out."""
+    """Start ``feed`` into ``on_batch`` and call ``on_tick`` every ``period`` wall seconds until
+    ``duration`` seconds have passed or the feed is finished, then once more; the feed is closed."""
     started = monotonic()
     feed.start(on_batch)
     try:

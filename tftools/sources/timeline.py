@@ -1,12 +1,10 @@
 """``Timeline``: how a recording's clocks relate, and the one place that turns record times into ROS time.
 
-A recording has up to three clocks: the record clock (when the recorder received each message),
-the clock the tf stamps are on, and a recorded ``/clock``. They are the same clock on a robot
-recorded on its own time, but not on a simulation recorded with ``ros2 bag record`` without
-``--use-sim-time``: receive times are then wall time while every node stamps simulated time. Every
-figure that relates stamps to time (delays, ages, staleness, replay, ``+S``/``-S`` times) asks the
-timeline for the ROS time at which a message arrived, so that each is measured against the clock
-the stamps are on, or is unavailable for a stated reason, never a fifty-year number.
+A recording has up to three clocks: the record clock (when each message was received), the clock the
+tf stamps are on, and a recorded ``/clock``. They differ on a simulation recorded without
+``--use-sim-time`` (receive times on wall time, stamps on simulated time). Every figure relating stamps
+to time (delays, ages, staleness, replay, ``+S``/``-S`` times) asks the timeline for ROS time at
+arrival, so that it is measured against the stamps' clock or is unavailable for a stated reason.
 """
 
 from __future__ import annotations
@@ -121,7 +119,7 @@ class Timeline:
 
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
         """ROS time at arrival minus stamp (ns) of the transforms of ``child`` whose arrival is known:
-        the one definition of a delay. None for a frame stamped on another clock than the reference."""
+        the one definition of a delay; none for a frame stamped on another clock than the reference."""
         if child in self.off_reference:
             return np.zeros(0, np.int64)
         times, known = self.ros_time(record_times)
@@ -173,20 +171,15 @@ def clock_at(clock: ClockSamples, record_times: Int64Array) -> tuple[Int64Array,
     return np.where(known, clock.clock[np.maximum(index, 0)], 0), known
 
 
-def timeline_of(
-    buffer: Buffer, clock: ClockSamples, record_start: int, record_end: int, tolerance: int = SAME_CLOCK
-) -> Timeline:
-    """The timeline of a recording read into ``buffer``, with its recorded ``clock``.
-
-    The reference is ``/clock`` when some frame's stamps follow it, else the record clock when some
-    frame's stamps follow that; frames that follow neither are ``off_reference``. When no frame follows
-    either, there is no reference, and the reason says what happened.
-    """
+def timeline_of(buffer: Buffer, clock: ClockSamples, record_start: int, record_end: int) -> Timeline:
+    """The timeline of a recording read into ``buffer``, with its recorded ``clock``: on ``/clock`` when
+    some frame's stamps follow it, else on the record clock when some frame's follow that, else on none
+    (the reason says why); frames that follow neither are ``off_reference``."""
     edges = tuple(_edge_clocks(buffer, clock))
     tf_start, tf_end = _tf_span(buffer, record_start, record_end)
-    if any(e.agrees(True, tolerance) for e in edges):
+    if any(e.agrees(True, SAME_CLOCK) for e in edges):
         reference, reason = Reference.CLOCK, ""
-    elif any(e.agrees(False, tolerance) for e in edges) or not edges:
+    elif any(e.agrees(False, SAME_CLOCK) for e in edges) or not edges:
         reference, reason = Reference.RECORD, ""
     else:
         reference, reason = Reference.NONE, _why_none(edges, clock)

@@ -6,14 +6,8 @@ import os
 from collections.abc import Sequence
 from typing import Literal
 
-from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
-from tftools.sources.live.errors import (
-    LiveError,
-    MasterRefusedError,
-    MasterUnreachableError,
-    NoRosSelectedError,
-    Ros2NotAvailableError,
-)
+from tftools.sources.live.base import LiveSource, OnNotice
+from tftools.sources.live.errors import LiveError, NoRosSelectedError
 
 Ros = Literal["ros1", "ros2"]
 
@@ -45,34 +39,21 @@ def open_live(
     on_notice: OnNotice | None = None,
     name: str = "tfx",
 ) -> LiveSource:
-    """A live source, not yet started: ROS1 through its master (``master_uri`` or
-    ``ROS_MASTER_URI``) or ROS2 over DDS (domain ``ROS_DOMAIN_ID``), chosen as ``choose_ros`` says.
-
-    ``use_sim_time``: follow ``/clock``; ``None`` does as the system says (ROS1: the master's
-    ``/use_sim_time``; ROS2: wall time, a node's default). ``on_notice`` hears one-line notices
-    (lost publishers, wrong types).
-    Raises ``LiveError`` (e.g. ``MasterUnreachableError``) when the system cannot be reached.
-    """
+    """A live source, not yet started: ROS1 through its master (``master_uri`` or ``ROS_MASTER_URI``) or
+    ROS2 over DDS (domain ``ROS_DOMAIN_ID``), as ``choose_ros`` says. ``use_sim_time``: follow ``/clock``;
+    ``None`` does as the system says (ROS1: the master's ``/use_sim_time``; ROS2: wall time).
+    ``on_notice`` hears one-line notices. Raises ``LiveError`` when the system cannot be reached."""
     chosen = "ros1" if master_uri else choose_ros(ros)
     if chosen == "ros2":
-        from tftools.sources.live import ros2
+        from tftools.sources.live.ros2 import require_cyclonedds
 
-        return ros2.open_source(topics, use_sim_time, on_notice)
+        require_cyclonedds()
+        from tftools.sources.live.ros2.source import Ros2Source
+
+        return Ros2Source(topics, use_sim_time, on_notice)
     from tftools.sources.live.ros1 import Ros1Source
 
     return Ros1Source(master_uri, topics, use_sim_time, on_notice, name)
 
 
-__all__ = [
-    "LiveError",
-    "LiveSource",
-    "MasterRefusedError",
-    "MasterUnreachableError",
-    "NoRosSelectedError",
-    "OnBatch",
-    "OnNotice",
-    "Ros",
-    "Ros2NotAvailableError",
-    "choose_ros",
-    "open_live",
-]
+__all__ = ["LiveError", "LiveSource", "NoRosSelectedError", "OnNotice", "Ros", "choose_ros", "open_live"]

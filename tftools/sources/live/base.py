@@ -1,13 +1,19 @@
-"""``LiveSource``: what every live system (ROS1 master, ROS2 DDS) offers the commands."""
+"""``LiveSource``: what every live system (ROS1 master, ROS2 DDS) offers the commands, and the
+lifecycle its sources share."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Sequence
 from types import TracebackType
-from typing import Protocol, TypeVar, runtime_checkable
+from typing import TYPE_CHECKING, TypeVar
 
 from tftools.core.batch import TransformBatch
-from tftools.core.time import Clock
+from tftools.core.time import Clock, SimClock, WallClock
+from tftools.sources.contents import DEFAULT_TOPICS
+
+if TYPE_CHECKING:
+    from tftools.sources.live.sensor_headers import HeaderListener, HeaderStore
 
 #: Called with each batch of transforms received, from the source's delivery thread (one thread,
 #: so calls never overlap); rows are static where they came on ``/tf_static``, with the publisher
@@ -42,57 +48,11 @@ class NoticeOnce:
             self._on_notice(message)
 
 
-@runtime_checkable
-class LiveSource(Protocol):
-    """A live system's transforms as they arrive, and the clock they arrive on.
-
-    ``start`` joins the system and returns once listening (raising ``LiveError`` if it cannot,
-    e.g. no master), then ``on_batch`` is called with each batch until ``close``.
-    """
-
-    #: The transform topics listened to, e.g. ``("/tf", "/tf_static")``.
-    topics: tuple[str, ...]
-
-    #: What a capture's ``SourceInfo`` calls this kind of source, e.g. ``"ros1-live"``.
-    format: str
-
-    #: Transform messages received so far.
-    message_count: int
-
-    @property
-    def clock(self) -> Clock:
-        """Wall time, or the system's ``/clock`` under ``use_sim_time``."""
-        ...
-
-    @property
-    def finished(self) -> bool:
-        """True once the source stopped on its own (shut down by the system, e.g. ``rosnode kill``)."""
-        ...
-
-    def start(self, on_batch: OnBatch) -> None: ...
-
-    def notice(self, message: str) -> None:
-        """Say ``message`` (one line) as the source says its own notices, every time it is called."""
-        ...
-
-    def describe(self) -> str:
-        """What is listened to, for humans and file lists: e.g. ``ROS1 master http://127.0.0.1:11311``."""
-        ...
-
-    def close(self) -> None: ...
-
-    def __enter__(self) -> LiveSource: ...
-
-    def __exit__(
-        self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
-    ) -> None: ...
-
-
 _Self = TypeVar("_Self", bound="ContextManaged")
 
 
 class ContextManaged:
-    """``with source:`` closes it; for LiveSource implementations to inherit."""
+    """``with it:`` closes it."""
 
     def close(self) -> None:
         raise NotImplementedError
@@ -104,3 +64,68 @@ class ContextManaged:
         self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
     ) -> None:
         self.close()
+
+
+class LiveSource(ContextManaged):
+    """A live system's transforms on ``topics`` as they arrive, and the clock they arrive on (wall time,
+    or ``/clock`` under ``use_sim_time``). ``start`` joins the system and returns once listening (raising
+    ``LiveError`` if it cannot), then ``on_batch`` is called with each batch until ``close``."""
+
+    #: What a capture's ``SourceInfo`` calls this kind of source, e.g. ``"ros1-live"``.
+    format: str
+
+    def __init__(self, topics: Sequence[str] | None, use_sim_time: bool, on_notice: OnNotice | None) -> None:
+        self.topics = tuple(topics) if topics else DEFAULT_TOPICS
+        self.use_sim_time = use_sim_time
+        self.message_count = 0  # transform messages received so far
+        self._clock: Clock = SimClock() if use_sim_time else WallClock()
+        self._on_notice = on_notice or ignore_notice
+        self._notice_once = NoticeOnce(on_notice)
+        self._closed = threading.Event()
+        self._lock = threading.Lock()  # the receiving threads' counts and what they told
+        self._told_unreadable: set[tuple[str, str]] = set()
+
+    @property
+    def clock(self) -> Clock:
+        return self._clock
+
+    @property
+    def finished(self) -> bool:
+        """True once closed, or stopped by the system (e.g. ``rosnode kill``)."""
+        return self._closed.is_set()
+
+    def start(self, on_batch: OnBatch) -> None:
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        """What is listened to, for humans and file lists: e.g. ``ROS1 master http://127.0.0.1:11311``."""
+        raise NotImplementedError
+
+    def header_listener(self, store: HeaderStore) -> HeaderListener:
+        """A listener of the sensor topics of the system this source listens to."""
+        raise TypeError(f"no sensor headers from a {type(self).__name__}")
+
+    def notice(self, message: str) -> None:
+        """Say ``message`` (one line) as the source says its own notices, every time it is called."""
+        self._on_notice(message)
+
+    def _clock_message(self, now: int) -> None:
+        """A ``/clock`` message: ROS time is now ``now``, back too (a replay that loops or restarts)."""
+        assert isinstance(self._clock, SimClock)
+        self._clock.reset(now)
+
+    def _unreadable(self, sender: str, topic: str, error: Exception) -> None:
+        """Say once per publisher and topic that its messages cannot be read (they are dropped): a
+        ``ValueError`` is the message's fault, anything else a bug of tfx's decoder."""
+        with self._lock:
+            if (sender, topic) in self._told_unreadable:
+                return
+            self._told_unreadable.add((sender, topic))
+        reason = str(error) if isinstance(error, ValueError) else f"tfx's {type(error).__name__}: {error}"
+        self._notice_once(f"{printable(sender)} sent an unreadable message on {topic} ({reason}); such are dropped")
+
+    def _pass_on(self, on_batch: OnBatch, batch: TransformBatch) -> None:
+        try:
+            on_batch(batch)
+        except Exception as error:  # the consumer's bug must not stop the listening
+            self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")

@@ -4,53 +4,36 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 
 import numpy as np
 
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.semantics import Semantics
+from tftools.sources.codecs.types import TF_MESSAGE
 from tftools.sources.contents import RecordingContents, SourceInfo
-from tftools.sources.live import open_live
 from tftools.sources.live.base import LiveSource
-from tftools.sources.live.time_jump import TimeJump, watch_jumps
+from tftools.sources.live.time_jump import OnJump, TimeJump, watch_jumps
 from tftools.sources.recording import Recording, recording_of
-
-TF_TYPE = "tf2_msgs/msg/TFMessage"
 
 
 def capture(
-    source: LiveSource | None = None,
+    source: LiveSource,
     duration: float = 5.0,
-    topics: Sequence[str] | None = None,
     *,
     until: Callable[[], bool] | None = None,
     semantics: Semantics | None = None,
-    on_jump: Callable[[TimeJump], None] | None = None,
+    on_jump: OnJump | None = None,
 ) -> Recording:
-    """Listen ``duration`` wall seconds (as view_frames does) and return what was heard as a recording.
-
-    ``source``: a live source not yet started (closed on return); ``None`` opens one as
-    ``open_live(topics=topics)`` does. ``until`` may end the capture early (checked ten times a
-    second). Its one ``SourceInfo`` describes the source (path e.g. ``ROS1 master
-    http://127.0.0.1:11311``, format ``ros1-live``); record times are receive times, and the
-    recording spans from the start of listening to its end on the source's clock. When that clock
-    jumps back (a replay that loops), what was heard so far is forgotten but for static transforms,
-    as a tf2 listener clears its buffer, and the recording spans from the jump; ``on_jump`` is
-    told of each such jump (from the source's thread).
-    """
-    if source is None:
-        source = open_live(topics=topics)
-    heard = _Heard()
-
-    def forget(jump: TimeJump) -> None:
-        heard.forget_dynamic(jump)
-        if on_jump is not None:
-            on_jump(jump)
-
+    """Listen ``duration`` wall seconds to ``source`` (not yet started; closed on return) as view_frames
+    does, or until ``until()`` (asked ten times a second), and return what was heard as a recording
+    whose record times are receive times on the source's clock. When that clock jumps back (a replay
+    that loops), what was heard is forgotten but for static transforms, as a tf2 listener clears its
+    buffer, and the recording spans from the jump; ``on_jump`` is told of each."""
+    heard = _Heard(on_jump)
     with source:
-        source.start(watch_jumps(source, heard.keep, forget))
+        source.start(watch_jumps(source, heard.keep, heard.forget_dynamic))
         heard.since(source.clock.now())
         deadline = time.monotonic() + duration
         while time.monotonic() < deadline and not source.finished and not (until is not None and until()):
@@ -64,7 +47,8 @@ class _Heard:
     """The batches a capture heard, from the source's thread: a jump back of the clock forgets the
     dynamic transforms heard before it (static ones kept), as ``Buffer.clear`` does a buffer."""
 
-    def __init__(self) -> None:
+    def __init__(self, on_jump: OnJump | None) -> None:
+        self._on_jump = on_jump
         self._lock = threading.Lock()
         self._batches: list[TransformBatch] = []
         self._begin = 0
@@ -82,6 +66,8 @@ class _Heard:
             statics = [take_rows(b, np.flatnonzero(b.static)) for b in self._batches]
             self._batches = [b for b in statics if len(b)]
             self._begin = jump.after
+        if self._on_jump is not None:
+            self._on_jump(jump)
 
     def transforms(self) -> tuple[TransformBatch, int]:
         """All heard (still remembered), and when the hearing began (or the last jump back)."""
@@ -101,7 +87,7 @@ def _recording(
         start=begin,
         end=end,
         message_count=source.message_count,
-        topics=dict.fromkeys(source.topics, TF_TYPE),
+        topics=dict.fromkeys(source.topics, TF_MESSAGE),
         transform_count=len(transforms),
     )
     contents = RecordingContents([transforms] if len(transforms) else [], [info], tuple(source.topics))
@@ -116,10 +102,9 @@ def live_semantics(source: LiveSource) -> Semantics:
 def listen(
     source: LiveSource, cache_time: int | None = DEFAULT_CACHE_TIME, semantics: Semantics | None = None
 ) -> Buffer:
-    """Start ``source`` into a new buffer (tf2's cache length by default) on the source's clock,
-    filled from then on in the background, as a ``tf2_ros::TransformListener`` fills its buffer,
-    and cleared as it clears it when the clock jumps back (static transforms kept, one notice
-    said through the source). Close the source to stop."""
+    """Start ``source`` into a new buffer (tf2's cache length by default) on the source's clock, filled
+    in the background and cleared when the clock jumps back, as a ``tf2_ros::TransformListener``
+    does its buffer. Close the source to stop."""
     buffer = Buffer(cache_time, source.clock, semantics or live_semantics(source))
     deliver = watch_jumps(source, buffer.insert, lambda _jump: buffer.clear())
 

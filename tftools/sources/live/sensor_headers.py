@@ -1,11 +1,5 @@
-"""Sensor data heard live beside tf: each message's header and arrival time, what ``tfx filter`` replays.
-
-While a capture listens to tf, a listener of the same system subscribes the sensor topics (those
-named, or every advertised one whose type starts with a ``std_msgs/Header``, but /tf, /tf_static
-and /clock) and keeps, per message, when it arrived on the capture's clock (the clock of the
-transforms' record times) and its header, decoded by the parsers bags use
-(``tftools.sources.headers``): the same ``StampedMessages`` as a bag gives.
-"""
+"""Sensor data heard live beside tf, what ``tfx filter`` replays: each message's header, decoded by the
+parsers bags use, and its arrival time on the capture's clock: the same ``StampedMessages`` as a bag gives."""
 
 from __future__ import annotations
 
@@ -51,7 +45,6 @@ class HeaderStore:
         self._without_header: dict[str, str] = {}
 
     def wants(self, topic: str) -> bool:
-        """Whether ``topic`` is one to listen to."""
         return topic in self.topics if self.topics is not None else topic not in NOT_SENSOR_DATA
 
     def heard(self, topic: str, msgtype: str, header: Header | None) -> None:
@@ -64,6 +57,13 @@ class HeaderStore:
             collector.add(arrived, header)
             if collector.left_out == 1:
                 self.notice(f"{topic}: {self._limit} messages heard, tfx's limit per topic: later ones are not checked")
+
+    def full(self, listened: int) -> bool:
+        """Whether ``listened`` topics are already as many as tfx listens to (said once)."""
+        if listened < MAX_TOPICS:
+            return False
+        self.notice(f"more than {MAX_TOPICS} topics are advertised: tfx listens to the first ones")
+        return True
 
     def without_header(self, topic: str, msgtype: str) -> None:
         """``topic`` turned out to be of ``msgtype``, whose messages do not start with a header."""
@@ -98,46 +98,25 @@ class HeaderListener(Protocol):
     def close(self) -> None: ...
 
 
-def header_listener(source: LiveSource, store: HeaderStore) -> HeaderListener:
-    """A listener of the system ``source`` listens to (its ROS 1 master or its ROS 2 domain)."""
-    from tftools.sources.live.ros1 import Ros1Source
-
-    if isinstance(source, Ros1Source):
-        from tftools.sources.live.ros1.headers import Ros1HeaderListener
-
-        return Ros1HeaderListener(source.master_uri, store)
-    from tftools.sources.live.ros2.headers import Ros2HeaderListener
-    from tftools.sources.live.ros2.source import Ros2Source
-
-    if not isinstance(source, Ros2Source):
-        raise TypeError(f"no sensor headers from a {type(source).__name__}")
-    return Ros2HeaderListener(source.domain_id, store)
-
-
 def capture_stamped(
     source: LiveSource,
     duration: float = 5.0,
     topics: Sequence[str] | None = None,
     *,
     semantics: Semantics | None = None,
-    limit: int = MAX_HEADERS_PER_TOPIC,
 ) -> tuple[Recording, StampedRead]:
     """Listen ``duration`` wall seconds to ``source`` (not yet started; closed on return) as
     ``capture`` does, and meanwhile to the sensor ``topics`` of its system (default: every one
-    whose messages start with a header): the recording, and each topic's headers (at most ``limit``
-    a topic) with their arrival times on the recording's record clock, for ``filter_report``."""
-    store = HeaderStore(source.clock, topics, source.notice, limit)
+    whose messages start with a header, but /tf, /tf_static and /clock): the recording, and each
+    topic's headers with their arrival times on the recording's record clock."""
+    store = HeaderStore(source.clock, topics, source.notice)
     try:
-        listener = header_listener(source, store)
-    except BaseException:
-        source.close()
-        raise
-    try:
-        listener.start()
-        recording = capture(source, duration, semantics=semantics, on_jump=store.forget)
-    except BaseException:
-        source.close()  # capture closes it, but not when the listener failed first
-        raise
+        listener = source.header_listener(store)
+        try:
+            listener.start()
+            recording = capture(source, duration, semantics=semantics, on_jump=store.forget)
+        finally:
+            listener.close()
     finally:
-        listener.close()
+        source.close()  # capture closes it, but not when the listener failed first
     return recording, store.read()

@@ -1,15 +1,10 @@
 """A live source's clock jumping back, seen as tf2_ros's listeners see it.
 
-tf2_ros clears its buffer when time goes backwards (a bag replay that loops or restarts, a clock
-set back), or the transforms of the new pass would be refused as too old while lookups keep
-answering the old pass's last ones. ROS 1's ``TransformListener`` compares ``ros::Time::now()``
-at each message received with its value at the message before ("Detected jump back in time.
-Clearing TF buffer."); ROS 2's ``Buffer`` clears on its clock's jump callback for any backward
-jump. ``BufferCore::clear`` drops the dynamic edges' samples and keeps the static ones.
-
-Here, for ROS 1 and ROS 2 alike, a source's batches go through ``watch_jumps``: it reads the
-source's clock (wall time, or ``/clock`` under sim time) at each batch delivered, as ROS 1's
-listener does at each message, and says each jump in one line through the source's notices.
+tf2_ros clears its buffer when time goes backwards (a bag replay that loops, a clock set back), or
+the new pass's transforms would be refused as too old while lookups keep answering the old pass's.
+ROS 1's ``TransformListener`` compares ``ros::Time::now()`` at each message with its value at the one
+before; ROS 2's ``Buffer`` clears on its clock's jump callback. ``BufferCore::clear`` keeps statics.
+Here, for both, ``watch_jumps`` reads the source's clock at each batch delivered.
 """
 
 from __future__ import annotations
@@ -67,41 +62,31 @@ class JumpDetector:
 
 def watch_jumps(source: LiveSource, on_batch: Callable[[TransformBatch], object], on_jump: OnJump) -> OnBatch:
     """``on_batch`` as ``source.start`` takes it, with jumps back of the source's clock seen first:
-    ``on_jump`` is called (to clear what was heard), one line goes through ``source.notice``, then
-    the batch that revealed the jump is passed on, as tf2_ros stores the message whose callback
-    cleared its buffer.
+    ``on_jump`` is called (to clear what was heard) and said through ``source.notice``, then the batch
+    that revealed the jump is passed on, as tf2_ros stores the message whose callback cleared its buffer.
 
-    ``/clock`` and ``/tf`` come on separate connections, so around a replay's loop transforms of
-    either pass may be delivered after the clock went back. Those of the pass before (``stale``)
-    are dropped from the batch that revealed the jump; if that leaves none of the new pass's, the
-    clearing waits for the next batch, so that lookups never find the cleared buffer empty.
-    """
-    return _JumpWatch(source, on_batch, on_jump)
+    ``/clock`` and ``/tf`` come on separate connections, so around a replay's loop either pass's
+    transforms may come after the clock went back: the pass before's (``stale``) are dropped, and if
+    none of the new pass's are left, the clearing waits for the next batch, so that lookups never
+    find the cleared buffer empty."""
+    detector = JumpDetector(source.clock)
+    waiting: TimeJump | None = None  # a jump whose batch held only the pass before's transforms
 
-
-class _JumpWatch:
-    def __init__(self, source: LiveSource, on_batch: Callable[[TransformBatch], object], on_jump: OnJump) -> None:
-        self._source = source
-        self._on_batch = on_batch
-        self._on_jump = on_jump
-        self._detector = JumpDetector(source.clock)
-        self._waiting: TimeJump | None = None  # a jump whose batch held only the pass before's transforms
-
-    def __call__(self, batch: TransformBatch) -> None:
-        jump = self._detector.check() or self._waiting
+    def watch(batch: TransformBatch) -> None:
+        nonlocal waiting
+        jump = detector.check() or waiting
         if jump is not None:
             stale = jump.stale(batch)
             if stale.any():
                 batch = take_rows(batch, np.flatnonzero(~stale))
-                if self._waiting is None and not np.any(~batch.static):
-                    self._waiting = jump  # nothing of the new pass yet: clear with the next batch
-                    self._deliver(batch)
-                    return
-            self._waiting = None
-            self._on_jump(jump)
-            self._source.notice(jump.notice())
-        self._deliver(batch)
-
-    def _deliver(self, batch: TransformBatch) -> None:
+                if waiting is None and not np.any(~batch.static):
+                    waiting = jump  # nothing of the new pass yet: clear with the next batch
+                    jump = None
+            if jump is not None:
+                waiting = None
+                on_jump(jump)
+                source.notice(jump.notice())
         if len(batch):
-            self._on_batch(batch)
+            on_batch(batch)
+
+    return watch

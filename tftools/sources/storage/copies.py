@@ -1,10 +1,6 @@
-"""Remote files' local copies, by the file the readers hold open: a reader about to read some byte
-ranges of a file asks ``need`` (or, ahead of time, ``ahead``) whatever the file, and only a copy of
-a remote file fetches them; a local file's ranges are read ahead by the system.
-
-A table keyed by the open file (its device and inode), not an argument: the readers of every format
-hold a file descriptor already, and none of their signatures need to know where a file came from.
-"""
+"""Remote files' local copies, by the file the readers hold open (its device and inode): the readers
+of every format hold a file descriptor already, so none of their signatures need to know where a file
+came from. A reader about to read some ranges of a file asks ``copy_of`` it to fill them first."""
 
 from __future__ import annotations
 
@@ -14,10 +10,9 @@ from typing import Protocol
 
 
 class Fillable(Protocol):
-    """A remote file's local copy, whose bytes are fetched on request."""
+    """A remote file's local copy: ``fill`` makes ``starts[i]:ends[i]`` of it hold the remote bytes."""
 
-    def fill(self, starts: Sequence[int], ends: Sequence[int]) -> None:
-        """Make ``starts[i]:ends[i]`` of the copy hold the remote file's bytes."""
+    def fill(self, starts: Sequence[int], ends: Sequence[int]) -> None: ...
 
 
 _copies: dict[tuple[int, int], Fillable] = {}

@@ -1,15 +1,12 @@
 """Remote recordings read through fsspec: listed, and each file made a local sparse copy of its size
-that the readers fill range by range (``copies``), so that only the ranges they read are fetched.
+that the readers fill range by range (``copies``), so that only the ranges they read are fetched
+(``.db3``, ``.zstd`` and metadata.yaml files whole). Credentials and endpoints come from each
+filesystem's standard environment (``AWS_PROFILE``, ``GOOGLE_APPLICATION_CREDENTIALS``, ...). Nothing
+at a URL is ever written.
 
-SQLite needs a whole file: ``.db3`` files (and whole-compressed ``.zstd`` ones, and metadata.yaml)
-are fetched whole. Credentials and endpoints come from each filesystem's standard environment
-(``AWS_PROFILE``, ``AWS_ENDPOINT_URL``, ``GOOGLE_APPLICATION_CREDENTIALS``, ``AZURE_STORAGE_*``).
-Nothing at a URL is ever written: files are only listed and read.
-
-Remote reads are bounded: every request has a connect and a read timeout, asks at most
-``PIECE_BYTES`` and holds at most ``BATCH_BYTES`` in memory at once; a reply longer than asked is
-refused, a shorter one (a file smaller than its listed size) leaves zeros the readers find damaged,
-and no file is taken to be larger than ``MAX_FILE_BYTES``.
+Reads are bounded: every request has timeouts and asks at most ``PIECE_BYTES``, at most ``BATCH_BYTES``
+are held at once, a reply longer than asked is refused (a shorter one leaves zeros the readers find
+damaged), and no file is taken to be larger than ``MAX_FILE_BYTES``.
 """
 
 from __future__ import annotations

@@ -9,11 +9,11 @@ from collections.abc import Mapping
 
 from tftools.sources.codecs import ros1
 from tftools.sources.codecs.decoded import message_header
-from tftools.sources.codecs.types import MessageType, definition_starts_with_header
+from tftools.sources.codecs.types import MessageType, definition_starts_with_header, rosidl_name
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
-from tftools.sources.live.sensor_headers import MAX_TOPICS, HeaderStore
+from tftools.sources.live.sensor_headers import HeaderStore
 
 #: Any message type: a publisher answers with its own type, md5sum and definition.
 ANY_TYPE = MessageType("*", "*", "")
@@ -22,17 +22,9 @@ ANY_TYPE = MessageType("*", "*", "")
 DISCOVER_EVERY = 1.0
 
 
-def ros2_style(msgtype: str) -> str:
-    """A ROS 1 type name as bags name it when read (``sensor_msgs/LaserScan`` -> ``sensor_msgs/msg/LaserScan``)."""
-    package, _, name = msgtype.partition("/")
-    return f"{package}/msg/{name}" if name and "/" not in name else msgtype
-
-
 class Ros1HeaderListener:
     """The headers of ``store``'s topics from the ROS 1 master at ``master_uri``: those it names, or
-    every topic advertised (now and while listening, up to ``MAX_TOPICS``) whose messages start
-    with a header. Each publisher is one TCPROS connection with tftools' limits (message size,
-    timeouts, threads per topic)."""
+    every topic advertised (now and while listening) whose messages start with a header."""
 
     def __init__(self, master_uri: str, store: HeaderStore) -> None:
         self._store = store
@@ -71,8 +63,7 @@ class Ros1HeaderListener:
         for topic, _type in self._node.master.published_topics():
             if topic in self._subscribed or not self._store.wants(topic):
                 continue
-            if len(self._subscribed) >= MAX_TOPICS:
-                self._store.notice(f"more than {MAX_TOPICS} topics are advertised: tfx listens to the first ones")
+            if self._store.full(len(self._subscribed)):
                 return
             self._subscribe(topic)
 
@@ -83,7 +74,7 @@ class Ros1HeaderListener:
 
         def admit(header: Mapping[str, str]) -> bool:
             nonlocal msgtype
-            msgtype = ros2_style(header.get("type", ""))
+            msgtype = rosidl_name(header.get("type", ""))  # as bags name it when read
             if definition_starts_with_header(msgtype, header.get("message_definition", "")):
                 return True
             store.without_header(topic, msgtype)

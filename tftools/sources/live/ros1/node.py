@@ -11,7 +11,7 @@ from collections.abc import Callable
 from typing import Any
 
 from tftools.sources.codecs.types import MessageType
-from tftools.sources.live.base import OnNotice
+from tftools.sources.live.base import OnNotice, ignore_notice
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.publisher import Publication, TcpRosServer
@@ -21,23 +21,16 @@ from tftools.sources.live.ros1.xmlrpc import CALL_TIMEOUT, MasterClient, ReplyEr
 Reply = list[Any]  # the ROS API's [code, status message, value]
 
 
-def _ignore(_message: str) -> None:
-    pass
-
-
 class Node:
-    """One node: ``subscribe`` and ``advertise`` topics; ``close`` unregisters everything.
-
-    The master and other nodes reach it through its slave XML-RPC server; ``shutdown_requested``
-    is set when one of them asks it to stop (``rosnode kill``).
-    """
+    """One node: ``subscribe`` and ``advertise`` topics; ``close`` unregisters everything. Others reach it
+    through its slave XML-RPC server; ``shutdown_requested`` is set when one asks it to stop (``rosnode kill``)."""
 
     def __init__(self, name: str, master_uri: str | None = None, on_notice: OnNotice | None = None) -> None:
         self.name = name
         self.master = MasterClient(network.master_uri(master_uri), name)
         self.host = network.advertised_host()
         self._bind = network.bind_address(self.host)
-        self._on_notice = on_notice or _ignore
+        self._on_notice = on_notice or ignore_notice
         self.shutdown_requested = threading.Event()
         self._subscriptions: dict[str, Subscription] = {}
         self._publications: dict[str, Publication] = {}
@@ -52,8 +45,6 @@ class Node:
     @property
     def uri(self) -> str:
         return self._slave.uri
-
-    # --- what the node does ------------------------------------------------------------------
 
     def subscribe(
         self, topic: str, msg_type: MessageType, on_message: OnMessage, admit: Admit | None = None

@@ -125,12 +125,6 @@ class TcpRosServer:
 
     def _serve(self, sock: socket.socket) -> None:
         try:
-            self._serve_one(sock)
-        finally:
-            self._slots.release()
-
-    def _serve_one(self, sock: socket.socket) -> None:
-        try:
             sock.settimeout(CALL_TIMEOUT)
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
             header = tcpros.read_header(sock)
@@ -144,6 +138,8 @@ class TcpRosServer:
         except (OSError, EOFError, tcpros.ProtocolError):
             with contextlib.suppress(OSError):
                 sock.close()
+        finally:
+            self._slots.release()
 
     def close(self) -> None:
         self._closed = True

@@ -5,17 +5,20 @@ from __future__ import annotations
 import threading
 from collections import deque
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from tftools.core.batch import TransformBatch, concat_batches
-from tftools.core.time import Clock, SimClock, WallClock
 from tftools.sources.codecs import ros1
 from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, ros1_message_type
-from tftools.sources.contents import DEFAULT_TOPICS, is_static_topic
-from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice, ignore_notice, printable
+from tftools.sources.contents import is_static_topic
+from tftools.sources.live.base import LiveSource, NoticeOnce, OnBatch, OnNotice
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.subscriber import OnMessage
+
+if TYPE_CHECKING:
+    from tftools.sources.live.sensor_headers import HeaderListener, HeaderStore
 
 #: Transforms received and not yet delivered, at most: past it (the consumer cannot keep up) new
 #: messages are dropped, and that is said once. A message alone is always taken.
@@ -64,13 +67,10 @@ class _DeliveryQueue:
             self._ready.notify_all()
 
 
-class Ros1Source(ContextManaged):
-    """Subscribes to ``topics`` (tf2_msgs/TFMessage) through the master at ``master_uri``
-    (``ROS_MASTER_URI``), following publishers as they come and go.
-
-    ``use_sim_time``: follow ``/clock``; ``None`` asks the master's ``/use_sim_time`` parameter,
-    as every ROS node does (which also checks that the master answers).
-    """
+class Ros1Source(LiveSource):
+    """Subscribes to ``topics`` (tf2_msgs/TFMessage) through the master at ``master_uri`` (``ROS_MASTER_URI``),
+    following publishers as they come and go. ``use_sim_time`` ``None`` asks the master's ``/use_sim_time``,
+    as every ROS node does (which also checks that the master answers)."""
 
     format = "ros1-live"
 
@@ -82,28 +82,18 @@ class Ros1Source(ContextManaged):
         on_notice: OnNotice | None = None,
         name: str = "tfx",
     ) -> None:
-        self.topics = tuple(topics) if topics else DEFAULT_TOPICS
-        self.message_count = 0
-        self._count_lock = threading.Lock()
-        self._told_unreadable: set[tuple[str, str]] = set()
-        self._on_notice = on_notice or ignore_notice
-        self._notice_once = NoticeOnce(on_notice)
-        self._node = Node(network.anonymous_name(name), master_uri, self._notice_once)
+        notice_once = NoticeOnce(on_notice)
+        self._node = Node(network.anonymous_name(name), master_uri, notice_once)
         try:
             if use_sim_time is None:
                 use_sim_time = bool(self._node.master.get_param("/use_sim_time"))
         except BaseException:
             self._node.close()
             raise
-        self.use_sim_time = use_sim_time
-        self._clock: Clock = SimClock() if use_sim_time else WallClock()
+        super().__init__(topics, use_sim_time, on_notice)
+        self._notice_once = notice_once  # the node's: a notice is said once, whoever says it
         self._queue = _DeliveryQueue(self._notice_once)
-        self._closed = threading.Event()
         self._delivery: threading.Thread | None = None
-
-    @property
-    def clock(self) -> Clock:
-        return self._clock
 
     @property
     def master_uri(self) -> str:
@@ -113,18 +103,20 @@ class Ros1Source(ContextManaged):
     def finished(self) -> bool:
         return self._closed.is_set() or self._node.shutdown_requested.is_set()
 
-    def notice(self, message: str) -> None:
-        self._on_notice(message)
-
     def describe(self) -> str:
         return f"ROS1 master {self.master_uri}"
+
+    def header_listener(self, store: HeaderStore) -> HeaderListener:
+        from tftools.sources.live.ros1.headers import Ros1HeaderListener
+
+        return Ros1HeaderListener(self.master_uri, store)
 
     def start(self, on_batch: OnBatch) -> None:
         """Register with the master and listen; raises ``LiveError`` if the master is not there."""
         self._delivery = threading.Thread(target=self._deliver, args=(on_batch,), name="tfx-delivery", daemon=True)
         self._delivery.start()
         try:
-            if isinstance(self._clock, SimClock):
+            if self.use_sim_time:
                 self._node.subscribe("/clock", ros1_message_type(CLOCK), self._on_clock)
             tf_type = ros1_message_type(TF_MESSAGE)
             for topic in self.topics:
@@ -142,8 +134,6 @@ class Ros1Source(ContextManaged):
         if self._delivery is not None and self._delivery is not threading.current_thread():
             self._delivery.join(timeout=1.0)
 
-    # --- receiving ---------------------------------------------------------------------------
-
     def _receiver(self, topic: str) -> OnMessage:
         static = is_static_topic(topic)
 
@@ -155,37 +145,19 @@ class Ros1Source(ContextManaged):
             except Exception as error:  # ValueError: not a TFMessage; anything else would be a decoder bug
                 self._unreadable(callerid, topic, error)
                 return
-            with self._count_lock:
+            with self._lock:
                 self.message_count += 1
             self._queue.put(batch)
 
         return receive
 
     def _on_clock(self, data: bytes, callerid: str) -> None:
-        assert isinstance(self._clock, SimClock)
         try:
-            now = message_clock(ros1.decode_clocks, data)
+            self._clock_message(message_clock(ros1.decode_clocks, data))
         except ValueError as error:
             self._unreadable(callerid, "/clock", error)
-            return
-        if now < self._clock.now():  # a replay that loops or restarts: ROS time jumps back too
-            self._clock.reset(now)
-        else:
-            self._clock.set(now)
-
-    def _unreadable(self, callerid: str, topic: str, error: Exception) -> None:
-        """Say once per publisher and topic that its messages cannot be read (they are dropped)."""
-        with self._count_lock:
-            if (callerid, topic) in self._told_unreadable:
-                return
-            self._told_unreadable.add((callerid, topic))
-        reason = str(error) if isinstance(error, ValueError) else f"tfx's {type(error).__name__}: {error}"
-        self._notice_once(f"{printable(callerid)} sent an unreadable message on {topic} ({reason}); such are dropped")
 
     def _deliver(self, on_batch: OnBatch) -> None:
         """One thread calls ``on_batch``, with whatever arrived while it was busy merged."""
         while (batches := self._queue.take_all()) is not None:
-            try:
-                on_batch(concat_batches(batches))
-            except Exception as error:  # the consumer's bug must not stop the listening
-                self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")
+            self._pass_on(on_batch, concat_batches(batches))

@@ -64,8 +64,8 @@ class Subscription:
         self.name_of = name_of  # a publisher's node name from its URI, for messages
         self.topic = topic
         self.type = msg_type
-        self._on_message = on_message
-        self._on_notice = on_notice
+        self.deliver = on_message
+        self.notice = on_notice
         self._links: dict[str, _PublisherLink] = {}
         self._lock = threading.Lock()
         self._closed = False
@@ -76,7 +76,7 @@ class Subscription:
         new ones (the first ``MAX_PUBLISHERS``), leave those gone."""
         wanted = list(dict.fromkeys(publishers))
         if len(wanted) > MAX_PUBLISHERS:
-            self._on_notice(
+            self.notice(
                 f"the master lists {len(wanted)} publishers of {self.topic}: tfx listens to the first "
                 f"{MAX_PUBLISHERS} only"
             )
@@ -124,12 +124,6 @@ class Subscription:
         for link in links:
             if link.launched:
                 link.join(timeout=max(deadline - time.monotonic(), 0.0))
-
-    def notice(self, message: str) -> None:
-        self._on_notice(message)
-
-    def deliver(self, data: bytes, callerid: str) -> None:
-        self._on_message(data, callerid)
 
 
 class _PublisherLink(threading.Thread):
@@ -188,7 +182,9 @@ class _PublisherLink(threading.Thread):
                 return
             finally:
                 self.connected = False
-                self._close_socket()
+                sock, self._sock = self._sock, None
+                if sock is not None:
+                    sock.close()
             self._stopped.wait(delay)
             delay = min(delay * 2, RETRY_MAX)
 
@@ -252,8 +248,3 @@ class _PublisherLink(threading.Thread):
         ):
             raise ros_xmlrpc.ReplyError("its requestTopic answer is not a TCPROS host and port")
         return protocol[1], protocol[2]
-
-    def _close_socket(self) -> None:
-        sock, self._sock = self._sock, None
-        if sock is not None:
-            sock.close()

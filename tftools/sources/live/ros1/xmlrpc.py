@@ -1,11 +1,8 @@
 """ROS1's XML-RPC: calls to the master and to other nodes, and this node's slave server.
 
-Every exchange is bounded: a whole call (connect, send, the reply) within ``CALL_TIMEOUT`` seconds,
-a reply within ``MAX_REPLY`` bytes, a request to this node within ``MAX_REQUEST`` bytes and
-``REQUEST_TIMEOUT`` seconds, at most ``MAX_CONCURRENT_REQUESTS`` served at once. XML is parsed by
-Python's expat with document type declarations refused: XML-RPC has none, and a DTD is how entity
-bombs ("billion laughs") come in. This needs no third-party parser (``defusedxml`` refuses DTDs
-the same way, by the same expat handlers).
+Every exchange is bounded in time and size (the limits below). XML is parsed by Python's expat with
+document type declarations refused, as ``defusedxml`` refuses them: XML-RPC has none, and a DTD is
+how entity bombs ("billion laughs") come in.
 """
 
 from __future__ import annotations
@@ -24,12 +21,7 @@ from xml.parsers import expat
 from xmlrpc.server import SimpleXMLRPCRequestHandler, SimpleXMLRPCServer
 
 from tftools.sources.live.base import printable
-from tftools.sources.live.errors import (
-    MasterRefusedError,
-    MasterReplyError,
-    MasterTimeoutError,
-    MasterUnreachableError,
-)
+from tftools.sources.live.errors import MasterRefusedError, MasterReplyError, MasterTimeoutError, MasterUnreachableError
 
 #: Seconds a whole call to the master or another node may take (connect, send, the whole reply).
 CALL_TIMEOUT = 3.0
@@ -49,9 +41,6 @@ MAX_CONCURRENT_REQUESTS = 16
 
 class ReplyError(Exception):
     """An answer that is not XML-RPC, too large, or not what the ROS API says it is."""
-
-
-# --- bounded reading ---------------------------------------------------------------------------
 
 
 class _BoundedReader(io.RawIOBase):
@@ -109,9 +98,7 @@ def loads(data: bytes, limit: int = MAX_REPLY) -> tuple[tuple[Any, ...], str | N
         unmarshaller.xml(None, None)  # type: ignore[arg-type]  # as ExpatParser: expat gives str
         parser.Parse(data, True)
         return unmarshaller.close(), unmarshaller.getmethodname()
-    except xmlrpc.client.Fault:
-        raise
-    except ReplyError:
+    except (xmlrpc.client.Fault, ReplyError):
         raise
     except Exception as error:  # expat's, the unmarshaller's (ValueError, TypeError, IndexError...)
         raise ReplyError(f"not XML-RPC ({type(error).__name__}: {error})") from None
@@ -164,12 +151,6 @@ def call(uri: str, method: str, *args: Any, timeout: float = CALL_TIMEOUT) -> tu
     if type(code) is not int or not isinstance(message, str):
         raise ReplyError("not a ROS API reply: its code is not an integer or its status not a string")
     return code, message, value
-
-
-# --- the master --------------------------------------------------------------------------------
-
-#: What a failed call to the master or another node raises.
-CALL_ERRORS = (OSError, ReplyError)
 
 
 def uri_list(value: Any, what: str) -> list[str]:
@@ -243,7 +224,7 @@ class MasterClient:
                 code, _message, node_uri = call(self.uri, "lookupNode", self.caller_id, name, timeout=left)
                 if code == 1 and node_uri == uri:
                     return str(name)
-        except (*CALL_ERRORS, ValueError, TypeError, IndexError, KeyError):
+        except (OSError, ReplyError, ValueError, TypeError, IndexError, KeyError):  # a failed call, an odd reply
             pass
         return uri
 
@@ -279,9 +260,6 @@ def _reason(error: BaseException) -> str:
     return str(error) or type(error).__name__
 
 
-# --- this node's server --------------------------------------------------------------------------
-
-
 class _QuietHandler(SimpleXMLRPCRequestHandler):
     """Serves one request: read within ``REQUEST_TIMEOUT`` seconds and ``MAX_REQUEST`` bytes."""
 
@@ -305,13 +283,30 @@ class _QuietHandler(SimpleXMLRPCRequestHandler):
         pass
 
 
-class _ThreadingServer(socketserver.ThreadingMixIn, SimpleXMLRPCServer):
+class SlaveServer(socketserver.ThreadingMixIn, SimpleXMLRPCServer):
+    """This node's XML-RPC server: the API the master and other nodes call (``publisherUpdate``,
+    ``requestTopic``, ``getPid``...). ``handlers`` maps each method name to its function."""
+
     daemon_threads = True
     allow_reuse_address = True
 
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
+    def __init__(self, bind: str, advertised_host: str, handlers: dict[str, Callable[..., Any]]) -> None:
+        super().__init__((bind, 0), requestHandler=_QuietHandler, logRequests=False, allow_none=False)
         self._slots = threading.BoundedSemaphore(MAX_CONCURRENT_REQUESTS)
+        for name, function in handlers.items():
+            self.register_function(function, name)
+        self.uri = f"http://{advertised_host}:{self.server_address[1]}/"
+        self._thread = threading.Thread(
+            target=self.serve_forever, kwargs={"poll_interval": 0.1}, name=f"tfx-xmlrpc {self.uri}", daemon=True
+        )
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def close(self) -> None:
+        if self._thread.is_alive():
+            self.shutdown()
+        self.server_close()
 
     def process_request(self, request: Any, client_address: Any) -> None:
         if not self._slots.acquire(blocking=False):  # too many at once: turned away, no thread
@@ -342,24 +337,3 @@ class _ThreadingServer(socketserver.ThreadingMixIn, SimpleXMLRPCServer):
         except Exception as error:  # a handler's refusal or a malformed request, as a fault
             response = xmlrpc.client.dumps(xmlrpc.client.Fault(1, f"{type(error).__name__}: {error}"))
         return response.encode("utf-8", "xmlcharrefreplace")
-
-
-class SlaveServer:
-    """This node's XML-RPC server: the API the master and other nodes call (``publisherUpdate``,
-    ``requestTopic``, ``getPid``...). ``handlers`` maps each method name to its function."""
-
-    def __init__(self, bind: str, advertised_host: str, handlers: dict[str, Callable[..., Any]]) -> None:
-        self._server = _ThreadingServer((bind, 0), requestHandler=_QuietHandler, logRequests=False, allow_none=False)
-        for name, function in handlers.items():
-            self._server.register_function(function, name)
-        self.uri = f"http://{advertised_host}:{self._server.server_address[1]}/"
-        self._thread = threading.Thread(target=self._server.serve_forever, kwargs={"poll_interval": 0.1}, daemon=True)
-
-    def start(self) -> None:
-        self._thread.name = f"tfx-xmlrpc {self.uri}"
-        self._thread.start()
-
-    def close(self) -> None:
-        if self._thread.is_alive():
-            self._server.shutdown()
-        self._server.server_close()

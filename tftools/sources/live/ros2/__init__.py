@@ -3,10 +3,7 @@ system as a participant speaking ROS 2's topic names, types and QoS."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
-from tftools.sources.live.base import LiveSource, OnNotice
-from tftools.sources.live.ros2.errors import CycloneDdsMissingError
+from tftools.sources.live.errors import CycloneDdsMissingError
 
 
 def require_cyclonedds() -> None:
@@ -17,17 +14,4 @@ def require_cyclonedds() -> None:
         raise CycloneDdsMissingError(error) from None
 
 
-def open_source(
-    topics: Sequence[str] | None = None,
-    use_sim_time: bool | None = None,
-    on_notice: OnNotice | None = None,
-    domain_id: int | None = None,
-) -> LiveSource:
-    """A ``Ros2Source`` on ``domain_id`` (``ROS_DOMAIN_ID``), not yet started."""
-    require_cyclonedds()
-    from tftools.sources.live.ros2.source import Ros2Source
-
-    return Ros2Source(topics, use_sim_time, on_notice, domain_id)
-
-
-__all__ = ["CycloneDdsMissingError", "open_source", "require_cyclonedds"]
+__all__ = ["CycloneDdsMissingError", "require_cyclonedds"]

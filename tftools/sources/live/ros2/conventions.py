@@ -1,7 +1,5 @@
-"""ROS 2's conventions on the DDS wire: topic and type names, tf2_ros's QoS, domain and discovery.
-
-Everything here is plain data, usable (and tested) without Cyclone DDS installed.
-"""
+"""ROS 2's conventions on the DDS wire: topic and type names, tf2_ros's QoS, domain and discovery;
+plain data, usable (and tested) without Cyclone DDS installed."""
 
 from __future__ import annotations
 
@@ -9,7 +7,8 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from tftools.sources.live.ros2.errors import DomainIdError
+from tftools.sources.contents import is_static_topic
+from tftools.sources.live.errors import DomainIdError
 
 # ROS 2 topic "/tf" is DDS topic "rt/tf": the "rt" prefix marks ROS topics (design.ros2.org,
 # "Topic and Service name mapping to DDS"; rmw_cyclonedds namespace_prefix.hpp ROS_TOPIC_PREFIX).
@@ -102,7 +101,7 @@ DISCOVERY_READER_QOS = QosProfile(depth=0, transient_local=True)
 
 def listener_qos(ros_topic: str) -> QosProfile:
     """How tf2_ros's TransformListener subscribes ``ros_topic``."""
-    return TF_STATIC_LISTENER_QOS if ros_topic.rstrip("/").endswith("tf_static") else TF_QOS
+    return TF_STATIC_LISTENER_QOS if is_static_topic(ros_topic) else TF_QOS
 
 
 def domain_id(environ: Mapping[str, str] | None = None) -> int:
@@ -125,15 +124,11 @@ _LIMITS = (
 
 
 def discovery_config(environ: Mapping[str, str] | None = None) -> str:
-    """Cyclone DDS configuration for ROS 2's discovery settings, followed by ``CYCLONEDDS_URI``, as
-    rmw_cyclonedds builds it (rmw_node.cpp check_create_domain).
-
-    ``ROS_AUTOMATIC_DISCOVERY_RANGE``: SUBNET (the default), LOCALHOST (no multicast, localhost as a
-    peer), OFF (no discovery at all) or SYSTEM_DEFAULT (Cyclone's own); ``ROS_LOCALHOST_ONLY=1``
-    (Humble's switch) means LOCALHOST where no range is given; ``ROS_STATIC_PEERS``: hosts separated by
-    ``;``, added as peers for SUBNET and LOCALHOST. Always: samples up to ``MAX_SAMPLE_SIZE``
-    (a ``CYCLONEDDS_URI`` may say otherwise: it comes last, and Cyclone's last word wins).
-    """
+    """Cyclone DDS configuration for ROS 2's discovery settings, then ``CYCLONEDDS_URI`` (whose last word
+    wins), as rmw_cyclonedds builds it (rmw_node.cpp check_create_domain): ``ROS_AUTOMATIC_DISCOVERY_RANGE``
+    SUBNET (the default), LOCALHOST (no multicast, localhost a peer), OFF or SYSTEM_DEFAULT (Cyclone's
+    own); ``ROS_LOCALHOST_ONLY=1`` (Humble's) means LOCALHOST; ``ROS_STATIC_PEERS``, hosts separated by
+    ``;``, are peers for SUBNET and LOCALHOST. Always: samples up to ``MAX_SAMPLE_SIZE``."""
     env = os.environ if environ is None else environ
     scope = env.get("ROS_AUTOMATIC_DISCOVERY_RANGE", "").strip().upper()
     if not scope:

@@ -3,17 +3,29 @@
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from typing import Any
 
-from cyclonedds.core import DDSException, InstanceState, Policy, Qos, SampleState, ViewState
+from cyclonedds.core import (
+    DDSException,
+    GuardCondition,
+    InstanceState,
+    Policy,
+    Qos,
+    ReadCondition,
+    SampleState,
+    ViewState,
+    WaitSet,
+)
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.internal import SampleInfo
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
+from cyclonedds.util import duration
 
+from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2.conventions import QosProfile, discovery_config
-from tftools.sources.live.ros2.errors import DdsError
 
 _INFINITY = 0x7FFFFFFFFFFFFFFF  # DDS_INFINITY
 _ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any
@@ -109,6 +121,46 @@ class Participant:
         _DOMAINS.release(self.domain_id)
 
 
+class Waiter:
+    """A thread that waits for samples on the readers it ``watch``es and calls ``step`` after each wait,
+    until ``stop``; ``step`` returns the seconds to wait at most before the next call."""
+
+    def __init__(self, participant: Participant) -> None:
+        self._waitset = WaitSet(participant.dds)
+        self._wake = GuardCondition(participant.dds)
+        self._conditions: list[Any] = []  # kept: Python deleting a condition would delete (detach) its DDS entity
+        self._attach(self._wake)
+        self._stopped = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def start(self, step: Callable[[], float], name: str) -> None:
+        self._thread = threading.Thread(target=self._run, args=(step,), name=name, daemon=True)
+        self._thread.start()
+
+    def _run(self, step: Callable[[], float]) -> None:
+        seconds = 1.0
+        while not self._stopped.is_set():
+            self._waitset.wait(duration(seconds=seconds))
+            if self._stopped.is_set():
+                return
+            seconds = step()
+
+    def stop(self) -> None:
+        if self._stopped.is_set():
+            return
+        self._stopped.set()
+        self._wake.set(True)
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=2.0)
+
+    def watch(self, reader: DataReader[Any]) -> None:
+        self._attach(ReadCondition(reader, _ANY_SAMPLE))
+
+    def _attach(self, condition: Any) -> None:
+        self._conditions.append(condition)
+        self._waitset.attach(condition)
+
+
 def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, SampleInfo]]:
     """Up to ``limit`` samples as the CDR bytes that arrived (encapsulation header first), each with
     its sample info: decoded by tftools in bulk rather than into one Python object per field."""
@@ -118,8 +170,3 @@ def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, Sam
     if isinstance(taken, int):
         raise DDSException(taken, f"Occurred while taking data in {reader!r}")
     return [(data, info) for data, info in taken if info.valid_data]
-
-
-def guid_bytes(key: Any) -> bytes:
-    """A GUID (``uuid.UUID`` as Cyclone's Python API gives them) as its 16 bytes."""
-    return bytes(key.bytes)

@@ -12,7 +12,7 @@ from cyclonedds.core import DDSException, Policy
 from cyclonedds.sub import DataReader
 
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.dds import Participant, guid_bytes, take_raw
+from tftools.sources.live.ros2.dds import Participant, take_raw
 from tftools.sources.live.ros2.entities import decode_participant_entities
 from tftools.sources.live.ros2.idl import participant_entities_info
 
@@ -53,8 +53,8 @@ class Graph:
     gives as ``publication_handle``) and the nodes that own them (``ros_discovery_info``, where every
     ROS 2 participant lists its nodes and their writers' GUIDs)."""
 
-    def __init__(self, participant: Participant, on_writer: Callable[[Writer, str], None] | None = None) -> None:
-        self._on_writer = on_writer or (lambda _writer, _name: None)
+    def __init__(self, participant: Participant, on_writer: Callable[[Writer, str], None]) -> None:
+        self._on_writer = on_writer  # told of each writer discovered, with its name
         self.publications = BuiltinDataReader(participant.dds, BuiltinTopicDcpsPublication)
         self.discovery = discovery_readers(participant)
         self._writers: dict[int, Writer] = {}
@@ -79,11 +79,11 @@ class Graph:
             self._nodes[entities.participant] = {w: n.full_name for n in entities.nodes for w in n.writers}
             self._node_of_writer = {w: n for nodes in self._nodes.values() for w, n in nodes.items()}
 
-    def writer(self, handle: int, reader: DataReader[Any] | None = None) -> Writer | None:
-        """The writer of a sample (its info's ``publication_handle``) as discovered; ``reader`` is
-        asked when the builtin topic has not told yet."""
+    def writer(self, handle: int, reader: DataReader[Any]) -> Writer | None:
+        """The writer of a sample (its info's ``publication_handle``) as discovered; ``reader``, the one
+        the sample came on, is asked when the builtin topic has not told yet."""
         found = self._writers.get(handle)
-        if found is None and reader is not None:
+        if found is None:
             try:
                 endpoint = reader.get_matched_publication_data(handle)
             except DDSException:
@@ -92,7 +92,7 @@ class Graph:
                 found = self._add_writer(endpoint, handle)
         return found
 
-    def settled(self, handle: int, reader: DataReader[Any] | None = None) -> bool:
+    def settled(self, handle: int, reader: DataReader[Any]) -> bool:
         """Whether a sample's writer can be named for good: its node is known, or ``NAMING_GRACE``
         seconds passed since tftools first asked (a plain DDS writer has no node)."""
         writer = self.writer(handle, reader)
@@ -101,7 +101,7 @@ class Graph:
         first = self._first_asked.setdefault(handle, time.monotonic())
         return time.monotonic() - first >= NAMING_GRACE
 
-    def authority(self, handle: int, reader: DataReader[Any] | None = None) -> str:
+    def authority(self, handle: int, reader: DataReader[Any]) -> str:
         """Who sent a sample: its writer's node (``/namespace/name``), else its DDS participant."""
         writer = self.writer(handle, reader)
         return "unknown publisher" if writer is None else self.name_of(writer)
@@ -113,8 +113,8 @@ class Graph:
     def _add_writer(self, endpoint: DcpsEndpoint, handle: int | None = None) -> Writer:
         qos = endpoint.qos
         writer = Writer(
-            guid=guid_bytes(endpoint.key),
-            participant=guid_bytes(endpoint.participant_key),
+            guid=endpoint.key.bytes,  # a uuid.UUID's 16 bytes
+            participant=endpoint.participant_key.bytes,
             topic=endpoint.topic_name,
             type_name=endpoint.type_name,
             reliable=qos[Policy.Reliability] != Policy.Reliability.BestEffort,  # a writer's default: reliable

@@ -1,26 +1,94 @@
-"""Sensor headers from a ROS 2 system over DDS: a participant of tfx's own reads each sensor topic
-as its writers advertise it (DDS discovery: topic ``rt/...`` and type name), with a reader whose
-type matches theirs (``sensor_types``), and decodes each sample's header from its CDR bytes."""
+"""Sensor headers from a ROS 2 system over DDS: a participant of tfx's own reads each sensor topic as
+its writers advertise it (DDS discovery: topic ``rt/...`` and type name) and decodes each sample's
+header from its CDR bytes. rmw_cyclonedds's writers match a reader by type name alone, but a DDS peer
+sending XTypes information (Cyclone DDS's Python package) only a reader of the same layout: so a type
+ROS 2 defines is read with its whole layout (from rosbags' type stores), another with its name and a
+header alone."""
 
 from __future__ import annotations
 
-import threading
+import functools
 from dataclasses import dataclass
 from typing import Any
 
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, DcpsEndpoint
-from cyclonedds.core import DDSException, GuardCondition, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
-from cyclonedds.util import duration
+from cyclonedds.core import DDSException
+from cyclonedds.idl import IdlStruct, make_idl_struct
+from cyclonedds.idl import types as idl
 
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_header
+from tftools.sources.codecs.types import ROS2_STORES, starts_with_header, typestore
+from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.dds import Participant, take_raw
-from tftools.sources.live.ros2.errors import DdsError
-from tftools.sources.live.ros2.sensor_types import sensor_type
-from tftools.sources.live.sensor_headers import MAX_TOPICS, HeaderStore
+from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
+from tftools.sources.live.ros2.idl import Header
+from tftools.sources.live.sensor_headers import HeaderStore
 
-_ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any
+#: rosidl's primitive types as Cyclone DDS's Python IDL spells them (rosidl maps char to uint8).
+_PRIMITIVES: dict[str, Any] = {
+    "bool": bool,
+    "byte": idl.byte,
+    "char": idl.uint8,
+    "int8": idl.int8,
+    "uint8": idl.uint8,
+    "int16": idl.int16,
+    "uint16": idl.uint16,
+    "int32": idl.int32,
+    "uint32": idl.uint32,
+    "int64": idl.int64,
+    "uint64": idl.uint64,
+    "float32": idl.float32,
+    "float64": idl.float64,
+    "string": str,
+    "wstring": str,
+}
+
+
+def _definitions() -> list[dict[str, Any]]:
+    return [typestore(name).fielddefs for name in ROS2_STORES]
+
+
+def sensor_type(dds_type_name: str, *, unknown_too: bool = False) -> type[IdlStruct] | None:
+    """The struct to read a writer of ``dds_type_name`` with, when its messages start with a header:
+    the type's whole layout where ROS 2 defines it; for a type no store knows, with ``unknown_too``,
+    its name over a header alone (None otherwise, and for types without a header)."""
+    rosidl = ros2.ros_type(dds_type_name)
+    for store, fielddefs in enumerate(_definitions()):
+        if rosidl in fielddefs:
+            return _struct(rosidl, store) if starts_with_header(rosidl, fielddefs) else None
+    return _header_only(dds_type_name) if unknown_too else None
+
+
+@functools.cache
+def _header_only(dds_type_name: str) -> type[IdlStruct]:
+    return make_idl_struct("HeaderOnly", dds_type_name, {"header": Header})
+
+
+@functools.cache
+def _struct(rosidl: str, store: int) -> type[IdlStruct]:
+    """``rosidl`` as the ``store``-th of ``_definitions`` defines it, its nested types built once."""
+    _constants, fields = _definitions()[store][rosidl]
+    members = {name: _member(kind, store) for name, kind in fields}
+    return make_idl_struct(rosidl.rsplit("/", 1)[-1], ros2.dds_type(rosidl), members)
+
+
+def _member(kind: tuple[Any, Any], store: int) -> Any:
+    """A field's IDL type from rosbags' (node type, detail): 1 a primitive (name, string bound), 2 a
+    message, 3 a fixed array (element, length), 4 a sequence (element, bound, 0 for none)."""
+    node, detail = kind
+    # Cyclone DDS's IDL types are indexed as annotations, which mypy does not know them as.
+    if node == 1:
+        name, bound = detail
+        return idl.bounded_str[bound] if name == "string" and bound else _PRIMITIVES[name]  # type: ignore[misc]
+    if node == 2:
+        return _struct(detail, store)
+    element, size = detail
+    if node == 3:
+        return idl.array[_member(element, store), size]  # type: ignore[misc]
+    if size:
+        return idl.sequence[_member(element, store), size]  # type: ignore[misc]
+    return idl.sequence[_member(element, store)]  # type: ignore[misc]
 
 
 @dataclass(frozen=True)
@@ -32,57 +100,37 @@ class _SensorReader:
 
 class Ros2HeaderListener:
     """The headers of ``store``'s topics on DDS domain ``domain_id``: those it names (of any type a
-    header can be read from), or every topic whose type ROS 2 defines with a header first, up to
-    ``MAX_TOPICS`` (topic, type) pairs, each read as ``conventions.SENSOR_QOS`` says."""
+    header can be read from), or every topic whose type ROS 2 defines with a header first."""
 
     def __init__(self, domain_id: int, store: HeaderStore) -> None:
         self._store = store
         self._participant = Participant(domain_id)
         self._readers: dict[tuple[str, str], _SensorReader | None] = {}  # None: not read (no header)
-        self._wake = GuardCondition(self._participant.dds)
-        self._closed = threading.Event()
-        self._thread: threading.Thread | None = None
+        self._waiter = Waiter(self._participant)
 
     def start(self) -> None:
         """Watch for sensor topics' writers and read them, in the background."""
-        dds = self._participant.dds
         try:
-            publications = BuiltinDataReader(dds, BuiltinTopicDcpsPublication)
-            waitset = WaitSet(dds)
-            conditions = [ReadCondition(publications, _ANY_SAMPLE), self._wake]
-            for condition in conditions:
-                waitset.attach(condition)
+            publications = BuiltinDataReader(self._participant.dds, BuiltinTopicDcpsPublication)
+            self._waiter.watch(publications)
         except DDSException as error:
             raise DdsError(f"listen on DDS domain {self._participant.domain_id}", error) from None
-        self._thread = threading.Thread(
-            target=self._run, args=(publications, waitset, conditions), name="tfx-dds-sensors", daemon=True
-        )
-        self._thread.start()
+        self._waiter.start(lambda: self._step(publications), "tfx-dds-sensors")
 
     def close(self) -> None:
-        if self._closed.is_set():
-            return
-        self._closed.set()
-        self._wake.set(True)
-        if self._thread is not None:
-            self._thread.join(timeout=2.0)
+        self._waiter.stop()
         self._participant.close()
 
-    def _run(self, publications: Any, waitset: WaitSet, conditions: list[Any]) -> None:
-        """One thread: new writers give new readers (whose data wakes it too); each sample taken is
-        one message heard, now."""
-        while not self._closed.is_set():
-            waitset.wait(duration(seconds=1))
-            if self._closed.is_set():
-                return
-            try:
-                for reader in self._discover(publications):
-                    condition = ReadCondition(reader, _ANY_SAMPLE)
-                    conditions.append(condition)  # kept: deleting the Python object would detach it
-                    waitset.attach(condition)
-                self._take()
-            except Exception as error:  # a peer's or tfx's fault: said once, listening goes on
-                self._store.notice(f"dropped DDS samples of sensor topics: {type(error).__name__}: {error}")
+    def _step(self, publications: Any) -> float:
+        """New writers give new readers (whose data wakes the thread too); each sample taken is one
+        message heard, now."""
+        try:
+            for reader in self._discover(publications):
+                self._waiter.watch(reader)
+            self._take()
+        except Exception as error:  # a peer's or tfx's fault: said once, listening goes on
+            self._store.notice(f"dropped DDS samples of sensor topics: {type(error).__name__}: {error}")
+        return 1.0
 
     def _discover(self, publications: Any) -> list[Any]:
         """Readers for the sensor topics' writers discovered since the last call."""
@@ -94,8 +142,7 @@ class Ros2HeaderListener:
             key = (topic, endpoint.type_name)
             if key in self._readers or not self._store.wants(topic):
                 continue
-            if len(self._readers) >= MAX_TOPICS:
-                self._store.notice(f"more than {MAX_TOPICS} topics are advertised: tfx listens to the first ones")
+            if self._store.full(len(self._readers)):
                 break
             sensor = self._readers[key] = self._sensor_reader(topic, endpoint)
             if sensor is not None:

@@ -1,8 +1,5 @@
-"""The ROS 2 message types tftools writes, as Cyclone DDS IDL structs with ROS 2's DDS type names.
-
-Keyless and final, as rmw_cyclonedds registers every ROS type (serdata.cpp create_sertype:
-TOPICKIND_NO_KEY, XCDR1 only), so they match ROS 2's readers and writers by name.
-"""
+"""The ROS 2 message types tftools writes, as Cyclone DDS IDL structs with ROS 2's DDS type names: keyless
+and final, as rmw_cyclonedds registers every ROS type (serdata.cpp create_sertype), so they match by name."""
 
 # mypy: disable-error-code="type-arg, assignment, arg-type, valid-type, attr-defined"
 # (Cyclone DDS's IDL annotations are not types mypy knows.)
@@ -25,11 +22,6 @@ from tftools.sources.live.ros2 import conventions as ros2
 class Time(IdlStruct, typename=ros2.TIME):
     sec: int32 = 0
     nanosec: uint32 = 0
-
-    @classmethod
-    def of(cls, stamp: int) -> "Time":
-        sec, nanosec = divmod(stamp, NS_PER_S)
-        return cls(sec, nanosec)
 
 
 @dataclass
@@ -68,7 +60,7 @@ class TransformStamped(IdlStruct, typename=ros2.TRANSFORM_STAMPED):
     @classmethod
     def of(cls, t: Transform) -> "TransformStamped":
         return cls(
-            Header(Time.of(t.stamp), t.frame_id),
+            Header(Time(*divmod(t.stamp, NS_PER_S)), t.frame_id),
             t.child_frame_id,
             TransformMsg(Vector3(*t.translation), Quaternion(*t.rotation)),
         )

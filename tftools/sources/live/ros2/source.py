@@ -2,42 +2,34 @@
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from cyclonedds.core import DDSException, GuardCondition, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
-from cyclonedds.util import duration
+from cyclonedds.core import DDSException
 
 from tftools.core.batch import TransformBatch, concat_batches
-from tftools.core.time import Clock, SimClock, WallClock
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_batch, message_clock
-from tftools.sources.contents import DEFAULT_TOPICS, is_static_topic
-from tftools.sources.live.base import ContextManaged, NoticeOnce, OnBatch, OnNotice, ignore_notice, printable
+from tftools.sources.contents import is_static_topic
+from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
+from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.dds import Participant, take_raw
-from tftools.sources.live.ros2.errors import DdsError
+from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.graph import Graph, Writer
 from tftools.sources.live.ros2.idl import Clock as ClockMsg
 from tftools.sources.live.ros2.idl import TFMessage
 
-_ANY_SAMPLE = SampleState.Any | ViewState.Any | InstanceState.Any
-
-
-@dataclass(frozen=True)
-class _Subscription:
-    topic: str  # the ROS name, e.g. "/tf"
-    reader: Any
-    static: bool
+if TYPE_CHECKING:
+    from tftools.sources.live.sensor_headers import HeaderListener, HeaderStore
 
 
 @dataclass(frozen=True)
 class _Sample:
     """A transform message received, waiting for its publisher to be named."""
 
-    subscription: _Subscription
+    topic: str  # the ROS name, e.g. "/tf"
+    reader: Any
     data: bytes
     handle: int
     record_time: int
@@ -46,20 +38,15 @@ class _Sample:
 @dataclass
 class _Listening:
     graph: Graph
-    subscriptions: list[_Subscription]
+    readers: dict[str, Any]  # of each topic
     clock: Any  # the /clock reader under sim time, else None
-    waitset: WaitSet
-    conditions: list[Any]  # kept: Python deleting a condition would delete (detach) its DDS entity
     pending: list[_Sample] = field(default_factory=list)
 
 
-class Ros2Source(ContextManaged):
-    """Subscribes to ``topics`` (tf2_msgs/msg/TFMessage) on DDS domain ``domain_id`` (``ROS_DOMAIN_ID``)
-    with tf2_ros's TransformListener QoS; each sample's authority is its publisher's node.
-
-    ``use_sim_time``: follow ``/clock``; ROS 2 nodes do so only when their parameter says so, so
-    ``None`` means wall time.
-    """
+class Ros2Source(LiveSource):
+    """Subscribes to ``topics`` (tf2_msgs/msg/TFMessage) on DDS domain ``ROS_DOMAIN_ID`` with tf2_ros's
+    TransformListener QoS; each sample's authority is its publisher's node. ``use_sim_time`` ``None``
+    means wall time, as for a ROS 2 node whose parameter does not say otherwise."""
 
     format = "ros2-live"
 
@@ -68,33 +55,19 @@ class Ros2Source(ContextManaged):
         topics: Sequence[str] | None = None,
         use_sim_time: bool | None = None,
         on_notice: OnNotice | None = None,
-        domain_id: int | None = None,
     ) -> None:
-        self.topics = tuple(topics) if topics else DEFAULT_TOPICS
-        self.domain_id = ros2.domain_id() if domain_id is None else domain_id
-        self.use_sim_time = bool(use_sim_time)
-        self.message_count = 0
-        self._clock: Clock = SimClock() if self.use_sim_time else WallClock()
-        self._on_notice = on_notice or ignore_notice
-        self._notice_once = NoticeOnce(on_notice)
+        super().__init__(topics, bool(use_sim_time), on_notice)
+        self.domain_id = ros2.domain_id()
         self._participant = Participant(self.domain_id)
-        self._closed = threading.Event()
-        self._wake: GuardCondition | None = None
-        self._thread: threading.Thread | None = None
-
-    @property
-    def clock(self) -> Clock:
-        return self._clock
-
-    @property
-    def finished(self) -> bool:
-        return self._closed.is_set()
-
-    def notice(self, message: str) -> None:
-        self._on_notice(message)
+        self._waiter = Waiter(self._participant)
 
     def describe(self) -> str:
         return f"ROS2 DDS domain {self.domain_id}"
+
+    def header_listener(self, store: HeaderStore) -> HeaderListener:
+        from tftools.sources.live.ros2.headers import Ros2HeaderListener
+
+        return Ros2HeaderListener(self.domain_id, store)
 
     def start(self, on_batch: OnBatch) -> None:
         """Create the readers (transient local ones get what was published before) and listen."""
@@ -103,107 +76,70 @@ class Ros2Source(ContextManaged):
         except DDSException as error:
             self.close()
             raise DdsError(f"listen on DDS domain {self.domain_id}", error) from None
-        self._thread = threading.Thread(target=self._run, args=(on_batch, listening), name="tfx-dds", daemon=True)
-        self._thread.start()
+        self._waiter.start(lambda: self._step(on_batch, listening), "tfx-dds")
 
     def close(self) -> None:
-        if self._closed.is_set():
-            return
         self._closed.set()
-        if self._wake is not None:
-            self._wake.set(True)
-        if self._thread is not None and self._thread is not threading.current_thread():
-            self._thread.join(timeout=2.0)
+        self._waiter.stop()
         self._participant.close()
-
-    # --- receiving ---------------------------------------------------------------------------
 
     def _listen(self) -> _Listening:
         participant = self._participant
         graph = Graph(participant, self._check_writer)
-        subscriptions = [
-            _Subscription(
-                topic,
-                participant.reader(ros2.dds_topic(topic), TFMessage, ros2.listener_qos(topic)),
-                is_static_topic(topic),
-            )
-            for topic in self.topics
-        ]
+        readers = {t: participant.reader(ros2.dds_topic(t), TFMessage, ros2.listener_qos(t)) for t in self.topics}
         clock = None
         if self.use_sim_time:
             clock = participant.reader(ros2.dds_topic(ros2.CLOCK_TOPIC), ClockMsg, ros2.CLOCK_QOS)
-        readers = [*graph.readers, *(s.reader for s in subscriptions), *([clock] if clock is not None else [])]
-        self._wake = GuardCondition(participant.dds)
-        conditions = [*(ReadCondition(reader, _ANY_SAMPLE) for reader in readers), self._wake]
-        waitset = WaitSet(participant.dds)
-        for condition in conditions:
-            waitset.attach(condition)
-        return _Listening(graph, subscriptions, clock, waitset, conditions)
+        for reader in [*graph.readers, *readers.values(), *([clock] if clock is not None else [])]:
+            self._waiter.watch(reader)
+        return _Listening(graph, readers, clock)
 
-    def _run(self, on_batch: OnBatch, listening: _Listening) -> None:
-        """One thread takes every sample and calls ``on_batch`` with what one wake-up brought."""
-        while not self._closed.is_set():
-            listening.waitset.wait(duration(milliseconds=50) if listening.pending else duration(seconds=1))
-            if self._closed.is_set():
-                return
-            try:
-                batch = self._receive(listening)
-            except Exception as error:
-                self._notice_once(f"dropped DDS samples: {type(error).__name__}: {error}")
-                continue
+    def _step(self, on_batch: OnBatch, listening: _Listening) -> float:
+        """Take every sample and call ``on_batch`` with what one wake-up brought; sooner again while
+        samples wait for their publisher to be named."""
+        try:
+            listening.graph.poll()
+            if listening.clock is not None:
+                self._tick(listening.clock, listening.graph)
+            batch = self._take(listening)
+        except Exception as error:
+            self._notice_once(f"dropped DDS samples: {type(error).__name__}: {error}")
+        else:
             if len(batch):
-                try:
-                    on_batch(batch)
-                except Exception as error:  # the consumer's bug must not stop the listening
-                    self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")
-
-    def _receive(self, listening: _Listening) -> TransformBatch:
-        listening.graph.poll()
-        if listening.clock is not None:
-            self._tick(listening.clock, listening.graph)
-        return self._take(listening)
+                self._pass_on(on_batch, batch)
+        return 0.05 if listening.pending else 1.0
 
     def _take(self, listening: _Listening) -> TransformBatch:
         """New samples, and those held back until their publisher's node is known (a node's
         ``ros_discovery_info`` may come a moment after its first transforms)."""
         graph = listening.graph
         samples = listening.pending
-        for subscription in listening.subscriptions:
-            for data, info in take_raw(subscription.reader):
-                samples.append(_Sample(subscription, data, info.publication_handle, self._clock.now()))
-        listening.pending = [s for s in samples if not graph.settled(s.handle, s.subscription.reader)]
-        batches = [self._decode(s, graph) for s in samples if graph.settled(s.handle, s.subscription.reader)]
+        for topic, reader in listening.readers.items():
+            for data, info in take_raw(reader):
+                samples.append(_Sample(topic, reader, data, info.publication_handle, self._clock.now()))
+        listening.pending = [s for s in samples if not graph.settled(s.handle, s.reader)]
+        batches = [self._decode(s, graph) for s in samples if graph.settled(s.handle, s.reader)]
         return concat_batches([b for b in batches if b is not None])
 
     def _decode(self, sample: _Sample, graph: Graph) -> TransformBatch | None:
-        authority = graph.authority(sample.handle, sample.subscription.reader)
-        static = sample.subscription.static
+        authority = graph.authority(sample.handle, sample.reader)
+        static = is_static_topic(sample.topic)
         try:
             batch = message_batch(
                 cdr.decode_tf, sample.data, static=static, authority=authority, record_time=sample.record_time
             )
         except Exception as error:  # ValueError: not a TFMessage; anything else, a decoder bug: either way, one sample
-            reason = str(error) if isinstance(error, ValueError) else f"tfx's {type(error).__name__}: {error}"
-            self._notice_once(
-                f"{printable(authority)} sent an unreadable message on {sample.subscription.topic} ({reason})"
-            )
+            self._unreadable(authority, sample.topic, error)
             return None
         self.message_count += 1
         return batch
 
     def _tick(self, reader: Any, graph: Graph) -> None:
-        assert isinstance(self._clock, SimClock)
         for data, info in take_raw(reader):
             try:
-                now = message_clock(cdr.decode_clocks, data)
+                self._clock_message(message_clock(cdr.decode_clocks, data))
             except ValueError as error:
-                who = graph.authority(info.publication_handle, reader)
-                self._notice_once(f"{printable(who)} sent an unreadable /clock ({error})")
-                continue
-            if now < self._clock.now():  # a replay that loops or restarts: ROS time jumps back too
-                self._clock.reset(now)
-            else:
-                self._clock.set(now)
+                self._unreadable(graph.authority(info.publication_handle, reader), ros2.CLOCK_TOPIC, error)
 
     def _check_writer(self, writer: Writer, who: str) -> None:
         """Say why a publisher on a listened topic will not be heard (as tf2_ros would not hear it)."""
