@@ -227,11 +227,23 @@ struct Step {
     RowAt at;
 };
 
+// One composed edge of a walked chain at its time (EdgeHistory.sample), as `edges_at` makes it.
+struct Edge {
+    Pose pose;   // the sample; while interpolating, the lerped translation and the older rotation
+    Quat next;   // while interpolating, the newer sample's rotation
+    double r = 0.0;  // ... its weight
+    Cosine cosine;
+    Arc arc;
+    int64_t frame = 0, row = 0;
+    bool interpolate = false, known = false;  // known: the arc came from the memo
+};
+
 // The edges of a walk, up from the source (sides[0]) and up from the target (sides[1]).
 struct Chain {
     Ending ending = Ending::NO_PATH;
     bool rooted = false;  // the source side stopped at a frame without history, not at a gap
     std::vector<Step> sides[2];
+    std::vector<Edge> edges;  // the composed ones at the walk's time, as `edges_at` samples them
 };
 
 // Start loading the samples `at` points to: a lookup at a time not looked at lately misses the
@@ -298,24 +310,13 @@ inline void walk(const Histories& histories, int64_t target, int64_t source, int
     chain.ending = Ending::AT_TOP;
 }
 
-// One composed edge of a walked chain at its time (EdgeHistory.sample), as `edges_at` makes it.
-struct Edge {
-    Pose pose;   // the sample; while interpolating, the lerped translation and the older rotation
-    Quat next;   // while interpolating, the newer sample's rotation
-    double r = 0.0;  // ... its weight
-    Cosine cosine;
-    Arc arc;
-    int64_t frame = 0, row = 0;
-    bool interpolate = false, known = false;  // known: the arc came from the memo
-};
-
-// The edge `step` at `time`, up to its slerp's libm calls (`edges_at` makes those).
-inline Edge edge_before_slerp(const Histories& histories, const Step& step, int64_t time, const Memo& memo) {
+// `step`'s edge at `time` into `e` (a new Edge), up to its slerp's libm calls (`edges_at` makes those).
+inline void sample_before_slerp(const Histories& histories, const Step& step, int64_t time, const Memo& memo,
+                                Edge& e) {
     const History& h = histories[step.frame];
     const int64_t row = step.at.row;
-    Edge e;
     e.pose = pose_at(h.values, row);
-    if (!step.at.interpolate || h.parents[row + 1] != h.parents[row]) return e;
+    if (!step.at.interpolate || h.parents[row + 1] != h.parents[row]) return;
     const int64_t t0 = h.stamps[row];
     const double r = static_cast<double>(time - t0) / static_cast<double>(h.stamps[row + 1] - t0);
     const double s = 1.0 - r;
@@ -327,18 +328,17 @@ inline Edge edge_before_slerp(const Histories& histories, const Step& step, int6
     } else {
         e.cosine = cosine(a.q, b.q);
     }
-    return e;
 }
 
-// The composed edges of both sides of `chain` at `time`, in order, into `edges` (returning where
-// the target side's edges begin): EdgeHistory.sample's operations on each, in stages across the edges
+// The composed edges of both sides of `chain` at `time`, in order, into chain.edges (returning
+// where the target side's edges begin): EdgeHistory.sample's operations on each, in stages across the edges
 // (the samples, then every acos, then every sine), so that the processor overlaps the edges' libm
 // calls instead of waiting for each edge's in turn.
-inline size_t edges_at(const Histories& histories, const Chain& chain, int64_t time, Memo& memo,
-                       std::vector<Edge>& edges) {
+inline size_t edges_at(const Histories& histories, Chain& chain, int64_t time, Memo& memo) {
+    std::vector<Edge>& edges = chain.edges;
     const auto sample = [&](const std::vector<Step>& side) {
         for (const Step& step : side) {
-            if (step.composed) edges.push_back(edge_before_slerp(histories, step, time, memo));
+            if (step.composed) sample_before_slerp(histories, step, time, memo, edges.emplace_back());
         }
     };
     edges.clear();
@@ -381,10 +381,10 @@ inline bool lookup_at(const Histories& histories, int64_t target, int64_t source
                       Memo& memo, Pose& out) {
     walk(histories, target, source, time, chain, memo);
     if (chain.ending == Ending::NO_PATH) return false;
-    thread_local std::vector<Edge> edges;
-    const size_t split = edges_at(histories, chain, time, memo, edges);
-    const Edge* begin = edges.data();
-    out = finish(chain.ending, compose_all(begin, begin + split), compose_all(begin + split, begin + edges.size()));
+    const size_t split = edges_at(histories, chain, time, memo);
+    const Edge* begin = chain.edges.data();
+    out = finish(chain.ending, compose_all(begin, begin + split),
+                 compose_all(begin + split, begin + chain.edges.size()));
     return true;
 }
 
