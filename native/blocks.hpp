@@ -24,17 +24,6 @@
 
 namespace tfcore {
 
-// The block kernels are compiled three times, for AVX-512, for AVX2 and for any x86-64, and the
-// best the processor runs is chosen when the module loads (GCC's function multiversioning, with
-// every call inlined into each version): the loops over a block's times then work on 8 or 4
-// doubles at once instead of 2. The operations are the same IEEE ones in the same order (no
-// contraction into fused multiply-adds: -ffp-contract=off), so every version answers the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define TFCORE_VECTOR_VERSIONS __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), flatten))
-#else
-#define TFCORE_VECTOR_VERSIONS
-#endif
-
 // Times per block: the accumulators (2 SIDE doubles) stay in the L1 cache.
 constexpr int64_t BLOCK = 256;
 
