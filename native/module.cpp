@@ -223,7 +223,7 @@ class EdgeTable {
     nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
         const Locked locked(lock_, lock_methods_);
-        const int64_t target = id_in(frames_, target_frame), source = id_in(frames_, source_frame);
+        const int64_t target = frame_id(target_frame, 0), source = frame_id(source_frame, 1);
         if (target <= 0 || source <= 0 || target == source) return nb::none();
         tfcore::Pose p;
         if (!lookup_pose(target, source, time, p)) return nb::none();
@@ -236,7 +236,7 @@ class EdgeTable {
         if (same < 0) throw nb::python_error();
         if (same) return true;
         const Locked locked(lock_, lock_methods_);
-        const int64_t target = id_in(frames_, target_frame), source = id_in(frames_, source_frame);
+        const int64_t target = frame_id(target_frame, 0), source = frame_id(source_frame, 1);
         return target > 0 && source > 0 && can_transform(target, source, time);
     }
 
@@ -306,6 +306,17 @@ class EdgeTable {
     }
 
    private:
+    // The id of the frame named `name` (0: none), remembered per argument (`which`, 0 or 1) by the
+    // name's object: a loop looks the same two frames up again and again. Frames are only ever
+    // added to the table, so a name's id never changes; held, its object cannot be another's.
+    int64_t frame_id(nb::handle name, int which) const {
+        Remembered& last = remembered_[which];
+        if (name.ptr() == last.name.ptr()) return last.id;
+        const int64_t id = id_in(frames_, name);
+        if (id > 0) last = {nb::borrow(name), id};
+        return id;
+    }
+
     // set_transform's sample stored, if it is the common case: see _kernels.pyi's EdgeTable.set_transform.
     bool append(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
         if (PyDict_GET_SIZE(reserved_.ptr()) != 0) return false;
@@ -478,6 +489,11 @@ class EdgeTable {
     nb::object answer_;
     PyTypeObject* bounds_type_ = nullptr;  // the type of the history whose _start and _end slots are these
     nb::object start_slot_, end_slot_;
+    struct Remembered {
+        nb::object name;
+        int64_t id = 0;
+    };
+    mutable Remembered remembered_[2];  // frame_id's last name and id per argument (under the lock)
     nb::object fields_[5];  // the answer's fields' slot descriptors, in FIELD order
     Py_ssize_t offsets_[5];  // ... and where each slot lies in an answer
     tfcore::Histories histories_;
