@@ -5,8 +5,8 @@
 // each sampled by interpolation, composed in the same order. Such a span is composed here
 // edge-major: the chain is walked once, at the block's first time, then for a block of times each
 // edge in turn is sampled at every time of the block and composed into per-time accumulators
-// (`edge_block`), with exactly `side_at`'s operations in its order, so the answers are
-// bit-identical. Per time, a one-time walk is a long chain of dependent multiplications (each edge
+// (`edge_block`), with exactly the operations of `edges_at` and `compose_all` in their order, so
+// the answers are bit-identical. Per time, a one-time walk is a long chain of dependent multiplications (each edge
 // waits for the previous one); across the times of a block they are independent, which lets the
 // processor overlap them (and the compiler vectorize them), and the per-time frame lookups,
 // parent checks and branches go away.
@@ -23,17 +23,6 @@
 #include "walk.hpp"
 
 namespace tfcore {
-
-// The block kernels are compiled three times, for AVX-512, for AVX2 and for any x86-64, and the
-// best the processor runs is chosen when the module loads (GCC's function multiversioning, with
-// every call inlined into each version): the loops over a block's times then work on 8 or 4
-// doubles at once instead of 2. The operations are the same IEEE ones in the same order (no
-// contraction into fused multiply-adds: -ffp-contract=off), so every version answers the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define TFCORE_VECTOR_VERSIONS __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), flatten))
-#else
-#define TFCORE_VECTOR_VERSIONS
-#endif
 
 // Times per block: the accumulators (2 SIDE doubles) stay in the L1 cache.
 constexpr int64_t BLOCK = 256;
@@ -76,7 +65,7 @@ inline bool static_block(const History& h, int64_t parent, int64_t n, Accumulato
 }
 
 // Compose, at the times k0..k1 (at `lag`), the edge interpolated between the samples at `row`
-// and `row + 1`: `edge_at`'s lerp and slerp. Where every angle is small enough for small_sin
+// and `row + 1`: `edges_at`'s lerp and slerp. Where every angle is small enough for small_sin
 // (the arc is), the loop has no branch, and compiles to vector instructions.
 inline void interval(Accumulator& acc, int64_t k0, int64_t k1, const double* values, int64_t row, double span,
                      const Arc& c) {
@@ -97,9 +86,9 @@ inline void interval(Accumulator& acc, int64_t k0, int64_t k1, const double* val
     }
 }
 
-// Compose `step`'s edge at times[0..n) into `acc` as row_at, edge_at and side_at do. False (`acc`
-// then half done) unless each time lies strictly between the history's first and last stamps and
-// both rows it interpolates between have the step's parent: then edge_at interpolates at every
+// Compose `step`'s edge at times[0..n) into `acc` as row_at, edges_at and compose_all do. False
+// (`acc` then half done) unless each time lies strictly between the history's first and last stamps and
+// both rows it interpolates between have the step's parent: then edges_at interpolates at every
 // time, which is all this does. For each run of times within one interval of the history, the
 // row is found (galloping from the cursor), its parents checked and its arc taken once.
 inline bool edge_block(const Histories& histories, const Step& step, const int64_t* times, int64_t n,

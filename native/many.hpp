@@ -19,26 +19,58 @@
 
 namespace tfcore {
 
+// work(t) for each t in [0, threads), on that many threads (this one among them).
+template <typename Work>
+inline void on_threads(int threads, const Work& work) {
+    std::vector<std::thread> helpers;
+    for (int t = 1; t < threads; ++t) helpers.emplace_back(work, t);
+    work(0);
+    for (std::thread& helper : helpers) helper.join();
+}
+
 // times[0..n) into sorted[0..n) by bucket of equal span, each bucket still unordered, with each
 // time's index in rows; returns where each bucket begins (bucket b: [starts[b], starts[b + 1])).
-inline std::vector<int64_t> bucket(const int64_t* times, int64_t n, int64_t* sorted, int64_t* rows) {
-    const auto [low, high] = std::minmax_element(times, times + n);
+// A counting sort on `threads` threads (n >= threads), each counting, then placing, its share of the
+// times; within a bucket, the first thread's times come first.
+inline std::vector<int64_t> bucket(const int64_t* times, int64_t n, int64_t* sorted, int64_t* rows, int threads) {
+    const auto share = [&](int t) { return std::pair{n * t / threads, n * (t + 1) / threads}; };
+    std::vector<std::pair<int64_t, int64_t>> ranges(threads);
+    on_threads(threads, [&](int t) {
+        const auto [lo, hi] = share(t);
+        const auto [low, high] = std::minmax_element(times + lo, times + hi);
+        ranges[t] = {*low, *high};
+    });
+    int64_t low = ranges[0].first, high = ranges[0].second;
+    for (const auto& [l, h] : ranges) low = std::min(low, l), high = std::max(high, h);
     // Unsigned: any span of int64 times fits, negative ones included.
-    const uint64_t span = static_cast<uint64_t>(*high) - static_cast<uint64_t>(*low);
+    const uint64_t span = static_cast<uint64_t>(high) - static_cast<uint64_t>(low);
     const uint64_t wanted = std::max<uint64_t>(1, static_cast<uint64_t>(n) / 4);
     int shift = 0;
     while ((span >> shift) >= wanted) ++shift;
     const auto key = [&](int64_t time) {
-        return static_cast<int64_t>((static_cast<uint64_t>(time) - static_cast<uint64_t>(*low)) >> shift);
+        return static_cast<int64_t>((static_cast<uint64_t>(time) - static_cast<uint64_t>(low)) >> shift);
     };
-    std::vector<int64_t> starts(key(*high) + 2, 0);
-    for (int64_t k = 0; k < n; ++k) ++starts[key(times[k]) + 1];
-    std::partial_sum(starts.begin(), starts.end(), starts.begin());
-    std::vector<int64_t> next(starts.begin(), starts.end() - 1);
-    for (int64_t k = 0; k < n; ++k) {
-        const int64_t at = next[key(times[k])]++;
-        sorted[at] = times[k], rows[at] = k;
+    const int64_t buckets = key(high) + 1;
+    // Per thread, the count of its times in each bucket, then where the next of them goes.
+    std::vector<std::vector<int64_t>> next(threads);
+    on_threads(threads, [&](int t) {
+        next[t].assign(buckets, 0);
+        const auto [lo, hi] = share(t);
+        for (int64_t k = lo; k < hi; ++k) ++next[t][key(times[k])];
+    });
+    std::vector<int64_t> starts(buckets + 1, n);
+    int64_t placed = 0;
+    for (int64_t b = 0; b < buckets; ++b) {
+        starts[b] = placed;
+        for (std::vector<int64_t>& counts : next) placed += std::exchange(counts[b], placed);
     }
+    on_threads(threads, [&](int t) {
+        const auto [lo, hi] = share(t);
+        for (int64_t k = lo; k < hi; ++k) {
+            const int64_t at = next[t][key(times[k])]++;
+            sorted[at] = times[k], rows[at] = k;
+        }
+    });
     return starts;
 }
 
@@ -73,7 +105,7 @@ inline void lookup_any_order(const Histories& histories, int64_t target, int64_t
         std::iota(rows.get(), rows.get() + n, 0);
         for (int t = 0; t < threads; ++t) bounds[t] = n * t / threads;
     } else {
-        starts = bucket(times, n, sorted.get(), rows.get());
+        starts = bucket(times, n, sorted.get(), rows.get(), static_cast<int>(std::min<int64_t>(threads, n)));
         size_t at = 0;  // each thread's first bucket: where its share of the times begins
         for (int t = 0; t < threads; ++t) {
             while (starts[at] < n * t / threads) ++at;
@@ -90,10 +122,7 @@ inline void lookup_any_order(const Histories& histories, int64_t target, int64_t
         lookup_many(histories, target, source, sorted.get() + lo, hi - lo,
                     {rows.get() + lo, out.stamps, out.values, out.valid}, true);
     };
-    std::vector<std::thread> helpers;
-    for (int t = 1; t < threads; ++t) helpers.emplace_back(run, t);
-    run(0);
-    for (std::thread& helper : helpers) helper.join();
+    on_threads(threads, run);
 }
 
 }  // namespace tfcore

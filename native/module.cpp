@@ -4,6 +4,9 @@
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/tuple.h>
 
+#include <structmember.h>
+
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -37,35 +40,43 @@ enum Field { TRANSLATION, ROTATION, STAMP, FRAME_ID, CHILD_FRAME_ID };
 struct Names {
     nb::str translation{"translation"}, rotation{"rotation"}, stamp{"stamp"}, frame_id{"frame_id"},
         child_frame_id{"child_frame_id"}, storage{"storage"}, is_static{"static"}, start{"_start"}, end{"_end"},
-        prune{"prune"}, grow{"grow"}, acquire{"acquire"}, release{"release"};
+        prune{"prune"}, grow{"grow"};
 };
 
-// `lock.method()`, or nullptr with the error set.
-PyObject* call(nb::handle lock, const nb::str& method) {
+// A lock's acquire and release, found once on its type: a call then skips looking them up by name.
+struct LockMethods {
+    nb::object acquire, release;
+
+    explicit LockMethods(nb::handle lock)
+        : acquire(nb::getattr(lock.type(), "acquire")), release(nb::getattr(lock.type(), "release")) {}
+};
+
+// `method(lock)`, or nullptr with the error set.
+PyObject* call(const nb::object& method, nb::handle lock) {
     PyObject* self = lock.ptr();
-    return PyObject_VectorcallMethod(method.ptr(), &self, 1 | PY_VECTORCALL_ARGUMENTS_OFFSET, nullptr);
+    return PyObject_Vectorcall(method.ptr(), &self, 1, nullptr);
 }
 
 // `lock` (the buffer's threading.RLock) held for a scope: acquired as Python's `with` acquires it
 // (letting go of the GIL while it waits).
 class Locked {
    public:
-    Locked(nb::handle lock, const Names& names) : lock_(lock), names_(names) {
-        PyObject* taken = call(lock_, names_.acquire);
+    Locked(nb::handle lock, const LockMethods& methods) : lock_(lock), methods_(methods) {
+        PyObject* taken = call(methods_.acquire, lock_);
         if (taken == nullptr) throw nb::python_error();
         Py_DECREF(taken);
     }
     Locked(const Locked&) = delete;
     Locked& operator=(const Locked&) = delete;
     ~Locked() {
-        PyObject* released = call(lock_, names_.release);
+        PyObject* released = call(methods_.release, lock_);
         if (released == nullptr) PyErr_WriteUnraisable(lock_.ptr());  // cannot happen: this thread holds it
         Py_XDECREF(released);
     }
 
    private:
     nb::handle lock_;
-    const Names& names_;
+    const LockMethods& methods_;
 };
 
 // An int in `dict` under `key` (a frame's or a publisher's id); 0 where it has none.
@@ -144,6 +155,7 @@ class EdgeTable {
     EdgeTable(nb::object lock, nb::dict frames, nb::handle answer, nb::dict authorities, nb::dict broadcasters,
               nb::dict reserved, std::optional<int64_t> cache_time, bool ros2, double tolerance)
         : lock_(std::move(lock)),
+          lock_methods_(lock_),
           frames_(std::move(frames)),
           authorities_(std::move(authorities)),
           broadcasters_(std::move(broadcasters)),
@@ -158,10 +170,11 @@ class EdgeTable {
                                    &names_.child_frame_id};
         for (int i = 0; i < 5; ++i) {
             fields_[i] = slots[*fields[i]];
-            const PyTypeObject* kind = Py_TYPE(fields_[i].ptr());
-            if (kind->tp_descr_get == nullptr || kind->tp_descr_set == nullptr) {
+            if (Py_TYPE(fields_[i].ptr()) != &PyMemberDescr_Type ||
+                reinterpret_cast<PyMemberDescrObject*>(fields_[i].ptr())->d_member->type != T_OBJECT_EX) {
                 throw nb::type_error("EdgeTable: answer's fields must be slots");
             }
+            offsets_[i] = reinterpret_cast<PyMemberDescrObject*>(fields_[i].ptr())->d_member->offset;
         }
     }
 
@@ -198,7 +211,7 @@ class EdgeTable {
 
     // Buffer.set_transform's common case, stored in place under the buffer's lock: see _kernels.pyi.
     bool set_transform(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
-        const Locked locked(lock_, names_);
+        const Locked locked(lock_, lock_methods_);
         if (!append(transform, authority, is_static, record_time)) return false;
         ++arrivals;
         return true;
@@ -209,8 +222,8 @@ class EdgeTable {
     // failure to explain).
     nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
-        const Locked locked(lock_, names_);
-        const int64_t target = id_in(frames_, target_frame), source = id_in(frames_, source_frame);
+        const Locked locked(lock_, lock_methods_);
+        const int64_t target = frame_id(target_frame, 0), source = frame_id(source_frame, 1);
         if (target <= 0 || source <= 0 || target == source) return nb::none();
         tfcore::Pose p;
         if (!lookup_pose(target, source, time, p)) return nb::none();
@@ -222,8 +235,8 @@ class EdgeTable {
         const int same = PyObject_RichCompareBool(target_frame.ptr(), source_frame.ptr(), Py_EQ);
         if (same < 0) throw nb::python_error();
         if (same) return true;
-        const Locked locked(lock_, names_);
-        const int64_t target = id_in(frames_, target_frame), source = id_in(frames_, source_frame);
+        const Locked locked(lock_, lock_methods_);
+        const int64_t target = frame_id(target_frame, 0), source = frame_id(source_frame, 1);
         return target > 0 && source > 0 && can_transform(target, source, time);
     }
 
@@ -293,6 +306,17 @@ class EdgeTable {
     }
 
    private:
+    // The id of the frame named `name` (0: none), remembered per argument (`which`, 0 or 1) by the
+    // name's object: a loop looks the same two frames up again and again. Frames are only ever
+    // added to the table, so a name's id never changes; held, its object cannot be another's.
+    int64_t frame_id(nb::handle name, int which) const {
+        Remembered& last = remembered_[which];
+        if (name.ptr() == last.name.ptr()) return last.id;
+        const int64_t id = id_in(frames_, name);
+        if (id > 0) last = {nb::borrow(name), id};
+        return id;
+    }
+
     // set_transform's sample stored, if it is the common case: see _kernels.pyi's EdgeTable.set_transform.
     bool append(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
         if (PyDict_GET_SIZE(reserved_.ptr()) != 0) return false;
@@ -361,23 +385,35 @@ class EdgeTable {
         return tfcore::lookup_at(histories_, target, source, time, chain, memo, p);
     }
 
-    // A new `answer` (Transform) through its slots' setters (its frozen __setattr__ refuses).
+    // A new `answer` (Transform), its slots filled in place (its frozen __setattr__ refuses).
     nb::object make_answer(const tfcore::Pose& p, int64_t stamp, nb::handle target_frame,
                            nb::handle source_frame) const {
         auto* type = reinterpret_cast<PyTypeObject*>(answer_.ptr());
         const nb::object answer = nb::steal(type->tp_alloc(type, 0));
-        const nb::object values[5] = {
-            nb::steal(PyTuple_Pack(3, nb::float_(p.v.x).ptr(), nb::float_(p.v.y).ptr(), nb::float_(p.v.z).ptr())),
-            nb::steal(PyTuple_Pack(4, nb::float_(p.q.x).ptr(), nb::float_(p.q.y).ptr(), nb::float_(p.q.z).ptr(),
-                                   nb::float_(p.q.w).ptr())),
-            nb::int_(stamp), nb::borrow(target_frame), nb::borrow(source_frame)};
-        if (!answer.is_valid() || !values[0].is_valid() || !values[1].is_valid()) throw nb::python_error();
-        for (int i = 0; i < 5; ++i) {
-            if (Py_TYPE(fields_[i].ptr())->tp_descr_set(fields_[i].ptr(), answer.ptr(), values[i].ptr()) < 0) {
-                throw nb::python_error();
-            }
-        }
+        if (!answer.is_valid()) throw nb::python_error();
+        const auto put = [&](Field field, PyObject* value) {  // into a slot of a new object: empty
+            if (value == nullptr) throw nb::python_error();
+            *reinterpret_cast<PyObject**>(reinterpret_cast<char*>(answer.ptr()) + offsets_[field]) = value;
+        };
+        put(TRANSLATION, floats({p.v.x, p.v.y, p.v.z}));
+        put(ROTATION, floats({p.q.x, p.q.y, p.q.z, p.q.w}));
+        put(STAMP, PyLong_FromLongLong(stamp));
+        put(FRAME_ID, Py_NewRef(target_frame.ptr()));
+        put(CHILD_FRAME_ID, Py_NewRef(source_frame.ptr()));
         return answer;
+    }
+
+    // A new tuple of floats, or nullptr with the error set.
+    static PyObject* floats(std::initializer_list<double> values) {
+        PyObject* tuple = PyTuple_New(static_cast<Py_ssize_t>(values.size()));
+        Py_ssize_t i = 0;
+        for (const double value : values) {
+            if (tuple == nullptr) return nullptr;
+            PyObject* number = PyFloat_FromDouble(value);
+            if (number == nullptr) Py_CLEAR(tuple);
+            else PyTuple_SET_ITEM(tuple, i++, number);
+        }
+        return tuple;
     }
 
     // EdgeHistory.prune after an append to `frame`, against `latest`: the history's start moved
@@ -442,6 +478,7 @@ class EdgeTable {
 
     Names names_;
     nb::object lock_;  // the buffer's
+    LockMethods lock_methods_;
     nb::dict frames_;  // frame name -> id (FrameTable.ids)
     // What a sample stored in place needs of its buffer: publishers' ids, each child frame's last
     // publisher, the rows reserved, the cache's length, the tf2 answered as, the norm's tolerance.
@@ -452,7 +489,13 @@ class EdgeTable {
     nb::object answer_;
     PyTypeObject* bounds_type_ = nullptr;  // the type of the history whose _start and _end slots are these
     nb::object start_slot_, end_slot_;
+    struct Remembered {
+        nb::object name;
+        int64_t id = 0;
+    };
+    mutable Remembered remembered_[2];  // frame_id's last name and id per argument (under the lock)
     nb::object fields_[5];  // the answer's fields' slot descriptors, in FIELD order
+    Py_ssize_t offsets_[5];  // ... and where each slot lies in an answer
     tfcore::Histories histories_;
     std::vector<Held> held_;
 };

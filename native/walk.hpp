@@ -1,9 +1,9 @@
 // tf2's walk over the edge histories, step for step as tftools/core/walk.py takes it.
 //
 // walk.py stays the reference: `walk` is its walk_to_top_parent, recording the edges it takes
-// (each one's row) instead of composing them as it goes; `side_at` and `finish` then do what its
-// TransformAccum does, with rotation.py's formulas in their order (compiled without contraction
-// into fused multiply-adds or fast math, so the answers are bit-identical). Failures are only
+// (each one's row) instead of composing them as it goes; `edges_at`, `compose_all` and `finish`
+// then do what its TransformAccum does, with rotation.py's formulas in their order (compiled
+// without contraction into fused multiply-adds or fast math, so the answers are bit-identical). Failures are only
 // reported: the buffer asks walk.py for tf2's error, so its messages come from one place.
 #pragma once
 
@@ -13,6 +13,18 @@
 #include <vector>
 
 namespace tfcore {
+
+// The hot kernels (a lookup's, a block's) are compiled three times, for AVX-512, for AVX2 and for
+// any x86-64, and the best the processor runs is chosen when the module loads (GCC's function
+// multiversioning, with every call inlined into each version): a block's loops over its times then
+// work on 8 or 4 doubles at once instead of 2, and a lookup's conversions and branches take fewer
+// instructions. The operations are the same IEEE ones in the same order (no contraction into fused
+// multiply-adds: -ffp-contract=off), so every version answers the same bits.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define TFCORE_VECTOR_VERSIONS __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), flatten))
+#else
+#define TFCORE_VECTOR_VERSIONS
+#endif
 
 // One frame's history as the buffer stores it (EdgeHistory.storage()): rows start..end of the
 // arrays; `has` is false for a root or a frame not yet seen.
@@ -61,14 +73,26 @@ inline Pose compose(const Pose& edge, const Pose& acc) {
 // What slerp needs of two samples: the angle, 1 / sin(angle), the sign of the dot product.
 struct Arc { double theta = 0.0, d = 0.0, sign = 1.0; };
 
-inline Arc arc(const Quat& a, const Quat& b) {
+// An arc before its acos: the cosine of its angle (clamped to 1) and the sign of the dot product.
+struct Cosine { double value = 1.0, sign = 1.0; };
+
+inline Cosine cosine(const Quat& a, const Quat& b) {
     const double dot = a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w;
     const double norms = std::sqrt((a.x * a.x + a.y * a.y + a.z * a.z + a.w * a.w) *
                                    (b.x * b.x + b.y * b.y + b.z * b.z + b.w * b.w));
-    const double cosine = std::fabs(dot) / norms;
-    const double theta = std::acos(cosine > 1.0 ? 1.0 : cosine);
+    const double value = std::fabs(dot) / norms;
+    return {value > 1.0 ? 1.0 : value, dot >= 0 ? 1.0 : -1.0};
+}
+
+// The arc of `c`, whose angle is `theta` (its acos).
+inline Arc arc_of(const Cosine& c, double theta) {
     if (theta == 0.0) return {0.0, 0.0, 1.0};
-    return {theta, 1.0 / std::sin(theta), dot >= 0 ? 1.0 : -1.0};
+    return {theta, 1.0 / std::sin(theta), c.sign};
+}
+
+inline Arc arc(const Quat& a, const Quat& b) {
+    const Cosine c = cosine(a, b);
+    return arc_of(c, std::acos(c.value));
 }
 
 // Up to this angle, batches take `small_sin` for std::sin.
@@ -202,19 +226,6 @@ inline Arc arc_at(const History& h, int64_t frame, int64_t row, Memo& memo) {
     return memo.arcs[frame];
 }
 
-// `frame`'s edge at `time` from the row `row_at` found (EdgeHistory.sample).
-inline Pose edge_at(const Histories& histories, int64_t frame, const RowAt& at, int64_t time, Memo& memo) {
-    const History& h = histories[frame];
-    const int64_t row = at.row;
-    if (!at.interpolate || h.parents[row + 1] != h.parents[row]) return pose_at(h.values, row);
-    const int64_t t0 = h.stamps[row];
-    const double r = static_cast<double>(time - t0) / static_cast<double>(h.stamps[row + 1] - t0);
-    const double s = 1.0 - r;
-    const Pose a = pose_at(h.values, row), b = pose_at(h.values, row + 1);
-    const Quat q = slerp(a.q, b.q, r, arc_at(h, frame, row, memo), memo.on);
-    return {{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q};
-}
-
 // --- the walk ----------------------------------------------------------------------------------
 
 // How a walk ends: walk.py's TARGET_PARENT_OF_SOURCE, SOURCE_PARENT_OF_TARGET, FULL_PATH; or no path.
@@ -228,11 +239,23 @@ struct Step {
     RowAt at;
 };
 
+// One composed edge of a walked chain at its time (EdgeHistory.sample), as `edges_at` makes it.
+struct Edge {
+    Pose pose;   // the sample; while interpolating, the lerped translation and the older rotation
+    Quat next;   // while interpolating, the newer sample's rotation
+    double r = 0.0;  // ... its weight
+    Cosine cosine;
+    Arc arc;
+    int64_t frame = 0, row = 0;
+    bool interpolate = false, known = false;  // known: the arc came from the memo
+};
+
 // The edges of a walk, up from the source (sides[0]) and up from the target (sides[1]).
 struct Chain {
     Ending ending = Ending::NO_PATH;
     bool rooted = false;  // the source side stopped at a frame without history, not at a gap
     std::vector<Step> sides[2];
+    std::vector<Edge> edges;  // the composed ones at the walk's time, as `edges_at` samples them
 };
 
 // Start loading the samples `at` points to: a lookup at a time not looked at lately misses the
@@ -248,7 +271,8 @@ inline void prefetch(const History& h, const RowAt& at) {
 }
 
 // walk.walk_to_top_parent at a resolved `time`, into `chain`.
-inline void walk(const Histories& histories, int64_t target, int64_t source, int64_t time, Chain& chain, Memo& memo) {
+TFCORE_VECTOR_VERSIONS inline void walk(const Histories& histories, int64_t target, int64_t source, int64_t time,
+                                        Chain& chain, Memo& memo) {
     auto& up = chain.sides[0];
     auto& down = chain.sides[1];
     up.clear();
@@ -299,12 +323,59 @@ inline void walk(const Histories& histories, int64_t target, int64_t source, int
     chain.ending = Ending::AT_TOP;
 }
 
-// One side of a walked chain composed at `time`, edge by edge (TransformAccum.accum).
-inline Pose side_at(const Histories& histories, const std::vector<Step>& side, int64_t time, Memo& memo) {
-    Pose acc;
-    for (const Step& step : side) {
-        if (step.composed) acc = compose(edge_at(histories, step.frame, step.at, time, memo), acc);
+// `step`'s edge at `time` into `e` (a new Edge), up to its slerp's libm calls (`edges_at` makes those).
+inline void sample_before_slerp(const Histories& histories, const Step& step, int64_t time, const Memo& memo,
+                                Edge& e) {
+    const History& h = histories[step.frame];
+    const int64_t row = step.at.row;
+    e.pose = pose_at(h.values, row);
+    if (!step.at.interpolate || h.parents[row + 1] != h.parents[row]) return;
+    const int64_t t0 = h.stamps[row];
+    const double r = static_cast<double>(time - t0) / static_cast<double>(h.stamps[row + 1] - t0);
+    const double s = 1.0 - r;
+    const Pose a = e.pose, b = pose_at(h.values, row + 1);
+    e.pose.v = {s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z};
+    e.next = b.q, e.r = r, e.frame = step.frame, e.row = row, e.interpolate = true;
+    if (memo.on && memo.arc_row[step.frame] == row) {
+        e.arc = memo.arcs[step.frame], e.known = true;
+    } else {
+        e.cosine = cosine(a.q, b.q);
     }
+}
+
+// The composed edges of both sides of `chain` at `time`, in order, into chain.edges (returning
+// where the target side's edges begin): EdgeHistory.sample's operations on each, in stages across the edges
+// (the samples, then every acos, then every sine), so that the processor overlaps the edges' libm
+// calls instead of waiting for each edge's in turn.
+inline size_t edges_at(const Histories& histories, Chain& chain, int64_t time, Memo& memo) {
+    std::vector<Edge>& edges = chain.edges;
+    const auto sample = [&](const std::vector<Step>& side) {
+        for (const Step& step : side) {
+            if (step.composed) sample_before_slerp(histories, step, time, memo, edges.emplace_back());
+        }
+    };
+    edges.clear();
+    sample(chain.sides[0]);
+    const size_t split = edges.size();
+    sample(chain.sides[1]);
+    for (Edge& e : edges) {
+        if (e.interpolate && !e.known) e.arc.theta = std::acos(e.cosine.value);
+    }
+    for (Edge& e : edges) {
+        if (!e.interpolate) continue;
+        if (!e.known) {
+            e.arc = arc_of(e.cosine, e.arc.theta);
+            if (memo.on) memo.arc_row[e.frame] = e.row, memo.arcs[e.frame] = e.arc;
+        }
+        e.pose.q = slerp(e.pose.q, e.next, e.r, e.arc, memo.on);
+    }
+    return split;
+}
+
+// Edges composed in order (TransformAccum.accum).
+inline Pose compose_all(const Edge* first, const Edge* last) {
+    Pose acc;
+    for (const Edge* e = first; e != last; ++e) acc = compose(e->pose, acc);
     return acc;
 }
 
@@ -319,13 +390,14 @@ inline Pose finish(Ending ending, const Pose& source, const Pose& target) {
 }
 
 // walk.lookup at a resolved `time`; false where tf2 fails.
-inline bool lookup_at(const Histories& histories, int64_t target, int64_t source, int64_t time, Chain& chain,
-                      Memo& memo, Pose& out) {
+TFCORE_VECTOR_VERSIONS inline bool lookup_at(const Histories& histories, int64_t target, int64_t source,
+                                             int64_t time, Chain& chain, Memo& memo, Pose& out) {
     walk(histories, target, source, time, chain, memo);
     if (chain.ending == Ending::NO_PATH) return false;
-    const Pose s = side_at(histories, chain.sides[0], time, memo);
-    const Pose t = side_at(histories, chain.sides[1], time, memo);
-    out = finish(chain.ending, s, t);
+    const size_t split = edges_at(histories, chain, time, memo);
+    const Edge* begin = chain.edges.data();
+    out = finish(chain.ending, compose_all(begin, begin + split),
+                 compose_all(begin + split, begin + chain.edges.size()));
     return true;
 }
 

@@ -89,6 +89,17 @@ def test_a_copied_buffer_gets_its_own_table():
     assert copy.lookup("a", "c").translation == (2.0, 0.0, 0.0)
 
 
+def test_a_frame_asked_for_before_it_exists_is_found_once_it_does():
+    """The table remembers the frames it last looked up by name, but not a name it did not know."""
+    buffer = Buffer(cache_time=None)
+    buffer.set_transform(Transform((1.0, 0, 0), (0, 0, 0, 1), S, "a", "b"))
+    late = "c"
+    assert not buffer.can_transform("a", late)
+    buffer.set_transform(Transform((2.0, 0, 0), (0, 0, 0, 1), S, "a", late))
+    assert buffer.can_transform("a", late)
+    assert buffer.lookup("a", late).translation == (2.0, 0.0, 0.0)
+
+
 @pytest.mark.parametrize(("seed", "features"), CASES[::3], ids=_case_id)
 def test_lookup_many_answers_as_single_lookups(seed, features, monkeypatch):
     monkeypatch.setattr(kernels, "_TIMES_PER_THREAD", 7)  # several threads even here

@@ -530,12 +530,7 @@ class Buffer:
 
     @_locked
     def lookup_full(
-        self,
-        target_frame: str,
-        target_time: int,
-        source_frame: str,
-        source_time: int,
-        fixed_frame: str,
+        self, target_frame: str, target_time: int, source_frame: str, source_time: int, fixed_frame: str
     ) -> Transform:
         """tf2's "time travel": ``source_frame`` at ``source_time`` into ``target_frame`` at
         ``target_time``, assuming ``fixed_frame`` does not move between the two times."""
@@ -551,24 +546,16 @@ class Buffer:
         """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
         return self._table.can_transform_frames(target_frame, source_frame, time)  # holds the lock itself
 
-    @_locked
     def can_transform_full(
-        self,
-        target_frame: str,
-        target_time: int,
-        source_frame: str,
-        source_time: int,
-        fixed_frame: str,
+        self, target_frame: str, target_time: int, source_frame: str, source_time: int, fixed_frame: str
     ) -> bool:
-        """Whether ``lookup_full`` would succeed: False for an invalid or unknown frame, even
-        where all three are that one frame (tf2's ``canTransform`` with a fixed frame)."""
-        if any(not frame or frame.startswith("/") or frame not in self._frames for frame in (
-            target_frame, source_frame, fixed_frame
-        )):  # fmt: skip
+        """Whether ``lookup_full`` would succeed (tf2's ``canTransform`` with a fixed frame): False
+        for an invalid or unknown frame, even where all three are that one frame."""
+        try:
+            self.lookup_full(target_frame, target_time, source_frame, source_time, fixed_frame)
+        except TransformError:
             return False
-        return self.can_transform(target_frame, fixed_frame, target_time) and self.can_transform(
-            fixed_frame, source_frame, source_time
-        )
+        return True
 
     @_locked
     def latest_common_time(self, target_frame: str, source_frame: str) -> int:
