@@ -30,7 +30,7 @@ def _infer(scene: Scene) -> list[Finding]:
         return []
     rows = scene.rows
     found = []
-    for parent, child, mine in scene.by_edge(rows.usable & ~rows.static):
+    for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
         stamps, values = rows.stamp[mine], rows.values[mine]
         back = _back_and_forth(stamps)
         alternating = _alternating(values)

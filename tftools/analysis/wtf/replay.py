@@ -116,9 +116,9 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
 
 def _static_edges(scene: Scene) -> list[str]:
     rows = scene.rows
-    return [edge(rows.names[p], rows.names[c]) for p, c, _ in scene.by_edge(rows.static)]
+    return [edge(rows.names[p], rows.names[c]) for p, c, _ in rows.by_edge(rows.static)]
 
 
 def _static_frames(scene: Scene) -> tuple[str, ...]:
     rows = scene.rows
-    return tuple(rows.names[f] for p, c, _ in scene.by_edge(rows.static) for f in (p, c))
+    return tuple(rows.names[f] for p, c, _ in rows.by_edge(rows.static) for f in (p, c))

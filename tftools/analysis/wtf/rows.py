@@ -140,8 +140,14 @@ class Rows:
         """``compute`` of the values (N, 7), for every row in record order, computed a segment at a time."""
         return self._layout.whole(lambda s: compute(self._layout.segments[s].values))
 
-    def groups(self, mask: BoolArray, by_parent: bool) -> Iterator[tuple[int, int, IntpArray]]:
-        return self._layout.groups(mask, by_parent)
+    def by_edge(self, mask: BoolArray) -> Iterator[tuple[int, int, IntpArray]]:
+        """(parent id, child id, rows) for each edge among the ``mask`` rows, in order of first arrival."""
+        return self._layout.groups(mask, by_parent=True)
+
+    def by_child(self, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
+        """(child id, rows) for each child frame among the ``mask`` rows, in order of first arrival."""
+        for _, child, rows in self._layout.groups(mask, by_parent=False):
+            yield child, rows
 
     @cached_property
     def static(self) -> BoolArray:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TypeVar, cast
@@ -12,6 +12,7 @@ import numpy as np
 from tftools.analysis.edges import EdgeStats, edge_stats
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.filter import FilterReport, filter_report
+from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
@@ -36,6 +37,11 @@ class EdgeSamples:
     values: FloatArray
     from_static_topic: BoolArray
     authorities: tuple[str, ...]
+
+    def finding(self, severity: Severity, code: str, message: str, hint: str, stamps: Int64Array) -> Finding:
+        """A finding about this edge's samples stamped ``stamps``."""
+        frames, first, last = (self.parent, self.child), int(stamps.min()), int(stamps.max())
+        return Finding(severity, code, message, hint, frames, self.authorities, first, last, len(stamps))
 
 
 class Scene:
@@ -74,7 +80,7 @@ class Scene:
     @cached_property
     def off_clock(self) -> frozenset[str]:
         """Frames stamped on another clock than the recording's reference, by the ``clock`` threshold."""
-        return self.timeline.frames_off(self.ns(self.thresholds.clock))
+        return self.timeline.frames_off(from_sec(self.thresholds.clock))
 
     @cached_property
     def sensors(self) -> FilterReport:
@@ -118,16 +124,7 @@ class Scene:
                 )
         return result
 
-    # --- grouping rows ----------------------------------------------------------------------
-
-    def by_edge(self, mask: BoolArray) -> Iterator[tuple[int, int, IntpArray]]:
-        """(parent id, child id, rows) for each edge among the ``mask`` rows, in order of first arrival."""
-        return self.rows.groups(mask, by_parent=True)
-
-    def by_child(self, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
-        """(child id, rows) for each child frame among the ``mask`` rows, in order of first arrival."""
-        for _, child, rows in self.rows.groups(mask, by_parent=False):
-            yield child, rows
+    # --- rows ------------------------------------------------------------------------------
 
     def authorities_of(self, rows: IntpArray) -> tuple[str, ...]:
         """The publishers of ``rows``, in order of first appearance."""
@@ -143,6 +140,14 @@ class Scene:
         """When the recorder received ``rows``, on the record clock (stamps where unknown): their rhythm."""
         records = self.rows.record_time[rows]
         return np.where(records > 0, records, self.rows.stamp[rows])
+
+    def finding(
+        self, severity: Severity, code: str, message: str, hint: str, frames: tuple[str, ...], rows: IntpArray
+    ) -> Finding:
+        """A finding about the transforms ``rows``: their publishers, first and last stamps, and count."""
+        stamps = self.rows.stamp[rows]
+        first, last = int(stamps.min()), int(stamps.max())
+        return Finding(severity, code, message, hint, frames, self.authorities_of(rows), first, last, len(rows))
 
     # --- wording ----------------------------------------------------------------------------
 
@@ -166,9 +171,6 @@ class Scene:
         if known[0]:
             return self.at(int(ros[0]))
         return f"{record_time / NS_PER_S:.3f} on the record clock ({(record_time - self.start) / NS_PER_S:+.1f} s)"
-
-    def ns(self, seconds: float) -> int:
-        return from_sec(seconds)
 
 
 def edge(parent: str, child: str) -> str:

@@ -55,7 +55,7 @@ def _edge_spans(scene: Scene) -> dict[tuple[str, str], tuple[int, int]]:
     """Each edge's stamp range among the usable rows (every time, for a static one)."""
     rows = scene.rows
     spans = {}
-    for parent, child, mine in scene.by_edge(rows.usable):
+    for parent, child, mine in rows.by_edge(rows.usable):
         static = bool(rows.static[mine].all())
         stamps = rows.stamp[mine]
         spans[(rows.names[parent], rows.names[child])] = _ALWAYS if static else (int(stamps.min()), int(stamps.max()))
@@ -76,7 +76,7 @@ def _loop_edges(scene: Scene, pairs: set[tuple[str, str]]) -> _LoopEdges:
     first rows (one pass over the edges, whatever the number of loops)."""
     rows = scene.rows
     began: _LoopEdges = {}
-    for rank, (parent, child, mine) in enumerate(scene.by_edge(rows.usable)):
+    for rank, (parent, child, mine) in enumerate(rows.by_edge(rows.usable)):
         key = (rows.names[parent], rows.names[child])
         if key in pairs:
             began[key] = (rank, int(scene.arrival(mine).min()), scene.authorities_of(mine))
@@ -198,7 +198,7 @@ def _frames_apart(roots: list[str], members: dict[str, list[str]], root: str) ->
 @register("multiple_parents", Severity.error, "a frame re-parented: two parents for one frame")
 def multiple_parents(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    for child, mine in scene.by_child(rows.usable):
+    for child, mine in rows.by_child(rows.usable):
         parents = rows.parent[mine]
         if parents.min() == parents.max():
             continue
@@ -261,7 +261,7 @@ def multiple_authorities(scene: Scene) -> Iterator[Finding]:
     yield from inferred_broadcasters(scene)
     rows = scene.rows
     for static in (False, True):
-        for parent, child, mine in scene.by_edge(rows.usable & (rows.static == static)):
+        for parent, child, mine in rows.by_edge(rows.usable & (rows.static == static)):
             ids = rows.authority[mine]
             if ids.min() == ids.max():
                 continue

@@ -13,7 +13,7 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
-from tftools.core.time import NS_PER_S
+from tftools.core.time import NS_PER_S, from_sec
 
 #: Stamps going back this far (ns) are a jump in time, never transforms that arrived late.
 TIME_JUMP = NS_PER_S
@@ -84,34 +84,29 @@ def _arrivals(scene: Scene, e: EdgeSamples) -> tuple[Int64Array, Int64Array]:
 
 @register("future", Severity.error, "stamps ahead of the time they were recorded")
 def future(scene: Scene) -> Iterator[Finding]:
-    limit = scene.ns(scene.thresholds.future)
+    limit = from_sec(scene.thresholds.future)
     for e in scene.dynamic_edges:
         stamps, records = _arrivals(scene, e)
         ahead = stamps - records
         early = ahead > limit
         if not early.any():
             continue
-        by = scene.by(e.authorities)
-        yield Finding(
+        yield e.finding(
             Severity.error,
             "future",
-            f"{edge(e.parent, e.child)}{by}: {int(early.sum())} of {transforms(len(stamps))} "
+            f"{edge(e.parent, e.child)}{scene.by(e.authorities)}: {int(early.sum())} of {transforms(len(stamps))} "
             f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, first at "
             f"{scene.at(int(records[early].min()))}",
             "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates its "
             f"transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's transform_tolerance): "
             "listeners then take them for the newest data and lookups at the present extrapolate wrongly or fail",
-            (e.parent, e.child),
-            e.authorities,
-            int(stamps[early].min()),
-            int(stamps[early].max()),
-            int(early.sum()),
+            stamps[early],
         )
 
 
 @register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")
 def delay(scene: Scene) -> Iterator[Finding]:
-    limit = scene.ns(scene.thresholds.delay)
+    limit = from_sec(scene.thresholds.delay)
     for e in scene.dynamic_edges:
         stamps, records = _arrivals(scene, e)
         if not len(stamps):
@@ -123,7 +118,7 @@ def delay(scene: Scene) -> Iterator[Finding]:
         if e.child in scene.shared("time_jumps", lambda: _jumped(scene)):
             continue  # stamps behind arrival since a jump back in time: ``time_backwards`` says so
         by = scene.by(e.authorities)
-        yield Finding(
+        yield e.finding(
             Severity.warning,
             "delay",
             f"{edge(e.parent, e.child)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
@@ -133,11 +128,7 @@ def delay(scene: Scene) -> Iterator[Finding]:
             "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
             "waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
             "delays it (a busy publisher, a slow link, stamping with an old acquisition time)",
-            (e.parent, e.child),
-            e.authorities,
-            int(stamps[late].min()) if late.any() else 0,
-            int(stamps[late].max()) if late.any() else 0,
-            int(late.sum()),
+            stamps[late],
         )
 
 
@@ -165,7 +156,7 @@ def rate(scene: Scene) -> Iterator[Finding]:
 
 
 def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
-    gaps = edge_gaps(e.stamps, scene.ns(scene.thresholds.max_gap))
+    gaps = edge_gaps(e.stamps, from_sec(scene.thresholds.max_gap))
     if gaps is None:
         return None
     return Finding(
@@ -269,7 +260,7 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
 def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
     """The ``mask`` rows of each child frame from each of its publishers, in arrival order."""
     rows = scene.rows
-    for child_id, frame_rows in scene.by_child(mask):
+    for child_id, frame_rows in rows.by_child(mask):
         publishers = rows.authority[frame_rows]
         for publisher in dict.fromkeys(publishers.tolist()):
             yield child_id, frame_rows[publishers == publisher]
@@ -305,7 +296,7 @@ def _stamps_of(scene: Scene, child_id: int, mine: np.ndarray) -> Iterator[Findin
     repeat, same = _repeats(stamps, rows.values[mine])
     repeat &= ~back
     records = rows.record_time[mine]
-    late = (records > 0) & (records - stamps > scene.ns(scene.thresholds.delay))
+    late = (records > 0) & (records - stamps > from_sec(scene.thresholds.delay))
     if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
         back &= ~(late & (before - stamps < TIME_JUMP))
     parent = rows.names[rows.parent[mine[-1:]][0]]
@@ -382,8 +373,7 @@ def _went_back(
 def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.ndarray, same: bool) -> Finding:
     """Stamps sent again: with the same values (ROS 1's tf2 logs TF_REPEATED_DATA; ROS 2's takes them
     silently and is not asked here), or with other values (ROS 1's drops them, ROS 2's keeps both)."""
-    who = scene.authorities_of(offenders)
-    sent = f"{name}{scene.by(who)} sent {transforms(len(offenders))}"
+    sent = f"{name}{scene.by(scene.authorities_of(offenders))} sent {transforms(len(offenders))}"
     first = scene.at(int(scene.arrival(offenders).min()))
     other_values = (
         "stamp each update with the time it describes; two publishers or a stamp that does not advance repeat it"
@@ -409,7 +399,4 @@ def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.nd
             f"{sent} with a stamp it had already sent but other values, first at {first}: tf2 ignores them "
             "(TF_REPEATED_DATA), so those updates are lost"
         )
-    stamps = scene.rows.stamp[offenders]
-    return Finding(
-        severity, "time_backwards", message, hint, frames, who, int(stamps.min()), int(stamps.max()), len(offenders)
-    )
+    return scene.finding(severity, "time_backwards", message, hint, frames, offenders)

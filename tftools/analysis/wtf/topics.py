@@ -37,7 +37,7 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     contested = _contested(scene)
     constant: list[tuple[int, int, np.ndarray]] = []
     moving = np.zeros(len(rows), bool)
-    for parent, child, mine in scene.by_edge(rows.usable & ~rows.static):
+    for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
         values = rows.values[mine]
         if (values == values[0]).all():
             constant.append((parent, child, mine))
@@ -56,20 +56,17 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
             or _joint_at_rest(rows, mine, moving)
         ):
             continue
-        who = scene.authorities_of(mine)
-        yield Finding(
+        yield scene.finding(
             Severity.warning,
             "static_on_dynamic",
-            f"{edge(rows.names[parent], rows.names[child])} never changes, yet it is sent on /tf{_by(scene, who)} "
-            f"{(len(mine) - 1) / span:.1f} times a second ({transforms(len(mine))} over {duration(span)})",
+            f"{edge(rows.names[parent], rows.names[child])} never changes, yet it is sent on /tf"
+            f"{_by(scene, scene.authorities_of(mine))} {(len(mine) - 1) / span:.1f} times a second "
+            f"({transforms(len(mine))} over {duration(span)})",
             "publish it once on /tf_static (static_transform_publisher, or a fixed joint for robot_state_publisher): "
             "it then holds at every time and /tf carries less; ignore this if it is a joint that did not move "
             "during this recording",
             (rows.names[parent], rows.names[child]),
-            who,
-            int(stamps.min()),
-            int(stamps.max()),
-            len(mine),
+            mine,
         )
 
 
@@ -100,7 +97,7 @@ def _contested(scene: Scene) -> set[int]:
     """Child frames with more than one parent or publisher."""
     rows = scene.rows
     found = set()
-    for child, mine in scene.by_child(rows.usable):
+    for child, mine in rows.by_child(rows.usable):
         parents, publishers = rows.parent[mine], rows.authority[mine]
         if parents.min() != parents.max() or publishers.min() != publishers.max():
             found.add(child)
@@ -129,7 +126,7 @@ def _in_loop(scene: Scene, parent: str, child: str) -> bool:
 @register("dynamic_on_static", Severity.error, "a changing transform on /tf_static")
 def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    for parent, child, mine in scene.by_edge(rows.usable & rows.static):
+    for parent, child, mine in rows.by_edge(rows.usable & rows.static):
         values = rows.values[mine]
         changed = np.flatnonzero((values[1:] != values[:-1]).any(axis=1)) + 1
         if not len(changed):
@@ -157,7 +154,7 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
 @register("mixed_static", Severity.error, "one frame sent both on /tf_static and on /tf")
 def mixed_static(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    for child, mine in scene.by_child(rows.usable):
+    for child, mine in rows.by_child(rows.usable):
         static = rows.static[mine]
         if static.all() or not static.any():
             continue

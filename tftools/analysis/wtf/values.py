@@ -26,12 +26,12 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
     inf = ~rows.finite & ~nan
     bad_quaternion = rows.finite & ~rows.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
     refused = nan | inf | bad_quaternion
-    for parent, child, mine in scene.by_edge(refused):
+    for parent, child, mine in rows.by_edge(refused):
         yield _refused(scene, rows.names[parent], rows.names[child], mine, nan, inf)
     slightly = rows.finite & ~bad_quaternion & rows.of_values(lambda v: _length_error(v) > ROSWTF_NORM_TOLERANCE)
-    for parent, child, mine in scene.by_edge(slightly):
+    for parent, child, mine in rows.by_edge(slightly):
         worst = float(_length_error(rows.values[mine]).max())
-        yield Finding(
+        yield scene.finding(
             Severity.warning if worst > VISIBLE_NORM_ERROR else Severity.info,
             "invalid_values",
             f"rotations of {edge(rows.names[parent], rows.names[child])}{scene.by(scene.authorities_of(mine))} "
@@ -40,8 +40,7 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
             "normalise the quaternion before publishing (tf2::Quaternion::normalize()); roswtf flags rotations "
             f"off by more than {ROSWTF_NORM_TOLERANCE:g}",
             (rows.names[parent], rows.names[child]),
-            scene.authorities_of(mine),
-            *_shown_in(scene, mine),
+            mine,
         )
 
 
@@ -79,18 +78,15 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
         if zero:
             hint += "; for no rotation send x=y=z=0, w=1, not all zeros"
         hints.append(hint)
-    times = scene.arrival(mine)
-    who = scene.authorities_of(mine)
-    by = scene.by(who)
-    return Finding(
+    by = scene.by(scene.authorities_of(mine))
+    return scene.finding(
         Severity.error,
         "invalid_values",
         f"{transforms(len(mine))} {edge(parent or '(empty)', child or '(empty)')}{by} "
-        f"refused by tf2 ({', '.join(kinds)}), first at {scene.at(int(times.min()))}",
+        f"refused by tf2 ({', '.join(kinds)}), first at {scene.at(int(scene.arrival(mine).min()))}",
         "tf2 drops them (TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION), so lookups miss these updates: " + "; ".join(hints),
         tuple(f for f in (parent, child) if f),
-        who,
-        *_shown_in(scene, mine),
+        mine,
     )
 
 
@@ -100,34 +96,21 @@ def self_transform(scene: Scene) -> Iterator[Finding]:
     parents, children = rows.parent.whole(), rows.child.whole()
     same = (parents == children) & (children != 0)
     del parents, children
-    for _, child, mine in scene.by_edge(same):
+    for _, child, mine in rows.by_edge(same):
         frame = rows.names[child]
-        spelled = sorted({f"{rows.raw_names[p]} -> {rows.raw_names[c]}" for p, c in _raw_pairs(scene, mine)})
+        raw_pairs = zip(rows.raw_parent[mine].tolist(), rows.raw_child[mine].tolist(), strict=True)
+        spelled = sorted({f"{rows.raw_names[p]} -> {rows.raw_names[c]}" for p, c in raw_pairs})
         sent = f", sent as {listed(spelled)}: one frame to tf2" if any(n.startswith("/") for n in spelled) else ""
-        who = scene.authorities_of(mine)
-        by = scene.by(who)
-        yield Finding(
+        yield scene.finding(
             Severity.error,
             "self_transform",
-            f"{transforms(len(mine))} from {frame} to itself{by}{sent}, "
+            f"{transforms(len(mine))} from {frame} to itself{scene.by(scene.authorities_of(mine))}{sent}, "
             f"first at {scene.at(int(scene.arrival(mine).min()))}: tf2 ignores them (TF_SELF_TRANSFORM)",
             "header.frame_id must name the parent and child_frame_id the frame that moves: set them to two "
             "different frames (a name with and without a leading '/' is the same frame)",
             (frame,),
-            who,
-            *_shown_in(scene, mine),
+            mine,
         )
-
-
-def _shown_in(scene: Scene, mine: IntpArray) -> tuple[int, int, int]:
-    """A finding's first and last stamps and count: of the transforms ``mine``."""
-    stamps = scene.rows.stamp[mine]
-    return int(stamps.min()), int(stamps.max()), len(mine)
-
-
-def _raw_pairs(scene: Scene, mine: IntpArray) -> set[tuple[int, int]]:
-    rows = scene.rows
-    return set(zip(rows.raw_parent[mine].tolist(), rows.raw_child[mine].tolist(), strict=True))
 
 
 @register("empty_frame_id", Severity.error, "a transform without frame_id or child_frame_id")
@@ -140,19 +123,16 @@ def empty_frame_id(scene: Scene) -> Iterator[Finding]:
     ):
         for other_id, mine in _group_by(other, missing == 0):
             named = rows.names[other_id]
-            who = scene.authorities_of(mine)
-            by = scene.by(who)
-            yield Finding(
+            yield scene.finding(
                 Severity.error,
                 "empty_frame_id",
-                f"{transforms(len(mine))}{by} with an empty {field} "
+                f"{transforms(len(mine))}{scene.by(scene.authorities_of(mine))} with an empty {field} "
                 f"({other_field} {named or 'empty too'}), first at {scene.at(int(scene.arrival(mine).min()))}: "
                 f"tf2 ignores them (TF_NO_{'CHILD_' if field == 'child_frame_id' else ''}FRAME_ID)",
                 "set both header.frame_id and child_frame_id (an empty frame parameter in a launch file or "
                 "config is the usual cause)",
                 (named,) if named else (),
-                who,
-                *_shown_in(scene, mine),
+                mine,
             )
 
 
@@ -172,17 +152,14 @@ def leading_slash(scene: Scene) -> Iterator[Finding]:
             {rows.raw_names[i] for i in (*rows.raw_parent[mine].tolist(), *rows.raw_child[mine].tolist())}
             & {n for n in rows.raw_names if n.startswith("/")}
         )
-        who = (rows.authorities[authority],)
-        by = scene.by(who)
-        yield Finding(
+        yield scene.finding(
             Severity.warning,
             "leading_slash",
-            f"frame ids with a leading '/'{by}: {listed(names)} "
+            f"frame ids with a leading '/'{scene.by([rows.authorities[authority]])}: {listed(names)} "
             f"(in {transforms(len(mine))}, first at {scene.at(int(scene.arrival(mine).min()))})",
             "tf2 drops the '/' when it stores them, but lookups by those names fail ('frame_ids cannot start with "
             "a /') and tools comparing names see two frames: remove the '/' from the publisher's frame names "
             "(tf_prefix is gone since ROS Hydro)",
             tuple(n[1:] for n in names),
-            who,
-            *_shown_in(scene, mine),
+            mine,
         )
