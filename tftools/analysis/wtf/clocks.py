@@ -87,18 +87,20 @@ def _disagreeing(
         "behind": f"stamped {duration(offset)} behind {clock_name}{others}: another clock",
         "ahead": f"stamped {duration(-offset)} ahead of {clock_name}{others}: another clock",
     }[kind]
-    names = [edge(_parent(scene, e.child), e.child) for e in edges]
-    frames = tuple(f for e in edges for f in (_parent(scene, e.child), e.child))
+    return _two_clocks(scene, kind, edges, f"{said} (median of {transforms(sum(e.arrivals for e in edges))})")
+
+
+def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) -> Finding:
+    """The error that ``edges`` are stamped on another clock (``kind``), as ``said``."""
     authorities = _authorities(scene, [e.child for e in edges])
-    count = sum(e.arrivals for e in edges)
     return Finding(
         Severity.error,
         "clock",
-        f"{listed(names, 4)}{scene.by(authorities)}: {said} (median of {transforms(count)})",
+        f"{listed([edge(_parent(scene, e.child), e.child) for e in edges], 4)}{scene.by(authorities)}: {said}",
         _HINTS[kind] + _CONSEQUENCE,
-        frames,
+        tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
         authorities,
-        count=count,
+        count=sum(e.arrivals for e in edges),
     )
 
 
@@ -131,19 +133,11 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
 def _disagreeing_with_others(scene: Scene, kind: str, edges: list[EdgeClock], main: list[EdgeClock]) -> Finding:
     stamp = float(np.median([e.median_stamp for e in edges])) / NS_PER_S
     theirs = float(np.median([e.median_stamp for e in main])) / NS_PER_S
-    names = [edge(_parent(scene, e.child), e.child) for e in edges]
-    authorities = _authorities(scene, [e.child for e in edges])
-    count = sum(e.arrivals for e in edges)
-    return Finding(
-        Severity.error,
-        "clock",
-        f"{listed(names, 4)}{scene.by(authorities)}: stamped around {stamp:.1f} s while "
-        f"{listed([e.child for e in main], 3)} are stamped around {theirs:.1f} s: two clocks in one tree",
-        _HINTS[kind] + _CONSEQUENCE,
-        tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
-        authorities,
-        count=count,
+    said = (
+        f"stamped around {stamp:.1f} s while {listed([e.child for e in main], 3)} are stamped around "
+        f"{theirs:.1f} s: two clocks in one tree"
     )
+    return _two_clocks(scene, kind, edges, said)
 
 
 def _ignoring_clock(scene: Scene, on: Sequence[EdgeClock]) -> Finding:

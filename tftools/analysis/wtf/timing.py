@@ -177,30 +177,35 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
 
 def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array) -> Iterator[Finding]:
     intervals = np.diff(arrivals)
-    period = float(np.median(intervals))
-    what = f"{edge(*frames)}{scene.by(who)}"
     off = _off_share(intervals)
     if len(intervals) < IRREGULAR_MIN_INTERVALS or off <= IRREGULAR_SHARE:
         return
+    what = f"{edge(*frames)}{scene.by(who)}"
     if not scene.publishers_known and _interleaved(arrivals):
-        if frames not in {f.frames for f in inferred_broadcasters(scene)}:  # else already said
-            yield _two_publishers(scene, frames, who, arrivals)
+        if frames in {f.frames for f in inferred_broadcasters(scene)}:
+            return  # already said
+        hz = NS_PER_S / float(np.median(np.diff(arrivals[0::2])))
+        code = "multiple_authorities"
+        message = (
+            f"{what} arrives as two steady {hz:.1f} Hz streams taking turns: two publishers of one edge, it seems "
+            "(this bag does not name publishers)"
+        )
+        hint = (
+            "tf2 takes every sample as it comes, so lookups mix both publishers' values: find them (ros2 topic info "
+            "/tf --verbose) and turn the transform off in all but one"
+        )
+    elif _cyclic(intervals):  # a driver sending two messages every 100 ms, 33 then 67 ms apart, is regular
         return
-    if _cyclic(intervals):  # a driver sending two messages every 100 ms, 33 then 67 ms apart, is regular
-        return
-    yield Finding(
-        Severity.warning,
-        "rate",
-        f"{what} publishes irregularly: {off:.0%} of its intervals are more than {IRREGULAR:.0%} "
-        f"off the usual {duration(period / NS_PER_S)} (from {duration(intervals.min() / NS_PER_S)} to "
-        f"{duration(intervals.max() / NS_PER_S)})",
-        "interpolation between far-apart samples is coarse: publish on a timer at a steady rate",
-        frames,
-        who,
-        int(arrivals[0]),
-        int(arrivals[-1]),
-        len(arrivals),
-    )
+    else:
+        code = "rate"
+        message = (
+            f"{what} publishes irregularly: {off:.0%} of its intervals are more than {IRREGULAR:.0%} off the usual "
+            f"{duration(float(np.median(intervals)) / NS_PER_S)} (from {duration(intervals.min() / NS_PER_S)} to "
+            f"{duration(intervals.max() / NS_PER_S)})"
+        )
+        hint = "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
+    first, last = int(arrivals[0]), int(arrivals[-1])
+    yield Finding(Severity.warning, code, message, hint, frames, who, first, last, len(arrivals))
 
 
 def _off_share(intervals: Int64Array) -> float:
@@ -227,23 +232,6 @@ def _interleaved(arrivals: Int64Array) -> bool:
         return False
     steady = _off_share(first) <= IRREGULAR_SHARE / 2 and _off_share(second) <= IRREGULAR_SHARE / 2
     return steady and abs(float(np.median(first)) / float(np.median(second)) - 1) < IRREGULAR / 2
-
-
-def _two_publishers(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array) -> Finding:
-    hz = NS_PER_S / float(np.median(np.diff(arrivals[0::2])))
-    return Finding(
-        Severity.warning,
-        "multiple_authorities",
-        f"{edge(*frames)}{scene.by(who)} arrives as two steady {hz:.1f} Hz streams taking turns: two publishers "
-        "of one edge, it seems (this bag does not name publishers)",
-        "tf2 takes every sample as it comes, so lookups mix both publishers' values: find them (ros2 topic info "
-        "/tf --verbose) and turn the transform off in all but one",
-        frames,
-        who,
-        int(arrivals[0]),
-        int(arrivals[-1]),
-        len(arrivals),
-    )
 
 
 @register("time_backwards", Severity.error, "an edge's stamps going back or repeating")
