@@ -14,18 +14,16 @@ from __future__ import annotations
 
 import enum
 import heapq
-import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import PERIODS
+from tftools.analysis.edges import PERIODS, chain_edges
 from tftools.analysis.frames import frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
-from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
 
@@ -163,16 +161,12 @@ def _chain(buffer: Buffer, target: str, frame: str, cache_time: int) -> list[_Ed
         return Fate.UNKNOWN_FRAME if not buffer.has_frame(frame) else Fate.NOT_CONNECTED
     except TransformError:
         return Fate.NOT_CONNECTED
-    edges = []
-    for a, b in itertools.pairwise(frames):
-        child, parent = (a, b) if buffer.parent(a) == b else (b, a)
-        hist = buffer.history(child)
-        assert hist is not None
-        edges.append(_edge_of(parent, child, hist, cache_time))
-    return edges
+    return [_edge_of(parent, child, buffer, cache_time) for parent, child in chain_edges(buffer, frames)]
 
 
-def _edge_of(parent: str, child: str, hist: EdgeHistory, cache_time: int) -> _Edge:
+def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int) -> _Edge:
+    hist = buffer.history(child)
+    assert hist is not None
     order = np.argsort(hist.sequence, kind="stable")  # arrival order
     records = np.maximum.accumulate(hist.record_times[order])
     stamps = hist.stamps[order]
@@ -287,12 +281,8 @@ def default_target(buffer: Buffer) -> tuple[str, str]:
     for frame in ("odom", "map"):
         if buffer.has_frame(frame):
             return frame, f"REP 105's {frame} frame"
-    sizes: dict[str, int] = {}
-    root = ""
-    for depth, frame in frame_tree(buffer).walk():  # each tree top down, once: linear in frames
-        root = frame if depth == 0 else root
-        sizes[root] = sizes.get(root, 0) + 1
-    return max(sizes, key=lambda r: sizes[r], default=""), "the root of the largest tree"
+    trees = frame_tree(buffer).trees()
+    return max(sorted(trees), key=lambda root: len(trees[root]), default=""), "the root of the largest tree"
 
 
 def tied_to_tf(stream: StampedMessages) -> bool:

@@ -11,6 +11,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.frames import FrameTree
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, edge
@@ -144,36 +145,25 @@ def _largest(found: Jumps) -> str:
 def rep105(scene: Scene) -> Iterator[Finding]:
     """Per namespace (a prefix like robot1/), where odom exists: map, if present, above it, and the
     base frames below it. Frames in separate trees are ``disconnected``'s to report."""
-    frames = scene.tree.frames
-    for name in frames:
+    tree = scene.tree
+    for name in tree.frames:
         if _base(name) != ODOM:
             continue
         prefix = name[: -len(ODOM)]
-        if _together(scene, prefix + MAP, name) and prefix + MAP not in _ancestors(scene, name):
-            yield _layout(scene, prefix + MAP, name, f"{prefix + MAP} is not above it")
+        if _together(tree, prefix + MAP, name) and prefix + MAP not in tree.ancestors(name):
+            yield _layout(tree, prefix + MAP, name, f"{prefix + MAP} is not above it")
         for base in (prefix + b for b in BASES):
-            if _together(scene, name, base) and name not in _ancestors(scene, base):
-                yield _layout(scene, name, base, f"{base} is not under it")
+            if _together(tree, name, base) and name not in tree.ancestors(base):
+                yield _layout(tree, name, base, f"{base} is not under it")
 
 
-def _together(scene: Scene, a: str, b: str) -> bool:
+def _together(tree: FrameTree, a: str, b: str) -> bool:
     """Both frames exist, in one tree."""
-    frames = scene.tree.frames
-    return a in frames and b in frames and ([a, *_ancestors(scene, a)][-1] == [b, *_ancestors(scene, b)][-1])
+    return a in tree.frames and b in tree.frames and [a, *tree.ancestors(a)][-1] == [b, *tree.ancestors(b)][-1]
 
 
-def _ancestors(scene: Scene, frame: str) -> list[str]:
-    frames = scene.tree.frames
-    found: list[str] = []
-    parent = frames[frame].parent if frame in frames else None
-    while parent is not None and parent not in found and parent != frame:
-        found.append(parent)
-        parent = frames[parent].parent if parent in frames else None
-    return found
-
-
-def _layout(scene: Scene, upper: str, lower: str, what: str) -> Finding:
-    chain = " -> ".join(reversed([lower, *_ancestors(scene, lower)]))
+def _layout(tree: FrameTree, upper: str, lower: str, what: str) -> Finding:
+    chain = " -> ".join(reversed([lower, *tree.ancestors(lower)]))
     return Finding(
         Severity.warning,
         "rep105",

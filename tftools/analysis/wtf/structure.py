@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import difflib
 import itertools
-from collections import deque
 from collections.abc import Iterator
 
 import numpy as np
@@ -132,12 +131,10 @@ TREES_DESCRIBED = 20
 
 @register("disconnected", Severity.error, "more than one tree: frames no lookup can join")
 def disconnected(scene: Scene) -> Iterator[Finding]:
-    tree = scene.tree
-    roots = tree.roots
-    if len(roots) < 2:
+    members = scene.tree.trees()
+    if len(members) < 2:
         return
-    members = {root: _descendants(tree.children, root) for root in roots}
-    roots.sort(key=lambda r: -len(members[r]))
+    roots = sorted(members, key=lambda r: -len(members[r]))
     trees = "; ".join(
         f"{root} ({len(members[root])} frame{'s' if len(members[root]) > 1 else ''}: {listed(members[root])})"
         for root in roots[:TREES_DESCRIBED]
@@ -155,16 +152,6 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         0,
         len(roots),
     )
-
-
-def _descendants(children: dict[str, list[str]], root: str) -> list[str]:
-    """``root`` and every frame under it, breadth first."""
-    found, todo = [], deque([root])
-    while todo:
-        frame = todo.popleft()
-        found.append(frame)
-        todo.extend(children.get(frame, []))
-    return found
 
 
 #: The typo search of ``_join_hint`` looks at most at this many roots, against at most this many

@@ -6,6 +6,7 @@ from collections.abc import Iterator, Sequence
 
 import numpy as np
 
+from tftools.analysis.edges import rate_hz
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
@@ -46,26 +47,23 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     for parent, child, mine in constant:
         if len(mine) < STATIC_MIN_SAMPLES or child in contested:
             continue
-        if _moving_by_nature(rows.names[parent]) or _in_loop(scene, rows.names[parent], rows.names[child]):
-            continue
+        frames = (rows.names[parent], rows.names[child])
+        if _moving_by_nature(frames[0]) or frames[1] in (frames[0], *scene.tree.ancestors(frames[0])):
+            continue  # moving by nature, or in a loop
         stamps = rows.stamp[mine]
-        span = (int(stamps.max()) - int(stamps.min())) / NS_PER_S
-        if (
-            span < STATIC_MIN_SPAN_S
-            or (len(mine) - 1) / span < STATIC_MIN_RATE_HZ
-            or _joint_at_rest(rows, mine, moving)
-        ):
+        span = int(stamps.max()) - int(stamps.min())
+        hz = rate_hz(len(mine), span)
+        if span < STATIC_MIN_SPAN_S * NS_PER_S or hz < STATIC_MIN_RATE_HZ or _joint_at_rest(rows, mine, moving):
             continue
         yield scene.finding(
             Severity.warning,
             "static_on_dynamic",
-            f"{edge(rows.names[parent], rows.names[child])} never changes, yet it is sent on /tf"
-            f"{_by(scene, scene.authorities_of(mine))} {(len(mine) - 1) / span:.1f} times a second "
-            f"({transforms(len(mine))} over {duration(span)})",
+            f"{edge(*frames)} never changes, yet it is sent on /tf{_by(scene, scene.authorities_of(mine))} "
+            f"{hz:.1f} times a second ({transforms(len(mine))} over {duration(span / NS_PER_S)})",
             "publish it once on /tf_static (static_transform_publisher, or a fixed joint for robot_state_publisher): "
             "it then holds at every time and /tf carries less; ignore this if it is a joint that did not move "
             "during this recording",
-            (rows.names[parent], rows.names[child]),
+            frames,
             mine,
         )
 
@@ -108,19 +106,6 @@ def _moving_by_nature(parent: str) -> bool:
     """map, odom, world, earth (REP 105): what is under them moves even when it stands still."""
     base = parent.rsplit("/", 1)[-1]
     return base in WORLD_FRAMES or base.startswith("odom")
-
-
-def _in_loop(scene: Scene, parent: str, child: str) -> bool:
-    """Whether ``child`` is among ``parent``'s ancestors by the latest parents."""
-    frames = scene.tree.frames
-    seen: set[str] = set()
-    frame: str | None = parent
-    while frame is not None and frame not in seen:
-        if frame == child:
-            return True
-        seen.add(frame)
-        frame = frames[frame].parent if frame in frames else None
-    return False
 
 
 @register("dynamic_on_static", Severity.error, "a changing transform on /tf_static")
