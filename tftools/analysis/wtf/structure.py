@@ -13,6 +13,7 @@ from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
+from tftools.core.arrays import Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 
 #: tf2's words when a lookup meets a loop.
@@ -26,22 +27,16 @@ def cycles(scene: Scene) -> Iterator[Finding]:
     formed at some time (a stamp range every edge of the loop covers)."""
     latest = {child: [scene.buffer.frame_name(hist.latest_parent)] for child, hist in scene.buffer.histories()}
     order = {name: i for i, name in enumerate(scene.buffer.frames)}
-    found: list[tuple[list[str], str, tuple[int, int] | None]] = []
-    reported: set[frozenset[str]] = set()
-    for loop in find_loops(latest, order):
-        reported.add(frozenset(loop))
-        found.append((loop, "the latest transforms", None))
+    found: list[tuple[list[str], str, tuple[int, int] | None]]
+    found = [(loop, "the latest transforms", None) for loop in find_loops(latest, order)]
+    reported = {frozenset(loop) for loop, _, _ in found}
     spans = _edge_spans(scene)
     graph: dict[str, list[str]] = {}
     for parent, child in spans:
         graph.setdefault(child, []).append(parent)
     for loop in find_loops(graph, order):
-        if frozenset(loop) in reported:
-            continue
-        reported.add(frozenset(loop))
-        first = max(spans[(loop[(i + 1) % len(loop)], frame)][0] for i, frame in enumerate(loop))
-        last = min(spans[(loop[(i + 1) % len(loop)], frame)][1] for i, frame in enumerate(loop))
-        if first <= last:
+        first, last = max(spans[p][0] for p in _pairs(loop)), min(spans[p][1] for p in _pairs(loop))
+        if frozenset(loop) not in reported and first <= last:
             found.append((loop, "transforms stamped", (first, last)))
     if not found:
         return
@@ -71,8 +66,8 @@ _LoopEdges = dict[tuple[str, str], tuple[int, int, tuple[str, ...]]]
 
 
 def _loop_edges(scene: Scene, pairs: set[tuple[str, str]]) -> _LoopEdges:
-    """For each edge of ``pairs``: its first arrival and its publishers, in order of the edges'
-    first rows (one pass over the edges, whatever the number of loops)."""
+    """For each edge of ``pairs``: its rank, first arrival and publishers (one pass over the edges,
+    whatever the number of loops)."""
     rows = scene.rows
     began: _LoopEdges = {}
     for rank, (parent, child, mine) in enumerate(rows.by_edge(rows.usable)):
@@ -196,22 +191,15 @@ def multiple_parents(scene: Scene) -> Iterator[Finding]:
 def _parents_finding(scene: Scene, child_id: int, mine: np.ndarray, switches: np.ndarray) -> Finding:
     rows = scene.rows
     child = rows.names[child_id]
-    parents = rows.parent[mine]
-    _, first = np.unique(parents, return_index=True)
-    described, publishers = [], []
-    for parent_id in parents[np.sort(first)]:
-        theirs = mine[parents == parent_id]
-        times = scene.arrival(theirs)
+    described, publishers, names = [], [], []
+    for parent_id, theirs, times in _split(scene, mine, rows.parent[mine]):
         who = scene.authorities_of(theirs)
         publishers.append(set(who))
         by = scene.by(who)
-        described.append(
-            f"{rows.names[parent_id]} ({by.strip() + ', ' if by else ''}{transforms(len(theirs))} "
-            f"from {scene.rel(int(times.min()))} to {scene.rel(int(times.max()))})"
-        )
+        names.append(rows.names[parent_id])
+        described.append(f"{names[-1]} ({by.strip() + ', ' if by else ''}{_during(scene, theirs, times)})")
     hist = scene.buffer.history(child)
-    now = scene.buffer.frame_name(hist.latest_parent) if hist is not None else rows.names[parents[-1]]
-    names = [rows.names[p] for p in parents[np.sort(first)]]
+    now = scene.buffer.frame_name(hist.latest_parent) if hist is not None else rows.names[rows.parent[mine[-1:]][0]]
     switch_times = scene.arrival(switches)
     message = (
         f"{child} has {len(names)} parents: {'; '.join(described)}; it changed parent {len(switches)} "
@@ -258,16 +246,13 @@ def multiple_authorities(scene: Scene) -> Iterator[Finding]:
 def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray) -> Finding:
     rows = scene.rows
     who = scene.authorities_of(mine)
-    ids = rows.authority[mine]
-    _, first_rows = np.unique(ids, return_index=True)
-    spans = []
-    for authority in ids[np.sort(first_rows)]:
-        theirs = mine[ids == authority]
-        times = scene.arrival(theirs)
-        spans.append((rows.authorities[int(authority)], len(theirs), int(times.min()), int(times.max())))
-    together = any(a[2] <= b[3] and b[2] <= a[3] for i, a in enumerate(spans) for b in spans[i + 1 :])
-    parts = "; ".join(f"{n} ({transforms(c)} from {scene.rel(s)} to {scene.rel(e)})" for n, c, s, e in spans)
-    first, last = min(s[2] for s in spans), max(s[3] for s in spans)
+    spans, described = [], []
+    for authority, theirs, times in _split(scene, mine, rows.authority[mine]):
+        spans.append((int(times.min()), int(times.max())))
+        described.append(f"{rows.authorities[authority]} ({_during(scene, theirs, times)})")
+    together = any(a[0] <= b[1] and b[0] <= a[1] for i, a in enumerate(spans) for b in spans[i + 1 :])
+    parts = "; ".join(described)
+    first, last = min(s[0] for s in spans), max(s[1] for s in spans)
     source = "nodes" if scene.publishers_known else "topics"
     if together:
         return Finding(
@@ -282,16 +267,28 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
             last,
             len(mine),
         )
-    handover = spans[1][2]
+    handover = spans[1][0]
     return Finding(
         Severity.info,
         "multiple_authorities",
         f"{edge(parent, child)} was handed over between {source}, one after the other: {parts}",
         f"fine if intended (a node restarted under another name at {scene.at(handover)}); "
-        f"the silence between them lasted {duration((handover - spans[0][3]) / 1e9)}",
+        f"the silence between them lasted {duration((handover - spans[0][1]) / 1e9)}",
         (parent, child),
         who,
         first,
         last,
         len(mine),
     )
+
+
+def _split(scene: Scene, mine: IntpArray, ids: np.ndarray) -> Iterator[tuple[int, IntpArray, Int64Array]]:
+    """Per value of ``ids`` (a column of the rows ``mine``), first seen first: it, its rows and their arrivals."""
+    _, first = np.unique(ids, return_index=True)
+    for key in ids[np.sort(first)].tolist():
+        theirs = mine[ids == key]
+        yield key, theirs, scene.arrival(theirs)
+
+
+def _during(scene: Scene, rows: IntpArray, arrivals: Int64Array) -> str:
+    return f"{transforms(len(rows))} from {scene.rel(int(arrivals.min()))} to {scene.rel(int(arrivals.max()))}"
