@@ -64,6 +64,11 @@ class Fates:
     edge: Sequence[tuple[str, str] | None]
     lag: Int64Array
 
+    @property
+    def decided(self) -> int:
+        """How many messages' fate the recording tells (not ``UNDECIDED``)."""
+        return len(self.fate) - int(np.isin(self.fate, UNDECIDED).sum())
+
     def waits(self, messages: StampedMessages) -> Int64Array:
         """How long each message waited (ns), for those transformed after a wait."""
         later = self.fate == Fate.LATER
@@ -368,8 +373,7 @@ def _percentiles(waits: Int64Array) -> dict[str, float]:
 
 def _wait_needed(fates: Fates, stream: StampedMessages) -> float | None:
     """The smallest timeout that lets ``KEEP`` of the stream through (0 if on arrival already)."""
-    decided = len(stream) - int(np.isin(fates.fate, UNDECIDED).sum())
-    must = int(np.ceil(KEEP * decided)) - int((fates.fate == Fate.ON_ARRIVAL).sum())
+    must = int(np.ceil(KEEP * fates.decided)) - int((fates.fate == Fate.ON_ARRIVAL).sum())
     waits = np.sort(fates.waits(stream))
     if must <= 0:
         return 0.0
@@ -413,7 +417,7 @@ def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: F
     """The smallest cache (from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length."""
     if not (fates.fate == Fate.OLDER_THAN_CACHE).any():
         return None
-    allowed = (1 - KEEP) * (len(stream) - int(np.isin(fates.fate, UNDECIDED).sum()))
+    allowed = (1 - KEEP) * fates.decided
     for seconds in CACHES_S:
         tried = message_fates(buffer, stream, target, seconds * NS_PER_S, end)
         if (tried.fate == Fate.OLDER_THAN_CACHE).sum() <= allowed:

@@ -140,13 +140,11 @@ def edge_timelines(
 ) -> list[EdgeTimeline]:
     """Every edge's timeline (static ones too, flat), in the order of ``keys`` when given (edges not
     among them left out); a gap is a pause longer than ``gap_floor`` ns and ``PERIODS`` periods."""
-    found = {(parent, child): made for parent, child, made in _timelines(buffer, timeline, bins, gap_floor)}
+    found = {made.key: made for made in _timelines(buffer, timeline, bins, gap_floor)}
     return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
 
 
-def _timelines(
-    buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int
-) -> Iterator[tuple[str, str, EdgeTimeline]]:
+def _timelines(buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int) -> Iterator[EdgeTimeline]:
     for child, hist in buffer.histories():
         changes = _reparentings(buffer, child, hist, timeline)
         for parent_id in np.unique(hist.parents).tolist():
@@ -158,7 +156,7 @@ def _timelines(
                 hist.record_times[mine],
             )
             near = tuple(c for c in changes if parent in (c.before, c.after))
-            yield parent, child, _timeline(parent, child, hist.static, rows, timeline, bins, gap_floor, near)
+            yield _timeline(parent, child, hist.static, rows, timeline, bins, gap_floor, near)
 
 
 def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array) -> Int64Array:

@@ -252,34 +252,23 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
         described.append(f"{rows.authorities[authority]} ({_during(scene, theirs, times)})")
     together = any(a[0] <= b[1] and b[0] <= a[1] for i, a in enumerate(spans) for b in spans[i + 1 :])
     parts = "; ".join(described)
-    first, last = min(s[0] for s in spans), max(s[1] for s in spans)
     source = "nodes" if scene.publishers_known else "topics"
     if together:
-        return Finding(
-            Severity.warning,
-            "multiple_authorities",
-            f"{edge(parent, child)} comes from {len(who)} {source} at once: {parts}",
+        severity, message = Severity.warning, f"{edge(parent, child)} comes from {len(who)} {source} at once: {parts}"
+        hint = (
             "tf2 takes every sample as it comes, so lookups mix both publishers' values: turn the transform off "
-            "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter)",
-            (parent, child),
-            who,
-            first,
-            last,
-            len(mine),
+            "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter)"
         )
-    handover = spans[1][0]
-    return Finding(
-        Severity.info,
-        "multiple_authorities",
-        f"{edge(parent, child)} was handed over between {source}, one after the other: {parts}",
-        f"fine if intended (a node restarted under another name at {scene.at(handover)}); "
-        f"the silence between them lasted {duration((handover - spans[0][1]) / 1e9)}",
-        (parent, child),
-        who,
-        first,
-        last,
-        len(mine),
-    )
+    else:
+        severity = Severity.info
+        message = f"{edge(parent, child)} was handed over between {source}, one after the other: {parts}"
+        handover = spans[1][0]
+        hint = (
+            f"fine if intended (a node restarted under another name at {scene.at(handover)}); "
+            f"the silence between them lasted {duration((handover - spans[0][1]) / 1e9)}"
+        )
+    first, last = min(s[0] for s in spans), max(s[1] for s in spans)
+    return Finding(severity, "multiple_authorities", message, hint, (parent, child), who, first, last, len(mine))
 
 
 def _split(scene: Scene, mine: IntpArray, ids: np.ndarray) -> Iterator[tuple[int, IntpArray, Int64Array]]:

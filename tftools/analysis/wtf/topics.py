@@ -155,15 +155,15 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
                 "tf2 made it a moving frame (its first transform came on /tf), so the /tf_static one counts only "
                 "at its stamp"
             )
-        parents = listed(sorted({rows.names[p] for p in rows.parent[mine].tolist()}))
+        parents = sorted({rows.names[p] for p in rows.parent[mine].tolist()})
         yield Finding(
             Severity.error,
             "mixed_static",
-            f"{name} (under {parents}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
+            f"{name} (under {listed(parents)}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
             f"({transforms(len(fixed))}) and on /tf{_by(scene, scene.authorities_of(moving))} "
             f"({transforms(len(moving))}, from {scene.at(int(scene.arrival(moving).min()))}): {effect}",
             "send each frame on one topic: /tf_static if it never moves, /tf otherwise",
-            (name, *sorted({rows.names[p] for p in rows.parent[mine].tolist()})),
+            (name, *parents),
             scene.authorities_of(mine),
             int(scene.arrival(mine).min()),
             int(scene.arrival(mine).max()),
