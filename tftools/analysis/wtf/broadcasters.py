@@ -41,21 +41,18 @@ def _infer(scene: Scene) -> list[Finding]:
         if not any(signs):
             continue
         frames = (rows.names[parent], rows.names[child])
-        who = scene.authorities_of(mine)
-        times = scene.arrival(mine)
         found.append(
-            Finding(
+            scene.finding(
                 Severity.warning,
                 "multiple_authorities",
-                f"{edge(*frames)}{scene.by(who)} seems to come from several broadcasters taking turns: "
-                f"{listed([s for s in signs if s])} in {len(mine)} samples (this recording does not name publishers)",
+                f"{edge(*frames)}{scene.by(scene.authorities_of(mine))} seems to come from several broadcasters "
+                f"taking turns: {listed([s for s in signs if s])} in {len(mine)} samples (this recording does not "
+                "name publishers)",
                 "tf2 takes every sample as it comes, so lookups mix the broadcasters' values: find them "
                 "(ros2 topic info /tf --verbose) and turn the transform off in all but one",
                 frames,
-                who,
-                int(times.min()),
-                int(times.max()),
-                len(mine),
+                mine,
+                scene.arrival(mine),
             )
         )
     return found

@@ -141,12 +141,24 @@ class Scene:
         records = self.rows.record_time[rows]
         return np.where(records > 0, records, self.rows.stamp[rows])
 
+    def first_at(self, rows: IntpArray) -> str:
+        """When the first of ``rows`` arrived (``at``)."""
+        return self.at(int(self.arrival(rows).min()))
+
     def finding(
-        self, severity: Severity, code: str, message: str, hint: str, frames: tuple[str, ...], rows: IntpArray
+        self,
+        severity: Severity,
+        code: str,
+        message: str,
+        hint: str,
+        frames: tuple[str, ...],
+        rows: IntpArray,
+        times: Int64Array | None = None,
     ) -> Finding:
-        """A finding about the transforms ``rows``: their publishers, first and last stamps, and count."""
-        stamps = self.rows.stamp[rows]
-        first, last = int(stamps.min()), int(stamps.max())
+        """A finding about the transforms ``rows``: their publishers, count, and first and last ``times``
+        (default: their stamps)."""
+        times = self.rows.stamp[rows] if times is None else times
+        first, last = int(times.min()), int(times.max())
         return Finding(severity, code, message, hint, frames, self.authorities_of(rows), first, last, len(rows))
 
     # --- wording ----------------------------------------------------------------------------

@@ -267,8 +267,7 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
             f"fine if intended (a node restarted under another name at {scene.at(handover)}); "
             f"the silence between them lasted {duration((handover - spans[0][1]) / 1e9)}"
         )
-    first, last = min(s[0] for s in spans), max(s[1] for s in spans)
-    return Finding(severity, "multiple_authorities", message, hint, (parent, child), who, first, last, len(mine))
+    return scene.finding(severity, "multiple_authorities", message, hint, (parent, child), mine, scene.arrival(mine))
 
 
 def _split(scene: Scene, mine: IntpArray, ids: np.ndarray) -> Iterator[tuple[int, IntpArray, Int64Array]]:

@@ -320,7 +320,7 @@ def _went_back(
     largest = int(behind[back].max())
     offenders = mine[back]
     by = scene.by(scene.authorities_of(offenders))
-    first = scene.at(int(scene.arrival(offenders).min()))
+    first = scene.first_at(offenders)
     if largest >= TIME_JUMP:
         jumps = int((back[1:] & ~back[:-1]).sum() + back[0])
         hint = (
@@ -362,7 +362,7 @@ def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.nd
     """Stamps sent again: with the same values (ROS 1's tf2 logs TF_REPEATED_DATA; ROS 2's takes them
     silently and is not asked here), or with other values (ROS 1's drops them, ROS 2's keeps both)."""
     sent = f"{name}{scene.by(scene.authorities_of(offenders))} sent {transforms(len(offenders))}"
-    first = scene.at(int(scene.arrival(offenders).min()))
+    first = scene.first_at(offenders)
     other_values = (
         "stamp each update with the time it describes; two publishers or a stamp that does not advance repeat it"
     )

@@ -156,16 +156,14 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
                 "at its stamp"
             )
         parents = sorted({rows.names[p] for p in rows.parent[mine].tolist()})
-        yield Finding(
+        yield scene.finding(
             Severity.error,
             "mixed_static",
             f"{name} (under {listed(parents)}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
             f"({transforms(len(fixed))}) and on /tf{_by(scene, scene.authorities_of(moving))} "
-            f"({transforms(len(moving))}, from {scene.at(int(scene.arrival(moving).min()))}): {effect}",
+            f"({transforms(len(moving))}, from {scene.first_at(moving)}): {effect}",
             "send each frame on one topic: /tf_static if it never moves, /tf otherwise",
             (name, *parents),
-            scene.authorities_of(mine),
-            int(scene.arrival(mine).min()),
-            int(scene.arrival(mine).max()),
-            len(mine),
+            mine,
+            scene.arrival(mine),
         )

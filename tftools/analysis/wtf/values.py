@@ -83,7 +83,7 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
         Severity.error,
         "invalid_values",
         f"{transforms(len(mine))} {edge(parent or '(empty)', child or '(empty)')}{by} "
-        f"refused by tf2 ({', '.join(kinds)}), first at {scene.at(int(scene.arrival(mine).min()))}",
+        f"refused by tf2 ({', '.join(kinds)}), first at {scene.first_at(mine)}",
         "tf2 drops them (TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION), so lookups miss these updates: " + "; ".join(hints),
         tuple(f for f in (parent, child) if f),
         mine,
@@ -105,7 +105,7 @@ def self_transform(scene: Scene) -> Iterator[Finding]:
             Severity.error,
             "self_transform",
             f"{transforms(len(mine))} from {frame} to itself{scene.by(scene.authorities_of(mine))}{sent}, "
-            f"first at {scene.at(int(scene.arrival(mine).min()))}: tf2 ignores them (TF_SELF_TRANSFORM)",
+            f"first at {scene.first_at(mine)}: tf2 ignores them (TF_SELF_TRANSFORM)",
             "header.frame_id must name the parent and child_frame_id the frame that moves: set them to two "
             "different frames (a name with and without a leading '/' is the same frame)",
             (frame,),
@@ -127,7 +127,7 @@ def empty_frame_id(scene: Scene) -> Iterator[Finding]:
                 Severity.error,
                 "empty_frame_id",
                 f"{transforms(len(mine))}{scene.by(scene.authorities_of(mine))} with an empty {field} "
-                f"({other_field} {named or 'empty too'}), first at {scene.at(int(scene.arrival(mine).min()))}: "
+                f"({other_field} {named or 'empty too'}), first at {scene.first_at(mine)}: "
                 f"tf2 ignores them (TF_NO_{'CHILD_' if field == 'child_frame_id' else ''}FRAME_ID)",
                 "set both header.frame_id and child_frame_id (an empty frame parameter in a launch file or "
                 "config is the usual cause)",
@@ -156,7 +156,7 @@ def leading_slash(scene: Scene) -> Iterator[Finding]:
             Severity.warning,
             "leading_slash",
             f"frame ids with a leading '/'{scene.by([rows.authorities[authority]])}: {listed(names)} "
-            f"(in {transforms(len(mine))}, first at {scene.at(int(scene.arrival(mine).min()))})",
+            f"(in {transforms(len(mine))}, first at {scene.first_at(mine)})",
             "tf2 drops the '/' when it stores them, but lookups by those names fail ('frame_ids cannot start with "
             "a /') and tools comparing names see two frames: remove the '/' from the publisher's frame names "
             "(tf_prefix is gone since ROS Hydro)",
