@@ -74,7 +74,7 @@ def frame_graph(buffer: Buffer, findings: Sequence[Finding] | None = None) -> Fr
     by_key = {s.key: s for s in stats}
     keys = [*by_key, *(key for key in rejected if key not in by_key)]
     names = list(tree.frames) + sorted({f for key in keys for f in key} - set(tree.frames))
-    roots = {name for name in names if name in tree.frames and tree.frames[name].parent is None}
+    roots = set(tree.roots)
     edge_problems, node_problems = _pin(found, keys, roots)
     edges = tuple(
         GraphEdge(p, c, by_key.get((p, c)), tuple(sorted(rejected.get((p, c), {}).items())), edge_problems[(p, c)])

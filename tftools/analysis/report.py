@@ -94,7 +94,7 @@ def _axis(recording: Recording, streams: Sequence[StampedMessages]) -> tuple[int
     """The stretch the timelines cover: the dynamic edges', and the sensor data's arrivals within as long
     again on either side (a stamp far off must not squash the rest into a point)."""
     timeline = recording.timeline
-    start, end = edge_axis(recording.buffer, timeline) or (timeline.tf_start, timeline.tf_end)
+    start, end = edge_axis(recording.buffer, timeline)
     data = stream_axis(streams, timeline)
     if data is not None:
         slack = max(end - start, NS_PER_S)

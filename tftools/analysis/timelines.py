@@ -16,7 +16,7 @@ import numpy as np
 from tftools.analysis.edges import gap_rows
 from tftools.analysis.filter import LOST, UNDECIDED, Fate, StreamReport, message_fates, recording_end
 from tftools.analysis.monitor import MonitorReport
-from tftools.core.arrays import FloatArray, Int64Array, IntpArray
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
@@ -115,23 +115,18 @@ class StreamTimeline:
     wait_max_s: FloatArray
 
 
-@dataclass(frozen=True)
-class _Rows:
-    """One edge's samples: where they sit on the axis, and their stamps and record times."""
-
-    axis: Int64Array
-    stamps: Int64Array
-    records: Int64Array
-
-
-def edge_axis(buffer: Buffer, timeline: Timeline) -> tuple[int, int] | None:
-    """The span of the dynamic edges on the axis (None without any)."""
+def edge_axis(buffer: Buffer, timeline: Timeline) -> tuple[int, int]:
+    """The span of the dynamic edges on the axis (the tf stamps' without any)."""
     spans = [
         (int(axis[0]), int(axis[-1]))
         for child, hist in buffer.histories()
         if not hist.static and len(hist)
         for axis in [_axis(timeline, child, hist.stamps, hist.record_times)]
     ]
+    return _hull(spans) or (timeline.tf_start, timeline.tf_end)
+
+
+def _hull(spans: Sequence[tuple[int, int]]) -> tuple[int, int] | None:
     return (min(s for s, _ in spans), max(e for _, e in spans)) if spans else None
 
 
@@ -149,14 +144,8 @@ def _timelines(buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int) -
         changes = _reparentings(buffer, child, hist, timeline)
         for parent_id in np.unique(hist.parents).tolist():
             parent = buffer.frame_name(parent_id)
-            mine = hist.parents == parent_id
-            rows = _Rows(
-                _axis(timeline, child, hist.stamps[mine], hist.record_times[mine]),
-                hist.stamps[mine],
-                hist.record_times[mine],
-            )
             near = tuple(c for c in changes if parent in (c.before, c.after))
-            yield _timeline(parent, child, hist.static, rows, timeline, bins, gap_floor, near)
+            yield _timeline(parent, child, hist, hist.parents == parent_id, timeline, bins, gap_floor, near)
 
 
 def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array) -> Int64Array:
@@ -170,24 +159,27 @@ def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Arra
 def _timeline(
     parent: str,
     child: str,
-    static: bool,
-    rows: _Rows,
+    hist: EdgeHistory,
+    mine: BoolArray,
     timeline: Timeline,
     bins: Bins,
     gap_floor: int,
     reparentings: tuple[Reparenting, ...],
 ) -> EdgeTimeline:
-    if static:  # latched once, stamped at any time (often 0): nothing to place on the axis
+    """The timeline of ``hist``'s samples ``mine`` (those under ``parent``)."""
+    if hist.static:  # latched once, stamped at any time (often 0): nothing to place on the axis
         nothing = np.full(bins.count, np.nan)
         none = np.zeros(bins.count, np.int64)
         return EdgeTimeline(parent, child, True, False, none, nothing, nothing, nothing, (), reparentings)
-    where = bins.index(rows.axis)
+    stamps, records = hist.stamps[mine], hist.record_times[mine]
+    axis = _axis(timeline, child, stamps, records)
+    where = bins.index(axis)
     samples = np.bincount(where, minlength=bins.count).astype(np.int64)
-    mean, largest = _delays(child, rows, where, timeline, bins.count)
-    _, _, gaps = gap_rows(rows.stamps, gap_floor)
-    spans = tuple((int(rows.axis[i]), int(rows.axis[i + 1])) for i in gaps.tolist())
+    mean, largest = _delays(timeline, child, stamps, records, where, bins.count)
+    _, _, gaps = gap_rows(stamps, gap_floor)
+    spans = tuple((int(axis[i]), int(axis[i + 1])) for i in gaps.tolist())
     at_arrival = child in timeline.off_reference
-    rate = local_rate(rows.axis, bins)
+    rate = local_rate(axis, bins)
     return EdgeTimeline(parent, child, False, at_arrival, samples, rate, mean, largest, spans, reparentings)
 
 
@@ -208,10 +200,12 @@ def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
     return rate
 
 
-def _delays(child: str, rows: _Rows, where: IntpArray, timeline: Timeline, count: int) -> tuple[FloatArray, FloatArray]:
+def _delays(
+    timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array, where: IntpArray, count: int
+) -> tuple[FloatArray, FloatArray]:
     """Mean and largest delay (s) of the samples in each bin: ``Timeline.delays`` of those whose arrival is known."""
-    _, known = timeline.ros_time(rows.records)
-    delays = timeline.delays(child, rows.stamps[known], rows.records[known])
+    _, known = timeline.ros_time(records)
+    delays = timeline.delays(child, stamps[known], records[known])
     if not len(delays):
         return np.full(count, np.nan), np.full(count, np.nan)
     return _mean_max(where[known], delays / NS_PER_S, count)
@@ -244,8 +238,7 @@ def _reparentings(buffer: Buffer, child: str, hist: EdgeHistory, timeline: Timel
 def stream_axis(streams: Sequence[StampedMessages], timeline: Timeline) -> tuple[int, int] | None:
     """The span of the sensor messages' arrivals on the axis (None without any)."""
     arrivals = [timeline.arrival(s.stamp, s.record_time) for s in streams if len(s)]
-    spans = [(int(axis.min()), int(axis.max())) for axis in arrivals]
-    return (min(s for s, _ in spans), max(e for _, e in spans)) if spans else None
+    return _hull([(int(axis.min()), int(axis.max())) for axis in arrivals])
 
 
 def stream_timelines(
@@ -295,7 +288,7 @@ def edge_series(
 ) -> list[EdgeSeries]:
     """The moving edges' rates and delays over ``[start, end]`` (default: their span), in bins (their
     middles), those of ``keys`` only when given."""
-    span = edge_axis(buffer, timeline) or (timeline.tf_start, timeline.tf_end)
+    span = edge_axis(buffer, timeline)
     bins = bins_over(span[0] if start is None else start, span[1] if end is None else end)
     middles = bins.edges()[:-1] + bins.width // 2
     edges = edge_timelines(buffer, timeline, bins, gap_floor=0, keys=keys)
