@@ -40,7 +40,7 @@ def _infer(scene: Scene) -> list[Finding]:
         ]
         if not any(signs):
             continue
-        frames = (rows.names[parent], rows.names[child])
+        frames = (parent, child)
         found.append(
             scene.finding(
                 Severity.warning,

@@ -117,4 +117,4 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
 
 def _static_edges(scene: Scene) -> list[tuple[str, str]]:
     rows = scene.rows
-    return [(rows.names[p], rows.names[c]) for p, c, _ in rows.by_edge(rows.static)]
+    return [(parent, child) for parent, child, _ in rows.by_edge(rows.static)]

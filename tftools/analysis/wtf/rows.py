@@ -137,14 +137,15 @@ class Rows:
         """``compute`` of the values (N, 7), for every row in record order, computed a segment at a time."""
         return self._layout.whole(lambda s: compute(s.values))
 
-    def by_edge(self, mask: BoolArray) -> Iterator[tuple[int, int, IntpArray]]:
-        """(parent id, child id, rows) for each edge among the ``mask`` rows, in order of first arrival."""
-        return self._layout.groups(mask, by_parent=True)
+    def by_edge(self, mask: BoolArray) -> Iterator[tuple[str, str, IntpArray]]:
+        """(parent, child, rows) for each edge among the ``mask`` rows, in order of first arrival."""
+        for parent, child, rows in self._layout.groups(mask, by_parent=True):
+            yield self.names[parent], self.names[child], rows
 
-    def by_child(self, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
-        """(child id, rows) for each child frame among the ``mask`` rows, in order of first arrival."""
+    def by_child(self, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
+        """(child, rows) for each child frame among the ``mask`` rows, in order of first arrival."""
         for _, child, rows in self._layout.groups(mask, by_parent=False):
-            yield child, rows
+            yield self.names[child], rows
 
     @cached_property
     def static(self) -> BoolArray:

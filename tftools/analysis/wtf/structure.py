@@ -52,7 +52,7 @@ def _edge_spans(scene: Scene) -> dict[tuple[str, str], tuple[int, int]]:
     for parent, child, mine in rows.by_edge(rows.usable):
         static = bool(rows.static[mine].all())
         stamps = rows.stamp[mine]
-        spans[(rows.names[parent], rows.names[child])] = _ALWAYS if static else (int(stamps.min()), int(stamps.max()))
+        spans[(parent, child)] = _ALWAYS if static else (int(stamps.min()), int(stamps.max()))
     return spans
 
 
@@ -71,9 +71,8 @@ def _loop_edges(scene: Scene, pairs: set[tuple[str, str]]) -> _LoopEdges:
     rows = scene.rows
     began: _LoopEdges = {}
     for rank, (parent, child, mine) in enumerate(rows.by_edge(rows.usable)):
-        key = (rows.names[parent], rows.names[child])
-        if key in pairs:
-            began[key] = (rank, int(scene.arrival(mine).min()), scene.authorities_of(mine))
+        if (parent, child) in pairs:
+            began[(parent, child)] = (rank, int(scene.arrival(mine).min()), scene.authorities_of(mine))
     return began
 
 
@@ -188,9 +187,8 @@ def multiple_parents(scene: Scene) -> Iterator[Finding]:
         yield _parents_finding(scene, child, mine, switches)
 
 
-def _parents_finding(scene: Scene, child_id: int, mine: np.ndarray, switches: np.ndarray) -> Finding:
+def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.ndarray) -> Finding:
     rows = scene.rows
-    child = rows.names[child_id]
     described, publishers, names = [], [], []
     for parent_id, theirs, times in _split(scene, mine, rows.parent[mine]):
         who = scene.authorities_of(theirs)
@@ -240,7 +238,7 @@ def multiple_authorities(scene: Scene) -> Iterator[Finding]:
             ids = rows.authority[mine]
             if ids.min() == ids.max():
                 continue
-            yield _authorities_finding(scene, rows.names[parent], rows.names[child], mine)
+            yield _authorities_finding(scene, parent, child, mine)
 
 
 def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray) -> Finding:

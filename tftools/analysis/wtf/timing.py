@@ -41,8 +41,7 @@ def stale(scene: Scene) -> Iterator[Finding]:
             continue
         by = scene.by(s.authorities)
         if s.count == 1:
-            message = f"{edge(s.parent, s.child)} was sent once on /tf{by}"
-            message += f", stamped {scene.at(s.last_stamp)}"
+            message = f"{edge(s.parent, s.child)} was sent once on /tf{by}, stamped {scene.at(s.last_stamp)}"
             hint = (
                 "a /tf transform holds only at its stamp, so lookups at any other time fail: publish a fixed "
                 "transform on /tf_static (static_transform_publisher), or keep publishing it"
@@ -144,14 +143,14 @@ def rate(scene: Scene) -> Iterator[Finding]:
             silent.add(e.child)
             yield found
     rows = scene.rows
-    for child_id, mine in _streams(scene, rows.named & ~rows.static):
-        if rows.names[child_id] in silent:
+    for child, mine in _streams(scene, rows.named & ~rows.static):
+        if child in silent:
             continue
         stamps = rows.stamp[mine]
         fresh = np.concatenate([[True], stamps[1:] != stamps[:-1]])
         arrivals = np.sort(scene.received(mine[fresh]))
         if len(arrivals) >= 3:
-            frames = (rows.names[rows.parent[mine[-1:]][0]], rows.names[child_id])
+            frames = (rows.names[rows.parent[mine[-1:]][0]], child)
             yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals)
 
 
@@ -240,18 +239,18 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
     taking_turns = {f.frames[1] for f in inferred_broadcasters(scene)}
-    for child_id, mine in _streams(scene, rows.usable & ~rows.static):
-        if rows.names[child_id] not in taking_turns:
-            yield from _stamps_of(scene, child_id, mine)
+    for child, mine in _streams(scene, rows.usable & ~rows.static):
+        if child not in taking_turns:
+            yield from _stamps_of(scene, child, mine)
 
 
-def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
+def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
     """The ``mask`` rows of each child frame from each of its publishers, in arrival order."""
     rows = scene.rows
-    for child_id, frame_rows in rows.by_child(mask):
+    for child, frame_rows in rows.by_child(mask):
         publishers = rows.authority[frame_rows]
         for publisher in dict.fromkeys(publishers.tolist()):
-            yield child_id, frame_rows[publishers == publisher]
+            yield child, frame_rows[publishers == publisher]
 
 
 def _behind(stamps: Int64Array) -> tuple[Int64Array, BoolArray]:
@@ -267,34 +266,32 @@ def _jumped(scene: Scene) -> set[str]:
     """Child frames whose stamps jumped back in time, by any publisher."""
     rows = scene.rows
     found = set()
-    for child_id, mine in _streams(scene, rows.usable & ~rows.static):
+    for child, mine in _streams(scene, rows.usable & ~rows.static):
         behind, back = _behind(rows.stamp[mine])
         if back.any() and behind[back].max() >= TIME_JUMP:
-            found.add(rows.names[child_id])
+            found.add(child)
     return found
 
 
-def _stamps_of(scene: Scene, child_id: int, mine: np.ndarray) -> Iterator[Finding]:
+def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
     rows = scene.rows
     stamps = rows.stamp[mine]
     if len(stamps) < 2:
         return
     behind, back = _behind(stamps)
-    before = stamps + behind
     repeat, same = _repeats(stamps, rows.values[mine])
     repeat &= ~back
     records = rows.record_time[mine]
     late = (records > 0) & (records - stamps > from_sec(scene.thresholds.delay))
     if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
-        back &= ~(late & (before - stamps < TIME_JUMP))
-    parent = rows.names[rows.parent[mine[-1:]][0]]
-    frames = (parent, rows.names[child_id])
+        back &= ~(late & (behind < TIME_JUMP))
+    frames = (rows.names[rows.parent[mine[-1:]][0]], child)
     if back.any():
-        yield _went_back(scene, edge(*frames), frames, mine, back, before - stamps)
+        yield _went_back(scene, frames, mine, back, behind)
     ros2 = scene.buffer.semantics == "ros2"
     for again, identical in ((repeat & ~same, False), (repeat & same, True)):
         if again.any() and not (ros2 and identical):  # ROS 2's tf2 takes an identical sample again silently
-            yield _repeated(scene, edge(*frames), frames, mine[again], identical)
+            yield _repeated(scene, frames, mine[again], identical)
 
 
 def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -312,15 +309,12 @@ def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.nda
     return repeat, same
 
 
-def _went_back(
-    scene: Scene, name: str, frames: tuple[str, str], mine: np.ndarray, back: np.ndarray, behind: Int64Array
-) -> Finding:
+def _went_back(scene: Scene, frames: tuple[str, str], mine: IntpArray, back: BoolArray, behind: Int64Array) -> Finding:
     """``back`` marks the rows stamped before the newest stamp so far, ``behind`` by how much: a jump
     back in time (an error), or transforms out of order by less, which tf2 sorts into place (a warning)."""
     largest = int(behind[back].max())
     offenders = mine[back]
-    by = scene.by(scene.authorities_of(offenders))
-    first = scene.first_at(offenders)
+    name, by, first = edge(*frames), scene.by(scene.authorities_of(offenders)), scene.first_at(offenders)
     if largest >= TIME_JUMP:
         jumps = int((back[1:] & ~back[:-1]).sum() + back[0])
         hint = (
@@ -358,10 +352,10 @@ def _went_back(
     )
 
 
-def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.ndarray, same: bool) -> Finding:
+def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same: bool) -> Finding:
     """Stamps sent again: with the same values (ROS 1's tf2 logs TF_REPEATED_DATA; ROS 2's takes them
     silently and is not asked here), or with other values (ROS 1's drops them, ROS 2's keeps both)."""
-    sent = f"{name}{scene.by(scene.authorities_of(offenders))} sent {transforms(len(offenders))}"
+    sent = f"{edge(*frames)}{scene.by(scene.authorities_of(offenders))} sent {transforms(len(offenders))}"
     first = scene.first_at(offenders)
     other_values = (
         "stamp each update with the time it describes; two publishers or a stamp that does not advance repeat it"

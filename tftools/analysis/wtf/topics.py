@@ -36,7 +36,7 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     or sent in the same messages as moving ones (a gripper finger at rest among the arm's joints)."""
     rows = scene.rows
     contested = _contested(scene)
-    constant: list[tuple[int, int, np.ndarray]] = []
+    constant: list[tuple[str, str, np.ndarray]] = []
     moving = np.zeros(len(rows), bool)
     for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
         values = rows.values[mine]
@@ -47,8 +47,7 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     for parent, child, mine in constant:
         if len(mine) < STATIC_MIN_SAMPLES or child in contested:
             continue
-        frames = (rows.names[parent], rows.names[child])
-        if _moving_by_nature(frames[0]) or frames[1] in (frames[0], *scene.tree.ancestors(frames[0])):
+        if _moving_by_nature(parent) or child in (parent, *scene.tree.ancestors(parent)):
             continue  # moving by nature, or in a loop
         stamps = rows.stamp[mine]
         span = int(stamps.max()) - int(stamps.min())
@@ -58,12 +57,12 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
         yield scene.finding(
             Severity.warning,
             "static_on_dynamic",
-            f"{edge(*frames)} never changes, yet it is sent on /tf{_by(scene, scene.authorities_of(mine))} "
+            f"{edge(parent, child)} never changes, yet it is sent on /tf{_by(scene, scene.authorities_of(mine))} "
             f"{hz:.1f} times a second ({transforms(len(mine))} over {duration(span / NS_PER_S)})",
             "publish it once on /tf_static (static_transform_publisher, or a fixed joint for robot_state_publisher): "
             "it then holds at every time and /tf carries less; ignore this if it is a joint that did not move "
             "during this recording",
-            frames,
+            (parent, child),
             mine,
         )
 
@@ -91,7 +90,7 @@ def _message_keys(rows: Rows, which: np.ndarray) -> np.ndarray:
     return pairs.view(np.dtype((np.void, pairs.dtype.itemsize * 2))).ravel()
 
 
-def _contested(scene: Scene) -> set[int]:
+def _contested(scene: Scene) -> set[str]:
     """Child frames with more than one parent or publisher."""
     rows = scene.rows
     found = set()
@@ -122,13 +121,13 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.error,
             "dynamic_on_static",
-            f"{edge(rows.names[parent], rows.names[child])} takes {distinct} different values on /tf_static"
+            f"{edge(parent, child)} takes {distinct} different values on /tf_static"
             f"{_by(scene, who)}: it changed {len(changed)} time{'s' if len(changed) > 1 else ''}, first at "
             f"{scene.at(int(when[0]))}",
             "a static transform holds at every time, so tf2 applies its latest value to the past too: send a "
             "moving transform on /tf with current stamps (a TransformBroadcaster), and on /tf_static only what "
             "never moves",
-            (rows.names[parent], rows.names[child]),
+            (parent, child),
             who,
             int(when[0]),
             int(when[-1]),
@@ -139,11 +138,10 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
 @register("mixed_static", Severity.error, "one frame sent both on /tf_static and on /tf")
 def mixed_static(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    for child, mine in rows.by_child(rows.usable):
+    for name, mine in rows.by_child(rows.usable):
         static = rows.static[mine]
         if static.all() or not static.any():
             continue
-        name = rows.names[child]
         fixed, moving = mine[static], mine[~static]
         if static[0]:
             effect = (

@@ -27,19 +27,19 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
     bad_quaternion = rows.finite & ~rows.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
     refused = nan | inf | bad_quaternion
     for parent, child, mine in rows.by_edge(refused):
-        yield _refused(scene, rows.names[parent], rows.names[child], mine, nan, inf)
+        yield _refused(scene, parent, child, mine, nan, inf)
     slightly = rows.finite & ~bad_quaternion & rows.of_values(lambda v: _length_error(v) > ROSWTF_NORM_TOLERANCE)
     for parent, child, mine in rows.by_edge(slightly):
         worst = float(_length_error(rows.values[mine]).max())
         yield scene.finding(
             Severity.warning if worst > VISIBLE_NORM_ERROR else Severity.info,
             "invalid_values",
-            f"rotations of {edge(rows.names[parent], rows.names[child])}{scene.by(scene.authorities_of(mine))} "
+            f"rotations of {edge(parent, child)}{scene.by(scene.authorities_of(mine))} "
             f"are not unit length in {transforms(len(mine))} (| |q| - 1 | up to {worst:.2g}): tf2 accepts them, "
             "but points through this edge get scaled",
             "normalise the quaternion before publishing (tf2::Quaternion::normalize()); roswtf flags rotations "
             f"off by more than {ROSWTF_NORM_TOLERANCE:g}",
-            (rows.names[parent], rows.names[child]),
+            (parent, child),
             mine,
         )
 
@@ -96,8 +96,7 @@ def self_transform(scene: Scene) -> Iterator[Finding]:
     parents, children = rows.parent.whole(), rows.child.whole()
     same = (parents == children) & (children != 0)
     del parents, children
-    for _, child, mine in rows.by_edge(same):
-        frame = rows.names[child]
+    for _, frame, mine in rows.by_edge(same):
         raw_pairs = zip(rows.raw_parent[mine].tolist(), rows.raw_child[mine].tolist(), strict=True)
         spelled = sorted({f"{rows.raw_names[p]} -> {rows.raw_names[c]}" for p, c in raw_pairs})
         sent = f", sent as {listed(spelled)}: one frame to tf2" if any(n.startswith("/") for n in spelled) else ""
