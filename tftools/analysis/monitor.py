@@ -89,14 +89,9 @@ def chain_stats(
     frames = tuple(buffer.chain(target, source))
     by_key = {e.key: e for e in edges}
     hops = chain_edges(buffer, frames)
-    moving = [hop for hop in hops if not _is_static(buffer, hop)]
+    moving = [hop for hop in hops if (hist := buffer.history(hop[1])) is not None and not hist.static]
     mean, largest, limiting = _chain_delay(buffer, moving, start, end, timeline)
     return ChainStats(target, source, frames, tuple(by_key[h] for h in hops if h in by_key), mean, largest, limiting)
-
-
-def _is_static(buffer: Buffer, edge: tuple[str, str]) -> bool:
-    hist = buffer.history(edge[1])
-    return hist is None or hist.static
 
 
 def _newest_stamps(

@@ -14,7 +14,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import EdgeSamples, Scene, edge
+from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray
 from tftools.core.rotation import angle_between_many
 from tftools.core.time import NS_PER_S
@@ -78,10 +78,6 @@ def _neighbour_speed(steps: FloatArray, seconds: FloatArray) -> FloatArray:
     return median
 
 
-def _base(frame: str) -> str:
-    return frame.rsplit("/", 1)[-1]
-
-
 def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Jumps, Int64Array]]:
     """Each moving edge of one publisher, into odom or not (``into_odom``), with its unexplained steps
     and the stamps they end at (edges where several publishers take turns are ``multiple_authorities``'
@@ -90,7 +86,7 @@ def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Ju
     for samples in scene.dynamic_edges:
         if len(samples.authorities) > 1 or (samples.parent, samples.child) in contested:
             continue
-        if (_base(samples.child) == ODOM) is into_odom and len(found := jumps(samples.stamps, samples.values)):
+        if (base_name(samples.child) == ODOM) is into_odom and len(found := jumps(samples.stamps, samples.values)):
             yield samples, found, samples.stamps[found.at]
 
 
@@ -98,7 +94,7 @@ def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Ju
 def jump(scene: Scene) -> Iterator[Finding]:
     """Not map -> odom, whose corrections REP 105 allows (``map_corrections``)."""
     for samples, found, when in _edge_jumps(scene, into_odom=False):
-        continuous = _base(samples.parent) == ODOM
+        continuous = base_name(samples.parent) == ODOM
         why = (
             "REP 105 wants odom -> base continuous (odometry that never jumps): a reset odometry or a "
             "localizer publishing here makes everything planned in odom leap; publish corrections as map -> odom"
@@ -147,7 +143,7 @@ def rep105(scene: Scene) -> Iterator[Finding]:
     base frames below it. Frames in separate trees are ``disconnected``'s to report."""
     tree = scene.tree
     for name in tree.frames:
-        if _base(name) != ODOM:
+        if base_name(name) != ODOM:
             continue
         prefix = name[: -len(ODOM)]
         if _together(tree, prefix + MAP, name) and prefix + MAP not in tree.ancestors(name):

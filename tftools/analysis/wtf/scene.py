@@ -189,6 +189,11 @@ def edge(parent: str, child: str) -> str:
     return f"{parent} -> {child}"
 
 
+def base_name(frame: str) -> str:
+    """``frame`` without a namespace prefix (``robot1/odom`` -> ``odom``)."""
+    return frame.rsplit("/", 1)[-1]
+
+
 def transforms(n: int) -> str:
     return f"{n} transform{'' if n == 1 else 's'}"
 

@@ -158,7 +158,8 @@ def _join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
     for root in roots[1:TYPO_ROOTS]:
         if len(root) > TYPO_NAME_LENGTH:
             continue
-        others = list(itertools.islice(_frames_apart(roots, members, root), TYPO_FRAMES))
+        apart = (f for r in roots if r != root for f in members[r] if len(f) <= TYPO_NAME_LENGTH)
+        others = list(itertools.islice(apart, TYPO_FRAMES))
         close = difflib.get_close_matches(root, others, n=1, cutoff=0.8)
         if close:
             return f"'{root}' looks like a misspelling of '{close[0]}': fix the frame name where it is published"
@@ -167,13 +168,6 @@ def _join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
         f"publish the transform that attaches {other} to the {main} tree (a static_transform_publisher for a "
         "fixed mount, localization for map -> odom), or check the frame names for typos"
     )
-
-
-def _frames_apart(roots: list[str], members: dict[str, list[str]], root: str) -> Iterator[str]:
-    """The frames of the trees other than ``root``'s, of names short enough for the typo search."""
-    for r in roots:
-        if r != root:
-            yield from (f for f in members[r] if len(f) <= TYPO_NAME_LENGTH)
 
 
 @register("multiple_parents", Severity.error, "a frame re-parented: two parents for one frame")

@@ -10,7 +10,7 @@ from tftools.analysis.edges import rate_hz
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, base_name, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
@@ -103,8 +103,7 @@ def _contested(scene: Scene) -> set[str]:
 
 def _moving_by_nature(parent: str) -> bool:
     """map, odom, world, earth (REP 105): what is under them moves even when it stands still."""
-    base = parent.rsplit("/", 1)[-1]
-    return base in WORLD_FRAMES or base.startswith("odom")
+    return base_name(parent) in WORLD_FRAMES or base_name(parent).startswith("odom")
 
 
 @register("dynamic_on_static", Severity.error, "a changing transform on /tf_static")
