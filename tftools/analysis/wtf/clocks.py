@@ -9,7 +9,7 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, counted, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference
 
@@ -185,7 +185,7 @@ def sim_clock(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.warning,
             "sim_clock",
-            f"{clock.topic} went back {len(back)} time{'s' if len(back) > 1 else ''}, by up to "
+            f"{clock.topic} went back {counted(len(back), 'time')}, by up to "
             f"{duration(-float(steps[back].min()) / NS_PER_S)}, first at {first}",
             "a looped replay (rosbag play --loop) or a reset simulation: listeners clear their tf buffers at each "
             "jump back, and lookups across it mix two timelines",
@@ -200,7 +200,7 @@ def sim_clock(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.warning,
             "sim_clock",
-            f"{clock.topic} paused {len(long)} time{'s' if len(long) > 1 else ''} while the recording went on, "
+            f"{clock.topic} paused {counted(len(long), 'time')} while the recording went on, "
             f"the longest for {duration(float(pauses[i]) / NS_PER_S)} at {clock.clock[i] / NS_PER_S:.3f}",
             "ROS time stands still for every node with use_sim_time while /clock is silent (a paused or stalled "
             "simulator): timers and lookups at 'now' wait",

@@ -194,8 +194,12 @@ def base_name(frame: str) -> str:
     return frame.rsplit("/", 1)[-1]
 
 
+def counted(n: int, thing: str) -> str:
+    return f"{n} {thing}{'' if n == 1 else 's'}"
+
+
 def transforms(n: int) -> str:
-    return f"{n} transform{'' if n == 1 else 's'}"
+    return counted(n, "transform")
 
 
 def duration(seconds: float) -> str:

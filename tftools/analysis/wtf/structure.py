@@ -12,7 +12,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, counted, duration, edge, listed, transforms
 from tftools.core.arrays import Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 
@@ -130,8 +130,7 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         return
     roots = sorted(members, key=lambda r: -len(members[r]))
     trees = "; ".join(
-        f"{root} ({len(members[root])} frame{'s' if len(members[root]) > 1 else ''}: {listed(members[root])})"
-        for root in roots[:TREES_DESCRIBED]
+        f"{root} ({counted(len(members[root]), 'frame')}: {listed(members[root])})" for root in roots[:TREES_DESCRIBED]
     )
     if len(roots) > TREES_DESCRIBED:
         trees += f"; and {len(roots) - TREES_DESCRIBED} more"
@@ -194,8 +193,8 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
     now = scene.buffer.frame_name(hist.latest_parent) if hist is not None else rows.names[rows.parent[mine[-1:]][0]]
     switch_times = scene.arrival(switches)
     message = (
-        f"{child} has {len(names)} parents: {'; '.join(described)}; it changed parent {len(switches)} "
-        f"time{'s' if len(switches) > 1 else ''}, first at {scene.at(int(switch_times[0]))}, and is now under {now}"
+        f"{child} has {len(names)} parents: {'; '.join(described)}; it changed parent {counted(len(switches), 'time')}"
+        f", first at {scene.at(int(switch_times[0]))}, and is now under {now}"
     )
     all_publishers = tuple(dict.fromkeys(a for group in publishers for a in group))
     if scene.publishers_known and not set.intersection(*publishers):

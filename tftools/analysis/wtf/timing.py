@@ -10,7 +10,7 @@ from tftools.analysis.edges import PERIODS, EdgeStats, edge_gaps
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
+from tftools.analysis.wtf.scene import EdgeSamples, Scene, counted, duration, edge, transforms
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.time import NS_PER_S, from_sec
@@ -161,8 +161,8 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
     return Finding(
         Severity.warning,
         "rate",
-        f"{edge(e.parent, e.child)}{scene.by(e.authorities)} went silent {gaps.count} time"
-        f"{'s' if gaps.count > 1 else ''} (it publishes every {duration(gaps.period / NS_PER_S)}): the longest "
+        f"{edge(e.parent, e.child)}{scene.by(e.authorities)} went silent {counted(gaps.count, 'time')} (it "
+        f"publishes every {duration(gaps.period / NS_PER_S)}): the longest "
         f"for {duration(gaps.longest / NS_PER_S)} from {scene.at(gaps.longest_start)}",
         "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
         "the publisher's load, its rate parameter and its connection",
@@ -325,7 +325,7 @@ def _went_back(scene: Scene, frames: tuple[str, str], mine: IntpArray, back: Boo
             hint += "; tf2 refuses samples older than its 10 s cache behind the newest (TF_OLD_DATA)"
         severity = Severity.error
         message = (
-            f"stamps of {name}{by} went back {jumps} time{'s' if jumps > 1 else ''}, by up to "
+            f"stamps of {name}{by} went back {counted(jumps, 'time')}, by up to "
             f"{duration(largest / NS_PER_S)}, first at {first}: {transforms(len(offenders))} stamped before one "
             "already sent"
         )

@@ -10,7 +10,7 @@ from tftools.analysis.edges import rate_hz
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
-from tftools.analysis.wtf.scene import Scene, base_name, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, base_name, counted, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
@@ -121,7 +121,7 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
             Severity.error,
             "dynamic_on_static",
             f"{edge(parent, child)} takes {distinct} different values on /tf_static"
-            f"{_by(scene, who)}: it changed {len(changed)} time{'s' if len(changed) > 1 else ''}, first at "
+            f"{_by(scene, who)}: it changed {counted(len(changed), 'time')}, first at "
             f"{scene.at(int(when[0]))}",
             "a static transform holds at every time, so tf2 applies its latest value to the past too: send a "
             "moving transform on /tf with current stamps (a TransformBroadcaster), and on /tf_static only what "
