@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Generic, NamedTuple, TypeVar
+from typing import Any, Generic, NamedTuple, TypeVar
 
 import numpy as np
 import numpy.typing as npt
@@ -240,6 +240,12 @@ def _layout(segments: list[Segment]) -> Layout:
     row = np.empty(total, np.int32)
     row[place] = np.arange(total, dtype=np.int32)
     return Layout(segments, starts, place, row)
+
+
+def split(rows: IntpArray, keys: npt.NDArray[Any]) -> Iterator[tuple[int, IntpArray]]:
+    """Per value of ``keys`` (one per row of ``rows``), first seen first: it, and its rows."""
+    for key in dict.fromkeys(keys.tolist()):
+        yield key, rows[keys == key]
 
 
 def norm_error(values: FloatArray) -> FloatArray:

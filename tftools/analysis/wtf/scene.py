@@ -128,9 +128,7 @@ class Scene:
 
     def authorities_of(self, rows: IntpArray) -> tuple[str, ...]:
         """The publishers of ``rows``, in order of first appearance."""
-        ids = self.rows.authority[rows]
-        _, first = np.unique(ids, return_index=True)
-        return tuple(self.rows.authorities[int(ids[i])] for i in sorted(first))
+        return tuple(self.rows.authorities[a] for a in dict.fromkeys(self.rows.authority[rows].tolist()))
 
     def arrival(self, rows: IntpArray) -> Int64Array:
         """When ``rows`` arrived, on the stamps' clock: ROS time at arrival, or stamps where unknown."""

@@ -12,6 +12,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, counted, duration, edge, listed, transforms
 from tftools.core.arrays import Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
@@ -183,7 +184,8 @@ def multiple_parents(scene: Scene) -> Iterator[Finding]:
 def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.ndarray) -> Finding:
     rows = scene.rows
     described, publishers, names = [], [], []
-    for parent_id, theirs, times in _split(scene, mine, rows.parent[mine]):
+    for parent_id, theirs in split(mine, rows.parent[mine]):
+        times = scene.arrival(theirs)
         who = scene.authorities_of(theirs)
         publishers.append(set(who))
         by = scene.by(who)
@@ -238,7 +240,8 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
     rows = scene.rows
     who = scene.authorities_of(mine)
     spans, described = [], []
-    for authority, theirs, times in _split(scene, mine, rows.authority[mine]):
+    for authority, theirs in split(mine, rows.authority[mine]):
+        times = scene.arrival(theirs)
         spans.append((int(times.min()), int(times.max())))
         described.append(f"{rows.authorities[authority]} ({_during(scene, theirs, times)})")
     together = any(a[0] <= b[1] and b[0] <= a[1] for i, a in enumerate(spans) for b in spans[i + 1 :])
@@ -259,14 +262,6 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
             f"the silence between them lasted {duration((handover - spans[0][1]) / 1e9)}"
         )
     return scene.finding(severity, "multiple_authorities", message, hint, (parent, child), mine, scene.arrival(mine))
-
-
-def _split(scene: Scene, mine: IntpArray, ids: np.ndarray) -> Iterator[tuple[int, IntpArray, Int64Array]]:
-    """Per value of ``ids`` (a column of the rows ``mine``), first seen first: it, its rows and their arrivals."""
-    _, first = np.unique(ids, return_index=True)
-    for key in ids[np.sort(first)].tolist():
-        theirs = mine[ids == key]
-        yield key, theirs, scene.arrival(theirs)
 
 
 def _during(scene: Scene, rows: IntpArray, arrivals: Int64Array) -> str:

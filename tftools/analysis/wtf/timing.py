@@ -10,6 +10,7 @@ from tftools.analysis.edges import PERIODS, EdgeStats, edge_gaps
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, counted, duration, edge, transforms
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
@@ -248,9 +249,8 @@ def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
     """The ``mask`` rows of each child frame from each of its publishers, in arrival order."""
     rows = scene.rows
     for child, frame_rows in rows.by_child(mask):
-        publishers = rows.authority[frame_rows]
-        for publisher in dict.fromkeys(publishers.tolist()):
-            yield child, frame_rows[publishers == publisher]
+        for _, theirs in split(frame_rows, rows.authority[frame_rows]):
+            yield child, theirs
 
 
 def _behind(stamps: Int64Array) -> tuple[Int64Array, BoolArray]:

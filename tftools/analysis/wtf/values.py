@@ -8,7 +8,7 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.rows import norm_error
+from tftools.analysis.wtf.rows import norm_error, split
 from tftools.analysis.wtf.scene import Scene, edge, listed, transforms
 from tftools.core.arrays import BoolArray, FloatArray, IntpArray
 from tftools.core.buffer import QUATERNION_TOLERANCE
@@ -120,7 +120,8 @@ def empty_frame_id(scene: Scene) -> Iterator[Finding]:
         ("frame_id", "child_frame_id", parent, child),
         ("child_frame_id", "frame_id", child, parent),
     ):
-        for other_id, mine in _group_by(other, missing == 0):
+        empty = np.flatnonzero(missing == 0)
+        for other_id, mine in split(empty, other[empty]):
             named = rows.names[other_id]
             yield scene.finding(
                 Severity.error,
@@ -135,18 +136,12 @@ def empty_frame_id(scene: Scene) -> Iterator[Finding]:
             )
 
 
-def _group_by(keys: np.ndarray, mask: np.ndarray) -> Iterator[tuple[int, IntpArray]]:
-    rows = np.flatnonzero(mask)
-    for key in dict.fromkeys(keys[rows].tolist()):
-        yield key, rows[keys[rows] == key]
-
-
 @register("leading_slash", Severity.warning, "frame ids starting with '/' (tf_prefix style)")
 def leading_slash(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     slashed = np.array([n.startswith("/") for n in rows.raw_names] or [False])
-    uses = slashed[rows.raw_parent.whole()] | slashed[rows.raw_child.whole()]
-    for authority, mine in _group_by(rows.authority.whole(), uses):
+    uses = np.flatnonzero(slashed[rows.raw_parent.whole()] | slashed[rows.raw_child.whole()])
+    for authority, mine in split(uses, rows.authority[uses]):
         names = sorted(
             {rows.raw_names[i] for i in (*rows.raw_parent[mine].tolist(), *rows.raw_child[mine].tolist())}
             & {n for n in rows.raw_names if n.startswith("/")}
