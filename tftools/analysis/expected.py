@@ -7,7 +7,7 @@ What ``tfx wtf --init`` writes of a healthy recording (``analysis.tree_file``), 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -26,8 +26,7 @@ class Tolerances:
     rate_percent: float = 20.0
 
     def __post_init__(self) -> None:
-        for name in ("translation_mm", "rotation_deg", "rate_percent"):
-            value = getattr(self, name)
+        for name, value in asdict(self).items():
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"tolerance {name} must be a finite number from 0 up, got {value}")
 

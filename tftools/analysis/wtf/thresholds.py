@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 
 @dataclass(frozen=True)
@@ -25,7 +25,6 @@ class Thresholds:
     clock: float = 10.0
 
     def __post_init__(self) -> None:
-        for name in ("stale_after", "max_gap", "delay", "future", "clock"):
-            value = getattr(self, name)
+        for name, value in asdict(self).items():
             if not value > 0:
                 raise ValueError(f"threshold {name} must be above 0 seconds, got {value}")
