@@ -187,7 +187,7 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
     for parent_id, theirs in split(mine, rows.parent[mine]):
         times = scene.arrival(theirs)
         who = scene.authorities_of(theirs)
-        publishers.append(set(who))
+        publishers.append(who)
         by = scene.by(who)
         names.append(rows.names[parent_id])
         described.append(f"{names[-1]} ({by.strip() + ', ' if by else ''}{_during(scene, theirs, times)})")
@@ -199,7 +199,7 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         f", first at {scene.at(int(switch_times[0]))}, and is now under {now}"
     )
     all_publishers = tuple(dict.fromkeys(a for group in publishers for a in group))
-    if scene.publishers_known and not set.intersection(*publishers):
+    if scene.publishers_known and not set.intersection(*map(set, publishers)):
         hint = (
             f"{child} can have one parent only, and these publishers fight over it: lookups jump between trees. "
             f"Let one of them publish {child}; the others attach elsewhere (a localizer publishes map -> odom, "

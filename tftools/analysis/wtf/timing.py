@@ -53,17 +53,8 @@ def stale(scene: Scene) -> Iterator[Finding]:
                 "its publisher stopped (crashed, shut down or stalled) while the recording went on: lookups after "
                 "its last stamp fail with 'Lookup would require extrapolation into the future'; check that node"
             )
-        yield Finding(
-            Severity.error,
-            "stale",
-            f"{message}, {duration(silent)} before the recording ends",
-            hint,
-            s.key,
-            s.authorities,
-            s.last_stamp,
-            scene.end,
-            s.count,
-        )
+        message += f", {duration(silent)} before the recording ends"
+        yield Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
 
 
 def _last_arrival(s: EdgeStats) -> int:
