@@ -164,9 +164,14 @@ class Rows:
         return self.of_values(lambda v: np.asarray(np.isfinite(v).all(axis=1), bool))
 
     @cached_property
+    def normalised(self) -> BoolArray:
+        """Rotations tf2 takes for unit quaternions."""
+        return self.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
+
+    @cached_property
     def usable(self) -> BoolArray:
         """The rows tf2 would not refuse on their face (repeated stamps aside)."""
-        return self.named & self.finite & self.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
+        return self.named & self.finite & self.normalised
 
 
 def rows_of(recording: Recording) -> Rows:

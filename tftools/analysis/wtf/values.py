@@ -8,10 +8,9 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.rows import norm_error, split
+from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, edge, listed, transforms
 from tftools.core.arrays import BoolArray, FloatArray, IntpArray
-from tftools.core.buffer import QUATERNION_TOLERANCE
 
 #: roswtf's limit on | |q| - 1 | for a rotation to count as normalised.
 ROSWTF_NORM_TOLERANCE = 1e-6
@@ -24,7 +23,7 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     nan: BoolArray = rows.of_values(lambda v: np.asarray(np.isnan(v).any(axis=1), bool))
     inf = ~rows.finite & ~nan
-    bad_quaternion = rows.finite & ~rows.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
+    bad_quaternion = rows.finite & ~rows.normalised
     refused = nan | inf | bad_quaternion
     for parent, child, mine in rows.by_edge(refused):
         yield _refused(scene, parent, child, mine, nan, inf)
@@ -66,9 +65,9 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
             "publish nothing until the values are valid"
         )
     if n_quat:
-        quat_rows = mine[~nan[mine] & ~inf[mine]]
-        zero = int((np.abs(rows.values[quat_rows][:, 3:]).sum(axis=1) == 0).sum())
-        lengths = np.sqrt((rows.values[quat_rows][:, 3:] ** 2).sum(axis=1))
+        rotations = rows.values[mine[~nan[mine] & ~inf[mine]]][:, 3:]
+        zero = int((np.abs(rotations).sum(axis=1) == 0).sum())
+        lengths = np.sqrt((rotations**2).sum(axis=1))
         kinds.append(
             f"a rotation of length {lengths.min():.3g}"
             + (f" to {lengths.max():.3g}" if lengths.max() - lengths.min() > 5e-4 else "")
