@@ -1,8 +1,5 @@
-"""A tree's shape: each frame's parent, which edges are static and their values, publishers, rates.
-
-What ``tfx wtf --init`` writes of a healthy recording (``analysis.tree_file``), what ``tfx wtf
---expect`` and ``tfx diff`` compare (``analysis.diff``), and the tolerances they compare within.
-"""
+"""A tree's shape (each frame's parent, static edges' values, publishers, rates) as ``tfx wtf --init`` writes
+it (``analysis.tree_file``), and the tolerances within which ``--expect`` and ``tfx diff`` compare two."""
 
 from __future__ import annotations
 

@@ -1,10 +1,7 @@
 """Edges and sensor streams over time, on one time axis cut into equal bins: what ``tfx report`` draws.
 
-Each figure is the local form of ``analysis.edges``' (a rate is samples over a stretch of stamps, a
-delay is ``Timeline.delays``, a gap is ``edges.gap_rows``') and of ``analysis.filter``'s fates. The
-axis is the tf stamps' clock; a frame stamped on another clock (``Timeline.off_reference``) is placed
-at its arrival instead, so that every row of a recording shares one axis.
-"""
+Each figure is the local form of ``analysis.edges``' and of ``analysis.filter``'s fates. The axis is the
+tf stamps' clock; a frame stamped on another clock is placed at its arrival, so that every row shares it."""
 
 from __future__ import annotations
 

@@ -237,9 +237,5 @@ def _parent(scene: Scene, child: str) -> str:
 
 
 def _authorities(scene: Scene, children: Sequence[str]) -> tuple[str, ...]:
-    found: dict[str, None] = {}
-    for child in children:
-        hist = scene.buffer.history(child)
-        if hist is not None:
-            found.update(dict.fromkeys(scene.buffer.authorities[int(a)] for a in np.unique(hist.authorities)))
-    return tuple(found)
+    frames = scene.tree.frames
+    return tuple(dict.fromkeys(a for child in children if child in frames for a in frames[child].authorities))
