@@ -116,10 +116,7 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
     main = max(clusters, key=len)
     for cluster in clusters:
         if cluster is not main:
-            kind = _kind(
-                cluster[0].offset_record - main[0].offset_record, cluster[0].median_stamp, main[0].median_stamp
-            )
-            yield _disagreeing_with_others(scene, kind, cluster, main)
+            yield _disagreeing_with_others(scene, cluster, main)
     yield Finding(
         Severity.info,
         "clock",
@@ -130,7 +127,8 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
     )
 
 
-def _disagreeing_with_others(scene: Scene, kind: str, edges: list[EdgeClock], main: list[EdgeClock]) -> Finding:
+def _disagreeing_with_others(scene: Scene, edges: list[EdgeClock], main: list[EdgeClock]) -> Finding:
+    kind = _kind(edges[0].offset_record - main[0].offset_record, edges[0].median_stamp, main[0].median_stamp)
     stamp = float(np.median([e.median_stamp for e in edges])) / NS_PER_S
     theirs = float(np.median([e.median_stamp for e in main])) / NS_PER_S
     said = (

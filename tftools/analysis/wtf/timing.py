@@ -63,21 +63,22 @@ def _last_arrival(s: EdgeStats) -> int:
     return s.last_record or s.last_stamp
 
 
-def _arrivals(scene: Scene, e: EdgeSamples) -> tuple[Int64Array, Int64Array]:
-    """Stamps and ROS times at arrival of the samples that came on /tf when that time is known
-    (none for a frame stamped on another clock than the recording's: ``clock`` says so)."""
-    if e.child in scene.off_clock:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    ros, known = scene.timeline.ros_time(e.record_times)
-    keep = known & ~e.from_static_topic
-    return e.stamps[keep], ros[keep]
+def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Array]]:
+    """Each moving edge with the stamps and ROS times at arrival of its samples that came on /tf when
+    that time is known, where there are any (none for a frame stamped on another clock than the
+    recording's: ``clock`` says so)."""
+    for e in scene.dynamic_edges:
+        if e.child not in scene.off_clock:
+            ros, known = scene.timeline.ros_time(e.record_times)
+            keep = known & ~e.from_static_topic
+            if keep.any():
+                yield e, e.stamps[keep], ros[keep]
 
 
 @register("future", Severity.error, "stamps ahead of the time they were recorded")
 def future(scene: Scene) -> Iterator[Finding]:
     limit = from_sec(scene.thresholds.future)
-    for e in scene.dynamic_edges:
-        stamps, records = _arrivals(scene, e)
+    for e, stamps, records in _arrivals(scene):
         ahead = stamps - records
         early = ahead > limit
         if not early.any():
@@ -98,10 +99,7 @@ def future(scene: Scene) -> Iterator[Finding]:
 @register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")
 def delay(scene: Scene) -> Iterator[Finding]:
     limit = from_sec(scene.thresholds.delay)
-    for e in scene.dynamic_edges:
-        stamps, records = _arrivals(scene, e)
-        if not len(stamps):
-            continue
+    for e, stamps, records in _arrivals(scene):
         delays = records - stamps
         late = delays > limit
         if late.mean() <= DELAY_SHARE:
