@@ -66,15 +66,25 @@ def gap_rows(stamps: Int64Array, floor: int) -> tuple[int, Int64Array, IntpArray
 
 
 @dataclass(frozen=True)
-class EdgeStats:
+class Edge:
+    """A parent -> child edge, by its frames' names."""
+
+    parent: str
+    child: str
+
+    @property
+    def key(self) -> tuple[str, str]:
+        return (self.parent, self.child)
+
+
+@dataclass(frozen=True)
+class EdgeStats(Edge):
     """One parent -> child edge over a time window.
 
     Rates and gaps come from the stamps (sorted, as tf2 stores them); delays are ROS time at
     arrival minus stamp (``Timeline.delays``), NaN where that is unknown and for static edges.
     """
 
-    parent: str
-    child: str
     static: bool
     count: int
     authorities: tuple[str, ...]
@@ -87,10 +97,6 @@ class EdgeStats:
     delay_mean_s: float
     delay_max_s: float
     last_record: int  # latest record time (0 where unknown)
-
-    @property
-    def key(self) -> tuple[str, str]:
-        return (self.parent, self.child)
 
 
 @dataclass(frozen=True)
@@ -261,8 +267,8 @@ def _edge(
     hist: EdgeHistory,
     rows: BoolArray,
     timeline: Timeline,
-    before: int | None = None,
-    silence_end: int | None = None,
+    before: int | None,
+    silence_end: int | None,
 ) -> EdgeStats:
     stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
     records = hist.record_times[rows]

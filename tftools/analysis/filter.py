@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import PERIODS, chain_edges
+from tftools.analysis.edges import PERIODS, Edge, chain_edges
 from tftools.analysis.frames import frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
@@ -77,20 +77,14 @@ class Fates:
 
 
 @dataclass(frozen=True)
-class _Edge:
+class _Edge(Edge):
     """One edge of a chain as a listener saw it fill: after each arrival (record times, sorted), the
     newest and the oldest stamp it held."""
 
-    parent: str
-    child: str
     static: bool
     records: Int64Array
     newest: Int64Array
     oldest: Int64Array
-
-    @property
-    def key(self) -> tuple[str, str]:
-        return (self.parent, self.child)
 
     def first_ready(self, stamps: Int64Array) -> Int64Array:
         """When the edge first held a stamp at or after each of ``stamps`` (any sample, for stamp 0)."""

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from tftools.analysis.edges import EdgeStats, edge_stats
+from tftools.analysis.edges import Edge, EdgeStats, edge_stats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.wtf import check
@@ -19,11 +19,9 @@ _CHILD_FIRST_CODES = frozenset({"multiple_parents"})
 
 
 @dataclass(frozen=True)
-class GraphEdge:
+class GraphEdge(Edge):
     """One parent -> child edge: its statistics (None when every sample was rejected) and problems."""
 
-    parent: str
-    child: str
     stats: EdgeStats | None
     rejected: tuple[tuple[str, int], ...] = ()  # (tf2 code, samples)
     problems: tuple[int, ...] = ()  # indices into FrameGraph.findings

@@ -83,7 +83,7 @@ def chain_stats(
     source: str,
     start: int | None,
     end: int,
-    timeline: Timeline | None = None,
+    timeline: Timeline | None,
 ) -> ChainStats:
     """The chain between the frames, its edges' numbers (from ``edges``) and its delay."""
     frames = tuple(buffer.chain(target, source))

@@ -86,7 +86,7 @@ def _tree_order(graph: FrameGraph, buffer: Buffer) -> list[tuple[str, str]]:
     """The graph's edges as the tree's lines run, top to bottom (``FrameTree.walk``); edges into frames
     under no root (a loop) last."""
     line = {frame: i for i, (_, frame) in enumerate(frame_tree(buffer).walk())}
-    keys = [(e.parent, e.child) for e in graph.edges]
+    keys = [e.key for e in graph.edges]
     return sorted(keys, key=lambda key: line.get(key[1], len(line)))
 
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import gap_rows
+from tftools.analysis.edges import Edge, gap_rows
 from tftools.analysis.filter import LOST, UNDECIDED, Fate, StreamReport, message_fates, recording_end
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
@@ -55,11 +55,11 @@ class Bins:
         return np.clip((times - self.start) // self.width, 0, self.count - 1).astype(np.intp)
 
 
-def bins_over(start: int, end: int, most: int = MAX_BINS) -> Bins:
-    """At most ``most`` bins covering ``[start, end]``, each 1, 2 or 5 times a power of ten ns long and
-    none shorter than ``FINEST_BIN``."""
+def bins_over(start: int, end: int) -> Bins:
+    """At most ``MAX_BINS`` bins covering ``[start, end]``, each 1, 2 or 5 times a power of ten ns long
+    and none shorter than ``FINEST_BIN``."""
     span = max(end - start, 1)
-    width = _round_up(max(-(-span // most), FINEST_BIN))
+    width = _round_up(max(-(-span // MAX_BINS), FINEST_BIN))
     return Bins(start, width, max(1, -(-span // width)))
 
 
@@ -80,13 +80,11 @@ class Reparenting:
 
 
 @dataclass(frozen=True)
-class EdgeTimeline:
+class EdgeTimeline(Edge):
     """One parent -> child edge over the axis: per bin its samples, rate, mean and largest delay (NaN
     where there is none, outside its span, or where delays cannot be measured); its gaps as (start, end)
     axis times; its frame's re-parentings."""
 
-    parent: str
-    child: str
     static: bool
     at_arrival: bool  # placed at arrival: its stamps are on another clock than the reference
     samples: Int64Array
@@ -95,10 +93,6 @@ class EdgeTimeline:
     delay_max_s: FloatArray
     gaps: tuple[tuple[int, int], ...]
     reparentings: tuple[Reparenting, ...]
-
-    @property
-    def key(self) -> tuple[str, str]:
-        return (self.parent, self.child)
 
 
 @dataclass(frozen=True)
@@ -266,11 +260,9 @@ def stream_timelines(
 
 
 @dataclass(frozen=True)
-class EdgeSeries:
+class EdgeSeries(Edge):
     """One edge's rate and mean delay over time (NaN where unknown): what ``--plot`` draws."""
 
-    parent: str
-    child: str
     times: Int64Array
     rate_hz: FloatArray
     delay_s: FloatArray

@@ -84,7 +84,7 @@ def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Ju
     to report: their values alternate)."""
     contested = {(f.frames[0], f.frames[1]) for f in inferred_broadcasters(scene)}
     for samples in scene.dynamic_edges:
-        if len(samples.authorities) > 1 or (samples.parent, samples.child) in contested:
+        if len(samples.authorities) > 1 or samples.key in contested:
             continue
         if (base_name(samples.child) == ODOM) is into_odom and len(found := jumps(samples.stamps, samples.values)):
             yield samples, found, samples.stamps[found.at]
@@ -105,7 +105,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
         yield samples.finding(
             Severity.error if continuous else Severity.warning,
             "jump",
-            f"{edge(samples.parent, samples.child)}{scene.by(samples.authorities)} jumped {_times(len(found))} "
+            f"{edge(*samples.key)}{scene.by(samples.authorities)} jumped {_times(len(found))} "
             f"further than its own motion explains: the largest {_largest(found)} at "
             f"{scene.at(int(when[found.largest]))}, the first at {scene.at(int(when[0]))}",
             why,
@@ -120,7 +120,7 @@ def map_corrections(scene: Scene) -> Iterator[Finding]:
         yield samples.finding(
             Severity.info,
             "map_corrections",
-            f"{edge(samples.parent, samples.child)}{scene.by(samples.authorities)} was corrected "
+            f"{edge(*samples.key)}{scene.by(samples.authorities)} was corrected "
             f"{_times(len(found))} in {seconds:.1f} s: typically {np.median(found.metres):.3f} m and "
             f"{np.median(found.degrees):.1f}°, at most {_largest(found)} at {scene.at(int(when[found.largest]))}",
             "REP 105 lets localization step map -> odom; large or frequent corrections are worth a look at the "

@@ -9,7 +9,7 @@ from typing import TypeVar, cast
 
 import numpy as np
 
-from tftools.analysis.edges import EdgeStats, edge_stats
+from tftools.analysis.edges import Edge, EdgeStats, edge_stats
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.findings import Finding, Severity
@@ -27,11 +27,9 @@ T = TypeVar("T")
 
 
 @dataclass(frozen=True)
-class EdgeSamples:
+class EdgeSamples(Edge):
     """The samples tf2 stored for one parent -> child edge (dynamic), sorted by stamp."""
 
-    parent: str
-    child: str
     stamps: Int64Array
     record_times: Int64Array
     values: FloatArray
@@ -40,8 +38,8 @@ class EdgeSamples:
 
     def finding(self, severity: Severity, code: str, message: str, hint: str, stamps: Int64Array) -> Finding:
         """A finding about this edge's samples stamped ``stamps``."""
-        frames, first, last = (self.parent, self.child), int(stamps.min()), int(stamps.max())
-        return Finding(severity, code, message, hint, frames, self.authorities, first, last, len(stamps))
+        first, last = int(stamps.min()), int(stamps.max())
+        return Finding(severity, code, message, hint, self.key, self.authorities, first, last, len(stamps))
 
 
 class Scene:

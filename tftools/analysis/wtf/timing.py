@@ -42,13 +42,13 @@ def stale(scene: Scene) -> Iterator[Finding]:
             continue
         by = scene.by(s.authorities)
         if s.count == 1:
-            message = f"{edge(s.parent, s.child)} was sent once on /tf{by}, stamped {scene.at(s.last_stamp)}"
+            message = f"{edge(*s.key)} was sent once on /tf{by}, stamped {scene.at(s.last_stamp)}"
             hint = (
                 "a /tf transform holds only at its stamp, so lookups at any other time fail: publish a fixed "
                 "transform on /tf_static (static_transform_publisher), or keep publishing it"
             )
         else:
-            message = f"{edge(s.parent, s.child)}{by} stopped at {scene.at(s.last_stamp)}"
+            message = f"{edge(*s.key)}{by} stopped at {scene.at(s.last_stamp)}"
             hint = (
                 "its publisher stopped (crashed, shut down or stalled) while the recording went on: lookups after "
                 "its last stamp fail with 'Lookup would require extrapolation into the future'; check that node"
@@ -86,7 +86,7 @@ def future(scene: Scene) -> Iterator[Finding]:
         yield e.finding(
             Severity.error,
             "future",
-            f"{edge(e.parent, e.child)}{scene.by(e.authorities)}: {int(early.sum())} of {transforms(len(stamps))} "
+            f"{edge(*e.key)}{scene.by(e.authorities)}: {int(early.sum())} of {transforms(len(stamps))} "
             f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, first at "
             f"{scene.at(int(records[early].min()))}",
             "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates its "
@@ -110,7 +110,7 @@ def delay(scene: Scene) -> Iterator[Finding]:
         yield e.finding(
             Severity.warning,
             "delay",
-            f"{edge(e.parent, e.child)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
+            f"{edge(*e.key)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
             f"more than {scene.thresholds.delay:g} s after their stamp (median "
             f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)}), "
             f"first at {scene.at(int(records[late].min()))}",
@@ -151,12 +151,12 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
     return Finding(
         Severity.warning,
         "rate",
-        f"{edge(e.parent, e.child)}{scene.by(e.authorities)} went silent {counted(gaps.count, 'time')} (it "
+        f"{edge(*e.key)}{scene.by(e.authorities)} went silent {counted(gaps.count, 'time')} (it "
         f"publishes every {duration(gaps.period / NS_PER_S)}): the longest "
         f"for {duration(gaps.longest / NS_PER_S)} from {scene.at(gaps.longest_start)}",
         "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
         "the publisher's load, its rate parameter and its connection",
-        (e.parent, e.child),
+        e.key,
         e.authorities,
         gaps.first,
         gaps.last,
