@@ -74,17 +74,16 @@ def _alternating(values: FloatArray) -> int:
     other: a value that goes somewhere else and comes back, sample after sample."""
     if len(values) < 3:
         return 0
-    metres = np.linalg.norm(values[2:, :3] - values[:-2, :3], axis=1)
-    out = np.linalg.norm(values[1:-1, :3] - values[:-2, :3], axis=1)
-    back = np.linalg.norm(values[2:, :3] - values[1:-1, :3], axis=1)
-    rotation_out = _degrees(values[:-2, 3:], values[1:-1, 3:])
-    rotation_back = _degrees(values[1:-1, 3:], values[2:, 3:])
-    rotation_round = _degrees(values[:-2, 3:], values[2:, 3:])
-    moved = ((out > APART_M) & (back > APART_M) & (metres < out / 4)) | (
-        (rotation_out > APART_DEG) & (rotation_back > APART_DEG) & (rotation_round < rotation_out / 4)
+    out_m, out_deg = apart(values[:-2], values[1:-1])
+    back_m, back_deg = apart(values[1:-1], values[2:])
+    round_m, round_deg = apart(values[:-2], values[2:])
+    moved = ((out_m > APART_M) & (back_m > APART_M) & (round_m < out_m / 4)) | (
+        (out_deg > APART_DEG) & (back_deg > APART_DEG) & (round_deg < out_deg / 4)
     )
     return int(moved.sum())
 
 
-def _degrees(a: FloatArray, b: FloatArray) -> FloatArray:
-    return np.degrees(angle_between_many(a, b))
+def apart(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """How far each value of ``b`` is from the one of ``a`` (N x 7 each): metres, and degrees of rotation."""
+    metres: FloatArray = np.linalg.norm(b[:, :3] - a[:, :3], axis=1)
+    return metres, np.degrees(angle_between_many(a[:, 3:], b[:, 3:]))

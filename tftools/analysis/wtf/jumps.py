@@ -12,11 +12,10 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree
-from tftools.analysis.wtf.broadcasters import inferred_broadcasters
+from tftools.analysis.wtf.broadcasters import apart, inferred_broadcasters
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray
-from tftools.core.rotation import angle_between_many
 from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
@@ -54,8 +53,7 @@ def jumps(stamps: np.ndarray, values: FloatArray) -> Jumps:
     """The unexplained steps of samples sorted by stamp (``values``: N x 7, tx ty tz qx qy qz qw)."""
     if len(stamps) < 2:
         return Jumps(np.zeros(0, np.intp), np.zeros(0), np.zeros(0))
-    metres = np.linalg.norm(np.diff(values[:, :3], axis=0), axis=1)
-    degrees = np.degrees(angle_between_many(values[:-1, 3:], values[1:, 3:]))
+    metres, degrees = apart(values[:-1], values[1:])
     seconds = np.diff(stamps).astype(np.float64) / NS_PER_S
     allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds) * seconds + FLOOR_M
     allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds) * seconds + FLOOR_DEG
