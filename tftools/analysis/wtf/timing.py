@@ -77,23 +77,22 @@ def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Arra
 
 @register("future", Severity.error, "stamps ahead of the time they were recorded")
 def future(scene: Scene) -> Iterator[Finding]:
-    limit = from_sec(scene.thresholds.future)
     for e, stamps, records in _arrivals(scene):
         ahead = stamps - records
-        early = ahead > limit
-        if not early.any():
-            continue
-        yield e.finding(
-            Severity.error,
-            "future",
-            f"{edge(*e.key)}{scene.by(e.authorities)}: {int(early.sum())} of {transforms(len(stamps))} "
-            f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, first at "
-            f"{scene.at(int(records[early].min()))}",
-            "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates its "
-            f"transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's transform_tolerance): "
-            "listeners then take them for the newest data and lookups at the present extrapolate wrongly or fail",
-            stamps[early],
-        )
+        early = ahead > from_sec(scene.thresholds.future)
+        if early.any():
+            yield e.finding(
+                Severity.error,
+                "future",
+                f"{edge(*e.key)}{scene.by(e.authorities)}: {int(early.sum())} of {transforms(len(stamps))} "
+                f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, first at "
+                f"{scene.at(int(records[early].min()))}",
+                "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates "
+                f"its transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's "
+                "transform_tolerance): listeners then take them for the newest data and lookups at the present "
+                "extrapolate wrongly or fail",
+                stamps[early],
+            )
 
 
 @register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")
