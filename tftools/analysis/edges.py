@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +29,12 @@ class Gaps:
     longest_start: int  # the stamp the longest one begins at
     first: int  # where the first one begins, and the last one ends
     last: int
+
+
+def rate_hz(samples: int, span: int) -> float:
+    """The one definition of a rate: ``samples`` over a span of ``span`` ns, (samples - 1) / span; 0
+    for fewer than two samples or an empty span."""
+    return (samples - 1) * NS_PER_S / span if samples > 1 and span > 0 else 0.0
 
 
 def edge_gaps(stamps: Int64Array, floor: int) -> Gaps | None:
@@ -58,15 +66,25 @@ def gap_rows(stamps: Int64Array, floor: int) -> tuple[int, Int64Array, IntpArray
 
 
 @dataclass(frozen=True)
-class EdgeStats:
+class Edge:
+    """A parent -> child edge, by its frames' names."""
+
+    parent: str
+    child: str
+
+    @property
+    def key(self) -> tuple[str, str]:
+        return (self.parent, self.child)
+
+
+@dataclass(frozen=True)
+class EdgeStats(Edge):
     """One parent -> child edge over a time window.
 
     Rates and gaps come from the stamps (sorted, as tf2 stores them); delays are ROS time at
     arrival minus stamp (``Timeline.delays``), NaN where that is unknown and for static edges.
     """
 
-    parent: str
-    child: str
     static: bool
     count: int
     authorities: tuple[str, ...]
@@ -79,10 +97,6 @@ class EdgeStats:
     delay_mean_s: float
     delay_max_s: float
     last_record: int  # latest record time (0 where unknown)
-
-    @property
-    def key(self) -> tuple[str, str]:
-        return (self.parent, self.child)
 
 
 @dataclass(frozen=True)
@@ -119,7 +133,7 @@ def edge_stats(
     result = []
     for child, hist in buffer.histories():
         window = _window(hist, start, end, by_record_time, timeline)
-        for parent_id in _parents_in_order(hist):
+        for parent_id in parents_in_order(hist):
             mine = hist.parents == parent_id
             rows = window & mine
             if rows.any():
@@ -184,8 +198,7 @@ def sorted_unique(values: Int64Array) -> Int64Array:
 def _authority(
     name: str, moving: Int64Array, static: Int64Array, edges: list[tuple[str, str]], delays: list[Int64Array]
 ) -> AuthorityStats:
-    span = int(moving[-1] - moving[0]) if len(moving) else 0
-    rate = (len(moving) - 1) * NS_PER_S / span if span > 0 else 0.0
+    rate = rate_hz(len(moving), int(moving[-1] - moving[0])) if len(moving) else 0.0
     messages = len(np.union1d(moving, static)) if len(static) else len(moving)
     mean, largest = _mean_max(np.concatenate(delays))
     return AuthorityStats(name, messages, rate, tuple(edges), mean, largest)
@@ -196,13 +209,19 @@ def _ids(values: Int32Array) -> IntpArray:
     return np.flatnonzero(np.bincount(values)) if len(values) else np.zeros(0, np.intp)
 
 
-def _parents_in_order(hist: EdgeHistory) -> list[int]:
+def parents_in_order(hist: EdgeHistory) -> list[int]:
+    """The ids of every parent ``hist`` had, first seen first."""
     parents = hist.parents
     if len(parents) and parents.min() == parents.max():  # the usual case: one parent ever
         return [int(parents[0])]
     arrival = hist.parents[np.argsort(hist.sequence, kind="stable")]
     ids, first = np.unique(arrival, return_index=True)
     return [int(i) for i in ids[np.argsort(first)]]
+
+
+def chain_edges(buffer: Buffer, frames: Sequence[str]) -> list[tuple[str, str]]:
+    """The (parent, child) edges joining the neighbours of ``frames`` (a ``Buffer.chain``), in its order."""
+    return [(b, a) if buffer.parent(a) == b else (a, b) for a, b in itertools.pairwise(frames)]
 
 
 def _window(
@@ -248,14 +267,13 @@ def _edge(
     hist: EdgeHistory,
     rows: BoolArray,
     timeline: Timeline,
-    before: int | None = None,
-    silence_end: int | None = None,
+    before: int | None,
+    silence_end: int | None,
 ) -> EdgeStats:
     stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
     records = hist.record_times[rows]
     dynamic = not hist.static
     intervals = np.diff(stamps) if dynamic else np.zeros(0, np.int64)
-    span = int(stamps[-1] - stamps[0])
     arrived = int(timeline.arrival(stamps, records).max())
     gap, gap_start = _largest_gap(stamps, intervals, before, silence_end - arrived if silence_end else 0)
     delay_mean, delay_max = _mean_max(_delays(child, hist, rows, timeline))
@@ -267,7 +285,7 @@ def _edge(
         authorities=tuple(buffer.authorities[int(a)] for a in _ids(hist.authorities[rows])),
         first_stamp=int(stamps.min()),
         last_stamp=int(stamps.max()),
-        rate_hz=(len(stamps) - 1) * NS_PER_S / span if dynamic and span > 0 else 0.0,
+        rate_hz=rate_hz(len(stamps), int(stamps[-1] - stamps[0])) if dynamic else 0.0,
         jitter_s=float(np.std(intervals)) / NS_PER_S if len(intervals) else 0.0,
         gap_max_s=gap / NS_PER_S if dynamic else 0.0,
         gap_start=gap_start,

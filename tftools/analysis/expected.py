@@ -1,13 +1,10 @@
-"""A tree's shape: each frame's parent, which edges are static and their values, publishers, rates.
-
-What ``tfx wtf --init`` writes of a healthy recording (``analysis.tree_file``), what ``tfx wtf
---expect`` and ``tfx diff`` compare (``analysis.diff``), and the tolerances they compare within.
-"""
+"""A tree's shape (each frame's parent, static edges' values, publishers, rates) as ``tfx wtf --init`` writes
+it (``analysis.tree_file``), and the tolerances within which ``--expect`` and ``tfx diff`` compare two."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -26,8 +23,7 @@ class Tolerances:
     rate_percent: float = 20.0
 
     def __post_init__(self) -> None:
-        for name in ("translation_mm", "rotation_deg", "rate_percent"):
-            value = getattr(self, name)
+        for name, value in asdict(self).items():
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"tolerance {name} must be a finite number from 0 up, got {value}")
 

@@ -14,18 +14,16 @@ from __future__ import annotations
 
 import enum
 import heapq
-import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import PERIODS
+from tftools.analysis.edges import PERIODS, Edge, chain_edges
 from tftools.analysis.frames import frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
-from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
 
@@ -66,6 +64,11 @@ class Fates:
     edge: Sequence[tuple[str, str] | None]
     lag: Int64Array
 
+    @property
+    def decided(self) -> int:
+        """How many messages' fate the recording tells (not ``UNDECIDED``)."""
+        return len(self.fate) - int(np.isin(self.fate, UNDECIDED).sum())
+
     def waits(self, messages: StampedMessages) -> Int64Array:
         """How long each message waited (ns), for those transformed after a wait."""
         later = self.fate == Fate.LATER
@@ -74,20 +77,14 @@ class Fates:
 
 
 @dataclass(frozen=True)
-class _Edge:
+class _Edge(Edge):
     """One edge of a chain as a listener saw it fill: after each arrival (record times, sorted), the
     newest and the oldest stamp it held."""
 
-    parent: str
-    child: str
     static: bool
     records: Int64Array
     newest: Int64Array
     oldest: Int64Array
-
-    @property
-    def key(self) -> tuple[str, str]:
-        return (self.parent, self.child)
 
     def first_ready(self, stamps: Int64Array) -> Int64Array:
         """When the edge first held a stamp at or after each of ``stamps`` (any sample, for stamp 0)."""
@@ -163,16 +160,12 @@ def _chain(buffer: Buffer, target: str, frame: str, cache_time: int) -> list[_Ed
         return Fate.UNKNOWN_FRAME if not buffer.has_frame(frame) else Fate.NOT_CONNECTED
     except TransformError:
         return Fate.NOT_CONNECTED
-    edges = []
-    for a, b in itertools.pairwise(frames):
-        child, parent = (a, b) if buffer.parent(a) == b else (b, a)
-        hist = buffer.history(child)
-        assert hist is not None
-        edges.append(_edge_of(parent, child, hist, cache_time))
-    return edges
+    return [_edge_of(parent, child, buffer, cache_time) for parent, child in chain_edges(buffer, frames)]
 
 
-def _edge_of(parent: str, child: str, hist: EdgeHistory, cache_time: int) -> _Edge:
+def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int) -> _Edge:
+    hist = buffer.history(child)
+    assert hist is not None
     order = np.argsort(hist.sequence, kind="stable")  # arrival order
     records = np.maximum.accumulate(hist.record_times[order])
     stamps = hist.stamps[order]
@@ -287,12 +280,8 @@ def default_target(buffer: Buffer) -> tuple[str, str]:
     for frame in ("odom", "map"):
         if buffer.has_frame(frame):
             return frame, f"REP 105's {frame} frame"
-    sizes: dict[str, int] = {}
-    root = ""
-    for depth, frame in frame_tree(buffer).walk():  # each tree top down, once: linear in frames
-        root = frame if depth == 0 else root
-        sizes[root] = sizes.get(root, 0) + 1
-    return max(sizes, key=lambda r: sizes[r], default=""), "the root of the largest tree"
+    trees = frame_tree(buffer).trees()
+    return max(sorted(trees), key=lambda root: len(trees[root]), default=""), "the root of the largest tree"
 
 
 def tied_to_tf(stream: StampedMessages) -> bool:
@@ -378,8 +367,7 @@ def _percentiles(waits: Int64Array) -> dict[str, float]:
 
 def _wait_needed(fates: Fates, stream: StampedMessages) -> float | None:
     """The smallest timeout that lets ``KEEP`` of the stream through (0 if on arrival already)."""
-    decided = len(stream) - int(np.isin(fates.fate, UNDECIDED).sum())
-    must = int(np.ceil(KEEP * decided)) - int((fates.fate == Fate.ON_ARRIVAL).sum())
+    must = int(np.ceil(KEEP * fates.decided)) - int((fates.fate == Fate.ON_ARRIVAL).sum())
     waits = np.sort(fates.waits(stream))
     if must <= 0:
         return 0.0
@@ -423,7 +411,7 @@ def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: F
     """The smallest cache (from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length."""
     if not (fates.fate == Fate.OLDER_THAN_CACHE).any():
         return None
-    allowed = (1 - KEEP) * (len(stream) - int(np.isin(fates.fate, UNDECIDED).sum()))
+    allowed = (1 - KEEP) * fates.decided
     for seconds in CACHES_S:
         tried = message_fates(buffer, stream, target, seconds * NS_PER_S, end)
         if (tried.fate == Fate.OLDER_THAN_CACHE).sum() <= allowed:

@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tftools.analysis.edges import parents_in_order, rate_hz
 from tftools.core.buffer import Buffer
-from tftools.core.time import NS_PER_S
 
 
 @dataclass(frozen=True)
@@ -27,10 +27,7 @@ class FrameSummary:
     @property
     def rate_hz(self) -> float:
         """Mean publishing rate over the samples' span; 0 for a static or single-sample edge."""
-        span = self.last_stamp - self.first_stamp
-        if self.static or self.count < 2 or span <= 0:
-            return 0.0
-        return (self.count - 1) * NS_PER_S / span
+        return 0.0 if self.static else rate_hz(self.count, self.last_stamp - self.first_stamp)
 
 
 @dataclass
@@ -44,6 +41,25 @@ class FrameTree:
     def roots(self) -> list[str]:
         """Frames with no parent: one for a healthy tree (a loop has none)."""
         return [name for name, f in self.frames.items() if f.parent is None]
+
+    def trees(self) -> dict[str, list[str]]:
+        """Each root (in ``roots``' order) with its tree: the root and every frame under it, breadth first."""
+        trees = {}
+        for root in self.roots:
+            members = [root]
+            for frame in members:  # grows as it goes: breadth first
+                members.extend(self.children.get(frame, []))
+            trees[root] = members
+        return trees
+
+    def ancestors(self, frame: str) -> list[str]:
+        """``frame``'s parent, that one's parent, and so on up to a root (or until they loop)."""
+        found: list[str] = []
+        parent = self.frames[frame].parent if frame in self.frames else None
+        while parent is not None and parent not in found and parent != frame:
+            found.append(parent)
+            parent = self.frames[parent].parent if parent in self.frames else None
+        return found
 
     def walk(self) -> Iterator[tuple[int, str]]:
         """(depth, frame) for each frame under a root, depth first, roots and siblings in name
@@ -65,14 +81,9 @@ def frame_tree(buffer: Buffer) -> FrameTree:
     frames = {name: FrameSummary(name, None) for name in buffer.frames}
     names, authorities = buffer.frame_name, buffer.authorities
     for name, hist in buffer.histories():
-        parents, publishers = hist.parents, hist.authorities
         if len(hist) == 0:
             continue
-        if parents.min() == parents.max():  # the usual case: one parent ever (no sorting)
-            parent_ids = [int(parents[0])]
-        else:
-            ids, first_seen = np.unique(parents[np.argsort(hist.sequence, kind="stable")], return_index=True)
-            parent_ids = ids[np.argsort(first_seen)].tolist()
+        publishers = hist.authorities
         authority_ids = [int(publishers[0])] if publishers.min() == publishers.max() else np.unique(publishers).tolist()
         stamps = hist.stamps
         first, last = (stamps[0], stamps[-1]) if not hist.static else (stamps.min(), stamps.max())
@@ -84,7 +95,7 @@ def frame_tree(buffer: Buffer) -> FrameTree:
             authorities=tuple(authorities[a] for a in authority_ids),
             first_stamp=int(first),
             last_stamp=int(last),
-            parents=tuple(names(p) for p in parent_ids),
+            parents=tuple(names(p) for p in parents_in_order(hist)),
         )
     children: dict[str, list[str]] = {name: [] for name in frames}
     for name, summary in frames.items():

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from tftools.analysis.edges import EdgeStats, edge_stats
+from tftools.analysis.edges import Edge, EdgeStats, edge_stats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.wtf import check
@@ -19,11 +19,9 @@ _CHILD_FIRST_CODES = frozenset({"multiple_parents"})
 
 
 @dataclass(frozen=True)
-class GraphEdge:
+class GraphEdge(Edge):
     """One parent -> child edge: its statistics (None when every sample was rejected) and problems."""
 
-    parent: str
-    child: str
     stats: EdgeStats | None
     rejected: tuple[tuple[str, int], ...] = ()  # (tf2 code, samples)
     problems: tuple[int, ...] = ()  # indices into FrameGraph.findings
@@ -74,19 +72,20 @@ def frame_graph(buffer: Buffer, findings: Sequence[Finding] | None = None) -> Fr
     by_key = {s.key: s for s in stats}
     keys = [*by_key, *(key for key in rejected if key not in by_key)]
     names = list(tree.frames) + sorted({f for key in keys for f in key} - set(tree.frames))
-    roots = {name for name in names if name in tree.frames and tree.frames[name].parent is None}
+    roots = set(tree.roots)
     edge_problems, node_problems = _pin(found, keys, roots)
     edges = tuple(
-        GraphEdge(p, c, by_key.get((p, c)), tuple(sorted(rejected.get((p, c), {}).items())), edge_problems[(p, c)])
-        for p, c in keys
+        GraphEdge(p, c, by_key.get((p, c)), tuple(sorted(rejected.get((p, c), {}).items())), tuple(pinned))
+        for (p, c), pinned in edge_problems.items()
     )
-    nodes = tuple(GraphNode(name, name in roots, node_problems.get(name, ())) for name in names)
+    nodes = tuple(GraphNode(name, name in roots, tuple(node_problems.get(name, ()))) for name in names)
     return FrameGraph(nodes, edges, found, buffer.now())
 
 
 def _pin(
     findings: Sequence[Finding], keys: Sequence[tuple[str, str]], roots: set[str]
-) -> tuple[dict[tuple[str, str], tuple[int, ...]], dict[str, tuple[int, ...]]]:
+) -> tuple[dict[tuple[str, str], list[int]], dict[str, list[int]]]:
+    """The findings (by index) each edge and each frame shows."""
     edge_problems: dict[tuple[str, str], list[int]] = {key: [] for key in keys}
     node_problems: dict[str, list[int]] = {}
     edges = set(keys)
@@ -103,10 +102,7 @@ def _pin(
         for frame in dict.fromkeys(finding.frames):
             if frame not in covered and (finding.code not in _TREE_CODES or frame in roots):
                 node_problems.setdefault(frame, []).append(index)
-    return (
-        {key: tuple(found) for key, found in edge_problems.items()},
-        {frame: tuple(found) for frame, found in node_problems.items()},
-    )
+    return edge_problems, node_problems
 
 
 def _edges_named(

@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
-import itertools
 import math
 import threading
 from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import AuthorityStats, EdgeStats, authority_stats, edge_stats, sorted_unique
+from tftools.analysis.edges import (
+    AuthorityStats,
+    EdgeStats,
+    authority_stats,
+    chain_edges,
+    edge_stats,
+    sorted_unique,
+)
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
@@ -77,25 +83,15 @@ def chain_stats(
     source: str,
     start: int | None,
     end: int,
-    timeline: Timeline | None = None,
+    timeline: Timeline | None,
 ) -> ChainStats:
     """The chain between the frames, its edges' numbers (from ``edges``) and its delay."""
     frames = tuple(buffer.chain(target, source))
     by_key = {e.key: e for e in edges}
-    hops = [_hop(buffer, a, b) for a, b in itertools.pairwise(frames)]
-    moving = [hop for hop in hops if not _is_static(buffer, hop)]
+    hops = chain_edges(buffer, frames)
+    moving = [hop for hop in hops if (hist := buffer.history(hop[1])) is not None and not hist.static]
     mean, largest, limiting = _chain_delay(buffer, moving, start, end, timeline)
     return ChainStats(target, source, frames, tuple(by_key[h] for h in hops if h in by_key), mean, largest, limiting)
-
-
-def _hop(buffer: Buffer, a: str, b: str) -> tuple[str, str]:
-    """The (parent, child) edge joining two neighbouring frames of a chain."""
-    return (b, a) if buffer.parent(a) == b else (a, b)
-
-
-def _is_static(buffer: Buffer, edge: tuple[str, str]) -> bool:
-    hist = buffer.history(edge[1])
-    return hist is None or hist.static
 
 
 def _newest_stamps(

@@ -86,7 +86,7 @@ def _tree_order(graph: FrameGraph, buffer: Buffer) -> list[tuple[str, str]]:
     """The graph's edges as the tree's lines run, top to bottom (``FrameTree.walk``); edges into frames
     under no root (a loop) last."""
     line = {frame: i for i, (_, frame) in enumerate(frame_tree(buffer).walk())}
-    keys = [(e.parent, e.child) for e in graph.edges]
+    keys = [e.key for e in graph.edges]
     return sorted(keys, key=lambda key: line.get(key[1], len(line)))
 
 
@@ -94,7 +94,7 @@ def _axis(recording: Recording, streams: Sequence[StampedMessages]) -> tuple[int
     """The stretch the timelines cover: the dynamic edges', and the sensor data's arrivals within as long
     again on either side (a stamp far off must not squash the rest into a point)."""
     timeline = recording.timeline
-    start, end = edge_axis(recording.buffer, timeline) or (timeline.tf_start, timeline.tf_end)
+    start, end = edge_axis(recording.buffer, timeline)
     data = stream_axis(streams, timeline)
     if data is not None:
         slack = max(end - start, NS_PER_S)

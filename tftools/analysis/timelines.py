@@ -1,10 +1,7 @@
 """Edges and sensor streams over time, on one time axis cut into equal bins: what ``tfx report`` draws.
 
-Each figure is the local form of ``analysis.edges``' (a rate is samples over a stretch of stamps, a
-delay is ``Timeline.delays``, a gap is ``edges.gap_rows``') and of ``analysis.filter``'s fates. The
-axis is the tf stamps' clock; a frame stamped on another clock (``Timeline.off_reference``) is placed
-at its arrival instead, so that every row of a recording shares one axis.
-"""
+Each figure is the local form of ``analysis.edges``' and of ``analysis.filter``'s fates. The axis is the
+tf stamps' clock; a frame stamped on another clock is placed at its arrival, so that every row shares it."""
 
 from __future__ import annotations
 
@@ -13,10 +10,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import gap_rows
+from tftools.analysis.edges import Edge, gap_rows
 from tftools.analysis.filter import LOST, UNDECIDED, Fate, StreamReport, message_fates, recording_end
 from tftools.analysis.monitor import MonitorReport
-from tftools.core.arrays import FloatArray, Int64Array, IntpArray
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
@@ -58,11 +55,11 @@ class Bins:
         return np.clip((times - self.start) // self.width, 0, self.count - 1).astype(np.intp)
 
 
-def bins_over(start: int, end: int, most: int = MAX_BINS) -> Bins:
-    """At most ``most`` bins covering ``[start, end]``, each 1, 2 or 5 times a power of ten ns long and
-    none shorter than ``FINEST_BIN``."""
+def bins_over(start: int, end: int) -> Bins:
+    """At most ``MAX_BINS`` bins covering ``[start, end]``, each 1, 2 or 5 times a power of ten ns long
+    and none shorter than ``FINEST_BIN``."""
     span = max(end - start, 1)
-    width = _round_up(max(-(-span // most), FINEST_BIN))
+    width = _round_up(max(-(-span // MAX_BINS), FINEST_BIN))
     return Bins(start, width, max(1, -(-span // width)))
 
 
@@ -83,13 +80,11 @@ class Reparenting:
 
 
 @dataclass(frozen=True)
-class EdgeTimeline:
+class EdgeTimeline(Edge):
     """One parent -> child edge over the axis: per bin its samples, rate, mean and largest delay (NaN
     where there is none, outside its span, or where delays cannot be measured); its gaps as (start, end)
     axis times; its frame's re-parentings."""
 
-    parent: str
-    child: str
     static: bool
     at_arrival: bool  # placed at arrival: its stamps are on another clock than the reference
     samples: Int64Array
@@ -98,10 +93,6 @@ class EdgeTimeline:
     delay_max_s: FloatArray
     gaps: tuple[tuple[int, int], ...]
     reparentings: tuple[Reparenting, ...]
-
-    @property
-    def key(self) -> tuple[str, str]:
-        return (self.parent, self.child)
 
 
 @dataclass(frozen=True)
@@ -115,23 +106,18 @@ class StreamTimeline:
     wait_max_s: FloatArray
 
 
-@dataclass(frozen=True)
-class _Rows:
-    """One edge's samples: where they sit on the axis, and their stamps and record times."""
-
-    axis: Int64Array
-    stamps: Int64Array
-    records: Int64Array
-
-
-def edge_axis(buffer: Buffer, timeline: Timeline) -> tuple[int, int] | None:
-    """The span of the dynamic edges on the axis (None without any)."""
+def edge_axis(buffer: Buffer, timeline: Timeline) -> tuple[int, int]:
+    """The span of the dynamic edges on the axis (the tf stamps' without any)."""
     spans = [
         (int(axis[0]), int(axis[-1]))
         for child, hist in buffer.histories()
         if not hist.static and len(hist)
         for axis in [_axis(timeline, child, hist.stamps, hist.record_times)]
     ]
+    return _hull(spans) or (timeline.tf_start, timeline.tf_end)
+
+
+def _hull(spans: Sequence[tuple[int, int]]) -> tuple[int, int] | None:
     return (min(s for s, _ in spans), max(e for _, e in spans)) if spans else None
 
 
@@ -140,25 +126,17 @@ def edge_timelines(
 ) -> list[EdgeTimeline]:
     """Every edge's timeline (static ones too, flat), in the order of ``keys`` when given (edges not
     among them left out); a gap is a pause longer than ``gap_floor`` ns and ``PERIODS`` periods."""
-    found = {(parent, child): made for parent, child, made in _timelines(buffer, timeline, bins, gap_floor)}
+    found = {made.key: made for made in _timelines(buffer, timeline, bins, gap_floor)}
     return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
 
 
-def _timelines(
-    buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int
-) -> Iterator[tuple[str, str, EdgeTimeline]]:
+def _timelines(buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int) -> Iterator[EdgeTimeline]:
     for child, hist in buffer.histories():
         changes = _reparentings(buffer, child, hist, timeline)
         for parent_id in np.unique(hist.parents).tolist():
             parent = buffer.frame_name(parent_id)
-            mine = hist.parents == parent_id
-            rows = _Rows(
-                _axis(timeline, child, hist.stamps[mine], hist.record_times[mine]),
-                hist.stamps[mine],
-                hist.record_times[mine],
-            )
             near = tuple(c for c in changes if parent in (c.before, c.after))
-            yield parent, child, _timeline(parent, child, hist.static, rows, timeline, bins, gap_floor, near)
+            yield _timeline(parent, child, hist, hist.parents == parent_id, timeline, bins, gap_floor, near)
 
 
 def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array) -> Int64Array:
@@ -172,24 +150,27 @@ def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Arra
 def _timeline(
     parent: str,
     child: str,
-    static: bool,
-    rows: _Rows,
+    hist: EdgeHistory,
+    mine: BoolArray,
     timeline: Timeline,
     bins: Bins,
     gap_floor: int,
     reparentings: tuple[Reparenting, ...],
 ) -> EdgeTimeline:
-    if static:  # latched once, stamped at any time (often 0): nothing to place on the axis
+    """The timeline of ``hist``'s samples ``mine`` (those under ``parent``)."""
+    if hist.static:  # latched once, stamped at any time (often 0): nothing to place on the axis
         nothing = np.full(bins.count, np.nan)
         none = np.zeros(bins.count, np.int64)
         return EdgeTimeline(parent, child, True, False, none, nothing, nothing, nothing, (), reparentings)
-    where = bins.index(rows.axis)
+    stamps, records = hist.stamps[mine], hist.record_times[mine]
+    axis = _axis(timeline, child, stamps, records)
+    where = bins.index(axis)
     samples = np.bincount(where, minlength=bins.count).astype(np.int64)
-    mean, largest = _delays(child, rows, where, timeline, bins.count)
-    _, _, gaps = gap_rows(rows.stamps, gap_floor)
-    spans = tuple((int(rows.axis[i]), int(rows.axis[i + 1])) for i in gaps.tolist())
+    mean, largest = _delays(timeline, child, stamps, records, where, bins.count)
+    _, _, gaps = gap_rows(stamps, gap_floor)
+    spans = tuple((int(axis[i]), int(axis[i + 1])) for i in gaps.tolist())
     at_arrival = child in timeline.off_reference
-    rate = local_rate(rows.axis, bins)
+    rate = local_rate(axis, bins)
     return EdgeTimeline(parent, child, False, at_arrival, samples, rate, mean, largest, spans, reparentings)
 
 
@@ -210,10 +191,12 @@ def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
     return rate
 
 
-def _delays(child: str, rows: _Rows, where: IntpArray, timeline: Timeline, count: int) -> tuple[FloatArray, FloatArray]:
+def _delays(
+    timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array, where: IntpArray, count: int
+) -> tuple[FloatArray, FloatArray]:
     """Mean and largest delay (s) of the samples in each bin: ``Timeline.delays`` of those whose arrival is known."""
-    _, known = timeline.ros_time(rows.records)
-    delays = timeline.delays(child, rows.stamps[known], rows.records[known])
+    _, known = timeline.ros_time(records)
+    delays = timeline.delays(child, stamps[known], records[known])
     if not len(delays):
         return np.full(count, np.nan), np.full(count, np.nan)
     return _mean_max(where[known], delays / NS_PER_S, count)
@@ -246,8 +229,7 @@ def _reparentings(buffer: Buffer, child: str, hist: EdgeHistory, timeline: Timel
 def stream_axis(streams: Sequence[StampedMessages], timeline: Timeline) -> tuple[int, int] | None:
     """The span of the sensor messages' arrivals on the axis (None without any)."""
     arrivals = [timeline.arrival(s.stamp, s.record_time) for s in streams if len(s)]
-    spans = [(int(axis.min()), int(axis.max())) for axis in arrivals]
-    return (min(s for s, _ in spans), max(e for _, e in spans)) if spans else None
+    return _hull([(int(axis.min()), int(axis.max())) for axis in arrivals])
 
 
 def stream_timelines(
@@ -278,11 +260,9 @@ def stream_timelines(
 
 
 @dataclass(frozen=True)
-class EdgeSeries:
+class EdgeSeries(Edge):
     """One edge's rate and mean delay over time (NaN where unknown): what ``--plot`` draws."""
 
-    parent: str
-    child: str
     times: Int64Array
     rate_hz: FloatArray
     delay_s: FloatArray
@@ -297,7 +277,7 @@ def edge_series(
 ) -> list[EdgeSeries]:
     """The moving edges' rates and delays over ``[start, end]`` (default: their span), in bins (their
     middles), those of ``keys`` only when given."""
-    span = edge_axis(buffer, timeline) or (timeline.tf_start, timeline.tf_end)
+    span = edge_axis(buffer, timeline)
     bins = bins_over(span[0] if start is None else start, span[1] if end is None else end)
     middles = bins.edges()[:-1] + bins.width // 2
     edges = edge_timelines(buffer, timeline, bins, gap_floor=0, keys=keys)

@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
+from dataclasses import asdict
 from pathlib import Path
 from typing import IO, Any
 
@@ -49,11 +50,7 @@ def write_tree(tree: TreeShape, out: IO[str]) -> None:
 
     document = CommentedMap()
     document.yaml_set_start_comment(_HEADER.format(source=tree.source))
-    tolerances = CommentedMap(
-        translation_mm=tree.tolerances.translation_mm,
-        rotation_deg=tree.tolerances.rotation_deg,
-        rate_percent=tree.tolerances.rate_percent,
-    )
+    tolerances = CommentedMap(asdict(tree.tolerances))
     tolerances.fa.set_flow_style()
     document["tolerances"] = tolerances
     frames = CommentedMap()
@@ -109,10 +106,7 @@ def read_tree(path: str | os.PathLike[str]) -> TreeShape:
 def _tolerances(entry: Any) -> Tolerances:
     if not isinstance(entry, Mapping):
         raise TypeError("tolerances: expected a mapping")
-    fields = Tolerances.__dataclass_fields__
-    unknown = [str(k) for k in entry if k not in fields]
-    if unknown:
-        raise ValueError(f"tolerances: unknown key {unknown[0]!r} (known: {', '.join(fields)})")
+    _known_keys("tolerances", entry, Tolerances.__dataclass_fields__)
     return Tolerances(**{str(k): _number(f"tolerances: {k}", v) for k, v in entry.items()})
 
 
@@ -120,9 +114,7 @@ def _frame(name: str, entry: Any) -> FrameShape:
     entry = entry if entry is not None else {}
     if not isinstance(entry, Mapping):
         raise TypeError(f"frame {name}: expected a mapping like {{parent: base_link}}")
-    unknown = [str(k) for k in entry if k not in _FRAME_KEYS]
-    if unknown:
-        raise ValueError(f"frame {name}: unknown key {unknown[0]!r} (known: {', '.join(_FRAME_KEYS)})")
+    _known_keys(f"frame {name}", entry, _FRAME_KEYS)
     parent = entry.get("parent")
     static = entry.get("static", False)
     if not isinstance(static, bool):
@@ -143,6 +135,12 @@ def _frame(name: str, entry: Any) -> FrameShape:
         translation=translation,
         rotation=rotation,
     )
+
+
+def _known_keys(what: str, entry: Mapping[Any, Any], known: Collection[str]) -> None:
+    unknown = [str(k) for k in entry if k not in known]
+    if unknown:
+        raise ValueError(f"{what}: unknown key {unknown[0]!r} (known: {', '.join(known)})")
 
 
 def _value(name: str, entry: Mapping[str, Any]) -> tuple[Vec3 | None, Quat | None]:

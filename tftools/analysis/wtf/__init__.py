@@ -18,7 +18,7 @@ from tftools.analysis.wtf import (  # noqa: F401  (they register their checks)
     topics,
     values,
 )
-from tftools.analysis.wtf.registry import CHECKS, Check, CheckSkippedError, skipped
+from tftools.analysis.wtf.registry import CHECKS, Check, CheckSkippedError
 from tftools.analysis.wtf.scene import Scene
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.buffer import Buffer
@@ -57,5 +57,5 @@ def check(
         try:
             found.extend(f for f in c.run(scene) if f.code not in ignore)  # a check may speak for another
         except CheckSkippedError as why:
-            found.append(skipped(c.code, why))
+            found.append(Finding(Severity.info, c.code, f"not checked: {why.reason}", why.hint, skipped=True))
     return sorted(found, key=lambda f: f.severity.rank)

@@ -30,7 +30,7 @@ def _infer(scene: Scene) -> list[Finding]:
         return []
     rows = scene.rows
     found = []
-    for parent, child, mine in scene.by_edge(rows.usable & ~rows.static):
+    for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
         stamps, values = rows.stamp[mine], rows.values[mine]
         back = _back_and_forth(stamps)
         alternating = _alternating(values)
@@ -40,22 +40,19 @@ def _infer(scene: Scene) -> list[Finding]:
         ]
         if not any(signs):
             continue
-        frames = (rows.names[parent], rows.names[child])
-        who = scene.authorities_of(mine)
-        times = scene.arrival(mine)
+        frames = (parent, child)
         found.append(
-            Finding(
+            scene.finding(
                 Severity.warning,
                 "multiple_authorities",
-                f"{edge(*frames)}{scene.by(who)} seems to come from several broadcasters taking turns: "
-                f"{listed([s for s in signs if s])} in {len(mine)} samples (this recording does not name publishers)",
+                f"{edge(*frames)}{scene.by(scene.authorities_of(mine))} seems to come from several broadcasters "
+                f"taking turns: {listed([s for s in signs if s])} in {len(mine)} samples (this recording does not "
+                "name publishers)",
                 "tf2 takes every sample as it comes, so lookups mix the broadcasters' values: find them "
                 "(ros2 topic info /tf --verbose) and turn the transform off in all but one",
                 frames,
-                who,
-                int(times.min()),
-                int(times.max()),
-                len(mine),
+                mine,
+                scene.arrival(mine),
             )
         )
     return found
@@ -77,17 +74,16 @@ def _alternating(values: FloatArray) -> int:
     other: a value that goes somewhere else and comes back, sample after sample."""
     if len(values) < 3:
         return 0
-    metres = np.linalg.norm(values[2:, :3] - values[:-2, :3], axis=1)
-    out = np.linalg.norm(values[1:-1, :3] - values[:-2, :3], axis=1)
-    back = np.linalg.norm(values[2:, :3] - values[1:-1, :3], axis=1)
-    rotation_out = _degrees(values[:-2, 3:], values[1:-1, 3:])
-    rotation_back = _degrees(values[1:-1, 3:], values[2:, 3:])
-    rotation_round = _degrees(values[:-2, 3:], values[2:, 3:])
-    moved = ((out > APART_M) & (back > APART_M) & (metres < out / 4)) | (
-        (rotation_out > APART_DEG) & (rotation_back > APART_DEG) & (rotation_round < rotation_out / 4)
+    out_m, out_deg = apart(values[:-2], values[1:-1])
+    back_m, back_deg = apart(values[1:-1], values[2:])
+    round_m, round_deg = apart(values[:-2], values[2:])
+    moved = ((out_m > APART_M) & (back_m > APART_M) & (round_m < out_m / 4)) | (
+        (out_deg > APART_DEG) & (back_deg > APART_DEG) & (round_deg < out_deg / 4)
     )
     return int(moved.sum())
 
 
-def _degrees(a: FloatArray, b: FloatArray) -> FloatArray:
-    return np.degrees(angle_between_many(a, b))
+def apart(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """How far each value of ``b`` is from the one of ``a`` (N x 7 each): metres, and degrees of rotation."""
+    metres: FloatArray = np.linalg.norm(b[:, :3] - a[:, :3], axis=1)
+    return metres, np.degrees(angle_between_many(a[:, 3:], b[:, 3:]))

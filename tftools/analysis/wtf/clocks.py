@@ -9,8 +9,8 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
-from tftools.core.time import NS_PER_S
+from tftools.analysis.wtf.scene import Scene, counted, duration, edge, listed, transforms
+from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
@@ -87,18 +87,20 @@ def _disagreeing(
         "behind": f"stamped {duration(offset)} behind {clock_name}{others}: another clock",
         "ahead": f"stamped {duration(-offset)} ahead of {clock_name}{others}: another clock",
     }[kind]
-    names = [edge(_parent(scene, e.child), e.child) for e in edges]
-    frames = tuple(f for e in edges for f in (_parent(scene, e.child), e.child))
+    return _two_clocks(scene, kind, edges, f"{said} (median of {transforms(sum(e.arrivals for e in edges))})")
+
+
+def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) -> Finding:
+    """The error that ``edges`` are stamped on another clock (``kind``), as ``said``."""
     authorities = _authorities(scene, [e.child for e in edges])
-    count = sum(e.arrivals for e in edges)
     return Finding(
         Severity.error,
         "clock",
-        f"{listed(names, 4)}{scene.by(authorities)}: {said} (median of {transforms(count)})",
+        f"{listed([edge(_parent(scene, e.child), e.child) for e in edges], 4)}{scene.by(authorities)}: {said}",
         _HINTS[kind] + _CONSEQUENCE,
-        frames,
+        tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
         authorities,
-        count=count,
+        count=sum(e.arrivals for e in edges),
     )
 
 
@@ -108,16 +110,13 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
     edges = sorted(scene.timeline.edges, key=lambda e: e.offset_record)
     clusters: list[list[EdgeClock]] = [[edges[0]]]
     for e in edges[1:]:
-        if e.offset_record - clusters[-1][-1].offset_record > scene.ns(scene.thresholds.clock):
+        if e.offset_record - clusters[-1][-1].offset_record > from_sec(scene.thresholds.clock):
             clusters.append([])
         clusters[-1].append(e)
     main = max(clusters, key=len)
     for cluster in clusters:
         if cluster is not main:
-            kind = _kind(
-                cluster[0].offset_record - main[0].offset_record, cluster[0].median_stamp, main[0].median_stamp
-            )
-            yield _disagreeing_with_others(scene, kind, cluster, main)
+            yield _disagreeing_with_others(scene, cluster, main)
     yield Finding(
         Severity.info,
         "clock",
@@ -128,22 +127,15 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
     )
 
 
-def _disagreeing_with_others(scene: Scene, kind: str, edges: list[EdgeClock], main: list[EdgeClock]) -> Finding:
+def _disagreeing_with_others(scene: Scene, edges: list[EdgeClock], main: list[EdgeClock]) -> Finding:
+    kind = _kind(edges[0].offset_record - main[0].offset_record, edges[0].median_stamp, main[0].median_stamp)
     stamp = float(np.median([e.median_stamp for e in edges])) / NS_PER_S
     theirs = float(np.median([e.median_stamp for e in main])) / NS_PER_S
-    names = [edge(_parent(scene, e.child), e.child) for e in edges]
-    authorities = _authorities(scene, [e.child for e in edges])
-    count = sum(e.arrivals for e in edges)
-    return Finding(
-        Severity.error,
-        "clock",
-        f"{listed(names, 4)}{scene.by(authorities)}: stamped around {stamp:.1f} s while "
-        f"{listed([e.child for e in main], 3)} are stamped around {theirs:.1f} s: two clocks in one tree",
-        _HINTS[kind] + _CONSEQUENCE,
-        tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
-        authorities,
-        count=count,
+    said = (
+        f"stamped around {stamp:.1f} s while {listed([e.child for e in main], 3)} are stamped around "
+        f"{theirs:.1f} s: two clocks in one tree"
     )
+    return _two_clocks(scene, kind, edges, said)
 
 
 def _ignoring_clock(scene: Scene, on: Sequence[EdgeClock]) -> Finding:
@@ -163,7 +155,7 @@ def _ignoring_clock(scene: Scene, on: Sequence[EdgeClock]) -> Finding:
 def _wall_receive_times(scene: Scene) -> Iterator[Finding]:
     """tf follows /clock while the record clock does not: ``ros2 bag record`` without ``--use-sim-time``."""
     timeline = scene.timeline
-    if all(abs(e.offset_record) <= scene.ns(scene.thresholds.clock) for e in timeline.edges):
+    if all(abs(e.offset_record) <= from_sec(scene.thresholds.clock) for e in timeline.edges):
         return
     clock = timeline.clock
     sim = int(clock.clock[-1] - clock.clock[0])
@@ -191,7 +183,7 @@ def sim_clock(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.warning,
             "sim_clock",
-            f"{clock.topic} went back {len(back)} time{'s' if len(back) > 1 else ''}, by up to "
+            f"{clock.topic} went back {counted(len(back), 'time')}, by up to "
             f"{duration(-float(steps[back].min()) / NS_PER_S)}, first at {first}",
             "a looped replay (rosbag play --loop) or a reset simulation: listeners clear their tf buffers at each "
             "jump back, and lookups across it mix two timelines",
@@ -206,7 +198,7 @@ def sim_clock(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.warning,
             "sim_clock",
-            f"{clock.topic} paused {len(long)} time{'s' if len(long) > 1 else ''} while the recording went on, "
+            f"{clock.topic} paused {counted(len(long), 'time')} while the recording went on, "
             f"the longest for {duration(float(pauses[i]) / NS_PER_S)} at {clock.clock[i] / NS_PER_S:.3f}",
             "ROS time stands still for every node with use_sim_time while /clock is silent (a paused or stalled "
             "simulator): timers and lookups at 'now' wait",
@@ -243,9 +235,5 @@ def _parent(scene: Scene, child: str) -> str:
 
 
 def _authorities(scene: Scene, children: Sequence[str]) -> tuple[str, ...]:
-    found: dict[str, None] = {}
-    for child in children:
-        hist = scene.buffer.history(child)
-        if hist is not None:
-            found.update(dict.fromkeys(scene.buffer.authorities[int(a)] for a in np.unique(hist.authorities)))
-    return tuple(found)
+    frames = scene.tree.frames
+    return tuple(dict.fromkeys(a for child in children if child in frames for a in frames[child].authorities))

@@ -54,20 +54,6 @@ class BagReport:
         return self.count(Severity.error) > 0 or (strict and self.count(Severity.warning) > 0)
 
 
-def report(recording: Recording, findings: list[Finding]) -> BagReport:
-    """A checked recording's report."""
-    return BagReport(
-        paths=tuple(recording.paths),
-        findings=findings,
-        formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
-        start=recording.start,
-        end=recording.end,
-        transforms=recording.transform_count,
-        frames=len(recording.buffer.frames),
-        fetched=tuple(f.fetched for f in recording.contents.files if f.fetched is not None),
-    )
-
-
 def check_bags(
     paths: Sequence[str | os.PathLike[str]],
     topics: Sequence[str] | None = None,
@@ -106,7 +92,16 @@ def check_recording(
 ) -> BagReport:
     """Check a recording read (or heard) and its sensor data ``streams`` against tf in ``target``
     (and against the ``expected`` tree)."""
-    checked = report(recording, check(recording, thresholds, ignore, streams, target, expected))
+    checked = BagReport(
+        paths=tuple(recording.paths),
+        findings=check(recording, thresholds, ignore, streams, target, expected),
+        formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
+        start=recording.start,
+        end=recording.end,
+        transforms=recording.transform_count,
+        frames=len(recording.buffer.frames),
+        fetched=tuple(f.fetched for f in recording.contents.files if f.fetched is not None),
+    )
     if any(tied_to_tf(s) for s in streams):
         checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
         checked.sensor_target, checked.sensor_target_reason = choose_target(recording.buffer, target)

@@ -66,7 +66,8 @@ def tally(reports: Sequence[BagReport]) -> list[CheckTally]:
     tallies = []
     for code, worst in found.items():
         names = sorted(worst, key=lambda n: (*worst[n], n))
-        tallies.append(CheckTally(code, _by_rank(worst[names[0]][0]), tuple(names)))
+        severity = next(s for s in Severity if s.rank == worst[names[0]][0])
+        tallies.append(CheckTally(code, severity, tuple(names)))
     return sorted(tallies, key=lambda t: (t.severity.rank, -len(t.recordings), t.code))
 
 
@@ -108,7 +109,3 @@ def _since(days: list[datetime.date], counts: dict[datetime.date, int]) -> datet
     if not absent or absent[-1] == len(days) - 1:
         return None
     return days[absent[-1] + 1]
-
-
-def _by_rank(rank: int) -> Severity:
-    return next(s for s in Severity if s.rank == rank)

@@ -11,11 +11,11 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf.broadcasters import inferred_broadcasters
+from tftools.analysis.frames import FrameTree
+from tftools.analysis.wtf.broadcasters import apart, inferred_broadcasters
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import EdgeSamples, Scene, edge
-from tftools.core.arrays import FloatArray, IntpArray
-from tftools.core.rotation import angle_between_many
+from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
+from tftools.core.arrays import FloatArray, Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
@@ -43,13 +43,17 @@ class Jumps:
     def __len__(self) -> int:
         return len(self.at)
 
+    @property
+    def largest(self) -> int:
+        """The largest step's index (a metre weighs as much as 100 degrees)."""
+        return int(np.argmax(self.metres + self.degrees / 100))
+
 
 def jumps(stamps: np.ndarray, values: FloatArray) -> Jumps:
     """The unexplained steps of samples sorted by stamp (``values``: N x 7, tx ty tz qx qy qz qw)."""
     if len(stamps) < 2:
         return Jumps(np.zeros(0, np.intp), np.zeros(0), np.zeros(0))
-    metres = np.linalg.norm(np.diff(values[:, :3], axis=0), axis=1)
-    degrees = np.degrees(angle_between_many(values[:-1, 3:], values[1:, 3:]))
+    metres, degrees = apart(values[:-1], values[1:])
     seconds = np.diff(stamps).astype(np.float64) / NS_PER_S
     allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds) * seconds + FLOOR_M
     allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds) * seconds + FLOOR_DEG
@@ -72,31 +76,23 @@ def _neighbour_speed(steps: FloatArray, seconds: FloatArray) -> FloatArray:
     return median
 
 
-def _base(frame: str) -> str:
-    return frame.rsplit("/", 1)[-1]
-
-
-def _edge_jumps(scene: Scene) -> Iterator[tuple[EdgeSamples, Jumps]]:
-    """Each moving edge of one publisher with its unexplained steps (edges where several publishers
-    take turns are ``multiple_authorities``' to report: their values alternate)."""
+def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Jumps, Int64Array]]:
+    """Each moving edge of one publisher, into odom or not (``into_odom``), with its unexplained steps
+    and the stamps they end at (edges where several publishers take turns are ``multiple_authorities``'
+    to report: their values alternate)."""
     contested = {(f.frames[0], f.frames[1]) for f in inferred_broadcasters(scene)}
     for samples in scene.dynamic_edges:
-        if len(samples.authorities) > 1 or (samples.parent, samples.child) in contested:
+        if len(samples.authorities) > 1 or samples.key in contested:
             continue
-        found = jumps(samples.stamps, samples.values)
-        if len(found):
-            yield samples, found
+        if (base_name(samples.child) == ODOM) is into_odom and len(found := jumps(samples.stamps, samples.values)):
+            yield samples, found, samples.stamps[found.at]
 
 
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")
 def jump(scene: Scene) -> Iterator[Finding]:
     """Not map -> odom, whose corrections REP 105 allows (``map_corrections``)."""
-    for samples, found in _edge_jumps(scene):
-        if _base(samples.child) == ODOM:
-            continue
-        continuous = _base(samples.parent) == ODOM
-        largest = int(np.argmax(found.metres + found.degrees / 100))
-        when = samples.stamps[found.at]
+    for samples, found, when in _edge_jumps(scene, into_odom=False):
+        continuous = base_name(samples.parent) == ODOM
         why = (
             "REP 105 wants odom -> base continuous (odometry that never jumps): a reset odometry or a "
             "localizer publishing here makes everything planned in odom leap; publish corrections as map -> odom"
@@ -104,42 +100,30 @@ def jump(scene: Scene) -> Iterator[Finding]:
             else "a localization correction or a reset published as this edge's motion: if it is a correction, "
             "publish it as map -> odom (REP 105), so that odom stays continuous"
         )
-        yield Finding(
+        yield samples.finding(
             Severity.error if continuous else Severity.warning,
             "jump",
-            f"{edge(samples.parent, samples.child)}{scene.by(samples.authorities)} jumped {_times(len(found))} "
-            f"further than its own motion explains: the largest {_far(found, largest)} at "
-            f"{scene.at(int(when[largest]))}, the first at {scene.at(int(when[0]))}",
+            f"{edge(*samples.key)}{scene.by(samples.authorities)} jumped {_times(len(found))} "
+            f"further than its own motion explains: the largest {_largest(found)} at "
+            f"{scene.at(int(when[found.largest]))}, the first at {scene.at(int(when[0]))}",
             why,
-            (samples.parent, samples.child),
-            samples.authorities,
-            int(when[0]),
-            int(when[-1]),
-            len(found),
+            when,
         )
 
 
 @register("map_corrections", Severity.info, "map -> odom's corrections (REP 105 lets it step): how many, how far")
 def map_corrections(scene: Scene) -> Iterator[Finding]:
-    for samples, found in _edge_jumps(scene):
-        if _base(samples.child) != ODOM:
-            continue
-        when = samples.stamps[found.at]
+    for samples, found, when in _edge_jumps(scene, into_odom=True):
         seconds = (int(samples.stamps[-1]) - int(samples.stamps[0])) / NS_PER_S
-        largest = int(np.argmax(found.metres + found.degrees / 100))
-        yield Finding(
+        yield samples.finding(
             Severity.info,
             "map_corrections",
-            f"{edge(samples.parent, samples.child)}{scene.by(samples.authorities)} was corrected "
+            f"{edge(*samples.key)}{scene.by(samples.authorities)} was corrected "
             f"{_times(len(found))} in {seconds:.1f} s: typically {np.median(found.metres):.3f} m and "
-            f"{np.median(found.degrees):.1f}°, at most {_far(found, largest)} at {scene.at(int(when[largest]))}",
+            f"{np.median(found.degrees):.1f}°, at most {_largest(found)} at {scene.at(int(when[found.largest]))}",
             "REP 105 lets localization step map -> odom; large or frequent corrections are worth a look at the "
             "localizer (its map, its sensor data)",
-            (samples.parent, samples.child),
-            samples.authorities,
-            int(when[0]),
-            int(when[-1]),
-            len(found),
+            when,
         )
 
 
@@ -147,44 +131,33 @@ def _times(n: int) -> str:
     return "once" if n == 1 else f"{n} times"
 
 
-def _far(found: Jumps, i: int) -> str:
-    return f"{found.metres[i]:.3f} m and {found.degrees[i]:.1f}°"
+def _largest(found: Jumps) -> str:
+    return f"{found.metres[found.largest]:.3f} m and {found.degrees[found.largest]:.1f}°"
 
 
 @register("rep105", Severity.warning, "REP 105's layout broken: map -> odom -> base_link where those frames exist")
 def rep105(scene: Scene) -> Iterator[Finding]:
     """Per namespace (a prefix like robot1/), where odom exists: map, if present, above it, and the
     base frames below it. Frames in separate trees are ``disconnected``'s to report."""
-    frames = scene.tree.frames
-    for name in frames:
-        if _base(name) != ODOM:
+    tree = scene.tree
+    for name in tree.frames:
+        if base_name(name) != ODOM:
             continue
         prefix = name[: -len(ODOM)]
-        if _together(scene, prefix + MAP, name) and prefix + MAP not in _ancestors(scene, name):
-            yield _layout(scene, prefix + MAP, name, f"{prefix + MAP} is not above it")
+        if _together(tree, prefix + MAP, name) and prefix + MAP not in tree.ancestors(name):
+            yield _layout(tree, prefix + MAP, name, f"{prefix + MAP} is not above it")
         for base in (prefix + b for b in BASES):
-            if _together(scene, name, base) and name not in _ancestors(scene, base):
-                yield _layout(scene, name, base, f"{base} is not under it")
+            if _together(tree, name, base) and name not in tree.ancestors(base):
+                yield _layout(tree, name, base, f"{base} is not under it")
 
 
-def _together(scene: Scene, a: str, b: str) -> bool:
+def _together(tree: FrameTree, a: str, b: str) -> bool:
     """Both frames exist, in one tree."""
-    frames = scene.tree.frames
-    return a in frames and b in frames and ([a, *_ancestors(scene, a)][-1] == [b, *_ancestors(scene, b)][-1])
+    return a in tree.frames and b in tree.frames and [a, *tree.ancestors(a)][-1] == [b, *tree.ancestors(b)][-1]
 
 
-def _ancestors(scene: Scene, frame: str) -> list[str]:
-    frames = scene.tree.frames
-    found: list[str] = []
-    parent = frames[frame].parent if frame in frames else None
-    while parent is not None and parent not in found and parent != frame:
-        found.append(parent)
-        parent = frames[parent].parent if parent in frames else None
-    return found
-
-
-def _layout(scene: Scene, upper: str, lower: str, what: str) -> Finding:
-    chain = " -> ".join(reversed([lower, *_ancestors(scene, lower)]))
+def _layout(tree: FrameTree, upper: str, lower: str, what: str) -> Finding:
+    chain = " -> ".join(reversed([lower, *tree.ancestors(lower)]))
     return Finding(
         Severity.warning,
         "rep105",

@@ -24,11 +24,6 @@ class CheckSkippedError(Exception):
         self.hint = hint
 
 
-def skipped(code: str, why: CheckSkippedError) -> Finding:
-    """The note that check ``code`` did not run, and why."""
-    return Finding(Severity.info, code, f"not checked: {why.reason}", why.hint, skipped=True)
-
-
 @dataclass(frozen=True)
 class Check:
     """One check: ``code`` names it in findings, ``severity`` is its usual one (a finding may be

@@ -49,7 +49,7 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
                 f"it volatile, so a node that subscribes after its first message never gets the static transforms",
                 f"{REPAIR_HINT} (offered transient local); or play with --qos-profile-overrides-path naming "
                 f"{topic} durability: transient_local",
-                _static_frames(scene),
+                tuple(f for pair in _static_edges(scene) for f in pair),
                 (topic,),
                 count=len(profiles),
             )
@@ -99,14 +99,15 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
     if length < LONG_RECORDING_S or last - scene.start > EARLY_S * NS_PER_S:
         return
     who = scene.authorities_of(np.flatnonzero(rows.static))
+    statics = _static_edges(scene)
     yield Finding(
         Severity.info,
         "statics_early",
-        f"the static transforms{scene.by(who)} ({listed(_static_edges(scene))}) were recorded only at the start, "
-        f"the last {duration((last - scene.start) / NS_PER_S)} into {duration(length)}: played from later on, "
+        f"the static transforms{scene.by(who)} ({listed([edge(*e) for e in statics])}) were recorded only at the "
+        f"start, the last {duration((last - scene.start) / NS_PER_S)} into {duration(length)}: played from later on, "
         "split or filtered by time, the copy has none and lookups through them fail",
         f"{REPAIR_HINT} through the recording; or play it from its start",
-        _static_frames(scene),
+        tuple(f for pair in statics for f in pair),
         who,
         scene.start,
         last,
@@ -114,11 +115,6 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
     )
 
 
-def _static_edges(scene: Scene) -> list[str]:
+def _static_edges(scene: Scene) -> list[tuple[str, str]]:
     rows = scene.rows
-    return [edge(rows.names[p], rows.names[c]) for p, c, _ in scene.by_edge(rows.static)]
-
-
-def _static_frames(scene: Scene) -> tuple[str, ...]:
-    rows = scene.rows
-    return tuple(rows.names[f] for p, c, _ in scene.by_edge(rows.static) for f in (p, c))
+    return [(parent, child) for parent, child, _ in rows.by_edge(rows.static)]

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Generic, NamedTuple, TypeVar
+from typing import Any, Generic, NamedTuple, TypeVar
 
 import numpy as np
 import numpy.typing as npt
@@ -46,25 +46,25 @@ class Layout:
     def __len__(self) -> int:
         return len(self.place)
 
-    def gather(self, column: Callable[[int], npt.NDArray[S]], rows: IntpArray | BoolArray) -> npt.NDArray[S]:
-        """``column``'s values (a segment's, given its index) of ``rows``, in their order."""
+    def gather(self, column: Callable[[Segment], npt.NDArray[S]], rows: IntpArray | BoolArray) -> npt.NDArray[S]:
+        """``column``'s values (of a segment) of ``rows``, in their order."""
         places = self.place[np.flatnonzero(rows) if rows.dtype == np.bool_ else rows]
         which = np.searchsorted(self.starts, places, side="right") - 1
         found = np.unique(which)
         if len(found) <= 1:
             s = int(found[0]) if len(found) else 0
-            one: npt.NDArray[S] = column(s)[places - self.starts[s]]
+            one: npt.NDArray[S] = column(self.segments[s])[places - self.starts[s]]
             return one
-        first = column(int(found[0]))
+        first = column(self.segments[int(found[0])])
         out = np.empty((len(places), *first.shape[1:]), first.dtype)
         for s in found.tolist():
             mine = which == s
-            out[mine] = column(s)[places[mine] - self.starts[s]]
+            out[mine] = column(self.segments[s])[places[mine] - self.starts[s]]
         return out
 
-    def whole(self, column: Callable[[int], npt.NDArray[S]]) -> npt.NDArray[S]:
+    def whole(self, column: Callable[[Segment], npt.NDArray[S]]) -> npt.NDArray[S]:
         """``column`` for every row, in record order (a copy)."""
-        return np.concatenate([column(s) for s in range(len(self.segments))])[self.place]
+        return np.concatenate([column(segment) for segment in self.segments])[self.place]
 
     def groups(self, mask: BoolArray, by_parent: bool) -> Iterator[tuple[int, int, IntpArray]]:
         """(parent id, child id, rows) for each edge (or child, parent 0) among the ``mask`` rows, each
@@ -97,15 +97,12 @@ class Column(Generic[S]):
         self._layout = layout
         self._of = of
 
-    def _segment(self, index: int) -> npt.NDArray[S]:
-        return self._of(self._layout.segments[index])
-
     def __getitem__(self, rows: IntpArray | BoolArray) -> npt.NDArray[S]:
-        return self._layout.gather(self._segment, rows)
+        return self._layout.gather(self._of, rows)
 
     def whole(self) -> npt.NDArray[S]:
         """Every row's (a copy: for a check that looks at all rows at once)."""
-        return self._layout.whole(self._segment)
+        return self._layout.whole(self._of)
 
 
 class Rows:
@@ -138,15 +135,22 @@ class Rows:
 
     def of_values(self, compute: Callable[[FloatArray], npt.NDArray[S]]) -> npt.NDArray[S]:
         """``compute`` of the values (N, 7), for every row in record order, computed a segment at a time."""
-        return self._layout.whole(lambda s: compute(self._layout.segments[s].values))
+        return self._layout.whole(lambda s: compute(s.values))
 
-    def groups(self, mask: BoolArray, by_parent: bool) -> Iterator[tuple[int, int, IntpArray]]:
-        return self._layout.groups(mask, by_parent)
+    def by_edge(self, mask: BoolArray) -> Iterator[tuple[str, str, IntpArray]]:
+        """(parent, child, rows) for each edge among the ``mask`` rows, in order of first arrival."""
+        for parent, child, rows in self._layout.groups(mask, by_parent=True):
+            yield self.names[parent], self.names[child], rows
+
+    def by_child(self, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
+        """(child, rows) for each child frame among the ``mask`` rows, in order of first arrival."""
+        for _, child, rows in self._layout.groups(mask, by_parent=False):
+            yield self.names[child], rows
 
     @cached_property
     def static(self) -> BoolArray:
         """Received on /tf_static."""
-        return self._layout.whole(lambda s: (self._layout.segments[s].flags & FROM_STATIC_TOPIC) != 0)
+        return self._layout.whole(lambda s: (s.flags & FROM_STATIC_TOPIC) != 0)
 
     @cached_property
     def named(self) -> BoolArray:
@@ -160,9 +164,14 @@ class Rows:
         return self.of_values(lambda v: np.asarray(np.isfinite(v).all(axis=1), bool))
 
     @cached_property
+    def normalised(self) -> BoolArray:
+        """Rotations tf2 takes for unit quaternions."""
+        return self.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
+
+    @cached_property
     def usable(self) -> BoolArray:
         """The rows tf2 would not refuse on their face (repeated stamps aside)."""
-        return self.named & self.finite & self.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
+        return self.named & self.finite & self.normalised
 
 
 def rows_of(recording: Recording) -> Rows:
@@ -236,6 +245,12 @@ def _layout(segments: list[Segment]) -> Layout:
     row = np.empty(total, np.int32)
     row[place] = np.arange(total, dtype=np.int32)
     return Layout(segments, starts, place, row)
+
+
+def split(rows: IntpArray, keys: npt.NDArray[Any]) -> Iterator[tuple[int, IntpArray]]:
+    """Per value of ``keys`` (one per row of ``rows``), first seen first: it, and its rows."""
+    for key in dict.fromkeys(keys.tolist()):
+        yield key, rows[keys == key]
 
 
 def norm_error(values: FloatArray) -> FloatArray:

@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TypeVar, cast
 
 import numpy as np
 
-from tftools.analysis.edges import EdgeStats, edge_stats
+from tftools.analysis.edges import Edge, EdgeStats, edge_stats
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.filter import FilterReport, filter_report
+from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
@@ -26,16 +27,19 @@ T = TypeVar("T")
 
 
 @dataclass(frozen=True)
-class EdgeSamples:
+class EdgeSamples(Edge):
     """The samples tf2 stored for one parent -> child edge (dynamic), sorted by stamp."""
 
-    parent: str
-    child: str
     stamps: Int64Array
     record_times: Int64Array
     values: FloatArray
     from_static_topic: BoolArray
     authorities: tuple[str, ...]
+
+    def finding(self, severity: Severity, code: str, message: str, hint: str, stamps: Int64Array) -> Finding:
+        """A finding about this edge's samples stamped ``stamps``."""
+        first, last = int(stamps.min()), int(stamps.max())
+        return Finding(severity, code, message, hint, self.key, self.authorities, first, last, len(stamps))
 
 
 class Scene:
@@ -74,7 +78,7 @@ class Scene:
     @cached_property
     def off_clock(self) -> frozenset[str]:
         """Frames stamped on another clock than the recording's reference, by the ``clock`` threshold."""
-        return self.timeline.frames_off(self.ns(self.thresholds.clock))
+        return self.timeline.frames_off(from_sec(self.thresholds.clock))
 
     @cached_property
     def sensors(self) -> FilterReport:
@@ -118,22 +122,11 @@ class Scene:
                 )
         return result
 
-    # --- grouping rows ----------------------------------------------------------------------
-
-    def by_edge(self, mask: BoolArray) -> Iterator[tuple[int, int, IntpArray]]:
-        """(parent id, child id, rows) for each edge among the ``mask`` rows, in order of first arrival."""
-        return self.rows.groups(mask, by_parent=True)
-
-    def by_child(self, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
-        """(child id, rows) for each child frame among the ``mask`` rows, in order of first arrival."""
-        for _, child, rows in self.rows.groups(mask, by_parent=False):
-            yield child, rows
+    # --- rows ------------------------------------------------------------------------------
 
     def authorities_of(self, rows: IntpArray) -> tuple[str, ...]:
         """The publishers of ``rows``, in order of first appearance."""
-        ids = self.rows.authority[rows]
-        _, first = np.unique(ids, return_index=True)
-        return tuple(self.rows.authorities[int(ids[i])] for i in sorted(first))
+        return tuple(self.rows.authorities[a] for a in dict.fromkeys(self.rows.authority[rows].tolist()))
 
     def arrival(self, rows: IntpArray) -> Int64Array:
         """When ``rows`` arrived, on the stamps' clock: ROS time at arrival, or stamps where unknown."""
@@ -143,6 +136,26 @@ class Scene:
         """When the recorder received ``rows``, on the record clock (stamps where unknown): their rhythm."""
         records = self.rows.record_time[rows]
         return np.where(records > 0, records, self.rows.stamp[rows])
+
+    def first_at(self, rows: IntpArray) -> str:
+        """When the first of ``rows`` arrived (``at``)."""
+        return self.at(int(self.arrival(rows).min()))
+
+    def finding(
+        self,
+        severity: Severity,
+        code: str,
+        message: str,
+        hint: str,
+        frames: tuple[str, ...],
+        rows: IntpArray,
+        times: Int64Array | None = None,
+    ) -> Finding:
+        """A finding about the transforms ``rows``: their publishers, count, and first and last ``times``
+        (default: their stamps)."""
+        times = self.rows.stamp[rows] if times is None else times
+        first, last = int(times.min()), int(times.max())
+        return Finding(severity, code, message, hint, frames, self.authorities_of(rows), first, last, len(rows))
 
     # --- wording ----------------------------------------------------------------------------
 
@@ -167,16 +180,22 @@ class Scene:
             return self.at(int(ros[0]))
         return f"{record_time / NS_PER_S:.3f} on the record clock ({(record_time - self.start) / NS_PER_S:+.1f} s)"
 
-    def ns(self, seconds: float) -> int:
-        return from_sec(seconds)
-
 
 def edge(parent: str, child: str) -> str:
     return f"{parent} -> {child}"
 
 
+def base_name(frame: str) -> str:
+    """``frame`` without a namespace prefix (``robot1/odom`` -> ``odom``)."""
+    return frame.rsplit("/", 1)[-1]
+
+
+def counted(n: int, thing: str) -> str:
+    return f"{n} {thing}{'' if n == 1 else 's'}"
+
+
 def transforms(n: int) -> str:
-    return f"{n} transform{'' if n == 1 else 's'}"
+    return counted(n, "transform")
 
 
 def duration(seconds: float) -> str:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterator
 
-from tftools.analysis.filter import StreamReport
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, edge, listed
@@ -62,7 +61,8 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
             Severity.warning if long else Severity.info,
             "sensor_wait",
             f"{s.topic}: {s.later} of {s.messages} messages could not be transformed into {_target(scene)} when they "
-            f"arrived, waiting {s.wait_s['p50']:.3f} s (p99 {s.wait_s['p99']:.3f} s) for {_late(s)}",
+            f"arrived, waiting {s.wait_s['p50']:.3f} s (p99 {s.wait_s['p99']:.3f} s) for "
+            f"{edge(*s.late_edge) if s.late_edge else 'tf'}",
             f"a node transforming it at once fails with 'extrapolation into the future': use a tf2_ros MessageFilter "
             f"(queue {max(s.queue_needed, 1)}) or canTransform/lookupTransform with a timeout of at least "
             f"{s.wait_s['p99']:.3f} s, or make the late transform come sooner",
@@ -93,7 +93,3 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
             s.late_edge or (),
             count=lost,
         )
-
-
-def _late(s: StreamReport) -> str:
-    return edge(*s.late_edge) if s.late_edge else "tf"

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import difflib
 import itertools
-from collections import deque
 from collections.abc import Iterator
 
 import numpy as np
@@ -13,7 +12,9 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
+from tftools.analysis.wtf.rows import split
+from tftools.analysis.wtf.scene import Scene, counted, duration, edge, listed, transforms
+from tftools.core.arrays import Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 
 #: tf2's words when a lookup meets a loop.
@@ -27,22 +28,16 @@ def cycles(scene: Scene) -> Iterator[Finding]:
     formed at some time (a stamp range every edge of the loop covers)."""
     latest = {child: [scene.buffer.frame_name(hist.latest_parent)] for child, hist in scene.buffer.histories()}
     order = {name: i for i, name in enumerate(scene.buffer.frames)}
-    found: list[tuple[list[str], str, tuple[int, int] | None]] = []
-    reported: set[frozenset[str]] = set()
-    for loop in find_loops(latest, order):
-        reported.add(frozenset(loop))
-        found.append((loop, "the latest transforms", None))
+    found: list[tuple[list[str], str, tuple[int, int] | None]]
+    found = [(loop, "the latest transforms", None) for loop in find_loops(latest, order)]
+    reported = {frozenset(loop) for loop, _, _ in found}
     spans = _edge_spans(scene)
     graph: dict[str, list[str]] = {}
     for parent, child in spans:
         graph.setdefault(child, []).append(parent)
     for loop in find_loops(graph, order):
-        if frozenset(loop) in reported:
-            continue
-        reported.add(frozenset(loop))
-        first = max(spans[(loop[(i + 1) % len(loop)], frame)][0] for i, frame in enumerate(loop))
-        last = min(spans[(loop[(i + 1) % len(loop)], frame)][1] for i, frame in enumerate(loop))
-        if first <= last:
+        first, last = max(spans[p][0] for p in _pairs(loop)), min(spans[p][1] for p in _pairs(loop))
+        if frozenset(loop) not in reported and first <= last:
             found.append((loop, "transforms stamped", (first, last)))
     if not found:
         return
@@ -55,10 +50,10 @@ def _edge_spans(scene: Scene) -> dict[tuple[str, str], tuple[int, int]]:
     """Each edge's stamp range among the usable rows (every time, for a static one)."""
     rows = scene.rows
     spans = {}
-    for parent, child, mine in scene.by_edge(rows.usable):
+    for parent, child, mine in rows.by_edge(rows.usable):
         static = bool(rows.static[mine].all())
         stamps = rows.stamp[mine]
-        spans[(rows.names[parent], rows.names[child])] = _ALWAYS if static else (int(stamps.min()), int(stamps.max()))
+        spans[(parent, child)] = _ALWAYS if static else (int(stamps.min()), int(stamps.max()))
     return spans
 
 
@@ -72,14 +67,13 @@ _LoopEdges = dict[tuple[str, str], tuple[int, int, tuple[str, ...]]]
 
 
 def _loop_edges(scene: Scene, pairs: set[tuple[str, str]]) -> _LoopEdges:
-    """For each edge of ``pairs``: its first arrival and its publishers, in order of the edges'
-    first rows (one pass over the edges, whatever the number of loops)."""
+    """For each edge of ``pairs``: its rank, first arrival and publishers (one pass over the edges,
+    whatever the number of loops)."""
     rows = scene.rows
     began: _LoopEdges = {}
-    for rank, (parent, child, mine) in enumerate(scene.by_edge(rows.usable)):
-        key = (rows.names[parent], rows.names[child])
-        if key in pairs:
-            began[key] = (rank, int(scene.arrival(mine).min()), scene.authorities_of(mine))
+    for rank, (parent, child, mine) in enumerate(rows.by_edge(rows.usable)):
+        if (parent, child) in pairs:
+            began[(parent, child)] = (rank, int(scene.arrival(mine).min()), scene.authorities_of(mine))
     return began
 
 
@@ -132,15 +126,12 @@ TREES_DESCRIBED = 20
 
 @register("disconnected", Severity.error, "more than one tree: frames no lookup can join")
 def disconnected(scene: Scene) -> Iterator[Finding]:
-    tree = scene.tree
-    roots = tree.roots
-    if len(roots) < 2:
+    members = scene.tree.trees()
+    if len(members) < 2:
         return
-    members = {root: _descendants(tree.children, root) for root in roots}
-    roots.sort(key=lambda r: -len(members[r]))
+    roots = sorted(members, key=lambda r: -len(members[r]))
     trees = "; ".join(
-        f"{root} ({len(members[root])} frame{'s' if len(members[root]) > 1 else ''}: {listed(members[root])})"
-        for root in roots[:TREES_DESCRIBED]
+        f"{root} ({counted(len(members[root]), 'frame')}: {listed(members[root])})" for root in roots[:TREES_DESCRIBED]
     )
     if len(roots) > TREES_DESCRIBED:
         trees += f"; and {len(roots) - TREES_DESCRIBED} more"
@@ -157,16 +148,6 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
     )
 
 
-def _descendants(children: dict[str, list[str]], root: str) -> list[str]:
-    """``root`` and every frame under it, breadth first."""
-    found, todo = [], deque([root])
-    while todo:
-        frame = todo.popleft()
-        found.append(frame)
-        todo.extend(children.get(frame, []))
-    return found
-
-
 #: The typo search of ``_join_hint`` looks at most at this many roots, against at most this many
 #: frames of the other trees, of names at most this long (difflib is quadratic in a name's length).
 TYPO_ROOTS, TYPO_FRAMES, TYPO_NAME_LENGTH = 10, 10_000, 200
@@ -177,7 +158,8 @@ def _join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
     for root in roots[1:TYPO_ROOTS]:
         if len(root) > TYPO_NAME_LENGTH:
             continue
-        others = list(itertools.islice(_frames_apart(roots, members, root), TYPO_FRAMES))
+        apart = (f for r in roots if r != root for f in members[r] if len(f) <= TYPO_NAME_LENGTH)
+        others = list(itertools.islice(apart, TYPO_FRAMES))
         close = difflib.get_close_matches(root, others, n=1, cutoff=0.8)
         if close:
             return f"'{root}' looks like a misspelling of '{close[0]}': fix the frame name where it is published"
@@ -188,17 +170,10 @@ def _join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
     )
 
 
-def _frames_apart(roots: list[str], members: dict[str, list[str]], root: str) -> Iterator[str]:
-    """The frames of the trees other than ``root``'s, of names short enough for the typo search."""
-    for r in roots:
-        if r != root:
-            yield from (f for f in members[r] if len(f) <= TYPO_NAME_LENGTH)
-
-
 @register("multiple_parents", Severity.error, "a frame re-parented: two parents for one frame")
 def multiple_parents(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    for child, mine in scene.by_child(rows.usable):
+    for child, mine in rows.by_child(rows.usable):
         parents = rows.parent[mine]
         if parents.min() == parents.max():
             continue
@@ -206,32 +181,25 @@ def multiple_parents(scene: Scene) -> Iterator[Finding]:
         yield _parents_finding(scene, child, mine, switches)
 
 
-def _parents_finding(scene: Scene, child_id: int, mine: np.ndarray, switches: np.ndarray) -> Finding:
+def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.ndarray) -> Finding:
     rows = scene.rows
-    child = rows.names[child_id]
-    parents = rows.parent[mine]
-    _, first = np.unique(parents, return_index=True)
-    described, publishers = [], []
-    for parent_id in parents[np.sort(first)]:
-        theirs = mine[parents == parent_id]
+    described, publishers, names = [], [], []
+    for parent_id, theirs in split(mine, rows.parent[mine]):
         times = scene.arrival(theirs)
         who = scene.authorities_of(theirs)
-        publishers.append(set(who))
+        publishers.append(who)
         by = scene.by(who)
-        described.append(
-            f"{rows.names[parent_id]} ({by.strip() + ', ' if by else ''}{transforms(len(theirs))} "
-            f"from {scene.rel(int(times.min()))} to {scene.rel(int(times.max()))})"
-        )
+        names.append(rows.names[parent_id])
+        described.append(f"{names[-1]} ({by.strip() + ', ' if by else ''}{_during(scene, theirs, times)})")
     hist = scene.buffer.history(child)
-    now = scene.buffer.frame_name(hist.latest_parent) if hist is not None else rows.names[parents[-1]]
-    names = [rows.names[p] for p in parents[np.sort(first)]]
+    now = scene.buffer.frame_name(hist.latest_parent) if hist is not None else rows.names[rows.parent[mine[-1:]][0]]
     switch_times = scene.arrival(switches)
     message = (
-        f"{child} has {len(names)} parents: {'; '.join(described)}; it changed parent {len(switches)} "
-        f"time{'s' if len(switches) > 1 else ''}, first at {scene.at(int(switch_times[0]))}, and is now under {now}"
+        f"{child} has {len(names)} parents: {'; '.join(described)}; it changed parent {counted(len(switches), 'time')}"
+        f", first at {scene.at(int(switch_times[0]))}, and is now under {now}"
     )
     all_publishers = tuple(dict.fromkeys(a for group in publishers for a in group))
-    if scene.publishers_known and not set.intersection(*publishers):
+    if scene.publishers_known and not set.intersection(*map(set, publishers)):
         hint = (
             f"{child} can have one parent only, and these publishers fight over it: lookups jump between trees. "
             f"Let one of them publish {child}; the others attach elsewhere (a localizer publishes map -> odom, "
@@ -261,50 +229,40 @@ def multiple_authorities(scene: Scene) -> Iterator[Finding]:
     yield from inferred_broadcasters(scene)
     rows = scene.rows
     for static in (False, True):
-        for parent, child, mine in scene.by_edge(rows.usable & (rows.static == static)):
+        for parent, child, mine in rows.by_edge(rows.usable & (rows.static == static)):
             ids = rows.authority[mine]
             if ids.min() == ids.max():
                 continue
-            yield _authorities_finding(scene, rows.names[parent], rows.names[child], mine)
+            yield _authorities_finding(scene, parent, child, mine)
 
 
 def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray) -> Finding:
     rows = scene.rows
     who = scene.authorities_of(mine)
-    ids = rows.authority[mine]
-    _, first_rows = np.unique(ids, return_index=True)
-    spans = []
-    for authority in ids[np.sort(first_rows)]:
-        theirs = mine[ids == authority]
+    spans, described = [], []
+    for authority, theirs in split(mine, rows.authority[mine]):
         times = scene.arrival(theirs)
-        spans.append((rows.authorities[int(authority)], len(theirs), int(times.min()), int(times.max())))
-    together = any(a[2] <= b[3] and b[2] <= a[3] for i, a in enumerate(spans) for b in spans[i + 1 :])
-    parts = "; ".join(f"{n} ({transforms(c)} from {scene.rel(s)} to {scene.rel(e)})" for n, c, s, e in spans)
-    first, last = min(s[2] for s in spans), max(s[3] for s in spans)
+        spans.append((int(times.min()), int(times.max())))
+        described.append(f"{rows.authorities[authority]} ({_during(scene, theirs, times)})")
+    together = any(a[0] <= b[1] and b[0] <= a[1] for i, a in enumerate(spans) for b in spans[i + 1 :])
+    parts = "; ".join(described)
     source = "nodes" if scene.publishers_known else "topics"
     if together:
-        return Finding(
-            Severity.warning,
-            "multiple_authorities",
-            f"{edge(parent, child)} comes from {len(who)} {source} at once: {parts}",
+        severity, message = Severity.warning, f"{edge(parent, child)} comes from {len(who)} {source} at once: {parts}"
+        hint = (
             "tf2 takes every sample as it comes, so lookups mix both publishers' values: turn the transform off "
-            "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter)",
-            (parent, child),
-            who,
-            first,
-            last,
-            len(mine),
+            "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter)"
         )
-    handover = spans[1][2]
-    return Finding(
-        Severity.info,
-        "multiple_authorities",
-        f"{edge(parent, child)} was handed over between {source}, one after the other: {parts}",
-        f"fine if intended (a node restarted under another name at {scene.at(handover)}); "
-        f"the silence between them lasted {duration((handover - spans[0][3]) / 1e9)}",
-        (parent, child),
-        who,
-        first,
-        last,
-        len(mine),
-    )
+    else:
+        severity = Severity.info
+        message = f"{edge(parent, child)} was handed over between {source}, one after the other: {parts}"
+        handover = spans[1][0]
+        hint = (
+            f"fine if intended (a node restarted under another name at {scene.at(handover)}); "
+            f"the silence between them lasted {duration((handover - spans[0][1]) / 1e9)}"
+        )
+    return scene.finding(severity, "multiple_authorities", message, hint, (parent, child), mine, scene.arrival(mine))
+
+
+def _during(scene: Scene, rows: IntpArray, arrivals: Int64Array) -> str:
+    return f"{transforms(len(rows))} from {scene.rel(int(arrivals.min()))} to {scene.rel(int(arrivals.max()))}"

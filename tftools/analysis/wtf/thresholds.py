@@ -2,11 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
-from tftools.analysis.edges import PERIODS
-
-__all__ = ["PERIODS", "Thresholds"]
+from dataclasses import asdict, dataclass
 
 
 @dataclass(frozen=True)
@@ -14,8 +10,8 @@ class Thresholds:
     """Limits in seconds; the defaults stay silent on a healthy robot.
 
     ``stale_after``: an edge silent this long before the recording ends has stopped (and at
-    least ``PERIODS`` of its periods). ``max_gap``: a pause inside the recording longer than this
-    (and ``PERIODS`` periods) is a gap. ``delay``: transforms arriving this much after their stamp
+    least ``edges.PERIODS`` of its periods). ``max_gap``: a pause inside the recording longer than
+    this (and ``PERIODS`` periods) is a gap. ``delay``: transforms arriving this much after their stamp
     are late (costmap_2d's default ``transform_tolerance``). ``future``: stamps this much ahead of
     their arrival are from the future (roswtf's limit). ``clock``: stamps this much behind their
     arrival (the median) are on another clock altogether, like stamps counting from boot next to
@@ -29,7 +25,6 @@ class Thresholds:
     clock: float = 10.0
 
     def __post_init__(self) -> None:
-        for name in ("stale_after", "max_gap", "delay", "future", "clock"):
-            value = getattr(self, name)
+        for name, value in asdict(self).items():
             if not value > 0:
                 raise ValueError(f"threshold {name} must be above 0 seconds, got {value}")

@@ -10,10 +10,11 @@ from tftools.analysis.edges import PERIODS, EdgeStats, edge_gaps
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
+from tftools.analysis.wtf.rows import split
+from tftools.analysis.wtf.scene import EdgeSamples, Scene, counted, duration, edge, transforms
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
-from tftools.core.time import NS_PER_S
+from tftools.core.time import NS_PER_S, from_sec
 
 #: Stamps going back this far (ns) are a jump in time, never transforms that arrived late.
 TIME_JUMP = NS_PER_S
@@ -41,29 +42,19 @@ def stale(scene: Scene) -> Iterator[Finding]:
             continue
         by = scene.by(s.authorities)
         if s.count == 1:
-            message = f"{edge(s.parent, s.child)} was sent once on /tf{by}"
-            message += f", stamped {scene.at(s.last_stamp)}"
+            message = f"{edge(*s.key)} was sent once on /tf{by}, stamped {scene.at(s.last_stamp)}"
             hint = (
                 "a /tf transform holds only at its stamp, so lookups at any other time fail: publish a fixed "
                 "transform on /tf_static (static_transform_publisher), or keep publishing it"
             )
         else:
-            message = f"{edge(s.parent, s.child)}{by} stopped at {scene.at(s.last_stamp)}"
+            message = f"{edge(*s.key)}{by} stopped at {scene.at(s.last_stamp)}"
             hint = (
                 "its publisher stopped (crashed, shut down or stalled) while the recording went on: lookups after "
                 "its last stamp fail with 'Lookup would require extrapolation into the future'; check that node"
             )
-        yield Finding(
-            Severity.error,
-            "stale",
-            f"{message}, {duration(silent)} before the recording ends",
-            hint,
-            s.key,
-            s.authorities,
-            s.last_stamp,
-            scene.end,
-            s.count,
-        )
+        message += f", {duration(silent)} before the recording ends"
+        yield Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
 
 
 def _last_arrival(s: EdgeStats) -> int:
@@ -72,50 +63,42 @@ def _last_arrival(s: EdgeStats) -> int:
     return s.last_record or s.last_stamp
 
 
-def _arrivals(scene: Scene, e: EdgeSamples) -> tuple[Int64Array, Int64Array]:
-    """Stamps and ROS times at arrival of the samples that came on /tf when that time is known
-    (none for a frame stamped on another clock than the recording's: ``clock`` says so)."""
-    if e.child in scene.off_clock:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    ros, known = scene.timeline.ros_time(e.record_times)
-    keep = known & ~e.from_static_topic
-    return e.stamps[keep], ros[keep]
+def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Array]]:
+    """Each moving edge with the stamps and ROS times at arrival of its samples that came on /tf when
+    that time is known, where there are any (none for a frame stamped on another clock than the
+    recording's: ``clock`` says so)."""
+    for e in scene.dynamic_edges:
+        if e.child not in scene.off_clock:
+            ros, known = scene.timeline.ros_time(e.record_times)
+            keep = known & ~e.from_static_topic
+            if keep.any():
+                yield e, e.stamps[keep], ros[keep]
 
 
 @register("future", Severity.error, "stamps ahead of the time they were recorded")
 def future(scene: Scene) -> Iterator[Finding]:
-    limit = scene.ns(scene.thresholds.future)
-    for e in scene.dynamic_edges:
-        stamps, records = _arrivals(scene, e)
+    for e, stamps, records in _arrivals(scene):
         ahead = stamps - records
-        early = ahead > limit
-        if not early.any():
-            continue
-        by = scene.by(e.authorities)
-        yield Finding(
-            Severity.error,
-            "future",
-            f"{edge(e.parent, e.child)}{by}: {int(early.sum())} of {transforms(len(stamps))} "
-            f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, first at "
-            f"{scene.at(int(records[early].min()))}",
-            "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates its "
-            f"transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's transform_tolerance): "
-            "listeners then take them for the newest data and lookups at the present extrapolate wrongly or fail",
-            (e.parent, e.child),
-            e.authorities,
-            int(stamps[early].min()),
-            int(stamps[early].max()),
-            int(early.sum()),
-        )
+        early = ahead > from_sec(scene.thresholds.future)
+        if early.any():
+            yield e.finding(
+                Severity.error,
+                "future",
+                f"{edge(*e.key)}{scene.by(e.authorities)}: {int(early.sum())} of {transforms(len(stamps))} "
+                f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, first at "
+                f"{scene.at(int(records[early].min()))}",
+                "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates "
+                f"its transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's "
+                "transform_tolerance): listeners then take them for the newest data and lookups at the present "
+                "extrapolate wrongly or fail",
+                stamps[early],
+            )
 
 
 @register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")
 def delay(scene: Scene) -> Iterator[Finding]:
-    limit = scene.ns(scene.thresholds.delay)
-    for e in scene.dynamic_edges:
-        stamps, records = _arrivals(scene, e)
-        if not len(stamps):
-            continue
+    limit = from_sec(scene.thresholds.delay)
+    for e, stamps, records in _arrivals(scene):
         delays = records - stamps
         late = delays > limit
         if late.mean() <= DELAY_SHARE:
@@ -123,21 +106,17 @@ def delay(scene: Scene) -> Iterator[Finding]:
         if e.child in scene.shared("time_jumps", lambda: _jumped(scene)):
             continue  # stamps behind arrival since a jump back in time: ``time_backwards`` says so
         by = scene.by(e.authorities)
-        yield Finding(
+        yield e.finding(
             Severity.warning,
             "delay",
-            f"{edge(e.parent, e.child)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
+            f"{edge(*e.key)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
             f"more than {scene.thresholds.delay:g} s after their stamp (median "
             f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)}), "
             f"first at {scene.at(int(records[late].min()))}",
             "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
             "waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
             "delays it (a busy publisher, a slow link, stamping with an old acquisition time)",
-            (e.parent, e.child),
-            e.authorities,
-            int(stamps[late].min()) if late.any() else 0,
-            int(stamps[late].max()) if late.any() else 0,
-            int(late.sum()),
+            stamps[late],
         )
 
 
@@ -153,30 +132,30 @@ def rate(scene: Scene) -> Iterator[Finding]:
             silent.add(e.child)
             yield found
     rows = scene.rows
-    for child_id, mine in _streams(scene, rows.named & ~rows.static):
-        if rows.names[child_id] in silent:
+    for child, mine in _streams(scene, rows.named & ~rows.static):
+        if child in silent:
             continue
         stamps = rows.stamp[mine]
         fresh = np.concatenate([[True], stamps[1:] != stamps[:-1]])
         arrivals = np.sort(scene.received(mine[fresh]))
         if len(arrivals) >= 3:
-            frames = (rows.names[rows.parent[mine[-1:]][0]], rows.names[child_id])
+            frames = (rows.names[rows.parent[mine[-1:]][0]], child)
             yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals)
 
 
 def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
-    gaps = edge_gaps(e.stamps, scene.ns(scene.thresholds.max_gap))
+    gaps = edge_gaps(e.stamps, from_sec(scene.thresholds.max_gap))
     if gaps is None:
         return None
     return Finding(
         Severity.warning,
         "rate",
-        f"{edge(e.parent, e.child)}{scene.by(e.authorities)} went silent {gaps.count} time"
-        f"{'s' if gaps.count > 1 else ''} (it publishes every {duration(gaps.period / NS_PER_S)}): the longest "
+        f"{edge(*e.key)}{scene.by(e.authorities)} went silent {counted(gaps.count, 'time')} (it "
+        f"publishes every {duration(gaps.period / NS_PER_S)}): the longest "
         f"for {duration(gaps.longest / NS_PER_S)} from {scene.at(gaps.longest_start)}",
         "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
         "the publisher's load, its rate parameter and its connection",
-        (e.parent, e.child),
+        e.key,
         e.authorities,
         gaps.first,
         gaps.last,
@@ -186,30 +165,35 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
 
 def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array) -> Iterator[Finding]:
     intervals = np.diff(arrivals)
-    period = float(np.median(intervals))
-    what = f"{edge(*frames)}{scene.by(who)}"
     off = _off_share(intervals)
     if len(intervals) < IRREGULAR_MIN_INTERVALS or off <= IRREGULAR_SHARE:
         return
+    what = f"{edge(*frames)}{scene.by(who)}"
     if not scene.publishers_known and _interleaved(arrivals):
-        if frames not in {f.frames for f in inferred_broadcasters(scene)}:  # else already said
-            yield _two_publishers(scene, frames, who, arrivals)
+        if frames in {f.frames for f in inferred_broadcasters(scene)}:
+            return  # already said
+        hz = NS_PER_S / float(np.median(np.diff(arrivals[0::2])))
+        code = "multiple_authorities"
+        message = (
+            f"{what} arrives as two steady {hz:.1f} Hz streams taking turns: two publishers of one edge, it seems "
+            "(this bag does not name publishers)"
+        )
+        hint = (
+            "tf2 takes every sample as it comes, so lookups mix both publishers' values: find them (ros2 topic info "
+            "/tf --verbose) and turn the transform off in all but one"
+        )
+    elif _cyclic(intervals):  # a driver sending two messages every 100 ms, 33 then 67 ms apart, is regular
         return
-    if _cyclic(intervals):  # a driver sending two messages every 100 ms, 33 then 67 ms apart, is regular
-        return
-    yield Finding(
-        Severity.warning,
-        "rate",
-        f"{what} publishes irregularly: {off:.0%} of its intervals are more than {IRREGULAR:.0%} "
-        f"off the usual {duration(period / NS_PER_S)} (from {duration(intervals.min() / NS_PER_S)} to "
-        f"{duration(intervals.max() / NS_PER_S)})",
-        "interpolation between far-apart samples is coarse: publish on a timer at a steady rate",
-        frames,
-        who,
-        int(arrivals[0]),
-        int(arrivals[-1]),
-        len(arrivals),
-    )
+    else:
+        code = "rate"
+        message = (
+            f"{what} publishes irregularly: {off:.0%} of its intervals are more than {IRREGULAR:.0%} off the usual "
+            f"{duration(float(np.median(intervals)) / NS_PER_S)} (from {duration(intervals.min() / NS_PER_S)} to "
+            f"{duration(intervals.max() / NS_PER_S)})"
+        )
+        hint = "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
+    first, last = int(arrivals[0]), int(arrivals[-1])
+    yield Finding(Severity.warning, code, message, hint, frames, who, first, last, len(arrivals))
 
 
 def _off_share(intervals: Int64Array) -> float:
@@ -238,41 +222,23 @@ def _interleaved(arrivals: Int64Array) -> bool:
     return steady and abs(float(np.median(first)) / float(np.median(second)) - 1) < IRREGULAR / 2
 
 
-def _two_publishers(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array) -> Finding:
-    hz = NS_PER_S / float(np.median(np.diff(arrivals[0::2])))
-    return Finding(
-        Severity.warning,
-        "multiple_authorities",
-        f"{edge(*frames)}{scene.by(who)} arrives as two steady {hz:.1f} Hz streams taking turns: two publishers "
-        "of one edge, it seems (this bag does not name publishers)",
-        "tf2 takes every sample as it comes, so lookups mix both publishers' values: find them (ros2 topic info "
-        "/tf --verbose) and turn the transform off in all but one",
-        frames,
-        who,
-        int(arrivals[0]),
-        int(arrivals[-1]),
-        len(arrivals),
-    )
-
-
 @register("time_backwards", Severity.error, "an edge's stamps going back or repeating")
 def time_backwards(scene: Scene) -> Iterator[Finding]:
     """Per frame and publisher: what two publishers do to each other's stamps is theirs to answer for
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
     taking_turns = {f.frames[1] for f in inferred_broadcasters(scene)}
-    for child_id, mine in _streams(scene, rows.usable & ~rows.static):
-        if rows.names[child_id] not in taking_turns:
-            yield from _stamps_of(scene, child_id, mine)
+    for child, mine in _streams(scene, rows.usable & ~rows.static):
+        if child not in taking_turns:
+            yield from _stamps_of(scene, child, mine)
 
 
-def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[int, IntpArray]]:
+def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
     """The ``mask`` rows of each child frame from each of its publishers, in arrival order."""
     rows = scene.rows
-    for child_id, frame_rows in scene.by_child(mask):
-        publishers = rows.authority[frame_rows]
-        for publisher in dict.fromkeys(publishers.tolist()):
-            yield child_id, frame_rows[publishers == publisher]
+    for child, frame_rows in rows.by_child(mask):
+        for _, theirs in split(frame_rows, rows.authority[frame_rows]):
+            yield child, theirs
 
 
 def _behind(stamps: Int64Array) -> tuple[Int64Array, BoolArray]:
@@ -288,34 +254,32 @@ def _jumped(scene: Scene) -> set[str]:
     """Child frames whose stamps jumped back in time, by any publisher."""
     rows = scene.rows
     found = set()
-    for child_id, mine in _streams(scene, rows.usable & ~rows.static):
+    for child, mine in _streams(scene, rows.usable & ~rows.static):
         behind, back = _behind(rows.stamp[mine])
         if back.any() and behind[back].max() >= TIME_JUMP:
-            found.add(rows.names[child_id])
+            found.add(child)
     return found
 
 
-def _stamps_of(scene: Scene, child_id: int, mine: np.ndarray) -> Iterator[Finding]:
+def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
     rows = scene.rows
     stamps = rows.stamp[mine]
     if len(stamps) < 2:
         return
     behind, back = _behind(stamps)
-    before = stamps + behind
     repeat, same = _repeats(stamps, rows.values[mine])
     repeat &= ~back
     records = rows.record_time[mine]
-    late = (records > 0) & (records - stamps > scene.ns(scene.thresholds.delay))
+    late = (records > 0) & (records - stamps > from_sec(scene.thresholds.delay))
     if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
-        back &= ~(late & (before - stamps < TIME_JUMP))
-    parent = rows.names[rows.parent[mine[-1:]][0]]
-    frames = (parent, rows.names[child_id])
+        back &= ~(late & (behind < TIME_JUMP))
+    frames = (rows.names[rows.parent[mine[-1:]][0]], child)
     if back.any():
-        yield _went_back(scene, edge(*frames), frames, mine, back, before - stamps)
+        yield _went_back(scene, frames, mine, back, behind)
     ros2 = scene.buffer.semantics == "ros2"
     for again, identical in ((repeat & ~same, False), (repeat & same, True)):
         if again.any() and not (ros2 and identical):  # ROS 2's tf2 takes an identical sample again silently
-            yield _repeated(scene, edge(*frames), frames, mine[again], identical)
+            yield _repeated(scene, frames, mine[again], identical)
 
 
 def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -333,15 +297,12 @@ def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.nda
     return repeat, same
 
 
-def _went_back(
-    scene: Scene, name: str, frames: tuple[str, str], mine: np.ndarray, back: np.ndarray, behind: Int64Array
-) -> Finding:
+def _went_back(scene: Scene, frames: tuple[str, str], mine: IntpArray, back: BoolArray, behind: Int64Array) -> Finding:
     """``back`` marks the rows stamped before the newest stamp so far, ``behind`` by how much: a jump
     back in time (an error), or transforms out of order by less, which tf2 sorts into place (a warning)."""
     largest = int(behind[back].max())
     offenders = mine[back]
-    by = scene.by(scene.authorities_of(offenders))
-    first = scene.at(int(scene.arrival(offenders).min()))
+    name, by, first = edge(*frames), scene.by(scene.authorities_of(offenders)), scene.first_at(offenders)
     if largest >= TIME_JUMP:
         jumps = int((back[1:] & ~back[:-1]).sum() + back[0])
         hint = (
@@ -352,7 +313,7 @@ def _went_back(
             hint += "; tf2 refuses samples older than its 10 s cache behind the newest (TF_OLD_DATA)"
         severity = Severity.error
         message = (
-            f"stamps of {name}{by} went back {jumps} time{'s' if jumps > 1 else ''}, by up to "
+            f"stamps of {name}{by} went back {counted(jumps, 'time')}, by up to "
             f"{duration(largest / NS_PER_S)}, first at {first}: {transforms(len(offenders))} stamped before one "
             "already sent"
         )
@@ -379,12 +340,11 @@ def _went_back(
     )
 
 
-def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.ndarray, same: bool) -> Finding:
+def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same: bool) -> Finding:
     """Stamps sent again: with the same values (ROS 1's tf2 logs TF_REPEATED_DATA; ROS 2's takes them
     silently and is not asked here), or with other values (ROS 1's drops them, ROS 2's keeps both)."""
-    who = scene.authorities_of(offenders)
-    sent = f"{name}{scene.by(who)} sent {transforms(len(offenders))}"
-    first = scene.at(int(scene.arrival(offenders).min()))
+    sent = f"{edge(*frames)}{scene.by(scene.authorities_of(offenders))} sent {transforms(len(offenders))}"
+    first = scene.first_at(offenders)
     other_values = (
         "stamp each update with the time it describes; two publishers or a stamp that does not advance repeat it"
     )
@@ -409,7 +369,4 @@ def _repeated(scene: Scene, name: str, frames: tuple[str, str], offenders: np.nd
             f"{sent} with a stamp it had already sent but other values, first at {first}: tf2 ignores them "
             "(TF_REPEATED_DATA), so those updates are lost"
         )
-    stamps = scene.rows.stamp[offenders]
-    return Finding(
-        severity, "time_backwards", message, hint, frames, who, int(stamps.min()), int(stamps.max()), len(offenders)
-    )
+    return scene.finding(severity, "time_backwards", message, hint, frames, offenders)

@@ -6,10 +6,11 @@ from collections.abc import Iterator, Sequence
 
 import numpy as np
 
+from tftools.analysis.edges import rate_hz
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, base_name, counted, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
@@ -35,9 +36,9 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     or sent in the same messages as moving ones (a gripper finger at rest among the arm's joints)."""
     rows = scene.rows
     contested = _contested(scene)
-    constant: list[tuple[int, int, np.ndarray]] = []
+    constant: list[tuple[str, str, np.ndarray]] = []
     moving = np.zeros(len(rows), bool)
-    for parent, child, mine in scene.by_edge(rows.usable & ~rows.static):
+    for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
         values = rows.values[mine]
         if (values == values[0]).all():
             constant.append((parent, child, mine))
@@ -46,30 +47,23 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     for parent, child, mine in constant:
         if len(mine) < STATIC_MIN_SAMPLES or child in contested:
             continue
-        if _moving_by_nature(rows.names[parent]) or _in_loop(scene, rows.names[parent], rows.names[child]):
-            continue
+        if _moving_by_nature(parent) or child in (parent, *scene.tree.ancestors(parent)):
+            continue  # moving by nature, or in a loop
         stamps = rows.stamp[mine]
-        span = (int(stamps.max()) - int(stamps.min())) / NS_PER_S
-        if (
-            span < STATIC_MIN_SPAN_S
-            or (len(mine) - 1) / span < STATIC_MIN_RATE_HZ
-            or _joint_at_rest(rows, mine, moving)
-        ):
+        span = int(stamps.max()) - int(stamps.min())
+        hz = rate_hz(len(mine), span)
+        if span < STATIC_MIN_SPAN_S * NS_PER_S or hz < STATIC_MIN_RATE_HZ or _joint_at_rest(rows, mine, moving):
             continue
-        who = scene.authorities_of(mine)
-        yield Finding(
+        yield scene.finding(
             Severity.warning,
             "static_on_dynamic",
-            f"{edge(rows.names[parent], rows.names[child])} never changes, yet it is sent on /tf{_by(scene, who)} "
-            f"{(len(mine) - 1) / span:.1f} times a second ({transforms(len(mine))} over {duration(span)})",
+            f"{edge(parent, child)} never changes, yet it is sent on /tf{_by(scene, scene.authorities_of(mine))} "
+            f"{hz:.1f} times a second ({transforms(len(mine))} over {duration(span / NS_PER_S)})",
             "publish it once on /tf_static (static_transform_publisher, or a fixed joint for robot_state_publisher): "
             "it then holds at every time and /tf carries less; ignore this if it is a joint that did not move "
             "during this recording",
-            (rows.names[parent], rows.names[child]),
-            who,
-            int(stamps.min()),
-            int(stamps.max()),
-            len(mine),
+            (parent, child),
+            mine,
         )
 
 
@@ -96,11 +90,11 @@ def _message_keys(rows: Rows, which: np.ndarray) -> np.ndarray:
     return pairs.view(np.dtype((np.void, pairs.dtype.itemsize * 2))).ravel()
 
 
-def _contested(scene: Scene) -> set[int]:
+def _contested(scene: Scene) -> set[str]:
     """Child frames with more than one parent or publisher."""
     rows = scene.rows
     found = set()
-    for child, mine in scene.by_child(rows.usable):
+    for child, mine in rows.by_child(rows.usable):
         parents, publishers = rows.parent[mine], rows.authority[mine]
         if parents.min() != parents.max() or publishers.min() != publishers.max():
             found.add(child)
@@ -109,27 +103,13 @@ def _contested(scene: Scene) -> set[int]:
 
 def _moving_by_nature(parent: str) -> bool:
     """map, odom, world, earth (REP 105): what is under them moves even when it stands still."""
-    base = parent.rsplit("/", 1)[-1]
-    return base in WORLD_FRAMES or base.startswith("odom")
-
-
-def _in_loop(scene: Scene, parent: str, child: str) -> bool:
-    """Whether ``child`` is among ``parent``'s ancestors by the latest parents."""
-    frames = scene.tree.frames
-    seen: set[str] = set()
-    frame: str | None = parent
-    while frame is not None and frame not in seen:
-        if frame == child:
-            return True
-        seen.add(frame)
-        frame = frames[frame].parent if frame in frames else None
-    return False
+    return base_name(parent) in WORLD_FRAMES or base_name(parent).startswith("odom")
 
 
 @register("dynamic_on_static", Severity.error, "a changing transform on /tf_static")
 def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    for parent, child, mine in scene.by_edge(rows.usable & rows.static):
+    for parent, child, mine in rows.by_edge(rows.usable & rows.static):
         values = rows.values[mine]
         changed = np.flatnonzero((values[1:] != values[:-1]).any(axis=1)) + 1
         if not len(changed):
@@ -140,13 +120,13 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.error,
             "dynamic_on_static",
-            f"{edge(rows.names[parent], rows.names[child])} takes {distinct} different values on /tf_static"
-            f"{_by(scene, who)}: it changed {len(changed)} time{'s' if len(changed) > 1 else ''}, first at "
+            f"{edge(parent, child)} takes {distinct} different values on /tf_static"
+            f"{_by(scene, who)}: it changed {counted(len(changed), 'time')}, first at "
             f"{scene.at(int(when[0]))}",
             "a static transform holds at every time, so tf2 applies its latest value to the past too: send a "
             "moving transform on /tf with current stamps (a TransformBroadcaster), and on /tf_static only what "
             "never moves",
-            (rows.names[parent], rows.names[child]),
+            (parent, child),
             who,
             int(when[0]),
             int(when[-1]),
@@ -157,11 +137,10 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
 @register("mixed_static", Severity.error, "one frame sent both on /tf_static and on /tf")
 def mixed_static(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    for child, mine in scene.by_child(rows.usable):
+    for name, mine in rows.by_child(rows.usable):
         static = rows.static[mine]
         if static.all() or not static.any():
             continue
-        name = rows.names[child]
         fixed, moving = mine[static], mine[~static]
         if static[0]:
             effect = (
@@ -173,17 +152,15 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
                 "tf2 made it a moving frame (its first transform came on /tf), so the /tf_static one counts only "
                 "at its stamp"
             )
-        parents = listed(sorted({rows.names[p] for p in rows.parent[mine].tolist()}))
-        yield Finding(
+        parents = sorted({rows.names[p] for p in rows.parent[mine].tolist()})
+        yield scene.finding(
             Severity.error,
             "mixed_static",
-            f"{name} (under {parents}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
+            f"{name} (under {listed(parents)}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
             f"({transforms(len(fixed))}) and on /tf{_by(scene, scene.authorities_of(moving))} "
-            f"({transforms(len(moving))}, from {scene.at(int(scene.arrival(moving).min()))}): {effect}",
+            f"({transforms(len(moving))}, from {scene.first_at(moving)}): {effect}",
             "send each frame on one topic: /tf_static if it never moves, /tf otherwise",
-            (name, *sorted({rows.names[p] for p in rows.parent[mine].tolist()})),
-            scene.authorities_of(mine),
-            int(scene.arrival(mine).min()),
-            int(scene.arrival(mine).max()),
-            len(mine),
+            (name, *parents),
+            mine,
+            scene.arrival(mine),
         )

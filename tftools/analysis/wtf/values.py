@@ -8,10 +8,9 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.rows import norm_error
+from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, edge, listed, transforms
 from tftools.core.arrays import BoolArray, FloatArray, IntpArray
-from tftools.core.buffer import QUATERNION_TOLERANCE
 
 #: roswtf's limit on | |q| - 1 | for a rotation to count as normalised.
 ROSWTF_NORM_TOLERANCE = 1e-6
@@ -24,24 +23,23 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     nan: BoolArray = rows.of_values(lambda v: np.asarray(np.isnan(v).any(axis=1), bool))
     inf = ~rows.finite & ~nan
-    bad_quaternion = rows.finite & ~rows.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
+    bad_quaternion = rows.finite & ~rows.normalised
     refused = nan | inf | bad_quaternion
-    for parent, child, mine in scene.by_edge(refused):
-        yield _refused(scene, rows.names[parent], rows.names[child], mine, nan, inf)
+    for parent, child, mine in rows.by_edge(refused):
+        yield _refused(scene, parent, child, mine, nan, inf)
     slightly = rows.finite & ~bad_quaternion & rows.of_values(lambda v: _length_error(v) > ROSWTF_NORM_TOLERANCE)
-    for parent, child, mine in scene.by_edge(slightly):
+    for parent, child, mine in rows.by_edge(slightly):
         worst = float(_length_error(rows.values[mine]).max())
-        yield Finding(
+        yield scene.finding(
             Severity.warning if worst > VISIBLE_NORM_ERROR else Severity.info,
             "invalid_values",
-            f"rotations of {edge(rows.names[parent], rows.names[child])}{scene.by(scene.authorities_of(mine))} "
+            f"rotations of {edge(parent, child)}{scene.by(scene.authorities_of(mine))} "
             f"are not unit length in {transforms(len(mine))} (| |q| - 1 | up to {worst:.2g}): tf2 accepts them, "
             "but points through this edge get scaled",
             "normalise the quaternion before publishing (tf2::Quaternion::normalize()); roswtf flags rotations "
             f"off by more than {ROSWTF_NORM_TOLERANCE:g}",
-            (rows.names[parent], rows.names[child]),
-            scene.authorities_of(mine),
-            *_shown_in(scene, mine),
+            (parent, child),
+            mine,
         )
 
 
@@ -67,9 +65,9 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
             "publish nothing until the values are valid"
         )
     if n_quat:
-        quat_rows = mine[~nan[mine] & ~inf[mine]]
-        zero = int((np.abs(rows.values[quat_rows][:, 3:]).sum(axis=1) == 0).sum())
-        lengths = np.sqrt((rows.values[quat_rows][:, 3:] ** 2).sum(axis=1))
+        rotations = rows.values[mine[~nan[mine] & ~inf[mine]]][:, 3:]
+        zero = int((np.abs(rotations).sum(axis=1) == 0).sum())
+        lengths = np.sqrt((rotations**2).sum(axis=1))
         kinds.append(
             f"a rotation of length {lengths.min():.3g}"
             + (f" to {lengths.max():.3g}" if lengths.max() - lengths.min() > 5e-4 else "")
@@ -79,18 +77,15 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
         if zero:
             hint += "; for no rotation send x=y=z=0, w=1, not all zeros"
         hints.append(hint)
-    times = scene.arrival(mine)
-    who = scene.authorities_of(mine)
-    by = scene.by(who)
-    return Finding(
+    by = scene.by(scene.authorities_of(mine))
+    return scene.finding(
         Severity.error,
         "invalid_values",
         f"{transforms(len(mine))} {edge(parent or '(empty)', child or '(empty)')}{by} "
-        f"refused by tf2 ({', '.join(kinds)}), first at {scene.at(int(times.min()))}",
+        f"refused by tf2 ({', '.join(kinds)}), first at {scene.first_at(mine)}",
         "tf2 drops them (TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION), so lookups miss these updates: " + "; ".join(hints),
         tuple(f for f in (parent, child) if f),
-        who,
-        *_shown_in(scene, mine),
+        mine,
     )
 
 
@@ -100,34 +95,20 @@ def self_transform(scene: Scene) -> Iterator[Finding]:
     parents, children = rows.parent.whole(), rows.child.whole()
     same = (parents == children) & (children != 0)
     del parents, children
-    for _, child, mine in scene.by_edge(same):
-        frame = rows.names[child]
-        spelled = sorted({f"{rows.raw_names[p]} -> {rows.raw_names[c]}" for p, c in _raw_pairs(scene, mine)})
+    for _, frame, mine in rows.by_edge(same):
+        raw_pairs = zip(rows.raw_parent[mine].tolist(), rows.raw_child[mine].tolist(), strict=True)
+        spelled = sorted({f"{rows.raw_names[p]} -> {rows.raw_names[c]}" for p, c in raw_pairs})
         sent = f", sent as {listed(spelled)}: one frame to tf2" if any(n.startswith("/") for n in spelled) else ""
-        who = scene.authorities_of(mine)
-        by = scene.by(who)
-        yield Finding(
+        yield scene.finding(
             Severity.error,
             "self_transform",
-            f"{transforms(len(mine))} from {frame} to itself{by}{sent}, "
-            f"first at {scene.at(int(scene.arrival(mine).min()))}: tf2 ignores them (TF_SELF_TRANSFORM)",
+            f"{transforms(len(mine))} from {frame} to itself{scene.by(scene.authorities_of(mine))}{sent}, "
+            f"first at {scene.first_at(mine)}: tf2 ignores them (TF_SELF_TRANSFORM)",
             "header.frame_id must name the parent and child_frame_id the frame that moves: set them to two "
             "different frames (a name with and without a leading '/' is the same frame)",
             (frame,),
-            who,
-            *_shown_in(scene, mine),
+            mine,
         )
-
-
-def _shown_in(scene: Scene, mine: IntpArray) -> tuple[int, int, int]:
-    """A finding's first and last stamps and count: of the transforms ``mine``."""
-    stamps = scene.rows.stamp[mine]
-    return int(stamps.min()), int(stamps.max()), len(mine)
-
-
-def _raw_pairs(scene: Scene, mine: IntpArray) -> set[tuple[int, int]]:
-    rows = scene.rows
-    return set(zip(rows.raw_parent[mine].tolist(), rows.raw_child[mine].tolist(), strict=True))
 
 
 @register("empty_frame_id", Severity.error, "a transform without frame_id or child_frame_id")
@@ -138,51 +119,40 @@ def empty_frame_id(scene: Scene) -> Iterator[Finding]:
         ("frame_id", "child_frame_id", parent, child),
         ("child_frame_id", "frame_id", child, parent),
     ):
-        for other_id, mine in _group_by(other, missing == 0):
+        empty = np.flatnonzero(missing == 0)
+        for other_id, mine in split(empty, other[empty]):
             named = rows.names[other_id]
-            who = scene.authorities_of(mine)
-            by = scene.by(who)
-            yield Finding(
+            yield scene.finding(
                 Severity.error,
                 "empty_frame_id",
-                f"{transforms(len(mine))}{by} with an empty {field} "
-                f"({other_field} {named or 'empty too'}), first at {scene.at(int(scene.arrival(mine).min()))}: "
+                f"{transforms(len(mine))}{scene.by(scene.authorities_of(mine))} with an empty {field} "
+                f"({other_field} {named or 'empty too'}), first at {scene.first_at(mine)}: "
                 f"tf2 ignores them (TF_NO_{'CHILD_' if field == 'child_frame_id' else ''}FRAME_ID)",
                 "set both header.frame_id and child_frame_id (an empty frame parameter in a launch file or "
                 "config is the usual cause)",
                 (named,) if named else (),
-                who,
-                *_shown_in(scene, mine),
+                mine,
             )
-
-
-def _group_by(keys: np.ndarray, mask: np.ndarray) -> Iterator[tuple[int, IntpArray]]:
-    rows = np.flatnonzero(mask)
-    for key in dict.fromkeys(keys[rows].tolist()):
-        yield key, rows[keys[rows] == key]
 
 
 @register("leading_slash", Severity.warning, "frame ids starting with '/' (tf_prefix style)")
 def leading_slash(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     slashed = np.array([n.startswith("/") for n in rows.raw_names] or [False])
-    uses = slashed[rows.raw_parent.whole()] | slashed[rows.raw_child.whole()]
-    for authority, mine in _group_by(rows.authority.whole(), uses):
+    uses = np.flatnonzero(slashed[rows.raw_parent.whole()] | slashed[rows.raw_child.whole()])
+    for authority, mine in split(uses, rows.authority[uses]):
         names = sorted(
             {rows.raw_names[i] for i in (*rows.raw_parent[mine].tolist(), *rows.raw_child[mine].tolist())}
             & {n for n in rows.raw_names if n.startswith("/")}
         )
-        who = (rows.authorities[authority],)
-        by = scene.by(who)
-        yield Finding(
+        yield scene.finding(
             Severity.warning,
             "leading_slash",
-            f"frame ids with a leading '/'{by}: {listed(names)} "
-            f"(in {transforms(len(mine))}, first at {scene.at(int(scene.arrival(mine).min()))})",
+            f"frame ids with a leading '/'{scene.by([rows.authorities[authority]])}: {listed(names)} "
+            f"(in {transforms(len(mine))}, first at {scene.first_at(mine)})",
             "tf2 drops the '/' when it stores them, but lookups by those names fail ('frame_ids cannot start with "
             "a /') and tools comparing names see two frames: remove the '/' from the publisher's frame names "
             "(tf_prefix is gone since ROS Hydro)",
             tuple(n[1:] for n in names),
-            who,
-            *_shown_in(scene, mine),
+            mine,
         )
