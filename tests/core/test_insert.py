@@ -1,4 +1,4 @@
-"""A batch inserted in slices leaves the buffer as inserting it whole (or row by row) does."""
+"""A batch inserted in parts leaves the buffer as inserting it whole (or row by row) does."""
 
 from __future__ import annotations
 
@@ -9,7 +9,6 @@ import pytest
 
 from tests.core import scenarios
 from tftools import Buffer, Transform
-from tftools.core import buffer as buffer_module
 
 S = scenarios.S
 
@@ -28,12 +27,11 @@ def state(buffer):
 
 
 @pytest.mark.parametrize(("seed", "features"), CASES)
-def test_sliced_insertion_equals_whole_and_one_by_one(seed, features, monkeypatch):
+def test_sliced_insertion_equals_whole_and_one_by_one(seed, features):
     built = scenarios.build(seed, features, 1_700_000_000)
     whole = scenarios.load_into_buffer(built.scenario)
     one_by_one = scenarios.load_one_by_one(built.scenario)
-    monkeypatch.setattr(buffer_module, "_INSERT_ROWS", 7)
-    sliced = scenarios.load_into_buffer(built.scenario)
+    sliced = scenarios.load_into_buffer(built.scenario, rows_per_insert=7)
     assert state(sliced) == state(whole)
     frames, _, histories, rejections = state(one_by_one)
     assert (frames, rejections) == state(whole)[::3]

@@ -8,7 +8,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.core.rotation import slerp
 
@@ -215,62 +215,16 @@ class EdgeHistory:
             self._flags,
         )
 
-    # --- insertion ---------------------------------------------------------------------------
-
-    def add(
-        self,
-        stamps: Int64Array,
-        values: FloatArray,
-        parents: Int32Array,
-        authorities: Int32Array,
-        record_times: Int64Array,
-        sequence: Int64Array,
-        flags: UInt8Array,
-    ) -> None:
-        """Store accepted rows: appended for a static edge, merged by stamp for a dynamic one.
-
-        The caller has already refused what tf2 refuses; equal stamps keep their arrival order.
-        """
-        k = len(stamps)
-        if k == 0:
-            return
-        in_order = self.static or (
-            (self._end == self._start or stamps[0] > self._stamp_index[self._end - 1])
-            and (k == 1 or bool(np.all(stamps[1:] > stamps[:-1])))
-        )
-        if self._end + k > len(self._stamps):
-            self.grow(k)
-        s = slice(self._end, self._end + k)
-        self._stamps[s], self._values[s], self._parents[s] = stamps, values, parents
-        self._authorities[s], self._record_times[s] = authorities, record_times
-        self._sequence[s], self._flags[s] = sequence, flags
-        self._end += k
-        if not in_order:
-            self._sort()
+    # --- room for samples (``EdgeTable.insert`` and ``set_transform`` store them) ------------
 
     def grow(self, rows: int) -> None:
         """Room for ``rows`` more samples and as many again (the arrays move): amortized growth."""
         self._allocate(max(2 * (len(self) + rows), 8))
 
-    def _sort(self) -> None:
-        s = slice(self._start, self._end)
-        order = np.argsort(self._stamps[s], kind="stable")
-        for column in self._columns():
-            column[s] = column[s][order]
-
     def reserve(self, rows: int) -> None:
         """Make room for ``rows`` more samples at once (exactly, into an empty history)."""
         if self._end + rows > len(self._stamps):
             self._allocate(max(len(self) + rows, 3 * len(self) // 2))
-
-    def contains(self, stamps: Int64Array) -> BoolArray:
-        """Which of ``stamps`` a dynamic history already holds."""
-        held = self.stamps
-        i = np.searchsorted(held, stamps)
-        found = np.zeros(len(stamps), bool)
-        inside = i < len(held)
-        found[inside] = held[i[inside]] == stamps[inside]
-        return found
 
     def prune(self, cache_time: int, latest: int | None = None) -> None:
         """Drop samples older than ``cache_time`` before ``latest`` (default: the newest), as
