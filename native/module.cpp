@@ -521,7 +521,9 @@ class BulkInsert {
         for (int64_t i = 0; i < n_; ++i) {
             refusals[i] = tfinsert::checks(keys_[parent[i]], keys_[child[i]], empty_key_, values(i), t_.tolerance_);
         }
-        for (int check = 0; check < tfinsert::CHECKS; ++check) {
+        bool refused = false;
+        for (int64_t i = 0; i < n_; ++i) refused = refused || refusals[i];
+        for (int check = 0; check < tfinsert::CHECKS && refused; ++check) {
             for (int64_t i = 0; i < n_; ++i) {
                 if (refusals[i] & (1 << check)) refused_.push_back(i);
             }
@@ -529,10 +531,12 @@ class BulkInsert {
         }
         intern_frames(refusals);
         int64_t accepted = 0;
-        const std::vector<std::vector<int64_t>> rows = rows_per_child(refusals);
-        for (size_t key = 0; key < rows.size(); ++key) {
-            for (const auto& [begin, end] : cache_runs(rows[key])) {
-                accepted += store(key_to_id_[key], stripped_[key], rows[key].data() + begin, end - begin);
+        std::vector<int64_t> bounds;
+        const std::vector<int64_t> rows = rows_per_child(refusals, bounds);
+        for (size_t key = 0; key + 1 < bounds.size(); ++key) {
+            const int64_t* group = rows.data() + bounds[key];
+            for (const auto& [begin, end] : cache_runs(group, bounds[key + 1] - bounds[key])) {
+                accepted += store(key_to_id_[key], stripped_[key], group + begin, end - begin);
             }
         }
         return nb::make_tuple(accepted, to_numpy(std::move(refused_)), to_numpy(std::move(codes_)),
@@ -605,22 +609,28 @@ class BulkInsert {
         while (static_cast<Py_ssize_t>(histories_.size()) < frames) histories_.append(nb::none());
     }
 
-    // Per child key, the rows that passed the checks, in arrival order.
-    std::vector<std::vector<int64_t>> rows_per_child(const std::vector<uint8_t>& refusals) const {
-        std::vector<std::vector<int64_t>> rows(stripped_.size());
+    // The rows that passed the checks by child key, each key's in arrival order, from `bounds[key]`
+    // to `bounds[key + 1]`.
+    std::vector<int64_t> rows_per_child(const std::vector<uint8_t>& refusals, std::vector<int64_t>& bounds) const {
+        bounds.assign(stripped_.size() + 1, 0);
         for (int64_t i = 0; i < n_; ++i) {
-            if (!refusals[i]) rows[keys_[child_.data()[i]]].push_back(i);
+            if (!refusals[i]) ++bounds[keys_[child_.data()[i]] + 1];
+        }
+        std::partial_sum(bounds.begin(), bounds.end(), bounds.begin());
+        std::vector<int64_t> rows(bounds.back()), next(bounds.begin(), bounds.end() - 1);
+        for (int64_t i = 0; i < n_; ++i) {
+            if (!refusals[i]) rows[next[keys_[child_.data()[i]]]++] = i;
         }
         return rows;
     }
 
-    // A frame's rows in parts that go to one cache: all of them, except under ROS 2, where each change
-    // between static and dynamic replaces the frame's cache.
-    std::vector<std::pair<size_t, size_t>> cache_runs(const std::vector<int64_t>& rows) const {
-        std::vector<std::pair<size_t, size_t>> runs;
-        size_t begin = 0;
-        for (size_t j = 1; j <= rows.size(); ++j) {
-            if (j == rows.size() || (t_.ros2_ && static_.data()[rows[j]] != static_.data()[rows[begin]])) {
+    // A frame's `count` rows in parts that go to one cache: all of them, except under ROS 2, where
+    // each change between static and dynamic replaces the frame's cache.
+    std::vector<std::pair<int64_t, int64_t>> cache_runs(const int64_t* rows, int64_t count) const {
+        std::vector<std::pair<int64_t, int64_t>> runs;
+        int64_t begin = 0;
+        for (int64_t j = 1; j <= count; ++j) {
+            if (j == count || (t_.ros2_ && static_.data()[rows[j]] != static_.data()[rows[begin]])) {
                 runs.emplace_back(begin, j);
                 begin = j;
             }
@@ -727,8 +737,8 @@ class BulkInsert {
             const int64_t row = rows[i];
             const int32_t parent = parent_.data()[row], child = child_.data()[row];
             c.stamps[end] = stamp_.data()[row];
-            std::copy(translation_.data() + 3 * row, translation_.data() + 3 * row + 3, c.values + 7 * end);
-            std::copy(rotation_.data() + 4 * row, rotation_.data() + 4 * row + 4, c.values + 7 * end + 3);
+            const tfinsert::Values v = values(row);
+            for (int j = 0; j < 7; ++j) c.values[7 * end + j] = v.v[j];  // not std::copy: a call to memmove
             c.parents[end] = frame_of_[parent];
             c.authorities[end] = authority_ids_.data()[authority_.data()[row]];
             c.record_times[end] = record_time_.data()[row];

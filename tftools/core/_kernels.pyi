@@ -103,7 +103,7 @@ class EdgeTable:
         authority_ids: Int32Array,
         histories: list[EdgeHistory | None],
         intern: Callable[[str], int],
-        new_history: type[EdgeHistory],
+        new_history: Callable[[bool, int, EdgeHistory | None], EdgeHistory],
     ) -> tuple[int, Int64Array, UInt8Array, Int64Array, Int64Array]:
         """``Buffer.insert``'s work, in one call: ``batch``'s rows (``authority_ids``: each of its
         publishers' id in the buffer) as that many tf2 ``setTransform`` calls, ``arrivals`` counted.

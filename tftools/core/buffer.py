@@ -24,6 +24,7 @@ from tftools.core.history import (
     FROM_STATIC_TOPIC,
     PARENT_HAD_SLASH,
     EdgeHistory,
+    RoomForHistories,
 )
 from tftools.core.kernels import lookup_in_parallel
 from tftools.core.rejection import LIVE_REJECTIONS_KEPT, RejectionCode, RejectionLog
@@ -126,6 +127,7 @@ class Buffer:
         self._histories: list[EdgeHistory | None] = [None]
         self._broadcasters: dict[int, int] = {}  # frame id -> authority of its last accepted sample
         self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
+        self._room: RoomForHistories | None = None  # where the reserved rows' new histories go
         self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
         self._changed = threading.Condition(self._mutex)
         self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
@@ -153,6 +155,7 @@ class Buffer:
         state = self.__dict__.copy()
         del state["_changed"], state["_mutex"]
         state["_table"] = None  # memory addresses: rebuilt where the copy is used
+        state["_room"] = None
         state["_arrivals"] = self.arrivals
         state["_waiting"] = 0
         return state
@@ -270,17 +273,24 @@ class Buffer:
             for batch in batches:
                 for name, rows in _rows_per_child(batch).items():
                     self._expected[name] = self._expected.get(name, 0) + rows
+            self._room = RoomForHistories(self._expected.values())
 
     def _insert(self, batch: TransformBatch) -> int:
         first = self._table.arrivals
         authority_ids = self._authority_map(batch.authorities)
         accepted, refused, codes, bounds, identical = self._table.insert(
-            batch, authority_ids, self._histories, self._frames.intern, EdgeHistory
+            batch, authority_ids, self._histories, self._frames.intern, self._new_history
         )
+        if not self._expected:
+            self._room = None
         if len(refused):
             self._record_refusals(batch, authority_ids, refused, (codes, bounds), first)
         self.duplicates.extend((identical + first).tolist())
         return accepted
+
+    def _new_history(self, static: bool, capacity: int, replaced: EdgeHistory | None) -> EdgeHistory:
+        """A new history for ``EdgeTable.insert``, in the room reserved for a bulk load while there is some."""
+        return EdgeHistory(static, capacity, replaced, self._room)
 
     def _authority_map(self, authorities: Sequence[str]) -> Int32Array:
         ids = []

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from bisect import bisect_right
-from collections.abc import Sequence
-from typing import NamedTuple
+from collections.abc import Iterable, Sequence
+from typing import Any, NamedTuple
 
 import numpy as np
+import numpy.typing as npt
 
 from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
@@ -45,6 +46,51 @@ def rows_as_sent(
         record_time=record_time,
         authority=authority,
     )
+
+
+#: The bytes of one sample over a history's columns: stamp, values, parent, authority, record time,
+#: sequence, flags (in this order in a history's block, each column aligned to its items).
+ROW_BYTES = 8 + 7 * 8 + 4 + 4 + 8 + 8 + 1
+
+_Columns = tuple[Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, UInt8Array]
+
+
+def block_bytes(capacity: int) -> int:
+    """The bytes of a history's block for ``capacity`` rows, rounded up to a cache line (blocks laid one
+    after another stay aligned)."""
+    return -(-capacity * ROW_BYTES // 64) * 64
+
+
+def _columns_in(block: UInt8Array, capacity: int) -> _Columns:
+    """The columns of ``capacity`` rows laid one after another in ``block``."""
+    ends = np.cumsum([8, 56, 4, 4, 8, 8, 1]) * capacity
+    stamps, values, parents, authorities, record_times, sequence, flags = np.split(block[: ends[-1]], ends[:-1])
+    return (
+        stamps.view(np.int64),
+        values.view(np.float64).reshape(capacity, 7),
+        parents.view(np.int32),
+        authorities.view(np.int32),
+        record_times.view(np.int64),
+        sequence.view(np.int64),
+        flags,
+    )
+
+
+class RoomForHistories:
+    """One block for the histories of a bulk load, each taking its part as it is made: the memory is
+    touched once, in large pages (numpy asks for them for large blocks), not page by page."""
+
+    def __init__(self, capacities: Iterable[int]) -> None:
+        self._block = np.empty(sum(block_bytes(c) for c in capacities), np.uint8)
+        self._used = 0
+
+    def take(self, capacity: int) -> UInt8Array | None:
+        """A block for a history of ``capacity`` rows; None where there is no room left."""
+        size = block_bytes(capacity)
+        if self._used + size > len(self._block):
+            return None
+        self._used += size
+        return self._block[self._used - size : self._used]
 
 
 #: A sample as the scalar lookup path uses it: parent id and tx ty tz qx qy qz qw.
@@ -98,35 +144,34 @@ class EdgeHistory:
     _flags: UInt8Array
     _stamp_index: memoryview
 
-    def __init__(self, static: bool, capacity: int = 8, replaced: EdgeHistory | None = None) -> None:
+    def __init__(
+        self,
+        static: bool,
+        capacity: int = 8,
+        replaced: EdgeHistory | None = None,
+        room: RoomForHistories | None = None,
+    ) -> None:
         self.static = static
         self.replaced = replaced
         self._start = 0
         self._end = 0
-        self._allocate(max(capacity, 1))
+        capacity = max(capacity, 1)
+        self._allocate(capacity, room.take(capacity) if room is not None else None)
 
-    def _allocate(self, capacity: int) -> None:
+    def _allocate(self, capacity: int, block: UInt8Array | None = None) -> None:
+        """Columns for ``capacity`` rows, in ``block`` if given (of ``block_bytes(capacity)``),
+        holding the rows in use."""
         n = self._end - self._start
         s = slice(self._start, self._end)
-        stamps = np.empty(capacity, np.int64)
-        values = np.empty((capacity, 7), np.float64)
-        parents = np.empty(capacity, np.int32)
-        authorities = np.empty(capacity, np.int32)
-        record_times = np.empty(capacity, np.int64)
-        sequence = np.empty(capacity, np.int64)
-        flags = np.empty(capacity, np.uint8)
+        columns = _columns_in(np.empty(block_bytes(capacity), np.uint8) if block is None else block, capacity)
         if n:
-            stamps[:n] = self._stamps[s]
-            values[:n] = self._values[s]
-            parents[:n] = self._parents[s]
-            authorities[:n] = self._authorities[s]
-            record_times[:n] = self._record_times[s]
-            sequence[:n] = self._sequence[s]
-            flags[:n] = self._flags[s]
-        self._stamps, self._values, self._parents = stamps, values, parents
-        self._authorities, self._record_times = authorities, record_times
-        self._sequence, self._flags = sequence, flags
-        self._stamp_index = stamps.data  # bisect on it yields Python ints, no numpy scalars
+            new: tuple[npt.NDArray[Any], ...] = columns
+            held: tuple[npt.NDArray[Any], ...] = self._columns()
+            for column, old in zip(new, held, strict=True):
+                column[:n] = old[s]
+        self._stamps, self._values, self._parents, self._authorities = columns[:4]
+        self._record_times, self._sequence, self._flags = columns[4:]
+        self._stamp_index = self._stamps.data  # bisect on it yields Python ints, no numpy scalars
         self._start, self._end = 0, n
 
     # --- views -------------------------------------------------------------------------------
@@ -202,7 +247,7 @@ class EdgeHistory:
         """
         return (*self._columns(), self._start, self._end)
 
-    def _columns(self) -> tuple[Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, UInt8Array]:
+    def _columns(self) -> _Columns:
         """The backing arrays, one row per sample: stamps, values, parents, authorities, record
         times, sequence, flags."""
         return (
