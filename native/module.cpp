@@ -518,20 +518,29 @@ class BulkInsert {
         std::vector<uint8_t> refusals(n_);
         const int32_t* parent = parent_.data();
         const int32_t* child = child_.data();
+        bool refused = false;
         for (int64_t i = 0; i < n_; ++i) {
             refusals[i] = tfinsert::checks(keys_[parent[i]], keys_[child[i]], empty_key_, values(i), t_.tolerance_);
+            refused = refused || refusals[i];
         }
-        bool refused = false;
-        for (int64_t i = 0; i < n_; ++i) refused = refused || refusals[i];
         for (int check = 0; check < tfinsert::CHECKS && refused; ++check) {
             for (int64_t i = 0; i < n_; ++i) {
                 if (refusals[i] & (1 << check)) refused_.push_back(i);
             }
             close_group(static_cast<tfinsert::Refusal>(check));
         }
-        intern_frames(refusals);
+        // Of the rows that passed, in one pass: where each name first appears (as a child before
+        // as a parent, as tf2 interns them) and how many rows each child has.
+        std::vector<int64_t> appearance(stripped_.size(), NEVER), bounds(stripped_.size() + 1, 0);
+        for (int64_t i = 0; i < n_; ++i) {
+            if (refusals[i]) continue;
+            const int32_t as_child = keys_[child[i]], as_parent = keys_[parent[i]];
+            if (appearance[as_child] == NEVER) appearance[as_child] = 2 * i;
+            if (appearance[as_parent] == NEVER) appearance[as_parent] = 2 * i + 1;
+            ++bounds[as_child + 1];
+        }
+        intern_frames(appearance);
         int64_t accepted = 0;
-        std::vector<int64_t> bounds;
         const std::vector<int64_t> rows = rows_per_child(refusals, bounds);
         for (size_t key = 0; key + 1 < bounds.size(); ++key) {
             const int64_t* group = rows.data() + bounds[key];
@@ -544,6 +553,8 @@ class BulkInsert {
     }
 
    private:
+    static constexpr int64_t NEVER = INT64_MAX;
+
     tfinsert::Values values(int64_t row) const {
         return tfinsert::values_of(translation_.data(), rotation_.data(), row);
     }
@@ -584,18 +595,9 @@ class BulkInsert {
         bounds_.push_back(static_cast<int64_t>(refused_.size()));
     }
 
-    // Frame ids for the names of rows that passed the checks, new ones interned in order of first
-    // appearance, each row's child before its parent, as tf2 does; the buffer's histories made as many.
-    void intern_frames(const std::vector<uint8_t>& refusals) {
-        constexpr int64_t NEVER = INT64_MAX;
-        std::vector<int64_t> appearance(stripped_.size(), NEVER);
-        for (int64_t i = 0; i < n_; ++i) {
-            if (refusals[i]) continue;
-            int64_t& as_child = appearance[keys_[child_.data()[i]]];
-            int64_t& as_parent = appearance[keys_[parent_.data()[i]]];
-            as_child = std::min(as_child, 2 * i);
-            as_parent = std::min(as_parent, 2 * i + 1);
-        }
+    // Frame ids for the names of rows that passed the checks, new ones interned in order of
+    // `appearance` (NEVER: not used); the buffer's histories made as many.
+    void intern_frames(const std::vector<int64_t>& appearance) {
         std::vector<size_t> order;
         for (size_t key = 0; key < appearance.size(); ++key) {
             if (appearance[key] != NEVER) order.push_back(key);
@@ -610,12 +612,8 @@ class BulkInsert {
     }
 
     // The rows that passed the checks by child key, each key's in arrival order, from `bounds[key]`
-    // to `bounds[key + 1]`.
+    // to `bounds[key + 1]` (given each key's count at `bounds[key + 1]`).
     std::vector<int64_t> rows_per_child(const std::vector<uint8_t>& refusals, std::vector<int64_t>& bounds) const {
-        bounds.assign(stripped_.size() + 1, 0);
-        for (int64_t i = 0; i < n_; ++i) {
-            if (!refusals[i]) ++bounds[keys_[child_.data()[i]] + 1];
-        }
         std::partial_sum(bounds.begin(), bounds.end(), bounds.begin());
         std::vector<int64_t> rows(bounds.back()), next(bounds.begin(), bounds.end() - 1);
         for (int64_t i = 0; i < n_; ++i) {

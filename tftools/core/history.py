@@ -76,12 +76,19 @@ def _columns_in(block: UInt8Array, capacity: int) -> _Columns:
     )
 
 
+#: A large page: the memory a fault brings in for a block numpy asks large pages for (4 MiB and up).
+_LARGE_PAGE = 2 << 20
+
+
 class RoomForHistories:
-    """One block for the histories of a bulk load, each taking its part as it is made: the memory is
-    touched once, in large pages (numpy asks for them for large blocks), not page by page."""
+    """One block for the histories of a bulk load, each taking its part as it is made: the memory comes
+    in large pages, a fault each, not page by page (faults are most of a bulk load's cost otherwise)."""
 
     def __init__(self, capacities: Iterable[int]) -> None:
-        self._block = np.empty(sum(block_bytes(c) for c in capacities), np.uint8)
+        size = sum(block_bytes(c) for c in capacities)
+        block = np.empty(size + _LARGE_PAGE, np.uint8)
+        start = -block.ctypes.data % _LARGE_PAGE  # the block's first whole large page
+        self._block = block[start : start + size]
         self._used = 0
 
     def take(self, capacity: int) -> UInt8Array | None:
