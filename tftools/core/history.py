@@ -123,8 +123,9 @@ class EdgeHistory:
     ROS 1's tf2, several samples of one stamp in arrival order under ROS 2's. A static history
     keeps every sample in arrival order and answers with the last one at every time, like tf2's
     ``StaticCache`` (which keeps only that one). Each row stores the parent, so a frame can
-    change parent over time. The arrays grow in amortized chunks, and pruning (a finite cache
-    time) drops a prefix by moving ``start``. ``replaced`` is the history this one replaced when
+    change parent over time. The arrays (one block, or a part of a bulk load's
+    ``RoomForHistories``) grow in amortized chunks, and pruning (a finite cache time) drops a
+    prefix by moving ``start``. ``replaced`` is the history this one replaced when
     ROS 2's tf2 turned the frame static or dynamic (kept only where every sample is kept).
     """
 
@@ -248,9 +249,9 @@ class EdgeHistory:
         """The whole backing arrays (stamps, values, parents, authorities, record times, sequence,
         flags) and the rows in use, ``start:end``.
 
-        For the compiled calls (``EdgeTable.update``), which read the arrays and may store one
-        sample after ``end`` and move ``_start`` and ``_end``; the arrays move when the history
-        grows or is pruned.
+        For the compiled calls (``EdgeTable.update``), which read the arrays, store samples after
+        ``end`` (and merge them in by stamp) and move ``_start`` and ``_end``; the arrays move when
+        the history grows or is pruned.
         """
         return (*self._columns(), self._start, self._end)
 
