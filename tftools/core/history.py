@@ -82,7 +82,9 @@ _LARGE_PAGE = 2 << 20
 
 class RoomForHistories:
     """One block for the histories of a bulk load, each taking its part as it is made: the memory comes
-    in large pages, a fault each, not page by page (faults are most of a bulk load's cost otherwise)."""
+    in large pages, a fault each, not page by page (faults are most of a bulk load's cost otherwise).
+    The price: a history's large page is resident from its first row on, up to 2 MiB per history
+    before its rows fill it (a 258k-transform load peaks 13 MiB higher, a 4.1M one 17 MiB)."""
 
     def __init__(self, capacities: Iterable[int]) -> None:
         size = sum(block_bytes(c) for c in capacities)
