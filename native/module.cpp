@@ -11,6 +11,7 @@
 #include <string>
 #include <tuple>
 
+#include "insert.hpp"
 #include "many.hpp"
 
 namespace nb = nanobind;
@@ -306,6 +307,8 @@ class EdgeTable {
     }
 
    private:
+    friend class BulkInsert;
+
     // The id of the frame named `name` (0: none), remembered per argument (`which`, 0 or 1) by the
     // name's object: a loop looks the same two frames up again and again. Frames are only ever
     // added to the table, so a name's id never changes; held, its object cannot be another's.
@@ -500,6 +503,318 @@ class EdgeTable {
     std::vector<Held> held_;
 };
 
+// --- Buffer.insert: a batch in one call (insert.hpp) ---------------------------------------------
+
+// history.PARENT_HAD_SLASH and CHILD_HAD_SLASH: a sample's frame names had a leading slash.
+constexpr uint8_t PARENT_HAD_SLASH = 2, CHILD_HAD_SLASH = 4;
+
+// A new numpy array holding `values`.
+template <typename T>
+nb::ndarray<nb::numpy, T, nb::ndim<1>> to_numpy(std::vector<T> values) {
+    auto* owned = new std::vector<T>(std::move(values));
+    const nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+    return nb::ndarray<nb::numpy, T, nb::ndim<1>>(owned->data(), {owned->size()}, owner);
+}
+
+// EdgeTable.insert of one batch (see _kernels.pyi): its rows checked, grouped by child frame, and
+// each frame's rows offered to its history as tf2's setTransform offers them one by one.
+class BulkInsert {
+   public:
+    BulkInsert(EdgeTable& table, nb::handle batch, Column<const int32_t> authority_ids, nb::list histories,
+               nb::handle intern, nb::handle new_history)
+        : t_(table),
+          names_(nb::getattr(batch, "frame_names")),
+          parent_(nb::cast<Column<const int32_t>>(nb::getattr(batch, "parent"))),
+          child_(nb::cast<Column<const int32_t>>(nb::getattr(batch, "child"))),
+          authority_(nb::cast<Column<const int32_t>>(nb::getattr(batch, "authority"))),
+          stamp_(nb::cast<Column<const int64_t>>(nb::getattr(batch, "stamp"))),
+          record_time_(nb::cast<Column<const int64_t>>(nb::getattr(batch, "record_time"))),
+          translation_(nb::cast<Array<const double, nb::shape<-1, 3>>>(nb::getattr(batch, "translation"))),
+          rotation_(nb::cast<Array<const double, nb::shape<-1, 4>>>(nb::getattr(batch, "rotation"))),
+          static_(nb::cast<Column<const bool>>(nb::getattr(batch, "static"))),
+          authority_ids_(std::move(authority_ids)),
+          histories_(std::move(histories)),
+          intern_(intern),
+          new_history_(new_history),
+          n_(static_cast<int64_t>(stamp_.shape(0))) {
+        for (const size_t rows : {parent_.shape(0), child_.shape(0), authority_.shape(0), record_time_.shape(0),
+                                  translation_.shape(0), rotation_.shape(0), static_.shape(0)}) {
+            if (static_cast<int64_t>(rows) != n_) throw nb::value_error("EdgeTable.insert: columns of other lengths");
+        }
+        const Py_ssize_t names = PySequence_Size(names_.ptr());
+        if (names < 0) throw nb::python_error();
+        const auto authorities = static_cast<int32_t>(authority_ids_.shape(0));
+        for (int64_t i = 0; i < n_; ++i) {
+            if (parent_.data()[i] < 0 || parent_.data()[i] >= names || child_.data()[i] < 0 ||
+                child_.data()[i] >= names || authority_.data()[i] < 0 || authority_.data()[i] >= authorities) {
+                throw nb::index_error("EdgeTable.insert: a frame or publisher index outside the batch's names");
+            }
+        }
+        name_count_ = names;
+    }
+
+    // (accepted, refused rows, their codes, their groups' bounds, rows ROS 2's tf2 ignored as identical).
+    nb::tuple run() {
+        key_names();
+        first_ = t_.arrivals;
+        t_.arrivals += n_;
+        std::vector<uint8_t> refusals(n_);
+        const int32_t* parent = parent_.data();
+        const int32_t* child = child_.data();
+        bool refused = false;
+        for (int64_t i = 0; i < n_; ++i) {
+            refusals[i] = tfinsert::checks(keys_[parent[i]], keys_[child[i]], empty_key_, values(i), t_.tolerance_);
+            refused = refused || refusals[i];
+        }
+        for (int check = 0; check < tfinsert::CHECKS && refused; ++check) {
+            for (int64_t i = 0; i < n_; ++i) {
+                if (refusals[i] & (1 << check)) refused_.push_back(i);
+            }
+            close_group(static_cast<tfinsert::Refusal>(check));
+        }
+        // Of the rows that passed, in one pass: where each name first appears (as a child before
+        // as a parent, as tf2 interns them) and how many rows each child has.
+        std::vector<int64_t> appearance(stripped_.size(), NEVER), bounds(stripped_.size() + 1, 0);
+        for (int64_t i = 0; i < n_; ++i) {
+            if (refusals[i]) continue;
+            const int32_t as_child = keys_[child[i]], as_parent = keys_[parent[i]];
+            if (appearance[as_child] == NEVER) appearance[as_child] = 2 * i;
+            if (appearance[as_parent] == NEVER) appearance[as_parent] = 2 * i + 1;
+            ++bounds[as_child + 1];
+        }
+        intern_frames(appearance);
+        int64_t accepted = 0;
+        const std::vector<int64_t> rows = rows_per_child(refusals, bounds);
+        for (size_t key = 0; key + 1 < bounds.size(); ++key) {
+            const int64_t* group = rows.data() + bounds[key];
+            for (const auto& [begin, end] : cache_runs(group, bounds[key + 1] - bounds[key])) {
+                accepted += store(key_to_id_[key], stripped_[key], group + begin, end - begin);
+            }
+        }
+        return nb::make_tuple(accepted, to_numpy(std::move(refused_)), to_numpy(std::move(codes_)),
+                              to_numpy(std::move(bounds_)), to_numpy(std::move(duplicates_)));
+    }
+
+   private:
+    static constexpr int64_t NEVER = INT64_MAX;
+
+    tfinsert::Values values(int64_t row) const {
+        return tfinsert::values_of(translation_.data(), rotation_.data(), row);
+    }
+
+    // Each name a row uses, without its leading slash, as a key: keys_, slash_, stripped_, empty_key_.
+    void key_names() {
+        std::vector<uint8_t> used(name_count_);
+        for (int64_t i = 0; i < n_; ++i) used[parent_.data()[i]] = used[child_.data()[i]] = 1;
+        keys_.assign(name_count_, -1);
+        slash_.assign(name_count_, 0);
+        const nb::dict index;
+        for (int64_t j = 0; j < name_count_; ++j) {
+            if (!used[j]) continue;
+            nb::object name = nb::steal(PySequence_GetItem(names_.ptr(), j));
+            if (!name.is_valid()) throw nb::python_error();
+            if (!PyUnicode_Check(name.ptr())) throw nb::type_error("EdgeTable.insert: a frame name that is not a str");
+            const Py_ssize_t length = PyUnicode_GET_LENGTH(name.ptr());
+            if (length > 0 && PyUnicode_READ_CHAR(name.ptr(), 0) == '/') {
+                name = nb::steal(PyUnicode_Substring(name.ptr(), 1, length));
+                slash_[j] = 1;
+            }
+            if (index.contains(name)) {
+                keys_[j] = nb::cast<int32_t>(index[name]);
+            } else {
+                keys_[j] = static_cast<int32_t>(stripped_.size());
+                index[name] = keys_[j];
+                stripped_.push_back(name);
+            }
+        }
+        const nb::str empty("");
+        empty_key_ = index.contains(empty) ? nb::cast<int32_t>(index[empty]) : -1;
+    }
+
+    // The rows refused since the last group, as one group of `code`.
+    void close_group(tfinsert::Refusal code) {
+        if (static_cast<int64_t>(refused_.size()) == bounds_.back()) return;
+        codes_.push_back(code);
+        bounds_.push_back(static_cast<int64_t>(refused_.size()));
+    }
+
+    // Frame ids for the names of rows that passed the checks, new ones interned in order of
+    // `appearance` (NEVER: not used); the buffer's histories made as many.
+    void intern_frames(const std::vector<int64_t>& appearance) {
+        std::vector<size_t> order;
+        for (size_t key = 0; key < appearance.size(); ++key) {
+            if (appearance[key] != NEVER) order.push_back(key);
+        }
+        std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return appearance[a] < appearance[b]; });
+        key_to_id_.assign(stripped_.size(), 0);
+        for (const size_t key : order) key_to_id_[key] = nb::cast<int32_t>(intern_(stripped_[key]));
+        frame_of_.resize(name_count_);
+        for (int64_t j = 0; j < name_count_; ++j) frame_of_[j] = keys_[j] < 0 ? 0 : key_to_id_[keys_[j]];
+        const Py_ssize_t frames = PyDict_Size(t_.frames_.ptr()) + 1;  // and NO_PARENT
+        while (static_cast<Py_ssize_t>(histories_.size()) < frames) histories_.append(nb::none());
+    }
+
+    // The rows that passed the checks by child key, each key's in arrival order, from `bounds[key]`
+    // to `bounds[key + 1]` (given each key's count at `bounds[key + 1]`).
+    std::vector<int64_t> rows_per_child(const std::vector<uint8_t>& refusals, std::vector<int64_t>& bounds) const {
+        std::partial_sum(bounds.begin(), bounds.end(), bounds.begin());
+        std::vector<int64_t> rows(bounds.back()), next(bounds.begin(), bounds.end() - 1);
+        for (int64_t i = 0; i < n_; ++i) {
+            if (!refusals[i]) rows[next[keys_[child_.data()[i]]]++] = i;
+        }
+        return rows;
+    }
+
+    // A frame's `count` rows in parts that go to one cache: all of them, except under ROS 2, where
+    // each change between static and dynamic replaces the frame's cache.
+    std::vector<std::pair<int64_t, int64_t>> cache_runs(const int64_t* rows, int64_t count) const {
+        std::vector<std::pair<int64_t, int64_t>> runs;
+        int64_t begin = 0;
+        for (int64_t j = 1; j <= count; ++j) {
+            if (j == count || (t_.ros2_ && static_.data()[rows[j]] != static_.data()[rows[begin]])) {
+                runs.emplace_back(begin, j);
+                begin = j;
+            }
+        }
+        return runs;
+    }
+
+    // The rows reserved for the frame `name`, no longer reserved.
+    int64_t take_reserved(nb::handle name) {
+        PyObject* reserved = t_.reserved_.ptr();
+        if (PyDict_GET_SIZE(reserved) == 0) return 0;
+        PyObject* rows = PyDict_GetItemWithError(reserved, name.ptr());
+        if (rows == nullptr) {
+            if (PyErr_Occurred()) throw nb::python_error();
+            return 0;
+        }
+        const int64_t count = nb::cast<int64_t>(nb::handle(rows));
+        if (PyDict_DelItem(reserved, name.ptr()) < 0) throw nb::python_error();
+        return count;
+    }
+
+    // Offer one frame's `k` rows (passed the checks, in arrival order, all static or all dynamic under
+    // ROS 2) to its cache, as tf2's setTransform does; returns how many tf2 accepted.
+    int64_t store(int32_t frame, nb::handle name, const int64_t* rows, int64_t k) {
+        nb::object hist = nb::borrow(PyList_GET_ITEM(histories_.ptr(), frame));
+        const int64_t expected = take_reserved(name);
+        const bool run_static = static_.data()[rows[0]];
+        // ROS 1's tf2 makes a frame static or dynamic once, by its first accepted sample; ROS 2's
+        // replaces the frame's cache whenever a sample of the other kind comes.
+        if (hist.is_none() || (t_.ros2_ && t_.histories_[frame].is_static != run_static)) {
+            const nb::object replaced = t_.cache_time_ ? nb::none() : hist;
+            hist = new_history_(run_static, std::max(k, expected), replaced);
+            PyList_SetItem(histories_.ptr(), frame, nb::object(hist).release().ptr());
+            t_.update(frame, hist);
+        } else if (expected) {
+            attribute(hist, reserve_)(expected);
+            t_.update(frame, hist);
+        }
+        const tfcore::History& h = t_.histories_[frame];
+        const bool is_static = h.is_static;
+        const tfinsert::Offered offered{rows,           k, stamp_.data(), translation_.data(), rotation_.data(),
+                                        parent_.data(), frame_of_.data()};
+        std::vector<uint8_t> verdicts(k, tfinsert::KEEP);
+        int64_t prune_from = 0;  // ROS 2's
+        if (!is_static) {
+            verdicts = tfinsert::stamp_verdicts({h.stamps, h.values, h.parents, h.start, h.end}, offered,
+                                                t_.cache_time_, t_.ros2_);
+            refuse(rows, verdicts, tfinsert::OLD, tfinsert::OLD_DATA);
+            if (t_.ros2_) {
+                for (int64_t i = 0; i < k; ++i) {
+                    if (verdicts[i] == tfinsert::IGNORED) duplicates_.push_back(rows[i]);
+                }
+                prune_from = tfinsert::newest_before_last(h.end > h.start ? h.stamps + h.end - 1 : nullptr, offered);
+            } else {
+                refuse(rows, verdicts, tfinsert::IGNORED, tfinsert::REPEATED_DATA);
+            }
+        }
+        append(frame, hist, rows, verdicts);
+        const tfcore::History& after = t_.histories_[frame];
+        if (t_.cache_time_ && !is_static && after.end > after.start) {
+            t_.prune(frame, t_.ros2_ ? prune_from : after.stamps[after.end - 1]);
+        }
+        int64_t accepted = 0, last = -1;
+        for (int64_t i = 0; i < k; ++i) {
+            if (verdicts[i] == tfinsert::KEEP || (t_.ros2_ && verdicts[i] == tfinsert::IGNORED)) {
+                ++accepted;
+                last = rows[i];
+            }
+        }
+        if (last >= 0) {
+            const nb::object key = nb::int_(frame), publisher = nb::int_(authority_ids_.data()[authority_.data()[last]]);
+            if (PyDict_SetItem(t_.broadcasters_.ptr(), key.ptr(), publisher.ptr()) < 0) throw nb::python_error();
+        }
+        return accepted;
+    }
+
+    // The rows of `verdict`, refused as `code` (one group).
+    void refuse(const int64_t* rows, const std::vector<uint8_t>& verdicts, tfinsert::Verdict verdict,
+                tfinsert::Refusal code) {
+        for (size_t i = 0; i < verdicts.size(); ++i) {
+            if (verdicts[i] == verdict) refused_.push_back(rows[i]);
+        }
+        close_group(code);
+    }
+
+    // The kept rows appended to `frame`'s history (grown if full), merged in by stamp where a dynamic
+    // history's order needs it.
+    void append(int32_t frame, nb::handle hist, const int64_t* rows, const std::vector<uint8_t>& verdicts) {
+        const auto kept = static_cast<int64_t>(std::count(verdicts.begin(), verdicts.end(), tfinsert::KEEP));
+        if (kept == 0) return;
+        if (t_.histories_[frame].end + kept > EdgeTable::capacity_of(t_.held_[frame])) {
+            attribute(hist, t_.names_.grow)(kept);
+            t_.update(frame, hist);
+        }
+        tfcore::History& h = t_.histories_[frame];
+        Held& held = t_.held_[frame];
+        const tfinsert::Columns c{held.stamps.data(),       held.values.data(),   held.parents.data(),
+                                  held.authorities.data(),  held.record_times.data(), held.sequence.data(),
+                                  held.flags.data()};
+        const int64_t end_old = h.end;
+        int64_t end = end_old;
+        for (size_t i = 0; i < verdicts.size(); ++i) {
+            if (verdicts[i] != tfinsert::KEEP) continue;
+            const int64_t row = rows[i];
+            const int32_t parent = parent_.data()[row], child = child_.data()[row];
+            c.stamps[end] = stamp_.data()[row];
+            const tfinsert::Values v = values(row);
+            for (int j = 0; j < 7; ++j) c.values[7 * end + j] = v.v[j];  // not std::copy: a call to memmove
+            c.parents[end] = frame_of_[parent];
+            c.authorities[end] = authority_ids_.data()[authority_.data()[row]];
+            c.record_times[end] = record_time_.data()[row];
+            c.sequence[end] = first_ + row;
+            c.flags[end] = (static_.data()[row] ? FROM_STATIC_TOPIC : 0) | (slash_[parent] ? PARENT_HAD_SLASH : 0) |
+                           (slash_[child] ? CHILD_HAD_SLASH : 0);
+            ++end;
+        }
+        bool in_order = end_old == h.start || c.stamps[end_old] > c.stamps[end_old - 1];
+        for (int64_t r = end_old + 1; r < end && in_order; ++r) in_order = c.stamps[r] > c.stamps[r - 1];
+        if (!h.is_static && !in_order) tfinsert::merge_by_stamp(c, h.start, end_old, end);
+        h.end = end;
+        t_.set_bound(hist, EdgeTable::Bound::END, end);
+    }
+
+    EdgeTable& t_;
+    nb::object names_;  // the batch's frame names
+    Column<const int32_t> parent_, child_, authority_;
+    Column<const int64_t> stamp_, record_time_;
+    Array<const double, nb::shape<-1, 3>> translation_;
+    Array<const double, nb::shape<-1, 4>> rotation_;
+    Column<const bool> static_;
+    Column<const int32_t> authority_ids_;  // a batch publisher's id in the buffer
+    nb::list histories_;                   // the buffer's, by frame id
+    nb::handle intern_, new_history_;      // FrameTable.intern, EdgeHistory
+    const nb::str reserve_{"reserve"};
+    int64_t n_, name_count_ = 0, first_ = 0;
+    std::vector<int32_t> keys_, key_to_id_, frame_of_;
+    std::vector<uint8_t> slash_;
+    std::vector<nb::object> stripped_;  // per key, the name
+    int32_t empty_key_ = -1;
+    std::vector<int64_t> refused_, bounds_{0}, duplicates_;
+    std::vector<uint8_t> codes_;
+};
+
 }  // namespace
 
 NB_MODULE(_kernels, m) {
@@ -523,4 +838,13 @@ NB_MODULE(_kernels, m) {
         .def("lookup_in_parallel", &EdgeTable::lookup_in_parallel, "target"_a, "source"_a, "times"_a, "stamps"_a,
              "values"_a, "valid"_a, "threads"_a)
         .def("chain_takes", &EdgeTable::chain_takes, "target"_a, "source"_a, "times"_a);
+
+    // Buffer.insert's bulk path, bound apart from the class's other methods.
+    nb::cpp_function_def(
+        [](EdgeTable& table, nb::handle batch, Column<const int32_t> authority_ids, nb::list histories,
+           nb::handle intern, nb::handle new_history) {
+            return BulkInsert(table, batch, std::move(authority_ids), std::move(histories), intern, new_history).run();
+        },
+        nb::scope(nb::type<EdgeTable>()), nb::name("insert"), nb::is_method(), "batch"_a, "authority_ids"_a,
+        "histories"_a, "intern"_a, "new_history"_a);
 }

@@ -180,13 +180,16 @@ def queries(scenario: Scenario, frames: list[str], rng: np.random.Generator) -> 
 # --- our side --------------------------------------------------------------------------------
 
 
-def load_into_buffer(scenario: Scenario, semantics: Semantics = "ros1") -> Buffer:
-    """Our buffer, fed the scenario's inserts in order as one batch (the bulk path)."""
+def load_into_buffer(scenario: Scenario, semantics: Semantics = "ros1", rows_per_insert: int | None = None) -> Buffer:
+    """Our buffer, fed the scenario's inserts in order as one batch (the bulk path), or as consecutive
+    batches of ``rows_per_insert`` rows."""
     buffer = Buffer(cache_time=scenario.cache_time_s * S, semantics=semantics)
     builder = BatchBuilder()
     for parent, child, sec, nsec, *values, authority, is_static in scenario.inserts:
         builder.add(parent, child, sec * S + nsec, values[:3], values[3:7], static=is_static, authority=authority)
-    buffer.insert(builder.take())
+    batch = builder.take()
+    for part in batch.slices(rows_per_insert or max(len(batch), 1)):
+        buffer.insert(part)
     return buffer
 
 

@@ -1,4 +1,4 @@
-"""A batch inserted in slices leaves the buffer as inserting it whole (or row by row) does."""
+"""A batch inserted in parts leaves the buffer as inserting it whole (or row by row) does."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 from tests.core import scenarios
 from tftools import Buffer, Transform
-from tftools.core import buffer as buffer_module
+from tftools.core.history import ROW_BYTES
 
 S = scenarios.S
 
@@ -28,12 +28,11 @@ def state(buffer):
 
 
 @pytest.mark.parametrize(("seed", "features"), CASES)
-def test_sliced_insertion_equals_whole_and_one_by_one(seed, features, monkeypatch):
+def test_sliced_insertion_equals_whole_and_one_by_one(seed, features):
     built = scenarios.build(seed, features, 1_700_000_000)
     whole = scenarios.load_into_buffer(built.scenario)
     one_by_one = scenarios.load_one_by_one(built.scenario)
-    monkeypatch.setattr(buffer_module, "_INSERT_ROWS", 7)
-    sliced = scenarios.load_into_buffer(built.scenario)
+    sliced = scenarios.load_into_buffer(built.scenario, rows_per_insert=7)
     assert state(sliced) == state(whole)
     frames, _, histories, rejections = state(one_by_one)
     assert (frames, rejections) == state(whole)[::3]
@@ -80,3 +79,24 @@ def test_in_order_samples_of_known_frames_skip_the_batch_path(monkeypatch):
             buffer.set_transform(refused_here, "pub")
     with pytest.raises(AssertionError, match="batch path"):
         buffer.set_transform(Transform((0.0, 0, 0), (0, 0, 0, 1), 50 * S, "a", "b"), "another publisher")
+
+
+def test_a_reserved_bulk_load_lays_its_histories_in_one_block_from_a_large_page():
+    """``reserve`` then ``insert``: every history's columns lie in one block starting on a 2 MiB page
+    (so the kernel brings it in large pages), sized for the reserved rows."""
+    from tftools import BatchBuilder
+
+    builder = BatchBuilder()
+    for k in range(1, 301):
+        for child in ("b", "c", "d"):
+            builder.add("a", child, k * S, (0, 0, 0), (0, 0, 0, 1))
+    batch = builder.take()
+    buffer = Buffer(cache_time=None)
+    buffer.reserve([batch])
+    buffer.insert(batch)
+    columns = [column for _, hist in buffer.histories() for column in hist.storage()[:7]]
+    starts = [column.ctypes.data for column in columns]
+    ends = [column.ctypes.data + column.nbytes for column in columns]
+    assert min(starts) % (2 << 20) == 0
+    assert max(ends) - min(starts) <= 3 * (300 * ROW_BYTES + 64)  # the rows, each history's block aligned
+    assert [len(hist) for _, hist in buffer.histories()] == [300, 300, 300]

@@ -18,7 +18,6 @@ from tftools.core import (
     TransformError,
     walk,
 )
-from tftools.core import buffer as buffer_module
 from tftools.core.kernels import lookup_in_parallel
 from tftools.core.stored import stored_rows
 from tftools.core.time import format_sec
@@ -55,14 +54,13 @@ def test_semantics_is_checked_and_kept() -> None:
 
 
 @pytest.mark.parametrize(("seed", "features"), CASES)
-def test_ros2_insertion_paths_agree(seed: int, features: frozenset[str], monkeypatch) -> None:
+def test_ros2_insertion_paths_agree(seed: int, features: frozenset[str]) -> None:
     built = ros2_scenario(seed, features)
     whole = scenarios.load_into_buffer(built.scenario, "ros2")
     one_by_one = scenarios.load_one_by_one(built.scenario, "ros2")
     assert state(one_by_one) == state(whole)
     assert sorted(one_by_one.duplicates) == sorted(whole.duplicates)
-    monkeypatch.setattr(buffer_module, "_INSERT_ROWS", 5)
-    sliced = scenarios.load_into_buffer(built.scenario, "ros2")
+    sliced = scenarios.load_into_buffer(built.scenario, "ros2", rows_per_insert=5)
     assert state(sliced) == state(whole) and sorted(sliced.duplicates) == sorted(whole.duplicates)
     assert whole.all_frames_as_yaml() == one_by_one.all_frames_as_yaml()
     assert not any(r.code.value == "TF_REPEATED_DATA" for r in whole.rejections)

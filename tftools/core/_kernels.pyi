@@ -1,8 +1,10 @@
 """The compiled lookups (native/module.cpp): tftools.core.walk's tf2 walk over the buffer's edge histories."""
 
 import threading
+from collections.abc import Callable
 
-from tftools.core.arrays import BoolArray, FloatArray, Int64Array
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.batch import TransformBatch
 from tftools.core.history import EdgeHistory
 from tftools.core.transform import Transform
 
@@ -94,3 +96,24 @@ class EdgeTable:
     def chain_takes(self, target: int, source: int, times: Int64Array) -> int:
         """Whether ``lookup_many`` takes ``times`` (1 to ``BLOCK``) as one block along the chain
         walked at the first: 1 or 0, -1 where that walk does not end at a root."""
+
+    def insert(
+        self,
+        batch: TransformBatch,
+        authority_ids: Int32Array,
+        histories: list[EdgeHistory | None],
+        intern: Callable[[str], int],
+        new_history: Callable[[bool, int, EdgeHistory | None], EdgeHistory],
+    ) -> tuple[int, Int64Array, UInt8Array, Int64Array, Int64Array]:
+        """``Buffer.insert``'s work, in one call: ``batch``'s rows (``authority_ids``: each of its
+        publishers' id in the buffer) as that many tf2 ``setTransform`` calls, ``arrivals`` counted.
+
+        Rows failing tf2's checks are refused; the others' frames are interned by ``intern`` (in order
+        of first appearance, each row's child before its parent) and, frame by frame, offered to the
+        frame's history: ``histories[frame]``, made by ``new_history(static, capacity, replaced)``
+        where there is none (or, under ROS 2, for a change between static and dynamic), grown, merged
+        by stamp, pruned; each frame's last publisher noted, its reserved rows used. Returns how many
+        rows tf2 accepted, the refused rows (indices into ``batch``) in the order tf2 refused them,
+        in groups of one code each (``Refusal`` in native/insert.hpp: the codes, and the groups'
+        bounds into the rows), and the rows ROS 2's tf2 accepted without storing them (identical to
+        a sample held)."""

@@ -15,7 +15,7 @@ import numpy.typing as npt
 
 from tftools.core import walk
 from tftools.core._kernels import EdgeTable
-from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray, UInt8Array
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT, FrameTable
@@ -24,6 +24,7 @@ from tftools.core.history import (
     FROM_STATIC_TOPIC,
     PARENT_HAD_SLASH,
     EdgeHistory,
+    RoomForHistories,
 )
 from tftools.core.kernels import lookup_in_parallel
 from tftools.core.rejection import LIVE_REJECTIONS_KEPT, RejectionCode, RejectionLog
@@ -126,6 +127,7 @@ class Buffer:
         self._histories: list[EdgeHistory | None] = [None]
         self._broadcasters: dict[int, int] = {}  # frame id -> authority of its last accepted sample
         self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
+        self._room: RoomForHistories | None = None  # where the reserved rows' new histories go
         self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
         self._changed = threading.Condition(self._mutex)
         self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
@@ -153,6 +155,7 @@ class Buffer:
         state = self.__dict__.copy()
         del state["_changed"], state["_mutex"]
         state["_table"] = None  # memory addresses: rebuilt where the copy is used
+        state["_room"] = None
         state["_arrivals"] = self.arrivals
         state["_waiting"] = 0
         return state
@@ -248,10 +251,9 @@ class Buffer:
         Safe to call from another thread than the lookups; wakes ``wait_for_transform``.
         """
         with self._changed:
-            # In slices, so a whole bag's temporaries stay small beside its histories.
-            stored = sum(self._insert(part) for part in batch.slices(_INSERT_ROWS))
+            accepted = self._insert(batch) if len(batch) else 0
             self._changed.notify_all()
-        return stored
+        return accepted
 
     def clear(self) -> None:
         """tf2's ``BufferCore::clear`` (ROS 1 and ROS 2 alike): each dynamic edge's samples dropped,
@@ -271,58 +273,24 @@ class Buffer:
             for batch in batches:
                 for name, rows in _rows_per_child(batch).items():
                     self._expected[name] = self._expected.get(name, 0) + rows
+            self._room = RoomForHistories(self._expected.values())
 
     def _insert(self, batch: TransformBatch) -> int:
-        n = len(batch)
-        if n == 0:
-            return 0
-        names = _StrippedNames(batch.frame_names, batch.parent, batch.child)
-        parent_key, child_key = names.key[batch.parent], names.key[batch.child]
-        values = np.concatenate([batch.translation, batch.rotation], axis=1)
         first = self._table.arrivals
-        sequence = np.arange(first, first + n, dtype=np.int64)
-        self._table.arrivals = first + n
-        authority = self._authority_map(batch.authorities)[batch.authority]
-        flags = (
-            batch.static.astype(np.uint8) * FROM_STATIC_TOPIC
-            | names.slash[batch.parent].astype(np.uint8) * PARENT_HAD_SLASH
-            | names.slash[batch.child].astype(np.uint8) * CHILD_HAD_SLASH
+        authority_ids = self._authority_map(batch.authorities)
+        accepted, refused, codes, bounds, identical = self._table.insert(
+            batch, authority_ids, self._histories, self._frames.intern, self._new_history
         )
-        refusals = _validate(values, parent_key, child_key, names.empty_key)
-        self._record_refusals(refusals, batch, names, (parent_key, child_key), (values, flags), authority, sequence)
-        ok = ~np.any(list(refusals.values()), axis=0) if refusals else np.ones(n, bool)
-        rows = np.flatnonzero(ok)
-        if len(rows) == 0:
-            return 0
-        child_key, parent_key = child_key[rows], parent_key[rows]
-        children = _Runs(child_key, len(names.stripped))
-        key_to_id = self._intern(names.stripped, children, _Runs(parent_key, len(names.stripped)))
-        parent = key_to_id[parent_key]
-        accepted = 0
-        for key, group in children.groups():
-            frame_id = int(key_to_id[key])
-            for part in self._cache_runs(flags[rows[group]]):
-                r = rows[group[part]]
-                accepted += self._store(
-                    frame_id,
-                    batch.stamp[r],
-                    values[r],
-                    parent[group[part]],
-                    authority[r],
-                    batch.record_time[r],
-                    sequence[r],
-                    flags[r],
-                )
+        if not self._expected:
+            self._room = None
+        if len(refused):
+            self._record_refusals(batch, authority_ids, refused, (codes, bounds), first)
+        self.duplicates.extend((identical + first).tolist())
         return accepted
 
-    def _cache_runs(self, flags: UInt8Array) -> list[slice]:
-        """A frame's rows in parts that go to one cache: all of them, except under ROS 2,
-        where each change between static and dynamic replaces the frame's cache."""
-        static = (flags & FROM_STATIC_TOPIC) != 0
-        if not self._ros2 or len(static) < 2 or bool(np.all(static == static[0])):
-            return [slice(None)]
-        bounds = [0, *(np.flatnonzero(static[1:] != static[:-1]) + 1).tolist(), len(static)]
-        return [slice(a, b) for a, b in itertools.pairwise(bounds)]
+    def _new_history(self, static: bool, capacity: int, replaced: EdgeHistory | None) -> EdgeHistory:
+        """A new history for ``EdgeTable.insert``, in the room reserved for a bulk load while there is some."""
+        return EdgeHistory(static, capacity, replaced, self._room)
 
     def _authority_map(self, authorities: Sequence[str]) -> Int32Array:
         ids = []
@@ -333,178 +301,37 @@ class Buffer:
             ids.append(self._authority_ids[name])
         return np.array(ids or [0], np.int32)
 
-    def _intern(self, stripped: list[str], children: _Runs, parents: _Runs) -> Int32Array:
-        """Frame ids of the names' keys, interning new names in order of first appearance,
-        each row's child before its parent, as tf2 does."""
-        appearance = np.minimum(2 * children.first_row(), 2 * parents.first_row() + 1)
-        key_to_id = np.zeros(len(stripped), np.int32)
-        for key in np.argsort(appearance)[: np.count_nonzero(appearance < _NEVER)].tolist():
-            key_to_id[key] = self._frames.intern(stripped[key])
-        missing = len(self._frames.names) - len(self._histories)
-        self._histories.extend([None] * missing)
-        return key_to_id
-
-    def _store(
-        self,
-        frame_id: int,
-        stamps: Int64Array,
-        values: FloatArray,
-        parents: Int32Array,
-        authorities: Int32Array,
-        record_times: Int64Array,
-        sequence: Int64Array,
-        flags: UInt8Array,
-    ) -> int:
-        """Offer one frame's rows, in arrival order, to its cache; returns how many tf2 accepted."""
-        hist = self._histories[frame_id]
-        expected = self._expected.pop(self._frames.names[frame_id], 0) if self._expected else 0
-        static = bool(flags[0] & FROM_STATIC_TOPIC)  # the same in every row (``_cache_runs``)
-        # ROS 1's tf2 makes a frame static or dynamic once, by its first accepted sample; ROS 2's
-        # replaces the frame's cache whenever a sample of the other kind comes.
-        if hist is None or (self._ros2 and hist.static != static):
-            replaced = hist if self.cache_time is None else None
-            hist = EdgeHistory(static, capacity=max(len(stamps), expected), replaced=replaced)
-            self._histories[frame_id] = hist
-            if len(stamps) == 1:  # a new cache takes its first sample as it is (a frame seen once)
-                hist.add(stamps, values, parents, authorities, record_times, sequence, flags)
-                self._track(frame_id, hist)
-                self._broadcasters[frame_id] = int(authorities[0])
-                return 1
-        elif expected:
-            hist.reserve(expected)
-        keep = np.ones(len(stamps), bool)
-        accepted = keep
-        prune_from = None  # the newest stamp after adding (ROS 1)
-        if not hist.static:
-            old, ignored = self._refused_stamps(hist, stamps, values, parents)
-            refused = {RejectionCode.OLD_DATA: old}
-            if not self._ros2:
-                refused[RejectionCode.REPEATED_DATA] = ignored
-            for code, mask in refused.items():
-                if mask.any():
-                    self.rejections.add(
-                        code,
-                        self._frames.names,
-                        parents[mask],
-                        np.full(int(np.count_nonzero(mask)), frame_id),
-                        stamps[mask],
-                        self.authorities,
-                        authorities[mask],
-                        record_times[mask],
-                        sequence[mask],
-                        values[mask],
-                        flags[mask],
-                    )
-            keep = ~(old | ignored)
-            accepted = keep
-            if self._ros2:
-                accepted = ~old
-                self.duplicates.extend(sequence[ignored].tolist())
-                # ROS 2's tf2 prunes before each insertion, so last against the newest stamp
-                # offered before the last row (an old row's stamp is never the newest).
-                before = [int(stamps[:-1].max())] if len(stamps) > 1 else []
-                if len(hist):
-                    before.append(hist.latest_stamp)
-                prune_from = max(before, default=int(stamps[0]))
-        hist.add(
-            stamps[keep],
-            values[keep],
-            parents[keep],
-            authorities[keep],
-            record_times[keep],
-            sequence[keep],
-            flags[keep],
-        )
-        if self.cache_time is not None:
-            hist.prune(self.cache_time, prune_from)
-        self._track(frame_id, hist)
-        last = np.flatnonzero(accepted)
-        if len(last):
-            self._broadcasters[frame_id] = int(authorities[last[-1]])
-        return len(last)
-
-    def _refused_stamps(
-        self,
-        hist: EdgeHistory,
-        stamps: Int64Array,
-        values: FloatArray,
-        parents: Int32Array,
-    ) -> tuple[BoolArray, BoolArray]:
-        """For rows arriving in this order: ``TF_OLD_DATA``, and the rows not stored because of
-        an earlier sample at their stamp (ROS 1: ``TF_REPEATED_DATA``; ROS 2: an identical one)."""
-        old = np.zeros(len(stamps), bool)
-        if (not len(hist) or stamps[0] > hist.latest_stamp) and bool(np.all(stamps[1:] > stamps[:-1])):
-            return old, old.copy()  # the usual case: newer than all before, in order
-        if self.cache_time is not None:
-            floor = np.iinfo(np.int64).min
-            latest_before = np.maximum.accumulate(
-                np.concatenate([[hist.latest_stamp if len(hist) else floor], stamps[:-1]])
-            )
-            old = stamps + self.cache_time < latest_before
-        fresh = np.flatnonzero(~old)
-        held = hist.contains(stamps[fresh]) if len(hist) else np.zeros(len(fresh), bool)
-        _, first = np.unique(stamps[fresh], return_index=True)
-        seen_before = np.ones(len(fresh), bool)
-        seen_before[first] = False
-        repeated = np.zeros(len(stamps), bool)
-        repeated[fresh[held | seen_before]] = True
-        if self._ros2:
-            repeated = self._identical_to_earlier(hist, stamps, values, parents, ~old, repeated)
-        return old, repeated
-
-    @staticmethod
-    def _identical_to_earlier(
-        hist: EdgeHistory,
-        stamps: Int64Array,
-        values: FloatArray,
-        parents: Int32Array,
-        fresh: BoolArray,
-        candidates: BoolArray,
-    ) -> BoolArray:
-        """Which ``candidates`` (fresh rows whose stamp came before) equal an earlier sample of
-        that stamp, held or stored from this batch: tf2's ``TransformStorage ==`` (values
-        compared as doubles, so 0.0 == -0.0), which ROS 2's ``insertData`` checks first."""
-        identical = np.zeros(len(stamps), bool)
-        stored: dict[int, list[int]] = {}  # stamp -> this batch's rows stored so far
-        held_stamps = hist.stamps
-        for i in np.flatnonzero(fresh & np.isin(stamps, stamps[candidates])).tolist():
-            stamp = int(stamps[i])
-            if candidates[i]:
-                lo, hi = np.searchsorted(held_stamps, [stamp, stamp + 1]).tolist()
-                mine = stored.get(stamp, [])
-                for v, p in ((hist.values[lo:hi], hist.parents[lo:hi]), (values[mine], parents[mine])):
-                    if bool(np.any((v == values[i]).all(axis=1) & (p == parents[i]))):
-                        identical[i] = True
-            if not identical[i]:
-                stored.setdefault(stamp, []).append(i)
-        return identical
-
     def _record_refusals(
         self,
-        refusals: dict[RejectionCode, BoolArray],
         batch: TransformBatch,
-        names: _StrippedNames,
-        keys: tuple[Int32Array, Int32Array],
-        samples: tuple[FloatArray, UInt8Array],
-        authority: Int32Array,
-        sequence: Int64Array,
+        authority_ids: Int32Array,
+        rows: Int64Array,
+        groups: tuple[UInt8Array, Int64Array],
+        first: int,
     ) -> None:
-        parent_key, child_key = keys
-        values, flags = samples
-        for code, mask in refusals.items():
-            self.rejections.add(
-                code,
-                names.stripped,
-                parent_key[mask],
-                child_key[mask],
-                batch.stamp[mask],
-                self.authorities,
-                authority[mask],
-                batch.record_time[mask],
-                sequence[mask],
-                values[mask],
-                flags[mask],
-            )
+        """``batch``'s refused ``rows`` into ``rejections``, in groups of one code (``EdgeTable.insert``'s)."""
+        codes, bounds = groups
+        names = [name.removeprefix("/") for name in batch.frame_names]
+        slashed = np.array([name.startswith("/") for name in batch.frame_names], bool)
+        for code, (start, stop) in zip(codes.tolist(), itertools.pairwise(bounds.tolist()), strict=True):
+            # In parts, so that a million refusals' temporaries stay small beside the log's columns.
+            for part_start in range(start, stop, _REFUSALS_PER_PART):
+                part = rows[part_start : min(stop, part_start + _REFUSALS_PER_PART)]
+                parent, child = batch.parent[part], batch.child[part]
+                flags = batch.static[part] * FROM_STATIC_TOPIC | slashed[parent] * PARENT_HAD_SLASH
+                self.rejections.add(
+                    _REFUSALS[code],
+                    names,
+                    parent,
+                    child,
+                    batch.stamp[part],
+                    self.authorities,
+                    authority_ids[batch.authority[part]],
+                    batch.record_time[part],
+                    part + first,
+                    np.concatenate([batch.translation[part], batch.rotation[part]], axis=1),
+                    flags | slashed[child] * CHILD_HAD_SLASH,
+                )
 
     # --- lookups -----------------------------------------------------------------------------
 
@@ -699,89 +526,29 @@ class Buffer:
         return frame_id
 
 
-class _StrippedNames:
-    """A batch's raw frame names, without their leading ``/``, as local integer keys."""
-
-    def __init__(self, raw: Sequence[str], parent: Int32Array, child: Int32Array) -> None:
-        self.stripped: list[str] = []
-        index: dict[str, int] = {}
-        self.key = np.zeros(len(raw), np.int32)
-        self.slash = np.zeros(len(raw), bool)
-        used = np.zeros(len(raw), bool)
-        used[parent] = True
-        used[child] = True
-        for i in np.flatnonzero(used).tolist():
-            name = raw[i]
-            if name.startswith("/"):
-                name = name[1:]
-                self.slash[i] = True
-            key = index.get(name)
-            if key is None:
-                key = index[name] = len(self.stripped)
-                self.stripped.append(name)
-            self.key[i] = key
-        self.empty_key = index.get("", -1)
-
-
 def _rows_per_child(batch: TransformBatch) -> dict[str, int]:
     """How many rows of ``batch`` each child frame (named as the buffer names it) has."""
     counts = np.bincount(batch.child, minlength=len(batch.frame_names))
     expected: dict[str, int] = {}
     for i in np.flatnonzero(counts).tolist():
-        name = batch.frame_names[i]
-        name = name[1:] if name.startswith("/") else name
+        name = batch.frame_names[i].removeprefix("/")
         expected[name] = expected.get(name, 0) + int(counts[i])
     return expected
 
 
-def _validate(
-    values: FloatArray,
-    parent_key: Int32Array,
-    child_key: Int32Array,
-    empty_key: int,
-) -> dict[RejectionCode, BoolArray]:
-    """tf2's checks in ``setTransform``, each a mask of the rows it refuses (only non-empty)."""
-    x, y, z, w = values[:, 3], values[:, 4], values[:, 5], values[:, 6]
-    with np.errstate(invalid="ignore", over="ignore"):
-        norm_error = np.abs((w * w + x * x + y * y + z * z) - 1.0)
-    masks = {
-        RejectionCode.SELF_TRANSFORM: parent_key == child_key,
-        RejectionCode.NO_CHILD_FRAME_ID: child_key == empty_key,
-        RejectionCode.NO_FRAME_ID: parent_key == empty_key,
-        # tf2 checks isnan only and would store an infinite translation; we refuse it too.
-        RejectionCode.NAN_INPUT: ~np.isfinite(values).all(axis=1),
-        RejectionCode.DENORMALIZED_QUATERNION: ~(norm_error < QUATERNION_TOLERANCE),
-    }
-    return {code: mask for code, mask in masks.items() if mask.any()}
+#: Refused rows recorded at a time.
+_REFUSALS_PER_PART = 1 << 16
 
-
-#: Rows per slice of a batch being inserted.
-_INSERT_ROWS = 1 << 16
-_NEVER = np.iinfo(np.int64).max // 4
-
-
-class _Runs:
-    """Rows grouped by a small integer key (a stable sort, linear for keys below 2**16)."""
-
-    def __init__(self, keys: Int32Array, key_count: int) -> None:
-        self.key_count = key_count
-        sortable = keys.astype(np.uint16) if key_count <= 1 << 16 else keys
-        self.order = np.argsort(sortable, kind="stable")
-        sorted_keys = keys[self.order]
-        self.starts = np.flatnonzero(np.concatenate([[True], sorted_keys[1:] != sorted_keys[:-1]]))
-        self.keys = sorted_keys[self.starts]
-
-    def first_row(self) -> Int64Array:
-        """Per key, the first row holding it (a large number for absent keys)."""
-        first = np.full(self.key_count, _NEVER, np.int64)
-        first[self.keys] = self.order[self.starts]
-        return first
-
-    def groups(self) -> Iterator[tuple[int, IntpArray]]:
-        """Each key with the rows holding it, in their original order."""
-        bounds = [*self.starts.tolist(), len(self.order)]
-        for key, start, stop in zip(self.keys.tolist(), bounds[:-1], bounds[1:], strict=True):
-            yield key, self.order[start:stop]
+#: ``EdgeTable.insert``'s refusal codes, by number (native/insert.hpp's ``Refusal``).
+_REFUSALS = (
+    RejectionCode.SELF_TRANSFORM,
+    RejectionCode.NO_CHILD_FRAME_ID,
+    RejectionCode.NO_FRAME_ID,
+    RejectionCode.NAN_INPUT,
+    RejectionCode.DENORMALIZED_QUATERNION,
+    RejectionCode.OLD_DATA,
+    RejectionCode.REPEATED_DATA,
+)
 
 
 def _times_for(times: npt.ArrayLike, rows: npt.ArrayLike) -> Int64Array:

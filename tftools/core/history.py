@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from bisect import bisect_right
-from collections.abc import Sequence
-from typing import NamedTuple
+from collections.abc import Iterable, Sequence
+from typing import Any, NamedTuple
 
 import numpy as np
+import numpy.typing as npt
 
-from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.core.rotation import slerp
 
@@ -47,6 +48,60 @@ def rows_as_sent(
     )
 
 
+#: The bytes of one sample over a history's columns: stamp, values, parent, authority, record time,
+#: sequence, flags (in this order in a history's block, each column aligned to its items).
+ROW_BYTES = 8 + 7 * 8 + 4 + 4 + 8 + 8 + 1
+
+_Columns = tuple[Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, UInt8Array]
+
+
+def block_bytes(capacity: int) -> int:
+    """The bytes of a history's block for ``capacity`` rows, rounded up to a cache line (blocks laid one
+    after another stay aligned)."""
+    return -(-capacity * ROW_BYTES // 64) * 64
+
+
+def _columns_in(block: UInt8Array, capacity: int) -> _Columns:
+    """The columns of ``capacity`` rows laid one after another in ``block``."""
+    ends = np.cumsum([8, 56, 4, 4, 8, 8, 1]) * capacity
+    stamps, values, parents, authorities, record_times, sequence, flags = np.split(block[: ends[-1]], ends[:-1])
+    return (
+        stamps.view(np.int64),
+        values.view(np.float64).reshape(capacity, 7),
+        parents.view(np.int32),
+        authorities.view(np.int32),
+        record_times.view(np.int64),
+        sequence.view(np.int64),
+        flags,
+    )
+
+
+#: A large page: the memory a fault brings in for a block numpy asks large pages for (4 MiB and up).
+_LARGE_PAGE = 2 << 20
+
+
+class RoomForHistories:
+    """One block for the histories of a bulk load, each taking its part as it is made: the memory comes
+    in large pages, a fault each, not page by page (faults are most of a bulk load's cost otherwise).
+    The price: a history's large page is resident from its first row on, up to 2 MiB per history
+    before its rows fill it (a 258k-transform load peaks 13 MiB higher, a 4.1M one 17 MiB)."""
+
+    def __init__(self, capacities: Iterable[int]) -> None:
+        size = sum(block_bytes(c) for c in capacities)
+        block = np.empty(size + _LARGE_PAGE, np.uint8)
+        start = -block.ctypes.data % _LARGE_PAGE  # the block's first whole large page
+        self._block = block[start : start + size]
+        self._used = 0
+
+    def take(self, capacity: int) -> UInt8Array | None:
+        """A block for a history of ``capacity`` rows; None where there is no room left."""
+        size = block_bytes(capacity)
+        if self._used + size > len(self._block):
+            return None
+        self._used += size
+        return self._block[self._used - size : self._used]
+
+
 #: A sample as the scalar lookup path uses it: parent id and tx ty tz qx qy qz qw.
 Sample = tuple[int, list[float]]
 
@@ -70,8 +125,9 @@ class EdgeHistory:
     ROS 1's tf2, several samples of one stamp in arrival order under ROS 2's. A static history
     keeps every sample in arrival order and answers with the last one at every time, like tf2's
     ``StaticCache`` (which keeps only that one). Each row stores the parent, so a frame can
-    change parent over time. The arrays grow in amortized chunks, and pruning (a finite cache
-    time) drops a prefix by moving ``start``. ``replaced`` is the history this one replaced when
+    change parent over time. The arrays (one block, or a part of a bulk load's
+    ``RoomForHistories``) grow in amortized chunks, and pruning (a finite cache time) drops a
+    prefix by moving ``start``. ``replaced`` is the history this one replaced when
     ROS 2's tf2 turned the frame static or dynamic (kept only where every sample is kept).
     """
 
@@ -98,35 +154,34 @@ class EdgeHistory:
     _flags: UInt8Array
     _stamp_index: memoryview
 
-    def __init__(self, static: bool, capacity: int = 8, replaced: EdgeHistory | None = None) -> None:
+    def __init__(
+        self,
+        static: bool,
+        capacity: int = 8,
+        replaced: EdgeHistory | None = None,
+        room: RoomForHistories | None = None,
+    ) -> None:
         self.static = static
         self.replaced = replaced
         self._start = 0
         self._end = 0
-        self._allocate(max(capacity, 1))
+        capacity = max(capacity, 1)
+        self._allocate(capacity, room.take(capacity) if room is not None else None)
 
-    def _allocate(self, capacity: int) -> None:
+    def _allocate(self, capacity: int, block: UInt8Array | None = None) -> None:
+        """Columns for ``capacity`` rows, in ``block`` if given (of ``block_bytes(capacity)``),
+        holding the rows in use."""
         n = self._end - self._start
         s = slice(self._start, self._end)
-        stamps = np.empty(capacity, np.int64)
-        values = np.empty((capacity, 7), np.float64)
-        parents = np.empty(capacity, np.int32)
-        authorities = np.empty(capacity, np.int32)
-        record_times = np.empty(capacity, np.int64)
-        sequence = np.empty(capacity, np.int64)
-        flags = np.empty(capacity, np.uint8)
+        columns = _columns_in(np.empty(block_bytes(capacity), np.uint8) if block is None else block, capacity)
         if n:
-            stamps[:n] = self._stamps[s]
-            values[:n] = self._values[s]
-            parents[:n] = self._parents[s]
-            authorities[:n] = self._authorities[s]
-            record_times[:n] = self._record_times[s]
-            sequence[:n] = self._sequence[s]
-            flags[:n] = self._flags[s]
-        self._stamps, self._values, self._parents = stamps, values, parents
-        self._authorities, self._record_times = authorities, record_times
-        self._sequence, self._flags = sequence, flags
-        self._stamp_index = stamps.data  # bisect on it yields Python ints, no numpy scalars
+            new: tuple[npt.NDArray[Any], ...] = columns
+            held: tuple[npt.NDArray[Any], ...] = self._columns()
+            for column, old in zip(new, held, strict=True):
+                column[:n] = old[s]
+        self._stamps, self._values, self._parents, self._authorities = columns[:4]
+        self._record_times, self._sequence, self._flags = columns[4:]
+        self._stamp_index = self._stamps.data  # bisect on it yields Python ints, no numpy scalars
         self._start, self._end = 0, n
 
     # --- views -------------------------------------------------------------------------------
@@ -196,13 +251,13 @@ class EdgeHistory:
         """The whole backing arrays (stamps, values, parents, authorities, record times, sequence,
         flags) and the rows in use, ``start:end``.
 
-        For the compiled calls (``EdgeTable.update``), which read the arrays and may store one
-        sample after ``end`` and move ``_start`` and ``_end``; the arrays move when the history
-        grows or is pruned.
+        For the compiled calls (``EdgeTable.update``), which read the arrays, store samples after
+        ``end`` (and merge them in by stamp) and move ``_start`` and ``_end``; the arrays move when
+        the history grows or is pruned.
         """
         return (*self._columns(), self._start, self._end)
 
-    def _columns(self) -> tuple[Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, UInt8Array]:
+    def _columns(self) -> _Columns:
         """The backing arrays, one row per sample: stamps, values, parents, authorities, record
         times, sequence, flags."""
         return (
@@ -215,62 +270,16 @@ class EdgeHistory:
             self._flags,
         )
 
-    # --- insertion ---------------------------------------------------------------------------
-
-    def add(
-        self,
-        stamps: Int64Array,
-        values: FloatArray,
-        parents: Int32Array,
-        authorities: Int32Array,
-        record_times: Int64Array,
-        sequence: Int64Array,
-        flags: UInt8Array,
-    ) -> None:
-        """Store accepted rows: appended for a static edge, merged by stamp for a dynamic one.
-
-        The caller has already refused what tf2 refuses; equal stamps keep their arrival order.
-        """
-        k = len(stamps)
-        if k == 0:
-            return
-        in_order = self.static or (
-            (self._end == self._start or stamps[0] > self._stamp_index[self._end - 1])
-            and (k == 1 or bool(np.all(stamps[1:] > stamps[:-1])))
-        )
-        if self._end + k > len(self._stamps):
-            self.grow(k)
-        s = slice(self._end, self._end + k)
-        self._stamps[s], self._values[s], self._parents[s] = stamps, values, parents
-        self._authorities[s], self._record_times[s] = authorities, record_times
-        self._sequence[s], self._flags[s] = sequence, flags
-        self._end += k
-        if not in_order:
-            self._sort()
+    # --- room for samples (``EdgeTable.insert`` and ``set_transform`` store them) ------------
 
     def grow(self, rows: int) -> None:
         """Room for ``rows`` more samples and as many again (the arrays move): amortized growth."""
         self._allocate(max(2 * (len(self) + rows), 8))
 
-    def _sort(self) -> None:
-        s = slice(self._start, self._end)
-        order = np.argsort(self._stamps[s], kind="stable")
-        for column in self._columns():
-            column[s] = column[s][order]
-
     def reserve(self, rows: int) -> None:
         """Make room for ``rows`` more samples at once (exactly, into an empty history)."""
         if self._end + rows > len(self._stamps):
             self._allocate(max(len(self) + rows, 3 * len(self) // 2))
-
-    def contains(self, stamps: Int64Array) -> BoolArray:
-        """Which of ``stamps`` a dynamic history already holds."""
-        held = self.stamps
-        i = np.searchsorted(held, stamps)
-        found = np.zeros(len(stamps), bool)
-        inside = i < len(held)
-        found[inside] = held[i[inside]] == stamps[inside]
-        return found
 
     def prune(self, cache_time: int, latest: int | None = None) -> None:
         """Drop samples older than ``cache_time`` before ``latest`` (default: the newest), as

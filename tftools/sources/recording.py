@@ -110,9 +110,9 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
         part = parts.pop()
         first, seen, seen_again = buffer.arrivals, len(buffer.rejections), len(buffer.duplicates)
         buffer.insert(part)
-        again = np.array(buffer.duplicates[seen_again:], np.int64)
-        sequence = np.sort(np.concatenate([buffer.rejections.sequences(seen), again]))
-        if len(sequence):
+        if len(buffer.rejections) > seen or len(buffer.duplicates) > seen_again:
+            again = np.array(buffer.duplicates[seen_again:], np.int64)
+            sequence = np.sort(np.concatenate([buffer.rejections.sequences(seen), again]))
             refused.append(take_rows(part, sequence - first))
             refused_sequence.append(sequence)
         freed += part.nbytes

@@ -191,22 +191,31 @@ def _edge_clocks(buffer: Buffer, clock: ClockSamples) -> Iterable[EdgeClock]:
         if hist.static:
             continue
         keep = (hist.record_times > 0) & ((hist.flags & FROM_STATIC_TOPIC) == 0)
-        stamps, records = hist.stamps[keep], hist.record_times[keep]
+        stamps, records = (
+            (hist.stamps, hist.record_times) if keep.all() else (hist.stamps[keep], hist.record_times[keep])
+        )
         if not len(stamps):
             continue
         offset_clock = None
         if len(clock):
             ros, known = clock_at(clock, records)
             if known.any():
-                offset_clock = int(np.median(ros[known] - stamps[known]))
+                offset_clock = int(np.median(ros[known] - stamps[known], overwrite_input=True))
         yield EdgeClock(
             child,
             len(stamps),
-            int(np.median(records - stamps)),
+            int(np.median(records - stamps, overwrite_input=True)),
             offset_clock,
-            int(np.median(stamps)),
-            int(np.median(records)),
+            _median_in_order(stamps),
+            _median_in_order(records) if bool(np.all(records[1:] >= records[:-1])) else int(np.median(records)),
         )
+
+
+def _median_in_order(values: Int64Array) -> int:
+    """``int(np.median(values))`` of ascending ``values`` (the same mean of the middle two, in floats),
+    read off the middle: no partition."""
+    n = len(values)
+    return int(np.mean(values[(n - 1) // 2 : n // 2 + 1]))
 
 
 def _tf_span(buffer: Buffer, record_start: int, record_end: int) -> tuple[int, int]:
