@@ -15,6 +15,7 @@ from tests.sources.ros2_helpers import NS, T0, Tf, string_cdr, tf_cdr
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.rosbag2 import db3 as db3_reader
+from tftools.sources.bag.spans import Spans
 
 TOPICS = [
     (1, "/tf", "tf2_msgs/msg/TFMessage"),
@@ -111,13 +112,13 @@ def test_rows_fetched_a_batch_at_a_time_and_only_the_tf_topics(tmp_path: Path, m
     rows = mixed_rows(3000)
     db3 = write_db3(tmp_path / "a.db3", rows)
     handed: list[list[int]] = []  # the payload lengths of each call
-    add = MessageSet.add
+    add_spans = MessageSet.add_spans
 
-    def spy(self: MessageSet, channel: Any, times: Any, positions: Any, payloads: Sequence[bytes]) -> None:
-        handed.append([len(p) for p in payloads])
-        add(self, channel, times, positions, payloads)
+    def spy(self: MessageSet, channel: Any, spans: Spans, data: Any) -> None:
+        handed.append((spans.end - spans.start).tolist())
+        add_spans(self, channel, spans, data)
 
-    monkeypatch.setattr(MessageSet, "add", spy)
+    monkeypatch.setattr(MessageSet, "add_spans", spy)
     monkeypatch.setattr(db3_reader, "_FETCH", 100)
     got, _ = read(db3)
     assert got == expected(rows)
