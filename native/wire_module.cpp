@@ -3,6 +3,7 @@
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/tuple.h>
 
+#include <algorithm>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -38,17 +39,24 @@ Decoded decode_transforms(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::nd
     const auto n = static_cast<int64_t>(starts.shape(0));
     const auto size = static_cast<int64_t>(raw.shape(0));
     if (static_cast<int64_t>(lengths.shape(0)) != n) throw nb::value_error("decode_transforms: starts and lengths differ");
-    if (origin < 0 || align < 1) throw nb::value_error("decode_transforms: a wire without an origin or alignment");
+    if (origin < 0 || align < 1 || (align & (align - 1)) != 0) {
+        throw nb::value_error("decode_transforms: a wire without an origin, or an alignment not a power of 2");
+    }
+    int64_t total = 0;
     for (int64_t i = 0; i < n; ++i) {
         const int64_t start = starts.data()[i], length = lengths.data()[i];
         if (start < 0 || length < 0 || length > size - start) {
             throw nb::value_error("decode_transforms: a payload outside the bytes given");
         }
+        total += length;
     }
+    const tfwire::Wire wire{big_endian, origin, align, seq, signed_sec, nul, exact, counted};
     tfwire::Rows rows;
     {
         nb::gil_scoped_release unlocked;
-        tfwire::Reader reader(raw.data(), {big_endian, origin, align, seq, signed_sec, nul, exact, counted});
+        // As many rows as the bytes can hold (payloads may overlap: no more than all the bytes).
+        rows.reserve(static_cast<size_t>(counted ? std::min(total, size) / wire.smallest() : n));
+        tfwire::Reader reader(raw.data(), wire);
         for (int64_t i = 0; i < n; ++i) {
             if (!reader.read(i, starts.data()[i], lengths.data()[i], rows)) rows.bad.push_back(i);
         }
