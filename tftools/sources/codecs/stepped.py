@@ -36,7 +36,8 @@ def decode_transforms(
     for wire, members in partition(raw, starts, lengths, wires):
         walked[members] = True
         decoded, bad = _compiled(raw, starts[members], lengths[members], frames, wire, counted)
-        parts.append(decoded.renumbered(members))
+        every = len(members) == len(starts)  # then numbered as they are
+        parts.append(decoded if every else decoded.renumbered(members))
         left.append(members[bad])
     for message in np.sort(np.concatenate([*left, np.flatnonzero(~walked)])).tolist():
         parts.append(read_alone(raw, int(starts[message]), int(lengths[message]), frames, wires, counted, message))
@@ -62,7 +63,7 @@ def _compiled(
         counted=counted,
     )
     ids, undecodable = frames.intern_all(raw, name_start, name_length)
-    broken = undecodable[parent] | undecodable[child]
+    broken = undecodable[parent] | undecodable[child] if undecodable.any() else np.zeros(0, bool)
     if broken.any():
         lost = np.zeros(len(starts), bool)
         lost[message[broken]] = True
