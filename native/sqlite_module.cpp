@@ -30,6 +30,13 @@ Output<T> owned(std::vector<T>&& values) {
     return Output<T>(held->data(), {held->size()}, owner);
 }
 
+// ``bytes`` as a numpy array that shares them.
+Output<uint8_t> shared(const std::shared_ptr<std::vector<uint8_t>>& bytes) {
+    auto* held = new std::shared_ptr<std::vector<uint8_t>>(bytes);
+    nb::capsule owner(held, [](void* p) noexcept { delete static_cast<std::shared_ptr<std::vector<uint8_t>>*>(p); });
+    return Output<uint8_t>(bytes->data(), {bytes->size()}, owner);
+}
+
 struct SqliteError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
@@ -37,7 +44,7 @@ struct SqliteError : std::runtime_error {
 // Columns of the rows of one fetch: each row's integers, where its blob starts in ``data`` and its length.
 struct Fetched {
     std::vector<int64_t> topic, time, id, start, length;
-    std::vector<uint8_t> data;
+    std::vector<uint8_t>* data;
 };
 
 using FetchedArrays = std::tuple<Output<int64_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>,
@@ -66,8 +73,12 @@ class Messages {
 
     // The next rows, up to ``rows`` of them or until ``bytes`` of blobs are held; none at the end.
     FetchedArrays fetch(int64_t rows, int64_t bytes) {
-        Fetched got;
-        got.data.reserve(static_cast<size_t>(std::min<int64_t>(bytes, 1 << 22)) + 65536);
+        // The bytes of the fetch before are filled again once Python has let go of them: their
+        // pages are already the process's (new ones are faulted in page by page).
+        if (data_.use_count() != 1) data_ = std::make_shared<std::vector<uint8_t>>();
+        data_->clear();
+        data_->reserve(static_cast<size_t>(std::min<int64_t>(bytes, 1 << 22)) + 65536);
+        Fetched got{{}, {}, {}, {}, {}, data_.get()};
         std::string error;
         {
             nb::gil_scoped_release unlocked;
@@ -75,7 +86,7 @@ class Messages {
         }
         if (!error.empty()) throw SqliteError(error);
         return {owned(std::move(got.topic)), owned(std::move(got.time)),   owned(std::move(got.id)),
-                owned(std::move(got.start)), owned(std::move(got.length)), owned(std::move(got.data))};
+                owned(std::move(got.start)), owned(std::move(got.length)), shared(data_)};
     }
 
    private:
@@ -83,7 +94,7 @@ class Messages {
     std::string step(Fetched& got, int64_t rows, int64_t bytes) {
         sqlite3_stmt* statement = statement_.get();
         while (!done_ && static_cast<int64_t>(got.topic.size()) < rows &&
-               static_cast<int64_t>(got.data.size()) < bytes) {
+               static_cast<int64_t>(got.data->size()) < bytes) {
             const int result = sqlite3_step(statement);
             if (result != SQLITE_ROW) {
                 done_ = true;
@@ -100,9 +111,9 @@ class Messages {
             got.topic.push_back(sqlite3_column_int64(statement, 0));
             got.time.push_back(sqlite3_column_int64(statement, 1));
             got.id.push_back(sqlite3_column_int64(statement, 2));
-            got.start.push_back(static_cast<int64_t>(got.data.size()));
+            got.start.push_back(static_cast<int64_t>(got.data->size()));
             got.length.push_back(static_cast<int64_t>(length));
-            got.data.insert(got.data.end(), blob, blob + length);
+            got.data->insert(got.data->end(), blob, blob + length);
         }
         return {};
     }
@@ -116,6 +127,7 @@ class Messages {
     // Declared in this order so that the statement is finalized before its database is closed.
     std::unique_ptr<sqlite3, Close> db_;
     std::unique_ptr<sqlite3_stmt, Close> statement_;
+    std::shared_ptr<std::vector<uint8_t>> data_;  // the blobs of the latest fetch
     bool done_ = false;
 };
 

@@ -142,6 +142,7 @@ def _messages(
             _add_spans(lookup[topic], spans, payloads, result, size)
             added = True
             progress(_estimate(int(timestamp.max()), result, size), size)
+            del fetched, payloads  # let go: the next fetch fills the same bytes again
     except sqlite3.Error as e:
         if added:  # start again from the pages, forgetting what the query gave
             result.messages = result.messages.emptied()
