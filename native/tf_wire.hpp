@@ -6,12 +6,14 @@
 #include <cstdint>
 #include <cstring>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace tfwire {
 
 // How an encoding lays out its fields (tftools.sources.codecs.wire.Wire).
 struct Wire {
+    int encapsulation;  // CDR: the payloads in this wire, by their second byte (the first is 0); -1: any
     bool big_endian;
     int64_t origin;  // bytes before the fields, from which alignment counts
     int64_t align;   // the largest alignment: 1 packed (ROS1), 8 (CDR), 4 (XCDR2)
@@ -19,7 +21,6 @@ struct Wire {
     bool signed_sec;
     bool nul;    // a string's length counts its terminating NUL (CDR)
     bool exact;  // nothing may follow the last field (ROS1)
-    bool counted;  // a uint32 count of transforms first, else a single transform
 
     int64_t smallest() const { return 4 * seq + 8 + 4 + 4 + 56; }
 };
@@ -157,17 +158,21 @@ class NameIds {
 
 class Reader {
    public:
-    Reader(const uint8_t* raw, const Wire& wire) : raw_(raw), wire_(wire), names_(raw) {}
+    // ``wires``: one, or CDR's, told apart by the encapsulation each payload starts with.
+    // ``counted``: a uint32 count of transforms first, else a single transform.
+    Reader(const uint8_t* raw, std::vector<Wire> wires, bool counted)
+        : raw_(raw), wires_(std::move(wires)), counted_(counted), names_(raw) {}
 
     // The message raw[start : start + length] into ``rows``, or false (and nothing added) when it
-    // is not well-formed.
+    // is not well-formed or in none of the wires.
     bool read(int64_t id, int64_t start, int64_t length, Rows& rows) {
+        if (!choose(start, length)) return false;
         origin_ = start + wire_.origin;
         end_ = start + length;
         pos_ = origin_;
         if (length < wire_.origin) return false;
         uint64_t count = 1;
-        if (wire_.counted) {
+        if (counted_) {
             int64_t at;
             if (!take(4, 4, at)) return false;
             count = u32(at);
@@ -182,6 +187,18 @@ class Reader {
     }
 
    private:
+    // The wire of the payload at ``start``, as tftools.sources.codecs.wire.wire_of finds it.
+    bool choose(int64_t start, int64_t length) {
+        for (const Wire& wire : wires_) {
+            if (wire.encapsulation < 0 || (length >= wire.origin && length >= 2 && raw_[start] == 0 &&
+                                           raw_[start + 1] == wire.encapsulation)) {
+                wire_ = wire;
+                return true;
+            }
+        }
+        return false;
+    }
+
     bool transform(int64_t id, Rows& rows) {
         int64_t at;
         if (wire_.seq && !take(4, 1, at)) return false;
@@ -248,7 +265,9 @@ class Reader {
     }
 
     const uint8_t* raw_;
-    Wire wire_;
+    const std::vector<Wire> wires_;
+    const bool counted_;
+    Wire wire_{};
     int64_t origin_ = 0, end_ = 0, pos_ = 0;
     NameIds names_;
 };
