@@ -58,7 +58,7 @@ class NameIds {
         for (;; at = (at + 1) & (slots_.size() - 1)) {
             Slot& slot = slots_[at];
             if (slot.id == kEmpty) break;
-            if (slot.hash == hash && slot.id >= 0 && same({slot.latest, slot.length}, bytes)) {
+            if (slot.hash == hash && slot.id >= 0 && std::string_view(slot.latest, slot.length) == bytes) {
                 slot.latest = bytes.data();
                 return slot.id;
             }
@@ -102,17 +102,6 @@ class NameIds {
         uint64_t hash = 0x9E3779B97F4A7C15ull ^ n;
         for (size_t at = 0; at + 8 < n; at += 8) hash = mix(hash, load<uint64_t>(p + at));
         return mix(hash, tail(p, n));
-    }
-
-    // Whether two names are equal, compared word by word (names are short: a call of memcmp
-    // costs more).
-    static bool same(std::string_view a, std::string_view b) {
-        const size_t n = a.size();
-        if (b.size() != n) return false;
-        for (size_t at = 0; at + 8 < n; at += 8) {
-            if (load<uint64_t>(a.data() + at) != load<uint64_t>(b.data() + at)) return false;
-        }
-        return tail(a.data(), n) == tail(b.data(), n);
     }
 
     // The last (at most) 8 bytes of ``p[0:n]`` as a word, read in at most two loads: a copy of a
