@@ -133,15 +133,15 @@ def _messages(
     )
     # NOT INDEXED: the table read in its own order, page after page, not through the timestamp index.
     query = f"SELECT topic_id, timestamp, id, {data} FROM messages NOT INDEXED WHERE topic_id IN ({ids})"
-    added = False
+    added, latest = False, result.start  # the latest record time met: rows may come a little out of order
     try:
         rows = _sqlite.Messages(_uri(path), query)
         while len((fetched := rows.fetch(_FETCH, _FETCH_BYTES))[0]):
             topic, timestamp, row_id, start, length, payloads = fetched
             spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
             _add_spans(lookup[topic], spans, payloads, result, size)
-            added = True
-            progress(_estimate(int(timestamp.max()), result, size), size)
+            added, latest = True, max(latest, int(timestamp.max()))
+            progress(_estimate(latest, result, size), size)
             del fetched, payloads  # let go: the next fetch fills the same bytes again
     except sqlite3.Error as e:
         if added:  # start again from the pages, forgetting what the query gave
