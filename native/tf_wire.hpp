@@ -6,13 +6,14 @@
 #include <cstdint>
 #include <cstring>
 #include <string_view>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace tfwire {
 
 // How an encoding lays out its fields (tftools.sources.codecs.wire.Wire).
 struct Wire {
+    int encapsulation;  // CDR: the payloads in this wire, by their second byte (the first is 0); -1: any
     bool big_endian;
     int64_t origin;  // bytes before the fields, from which alignment counts
     int64_t align;   // the largest alignment: 1 packed (ROS1), 8 (CDR), 4 (XCDR2)
@@ -20,7 +21,6 @@ struct Wire {
     bool signed_sec;
     bool nul;    // a string's length counts its terminating NUL (CDR)
     bool exact;  // nothing may follow the last field (ROS1)
-    bool counted;  // a uint32 count of transforms first, else a single transform
 
     int64_t smallest() const { return 4 * seq + 8 + 4 + 4 + 56; }
 };
@@ -32,21 +32,136 @@ struct Rows {
     std::vector<int32_t> parent, child;
     std::vector<int64_t> name_start, name_length;  // each distinct name's first bytes in raw
     std::vector<int64_t> bad;                      // the messages that do not read to a well-formed end
+
+    // Room for ``count`` rows: grown as they come, the rows would be copied again and again.
+    void reserve(size_t count) {
+        message.reserve(count);
+        stamp.reserve(count);
+        values.reserve(7 * count);
+        parent.reserve(count);
+        child.reserve(count);
+    }
+};
+
+// Names told apart: each distinct name's id, by its bytes (in ``raw``, where ``Rows`` keeps each
+// name's first). Open addressing with a mask, each slot's hash kept: a name's lookup is a hash of
+// its few words and, mostly, one comparison of its bytes with those of its latest sighting (in
+// the cache, where the first may be megabytes back).
+class NameIds {
+   public:
+    explicit NameIds(const uint8_t* raw) : raw_(raw), slots_(64) {}
+
+    // The id of ``bytes`` among the names of ``rows``, where it is added when it is new.
+    int32_t find_or_add(std::string_view bytes, Rows& rows) {
+        const uint64_t hash = hash_of(bytes);
+        size_t at = hash & (slots_.size() - 1);
+        for (;; at = (at + 1) & (slots_.size() - 1)) {
+            Slot& slot = slots_[at];
+            if (slot.id == kEmpty) break;
+            if (slot.hash == hash && slot.id >= 0 && std::string_view(slot.latest, slot.length) == bytes) {
+                slot.latest = bytes.data();
+                return slot.id;
+            }
+        }
+        const auto id = static_cast<int32_t>(rows.name_start.size());
+        rows.name_start.push_back(bytes.data() - reinterpret_cast<const char*>(raw_));
+        rows.name_length.push_back(static_cast<int64_t>(bytes.size()));
+        slots_[at] = {hash, bytes.data(), bytes.size(), id};
+        if (2 * ++used_ > slots_.size()) grow();
+        return id;
+    }
+
+    // The names from ``first`` on let go (those of a message that is not well-formed).
+    void forget(Rows& rows, size_t first) {
+        for (size_t k = first; k < rows.name_start.size(); ++k) {
+            const uint64_t hash = hash_of(name(rows, static_cast<int32_t>(k)));
+            size_t at = hash & (slots_.size() - 1);
+            while (slots_[at].id != static_cast<int32_t>(k)) at = (at + 1) & (slots_.size() - 1);
+            slots_[at].id = kForgotten;  // still taken: the names placed past it stay found
+        }
+        rows.name_start.resize(first);
+        rows.name_length.resize(first);
+    }
+
+   private:
+    struct Slot {
+        uint64_t hash = 0;
+        const char* latest = nullptr;
+        size_t length = 0;
+        int32_t id = kEmpty;
+    };
+    static constexpr int32_t kEmpty = -1, kForgotten = -2;
+
+    std::string_view name(const Rows& rows, int32_t id) const {
+        return {reinterpret_cast<const char*>(raw_ + rows.name_start[id]), static_cast<size_t>(rows.name_length[id])};
+    }
+
+    static uint64_t hash_of(std::string_view bytes) {
+        const char* p = bytes.data();
+        const size_t n = bytes.size();
+        uint64_t hash = 0x9E3779B97F4A7C15ull ^ n;
+        for (size_t at = 0; at + 8 < n; at += 8) hash = mix(hash, load<uint64_t>(p + at));
+        return mix(hash, tail(p, n));
+    }
+
+    // The last (at most) 8 bytes of ``p[0:n]`` as a word, read in at most two loads: a copy of a
+    // variable length would be stored byte by byte and read back.
+    static uint64_t tail(const char* p, size_t n) {
+        if (n >= 8) return load<uint64_t>(p + n - 8);
+        if (n >= 4) return (uint64_t{load<uint32_t>(p)} << 32) | load<uint32_t>(p + n - 4);
+        if (n == 0) return 0;
+        const auto byte = [p](size_t at) { return uint64_t{static_cast<uint8_t>(p[at])}; };
+        return (byte(0) << 16) | (byte(n / 2) << 8) | byte(n - 1);
+    }
+
+    template <typename T>
+    static T load(const char* p) {
+        T w;
+        std::memcpy(&w, p, sizeof w);
+        return w;
+    }
+
+    static uint64_t mix(uint64_t hash, uint64_t w) {
+        hash = (hash ^ w) * 0xBF58476D1CE4E5B9ull;
+        return hash ^ (hash >> 31);
+    }
+
+    // Twice the slots, the forgotten left behind.
+    void grow() {
+        std::vector<Slot> old(slots_.size() * 2);
+        old.swap(slots_);
+        used_ = 0;
+        for (const Slot& slot : old) {
+            if (slot.id < 0) continue;
+            size_t at = slot.hash & (slots_.size() - 1);
+            while (slots_[at].id != kEmpty) at = (at + 1) & (slots_.size() - 1);
+            slots_[at] = slot;
+            ++used_;
+        }
+    }
+
+    const uint8_t* raw_;
+    std::vector<Slot> slots_;
+    size_t used_ = 0;  // slots taken, forgotten ones included
 };
 
 class Reader {
    public:
-    Reader(const uint8_t* raw, const Wire& wire) : raw_(raw), wire_(wire) {}
+    // ``wires``: one, or CDR's, told apart by the encapsulation each payload starts with.
+    // ``counted``: a uint32 count of transforms first, else a single transform.
+    Reader(const uint8_t* raw, std::vector<Wire> wires, bool counted)
+        : raw_(raw), wires_(std::move(wires)), counted_(counted), names_(raw) {}
 
     // The message raw[start : start + length] into ``rows``, or false (and nothing added) when it
-    // is not well-formed.
+    // is not well-formed or in none of the wires.
     bool read(int64_t id, int64_t start, int64_t length, Rows& rows) {
+        if (!choose(start, length)) return false;
         origin_ = start + wire_.origin;
         end_ = start + length;
         pos_ = origin_;
         if (length < wire_.origin) return false;
         uint64_t count = 1;
-        if (wire_.counted) {
+        if (counted_) {
             int64_t at;
             if (!take(4, 4, at)) return false;
             count = u32(at);
@@ -54,21 +169,33 @@ class Reader {
         }
         const size_t first = rows.message.size(), names = rows.name_start.size();
         for (uint64_t j = 0; j < count; ++j) {
-            if (!transform(id, j, rows)) return forget(rows, first, names);
+            if (!transform(id, rows)) return forget(rows, first, names);
         }
         if (wire_.exact && pos_ != end_) return forget(rows, first, names);
         return true;
     }
 
    private:
-    bool transform(int64_t id, uint64_t j, Rows& rows) {
+    // The wire of the payload at ``start``, as tftools.sources.codecs.wire.wire_of finds it.
+    bool choose(int64_t start, int64_t length) {
+        for (const Wire& wire : wires_) {
+            if (wire.encapsulation < 0 || (length >= wire.origin && length >= 2 && raw_[start] == 0 &&
+                                           raw_[start + 1] == wire.encapsulation)) {
+                wire_ = wire;
+                return true;
+            }
+        }
+        return false;
+    }
+
+    bool transform(int64_t id, Rows& rows) {
         int64_t at;
         if (wire_.seq && !take(4, 1, at)) return false;
         if (!take(8, 4, at)) return false;
         const int64_t sec = wire_.signed_sec ? static_cast<int64_t>(static_cast<int32_t>(u32(at))) : u32(at);
         const int64_t stamp = sec * 1'000'000'000 + u32(at + 4);
         int32_t parent, child;
-        if (!name(rows, 2 * j, parent) || !name(rows, 2 * j + 1, child)) return false;
+        if (!name(rows, parent) || !name(rows, child)) return false;
         if (!take(56, 8, at)) return false;
         rows.message.push_back(id);
         rows.stamp.push_back(stamp);
@@ -78,45 +205,23 @@ class Reader {
         return true;
     }
 
-    // A string's id among the names seen (a NUL left out). ``slot`` is where it stands in its
-    // message: the name there in the message before mostly repeats (a publisher's frames, in
-    // order), compared before the names are hashed.
-    bool name(Rows& rows, uint64_t slot, int32_t& id) {
+    // A string's id among the names seen (a NUL left out).
+    bool name(Rows& rows, int32_t& id) {
         int64_t at;
         if (!take(4, 4, at)) return false;
         const int64_t size = u32(at);
         if (!take(size, 1, at)) return false;
         const int64_t kept = wire_.nul ? (size > 0 ? size - 1 : 0) : size;
         const std::string_view bytes(reinterpret_cast<const char*>(raw_ + at), static_cast<size_t>(kept));
-        if (slot < recent_.size()) {
-            const int32_t last = recent_[slot];
-            if (last >= 0 && last < static_cast<int32_t>(rows.name_start.size()) && seen(rows, last) == bytes) {
-                id = last;
-                return true;
-            }
-        } else if (slot < kRecentSlots) {
-            recent_.resize(slot + 1, -1);
-        }
-        auto [place, added] = ids_.try_emplace(bytes, static_cast<int32_t>(rows.name_start.size()));
-        if (added) {
-            rows.name_start.push_back(at);
-            rows.name_length.push_back(kept);
-        }
-        id = place->second;
-        if (slot < recent_.size()) recent_[slot] = id;
+        id = names_.find_or_add(bytes, rows);
         return true;
-    }
-
-    std::string_view seen(const Rows& rows, int32_t name) const {
-        return {reinterpret_cast<const char*>(raw_ + rows.name_start[name]),
-                static_cast<size_t>(rows.name_length[name])};
     }
 
     // Where the next ``size`` bytes start, aligned to ``align`` (at most the wire's) from the origin.
     bool take(int64_t size, int64_t align, int64_t& at) {
         at = pos_;
-        const int64_t step = align < wire_.align ? align : wire_.align;
-        if (step > 1) at += ((origin_ - at) % step + step) % step;
+        const int64_t step = align < wire_.align ? align : wire_.align;  // a power of 2
+        at += (origin_ - at) & (step - 1);
         if (size > end_ - at) return false;
         pos_ = at + size;
         return true;
@@ -139,9 +244,7 @@ class Reader {
 
     // The rows from ``first`` on and the names from ``names`` on let go: false.
     bool forget(Rows& rows, size_t first, size_t names) {
-        for (size_t k = names; k < rows.name_start.size(); ++k) ids_.erase(seen(rows, static_cast<int32_t>(k)));
-        rows.name_start.resize(names);
-        rows.name_length.resize(names);
+        names_.forget(rows, names);
         rows.message.resize(first);
         rows.stamp.resize(first);
         rows.parent.resize(first);
@@ -151,11 +254,11 @@ class Reader {
     }
 
     const uint8_t* raw_;
-    Wire wire_;
+    const std::vector<Wire> wires_;
+    const bool counted_;
+    Wire wire_{};
     int64_t origin_ = 0, end_ = 0, pos_ = 0;
-    static constexpr uint64_t kRecentSlots = 256;  // names of a message's first 128 transforms
-    std::vector<int32_t> recent_;                  // per slot: the name last there
-    std::unordered_map<std::string_view, int32_t> ids_;
+    NameIds names_;
 };
 
 }  // namespace tfwire

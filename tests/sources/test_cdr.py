@@ -335,6 +335,6 @@ def test_the_cdr_encoder_writes_rosbags_bytes(names: tuple[str, str]) -> None:
 @pytest.mark.parametrize("starts, lengths", [([0], [200]), ([-1], [4]), ([8], [-1]), ([0, 0], [4])])
 def test_compiled_reader_refuses_payloads_outside_its_bytes(starts: list[int], lengths: list[int]) -> None:
     raw = np.frombuffer(tf_cdr([varied_transform(np.random.default_rng(1))]), np.uint8)
-    wire = dict(big_endian=False, origin=4, align=8, seq=False, signed_sec=True, nul=True, exact=False)
+    wire = (1, False, 4, 8, False, True, True, False)  # plain CDR, little endian
     with pytest.raises(ValueError):
-        _wire.decode_transforms(raw, np.array(starts, np.int64), np.array(lengths, np.int64), **wire, counted=True)
+        _wire.decode_transforms(raw, np.array(starts, np.int64), np.array(lengths, np.int64), [wire], counted=True)

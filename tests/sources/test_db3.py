@@ -12,9 +12,11 @@ from typing import Any
 import pytest
 
 from tests.sources.ros2_helpers import NS, T0, Tf, string_cdr, tf_cdr
+from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.rosbag2 import db3 as db3_reader
+from tftools.sources.bag.spans import Spans
 
 TOPICS = [
     (1, "/tf", "tf2_msgs/msg/TFMessage"),
@@ -81,8 +83,8 @@ def expected(rows: Sequence[DbRow]) -> list[tuple[int, int, str]]:
     return out
 
 
-def read(path: Path) -> tuple[list[tuple[int, int, str]], Any]:
-    contents = read_bag([path])
+def read(path: Path, progress: ProgressCallback | None = None) -> tuple[list[tuple[int, int, str]], Any]:
+    contents = read_bag([path], progress=progress)
     batch = contents.transforms
     got = [
         (int(batch.record_time[i]), int(batch.stamp[i] // NS), batch.frame_names[batch.child[i]])
@@ -111,19 +113,31 @@ def test_rows_fetched_a_batch_at_a_time_and_only_the_tf_topics(tmp_path: Path, m
     rows = mixed_rows(3000)
     db3 = write_db3(tmp_path / "a.db3", rows)
     handed: list[list[int]] = []  # the payload lengths of each call
-    add = MessageSet.add
+    add_spans = MessageSet.add_spans
 
-    def spy(self: MessageSet, channel: Any, times: Any, positions: Any, payloads: Sequence[bytes]) -> None:
-        handed.append([len(p) for p in payloads])
-        add(self, channel, times, positions, payloads)
+    def spy(self: MessageSet, channel: Any, spans: Spans, data: Any) -> None:
+        handed.append((spans.end - spans.start).tolist())
+        add_spans(self, channel, spans, data)
 
-    monkeypatch.setattr(MessageSet, "add", spy)
+    monkeypatch.setattr(MessageSet, "add_spans", spy)
     monkeypatch.setattr(db3_reader, "_FETCH", 100)
     got, _ = read(db3)
     assert got == expected(rows)
     tf_rows = [row for row in rows if row[1] in (1, 2)]
     assert max(map(len, handed)) == 100 and sum(map(len, handed)) == len(tf_rows)
     assert max(max(lengths) for lengths in handed) == max(len(row[3]) for row in tf_rows) < 20_000
+
+
+def test_rows_stored_out_of_time_order(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The table is read in its own order, fetch after fetch: transforms still come in (record time,
+    id) order, and progress only moves forward."""
+    rows = [(1 + i, 1, T0 + (299 - i) // 2 * NS, tf_payload(i, 1 + i % 3)) for i in range(300)]
+    db3 = write_db3(tmp_path / "a.db3", rows)
+    monkeypatch.setattr(db3_reader, "_FETCH", 16)
+    calls: list[int] = []
+    got, _ = read(db3, lambda done, _total: calls.append(done))
+    assert got == expected(rows)
+    assert len(calls) > 10 and calls == sorted(calls)
 
 
 def fingerprint(folder: Path) -> dict[str, tuple[str, int]]:

@@ -22,6 +22,7 @@ Unpack = Callable[[bytes], bytes]
 Failures = list[tuple[int, str]]  # (message, reason) of the messages that could not be decoded
 
 _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
+_ALONE_BYTES = 512 << 10  # payload bytes of one codec handed at once that are decoded at once, uncopied
 
 
 @dataclass
@@ -152,10 +153,16 @@ class MessageSet:
     def _group(
         self, codec: int, data: bytes | memoryview, starts: Int64Array, lengths: Int64Array, ids: Int64Array
     ) -> None:
-        """Copy the payloads of one codec out of ``data``, into its group: of stamped messages, only
-        the bytes that may hold their header."""
+        """Decode the payloads of one codec at once, straight from ``data``, when they are many;
+        else copy them out of ``data`` into its group: of stamped messages, only the bytes that may
+        hold their header."""
         if isinstance(self._codecs[codec], HeaderCodec):
             lengths = np.minimum(lengths, HEADER_BYTES)
+        if int(lengths.sum()) >= _ALONE_BYTES:
+            self._decode_groups()  # those added before first: the rows stay in message order
+            self._decode(codec, np.frombuffer(data, np.uint8), starts, lengths, ids)
+            self._rows.settle()
+            return
         piece, at = _copied(data, starts, lengths)
         self._groups.setdefault(codec, _Group()).add(piece, at, lengths, ids)
         self._pending_bytes += 2 * len(piece)  # counted twice: decoding takes as much again
@@ -187,23 +194,28 @@ class MessageSet:
         """Decode the payloads gathered so far into rows, each codec's at once, and let them go."""
         while self._groups:
             number, group = self._groups.popitem()
-            codec = self._codecs[number]
             raw, starts, lengths, ids = group.joined()
             del group
-            if isinstance(codec, ClockCodec):
-                rows, values, failures = codec.decode(raw, starts, lengths)
-                self._clocks.append((ids[rows], values))
-            elif isinstance(codec, HeaderCodec):
-                headers = codec.decode(raw, starts, lengths, self._rows.frames)
-                self._headers.append((ids[headers.message], headers.stamp, headers.frame))
-                failures = headers.failures
-            else:
-                decoded = codec.decode(raw, starts, lengths, self._rows.frames)
-                self._rows.add_rows(ids[decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values)
-                failures = decoded.failures
-            self._failed += [(int(ids[row]), reason) for row, reason in failures]
+            self._decode(number, raw, starts, lengths, ids)
         self._rows.settle()
         self._pending_bytes = 0
+
+    def _decode(self, number: int, raw: UInt8Array, starts: Int64Array, lengths: Int64Array, ids: Int64Array) -> None:
+        """Decode the payloads ``raw[starts[i] : starts[i] + lengths[i]]`` of codec ``number``,
+        messages ``ids``, into rows, clock values or headers."""
+        codec = self._codecs[number]
+        if isinstance(codec, ClockCodec):
+            rows, values, failures = codec.decode(raw, starts, lengths)
+            self._clocks.append((ids[rows], values))
+        elif isinstance(codec, HeaderCodec):
+            headers = codec.decode(raw, starts, lengths, self._rows.frames)
+            self._headers.append((ids[headers.message], headers.stamp, headers.frame))
+            failures = headers.failures
+        else:
+            decoded = codec.decode(raw, starts, lengths, self._rows.frames)
+            self._rows.add_rows(ids[decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values)
+            failures = decoded.failures
+        self._failed += [(int(ids[row]), reason) for row, reason in failures]
 
     def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[StampedMessages], list[str]]:
         """Every transform in record-time order, in consecutive batches; the clock; the headers of

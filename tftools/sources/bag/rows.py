@@ -53,7 +53,7 @@ class Rows:
     ) -> None:
         """Rows of frame ids in ``frames``: ``message`` being each one's message number."""
         self.messages.append(message)
-        columns: list[Column] = [parent, child, stamp, values[:, :3].copy(), values[:, 3:].copy()]
+        columns: list[Column] = [parent, child, stamp, values]
         for name, column in zip(_COLUMNS, columns, strict=True):
             self.parts[name].append(column)
 
@@ -88,12 +88,15 @@ class Rows:
 
         def batch(messages: Int64Array, columns: dict[str, Column]) -> TransformBatch:
             channel = channel_of[messages]
+            values = columns.pop("values")
             return TransformBatch(
                 frame_names=self.frames.names,
                 authorities=authorities,
                 static=static_of[channel],
                 record_time=times[messages],
                 authority=authority_of[channel],
+                translation=values[:, :3],  # views of the values as decoded: not copied apart
+                rotation=values[:, 3:],
                 **columns,
             )
 
@@ -117,4 +120,4 @@ class Rows:
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
 
-_COLUMNS = ("parent", "child", "stamp", "translation", "rotation")
+_COLUMNS = ("parent", "child", "stamp", "values")  # values: (N, 7), translation then rotation

@@ -16,7 +16,7 @@ from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.sources.codecs import _wire
 from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames
 from tftools.sources.codecs.gather import bytes_at
-from tftools.sources.codecs.wire import VALUES_SIZE, Cursor, Wire, partition, wire_of
+from tftools.sources.codecs.wire import VALUES_SIZE, Cursor, Wire, wire_of
 
 
 def decode_transforms(
@@ -30,39 +30,25 @@ def decode_transforms(
 ) -> Decoded:
     """The transform sequences at ``raw[starts[i] : starts[i] + lengths[i]]`` in one of ``wires``
     (``counted``: a count of transforms first, else a single transform each)."""
-    parts: list[Decoded] = []
-    walked = np.zeros(len(starts), bool)
-    left: list[Int64Array] = []
-    for wire, members in partition(raw, starts, lengths, wires):
-        walked[members] = True
-        decoded, bad = _compiled(raw, starts[members], lengths[members], frames, wire, counted)
-        parts.append(decoded.renumbered(members))
-        left.append(members[bad])
-    for message in np.sort(np.concatenate([*left, np.flatnonzero(~walked)])).tolist():
-        parts.append(read_alone(raw, int(starts[message]), int(lengths[message]), frames, wires, counted, message))
-    return Decoded.joined(parts)
+    decoded, bad = _compiled(raw, starts, lengths, frames, wires, counted)
+    alone = [read_alone(raw, int(starts[m]), int(lengths[m]), frames, wires, counted, m) for m in bad.tolist()]
+    return Decoded.joined([decoded, *alone])
 
 
 def _compiled(
-    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wire: Wire, counted: bool
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wires: Sequence[Wire], counted: bool
 ) -> tuple[Decoded, Int64Array]:
-    """The rows of the messages that read to a well-formed end, and which messages are left to be
-    read alone (those that do not, and those with a frame id that is not UTF-8)."""
+    """The rows of the messages that read to a well-formed end in one of ``wires``, and which
+    messages are left to be read alone (the others, and those with a frame id that is not UTF-8)."""
     message, stamp, values, parent, child, name_start, name_length, bad = _wire.decode_transforms(
         raw,
         np.ascontiguousarray(starts, np.int64),
         np.ascontiguousarray(lengths, np.int64),
-        big_endian=wire.order == ">",
-        origin=wire.origin,
-        align=wire.align,
-        seq=wire.seq,
-        signed_sec=wire.signed_sec,
-        nul=wire.nul,
-        exact=wire.exact,
-        counted=counted,
+        [wire.compiled for wire in wires],
+        counted,
     )
     ids, undecodable = frames.intern_all(raw, name_start, name_length)
-    broken = undecodable[parent] | undecodable[child]
+    broken = undecodable[parent] | undecodable[child] if undecodable.any() else np.zeros(0, bool)
     if broken.any():
         lost = np.zeros(len(starts), bool)
         lost[message[broken]] = True

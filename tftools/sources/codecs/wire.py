@@ -61,6 +61,13 @@ class Wire:
         return np.dtype([*self.stamp.descr, ("length", f"{self.order}u4")])
 
     @cached_property
+    def compiled(self) -> tuple[int, bool, int, int, bool, bool, bool, bool]:
+        """Its fields as the compiled reader takes them (``_wire.WireFields``; -1: no encapsulation)."""
+        encapsulation = -1 if self.encapsulation is None else self.encapsulation
+        big_endian = self.order == ">"
+        return encapsulation, big_endian, self.origin, self.align, self.seq, self.signed_sec, self.nul, self.exact
+
+    @cached_property
     def uint32(self) -> struct.Struct:
         return struct.Struct(f"{self.order}I")
 

@@ -11,11 +11,13 @@ from urllib.parse import quote
 
 import numpy as np
 
-from tftools.core.arrays import Int32Array
+from tftools.core.arrays import Int32Array, UInt8Array
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.messages import MessageSet
+from tftools.sources.bag.rosbag2 import _sqlite
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
 from tftools.sources.bag.scan import FileScan
+from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import zstd_messages
 from tftools.sources.codecs.select import HeaderTopics, select
 from tftools.sources.codecs.wire import HEADER_BYTES
@@ -23,7 +25,8 @@ from tftools.sources.errors import CorruptBagError
 
 MAGIC = b"SQLite format 3\x00"
 ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
-_FETCH = 1 << 12  # rows per fetch: progress is reported between fetches
+_FETCH = 1 << 12  # rows per fetch at most: progress is reported between fetches
+_FETCH_BYTES = 4 << 20  # and payload bytes (a fetch ends with the row that reaches them)
 _MAX_TOPIC_ID = 1 << 24  # topic ids index a lookup array: rosbag2 numbers them from 1
 
 
@@ -39,7 +42,7 @@ def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messag
     with _connect(path) as db:
         channels = _channels(db, path, topics, result)
         _statistics(db, result)
-        _messages(db, path, channels, result, progress, headers_only=isinstance(topics, HeaderTopics))
+    _messages(path, channels, result, progress, headers_only=isinstance(topics, HeaderTopics))
     if unmerged:
         result.note_problem(
             f"{wal.name} holds writes never merged into the database; they were not read"
@@ -55,7 +58,7 @@ def _connect(path: Path) -> Iterator[sqlite3.Connection]:
         with path.open("rb") as f:
             if f.read(len(MAGIC)) != MAGIC:
                 raise CorruptBagError(str(path), "not an SQLite database")
-        db = sqlite3.connect(f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1", uri=True)
+        db = sqlite3.connect(_uri(path), uri=True)
         # A file cut short says it has more pages than it holds; sqlite then refuses it whole
         # unless the schema is "writable" (a flag of this read-only connection, nothing written).
         db.execute("PRAGMA writable_schema=ON")
@@ -65,6 +68,10 @@ def _connect(path: Path) -> Iterator[sqlite3.Connection]:
         yield db
     finally:
         db.close()
+
+
+def _uri(path: Path) -> str:
+    return f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1"
 
 
 def _channels(db: sqlite3.Connection, path: Path, topics: tuple[str, ...], result: FileScan) -> dict[int, int]:
@@ -100,7 +107,6 @@ def _statistics(db: sqlite3.Connection, result: FileScan) -> None:
 
 
 def _messages(
-    db: sqlite3.Connection,
     path: Path,
     channels: dict[int, int],
     result: FileScan,
@@ -108,37 +114,39 @@ def _messages(
     *,
     headers_only: bool,
 ) -> None:
-    """Add the wanted topics' messages in record-time order, fetch after fetch (decoded as they
-    come, so they are never all held at once); from the intact pages of a damaged file. With
-    ``headers_only``, sqlite hands over only the bytes that can hold a header of each message (a
-    compressed one whole), not the images or points after it."""
+    """Add the wanted topics' messages, fetch after fetch in the table's order (decoded as they
+    come, so they are never all held at once; ``MessageSet`` puts them in (record time, id) order);
+    from the intact pages of a damaged file. With ``headers_only``, sqlite hands over only the
+    bytes that can hold a header of each message (a compressed one whole), not the images or
+    points after it. Rows of other types (sqlite stores any value in any column) are not messages:
+    left out."""
     if not channels:
         return
     size = path.stat().st_size
     lookup = _channel_lookup(channels)
-    added = 0
     ids = ",".join(str(int(i)) for i in channels)
-    # Rows of other types (sqlite stores any value in any column) are not messages: left out.
     data = (
         f"CASE WHEN substr(data, 1, {len(ZSTD_MAGIC)}) = x'{ZSTD_MAGIC.hex()}' THEN data"
         f" ELSE substr(data, 1, {HEADER_BYTES}) END"
         if headers_only
         else "data"
     )
-    query = (
-        f"SELECT topic_id, timestamp, {data} FROM messages WHERE topic_id IN ({ids})"
-        " AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob' ORDER BY timestamp, id"
-    )
+    # NOT INDEXED: the table read in its own order, page after page, not through the timestamp index.
+    query = f"SELECT topic_id, timestamp, id, {data} FROM messages NOT INDEXED WHERE topic_id IN ({ids})"
+    added, latest = False, result.start  # the latest record time met: rows may come a little out of order
     try:
-        cursor = db.execute(query)
-        while batch := cursor.fetchmany(_FETCH):
-            _add_rows(batch, lookup, result, added, size)
-            added += len(batch)
-            progress(_estimate(batch[-1][1], result, size), size)
+        rows = _sqlite.Messages(_uri(path), query)
+        while len((fetched := rows.fetch(_FETCH, _FETCH_BYTES))[0]):
+            topic, timestamp, row_id, start, length, payloads = fetched
+            spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
+            _add_spans(lookup[topic], spans, payloads, result, size)
+            added, latest = True, max(latest, int(timestamp.max()))
+            progress(_estimate(latest, result, size), size)
+            del fetched, payloads  # let go: the next fetch fills the same bytes again
     except sqlite3.Error as e:
         if added:  # start again from the pages, forgetting what the query gave
             result.messages = result.messages.emptied()
-        _add_rows(_salvage(path, channels, result, str(e)), lookup, result, 0, size)
+        _add_rows(_salvage(path, channels, result, str(e)), lookup, result, size)
 
 
 def _estimate(timestamp: int, result: FileScan, size: int) -> int:
@@ -162,16 +170,19 @@ def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str)
     return rows
 
 
-def _add_rows(rows: list[Row], lookup: Int32Array, result: FileScan, first: int, size: int) -> None:
-    """Add ``rows`` (``lookup`` gives their topics' channels), the ``first``-th row read onwards,
-    of a file of ``size`` bytes."""
-    if not rows:
-        return
+def _add_rows(rows: list[Row], lookup: Int32Array, result: FileScan, size: int) -> None:
+    """Add the salvaged ``rows`` (``lookup`` gives their topics' channels) of a file of ``size`` bytes."""
     topic_ids, times, payloads = zip(*rows, strict=True)
     if result.messages.unpack is None and _zstd_compressed(payloads[0]):
         result.messages.unpack = zstd_messages(size)
-    which = lookup[np.array(topic_ids, np.int64)]
-    result.messages.add(which, times, np.arange(first, first + len(rows)), payloads)
+    result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(rows)), payloads)
+
+
+def _add_spans(channels: Int32Array, spans: Spans, data: UInt8Array, result: FileScan, size: int) -> None:
+    """Add the messages of one fetch: ``data[spans.start[i] : spans.end[i]]`` of ``channels[i]``."""
+    if result.messages.unpack is None and _zstd_compressed(data[spans.start[0] : spans.end[0]][:4].tobytes()):
+        result.messages.unpack = zstd_messages(size)
+    result.messages.add_spans(channels, spans, data.data)
 
 
 def _channel_lookup(channels: dict[int, int]) -> Int32Array:

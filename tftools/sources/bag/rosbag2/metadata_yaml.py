@@ -36,40 +36,49 @@ def load_text(text: str) -> Any:
     if len(text) > MAX_BYTES:
         raise MetadataError(f"larger than {MAX_BYTES >> 20} MiB")
     try:
-        _check(YAML(typ="safe").parse(text))
-        return YAML(typ="safe").load(text)
-    except (YAMLError, ValueError, RecursionError) as e:
+        # An alias is constructed as a reference to its anchor's value, not a copy: the document
+        # is built in the time its text takes, however far its aliases would expand.
+        document = YAML(typ="safe").load(text)
+    except RecursionError:  # the composer recurses once per level
+        raise MetadataError(f"nested deeper than {MAX_DEPTH} levels") from None
+    except (YAMLError, ValueError) as e:
         raise MetadataError(f"not valid YAML ({type(e).__name__})") from None
+    _check(document)
+    return document
 
 
-def _check(events: Any) -> None:
-    """Walk the parser's events (no recursion): the nesting depth, and the nodes the document
-    would have once its aliases are expanded, counted per anchor."""
-    from ruamel.yaml.events import AliasEvent, CollectionEndEvent, CollectionStartEvent, NodeEvent
-
-    sizes: dict[str, int] = {}  # anchor -> nodes of its node
-    open_: list[tuple[str | None, int]] = []  # collections open: (anchor, nodes so far)
-    total = 0
-    for event in events:
-        if isinstance(event, CollectionStartEvent):
-            open_.append((event.anchor, 1))
-            if len(open_) > MAX_DEPTH:
-                raise MetadataError(f"nested deeper than {MAX_DEPTH} levels")
+def _check(document: Any) -> None:
+    """Walk the document (no recursion), each value shared through aliases once: its nesting depth,
+    and its nodes once its aliases are expanded. A document that holds itself is refused."""
+    sizes: dict[int, tuple[int, int]] = {}  # id of a collection -> its nodes and levels, expanded
+    open_: set[int] = set()  # collections being walked: met again inside one, the document holds itself
+    walk: list[tuple[Any, int, bool]] = [(document, 1, False)]  # (value, its depth, its parts walked)
+    while walk:
+        value, depth, walked = walk.pop()
+        parts = _parts(value)
+        if parts is None:
             continue
-        if isinstance(event, CollectionEndEvent):
-            anchor, nodes = open_.pop()
-        elif isinstance(event, AliasEvent):
-            anchor, nodes = None, sizes.get(event.anchor, 1)
-        elif isinstance(event, NodeEvent):  # a scalar
-            anchor, nodes = event.anchor, 1
-        else:
-            continue
-        if anchor is not None:
-            sizes[anchor] = nodes
-        if open_:
-            parent_anchor, parent_nodes = open_[-1]
-            open_[-1] = (parent_anchor, parent_nodes + nodes)
-        else:
-            total += nodes
-        if nodes > MAX_NODES or total > MAX_NODES:
-            raise MetadataError(f"its aliases expand to more than {MAX_NODES} nodes")
+        key = id(value)
+        if walked:
+            open_.discard(key)
+            inner = [sizes.get(id(part), (1, 0)) for part in parts]
+            sizes[key] = (1 + sum(nodes for nodes, _ in inner), 1 + max((levels for _, levels in inner), default=0))
+            if sizes[key][0] > MAX_NODES:
+                raise MetadataError(f"its aliases expand to more than {MAX_NODES} nodes")
+        elif key in open_:
+            raise MetadataError("it holds itself (an alias inside its own anchor)")
+        elif depth + sizes.get(key, (0, 1))[1] - 1 > MAX_DEPTH:
+            raise MetadataError(f"nested deeper than {MAX_DEPTH} levels")
+        elif key not in sizes:
+            open_.add(key)
+            walk.append((value, depth, True))
+            walk += [(part, depth + 1, False) for part in parts]
+
+
+def _parts(value: Any) -> list[Any] | None:
+    """A mapping's keys and values, a sequence's items; None for a scalar."""
+    if isinstance(value, dict):
+        return [*value.keys(), *value.values()]
+    if isinstance(value, list | set | tuple):
+        return list(value)
+    return None
