@@ -56,19 +56,7 @@ class TransformBatch:
             yield self
             return
         for start in range(0, len(self), rows):
-            part = slice(start, start + rows)
-            yield TransformBatch(
-                self.frame_names,
-                self.authorities,
-                self.parent[part],
-                self.child[part],
-                self.stamp[part],
-                self.translation[part],
-                self.rotation[part],
-                self.static[part],
-                self.record_time[part],
-                self.authority[part],
-            )
+            yield take_rows(self, slice(start, start + rows))
 
     @classmethod
     def empty(cls) -> TransformBatch:
@@ -177,8 +165,8 @@ def concat_batches(batches: Sequence[TransformBatch]) -> TransformBatch:
     )
 
 
-def take_rows(batch: TransformBatch, rows: IntpArray) -> TransformBatch:
-    """The given rows of ``batch``, in that order, sharing its string tables."""
+def take_rows(batch: TransformBatch, rows: IntpArray | slice) -> TransformBatch:
+    """The given rows of ``batch``, in that order, sharing its string tables (a slice: views, not copies)."""
     return TransformBatch(
         frame_names=batch.frame_names,
         authorities=batch.authorities,

@@ -169,10 +169,6 @@ class Buffer:
         self._table = self._new_table()
         self._table.arrivals = arrivals
 
-    @property
-    def _ros2(self) -> bool:
-        return self.semantics == "ros2"
-
     # --- frames ------------------------------------------------------------------------------
 
     @property
@@ -263,7 +259,7 @@ class Buffer:
                 if hist is None or hist.static:
                     continue
                 emptied = self._histories[frame_id] = EdgeHistory(static=False)
-                self._track(frame_id, emptied)
+                self._table.update(frame_id, emptied)
             self._changed.notify_all()
 
     def reserve(self, batches: Iterable[TransformBatch]) -> None:
@@ -489,16 +485,12 @@ class Buffer:
             self._broadcasters,
             self._expected,
             self._cache_time,
-            self._ros2,
+            self.semantics == "ros2",
             QUATERNION_TOLERANCE,
         )
         for frame_id, hist in enumerate(self._histories):
             table.update(frame_id, hist)
         return table
-
-    def _track(self, frame_id: int, hist: EdgeHistory) -> None:
-        """Tell the compiled calls that ``frame_id``'s history changed (its arrays may have moved)."""
-        self._table.update(frame_id, hist)
 
     def _identity_stamp(self, frame: str, time: int) -> int:
         if time != 0:

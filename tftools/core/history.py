@@ -172,13 +172,12 @@ class EdgeHistory:
         """Columns for ``capacity`` rows, in ``block`` if given (of ``block_bytes(capacity)``),
         holding the rows in use."""
         n = self._end - self._start
-        s = slice(self._start, self._end)
         columns = _columns_in(np.empty(block_bytes(capacity), np.uint8) if block is None else block, capacity)
-        if n:
+        if n:  # (a new history has no columns yet)
             new: tuple[npt.NDArray[Any], ...] = columns
             held: tuple[npt.NDArray[Any], ...] = self._columns()
             for column, old in zip(new, held, strict=True):
-                column[:n] = old[s]
+                column[:n] = old[self._start : self._end]
         self._stamps, self._values, self._parents, self._authorities = columns[:4]
         self._record_times, self._sequence, self._flags = columns[4:]
         self._stamp_index = self._stamps.data  # bisect on it yields Python ints, no numpy scalars
@@ -258,8 +257,7 @@ class EdgeHistory:
         return (*self._columns(), self._start, self._end)
 
     def _columns(self) -> _Columns:
-        """The backing arrays, one row per sample: stamps, values, parents, authorities, record
-        times, sequence, flags."""
+        """The backing arrays, one row per sample, in ``storage``'s order."""
         return (
             self._stamps,
             self._values,
@@ -302,8 +300,7 @@ class EdgeHistory:
         if isinstance(row, Gap):
             return row
         if row >= 0:
-            values = self._values[row].tolist()
-            return int(self._parents[row]), values
+            return int(self._parents[row]), self._values[row].tolist()
         one = -row - 1
         parent_one = int(self._parents[one])
         if parent_one != self._parents[one + 1]:

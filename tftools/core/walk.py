@@ -27,7 +27,7 @@ from tftools.core.rotation import (
     quat_multiply,
     quat_rotate,
 )
-from tftools.core.semantics import ROS1, Dialect
+from tftools.core.semantics import Dialect
 from tftools.core.time import duration_to_sec, to_sec
 
 #: tf2's ``MAX_GRAPH_DEPTH``: a walk longer than this is taken for a loop.
@@ -42,7 +42,7 @@ class Tree(NamedTuple):
 
     histories: Sequence[EdgeHistory | None]
     names: Sequence[str]
-    dialect: Dialect = ROS1
+    dialect: Dialect
 
 
 # --- the walk ------------------------------------------------------------------------------

@@ -4,7 +4,6 @@ megabytes at a time."""
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -25,30 +24,18 @@ _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and th
 _ALONE_BYTES = 512 << 10  # payload bytes of one codec handed at once that are decoded at once, uncopied
 
 
-@dataclass
-class _Group:
-    """Payloads of one codec: bytes, where each payload begins in them and how long it is, and
-    their message numbers."""
+#: Payloads of one codec added together: their bytes, where each payload begins in them and how
+#: long it is, and their message numbers.
+_Piece = tuple[bytes, Int64Array, Int64Array, Int64Array]
 
-    pieces: list[bytes] = field(default_factory=list)
-    starts: list[Int64Array] = field(default_factory=list)
-    lengths: list[Int64Array] = field(default_factory=list)
-    ids: list[Int64Array] = field(default_factory=list)
 
-    def add(self, piece: bytes, starts: Int64Array, lengths: Int64Array, ids: Int64Array) -> None:
-        self.pieces.append(piece)
-        self.starts.append(starts)
-        self.lengths.append(lengths)
-        self.ids.append(ids)
-
-    def joined(self) -> tuple[UInt8Array, Int64Array, Int64Array, Int64Array]:
-        """All the bytes (the pieces let go), each payload's start and length in them, and its
-        message number."""
-        bases = np.cumsum([0] + [len(p) for p in self.pieces[:-1]])
-        starts = np.concatenate([s + base for s, base in zip(self.starts, bases.tolist(), strict=True)])
-        raw = np.frombuffer(self.pieces[0] if len(self.pieces) == 1 else b"".join(self.pieces), np.uint8)
-        self.pieces.clear()
-        return raw, starts, np.concatenate(self.lengths), np.concatenate(self.ids)
+def _joined(group: list[_Piece]) -> tuple[UInt8Array, Int64Array, Int64Array, Int64Array]:
+    """A group's pieces as one: all the bytes, each payload's start and length in them, and its message number."""
+    pieces, starts, lengths, ids = zip(*group, strict=True)
+    bases = np.cumsum([0] + [len(p) for p in pieces[:-1]])
+    at = np.concatenate([s + base for s, base in zip(starts, bases.tolist(), strict=True)])
+    raw = np.frombuffer(pieces[0] if len(pieces) == 1 else b"".join(pieces), np.uint8)
+    return raw, at, np.concatenate(lengths), np.concatenate(ids)
 
 
 class MessageSet:
@@ -69,7 +56,7 @@ class MessageSet:
         self._times: list[Int64Array] = []
         self._positions: list[Int64Array] = []
         self._channel_of: list[Int32Array] = []
-        self._groups: dict[int, _Group] = {}
+        self._groups: dict[int, list[_Piece]] = {}  # by codec
         self._unpack_failed: dict[int, list[str]] = {}
         self._pending_bytes = 0
         self._rows = Rows(self.channels)
@@ -139,10 +126,15 @@ class MessageSet:
         starts: Int64Array,
         lengths: Int64Array,
     ) -> None:
-        """Group the payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec."""
+        """Number the messages, noting their channels, record times and positions, and group their
+        payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec."""
         if not len(starts):
             return
-        ids = self._numbered(channels, times, where)
+        ids = np.arange(self.count, self.count + len(channels), dtype=np.int64)  # the messages' numbers
+        self.count += len(channels)
+        self._times.append(times)
+        self._positions.append(where)
+        self._channel_of.append(channels.copy())
         codecs = np.array(self._codec_of, np.int64)[channels]
         order = np.argsort(codecs, kind="stable")
         for part in np.split(order, np.flatnonzero(np.diff(codecs[order])) + 1):
@@ -164,18 +156,8 @@ class MessageSet:
             self._rows.settle()
             return
         piece, at = _copied(data, starts, lengths)
-        self._groups.setdefault(codec, _Group()).add(piece, at, lengths, ids)
+        self._groups.setdefault(codec, []).append((piece, at, lengths, ids))
         self._pending_bytes += 2 * len(piece)  # counted twice: decoding takes as much again
-
-    def _numbered(self, channels: Int32Array, times: Int64Array, where: Int64Array) -> Int64Array:
-        """Note the messages' channels, record times and positions; their message numbers."""
-        n = len(channels)
-        ids = np.arange(self.count, self.count + n, dtype=np.int64)
-        self._times.append(times)
-        self._positions.append(where)
-        self._channel_of.append(channels.copy())
-        self.count += n
-        return ids
 
     def _unpacked(self, channels: Int32Array, payloads: Sequence[bytes | memoryview]) -> tuple[list[bytes], BoolArray]:
         """The payloads that could be unpacked, and which ones they are; the others are noted."""
@@ -194,8 +176,8 @@ class MessageSet:
         """Decode the payloads gathered so far into rows, each codec's at once, and let them go."""
         while self._groups:
             number, group = self._groups.popitem()
-            raw, starts, lengths, ids = group.joined()
-            del group
+            raw, starts, lengths, ids = _joined(group)
+            del group  # the pieces let go before decoding
             self._decode(number, raw, starts, lengths, ids)
         self._rows.settle()
         self._pending_bytes = 0

@@ -56,11 +56,6 @@ class Wire:
         return np.dtype([("sec", f"{self.order}{'i' if self.signed_sec else 'u'}4"), ("nsec", f"{self.order}u4")])
 
     @cached_property
-    def head(self) -> np.dtype[np.void]:
-        """A stamp and the length of the string after it."""
-        return np.dtype([*self.stamp.descr, ("length", f"{self.order}u4")])
-
-    @cached_property
     def compiled(self) -> tuple[int, bool, int, int, bool, bool, bool, bool]:
         """Its fields as the compiled reader takes them (``_wire.WireFields``; -1: no encapsulation)."""
         encapsulation = -1 if self.encapsulation is None else self.encapsulation

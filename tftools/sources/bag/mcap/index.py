@@ -82,16 +82,13 @@ def _read_chunks(
     that could not be read."""
     lost: dict[int, str] = {}
 
-    def read_whole(number: int, chunk: ChunkIndex, wanted: list[int], index: bytes | None) -> None:
+    def read_whole(number: int, chunk: ChunkIndex, index: bytes | None) -> None:
         try:
-            _read_chunk(f, chunk, number, wanted, channels, index)
+            _read_chunk(f, chunk, number, channels, index)
         except McapDamageError as e:
             lost[number] = str(e)
 
-    def read_queued_whole(queued: Queued) -> None:
-        read_whole(queued.number, queued.chunk, _wanted(queued.chunk, channels), queued.index)
-
-    ranged = RangedReader(f.fileno(), channels, read_queued_whole)
+    ranged = RangedReader(f.fileno(), channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
     indexed = [c for c in chunks if _in_ranges(c, _wanted(c, channels))]
     ends = np.array([c.end for c in indexed], np.int64)
     ahead(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
@@ -104,12 +101,10 @@ def _read_chunks(
                 ranged.queue(Queued(number, chunk, index, entries))
             else:
                 ranged.flush()  # the chunks before first: messages are handed on in file order
-                read_whole(number, chunk, wanted, index)
+                read_whole(number, chunk, index)
         elif wanted or not chunk.index_offsets:
             ranged.flush()
-            read_whole(number, chunk, wanted, None)
-        if ranged.full:
-            ranged.flush()
+            read_whole(number, chunk, None)
         progress(chunk.end, size)
     ranged.flush()
     return [lost[number] for number in sorted(lost)]
@@ -188,9 +183,7 @@ def _chunk_index(content: bytes) -> ChunkIndex:
     return ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64))
 
 
-def _read_chunk(
-    f: BinaryIO, chunk: ChunkIndex, number: int, wanted: list[int], channels: Channels, index: bytes | None
-) -> None:
+def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
     """The wanted channels' messages of one chunk read whole, found through its message indexes
     (``index``, read here when None) or, in a chunk without them, by walking its records."""
     raw = _read_at(f, chunk.offset, chunk.length)
@@ -205,6 +198,7 @@ def _read_chunk(
         return
     if index is None:
         index = _read_at(f, chunk.end, chunk.index_length)
+    wanted = _wanted(chunk, channels)
     found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
     found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
     found.end = np.full(len(found), len(data), np.int64)

@@ -46,12 +46,11 @@ class RangedReader:
         self.queued_bytes = 0
 
     def queue(self, queued: Queued) -> None:
+        """Queue a chunk; the queue is read when its chunks reach a batch's bytes."""
         self.queued.append(queued)
         self.queued_bytes += queued.chunk.length
-
-    @property
-    def full(self) -> bool:
-        return self.queued_bytes >= _BATCH_BYTES
+        if self.queued_bytes >= _BATCH_BYTES:
+            self.flush()
 
     def flush(self) -> None:
         """Read the queued chunks, in ranges or whole, their messages handed on in file order (in

@@ -50,9 +50,9 @@ class ChunkIndex:
 class Body:
     """A cursor over a record's content, raising ``McapDamageError`` past its end."""
 
-    def __init__(self, data: bytes | memoryview, pos: int = 0) -> None:
+    def __init__(self, data: bytes | memoryview) -> None:
         self.data = data
-        self.pos = pos
+        self.pos = 0
 
     def take(self, fmt: struct.Struct) -> tuple[int, ...]:
         try:

@@ -173,15 +173,13 @@ def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str)
 def _add_rows(rows: list[Row], lookup: Int32Array, result: FileScan, size: int) -> None:
     """Add the salvaged ``rows`` (``lookup`` gives their topics' channels) of a file of ``size`` bytes."""
     topic_ids, times, payloads = zip(*rows, strict=True)
-    if result.messages.unpack is None and _zstd_compressed(payloads[0]):
-        result.messages.unpack = zstd_messages(size)
+    _unpack_if_compressed(payloads[0], result, size)
     result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(rows)), payloads)
 
 
 def _add_spans(channels: Int32Array, spans: Spans, data: UInt8Array, result: FileScan, size: int) -> None:
     """Add the messages of one fetch: ``data[spans.start[i] : spans.end[i]]`` of ``channels[i]``."""
-    if result.messages.unpack is None and _zstd_compressed(data[spans.start[0] : spans.end[0]][:4].tobytes()):
-        result.messages.unpack = zstd_messages(size)
+    _unpack_if_compressed(data[spans.start[0] : spans.end[0]][:4].tobytes(), result, size)
     result.messages.add_spans(channels, spans, data.data)
 
 
@@ -201,6 +199,8 @@ def _text(value: object) -> str:
     return "" if value is None else str(value)
 
 
-def _zstd_compressed(payload: bytes) -> bool:
-    """Whether a payload is compressed: a bare .db3 of a bag compressed message by message."""
-    return payload[:4] == ZSTD_MAGIC
+def _unpack_if_compressed(payload: bytes, result: FileScan, size: int) -> None:
+    """Have the payloads decompressed if the first is compressed: a bare .db3 of a bag compressed
+    message by message."""
+    if result.messages.unpack is None and payload[:4] == ZSTD_MAGIC:
+        result.messages.unpack = zstd_messages(size)
