@@ -154,10 +154,8 @@ class Buffer:
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
         del state["_changed"], state["_mutex"]
-        state["_table"] = None  # memory addresses: rebuilt where the copy is used
-        state["_room"] = None
-        state["_arrivals"] = self.arrivals
-        state["_waiting"] = 0
+        # The table holds memory addresses: rebuilt where the copy is used.
+        state.update(_table=None, _room=None, _arrivals=self.arrivals, _waiting=0)
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:

@@ -141,17 +141,13 @@ def _messages(
             spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
             _add_spans(lookup[topic], spans, payloads, result, size)
             added, latest = True, max(latest, int(timestamp.max()))
-            progress(_estimate(latest, result, size), size)
+            span = result.end - result.start  # progress estimated by record time
+            progress(int(size * (latest - result.start) / span) if span > 0 else 0, size)
             del fetched, payloads  # let go: the next fetch fills the same bytes again
     except sqlite3.Error as e:
         if added:  # start again from the pages, forgetting what the query gave
             result.messages = result.messages.emptied()
         _add_rows(_salvage(path, channels, result, str(e)), lookup, result, size)
-
-
-def _estimate(timestamp: int, result: FileScan, size: int) -> int:
-    span = result.end - result.start
-    return int(size * (timestamp - result.start) / span) if span > 0 else 0
 
 
 def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str) -> list[Row]:
