@@ -74,20 +74,17 @@ class Timeline:
     tf_end: int
     edges: tuple[EdgeClock, ...] = ()
     reason: str = ""  # why ROS time at arrival is unavailable (reference NONE)
+    same_clock: int = SAME_CLOCK  # the ``clock`` threshold (ns): behind the reference by more, another clock
 
     @cached_property
     def off_reference(self) -> frozenset[str]:
-        """The frames stamped on another clock than the reference (none without a reference)."""
-        return self.frames_off(SAME_CLOCK)
-
-    def frames_off(self, tolerance: int) -> frozenset[str]:
-        """The frames whose stamps are more than ``tolerance`` (ns) behind the reference, or on another
-        time base (epoch against boot or simulated time). Stamps ahead on the same time base are on the
-        reference clock, from the future: a publisher's problem, not another clock."""
+        """The frames stamped on another clock than the reference (none without a reference): more than
+        ``same_clock`` behind it, or on another time base (epoch against boot or simulated time). Stamps
+        ahead on the same time base are on the reference clock, from the future: a publisher's problem."""
         if self.reference is Reference.NONE:
             return frozenset()
         against_clock = self.reference is Reference.CLOCK
-        return frozenset(e.child for e in self.edges if not e.agrees(against_clock, tolerance))
+        return frozenset(e.child for e in self.edges if not e.agrees(against_clock, self.same_clock))
 
     @property
     def available(self) -> bool:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -10,7 +11,7 @@ from typing import TypeVar, cast
 import numpy as np
 
 from tftools.analysis.edges import Edge, EdgeStats, edge_stats
-from tftools.analysis.expected import TreeShape
+from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree, frame_tree
@@ -21,7 +22,6 @@ from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording
-from tftools.sources.timeline import Timeline
 
 T = TypeVar("T")
 
@@ -60,7 +60,7 @@ class Scene:
         self.expected = expected  # the tree it should have (--expect), if any
         self.buffer = recording.buffer
         self.thresholds = thresholds if thresholds is not None else Thresholds()
-        self.timeline: Timeline = recording.timeline
+        self.timeline = dataclasses.replace(recording.timeline, same_clock=from_sec(self.thresholds.clock))
         self.start = recording.start  # the record clock's span
         self.end = recording.end
         self._shared: dict[str, object] = {}
@@ -74,11 +74,6 @@ class Scene:
     @cached_property
     def rows(self) -> Rows:
         return rows_of(self.recording)
-
-    @cached_property
-    def off_clock(self) -> frozenset[str]:
-        """Frames stamped on another clock than the recording's reference, by the ``clock`` threshold."""
-        return self.timeline.frames_off(from_sec(self.thresholds.clock))
 
     @cached_property
     def sensors(self) -> FilterReport:
@@ -95,8 +90,7 @@ class Scene:
 
     @cached_property
     def publishers_known(self) -> bool:
-        """ROS1 bags and live systems name each publisher; ROS2 bags only the topic, as the authority."""
-        return any(f.names_publishers for f in self.recording.contents.files)
+        return publishers_named(self.recording)
 
     @cached_property
     def dynamic_edges(self) -> list[EdgeSamples]:

@@ -68,7 +68,7 @@ def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Arra
     that time is known, where there are any (none for a frame stamped on another clock than the
     recording's: ``clock`` says so)."""
     for e in scene.dynamic_edges:
-        if e.child not in scene.off_clock:
+        if e.child not in scene.timeline.off_reference:
             ros, known = scene.timeline.ros_time(e.record_times)
             keep = known & ~e.from_static_topic
             if keep.any():
