@@ -272,6 +272,7 @@ class FilterReport:
     cache_s: float
     streams: list[StreamReport]
     skipped: list[str]  # topics with a header but never a frame_id: not tied to tf
+    fates: dict[str, Fates]  # each reported topic's messages' fates, by topic
 
 
 def default_target(buffer: Buffer) -> tuple[str, str]:
@@ -312,25 +313,25 @@ def filter_report(
     and optionally a timeout ``wait`` (ns) or a queue of ``queue`` messages, did to each stream."""
     target, reason = choose_target(buffer, target)
     end = recording_end(buffer, streams)
-    reports, skipped = [], []
+    reports, skipped, fates = [], [], {}
     for stream in streams:
         if not tied_to_tf(stream):
             skipped.append(stream.topic)
             continue
-        reports.append(_stream_report(buffer, stream, target, cache_time, wait, queue, end))
-    return FilterReport(target, reason, cache_time / 1e9, reports, skipped)
+        fates[stream.topic] = message_fates(buffer, stream, target, cache_time, end)
+        reports.append(_stream_report(buffer, stream, target, fates[stream.topic], wait, queue, end))
+    return FilterReport(target, reason, cache_time / 1e9, reports, skipped, fates)
 
 
 def _stream_report(
     buffer: Buffer,
     stream: StampedMessages,
     target: str,
-    cache_time: int,
+    fates: Fates,
     wait: int | None,
     queue: int | None,
     end: int,
 ) -> StreamReport:
-    fates = message_fates(buffer, stream, target, cache_time, end)
     counts = np.bincount(fates.fate, minlength=len(Fate))
     waits = fates.waits(stream)
     later = np.flatnonzero(fates.fate == Fate.LATER).tolist()

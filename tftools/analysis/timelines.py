@@ -11,10 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.edges import Edge, gap_rows
-from tftools.analysis.filter import LOST, UNDECIDED, Fate, StreamReport, message_fates, recording_end
+from tftools.analysis.filter import LOST, UNDECIDED, Fate, FilterReport, StreamReport
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
-from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.buffer import Buffer
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -233,21 +233,13 @@ def stream_axis(streams: Sequence[StampedMessages], timeline: Timeline) -> tuple
 
 
 def stream_timelines(
-    buffer: Buffer,
-    timeline: Timeline,
-    bins: Bins,
-    streams: Sequence[StampedMessages],
-    reports: Sequence[StreamReport],
-    target: str,
-    cache_time: int = DEFAULT_CACHE_TIME,
+    timeline: Timeline, bins: Bins, streams: Sequence[StampedMessages], sensors: FilterReport
 ) -> list[StreamTimeline]:
-    """Each reported stream's fates over the axis, binned at the messages' arrival in ROS time."""
+    """Each stream ``sensors`` reports on: its fates over the axis, binned at the messages' arrival in ROS time."""
     by_topic = {s.topic: s for s in streams}
-    end = recording_end(buffer, streams)
     result = []
-    for report in reports:
-        stream = by_topic[report.topic]
-        fates = message_fates(buffer, stream, target, cache_time, end)
+    for report in sensors.streams:
+        stream, fates = by_topic[report.topic], sensors.fates[report.topic]
         where = bins.index(timeline.arrival(stream.stamp, stream.record_time))
         counts = {
             name: np.bincount(where[np.isin(fates.fate, group)], minlength=bins.count).astype(np.int64)
