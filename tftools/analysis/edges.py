@@ -249,9 +249,7 @@ def _previous_stamp(hist: EdgeHistory, mine: BoolArray, rows: BoolArray) -> int 
 
 
 def _delays(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) -> Int64Array:
-    if hist.static:
-        return np.zeros(0, np.int64)
-    return timeline.delays(child, hist.stamps[rows], hist.record_times[rows])
+    return timeline.delays(child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
 
 
 def _mean_max(delays_ns: Int64Array) -> tuple[float, float]:

@@ -166,7 +166,7 @@ def _timeline(
     axis = _axis(timeline, child, stamps, records)
     where = bins.index(axis)
     samples = np.bincount(where, minlength=bins.count).astype(np.int64)
-    mean, largest = _delays(timeline, child, stamps, records, where, bins.count)
+    mean, largest = _delays(timeline, child, hist, mine, where, bins.count)
     _, _, gaps = gap_rows(stamps, gap_floor)
     spans = tuple((int(axis[i]), int(axis[i + 1])) for i in gaps.tolist())
     at_arrival = child in timeline.off_reference
@@ -192,14 +192,14 @@ def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
 
 
 def _delays(
-    timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array, where: IntpArray, count: int
+    timeline: Timeline, child: str, hist: EdgeHistory, mine: BoolArray, where: IntpArray, count: int
 ) -> tuple[FloatArray, FloatArray]:
-    """Mean and largest delay (s) of the samples in each bin: ``Timeline.delays`` of those whose arrival is known."""
-    _, known = timeline.ros_time(records)
-    delays = timeline.delays(child, stamps[known], records[known])
-    if not len(delays):
+    """Mean and largest delay (s) of the samples ``mine`` in each bin: those ``Timeline.measurable``."""
+    times, measured = timeline.measurable(child, hist.record_times[mine], hist.flags[mine])
+    if not measured.any():
         return np.full(count, np.nan), np.full(count, np.nan)
-    return _mean_max(where[known], delays / NS_PER_S, count)
+    delays = times[measured] - hist.stamps[mine][measured]
+    return _mean_max(where[measured], delays / NS_PER_S, count)
 
 
 def _mean_max(where: IntpArray, values: FloatArray, count: int) -> tuple[FloatArray, FloatArray]:

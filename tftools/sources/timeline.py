@@ -18,7 +18,7 @@ from functools import cached_property
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.arrays import BoolArray, Int64Array
+from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S
@@ -114,13 +114,19 @@ class Timeline:
         times, known = self.ros_time(record_times)
         return np.where(known, times, stamps)
 
-    def delays(self, child: str, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
-        """ROS time at arrival minus stamp (ns) of the transforms of ``child`` whose arrival is known:
-        the one definition of a delay; none for a frame stamped on another clock than the reference."""
-        if child in self.off_reference:
-            return np.zeros(0, np.int64)
+    def measurable(self, child: str, record_times: Int64Array, flags: UInt8Array) -> tuple[Int64Array, BoolArray]:
+        """ROS time at arrival of transforms of ``child`` (``flags``: ``EdgeHistory.flags``), and which have a
+        delay: their arrival is known, the frame is on the reference clock, and they came on /tf (a sample
+        latched on /tf_static keeps an old stamp by design)."""
         times, known = self.ros_time(record_times)
-        return times[known] - stamps[known]
+        if child in self.off_reference:
+            return times, np.zeros(len(times), bool)
+        return times, known & ((flags & FROM_STATIC_TOPIC) == 0)
+
+    def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
+        """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms: the one definition of a delay."""
+        times, measured = self.measurable(child, record_times, flags)
+        return times[measured] - stamps[measured]
 
     def playback(self, record_times: Int64Array) -> Int64Array:
         """Record times moved onto the stamps' clock for a replay, never decreasing: ROS time at arrival

@@ -17,8 +17,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
-from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
-from tftools.core.history import FROM_STATIC_TOPIC
+from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording
@@ -33,7 +32,7 @@ class EdgeSamples(Edge):
     stamps: Int64Array
     record_times: Int64Array
     values: FloatArray
-    from_static_topic: BoolArray
+    flags: UInt8Array  # ``EdgeHistory.flags``
     authorities: tuple[str, ...]
 
     def finding(self, severity: Severity, code: str, message: str, hint: str, stamps: Int64Array) -> Finding:
@@ -110,7 +109,7 @@ class Scene:
                         stamps=hist.stamps[mine],
                         record_times=hist.record_times[mine],
                         values=hist.values[mine],
-                        from_static_topic=(hist.flags[mine] & FROM_STATIC_TOPIC) > 0,
+                        flags=hist.flags[mine],
                         authorities=tuple(self.buffer.authorities[int(a)] for a in np.unique(hist.authorities[mine])),
                     )
                 )

@@ -64,15 +64,12 @@ def _last_arrival(s: EdgeStats) -> int:
 
 
 def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Array]]:
-    """Each moving edge with the stamps and ROS times at arrival of its samples that came on /tf when
-    that time is known, where there are any (none for a frame stamped on another clock than the
-    recording's: ``clock`` says so)."""
+    """Each moving edge with the stamps and ROS times at arrival of its samples with a delay
+    (``Timeline.measurable``), where there are any."""
     for e in scene.dynamic_edges:
-        if e.child not in scene.timeline.off_reference:
-            ros, known = scene.timeline.ros_time(e.record_times)
-            keep = known & ~e.from_static_topic
-            if keep.any():
-                yield e, e.stamps[keep], ros[keep]
+        ros, measured = scene.timeline.measurable(e.child, e.record_times, e.flags)
+        if measured.any():
+            yield e, e.stamps[measured], ros[measured]
 
 
 @register("future", Severity.error, "stamps ahead of the time they were recorded")
@@ -269,8 +266,8 @@ def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
     behind, back = _behind(stamps)
     repeat, same = _repeats(stamps, rows.values[mine])
     repeat &= ~back
-    records = rows.record_time[mine]
-    late = (records > 0) & (records - stamps > from_sec(scene.thresholds.delay))
+    arrived, measured = scene.timeline.measurable(child, rows.record_time[mine], rows.flags[mine])
+    late = measured & (arrived - stamps > from_sec(scene.thresholds.delay))
     if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
         back &= ~(late & (behind < TIME_JUMP))
     frames = (rows.names[rows.parent[mine[-1:]][0]], child)
