@@ -37,6 +37,12 @@ def rate_hz(samples: int, span: int) -> float:
     return (samples - 1) * NS_PER_S / span if samples > 1 and span > 0 else 0.0
 
 
+def silence_limit(rate: float, floor: int = 0) -> float:
+    """How long (ns) an edge publishing at ``rate`` Hz (its ``rate_hz``) may be silent and still be publishing:
+    ``PERIODS`` of its periods, and at least ``floor``. The one definition ``stale`` and the filter's replay share."""
+    return max(float(floor), PERIODS * NS_PER_S / rate if rate > 0 else 0.0)
+
+
 def edge_gaps(stamps: Int64Array, floor: int) -> Gaps | None:
     """The gaps of an edge's sorted ``stamps``: intervals longer than ``floor`` and ``PERIODS`` times
     the usual one; None if there is none. The one definition of a gap, as ``EdgeStats.gap_max_s``

@@ -6,7 +6,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from tftools.analysis.edges import PERIODS, EdgeStats, edge_gaps
+from tftools.analysis.edges import EdgeStats, edge_gaps, silence_limit
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
@@ -36,9 +36,8 @@ def stale(scene: Scene) -> Iterator[Finding]:
     for s in scene.stats:
         if s.static or _last_arrival(s) < latest[s.child]:
             continue  # a frame that went on under another parent has not stopped
-        silent = (scene.end - _last_arrival(s)) / NS_PER_S
-        limit = max(scene.thresholds.stale_after, PERIODS / s.rate_hz if s.rate_hz > 0 else 0.0)
-        if silent <= limit:
+        silent = scene.end - _last_arrival(s)
+        if silent <= silence_limit(s.rate_hz, from_sec(scene.thresholds.stale_after)):
             continue
         by = scene.by(s.authorities)
         if s.count == 1:
@@ -53,7 +52,7 @@ def stale(scene: Scene) -> Iterator[Finding]:
                 "its publisher stopped (crashed, shut down or stalled) while the recording went on: lookups after "
                 "its last stamp fail with 'Lookup would require extrapolation into the future'; check that node"
             )
-        message += f", {duration(silent)} before the recording ends"
+        message += f", {duration(silent / NS_PER_S)} before the recording ends"
         yield Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
 
 
