@@ -216,7 +216,7 @@ def _ids(values: Int32Array) -> IntpArray:
 
 
 def parents_in_order(hist: EdgeHistory) -> list[int]:
-    """The ids of every parent ``hist`` had, first seen first."""
+    """The ids of every parent ``hist`` had, first seen first: the one order a frame's history splits into edges."""
     parents = hist.parents
     if len(parents) and parents.min() == parents.max():  # the usual case: one parent ever
         return [int(parents[0])]

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, gap_rows
+from tftools.analysis.edges import Edge, gap_rows, parents_in_order
 from tftools.analysis.filter import LOST, UNDECIDED, Fate, FilterReport, StreamReport
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
@@ -133,7 +133,7 @@ def edge_timelines(
 def _timelines(buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int) -> Iterator[EdgeTimeline]:
     for child, hist in buffer.histories():
         changes = _reparentings(buffer, child, hist, timeline)
-        for parent_id in np.unique(hist.parents).tolist():
+        for parent_id in parents_in_order(hist):
             parent = buffer.frame_name(parent_id)
             near = tuple(c for c in changes if parent in (c.before, c.after))
             yield _timeline(parent, child, hist, hist.parents == parent_id, timeline, bins, gap_floor, near)

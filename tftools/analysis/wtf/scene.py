@@ -10,7 +10,7 @@ from typing import TypeVar, cast
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, EdgeStats, edge_stats
+from tftools.analysis.edges import Edge, EdgeStats, edge_stats, parents_in_order
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.findings import Finding, Severity
@@ -98,13 +98,13 @@ class Scene:
         for child, hist in self.buffer.histories():
             if hist.static:
                 continue
-            parents = np.unique(hist.parents)
+            parents = parents_in_order(hist)
             for parent_id in parents:
                 # one parent (the usual case): the history's own arrays, not copies
                 mine = slice(None) if len(parents) == 1 else hist.parents == parent_id
                 result.append(
                     EdgeSamples(
-                        parent=self.buffer.frame_name(int(parent_id)),
+                        parent=self.buffer.frame_name(parent_id),
                         child=child,
                         stamps=hist.stamps[mine],
                         record_times=hist.record_times[mine],
