@@ -86,6 +86,12 @@ class Timeline:
         against_clock = self.reference is Reference.CLOCK
         return frozenset(e.child for e in self.edges if not e.agrees(against_clock, self.same_clock))
 
+    def within(self, same_clock: int) -> Timeline:
+        """This recording's timeline (``timeline_of``'s) with another ``clock`` threshold (ns), its reference
+        chosen again by it."""
+        reference, reason = _reference(self.edges, self.clock, same_clock)
+        return dataclasses.replace(self, reference=reference, reason=reason, same_clock=same_clock)
+
     @property
     def available(self) -> bool:
         """Whether ROS time at arrival, and so delays, ages and staleness, can be measured."""
@@ -180,13 +186,16 @@ def timeline_of(buffer: Buffer, clock: ClockSamples, record_start: int, record_e
     (the reason says why); frames that follow neither are ``off_reference``."""
     edges = tuple(_edge_clocks(buffer, clock))
     tf_start, tf_end = _tf_span(buffer, record_start, record_end)
-    if any(e.agrees(True, SAME_CLOCK) for e in edges):
-        reference, reason = Reference.CLOCK, ""
-    elif any(e.agrees(False, SAME_CLOCK) for e in edges) or not edges:
-        reference, reason = Reference.RECORD, ""
-    else:
-        reference, reason = Reference.NONE, _why_none(edges, clock)
+    reference, reason = _reference(edges, clock, SAME_CLOCK)
     return Timeline(reference, clock, record_start, record_end, tf_start, tf_end, edges, reason)
+
+
+def _reference(edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: int) -> tuple[Reference, str]:
+    if any(e.agrees(True, same_clock) for e in edges):
+        return Reference.CLOCK, ""
+    if any(e.agrees(False, same_clock) for e in edges) or not edges:
+        return Reference.RECORD, ""
+    return Reference.NONE, _why_none(edges, clock)
 
 
 def _edge_clocks(buffer: Buffer, clock: ClockSamples) -> Iterable[EdgeClock]:

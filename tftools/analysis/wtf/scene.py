@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -59,7 +58,7 @@ class Scene:
         self.expected = expected  # the tree it should have (--expect), if any
         self.buffer = recording.buffer
         self.thresholds = thresholds if thresholds is not None else Thresholds()
-        self.timeline = dataclasses.replace(recording.timeline, same_clock=from_sec(self.thresholds.clock))
+        self.timeline = recording.timeline.within(from_sec(self.thresholds.clock))
         self.start = recording.start  # the record clock's span
         self.end = recording.end
         self._shared: dict[str, object] = {}
