@@ -5,7 +5,7 @@ tf stamps' clock; a frame stamped on another clock is placed at its arrival, so 
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -126,17 +126,15 @@ def edge_timelines(
 ) -> list[EdgeTimeline]:
     """Every edge's timeline (static ones too, flat), in the order of ``keys`` when given (edges not
     among them left out); a gap is a pause longer than ``gap_floor`` ns and ``PERIODS`` periods."""
-    found = {made.key: made for made in _timelines(buffer, timeline, bins, gap_floor)}
-    return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
-
-
-def _timelines(buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int) -> Iterator[EdgeTimeline]:
+    found = {}
     for child, hist in buffer.histories():
         changes = _reparentings(buffer, child, hist, timeline)
         for parent_id in parents_in_order(hist):
             parent = buffer.frame_name(parent_id)
             near = tuple(c for c in changes if parent in (c.before, c.after))
-            yield _timeline(parent, child, hist, hist.parents == parent_id, timeline, bins, gap_floor, near)
+            mine = hist.parents == parent_id
+            found[(parent, child)] = _timeline(parent, child, hist, mine, timeline, bins, gap_floor, near)
+    return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
 
 
 def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array) -> Int64Array:
