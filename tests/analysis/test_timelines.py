@@ -103,9 +103,7 @@ def test_sensor_fates_over_time_add_up_to_the_filters_counts() -> None:
     streams = [sensor("/camera", "camra", 10, 5 * MS), sensor("/scan", "laser", 20, 5 * MS, phase=0.007)]
     report = filter_report(rec.buffer, streams, "odom")
     bins = bins_over(START, START + 10 * NS_PER_S)
-    flows = {
-        f.report.topic: f for f in stream_timelines(rec.buffer, rec.timeline, bins, streams, report.streams, "odom")
-    }
+    flows = {f.report.topic: f for f in stream_timelines(rec.timeline, bins, streams, report)}
     for topic, flow in flows.items():
         r = flow.report
         assert flow.fates["on_arrival"].sum() == r.on_arrival and flow.fates["later"].sum() == r.later, topic

@@ -26,6 +26,7 @@ from tests.analysis.wtf_scenes import (
     simulated,
     statics,
     wheel,
+    wheels,
     with_extra,
 )
 from tftools.analysis.findings import Finding, Severity
@@ -171,6 +172,14 @@ def test_thresholds_move_the_limits() -> None:
     assert check(ahead, Thresholds(future=5.0)) == []
     replayed = recording(PROBLEMS["clock_replay"].make())  # 3 days behind: on another clock, or just late
     assert {f.code for f in check(replayed, Thresholds(clock=400_000.0))} == {"delay"}
+
+
+def test_the_clock_threshold_also_chooses_the_reference_clock() -> None:
+    behind = {"stamp": lambda t: t - 20 * NS_PER_S}
+    late = recording(healthy(amcl=amcl(**behind), ekf=ekf(**behind), wheels=wheels(**behind)))
+    assert "delay" not in {f.code for f in check(late)}  # 20 s behind everything: stamps on no recorded clock
+    delayed = {f.frames for f in check(late, Thresholds(clock=30.0)) if f.code == "delay"}
+    assert delayed == {("map", "odom"), ("odom", "base_link"), ("base_link", "wheel")}
 
 
 def test_thresholds_must_be_positive() -> None:

@@ -37,6 +37,12 @@ def rate_hz(samples: int, span: int) -> float:
     return (samples - 1) * NS_PER_S / span if samples > 1 and span > 0 else 0.0
 
 
+def silence_limit(rate: float, floor: int = 0) -> float:
+    """How long (ns) an edge publishing at ``rate`` Hz (its ``rate_hz``) may be silent and still be publishing:
+    ``PERIODS`` of its periods, and at least ``floor``. The one definition ``stale`` and the filter's replay share."""
+    return max(float(floor), PERIODS * NS_PER_S / rate if rate > 0 else 0.0)
+
+
 def edge_gaps(stamps: Int64Array, floor: int) -> Gaps | None:
     """The gaps of an edge's sorted ``stamps``: intervals longer than ``floor`` and ``PERIODS`` times
     the usual one; None if there is none. The one definition of a gap, as ``EdgeStats.gap_max_s``
@@ -210,7 +216,7 @@ def _ids(values: Int32Array) -> IntpArray:
 
 
 def parents_in_order(hist: EdgeHistory) -> list[int]:
-    """The ids of every parent ``hist`` had, first seen first."""
+    """The ids of every parent ``hist`` had, first seen first: the one order a frame's history splits into edges."""
     parents = hist.parents
     if len(parents) and parents.min() == parents.max():  # the usual case: one parent ever
         return [int(parents[0])]
@@ -249,9 +255,7 @@ def _previous_stamp(hist: EdgeHistory, mine: BoolArray, rows: BoolArray) -> int 
 
 
 def _delays(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) -> Int64Array:
-    if hist.static:
-        return np.zeros(0, np.int64)
-    return timeline.delays(child, hist.stamps[rows], hist.record_times[rows])
+    return timeline.delays(child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
 
 
 def _mean_max(delays_ns: Int64Array) -> tuple[float, float]:

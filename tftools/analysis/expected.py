@@ -57,7 +57,7 @@ def shape_of(recording: Recording) -> TreeShape:
     value of its static edges, the rate of its moving ones over their span, their publishers where
     the bag names them."""
     buffer = recording.buffer
-    named = any(f.names_publishers for f in recording.contents.files)
+    named = publishers_named(recording)
     tree = frame_tree(buffer)
     in_order = dict.fromkeys([frame for _, frame in tree.walk()] + list(tree.frames))  # roots down; loops last
     frames: dict[str, FrameShape] = {}
@@ -81,3 +81,8 @@ def shape_of(recording: Recording) -> TreeShape:
             rotation=rotation,
         )
     return TreeShape(frames, " + ".join(recording.paths))
+
+
+def publishers_named(recording: Recording) -> bool:
+    """ROS1 bags and live systems name each publisher; ROS2 bags only the topic, as the authority."""
+    return any(f.names_publishers for f in recording.contents.files)

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import PERIODS, Edge, chain_edges
+from tftools.analysis.edges import Edge, chain_edges, rate_hz, silence_limit
 from tftools.analysis.frames import frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
@@ -82,6 +82,7 @@ class _Edge(Edge):
     newest and the oldest stamp it held."""
 
     static: bool
+    rate_hz: float
     records: Int64Array
     newest: Int64Array
     oldest: Int64Array
@@ -106,14 +107,13 @@ class _Edge(Edge):
 
     def would_reach(self, stamps: Int64Array, end: int) -> BoolArray:
         """Whether the edge's next transforms, had the recording not ended at ``end``, would soon have
-        reached each of ``stamps``: it was still being published (silent since its last arrival for no
-        more than ``PERIODS`` of its usual intervals, as ``stale`` has it), and the stamp is within
-        ``PERIODS`` intervals of its newest."""
-        if self.static or len(self.records) < 2:
+        reached each of ``stamps``: it was still being published (``silence_limit``, as ``stale`` has it),
+        and the stamp is no further than that limit ahead of its newest."""
+        if self.static or self.rate_hz <= 0:
             return np.zeros(len(stamps), np.bool_)
-        period = PERIODS * int(np.median(np.diff(self.records)))
-        publishing = end - int(self.records[-1]) <= period
-        return np.asarray(publishing & (stamps - int(self.newest[-1]) <= period), np.bool_)
+        limit = silence_limit(self.rate_hz)
+        publishing = end - int(self.records[-1]) <= limit
+        return np.asarray(publishing & (stamps - int(self.newest[-1]) <= limit), np.bool_)
 
     def newest_at(self, times: Int64Array) -> Int64Array:
         """The newest stamp held at each of ``times`` (-1 before the first arrival)."""
@@ -170,7 +170,8 @@ def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int) -> _Edge:
     records = np.maximum.accumulate(hist.record_times[order])
     stamps = hist.stamps[order]
     newest = np.maximum.accumulate(stamps) if len(stamps) else stamps
-    return _Edge(parent, child, hist.static, records, newest, _oldest_held(stamps, newest, cache_time))
+    rate = 0.0 if hist.static else rate_hz(len(hist), hist.latest_stamp - hist.oldest_stamp)
+    return _Edge(parent, child, hist.static, rate, records, newest, _oldest_held(stamps, newest, cache_time))
 
 
 def _oldest_held(stamps: Int64Array, newest: Int64Array, cache_time: int) -> Int64Array:
@@ -272,6 +273,7 @@ class FilterReport:
     cache_s: float
     streams: list[StreamReport]
     skipped: list[str]  # topics with a header but never a frame_id: not tied to tf
+    fates: dict[str, Fates]  # each reported topic's messages' fates, by topic
 
 
 def default_target(buffer: Buffer) -> tuple[str, str]:
@@ -312,25 +314,25 @@ def filter_report(
     and optionally a timeout ``wait`` (ns) or a queue of ``queue`` messages, did to each stream."""
     target, reason = choose_target(buffer, target)
     end = recording_end(buffer, streams)
-    reports, skipped = [], []
+    reports, skipped, fates = [], [], {}
     for stream in streams:
         if not tied_to_tf(stream):
             skipped.append(stream.topic)
             continue
-        reports.append(_stream_report(buffer, stream, target, cache_time, wait, queue, end))
-    return FilterReport(target, reason, cache_time / 1e9, reports, skipped)
+        fates[stream.topic] = message_fates(buffer, stream, target, cache_time, end)
+        reports.append(_stream_report(buffer, stream, target, fates[stream.topic], wait, queue, end))
+    return FilterReport(target, reason, cache_time / 1e9, reports, skipped, fates)
 
 
 def _stream_report(
     buffer: Buffer,
     stream: StampedMessages,
     target: str,
-    cache_time: int,
+    fates: Fates,
     wait: int | None,
     queue: int | None,
     end: int,
 ) -> StreamReport:
-    fates = message_fates(buffer, stream, target, cache_time, end)
     counts = np.bincount(fates.fate, minlength=len(Fate))
     waits = fates.waits(stream)
     later = np.flatnonzero(fates.fate == Fate.LATER).tolist()

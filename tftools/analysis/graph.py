@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from tftools.analysis.edges import Edge, EdgeStats, edge_stats
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.frames import frame_tree
+from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf import check
 from tftools.core.buffer import Buffer
 from tftools.core.rejection import RejectionLog
@@ -59,13 +59,14 @@ class FrameGraph:
         return min(severities, key=lambda s: s.rank) if severities else None
 
 
-def frame_graph(buffer: Buffer, findings: Sequence[Finding] | None = None) -> FrameGraph:
-    """The graph of ``buffer``'s frames, with ``findings`` (default: ``tfx wtf``'s, ``check(buffer)``) pinned on it.
+def frame_graph(buffer: Buffer, findings: Sequence[Finding] | None = None, tree: FrameTree | None = None) -> FrameGraph:
+    """The graph of ``buffer``'s frames (``tree``: its ``frame_tree``, if already made), with ``findings``
+    (default: ``tfx wtf``'s, ``check(buffer)``) pinned on it.
 
     A finding marks each drawn edge whose two frames it names, and each frame it names that is
     on none of those edges (for ``disconnected``, only the roots it names).
     """
-    tree = frame_tree(buffer)
+    tree = tree or frame_tree(buffer)
     stats = edge_stats(buffer)
     found = tuple(findings) if findings is not None else tuple(check(buffer))
     rejected = _rejected_edges(buffer.rejections)

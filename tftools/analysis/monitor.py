@@ -98,13 +98,12 @@ def _newest_stamps(
     buffer: Buffer, edge: tuple[str, str], end: int, timeline: Timeline | None
 ) -> tuple[Int64Array, Int64Array]:
     """When each sample of ``edge`` arrived in ROS time (sorted) and the newest stamp known from then on;
-    nothing where that time is unknown (a frame on another clock, or no reference clock)."""
+    only the samples with a delay (``Timeline.measurable``)."""
     hist = buffer.history(edge[1])
     assert hist is not None
     parent_ids = [i for i in np.flatnonzero(np.bincount(hist.parents)) if buffer.frame_name(int(i)) == edge[0]]
     timeline = timeline or ON_RECORD_CLOCK
-    arrived, known = timeline.ros_time(hist.record_times)
-    known &= edge[1] not in timeline.off_reference
+    arrived, known = timeline.measurable(edge[1], hist.record_times, hist.flags)
     rows = np.isin(hist.parents, parent_ids) & known & (arrived <= end)
     records, stamps = arrived[rows], hist.stamps[rows]
     order = np.argsort(records, kind="stable")

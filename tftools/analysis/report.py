@@ -7,9 +7,9 @@ from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 
-from tftools.analysis.filter import filter_report, tied_to_tf
+from tftools.analysis.filter import tied_to_tf
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.frames import frame_tree
+from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
 from tftools.analysis.timelines import (
     Bins,
@@ -21,8 +21,7 @@ from tftools.analysis.timelines import (
     stream_axis,
     stream_timelines,
 )
-from tftools.analysis.wtf import Thresholds, check
-from tftools.core.buffer import Buffer
+from tftools.analysis.wtf import Scene, Thresholds, findings_of
 from tftools.core.time import NS_PER_S, format_sec, from_sec
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording
@@ -58,14 +57,15 @@ def recording_report(
 ) -> RecordingReport:
     """The report of ``recording`` and its sensor data ``streams``, checked as ``tfx wtf`` checks them
     (into ``target``, ``analysis.filter.choose_target``)."""
-    thresholds = thresholds or Thresholds()
-    findings = check(recording, thresholds, ignore, streams, target)
-    graph = frame_graph(recording.buffer, findings)
-    buffer, timeline = recording.buffer, recording.timeline
-    sensors = filter_report(buffer, streams, target) if any(tied_to_tf(s) for s in streams) else None
+    scene = Scene(recording, thresholds, streams, target)
+    findings = findings_of(scene, ignore)
+    graph = frame_graph(recording.buffer, findings, scene.tree)
+    buffer, timeline = recording.buffer, scene.timeline
+    sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None
     bins = bins_over(*_axis(recording, streams))
-    edges = edge_timelines(buffer, timeline, bins, from_sec(thresholds.max_gap), _tree_order(graph, buffer))
-    flows = stream_timelines(buffer, timeline, bins, streams, sensors.streams, sensors.target) if sensors else []
+    gap_floor = from_sec(scene.thresholds.max_gap)
+    edges = edge_timelines(buffer, timeline, bins, gap_floor, _tree_order(graph, scene.tree))
+    flows = stream_timelines(timeline, bins, streams, sensors) if sensors else []
     facts = list(recording_facts(recording))
     if sensors:
         topics = ", ".join(s.topic for s in sensors.streams)
@@ -82,10 +82,10 @@ def recording_report(
     )
 
 
-def _tree_order(graph: FrameGraph, buffer: Buffer) -> list[tuple[str, str]]:
+def _tree_order(graph: FrameGraph, tree: FrameTree) -> list[tuple[str, str]]:
     """The graph's edges as the tree's lines run, top to bottom (``FrameTree.walk``); edges into frames
     under no root (a loop) last."""
-    line = {frame: i for i, (_, frame) in enumerate(frame_tree(buffer).walk())}
+    line = {frame: i for i, (_, frame) in enumerate(tree.walk())}
     keys = [e.key for e in graph.edges]
     return sorted(keys, key=lambda key: line.get(key[1], len(line)))
 

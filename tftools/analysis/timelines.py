@@ -5,16 +5,16 @@ tf stamps' clock; a frame stamped on another clock is placed at its arrival, so 
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, gap_rows
-from tftools.analysis.filter import LOST, UNDECIDED, Fate, StreamReport, message_fates, recording_end
+from tftools.analysis.edges import Edge, gap_rows, parents_in_order
+from tftools.analysis.filter import LOST, UNDECIDED, Fate, FilterReport, StreamReport
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
-from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.buffer import Buffer
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -126,17 +126,15 @@ def edge_timelines(
 ) -> list[EdgeTimeline]:
     """Every edge's timeline (static ones too, flat), in the order of ``keys`` when given (edges not
     among them left out); a gap is a pause longer than ``gap_floor`` ns and ``PERIODS`` periods."""
-    found = {made.key: made for made in _timelines(buffer, timeline, bins, gap_floor)}
-    return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
-
-
-def _timelines(buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int) -> Iterator[EdgeTimeline]:
+    found = {}
     for child, hist in buffer.histories():
         changes = _reparentings(buffer, child, hist, timeline)
-        for parent_id in np.unique(hist.parents).tolist():
+        for parent_id in parents_in_order(hist):
             parent = buffer.frame_name(parent_id)
             near = tuple(c for c in changes if parent in (c.before, c.after))
-            yield _timeline(parent, child, hist, hist.parents == parent_id, timeline, bins, gap_floor, near)
+            mine = hist.parents == parent_id
+            found[(parent, child)] = _timeline(parent, child, hist, mine, timeline, bins, gap_floor, near)
+    return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
 
 
 def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array) -> Int64Array:
@@ -166,7 +164,7 @@ def _timeline(
     axis = _axis(timeline, child, stamps, records)
     where = bins.index(axis)
     samples = np.bincount(where, minlength=bins.count).astype(np.int64)
-    mean, largest = _delays(timeline, child, stamps, records, where, bins.count)
+    mean, largest = _delays(timeline, child, hist, mine, where, bins.count)
     _, _, gaps = gap_rows(stamps, gap_floor)
     spans = tuple((int(axis[i]), int(axis[i + 1])) for i in gaps.tolist())
     at_arrival = child in timeline.off_reference
@@ -192,14 +190,14 @@ def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
 
 
 def _delays(
-    timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array, where: IntpArray, count: int
+    timeline: Timeline, child: str, hist: EdgeHistory, mine: BoolArray, where: IntpArray, count: int
 ) -> tuple[FloatArray, FloatArray]:
-    """Mean and largest delay (s) of the samples in each bin: ``Timeline.delays`` of those whose arrival is known."""
-    _, known = timeline.ros_time(records)
-    delays = timeline.delays(child, stamps[known], records[known])
-    if not len(delays):
+    """Mean and largest delay (s) of the samples ``mine`` in each bin: those ``Timeline.measurable``."""
+    times, measured = timeline.measurable(child, hist.record_times[mine], hist.flags[mine])
+    if not measured.any():
         return np.full(count, np.nan), np.full(count, np.nan)
-    return _mean_max(where[known], delays / NS_PER_S, count)
+    delays = times[measured] - hist.stamps[mine][measured]
+    return _mean_max(where[measured], delays / NS_PER_S, count)
 
 
 def _mean_max(where: IntpArray, values: FloatArray, count: int) -> tuple[FloatArray, FloatArray]:
@@ -233,21 +231,13 @@ def stream_axis(streams: Sequence[StampedMessages], timeline: Timeline) -> tuple
 
 
 def stream_timelines(
-    buffer: Buffer,
-    timeline: Timeline,
-    bins: Bins,
-    streams: Sequence[StampedMessages],
-    reports: Sequence[StreamReport],
-    target: str,
-    cache_time: int = DEFAULT_CACHE_TIME,
+    timeline: Timeline, bins: Bins, streams: Sequence[StampedMessages], sensors: FilterReport
 ) -> list[StreamTimeline]:
-    """Each reported stream's fates over the axis, binned at the messages' arrival in ROS time."""
+    """Each stream ``sensors`` reports on: its fates over the axis, binned at the messages' arrival in ROS time."""
     by_topic = {s.topic: s for s in streams}
-    end = recording_end(buffer, streams)
     result = []
-    for report in reports:
-        stream = by_topic[report.topic]
-        fates = message_fates(buffer, stream, target, cache_time, end)
+    for report in sensors.streams:
+        stream, fates = by_topic[report.topic], sensors.fates[report.topic]
         where = bins.index(timeline.arrival(stream.stamp, stream.record_time))
         counts = {
             name: np.bincount(where[np.isin(fates.fate, group)], minlength=bins.count).astype(np.int64)

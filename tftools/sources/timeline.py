@@ -18,7 +18,7 @@ from functools import cached_property
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.arrays import BoolArray, Int64Array
+from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S
@@ -74,20 +74,23 @@ class Timeline:
     tf_end: int
     edges: tuple[EdgeClock, ...] = ()
     reason: str = ""  # why ROS time at arrival is unavailable (reference NONE)
+    same_clock: int = SAME_CLOCK  # the ``clock`` threshold (ns): behind the reference by more, another clock
 
     @cached_property
     def off_reference(self) -> frozenset[str]:
-        """The frames stamped on another clock than the reference (none without a reference)."""
-        return self.frames_off(SAME_CLOCK)
-
-    def frames_off(self, tolerance: int) -> frozenset[str]:
-        """The frames whose stamps are more than ``tolerance`` (ns) behind the reference, or on another
-        time base (epoch against boot or simulated time). Stamps ahead on the same time base are on the
-        reference clock, from the future: a publisher's problem, not another clock."""
+        """The frames stamped on another clock than the reference (none without a reference): more than
+        ``same_clock`` behind it, or on another time base (epoch against boot or simulated time). Stamps
+        ahead on the same time base are on the reference clock, from the future: a publisher's problem."""
         if self.reference is Reference.NONE:
             return frozenset()
         against_clock = self.reference is Reference.CLOCK
-        return frozenset(e.child for e in self.edges if not e.agrees(against_clock, tolerance))
+        return frozenset(e.child for e in self.edges if not e.agrees(against_clock, self.same_clock))
+
+    def within(self, same_clock: int) -> Timeline:
+        """This recording's timeline (``timeline_of``'s) with another ``clock`` threshold (ns), its reference
+        chosen again by it."""
+        reference, reason = _reference(self.edges, self.clock, same_clock)
+        return dataclasses.replace(self, reference=reference, reason=reason, same_clock=same_clock)
 
     @property
     def available(self) -> bool:
@@ -117,13 +120,19 @@ class Timeline:
         times, known = self.ros_time(record_times)
         return np.where(known, times, stamps)
 
-    def delays(self, child: str, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
-        """ROS time at arrival minus stamp (ns) of the transforms of ``child`` whose arrival is known:
-        the one definition of a delay; none for a frame stamped on another clock than the reference."""
-        if child in self.off_reference:
-            return np.zeros(0, np.int64)
+    def measurable(self, child: str, record_times: Int64Array, flags: UInt8Array) -> tuple[Int64Array, BoolArray]:
+        """ROS time at arrival of transforms of ``child`` (``flags``: ``EdgeHistory.flags``), and which have a
+        delay: their arrival is known, the frame is on the reference clock, and they came on /tf (a sample
+        latched on /tf_static keeps an old stamp by design)."""
         times, known = self.ros_time(record_times)
-        return times[known] - stamps[known]
+        if child in self.off_reference:
+            return times, np.zeros(len(times), bool)
+        return times, known & ((flags & FROM_STATIC_TOPIC) == 0)
+
+    def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
+        """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms: the one definition of a delay."""
+        times, measured = self.measurable(child, record_times, flags)
+        return times[measured] - stamps[measured]
 
     def playback(self, record_times: Int64Array) -> Int64Array:
         """Record times moved onto the stamps' clock for a replay, never decreasing: ROS time at arrival
@@ -177,13 +186,16 @@ def timeline_of(buffer: Buffer, clock: ClockSamples, record_start: int, record_e
     (the reason says why); frames that follow neither are ``off_reference``."""
     edges = tuple(_edge_clocks(buffer, clock))
     tf_start, tf_end = _tf_span(buffer, record_start, record_end)
-    if any(e.agrees(True, SAME_CLOCK) for e in edges):
-        reference, reason = Reference.CLOCK, ""
-    elif any(e.agrees(False, SAME_CLOCK) for e in edges) or not edges:
-        reference, reason = Reference.RECORD, ""
-    else:
-        reference, reason = Reference.NONE, _why_none(edges, clock)
+    reference, reason = _reference(edges, clock, SAME_CLOCK)
     return Timeline(reference, clock, record_start, record_end, tf_start, tf_end, edges, reason)
+
+
+def _reference(edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: int) -> tuple[Reference, str]:
+    if any(e.agrees(True, same_clock) for e in edges):
+        return Reference.CLOCK, ""
+    if any(e.agrees(False, same_clock) for e in edges) or not edges:
+        return Reference.RECORD, ""
+    return Reference.NONE, _why_none(edges, clock)
 
 
 def _edge_clocks(buffer: Buffer, clock: ClockSamples) -> Iterable[EdgeClock]:

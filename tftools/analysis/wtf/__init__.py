@@ -25,7 +25,7 @@ from tftools.core.buffer import Buffer
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording, recording_of_buffer
 
-__all__ = ["CHECKS", "Check", "CheckSkippedError", "Finding", "Severity", "Thresholds", "check"]
+__all__ = ["CHECKS", "Check", "CheckSkippedError", "Finding", "Scene", "Severity", "Thresholds", "check", "findings_of"]
 
 
 def check(
@@ -44,12 +44,16 @@ def check(
     tree it should have (``tfx wtf --expect``), within its tolerances. ``ignore``
     lists codes not to run. Raises ``ValueError`` for a code that does not exist.
     """
+    if isinstance(recording, Buffer):
+        recording = recording_of_buffer(recording)
+    return findings_of(Scene(recording, thresholds, streams, target, expected), ignore)
+
+
+def findings_of(scene: Scene, ignore: Collection[str] = ()) -> list[Finding]:
+    """``check``'s findings of a prepared ``scene``, for a caller that goes on to use what it computed."""
     unknown = set(ignore) - set(CHECKS)
     if unknown:
         raise ValueError(f"no such check: {', '.join(sorted(unknown))}")
-    if isinstance(recording, Buffer):
-        recording = recording_of_buffer(recording)
-    scene = Scene(recording, thresholds, streams, target, expected)
     found: list[Finding] = []
     for c in CHECKS.values():
         if c.run is None or c.code in ignore or (c.needs_transforms and not len(scene.rows)):

@@ -10,7 +10,7 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, counted, duration, edge, listed, transforms
-from tftools.core.time import NS_PER_S, from_sec
+from tftools.core.time import NS_PER_S
 from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
@@ -40,8 +40,8 @@ def clock(scene: Scene) -> Iterator[Finding]:
         yield from _without_reference(scene)
         return
     against = timeline.reference is Reference.CLOCK
-    off = [e for e in timeline.edges if e.child in scene.off_clock]
-    on = [e for e in timeline.edges if e.child not in scene.off_clock]
+    off = [e for e in timeline.edges if e.child in timeline.off_reference]
+    on = [e for e in timeline.edges if e.child not in timeline.off_reference]
     groups: dict[str, list[EdgeClock]] = {}
     for e in off:
         groups.setdefault(_kind(_offset(e, against), e.median_stamp, _reference_time(e, against)), []).append(e)
@@ -110,7 +110,7 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
     edges = sorted(scene.timeline.edges, key=lambda e: e.offset_record)
     clusters: list[list[EdgeClock]] = [[edges[0]]]
     for e in edges[1:]:
-        if e.offset_record - clusters[-1][-1].offset_record > from_sec(scene.thresholds.clock):
+        if e.offset_record - clusters[-1][-1].offset_record > scene.timeline.same_clock:
             clusters.append([])
         clusters[-1].append(e)
     main = max(clusters, key=len)
@@ -155,7 +155,7 @@ def _ignoring_clock(scene: Scene, on: Sequence[EdgeClock]) -> Finding:
 def _wall_receive_times(scene: Scene) -> Iterator[Finding]:
     """tf follows /clock while the record clock does not: ``ros2 bag record`` without ``--use-sim-time``."""
     timeline = scene.timeline
-    if all(abs(e.offset_record) <= from_sec(scene.thresholds.clock) for e in timeline.edges):
+    if all(abs(e.offset_record) <= timeline.same_clock for e in timeline.edges):
         return
     clock = timeline.clock
     sim = int(clock.clock[-1] - clock.clock[0])

@@ -129,6 +129,7 @@ class Rows:
         self.record_time: Column[np.int64] = Column(layout, lambda s: s.record_time)
         self.values: Column[np.float64] = Column(layout, lambda s: s.values)
         self.authority: Column[np.int32] = Column(layout, lambda s: s.authority)
+        self.flags: Column[np.uint8] = Column(layout, lambda s: s.flags)  # ``EdgeHistory.flags``
 
     def __len__(self) -> int:
         return len(self._layout)

@@ -9,19 +9,17 @@ from typing import TypeVar, cast
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, EdgeStats, edge_stats
-from tftools.analysis.expected import TreeShape
+from tftools.analysis.edges import Edge, EdgeStats, edge_stats, parents_in_order
+from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
-from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
-from tftools.core.history import FROM_STATIC_TOPIC
+from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording
-from tftools.sources.timeline import Timeline
 
 T = TypeVar("T")
 
@@ -33,7 +31,7 @@ class EdgeSamples(Edge):
     stamps: Int64Array
     record_times: Int64Array
     values: FloatArray
-    from_static_topic: BoolArray
+    flags: UInt8Array  # ``EdgeHistory.flags``
     authorities: tuple[str, ...]
 
     def finding(self, severity: Severity, code: str, message: str, hint: str, stamps: Int64Array) -> Finding:
@@ -60,7 +58,7 @@ class Scene:
         self.expected = expected  # the tree it should have (--expect), if any
         self.buffer = recording.buffer
         self.thresholds = thresholds if thresholds is not None else Thresholds()
-        self.timeline: Timeline = recording.timeline
+        self.timeline = recording.timeline.within(from_sec(self.thresholds.clock))
         self.start = recording.start  # the record clock's span
         self.end = recording.end
         self._shared: dict[str, object] = {}
@@ -74,11 +72,6 @@ class Scene:
     @cached_property
     def rows(self) -> Rows:
         return rows_of(self.recording)
-
-    @cached_property
-    def off_clock(self) -> frozenset[str]:
-        """Frames stamped on another clock than the recording's reference, by the ``clock`` threshold."""
-        return self.timeline.frames_off(from_sec(self.thresholds.clock))
 
     @cached_property
     def sensors(self) -> FilterReport:
@@ -95,8 +88,7 @@ class Scene:
 
     @cached_property
     def publishers_known(self) -> bool:
-        """ROS1 bags and live systems name each publisher; ROS2 bags only the topic, as the authority."""
-        return any(f.names_publishers for f in self.recording.contents.files)
+        return publishers_named(self.recording)
 
     @cached_property
     def dynamic_edges(self) -> list[EdgeSamples]:
@@ -105,18 +97,18 @@ class Scene:
         for child, hist in self.buffer.histories():
             if hist.static:
                 continue
-            parents = np.unique(hist.parents)
+            parents = parents_in_order(hist)
             for parent_id in parents:
                 # one parent (the usual case): the history's own arrays, not copies
                 mine = slice(None) if len(parents) == 1 else hist.parents == parent_id
                 result.append(
                     EdgeSamples(
-                        parent=self.buffer.frame_name(int(parent_id)),
+                        parent=self.buffer.frame_name(parent_id),
                         child=child,
                         stamps=hist.stamps[mine],
                         record_times=hist.record_times[mine],
                         values=hist.values[mine],
-                        from_static_topic=(hist.flags[mine] & FROM_STATIC_TOPIC) > 0,
+                        flags=hist.flags[mine],
                         authorities=tuple(self.buffer.authorities[int(a)] for a in np.unique(hist.authorities[mine])),
                     )
                 )

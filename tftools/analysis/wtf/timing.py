@@ -6,7 +6,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from tftools.analysis.edges import PERIODS, EdgeStats, edge_gaps
+from tftools.analysis.edges import EdgeStats, edge_gaps, silence_limit
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
@@ -36,9 +36,8 @@ def stale(scene: Scene) -> Iterator[Finding]:
     for s in scene.stats:
         if s.static or _last_arrival(s) < latest[s.child]:
             continue  # a frame that went on under another parent has not stopped
-        silent = (scene.end - _last_arrival(s)) / NS_PER_S
-        limit = max(scene.thresholds.stale_after, PERIODS / s.rate_hz if s.rate_hz > 0 else 0.0)
-        if silent <= limit:
+        silent = scene.end - _last_arrival(s)
+        if silent <= silence_limit(s.rate_hz, from_sec(scene.thresholds.stale_after)):
             continue
         by = scene.by(s.authorities)
         if s.count == 1:
@@ -53,7 +52,7 @@ def stale(scene: Scene) -> Iterator[Finding]:
                 "its publisher stopped (crashed, shut down or stalled) while the recording went on: lookups after "
                 "its last stamp fail with 'Lookup would require extrapolation into the future'; check that node"
             )
-        message += f", {duration(silent)} before the recording ends"
+        message += f", {duration(silent / NS_PER_S)} before the recording ends"
         yield Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
 
 
@@ -64,15 +63,12 @@ def _last_arrival(s: EdgeStats) -> int:
 
 
 def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Array]]:
-    """Each moving edge with the stamps and ROS times at arrival of its samples that came on /tf when
-    that time is known, where there are any (none for a frame stamped on another clock than the
-    recording's: ``clock`` says so)."""
+    """Each moving edge with the stamps and ROS times at arrival of its samples with a delay
+    (``Timeline.measurable``), where there are any."""
     for e in scene.dynamic_edges:
-        if e.child not in scene.off_clock:
-            ros, known = scene.timeline.ros_time(e.record_times)
-            keep = known & ~e.from_static_topic
-            if keep.any():
-                yield e, e.stamps[keep], ros[keep]
+        ros, measured = scene.timeline.measurable(e.child, e.record_times, e.flags)
+        if measured.any():
+            yield e, e.stamps[measured], ros[measured]
 
 
 @register("future", Severity.error, "stamps ahead of the time they were recorded")
@@ -269,8 +265,8 @@ def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
     behind, back = _behind(stamps)
     repeat, same = _repeats(stamps, rows.values[mine])
     repeat &= ~back
-    records = rows.record_time[mine]
-    late = (records > 0) & (records - stamps > from_sec(scene.thresholds.delay))
+    arrived, measured = scene.timeline.measurable(child, rows.record_time[mine], rows.flags[mine])
+    late = measured & (arrived - stamps > from_sec(scene.thresholds.delay))
     if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
         back &= ~(late & (behind < TIME_JUMP))
     frames = (rows.names[rows.parent[mine[-1:]][0]], child)
