@@ -100,3 +100,30 @@ def test_a_reserved_bulk_load_lays_its_histories_in_one_block_from_a_large_page(
     assert min(starts) % (2 << 20) == 0
     assert max(ends) - min(starts) <= 3 * (300 * ROW_BYTES + 64)  # the rows, each history's block aligned
     assert [len(hist) for _, hist in buffer.histories()] == [300, 300, 300]
+
+
+def test_a_bulk_load_too_large_for_large_pages_takes_small_ones(monkeypatch):
+    """Past ``_LARGE_PAGES_UP_TO`` the block is anonymous memory the system keeps in small pages (a large
+    page a column, resident before its rows come, would grow with the load); the histories are the same."""
+    import mmap
+
+    from tftools import BatchBuilder
+    from tftools.core import history
+
+    builder = BatchBuilder()
+    for k in range(1, 301):
+        builder.add("a", "b", k * S, (k, 0, 0), (0, 0, 0, 1))
+    batch = builder.take()
+    loaded = {}
+    for limit in (1 << 30, 0):
+        monkeypatch.setattr(history, "_LARGE_PAGES_UP_TO", limit)
+        buffer = Buffer(cache_time=None)
+        buffer.reserve([batch])
+        buffer.insert(batch)
+        loaded[limit] = state(buffer)
+        memory = buffer.history("b").storage()[0]
+        while isinstance(memory, np.ndarray) and memory.base is not None:
+            memory = memory.base
+        memory = memory.obj if isinstance(memory, memoryview) else memory
+        assert isinstance(memory, mmap.mmap if limit == 0 else np.ndarray)
+    assert loaded[0] == loaded[1 << 30]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import mmap
 from bisect import bisect_right
 from collections.abc import Iterable, Sequence
 from typing import Any, NamedTuple
@@ -79,18 +80,28 @@ def _columns_in(block: UInt8Array, capacity: int) -> _Columns:
 #: A large page: the memory a fault brings in for a block numpy asks large pages for (4 MiB and up).
 _LARGE_PAGE = 2 << 20
 
+#: The largest block for a bulk load's histories that comes in large pages (see RoomForHistories).
+_LARGE_PAGES_UP_TO = 64 << 20
+
 
 class RoomForHistories:
-    """One block for the histories of a bulk load, each taking its part as it is made: the memory comes
-    in large pages, a fault each, not page by page (faults are most of a bulk load's cost otherwise).
-    The price: a history's large page is resident from its first row on, up to 2 MiB per history
-    before its rows fill it (a 258k-transform load peaks 13 MiB higher, a 4.1M one 17 MiB)."""
+    """One block for the histories of a bulk load, each taking its part as it is made.
+
+    Up to ``_LARGE_PAGES_UP_TO`` the block comes in large pages, a fault each, not page by page
+    (faults are most of a bulk load's cost otherwise). The price is that each column's large page
+    is resident from its first row on, while the rows not yet inserted are still held: a 258k-transform
+    load peaks 13 MiB higher. A larger block stays in small pages, or that price would grow with the
+    histories (2 MiB a column: a 4.1M-transform load would hold 136 B a transform, not 112).
+    """
 
     def __init__(self, capacities: Iterable[int]) -> None:
         size = sum(block_bytes(c) for c in capacities)
-        block = np.empty(size + _LARGE_PAGE, np.uint8)
-        start = -block.ctypes.data % _LARGE_PAGE  # the block's first whole large page
-        self._block = block[start : start + size]
+        if size > _LARGE_PAGES_UP_TO:
+            self._block = _in_small_pages(size)
+        else:
+            block = np.empty(size + _LARGE_PAGE, np.uint8)
+            start = -block.ctypes.data % _LARGE_PAGE  # the block's first whole large page
+            self._block = block[start : start + size]
         self._used = 0
 
     def take(self, capacity: int) -> UInt8Array | None:
@@ -100,6 +111,13 @@ class RoomForHistories:
             return None
         self._used += size
         return self._block[self._used - size : self._used]
+
+
+def _in_small_pages(size: int) -> UInt8Array:
+    """``size`` bytes of anonymous memory that the system will not back with large pages."""
+    memory = mmap.mmap(-1, size)
+    memory.madvise(mmap.MADV_NOHUGEPAGE)
+    return np.frombuffer(memory, np.uint8)
 
 
 #: A sample as the scalar lookup path uses it: parent id and tx ty tz qx qy qz qw.
