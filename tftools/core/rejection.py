@@ -52,8 +52,20 @@ class Rejection:
         """tf2's log line for this rejection."""
         c, a = self.child_frame_id, self.authority
         values = " ".join(f"{v:f}" for v in self.values)
-        if self.semantics == "ros2" and self.code in _ROS2_TEXTS:
-            return _ROS2_TEXTS[self.code](self, values)
+        if self.semantics == "ros2":  # ROS 2's lines where they differ from ROS 1's
+            shown = values.split(" ")
+            vector, quaternion = " ".join(shown[:3]), " ".join(shown[3:])
+            ros2 = {
+                RejectionCode.NAN_INPUT: f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{c}" from authority '
+                f'"{a}" because of a nan value in the transform ({vector}) ({quaternion})',
+                RejectionCode.SELF_TRANSFORM: f'TF_SELF_TRANSFORM: Ignoring transform from authority "{a}" with '
+                f'frame_id and  child_frame_id "{c}" because they are the same',
+                RejectionCode.OLD_DATA: f"TF_OLD_DATA ignoring data from the past for frame {c} at time "
+                f"{dialect('ros2').seconds(self.stamp)} according to authority {a}\n"
+                "Possible reasons are listed at http://wiki.ros.org/tf/Errors%20explained",
+            }
+            if self.code in ros2:
+                return ros2[self.code]
         return {
             RejectionCode.NAN_INPUT: f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{c}" '
             f'from authority "{a}" because of a non-finite value in the transform ({values})',
@@ -72,37 +84,6 @@ class Rejection:
             RejectionCode.OLD_DATA: "TF_OLD_DATA ignoring data from the past for frame "
             f"{c} (parent {self.frame_id}) at time {to_sec(self.stamp):f} according to authority {a}",
         }[self.code]
-
-
-def _ros2_nan(r: Rejection, values: str) -> str:
-    v = values.split(" ")
-    return (
-        f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{r.child_frame_id}" from authority '
-        f'"{r.authority}" because of a nan value in the transform ({" ".join(v[:3])}) ({" ".join(v[3:])})'
-    )
-
-
-def _ros2_self(r: Rejection, values: str) -> str:
-    return (
-        f'TF_SELF_TRANSFORM: Ignoring transform from authority "{r.authority}" with frame_id and  '
-        f'child_frame_id "{r.child_frame_id}" because they are the same'
-    )
-
-
-def _ros2_old(r: Rejection, values: str) -> str:
-    return (
-        f"TF_OLD_DATA ignoring data from the past for frame {r.child_frame_id} at time "
-        f"{dialect('ros2').seconds(r.stamp)} according to authority {r.authority}\n"
-        "Possible reasons are listed at http://wiki.ros.org/tf/Errors%20explained"
-    )
-
-
-#: ROS 2's log lines where they differ from ROS 1's (the others are the same text).
-_ROS2_TEXTS = {
-    RejectionCode.NAN_INPUT: _ros2_nan,
-    RejectionCode.SELF_TRANSFORM: _ros2_self,
-    RejectionCode.OLD_DATA: _ros2_old,
-}
 
 
 #: A live buffer (finite cache time) keeps its latest this many rejections; every one is counted.
@@ -175,17 +156,18 @@ class RejectionLog(Sequence[Rejection]):
         n = len(stamp)
         if n == 0:
             return
-        columns: dict[str, npt.NDArray[Any]] = {
-            "code": np.full(n, _CODE_INDEX[code], np.uint8),
+        given = {
+            "code": np.full(n, _CODE_INDEX[code]),
             "parent": _interned(parent, names, self._names, self._name_ids),
             "child": _interned(child, names, self._names, self._name_ids),
-            "stamp": np.array(stamp, np.int64),
+            "stamp": stamp,
             "authority": _interned(authority, authorities, self._authorities, self._authority_ids),
-            "record_time": np.array(record_time, np.int64),
-            "sequence": np.array(sequence, np.int64),
-            "values": np.array(values, np.float64),
-            "flags": np.array(flags, np.uint8),
+            "record_time": record_time,
+            "sequence": sequence,
+            "values": values,
+            "flags": flags,
         }
+        columns = {name: np.array(given[name], dtype) for name, dtype in _COLUMNS.items()}
         self._parts.append(columns)
         self.total += n
         if self.limit is not None and len(self) > 2 * self.limit:
@@ -316,15 +298,19 @@ def _interned(
     return mapped[where.reshape(-1)]
 
 
+#: The columns a ``RejectionLog`` holds, and their types (values: (N, 7)).
+_COLUMNS: dict[str, type[np.generic]] = {
+    "code": np.uint8,
+    "parent": np.int32,
+    "child": np.int32,
+    "stamp": np.int64,
+    "authority": np.int32,
+    "record_time": np.int64,
+    "sequence": np.int64,
+    "values": np.float64,
+    "flags": np.uint8,
+}
+
+
 def _empty_columns() -> dict[str, npt.NDArray[Any]]:
-    return {
-        "code": np.zeros(0, np.uint8),
-        "parent": np.zeros(0, np.int32),
-        "child": np.zeros(0, np.int32),
-        "stamp": np.zeros(0, np.int64),
-        "authority": np.zeros(0, np.int32),
-        "record_time": np.zeros(0, np.int64),
-        "sequence": np.zeros(0, np.int64),
-        "values": np.zeros((0, 7)),
-        "flags": np.zeros(0, np.uint8),
-    }
+    return {name: np.zeros((0, 7) if name == "values" else 0, dtype) for name, dtype in _COLUMNS.items()}
