@@ -71,7 +71,10 @@ def slerp(a: Quat, b: Quat, t: float) -> Quat:
         (a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3])
         * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3])
     )
-    theta = math.acos(_clamp_unit(abs(dot) / norms))
+    # For two nearly equal rotations the cosine can round to just above 1, where tf2's acos
+    # yields NaN and its slerp returns NaNs. Clamping returns the (equal) rotation instead;
+    # every value within [-1, 1] is left exactly as tf2 computes it.
+    theta = math.acos(min(abs(dot) / norms, 1.0))
     if theta == 0.0:
         return a
     d = 1.0 / math.sin(theta)
@@ -83,13 +86,6 @@ def slerp(a: Quat, b: Quat, t: float) -> Quat:
         (a[2] * s0 + b[2] * s1) * d,
         (a[3] * s0 + b[3] * s1) * d,
     )
-
-
-def _clamp_unit(x: float) -> float:
-    # For two nearly equal rotations the cosine can round to just above 1, where tf2's acos
-    # yields NaN and its slerp returns NaNs. Clamping returns the (equal) rotation instead;
-    # every value within [-1, 1] is left exactly as tf2 computes it.
-    return 1.0 if x > 1.0 else x
 
 
 def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
