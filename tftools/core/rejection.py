@@ -12,6 +12,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
+from tftools.core.frames import Names
 from tftools.core.history import rows_as_sent
 from tftools.core.semantics import Semantics, dialect
 from tftools.core.time import to_sec
@@ -127,10 +128,8 @@ class RejectionLog(Sequence[Rejection]):
         self.semantics: Semantics = semantics
         self.limit = limit
         self.total = 0
-        self._names: list[str] = []
-        self._name_ids: dict[str, int] = {}
-        self._authorities: list[str] = []
-        self._authority_ids: dict[str, int] = {}
+        self._frames = Names()
+        self._publishers = Names()
         self._parts: list[dict[str, npt.NDArray[Any]]] = []
         self._joined: dict[str, npt.NDArray[Any]] = _empty_columns()
 
@@ -158,10 +157,10 @@ class RejectionLog(Sequence[Rejection]):
             return
         given = {
             "code": np.full(n, _CODE_INDEX[code]),
-            "parent": _interned(parent, names, self._names, self._name_ids),
-            "child": _interned(child, names, self._names, self._name_ids),
+            "parent": _interned(parent, names, self._frames),
+            "child": _interned(child, names, self._frames),
             "stamp": stamp,
-            "authority": _interned(authority, authorities, self._authorities, self._authority_ids),
+            "authority": _interned(authority, authorities, self._publishers),
             "record_time": record_time,
             "sequence": sequence,
             "values": values,
@@ -216,10 +215,10 @@ class RejectionLog(Sequence[Rejection]):
         shown = _SHOWN_VALUES.get(code, 0)
         return Rejection(
             code,
-            self._names[int(c["parent"][i])],
-            self._names[int(c["child"][i])],
+            self._frames.names[int(c["parent"][i])],
+            self._frames.names[int(c["child"][i])],
             int(c["stamp"][i]),
-            self._authorities[int(c["authority"][i])],
+            self._publishers.names[int(c["authority"][i])],
             int(c["record_time"][i]),
             tuple(c["values"][i, 7 - shown :].tolist()) if shown else (),
             int(c["sequence"][i]),
@@ -232,8 +231,8 @@ class RejectionLog(Sequence[Rejection]):
         c = self._join()
         sequence, first = np.unique(c["sequence"], return_index=True)
         batch = rows_as_sent(
-            self._names,
-            self._authorities,
+            self._frames.names,
+            self._publishers.names,
             (c["parent"][first], c["child"][first]),
             c["flags"][first],
             c["stamp"][first],
@@ -259,7 +258,7 @@ class RejectionLog(Sequence[Rejection]):
         labels = [groups[code] if groups else code.value for code in _CODES]
         label_ids = {label: i for i, label in enumerate(dict.fromkeys(labels))}
         group_of = np.array([label_ids[label] for label in labels], np.int64)[c["code"]]
-        key = (c["parent"].astype(np.int64) * len(self._names) + c["child"]) * len(label_ids) + group_of
+        key = (c["parent"].astype(np.int64) * len(self._frames.names) + c["child"]) * len(label_ids) + group_of
         order = np.argsort(key, kind="stable")
         bounds = np.flatnonzero(np.diff(key[order])) + 1
         result: dict[tuple[str, str, str], EdgeRejections] = {}
@@ -270,31 +269,22 @@ class RejectionLog(Sequence[Rejection]):
                 np.stack([stamps, c["record_time"][rows], c["authority"][rows].astype(np.int64)]), axis=1
             )
             codes, code_first = np.unique(c["code"][rows], return_index=True)
-            parent, child = self._names[int(c["parent"][first])], self._names[int(c["child"][first])]
+            parent, child = self._frames.names[int(c["parent"][first])], self._frames.names[int(c["child"][first])]
             result[(parent, child, labels[int(c["code"][first])])] = EdgeRejections(
                 len(rows),
                 int(samples.shape[1]),
                 int(stamps.min()),
                 int(stamps.max()),
-                tuple(sorted({self._authorities[a] for a in np.unique(c["authority"][rows]).tolist()})),
+                tuple(sorted({self._publishers.names[a] for a in np.unique(c["authority"][rows]).tolist()})),
                 tuple(_CODES[int(i)] for i in codes[np.argsort(code_first)]),
             )
         return result
 
 
-def _interned(
-    ids: npt.NDArray[np.integer[Any]], names: Sequence[str], table: list[str], index: dict[str, int]
-) -> Int32Array:
-    """``ids`` (into ``names``) as indices into ``table``, adding each new name once."""
+def _interned(ids: npt.NDArray[np.integer[Any]], names: Sequence[str], table: Names) -> Int32Array:
+    """``ids`` (into ``names``) as ids of ``table``, interning each distinct name once."""
     distinct, where = np.unique(np.asarray(ids), return_inverse=True)
-    mapped = np.empty(len(distinct), np.int32)
-    for i, name_id in enumerate(distinct.tolist()):
-        name = names[name_id]
-        found = index.get(name)
-        if found is None:
-            found = index[name] = len(table)
-            table.append(name)
-        mapped[i] = found
+    mapped = np.array([table.intern(names[name_id]) for name_id in distinct.tolist()], np.int32)
     return mapped[where.reshape(-1)]
 
 
