@@ -109,10 +109,15 @@ class Dialect:
         return ExtrapolationError(text[:999])  # tf2 formats it into char[1000]
 
     def empty_frame(self, argument: str) -> InvalidArgumentError:
-        return InvalidArgumentError.empty(argument, self.ros2)
+        if self.ros2:
+            return InvalidArgumentError(f'Invalid argument "" passed to {argument} - in tf2 frame_ids cannot be empty')
+        return InvalidArgumentError(f"Invalid argument passed to {argument} in tf2 frame_ids cannot be empty")
 
     def leading_slash(self, frame: str, argument: str) -> InvalidArgumentError:
-        return InvalidArgumentError.leading_slash(frame, argument, self.ros2)
+        text = f'Invalid argument "{frame}" passed to {argument}'
+        if self.ros2:
+            return InvalidArgumentError(f"{text} - in tf2 frame_ids cannot start with a '/'")
+        return InvalidArgumentError(f"{text} in tf2 frame_ids cannot start with a '/' like: ")
 
 
 class _Ros2Dialect(Dialect):
