@@ -177,15 +177,15 @@ def matrix_transpose(m: Matrix3) -> Matrix3:
 
 
 def quat_multiply_many(a: FloatArray, b: FloatArray) -> FloatArray:
-    return np.stack(_hamilton(*np.moveaxis(a, -1, 0), *np.moveaxis(b, -1, 0)), axis=-1)
+    return np.stack(_hamilton(*_columns(a), *_columns(b)), axis=-1)
 
 
 def quat_rotate_many(q: FloatArray, v: FloatArray) -> FloatArray:
-    return np.stack(_rotated(*np.moveaxis(q, -1, 0), *np.moveaxis(v, -1, 0)), axis=-1)
+    return np.stack(_rotated(*_columns(q), *_columns(v)), axis=-1)
 
 
 def rpy_from_quat_many(q: FloatArray) -> FloatArray:
-    m = _matrix(*np.moveaxis(q, -1, 0))
+    m = _matrix(*_columns(q))
     m20 = m[2][0]
     locked = np.abs(m20) >= 1.0
     pitch = np.where(locked, np.where(m20 < 0, np.pi / 2, -np.pi / 2), -np.arcsin(np.clip(m20, -1, 1)))
@@ -193,6 +193,11 @@ def rpy_from_quat_many(q: FloatArray) -> FloatArray:
     roll = np.where(locked, np.arctan2(m[2][1], m[2][2]), np.arctan2(m[2][1] / c, m[2][2] / c))
     yaw = np.where(locked, 0.0, np.arctan2(m[1][0] / c, m[0][0] / c))
     return np.stack((roll, pitch, yaw), axis=-1)
+
+
+def _columns(a: FloatArray) -> list[FloatArray]:
+    """The components of vectors or quaternions along the last axis (indexing them: the fastest)."""
+    return [a[..., i] for i in range(a.shape[-1])]
 
 
 def angle_between_many(a: FloatArray, b: FloatArray) -> FloatArray:
