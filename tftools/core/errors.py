@@ -54,16 +54,5 @@ class NoDataForExtrapolationError(ExtrapolationError):
 
 
 class InvalidArgumentError(TransformError):
-    """An empty frame id or one with a leading slash: tf2's ``InvalidArgumentException``."""
-
-    @classmethod
-    def empty(cls, argument: str, ros2: bool = False) -> InvalidArgumentError:
-        if ros2:
-            return cls(f'Invalid argument "" passed to {argument} - in tf2 frame_ids cannot be empty')
-        return cls(f"Invalid argument passed to {argument} in tf2 frame_ids cannot be empty")
-
-    @classmethod
-    def leading_slash(cls, frame: str, argument: str, ros2: bool = False) -> InvalidArgumentError:
-        if ros2:
-            return cls(f"Invalid argument \"{frame}\" passed to {argument} - in tf2 frame_ids cannot start with a '/'")
-        return cls(f"Invalid argument \"{frame}\" passed to {argument} in tf2 frame_ids cannot start with a '/' like: ")
+    """An empty frame id or one with a leading slash: tf2's ``InvalidArgumentException`` (its texts:
+    ``semantics.Dialect``)."""

@@ -12,6 +12,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
+from tftools.core.frames import Names
 from tftools.core.history import rows_as_sent
 from tftools.core.semantics import Semantics, dialect
 from tftools.core.time import to_sec
@@ -52,8 +53,20 @@ class Rejection:
         """tf2's log line for this rejection."""
         c, a = self.child_frame_id, self.authority
         values = " ".join(f"{v:f}" for v in self.values)
-        if self.semantics == "ros2" and self.code in _ROS2_TEXTS:
-            return _ROS2_TEXTS[self.code](self, values)
+        if self.semantics == "ros2":  # ROS 2's lines where they differ from ROS 1's
+            shown = values.split(" ")
+            vector, quaternion = " ".join(shown[:3]), " ".join(shown[3:])
+            ros2 = {
+                RejectionCode.NAN_INPUT: f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{c}" from authority '
+                f'"{a}" because of a nan value in the transform ({vector}) ({quaternion})',
+                RejectionCode.SELF_TRANSFORM: f'TF_SELF_TRANSFORM: Ignoring transform from authority "{a}" with '
+                f'frame_id and  child_frame_id "{c}" because they are the same',
+                RejectionCode.OLD_DATA: f"TF_OLD_DATA ignoring data from the past for frame {c} at time "
+                f"{dialect('ros2').seconds(self.stamp)} according to authority {a}\n"
+                "Possible reasons are listed at http://wiki.ros.org/tf/Errors%20explained",
+            }
+            if self.code in ros2:
+                return ros2[self.code]
         return {
             RejectionCode.NAN_INPUT: f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{c}" '
             f'from authority "{a}" because of a non-finite value in the transform ({values})',
@@ -72,37 +85,6 @@ class Rejection:
             RejectionCode.OLD_DATA: "TF_OLD_DATA ignoring data from the past for frame "
             f"{c} (parent {self.frame_id}) at time {to_sec(self.stamp):f} according to authority {a}",
         }[self.code]
-
-
-def _ros2_nan(r: Rejection, values: str) -> str:
-    v = values.split(" ")
-    return (
-        f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{r.child_frame_id}" from authority '
-        f'"{r.authority}" because of a nan value in the transform ({" ".join(v[:3])}) ({" ".join(v[3:])})'
-    )
-
-
-def _ros2_self(r: Rejection, values: str) -> str:
-    return (
-        f'TF_SELF_TRANSFORM: Ignoring transform from authority "{r.authority}" with frame_id and  '
-        f'child_frame_id "{r.child_frame_id}" because they are the same'
-    )
-
-
-def _ros2_old(r: Rejection, values: str) -> str:
-    return (
-        f"TF_OLD_DATA ignoring data from the past for frame {r.child_frame_id} at time "
-        f"{dialect('ros2').seconds(r.stamp)} according to authority {r.authority}\n"
-        "Possible reasons are listed at http://wiki.ros.org/tf/Errors%20explained"
-    )
-
-
-#: ROS 2's log lines where they differ from ROS 1's (the others are the same text).
-_ROS2_TEXTS = {
-    RejectionCode.NAN_INPUT: _ros2_nan,
-    RejectionCode.SELF_TRANSFORM: _ros2_self,
-    RejectionCode.OLD_DATA: _ros2_old,
-}
 
 
 #: A live buffer (finite cache time) keeps its latest this many rejections; every one is counted.
@@ -146,10 +128,8 @@ class RejectionLog(Sequence[Rejection]):
         self.semantics: Semantics = semantics
         self.limit = limit
         self.total = 0
-        self._names: list[str] = []
-        self._name_ids: dict[str, int] = {}
-        self._authorities: list[str] = []
-        self._authority_ids: dict[str, int] = {}
+        self._frames = Names()
+        self._publishers = Names()
         self._parts: list[dict[str, npt.NDArray[Any]]] = []
         self._joined: dict[str, npt.NDArray[Any]] = _empty_columns()
 
@@ -175,17 +155,18 @@ class RejectionLog(Sequence[Rejection]):
         n = len(stamp)
         if n == 0:
             return
-        columns: dict[str, npt.NDArray[Any]] = {
-            "code": np.full(n, _CODE_INDEX[code], np.uint8),
-            "parent": _interned(parent, names, self._names, self._name_ids),
-            "child": _interned(child, names, self._names, self._name_ids),
-            "stamp": np.array(stamp, np.int64),
-            "authority": _interned(authority, authorities, self._authorities, self._authority_ids),
-            "record_time": np.array(record_time, np.int64),
-            "sequence": np.array(sequence, np.int64),
-            "values": np.array(values, np.float64),
-            "flags": np.array(flags, np.uint8),
+        given = {
+            "code": np.full(n, _CODE_INDEX[code]),
+            "parent": _interned(parent, names, self._frames),
+            "child": _interned(child, names, self._frames),
+            "stamp": stamp,
+            "authority": _interned(authority, authorities, self._publishers),
+            "record_time": record_time,
+            "sequence": sequence,
+            "values": values,
+            "flags": flags,
         }
+        columns = {name: np.array(given[name], dtype) for name, dtype in _COLUMNS.items()}
         self._parts.append(columns)
         self.total += n
         if self.limit is not None and len(self) > 2 * self.limit:
@@ -234,10 +215,10 @@ class RejectionLog(Sequence[Rejection]):
         shown = _SHOWN_VALUES.get(code, 0)
         return Rejection(
             code,
-            self._names[int(c["parent"][i])],
-            self._names[int(c["child"][i])],
+            self._frames.names[int(c["parent"][i])],
+            self._frames.names[int(c["child"][i])],
             int(c["stamp"][i]),
-            self._authorities[int(c["authority"][i])],
+            self._publishers.names[int(c["authority"][i])],
             int(c["record_time"][i]),
             tuple(c["values"][i, 7 - shown :].tolist()) if shown else (),
             int(c["sequence"][i]),
@@ -250,8 +231,8 @@ class RejectionLog(Sequence[Rejection]):
         c = self._join()
         sequence, first = np.unique(c["sequence"], return_index=True)
         batch = rows_as_sent(
-            self._names,
-            self._authorities,
+            self._frames.names,
+            self._publishers.names,
             (c["parent"][first], c["child"][first]),
             c["flags"][first],
             c["stamp"][first],
@@ -277,7 +258,7 @@ class RejectionLog(Sequence[Rejection]):
         labels = [groups[code] if groups else code.value for code in _CODES]
         label_ids = {label: i for i, label in enumerate(dict.fromkeys(labels))}
         group_of = np.array([label_ids[label] for label in labels], np.int64)[c["code"]]
-        key = (c["parent"].astype(np.int64) * len(self._names) + c["child"]) * len(label_ids) + group_of
+        key = (c["parent"].astype(np.int64) * len(self._frames.names) + c["child"]) * len(label_ids) + group_of
         order = np.argsort(key, kind="stable")
         bounds = np.flatnonzero(np.diff(key[order])) + 1
         result: dict[tuple[str, str, str], EdgeRejections] = {}
@@ -288,43 +269,38 @@ class RejectionLog(Sequence[Rejection]):
                 np.stack([stamps, c["record_time"][rows], c["authority"][rows].astype(np.int64)]), axis=1
             )
             codes, code_first = np.unique(c["code"][rows], return_index=True)
-            parent, child = self._names[int(c["parent"][first])], self._names[int(c["child"][first])]
+            parent, child = self._frames.names[int(c["parent"][first])], self._frames.names[int(c["child"][first])]
             result[(parent, child, labels[int(c["code"][first])])] = EdgeRejections(
                 len(rows),
                 int(samples.shape[1]),
                 int(stamps.min()),
                 int(stamps.max()),
-                tuple(sorted({self._authorities[a] for a in np.unique(c["authority"][rows]).tolist()})),
+                tuple(sorted({self._publishers.names[a] for a in np.unique(c["authority"][rows]).tolist()})),
                 tuple(_CODES[int(i)] for i in codes[np.argsort(code_first)]),
             )
         return result
 
 
-def _interned(
-    ids: npt.NDArray[np.integer[Any]], names: Sequence[str], table: list[str], index: dict[str, int]
-) -> Int32Array:
-    """``ids`` (into ``names``) as indices into ``table``, adding each new name once."""
+def _interned(ids: npt.NDArray[np.integer[Any]], names: Sequence[str], table: Names) -> Int32Array:
+    """``ids`` (into ``names``) as ids of ``table``, interning each distinct name once."""
     distinct, where = np.unique(np.asarray(ids), return_inverse=True)
-    mapped = np.empty(len(distinct), np.int32)
-    for i, name_id in enumerate(distinct.tolist()):
-        name = names[name_id]
-        found = index.get(name)
-        if found is None:
-            found = index[name] = len(table)
-            table.append(name)
-        mapped[i] = found
+    mapped = np.array([table.intern(names[name_id]) for name_id in distinct.tolist()], np.int32)
     return mapped[where.reshape(-1)]
 
 
+#: The columns a ``RejectionLog`` holds, and their types (values: (N, 7)).
+_COLUMNS: dict[str, type[np.generic]] = {
+    "code": np.uint8,
+    "parent": np.int32,
+    "child": np.int32,
+    "stamp": np.int64,
+    "authority": np.int32,
+    "record_time": np.int64,
+    "sequence": np.int64,
+    "values": np.float64,
+    "flags": np.uint8,
+}
+
+
 def _empty_columns() -> dict[str, npt.NDArray[Any]]:
-    return {
-        "code": np.zeros(0, np.uint8),
-        "parent": np.zeros(0, np.int32),
-        "child": np.zeros(0, np.int32),
-        "stamp": np.zeros(0, np.int64),
-        "authority": np.zeros(0, np.int32),
-        "record_time": np.zeros(0, np.int64),
-        "sequence": np.zeros(0, np.int64),
-        "values": np.zeros((0, 7)),
-        "flags": np.zeros(0, np.uint8),
-    }
+    return {name: np.zeros((0, 7) if name == "values" else 0, dtype) for name, dtype in _COLUMNS.items()}

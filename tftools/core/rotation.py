@@ -10,6 +10,7 @@ where numpy's per-call cost dominates, and a ``_many`` form on ``(N, 4)`` / ``(N
 from __future__ import annotations
 
 import math
+from typing import TypeVar
 
 import numpy as np
 
@@ -18,6 +19,8 @@ from tftools.core.arrays import FloatArray
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
 Matrix3 = tuple[Vec3, Vec3, Vec3]
+#: A number, or an array of them: the formulas written once serve both forms.
+S = TypeVar("S", float, FloatArray)
 
 IDENTITY_QUAT: Quat = (0.0, 0.0, 0.0, 1.0)
 ZERO_VEC: Vec3 = (0.0, 0.0, 0.0)
@@ -25,8 +28,10 @@ ZERO_VEC: Vec3 = (0.0, 0.0, 0.0)
 
 def quat_multiply(a: Quat, b: Quat) -> Quat:
     """The Hamilton product ``a * b``: rotate by ``b``, then by ``a``."""
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
+    return _hamilton(*a, *b)
+
+
+def _hamilton(ax: S, ay: S, az: S, aw: S, bx: S, by: S, bz: S, bw: S) -> tuple[S, S, S, S]:
     return (
         aw * bx + ax * bw + ay * bz - az * by,
         aw * by + ay * bw + az * bx - ax * bz,
@@ -42,8 +47,10 @@ def quat_conjugate(q: Quat) -> Quat:
 
 def quat_rotate(q: Quat, v: Vec3) -> Vec3:
     """``q * v * conj(q)``, tf2's ``quatRotate``."""
-    qx, qy, qz, qw = q
-    vx, vy, vz = v
+    return _rotated(*q, *v)
+
+
+def _rotated(qx: S, qy: S, qz: S, qw: S, vx: S, vy: S, vz: S) -> tuple[S, S, S]:
     # q * (v, 0)
     px = qw * vx + qy * vz - qz * vy
     py = qw * vy + qz * vx - qx * vz
@@ -64,7 +71,10 @@ def slerp(a: Quat, b: Quat, t: float) -> Quat:
         (a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3])
         * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3])
     )
-    theta = math.acos(_clamp_unit(abs(dot) / norms))
+    # For two nearly equal rotations the cosine can round to just above 1, where tf2's acos
+    # yields NaN and its slerp returns NaNs. Clamping returns the (equal) rotation instead;
+    # every value within [-1, 1] is left exactly as tf2 computes it.
+    theta = math.acos(min(abs(dot) / norms, 1.0))
     if theta == 0.0:
         return a
     d = 1.0 / math.sin(theta)
@@ -76,13 +86,6 @@ def slerp(a: Quat, b: Quat, t: float) -> Quat:
         (a[2] * s0 + b[2] * s1) * d,
         (a[3] * s0 + b[3] * s1) * d,
     )
-
-
-def _clamp_unit(x: float) -> float:
-    # For two nearly equal rotations the cosine can round to just above 1, where tf2's acos
-    # yields NaN and its slerp returns NaNs. Clamping returns the (equal) rotation instead;
-    # every value within [-1, 1] is left exactly as tf2 computes it.
-    return 1.0 if x > 1.0 else x
 
 
 def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
@@ -100,7 +103,10 @@ def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
 
 def matrix_from_quat(q: Quat) -> Matrix3:
     """The 3x3 rotation matrix of ``q``, rows first: tf2's ``Matrix3x3::setRotation``."""
-    x, y, z, w = q
+    return _matrix(*q)
+
+
+def _matrix(x: S, y: S, z: S, w: S) -> tuple[tuple[S, S, S], tuple[S, S, S], tuple[S, S, S]]:
     s = 2.0 / (x * x + y * y + z * z + w * w)
     xs, ys, zs = x * s, y * s, z * s
     wx, wy, wz = w * xs, w * ys, w * zs
@@ -150,16 +156,8 @@ def quat_from_matrix(m: Matrix3) -> Quat:
 
 def matrix_multiply(a: Matrix3, b: Matrix3) -> Matrix3:
     """``a @ b`` for 3x3 matrices given as row tuples."""
-    rows = []
-    for r in a:
-        rows.append(
-            (
-                r[0] * b[0][0] + r[1] * b[1][0] + r[2] * b[2][0],
-                r[0] * b[0][1] + r[1] * b[1][1] + r[2] * b[2][1],
-                r[0] * b[0][2] + r[1] * b[1][2] + r[2] * b[2][2],
-            )
-        )
-    return (rows[0], rows[1], rows[2])
+    columns = matrix_transpose(b)
+    return (matrix_apply(columns, a[0]), matrix_apply(columns, a[1]), matrix_apply(columns, a[2]))
 
 
 def matrix_apply(m: Matrix3, v: Vec3) -> Vec3:
@@ -179,51 +177,27 @@ def matrix_transpose(m: Matrix3) -> Matrix3:
 
 
 def quat_multiply_many(a: FloatArray, b: FloatArray) -> FloatArray:
-    ax, ay, az, aw = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
-    bx, by, bz, bw = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
-    return np.stack(
-        (
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by + ay * bw + az * bx - ax * bz,
-            aw * bz + az * bw + ax * by - ay * bx,
-            aw * bw - ax * bx - ay * by - az * bz,
-        ),
-        axis=-1,
-    )
+    return np.stack(_hamilton(*_columns(a), *_columns(b)), axis=-1)
 
 
 def quat_rotate_many(q: FloatArray, v: FloatArray) -> FloatArray:
-    qx, qy, qz, qw = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    vx, vy, vz = v[..., 0], v[..., 1], v[..., 2]
-    px = qw * vx + qy * vz - qz * vy
-    py = qw * vy + qz * vx - qx * vz
-    pz = qw * vz + qx * vy - qy * vx
-    pw = -qx * vx - qy * vy - qz * vz
-    return np.stack(
-        (
-            pw * -qx + px * qw + py * -qz - pz * -qy,
-            pw * -qy + py * qw + pz * -qx - px * -qz,
-            pw * -qz + pz * qw + px * -qy - py * -qx,
-        ),
-        axis=-1,
-    )
+    return np.stack(_rotated(*_columns(q), *_columns(v)), axis=-1)
 
 
 def rpy_from_quat_many(q: FloatArray) -> FloatArray:
-    x, y, z, w = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
-    s = 2.0 / (x * x + y * y + z * z + w * w)
-    xs, ys, zs = x * s, y * s, z * s
-    m00 = 1.0 - (y * ys + z * zs)
-    m10 = x * ys + w * zs
-    m20 = x * zs - w * ys
-    m21 = y * zs + w * xs
-    m22 = 1.0 - (x * xs + y * ys)
+    m = _matrix(*_columns(q))
+    m20 = m[2][0]
     locked = np.abs(m20) >= 1.0
     pitch = np.where(locked, np.where(m20 < 0, np.pi / 2, -np.pi / 2), -np.arcsin(np.clip(m20, -1, 1)))
     c = np.where(locked, 1.0, np.cos(pitch))
-    roll = np.where(locked, np.arctan2(m21, m22), np.arctan2(m21 / c, m22 / c))
-    yaw = np.where(locked, 0.0, np.arctan2(m10 / c, m00 / c))
+    roll = np.where(locked, np.arctan2(m[2][1], m[2][2]), np.arctan2(m[2][1] / c, m[2][2] / c))
+    yaw = np.where(locked, 0.0, np.arctan2(m[1][0] / c, m[0][0] / c))
     return np.stack((roll, pitch, yaw), axis=-1)
+
+
+def _columns(a: FloatArray) -> list[FloatArray]:
+    """The components of vectors or quaternions along the last axis (indexing them: the fastest)."""
+    return [a[..., i] for i in range(a.shape[-1])]
 
 
 def angle_between_many(a: FloatArray, b: FloatArray) -> FloatArray:

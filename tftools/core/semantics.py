@@ -81,37 +81,43 @@ class Dialect:
 
     def gap_message(self, gap: Gap) -> str:
         """The cache's reason it has no sample at ``gap.time`` (tf2's ``findClosest``)."""
-        time, stamp, s = gap.time, gap.stamp, self.seconds
         # tf2 0.7.6 formats these into fixed-size buffers that can cut the text short
         # ("... is in the buffe"); the cut is kept so that messages match byte for byte.
         if gap.kind == NO_DATA:
             return ""
-        if gap.kind == FUTURE:
-            return _fixed(
-                f"Lookup would require extrapolation {s(time - stamp)}s into the future.  "
-                f"Requested time {s(time)} but the latest data is at time {s(stamp)}",
-                163,
-            )
-        if gap.kind == PAST:
-            return _fixed(
-                f"Lookup would require extrapolation {s(stamp - time)}s into the past.  "
-                f"Requested time {s(time)} but the earliest data is at time {s(stamp)}",
-                163,
-            )
-        return _fixed(
-            f"Lookup would require extrapolation at time {s(time)}, but only time {s(stamp)} is in the buffer", 116
+        if gap.kind in (FUTURE, PAST):
+            return _fixed(self._beyond(gap, f"{self.seconds(abs(gap.time - gap.stamp))}s "), 163)
+        return _fixed(self._between(gap), 116)
+
+    def _beyond(self, gap: Gap, amount: str = "") -> str:
+        """Why a time past the newest sample, or before the oldest, has none (``amount``: ROS 1's)."""
+        direction, edge = ("future", "latest") if gap.kind == FUTURE else ("past", "earliest")
+        return (
+            f"Lookup would require extrapolation {amount}into the {direction}.  "
+            f"Requested time {self.seconds(gap.time)} but the {edge} data is at time {self.seconds(gap.stamp)}"
         )
+
+    def _between(self, gap: Gap) -> str:
+        time, stamp = self.seconds(gap.time), self.seconds(gap.stamp)
+        return f"Lookup would require extrapolation at time {time}, but only time {stamp} is in the buffer"
 
     def extrapolation(self, gap: Gap, source: str, target: str) -> ExtrapolationError:
         """The lookup's error for ``gap``, met walking from ``source`` to ``target``."""
         text = f"{self.gap_message(gap)}, when looking up transform from frame [{source}] to frame [{target}]"
+        if self.ros2:
+            return _ROS2_ERRORS.get(gap.kind, NoDataForExtrapolationError)(text)
         return ExtrapolationError(text[:999])  # tf2 formats it into char[1000]
 
     def empty_frame(self, argument: str) -> InvalidArgumentError:
-        return InvalidArgumentError.empty(argument, self.ros2)
+        if self.ros2:
+            return InvalidArgumentError(f'Invalid argument "" passed to {argument} - in tf2 frame_ids cannot be empty')
+        return InvalidArgumentError(f"Invalid argument passed to {argument} in tf2 frame_ids cannot be empty")
 
     def leading_slash(self, frame: str, argument: str) -> InvalidArgumentError:
-        return InvalidArgumentError.leading_slash(frame, argument, self.ros2)
+        text = f'Invalid argument "{frame}" passed to {argument}'
+        if self.ros2:
+            return InvalidArgumentError(f"{text} - in tf2 frame_ids cannot start with a '/'")
+        return InvalidArgumentError(f"{text} in tf2 frame_ids cannot start with a '/' like: ")
 
 
 class _Ros2Dialect(Dialect):
@@ -121,25 +127,8 @@ class _Ros2Dialect(Dialect):
         return f"{duration_to_sec(ns):.6f}"  # tf2::displayTimePoint
 
     def gap_message(self, gap: Gap) -> str:
-        s = self.seconds
-        if gap.kind == FUTURE:
-            return (
-                "Lookup would require extrapolation into the future.  "
-                f"Requested time {s(gap.time)} but the latest data is at time {s(gap.stamp)}"
-            )
-        if gap.kind == PAST:
-            return (
-                "Lookup would require extrapolation into the past.  "
-                f"Requested time {s(gap.time)} but the earliest data is at time {s(gap.stamp)}"
-            )
         # Rolling's wording, also for an empty cache (stamp 0), which Jazzy leaves unworded.
-        return (
-            f"Lookup would require extrapolation at time {s(gap.time)}, but only time {s(gap.stamp)} is in the buffer"
-        )
-
-    def extrapolation(self, gap: Gap, source: str, target: str) -> ExtrapolationError:
-        error = _ROS2_ERRORS.get(gap.kind, NoDataForExtrapolationError)
-        return error(f"{self.gap_message(gap)}, when looking up transform from frame [{source}] to frame [{target}]")
+        return self._beyond(gap) if gap.kind in (FUTURE, PAST) else self._between(gap)
 
 
 _ROS2_ERRORS: dict[int, type[ExtrapolationError]] = {

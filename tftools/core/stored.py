@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import numpy as np
 import numpy.typing as npt
@@ -49,11 +49,9 @@ def stored_rows(buffer: Buffer) -> tuple[TransformBatch, Int64Array]:
     return batch, sequence[order]
 
 
-def _with_replaced(hist: EdgeHistory) -> list[EdgeHistory]:
+def _with_replaced(hist: EdgeHistory) -> Iterator[EdgeHistory]:
     """``hist`` and the histories it replaced, newest first."""
-    chain: list[EdgeHistory] = []
     current: EdgeHistory | None = hist
     while current is not None:
-        chain.append(current)
+        yield current
         current = current.replaced
-    return chain

@@ -61,24 +61,13 @@ class Transform:
         return cls(ZERO_VEC, IDENTITY_QUAT, stamp, frame_id, child_frame_id)
 
     @classmethod
-    def from_rpy(
-        cls,
-        xyz: Vec3,
-        rpy: Vec3,
-        stamp: int = 0,
-        frame_id: str = "",
-        child_frame_id: str = "",
-    ) -> Transform:
+    def from_rpy(cls, xyz: Vec3, rpy: Vec3, stamp: int = 0, frame_id: str = "", child_frame_id: str = "") -> Transform:
         """From a translation and fixed-axis roll, pitch, yaw in radians (tf2's ``setRPY``)."""
         return cls(_vec(xyz), quat_from_rpy(*rpy), stamp, frame_id, child_frame_id)
 
     @classmethod
     def from_matrix(
-        cls,
-        matrix: npt.ArrayLike,
-        stamp: int = 0,
-        frame_id: str = "",
-        child_frame_id: str = "",
+        cls, matrix: npt.ArrayLike, stamp: int = 0, frame_id: str = "", child_frame_id: str = ""
     ) -> Transform:
         """From a 4x4 homogeneous matrix."""
         m = np.asarray(matrix, dtype=float)
@@ -94,11 +83,7 @@ class Transform:
             return NotImplemented
         basis = matrix_from_quat(self.rotation)
         moved = matrix_apply(basis, other.translation)
-        translation = (
-            moved[0] + self.translation[0],
-            moved[1] + self.translation[1],
-            moved[2] + self.translation[2],
-        )
+        translation = (moved[0] + self.translation[0], moved[1] + self.translation[1], moved[2] + self.translation[2])
         rotation = quat_from_matrix(matrix_multiply(basis, matrix_from_quat(other.rotation)))
         return Transform(translation, rotation, self.stamp, self.frame_id, other.child_frame_id)
 
@@ -107,11 +92,7 @@ class Transform:
         inv = matrix_transpose(matrix_from_quat(self.rotation))
         x, y, z = self.translation
         return Transform(
-            matrix_apply(inv, (-x, -y, -z)),
-            quat_from_matrix(inv),
-            self.stamp,
-            self.child_frame_id,
-            self.frame_id,
+            matrix_apply(inv, (-x, -y, -z)), quat_from_matrix(inv), self.stamp, self.child_frame_id, self.frame_id
         )
 
     def rpy(self) -> Vec3:

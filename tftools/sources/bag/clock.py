@@ -15,29 +15,19 @@ class ClockParts:
     """The decoded clock messages of one file, channel by channel, until made samples."""
 
     def __init__(self) -> None:
-        self._channel: list[Int32Array] = []
-        self._time: list[Int64Array] = []
-        self._position: list[Int64Array] = []  # orders messages of equal record time
-        self._value: list[Int64Array] = []
+        #: Per part: each message's channel, record time, position (orders equal record times), value.
+        self._parts: list[tuple[Int32Array, Int64Array, Int64Array, Int64Array]] = []
 
     def add(self, channel: Int32Array, record_time: Int64Array, position: Int64Array, value: Int64Array) -> None:
         if len(value):
-            self._channel.append(channel)
-            self._time.append(record_time)
-            self._position.append(position)
-            self._value.append(value)
-
-    def channels(self) -> Int32Array:
-        """The channel of every message kept."""
-        return np.concatenate(self._channel) if self._channel else np.zeros(0, np.int32)
+            self._parts.append((channel, record_time, position, value))
 
     def samples(self, topics: Sequence[str]) -> ClockSamples:
         """The clock of the file (``topics``: each channel's), in record order: ``/clock``, or
         the clock topic with the most messages."""
-        if not self._value:
+        if not self._parts:
             return ClockSamples.empty()
-        channel = self.channels()
-        time, position, value = (np.concatenate(c) for c in (self._time, self._position, self._value))
+        channel, time, position, value = (np.concatenate(column) for column in zip(*self._parts, strict=True))
         names = list(dict.fromkeys(topics))
         topic_of = np.array([names.index(t) for t in topics], np.int32)[channel]
         found = []

@@ -8,18 +8,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
-from tftools.sources.contents import DEFAULT_TOPICS, ClockSamples, RecordingContents, SourceInfo
-
-__all__ = [
-    "CLOCK_TOPIC",
-    "DEFAULT_TOPICS",  # the decoders' until they import it from sources.contents
-    "BagContents",
-    "BagFileInfo",
-    "ClockSamples",
-    "ProgressCallback",
-    "in_record_order",
-    "merged_clock",
-]
+from tftools.sources.contents import ClockSamples, RecordingContents, SourceInfo
 
 #: Called with (bytes done, bytes in all) as bags are read, for progress bars.
 ProgressCallback = Callable[[int, int], None]

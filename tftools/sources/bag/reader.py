@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import os
 from collections.abc import Callable, Sequence
 from contextlib import ExitStack
@@ -21,9 +22,8 @@ if TYPE_CHECKING:
 #: A format reader: (path, topics, progress over this file's bytes) -> batches and description.
 FormatReader = Callable[[Path, tuple[str, ...], ProgressCallback], tuple[list[TransformBatch], BagFileInfo]]
 
-_ROS1_MAGIC = b"#ROSBAG V2.0\n"
-_SQLITE_MAGIC = b"SQLite format 3\x00"
-_MCAP_MAGIC = b"\x89MCAP0\r\n"
+#: The first bytes of each format's files, and the module that reads them.
+_MAGICS = ((b"#ROSBAG V2.0\n", "ros1"), (b"SQLite format 3\x00", "rosbag2"), (b"\x89MCAP0\r\n", "mcap"))
 
 
 def read_bag(
@@ -117,34 +117,28 @@ def _format_reader(place: _Place) -> FormatReader:
 
 
 def _format_of(path: Path) -> FormatReader:
-    # Each format's module is imported only when a file needs it: a ROS1 user pays for no
-    # sqlite or MCAP code.
     if not path.exists():
         raise BagNotFoundError(str(path))
     if path.is_dir():
         if (path / "metadata.yaml").exists() or any(path.glob("*.db3")) or any(path.glob("*.mcap")):
-            from tftools.sources.bag import rosbag2
-
-            return rosbag2.read
+            return _reader("rosbag2")
         raise UnknownBagFormatError(str(path), "a directory without metadata.yaml, .db3 or .mcap files")
     try:
         with path.open("rb") as f:
             head = f.read(16)
     except OSError as e:
         raise UnknownBagFormatError(str(path), e.strerror or str(e)) from None
-    if head.startswith(_ROS1_MAGIC):
-        from tftools.sources.bag import ros1
-
-        return ros1.read
-    if head.startswith(_SQLITE_MAGIC):
-        from tftools.sources.bag import rosbag2
-
-        return rosbag2.read
-    if head.startswith(_MCAP_MAGIC):
-        from tftools.sources.bag import mcap
-
-        return mcap.read
+    for magic, module in _MAGICS:
+        if head.startswith(magic):
+            return _reader(module)
     raise UnknownBagFormatError(str(path), "unrecognised file header")
+
+
+def _reader(module: str) -> FormatReader:
+    """The ``read`` of the format module ``module``, imported only when a file needs it: a ROS1 user
+    pays for no sqlite or MCAP code."""
+    reader: FormatReader = importlib.import_module(f"tftools.sources.bag.{module}").read
+    return reader
 
 
 def _size(path: Path) -> int:

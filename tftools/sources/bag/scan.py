@@ -62,9 +62,7 @@ def file_result(
         problems += [label + line for line in scan.problems + undecodable]
     batches = in_record_order(batches)
     counted = [s for s in scans if s.message_count]
-    topics: dict[str, str] = {}
-    for scan in scans:
-        topics.update(scan.topics)
+    topics = {name: type_name for scan in scans for name, type_name in scan.topics.items()}
     info = BagFileInfo(
         path=str(path),
         format=fmt,

@@ -32,10 +32,7 @@ class Spans:
         return len(self.start)
 
     def rows(self, which: BoolArray | Int64Array) -> Spans:
-        return Spans(
-            self.chunk[which], self.offset[which], self.channel[which],
-            self.time[which], self.start[which], self.end[which],
-        )  # fmt: skip
+        return Spans(*(getattr(self, f.name)[which] for f in fields(Spans)))
 
     def looked_up(self, table: dict[int, int]) -> Int64Array:
         """Each row's ``table[channel]``, -1 where its channel is not in ``table``."""

@@ -82,14 +82,10 @@ def unpack(compression: str, data: bytes | memoryview, declared: int, budget: Bu
     if compression in ("", "none"):
         cut = f"cut short at {len(data)} of {declared} bytes" if len(data) < declared else ""
         return Unpacked(data, cut)
-    codecs: dict[str, Callable[[bytes | memoryview, int, Budget | None], Unpacked]] = {
-        "bz2": bz2,
-        "lz4": lz4,
-        "zstd": zstd,
-    }
-    if compression not in codecs:
+    codec = {"bz2": bz2, "lz4": lz4, "zstd": zstd}.get(compression)
+    if codec is None:
         raise CompressionUnavailableError(f"the compression {compression!r} is unknown")
-    return codecs[compression](data, declared, budget)
+    return codec(data, declared, budget)
 
 
 def bz2(data: bytes | memoryview, declared: int, budget: Budget | None = None) -> Unpacked:
@@ -121,24 +117,24 @@ def zstd(data: bytes | memoryview, declared: int, budget: Budget | None = None) 
     return _ended("zstd", out, declared, limit, cap, loss, budget)
 
 
-def zstd_message(data: bytes, budget: Budget) -> bytes:
-    """One zstd-compressed message (rosbag2's compression by message): whole, or ``DecompressionError``.
-    A frame that does not state its size may reach ``MAX_UNPACKED``."""
-    zstandard = _zstandard()
-    try:
-        declared = zstandard.frame_content_size(data)
-    except zstandard.ZstdError as e:
-        raise DecompressionError(f"not a zstd frame ({e})") from None
-    unpacked = zstd(data, declared, budget)  # below 0: not declared
-    if unpacked.loss:
-        raise DecompressionError(unpacked.loss)
-    return bytes(unpacked.data)
-
-
 def zstd_messages(file_size: int) -> Callable[[bytes], bytes]:
-    """``zstd_message`` for the messages of one file, within its budget."""
+    """Decompresses one zstd-compressed message of a file (rosbag2's compression by message) within
+    the file's budget: whole, or ``DecompressionError``. A frame that does not state its size may
+    reach ``MAX_UNPACKED``."""
     budget = Budget(file_size)
-    return lambda data: zstd_message(data, budget)
+
+    def message(data: bytes) -> bytes:
+        zstandard = _zstandard()
+        try:
+            declared = zstandard.frame_content_size(data)
+        except zstandard.ZstdError as e:
+            raise DecompressionError(f"not a zstd frame ({e})") from None
+        unpacked = zstd(data, declared, budget)  # below 0: not declared
+        if unpacked.loss:
+            raise DecompressionError(unpacked.loss)
+        return bytes(unpacked.data)
+
+    return message
 
 
 def zstd_file(source: BinaryIO, target: Path, budget: Budget) -> str:

@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import struct
 from collections.abc import Sequence
+from functools import partial
 
-from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import Clocks, Decoded, FrameNames, Headers
+from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
 from tftools.sources.codecs.stepped import decode_transforms
 from tftools.sources.codecs.wire import Wire, decode_times, read_headers
 
@@ -29,25 +29,11 @@ _COUNT = struct.Struct("<I")
 _TIME = struct.Struct("<iI")  # builtin_interfaces/Time: int32 sec, uint32 nanosec
 _VALUES = struct.Struct("<7d")
 
-
-def decode_tf(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
-    """TFMessages (or FrameTransforms), as ``wire.decode_transforms`` decodes them."""
-    return decode_transforms(raw, starts, lengths, frames, WIRES)
-
-
-def decode_frame_transform(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
-    """Single foxglove FrameTransforms: a transform each, without a count."""
-    return decode_transforms(raw, starts, lengths, frames, WIRES, counted=False)
-
-
-def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
-    """Clocks, as ``wire.decode_times`` decodes them."""
-    return decode_times(raw, starts, lengths, WIRES)
-
-
-def decode_headers(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Headers:
-    """The headers CDR messages start with, as ``wire.read_headers`` reads them."""
-    return read_headers(raw, starts, lengths, frames, WIRES)
+decode_tf: BulkDecoder = partial(decode_transforms, wires=WIRES)  # FrameTransforms too: the same bytes
+#: Foxglove FrameTransform messages: one transform each, without a count.
+decode_frame_transform: BulkDecoder = partial(decode_transforms, wires=WIRES, counted=False)
+decode_clocks: ClockDecoder = partial(decode_times, wires=WIRES)
+decode_headers: HeaderDecoder = partial(read_headers, wires=WIRES)
 
 
 def encode_tf_message(transforms: Sequence[Transform]) -> bytes:

@@ -25,15 +25,15 @@ _Transform = Callable[[Parsed, dict[str, Any]], None]
 
 
 def decode_frame_transform(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
-    return one_by_one(raw, starts, lengths, frames, _frame_transform)
+    return one_by_one(raw, starts, lengths, frames, lambda data: _parsed([load(data)], _foxglove))
 
 
 def decode_frame_transforms(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
-    return one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _foxglove))
+    return one_by_one(raw, starts, lengths, frames, lambda data: _parsed(load(data).get("transforms", []), _foxglove))
 
 
 def decode_tf(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
-    return one_by_one(raw, starts, lengths, frames, lambda data: _transforms(data, _ros))
+    return one_by_one(raw, starts, lengths, frames, lambda data: _parsed(load(data).get("transforms", []), _ros))
 
 
 def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
@@ -50,12 +50,6 @@ def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> C
     return np.array(messages, np.int64), np.array(times, np.int64), failures
 
 
-def _frame_transform(data: bytes) -> Parsed:
-    parsed = Parsed()
-    _foxglove(parsed, load(data))
-    return parsed
-
-
 def load(data: bytes) -> dict[str, Any]:
     """The JSON object of a message."""
     try:
@@ -64,9 +58,9 @@ def load(data: bytes) -> dict[str, Any]:
         raise DecodeError(f"invalid JSON ({e})") from None
 
 
-def _transforms(data: bytes, add: _Transform) -> Parsed:
+def _parsed(transforms: Any, add: _Transform) -> Parsed:
+    """The transform objects of a message, each read by ``add``."""
     parsed = Parsed()
-    transforms = load(data).get("transforms", [])
     if not isinstance(transforms, list):
         raise DecodeError("'transforms' is not a list")
     for transform in transforms:

@@ -19,15 +19,8 @@ from tftools.sources.codecs.template import ABSENT, Layout, Varint, decode_templ
 _VARINT, _FIXED64, _LEN, _FIXED32 = 0, 1, 2, 5
 _DOUBLE = struct.Struct("<d")
 _TRANSLATION, _ROTATION = 4, 5
-_VALUE_SLOT = {
-    (_TRANSLATION, 1): 0,
-    (_TRANSLATION, 2): 1,
-    (_TRANSLATION, 3): 2,
-    (_ROTATION, 1): 3,
-    (_ROTATION, 2): 4,
-    (_ROTATION, 3): 5,
-    (_ROTATION, 4): 6,
-}
+#: (vector field, its field number) -> slot in x y z qx qy qz qw.
+_VALUE_SLOT = {(_TRANSLATION, n): n - 1 for n in (1, 2, 3)} | {(_ROTATION, n): n + 2 for n in (1, 2, 3, 4)}
 
 
 class _Wire:

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import struct
 from collections.abc import Sequence
+from functools import partial
 
-from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import Clocks, Decoded, FrameNames, Headers
+from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
 from tftools.sources.codecs.stepped import decode_transforms
 from tftools.sources.codecs.wire import Wire, decode_times, read_headers
 
@@ -19,20 +19,9 @@ _COUNT = struct.Struct("<I")
 _HEADER = struct.Struct("<III")  # seq, stamp sec, stamp nsec
 _VALUES = struct.Struct("<7d")
 
-
-def decode_tf(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Decoded:
-    """TFMessages, as ``wire.decode_transforms`` decodes them."""
-    return decode_transforms(raw, starts, lengths, frames, WIRES)
-
-
-def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> Clocks:
-    """Clocks, as ``wire.decode_times`` decodes them."""
-    return decode_times(raw, starts, lengths, WIRES)
-
-
-def decode_headers(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames) -> Headers:
-    """The headers ROS1 messages start with, as ``wire.read_headers`` reads them."""
-    return read_headers(raw, starts, lengths, frames, WIRES)
+decode_tf: BulkDecoder = partial(decode_transforms, wires=WIRES)
+decode_clocks: ClockDecoder = partial(decode_times, wires=WIRES)
+decode_headers: HeaderDecoder = partial(read_headers, wires=WIRES)
 
 
 def encode_tf_message(transforms: Sequence[Transform]) -> bytes:

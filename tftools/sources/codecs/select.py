@@ -62,15 +62,14 @@ class HeaderTopics(tuple[str, ...]):
 AnyCodec = Codec | ClockCodec | HeaderCodec
 
 
-def _codecs() -> dict[tuple[str, str], Codec]:
-    tf2, tf1 = ROS1_TF_TYPES
-    table = [
+CODECS = {
+    (c.type_name, c.encoding): c
+    for c in [
         # type name, message encoding, bulk decoder, foxglove
         Codec(TF_MESSAGE, "cdr", cdr.decode_tf, False),
         Codec(TF_MESSAGE, "json", json.decode_tf, False),
-        Codec(tf2, "ros1", ros1.decode_tf, False),
-        Codec(tf1, "ros1", ros1.decode_tf, False),
-        Codec(tf2, "json", json.decode_tf, False),
+        *(Codec(ros1_name, "ros1", ros1.decode_tf, False) for ros1_name in ROS1_TF_TYPES),
+        Codec(ROS1_TF_TYPES[0], "json", json.decode_tf, False),
         Codec(FRAME_TRANSFORMS, "cdr", cdr.decode_tf, True),
         Codec(FRAME_TRANSFORM, "cdr", cdr.decode_frame_transform, True),
         Codec("foxglove.FrameTransforms", "protobuf", protobuf.decode_frame_transforms, True),
@@ -78,10 +77,7 @@ def _codecs() -> dict[tuple[str, str], Codec]:
         Codec("foxglove.FrameTransforms", "json", json.decode_frame_transforms, True),
         Codec("foxglove.FrameTransform", "json", json.decode_frame_transform, True),
     ]
-    return {(c.type_name, c.encoding): c for c in table}
-
-
-CODECS = _codecs()
+}
 _CLOCK_DECODERS = {"cdr": cdr.decode_clocks, "ros1": ros1.decode_clocks, "json": json.decode_clocks}
 CLOCK_CODECS = {(t, e): ClockCodec(t, e, d) for t in CLOCK_TYPES for e, d in _CLOCK_DECODERS.items()}
 _FOXGLOVE_TYPES = {c.type_name for c in CODECS.values() if c.foxglove}

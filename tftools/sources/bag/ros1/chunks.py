@@ -82,8 +82,6 @@ def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[C
     messages = Spans(records.chunk[found], records.offset[found], *header[:, found])
     slow = records.rows(~found)
     connections: list[Connection] = []
-    if not len(slow):
-        return messages, connections, ""
     more: list[tuple[int, ...]] = []
     first_error = ""
     for row, end in enumerate(limit[~found].tolist()):

@@ -42,12 +42,7 @@ class BagFile:
     the messages of ``topics``: into ``scan``, its description and transform and clock messages."""
 
     def __init__(
-        self,
-        name: str,
-        buf: FileBuffer,
-        fd: int | None,
-        topics: tuple[str, ...],
-        progress: ProgressCallback,
+        self, name: str, buf: FileBuffer, fd: int | None, topics: tuple[str, ...], progress: ProgressCallback
     ) -> None:
         self.name = name
         self.buf = buf

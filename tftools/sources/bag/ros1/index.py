@@ -25,6 +25,7 @@ from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
     OP_INDEX,
     BagHeader,
+    Chunk,
     ChunkInfo,
     FormatError,
     Record,
@@ -114,7 +115,7 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         return
     index = _chunk_index(bag, record, info)
     if chunk.compression == "none" and index is not None and bag.fd is not None:
-        gathered.add(bag, _Pending(ordinal, info.pos, wanted, index, chunk.data_start, chunk.data_end))
+        gathered.add(bag, _Pending(ordinal, wanted, index, chunk))
         return
     offsets = None if index is None else _wanted_offsets(bag, index)  # before the index's pages are let go
     bag.release(info.pos, record.data_start if index is None else index.end)
@@ -191,11 +192,9 @@ class _Pending:
     """An uncompressed chunk whose wanted records wait to be read."""
 
     ordinal: int
-    pos: int
     wanted: int  # messages, as its chunk info counts them
     index: _Index
-    data_start: int  # where its data begins in the file
-    data_end: int
+    chunk: Chunk
 
 
 @dataclass
@@ -211,7 +210,7 @@ class _Gathered:
         released with theirs)."""
         self.chunks.append(pending)
         self.records += pending.wanted
-        self.nbytes += pending.data_end - pending.data_start
+        self.nbytes += pending.chunk.data_end - pending.chunk.data_start
         if self.records >= _SPAN_RECORDS or self.nbytes >= _SPAN_BYTES:
             self.read(bag)
 
@@ -223,8 +222,8 @@ class _Gathered:
         if not chunks:
             return
         indexed = _indexed([c.index for c in chunks])  # read before the indexes' pages are let go
-        bag.release(chunks[0].pos, chunks[-1].index.end)
-        starts, ends = np.array([[c.data_start, c.data_end] for c in chunks], np.int64).T
+        bag.release(chunks[0].chunk.pos, chunks[-1].index.end)
+        starts, ends = np.array([[c.chunk.data_start, c.chunk.data_end] for c in chunks], np.int64).T
         records, _ = bounded(indexed, starts, ends)
         records = records.rows(_wanted(bag, records))
         records = records.rows(np.diff(records.start, prepend=-1) != 0)  # once each
@@ -234,6 +233,7 @@ class _Gathered:
         messages, _, first_error = locate(data.data, records, follow=True)
         in_batch, messages.chunk = messages.chunk, np.array([c.ordinal for c in chunks], np.int64)[messages.chunk]
         got = np.bincount(in_batch[bag.add(data.data, messages)], minlength=len(chunks))
-        for chunk, count in zip(chunks, got.tolist(), strict=True):
-            if count < chunk.wanted:
-                bag.damage.note(chunk.pos, first_error or "its index points at no message", chunk.wanted - count)
+        for pending, count in zip(chunks, got.tolist(), strict=True):
+            if count < pending.wanted:
+                lost = pending.wanted - count
+                bag.damage.note(pending.chunk.pos, first_error or "its index points at no message", lost)

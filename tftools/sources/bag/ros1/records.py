@@ -130,10 +130,10 @@ class _Layout:
         bounds = [0, *(edge for at, width, _ in self.places for edge in (at, at + width)), len(header)]
         self.fixed = [(a, b, header[a:b]) for a, b in zip(bounds[::2], bounds[1::2], strict=True)]
 
-    def read(self, buf: Buffer, pos: int, limit: int) -> Record | None:
+    def read(self, buf: Buffer, pos: int) -> Record | None:
         """The record at ``pos`` if its header has this layout, else None."""
         header_end = pos + 4 + self.length
-        if header_end + 4 > limit:
+        if header_end + 4 > len(buf):
             return None
         header = buf[pos + 4 : header_end]
         if any(header[a:b] != expected for a, b, expected in self.fixed):
@@ -164,12 +164,11 @@ class RecordReader:
         self.buf = buf
         self._layouts: dict[int, _Layout] = {}  # by header length
 
-    def read(self, pos: int, end: int | None = None) -> Record:
-        limit = len(self.buf) if end is None else end
+    def read(self, pos: int) -> Record:
         layout = self._layouts.get(u32(self.buf, pos))
-        if layout is not None and (record := layout.read(self.buf, pos, limit)) is not None:
+        if layout is not None and (record := layout.read(self.buf, pos)) is not None:
             return record
-        record = read_record(self.buf, pos, end)
+        record = read_record(self.buf, pos)
         changing = _CHANGING.get(record.op, ())
         if changing and all(name in record.fields for name in changing):
             header = bytes(self.buf[pos + 4 : record.data_start - 4])
