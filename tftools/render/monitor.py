@@ -78,10 +78,8 @@ def _chain_lines(chain: ChainStats) -> Text:
 def renderable(
     report: MonitorReport, header: str = "", target: str | None = None, source: str | None = None
 ) -> RenderableType:
-    """The report as tf_monitor lays it out: results heading (and chain), frames, broadcasters.
-
-    ``target``/``source`` name a chain still being waited for when the report has none.
-    """
+    """The report as tf_monitor lays it out: results heading (and chain), frames, broadcasters;
+    ``target``/``source`` name a chain still being waited for when the report has none."""
     parts: list[RenderableType] = []
     if header:
         parts.append(Text(printable(header), style="dim"))
