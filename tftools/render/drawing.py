@@ -59,12 +59,9 @@ def draw(dot: graphviz.Digraph, fmt: str, output: str = "the graph") -> bytes:
 
 
 def write_graph(dot: graphviz.Digraph, output: str | os.PathLike[str], fmt: str) -> Path:
-    """Write ``dot`` drawn as ``fmt`` to ``output``.
-
-    Without Graphviz's ``dot`` program, writes the source beside ``output`` (``.gv``), never over
-    a file tfx did not write, and raises ``GraphvizMissingError`` naming it. Written whole or not at
-    all (``write_atomically``): a full disk or a missing folder is an ``OutputError``.
-    """
+    """Write ``dot`` drawn as ``fmt`` to ``output``, whole or not at all (else ``OutputError``). Without
+    Graphviz, writes the source beside it (``.gv``, never over a file tfx did not write) and raises
+    ``GraphvizMissingError`` naming it."""
     target = Path(output)
     try:
         picture = draw(dot, fmt, str(target))

@@ -43,7 +43,9 @@ def write_atomically(path: str | os.PathLike[str], data: bytes) -> Path:
         raise OutputError(target, error) from None
     try:
         with os.fdopen(handle, "wb") as out:
-            os.fchmod(out.fileno(), 0o666 & ~_umask())
+            umask = os.umask(0o022)  # read by setting it, then set back
+            os.umask(umask)
+            os.fchmod(out.fileno(), 0o666 & ~umask)
             out.write(data)
             out.flush()
             os.fsync(out.fileno())  # a full disk is reported here at the latest, not after the rename
@@ -55,9 +57,3 @@ def write_atomically(path: str | os.PathLike[str], data: bytes) -> Path:
         Path(scratch).unlink(missing_ok=True)
         raise
     return target
-
-
-def _umask() -> int:
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import asdict
 from typing import IO, Any
 
@@ -21,12 +22,12 @@ def _sec(value: float) -> str:
     return "-" if math.isnan(value) else f"{value:.4f}"
 
 
-def _edges_table(edges: list[EdgeStats] | tuple[EdgeStats, ...]) -> Table:
+def _edges_table(edges: Sequence[EdgeStats]) -> Table:
     table = Table(title="Frames:", title_justify="left", title_style="bold", header_style="bold", box=None)
-    for name in ("Parent", "Frame", "published by", "Samples", "Rate (Hz)", "Jitter (s)", "Largest gap (s)"):
-        table.add_column(name, justify="right" if name[0] in "SRJL" else "left")
-    table.add_column("Average Delay (s)", justify="right")
-    table.add_column("Max Delay (s)", justify="right")
+    for name in ("Parent", "Frame", "published by"):
+        table.add_column(name)
+    for name in ("Samples", "Rate (Hz)", "Jitter (s)", "Largest gap (s)", "Average Delay (s)", "Max Delay (s)"):
+        table.add_column(name, justify="right")
     for e in edges:
         late_gap = not e.static and e.rate_hz > 0 and e.gap_max_s > 2.0 / e.rate_hz
         table.add_row(
@@ -77,16 +78,14 @@ def _chain_lines(chain: ChainStats) -> Text:
 def renderable(
     report: MonitorReport, header: str = "", target: str | None = None, source: str | None = None
 ) -> RenderableType:
-    """The report as tf_monitor lays it out: results heading (and chain), frames, broadcasters.
-
-    ``target``/``source`` name a chain still being waited for when the report has none.
-    """
+    """The report as tf_monitor lays it out: results heading (and chain), frames, broadcasters;
+    ``target``/``source`` name a chain still being waited for when the report has none."""
     parts: list[RenderableType] = []
     if header:
         parts.append(Text(printable(header), style="dim"))
     if report.chain is not None:
         parts.append(_chain_lines(report.chain))
-        edges: list[EdgeStats] | tuple[EdgeStats, ...] = report.chain.edges
+        edges: Sequence[EdgeStats] = report.chain.edges
     elif target is not None and source is not None:
         waiting = printable(f"Waiting for transform chain to become available between {target} and {source}")
         parts.append(Text(waiting, style="bold"))
@@ -128,10 +127,6 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
     }
 
 
-def _chain_dict(c: ChainStats) -> dict[str, Any]:
-    return {**asdict(c), "edges": [_edge_dict(e) for e in c.edges]}
-
-
 def as_dict(report: MonitorReport) -> dict[str, Any]:
     """The JSON object: window, ``edges``, ``authorities`` and, with two frames, ``chain``."""
     result: dict[str, Any] = {
@@ -143,7 +138,7 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
         "authorities": [_authority_dict(a) for a in report.authorities],
     }
     if report.chain is not None:
-        result["chain"] = _chain_dict(report.chain)
+        result["chain"] = {**asdict(report.chain), "edges": [_edge_dict(e) for e in report.chain.edges]}
     return result
 
 

@@ -14,7 +14,6 @@ import numpy as np
 
 from tftools.analysis.echo import EchoSeries
 from tftools.analysis.timelines import EdgeSeries
-from tftools.core.arrays import FloatArray, Int64Array
 from tftools.core.errors import TfToolsError
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import printable
@@ -37,9 +36,7 @@ MOST_EDGES = 20
 class PlotUnavailableError(TfToolsError):
     """matplotlib is not installed: nothing can be plotted."""
 
-    def __init__(self) -> None:
-        super().__init__("--plot needs matplotlib, which is not installed")
-        self.hint = INSTALL_HINT
+    hint = INSTALL_HINT
 
 
 def require_matplotlib() -> None:
@@ -47,7 +44,7 @@ def require_matplotlib() -> None:
     try:
         import matplotlib  # noqa: F401
     except ImportError:
-        raise PlotUnavailableError from None
+        raise PlotUnavailableError("--plot needs matplotlib, which is not installed") from None
 
 
 def plot_format(path: str | os.PathLike[str]) -> str | None:
@@ -57,8 +54,8 @@ def plot_format(path: str | os.PathLike[str]) -> str | None:
 
 def echo_figure(series: EchoSeries) -> Figure:
     """Translation (m) and roll, pitch, yaw (degrees) of ``series`` over time; failed lookups leave gaps."""
-    figure, (moves, turns) = _figure(2, sharex=True)
-    times = _seconds(series.times)
+    figure, moves, turns = _figure()
+    times = (series.times - (series.times[0] if len(series) else 0)) / NS_PER_S
     translations = np.where(series.valid[:, None], series.translations, np.nan)
     angles = np.degrees(np.where(series.valid[:, None], series.rpy, np.nan))
     marker = "." if len(times) < 200 else None
@@ -71,7 +68,7 @@ def echo_figure(series: EchoSeries) -> Figure:
         axis.set_ylabel(unit)
         axis.grid(True, alpha=0.3)
         axis.legend(loc="upper left", fontsize=8, ncols=3)
-    turns.set_xlabel(_time_label(series.times))
+    turns.set_xlabel(_time_label(int(series.times[0]) if len(series) else None))
     failed = int((~series.valid).sum())
     said = f", {failed} of {len(series)} lookups failed" if failed else ""
     moves.set_title(printable(f"{series.source} in {series.target} ({series.target} <- {series.source}){said}"))
@@ -80,7 +77,7 @@ def echo_figure(series: EchoSeries) -> Figure:
 
 def monitor_figure(edges: Sequence[EdgeSeries], title: str) -> Figure:
     """Each edge's rate (Hz) and mean delay (ms) over time, the ``MOST_EDGES`` fastest of them."""
-    figure, (rates, delays) = _figure(2, sharex=True)
+    figure, rates, delays = _figure()
     shown = sorted(edges, key=lambda e: -float(np.nan_to_num(np.nanmax(e.rate_hz, initial=0.0))))[:MOST_EDGES]
     origin = min((int(e.times[0]) for e in shown if len(e.times)), default=0)
     for e in shown:
@@ -92,7 +89,7 @@ def monitor_figure(edges: Sequence[EdgeSeries], title: str) -> Figure:
     for axis in (rates, delays):
         axis.grid(True, alpha=0.3)
         axis.set_ylim(bottom=0)
-    delays.set_xlabel(_time_label(np.array([origin], np.int64)))
+    delays.set_xlabel(_time_label(origin))
     left = len(edges) - len(shown)
     rates.set_title(printable(title) + (f" ({left} slower edges not drawn)" if left else ""))
     if shown:
@@ -109,17 +106,14 @@ def write_figure(figure: Figure, path: str | os.PathLike[str]) -> Path:
     return write_atomically(path, picture.getvalue())
 
 
-def _figure(rows: int, sharex: bool) -> tuple[Figure, list[Axes]]:
+def _figure() -> tuple[Figure, Axes, Axes]:
+    """A figure of two plots, one above the other, on one time axis."""
     from matplotlib.figure import Figure  # a figure of its own: no pyplot, no display, no global state
 
-    figure = Figure(figsize=(WIDTH_IN, 3.2 * rows), layout="constrained")
-    axes = figure.subplots(rows, 1, sharex=sharex, squeeze=False)[:, 0]
-    return figure, list(axes)
+    figure = Figure(figsize=(WIDTH_IN, 6.4), layout="constrained")
+    top, bottom = figure.subplots(2, 1, sharex=True)
+    return figure, top, bottom
 
 
-def _seconds(times: Int64Array) -> FloatArray:
-    return (times - (times[0] if len(times) else 0)) / NS_PER_S
-
-
-def _time_label(times: Int64Array) -> str:
-    return f"time (s) from {format_sec(int(times[0]), 3)}" if len(times) else "time (s)"
+def _time_label(origin: int | None) -> str:
+    return "time (s)" if origin is None else f"time (s) from {format_sec(origin, 3)}"

@@ -148,8 +148,13 @@ def _findings(findings: Sequence[Finding], origin: int) -> str:
     return f'<div class="findings"><h3>Findings</h3><ol>{"".join(items)}</ol></div>'
 
 
+def _span(finding: Finding) -> tuple[int, int]:
+    """A finding's first and last time, either standing for both where only one is known (0: none)."""
+    return finding.first_time or finding.last_time, finding.last_time or finding.first_time
+
+
 def _span_text(finding: Finding, origin: int) -> str:
-    first, last = finding.first_time or finding.last_time, finding.last_time or finding.first_time
+    first, last = _span(finding)
     if first == last:
         return f"at {_offset(first, origin)}"
     return f"{_offset(first, origin)} to {_offset(last, origin)}"
@@ -167,9 +172,7 @@ def _tree(report: RecordingReport, legend: Sequence[str], anchor: str) -> str:
         svg = drawing.draw(dot, "svg").decode()
     except drawing.GraphvizMissingError as missing:
         return f'<p class="missing">{_esc(str(missing))} ({_esc(missing.hint)})</p>'
-    svg = svg[svg.index("<svg") :]
-    svg = re.sub(r'\b(id="|href="#|url\(#)', lambda m: f"{m.group(1)}{anchor}-", svg)
-    return svg
+    return re.sub(r'\b(id="|href="#|url\(#)', lambda m: f"{m.group(1)}{anchor}-", svg[svg.index("<svg") :])
 
 
 def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str:
@@ -234,15 +237,12 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
 
 
 def _statics(edges: Sequence[GraphEdge]) -> str:
-    static = [e for e in edges if e.static and e.stats is not None]
-    if not static:
-        return ""
     items = "".join(
         f"<li>{_esc(e.parent)} &#8594; {_esc(e.child)} <small>{_esc(', '.join(e.stats.authorities))}</small></li>"
-        for e in static
-        if e.stats is not None
+        for e in edges
+        if e.static and e.stats is not None
     )
-    return f'<h3>Static transforms</h3><ul class="statics">{items}</ul>'
+    return f'<h3>Static transforms</h3><ul class="statics">{items}</ul>' if items else ""
 
 
 def _svg_ids(report: RecordingReport, anchor: str) -> dict[tuple[str, str], str]:
@@ -275,7 +275,7 @@ def _finding_data(
     graph, finding = report.graph, report.findings[index]
     keys = {(e.parent, e.child) for e in graph.edges if index in e.problems}
     nodes = [f"{anchor}-node{j + 1}" for j, node in enumerate(graph.nodes) if index in node.problems]
-    first, last = finding.first_time or finding.last_time, finding.last_time or finding.first_time
+    first, last = _span(finding)
     return {
         "code": finding.code,
         "severity": finding.severity.value,

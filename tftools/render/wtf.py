@@ -53,9 +53,7 @@ def _write_fleet(reports: Sequence[BagReport], console: Console) -> None:
     if tallies:
         console.print(Text("ACROSS THE FLEET", style="bold"))
     for checked in tallies:
-        mark, style = _MARKS[checked.severity]
-        line = Text(f"  {mark} ", style=style)
-        line.append(checked.code, style=style)
+        line = _marked(checked.severity, checked.code)
         named = ", ".join(checked.recordings[:NAMED])
         more = f" and {len(checked.recordings) - NAMED} more" if len(checked.recordings) > NAMED else ""
         line.append(f": {len(checked.recordings)} of {len(reports)} recordings: {printable(named)}{more}")
@@ -98,35 +96,32 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
 
 
 def _write_finding(finding: Finding, console: Console) -> None:
-    mark, style = _MARKS[finding.severity]
-    line = Text(f"  {mark} ", style=style)
-    line.append(finding.code, style=style)
-    line.append(f": {printable(finding.message)}")
-    console.print(line)
+    console.print(_marked(finding.severity, finding.code).append(f": {printable(finding.message)}"))
     if finding.hint:
         console.print(Text(f"      hint: {printable(finding.hint)}", style="dim"))
+
+
+def _marked(severity: Severity, code: str) -> Text:
+    """A check's line as it begins: the severity's mark and the code, in the severity's colour."""
+    mark, style = _MARKS[severity]
+    return Text(f"  {mark} {code}", style=style)
 
 
 def _bag_line(bag: BagReport, strict: bool) -> Text:
     if not bag.usable:
         done = "read" if bag.error is not None and bag.error.code == "unreadable" else "checked"
         return Text(f"could not be {done}: UNUSABLE", style="bold red")
-    counts = [bag.count(s) for s in Severity]
-    if not any(counts):
-        return Text("no problems found: PASSED", style="bold green")
-    summary = ", ".join(counted(n, s) for n, s in zip(counts, Severity, strict=True))
+    summary = ", ".join(counted(bag.count(s), s) for s in Severity) if bag.findings else "no problems found"
     if bag.failed(strict):
         return Text(f"{summary}: FAILED", style="bold red")
     return Text(f"{summary}: PASSED", style="bold green")
 
 
 def _fleet_line(reports: Sequence[BagReport], strict: bool) -> Text:
-    unusable = sum(not r.usable for r in reports)
-    failed = sum(r.usable and r.failed(strict) for r in reports)
-    passed = len(reports) - unusable - failed
-    totals = ", ".join(counted(sum(r.count(s) for r in reports if r.usable), s) for s in Severity)
+    outcomes = ", ".join(f"{n} {outcome}" for outcome, n in _outcomes(reports, strict).items())
+    totals = ", ".join(counted(n, s) for s, n in _totals(reports).items())
     failing = [r.name for r in reports if r.failed(strict)]
-    line = Text(f"{len(reports)} recordings checked: {passed} passed, {failed} failed, {unusable} unusable ({totals})")
+    line = Text(f"{len(reports)} recordings checked: {outcomes} ({totals})")
     if failing:
         line.append(f"; failing: {printable(', '.join(failing))}", style="red")
     return line
@@ -145,8 +140,20 @@ def finding_dict(finding: Finding) -> dict[str, Any]:
     }
 
 
+def _totals(reports: Sequence[BagReport]) -> dict[Severity, int]:
+    """Findings of each severity in the recordings that could be read."""
+    return {s: sum(r.count(s) for r in reports if r.usable) for s in Severity}
+
+
 def _counts(reports: Sequence[BagReport]) -> dict[str, int]:
-    return {_HEADINGS[s]: sum(r.count(s) for r in reports if r.usable) for s in Severity}
+    return {_HEADINGS[s]: n for s, n in _totals(reports).items()}
+
+
+def _outcomes(reports: Sequence[BagReport], strict: bool) -> dict[str, int]:
+    """How many recordings passed, failed, or could not be used."""
+    unusable = sum(not r.usable for r in reports)
+    failed = sum(r.usable and r.failed(strict) for r in reports)
+    return {"passed": len(reports) - unusable - failed, "failed": failed, "unusable": unusable}
 
 
 def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
@@ -183,9 +190,7 @@ def as_dict(reports: Sequence[BagReport], strict: bool, thresholds: Thresholds, 
         "exit_code": exit_code,
         "summary": {
             "recordings": len(reports),
-            "passed": sum(not r.failed(strict) for r in reports),
-            "failed": sum(r.usable and r.failed(strict) for r in reports),
-            "unusable": sum(not r.usable for r in reports),
+            **_outcomes(reports, strict),
             **_counts(reports),
         },
         "fleet": fleet_dict(reports),

@@ -127,7 +127,10 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
     partial = scratch / target.name
     try:
         (_copy_rosbag2 if source.is_dir() else _copy_ros1)(source, partial, plan)
-        _remove(target)
+        if target.is_dir():
+            shutil.rmtree(target)
+        else:
+            target.unlink(missing_ok=True)
         partial.rename(target)
     except OSError as error:  # disk full, read-only folder...
         raise BagError(str(target), f"cannot be written ({error.strerror or error})") from None
@@ -158,13 +161,6 @@ def _is_ros1(path: Path) -> bool:
             return f.read(13) == b"#ROSBAG V2.0\n"
     except OSError:
         return False
-
-
-def _remove(path: Path) -> None:
-    if path.is_dir():
-        shutil.rmtree(path)
-    elif path.exists():
-        path.unlink()
 
 
 def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:

@@ -7,8 +7,7 @@ import contextlib
 import os
 import threading
 import time
-from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal
 
 from tftools.sources.codecs.types import MessageType
 from tftools.sources.live.base import OnNotice, ignore_notice
@@ -77,20 +76,20 @@ class Node:
             publications, self._publications = list(self._publications.values()), {}
         deadline = time.monotonic() + CALL_TIMEOUT
         for subscription in subscriptions:
-            self._unregister(self.master.unregister_subscriber, subscription.topic, deadline)
+            self._unregister("Subscriber", subscription.topic, deadline)
             subscription.close()
         for publication in publications:
-            self._unregister(self.master.unregister_publisher, publication.topic, deadline)
+            self._unregister("Publisher", publication.topic, deadline)
             publication.close()
         if self._tcpros is not None:
             self._tcpros.close()
         self._slave.close()
 
-    def _unregister(self, unregister: Callable[..., None], topic: str, deadline: float) -> None:
+    def _unregister(self, role: Literal["Subscriber", "Publisher"], topic: str, deadline: float) -> None:
         left = deadline - time.monotonic()
         if left > 0:
             with contextlib.suppress(LiveError):
-                unregister(topic, self.uri, timeout=left)
+                self.master.unregister(role, topic, self.uri, timeout=left)
 
     # --- the slave API (http://wiki.ros.org/ROS/Slave_API) -----------------------------------
 

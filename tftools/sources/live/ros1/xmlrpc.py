@@ -15,7 +15,7 @@ import threading
 import time
 import xmlrpc.client
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal
 from urllib.parse import urlsplit
 from xml.parsers import expat
 from xmlrpc.server import SimpleXMLRPCRequestHandler, SimpleXMLRPCServer
@@ -199,15 +199,13 @@ class MasterClient:
         except ReplyError as error:
             raise MasterReplyError(self.uri, "registerSubscriber", str(error)) from None
 
-    def unregister_subscriber(self, topic: str, caller_api: str, timeout: float = CALL_TIMEOUT) -> None:
-        self._call("unregisterSubscriber", topic, caller_api, timeout=timeout)
-
     def register_publisher(self, topic: str, topic_type: str, caller_api: str) -> None:
         """Advertise (the master tells the topic's subscribers, who then connect)."""
         self._call("registerPublisher", topic, topic_type, caller_api)
 
-    def unregister_publisher(self, topic: str, caller_api: str, timeout: float = CALL_TIMEOUT) -> None:
-        self._call("unregisterPublisher", topic, caller_api, timeout=timeout)
+    def unregister(self, role: Literal["Subscriber", "Publisher"], topic: str, caller_api: str, timeout: float) -> None:
+        """Stop subscribing or publishing ``topic`` (``unregisterSubscriber``, ``unregisterPublisher``)."""
+        self._call(f"unregister{role}", topic, caller_api, timeout=timeout)
 
     def node_name(self, uri: str) -> str:
         """The name of the node whose slave API is at ``uri`` (``uri`` itself if the master cannot
