@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import random
+import threading
 
 import numpy as np
 import pytest
@@ -334,3 +335,25 @@ def test_transforms_round_trip_through_tftools_types(idl) -> None:
     assert batch.translation.tolist() == [list(transforms[0].translation)]
     assert batch.rotation.tolist() == [list(transforms[0].rotation)]
     assert batch.stamp.tolist() == [transforms[0].stamp]
+
+
+def test_a_failing_step_is_said_and_the_waiter_goes_on(idl, monkeypatch: pytest.MonkeyPatch) -> None:
+    from tftools.sources.live.ros2.dds import Participant, Waiter
+
+    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "OFF")
+    participant = Participant(random.randrange(100, 200))
+    waiter = Waiter(participant)
+    notices: list[str] = []
+    calls = threading.Semaphore(0)
+
+    def step() -> float:
+        calls.release()
+        raise KeyError("boom")
+
+    try:
+        waiter.start(step, "test-waiter", notices.append, "test samples")
+        assert calls.acquire(timeout=5) and calls.acquire(timeout=5)  # called again after failing
+    finally:
+        waiter.stop()
+        participant.close()
+    assert notices[0] == "dropped test samples: KeyError: 'boom'"
