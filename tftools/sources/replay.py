@@ -178,8 +178,11 @@ def follow_into(
     """``follow`` with the feed inserted into ``buffer``; ``on_tick`` holds the buffer's lock, so its
     lookups see one state while batches keep arriving."""
 
+    def add(batch: TransformBatch) -> None:
+        buffer.insert(batch)
+
     def tick() -> None:
         with buffer.lock:
             on_tick()
 
-    follow(feed, buffer.insert, tick, period=period, duration=duration)
+    follow(feed, add, tick, period=period, duration=duration)
