@@ -9,6 +9,7 @@ import dataclasses
 import math
 import random
 import threading
+from xml.etree import ElementTree
 
 import numpy as np
 import pytest
@@ -229,6 +230,8 @@ def test_discovery_settings_become_cyclone_configuration_as_in_rmw_cyclonedds() 
     local = ros2.discovery_config({"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_STATIC_PEERS": "10.0.0.2; b"})
     assert "<AllowMulticast>false</AllowMulticast>" in local
     assert '<Peers><Peer address="localhost"/><Peer address="10.0.0.2"/><Peer address="b"/></Peers>' in local
+    hostile = ros2.discovery_config({"ROS_STATIC_PEERS": "a\"<&'b"}).split(",")[1]
+    assert ElementTree.fromstring(hostile).find(".//Peer").get("address") == "a\"<&'b"
     assert ros2.discovery_config({"ROS_LOCALHOST_ONLY": "1"}) == ros2.discovery_config(
         {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST"}
     )
