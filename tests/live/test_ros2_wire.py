@@ -8,6 +8,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import random
+import threading
+from xml.etree import ElementTree
 
 import numpy as np
 import pytest
@@ -228,6 +230,8 @@ def test_discovery_settings_become_cyclone_configuration_as_in_rmw_cyclonedds() 
     local = ros2.discovery_config({"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_STATIC_PEERS": "10.0.0.2; b"})
     assert "<AllowMulticast>false</AllowMulticast>" in local
     assert '<Peers><Peer address="localhost"/><Peer address="10.0.0.2"/><Peer address="b"/></Peers>' in local
+    hostile = ros2.discovery_config({"ROS_STATIC_PEERS": "a\"<&'b"}).split(",")[1]
+    assert ElementTree.fromstring(hostile).find(".//Peer").get("address") == "a\"<&'b"
     assert ros2.discovery_config({"ROS_LOCALHOST_ONLY": "1"}) == ros2.discovery_config(
         {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST"}
     )
@@ -334,3 +338,25 @@ def test_transforms_round_trip_through_tftools_types(idl) -> None:
     assert batch.translation.tolist() == [list(transforms[0].translation)]
     assert batch.rotation.tolist() == [list(transforms[0].rotation)]
     assert batch.stamp.tolist() == [transforms[0].stamp]
+
+
+def test_a_failing_step_is_said_and_the_waiter_goes_on(idl, monkeypatch: pytest.MonkeyPatch) -> None:
+    from tftools.sources.live.ros2.dds import Participant, Waiter
+
+    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "OFF")
+    participant = Participant(random.randrange(100, 200))
+    waiter = Waiter(participant)
+    notices: list[str] = []
+    calls = threading.Semaphore(0)
+
+    def step() -> float:
+        calls.release()
+        raise KeyError("boom")
+
+    try:
+        waiter.start(step, "test-waiter", notices.append, "test samples")
+        assert calls.acquire(timeout=5) and calls.acquire(timeout=5)  # called again after failing
+    finally:
+        waiter.stop()
+        participant.close()
+    assert notices[0] == "dropped test samples: KeyError: 'boom'"

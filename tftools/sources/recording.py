@@ -135,18 +135,16 @@ FREED_BYTES_TO_GIVE_BACK = 8 << 20
 def _give_back_freed_memory() -> None:
     """Return the C heap's free pages to the system. glibc keeps freed memory for reuse, but the
     histories, being larger, cannot reuse a freed part's: the rows would count twice in peak memory."""
-    trim = _malloc_trim()
-    if trim is not None:
-        trim(0)
+    _malloc_trim()(0)
 
 
 @functools.cache
-def _malloc_trim() -> Callable[[int], int] | None:
-    """glibc's ``malloc_trim``; None elsewhere (other allocators return memory their own way)."""
+def _malloc_trim() -> Callable[[int], int]:
+    """glibc's ``malloc_trim``; elsewhere a no-op (other allocators return memory their own way)."""
     try:
         trim: Callable[[int], int] = ctypes.CDLL(None).malloc_trim
     except (OSError, AttributeError):
-        return None
+        return lambda _pad: 0
     return trim
 
 

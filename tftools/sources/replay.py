@@ -175,16 +175,14 @@ def follow_into(
     period: float = 1.0,
     duration: float | None = None,
 ) -> None:
-    """``follow`` with the feed inserted into ``buffer``; ``on_tick`` runs under the same lock
-    as the insertions, so it may look up transforms while batches keep arriving."""
-    lock = threading.Lock()
+    """``follow`` with the feed inserted into ``buffer``; ``on_tick`` holds the buffer's lock, so its
+    lookups see one state while batches keep arriving."""
 
     def add(batch: TransformBatch) -> None:
-        with lock:
-            buffer.insert(batch)
+        buffer.insert(batch)
 
     def tick() -> None:
-        with lock:
+        with buffer.lock:
             on_tick()
 
     follow(feed, add, tick, period=period, duration=duration)

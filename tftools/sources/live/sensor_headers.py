@@ -110,13 +110,11 @@ def capture_stamped(
     whose messages start with a header, but /tf, /tf_static and /clock): the recording, and each
     topic's headers with their arrival times on the recording's record clock."""
     store = HeaderStore(source.clock, topics, source.notice)
-    try:
+    with source:  # capture closes it, but not when the listener failed first
         listener = source.header_listener(store)
         try:
             listener.start()
             recording = capture(source, duration, semantics=semantics, on_jump=store.forget)
         finally:
             listener.close()
-    finally:
-        source.close()  # capture closes it, but not when the listener failed first
     return recording, store.read()

@@ -12,6 +12,3 @@ def require_cyclonedds() -> None:
         import cyclonedds.domain  # noqa: F401 - loads the C library too
     except (ImportError, OSError) as error:
         raise CycloneDdsMissingError(error) from None
-
-
-__all__ = ["CycloneDdsMissingError", "require_cyclonedds"]

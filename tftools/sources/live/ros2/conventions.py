@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass
+from xml.sax.saxutils import quoteattr
 
 from tftools.sources.contents import is_static_topic
 from tftools.sources.live.errors import DomainIdError
@@ -151,10 +152,6 @@ def discovery_config(environ: Mapping[str, str] | None = None) -> str:
             "<Discovery><ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>32</MaxAutoParticipantIndex>"
         )
     if peers:
-        parts.append("<Peers>" + "".join(f'<Peer address="{_xml(p)}"/>' for p in peers) + "</Peers>")
+        parts.append("<Peers>" + "".join(f"<Peer address={quoteattr(p)}/>" for p in peers) + "</Peers>")
     parts.append("</Discovery></Domain></CycloneDDS>,")
     return "".join(parts) + user
-
-
-def _xml(text: str) -> str:
-    return text.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")

@@ -123,7 +123,8 @@ class Participant:
 
 class Waiter:
     """A thread that waits for samples on the readers it ``watch``es and calls ``step`` after each wait,
-    until ``stop``; ``step`` returns the seconds to wait at most before the next call."""
+    until ``stop``; ``step`` returns the seconds to wait at most before the next call. A step that fails
+    (a peer's or tfx's fault) is said through ``on_notice`` as dropping ``what``, and listening goes on."""
 
     def __init__(self, participant: Participant) -> None:
         self._waitset = WaitSet(participant.dds)
@@ -133,17 +134,20 @@ class Waiter:
         self._stopped = threading.Event()
         self._thread: threading.Thread | None = None
 
-    def start(self, step: Callable[[], float], name: str) -> None:
-        self._thread = threading.Thread(target=self._run, args=(step,), name=name, daemon=True)
+    def start(self, step: Callable[[], float], name: str, on_notice: Callable[[str], None], what: str) -> None:
+        self._thread = threading.Thread(target=self._run, args=(step, on_notice, what), name=name, daemon=True)
         self._thread.start()
 
-    def _run(self, step: Callable[[], float]) -> None:
+    def _run(self, step: Callable[[], float], on_notice: Callable[[str], None], what: str) -> None:
         seconds = 1.0
         while not self._stopped.is_set():
             self._waitset.wait(duration(seconds=seconds))
             if self._stopped.is_set():
                 return
-            seconds = step()
+            try:
+                seconds = step()
+            except Exception as error:
+                on_notice(f"dropped {what}: {type(error).__name__}: {error}")
 
     def stop(self) -> None:
         if self._stopped.is_set():

@@ -115,7 +115,9 @@ class Ros2HeaderListener:
             self._waiter.watch(publications)
         except DDSException as error:
             raise DdsError(f"listen on DDS domain {self._participant.domain_id}", error) from None
-        self._waiter.start(lambda: self._step(publications), "tfx-dds-sensors")
+        self._waiter.start(
+            lambda: self._step(publications), "tfx-dds-sensors", self._store.notice, "DDS samples of sensor topics"
+        )
 
     def close(self) -> None:
         self._waiter.stop()
@@ -124,12 +126,9 @@ class Ros2HeaderListener:
     def _step(self, publications: Any) -> float:
         """New writers give new readers (whose data wakes the thread too); each sample taken is one
         message heard, now."""
-        try:
-            for reader in self._discover(publications):
-                self._waiter.watch(reader)
-            self._take()
-        except Exception as error:  # a peer's or tfx's fault: said once, listening goes on
-            self._store.notice(f"dropped DDS samples of sensor topics: {type(error).__name__}: {error}")
+        for reader in self._discover(publications):
+            self._waiter.watch(reader)
+        self._take()
         return 1.0
 
     def _discover(self, publications: Any) -> list[Any]:

@@ -76,7 +76,7 @@ class Ros2Source(LiveSource):
         except DDSException as error:
             self.close()
             raise DdsError(f"listen on DDS domain {self.domain_id}", error) from None
-        self._waiter.start(lambda: self._step(on_batch, listening), "tfx-dds")
+        self._waiter.start(lambda: self._step(on_batch, listening), "tfx-dds", self._notice_once, "DDS samples")
 
     def close(self) -> None:
         self._closed.set()
@@ -97,16 +97,12 @@ class Ros2Source(LiveSource):
     def _step(self, on_batch: OnBatch, listening: _Listening) -> float:
         """Take every sample and call ``on_batch`` with what one wake-up brought; sooner again while
         samples wait for their publisher to be named."""
-        try:
-            listening.graph.poll()
-            if listening.clock is not None:
-                self._tick(listening.clock, listening.graph)
-            batch = self._take(listening)
-        except Exception as error:
-            self._notice_once(f"dropped DDS samples: {type(error).__name__}: {error}")
-        else:
-            if len(batch):
-                self._pass_on(on_batch, batch)
+        listening.graph.poll()
+        if listening.clock is not None:
+            self._tick(listening.clock, listening.graph)
+        batch = self._take(listening)
+        if len(batch):
+            self._pass_on(on_batch, batch)
         return 0.05 if listening.pending else 1.0
 
     def _take(self, listening: _Listening) -> TransformBatch:
