@@ -6,6 +6,11 @@ import enum
 from dataclasses import dataclass
 
 
+def counted(n: int, thing: str) -> str:
+    """``n`` and ``thing``, plural unless ``n`` is 1: "1 frame", "3 frames"."""
+    return f"{n} {thing}{'' if n == 1 else 's'}"
+
+
 class Severity(str, enum.Enum):
     """How badly a problem breaks lookups: errors break them, warnings are tolerated by tf2."""
 

@@ -10,6 +10,7 @@ from typing import Annotated
 
 import typer
 
+from tftools.analysis.findings import counted
 from tftools.analysis.report import recording_report
 from tftools.analysis.wtf.fleet import sensor_data
 from tftools.cli import live, options
@@ -19,7 +20,7 @@ from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
 from tftools.render.files import write_atomically
-from tftools.render.graph import counted, recording_legend
+from tftools.render.graph import recording_legend
 from tftools.render.report import Section, page, recording_section, unreadable_section
 from tftools.sources import Recording
 from tftools.sources.contents import StampedMessages

@@ -112,7 +112,3 @@ class SimClock:
         with self._changed:
             return self._changed.wait_for(lambda: self._now >= stamp_ns, timeout_s)
 
-
-def format_stamp(stamp_ns: int) -> str:
-    """Exact ``sec.nsec`` with nine digits, as ROS prints a ``ros::Time``."""
-    return format_sec(stamp_ns)

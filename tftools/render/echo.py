@@ -12,7 +12,7 @@ from typing import IO, Any
 from xml.sax.saxutils import quoteattr
 
 from tftools.analysis.echo import EchoSeries
-from tftools.core.time import format_stamp, to_sec
+from tftools.core.time import format_sec, to_sec
 from tftools.core.transform import Transform
 from tftools.render import jsonl
 from tftools.render.escape import printable
@@ -63,7 +63,7 @@ def _lookups(series: EchoSeries, out: IO[str]) -> Iterator[int]:
         if series.valid[row]:
             yield row
         else:
-            out.write(f"Failure at {format_stamp(int(series.times[row]))}\n")
+            out.write(f"Failure at {format_sec(int(series.times[row]))}\n")
             out.write(f"Exception thrown:{printable(str(series.errors[row]))}\n")
 
 

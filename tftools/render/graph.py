@@ -10,7 +10,7 @@ from typing import cast
 
 import graphviz
 
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import is_printable, printable
@@ -233,10 +233,6 @@ def problem_summary(findings: Sequence[Finding]) -> str:
     """``"2 errors, 1 warning"``, or ``"no problems"``."""
     counts = [(s, sum(f.severity is s for f in findings)) for s in Severity]
     return ", ".join(counted(n, s.value) for s, n in counts if n) or "no problems"
-
-
-def counted(n: int, noun: str) -> str:
-    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def _row(content: str) -> str:

@@ -18,7 +18,7 @@ from typing import Any
 
 from tftools import __version__
 from tftools.analysis.edges import EdgeStats
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.graph import GraphEdge
 from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
@@ -26,7 +26,7 @@ from tftools.core.arrays import FloatArray
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render import drawing
 from tftools.render.escape import printable
-from tftools.render.graph import counted, problem_summary, to_digraph
+from tftools.render.graph import problem_summary, to_digraph
 
 #: Significant digits of the plotted figures: what a plot can show, and a smaller file.
 DIGITS = 4

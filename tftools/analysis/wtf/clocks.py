@@ -7,9 +7,9 @@ from collections.abc import Iterator, Sequence
 
 import numpy as np
 
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, counted, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
 from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference
 

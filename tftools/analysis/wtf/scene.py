@@ -12,7 +12,7 @@ import numpy as np
 from tftools.analysis.edges import Edge, EdgeStats, edge_stats, parents_in_order
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterReport, filter_report
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
@@ -180,10 +180,6 @@ def edge(parent: str, child: str) -> str:
 def base_name(frame: str) -> str:
     """``frame`` without a namespace prefix (``robot1/odom`` -> ``odom``)."""
     return frame.rsplit("/", 1)[-1]
-
-
-def counted(n: int, thing: str) -> str:
-    return f"{n} {thing}{'' if n == 1 else 's'}"
 
 
 def transforms(n: int) -> str:

@@ -8,12 +8,12 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
-from tftools.analysis.wtf.scene import Scene, counted, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
 from tftools.core.arrays import Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 

@@ -7,11 +7,11 @@ from collections.abc import Iterator
 import numpy as np
 
 from tftools.analysis.edges import EdgeStats, edge_gaps, silence_limit
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
-from tftools.analysis.wtf.scene import EdgeSamples, Scene, counted, duration, edge, transforms
+from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.time import NS_PER_S, from_sec

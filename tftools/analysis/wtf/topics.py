@@ -7,10 +7,10 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from tftools.analysis.edges import rate_hz
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
-from tftools.analysis.wtf.scene import Scene, base_name, counted, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, base_name, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
