@@ -108,18 +108,23 @@ inline Buckets bucket(const int64_t* times, int64_t n, uint64_t* keys, int threa
     return {std::move(starts), packing};
 }
 
-// keys[0..n) in order: by insertion for the few of a bucket, else by std::sort.
-inline void sort_bucket(uint64_t* keys, int64_t n) {
-    if (n > 32) {
+// Up to this many keys, a bucket is sorted by rank (into the caller's room), else by std::sort.
+constexpr int64_t RANKED = 16;
+
+// keys[0..n) in order, where they are returned: for a few, each key's rank (how many are smaller:
+// the keys differ, by their rows) places it in `room`, comparisons without branches that the
+// processor cannot predict over random times; for more, std::sort sorts them where they are.
+inline const uint64_t* sort_bucket(uint64_t* keys, int64_t n, uint64_t (&room)[RANKED]) {
+    if (n > RANKED) {
         std::sort(keys, keys + n);
-        return;
+        return keys;
     }
-    for (int64_t k = 1; k < n; ++k) {
-        const uint64_t key = keys[k];
-        int64_t j = k;
-        for (; j > 0 && keys[j - 1] > key; --j) keys[j] = keys[j - 1];
-        keys[j] = key;
+    for (int64_t i = 0; i < n; ++i) {
+        int64_t rank = 0;
+        for (int64_t j = 0; j < n; ++j) rank += keys[j] < keys[i];
+        room[rank] = keys[i];
     }
+    return room;
 }
 
 // lookup_many at times[0..n), in any order, each answer into its row (k-th time, k-th row), on
@@ -158,11 +163,12 @@ inline void lookup_any_order(const Histories& histories, int64_t target, int64_t
             fill(out, times, lo, hi, common);
         } else {
             const std::vector<int64_t>& starts = buckets.starts;
+            uint64_t room[RANKED];
             for (auto s = std::lower_bound(starts.begin(), starts.end(), lo); s + 1 < starts.end() && *s < hi; ++s) {
-                sort_bucket(keys.get() + s[0], s[1] - s[0]);
+                const uint64_t* in_order = sort_bucket(keys.get() + s[0], s[1] - s[0], room);
                 const int64_t b = s - starts.begin();
                 for (int64_t k = s[0]; k < s[1]; ++k) {
-                    const uint64_t key = keys[k];
+                    const uint64_t key = in_order[k - s[0]];
                     sorted_times[k] = buckets.packing.time(key, b, times);
                     rows[k] = buckets.packing.row(key);
                 }
