@@ -3,9 +3,9 @@
 // lookup_many is fastest over ascending times (one walk per block, runs of times per interval),
 // so times in another order are put in order first: a counting sort of each time into one of
 // about n / TIMES_PER_BUCKET buckets of equal span, then a sort of each bucket (a few times each, in the cache).
-// That is linear where an argsort is not, and leaves each row's place with its time. The sorted
-// times are then cut into one span per thread, each thread sorting its own buckets and walking
-// its span. The answers do not depend on the order (the same operations at each time).
+// That is linear where an argsort is not, and leaves each row's place with its time. The buckets
+// are then cut into one span per thread, each thread sorting its own buckets and walking their
+// times a cache-sized chunk at a time. The answers do not depend on the order (the same operations at each time).
 #pragma once
 
 #include <algorithm>
@@ -127,6 +127,36 @@ inline const uint64_t* sort_bucket(uint64_t* keys, int64_t n, uint64_t (&room)[R
     return room;
 }
 
+// Times in order with their rows, handed to lookup_many a chunk at a time (and the last, part of
+// one, on `flush`): a chunk stays in the cache from being written to being walked, where a sorted
+// copy of all the times would be written to memory and read back.
+class Chunks {
+   public:
+    static constexpr int64_t SIZE = 4096;
+
+    Chunks(const Histories& histories, int64_t target, int64_t source, const Outputs& out)
+        : histories_(histories), target_(target), source_(source), out_(out) {}
+
+    void add(int64_t time, int64_t row) {
+        times_[held_] = time, rows_[held_] = row;
+        if (++held_ == SIZE) flush();
+    }
+
+    void flush() {
+        if (held_ == 0) return;
+        lookup_many(histories_, target_, source_, times_.data(), held_,
+                    {rows_.data(), out_.stamps, out_.values, out_.valid, out_.filled}, true);
+        held_ = 0;
+    }
+
+   private:
+    const Histories& histories_;
+    int64_t target_, source_;
+    Outputs out_;
+    std::vector<int64_t> times_ = std::vector<int64_t>(SIZE), rows_ = std::vector<int64_t>(SIZE);
+    int64_t held_ = 0;
+};
+
 // lookup_many at times[0..n), in any order, each answer into its row (k-th time, k-th row), on
 // `threads` threads (this one among them).
 inline void lookup_any_order(const Histories& histories, int64_t target, int64_t source, const int64_t* times,
@@ -135,20 +165,14 @@ inline void lookup_any_order(const Histories& histories, int64_t target, int64_t
     int64_t common = 0;
     latest_common_time(histories, target, source, common);
     out.filled = true;
-    // Each time's key, then (bucket by bucket, sorted) its row; the times in order alongside.
-    const std::unique_ptr<uint64_t[]> keys(new uint64_t[n]);
-    int64_t* const rows = reinterpret_cast<int64_t*>(keys.get());
-    std::unique_ptr<int64_t[]> sorted_times;
-    const int64_t* sorted = times;
-    std::vector<int64_t> bounds(threads + 1, n);  // thread t walks sorted[bounds[t]:bounds[t + 1]]
+    std::vector<int64_t> bounds(threads + 1, n);  // thread t walks times[bounds[t]:bounds[t + 1]] in order
     const bool ascending = std::is_sorted(times, times + n);
+    std::unique_ptr<uint64_t[]> keys;  // each time's key, by bucket
     Buckets buckets;
     if (ascending) {
-        std::iota(rows, rows + n, 0);
         for (int t = 0; t < threads; ++t) bounds[t] = n * t / threads;
     } else {
-        sorted_times.reset(new int64_t[n]);
-        sorted = sorted_times.get();
+        keys.reset(new uint64_t[n]);
         buckets = bucket(times, n, keys.get(), static_cast<int>(std::min<int64_t>(threads, n)), out, common);
         const std::vector<int64_t>& starts = buckets.starts;
         size_t at = 0;  // each thread's first bucket: where its share of the times begins
@@ -159,23 +183,22 @@ inline void lookup_any_order(const Histories& histories, int64_t target, int64_t
     }
     const auto run = [&](int t) {
         const int64_t lo = bounds[t], hi = bounds[t + 1];
+        Chunks chunks(histories, target, source, out);
         if (ascending) {
             fill(out, times, lo, hi, common);
+            for (int64_t k = lo; k < hi; ++k) chunks.add(times[k], k);
         } else {
             const std::vector<int64_t>& starts = buckets.starts;
             uint64_t room[RANKED];
             for (auto s = std::lower_bound(starts.begin(), starts.end(), lo); s + 1 < starts.end() && *s < hi; ++s) {
                 const uint64_t* in_order = sort_bucket(keys.get() + s[0], s[1] - s[0], room);
                 const int64_t b = s - starts.begin();
-                for (int64_t k = s[0]; k < s[1]; ++k) {
-                    const uint64_t key = in_order[k - s[0]];
-                    sorted_times[k] = buckets.packing.time(key, b, times);
-                    rows[k] = buckets.packing.row(key);
+                for (int64_t k = 0; k < s[1] - s[0]; ++k) {
+                    chunks.add(buckets.packing.time(in_order[k], b, times), buckets.packing.row(in_order[k]));
                 }
             }
         }
-        lookup_many(histories, target, source, sorted + lo, hi - lo, {rows + lo, out.stamps, out.values, out.valid, true},
-                    true);
+        chunks.flush();
     };
     on_threads(threads, run);
 }
