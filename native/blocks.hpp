@@ -52,7 +52,16 @@ struct Outputs {
     int64_t* stamps;  // the time used (0 resolved to the latest common time)
     double* values;   // 7 per row; identity where it failed
     bool* valid;      // whether tf2 would have succeeded
+    // Whether stamps and valid already hold each row's resolved time and true (`fill`): then only
+    // the values, and a failure's valid, are written to the row (fewer scattered writes).
+    bool filled = false;
 };
+
+// Each row's resolved time (0: `common`) and true into out's stamps and valid, rows lo..hi of times.
+inline void fill(const Outputs& out, const int64_t* times, int64_t lo, int64_t hi, int64_t common) {
+    for (int64_t k = lo; k < hi; ++k) out.stamps[k] = times[k] == 0 ? common : times[k];
+    std::fill(out.valid + lo, out.valid + hi, true);
+}
 
 // A static edge: its last sample at every time (`row_at`). False if it has none (or another parent).
 inline bool static_block(const History& h, int64_t parent, int64_t n, Accumulator& acc, bool composed) {
@@ -143,8 +152,12 @@ TFCORE_VECTOR_VERSIONS inline bool chain_block(const Histories& histories, const
 
 inline void put(const Outputs& out, int64_t k, int64_t time, bool ok, const Pose& p) {
     const int64_t row = out.rows[k];
-    out.stamps[row] = time;
-    out.valid[row] = ok;
+    if (!out.filled) {
+        out.stamps[row] = time;
+        out.valid[row] = ok;
+    } else if (!ok) {
+        out.valid[row] = false;
+    }
     double* v = out.values + 7 * row;
     v[0] = p.v.x, v[1] = p.v.y, v[2] = p.v.z, v[3] = p.q.x, v[4] = p.q.y, v[5] = p.q.z, v[6] = p.q.w;
 }
@@ -176,7 +189,7 @@ inline void lookup_many(const Histories& histories, int64_t target, int64_t sour
     for (int64_t lo = 0; lo < n; lo += BLOCK) {
         const int64_t m = std::min(BLOCK, n - lo);
         const int64_t* block = times + lo;
-        const Outputs part{out.rows + lo, out.stamps, out.values, out.valid};
+        const Outputs part{out.rows + lo, out.stamps, out.values, out.valid, out.filled};
         if (resolve && block[0] != 0) {
             walk(histories, target, source, block[0], chain, memo);
             resolve = false;

@@ -2,10 +2,10 @@
 //
 // lookup_many is fastest over ascending times (one walk per block, runs of times per interval),
 // so times in another order are put in order first: a counting sort of each time into one of
-// about n / 4 buckets of equal span, then a sort of each bucket (a few times each, in the cache).
-// That is linear where an argsort is not, and leaves each row's place with its time. The sorted
-// times are then cut into one span per thread, each thread sorting its own buckets and walking
-// its span. The answers do not depend on the order (the same operations at each time).
+// about n / TIMES_PER_BUCKET buckets of equal span, then a sort of each bucket (a few times each, in the cache).
+// That is linear where an argsort is not, and leaves each row's place with its time. The buckets
+// are then cut into one span per thread, each thread sorting its own buckets and walking their
+// times a cache-sized chunk at a time. The answers do not depend on the order (the same operations at each time).
 #pragma once
 
 #include <algorithm>
@@ -28,11 +28,44 @@ inline void on_threads(int threads, const Work& work) {
     for (std::thread& helper : helpers) helper.join();
 }
 
-// times[0..n) into sorted[0..n) by bucket of equal span, each bucket still unordered, with each
-// time's index in rows; returns where each bucket begins (bucket b: [starts[b], starts[b + 1])).
-// A counting sort on `threads` threads (n >= threads), each counting, then placing, its share of the
-// times; within a bucket, the first thread's times come first.
-inline std::vector<int64_t> bucket(const int64_t* times, int64_t n, int64_t* sorted, int64_t* rows, int threads) {
+// Times a bucket holds on average: few enough to sort in the cache, many enough that each thread's
+// bucket counters (8 bytes a bucket) stay in its L2 cache as it counts and places the times.
+constexpr int64_t TIMES_PER_BUCKET = 8;
+
+// How a time sorts within its bucket: one 64-bit key, its offset in the bucket (less the `drop`
+// lowest bits) above its row, so that placing a time writes one value and a bucket sorts plain
+// integers. Where the offset and the row do not fit 64 bits together (spans of centuries), the
+// offset's lowest bits go: a bucket is then only nearly sorted, which lookup_many answers all the
+// same (it takes any order), and a time is read back from its row.
+struct Packing {
+    uint64_t low = 0;  // the earliest time
+    int shift = 0;     // a bucket spans 2**shift ns
+    int row_bits = 0;
+    int drop = 0;
+
+    uint64_t key(int64_t time, int64_t row) const {
+        const uint64_t offset = (static_cast<uint64_t>(time) - low) & ((uint64_t{1} << shift) - 1);
+        return (offset >> drop) << row_bits | static_cast<uint64_t>(row);
+    }
+    int64_t row(uint64_t key) const { return static_cast<int64_t>(key & ((uint64_t{1} << row_bits) - 1)); }
+    int64_t time(uint64_t key, int64_t bucket, const int64_t* times) const {
+        if (drop != 0) return times[row(key)];
+        return static_cast<int64_t>(low + (static_cast<uint64_t>(bucket) << shift) + (key >> row_bits));
+    }
+};
+
+// Where each bucket of sorted times begins (bucket b: [starts[b], starts[b + 1])), and its keys' packing.
+struct Buckets {
+    std::vector<int64_t> starts;
+    Packing packing;
+};
+
+// times[0..n), each as its key, into keys[0..n) by bucket of equal span, each bucket still
+// unordered. A counting sort on `threads` threads (n >= threads), each counting, then placing, its
+// share of the times (within a bucket, the first thread's times come first); counting, each also
+// fills its share of the stamps and valid outputs (`fill`).
+inline Buckets bucket(const int64_t* times, int64_t n, uint64_t* keys, int threads, const Outputs& out,
+                      int64_t common) {
     const auto share = [&](int t) { return std::pair{n * t / threads, n * (t + 1) / threads}; };
     std::vector<std::pair<int64_t, int64_t>> ranges(threads);
     on_threads(threads, [&](int t) {
@@ -42,21 +75,25 @@ inline std::vector<int64_t> bucket(const int64_t* times, int64_t n, int64_t* sor
     });
     int64_t low = ranges[0].first, high = ranges[0].second;
     for (const auto& [l, h] : ranges) low = std::min(low, l), high = std::max(high, h);
+    Packing packing;
+    packing.low = static_cast<uint64_t>(low);
     // Unsigned: any span of int64 times fits, negative ones included.
-    const uint64_t span = static_cast<uint64_t>(high) - static_cast<uint64_t>(low);
-    const uint64_t wanted = std::max<uint64_t>(1, static_cast<uint64_t>(n) / 4);
-    int shift = 0;
-    while ((span >> shift) >= wanted) ++shift;
-    const auto key = [&](int64_t time) {
-        return static_cast<int64_t>((static_cast<uint64_t>(time) - static_cast<uint64_t>(low)) >> shift);
+    const uint64_t span = static_cast<uint64_t>(high) - packing.low;
+    const uint64_t wanted = std::max<uint64_t>(1, static_cast<uint64_t>(n / TIMES_PER_BUCKET));
+    while (packing.shift < 63 && (span >> packing.shift) >= wanted) ++packing.shift;
+    while ((static_cast<uint64_t>(n - 1) >> packing.row_bits) != 0) ++packing.row_bits;
+    packing.drop = std::max(0, packing.shift + packing.row_bits - 64);
+    const auto bucket_of = [&](int64_t time) {
+        return static_cast<int64_t>((static_cast<uint64_t>(time) - packing.low) >> packing.shift);
     };
-    const int64_t buckets = key(high) + 1;
+    const int64_t buckets = bucket_of(high) + 1;
     // Per thread, the count of its times in each bucket, then where the next of them goes.
     std::vector<std::vector<int64_t>> next(threads);
     on_threads(threads, [&](int t) {
         next[t].assign(buckets, 0);
         const auto [lo, hi] = share(t);
-        for (int64_t k = lo; k < hi; ++k) ++next[t][key(times[k])];
+        for (int64_t k = lo; k < hi; ++k) ++next[t][bucket_of(times[k])];
+        fill(out, times, lo, hi, common);
     });
     std::vector<int64_t> starts(buckets + 1, n);
     int64_t placed = 0;
@@ -66,46 +103,78 @@ inline std::vector<int64_t> bucket(const int64_t* times, int64_t n, int64_t* sor
     }
     on_threads(threads, [&](int t) {
         const auto [lo, hi] = share(t);
-        for (int64_t k = lo; k < hi; ++k) {
-            const int64_t at = next[t][key(times[k])]++;
-            sorted[at] = times[k], rows[at] = k;
-        }
+        for (int64_t k = lo; k < hi; ++k) keys[next[t][bucket_of(times[k])]++] = packing.key(times[k], k);
     });
-    return starts;
+    return {std::move(starts), packing};
 }
 
-// times[0..n) in order, rows[0..n) alongside: by insertion for the few of a bucket, else by std::sort.
-inline void sort_bucket(int64_t* times, int64_t* rows, int64_t n) {
-    if (n > 32) {
-        std::vector<std::pair<int64_t, int64_t>> pairs(n);
-        for (int64_t k = 0; k < n; ++k) pairs[k] = {times[k], rows[k]};
-        std::sort(pairs.begin(), pairs.end());
-        for (int64_t k = 0; k < n; ++k) times[k] = pairs[k].first, rows[k] = pairs[k].second;
-        return;
+// Up to this many keys, a bucket is sorted by rank (into the caller's room), else by std::sort.
+constexpr int64_t RANKED = 16;
+
+// keys[0..n) in order, where they are returned: for a few, each key's rank (how many are smaller:
+// the keys differ, by their rows) places it in `room`, comparisons without branches that the
+// processor cannot predict over random times; for more, std::sort sorts them where they are.
+inline const uint64_t* sort_bucket(uint64_t* keys, int64_t n, uint64_t (&room)[RANKED]) {
+    if (n > RANKED) {
+        std::sort(keys, keys + n);
+        return keys;
     }
-    for (int64_t k = 1; k < n; ++k) {
-        const int64_t time = times[k], row = rows[k];
-        int64_t j = k;
-        for (; j > 0 && times[j - 1] > time; --j) times[j] = times[j - 1], rows[j] = rows[j - 1];
-        times[j] = time, rows[j] = row;
+    for (int64_t i = 0; i < n; ++i) {
+        int64_t rank = 0;
+        for (int64_t j = 0; j < n; ++j) rank += keys[j] < keys[i];
+        room[rank] = keys[i];
     }
+    return room;
 }
+
+// Times in order with their rows, handed to lookup_many a chunk at a time (and the last, part of
+// one, on `flush`): a chunk stays in the cache from being written to being walked, where a sorted
+// copy of all the times would be written to memory and read back.
+class Chunks {
+   public:
+    static constexpr int64_t SIZE = 4096;
+
+    Chunks(const Histories& histories, int64_t target, int64_t source, const Outputs& out)
+        : histories_(histories), target_(target), source_(source), out_(out) {}
+
+    void add(int64_t time, int64_t row) {
+        times_[held_] = time, rows_[held_] = row;
+        if (++held_ == SIZE) flush();
+    }
+
+    void flush() {
+        if (held_ == 0) return;
+        lookup_many(histories_, target_, source_, times_.data(), held_,
+                    {rows_.data(), out_.stamps, out_.values, out_.valid, out_.filled}, true);
+        held_ = 0;
+    }
+
+   private:
+    const Histories& histories_;
+    int64_t target_, source_;
+    Outputs out_;
+    std::vector<int64_t> times_ = std::vector<int64_t>(SIZE), rows_ = std::vector<int64_t>(SIZE);
+    int64_t held_ = 0;
+};
 
 // lookup_many at times[0..n), in any order, each answer into its row (k-th time, k-th row), on
 // `threads` threads (this one among them).
 inline void lookup_any_order(const Histories& histories, int64_t target, int64_t source, const int64_t* times,
-                             int64_t n, const Outputs& out, int threads) {
+                             int64_t n, Outputs out, int threads) {
     if (n == 0) return;
-    const std::unique_ptr<int64_t[]> sorted(new int64_t[n]), rows(new int64_t[n]);
-    std::vector<int64_t> bounds(threads + 1, n);  // thread t walks sorted[bounds[t]:bounds[t + 1]]
+    int64_t common = 0;
+    latest_common_time(histories, target, source, common);
+    out.filled = true;
+    std::vector<int64_t> bounds(threads + 1, n);  // thread t walks times[bounds[t]:bounds[t + 1]] in order
     const bool ascending = std::is_sorted(times, times + n);
-    std::vector<int64_t> starts;
+    std::unique_ptr<uint64_t[]> keys;  // each time's key, by bucket
+    Buckets buckets;
     if (ascending) {
-        std::copy(times, times + n, sorted.get());
-        std::iota(rows.get(), rows.get() + n, 0);
         for (int t = 0; t < threads; ++t) bounds[t] = n * t / threads;
     } else {
-        starts = bucket(times, n, sorted.get(), rows.get(), static_cast<int>(std::min<int64_t>(threads, n)));
+        keys.reset(new uint64_t[n]);
+        buckets = bucket(times, n, keys.get(), static_cast<int>(std::min<int64_t>(threads, n)), out, common);
+        const std::vector<int64_t>& starts = buckets.starts;
         size_t at = 0;  // each thread's first bucket: where its share of the times begins
         for (int t = 0; t < threads; ++t) {
             while (starts[at] < n * t / threads) ++at;
@@ -114,13 +183,22 @@ inline void lookup_any_order(const Histories& histories, int64_t target, int64_t
     }
     const auto run = [&](int t) {
         const int64_t lo = bounds[t], hi = bounds[t + 1];
-        if (!ascending) {
+        Chunks chunks(histories, target, source, out);
+        if (ascending) {
+            fill(out, times, lo, hi, common);
+            for (int64_t k = lo; k < hi; ++k) chunks.add(times[k], k);
+        } else {
+            const std::vector<int64_t>& starts = buckets.starts;
+            uint64_t room[RANKED];
             for (auto s = std::lower_bound(starts.begin(), starts.end(), lo); s + 1 < starts.end() && *s < hi; ++s) {
-                sort_bucket(sorted.get() + s[0], rows.get() + s[0], s[1] - s[0]);
+                const uint64_t* in_order = sort_bucket(keys.get() + s[0], s[1] - s[0], room);
+                const int64_t b = s - starts.begin();
+                for (int64_t k = 0; k < s[1] - s[0]; ++k) {
+                    chunks.add(buckets.packing.time(in_order[k], b, times), buckets.packing.row(in_order[k]));
+                }
             }
         }
-        lookup_many(histories, target, source, sorted.get() + lo, hi - lo,
-                    {rows.get() + lo, out.stamps, out.values, out.valid}, true);
+        chunks.flush();
     };
     on_threads(threads, run);
 }

@@ -117,3 +117,25 @@ def test_lookup_many_answers_as_single_lookups(seed, features, monkeypatch):
                     assert got.stamps[i] == expected[1]
                     np.testing.assert_allclose(got.translations[i], expected[0][:3], rtol=0, atol=1e-12)
                     np.testing.assert_allclose(got.rotations[i], expected[0][3:], rtol=0, atol=1e-12)
+
+
+def test_lookup_many_over_times_spanning_all_int64(monkeypatch):
+    """Times too far apart for a bucket's sorting key to hold each whole (the buckets are then only
+    nearly sorted, each time read back from its row): the same answers as one by one, in their rows."""
+    monkeypatch.setattr(kernels, "_TIMES_PER_THREAD", 7)
+    buffer = Buffer(cache_time=None)
+    for k in range(1, 11):
+        angle = 0.3 * k
+        rotation = (0.0, 0.0, float(np.sin(angle / 2)), float(np.cos(angle / 2)))
+        buffer.set_transform(Transform((float(k), k * k / 7, 0), rotation, k * S, "a", "b"))
+    rng = np.random.default_rng(3)
+    extremes = [np.iinfo(np.int64).min, np.iinfo(np.int64).max, -S, 0, S, 10 * S]
+    times = rng.permutation(np.concatenate([rng.integers(S, 10 * S, 500), extremes]))
+    got = buffer.lookup_many("a", "b", times)
+    assert got.valid.sum() == 500 + 3  # inside the history, its ends and 0
+    for i, time in enumerate(times.tolist()):
+        expected = python_walk(buffer, "a", "b", time)
+        assert got.valid[i] == (expected is not None), time
+        assert got.stamps[i] == (time or 10 * S)
+        if expected is not None:
+            assert [*got.translations[i], *got.rotations[i]] == expected[0]  # the very same bits
