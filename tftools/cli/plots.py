@@ -6,9 +6,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tftools.cli.common import UsageError, stderr
+from tftools.cli.common import UsageError, say_written
 from tftools.cli.outputs import check_output
-from tftools.render.escape import printable
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -34,4 +33,4 @@ def write_plot(figure: Figure, plot: Path, what: str) -> None:
     from tftools.render.plots import write_figure
 
     write_figure(figure, plot)
-    stderr.print(f"wrote {printable(str(plot))}: {printable(what)}")
+    say_written(str(plot), what)
