@@ -20,7 +20,6 @@ from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
 from tftools.sources import Recording, read_recording
 from tftools.sources.bag import ProgressCallback
-from tftools.sources.storage.locations import expand
 
 
 def _console(*, to_stderr: bool) -> Console:
@@ -160,12 +159,6 @@ def open_recording(
     for problem in recording.problems:
         warn(problem)
     return recording
-
-
-def recordings_given(paths: Sequence[str] | None, bags: Sequence[str] | None) -> list[list[str]]:
-    """A fleet command's recordings: each BAG argument on its own (globs and URL prefixes expanded),
-    the -b bags together as one more."""
-    return [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
 
 
 def local_size(location: str) -> int:

@@ -16,15 +16,18 @@ if TYPE_CHECKING:
 PLOT_FILE = "a .png, .svg or .pdf file; needs matplotlib: pip install 'tftools\\[plot]'"
 
 
-def check_plot(plot: Path, inputs: Sequence[str]) -> None:
-    """A picture ``--plot`` can write: matplotlib installed, a suffix it draws, never over or into an input."""
+def check_plot(plot: Path | None, inputs: Sequence[str] | None) -> None:
+    """A picture ``--plot`` can write (None: none asked for): matplotlib installed, a suffix it draws,
+    never over or into an input."""
     from tftools.render.plots import SUFFIXES, plot_format, require_matplotlib
 
+    if plot is None:
+        return
     if plot_format(plot) is None:
         raise UsageError(
             f"--plot {plot}: not a picture tfx draws", f"name a {', '.join(SUFFIXES)} file, e.g. --plot {plot.stem}.png"
         )
-    check_output(plot, inputs, option="--plot", file_name="plot.png")
+    check_output(plot, inputs or [], option="--plot", file_name="plot.png")
     require_matplotlib()
 
 

@@ -13,7 +13,7 @@ import typer
 from tftools.analysis.report import recording_report
 from tftools.analysis.wtf.fleet import sensor_data
 from tftools.cli import live, options
-from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, recordings_given, say_written, warn
+from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, say_written, warn
 from tftools.cli.outputs import check_output
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
@@ -60,7 +60,7 @@ def command(
     Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
     [cyan]tfx report --ros1 -d 10 -o live.html[/]
     """
-    groups = recordings_given(paths, bags)
+    groups = options.recordings_given(paths, bags)
     _check_output(output, [p for group in groups for p in group])
     if groups:
         sections = _bag_sections(groups, topics, tf2, target, sensors)

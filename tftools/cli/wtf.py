@@ -20,18 +20,7 @@ from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
 from tftools.cli import executors, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import (
-    Exit,
-    UsageError,
-    count_bar,
-    exit_with,
-    hinted,
-    progress_bar,
-    recordings_given,
-    say_error,
-    stdout,
-    warn,
-)
+from tftools.cli.common import Exit, UsageError, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
 from tftools.cli.deadline import timed
 from tftools.render import wtf as render
 from tftools.render import wtf_lines as render_lines
@@ -171,7 +160,7 @@ def command(
     expected = expected_tree.read_expected(expect, *tolerances) if expect is not None else None
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
-    groups = recordings_given(paths, bags)
+    groups = options.recordings_given(paths, bags)
     if groups:
         one = functools.partial(
             check_bags,
