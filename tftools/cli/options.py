@@ -1,4 +1,4 @@
-"""The options and arguments several commands take, each declared once: ``bags: options.Bags = None``."""
+"""The options and arguments several commands take, each declared once (``bags: options.Bags = None``)."""
 
 from __future__ import annotations
 
