@@ -52,10 +52,10 @@ def main() -> None:
 
 
 def _failed(error: TfToolsError) -> int:
-    """``fail``'s one line, and its exit code."""
-    from tftools.cli.common import Exit, hinted, say_error
+    """The error's one line, and its exit code."""
+    from tftools.cli.common import Exit, say_failure
 
-    say_error(hinted(str(error), error.hint))
+    say_failure(error)
     return int(Exit.UNUSABLE)
 
 

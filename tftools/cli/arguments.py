@@ -32,7 +32,7 @@ def _number(text: str, option: str, what: str, example: str) -> float:
     return value
 
 
-def parse_time(text: str, recording: Recording, option: str = "TIME") -> int:
+def parse_time(text: str, recording: Recording, option: str) -> int:
     """TIME as nanoseconds on the tf stamps' clock: absolute seconds, ``+S`` from the tf data's first
     stamp, ``-S`` from its last (so +1 is a second into the tf, whatever clock the bag was recorded on).
 
@@ -79,11 +79,11 @@ def positive_seconds(value: float, option: str, example: str = "5") -> float:
     return value
 
 
-def rate_hz(value: float, option: str = "--rate", example: str = "10") -> float:
-    """A rate (``--rate``): finite, from ``MIN_RATE_HZ`` to ``MAX_RATE_HZ``."""
+def rate_hz(value: float, example: str = "10") -> float:
+    """``--rate``: finite, from ``MIN_RATE_HZ`` to ``MAX_RATE_HZ``."""
     if not math.isfinite(value) or not MIN_RATE_HZ <= value <= MAX_RATE_HZ:
         bounds = f"from {MIN_RATE_HZ:g} to {MAX_RATE_HZ:g} a second"
-        raise UsageError(f"{option} {value:g}: must be {bounds}", f"e.g. {option} {example}")
+        raise UsageError(f"--rate {value:g}: must be {bounds}", f"e.g. --rate {example}")
     return value
 
 

@@ -1,7 +1,4 @@
-"""tfx's typer application, whose subcommands load on demand.
-
-A run imports only the subcommand it runs (``SUBCOMMANDS``): each module loads, and its click
-command is built, when the command line names it (``tfx --help`` loads them all, for their help)."""
+"""tfx's typer application: a run imports only the subcommand it runs (``tfx --help`` all, for their help)."""
 
 from __future__ import annotations
 
@@ -16,14 +13,13 @@ import typer.models
 
 from tftools.cli.app import VERSION_LINE
 
-#: The subcommands, each a module of ``tftools.cli`` (``view-frames``: ``view_frames``) with its ``command``
-#: function, and its click ``CONTEXT`` settings where it has some.
+#: Each a module of ``tftools.cli`` (``view-frames``: ``view_frames``): its ``command``, and ``CONTEXT`` if any.
 SUBCOMMANDS = ("diff", "echo", "filter", "frames", "monitor", "report", "view-frames", "wtf", "static")
 
 
 class _Subcommands(MutableMapping[str, Any]):
-    """The group's click commands by name (click's own or typer's copy of it: ``Any``), each built
-    from its module on first use; listing their names imports nothing."""
+    """The group's click commands by name (click's or typer's: ``Any``), each built from its module on
+    first use; listing their names imports nothing."""
 
     def __init__(self) -> None:
         self._built: dict[str, Any] = {}

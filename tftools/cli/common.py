@@ -70,10 +70,9 @@ class InternalError(TfToolsError):
             self.hint = "this is a bug in tfx: please report it with the command; TFX_DEBUG=1 shows the traceback"
 
 
-def fail(error: TfToolsError, code: Exit = Exit.UNUSABLE) -> NoReturn:
-    """Print the error as one line (with its hint) and exit with ``code``."""
+def say_failure(error: TfToolsError) -> None:
+    """The error and its hint as ``say_error``'s one line."""
     say_error(hinted(str(error), error.hint))
-    raise typer.Exit(code)
 
 
 def hinted(message: str, hint: str) -> str:
@@ -99,6 +98,11 @@ def warn(message: str) -> None:
     stderr.print(Text("tfx: warning:", style="yellow"), Text(printable(message)))
 
 
+def say_written(where: str, what: str) -> None:
+    """``wrote WHERE: WHAT`` on stderr, once a command has written its file."""
+    stderr.print(f"wrote {printable(where)}: {printable(what)}")
+
+
 #: Local bags larger than this together are read with a progress bar.
 LARGE_BYTES = 20_000_000
 
@@ -112,13 +116,14 @@ def progress_bar(bags: Sequence[str]) -> Iterator[ProgressCallback | None]:
 
 @contextmanager
 def count_bar(what: str, total: int) -> Iterator[Callable[[], None]]:
-    """A bar on stderr counting ``what`` done of ``total``, when stderr is a terminal; yields ``advance()``."""
-    with _bar(what, total) as update:
+    """A bar on stderr counting ``what`` done of ``total``, when there are several and stderr is a terminal;
+    yields ``advance()``."""
+    with _bar(what, total, enabled=total > 1) as update:
         yield (lambda: None) if update is None else lambda: update(advance=1)
 
 
 @contextmanager
-def _bar(label: str, total: int | None, enabled: bool = True) -> Iterator[Callable[..., None] | None]:
+def _bar(label: str, total: int | None, enabled: bool) -> Iterator[Callable[..., None] | None]:
     """A transient bar on stderr, of bytes (``total`` None: known later) or of a count; yields its task's
     ``update`` (None when not drawn)."""
     if not enabled or not stderr.is_terminal:

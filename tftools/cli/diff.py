@@ -16,7 +16,7 @@ from tftools.cli import options
 from tftools.cli.common import Exit, TextOrJson, exit_with, open_recording
 from tftools.core.semantics import Semantics
 from tftools.render import diff as render
-from tftools.sources.storage.locations import is_url
+from tftools.sources.storage.locations import METADATA, is_url
 
 
 def command(
@@ -58,7 +58,7 @@ def command(
 def _is_tree_file(location: str) -> bool:
     """A local YAML file other than a rosbag2 bag's own ``metadata.yaml``."""
     path = Path(location)
-    return not is_url(location) and path.suffix in (".yaml", ".yml") and path.name != "metadata.yaml"
+    return not is_url(location) and path.suffix in (".yaml", ".yml") and path.name != METADATA
 
 
 def _read(location: str, topics: list[str] | None, semantics: Semantics | None) -> TreeShape:

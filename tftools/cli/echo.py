@@ -109,8 +109,7 @@ def command(
     [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/],
     [cyan]tfx echo base_link camera -b robot.bag --at +5 --format static[/]
     """
-    if plot is not None:
-        check_plot(plot, bags or [])
+    check_plot(plot, bags)
     every = every or (plot is not None and rate is None and at is None)
     rate_given, rate = rate, rate_hz(1.0 if rate is None else rate)
     if wait is not None:
@@ -175,16 +174,12 @@ class Lines:
         self.print(series)
         self.shown.append(dataclasses.replace(series, times=np.array([now], np.int64)))
 
-    @property
-    def failed(self) -> bool:
-        return not all(s.valid.all() for s in self.shown)
-
     def done(self) -> Exit:
         """Draw the picture, if asked for and anything was shown; PROBLEMS if a lookup failed."""
         if self.plot is not None and self.shown:
             series = joined(self.shown)
             write_plot(echo_figure(series), self.plot, f"{len(series)} lookups of {series.target} <- {series.source}")
-        return Exit.PROBLEMS if self.failed else Exit.OK
+        return Exit.OK if all(s.valid.all() for s in self.shown) else Exit.PROBLEMS
 
 
 def _live(

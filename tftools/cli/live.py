@@ -34,9 +34,7 @@ def ros_name(ros1: bool | None) -> str | None:
     return None if ros1 is None else ("ros1" if ros1 else "ros2")
 
 
-def open_source(
-    ros1: bool | None = None, use_sim_time: bool | None = None, topics: Sequence[str] | None = None
-) -> LiveSource:
+def open_source(ros1: bool | None, use_sim_time: bool | None, topics: Sequence[str] | None) -> LiveSource:
     """The live system the environment or ``--ros1/--ros2`` names, its notices as warnings."""
     from tftools.sources.live import open_live  # the live modules load only when listening
 
@@ -71,11 +69,11 @@ def capture_live(
 
 
 def capture_with_headers(
-    ros1: bool | None = None,
-    use_sim_time: bool | None = None,
-    duration: float = 5.0,
-    sensor_topics: Sequence[str] | None = None,
-    semantics: Semantics | None = None,
+    ros1: bool | None,
+    use_sim_time: bool | None,
+    duration: float,
+    sensor_topics: Sequence[str] | None,
+    semantics: Semantics | None,
 ) -> tuple[Recording, StampedRead]:
     """As ``capture_live`` (tf on /tf and /tf_static), and the headers of the sensor topics heard
     meanwhile (default: every topic whose messages start with a header), their problems not yet said."""

@@ -69,8 +69,7 @@ def command(
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
     """
-    if plot is not None:
-        check_plot(plot, bags or [])
+    check_plot(plot, bags)
     trace = MonitorTrace() if plot is not None else None
     if (target is None) != (source is None):
         raise UsageError("give two frames or none", "tfx monitor TARGET SOURCE, e.g. tfx monitor map base_link")

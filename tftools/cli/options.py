@@ -1,12 +1,14 @@
-"""The options and arguments several commands take, each declared once: ``bags: options.Bags = None``."""
+"""The options and arguments several commands take, each declared once (``bags: options.Bags = None``)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Annotated
 
 import typer
 
 from tftools.core.semantics import Semantics
+from tftools.sources.storage.locations import expand
 
 Bags = Annotated[
     list[str] | None,
@@ -76,3 +78,9 @@ Sensors = Annotated[
         "start with a Header; live, none (listening to every camera would load the network).",
     ),
 ]
+
+
+def recordings_given(paths: Sequence[str] | None, bags: Sequence[str] | None) -> list[list[str]]:
+    """A fleet command's recordings: each BAG argument on its own (globs and URL prefixes expanded),
+    the -b bags together as one more."""
+    return [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])

@@ -7,11 +7,10 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from tftools.cli.common import UsageError
-from tftools.sources.storage.locations import is_url
+from tftools.sources.storage.locations import METADATA, is_url
 
 #: What a rosbag2 directory holds: its metadata and storage files (compressed or not, sqlite's journals).
 BAG_DIRECTORY_SUFFIXES = frozenset({".yaml", ".db3", ".mcap", ".zstd", ".db3-shm", ".db3-wal", ".db3-journal"})
-METADATA = "metadata.yaml"
 
 
 def protected(bags: Iterable[str | os.PathLike[str]]) -> list[Path]:
@@ -56,16 +55,16 @@ def check_output(
     return Path(output)
 
 
-def check_replaceable(output: Path, force: bool, option: str = "-o") -> None:
+def check_replaceable(output: Path, force: bool) -> None:
     """An existing ``output`` is replaced only with ``force``, and only when it is a file or a bag
     directory (a folder of something else is never deleted). Call after ``check_output``."""
     if not output.exists() and not output.is_symlink():
         return
     if not force:
-        raise UsageError(f"{option} {output} already exists", "name another output, or --force to replace it")
+        raise UsageError(f"-o {output} already exists", "name another output, or --force to replace it")
     if output.is_dir() and not output.is_symlink() and not is_bag_directory(output):
         raise UsageError(
-            f"{option} {output} is a folder that is not a bag; --force replaces only an earlier output",
+            f"-o {output} is a folder that is not a bag; --force replaces only an earlier output",
             "name the new bag, e.g. -o " + str(output / "with_static"),
         )
 

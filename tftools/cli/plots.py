@@ -6,9 +6,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tftools.cli.common import UsageError, stderr
+from tftools.cli.common import UsageError, say_written
 from tftools.cli.outputs import check_output
-from tftools.render.escape import printable
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -17,15 +16,18 @@ if TYPE_CHECKING:
 PLOT_FILE = "a .png, .svg or .pdf file; needs matplotlib: pip install 'tftools\\[plot]'"
 
 
-def check_plot(plot: Path, inputs: Sequence[str]) -> None:
-    """A picture ``--plot`` can write: matplotlib installed, a suffix it draws, never over or into an input."""
+def check_plot(plot: Path | None, inputs: Sequence[str] | None) -> None:
+    """A picture ``--plot`` can write (None: none asked for): matplotlib installed, a suffix it draws,
+    never over or into an input."""
     from tftools.render.plots import SUFFIXES, plot_format, require_matplotlib
 
+    if plot is None:
+        return
     if plot_format(plot) is None:
         raise UsageError(
             f"--plot {plot}: not a picture tfx draws", f"name a {', '.join(SUFFIXES)} file, e.g. --plot {plot.stem}.png"
         )
-    check_output(plot, inputs, option="--plot", file_name="plot.png")
+    check_output(plot, inputs or [], option="--plot", file_name="plot.png")
     require_matplotlib()
 
 
@@ -34,4 +36,4 @@ def write_plot(figure: Figure, plot: Path, what: str) -> None:
     from tftools.render.plots import write_figure
 
     write_figure(figure, plot)
-    stderr.print(f"wrote {printable(str(plot))}: {printable(what)}")
+    say_written(str(plot), what)

@@ -14,17 +14,15 @@ from tftools.analysis.findings import counted
 from tftools.analysis.report import recording_report
 from tftools.analysis.wtf.fleet import sensor_data
 from tftools.cli import live, options
-from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, stderr, warn
+from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, say_written, warn
 from tftools.cli.outputs import check_output
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
-from tftools.render.escape import printable
 from tftools.render.files import write_atomically
 from tftools.render.graph import recording_legend
 from tftools.render.report import Section, page, recording_section, unreadable_section
 from tftools.sources import Recording
 from tftools.sources.contents import StampedMessages
-from tftools.sources.storage.locations import expand
 
 DEFAULT_OUTPUT = "report.html"
 
@@ -63,7 +61,7 @@ def command(
     Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
     [cyan]tfx report --ros1 -d 10 -o live.html[/]
     """
-    groups: list[list[str]] = [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
+    groups = options.recordings_given(paths, bags)
     _check_output(output, [p for group in groups for p in group])
     if groups:
         sections = _bag_sections(groups, topics, tf2, target, sensors)
@@ -74,7 +72,7 @@ def command(
     write_atomically(output, page(title, sections).encode())
     failed = sum(s.verdict == "failed" for s in sections)
     said = ", ".join(s.summary for s in sections) if len(sections) == 1 else f"{failed} of {len(sections)} failed"
-    stderr.print(f"wrote {printable(str(output))}: {said}")
+    say_written(str(output), said)
     exit_with(Exit.PROBLEMS if failed else Exit.OK)
 
 

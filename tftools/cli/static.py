@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 from typing import Annotated
@@ -201,43 +203,42 @@ def _checked(t: Transform) -> Transform:
     return Transform(t.translation, tuple(q / norm for q in t.rotation), 0, frame, child)  # type: ignore[arg-type]
 
 
-def _bag_and_output(bag: str | None, output: Path | None, force: bool) -> tuple[str, Path]:
+@contextmanager
+def _copying(bag: str | None, output: Path | None, force: bool) -> Iterator[tuple[Path, Path]]:
+    """-b IN -o OUT checked before any work: the local input (a URL's download) and the output."""
     if bag is None or output is None:
         raise UsageError("-b BAG and -o OUTPUT go together", "e.g. tfx static ... -b in.bag -o out.bag")
     check_output(output, [bag])
     check_replaceable(output, force)
-    return bag, output
+    with local_recording(bag) as local:
+        yield local, output
 
 
 def _repair_bag(bag: str | None, output: Path | None, force: bool) -> None:
-    bag, output = _bag_and_output(bag, output, force)
-    with local_recording(bag) as local:
-        written, statics = repair_static_transforms(local, output, force=force)
-    edges = ", ".join(f"{t.frame_id} -> {t.child_frame_id}" for t in statics)
-    stdout.print(
-        printable(
-            f"{written}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {len(statics)} static "
-            f"transform(s) ({edges}) at its start and every {REPAIR_EVERY_S:g} s"
-        )
-    )
+    with _copying(bag, output, force) as (local, copy):
+        written, statics = repair_static_transforms(local, copy, force=force)
+    said = f"{len(statics)} static transform(s) ({_edges(statics)}) at its start and every {REPAIR_EVERY_S:g} s"
+    stdout.print(printable(f"{written}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {said}"))
 
 
 def _write_bag(bag: str | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
-    bag, output = _bag_and_output(bag, output, force)
-    with local_recording(bag) as local:
-        written = add_static_transforms(local, output, transforms, force=force)
+    with _copying(bag, output, force) as (local, copy):
+        written = add_static_transforms(local, copy, transforms, force=force)
     stdout.print(
         printable(f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}")
     )
+
+
+def _edges(transforms: Sequence[Transform]) -> str:
+    return ", ".join(f"{t.frame_id} -> {t.child_frame_id}" for t in transforms)
 
 
 def _publish(transforms: list[Transform], ros: str | None, duration: float | None) -> None:
     stamp = time.time_ns()
     with open_static_broadcaster(ros, on_notice=warn) as broadcaster:
         broadcaster.send([replace(t, stamp=stamp) for t in transforms])
-        edges = ", ".join(f"{t.frame_id} -> {t.child_frame_id}" for t in transforms)
         until = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
-        live.say(f"publishing {edges} on {STATIC_TOPIC} to {broadcaster.describe()} {until}")
+        live.say(f"publishing {_edges(transforms)} on {STATIC_TOPIC} to {broadcaster.describe()} {until}")
         deadline = None if duration is None else time.monotonic() + duration
         try:
             while not broadcaster.finished and (deadline is None or time.monotonic() < deadline):

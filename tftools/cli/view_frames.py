@@ -14,11 +14,10 @@ from tftools.analysis.findings import Severity
 from tftools.analysis.graph import frame_graph
 from tftools.analysis.wtf import check
 from tftools.cli import options
-from tftools.cli.common import Exit, UsageError, exit_with, fail, open_recording, stderr
+from tftools.cli.common import Exit, UsageError, exit_with, open_recording, say_failure, say_written
 from tftools.cli.outputs import check_output
 from tftools.render import drawing
 from tftools.render import graph as render
-from tftools.render.escape import printable
 
 
 class GraphFormat(str, enum.Enum):
@@ -106,11 +105,11 @@ def command(
         else:
             drawing.write_graph(dot, target, chosen.value)
     except drawing.GraphvizMissingError as missing:
-        fail(missing, Exit.PROBLEMS)
-    errors = sum(f.severity is Severity.error for f in findings)
-    where = "the graph to stdout" if target == "-" else printable(target)
-    stderr.print(f"wrote {where}: {render.graph_summary(graph)}, {render.problem_summary(findings)}")
-    if errors:
+        say_failure(missing)
+        exit_with(Exit.PROBLEMS)
+    where = "the graph to stdout" if target == "-" else target
+    say_written(where, f"{render.graph_summary(graph)}, {render.problem_summary(findings)}")
+    if any(f.severity is Severity.error for f in findings):
         exit_with(Exit.PROBLEMS)
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import difflib
 import enum
 import functools
@@ -25,7 +24,6 @@ from tftools.cli.common import Exit, UsageError, count_bar, exit_with, hinted, p
 from tftools.cli.deadline import timed
 from tftools.render import wtf as render
 from tftools.render import wtf_lines as render_lines
-from tftools.sources.storage.locations import expand
 
 
 class WtfFormat(str, enum.Enum):
@@ -162,7 +160,7 @@ def command(
     expected = expected_tree.read_expected(expect, *tolerances) if expect is not None else None
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
-    groups: list[list[str]] = [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
+    groups = options.recordings_given(paths, bags)
     if groups:
         one = functools.partial(
             check_bags,
@@ -253,7 +251,7 @@ def _check_groups(
     todo = [g for g in groups if tuple(g) not in finished]
     for bag in done:
         stream(bag)
-    with count_bar("checking", len(todo)) if len(todo) > 1 else contextlib.nullcontext(lambda: None) as advance:
+    with count_bar("checking", len(todo)) as advance:
         for index, bag in _results(todo, one, fleet):
             finished[tuple(todo[index])] = bag
             stream(bag)
