@@ -111,4 +111,3 @@ class SimClock:
         """Block until the clock reaches ``stamp_ns`` or ``timeout_s`` of wall time pass."""
         with self._changed:
             return self._changed.wait_for(lambda: self._now >= stamp_ns, timeout_s)
-
