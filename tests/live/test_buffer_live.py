@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -34,17 +35,19 @@ def test_wait_raises_the_lookups_error_when_time_runs_out() -> None:
 
 def test_lookups_while_another_thread_inserts() -> None:
     buffer = Buffer(cache_time=2 * 10**9)
-    done = threading.Event()
+    done, looking = threading.Event(), threading.Event()
     errors: list[BaseException] = []
 
     def publish() -> None:
         try:
+            looking.wait(5)  # an insert is quicker than the switch interval: 400 would pass before one lookup
             for i in range(1, 401):
                 builder = BatchBuilder()
                 stamp = i * 10_000_000
                 builder.add("map", "odom", stamp, (i, 0, 0), (0, 0, 0, 1), authority="/a")
                 builder.add("odom", "base", stamp, (0, i, 0), (0, 0, 0, 1), authority="/b")
                 buffer.insert(builder.take())
+                time.sleep(0)  # the lookups' turn
         except BaseException as error:  # reported by the main thread
             errors.append(error)
         finally:
@@ -61,6 +64,7 @@ def test_lookups_while_another_thread_inserts() -> None:
         many = buffer.lookup_many("map", "base", [0, t.stamp])
         assert many.valid.all()
         seen += 1
+        looking.set()
     thread.join()
     assert not errors and seen > 0
     assert buffer.lookup("map", "base").translation == (400.0, 400.0, 0.0)
