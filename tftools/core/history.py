@@ -49,9 +49,10 @@ def rows_as_sent(
     )
 
 
-#: The bytes of one sample over a history's columns: stamp, values, parent, authority, record time,
-#: sequence, flags (in this order in a history's block, each column aligned to its items).
-ROW_BYTES = 8 + 7 * 8 + 4 + 4 + 8 + 8 + 1
+#: The bytes of one sample in each of a history's columns: stamp, values, parent, authority, record
+#: time, sequence, flags (in this order in a history's block, each column aligned to its items).
+_COLUMN_BYTES = (8, 7 * 8, 4, 4, 8, 8, 1)
+ROW_BYTES = sum(_COLUMN_BYTES)
 
 _Columns = tuple[Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, UInt8Array]
 
@@ -64,7 +65,7 @@ def block_bytes(capacity: int) -> int:
 
 def _columns_in(block: UInt8Array, capacity: int) -> _Columns:
     """The columns of ``capacity`` rows laid one after another in ``block``."""
-    ends = np.cumsum([8, 56, 4, 4, 8, 8, 1]) * capacity
+    ends = np.cumsum(_COLUMN_BYTES) * capacity
     stamps, values, parents, authorities, record_times, sequence, flags = np.split(block[: ends[-1]], ends[:-1])
     return (
         stamps.view(np.int64),
