@@ -7,7 +7,7 @@ from typing import TypeVar
 
 from tftools.cli.common import UsageError
 from tftools.core.time import NS_PER_S, from_sec, to_sec
-from tftools.sources import Recording
+from tftools.sources.timeline import Timeline
 
 #: A time more than this many seconds before or after the recording's tf is refused: a typo, not a question.
 TIME_SLACK_S = 3600.0
@@ -32,7 +32,7 @@ def _number(text: str, option: str, what: str, example: str) -> float:
     return value
 
 
-def parse_time(text: str, recording: Recording, option: str) -> int:
+def parse_time(text: str, timeline: Timeline, option: str) -> int:
     """TIME as nanoseconds on the tf stamps' clock: absolute seconds, ``+S`` from the tf data's first
     stamp, ``-S`` from its last (so +1 is a second into the tf, whatever clock the bag was recorded on).
 
@@ -40,7 +40,6 @@ def parse_time(text: str, recording: Recording, option: str) -> int:
     that says the recording's span."""
     given = text.strip()
     value = _number(given, option, "a time", "+3")
-    timeline = recording.timeline
     base = timeline.tf_start if given.startswith("+") else timeline.tf_end if given.startswith("-") else 0
     seconds = to_sec(base) + value
     span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
@@ -58,12 +57,12 @@ Default = TypeVar("Default", int, None)
 
 
 def time_range(
-    recording: Recording, start: str | None, end: str | None, default: tuple[Default, Default]
+    timeline: Timeline, start: str | None, end: str | None, default: tuple[Default, Default]
 ) -> tuple[int | Default, int | Default]:
     """``--start`` and ``--end`` as nanoseconds (``default`` where not given); a ``UsageError`` when
     the range is empty."""
-    first = parse_time(start, recording, "--start") if start is not None else default[0]
-    last = parse_time(end, recording, "--end") if end is not None else default[1]
+    first = parse_time(start, timeline, "--start") if start is not None else default[0]
+    last = parse_time(end, timeline, "--end") if end is not None else default[1]
     if first is not None and last is not None and last < first:
         raise UsageError("the time range is empty", "--start must come before --end")
     return first, last

@@ -8,18 +8,20 @@ import functools
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import NoReturn
+from typing import TYPE_CHECKING, NoReturn, TypeVar
 
 import typer
 from rich.console import Console
 from rich.text import Text
 
-from tftools.core.buffer import Buffer
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
 from tftools.sources import Recording, read_recording
 from tftools.sources.bag import ProgressCallback
+
+if TYPE_CHECKING:
+    from tftools.sources.stream import StreamedRecording
 
 
 def _console(*, to_stderr: bool) -> Console:
@@ -154,8 +156,23 @@ def open_recording(
         from tftools.cli.live import capture_live  # the live modules load only when listening
 
         return capture_live(ros1, use_sim_time, duration, topics, semantics)[0]
+    return _read(bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics))
+
+
+def open_stream(bags: Sequence[str], topics: Sequence[str] | None, semantics: Semantics | None) -> StreamedRecording:
+    """The bags as a stream to replay (``stream_recording``), with a progress bar over the first pass;
+    report what could not be read."""
+    from tftools.sources.stream import stream_recording  # only a replay streams
+
+    return _read(bags, lambda progress: stream_recording(bags, topics, progress, semantics=semantics))
+
+
+Read = TypeVar("Read", "Recording", "StreamedRecording")
+
+
+def _read(bags: Sequence[str], read: Callable[[ProgressCallback | None], Read]) -> Read:
     with progress_bar(bags) as progress:
-        recording = read_recording(bags, topics, progress, semantics=semantics)
+        recording = read(progress)
     for problem in recording.problems:
         warn(problem)
     return recording
@@ -170,13 +187,13 @@ def local_size(location: str) -> int:
         return 0
 
 
-def frame_argument(buffer: Buffer, frame: str) -> str:
-    """A frame given on the command line (a leading ``/`` dropped, as tf did); must exist."""
+def frame_argument(frames: Sequence[str], frame: str) -> str:
+    """A frame given on the command line (a leading ``/`` dropped, as tf did); must be one of ``frames``."""
     name = frame[1:] if frame.startswith("/") else frame
-    if not buffer.has_frame(name):
-        close = difflib.get_close_matches(name, buffer.frames, n=3, cutoff=0.4)
-        rest = sorted(set(buffer.frames) - set(close))
-        listed = ", ".join([*close, *rest][:20]) + (", ..." if len(buffer.frames) > 20 else "")
+    if name not in frames:
+        close = difflib.get_close_matches(name, frames, n=3, cutoff=0.4)
+        rest = sorted(set(frames) - set(close))
+        listed = ", ".join([*close, *rest][:20]) + (", ..." if len(frames) > 20 else "")
         raise UsageError(f"frame {frame!r} does not exist", f"frames: {listed}")
     return name
 

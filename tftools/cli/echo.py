@@ -15,7 +15,7 @@ import typer
 from tftools.analysis.echo import EchoSeries, chain_span, echo, joined, sample_times, ticks
 from tftools.cli import live, options
 from tftools.cli.arguments import echo_line_count, parse_time, positive_seconds, rate_hz, time_range
-from tftools.cli.common import Exit, UsageError, exit_with, frame_argument, open_recording, stdout
+from tftools.cli.common import Exit, UsageError, exit_with, frame_argument, open_recording, open_stream, stdout
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
@@ -27,7 +27,7 @@ from tftools.render.plots import echo_figure
 from tftools.sources import Recording
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.capture import listen
-from tftools.sources.replay import follow_into, replay_of
+from tftools.sources.replay import follow_into
 
 
 class EchoFormat(str, enum.Enum):
@@ -124,19 +124,20 @@ def command(
         live.no_bag_options(**{"--at": at, "--all": every, "--start": start, "--end": end, "--play": play})
         feed = live.open_source(ros1, use_sim_time, topics)
         exit_with(_live(feed, target, source, rate, count, wait, cache, tf2, lines))
-    recording = open_recording(bags, topics, tf2)
-    target = frame_argument(recording.buffer, target)
-    source = frame_argument(recording.buffer, source)
-    if play:  # as tf_echo sees a live system: the bag replayed on a sim clock into a tf2-sized buffer
-        first, last = time_range(recording, start, end, default=(None, None))
-        replay = replay_of(recording, start=first, end=last)
-        buffer = Buffer(clock=replay.clock, semantics=recording.buffer.semantics)
+    if play:  # as tf_echo sees a live system: the bag streamed on a sim clock into a tf2-sized buffer
+        streamed = open_stream(bags, topics, tf2)
+        target, source = frame_argument(streamed.frames, target), frame_argument(streamed.frames, source)
+        first, last = time_range(streamed.timeline, start, end, default=(None, None))
+        replay = streamed.replay(start=first, end=last)
+        buffer = Buffer(clock=replay.clock, semantics=streamed.semantics)
 
         def tick() -> None:
             lines.write(echo(buffer, target, source, [0]), buffer.now())
 
         follow_into(replay, buffer, tick, period=1.0 / rate)
         exit_with(lines.done())
+    recording = open_recording(bags, topics, tf2)
+    target, source = frame_argument(recording.buffer.frames, target), frame_argument(recording.buffer.frames, source)
     times = _times(recording, target, source, rate, at, every, start, end)
     series = echo(recording.buffer, target, source, times)
     if plot is None:  # on a bag, the picture instead of the lines
@@ -224,9 +225,9 @@ def _times(
     end: str | None,
 ) -> Int64Array:
     if at is not None:
-        return np.array([0 if at.strip() == "0" else parse_time(at, recording, "--at")], np.int64)
+        return np.array([0 if at.strip() == "0" else parse_time(at, recording.timeline, "--at")], np.int64)
     span = chain_span(recording.buffer, target, source) or (recording.timeline.tf_start, recording.timeline.tf_end)
-    first, last = time_range(recording, start, end, default=span)
+    first, last = time_range(recording.timeline, start, end, default=span)
     if every:
         return sample_times(recording.buffer, target, source, first, last)
     echo_line_count(first, last, rate)

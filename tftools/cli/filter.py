@@ -62,7 +62,7 @@ def command(
         recording, stamped = open_recording(bags, None, tf2), read_stamped(bags, topics)
     else:
         recording, stamped = live.capture_with_headers(ros1, use_sim_time, duration, topics, tf2)
-    chosen = frame_argument(recording.buffer, target) if target is not None else None
+    chosen = frame_argument(recording.buffer.frames, target) if target is not None else None
     if not stamped.streams:
         why = f": {'; '.join(stamped.problems)}" if stamped.problems else ""
         example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"

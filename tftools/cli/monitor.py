@@ -14,7 +14,7 @@ from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
 from tftools.analysis.timelines import EdgeSeries, MonitorTrace, edge_series
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds, rate_hz, time_range
-from tftools.cli.common import TextOrJson, UsageError, frame_argument, open_recording, stdout, warn
+from tftools.cli.common import TextOrJson, UsageError, frame_argument, open_recording, open_stream, stdout, warn
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec
@@ -24,7 +24,7 @@ from tftools.sources import Recording
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.capture import live_semantics
 from tftools.sources.live.time_jump import watch_jumps
-from tftools.sources.replay import Feed, follow, replay_of
+from tftools.sources.replay import Feed, follow
 from tftools.sources.timeline import Timeline
 
 
@@ -86,22 +86,18 @@ def command(
             watch(feed, target, source, from_sec(window), duration, fmt, feed.describe(), None, semantics, trace)
         _write_trace(trace, plot, feed.describe())
         return
-    recording = open_recording(bags, topics, tf2)
-    if target is not None and source is not None:
-        target = frame_argument(recording.buffer, target)
-        source = frame_argument(recording.buffer, source)
-    first, last = time_range(recording, start, end, default=(None, None))
-    timeline = recording.timeline
-    if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
-        span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
-        raise UsageError("the time range is outside the recording", f"its tf runs from {span}")
     if play:
-        replay = replay_of(recording, rate=rate, start=first, end=last)
-        note = f"rate {rate:g}x"
-        semantics = recording.buffer.semantics
-        watch(replay, target, source, from_sec(window), duration, fmt, note, timeline.played(), semantics, trace)
-        _write_trace(trace, plot, ", ".join(recording.paths))
+        streamed = open_stream(bags, topics, tf2)
+        target, source = _chain(streamed.frames, target, source)
+        first, last = _time_range(streamed.timeline, start, end)
+        replay = streamed.replay(rate=rate, start=first, end=last)
+        played, note = streamed.timeline, f"rate {rate:g}x"
+        watch(replay, target, source, from_sec(window), duration, fmt, note, played, streamed.semantics, trace)
+        _write_trace(trace, plot, ", ".join(streamed.paths))
         return
+    recording = open_recording(bags, topics, tf2)
+    target, source = _chain(recording.buffer.frames, target, source)
+    first, last = _time_range(recording.timeline, start, end)
     report = monitor(recording.buffer, target, source, first, last, by_record_time=True, timeline=recording.timeline)
     if plot is not None:
         keys = [e.key for e in report.chain.edges] if report.chain is not None else None
@@ -160,6 +156,22 @@ def watch(
             run(lambda: stdout.print(table(), "\n"))
     except KeyboardInterrupt:  # Ctrl-C is how a live monitor ends: the last table stays
         pass
+
+
+def _chain(frames: Sequence[str], target: str | None, source: str | None) -> tuple[str | None, str | None]:
+    """TARGET and SOURCE, if given, as frames of the recording."""
+    if target is None or source is None:
+        return target, source
+    return frame_argument(frames, target), frame_argument(frames, source)
+
+
+def _time_range(timeline: Timeline, start: str | None, end: str | None) -> tuple[int | None, int | None]:
+    """--start and --end on the tf stamps' clock; a ``UsageError`` when they miss the recording's tf."""
+    first, last = time_range(timeline, start, end, default=(None, None))
+    if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
+        span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
+        raise UsageError("the time range is outside the recording", f"its tf runs from {span}")
+    return first, last
 
 
 def _write_trace(trace: MonitorTrace | None, plot: Path | None, what: str) -> None:

@@ -79,11 +79,16 @@ def read_recording(
     the recording's own); ``NoTransformsError`` when no transform was found, unless ``allow_empty``."""
     contents = read_bag(paths, topics, progress)
     if not contents.parts and not allow_empty:
-        found = sorted({t for f in contents.files for t in f.topics})
-        paths_said, topics_said = ", ".join(str(p) for p in paths), ", ".join(contents.topics)
-        damage = [p for f in contents.files for p in f.problems]
-        raise NoTransformsError(paths_said, topics_said, ", ".join(found), contents.unread, damage)
+        raise no_transforms(paths, contents)
     return recording_of(contents, semantics)
+
+
+def no_transforms(paths: Sequence[str | os.PathLike[str]], contents: RecordingContents) -> NoTransformsError:
+    """The error for bags at ``paths`` in which no transform was found: why, as far as ``contents`` tells."""
+    found = sorted({t for f in contents.files for t in f.topics})
+    paths_said, topics_said = ", ".join(str(p) for p in paths), ", ".join(contents.topics)
+    damage = [p for f in contents.files for p in f.problems]
+    return NoTransformsError(paths_said, topics_said, ", ".join(found), contents.unread, damage)
 
 
 def semantics_of(contents: RecordingContents) -> Semantics:

@@ -2,18 +2,16 @@
 
 from __future__ import annotations
 
-import dataclasses
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Protocol
 
 import numpy as np
 
-from tftools.core.batch import TransformBatch, take_rows
+from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, Clock, SimClock
-from tftools.sources.recording import Recording
 
 OnBatch = Callable[[TransformBatch], None]
 
@@ -38,11 +36,14 @@ class Replay:
     time: ``rosbag play --clock`` seen by a node with ``use_sim_time``. Playing starts at ``start``
     (default: the first row), first delivering the statics recorded before it (a latched
     ``/tf_static`` a late subscriber still gets), and ends at ``end`` (default: the last row).
+
+    ``transforms`` is one batch, or consecutive parts in record order (a stream's windows), taken one
+    at a time as the clock reaches them: only the part being played is held.
     """
 
     def __init__(
         self,
-        transforms: TransformBatch,
+        transforms: TransformBatch | Iterable[TransformBatch],
         *,
         rate: float = 1.0,
         start: int | None = None,
@@ -52,14 +53,15 @@ class Replay:
     ) -> None:
         if not rate > 0:
             raise ValueError(f"the replay rate must be above 0, got {rate}")
-        self.transforms = transforms
         self.rate = rate
-        records = transforms.record_time
-        self.begin = start if start is not None else (int(records[0]) if len(records) else 0)
-        self.end = end if end is not None else (int(records[-1]) if len(records) else self.begin)
+        self._parts = iter([transforms] if isinstance(transforms, TransformBatch) else transforms)
+        self._part, self._next = TransformBatch.empty(), 0  # the part being played, and its next row
+        first = self._pending()
+        self.begin = start if start is not None else int(first.record_time[0]) if first is not None else 0
+        self._end = end
+        self._last = self.begin  # the newest row's record time played: the end, unless given
         self._sleep, self._monotonic = sleep, monotonic
         self._clock = SimClock(self.begin)
-        self._next = int(np.searchsorted(records, self.begin, side="left"))
         self._on_batch: OnBatch | None = None
         self._closed = threading.Event()
         self._finished = threading.Event()
@@ -68,6 +70,11 @@ class Replay:
     @property
     def clock(self) -> SimClock:
         return self._clock
+
+    @property
+    def end(self) -> int | None:
+        """Where the replay ends: ``end`` if given, else the last row's record time once it was played."""
+        return self._end
 
     @property
     def finished(self) -> bool:
@@ -95,28 +102,48 @@ class Replay:
         """Deliver to ``on_batch`` from now on, starting with the static transforms recorded
         before ``begin``; for driving the replay by hand with ``advance_to``."""
         self._on_batch = on_batch
-        records = self.transforms.record_time
-        earlier_static = np.flatnonzero(self.transforms.static[: self._next] & (records[: self._next] < self.begin))
-        if len(earlier_static):
-            on_batch(take_rows(self.transforms, earlier_static))
+        earlier_static: list[TransformBatch] = []
+        while (part := self._pending()) is not None and int(part.record_time[self._next]) < self.begin:
+            skipped = np.arange(self._next, int(np.searchsorted(part.record_time, self.begin, side="left")))
+            earlier_static.append(take_rows(part, skipped[part.static[skipped]]))
+            self._next += len(skipped)
+        if any(len(b) for b in earlier_static):
+            on_batch(concat_batches(earlier_static))
 
     def advance_to(self, bag_time: int) -> None:
         """Deliver every row recorded up to ``bag_time`` (at most ``end``), then set the clock."""
-        bag_time = min(bag_time, self.end)
-        records = self.transforms.record_time
-        upto = int(np.searchsorted(records, bag_time, side="right"))
-        if upto > self._next and self._on_batch is not None:
-            self._on_batch(take_rows(self.transforms, np.arange(self._next, upto)))
-        self._next = max(self._next, upto)
+        if self._end is not None:
+            bag_time = min(bag_time, self._end)
+        while (part := self._pending()) is not None and int(part.record_time[self._next]) <= bag_time:
+            upto = int(np.searchsorted(part.record_time, bag_time, side="right"))
+            self._last = int(part.record_time[upto - 1])
+            if self._on_batch is not None:
+                self._on_batch(take_rows(part, np.arange(self._next, upto)))
+            self._next = upto
+        if self._end is None and self._pending() is None:
+            self._end = max(self._last, self.begin)  # every row played: the replay ends at the last
+            bag_time = min(bag_time, self._end)
         self._clock.set(bag_time)
-        if bag_time >= self.end:
+        if self._end is not None and bag_time >= self._end:
             self._finished.set()
+
+    def _pending(self) -> TransformBatch | None:
+        """The part holding the next row to play, taking the next parts as they are reached; None once
+        every row was played."""
+        while self._next >= len(self._part):
+            part = next(self._parts, None)
+            if part is None:
+                return None
+            self._part, self._next = part, 0
+        return self._part
 
     def _pause(self, now: int) -> float:
         """Wall seconds until the next row is due, at most one clock tick."""
-        records = self.transforms.record_time
-        due = int(records[self._next]) if self._next < len(records) else self.end
-        return max(0.0, min((min(due, self.end) - now) / NS_PER_S / self.rate, 1.0 / CLOCK_HZ))
+        part = self._pending()
+        due = int(part.record_time[self._next]) if part is not None else now
+        if self._end is not None:
+            due = min(due, self._end)
+        return max(0.0, min((due - now) / NS_PER_S / self.rate, 1.0 / CLOCK_HZ))
 
     def close(self) -> None:
         """Stop playing (the thread ends within one clock tick)."""
@@ -124,14 +151,6 @@ class Replay:
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=1.0)
         self._finished.set()
-
-
-def replay_of(recording: Recording, *, rate: float = 1.0, start: int | None = None, end: int | None = None) -> Replay:
-    """A replay of ``recording`` on the clock its tf is stamped on (``Timeline.playback``): what a node
-    with use_sim_time sees while the bag plays with its recorded /clock, or on its record clock."""
-    transforms = recording.transforms
-    moved = dataclasses.replace(transforms, record_time=recording.timeline.playback(transforms.record_time))
-    return Replay(moved, rate=rate, start=start, end=end)
 
 
 def follow(

@@ -20,7 +20,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
-from tftools.core.history import FROM_STATIC_TOPIC
+from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import ClockSamples
 
@@ -135,18 +135,8 @@ class Timeline:
         return times[measured] - stamps[measured]
 
     def playback(self, record_times: Int64Array) -> Int64Array:
-        """Record times moved onto the stamps' clock for a replay, never decreasing: ROS time at arrival
-        (before the first /clock, its first value); without a reference, shifted by the frames' median
-        offset from the record clock (an estimate: the recording kept no clock of the stamps)."""
-        records = np.asarray(record_times, np.int64)
-        if self.reference is Reference.RECORD or not len(records):
-            return records
-        if self.reference is Reference.NONE:
-            shift = int(np.median([e.offset_record for e in self.edges])) if self.edges else 0
-            return records - shift
-        times, known = clock_at(self.clock, records)
-        times = np.where(known, times, self.clock.clock[0])
-        return np.maximum.accumulate(times)
+        """Record times moved onto the stamps' clock for a replay (``Playback``, all at once)."""
+        return Playback(self).moved(record_times)
 
     def played(self) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``playback`` times: on the
@@ -168,6 +158,41 @@ class Timeline:
         return self.reason
 
 
+class Playback:
+    """Record times moved onto the stamps' clock for a replay, never decreasing, part after part of a
+    recording (all of it at once, or a stream's windows): ROS time at arrival (before the first /clock,
+    its first value); without a reference, shifted by the frames' median offset from the record clock
+    (an estimate: the recording kept no clock of the stamps)."""
+
+    def __init__(self, timeline: Timeline) -> None:
+        self.reference = timeline.reference
+        self._clock = timeline.clock  # the samples up to the next part: all of them, or the last one heard
+        self._first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
+        self._shift = int(np.median([e.offset_record for e in timeline.edges])) if timeline.edges else 0
+        self._floor = np.iinfo(np.int64).min
+
+    def heard(self, clock: ClockSamples) -> None:
+        """The /clock samples recorded since the last part (of a stream: a window's)."""
+        if len(clock):
+            self._clock = ClockSamples(
+                clock.topic,
+                np.concatenate([self._clock.record_time[-1:], clock.record_time]),
+                np.concatenate([self._clock.clock[-1:], clock.clock]),
+            )
+
+    def moved(self, record_times: Int64Array) -> Int64Array:
+        """The replay times of the next part's ``record_times``."""
+        records = np.asarray(record_times, np.int64)
+        if self.reference is Reference.RECORD or not len(records):
+            return records
+        if self.reference is Reference.NONE:
+            return records - self._shift
+        times, known = clock_at(self._clock, records)
+        times = np.maximum.accumulate(np.maximum(np.where(known, times, self._first), self._floor))
+        self._floor = int(times[-1])
+        return times
+
+
 #: The timeline of a live buffer or a replay: record (receive) times are ROS time.
 ON_RECORD_CLOCK = Timeline(Reference.RECORD, ClockSamples.empty(), 0, 0, 0, 0)
 
@@ -175,19 +200,27 @@ ON_RECORD_CLOCK = Timeline(Reference.RECORD, ClockSamples.empty(), 0, 0, 0, 0)
 def clock_at(clock: ClockSamples, record_times: Int64Array) -> tuple[Int64Array, BoolArray]:
     """The value of the last ``clock`` message recorded at or before each record time (ROS time as
     ``ros::Time::now()`` gave it then), and where there was one."""
+    if not len(clock):
+        return np.zeros(len(record_times), np.int64), np.zeros(len(record_times), bool)
     index = np.searchsorted(clock.record_time, record_times, side="right") - 1
     known = (index >= 0) & (record_times > 0)
     return np.where(known, clock.clock[np.maximum(index, 0)], 0), known
 
 
 def timeline_of(buffer: Buffer, clock: ClockSamples, record_start: int, record_end: int) -> Timeline:
-    """The timeline of a recording read into ``buffer``, with its recorded ``clock``: on ``/clock`` when
-    some frame's stamps follow it, else on the record clock when some frame's follow that, else on none
-    (the reason says why); frames that follow neither are ``off_reference``."""
+    """The timeline of a recording read into ``buffer``, with its recorded ``clock`` (``timeline_from``)."""
     edges = tuple(_edge_clocks(buffer, clock))
-    tf_start, tf_end = _tf_span(buffer, record_start, record_end)
+    return timeline_from(edges, clock, record_start, record_end, tf_span(stamp_spans(buffer), record_start, record_end))
+
+
+def timeline_from(
+    edges: tuple[EdgeClock, ...], clock: ClockSamples, record_start: int, record_end: int, tf: tuple[int, int]
+) -> Timeline:
+    """A recording's timeline from how its frames relate to its clocks (``edges``) and its tf's span: on
+    ``/clock`` when some frame's stamps follow it, else on the record clock when some frame's follow that,
+    else on none (the reason says why); frames that follow neither are ``off_reference``."""
     reference, reason = _reference(edges, clock, SAME_CLOCK)
-    return Timeline(reference, clock, record_start, record_end, tf_start, tf_end, edges, reason)
+    return Timeline(reference, clock, record_start, record_end, tf[0], tf[1], edges, reason)
 
 
 def _reference(edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: int) -> tuple[Reference, str]:
@@ -200,43 +233,63 @@ def _reference(edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: in
 
 def _edge_clocks(buffer: Buffer, clock: ClockSamples) -> Iterable[EdgeClock]:
     for child, hist in buffer.histories():
-        if hist.static:
-            continue
-        keep = (hist.record_times > 0) & ((hist.flags & FROM_STATIC_TOPIC) == 0)
-        stamps, records = (
-            (hist.stamps, hist.record_times) if keep.all() else (hist.stamps[keep], hist.record_times[keep])
-        )
-        if not len(stamps):
-            continue
-        offset_clock = None
-        if len(clock):
-            ros, known = clock_at(clock, records)
-            if known.any():
-                offset_clock = int(np.median(ros[known] - stamps[known], overwrite_input=True))
-        yield EdgeClock(
-            child,
-            len(stamps),
-            int(np.median(records - stamps, overwrite_input=True)),
-            offset_clock,
-            _median_in_order(stamps),
-            _median_in_order(records) if bool(np.all(records[1:] >= records[:-1])) else int(np.median(records)),
-        )
+        arrivals = dynamic_arrivals(hist)
+        if arrivals is not None:
+            stamps, records = arrivals
+            yield edge_clock(child, stamps, records, *clock_at(clock, records))
 
 
-def _median_in_order(values: Int64Array) -> int:
-    """``int(np.median(values))`` of ascending ``values`` (the same mean of the middle two, in floats),
-    read off the middle: no partition."""
+def dynamic_arrivals(hist: EdgeHistory) -> tuple[Int64Array, Int64Array] | None:
+    """The stamps and record times of a history's transforms that tell its clock: dynamic, on /tf,
+    with a known record time; None when there are none."""
+    if hist.static:
+        return None
+    keep = (hist.record_times > 0) & ((hist.flags & FROM_STATIC_TOPIC) == 0)
+    if keep.all():
+        return (hist.stamps, hist.record_times) if len(hist) else None
+    return (hist.stamps[keep], hist.record_times[keep]) if keep.any() else None
+
+
+def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Array, known: BoolArray) -> EdgeClock:
+    """How ``child``'s transforms (``stamps`` recorded at ``records``, when /clock said ``ros`` where
+    ``known``) relate to the recording's clocks."""
+    offset_clock = int(np.median(ros[known] - stamps[known], overwrite_input=True)) if known.any() else None
+    return EdgeClock(
+        child,
+        len(stamps),
+        int(np.median(records - stamps, overwrite_input=True)),
+        offset_clock,
+        _median(stamps),
+        _median(records),
+    )
+
+
+def _median(values: Int64Array) -> int:
+    """``int(np.median(values))``; of ascending ``values`` (a history's stamps), read off the middle
+    without a partition (the same mean of the middle two, in floats)."""
     n = len(values)
-    return int(np.mean(values[(n - 1) // 2 : n // 2 + 1]))
+    if bool(np.all(values[1:] >= values[:-1])):
+        return int(np.mean(values[(n - 1) // 2 : n // 2 + 1]))
+    return int(np.median(values))
 
 
-def _tf_span(buffer: Buffer, record_start: int, record_end: int) -> tuple[int, int]:
-    dynamic = [(h.oldest_stamp, h.latest_stamp) for _, h in buffer.histories() if not h.static and len(h)]
-    if not dynamic:
-        dynamic = [(int(h.stamps.min()), int(h.stamps.max())) for _, h in buffer.histories() if len(h)]
-    if not dynamic:
+def stamp_spans(buffer: Buffer) -> Iterable[tuple[bool, int, int]]:
+    """Whether each history is static, and its oldest and newest stamp."""
+    for _, hist in buffer.histories():
+        if hist.static and len(hist):
+            yield True, int(hist.stamps.min()), int(hist.stamps.max())
+        elif len(hist):
+            yield False, hist.oldest_stamp, hist.latest_stamp
+
+
+def tf_span(spans: Iterable[tuple[bool, int, int]], record_start: int, record_end: int) -> tuple[int, int]:
+    """The tf data's own span (``stamp_spans``): its first and last dynamic stamp, the statics' if none,
+    the record span if no stamp at all."""
+    spans = list(spans)
+    chosen = [(first, last) for static, first, last in spans if not static] or [(f, la) for _, f, la in spans]
+    if not chosen:
         return record_start, record_end
-    return min(s for s, _ in dynamic), max(e for _, e in dynamic)
+    return min(first for first, _ in chosen), max(last for _, last in chosen)
 
 
 def _why_none(edges: tuple[EdgeClock, ...], clock: ClockSamples) -> str:

@@ -1,0 +1,163 @@
+"""A streamed recording: read window by window, it replays the same rows, on the same clock, with the
+same timeline as the recording read whole, while holding one window at a time."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
+from tftools.core.batch import TransformBatch, concat_batches
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.sources import read_recording
+from tftools.sources.errors import NoTransformsError
+from tftools.sources.replay import Replay
+from tftools.sources.stream import SAMPLES_PER_FRAME, _Arrivals, stream_recording
+from tftools.sources.timeline import Reference, Timeline
+
+SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"
+WALL = 1_700_000_000 * NS_PER_S  # the record clock of a simulation recorded without --use-sim-time
+SIM = 50 * NS_PER_S  # its simulated time when recording began
+
+
+def _transform(parent: str, child: str, stamp: int, x: float) -> Transform:
+    return Transform.from_rpy((x, 0.0, 0.0), (0.0, 0.0, 0.0), stamp, parent, child)
+
+
+def simulation(path: Path, fmt: BagFormat, seconds: int = 20) -> Path:
+    """A simulation recorded with /clock: tf stamped on sim time, received on wall time, a laser
+    stamped 0.3 s late, statics latched once at the start."""
+    messages = [TfMessage("/tf_static", WALL, [_transform("base_link", "laser", SIM, 0.2)])]
+    clock = []
+    for tick in range(seconds * 50):
+        record, sim = WALL + tick * NS_PER_S // 50 + 1000, SIM + tick * NS_PER_S // 50
+        odom = _transform("odom", "base_link", sim, tick / 50)
+        messages.append(TfMessage("/tf", record, [odom, _transform("map", "odom", sim, 1.0)]))
+        if tick % 5 == 0:
+            messages.append(TfMessage("/tf", record + 7, [_transform("base_link", "arm", sim - 3 * SIM // 500, 0.1)]))
+    for tick in range(seconds * 100):
+        clock.append(ClockMessage(WALL + tick * NS_PER_S // 100, SIM + tick * NS_PER_S // 100))
+    return write_bag(path, messages, fmt, clock)
+
+
+def whole_replay_rows(paths: list[Path]) -> TransformBatch:
+    """The rows a replay of the recording read whole delivers: every transform, moved onto the stamps' clock."""
+    recording = read_recording(paths)
+    transforms = recording.transforms
+    return dataclasses.replace(transforms, record_time=recording.timeline.playback(transforms.record_time))
+
+
+def assert_same_rows(streamed: TransformBatch, whole: TransformBatch) -> None:
+    assert streamed.record_time.tolist() == whole.record_time.tolist()
+    assert streamed.stamp.tolist() == whole.stamp.tolist()
+    assert [streamed.frame_names[i] for i in streamed.child] == [whole.frame_names[i] for i in whole.child]
+    assert [streamed.frame_names[i] for i in streamed.parent] == [whole.frame_names[i] for i in whole.parent]
+    np.testing.assert_array_equal(streamed.translation, whole.translation)
+    np.testing.assert_array_equal(streamed.rotation, whole.rotation)
+    assert streamed.static.tolist() == whole.static.tolist()
+
+
+def assert_same_timeline(streamed: Timeline, whole: Timeline) -> None:
+    assert (streamed.reference, streamed.tf_start, streamed.tf_end) == (whole.reference, whole.tf_start, whole.tf_end)
+    assert sorted(streamed.edges, key=lambda e: e.child) == sorted(whole.edges, key=lambda e: e.child)
+    assert streamed.off_reference == whole.off_reference
+    assert streamed.reason == whole.reason
+
+
+RECORDINGS = [
+    pytest.param([SAMPLES / "robot.bag"], id="sample-ros1"),
+    pytest.param([SAMPLES / "robot_db3"], id="sample-db3"),
+    pytest.param([SAMPLES / "robot_mcap"], id="sample-mcap"),
+]
+
+
+@pytest.mark.parametrize("paths", RECORDINGS)
+def test_a_streamed_sample_bag_replays_the_rows_of_the_whole(paths: list[Path]) -> None:
+    streamed = stream_recording(paths, window_messages=500)
+    parts = list(streamed.parts())
+    assert len(streamed.windows) > 10 and len(parts) > 10
+    rows = concat_batches(parts)
+    assert_same_rows(rows, whole_replay_rows(paths))
+    whole = read_recording(paths)
+    assert_same_timeline(streamed.timeline, whole.timeline.played())
+    assert sorted(streamed.frames) == sorted(whole.buffer.frames)
+    assert streamed.semantics == whole.buffer.semantics
+    # each part is about one window's: no part holds much more than its share
+    assert max(len(p) for p in parts) <= 4 * len(rows) / len(streamed.windows)
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_a_simulation_streams_onto_its_clock(tmp_path: Path, fmt: BagFormat) -> None:
+    """Stamps on /clock, record times on wall time: the streamed replay moves each window's rows onto
+    /clock exactly as the whole recording's replay does, across window edges."""
+    bag = simulation(tmp_path / "sim", fmt)
+    streamed = stream_recording([bag], window_messages=300)
+    whole = read_recording([bag]).timeline
+    assert whole.reference is Reference.CLOCK
+    assert_same_timeline(streamed.timeline, whole.played())
+    assert_same_rows(concat_batches(list(streamed.parts())), whole_replay_rows([bag]))
+    assert streamed.timeline.tf_start == SIM - 3 * SIM // 500
+
+
+def test_a_replay_of_parts_delivers_what_a_replay_of_the_whole_does(tmp_path: Path) -> None:
+    bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
+    streamed = stream_recording([bag], window_messages=300)
+    start, end = SIM + 3 * NS_PER_S, SIM + 9 * NS_PER_S
+
+    def played(replay: Replay) -> tuple[list[int], list[int]]:
+        times: list[int] = []
+        clock: list[int] = []
+
+        def on_batch(batch: TransformBatch) -> None:
+            times.extend(batch.record_time.tolist())
+            clock.append(replay.clock.now())
+
+        replay.attach(on_batch)
+        for now in range(start, end + NS_PER_S, NS_PER_S // 7):
+            replay.advance_to(now)
+        assert replay.finished and replay.clock.now() == end
+        return times, clock
+
+    whole = played(Replay(whole_replay_rows([bag]), start=start, end=end))
+    assert played(streamed.replay(start=start, end=end)) == whole
+    assert whole[0][0] < start  # the statics recorded before the start come first
+
+
+def test_a_bag_without_transforms_is_refused(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "clock.bag", [], BagFormat.ros1, [ClockMessage(WALL, SIM)])
+    with pytest.raises(NoTransformsError):
+        stream_recording([bag])
+
+
+def test_a_bag_read_whole_is_streamed_as_one_window(tmp_path: Path) -> None:
+    """A ROS1 bag cut before its index was written cannot be read by window: one window, the whole."""
+    bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
+    cut = tmp_path / "cut.bag"
+    data = bag.read_bytes()
+    cut.write_bytes(data[: int(len(data) * 0.9)])
+    streamed = stream_recording([cut], window_messages=300)
+    assert streamed.windows == (None,)
+    assert_same_rows(concat_batches(list(streamed.parts())), whole_replay_rows([cut]))
+    assert streamed.problems == read_recording([cut]).problems
+
+
+def test_arrivals_keep_an_even_sample_of_a_long_recording() -> None:
+    rng = np.random.default_rng(1)
+    total = 20 * SAMPLES_PER_FRAME + 123
+    values = np.arange(total, dtype=np.int64)
+    arrivals = _Arrivals()
+    at = 0
+    while at < total:
+        n = int(rng.integers(1, 5000))
+        part = values[at : at + n]
+        arrivals.add(part, part, part, np.ones(len(part), bool))
+        at += n
+    kept, *_ = arrivals.kept()
+    stride = int(kept[1] - kept[0])
+    assert SAMPLES_PER_FRAME // 2 < len(kept) <= SAMPLES_PER_FRAME
+    assert kept.tolist() == list(range(0, total, stride))  # every stride-th arrival, from the first
+    assert abs(np.median(kept) - np.median(values)) <= stride

@@ -1,0 +1,214 @@
+"""``StreamedRecording``: a recording read one window of record time after another and never held
+whole, for replays: memory stays bounded however long the recording is.
+
+A first pass over the windows learns what a replay needs to know up front (the frames, the tf's span,
+which clock the stamps are on); ``replay`` then reads the windows again as the clock reaches them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from collections.abc import Iterator, Sequence
+
+import numpy as np
+
+from tftools.core.arrays import BoolArray, Int64Array
+from tftools.core.batch import TransformBatch
+from tftools.core.buffer import Buffer
+from tftools.core.semantics import Semantics
+from tftools.sources.bag import ProgressCallback, read_bag
+from tftools.sources.bag.contents import BagFileInfo, RecordWindow, merged_clock
+from tftools.sources.contents import DEFAULT_TOPICS, ClockSamples, RecordingContents
+from tftools.sources.recording import no_transforms, semantics_of
+from tftools.sources.replay import Replay
+from tftools.sources.timeline import (
+    EdgeClock,
+    Playback,
+    Timeline,
+    clock_at,
+    dynamic_arrivals,
+    edge_clock,
+    stamp_spans,
+    tf_span,
+    timeline_from,
+)
+
+#: Messages (of every topic, as the files' indexes count them) a window is planned to hold.
+WINDOW_MESSAGES = 250_000
+#: Arrivals per frame the clocks' medians are taken from: every one in a short recording, evenly
+#: spaced ones over a long recording.
+SAMPLES_PER_FRAME = 8192
+
+#: Record times read at once; None: the whole recording (a file without an index).
+Window = RecordWindow | None
+
+
+class StreamedRecording:
+    """A recording described by a first pass over its windows, whose transforms ``replay`` reads again."""
+
+    def __init__(
+        self,
+        paths: Sequence[str],
+        topics: tuple[str, ...],
+        windows: Sequence[Window],
+        contents: RecordingContents,
+        recorded: Timeline,
+        frames: Sequence[str],
+    ) -> None:
+        self.paths = list(paths)
+        self.topics = topics
+        self.windows = tuple(windows)
+        self.contents = contents  # the files described: no parts, no clock
+        self.frames = list(frames)
+        self.semantics = semantics_of(contents)
+        #: The replay's timeline: its record times are replay times, on the stamps' clock (``Timeline.played``).
+        self.timeline = recorded.played()
+        self._recorded = recorded  # whose clock holds the first /clock sample only: enough for ``Playback``
+
+    @property
+    def problems(self) -> list[str]:
+        return self.contents.problems
+
+    def parts(self) -> Iterator[TransformBatch]:
+        """Every transform in record order, window after window, its record time moved onto the
+        stamps' clock (``Playback``)."""
+        playback = Playback(self._recorded)
+        for window in self.windows:
+            contents = read_bag(self.paths, self.topics, window=window)
+            playback.heard(contents.clock)
+            for part in contents.parts:
+                yield dataclasses.replace(part, record_time=playback.moved(part.record_time))
+
+    def replay(self, *, rate: float = 1.0, start: int | None = None, end: int | None = None) -> Replay:
+        """A replay on the clock the tf is stamped on: what a node with use_sim_time sees while the bag
+        plays with its recorded /clock, or on its record clock."""
+        return Replay(self.parts(), rate=rate, start=start, end=end)
+
+
+def stream_recording(
+    paths: Sequence[str | os.PathLike[str]],
+    topics: Sequence[str] | None = None,
+    progress: ProgressCallback | None = None,
+    *,
+    semantics: Semantics | None = None,
+    window_messages: int = WINDOW_MESSAGES,
+) -> StreamedRecording:
+    """The recording at ``paths`` (see ``read_bag``), read in windows of about ``window_messages``
+    messages to describe it; its transforms are read again by ``replay``. ``NoTransformsError`` when
+    no transform was found."""
+    chosen = tuple(topics) if topics else DEFAULT_TOPICS
+    described = read_bag(paths, chosen, window=RecordWindow(0, 0))
+    windows = _windows(described.files, window_messages)
+    summary = _Summary(semantics or semantics_of(described), described.files)
+    for index, window in enumerate(windows):
+        summary.add(read_bag(paths, chosen, _share(progress, index, len(windows)), window=window))
+    contents = RecordingContents([], summary.files, chosen)
+    if not summary.transforms:
+        raise no_transforms(paths, contents)
+    recorded = timeline_from(
+        summary.edges(),
+        summary.first_clock,
+        contents.start,
+        contents.end,
+        tf_span(summary.spans.values(), contents.start, contents.end),
+    )
+    return StreamedRecording([os.fspath(p) for p in paths], chosen, windows, contents, recorded, summary.frames)
+
+
+def _windows(files: Sequence[BagFileInfo], messages: int) -> tuple[Window, ...]:
+    """Windows of about ``messages`` messages each over the files' record span (the first and
+    last open-ended); the whole recording at once when a file cannot be read by window."""
+    counted = [f for f in files if f.message_count]
+    if not counted or not all(f.windowed for f in files):
+        return (None,)
+    start, end = min(f.start for f in counted), max(f.end for f in counted)
+    count = max(1, math.ceil(sum(f.message_count for f in counted) / messages))
+    step = max(1, math.ceil((end - start + 1) / count))
+    bounds = [start + i * step for i in range(1, count)]
+    lowest, highest = int(np.iinfo(np.int64).min), int(np.iinfo(np.int64).max)
+    return tuple(RecordWindow(first, last) for first, last in zip([lowest, *bounds], [*bounds, highest], strict=True))
+
+
+def _share(progress: ProgressCallback | None, index: int, count: int) -> ProgressCallback | None:
+    """Progress of window ``index`` of ``count`` as a share of the whole read."""
+    if progress is None:
+        return None
+
+    def reported(done: int, total: int) -> None:
+        if total:
+            progress(round(total * (index + done / total) / count), total)
+
+    return reported
+
+
+class _Summary:
+    """What the first pass learns of a recording, window by window, in memory that does not grow with it."""
+
+    def __init__(self, semantics: Semantics, files: Sequence[BagFileInfo]) -> None:
+        self.semantics = semantics
+        self.files = [dataclasses.replace(f, problems=list(f.problems), transform_count=0) for f in files]
+        self.transforms = 0
+        self.frames: list[str] = []
+        self.spans: dict[bool, tuple[bool, int, int]] = {}  # static or not: the stamps' span
+        self.first_clock = ClockSamples.empty()
+        self._clock = ClockSamples.empty()  # the last /clock sample before the next window
+        self._arrivals: dict[str, _Arrivals] = {}
+
+    def add(self, contents: RecordingContents) -> None:
+        """One window's transforms, inserted into a buffer of their own to learn them as tf2 stores them."""
+        for described, read in zip(self.files, contents.files, strict=True):
+            described.transform_count += read.transform_count
+            described.problems += [p for p in read.problems if p not in described.problems]
+        self.transforms += sum(len(p) for p in contents.parts)
+        buffer = Buffer(cache_time=None, semantics=self.semantics)
+        buffer.reserve(contents.parts)
+        for part in contents.parts:
+            buffer.insert(part)
+        known = set(self.frames)
+        self.frames += [f for f in buffer.frames if f not in known]
+        for static, first, last in stamp_spans(buffer):
+            seen = self.spans.get(static, (static, first, last))
+            self.spans[static] = (static, min(seen[1], first), max(seen[2], last))
+        clock = merged_clock([self._clock, contents.clock])
+        if len(contents.clock) and not len(self.first_clock):
+            self.first_clock = _last(contents.clock, 0)
+        for child, hist in buffer.histories():
+            arrivals = dynamic_arrivals(hist)
+            if arrivals is not None:
+                stamps, records = arrivals
+                self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, *clock_at(clock, records))
+        self._clock = _last(clock, len(clock) - 1)
+
+    def edges(self) -> tuple[EdgeClock, ...]:
+        return tuple(edge_clock(child, *arrivals.kept()) for child, arrivals in self._arrivals.items())
+
+
+class _Arrivals:
+    """One frame's arrivals (stamp, record time, /clock at arrival and where known), every ``stride``-th
+    kept: all of them up to ``SAMPLES_PER_FRAME``, then every second one, every fourth..."""
+
+    def __init__(self) -> None:
+        self._parts: list[tuple[Int64Array, Int64Array, Int64Array, BoolArray]] = []
+        self._seen = 0
+        self._stride = 1
+
+    def add(self, stamps: Int64Array, records: Int64Array, ros: Int64Array, known: BoolArray) -> None:
+        picked = np.arange((-self._seen) % self._stride, len(stamps), self._stride)
+        self._seen += len(stamps)
+        self._parts.append((stamps[picked], records[picked], ros[picked], known[picked]))
+        while sum(len(p[0]) for p in self._parts) > SAMPLES_PER_FRAME:
+            self._parts = [tuple(column[::2] for column in self.kept())]  # type: ignore[list-item]
+            self._stride *= 2
+
+    def kept(self) -> tuple[Int64Array, Int64Array, Int64Array, BoolArray]:
+        stamps, records, ros, known = (np.concatenate(column) for column in zip(*self._parts, strict=True))
+        return stamps, records, ros, known
+
+
+def _last(clock: ClockSamples, index: int) -> ClockSamples:
+    """The clock's sample at ``index`` alone (none of an empty clock)."""
+    if not len(clock):
+        return clock
+    return ClockSamples(clock.topic, clock.record_time[index : index + 1], clock.clock[index : index + 1])
