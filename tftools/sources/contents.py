@@ -94,6 +94,9 @@ class SourceInfo:
     clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # this source's /clock
     fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
     stamped: list[StampedMessages] = field(default_factory=list, repr=False, compare=False)  # headers read
+    # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
+    # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.
+    windowed: bool = True
 
     @property
     def live(self) -> bool:

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
+from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.sources.contents import ClockSamples, RecordingContents, SourceInfo
 
@@ -15,6 +17,21 @@ ProgressCallback = Callable[[int, int], None]
 
 #: The topic preferred when a recording has several of rosgraph_msgs/Clock.
 CLOCK_TOPIC = "/clock"
+
+
+@dataclass(frozen=True)
+class RecordWindow:
+    """Record times ``[first, last)`` (ns): what a windowed read keeps of a recording."""
+
+    first: int
+    last: int
+
+    def overlaps(self, start: int, end: int) -> bool:
+        """Whether messages recorded from ``start`` to ``end`` (both included) may lie in the window."""
+        return self.first < self.last and start < self.last and end >= self.first
+
+    def holds(self, record_time: Int64Array) -> BoolArray:
+        return (record_time >= self.first) & (record_time < self.last)
 
 
 def in_record_order(batches: list[TransformBatch]) -> list[TransformBatch]:

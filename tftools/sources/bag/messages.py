@@ -10,6 +10,7 @@ import numpy as np
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.clock import ClockParts
+from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.bag.rows import Channel, Rows
 from tftools.sources.bag.spans import Spans
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec
@@ -44,11 +45,13 @@ class MessageSet:
 
     Payloads are decoded by their codecs a few megabytes at a time as they are added, so that
     a file's payloads are never all held at once; per message only its record time, position
-    and channel are kept until ``decode``.
+    and channel are kept until ``decode``. With a ``window``, messages recorded outside it are
+    left out as they are added.
     """
 
-    def __init__(self, unpack: Unpack | None = None) -> None:
+    def __init__(self, unpack: Unpack | None = None, window: RecordWindow | None = None) -> None:
         self.unpack = unpack  # applied to every payload first, e.g. decompression
+        self.window = window
         self.channels: list[Channel] = []
         self._channel_ids: dict[Channel, int] = {}
         self._codecs: list[AnyCodec] = []
@@ -67,10 +70,15 @@ class MessageSet:
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
-        fresh = MessageSet(self.unpack)
+        fresh = MessageSet(self.unpack, self.window)
         for c in self.channels:
             fresh.channel(c.topic, c.codec, publisher=c.publisher, tie=c.tie)
         return fresh
+
+    def may_keep(self, start: int, end: int) -> bool:
+        """Whether messages recorded from ``start`` to ``end`` (both included) may be kept: a format
+        whose index says so of a part of its file reads the part only then."""
+        return self.window is None or self.window.overlaps(start, end)
 
     def channel(self, topic: str, codec: AnyCodec, *, publisher: str = "", tie: int = 0) -> int:
         """The number of the channel ``topic`` decoded with ``codec`` (see ``Channel``), to ``add``
@@ -128,6 +136,10 @@ class MessageSet:
     ) -> None:
         """Number the messages, noting their channels, record times and positions, and group their
         payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec."""
+        if self.window is not None:
+            inside = self.window.holds(times)
+            channels, times, where = channels[inside], times[inside], where[inside]
+            starts, lengths = starts[inside], lengths[inside]
         if not len(starts):
             return
         ids = np.arange(self.count, self.count + len(channels), dtype=np.int64)  # the messages' numbers

@@ -11,7 +11,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import BagContents, BagFileInfo, ProgressCallback, in_record_order, merged_clock
+from tftools.sources.bag.contents import (
+    BagContents,
+    BagFileInfo,
+    ProgressCallback,
+    RecordWindow,
+    in_record_order,
+    merged_clock,
+)
 from tftools.sources.contents import DEFAULT_TOPICS, Fetched
 from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
 from tftools.sources.storage.locations import is_url
@@ -19,8 +26,10 @@ from tftools.sources.storage.locations import is_url
 if TYPE_CHECKING:
     from tftools.sources.storage.remote import LocalView
 
-#: A format reader: (path, topics, progress over this file's bytes) -> batches and description.
-FormatReader = Callable[[Path, tuple[str, ...], ProgressCallback], tuple[list[TransformBatch], BagFileInfo]]
+#: A format reader: (path, topics, progress over this file's bytes, window) -> batches and description.
+FormatReader = Callable[
+    [Path, tuple[str, ...], ProgressCallback, RecordWindow | None], tuple[list[TransformBatch], BagFileInfo]
+]
 
 #: The first bytes of each format's files, and the module that reads them.
 _MAGICS = ((b"#ROSBAG V2.0\n", "ros1"), (b"SQLite format 3\x00", "rosbag2"), (b"\x89MCAP0\r\n", "mcap"))
@@ -30,6 +39,7 @@ def read_bag(
     paths: Sequence[str | os.PathLike[str]],
     topics: Sequence[str] | None = None,
     progress: ProgressCallback | None = None,
+    window: RecordWindow | None = None,
 ) -> BagContents:
     """Every transform on ``topics`` (default ``/tf`` and ``/tf_static``) of the bags at ``paths``,
     and their recorded clock (a rosgraph_msgs/Clock topic, whatever ``topics`` are).
@@ -39,18 +49,25 @@ def read_bag(
     Several paths are one recording (a split bag): their rows are merged by record time.
     Raises ``BagError`` for a path that cannot be read at all; a damaged file is read as far
     as it goes, and what was lost is listed in its ``BagFileInfo.problems``.
+
+    With a ``window``, only the transforms, clock and headers recorded in it are read (the files'
+    indexes skip the rest; a file without one is read whole, and its ``windowed`` is False); each
+    ``BagFileInfo`` still describes its whole file. An empty window reads only the descriptions.
     """
     chosen = tuple(topics) if topics else DEFAULT_TOPICS
-    batches, infos = read_files(paths, chosen, progress)
+    batches, infos = read_files(paths, chosen, progress, window)
     return BagContents(in_record_order(batches), infos, chosen, merged_clock([f.clock for f in infos]))
 
 
 def read_files(
-    paths: Sequence[str | os.PathLike[str]], topics: tuple[str, ...], progress: ProgressCallback | None = None
+    paths: Sequence[str | os.PathLike[str]],
+    topics: tuple[str, ...],
+    progress: ProgressCallback | None = None,
+    window: RecordWindow | None = None,
 ) -> tuple[list[TransformBatch], list[BagFileInfo]]:
     """Each file at ``paths`` (local or a URL) read by its format's reader for ``topics`` (a
-    ``HeaderTopics`` reads sensor data's headers into each ``BagFileInfo.stamped`` instead): the
-    batches of all, and one ``BagFileInfo`` per file."""
+    ``HeaderTopics`` reads sensor data's headers into each ``BagFileInfo.stamped`` instead), in
+    ``window`` (see ``read_bag``): the batches of all, and one ``BagFileInfo`` per file."""
     with ExitStack() as stack:
         places = [_place(os.fspath(p), stack) for p in paths]
         readers = [(place, _format_reader(place)) for place in places]
@@ -66,7 +83,7 @@ def read_files(
                 if progress is not None:
                     progress(offset + read, total)
 
-            file_batches, info = place.said(reader, topics, file_progress)
+            file_batches, info = place.said(reader, topics, file_progress, window)
             batches.extend(file_batches)
             infos.append(info)
             done += size
@@ -84,13 +101,13 @@ class _Place:
     view: LocalView | None = None
 
     def said(
-        self, reader: FormatReader, topics: tuple[str, ...], progress: ProgressCallback
+        self, reader: FormatReader, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None
     ) -> tuple[list[TransformBatch], BagFileInfo]:
         """The reader's result, said of the URL (with what was fetched) for a remote bag."""
         if self.view is None:
-            return reader(self.path, topics, progress)
+            return reader(self.path, topics, progress, window)
         try:
-            batches, info = reader(self.path, topics, progress)
+            batches, info = reader(self.path, topics, progress, window)
         except BagError as e:
             raise e.said_of(self.url) from None
         local = str(self.path)

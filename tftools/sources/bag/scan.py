@@ -25,6 +25,7 @@ class FileScan:
     topics: dict[str, str] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)  # damage: what was lost
     skipped: list[Unread] = field(default_factory=list)  # asked-for topics of types or encodings not read
+    windowed: bool = True  # False: read whole, without an index to find a record-time window by
 
     def note_times(self, first: int, last: int, count: int) -> None:
         """``count`` messages of any topic met, recorded from ``first`` to ``last`` (when no index
@@ -75,5 +76,6 @@ def file_result(
         unread=unread_lines([u for scan in scans for u in scan.skipped]),
         clock=merged_clock(clocks),
         stamped=merged(stamped),
+        windowed=all(s.windowed for s in scans),
     )
     return batches, info

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
+from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
 from tftools.sources.bag.mcap.index import read_indexed
 from tftools.sources.bag.mcap.records import MAGIC, Channels
 from tftools.sources.bag.mcap.stream import UnreadableError, stream
@@ -15,9 +15,11 @@ from tftools.sources.bag.scan import FileScan, file_result
 from tftools.sources.errors import CorruptBagError
 
 
-def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tuple[list[TransformBatch], BagFileInfo]:
+def read(
+    path: Path, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None = None
+) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms of a bare ``.mcap`` file (see ``reader.read_bag``)."""
-    return file_result(path, "mcap", [scan(path, topics, progress, MessageSet())])
+    return file_result(path, "mcap", [scan(path, topics, progress, MessageSet(window=window))])
 
 
 def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messages: MessageSet) -> FileScan:

@@ -89,10 +89,12 @@ def _read_chunks(
             lost[number] = str(e)
 
     ranged = RangedReader(f.fileno(), channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
-    indexed = [c for c in chunks if _in_ranges(c, _wanted(c, channels))]
+    indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels))]
     ends = np.array([c.end for c in indexed], np.int64)
     ahead(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
     for number, chunk in enumerate(chunks):
+        if not _in_window(chunk, channels):
+            continue
         wanted = _wanted(chunk, channels)
         if _in_ranges(chunk, wanted):
             index = _read_at(f, chunk.end, chunk.index_length)
@@ -108,6 +110,11 @@ def _read_chunks(
         progress(chunk.end, size)
     ranged.flush()
     return [lost[number] for number in sorted(lost)]
+
+
+def _in_window(chunk: ChunkIndex, channels: Channels) -> bool:
+    """Whether the chunk may hold messages recorded in the window read."""
+    return channels.result.messages.may_keep(chunk.message_start, chunk.message_end)
 
 
 def _wanted(chunk: ChunkIndex, channels: Channels) -> list[int]:
@@ -172,7 +179,7 @@ def _parse_summary(data: bytes, size: int) -> _Summary:
 
 def _chunk_index(content: bytes) -> ChunkIndex:
     body = Body(content)
-    body.pos += 16  # message start and end times
+    message_start, message_end = body.int(I64), body.int(I64)
     offset, length = body.int(U64), body.int(U64)
     entries = body.bytes(U32)
     if len(entries) % _ID_OFFSET.size:
@@ -180,7 +187,7 @@ def _chunk_index(content: bytes) -> ChunkIndex:
     offsets = dict(_ID_OFFSET.iter_unpack(entries))
     index_length = body.int(U64)
     compression = body.string()
-    return ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64))
+    return ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64), message_start, message_end)
 
 
 def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:

@@ -35,6 +35,8 @@ class ChunkIndex:
     index_length: int
     compression: str
     records_length: int  # of its records as stored (compressed or not)
+    message_start: int  # record (log) time of its first message, ns
+    message_end: int  # and of its last
 
     @property
     def records_start(self) -> int:

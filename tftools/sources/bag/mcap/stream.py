@@ -38,6 +38,7 @@ def stream(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallbac
     """
     need(f.fileno(), 0, size)  # a remote file is fetched whole: every record is read
     reader, result = _Stream(f, size, channels), channels.result
+    result.windowed = False
     damage = reader.run(progress)
     if reader.lost_chunks:
         result.note_problem(f"{reader.lost_chunks} chunks are damaged; their messages are lost")

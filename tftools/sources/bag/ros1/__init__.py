@@ -9,7 +9,7 @@ from contextlib import contextmanager, suppress
 from pathlib import Path
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
+from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.index import read_index, read_indexed
 from tftools.sources.bag.ros1.records import FormatError, read_bag_header
@@ -18,7 +18,9 @@ from tftools.sources.bag.scan import file_result
 from tftools.sources.errors import CorruptBagError
 
 
-def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tuple[list[TransformBatch], BagFileInfo]:
+def read(
+    path: Path, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None = None
+) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms on ``topics`` and the clock of the ROS1 bag at ``path`` (see ``reader.read_bag``).
 
     A bag without (or with a damaged) index is read by scanning its chunks; what could not be
@@ -33,7 +35,7 @@ def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tup
             raise CorruptBagError(
                 str(path), f"encrypted with {header.encryptor}; decrypt it with `rosbag decrypt` first"
             )
-        bag = BagFile(path.name, buf, file.fileno(), topics, progress)
+        bag = BagFile(path.name, buf, file.fileno(), topics, progress, window)
         if 0 < header.index_pos <= bag.size:
             try:
                 infos = read_index(bag, header)

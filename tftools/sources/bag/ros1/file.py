@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.core.arrays import BoolArray
-from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.ranges import need
 from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, RecordReader
@@ -39,10 +39,17 @@ class Damage:
 
 class BagFile:
     """A ROS1 bag's bytes (``buf``, mapped from the file ``fd`` when there is one), being read for
-    the messages of ``topics``: into ``scan``, its description and transform and clock messages."""
+    the messages of ``topics`` recorded in ``window``: into ``scan``, its description and transform
+    and clock messages."""
 
     def __init__(
-        self, name: str, buf: FileBuffer, fd: int | None, topics: tuple[str, ...], progress: ProgressCallback
+        self,
+        name: str,
+        buf: FileBuffer,
+        fd: int | None,
+        topics: tuple[str, ...],
+        progress: ProgressCallback,
+        window: RecordWindow | None = None,
     ) -> None:
         self.name = name
         self.buf = buf
@@ -52,7 +59,7 @@ class BagFile:
         self.budget = Budget(self.size)  # what its chunks may decompress to in all
         self.topics = topics
         self.progress = progress
-        self.scan = FileScan(MessageSet())
+        self.scan = FileScan(MessageSet(window=window))
         self.damage = Damage()
         self.transform_messages = 0  # wanted, found (clock messages are not counted)
         self.channels: dict[int, int] = {}  # connection id -> message set channel, of those wanted

@@ -72,7 +72,7 @@ def read_indexed(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
     _prefetch(bag, infos, index_pos)
     gathered = _Gathered()
     for ordinal, info in enumerate(infos):
-        wanted = sum(n for conn, n in info.counts.items() if bag.wants(conn))
+        wanted = _wanted_count(bag, info)
         if wanted:
             _read_chunk(bag, gathered, ordinal, info, wanted)
             bag.progress(min(info.pos, bag.size), bag.size)
@@ -90,11 +90,19 @@ def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
     starts: list[int] = []
     stops: list[int] = []
     for info, end in zip(infos, ends, strict=True):
-        if any(bag.wants(conn) for conn in info.counts):
+        if _wanted_count(bag, info):
             index_bytes = sum(_INDEX_RECORD_BYTES + _INDEX_ENTRY_BYTES * n for n in info.counts.values())
             starts += [info.pos, max(info.pos, end - index_bytes)]
             stops += [info.pos + _CHUNK_HEADER_BYTES, end]
     ahead(bag.fd, np.array(starts, np.int64), np.array(stops, np.int64))
+
+
+def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
+    """The wanted messages of a chunk, as its info counts them: none when it was recorded
+    outside the window read."""
+    if not bag.scan.messages.may_keep(info.start, info.end):
+        return 0
+    return sum(n for conn, n in info.counts.items() if bag.wants(conn))
 
 
 def _record(bag: BagFile, pos: int, op: int) -> Record:

@@ -28,6 +28,7 @@ def read_unindexed(bag: BagFile, header: BagHeader, index_damage: str = "") -> N
     """Read the bag's records one after the other, up to its index when ``index_damage`` says
     what is wrong with it (else there is none, or it lies past the end of the file), and say so."""
     scanner = _Scanner(bag)
+    bag.scan.windowed = False
     if bag.fd is not None:  # a remote bag is fetched whole: every record is read
         need(bag.fd, header.data_start, bag.size)
     truncated = header.index_pos > bag.size

@@ -11,7 +11,7 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import BagFileInfo, ProgressCallback
+from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2 import metadata_yaml
 from tftools.sources.bag.scan import FileScan, file_result
@@ -19,13 +19,15 @@ from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd
 from tftools.sources.errors import CorruptBagError
 
 
-def read(path: Path, topics: tuple[str, ...], progress: ProgressCallback) -> tuple[list[TransformBatch], BagFileInfo]:
+def read(
+    path: Path, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None = None
+) -> tuple[list[TransformBatch], BagFileInfo]:
     """The transforms of a ROS2 bag directory or a bare .db3 file (see ``reader.read_bag``)."""
     if not path.is_dir():
         bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path])
-        return file_result(path, f"rosbag2-{bag.storage}", [_scan_file(path, bag, topics, progress)])
+        return file_result(path, f"rosbag2-{bag.storage}", [_scan_file(path, bag, topics, progress, window)])
     bag = _layout(path)
-    scans, labels = _scan_files(path, bag, topics, progress)
+    scans, labels = _scan_files(path, bag, topics, progress, window)
     batches, info = file_result(path, f"rosbag2-{bag.storage}", scans, labels)
     info.problems[:0] = bag.problems
     return batches, info
@@ -112,7 +114,7 @@ def _natural(path: Path) -> list[Any]:
 
 
 def _scan_files(
-    path: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback
+    path: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None
 ) -> tuple[list[FileScan], list[str]]:
     """Each file's scan, and a label per scan for its problems (the file name when there are several)."""
     scans: list[FileScan] = []
@@ -129,7 +131,7 @@ def _scan_files(
             lost.append(f"{_shown(file.name)} is listed in metadata.yaml but missing; its messages are lost")
             continue
         try:
-            scans.append(_scan_file(file, bag, topics, file_progress))
+            scans.append(_scan_file(file, bag, topics, file_progress, window))
             labels.append(file.name if len(bag.files) > 1 else "")
         except CorruptBagError as e:
             lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
@@ -141,18 +143,23 @@ def _scan_files(
     return scans, labels
 
 
-def _scan_file(file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback) -> FileScan:
+def _scan_file(
+    file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None
+) -> FileScan:
     # Each storage's module is imported only when a file needs it.
     unpack = zstd_messages(file.stat().st_size) if bag.compression_mode == "message" else None
-    messages = MessageSet(unpack)
+    messages = MessageSet(unpack, window)
     with _uncompressed(file, bag.problems) as plain:
         if plain.suffix == ".mcap":
             from tftools.sources.bag import mcap
 
-            return mcap.scan(plain, topics, progress, messages)
-        from tftools.sources.bag.rosbag2 import db3
+            scan = mcap.scan(plain, topics, progress, messages)
+        else:
+            from tftools.sources.bag.rosbag2 import db3
 
-        return db3.scan(plain, topics, progress, messages)
+            scan = db3.scan(plain, topics, progress, messages)
+    scan.windowed &= plain == file  # a file compressed whole is decompressed whole first
+    return scan
 
 
 @contextmanager

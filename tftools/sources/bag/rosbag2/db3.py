@@ -131,8 +131,13 @@ def _messages(
         if headers_only
         else "data"
     )
-    # NOT INDEXED: the table read in its own order, page after page, not through the timestamp index.
-    query = f"SELECT topic_id, timestamp, id, {data} FROM messages NOT INDEXED WHERE topic_id IN ({ids})"
+    # NOT INDEXED: the table read in its own order, page after page, not through the timestamp index;
+    # but a window's rows are found through it.
+    window = result.messages.window
+    table, where = "messages NOT INDEXED", f"topic_id IN ({ids})"
+    if window is not None:
+        table, where = "messages", f"{where} AND timestamp >= {int(window.first)} AND timestamp < {int(window.last)}"
+    query = f"SELECT topic_id, timestamp, id, {data} FROM {table} WHERE {where}"
     added, latest = False, result.start  # the latest record time met: rows may come a little out of order
     try:
         rows = _sqlite.Messages(_uri(path), query)
@@ -154,6 +159,7 @@ def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str)
     with path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
         found = salvage(data, channels)
     rows = found.rows
+    result.windowed = False
     if not rows:
         raise CorruptBagError(str(path), f"no message could be read (sqlite: {error})")
     if not result.message_count:  # the statistics could not be read either
