@@ -16,6 +16,8 @@ COMMANDS = {
     "echo": ("echo", "map", "base_link", "-b", "BAG"),
     "echo-csv": ("echo", "map", "gripper", "-b", "BAG", "-f", "csv", "--at", "+1"),
     "monitor": ("monitor", "-b", "BAG"),
+    "monitor-play": ("monitor", "-b", "BAG", "--play", "--rate", "1000", "-f", "json"),
+    "echo-play": ("echo", "map", "base_link", "-b", "BAG", "--play", "--start", "-0.2", "-r", "10"),
     "view-frames": ("view-frames", "-b", "BAG", "-f", "dot", "-o", "-"),
     "wtf": ("wtf", "BAG"),
     "filter": ("filter", "-b", "BAG"),

@@ -14,8 +14,8 @@ from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
-from tftools.sources.errors import NoTransformsError
-from tftools.sources.replay import Replay
+from tftools.sources.errors import BagNotFoundError, NoTransformsError
+from tftools.sources.replay import Replay, follow
 from tftools.sources.stream import SAMPLES_PER_FRAME, _Arrivals, stream_recording
 from tftools.sources.timeline import Reference, Timeline
 
@@ -77,7 +77,7 @@ RECORDINGS = [
 
 @pytest.mark.parametrize("paths", RECORDINGS)
 def test_a_streamed_sample_bag_replays_the_rows_of_the_whole(paths: list[Path]) -> None:
-    streamed = stream_recording(paths, window_messages=500)
+    streamed = stream_recording(paths, window_messages=100)
     parts = list(streamed.parts())
     assert len(streamed.windows) > 10 and len(parts) > 10
     rows = concat_batches(parts)
@@ -109,16 +109,13 @@ def test_a_replay_of_parts_delivers_what_a_replay_of_the_whole_does(tmp_path: Pa
     start, end = SIM + 3 * NS_PER_S, SIM + 9 * NS_PER_S
 
     def played(replay: Replay) -> tuple[list[int], list[int]]:
+        """The rows delivered, and the clock after each step of bag time."""
         times: list[int] = []
         clock: list[int] = []
-
-        def on_batch(batch: TransformBatch) -> None:
-            times.extend(batch.record_time.tolist())
-            clock.append(replay.clock.now())
-
-        replay.attach(on_batch)
+        replay.attach(lambda batch: times.extend(batch.record_time.tolist()))
         for now in range(start, end + NS_PER_S, NS_PER_S // 7):
             replay.advance_to(now)
+            clock.append(replay.clock.now())
         assert replay.finished and replay.clock.now() == end
         return times, clock
 
@@ -161,3 +158,12 @@ def test_arrivals_keep_an_even_sample_of_a_long_recording() -> None:
     assert SAMPLES_PER_FRAME // 2 < len(kept) <= SAMPLES_PER_FRAME
     assert kept.tolist() == list(range(0, total, stride))  # every stride-th arrival, from the first
     assert abs(np.median(kept) - np.median(values)) <= stride
+
+
+def test_a_window_that_cannot_be_read_ends_the_replay_with_its_error(tmp_path: Path) -> None:
+    """The file went away after the first pass: the replay thread stops, and ``follow`` raises why."""
+    bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
+    streamed = stream_recording([bag], window_messages=300)
+    bag.unlink()
+    with pytest.raises(BagNotFoundError):
+        follow(streamed.replay(rate=1e6), lambda _batch: None, lambda: None, period=0.01, duration=5)

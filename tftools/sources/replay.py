@@ -66,6 +66,7 @@ class Replay:
         self._closed = threading.Event()
         self._finished = threading.Event()
         self._thread: threading.Thread | None = None
+        self.error: Exception | None = None
 
     @property
     def clock(self) -> SimClock:
@@ -87,15 +88,18 @@ class Replay:
         self._thread.start()
 
     def run(self, on_batch: OnBatch) -> None:
-        """Play in this thread until the end or ``close``."""
-        self.attach(on_batch)
-        started = self._monotonic()
-        while not self._closed.is_set():
-            now = self.begin + round((self._monotonic() - started) * self.rate * NS_PER_S)
-            self.advance_to(now)
-            if self.finished:
-                return
-            self._sleep(self._pause(now))
+        """Play in this thread until the end or ``close``; a part that cannot be read (a file changed
+        since it was opened) ends the replay, and is kept in ``error``."""
+        try:
+            self.attach(on_batch)
+            started = self._monotonic()
+            while not self._closed.is_set() and not self.finished:
+                now = self.begin + round((self._monotonic() - started) * self.rate * NS_PER_S)
+                self.advance_to(now)
+                if not self.finished:
+                    self._sleep(self._pause(now))
+        except Exception as error:
+            self.error = error
         self._finished.set()
 
     def attach(self, on_batch: OnBatch) -> None:
@@ -164,7 +168,8 @@ def follow(
     monotonic: Callable[[], float] = time.monotonic,
 ) -> None:
     """Start ``feed`` into ``on_batch`` and call ``on_tick`` every ``period`` wall seconds until
-    ``duration`` seconds have passed or the feed is finished, then once more; the feed is closed."""
+    ``duration`` seconds have passed or the feed is finished, then once more; the feed is closed, and
+    the error that ended it (a replay's ``error``) raised."""
     started = monotonic()
     feed.start(on_batch)
     try:
@@ -183,6 +188,8 @@ def follow(
             sleep(max(0.0, min(stop - now, 0.05)))
     finally:
         feed.close()
+    if (error := getattr(feed, "error", None)) is not None:
+        raise error
     on_tick()
 
 

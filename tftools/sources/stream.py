@@ -36,7 +36,7 @@ from tftools.sources.timeline import (
 )
 
 #: Messages (of every topic, as the files' indexes count them) a window is planned to hold.
-WINDOW_MESSAGES = 250_000
+WINDOW_MESSAGES = 50_000
 #: Arrivals per frame the clocks' medians are taken from: every one in a short recording, evenly
 #: spaced ones over a long recording.
 SAMPLES_PER_FRAME = 8192
