@@ -132,7 +132,7 @@ def _damage_first_chunk(path: Path, fmt: BagFormat, into: Path) -> tuple[Path, i
 
 
 def _first_leaf_page(path: Path) -> int:
-    """Where the page holding the first message (its payload names ``link_0``) begins in a .db3."""
+    """Where the page holding the first message's payload begins in a .db3."""
     with sqlite3.connect(path) as db:
         (page_size,) = db.execute("PRAGMA page_size").fetchone()
         (first,) = db.execute("SELECT data FROM messages ORDER BY timestamp LIMIT 1").fetchone()
