@@ -12,6 +12,7 @@ import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.sources.ros1_helpers import rows_of
+from tests.sources.ros2_helpers import varied_messages, write_rosbag2
 from tftools.core.transform import Transform
 from tftools.sources.bag.contents import BagContents, RecordWindow
 from tftools.sources.bag.mcap.index import _summary
@@ -144,6 +145,7 @@ def _first_leaf_page(path: Path) -> int:
 def test_index_skips_what_lies_outside_the_window(bag: Path, tmp_path: Path) -> None:
     damaged, first_chunk_end = _damage_first_chunk(bag, BagFormat(bag.name), tmp_path)
     assert read_bag([damaged]).problems  # read whole, the damage is met
+    assert read_bag([damaged]).files[0].windowed == (bag.name != "rosbag2-sqlite3")  # a damaged .db3: from its pages
     later = RecordWindow(first_chunk_end + 1, T0 + 15 * NS)
     part = read_bag([damaged], window=later)
     assert part.problems == [] and part.files[0].windowed
@@ -164,3 +166,12 @@ def test_unindexed_files_read_whole(fmt: BagFormat, tmp_path_factory: pytest.Tem
     whole = _assert_windows_make_the_whole(cut, 900_000_000)
     assert whole.problems and not whole.files[0].windowed
     assert not read_bag([cut], window=RecordWindow(T0, T0)).files[0].windowed
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+@pytest.mark.parametrize("mode", ["file", "message"])
+def test_zstd_compressed_rosbag2(tmp_path: Path, storage: str, mode: str) -> None:
+    """Messages out of record order and sharing record times; a file compressed whole is read whole."""
+    bag = write_rosbag2(tmp_path / "bag", varied_messages(3), storage=storage, compression=mode)
+    whole = _assert_windows_make_the_whole(bag, 3 * NS // 2)
+    assert whole.files[0].windowed == (mode == "message")
