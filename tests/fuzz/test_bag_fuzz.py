@@ -22,6 +22,7 @@ from tests.bags import BagFormat, TfMessage, write_bag
 from tests.sources import hostile
 from tftools.core.errors import TfToolsError
 from tftools.core.transform import Transform
+from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.codecs.select import CODECS
@@ -116,10 +117,14 @@ def mutated(data: bytes, ops: list[tuple[str, int, int]]) -> bytes:
     return bytes(out)
 
 
-def read_anything(path: Path) -> None:
+#: Whole files, and a window of record time amid the seeds' messages (and an empty one).
+WINDOWS = [None, RecordWindow(10**9 + 5 * 10**7, 10**9 + 12 * 10**7), RecordWindow(10**9, 10**9)]
+
+
+def read_anything(path: Path, window: RecordWindow | None = None) -> None:
     """Read ``path``: transforms, or tftools' own error in one line; anything else fails the test."""
     try:
-        contents = read_bag([path])
+        contents = read_bag([path], window=window)
     except TfToolsError as e:
         assert "\n" not in str(e), str(e)
         return
@@ -128,8 +133,9 @@ def read_anything(path: Path) -> None:
     contents.transforms  # noqa: B018 - every part put together
 
 
+@pytest.mark.parametrize("window", WINDOWS, ids=str)
 @pytest.mark.parametrize("kind", KINDS)
-def test_mutated_bags(kind: str, tmp_path_factory: pytest.TempPathFactory) -> None:
+def test_mutated_bags(kind: str, window: RecordWindow | None, tmp_path_factory: pytest.TempPathFactory) -> None:
     suffix, data = seed(kind)
     where = tmp_path_factory.mktemp("fuzz")
 
@@ -138,19 +144,20 @@ def test_mutated_bags(kind: str, tmp_path_factory: pytest.TempPathFactory) -> No
     def check(ops: list[tuple[str, int, int]]) -> None:
         path = where / f"bag{suffix}"
         path.write_bytes(mutated(data, ops))
-        read_anything(path)
+        read_anything(path, window)
 
     check()
 
 
+@pytest.mark.parametrize("window", WINDOWS, ids=str)
 @pytest.mark.parametrize("kind", ["ros1", "db3", "mcap"])
-def test_bags_cut_at_every_boundary(kind: str, tmp_path: Path) -> None:
+def test_bags_cut_at_every_boundary(kind: str, window: RecordWindow | None, tmp_path: Path) -> None:
     """The seed cut short at every 97th byte (a cut through each kind of record)."""
     suffix, data = seed(kind)
     path = tmp_path / f"bag{suffix}"
     for end in range(0, len(data), 97 if EXAMPLES <= 25 else 1):
         path.write_bytes(data[:end])
-        read_anything(path)
+        read_anything(path, window)
 
 
 @pytest.mark.parametrize("key", list(CODECS), ids=lambda key: f"{key[0]}-{key[1]}")
@@ -212,9 +219,10 @@ FOUND = [
 ]
 
 
+@pytest.mark.parametrize("window", WINDOWS, ids=str)
 @pytest.mark.parametrize(("kind", "ops"), FOUND)
-def test_mutants_found(kind: str, ops: list[tuple[str, int, int]], tmp_path: Path) -> None:
+def test_mutants_found(kind: str, ops: list[tuple[str, int, int]], window: RecordWindow | None, tmp_path: Path) -> None:
     suffix, data = seed(kind)
     path = tmp_path / f"bag{suffix}"
     path.write_bytes(mutated(data, ops))
-    read_anything(path)
+    read_anything(path, window)
