@@ -22,8 +22,11 @@ from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
 from tests.corpus import data
 from tests.corpus.fetch import Recording, load_manifest
 from tests.oracle import ERROR_CLASSES, Scenario, binding_time, run_tf2
+from tftools.core.batch import concat_batches
 from tftools.core.errors import TransformError
 from tftools.core.time import NS_PER_S
+from tftools.sources import read_recording
+from tftools.sources.stream import stream_recording
 
 ARCHIVES, RECORDINGS = load_manifest()
 WITH_TF = [r for r in RECORDINGS if r.meta["frames"]]
@@ -271,3 +274,26 @@ def test_ros2_lookups_match_composed_samples(recording: Recording, corpus: Corpu
             np.testing.assert_allclose(_same_sign(ours.rotation, rotation), rotation, atol=COMPOSE_TOLERANCE)
             checked += 1
     assert checked >= 100 * len(recording.meta["expected"]["lookups"])
+
+
+@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+def test_a_streamed_replay_is_the_whole_ones(recording: Recording, corpus: Corpus) -> None:
+    """``--play`` streams: read in windows of a few hundred messages, a real recording replays the rows
+    a whole read replays, on the same clock, with the same frames and timeline."""
+    path = corpus(recording)
+    streamed = stream_recording([path], window_messages=200)
+    rows = concat_batches(list(streamed.parts()))
+    whole = read_recording([path])
+    transforms = whole.transforms
+    assert rows.record_time.tolist() == whole.timeline.playback(transforms.record_time).tolist()
+    assert rows.stamp.tolist() == transforms.stamp.tolist()
+    assert [rows.frame_names[i] for i in rows.child] == [transforms.frame_names[i] for i in transforms.child]
+    np.testing.assert_array_equal(rows.translation, transforms.translation)
+    played = whole.timeline.played()
+    assert (streamed.timeline.reference, streamed.timeline.tf_start, streamed.timeline.tf_end) == (
+        played.reference,
+        played.tf_start,
+        played.tf_end,
+    )
+    assert sorted(streamed.timeline.edges, key=lambda e: e.child) == sorted(played.edges, key=lambda e: e.child)
+    assert sorted(streamed.frames) == sorted(whole.buffer.frames)
