@@ -80,9 +80,8 @@ def read_recording(
     contents = read_bag(paths, topics, progress)
     if not contents.parts and not allow_empty:
         found = sorted({t for f in contents.files for t in f.topics})
-        paths_said, topics_said = ", ".join(str(p) for p in paths), ", ".join(contents.topics)
         damage = [p for f in contents.files for p in f.problems]
-        raise NoTransformsError(paths_said, topics_said, ", ".join(found), contents.unread, damage)
+        raise NoTransformsError([str(p) for p in paths], contents.topics, found, contents.unread, damage)
     return recording_of(contents, semantics)
 
 
