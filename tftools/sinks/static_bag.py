@@ -21,6 +21,7 @@ from tftools.sources.codecs.ros1 import encode_tf_message
 from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type, typestore
 from tftools.sources.contents import is_static_topic
 from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
+from tftools.sources.storage.locations import only_bag_files
 
 STATIC_TOPIC = "/tf_static"
 
@@ -73,9 +74,7 @@ def repair_static_transforms(
     offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to late
     subscribers and a copy from any point keeps them. Returns the copy and the transforms."""
     source = Path(bag)
-    if not source.exists():
-        raise BagNotFoundError(str(source))
-    statics, senders = _latest_statics(source)
+    statics, senders = _latest_statics(source)  # read_recording says when there is no such bag
     plan = _Plan(statics, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, senders=senders)
     return _write_copy(source, Path(output), plan, force), statics
 
@@ -112,7 +111,7 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
     if target.exists():
         if not force:
             raise BagError(str(target), "already exists", "choose another output path, or --force to replace it")
-        if target.is_dir() and not _is_rosbag2_directory(target):
+        if target.is_dir() and not only_bag_files(target):
             raise BagError(str(target), "is a folder that is not a ROS2 bag", "--force replaces only an earlier output")
     if not (source.is_dir() or _is_ros1(source)):
         raise UnknownBagFormatError(
@@ -147,12 +146,6 @@ def _never_over_the_input(source: Path, target: Path) -> None:
     given, written = source.resolve(), target.resolve()
     if written == given or given in written.parents or written in given.parents:
         raise BagError(str(target), "is the input bag, inside it or a folder holding it", "write the copy elsewhere")
-
-
-def _is_rosbag2_directory(path: Path) -> bool:
-    """A folder holding only what a ROS2 bag holds: metadata.yaml and its storage files."""
-    names = [p.name for p in path.iterdir()]
-    return all(n == "metadata.yaml" or n.endswith((".db3", ".mcap", ".zstd", "-shm", "-wal")) for n in names)
 
 
 def _is_ros1(path: Path) -> bool:
