@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -17,6 +17,7 @@ import numpy as np
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.codecs import cdr
+from tftools.sources.codecs.decoded import TransformEncoder
 from tftools.sources.codecs.ros1 import encode_tf_message
 from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type, typestore
 from tftools.sources.contents import is_static_topic
@@ -230,7 +231,7 @@ def _copy_messages(
     connections: dict[int, Any],
     static: dict[str, Any],
     own: Any,
-    encode: Callable[[list[Transform]], bytes],
+    encode: TransformEncoder,
 ) -> None:
     """Every message of ``reader`` on its copy in ``connections``, and the plan's transforms at the
     bag's start, then every ``plan.every`` ns up to the last message: each on its sender's connection
