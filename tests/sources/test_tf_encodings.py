@@ -146,7 +146,7 @@ def test_wtf_names_the_encoding(tmp_path: Path) -> None:
 def test_no_transforms_error_names_the_encoding(tmp_path: Path) -> None:
     path = unsupported(tmp_path)
     contents = read_bag([path])
-    error = NoTransformsError(str(path), "/tf, /tf_static", "/tf, /tf_static, /odom", contents.unread)
+    error = NoTransformsError([str(path)], ("/tf", "/tf_static"), ["/tf", "/tf_static", "/odom"], contents.unread)
     message = str(error)
     assert message.startswith(f"{path}: no transforms read: /tf_static, /tf: {TF_TYPE} in cbor encoding")
     assert "repair" not in error.hint
@@ -155,14 +155,14 @@ def test_no_transforms_error_names_the_encoding(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("found", "expected"),
     [
-        ("/tf, /odom", "no transforms on /tf, /tf_static (/tf present, in a type or encoding tfx does not read); "
+        (["/tf", "/odom"], "no transforms on /tf, /tf_static (/tf present, in a type or encoding tfx does not read); "
          "topics present: /odom"),
-        ("/odom", "no transforms on /tf, /tf_static; topics present: /odom"),
-        ("", "no transforms on /tf, /tf_static"),
+        (["/odom"], "no transforms on /tf, /tf_static; topics present: /odom"),
+        ([], "no transforms on /tf, /tf_static"),
     ],
 )  # fmt: skip
-def test_no_transforms_error_never_lists_asked_topics_as_present(found: str, expected: str) -> None:
-    assert str(NoTransformsError("x.mcap", "/tf, /tf_static", found)) == f"x.mcap: {expected}"
+def test_no_transforms_error_never_lists_asked_topics_as_present(found: list[str], expected: str) -> None:
+    assert str(NoTransformsError(["x.mcap"], ("/tf", "/tf_static"), found)) == f"x.mcap: {expected}"
 
 
 def test_read_recording_error_without_repair_hint(tmp_path: Path) -> None:

@@ -7,10 +7,7 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from tftools.cli.common import UsageError
-from tftools.sources.storage.locations import METADATA, is_url
-
-#: What a rosbag2 directory holds: its metadata and storage files (compressed or not, sqlite's journals).
-BAG_DIRECTORY_SUFFIXES = frozenset({".yaml", ".db3", ".mcap", ".zstd", ".db3-shm", ".db3-wal", ".db3-journal"})
+from tftools.sources.storage.locations import METADATA, is_url, only_bag_files
 
 
 def protected(bags: Iterable[str | os.PathLike[str]]) -> list[Path]:
@@ -62,23 +59,11 @@ def check_replaceable(output: Path, force: bool) -> None:
         return
     if not force:
         raise UsageError(f"-o {output} already exists", "name another output, or --force to replace it")
-    if output.is_dir() and not output.is_symlink() and not is_bag_directory(output):
+    if output.is_dir() and not output.is_symlink() and not only_bag_files(output):
         raise UsageError(
             f"-o {output} is a folder that is not a bag; --force replaces only an earlier output",
             "name the new bag, e.g. -o " + str(output / "with_static"),
         )
-
-
-def is_bag_directory(path: Path) -> bool:
-    """A rosbag2 directory: its ``metadata.yaml`` and storage files, and nothing else."""
-    try:
-        entries = list(path.iterdir())
-    except OSError:
-        return False
-    names = {entry.name for entry in entries}
-    return METADATA in names and all(
-        entry.is_file() and not entry.is_symlink() and entry.suffix in BAG_DIRECTORY_SUFFIXES for entry in entries
-    )
 
 
 def _same_file(a: Path, b: Path) -> bool:

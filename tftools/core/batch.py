@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -47,8 +47,7 @@ class TransformBatch:
     @property
     def nbytes(self) -> int:
         """The bytes of its columns (not of its string tables)."""
-        columns = (self.parent, self.child, self.stamp, self.translation, self.rotation, self.static)
-        return sum(c.nbytes for c in (*columns, self.record_time, self.authority))
+        return sum(getattr(self, name).nbytes for name in ROW_COLUMNS)
 
     def slices(self, rows: int) -> Iterator[TransformBatch]:
         """The batch in consecutive parts of at most ``rows`` rows (views, not copies)."""
@@ -60,17 +59,11 @@ class TransformBatch:
 
     @classmethod
     def empty(cls) -> TransformBatch:
-        return cls(
-            frame_names=[],
-            authorities=[],
-            parent=np.zeros(0, np.int32),
-            child=np.zeros(0, np.int32),
-            stamp=np.zeros(0, np.int64),
-            translation=np.zeros((0, 3)),
-            rotation=np.zeros((0, 4)),
-            static=np.zeros(0, bool),
-            record_time=np.zeros(0, np.int64),
-        )
+        return BatchBuilder().take()
+
+
+#: A batch's columns of one value per row (``frame_names`` and ``authorities`` are its string tables).
+ROW_COLUMNS = ("parent", "child", "stamp", "translation", "rotation", "static", "record_time", "authority")
 
 
 class BatchBuilder:
@@ -151,31 +144,14 @@ def concat_batches(batches: Sequence[TransformBatch]) -> TransformBatch:
         parents.append(fmap[b.parent])
         children.append(fmap[b.child])
         auths.append(amap[b.authority])
-    return TransformBatch(
-        frame_names=frames.names,
-        authorities=authorities.names,
-        parent=np.concatenate(parents),
-        child=np.concatenate(children),
-        stamp=np.concatenate([b.stamp for b in batches]),
-        translation=np.concatenate([b.translation for b in batches]),
-        rotation=np.concatenate([b.rotation for b in batches]),
-        static=np.concatenate([b.static for b in batches]),
-        record_time=np.concatenate([b.record_time for b in batches]),
-        authority=np.concatenate(auths),
-    )
+    remapped = {"parent": parents, "child": children, "authority": auths}  # ids into the merged tables
+    columns = {
+        name: np.concatenate(remapped[name] if name in remapped else [getattr(b, name) for b in batches])
+        for name in ROW_COLUMNS
+    }
+    return TransformBatch(frame_names=frames.names, authorities=authorities.names, **columns)
 
 
 def take_rows(batch: TransformBatch, rows: IntpArray | slice) -> TransformBatch:
     """The given rows of ``batch``, in that order, sharing its string tables (a slice: views, not copies)."""
-    return TransformBatch(
-        frame_names=batch.frame_names,
-        authorities=batch.authorities,
-        parent=batch.parent[rows],
-        child=batch.child[rows],
-        stamp=batch.stamp[rows],
-        translation=batch.translation[rows],
-        rotation=batch.rotation[rows],
-        static=batch.static[rows],
-        record_time=batch.record_time[rows],
-        authority=batch.authority[rows],
-    )
+    return replace(batch, **{name: getattr(batch, name)[rows] for name in ROW_COLUMNS})

@@ -13,13 +13,15 @@ from cyclonedds.core import DDSException
 
 from tftools.core.transform import Transform
 from tftools.sinks import StaticBroadcaster
+from tftools.sources.codecs import cdr
+from tftools.sources.codecs.types import TF_MESSAGE
 from tftools.sources.live.base import OnNotice, ignore_notice
 from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
-from tftools.sources.live.ros2.dds import Participant, take_raw
+from tftools.sources.live.ros2.dds import Participant, take_raw, write_raw
 from tftools.sources.live.ros2.entities import decode_participant_entities
 from tftools.sources.live.ros2.graph import discovery_readers
-from tftools.sources.live.ros2.idl import TFMessage, announcement, participant_entities_info
+from tftools.sources.live.ros2.idl import announcement, participant_entities_info, ros2_struct
 
 #: Distributions whose rmw_dds_common has 24-byte Gids; later ones have 16.
 GID24_DISTROS = frozenset({"ardent", "bouncy", "crystal", "dashing", "eloquent", "foxy", "galactic", "humble"})
@@ -40,7 +42,7 @@ class Ros2StaticBroadcaster(StaticBroadcaster):
         self._closed = threading.Event()
         try:
             self._writer = self._participant.writer(
-                ros2.dds_topic("/tf_static"), TFMessage, ros2.TF_STATIC_BROADCASTER_QOS
+                ros2.dds_topic("/tf_static"), ros2_struct(TF_MESSAGE), ros2.TF_STATIC_BROADCASTER_QOS
             )
         except DDSException as error:
             self._participant.close()
@@ -59,7 +61,7 @@ class Ros2StaticBroadcaster(StaticBroadcaster):
         return self._closed.is_set()
 
     def _publish(self, transforms: list[Transform]) -> None:
-        self._writer.write(TFMessage.of(transforms))
+        write_raw(self._writer, cdr.encode_tf_message(transforms))
 
     def describe(self) -> str:
         return f"ROS2 DDS domain {self.domain_id} as node /{self.node_name}"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -17,10 +17,12 @@ import numpy as np
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.codecs import cdr
+from tftools.sources.codecs.decoded import TransformEncoder
 from tftools.sources.codecs.ros1 import encode_tf_message
 from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type, typestore
 from tftools.sources.contents import is_static_topic
 from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
+from tftools.sources.storage.locations import only_bag_files
 
 STATIC_TOPIC = "/tf_static"
 
@@ -73,9 +75,7 @@ def repair_static_transforms(
     offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to late
     subscribers and a copy from any point keeps them. Returns the copy and the transforms."""
     source = Path(bag)
-    if not source.exists():
-        raise BagNotFoundError(str(source))
-    statics, senders = _latest_statics(source)
+    statics, senders = _latest_statics(source)  # read_recording says when there is no such bag
     plan = _Plan(statics, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, senders=senders)
     return _write_copy(source, Path(output), plan, force), statics
 
@@ -112,7 +112,7 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
     if target.exists():
         if not force:
             raise BagError(str(target), "already exists", "choose another output path, or --force to replace it")
-        if target.is_dir() and not _is_rosbag2_directory(target):
+        if target.is_dir() and not only_bag_files(target):
             raise BagError(str(target), "is a folder that is not a ROS2 bag", "--force replaces only an earlier output")
     if not (source.is_dir() or _is_ros1(source)):
         raise UnknownBagFormatError(
@@ -147,12 +147,6 @@ def _never_over_the_input(source: Path, target: Path) -> None:
     given, written = source.resolve(), target.resolve()
     if written == given or given in written.parents or written in given.parents:
         raise BagError(str(target), "is the input bag, inside it or a folder holding it", "write the copy elsewhere")
-
-
-def _is_rosbag2_directory(path: Path) -> bool:
-    """A folder holding only what a ROS2 bag holds: metadata.yaml and its storage files."""
-    names = [p.name for p in path.iterdir()]
-    return all(n == "metadata.yaml" or n.endswith((".db3", ".mcap", ".zstd", "-shm", "-wal")) for n in names)
 
 
 def _is_ros1(path: Path) -> bool:
@@ -237,7 +231,7 @@ def _copy_messages(
     connections: dict[int, Any],
     static: dict[str, Any],
     own: Any,
-    encode: Callable[[list[Transform]], bytes],
+    encode: TransformEncoder,
 ) -> None:
     """Every message of ``reader`` on its copy in ``connections``, and the plan's transforms at the
     bag's start, then every ``plan.every`` ns up to the last message: each on its sender's connection

@@ -53,26 +53,30 @@ class CorruptBagError(BagError):
 
 
 class NoTransformsError(SourceError):
-    """Nothing read: ``lost`` lines say what damage took; ``unread`` lines which asked-for topics are in
-    a type or encoding tfx does not read; without either, the topics asked for that are present are
-    said to be such."""
+    """Nothing read from ``paths``: ``lost`` lines say what damage took; ``unread`` lines which asked-for
+    topics are in a type or encoding tfx does not read; without either, the ``topics`` asked for that
+    are among those ``found`` are said to be such."""
 
     def __init__(
-        self, paths: str, topics: str, found: str = "", unread: Sequence[str] = (), lost: Sequence[str] = ()
+        self,
+        paths: Sequence[str],
+        topics: Sequence[str],
+        found: Sequence[str] = (),
+        unread: Sequence[str] = (),
+        lost: Sequence[str] = (),
     ) -> None:
-        asked = topics.split(", ")
-        present = [t for t in found.split(", ") if t] if found else []
+        where = ", ".join(paths)
         if lost:  # the transforms were there, but damage took every one
-            super().__init__(f"{paths}: no transforms could be read: {'; '.join(lost)}")
+            super().__init__(f"{where}: no transforms could be read: {'; '.join(lost)}")
             self.hint = "the file is damaged where its transforms are: re-copy it if it was cut short"
             return
         if unread:
-            super().__init__(f"{paths}: no transforms read: {'; '.join(unread)}")
+            super().__init__(f"{where}: no transforms read: {'; '.join(unread)}")
             self.hint = "convert those topics to a type and encoding tfx reads, or pick other topics with --topic"
             return
-        others = [t for t in present if t not in asked]
-        unreadable = [t for t in asked if t in present]
-        message = f"{paths}: no transforms on {topics}"
+        others = [t for t in found if t not in topics]
+        unreadable = [t for t in topics if t in found]
+        message = f"{where}: no transforms on {', '.join(topics)}"
         if unreadable:
             message += f" ({', '.join(unreadable)} present, in a type or encoding tfx does not read)"
         super().__init__(message + (f"; topics present: {', '.join(others)}" if others else ""))

@@ -86,9 +86,8 @@ def read_recording(
 def no_transforms(paths: Sequence[str | os.PathLike[str]], contents: RecordingContents) -> NoTransformsError:
     """The error for bags at ``paths`` in which no transform was found: why, as far as ``contents`` tells."""
     found = sorted({t for f in contents.files for t in f.topics})
-    paths_said, topics_said = ", ".join(str(p) for p in paths), ", ".join(contents.topics)
     damage = [p for f in contents.files for p in f.problems]
-    return NoTransformsError(paths_said, topics_said, ", ".join(found), contents.unread, damage)
+    return NoTransformsError([str(p) for p in paths], contents.topics, found, contents.unread, damage)
 
 
 def semantics_of(contents: RecordingContents) -> Semantics:

@@ -11,6 +11,7 @@ import numpy as np
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.core.frames import Names
+from tftools.core.transform import Transform
 
 #: A payload: bytes as received, a view into a file, or a numpy array of them.
 BytesLike = bytes | memoryview | UInt8Array
@@ -115,6 +116,8 @@ Clocks = tuple[Int64Array, Int64Array, list[tuple[int, str]]]
 ClockDecoder = Callable[[UInt8Array, Int64Array, Int64Array], Clocks]
 #: Headers of many payloads (their first ``wire.HEADER_BYTES`` at most), frames interned in the table.
 HeaderDecoder = Callable[[UInt8Array, Int64Array, Int64Array, FrameNames], Headers]
+#: Transforms as one serialized ``tf2_msgs/TFMessage``.
+TransformEncoder = Callable[[Sequence[Transform]], bytes]
 
 
 def message_batch(

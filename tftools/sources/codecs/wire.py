@@ -18,6 +18,7 @@ import numpy as np
 
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
 from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError, FrameNames, Header, Headers
 from tftools.sources.codecs.gather import bytes_at
 
@@ -115,6 +116,27 @@ class Cursor:
             self.take(4)
         sec, nsec = self.wire.time.unpack_from(self.raw, self.take(TIME_SIZE, 4))
         return sec * NS_PER_S + nsec, *self.string()
+
+
+def encode_transforms(transforms: Sequence[Transform], wire: Wire) -> bytes:
+    """``transforms`` as one ``tf2_msgs/TFMessage`` in ``wire`` (a ROS1 seq is 0; CDR starts with the
+    wire's encapsulation header)."""
+    body = bytearray()
+
+    def aligned(field: bytes, align: int) -> None:
+        body.extend(b"\0" * (-len(body) % min(align, wire.align)) + field)
+
+    aligned(wire.uint32.pack(len(transforms)), 4)
+    for t in transforms:
+        if wire.seq:
+            aligned(wire.uint32.pack(0), 4)
+        aligned(wire.time.pack(*divmod(t.stamp, NS_PER_S)), 4)
+        for name in (t.frame_id, t.child_frame_id):
+            encoded = name.encode() + b"\0" * wire.nul
+            aligned(wire.uint32.pack(len(encoded)) + encoded, 4)
+        aligned(struct.pack(f"{wire.order}7d", *t.translation, *t.rotation), 8)
+    encapsulation = b"" if wire.encapsulation is None else bytes((0, wire.encapsulation, 0, 0))
+    return encapsulation + bytes(body)
 
 
 def wire_of(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> Wire:

@@ -15,6 +15,8 @@ from tftools.sources.errors import BagNotFoundError
 #: Files that are recordings (a ROS 2 bag directory, with its metadata.yaml, is one too).
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
 METADATA = "metadata.yaml"
+#: What a rosbag2 directory holds: its metadata and storage files (compressed or not, sqlite's journals).
+BAG_DIRECTORY_SUFFIXES = frozenset({".yaml", ".db3", ".mcap", ".zstd", ".db3-shm", ".db3-wal", ".db3-journal"})
 GLOB_CHARACTERS = frozenset("*?[")
 
 _URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
@@ -89,6 +91,19 @@ def _below_local(path: str, *, listed_only: bool) -> list[str]:
 def _is_bag_directory(directory: Path) -> bool:
     """A ROS 2 bag as the readers take one: a metadata.yaml, or .db3/.mcap files, directly inside."""
     return (directory / METADATA).exists() or any(directory.glob("*.db3")) or any(directory.glob("*.mcap"))
+
+
+def only_bag_files(directory: Path) -> bool:
+    """A rosbag2 directory and nothing else: its ``metadata.yaml`` and storage files (an output that
+    ``--force`` may replace)."""
+    try:
+        entries = list(directory.iterdir())
+    except OSError:
+        return False
+    names = {entry.name for entry in entries}
+    return METADATA in names and all(
+        entry.is_file() and not entry.is_symlink() and entry.suffix in BAG_DIRECTORY_SUFFIXES for entry in entries
+    )
 
 
 @contextmanager

@@ -16,13 +16,7 @@ from tftools.sources.live.errors import DomainIdError
 TOPIC_PREFIX = "rt"
 
 # rosidl type "pkg/msg/Name" is DDS type "pkg::msg::dds_::Name_" (rmw_cyclonedds serdata.cpp
-# create_type_name): the types tftools speaks and the ones nested in them.
-TIME = "builtin_interfaces::msg::dds_::Time_"
-HEADER = "std_msgs::msg::dds_::Header_"
-VECTOR3 = "geometry_msgs::msg::dds_::Vector3_"
-QUATERNION = "geometry_msgs::msg::dds_::Quaternion_"
-TRANSFORM = "geometry_msgs::msg::dds_::Transform_"
-TRANSFORM_STAMPED = "geometry_msgs::msg::dds_::TransformStamped_"
+# create_type_name, ``dds_type``): the types tftools listens to, and those it writes by hand.
 TF_MESSAGE = "tf2_msgs::msg::dds_::TFMessage_"
 CLOCK = "rosgraph_msgs::msg::dds_::Clock_"
 GID = "rmw_dds_common::msg::dds_::Gid_"

@@ -174,3 +174,13 @@ def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, Sam
     if isinstance(taken, int):
         raise DDSException(taken, f"Occurred while taking data in {reader!r}")
     return [(data, info) for data, info in taken if info.valid_data]
+
+
+def write_raw(writer: DataWriter[Any], data: bytes) -> None:
+    """Write a sample given as its CDR bytes (encapsulation header first), as ``DataWriter.write`` writes
+    the bytes it serializes: encoded by tftools, as bags are."""
+    from cyclonedds._clayer import ddspy_write
+
+    written = ddspy_write(writer._ref, data.ljust(len(data) + -len(data) % 4, b"\0"))  # DDS pads to 4 bytes
+    if written < 0:
+        raise DDSException(written, f"Occurred while writing sample in {writer!r}")

@@ -11,14 +11,14 @@ from cyclonedds.core import DDSException
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_batch, message_clock
+from tftools.sources.codecs.types import CLOCK, TF_MESSAGE
 from tftools.sources.contents import is_static_topic
 from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
 from tftools.sources.live.errors import DdsError
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.graph import Graph, Writer
-from tftools.sources.live.ros2.idl import Clock as ClockMsg
-from tftools.sources.live.ros2.idl import TFMessage
+from tftools.sources.live.ros2.idl import ros2_struct
 
 if TYPE_CHECKING:
     from tftools.sources.live.sensor_headers import HeaderListener, HeaderStore
@@ -86,10 +86,11 @@ class Ros2Source(LiveSource):
     def _listen(self) -> _Listening:
         participant = self._participant
         graph = Graph(participant, self._check_writer)
-        readers = {t: participant.reader(ros2.dds_topic(t), TFMessage, ros2.listener_qos(t)) for t in self.topics}
+        tf_type = ros2_struct(TF_MESSAGE)
+        readers = {t: participant.reader(ros2.dds_topic(t), tf_type, ros2.listener_qos(t)) for t in self.topics}
         clock = None
         if self.use_sim_time:
-            clock = participant.reader(ros2.dds_topic(ros2.CLOCK_TOPIC), ClockMsg, ros2.CLOCK_QOS)
+            clock = participant.reader(ros2.dds_topic(ros2.CLOCK_TOPIC), ros2_struct(CLOCK), ros2.CLOCK_QOS)
         for reader in [*graph.readers, *readers.values(), *([clock] if clock is not None else [])]:
             self._waiter.watch(reader)
         return _Listening(graph, readers, clock)
