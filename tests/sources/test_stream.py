@@ -11,12 +11,15 @@ import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tftools.core.batch import TransformBatch, concat_batches
+from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
+from tftools.sources.bag import read_bag
+from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.errors import BagNotFoundError, NoTransformsError
 from tftools.sources.replay import Replay, follow
-from tftools.sources.stream import SAMPLES_PER_FRAME, _Arrivals, stream_recording
+from tftools.sources.stream import MAX_WINDOWS, SAMPLES_PER_FRAME, _Arrivals, _windows, stream_recording
 from tftools.sources.timeline import Reference, Timeline
 
 SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"
@@ -167,3 +170,21 @@ def test_a_window_that_cannot_be_read_ends_the_replay_with_its_error(tmp_path: P
     bag.unlink()
     with pytest.raises(BagNotFoundError):
         follow(streamed.replay(rate=1e6), lambda _batch: None, lambda: None, period=0.01, duration=5)
+
+
+def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None:
+    described = read_bag([SAMPLES / "robot.bag"], window=RecordWindow(0, 0)).files
+    lying = [dataclasses.replace(f, message_count=2**62, end=2**63 - 1) for f in described]
+    windows = _windows(lying, 4)
+    assert len(windows) == MAX_WINDOWS
+    firsts = [w.first for w in windows if w is not None]
+    assert firsts == sorted(firsts) and all(w is not None and w.first <= w.last for w in windows)
+
+
+@pytest.mark.parametrize(("paths", "chosen", "expected"), [
+    ([SAMPLES / "robot.bag"], None, "ros1"),
+    ([SAMPLES / "robot_mcap"], None, "ros2"),
+    ([SAMPLES / "robot.bag"], "ros2", "ros2"),
+])  # fmt: skip
+def test_a_stream_answers_as_the_tf2_asked_for(paths: list[Path], chosen: Semantics | None, expected: str) -> None:
+    assert stream_recording(paths, semantics=chosen).semantics == expected

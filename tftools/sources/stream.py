@@ -37,6 +37,9 @@ from tftools.sources.timeline import (
 
 #: Messages (of every topic, as the files' indexes count them) a window is planned to hold.
 WINDOW_MESSAGES = 50_000
+#: Windows at most: each reads the files' indexes again, and a damaged index may count any number of
+#: messages (a day of 10 kHz tf still takes windows of under a million messages).
+MAX_WINDOWS = 1024
 #: Arrivals per frame the clocks' medians are taken from: every one in a short recording, evenly
 #: spaced ones over a long recording.
 SAMPLES_PER_FRAME = 8192
@@ -56,13 +59,14 @@ class StreamedRecording:
         contents: RecordingContents,
         recorded: Timeline,
         frames: Sequence[str],
+        semantics: Semantics,
     ) -> None:
         self.paths = list(paths)
         self.topics = topics
         self.windows = tuple(windows)
         self.contents = contents  # the files described: no parts, no clock
         self.frames = list(frames)
-        self.semantics = semantics_of(contents)
+        self.semantics = semantics  # the tf2 a replay's buffer answers as
         #: The replay's timeline: its record times are replay times, on the stamps' clock (``Timeline.played``).
         self.timeline = recorded.played()
         self._recorded = recorded  # whose clock holds the first /clock sample only: enough for ``Playback``
@@ -114,7 +118,8 @@ def stream_recording(
         contents.end,
         tf_span(summary.spans.values(), contents.start, contents.end),
     )
-    return StreamedRecording([os.fspath(p) for p in paths], chosen, windows, contents, recorded, summary.frames)
+    paths_said = [os.fspath(p) for p in paths]
+    return StreamedRecording(paths_said, chosen, windows, contents, recorded, summary.frames, summary.semantics)
 
 
 def _windows(files: Sequence[BagFileInfo], messages: int) -> tuple[Window, ...]:
@@ -124,10 +129,10 @@ def _windows(files: Sequence[BagFileInfo], messages: int) -> tuple[Window, ...]:
     if not counted or not all(f.windowed for f in files):
         return (None,)
     start, end = min(f.start for f in counted), max(f.end for f in counted)
-    count = max(1, math.ceil(sum(f.message_count for f in counted) / messages))
+    count = min(MAX_WINDOWS, max(1, math.ceil(sum(f.message_count for f in counted) / messages)))
     step = max(1, math.ceil((end - start + 1) / count))
-    bounds = [start + i * step for i in range(1, count)]
     lowest, highest = int(np.iinfo(np.int64).min), int(np.iinfo(np.int64).max)
+    bounds = [min(start + i * step, highest) for i in range(1, count)]
     return tuple(RecordWindow(first, last) for first, last in zip([lowest, *bounds], [*bounds, highest], strict=True))
 
 
