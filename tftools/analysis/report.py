@@ -59,7 +59,7 @@ def recording_report(
     (into ``target``, ``analysis.filter.choose_target``)."""
     scene = Scene(recording, thresholds, streams, target)
     findings = findings_of(scene, ignore)
-    graph = frame_graph(recording.buffer, findings, scene.tree)
+    graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None
     bins = bins_over(*_axis(recording, streams))

@@ -273,7 +273,7 @@ def _finding_data(
     (Graphviz numbers nodes in the order they were added, as edges)."""
     origin = report.bins.start
     graph, finding = report.graph, report.findings[index]
-    keys = {(e.parent, e.child) for e in graph.edges if index in e.problems}
+    keys = [e.key for e in graph.edges if index in e.problems]  # in the graph's order: the same page each run
     nodes = [f"{anchor}-node{j + 1}" for j, node in enumerate(graph.nodes) if index in node.problems]
     first, last = _span(finding)
     return {
@@ -282,7 +282,7 @@ def _finding_data(
         "from": _seconds(first, origin) if first else None,
         "to": _seconds(last, origin) if last else None,
         "rows": [row for row, i in enumerate(rows) if report.edges[i].key in keys],
-        "svg": [svg_ids[key] for key in keys if key in svg_ids] + nodes,
+        "svg": [svg_ids[key] for key in keys] + nodes,
     }
 
 

@@ -17,9 +17,10 @@ from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
+from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import StampedMessages
-from tftools.sources.recording import Recording
+from tftools.sources.recording import Recording, recording_of_buffer
 
 T = TypeVar("T")
 
@@ -42,16 +43,19 @@ class EdgeSamples(Edge):
 
 class Scene:
     """A recording as the checks see it: the buffer tf2 would hold, the raw rows, the thresholds,
-    and the wording shared by findings (edges, publishers, times)."""
+    and the wording shared by findings (edges, publishers, times). A bare buffer is seen as the
+    recording of what it holds (``recording_of_buffer``)."""
 
     def __init__(
         self,
-        recording: Recording,
+        recording: Recording | Buffer,
         thresholds: Thresholds | None = None,
         streams: Sequence[StampedMessages] = (),
         target: str | None = None,
         expected: TreeShape | None = None,
     ) -> None:
+        if isinstance(recording, Buffer):
+            recording = recording_of_buffer(recording)
         self.recording = recording
         self.streams = streams  # the recording's sensor data (messages with a header), for the sensor checks
         self.target = target  # the frame that data is transformed into (None: the usual one)
@@ -76,7 +80,7 @@ class Scene:
     @cached_property
     def sensors(self) -> FilterReport:
         """What a MessageFilter into the target frame made of each sensor stream."""
-        return filter_report(self.buffer, self.streams, self.target)
+        return filter_report(self.buffer, self.streams, self.target, tree=self.tree)
 
     @cached_property
     def tree(self) -> FrameTree:
