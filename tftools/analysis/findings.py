@@ -22,6 +22,11 @@ class Severity(str, enum.Enum):
     def rank(self) -> int:
         return {"error": 0, "warning": 1, "info": 2}[self.value]
 
+    @property
+    def noun(self) -> str:
+        """What one finding of this severity is called in text: an error, a warning, a note."""
+        return "note" if self is Severity.info else self.value
+
 
 @dataclass(frozen=True)
 class Finding:
