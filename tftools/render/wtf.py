@@ -14,7 +14,7 @@ from tftools import __version__
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport
-from tftools.analysis.wtf.fleet_report import recordings_per_day, tally, trends, verdict
+from tftools.analysis.wtf.fleet_report import Verdict, recordings_per_day, tally, trends, verdict
 from tftools.core.time import NS_PER_S
 from tftools.render import jsonl
 from tftools.render.escape import printable
@@ -145,9 +145,8 @@ def _counts(reports: Sequence[BagReport]) -> dict[str, int]:
 
 def _outcomes(reports: Sequence[BagReport], strict: bool) -> dict[str, int]:
     """How many recordings passed, failed, or could not be used."""
-    unusable = sum(not r.usable for r in reports)
-    failed = sum(r.usable and r.failed(strict) for r in reports)
-    return {"passed": len(reports) - unusable - failed, "failed": failed, "unusable": unusable}
+    verdicts = [verdict(r, strict) for r in reports]
+    return {v.value: verdicts.count(v) for v in Verdict}
 
 
 def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
