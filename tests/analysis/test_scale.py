@@ -39,7 +39,7 @@ def test_a_ring_of_20000_frames_is_one_loop_found_in_linear_time() -> None:
 def test_a_deep_chain_is_a_tree_walked_without_recursion() -> None:
     buffer = recording(chain(5_000)).buffer
     lines = list(frame_tree(buffer).walk())
-    assert lines[0] == (0, "f0") and lines[-1] == (5_000, "f5000") and len(lines) == 5_001
+    assert lines[0] == (0, "f0", True) and lines[-1] == (5_000, "f5000", True) and len(lines) == 5_001
     assert "f5000:" in buffer.all_frames_as_yaml()
 
 

@@ -59,7 +59,7 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
     buffer = recording.buffer
     named = publishers_named(recording)
     tree = tree if tree is not None else frame_tree(buffer)
-    in_order = dict.fromkeys([frame for _, frame in tree.walk()] + list(tree.frames))  # roots down; loops last
+    in_order = dict.fromkeys([frame for _, frame, _ in tree.walk()] + list(tree.frames))  # roots down; loops last
     frames: dict[str, FrameShape] = {}
     for name in in_order:
         summary = tree.frames[name]

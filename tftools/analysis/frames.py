@@ -61,19 +61,25 @@ class FrameTree:
             parent = self.frames[parent].parent if parent in self.frames else None
         return found
 
-    def walk(self) -> Iterator[tuple[int, str]]:
-        """(depth, frame) for each frame under a root, depth first, roots and siblings in name
-        order: a tree's lines top to bottom. Iterative, so a chain of any length is fine; frames
-        in a loop (under no root) are left out."""
+    def walk(self) -> Iterator[tuple[int, str, bool]]:
+        """(depth, frame, last) for each frame under a root, depth first, roots and siblings in name
+        order (``last``: no sibling follows): a tree's lines top to bottom. Iterative, so a chain of any
+        length is fine; frames in a loop (under no root) are left out."""
         shown: set[str] = set()
-        todo = [(0, root) for root in sorted(self.roots, reverse=True)]
+        todo = _in_turn(0, self.roots)
         while todo:
-            depth, frame = todo.pop()
+            depth, frame, last = todo.pop()
             if frame in shown:
                 continue
             shown.add(frame)
-            yield depth, frame
-            todo.extend((depth + 1, child) for child in sorted(self.children.get(frame, []), reverse=True))
+            yield depth, frame, last
+            todo.extend(_in_turn(depth + 1, self.children.get(frame, [])))
+
+
+def _in_turn(depth: int, frames: list[str]) -> list[tuple[int, str, bool]]:
+    """``frames`` at ``depth`` as a stack pops them: in name order, the last marked."""
+    ordered = sorted(frames)
+    return [(depth, frame, i == len(ordered) - 1) for i, frame in enumerate(ordered)][::-1]
 
 
 def frame_tree(buffer: Buffer) -> FrameTree:

@@ -85,7 +85,7 @@ def recording_report(
 def _tree_order(graph: FrameGraph, tree: FrameTree) -> list[tuple[str, str]]:
     """The graph's edges as the tree's lines run, top to bottom (``FrameTree.walk``); edges into frames
     under no root (a loop) last."""
-    line = {frame: i for i, (_, frame) in enumerate(tree.walk())}
+    line = {frame: i for i, (_, frame, _) in enumerate(tree.walk())}
     keys = [e.key for e in graph.edges]
     return sorted(keys, key=lambda key: line.get(key[1], len(line)))
 
