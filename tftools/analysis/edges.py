@@ -215,6 +215,11 @@ def _ids(values: Int32Array) -> IntpArray:
     return np.flatnonzero(np.bincount(values)) if len(values) else np.zeros(0, np.intp)
 
 
+def publishers(buffer: Buffer, authorities: Int32Array) -> tuple[str, ...]:
+    """The names of the distinct ``authorities`` (ids of ``buffer``'s), by id."""
+    return tuple(buffer.authorities[int(a)] for a in _ids(authorities))
+
+
 def parents_in_order(hist: EdgeHistory) -> list[int]:
     """The ids of every parent ``hist`` had, first seen first: the one order a frame's history splits into edges."""
     parents = hist.parents
@@ -286,7 +291,7 @@ def _edge(
         child=child,
         static=hist.static,
         count=len(stamps),
-        authorities=tuple(buffer.authorities[int(a)] for a in _ids(hist.authorities[rows])),
+        authorities=publishers(buffer, hist.authorities[rows]),
         first_stamp=int(stamps.min()),
         last_stamp=int(stamps.max()),
         rate_hz=rate_hz(len(stamps), int(stamps[-1] - stamps[0])) if dynamic else 0.0,

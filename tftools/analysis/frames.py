@@ -5,9 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from tftools.analysis.edges import parents_in_order, rate_hz
+from tftools.analysis.edges import parents_in_order, publishers, rate_hz
 from tftools.core.buffer import Buffer
 
 
@@ -85,12 +83,10 @@ def _in_turn(depth: int, frames: list[str]) -> list[tuple[int, str, bool]]:
 def frame_tree(buffer: Buffer) -> FrameTree:
     """Summarise ``buffer``'s frames and arrange them by their latest parent."""
     frames = {name: FrameSummary(name, None) for name in buffer.frames}
-    names, authorities = buffer.frame_name, buffer.authorities
+    names = buffer.frame_name
     for name, hist in buffer.histories():
         if len(hist) == 0:
             continue
-        publishers = hist.authorities
-        authority_ids = [int(publishers[0])] if publishers.min() == publishers.max() else np.unique(publishers).tolist()
         stamps = hist.stamps
         first, last = (stamps[0], stamps[-1]) if not hist.static else (stamps.min(), stamps.max())
         frames[name] = FrameSummary(
@@ -98,7 +94,7 @@ def frame_tree(buffer: Buffer) -> FrameTree:
             parent=names(hist.latest_parent),
             static=hist.static,
             count=len(hist),
-            authorities=tuple(authorities[a] for a in authority_ids),
+            authorities=publishers(buffer, hist.authorities),
             first_stamp=int(first),
             last_stamp=int(last),
             parents=tuple(names(p) for p in parents_in_order(hist)),

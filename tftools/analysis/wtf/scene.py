@@ -9,7 +9,7 @@ from typing import TypeVar, cast
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, EdgeStats, edge_stats, parents_in_order
+from tftools.analysis.edges import Edge, EdgeStats, edge_stats, parents_in_order, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.findings import Finding, Severity, counted
@@ -113,7 +113,7 @@ class Scene:
                         record_times=hist.record_times[mine],
                         values=hist.values[mine],
                         flags=hist.flags[mine],
-                        authorities=tuple(self.buffer.authorities[int(a)] for a in np.unique(hist.authorities[mine])),
+                        authorities=publishers(self.buffer, hist.authorities[mine]),
                     )
                 )
         return result
