@@ -253,7 +253,7 @@ def _bag_suite(suite: ET.Element, bag: BagReport, strict: bool, ignore: Sequence
         tests += 1
         case = ET.SubElement(suite, "testcase", classname=printable(bag.name), name=code)
         mine = [f for f in bag.findings if f.code == code]
-        failing = [f for f in mine if f.severity is Severity.error or (strict and f.severity is Severity.warning)]
+        failing = [f for f in mine if f.severity.fails(strict)]
         if failing:
             failures += 1
             severity = failing[0].severity.value

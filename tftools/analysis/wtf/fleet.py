@@ -51,7 +51,7 @@ class BagReport:
 
     def failed(self, strict: bool = False) -> bool:
         """Errors (or, ``strict``, warnings too) found, or the bag could not be read."""
-        return self.count(Severity.error) > 0 or (strict and self.count(Severity.warning) > 0)
+        return self.error is not None or any(f.severity.fails(strict) for f in self.findings)
 
 
 def check_bags(
