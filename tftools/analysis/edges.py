@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -137,16 +137,12 @@ def edge_stats(
     """
     timeline = timeline or ON_RECORD_CLOCK
     result = []
-    for child, hist in buffer.histories():
-        window = _window(hist, start, end, by_record_time, timeline)
-        for parent_id in parents_in_order(hist):
-            mine = hist.parents == parent_id
-            rows = window & mine
-            if rows.any():
-                before = _previous_stamp(hist, mine, rows) if start is not None else None
-                silence_end = end if by_record_time else None
-                parent = buffer.frame_name(int(parent_id))
-                result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end))
+    for parent, child, hist, mine in edge_rows(buffer):
+        rows = _window(hist, start, end, by_record_time, timeline) & mine
+        if rows.any():
+            before = _previous_stamp(hist, mine, rows) if start is not None else None
+            silence_end = end if by_record_time else None
+            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end))
     return result
 
 
@@ -228,6 +224,14 @@ def parents_in_order(hist: EdgeHistory) -> list[int]:
     arrival = hist.parents[np.argsort(hist.sequence, kind="stable")]
     ids, first = np.unique(arrival, return_index=True)
     return [int(i) for i in ids[np.argsort(first)]]
+
+
+def edge_rows(buffer: Buffer) -> Iterator[tuple[str, str, EdgeHistory, BoolArray]]:
+    """Each parent -> child edge of ``buffer``: its frames, its child's history, and which of the history's
+    rows are the edge's (a frame that changed parent has an edge per parent, ``parents_in_order``)."""
+    for child, hist in buffer.histories():
+        for parent_id in parents_in_order(hist):
+            yield buffer.frame_name(parent_id), child, hist, hist.parents == parent_id
 
 
 def chain_edges(buffer: Buffer, frames: Sequence[str]) -> list[tuple[str, str]]:

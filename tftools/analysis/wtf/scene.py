@@ -9,7 +9,7 @@ from typing import TypeVar, cast
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, EdgeStats, edge_stats, parents_in_order, publishers
+from tftools.analysis.edges import Edge, EdgeStats, edge_rows, edge_stats, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.findings import Finding, Severity, counted
@@ -98,24 +98,21 @@ class Scene:
     def dynamic_edges(self) -> list[EdgeSamples]:
         """Each moving edge's stored samples, per parent the child ever had."""
         result = []
-        for child, hist in self.buffer.histories():
+        for parent, child, hist, rows in edge_rows(self.buffer):
             if hist.static:
                 continue
-            parents = parents_in_order(hist)
-            for parent_id in parents:
-                # one parent (the usual case): the history's own arrays, not copies
-                mine = slice(None) if len(parents) == 1 else hist.parents == parent_id
-                result.append(
-                    EdgeSamples(
-                        parent=self.buffer.frame_name(parent_id),
-                        child=child,
-                        stamps=hist.stamps[mine],
-                        record_times=hist.record_times[mine],
-                        values=hist.values[mine],
-                        flags=hist.flags[mine],
-                        authorities=publishers(self.buffer, hist.authorities[mine]),
-                    )
+            mine = slice(None) if rows.all() else rows  # one parent (the usual case): the history's arrays, not copies
+            result.append(
+                EdgeSamples(
+                    parent=parent,
+                    child=child,
+                    stamps=hist.stamps[mine],
+                    record_times=hist.record_times[mine],
+                    values=hist.values[mine],
+                    flags=hist.flags[mine],
+                    authorities=publishers(self.buffer, hist.authorities[mine]),
                 )
+            )
         return result
 
     # --- rows ------------------------------------------------------------------------------
