@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from datetime import datetime, timezone
 
 from tftools.analysis.filter import tied_to_tf
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
 from tftools.analysis.timelines import (
@@ -43,9 +43,6 @@ class RecordingReport:
     edges: tuple[EdgeTimeline, ...]
     streams: tuple[StreamTimeline, ...]
     delays_unavailable: str  # why delays cannot be measured ("" when they can)
-
-    def count(self, severity: Severity) -> int:
-        return sum(f.severity is severity for f in self.findings)
 
 
 def recording_report(
