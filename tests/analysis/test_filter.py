@@ -125,10 +125,11 @@ def test_each_message_says_why_it_waited_or_was_lost() -> None:
 
 def test_the_default_target_is_odom_else_the_root_of_the_largest_tree() -> None:
     from tftools.analysis.filter import default_target
+    from tftools.analysis.frames import frame_tree
 
-    assert default_target(recording(robot()).buffer) == ("odom", "REP 105's odom frame")
+    assert default_target(frame_tree(recording(robot()).buffer)) == ("odom", "REP 105's odom frame")
     trees = [
         TfMessage("/tf_static", START, [_t("world", "arm", START, 0.1), _t("arm", "hand", START, 0.1)]),
         TfMessage("/tf_static", START, [_t("rig", "camera", START, 0.1)]),
     ]
-    assert default_target(recording(trees).buffer) == ("world", "the root of the largest tree")
+    assert default_target(frame_tree(recording(trees).buffer)) == ("world", "the root of the largest tree")

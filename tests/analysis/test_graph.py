@@ -10,7 +10,7 @@ from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.graph import FrameGraph, frame_graph
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf import Scene, check
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
@@ -66,7 +66,7 @@ def pinned_nodes(graph: FrameGraph, code: str) -> set[str]:
 
 def test_healthy_tree_has_every_frame_and_edge_with_its_statistics_and_no_problem() -> None:
     buffer = healthy()
-    graph = frame_graph(buffer)
+    graph = frame_graph(Scene(buffer))
     assert [n.name for n in graph.nodes] == buffer.frames
     assert graph.roots == ["map"]
     assert {(e.parent, e.child) for e in graph.edges} == {
@@ -85,7 +85,7 @@ def test_two_trees_mark_each_root_and_no_edge() -> None:
     buffer = healthy()
     publish_static(buffer, "world", "rig")
     publish_static(buffer, "rig", "rig_camera")
-    graph = frame_graph(buffer)
+    graph = frame_graph(Scene(buffer))
     assert codes(graph) == ["disconnected"]
     assert graph.findings[0].severity is Severity.error
     assert pinned_nodes(graph, "disconnected") == {"map", "world"}
@@ -98,7 +98,7 @@ def test_a_loop_marks_its_edges() -> None:
     publish(buffer, "odom", "a")
     publish(buffer, "a", "b")
     publish(buffer, "b", "a", start_s=5.05)  # a re-parented under b (its newest sample): a -> b -> a
-    graph = frame_graph(buffer)
+    graph = frame_graph(Scene(buffer))
     assert "cycle" in codes(graph)
     assert pinned_edges(graph, "cycle") == {("a", "b"), ("b", "a")}
     # a had two parents: both edges into it are marked, not the edges between those parents
@@ -109,7 +109,7 @@ def test_several_parents_mark_the_edges_into_the_frame_only() -> None:
     buffer = healthy()
     publish(buffer, "base_link", "imu", end_s=5)
     publish(buffer, "odom", "imu", start_s=5)
-    graph = frame_graph(buffer)
+    graph = frame_graph(Scene(buffer))
     assert codes(graph) == ["multiple_parents"]  # the old edge stopped, but imu goes on: not stale
     assert pinned_edges(graph, "multiple_parents") == {("base_link", "imu"), ("odom", "imu")}
     assert ("odom", "base_link") not in pinned_edges(graph, "multiple_parents")
@@ -120,7 +120,7 @@ def test_several_publishers_of_one_edge_are_a_warning_on_that_edge() -> None:
     buffer = healthy()
     publish(buffer, "base_link", "wheel", hz=10, authority="/a")
     publish(buffer, "base_link", "wheel", hz=10, start_s=0.05, authority="/b")
-    graph = frame_graph(buffer)
+    graph = frame_graph(Scene(buffer))
     assert codes(graph) == ["multiple_authorities"]
     assert graph.findings[0].severity is Severity.warning
     assert graph.findings[0].authorities == ("/a", "/b")
@@ -132,7 +132,7 @@ def test_an_edge_that_stops_is_stale_and_one_that_pauses_has_a_gap() -> None:
     publish(buffer, "base_link", "wheel", hz=30, end_s=4)
     publish(buffer, "base_link", "arm", hz=50, skip=(3.0, 6.0))
     publish(buffer, "base_link", "slow", hz=1)  # 1 Hz: its last sample is 1 s old, as it should be
-    graph = frame_graph(buffer)
+    graph = frame_graph(Scene(buffer))
     assert pinned_edges(graph, "stale") == {("base_link", "wheel")}
     assert pinned_edges(graph, "rate") == {("base_link", "arm")}
     stale = next(f for f in graph.findings if f.code == "stale")
@@ -148,7 +148,7 @@ def test_rejected_samples_show_on_their_edge_even_when_none_was_accepted() -> No
     repeated = Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), START, "map", "odom")
     buffer.set_transform(repeated, "/node")  # stamp already held
     buffer.set_transform(Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), START, "laser", "laser"), "/x")
-    graph = frame_graph(buffer)
+    graph = frame_graph(Scene(buffer))
     edges = {(e.parent, e.child): e for e in graph.edges}
     assert edges[("base_link", "arm")].stats is None
     assert edges[("base_link", "arm")].rejected == (("TF_NAN_INPUT", 1),)
@@ -177,7 +177,7 @@ def test_given_findings_replace_the_engines_and_are_pinned_the_same_way() -> Non
         Finding(Severity.warning, "delay", "odom -> base_link arrives late", "hint", ("odom", "base_link")),
         Finding(Severity.info, "note", "camera is fine", "hint", ("camera",)),
     ]
-    graph = frame_graph(buffer, mine)
+    graph = frame_graph(Scene(buffer), mine)
     assert graph.findings == tuple(mine)
     assert pinned_edges(graph, "delay") == {("odom", "base_link")}
     assert pinned_nodes(graph, "delay") == set()
@@ -187,5 +187,5 @@ def test_given_findings_replace_the_engines_and_are_pinned_the_same_way() -> Non
 
 
 def test_empty_buffer_gives_an_empty_graph_that_says_so() -> None:
-    graph = frame_graph(Buffer(None))
+    graph = frame_graph(Scene(Buffer(None)))
     assert graph.nodes == () and graph.edges == () and codes(graph) == ["no_tf"]

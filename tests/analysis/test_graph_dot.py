@@ -18,7 +18,7 @@ from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
 from tftools.analysis.graph import frame_graph
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf import Scene
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
@@ -46,10 +46,8 @@ def dot_source(
 ) -> str:
     """What view-frames draws of ``source``, tfx wtf's findings in colour; the legend a recording's own."""
     if isinstance(source, Recording):
-        buffer, legend = source.buffer, legend or recording_legend(source)
-    else:
-        buffer = source
-    return str(to_digraph(frame_graph(buffer, check(source)), legend, rankdir=rankdir, brief=brief).source)
+        legend = legend or recording_legend(source)
+    return str(to_digraph(frame_graph(Scene(source)), legend, rankdir=rankdir, brief=brief).source)
 
 
 def parse(source: str) -> Parsed:

@@ -39,7 +39,7 @@ def test_a_ring_of_20000_frames_is_one_loop_found_in_linear_time() -> None:
 def test_a_deep_chain_is_a_tree_walked_without_recursion() -> None:
     buffer = recording(chain(5_000)).buffer
     lines = list(frame_tree(buffer).walk())
-    assert lines[0] == (0, "f0") and lines[-1] == (5_000, "f5000") and len(lines) == 5_001
+    assert lines[0] == (0, "f0", True) and lines[-1] == (5_000, "f5000", True) and len(lines) == 5_001
     assert "f5000:" in buffer.all_frames_as_yaml()
 
 
@@ -53,7 +53,7 @@ def test_lookups_along_a_deep_chain_answer_as_tf2_up_to_its_depth_limit() -> Non
 def test_wtf_and_the_graph_on_a_deep_chain_find_nothing_wrong() -> None:
     deep = recording(chain(5_000))
     assert [f.code for f in wtf.check(deep) if f.severity.rank == 0] == []
-    graph = frame_graph(deep.buffer, [])
+    graph = frame_graph(Scene(deep), [])
     assert len(graph.edges) == 5_000 and graph.roots == ["f0"]
 
 
@@ -75,7 +75,7 @@ def test_pinning_many_findings_on_a_big_graph_is_linear() -> None:
         star = recording(batch(["root", *(f"c{i}" for i in range(n))], [0] * n, range(1, n + 1)))
         findings = [f for f in wtf.check(star)]
         stale = [structure.Finding(structure.Severity.warning, "stale", "", "", ("root", f"c{i}")) for i in range(n)]
-        return seconds(lambda: frame_graph(star.buffer, findings + stale))
+        return seconds(lambda: frame_graph(Scene(star), findings + stale))
 
     assert grows_linearly(run(1_000), run(10_000), 10)
 
@@ -88,7 +88,7 @@ def test_names_of_10000_characters_and_control_characters_go_through_every_check
     scene = recording(batch(names, [0] * len(children), children))
     assert set(scene.buffer.frames) == set(names)
     assert [f.code for f in wtf.check(scene) if f.severity.rank == 0] == []
-    graph = frame_graph(scene.buffer)
+    graph = frame_graph(Scene(scene))
     assert {n.name for n in graph.nodes} == set(names)
 
 

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -106,14 +108,8 @@ def joined(parts: Sequence[EchoSeries]) -> EchoSeries:
     """Series of the same two frames as one, in order (a live echo's lines); at least one part."""
     offsets = np.cumsum([0, *(len(p) for p in parts)]).tolist()
     errors = {offset + row: error for p, offset in zip(parts, offsets, strict=False) for row, error in p.errors.items()}
-    return EchoSeries(
-        parts[0].target,
-        parts[0].source,
-        np.concatenate([p.times for p in parts]),
-        np.concatenate([p.stamps for p in parts]),
-        np.concatenate([p.translations for p in parts]),
-        np.concatenate([p.rotations for p in parts]),
-        np.concatenate([p.rpy for p in parts]),
-        np.concatenate([p.valid for p in parts]),
-        errors,
-    )
+    arrays: dict[str, Any] = {
+        column: np.concatenate([getattr(p, column) for p in parts])
+        for column in ("times", "stamps", "translations", "rotations", "rpy", "valid")
+    }
+    return dataclasses.replace(parts[0], errors=errors, **arrays)

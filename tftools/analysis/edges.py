@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -137,16 +137,12 @@ def edge_stats(
     """
     timeline = timeline or ON_RECORD_CLOCK
     result = []
-    for child, hist in buffer.histories():
-        window = _window(hist, start, end, by_record_time, timeline)
-        for parent_id in parents_in_order(hist):
-            mine = hist.parents == parent_id
-            rows = window & mine
-            if rows.any():
-                before = _previous_stamp(hist, mine, rows) if start is not None else None
-                silence_end = end if by_record_time else None
-                parent = buffer.frame_name(int(parent_id))
-                result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end))
+    for parent, child, hist, mine in edge_rows(buffer):
+        rows = _window(hist, start, end, by_record_time, timeline) & mine
+        if rows.any():
+            before = _previous_stamp(hist, mine, rows) if start is not None else None
+            silence_end = end if by_record_time else None
+            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end))
     return result
 
 
@@ -215,6 +211,11 @@ def _ids(values: Int32Array) -> IntpArray:
     return np.flatnonzero(np.bincount(values)) if len(values) else np.zeros(0, np.intp)
 
 
+def publishers(buffer: Buffer, authorities: Int32Array) -> tuple[str, ...]:
+    """The names of the distinct ``authorities`` (ids of ``buffer``'s), by id."""
+    return tuple(buffer.authorities[int(a)] for a in _ids(authorities))
+
+
 def parents_in_order(hist: EdgeHistory) -> list[int]:
     """The ids of every parent ``hist`` had, first seen first: the one order a frame's history splits into edges."""
     parents = hist.parents
@@ -223,6 +224,14 @@ def parents_in_order(hist: EdgeHistory) -> list[int]:
     arrival = hist.parents[np.argsort(hist.sequence, kind="stable")]
     ids, first = np.unique(arrival, return_index=True)
     return [int(i) for i in ids[np.argsort(first)]]
+
+
+def edge_rows(buffer: Buffer) -> Iterator[tuple[str, str, EdgeHistory, BoolArray]]:
+    """Each parent -> child edge of ``buffer``: its frames, its child's history, and which of the history's
+    rows are the edge's (a frame that changed parent has an edge per parent, ``parents_in_order``)."""
+    for child, hist in buffer.histories():
+        for parent_id in parents_in_order(hist):
+            yield buffer.frame_name(parent_id), child, hist, hist.parents == parent_id
 
 
 def chain_edges(buffer: Buffer, frames: Sequence[str]) -> list[tuple[str, str]]:
@@ -286,7 +295,7 @@ def _edge(
         child=child,
         static=hist.static,
         count=len(stamps),
-        authorities=tuple(buffer.authorities[int(a)] for a in _ids(hist.authorities[rows])),
+        authorities=publishers(buffer, hist.authorities[rows]),
         first_stamp=int(stamps.min()),
         last_stamp=int(stamps.max()),
         rate_hz=rate_hz(len(stamps), int(stamps[-1] - stamps[0])) if dynamic else 0.0,

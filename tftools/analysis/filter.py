@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.edges import Edge, chain_edges, rate_hz, silence_limit
-from tftools.analysis.frames import frame_tree
+from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
@@ -276,13 +276,13 @@ class FilterReport:
     fates: dict[str, Fates]  # each reported topic's messages' fates, by topic
 
 
-def default_target(buffer: Buffer) -> tuple[str, str]:
+def default_target(tree: FrameTree) -> tuple[str, str]:
     """The frame sensor data is usually transformed into: ``odom`` or ``map`` where REP 105's frames
     exist (odom, where both do: what a costmap or a scan matcher asks for), else the tree's root."""
     for frame in ("odom", "map"):
-        if buffer.has_frame(frame):
+        if frame in tree.frames:
             return frame, f"REP 105's {frame} frame"
-    trees = frame_tree(buffer).trees()
+    trees = tree.trees()
     return max(sorted(trees), key=lambda root: len(trees[root]), default=""), "the root of the largest tree"
 
 
@@ -291,14 +291,14 @@ def tied_to_tf(stream: StampedMessages) -> bool:
     return any(stream.frame_ids)
 
 
-def choose_target(buffer: Buffer, asked: str | None = None) -> tuple[str, str]:
-    """The target frame and why it was chosen: ``asked`` where it is a frame of ``buffer``, else
+def choose_target(tree: FrameTree, asked: str | None = None) -> tuple[str, str]:
+    """The target frame and why it was chosen: ``asked`` where it is a frame of ``tree``, else
     ``default_target`` (saying that ``asked`` is not there: a fleet's robots may differ)."""
     if asked is None:
-        return default_target(buffer)
-    if buffer.has_frame(asked.removeprefix("/")):  # a leading '/' dropped, as tf's tools do
+        return default_target(tree)
+    if asked.removeprefix("/") in tree.frames:  # a leading '/' dropped, as tf's tools do
         return asked.removeprefix("/"), "asked for"
-    target, reason = default_target(buffer)
+    target, reason = default_target(tree)
     return target, f"{reason}: '{asked}', asked for, is not a frame of this recording"
 
 
@@ -309,10 +309,12 @@ def filter_report(
     cache_time: int = DEFAULT_CACHE_TIME,
     wait: int | None = None,
     queue: int | None = None,
+    tree: FrameTree | None = None,
 ) -> FilterReport:
-    """What a MessageFilter into ``target`` (see ``choose_target``) with a ``cache_time`` cache,
-    and optionally a timeout ``wait`` (ns) or a queue of ``queue`` messages, did to each stream."""
-    target, reason = choose_target(buffer, target)
+    """What a MessageFilter into ``target`` (see ``choose_target``; ``tree``: the buffer's ``frame_tree``,
+    if already made) with a ``cache_time`` cache, and optionally a timeout ``wait`` (ns) or a queue of
+    ``queue`` messages, did to each stream."""
+    target, reason = choose_target(tree if tree is not None else frame_tree(buffer), target)
     end = recording_end(buffer, streams)
     reports, skipped, fates = [], [], {}
     for stream in streams:

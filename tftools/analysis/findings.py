@@ -22,6 +22,15 @@ class Severity(str, enum.Enum):
     def rank(self) -> int:
         return {"error": 0, "warning": 1, "info": 2}[self.value]
 
+    def fails(self, strict: bool = False) -> bool:
+        """Whether a finding of this severity fails a check: an error does; a warning too, ``strict``."""
+        return self is Severity.error or (strict and self is Severity.warning)
+
+    @property
+    def noun(self) -> str:
+        """What one finding of this severity is called in text: an error, a warning, a note."""
+        return "note" if self is Severity.info else self.value
+
 
 @dataclass(frozen=True)
 class Finding:

@@ -5,9 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from tftools.analysis.edges import parents_in_order, rate_hz
+from tftools.analysis.edges import parents_in_order, publishers, rate_hz
 from tftools.core.buffer import Buffer
 
 
@@ -61,30 +59,34 @@ class FrameTree:
             parent = self.frames[parent].parent if parent in self.frames else None
         return found
 
-    def walk(self) -> Iterator[tuple[int, str]]:
-        """(depth, frame) for each frame under a root, depth first, roots and siblings in name
-        order: a tree's lines top to bottom. Iterative, so a chain of any length is fine; frames
-        in a loop (under no root) are left out."""
+    def walk(self) -> Iterator[tuple[int, str, bool]]:
+        """(depth, frame, last) for each frame under a root, depth first, roots and siblings in name
+        order (``last``: no sibling follows): a tree's lines top to bottom. Iterative, so a chain of any
+        length is fine; frames in a loop (under no root) are left out."""
         shown: set[str] = set()
-        todo = [(0, root) for root in sorted(self.roots, reverse=True)]
+        todo = _in_turn(0, self.roots)
         while todo:
-            depth, frame = todo.pop()
+            depth, frame, last = todo.pop()
             if frame in shown:
                 continue
             shown.add(frame)
-            yield depth, frame
-            todo.extend((depth + 1, child) for child in sorted(self.children.get(frame, []), reverse=True))
+            yield depth, frame, last
+            todo.extend(_in_turn(depth + 1, self.children.get(frame, [])))
+
+
+def _in_turn(depth: int, frames: list[str]) -> list[tuple[int, str, bool]]:
+    """``frames`` at ``depth`` as a stack pops them: in name order, the last marked."""
+    ordered = sorted(frames)
+    return [(depth, frame, i == len(ordered) - 1) for i, frame in enumerate(ordered)][::-1]
 
 
 def frame_tree(buffer: Buffer) -> FrameTree:
     """Summarise ``buffer``'s frames and arrange them by their latest parent."""
     frames = {name: FrameSummary(name, None) for name in buffer.frames}
-    names, authorities = buffer.frame_name, buffer.authorities
+    names = buffer.frame_name
     for name, hist in buffer.histories():
         if len(hist) == 0:
             continue
-        publishers = hist.authorities
-        authority_ids = [int(publishers[0])] if publishers.min() == publishers.max() else np.unique(publishers).tolist()
         stamps = hist.stamps
         first, last = (stamps[0], stamps[-1]) if not hist.static else (stamps.min(), stamps.max())
         frames[name] = FrameSummary(
@@ -92,7 +94,7 @@ def frame_tree(buffer: Buffer) -> FrameTree:
             parent=names(hist.latest_parent),
             static=hist.static,
             count=len(hist),
-            authorities=tuple(authorities[a] for a in authority_ids),
+            authorities=publishers(buffer, hist.authorities),
             first_stamp=int(first),
             last_stamp=int(last),
             parents=tuple(names(p) for p in parents_in_order(hist)),

@@ -5,11 +5,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from tftools.analysis.edges import Edge, EdgeStats, edge_stats
+from tftools.analysis.edges import Edge, EdgeStats
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.frames import FrameTree, frame_tree
-from tftools.analysis.wtf import check
-from tftools.core.buffer import Buffer
+from tftools.analysis.wtf import Scene, findings_of
 from tftools.core.rejection import RejectionLog
 
 #: Findings that name whole trees: only their roots are marked, not every edge inside.
@@ -59,18 +57,17 @@ class FrameGraph:
         return min(severities, key=lambda s: s.rank) if severities else None
 
 
-def frame_graph(buffer: Buffer, findings: Sequence[Finding] | None = None, tree: FrameTree | None = None) -> FrameGraph:
-    """The graph of ``buffer``'s frames (``tree``: its ``frame_tree``, if already made), with ``findings``
-    (default: ``tfx wtf``'s, ``check(buffer)``) pinned on it.
+def frame_graph(scene: Scene, findings: Sequence[Finding] | None = None) -> FrameGraph:
+    """The graph of ``scene``'s frames, its edges with the statistics the checks use (``Scene.stats``), and
+    ``findings`` (default: ``tfx wtf``'s, ``findings_of(scene)``) pinned on it.
 
     A finding marks each drawn edge whose two frames it names, and each frame it names that is
     on none of those edges (for ``disconnected``, only the roots it names).
     """
-    tree = tree or frame_tree(buffer)
-    stats = edge_stats(buffer)
-    found = tuple(findings) if findings is not None else tuple(check(buffer))
+    buffer, tree = scene.buffer, scene.tree
+    found = tuple(findings) if findings is not None else tuple(findings_of(scene))
     rejected = _rejected_edges(buffer.rejections)
-    by_key = {s.key: s for s in stats}
+    by_key = {s.key: s for s in scene.stats}
     keys = [*by_key, *(key for key in rejected if key not in by_key)]
     names = list(tree.frames) + sorted({f for key in keys for f in key} - set(tree.frames))
     roots = set(tree.roots)

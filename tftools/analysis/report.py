@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from datetime import datetime, timezone
 
 from tftools.analysis.filter import tied_to_tf
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
 from tftools.analysis.timelines import (
@@ -44,9 +44,6 @@ class RecordingReport:
     streams: tuple[StreamTimeline, ...]
     delays_unavailable: str  # why delays cannot be measured ("" when they can)
 
-    def count(self, severity: Severity) -> int:
-        return sum(f.severity is severity for f in self.findings)
-
 
 def recording_report(
     recording: Recording,
@@ -59,7 +56,7 @@ def recording_report(
     (into ``target``, ``analysis.filter.choose_target``)."""
     scene = Scene(recording, thresholds, streams, target)
     findings = findings_of(scene, ignore)
-    graph = frame_graph(recording.buffer, findings, scene.tree)
+    graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None
     bins = bins_over(*_axis(recording, streams))
@@ -85,7 +82,7 @@ def recording_report(
 def _tree_order(graph: FrameGraph, tree: FrameTree) -> list[tuple[str, str]]:
     """The graph's edges as the tree's lines run, top to bottom (``FrameTree.walk``); edges into frames
     under no root (a loop) last."""
-    line = {frame: i for i, (_, frame) in enumerate(tree.walk())}
+    line = {frame: i for i, (_, frame, _) in enumerate(tree.walk())}
     keys = [e.key for e in graph.edges]
     return sorted(keys, key=lambda key: line.get(key[1], len(line)))
 

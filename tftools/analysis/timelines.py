@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, gap_rows, parents_in_order
+from tftools.analysis.edges import Edge, edge_rows, gap_rows
 from tftools.analysis.filter import LOST, UNDECIDED, Fate, FilterReport, StreamReport
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
@@ -127,13 +127,9 @@ def edge_timelines(
     """Every edge's timeline (static ones too, flat), in the order of ``keys`` when given (edges not
     among them left out); a gap is a pause longer than ``gap_floor`` ns and ``PERIODS`` periods."""
     found = {}
-    for child, hist in buffer.histories():
-        changes = _reparentings(buffer, child, hist, timeline)
-        for parent_id in parents_in_order(hist):
-            parent = buffer.frame_name(parent_id)
-            near = tuple(c for c in changes if parent in (c.before, c.after))
-            mine = hist.parents == parent_id
-            found[(parent, child)] = _timeline(parent, child, hist, mine, timeline, bins, gap_floor, near)
+    for parent, child, hist, mine in edge_rows(buffer):
+        near = tuple(c for c in _reparentings(buffer, child, hist, timeline) if parent in (c.before, c.after))
+        found[(parent, child)] = _timeline(parent, child, hist, mine, timeline, bins, gap_floor, near)
     return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
 
 

@@ -12,7 +12,7 @@ import typer
 
 from tftools.analysis.findings import Severity
 from tftools.analysis.graph import frame_graph
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf import Scene
 from tftools.cli import options
 from tftools.cli.common import Exit, UsageError, exit_with, open_recording, say_failure, say_written
 from tftools.cli.outputs import check_output
@@ -95,8 +95,7 @@ def command(
     """
     chosen, target = _output(output, fmt, bags or [])
     recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
-    findings = check(recording)  # tfx wtf's findings, drawn where they are
-    graph = frame_graph(recording.buffer, findings)
+    graph = frame_graph(Scene(recording))  # with tfx wtf's findings, drawn where they are
     dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)
     try:
         if target == "-":
@@ -108,8 +107,8 @@ def command(
         say_failure(missing)
         exit_with(Exit.PROBLEMS)
     where = "the graph to stdout" if target == "-" else target
-    say_written(where, f"{render.graph_summary(graph)}, {render.problem_summary(findings)}")
-    if any(f.severity is Severity.error for f in findings):
+    say_written(where, f"{render.graph_summary(graph)}, {render.problem_summary(graph.findings)}")
+    if any(f.severity is Severity.error for f in graph.findings):
         exit_with(Exit.PROBLEMS)
 
 

@@ -40,25 +40,17 @@ MAX_DRAWN_DEPTH = 32
 
 
 def write_tree(tree: FrameTree, console: Console) -> None:
-    """The frames as a tree from each root (drawn without recursion); frames in a loop are listed apart."""
+    """The frames as a tree from each root (``FrameTree.walk``); frames in a loop are listed apart."""
     shown: set[str] = set()
-    for root in sorted(tree.roots):
-        todo: list[tuple[str, str, str, int]] = [(root, "", "", 0)]  # frame, guides, branch, depth
-        while todo:
-            frame, guides, branch, depth = todo.pop()
-            if frame in shown:
-                continue
-            shown.add(frame)
-            line = Text(guides + branch)
-            if depth > MAX_DRAWN_DEPTH:
-                line.append(f"[depth {depth}] ", style="dim")
-            console.print(line.append_text(_label(tree.frames[frame])))
-            children = [child for child in sorted(tree.children.get(frame, [])) if child not in shown]
-            below = (
-                guides if depth == 0 or depth > MAX_DRAWN_DEPTH else guides + ("    " if branch == "└── " else "│   ")
-            )
-            for i, child in reversed(list(enumerate(children))):
-                todo.append((child, below, "└── " if i == len(children) - 1 else "├── ", depth + 1))
+    lasts: list[bool] = []  # of the frame at each depth down to this one: whether it is the last sibling
+    for depth, frame, last in tree.walk():
+        shown.add(frame)
+        lasts[depth:] = [last]
+        guides = "".join("    " if done else "│   " for done in lasts[1 : min(depth, MAX_DRAWN_DEPTH + 1)])
+        line = Text(guides + ("" if depth == 0 else "└── " if last else "├── "))
+        if depth > MAX_DRAWN_DEPTH:
+            line.append(f"[depth {depth}] ", style="dim")
+        console.print(line.append_text(_label(tree.frames[frame])))
     loose = [name for name in tree.frames if name not in shown]
     if loose:
         console.print(Text(f"In a loop (no root): {printable(', '.join(sorted(loose)))}", style="bold red"))

@@ -30,7 +30,6 @@ from tftools.render.graph import problem_summary, to_digraph
 
 #: Significant digits of the plotted figures: what a plot can show, and a smaller file.
 DIGITS = 4
-SEVERITY_WORDS = {Severity.error: "error", Severity.warning: "warning", Severity.info: "note"}
 
 
 @dataclass(frozen=True)
@@ -138,11 +137,11 @@ def _findings(findings: Sequence[Finding], origin: int) -> str:
         return '<div class="findings"><h3>Findings</h3><p class="healthy">No problems found.</p></div>'
     items = []
     for i, f in enumerate(findings):
-        word = SEVERITY_WORDS[f.severity]
         when = f' <span class="when">{_esc(_span_text(f, origin))}</span>' if f.first_time or f.last_time else ""
         items.append(
             f'<li class="finding {f.severity.value}" data-finding="{i}" tabindex="0">'
-            f'<span class="badge {f.severity.value}">[{i + 1}] {word}</span> <code>{_esc(f.code)}</code>{when}'
+            f'<span class="badge {f.severity.value}">[{i + 1}] {f.severity.noun}</span> '
+            f"<code>{_esc(f.code)}</code>{when}"
             f'<div class="message">{_esc(f.message)}</div><div class="hint">{_esc(f.hint)}</div></li>'
         )
     return f'<div class="findings"><h3>Findings</h3><ol>{"".join(items)}</ol></div>'
@@ -273,7 +272,7 @@ def _finding_data(
     (Graphviz numbers nodes in the order they were added, as edges)."""
     origin = report.bins.start
     graph, finding = report.graph, report.findings[index]
-    keys = {(e.parent, e.child) for e in graph.edges if index in e.problems}
+    keys = [e.key for e in graph.edges if index in e.problems]  # in the graph's order: the same page each run
     nodes = [f"{anchor}-node{j + 1}" for j, node in enumerate(graph.nodes) if index in node.problems]
     first, last = _span(finding)
     return {
@@ -282,7 +281,7 @@ def _finding_data(
         "from": _seconds(first, origin) if first else None,
         "to": _seconds(last, origin) if last else None,
         "rows": [row for row, i in enumerate(rows) if report.edges[i].key in keys],
-        "svg": [svg_ids[key] for key in keys if key in svg_ids] + nodes,
+        "svg": [svg_ids[key] for key in keys] + nodes,
     }
 
 

@@ -11,21 +11,15 @@ from rich.console import Console
 from rich.text import Text
 
 from tftools import __version__
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport
-from tftools.analysis.wtf.fleet_report import recordings_per_day, tally, trends, verdict
+from tftools.analysis.wtf.fleet_report import Verdict, recordings_per_day, tally, trends, verdict
 from tftools.core.time import NS_PER_S
 from tftools.render import jsonl
 from tftools.render.escape import printable
 
-_HEADINGS = {Severity.error: "errors", Severity.warning: "warnings", Severity.info: "notes"}
 _MARKS = {Severity.error: ("✗", "bold red"), Severity.warning: ("!", "yellow"), Severity.info: ("·", "cyan")}
-
-
-def counted(n: int, severity: Severity) -> str:
-    word = _HEADINGS[severity]
-    return f"{n} {word if n != 1 else word[:-1]}"
 
 
 # --- text -------------------------------------------------------------------------------------
@@ -89,7 +83,7 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
         mine = [f for f in findings if f.severity is severity]
         if not mine:
             continue
-        console.print(Text(f"{_HEADINGS[severity].upper()} ({len(mine)})", style=_MARKS[severity][1]))
+        console.print(Text(f"{severity.noun.upper()}S ({len(mine)})", style=_MARKS[severity][1]))
         for finding in mine:
             _write_finding(finding, console)
     console.print(_bag_line(bag, strict))
@@ -111,7 +105,7 @@ def _bag_line(bag: BagReport, strict: bool) -> Text:
     if not bag.usable:
         done = "read" if bag.error is not None and bag.error.code == "unreadable" else "checked"
         return Text(f"could not be {done}: UNUSABLE", style="bold red")
-    summary = ", ".join(counted(bag.count(s), s) for s in Severity) if bag.findings else "no problems found"
+    summary = ", ".join(counted(bag.count(s), s.noun) for s in Severity) if bag.findings else "no problems found"
     if bag.failed(strict):
         return Text(f"{summary}: FAILED", style="bold red")
     return Text(f"{summary}: PASSED", style="bold green")
@@ -119,7 +113,7 @@ def _bag_line(bag: BagReport, strict: bool) -> Text:
 
 def _fleet_line(reports: Sequence[BagReport], strict: bool) -> Text:
     outcomes = ", ".join(f"{n} {outcome}" for outcome, n in _outcomes(reports, strict).items())
-    totals = ", ".join(counted(n, s) for s, n in _totals(reports).items())
+    totals = ", ".join(counted(n, s.noun) for s, n in _totals(reports).items())
     failing = [r.name for r in reports if r.failed(strict)]
     line = Text(f"{len(reports)} recordings checked: {outcomes} ({totals})")
     if failing:
@@ -146,14 +140,13 @@ def _totals(reports: Sequence[BagReport]) -> dict[Severity, int]:
 
 
 def _counts(reports: Sequence[BagReport]) -> dict[str, int]:
-    return {_HEADINGS[s]: n for s, n in _totals(reports).items()}
+    return {f"{s.noun}s": n for s, n in _totals(reports).items()}
 
 
 def _outcomes(reports: Sequence[BagReport], strict: bool) -> dict[str, int]:
     """How many recordings passed, failed, or could not be used."""
-    unusable = sum(not r.usable for r in reports)
-    failed = sum(r.usable and r.failed(strict) for r in reports)
-    return {"passed": len(reports) - unusable - failed, "failed": failed, "unusable": unusable}
+    verdicts = [verdict(r, strict) for r in reports]
+    return {v.value: verdicts.count(v) for v in Verdict}
 
 
 def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
@@ -260,7 +253,7 @@ def _bag_suite(suite: ET.Element, bag: BagReport, strict: bool, ignore: Sequence
         tests += 1
         case = ET.SubElement(suite, "testcase", classname=printable(bag.name), name=code)
         mine = [f for f in bag.findings if f.code == code]
-        failing = [f for f in mine if f.severity is Severity.error or (strict and f.severity is Severity.warning)]
+        failing = [f for f in mine if f.severity.fails(strict)]
         if failing:
             failures += 1
             severity = failing[0].severity.value

@@ -23,7 +23,7 @@ from tftools.analysis.wtf.scene import Scene
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.buffer import Buffer
 from tftools.sources.contents import StampedMessages
-from tftools.sources.recording import Recording, recording_of_buffer
+from tftools.sources.recording import Recording
 
 __all__ = ["CHECKS", "Check", "CheckSkippedError", "Finding", "Scene", "Severity", "Thresholds", "check", "findings_of"]
 
@@ -36,16 +36,14 @@ def check(
     target: str | None = None,
     expected: TreeShape | None = None,
 ) -> list[Finding]:
-    """Every problem of ``recording``, errors first, then warnings, then notes (each in check order);
-    a bare buffer is checked as the recording of what it holds (``recording_of_buffer``).
+    """Every problem of ``recording`` (or a bare buffer, as ``Scene`` sees it), errors first, then
+    warnings, then notes (each in check order).
 
     ``streams``: its sensor data (``read_stamped``), for the checks of data against tf, transformed
     into ``target`` (default and fallback: ``analysis.filter.choose_target``). ``expected``: the
     tree it should have (``tfx wtf --expect``), within its tolerances. ``ignore``
     lists codes not to run. Raises ``ValueError`` for a code that does not exist.
     """
-    if isinstance(recording, Buffer):
-        recording = recording_of_buffer(recording)
     return findings_of(Scene(recording, thresholds, streams, target, expected), ignore)
 
 

@@ -18,7 +18,9 @@ def _differences(scene: Scene, change: Change) -> Iterator[Difference]:
     expected = scene.expected
     if expected is None:
         return
-    found = scene.shared("expected", lambda: compare(expected, shape_of(scene.recording), expected.tolerances))
+    found = scene.shared(
+        "expected", lambda: compare(expected, shape_of(scene.recording, scene.tree), expected.tolerances)
+    )
     yield from (d for d in found if d.change is change)
 
 

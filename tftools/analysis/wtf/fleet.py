@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
@@ -51,7 +51,7 @@ class BagReport:
 
     def failed(self, strict: bool = False) -> bool:
         """Errors (or, ``strict``, warnings too) found, or the bag could not be read."""
-        return self.count(Severity.error) > 0 or (strict and self.count(Severity.warning) > 0)
+        return self.error is not None or any(f.severity.fails(strict) for f in self.findings)
 
 
 def check_bags(
@@ -92,9 +92,10 @@ def check_recording(
 ) -> BagReport:
     """Check a recording read (or heard) and its sensor data ``streams`` against tf in ``target``
     (and against the ``expected`` tree)."""
+    scene = Scene(recording, thresholds, streams, target, expected)
     checked = BagReport(
         paths=tuple(recording.paths),
-        findings=check(recording, thresholds, ignore, streams, target, expected),
+        findings=findings_of(scene, ignore),
         formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
         start=recording.start,
         end=recording.end,
@@ -104,7 +105,7 @@ def check_recording(
     )
     if any(tied_to_tf(s) for s in streams):
         checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
-        checked.sensor_target, checked.sensor_target_reason = choose_target(recording.buffer, target)
+        checked.sensor_target, checked.sensor_target_reason = choose_target(scene.tree, target)
     return checked
 
 

@@ -9,7 +9,7 @@ from typing import TypeVar, cast
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, EdgeStats, edge_stats, parents_in_order
+from tftools.analysis.edges import Edge, EdgeStats, edge_rows, edge_stats, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterReport, filter_report
 from tftools.analysis.findings import Finding, Severity, counted
@@ -17,9 +17,10 @@ from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
+from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import StampedMessages
-from tftools.sources.recording import Recording
+from tftools.sources.recording import Recording, recording_of_buffer
 
 T = TypeVar("T")
 
@@ -42,16 +43,19 @@ class EdgeSamples(Edge):
 
 class Scene:
     """A recording as the checks see it: the buffer tf2 would hold, the raw rows, the thresholds,
-    and the wording shared by findings (edges, publishers, times)."""
+    and the wording shared by findings (edges, publishers, times). A bare buffer is seen as the
+    recording of what it holds (``recording_of_buffer``)."""
 
     def __init__(
         self,
-        recording: Recording,
+        recording: Recording | Buffer,
         thresholds: Thresholds | None = None,
         streams: Sequence[StampedMessages] = (),
         target: str | None = None,
         expected: TreeShape | None = None,
     ) -> None:
+        if isinstance(recording, Buffer):
+            recording = recording_of_buffer(recording)
         self.recording = recording
         self.streams = streams  # the recording's sensor data (messages with a header), for the sensor checks
         self.target = target  # the frame that data is transformed into (None: the usual one)
@@ -76,7 +80,7 @@ class Scene:
     @cached_property
     def sensors(self) -> FilterReport:
         """What a MessageFilter into the target frame made of each sensor stream."""
-        return filter_report(self.buffer, self.streams, self.target)
+        return filter_report(self.buffer, self.streams, self.target, tree=self.tree)
 
     @cached_property
     def tree(self) -> FrameTree:
@@ -94,24 +98,21 @@ class Scene:
     def dynamic_edges(self) -> list[EdgeSamples]:
         """Each moving edge's stored samples, per parent the child ever had."""
         result = []
-        for child, hist in self.buffer.histories():
+        for parent, child, hist, rows in edge_rows(self.buffer):
             if hist.static:
                 continue
-            parents = parents_in_order(hist)
-            for parent_id in parents:
-                # one parent (the usual case): the history's own arrays, not copies
-                mine = slice(None) if len(parents) == 1 else hist.parents == parent_id
-                result.append(
-                    EdgeSamples(
-                        parent=self.buffer.frame_name(parent_id),
-                        child=child,
-                        stamps=hist.stamps[mine],
-                        record_times=hist.record_times[mine],
-                        values=hist.values[mine],
-                        flags=hist.flags[mine],
-                        authorities=tuple(self.buffer.authorities[int(a)] for a in np.unique(hist.authorities[mine])),
-                    )
+            mine = slice(None) if rows.all() else rows  # one parent (the usual case): the history's arrays, not copies
+            result.append(
+                EdgeSamples(
+                    parent=parent,
+                    child=child,
+                    stamps=hist.stamps[mine],
+                    record_times=hist.record_times[mine],
+                    values=hist.values[mine],
+                    flags=hist.flags[mine],
+                    authorities=publishers(self.buffer, hist.authorities[mine]),
                 )
+            )
         return result
 
     # --- rows ------------------------------------------------------------------------------
