@@ -206,3 +206,16 @@ def test_http_recordings_are_read_with_ranged_reads(fleet: Path) -> None:
         assert missing.returncode == 2 and "nothing.bag: no such file or directory" in missing.stderr
     finally:
         server.shutdown()
+
+
+@pytest.mark.parametrize("name", ["robot.bag", "robot_db3", "robot_mcap"])
+def test_a_replay_streams_from_the_bucket_as_from_its_local_copy(
+    s3_env: dict[str, str], fleet: Path, bucket: str, name: str
+) -> None:
+    """``--play`` reads the recording window by window through the URL: the same refreshes as locally."""
+    play = ("map", "gripper", "--play", "--rate", "1000", "--format", "json")
+    remote = tfx("monitor", *play, "-b", f"{bucket}{name}", env=s3_env)
+    local = tfx("monitor", *play, "-b", str(fleet / name), env=s3_env)
+    assert remote.returncode == local.returncode == 0, remote.stderr
+    last_remote, last_local = json.loads(remote.stdout.splitlines()[-1]), json.loads(local.stdout.splitlines()[-1])
+    assert last_remote["edges"] == last_local["edges"] and last_remote["chain"] == last_local["chain"]
