@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import struct
 from dataclasses import dataclass, field
 from typing import BinaryIO
@@ -32,7 +31,7 @@ from tftools.sources.bag.mcap.records import (
     records,
     scan_records,
 )
-from tftools.sources.bag.ranges import ahead, need
+from tftools.sources.bag.ranges import ahead, read_at
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
@@ -97,7 +96,7 @@ def _read_chunks(
             continue
         wanted = _wanted(chunk, channels)
         if _in_ranges(chunk, wanted):
-            index = _read_at(f, chunk.end, chunk.index_length)
+            index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
             entries = _message_indexes(index, chunk)
             if entries is not None:
                 ranged.queue(Queued(number, chunk, index, entries))
@@ -126,26 +125,19 @@ def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
     return chunk.compression == "" and 0 < len(wanted) < len(chunk.index_offsets)
 
 
-def _read_at(f: BinaryIO, offset: int, length: int) -> bytes:
-    """``length`` bytes at ``offset``, past ``f``'s buffer: what it may hold of a remote file's copy
-    can have been read before that part was fetched."""
-    need(f.fileno(), offset, offset + length)
-    return os.pread(f.fileno(), length, offset)
-
-
 def _summary(f: BinaryIO, size: int) -> _Summary | None:
     """The summary section, or None without a footer (a cut file) or with a damaged summary."""
     tail = _FOOTER_RECORD.size + len(MAGIC)
     if size < len(MAGIC) + tail:
         return None
-    footer = _read_at(f, size - tail, tail)
+    footer = read_at(f.fileno(), size - tail, size)
     opcode, length, summary_start, _, _ = _FOOTER_RECORD.unpack_from(footer)
     if footer[-len(MAGIC) :] != MAGIC or opcode != FOOTER or length != 20:
         return None
     if not len(MAGIC) <= summary_start <= size - tail:
         return None
     try:
-        return _parse_summary(_read_at(f, summary_start, size - tail - summary_start), size)
+        return _parse_summary(read_at(f.fileno(), summary_start, size - tail), size)
     except McapDamageError:
         return None
 
@@ -193,7 +185,7 @@ def _chunk_index(content: bytes) -> ChunkIndex:
 def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
     """The wanted channels' messages of one chunk read whole, found through its message indexes
     (``index``, read here when None) or, in a chunk without them, by walking its records."""
-    raw = _read_at(f, chunk.offset, chunk.length)
+    raw = read_at(f.fileno(), chunk.offset, chunk.end)
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
         raise McapDamageError(f"no chunk at byte {chunk.offset}")
@@ -204,7 +196,7 @@ def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels,
             raise McapDamageError(damage)
         return
     if index is None:
-        index = _read_at(f, chunk.end, chunk.index_length)
+        index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
     wanted = _wanted(chunk, channels)
     found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
     found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
