@@ -9,9 +9,8 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.clock import ClockParts
-from tftools.sources.bag.contents import RecordWindow
-from tftools.sources.bag.rows import Channel, Rows
+from tftools.sources.bag.contents import RecordWindow, merged_clock
+from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
@@ -219,22 +218,24 @@ class MessageSet:
         channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
         ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
         rank = _rank(times, ties, np.concatenate(self._positions) if self.count else times)
-        clock = ClockParts()
-        for ids, values in self._clocks:
-            clock.add(channel_of[ids], times[ids], rank[ids], values)
-        topics = [c.topic for c in self.channels]
         batches = self._rows.batches(times, channel_of, rank)
-        stamped = self._stamped(times, channel_of, rank)
-        return batches, clock.samples(topics), stamped, self._problems(channel_of, rank)
+        clock, stamped = self._clock(times, channel_of, rank), self._stamped(times, channel_of, rank)
+        return batches, clock, stamped, self._problems(channel_of, rank)
+
+    def _clock(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> ClockSamples:
+        """The clock messages read, in record order: ``/clock``'s, else the clock topic's with the most."""
+        none = np.zeros(0, np.int64)
+        ids, values = _in_record_order(self._clocks or [(none, none)], rank)
+        topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
+        topics = dict.fromkeys(topic_of.tolist())
+        return merged_clock([ClockSamples(t, times[ids[topic_of == t]], values[topic_of == t]) for t in topics])
 
     def _stamped(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[StampedMessages]:
         """The headers read, per topic in record order (one for every topic read so, even without
         any), their frames ids of every frame name of the file."""
         headed = [c for c in self.channels if isinstance(c.codec, HeaderCodec)]
-        parts = self._headers or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int32))]
-        ids, stamps, frames = (np.concatenate(column) for column in zip(*parts, strict=True))
-        order = np.argsort(rank[ids], kind="stable")
-        ids, stamps, frames = ids[order], stamps[order], frames[order]
+        none = np.zeros(0, np.int64)
+        ids, stamps, frames = _in_record_order(self._headers or [(none, none, none.astype(np.int32))], rank)
         topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
         streams = []
         for topic, type_name in dict((c.topic, c.codec.type_name) for c in headed).items():
@@ -281,6 +282,13 @@ def _copied(data: bytes | memoryview, starts: Int64Array, lengths: Int64Array) -
     view = memoryview(data)
     joined = b"".join([view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)])
     return joined, np.cumsum(lengths) - lengths
+
+
+def _in_record_order(parts: Sequence[tuple[Column, ...]], rank: Int64Array) -> list[Column]:
+    """Parts of columns, the first of each the messages' numbers, joined and put in record order."""
+    columns = [np.concatenate(column) for column in zip(*parts, strict=True)]
+    order = np.argsort(rank[columns[0]], kind="stable")
+    return [column[order] for column in columns]
 
 
 def _rank(times: Int64Array, ties: Int64Array, positions: Int64Array) -> Int64Array:
