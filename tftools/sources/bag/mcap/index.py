@@ -97,12 +97,13 @@ def _read_chunks(
         wanted = _wanted(chunk, channels)
         if _in_ranges(chunk, wanted):
             index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
-            entries = _message_indexes(index, chunk)
-            if entries is not None:
-                ranged.queue(Queued(number, chunk, index, entries))
-            else:
+            try:
+                entries = {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
+            except McapDamageError:  # read whole, its damage is found and told
                 ranged.flush()  # the chunks before first: messages are handed on in file order
                 read_whole(number, chunk, index)
+            else:
+                ranged.queue(Queued(number, chunk, index, entries))
         elif wanted or not chunk.index_offsets:
             ranged.flush()
             read_whole(number, chunk, None)
@@ -126,7 +127,7 @@ def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
 
 
 def _summary(f: BinaryIO, size: int) -> _Summary | None:
-    """The summary section, or None without a footer (a cut file) or with a damaged summary."""
+    """The summary section; None without a footer (a cut file) or with a damaged summary."""
     tail = _FOOTER_RECORD.size + len(MAGIC)
     if size < len(MAGIC) + tail:
         return None
@@ -136,40 +137,29 @@ def _summary(f: BinaryIO, size: int) -> _Summary | None:
         return None
     if not len(MAGIC) <= summary_start <= size - tail:
         return None
+    data = read_at(f.fileno(), summary_start, size - tail)
+    summary = _Summary()
     try:
-        return _parse_summary(read_at(f.fileno(), summary_start, size - tail), size)
+        for opcode, start, end in records(data):
+            content = data[start:end]
+            if opcode == SCHEMA:
+                summary.schemas.append(content)
+            elif opcode == CHANNEL:
+                summary.channels.append(content)
+            elif opcode == CHUNK_INDEX:
+                summary.chunks.append(_chunk_index(content, size))
+            elif opcode == STATISTICS:
+                body = Body(content)
+                count = body.int(I64)
+                body.pos += 2 + 4 * 4  # schema, channel, attachment, metadata and chunk counts
+                summary.statistics = (max(0, count), body.int(I64), body.int(I64))
     except McapDamageError:
         return None
-
-
-def _parse_summary(data: bytes, size: int) -> _Summary:
-    """The summary's records; ``McapDamageError`` if a chunk index points outside the file (of ``size``
-    bytes) or declares more bytes than it holds: it cannot be trusted."""
-    summary = _Summary()
-    for opcode, start, end in records(data):
-        content = data[start:end]
-        if opcode == SCHEMA:
-            summary.schemas.append(content)
-        elif opcode == CHANNEL:
-            summary.channels.append(content)
-        elif opcode == CHUNK_INDEX:
-            chunk = _chunk_index(content)
-            index_end = chunk.end + chunk.index_length
-            # A chunk may run past the end of a file cut short (it is then lost), but no more than the file holds.
-            if not len(MAGIC) <= chunk.offset < size or chunk.length > size or chunk.index_length > size:
-                raise McapDamageError("a chunk index points outside the file")
-            if any(not chunk.end <= at < index_end for at in chunk.index_offsets.values()):
-                raise McapDamageError("a chunk's message indexes are not after it")
-            summary.chunks.append(chunk)
-        elif opcode == STATISTICS:
-            body = Body(content)
-            count = body.int(I64)
-            body.pos += 2 + 4 * 4  # schema, channel, attachment, metadata and chunk counts
-            summary.statistics = (max(0, count), body.int(I64), body.int(I64))
     return summary
 
 
-def _chunk_index(content: bytes) -> ChunkIndex:
+def _chunk_index(content: bytes, size: int) -> ChunkIndex:
+    """A chunk index of a file of ``size`` bytes; ``McapDamageError`` where it cannot be trusted."""
     body = Body(content)
     message_start, message_end = body.int(I64), body.int(I64)
     offset, length = body.int(U64), body.int(U64)
@@ -179,7 +169,13 @@ def _chunk_index(content: bytes) -> ChunkIndex:
     offsets = dict(_ID_OFFSET.iter_unpack(entries))
     index_length = body.int(U64)
     compression = body.string()
-    return ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64), message_start, message_end)
+    chunk = ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64), message_start, message_end)
+    # A chunk may run past the end of a file cut short (it is then lost), but no more than the file holds.
+    if not len(MAGIC) <= chunk.offset < size or chunk.length > size or chunk.index_length > size:
+        raise McapDamageError("a chunk index points outside the file")
+    if any(not chunk.end <= at < chunk.end + chunk.index_length for at in chunk.index_offsets.values()):
+        raise McapDamageError("a chunk's message indexes are not after it")
+    return chunk
 
 
 def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
@@ -204,14 +200,6 @@ def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels,
     if not payloads(np.frombuffer(data, np.uint8), found.offset, found, np.ones(len(found), bool)).all():
         raise McapDamageError("message index does not match its chunk")
     channels.result.messages.add_spans(found.looked_up(channels.wanted).astype(np.int32), found, data)
-
-
-def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, bytes] | None:
-    """Every channel's message index entries in the chunk, or None when one is damaged."""
-    try:
-        return {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
-    except McapDamageError:
-        return None
 
 
 def _message_index(index: bytes, at: int) -> bytes:
