@@ -85,8 +85,7 @@ class BagFile:
         return conn in self.channels
 
     def add(self, data: bytes | memoryview, messages: Spans) -> BoolArray:
-        """Keep the wanted ones of ``messages`` (their payloads in ``data``, which the caller may
-        then release); returns which were kept."""
+        """Keep the wanted ones of ``messages`` (their payloads copied out of ``data``); returns which."""
         channel = messages.looked_up(self.channels)
         kept = channel >= 0
         self.scan.messages.add_spans(channel[kept].astype(np.int32), messages.rows(kept), data)

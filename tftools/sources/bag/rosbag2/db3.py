@@ -30,11 +30,8 @@ _MAX_TOPIC_ID = 1 << 24  # topic ids index a lookup array: rosbag2 numbers them 
 
 
 def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messages: MessageSet) -> FileScan:
-    """The transform messages (into ``messages``) and description of one rosbag2 sqlite3 file.
-
-    Payloads compressed one by one (zstd) are decompressed with ``messages.unpack``, or on their
-    own when they look compressed. Raises ``CorruptBagError`` when nothing could be read.
-    """
+    """One rosbag2 sqlite3 file's messages (into ``messages``, zstd-compressed ones decompressed) and
+    description; ``CorruptBagError`` when nothing could be read."""
     result = FileScan(messages)
     wal = path.with_name(path.name + "-wal")
     unmerged = wal.exists() and wal.stat().st_size > 0
