@@ -105,7 +105,7 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
     clock = SimClock(contents.end)
     buffer = Buffer(cache_time=None, clock=clock, semantics=semantics or semantics_of(contents))
     refused: list[TransformBatch] = []
-    refused_sequence: list[Int64Array] = []
+    refused_sequence = [np.zeros(0, np.int64)]
     parts, contents.parts = contents.parts, []
     buffer.reserve(parts)
     parts.reverse()
@@ -127,8 +127,6 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
     _malloc_trim()(0)
     timeline = timeline_of(buffer, contents.clock, contents.start, contents.end)
     clock.reset(timeline.end)
-    if not refused:
-        return Recording(buffer, contents, timeline)
     return Recording(buffer, contents, timeline, concat_batches(refused), np.concatenate(refused_sequence))
 
 

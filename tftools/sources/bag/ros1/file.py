@@ -81,9 +81,6 @@ class BagFile:
             if isinstance(codec, ClockCodec):
                 self._clocks.add(channel)
 
-    def wants(self, conn: int) -> bool:
-        return conn in self.channels
-
     def add(self, data: bytes | memoryview, messages: Spans) -> BoolArray:
         """Keep the wanted ones of ``messages`` (their payloads copied out of ``data``); returns which."""
         channel = messages.looked_up(self.channels)

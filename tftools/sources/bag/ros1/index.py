@@ -80,10 +80,9 @@ def read_indexed(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
 
 
 def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
-    """Have the system fetch the headers and index records of the chunks holding wanted
-    messages all at once: read one by one from a file not in the page cache, each would wait
-    for the disk. A chunk's index records end where the next chunk (or the bag's index) begins,
-    about ``_INDEX_ENTRY_BYTES`` a message before it."""
+    """Have the system fetch the headers and index records of the chunks holding wanted messages all at
+    once (one by one, each would wait for the disk). A chunk's index records end where the next chunk
+    (or the bag's index) begins, about ``_INDEX_ENTRY_BYTES`` a message before it."""
     if bag.fd is None or not infos:
         return
     ends = [*(info.pos for info in infos[1:]), index_pos]
@@ -102,7 +101,7 @@ def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
     outside the window read."""
     if not bag.scan.messages.may_keep(info.start, info.end):
         return 0
-    return sum(n for conn, n in info.counts.items() if bag.wants(conn))
+    return sum(n for conn, n in info.counts.items() if conn in bag.channels)
 
 
 def _record(bag: BagFile, pos: int, op: int) -> Record:
