@@ -37,6 +37,16 @@ class ClockSamples:
     def __len__(self) -> int:
         return len(self.record_time)
 
+    def continued(self, later: ClockSamples) -> ClockSamples:
+        """The samples ``later`` (recorded next) after the last of these: enough for ``clock_at`` over them."""
+        if not len(later):
+            return self
+        return ClockSamples(
+            later.topic,
+            np.concatenate([self.record_time[-1:], later.record_time]),
+            np.concatenate([self.clock[-1:], later.clock]),
+        )
+
 
 @dataclass(frozen=True)
 class StampedMessages:

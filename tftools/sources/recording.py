@@ -99,13 +99,13 @@ def semantics_of(contents: RecordingContents) -> Semantics:
 
 def recording_of(contents: RecordingContents, semantics: Semantics | None = None) -> Recording:
     """The buffer of ``contents``, which it takes: each part is inserted, then let go and its memory
-    given back (``_give_back_freed_memory``), so that the transforms are held once, in the buffer's
+    given back (``_malloc_trim``), so that the transforms are held once, in the buffer's
     histories. Rows the buffer refused, or took for identical ones it holds (ROS 2), are kept aside
     for ``transforms``."""
     clock = SimClock(contents.end)
     buffer = Buffer(cache_time=None, clock=clock, semantics=semantics or semantics_of(contents))
     refused: list[TransformBatch] = []
-    refused_sequence: list[Int64Array] = []
+    refused_sequence = [np.zeros(0, np.int64)]
     parts, contents.parts = contents.parts, []
     buffer.reserve(parts)
     parts.reverse()
@@ -122,13 +122,11 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
         freed += part.nbytes
         del part
         if freed >= FREED_BYTES_TO_GIVE_BACK:
-            _give_back_freed_memory()
+            _malloc_trim()(0)
             freed = 0
-    _give_back_freed_memory()
+    _malloc_trim()(0)
     timeline = timeline_of(buffer, contents.clock, contents.start, contents.end)
     clock.reset(timeline.end)
-    if not refused:
-        return Recording(buffer, contents, timeline)
     return Recording(buffer, contents, timeline, concat_batches(refused), np.concatenate(refused_sequence))
 
 
@@ -136,15 +134,11 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
 FREED_BYTES_TO_GIVE_BACK = 8 << 20
 
 
-def _give_back_freed_memory() -> None:
-    """Return the C heap's free pages to the system. glibc keeps freed memory for reuse, but the
-    histories, being larger, cannot reuse a freed part's: the rows would count twice in peak memory."""
-    _malloc_trim()(0)
-
-
 @functools.cache
 def _malloc_trim() -> Callable[[int], int]:
-    """glibc's ``malloc_trim``; elsewhere a no-op (other allocators return memory their own way)."""
+    """glibc's ``malloc_trim``, which returns the C heap's free pages to the system (elsewhere a no-op:
+    other allocators return memory their own way). glibc keeps freed memory for reuse, but the
+    histories, being larger, cannot reuse a freed part's: the rows would count twice in peak memory."""
     try:
         trim: Callable[[int], int] = ctypes.CDLL(None).malloc_trim
     except (OSError, AttributeError):

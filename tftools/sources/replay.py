@@ -58,24 +58,15 @@ class Replay:
         self._part, self._next = TransformBatch.empty(), 0  # the part being played, and its next row
         first = self._pending()
         self.begin = start if start is not None else int(first.record_time[0]) if first is not None else 0
-        self._end = end
+        self.end = end  # where the replay ends: if not given, the last row's record time once it was played
         self._last = self.begin  # the newest row's record time played: the end, unless given
         self._sleep, self._monotonic = sleep, monotonic
-        self._clock = SimClock(self.begin)
+        self.clock = SimClock(self.begin)
         self._on_batch: OnBatch | None = None
         self._closed = threading.Event()
         self._finished = threading.Event()
         self._thread: threading.Thread | None = None
         self.error: Exception | None = None
-
-    @property
-    def clock(self) -> SimClock:
-        return self._clock
-
-    @property
-    def end(self) -> int | None:
-        """Where the replay ends: ``end`` if given, else the last row's record time once it was played."""
-        return self._end
 
     @property
     def finished(self) -> bool:
@@ -116,19 +107,19 @@ class Replay:
 
     def advance_to(self, bag_time: int) -> None:
         """Deliver every row recorded up to ``bag_time`` (at most ``end``), then set the clock."""
-        if self._end is not None:
-            bag_time = min(bag_time, self._end)
+        if self.end is not None:
+            bag_time = min(bag_time, self.end)
         while (part := self._pending()) is not None and int(part.record_time[self._next]) <= bag_time:
             upto = int(np.searchsorted(part.record_time, bag_time, side="right"))
             self._last = int(part.record_time[upto - 1])
             if self._on_batch is not None:
                 self._on_batch(take_rows(part, np.arange(self._next, upto)))
             self._next = upto
-        if self._end is None and self._pending() is None:
-            self._end = max(self._last, self.begin)  # every row played: the replay ends at the last
-            bag_time = min(bag_time, self._end)
-        self._clock.set(bag_time)
-        if self._end is not None and bag_time >= self._end:
+        if self.end is None and self._pending() is None:
+            self.end = max(self._last, self.begin)  # every row played: the replay ends at the last
+            bag_time = min(bag_time, self.end)
+        self.clock.set(bag_time)
+        if self.end is not None and bag_time >= self.end:
             self._finished.set()
 
     def _pending(self) -> TransformBatch | None:
@@ -145,8 +136,8 @@ class Replay:
         """Wall seconds until the next row is due, at most one clock tick."""
         part = self._pending()
         due = int(part.record_time[self._next]) if part is not None else now
-        if self._end is not None:
-            due = min(due, self._end)
+        if self.end is not None:
+            due = min(due, self.end)
         return max(0.0, min((due - now) / NS_PER_S / self.rate, 1.0 / CLOCK_HZ))
 
     def close(self) -> None:

@@ -19,7 +19,7 @@ from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.sources.bag import ProgressCallback, read_bag
-from tftools.sources.bag.contents import BagFileInfo, RecordWindow, merged_clock
+from tftools.sources.bag.contents import BagFileInfo, RecordWindow
 from tftools.sources.contents import DEFAULT_TOPICS, ClockSamples, RecordingContents
 from tftools.sources.recording import no_transforms, semantics_of
 from tftools.sources.replay import Replay
@@ -27,8 +27,7 @@ from tftools.sources.timeline import (
     EdgeClock,
     Playback,
     Timeline,
-    clock_at,
-    dynamic_arrivals,
+    clocked_arrivals,
     edge_clock,
     stamp_spans,
     tf_span,
@@ -158,7 +157,7 @@ class _Summary:
         self.frames: list[str] = []
         self.spans: dict[bool, tuple[bool, int, int]] = {}  # static or not: the stamps' span
         self.first_clock = ClockSamples.empty()
-        self._clock = ClockSamples.empty()  # the last /clock sample before the next window
+        self._clock = ClockSamples.empty()  # the /clock samples of the last window, after the one before
         self._arrivals: dict[str, _Arrivals] = {}
 
     def add(self, contents: RecordingContents) -> None:
@@ -171,20 +170,17 @@ class _Summary:
         buffer.reserve(contents.parts)
         for part in contents.parts:
             buffer.insert(part)
-        known = set(self.frames)
-        self.frames += [f for f in buffer.frames if f not in known]
+        met = set(self.frames)
+        self.frames += [f for f in buffer.frames if f not in met]
         for static, first, last in stamp_spans(buffer):
             seen = self.spans.get(static, (static, first, last))
             self.spans[static] = (static, min(seen[1], first), max(seen[2], last))
-        clock = merged_clock([self._clock, contents.clock])
         if len(contents.clock) and not len(self.first_clock):
-            self.first_clock = _last(contents.clock, 0)
-        for child, hist in buffer.histories():
-            arrivals = dynamic_arrivals(hist)
-            if arrivals is not None:
-                stamps, records = arrivals
-                self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, *clock_at(clock, records))
-        self._clock = _last(clock, len(clock) - 1)
+            clock = contents.clock
+            self.first_clock = ClockSamples(clock.topic, clock.record_time[:1], clock.clock[:1])
+        self._clock = self._clock.continued(contents.clock)
+        for child, stamps, records, ros, known in clocked_arrivals(buffer, self._clock):
+            self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, ros, known)
 
     def edges(self) -> tuple[EdgeClock, ...]:
         return tuple(edge_clock(child, *arrivals.kept()) for child, arrivals in self._arrivals.items())
@@ -210,10 +206,3 @@ class _Arrivals:
     def kept(self) -> tuple[Int64Array, Int64Array, Int64Array, BoolArray]:
         stamps, records, ros, known = (np.concatenate(column) for column in zip(*self._parts, strict=True))
         return stamps, records, ros, known
-
-
-def _last(clock: ClockSamples, index: int) -> ClockSamples:
-    """The clock's sample at ``index`` alone (none of an empty clock)."""
-    if not len(clock):
-        return clock
-    return ClockSamples(clock.topic, clock.record_time[index : index + 1], clock.clock[index : index + 1])

@@ -20,7 +20,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
-from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
+from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import ClockSamples
 
@@ -173,12 +173,7 @@ class Playback:
 
     def heard(self, clock: ClockSamples) -> None:
         """The /clock samples recorded since the last part (of a stream: a window's)."""
-        if len(clock):
-            self._clock = ClockSamples(
-                clock.topic,
-                np.concatenate([self._clock.record_time[-1:], clock.record_time]),
-                np.concatenate([self._clock.clock[-1:], clock.clock]),
-            )
+        self._clock = self._clock.continued(clock)
 
     def moved(self, record_times: Int64Array) -> Int64Array:
         """The replay times of the next part's ``record_times``."""
@@ -209,7 +204,7 @@ def clock_at(clock: ClockSamples, record_times: Int64Array) -> tuple[Int64Array,
 
 def timeline_of(buffer: Buffer, clock: ClockSamples, record_start: int, record_end: int) -> Timeline:
     """The timeline of a recording read into ``buffer``, with its recorded ``clock`` (``timeline_from``)."""
-    edges = tuple(_edge_clocks(buffer, clock))
+    edges = tuple(edge_clock(*arrivals) for arrivals in clocked_arrivals(buffer, clock))
     return timeline_from(edges, clock, record_start, record_end, tf_span(stamp_spans(buffer), record_start, record_end))
 
 
@@ -231,23 +226,19 @@ def _reference(edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: in
     return Reference.NONE, _why_none(edges, clock)
 
 
-def _edge_clocks(buffer: Buffer, clock: ClockSamples) -> Iterable[EdgeClock]:
+def clocked_arrivals(
+    buffer: Buffer, clock: ClockSamples
+) -> Iterable[tuple[str, Int64Array, Int64Array, Int64Array, BoolArray]]:
+    """Per frame, the stamps and record times of its transforms that tell its clock (dynamic, on /tf,
+    with a known record time), and ``clock_at`` those record times; frames without any left out."""
     for child, hist in buffer.histories():
-        arrivals = dynamic_arrivals(hist)
-        if arrivals is not None:
-            stamps, records = arrivals
-            yield edge_clock(child, stamps, records, *clock_at(clock, records))
-
-
-def dynamic_arrivals(hist: EdgeHistory) -> tuple[Int64Array, Int64Array] | None:
-    """The stamps and record times of a history's transforms that tell its clock: dynamic, on /tf,
-    with a known record time; None when there are none."""
-    if hist.static:
-        return None
-    keep = (hist.record_times > 0) & ((hist.flags & FROM_STATIC_TOPIC) == 0)
-    if keep.all():
-        return (hist.stamps, hist.record_times) if len(hist) else None
-    return (hist.stamps[keep], hist.record_times[keep]) if keep.any() else None
+        keep = (hist.record_times > 0) & ((hist.flags & FROM_STATIC_TOPIC) == 0)
+        if hist.static or not keep.any():
+            continue
+        stamps, records = (
+            (hist.stamps, hist.record_times) if keep.all() else (hist.stamps[keep], hist.record_times[keep])
+        )
+        yield child, stamps, records, *clock_at(clock, records)
 
 
 def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Array, known: BoolArray) -> EdgeClock:

@@ -2,14 +2,5 @@
 
 from tftools.sources.bag.contents import BagContents, BagFileInfo, ProgressCallback
 from tftools.sources.bag.reader import read_bag
-from tftools.sources.contents import DEFAULT_TOPICS, ClockSamples, is_static_topic
 
-__all__ = [
-    "DEFAULT_TOPICS",
-    "BagContents",
-    "BagFileInfo",
-    "ClockSamples",
-    "ProgressCallback",
-    "is_static_topic",
-    "read_bag",
-]
+__all__ = ["BagContents", "BagFileInfo", "ProgressCallback", "read_bag"]

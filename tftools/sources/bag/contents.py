@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import functools
 import itertools
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +33,20 @@ class RecordWindow:
 
     def holds(self, record_time: Int64Array) -> BoolArray:
         return (record_time >= self.first) & (record_time < self.last)
+
+
+def in_turn(progress: ProgressCallback, sizes: Sequence[int]) -> Iterator[ProgressCallback]:
+    """Progress over parts of ``sizes`` bytes read one after the other: per part, a callback that reports
+    its (done, of) as its share of the whole; and the part reported done once the next is asked for."""
+    total, before = sum(sizes), 0
+    for size in sizes:
+        yield functools.partial(_share, progress, before, size, total)
+        before += size
+        progress(before, total)
+
+
+def _share(progress: ProgressCallback, before: int, size: int, total: int, done: int, of: int) -> None:
+    progress(before + size * done // max(of, 1), total)
 
 
 def in_record_order(batches: list[TransformBatch]) -> list[TransformBatch]:

@@ -9,9 +9,8 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.clock import ClockParts
-from tftools.sources.bag.contents import RecordWindow
-from tftools.sources.bag.rows import Channel, Rows
+from tftools.sources.bag.contents import RecordWindow, merged_clock
+from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
@@ -56,9 +55,10 @@ class MessageSet:
         self._channel_ids: dict[Channel, int] = {}
         self._codecs: list[AnyCodec] = []
         self._codec_of: list[int] = []  # per channel: its codec's number
-        self._times: list[Int64Array] = []
-        self._positions: list[Int64Array] = []
-        self._channel_of: list[Int32Array] = []
+        #: Per part added: its messages' record times, positions and channels.
+        self._messages: list[tuple[Int64Array, Int64Array, Int32Array]] = [
+            (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int32))
+        ]
         self._groups: dict[int, list[_Piece]] = {}  # by codec
         self._unpack_failed: dict[int, list[str]] = {}
         self._pending_bytes = 0
@@ -81,8 +81,7 @@ class MessageSet:
         return self.window is None or self.window.overlaps(start, end)
 
     def channel(self, topic: str, codec: AnyCodec, *, publisher: str = "", tie: int = 0) -> int:
-        """The number of the channel ``topic`` decoded with ``codec`` (see ``Channel``), to ``add``
-        messages to."""
+        """The number of the channel ``topic`` decoded with ``codec`` (see ``Channel``), to ``add`` to."""
         key = Channel(topic, codec, publisher, tie)
         if key not in self._channel_ids:
             self._channel_ids[key] = len(self.channels)
@@ -134,8 +133,7 @@ class MessageSet:
         starts: Int64Array,
         lengths: Int64Array,
     ) -> None:
-        """Number the messages, noting their channels, record times and positions, and group their
-        payloads ``data[starts[i] : starts[i] + lengths[i]]`` by codec."""
+        """Number the messages (those in the window) and group their payloads by codec."""
         if self.window is not None:
             inside = self.window.holds(times)
             channels, times, where = channels[inside], times[inside], where[inside]
@@ -144,9 +142,7 @@ class MessageSet:
             return
         ids = np.arange(self.count, self.count + len(channels), dtype=np.int64)  # the messages' numbers
         self.count += len(channels)
-        self._times.append(times)
-        self._positions.append(where)
-        self._channel_of.append(channels.copy())
+        self._messages.append((times, where, channels.copy()))
         codecs = np.array(self._codec_of, np.int64)[channels]
         order = np.argsort(codecs, kind="stable")
         for part in np.split(order, np.flatnonzero(np.diff(codecs[order])) + 1):
@@ -195,8 +191,7 @@ class MessageSet:
         self._pending_bytes = 0
 
     def _decode(self, number: int, raw: UInt8Array, starts: Int64Array, lengths: Int64Array, ids: Int64Array) -> None:
-        """Decode the payloads ``raw[starts[i] : starts[i] + lengths[i]]`` of codec ``number``,
-        messages ``ids``, into rows, clock values or headers."""
+        """Decode codec ``number``'s payloads of messages ``ids`` into rows, clock values or headers."""
         codec = self._codecs[number]
         if isinstance(codec, ClockCodec):
             rows, values, failures = codec.decode(raw, starts, lengths)
@@ -215,26 +210,26 @@ class MessageSet:
         """Every transform in record-time order, in consecutive batches; the clock; the headers of
         each topic read so; a line per topic with lost messages."""
         self._decode_groups()
-        times = np.concatenate(self._times) if self.count else np.zeros(0, np.int64)
-        channel_of = np.concatenate(self._channel_of) if self.count else np.zeros(0, np.int32)
-        ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
-        rank = _rank(times, ties, np.concatenate(self._positions) if self.count else times)
-        clock = ClockParts()
-        for ids, values in self._clocks:
-            clock.add(channel_of[ids], times[ids], rank[ids], values)
-        topics = [c.topic for c in self.channels]
+        times, positions, channel_of = (np.concatenate(column) for column in zip(*self._messages, strict=True))
+        rank = _rank(times, np.array([c.tie for c in self.channels], np.int64)[channel_of], positions)
         batches = self._rows.batches(times, channel_of, rank)
-        stamped = self._stamped(times, channel_of, rank)
-        return batches, clock.samples(topics), stamped, self._problems(channel_of, rank)
+        clock, stamped = self._clock(times, channel_of, rank), self._stamped(times, channel_of, rank)
+        return batches, clock, stamped, self._problems(channel_of, rank)
+
+    def _clock(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> ClockSamples:
+        """The clock messages read, in record order: ``/clock``'s, else the clock topic's with the most."""
+        none = np.zeros(0, np.int64)
+        ids, values = _in_record_order(self._clocks or [(none, none)], rank)
+        topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
+        topics = dict.fromkeys(topic_of.tolist())
+        return merged_clock([ClockSamples(t, times[ids[topic_of == t]], values[topic_of == t]) for t in topics])
 
     def _stamped(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[StampedMessages]:
         """The headers read, per topic in record order (one for every topic read so, even without
         any), their frames ids of every frame name of the file."""
         headed = [c for c in self.channels if isinstance(c.codec, HeaderCodec)]
-        parts = self._headers or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int32))]
-        ids, stamps, frames = (np.concatenate(column) for column in zip(*parts, strict=True))
-        order = np.argsort(rank[ids], kind="stable")
-        ids, stamps, frames = ids[order], stamps[order], frames[order]
+        none = np.zeros(0, np.int64)
+        ids, stamps, frames = _in_record_order(self._headers or [(none, none, none.astype(np.int32))], rank)
         topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
         streams = []
         for topic, type_name in dict((c.topic, c.codec.type_name) for c in headed).items():
@@ -281,6 +276,13 @@ def _copied(data: bytes | memoryview, starts: Int64Array, lengths: Int64Array) -
     view = memoryview(data)
     joined = b"".join([view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)])
     return joined, np.cumsum(lengths) - lengths
+
+
+def _in_record_order(parts: Sequence[tuple[Column, ...]], rank: Int64Array) -> list[Column]:
+    """Parts of columns, the first of each the messages' numbers, joined and put in record order."""
+    columns = [np.concatenate(column) for column in zip(*parts, strict=True)]
+    order = np.argsort(rank[columns[0]], kind="stable")
+    return [column[order] for column in columns]
 
 
 def _rank(times: Int64Array, ties: Int64Array, positions: Int64Array) -> Int64Array:

@@ -65,6 +65,13 @@ def need(fd: int, start: int, end: int) -> None:
         copy.fill([start], [end])
 
 
+def read_at(fd: int, start: int, end: int) -> bytes:
+    """The file's bytes ``start:end`` (fewer where it ends first), a remote file's fetched first. Read
+    past any file object's buffer: what it holds of a remote file's copy may predate the fetch."""
+    need(fd, start, end)
+    return os.pread(fd, max(0, end - start), start)
+
+
 def prefetch(fd: int, starts: Int64Array, ends: Int64Array) -> None:
     """Have the system start reading these byte ranges of the file, all at once: read one after the
     other, a file not in the page cache would cost a disk's latency per range."""

@@ -17,6 +17,7 @@ from tftools.sources.bag.contents import (
     ProgressCallback,
     RecordWindow,
     in_record_order,
+    in_turn,
     merged_clock,
 )
 from tftools.sources.contents import DEFAULT_TOPICS, Fetched
@@ -70,26 +71,17 @@ def read_files(
     ``window`` (see ``read_bag``): the batches of all, and one ``BagFileInfo`` per file."""
     with ExitStack() as stack:
         places = [_place(os.fspath(p), stack) for p in paths]
-        readers = [(place, _format_reader(place)) for place in places]
-        sizes = [_size(place.path) for place in places]
-        total = sum(sizes)
-        batches: list[TransformBatch] = []
-        infos: list[BagFileInfo] = []
-        done = 0
-        for (place, reader), size in zip(readers, sizes, strict=True):
-            offset = done
+        readers = [_format_reader(place) for place in places]
+        shares = in_turn(progress or _unreported, [_size(place.path) for place in places])
+        read = [
+            place.said(reader, topics, share, window)
+            for share, place, reader in zip(shares, places, readers, strict=True)
+        ]
+    return [batch for batches, _ in read for batch in batches], [info for _, info in read]
 
-            def file_progress(read: int, _of: int, offset: int = offset) -> None:
-                if progress is not None:
-                    progress(offset + read, total)
 
-            file_batches, info = place.said(reader, topics, file_progress, window)
-            batches.extend(file_batches)
-            infos.append(info)
-            done += size
-            if progress is not None:
-                progress(done, total)
-    return batches, infos
+def _unreported(_done: int, _total: int) -> None:
+    pass
 
 
 @dataclass

@@ -46,10 +46,8 @@ class FileScan:
 def file_result(
     path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequence[str] = ()
 ) -> tuple[list[TransformBatch], BagFileInfo]:
-    """Decode the scans of one bag's files into batches in record order, and describe the bag.
-
-    ``labels`` (one per scan, e.g. file names) prefix each file's problem lines.
-    """
+    """The scans of one bag's files decoded into batches in record order, and the bag described;
+    ``labels`` (one per scan, e.g. file names) prefix each file's problem lines."""
     batches: list[TransformBatch] = []
     clocks: list[ClockSamples] = []
     stamped: list[StampedMessages] = []

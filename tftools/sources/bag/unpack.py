@@ -55,10 +55,10 @@ class Budget:
         self.left = max(0, self.left - size)
 
 
-def allowed(declared: int, budget: Budget | None = None) -> tuple[int, str]:
+def allowed(declared: int, budget: Budget | None = None, most: tuple[int, str] | None = None) -> tuple[int, str]:
     """The bytes a piece declaring ``declared`` (below 0: nothing) may decompress to, and the cap that sets it, said
-    as the reason should the piece be cut there."""
-    caps = [(MAX_UNPACKED, f"tftools' limit of {MAX_UNPACKED >> 20} MiB a piece")]
+    as the reason should the piece be cut there; ``most``: the largest cap (default: ``MAX_UNPACKED``)."""
+    caps = [most or (MAX_UNPACKED, f"tftools' limit of {MAX_UNPACKED >> 20} MiB a piece")]
     if declared >= 0:  # below 0: not declared
         caps.append((declared, f"its declared size of {declared} bytes"))
     if budget is not None:
@@ -82,24 +82,17 @@ def unpack(compression: str, data: bytes | memoryview, declared: int, budget: Bu
     if compression in ("", "none"):
         cut = f"cut short at {len(data)} of {declared} bytes" if len(data) < declared else ""
         return Unpacked(data, cut)
-    codec = {"bz2": bz2, "lz4": lz4, "zstd": zstd}.get(compression)
-    if codec is None:
-        raise CompressionUnavailableError(f"the compression {compression!r} is unknown")
-    return codec(data, declared, budget)
-
-
-def bz2(data: bytes | memoryview, declared: int, budget: Budget | None = None) -> Unpacked:
-    """A bz2 stream decompressed up to its declared size (see ``unpack``)."""
-    return _fed("bz2", _bz2.BZ2Decompressor(), data, declared, budget)
-
-
-def lz4(data: bytes | memoryview, declared: int, budget: Budget | None = None) -> Unpacked:
-    """An LZ4 frame decompressed up to its declared size (see ``unpack``)."""
-    try:
-        from lz4.frame import LZ4FrameDecompressor
-    except ImportError:
-        raise CompressionUnavailableError("the lz4 package is not installed (pip install lz4)") from None
-    return _fed("lz4", LZ4FrameDecompressor(), data, declared, budget)
+    if compression == "bz2":
+        return _fed("bz2", _bz2.BZ2Decompressor(), data, declared, budget)
+    if compression == "lz4":
+        try:
+            from lz4.frame import LZ4FrameDecompressor
+        except ImportError:
+            raise CompressionUnavailableError("the lz4 package is not installed (pip install lz4)") from None
+        return _fed("lz4", LZ4FrameDecompressor(), data, declared, budget)
+    if compression == "zstd":
+        return zstd(data, declared, budget)
+    raise CompressionUnavailableError(f"the compression {compression!r} is unknown")
 
 
 def zstd(data: bytes | memoryview, declared: int, budget: Budget | None = None) -> Unpacked:
@@ -148,11 +141,8 @@ def zstd_file(source: BinaryIO, target: Path, budget: Budget) -> str:
         declared = zstandard.frame_content_size(head)
     except zstandard.ZstdError:
         declared = -1
-    free = shutil.disk_usage(target.parent).free - FREE_SPACE_MARGIN
-    caps = [budget.cap(), (max(0, free), f"the {max(0, free) >> 20} MiB free in {target.parent} (less a margin)")]
-    if declared >= 0:
-        caps.append((declared, f"its declared size of {declared} bytes"))
-    limit, cap = min(caps, key=lambda c: c[0])
+    free = max(0, shutil.disk_usage(target.parent).free - FREE_SPACE_MARGIN)
+    limit, cap = allowed(declared, budget, (free, f"the {free >> 20} MiB free in {target.parent} (less a margin)"))
     written, loss = 0, ""
     with target.open("wb") as out:
         try:

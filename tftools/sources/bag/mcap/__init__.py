@@ -23,10 +23,7 @@ def read(
 
 
 def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messages: MessageSet) -> FileScan:
-    """The transform messages (into ``messages``) and description of one MCAP file.
-
-    Raises ``CorruptBagError`` when nothing could be read; a damaged file is read up to the damage.
-    """
+    """One MCAP file's messages (into ``messages``) and description; ``CorruptBagError`` when nothing could be read."""
     result = FileScan(messages)
     try:
         with path.open("rb") as f:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import struct
 from dataclasses import dataclass, field
 from typing import BinaryIO
@@ -32,7 +31,7 @@ from tftools.sources.bag.mcap.records import (
     records,
     scan_records,
 )
-from tftools.sources.bag.ranges import ahead, need
+from tftools.sources.bag.ranges import ahead, read_at
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
@@ -97,13 +96,14 @@ def _read_chunks(
             continue
         wanted = _wanted(chunk, channels)
         if _in_ranges(chunk, wanted):
-            index = _read_at(f, chunk.end, chunk.index_length)
-            entries = _message_indexes(index, chunk)
-            if entries is not None:
-                ranged.queue(Queued(number, chunk, index, entries))
-            else:
+            index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
+            try:
+                entries = {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
+            except McapDamageError:  # read whole, its damage is found and told
                 ranged.flush()  # the chunks before first: messages are handed on in file order
                 read_whole(number, chunk, index)
+            else:
+                ranged.queue(Queued(number, chunk, index, entries))
         elif wanted or not chunk.index_offsets:
             ranged.flush()
             read_whole(number, chunk, None)
@@ -126,58 +126,40 @@ def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
     return chunk.compression == "" and 0 < len(wanted) < len(chunk.index_offsets)
 
 
-def _read_at(f: BinaryIO, offset: int, length: int) -> bytes:
-    """``length`` bytes at ``offset``, past ``f``'s buffer: what it may hold of a remote file's copy
-    can have been read before that part was fetched."""
-    need(f.fileno(), offset, offset + length)
-    return os.pread(f.fileno(), length, offset)
-
-
 def _summary(f: BinaryIO, size: int) -> _Summary | None:
-    """The summary section, or None without a footer (a cut file) or with a damaged summary."""
+    """The summary section; None without a footer (a cut file) or with a damaged summary."""
     tail = _FOOTER_RECORD.size + len(MAGIC)
     if size < len(MAGIC) + tail:
         return None
-    footer = _read_at(f, size - tail, tail)
+    footer = read_at(f.fileno(), size - tail, size)
     opcode, length, summary_start, _, _ = _FOOTER_RECORD.unpack_from(footer)
     if footer[-len(MAGIC) :] != MAGIC or opcode != FOOTER or length != 20:
         return None
     if not len(MAGIC) <= summary_start <= size - tail:
         return None
+    data = read_at(f.fileno(), summary_start, size - tail)
+    summary = _Summary()
     try:
-        return _parse_summary(_read_at(f, summary_start, size - tail - summary_start), size)
+        for opcode, start, end in records(data):
+            content = data[start:end]
+            if opcode == SCHEMA:
+                summary.schemas.append(content)
+            elif opcode == CHANNEL:
+                summary.channels.append(content)
+            elif opcode == CHUNK_INDEX:
+                summary.chunks.append(_chunk_index(content, size))
+            elif opcode == STATISTICS:
+                body = Body(content)
+                count = body.int(I64)
+                body.pos += 2 + 4 * 4  # schema, channel, attachment, metadata and chunk counts
+                summary.statistics = (max(0, count), body.int(I64), body.int(I64))
     except McapDamageError:
         return None
-
-
-def _parse_summary(data: bytes, size: int) -> _Summary:
-    """The summary's records; ``McapDamageError`` if a chunk index points outside the file (of ``size``
-    bytes) or declares more bytes than it holds: it cannot be trusted."""
-    summary = _Summary()
-    for opcode, start, end in records(data):
-        content = data[start:end]
-        if opcode == SCHEMA:
-            summary.schemas.append(content)
-        elif opcode == CHANNEL:
-            summary.channels.append(content)
-        elif opcode == CHUNK_INDEX:
-            chunk = _chunk_index(content)
-            index_end = chunk.end + chunk.index_length
-            # A chunk may run past the end of a file cut short (it is then lost), but no more than the file holds.
-            if not len(MAGIC) <= chunk.offset < size or chunk.length > size or chunk.index_length > size:
-                raise McapDamageError("a chunk index points outside the file")
-            if any(not chunk.end <= at < index_end for at in chunk.index_offsets.values()):
-                raise McapDamageError("a chunk's message indexes are not after it")
-            summary.chunks.append(chunk)
-        elif opcode == STATISTICS:
-            body = Body(content)
-            count = body.int(I64)
-            body.pos += 2 + 4 * 4  # schema, channel, attachment, metadata and chunk counts
-            summary.statistics = (max(0, count), body.int(I64), body.int(I64))
     return summary
 
 
-def _chunk_index(content: bytes) -> ChunkIndex:
+def _chunk_index(content: bytes, size: int) -> ChunkIndex:
+    """A chunk index of a file of ``size`` bytes; ``McapDamageError`` where it cannot be trusted."""
     body = Body(content)
     message_start, message_end = body.int(I64), body.int(I64)
     offset, length = body.int(U64), body.int(U64)
@@ -187,13 +169,19 @@ def _chunk_index(content: bytes) -> ChunkIndex:
     offsets = dict(_ID_OFFSET.iter_unpack(entries))
     index_length = body.int(U64)
     compression = body.string()
-    return ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64), message_start, message_end)
+    chunk = ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64), message_start, message_end)
+    # A chunk may run past the end of a file cut short (it is then lost), but no more than the file holds.
+    if not len(MAGIC) <= chunk.offset < size or chunk.length > size or chunk.index_length > size:
+        raise McapDamageError("a chunk index points outside the file")
+    if any(not chunk.end <= at < chunk.end + chunk.index_length for at in chunk.index_offsets.values()):
+        raise McapDamageError("a chunk's message indexes are not after it")
+    return chunk
 
 
 def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
     """The wanted channels' messages of one chunk read whole, found through its message indexes
     (``index``, read here when None) or, in a chunk without them, by walking its records."""
-    raw = _read_at(f, chunk.offset, chunk.length)
+    raw = read_at(f.fileno(), chunk.offset, chunk.end)
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
         raise McapDamageError(f"no chunk at byte {chunk.offset}")
@@ -204,7 +192,7 @@ def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels,
             raise McapDamageError(damage)
         return
     if index is None:
-        index = _read_at(f, chunk.end, chunk.index_length)
+        index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
     wanted = _wanted(chunk, channels)
     found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
     found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
@@ -212,14 +200,6 @@ def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels,
     if not payloads(np.frombuffer(data, np.uint8), found.offset, found, np.ones(len(found), bool)).all():
         raise McapDamageError("message index does not match its chunk")
     channels.result.messages.add_spans(found.looked_up(channels.wanted).astype(np.int32), found, data)
-
-
-def _message_indexes(index: bytes, chunk: ChunkIndex) -> dict[int, bytes] | None:
-    """Every channel's message index entries in the chunk, or None when one is damaged."""
-    try:
-        return {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
-    except McapDamageError:
-        return None
 
 
 def _message_index(index: bytes, at: int) -> bytes:

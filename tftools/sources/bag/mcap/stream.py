@@ -32,10 +32,8 @@ class UnreadableError(Exception):
 
 
 def stream(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallback) -> None:
-    """Read the records from the start up to the end of the data or the damage, noting what is lost.
-
-    Raises ``UnreadableError`` when the damage comes before anything could be read.
-    """
+    """Read the records up to the end of the data or the damage, noting what is lost; ``UnreadableError``
+    when the damage comes before anything could be read."""
     need(f.fileno(), 0, size)  # a remote file is fetched whole: every record is read
     reader, result = _Stream(f, size, channels), channels.result
     result.windowed = False

@@ -21,11 +21,7 @@ from tftools.sources.errors import CorruptBagError
 def read(
     path: Path, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None = None
 ) -> tuple[list[TransformBatch], BagFileInfo]:
-    """The transforms on ``topics`` and the clock of the ROS1 bag at ``path`` (see ``reader.read_bag``).
-
-    A bag without (or with a damaged) index is read by scanning its chunks; what could not be
-    read is one line each in the description's ``problems``.
-    """
+    """The ROS1 bag at ``path`` (see ``reader.read_bag``); its chunks scanned when its index is missing or damaged."""
     with _mapped(path) as buf, path.open("rb") as file:
         try:
             header = read_bag_header(buf)

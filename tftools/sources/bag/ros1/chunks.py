@@ -26,8 +26,7 @@ _MIN_HEADER = 4 + len("op=") + 1  # a record header holds at least its op field
 
 
 def walk(data: Buffer, chunk: int) -> Spans:
-    """The records in ``data``, chunk ``chunk``'s records, up to their end or one cut short (their
-    channels and times unknown until ``locate`` reads them)."""
+    """The records in ``data``, chunk ``chunk``'s records, up to their end or one cut short (``in_chunk``)."""
     starts = array("q")  # 8 bytes a record, not a Python int's 36: a chunk may hold millions
     pos, limit = 0, len(data)
     try:

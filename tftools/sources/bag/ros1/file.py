@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import mmap
-import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -11,7 +10,7 @@ import numpy as np
 from tftools.core.arrays import BoolArray
 from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.ranges import need
+from tftools.sources.bag.ranges import read_at
 from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, RecordReader
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
@@ -82,12 +81,8 @@ class BagFile:
             if isinstance(codec, ClockCodec):
                 self._clocks.add(channel)
 
-    def wants(self, conn: int) -> bool:
-        return conn in self.channels
-
     def add(self, data: bytes | memoryview, messages: Spans) -> BoolArray:
-        """Keep the wanted ones of ``messages`` (their payloads in ``data``, which the caller may
-        then release); returns which were kept."""
+        """Keep the wanted ones of ``messages`` (their payloads copied out of ``data``); returns which."""
         channel = messages.looked_up(self.channels)
         kept = channel >= 0
         self.scan.messages.add_spans(channel[kept].astype(np.int32), messages.rows(kept), data)
@@ -112,8 +107,7 @@ class BagFile:
         """``buf[start:end]``: read from the file when it is known (faulting in the pages of a
         mapping costs more than the copy a read makes, and they would count as resident)."""
         if self.fd is not None:
-            need(self.fd, start, end)
-            return os.pread(self.fd, max(0, min(end, self.size) - start), start)
+            return read_at(self.fd, start, end)
         return memoryview(self.buf)[start:end]
 
     def note_damage(self) -> None:

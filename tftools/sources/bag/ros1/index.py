@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.arrays import BoolArray, Int64Array
+from tftools.core.arrays import BoolArray
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.ranges import ahead, need, read_ranges
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
@@ -80,10 +80,9 @@ def read_indexed(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
 
 
 def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
-    """Have the system fetch the headers and index records of the chunks holding wanted
-    messages all at once: read one by one from a file not in the page cache, each would wait
-    for the disk. A chunk's index records end where the next chunk (or the bag's index) begins,
-    about ``_INDEX_ENTRY_BYTES`` a message before it."""
+    """Have the system fetch the headers and index records of the chunks holding wanted messages all at
+    once (one by one, each would wait for the disk). A chunk's index records end where the next chunk
+    (or the bag's index) begins, about ``_INDEX_ENTRY_BYTES`` a message before it."""
     if bag.fd is None or not infos:
         return
     ends = [*(info.pos for info in infos[1:]), index_pos]
@@ -102,7 +101,7 @@ def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
     outside the window read."""
     if not bag.scan.messages.may_keep(info.start, info.end):
         return 0
-    return sum(n for conn, n in info.counts.items() if bag.wants(conn))
+    return sum(n for conn, n in info.counts.items() if conn in bag.channels)
 
 
 def _record(bag: BagFile, pos: int, op: int) -> Record:
@@ -125,7 +124,7 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
     if chunk.compression == "none" and index is not None and bag.fd is not None:
         gathered.add(bag, _Pending(ordinal, wanted, index, chunk))
         return
-    offsets = None if index is None else _wanted_offsets(bag, index)  # before the index's pages are let go
+    indexed = None if index is None else _indexed([index])  # read before the index's pages are let go
     bag.release(info.pos, record.data_start if index is None else index.end)
     gathered.read(bag)  # what was gathered comes first: the messages stay in record order
     try:
@@ -134,9 +133,10 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         bag.damage.note(info.pos, str(e), wanted)
         return
     data = unpacked.data
-    if offsets is None:
+    if indexed is None:
         messages, _, first_error = locate(data, walk(data, ordinal), follow=False)
     else:
+        offsets = distinct(indexed.offset[_wanted(bag, indexed)])  # once each
         messages, _, first_error = locate(data, in_chunk(offsets, ordinal, len(data)), follow=True)
     got = int(bag.add(data, messages).sum())
     bag.release(info.pos, record.data_end)
@@ -147,12 +147,6 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
 def _wanted(bag: BagFile, spans: Spans) -> BoolArray:
     """Which records the index lists under a wanted connection."""
     return spans.looked_up(bag.channels) >= 0
-
-
-def _wanted_offsets(bag: BagFile, index: _Index) -> Int64Array:
-    """Where the records a chunk's index lists under wanted connections begin in its data, once each."""
-    indexed = _indexed([index])
-    return distinct(indexed.offset[_wanted(bag, indexed)])
 
 
 @dataclass

@@ -11,7 +11,7 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
+from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow, in_turn
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2 import metadata_yaml
 from tftools.sources.bag.scan import FileScan, file_result
@@ -120,23 +120,16 @@ def _scan_files(
     scans: list[FileScan] = []
     labels: list[str] = []
     lost: list[str] = []
-    sizes = [file.stat().st_size if _exists(file) else 0 for file in bag.files]
-    total, done = sum(sizes), 0
-    for file, size in zip(bag.files, sizes, strict=True):
-
-        def file_progress(read: int, of: int, done: int = done, size: int = size) -> None:
-            progress(done + size * read // max(of, 1), total)  # ``of``: the file decompressed
-
+    shares = in_turn(progress, [file.stat().st_size if _exists(file) else 0 for file in bag.files])
+    for share, file in zip(shares, bag.files, strict=True):
         if not _exists(file):
             lost.append(f"{_shown(file.name)} is listed in metadata.yaml but missing; its messages are lost")
             continue
         try:
-            scans.append(_scan_file(file, bag, topics, file_progress, window))
+            scans.append(_scan_file(file, bag, topics, share, window))
             labels.append(file.name if len(bag.files) > 1 else "")
         except CorruptBagError as e:
             lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
-        done += size
-        progress(done, total)
     if not scans:
         raise CorruptBagError(str(path), "; ".join(lost) or "no bag files in it")
     bag.problems += lost

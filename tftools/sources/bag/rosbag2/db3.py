@@ -11,7 +11,6 @@ from urllib.parse import quote
 
 import numpy as np
 
-from tftools.core.arrays import Int32Array, UInt8Array
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2 import _sqlite
@@ -31,11 +30,8 @@ _MAX_TOPIC_ID = 1 << 24  # topic ids index a lookup array: rosbag2 numbers them 
 
 
 def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messages: MessageSet) -> FileScan:
-    """The transform messages (into ``messages``) and description of one rosbag2 sqlite3 file.
-
-    Payloads compressed one by one (zstd) are decompressed with ``messages.unpack``, or on their
-    own when they look compressed. Raises ``CorruptBagError`` when nothing could be read.
-    """
+    """One rosbag2 sqlite3 file's messages (into ``messages``, zstd-compressed ones decompressed) and
+    description; ``CorruptBagError`` when nothing could be read."""
     result = FileScan(messages)
     wal = path.with_name(path.name + "-wal")
     unmerged = wal.exists() and wal.stat().st_size > 0
@@ -123,7 +119,8 @@ def _messages(
     if not channels:
         return
     size = path.stat().st_size
-    lookup = _channel_lookup(channels)
+    lookup = np.zeros(max(channels) + 1, np.int32)  # topic id -> channel
+    lookup[list(channels)] = list(channels.values())
     ids = ",".join(str(int(i)) for i in channels)
     data = (
         f"CASE WHEN substr(data, 1, {len(ZSTD_MAGIC)}) = x'{ZSTD_MAGIC.hex()}' THEN data"
@@ -143,8 +140,9 @@ def _messages(
         rows = _sqlite.Messages(_uri(path), query)
         while len((fetched := rows.fetch(_FETCH, _FETCH_BYTES))[0]):
             topic, timestamp, row_id, start, length, payloads = fetched
+            _unpack_if_compressed(payloads[start[0] : start[0] + length[0]][:4].tobytes(), result, size)
             spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
-            _add_spans(lookup[topic], spans, payloads, result, size)
+            result.messages.add_spans(lookup[topic], spans, payloads.data)
             added, latest = True, max(latest, int(timestamp.max()))
             span = result.end - result.start  # progress estimated by record time
             progress(int(size * (latest - result.start) / span) if span > 0 else 0, size)
@@ -152,7 +150,9 @@ def _messages(
     except sqlite3.Error as e:
         if added:  # start again from the pages, forgetting what the query gave
             result.messages = result.messages.emptied()
-        _add_rows(_salvage(path, channels, result, str(e)), lookup, result, size)
+        topic_ids, times, salvaged = zip(*_salvage(path, channels, result, str(e)), strict=True)
+        _unpack_if_compressed(salvaged[0], result, size)
+        result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(times)), salvaged)
 
 
 def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str) -> list[Row]:
@@ -170,26 +170,6 @@ def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str)
         f"{lost}; those in missing or damaged pages are lost"
     )
     return rows
-
-
-def _add_rows(rows: list[Row], lookup: Int32Array, result: FileScan, size: int) -> None:
-    """Add the salvaged ``rows`` (``lookup`` gives their topics' channels) of a file of ``size`` bytes."""
-    topic_ids, times, payloads = zip(*rows, strict=True)
-    _unpack_if_compressed(payloads[0], result, size)
-    result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(rows)), payloads)
-
-
-def _add_spans(channels: Int32Array, spans: Spans, data: UInt8Array, result: FileScan, size: int) -> None:
-    """Add the messages of one fetch: ``data[spans.start[i] : spans.end[i]]`` of ``channels[i]``."""
-    _unpack_if_compressed(data[spans.start[0] : spans.end[0]][:4].tobytes(), result, size)
-    result.messages.add_spans(channels, spans, data.data)
-
-
-def _channel_lookup(channels: dict[int, int]) -> Int32Array:
-    """Topic id -> channel."""
-    lookup = np.zeros(max(channels) + 1, np.int32)
-    lookup[list(channels)] = list(channels.values())
-    return lookup
 
 
 def _text(value: object) -> str:

@@ -126,7 +126,8 @@ class _Pages:
         while head < header_size and len(types) < 5:
             serial, head = _varint(record, head, header_size)
             types.append(serial)
-        if types[:1] != [0] or len(types) != 4 or not all(map(_is_integer, types[1:3])) or not _is_blob(types[3]):
+        integers = all(t in _INT_SIZES or t in _INT_CONSTANTS for t in types[1:3])
+        if types[:1] != [0] or len(types) != 4 or not integers or types[3] < 12 or types[3] % 2:  # a blob: even, >= 12
             return None
         topic_id, head = _integer(record, header_size, types[1])
         time, head = _integer(record, head, types[2])
@@ -178,14 +179,6 @@ def _varint(data: Buffer, pos: int, end: int) -> tuple[int, int]:
         if byte < 0x80:
             return value, pos + i + 1
     raise _MalformedError  # unreachable: the loop returns by the ninth byte
-
-
-def _is_integer(serial: int) -> bool:
-    return serial in _INT_SIZES or serial in _INT_CONSTANTS
-
-
-def _is_blob(serial: int) -> bool:
-    return serial >= 12 and serial % 2 == 0
 
 
 def _integer(record: bytes, at: int, serial: int) -> tuple[int, int]:
