@@ -200,7 +200,8 @@ class _Arrivals:
         self._seen += len(stamps)
         self._parts.append((stamps[picked], records[picked], ros[picked], known[picked]))
         while sum(len(p[0]) for p in self._parts) > SAMPLES_PER_FRAME:
-            self._parts = [tuple(column[::2] for column in self.kept())]  # type: ignore[list-item]
+            stamps, records, ros, known = self.kept()
+            self._parts = [(stamps[::2], records[::2], ros[::2], known[::2])]
             self._stride *= 2
 
     def kept(self) -> tuple[Int64Array, Int64Array, Int64Array, BoolArray]:
