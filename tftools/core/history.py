@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import mmap
 from bisect import bisect_right
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -20,32 +20,24 @@ PARENT_HAD_SLASH = 2
 CHILD_HAD_SLASH = 4
 
 
-def rows_as_sent(
-    names: Sequence[str],
-    authorities: Sequence[str],
-    frames: tuple[Int32Array, Int32Array],
-    flags: UInt8Array,
-    stamp: Int64Array,
-    values: FloatArray,
-    record_time: Int64Array,
-    authority: Int32Array,
-) -> TransformBatch:
-    """Samples as a buffer keeps them (``frames``: parent and child ids into tf2's ``names``, ``flags``
-    as ``EdgeHistory.flags``) back as the rows that were sent: a name that had a leading ``/`` has
-    it again, and rows from ``/tf_static`` are static."""
-    parent, child = frames
+def rows_as_sent(names: Sequence[str], authorities: Sequence[str], columns: Mapping[str, Any]) -> TransformBatch:
+    """Samples as a buffer keeps them back as the rows that were sent: a name that had a leading ``/``
+    has it again, and rows from ``/tf_static`` are static. ``columns``: ``parent`` and ``child`` (ids into
+    tf2's ``names``), ``flags`` (as ``EdgeHistory.flags``), ``stamp``, ``values`` (N, 7), ``record_time``
+    and ``authority`` (into ``authorities``)."""
+    parent, child, flags, values = columns["parent"], columns["child"], columns["flags"], columns["values"]
     slashed = len(names)  # a name that had a slash: the stripped name's id, shifted past every stripped name
     return TransformBatch(
         frame_names=[*names, *("/" + n for n in names)],
         authorities=authorities,
         parent=np.where(flags & PARENT_HAD_SLASH, parent + slashed, parent).astype(np.int32, copy=False),
         child=np.where(flags & CHILD_HAD_SLASH, child + slashed, child).astype(np.int32, copy=False),
-        stamp=stamp,
+        stamp=columns["stamp"],
         translation=values[:, :3],
         rotation=values[:, 3:],
         static=(flags & FROM_STATIC_TOPIC) != 0,
-        record_time=record_time,
-        authority=authority,
+        record_time=columns["record_time"],
+        authority=columns["authority"],
     )
 
 

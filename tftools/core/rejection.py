@@ -230,16 +230,7 @@ class RejectionLog(Sequence[Rejection]):
         refuse one for several reasons), and each one's arrival number."""
         c = self._join()
         sequence, first = np.unique(c["sequence"], return_index=True)
-        batch = rows_as_sent(
-            self._frames.names,
-            self._publishers.names,
-            (c["parent"][first], c["child"][first]),
-            c["flags"][first],
-            c["stamp"][first],
-            c["values"][first],
-            c["record_time"][first],
-            c["authority"][first],
-        )
+        batch = rows_as_sent(self._frames.names, self._publishers.names, {k: v[first] for k, v in c.items()})
         return batch, sequence
 
     def sequences(self, start: int = 0) -> Int64Array:
