@@ -131,7 +131,7 @@ class RejectionLog(Sequence[Rejection]):
         self._frames = Names()
         self._publishers = Names()
         self._parts: list[dict[str, npt.NDArray[Any]]] = []
-        self._joined: dict[str, npt.NDArray[Any]] = _empty_columns()
+        self._joined = {name: np.zeros((0, 7) if name == "values" else 0, dtype) for name, dtype in _COLUMNS.items()}
 
     # --- recording ---------------------------------------------------------------------------
 
@@ -291,7 +291,3 @@ _COLUMNS: dict[str, type[np.generic]] = {
     "values": np.float64,
     "flags": np.uint8,
 }
-
-
-def _empty_columns() -> dict[str, npt.NDArray[Any]]:
-    return {name: np.zeros((0, 7) if name == "values" else 0, dtype) for name, dtype in _COLUMNS.items()}
