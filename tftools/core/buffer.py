@@ -304,19 +304,17 @@ class Buffer:
                 part = rows[part_start : min(stop, part_start + _REFUSALS_PER_PART)]
                 parent, child = batch.parent[part], batch.child[part]
                 flags = batch.static[part] * FROM_STATIC_TOPIC | slashed[parent] * PARENT_HAD_SLASH
-                self.rejections.add(
-                    _REFUSALS[code],
-                    names,
-                    parent,
-                    child,
-                    batch.stamp[part],
-                    self.authorities,
-                    authority_ids[batch.authority[part]],
-                    batch.record_time[part],
-                    part + first,
-                    np.concatenate([batch.translation[part], batch.rotation[part]], axis=1),
-                    flags | slashed[child] * CHILD_HAD_SLASH,
-                )
+                refused = {
+                    "parent": parent,
+                    "child": child,
+                    "stamp": batch.stamp[part],
+                    "authority": authority_ids[batch.authority[part]],
+                    "record_time": batch.record_time[part],
+                    "sequence": part + first,
+                    "values": np.concatenate([batch.translation[part], batch.rotation[part]], axis=1),
+                    "flags": flags | slashed[child] * CHILD_HAD_SLASH,
+                }
+                self.rejections.add(_REFUSALS[code], names, self.authorities, refused)
 
     # --- lookups -----------------------------------------------------------------------------
 
