@@ -265,8 +265,10 @@ class Buffer:
         in parts then grows no history by doubling (what is never stored stays reserved)."""
         with self._changed:
             for batch in batches:
-                for name, rows in _rows_per_child(batch).items():
-                    self._expected[name] = self._expected.get(name, 0) + rows
+                rows = np.bincount(batch.child, minlength=len(batch.frame_names))
+                for child in np.flatnonzero(rows).tolist():
+                    name = batch.frame_names[child].removeprefix("/")  # as the buffer names it
+                    self._expected[name] = self._expected.get(name, 0) + int(rows[child])
             self._room = RoomForHistories(self._expected.values())
 
     def _insert(self, batch: TransformBatch) -> int:
@@ -502,16 +504,6 @@ class Buffer:
         if frame_id == NO_PARENT:
             raise UnknownFrameError.missing(frame, argument)
         return frame_id
-
-
-def _rows_per_child(batch: TransformBatch) -> dict[str, int]:
-    """How many rows of ``batch`` each child frame (named as the buffer names it) has."""
-    counts = np.bincount(batch.child, minlength=len(batch.frame_names))
-    expected: dict[str, int] = {}
-    for i in np.flatnonzero(counts).tolist():
-        name = batch.frame_names[i].removeprefix("/")
-        expected[name] = expected.get(name, 0) + int(counts[i])
-    return expected
 
 
 #: Refused rows recorded at a time.

@@ -237,10 +237,8 @@ def frames_as_string(tree: Tree) -> str:
 
 
 def frames_as_yaml(tree: Tree, broadcasters: Mapping[int, str]) -> str:
-    """tf2's ``allFramesAsYAML``: parent, latest broadcaster, rate and time span per child frame.
-
-    ``broadcasters`` names, per frame id, who sent the frame's last accepted sample.
-    """
+    """tf2's ``allFramesAsYAML``: parent, latest broadcaster (``broadcasters``: per frame id, who sent
+    its last accepted sample), rate and time span per child frame."""
     ros2 = tree.dialect.ros2
     if len(tree.names) == 1:  # no frame at all
         return "[]" if ros2 else "{}"
