@@ -156,14 +156,6 @@ class EdgeHistory:
         "replaced",
         "static",
     )
-    _stamps: Int64Array
-    _values: FloatArray
-    _parents: Int32Array
-    _authorities: Int32Array
-    _record_times: Int64Array
-    _sequence: Int64Array
-    _flags: UInt8Array
-    _stamp_index: memoryview
 
     def __init__(
         self,
@@ -297,9 +289,7 @@ class EdgeHistory:
             return
         if latest is None:
             latest = self._stamp_index[self._end - 1]
-        oldest_kept = latest - cache_time
-        first = bisect_right(self._stamp_index, oldest_kept - 1, self._start, self._end)
-        self._start = first
+        self._start = bisect_right(self._stamp_index, latest - cache_time - 1, self._start, self._end)
         if self._start > len(self._stamps) // 2:
             self._allocate(len(self._stamps))
 

@@ -87,7 +87,9 @@ class TransformAccum(CanTransformAccum):
         if ending == TARGET_PARENT_OF_SOURCE:
             self.result = self.source
             return
-        iv, iq = _inverse(*self.target)
+        tv, tq = self.target
+        iq = quat_conjugate(tq)
+        iv = quat_rotate(iq, (-tv[0], -tv[1], -tv[2]))
         if ending == SOURCE_PARENT_OF_TARGET:
             self.result = iv, iq
             return
@@ -266,12 +268,6 @@ def frames_as_yaml(tree: Tree, broadcasters: Mapping[int, str]) -> str:
             f"  buffer_length: {length:.3f}",
         ]
     return "\n".join(lines) + "\n" if lines else ""
-
-
-def _inverse(v: Vec3, q: Quat) -> tuple[Vec3, Quat]:
-    iq = quat_conjugate(q)
-    r = quat_rotate(iq, (-v[0], -v[1], -v[2]))
-    return r, iq
 
 
 def _extrapolation(tree: Tree, gap: Gap, source_id: int, target_id: int) -> ExtrapolationError:
