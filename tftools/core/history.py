@@ -90,7 +90,9 @@ class RoomForHistories:
     def __init__(self, capacities: Iterable[int]) -> None:
         size = sum(block_bytes(c) for c in capacities)
         if size > _LARGE_PAGES_UP_TO:
-            self._block = _in_small_pages(size)
+            memory = mmap.mmap(-1, size)
+            memory.madvise(mmap.MADV_NOHUGEPAGE)
+            self._block: UInt8Array = np.frombuffer(memory, np.uint8)
         else:
             block = np.empty(size + _LARGE_PAGE, np.uint8)
             start = -block.ctypes.data % _LARGE_PAGE  # the block's first whole large page
@@ -104,13 +106,6 @@ class RoomForHistories:
             return None
         self._used += size
         return self._block[self._used - size : self._used]
-
-
-def _in_small_pages(size: int) -> UInt8Array:
-    """``size`` bytes of anonymous memory that the system will not back with large pages."""
-    memory = mmap.mmap(-1, size)
-    memory.madvise(mmap.MADV_NOHUGEPAGE)
-    return np.frombuffer(memory, np.uint8)
 
 
 #: A sample as the scalar lookup path uses it: parent id and tx ty tz qx qy qz qw.
