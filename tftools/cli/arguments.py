@@ -22,16 +22,6 @@ MAX_ECHO_LINES = 1_000_000
 TIME_FORMS = "absolute seconds (e.g. 1700000012.5), +S after the first tf stamp or -S before the last"
 
 
-def _number(text: str, option: str, what: str, example: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise UsageError(f"{option} {text}: not {what}", f"e.g. {option} {example}") from None
-    if not math.isfinite(value):
-        raise UsageError(f"{option} {text}: not a finite number", f"e.g. {option} {example}")
-    return value
-
-
 def parse_time(text: str, timeline: Timeline, option: str) -> int:
     """TIME as nanoseconds on the tf stamps' clock: absolute seconds, ``+S`` from the tf data's first
     stamp, ``-S`` from its last (so +1 is a second into the tf, whatever clock the bag was recorded on).
@@ -39,7 +29,12 @@ def parse_time(text: str, timeline: Timeline, option: str) -> int:
     Not a number, not finite, or more than ``TIME_SLACK_S`` outside the recording's tf: a ``UsageError``
     that says the recording's span."""
     given = text.strip()
-    value = _number(given, option, "a time", "+3")
+    try:
+        value = float(given)
+    except ValueError:
+        raise UsageError(f"{option} {given}: not a time", f"e.g. {option} +3") from None
+    if not math.isfinite(value):
+        raise UsageError(f"{option} {given}: not a finite number", f"e.g. {option} +3")
     base = timeline.tf_start if given.startswith("+") else timeline.tf_end if given.startswith("-") else 0
     seconds = to_sec(base) + value
     span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"

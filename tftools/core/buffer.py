@@ -5,7 +5,7 @@ from __future__ import annotations
 import itertools
 import threading
 import time as _time
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from functools import wraps
 from typing import Any, TypeVar
@@ -18,7 +18,7 @@ from tftools.core._kernels import EdgeTable
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
-from tftools.core.frames import NO_PARENT, FrameTable
+from tftools.core.frames import NO_PARENT, FrameTable, Names
 from tftools.core.history import (
     CHILD_HAD_SLASH,
     FROM_STATIC_TOPIC,
@@ -121,8 +121,8 @@ class Buffer:
         #: Arrival numbers of samples ROS 2's tf2 accepted without storing them, because it held
         #: an identical one: neither stored nor refused (with ``rejections``, every arrival).
         self.duplicates: list[int] = []
-        self.authorities: list[str] = []
-        self._authority_ids: dict[str, int] = {}
+        self._publishers = Names()
+        self.authorities: list[str] = self._publishers.names
         self._frames = FrameTable()
         self._histories: list[EdgeHistory | None] = [None]
         self._broadcasters: dict[int, int] = {}  # frame id -> authority of its last accepted sample
@@ -265,13 +265,15 @@ class Buffer:
         in parts then grows no history by doubling (what is never stored stays reserved)."""
         with self._changed:
             for batch in batches:
-                for name, rows in _rows_per_child(batch).items():
-                    self._expected[name] = self._expected.get(name, 0) + rows
+                rows = np.bincount(batch.child, minlength=len(batch.frame_names))
+                for child in np.flatnonzero(rows).tolist():
+                    name = batch.frame_names[child].removeprefix("/")  # as the buffer names it
+                    self._expected[name] = self._expected.get(name, 0) + int(rows[child])
             self._room = RoomForHistories(self._expected.values())
 
     def _insert(self, batch: TransformBatch) -> int:
         first = self._table.arrivals
-        authority_ids = self._authority_map(batch.authorities)
+        authority_ids = np.array([self._publishers.intern(name) for name in batch.authorities] or [0], np.int32)
         accepted, refused, codes, bounds, identical = self._table.insert(
             batch, authority_ids, self._histories, self._frames.intern, self._new_history
         )
@@ -285,15 +287,6 @@ class Buffer:
     def _new_history(self, static: bool, capacity: int, replaced: EdgeHistory | None) -> EdgeHistory:
         """A new history for ``EdgeTable.insert``, in the room reserved for a bulk load while there is some."""
         return EdgeHistory(static, capacity, replaced, self._room)
-
-    def _authority_map(self, authorities: Sequence[str]) -> Int32Array:
-        ids = []
-        for name in authorities:
-            if name not in self._authority_ids:
-                self._authority_ids[name] = len(self.authorities)
-                self.authorities.append(name)
-            ids.append(self._authority_ids[name])
-        return np.array(ids or [0], np.int32)
 
     def _record_refusals(
         self,
@@ -313,19 +306,17 @@ class Buffer:
                 part = rows[part_start : min(stop, part_start + _REFUSALS_PER_PART)]
                 parent, child = batch.parent[part], batch.child[part]
                 flags = batch.static[part] * FROM_STATIC_TOPIC | slashed[parent] * PARENT_HAD_SLASH
-                self.rejections.add(
-                    _REFUSALS[code],
-                    names,
-                    parent,
-                    child,
-                    batch.stamp[part],
-                    self.authorities,
-                    authority_ids[batch.authority[part]],
-                    batch.record_time[part],
-                    part + first,
-                    np.concatenate([batch.translation[part], batch.rotation[part]], axis=1),
-                    flags | slashed[child] * CHILD_HAD_SLASH,
-                )
+                refused = {
+                    "parent": parent,
+                    "child": child,
+                    "stamp": batch.stamp[part],
+                    "authority": authority_ids[batch.authority[part]],
+                    "record_time": batch.record_time[part],
+                    "sequence": part + first,
+                    "values": np.concatenate([batch.translation[part], batch.rotation[part]], axis=1),
+                    "flags": flags | slashed[child] * CHILD_HAD_SLASH,
+                }
+                self.rejections.add(_REFUSALS[code], names, self.authorities, refused)
 
     # --- lookups -----------------------------------------------------------------------------
 
@@ -433,8 +424,7 @@ class Buffer:
         from a frame to itself, as tf2's ``_chainAsVector``)."""
         if target_frame == source_frame:
             return []
-        target_id = self._frame_id("chain argument target_frame", target_frame)
-        source_id = self._frame_id("chain argument source_frame", source_frame)
+        target_id, source_id = self._frame_ids("chain", target_frame, source_frame)
         return [self._frames.names[f] for f in walk.chain(self._tree(), target_id, source_id, time)]
 
     def wait_for_transform(
@@ -479,7 +469,7 @@ class Buffer:
             self._mutex,
             self._frames.ids,
             Transform,
-            self._authority_ids,
+            self._publishers.ids,
             self._broadcasters,
             self._expected,
             self._cache_time,
@@ -514,16 +504,6 @@ class Buffer:
         if frame_id == NO_PARENT:
             raise UnknownFrameError.missing(frame, argument)
         return frame_id
-
-
-def _rows_per_child(batch: TransformBatch) -> dict[str, int]:
-    """How many rows of ``batch`` each child frame (named as the buffer names it) has."""
-    counts = np.bincount(batch.child, minlength=len(batch.frame_names))
-    expected: dict[str, int] = {}
-    for i in np.flatnonzero(counts).tolist():
-        name = batch.frame_names[i].removeprefix("/")
-        expected[name] = expected.get(name, 0) + int(counts[i])
-    return expected
 
 
 #: Refused rows recorded at a time.

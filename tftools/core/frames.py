@@ -19,6 +19,11 @@ class Names:
     def __contains__(self, name: object) -> bool:
         return name in self._ids
 
+    @property
+    def ids(self) -> dict[str, int]:
+        """Name to id, the table itself (the compiled calls read it as it grows): not to be modified."""
+        return self._ids
+
     def intern(self, name: str) -> int:
         index = self._ids.get(name)
         if index is None:
@@ -32,11 +37,6 @@ class FrameTable(Names):
 
     def __init__(self) -> None:
         super().__init__(["NO_PARENT"])
-
-    @property
-    def ids(self) -> dict[str, int]:
-        """Name to id, the table itself (the compiled calls read it as it grows): not to be modified."""
-        return self._ids
 
     def get(self, name: str) -> int:
         """The id of ``name``, or ``NO_PARENT`` if unknown."""

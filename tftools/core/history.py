@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import mmap
 from bisect import bisect_right
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -20,32 +20,24 @@ PARENT_HAD_SLASH = 2
 CHILD_HAD_SLASH = 4
 
 
-def rows_as_sent(
-    names: Sequence[str],
-    authorities: Sequence[str],
-    frames: tuple[Int32Array, Int32Array],
-    flags: UInt8Array,
-    stamp: Int64Array,
-    values: FloatArray,
-    record_time: Int64Array,
-    authority: Int32Array,
-) -> TransformBatch:
-    """Samples as a buffer keeps them (``frames``: parent and child ids into tf2's ``names``, ``flags``
-    as ``EdgeHistory.flags``) back as the rows that were sent: a name that had a leading ``/`` has
-    it again, and rows from ``/tf_static`` are static."""
-    parent, child = frames
+def rows_as_sent(names: Sequence[str], authorities: Sequence[str], columns: Mapping[str, Any]) -> TransformBatch:
+    """Samples as a buffer keeps them back as the rows that were sent: a name that had a leading ``/``
+    has it again, and rows from ``/tf_static`` are static. ``columns``: ``parent`` and ``child`` (ids into
+    tf2's ``names``), ``flags`` (as ``EdgeHistory.flags``), ``stamp``, ``values`` (N, 7), ``record_time``
+    and ``authority`` (into ``authorities``)."""
+    parent, child, flags, values = columns["parent"], columns["child"], columns["flags"], columns["values"]
     slashed = len(names)  # a name that had a slash: the stripped name's id, shifted past every stripped name
     return TransformBatch(
         frame_names=[*names, *("/" + n for n in names)],
         authorities=authorities,
         parent=np.where(flags & PARENT_HAD_SLASH, parent + slashed, parent).astype(np.int32, copy=False),
         child=np.where(flags & CHILD_HAD_SLASH, child + slashed, child).astype(np.int32, copy=False),
-        stamp=stamp,
+        stamp=columns["stamp"],
         translation=values[:, :3],
         rotation=values[:, 3:],
         static=(flags & FROM_STATIC_TOPIC) != 0,
-        record_time=record_time,
-        authority=authority,
+        record_time=columns["record_time"],
+        authority=columns["authority"],
     )
 
 
@@ -98,7 +90,9 @@ class RoomForHistories:
     def __init__(self, capacities: Iterable[int]) -> None:
         size = sum(block_bytes(c) for c in capacities)
         if size > _LARGE_PAGES_UP_TO:
-            self._block = _in_small_pages(size)
+            memory = mmap.mmap(-1, size)
+            memory.madvise(mmap.MADV_NOHUGEPAGE)
+            self._block: UInt8Array = np.frombuffer(memory, np.uint8)
         else:
             block = np.empty(size + _LARGE_PAGE, np.uint8)
             start = -block.ctypes.data % _LARGE_PAGE  # the block's first whole large page
@@ -112,13 +106,6 @@ class RoomForHistories:
             return None
         self._used += size
         return self._block[self._used - size : self._used]
-
-
-def _in_small_pages(size: int) -> UInt8Array:
-    """``size`` bytes of anonymous memory that the system will not back with large pages."""
-    memory = mmap.mmap(-1, size)
-    memory.madvise(mmap.MADV_NOHUGEPAGE)
-    return np.frombuffer(memory, np.uint8)
 
 
 #: A sample as the scalar lookup path uses it: parent id and tx ty tz qx qy qz qw.
@@ -164,14 +151,6 @@ class EdgeHistory:
         "replaced",
         "static",
     )
-    _stamps: Int64Array
-    _values: FloatArray
-    _parents: Int32Array
-    _authorities: Int32Array
-    _record_times: Int64Array
-    _sequence: Int64Array
-    _flags: UInt8Array
-    _stamp_index: memoryview
 
     def __init__(
         self,
@@ -305,9 +284,7 @@ class EdgeHistory:
             return
         if latest is None:
             latest = self._stamp_index[self._end - 1]
-        oldest_kept = latest - cache_time
-        first = bisect_right(self._stamp_index, oldest_kept - 1, self._start, self._end)
-        self._start = first
+        self._start = bisect_right(self._stamp_index, latest - cache_time - 1, self._start, self._end)
         if self._start > len(self._stamps) // 2:
             self._allocate(len(self._stamps))
 

@@ -26,15 +26,10 @@ _TIMES_PER_THREAD = 50_000
 
 
 def lookup_in_parallel(
-    table: EdgeTable,
-    target_id: int,
-    source_id: int,
-    times: Int64Array,
+    table: EdgeTable, target_id: int, source_id: int, times: Int64Array
 ) -> tuple[Int64Array, FloatArray, BoolArray]:
-    """``table.lookup_in_parallel`` over ``times``, on as many of the CPUs as they are worth.
-
-    Returns the times used, values (N, 7) and validity, in the order of ``times``.
-    """
+    """``table.lookup_in_parallel`` over ``times``, on as many of the CPUs as they are worth: the times
+    used, values (N, 7) and validity, in the order of ``times``."""
     n = len(times)
     stamps, values, valid = np.empty(n, np.int64), np.empty((n, 7)), np.empty(n, bool)
     threads = max(1, min(os.cpu_count() or 1, n // _TIMES_PER_THREAD))

@@ -10,7 +10,7 @@ from typing import Any, NamedTuple, overload
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.arrays import Int32Array, Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.frames import Names
 from tftools.core.history import rows_as_sent
@@ -131,43 +131,26 @@ class RejectionLog(Sequence[Rejection]):
         self._frames = Names()
         self._publishers = Names()
         self._parts: list[dict[str, npt.NDArray[Any]]] = []
-        self._joined: dict[str, npt.NDArray[Any]] = _empty_columns()
+        self._joined = {name: np.zeros((0, 7) if name == "values" else 0, dtype) for name, dtype in _COLUMNS.items()}
 
     # --- recording ---------------------------------------------------------------------------
 
     def add(
-        self,
-        code: RejectionCode,
-        names: Sequence[str],
-        parent: npt.NDArray[np.integer[Any]],
-        child: npt.NDArray[np.integer[Any]],
-        stamp: Int64Array,
-        authorities: Sequence[str],
-        authority: npt.NDArray[np.integer[Any]],
-        record_time: Int64Array,
-        sequence: Int64Array,
-        values: FloatArray,
-        flags: UInt8Array,
+        self, code: RejectionCode, names: Sequence[str], authorities: Sequence[str], rows: Mapping[str, Any]
     ) -> None:
-        """Refusals of one ``code``, a row each: frames (as tf2 names them) and publishers as indices
-        into ``names`` and ``authorities`` (interned here, once per distinct one), ``values`` (N, 7),
-        ``flags`` as ``EdgeHistory.flags``."""
-        n = len(stamp)
+        """Refusals of one ``code``, a row each, in the columns of ``_COLUMNS`` but ``code``: frames (as
+        tf2 names them) and publishers as indices into ``names`` and ``authorities`` (interned here, once
+        per distinct one), ``values`` (N, 7), ``flags`` as ``EdgeHistory.flags``."""
+        n = len(rows["stamp"])
         if n == 0:
             return
-        given = {
-            "code": np.full(n, _CODE_INDEX[code]),
-            "parent": _interned(parent, names, self._frames),
-            "child": _interned(child, names, self._frames),
-            "stamp": stamp,
-            "authority": _interned(authority, authorities, self._publishers),
-            "record_time": record_time,
-            "sequence": sequence,
-            "values": values,
-            "flags": flags,
+        interned = {
+            "parent": _interned(rows["parent"], names, self._frames),
+            "child": _interned(rows["child"], names, self._frames),
+            "authority": _interned(rows["authority"], authorities, self._publishers),
         }
-        columns = {name: np.array(given[name], dtype) for name, dtype in _COLUMNS.items()}
-        self._parts.append(columns)
+        given = {**rows, **interned, "code": np.full(n, _CODE_INDEX[code])}
+        self._parts.append({name: np.array(given[name], dtype) for name, dtype in _COLUMNS.items()})
         self.total += n
         if self.limit is not None and len(self) > 2 * self.limit:
             self._join()
@@ -230,16 +213,7 @@ class RejectionLog(Sequence[Rejection]):
         refuse one for several reasons), and each one's arrival number."""
         c = self._join()
         sequence, first = np.unique(c["sequence"], return_index=True)
-        batch = rows_as_sent(
-            self._frames.names,
-            self._publishers.names,
-            (c["parent"][first], c["child"][first]),
-            c["flags"][first],
-            c["stamp"][first],
-            c["values"][first],
-            c["record_time"][first],
-            c["authority"][first],
-        )
+        batch = rows_as_sent(self._frames.names, self._publishers.names, {k: v[first] for k, v in c.items()})
         return batch, sequence
 
     def sequences(self, start: int = 0) -> Int64Array:
@@ -300,7 +274,3 @@ _COLUMNS: dict[str, type[np.generic]] = {
     "values": np.float64,
     "flags": np.uint8,
 }
-
-
-def _empty_columns() -> dict[str, npt.NDArray[Any]]:
-    return {name: np.zeros((0, 7) if name == "values" else 0, dtype) for name, dtype in _COLUMNS.items()}

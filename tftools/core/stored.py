@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 
 import numpy as np
-import numpy.typing as npt
 
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
@@ -32,21 +31,20 @@ def stored_rows(buffer: Buffer) -> tuple[TransformBatch, Int64Array]:
         sequence = np.concatenate([h.sequence for _, h in histories])
         order = np.argsort(sequence, kind="stable")
         child = np.concatenate([np.full(len(h), frame_id, np.int32) for frame_id, h in histories])[order]
-
-        def column(of: Callable[[EdgeHistory], npt.NDArray[np.generic]]) -> npt.NDArray[np.generic]:
-            return np.concatenate([of(h) for _, h in histories])[order]
-
-        batch = rows_as_sent(
-            names,
-            authorities,
-            (column(lambda h: h.parents).astype(np.int32, copy=False), child),
-            column(lambda h: h.flags).astype(np.uint8, copy=False),
-            column(lambda h: h.stamps).astype(np.int64, copy=False),
-            column(lambda h: h.values).astype(np.float64, copy=False),
-            column(lambda h: h.record_times).astype(np.int64, copy=False),
-            column(lambda h: h.authorities).astype(np.int32, copy=False),
-        )
+        columns = {name: np.concatenate([getattr(h, of) for _, h in histories])[order] for name, of in _COLUMNS.items()}
+        batch = rows_as_sent(names, authorities, {**columns, "child": child})
     return batch, sequence[order]
+
+
+#: ``rows_as_sent``'s columns, and the ``EdgeHistory`` views they are read from.
+_COLUMNS = {
+    "parent": "parents",
+    "flags": "flags",
+    "stamp": "stamps",
+    "values": "values",
+    "record_time": "record_times",
+    "authority": "authorities",
+}
 
 
 def _with_replaced(hist: EdgeHistory) -> Iterator[EdgeHistory]:

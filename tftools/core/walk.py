@@ -10,30 +10,18 @@ step, because users compare our errors with theirs. ``native/`` compiles the sam
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import NamedTuple
-
-import numpy as np
 
 from tftools.core.errors import ConnectivityError, ExtrapolationError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT
 from tftools.core.history import EdgeHistory, Gap
-from tftools.core.rotation import (
-    IDENTITY_QUAT,
-    ZERO_VEC,
-    Quat,
-    Vec3,
-    quat_conjugate,
-    quat_multiply,
-    quat_rotate,
-)
+from tftools.core.rotation import IDENTITY_QUAT, ZERO_VEC, Quat, Vec3, quat_conjugate, quat_multiply, quat_rotate
 from tftools.core.semantics import Dialect
 from tftools.core.time import duration_to_sec, to_sec
 
 #: tf2's ``MAX_GRAPH_DEPTH``: a walk longer than this is taken for a loop.
 MAX_GRAPH_DEPTH = 1000
-
-_TIME_MAX = np.iinfo(np.int64).max
 
 
 class Tree(NamedTuple):
@@ -99,7 +87,9 @@ class TransformAccum(CanTransformAccum):
         if ending == TARGET_PARENT_OF_SOURCE:
             self.result = self.source
             return
-        iv, iq = _inverse(*self.target)
+        tv, tq = self.target
+        iq = quat_conjugate(tq)
+        iv = quat_rotate(iq, (-tv[0], -tv[1], -tv[2]))
         if ending == SOURCE_PARENT_OF_TARGET:
             self.result = iv, iq
             return
@@ -204,59 +194,39 @@ def chain(tree: Tree, target_id: int, source_id: int, time: int) -> list[int]:
 
 def latest_common_time(tree: Tree, target_id: int, source_id: int) -> int:
     """tf2's ``getLatestCommonTime``: the newest stamp every dynamic edge of the chain has."""
-    histories = tree.histories
     if source_id == target_id:
-        hist = histories[source_id]
+        hist = tree.histories[source_id]
         return hist.latest_stamp if hist is not None else 0
-
-    source_side: list[tuple[int, int]] = []  # (latest stamp, parent) of each edge walked
-    common = _TIME_MAX
-    frame = source_id
-    while (latest := _latest(histories, frame)) is not None:
-        stamp, parent = latest
-        if stamp:
-            common = min(common, stamp)
-        source_side.append(latest)
-        frame = parent
-        if frame == target_id:
-            return 0 if common == _TIME_MAX else common
-        if len(source_side) > MAX_GRAPH_DEPTH:
-            raise UnknownFrameError.loop(frames_as_string(tree))
-
-    common = _TIME_MAX
-    common_parent = NO_PARENT
-    frame = target_id
-    depth = 0
-    while (latest := _latest(histories, frame)) is not None:
-        stamp, parent = latest
-        if stamp:
-            common = min(common, stamp)
-        if any(p == parent for _, p in source_side):
-            common_parent = parent
-            break
-        frame = parent
-        if frame == source_id:
-            return 0 if common == _TIME_MAX else common
-        depth += 1
-        if depth > MAX_GRAPH_DEPTH:
-            raise UnknownFrameError.loop(frames_as_string(tree))
-
-    if common_parent == NO_PARENT:
+    source_side = _edges_up(tree, source_id, lambda parent: parent == target_id)
+    if source_side and source_side[-1][1] == target_id:
+        return _newest_common(source_side)
+    source_parents = [parent for _, parent in source_side]
+    target_side = _edges_up(tree, target_id, lambda parent: parent == source_id or parent in source_parents)
+    meet = target_side[-1][1] if target_side else NO_PARENT
+    if meet == source_id:
+        return _newest_common(target_side)
+    if meet not in source_parents:
         raise ConnectivityError.between(tree.names[target_id], tree.names[source_id])
-    for stamp, parent in source_side:
-        if stamp:
-            common = min(common, stamp)
-        if parent == common_parent:
+    return _newest_common(target_side + source_side[: source_parents.index(meet) + 1])
+
+
+def _edges_up(tree: Tree, frame: int, stop: Callable[[int], bool]) -> list[tuple[int, int]]:
+    """The latest stamp and parent of each edge up from ``frame``, to the first whose parent is a
+    ``stop``, or to a frame without samples."""
+    edges: list[tuple[int, int]] = []
+    while (hist := tree.histories[frame]) is not None and len(hist):
+        edges.append((hist.latest_stamp, hist.latest_parent))
+        frame = hist.latest_parent
+        if stop(frame):
             break
-    return 0 if common == _TIME_MAX else common
+        if len(edges) > MAX_GRAPH_DEPTH:
+            raise UnknownFrameError.loop(frames_as_string(tree))
+    return edges
 
 
-def _latest(histories: Sequence[EdgeHistory | None], frame: int) -> tuple[int, int] | None:
-    """The latest stamp and parent of ``frame``'s edge; None where it has no samples."""
-    hist = histories[frame]
-    if hist is None or len(hist) == 0:
-        return None
-    return hist.latest_stamp, hist.latest_parent
+def _newest_common(edges: list[tuple[int, int]]) -> int:
+    """The oldest of the edges' latest stamps, static edges (stamp 0) aside; 0 if all are static."""
+    return min((stamp for stamp, _ in edges if stamp), default=0)
 
 
 def frames_as_string(tree: Tree) -> str:
@@ -269,10 +239,8 @@ def frames_as_string(tree: Tree) -> str:
 
 
 def frames_as_yaml(tree: Tree, broadcasters: Mapping[int, str]) -> str:
-    """tf2's ``allFramesAsYAML``: parent, latest broadcaster, rate and time span per child frame.
-
-    ``broadcasters`` names, per frame id, who sent the frame's last accepted sample.
-    """
+    """tf2's ``allFramesAsYAML``: parent, latest broadcaster (``broadcasters``: per frame id, who sent
+    its last accepted sample), rate and time span per child frame."""
     ros2 = tree.dialect.ros2
     if len(tree.names) == 1:  # no frame at all
         return "[]" if ros2 else "{}"
@@ -300,12 +268,6 @@ def frames_as_yaml(tree: Tree, broadcasters: Mapping[int, str]) -> str:
             f"  buffer_length: {length:.3f}",
         ]
     return "\n".join(lines) + "\n" if lines else ""
-
-
-def _inverse(v: Vec3, q: Quat) -> tuple[Vec3, Quat]:
-    iq = quat_conjugate(q)
-    r = quat_rotate(iq, (-v[0], -v[1], -v[2]))
-    return r, iq
 
 
 def _extrapolation(tree: Tree, gap: Gap, source_id: int, target_id: int) -> ExtrapolationError:
