@@ -69,3 +69,17 @@ def test_one_message_of_a_million_samples_of_one_frame_inserts_in_seconds() -> N
     assert seconds(lambda: Buffer(cache_time=None).insert(rows)) < 10
     buffer.insert(rows)
     assert len(buffer.history("base")) == n and not buffer.rejections
+
+
+def test_a_live_ros2_buffer_keeps_its_latest_duplicates() -> None:
+    """ROS 2's tf2 takes a sample identical to one it holds without storing it: a live buffer that
+    hears one again and again keeps only the latest arrival numbers of them."""
+    buffer = Buffer(semantics="ros2")  # a finite cache time: a live buffer
+    n = 3 * LIVE_REJECTIONS_KEPT
+    for part in range(3):
+        buffer.insert(batch(*_repeated(LIVE_REJECTIONS_KEPT)))
+        assert len(buffer.duplicates) <= 2 * LIVE_REJECTIONS_KEPT, part
+    assert buffer.duplicates[-1] == n - 1 and len(buffer.rejections) == 0
+    whole = Buffer(cache_time=None, semantics="ros2")
+    whole.insert(batch(*_repeated(n)))
+    assert len(whole.duplicates) == n - 1  # a whole recording's are all kept

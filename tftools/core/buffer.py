@@ -119,7 +119,8 @@ class Buffer:
         #: live buffer keeps the latest ``LIVE_REJECTIONS_KEPT``, and counts every one in ``total``).
         self.rejections = RejectionLog(self.semantics, None if cache_time is None else LIVE_REJECTIONS_KEPT)
         #: Arrival numbers of samples ROS 2's tf2 accepted without storing them, because it held
-        #: an identical one: neither stored nor refused (with ``rejections``, every arrival).
+        #: an identical one: neither stored nor refused (with ``rejections``, every arrival); a live
+        #: buffer keeps about the latest ``LIVE_REJECTIONS_KEPT``.
         self.duplicates: list[int] = []
         self._publishers = Names()
         self.authorities: list[str] = self._publishers.names
@@ -282,6 +283,8 @@ class Buffer:
         if len(refused):
             self._record_refusals(batch, authority_ids, refused, (codes, bounds), first)
         self.duplicates.extend((identical + first).tolist())
+        if self._cache_time is not None and len(self.duplicates) > 2 * LIVE_REJECTIONS_KEPT:
+            del self.duplicates[:-LIVE_REJECTIONS_KEPT]
         return accepted
 
     def _new_history(self, static: bool, capacity: int, replaced: EdgeHistory | None) -> EdgeHistory:
