@@ -131,10 +131,7 @@ def command(
         replay = streamed.replay(start=first, end=last)
         buffer = Buffer(clock=replay.clock, semantics=streamed.semantics)
 
-        def tick() -> None:
-            lines.write(echo(buffer, target, source, [0]), buffer.now())
-
-        follow_into(replay, buffer, tick, period=1.0 / rate)
+        follow_into(replay, buffer, lambda: lines.latest(buffer, target, source), period=1.0 / rate)
         exit_with(lines.done())
     recording = open_recording(bags, topics, tf2)
     target, source = frame_argument(recording.buffer.frames, target), frame_argument(recording.buffer.frames, source)
@@ -170,10 +167,14 @@ class Lines:
             render.write_text(series, stdout.file, self.precision, self.matrix)
         stdout.file.flush()
 
-    def write(self, series: EchoSeries, now: int) -> None:
-        """Print a lookup of the latest transform; the picture shows it at ``now``."""
+    def latest(self, buffer: Buffer, target: str, source: str) -> EchoSeries:
+        """Print the lookup of the latest transform, said at the buffer's time now (tf_echo's "At time" of a
+        success is the transform's stamp, its "Failure at" that time), and show it in the picture there."""
+        with buffer.lock:
+            series = dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()], np.int64))
         self.print(series)
-        self.shown.append(dataclasses.replace(series, times=np.array([now], np.int64)))
+        self.shown.append(series)
+        return series
 
     def done(self) -> Exit:
         """Draw the picture, if asked for and anything was shown; PROBLEMS if a lookup failed."""
@@ -202,12 +203,9 @@ def _live(
         live.wait_for_transform(buffer, target, source, feed.describe(), wait)
 
         def tick() -> None:
-            with buffer.lock:
-                series = dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()]))
-                frames = buffer.all_frames_as_string()
-            lines.write(series, int(series.times[0]))
+            series = lines.latest(buffer, target, source)
             if not series.valid.all() and lines.fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
-                stdout.file.write(f"The current list of frames is:\n{printable_lines(frames)}")
+                stdout.file.write(f"The current list of frames is:\n{printable_lines(buffer.all_frames_as_string())}")
                 stdout.file.flush()
 
         live.every(rate, count, lambda: feed.finished, tick, feed.clock)

@@ -151,7 +151,7 @@ class Replay:
 def follow(
     feed: Feed,
     on_batch: OnBatch,
-    on_tick: Callable[[], None],
+    on_tick: Callable[[], object],
     *,
     period: float = 1.0,
     duration: float | None = None,
@@ -187,7 +187,7 @@ def follow(
 def follow_into(
     feed: Feed,
     buffer: Buffer,
-    on_tick: Callable[[], None],
+    on_tick: Callable[[], object],
     *,
     period: float = 1.0,
     duration: float | None = None,
