@@ -174,14 +174,14 @@ inline void each_block(const Histories& histories, int64_t target, int64_t sourc
     }
 }
 
-// walk.lookup at each of times[0..n) (fastest in ascending order), into out's rows: along a walked
+// A lookup at each of times[0..n) (fastest in ascending order), into out's rows: along a walked
 // chain where it can, else lookup_at at each time. `chained` false takes the second way always
 // (what the tests compare the first with).
 inline void lookup_many(const Histories& histories, int64_t target, int64_t source, const int64_t* times, int64_t n,
                         const Outputs& out, bool chained) {
     Memo memo(histories.size());
     int64_t common = 0;
-    const bool common_ok = latest_common_time(histories, target, source, common);
+    const bool common_ok = latest_common_time(histories, target, source, common) == Failure::NONE;
     Chain chain, scratch;
     auto accumulators = std::make_unique<std::array<Accumulator, 2>>();
     auto& [source_acc, target_acc] = *accumulators;

@@ -3,6 +3,7 @@
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
 
 #include <structmember.h>
 
@@ -25,6 +26,14 @@ using Int64s = Array<const int64_t, nb::ndim<1>>;
 
 // A lookup's answer as Transform takes it: (tx, ty, tz), (qx, qy, qz, qw) and the time it was made at.
 using Found = std::tuple<std::tuple<double, double, double>, std::tuple<double, double, double, double>, int64_t>;
+
+// Why a walk failed, as tftools.core.walk reads it: what failed (tfcore::Failure), and for an
+// extrapolation the gap's kind, time and stamp (history.Gap).
+using Failed = std::tuple<int, int64_t, int64_t, int64_t>;
+
+Failed failed(tfcore::Failure failure, const tfcore::Gap& gap = {}) {
+    return {static_cast<int>(failure), gap.kind, gap.time, gap.stamp};
+}
 
 // history.FROM_STATIC_TOPIC: the flag of a sample from /tf_static.
 constexpr uint8_t FROM_STATIC_TOPIC = 1;
@@ -218,9 +227,8 @@ class EdgeTable {
         return true;
     }
 
-    // Buffer.lookup where the compiled walk answers, under the buffer's lock: a `answer`
-    // (Transform); None for the Python path (a frame to itself, an unknown or invalid name, a
-    // failure to explain).
+    // Buffer.lookup where the walk answers, under the buffer's lock: a `answer` (Transform); None
+    // for the Python path (a frame to itself, an unknown or invalid name, a failure to word).
     nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
         const Locked locked(lock_, lock_methods_);
@@ -252,18 +260,36 @@ class EdgeTable {
 
     bool can_transform(int64_t target, int64_t source, int64_t time) const {
         check_frames(target, source);
-        if (time == 0 && !tfcore::latest_common_time(histories_, target, source, time)) return false;
+        if (time == 0 && tfcore::latest_common_time(histories_, target, source, time) != tfcore::Failure::NONE) {
+            return false;
+        }
         tfcore::Memo memo;
         thread_local tfcore::Chain chain;
         tfcore::walk(histories_, target, source, time, chain, memo);
         return chain.ending != tfcore::Ending::NO_PATH;
     }
 
-    std::optional<int64_t> latest_common_time(int64_t target, int64_t source) const {
+    std::tuple<int64_t, Failed> latest_common_time(int64_t target, int64_t source) const {
         check_frames(target, source);
         int64_t time = 0;
-        if (!tfcore::latest_common_time(histories_, target, source, time)) return std::nullopt;
-        return time;
+        return {time, failed(tfcore::latest_common_time(histories_, target, source, time))};
+    }
+
+    // The walk at `time` (0: the latest common time): the frames it passes through, from source
+    // to target, or why it fails.
+    std::tuple<std::vector<int64_t>, Failed> chain(int64_t target, int64_t source, int64_t time) const {
+        check_frames(target, source);
+        const std::vector<int64_t> none;
+        if (time == 0) {
+            const tfcore::Failure failure = tfcore::latest_common_time(histories_, target, source, time);
+            if (failure != tfcore::Failure::NONE) return {none, failed(failure)};
+        }
+        tfcore::Memo memo;
+        tfcore::Chain chain;
+        tfcore::walk(histories_, target, source, time, chain, memo);
+        if (chain.ending != tfcore::Ending::NO_PATH) return {tfcore::frames_of(chain), failed(tfcore::Failure::NONE)};
+        if (chain.failure != tfcore::Failure::EXTRAPOLATION) return {none, failed(chain.failure)};
+        return {none, failed(chain.failure, tfcore::gap_at(histories_[chain.gap_frame], time))};
     }
 
     void lookup_many(int64_t target, int64_t source, Int64s times, Int64s rows, Array<int64_t, nb::ndim<1>> stamps,
@@ -379,10 +405,12 @@ class EdgeTable {
         return true;
     }
 
-    // walk.lookup; false where tf2 fails. `time` 0 becomes the latest common time.
+    // A lookup; false where tf2 fails. `time` 0 becomes the latest common time.
     bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p) const {
         check_frames(target, source);
-        if (time == 0 && !tfcore::latest_common_time(histories_, target, source, time)) return false;
+        if (time == 0 && tfcore::latest_common_time(histories_, target, source, time) != tfcore::Failure::NONE) {
+            return false;
+        }
         tfcore::Memo memo;
         thread_local tfcore::Chain chain;
         return tfcore::lookup_at(histories_, target, source, time, chain, memo, p);
@@ -818,7 +846,7 @@ class BulkInsert {
 }  // namespace
 
 NB_MODULE(_kernels, m) {
-    m.doc() = "The compiled lookups: tftools.core.walk's tf2 walk over the buffer's edge histories.";
+    m.doc() = "The compiled lookups: tf2's walk over the buffer's edge histories.";
     m.attr("BLOCK") = tfcore::BLOCK;
     nb::class_<EdgeTable>(m, "EdgeTable")
         .def(nb::init<nb::object, nb::dict, nb::handle, nb::dict, nb::dict, nb::dict, std::optional<int64_t>, bool,
@@ -833,6 +861,7 @@ NB_MODULE(_kernels, m) {
         .def("lookup", &EdgeTable::lookup, "target"_a, "source"_a, "time"_a)
         .def("can_transform", &EdgeTable::can_transform, "target"_a, "source"_a, "time"_a)
         .def("latest_common_time", &EdgeTable::latest_common_time, "target"_a, "source"_a)
+        .def("chain", &EdgeTable::chain, "target"_a, "source"_a, "time"_a)
         .def("lookup_many", &EdgeTable::lookup_many, "target"_a, "source"_a, "times"_a, "rows"_a, "stamps"_a,
              "values"_a, "valid"_a, "chained"_a = true)
         .def("lookup_in_parallel", &EdgeTable::lookup_in_parallel, "target"_a, "source"_a, "times"_a, "stamps"_a,

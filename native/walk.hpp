@@ -1,15 +1,18 @@
-// tf2's walk over the edge histories, step for step as tftools/core/walk.py takes it.
+// tf2's walk over the edge histories, the only one: every lookup, can_transform,
+// chain and latest common time takes it.
 //
-// walk.py stays the reference: `walk` is its walk_to_top_parent, recording the edges it takes
-// (each one's row) instead of composing them as it goes; `edges_at`, `compose_all` and `finish`
-// then do what its TransformAccum does, with rotation.py's formulas in their order (compiled
-// without contraction into fused multiply-adds or fast math, so the answers are bit-identical). Failures are only
-// reported: the buffer asks walk.py for tf2's error, so its messages come from one place.
+// `walk` is tf2's walkToTopParent, recording the edges it takes (each one's row) instead of
+// composing them as it goes; `edges_at`, `compose_all` and `finish` then do what tf2's
+// TransformAccum does, with rotation.py's formulas in their order (compiled without contraction
+// into fused multiply-adds or fast math, so that every build answers the same bits). A failure is
+// reported (`Failure`, with the `Gap` of an extrapolation), not worded: tftools/core/walk.py makes
+// tf2's error messages from it, in one place.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <vector>
 
 namespace tfcore {
@@ -40,7 +43,7 @@ struct History {
 
 using Histories = std::vector<History>;
 
-constexpr int64_t MAX_GRAPH_DEPTH = 1000;  // walk.MAX_GRAPH_DEPTH
+constexpr int64_t MAX_GRAPH_DEPTH = 1000;  // tf2's: a walk longer than this is taken for a loop
 
 struct Vec { double x = 0.0, y = 0.0, z = 0.0; };
 struct Quat { double x = 0.0, y = 0.0, z = 0.0, w = 1.0; };
@@ -228,8 +231,28 @@ inline Arc arc_at(const History& h, int64_t frame, int64_t row, Memo& memo) {
 
 // --- the walk ----------------------------------------------------------------------------------
 
-// How a walk ends: walk.py's TARGET_PARENT_OF_SOURCE, SOURCE_PARENT_OF_TARGET, FULL_PATH; or no path.
+// How a walk ends (tf2's WalkEnding): the target is an ancestor of the source, the source an
+// ancestor of the target, both meet at one top frame; or no path.
 enum class Ending { AT_TARGET, AT_SOURCE, AT_TOP, NO_PATH };
+
+// Why tf2 fails, of the errors a walk raises (tftools.core.walk's NO_FAILURE, LOOP, UNCONNECTED,
+// EXTRAPOLATION): more than MAX_GRAPH_DEPTH edges, two trees, or a time outside an edge's history.
+enum class Failure { NONE, LOOP, UNCONNECTED, EXTRAPOLATION };
+
+// Why a history cannot answer at `time` (history.Gap; its kinds are history.py's NO_DATA,
+// ONLY_ONE, FUTURE, PAST): empty, one sample at another `stamp`, after the newest or before the oldest.
+struct Gap {
+    int64_t kind = 0, time = 0, stamp = 0;
+};
+enum GapKind : int64_t { NO_DATA, ONLY_ONE, FUTURE, PAST };
+
+// The gap of `h` at `time`, where row_at found one (EdgeHistory._row_at's).
+inline Gap gap_at(const History& h, int64_t time) {
+    if (h.end == h.start) return {NO_DATA, time, 0};
+    if (h.end - h.start == 1) return {ONLY_ONE, time, h.stamps[h.start]};
+    if (time > h.stamps[h.end - 1]) return {FUTURE, time, h.stamps[h.end - 1]};
+    return {PAST, time, h.stamps[h.start]};
+}
 
 // One edge a walk took: its frame and parent, whether the answer composes it (an edge sampled
 // only for its verdict is not), and where `row_at` found it.
@@ -254,6 +277,11 @@ struct Edge {
 struct Chain {
     Ending ending = Ending::NO_PATH;
     bool rooted = false;  // the source side stopped at a frame without history, not at a gap
+    int64_t top = 0;      // where the source side stopped (AT_TOP: where the target side met it)
+    // Where there is no path, why (tf2's order: a gap on the target side, then one on the source
+    // side, then no connection), and the frame whose history has the gap.
+    Failure failure = Failure::NONE;
+    int64_t gap_frame = 0;
     std::vector<Step> sides[2];
     std::vector<Edge> edges;  // the composed ones at the walk's time, as `edges_at` samples them
 };
@@ -270,7 +298,15 @@ inline void prefetch(const History& h, const RowAt& at) {
     }
 }
 
-// walk.walk_to_top_parent at a resolved `time`, into `chain`.
+// Chain's `failure`, and its ending: no path.
+inline void fail(Chain& chain, Failure failure, int64_t gap_frame = 0) {
+    chain.ending = Ending::NO_PATH;
+    chain.failure = failure;
+    chain.gap_frame = gap_frame;
+}
+
+// tf2's walkToTopParent at a resolved `time`, into `chain`: up from the source towards the root,
+// then up from the target until the frame where the first walk stopped.
 TFCORE_VECTOR_VERSIONS inline void walk(const Histories& histories, int64_t target, int64_t source, int64_t time,
                                         Chain& chain, Memo& memo) {
     auto& up = chain.sides[0];
@@ -278,6 +314,7 @@ TFCORE_VECTOR_VERSIONS inline void walk(const Histories& histories, int64_t targ
     up.clear();
     down.clear();
     chain.rooted = true;
+    chain.failure = Failure::NONE;
     int64_t frame = source, top = source;
     while (true) {
         const RowAt at = row_at(histories, frame, time, memo);
@@ -294,17 +331,16 @@ TFCORE_VECTOR_VERSIONS inline void walk(const Histories& histories, int64_t targ
             return;
         }
         frame = parent;
-        if (static_cast<int64_t>(up.size()) > MAX_GRAPH_DEPTH) {
-            chain.ending = Ending::NO_PATH;
-            return;
-        }
+        if (static_cast<int64_t>(up.size()) > MAX_GRAPH_DEPTH) return fail(chain, Failure::LOOP);
     }
+    chain.top = top;
     frame = target;
     while (frame != top) {
         const RowAt at = row_at(histories, frame, time, memo);
-        if (at.kind != Kind::FOUND) {  // a gap, or a root that is not where the source side stopped
-            chain.ending = Ending::NO_PATH;
-            return;
+        if (at.kind == Kind::GAP) return fail(chain, Failure::EXTRAPOLATION, frame);
+        if (at.kind == Kind::ROOT) {  // not where the source side stopped
+            if (!chain.rooted) return fail(chain, Failure::EXTRAPOLATION, top);
+            return fail(chain, Failure::UNCONNECTED);
         }
         prefetch(histories[frame], at);
         const int64_t parent = histories[frame].parents[at.row];
@@ -315,12 +351,29 @@ TFCORE_VECTOR_VERSIONS inline void walk(const Histories& histories, int64_t targ
             return;
         }
         frame = parent;
-        if (static_cast<int64_t>(down.size()) > MAX_GRAPH_DEPTH) {
-            chain.ending = Ending::NO_PATH;
-            return;
-        }
+        if (static_cast<int64_t>(down.size()) > MAX_GRAPH_DEPTH) return fail(chain, Failure::LOOP);
     }
     chain.ending = Ending::AT_TOP;
+}
+
+// The frames from source to target that a walk's answer composes (tf2's _chainAsVector order).
+inline std::vector<int64_t> frames_of(const Chain& chain) {
+    std::vector<int64_t> frames, down;
+    for (const Step& step : chain.sides[0]) frames.push_back(step.frame);
+    for (const Step& step : chain.sides[1]) down.push_back(step.frame);
+    if (chain.ending == Ending::AT_TARGET) return frames;
+    if (chain.ending == Ending::AT_SOURCE) return {down.rbegin(), down.rend()};
+    // Both sides reached `top`: keep the source side up to the first frame they share.
+    frames.push_back(chain.top);
+    size_t meet = 0;
+    auto shared = down.end();
+    for (; meet < frames.size(); ++meet) {
+        shared = std::find(down.begin(), down.end(), frames[meet]);
+        if (shared != down.end() || frames[meet] == chain.top) break;
+    }
+    frames.resize(meet + 1);
+    frames.insert(frames.end(), std::make_reverse_iterator(shared), down.rend());
+    return frames;
 }
 
 // `step`'s edge at `time` into `e` (a new Edge), up to its slerp's libm calls (`edges_at` makes those).
@@ -389,7 +442,7 @@ inline Pose finish(Ending ending, const Pose& source, const Pose& target) {
     return {{r.x + iv.x, r.y + iv.y, r.z + iv.z}, multiply(iq, source.q)};
 }
 
-// walk.lookup at a resolved `time`; false where tf2 fails.
+// A lookup at a resolved `time`; false where tf2 fails (chain.failure says why).
 TFCORE_VECTOR_VERSIONS inline bool lookup_at(const Histories& histories, int64_t target, int64_t source,
                                              int64_t time, Chain& chain, Memo& memo, Pose& out) {
     walk(histories, target, source, time, chain, memo);
@@ -401,7 +454,7 @@ TFCORE_VECTOR_VERSIONS inline bool lookup_at(const Histories& histories, int64_t
     return true;
 }
 
-// --- walk.latest_common_time --------------------------------------------------------------------
+// --- tf2's getLatestCommonTime -------------------------------------------------------------------
 
 struct Latest {
     bool has;
@@ -418,8 +471,14 @@ inline Latest latest(const Histories& histories, int64_t frame) {
 
 constexpr int64_t TIME_MAX = INT64_MAX;
 
-// walk.latest_common_time (for two different frames); false where it fails.
-inline bool latest_common_time(const Histories& histories, int64_t target, int64_t source, int64_t& out) {
+// tf2's getLatestCommonTime: the newest stamp every dynamic edge of the chain has (0: all static),
+// into `out`; or why it fails.
+inline Failure latest_common_time(const Histories& histories, int64_t target, int64_t source, int64_t& out) {
+    if (source == target) {
+        const Latest l = latest(histories, source);
+        out = l.has ? l.stamp : 0;
+        return Failure::NONE;
+    }
     std::vector<Latest> side;  // (stamp, parent) of each edge up from the source
     int64_t common = TIME_MAX;
     int64_t frame = source;
@@ -431,9 +490,9 @@ inline bool latest_common_time(const Histories& histories, int64_t target, int64
         frame = l.parent;
         if (frame == target) {
             out = common == TIME_MAX ? 0 : common;
-            return true;
+            return Failure::NONE;
         }
-        if (static_cast<int64_t>(side.size()) > MAX_GRAPH_DEPTH) return false;
+        if (static_cast<int64_t>(side.size()) > MAX_GRAPH_DEPTH) return Failure::LOOP;
     }
     common = TIME_MAX;
     int64_t common_parent = 0;
@@ -452,17 +511,17 @@ inline bool latest_common_time(const Histories& histories, int64_t target, int64
         frame = l.parent;
         if (frame == source) {
             out = common == TIME_MAX ? 0 : common;
-            return true;
+            return Failure::NONE;
         }
-        if (++depth > MAX_GRAPH_DEPTH) return false;
+        if (++depth > MAX_GRAPH_DEPTH) return Failure::LOOP;
     }
-    if (common_parent == 0) return false;
+    if (common_parent == 0) return Failure::UNCONNECTED;
     for (const Latest& s : side) {
         if (s.stamp) common = std::min(common, s.stamp);
         if (s.parent == common_parent) break;
     }
     out = common == TIME_MAX ? 0 : common;
-    return true;
+    return Failure::NONE;
 }
 
 }  // namespace tfcore

@@ -1,4 +1,6 @@
-"""The compiled lookups against the Python walk they mirror: same verdicts, same numbers."""
+"""The compiled walk's calls against each other: one verdict for a lookup, can_transform, chain
+and latest common time; batches with the single lookup's bits. (tf2 itself judges the walk in
+test_tf2_differential.py.)"""
 
 from __future__ import annotations
 
@@ -8,19 +10,10 @@ import pytest
 from tests.core import scenarios
 from tftools import Buffer, Transform, TransformError
 from tftools.core import kernels, walk
+from tftools.core.history import FUTURE, NO_DATA, ONLY_ONE, PAST
 
 S = scenarios.S
 CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(2) for f in (None, *scenarios.FEATURES)]
-
-
-def python_walk(buffer: Buffer, target: str, source: str, time: int):
-    """walk.lookup's answer (translation + rotation, stamp) or None where it raises."""
-    tree = buffer._tree()
-    try:
-        v, q, stamp = walk.lookup(tree, buffer._frames.get(target), buffer._frames.get(source), time)
-    except TransformError:
-        return None
-    return [*v, *q], stamp
 
 
 def kernel_walk(buffer: Buffer, target: str, source: str, time: int):
@@ -42,24 +35,47 @@ def _case_id(value: object) -> str:
 
 
 @pytest.mark.parametrize(("seed", "features"), CASES, ids=_case_id)
-def test_kernels_answer_as_the_python_walk(seed, features):
+def test_one_walk_gives_one_verdict(seed, features):
+    """Where the lookup fails, the walk reports a failure (an extrapolation with a gap of the kind its
+    time and stamp tell), and succeeds with the frames from source to target where it succeeds."""
     built = scenarios.build(seed, features, 1_700_000_000)
     buffer = scenarios.load_into_buffer(built.scenario)
-    asked = 0
+    asked, failures = 0, set()
     for target, source, time in lookups(built, buffer):
+        ids = buffer._frames.get(target), buffer._frames.get(source)
         for t in (time, 0):
-            expected, got = python_walk(buffer, target, source, t), kernel_walk(buffer, target, source, t)
-            assert (got is None) == (expected is None), (target, source, t)
-            assert got == expected  # the very same bits
-            tree, ids = buffer._tree(), (buffer._frames.get(target), buffer._frames.get(source))
-            assert buffer._table.can_transform(*ids, t) == walk.can_transform(tree, *ids, t)
-            common = buffer._table.latest_common_time(*ids)
-            try:
-                assert common == walk.latest_common_time(tree, *ids)
-            except TransformError:
-                assert common is None
+            found = kernel_walk(buffer, target, source, t)
+            frames, failure = buffer._table.chain(*ids, t)
+            assert buffer._table.can_transform(*ids, t) == (found is not None), (target, source, t)
+            assert (failure[0] == walk.NO_FAILURE) == (found is not None), (target, source, t)
+            if found is not None:
+                assert (frames[0], frames[-1]) == (ids[1], ids[0])
+            else:
+                assert frames == []
+                failures.add(failure[0])
+                _assert_a_gap_of_its_kind(failure)
+            common, common_failure = buffer._table.latest_common_time(*ids)
+            if common_failure[0] == walk.NO_FAILURE:
+                assert kernel_walk(buffer, target, source, common) == kernel_walk(buffer, target, source, 0)
+            else:
+                assert found is None or t != 0
+                assert common_failure[0] in (walk.LOOP, walk.UNCONNECTED)
             asked += 1
     assert asked > 50
+    assert walk.EXTRAPOLATION in failures, "every scenario asks at times outside some history"
+    assert (walk.LOOP in failures) == ("cycle" in features)
+
+
+def _assert_a_gap_of_its_kind(failure: walk.Failure) -> None:
+    what, kind, time, stamp = failure
+    if what != walk.EXTRAPOLATION:
+        assert (kind, time, stamp) == (0, 0, 0)
+    elif kind == NO_DATA:
+        assert stamp == 0
+    elif kind == ONLY_ONE:
+        assert stamp != time
+    else:
+        assert kind in (FUTURE, PAST) and (time > stamp if kind == FUTURE else time < stamp)
 
 
 def test_the_table_follows_growth_pruning_and_new_frames():
@@ -111,7 +127,7 @@ def test_lookup_many_answers_as_single_lookups(seed, features, monkeypatch):
         for asked in (np.array(times), np.sort(times)):  # unordered (sorted inside), ordered
             got = buffer.lookup_many(target, source, asked)
             for i, time in enumerate(asked.tolist()):
-                expected = python_walk(buffer, target, source, time)
+                expected = kernel_walk(buffer, target, source, time)
                 assert got.valid[i] == (expected is not None), (target, source, time)
                 if expected is not None:
                     assert got.stamps[i] == expected[1]
@@ -134,7 +150,7 @@ def test_lookup_many_over_times_spanning_all_int64(monkeypatch):
     got = buffer.lookup_many("a", "b", times)
     assert got.valid.sum() == 500 + 3  # inside the history, its ends and 0
     for i, time in enumerate(times.tolist()):
-        expected = python_walk(buffer, "a", "b", time)
+        expected = kernel_walk(buffer, "a", "b", time)
         assert got.valid[i] == (expected is not None), time
         assert got.stamps[i] == (time or 10 * S)
         if expected is not None:

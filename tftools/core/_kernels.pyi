@@ -1,4 +1,4 @@
-"""The compiled lookups (native/module.cpp): tftools.core.walk's tf2 walk over the buffer's edge histories."""
+"""The compiled lookups (native/module.cpp): tf2's walk over the buffer's edge histories (native/walk.hpp)."""
 
 import threading
 from collections.abc import Callable
@@ -7,6 +7,7 @@ from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, U
 from tftools.core.batch import TransformBatch
 from tftools.core.history import EdgeHistory
 from tftools.core.transform import Transform
+from tftools.core.walk import Failure
 
 #: Times per block of ``EdgeTable.lookup_many``'s chain path.
 BLOCK: int
@@ -55,14 +56,20 @@ class EdgeTable:
     def lookup(
         self, target: int, source: int, time: int
     ) -> tuple[tuple[float, float, float], tuple[float, float, float, float], int] | None:
-        """walk.lookup: (tx, ty, tz), (qx, qy, qz, qw) and the time used (0: the latest common time);
-        None where tf2 fails."""
+        """tf2's lookup: (tx, ty, tz), (qx, qy, qz, qw) and the time used (0: the latest common time);
+        None where tf2 fails (``chain`` says why)."""
 
     def can_transform(self, target: int, source: int, time: int) -> bool:
-        """walk.can_transform."""
+        """Whether ``lookup`` succeeds, walking parents only."""
 
-    def latest_common_time(self, target: int, source: int) -> int | None:
-        """walk.latest_common_time of two different frames; None where tf2 fails."""
+    def latest_common_time(self, target: int, source: int) -> tuple[int, Failure]:
+        """tf2's ``getLatestCommonTime``: the newest time every dynamic edge between the frames
+        has (0: all static), and why it fails (``walk.Failure``; its time then 0)."""
+
+    def chain(self, target: int, source: int, time: int) -> tuple[list[int], Failure]:
+        """The walk at ``time`` (0: the latest common time): the frame ids it passes through from
+        source to target (tf2's ``_chainAsVector`` order), and why it fails (``walk.Failure``;
+        its frames then none)."""
 
     def lookup_many(
         self,

@@ -331,16 +331,18 @@ class Buffer:
         ``InvalidArgumentError``.
         """
         found = self._table.lookup_frames(target_frame, source_frame, time)  # holds the lock itself
-        return found if found is not None else self._lookup_in_python(target_frame, source_frame, time)
+        return found if found is not None else self._lookup_by_ids(target_frame, source_frame, time)
 
     @_locked
-    def _lookup_in_python(self, target_frame: str, source_frame: str, time: int) -> Transform:
-        """``lookup`` where the compiled one does not answer: a frame to itself, and every failure
-        (the Python walk is the one place tf2's error messages are made)."""
+    def _lookup_by_ids(self, target_frame: str, source_frame: str, time: int) -> Transform:
+        """``lookup`` where ``lookup_frames`` does not answer: a frame to itself, names to check
+        (tf2's errors for them), and every failure, worded by ``walk.error``."""
         if target_frame == source_frame:
             return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
         target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-        found = walk.lookup(self._tree(), target_id, source_id, time)
+        found = self._table.lookup(target_id, source_id, time)
+        if found is None:
+            raise self._walk_error(target_id, source_id, self._table.chain(target_id, source_id, time)[1])
         return Transform(*found, target_frame, source_frame)
 
     @_locked
@@ -377,8 +379,10 @@ class Buffer:
         """The newest time at which every edge between the two frames has data (0: all static)."""
         target_id = self._frame_id("get_latest_common_time", target_frame)
         source_id = self._frame_id("get_latest_common_time", source_frame)
-        found = self._table.latest_common_time(target_id, source_id) if target_id != source_id else None
-        return found if found is not None else walk.latest_common_time(self._tree(), target_id, source_id)
+        common, failure = self._table.latest_common_time(target_id, source_id)
+        if failure[0] != walk.NO_FAILURE:
+            raise self._walk_error(target_id, source_id, failure)
+        return common
 
     @_locked
     def lookup_many(self, target_frame: str, source_frame: str, times: npt.ArrayLike) -> LookupBatch:
@@ -428,7 +432,10 @@ class Buffer:
         if target_frame == source_frame:
             return []
         target_id, source_id = self._frame_ids("chain", target_frame, source_frame)
-        return [self._frames.names[f] for f in walk.chain(self._tree(), target_id, source_id, time)]
+        frames, failure = self._table.chain(target_id, source_id, time)
+        if failure[0] != walk.NO_FAILURE:
+            raise self._walk_error(target_id, source_id, failure)
+        return [self._frames.names[f] for f in frames]
 
     def wait_for_transform(
         self, target_frame: str, source_frame: str, time: int = 0, timeout_s: float = 0.0
@@ -465,6 +472,9 @@ class Buffer:
 
     def _tree(self) -> walk.Tree:
         return walk.Tree(self._histories, self._frames.names, dialect(self.semantics))
+
+    def _walk_error(self, target_id: int, source_id: int, failure: walk.Failure) -> TransformError:
+        return walk.error(self._tree(), failure, target_id, source_id)
 
     def _new_table(self) -> EdgeTable:
         """The compiled calls' view of the buffer: its frames, publishers and histories."""

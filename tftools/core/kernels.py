@@ -1,8 +1,7 @@
 """The compiled lookups (``_kernels``, C++ from ``native/``) over a buffer's edge histories.
 
-``walk.py`` stays the reference and the one place tf2's error messages are made: the compiled
-walk takes its steps with its formulas in its order, and reports only success or failure, on
-which the buffer asks the Python walk why. A compiled call pays for every array it is given, so
+The compiled walk (``native/walk.hpp``) is the only one: it reports where it fails why
+(``walk.Failure``), which ``walk.py`` words as tf2 does. A compiled call pays for every array it is given, so
 the lookups read one ``EdgeTable``: per frame, its history's bounds and arrays (which the table
 holds, so a row can at worst be stale, never dangling). The buffer updates a frame's row
 whenever it stores into that frame's history (which may move its arrays).
