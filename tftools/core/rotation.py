@@ -1,10 +1,11 @@
 """Quaternion and vector math with tf2's formulas and conventions.
 
-Quaternions are (x, y, z, w). Rotations are active: ``quat_rotate(q, v)`` turns ``v`` by ``q``.
+Quaternions are (x, y, z, w). Rotations are active: ``quat_rotate_many(q, v)`` turns ``v`` by ``q``.
 The formulas are tf2's own (``tf2/LinearMath``), not normalised ones, so that results agree with
 tf2 to the last bits even for the slightly non-unit quaternions tf2 accepts (it tolerates
-``|q|^2`` within 0.01 of 1). Each function has a scalar form on tuples, for single lookups
-where numpy's per-call cost dominates, and a ``_many`` form on ``(N, 4)`` / ``(N, 3)`` arrays.
+``|q|^2`` within 0.01 of 1). A formula is written once for numbers and arrays: the scalar forms
+on tuples serve single transforms, where numpy's per-call cost dominates, the ``_many`` forms
+``(N, 4)`` / ``(N, 3)`` arrays.
 """
 
 from __future__ import annotations
@@ -26,11 +27,6 @@ IDENTITY_QUAT: Quat = (0.0, 0.0, 0.0, 1.0)
 ZERO_VEC: Vec3 = (0.0, 0.0, 0.0)
 
 
-def quat_multiply(a: Quat, b: Quat) -> Quat:
-    """The Hamilton product ``a * b``: rotate by ``b``, then by ``a``."""
-    return _hamilton(*a, *b)
-
-
 def _hamilton(ax: S, ay: S, az: S, aw: S, bx: S, by: S, bz: S, bw: S) -> tuple[S, S, S, S]:
     return (
         aw * bx + ax * bw + ay * bz - az * by,
@@ -38,16 +34,6 @@ def _hamilton(ax: S, ay: S, az: S, aw: S, bx: S, by: S, bz: S, bw: S) -> tuple[S
         aw * bz + az * bw + ax * by - ay * bx,
         aw * bw - ax * bx - ay * by - az * bz,
     )
-
-
-def quat_conjugate(q: Quat) -> Quat:
-    """tf2's ``Quaternion::inverse``: the conjugate (the inverse of a unit quaternion)."""
-    return (-q[0], -q[1], -q[2], q[3])
-
-
-def quat_rotate(q: Quat, v: Vec3) -> Vec3:
-    """``q * v * conj(q)``, tf2's ``quatRotate``."""
-    return _rotated(*q, *v)
 
 
 def _rotated(qx: S, qy: S, qz: S, qw: S, vx: S, vy: S, vz: S) -> tuple[S, S, S]:
@@ -177,10 +163,12 @@ def matrix_transpose(m: Matrix3) -> Matrix3:
 
 
 def quat_multiply_many(a: FloatArray, b: FloatArray) -> FloatArray:
+    """The Hamilton products ``a * b``: rotate by ``b``, then by ``a``."""
     return np.stack(_hamilton(*_columns(a), *_columns(b)), axis=-1)
 
 
 def quat_rotate_many(q: FloatArray, v: FloatArray) -> FloatArray:
+    """``q * v * conj(q)``, tf2's ``quatRotate``."""
     return np.stack(_rotated(*_columns(q), *_columns(v)), axis=-1)
 
 
