@@ -4,8 +4,9 @@ Run: ``python benchmarks/goals.py [--parts calls ingest startup fresh memory] [-
 (``scripts/benchmark.sh --goals`` does). Prints ``goal | figure | tf2 | transform-tree | met?``,
 asserts nothing. Each measure runs ``--runs`` times, each in a fresh process, and its median is
 shown: a shared machine's figures vary run to run (the load is printed with them). The workload
-is ``vs_tf2.py``'s: the 300 s robot (258k transforms) as .bag/.db3/.mcap, and its 4,800 s
-recording (4.1M transforms) for memory. tf2 is tf2_py under Debian's Python (``tf2_side.py``),
+is ``vs_tf2.py``'s: the 300 s robot (258k transforms) as .bag/.db3/.mcap, its 4,800 s recording
+(4.1M transforms) for memory, and its 14,400 s one (12.4M, 3.6 GB in the three formats, written once
+into /tmp/tftools-bench in ~16 min) for a streamed replay's. tf2 is tf2_py under Debian's Python (``tf2_side.py``),
 transform-tree its PyPI wheel built with tf2's interpolation (``transform_tree_side.py``), and
 tftools this checkout (``ours_side.py``, ``python -m tftools``).
 """
