@@ -189,7 +189,7 @@ def load_into_buffer(scenario: Scenario, semantics: Semantics = "ros1", rows_per
     for parent, child, sec, nsec, *values, authority, is_static in scenario.inserts:
         builder.add(parent, child, sec * S + nsec, values[:3], values[3:7], static=is_static, authority=authority)
     batch = builder.take()
-    rows = rows_per_insert or len(batch)
+    rows = rows_per_insert or max(len(batch), 1)
     for start in range(0, len(batch), rows):
         buffer.insert(take_rows(batch, slice(start, start + rows)))
     return buffer
