@@ -9,6 +9,7 @@ import numpy as np
 
 from tests.oracle import Scenario, binding_time
 from tftools import BatchBuilder, Buffer, Semantics, Transform, TransformError
+from tftools.core.batch import take_rows
 
 S = 1_000_000_000
 
@@ -188,8 +189,9 @@ def load_into_buffer(scenario: Scenario, semantics: Semantics = "ros1", rows_per
     for parent, child, sec, nsec, *values, authority, is_static in scenario.inserts:
         builder.add(parent, child, sec * S + nsec, values[:3], values[3:7], static=is_static, authority=authority)
     batch = builder.take()
-    for part in batch.slices(rows_per_insert or max(len(batch), 1)):
-        buffer.insert(part)
+    rows = rows_per_insert or max(len(batch), 1)
+    for start in range(0, len(batch), rows):
+        buffer.insert(take_rows(batch, slice(start, start + rows)))
     return buffer
 
 

@@ -4,8 +4,8 @@ Each test names the ros2/geometry2 (rolling) test it ports: ``tf2/test/cache_uni
 ``static_cache_test.cpp``, ``test_storage.cpp``, ``test_time.cpp``, ``simple_tf2_core.cpp``,
 ``test_tf2/test/buffer_core_test.cpp`` and ``tf2_py/test/test_buffer_core.py``. A ``TimeCache``
 is one child frame's history here: its ``frame_id`` (the parent) is the frame ``p<id>``, its
-``getData`` is ``EdgeHistory.sample``, its ``clearList`` a new buffer. What tftools has no
-counterpart for is left out (transformable callbacks, ``clear``, velocities, covariance).
+``getData`` a lookup from ``c`` to its parent at that time, its ``clearList`` a new buffer. What
+tftools has no counterpart for is left out (transformable callbacks, ``clear``, velocities, covariance).
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import math
 import numpy as np
 import pytest
 
+from tests.corpus.data import slerp
 from tftools.core import (
     BackwardExtrapolationError,
     Buffer,
@@ -27,8 +28,7 @@ from tftools.core import (
     TransformError,
     UnknownFrameError,
 )
-from tftools.core.history import Gap
-from tftools.core.rotation import quat_from_rpy, slerp
+from tftools.core.rotation import quat_from_rpy
 from tftools.core.semantics import ROS2
 from tftools.core.time import NS_PER_S, duration_to_sec
 
@@ -60,11 +60,11 @@ def storage(buffer: Buffer) -> list[tuple[int, str]]:
 
 
 def get_data(buffer: Buffer, time: int) -> tuple[str, list[float]]:
-    hist = buffer.history("c")
-    assert hist is not None
-    got = hist.sample(time)
-    assert not isinstance(got, Gap), got
-    return buffer.frame_name(got[0]), got[1]
+    """``getData`` of ``c`` at ``time``: its parent then, and the edge (tx ty tz qx qy qz qw)."""
+    parent = buffer.parent("c", time)
+    assert parent is not None
+    edge = buffer.lookup(parent, "c", time)
+    return parent, [*edge.translation, *edge.rotation]
 
 
 class PseudoRandom:
@@ -190,7 +190,7 @@ def test_time_cache_angular_interpolation() -> None:
             put(cache, "p3", "c", offset + step * 100, rotation=quats[-1])
         for pos in range(100):
             _, v = get_data(cache, offset + pos)
-            truth = slerp(quats[0], quats[1], pos / 100.0)
+            truth = slerp(np.array(quats[0]), np.array(quats[1]), pos / 100.0)
             dot = abs(sum(a * b for a, b in zip(truth, v[3:], strict=True)))
             assert 2 * math.acos(min(1.0, dot)) == pytest.approx(0, abs=1e-6)
 

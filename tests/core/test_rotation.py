@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import itertools
 import math
 
 import numpy as np
@@ -25,28 +24,6 @@ def angle_between(a, b) -> float:
 
 def same_rotation(a, b, tol=1e-12) -> bool:
     return angle_between(a, b) < 1e-6 or np.allclose(a, b, atol=tol) or np.allclose(a, np.negative(b), atol=tol)
-
-
-@pytest.mark.parametrize("t", [0.0, 0.25, 0.5, 0.9, 1.0])
-def test_slerp_moves_at_constant_rate_along_the_short_arc(t):
-    for a, b in itertools.pairwise(QUATS):
-        out = r.slerp(a, b, t)
-        assert abs(np.linalg.norm(out) - 1) < 1e-12
-        whole = angle_between(a, b)
-        assert angle_between(a, out) == pytest.approx(t * whole, abs=1e-9)
-        assert angle_between(out, b) == pytest.approx((1 - t) * whole, abs=1e-9)
-
-
-def test_slerp_takes_the_short_arc_when_the_signs_differ():
-    a = r.quat_from_rpy(0, 0, 0.1)
-    b = tuple(-x for x in r.quat_from_rpy(0, 0, 0.3))  # the same rotation as yaw 0.3
-    mid = r.slerp(a, b, 0.5)
-    assert r.rpy_from_quat(mid)[2] == pytest.approx(0.2, abs=1e-12)
-
-
-def test_slerp_of_equal_rotations_is_that_rotation():
-    q = QUATS[0]
-    assert r.slerp(q, q, 0.3) == q
 
 
 def test_rpy_round_trip_and_known_values():

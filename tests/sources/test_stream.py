@@ -20,7 +20,7 @@ from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.errors import BagNotFoundError, NoTransformsError
 from tftools.sources.replay import Replay, follow
 from tftools.sources.stream import MAX_WINDOWS, SAMPLES_PER_FRAME, _Arrivals, _windows, stream_recording
-from tftools.sources.timeline import Reference, Timeline
+from tftools.sources.timeline import Playback, Reference, Timeline
 
 SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"
 WALL = 1_700_000_000 * NS_PER_S  # the record clock of a simulation recorded without --use-sim-time
@@ -51,7 +51,7 @@ def whole_replay_rows(paths: list[Path]) -> TransformBatch:
     """The rows a replay of the recording read whole delivers: every transform, moved onto the stamps' clock."""
     recording = read_recording(paths)
     transforms = recording.transforms
-    return dataclasses.replace(transforms, record_time=recording.timeline.playback(transforms.record_time))
+    return dataclasses.replace(transforms, record_time=Playback(recording.timeline).moved(transforms.record_time))
 
 
 def assert_same_rows(streamed: TransformBatch, whole: TransformBatch) -> None:

@@ -112,7 +112,9 @@ def _damage_first_chunk(path: Path, fmt: BagFormat, into: Path) -> tuple[Path, i
     the page of its first message), and the record time of that chunk's last message."""
     if fmt is BagFormat.ros1:
         data = bytearray(path.read_bytes())
-        chunks = read_index(BagFile(path.name, bytes(data), None, ("/tf",), lambda *_: None), read_bag_header(data))
+        with path.open("rb") as f:
+            bag = BagFile(path.name, bytes(data), f.fileno(), ("/tf",), lambda *_: None)
+            chunks = read_index(bag, read_bag_header(data))
         assert len(chunks) >= 3
         at, end = chunks[0].pos, chunks[0].end
     elif fmt is BagFormat.rosbag2_mcap:

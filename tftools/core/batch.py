@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -48,14 +48,6 @@ class TransformBatch:
     def nbytes(self) -> int:
         """The bytes of its columns (not of its string tables)."""
         return sum(getattr(self, name).nbytes for name in ROW_COLUMNS)
-
-    def slices(self, rows: int) -> Iterator[TransformBatch]:
-        """The batch in consecutive parts of at most ``rows`` rows (views, not copies)."""
-        if len(self) <= rows:
-            yield self
-            return
-        for start in range(0, len(self), rows):
-            yield take_rows(self, slice(start, start + rows))
 
     @classmethod
     def empty(cls) -> TransformBatch:

@@ -199,7 +199,7 @@ class Buffer:
         if hist is None:
             return None
         parent = hist.parent_at(time)
-        return self._frames.names[parent] if isinstance(parent, int) else None
+        return None if parent is None else self._frames.names[parent]
 
     def now(self) -> int:
         return self.clock.now()

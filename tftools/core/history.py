@@ -12,7 +12,6 @@ import numpy.typing as npt
 
 from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
-from tftools.core.rotation import slerp
 
 #: ``EdgeHistory.flags`` bits.
 FROM_STATIC_TOPIC = 1
@@ -108,20 +107,18 @@ class RoomForHistories:
         return self._block[self._used - size : self._used]
 
 
-#: A sample as the scalar lookup path uses it: parent id and tx ty tz qx qy qz qw.
-Sample = tuple[int, list[float]]
-
 #: ``Gap.kind``: why a history has no sample at a time (tf2's three extrapolation errors).
 NO_DATA, ONLY_ONE, FUTURE, PAST = range(4)
 
 
 class Gap(NamedTuple):
     """Why a history cannot answer at ``time``: empty, one sample at another ``stamp``, or
-    ``time`` after the newest or before the oldest ``stamp``. The walk words it (``Dialect``)."""
+    ``time`` after the newest or before the oldest ``stamp``. The compiled walk finds it, ``walk.error``
+    words it (``Dialect``)."""
 
     kind: int
     time: int
-    stamp: int = 0
+    stamp: int
 
 
 class EdgeHistory:
@@ -272,11 +269,6 @@ class EdgeHistory:
         """Room for ``rows`` more samples and as many again (the arrays move): amortized growth."""
         self._allocate(max(2 * (len(self) + rows), 8))
 
-    def reserve(self, rows: int) -> None:
-        """Make room for ``rows`` more samples at once (exactly, into an empty history)."""
-        if self._end + rows > len(self._stamps):
-            self._allocate(max(len(self) + rows, 3 * len(self) // 2))
-
     def prune(self, cache_time: int, latest: int | None = None) -> None:
         """Drop samples older than ``cache_time`` before ``latest`` (default: the newest), as
         tf2's ``pruneList``."""
@@ -288,57 +280,24 @@ class EdgeHistory:
         if self._start > len(self._stamps) // 2:
             self._allocate(len(self._stamps))
 
-    # --- lookups (tf2's TimeCache::getData / getParent) -------------------------------------
+    # --- lookups (tf2's TimeCache::getParent) ----------------------------------------------
 
-    def sample(self, time: int) -> Sample | Gap:
-        """The edge at ``time``, interpolated; or why not."""
-        row = self._row_at(time)
-        if isinstance(row, Gap):
-            return row
-        if row >= 0:
-            return int(self._parents[row]), self._values[row].tolist()
-        one = -row - 1
-        parent_one = int(self._parents[one])
-        if parent_one != self._parents[one + 1]:
-            return parent_one, self._values[one].tolist()
-        a, b = self._values[one : one + 2].tolist()
-        t0, t1 = self._stamp_index[one], self._stamp_index[one + 1]
-        r = (time - t0) / (t1 - t0)
-        s = 1.0 - r
-        q = slerp((a[3], a[4], a[5], a[6]), (b[3], b[4], b[5], b[6]), r)
-        return parent_one, [s * a[0] + r * b[0], s * a[1] + r * b[1], s * a[2] + r * b[2], *q]
-
-    def parent_at(self, time: int) -> int | Gap:
-        """The parent at ``time`` (of the older of the two samples around it), or why none."""
-        row = self._row_at(time)
-        if isinstance(row, Gap):
-            return row
-        return int(self._parents[row if row >= 0 else -row - 1])
-
-    def _row_at(self, time: int) -> int | Gap:
-        """tf2's ``findClosest``: a row ``i >= 0`` to use as is, ``-(i + 1)`` to interpolate
-        between rows ``i`` and ``i + 1``, or the gap.
+    def parent_at(self, time: int) -> int | None:
+        """The parent at ``time`` (of the older of the two samples around it), or None where the
+        history has no sample then (the walk says why: native/walk.hpp).
 
         Where samples share a stamp (ROS 2), tf2's newest-first list makes the last to arrive
         count, except at the oldest stamp, which is the list's back: there the first one.
         """
-        start, end = self._start, self._end
+        start, end, stamps = self._start, self._end, self._stamp_index
         if end == start:
-            return Gap(NO_DATA, time)
-        if self.static or time == 0:
-            return end - 1
-        stamps = self._stamp_index
-        if end - start == 1:
-            if stamps[start] == time:
-                return start
-            return Gap(ONLY_ONE, time, stamps[start])
-        latest, earliest = stamps[end - 1], stamps[start]
-        if time == latest:
-            return end - 1
-        if time == earliest:
-            return start
-        if time > latest:
-            return Gap(FUTURE, time, latest)
-        if time < earliest:
-            return Gap(PAST, time, earliest)
-        return -bisect_right(stamps, time, start, end)  # = -(older row + 1)
+            return None
+        if self.static or time == 0 or time == stamps[end - 1]:
+            row = end - 1
+        elif time == stamps[start]:
+            row = start
+        elif stamps[start] < time < stamps[end - 1]:
+            row = bisect_right(stamps, time, start, end) - 1
+        else:
+            return None
+        return int(self._parents[row])

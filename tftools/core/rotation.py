@@ -50,30 +50,6 @@ def _rotated(qx: S, qy: S, qz: S, qw: S, vx: S, vy: S, vz: S) -> tuple[S, S, S]:
     )
 
 
-def slerp(a: Quat, b: Quat, t: float) -> Quat:
-    """Spherical interpolation from ``a`` (t=0) to ``b`` (t=1) along the shorter arc (tf2's)."""
-    dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
-    norms = math.sqrt(
-        (a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3])
-        * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3])
-    )
-    # For two nearly equal rotations the cosine can round to just above 1, where tf2's acos
-    # yields NaN and its slerp returns NaNs. Clamping returns the (equal) rotation instead;
-    # every value within [-1, 1] is left exactly as tf2 computes it.
-    theta = math.acos(min(abs(dot) / norms, 1.0))
-    if theta == 0.0:
-        return a
-    d = 1.0 / math.sin(theta)
-    s0 = math.sin((1.0 - t) * theta)
-    s1 = math.sin(t * theta) if dot >= 0 else -math.sin(t * theta)
-    return (
-        (a[0] * s0 + b[0] * s1) * d,
-        (a[1] * s0 + b[1] * s1) * d,
-        (a[2] * s0 + b[2] * s1) * d,
-        (a[3] * s0 + b[3] * s1) * d,
-    )
-
-
 def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
     """Fixed-axis roll (X), pitch (Y), yaw (Z): tf2's ``Quaternion::setRPY``."""
     cy, sy = math.cos(yaw * 0.5), math.sin(yaw * 0.5)

@@ -134,12 +134,8 @@ class Timeline:
         times, measured = self.measurable(child, record_times, flags)
         return times[measured] - stamps[measured]
 
-    def playback(self, record_times: Int64Array) -> Int64Array:
-        """Record times moved onto the stamps' clock for a replay (``Playback``, all at once)."""
-        return Playback(self).moved(record_times)
-
     def played(self) -> Timeline:
-        """The timeline of this recording's replay, whose record times are ``playback`` times: on the
+        """The timeline of this recording's replay, whose record times are ``Playback``'s: on the
         stamps' clock, or still without a reference (delays stay unknown; playback only estimates)."""
         if self.reference is Reference.NONE:
             return self

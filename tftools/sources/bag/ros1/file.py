@@ -37,7 +37,7 @@ class Damage:
 
 
 class BagFile:
-    """A ROS1 bag's bytes (``buf``, mapped from the file ``fd`` when there is one), being read for
+    """A ROS1 bag's bytes (``buf``, mapped from the file ``fd``), being read for
     the messages of ``topics`` recorded in ``window``: into ``scan``, its description and transform
     and clock messages."""
 
@@ -45,7 +45,7 @@ class BagFile:
         self,
         name: str,
         buf: FileBuffer,
-        fd: int | None,
+        fd: int,
         topics: tuple[str, ...],
         progress: ProgressCallback,
         window: RecordWindow | None = None,
@@ -100,15 +100,9 @@ class BagFile:
             self.buf.madvise(mmap.MADV_DONTNEED, start, min(end, self.size) - start)
 
     def unpacked(self, chunk: Chunk, end: int) -> Unpacked:
-        """The chunk's data up to ``end``, uncompressed."""
-        return unpack(chunk.compression, self._bytes(chunk.data_start, end), chunk.size, self.budget)
-
-    def _bytes(self, start: int, end: int) -> bytes | memoryview:
-        """``buf[start:end]``: read from the file when it is known (faulting in the pages of a
-        mapping costs more than the copy a read makes, and they would count as resident)."""
-        if self.fd is not None:
-            return read_at(self.fd, start, end)
-        return memoryview(self.buf)[start:end]
+        """The chunk's data up to ``end``, uncompressed: read from the file, not ``buf`` (faulting in
+        the pages of a mapping costs more than the copy a read makes, and they would count as resident)."""
+        return unpack(chunk.compression, read_at(self.fd, chunk.data_start, end), chunk.size, self.budget)
 
     def note_damage(self) -> None:
         d = self.damage

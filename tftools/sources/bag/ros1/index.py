@@ -48,8 +48,7 @@ _CHUNK_HEADER_BYTES, _INDEX_RECORD_BYTES, _INDEX_ENTRY_BYTES = 4096, 128, 12
 def read_index(bag: BagFile, header: BagHeader) -> list[ChunkInfo]:
     """The connections and chunk infos at the bag's end (connections met); ``FormatError`` if damaged."""
     pos = header.index_pos
-    if bag.fd is not None:
-        need(bag.fd, pos, bag.size)
+    need(bag.fd, pos, bag.size)
     records = []
     for op, count in ((OP_CONNECTION, header.conn_count), (OP_CHUNK_INFO, header.chunk_count)):
         for _ in range(count):
@@ -83,7 +82,7 @@ def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
     """Have the system fetch the headers and index records of the chunks holding wanted messages all at
     once (one by one, each would wait for the disk). A chunk's index records end where the next chunk
     (or the bag's index) begins, about ``_INDEX_ENTRY_BYTES`` a message before it."""
-    if bag.fd is None or not infos:
+    if not infos:
         return
     ends = [*(info.pos for info in infos[1:]), index_pos]
     starts: list[int] = []
@@ -121,7 +120,7 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         bag.damage.note(info.pos, str(e), wanted)
         return
     index = _chunk_index(bag, record, info)
-    if chunk.compression == "none" and index is not None and bag.fd is not None:
+    if chunk.compression == "none" and index is not None:
         gathered.add(bag, _Pending(ordinal, wanted, index, chunk))
         return
     indexed = None if index is None else _indexed([index])  # read before the index's pages are let go
@@ -229,7 +228,7 @@ class _Gathered:
         records, _ = bounded(indexed, starts, ends)
         records = records.rows(_wanted(bag, records))
         records = records.rows(np.diff(records.start, prepend=-1) != 0)  # once each
-        data, where, complete = read_ranges(bag.fd or 0, records.start, records.end)
+        data, where, complete = read_ranges(bag.fd, records.start, records.end)
         records = records.rows(complete)
         records.start, records.end = where[complete], where[complete] + records.end - records.start
         messages, _, first_error = locate(data.data, records, follow=True)

@@ -29,8 +29,7 @@ def read_unindexed(bag: BagFile, header: BagHeader, index_damage: str = "") -> N
     what is wrong with it (else there is none, or it lies past the end of the file), and say so."""
     scanner = _Scanner(bag)
     bag.scan.windowed = False
-    if bag.fd is not None:  # a remote bag is fetched whole: every record is read
-        need(bag.fd, header.data_start, bag.size)
+    need(bag.fd, header.data_start, bag.size)  # a remote bag is fetched whole: every record is read
     truncated = header.index_pos > bag.size
     scanner.scan(header.data_start, header.index_pos if index_damage else bag.size)
     n = bag.transform_messages
