@@ -116,7 +116,7 @@ inline Quat weigh(const Quat& a, const Quat& b, double s0, double s1, double d) 
             (a.w * s0 + b.w * s1) * d};
 }
 
-// rotation.slerp given `arc`'s constants; `batch` takes small_sin for small angles.
+// tf2's slerp given `arc`'s constants; `batch` takes small_sin for small angles.
 inline Quat slerp(const Quat& a, const Quat& b, double t, const Arc& c, bool batch) {
     if (c.theta == 0.0) return a;
     return weigh(a, b, sine((1.0 - t) * c.theta, batch), sine(t * c.theta, batch) * c.sign, c.d);
@@ -127,7 +127,7 @@ inline Pose pose_at(const double* values, int64_t row) {
     return {{v[0], v[1], v[2]}, {v[3], v[4], v[5], v[6]}};
 }
 
-// --- one edge: EdgeHistory.sample ----------------------------------------------------------------
+// --- one edge: its sample at a time, as tf2's TimeCache interpolates -----------------------------
 
 // Per frame, the last row a walk used (a cursor: a walk over ascending times moves it instead of
 // bisecting) and the row whose arc to the next `arcs` holds. Off for single lookups.
@@ -198,7 +198,7 @@ inline int64_t find(const int64_t* stamps, int64_t start, int64_t end, int64_t t
 
 enum class Kind { FOUND, GAP, ROOT };
 
-// EdgeHistory._row_at: the row to use, or the older of two to interpolate between.
+// The row to use at a time, or the older of two to interpolate between (tf2's findClosest).
 struct RowAt {
     Kind kind;
     int64_t row = 0;
@@ -246,7 +246,7 @@ struct Gap {
 };
 enum GapKind : int64_t { NO_DATA, ONLY_ONE, FUTURE, PAST };
 
-// The gap of `h` at `time`, where row_at found one (EdgeHistory._row_at's).
+// The gap of `h` at `time`, where row_at found one (tftools.core.history.Gap's fields).
 inline Gap gap_at(const History& h, int64_t time) {
     if (h.end == h.start) return {NO_DATA, time, 0};
     if (h.end - h.start == 1) return {ONLY_ONE, time, h.stamps[h.start]};
@@ -262,7 +262,7 @@ struct Step {
     RowAt at;
 };
 
-// One composed edge of a walked chain at its time (EdgeHistory.sample), as `edges_at` makes it.
+// One composed edge of a walked chain at its time, as `edges_at` samples it.
 struct Edge {
     Pose pose;   // the sample; while interpolating, the lerped translation and the older rotation
     Quat next;   // while interpolating, the newer sample's rotation
