@@ -42,10 +42,6 @@ class Bins:
     width: int
     count: int
 
-    @property
-    def end(self) -> int:
-        return self.start + self.width * self.count
-
     def edges(self) -> Int64Array:
         """The ``count + 1`` times between bins."""
         return self.start + self.width * np.arange(self.count + 1, dtype=np.int64)
