@@ -186,8 +186,6 @@ def _delays(
 ) -> tuple[FloatArray, FloatArray]:
     """Mean and largest delay (s) of the samples ``mine`` in each bin: those ``Timeline.measurable``."""
     times, measured = timeline.measurable(child, hist.record_times[mine], hist.flags[mine])
-    if not measured.any():
-        return np.full(count, np.nan), np.full(count, np.nan)
     delays = times[measured] - hist.stamps[mine][measured]
     return _mean_max(where[measured], delays / NS_PER_S, count)
 
