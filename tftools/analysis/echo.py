@@ -60,10 +60,8 @@ def echo(buffer: Buffer, target: str, source: str, times: npt.ArrayLike) -> Echo
 
 
 def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | None:
-    """The stretch of time over which every moving edge between the frames has data.
-
-    ``None`` if the frames aren't connected now or the chain is static only.
-    """
+    """The stretch of time over which every moving edge between the frames has data (None: they are not
+    connected now, or only by static edges)."""
     edges = _moving_edges(buffer, target, source)
     if not edges:
         return None

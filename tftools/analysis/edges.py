@@ -244,9 +244,7 @@ def _window(
 ) -> BoolArray:
     if hist.static:
         return np.ones(len(hist), bool)
-    times = hist.stamps
-    if by_record_time:
-        times = timeline.arrival(hist.stamps, hist.record_times)
+    times = timeline.arrival(hist.stamps, hist.record_times) if by_record_time else hist.stamps
     mask = np.ones(len(times), bool)
     if start is not None:
         mask &= times >= start

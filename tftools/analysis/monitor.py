@@ -61,12 +61,9 @@ def monitor(
     by_record_time: bool = False,
     timeline: Timeline | None = None,
 ) -> MonitorReport:
-    """tf_monitor's statistics over ``[start, end]``; with two frames, their chain too.
-
-    ``timeline`` (a recording's) gives ROS time at arrival; without it record times are ROS time.
-    The chain delay is measured over the same window on the arrival axis (``end`` defaults to the
-    buffer's clock). Raises tf2's errors when the frames are not connected.
-    """
+    """tf_monitor's statistics over ``[start, end]`` (windowed as ``edge_stats`` windows them); with two
+    frames, their chain too, its delay over the same window on the arrival axis (``end`` defaults to the
+    buffer's clock). Raises tf2's errors when the frames are not connected."""
     edges = edge_stats(buffer, start, end, by_record_time=by_record_time, timeline=timeline)
     authorities = authority_stats(buffer, start, end, by_record_time=by_record_time, timeline=timeline)
     chain = None

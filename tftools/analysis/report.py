@@ -3,7 +3,7 @@ sensor streams over time (``analysis.timelines``) on one axis."""
 
 from __future__ import annotations
 
-from collections.abc import Collection, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 
@@ -21,7 +21,7 @@ from tftools.analysis.timelines import (
     stream_axis,
     stream_timelines,
 )
-from tftools.analysis.wtf import Scene, Thresholds, findings_of
+from tftools.analysis.wtf import Scene, findings_of
 from tftools.core.time import NS_PER_S, format_sec, from_sec
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording
@@ -46,16 +46,12 @@ class RecordingReport:
 
 
 def recording_report(
-    recording: Recording,
-    streams: Sequence[StampedMessages] = (),
-    thresholds: Thresholds | None = None,
-    target: str | None = None,
-    ignore: Collection[str] = (),
+    recording: Recording, streams: Sequence[StampedMessages] = (), target: str | None = None
 ) -> RecordingReport:
     """The report of ``recording`` and its sensor data ``streams``, checked as ``tfx wtf`` checks them
     (into ``target``, ``analysis.filter.choose_target``)."""
-    scene = Scene(recording, thresholds, streams, target)
-    findings = findings_of(scene, ignore)
+    scene = Scene(recording, streams=streams, target=target)
+    findings = findings_of(scene)
     graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None

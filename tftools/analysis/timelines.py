@@ -42,10 +42,6 @@ class Bins:
     width: int
     count: int
 
-    @property
-    def end(self) -> int:
-        return self.start + self.width * self.count
-
     def edges(self) -> Int64Array:
         """The ``count + 1`` times between bins."""
         return self.start + self.width * np.arange(self.count + 1, dtype=np.int64)
@@ -190,8 +186,6 @@ def _delays(
 ) -> tuple[FloatArray, FloatArray]:
     """Mean and largest delay (s) of the samples ``mine`` in each bin: those ``Timeline.measurable``."""
     times, measured = timeline.measurable(child, hist.record_times[mine], hist.flags[mine])
-    if not measured.any():
-        return np.full(count, np.nan), np.full(count, np.nan)
     delays = times[measured] - hist.stamps[mine][measured]
     return _mean_max(where[measured], delays / NS_PER_S, count)
 

@@ -48,17 +48,15 @@ def write_tree(tree: TreeShape, out: IO[str]) -> None:
     from ruamel.yaml import YAML
     from ruamel.yaml.comments import CommentedMap
 
+    def one_line(mapping: dict[str, Any]) -> CommentedMap:
+        flow = CommentedMap(mapping)
+        flow.fa.set_flow_style()
+        return flow
+
     document = CommentedMap()
     document.yaml_set_start_comment(_HEADER.format(source=tree.source))
-    tolerances = CommentedMap(asdict(tree.tolerances))
-    tolerances.fa.set_flow_style()
-    document["tolerances"] = tolerances
-    frames = CommentedMap()
-    for name, f in tree.frames.items():
-        entry = CommentedMap(_entry(f))
-        entry.fa.set_flow_style()
-        frames[name] = entry
-    document["frames"] = frames
+    document["tolerances"] = one_line(asdict(tree.tolerances))
+    document["frames"] = CommentedMap((name, one_line(_entry(f))) for name, f in tree.frames.items())
     yaml = YAML()
     yaml.width = 1 << 16  # one line per frame
     yaml.dump(document, out)

@@ -8,6 +8,7 @@ from typing import IO, Any
 from tftools import __version__
 from tftools.analysis.diff import Difference, describe
 from tftools.analysis.expected import Tolerances, TreeShape
+from tftools.analysis.findings import counted
 from tftools.render import jsonl
 from tftools.render.escape import printable
 
@@ -19,8 +20,7 @@ def write_text(a: TreeShape, b: TreeShape, differences: list[Difference], tolera
     for d in differences:
         out.write(printable(f"  {d.change.value:<11} {describe(d)}") + "\n")
     within = f"{tolerances.translation_mm:g} mm, {tolerances.rotation_deg:g}°, rates {tolerances.rate_percent:g}%"
-    count = len(differences)
-    verdict = f"{count} difference{'' if count == 1 else 's'}" if count else "no differences"
+    verdict = counted(len(differences), "difference") if differences else "no differences"
     out.write(f"{verdict} beyond the tolerances ({within})\n")
 
 

@@ -68,7 +68,8 @@ def recording_section(index: int, report: RecordingReport, legend: Sequence[str]
     anchor = f"r{index}"
     verdict, summary = _verdict(report.findings)
     rows = [i for i, e in enumerate(report.edges) if not e.static]
-    svg_ids = _svg_ids(report, anchor)
+    # each edge's id in the tree's SVG: Graphviz numbers edges in the order they were added
+    svg_ids = {e.key: f"{anchor}-edge{k + 1}" for k, e in enumerate(report.graph.edges)}
     tree = _tree(report, legend, anchor)
     data = {
         "anchor": anchor,
@@ -242,11 +243,6 @@ def _statics(edges: Sequence[GraphEdge]) -> str:
         if e.static and e.stats is not None
     )
     return f'<h3>Static transforms</h3><ul class="statics">{items}</ul>' if items else ""
-
-
-def _svg_ids(report: RecordingReport, anchor: str) -> dict[tuple[str, str], str]:
-    """Each edge's id in the tree's SVG: Graphviz numbers edges in the order they were added."""
-    return {(e.parent, e.child): f"{anchor}-edge{k + 1}" for k, e in enumerate(report.graph.edges)}
 
 
 def _edge_data(report: RecordingReport, edge: EdgeTimeline, svg_ids: dict[tuple[str, str], str]) -> dict[str, Any]:

@@ -72,9 +72,8 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
         for fetched in bag.fetched:
             header.append(f", {fetched.describe()}")
         if bag.sensor_topics:
-            count = len(bag.sensor_topics)
             header.append(
-                f", {count} topic{'s' if count > 1 else ''} of sensor data checked in "
+                f", {counted(len(bag.sensor_topics), 'topic')} of sensor data checked in "
                 f"{printable(bag.sensor_target)} ({printable(bag.sensor_target_reason)})"
             )
     console.print(header)

@@ -93,16 +93,11 @@ def _latest_statics(source: Path) -> tuple[list[Transform], list[str]]:
         raise BagError(str(source), "holds no static transforms", "add them with tfx static X Y Z ... -b IN -o OUT")
     names = batch.frame_names
     senders = [batch.authorities[int(batch.authority[row])] for row in latest.values()]
-    return [
-        Transform(
-            tuple(batch.translation[row].tolist()),
-            tuple(batch.rotation[row].tolist()),
-            0,
-            names[parent],
-            names[child],
-        )
-        for (parent, child), row in latest.items()
-    ], senders
+    statics = [
+        Transform(tuple(batch.translation[row].tolist()), tuple(batch.rotation[row].tolist()), 0, names[p], names[c])
+        for (p, c), row in latest.items()
+    ]
+    return statics, senders
 
 
 def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import datetime
 import enum
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -79,11 +80,7 @@ def day_of(bag: BagReport) -> datetime.date | None:
 
 
 def recordings_per_day(reports: Sequence[BagReport]) -> dict[datetime.date, int]:
-    days: dict[datetime.date, int] = {}
-    for bag in reports:
-        day = day_of(bag)
-        if day is not None:
-            days[day] = days.get(day, 0) + 1
+    days = Counter(day for bag in reports if (day := day_of(bag)) is not None)
     return dict(sorted(days.items()))
 
 
@@ -91,14 +88,13 @@ def trends(reports: Sequence[BagReport]) -> list[Trend]:
     """Each check found on a dated recording, over the days; those that started on a day first (latest
     start first), then the rest by code."""
     days = list(recordings_per_day(reports))
-    per_code: dict[str, dict[datetime.date, int]] = {}
+    per_code: dict[str, Counter[datetime.date]] = {}
     for bag in reports:
         day = day_of(bag)
         if day is None:
             continue
         for code in dict.fromkeys(f.code for f in problems(bag)):
-            counts = per_code.setdefault(code, {})
-            counts[day] = counts.get(day, 0) + 1
+            per_code.setdefault(code, Counter())[day] += 1
     found = [Trend(code, dict(sorted(counts.items())), _since(days, counts)) for code, counts in per_code.items()]
     return sorted(found, key=lambda t: (t.since is None, -t.since.toordinal() if t.since else 0, t.code))
 

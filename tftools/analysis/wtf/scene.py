@@ -157,7 +157,8 @@ class Scene:
         named = [a for a in authorities if a]
         if not named:
             return ""
-        return (" by " if self.publishers_known else " on ") + _and(named)
+        joined = named[0] if len(named) == 1 else f"{', '.join(named[:-1])} and {named[-1]}"
+        return (" by " if self.publishers_known else " on ") + joined
 
     def at(self, stamp: int) -> str:
         """A moment on the stamps' clock: absolute seconds, and seconds into the tf data."""
@@ -206,7 +207,3 @@ def listed(items: Sequence[str], most: int = 6) -> str:
     if len(items) <= most:
         return ", ".join(items)
     return f"{', '.join(items[:most])} and {len(items) - most} more"
-
-
-def _and(items: Sequence[str]) -> str:
-    return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"

@@ -141,10 +141,7 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         f"{len(roots)} separate trees, and no lookup between them: {trees}",
         _join_hint(roots, members),
         tuple(roots),
-        (),
-        0,
-        0,
-        len(roots),
+        count=len(roots),
     )
 
 

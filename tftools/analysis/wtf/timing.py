@@ -323,17 +323,7 @@ def _went_back(scene: Scene, frames: tuple[str, str], mine: IntpArray, back: Boo
             f"{name}{by}: {transforms(len(offenders))} arrived out of order, stamped up to "
             f"{duration(largest / NS_PER_S)} before one already received, first at {first}"
         )
-    return Finding(
-        severity,
-        "time_backwards",
-        message,
-        hint,
-        frames,
-        scene.authorities_of(mine),
-        int(scene.rows.stamp[offenders].min()),
-        int(scene.rows.stamp[offenders].max()),
-        len(offenders),
-    )
+    return scene.finding(severity, "time_backwards", message, hint, frames, offenders)
 
 
 def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same: bool) -> Finding:
