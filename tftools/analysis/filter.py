@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import enum
 import heapq
-from collections.abc import Sequence
-from dataclasses import dataclass
+import itertools
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -32,16 +33,18 @@ NEVER = np.iinfo(np.int64).max
 
 
 class Fate(enum.IntEnum):
-    """What became of one message."""
+    """What became of one message in a ``tf2_ros::MessageFilter`` (tf2's rule, see the module)."""
 
-    ON_ARRIVAL = 0  # transformable when it arrived
-    LATER = 1  # after a wait for tf
-    UNKNOWN_FRAME = 2  # never: its frame is in no transform (a misspelt frame_id?)
-    NOT_CONNECTED = 3  # never: its frame and the target are in separate trees
-    NEEDS_NEWER_TF = 4  # never: tf never reached its stamp (extrapolation into the future)
-    OLDER_THAN_CACHE = 5  # never: by the time tf reached its stamp, the cache no longer held it
-    BEFORE_RECORDED_TF = 6  # undecided: stamped before the recording's tf of an edge began
-    AFTER_RECORDED_TF = 7  # undecided: still waiting when the recording's tf of an edge ended
+    ON_ARRIVAL = 0  # transformable when it arrived: passed inside add()
+    LATER = 1  # passed later, from the tf arrival that made it transformable
+    UNKNOWN_FRAME = 2  # never: its frame is in no transform (a misspelt frame_id?); it waits in the queue for good
+    NOT_CONNECTED = 3  # never: its frame and the target are in separate trees; it waits for good
+    NEEDS_NEWER_TF = 4  # never: it waits for tf of an edge that stopped publishing before reaching its stamp
+    OLDER_THAN_CACHE = 5  # never: it waited until the chain's latest common time passed stamp + cache
+    BEFORE_RECORDED_TF = 6  # undecided: as OLDER_THAN_CACHE, but stamped before the recording's tf of an edge began
+    AFTER_RECORDED_TF = 7  # undecided: still waiting at the end for an edge that was still publishing
+    OUT_THE_BACK = 8  # never: older than the cache already when it arrived, dropped inside add()
+    EMPTY_FRAME = 9  # never: an empty frame_id, dropped inside add()
 
     @property
     def reason(self) -> str:
@@ -49,20 +52,30 @@ class Fate(enum.IntEnum):
 
 
 #: Messages a filter loses for good; the recording cannot tell what became of the undecided ones.
-LOST = (Fate.UNKNOWN_FRAME, Fate.NOT_CONNECTED, Fate.NEEDS_NEWER_TF, Fate.OLDER_THAN_CACHE)
+LOST = (
+    Fate.UNKNOWN_FRAME,
+    Fate.NOT_CONNECTED,
+    Fate.NEEDS_NEWER_TF,
+    Fate.OLDER_THAN_CACHE,
+    Fate.OUT_THE_BACK,
+    Fate.EMPTY_FRAME,
+)
 UNDECIDED = (Fate.BEFORE_RECORDED_TF, Fate.AFTER_RECORDED_TF)
 
 
 @dataclass(frozen=True)
 class Fates:
-    """Each message's fate: ``ready`` is when it became transformable (``NEVER`` if it did not);
-    ``edge`` the (parent, child) that decided it (made it wait, never caught up, or had dropped its
-    stamp), ``lag`` how far that edge's newest stamp was behind the message's stamp at arrival (ns)."""
+    """Each message's fate: ``ready`` is when it became transformable (``NEVER`` if it did not), ``left``
+    when it left the filter's queue (passed or dropped; its arrival where it never entered the queue,
+    ``NEVER`` where it was still waiting when the recording ended); ``edge`` the (parent, child) that
+    decided it (made it wait, never caught up, or had dropped its stamp), ``lag`` how far that edge's
+    newest stamp was behind the message's stamp at arrival (ns)."""
 
     fate: Int8Array
     ready: Int64Array
     edge: Sequence[tuple[str, str] | None]
     lag: Int64Array
+    left: Int64Array
 
     @property
     def decided(self) -> int:
@@ -74,6 +87,10 @@ class Fates:
         later = self.fate == Fate.LATER
         waits: Int64Array = self.ready[later] - messages.record_time[later]
         return waits
+
+    def queued(self) -> BoolArray:
+        """The messages that entered the filter's queue (not passed or dropped inside their own add())."""
+        return np.asarray(~np.isin(self.fate, (Fate.ON_ARRIVAL, Fate.OUT_THE_BACK, Fate.EMPTY_FRAME)), np.bool_)
 
 
 @dataclass(frozen=True)
@@ -109,7 +126,7 @@ class _Edge(Edge):
         """Whether the edge's next transforms, had the recording not ended at ``end``, would soon have
         reached each of ``stamps``: it was still being published (``silence_limit``, as ``stale`` has it),
         and the stamp is no further than that limit ahead of its newest."""
-        if self.static or self.rate_hz <= 0:
+        if self.static or self.rate_hz <= 0 or not len(self.records):
             return np.zeros(len(stamps), np.bool_)
         limit = silence_limit(self.rate_hz)
         publishing = end - int(self.records[-1]) <= limit
@@ -117,8 +134,61 @@ class _Edge(Edge):
 
     def newest_at(self, times: Int64Array) -> Int64Array:
         """The newest stamp held at each of ``times`` (-1 before the first arrival)."""
-        index = np.searchsorted(self.records, times, side="right") - 1
-        return np.where(index >= 0, self.newest[np.maximum(index, 0)], -1)
+        return self._held(self.newest, times)
+
+    def oldest_at(self, times: Int64Array) -> Int64Array:
+        """The oldest stamp held at each of ``times`` (-1 before the first arrival)."""
+        return self._held(self.oldest, times)
+
+    def _held(self, values: Int64Array, times: Int64Array) -> Int64Array:
+        index = np.searchsorted(self.records, times, side=_TF_AT_A_TIE) - 1
+        return np.where(index >= 0, values[np.maximum(index, 0)], -1)
+
+
+#: A transform and a message recorded at the same instant: the transform counts as arrived first
+#: ("right": a state at time t includes the tf recorded at t), as rosbag's reader orders them.
+_TF_AT_A_TIE = "right"
+
+
+@dataclass(frozen=True)
+class _Chain:
+    """The edges between a frame and the target, and what tf2 knows of the chain as they fill: after
+    each of ``times`` (from when every edge had arrived), the latest common time (0 where every edge
+    is static) and whether a lookup at time 0 succeeds (the latest common time inside every edge)."""
+
+    edges: list[_Edge]
+    times: Int64Array
+    common: Int64Array
+    latest_ok: BoolArray
+
+    @staticmethod
+    def of(edges: list[_Edge]) -> _Chain:
+        if not edges or any(not len(e.records) for e in edges):
+            empty = np.zeros(0, np.int64)
+            return _Chain(edges, empty, empty, np.zeros(0, np.bool_))
+        connected = max(int(e.records[0]) for e in edges)
+        moving = [e for e in edges if not e.static]
+        times = np.unique(np.concatenate([[connected], *(e.records[e.records > connected] for e in moving)]))
+        if not moving:
+            return _Chain(edges, times, np.zeros(len(times), np.int64), np.ones(len(times), np.bool_))
+        common = np.min(np.stack([e.newest_at(times) for e in moving]), axis=0)
+        oldest = np.max(np.stack([e.oldest_at(times) for e in moving]), axis=0)
+        return _Chain(edges, times, common, np.asarray(oldest <= common, np.bool_))
+
+    def out_the_back(self, stamps: Int64Array, cache_time: int) -> Int64Array:
+        """When tf2 first finds each of ``stamps`` plus the cache before the latest common time
+        (``BufferCore::testTransformableRequests``' TransformFailure), else NEVER."""
+        index = np.searchsorted(self.common, stamps + cache_time, side="right")
+        return _at(self.times, index)
+
+    def latest(self, arrived: Int64Array) -> tuple[BoolArray, Int64Array]:
+        """For stamp-0 messages arriving at ``arrived``: transformable then, and the first tf arrival
+        after it that makes them transformable (NEVER if none)."""
+        index = np.searchsorted(self.times, arrived, side=_TF_AT_A_TIE) - 1
+        now = (index >= 0) & self.latest_ok[np.maximum(index, 0)] if len(self.times) else np.zeros(len(arrived), bool)
+        ok = np.flatnonzero(self.latest_ok)
+        after = np.searchsorted(ok, index + 1, side="left")
+        return np.asarray(now, np.bool_), _at(self.times, _at(ok, after).clip(max=len(self.times)))
 
 
 def message_fates(
@@ -135,35 +205,79 @@ def message_fates(
     n = len(messages)
     fate = np.zeros(n, np.int8)
     ready = np.full(n, NEVER, np.int64)
+    left = np.full(n, NEVER, np.int64)
     lag = np.zeros(n, np.int64)
     decided: list[tuple[str, str] | None] = [None] * n
     for frame_index, frame_id in enumerate(messages.frame_ids):
         rows = np.flatnonzero(messages.frame == frame_index)
         if not len(rows):
             continue
-        chain = _chain(buffer, target, frame_id.removeprefix("/"), cache_time)
-        if isinstance(chain, Fate):
-            fate[rows] = chain
-            continue
-        arrived, stamps = messages.record_time[rows], messages.stamp[rows]
-        fate[rows], ready[rows], lag[rows], limiting = _judge(chain, arrived, stamps, end)
-        for row, edge in zip(rows.tolist(), limiting, strict=True):
-            decided[row] = edge
-    return Fates(fate, ready, decided, lag)
+        for group, chain in _chains(buffer, target, frame_id.removeprefix("/"), messages.stamp[rows], cache_time):
+            mine = rows[group]
+            if isinstance(chain, Fate):
+                fate[mine] = chain
+                if chain == Fate.EMPTY_FRAME:
+                    left[mine] = messages.record_time[mine]
+                continue
+            arrived, stamps = messages.record_time[mine], messages.stamp[mine]
+            fate[mine], ready[mine], left[mine], lag[mine], limiting = _judge(chain, arrived, stamps, end, cache_time)
+            for row, edge in zip(mine.tolist(), limiting, strict=True):
+                decided[row] = edge
+    return Fates(fate, ready, decided, lag, left)
 
 
-def _chain(buffer: Buffer, target: str, frame: str, cache_time: int) -> list[_Edge] | Fate:
-    """The edges between ``frame`` and ``target`` in the tree as it ended, as a listener filled them."""
+def _chains(
+    buffer: Buffer, target: str, frame: str, stamps: Int64Array, cache_time: int
+) -> Iterator[tuple[IntpArray | slice, _Chain | Fate]]:
+    """The messages of one frame (those of ``stamps``) grouped by the chain tf2 walks for them: each
+    edge's parent at the message's stamp, as ``Buffer.chain`` walks it, where a frame on the way changed
+    parent; else the tree as it ended. A frame tf2 cannot reach from the target gets its ``Fate``."""
+    if not frame:
+        yield slice(None), Fate.EMPTY_FRAME
+        return
     try:
         frames = buffer.chain(target, frame)
     except UnknownFrameError:
-        return Fate.UNKNOWN_FRAME if not buffer.has_frame(frame) else Fate.NOT_CONNECTED
+        yield slice(None), Fate.UNKNOWN_FRAME if not buffer.has_frame(frame) else Fate.NOT_CONNECTED
+        return
     except TransformError:
-        return Fate.NOT_CONNECTED
-    return [_edge_of(parent, child, buffer, cache_time) for parent, child in chain_edges(buffer, frames)]
+        yield slice(None), Fate.NOT_CONNECTED
+        return
+    if not any(_reparented(buffer, f) for f in frames):
+        yield slice(None), _Chain.of([_edge_of(p, c, buffer, cache_time) for p, c in chain_edges(buffer, frames)])
+        return
+    walked: dict[tuple[str, ...], list[int]] = {}
+    at_stamp: dict[int, tuple[str, ...]] = {}
+    for i, stamp in enumerate(stamps.tolist()):
+        if stamp not in at_stamp:
+            try:
+                at_stamp[stamp] = tuple(buffer.chain(target, frame, stamp))
+            except TransformError:  # no data at the stamp: the tree as it ended says what it waits for
+                at_stamp[stamp] = tuple(frames)
+        walked.setdefault(at_stamp[stamp], []).append(i)
+    for path, group in walked.items():
+        edges = [_edge_of(p, c, buffer, cache_time) for p, c in _path_edges(buffer, path)]
+        yield np.array(group, np.intp), _Chain.of(edges)
+
+
+def _reparented(buffer: Buffer, frame: str) -> bool:
+    hist = buffer.history(frame)
+    return hist is not None and len(hist) > 0 and bool(hist.parents.min() != hist.parents.max())
+
+
+def _path_edges(buffer: Buffer, frames: Sequence[str]) -> list[tuple[str, str]]:
+    """The (parent, child) edges of a walked path: a neighbour that ever was a frame's parent is it."""
+    edges = []
+    for a, b in itertools.pairwise(frames):
+        hist = buffer.history(a)
+        parents = {buffer.frame_name(int(p)) for p in np.unique(hist.parents)} if hist is not None else set()
+        edges.append((b, a) if b in parents else (a, b))
+    return edges
 
 
 def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int) -> _Edge:
+    """The child's cache as a listener filled it: every sample of the frame, whatever its parent (tf2
+    keeps one cache per frame)."""
     hist = buffer.history(child)
     assert hist is not None
     order = np.argsort(hist.sequence, kind="stable")  # arrival order
@@ -186,7 +300,7 @@ def _oldest_held(stamps: Int64Array, newest: Int64Array, cache_time: int) -> Int
         while held[0] < limit:  # the limit never goes down, so a dropped stamp never comes back
             heapq.heappop(held)
         oldest[i] = held[0]
-    return oldest
+    return np.maximum.accumulate(oldest)  # a late sample below the oldest held refills little: ignored
 
 
 def recording_end(buffer: Buffer, streams: Sequence[StampedMessages]) -> int:
@@ -197,39 +311,54 @@ def recording_end(buffer: Buffer, streams: Sequence[StampedMessages]) -> int:
 
 
 def _judge(
-    chain: list[_Edge], arrived: Int64Array, stamps: Int64Array, end: int
-) -> tuple[Int8Array, Int64Array, Int64Array, list[tuple[str, str] | None]]:
-    """Fate, ready time, lag and deciding edge of messages of one frame, in a recording ending at ``end``."""
+    chain: _Chain, arrived: Int64Array, stamps: Int64Array, end: int, cache_time: int
+) -> tuple[Int8Array, Int64Array, Int64Array, Int64Array, list[tuple[str, str] | None]]:
+    """Fate, ready time, leaving time, lag and deciding edge of messages of one chain, in a recording
+    ending at ``end``: tf2's rule, as the module says."""
     n = len(stamps)
-    if not chain:  # the frame is the target itself
-        return np.zeros(n, np.int8), arrived.copy(), np.zeros(n, np.int64), [None] * n
-    first = np.stack([e.first_ready(stamps) for e in chain])
-    last = np.stack([e.last_ready(stamps) for e in chain])
+    edges = chain.edges
+    if not edges:  # the frame is the target itself
+        return np.zeros(n, np.int8), arrived.copy(), arrived.copy(), np.zeros(n, np.int64), [None] * n
+    first = np.stack([e.first_ready(stamps) for e in edges])
+    last = np.stack([e.last_ready(stamps) for e in edges])
     waited_for, dropped_by = np.argmax(first, axis=0), np.argmin(last, axis=0)
     ready_from, ready_until = first.max(axis=0), last.min(axis=0)
-    ready = np.maximum(arrived, ready_from)
-    fate = np.where(ready_from <= arrived, Fate.ON_ARRIVAL, Fate.LATER).astype(np.int8)
-    fate[ready_from == NEVER] = Fate.NEEDS_NEWER_TF
-    fate[(ready_from != NEVER) & (ready >= ready_until)] = Fate.OLDER_THAN_CACHE
-    ready[fate >= Fate.NEEDS_NEWER_TF] = NEVER
-    deciding = np.where(fate == Fate.OLDER_THAN_CACHE, dropped_by, waited_for)
-    # What the recording cut off: tf that began after the stamp, ended before the message came, or
-    # was still coming when the recording stopped (its next transform would have come after the end).
-    began = np.array([e.oldest.min() if len(e.oldest) else NEVER for e in chain])[deciding]
-    ended = np.array([e.records[-1] if len(e.records) else 0 for e in chain])[deciding]
-    reach = np.stack([e.would_reach(stamps, end) for e in chain])[deciding, np.arange(n)]
-    fate[(fate == Fate.OLDER_THAN_CACHE) & (stamps < began)] = Fate.BEFORE_RECORDED_TF
-    fate[(fate == Fate.NEEDS_NEWER_TF) & ((ended <= arrived) | reach)] = Fate.AFTER_RECORDED_TF
-    newest = np.stack([e.newest_at(arrived) for e in chain])
+    tie = arrived + (1 if _TF_AT_A_TIE == "right" else 0)  # a tf arrival at or before this is before the message
+    now = (ready_from < tie) & (tie <= ready_until)
+    passes = np.where((ready_from >= tie) & (ready_from < ready_until), ready_from, NEVER)
+    zero = stamps == 0
+    if zero.any():
+        now[zero], passes[zero] = chain.latest(arrived[zero])
+    dropped = chain.out_the_back(stamps, cache_time)
+    fate = np.full(n, Fate.OLDER_THAN_CACHE, np.int8)
+    fate[passes < dropped] = Fate.LATER
+    fate[dropped < tie] = Fate.OUT_THE_BACK
+    fate[now] = Fate.ON_ARRIVAL
+    ready = np.where(fate == Fate.LATER, passes, NEVER)
+    ready[now] = arrived[now]
+    left = np.where(np.isin(fate, (Fate.ON_ARRIVAL, Fate.OUT_THE_BACK)), arrived, np.minimum(passes, dropped))
+    # Still waiting when the recording ended: for newer tf (lost if its edge had stopped, undecided if it
+    # was still publishing), or for nothing (the cache had dropped its stamp, lost).
+    waiting = (left == NEVER) & (ready_from == NEVER)
+    reach = np.stack([e.would_reach(stamps, end) for e in edges])[waited_for, np.arange(n)]
+    fate[waiting] = np.where(reach[waiting], Fate.AFTER_RECORDED_TF, Fate.NEEDS_NEWER_TF)
+    # Dropped for its age after a wait, stamped before the recording's tf of an edge began: a listener
+    # started before the recording might have had that tf.
+    began = max((int(e.oldest.min()) for e in edges if not e.static and len(e.oldest)), default=0)
+    fate[(fate == Fate.OLDER_THAN_CACHE) & (stamps < began) & ~zero] = Fate.BEFORE_RECORDED_TF
+    deciding = np.where(np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.OUT_THE_BACK)), dropped_by, waited_for)
+    newest = np.stack([e.newest_at(arrived) for e in edges])
     lag = np.maximum(stamps - newest[deciding, np.arange(n)], 0)
-    lag[(fate == Fate.OLDER_THAN_CACHE) | (fate == Fate.BEFORE_RECORDED_TF)] = 0
-    keys = [e.key for e in chain]
-    edges = [keys[i] if f != Fate.ON_ARRIVAL else None for i, f in zip(deciding.tolist(), fate.tolist(), strict=True)]
-    return fate, ready, lag, edges
+    lag[np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.OUT_THE_BACK, Fate.BEFORE_RECORDED_TF)) | zero] = 0
+    keys = [e.key for e in edges]
+    limiting = [keys[i] if f != Fate.ON_ARRIVAL else None for i, f in zip(deciding.tolist(), fate.tolist(), strict=True)]
+    return fate, ready, left, lag, limiting
 
 
 def _at(values: Int64Array, index: IntpArray) -> Int64Array:
     """``values[index]``, NEVER where the index is past the end."""
+    if not len(values):
+        return np.full(len(index), NEVER, np.int64)
     inside = index < len(values)
     return np.where(inside, values[np.minimum(index, len(values) - 1)], NEVER)
 
@@ -252,9 +381,9 @@ class StreamReport:
     messages: int
     on_arrival: int
     later: int
-    never: int  # lost for good (``LOST``); the undecided ones are only in ``reasons``
+    never: int  # lost for good (``LOST``)
     wait_s: dict[str, float]  # p50, p95, p99, max of the waits of the messages transformed later
-    reasons: dict[str, int]  # why messages were never transformable
+    reasons: dict[str, int]  # why the ``never`` ones were lost (their counts add up to ``never``)
     late_edge: tuple[str, str] | None  # the edge most of the waits were for
     late_by_s: float  # that edge's median lag behind the stamps, when they arrived
     wait_needed_s: float | None  # the smallest timeout keeping KEEP (None: no timeout can)
@@ -262,6 +391,7 @@ class StreamReport:
     cache_needed_s: float | None  # the smallest cache keeping KEEP, where the cache loses messages
     dropped_by_wait: int | None = None  # with a timeout: messages lost (waited longer, or never)
     dropped_by_queue: int | None = None  # with a queue size: messages lost (pushed out, or never)
+    undecided: dict[str, int] = field(default_factory=dict)  # what the recording cannot tell, and why
 
 
 @dataclass(frozen=True)
@@ -342,6 +472,7 @@ def _stream_report(
     late_edge = max(set(late), key=late.count) if late else None
     lags = fates.lag[[i for i in later if fates.edge[i] == late_edge]]
     never = int(sum(counts[f] for f in LOST))
+    later_mask = fates.fate == Fate.LATER
     return StreamReport(
         topic=stream.topic,
         type=stream.type,
@@ -351,14 +482,15 @@ def _stream_report(
         later=int(counts[Fate.LATER]),
         never=never,
         wait_s=_percentiles(waits),
-        reasons={Fate(code).reason: int(n) for code, n in enumerate(counts) if code >= Fate.UNKNOWN_FRAME and n},
+        reasons={Fate(code).reason: int(counts[code]) for code in LOST if counts[code]},
         late_edge=late_edge,
         late_by_s=float(np.median(lags)) / 1e9 if len(lags) else 0.0,
         wait_needed_s=_wait_needed(fates, stream),
         queue_needed=_queue_needed(fates, stream),
         cache_needed_s=_cache_needed(buffer, stream, target, fates, end),
         dropped_by_wait=None if wait is None else int(never + (waits > wait).sum()),
-        dropped_by_queue=None if queue is None else _dropped_by_queue(fates, stream, queue),
+        dropped_by_queue=None if queue is None else int(never + (pushed_out(fates, stream, queue) & later_mask).sum()),
+        undecided={Fate(code).reason: int(counts[code]) for code in UNDECIDED if counts[code]},
     )
 
 
@@ -379,45 +511,96 @@ def _wait_needed(fates: Fates, stream: StampedMessages) -> float | None:
 
 
 def _queue_needed(fates: Fates, stream: StampedMessages) -> int:
-    """The most messages waiting at once (those that would become transformable): a queue that long drops none."""
-    waiting = fates.fate == Fate.LATER
-    if not waiting.any():
+    """The smallest queue under which every message that passes with an unlimited one still passes:
+    the most messages held at once from the oldest waiting one that will pass on, every held message
+    counted (those that never pass hold a slot too, until tf2 drops them or for good)."""
+    later = fates.fate == Fate.LATER
+    if not later.any():
         return 0
-    arrivals, readies = stream.record_time[waiting], np.sort(fates.ready[waiting])
-    pending = np.arange(1, len(arrivals) + 1) - np.searchsorted(readies, arrivals, side="right")
-    return int(pending.max())
+    queued = np.flatnonzero(fates.queued())
+    order = queued[np.argsort(stream.record_time[queued], kind="stable")]
+    arrived, left, passes = stream.record_time[order], fates.left[order], later[order]
+    # A message is pushed out when it and the held messages that arrived after it exceed the queue (the
+    # oldest goes first): so at each arrival, count the held ones from the oldest held that will pass.
+    held = _Counts(len(order))
+    leaving: list[tuple[int, int]] = []  # (left, position) of the held messages
+    passing: list[int] = []  # positions of the held messages that will pass
+    needed = 0
+    for i, (t, out, good) in enumerate(zip(arrived.tolist(), left.tolist(), passes.tolist(), strict=True)):
+        while leaving and leaving[0][0] <= t:  # left before (or as, a tf first at a tie) it arrived
+            held.add(heapq.heappop(leaving)[1], -1)
+        held.add(i, 1)
+        heapq.heappush(leaving, (out, i))
+        if good:
+            heapq.heappush(passing, i)
+        while passing and left[passing[0]] <= t:
+            heapq.heappop(passing)
+        if passing:
+            needed = max(needed, held.total() - held.before(passing[0]))
+    return needed
 
 
-def _dropped_by_queue(fates: Fates, stream: StampedMessages, queue: int) -> int:
-    """Messages lost by a filter holding at most ``queue`` waiting messages (the oldest pushed out), or never ready."""
-    dropped = 0
-    waiting: list[tuple[int, int]] = []  # (ready, arrival order) of the messages held
-    held: dict[int, None] = {}  # arrival order -> held, oldest first
+class _Counts:
+    """A Fenwick tree: counts at positions, and the sum of those before a position, in log time."""
+
+    def __init__(self, size: int) -> None:
+        self._tree = [0] * (size + 1)
+        self._total = 0
+
+    def add(self, position: int, count: int) -> None:
+        self._total += count
+        position += 1
+        while position < len(self._tree):
+            self._tree[position] += count
+            position += position & -position
+
+    def before(self, position: int) -> int:
+        total = 0
+        while position > 0:
+            total += self._tree[position]
+            position -= position & -position
+        return total
+
+    def total(self) -> int:
+        return self._total
+
+
+def pushed_out(fates: Fates, stream: StampedMessages, queue: int) -> BoolArray:
+    """The messages a filter holding at most ``queue`` messages pushes out (the oldest first), as
+    ``tf2_ros::MessageFilter::add`` does when one more would not fit."""
+    out = np.zeros(len(stream), np.bool_)
+    leaving: list[tuple[int, int]] = []  # (left, message) of the messages held
+    held: dict[int, None] = {}  # message -> held, oldest first
     for i in np.argsort(stream.record_time, kind="stable").tolist():
-        arrived = int(stream.record_time[i])
-        while waiting and waiting[0][0] <= arrived:
-            held.pop(heapq.heappop(waiting)[1], None)
-        if fates.fate[i] == Fate.ON_ARRIVAL:
+        if not _entered(fates, i):
             continue
-        held[i] = None
-        if fates.fate[i] == Fate.LATER:
-            heapq.heappush(waiting, (int(fates.ready[i]), i))
-        elif fates.fate[i] in LOST:
-            dropped += 1  # never ready: lost whatever the queue
-        if len(held) > queue:
+        arrived = int(stream.record_time[i])
+        while leaving and leaving[0][0] <= arrived:
+            held.pop(heapq.heappop(leaving)[1], None)
+        if len(held) + 1 > queue:
             oldest = next(iter(held))
             del held[oldest]
-            dropped += int(fates.fate[oldest] == Fate.LATER)
-    return dropped
+            out[oldest] = True
+        held[i] = None
+        heapq.heappush(leaving, (int(fates.left[i]), i))
+    return out
+
+
+def _entered(fates: Fates, i: int) -> bool:
+    return int(fates.fate[i]) not in (Fate.ON_ARRIVAL, Fate.OUT_THE_BACK, Fate.EMPTY_FRAME)
 
 
 def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int) -> float | None:
     """The smallest cache (from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length."""
-    if not (fates.fate == Fate.OLDER_THAN_CACHE).any():
+    if not np.isin(fates.fate, AGED).any():
         return None
     allowed = (1 - KEEP) * fates.decided
     for seconds in CACHES_S:
         tried = message_fates(buffer, stream, target, seconds * NS_PER_S, end)
-        if (tried.fate == Fate.OLDER_THAN_CACHE).sum() <= allowed:
+        if np.isin(tried.fate, AGED).sum() <= allowed:
             return float(seconds)
     return None
+
+
+#: The messages lost to the cache's length: too old on arrival, or by the time tf reached them.
+AGED = (Fate.OLDER_THAN_CACHE, Fate.OUT_THE_BACK)

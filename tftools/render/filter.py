@@ -21,8 +21,8 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
     table = Table(title=Text(title, style="bold"), title_justify="left", show_lines=False)
     for name, justify in (
         ("Topic", "left"), ("Frames", "left"), ("Msgs", "right"), ("On arrival", "right"), ("Later", "right"),
-        ("Wait p50 / p99 / max (s)", "right"), ("Never", "right"), ("Why never", "left"), ("Waited for", "left"),
-        (f"To keep {KEEP:.1%}", "left"),
+        ("Wait p50 / p99 / max (s)", "right"), ("Never", "right"), ("Why never", "left"), ("Undecided", "left"),
+        ("Waited for", "left"), (f"To keep {KEEP:.1%}", "left"),
     ):  # fmt: skip
         table.add_column(name, justify=justify)  # type: ignore[arg-type]
     for s in report.streams:
@@ -34,7 +34,8 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
             Text(str(s.later), style="yellow" if s.later else ""),
             f"{s.wait_s['p50']:.3f} / {s.wait_s['p99']:.3f} / {s.wait_s['max']:.3f}" if s.later else "",
             Text(str(s.never), style="bold red" if s.never else ""),
-            Text(", ".join(f"{reason.replace('_', ' ')} {n}" for reason, n in s.reasons.items())),
+            Text(_counted(s.reasons)),
+            Text(_counted(s.undecided), style="dim"),
             Text(printable(_late(s))),
             Text(_advice(s)),
         )
@@ -44,6 +45,10 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
         skipped = printable(", ".join(report.skipped))
         parts.append(Text(f"with a header but no frame_id (not tied to tf): {skipped}", style="dim"))
     return Group(*parts)
+
+
+def _counted(reasons: dict[str, int]) -> str:
+    return ", ".join(f"{reason.replace('_', ' ')} {n}" for reason, n in reasons.items())
 
 
 def _late(s: StreamReport) -> str:

@@ -74,15 +74,20 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
 @register("sensor_lost", Severity.warning, "sensor data a MessageFilter loses for good (tf too late, or too old)")
 def sensor_lost(scene: Scene) -> Iterator[Finding]:
     for s in scene.sensors.streams:
-        lost = s.reasons.get("needs_newer_tf", 0) + s.reasons.get("older_than_cache", 0)
+        lost = sum(s.reasons.get(r, 0) for r in ("needs_newer_tf", "older_than_cache", "out_the_back"))
         if lost <= LOST_SHARE * s.messages:
             continue
         why = []
+        cache = f" (a cache of {s.cache_needed_s:g} s would keep them)" if s.cache_needed_s else ""
+        if s.reasons.get("out_the_back"):
+            why.append(f"{s.reasons['out_the_back']} already older than the {scene.sensors.cache_s:g} s cache when they "
+                       f"arrived{cache}")
+            cache = ""
         if s.reasons.get("older_than_cache"):
-            cache = f" (a cache of {s.cache_needed_s:g} s would keep them)" if s.cache_needed_s else ""
-            why.append(f"{s.reasons['older_than_cache']} older than the {scene.sensors.cache_s:g} s cache holds{cache}")
+            why.append(f"{s.reasons['older_than_cache']} older than the {scene.sensors.cache_s:g} s cache holds by the "
+                       f"time tf reached them{cache}")
         if s.reasons.get("needs_newer_tf"):
-            why.append(f"{s.reasons['needs_newer_tf']} stamped after the newest tf that ever came")
+            why.append(f"{s.reasons['needs_newer_tf']} waiting for tf that stopped before reaching their stamps")
         yield Finding(
             Severity.warning,
             "sensor_lost",

@@ -1,0 +1,187 @@
+"""One reproducer per way ``tfx filter`` once differed from the real ``tf2_ros::MessageFilter`` (issue 29):
+each scene is a case of the designed bag (tests/oracle/msgfilter/make_designed_bag.py), whose answers the
+real filter gives in tests/oracle/test_msgfilter.py; here the rule alone, without ROS."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from tests.analysis.wtf_scenes import TfMessage, recording
+from tftools.analysis.filter import NEVER, Fate, Fates, filter_report, message_fates, pushed_out
+from tftools.core.buffer import Buffer
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.render.filter import renderable
+from tftools.sources.contents import StampedMessages
+
+T0 = 1_700_000_000 * NS_PER_S
+MS = 1_000_000
+SECONDS = 30
+
+
+def _t(parent: str, child: str, stamp: int, x: float = 0.1) -> Transform:
+    return Transform.from_rpy((x, 0.0, 0.0), (0.0, 0.0, 0.0), stamp, parent, child)
+
+
+def _grid(hz: int, start_s: float = 0.0, end_s: float = SECONDS) -> list[int]:
+    count = round((end_s - start_s) * hz)
+    return [T0 + round(start_s * NS_PER_S) + i * NS_PER_S // hz for i in range(count)]
+
+
+def _moving(parent: str, child: str, hz: int, late: int, start_s: float = 0.0, end_s: float = SECONDS) -> list[TfMessage]:
+    return [TfMessage("/tf", s + late, [_t(parent, child, s, (s - T0) / NS_PER_S)], "/node") for s in _grid(hz, start_s, end_s)]
+
+
+def _static(parent: str, child: str, record: int = T0) -> TfMessage:
+    return TfMessage("/tf_static", record, [_t(parent, child, T0)], "/static")
+
+
+def _buffer(*parts: list[TfMessage] | TfMessage) -> Buffer:
+    messages = [m for p in parts for m in (p if isinstance(p, list) else [p])]
+    return recording(sorted(messages, key=lambda m: m.record_time)).buffer
+
+
+def _stream(rows: Sequence[tuple[int, str, int]], topic: str = "/sensor") -> StampedMessages:
+    """(arrival, frame_id, stamp) rows, in arrival order."""
+    rows = sorted(rows, key=lambda r: r[0])
+    frames = sorted({f for _, f, _ in rows})
+    return StampedMessages(
+        topic,
+        "sensor_msgs/msg/LaserScan",
+        np.array([r[0] for r in rows], np.int64),
+        np.array([r[2] for r in rows], np.int64),
+        np.array([frames.index(f) for _, f, _ in rows], np.int32),
+        frames,
+    )
+
+
+def _base() -> list[TfMessage]:
+    """odom -> base_link at 50 Hz for 30 s, recorded 30 ms after its stamps; base_link -> laser static."""
+    return [*_moving("odom", "base_link", 50, 30 * MS), _static("base_link", "laser")]
+
+
+def _fates(buffer: Buffer, stream: StampedMessages, cache_s: float = 10.0) -> Fates:
+    return message_fates(buffer, stream, "odom", round(cache_s * NS_PER_S))
+
+
+def test_a_message_older_than_the_cache_when_it_arrives_is_dropped_at_once() -> None:
+    """Fault A: clouds stamped 12 s before they arrive (the designed bag's /cloud_old and /cloud_old_early)."""
+    arrivals = [T0 + 300 * MS + i * NS_PER_S // 2 for i in range(56)]
+    stream = _stream([(a, "laser", a - 12 * NS_PER_S) for a in arrivals])
+    buffer = _buffer(_base())
+    fates = _fates(buffer, stream)
+    assert (fates.fate == Fate.OUT_THE_BACK).all()  # tf2: stamp + 10 s is before the latest common time
+    np.testing.assert_array_equal(fates.left, stream.record_time)  # dropped inside add(): never queued
+    report = filter_report(buffer, [stream], "odom").streams[0]
+    assert (report.never, report.reasons, report.undecided) == (56, {"out_the_back": 56}, {})
+    assert report.cache_needed_s == 15.0  # 12 s behind: a 15 s cache keeps them
+
+
+def test_the_waiters_of_a_tf_publisher_that_died_never_pass() -> None:
+    """Fault B: odom -> base_dead stops 10 s into a 30 s recording (/scan_dead); a scan waiting for it is
+    lost. Only an edge still publishing at the end leaves its last waiters undecided."""
+    tf = [*_base(), *_moving("odom", "base_dead", 20, 5 * MS, end_s=10.0), _static("base_dead", "laser_dead")]
+    stamps = _grid(20)
+    scans = [(s + 45 * MS, "laser", s + 40 * MS) for s in stamps]  # the last stamped after base_link's last
+    stream = _stream([(s + 10 * MS, "laser_dead", s) for s in stamps] + scans)
+    fates = _fates(_buffer(tf), stream)
+    dead = stream.frame == stream.frame_ids.index("laser_dead")
+    after = dead & (stream.stamp >= T0 + 10 * NS_PER_S)
+    assert (fates.fate[after] == Fate.NEEDS_NEWER_TF).all() and after.sum() == 400
+    assert (fates.left[after] == NEVER).all()  # waiting for good, a slot of the queue each
+    assert (fates.fate[dead & ~after] == Fate.ON_ARRIVAL).all()
+    laser = np.flatnonzero(stream.frame == stream.frame_ids.index("laser"))  # base_link publishes to the end:
+    assert fates.fate[laser[-1]] == Fate.AFTER_RECORDED_TF  # the last scan's tf would have come after it
+    assert (fates.fate[laser[:-1]] == Fate.LATER).all()
+    report = filter_report(_buffer(tf), [stream], "odom").streams[0]
+    assert report.reasons == {"needs_newer_tf": 400} and report.undecided == {"after_recorded_tf": 1}
+
+
+def test_a_reparented_frame_is_walked_through_its_parent_at_the_stamp() -> None:
+    """Fault C: tool under base_link (30 ms late) until 15 s, then under odom (/tool_points): clouds of the
+    first half wait for base_link, those of the second do not."""
+    tf = [*_base(), *_moving("base_link", "tool", 20, 5 * MS, end_s=15.0), *_moving("odom", "tool", 20, 5 * MS, 15.0)]
+    stream = _stream([(s + 10 * MS, "tool", s) for s in _grid(20)])
+    fates = _fates(_buffer(tf), stream)
+    first = stream.stamp < T0 + 15 * NS_PER_S
+    assert (fates.fate[first] == Fate.LATER).all()
+    waits = fates.ready[first] - stream.record_time[first]  # for base_link's next stamp, 30 ms late
+    assert set(waits.tolist()) == {20 * MS, 30 * MS}
+    assert {fates.edge[i] for i in np.flatnonzero(first)} == {("odom", "base_link")}
+    assert (fates.fate[~first][:-1] == Fate.ON_ARRIVAL).all()
+
+
+def test_the_suggested_queue_counts_the_messages_that_never_pass() -> None:
+    """Fault D: /scan_multi, 100 Hz alternating 'laser' (waiting ~30 ms for its tf) and 'laser_rear' (a frame
+    no transform names, waiting for good): the real filter with the suggested queue keeps every laser scan;
+    one slot less loses some."""
+    rows = [(s + 5 * MS, "laser" if i % 2 == 0 else "laser_rear", s + 4 * MS) for i, s in enumerate(_grid(100))]
+    stream = _stream(rows)
+    buffer = _buffer(_base())
+    fates = _fates(buffer, stream)
+    later = fates.fate == Fate.LATER
+    rear = stream.frame == stream.frame_ids.index("laser_rear")
+    assert later.sum() == 1499 and (fates.fate[rear] == Fate.UNKNOWN_FRAME).all()
+    queue = filter_report(buffer, [stream], "odom").streams[0].queue_needed
+    assert not (pushed_out(fates, stream, queue) & later).any()
+    assert (pushed_out(fates, stream, queue - 1) & later).any()
+    assert queue > 3  # what only the passing messages held at once would suggest
+    report = filter_report(buffer, [stream], "odom", queue=queue).streams[0]
+    assert report.dropped_by_queue == report.never  # only the unknown frame's
+
+
+def test_a_stamp_0_message_never_waits() -> None:
+    """Fault F: stamp 0 asks for the latest common time; it passes at arrival only where that time is
+    inside every edge's cache, and is dropped at arrival or as soon as its frame is known otherwise
+    (/scan_zero, /scan_zero_late)."""
+    arm = [*_moving("base_link", "arm", 20, 5 * MS, end_s=5.0), _static("arm", "hand")]  # arm stops at 5 s
+    late_static = _static("base_link", "laser_ls", T0 + 8 * NS_PER_S)
+    tf = [*_base(), *arm, late_static]
+    arrivals = [T0 + 110 * MS + i * NS_PER_S // 5 for i in range(145)]
+    stream = _stream(
+        [(a, "laser", 0) for a in arrivals] + [(a + MS, "hand", 0) for a in arrivals] + [(a + 2 * MS, "laser_ls", 0) for a in arrivals]
+    )
+    fates = _fates(_buffer(tf), stream)
+
+    def of(frame: str) -> np.ndarray:
+        return np.flatnonzero(stream.frame == stream.frame_ids.index(frame))
+
+    assert (fates.fate[of("laser")] == Fate.ON_ARRIVAL).all()
+    hand = fates.fate[of("hand")]  # the latest common time is arm's last stamp: base_link's cache drops it
+    hand_at = stream.record_time[of("hand")]  # 10 s after arm stopped
+    assert (hand[hand_at < T0 + 15 * NS_PER_S] == Fate.ON_ARRIVAL).all()
+    assert (hand[hand_at > T0 + 15 * NS_PER_S + 100 * MS] == Fate.OUT_THE_BACK).all()
+    late = of("laser_ls")  # unknown until 8 s: waits, then dropped by the transform that makes it known
+    before = stream.record_time[late] < T0 + 8 * NS_PER_S
+    assert (fates.fate[late[before]] == Fate.OLDER_THAN_CACHE).all()
+    assert (fates.left[late[before]] == T0 + 8 * NS_PER_S).all()
+    assert (fates.fate[late[~before]] == Fate.ON_ARRIVAL).all()
+
+
+def test_the_counts_add_up() -> None:
+    """Issue 30: 'before recorded tf' was listed under 'why never' while 'never' was 0. Messages stamped
+    before the recording's tf began (/scan_early) are undecided, apart from those lost."""
+    tf = [*_base(), *_moving("odom", "early_base", 20, 30 * MS), _static("early_base", "early_laser")]
+    early = [(T0 + i * MS, "early_laser", T0 - 200 * MS) for i in (1, 2, 3)]
+    typo = [(s + 5 * MS, "lazer", s) for s in _grid(10)]
+    stream = _stream(early + typo)
+    buffer = _buffer(tf)
+    fates = _fates(buffer, stream)
+    assert (fates.fate[:3] == Fate.BEFORE_RECORDED_TF).all()
+    np.testing.assert_array_equal(fates.left[:3], T0 + 9_850 * MS + 30 * MS)  # when 9.85 s arrived: 9.8 + 10 s
+    report = filter_report(buffer, [stream], "odom").streams[0]
+    assert report.never == sum(report.reasons.values()) == 300
+    assert report.undecided == {"before_recorded_tf": 3}
+    assert report.on_arrival + report.later + report.never + sum(report.undecided.values()) == report.messages
+    text = _text(filter_report(buffer, [stream], "odom"))
+    assert "unknown frame 300" in text and "before recorded tf 3" in text
+
+
+def _text(report: object) -> str:
+    from rich.console import Console
+
+    console = Console(width=250, record=True)
+    console.print(renderable(report))  # type: ignore[arg-type]
+    return console.export_text()
