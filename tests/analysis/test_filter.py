@@ -118,7 +118,7 @@ def test_each_message_says_why_it_waited_or_was_lost() -> None:
     assert (of("imu") == Fate.ON_ARRIVAL).all() and (of("/base_link") == Fate.ON_ARRIVAL).all()
     assert (of("camra") == Fate.UNKNOWN_FRAME).all() and (of("rig") == Fate.NOT_CONNECTED).all()
     base = of("base_link")  # stamped 1..18 s in, arriving 11 s later: the cache holds 10 s behind the newest tf
-    assert (base == Fate.OLDER_THAN_CACHE).sum() == 9 and (base == Fate.ON_ARRIVAL).sum() == 9  # (which ends at 20 s)
+    assert (base == Fate.TOO_OLD_ON_ARRIVAL).sum() == 9 and (base == Fate.ON_ARRIVAL).sum() == 9  # (to 20 s)
     assert (base == Fate.NEEDS_NEWER_TF).sum() == 1  # stamped after the recording's tf ends
     assert (of("odom") == Fate.ON_ARRIVAL).all()  # stamp 0 (the latest) of the target itself
 

@@ -30,8 +30,13 @@ def _grid(hz: int, start_s: float = 0.0, end_s: float = SECONDS) -> list[int]:
     return [T0 + round(start_s * NS_PER_S) + i * NS_PER_S // hz for i in range(count)]
 
 
-def _moving(parent: str, child: str, hz: int, late: int, start_s: float = 0.0, end_s: float = SECONDS) -> list[TfMessage]:
-    return [TfMessage("/tf", s + late, [_t(parent, child, s, (s - T0) / NS_PER_S)], "/node") for s in _grid(hz, start_s, end_s)]
+def _moving(
+    parent: str, child: str, hz: int, late: int, start_s: float = 0.0, end_s: float = SECONDS
+) -> list[TfMessage]:
+    return [
+        TfMessage("/tf", s + late, [_t(parent, child, s, (s - T0) / NS_PER_S)], "/node")
+        for s in _grid(hz, start_s, end_s)
+    ]
 
 
 def _static(parent: str, child: str, record: int = T0) -> TfMessage:
@@ -72,10 +77,10 @@ def test_a_message_older_than_the_cache_when_it_arrives_is_dropped_at_once() -> 
     stream = _stream([(a, "laser", a - 12 * NS_PER_S) for a in arrivals])
     buffer = _buffer(_base())
     fates = _fates(buffer, stream)
-    assert (fates.fate == Fate.OUT_THE_BACK).all()  # tf2: stamp + 10 s is before the latest common time
+    assert (fates.fate == Fate.TOO_OLD_ON_ARRIVAL).all()  # tf2: stamp + 10 s is before the latest common time
     np.testing.assert_array_equal(fates.left, stream.record_time)  # dropped inside add(): never queued
     report = filter_report(buffer, [stream], "odom").streams[0]
-    assert (report.never, report.reasons, report.undecided) == (56, {"out_the_back": 56}, {})
+    assert (report.never, report.reasons, report.undecided) == (56, {"too_old_on_arrival": 56}, {})
     assert report.cache_needed_s == 15.0  # 12 s behind: a 15 s cache keeps them
 
 
@@ -141,7 +146,9 @@ def test_a_stamp_0_message_never_waits() -> None:
     tf = [*_base(), *arm, late_static]
     arrivals = [T0 + 110 * MS + i * NS_PER_S // 5 for i in range(145)]
     stream = _stream(
-        [(a, "laser", 0) for a in arrivals] + [(a + MS, "hand", 0) for a in arrivals] + [(a + 2 * MS, "laser_ls", 0) for a in arrivals]
+        [(a, "laser", 0) for a in arrivals]
+        + [(a + MS, "hand", 0) for a in arrivals]
+        + [(a + 2 * MS, "laser_ls", 0) for a in arrivals]
     )
     fates = _fates(_buffer(tf), stream)
 
@@ -152,7 +159,7 @@ def test_a_stamp_0_message_never_waits() -> None:
     hand = fates.fate[of("hand")]  # the latest common time is arm's last stamp: base_link's cache drops it
     hand_at = stream.record_time[of("hand")]  # 10 s after arm stopped
     assert (hand[hand_at < T0 + 15 * NS_PER_S] == Fate.ON_ARRIVAL).all()
-    assert (hand[hand_at > T0 + 15 * NS_PER_S + 100 * MS] == Fate.OUT_THE_BACK).all()
+    assert (hand[hand_at > T0 + 15 * NS_PER_S + 100 * MS] == Fate.TOO_OLD_ON_ARRIVAL).all()
     late = of("laser_ls")  # unknown until 8 s: waits, then dropped by the transform that makes it known
     before = stream.record_time[late] < T0 + 8 * NS_PER_S
     assert (fates.fate[late[before]] == Fate.OLDER_THAN_CACHE).all()

@@ -95,7 +95,7 @@ def run(
 AGREE = {
     "on_arrival": {Fate.ON_ARRIVAL},
     "later": {Fate.LATER},
-    "drop_out_the_back": {Fate.OUT_THE_BACK},
+    "drop_out_the_back": {Fate.TOO_OLD_ON_ARRIVAL},
     "drop_waiting": {Fate.OLDER_THAN_CACHE, Fate.BEFORE_RECORDED_TF},
     "drop_empty_frame": {Fate.EMPTY_FRAME},
     "pending_unknown_frame": {Fate.UNKNOWN_FRAME},
@@ -124,9 +124,7 @@ class Agreement:
         return not self.disagree
 
 
-def compare(
-    verdicts: Sequence[Verdict], stream: StampedMessages, fates: Fates, queue: int = 0
-) -> Agreement:
+def compare(verdicts: Sequence[Verdict], stream: StampedMessages, fates: Fates, queue: int = 0) -> Agreement:
     """Per message: the fate (a message the real filter passed, when: the wait to the nanosecond; one it
     dropped while waiting, when), with ``queue`` (0: unlimited) applied to ``fates`` as the filter does."""
     assert len(verdicts) == len(stream), (stream.topic, len(verdicts), len(stream))

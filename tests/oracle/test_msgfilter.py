@@ -127,7 +127,7 @@ def test_each_fault_of_issue_29_is_the_real_filters_answer(oracle: Path, designe
     report = filter_report(read_recording([designed]).buffer, read_stamped([designed]).streams, "odom")
     streams = {s.topic: s for s in report.streams}
     assert streams["/scan_dead"].reasons == {Fate.NEEDS_NEWER_TF.reason: len(dead)}
-    assert streams["/cloud_old"].reasons == {Fate.OUT_THE_BACK.reason: len(verdicts["/cloud_old"])}
+    assert streams["/cloud_old"].reasons == {Fate.TOO_OLD_ON_ARRIVAL.reason: len(verdicts["/cloud_old"])}
     defect = sum(v.outcome == "later_defect" for v in verdicts["/scan_zero_late"])
     assert streams["/scan_zero_late"].reasons == {Fate.OLDER_THAN_CACHE.reason: defect}
     assert streams["/tool_points"].later == 300  # C: the first half waits for base_link, its parent then
@@ -169,5 +169,7 @@ def test_every_message_of_a_real_recording_meets_the_real_filters_fate(
     if not target:
         pytest.skip(f"{bag.name} has no tf to transform into")
     found = agreement(oracle, bag, target, tmp_path / "out.jsonl")
+    if not found:
+        pytest.skip(f"{bag.name} has no topic whose messages start with a Header")
     assert all(a.ok for a in found), _said(found)
     print(f"{bag.name}: {_said(found)}", file=sys.stderr)

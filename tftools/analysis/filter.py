@@ -1,13 +1,28 @@
 """What a ``tf2_ros::MessageFilter`` would have done to each stamped message of a recording.
 
-A MessageFilter holds each message until its ``header.frame_id`` can be transformed into the
-target frame at ``header.stamp``, with only the tf that had arrived so far, in a listener whose
-cache holds ``cache_time`` behind the newest stamp of each edge. Replaying that per message with a
-Python loop over tf messages is slow; here each edge of the chain is reduced to step functions of
-arrival time (the newest stamp held, the oldest stamp still held), and each message to a few
-binary searches on them: transformable at arrival time ``t`` exactly when, for every moving edge,
-the oldest stamp held at ``t`` <= stamp <= the newest stamp held at ``t`` (static edges: once one
-arrived). A message is ready at the first such ``t`` from its arrival on, or never.
+The listener's tf arrives in record order (a transform recorded at the same instant as a message
+first, as rosbag's reader hands them over), its cache ``cache_time`` long behind each frame's newest
+stamp. tf2's rule, per message (``MessageFilter::add`` and ``BufferCore::addTransformableRequest`` /
+``testTransformableRequests``):
+
+- an empty frame_id is dropped at once; a frame that is the target passes at once;
+- transformable at its stamp when it arrives: passed then. A stamp of 0 asks for the chain's latest
+  common time, transformable only where that time is inside every edge's cache;
+- else, where stamp + cache is before the chain's latest common time (the newest stamp every moving
+  edge has reached), dropped at once ("out the back": older than the cache on arrival);
+- else it waits in the queue; after each tf arrival, tf2 first drops it if stamp + cache is now
+  before the latest common time, else passes it if it is transformable. So a stamp-0 message never
+  passes after a wait, and one whose stamp the cache dropped waits until the latest common time
+  passes it;
+- still waiting when the recording ended: lost, unless the edge it waited for was still publishing
+  (then undecided), or its frame is unknown or apart from the target (lost: it waits for good).
+
+Each edge is reduced to step functions of arrival time (the newest and oldest stamp held), and each
+chain to its latest common time after each arrival, so each message is a few binary searches. The
+chain is walked as tf2 walks it: through each frame's parent at the message's stamp. Where tf2 0.7
+(ROS 1) departs from its own rule by a defect (``testTransformableRequests`` hands each callback a
+reference to a loop variable, so a request going out the back can drop another that became
+transformable in the same tf arrival, or pass a stamp-0 one), this follows the rule.
 """
 
 from __future__ import annotations
@@ -17,6 +32,7 @@ import heapq
 import itertools
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
+from typing import Final, Literal
 
 import numpy as np
 
@@ -43,7 +59,7 @@ class Fate(enum.IntEnum):
     OLDER_THAN_CACHE = 5  # never: it waited until the chain's latest common time passed stamp + cache
     BEFORE_RECORDED_TF = 6  # undecided: as OLDER_THAN_CACHE, but stamped before the recording's tf of an edge began
     AFTER_RECORDED_TF = 7  # undecided: still waiting at the end for an edge that was still publishing
-    OUT_THE_BACK = 8  # never: older than the cache already when it arrived, dropped inside add()
+    TOO_OLD_ON_ARRIVAL = 8  # never: older than the cache already when it arrived, dropped inside add()
     EMPTY_FRAME = 9  # never: an empty frame_id, dropped inside add()
 
     @property
@@ -57,10 +73,12 @@ LOST = (
     Fate.NOT_CONNECTED,
     Fate.NEEDS_NEWER_TF,
     Fate.OLDER_THAN_CACHE,
-    Fate.OUT_THE_BACK,
+    Fate.TOO_OLD_ON_ARRIVAL,
     Fate.EMPTY_FRAME,
 )
 UNDECIDED = (Fate.BEFORE_RECORDED_TF, Fate.AFTER_RECORDED_TF)
+#: Messages lost to tf's timing (not to their frame): tf too late, or they too old.
+TF_LOST = (Fate.NEEDS_NEWER_TF, Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL)
 
 
 @dataclass(frozen=True)
@@ -90,7 +108,7 @@ class Fates:
 
     def queued(self) -> BoolArray:
         """The messages that entered the filter's queue (not passed or dropped inside their own add())."""
-        return np.asarray(~np.isin(self.fate, (Fate.ON_ARRIVAL, Fate.OUT_THE_BACK, Fate.EMPTY_FRAME)), np.bool_)
+        return np.asarray(~np.isin(self.fate, (Fate.ON_ARRIVAL, Fate.TOO_OLD_ON_ARRIVAL, Fate.EMPTY_FRAME)), np.bool_)
 
 
 @dataclass(frozen=True)
@@ -147,7 +165,7 @@ class _Edge(Edge):
 
 #: A transform and a message recorded at the same instant: the transform counts as arrived first
 #: ("right": a state at time t includes the tf recorded at t), as rosbag's reader orders them.
-_TF_AT_A_TIE = "right"
+_TF_AT_A_TIE: Final[Literal["left", "right"]] = "right"
 
 
 @dataclass(frozen=True)
@@ -332,11 +350,11 @@ def _judge(
     dropped = chain.out_the_back(stamps, cache_time)
     fate = np.full(n, Fate.OLDER_THAN_CACHE, np.int8)
     fate[passes < dropped] = Fate.LATER
-    fate[dropped < tie] = Fate.OUT_THE_BACK
+    fate[dropped < tie] = Fate.TOO_OLD_ON_ARRIVAL
     fate[now] = Fate.ON_ARRIVAL
     ready = np.where(fate == Fate.LATER, passes, NEVER)
     ready[now] = arrived[now]
-    left = np.where(np.isin(fate, (Fate.ON_ARRIVAL, Fate.OUT_THE_BACK)), arrived, np.minimum(passes, dropped))
+    left = np.where(np.isin(fate, (Fate.ON_ARRIVAL, Fate.TOO_OLD_ON_ARRIVAL)), arrived, np.minimum(passes, dropped))
     # Still waiting when the recording ended: for newer tf (lost if its edge had stopped, undecided if it
     # was still publishing), or for nothing (the cache had dropped its stamp, lost).
     waiting = (left == NEVER) & (ready_from == NEVER)
@@ -346,12 +364,13 @@ def _judge(
     # started before the recording might have had that tf.
     began = max((int(e.oldest.min()) for e in edges if not e.static and len(e.oldest)), default=0)
     fate[(fate == Fate.OLDER_THAN_CACHE) & (stamps < began) & ~zero] = Fate.BEFORE_RECORDED_TF
-    deciding = np.where(np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.OUT_THE_BACK)), dropped_by, waited_for)
+    deciding = np.where(np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL)), dropped_by, waited_for)
     newest = np.stack([e.newest_at(arrived) for e in edges])
     lag = np.maximum(stamps - newest[deciding, np.arange(n)], 0)
-    lag[np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.OUT_THE_BACK, Fate.BEFORE_RECORDED_TF)) | zero] = 0
+    lag[np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL, Fate.BEFORE_RECORDED_TF)) | zero] = 0
     keys = [e.key for e in edges]
-    limiting = [keys[i] if f != Fate.ON_ARRIVAL else None for i, f in zip(deciding.tolist(), fate.tolist(), strict=True)]
+    deciding_list, fate_list = deciding.tolist(), fate.tolist()
+    limiting = [keys[i] if f != Fate.ON_ARRIVAL else None for i, f in zip(deciding_list, fate_list, strict=True)]
     return fate, ready, left, lag, limiting
 
 
@@ -392,6 +411,7 @@ class StreamReport:
     dropped_by_wait: int | None = None  # with a timeout: messages lost (waited longer, or never)
     dropped_by_queue: int | None = None  # with a queue size: messages lost (pushed out, or never)
     undecided: dict[str, int] = field(default_factory=dict)  # what the recording cannot tell, and why
+    lost_edge: tuple[str, str] | None = None  # the edge most of the messages lost to tf were lost for
 
 
 @dataclass(frozen=True)
@@ -468,11 +488,11 @@ def _stream_report(
     counts = np.bincount(fates.fate, minlength=len(Fate))
     waits = fates.waits(stream)
     later = np.flatnonzero(fates.fate == Fate.LATER).tolist()
-    late = [fates.edge[i] for i in later]
-    late_edge = max(set(late), key=late.count) if late else None
+    late_edge = _most([fates.edge[i] for i in later])
     lags = fates.lag[[i for i in later if fates.edge[i] == late_edge]]
     never = int(sum(counts[f] for f in LOST))
     later_mask = fates.fate == Fate.LATER
+    lost = [fates.edge[i] for i in np.flatnonzero(np.isin(fates.fate, TF_LOST)).tolist()]
     return StreamReport(
         topic=stream.topic,
         type=stream.type,
@@ -491,7 +511,13 @@ def _stream_report(
         dropped_by_wait=None if wait is None else int(never + (waits > wait).sum()),
         dropped_by_queue=None if queue is None else int(never + (pushed_out(fates, stream, queue) & later_mask).sum()),
         undecided={Fate(code).reason: int(counts[code]) for code in UNDECIDED if counts[code]},
+        lost_edge=_most(lost),
     )
+
+
+def _most(edges: list[tuple[str, str] | None]) -> tuple[str, str] | None:
+    named = [e for e in edges if e is not None]
+    return max(sorted(set(named)), key=named.count) if named else None
 
 
 def _percentiles(waits: Int64Array) -> dict[str, float]:
@@ -587,7 +613,7 @@ def pushed_out(fates: Fates, stream: StampedMessages, queue: int) -> BoolArray:
 
 
 def _entered(fates: Fates, i: int) -> bool:
-    return int(fates.fate[i]) not in (Fate.ON_ARRIVAL, Fate.OUT_THE_BACK, Fate.EMPTY_FRAME)
+    return int(fates.fate[i]) not in (Fate.ON_ARRIVAL, Fate.TOO_OLD_ON_ARRIVAL, Fate.EMPTY_FRAME)
 
 
 def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int) -> float | None:
@@ -603,4 +629,4 @@ def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: F
 
 
 #: The messages lost to the cache's length: too old on arrival, or by the time tf reached them.
-AGED = (Fate.OLDER_THAN_CACHE, Fate.OUT_THE_BACK)
+AGED = (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL)

@@ -222,7 +222,7 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
         lost = f", {r.never} lost ({', '.join(f'{n} {why}' for why, n in r.reasons.items())})" if r.never else ""
         wait = f" (wait p50 {r.wait_s['p50']:.3f} s, p99 {r.wait_s['p99']:.3f} s)" if r.later else ""
         open_ = sum(r.undecided.values())
-        undecided = f", {open_} undecided ({', '.join(f'{n} {why}' for why, n in r.undecided.items())})" if open_ else ""
+        undecided = f", {open_} undecided ({', '.join(f'{n} {w}' for w, n in r.undecided.items())})" if open_ else ""
         about = (
             f"{r.type} in {', '.join(r.frame_ids)}: {r.messages} messages, {r.on_arrival} on arrival, "
             f"{r.later} later{wait}{lost}{undecided}"

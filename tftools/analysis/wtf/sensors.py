@@ -5,6 +5,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterator
 
+from tftools.analysis.filter import TF_LOST
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, edge, listed
@@ -74,27 +75,31 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
 @register("sensor_lost", Severity.warning, "sensor data a MessageFilter loses for good (tf too late, or too old)")
 def sensor_lost(scene: Scene) -> Iterator[Finding]:
     for s in scene.sensors.streams:
-        lost = sum(s.reasons.get(r, 0) for r in ("needs_newer_tf", "older_than_cache", "out_the_back"))
+        lost = sum(s.reasons.get(f.reason, 0) for f in TF_LOST)
         if lost <= LOST_SHARE * s.messages:
             continue
         why = []
         cache = f" (a cache of {s.cache_needed_s:g} s would keep them)" if s.cache_needed_s else ""
-        if s.reasons.get("out_the_back"):
-            why.append(f"{s.reasons['out_the_back']} already older than the {scene.sensors.cache_s:g} s cache when they "
-                       f"arrived{cache}")
+        if s.reasons.get("too_old_on_arrival"):
+            old = s.reasons["too_old_on_arrival"]
+            why.append(f"{old} already older than the {scene.sensors.cache_s:g} s cache when they arrived{cache}")
             cache = ""
         if s.reasons.get("older_than_cache"):
-            why.append(f"{s.reasons['older_than_cache']} older than the {scene.sensors.cache_s:g} s cache holds by the "
-                       f"time tf reached them{cache}")
+            why.append(
+                f"{s.reasons['older_than_cache']} older than the {scene.sensors.cache_s:g} s cache holds by the "
+                f"time tf reached them{cache}"
+            )
         if s.reasons.get("needs_newer_tf"):
-            why.append(f"{s.reasons['needs_newer_tf']} waiting for tf that stopped before reaching their stamps")
+            edge_ = edge(*s.lost_edge) if s.lost_edge else "tf"
+            why.append(f"{s.reasons['needs_newer_tf']} waiting for {edge_}, which stopped before reaching their stamps")
         yield Finding(
             Severity.warning,
             "sensor_lost",
             f"{s.topic}: {lost} of {s.messages} messages could never be transformed into {_target(scene)}: "
             f"{'; '.join(why)}",
-            "a MessageFilter drops these ('earlier than all the data in the transform cache', or after its queue "
-            "fills): stamp the data when it was measured, and check the clocks and the tf publishers' rates",
-            s.late_edge or (),
+            "a MessageFilter drops these ('earlier than all the data in the transform cache'), or holds them until "
+            "its queue pushes them out: stamp the data when it was measured, and check the clocks and that every tf "
+            "publisher keeps publishing",
+            s.lost_edge or s.late_edge or (),
             count=lost,
         )
