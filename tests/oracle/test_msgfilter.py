@@ -20,6 +20,7 @@ from tests.oracle import unavailable_reason
 from tftools.analysis.filter import Fate, filter_report, message_fates, recording_end
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.stamped import read_stamped
+from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import read_recording
 
 
@@ -165,7 +166,10 @@ def test_every_message_of_a_real_recording_meets_the_real_filters_fate(
     oracle: Path, corpus: Callable[[Recording], Path], recording: Recording | Path, tmp_path: Path
 ) -> None:
     bag = recording if isinstance(recording, Path) else corpus(recording)
-    target = filter_report(read_recording([bag]).buffer, []).target
+    try:
+        target = filter_report(read_recording([bag]).buffer, []).target
+    except NoTransformsError:
+        pytest.skip(f"{bag.name} holds no tf: tfx filter refuses it (exit 2), there is no fate to compare")
     if not target:
         pytest.skip(f"{bag.name} has no tf to transform into")
     found = agreement(oracle, bag, target, tmp_path / "out.jsonl")
@@ -173,3 +177,7 @@ def test_every_message_of_a_real_recording_meets_the_real_filters_fate(
         pytest.skip(f"{bag.name} has no topic whose messages start with a Header")
     assert all(a.ok for a in found), _said(found)
     print(f"{bag.name}: {_said(found)}", file=sys.stderr)
+    # Into the last frame tf2 met (a sensor's, mostly), with a short cache and a short queue.
+    other = read_recording([bag]).buffer.frames[-1]
+    found = agreement(oracle, bag, other, tmp_path / "other.jsonl", queue=3, cache_s=1.0)
+    assert all(a.ok for a in found), f"into {other}, cache 1 s, queue 3: {_said(found)}"

@@ -256,7 +256,8 @@ def _chains(
     try:
         frames = buffer.chain(target, frame)
     except UnknownFrameError:
-        yield slice(None), Fate.UNKNOWN_FRAME if not buffer.has_frame(frame) else Fate.NOT_CONNECTED
+        known = buffer.has_frame(frame) and buffer.has_frame(target)
+        yield slice(None), Fate.NOT_CONNECTED if known else Fate.UNKNOWN_FRAME
         return
     except TransformError:
         yield slice(None), Fate.NOT_CONNECTED
