@@ -9,7 +9,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from tests.analysis.wtf_scenes import TfMessage, recording
-from tftools.analysis.filter import NEVER, Fate, Fates, filter_report, message_fates, pushed_out
+from tftools.analysis.filter import NEVER, Fate, Fates, filter_report, message_fates, pushed_out, smallest_queue
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -192,3 +192,21 @@ def _text(report: object) -> str:
     console = Console(width=250, record=True)
     console.print(renderable(report))  # type: ignore[arg-type]
     return console.export_text()
+
+
+def test_the_suggested_queue_is_the_smallest_that_keeps_every_passing_message() -> None:
+    """Against the filter's own queue replayed message by message (``pushed_out``), on random streams of
+    messages that pass at once, after a wait, never (waiting for good), or are dropped after a wait."""
+    rng = np.random.default_rng(29)
+    for _ in range(300):
+        n = int(rng.integers(1, 40))
+        arrived = np.sort(rng.integers(0, 50, n)).astype(np.int64)  # ties included
+        fate = rng.choice([Fate.ON_ARRIVAL, Fate.LATER, Fate.UNKNOWN_FRAME, Fate.OLDER_THAN_CACHE], n).astype(np.int8)
+        wait = rng.integers(1, 30, n)
+        left = np.where(fate == Fate.UNKNOWN_FRAME, NEVER, np.where(fate == Fate.ON_ARRIVAL, arrived, arrived + wait))
+        ready = np.where(fate == Fate.LATER, left, NEVER).astype(np.int64)
+        fates = Fates(fate, ready, [None] * n, np.zeros(n, np.int64), left.astype(np.int64))
+        stream = StampedMessages("/t", "t", arrived, arrived, np.zeros(n, np.int32), ["f"])
+        later = fate == Fate.LATER
+        keeps = [q for q in range(1, n + 2) if not (pushed_out(fates, stream, q) & later).any()]
+        assert smallest_queue(fates, stream) == (keeps[0] if later.any() else 0)

@@ -36,7 +36,7 @@ from typing import Final, Literal
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, chain_edges, rate_hz, silence_limit
+from tftools.analysis.edges import Edge, chain_edges, rate_hz, silence_limit, sorted_unique
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
@@ -186,7 +186,7 @@ class _Chain:
             return _Chain(edges, empty, empty, np.zeros(0, np.bool_))
         connected = max(int(e.records[0]) for e in edges)
         moving = [e for e in edges if not e.static]
-        times = np.unique(np.concatenate([[connected], *(e.records[e.records > connected] for e in moving)]))
+        times = sorted_unique(np.concatenate([[connected], *(e.records[e.records > connected] for e in moving)]))
         if not moving:
             return _Chain(edges, times, np.zeros(len(times), np.int64), np.ones(len(times), np.bool_))
         common = np.min(np.stack([e.newest_at(times) for e in moving]), axis=0)
@@ -507,7 +507,7 @@ def _stream_report(
         late_edge=late_edge,
         late_by_s=float(np.median(lags)) / 1e9 if len(lags) else 0.0,
         wait_needed_s=_wait_needed(fates, stream),
-        queue_needed=_queue_needed(fates, stream),
+        queue_needed=smallest_queue(fates, stream),
         cache_needed_s=_cache_needed(buffer, stream, target, fates, end),
         dropped_by_wait=None if wait is None else int(never + (waits > wait).sum()),
         dropped_by_queue=None if queue is None else int(never + (pushed_out(fates, stream, queue) & later_mask).sum()),
@@ -537,59 +537,36 @@ def _wait_needed(fates: Fates, stream: StampedMessages) -> float | None:
     return float(waits[must - 1]) / 1e9 if must <= len(waits) else None
 
 
-def _queue_needed(fates: Fates, stream: StampedMessages) -> int:
-    """The smallest queue under which every message that passes with an unlimited one still passes:
-    the most messages held at once from the oldest waiting one that will pass on, every held message
-    counted (those that never pass hold a slot too, until tf2 drops them or for good)."""
-    later = fates.fate == Fate.LATER
-    if not later.any():
-        return 0
+def smallest_queue(fates: Fates, stream: StampedMessages) -> int:
+    """The smallest queue under which every message that passes with an unlimited one still passes.
+
+    The filter pushes out its oldest message when one more would not fit, so a message is lost to a
+    queue of ``q`` exactly when, at some arrival while it waits, it and the held messages that arrived
+    after it are more than ``q``. So: at each arrival, the held messages from the oldest held one that
+    will pass on, every held message counted (those that never pass hold a slot too, until tf2 drops
+    them or for good); the most of these."""
     queued = np.flatnonzero(fates.queued())
     order = queued[np.argsort(stream.record_time[queued], kind="stable")]
-    arrived, left, passes = stream.record_time[order], fates.left[order], later[order]
-    # A message is pushed out when it and the held messages that arrived after it exceed the queue (the
-    # oldest goes first): so at each arrival, count the held ones from the oldest held that will pass.
-    held = _Counts(len(order))
-    leaving: list[tuple[int, int]] = []  # (left, position) of the held messages
-    passing: list[int] = []  # positions of the held messages that will pass
-    needed = 0
-    for i, (t, out, good) in enumerate(zip(arrived.tolist(), left.tolist(), passes.tolist(), strict=True)):
-        while leaving and leaving[0][0] <= t:  # left before (or as, a tf first at a tie) it arrived
-            held.add(heapq.heappop(leaving)[1], -1)
-        held.add(i, 1)
-        heapq.heappush(leaving, (out, i))
-        if good:
-            heapq.heappush(passing, i)
-        while passing and left[passing[0]] <= t:
-            heapq.heappop(passing)
-        if passing:
-            needed = max(needed, held.total() - held.before(passing[0]))
-    return needed
-
-
-class _Counts:
-    """A Fenwick tree: counts at positions, and the sum of those before a position, in log time."""
-
-    def __init__(self, size: int) -> None:
-        self._tree = [0] * (size + 1)
-        self._total = 0
-
-    def add(self, position: int, count: int) -> None:
-        self._total += count
-        position += 1
-        while position < len(self._tree):
-            self._tree[position] += count
-            position += position & -position
-
-    def before(self, position: int) -> int:
-        total = 0
-        while position > 0:
-            total += self._tree[position]
-            position -= position & -position
-        return total
-
-    def total(self) -> int:
-        return self._total
+    arrived, left = stream.record_time[order], fates.left[order]
+    passes = fates.fate[order] == Fate.LATER
+    if not passes.any():
+        return 0
+    index = np.arange(len(order))
+    held = index + 1 - np.searchsorted(np.sort(left), arrived, side="right")  # a tf first at a tie
+    # The oldest held message that will pass, at each arrival (its position never goes back).
+    good = np.flatnonzero(passes)
+    oldest = good[np.minimum(np.searchsorted(np.maximum.accumulate(left[good]), arrived, side="right"), len(good) - 1)]
+    valid = (oldest <= index) & (left[oldest] > arrived) & (arrived[oldest] <= arrived)
+    # Held messages older than it: those that never pass, for good (stuck) or until tf2 drops them.
+    stuck = np.flatnonzero(~passes & (left == NEVER))
+    doomed = np.flatnonzero(~passes & (left != NEVER))
+    older = np.searchsorted(stuck, oldest) + np.searchsorted(doomed, oldest)
+    if len(doomed):  # minus the dropped ones older than it: counted from the arrival where both hold
+        enters = np.searchsorted(oldest, doomed, side="right")
+        expires = np.searchsorted(arrived, left[doomed], side="left")
+        gone = np.cumsum(np.bincount(np.maximum(enters, expires), minlength=len(order) + 1))[: len(order)]
+        older -= gone
+    return int((held - older)[valid].max(initial=0))
 
 
 def pushed_out(fates: Fates, stream: StampedMessages, queue: int) -> BoolArray:
