@@ -17,7 +17,7 @@ import pytest
 from tests.corpus.fetch import Recording, load_manifest, shared_dir
 from tests.oracle import message_filter as mf
 from tests.oracle import unavailable_reason
-from tftools.analysis.filter import Fate, filter_report, message_fates, recording_end
+from tftools.analysis.filter import KEEP, Fate, filter_report, message_fates, recording_end
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.stamped import read_stamped
 from tftools.sources.errors import NoTransformsError
@@ -181,3 +181,23 @@ def test_every_message_of_a_real_recording_meets_the_real_filters_fate(
     other = read_recording([bag]).buffer.frames[-1]
     found = agreement(oracle, bag, other, tmp_path / "other.jsonl", queue=3, cache_s=1.0)
     assert all(a.ok for a in found), f"into {other}, cache 1 s, queue 3: {_said(found)}"
+
+
+def test_the_real_filter_keeps_what_each_suggested_setting_says(oracle: Path, designed: Path, tmp_path: Path) -> None:
+    """Issue 29: a suggestion is one under which the real filter keeps what it says. The queue: every message
+    that passes with an unlimited queue passes with it. The cache: no more than 0.1% of the messages the
+    recording decides are lost to their age with it."""
+    report = filter_report(read_recording([designed]).buffer, read_stamped([designed]).streams, "odom")
+    for s in report.streams:
+        if s.queue_needed:
+            run = mf.run(oracle, designed, "odom", tmp_path / "q.jsonl", queue=s.queue_needed, topics=[s.topic])
+            outcomes = [v.outcome for v in run[s.topic]]
+            assert outcomes.count("later") + outcomes.count("drop_spurious") == s.later, s.topic
+        if s.cache_needed_s is not None:
+            run = mf.run(oracle, designed, "odom", tmp_path / "c.jsonl", cache_s=s.cache_needed_s, topics=[s.topic])
+            aged = sum(v.outcome in ("drop_out_the_back", "drop_waiting", "pending_past") for v in run[s.topic])
+            decided = s.messages - sum(s.undecided.values())
+            undecided_then = sum(  # stamped before the recording's tf: tftools' undecided, not lost to the cache
+                v.outcome == "drop_waiting" and v.stamp < 1_700_000_000 * NS_PER_S for v in run[s.topic]
+            )
+            assert aged - undecided_then <= (1 - KEEP) * decided, (s.topic, s.cache_needed_s, aged)
