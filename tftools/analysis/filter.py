@@ -407,7 +407,7 @@ class StreamReport:
     late_edge: tuple[str, str] | None  # the edge most of the waits were for
     late_by_s: float  # that edge's median lag behind the stamps, when they arrived
     wait_needed_s: float | None  # the smallest timeout keeping KEEP (None: no timeout can)
-    queue_needed: int  # the queue size that drops nothing that would become transformable
+    queue_needed: int  # the smallest queue that pushes out nothing that would pass (``smallest_queue``)
     cache_needed_s: float | None  # the smallest cache keeping KEEP, where the cache loses messages
     dropped_by_wait: int | None = None  # with a timeout: messages lost (waited longer, or never)
     dropped_by_queue: int | None = None  # with a queue size: messages lost (pushed out, or never)

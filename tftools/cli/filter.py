@@ -38,12 +38,13 @@ def command(
 ) -> None:
     """Replay a tf2_ros MessageFilter on every stamped message of a recording.
 
-    For each message: at its arrival, with only the tf that had arrived, could its
-    header.frame_id be transformed into --target at header.stamp? If not, when did it become
-    possible (the wait), or never, and why: unknown frame, not connected to the target, tf never
-    caught up with its stamp, or older than the cache holds. Per topic: how many went through on
-    arrival, later (wait p50/p99/max) or never; the edge they waited for; the smallest timeout,
-    queue and cache that keep 99.9% of them.
+    For each message, tf2's rule with only the tf that had arrived: transformable into --target
+    at header.stamp when it arrived; else dropped at once if already older than the cache; else
+    passed after a wait, or never, and why: unknown frame, not connected to the target, tf that
+    stopped before its stamp, or older than the cache by the time tf reached it (undecided where
+    the recording cannot tell). Per topic: how many went through on arrival, later (wait
+    p50/p99/max), never, or undecided; the edge they waited for; the smallest timeout, queue and
+    cache that keep 99.9% of them.
 
     Without -b, listens --duration seconds to the live system: to tf, and to the topics (default:
     every advertised topic whose messages start with a Header), each message's arrival time
