@@ -15,10 +15,12 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import check
 from tftools.analysis.wtf.jumps import FLOOR_M, JUMP_FACTOR, jumps
 from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
 from tftools.sinks.static_bag import REPAIR_EVERY_S, repair_static_transforms
 from tftools.sources.recording import read_recording
 
 ROS2_FORMATS = [f for f in scenes.FORMATS if f is not BagFormat.ros1]
+MS = scenes.MS
 
 
 def loud(findings: list[Finding]) -> list[Finding]:
@@ -158,8 +160,9 @@ def _fighting(stamp: int) -> list:  # type: ignore[type-arg]
 
 
 def _late_twin(stamp: int) -> list:  # type: ignore[type-arg]
-    """A second broadcaster of the same motion whose stamps lag 30 ms behind."""
-    return scenes.odom_base(stamp - 30_000_000)
+    """A second broadcaster of the same motion whose stamps lag 35 ms behind (off the first's 20 ms grid:
+    30 ms would send the first's stamps and values again, two identical publishers)."""
+    return scenes.odom_base(stamp - 35_000_000)
 
 
 @pytest.mark.parametrize("fmt", ROS2_FORMATS)
@@ -176,6 +179,53 @@ def test_two_broadcasters_taking_turns_are_inferred_in_ros2_bags(
     findings = loud(check(read_recording([bag])))
     assert [f.code for f in findings] == ["multiple_authorities"], findings
     assert sign in findings[0].message and findings[0].frames == ("odom", "base_link")
+
+
+def _other_wheel(stamp: int) -> list:  # type: ignore[type-arg]
+    """A second robot_state_publisher whose URDF puts the wheel 5 cm further out."""
+    (t,) = scenes.wheel(stamp)
+    x, _, z = t.translation
+    return [Transform((x, 0.25, z), t.rotation, stamp, "base_link", "wheel")]
+
+
+def _ros2_findings(messages: list[TfMessage]) -> list[Finding]:
+    return loud(check(scenes.recording(messages, ros1=False)))
+
+
+def test_two_identical_publishers_of_every_sample_are_two_broadcasters_in_a_ros2_bag() -> None:
+    """Two robot_state_publishers at once: each wheel sample arrives twice, stamps and values identical
+    (536 of 538 in a Gazebo recording): tf2 drops the copies, but two publishers run."""
+    twice = [
+        m
+        for message in scenes.wheels()
+        for m in (message, TfMessage("/tf", message.record_time + MS // 2, message.transforms, "/rsp2"))
+    ]
+    (finding,) = _ros2_findings(scenes.healthy(wheels=twice))
+    assert (finding.code, finding.severity, finding.frames) == (
+        "multiple_authorities",
+        Severity.warning,
+        ("base_link", "wheel"),
+    )
+    assert "arrives twice: 200 of its 200 stamps came again, with the same values" in finding.message
+    assert "robot_state_publisher" in finding.message and "drops the exact copies" in finding.hint
+
+
+def test_two_publishers_of_the_same_stamps_with_other_values_are_said_to_differ() -> None:
+    other = scenes.periodic("/rsp2", 20, _other_wheel, delay=scenes.DELAY + MS // 2)
+    (finding,) = _ros2_findings(scenes.healthy(wheels=sorted(scenes.wheels() + other, key=lambda m: m.record_time)))
+    assert finding.code == "multiple_authorities" and "arrives twice" in finding.message
+    assert "values up to 50.0 mm and 0.00° apart" in finding.message and "mix" in finding.hint
+
+
+def test_one_publisher_sending_one_old_sample_again_is_not_two_broadcasters() -> None:
+    """One publisher re-sending one stale sample (same stamp, same value) between its own, 85 times:
+    not two streams taking turns (it was reported as "two steady 17.1 Hz streams taking turns")."""
+    ekf = scenes.periodic("/ekf", 17.1, scenes.odom_base)
+    stale = scenes.odom_base(scenes.START + 5 * MS)
+    again = [TfMessage("/tf", m.record_time + 20 * MS, stale, "/ekf") for m in ekf[1::2]]
+    findings = _ros2_findings(scenes.healthy(ekf=sorted(ekf + again, key=lambda m: m.record_time)))
+    assert not [f for f in findings if f.code == "multiple_authorities"], findings
+    assert not [f for f in findings if "taking turns" in f.message], findings
 
 
 def test_sample_bags_and_the_shared_corpus_show_no_jump_and_no_inferred_broadcaster() -> None:
