@@ -236,3 +236,35 @@ def test_sample_bags_and_the_shared_corpus_show_no_jump_and_no_inferred_broadcas
     for bag in bags:
         codes = {f.code for f in check(read_recording([bag], allow_empty=True))}
         assert not codes & {"jump", "map_corrections", "rep105", "multiple_authorities"}, (bag, codes)
+
+
+# --- publishers of /tf_static ----------------------------------------------------------------
+
+
+def test_two_publishers_of_the_same_statics_are_one_note_not_one_per_edge() -> None:
+    twin = TfMessage("/tf_static", scenes.START + 5 * NS_PER_S, scenes.statics().transforms, "/rsp2")
+    (finding,) = check(scenes.recording(scenes.with_extra([twin])))
+    assert (finding.code, finding.severity) == ("multiple_authorities", Severity.info)
+    assert "/rsp and /rsp2 both send 2 static transforms, with the same values" in finding.message
+    assert finding.count == 4 and set(finding.frames) == {"base_link", "laser", "camera"}
+
+
+def test_two_calibrations_that_disagree_are_one_finding_naming_publishers_frames_and_how_far() -> None:
+    """A publisher the bag does not name (no callerid: the topic stands in) is called so, not "/tf_static"."""
+    other = [
+        scenes._t("base_link", "laser", scenes.START, 0.35),
+        scenes._t("base_link", "camera", scenes.START, 0.1, yaw=0.5),
+        scenes._t("base_link", "sonar", scenes.START, 0.3),
+    ]
+    unnamed = TfMessage("/tf_static", scenes.START + 5 * NS_PER_S, other, "/tf_static")
+    findings = check(scenes.recording(scenes.with_extra([unnamed])))
+    (finding,) = [f for f in findings if f.severity is not Severity.info]
+    assert (finding.code, finding.severity, finding.count) == ("static_conflict", Severity.error, 2)
+    assert finding.message.startswith(
+        "/rsp and a publisher on /tf_static (unnamed) send different values for 2 static transforms: "
+        "base_link -> laser (150.0 mm and 0.00° apart), base_link -> camera (0.0 mm and 28.65° apart); the largest "
+        "base_link -> laser, 150.0 mm and 0.00° apart. tf2 keeps the last received for every time: a publisher on "
+        "/tf_static (unnamed)'s, at 1700000005.000 (+5.0 s)"
+    ), finding.message
+    assert finding.authorities == ("/rsp", "/tf_static") and finding.frames == ("base_link", "laser", "camera")
+    assert not [f for f in findings if f.code in {"dynamic_on_static", "multiple_authorities"}], findings

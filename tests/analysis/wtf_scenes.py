@@ -378,6 +378,15 @@ PROBLEMS = {
         "/rsp",
         words=("2 different values",),
     ),
+    "static_conflict": Problem(
+        "static_conflict",
+        lambda: with_extra([TfMessage("/tf_static", START + 5 * NS_PER_S, statics(laser_x=0.35).transforms, "/rsp2")]),
+        ("base_link", "laser"),
+        "/rsp2",
+        words=("150.0 mm", "agree on 1 other", "publish each frame from one of them"),
+        ros1_only=True,  # two publishers apart: a ROS 2 bag shows one topic whose static changed
+        ros2_code="dynamic_on_static",
+    ),
     "mixed_static": Problem(
         "mixed_static",
         lambda: with_extra(periodic("/laser_driver", 10, lambda t: [_t("base_link", "laser", t, 0.2 + 0.01 * _s(t))])),
