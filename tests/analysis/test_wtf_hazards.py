@@ -268,3 +268,62 @@ def test_two_calibrations_that_disagree_are_one_finding_naming_publishers_frames
     ), finding.message
     assert finding.authorities == ("/rsp", "/tf_static") and finding.frames == ("base_link", "laser", "camera")
     assert not [f for f in findings if f.code in {"dynamic_on_static", "multiple_authorities"}], findings
+
+
+# --- tf topics that say nothing (rosbag2: metadata.yaml counts messages and publishers) ------
+
+
+def _quiet_bag(path: Path, empty: int, tf_publishers: int, moving: bool = False) -> Path:
+    """A rosbag2 recording of the robot's statics, then ``empty`` /tf_static messages
+    without a transform, and a /tf that ``tf_publishers`` offered (as ros2 bag record lists them) but
+    that carried nothing (or the robot's odometry, if ``moving``)."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    from tests.bags import TF_TYPE, _typestore, rosbags_tf_message, static_qos
+
+    store = _typestore("ros2")
+    with Writer(path, version=Writer.VERSION_LATEST, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        statics = writer.add_connection("/tf_static", TF_TYPE, typestore=store, offered_qos_profiles=[static_qos()])
+        tf = writer.add_connection("/tf", TF_TYPE, typestore=store, offered_qos_profiles=[static_qos()] * tf_publishers)
+        record = scenes.START + scenes.DELAY
+        full_message = bytes(store.serialize_cdr(rosbags_tf_message(store, scenes.statics().transforms), TF_TYPE))
+        empty_message = bytes(store.serialize_cdr(rosbags_tf_message(store, []), TF_TYPE))
+        writer.write(statics, record, full_message)
+        for i in range(empty):
+            writer.write(statics, record + (i + 1) * MS, empty_message)
+        for message in scenes.ekf() if moving else []:
+            data = store.serialize_cdr(rosbags_tf_message(store, message.transforms), TF_TYPE)
+            writer.write(tf, message.record_time, bytes(data))
+    return path
+
+
+def test_a_tf_whose_publishers_sent_nothing_and_empty_static_messages_are_said_not_fine(tmp_path: Path) -> None:
+    """The recording that was called "fine for a fixed setup": /tf had two publishers that sent nothing
+    and /tf_static held 2,036 messages without a transform."""
+    bag = _quiet_bag(tmp_path / "quiet", empty=2036, tf_publishers=2)
+    findings = check(read_recording([bag]))
+    assert [(f.code, f.severity) for f in findings] == [
+        ("silent_tf", Severity.warning),
+        ("silent_tf", Severity.warning),
+    ]
+    said = " | ".join(f.message for f in findings)
+    assert "/tf had 2 publishers when recording began" in said and "nothing in this recording moves" in said
+    # 2 transforms in one message beside 2,036 empty ones: 2,035 at least (the transforms might be 2 messages)
+    assert "at least 2,035 of 2,037 messages on /tf_static carry no transform (2 transforms in the others)" in said
+    assert not [f for f in findings if "fine for a fixed setup" in f.hint]
+
+
+def test_a_few_empty_messages_beside_moving_transforms_are_a_note(tmp_path: Path) -> None:
+    bag = _quiet_bag(tmp_path / "few", empty=3, tf_publishers=1, moving=True)
+    (finding,) = check(read_recording([bag]))
+    assert (finding.code, finding.severity) == ("silent_tf", Severity.info)
+    assert finding.message.endswith(
+        "at least 2 of 4 messages on /tf_static carry no transform (2 transforms in the others)"
+    )
+    assert "moves" not in finding.message
+
+
+def test_a_static_only_rosbag2_recording_without_silent_publishers_is_still_a_note(tmp_path: Path) -> None:
+    bag = _quiet_bag(tmp_path / "fixed", empty=0, tf_publishers=0)
+    (finding,) = check(read_recording([bag]))
+    assert (finding.code, finding.severity) == ("no_tf", Severity.info) and "fine for a fixed setup" in finding.hint
