@@ -13,6 +13,7 @@ from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import check
+from tftools.analysis.wtf.broadcasters import sent_before
 from tftools.analysis.wtf.jumps import FLOOR_M, JUMP_FACTOR, jumps
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -327,3 +328,12 @@ def test_a_static_only_rosbag2_recording_without_silent_publishers_is_still_a_no
     bag = _quiet_bag(tmp_path / "fixed", empty=0, tf_publishers=0)
     (finding,) = check(read_recording([bag]))
     assert (finding.code, finding.severity) == ("no_tf", Severity.info) and "fine for a fixed setup" in finding.hint
+
+
+def test_a_sample_is_sent_again_by_its_stamp_or_by_its_stamp_and_value() -> None:
+    """Twins are told by stamps; the rhythm drops only true copies (a clock reset replays stamps elsewhere)."""
+    stamps = np.array([1, 2, 1, 3, 2], np.int64)
+    values = np.zeros((5, 7))
+    values[4, 0] = 1.0  # stamp 2 again, somewhere else
+    assert sent_before(stamps).tolist() == [False, False, True, False, True]
+    assert sent_before(stamps, values).tolist() == [False, False, True, False, False]

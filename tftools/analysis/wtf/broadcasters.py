@@ -72,10 +72,16 @@ def _enough(count: int, samples: int, share: float = TURNS_SHARE) -> bool:
     return count >= TURNS_MIN and count >= share * samples
 
 
-def sent_before(stamps: Int64Array) -> BoolArray:
-    """Which samples (in arrival order) carry a stamp an earlier one of the same stream carried."""
+def sent_before(stamps: Int64Array, values: FloatArray | None = None) -> BoolArray:
+    """Which samples (in arrival order) carry a stamp an earlier one of the same stream carried (and its
+    value too, if ``values`` are given: a clock reset that replays old stamps elsewhere is new data)."""
+    keys: np.ndarray = stamps
+    if values is not None:
+        table = np.empty(len(stamps), [("stamp", np.int64), ("value", np.float64, (7,))])
+        table["stamp"], table["value"] = stamps, values
+        keys = table.view(np.dtype((np.void, table.dtype.itemsize)))
     first = np.zeros(len(stamps), bool)
-    first[np.unique(stamps, return_index=True)[1]] = True
+    first[np.unique(keys, return_index=True)[1]] = True
     return ~first
 
 
