@@ -158,6 +158,21 @@ def test_wtf_figures_are_plausible(recording: Recording, corpus: Corpus, tfx) ->
         assert all(x < DAY_S for x in durations), finding["message"]
 
 
+@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+def test_wtf_times_are_counted_from_the_recording(
+    recording: Recording,
+    corpus: Corpus,
+    tfx,  # noqa: F811
+    request: pytest.FixtureRequest,
+) -> None:
+    """Each moment a finding names, "(+S s)" into the tf data, lies within the recording, not decades away."""
+    _depends_on(recording, request)
+    _, report = _run_json(tfx, "wtf", corpus(recording))
+    for finding in report["bags"][0]["findings"]:
+        offsets = [abs(float(x)) for x in re.findall(r"\(([+-]\d+(?:\.\d+)?) s\)", finding["message"])]
+        assert all(x <= recording.meta["duration_s"] + DAY_S for x in offsets), finding["message"]
+
+
 # --- tfx monitor: rates, gaps and delays as the data has them ----------------------------------
 
 
