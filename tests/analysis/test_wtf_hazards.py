@@ -13,12 +13,15 @@ from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import check
+from tftools.analysis.wtf.broadcasters import sent_before
 from tftools.analysis.wtf.jumps import FLOOR_M, JUMP_FACTOR, jumps
 from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
 from tftools.sinks.static_bag import REPAIR_EVERY_S, repair_static_transforms
 from tftools.sources.recording import read_recording
 
 ROS2_FORMATS = [f for f in scenes.FORMATS if f is not BagFormat.ros1]
+MS = scenes.MS
 
 
 def loud(findings: list[Finding]) -> list[Finding]:
@@ -158,8 +161,9 @@ def _fighting(stamp: int) -> list:  # type: ignore[type-arg]
 
 
 def _late_twin(stamp: int) -> list:  # type: ignore[type-arg]
-    """A second broadcaster of the same motion whose stamps lag 30 ms behind."""
-    return scenes.odom_base(stamp - 30_000_000)
+    """A second broadcaster of the same motion whose stamps lag 35 ms behind (off the first's 20 ms grid:
+    30 ms would send the first's stamps and values again, two identical publishers)."""
+    return scenes.odom_base(stamp - 35_000_000)
 
 
 @pytest.mark.parametrize("fmt", ROS2_FORMATS)
@@ -178,6 +182,53 @@ def test_two_broadcasters_taking_turns_are_inferred_in_ros2_bags(
     assert sign in findings[0].message and findings[0].frames == ("odom", "base_link")
 
 
+def _other_wheel(stamp: int) -> list:  # type: ignore[type-arg]
+    """A second robot_state_publisher whose URDF puts the wheel 5 cm further out."""
+    (t,) = scenes.wheel(stamp)
+    x, _, z = t.translation
+    return [Transform((x, 0.25, z), t.rotation, stamp, "base_link", "wheel")]
+
+
+def _ros2_findings(messages: list[TfMessage]) -> list[Finding]:
+    return loud(check(scenes.recording(messages, ros1=False)))
+
+
+def test_two_identical_publishers_of_every_sample_are_two_broadcasters_in_a_ros2_bag() -> None:
+    """Two robot_state_publishers at once: each wheel sample arrives twice, stamps and values identical
+    (536 of 538 in a Gazebo recording): tf2 drops the copies, but two publishers run."""
+    twice = [
+        m
+        for message in scenes.wheels()
+        for m in (message, TfMessage("/tf", message.record_time + MS // 2, message.transforms, "/rsp2"))
+    ]
+    (finding,) = _ros2_findings(scenes.healthy(wheels=twice))
+    assert (finding.code, finding.severity, finding.frames) == (
+        "multiple_authorities",
+        Severity.warning,
+        ("base_link", "wheel"),
+    )
+    assert "arrives twice: 200 of its 200 stamps came again, with the same values" in finding.message
+    assert "robot_state_publisher" in finding.message and "drops the exact copies" in finding.hint
+
+
+def test_two_publishers_of_the_same_stamps_with_other_values_are_said_to_differ() -> None:
+    other = scenes.periodic("/rsp2", 20, _other_wheel, delay=scenes.DELAY + MS // 2)
+    (finding,) = _ros2_findings(scenes.healthy(wheels=sorted(scenes.wheels() + other, key=lambda m: m.record_time)))
+    assert finding.code == "multiple_authorities" and "arrives twice" in finding.message
+    assert "values up to 50.0 mm and 0.00° apart" in finding.message and "mix" in finding.hint
+
+
+def test_one_publisher_sending_one_old_sample_again_is_not_two_broadcasters() -> None:
+    """One publisher re-sending one stale sample (same stamp, same value) between its own, 85 times:
+    not two streams taking turns (it was reported as "two steady 17.1 Hz streams taking turns")."""
+    ekf = scenes.periodic("/ekf", 17.1, scenes.odom_base)
+    stale = scenes.odom_base(scenes.START + 5 * MS)
+    again = [TfMessage("/tf", m.record_time + 20 * MS, stale, "/ekf") for m in ekf[1::2]]
+    findings = _ros2_findings(scenes.healthy(ekf=sorted(ekf + again, key=lambda m: m.record_time)))
+    assert not [f for f in findings if f.code == "multiple_authorities"], findings
+    assert not [f for f in findings if "taking turns" in f.message], findings
+
+
 def test_sample_bags_and_the_shared_corpus_show_no_jump_and_no_inferred_broadcaster() -> None:
     samples = Path(__file__).resolve().parents[2] / "sample_bags"
     shared = Path("/tmp/shared-corpus/corpus")
@@ -186,3 +237,103 @@ def test_sample_bags_and_the_shared_corpus_show_no_jump_and_no_inferred_broadcas
     for bag in bags:
         codes = {f.code for f in check(read_recording([bag], allow_empty=True))}
         assert not codes & {"jump", "map_corrections", "rep105", "multiple_authorities"}, (bag, codes)
+
+
+# --- publishers of /tf_static ----------------------------------------------------------------
+
+
+def test_two_publishers_of_the_same_statics_are_one_note_not_one_per_edge() -> None:
+    twin = TfMessage("/tf_static", scenes.START + 5 * NS_PER_S, scenes.statics().transforms, "/rsp2")
+    (finding,) = check(scenes.recording(scenes.with_extra([twin])))
+    assert (finding.code, finding.severity) == ("multiple_authorities", Severity.info)
+    assert "/rsp and /rsp2 both send 2 static transforms, with the same values" in finding.message
+    assert finding.count == 4 and set(finding.frames) == {"base_link", "laser", "camera"}
+
+
+def test_two_calibrations_that_disagree_are_one_finding_naming_publishers_frames_and_how_far() -> None:
+    """A publisher the bag does not name (no callerid: the topic stands in) is called so, not "/tf_static"."""
+    other = [
+        scenes._t("base_link", "laser", scenes.START, 0.35),
+        scenes._t("base_link", "camera", scenes.START, 0.1, yaw=0.5),
+        scenes._t("base_link", "sonar", scenes.START, 0.3),
+    ]
+    unnamed = TfMessage("/tf_static", scenes.START + 5 * NS_PER_S, other, "/tf_static")
+    findings = check(scenes.recording(scenes.with_extra([unnamed])))
+    (finding,) = [f for f in findings if f.severity is not Severity.info]
+    assert (finding.code, finding.severity, finding.count) == ("static_conflict", Severity.error, 2)
+    assert finding.message.startswith(
+        "/rsp and a publisher on /tf_static (unnamed) send different values for 2 static transforms: "
+        "base_link -> laser (150.0 mm and 0.00° apart), base_link -> camera (0.0 mm and 28.65° apart); the largest "
+        "base_link -> laser, 150.0 mm and 0.00° apart. tf2 keeps the last received for every time: a publisher on "
+        "/tf_static (unnamed)'s, at 1700000005.000 (+5.0 s)"
+    ), finding.message
+    assert finding.authorities == ("/rsp", "/tf_static") and finding.frames == ("base_link", "laser", "camera")
+    assert not [f for f in findings if f.code in {"dynamic_on_static", "multiple_authorities"}], findings
+
+
+# --- tf topics that say nothing (rosbag2: metadata.yaml counts messages and publishers) ------
+
+
+def _quiet_bag(path: Path, empty: int, tf_publishers: int, moving: bool = False) -> Path:
+    """A rosbag2 recording of the robot's statics, then ``empty`` /tf_static messages
+    without a transform, and a /tf that ``tf_publishers`` offered (as ros2 bag record lists them) but
+    that carried nothing (or the robot's odometry, if ``moving``)."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    from tests.bags import TF_TYPE, _typestore, rosbags_tf_message, static_qos
+
+    store = _typestore("ros2")
+    with Writer(path, version=Writer.VERSION_LATEST, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        statics = writer.add_connection("/tf_static", TF_TYPE, typestore=store, offered_qos_profiles=[static_qos()])
+        tf = writer.add_connection("/tf", TF_TYPE, typestore=store, offered_qos_profiles=[static_qos()] * tf_publishers)
+        record = scenes.START + scenes.DELAY
+        full_message = bytes(store.serialize_cdr(rosbags_tf_message(store, scenes.statics().transforms), TF_TYPE))
+        empty_message = bytes(store.serialize_cdr(rosbags_tf_message(store, []), TF_TYPE))
+        writer.write(statics, record, full_message)
+        for i in range(empty):
+            writer.write(statics, record + (i + 1) * MS, empty_message)
+        for message in scenes.ekf() if moving else []:
+            data = store.serialize_cdr(rosbags_tf_message(store, message.transforms), TF_TYPE)
+            writer.write(tf, message.record_time, bytes(data))
+    return path
+
+
+def test_a_tf_whose_publishers_sent_nothing_and_empty_static_messages_are_said_not_fine(tmp_path: Path) -> None:
+    """The recording that was called "fine for a fixed setup": /tf had two publishers that sent nothing
+    and /tf_static held 2,036 messages without a transform."""
+    bag = _quiet_bag(tmp_path / "quiet", empty=2036, tf_publishers=2)
+    findings = check(read_recording([bag]))
+    assert [(f.code, f.severity) for f in findings] == [
+        ("silent_tf", Severity.warning),
+        ("silent_tf", Severity.warning),
+    ]
+    said = " | ".join(f.message for f in findings)
+    assert "/tf had 2 publishers when recording began" in said and "nothing in this recording moves" in said
+    # 2 transforms in one message beside 2,036 empty ones: 2,035 at least (the transforms might be 2 messages)
+    assert "at least 2,035 of 2,037 messages on /tf_static carry no transform (2 transforms in the others)" in said
+    assert not [f for f in findings if "fine for a fixed setup" in f.hint]
+
+
+def test_a_few_empty_messages_beside_moving_transforms_are_a_note(tmp_path: Path) -> None:
+    bag = _quiet_bag(tmp_path / "few", empty=3, tf_publishers=1, moving=True)
+    (finding,) = check(read_recording([bag]))
+    assert (finding.code, finding.severity) == ("silent_tf", Severity.info)
+    assert finding.message.endswith(
+        "at least 2 of 4 messages on /tf_static carry no transform (2 transforms in the others)"
+    )
+    assert "moves" not in finding.message
+
+
+def test_a_static_only_rosbag2_recording_without_silent_publishers_is_still_a_note(tmp_path: Path) -> None:
+    bag = _quiet_bag(tmp_path / "fixed", empty=0, tf_publishers=0)
+    (finding,) = check(read_recording([bag]))
+    assert (finding.code, finding.severity) == ("no_tf", Severity.info) and "fine for a fixed setup" in finding.hint
+
+
+def test_a_sample_is_sent_again_by_its_stamp_or_by_its_stamp_and_value() -> None:
+    """Twins are told by stamps; the rhythm drops only true copies (a clock reset replays stamps elsewhere)."""
+    stamps = np.array([1, 2, 1, 3, 2], np.int64)
+    values = np.zeros((5, 7))
+    values[4, 0] = 1.0  # stamp 2 again, somewhere else
+    assert sent_before(stamps).tolist() == [False, False, True, False, True]
+    assert sent_before(stamps, values).tolist() == [False, False, True, False, False]

@@ -194,6 +194,7 @@ class Problem:
     words: tuple[str, ...] = ()  # words the message (or hint) must hold
     clock: Callable[[], ClockSamples] | None = None  # the recorded /clock, if any
     ros1_only: bool = False  # a problem under ROS 1's tf2 only (ROS 2 bags answer as ROS 2's)
+    ros2_code: str | None = None  # what a ROS 2 bag (no publishers named) shows instead, if anything
     streams: Callable[[], list[StampedMessages]] | None = None  # sensor data, for the checks of data against tf
 
 
@@ -359,7 +360,8 @@ PROBLEMS = {
         ("odom", "base_link"),
         "/ekf",
         words=("TF_REPEATED_DATA",),
-        ros1_only=True,  # ROS 2's tf2 takes an identical sample again silently
+        ros1_only=True,  # ROS 2's tf2 takes an identical sample again silently,
+        ros2_code="multiple_authorities",  # and a ROS 2 bag, naming no publisher, shows two identical ones
     ),
     "static_on_dynamic": Problem(
         "static_on_dynamic",
@@ -375,6 +377,15 @@ PROBLEMS = {
         ("base_link", "laser"),
         "/rsp",
         words=("2 different values",),
+    ),
+    "static_conflict": Problem(
+        "static_conflict",
+        lambda: with_extra([TfMessage("/tf_static", START + 5 * NS_PER_S, statics(laser_x=0.35).transforms, "/rsp2")]),
+        ("base_link", "laser"),
+        "/rsp2",
+        words=("150.0 mm", "agree on 1 other", "publish each frame from one of them"),
+        ros1_only=True,  # two publishers apart: a ROS 2 bag shows one topic whose static changed
+        ros2_code="dynamic_on_static",
     ),
     "mixed_static": Problem(
         "mixed_static",

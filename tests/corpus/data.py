@@ -8,12 +8,14 @@ linearly, rotation by shortest-path slerp; the chain composed through the tree).
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 
 import numpy as np
 import numpy.typing as npt
+from mcap.reader import make_reader
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
@@ -65,29 +67,90 @@ def _strip(frame: str) -> str:
 
 @cache
 def read_contents(path: Path) -> Contents:
-    """Every /tf and /tf_static sample and /clock value of a recording (ROS1 or ROS2)."""
+    """Every /tf and /tf_static sample and /clock value of a recording (ROS1, ROS2, or an MCAP of JSON
+    messages). A record time of 0 is unset (a writer that left an MCAP log time empty): not the span's."""
+    if path.suffix == ".mcap" and _json_mcap(path):
+        return _read_json_mcap(path)
     edges: dict[Edge, EdgeSamples] = {}
     clock: list[tuple[int, int]] = []
-    first, last = None, None
+    times: list[int] = []
     with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
         topics = {c.topic for c in reader.connections}
         for connection, record_time, raw in reader.messages():
-            first = record_time if first is None else min(first, record_time)
-            last = record_time if last is None else max(last, record_time)
+            times.append(record_time)
             if connection.topic in TF_TOPICS:
                 publisher = getattr(connection.ext, "callerid", None) or connection.topic
                 message = reader.deserialize(raw, connection.msgtype)
                 for t in message.transforms:
-                    edge = (_strip(t.header.frame_id), _strip(t.child_frame_id))
-                    samples = edges.setdefault(edge, EdgeSamples(static=connection.topic == "/tf_static"))
-                    samples.stamps.append(_ns(t.header.stamp))
-                    samples.record_times.append(record_time)
                     tr, q = t.transform.translation, t.transform.rotation
-                    samples.values.append([tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w])
-                    samples.publishers.add(publisher)
+                    _add(
+                        edges,
+                        connection.topic,
+                        publisher,
+                        record_time,
+                        _strip(t.header.frame_id),
+                        _strip(t.child_frame_id),
+                        _ns(t.header.stamp),
+                        [tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w],
+                    )
             elif connection.topic == "/clock":
                 clock.append((_ns(reader.deserialize(raw, connection.msgtype).clock), record_time))
-    return Contents(topics, first or 0, last or 0, edges, clock)
+    return _contents(topics, times, edges, clock)
+
+
+def _add(
+    edges: dict[Edge, EdgeSamples],
+    topic: str,
+    publisher: str,
+    record_time: int,
+    parent: str,
+    child: str,
+    stamp: int,
+    value: list[float],
+) -> None:
+    samples = edges.setdefault((parent, child), EdgeSamples(static=topic == "/tf_static"))
+    samples.stamps.append(stamp)
+    samples.record_times.append(record_time)
+    samples.values.append(value)
+    samples.publishers.add(publisher)
+
+
+def _contents(topics: set[str], times: list[int], edges: dict[Edge, EdgeSamples], clock: list) -> Contents:
+    known = [t for t in times if t > 0]
+    return Contents(topics, min(known, default=0), max(known, default=0), edges, clock)
+
+
+def _json_mcap(path: Path) -> bool:
+    with path.open("rb") as f:
+        summary = make_reader(f).get_summary()
+    return summary is not None and any(c.message_encoding == "json" for c in summary.channels.values())
+
+
+def _read_json_mcap(path: Path) -> Contents:
+    """An MCAP whose messages are JSON (Foxglove style): tf2_msgs/TFMessage as JSON objects."""
+    edges: dict[Edge, EdgeSamples] = {}
+    times: list[int] = []
+    with path.open("rb") as f:
+        reader = make_reader(f)
+        topics = {c.topic for c in reader.get_summary().channels.values()}  # type: ignore[union-attr]
+        for _, channel, message in reader.iter_messages(log_time_order=True):
+            times.append(message.log_time)
+            if channel.topic not in TF_TOPICS:
+                continue
+            for t in json.loads(message.data)["transforms"]:
+                header, tr, q = t["header"], t["transform"]["translation"], t["transform"]["rotation"]
+                stamp = int(header["stamp"]["sec"]) * 1_000_000_000 + int(header["stamp"]["nanosec"])
+                _add(
+                    edges,
+                    channel.topic,
+                    channel.topic,
+                    message.log_time,
+                    _strip(header["frame_id"]),
+                    _strip(t["child_frame_id"]),
+                    stamp,
+                    [tr["x"], tr["y"], tr["z"], q["x"], q["y"], q["z"], q["w"]],
+                )
+    return _contents(topics, times, edges, [])
 
 
 def largest_stamp_gap(samples: EdgeSamples) -> float:

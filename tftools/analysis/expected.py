@@ -4,6 +4,7 @@ it (``analysis.tree_file``), and the tolerances within which ``--expect`` and ``
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -76,11 +77,18 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             parent=summary.parent,
             static=summary.static,
             rate_hz=summary.rate_hz,
-            publishers=tuple(sorted(summary.authorities)) if named and summary.parent is not None else None,
+            publishers=_publishers(summary.authorities, recording.contents.topics) if named else None,
             translation=translation,
             rotation=rotation,
         )
     return TreeShape(frames, " + ".join(recording.paths))
+
+
+def _publishers(authorities: Iterable[str], topics: Sequence[str]) -> tuple[str, ...] | None:
+    """The nodes that sent a frame; None where one is not named (a ROS 1 bag without callerids gives the
+    topic instead: not a publisher to compare), or none sent it (a root)."""
+    found = tuple(sorted(authorities))
+    return found if found and not set(found) & set(topics) else None
 
 
 def publishers_named(recording: Recording) -> bool:

@@ -12,6 +12,7 @@ from tftools.analysis.wtf import (  # noqa: F401  (they register their checks)
     jumps,
     replay,
     sensors,
+    silence,
     source,
     structure,
     timing,

@@ -153,12 +153,21 @@ class Scene:
     # --- wording ----------------------------------------------------------------------------
 
     def by(self, authorities: Sequence[str]) -> str:
-        """' by /a and /b' (ROS1 names publishers), ' on /tf' (a ROS2 bag, the topics), or '' if unknown."""
+        """' by /a and /b' (ROS1 names publishers), ' on /tf' (a ROS2 bag, or a ROS1 bag without callerids:
+        the topics), or '' if unknown."""
         named = [a for a in authorities if a]
         if not named:
             return ""
-        joined = named[0] if len(named) == 1 else f"{', '.join(named[:-1])} and {named[-1]}"
-        return (" by " if self.publishers_known else " on ") + joined
+        topics = self.recording.contents.topics
+        if not self.publishers_known or all(a in topics for a in named):  # no node named: the topics
+            return " on " + and_joined(named)
+        return " by " + and_joined([self.publisher(a) for a in named])
+
+    def publisher(self, authority: str) -> str:
+        """A publisher as a person knows it: its node; where the recording names none, the topic it sent on."""
+        if authority in self.recording.contents.topics:
+            return f"a publisher on {authority} (unnamed)"
+        return authority
 
     def at(self, stamp: int) -> str:
         """A moment on the stamps' clock: absolute seconds, and seconds into the tf data."""
@@ -177,6 +186,11 @@ class Scene:
 
 def edge(parent: str, child: str) -> str:
     return f"{parent} -> {child}"
+
+
+def and_joined(items: Sequence[str]) -> str:
+    """ "a", "a and b", "a, b and c"."""
+    return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
 
 
 def base_name(frame: str) -> str:

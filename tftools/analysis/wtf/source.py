@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import declare, register
 from tftools.analysis.wtf.scene import Scene, listed
+from tftools.analysis.wtf.silence import silent_moving_topics
 
 
 @register("no_tf", Severity.error, "no transforms at all (or none on /tf)", needs_transforms=False)
@@ -31,7 +32,7 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
             "/tf_static), or name the topics that carry them with --topic"
         )
         yield Finding(Severity.error, "no_tf", f"no transforms on {', '.join(contents.topics)} {where}{present}", hint)
-    elif scene.rows.static.all():
+    elif scene.rows.static.all() and not silent_moving_topics(scene):  # else ``silent_tf`` says why
         yield Finding(
             Severity.info,
             "no_tf",

@@ -14,6 +14,7 @@ from tftools.analysis.wtf.broadcasters import inferred_broadcasters
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
+from tftools.analysis.wtf.topics import StaticShared, both, static_shared
 from tftools.core.arrays import Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 
@@ -222,15 +223,33 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
 
 @register("multiple_authorities", Severity.warning, "two publishers of one edge")
 def multiple_authorities(scene: Scene) -> Iterator[Finding]:
-    """Where the recording names no publishers (ROS 2 bags), several are inferred from each edge's stream."""
+    """Per moving edge; static edges per set of publishers (where they differ, ``static_conflict``). Where the
+    recording names no publishers (ROS 2 bags), several are inferred from each edge's stream."""
     yield from inferred_broadcasters(scene)
     rows = scene.rows
-    for static in (False, True):
-        for parent, child, mine in rows.by_edge(rows.usable & (rows.static == static)):
-            ids = rows.authority[mine]
-            if ids.min() == ids.max():
-                continue
-            yield _authorities_finding(scene, parent, child, mine)
+    for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
+        ids = rows.authority[mine]
+        if ids.min() == ids.max():
+            continue
+        yield _authorities_finding(scene, parent, child, mine)
+    for group in static_shared(scene):
+        if not group.differ:  # else ``static_conflict`` says where they differ, and that they agree elsewhere
+            yield _same_statics(scene, group)
+
+
+def _same_statics(scene: Scene, group: StaticShared) -> Finding:
+    """Several publishers of the same static transforms, with the same values: harmless, one finding for them all."""
+    agree = [edge(p, c) for p, c in group.agree]
+    return scene.finding(
+        Severity.info,
+        "multiple_authorities",
+        f"{both(scene, group.authorities)} both send {counted(len(agree), 'static transform')}, with the same "
+        f"values: {listed(agree)}",
+        "fine: tf2 keeps one value per static transform, and here they are equal; one publisher is enough",
+        tuple(dict.fromkeys(f for p, c in group.agree for f in (p, c))),
+        group.rows,
+        scene.arrival(group.rows),
+    )
 
 
 def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray) -> Finding:

@@ -8,7 +8,7 @@ import numpy as np
 
 from tftools.analysis.edges import EdgeStats, edge_gaps, silence_limit
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import inferred_broadcasters
+from tftools.analysis.wtf.broadcasters import inferred_broadcasters, sent_before
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
@@ -120,7 +120,8 @@ def delay(scene: Scene) -> Iterator[Finding]:
 def rate(scene: Scene) -> Iterator[Finding]:
     """Gaps in each edge's stamps (the samples tf2 holds: the gaps ``monitor`` and ``view-frames`` show);
     then, where there is none, each publisher's rhythm per frame by when its transforms were received
-    (a stamp sent again at once counted once, refused values included: other checks judge those)."""
+    (a sample sent again, stamp and value, counted once, however late; refused values included: other checks
+    judge those)."""
     silent = set()
     for e in scene.dynamic_edges:
         found = _silences(scene, e)
@@ -132,8 +133,7 @@ def rate(scene: Scene) -> Iterator[Finding]:
         if child in silent:
             continue
         stamps = rows.stamp[mine]
-        fresh = np.concatenate([[True], stamps[1:] != stamps[:-1]])
-        arrivals = np.sort(scene.received(mine[fresh]))
+        arrivals = np.sort(scene.received(mine[~sent_before(stamps, rows.values[mine])]))
         if len(arrivals) >= 3:
             frames = (rows.names[rows.parent[mine[-1:]][0]], child)
             yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals)

@@ -1,16 +1,20 @@
-"""Checks of /tf against /tf_static: fixed transforms sent as moving ones, moving ones sent as fixed, and both."""
+"""Checks of /tf against /tf_static: fixed transforms sent as moving ones, moving ones sent as fixed, and both;
+and publishers of /tf_static that disagree."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 from tftools.analysis.edges import rate_hz
 from tftools.analysis.findings import Finding, Severity, counted
+from tftools.analysis.wtf.broadcasters import apart
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.rows import Rows
-from tftools.analysis.wtf.scene import Scene, base_name, duration, edge, listed, transforms
+from tftools.analysis.wtf.rows import Rows, split
+from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed, transforms
+from tftools.core.arrays import IntpArray
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
@@ -108,11 +112,12 @@ def _moving_by_nature(parent: str) -> bool:
 
 @register("dynamic_on_static", Severity.error, "a changing transform on /tf_static")
 def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
+    """Static edges whose value one publisher changed (publishers that disagree: ``static_conflict``)."""
     rows = scene.rows
     for parent, child, mine in rows.by_edge(rows.usable & rows.static):
         values = rows.values[mine]
         changed = np.flatnonzero((values[1:] != values[:-1]).any(axis=1)) + 1
-        if not len(changed):
+        if not len(changed) or not _changes_its_own(rows, mine):
             continue
         distinct = len(np.unique(values, axis=0))
         when = scene.arrival(mine[changed])
@@ -132,6 +137,90 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
             int(when[-1]),
             len(changed),
         )
+
+
+def _changes_its_own(rows: Rows, mine: np.ndarray) -> bool:
+    """Whether a publisher of the static edge ``mine`` sent it with more than one value."""
+    for _, theirs in split(mine, rows.authority[mine]):
+        values = rows.values[theirs]
+        if (values != values[0]).any():
+            return True
+    return False
+
+
+@dataclass(frozen=True)
+class StaticShared:
+    """Static edges sent by the same several publishers: those on which their values differ (with how
+    far the other publishers' latest value is from the one tf2 keeps: metres, degrees), and the others."""
+
+    authorities: tuple[str, ...]
+    differ: list[tuple[str, str, float, float]]
+    agree: list[tuple[str, str]]
+    rows: IntpArray  # every row of these edges
+
+
+def static_shared(scene: Scene) -> list[StaticShared]:
+    """Per set of publishers sending the same static edges: where they agree and where they differ."""
+    return scene.shared("static_shared", lambda: _static_shared(scene))
+
+
+def _static_shared(scene: Scene) -> list[StaticShared]:
+    rows = scene.rows
+    groups: dict[tuple[str, ...], tuple[list[tuple[str, str, float, float]], list[tuple[str, str]], list[IntpArray]]]
+    groups = {}
+    for parent, child, mine in rows.by_edge(rows.usable & rows.static):
+        ids = rows.authority[mine]
+        if ids.min() == ids.max() or _changes_its_own(rows, mine):
+            continue
+        differ, agree, members = groups.setdefault(scene.authorities_of(mine), ([], [], []))
+        members.append(mine)
+        values = rows.values[mine]
+        metres, degrees = apart(values, np.broadcast_to(values[-1], values.shape))  # from the one tf2 keeps
+        if metres.max() > 0 or degrees.max() > 0:
+            differ.append((parent, child, float(metres.max()), float(degrees.max())))
+        else:
+            agree.append((parent, child))
+    return [StaticShared(who, d, a, np.sort(np.concatenate(m))) for who, (d, a, m) in groups.items()]
+
+
+@register("static_conflict", Severity.error, "publishers of /tf_static that disagree on frames")
+def static_conflict(scene: Scene) -> Iterator[Finding]:
+    """Two robot descriptions or calibrations latched at once: one finding per set of publishers,
+    with the frames they disagree on and by how much."""
+    rows = scene.rows
+    for group in static_shared(scene):
+        if not group.differ:
+            continue
+        worst = max(group.differ, key=lambda d: (d[2], d[3]))
+        kept = scene.publisher(rows.authorities[int(rows.authority[group.rows[-1:]][0])])
+        described = [f"{edge(p, c)} ({_apart(m, d)})" for p, c, m, d in group.differ]
+        agree = f"; they agree on {counted(len(group.agree), 'other')}" if group.agree else ""
+        arrivals = scene.arrival(group.rows)
+        yield Finding(
+            Severity.error,
+            "static_conflict",
+            f"{both(scene, group.authorities)} send different values for "
+            f"{counted(len(group.differ), 'static transform')}: {listed(described)}; the largest "
+            f"{edge(worst[0], worst[1])}, {_apart(worst[2], worst[3])}{agree}. tf2 keeps the last received "
+            f"for every time: {kept}'s, at {scene.at(int(arrivals.max()))}",
+            "two descriptions of one robot are published at once (two calibration files, two "
+            "robot_state_publishers with different URDFs): publish each frame from one of them; "
+            "tfx diff compares two recordings' calibrations",
+            tuple(dict.fromkeys(f for p, c, _, _ in group.differ for f in (p, c))),
+            group.authorities,
+            int(arrivals.min()),
+            int(arrivals.max()),
+            len(group.differ),
+        )
+
+
+def both(scene: Scene, authorities: Sequence[str]) -> str:
+    """ "/a and /b", "/a, /b and /c": publishers as a person knows them."""
+    return and_joined([scene.publisher(a) for a in authorities])
+
+
+def _apart(metres: float, degrees: float) -> str:
+    return f"{metres * 1000:.1f} mm and {degrees:.2f}° apart"
 
 
 @register("mixed_static", Severity.error, "one frame sent both on /tf_static and on /tf")

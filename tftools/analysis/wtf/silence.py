@@ -1,0 +1,123 @@
+"""tf topics that say nothing: publishers that sent no message while recorded, and messages that carry
+no transform. Only rosbag2 recordings say so: metadata.yaml lists each topic's messages and the QoS of
+each publisher the recorder found (``offered_qos_profiles``)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from tftools.analysis.findings import Finding, Severity, counted
+from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.scene import Scene
+from tftools.sources.bag.rosbag2 import metadata_yaml
+from tftools.sources.contents import SourceInfo, is_static_topic
+
+
+@dataclass(frozen=True)
+class TopicTally:
+    """One tf topic of one rosbag2 file: its messages, those that carried a transform, its publishers."""
+
+    file: str
+    topic: str
+    messages: int
+    transforms: int
+    instants: int  # record times of those transforms: messages at one instant cannot be told apart
+    publishers: int
+
+    @property
+    def empty(self) -> int:
+        """Messages that carry no transform, at least: each other one carries one or more."""
+        return max(0, self.messages - self.transforms)
+
+    @property
+    def empty_at_most(self) -> int:
+        return max(0, self.messages - self.instants)
+
+    @property
+    def static(self) -> bool:
+        return is_static_topic(self.topic)
+
+
+def tallies(scene: Scene) -> list[TopicTally]:
+    """Each tf topic of each rosbag2 file on disk whose metadata.yaml counts it; computed once per scene."""
+    return scene.shared("tf_topic_tallies", lambda: list(_tallies(scene)))
+
+
+def silent_moving_topics(scene: Scene) -> list[TopicTally]:
+    """/tf topics whose publishers (one or more) sent not one message, in a recording without moving transforms."""
+    if (~scene.rows.static).any():
+        return []
+    return [t for t in tallies(scene) if not t.static and t.publishers and not t.messages]
+
+
+def _tallies(scene: Scene) -> Iterator[TopicTally]:
+    rows = scene.rows
+    records, static = rows.record_time.whole(), rows.static
+    for file in scene.recording.contents.files:
+        if not file.format.startswith("rosbag2") or not Path(file.path).is_dir():
+            continue
+        inside = (records >= file.start) & (records <= file.end)
+        for topic, (messages, publishers) in _counts(file, scene.recording.contents.topics).items():
+            mine = inside & (static == is_static_topic(topic))
+            yield TopicTally(file.path, topic, messages, int(mine.sum()), len(np.unique(records[mine])), publishers)
+
+
+def _counts(file: SourceInfo, topics: tuple[str, ...]) -> dict[str, tuple[int, int]]:
+    """Per tf topic: its messages and its publishers, as metadata.yaml has them (nothing if unreadable:
+    ``static_volatile`` says so)."""
+    try:
+        info = metadata_yaml.load(Path(file.path) / "metadata.yaml")["rosbag2_bagfile_information"]
+        found = {}
+        for entry in info.get("topics_with_message_count") or []:
+            topic = entry["topic_metadata"]
+            if str(topic["name"]) in topics:
+                profiles = topic.get("offered_qos_profiles") or []
+                offered = metadata_yaml.load_text(profiles) if isinstance(profiles, str) else profiles
+                found[str(topic["name"])] = (int(entry.get("message_count") or 0), len(offered or []))
+        return found
+    except (metadata_yaml.MetadataError, KeyError, TypeError, ValueError, AttributeError):
+        return {}
+
+
+@register("silent_tf", Severity.warning, "tf publishers that sent nothing, tf messages without transforms")
+def silent_tf(scene: Scene) -> Iterator[Finding]:
+    silent = silent_moving_topics(scene)
+    for tally in tallies(scene):
+        said = []
+        if tally in silent:
+            said.append(
+                f"{tally.topic} had {counted(tally.publishers, 'publisher')} when recording began (metadata.yaml's "
+                "offered QoS) and not one message was recorded: nothing in this recording moves"
+            )
+        if tally.empty:
+            exactly = "" if tally.empty == tally.empty_at_most else "at least "
+            said.append(
+                f"{exactly}{tally.empty:,} of {tally.messages:,} messages on {tally.topic} carry no transform "
+                f"({counted(tally.transforms, 'transform')} in the others)"
+            )
+        if not said:
+            continue
+        warning = tally in silent or tally.empty * 2 > tally.messages  # mostly empty: a publisher gone wrong
+        hints = []
+        if tally in silent:
+            hints.append(
+                "the moving transforms' publishers ran but sent nothing while recorded (their input never came: "
+                "joint states, odometry, a clock), or the recorder missed them: lookups through them all fail"
+            )
+        if tally.empty:
+            hints.append(
+                "a node sending tf messages without transforms is misconfigured: ros2 topic info -v names them"
+            )
+        yield Finding(
+            Severity.warning if warning else Severity.info,
+            "silent_tf",
+            f"{tally.file}: {'; '.join(said)}",
+            "; ".join(hints),
+            (),
+            (tally.topic,),
+            count=tally.empty or tally.publishers,
+        )
