@@ -17,14 +17,28 @@ if TYPE_CHECKING:
     from tftools.core.errors import TfToolsError
 
 VERSION_LINE = f"tfx {__version__}"
+#: The exit code of a command stopped by Ctrl-C (SIGINT), as a shell gives it: 128 + 2.
+INTERRUPTED = 130
 
 
 def main() -> None:
     """Run ``tfx``: tftools' errors and wrong arguments print as one line and exit with code 2; so does
-    any other exception (an internal error, named as such; ``TFX_DEBUG=1`` shows its traceback)."""
+    any other exception (an internal error, named as such; ``TFX_DEBUG=1`` shows its traceback), and
+    standard output that cannot be written. Ctrl-C, even while tfx starts, is one line and code 130."""
+    try:
+        code = _run()
+    except KeyboardInterrupt:
+        code = _interrupted()
+    sys.exit(code)
+
+
+def _run() -> int:
     if sys.argv[1:] == ["--version"]:  # the one answer that needs neither the parser nor a subcommand
         print(VERSION_LINE)
-        sys.exit(0)
+        return 0
+    from tftools.cli.streams import OutputError, ReaderGone, checked_stdout
+
+    checked_stdout()
     import typer
 
     from tftools.cli.commands import app
@@ -33,22 +47,53 @@ def main() -> None:
 
     try:
         code = app(standalone_mode=False)
+        if code == INTERRUPTED:  # typer's answer to Ctrl-C in a command: that code, silently
+            raise KeyboardInterrupt
+        sys.stdout.flush()  # what is still buffered fails here, not after the exit code is decided
+    except OutputError as error:
+        silence_stdout()
+        code = _failed(error)
     except TfToolsError as error:
         code = _failed(error)
     except typer.Abort:
         code = Exit.PROBLEMS
     except typer.TyperException as error:  # click's: an unknown option, a value that is not a number, ...
         code = _usage_error(error)
-    except BrokenPipeError:  # e.g. `tfx echo ... | head`
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (ReaderGone, BrokenPipeError):  # e.g. `tfx echo ... | head`: the reader had enough
+        silence_stdout()
         code = Exit.OK
     except KeyboardInterrupt:
-        code = 130
+        raise
     except Exception as error:  # a bug in tfx, or a reader's: still never a traceback, unless asked for
         if os.environ.get("TFX_DEBUG"):
             raise
         code = _failed(InternalError(error))
-    sys.exit(int(code or 0))
+    return int(code or 0)
+
+
+def _interrupted() -> int:
+    """Ctrl-C: one line, whatever was running (even the imports), and what was printed so far kept."""
+    try:
+        sys.stdout.flush()
+    except (OSError, ValueError, KeyboardInterrupt):
+        silence_stdout()
+    try:
+        sys.stderr.write("tfx: interrupted\n")
+        sys.stderr.flush()
+    except (OSError, ValueError, KeyboardInterrupt):
+        pass
+    return INTERRUPTED
+
+
+def silence_stdout() -> None:
+    """Send what is left to write (and the interpreter's last flush) to /dev/null: after a closed pipe or
+    a failed write, nothing more can or should reach standard output."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 1)
+        os.close(devnull)
+    except OSError:
+        pass
 
 
 def _failed(error: TfToolsError) -> int:
