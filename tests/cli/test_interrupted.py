@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.test_start_up import modules_after
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -51,11 +52,6 @@ def test_ctrl_c_is_one_line_and_130(module: str) -> None:
 
 def test_the_trigger_is_reached() -> None:
     """The modules above are all imported by ``tfx frames`` (else the test above would prove nothing)."""
-    script = "import sys; sys.argv = {argv!r}\nfrom tftools.cli.app import main\ntry:\n    main()\nexcept SystemExit:\n    pass\n"
-    script += "print(sorted(sys.modules))"
-    done = subprocess.run(
-        [sys.executable, "-c", script.format(argv=FRAMES)], cwd=REPO, capture_output=True, text=True, check=True
-    )
-    loaded = done.stdout.splitlines()[-1]
+    modules = modules_after(f"import sys; sys.argv = {FRAMES!r}; from tftools.cli.app import main; main()")
     for module in ("typer", "numpy", "tftools.analysis.frames", "tftools.sources.bag.ros1"):
-        assert repr(module) in loaded
+        assert module in modules
