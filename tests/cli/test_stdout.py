@@ -11,6 +11,9 @@ from pathlib import Path
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.test_outputs import tiny_disk
+
+__all__ = ["tiny_disk"]  # a fixture, for pytest
 
 REPO = Path(__file__).resolve().parents[2]
 #: ~400 KB of CSV: far more than a pipe's or a buffer's worth.
@@ -76,3 +79,20 @@ def test_everything_is_written_when_unbuffered(tmp_path: Path) -> None:
         assert done.returncode == 0
         outputs.append(path.read_bytes())
     assert outputs[0] == outputs[1] and len(outputs[0]) > 300_000
+
+
+@pytest.mark.parametrize("unbuffered", [False, True], ids=["buffered", "PYTHONUNBUFFERED"])
+def test_a_disk_that_fills_up_midway(tiny_disk: Path, unbuffered: bool) -> None:
+    """16 KiB of room for ~400 KB: the first writes succeed, one is cut short, the next fail."""
+    with (tiny_disk / "pose.csv").open("w") as out:
+        done = subprocess.run(
+            [sys.executable, "-m", "tftools", *ECHO_ALL],
+            cwd=REPO,
+            stdout=out,
+            stderr=subprocess.PIPE,
+            text=True,
+            env=_environment(unbuffered),
+            check=False,
+        )
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith("tfx: error: cannot write the output: No space left on device")

@@ -6,6 +6,7 @@ application (``tftools.cli.commands``), which imports only the subcommand it run
 from __future__ import annotations
 
 import os
+import shlex
 import sys
 from typing import TYPE_CHECKING
 
@@ -46,7 +47,8 @@ def _run() -> int:
     from tftools.core.errors import TfToolsError
 
     try:
-        code = app(standalone_mode=False)
+        _bag_among_frames()
+        code = app(standalone_mode=False, prog_name="tfx")
         if code == INTERRUPTED:  # typer's answer to Ctrl-C in a command: that code, silently
             raise KeyboardInterrupt
         sys.stdout.flush()  # what is still buffered fails here, not after the exit code is decided
@@ -113,4 +115,39 @@ def _usage_error(error: typer.TyperException) -> int:
     context = getattr(error, "ctx", None)
     command = getattr(context, "command_path", "") or "tfx"
     message = error.format_message() if hasattr(error, "format_message") else str(error)
-    return _failed(UsageError(message, f"see {command} --help"))
+    return _failed(UsageError(message, _forgotten_bag_option(message) or f"see {command} --help"))
+
+
+def _forgotten_bag_option(message: str) -> str:
+    """For extra arguments that are bags (``tfx frames robot.bag``): the command line with ``-b`` before them."""
+    words = sys.argv[1:]
+    if "unexpected extra argument" not in message or not words or words[0] in ("wtf", "report", "diff"):
+        return ""
+    return _with_b(words, {w for w in words if w in message and _is_bag(w)})
+
+
+def _bag_among_frames() -> None:
+    """``tfx echo map robot.bag``, ``tfx monitor robot.bag``: a bag where a frame or topic goes, no -b; the
+    command would listen to a live system. A ``UsageError`` showing the command line with -b."""
+    from tftools.cli.common import UsageError
+
+    words = sys.argv[1:]
+    if not words or words[0] not in ("echo", "monitor", "filter") or {"-b", "--bag"} & set(words):
+        return
+    bags = {w for i, w in enumerate(words[1:], 1) if _is_bag(w) and not words[i - 1].startswith("-")}
+    if bags:
+        what = "topic" if words[0] == "filter" else "frame"
+        raise UsageError(f"{sorted(bags)[0]} is a bag, not a {what}", _with_b(words, bags))
+
+
+def _is_bag(word: str) -> bool:
+    from tftools.sources.storage.locations import BAG_SUFFIXES, METADATA
+
+    return not word.startswith("-") and (word.endswith(BAG_SUFFIXES) or os.path.isfile(os.path.join(word, METADATA)))
+
+
+def _with_b(words: list[str], bags: set[str]) -> str:
+    if not bags:
+        return ""
+    fixed = [part for w in words for part in (["-b", w] if w in bags else [w])]
+    return "a bag is read with -b: tfx " + " ".join(shlex.quote(w) for w in fixed)

@@ -20,8 +20,10 @@ from tftools.core.transform import Transform
 from tftools.render.escape import printable
 from tftools.sinks import open_static_broadcaster
 from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC, add_static_transforms, repair_static_transforms
+from tftools.sources.errors import NoTransformsError
 from tftools.sources.live.static_file import read_static_transforms
 from tftools.sources.storage import local_recording
+from tftools.sources.storage.locations import METADATA, is_url
 
 CONTEXT = {"ignore_unknown_options": True}  # so that negative numbers are arguments, not options
 
@@ -209,9 +211,50 @@ def _copying(bag: str | None, output: Path | None, force: bool) -> Iterator[tupl
     if bag is None or output is None:
         raise UsageError("-b BAG and -o OUTPUT go together", "e.g. tfx static ... -b in.bag -o out.bag")
     check_output(output, [bag])
+    _copyable(bag)
     check_replaceable(output, force)
     with local_recording(bag) as local:
         yield local, output
+
+
+def _copyable(bag: str) -> None:
+    """A bag tfx can copy with transforms added: a ROS 1 .bag or a ROS 2 bag directory, not one of the
+    directory's files, nor a bare .mcap or .db3 file."""
+    path = Path(bag)
+    if is_url(bag) or not path.is_file() or path.suffix not in (".mcap", ".db3"):
+        return
+    if (path.parent / METADATA).is_file():
+        raise UsageError(
+            f"-b {bag} is a file of the ROS 2 bag {path.parent}",
+            f"give the bag's directory, and a directory for the copy: -b {path.parent} -o OUTPUT",
+        )
+    raise UsageError(
+        f"-b {bag}: tfx static copies ROS 1 .bag files and ROS 2 bag directories, not a bare {path.suffix} file",
+        "make it a ROS 2 bag first: put it alone in a folder and run ros2 bag reindex FOLDER, then -b FOLDER",
+    )
+
+
+def _already_there(bag: Path, transforms: Sequence[Transform]) -> None:
+    """Refuse a transform whose child frame the bag already has: tf2 would see two values (or two
+    parents) for it, and tfx wtf would fail the copy."""
+    from tftools.sources import read_recording
+
+    try:
+        buffer = read_recording([bag]).buffer
+    except NoTransformsError:
+        return
+    given = {t.child_frame_id for t in transforms}
+    for child, history in buffer.histories():
+        if child not in given:
+            continue
+        parents = sorted({buffer.frame_name(p) for p in history.parents.tolist()})
+        kind = "a static transform" if history.static else "a moving transform"
+        wanted = next(t for t in transforms if t.child_frame_id == child)
+        raise UsageError(
+            f"{bag} already has {child}, {kind} of {', '.join(parents)}: adding {wanted.frame_id} -> {child} "
+            "would give tf2 two values for it, and tfx wtf would fail the copy",
+            f"add only frames the bag lacks: tfx frames -b {bag} lists its own",
+        )
 
 
 def _repair_bag(bag: str | None, output: Path | None, force: bool) -> None:
@@ -223,6 +266,7 @@ def _repair_bag(bag: str | None, output: Path | None, force: bool) -> None:
 
 def _write_bag(bag: str | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
     with _copying(bag, output, force) as (local, copy):
+        _already_there(local, transforms)
         written = add_static_transforms(local, copy, transforms, force=force)
     stdout.print(
         printable(f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}")
