@@ -35,7 +35,7 @@ def checked(monkeypatch: pytest.MonkeyPatch) -> list[str]:
         seen.append(paths[0])
         return fleet.check_bags(paths, **options)  # type: ignore[arg-type]
 
-    monkeypatch.setattr("tftools.cli.wtf.check_bags", counting)
+    monkeypatch.setattr("tftools.analysis.wtf.fleet.check_bags", counting)
     return seen
 
 
@@ -109,7 +109,7 @@ def test_a_recording_over_its_timeout_is_reported_as_not_checked(
             time.sleep(3)
         return fleet.check_bags(paths, **options)  # type: ignore[arg-type]
 
-    monkeypatch.setattr("tftools.cli.wtf.check_bags", slow_for_stale)
+    monkeypatch.setattr("tftools.analysis.wtf.fleet.check_bags", slow_for_stale)
     result = tfx("wtf", bags["healthy"], bags["stale"], "--timeout", "0.5", "--format", "json")
     good, slow = json.loads(result.stdout)["bags"]
     assert result.code == 1 and good["verdict"] == "passed"

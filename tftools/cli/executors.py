@@ -16,14 +16,15 @@ from collections.abc import Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import TYPE_CHECKING
 
-from tftools.analysis.wtf.fleet import BagReport, unchecked
 from tftools.cli.common import UsageError
 from tftools.cli.deadline import CheckGroup, CheckTimeoutError
 
 if TYPE_CHECKING:
     from distributed import Client
 
-Results = Iterator[tuple[int, BagReport]]
+    from tftools.analysis.wtf.fleet import BagReport
+
+Results = Iterator[tuple[int, "BagReport"]]
 
 INSTALL_HINT = "install the extra: pip install 'tftools[fleet]'"
 CONNECT_SECONDS = 5
@@ -53,6 +54,8 @@ def in_processes(groups: Sequence[Sequence[str]], check: CheckGroup, jobs: int) 
 
 def on_dask(groups: Sequence[Sequence[str]], check: CheckGroup, address: str) -> Results:
     """Each recording a task on the cluster whose scheduler is at ``address``."""
+    from tftools.analysis.wtf.fleet import unchecked
+
     try:
         from distributed import KilledWorker
         from distributed import as_completed as finished
@@ -88,10 +91,14 @@ def _connect(address: str) -> Client:
 
 
 def _timed_out(group: Sequence[str], error: CheckTimeoutError, retried: bool) -> BagReport:
+    from tftools.analysis.wtf.fleet import unchecked
+
     why = f"{error}{', twice' if retried else ''}"
     return unchecked(tuple(group), why, "raise --timeout, or check it alone (tfx wtf BAG)")
 
 
 def _failed(group: Sequence[str], error: BaseException) -> BagReport:
+    from tftools.analysis.wtf.fleet import unchecked
+
     said = " ".join(str(error).split())  # Dask's messages run over several lines
     return unchecked(tuple(group), f"its task failed ({type(error).__name__}: {said})", _WORKER_HINT)
