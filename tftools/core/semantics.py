@@ -145,6 +145,7 @@ def _ros2_error(kind: int) -> type[ExtrapolationError]:
 
     return {FUTURE: ForwardExtrapolationError, PAST: BackwardExtrapolationError}.get(kind, NoDataForExtrapolationError)
 
+
 ROS1: Dialect = Dialect()
 ROS2: Dialect = _Ros2Dialect()
 
