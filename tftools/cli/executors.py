@@ -12,6 +12,8 @@ worker busy until it ends)."""
 from __future__ import annotations
 
 import logging
+import multiprocessing
+import signal
 from collections.abc import Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import TYPE_CHECKING
@@ -40,7 +42,9 @@ def in_process(groups: Sequence[Sequence[str]], check: CheckGroup) -> Results:
 
 
 def in_processes(groups: Sequence[Sequence[str]], check: CheckGroup, jobs: int) -> Results:
-    with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
+    """Ctrl-C stops them all at once: the workers leave it to this process, which ends them."""
+    pool = ProcessPoolExecutor(max_workers=min(jobs, len(groups)), initializer=_leave_interrupts_to_the_parent)
+    try:
         futures = {pool.submit(check, group): index for index, group in enumerate(groups)}
         for future in as_completed(futures):
             index = futures[future]
@@ -50,6 +54,16 @@ def in_processes(groups: Sequence[Sequence[str]], check: CheckGroup, jobs: int) 
                 yield index, _timed_out(groups[index], error, retried=False)
             except Exception as error:  # a process that died (BrokenProcessPool) must not stop the fleet
                 yield index, _failed(groups[index], error)
+    except BaseException:  # Ctrl-C, or the reader gone: no check is worth finishing
+        pool.shutdown(wait=False, cancel_futures=True)
+        for worker in multiprocessing.active_children():
+            worker.terminate()
+        raise
+    pool.shutdown()
+
+
+def _leave_interrupts_to_the_parent() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def on_dask(groups: Sequence[Sequence[str]], check: CheckGroup, address: str) -> Results:
