@@ -7,6 +7,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import IO
 
 import pytest
 
@@ -28,25 +29,29 @@ def _environment(unbuffered: bool) -> dict[str, str]:
     return environment
 
 
+def _refused_output(command: list[str], out: IO[str], unbuffered: bool) -> None:
+    """``tfx command > out`` fails as a full disk should: exit 2, one line that says so, no "bug", no traceback."""
+    done = subprocess.run(
+        [sys.executable, "-m", "tftools", *command],
+        cwd=REPO,
+        stdout=out,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=_environment(unbuffered),
+        check=False,
+    )
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith("tfx: error: cannot write the output: No space left on device")
+    assert "bug" not in done.stderr
+
+
 @pytest.mark.skipif(not FULL.exists(), reason="no /dev/full here")
 @pytest.mark.parametrize("unbuffered", [False, True], ids=["buffered", "PYTHONUNBUFFERED"])
 @pytest.mark.parametrize("command", [ECHO_ALL, ["frames", "-b", str(SAMPLE_BAGS["ros1"])]], ids=["echo", "frames"])
 def test_a_full_disk_is_one_line_and_exit_2(command: list[str], unbuffered: bool) -> None:
     with FULL.open("w") as full:
-        done = subprocess.run(
-            [sys.executable, "-m", "tftools", *command],
-            cwd=REPO,
-            stdout=full,
-            stderr=subprocess.PIPE,
-            text=True,
-            env=_environment(unbuffered),
-            check=False,
-        )
-    assert done.returncode == 2, done.stderr
-    lines = done.stderr.splitlines()
-    assert len(lines) == 1, done.stderr
-    assert lines[0].startswith("tfx: error: cannot write the output: No space left on device")
-    assert "bug" not in lines[0] and "Traceback" not in done.stderr
+        _refused_output(command, full, unbuffered)
 
 
 @pytest.mark.parametrize("unbuffered", [False, True], ids=["buffered", "PYTHONUNBUFFERED"])
@@ -85,14 +90,4 @@ def test_everything_is_written_when_unbuffered(tmp_path: Path) -> None:
 def test_a_disk_that_fills_up_midway(tiny_disk: Path, unbuffered: bool) -> None:
     """16 KiB of room for ~400 KB: the first writes succeed, one is cut short, the next fail."""
     with (tiny_disk / "pose.csv").open("w") as out:
-        done = subprocess.run(
-            [sys.executable, "-m", "tftools", *ECHO_ALL],
-            cwd=REPO,
-            stdout=out,
-            stderr=subprocess.PIPE,
-            text=True,
-            env=_environment(unbuffered),
-            check=False,
-        )
-    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
-    assert done.stderr.startswith("tfx: error: cannot write the output: No space left on device")
+        _refused_output(ECHO_ALL, out, unbuffered)

@@ -5,8 +5,9 @@ The names load on first use (PEP 562): a light module of the package (``errors``
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from tftools import lazy
 
 if TYPE_CHECKING:
     from tftools.sources.bag import BagContents, BagFileInfo, read_bag
@@ -59,13 +60,4 @@ _HOME = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _HOME:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_HOME[name]), name)
-    globals()[name] = value  # looked up once
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *__all__])
+__getattr__, __dir__ = lazy.exports(__name__, _HOME, __all__)
