@@ -132,7 +132,11 @@ def _bag_among_frames() -> None:
     from tftools.cli.common import UsageError
 
     words = sys.argv[1:]
-    if not words or words[0] not in ("echo", "monitor", "filter") or {"-b", "--bag"} & set(words):
+    if (
+        not words
+        or words[0] not in ("echo", "monitor", "filter")
+        or any(w.startswith(("-b", "--bag")) for w in words)  # -b X, -bX, --bag X, --bag=X
+    ):
         return
     bags = {w for i, w in enumerate(words[1:], 1) if _is_bag(w) and not words[i - 1].startswith("-")}
     if bags:
