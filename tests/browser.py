@@ -76,16 +76,18 @@ class Opened:
         return html.unescape(re.sub(r"<[^>]+>", " ", body))
 
 
-def open_page(page: Path, script: str = "return null;") -> Opened:
-    """Open ``page`` in headless Chromium; ``script`` (an async function's body, in which ``await settled()``
-    lets the page draw what it was asked to) runs once the page has loaded, and its result comes back as JSON."""
+def open_page(page: Path, script: str = "return null;", width: int | None = None) -> Opened:
+    """Open ``page`` in headless Chromium (a window ``width`` pixels wide, if given); ``script`` (an async
+    function's body, in which ``await settled()`` lets the page draw what it was asked to) runs once the page
+    has loaded, and its result comes back as JSON."""
     assert CHROMIUM is not None
     probed = page.with_name(f"probed-{page.name}")
     text = page.read_text(encoding="utf-8")
     head = text.index("<head>") + len("<head>")
     end = text.rindex("</body>")
     probed.write_text(text[:head] + PROBE + text[head:end] + AFTER % script + text[end:], encoding="utf-8")
-    done = _run("--dump-dom", f"--virtual-time-budget={BUDGET_MS}", probed.as_uri())
+    window = () if width is None else (f"--window-size={width},1600",)
+    done = _run("--dump-dom", *window, f"--virtual-time-budget={BUDGET_MS}", probed.as_uri())
     body = re.search(r"<body[^>]*>", done.stdout)
     assert body is not None, done.stdout[-2000:] + done.stderr[-2000:]
     attributes = dict(re.findall(r'(data-test-[a-z]+)="([^"]*)"', body.group(0)))

@@ -5,8 +5,9 @@ no numpy, and a command imports only what it uses."""
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from tftools import lazy
 
 if TYPE_CHECKING:
     from tftools.core import (
@@ -49,14 +50,6 @@ __all__ = [
 #: The names ``tftools.sources`` exports; the others come from ``tftools.core``.
 _FROM_SOURCES = {"Recording", "load", "read_recording"}
 
-
-def __getattr__(name: str) -> Any:
-    if name not in __all__:
-        raise AttributeError(f"module 'tftools' has no attribute {name!r}")
-    value = getattr(importlib.import_module("tftools.sources" if name in _FROM_SOURCES else "tftools.core"), name)
-    globals()[name] = value  # looked up once
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *__all__])
+__getattr__, __dir__ = lazy.exports(
+    __name__, {name: "tftools.sources" if name in _FROM_SOURCES else "tftools.core" for name in __all__}, __all__
+)

@@ -143,7 +143,7 @@ def test_cache_sets_the_live_buffers_length(tfx, monkeypatch: pytest.MonkeyPatch
 
     monkeypatch.setenv("TFX_DEBUG", "1")  # the test's own exception comes through
     monkeypatch.setattr("tftools.cli.echo.live.open_source", lambda *args: contextlib.nullcontext())
-    monkeypatch.setattr("tftools.cli.echo.listen", listen)
+    monkeypatch.setattr("tftools.sources.live.capture.listen", listen)
     with pytest.raises(ListenedError):
         tfx("echo", "map", "odom", "--cache", "2.5")
     assert asked == [2_500_000_000]

@@ -1,5 +1,6 @@
 """Start-up imports only what is used: ``import tftools`` and ``tfx --version`` load no numpy, parser,
-live stack or Graphviz, and ``tfx frames -b`` loads no other subcommand nor live stack."""
+live stack or Graphviz, ``tfx frames -b`` loads no other subcommand nor live stack, and ``tfx --help`` and
+``tfx COMMAND --help`` no numpy, analysis or reader."""
 
 from __future__ import annotations
 
@@ -8,7 +9,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from tests.cli.conftest import SAMPLE_BAGS
+from tftools.cli.commands import SUBCOMMANDS
 
 REPO = Path(__file__).resolve().parents[2]
 #: Module prefixes no start-up needs.
@@ -72,3 +76,41 @@ def test_tfx_wtf_loads_dask_only_for_dask() -> None:
     modules = modules_after(code)
     assert "tftools.cli.executors" in modules
     assert loaded(modules, ("dask", "distributed")) == []
+
+
+#: What no help needs: the arrays, the analyses, the readers, Graphviz.
+NOT_FOR_HELP = ("numpy", "graphviz", "matplotlib", "tftools.analysis", "tftools.sources.bag", "tftools.sources.live")
+
+
+def test_tfx_help_loads_no_subcommand_nor_numpy() -> None:
+    modules = modules_after("import sys; sys.argv = ['tfx', '--help']; from tftools.cli.app import main; main()")
+    assert "tftools.cli.commands" in modules
+    assert loaded(modules, NOT_FOR_HELP) == []
+    assert [m for m in modules if m.startswith("tftools.cli.") and m.removeprefix("tftools.cli.") in SUBCOMMANDS] == []
+
+
+@pytest.mark.parametrize("name", SUBCOMMANDS)
+def test_a_subcommands_help_loads_no_numpy(name: str) -> None:
+    code = f"import sys; sys.argv = ['tfx', {name!r}, '--help']; from tftools.cli.app import main; main()"
+    modules = modules_after(code)
+    assert f"tftools.cli.{name.replace('-', '_')}" in modules
+    assert loaded(modules, NOT_FOR_HELP) == []
+
+
+def test_the_help_lists_every_subcommand_with_its_summary() -> None:
+    done = subprocess.run([sys.executable, "-m", "tftools", "--help"], cwd=REPO, capture_output=True, text=True)
+    assert done.returncode == 0
+    for name in SUBCOMMANDS:
+        assert f" {name} " in done.stdout
+    assert "Print the transform from SOURCE to TARGET" in done.stdout  # echo's, from its docstring
+
+
+def test_the_defaults_the_help_shows_are_the_analyses_own() -> None:
+    from dataclasses import asdict
+
+    from tftools.analysis.expected import Tolerances
+    from tftools.analysis.wtf import Thresholds
+    from tftools.cli import defaults
+
+    assert defaults.thresholds() == asdict(Thresholds())
+    assert defaults.tolerances() == asdict(Tolerances())

@@ -30,12 +30,13 @@ def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 def checked(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     """The recordings tfx checks (in this process: --jobs 1), in order."""
     seen: list[str] = []
+    check_bags = fleet.check_bags
 
     def counting(paths: list[str], **options: object) -> fleet.BagReport:
         seen.append(paths[0])
-        return fleet.check_bags(paths, **options)  # type: ignore[arg-type]
+        return check_bags(paths, **options)  # type: ignore[arg-type]
 
-    monkeypatch.setattr("tftools.cli.wtf.check_bags", counting)
+    monkeypatch.setattr("tftools.analysis.wtf.fleet.check_bags", counting)
     return seen
 
 
@@ -104,12 +105,14 @@ def test_resume_refuses_what_is_not_a_report_in_one_line(tfx, bags: dict[str, Pa
 def test_a_recording_over_its_timeout_is_reported_as_not_checked(
     tfx, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    check_bags = fleet.check_bags
+
     def slow_for_stale(paths: list[str], **options: object) -> fleet.BagReport:
         if "stale" in paths[0]:
             time.sleep(3)
-        return fleet.check_bags(paths, **options)  # type: ignore[arg-type]
+        return check_bags(paths, **options)  # type: ignore[arg-type]
 
-    monkeypatch.setattr("tftools.cli.wtf.check_bags", slow_for_stale)
+    monkeypatch.setattr("tftools.analysis.wtf.fleet.check_bags", slow_for_stale)
     result = tfx("wtf", bags["healthy"], bags["stale"], "--timeout", "0.5", "--format", "json")
     good, slow = json.loads(result.stdout)["bags"]
     assert result.code == 1 and good["verdict"] == "passed"

@@ -6,6 +6,7 @@ application (``tftools.cli.commands``), which imports only the subcommand it run
 from __future__ import annotations
 
 import os
+import shlex
 import sys
 from typing import TYPE_CHECKING
 
@@ -17,14 +18,28 @@ if TYPE_CHECKING:
     from tftools.core.errors import TfToolsError
 
 VERSION_LINE = f"tfx {__version__}"
+#: The exit code of a command stopped by Ctrl-C (SIGINT), as a shell gives it: 128 + 2.
+INTERRUPTED = 130
 
 
 def main() -> None:
     """Run ``tfx``: tftools' errors and wrong arguments print as one line and exit with code 2; so does
-    any other exception (an internal error, named as such; ``TFX_DEBUG=1`` shows its traceback)."""
+    any other exception (an internal error, named as such; ``TFX_DEBUG=1`` shows its traceback), and
+    standard output that cannot be written. Ctrl-C, even while tfx starts, is one line and code 130."""
+    try:
+        code = _run()
+    except KeyboardInterrupt:
+        code = _interrupted()
+    sys.exit(code)
+
+
+def _run() -> int:
     if sys.argv[1:] == ["--version"]:  # the one answer that needs neither the parser nor a subcommand
         print(VERSION_LINE)
-        sys.exit(0)
+        return 0
+    from tftools.cli.streams import OutputError, ReaderGone, checked_stdout
+
+    checked_stdout()
     import typer
 
     from tftools.cli.commands import app
@@ -32,23 +47,55 @@ def main() -> None:
     from tftools.core.errors import TfToolsError
 
     try:
-        code = app(standalone_mode=False)
+        _bag_among_frames()
+        code = app(standalone_mode=False, prog_name="tfx")
+        if code == INTERRUPTED:  # typer's answer to Ctrl-C in a command: that code, silently
+            raise KeyboardInterrupt
+        sys.stdout.flush()  # what is still buffered fails here, not after the exit code is decided
+    except OutputError as error:
+        silence_stdout()
+        code = _failed(error)
     except TfToolsError as error:
         code = _failed(error)
     except typer.Abort:
         code = Exit.PROBLEMS
     except typer.TyperException as error:  # click's: an unknown option, a value that is not a number, ...
         code = _usage_error(error)
-    except BrokenPipeError:  # e.g. `tfx echo ... | head`
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (ReaderGone, BrokenPipeError):  # e.g. `tfx echo ... | head`: the reader had enough
+        silence_stdout()
         code = Exit.OK
     except KeyboardInterrupt:
-        code = 130
+        raise
     except Exception as error:  # a bug in tfx, or a reader's: still never a traceback, unless asked for
         if os.environ.get("TFX_DEBUG"):
             raise
         code = _failed(InternalError(error))
-    sys.exit(int(code or 0))
+    return int(code or 0)
+
+
+def _interrupted() -> int:
+    """Ctrl-C: one line, whatever was running (even the imports), and what was printed so far kept."""
+    try:
+        sys.stdout.flush()
+    except (OSError, ValueError, KeyboardInterrupt):
+        silence_stdout()
+    try:
+        sys.stderr.write("tfx: interrupted\n")
+        sys.stderr.flush()
+    except (OSError, ValueError, KeyboardInterrupt):
+        pass
+    return INTERRUPTED
+
+
+def silence_stdout() -> None:
+    """Send what is left to write (and the interpreter's last flush) to /dev/null: after a closed pipe or
+    a failed write, nothing more can or should reach standard output."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 1)
+        os.close(devnull)
+    except OSError:
+        pass
 
 
 def _failed(error: TfToolsError) -> int:
@@ -68,4 +115,43 @@ def _usage_error(error: typer.TyperException) -> int:
     context = getattr(error, "ctx", None)
     command = getattr(context, "command_path", "") or "tfx"
     message = error.format_message() if hasattr(error, "format_message") else str(error)
-    return _failed(UsageError(message, f"see {command} --help"))
+    return _failed(UsageError(message, _forgotten_bag_option(message) or f"see {command} --help"))
+
+
+def _forgotten_bag_option(message: str) -> str:
+    """For extra arguments that are bags (``tfx frames robot.bag``): the command line with ``-b`` before them."""
+    words = sys.argv[1:]
+    if "unexpected extra argument" not in message or not words or words[0] in ("wtf", "report", "diff"):
+        return ""
+    return _with_b(words, {w for w in words if w in message and _is_bag(w)})
+
+
+def _bag_among_frames() -> None:
+    """``tfx echo map robot.bag``, ``tfx monitor robot.bag``: a bag where a frame or topic goes, no -b; the
+    command would listen to a live system. A ``UsageError`` showing the command line with -b."""
+    from tftools.cli.common import UsageError
+
+    words = sys.argv[1:]
+    if (
+        not words
+        or words[0] not in ("echo", "monitor", "filter")
+        or any(w.startswith(("-b", "--bag")) for w in words)  # -b X, -bX, --bag X, --bag=X
+    ):
+        return
+    bags = {w for i, w in enumerate(words[1:], 1) if _is_bag(w) and not words[i - 1].startswith("-")}
+    if bags:
+        what = "topic" if words[0] == "filter" else "frame"
+        raise UsageError(f"{sorted(bags)[0]} is a bag, not a {what}", _with_b(words, bags))
+
+
+def _is_bag(word: str) -> bool:
+    from tftools.sources.storage.locations import BAG_SUFFIXES, METADATA
+
+    return not word.startswith("-") and (word.endswith(BAG_SUFFIXES) or os.path.isfile(os.path.join(word, METADATA)))
+
+
+def _with_b(words: list[str], bags: set[str]) -> str:
+    if not bags:
+        return ""
+    fixed = [part for w in words for part in (["-b", w] if w in bags else [w])]
+    return "a bag is read with -b: tfx " + " ".join(shlex.quote(w) for w in fixed)

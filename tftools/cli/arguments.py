@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 from tftools.cli.common import UsageError
 from tftools.core.time import NS_PER_S, from_sec, to_sec
-from tftools.sources.timeline import Timeline
+
+if TYPE_CHECKING:
+    from tftools.sources.timeline import Timeline
 
 #: A time more than this many seconds before or after the recording's tf is refused: a typo, not a question.
 TIME_SLACK_S = 3600.0

@@ -1,15 +1,19 @@
-"""tfx's typer application: a run imports only the subcommand it runs (``tfx --help`` all, for their help)."""
+"""tfx's typer application: a run imports only the subcommand it runs; ``tfx --help`` none (each one's
+summary is its docstring's, read from its source)."""
 
 from __future__ import annotations
 
+import ast
 import importlib
 from collections.abc import Iterator, MutableMapping
+from pathlib import Path
 from typing import Any
 
 import typer
 import typer.core
 import typer.main
 import typer.models
+from typer import _click as click  # the click typer's commands are made of (typer vendors it)
 
 from tftools.cli.app import VERSION_LINE
 
@@ -51,11 +55,36 @@ class _Subcommands(MutableMapping[str, Any]):
 
 
 class _LazyGroup(typer.core.TyperGroup):
-    """A typer group whose subcommands are ``_Subcommands``."""
+    """A typer group whose subcommands are ``_Subcommands``; its help lists them without importing them."""
 
     def __init__(self, **attrs: Any) -> None:
         super().__init__(**attrs)
         self.commands = _Subcommands()
+        self._listing = False
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return list(SUBCOMMANDS)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if self._listing and cmd_name in SUBCOMMANDS:  # the help's list: each name and its summary
+            return typer.core.TyperCommand(cmd_name, help=_summary(cmd_name))
+        return super().get_command(ctx, cmd_name)
+
+    def format_help(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        self._listing = True
+        try:
+            super().format_help(ctx, formatter)
+        finally:
+            self._listing = False
+
+
+def _summary(name: str) -> str:
+    """The docstring of the subcommand's ``command``, from its module's source (nothing imported)."""
+    source = Path(__file__).with_name(f"{name.replace('-', '_')}.py").read_text(encoding="utf-8")
+    for node in ast.parse(source).body:
+        if isinstance(node, ast.FunctionDef) and node.name == "command":
+            return ast.get_docstring(node) or ""
+    return ""
 
 
 app = typer.Typer(

@@ -17,10 +17,10 @@ from rich.text import Text
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
-from tftools.sources import Recording, read_recording
-from tftools.sources.bag import ProgressCallback
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the readers load when a command reads: its --help needs none of them (nor numpy)
+    from tftools.sources import Recording
+    from tftools.sources.bag import ProgressCallback
     from tftools.sources.stream import StreamedRecording
 
 
@@ -156,6 +156,8 @@ def open_recording(
         from tftools.cli.live import capture_live  # the live modules load only when listening
 
         return capture_live(ros1, use_sim_time, duration, topics, semantics)[0]
+    from tftools.sources import read_recording
+
     return _read(bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics))
 
 

@@ -4,19 +4,18 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from tftools.analysis.diff import compare
-from tftools.analysis.expected import TreeShape, shape_of
-from tftools.analysis.tree_file import read_tree
 from tftools.cli import expected as expected_tree
 from tftools.cli import options
 from tftools.cli.common import Exit, TextOrJson, exit_with, open_recording
 from tftools.core.semantics import Semantics
-from tftools.render import diff as render
 from tftools.sources.storage.locations import METADATA, is_url
+
+if TYPE_CHECKING:
+    from tftools.analysis.expected import TreeShape
 
 
 def command(
@@ -43,6 +42,9 @@ def command(
     Examples: [cyan]tfx diff monday.bag tuesday.bag[/], [cyan]tfx diff tree.yaml run_db3 --tolerance-mm 2[/],
     [cyan]tfx diff before.mcap after.mcap --format json[/]
     """
+    from tftools.analysis.diff import compare
+    from tftools.render import diff as render
+
     a, b = _read(first, topics, tf2), _read(second, topics, tf2)
     base = a.tolerances if _is_tree_file(first) else b.tolerances  # a recording's are the defaults
     tolerances = expected_tree.tolerances(base, tolerance_mm, tolerance_deg, tolerance_rate)
@@ -62,6 +64,9 @@ def _is_tree_file(location: str) -> bool:
 
 
 def _read(location: str, topics: list[str] | None, semantics: Semantics | None) -> TreeShape:
+    from tftools.analysis.expected import shape_of
+    from tftools.analysis.tree_file import read_tree
+
     if _is_tree_file(location):
         return read_tree(Path(location))
     return shape_of(open_recording([location], topics, semantics))

@@ -5,29 +5,27 @@ from __future__ import annotations
 import dataclasses
 import enum
 import io
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated
+from typing import IO, TYPE_CHECKING, Annotated
 
-import numpy as np
 import typer
 
-from tftools.analysis.echo import EchoSeries, chain_span, echo, joined, sample_times, ticks
 from tftools.cli import live, options
 from tftools.cli.arguments import echo_line_count, parse_time, positive_seconds, rate_hz, time_range
 from tftools.cli.common import Exit, UsageError, exit_with, frame_argument, open_recording, open_stream, stdout
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
-from tftools.core.arrays import Int64Array
-from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.core.time import from_sec
-from tftools.render import echo as render
 from tftools.render.escape import printable_lines
-from tftools.render.plots import echo_figure
-from tftools.sources import Recording
-from tftools.sources.live.base import LiveSource
-from tftools.sources.live.capture import listen
-from tftools.sources.replay import follow_into
+
+if TYPE_CHECKING:  # the lookups and their renderers load when a command runs: --help needs none of them (nor numpy)
+    from tftools.analysis.echo import EchoSeries
+    from tftools.core.arrays import Int64Array
+    from tftools.core.buffer import Buffer
+    from tftools.sources import Recording
+    from tftools.sources.live.base import LiveSource
 
 
 class EchoFormat(str, enum.Enum):
@@ -39,12 +37,15 @@ class EchoFormat(str, enum.Enum):
     yaml = "yaml"
 
 
-#: Formats to paste elsewhere, and their writers: one lookup, the latest, unless --at or --all says otherwise.
-PASTE_FORMATS = {
-    EchoFormat.static: render.write_static,
-    EchoFormat.urdf: render.write_urdf,
-    EchoFormat.yaml: render.write_yaml,
-}
+#: Formats to paste elsewhere: one lookup, the latest, unless --at or --all says otherwise.
+PASTE_FORMATS = frozenset({EchoFormat.static, EchoFormat.urdf, EchoFormat.yaml})
+
+
+def _paste(fmt: EchoFormat) -> Callable[[EchoSeries, IO[str]], None]:
+    """The writer of a format of ``PASTE_FORMATS``."""
+    from tftools.render import echo as render
+
+    return {EchoFormat.static: render.write_static, EchoFormat.urdf: render.write_urdf}.get(fmt, render.write_yaml)
 
 
 def command(
@@ -109,6 +110,10 @@ def command(
     [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/],
     [cyan]tfx echo base_link camera -b robot.bag --at +5 --format static[/]
     """
+    from tftools.analysis.echo import echo
+    from tftools.core.buffer import Buffer
+    from tftools.sources.replay import follow_into
+
     check_plot(plot, bags)
     every = every or (plot is not None and rate is None and at is None)
     rate_given, rate = rate, rate_hz(1.0 if rate is None else rate)
@@ -155,10 +160,12 @@ class Lines:
 
     def print(self, series: EchoSeries) -> None:
         """Print the lookups (CSV's header only before the first)."""
+        from tftools.render import echo as render
+
         if self.fmt is EchoFormat.json:
             render.write_json(series, stdout.file)
         elif self.fmt in PASTE_FORMATS:
-            PASTE_FORMATS[self.fmt](series, stdout.file)
+            _paste(self.fmt)(series, stdout.file)
         elif self.fmt is EchoFormat.csv:
             text = io.StringIO()
             render.write_csv(series, text)
@@ -170,6 +177,10 @@ class Lines:
     def latest(self, buffer: Buffer, target: str, source: str) -> EchoSeries:
         """Print the lookup of the latest transform, said at the buffer's time now (tf_echo's "At time" of a
         success is the transform's stamp, its "Failure at" that time), and show it in the picture there."""
+        import numpy as np
+
+        from tftools.analysis.echo import echo
+
         with buffer.lock:
             series = dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()], np.int64))
         self.print(series)
@@ -178,6 +189,9 @@ class Lines:
 
     def done(self) -> Exit:
         """Draw the picture, if asked for and anything was shown; PROBLEMS if a lookup failed."""
+        from tftools.analysis.echo import joined
+        from tftools.render.plots import echo_figure
+
         if self.plot is not None and self.shown:
             series = joined(self.shown)
             write_plot(echo_figure(series), self.plot, f"{len(series)} lookups of {series.target} <- {series.source}")
@@ -197,6 +211,8 @@ def _live(
 ) -> Exit:
     """Without -b, as tf_echo: wait for the transform, then the latest one ``rate`` times a second
     (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
+    from tftools.sources.live.capture import listen
+
     target, source = target.removeprefix("/"), source.removeprefix("/")
     with feed:
         buffer = listen(feed, from_sec(cache), semantics)
@@ -222,6 +238,10 @@ def _times(
     start: str | None,
     end: str | None,
 ) -> Int64Array:
+    import numpy as np
+
+    from tftools.analysis.echo import chain_span, sample_times, ticks
+
     if at is not None:
         return np.array([0 if at.strip() == "0" else parse_time(at, recording.timeline, "--at")], np.int64)
     span = chain_span(recording.buffer, target, source) or (recording.timeline.tf_start, recording.timeline.tf_end)

@@ -12,18 +12,21 @@ worker busy until it ends)."""
 from __future__ import annotations
 
 import logging
+import multiprocessing
+import signal
 from collections.abc import Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import TYPE_CHECKING
 
-from tftools.analysis.wtf.fleet import BagReport, unchecked
 from tftools.cli.common import UsageError
 from tftools.cli.deadline import CheckGroup, CheckTimeoutError
 
 if TYPE_CHECKING:
     from distributed import Client
 
-Results = Iterator[tuple[int, BagReport]]
+    from tftools.analysis.wtf.fleet import BagReport
+
+Results = Iterator[tuple[int, "BagReport"]]
 
 INSTALL_HINT = "install the extra: pip install 'tftools[fleet]'"
 CONNECT_SECONDS = 5
@@ -39,7 +42,9 @@ def in_process(groups: Sequence[Sequence[str]], check: CheckGroup) -> Results:
 
 
 def in_processes(groups: Sequence[Sequence[str]], check: CheckGroup, jobs: int) -> Results:
-    with ProcessPoolExecutor(max_workers=min(jobs, len(groups))) as pool:
+    """Ctrl-C stops them all at once: the workers leave it to this process, which ends them."""
+    pool = ProcessPoolExecutor(max_workers=min(jobs, len(groups)), initializer=_leave_interrupts_to_the_parent)
+    try:
         futures = {pool.submit(check, group): index for index, group in enumerate(groups)}
         for future in as_completed(futures):
             index = futures[future]
@@ -49,10 +54,22 @@ def in_processes(groups: Sequence[Sequence[str]], check: CheckGroup, jobs: int) 
                 yield index, _timed_out(groups[index], error, retried=False)
             except Exception as error:  # a process that died (BrokenProcessPool) must not stop the fleet
                 yield index, _failed(groups[index], error)
+    except BaseException:  # Ctrl-C, or the reader gone: no check is worth finishing
+        pool.shutdown(wait=False, cancel_futures=True)
+        for worker in multiprocessing.active_children():
+            worker.terminate()
+        raise
+    pool.shutdown()
+
+
+def _leave_interrupts_to_the_parent() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def on_dask(groups: Sequence[Sequence[str]], check: CheckGroup, address: str) -> Results:
     """Each recording a task on the cluster whose scheduler is at ``address``."""
+    from tftools.analysis.wtf.fleet import unchecked
+
     try:
         from distributed import KilledWorker
         from distributed import as_completed as finished
@@ -88,10 +105,14 @@ def _connect(address: str) -> Client:
 
 
 def _timed_out(group: Sequence[str], error: CheckTimeoutError, retried: bool) -> BagReport:
+    from tftools.analysis.wtf.fleet import unchecked
+
     why = f"{error}{', twice' if retried else ''}"
     return unchecked(tuple(group), why, "raise --timeout, or check it alone (tfx wtf BAG)")
 
 
 def _failed(group: Sequence[str], error: BaseException) -> BagReport:
+    from tftools.analysis.wtf.fleet import unchecked
+
     said = " ".join(str(error).split())  # Dask's messages run over several lines
     return unchecked(tuple(group), f"its task failed ({type(error).__name__}: {said})", _WORKER_HINT)

@@ -5,16 +5,18 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from tftools.analysis.expected import Tolerances, TreeShape, shape_of
-from tftools.analysis.tree_file import read_tree, write_tree
+from tftools.cli import defaults
 from tftools.cli.common import UsageError, open_recording, stdout
 from tftools.core.semantics import Semantics
 
-_DEFAULTS = Tolerances()
+if TYPE_CHECKING:
+    from tftools.analysis.expected import Tolerances, TreeShape
+
+_DEFAULTS = defaults.tolerances()
 
 
 def _tolerance(option: str, beyond: str, default: float) -> Any:
@@ -23,15 +25,15 @@ def _tolerance(option: str, beyond: str, default: float) -> Any:
 
 ToleranceMmOption = Annotated[
     float | None,
-    _tolerance("--tolerance-mm", "A static edge that moved more than this many mm", _DEFAULTS.translation_mm),
+    _tolerance("--tolerance-mm", "A static edge that moved more than this many mm", _DEFAULTS["translation_mm"]),
 ]
 ToleranceDegOption = Annotated[
     float | None,
-    _tolerance("--tolerance-deg", "A static edge that turned more than this many degrees", _DEFAULTS.rotation_deg),
+    _tolerance("--tolerance-deg", "A static edge that turned more than this many degrees", _DEFAULTS["rotation_deg"]),
 ]
 ToleranceRateOption = Annotated[
     float | None,
-    _tolerance("--tolerance-rate", "A rate that changed more than this many percent", _DEFAULTS.rate_percent),
+    _tolerance("--tolerance-rate", "A rate that changed more than this many percent", _DEFAULTS["rate_percent"]),
 ]
 
 
@@ -46,6 +48,8 @@ def tolerances(base: Tolerances, mm: float | None, deg: float | None, rate: floa
 
 def read_expected(path: Path, mm: float | None, deg: float | None, rate: float | None) -> TreeShape:
     """The tree file at ``path``, its tolerances overridden by those given."""
+    from tftools.analysis.tree_file import read_tree
+
     tree = read_tree(path)
     return dataclasses.replace(tree, tolerances=tolerances(tree.tolerances, mm, deg, rate))
 
@@ -54,4 +58,7 @@ def write_init(bags: Sequence[str], topics: Sequence[str] | None, semantics: Sem
     """``tfx wtf --init``: the tree of the bags (one recording) as a tree file, on stdout."""
     if not bags:
         raise UsageError("--init needs a recording", "e.g. tfx wtf --init good_run.bag > tree.yaml")
+    from tftools.analysis.expected import shape_of
+    from tftools.analysis.tree_file import write_tree
+
     write_tree(shape_of(open_recording(bags, topics, semantics)), stdout.file)

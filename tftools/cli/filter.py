@@ -6,13 +6,10 @@ from typing import Annotated
 
 import typer
 
-from tftools.analysis.filter import filter_report
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, TextOrJson, UsageError, exit_with, frame_argument, open_recording, stdout, warn
 from tftools.core.time import from_sec
-from tftools.render import filter as render
-from tftools.sources.bag.stamped import read_stamped
 
 
 def command(
@@ -59,6 +56,10 @@ def command(
     cache = positive_seconds(cache, "--cache", "10 (tf2's default)")
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
+    from tftools.analysis.filter import filter_report
+    from tftools.render import filter as render
+    from tftools.sources.bag.stamped import read_stamped
+
     if bags:
         recording, stamped = open_recording(bags, None, tf2), read_stamped(bags, topics)
     else:

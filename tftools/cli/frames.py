@@ -7,10 +7,8 @@ from typing import Annotated
 
 import typer
 
-from tftools.analysis.frames import frame_tree
 from tftools.cli import options
 from tftools.cli.common import open_recording, stdout
-from tftools.render import frames as render
 
 
 class FramesFormat(str, enum.Enum):
@@ -39,6 +37,9 @@ def command(
 
     Example: [cyan]tfx frames -b robot.bag --format yaml[/]
     """
+    from tftools.analysis.frames import frame_tree
+    from tftools.render import frames as render
+
     recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
     tree = frame_tree(recording.buffer)
     if fmt is FramesFormat.json:

@@ -8,14 +8,14 @@ from typing import TYPE_CHECKING
 
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import UsageError, stderr, warn
-from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
 from tftools.core.semantics import Semantics
 from tftools.core.time import Clock, SimClock, from_sec
 from tftools.render.escape import printable
-from tftools.sources import Recording
 
 if TYPE_CHECKING:
+    from tftools.core.buffer import Buffer
+    from tftools.sources import Recording
     from tftools.sources.contents import StampedMessages
     from tftools.sources.headers import StampedRead
     from tftools.sources.live import LiveSource

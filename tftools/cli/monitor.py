@@ -4,28 +4,25 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.console import RenderableType
-from rich.live import Live
 
-from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
-from tftools.analysis.timelines import EdgeSeries, MonitorTrace, edge_series
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds, rate_hz, time_range
 from tftools.cli.common import TextOrJson, UsageError, frame_argument, open_recording, open_stream, stdout, warn
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec
-from tftools.render import monitor as render
-from tftools.render.plots import monitor_figure
-from tftools.sources import Recording
-from tftools.sources.live.base import LiveSource
-from tftools.sources.live.capture import live_semantics
-from tftools.sources.live.time_jump import watch_jumps
-from tftools.sources.replay import Feed, follow
-from tftools.sources.timeline import Timeline
+
+if TYPE_CHECKING:  # the figures and their renderers load when a command runs: --help needs none of them (nor numpy)
+    from rich.console import RenderableType
+
+    from tftools.analysis.monitor import MonitorReport
+    from tftools.analysis.timelines import EdgeSeries, MonitorTrace
+    from tftools.sources import Recording
+    from tftools.sources.replay import Feed
+    from tftools.sources.timeline import Timeline
 
 
 def command(
@@ -69,6 +66,12 @@ def command(
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
     """
+    from tftools.analysis.monitor import monitor
+    from tftools.analysis.timelines import MonitorTrace, edge_series
+    from tftools.render import monitor as render
+    from tftools.render.plots import monitor_figure
+    from tftools.sources.live.capture import live_semantics
+
     check_plot(plot, bags)
     trace = MonitorTrace() if plot is not None else None
     if (target is None) != (source is None):
@@ -124,6 +127,14 @@ def watch(
     """The live table: ``feed`` into a monitor, its report over the last ``window`` (ns) once
     a second, until ``duration`` wall seconds pass or the feed ends; each report kept in ``trace``
     if given. Works with any feed: a replay or a live source."""
+    from rich.live import Live
+
+    from tftools.analysis.monitor import LiveMonitor
+    from tftools.render import monitor as render
+    from tftools.sources.live.base import LiveSource
+    from tftools.sources.live.time_jump import watch_jumps
+    from tftools.sources.replay import follow
+
     live_monitor = LiveMonitor(feed.clock, window, timeline, semantics)
     started = feed.clock.now()
 
@@ -176,6 +187,8 @@ def _time_range(timeline: Timeline, start: str | None, end: str | None) -> tuple
 
 def _write_trace(trace: MonitorTrace | None, plot: Path | None, what: str) -> None:
     """The picture of a refreshing monitor's reports, once it ended (nothing if none came)."""
+    from tftools.render.plots import monitor_figure
+
     if trace is None or plot is None:
         return
     series = trace.series()

@@ -2,13 +2,30 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Annotated
 
 import typer
 
+from tftools.cli.common import UsageError, warn
 from tftools.core.semantics import Semantics
-from tftools.sources.storage.locations import expand
+from tftools.sources.errors import BagNotFoundError
+from tftools.sources.storage.locations import METADATA, expand, is_url
+
+
+def _bags(bags: list[str] | None) -> list[str] | None:
+    """``-b``: each bag once, and a folder of bags refused with the way to give them."""
+    for bag in bags or []:
+        found = _recordings_in_folder(bag)
+        if found:
+            raise UsageError(
+                f"-b {bag} is a folder of {len(found)} recordings, not a bag",
+                f"give one, e.g. -b {found[0]} (-b again for each part of a split recording); "
+                f"tfx wtf {bag.rstrip('/')}/ checks each on its own",
+            )
+    return _each_once(bags) if bags else bags
+
 
 Bags = Annotated[
     list[str] | None,
@@ -18,6 +35,7 @@ Bags = Annotated[
         help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory, local or a URL "
         "(s3://, gs://, az://, http(s)://; needs tftools\\[fleet]). "
         "Repeat for a split recording. Without it, tfx listens to a live system.",
+        callback=_bags,
     ),
 ]
 Topics = Annotated[
@@ -81,6 +99,44 @@ Sensors = Annotated[
 
 
 def recordings_given(paths: Sequence[str] | None, bags: Sequence[str] | None) -> list[list[str]]:
-    """A fleet command's recordings: each BAG argument on its own (globs and URL prefixes expanded),
-    the -b bags together as one more."""
-    return [[p] for p in expand(paths or [])] + ([list(bags)] if bags else [])
+    """A fleet command's recordings: each BAG argument on its own (globs, URL prefixes and local folders
+    of bags expanded; each recording once), the -b bags together as one more."""
+    found = expand([p + "/" if _recordings_in_folder(p) else p for p in paths or []])
+    return [[p] for p in _each_once(found)] + ([list(bags)] if bags else [])
+
+
+def _recordings_in_folder(location: str) -> list[str]:
+    """The recordings below a local folder that is not itself a bag (``sample_bags``, with or without
+    its final slash); none for anything else."""
+    if is_url(location) or not os.path.isdir(location):
+        return []
+    folder = location.rstrip("/" + os.sep) + "/"
+    try:
+        found = expand([folder])
+    except BagNotFoundError:  # nothing below it: reading it says what it is not
+        return []
+    return [] if found == [folder] else found
+
+
+def _each_once(locations: Sequence[str]) -> list[str]:
+    """``locations`` without repeats, a note for each: a bag given twice would be read twice, each
+    transform seen twice (tf2's repeated data), as if two bags had recorded the same."""
+    seen: dict[str, str] = {}
+    for location in locations:
+        key = _identity(location)
+        if key in seen:
+            again = "" if seen[key] == location else f" (as {seen[key]})"
+            warn(f"{location} is given twice{again}: read once")
+            continue
+        seen[key] = location
+    return list(seen.values())
+
+
+def _identity(location: str) -> str:
+    """What a location is: a URL as written; a local path resolved, a rosbag2 directory's file as the
+    directory."""
+    if is_url(location):
+        return location
+    path = os.path.realpath(location)
+    folder = os.path.dirname(path)
+    return folder if os.path.isfile(path) and os.path.isfile(os.path.join(folder, METADATA)) else path

@@ -6,23 +6,20 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from tftools.analysis.findings import counted
-from tftools.analysis.report import recording_report
-from tftools.analysis.wtf.fleet import sensor_data
 from tftools.cli import live, options
 from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, say_written, warn
 from tftools.cli.outputs import check_output
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
-from tftools.render.files import write_atomically
-from tftools.render.graph import recording_legend
-from tftools.render.report import Section, page, recording_section, unreadable_section
-from tftools.sources import Recording
-from tftools.sources.contents import StampedMessages
+
+if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
+    from tftools.render.report import Section
+    from tftools.sources import Recording
+    from tftools.sources.contents import StampedMessages
 
 DEFAULT_OUTPUT = "report.html"
 
@@ -61,6 +58,10 @@ def command(
     Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
     [cyan]tfx report --ros1 -d 10 -o live.html[/]
     """
+    from tftools.analysis.findings import counted
+    from tftools.render.files import write_atomically
+    from tftools.render.report import page
+
     groups = options.recordings_given(paths, bags)
     _check_output(output, [p for group in groups for p in group])
     if groups:
@@ -93,6 +94,9 @@ def _bag_sections(
 ) -> list[Section]:
     """One section per recording; one that cannot be read is an error of its own in a fleet, and the
     command's error when it is the only one (or none can be read)."""
+    from tftools.analysis.wtf.fleet import sensor_data
+    from tftools.render.report import unreadable_section
+
     sections: list[Section] = []
     unread: list[TfToolsError] = []
     for index, group in enumerate(groups):
@@ -113,4 +117,7 @@ def _bag_sections(
 
 
 def _section(index: int, recording: Recording, streams: Sequence[StampedMessages], target: str | None) -> Section:
-    return recording_section(index, recording_report(recording, streams, target=target), recording_legend(recording))
+    from tftools.analysis.report import recording_report
+    from tftools.render.report import recording_section
+
+    return recording_section(index, recording_report(recording, streams, target=target))

@@ -8,7 +8,7 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -16,12 +16,12 @@ from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import UsageError, stdout, warn
 from tftools.cli.outputs import check_output, check_replaceable
-from tftools.core.transform import Transform
 from tftools.render.escape import printable
-from tftools.sinks import open_static_broadcaster
-from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC, add_static_transforms, repair_static_transforms
-from tftools.sources.live.static_file import read_static_transforms
-from tftools.sources.storage import local_recording
+from tftools.sources.errors import NoTransformsError
+from tftools.sources.storage.locations import METADATA, is_url
+
+if TYPE_CHECKING:  # the transforms, readers and writers load when used: --help needs none of them
+    from tftools.core.transform import Transform
 
 CONTEXT = {"ignore_unknown_options": True}  # so that negative numbers are arguments, not options
 
@@ -99,6 +99,8 @@ def command(
     [cyan]tfx static --from extrinsics.yaml -b in.bag -o out.bag[/]
     [cyan]tfx static --repair -b recording/ -o repaired/[/]
     """
+    from tftools.sources.live.static_file import read_static_transforms
+
     numbers = {"x": x, "y": y, "z": z, "qx": qx, "qy": qy, "qz": qz, "qw": qw, "roll": roll, "pitch": pitch, "yaw": yaw}
     if repair:
         if arguments or from_file is not None or any(v is not None for v in numbers.values()):
@@ -123,6 +125,8 @@ def _given(
 ) -> list[Transform]:
     """The transform of the positional arguments or of the flags (None of either: none); with
     ``degrees``, their yaw, pitch and roll are in degrees."""
+    from tftools.core.transform import Transform
+
     flags_used = any(v is not None for v in numbers.values()) or frame is not None or child is not None
     if arguments and flags_used:
         raise UsageError("give the positional form or the --x ... --frame-id form, not both", "tfx static --help")
@@ -149,12 +153,16 @@ def _given(
 def _from_rpy(
     translation: tuple[float, float, float], rpy: tuple[float, float, float], degrees: bool, frame: str, child: str
 ) -> Transform:
+    from tftools.core.transform import Transform
+
     roll, pitch, yaw = (math.radians(angle) if degrees else angle for angle in rpy)
     return Transform.from_rpy(translation, (roll, pitch, yaw), 0, frame, child)
 
 
 def _positional(arguments: list[str], degrees: bool = False) -> Transform:
     """static_transform_publisher's positional forms; tf1's trailing period is accepted and ignored."""
+    from tftools.core.transform import Transform
+
     with_period = len(arguments) == 10 or (len(arguments) == 9 and not _is_number(arguments[6]))
     if with_period and _is_number(arguments[-1]):
         warn("the period (tf1's last argument) is not needed: /tf_static is latched")
@@ -189,6 +197,8 @@ def _number(text: str) -> float:
 
 def _checked(t: Transform) -> Transform:
     """Frames as tf2 wants them; the quaternion normalized (tf2 would refuse a denormalized one)."""
+    from tftools.core.transform import Transform
+
     frame, child = t.frame_id.removeprefix("/"), t.child_frame_id.removeprefix("/")
     if not frame or not child:
         raise UsageError("frame ids cannot be empty", f"got {t.frame_id!r} -> {t.child_frame_id!r}")
@@ -206,15 +216,60 @@ def _checked(t: Transform) -> Transform:
 @contextmanager
 def _copying(bag: str | None, output: Path | None, force: bool) -> Iterator[tuple[Path, Path]]:
     """-b IN -o OUT checked before any work: the local input (a URL's download) and the output."""
+    from tftools.sources.storage import local_recording
+
     if bag is None or output is None:
         raise UsageError("-b BAG and -o OUTPUT go together", "e.g. tfx static ... -b in.bag -o out.bag")
     check_output(output, [bag])
+    _copyable(bag)
     check_replaceable(output, force)
     with local_recording(bag) as local:
         yield local, output
 
 
+def _copyable(bag: str) -> None:
+    """A bag tfx can copy with transforms added: a ROS 1 .bag or a ROS 2 bag directory, not one of the
+    directory's files, nor a bare .mcap or .db3 file."""
+    path = Path(bag)
+    if is_url(bag) or not path.is_file() or path.suffix not in (".mcap", ".db3"):
+        return
+    if (path.parent / METADATA).is_file():
+        raise UsageError(
+            f"-b {bag} is a file of the ROS 2 bag {path.parent}",
+            f"give the bag's directory, and a directory for the copy: -b {path.parent} -o OUTPUT",
+        )
+    raise UsageError(
+        f"-b {bag}: tfx static copies ROS 1 .bag files and ROS 2 bag directories, not a bare {path.suffix} file",
+        "make it a ROS 2 bag first: put it alone in a folder and run ros2 bag reindex FOLDER, then -b FOLDER",
+    )
+
+
+def _already_there(bag: Path, transforms: Sequence[Transform]) -> None:
+    """Refuse a transform whose child frame the bag already has: tf2 would see two values (or two
+    parents) for it, and tfx wtf would fail the copy."""
+    from tftools.sources import read_recording
+
+    try:
+        buffer = read_recording([bag]).buffer
+    except NoTransformsError:
+        return
+    given = {t.child_frame_id for t in transforms}
+    for child, history in buffer.histories():
+        if child not in given:
+            continue
+        parents = sorted({buffer.frame_name(p) for p in history.parents.tolist()})
+        kind = "a static transform" if history.static else "a moving transform"
+        wanted = next(t for t in transforms if t.child_frame_id == child)
+        raise UsageError(
+            f"{bag} already has {child}, {kind} of {', '.join(parents)}: adding {wanted.frame_id} -> {child} "
+            "would give tf2 two values for it, and tfx wtf would fail the copy",
+            f"add only frames the bag lacks: tfx frames -b {bag} lists its own",
+        )
+
+
 def _repair_bag(bag: str | None, output: Path | None, force: bool) -> None:
+    from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC, repair_static_transforms
+
     with _copying(bag, output, force) as (local, copy):
         written, statics = repair_static_transforms(local, copy, force=force)
     said = f"{len(statics)} static transform(s) ({_edges(statics)}) at its start and every {REPAIR_EVERY_S:g} s"
@@ -222,7 +277,10 @@ def _repair_bag(bag: str | None, output: Path | None, force: bool) -> None:
 
 
 def _write_bag(bag: str | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
+    from tftools.sinks.static_bag import STATIC_TOPIC, add_static_transforms
+
     with _copying(bag, output, force) as (local, copy):
+        _already_there(local, transforms)
         written = add_static_transforms(local, copy, transforms, force=force)
     stdout.print(
         printable(f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}")
@@ -234,6 +292,9 @@ def _edges(transforms: Sequence[Transform]) -> str:
 
 
 def _publish(transforms: list[Transform], ros: str | None, duration: float | None) -> None:
+    from tftools.sinks import open_static_broadcaster
+    from tftools.sinks.static_bag import STATIC_TOPIC
+
     stamp = time.time_ns()
     with open_static_broadcaster(ros, on_notice=warn) as broadcaster:
         broadcaster.send([replace(t, stamp=stamp) for t in transforms])

@@ -10,14 +10,9 @@ from typing import Annotated
 
 import typer
 
-from tftools.analysis.findings import Severity
-from tftools.analysis.graph import frame_graph
-from tftools.analysis.wtf import Scene
 from tftools.cli import options
 from tftools.cli.common import Exit, UsageError, exit_with, open_recording, say_failure, say_written
 from tftools.cli.outputs import check_output
-from tftools.render import drawing
-from tftools.render import graph as render
 
 
 class GraphFormat(str, enum.Enum):
@@ -93,6 +88,12 @@ def command(
 
     [cyan]tfx view-frames -b robot.bag -o tree.svg --rankdir LR --brief[/]
     """
+    from tftools.analysis.findings import Severity
+    from tftools.analysis.graph import frame_graph
+    from tftools.analysis.wtf import Scene
+    from tftools.render import drawing
+    from tftools.render import graph as render
+
     chosen, target = _output(output, fmt, bags or [])
     recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
     graph = frame_graph(Scene(recording))  # with tfx wtf's findings, drawn where they are

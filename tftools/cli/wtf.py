@@ -10,20 +10,20 @@ import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.table import Table
 
-from tftools.analysis.wtf import CHECKS, Thresholds
-from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
-from tftools.cli import executors, live, options
+from tftools.cli import defaults, executors, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, UsageError, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
 from tftools.cli.deadline import timed
-from tftools.render import wtf as render
-from tftools.render import wtf_lines as render_lines
+
+if TYPE_CHECKING:  # the checks and their renderers load when a command runs: --help needs none of them (nor numpy)
+    from tftools.analysis.wtf import Thresholds
+    from tftools.analysis.wtf.fleet import BagReport
 
 
 class WtfFormat(str, enum.Enum):
@@ -33,7 +33,7 @@ class WtfFormat(str, enum.Enum):
     junit = "junit"
 
 
-_DEFAULTS = Thresholds()
+_DEFAULTS = defaults.thresholds()
 #: The --help of each of the checks' thresholds (``Thresholds``, in seconds).
 _THRESHOLD_HELP = {
     "stale_after": "An edge silent this many seconds before the end has stopped (and 10 periods).",
@@ -89,11 +89,11 @@ def command(
     list_checks: Annotated[
         bool, typer.Option("--list-checks", help="List the checks, their codes and severities, and exit.")
     ] = False,
-    stale_after: Annotated[float, typer.Option(help=_THRESHOLD_HELP["stale_after"])] = _DEFAULTS.stale_after,
-    max_gap: Annotated[float, typer.Option(help=_THRESHOLD_HELP["max_gap"])] = _DEFAULTS.max_gap,
-    delay: Annotated[float, typer.Option(help=_THRESHOLD_HELP["delay"])] = _DEFAULTS.delay,
-    future: Annotated[float, typer.Option(help=_THRESHOLD_HELP["future"])] = _DEFAULTS.future,
-    clock: Annotated[float, typer.Option(help=_THRESHOLD_HELP["clock"])] = _DEFAULTS.clock,
+    stale_after: Annotated[float, typer.Option(help=_THRESHOLD_HELP["stale_after"])] = _DEFAULTS["stale_after"],
+    max_gap: Annotated[float, typer.Option(help=_THRESHOLD_HELP["max_gap"])] = _DEFAULTS["max_gap"],
+    delay: Annotated[float, typer.Option(help=_THRESHOLD_HELP["delay"])] = _DEFAULTS["delay"],
+    future: Annotated[float, typer.Option(help=_THRESHOLD_HELP["future"])] = _DEFAULTS["future"],
+    clock: Annotated[float, typer.Option(help=_THRESHOLD_HELP["clock"])] = _DEFAULTS["clock"],
     topics: options.Topics = None,
     tf2: options.Tf2 = None,
     target: options.Target = None,
@@ -146,6 +146,10 @@ def command(
     Examples: [cyan]tfx wtf robot.bag[/], [cyan]tfx wtf logs/*.bag --format junit > wtf.xml[/],
     [cyan]tfx wtf -b run_0.bag -b run_1.bag --strict[/]
     """
+    from tftools.analysis.wtf.fleet import check_bags, check_recording
+    from tftools.render import wtf as render
+    from tftools.render import wtf_lines as render_lines
+
     if list_checks:
         _list_checks()
         return
@@ -210,12 +214,16 @@ def outcome(reports: Sequence[BagReport], strict: bool = False) -> Exit:
 
 
 def _thresholds(**seconds: float) -> Thresholds:
+    from tftools.analysis.wtf import Thresholds
+
     for name, value in seconds.items():
         positive_seconds(value, f"--{name.replace('_', '-')}", "0.5")
     return Thresholds(**seconds)
 
 
 def _ignored(codes: Sequence[str]) -> tuple[str, ...]:
+    from tftools.analysis.wtf import CHECKS
+
     for code in codes:
         if code not in CHECKS:
             close = difflib.get_close_matches(code, list(CHECKS), n=1)
@@ -274,6 +282,8 @@ def _results(todo: list[list[str]], one: Callable[..., BagReport], fleet: Fleet)
 
 
 def _resumed(path: Path) -> list[BagReport]:
+    from tftools.render import wtf_lines as render_lines
+
     try:
         with path.open("rb") as source:
             resumed = render_lines.read_report(source, str(path))
@@ -285,6 +295,8 @@ def _resumed(path: Path) -> list[BagReport]:
 
 
 def _list_checks() -> None:
+    from tftools.analysis.wtf import CHECKS
+
     table = Table(box=None, header_style="bold")
     for name in ("Code", "Severity", "Looks for"):
         table.add_column(name)

@@ -41,7 +41,7 @@ empty; tftools never holds an empty cache, so it does not show.
 
 from __future__ import annotations
 
-from typing import Literal, get_args
+from typing import TYPE_CHECKING, Literal, get_args
 
 from tftools.core.errors import (
     BackwardExtrapolationError,
@@ -50,8 +50,10 @@ from tftools.core.errors import (
     InvalidArgumentError,
     NoDataForExtrapolationError,
 )
-from tftools.core.history import FUTURE, NO_DATA, PAST, Gap
 from tftools.core.time import duration_to_sec, to_sec
+
+if TYPE_CHECKING:  # the history's kinds of gap are imported where a message is worded: naming a
+    from tftools.core.history import Gap  # semantics (tfx --help) needs no numpy
 
 #: Which tf2 a buffer follows: ROS 1's for ROS 1 bags and systems, ROS 2's for ROS 2 ones.
 Semantics = Literal["ros1", "ros2"]
@@ -83,6 +85,8 @@ class Dialect:
         """The cache's reason it has no sample at ``gap.time`` (tf2's ``findClosest``)."""
         # tf2 0.7.6 formats these into fixed-size buffers that can cut the text short
         # ("... is in the buffe"); the cut is kept so that messages match byte for byte.
+        from tftools.core.history import FUTURE, NO_DATA, PAST
+
         if gap.kind == NO_DATA:
             return ""
         if gap.kind in (FUTURE, PAST):
@@ -91,6 +95,8 @@ class Dialect:
 
     def _beyond(self, gap: Gap, amount: str = "") -> str:
         """Why a time past the newest sample, or before the oldest, has none (``amount``: ROS 1's)."""
+        from tftools.core.history import FUTURE
+
         direction, edge = ("future", "latest") if gap.kind == FUTURE else ("past", "earliest")
         return (
             f"Lookup would require extrapolation {amount}into the {direction}.  "
@@ -105,7 +111,7 @@ class Dialect:
         """The lookup's error for ``gap``, met walking from ``source`` to ``target``."""
         text = f"{self.gap_message(gap)}, when looking up transform from frame [{source}] to frame [{target}]"
         if self.ros2:
-            return _ROS2_ERRORS.get(gap.kind, NoDataForExtrapolationError)(text)
+            return _ros2_error(gap.kind)(text)
         return ExtrapolationError(text[:999])  # tf2 formats it into char[1000]
 
     def empty_frame(self, argument: str) -> InvalidArgumentError:
@@ -128,13 +134,17 @@ class _Ros2Dialect(Dialect):
 
     def gap_message(self, gap: Gap) -> str:
         # Rolling's wording, also for an empty cache (stamp 0), which Jazzy leaves unworded.
+        from tftools.core.history import FUTURE, PAST
+
         return self._beyond(gap) if gap.kind in (FUTURE, PAST) else self._between(gap)
 
 
-_ROS2_ERRORS: dict[int, type[ExtrapolationError]] = {
-    FUTURE: ForwardExtrapolationError,
-    PAST: BackwardExtrapolationError,
-}
+def _ros2_error(kind: int) -> type[ExtrapolationError]:
+    """ROS 2's class of extrapolation error for a gap of ``kind``."""
+    from tftools.core.history import FUTURE, PAST
+
+    return {FUTURE: ForwardExtrapolationError, PAST: BackwardExtrapolationError}.get(kind, NoDataForExtrapolationError)
+
 
 ROS1: Dialect = Dialect()
 ROS2: Dialect = _Ros2Dialect()

@@ -60,9 +60,10 @@ def recording_legend(recording: Recording) -> list[str]:
 
 
 def to_digraph(
-    graph: FrameGraph, legend: Sequence[str], *, rankdir: str = "TB", brief: bool = False
+    graph: FrameGraph, legend: Sequence[str] | None, *, rankdir: str = "TB", brief: bool = False
 ) -> graphviz.Digraph:
-    """The graph as a ``graphviz.Digraph``: nodes, labelled edges, a legend listing the problems."""
+    """The graph as a ``graphviz.Digraph``: nodes, labelled edges, a legend listing the problems (none
+    for ``legend`` None: where the page around the picture says it, as in ``tfx report``)."""
     dot = graphviz.Digraph("frames", comment=SIGNATURE)
     dot.attr(rankdir=rankdir, fontname=FONT, nodesep="0.3", ranksep="0.45", labelloc="t")
     dot.attr("node", fontname=FONT, fontsize="12", shape="box", style="rounded,filled", color=INK, fontcolor=INK)
@@ -75,7 +76,8 @@ def to_digraph(
         _add_node(dot, graph, node, ids)
     for edge in graph.edges:
         _add_edge(dot, graph, edge, brief, ids)
-    _add_legend(dot, graph, legend, ids)
+    if legend is not None:
+        _add_legend(dot, graph, legend, ids)
     return dot
 
 

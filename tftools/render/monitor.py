@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict
 from typing import IO, Any
 
-from rich.console import Group, RenderableType
+from rich.console import Console, ConsoleOptions, Group, RenderableType, RenderResult
+from rich.measure import Measurement
 from rich.table import Table
 from rich.text import Text
 
@@ -22,12 +23,45 @@ def _sec(value: float) -> str:
     return "-" if math.isnan(value) else f"{value:.4f}"
 
 
-def _edges_table(edges: Sequence[EdgeStats]) -> Table:
-    table = Table(title="Frames:", title_justify="left", title_style="bold", header_style="bold", box=None)
-    for name in ("Parent", "Frame", "published by"):
-        table.add_column(name)
-    for name in ("Samples", "Rate (Hz)", "Jitter (s)", "Largest gap (s)", "Average Delay (s)", "Max Delay (s)"):
-        table.add_column(name, justify="right")
+def _table(
+    title: str, names: Sequence[str], numbers: Sequence[str], names_after: Sequence[str], compact: bool
+) -> Table:
+    """A table whose name columns (frames, publishers) are never cut: on a narrow terminal (``compact``)
+    the figures' headers take two lines and the columns one space apart, and names fold onto more lines."""
+    padding = (0, 1, 0, 0) if compact else (0, 1)
+    table = Table(title=title, title_justify="left", title_style="bold", header_style="bold", box=None, padding=padding)
+
+    def header(name: str) -> str:
+        return name if compact else name.replace("\n", " ")
+
+    for name in names:
+        table.add_column(header(name), overflow="fold")
+    for name in numbers:
+        table.add_column(header(name), justify="right", no_wrap=True)
+    for name in names_after:
+        table.add_column(header(name), overflow="fold")
+    return table
+
+
+class _Fitted:
+    """A table as wide as it needs where the width allows (tf_monitor's headers on one line), else compact."""
+
+    def __init__(self, table: Callable[[bool], Table]) -> None:
+        self._table = table
+
+    def __rich_console__(self, console: Console, options: ConsoleOptions) -> RenderResult:
+        wide = self._table(False)
+        natural = Measurement.get(console, options.update_width(1_000_000), wide).maximum  # unclamped
+        yield wide if natural <= options.max_width else self._table(True)
+
+
+#: The figures' headers: tf_monitor's words, on two lines where the width is short.
+_RATE, _DELAY_MEAN, _DELAY_MAX = "Rate\n(Hz)", "Average\nDelay (s)", "Max\nDelay (s)"
+
+
+def _edges_table(edges: Sequence[EdgeStats], compact: bool) -> Table:
+    numbers = ("Samples", _RATE, "Jitter\n(s)", "Largest\ngap (s)", _DELAY_MEAN, _DELAY_MAX)
+    table = _table("Frames:", ("Parent", "Frame", "published\nby"), numbers, (), compact)
     for e in edges:
         late_gap = not e.static and e.rate_hz > 0 and e.gap_max_s > 2.0 / e.rate_hz
         table.add_row(
@@ -44,12 +78,9 @@ def _edges_table(edges: Sequence[EdgeStats]) -> Table:
     return table
 
 
-def _authorities_table(authorities: list[AuthorityStats], static: set[tuple[str, str]]) -> Table:
-    table = Table(title="All Broadcasters:", title_justify="left", title_style="bold", header_style="bold", box=None)
-    table.add_column("Node")
-    for name in ("Messages", "Rate (Hz)", "Average Delay (s)", "Max Delay (s)"):
-        table.add_column(name, justify="right")
-    table.add_column("Frames")
+def _authorities_table(authorities: list[AuthorityStats], static: set[tuple[str, str]], compact: bool) -> Table:
+    numbers = ("Messages", _RATE, _DELAY_MEAN, _DELAY_MAX)
+    table = _table("All Broadcasters:", ("Node",), numbers, ("Frames",), compact)
     for a in authorities:
         table.add_row(
             Text(printable(a.authority) or "?", style="magenta"),
@@ -78,11 +109,11 @@ def _chain_lines(chain: ChainStats) -> Text:
 def renderable(
     report: MonitorReport, header: str = "", target: str | None = None, source: str | None = None
 ) -> RenderableType:
-    """The report as tf_monitor lays it out: results heading (and chain), frames, broadcasters;
-    ``target``/``source`` name a chain still being waited for when the report has none."""
+    """The report as tf_monitor lays it out: ``header`` (lines), results heading (and chain), frames,
+    broadcasters; ``target``/``source`` name a chain still being waited for when the report has none."""
     parts: list[RenderableType] = []
-    if header:
-        parts.append(Text(printable(header), style="dim"))
+    if header:  # its lines each made printable (a file's name may hold anything)
+        parts.append(Text("\n".join(printable(line) for line in header.split("\n")), style="dim"))
     if report.chain is not None:
         parts.append(_chain_lines(report.chain))
         edges: Sequence[EdgeStats] = report.chain.edges
@@ -94,7 +125,12 @@ def renderable(
         parts.append(Text("RESULTS: for all Frames", style="bold"))
         edges = report.edges
     static = {e.key for e in report.edges if e.static}
-    parts += [Text(""), _edges_table(edges), Text(""), _authorities_table(report.authorities, static)]
+    parts += [
+        Text(""),
+        _Fitted(lambda compact: _edges_table(edges, compact)),
+        Text(""),
+        _Fitted(lambda compact: _authorities_table(report.authorities, static, compact)),
+    ]
     return Group(*parts)
 
 

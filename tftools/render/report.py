@@ -30,6 +30,11 @@ from tftools.render.graph import problem_summary, to_digraph
 
 #: Significant digits of the plotted figures: what a plot can show, and a smaller file.
 DIGITS = 4
+#: What the tree's lines and colours mean (view-frames' legend, which the page's picture leaves out).
+TREE_KEY = (
+    "Each arrow from a parent to its child frame, with its publisher and rate; dashed blue: static; red: errors "
+    "(lookups fail there), orange: warnings, as the findings' numbers say. Click an edge for its timeline."
+)
 
 
 @dataclass(frozen=True)
@@ -63,14 +68,14 @@ def page(title: str, sections: Sequence[Section]) -> str:
     )
 
 
-def recording_section(index: int, report: RecordingReport, legend: Sequence[str]) -> Section:
+def recording_section(index: int, report: RecordingReport) -> Section:
     """One recording's section: verdict, facts, findings, tree, timelines and sensor streams."""
     anchor = f"r{index}"
     verdict, summary = _verdict(report.findings)
     rows = [i for i, e in enumerate(report.edges) if not e.static]
     # each edge's id in the tree's SVG: Graphviz numbers edges in the order they were added
     svg_ids = {e.key: f"{anchor}-edge{k + 1}" for k, e in enumerate(report.graph.edges)}
-    tree = _tree(report, legend, anchor)
+    tree = _tree(report, anchor)
     data = {
         "anchor": anchor,
         "axis": {"step": report.bins.width / NS_PER_S, "count": report.bins.count},
@@ -84,7 +89,7 @@ def recording_section(index: int, report: RecordingReport, legend: Sequence[str]
         _facts(report.facts),
         _findings(report.findings, origin),
         "</div>",
-        f'<h3>Tree</h3><div class="tree">{tree}</div>',
+        f'<h3>Tree</h3><p class="axis">{TREE_KEY}</p><div class="tree">{tree}</div>',
         _timelines(report, rows, origin),
         _streams(report.streams),
         _statics(report.graph.edges),
@@ -164,10 +169,11 @@ def _offset(ns: int, origin: int) -> str:
     return f"{(ns - origin) / NS_PER_S:+.3f} s"
 
 
-def _tree(report: RecordingReport, legend: Sequence[str], anchor: str) -> str:
+def _tree(report: RecordingReport, anchor: str) -> str:
     """The frame graph as view-frames draws it (short labels), as inline SVG with ids unique on the page;
-    without Graphviz, a line saying how to get it."""
-    dot = to_digraph(report.graph, legend, rankdir="LR", brief=True)
+    without Graphviz, a line saying how to get it. No legend in the picture: the page around it has the
+    recording's facts, the findings and the key (``TREE_KEY``), and the picture keeps its size to be read."""
+    dot = to_digraph(report.graph, None, rankdir="LR", brief=True)
     try:
         svg = drawing.draw(dot, "svg").decode()
     except drawing.GraphvizMissingError as missing:

@@ -1,16 +1,26 @@
-"""Sources: bags and live systems turned into transforms for a buffer."""
+"""Sources: bags and live systems turned into transforms for a buffer.
 
-from tftools.sources.bag import BagContents, BagFileInfo, read_bag
-from tftools.sources.contents import DEFAULT_TOPICS, RecordingContents, SourceInfo
-from tftools.sources.errors import (
-    BagError,
-    BagNotFoundError,
-    CorruptBagError,
-    NoTransformsError,
-    SourceError,
-    UnknownBagFormatError,
-)
-from tftools.sources.recording import Recording, load, read_recording
+The names load on first use (PEP 562): a light module of the package (``errors``,
+``storage.locations``) costs no numpy, so that ``tfx --help`` and its subcommands' help need none."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from tftools import lazy
+
+if TYPE_CHECKING:
+    from tftools.sources.bag import BagContents, BagFileInfo, read_bag
+    from tftools.sources.contents import DEFAULT_TOPICS, RecordingContents, SourceInfo
+    from tftools.sources.errors import (
+        BagError,
+        BagNotFoundError,
+        CorruptBagError,
+        NoTransformsError,
+        SourceError,
+        UnknownBagFormatError,
+    )
+    from tftools.sources.recording import Recording, load, read_recording
 
 __all__ = [
     "DEFAULT_TOPICS",
@@ -29,3 +39,25 @@ __all__ = [
     "read_bag",
     "read_recording",
 ]
+
+#: Where each name is defined.
+_HOME = {
+    "BagContents": "tftools.sources.bag",
+    "BagError": "tftools.sources.errors",
+    "BagFileInfo": "tftools.sources.bag",
+    "BagNotFoundError": "tftools.sources.errors",
+    "CorruptBagError": "tftools.sources.errors",
+    "DEFAULT_TOPICS": "tftools.sources.contents",
+    "NoTransformsError": "tftools.sources.errors",
+    "Recording": "tftools.sources.recording",
+    "RecordingContents": "tftools.sources.contents",
+    "SourceError": "tftools.sources.errors",
+    "SourceInfo": "tftools.sources.contents",
+    "UnknownBagFormatError": "tftools.sources.errors",
+    "load": "tftools.sources.recording",
+    "read_bag": "tftools.sources.bag",
+    "read_recording": "tftools.sources.recording",
+}
+
+
+__getattr__, __dir__ = lazy.exports(__name__, _HOME, __all__)

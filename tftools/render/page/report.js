@@ -20,6 +20,9 @@
     wait: "#333333",
   };
   var EDGE_HEIGHT = 120;
+  // The tree is drawn at Graphviz's size (labels of 9 to 12 pt), shrunk to fit its box down to this
+  // scale (9 pt still 10 px), and scrolled beyond it: never too small to read.
+  var TREE_MIN_SCALE = 0.85;
   var STREAM_HEIGHT = 110;
   var report = { sections: [] };
   window.tfxReport = report;
@@ -36,6 +39,29 @@
 
   function plotWidth(element) {
     return Math.max(element.clientWidth, 300);
+  }
+
+  // An axis as wide as its longest label: uPlot's fixed sizes cut "10 Hz" to "0 Hz" and "0.01 ms" to "0.01 m".
+  function axisSize(u, values, axisIdx, cycleNum) {
+    var axis = u.axes[axisIdx];
+    if (cycleNum > 1) return axis._size; // uPlot asks again while the ticks settle: keep the first answer
+    var longest = 0;
+    if (values) {
+      u.ctx.font = axis.font[0];
+      values.forEach(function (v) { longest = Math.max(longest, u.ctx.measureText(String(v)).width); });
+    }
+    return Math.ceil(axis.ticks.size + axis.gap + longest / (window.devicePixelRatio || 1)) + 4;
+  }
+
+  // uPlot breaks a line at every empty bin: an edge at 10 Hz on 20 ms bins would be dots, never a line.
+  // Its lines break only across the edge's real gaps (``gaps``, seconds), which are shaded.
+  function breaksAt(gaps) {
+    return function (u, seriesIdx, idx0, idx1, nullGaps) {
+      var shaded = gaps.map(function (g) { return [u.valToPos(g[0], "x", true), u.valToPos(g[1], "x", true)]; });
+      return nullGaps.filter(function (n) {
+        return shaded.some(function (s) { return n[0] < s[1] && n[1] > s[0]; });
+      });
+    };
   }
 
   // A band [from, to] (seconds) across the plotting area, at least 2 px wide.
@@ -94,7 +120,9 @@
       height: height,
       cursor: { sync: { key: this.data.anchor }, drag: { x: true, y: false } },
       scales: Object.assign({ x: { time: false } }, scales),
-      axes: [{ size: 30, values: function (u, ticks) { return ticks.map(function (t) { return t + " s"; }); } }].concat(axes),
+      axes: [{ size: 30, values: function (u, ticks) { return ticks.map(function (t) { return t + " s"; }); } }].concat(
+        axes.map(function (axis) { return Object.assign({ size: axisSize }, axis); })
+      ),
       series: [{ label: "time", value: seconds }].concat(series),
       hooks: { setScale: [this.sync], drawClear: [draw.under], draw: [draw.over] },
     };
@@ -135,15 +163,16 @@
         });
       },
     };
+    var gaps = breaksAt(edge.gaps);
     var series = [
-      { label: "rate", scale: "hz", stroke: COLOURS.rate, width: 1.5, value: function (u, v) { return v == null ? "--" : v.toFixed(1) + " Hz"; } },
-      { label: "delay", scale: "ms", stroke: COLOURS.delay, width: 1, value: function (u, v) { return v == null ? "--" : v.toFixed(2) + " ms"; } },
-      { label: "max delay", scale: "ms", stroke: COLOURS.delayMax, width: 1, dash: [4, 3], value: function (u, v) { return v == null ? "--" : v.toFixed(2) + " ms"; } },
+      { label: "rate", scale: "hz", stroke: COLOURS.rate, width: 1.5, gaps: gaps, value: function (u, v) { return v == null ? "--" : v.toFixed(1) + " Hz"; } },
+      { label: "delay", scale: "ms", stroke: COLOURS.delay, width: 1, gaps: gaps, value: function (u, v) { return v == null ? "--" : v.toFixed(2) + " ms"; } },
+      { label: "max delay", scale: "ms", stroke: COLOURS.delayMax, width: 1, dash: [4, 3], gaps: gaps, value: function (u, v) { return v == null ? "--" : v.toFixed(2) + " ms"; } },
       { label: "samples", show: false, value: function (u, v) { return v == null ? "--" : String(v); } },
     ];
     var axes = [
-      { scale: "hz", size: 46, values: function (u, ticks) { return ticks.map(function (t) { return t + " Hz"; }); } },
-      { scale: "ms", side: 1, size: 54, grid: { show: false }, stroke: COLOURS.delay, values: function (u, ticks) { return ticks.map(function (t) { return t + " ms"; }); } },
+      { scale: "hz", values: function (u, ticks) { return ticks.map(function (t) { return t + " Hz"; }); } },
+      { scale: "ms", side: 1, grid: { show: false }, stroke: COLOURS.delay, values: function (u, ticks) { return ticks.map(function (t) { return t + " ms"; }); } },
     ];
     var scales = {
       // the rate line near the top, the delay's around the middle: apart where both are steady
@@ -182,8 +211,8 @@
     });
     series.push({ label: "longest wait", scale: "s", stroke: COLOURS.wait, width: 1, value: function (u, v) { return v == null ? "--" : v.toFixed(3) + " s"; } });
     var axes = [
-      { scale: "n", size: 46 },
-      { scale: "s", side: 1, size: 54, grid: { show: false }, values: function (u, ticks) { return ticks.map(function (t) { return t + " s"; }); } },
+      { scale: "n" },
+      { scale: "s", side: 1, grid: { show: false }, values: function (u, ticks) { return ticks.map(function (t) { return t + " s"; }); } },
     ];
     var scales = {
       n: { range: function (u, min, max) { return [0, Math.max((max || 0) * 1.1, 1)]; } },
@@ -240,11 +269,24 @@
     });
   };
 
+  function fitTrees() {
+    document.querySelectorAll(".tree svg").forEach(function (svg) {
+      var natural = Number(svg.dataset.width) || svg.width.baseVal.value;
+      svg.dataset.width = String(natural);
+      var box = svg.parentElement;
+      var room = box.clientWidth - 12;
+      var scale = Math.max(Math.min(1, room / natural), TREE_MIN_SCALE);
+      svg.style.width = Math.floor(natural * scale) + "px";
+    });
+  }
+
+  fitTrees();
   document.querySelectorAll("section.recording").forEach(function (element) {
     var script = element.querySelector("script.report-data");
     if (script) report.sections.push(new Section(element, JSON.parse(script.textContent)));
   });
   window.addEventListener("resize", function () {
+    fitTrees();
     report.sections.forEach(function (section) { section.resize(); });
   });
 })();

@@ -1,0 +1,119 @@
+"""The small traps a new user falls into, each met with a way through: a folder of bags without its final
+slash, a bag given without -b, the same bag twice, a ROS 2 bag's file or a bare MCAP file to ``tfx static``,
+and a static transform the bag already has."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from tests.cli.conftest import SAMPLE_BAGS, SAMPLES, tfx
+
+__all__ = ["tfx"]  # a fixture, for pytest
+
+
+@pytest.fixture
+def folder(tmp_path: Path) -> Path:
+    """A folder of the three sample recordings (and their generator, which is not one)."""
+    bags = tmp_path / "bags"
+    shutil.copytree(SAMPLES, bags)
+    return bags
+
+
+@pytest.mark.parametrize("slash", ["", "/"], ids=["no slash", "slash"])
+@pytest.mark.parametrize("command", ["wtf", "report"])
+def test_a_folder_of_bags_is_each_of_them(tfx, folder: Path, tmp_path: Path, command: str, slash: str) -> None:
+    output = ("-o", tmp_path / "fleet.html") if command == "report" else ()
+    result = tfx(command, f"{folder}{slash}", *output)
+    assert result.code == 0, result.stderr
+    if command == "wtf":
+        assert "3 recordings checked: 3 passed" in result.stdout
+    else:
+        assert "0 of 3 failed" in result.stderr
+
+
+@pytest.mark.parametrize("slash", ["", "/"], ids=["no slash", "slash"])
+def test_a_folder_of_bags_after_b_says_what_to_give(tfx, folder: Path, slash: str) -> None:
+    result = tfx("frames", "-b", f"{folder}{slash}")
+    assert result.code == 2 and result.stderr.count("\n") == 1
+    assert f"-b {folder}{slash} is a folder of 3 recordings, not a bag" in result.stderr
+    assert f"e.g. -b {folder}/robot.bag" in result.stderr and f"tfx wtf {folder}/ checks each" in result.stderr
+
+
+@pytest.mark.parametrize(
+    "args",
+    [["frames", "BAG"], ["echo", "map", "odom", "BAG"], ["echo", "map", "BAG"], ["monitor", "BAG"], ["filter", "BAG"]],
+    ids=lambda a: "-".join(a),
+)
+def test_a_bag_without_b_is_shown_with_it(tfx, args: list[str]) -> None:
+    bag = str(SAMPLE_BAGS["ros1"])
+    result = tfx(*[bag if a == "BAG" else a for a in args])  # echo and monitor would listen to a live system
+    assert result.code == 2 and result.stderr.count("\n") == 1
+    fixed = " ".join(w for a in args for w in (["-b", bag] if a == "BAG" else [a]))
+    assert f"a bag is read with -b: tfx {fixed}" in result.stderr
+
+
+def test_an_extra_argument_that_is_no_bag_points_to_help(tfx) -> None:
+    result = tfx("frames", "nothing_here")
+    assert result.code == 2 and "see tfx frames --help" in result.stderr and "-b" not in result.stderr
+
+
+@pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
+def test_the_same_bag_twice_is_read_once(tfx, fmt: str) -> None:
+    bag = SAMPLE_BAGS[fmt]
+    once = tfx("wtf", "-b", bag)
+    twice = tfx("wtf", "-b", bag, "-b", f"{bag.parent}/./{bag.name}")
+    assert twice.code == once.code == 0
+    assert twice.stdout == once.stdout
+    assert twice.stderr.startswith("tfx: warning: ") and "is given twice" in twice.stderr
+    assert twice.stderr.count("\n") == 1
+
+
+def test_a_rosbag2_file_and_its_directory_are_one_bag(tfx) -> None:
+    folder = SAMPLE_BAGS["db3"]
+    result = tfx("frames", "-b", folder, "-b", folder / "robot_db3.db3", "-f", "json")
+    assert result.code == 0 and "given twice (as" in result.stderr
+
+
+def test_the_same_bag_twice_as_arguments_is_checked_once(tfx) -> None:
+    bag = SAMPLE_BAGS["ros1"]
+    result = tfx("wtf", bag, bag)
+    assert result.code == 0 and "given twice" in result.stderr
+    assert "recordings checked" not in result.stdout  # one recording: no fleet summary
+
+
+def test_static_on_a_file_of_a_rosbag2_directory_names_the_directory(tfx, tmp_path: Path) -> None:
+    bag = SAMPLE_BAGS["mcap"] / "robot_mcap.mcap"
+    result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", bag, "-o", tmp_path / "out")
+    assert result.code == 2 and result.stderr.count("\n") == 1
+    assert "not an MCAP file" not in result.stderr
+    assert f"is a file of the ROS 2 bag {SAMPLE_BAGS['mcap']}" in result.stderr
+    assert f"-b {SAMPLE_BAGS['mcap']} -o OUTPUT" in result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_static_on_a_bare_mcap_file_says_what_it_copies(tfx, tmp_path: Path) -> None:
+    bare = tmp_path / "bare.mcap"
+    shutil.copy(SAMPLE_BAGS["mcap"] / "robot_mcap.mcap", bare)
+    result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", bare, "-o", tmp_path / "out")
+    assert result.code == 2 and result.stderr.count("\n") == 1
+    assert "copies ROS 1 .bag files and ROS 2 bag directories, not a bare .mcap file" in result.stderr
+
+
+@pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
+@pytest.mark.parametrize("edge", [("base_link", "laser"), ("map", "laser"), ("odom", "base_footprint")])
+def test_static_refuses_a_frame_the_bag_already_has(tfx, tmp_path: Path, fmt: str, edge: tuple[str, str]) -> None:
+    output = tmp_path / "out"
+    result = tfx("static", "0", "0", "1", "0", "0", "0", *edge, "-b", SAMPLE_BAGS[fmt], "-o", output)
+    assert result.code == 2 and result.stderr.count("\n") == 1
+    assert f"already has {edge[1]}," in result.stderr and "tfx wtf would fail the copy" in result.stderr
+    assert not output.exists()
+
+
+def test_static_adds_a_new_frame_and_wtf_passes_the_copy(tfx, tmp_path: Path) -> None:
+    output = tmp_path / "out.bag"
+    result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", SAMPLE_BAGS["ros1"], "-o", output)
+    assert result.code == 0, result.stderr
+    assert tfx("wtf", output).code == 0
