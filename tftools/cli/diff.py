@@ -8,6 +8,7 @@ from typing import Annotated
 
 import typer
 
+from tftools.analysis.description import description_shape
 from tftools.analysis.diff import compare
 from tftools.analysis.expected import TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
@@ -17,6 +18,7 @@ from tftools.cli.common import Exit, TextOrJson, exit_with, open_recording
 from tftools.core.semantics import Semantics
 from tftools.render import diff as render
 from tftools.sources.storage.locations import METADATA, is_url
+from tftools.sources.urdf import read_urdf
 
 
 def command(
@@ -35,7 +37,8 @@ def command(
     (extrinsics) moved, by how much in mm and degrees, rates and publishers changed.
 
     A or B may be a tree file ([cyan]tfx wtf --init good.bag > tree.yaml[/]); its tolerances count
-    unless given here. Publishers are compared where both sides name them (ROS 1 bags, tree files
+    unless given here. A or B may be a URDF file (.urdf): its links, fixed joints as static edges at
+    their origins ([cyan]tfx diff robot.urdf run.bag[/]). Publishers are compared where both sides name them (ROS 1 bags, tree files
     written from them); rates where A's edge has one.
 
     Exit codes: 0 no differences beyond the tolerances; 1 differences; 2 unusable input.
@@ -62,6 +65,8 @@ def _is_tree_file(location: str) -> bool:
 
 
 def _read(location: str, topics: list[str] | None, semantics: Semantics | None) -> TreeShape:
+    if Path(location).suffix in (".urdf", ".xacro") and not is_url(location):
+        return description_shape(read_urdf(location))
     if _is_tree_file(location):
         return read_tree(Path(location))
     return shape_of(open_recording([location], topics, semantics))

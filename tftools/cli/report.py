@@ -10,7 +10,8 @@ from typing import Annotated
 
 import typer
 
-from tftools.analysis.findings import counted
+from tftools.analysis.description import Robot, robot_of
+from tftools.analysis.findings import Finding, counted
 from tftools.analysis.report import recording_report
 from tftools.analysis.wtf.fleet import sensor_data
 from tftools.cli import live, options
@@ -23,6 +24,7 @@ from tftools.render.graph import recording_legend
 from tftools.render.report import Section, page, recording_section, unreadable_section
 from tftools.sources import Recording
 from tftools.sources.contents import StampedMessages
+from tftools.sources.urdf import RobotDescription, read_urdf
 
 DEFAULT_OUTPUT = "report.html"
 
@@ -38,6 +40,13 @@ def command(
     tf2: options.Tf2 = None,
     target: options.Target = None,
     sensors: options.Sensors = None,
+    urdf: Annotated[
+        Path | None,
+        typer.Option(
+            help="Check against this robot description (a URDF file), as tfx wtf --urdf does; without it, a "
+            "recorded /robot_description is used.",
+        ),
+    ] = None,
     duration: options.Listen = 5.0,
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
@@ -63,11 +72,13 @@ def command(
     """
     groups = options.recordings_given(paths, bags)
     _check_output(output, [p for group in groups for p in group])
+    description = read_urdf(urdf) if urdf is not None else None
     if groups:
-        sections = _bag_sections(groups, topics, tf2, target, sensors)
+        sections = _bag_sections(groups, topics, tf2, target, sensors, description)
     else:
         recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors)
-        sections = [_section(0, recording, streams, target)]
+        robot = Robot(description) if description is not None else None
+        sections = [_section(0, recording, streams, target, robot)]
     title = "tfx report: " + (sections[0].name if len(sections) == 1 else counted(len(sections), "recording"))
     write_atomically(output, page(title, sections).encode())
     failed = sum(s.verdict == "failed" for s in sections)
@@ -90,6 +101,7 @@ def _bag_sections(
     semantics: Semantics | None,
     target: str | None,
     sensors: Sequence[str] | None,
+    description: RobotDescription | None = None,
 ) -> list[Section]:
     """One section per recording; one that cannot be read is an error of its own in a fleet, and the
     command's error when it is the only one (or none can be read)."""
@@ -106,11 +118,20 @@ def _bag_sections(
             name = " + ".join(str(p) for p in group)
             sections.append(unreadable_section(index, name, str(error), error.hint))
             continue
-        sections.append(_section(index, recording, sensor_data(group, sensors), target))
+        robot, said = robot_of(group, recording, description)
+        sections.append(_section(index, recording, sensor_data(group, sensors), target, robot, said))
     if len(unread) == len(groups):
         raise unread[0]
     return sections
 
 
-def _section(index: int, recording: Recording, streams: Sequence[StampedMessages], target: str | None) -> Section:
-    return recording_section(index, recording_report(recording, streams, target=target), recording_legend(recording))
+def _section(
+    index: int,
+    recording: Recording,
+    streams: Sequence[StampedMessages],
+    target: str | None,
+    robot: Robot | None = None,
+    said: Finding | None = None,
+) -> Section:
+    report = recording_report(recording, streams, target, robot, [said] if said is not None else [])
+    return recording_section(index, report, recording_legend(recording))

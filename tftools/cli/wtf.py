@@ -15,6 +15,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
+from tftools.analysis.description import Robot
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
 from tftools.cli import executors, live, options
@@ -23,6 +24,7 @@ from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, UsageError, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
 from tftools.cli.deadline import timed
 from tftools.render import wtf as render
+from tftools.sources.urdf import read_urdf
 from tftools.render import wtf_lines as render_lines
 
 
@@ -111,6 +113,14 @@ def command(
             "edges moved beyond the tolerances, slower edges, other publishers.",
         ),
     ] = None,
+    urdf: Annotated[
+        Path | None,
+        typer.Option(
+            help="Check against this robot description (a URDF file; xacro's output, not xacro): its joints on tf "
+            "where robot_state_publisher puts them, as /joint_states says; links tf lacks, frames the URDF lacks. "
+            "Without it, a recorded /robot_description is used.",
+        ),
+    ] = None,
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
     tolerance_rate: expected_tree.ToleranceRateOption = None,
@@ -137,6 +147,9 @@ def command(
 
     The expected tree: [cyan]tfx wtf --init good.bag > tree.yaml[/] writes what a healthy recording
     looks like (hand-editable YAML); [cyan]tfx wtf --expect tree.yaml run.bag[/] reports what differs.
+    The robot's description: [cyan]tfx wtf --urdf robot.urdf run.bag[/] (or a recorded /robot_description)
+    reports joints tf lacks (a joint publisher or robot_state_publisher not running), fixed joints moved,
+    moving joints not where /joint_states puts them.
 
     Fleets: [cyan]--jobs N[/] checks N recordings at once here, [cyan]--dask ADDRESS[/] each as a task on a
     Dask cluster; results come as they finish ([cyan]--format jsonl[/] streams them, [cyan]--resume[/] skips
@@ -158,6 +171,7 @@ def command(
     if expect is None and any(t is not None for t in tolerances):
         raise UsageError("the tolerances are for --expect", "e.g. tfx wtf --expect tree.yaml run.bag --tolerance-mm 2")
     expected = expected_tree.read_expected(expect, *tolerances) if expect is not None else None
+    description = read_urdf(urdf) if urdf is not None else None
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
     groups = options.recordings_given(paths, bags)
@@ -171,6 +185,7 @@ def command(
             target=target,
             sensor_topics=sensors,
             expected=expected,
+            urdf=description,
         )
         fleet = Fleet(jobs or os.cpu_count() or 1, dask, timeout, resume)
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
@@ -182,7 +197,8 @@ def command(
         heard, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors, require_tf=False)
         for problem in heard.problems:
             warn(problem)
-        reports = [check_recording(heard, streams, thresholds, ignored, target, expected)]
+        robot = Robot(description) if description is not None else None
+        reports = [check_recording(heard, streams, thresholds, ignored, target, expected, robot)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:
         render.write_json(reports, sys.stdout, strict, thresholds, code)

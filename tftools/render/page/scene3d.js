@@ -1,0 +1,358 @@
+// tfx report's 3D view: every frame of a recording as an axis triad (x red, y green, z blue) in the fixed
+// frame, drawn with three.js from the poses in the section's JSON (data.scene3d), at the time the slider
+// chooses; names on hover; drag to orbit, shift-drag to pan, scroll to zoom; a click on a finding shows
+// its frames at its time. window.tfxScene3d.views[i] offers setTime(index), timeIndex(seconds),
+// positions(), axes(), screen() and focus(finding) to scripts and tests.
+(function () {
+  "use strict";
+  var HEIGHT = 460;
+  var AXIS_COLOURS = [0xd62728, 0x2ca02c, 0x1f5fd6];
+  var LINK_COLOUR = 0x8a8a8a;
+  var FOCUS_COLOUR = "#d62728";
+  var registry = { views: [] };
+  window.tfxScene3d = registry;
+
+  function poseAt(frame, index) {
+    if (frame.pose) return frame.pose;
+    return frame.poses[index];
+  }
+
+  // A triad: three segments from the origin along x, y and z, each in its colour.
+  function triad(size, width) {
+    var group = new THREE.Group();
+    for (var axis = 0; axis < 3; axis++) {
+      var end = [0, 0, 0];
+      end[axis] = size;
+      var geometry = new THREE.BufferGeometry();
+      geometry.setAttribute("position", new THREE.Float32BufferAttribute([0, 0, 0].concat(end), 3));
+      var line = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: AXIS_COLOURS[axis], linewidth: width }));
+      group.add(line);
+    }
+    return group;
+  }
+
+  function View(section, element, data) {
+    var self = this;
+    this.section = section;
+    this.element = element;
+    this.data = data;
+    this.index = 0;
+    this.focused = [];
+    this.frames = data.frames;
+    this.byName = {};
+    data.frames.forEach(function (frame, k) { self.byName[frame.name] = k; });
+
+    var controls = document.createElement("div");
+    controls.className = "scene3d-controls";
+    this.slider = document.createElement("input");
+    this.slider.type = "range";
+    this.slider.min = "0";
+    this.slider.max = String(data.times.length - 1);
+    this.slider.value = "0";
+    this.slider.setAttribute("aria-label", "time");
+    this.clock = document.createElement("span");
+    this.clock.className = "scene3d-time";
+    var play = document.createElement("button");
+    play.type = "button";
+    play.textContent = "Play";
+    controls.appendChild(play);
+    controls.appendChild(this.slider);
+    controls.appendChild(this.clock);
+    var stage = document.createElement("div");
+    stage.className = "scene3d-stage";
+    stage.style.position = "relative";
+    this.tip = document.createElement("div");
+    this.tip.className = "scene3d-tip";
+    this.tip.style.cssText = "position:absolute;pointer-events:none;display:none;background:rgba(255,255,255,0.92);" +
+      "border:1px solid #999;padding:2px 5px;font:12px monospace;white-space:nowrap;";
+    this.labels = document.createElement("div");
+    this.labels.style.cssText = "position:absolute;left:0;top:0;pointer-events:none;";
+    element.appendChild(controls);
+    element.appendChild(stage);
+
+    this.width = Math.max(element.clientWidth, 320);
+    try {
+      this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    } catch (e) {
+      this.renderer = null;
+      var none = document.createElement("p");
+      none.className = "missing";
+      none.textContent = "This browser cannot draw in 3D (WebGL is unavailable): " + e;
+      stage.appendChild(none);
+    }
+    if (this.renderer) {
+      this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+      this.renderer.setSize(this.width, HEIGHT);
+      this.renderer.setClearColor(0xffffff, 1);
+      stage.appendChild(this.renderer.domElement);
+    }
+    stage.appendChild(this.labels);
+    stage.appendChild(this.tip);
+    this.stage = stage;
+
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.PerspectiveCamera(45, this.width / HEIGHT, 0.001, 1e6);
+    this.camera.up.set(0, 0, 1); // ROS: z up
+    this.size = this.extent();
+    var axisSize = Math.min(Math.max(this.size * 0.08, 0.03), 2);
+    this.axisSize = axisSize;
+    this.triads = data.frames.map(function (frame) {
+      var group = triad(axisSize, 1);
+      group.name = frame.name;
+      self.scene.add(group);
+      return group;
+    });
+    var grid = new THREE.GridHelper(this.size * 2, 20, 0xcccccc, 0xe4e4e4);
+    grid.rotation.x = Math.PI / 2; // in the fixed frame's x-y plane
+    this.scene.add(grid);
+    this.links = new THREE.LineSegments(
+      new THREE.BufferGeometry(),
+      new THREE.LineBasicMaterial({ color: LINK_COLOUR, transparent: true, opacity: 0.7 })
+    );
+    this.scene.add(this.links);
+
+    // the orbit: a target, a distance, and two angles about it (z up)
+    this.target = this.centre();
+    this.distance = this.size * 2.2;
+    this.azimuth = -Math.PI * 0.7;
+    this.elevation = 0.5;
+    this.placeCamera();
+    this.listen(play);
+    this.setTime(0);
+  }
+
+  // How large the scene is: the largest distance of any frame from the fixed frame at any time (at least 0.5 m).
+  View.prototype.extent = function () {
+    var far = 0;
+    this.frames.forEach(function (frame) {
+      (frame.pose ? [frame.pose] : frame.poses).forEach(function (p) {
+        if (p) far = Math.max(far, Math.hypot(p[0], p[1], p[2]));
+      });
+    });
+    return Math.max(far, 0.5);
+  };
+
+  View.prototype.centre = function () {
+    var box = new THREE.Box3();
+    var self = this;
+    this.frames.forEach(function (frame) {
+      var p = poseAt(frame, 0) || (frame.poses && frame.poses.find(function (q) { return q; }));
+      if (p) box.expandByPoint(new THREE.Vector3(p[0], p[1], p[2]));
+    });
+    return box.isEmpty() ? new THREE.Vector3() : box.getCenter(new THREE.Vector3());
+  };
+
+  View.prototype.placeCamera = function () {
+    var c = Math.cos(this.elevation);
+    this.camera.position.set(
+      this.target.x + this.distance * c * Math.cos(this.azimuth),
+      this.target.y + this.distance * c * Math.sin(this.azimuth),
+      this.target.z + this.distance * Math.sin(this.elevation)
+    );
+    this.camera.lookAt(this.target);
+    this.camera.updateMatrixWorld();
+    this.draw();
+  };
+
+  View.prototype.listen = function (play) {
+    var self = this;
+    this.slider.addEventListener("input", function () { self.setTime(Number(self.slider.value)); });
+    var timer = null;
+    play.addEventListener("click", function () {
+      if (timer) {
+        clearInterval(timer);
+        timer = null;
+        play.textContent = "Play";
+        return;
+      }
+      play.textContent = "Pause";
+      timer = setInterval(function () {
+        self.setTime((self.index + 1) % self.data.times.length);
+      }, 80);
+    });
+    var canvas = this.renderer ? this.renderer.domElement : this.stage;
+    var dragging = null;
+    canvas.addEventListener("pointerdown", function (event) {
+      dragging = { x: event.clientX, y: event.clientY, pan: event.shiftKey || event.button === 2 };
+      if (canvas.setPointerCapture) canvas.setPointerCapture(event.pointerId);
+    });
+    canvas.addEventListener("pointerup", function () { dragging = null; });
+    canvas.addEventListener("contextmenu", function (event) { event.preventDefault(); });
+    canvas.addEventListener("pointermove", function (event) {
+      if (!dragging) {
+        self.hover(event);
+        return;
+      }
+      var dx = event.clientX - dragging.x;
+      var dy = event.clientY - dragging.y;
+      dragging.x = event.clientX;
+      dragging.y = event.clientY;
+      if (dragging.pan) {
+        self.pan(dx, dy);
+      } else {
+        self.azimuth -= dx * 0.01;
+        self.elevation = Math.max(-1.55, Math.min(1.55, self.elevation + dy * 0.01));
+        self.placeCamera();
+      }
+    });
+    canvas.addEventListener("wheel", function (event) {
+      event.preventDefault();
+      self.distance = Math.max(self.size * 0.02, Math.min(self.size * 50, self.distance * Math.exp(event.deltaY * 0.001)));
+      self.placeCamera();
+    }, { passive: false });
+    this.section.querySelectorAll(".finding").forEach(function (item) {
+      item.addEventListener("click", function () { self.focus(Number(item.dataset.finding)); });
+    });
+  };
+
+  View.prototype.pan = function (dx, dy) {
+    var scale = this.distance / HEIGHT;
+    var right = new THREE.Vector3().setFromMatrixColumn(this.camera.matrixWorld, 0);
+    var up = new THREE.Vector3().setFromMatrixColumn(this.camera.matrixWorld, 1);
+    this.target.addScaledVector(right, -dx * scale).addScaledVector(up, dy * scale);
+    this.placeCamera();
+  };
+
+  // The slider's time ``index``: every triad where tf2 placed its frame then (hidden where it could not).
+  View.prototype.setTime = function (index) {
+    var self = this;
+    this.index = index;
+    this.slider.value = String(index);
+    var points = [];
+    this.frames.forEach(function (frame, k) {
+      var p = poseAt(frame, index);
+      var group = self.triads[k];
+      group.visible = !!p;
+      if (!p) return;
+      group.position.set(p[0], p[1], p[2]);
+      group.quaternion.set(p[3], p[4], p[5], p[6]);
+      var parent = self.byName[frame.parent];
+      var q = parent === undefined ? null : poseAt(self.frames[parent], index);
+      if (q) points.push(q[0], q[1], q[2], p[0], p[1], p[2]);
+    });
+    this.links.geometry.dispose();
+    var geometry = new THREE.BufferGeometry();
+    geometry.setAttribute("position", new THREE.Float32BufferAttribute(points, 3));
+    this.links.geometry = geometry;
+    this.scene.updateMatrixWorld(true);
+    this.clock.textContent = " " + this.data.times[index].toFixed(3) + " s (stamp " + this.data.stamps[index] + ")";
+    this.draw();
+  };
+
+  // The index of the time nearest ``seconds`` (on the timelines' axis).
+  View.prototype.timeIndex = function (seconds) {
+    var times = this.data.times;
+    var best = 0;
+    for (var i = 1; i < times.length; i++) {
+      if (Math.abs(times[i] - seconds) < Math.abs(times[best] - seconds)) best = i;
+    }
+    return best;
+  };
+
+  View.prototype.draw = function () {
+    if (this.renderer) this.renderer.render(this.scene, this.camera);
+    this.drawLabels();
+  };
+
+  // Where each shown frame's origin is on the canvas (CSS pixels), by name.
+  View.prototype.screen = function () {
+    var self = this;
+    var found = {};
+    this.triads.forEach(function (group) {
+      if (!group.visible) return;
+      var v = group.getWorldPosition(new THREE.Vector3()).project(self.camera);
+      if (v.z < -1 || v.z > 1) return;
+      found[group.name] = [(v.x + 1) / 2 * self.width, (1 - v.y) / 2 * HEIGHT];
+    });
+    return found;
+  };
+
+  // Each shown frame's origin in the fixed frame, as drawn, by name.
+  View.prototype.positions = function () {
+    var found = {};
+    this.triads.forEach(function (group) {
+      if (!group.visible) return;
+      var v = group.getWorldPosition(new THREE.Vector3());
+      found[group.name] = [v.x, v.y, v.z];
+    });
+    return found;
+  };
+
+  // Each shown frame's axes (unit x, y, z) in the fixed frame, as drawn, by name.
+  View.prototype.axes = function () {
+    var found = {};
+    this.triads.forEach(function (group) {
+      if (!group.visible) return;
+      var m = group.matrixWorld.elements;
+      found[group.name] = [[m[0], m[1], m[2]], [m[4], m[5], m[6]], [m[8], m[9], m[10]]];
+    });
+    return found;
+  };
+
+  View.prototype.hover = function (event) {
+    var box = this.stage.getBoundingClientRect();
+    var x = event.clientX - box.left;
+    var y = event.clientY - box.top;
+    var spots = this.screen();
+    var best = null;
+    var bestDistance = 12;
+    Object.keys(spots).forEach(function (name) {
+      var d = Math.hypot(spots[name][0] - x, spots[name][1] - y);
+      if (d < bestDistance) {
+        best = name;
+        bestDistance = d;
+      }
+    });
+    if (!best) {
+      this.tip.style.display = "none";
+      return;
+    }
+    var p = poseAt(this.frames[this.byName[best]], this.index);
+    this.tip.textContent = best + "  [" + p.slice(0, 3).map(function (v) { return v.toFixed(3); }).join(", ") + "] m";
+    this.tip.style.left = spots[best][0] + 10 + "px";
+    this.tip.style.top = spots[best][1] + 10 + "px";
+    this.tip.style.display = "block";
+  };
+
+  // The focused frames' names beside them, always.
+  View.prototype.drawLabels = function () {
+    var spots = this.screen();
+    var html = "";
+    this.focused.forEach(function (name) {
+      var at = spots[name];
+      if (!at) return;
+      html += '<span style="position:absolute;left:' + (at[0] + 6) + "px;top:" + (at[1] - 18) + "px;color:" +
+        FOCUS_COLOUR + ';font:bold 12px monospace;white-space:nowrap"></span>';
+    });
+    this.labels.innerHTML = html;
+    var spans = this.labels.querySelectorAll("span");
+    var k = 0;
+    this.focused.forEach(function (name) {
+      if (spots[name]) spans[k++].textContent = name;
+    });
+  };
+
+  // A finding chosen: its frames marked (larger triads, their names shown) at its time.
+  View.prototype.focus = function (index) {
+    var self = this;
+    var finding = this.section.tfxFindings ? this.section.tfxFindings[index] : null;
+    if (!finding) return;
+    this.focused = (finding.frames || []).filter(function (name) { return name in self.byName; });
+    this.triads.forEach(function (group) {
+      var big = self.focused.indexOf(group.name) >= 0;
+      group.scale.setScalar(big ? 2.5 : 1);
+    });
+    if (finding.from != null) this.setTime(this.timeIndex(finding.from));
+    else this.setTime(this.index);
+  };
+
+  document.querySelectorAll("section.recording").forEach(function (section) {
+    var script = section.querySelector("script.report-data");
+    var element = section.querySelector(".scene3d");
+    if (!script || !element || typeof THREE === "undefined") return;
+    var data = JSON.parse(script.textContent);
+    if (!data.scene3d) return;
+    section.tfxFindings = data.findings;
+    registry.views.push(new View(section, element, data.scene3d));
+  });
+})();
