@@ -9,6 +9,7 @@ one joint, for ``analysis.wtf.description`` to word as findings.
 
 from __future__ import annotations
 
+import contextlib
 import enum
 import math
 import os
@@ -19,8 +20,8 @@ import numpy as np
 
 from tftools.analysis.diff import rotation_angle_deg
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
-from tftools.analysis.frames import FrameTree
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.frames import FrameTree
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3
@@ -50,7 +51,7 @@ class Robot:
 
     description: RobotDescription
     messages: RobotMessages = field(default_factory=RobotMessages)
-    tolerances: Tolerances = Tolerances()
+    tolerances: Tolerances = field(default_factory=Tolerances)
 
     @property
     def joint_names(self) -> set[str]:
@@ -76,7 +77,9 @@ class JointCheck:
 def check_joints(robot: Robot, buffer: Buffer, tree: FrameTree) -> list[JointCheck]:
     """Each of the URDF's joints, in its order, as tf showed it."""
     states = _positions_over_time(robot)
-    return [_joint(robot, joint_name, buffer, tree, states) for joint_name in (j.name for j in robot.description.joints)]
+    return [
+        _joint(robot, joint_name, buffer, tree, states) for joint_name in (j.name for j in robot.description.joints)
+    ]
 
 
 def _joint(
@@ -126,9 +129,7 @@ def _positions_over_time(robot: Robot) -> tuple[np.ndarray, dict[str, np.ndarray
     return stamps, positions
 
 
-def _follows(
-    robot: Robot, name: str, buffer: Buffer, states: tuple[np.ndarray, dict[str, np.ndarray]]
-) -> JointCheck:
+def _follows(robot: Robot, name: str, buffer: Buffer, states: tuple[np.ndarray, dict[str, np.ndarray]]) -> JointCheck:
     """A moving joint: tf's transform at each joint state's stamp, against where that state puts it
     (a mimic joint: where its leader's state puts it)."""
     joint = next(j for j in robot.description.joints if j.name == name)
@@ -154,7 +155,13 @@ def _follows(
     worst = int(np.argmax(degs if deg > max(tol.rotation_deg, 1.0) else mms))
     when = int(looked.stamps[looked.valid][worst])
     return JointCheck(
-        name, Verdict.disagrees if off else Verdict.fine, joint.parent, mm, deg, compared=len(qs), stamp=when if off else 0
+        name,
+        Verdict.disagrees if off else Verdict.fine,
+        joint.parent,
+        mm,
+        deg,
+        compared=len(qs),
+        stamp=when if off else 0,
     )
 
 
@@ -223,10 +230,8 @@ def robot_of(
         return None, None
     messages = RobotMessages()
     if not recording.contents.live and ({DESCRIPTION_TOPIC, JOINT_STATES_TOPIC} & topics):
-        try:
+        with contextlib.suppress(TfToolsError):  # the transforms were read: the joints are checked without states
             messages = read_robot(paths)
-        except TfToolsError:
-            pass  # the transforms were read: the joints are checked without their states
     if urdf is None:
         if not messages.description:
             return None, None

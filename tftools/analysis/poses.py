@@ -45,7 +45,9 @@ def choose_fixed(tree: FrameTree) -> str | None:
             todo += tree.children.get(frame, [])
         return count
 
-    return max(sorted(tree.roots), key=lambda r: (size(r), r in PREFERRED, -PREFERRED.index(r) if r in PREFERRED else -9))
+    return max(
+        sorted(tree.roots), key=lambda r: (size(r), r in PREFERRED, -PREFERRED.index(r) if r in PREFERRED else -9)
+    )
 
 
 def frame_poses(buffer: Buffer, tree: FrameTree, start: int, end: int, fixed: str | None = None) -> FramePoses | None:

@@ -24,8 +24,8 @@ from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, UsageError, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
 from tftools.cli.deadline import timed
 from tftools.render import wtf as render
-from tftools.sources.urdf import read_urdf
 from tftools.render import wtf_lines as render_lines
+from tftools.sources.urdf import read_urdf
 
 
 class WtfFormat(str, enum.Enum):

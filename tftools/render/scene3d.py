@@ -27,7 +27,9 @@ def poses_data(poses: FramePoses | None, origin: int) -> dict[str, Any] | None:
         return None
     frames = []
     for k, name in enumerate(poses.frames):
-        values = np.concatenate([poses.translations[k].round(TRANSLATION_DECIMALS), poses.rotations[k].round(ROTATION_DECIMALS)], axis=1)
+        values = np.concatenate(
+            [poses.translations[k].round(TRANSLATION_DECIMALS), poses.rotations[k].round(ROTATION_DECIMALS)], axis=1
+        )
         valid = poses.valid[k]
         entry: dict[str, Any] = {"name": printable(name), "parent": printable(poses.parents[k] or "")}
         if valid.all() and np.ptp(values, axis=0).max() == 0.0:

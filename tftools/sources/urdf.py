@@ -14,8 +14,10 @@ import math
 import os
 import re
 import xml.etree.ElementTree as ET
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, quat_from_rpy
@@ -155,13 +157,13 @@ def parse_urdf(text: bytes | str, source: str) -> RobotDescription:
 
 def _parsed(raw: bytes, source: str) -> ET.Element:
     """The document's root, parsed element by element and stopped beyond the depth or count limits."""
-    parser = ET.XMLPullParser(events=("start", "end"))
+    parser: ET.XMLPullParser[ET.Element] = ET.XMLPullParser(events=("start", "end"))
     depth = count = 0
     root: ET.Element | None = None
     try:
         for at in range(0, len(raw), 1 << 16):
             parser.feed(raw[at : at + (1 << 16)])
-            for event, element in parser.read_events():
+            for event, element in cast(Iterator[tuple[str, ET.Element]], parser.read_events()):
                 if event == "start":
                     depth += 1
                     count += 1
@@ -216,7 +218,10 @@ def _joint(element: ET.Element, source: str) -> Joint:
     mimic_tag = element.find("mimic")
     mimic = None
     if mimic_tag is not None and mimic_tag.get("joint"):
-        numbers = [_number(mimic_tag.get(k, d), f"joint {name}: mimic {k}", source) for k, d in (("multiplier", "1"), ("offset", "0"))]
+        numbers = [
+            _number(mimic_tag.get(k, d), f"joint {name}: mimic {k}", source)
+            for k, d in (("multiplier", "1"), ("offset", "0"))
+        ]
         mimic = (str(mimic_tag.get("joint")), numbers[0], numbers[1])
     return Joint(name, kind, links[0], links[1], xyz, rpy, axis, mimic)
 

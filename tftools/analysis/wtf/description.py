@@ -174,8 +174,7 @@ def urdf_joint_state(scene: Scene) -> Iterator[Finding]:
             "urdf_joint_state",
             f"{_about(j)}: tf is {c.translation_mm:.1f} mm and {c.rotation_deg:.2f}° (median of {c.compared} "
             f"joint states) from where {robot.messages.joint_topic} and {_from(robot)} put {j.child}",
-            f"{RSP} runs another URDF than this one (its origin or axis differ), or another node publishes "
-            f"{j.child}",
+            f"{RSP} runs another URDF than this one (its origin or axis differ), or another node publishes {j.child}",
             frames=(j.parent, j.child),
             first_time=c.stamp,
             last_time=c.stamp,
@@ -220,7 +219,7 @@ def urdf_unseen(scene: Scene) -> Iterator[Finding]:
     for link in links_unseen(robot, scene.tree):
         if link in children:
             continue
-        if parents & set(scene.tree.frames) - {link} or len(robot.description.links) > 1 and link not in parents:
+        if parents & set(scene.tree.frames) - {link} or (len(robot.description.links) > 1 and link not in parents):
             hint = f"a link joined to nothing: {RSP} cannot place it; add a joint for it in the URDF"
         else:
             hint = f"the robot's root: {RSP} did not run, or this recording is of another robot"
@@ -246,8 +245,7 @@ def urdf_extra(scene: Scene) -> Iterator[Finding]:
             Severity.info,
             "urdf_extra",
             f"{listed([e.frame for e in above])}: above the robot's links on tf, not in {_from(robot)}",
-            "fine: odometry and localization (odom, map, world) publish the frames above the robot, not "
-            f"{RSP}",
+            f"fine: odometry and localization (odom, map, world) publish the frames above the robot, not {RSP}",
             frames=tuple(e.frame for e in above),
         )
     for e in under:

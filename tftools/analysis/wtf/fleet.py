@@ -84,9 +84,7 @@ def check_bags(
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
     robot, said = robot_of(paths, recording, urdf, expected.tolerances if expected is not None else None)
-    checked = check_recording(
-        recording, sensor_data(paths, sensor_topics), thresholds, ignore, target, expected, robot
-    )
+    checked = check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target, expected, robot)
     if said is not None and said.code not in ignore:
         checked.findings = sorted([*checked.findings, said], key=lambda f: f.severity.rank)
     return checked

@@ -83,7 +83,9 @@ def _string(cursor: Cursor) -> str:
 
 
 def _decoder(wires: Sequence[Wire], read: Callable[[Cursor], Any]) -> WholeDecoder:
-    def decode(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> tuple[list[int], list[Any], list[tuple[int, str]]]:
+    def decode(
+        raw: UInt8Array, starts: Int64Array, lengths: Int64Array
+    ) -> tuple[list[int], list[Any], list[tuple[int, str]]]:
         return _each(raw, starts, lengths, wires, read)
 
     return decode
