@@ -5,7 +5,8 @@
 // positions(), axes(), screen() and focus(finding) to scripts and tests.
 (function () {
   "use strict";
-  var HEIGHT = 460;
+  var HEIGHT = 520;
+  var NAMES_SHOWN = 40; // frames whose names are shown at once, unless hovered or focused
   var AXIS_COLOURS = [0xd62728, 0x2ca02c, 0x1f5fd6];
   var LINK_COLOUR = 0x8a8a8a;
   var FOCUS_COLOUR = "#d62728";
@@ -17,16 +18,20 @@
     return frame.poses[index];
   }
 
-  // A triad: three segments from the origin along x, y and z, each in its colour.
-  function triad(size, width) {
+  // A triad, as RViz draws axes: a bar from the origin along x, y and z, each in its colour.
+  function triad(size) {
     var group = new THREE.Group();
+    var radius = size * 0.06;
     for (var axis = 0; axis < 3; axis++) {
-      var end = [0, 0, 0];
-      end[axis] = size;
-      var geometry = new THREE.BufferGeometry();
-      geometry.setAttribute("position", new THREE.Float32BufferAttribute([0, 0, 0].concat(end), 3));
-      var line = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: AXIS_COLOURS[axis], linewidth: width }));
-      group.add(line);
+      var bar = new THREE.Mesh(
+        new THREE.CylinderGeometry(radius, radius, size, 10),
+        new THREE.MeshBasicMaterial({ color: AXIS_COLOURS[axis] })
+      );
+      // a cylinder stands along y, centred: turned onto its axis, moved to start at the origin
+      if (axis === 0) bar.rotation.z = -Math.PI / 2;
+      if (axis === 2) bar.rotation.x = Math.PI / 2;
+      bar.position.setComponent(axis, size / 2);
+      group.add(bar);
     }
     return group;
   }
@@ -55,7 +60,12 @@
     var play = document.createElement("button");
     play.type = "button";
     play.textContent = "Play";
+    var names = document.createElement("label");
+    names.innerHTML = '<input type="checkbox"> names';
+    names.firstChild.checked = data.frames.length <= NAMES_SHOWN;
+    this.showNames = names.firstChild.checked;
     controls.appendChild(play);
+    controls.appendChild(names);
     controls.appendChild(this.slider);
     controls.appendChild(this.clock);
     var stage = document.createElement("div");
@@ -97,7 +107,7 @@
     var axisSize = Math.min(Math.max(this.size * 0.08, 0.03), 2);
     this.axisSize = axisSize;
     this.triads = data.frames.map(function (frame) {
-      var group = triad(axisSize, 1);
+      var group = triad(axisSize);
       group.name = frame.name;
       self.scene.add(group);
       return group;
@@ -112,14 +122,30 @@
     this.scene.add(this.links);
 
     // the orbit: a target, a distance, and two angles about it (z up)
-    this.target = this.centre();
     this.distance = this.size * 2.2;
     this.azimuth = -Math.PI * 0.7;
     this.elevation = 0.5;
+    this.listen(play, names);
+    this.index = this.fullest();
+    this.target = this.centre();
     this.placeCamera();
-    this.listen(play);
-    this.setTime(0);
+    this.setTime(this.index);
   }
+
+  // The first time at which the most frames are placed.
+  View.prototype.fullest = function () {
+    var best = 0;
+    var most = -1;
+    for (var i = 0; i < this.data.times.length; i++) {
+      var placed = 0;
+      for (var k = 0; k < this.frames.length; k++) if (poseAt(this.frames[k], i)) placed++;
+      if (placed > most) {
+        most = placed;
+        best = i;
+      }
+    }
+    return best;
+  };
 
   // How large the scene is: the largest distance of any frame from the fixed frame at any time (at least 0.5 m).
   View.prototype.extent = function () {
@@ -136,7 +162,7 @@
     var box = new THREE.Box3();
     var self = this;
     this.frames.forEach(function (frame) {
-      var p = poseAt(frame, 0) || (frame.poses && frame.poses.find(function (q) { return q; }));
+      var p = poseAt(frame, self.index);
       if (p) box.expandByPoint(new THREE.Vector3(p[0], p[1], p[2]));
     });
     return box.isEmpty() ? new THREE.Vector3() : box.getCenter(new THREE.Vector3());
@@ -154,8 +180,12 @@
     this.draw();
   };
 
-  View.prototype.listen = function (play) {
+  View.prototype.listen = function (play, names) {
     var self = this;
+    names.firstChild.addEventListener("change", function () {
+      self.showNames = names.firstChild.checked;
+      self.drawLabels();
+    });
     this.slider.addEventListener("input", function () { self.setTime(Number(self.slider.value)); });
     var timer = null;
     play.addEventListener("click", function () {
@@ -314,21 +344,27 @@
     this.tip.style.display = "block";
   };
 
-  // The focused frames' names beside them, always.
+  // The frames' names beside them (all with "names" ticked), those of a chosen finding in red; frames at
+  // one place share a label.
   View.prototype.drawLabels = function () {
+    var self = this;
     var spots = this.screen();
-    var html = "";
-    this.focused.forEach(function (name) {
-      var at = spots[name];
-      if (!at) return;
-      html += '<span style="position:absolute;left:' + (at[0] + 6) + "px;top:" + (at[1] - 18) + "px;color:" +
-        FOCUS_COLOUR + ';font:bold 12px monospace;white-space:nowrap"></span>';
+    var shown = this.showNames ? Object.keys(spots) : this.focused.filter(function (name) { return spots[name]; });
+    var places = {};
+    shown.forEach(function (name) {
+      var key = Math.round(spots[name][0] / 3) + "," + Math.round(spots[name][1] / 3);
+      (places[key] = places[key] || []).push(name);
     });
-    this.labels.innerHTML = html;
-    var spans = this.labels.querySelectorAll("span");
-    var k = 0;
-    this.focused.forEach(function (name) {
-      if (spots[name]) spans[k++].textContent = name;
+    this.labels.textContent = "";
+    Object.keys(places).forEach(function (key) {
+      var names = places[key];
+      var at = spots[names[0]];
+      var focused = names.some(function (name) { return self.focused.indexOf(name) >= 0; });
+      var label = document.createElement("span");
+      label.textContent = names.join(", ");
+      label.style.cssText = "position:absolute;white-space:nowrap;font:" + (focused ? "bold 13px" : "11px") +
+        " monospace;color:" + (focused ? FOCUS_COLOUR : "#444") + ";left:" + (at[0] + 5) + "px;top:" + (at[1] - 15) + "px";
+      self.labels.appendChild(label);
     });
   };
 
