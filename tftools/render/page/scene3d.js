@@ -103,8 +103,13 @@
     this.scene = new THREE.Scene();
     this.camera = new THREE.PerspectiveCamera(45, this.width / HEIGHT, 0.001, 1e6);
     this.camera.up.set(0, 0, 1); // ROS: z up
-    this.size = this.extent();
-    var axisSize = Math.min(Math.max(this.size * 0.08, 0.03), 2);
+    this.index = this.fullest();
+    var placed = this.placedAt(this.index);
+    this.target = median(placed);
+    var spread = placed.map(function (p) { return p.distanceTo(self.target); }).sort(function (x, y) { return x - y; });
+    // the robot's size: how far most frames lie from their middle (a far map or odom left out)
+    this.size = Math.max(spread.length ? spread[Math.floor(spread.length * 0.9)] : 0, 0.3);
+    var axisSize = Math.min(Math.max(this.typicalEdge() * 0.45, this.size * 0.08, 0.02), 5);
     this.axisSize = axisSize;
     this.triads = data.frames.map(function (frame) {
       var group = triad(axisSize);
@@ -112,7 +117,8 @@
       self.scene.add(group);
       return group;
     });
-    var grid = new THREE.GridHelper(this.size * 2, 20, 0xcccccc, 0xe4e4e4);
+    var reach = Math.min(Math.max(this.target.length() * 2 + this.size * 4, axisSize * 20), 2000);
+    var grid = new THREE.GridHelper(reach, 20, 0xcccccc, 0xe4e4e4);
     grid.rotation.x = Math.PI / 2; // in the fixed frame's x-y plane
     this.scene.add(grid);
     this.links = new THREE.LineSegments(
@@ -122,15 +128,49 @@
     this.scene.add(this.links);
 
     // the orbit: a target, a distance, and two angles about it (z up)
-    this.distance = this.size * 2.2;
+    this.distance = this.size * 3.6;
     this.azimuth = -Math.PI * 0.7;
-    this.elevation = 0.5;
+    this.elevation = 0.45;
     this.listen(play, names);
-    this.index = this.fullest();
-    this.target = this.centre();
     this.placeCamera();
     this.setTime(this.index);
   }
+
+  function median(points) {
+    if (!points.length) return new THREE.Vector3();
+    var middle = function (axis) {
+      var values = points.map(function (p) { return p.getComponent(axis); }).sort(function (x, y) { return x - y; });
+      return values[Math.floor(values.length / 2)];
+    };
+    return new THREE.Vector3(middle(0), middle(1), middle(2));
+  }
+
+  // Where the frames are at time ``index``.
+  View.prototype.placedAt = function (index) {
+    var found = [];
+    this.frames.forEach(function (frame) {
+      var p = poseAt(frame, index);
+      if (p) found.push(new THREE.Vector3(p[0], p[1], p[2]));
+    });
+    return found;
+  };
+
+  // The usual distance between a frame and its parent (the median of those apart), at the view's time.
+  View.prototype.typicalEdge = function () {
+    var self = this;
+    var lengths = [];
+    this.frames.forEach(function (frame) {
+      var p = poseAt(frame, self.index);
+      var k = self.byName[frame.parent];
+      var q = k === undefined ? null : poseAt(self.frames[k], self.index);
+      if (p && q) {
+        var d = Math.hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+        if (d > 1e-6) lengths.push(d);
+      }
+    });
+    lengths.sort(function (x, y) { return x - y; });
+    return lengths.length ? lengths[Math.floor(lengths.length / 2)] : 0.1;
+  };
 
   // The first time at which the most frames are placed.
   View.prototype.fullest = function () {
@@ -145,27 +185,6 @@
       }
     }
     return best;
-  };
-
-  // How large the scene is: the largest distance of any frame from the fixed frame at any time (at least 0.5 m).
-  View.prototype.extent = function () {
-    var far = 0;
-    this.frames.forEach(function (frame) {
-      (frame.pose ? [frame.pose] : frame.poses).forEach(function (p) {
-        if (p) far = Math.max(far, Math.hypot(p[0], p[1], p[2]));
-      });
-    });
-    return Math.max(far, 0.5);
-  };
-
-  View.prototype.centre = function () {
-    var box = new THREE.Box3();
-    var self = this;
-    this.frames.forEach(function (frame) {
-      var p = poseAt(frame, self.index);
-      if (p) box.expandByPoint(new THREE.Vector3(p[0], p[1], p[2]));
-    });
-    return box.isEmpty() ? new THREE.Vector3() : box.getCenter(new THREE.Vector3());
   };
 
   View.prototype.placeCamera = function () {
@@ -227,7 +246,7 @@
     });
     canvas.addEventListener("wheel", function (event) {
       event.preventDefault();
-      self.distance = Math.max(self.size * 0.02, Math.min(self.size * 50, self.distance * Math.exp(event.deltaY * 0.001)));
+      self.distance = Math.max(self.size * 0.02, Math.min(self.size * 500, self.distance * Math.exp(event.deltaY * 0.001)));
       self.placeCamera();
     }, { passive: false });
     this.section.querySelectorAll(".finding").forEach(function (item) {
@@ -314,7 +333,8 @@
     this.triads.forEach(function (group) {
       if (!group.visible) return;
       var m = group.matrixWorld.elements;
-      found[group.name] = [[m[0], m[1], m[2]], [m[4], m[5], m[6]], [m[8], m[9], m[10]]];
+      var k = 1 / group.scale.x; // a focused triad is drawn larger
+      found[group.name] = [[m[0] * k, m[1] * k, m[2] * k], [m[4] * k, m[5] * k, m[6] * k], [m[8] * k, m[9] * k, m[10] * k]];
     });
     return found;
   };
