@@ -49,13 +49,13 @@ def _keep(picture: Path, name: str) -> None:
         shutil.copy(picture, Path(folder) / name)
 
 
-def _echo(tfx, bag: Path, fixed: str, frame: str, stamp: str) -> dict:  # noqa: F811
+def _echo(tfx, bag: Path, fixed: str, frame: str, stamp: str) -> dict:
     result = tfx("echo", fixed, frame, "-b", bag, "--at", stamp, "--format", "json")
     assert result.code == 0, result.stderr
     return json.loads(result.stdout)
 
 
-def _agree(tfx, bag: Path, at: dict, fixed: str) -> int:  # noqa: F811
+def _agree(tfx, bag: Path, at: dict, fixed: str) -> int:
     """Every drawn frame's origin and axes against ``tfx echo fixed frame --at stamp``; how many agreed."""
     agreed = 0
     for frame, position in at["positions"].items():
@@ -63,7 +63,7 @@ def _agree(tfx, bag: Path, at: dict, fixed: str) -> int:  # noqa: F811
             assert position == [0, 0, 0]
             continue
         echoed = _echo(tfx, bag, fixed, frame, at["stamp"])
-        assert position == pytest.approx(echoed["translation"], abs=2e-5), frame  # 10 µm: the page's rounding
+        assert position == pytest.approx(echoed["translation"], abs=6e-5), frame  # 0.1 mm: the page's rounding
         qx, qy, qz, qw = echoed["rotation"]
         matrix = np.array(
             [
@@ -77,7 +77,7 @@ def _agree(tfx, bag: Path, at: dict, fixed: str) -> int:  # noqa: F811
     return agreed
 
 
-def test_a_flipped_laser_in_3d(tfx, chromium: str, tmp_path: Path) -> None:  # noqa: F811
+def test_a_flipped_laser_in_3d(tfx, chromium: str, tmp_path: Path) -> None:
     bag = robot_bag(tmp_path, "rover", Setup(real_origins={"laser_joint": FLIPPED}))
     page = tmp_path / "report.html"
     result = tfx("report", "-b", bag, "--urdf", urdf_file(tmp_path), "-o", page)
@@ -85,7 +85,7 @@ def test_a_flipped_laser_in_3d(tfx, chromium: str, tmp_path: Path) -> None:  # n
     opened = open_page(page, READ_BACK.replace("INDEX", "75").replace("CODE", "urdf_moved"))
     assert opened.errors == []
     r = opened.results
-    assert r["views"] == 1 and r["fixed"] == "odom" and r["times"] == 150 and r["at"]["canvas"] == 1
+    assert r["views"] == 1 and r["fixed"] == "odom" and r["times"] == 120 and r["at"]["canvas"] == 1
     at = r["at"]
     assert at["index"] == 75 and set(at["positions"]) == {
         "odom",
@@ -109,13 +109,13 @@ def test_a_flipped_laser_in_3d(tfx, chromium: str, tmp_path: Path) -> None:  # n
     _keep(picture, "report-3d-flipped.png")
 
 
-def test_the_panda_in_3d_where_tf_echo_puts_it(tfx, chromium: str, tmp_path: Path) -> None:  # noqa: F811
+def test_the_panda_in_3d_where_tf_echo_puts_it(tfx, chromium: str, tmp_path: Path) -> None:
     bag = shared_dir() / "corpus" / "tfbag-franka-panda.bag"
     if not bag.exists():
         pytest.skip(f"{bag.name} is not in {bag.parent} ($TFTOOLS_SHARED_DIR/corpus)")
     page = tmp_path / "panda.html"
     assert tfx("report", "-b", bag, "-o", page).code == 0
-    for index in (40, 120):  # the arm moves between them
+    for index in (30, 100):  # the arm moves between them
         opened = open_page(page, READ_BACK.replace("INDEX", str(index)).replace("CODE", "none"))
         assert opened.errors == []
         at = opened.results["at"]

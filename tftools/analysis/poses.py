@@ -12,7 +12,7 @@ from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import Buffer
 
 #: Times at which every frame is placed, at most: enough for a slider to move smoothly.
-MAX_TIMES = 150
+MAX_TIMES = 120
 #: Roots preferred as the fixed frame, when several trees have as many frames (REP 105's order).
 PREFERRED = ("map", "world", "odom")
 

@@ -12,9 +12,9 @@ from tftools.analysis.poses import FramePoses
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import printable
 
-#: Decimals kept: translations to 10 µm, quaternions to 1e-6 (~0.0001°): below what can be seen.
-TRANSLATION_DECIMALS = 5
-ROTATION_DECIMALS = 6
+#: Decimals kept: translations to 0.1 mm, quaternions to 1e-5 (~0.001°): below what can be seen.
+TRANSLATION_DECIMALS = 4
+ROTATION_DECIMALS = 5
 #: The vendored scripts the view needs, in load order, after the page's own.
 SCRIPTS = ("vendor/three.iife.min.js", "scene3d.js")
 
