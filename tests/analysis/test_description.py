@@ -4,18 +4,23 @@ or flipped, joint states the URDF lacks, a recorded /robot_description used with
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
 
 from tests.analysis.robot_scenes import FLIPPED, MOVED, ROBOT, URDF, Setup, robot_bag
-from tests.bags import BagFormat
+from tests.analysis.wtf_scenes import START, recording
+from tests.bags import BagFormat, TfMessage
 from tftools.analysis.description import Robot, check_joints, description_shape, robot_of
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf import CHECKS, check
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
 from tftools.sources.bag.robot import read_robot
 from tftools.sources.recording import read_recording
+from tftools.sources.urdf import parse_urdf
 
 FORMATS = list(BagFormat)
 
@@ -112,8 +117,6 @@ def test_a_moving_joint_not_where_its_state_puts_it(tmp_path: Path) -> None:
         '<origin xyz="0 0.15 0" rpy="-1.5707963267948966 0 0"/><axis xyz="0 0 1"/>',
         '<origin xyz="0 0.15 0" rpy="-1.5707963267948966 0 0"/><axis xyz="0 0 -1"/>',
     )
-    from tftools.sources.urdf import parse_urdf
-
     bag = robot_bag(tmp_path, "rover", Setup())
     recording = read_recording([bag])
     robot = Robot(parse_urdf(other, "other.urdf"), read_robot([bag]))
@@ -148,3 +151,49 @@ def test_the_description_as_a_tree_shape() -> None:
     laser = shape.frames["laser"]
     assert laser.static and laser.parent == "base_link" and laser.translation == (0.2, 0.0, 0.15)
     assert not shape.frames["wheel_left_link"].static
+
+
+def _on_tf(*transforms: tuple[str, str, str, tuple, tuple]) -> list[Finding]:
+    """The robot's URDF against a recording (without files) of ``(topic, parent, child, xyz, rpy)`` at 10 Hz."""
+    messages = [
+        TfMessage(topic, START + i * NS_PER_S // 10, [Transform.from_rpy(xyz, rpy, START + i * NS_PER_S // 10, p, c)])
+        for i in range(20)
+        for topic, p, c, xyz, rpy in transforms
+        if topic == "/tf" or i == 0
+    ]
+    found = check(recording(sorted(messages, key=lambda m: m.record_time)), robot=Robot(ROBOT))
+    return [f for f in found if f.code.startswith("urdf")]
+
+
+def test_every_description_check_has_a_scene() -> None:
+    tested = {
+        "urdf_missing", "urdf_parent", "urdf_moved", "urdf_joint_state", "urdf_kind", "urdf_unseen", "urdf_extra",
+        "urdf_joint_states", "urdf_unread",
+    }  # fmt: skip
+    assert {c for c in CHECKS if c.startswith("urdf_")} == tested
+
+
+def test_a_link_under_another_parent() -> None:
+    base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    laser = ("/tf_static", "camera_link", "laser", (0.2, 0, 0.15), (0, 0, 0))
+    (parent,) = [f for f in _on_tf(base, laser) if f.code == "urdf_parent"]
+    assert "link laser is a child of camera_link on tf, of base_link in rover.urdf" in parent.message
+
+
+def test_a_fixed_joint_on_tf_and_a_moving_one_on_tf_static() -> None:
+    base = ("/tf", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    wheel = ("/tf_static", "base_link", "wheel_left_link", (0, 0.15, 0), (-math.pi / 2, 0, 0))
+    kinds = [f for f in _on_tf(base, wheel) if f.code == "urdf_kind"]
+    assert [f.frames for f in kinds] == [("base_footprint", "base_link"), ("base_link", "wheel_left_link")]
+    assert "comes on /tf, not /tf_static" in kinds[0].message and "only on /tf_static" in kinds[1].message
+
+
+def test_a_link_joined_to_nothing_is_unseen() -> None:
+    lonely = parse_urdf(URDF.replace("</robot>", '<link name="antenna"/></robot>'), "rover.urdf")
+    base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    found = check(
+        recording([TfMessage(m[0], START, [Transform.from_rpy(m[3], m[4], START, m[1], m[2])]) for m in [base]]),
+        robot=Robot(lonely),
+    )
+    (unseen,) = [f for f in found if f.code == "urdf_unseen"]
+    assert unseen.message == "link antenna of rover.urdf is never named on tf" and "joined to nothing" in unseen.hint
