@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import cast
 
 from tftools.core.errors import TfToolsError
-from tftools.core.rotation import Quat, Vec3, quat_from_rpy
+from tftools.core.rotation import Quat, Vec3, matrix_apply, matrix_from_quat, quat_from_rpy
 from tftools.sources.bag.rosbag2.metadata_yaml import MAX_BYTES, MAX_DEPTH, MAX_NODES
 
 #: xacro's namespace as xacro files spell it (``xmlns:xacro``), as a tag's prefix.
@@ -63,18 +63,17 @@ class Joint:
 
     def transform_at(self, position: float) -> tuple[Vec3, Quat]:
         """parent -> child (translation, quaternion) at joint ``position`` (radians or metres), as
-        robot_state_publisher computes it: the origin, then the motion along or about the axis."""
+        robot_state_publisher computes it (KDL): the origin, then the motion along or about the axis, made
+        a unit vector."""
         rotation = self.rotation
+        norm = math.hypot(*self.axis) or 1.0
+        x, y, z = (a / norm for a in self.axis)
         if self.type == "prismatic":
-            from tftools.core.rotation import matrix_apply, matrix_from_quat
-
-            shift = matrix_apply(matrix_from_quat(rotation), tuple(a * position for a in self.axis))  # type: ignore[arg-type]
+            shift = matrix_apply(matrix_from_quat(rotation), (x * position, y * position, z * position))
             return (self.xyz[0] + shift[0], self.xyz[1] + shift[1], self.xyz[2] + shift[2]), rotation
         if self.type in ("revolute", "continuous"):
-            norm = math.hypot(*self.axis) or 1.0
-            s = math.sin(position / 2) / norm
-            turn = (self.axis[0] * s, self.axis[1] * s, self.axis[2] * s, math.cos(position / 2))
-            return self.xyz, _multiply(rotation, turn)
+            s = math.sin(position / 2)
+            return self.xyz, _multiply(rotation, (x * s, y * s, z * s, math.cos(position / 2)))
         return self.xyz, rotation
 
 
