@@ -123,8 +123,8 @@ def _xacro(source: str) -> UrdfError:
     return UrdfError(
         source,
         "is xacro, which tfx does not expand",
-        f"expand it first: xacro {source if source.endswith('.xacro') else 'robot.urdf.xacro'} > robot.urdf "
-        "(or ros2 param get /robot_state_publisher robot_description on the robot)",
+        f"expand it first, then give its output: xacro {source if source.endswith('.xacro') else 'robot.urdf.xacro'}"
+        " > robot.urdf",
     )
 
 

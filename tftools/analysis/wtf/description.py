@@ -4,6 +4,7 @@ states the URDF does not know. Each finding names the joint, its link and the li
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 
 from tftools.analysis.description import (
@@ -19,6 +20,7 @@ from tftools.analysis.description import (
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import declare, register
 from tftools.analysis.wtf.scene import Scene, listed
+from tftools.core.rotation import Quat, Vec3, rpy_from_quat
 from tftools.sources.urdf import Joint
 
 RSP = "robot_state_publisher"
@@ -38,6 +40,11 @@ def _joint(robot: Robot, name: str) -> Joint:
 
 def _about(joint: Joint) -> str:
     return f"joint {joint.name} ({joint.type}, {joint.parent} -> {joint.child})"
+
+
+def _pose(xyz: Vec3, rotation: Quat) -> str:
+    rpy = ", ".join(f"{round(math.degrees(a), 2) + 0.0:.2f}" for a in rpy_from_quat(rotation))  # no -0.00
+    return f"xyz [{', '.join(f'{v:.4f}' for v in xyz)}] m rpy [{rpy}]°"
 
 
 def _from(robot: Robot) -> str:
@@ -144,13 +151,11 @@ def urdf_moved(scene: Scene) -> Iterator[Finding]:
         if c.verdict is not Verdict.moved or c.value is None:
             continue
         j = _joint(robot, c.joint)
-        xyz = ", ".join(f"{v:.4f}" for v in c.value[0])
-        origin = ", ".join(f"{v:.4f}" for v in j.xyz)
         yield Finding(
             Severity.error,
             "urdf_moved",
             f"{_about(j)}: tf puts {j.child} {c.translation_mm:.1f} mm and {c.rotation_deg:.2f}° from the "
-            f"origin in {_from(robot)} (xyz [{xyz}] on tf, [{origin}] in the URDF)",
+            f"origin in {_from(robot)} ({_pose(*c.value)} on tf, {_pose(j.xyz, j.rotation)} in the URDF)",
             "the URDF was edited (or recalibrated) after this recording, or a static_transform_publisher with "
             f"other values publishes {j.child}: check which is right (tfx echo {j.parent} {j.child} --format urdf "
             "prints tf's as a joint)",
