@@ -124,34 +124,40 @@ def urdf_missing(scene: Scene) -> Iterator[Finding]:
         )
 
 
-@register("urdf_parent", Severity.error, "a link under another parent on tf than in the description (--urdf)")
-def urdf_parent(scene: Scene) -> Iterator[Finding]:
+def _judged(scene: Scene, *verdicts: Verdict) -> Iterator[tuple[Robot, JointCheck, Joint]]:
+    """The joints tf showed with one of ``verdicts``: the robot, the check, the joint."""
     robot = _robot(scene)
     if robot is None:
         return
     for c in _checks(scene, robot):
-        if c.verdict is Verdict.parent:
-            j = _joint(robot, c.joint)
-            yield Finding(
-                Severity.error,
-                "urdf_parent",
-                f"link {j.child} is a child of {c.tf_parent} on tf, of {j.parent} in {_from(robot)} ({_about(j)})",
-                f"another node publishes {j.child} (a driver's own tf, a static_transform_publisher in a launch "
-                f"file): let {RSP} alone publish the robot's links, or fix the URDF",
-                frames=(c.tf_parent or j.parent, j.child),
-            )
+        if c.verdict in verdicts:
+            yield robot, c, _joint(robot, c.joint)
+
+
+def _on(j: Joint, severity: Severity, code: str, message: str, hint: str, stamp: int = 0) -> Finding:
+    """A finding about joint ``j``'s edge (at ``stamp``, if known)."""
+    return Finding(severity, code, message, hint, frames=(j.parent, j.child), first_time=stamp, last_time=stamp)
+
+
+@register("urdf_parent", Severity.error, "a link under another parent on tf than in the description (--urdf)")
+def urdf_parent(scene: Scene) -> Iterator[Finding]:
+    for robot, c, j in _judged(scene, Verdict.parent):
+        yield Finding(
+            Severity.error,
+            "urdf_parent",
+            f"link {j.child} is a child of {c.tf_parent} on tf, of {j.parent} in {_from(robot)} ({_about(j)})",
+            f"another node publishes {j.child} (a driver's own tf, a static_transform_publisher in a launch "
+            f"file): let {RSP} alone publish the robot's links, or fix the URDF",
+            frames=(c.tf_parent or j.parent, j.child),
+        )
 
 
 @register("urdf_moved", Severity.error, "a fixed joint whose tf is not the description's origin (--urdf)")
 def urdf_moved(scene: Scene) -> Iterator[Finding]:
-    robot = _robot(scene)
-    if robot is None:
-        return
-    for c in _checks(scene, robot):
-        if c.verdict is not Verdict.moved or c.value is None:
-            continue
-        j = _joint(robot, c.joint)
-        yield Finding(
+    for robot, c, j in _judged(scene, Verdict.moved):
+        assert c.value is not None
+        yield _on(
+            j,
             Severity.error,
             "urdf_moved",
             f"{_about(j)}: tf puts {j.child} {c.translation_mm:.1f} mm and {c.rotation_deg:.2f}° from the "
@@ -159,63 +165,41 @@ def urdf_moved(scene: Scene) -> Iterator[Finding]:
             "the URDF was edited (or recalibrated) after this recording, or a static_transform_publisher with "
             f"other values publishes {j.child}: check which is right (tfx echo {j.parent} {j.child} --format urdf "
             "prints tf's as a joint)",
-            frames=(j.parent, j.child),
-            first_time=c.stamp,
-            last_time=c.stamp,
+            c.stamp,
         )
 
 
 @register("urdf_joint_state", Severity.warning, "a moving joint not where /joint_states puts it (--urdf)")
 def urdf_joint_state(scene: Scene) -> Iterator[Finding]:
-    robot = _robot(scene)
-    if robot is None:
-        return
-    for c in _checks(scene, robot):
-        if c.verdict is not Verdict.disagrees:
-            continue
-        j = _joint(robot, c.joint)
-        yield Finding(
+    for robot, c, j in _judged(scene, Verdict.disagrees):
+        yield _on(
+            j,
             Severity.warning,
             "urdf_joint_state",
             f"{_about(j)}: tf is {c.translation_mm:.1f} mm and {c.rotation_deg:.2f}° (median of {c.compared} "
             f"joint states) from where {robot.messages.joint_topic} and {_from(robot)} put {j.child}",
             f"{RSP} runs another URDF than this one (its origin or axis differ), or another node publishes {j.child}",
-            frames=(j.parent, j.child),
-            first_time=c.stamp,
-            last_time=c.stamp,
+            c.stamp,
         )
 
 
 @register("urdf_kind", Severity.warning, "a fixed joint on /tf, or a moving joint only on /tf_static (--urdf)")
 def urdf_kind(scene: Scene) -> Iterator[Finding]:
-    robot = _robot(scene)
-    if robot is None:
-        return
-    for c in _checks(scene, robot):
-        j = _joint(robot, c.joint)
+    for _, c, j in _judged(scene, Verdict.not_static, Verdict.frozen):
         if c.verdict is Verdict.not_static:
-            yield Finding(
-                Severity.warning,
-                "urdf_kind",
-                f"{_about(j)} is fixed, but {j.child} comes on /tf, not /tf_static",
-                "an old robot_state_publisher (ROS 1 before Kinetic), or another broadcaster: publish fixed joints "
-                "on /tf_static",
-                frames=(j.parent, j.child),
-            )
-        elif c.verdict is Verdict.frozen:
-            yield Finding(
-                Severity.warning,
-                "urdf_kind",
-                f"{_about(j)} moves, but {j.child} comes only on /tf_static: it never moves on tf",
-                "a static_transform_publisher stands in for the joint, or the URDF given to "
-                f"{RSP} calls it fixed: check which is right",
-                frames=(j.parent, j.child),
-            )
+            said = f"{_about(j)} is fixed, but {j.child} comes on /tf, not /tf_static"
+            hint = "an old robot_state_publisher (ROS 1 before Kinetic), or another broadcaster: publish fixed joints "
+            yield _on(j, Severity.warning, "urdf_kind", said, hint + "on /tf_static")
+        else:
+            said = f"{_about(j)} moves, but {j.child} comes only on /tf_static: it never moves on tf"
+            hint = f"a static_transform_publisher stands in for the joint, or the URDF given to {RSP} calls it fixed"
+            yield _on(j, Severity.warning, "urdf_kind", said, hint + ": check which is right")
 
 
 @register("urdf_unseen", Severity.error, "a link of the description that tf never names (--urdf)")
 def urdf_unseen(scene: Scene) -> Iterator[Finding]:
-    """Links no joint check covers: the robot's root (a joint's child is said by ``urdf_missing``)."""
+    """Links no joint check covers (a joint's child is said by ``urdf_missing``): a root, or a link joined to
+    nothing."""
     robot = _robot(scene)
     if robot is None:
         return
@@ -224,16 +208,12 @@ def urdf_unseen(scene: Scene) -> Iterator[Finding]:
     for link in links_unseen(robot, scene.tree):
         if link in children:
             continue
-        if parents & set(scene.tree.frames) - {link} or (len(robot.description.links) > 1 and link not in parents):
-            hint = f"a link joined to nothing: {RSP} cannot place it; add a joint for it in the URDF"
-        else:
+        if link in parents:
             hint = f"the robot's root: {RSP} did not run, or this recording is of another robot"
+        else:
+            hint = f"a link joined to nothing: {RSP} cannot place it; add a joint for it in the URDF"
         yield Finding(
-            Severity.error,
-            "urdf_unseen",
-            f"link {link} of {_from(robot)} is never named on tf",
-            hint,
-            frames=(link,),
+            Severity.error, "urdf_unseen", f"link {link} of {_from(robot)} is never named on tf", hint, frames=(link,)
         )
 
 
