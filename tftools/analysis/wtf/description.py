@@ -238,7 +238,7 @@ def urdf_extra(scene: Scene) -> Iterator[Finding]:
         yield Finding(
             Severity.info,
             "urdf_extra",
-            f"{e.frame} (a child of {e.parent}{by}) is not a link of {_from(robot)}",
+            f"{e.frame} ({f'a child of {e.parent}' if e.parent else 'a root'}{by}) is not a link of {_from(robot)}",
             "fine if another node owns it (a camera or lidar driver's own frames); if it is part of the robot, "
             "add it to the URDF as a link with a fixed joint",
             frames=(e.parent, e.frame) if e.parent else (e.frame,),

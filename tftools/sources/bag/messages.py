@@ -20,6 +20,9 @@ ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
 Failures = list[tuple[int, str]]  # (message, reason) of the messages that could not be decoded
 
+#: Messages read whole held at most per kind (their ``key``: a joint state's names) once thinned: beyond,
+#: every other one is let go, so that hours of joint states stay a few megabytes, evenly spread.
+MAX_WHOLE = 20_000
 _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
 _ALONE_BYTES = 512 << 10  # payload bytes of one codec handed at once that are decoded at once, uncopied
 
@@ -202,6 +205,8 @@ class MessageSet:
         elif isinstance(codec, WholeCodec):
             read, objects, failures = codec.decode(raw, starts, lengths)
             self._whole.append((ids[np.array(read, np.int64)], objects))
+            if sum(len(part) for _, part in self._whole) > 2 * MAX_WHOLE:
+                self._thin_whole()
         elif isinstance(codec, HeaderCodec):
             headers = codec.decode(raw, starts, lengths, self._rows.frames)
             self._headers.append((ids[headers.message], headers.stamp, headers.frame))
@@ -244,6 +249,21 @@ class MessageSet:
             names = self._rows.frames.names
             streams.append(StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names))
         return streams
+
+    def _thin_whole(self) -> None:
+        """Of each kind of message read whole with more than ``MAX_WHOLE``, every other one let go until it has
+        no more (every 2**k-th kept: the same stride over all that kind's messages, evenly spread)."""
+        ids = np.concatenate([i for i, _ in self._whole])
+        values = [v for _, part in self._whole for v in part]
+        kinds: dict[object, list[int]] = {}
+        for k, value in enumerate(values):
+            kinds.setdefault(getattr(value, "key", None), []).append(k)
+        for kind, members in kinds.items():
+            while len(members) > MAX_WHOLE:
+                members = members[::2]
+            kinds[kind] = members
+        kept = sorted(k for members in kinds.values() for k in members)
+        self._whole = [(ids[np.array(kept, np.int64)], [values[k] for k in kept])]
 
     def _whole_messages(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[WholeMessages]:
         """The messages read whole, per topic in record order."""

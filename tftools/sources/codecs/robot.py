@@ -29,6 +29,11 @@ class JointState:
     stamp: int
     positions: dict[str, float]
 
+    @property
+    def key(self) -> tuple[str, ...]:
+        """Its kind: the joints it names (a driver may publish several kinds, each at its own rate)."""
+        return tuple(self.positions)
+
 
 #: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``: the messages read (indices
 #: into the payloads), their values, and the (message, reason) of those that could not be.
