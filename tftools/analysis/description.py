@@ -15,6 +15,7 @@ import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -53,7 +54,7 @@ class Robot:
     messages: RobotMessages = field(default_factory=RobotMessages)
     tolerances: Tolerances = field(default_factory=Tolerances)
 
-    @property
+    @cached_property
     def joint_names(self) -> set[str]:
         """Every joint named in a recorded joint state."""
         return {name for state in self.messages.joint_states for name in state.positions}
@@ -85,7 +86,7 @@ def check_joints(robot: Robot, buffer: Buffer, tree: FrameTree) -> list[JointChe
 def _joint(
     robot: Robot, name: str, buffer: Buffer, tree: FrameTree, states: tuple[np.ndarray, dict[str, np.ndarray]]
 ) -> JointCheck:
-    joint = next(j for j in robot.description.joints if j.name == name)
+    joint = robot.description.joint(name)
     shown = tree.frames.get(joint.child)
     if shown is None or shown.parent is None:
         return JointCheck(name, Verdict.missing)
@@ -132,7 +133,7 @@ def _positions_over_time(robot: Robot) -> tuple[np.ndarray, dict[str, np.ndarray
 def _follows(robot: Robot, name: str, buffer: Buffer, states: tuple[np.ndarray, dict[str, np.ndarray]]) -> JointCheck:
     """A moving joint: tf's transform at each joint state's stamp, against where that state puts it
     (a mimic joint: where its leader's state puts it)."""
-    joint = next(j for j in robot.description.joints if j.name == name)
+    joint = robot.description.joint(name)
     stamps, positions = states
     leader, multiplier, offset = joint.mimic if joint.mimic is not None else (joint.name, 1.0, 0.0)
     given = positions.get(leader)
@@ -206,10 +207,9 @@ def joint_states_unfollowed(robot: Robot) -> list[str]:
 def states_missing(robot: Robot, joints: Sequence[str]) -> list[str]:
     """Of ``joints`` (moving ones), those no recorded joint state names (mimic joints: by their leader)."""
     named = robot.joint_names
-    by_name = {j.name: j for j in robot.description.joints}
     missing = []
     for name in joints:
-        joint = by_name[name]
+        joint = robot.description.joint(name)
         leader = joint.mimic[0] if joint.mimic is not None else name
         if leader not in named:
             missing.append(name)

@@ -13,6 +13,9 @@ from tftools.core.buffer import Buffer
 
 #: Times at which every frame is placed, at most: enough for a slider to move smoothly.
 MAX_TIMES = 120
+#: Frames placed at most, the nearest the fixed frame first (a page of thousands of frames would be megabytes
+#: of poses, and a picture no one could read).
+MAX_FRAMES = 300
 #: Roots preferred as the fixed frame, when several trees have as many frames (REP 105's order).
 PREFERRED = ("map", "world", "odom")
 
@@ -29,7 +32,7 @@ class FramePoses:
     translations: FloatArray
     rotations: FloatArray
     valid: BoolArray
-    unplaced: tuple[str, ...]  # frames in another tree than ``fixed``'s: not drawn
+    unplaced: tuple[str, ...]  # frames in another tree than ``fixed``'s, or beyond ``MAX_FRAMES``: not drawn
 
 
 def choose_fixed(tree: FrameTree) -> str | None:
@@ -60,7 +63,7 @@ def frame_poses(buffer: Buffer, tree: FrameTree, start: int, end: int, fixed: st
     times = np.unique(np.linspace(start, end, count).round().astype(np.int64))
     in_tree: list[str] = []
     todo = [fixed]
-    while todo:
+    while todo and len(in_tree) < MAX_FRAMES:
         frame = todo.pop(0)
         in_tree.append(frame)
         todo += sorted(tree.children.get(frame, []))

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from tftools.analysis.poses import FramePoses
+from tftools.analysis.poses import MAX_FRAMES, FramePoses
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import printable
 
@@ -42,7 +42,7 @@ def poses_data(poses: FramePoses | None, origin: int) -> dict[str, Any] | None:
         "times": [round((t - origin) / NS_PER_S, 6) for t in poses.times.tolist()],
         "stamps": [format_sec(t, 9) for t in poses.times.tolist()],
         "frames": frames,
-        "unplaced": [printable(f) for f in poses.unplaced],
+        "unplaced": len(poses.unplaced),
     }
 
 
@@ -51,8 +51,11 @@ def scene_html(poses: FramePoses | None) -> str:
     if poses is None:
         return ""
     fixed = html.escape(printable(poses.fixed), quote=True)
+    shown = ", ".join(poses.unplaced[:20]) + (
+        f" and {len(poses.unplaced) - 20} more" if len(poses.unplaced) > 20 else ""
+    )
     unplaced = (
-        f" Not drawn (another tree than {fixed}'s): {html.escape(printable(', '.join(poses.unplaced)))}."
+        f" Not drawn (in another tree than {fixed}'s, or beyond {MAX_FRAMES} frames): {html.escape(printable(shown))}."
         if poses.unplaced
         else ""
     )

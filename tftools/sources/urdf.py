@@ -14,8 +14,10 @@ import math
 import os
 import re
 import xml.etree.ElementTree as ET
+from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import cast
 
@@ -89,7 +91,19 @@ class RobotDescription:
 
     def joint_of(self, child: str) -> Joint | None:
         """The joint whose child is the link ``child`` (None for the root)."""
-        return next((j for j in self.joints if j.child == child), None)
+        return self._by_child.get(child)
+
+    def joint(self, name: str) -> Joint:
+        """The joint named ``name``."""
+        return self._by_name[name]
+
+    @cached_property
+    def _by_child(self) -> dict[str, Joint]:
+        return {j.child: j for j in self.joints}
+
+    @cached_property
+    def _by_name(self) -> dict[str, Joint]:
+        return {j.name: j for j in self.joints}
 
 
 def _multiply(a: Quat, b: Quat) -> Quat:
@@ -147,8 +161,7 @@ def parse_urdf(text: bytes | str, source: str) -> RobotDescription:
         for role, link in (("parent", j.parent), ("child", j.child)):
             if link not in known:
                 raise UrdfError(source, f"joint {j.name}: its {role} link {link!r} is not a <link> of the robot")
-    children = [j.child for j in joints]
-    twice = next((c for c in children if children.count(c) > 1), None)
+    twice = next((c for c, n in Counter(j.child for j in joints).items() if n > 1), None)
     if twice is not None:
         raise UrdfError(source, f"link {twice} is the child of several joints: a URDF is a tree")
     return RobotDescription(root.get("name", ""), source, links, joints)

@@ -35,7 +35,7 @@ def _checks(scene: Scene, robot: Robot) -> list[JointCheck]:
 
 
 def _joint(robot: Robot, name: str) -> Joint:
-    return next(j for j in robot.description.joints if j.name == name)
+    return robot.description.joint(name)
 
 
 def _about(joint: Joint) -> str:
