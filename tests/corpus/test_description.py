@@ -88,6 +88,12 @@ def test_the_panda_as_its_urdf_says(tfx) -> None:  # noqa: F811
     assert findings[0]["frames"] == ["world"]  # MoveIt's virtual joint, above the robot: fine
 
 
+@pytest.mark.parametrize("name", ["tfbag-franka-panda.bag", "tfbag-franka-panda-ros2"])
+def test_diff_of_the_panda_and_its_urdf(tfx, name: str) -> None:  # noqa: F811
+    result = tfx("diff", PANDA_URDF, _shared(name))
+    assert result.code == 0 and "no differences beyond the tolerances" in result.stdout, result.stdout
+
+
 def test_the_panda_db3_conversion_has_no_joint_states_and_no_false_alarm(tfx) -> None:  # noqa: F811
     bag = _shared("tfbag-franka-panda-ros2")
     findings = _urdf_findings(tfx, bag, "--urdf", PANDA_URDF)

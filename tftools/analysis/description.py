@@ -19,7 +19,7 @@ from functools import cached_property
 
 import numpy as np
 
-from tftools.analysis.diff import rotation_angle_deg
+from tftools.analysis.diff import Change, Difference, rotation_angle_deg
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree
@@ -260,3 +260,43 @@ def description_shape(description: RobotDescription) -> TreeShape:
         else:
             frames[link] = FrameShape(link, joint.parent)
     return TreeShape(frames, description.source)
+
+
+def above_the_robot(description: RobotDescription, tree: TreeShape) -> set[str]:
+    """The frames of ``tree`` above the description's roots (odom, map): odometry's and localization's."""
+    above: set[str] = set()
+    for link in description.links:
+        if description.joint_of(link) is not None or link not in tree.frames:
+            continue
+        frame = tree.frames[link].parent
+        while frame is not None and frame not in above and frame in tree.frames:
+            above.add(frame)
+            frame = tree.frames[frame].parent
+    return above
+
+
+def described_differences(
+    differences: Sequence[Difference], description: RobotDescription, tree: TreeShape
+) -> list[Difference]:
+    """``differences`` between a description's shape and a recording's ``tree`` but those every healthy
+    robot has: the robot's root under odom, the frames above it, and rates (a URDF has none)."""
+    above = above_the_robot(description, tree)
+    return [
+        d
+        for d in differences
+        if d.change is not Change.rate
+        and not (
+            d.change is Change.reparented
+            and d.before is not None
+            and d.before.parent is None
+            and (d.after is None or d.after.parent in above)
+        )
+        and not (
+            d.change is Change.reparented
+            and d.after is not None
+            and d.after.parent is None
+            and d.before is not None
+            and d.before.parent in above
+        )
+        and not (d.change in (Change.added, Change.lost) and d.frame in above)
+    ]

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from tftools.analysis.description import description_shape
+from tftools.analysis.description import described_differences, description_shape
 from tftools.analysis.diff import compare
 from tftools.analysis.expected import TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
@@ -46,10 +46,17 @@ def command(
     Examples: [cyan]tfx diff monday.bag tuesday.bag[/], [cyan]tfx diff tree.yaml run_db3 --tolerance-mm 2[/],
     [cyan]tfx diff before.mcap after.mcap --format json[/]
     """
-    a, b = _read(first, topics, tf2), _read(second, topics, tf2)
+    robots = {location: read_urdf(location) for location in (first, second) if _is_urdf(location)}
+    a, b = (
+        description_shape(robots[location]) if location in robots else _read(location, topics, tf2)
+        for location in (first, second)
+    )
     base = a.tolerances if _is_tree_file(first) else b.tolerances  # a recording's are the defaults
     tolerances = expected_tree.tolerances(base, tolerance_mm, tolerance_deg, tolerance_rate)
     differences = compare(a, b, tolerances)
+    for location, other in ((first, b), (second, a)):
+        if location in robots:  # the frames above a robot (odom, map) are no difference from its URDF
+            differences = described_differences(differences, robots[location], other)
     code = Exit.PROBLEMS if differences else Exit.OK
     if fmt is TextOrJson.json:
         render.write_json(a, b, differences, tolerances, int(code), sys.stdout)
@@ -64,9 +71,11 @@ def _is_tree_file(location: str) -> bool:
     return not is_url(location) and path.suffix in (".yaml", ".yml") and path.name != METADATA
 
 
+def _is_urdf(location: str) -> bool:
+    return not is_url(location) and Path(location).suffix in (".urdf", ".xacro")
+
+
 def _read(location: str, topics: list[str] | None, semantics: Semantics | None) -> TreeShape:
-    if Path(location).suffix in (".urdf", ".xacro") and not is_url(location):
-        return description_shape(read_urdf(location))
     if _is_tree_file(location):
         return read_tree(Path(location))
     return shape_of(open_recording([location], topics, semantics))
