@@ -132,7 +132,9 @@ def _positions_over_time(robot: Robot) -> tuple[np.ndarray, dict[str, np.ndarray
 
 def _follows(robot: Robot, name: str, buffer: Buffer, states: tuple[np.ndarray, dict[str, np.ndarray]]) -> JointCheck:
     """A moving joint: tf's transform at each joint state's stamp, against where that state puts it
-    (a mimic joint: where its leader's state puts it)."""
+    (a mimic joint: where its leader's state puts it). robot_state_publisher stamps each transform with
+    its joint state's stamp: where tf has samples at those stamps, only they are compared (between two
+    samples, a joint turning more than half a turn would be interpolated the short way round)."""
     joint = robot.description.joint(name)
     stamps, positions = states
     leader, multiplier, offset = joint.mimic if joint.mimic is not None else (joint.name, 1.0, 0.0)
@@ -140,6 +142,9 @@ def _follows(robot: Robot, name: str, buffer: Buffer, states: tuple[np.ndarray, 
     if given is None:
         return JointCheck(name, Verdict.fine, joint.parent)  # nothing to compare with (said elsewhere)
     known = ~np.isnan(given)
+    hist = buffer.history(joint.child)
+    if hist is not None and np.isin(stamps[known], hist.stamps).any():
+        known &= np.isin(stamps, hist.stamps)
     looked = buffer.lookup_many(joint.parent, joint.child, stamps[known])
     qs = given[known][looked.valid] * multiplier + offset
     if not len(qs):
