@@ -71,10 +71,11 @@ class Setup:
     real_origins: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] = field(default_factory=dict)
     description: bool = False  # /robot_description recorded
     description_text: str = URDF
+    wheel_speed: float = WHEEL_SPEED  # rad/s
 
 
-def position(joint: str, seconds: float) -> float:
-    return WHEEL_SPEED * seconds * (1.0 if joint.endswith("left_joint") else -1.0)
+def position(joint: str, seconds: float, speed: float = WHEEL_SPEED) -> float:
+    return speed * seconds * (1.0 if joint.endswith("left_joint") else -1.0)
 
 
 def _transform(joint: Joint, q: float, stamp: int) -> Transform:
@@ -112,10 +113,14 @@ def recorded(setup: Setup) -> list[Recorded]:
         messages.append(Recorded("/tf", stamp + DELAY, [odom], "/odometry"))
         names = list(setup.joint_states) + list(setup.extra_states)
         if names:
-            states = (stamp, names, [position(n, seconds) for n in names])
+            states = (stamp, names, [position(n, seconds, setup.wheel_speed) for n in names])
             messages.append(Recorded("/joint_states", stamp + DELAY // 2, states, "/joint_state_publisher"))
         if setup.state_publisher:
-            moving = [_transform(j, position(j.name, seconds), stamp) for j in MOVING if j.name in setup.joint_states]
+            moving = [
+                _transform(j, position(j.name, seconds, setup.wheel_speed), stamp)
+                for j in MOVING
+                if j.name in setup.joint_states
+            ]
             if moving:
                 messages.append(Recorded("/tf", stamp + DELAY + 1000, moving, "/robot_state_publisher"))
     return sorted(messages, key=lambda m: m.record_time)

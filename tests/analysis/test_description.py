@@ -63,6 +63,10 @@ def test_a_healthy_robot_says_only_that_odom_is_not_its_own(tmp_path: Path, fmt:
     assert checks["wheel_left_joint"].compared == 100 and checks["wheel_left_joint"].rotation_deg < 1e-6
 
 
+def test_a_wheel_turning_more_than_half_a_turn_between_samples_is_no_false_alarm(tmp_path: Path) -> None:
+    assert _codes(_findings(tmp_path, Setup(wheel_speed=80.0))) == [("urdf_extra", "info")]  # 4 rad a sample
+
+
 def test_a_joint_never_published_names_the_joint_its_link_and_the_publisher(tmp_path: Path) -> None:
     findings = _findings(tmp_path, Setup(joint_states=("wheel_left_joint",)))
     (missing,) = [f for f in findings if f.code == "urdf_missing"]
