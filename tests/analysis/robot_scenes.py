@@ -72,6 +72,7 @@ class Setup:
     description: bool = False  # /robot_description recorded
     description_text: str = URDF
     wheel_speed: float = WHEEL_SPEED  # rad/s
+    tf_every: int = 1  # robot_state_publisher publishes the moving joints of every n-th joint state
 
 
 def position(joint: str, seconds: float, speed: float = WHEEL_SPEED) -> float:
@@ -115,7 +116,7 @@ def recorded(setup: Setup) -> list[Recorded]:
         if names:
             states = (stamp, names, [position(n, seconds, setup.wheel_speed) for n in names])
             messages.append(Recorded("/joint_states", stamp + DELAY // 2, states, "/joint_state_publisher"))
-        if setup.state_publisher:
+        if setup.state_publisher and i % setup.tf_every == 0:
             moving = [
                 _transform(j, position(j.name, seconds, setup.wheel_speed), stamp)
                 for j in MOVING
