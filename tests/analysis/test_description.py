@@ -203,3 +203,11 @@ def test_a_link_joined_to_nothing_is_unseen() -> None:
     )
     (unseen,) = [f for f in found if f.code == "urdf_unseen"]
     assert unseen.message == "link antenna of rover.urdf is never named on tf" and "joined to nothing" in unseen.hint
+
+
+def test_live_the_joint_states_are_not_heard_and_the_hint_says_what_to_look_at() -> None:
+    base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    messages = [TfMessage(base[0], START, [Transform.from_rpy(base[3], base[4], START, base[1], base[2])])]
+    found = check(recording(messages), robot=Robot(ROBOT, live=True))
+    wheels = [f for f in found if f.code == "urdf_missing" and "wheel" in f.message]
+    assert len(wheels) == 2 and all("does a node publish" in f.hint for f in wheels)

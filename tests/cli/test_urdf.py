@@ -79,3 +79,11 @@ def test_a_urdf_that_cannot_be_used(tfx, tmp_path: Path, name: str, text: str | 
     check_stderr(result.stderr, result.code)
     assert said in result.stderr
     assert sorted(tmp_path.iterdir()) == before
+
+
+def test_the_tolerances_apply_to_the_urdf(tfx, tmp_path: Path) -> None:
+    bag = robot_bag(tmp_path, "rover", Setup(real_origins={"laser_joint": MOVED}))  # 20 mm off
+    urdf = urdf_file(tmp_path)
+    assert "urdf_moved" in tfx("wtf", bag, "--urdf", urdf, "--tolerance-mm", "19").stdout
+    loose = tfx("wtf", bag, "--urdf", urdf, "--tolerance-mm", "21")
+    assert loose.code == 0 and "urdf_moved" not in loose.stdout

@@ -53,6 +53,7 @@ class Robot:
     description: RobotDescription
     messages: RobotMessages = field(default_factory=RobotMessages)
     tolerances: Tolerances = field(default_factory=Tolerances)
+    live: bool = False  # checked against a live system: its joint states are not heard
 
     @cached_property
     def joint_names(self) -> set[str]:
@@ -233,8 +234,10 @@ def robot_of(
     topics = {t for f in recording.contents.files for t in f.topics}
     if urdf is None and DESCRIPTION_TOPIC not in topics:
         return None, None
+    if recording.contents.live:
+        return (Robot(urdf, tolerances=tolerances or Tolerances(), live=True) if urdf is not None else None), None
     messages = RobotMessages()
-    if not recording.contents.live and ({DESCRIPTION_TOPIC, JOINT_STATES_TOPIC} & topics):
+    if {DESCRIPTION_TOPIC, JOINT_STATES_TOPIC} & topics:
         with contextlib.suppress(TfToolsError):  # the transforms were read: the joints are checked without states
             messages = read_robot(paths)
     if urdf is None:

@@ -16,6 +16,7 @@ import typer
 from rich.table import Table
 
 from tftools.analysis.description import Robot
+from tftools.analysis.expected import Tolerances
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
 from tftools.cli import executors, live, options
@@ -168,10 +169,13 @@ def command(
         expected_tree.write_init(list(paths or []) or list(bags or []), topics, tf2)
         return
     tolerances = (tolerance_mm, tolerance_deg, tolerance_rate)
-    if expect is None and any(t is not None for t in tolerances):
-        raise UsageError("the tolerances are for --expect", "e.g. tfx wtf --expect tree.yaml run.bag --tolerance-mm 2")
+    if expect is None and urdf is None and any(t is not None for t in tolerances):
+        raise UsageError(
+            "the tolerances are for --expect and --urdf", "e.g. tfx wtf --expect tree.yaml run.bag --tolerance-mm 2"
+        )
     expected = expected_tree.read_expected(expect, *tolerances) if expect is not None else None
     description = read_urdf(urdf) if urdf is not None else None
+    robot_tolerances = expected_tree.tolerances(Tolerances(), *tolerances) if expected is None else expected.tolerances
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
     groups = options.recordings_given(paths, bags)
@@ -186,6 +190,7 @@ def command(
             sensor_topics=sensors,
             expected=expected,
             urdf=description,
+            urdf_tolerances=robot_tolerances,
         )
         fleet = Fleet(jobs or os.cpu_count() or 1, dask, timeout, resume)
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
@@ -197,7 +202,7 @@ def command(
         heard, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors, require_tf=False)
         for problem in heard.problems:
             warn(problem)
-        robot = Robot(description) if description is not None else None
+        robot = Robot(description, tolerances=robot_tolerances, live=True) if description is not None else None
         reports = [check_recording(heard, streams, thresholds, ignored, target, expected, robot)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:

@@ -102,6 +102,11 @@ def urdf_missing(scene: Scene) -> Iterator[Finding]:
     for j in moving:
         if not j.moving:
             cause = f"a {j.type} joint is placed by another node (localization, odometry): did it run?"
+        elif robot.live:
+            cause = (
+                f"does a node publish {j.name}'s state on {robot.messages.joint_topic} (joint_state_publisher, the "
+                f"driver: rostopic echo / ros2 topic echo {robot.messages.joint_topic}), and is {RSP} running?"
+            )
         elif not recorded:
             cause = (
                 f"{robot.messages.joint_topic} was not recorded: record it to tell whether joint_state_publisher "

@@ -7,7 +7,7 @@ from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 
 from tftools.analysis.description import Robot, robot_of
-from tftools.analysis.expected import TreeShape
+from tftools.analysis.expected import Tolerances, TreeShape
 from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import Scene, findings_of
@@ -67,6 +67,7 @@ def check_bags(
     sensor_topics: Sequence[str] | None = None,
     expected: TreeShape | None = None,
     urdf: RobotDescription | None = None,
+    urdf_tolerances: Tolerances | None = None,
 ) -> BagReport:
     """Read ``paths`` as one recording and check it, its sensor data (``sensor_topics``, default:
     every topic whose messages start with a header) against tf in ``target`` (``choose_target``),
@@ -83,7 +84,7 @@ def check_bags(
             f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
-    robot, said = robot_of(paths, recording, urdf, expected.tolerances if expected is not None else None)
+    robot, said = robot_of(paths, recording, urdf, urdf_tolerances or (expected.tolerances if expected else None))
     checked = check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target, expected, robot)
     if said is not None and said.code not in ignore:
         checked.findings = sorted([*checked.findings, said], key=lambda f: f.severity.rank)
