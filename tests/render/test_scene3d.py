@@ -33,6 +33,23 @@ result.at = { index: view.index, stamp: view.data.stamps[view.index], positions:
 var item = Array.from(document.querySelectorAll(".finding")).filter(function (i) {
   return i.querySelector("code").textContent === "CODE";
 })[0];
+var canvas = document.querySelector(".scene3d canvas");
+var box = canvas.getBoundingClientRect();
+var at = view.screen()["laser"];
+var move = function (type, x, y, extra) {
+  canvas.dispatchEvent(new PointerEvent(type, Object.assign({ clientX: box.left + x, clientY: box.top + y,
+    bubbles: true, pointerId: 1 }, extra || {})));
+};
+move("pointermove", at[0] + 2, at[1] + 1);
+result.hover = document.querySelector(".scene3d-tip").style.display === "block" ?
+  document.querySelector(".scene3d-tip").textContent : null;
+var before = view.screen()["camera_link"];
+move("pointerdown", 300, 200);
+move("pointermove", 380, 230);
+move("pointerup", 380, 230);
+var distance = view.distance;
+canvas.dispatchEvent(new WheelEvent("wheel", { deltaY: 500, clientX: box.left + 300, clientY: box.top + 200, bubbles: true }));
+result.orbit = { moved: view.screen()["camera_link"][0] !== before[0], zoomed: view.distance / distance };
 if (item) {
   item.click();
   await settled();
@@ -100,6 +117,8 @@ def test_a_flipped_laser_in_3d(tfx, chromium: str, tmp_path: Path) -> None:
     assert at["axes"]["laser"][2] == pytest.approx([0, 0, -1], abs=1e-6)  # upside down: its z points at the floor
     assert at["axes"]["base_link"][2] == pytest.approx([0, 0, 1], abs=1e-6)
     assert all(0 <= x <= 1400 and 0 <= y <= 520 for x, y in at["screen"].values())  # every frame in the picture
+    assert r["hover"] is not None and r["hover"].startswith("laser  [")  # its name and place on hover
+    assert r["orbit"]["moved"] and r["orbit"]["zoomed"] > 1.5  # a drag orbits, the wheel zooms out
     focused = r["focused"]
     assert focused["frames"] == ["base_link", "laser"] and focused["index"] == 0  # the finding's time: the statics'
     assert any("laser" in label for label in focused["labels"])
