@@ -48,7 +48,8 @@ move("pointerdown", 300, 200);
 move("pointermove", 380, 230);
 move("pointerup", 380, 230);
 var distance = view.distance;
-canvas.dispatchEvent(new WheelEvent("wheel", { deltaY: 500, clientX: box.left + 300, clientY: box.top + 200, bubbles: true }));
+var wheel = { deltaY: 500, clientX: box.left + 300, clientY: box.top + 200, bubbles: true };
+canvas.dispatchEvent(new WheelEvent("wheel", wheel));
 result.orbit = { moved: view.screen()["camera_link"][0] !== before[0], zoomed: view.distance / distance };
 if (item) {
   item.click();
