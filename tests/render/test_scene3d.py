@@ -35,22 +35,24 @@ var item = Array.from(document.querySelectorAll(".finding")).filter(function (i)
 })[0];
 var canvas = document.querySelector(".scene3d canvas");
 var box = canvas.getBoundingClientRect();
-var at = view.screen()["laser"];
+var spots = view.screen();
+var name = Object.keys(spots).filter(function (n) { return n !== view.data.fixed; }).pop();
+var at = spots[name];
 var move = function (type, x, y, extra) {
   canvas.dispatchEvent(new PointerEvent(type, Object.assign({ clientX: box.left + x, clientY: box.top + y,
     bubbles: true, pointerId: 1 }, extra || {})));
 };
 move("pointermove", at[0] + 2, at[1] + 1);
-result.hover = document.querySelector(".scene3d-tip").style.display === "block" ?
-  document.querySelector(".scene3d-tip").textContent : null;
-var before = view.screen()["camera_link"];
+result.hover = [name, document.querySelector(".scene3d-tip").style.display === "block" ?
+  document.querySelector(".scene3d-tip").textContent : null];
+var before = view.screen()[name];
 move("pointerdown", 300, 200);
 move("pointermove", 380, 230);
 move("pointerup", 380, 230);
 var distance = view.distance;
 var wheel = { deltaY: 500, clientX: box.left + 300, clientY: box.top + 200, bubbles: true };
 canvas.dispatchEvent(new WheelEvent("wheel", wheel));
-result.orbit = { moved: view.screen()["camera_link"][0] !== before[0], zoomed: view.distance / distance };
+result.orbit = { moved: view.screen()[name][0] !== before[0], zoomed: view.distance / distance };
 if (item) {
   item.click();
   await settled();
@@ -118,7 +120,8 @@ def test_a_flipped_laser_in_3d(tfx, chromium: str, tmp_path: Path) -> None:
     assert at["axes"]["laser"][2] == pytest.approx([0, 0, -1], abs=1e-6)  # upside down: its z points at the floor
     assert at["axes"]["base_link"][2] == pytest.approx([0, 0, 1], abs=1e-6)
     assert all(0 <= x <= 1400 and 0 <= y <= 520 for x, y in at["screen"].values())  # every frame in the picture
-    assert r["hover"] is not None and r["hover"].startswith("laser  [")  # its name and place on hover
+    name, tip = r["hover"]
+    assert tip is not None and tip.startswith(f"{name}  [")  # its name and place on hover
     assert r["orbit"]["moved"] and r["orbit"]["zoomed"] > 1.5  # a drag orbits, the wheel zooms out
     focused = r["focused"]
     assert focused["frames"] == ["base_link", "laser"] and focused["index"] == 0  # the finding's time: the statics'
