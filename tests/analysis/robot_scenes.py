@@ -73,15 +73,16 @@ class Setup:
     description_text: str = URDF
     wheel_speed: float = WHEEL_SPEED  # rad/s
     tf_every: int = 1  # robot_state_publisher publishes the moving joints of every n-th joint state
+    prefix: str = ""  # robot_state_publisher's frame_prefix (a namespaced robot)
 
 
 def position(joint: str, seconds: float, speed: float = WHEEL_SPEED) -> float:
     return speed * seconds * (1.0 if joint.endswith("left_joint") else -1.0)
 
 
-def _transform(joint: Joint, q: float, stamp: int) -> Transform:
+def _transform(joint: Joint, q: float, stamp: int, prefix: str = "") -> Transform:
     xyz, quat = joint.transform_at(q)
-    return Transform(xyz, quat, stamp, joint.parent, joint.child)
+    return Transform(xyz, quat, stamp, prefix + joint.parent, prefix + joint.child)
 
 
 @dataclass(frozen=True)
@@ -105,12 +106,14 @@ def recorded(setup: Setup) -> list[Recorded]:
         for j in FIXED:
             xyz, rpy = setup.real_origins.get(j.name, (j.xyz, j.rpy))
             real = Joint(j.name, j.type, j.parent, j.child, xyz, rpy)
-            statics.append(_transform(real, 0.0, START))
+            statics.append(_transform(real, 0.0, START, setup.prefix))
         messages.append(Recorded("/tf_static", START + DELAY, statics, "/robot_state_publisher"))
     for i in range(round(SECONDS * HZ)):
         seconds = i / HZ
         stamp = START + round(seconds * NS_PER_S)
-        odom = Transform.from_rpy((0.3 * seconds, 0.0, 0.0), (0.0, 0.0, 0.0), stamp, "odom", "base_footprint")
+        odom = Transform.from_rpy(
+            (0.3 * seconds, 0.0, 0.0), (0.0, 0.0, 0.0), stamp, f"{setup.prefix}odom", f"{setup.prefix}base_footprint"
+        )
         messages.append(Recorded("/tf", stamp + DELAY, [odom], "/odometry"))
         names = list(setup.joint_states) + list(setup.extra_states)
         if names:
@@ -118,7 +121,7 @@ def recorded(setup: Setup) -> list[Recorded]:
             messages.append(Recorded("/joint_states", stamp + DELAY // 2, states, "/joint_state_publisher"))
         if setup.state_publisher and i % setup.tf_every == 0:
             moving = [
-                _transform(j, position(j.name, seconds, setup.wheel_speed), stamp)
+                _transform(j, position(j.name, seconds, setup.wheel_speed), stamp, setup.prefix)
                 for j in MOVING
                 if j.name in setup.joint_states
             ]

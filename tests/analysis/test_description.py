@@ -69,6 +69,14 @@ def test_a_wheel_turning_more_than_half_a_turn_between_samples_is_no_false_alarm
     assert _codes(_findings(tmp_path, setup)) == [("urdf_extra", "info")]
 
 
+def test_a_namespaced_robot_s_links_are_found_under_their_prefix(tmp_path: Path) -> None:
+    findings = _findings(tmp_path, Setup(prefix="rover1/", joint_states=("wheel_left_joint",)))
+    assert _codes(findings) == [("urdf_missing", "error"), ("urdf_extra", "info")]
+    missing, extra = findings
+    assert "wheel_right_joint (continuous, rover1/base_link -> rover1/wheel_right_link)" in missing.message
+    assert extra.frames == ("rover1/odom",)
+
+
 def test_a_joint_never_published_names_the_joint_its_link_and_the_publisher(tmp_path: Path) -> None:
     findings = _findings(tmp_path, Setup(joint_states=("wheel_left_joint",)))
     (missing,) = [f for f in findings if f.code == "urdf_missing"]

@@ -13,7 +13,8 @@ import contextlib
 import enum
 import math
 import os
-from collections.abc import Sequence
+from collections import Counter
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -28,7 +29,7 @@ from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3
 from tftools.sources.bag.robot import DESCRIPTION_TOPIC, JOINT_STATES_TOPIC, RobotMessages, read_robot
 from tftools.sources.recording import Recording
-from tftools.sources.urdf import RobotDescription, UrdfError, parse_urdf
+from tftools.sources.urdf import RobotDescription, UrdfError, parse_urdf, with_prefix
 
 #: Joint states compared with tf, at most, spread evenly over the recording.
 MAX_COMPARED = 200
@@ -235,7 +236,9 @@ def robot_of(
     if urdf is None and DESCRIPTION_TOPIC not in topics:
         return None, None
     if recording.contents.live:
-        return (Robot(urdf, tolerances=tolerances or Tolerances(), live=True) if urdf is not None else None), None
+        if urdf is None:
+            return None, None
+        return Robot(_prefixed(urdf, recording), tolerances=tolerances or Tolerances(), live=True), None
     messages = RobotMessages()
     if {DESCRIPTION_TOPIC, JOINT_STATES_TOPIC} & topics:
         with contextlib.suppress(TfToolsError):  # the transforms were read: the joints are checked without states
@@ -252,7 +255,26 @@ def robot_of(
                 f"{error}: the robot's description is not checked",
                 f"{error.hint} (tfx wtf --urdf FILE checks against a URDF file instead)",
             )
-    return Robot(urdf, messages, tolerances or Tolerances()), None
+    return Robot(_prefixed(urdf, recording), messages, tolerances or Tolerances()), None
+
+
+def _prefixed(description: RobotDescription, recording: Recording) -> RobotDescription:
+    return with_prefix(description, frame_prefix(description, set(recording.buffer.frames)))
+
+
+def frame_prefix(description: RobotDescription, frames: Collection[str]) -> str:
+    """The prefix tf's names of the robot's links have (``robot1/`` of ``robot1/base_link``: a namespaced
+    robot_state_publisher's ``frame_prefix``), "" where tf names more of them as the URDF does."""
+    links = set(description.links)
+    counts: Counter[str] = Counter()
+    for frame in frames:
+        prefix, slash, base = frame.rpartition("/")
+        if slash and base in links:
+            counts[prefix + slash] += 1
+    if not counts:
+        return ""
+    prefix, most = counts.most_common(1)[0]
+    return prefix if most > sum(link in frames for link in links) else ""
 
 
 def description_shape(description: RobotDescription) -> TreeShape:

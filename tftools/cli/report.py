@@ -77,7 +77,7 @@ def command(
         sections = _bag_sections(groups, topics, tf2, target, sensors, description)
     else:
         recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors)
-        robot = Robot(description) if description is not None else None
+        robot, _ = robot_of([], recording, description)
         sections = [_section(0, recording, streams, target, robot)]
     title = "tfx report: " + (sections[0].name if len(sections) == 1 else counted(len(sections), "recording"))
     write_atomically(output, page(title, sections).encode())

@@ -15,7 +15,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from tftools.analysis.description import Robot
+from tftools.analysis.description import robot_of
 from tftools.analysis.expected import Tolerances
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport, check_bags, check_recording
@@ -202,7 +202,7 @@ def command(
         heard, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors, require_tf=False)
         for problem in heard.problems:
             warn(problem)
-        robot = Robot(description, tolerances=robot_tolerances, live=True) if description is not None else None
+        robot, _ = robot_of([], heard, description, robot_tolerances)
         reports = [check_recording(heard, streams, thresholds, ignored, target, expected, robot)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:

@@ -16,7 +16,7 @@ import re
 import xml.etree.ElementTree as ET
 from collections import Counter
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
 from typing import cast
@@ -104,6 +104,15 @@ class RobotDescription:
     @cached_property
     def _by_name(self) -> dict[str, Joint]:
         return {j.name: j for j in self.joints}
+
+
+def with_prefix(description: RobotDescription, prefix: str) -> RobotDescription:
+    """``description`` with every link named ``prefix + link``, as robot_state_publisher's ``frame_prefix``
+    (ROS 2) or ``tf_prefix`` (ROS 1) publishes them; joints keep their names (joint states use them)."""
+    if not prefix:
+        return description
+    joints = tuple(replace(j, parent=prefix + j.parent, child=prefix + j.child) for j in description.joints)
+    return RobotDescription(description.name, description.source, tuple(prefix + k for k in description.links), joints)
 
 
 def _multiply(a: Quat, b: Quat) -> Quat:
