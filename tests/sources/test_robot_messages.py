@@ -38,3 +38,22 @@ def test_hours_of_joint_states_are_thinned_evenly_per_kind(monkeypatch: pytest.M
     assert arm[0] < 20 and arm[-1] > 1900 and gripper[0] == 0 and gripper[-1] > 1900  # over the whole span
     assert len(set(np.diff(arm).tolist())) <= 3  # evenly spread
     assert list(whole.record_time) == sorted(whole.record_time)
+
+
+@pytest.mark.parametrize("encoding", ["ros1", "cdr"])
+def test_names_read_once_per_kind_are_still_each_message_s_own(encoding: str) -> None:
+    store = _typestore("ros1" if encoding == "ros1" else "ros2")
+    kinds = [["arm_1", "arm_2"], ["arm_3", "arm_4"], ["arm_1", "arm_2", "grip"]]  # alike in length, then not
+    payloads = []
+    for i in range(30):
+        value = _message(store, Recorded("/joint_states", i, (i, kinds[i % 3], [float(i)] * len(kinds[i % 3]))))
+        serialize = store.serialize_ros1 if encoding == "ros1" else store.serialize_cdr
+        payloads.append(bytes(serialize(value, "sensor_msgs/msg/JointState")))
+    raw = np.frombuffer(b"".join(payloads), np.uint8)
+    lengths = np.array([len(p) for p in payloads], np.int64)
+    read, values, failures = WHOLE_DECODERS["sensor_msgs/msg/JointState", encoding](
+        raw, np.cumsum(lengths) - lengths, lengths
+    )
+    assert read == list(range(30)) and failures == []
+    assert [list(v.positions) for v in values] == [kinds[i % 3] for i in range(30)]
+    assert [v.positions[kinds[i % 3][0]] for i, v in enumerate(values)] == [float(i) for i in range(30)]

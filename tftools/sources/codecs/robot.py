@@ -40,15 +40,21 @@ class JointState:
 WholeDecoder = Callable[[UInt8Array, Int64Array, Int64Array], tuple[list[int], list[Any], list[tuple[int, str]]]]
 
 
+#: The names already read in a call, by where they start in their message: their bytes and the names.
+Seen = dict[int, tuple[bytes, list[str]]]
+Reader = Callable[[Cursor, Seen], Any]
+
+
 def _each(
-    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire], read: Callable[[Cursor], Any]
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: Sequence[Wire], read: Reader
 ) -> tuple[list[int], list[Any], list[tuple[int, str]]]:
     read_ok: list[int] = []
     values: list[Any] = []
     failures: list[tuple[int, str]] = []
+    seen: Seen = {}
     for message, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
         try:
-            values.append(read(Cursor(raw, wire_of(raw, start, length, wires), start, start + length)))
+            values.append(read(Cursor(raw, wire_of(raw, start, length, wires), start, start + length), seen))
         except DecodeError as e:
             failures.append((message, str(e)))
             continue
@@ -71,23 +77,31 @@ def _floats(cursor: Cursor) -> tuple[float, ...]:
     return struct.unpack_from(f"{cursor.wire.order}{count}d", cursor.raw, at)
 
 
-def _joint_state(cursor: Cursor) -> JointState:
+def _joint_state(cursor: Cursor, seen: Seen) -> JointState:
     stamp, _, _ = cursor.header()
-    count = cursor.uint()
-    if count > MAX_JOINTS or 4 * count > cursor.rest:
-        raise DecodeError(f"{count} joint names cannot fit in the message")
-    names = [_text(cursor, MAX_FRAME_ID) for _ in range(count)]
+    begin = cursor.pos
+    where = begin - cursor.start  # a message's names start where its like's did: its names are the same bytes
+    known = seen.get(where)
+    if known is not None and cursor.raw[begin : begin + len(known[0])] == known[0]:
+        cursor.take(len(known[0]))
+        names = known[1]
+    else:
+        count = cursor.uint()
+        if count > MAX_JOINTS or 4 * count > cursor.rest:
+            raise DecodeError(f"{count} joint names cannot fit in the message")
+        names = [_text(cursor, MAX_FRAME_ID) for _ in range(count)]
+        seen[where] = (bytes(cursor.raw[begin : cursor.pos]), names)
     positions = _floats(cursor)
     if len(positions) not in (0, len(names)):
         raise DecodeError(f"{len(names)} names but {len(positions)} positions")
     return JointState(stamp, dict(zip(names, positions, strict=False)))
 
 
-def _string(cursor: Cursor) -> str:
+def _string(cursor: Cursor, _seen: Seen) -> str:
     return _text(cursor, MAX_TEXT)
 
 
-def _decoder(wires: Sequence[Wire], read: Callable[[Cursor], Any]) -> WholeDecoder:
+def _decoder(wires: Sequence[Wire], read: Reader) -> WholeDecoder:
     def decode(
         raw: UInt8Array, starts: Int64Array, lengths: Int64Array
     ) -> tuple[list[int], list[Any], list[tuple[int, str]]]:
