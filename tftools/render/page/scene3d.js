@@ -402,6 +402,19 @@
     else this.setTime(this.index);
   };
 
+  // The page's width changed: the view follows it.
+  View.prototype.resize = function () {
+    this.width = Math.max(this.element.clientWidth, 320);
+    this.camera.aspect = this.width / HEIGHT;
+    this.camera.updateProjectionMatrix();
+    if (this.renderer) this.renderer.setSize(this.width, HEIGHT);
+    this.draw();
+  };
+
+  window.addEventListener("resize", function () {
+    registry.views.forEach(function (view) { view.resize(); });
+  });
+
   document.querySelectorAll("section.recording").forEach(function (section) {
     var script = section.querySelector("script.report-data");
     var element = section.querySelector(".scene3d");
