@@ -149,9 +149,15 @@ def test_a_stamp_sent_again_with_other_values_is_judged_by_the_recordings_tf2(ro
 def test_every_registered_check_has_a_scene() -> None:
     shown = {p.code for p in PROBLEMS.values()}
     against_a_tree = {c for c in CHECKS if c.startswith("expect_")}  # each with its scene in test_expected.py
+    against_a_urdf = {c for c in CHECKS if c.startswith("urdf_")}  # each with its scene in test_description.py
     # tested on files: tests/cli (bag_problem, unreadable), tests/analysis/test_wtf_hazards.py (static_volatile,
     # silent_tf: metadata.yaml says what a rosbag2 recording's topics held)
-    assert set(CHECKS) - shown - against_a_tree == {"bag_problem", "unreadable", "static_volatile", "silent_tf"}
+    assert set(CHECKS) - shown - against_a_tree - against_a_urdf == {
+        "bag_problem",
+        "unreadable",
+        "static_volatile",
+        "silent_tf",
+    }
 
 
 def test_findings_come_errors_first() -> None:

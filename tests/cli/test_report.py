@@ -90,8 +90,9 @@ def test_the_page_needs_nothing_from_outside(tfx, tmp_path: Path) -> None:
     assert not re.search(r"<(link|img|iframe)\b", text, re.I)
     assert not re.search(r"""\b(src|href)\s*=\s*["']?(https?:|//)""", text, re.I)
     assert not re.search(r"@import|url\(\s*['\"]?(https?:|//)", text, re.I)
-    assert text.count("<script>") == 2 and "uPlot" in text  # the library and the page's script, inline
-    assert 60_000 < len(text.encode()) < 250_000
+    # the plotting library, the page's script, three.js and the 3D view's script, inline
+    assert text.count("<script>") == 4 and "uPlot" in text and "tfxScene3d" in text
+    assert 600_000 < len(text.encode()) < 900_000  # three.js's part is 550 KB of it
 
 
 def test_a_fleet_gets_a_section_and_a_verdict_each(tfx, troubled, tmp_path: Path) -> None:

@@ -7,10 +7,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 
+from tftools.analysis.description import Robot
 from tftools.analysis.filter import tied_to_tf
 from tftools.analysis.findings import Finding
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
+from tftools.analysis.poses import FramePoses, frame_poses
 from tftools.analysis.timelines import (
     Bins,
     EdgeTimeline,
@@ -43,15 +45,21 @@ class RecordingReport:
     edges: tuple[EdgeTimeline, ...]
     streams: tuple[StreamTimeline, ...]
     delays_unavailable: str  # why delays cannot be measured ("" when they can)
+    poses: FramePoses | None = None  # every frame over time, for the 3D view
 
 
 def recording_report(
-    recording: Recording, streams: Sequence[StampedMessages] = (), target: str | None = None
+    recording: Recording,
+    streams: Sequence[StampedMessages] = (),
+    target: str | None = None,
+    robot: Robot | None = None,
+    extra: Sequence[Finding] = (),
 ) -> RecordingReport:
     """The report of ``recording`` and its sensor data ``streams``, checked as ``tfx wtf`` checks them
-    (into ``target``, ``analysis.filter.choose_target``)."""
-    scene = Scene(recording, streams=streams, target=target)
-    findings = findings_of(scene)
+    (into ``target``, ``analysis.filter.choose_target``; against the ``robot``'s description), with the
+    findings ``extra`` its reader made."""
+    scene = Scene(recording, streams=streams, target=target, robot=robot)
+    findings = sorted([*findings_of(scene), *extra], key=lambda f: f.severity.rank)
     graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None
@@ -72,6 +80,7 @@ def recording_report(
         tuple(edges),
         tuple(flows),
         "" if timeline.available else timeline.reason,
+        frame_poses(buffer, scene.tree, bins.start, bins.start + bins.count * bins.width),
     )
 
 

@@ -17,9 +17,12 @@ from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
+    from tftools.analysis.description import Robot
+    from tftools.analysis.findings import Finding
     from tftools.render.report import Section
     from tftools.sources import Recording
     from tftools.sources.contents import StampedMessages
+    from tftools.sources.urdf import RobotDescription
 
 DEFAULT_OUTPUT = "report.html"
 
@@ -35,6 +38,13 @@ def command(
     tf2: options.Tf2 = None,
     target: options.Target = None,
     sensors: options.Sensors = None,
+    urdf: Annotated[
+        Path | None,
+        typer.Option(
+            help="Check against this robot description (a URDF file), as tfx wtf --urdf does; without it, a "
+            "recorded /robot_description is used.",
+        ),
+    ] = None,
     duration: options.Listen = 5.0,
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
@@ -58,17 +68,21 @@ def command(
     Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
     [cyan]tfx report --ros1 -d 10 -o live.html[/]
     """
+    from tftools.analysis.description import robot_of
     from tftools.analysis.findings import counted
     from tftools.render.files import write_atomically
     from tftools.render.report import page
+    from tftools.sources.urdf import read_urdf
 
     groups = options.recordings_given(paths, bags)
     _check_output(output, [p for group in groups for p in group])
+    description = read_urdf(urdf) if urdf is not None else None
     if groups:
-        sections = _bag_sections(groups, topics, tf2, target, sensors)
+        sections = _bag_sections(groups, topics, tf2, target, sensors, description)
     else:
         recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors)
-        sections = [_section(0, recording, streams, target)]
+        robot, _ = robot_of([], recording, description)
+        sections = [_section(0, recording, streams, target, robot)]
     title = "tfx report: " + (sections[0].name if len(sections) == 1 else counted(len(sections), "recording"))
     write_atomically(output, page(title, sections).encode())
     failed = sum(s.verdict == "failed" for s in sections)
@@ -91,9 +105,11 @@ def _bag_sections(
     semantics: Semantics | None,
     target: str | None,
     sensors: Sequence[str] | None,
+    description: RobotDescription | None = None,
 ) -> list[Section]:
     """One section per recording; one that cannot be read is an error of its own in a fleet, and the
     command's error when it is the only one (or none can be read)."""
+    from tftools.analysis.description import robot_of
     from tftools.analysis.wtf.fleet import sensor_data
     from tftools.render.report import unreadable_section
 
@@ -110,14 +126,23 @@ def _bag_sections(
             name = " + ".join(str(p) for p in group)
             sections.append(unreadable_section(index, name, str(error), error.hint))
             continue
-        sections.append(_section(index, recording, sensor_data(group, sensors), target))
+        robot, said = robot_of(group, recording, description)
+        sections.append(_section(index, recording, sensor_data(group, sensors), target, robot, said))
     if len(unread) == len(groups):
         raise unread[0]
     return sections
 
 
-def _section(index: int, recording: Recording, streams: Sequence[StampedMessages], target: str | None) -> Section:
+def _section(
+    index: int,
+    recording: Recording,
+    streams: Sequence[StampedMessages],
+    target: str | None,
+    robot: Robot | None = None,
+    said: Finding | None = None,
+) -> Section:
     from tftools.analysis.report import recording_report
     from tftools.render.report import recording_section
 
-    return recording_section(index, recording_report(recording, streams, target=target))
+    report = recording_report(recording, streams, target, robot, [said] if said is not None else [])
+    return recording_section(index, report)

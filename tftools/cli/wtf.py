@@ -111,6 +111,14 @@ def command(
             "edges moved beyond the tolerances, slower edges, other publishers.",
         ),
     ] = None,
+    urdf: Annotated[
+        Path | None,
+        typer.Option(
+            help="Check against this robot description (a URDF file; xacro's output, not xacro): its joints on tf "
+            "where robot_state_publisher puts them, as /joint_states says; links tf lacks, frames the URDF lacks. "
+            "Without it, a recorded /robot_description is used.",
+        ),
+    ] = None,
     tolerance_mm: expected_tree.ToleranceMmOption = None,
     tolerance_deg: expected_tree.ToleranceDegOption = None,
     tolerance_rate: expected_tree.ToleranceRateOption = None,
@@ -137,6 +145,9 @@ def command(
 
     The expected tree: [cyan]tfx wtf --init good.bag > tree.yaml[/] writes what a healthy recording
     looks like (hand-editable YAML); [cyan]tfx wtf --expect tree.yaml run.bag[/] reports what differs.
+    The robot's description: [cyan]tfx wtf --urdf robot.urdf run.bag[/] (or a recorded /robot_description)
+    reports joints tf lacks (a joint publisher or robot_state_publisher not running), fixed joints moved,
+    moving joints not where /joint_states puts them.
 
     Fleets: [cyan]--jobs N[/] checks N recordings at once here, [cyan]--dask ADDRESS[/] each as a task on a
     Dask cluster; results come as they finish ([cyan]--format jsonl[/] streams them, [cyan]--resume[/] skips
@@ -146,9 +157,12 @@ def command(
     Examples: [cyan]tfx wtf robot.bag[/], [cyan]tfx wtf logs/*.bag --format junit > wtf.xml[/],
     [cyan]tfx wtf -b run_0.bag -b run_1.bag --strict[/]
     """
+    from tftools.analysis.description import robot_of
+    from tftools.analysis.expected import Tolerances
     from tftools.analysis.wtf.fleet import check_bags, check_recording
     from tftools.render import wtf as render
     from tftools.render import wtf_lines as render_lines
+    from tftools.sources.urdf import read_urdf
 
     if list_checks:
         _list_checks()
@@ -159,9 +173,13 @@ def command(
         expected_tree.write_init(list(paths or []) or list(bags or []), topics, tf2)
         return
     tolerances = (tolerance_mm, tolerance_deg, tolerance_rate)
-    if expect is None and any(t is not None for t in tolerances):
-        raise UsageError("the tolerances are for --expect", "e.g. tfx wtf --expect tree.yaml run.bag --tolerance-mm 2")
+    if expect is None and urdf is None and any(t is not None for t in tolerances):
+        raise UsageError(
+            "the tolerances are for --expect and --urdf", "e.g. tfx wtf --expect tree.yaml run.bag --tolerance-mm 2"
+        )
     expected = expected_tree.read_expected(expect, *tolerances) if expect is not None else None
+    description = read_urdf(urdf) if urdf is not None else None
+    robot_tolerances = expected_tree.tolerances(Tolerances(), *tolerances) if expected is None else expected.tolerances
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
     groups = options.recordings_given(paths, bags)
@@ -175,6 +193,8 @@ def command(
             target=target,
             sensor_topics=sensors,
             expected=expected,
+            urdf=description,
+            urdf_tolerances=robot_tolerances,
         )
         fleet = Fleet(jobs or os.cpu_count() or 1, dask, timeout, resume)
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
@@ -186,7 +206,8 @@ def command(
         heard, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors, require_tf=False)
         for problem in heard.problems:
             warn(problem)
-        reports = [check_recording(heard, streams, thresholds, ignored, target, expected)]
+        robot, _ = robot_of([], heard, description, robot_tolerances)
+        reports = [check_recording(heard, streams, thresholds, ignored, target, expected, robot)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:
         render.write_json(reports, sys.stdout, strict, thresholds, code)

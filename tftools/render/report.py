@@ -24,7 +24,7 @@ from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
 from tftools.core.arrays import FloatArray
 from tftools.core.time import NS_PER_S, format_sec
-from tftools.render import drawing
+from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
 from tftools.render.graph import problem_summary, to_digraph
 
@@ -54,6 +54,7 @@ def page(title: str, sections: Sequence[Section]) -> str:
     vendor = assets / "vendor"
     style = (vendor / "uPlot.min.css").read_text() + (assets / "report.css").read_text()
     scripts = [(vendor / "uPlot.iife.min.js").read_text(), (assets / "report.js").read_text()]
+    scripts += [(assets / name).read_text() for name in scene3d.SCRIPTS]
     fleet = _fleet_table(sections) if len(sections) > 1 else ""
     body = "".join(s.html for s in sections)
     inline = "".join(f"<script>{_script_text(s)}</script>" for s in scripts)
@@ -82,6 +83,7 @@ def recording_section(index: int, report: RecordingReport) -> Section:
         "edges": [_edge_data(report, report.edges[i], svg_ids) for i in rows],
         "findings": [_finding_data(report, i, rows, svg_ids, anchor) for i in range(len(report.findings))],
         "streams": [_stream_data(s) for s in report.streams],
+        "scene3d": scene3d.poses_data(report.poses, report.bins.start),
     }
     origin = report.bins.start
     parts = [
@@ -90,6 +92,7 @@ def recording_section(index: int, report: RecordingReport) -> Section:
         _findings(report.findings, origin),
         "</div>",
         f'<h3>Tree</h3><p class="axis">{TREE_KEY}</p><div class="tree">{tree}</div>',
+        scene3d.scene_html(report.poses),
         _timelines(report, rows, origin),
         _streams(report.streams),
         _statics(report.graph.edges),
@@ -286,6 +289,7 @@ def _finding_data(
         "to": _seconds(last, origin) if last else None,
         "rows": [row for row, i in enumerate(rows) if report.edges[i].key in keys],
         "svg": [svg_ids[key] for key in keys] + nodes,
+        "frames": [printable(f) for f in dict.fromkeys(finding.frames)],
     }
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -63,6 +64,20 @@ class StampedMessages:
         return len(self.record_time)
 
 
+@dataclass(frozen=True)
+class WholeMessages:
+    """One topic's messages read whole (a robot's joint states, its description): when each arrived, and
+    its value (``codecs.robot``)."""
+
+    topic: str
+    type: str
+    record_time: Int64Array
+    values: Sequence[Any]
+
+    def __len__(self) -> int:
+        return len(self.record_time)
+
+
 #: ``SourceInfo.format`` of a buffer checked as it is (``recording_of_buffer``).
 BUFFER_FORMAT = "buffer"
 
@@ -104,6 +119,7 @@ class SourceInfo:
     clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # this source's /clock
     fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
     stamped: list[StampedMessages] = field(default_factory=list, repr=False, compare=False)  # headers read
+    whole: list[WholeMessages] = field(default_factory=list, repr=False, compare=False)  # messages read whole
     # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
     # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.
     windowed: bool = True

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 from collections.abc import Collection, Sequence
 
+from tftools.analysis.description import Robot
 from tftools.analysis.expected import TreeShape
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import (  # noqa: F401  (they register their checks)
     clocks,
+    description,
     expectations,
     jumps,
     replay,
@@ -36,16 +38,18 @@ def check(
     streams: Sequence[StampedMessages] = (),
     target: str | None = None,
     expected: TreeShape | None = None,
+    robot: Robot | None = None,
 ) -> list[Finding]:
     """Every problem of ``recording`` (or a bare buffer, as ``Scene`` sees it), errors first, then
     warnings, then notes (each in check order).
 
     ``streams``: its sensor data (``read_stamped``), for the checks of data against tf, transformed
     into ``target`` (default and fallback: ``analysis.filter.choose_target``). ``expected``: the
-    tree it should have (``tfx wtf --expect``), within its tolerances. ``ignore``
+    tree it should have (``tfx wtf --expect``), within its tolerances. ``robot``: its description and
+    joint states (``tfx wtf --urdf``, ``analysis.description``). ``ignore``
     lists codes not to run. Raises ``ValueError`` for a code that does not exist.
     """
-    return findings_of(Scene(recording, thresholds, streams, target, expected), ignore)
+    return findings_of(Scene(recording, thresholds, streams, target, expected, robot), ignore)
 
 
 def findings_of(scene: Scene, ignore: Collection[str] = ()) -> list[Finding]:

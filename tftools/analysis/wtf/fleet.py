@@ -6,7 +6,8 @@ import os
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 
-from tftools.analysis.expected import TreeShape
+from tftools.analysis.description import Robot, robot_of
+from tftools.analysis.expected import Tolerances, TreeShape
 from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import Scene, findings_of
@@ -17,6 +18,7 @@ from tftools.sources.bag import ProgressCallback
 from tftools.sources.bag.stamped import read_stamped
 from tftools.sources.contents import Fetched, StampedMessages
 from tftools.sources.recording import Recording, read_recording
+from tftools.sources.urdf import RobotDescription
 
 
 @dataclass
@@ -64,10 +66,13 @@ def check_bags(
     target: str | None = None,
     sensor_topics: Sequence[str] | None = None,
     expected: TreeShape | None = None,
+    urdf: RobotDescription | None = None,
+    urdf_tolerances: Tolerances | None = None,
 ) -> BagReport:
     """Read ``paths`` as one recording and check it, its sensor data (``sensor_topics``, default:
     every topic whose messages start with a header) against tf in ``target`` (``choose_target``),
-    and against the ``expected`` tree if given; a bag that cannot be read is reported, not raised."""
+    against the ``expected`` tree if given, and against the robot's description (``urdf``, else the
+    recorded /robot_description: ``robot_of``); a bag that cannot be read is reported, not raised."""
     names = tuple(str(p) for p in paths)
     try:
         recording = read_recording(paths, topics, progress, allow_empty=True, semantics=semantics)
@@ -79,7 +84,11 @@ def check_bags(
             f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
-    return check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target, expected)
+    robot, said = robot_of(paths, recording, urdf, urdf_tolerances or (expected.tolerances if expected else None))
+    checked = check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target, expected, robot)
+    if said is not None and said.code not in ignore:
+        checked.findings = sorted([*checked.findings, said], key=lambda f: f.severity.rank)
+    return checked
 
 
 def check_recording(
@@ -89,10 +98,11 @@ def check_recording(
     ignore: Collection[str] = (),
     target: str | None = None,
     expected: TreeShape | None = None,
+    robot: Robot | None = None,
 ) -> BagReport:
     """Check a recording read (or heard) and its sensor data ``streams`` against tf in ``target``
-    (and against the ``expected`` tree)."""
-    scene = Scene(recording, thresholds, streams, target, expected)
+    (and against the ``expected`` tree, and the ``robot``'s description)."""
+    scene = Scene(recording, thresholds, streams, target, expected, robot)
     checked = BagReport(
         paths=tuple(recording.paths),
         findings=findings_of(scene, ignore),

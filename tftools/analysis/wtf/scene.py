@@ -9,6 +9,7 @@ from typing import TypeVar, cast
 
 import numpy as np
 
+from tftools.analysis.description import Robot
 from tftools.analysis.edges import Edge, EdgeStats, edge_rows, edge_stats, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterReport, filter_report
@@ -53,6 +54,7 @@ class Scene:
         streams: Sequence[StampedMessages] = (),
         target: str | None = None,
         expected: TreeShape | None = None,
+        robot: Robot | None = None,
     ) -> None:
         if isinstance(recording, Buffer):
             recording = recording_of_buffer(recording)
@@ -60,6 +62,7 @@ class Scene:
         self.streams = streams  # the recording's sensor data (messages with a header), for the sensor checks
         self.target = target  # the frame that data is transformed into (None: the usual one)
         self.expected = expected  # the tree it should have (--expect), if any
+        self.robot = robot  # its description and joint states (--urdf, or recorded), if any
         self.buffer = recording.buffer
         self.thresholds = thresholds if thresholds is not None else Thresholds()
         self.timeline = recording.timeline.within(from_sec(self.thresholds.clock))

@@ -12,14 +12,17 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import RecordWindow, merged_clock
 from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
-from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec
+from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec, WholeCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
-from tftools.sources.contents import ClockSamples, StampedMessages
+from tftools.sources.contents import ClockSamples, StampedMessages, WholeMessages
 
 ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
 Failures = list[tuple[int, str]]  # (message, reason) of the messages that could not be decoded
 
+#: Messages read whole held at most per kind (their ``key``: a joint state's names) once thinned: beyond,
+#: every other one is let go, so that hours of joint states stay a few megabytes, evenly spread.
+MAX_WHOLE = 20_000
 _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
 _ALONE_BYTES = 512 << 10  # payload bytes of one codec handed at once that are decoded at once, uncopied
 
@@ -66,6 +69,9 @@ class MessageSet:
         self._failed: Failures = []
         self._clocks: list[tuple[Int64Array, Int64Array]] = []  # message numbers and clock values
         self._headers: list[tuple[Int64Array, Int64Array, Int32Array]] = []  # message numbers, stamps, frames
+        self._whole: list[tuple[Int64Array, list[object]]] = []  # message numbers, values
+        #: The messages read whole (``WholeTopics``), per topic in record order, once ``decode`` ran.
+        self.whole: list[WholeMessages] = []
         self.count = 0
 
     def emptied(self) -> MessageSet:
@@ -196,6 +202,11 @@ class MessageSet:
         if isinstance(codec, ClockCodec):
             rows, values, failures = codec.decode(raw, starts, lengths)
             self._clocks.append((ids[rows], values))
+        elif isinstance(codec, WholeCodec):
+            read, objects, failures = codec.decode(raw, starts, lengths)
+            self._whole.append((ids[np.array(read, np.int64)], objects))
+            if sum(len(part) for _, part in self._whole) > 2 * MAX_WHOLE:
+                self._thin_whole()
         elif isinstance(codec, HeaderCodec):
             headers = codec.decode(raw, starts, lengths, self._rows.frames)
             self._headers.append((ids[headers.message], headers.stamp, headers.frame))
@@ -214,6 +225,7 @@ class MessageSet:
         rank = _rank(times, np.array([c.tie for c in self.channels], np.int64)[channel_of], positions)
         batches = self._rows.batches(times, channel_of, rank)
         clock, stamped = self._clock(times, channel_of, rank), self._stamped(times, channel_of, rank)
+        self.whole = self._whole_messages(times, channel_of, rank)
         return batches, clock, stamped, self._problems(channel_of, rank)
 
     def _clock(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> ClockSamples:
@@ -237,6 +249,37 @@ class MessageSet:
             names = self._rows.frames.names
             streams.append(StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names))
         return streams
+
+    def _thin_whole(self) -> None:
+        """Of each kind of message read whole with more than ``MAX_WHOLE``, every other one let go until it has
+        no more (every 2**k-th kept: the same stride over all that kind's messages, evenly spread)."""
+        ids = np.concatenate([i for i, _ in self._whole])
+        values = [v for _, part in self._whole for v in part]
+        kinds: dict[object, list[int]] = {}
+        for k, value in enumerate(values):
+            kinds.setdefault(getattr(value, "key", None), []).append(k)
+        for kind, members in kinds.items():
+            while len(members) > MAX_WHOLE:
+                members = members[::2]
+            kinds[kind] = members
+        kept = sorted(k for members in kinds.values() for k in members)
+        self._whole = [(ids[np.array(kept, np.int64)], [values[k] for k in kept])]
+
+    def _whole_messages(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[WholeMessages]:
+        """The messages read whole, per topic in record order."""
+        if not self._whole:
+            return []
+        ids = np.concatenate([i for i, _ in self._whole])
+        values = [v for _, part in self._whole for v in part]
+        order = np.argsort(rank[ids], kind="stable")
+        ids = ids[order]
+        topic_of = [self.channels[c].topic for c in channel_of[ids].tolist()]
+        found = []
+        for channel in dict.fromkeys(c for c in self.channels if isinstance(c.codec, WholeCodec)):
+            mine = [k for k, t in enumerate(topic_of) if t == channel.topic]
+            kept = [values[int(order[k])] for k in mine]
+            found.append(WholeMessages(channel.topic, channel.codec.type_name, times[ids[mine]], kept))
+        return found
 
     def _problems(self, channel_of: Int32Array, rank: Int64Array) -> list[str]:
         """A line per topic and codec with messages that could not be decompressed, and one with

@@ -10,7 +10,7 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.select import Unread, unread_lines
-from tftools.sources.contents import ClockSamples, StampedMessages
+from tftools.sources.contents import ClockSamples, StampedMessages, WholeMessages
 from tftools.sources.headers import merged
 
 
@@ -51,12 +51,14 @@ def file_result(
     batches: list[TransformBatch] = []
     clocks: list[ClockSamples] = []
     stamped: list[StampedMessages] = []
+    whole: list[WholeMessages] = []
     problems: list[str] = []
     for index, scan in enumerate(scans):
         decoded, clock, headers, undecodable = scan.messages.decode()
         batches += decoded
         clocks.append(clock)
         stamped += headers
+        whole += scan.messages.whole
         label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
         problems += [label + line for line in scan.problems + undecodable]
     batches = in_record_order(batches)
@@ -74,6 +76,7 @@ def file_result(
         unread=unread_lines([u for scan in scans for u in scan.skipped]),
         clock=merged_clock(clocks),
         stamped=merged(stamped),
+        whole=whole,
         windowed=all(s.windowed for s in scans),
     )
     return batches, info

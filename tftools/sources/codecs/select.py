@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from tftools.sources.codecs import cdr, json, protobuf, ros1
 from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
+from tftools.sources.codecs.robot import WHOLE_DECODERS, WholeDecoder
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, has_header, rosidl_name
 from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA
 
@@ -59,7 +60,20 @@ class HeaderTopics(tuple[str, ...]):
         return topic in self if self else topic not in NOT_SENSOR_DATA
 
 
-AnyCodec = Codec | ClockCodec | HeaderCodec
+@dataclass(frozen=True)
+class WholeCodec(Encoded):
+    """How whole messages of a type and encoding are decoded into values (a robot's joint states and
+    description: ``codecs.robot``)."""
+
+    decode: WholeDecoder
+
+
+class WholeTopics(tuple[str, ...]):
+    """Topics whose messages are read whole into values (``codecs.robot``'s types), rather than
+    transforms: given to a bag reader as its topics."""
+
+
+AnyCodec = Codec | ClockCodec | HeaderCodec | WholeCodec
 
 
 CODECS = {
@@ -111,7 +125,12 @@ def select(
     """The codec to read a channel with (None: skip it), and what is not read when a channel asked
     for (or a foxglove transform channel, with the default topics) is skipped. Clocks are read on
     any topic; with ``HeaderTopics``, only headers are (``definition``: the type's, when the
-    recording gives it)."""
+    recording gives it); with ``WholeTopics``, only those topics' messages, whole."""
+    if isinstance(topics, WholeTopics):
+        whole = WHOLE_DECODERS.get((rosidl_name(type_name), encoding))
+        if whole is None or topic not in topics:
+            return None, None
+        return WholeCodec(rosidl_name(type_name), encoding, whole), None
     if isinstance(topics, HeaderTopics):
         decoder = _HEADER_DECODERS.get(encoding)
         if decoder is None or not topics.wants(topic) or not has_header(type_name, encoding, definition):

@@ -1,0 +1,221 @@
+"""``tfx wtf --urdf``'s checks on designed recordings of a small robot, in every bag format: healthy (nothing
+false), a joint never published, robot_state_publisher not running, its statics not recorded, a sensor moved
+or flipped, joint states the URDF lacks, a recorded /robot_description used without --urdf."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from tests.analysis.robot_scenes import FLIPPED, MOVED, ROBOT, URDF, Setup, robot_bag
+from tests.analysis.wtf_scenes import START, recording
+from tests.bags import BagFormat, TfMessage
+from tftools.analysis.description import Robot, check_joints, description_shape, robot_of
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.frames import frame_tree
+from tftools.analysis.wtf import CHECKS, check
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.sources.bag.robot import read_robot
+from tftools.sources.recording import read_recording
+from tftools.sources.urdf import parse_urdf
+
+FORMATS = list(BagFormat)
+
+
+def _findings(tmp_path: Path, setup: Setup, fmt: BagFormat = BagFormat.ros1, urdf: bool = True) -> list[Finding]:
+    bag = robot_bag(tmp_path, "rover", setup, fmt)
+    recording = read_recording([bag])
+    robot, said = robot_of([bag], recording, ROBOT if urdf else None)
+    found = check(recording, robot=robot)
+    return [f for f in found + ([said] if said else []) if f.code.startswith("urdf")]
+
+
+def _codes(findings: list[Finding]) -> list[tuple[str, str]]:
+    return [(f.code, f.severity.value) for f in findings]
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_the_joint_states_and_the_description_are_read_in_every_format(tmp_path: Path, fmt: BagFormat) -> None:
+    bag = robot_bag(tmp_path, "rover", Setup(description=True), fmt)
+    read = read_robot([bag])
+    assert read.description == URDF
+    assert len(read.joint_states) == 100 and read.problems == []
+    first, last = read.joint_states[0], read.joint_states[-1]
+    assert set(first.positions) == {"wheel_left_joint", "wheel_right_joint"}
+    assert last.positions["wheel_left_joint"] == pytest.approx(2.0 * 4.95)
+    assert list(read.record_time) == sorted(read.record_time)
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_a_healthy_robot_says_only_that_odom_is_not_its_own(tmp_path: Path, fmt: BagFormat) -> None:
+    findings = _findings(tmp_path, Setup(), fmt)
+    assert _codes(findings) == [("urdf_extra", "info")]
+    assert findings[0].frames == ("odom",) and "odometry and localization" in findings[0].hint
+    bag = tmp_path / ("rover.bag" if fmt is BagFormat.ros1 else f"rover_{fmt.value}")
+    recording = read_recording([bag])
+    robot, _ = robot_of([bag], recording, ROBOT)
+    assert robot is not None
+    checks = {c.joint: c for c in check_joints(robot, recording.buffer, frame_tree(recording.buffer))}
+    assert {c.verdict.value for c in checks.values()} == {"fine"}
+    assert checks["wheel_left_joint"].compared == 100 and checks["wheel_left_joint"].rotation_deg < 1e-6
+
+
+def test_a_wheel_turning_more_than_half_a_turn_between_samples_is_no_false_alarm(tmp_path: Path) -> None:
+    # tf at 5 Hz, 4 rad apart: a joint state between two samples would be interpolated the short way round
+    setup = Setup(wheel_speed=20.0, tf_every=4)
+    assert _codes(_findings(tmp_path, setup)) == [("urdf_extra", "info")]
+
+
+def test_a_namespaced_robot_s_links_are_found_under_their_prefix(tmp_path: Path) -> None:
+    findings = _findings(tmp_path, Setup(prefix="rover1/", joint_states=("wheel_left_joint",)))
+    assert _codes(findings) == [("urdf_missing", "error"), ("urdf_extra", "info")]
+    missing, extra = findings
+    assert "wheel_right_joint (continuous, rover1/base_link -> rover1/wheel_right_link)" in missing.message
+    assert extra.frames == ("rover1/odom",)
+
+
+def test_a_joint_never_published_names_the_joint_its_link_and_the_publisher(tmp_path: Path) -> None:
+    findings = _findings(tmp_path, Setup(joint_states=("wheel_left_joint",)))
+    (missing,) = [f for f in findings if f.code == "urdf_missing"]
+    assert missing.severity is Severity.error
+    assert "wheel_right_joint" in missing.message and "wheel_right_link" in missing.message
+    assert "no message on /joint_states names wheel_right_joint" in missing.hint
+    assert "joint_state_publisher" in missing.hint
+    assert missing.frames == ("base_link", "wheel_right_link")
+
+
+def test_robot_state_publisher_not_running(tmp_path: Path) -> None:
+    findings = _findings(tmp_path, Setup(state_publisher=False))
+    (missing,) = [f for f in findings if f.code == "urdf_missing"]
+    assert missing.message.startswith("none of the 5 joints of rover.urdf is on tf")
+    for joint in ("base_joint", "laser_joint", "wheel_left_joint"):
+        assert joint in missing.message
+    assert "robot_state_publisher did not run" in missing.hint
+    assert [f.code for f in findings] == ["urdf_missing", "urdf_extra"]  # odometry names the root: not unseen
+
+
+def test_a_joint_state_published_but_no_state_publisher_for_it(tmp_path: Path) -> None:
+    # joint states for both wheels, robot_state_publisher only placing the left one: it runs another URDF
+    setup = Setup(joint_states=("wheel_left_joint",), extra_states=("wheel_right_joint",))
+    (missing,) = [f for f in _findings(tmp_path, setup) if f.code == "urdf_missing"]
+    assert "/joint_states names wheel_right_joint, yet tf lacks it" in missing.hint
+
+
+def test_statics_not_recorded(tmp_path: Path) -> None:
+    (missing,) = [f for f in _findings(tmp_path, Setup(fixed_published=False)) if f.code == "urdf_missing"]
+    assert "none of the 3 fixed joints of rover.urdf is on /tf_static" in missing.message
+    assert "transient local" in missing.hint
+
+
+@pytest.mark.parametrize(("origin", "mm", "deg"), [(MOVED, 20.0, 0.0), (FLIPPED, 0.0, 180.0)])
+def test_a_moved_or_flipped_sensor(tmp_path: Path, origin: tuple, mm: float, deg: float) -> None:
+    findings = _findings(tmp_path, Setup(real_origins={"laser_joint": origin}))
+    assert _codes(findings) == [("urdf_moved", "error"), ("urdf_extra", "info")]
+    moved = findings[0]
+    assert moved.frames == ("base_link", "laser") and "joint laser_joint" in moved.message
+    assert f"{mm:.1f} mm and {deg:.2f}°" in moved.message
+    assert "edited" in moved.hint and "tfx echo base_link laser --format urdf" in moved.hint
+
+
+def test_joint_states_the_urdf_lacks(tmp_path: Path) -> None:
+    findings = _findings(tmp_path, Setup(extra_states=("gripper_joint",)))
+    (unknown,) = [f for f in findings if f.code == "urdf_joint_states"]
+    assert unknown.severity is Severity.warning and "gripper_joint" in unknown.message
+
+
+def test_a_moving_joint_not_where_its_state_puts_it(tmp_path: Path) -> None:
+    other = URDF.replace(
+        '<origin xyz="0 0.15 0" rpy="-1.5707963267948966 0 0"/><axis xyz="0 0 1"/>',
+        '<origin xyz="0 0.15 0" rpy="-1.5707963267948966 0 0"/><axis xyz="0 0 -1"/>',
+    )
+    bag = robot_bag(tmp_path, "rover", Setup())
+    recording = read_recording([bag])
+    robot = Robot(parse_urdf(other, "other.urdf"), read_robot([bag]))
+    (off,) = [f for f in check(recording, robot=robot) if f.code == "urdf_joint_state"]
+    assert "wheel_left_joint" in off.message and "median of 100 joint states" in off.message
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_the_recorded_description_is_used_without_urdf(tmp_path: Path, fmt: BagFormat) -> None:
+    findings = _findings(tmp_path, Setup(description=True, joint_states=("wheel_left_joint",)), fmt, urdf=False)
+    (missing,) = [f for f in findings if f.code == "urdf_missing"]
+    assert "of the recorded /robot_description" in missing.message and "wheel_right_joint" in missing.message
+
+
+def test_a_recorded_xacro_is_said_not_checked(tmp_path: Path) -> None:
+    xacro = URDF.replace(
+        '<robot name="rover">',
+        '<robot name="rover" xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:property name="r" value="1"/>',
+    )
+    findings = _findings(tmp_path, Setup(description=True, description_text=xacro), urdf=False)
+    assert _codes(findings) == [("urdf_unread", "warning")]
+    assert "is xacro" in findings[0].message and "xacro" in findings[0].hint
+
+
+def test_no_description_no_findings(tmp_path: Path) -> None:
+    assert _findings(tmp_path, Setup(), urdf=False) == []
+
+
+def test_the_description_as_a_tree_shape() -> None:
+    shape = description_shape(ROBOT)
+    assert shape.frames["base_footprint"].parent is None
+    laser = shape.frames["laser"]
+    assert laser.static and laser.parent == "base_link" and laser.translation == (0.2, 0.0, 0.15)
+    assert not shape.frames["wheel_left_link"].static
+
+
+def _on_tf(*transforms: tuple[str, str, str, tuple, tuple]) -> list[Finding]:
+    """The robot's URDF against a recording (without files) of ``(topic, parent, child, xyz, rpy)`` at 10 Hz."""
+    messages = [
+        TfMessage(topic, START + i * NS_PER_S // 10, [Transform.from_rpy(xyz, rpy, START + i * NS_PER_S // 10, p, c)])
+        for i in range(20)
+        for topic, p, c, xyz, rpy in transforms
+        if topic == "/tf" or i == 0
+    ]
+    found = check(recording(sorted(messages, key=lambda m: m.record_time)), robot=Robot(ROBOT))
+    return [f for f in found if f.code.startswith("urdf")]
+
+
+def test_every_description_check_has_a_scene() -> None:
+    tested = {
+        "urdf_missing", "urdf_parent", "urdf_moved", "urdf_joint_state", "urdf_kind", "urdf_unseen", "urdf_extra",
+        "urdf_joint_states", "urdf_unread",
+    }  # fmt: skip
+    assert {c for c in CHECKS if c.startswith("urdf_")} == tested
+
+
+def test_a_link_under_another_parent() -> None:
+    base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    laser = ("/tf_static", "camera_link", "laser", (0.2, 0, 0.15), (0, 0, 0))
+    (parent,) = [f for f in _on_tf(base, laser) if f.code == "urdf_parent"]
+    assert "link laser is a child of camera_link on tf, of base_link in rover.urdf" in parent.message
+
+
+def test_a_fixed_joint_on_tf_and_a_moving_one_on_tf_static() -> None:
+    base = ("/tf", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    wheel = ("/tf_static", "base_link", "wheel_left_link", (0, 0.15, 0), (-math.pi / 2, 0, 0))
+    kinds = [f for f in _on_tf(base, wheel) if f.code == "urdf_kind"]
+    assert [f.frames for f in kinds] == [("base_footprint", "base_link"), ("base_link", "wheel_left_link")]
+    assert "comes on /tf, not /tf_static" in kinds[0].message and "only on /tf_static" in kinds[1].message
+
+
+def test_a_link_joined_to_nothing_is_unseen() -> None:
+    lonely = parse_urdf(URDF.replace("</robot>", '<link name="antenna"/></robot>'), "rover.urdf")
+    base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    found = check(
+        recording([TfMessage(m[0], START, [Transform.from_rpy(m[3], m[4], START, m[1], m[2])]) for m in [base]]),
+        robot=Robot(lonely),
+    )
+    (unseen,) = [f for f in found if f.code == "urdf_unseen"]
+    assert unseen.message == "link antenna of rover.urdf is never named on tf" and "joined to nothing" in unseen.hint
+
+
+def test_live_the_joint_states_are_not_heard_and_the_hint_says_what_to_look_at() -> None:
+    base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    messages = [TfMessage(base[0], START, [Transform.from_rpy(base[3], base[4], START, base[1], base[2])])]
+    found = check(recording(messages), robot=Robot(ROBOT, live=True))
+    wheels = [f for f in found if f.code == "urdf_missing" and "wheel" in f.message]
+    assert len(wheels) == 2 and all("does a node publish" in f.hint for f in wheels)

@@ -1,0 +1,64 @@
+"""``read_robot``: what a recording says of the robot itself: its description (the latest
+``/robot_description``, a std_msgs/String: latched in ROS 1, transient local in ROS 2) and its joints'
+positions over time (``/joint_states``, sensor_msgs/JointState), read through the bag readers as
+transforms are."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tftools.core.arrays import Int64Array
+from tftools.sources.bag.reader import read_files
+from tftools.sources.codecs.robot import JointState
+from tftools.sources.codecs.select import WholeTopics
+
+DESCRIPTION_TOPIC = "/robot_description"
+JOINT_STATES_TOPIC = "/joint_states"
+
+
+@dataclass(frozen=True)
+class RobotMessages:
+    """The recorded description (its URDF text, "" when none was recorded) and joint states (in record
+    order, ``record_time`` beside each), and one line per topic whose messages could not all be read."""
+
+    description: str = ""
+    record_time: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
+    joint_states: Sequence[JointState] = ()
+    joint_topic: str = JOINT_STATES_TOPIC
+    recorded_topics: frozenset[str] = frozenset()  # every topic of the recording
+    problems: Sequence[str] = ()
+
+
+def read_robot(
+    paths: Sequence[str | os.PathLike[str]],
+    description_topic: str = DESCRIPTION_TOPIC,
+    joint_topic: str = JOINT_STATES_TOPIC,
+) -> RobotMessages:
+    """The robot's messages in the recording at ``paths`` (several: a split one)."""
+    _, infos = read_files(paths, WholeTopics((description_topic, joint_topic)))
+    texts: list[tuple[int, str]] = []
+    states: list[tuple[int, JointState]] = []
+    for info in infos:
+        for whole in info.whole:
+            times = whole.record_time.tolist()
+            if whole.topic == description_topic:
+                texts += [(t, str(v)) for t, v in zip(times, whole.values, strict=True)]
+            elif whole.topic == joint_topic:
+                states += [(t, v) for t, v in zip(times, whole.values, strict=True) if isinstance(v, JointState)]
+    states.sort(key=lambda pair: pair[0])
+    texts.sort(key=lambda pair: pair[0])
+    topics = frozenset(t for info in infos for t in info.topics)
+    mine = (description_topic, joint_topic)
+    problems = [line for info in infos for line in info.problems if line.startswith(mine)]
+    return RobotMessages(
+        texts[-1][1] if texts else "",
+        np.array([t for t, _ in states], np.int64),
+        [s for _, s in states],
+        joint_topic,
+        topics,
+        problems,
+    )
