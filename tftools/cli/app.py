@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from tftools import __version__
@@ -32,7 +35,8 @@ def main() -> None:
     from tftools.core.errors import TfToolsError
 
     try:
-        code = app(standalone_mode=False)
+        with _warnings_as_notices():
+            code = app(standalone_mode=False)
     except TfToolsError as error:
         code = _failed(error)
     except typer.Abort:
@@ -49,6 +53,19 @@ def main() -> None:
             raise
         code = _failed(InternalError(error))
     sys.exit(int(code or 0))
+
+
+@contextmanager
+def _warnings_as_notices() -> Iterator[None]:
+    """A library's warning (numpy's, ruamel's) as one line, without the source line Python would add."""
+    import warnings
+
+    def show(message: Warning | str, category: type[Warning], filename: str, *_: object, **__: object) -> None:
+        print(f"tfx: note: {message} ({category.__name__} in {Path(filename).stem})", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        yield
 
 
 def _failed(error: TfToolsError) -> int:

@@ -55,8 +55,9 @@ def jumps(stamps: np.ndarray, values: FloatArray) -> Jumps:
         return Jumps(np.zeros(0, np.intp), np.zeros(0), np.zeros(0))
     metres, degrees = apart(values[:-1], values[1:])
     seconds = np.diff(stamps).astype(np.float64) / NS_PER_S
-    allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds) * seconds + FLOOR_M
-    allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds) * seconds + FLOOR_DEG
+    with np.errstate(over="ignore", invalid="ignore"):  # steps of infinite metres (values near 1e308)
+        allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds) * seconds + FLOOR_M
+        allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds) * seconds + FLOOR_DEG
     steps = np.flatnonzero((metres > allowed_m) | (degrees > allowed_deg))
     return Jumps(steps + 1, metres[steps], degrees[steps])
 
