@@ -14,6 +14,7 @@ from tftools.core.semantics import Semantics
 from tftools.core.time import Clock, SimClock, from_sec
 from tftools.render.escape import printable
 from tftools.sources import Recording
+from tftools.sources.live.errors import NoClockError
 
 if TYPE_CHECKING:
     from tftools.sources.contents import StampedMessages
@@ -22,6 +23,8 @@ if TYPE_CHECKING:
 
 #: Seconds between "still waiting" notices.
 REMIND_EVERY = 5.0
+#: Seconds of wall time to wait for the first /clock under simulated time.
+CLOCK_PATIENCE = 10.0
 
 
 def say(message: str) -> None:
@@ -160,7 +163,10 @@ def _every_sim(
 ) -> None:
     period = from_sec(1.0 / rate)
     done = 0
+    given_up = time.monotonic() + CLOCK_PATIENCE
     while clock.now() == 0 and not stop():  # no /clock yet: wait for a valid time, as ros::Time::waitForValid
+        if time.monotonic() > given_up:  # ... which waits for ever: a forgotten --clock
+            raise NoClockError(CLOCK_PATIENCE)
         clock.wait_until(1, timeout_s=0.1)
     due = clock.now()
     while (count is None or done < count) and not stop():
