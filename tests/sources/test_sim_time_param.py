@@ -12,8 +12,19 @@ from tftools.sources.live.ros1.source import param_is_true
 
 @pytest.mark.parametrize(
     ("value", "true"),
-    [(True, True), (False, False), (None, False), ("false", False), ("False", False), ("true", True), (" TRUE", True),
-     (1, True), (0, False), ("", False), ([1], False)],
+    [
+        (True, True),
+        (False, False),
+        (None, False),
+        ("false", False),
+        ("False", False),
+        ("true", True),
+        (" TRUE", True),
+        (1, True),
+        (0, False),
+        ("", False),
+        ([1], False),
+    ],
 )
 def test_use_sim_time_is_read_as_a_user_means_it(value: object, true: bool) -> None:
     assert param_is_true(value) is true
