@@ -24,7 +24,7 @@ OnBatch = Callable[[TransformBatch], None]
 
 #: Frames a live source passes on, at most: a peer inventing names (200,000 new ones a message) would
 #: grow the buffer's tables without bound. Transforms that name more are dropped, and that said once.
-MAX_LIVE_FRAMES = 100_000
+MAX_LIVE_FRAMES = 20_000
 
 #: Called with a one-line notice: a publisher that speaks another type, a lost connection...
 OnNotice = Callable[[str], None]
