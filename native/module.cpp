@@ -7,6 +7,7 @@
 
 #include <structmember.h>
 
+#include <cstdlib>
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -847,6 +848,9 @@ class BulkInsert {
 
 NB_MODULE(_kernels, m) {
     m.doc() = "The compiled lookups: tf2's walk over the buffer's edge histories.";
+    // A live command ends with its receiving threads still holding buffers: nanobind would list them
+    // as leaks on the user's terminal at exit. TFX_DEBUG=1 keeps the report, for developers.
+    if (std::getenv("TFX_DEBUG") == nullptr) nb::set_leak_warnings(false);
     m.attr("BLOCK") = tfcore::BLOCK;
     nb::class_<EdgeTable>(m, "EdgeTable")
         .def(nb::init<nb::object, nb::dict, nb::handle, nb::dict, nb::dict, nb::dict, std::optional<int64_t>, bool,

@@ -58,3 +58,14 @@ def test_text_tree_of_a_chain_of_thousands_of_frames(tfx, tmp_path) -> None:
     assert len(lines) == 3001 and lines[-1].split("] ", 1)[1].startswith("f3000")
     assert max(len(line) for line in lines) < 4 * (MAX_DRAWN_DEPTH + 2) + 200
     assert f"[depth {MAX_DRAWN_DEPTH + 1}] f{MAX_DRAWN_DEPTH + 1}" in result.stdout
+
+
+def test_a_tree_too_large_to_colour_is_the_same_text(tfx, monkeypatch) -> None:
+    """Past MAX_STYLED_LINES the tree goes out as plain text (rich costs 0.3 ms a line): the same text."""
+    from tftools.render import frames
+
+    styled = tfx("frames", "-b", SAMPLE_BAGS["ros1"])
+    monkeypatch.setattr(frames, "MAX_STYLED_LINES", 3)
+    plain = tfx("frames", "-b", SAMPLE_BAGS["ros1"])
+    assert plain.code == styled.code == 0
+    assert plain.stdout == styled.stdout and len(plain.stdout.splitlines()) > 3

@@ -20,6 +20,11 @@ their own type definitions (tftools' are not used, so a mistake there cannot hid
                                         not matched: the listener of a Humble or of a later system)
     ros2_nodes.py static_listener       listens to /tf_static with tf2_ros's StaticListenerQoS for 1.5 s and
                                         prints as JSON each sample and its writer's QoS as DDS discovered it
+    ros2_nodes.py hostile KIND          a misbehaving /tf writer announced as node /hostile: KIND "flood" (20,000
+                                        new frame names a sample, 10 Hz), "names" (escape codes, newlines, 10,000-
+                                        character names), "values" (NaN, inf, 1e308, a zero quaternion), "graph"
+                                        (ros_discovery_info naming 1,000 nodes of hostile names), "burst" (10,000
+                                        samples as fast as it can)
 Each prints "ready" once its writers exist, then runs until killed.
 """
 
@@ -260,6 +265,53 @@ def discovery_listener(dp, size):
         time.sleep(0.05)
 
 
+def hostile(dp, kind):
+    tf = DataWriter(dp, Topic(dp, "rt/tf", TFMessage_), qos=qos(100))
+    keep = announce(dp, "hostile", [tf], 16)
+    if kind == "graph":
+        gid, node, info = gid_types(16)
+        topic = Topic(dp, "ros_discovery_info", info)
+        junk = DataWriter(dp, topic, qos=qos(1, transient_local=True))
+        nodes = [node("/\x1b[31m", f"n{i}\n\x07" + "x" * 200, [], []) for i in range(1000)]
+        junk.write(info(gid(list(dp.guid.bytes)), nodes))
+    print("ready", flush=True)
+
+    def transform(parent, child, x=0.0, rotation=None):
+        stamp = Time_(*divmod(time.time_ns(), 1_000_000_000))
+        value = Transform_(Vector3_(x, 0.0, 0.0), rotation or Quaternion_())
+        return TransformStamped_(Header_(stamp, parent), child, value)
+
+    round_ = 0
+    while True:
+        round_ += 1
+        if kind == "flood":
+            message = [transform("root", f"r{round_}_{i}") for i in range(20_000)]
+        elif kind == "names":
+            message = [
+                transform("root", "\x1b]0;title\x07\x1b[2J"),
+                transform("root", "a\nb"),
+                transform("root", "x" * 10_000),
+                transform("root", ""),
+            ]
+        elif kind == "values":
+            message = [
+                transform("root", "nan", float("nan")),
+                transform("root", "inf", float("inf")),
+                transform("root", "big", 1e308),
+                transform("root", "zero", 0.0, Quaternion_(0, 0, 0, 0)),
+                transform("root", "fine", 1.0),
+            ]
+        else:
+            message = [transform("root", "base", 1.0)]
+        if kind == "burst":
+            for _ in range(10_000):
+                tf.write(TFMessage_(message))
+        else:
+            tf.write(TFMessage_(message))
+        time.sleep(0.1)
+    del keep
+
+
 def main():
     import os
 
@@ -281,6 +333,7 @@ def main():
         "volatile_static": volatile_static,
         "static_listener": static_listener,
         "discovery_listener": discovery_listener,
+        "hostile": hostile,
     }[mode](dp, *positional, **options)
 
 

@@ -95,3 +95,28 @@ def test_echo_follows_a_looped_replay_and_keeps_the_statics(ros: Ros, loop_bag: 
     jumps = [line for line in result.stderr.splitlines() if "jumped back" in line]
     assert len(jumps) >= 2, result.stderr  # 6 s of ticks over passes of 2 s
     assert all(JUMP.search(line) for line in jumps), jumps
+
+
+def test_sim_time_without_a_clock_is_said_not_waited_for_ever(ros: Ros) -> None:
+    """A forgotten --clock (issue 32, H3): /use_sim_time true and nothing publishes /clock. ros::Rate
+    would wait for ever; tfx says why after CLOCK_PATIENCE seconds and exits 2."""
+    ros.master.set_param("/use_sim_time", True)
+    try:
+        ros.spawn(STATIC_PUBLISHER, "0", "0", "1", "0", "0", "0", "nc_parent", "nc_child")
+        result = ros.run_tfx("echo", "nc_parent", "nc_child", "--count", "3", "--wait", "8")
+    finally:
+        ros.master.delete_param("/use_sim_time")
+    assert result.returncode == 2, result.stderr
+    assert "no /clock came in 10 s" in result.stderr and "rosbag play --clock" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_use_sim_time_as_the_text_false_is_false(ros: Ros) -> None:
+    ros.master.set_param("/use_sim_time", "false")
+    try:
+        ros.spawn(STATIC_PUBLISHER, "0", "0", "1", "0", "0", "0", "tf_parent", "tf_child")
+        result = ros.run_tfx("echo", "tf_parent", "tf_child", "--count", "1", "--wait", "10", "-f", "json")
+    finally:
+        ros.master.delete_param("/use_sim_time")
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["time"] > 1.6e9  # wall time, not a /clock that never came

@@ -19,13 +19,12 @@ import math
 import os
 from collections.abc import Collection, Mapping
 from dataclasses import asdict
-from pathlib import Path
 from typing import IO, Any
 
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, quat_from_rpy, rpy_from_quat
-from tftools.sources.bag.rosbag2.metadata_yaml import MetadataError, load
+from tftools.sources.yaml_input import NotAFileError, YamlInputError, load
 
 _FRAME_KEYS = ("parent", "static", "rate_hz", "publishers", "translation", "rpy_deg", "rotation")
 _HEADER = """\
@@ -85,11 +84,12 @@ def _rounded(value: float) -> float:
 def read_tree(path: str | os.PathLike[str]) -> TreeShape:
     """The tree in the YAML file at ``path``; ``TreeFileError`` says what is wrong with it."""
     name = str(path)
-    if not Path(path).is_file():
-        raise TreeFileError(name, "no such file", "check the path; tfx wtf --init BAG > tree.yaml writes one")
     try:
-        document = load(Path(path))
-    except MetadataError as error:
+        document = load(path)
+    except NotAFileError as error:
+        hint = f"{error.hint}; tfx wtf --init BAG > tree.yaml writes one"
+        raise TreeFileError(name, str(error), hint) from None
+    except YamlInputError as error:
         raise TreeFileError(name, f"cannot be read: {error}") from None
     if not isinstance(document, Mapping) or not isinstance(document.get("frames"), Mapping):
         raise TreeFileError(name, "has no 'frames:' mapping of frame names")

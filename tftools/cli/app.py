@@ -8,6 +8,9 @@ from __future__ import annotations
 import os
 import shlex
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from tftools import __version__
@@ -48,7 +51,8 @@ def _run() -> int:
 
     try:
         _bag_among_frames()
-        code = app(standalone_mode=False, prog_name="tfx")
+        with _warnings_as_notices():
+            code = app(standalone_mode=False, prog_name="tfx")
         if code == INTERRUPTED:  # typer's answer to Ctrl-C in a command: that code, silently
             raise KeyboardInterrupt
         sys.stdout.flush()  # what is still buffered fails here, not after the exit code is decided
@@ -96,6 +100,19 @@ def silence_stdout() -> None:
         os.close(devnull)
     except OSError:
         pass
+
+
+@contextmanager
+def _warnings_as_notices() -> Iterator[None]:
+    """A library's warning (numpy's, ruamel's) as one line, without the source line Python would add."""
+    import warnings
+
+    def show(message: Warning | str, category: type[Warning], filename: str, *_: object, **__: object) -> None:
+        print(f"tfx: note: {message} ({category.__name__} in {Path(filename).stem})", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        yield
 
 
 def _failed(error: TfToolsError) -> int:

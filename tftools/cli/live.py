@@ -22,6 +22,8 @@ if TYPE_CHECKING:
 
 #: Seconds between "still waiting" notices.
 REMIND_EVERY = 5.0
+#: Seconds of wall time to wait for the first /clock under simulated time.
+CLOCK_PATIENCE = 10.0
 
 
 def say(message: str) -> None:
@@ -160,7 +162,12 @@ def _every_sim(
 ) -> None:
     period = from_sec(1.0 / rate)
     done = 0
+    from tftools.sources.live.errors import NoClockError
+
+    given_up = time.monotonic() + CLOCK_PATIENCE
     while clock.now() == 0 and not stop():  # no /clock yet: wait for a valid time, as ros::Time::waitForValid
+        if time.monotonic() > given_up:  # ... which waits for ever: a forgotten --clock
+            raise NoClockError(CLOCK_PATIENCE)
         clock.wait_until(1, timeout_s=0.1)
     due = clock.now()
     while (count is None or done < count) and not stop():

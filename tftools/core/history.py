@@ -5,6 +5,7 @@ from __future__ import annotations
 import mmap
 from bisect import bisect_right
 from collections.abc import Iterable, Mapping, Sequence
+from itertools import accumulate, pairwise
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -56,8 +57,10 @@ def block_bytes(capacity: int) -> int:
 
 def _columns_in(block: UInt8Array, capacity: int) -> _Columns:
     """The columns of ``capacity`` rows laid one after another in ``block``."""
-    ends = np.cumsum(_COLUMN_BYTES) * capacity
-    stamps, values, parents, authorities, record_times, sequence, flags = np.split(block[: ends[-1]], ends[:-1])
+    ends = [0, *accumulate(size * capacity for size in _COLUMN_BYTES)]  # not np.split: 10x its cost a history
+    stamps, values, parents, authorities, record_times, sequence, flags = (
+        block[start:end] for start, end in pairwise(ends)
+    )
     return (
         stamps.view(np.int64),
         values.view(np.float64).reshape(capacity, 7),

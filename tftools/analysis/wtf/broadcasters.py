@@ -139,5 +139,6 @@ def _alternating(values: FloatArray) -> int:
 
 def apart(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
     """How far each value of ``b`` is from the one of ``a`` (N x 7 each): metres, and degrees of rotation."""
-    metres: FloatArray = np.linalg.norm(b[:, :3] - a[:, :3], axis=1)
+    with np.errstate(over="ignore"):  # values near 1e308 are apart by an infinity of metres
+        metres: FloatArray = np.linalg.norm(b[:, :3] - a[:, :3], axis=1)
     return metres, np.degrees(angle_between_many(a[:, 3:], b[:, 3:]))

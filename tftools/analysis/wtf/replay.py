@@ -12,7 +12,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import CheckSkippedError, register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.rosbag2 import metadata_yaml
+from tftools.sources import yaml_input
 from tftools.sources.contents import SourceInfo, is_static_topic
 
 #: A recording this long (s) is one people play from the middle, split or filter.
@@ -64,17 +64,17 @@ def _static_qos(file: SourceInfo) -> dict[str, list[object]]:
             "check the bag directory, not one of its files",
         )
     try:
-        info = metadata_yaml.load(metadata)["rosbag2_bagfile_information"]
+        info = yaml_input.load(metadata)["rosbag2_bagfile_information"]
         found = {}
         for entry in info.get("topics_with_message_count") or []:
             topic = entry["topic_metadata"]
             if is_static_topic(str(topic["name"])):
                 profiles = topic.get("offered_qos_profiles") or []
                 found[str(topic["name"])] = (
-                    list(metadata_yaml.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
+                    list(yaml_input.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
                 )
         return found
-    except (metadata_yaml.MetadataError, KeyError, TypeError, AttributeError) as error:
+    except (yaml_input.YamlInputError, KeyError, TypeError, AttributeError) as error:
         raise CheckSkippedError(
             f"{metadata} does not say the QoS of /tf_static ({error})", "repair or regenerate metadata.yaml"
         ) from None

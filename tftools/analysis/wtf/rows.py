@@ -50,11 +50,11 @@ class Layout:
         """``column``'s values (of a segment) of ``rows``, in their order."""
         places = self.place[np.flatnonzero(rows) if rows.dtype == np.bool_ else rows]
         which = np.searchsorted(self.starts, places, side="right") - 1
-        found = np.unique(which)
-        if len(found) <= 1:
-            s = int(found[0]) if len(found) else 0
+        if not len(which) or (which[0] == which[-1] and (which == which[0]).all()):  # one history: the usual case
+            s = int(which[0]) if len(which) else 0
             one: npt.NDArray[S] = column(self.segments[s])[places - self.starts[s]]
             return one
+        found = np.unique(which)
         first = column(self.segments[int(found[0])])
         out = np.empty((len(places), *first.shape[1:]), first.dtype)
         for s in found.tolist():
@@ -69,25 +69,18 @@ class Layout:
     def groups(self, mask: BoolArray, by_parent: bool) -> Iterator[tuple[int, int, IntpArray]]:
         """(parent id, child id, rows) for each edge (or child, parent 0) among the ``mask`` rows, each
         in record order, in order of first arrival."""
-        in_place = np.zeros(len(self), bool)
-        in_place[self.place] = mask
-        found: dict[tuple[int, int], list[Int32Array]] = {}
-        for start, segment in zip(self.starts.tolist(), self.segments, strict=True):
-            local = np.flatnonzero(in_place[start : start + len(segment.stamp)])
-            if not len(local):
-                continue
-            children = segment.child[local].astype(np.int64)
-            keys = (segment.parent[local].astype(np.int64) << 32 | children) if by_parent else children
-            if keys[0] == keys[-1] and (keys == keys[0]).all():  # a history of one parent: the usual case
-                edges, which = keys[:1], None
-            else:
-                edges, which = np.unique(keys, return_inverse=True)
-            for k, key in enumerate(edges.tolist()):
-                theirs = local if which is None else local[which == k]
-                found.setdefault((key >> 32, key & 0xFFFFFFFF), []).append(self.row[start + theirs])
-        firsts = sorted((min(int(p.min()) for p in parts), key) for key, parts in found.items())
-        for _, (parent, child) in firsts:
-            yield parent, child, np.sort(np.concatenate(found.pop((parent, child)))).astype(np.intp)
+        rows = np.flatnonzero(mask)
+        if not len(rows):
+            return
+        child = self.whole(lambda s: s.child)[rows].astype(np.int64)
+        keys = (self.whole(lambda s: s.parent)[rows].astype(np.int64) << 32 | child) if by_parent else child
+        order = np.argsort(keys, kind="stable")  # within a key, rows stay in record order
+        ordered = keys[order]
+        bounds = np.flatnonzero(ordered[1:] != ordered[:-1]) + 1
+        parts = np.split(rows[order], bounds)
+        edges = ordered[np.r_[0, bounds]].tolist()
+        for k in np.argsort([int(part[0]) for part in parts], kind="stable").tolist():  # by first arrival
+            yield edges[k] >> 32, edges[k] & 0xFFFFFFFF, parts[k].astype(np.intp)
 
 
 class Column(Generic[S]):

@@ -8,7 +8,9 @@ from collections.abc import Callable, Sequence
 from types import TracebackType
 from typing import TYPE_CHECKING, TypeVar
 
-from tftools.core.batch import TransformBatch
+import numpy as np
+
+from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.time import Clock, SimClock, WallClock
 from tftools.sources.contents import DEFAULT_TOPICS
 
@@ -19,6 +21,10 @@ if TYPE_CHECKING:
 #: so calls never overlap); rows are static where they came on ``/tf_static``, with the publisher
 #: as authority and the receive time (on the source's clock) as record time.
 OnBatch = Callable[[TransformBatch], None]
+
+#: Frames a live source passes on, at most: a peer inventing names (200,000 new ones a message) would
+#: grow the buffer's tables without bound. Transforms that name more are dropped, and that said once.
+MAX_LIVE_FRAMES = 20_000
 
 #: Called with a one-line notice: a publisher that speaks another type, a lost connection...
 OnNotice = Callable[[str], None]
@@ -33,6 +39,31 @@ def printable(text: str, limit: int = 200) -> str:
 
 def ignore_notice(_message: str) -> None:
     """An ``OnNotice`` for no one."""
+
+
+class FrameLimit:
+    """The frames passed on so far, at most ``limit``: a batch's rows naming a frame past it are dropped."""
+
+    def __init__(self, limit: int, on_notice: OnNotice) -> None:
+        self.limit = limit
+        self.names: set[str] = set()
+        self._on_notice = on_notice
+
+    def admit(self, batch: TransformBatch) -> TransformBatch:
+        """``batch`` less the rows that name a new frame once ``limit`` frames are known."""
+        used = np.unique(np.concatenate([batch.parent, batch.child]))
+        new = [int(i) for i in used if batch.frame_names[i] not in self.names]
+        room = max(self.limit - len(self.names), 0)
+        self.names.update(batch.frame_names[i] for i in new[:room])
+        if len(new) <= room:
+            return batch
+        refused = np.array(new[room:], np.int32)
+        kept = np.flatnonzero(~(np.isin(batch.parent, refused) | np.isin(batch.child, refused)))
+        self._on_notice(
+            f"more than {self.limit:,} frames heard: transforms naming further frames are dropped"
+            " (a publisher inventing frame names?)"
+        )
+        return take_rows(batch, kept)
 
 
 class NoticeOnce:
@@ -84,6 +115,7 @@ class LiveSource(ContextManaged):
         self._closed = threading.Event()
         self._lock = threading.Lock()  # the receiving threads' counts and what they told
         self._told_unreadable: set[tuple[str, str]] = set()
+        self._frame_limit = FrameLimit(MAX_LIVE_FRAMES, self._notice_once)
 
     @property
     def clock(self) -> Clock:
@@ -125,6 +157,9 @@ class LiveSource(ContextManaged):
         self._notice_once(f"{printable(sender)} sent an unreadable message on {topic} ({reason}); such are dropped")
 
     def _pass_on(self, on_batch: OnBatch, batch: TransformBatch) -> None:
+        batch = self._frame_limit.admit(batch)
+        if not len(batch):
+            return
         try:
             on_batch(batch)
         except Exception as error:  # the consumer's bug must not stop the listening

@@ -76,3 +76,12 @@ class DdsError(LiveError):
             f"Cyclone DDS could not {what}" + (f" ({code})" if code else f": {reason}"),
             "check CYCLONEDDS_URI (Cyclone printed why above), ROS_AUTOMATIC_DISCOVERY_RANGE and ROS_STATIC_PEERS",
         )
+
+
+class NoClockError(LiveError):
+    def __init__(self, seconds: float) -> None:
+        super().__init__(
+            f"/use_sim_time is true, but no /clock came in {seconds:g} s: time stands still at 0",
+            "replay with the clock (rosbag play --clock BAG), or run without simulated time "
+            "(rosparam set /use_sim_time false, or tfx ... --wall-time)",
+        )

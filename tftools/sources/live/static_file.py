@@ -14,10 +14,10 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Mapping
-from pathlib import Path
 from typing import Any
 
 from tftools.core.transform import Transform
+from tftools.sources import yaml_input
 from tftools.sources.errors import SourceError
 
 _RPY_KEYS = ("roll", "pitch", "yaw")
@@ -37,18 +37,13 @@ class StaticFileError(SourceError):
 
 def read_static_transforms(path: str | os.PathLike[str]) -> list[Transform]:
     """The transforms listed in the YAML file at ``path`` (stamp 0), in file order."""
-    from ruamel.yaml import YAML
-    from ruamel.yaml.error import YAMLError
-
     name = str(path)
     try:
-        documents = list(YAML(typ="safe").load_all(Path(path).read_text(encoding="utf-8")))
-    except FileNotFoundError:
-        raise StaticFileError(name, "no such file", "check the path") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise StaticFileError(name, f"cannot be read ({error})", "give a YAML text file") from None
-    except YAMLError as error:
-        raise StaticFileError(name, f"not YAML ({str(error).splitlines()[0]})") from None
+        documents = yaml_input.load_all(path)
+    except yaml_input.NotAFileError as error:
+        raise StaticFileError(name, str(error), error.hint) from None
+    except yaml_input.YamlInputError as error:
+        raise StaticFileError(name, f"cannot be read: {error}", "give a YAML text file") from None
     entries = [entry for document in documents for entry in _entries(name, document)]
     if not entries:
         raise StaticFileError(name, "lists no transforms")

@@ -10,7 +10,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path, PurePosixPath
 
-from tftools.sources.errors import BagNotFoundError
+from tftools.sources.errors import BagError, BagNotFoundError
 
 #: Files that are recordings (a ROS 2 bag directory, with its metadata.yaml, is one too).
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
@@ -18,6 +18,8 @@ METADATA = "metadata.yaml"
 #: What a rosbag2 directory holds: its metadata and storage files (compressed or not, sqlite's journals).
 BAG_DIRECTORY_SUFFIXES = frozenset({".yaml", ".db3", ".mcap", ".zstd", ".db3-shm", ".db3-wal", ".db3-journal"})
 GLOB_CHARACTERS = frozenset("*?[")
+#: Files a folder may hold below it to be searched for recordings (``tfx wtf /`` would walk the disk).
+MAX_FILES_BELOW = 200_000
 
 _URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
 
@@ -77,11 +79,15 @@ def _below_local(path: str, *, listed_only: bool) -> list[str]:
     directory = Path(path)
     if not directory.is_dir() or _is_bag_directory(directory):
         return [path]
-    files = [
-        str(PurePosixPath(os.path.relpath(os.path.join(root, name), directory)))
-        for root, _, names in os.walk(directory)
-        for name in names
-    ]
+    files: list[str] = []
+    for root, _, names in os.walk(directory):
+        files += (str(PurePosixPath(os.path.relpath(os.path.join(root, name), directory))) for name in names)
+        if len(files) > MAX_FILES_BELOW:
+            raise BagError(
+                path,
+                f"holds more than {MAX_FILES_BELOW:,} files below it: not searched for recordings",
+                "name the recordings, or a folder closer to them",
+            )
     found = [str(directory / name) for name in recordings_in(files)]
     if not found and listed_only:
         raise BagNotFoundError(path)

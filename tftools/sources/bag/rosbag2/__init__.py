@@ -11,9 +11,9 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from tftools.core.batch import TransformBatch
+from tftools.sources import yaml_input
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow, in_turn
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.rosbag2 import metadata_yaml
 from tftools.sources.bag.scan import FileScan, file_result
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
 from tftools.sources.errors import CorruptBagError
@@ -64,8 +64,8 @@ def _metadata(path: Path, problems: list[str]) -> dict[str, Any] | None:
     if not _exists(path):
         return None
     try:
-        document = metadata_yaml.load(path)
-    except metadata_yaml.MetadataError as e:
+        document = yaml_input.load(path)
+    except yaml_input.YamlInputError as e:
         problems.append(f"metadata.yaml is unreadable ({e}), read the bag files found instead")
         return None
     info = document.get("rosbag2_bagfile_information") if isinstance(document, dict) else None

@@ -86,7 +86,7 @@ class Ros1Source(LiveSource):
         self._node = Node(network.anonymous_name(name), master_uri, notice_once)
         try:
             if use_sim_time is None:
-                use_sim_time = bool(self._node.master.get_param("/use_sim_time"))
+                use_sim_time = param_is_true(self._node.master.get_param("/use_sim_time"))
         except BaseException:
             self._node.close()
             raise
@@ -161,3 +161,11 @@ class Ros1Source(LiveSource):
         """One thread calls ``on_batch``, with whatever arrived while it was busy merged."""
         while (batches := self._queue.take_all()) is not None:
             self._pass_on(on_batch, concat_batches(batches))
+
+
+def param_is_true(value: object) -> bool:
+    """A boolean parameter as a user means it: ``true``, or the text ``"true"`` (``rosparam set`` of a
+    quoted value); the text ``"false"``, like a missing parameter, is false."""
+    if isinstance(value, str):
+        return value.strip().lower() in ("true", "1", "yes", "on")
+    return isinstance(value, bool | int) and bool(value)

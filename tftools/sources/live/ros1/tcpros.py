@@ -4,14 +4,20 @@ from __future__ import annotations
 
 import socket
 import struct
+import threading
 import time
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 
 _LENGTH = struct.Struct("<I")
 
 #: The largest message accepted from a peer: a tf message of ~800,000 transforms. A larger length
 #: is a wrong port, garbage, or a peer trying to exhaust memory: the connection is dropped.
 MAX_MESSAGE = 64 << 20
+
+#: Bytes of messages being received from all peers together: 64 peers each half-way through a 60 MiB
+#: message would otherwise hold 3.8 GB. A message that would pass it is refused and its link dropped.
+MAX_IN_FLIGHT = 256 << 20
 
 #: The largest connection header accepted. It carries the publisher's full message definition, with
 #: comments: 2 KB for tf2_msgs/TFMessage, 8 KB for sensor_msgs/CameraInfo, more for a custom type
@@ -30,6 +36,33 @@ _READ_SIZE = 1 << 20
 
 class ProtocolError(Exception):
     """The other end does not speak TCPROS, hung up mid-frame, or was too slow or too large."""
+
+
+class _InFlight:
+    """The bytes of the messages being received, over every link of the process."""
+
+    def __init__(self, limit: int) -> None:
+        self.limit = limit
+        self.held = 0
+        self._lock = threading.Lock()
+
+    @contextmanager
+    def holding(self, size: int) -> Iterator[None]:
+        with self._lock:
+            if self.held + size > self.limit:
+                raise ProtocolError(
+                    f"a message of {size} bytes while {self.held} are being received from other peers,"
+                    f" above tfx's limit of {self.limit} in all"
+                )
+            self.held += size
+        try:
+            yield
+        finally:
+            with self._lock:
+                self.held -= size
+
+
+IN_FLIGHT = _InFlight(MAX_IN_FLIGHT)
 
 
 def encode_header(fields: Mapping[str, str]) -> bytes:
@@ -81,7 +114,8 @@ def read_message(sock: socket.socket) -> bytes:
     (size,) = _LENGTH.unpack(read_exactly(sock, 4))
     if size > MAX_MESSAGE:
         raise ProtocolError(f"a message of {size} bytes, above tfx's limit of {MAX_MESSAGE}: not a tf message")
-    return read_exactly(sock, size, time.monotonic() + MESSAGE_TIMEOUT)
+    with IN_FLIGHT.holding(size):
+        return read_exactly(sock, size, time.monotonic() + MESSAGE_TIMEOUT)
 
 
 def read_header(sock: socket.socket, timeout: float | None = None) -> dict[str, str]:

@@ -1,0 +1,60 @@
+"""Library noise (issue 32, U3): values near 1e308 and a library's warnings never reach the user as
+Python's warning lines; what a warning says is one line of tfx's."""
+
+from __future__ import annotations
+
+import functools
+import warnings
+from pathlib import Path
+
+import pytest
+
+from tests.bags import BagFormat, TfMessage, write_bag
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+
+
+@pytest.fixture(scope="module")
+def huge_values(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """map -> odom leaping between -1e308 and 1e308 m at 10 Hz: steps of an infinity of metres."""
+    start = 1_700_000_000 * NS_PER_S
+    messages = []
+    for i in range(50):
+        stamp = start + i * NS_PER_S // 10
+        leap = 1e308 if i % 2 else -1e308
+        transforms = [
+            Transform((leap, 1e308, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "map", "odom"),
+            Transform((0.1 * i, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "odom", "base_link"),
+        ]
+        messages.append(TfMessage("/tf", stamp + 1_000_000, transforms, "/node"))
+    return write_bag(tmp_path_factory.mktemp("huge") / "huge.bag", messages, BagFormat.ros1)
+
+
+@pytest.mark.parametrize(
+    "command",
+    [("wtf", "BAG"), ("view-frames", "-b", "BAG", "-o", "OUT.svg"), ("report", "-b", "BAG", "-o", "OUT.html")],
+    ids=["wtf", "view-frames", "report"],
+)
+def test_values_near_the_largest_float_raise_no_warning(tfx, huge_values: Path, tmp_path: Path, command) -> None:
+    args = [str(huge_values) if a == "BAG" else str(tmp_path / a[4:]) if a.startswith("OUT") else a for a in command]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a warning raised anywhere fails the command
+        result = tfx(*args)
+    assert result.code in (0, 1), result.stderr
+    assert "Warning" not in result.stderr and "internal error" not in result.stderr
+
+
+def test_a_library_warning_is_one_line_of_tfx(tfx, monkeypatch) -> None:
+    from tftools.cli import frames
+
+    real = frames.command
+
+    @functools.wraps(real)
+    def warns(*args: object, **kwargs: object) -> None:
+        warnings.warn("overflow encountered in multiply", RuntimeWarning, stacklevel=1)
+        real(*args, **kwargs)
+
+    monkeypatch.setattr(frames, "command", warns)
+    result = tfx("frames", "-b", Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag")
+    lines = [line for line in result.stderr.splitlines() if "overflow" in line]
+    assert lines == ["tfx: note: overflow encountered in multiply (RuntimeWarning in test_limits_cli)"], result.stderr

@@ -1,0 +1,40 @@
+"""A hostile ROS 2 participant on loopback (issue 32): a /tf writer flooding new frame names, sending
+names made of escape codes, values tf2 refuses, a graph announcement of a thousand hostile node names,
+bursts of thousands of samples. Each command ends on time with one-line notices, nothing else."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.live.ros2_processes import Ros2Domain, domain_fixture  # noqa: F401 - the fixture `domain`
+from tftools.sources.live import base, open_live
+from tftools.sources.live.capture import capture
+
+KINDS = ["flood", "names", "values", "graph", "burst"]
+COMMANDS = {
+    "monitor": ("monitor", "--ros2", "--duration", "3", "-f", "json"),
+    "frames": ("frames", "--ros2", "-d", "3"),
+    "wtf": ("wtf", "--ros2", "-d", "3"),
+}
+
+
+@pytest.mark.parametrize("command", COMMANDS.values(), ids=COMMANDS.keys())
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_hostile_participant_gets_one_line_notices(domain: Ros2Domain, kind: str, command: tuple[str, ...]) -> None:
+    domain.node("hostile", kind).wait_for("ready", timeout=30)
+    finished = domain.tfx(*command).finish(timeout=120)  # a hang guard, not a time limit
+    assert finished.returncode in (0, 1), finished.stderr
+    assert "Traceback" not in finished.stderr and "internal error" not in finished.stderr
+    assert "\x1b" not in finished.stderr and "\x1b" not in finished.stdout  # escape codes shown escaped
+    assert all(len(line) < 12_000 for line in finished.stderr.splitlines())
+
+
+def test_a_flood_of_frame_names_is_cut_at_the_limit_and_said_once(domain: Ros2Domain, monkeypatch) -> None:
+    monkeypatch.setattr(base, "MAX_LIVE_FRAMES", 30_000)
+    domain.node("hostile", "flood").wait_for("ready", timeout=30)
+    notices: list[str] = []
+    recording = capture(open_live("ros2", on_notice=notices.append), duration=3.0)
+    heard = set(recording.transforms.frame_names[i] for i in recording.transforms.child)
+    assert 20_000 <= len(heard) <= 30_000
+    said = "more than 30,000 frames heard: transforms naming further frames are dropped"
+    assert [n for n in notices if "frames heard" in n] == [f"{said} (a publisher inventing frame names?)"]
