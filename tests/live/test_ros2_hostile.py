@@ -34,7 +34,8 @@ def test_a_flood_of_frame_names_is_cut_at_the_limit_and_said_once(domain: Ros2Do
     domain.node("hostile", "flood").wait_for("ready", timeout=30)
     notices: list[str] = []
     recording = capture(open_live("ros2", on_notice=notices.append), duration=3.0)
-    heard = set(recording.transforms.frame_names[i] for i in recording.transforms.child)
+    transforms = recording.transforms
+    heard = {transforms.frame_names[i] for i in transforms.child}
     assert 20_000 <= len(heard) <= 30_000
     said = "more than 30,000 frames heard: transforms naming further frames are dropped"
     assert [n for n in notices if "frames heard" in n] == [f"{said} (a publisher inventing frame names?)"]

@@ -1,7 +1,7 @@
 """A robot's description (URDF) read within limits: its links, and its joints with their origins and axes.
 
 The standard library's XML parser (expat) reads it, within metadata.yaml's limits on size, nesting and
-element count (``rosbag2.metadata_yaml``), with document type declarations refused before parsing: no
+element count (``sources.yaml_input``), with document type declarations refused before parsing: no
 entity is ever expanded. A URDF is a plain XML file of a few elements, and only a small part of it
 (``<link name>``, ``<joint>``'s type, parent, child, origin, axis and mimic) says where frames are: no
 library would read that part better, and none is needed. xacro is not expanded (it runs Python-like
@@ -18,12 +18,11 @@ from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from functools import cached_property
-from pathlib import Path
 from typing import cast
 
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, matrix_apply, matrix_from_quat, quat_from_rpy
-from tftools.sources.bag.rosbag2.metadata_yaml import MAX_BYTES, MAX_DEPTH, MAX_NODES
+from tftools.sources.yaml_input import MAX_BYTES, MAX_DEPTH, MAX_NODES, NotAFileError, YamlInputError, read_bytes
 
 #: xacro's namespace as xacro files spell it (``xmlns:xacro``), as a tag's prefix.
 XACRO_NAMESPACES = ("{http://www.ros.org/wiki/xacro}", "{http://ros.org/wiki/xacro}")
@@ -129,14 +128,12 @@ def _multiply(a: Quat, b: Quat) -> Quat:
 def read_urdf(path: str | os.PathLike[str]) -> RobotDescription:
     """The robot described in the URDF file at ``path``; ``UrdfError`` says what is wrong with it."""
     name = str(path)
-    file = Path(path)
-    if not file.is_file():
-        raise UrdfError(name, "no such file", "check the path (a URDF file, e.g. xacro robot.urdf.xacro > robot.urdf)")
     try:
-        with file.open("rb") as f:
-            raw = f.read(MAX_BYTES + 1)
-    except OSError as e:
-        raise UrdfError(name, e.strerror or str(e), "check that the file is readable") from None
+        raw = read_bytes(path, MAX_BYTES)
+    except NotAFileError as e:
+        raise UrdfError(name, str(e), f"{e.hint} (a URDF file, e.g. xacro robot.urdf.xacro > robot.urdf)") from None
+    except YamlInputError as e:
+        raise UrdfError(name, str(e), "check that the file is readable") from None
     if name.endswith(".xacro"):
         raise _xacro(name)
     return parse_urdf(raw, name)

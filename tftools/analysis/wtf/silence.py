@@ -13,7 +13,7 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene
-from tftools.sources.bag.rosbag2 import metadata_yaml
+from tftools.sources import yaml_input
 from tftools.sources.contents import SourceInfo, is_static_topic
 
 
@@ -70,16 +70,16 @@ def _counts(file: SourceInfo, topics: tuple[str, ...]) -> dict[str, tuple[int, i
     """Per tf topic: its messages and its publishers, as metadata.yaml has them (nothing if unreadable:
     ``static_volatile`` says so)."""
     try:
-        info = metadata_yaml.load(Path(file.path) / "metadata.yaml")["rosbag2_bagfile_information"]
+        info = yaml_input.load(Path(file.path) / "metadata.yaml")["rosbag2_bagfile_information"]
         found = {}
         for entry in info.get("topics_with_message_count") or []:
             topic = entry["topic_metadata"]
             if str(topic["name"]) in topics:
                 profiles = topic.get("offered_qos_profiles") or []
-                offered = metadata_yaml.load_text(profiles) if isinstance(profiles, str) else profiles
+                offered = yaml_input.load_text(profiles) if isinstance(profiles, str) else profiles
                 found[str(topic["name"])] = (int(entry.get("message_count") or 0), len(offered or []))
         return found
-    except (metadata_yaml.MetadataError, KeyError, TypeError, ValueError, AttributeError):
+    except (yaml_input.YamlInputError, KeyError, TypeError, ValueError, AttributeError):
         return {}
 
 
