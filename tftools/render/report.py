@@ -73,12 +73,16 @@ def recording_section(index: int, report: RecordingReport, legend: Sequence[str]
     tree = _tree(report, legend, anchor)
     data = {
         "anchor": anchor,
-        "axis": {"step": report.bins.width / NS_PER_S, "count": report.bins.count},
+        "axis": {
+            "start": _seconds(report.bins.start, report.origin),
+            "step": report.bins.width / NS_PER_S,
+            "count": report.bins.count,
+        },
         "edges": [_edge_data(report, report.edges[i], svg_ids) for i in rows],
         "findings": [_finding_data(report, i, rows, svg_ids, anchor) for i in range(len(report.findings))],
         "streams": [_stream_data(s) for s in report.streams],
     }
-    origin = report.bins.start
+    origin = report.origin
     parts = [
         '<div class="top">',
         _facts(report.facts),
@@ -246,7 +250,7 @@ def _statics(edges: Sequence[GraphEdge]) -> str:
 
 
 def _edge_data(report: RecordingReport, edge: EdgeTimeline, svg_ids: dict[tuple[str, str], str]) -> dict[str, Any]:
-    origin = report.bins.start
+    origin = report.origin
     return {
         "name": printable(f"{edge.parent} -> {edge.child}"),
         "svg": svg_ids.get(edge.key, ""),
@@ -266,7 +270,7 @@ def _finding_data(
 ) -> dict[str, Any]:
     """Where a finding is: its time span on the axis, the timeline rows and tree elements it is pinned on
     (Graphviz numbers nodes in the order they were added, as edges)."""
-    origin = report.bins.start
+    origin = report.origin
     graph, finding = report.graph, report.findings[index]
     keys = [e.key for e in graph.edges if index in e.problems]  # in the graph's order: the same page each run
     nodes = [f"{anchor}-node{j + 1}" for j, node in enumerate(graph.nodes) if index in node.problems]
