@@ -187,11 +187,14 @@ class Timeline:
 
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
         """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms: the one definition of a
-        delay; none where ``delays_measured`` is false (``delays_unavailable`` says why)."""
+        delay; none where ``delays_measured`` is false (``delays_unavailable`` says why). ROS time read
+        off a clock that ticks lags by up to a step, so the delay lies between the reading and a step more:
+        the value nearest zero in that range, never a negative delay that the clock's steps made."""
         if not self.delays_measured:
             return np.zeros(0, np.int64)
         times, measured = self.measurable(child, record_times, flags)
-        return times[measured] - stamps[measured]
+        read = times[measured] - stamps[measured]
+        return np.minimum(np.maximum(read, 0), read + self.resolution) if self.resolution else read
 
     def played(self) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the
