@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import json
 import re
+import time
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -32,6 +34,19 @@ class Publisher:
         self.process.stdin.flush()
         read_line(self.process, "ok", timeout=10)
 
+    def until(self, line: str, heard: Callable[[], bool], what: str) -> None:
+        """Say ``line`` again until ``heard()``: a message sent before tfx's connection to the node is up
+        is lost (tf2_ros's own test spins a second for that); once up, said once more changes nothing."""
+        deadline = time.monotonic() + 20
+        while True:
+            self.say(line)
+            try:
+                wait_until(heard, 0.5, what)
+                return
+            except pytest.fail.Exception:
+                if time.monotonic() > deadline:
+                    raise
+
 
 @pytest.fixture
 def publisher(ros: Ros) -> Publisher:
@@ -45,11 +60,8 @@ def test_a_jump_back_clears_the_buffer_and_keeps_what_comes_after(ros: Ros, publ
     source = open_live("ros1", use_sim_time=True, master_uri=ros.master.uri, on_notice=notices.append)
     buffer = listen(source)
     try:
-        wait_until(lambda: ros.master.subscribers("/clock"), 20, "tfx's /clock subscription")
-        wait_until(lambda: ros.master.publishers("/tf") and ros.master.publishers("/clock"), 20, "the publisher")
-        publisher.say("clock 100")
-        wait_until(lambda: source.clock.now() == 100 * S, 10, "ROS time 100 s")
-        publisher.say("tf foo bar 100")
+        publisher.until("clock 100", lambda: source.clock.now() == 100 * S, "ROS time 100 s")
+        publisher.until("tf foo bar 100", lambda: buffer.has_frame("bar"), "foo -> bar")
         publisher.say("tf foo bar 102")
         wait_until(lambda: buffer.can_transform("foo", "bar", 101 * S), 10, "foo -> bar at 101 s")
         publisher.say("clock 90")
@@ -91,6 +103,6 @@ def test_a_live_monitor_on_sim_time_counts_from_what_it_heard(ros: Ros) -> None:
     )
     json_result = ros.run_tfx("monitor", "--ros1", "--use-sim-time", "--duration", "3", "-f", "json", timeout=60)
     reports = [json.loads(line) for line in json_result.stdout.splitlines() if line.strip()]
-    assert reports and all(
-        e["delay_mean_s"] is None for r in reports if r["delays_unavailable"] for e in r["edges"]
-    ), json_result.stdout[:2000]
+    assert reports and all(e["delay_mean_s"] is None for r in reports if r["delays_unavailable"] for e in r["edges"]), (
+        json_result.stdout[:2000]
+    )
