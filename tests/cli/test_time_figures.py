@@ -69,6 +69,11 @@ def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx) -> None:
     assert "/clock, which ticks every 0.100 s" in shown["delays_unavailable"]
     text = tfx("monitor", "-b", bag).stdout
     assert "delays unavailable: ROS time at arrival is read off /clock, which ticks every 0.100 s" in text
+    played = [
+        json.loads(line)
+        for line in tfx("monitor", "-b", bag, "--play", "--rate", "50", "-f", "json").stdout.splitlines()
+    ]
+    assert played and all(e["delay_mean_s"] is None for r in played for e in r["edges"])  # a replay too
     codes = {f.code for f in check(recording)}
     assert not codes & {"delay", "future"}
 
@@ -123,6 +128,8 @@ def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx) -> 
     assert header.endswith(f": 19.900 s from {(WALL - 5 * MS) / S:.3f} to {(WALL + 19895 * MS) / S:.3f}")
     facts = dict(recording_facts(recording))
     assert "(19.900 s)" in facts["tf stamps"]
+    at = tfx("echo", "arm_base", "arm_link", "-b", bag, "--topic", "tf", "--at", "1905")  # its own clock's times
+    assert at.code == 0 and at.stdout.startswith("At time 1905.000\n- Translation: [50.000,")
     (clock,) = [f for f in check(recording) if f.code == "clock"]  # the arm is still told of
     assert "arm_base -> arm_link" in clock.message and "stamped around 1910.0 s" in clock.message
     assert not re.search(r"[+-]\d{6,}\.\d s", "\n".join(f.message for f in check(recording)))

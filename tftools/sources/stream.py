@@ -147,6 +147,10 @@ def _share(progress: ProgressCallback | None, index: int, count: int) -> Progres
     return reported
 
 
+#: The /clock samples of a streamed recording's first window kept to tell how often /clock ticks.
+CLOCK_STEPS = 1000
+
+
 class _Summary:
     """What the first pass learns of a recording, window by window, in memory that does not grow with it."""
 
@@ -177,7 +181,8 @@ class _Summary:
             self.spans[static] = (static, min(seen[1], first), max(seen[2], last))
         if len(contents.clock) and not len(self.first_clock):
             clock = contents.clock
-            self.first_clock = ClockSamples(clock.topic, clock.record_time[:1], clock.clock[:1])
+            # the first samples: the first /clock, and how often it ticks (``Timeline.clock_step``)
+            self.first_clock = ClockSamples(clock.topic, clock.record_time[:CLOCK_STEPS], clock.clock[:CLOCK_STEPS])
         self._clock = self._clock.continued(contents.clock)
         for child, stamps, records, ros, known in clocked_arrivals(buffer, self._clock):
             self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, ros, known)

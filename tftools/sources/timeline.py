@@ -84,6 +84,11 @@ class Timeline:
     full_tf: tuple[int, int] | None = None  # every frame's span, where ``tf_start``/``tf_end`` leave some out
 
     @property
+    def stamps_span(self) -> tuple[int, int]:
+        """The first and last stamp of every frame, those on another clock than the reference's too."""
+        return self.full_tf or (self.tf_start, self.tf_end)
+
+    @property
     def origin(self) -> int:
         """The one origin of times shown relative to the recording (``+S``): its tf's first stamp."""
         return self.tf_start
@@ -121,12 +126,13 @@ class Timeline:
             return self.reason
         if self.resolution <= FINE_STEP:
             return ""
-        source = self.clock.topic or "/clock" if self.reference is Reference.CLOCK else "the clock of arrivals"
         step = self.resolution / NS_PER_S
-        return (
-            f"ROS time at arrival is read off {source}, which ticks every {step:.3f} s ({1 / step:.0f} Hz): "
-            f"delays shorter than that cannot be measured"
-        )
+        ticks = f"ticks every {step:.3f} s ({1 / step:.0f} Hz)"
+        if self.reference is Reference.CLOCK:
+            said = f"ROS time at arrival is read off {self.clock.topic or '/clock'}, which {ticks}"
+        else:
+            said = f"arrivals were timed by a clock that {ticks} (/clock under use_sim_time)"
+        return f"{said}: delays shorter than that cannot be measured"
 
     @cached_property
     def off_reference(self) -> frozenset[str]:
@@ -198,14 +204,17 @@ class Timeline:
 
     def played(self) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the
-        stamps' clock, or still without a reference (delays stay unknown; playback only estimates)."""
+        stamps' clock (as coarse as ROS time at arrival was), or still without a reference (delays stay
+        unknown; playback only estimates)."""
         if self.reference is Reference.NONE:
             return self
         edges = tuple(
             dataclasses.replace(e, offset_record=e.offset(self.reference is Reference.CLOCK) or 0, offset_clock=None)
             for e in self.edges
         )
-        return dataclasses.replace(self, reference=Reference.RECORD, clock=ClockSamples.empty(), edges=edges)
+        return dataclasses.replace(
+            self, reference=Reference.RECORD, clock=ClockSamples.empty(), edges=edges, record_step=self.resolution
+        )
 
     def describe(self) -> str:
         """One line: which clock the stamps are on, and what cannot be measured if none."""
@@ -303,7 +312,7 @@ def _plausible(timeline: Timeline) -> tuple[int, int]:
     else:
         on = [e.child for e in edges if e.child not in timeline.off_reference]
     if not on or len(on) == len(edges):
-        return timeline.full_tf or (timeline.tf_start, timeline.tf_end)
+        return timeline.stamps_span
     chosen = [e for e in edges if e.child in set(on)]
     return min(e.first_stamp for e in chosen), max(e.last_stamp for e in chosen)
 
