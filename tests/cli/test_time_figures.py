@@ -218,3 +218,18 @@ def test_arrivals_read_off_a_10_ms_clock_raise_no_false_rate_warning() -> None:
     assert knowing.timeline.record_step == 10 * MS and "ticks every 0.010 s" in knowing.timeline.describe()
     report = monitor(knowing.buffer, timeline=knowing.timeline)
     assert all(math.isnan(e.delay_mean_s) for e in report.edges) and "0.010 s (100 Hz)" in report.delays_unavailable
+
+
+def test_a_recording_made_on_sim_time_has_record_times_as_coarse_as_its_clock(tmp_path: Path) -> None:
+    """``ros2 bag record --use-sim-time``: each message recorded at the last /clock value (10 Hz here)."""
+    clock = [ClockMessage(100 * S + (k - 1) * S // 10, 100 * S + k * S // 10) for k in range(1, 100)]
+    tf = [
+        TfMessage("/tf", 100 * S + (i // 3) * S // 10, [moving("odom", "base", 100 * S + i * S // 30)])
+        for i in range(3, 290)
+    ]
+    recording = read_recording([write_bag(tmp_path / "on_sim", tf, BagFormat.rosbag2_sqlite3, clock)])
+    assert recording.timeline.record_step == S // 10 and recording.timeline.resolution == S // 10
+    assert "ticks every 0.100 s" in recording.timeline.delays_unavailable
+    wall = [ClockMessage(WALL + k * S // 100 + 3 * MS, WALL + k * S // 100) for k in range(100)]  # /clock on wall time
+    recorded = read_recording([write_bag(tmp_path / "on_wall", tf, BagFormat.rosbag2_sqlite3, wall)])
+    assert recorded.timeline.record_step == 0
