@@ -233,3 +233,15 @@ def test_a_recording_made_on_sim_time_has_record_times_as_coarse_as_its_clock(tm
     wall = [ClockMessage(WALL + k * S // 100 + 3 * MS, WALL + k * S // 100) for k in range(100)]  # /clock on wall time
     recorded = read_recording([write_bag(tmp_path / "on_wall", tf, BagFormat.rosbag2_sqlite3, wall)])
     assert recorded.timeline.record_step == 0
+
+
+def test_a_fleet_of_corpus_recordings_reports_no_trend_of_one_recording(tfx) -> None:
+    """'TRENDS (17 days, 1970-01-01 ...)': the JSON MCAP dated 1970 by its messages logged at 0, and the
+    Nav2 simulation's notes, one recording's, called problems that started on its day."""
+    fleet = [
+        corpus(n) for n in ("json_mcap_lbx_franka.mcap", "ros2_mcap_nav2_turtlebot4.mcap", "ros1_evo_tf_example.bag")
+    ]
+    shown = tfx("wtf", *fleet)
+    assert "ACROSS THE FLEET" in shown.stdout and "TRENDS" not in shown.stdout and "1970" not in shown.stdout
+    days = json.loads(tfx("wtf", *fleet, "-f", "json").stdout)["fleet"]["days"]
+    assert len(days) == 3 and min(days) > "2020"
