@@ -27,6 +27,7 @@ from tftools.core.time import NS_PER_S, format_sec
 from tftools.render import drawing
 from tftools.render.escape import printable
 from tftools.render.graph import problem_summary, to_digraph
+from tftools.sources.timeline import seconds_since
 
 #: Significant digits of the plotted figures: what a plot can show, and a smaller file.
 DIGITS = 4
@@ -165,7 +166,8 @@ def _span_text(finding: Finding, origin: int) -> str:
 
 
 def _offset(ns: int, origin: int) -> str:
-    return f"{(ns - origin) / NS_PER_S:+.3f} s"
+    since = seconds_since(origin, ns)
+    return f"{since:+.3f} s" if since is not None else f"{format_sec(ns, 3)} (another clock)"
 
 
 def _tree(report: RecordingReport, legend: Sequence[str], anchor: str) -> str:
@@ -278,8 +280,8 @@ def _finding_data(
     return {
         "code": finding.code,
         "severity": finding.severity.value,
-        "from": _seconds(first, origin) if first else None,
-        "to": _seconds(last, origin) if last else None,
+        "from": _seconds(first, origin) if first and seconds_since(origin, first) is not None else None,
+        "to": _seconds(last, origin) if last and seconds_since(origin, last) is not None else None,
         "rows": [row for row, i in enumerate(rows) if report.edges[i].key in keys],
         "svg": [svg_ids[key] for key in keys] + nodes,
     }

@@ -33,6 +33,14 @@ SAME_CLOCK = 10 * NS_PER_S
 FINE_STEP = NS_PER_S // 1000
 
 
+def seconds_since(origin: int, time: int) -> float | None:
+    """Seconds from ``origin`` to ``time`` on the stamps' clock; None where ``time`` is on another time
+    base (epoch time against time since boot or a simulation's start): no plausible offset."""
+    if (time < EPOCH_FLOOR) != (origin < EPOCH_FLOOR):
+        return None
+    return (time - origin) / NS_PER_S
+
+
 class Reference(enum.Enum):
     """What ROS time at a message's arrival is read from."""
 
@@ -94,11 +102,8 @@ class Timeline:
         return self.tf_start
 
     def since_origin(self, time: int) -> float | None:
-        """Seconds from ``origin`` to ``time`` on the stamps' clock; None where ``time`` is on another time
-        base (epoch time against time since boot or a simulation's start): no plausible offset."""
-        if (time < EPOCH_FLOOR) != (self.origin < EPOCH_FLOOR):
-            return None
-        return (time - self.origin) / NS_PER_S
+        """Seconds from ``origin`` to ``time`` (``seconds_since``)."""
+        return seconds_since(self.origin, time)
 
     @cached_property
     def clock_step(self) -> int:
