@@ -136,7 +136,7 @@ class Timeline:
         if self.reference is Reference.CLOCK:
             said = f"ROS time at arrival is read off {self.clock.topic or '/clock'}, which {ticks}"
         else:
-            said = f"arrivals were timed by a clock that {ticks} (/clock under use_sim_time)"
+            said = f"arrivals were timed by /clock (ROS time under use_sim_time), which {ticks}"
         return f"{said}: delays shorter than that cannot be measured"
 
     @cached_property
