@@ -23,6 +23,7 @@ from tftools.core.transform import Transform
 from tftools.render.report import recording_section
 from tftools.sources.contents import RecordingContents, SourceInfo, StampedMessages
 from tftools.sources.recording import read_recording, recording_of
+from tftools.sources.stream import stream_recording
 
 S = NS_PER_S
 MS = NS_PER_S // 1000
@@ -245,3 +246,16 @@ def test_a_fleet_of_corpus_recordings_reports_no_trend_of_one_recording(tfx) -> 
     assert "ACROSS THE FLEET" in shown.stdout and "TRENDS" not in shown.stdout and "1970" not in shown.stdout
     days = json.loads(tfx("wtf", *fleet, "-f", "json").stdout)["fleet"]["days"]
     assert len(days) == 3 and min(days) > "2020"
+
+
+def test_a_json_mcap_replays_from_its_first_known_time(tfx) -> None:
+    """Its messages logged at time 0 made a replay start at 0: 55 years before its tf."""
+    bag = corpus("json_mcap_lbx_franka.mcap")
+    streamed = stream_recording([bag])
+    assert streamed.timeline.record_start == read_recording([bag]).start
+    moved = np.concatenate([part.record_time for part in streamed.parts()])
+    assert moved.min() >= streamed.timeline.record_start > 1_700_000_000 * S
+    assert streamed.replay(rate=10).begin == streamed.timeline.record_start
+    played = tfx("monitor", "-b", bag, "--play", "--rate", "10", "-f", "json")
+    windows = [json.loads(line)["window"] for line in played.stdout.splitlines()]
+    assert played.code == 0 and windows and all(w["end"] > 1_748_331_282 for w in windows)

@@ -110,12 +110,13 @@ def stream_recording(
     contents = RecordingContents([], summary.files, chosen)
     if not summary.transforms:
         raise no_transforms(paths, contents)
+    start = contents.start if contents.start > 0 else summary.first_known or contents.start  # of known times
     recorded = timeline_from(
         summary.edges(),
         summary.first_clock,
-        contents.start,
+        start,
         contents.end,
-        tf_span(summary.spans.values(), contents.start, contents.end),
+        tf_span(summary.spans.values(), start, contents.end),
     )
     paths_said = [os.fspath(p) for p in paths]
     return StreamedRecording(paths_said, chosen, windows, contents, recorded, summary.frames, summary.semantics)
@@ -161,6 +162,7 @@ class _Summary:
         self.frames: list[str] = []
         self.spans: dict[bool, tuple[bool, int, int]] = {}  # static or not: the stamps' span
         self.first_clock = ClockSamples.empty()
+        self.first_known = 0  # the earliest known (positive) record time, 0 before any
         self._clock = ClockSamples.empty()  # the /clock samples of the last window, after the one before
         self._arrivals: dict[str, _Arrivals] = {}
 
@@ -170,6 +172,10 @@ class _Summary:
             described.transform_count += read.transform_count
             described.problems += [p for p in read.problems if p not in described.problems]
         self.transforms += sum(len(p) for p in contents.parts)
+        for times in (contents.clock.record_time, *(p.record_time for p in contents.parts)):
+            known = times[times > 0]
+            if len(known) and not 0 < self.first_known <= int(known.min()):
+                self.first_known = int(known.min())
         buffer = Buffer(cache_time=None, semantics=self.semantics)
         buffer.reserve(contents.parts)
         for part in contents.parts:

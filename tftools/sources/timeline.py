@@ -244,6 +244,7 @@ class Playback:
         self._first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
         self._shift = int(np.median([e.offset_record for e in timeline.edges])) if timeline.edges else 0
         self._floor = np.iinfo(np.int64).min
+        self._unknown = timeline.record_start  # a record time of 0 (unknown, an MCAP's log time 0) plays first
 
     def heard(self, clock: ClockSamples) -> None:
         """The /clock samples recorded since the last part (of a stream: a window's)."""
@@ -252,6 +253,8 @@ class Playback:
     def moved(self, record_times: Int64Array) -> Int64Array:
         """The replay times of the next part's ``record_times``."""
         records = np.asarray(record_times, np.int64)
+        if len(records) and self.reference is not Reference.CLOCK and records.min() <= 0:
+            records = np.maximum(records, self._unknown)
         if self.reference is Reference.RECORD or not len(records):
             return records
         if self.reference is Reference.NONE:
