@@ -173,9 +173,9 @@ class _Summary:
             described.problems += [p for p in read.problems if p not in described.problems]
         self.transforms += sum(len(p) for p in contents.parts)
         for times in (contents.clock.record_time, *(p.record_time for p in contents.parts)):
-            known = times[times > 0]
-            if len(known) and not 0 < self.first_known <= int(known.min()):
-                self.first_known = int(known.min())
+            positive = times[times > 0]
+            if len(positive) and not 0 < self.first_known <= int(positive.min()):
+                self.first_known = int(positive.min())
         buffer = Buffer(cache_time=None, semantics=self.semantics)
         buffer.reserve(contents.parts)
         for part in contents.parts:
