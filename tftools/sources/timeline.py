@@ -197,15 +197,22 @@ class Timeline:
         return times, known & ((flags & FROM_STATIC_TOPIC) == 0)
 
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
-        """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms: the one definition of a
-        delay; none where ``delays_measured`` is false (``delays_unavailable`` says why). ROS time read
-        off a clock that ticks lags by up to a step, so the delay lies between the reading and a step more:
-        the value nearest zero in that range, never a negative delay that the clock's steps made."""
+        """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms (``delays_of``)."""
+        return self.delays_of(child, stamps, record_times, flags)[0]
+
+    def delays_of(
+        self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array
+    ) -> tuple[Int64Array, BoolArray]:
+        """The delays of the transforms that have one, and which those are: the one definition of a delay,
+        ROS time at arrival minus stamp (ns) of the ``measurable`` transforms; none where ``delays_measured``
+        is false (``delays_unavailable`` says why). ROS time read off a clock that ticks lags by up to a
+        step, so the delay lies between the reading and a step more: the value nearest zero in that range,
+        never a negative delay that the clock's steps made."""
         if not self.delays_measured:
-            return np.zeros(0, np.int64)
+            return np.zeros(0, np.int64), np.zeros(len(stamps), bool)
         times, measured = self.measurable(child, record_times, flags)
         read = times[measured] - stamps[measured]
-        return np.minimum(np.maximum(read, 0), read + self.resolution) if self.resolution else read
+        return (np.minimum(np.maximum(read, 0), read + self.resolution) if self.resolution else read), measured
 
     def played(self) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the
