@@ -89,6 +89,8 @@ def test_a_fine_clock_measures_delays_never_below_zero(tmp_path: Path) -> None:
     stamps, records = recording.buffer.history("base").stamps, recording.buffer.history("base").record_times
     delays = recording.timeline.delays("base", stamps, records, recording.buffer.history("base").flags)
     assert len(delays) == 300 and delays.min() >= 0
+    chain = monitor(recording.buffer, "odom", "base", timeline=recording.timeline).chain
+    assert chain is not None and 0 <= chain.delay_mean_s <= chain.delay_max_s < 0.04
 
 
 def test_the_gazebo_corpus_recording_shows_no_impossible_delay(tfx) -> None:

@@ -137,6 +137,8 @@ def _chain_delay(
         common[older], limiting[older] = known[older], index
     bounds = np.append(steps, end)
     rise = (bounds[:-1] - common) / NS_PER_S, (bounds[1:] - common) / NS_PER_S
+    if (timeline or ON_RECORD_CLOCK).resolution:  # read off a ticking clock: behind a stamp by less than a step
+        rise = np.maximum(rise[0], 0.0), np.maximum(rise[1], 0.0)  # is no delay (``Timeline.delays_of``)
     integral = float(np.sum(rise[1] ** 2 - rise[0] ** 2)) / 2
     held = np.bincount(limiting, weights=np.diff(bounds).astype(float), minlength=len(series))
     return integral * NS_PER_S / (end - begin), float(rise[1].max()), moving[int(np.argmax(held))]
