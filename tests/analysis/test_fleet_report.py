@@ -77,9 +77,26 @@ def test_a_problem_that_appears_on_a_day_and_persists_started_then() -> None:
     by_code = {t.code: t for t in trends(fleet)}
     assert by_code["stale"].since == days[2] and by_code["stale"].per_day == {days[2]: 1, days[3]: 1}
     assert by_code["stale"].first_day == days[2]
-    assert by_code["gap"].since == days[3] and by_code["gap"].first_day == days[0]  # came back on Thursday
+    # back on Thursday only: one day's recording having it is that recording's finding, not a trend (yet)
+    assert by_code["gap"].since is None and by_code["gap"].first_day == days[0]
     assert by_code["delay"].since is None  # there from the first day: nothing started
-    assert [t.code for t in trends(fleet)] == ["gap", "stale", "delay"]  # latest start first
+    assert [t.code for t in trends(fleet)] == ["stale", "delay", "gap"]  # latest start first, then by code
+    fleet.append(bag("fri", found("gap", Severity.warning), day=4))
+    assert {t.code: t for t in trends(fleet)}["gap"].since == days[3]  # Thursday and Friday: it started then
+
+
+def test_a_recording_on_simulated_time_has_no_day() -> None:
+    """A record clock counting from a simulation's start (``ros2 bag record --use-sim-time``) dates a
+    recording to 1970-01-01: no day it was made, and no trend that day "started"."""
+    simulated = BagReport(("sim",), [found("stale")], start=12 * NS_PER_S, end=40 * NS_PER_S, transforms=9, frames=2)
+    fleet = [simulated, bag("mon"), bag("tue", found("stale"), day=1), bag("wed", found("stale"), day=2)]
+    assert day_of(simulated) is None
+    assert recordings_per_day(fleet) == {MONDAY + datetime.timedelta(days=d): 1 for d in range(3)}
+    (stale,) = trends(fleet)
+    assert stale.since == MONDAY + datetime.timedelta(days=1) and stale.per_day == {
+        MONDAY + datetime.timedelta(days=1): 1,
+        MONDAY + datetime.timedelta(days=2): 1,
+    }
 
 
 def test_a_problem_gone_on_the_last_day_did_not_start() -> None:

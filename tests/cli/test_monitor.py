@@ -48,7 +48,8 @@ def test_json_schema_with_a_chain(tfx) -> None:
     result = tfx("monitor", "map", "gripper", "-b", SAMPLE_BAGS["mcap"], "-f", "json")
     assert result.code == 0, result.stderr
     doc = json.loads(result.stdout)
-    assert set(doc) == {"window", "edges", "authorities", "chain"}
+    assert set(doc) == {"window", "edges", "authorities", "chain", "delays_unavailable"}
+    assert doc["delays_unavailable"] is None  # delays are measured: the sample robot's tf is on its record clock
     for edge in doc["edges"]:
         assert set(edge) == EDGE_KEYS
         assert isinstance(edge["authorities"], list) and isinstance(edge["count"], int)

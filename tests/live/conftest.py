@@ -138,10 +138,12 @@ class Ros:
         self.env = master.env
         self._processes: list[subprocess.Popen[str]] = []
 
-    def spawn(self, *command: str, env: dict[str, str] | None = None) -> subprocess.Popen[str]:
+    def spawn(self, *command: str, env: dict[str, str] | None = None, stdin: bool = False) -> subprocess.Popen[str]:
+        """``command`` in its own process group; ``stdin``: a pipe to write to (else none)."""
         process = subprocess.Popen(
             list(command),
             env=env or self.env,
+            stdin=subprocess.PIPE if stdin else None,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
             text=True,
@@ -150,9 +152,9 @@ class Ros:
         self._processes.append(process)
         return process
 
-    def node(self, *arguments: str) -> subprocess.Popen[str]:
+    def node(self, *arguments: str, stdin: bool = False) -> subprocess.Popen[str]:
         """A rospy helper node from ``ros1_nodes.py``."""
-        return self.spawn(ROS_PYTHON, str(NODES), *arguments)
+        return self.spawn(ROS_PYTHON, str(NODES), *arguments, stdin=stdin)
 
     def tfx(self, *arguments: str) -> subprocess.Popen[str]:
         return self.spawn(sys.executable, "-m", "tftools", *arguments)
@@ -177,7 +179,7 @@ class Ros:
                 with _suppress():
                     os.killpg(process.pid, signal.SIGKILL)
             process.wait()
-            for stream in (process.stdout, process.stderr):
+            for stream in (process.stdin, process.stdout, process.stderr):
                 if stream is not None:
                     stream.close()
 

@@ -5,6 +5,7 @@ ros1_nodes.py wrong_type NODE TOPIC             a std_msgs/String publisher on T
 ros1_nodes.py scan NODE TOPIC FRAME [HZ]        a sensor_msgs/LaserScan publisher on TOPIC, stamped now, in FRAME
 ros1_nodes.py static_listener                   prints the first /tf_static message as JSON, with its header
 ros1_nodes.py write_bag PATH PARENT CHILD [S]   S (10) s of /tf at 20 Hz from t = 1000 s, x = t - 1000, real rosbag
+ros1_nodes.py clock_and_tf NODE                 what stdin says: "clock T" on /clock, "tf PARENT CHILD T" on /tf
 """
 
 import json
@@ -108,6 +109,30 @@ def write_bag(path, parent, child, seconds="10"):
             t.transform.translation.x = i * 0.05
             t.transform.rotation.w = 1.0
             bag.write("/tf", TFMessage([t]), stamp)
+
+
+def clock_and_tf(node):
+    """tf2_ros's time_reset_test's publisher: /clock and /tf as stdin says, "ok" on stdout after each line."""
+    import rospy
+    import tf2_ros
+    from geometry_msgs.msg import TransformStamped
+    from rosgraph_msgs.msg import Clock
+
+    rospy.init_node(node.lstrip("/"), anonymous=False, disable_signals=True)
+    clock = rospy.Publisher("/clock", Clock, queue_size=10)
+    broadcaster = tf2_ros.TransformBroadcaster()
+    print("ready", flush=True)
+    for line in sys.stdin:
+        words = line.split()
+        if words[0] == "clock":
+            clock.publish(Clock(rospy.Time.from_sec(float(words[1]))))
+        else:
+            t = TransformStamped()
+            t.header.stamp = rospy.Time.from_sec(float(words[3]))
+            t.header.frame_id, t.child_frame_id = words[1], words[2]
+            t.transform.rotation.x = 1.0
+            broadcaster.sendTransform(t)
+        print("ok", flush=True)
 
 
 if __name__ == "__main__":

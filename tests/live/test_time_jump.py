@@ -265,3 +265,44 @@ def test_clearing_answers_as_the_real_tf2_after_its_clear() -> None:
     buffer.set_transform(Transform((5, 0, 0), (0, 0, 0, 1), 1000 * S, "odom", "base"), "/a")
     ours = f"ConnectivityException {error.value}\n{buffer.lookup('odom', 'laser').translation[0]}\n"
     assert ours + buffer.all_frames_as_yaml() == real
+
+
+def test_a_transform_stamped_ahead_of_both_passes_is_stored_after_the_jump() -> None:
+    """tf2_ros's time_reset_test: /clock at 100 s, foo -> bar at 100 and 102 s; /clock jumps back to 90 s;
+    then foo2 -> bar2 stamped 110 s. tf2_ros clears its buffer at the jump and stores the new transform:
+    a stamp far ahead of both the time before the jump and after it is of neither pass, never dropped."""
+    source = SimSource()
+    buffer = listen(source)
+    source.tick(100.0)
+    source.send(("foo", "bar", 100.0, 1.0))
+    source.send(("foo", "bar", 102.0, 1.0))
+    assert buffer.can_transform("foo", "bar", 101 * S)
+    source.tick(90.0)
+    source.send(("foo2", "bar2", 110.0, 1.0))
+    assert buffer.lookup("foo2", "bar2").stamp == 110 * S
+    assert not buffer.can_transform("foo", "bar", 101 * S)
+    assert source.notices == [
+        "ROS time jumped back from 100.000 s to 90.000 s (a looped replay?): cleared the tf buffer, "
+        "static transforms kept"
+    ]
+
+
+def test_a_capture_on_sim_time_spans_what_it_heard_not_time_zero() -> None:
+    """ROS time reads 0 until the first /clock: a capture that began then spanned from 0 ('1700000012.2 s')."""
+    source = SimSource()
+
+    def during() -> bool:
+        if not source.message_count:
+            play(source, 1_700_000_000.0, 2.0)
+        return True
+
+    recording = capture(source, duration=5.0, until=during)
+    assert recording.start == 1_700_000_000 * S and recording.end == 1_700_000_001_900_000_000
+
+
+def test_the_clock_step_of_a_source_on_sim_time() -> None:
+    source = SimSource()
+    assert source.clock_step == 0
+    listen(source)
+    play(source, 1000.0, 1.0)  # /clock every 100 ms
+    assert source.clock_step == S // 10

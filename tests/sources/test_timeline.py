@@ -7,7 +7,7 @@ import pytest
 
 from tftools import BatchBuilder, Buffer
 from tftools.sources.contents import ClockSamples
-from tftools.sources.timeline import timeline_of
+from tftools.sources.timeline import seconds_since, timeline_of
 
 START = 1_700_000_000 * 10**9
 
@@ -32,3 +32,32 @@ def test_edge_medians_are_numpys(rows: int, records_in_order: bool) -> None:
     assert edge.median_stamp == int(np.median(stamps))
     assert edge.median_record == int(np.median(records))
     assert edge.offset_record == int(np.median(records - stamps))
+
+
+def test_a_delay_read_off_a_ticking_clock_is_never_a_negative_one_its_steps_made() -> None:
+    """/clock every 1 ms: a transform stamped 0.7 ms after a tick and received before the next reads
+    -0.7 ms; its delay lies between that and a step more, and the value nearest zero there is 0."""
+    ms = 10**6
+    wall, sim = START, 100 * 10**9
+    clock = ClockSamples("/clock", wall + np.arange(1000) * ms, sim + np.arange(1000) * ms)
+    builder = BatchBuilder()
+    for i in range(50):
+        received = wall + i * 10 * ms + (900_000 if i % 2 else 5_900_000)
+        builder.add("odom", "base", sim + i * 10 * ms + 700_000, (0, 0, 0), (0, 0, 0, 1), record_time=received)
+    buffer = Buffer(cache_time=None)
+    buffer.insert(builder.take())
+    timeline = timeline_of(buffer, clock, wall, wall + 999 * ms)
+    assert timeline.resolution == ms and timeline.delays_measured and timeline.delays_unavailable == ""
+    history = buffer.history("base")
+    delays = timeline.delays("base", history.stamps, history.record_times, history.flags)
+    assert delays.tolist() == [4_300_000, 0] * 25
+    coarse = timeline_of(buffer, ClockSamples("/clock", clock.record_time[::10], clock.clock[::10]), wall, wall)
+    assert coarse.resolution == 10 * ms and not coarse.delays_measured
+    assert len(coarse.delays("base", history.stamps, history.record_times, history.flags)) == 0
+    assert coarse.delays_unavailable.startswith("ROS time at arrival is read off /clock, which ticks every 0.010 s")
+
+
+def test_seconds_since_the_origin_only_on_its_time_base() -> None:
+    assert seconds_since(START, START + 1_500_000_000) == 1.5
+    assert seconds_since(START, 0) is None and seconds_since(5 * 10**9, START) is None
+    assert seconds_since(5 * 10**9, 3 * 10**9) == -2.0

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 from dataclasses import dataclass
@@ -22,6 +23,7 @@ from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, Clock
+from tftools.sources.live.base import TickedClock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
 
@@ -49,6 +51,7 @@ class MonitorReport:
     edges: list[EdgeStats]
     authorities: list[AuthorityStats]
     chain: ChainStats | None
+    delays_unavailable: str = ""  # why the delays are not shown (``Timeline.delays_unavailable``), "" if they are
 
 
 def monitor(
@@ -70,7 +73,7 @@ def monitor(
     if target is not None and source is not None:
         end = end if end is not None else buffer.now()
         chain = chain_stats(buffer, edges, target, source, start, end, timeline)
-    return MonitorReport(start, end, edges, authorities, chain)
+    return MonitorReport(start, end, edges, authorities, chain, (timeline or ON_RECORD_CLOCK).delays_unavailable)
 
 
 def chain_stats(
@@ -115,6 +118,8 @@ def _chain_delay(
     The latest common stamp is a step function that changes only when a sample arrives,
     so the delay is a sawtooth: its integral and maximum are computed exactly per step.
     """
+    if not (timeline or ON_RECORD_CLOCK).delays_measured:
+        return math.nan, math.nan, None
     series = [_newest_stamps(buffer, edge, end, timeline) for edge in moving]
     if not series or any(len(records) == 0 for records, _ in series):
         return math.nan, math.nan, None
@@ -132,6 +137,8 @@ def _chain_delay(
         common[older], limiting[older] = known[older], index
     bounds = np.append(steps, end)
     rise = (bounds[:-1] - common) / NS_PER_S, (bounds[1:] - common) / NS_PER_S
+    if (timeline or ON_RECORD_CLOCK).resolution:  # read off a ticking clock: behind a stamp by less than a step
+        rise = np.maximum(rise[0], 0.0), np.maximum(rise[1], 0.0)  # is no delay (``Timeline.delays_of``)
     integral = float(np.sum(rise[1] ** 2 - rise[0] ** 2)) / 2
     held = np.bincount(limiting, weights=np.diff(bounds).astype(float), minlength=len(series))
     return integral * NS_PER_S / (end - begin), float(rise[1].max()), moving[int(np.argmax(held))]
@@ -148,9 +155,12 @@ class LiveMonitor:
         timeline: Timeline | None = None,
         semantics: Semantics = "ros1",
     ) -> None:
-        """``timeline``: a replayed recording's (``Timeline.played``); none for a live system."""
+        """``timeline``: a replayed recording's (``Timeline.played``); none for a live system, whose
+        receive times are read off ``clock`` (as coarse as its /clock under use_sim_time)."""
         self.window = window
+        self.clock = clock
         self.timeline = timeline
+        self.origin: int | None = None  # when the first transform arrived (since the last jump back): +S counts from it
         # Keep a little more than the window: samples that arrive late still fall inside it.
         self.buffer = Buffer(cache_time=window + DEFAULT_CACHE_TIME, clock=clock, semantics=semantics)
         self._lock = threading.Lock()
@@ -159,11 +169,20 @@ class LiveMonitor:
         """Forget the dynamic transforms (statics kept), as tf2_ros's listener at a jump back in time."""
         with self._lock:
             self.buffer.clear()
+            self.origin = None
 
     def add(self, batch: TransformBatch) -> None:
         """Insert a batch; safe to call from a source's thread."""
         with self._lock:
+            if self.origin is None and len(batch) and (first := int(batch.record_time.min())) > 0:
+                self.origin = first
             self.buffer.insert(batch)
+
+    def _timeline(self) -> Timeline:
+        if self.timeline is not None:
+            return self.timeline
+        step = self.clock.step if isinstance(self.clock, TickedClock) else 0
+        return dataclasses.replace(ON_RECORD_CLOCK, record_step=step) if step else ON_RECORD_CLOCK
 
     def report(self, target: str | None = None, source: str | None = None) -> MonitorReport:
         """The statistics of what arrived over the last window; the chain once it exists."""
@@ -172,7 +191,8 @@ class LiveMonitor:
             start = now - self.window
             if not all(frame is not None and self.buffer.has_frame(frame) for frame in (target, source)):
                 target = source = None  # no chain asked for, or its frames not seen yet
+            timeline = self._timeline()
             try:
-                return monitor(self.buffer, target, source, start, now, by_record_time=True, timeline=self.timeline)
+                return monitor(self.buffer, target, source, start, now, by_record_time=True, timeline=timeline)
             except TransformError:  # the chain is not connected (yet): show the rest
-                return monitor(self.buffer, None, None, start, now, by_record_time=True, timeline=self.timeline)
+                return monitor(self.buffer, None, None, start, now, by_record_time=True, timeline=timeline)

@@ -35,7 +35,7 @@ TF2_NAMES = {"ros1": "ROS 1's (Noetic)", "ros2": "ROS 2's (Rolling, Jazzy)"}
 
 @dataclass(frozen=True)
 class RecordingReport:
-    """What the page shows of one recording. Times on the axis are ns; ``bins.start`` is shown as 0 s."""
+    """What the page shows of one recording. Times on the axis are ns; ``origin`` is shown as 0 s."""
 
     name: str
     facts: tuple[tuple[str, str], ...]
@@ -45,6 +45,7 @@ class RecordingReport:
     edges: tuple[EdgeTimeline, ...]
     streams: tuple[StreamTimeline, ...]
     delays_unavailable: str  # why delays cannot be measured ("" when they can)
+    origin: int  # the time every time on the page is counted from (``Timeline.origin``: findings' +S too)
     poses: FramePoses | None = None  # every frame over time, for the 3D view
 
 
@@ -79,7 +80,8 @@ def recording_report(
         bins,
         tuple(edges),
         tuple(flows),
-        "" if timeline.available else timeline.reason,
+        timeline.delays_unavailable,
+        timeline.origin,
         frame_poses(buffer, scene.tree, bins.start, bins.start + bins.count * bins.width),
     )
 

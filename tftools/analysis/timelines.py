@@ -184,9 +184,8 @@ def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
 def _delays(
     timeline: Timeline, child: str, hist: EdgeHistory, mine: BoolArray, where: IntpArray, count: int
 ) -> tuple[FloatArray, FloatArray]:
-    """Mean and largest delay (s) of the samples ``mine`` in each bin: those ``Timeline.measurable``."""
-    times, measured = timeline.measurable(child, hist.record_times[mine], hist.flags[mine])
-    delays = times[measured] - hist.stamps[mine][measured]
+    """Mean and largest delay (s) of the samples ``mine`` in each bin: those that have one (``Timeline.delays_of``)."""
+    delays, measured = timeline.delays_of(child, hist.stamps[mine], hist.record_times[mine], hist.flags[mine])
     return _mean_max(where[measured], delays / NS_PER_S, count)
 
 

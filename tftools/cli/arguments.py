@@ -41,7 +41,8 @@ def parse_time(text: str, timeline: Timeline, option: str) -> int:
     seconds = to_sec(base) + value
     span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
     length = (timeline.tf_end - timeline.tf_start) / NS_PER_S
-    if not (to_sec(timeline.tf_start) - TIME_SLACK_S <= seconds <= to_sec(timeline.tf_end) + TIME_SLACK_S):
+    spans = ((timeline.tf_start, timeline.tf_end), timeline.stamps_span)  # frames on another clock: theirs too
+    if not any(to_sec(first) - TIME_SLACK_S <= seconds <= to_sec(last) + TIME_SLACK_S for first, last in spans):
         where = "before" if seconds < to_sec(timeline.tf_start) else "after"
         raise UsageError(
             f"{option} {given} is more than {TIME_SLACK_S:g} s {where} the recording's tf ({span}, {length:.3f} s)",

@@ -136,7 +136,6 @@ def watch(
     from tftools.sources.replay import follow
 
     live_monitor = LiveMonitor(feed.clock, window, timeline, semantics)
-    started = feed.clock.now()
 
     def report() -> MonitorReport:
         current = live_monitor.report(target, source)
@@ -146,7 +145,8 @@ def watch(
 
     def table() -> RenderableType:
         now = feed.clock.now()
-        header = f"time {to_sec(now):.3f} (+{(now - started) / NS_PER_S:.1f} s), last {window / NS_PER_S:g} s"
+        since = now - (live_monitor.origin if live_monitor.origin is not None else now)
+        header = f"time {to_sec(now):.3f} ({since / NS_PER_S:+.1f} s), last {window / NS_PER_S:g} s"
         header += f", {note}" if note else ""
         return render.renderable(report(), header, target, source)
 
@@ -207,5 +207,4 @@ def _header(recording: Recording, report: MonitorReport) -> str:
     first = report.start if report.start is not None else timeline.tf_start
     last = report.end if report.end is not None else timeline.tf_end
     span = f"{(last - first) / NS_PER_S:.3f} s from {to_sec(first):.3f} to {to_sec(last):.3f}"
-    unavailable = "" if timeline.available else f"\ndelays unavailable: {timeline.reason}"
-    return f"{', '.join(recording.paths)}: {span}{unavailable}"
+    return f"{', '.join(recording.paths)}: {span}"

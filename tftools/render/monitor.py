@@ -114,6 +114,8 @@ def renderable(
     parts: list[RenderableType] = []
     if header:  # its lines each made printable (a file's name may hold anything)
         parts.append(Text("\n".join(printable(line) for line in header.split("\n")), style="dim"))
+    if report.delays_unavailable:
+        parts.append(Text(printable(f"delays unavailable: {report.delays_unavailable}"), style="dim"))
     if report.chain is not None:
         parts.append(_chain_lines(report.chain))
         edges: Sequence[EdgeStats] = report.chain.edges
@@ -172,6 +174,7 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
         },
         "edges": [_edge_dict(e) for e in report.edges],
         "authorities": [_authority_dict(a) for a in report.authorities],
+        "delays_unavailable": report.delays_unavailable or None,  # why delays are null, where they all are
     }
     if report.chain is not None:
         result["chain"] = {**asdict(report.chain), "edges": [_edge_dict(e) for e in report.chain.edges]}

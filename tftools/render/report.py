@@ -27,6 +27,7 @@ from tftools.core.time import NS_PER_S, format_sec
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
 from tftools.render.graph import problem_summary, to_digraph
+from tftools.sources.timeline import seconds_since
 
 #: Significant digits of the plotted figures: what a plot can show, and a smaller file.
 DIGITS = 4
@@ -79,13 +80,17 @@ def recording_section(index: int, report: RecordingReport) -> Section:
     tree = _tree(report, anchor)
     data = {
         "anchor": anchor,
-        "axis": {"step": report.bins.width / NS_PER_S, "count": report.bins.count},
+        "axis": {
+            "start": _seconds(report.bins.start, report.origin),
+            "step": report.bins.width / NS_PER_S,
+            "count": report.bins.count,
+        },
         "edges": [_edge_data(report, report.edges[i], svg_ids) for i in rows],
         "findings": [_finding_data(report, i, rows, svg_ids, anchor) for i in range(len(report.findings))],
         "streams": [_stream_data(s) for s in report.streams],
         "scene3d": scene3d.poses_data(report.poses, report.bins.start),
     }
-    origin = report.bins.start
+    origin = report.origin
     parts = [
         '<div class="top">',
         _facts(report.facts),
@@ -169,7 +174,8 @@ def _span_text(finding: Finding, origin: int) -> str:
 
 
 def _offset(ns: int, origin: int) -> str:
-    return f"{(ns - origin) / NS_PER_S:+.3f} s"
+    since = seconds_since(origin, ns)
+    return f"{since:+.3f} s" if since is not None else f"{format_sec(ns, 3)} (another clock)"
 
 
 def _tree(report: RecordingReport, anchor: str) -> str:
@@ -257,7 +263,7 @@ def _statics(edges: Sequence[GraphEdge]) -> str:
 
 
 def _edge_data(report: RecordingReport, edge: EdgeTimeline, svg_ids: dict[tuple[str, str], str]) -> dict[str, Any]:
-    origin = report.bins.start
+    origin = report.origin
     return {
         "name": printable(f"{edge.parent} -> {edge.child}"),
         "svg": svg_ids.get(edge.key, ""),
@@ -277,7 +283,7 @@ def _finding_data(
 ) -> dict[str, Any]:
     """Where a finding is: its time span on the axis, the timeline rows and tree elements it is pinned on
     (Graphviz numbers nodes in the order they were added, as edges)."""
-    origin = report.bins.start
+    origin = report.origin
     graph, finding = report.graph, report.findings[index]
     keys = [e.key for e in graph.edges if index in e.problems]  # in the graph's order: the same page each run
     nodes = [f"{anchor}-node{j + 1}" for j, node in enumerate(graph.nodes) if index in node.problems]
@@ -285,8 +291,8 @@ def _finding_data(
     return {
         "code": finding.code,
         "severity": finding.severity.value,
-        "from": _seconds(first, origin) if first else None,
-        "to": _seconds(last, origin) if last else None,
+        "from": _seconds(first, origin) if first and seconds_since(origin, first) is not None else None,
+        "to": _seconds(last, origin) if last and seconds_since(origin, last) is not None else None,
         "rows": [row for row, i in enumerate(rows) if report.edges[i].key in keys],
         "svg": [svg_ids[key] for key in keys] + nodes,
         "frames": [printable(f) for f in dict.fromkeys(finding.frames)],

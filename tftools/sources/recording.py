@@ -36,12 +36,12 @@ class Recording:
 
     @property
     def start(self) -> int:
-        """Record time of the first message, every topic counted (ns)."""
-        return self.contents.start
+        """Record time of the first message, every topic counted, whose record time is known (ns)."""
+        return self.timeline.record_start
 
     @property
     def end(self) -> int:
-        return self.contents.end
+        return self.timeline.record_end
 
     @property
     def paths(self) -> list[str]:
@@ -97,11 +97,11 @@ def semantics_of(contents: RecordingContents) -> Semantics:
     return "ros1" if not formats or formats[0].startswith("ros1") else "ros2"
 
 
-def recording_of(contents: RecordingContents, semantics: Semantics | None = None) -> Recording:
+def recording_of(contents: RecordingContents, semantics: Semantics | None = None, record_step: int = 0) -> Recording:
     """The buffer of ``contents``, which it takes: each part is inserted, then let go and its memory
     given back (``_malloc_trim``), so that the transforms are held once, in the buffer's
     histories. Rows the buffer refused, or took for identical ones it holds (ROS 2), are kept aside
-    for ``transforms``."""
+    for ``transforms``. ``record_step``: how coarse the record times are (``Timeline.record_step``)."""
     clock = SimClock(contents.end)
     buffer = Buffer(cache_time=None, clock=clock, semantics=semantics or semantics_of(contents))
     refused: list[TransformBatch] = []
@@ -125,7 +125,7 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
             _malloc_trim()(0)
             freed = 0
     _malloc_trim()(0)
-    timeline = timeline_of(buffer, contents.clock, contents.start, contents.end)
+    timeline = timeline_of(buffer, contents.clock, contents.start, contents.end, record_step)
     clock.reset(timeline.end)
     return Recording(buffer, contents, timeline, concat_batches(refused), np.concatenate(refused_sequence))
 

@@ -110,12 +110,13 @@ def stream_recording(
     contents = RecordingContents([], summary.files, chosen)
     if not summary.transforms:
         raise no_transforms(paths, contents)
+    start = contents.start if contents.start > 0 else summary.first_known or contents.start  # of known times
     recorded = timeline_from(
         summary.edges(),
         summary.first_clock,
-        contents.start,
+        start,
         contents.end,
-        tf_span(summary.spans.values(), contents.start, contents.end),
+        tf_span(summary.spans.values(), start, contents.end),
     )
     paths_said = [os.fspath(p) for p in paths]
     return StreamedRecording(paths_said, chosen, windows, contents, recorded, summary.frames, summary.semantics)
@@ -147,6 +148,10 @@ def _share(progress: ProgressCallback | None, index: int, count: int) -> Progres
     return reported
 
 
+#: The /clock samples of a streamed recording's first window kept to tell how often /clock ticks.
+CLOCK_STEPS = 1000
+
+
 class _Summary:
     """What the first pass learns of a recording, window by window, in memory that does not grow with it."""
 
@@ -157,6 +162,7 @@ class _Summary:
         self.frames: list[str] = []
         self.spans: dict[bool, tuple[bool, int, int]] = {}  # static or not: the stamps' span
         self.first_clock = ClockSamples.empty()
+        self.first_known = 0  # the earliest known (positive) record time, 0 before any
         self._clock = ClockSamples.empty()  # the /clock samples of the last window, after the one before
         self._arrivals: dict[str, _Arrivals] = {}
 
@@ -166,6 +172,10 @@ class _Summary:
             described.transform_count += read.transform_count
             described.problems += [p for p in read.problems if p not in described.problems]
         self.transforms += sum(len(p) for p in contents.parts)
+        for times in (contents.clock.record_time, *(p.record_time for p in contents.parts)):
+            positive = times[times > 0]
+            if len(positive) and not 0 < self.first_known <= int(positive.min()):
+                self.first_known = int(positive.min())
         buffer = Buffer(cache_time=None, semantics=self.semantics)
         buffer.reserve(contents.parts)
         for part in contents.parts:
@@ -177,7 +187,8 @@ class _Summary:
             self.spans[static] = (static, min(seen[1], first), max(seen[2], last))
         if len(contents.clock) and not len(self.first_clock):
             clock = contents.clock
-            self.first_clock = ClockSamples(clock.topic, clock.record_time[:1], clock.clock[:1])
+            # the first samples: the first /clock, and how often it ticks (``Timeline.clock_step``)
+            self.first_clock = ClockSamples(clock.topic, clock.record_time[:CLOCK_STEPS], clock.clock[:CLOCK_STEPS])
         self._clock = self._clock.continued(contents.clock)
         for child, stamps, records, ros, known in clocked_arrivals(buffer, self._clock):
             self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, ros, known)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import enum
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -28,6 +28,17 @@ from tftools.sources.contents import ClockSamples
 EPOCH_FLOOR = 1_000_000_000 * NS_PER_S
 #: Two clocks more than this apart (the median of arrival minus stamp) are different clocks, not a delay.
 SAME_CLOCK = 10 * NS_PER_S
+#: A clock that ticks in steps up to this long measures delays; a coarser one (a /clock at 10 Hz, or at
+#: rosbag play's 100 Hz) lags ROS time by up to a step, more than tf's delays, which it cannot measure.
+FINE_STEP = NS_PER_S // 1000
+
+
+def seconds_since(origin: int, time: int) -> float | None:
+    """Seconds from ``origin`` to ``time`` on the stamps' clock; None where ``time`` is on another time
+    base (epoch time against time since boot or a simulation's start): no plausible offset."""
+    if (time < EPOCH_FLOOR) != (origin < EPOCH_FLOOR):
+        return None
+    return (time - origin) / NS_PER_S
 
 
 class Reference(enum.Enum):
@@ -48,6 +59,8 @@ class EdgeClock:
     offset_clock: int | None  # /clock at arrival minus stamp; None without /clock (or none arrived after it)
     median_stamp: int
     median_record: int
+    first_stamp: int = 0
+    last_stamp: int = 0
 
     def offset(self, against_clock: bool) -> int | None:
         """Arrival minus stamp against /clock or the record clock (None: never arrived under /clock)."""
@@ -75,6 +88,56 @@ class Timeline:
     edges: tuple[EdgeClock, ...] = ()
     reason: str = ""  # why ROS time at arrival is unavailable (reference NONE)
     same_clock: int = SAME_CLOCK  # the ``clock`` threshold (ns): behind the reference by more, another clock
+    record_step: int = 0  # how coarse record times are (ns): the step of the /clock they were read off, 0 if fine
+    full_tf: tuple[int, int] | None = None  # every frame's span, where ``tf_start``/``tf_end`` leave some out
+
+    @property
+    def stamps_span(self) -> tuple[int, int]:
+        """The first and last stamp of every frame, those on another clock than the reference's too."""
+        return self.full_tf or (self.tf_start, self.tf_end)
+
+    @property
+    def origin(self) -> int:
+        """The one origin of times shown relative to the recording (``+S``): its tf's first stamp."""
+        return self.tf_start
+
+    def since_origin(self, time: int) -> float | None:
+        """Seconds from ``origin`` to ``time`` (``seconds_since``)."""
+        return seconds_since(self.origin, time)
+
+    @cached_property
+    def clock_step(self) -> int:
+        """How often ``/clock`` ticked (ns): the median of its positive steps; 0 without /clock."""
+        steps = np.diff(self.clock.clock)
+        steps = steps[steps > 0]
+        return int(np.median(steps)) if len(steps) else 0
+
+    @property
+    def resolution(self) -> int:
+        """How coarse ROS time at arrival is (ns): it lags the true time by up to this. The step of
+        ``/clock`` under it, the record clock's otherwise (0: fine)."""
+        return self.clock_step if self.reference is Reference.CLOCK else self.record_step
+
+    @property
+    def delays_measured(self) -> bool:
+        """Whether delays (and a chain's net delay) can be measured: ROS time at arrival is known, on a
+        clock finer than ``FINE_STEP``."""
+        return self.available and self.resolution <= FINE_STEP
+
+    @property
+    def delays_unavailable(self) -> str:
+        """Why delays cannot be measured ("" where they can)."""
+        if not self.available:
+            return self.reason
+        if self.resolution <= FINE_STEP:
+            return ""
+        step = self.resolution / NS_PER_S
+        ticks = f"ticks every {step:.3f} s ({1 / step:.0f} Hz)"
+        if self.reference is Reference.CLOCK:
+            said = f"ROS time at arrival is read off {self.clock.topic or '/clock'}, which {ticks}"
+        else:
+            said = f"arrivals were timed by /clock (ROS time under use_sim_time), which {ticks}"
+        return f"{said}: delays shorter than that cannot be measured"
 
     @cached_property
     def off_reference(self) -> frozenset[str]:
@@ -90,7 +153,7 @@ class Timeline:
         """This recording's timeline (``timeline_of``'s) with another ``clock`` threshold (ns), its reference
         chosen again by it."""
         reference, reason = _reference(self.edges, self.clock, same_clock)
-        return dataclasses.replace(self, reference=reference, reason=reason, same_clock=same_clock)
+        return _spanned(dataclasses.replace(self, reference=reference, reason=reason, same_clock=same_clock))
 
     @property
     def available(self) -> bool:
@@ -99,11 +162,15 @@ class Timeline:
 
     @property
     def end(self) -> int:
-        """ROS time at the recording's end; without a reference, the newest tf stamp (the best guess)."""
+        """ROS time at the recording's end; without a reference, the newest tf stamp (the best guess). A
+        coarse clock lags by up to its ``resolution``: the newest stamp within that is the better reading."""
         if self.reference is Reference.NONE:
             return self.tf_end
         times, known = self.ros_time(np.array([self.record_end], np.int64))
-        return int(times[0]) if known[0] else self.tf_end
+        if not known[0]:
+            return self.tf_end
+        end = int(times[0])
+        return self.tf_end if end < self.tf_end <= end + self.resolution else end
 
     def ros_time(self, record_times: npt.ArrayLike) -> tuple[Int64Array, BoolArray]:
         """ROS time (on the stamps' clock) when messages recorded at ``record_times`` arrived, and
@@ -130,27 +197,45 @@ class Timeline:
         return times, known & ((flags & FROM_STATIC_TOPIC) == 0)
 
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
-        """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms: the one definition of a delay."""
+        """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms (``delays_of``)."""
+        return self.delays_of(child, stamps, record_times, flags)[0]
+
+    def delays_of(
+        self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array
+    ) -> tuple[Int64Array, BoolArray]:
+        """The delays of the transforms that have one, and which those are: the one definition of a delay,
+        ROS time at arrival minus stamp (ns) of the ``measurable`` transforms; none where ``delays_measured``
+        is false (``delays_unavailable`` says why). ROS time read off a clock that ticks lags by up to a
+        step, so the delay lies between the reading and a step more: the value nearest zero in that range,
+        never a negative delay that the clock's steps made."""
+        if not self.delays_measured:
+            return np.zeros(0, np.int64), np.zeros(len(stamps), bool)
         times, measured = self.measurable(child, record_times, flags)
-        return times[measured] - stamps[measured]
+        read = times[measured] - stamps[measured]
+        return (np.minimum(np.maximum(read, 0), read + self.resolution) if self.resolution else read), measured
 
     def played(self) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the
-        stamps' clock, or still without a reference (delays stay unknown; playback only estimates)."""
+        stamps' clock (as coarse as ROS time at arrival was), or still without a reference (delays stay
+        unknown; playback only estimates)."""
         if self.reference is Reference.NONE:
             return self
         edges = tuple(
             dataclasses.replace(e, offset_record=e.offset(self.reference is Reference.CLOCK) or 0, offset_clock=None)
             for e in self.edges
         )
-        return dataclasses.replace(self, reference=Reference.RECORD, clock=ClockSamples.empty(), edges=edges)
+        return dataclasses.replace(
+            self, reference=Reference.RECORD, clock=ClockSamples.empty(), edges=edges, record_step=self.resolution
+        )
 
     def describe(self) -> str:
         """One line: which clock the stamps are on, and what cannot be measured if none."""
+        coarse = f"; {self.delays_unavailable}" if self.delays_unavailable else ""
         if self.reference is Reference.CLOCK:
-            return f"tf stamps on {self.clock.topic} (simulated time); delays and ages measured against it"
+            measured = "ages" if coarse else "delays and ages"
+            return f"tf stamps on {self.clock.topic} (simulated time); {measured} measured against it{coarse}"
         if self.reference is Reference.RECORD:
-            return "tf stamps on the record clock"
+            return f"tf stamps on the record clock{coarse}"
         return self.reason
 
 
@@ -166,6 +251,7 @@ class Playback:
         self._first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
         self._shift = int(np.median([e.offset_record for e in timeline.edges])) if timeline.edges else 0
         self._floor = np.iinfo(np.int64).min
+        self._unknown = timeline.record_start  # a record time of 0 (unknown, an MCAP's log time 0) plays first
 
     def heard(self, clock: ClockSamples) -> None:
         """The /clock samples recorded since the last part (of a stream: a window's)."""
@@ -174,6 +260,8 @@ class Playback:
     def moved(self, record_times: Int64Array) -> Int64Array:
         """The replay times of the next part's ``record_times``."""
         records = np.asarray(record_times, np.int64)
+        if len(records) and self.reference is not Reference.CLOCK and records.min() <= 0:
+            records = np.maximum(records, self._unknown)
         if self.reference is Reference.RECORD or not len(records):
             return records
         if self.reference is Reference.NONE:
@@ -198,20 +286,88 @@ def clock_at(clock: ClockSamples, record_times: Int64Array) -> tuple[Int64Array,
     return np.where(known, clock.clock[np.maximum(index, 0)], 0), known
 
 
-def timeline_of(buffer: Buffer, clock: ClockSamples, record_start: int, record_end: int) -> Timeline:
-    """The timeline of a recording read into ``buffer``, with its recorded ``clock`` (``timeline_from``)."""
+def timeline_of(
+    buffer: Buffer, clock: ClockSamples, record_start: int, record_end: int, record_step: int = 0
+) -> Timeline:
+    """The timeline of a recording read into ``buffer``, with its recorded ``clock`` (``timeline_from``);
+    ``record_step``: how coarse its record times are, where its source knows (a live system on /clock)."""
     edges = tuple(edge_clock(*arrivals) for arrivals in clocked_arrivals(buffer, clock))
-    return timeline_from(edges, clock, record_start, record_end, tf_span(stamp_spans(buffer), record_start, record_end))
+    if record_start <= 0 < record_end:  # some messages' record times unknown (0): the span of the known ones
+        record_start = _first_known(buffer, clock, record_start)
+    tf = tf_span(stamp_spans(buffer), record_start, record_end)
+    return timeline_from(edges, clock, record_start, record_end, tf, record_step)
+
+
+def _first_known(buffer: Buffer, clock: ClockSamples, otherwise: int) -> int:
+    """The earliest known (positive) record time of ``buffer``'s transforms and the ``clock`` messages."""
+    known = [t[t > 0] for t in (clock.record_time, *(h.record_times for _, h in buffer.histories()))]
+    return min((int(t.min()) for t in known if len(t)), default=otherwise)
+
+
+def _records_on_clock(clock: ClockSamples) -> bool:
+    """Whether the record clock is ``/clock`` itself (recorded with use_sim_time): most /clock messages
+    recorded at exactly the time they carry, or the one before them carried (the recorder's ROS time)."""
+    if len(clock) < 2:
+        return False
+    records = clock.record_time[1:]
+    return bool(np.mean((records == clock.clock[1:]) | (records == clock.clock[:-1])) >= 0.5)
+
+
+def _spanned(timeline: Timeline) -> Timeline:
+    """``timeline`` with its tf span made plausible (``_plausible``)."""
+    start, end = _plausible(timeline)
+    return dataclasses.replace(timeline, tf_start=start, tf_end=end)
+
+
+def _plausible(timeline: Timeline) -> tuple[int, int]:
+    """The tf span of the frames on the reference clock (without one, of the most frames agreeing with one
+    another), where other frames are stamped on another clock: the full span otherwise."""
+    edges = timeline.edges
+    if timeline.reference is Reference.NONE:
+        on = [e.child for e in main_cluster(edges, timeline.same_clock)] if edges else []
+    else:
+        on = [e.child for e in edges if e.child not in timeline.off_reference]
+    if not on or len(on) == len(edges):
+        return timeline.stamps_span
+    chosen = [e for e in edges if e.child in set(on)]
+    return min(e.first_stamp for e in chosen), max(e.last_stamp for e in chosen)
+
+
+def clock_groups(edges: Sequence[EdgeClock], same_clock: int) -> list[list[EdgeClock]]:
+    """The frames (some) grouped by clock: their offsets from the record clock in order, a new group
+    where the next is more than ``same_clock`` further."""
+    ordered = sorted(edges, key=lambda e: e.offset_record)
+    groups: list[list[EdgeClock]] = [[ordered[0]]]
+    for e in ordered[1:]:
+        if e.offset_record - groups[-1][-1].offset_record > same_clock:
+            groups.append([])
+        groups[-1].append(e)
+    return groups
+
+
+def main_cluster(edges: Sequence[EdgeClock], same_clock: int) -> list[EdgeClock]:
+    """The largest of the ``clock_groups``: the tf clock, where no frame follows the record clock or /clock."""
+    return max(clock_groups(edges, same_clock), key=len)
 
 
 def timeline_from(
-    edges: tuple[EdgeClock, ...], clock: ClockSamples, record_start: int, record_end: int, tf: tuple[int, int]
+    edges: tuple[EdgeClock, ...],
+    clock: ClockSamples,
+    record_start: int,
+    record_end: int,
+    tf: tuple[int, int],
+    record_step: int = 0,
 ) -> Timeline:
     """A recording's timeline from how its frames relate to its clocks (``edges``) and its tf's span: on
     ``/clock`` when some frame's stamps follow it, else on the record clock when some frame's follow that,
-    else on none (the reason says why); frames that follow neither are ``off_reference``."""
+    else on none (the reason says why); frames that follow neither are ``off_reference``, and the tf span
+    is theirs only where no frame is on the reference (a span across two clocks is no span). Record times
+    read off /clock (recorded with use_sim_time) are as coarse as its steps."""
     reference, reason = _reference(edges, clock, SAME_CLOCK)
-    return Timeline(reference, clock, record_start, record_end, tf[0], tf[1], edges, reason)
+    timeline = Timeline(reference, clock, record_start, record_end, tf[0], tf[1], edges, reason, full_tf=tf)
+    if not record_step and _records_on_clock(clock):
+        record_step = timeline.clock_step
+    return _spanned(dataclasses.replace(timeline, record_step=record_step))
 
 
 def _reference(edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: int) -> tuple[Reference, str]:
@@ -248,6 +404,8 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
         offset_clock,
         _median(stamps),
         _median(records),
+        int(stamps.min()),
+        int(stamps.max()),
     )
 
 

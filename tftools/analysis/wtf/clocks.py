@@ -11,7 +11,7 @@ from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
-from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference
+from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference, clock_groups
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
 CLOCK_PAUSE = 1 * NS_PER_S
@@ -107,12 +107,7 @@ def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) 
 def _without_reference(scene: Scene) -> Iterator[Finding]:
     """No frame follows the record clock or /clock: the frames agreeing with most others are the tf clock
     (a note on what cannot be measured); those on yet another clock disagree with them (an error)."""
-    edges = sorted(scene.timeline.edges, key=lambda e: e.offset_record)
-    clusters: list[list[EdgeClock]] = [[edges[0]]]
-    for e in edges[1:]:
-        if e.offset_record - clusters[-1][-1].offset_record > scene.timeline.same_clock:
-            clusters.append([])
-        clusters[-1].append(e)
+    clusters = clock_groups(scene.timeline.edges, scene.timeline.same_clock)
     main = max(clusters, key=len)
     for cluster in clusters:
         if cluster is not main:
@@ -161,11 +156,13 @@ def _wall_receive_times(scene: Scene) -> Iterator[Finding]:
     sim = int(clock.clock[-1] - clock.clock[0])
     wall = int(clock.record_time[-1] - clock.record_time[0])
     speed = f", the simulation running at {sim / wall:.2f}x real time" if wall > 0 and sim > 0 else ""
+    measured = f"ages are measured against {clock.topic} at arrival"
+    measured += f"; {timeline.delays_unavailable}" if timeline.delays_unavailable else ", and delays"
     yield Finding(
         Severity.info,
         "clock",
         f"received times are on another clock than tf and {clock.topic} (wall time: recorded without "
-        f"--use-sim-time){speed}: delays and ages are measured against {clock.topic} at arrival",
+        f"--use-sim-time){speed}: {measured}",
         "nothing to fix; ros2 bag record --use-sim-time records on simulated time",
         count=len(clock),
     )

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.fleet import BagReport
 from tftools.core.time import NS_PER_S
+from tftools.sources.timeline import EPOCH_FLOOR
 
 
 class Verdict(str, enum.Enum):
@@ -73,8 +74,9 @@ def tally(reports: Sequence[BagReport]) -> list[CheckTally]:
 
 
 def day_of(bag: BagReport) -> datetime.date | None:
-    """The UTC day of a recording's first record time; None when it could not be read."""
-    if not bag.usable:
+    """The UTC day of a recording's first record time; None when it could not be read, or its record clock
+    does not count from the epoch (simulated time, time since boot: 1970-01-01 is no day it was made)."""
+    if not bag.usable or bag.start < EPOCH_FLOOR:
         return None
     return datetime.datetime.fromtimestamp(bag.start / NS_PER_S, tz=datetime.timezone.utc).date()
 
@@ -99,9 +101,15 @@ def trends(reports: Sequence[BagReport]) -> list[Trend]:
     return sorted(found, key=lambda t: (t.since is None, -t.since.toordinal() if t.since else 0, t.code))
 
 
+#: A problem is a trend when it showed on at least this many days in a row, up to the last (one day's
+#: recording having it is that recording's finding, not a trend).
+TREND_DAYS = 2
+
+
 def _since(days: list[datetime.date], counts: dict[datetime.date, int]) -> datetime.date | None:
-    """The first day of the last unbroken run of days with the problem, if a day before it had none."""
+    """The first day of the last unbroken run of days with the problem (at least ``TREND_DAYS`` long,
+    up to the last day), if a day before it had none."""
     absent = [i for i, day in enumerate(days) if day not in counts]
-    if not absent or absent[-1] == len(days) - 1:
+    if not absent or len(days) - 1 - absent[-1] < TREND_DAYS:
         return None
     return days[absent[-1] + 1]

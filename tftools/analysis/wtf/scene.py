@@ -173,11 +173,15 @@ class Scene:
         return authority
 
     def at(self, stamp: int) -> str:
-        """A moment on the stamps' clock: absolute seconds, and seconds into the tf data."""
-        return f"{stamp / NS_PER_S:.3f} ({self.rel(stamp)})"
+        """A moment on the stamps' clock: absolute seconds, and seconds into the tf data where plausible
+        (a stamp on another time base than the tf data's has none)."""
+        since = self.timeline.since_origin(stamp)
+        return f"{stamp / NS_PER_S:.3f}" + (f" ({since:+.1f} s)" if since is not None else "")
 
     def rel(self, stamp: int) -> str:
-        return f"{(stamp - self.timeline.tf_start) / NS_PER_S:+.1f} s"
+        """Seconds into the tf data (``Timeline.origin``), or the absolute time on another time base."""
+        since = self.timeline.since_origin(stamp)
+        return f"{since:+.1f} s" if since is not None else f"at {stamp / NS_PER_S:.3f}"
 
     def at_arrival(self, record_time: int) -> str:
         """When a message arrived: in ROS time where the timeline knows it, else on the record clock."""

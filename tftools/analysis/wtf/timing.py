@@ -15,6 +15,7 @@ from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, trans
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.time import NS_PER_S, from_sec
+from tftools.sources.timeline import FINE_STEP
 
 #: Stamps going back this far (ns) are a jump in time, never transforms that arrived late.
 TIME_JUMP = NS_PER_S
@@ -74,7 +75,7 @@ def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Arra
 @register("future", Severity.error, "stamps ahead of the time they were recorded")
 def future(scene: Scene) -> Iterator[Finding]:
     for e, stamps, records in _arrivals(scene):
-        ahead = stamps - records
+        ahead = stamps - records - scene.timeline.resolution  # ROS time at arrival lags by up to a clock step
         early = ahead > from_sec(scene.thresholds.future)
         if early.any():
             yield e.finding(
@@ -102,12 +103,14 @@ def delay(scene: Scene) -> Iterator[Finding]:
         if e.child in scene.shared("time_jumps", lambda: _jumped(scene)):
             continue  # stamps behind arrival since a jump back in time: ``time_backwards`` says so
         by = scene.by(e.authorities)
+        step = scene.timeline.resolution
+        coarse = f"; at least: ROS time at arrival ticks every {duration(step / NS_PER_S)}" if step > FINE_STEP else ""
         yield e.finding(
             Severity.warning,
             "delay",
             f"{edge(*e.key)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
             f"more than {scene.thresholds.delay:g} s after their stamp (median "
-            f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)}), "
+            f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)}{coarse}), "
             f"first at {scene.at(int(records[late].min()))}",
             "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
             "waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
@@ -139,6 +142,10 @@ def rate(scene: Scene) -> Iterator[Finding]:
             yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals)
 
 
+#: The rhythm of arrivals read off a clock with steps of a third of the period or more cannot be judged.
+STEPS_PER_PERIOD = 3
+
+
 def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
     gaps = edge_gaps(e.stamps, from_sec(scene.thresholds.max_gap))
     if gaps is None:
@@ -160,12 +167,18 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
 
 
 def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array) -> Iterator[Finding]:
+    """Irregular arrivals, or two publishers taking turns; ``arrivals`` read off a clock with steps of
+    ``Timeline.record_step`` (a live system on /clock) are each late by up to a step: an interval is
+    off only beyond that, and a period of less than ``STEPS_PER_PERIOD`` steps is not judged."""
     intervals = np.diff(arrivals)
-    off = _off_share(intervals)
-    if len(intervals) < IRREGULAR_MIN_INTERVALS or off <= IRREGULAR_SHARE:
+    step = scene.timeline.record_step
+    if len(intervals) < IRREGULAR_MIN_INTERVALS or float(np.median(intervals)) < STEPS_PER_PERIOD * step:
+        return
+    off = _off_share(intervals, step)
+    if off <= IRREGULAR_SHARE:
         return
     what = f"{edge(*frames)}{scene.by(who)}"
-    if not scene.publishers_known and _interleaved(arrivals):
+    if not scene.publishers_known and _interleaved(arrivals, step):
         if frames in {f.frames for f in inferred_broadcasters(scene)}:
             return  # already said
         hz = NS_PER_S / float(np.median(np.diff(arrivals[0::2])))
@@ -192,10 +205,11 @@ def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrival
     yield Finding(Severity.warning, code, message, hint, frames, who, first, last, len(arrivals))
 
 
-def _off_share(intervals: Int64Array) -> float:
-    """The share of intervals more than IRREGULAR off their median."""
+def _off_share(intervals: Int64Array, step: int = 0) -> float:
+    """The share of intervals more than IRREGULAR off their median, and beyond the ``step`` of the clock
+    that measured them."""
     period = float(np.median(intervals))
-    return float(((intervals < (1 - IRREGULAR) * period) | (intervals > (1 + IRREGULAR) * period)).mean())
+    return float((np.abs(intervals - period) > IRREGULAR * period + step).mean())
 
 
 def _cyclic(intervals: Int64Array) -> bool:
@@ -209,12 +223,12 @@ def _cyclic(intervals: Int64Array) -> bool:
     )
 
 
-def _interleaved(arrivals: Int64Array) -> bool:
+def _interleaved(arrivals: Int64Array, step: int) -> bool:
     """Two steady rhythms of one rate taking turns: two publishers, where the bag does not name them."""
     first, second = np.diff(arrivals[0::2]), np.diff(arrivals[1::2])
     if min(len(first), len(second)) < IRREGULAR_MIN_INTERVALS // 2:
         return False
-    steady = _off_share(first) <= IRREGULAR_SHARE / 2 and _off_share(second) <= IRREGULAR_SHARE / 2
+    steady = _off_share(first, step) <= IRREGULAR_SHARE / 2 and _off_share(second, step) <= IRREGULAR_SHARE / 2
     return steady and abs(float(np.median(first)) / float(np.median(second)) - 1) < IRREGULAR / 2
 
 

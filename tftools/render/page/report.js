@@ -29,7 +29,7 @@
 
   function axisTimes(axis) {
     var xs = new Array(axis.count);
-    for (var i = 0; i < axis.count; i++) xs[i] = (i + 0.5) * axis.step;
+    for (var i = 0; i < axis.count; i++) xs[i] = axis.start + (i + 0.5) * axis.step;
     return xs;
   }
 
@@ -81,7 +81,7 @@
     this.plots = [];
     this.active = -1;
     this.xs = axisTimes(data.axis);
-    this.full = [0, data.axis.count * data.axis.step];
+    this.full = [data.axis.start, data.axis.start + data.axis.count * data.axis.step];
     var syncing = false;
     this.sync = function (u, key) {
       if (key !== "x" || syncing) return;

@@ -3,6 +3,7 @@ lifecycle its sources share."""
 
 from __future__ import annotations
 
+import collections
 import threading
 from collections.abc import Callable, Sequence
 from types import TracebackType
@@ -79,6 +80,30 @@ class NoticeOnce:
             self._on_notice(message)
 
 
+class TickedClock(SimClock):
+    """ROS time under use_sim_time: set by each ``/clock`` message, and how far apart they are."""
+
+    #: The step is the median of this many last steps forward.
+    STEPS = 64
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._steps: collections.deque[int] = collections.deque(maxlen=self.STEPS)
+
+    @property
+    def step(self) -> int:
+        """The usual step between ``/clock`` messages (ns; 0 before two of them)."""
+        steps = sorted(self._steps)
+        return steps[len(steps) // 2] if steps else 0
+
+    def tick(self, now: int) -> None:
+        """A ``/clock`` message: ROS time is now ``now`` (back too)."""
+        before = self.now()
+        self.reset(now)
+        if 0 < before < now:
+            self._steps.append(now - before)
+
+
 _Self = TypeVar("_Self", bound="ContextManaged")
 
 
@@ -109,7 +134,7 @@ class LiveSource(ContextManaged):
         self.topics = tuple(topics) if topics else DEFAULT_TOPICS
         self.use_sim_time = use_sim_time
         self.message_count = 0  # transform messages received so far
-        self._clock: Clock = SimClock() if use_sim_time else WallClock()
+        self._clock: Clock = TickedClock() if use_sim_time else WallClock()
         self._on_notice = on_notice or ignore_notice
         self._notice_once = NoticeOnce(on_notice)
         self._closed = threading.Event()
@@ -141,10 +166,16 @@ class LiveSource(ContextManaged):
         """Say ``message`` (one line) as the source says its own notices, every time it is called."""
         self._on_notice(message)
 
+    @property
+    def clock_step(self) -> int:
+        """How coarse the source's clock is (ns): the usual step of ``/clock`` under use_sim_time (receive
+        times, read off it, lag by up to a step), 0 on the wall clock."""
+        return self._clock.step if isinstance(self._clock, TickedClock) else 0
+
     def _clock_message(self, now: int) -> None:
         """A ``/clock`` message: ROS time is now ``now``, back too (a replay that loops or restarts)."""
-        assert isinstance(self._clock, SimClock)
-        self._clock.reset(now)
+        assert isinstance(self._clock, TickedClock)
+        self._clock.tick(now)
 
     def _unreadable(self, sender: str, topic: str, error: Exception) -> None:
         """Say once per publisher and topic that its messages cannot be read (they are dropped): a

@@ -78,8 +78,9 @@ class _Heard:
 def _recording(
     source: LiveSource, transforms: TransformBatch, begin: int, end: int, semantics: Semantics | None
 ) -> Recording:
-    if len(transforms):  # a sim clock may start at 0 and jump: span what was heard too
-        begin = min(begin, int(transforms.record_time.min()))
+    if len(transforms):  # a sim clock reads 0 until its first /clock: span what was heard too
+        first = int(transforms.record_time.min())
+        begin = min(begin, first) if begin > 0 else first
         end = max(end, int(transforms.record_time.max()))
     info = SourceInfo(
         path=source.describe(),
@@ -91,7 +92,7 @@ def _recording(
         transform_count=len(transforms),
     )
     contents = RecordingContents([transforms] if len(transforms) else [], [info], tuple(source.topics))
-    return recording_of(contents, semantics)
+    return recording_of(contents, semantics, record_step=source.clock_step)
 
 
 def live_semantics(source: LiveSource) -> Semantics:

@@ -1,0 +1,291 @@
+"""Figures derived from times (delays, spans, durations, +S, rhythms of arrival) on one timeline with one
+origin: plausible, or unavailable with the reason. Real recordings where the corpus has one, else written."""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
+from tests.corpus.fetch import shared_dir
+from tftools.analysis.monitor import monitor
+from tftools.analysis.report import recording_facts, recording_report
+from tftools.analysis.wtf import check
+from tftools.analysis.wtf.fleet import check_recording
+from tftools.core.batch import BatchBuilder, take_rows
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.render.report import recording_section
+from tftools.sources.contents import RecordingContents, SourceInfo, StampedMessages
+from tftools.sources.recording import read_recording, recording_of
+from tftools.sources.stream import stream_recording
+
+S = NS_PER_S
+MS = NS_PER_S // 1000
+WALL = 1_695_944_000 * S  # a wall-clock time (September 2023)
+
+
+def corpus(name: str) -> Path:
+    path = shared_dir() / "corpus" / name
+    if not path.exists():
+        pytest.skip(f"corpus recording {name} is not placed in {path.parent}")
+    return path
+
+
+def moving(parent: str, child: str, stamp: int, x: float = 0.0) -> Transform:
+    return Transform((x, 0, 0), (0, 0, 0, 1), stamp, parent, child)
+
+
+# --- delays on a /clock that ticks coarsely ------------------------------------------------------------
+
+
+def gazebo(tmp_path: Path, clock_hz: float) -> Path:
+    """A simulation recorded on wall time: /clock at ``clock_hz`` (sim time from 100 s), odom -> base at
+    30 Hz stamped with the simulation's own time, received 2 ms after (all on the record clock)."""
+    period = round(S / clock_hz)
+    clock = [ClockMessage(WALL + k * period + MS // 2, 100 * S + k * period) for k in range(round(10 * clock_hz))]
+    tf = [
+        TfMessage("/tf", WALL + i * S // 30 + 2 * MS, [moving("odom", "base", 100 * S + i * S // 30, i)])
+        for i in range(300)
+    ]
+    return write_bag(tmp_path / f"gazebo_{clock_hz:g}hz", tf, BagFormat.rosbag2_sqlite3, clock)
+
+
+def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx) -> None:
+    """Arrivals mapped to the last /clock tick before them lag by up to 100 ms: mean delays of -0.05 s
+    were shown. Now none, and the reason, in text and JSON."""
+    bag = gazebo(tmp_path, 10)
+    recording = read_recording([bag])
+    report = monitor(recording.buffer, timeline=recording.timeline)
+    (base,) = [e for e in report.edges if e.child == "base"]
+    assert math.isnan(base.delay_mean_s) and math.isnan(base.delay_max_s)
+    assert "ticks every 0.100 s (10 Hz)" in report.delays_unavailable
+    shown = json.loads(tfx("monitor", "-b", bag, "-f", "json").stdout)
+    assert shown["edges"][0]["delay_mean_s"] is None and shown["authorities"][0]["delay_max_s"] is None
+    assert "/clock, which ticks every 0.100 s" in shown["delays_unavailable"]
+    text = tfx("monitor", "-b", bag).stdout
+    assert "delays unavailable: ROS time at arrival is read off /clock, which ticks every 0.100 s" in text
+    played = [
+        json.loads(line)
+        for line in tfx("monitor", "-b", bag, "--play", "--rate", "50", "-f", "json").stdout.splitlines()
+    ]
+    assert played and all(e["delay_mean_s"] is None for r in played for e in r["edges"])  # a replay too
+    codes = {f.code for f in check(recording)}
+    assert not codes & {"delay", "future"}
+
+
+def test_a_fine_clock_measures_delays_never_below_zero(tmp_path: Path) -> None:
+    """/clock at 1 kHz: the 2 ms delays are measured; a reading a tick behind the stamp is no negative delay."""
+    recording = read_recording([gazebo(tmp_path, 1000)])
+    report = monitor(recording.buffer, timeline=recording.timeline)
+    (base,) = [e for e in report.edges if e.child == "base"]
+    assert report.delays_unavailable == ""
+    assert 0.001 <= base.delay_mean_s <= 0.0025 and base.delay_max_s <= 0.003
+    stamps, records = recording.buffer.history("base").stamps, recording.buffer.history("base").record_times
+    delays = recording.timeline.delays("base", stamps, records, recording.buffer.history("base").flags)
+    assert len(delays) == 300 and delays.min() >= 0
+    chain = monitor(recording.buffer, "odom", "base", timeline=recording.timeline).chain
+    assert chain is not None and 0 <= chain.delay_mean_s <= chain.delay_max_s < 0.04
+
+
+def test_the_gazebo_corpus_recording_shows_no_impossible_delay(tfx) -> None:
+    """The TurtleBot 3 in Gazebo (ros2_walker): /clock at 10 Hz, received on wall time."""
+    bag = corpus("ros2_db3_tb3_gazebo_walker")
+    shown = json.loads(tfx("monitor", "-b", bag, "-f", "json").stdout)
+    figures = [e[k] for e in shown["edges"] + shown["authorities"] for k in ("delay_mean_s", "delay_max_s")]
+    assert figures and all(f is None for f in figures)
+    assert "ticks every 0.100 s (10 Hz)" in shown["delays_unavailable"]
+    wtf = tfx("wtf", bag)
+    assert wtf.code == 0 and "delays shorter than that cannot be measured" in wtf.stdout
+    assert not re.search(r"\b(delay|future)\b:", wtf.stdout)
+
+
+# --- spans: one clock, plausible --------------------------------------------------------------------
+
+
+def two_clocks(tmp_path: Path) -> Path:
+    """On a topic named ``tf``: an arm stamped on simulated time (from 1900 s) and detections stamped on
+    wall time, all received on wall time, for 20 s."""
+    messages = []
+    for i in range(200):
+        record = WALL + i * S // 10
+        arm = moving("arm_base", "arm_link", 1900 * S + i * S // 10, i)
+        seen = moving("camera", "object", record - 5 * MS, i)
+        messages.append(TfMessage("tf", record, [arm, seen]))
+    return write_bag(tmp_path / "two_clocks.bag", messages)
+
+
+def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx) -> None:
+    """'1695944406.454 s from 1907.175 to 1695946313.629': a span from the simulated stamps to the wall ones."""
+    bag = two_clocks(tmp_path)
+    recording = read_recording([bag], topics=["tf"])
+    timeline = recording.timeline
+    assert timeline.off_reference == {"arm_link"}
+    assert (timeline.tf_start, timeline.tf_end) == (WALL - 5 * MS, WALL + 199 * S // 10 - 5 * MS)
+    header = tfx("monitor", "-b", bag, "--topic", "tf").stdout.splitlines()[0]
+    assert header.endswith(f": 19.900 s from {(WALL - 5 * MS) / S:.3f} to {(WALL + 19895 * MS) / S:.3f}")
+    facts = dict(recording_facts(recording))
+    assert "(19.900 s)" in facts["tf stamps"]
+    at = tfx("echo", "arm_base", "arm_link", "-b", bag, "--topic", "tf", "--at", "1905")  # its own clock's times
+    assert at.code == 0 and at.stdout.startswith("At time 1905.000\n- Translation: [50.000,")
+    (clock,) = [f for f in check(recording) if f.code == "clock"]  # the arm is still told of
+    assert "arm_base -> arm_link" in clock.message and "stamped around 1910.0 s" in clock.message
+    assert not re.search(r"[+-]\d{6,}\.\d s", "\n".join(f.message for f in check(recording)))
+
+
+def test_the_timelines_tf_span_follows_its_clock_threshold(tmp_path: Path) -> None:
+    """``Timeline.within`` chooses the frames on the reference again, and their span with them."""
+    timeline = read_recording([two_clocks(tmp_path)], topics=["tf"]).timeline
+    wide = timeline.within(2 * 10**9 * S)  # a clock threshold wider than the two clocks' distance: one clock
+    assert wide.off_reference == frozenset() and wide.tf_start == 1900 * S
+    assert timeline.within(10 * S).tf_start == WALL - 5 * MS
+
+
+# --- times counted from zero -------------------------------------------------------------------------
+
+
+def test_a_json_mcap_whose_first_messages_have_no_log_time_spans_its_known_times(tfx) -> None:
+    """The Foxglove JSON MCAP (Labelbox's Franka): messages logged at time 0 made its span 1748331284.3 s."""
+    bag = corpus("json_mcap_lbx_franka.mcap")
+    recording = read_recording([bag])
+    assert recording.start > 1_700_000_000 * S and recording.end - recording.start < 5 * S
+    header = tfx("wtf", bag).stdout.splitlines()[0]
+    assert header.startswith(f"{bag}  mcap, 1.5 s, 12 transforms")
+    assert not re.search(r"[+-]\d{6,}\.\d s", tfx("wtf", bag).stdout)  # stamps 0 get no offset from 1748331282 s
+
+
+def test_the_report_counts_every_time_from_the_one_origin(tmp_path: Path) -> None:
+    """The page's axis started at the first sensor message while findings counted from the first tf stamp:
+    '+45.5 s' in a finding's header and '+40.8 s' in its text. Now both from the tf's first stamp."""
+    messages = [
+        TfMessage("/tf", WALL + i * S // 10 + MS, [moving("odom", "base", WALL + i * S // 10, i)]) for i in range(300)
+    ]
+    messages += [
+        TfMessage("/tf", WALL + (100 + i) * S // 10 + MS, [moving("base", "arm", WALL + (100 + i) * S // 10)])
+        for i in range(50)
+    ]
+    messages.sort(key=lambda m: m.record_time)
+    recording = read_recording([write_bag(tmp_path / "stale.bag", messages)])
+    times = WALL - 5 * S + np.arange(0, 350) * S // 10  # a scan from 5 s before tf to its end
+    scan = StampedMessages("/scan", "sensor_msgs/msg/LaserScan", times, times, np.zeros(350, np.int32), ["base"])
+    report = recording_report(recording, [scan])
+    assert report.origin == recording.timeline.origin == WALL and report.bins.start < WALL - 4 * S
+    (stale,) = [f for f in report.findings if f.code == "stale"]
+    said = re.search(r"stopped at [\d.]+ \(([+-][\d.]+) s\)", stale.message)
+    assert said is not None
+    section = recording_section(0, report, []).html
+    shown = re.search(r'<span class="when">([+-][\d.]+) s to [+-][\d.]+ s</span>', section)
+    assert shown is not None and float(shown.group(1)) == pytest.approx(float(said.group(1)), abs=0.05)
+    data = json.loads(re.search(r'class="report-data">(.*?)</script>', section).group(1))  # type: ignore[union-attr]
+    assert data["axis"]["start"] == pytest.approx((report.bins.start - WALL) / S)
+    assert data["findings"][0]["from"] == pytest.approx(float(said.group(1)), abs=0.05)
+
+
+# --- arrivals read off a ticking clock: rosbag play --clock --------------------------------------------
+
+
+def heard_on_a_clock(step: int, record_step: int) -> RecordingContents:
+    """What a live listener on use_sim_time hears of a replay whose /clock ticks every ``step``: each
+    transform received 0 to 2 ms after its stamp, at the last tick before (a tick is 1 ms after the
+    stamps' grid). odom -> base at a steady 100 Hz; map -> odom at about 20 Hz, truly irregular."""
+    rng = np.random.default_rng(7)
+    base = WALL + np.arange(1000) * 10 * MS
+    odom = WALL + np.cumsum(rng.choice([20, 50, 100], 120)) * MS
+    rows = [(t, "odom", "base") for t in base.tolist()] + [(t, "map", "odom") for t in odom.tolist()]
+    rows.sort()
+    builder = BatchBuilder()
+    ticks = WALL + MS + np.arange(2000) * step
+    arrivals = np.array([t for t, _, _ in rows]) + rng.integers(0, 2 * MS, len(rows))
+    received = ticks[np.searchsorted(ticks, arrivals, side="right") - 1]
+    for (stamp, parent, child), record in zip(rows, received.tolist(), strict=True):
+        builder.add(parent, child, stamp, (0, 0, 0), (0, 0, 0, 1), record_time=record, authority="/replayed")
+    heard = builder.take()
+    info = SourceInfo("a replay", "ros1-live", int(received.min()), int(received.max()), len(heard))
+    return RecordingContents([heard], [info], ("/tf", "/tf_static"))
+
+
+def test_arrivals_read_off_a_10_ms_clock_raise_no_false_rate_warning() -> None:
+    """tfx wtf beside rosbag play --clock gave 'rate' warnings for steady edges: the rhythm of arrivals
+    read off /clock's 10 ms steps (a 100 Hz edge's intervals read 0, 10 or 20 ms). Knowing the step,
+    only the edge that is irregular is."""
+    blind = check_recording(recording_of(heard_on_a_clock(10 * MS, 0)))
+    assert {f.frames for f in blind.findings if f.code == "rate"} == {("odom", "base"), ("map", "odom")}
+    knowing = recording_of(heard_on_a_clock(10 * MS, 0), record_step=10 * MS)
+    rates = [f for f in check_recording(knowing).findings if f.code == "rate"]
+    assert [f.frames for f in rates] == [("map", "odom")] and "publishes irregularly" in rates[0].message
+    assert knowing.timeline.record_step == 10 * MS and "ticks every 0.010 s" in knowing.timeline.describe()
+    report = monitor(knowing.buffer, timeline=knowing.timeline)
+    assert all(math.isnan(e.delay_mean_s) for e in report.edges) and "0.010 s (100 Hz)" in report.delays_unavailable
+
+
+def test_a_recording_made_on_sim_time_has_record_times_as_coarse_as_its_clock(tmp_path: Path) -> None:
+    """``ros2 bag record --use-sim-time``: each message recorded at the last /clock value (10 Hz here)."""
+    clock = [ClockMessage(100 * S + (k - 1) * S // 10, 100 * S + k * S // 10) for k in range(1, 100)]
+    tf = [
+        TfMessage("/tf", 100 * S + (i // 3) * S // 10, [moving("odom", "base", 100 * S + i * S // 30)])
+        for i in range(3, 290)
+    ]
+    recording = read_recording([write_bag(tmp_path / "on_sim", tf, BagFormat.rosbag2_sqlite3, clock)])
+    assert recording.timeline.record_step == S // 10 and recording.timeline.resolution == S // 10
+    assert "ticks every 0.100 s" in recording.timeline.delays_unavailable
+    wall = [ClockMessage(WALL + k * S // 100 + 3 * MS, WALL + k * S // 100) for k in range(100)]  # /clock on wall time
+    recorded = read_recording([write_bag(tmp_path / "on_wall", tf, BagFormat.rosbag2_sqlite3, wall)])
+    assert recorded.timeline.record_step == 0
+
+
+def test_a_fleet_of_corpus_recordings_reports_no_trend_of_one_recording(tfx) -> None:
+    """'TRENDS (17 days, 1970-01-01 ...)': the JSON MCAP dated 1970 by its messages logged at 0, and the
+    Nav2 simulation's notes, one recording's, called problems that started on its day."""
+    fleet = [
+        corpus(n) for n in ("json_mcap_lbx_franka.mcap", "ros2_mcap_nav2_turtlebot4.mcap", "ros1_evo_tf_example.bag")
+    ]
+    shown = tfx("wtf", *fleet)
+    assert "ACROSS THE FLEET" in shown.stdout and "TRENDS" not in shown.stdout and "1970" not in shown.stdout
+    days = json.loads(tfx("wtf", *fleet, "-f", "json").stdout)["fleet"]["days"]
+    assert len(days) == 3 and min(days) > "2020"
+
+
+def test_a_json_mcap_replays_from_its_first_known_time(tfx) -> None:
+    """Its messages logged at time 0 made a replay start at 0: 55 years before its tf."""
+    bag = corpus("json_mcap_lbx_franka.mcap")
+    streamed = stream_recording([bag])
+    assert streamed.timeline.record_start == read_recording([bag]).start
+    moved = np.concatenate([part.record_time for part in streamed.parts()])
+    assert moved.min() >= streamed.timeline.record_start > 1_700_000_000 * S
+    assert streamed.replay(rate=10).begin == streamed.timeline.record_start
+    played = tfx("monitor", "-b", bag, "--play", "--rate", "10", "-f", "json")
+    windows = [json.loads(line)["window"] for line in played.stdout.splitlines()]
+    assert played.code == 0 and windows and all(w["end"] > 1_748_331_282 for w in windows)
+
+
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag"
+
+
+def sample_replayed_on_sim_time(step: int) -> RecordingContents:
+    """The healthy sample robot as a listener on use_sim_time hears ``rosbag play --clock``: the player
+    publishes /clock (every ``step``) in the loop that publishes the messages, so a message and the tick
+    for its time race on two connections: it is received at its time, or at the tick before (a step
+    and a little more earlier: /clock's values come from the wall clock)."""
+    rng = np.random.default_rng(0)
+    heard = read_recording([SAMPLE]).transforms
+    sent = heard.record_time.copy()
+    late_tick = rng.random(len(sent)) < 0.5
+    heard.record_time[:] = np.where(late_tick, sent - step - rng.integers(1, 300_000, len(sent)), sent)
+    heard = take_rows(heard, np.argsort(heard.record_time, kind="stable"))
+    info = SourceInfo("a replay", "ros1-live", int(heard.record_time.min()), int(heard.record_time.max()), len(heard))
+    return RecordingContents([heard], [info], ("/tf", "/tf_static"))
+
+
+def test_the_healthy_sample_replayed_on_sim_time_gets_no_rate_warning() -> None:
+    """'tfx wtf -d 12' beside 'rosbag play --clock' of the sample bag: 7 'rate' warnings ('33% of its
+    intervals are more than 50% off') for its 50 Hz edges, whose arrivals, read off /clock, are 10 or
+    30 ms apart as often as 20. Knowing the clock's step (the source's), none."""
+    blind = check_recording(recording_of(sample_replayed_on_sim_time(10 * MS)))
+    assert len([f for f in blind.findings if f.code == "rate" and "publishes irregularly" in f.message]) >= 5
+    knowing = check_recording(recording_of(sample_replayed_on_sim_time(10 * MS), record_step=10 * MS))
+    assert [f.message for f in knowing.findings] == []
