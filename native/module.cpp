@@ -244,6 +244,9 @@ class EdgeTable {
         const int same = PyObject_RichCompareBool(target_frame.ptr(), source_frame.ptr(), Py_EQ);
         if (same < 0) throw nb::python_error();
         if (same) return true;
+        // tf2's validateFrameId: a name with a leading slash (a frame published as "//b" is
+        // stored as "/b") is refused, as lookup refuses it.
+        if (!plain_name(target_frame) || !plain_name(source_frame)) return false;
         const Locked locked(lock_, lock_methods_);
         const int64_t target = frame_id(target_frame, 0), source = frame_id(source_frame, 1);
         return target > 0 && source > 0 && can_transform(target, source, time);
@@ -252,9 +255,10 @@ class EdgeTable {
     // Samples offered to the buffer so far, stored or refused: the next one's sequence number.
     int64_t arrivals = 0;
 
-    std::optional<Found> lookup(int64_t target, int64_t source, int64_t time) const {
+    // `raw`: under ROS 2, the rotation as composed, before tf2::Transform's round trip (lookup_full's).
+    std::optional<Found> lookup(int64_t target, int64_t source, int64_t time, bool raw) const {
         tfcore::Pose p;
-        if (!lookup_pose(target, source, time, p)) return std::nullopt;
+        if (!lookup_pose(target, source, time, p, raw)) return std::nullopt;
         return Found{{p.v.x, p.v.y, p.v.z}, {p.q.x, p.q.y, p.q.z, p.q.w}, time};
     }
 
@@ -309,6 +313,7 @@ class EdgeTable {
         nb::gil_scoped_release unlocked;
         tfcore::lookup_many(histories_, target, source, times.data(), n,
                             {rows.data(), stamps.data(), values.data(), valid.data()}, chained);
+        returned(values, valid, rows.data(), n);
     }
 
     void lookup_in_parallel(int64_t target, int64_t source, Int64s times, Array<int64_t, nb::ndim<1>> stamps,
@@ -323,6 +328,7 @@ class EdgeTable {
         nb::gil_scoped_release unlocked;
         tfcore::lookup_any_order(histories_, target, source, times.data(), n,
                                  {nullptr, stamps.data(), values.data(), valid.data()}, threads);
+        returned(values, valid, nullptr, n);
     }
 
     int chain_takes(int64_t target, int64_t source, Int64s times) const {
@@ -371,6 +377,7 @@ class EdgeTable {
             !read_int(record_time, recorded)) {
             return false;
         }
+        if (ros2_) tfcore::through_matrix_all(v + 3, 1, 4);  // what ROS 2's tf2 checks and stores
         const double x = v[3], y = v[4], z = v[5], w = v[6];
         // The sum of infinities and NaNs is not finite (of large values neither: the batch path decides those).
         if (!std::isfinite(v[0] + v[1] + v[2] + x + y + z + w) ||
@@ -405,15 +412,31 @@ class EdgeTable {
         return true;
     }
 
-    // A lookup; false where tf2 fails. `time` 0 becomes the latest common time.
-    bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p) const {
+    // A lookup; false where tf2 fails. `time` 0 becomes the latest common time. ROS 2's tf2 returns
+    // the rotation through a matrix (unless `raw`).
+    bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p, bool raw = false) const {
         check_frames(target, source);
         if (time == 0 && tfcore::latest_common_time(histories_, target, source, time) != tfcore::Failure::NONE) {
             return false;
         }
         tfcore::Memo memo;
         thread_local tfcore::Chain chain;
-        return tfcore::lookup_at(histories_, target, source, time, chain, memo, p);
+        if (!tfcore::lookup_at(histories_, target, source, time, chain, memo, p)) return false;
+        if (ros2_ && !raw) p.q = tfcore::through_matrix(p.q);
+        return true;
+    }
+
+    // ROS 2's tf2 returns each answer's rotation through a matrix: the valid `rows` of `values` so.
+    void returned(Array<double, nb::shape<-1, 7>>& values, const Array<bool, nb::ndim<1>>& valid,
+                  const int64_t* rows, int64_t n) const {
+        if (!ros2_) return;
+        std::vector<uint8_t> done(values.shape(0));
+        for (int64_t k = 0; k < n; ++k) {
+            const int64_t row = rows != nullptr ? rows[k] : k;
+            if (done[row] || !valid.data()[row]) continue;
+            done[row] = 1;
+            tfcore::through_matrix_all(values.data() + 7 * row + 3, 1, 7);
+        }
     }
 
     // A new `answer` (Transform), its slots filled in place (its frozen __setattr__ refuses).
@@ -584,6 +607,12 @@ class BulkInsert {
     // (accepted, refused rows, their codes, their groups' bounds, rows ROS 2's tf2 ignored as identical).
     nb::tuple run() {
         key_names();
+        rotations_ = rotation_.data();
+        if (t_.ros2_) {  // ROS 2's tf2 checks, compares and stores each rotation as it comes back from a matrix
+            turned_.assign(rotations_, rotations_ + 4 * n_);
+            tfcore::through_matrix_all(turned_.data(), n_, 4);
+            rotations_ = turned_.data();
+        }
         first_ = t_.arrivals;
         t_.arrivals += n_;
         std::vector<uint8_t> refusals(n_);
@@ -627,7 +656,7 @@ class BulkInsert {
     static constexpr int64_t NEVER = INT64_MAX;
 
     tfinsert::Values values(int64_t row) const {
-        return tfinsert::values_of(translation_.data(), rotation_.data(), row);
+        return tfinsert::values_of(translation_.data(), rotations_, row);
     }
 
     // Each name a row uses, without its leading slash, as a key: keys_, slash_, stripped_, empty_key_.
@@ -740,7 +769,7 @@ class BulkInsert {
         }
         const tfcore::History& h = t_.histories_[frame];
         const bool is_static = h.is_static;
-        const tfinsert::Offered offered{rows,           k, stamp_.data(), translation_.data(), rotation_.data(),
+        const tfinsert::Offered offered{rows,           k, stamp_.data(), translation_.data(), rotations_,
                                         parent_.data(), frame_of_.data()};
         std::vector<uint8_t> verdicts(k, tfinsert::KEEP);
         int64_t prune_from = 0;  // ROS 2's
@@ -829,6 +858,8 @@ class BulkInsert {
     Column<const int64_t> stamp_, record_time_;
     Array<const double, nb::shape<-1, 3>> translation_;
     Array<const double, nb::shape<-1, 4>> rotation_;
+    const double* rotations_ = nullptr;  // the rotations tf2 checks and stores: rotation_'s, or (ROS 2) turned_
+    std::vector<double> turned_;
     Column<const bool> static_;
     Column<const int32_t> authority_ids_;  // a batch publisher's id in the buffer
     nb::list histories_;                   // the buffer's, by frame id
@@ -858,7 +889,7 @@ NB_MODULE(_kernels, m) {
         .def("set_transform", &EdgeTable::set_transform, "transform"_a, "authority"_a, "static"_a, "record_time"_a)
         .def("lookup_frames", &EdgeTable::lookup_frames, "target_frame"_a, "source_frame"_a, "time"_a)
         .def("can_transform_frames", &EdgeTable::can_transform_frames, "target_frame"_a, "source_frame"_a, "time"_a)
-        .def("lookup", &EdgeTable::lookup, "target"_a, "source"_a, "time"_a)
+        .def("lookup", &EdgeTable::lookup, "target"_a, "source"_a, "time"_a, "raw"_a = false)
         .def("can_transform", &EdgeTable::can_transform, "target"_a, "source"_a, "time"_a)
         .def("latest_common_time", &EdgeTable::latest_common_time, "target"_a, "source"_a)
         .def("chain", &EdgeTable::chain, "target"_a, "source"_a, "time"_a)
@@ -868,6 +899,12 @@ NB_MODULE(_kernels, m) {
              "values"_a, "valid"_a, "threads"_a)
         .def("chain_takes", &EdgeTable::chain_takes, "target"_a, "source"_a, "times"_a);
 
+    m.def(
+        "through_matrix",
+        [](Array<double, nb::shape<-1, 4>> rotations) {
+            tfcore::through_matrix_all(rotations.data(), static_cast<int64_t>(rotations.shape(0)), 4);
+        },
+        "rotations"_a, "Rotations (N, 4), in place, as they come back from ROS 2's tf2::Transform.");
     // Buffer.insert's bulk path, bound apart from the class's other methods.
     nb::cpp_function_def(
         [](EdgeTable& table, nb::handle batch, Column<const int32_t> authority_ids, nb::list histories,

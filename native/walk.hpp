@@ -67,6 +67,57 @@ inline Vec rotate(const Quat& q, const Vec& v) {
 
 inline Quat conjugate(const Quat& q) { return {-q.x, -q.y, -q.z, q.w}; }
 
+// ROS 2's tf2 holds a rotation as a tf2::Transform's basis: a quaternion goes in through
+// Matrix3x3::setRotation and comes back out through Matrix3x3::getRotation (Shepperd's method,
+// which branches on the matrix's trace), on setTransform (what is checked and stored) and on
+// lookupTransform (what is returned). The trip normalizes, gives Shepperd's sign (w > 0 where the
+// trace is positive, else the largest of x, y, z > 0), and turns a zero or non-finite quaternion
+// into NaNs. tf2's operations in tf2's order, without contraction: its bits on x86-64.
+struct Basis { double m[3][3]; };
+
+inline Basis basis_of(const Quat& q) {  // Matrix3x3::setRotation
+    const double s = 2.0 / (q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+    const double xs = q.x * s, ys = q.y * s, zs = q.z * s;
+    const double wx = q.w * xs, wy = q.w * ys, wz = q.w * zs;
+    const double xx = q.x * xs, xy = q.x * ys, xz = q.x * zs;
+    const double yy = q.y * ys, yz = q.y * zs, zz = q.z * zs;
+    return {{{1.0 - (yy + zz), xy - wz, xz + wy}, {xy + wz, 1.0 - (xx + zz), yz - wx}, {xz - wy, yz + wx, 1.0 - (xx + yy)}}};
+}
+
+inline Quat rotation_of(const Basis& b) {  // Matrix3x3::getRotation
+    const auto& m = b.m;
+    double t[4];
+    const double trace = m[0][0] + m[1][1] + m[2][2];
+    if (trace > 0.0) {
+        double r = std::sqrt(trace + 1.0);
+        t[3] = r * 0.5;
+        r = 0.5 / r;
+        t[0] = (m[2][1] - m[1][2]) * r;
+        t[1] = (m[0][2] - m[2][0]) * r;
+        t[2] = (m[1][0] - m[0][1]) * r;
+    } else {
+        const int i = m[0][0] < m[1][1] ? (m[1][1] < m[2][2] ? 2 : 1) : (m[0][0] < m[2][2] ? 2 : 0);
+        const int j = (i + 1) % 3, k = (i + 2) % 3;
+        double r = std::sqrt(m[i][i] - m[j][j] - m[k][k] + 1.0);
+        t[i] = r * 0.5;
+        r = 0.5 / r;
+        t[3] = (m[k][j] - m[j][k]) * r;
+        t[j] = (m[j][i] + m[i][j]) * r;
+        t[k] = (m[k][i] + m[i][k]) * r;
+    }
+    return {t[0], t[1], t[2], t[3]};
+}
+
+inline Quat through_matrix(const Quat& q) { return rotation_of(basis_of(q)); }
+
+// `count` rotations (x y z w, `stride` doubles apart from one to the next) through the matrix, in place.
+inline void through_matrix_all(double* q, int64_t count, int64_t stride) {
+    for (int64_t i = 0; i < count; ++i, q += stride) {
+        const Quat r = through_matrix({q[0], q[1], q[2], q[3]});
+        q[0] = r.x, q[1] = r.y, q[2] = r.z, q[3] = r.w;
+    }
+}
+
 // `edge` applied after `acc`, as TransformAccum.accum composes.
 inline Pose compose(const Pose& edge, const Pose& acc) {
     const Vec r = rotate(edge.q, acc.v);

@@ -70,6 +70,10 @@ class Dialect:
     """How a tf2 words what it reports; ``ROS1`` and ``ROS2`` are the two."""
 
     semantics: Semantics = "ros1"
+    #: What ``allFramesAsYAML`` names as each frame's broadcaster: None for the publisher of its
+    #: latest sample (ROS 1's listener passes the message's callerid), else this for every frame
+    #: (ROS 2's C++ ``TransformListener`` passes it: a DDS sample names no publisher).
+    listener_authority: str | None = None
 
     @property
     def ros2(self) -> bool:
@@ -122,6 +126,7 @@ class Dialect:
 
 class _Ros2Dialect(Dialect):
     semantics: Semantics = "ros2"
+    listener_authority: str | None = "Authority undetectable"
 
     def seconds(self, ns: int) -> str:
         return f"{duration_to_sec(ns):.6f}"  # tf2::displayTimePoint
