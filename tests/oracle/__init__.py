@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
+import tempfile
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -67,3 +69,37 @@ def run_tf2(scenarios: list[Scenario]) -> list[dict]:
     if done.returncode != 0:
         raise RuntimeError(f"tf2 harness failed:\n{done.stderr[-3000:]}")
     return json.loads(done.stdout)["results"]
+
+
+CORE_SOURCE = Path(__file__).with_name("tf2_core.cpp")
+
+
+@cache
+def cpp_core() -> Path | str:
+    """ROS 1's tf2 ``BufferCore`` in C++ (``tf2_core.cpp`` built against Debian's libtf2, once per
+    run): the path of the program, or why it cannot be built here. tf2_py rounds every stamp
+    through a double; the C++ core, like a roscpp node, keeps every nanosecond."""
+    built = Path(tempfile.gettempdir()) / f"tftools-tf2-core-{os.getuid()}-{CORE_SOURCE.stat().st_mtime_ns}"
+    if built.exists():
+        return built
+    libraries = ["-ltf2", "-lrostime", "-lcpp_common", "-lconsole_bridge"]
+    partial = built.with_suffix(f".{os.getpid()}")
+    command = ["g++", "-std=c++17", "-O2", str(CORE_SOURCE), "-o", str(partial), *libraries]
+    try:
+        done = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        return f"g++ cannot run: {e}"
+    if done.returncode != 0:
+        return f"ROS 1's tf2 headers and libraries are not installed (libtf2-dev): {done.stderr[-300:]}"
+    partial.replace(built)
+    return built
+
+
+def run_cpp_core(lines: list[str]) -> tuple[list[str], str]:
+    """``lines`` (``tf2_core.cpp``'s commands) through the C++ core: its answers, one a line, and its log."""
+    program = cpp_core()
+    assert isinstance(program, Path), program
+    done = subprocess.run([str(program)], input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=600)
+    if done.returncode != 0:
+        raise RuntimeError(f"tf2_core failed:\n{done.stderr[-3000:]}")
+    return done.stdout.splitlines(), done.stderr
