@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "insert.hpp"
 #include "many.hpp"
@@ -215,7 +216,8 @@ class EdgeTable {
             throw nb::value_error("EdgeTable.update: rows outside the history's arrays");
         }
         const bool is_static = nb::cast<bool>(attribute(history, names_.is_static));
-        histories_[frame] = {true, is_static, start, end, held.stamps.data(), held.values.data(), held.parents.data()};
+        histories_[frame] = {true,         is_static, start, end, held.stamps.data(), held.values.data(),
+                             held.parents.data(), ros2_};
         held_[frame] = std::move(held);
     }
 
@@ -377,8 +379,9 @@ class EdgeTable {
             !read_int(record_time, recorded)) {
             return false;
         }
-        if (ros2_) tfcore::through_matrix_all(v + 3, 1, 4);  // what ROS 2's tf2 checks and stores
-        const double x = v[3], y = v[4], z = v[5], w = v[6];
+        double q[4] = {v[3], v[4], v[5], v[6]};
+        if (ros2_) tfcore::through_matrix_all(q, 1, 4);  // what ROS 2's tf2 checks (and holds: pose_at)
+        const double x = q[0], y = q[1], z = q[2], w = q[3];
         // The sum of infinities and NaNs is not finite (of large values neither: the batch path decides those).
         if (!std::isfinite(v[0] + v[1] + v[2] + x + y + z + w) ||
             !(std::fabs((w * w + x * x + y * y + z * z) - 1.0) < tolerance_)) {
@@ -430,11 +433,10 @@ class EdgeTable {
     void returned(Array<double, nb::shape<-1, 7>>& values, const Array<bool, nb::ndim<1>>& valid,
                   const int64_t* rows, int64_t n) const {
         if (!ros2_) return;
-        std::vector<uint8_t> done(values.shape(0));
+        std::vector<uint8_t> done(rows != nullptr ? values.shape(0) : 0);  // rows given more than once: once
         for (int64_t k = 0; k < n; ++k) {
             const int64_t row = rows != nullptr ? rows[k] : k;
-            if (done[row] || !valid.data()[row]) continue;
-            done[row] = 1;
+            if (!valid.data()[row] || (rows != nullptr && std::exchange(done[row], 1))) continue;
             tfcore::through_matrix_all(values.data() + 7 * row + 3, 1, 7);
         }
     }
@@ -608,7 +610,7 @@ class BulkInsert {
     nb::tuple run() {
         key_names();
         rotations_ = rotation_.data();
-        if (t_.ros2_) {  // ROS 2's tf2 checks, compares and stores each rotation as it comes back from a matrix
+        if (t_.ros2_) {  // ROS 2's tf2 checks and compares each rotation as it comes back from its matrix
             turned_.assign(rotations_, rotations_ + 4 * n_);
             tfcore::through_matrix_all(turned_.data(), n_, 4);
             rotations_ = turned_.data();
@@ -620,7 +622,7 @@ class BulkInsert {
         const int32_t* child = child_.data();
         bool refused = false;
         for (int64_t i = 0; i < n_; ++i) {
-            refusals[i] = tfinsert::checks(keys_[parent[i]], keys_[child[i]], empty_key_, values(i), t_.tolerance_);
+            refusals[i] = tfinsert::checks(keys_[parent[i]], keys_[child[i]], empty_key_, checked(i), t_.tolerance_);
             refused = refused || refusals[i];
         }
         for (int check = 0; check < tfinsert::CHECKS && refused; ++check) {
@@ -655,7 +657,12 @@ class BulkInsert {
    private:
     static constexpr int64_t NEVER = INT64_MAX;
 
+    // Row `row` as it was sent (as it is stored), and as tf2 checks and compares it (ROS 2's rotation
+    // through its matrix).
     tfinsert::Values values(int64_t row) const {
+        return tfinsert::values_of(translation_.data(), rotation_.data(), row);
+    }
+    tfinsert::Values checked(int64_t row) const {
         return tfinsert::values_of(translation_.data(), rotations_, row);
     }
 
@@ -774,7 +781,7 @@ class BulkInsert {
         std::vector<uint8_t> verdicts(k, tfinsert::KEEP);
         int64_t prune_from = 0;  // ROS 2's
         if (!is_static) {
-            verdicts = tfinsert::stamp_verdicts({h.stamps, h.values, h.parents, h.start, h.end}, offered,
+            verdicts = tfinsert::stamp_verdicts({h.stamps, h.values, h.parents, h.start, h.end, h.turned}, offered,
                                                 t_.cache_time_, t_.ros2_);
             refuse(rows, verdicts, tfinsert::OLD, tfinsert::OLD_DATA);
             if (t_.ros2_) {
@@ -858,7 +865,7 @@ class BulkInsert {
     Column<const int64_t> stamp_, record_time_;
     Array<const double, nb::shape<-1, 3>> translation_;
     Array<const double, nb::shape<-1, 4>> rotation_;
-    const double* rotations_ = nullptr;  // the rotations tf2 checks and stores: rotation_'s, or (ROS 2) turned_
+    const double* rotations_ = nullptr;  // the rotations tf2 checks and compares: rotation_'s, or (ROS 2) turned_
     std::vector<double> turned_;
     Column<const bool> static_;
     Column<const int32_t> authority_ids_;  // a batch publisher's id in the buffer

@@ -37,8 +37,9 @@ struct History {
     int64_t start = 0;
     int64_t end = 0;
     const int64_t* stamps = nullptr;
-    const double* values = nullptr;  // 7 per row: tx ty tz qx qy qz qw
+    const double* values = nullptr;  // 7 per row: tx ty tz qx qy qz qw, as they were sent
     const int32_t* parents = nullptr;
+    bool turned = false;  // ROS 2: each rotation is read through tf2::Transform's matrix (through_matrix)
 };
 
 using Histories = std::vector<History>;
@@ -173,9 +174,11 @@ inline Quat slerp(const Quat& a, const Quat& b, double t, const Arc& c, bool bat
     return weigh(a, b, sine((1.0 - t) * c.theta, batch), sine(t * c.theta, batch) * c.sign, c.d);
 }
 
-inline Pose pose_at(const double* values, int64_t row) {
-    const double* v = values + 7 * row;
-    return {{v[0], v[1], v[2]}, {v[3], v[4], v[5], v[6]}};
+// Row `row` of `h` as tf2 holds the sample (ROS 2's rotation through its matrix).
+inline Pose pose_at(const History& h, int64_t row) {
+    const double* v = h.values + 7 * row;
+    const Quat q{v[3], v[4], v[5], v[6]};
+    return {{v[0], v[1], v[2]}, h.turned ? through_matrix(q) : q};
 }
 
 // --- one edge: its sample at a time, as tf2's TimeCache interpolates -----------------------------
@@ -271,11 +274,10 @@ inline RowAt row_at(const Histories& histories, int64_t frame, int64_t time, Mem
 
 // The arc between `row` and the next, memoized per frame.
 inline Arc arc_at(const History& h, int64_t frame, int64_t row, Memo& memo) {
-    const double* v = h.values + 7 * row;
-    if (!memo.on) return arc({v[3], v[4], v[5], v[6]}, {v[10], v[11], v[12], v[13]});
+    if (!memo.on) return arc(pose_at(h, row).q, pose_at(h, row + 1).q);
     if (memo.arc_row[frame] != row) {
         memo.arc_row[frame] = row;
-        memo.arcs[frame] = arc({v[3], v[4], v[5], v[6]}, {v[10], v[11], v[12], v[13]});
+        memo.arcs[frame] = arc(pose_at(h, row).q, pose_at(h, row + 1).q);
     }
     return memo.arcs[frame];
 }
@@ -432,12 +434,12 @@ inline void sample_before_slerp(const Histories& histories, const Step& step, in
                                 Edge& e) {
     const History& h = histories[step.frame];
     const int64_t row = step.at.row;
-    e.pose = pose_at(h.values, row);
+    e.pose = pose_at(h, row);
     if (!step.at.interpolate || h.parents[row + 1] != h.parents[row]) return;
     const int64_t t0 = h.stamps[row];
     const double r = static_cast<double>(time - t0) / static_cast<double>(h.stamps[row + 1] - t0);
     const double s = 1.0 - r;
-    const Pose a = e.pose, b = pose_at(h.values, row + 1);
+    const Pose a = e.pose, b = pose_at(h, row + 1);
     e.pose.v = {s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z};
     e.next = b.q, e.r = r, e.frame = step.frame, e.row = row, e.interpolate = true;
     if (memo.on && memo.arc_row[step.frame] == row) {

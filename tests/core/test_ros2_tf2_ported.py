@@ -90,15 +90,19 @@ def test_a_lookup_full_multiplies_the_matrices() -> None:
 
 
 def test_b_stored_rotation_through_the_matrix() -> None:
+    """tf2 holds (0, 0, 0, 1.004) as (0, 0, 0, 1): an inverse's translation is not scaled by |q|²
+    (the history keeps the sample as it was sent; the walk reads it as tf2 holds it)."""
     buffer = ros2_buffer()
     assert put(buffer, "a", "b", S, rotation=(0.0, 0.0, 0.0, -1.0))
     assert put(buffer, "a", "c", S, (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 1.004))
-    assert buffer.history("b").values[0, 3:].tolist() == [0.0, 0.0, 0.0, 1.0]
-    assert buffer.history("c").values[0, 3:].tolist() == [0.0, 0.0, 0.0, 1.0]
-    assert buffer.lookup("c", "a", S).translation == (-1.0, -2.0, -3.0)  # not scaled by |q|²
+    assert buffer.lookup("a", "b", S).rotation == IDENTITY
+    assert buffer.lookup("c", "a", S).translation == (-1.0, -2.0, -3.0)
+    assert buffer.lookup("c", "a", S).rotation == IDENTITY
+    assert buffer.history("c").values[0, 3:].tolist() == [0.0, 0.0, 0.0, 1.004]  # as sent
     ros1 = Buffer()
-    assert put(ros1, "a", "c", S, rotation=(0.0, 0.0, 0.0, 1.004))
-    assert ros1.history("c").values[0, 3:].tolist() == [0.0, 0.0, 0.0, 1.004]  # ROS 1 keeps it as given
+    assert put(ros1, "a", "c", S, (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 1.004))
+    assert ros1.lookup("a", "c", S).rotation == (0.0, 0.0, 0.0, 1.004)  # ROS 1 keeps it as given
+    assert ros1.lookup("c", "a", S).translation != (-1.0, -2.0, -3.0)
 
 
 # --- C. denormalized, zero and non-finite quaternions --------------------------------------------
@@ -106,8 +110,9 @@ def test_b_stored_rotation_through_the_matrix() -> None:
 
 def test_c_denormalized_accepted_and_stored_unit() -> None:
     buffer = ros2_buffer()
-    assert put(buffer, "a", "b", S, rotation=(0.0, 0.0, 0.0, 2.0))
-    assert buffer.history("b").values[0, 3:].tolist() == [0.0, 0.0, 0.0, 1.0]
+    assert put(buffer, "a", "b", S, (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 2.0))
+    assert buffer.lookup("b", "a", S).translation == (-1.0, -2.0, -3.0)
+    assert buffer.lookup("b", "a", S).rotation == IDENTITY
     assert not buffer.rejections
     assert not put(Buffer(), "a", "b", S, rotation=(0.0, 0.0, 0.0, 2.0))  # ROS 1 refuses it
 
