@@ -14,8 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from tests.core.test_ros2_tf2 import IDENTITY, S, position, put, ros2_buffer, setup_tree
+from tests.core.test_ros2_tf2 import IDENTITY, PseudoRandom, S, position, put, ros2_buffer, setup_tree
 from tftools.core import Buffer, InvalidArgumentError, NoDataForExtrapolationError
+from tftools.core.rotation import quat_from_rpy
 
 # --- A. the returned rotation: canonical, as getRotation gives it --------------------------------
 
@@ -257,3 +258,23 @@ def test_multi_configuration(time: int) -> None:
             mode = "1" if source in "12" else "v"
             np.testing.assert_allclose(out.translation, position(mode, target) - position(mode, source), atol=1e-6)
             np.testing.assert_allclose(out.rotation, IDENTITY, atol=1e-6)
+
+
+# --- tf2/test/cache_unittest.cpp -------------------------------------------------------------------
+
+
+def test_bullet_slerp() -> None:
+    """TEST(Bullet, Slerp): halfway between identity and q2, as the cache interpolates."""
+    rand = PseudoRandom()
+    for _ in range(100):
+        yaw, pitch, roll = rand(), rand(), rand()  # setEuler(yaw, pitch, roll)
+        q2 = np.array(quat_from_rpy(roll, pitch, yaw))
+        buffer = ros2_buffer()
+        put(buffer, "p", "c", S)
+        put(buffer, "p", "c", 3 * S, rotation=tuple(q2))
+        q3 = np.array(buffer.lookup("p", "c", 2 * S).rotation)
+
+        def angle(a: np.ndarray, b: np.ndarray) -> float:  # tf2::Quaternion::angle: half the arc
+            return math.acos(max(-1.0, min(1.0, float(a @ b) / math.sqrt(float(a @ a) * float(b @ b)))))
+
+        assert angle(q3, np.array(IDENTITY)) == pytest.approx(angle(q2, q3), abs=1e-5)
