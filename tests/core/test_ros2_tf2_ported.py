@@ -10,13 +10,16 @@ from __future__ import annotations
 
 import itertools
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from tests.bags import BagFormat, TfMessage, write_bag
 from tests.core.test_ros2_tf2 import IDENTITY, PseudoRandom, S, position, put, ros2_buffer, setup_tree
-from tftools.core import Buffer, InvalidArgumentError, NoDataForExtrapolationError
+from tftools.core import Buffer, InvalidArgumentError, NoDataForExtrapolationError, Transform
 from tftools.core.rotation import quat_from_rpy
+from tftools.sources import read_recording
 
 # --- A. the returned rotation: canonical, as getRotation gives it --------------------------------
 
@@ -278,3 +281,24 @@ def test_bullet_slerp() -> None:
             return math.acos(max(-1.0, min(1.0, float(a @ b) / math.sqrt(float(a @ a) * float(b @ b)))))
 
         assert angle(q3, np.array(IDENTITY)) == pytest.approx(angle(q2, q3), abs=1e-5)
+
+
+# --- a recording of such samples ---------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("fmt", [BagFormat.ros1, BagFormat.rosbag2_sqlite3])
+def test_recording_keeps_each_refused_sample_once_and_as_sent(tmp_path: Path, fmt: BagFormat) -> None:
+    """A sample refused for two reasons (a zero rotation in ROS 2, a NaN one in both) is one row of
+    ``transforms``; kept rows are as recorded (q = (0, 0, 0, -1) stays so, though ROS 2 holds (0, 0, 0, 1))."""
+    sent = [
+        Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, -1.0), S, "a", "b"),
+        Transform((0.0, 0.0, 0.0), (math.nan, 0.0, 0.0, 1.0), 2 * S, "a", "b"),
+        Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0), 3 * S, "a", "b"),
+    ]
+    bag = write_bag(tmp_path / "q.bag", [TfMessage("/tf", t.stamp, [t]) for t in sent], fmt)
+    recording = read_recording([bag])
+    rows = recording.transforms
+    assert rows.stamp.tolist() == [S, 2 * S, 3 * S]
+    np.testing.assert_array_equal(rows.rotation, [t.rotation for t in sent])
+    held = (0.0, 0.0, 0.0, -1.0) if fmt is BagFormat.ros1 else IDENTITY
+    assert recording.buffer.lookup("a", "b", S).rotation == held
