@@ -216,8 +216,8 @@ class EdgeTable {
             throw nb::value_error("EdgeTable.update: rows outside the history's arrays");
         }
         const bool is_static = nb::cast<bool>(attribute(history, names_.is_static));
-        histories_[frame] = {true,         is_static, start, end, held.stamps.data(), held.values.data(),
-                             held.parents.data(), ros2_};
+        histories_[frame] = {true, is_static, start, end, held.stamps.data(), held.values.data(), held.parents.data(),
+                             ros2_};
         held_[frame] = std::move(held);
     }
 

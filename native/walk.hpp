@@ -70,10 +70,11 @@ inline Quat conjugate(const Quat& q) { return {-q.x, -q.y, -q.z, q.w}; }
 
 // ROS 2's tf2 holds a rotation as a tf2::Transform's basis: a quaternion goes in through
 // Matrix3x3::setRotation and comes back out through Matrix3x3::getRotation (Shepperd's method,
-// which branches on the matrix's trace), on setTransform (what is checked and stored) and on
-// lookupTransform (what is returned). The trip normalizes, gives Shepperd's sign (w > 0 where the
-// trace is positive, else the largest of x, y, z > 0), and turns a zero or non-finite quaternion
-// into NaNs. tf2's operations in tf2's order, without contraction: its bits on x86-64.
+// which branches on the matrix's trace), on setTransform (what is checked, compared and held: the
+// history keeps the sample as sent, pose_at reads it so) and on lookupTransform (what is returned).
+// The trip normalizes, gives Shepperd's sign (w > 0 where the trace is positive, else the largest of
+// x, y, z > 0), and turns a zero or non-finite quaternion into NaNs. rotation.py's matrix_from_quat
+// and quat_from_matrix, compiled: tf2's operations in tf2's order, without contraction (its bits on x86-64).
 struct Basis { double m[3][3]; };
 
 inline Basis basis_of(const Quat& q) {  // Matrix3x3::setRotation
@@ -82,7 +83,9 @@ inline Basis basis_of(const Quat& q) {  // Matrix3x3::setRotation
     const double wx = q.w * xs, wy = q.w * ys, wz = q.w * zs;
     const double xx = q.x * xs, xy = q.x * ys, xz = q.x * zs;
     const double yy = q.y * ys, yz = q.y * zs, zz = q.z * zs;
-    return {{{1.0 - (yy + zz), xy - wz, xz + wy}, {xy + wz, 1.0 - (xx + zz), yz - wx}, {xz - wy, yz + wx, 1.0 - (xx + yy)}}};
+    return {{{1.0 - (yy + zz), xy - wz, xz + wy},  //
+             {xy + wz, 1.0 - (xx + zz), yz - wx},
+             {xz - wy, yz + wx, 1.0 - (xx + yy)}}};
 }
 
 inline Quat rotation_of(const Basis& b) {  // Matrix3x3::getRotation
