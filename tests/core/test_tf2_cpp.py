@@ -8,7 +8,9 @@ node's) by a nanosecond or more. tf2 subtracts ``ros::Time``s as integers and pr
 
 from __future__ import annotations
 
+import math
 import random
+import re
 
 import pytest
 
@@ -74,3 +76,17 @@ def test_extrapolation_messages_off_the_binding_grid() -> None:
     theirs, ours = _answers(rows, queries)
     assert sum(line.startswith("E ") for line in theirs) > 100
     assert ours == theirs
+
+
+def test_refusal_logs_as_tf2_writes_them() -> None:
+    """A NaN, a zero and an infinite rotation: the same codes and lines as tf2's log (an infinite
+    rotation fails only the norm check: tf2 looks for NaNs)."""
+    rotations = [(math.nan, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 0.0), (math.inf, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 1.02)]
+    lines = [f"set a b {S} 0.5 0 0 {' '.join(map(repr, q))} 0 me" for q in rotations]
+    _, log = run_cpp_core(lines)
+    theirs = re.findall(r"TF_[A-Z_]+: [^\n]*", log)
+    buffer = Buffer()
+    for q in rotations:
+        assert not buffer.set_transform(Transform((0.5, 0.0, 0.0), q, S, "a", "b"), "me")
+    assert [r.message for r in buffer.rejections] == theirs
+    assert len(theirs) == 5
