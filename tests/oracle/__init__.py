@@ -103,3 +103,62 @@ def run_cpp_core(lines: list[str]) -> tuple[list[str], str]:
     if done.returncode != 0:
         raise RuntimeError(f"tf2_core failed:\n{done.stderr[-3000:]}")
     return done.stdout.splitlines(), done.stderr
+
+
+ROS2_DRIVER = Path(__file__).with_name("ros2_tf2")
+
+
+def ros2_sources() -> Path | None:
+    """A ros2/geometry2 checkout or bare git directory: ``$TFTOOLS_ROS2_GEOMETRY2``, else the
+    ``.mirror`` beside the repository (or beside its worktrees' folder), where there is one."""
+    given = os.environ.get("TFTOOLS_ROS2_GEOMETRY2")
+    repository = Path(__file__).resolve().parents[2]
+    candidates = [Path(given)] if given else [repository.parent / ".mirror/ros2+geometry2/repo",
+                                              repository.parent.parent / ".mirror/ros2+geometry2/repo"]  # fmt: skip
+    return next((path for path in candidates if path.exists()), None)
+
+
+@cache
+def ros2_core() -> Path | str:
+    """ROS 2's tf2 ``BufferCore`` built from ros2/geometry2's own sources (``tf2/src``, with
+    ``ros2_tf2/stub`` standing in for rcutils and the message headers) under ``ros2_tf2/driver.cpp``,
+    which speaks ``tf2_core.cpp``'s lines: the program, or why it cannot be built. Nothing of
+    ros2/geometry2 is in this repository: the sources are read where ``ros2_sources`` finds them."""
+    sources = ros2_sources()
+    if sources is None:
+        return "no ros2/geometry2 sources (set TFTOOLS_ROS2_GEOMETRY2 to a checkout)"
+    stamp = max(path.stat().st_mtime_ns for path in ROS2_DRIVER.rglob("*") if path.is_file())
+    work = Path(tempfile.gettempdir()) / f"tftools-ros2-tf2-{os.getuid()}-{stamp}"
+    built = work / "ros2_tf2"
+    if built.exists():
+        return built
+    tree = work / "tree"
+    try:
+        if (sources / "tf2").is_dir():
+            tree = sources
+        else:  # a bare git directory
+            tree.mkdir(parents=True, exist_ok=True)
+            archive = subprocess.run(["git", "--git-dir", str(sources), "archive", "HEAD", "tf2/include", "tf2/src"],
+                                     capture_output=True, check=True, timeout=300).stdout  # fmt: skip
+            subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True, timeout=300)
+        units = [ROS2_DRIVER / "driver.cpp", *sorted((tree / "tf2/src").glob("*.cpp"))]
+        flags = ["-std=c++17", "-O2", f"-I{ROS2_DRIVER / 'stub'}", f"-I{tree / 'tf2/include'}"]
+        partial = work / f"ros2_tf2.{os.getpid()}"
+        done = subprocess.run(["g++", *flags, *map(str, units), "-o", str(partial), "-lpthread"],
+                              capture_output=True, text=True, timeout=900)  # fmt: skip
+    except (OSError, subprocess.SubprocessError) as e:
+        return f"ROS 2's tf2 could not be built: {e}"
+    if done.returncode != 0:
+        return f"ROS 2's tf2 could not be built: {done.stderr[-500:]}"
+    partial.replace(built)
+    return built
+
+
+def run_ros2_core(lines: list[str]) -> tuple[list[str], str]:
+    """``lines`` through ROS 2's tf2 (``ros2_tf2/driver.cpp``'s commands): its answers and its log."""
+    program = ros2_core()
+    assert isinstance(program, Path), program
+    done = subprocess.run([str(program)], input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=600)
+    if done.returncode != 0:
+        raise RuntimeError(f"ros2_tf2 failed:\n{done.stderr[-3000:]}")
+    return done.stdout.splitlines(), done.stderr
