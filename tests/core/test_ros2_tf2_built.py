@@ -10,8 +10,10 @@ import random
 
 import pytest
 
+from tests.corpus.fetch import Recording, load_manifest, member_path, missing_members, root_of
 from tests.oracle import ros2_core, run_ros2_core
 from tftools.core import Buffer, Transform, TransformError
+from tftools.sources import read_recording
 
 S = 1_000_000_000
 AUTHORITY = "Authority_undetectable"  # one word for the driver; what ROS 2's listener passes
@@ -154,3 +156,44 @@ def test_random_episodes_bit_for_bit() -> None:
         assert my_logs == real_logs
         answers += len(ops)
     assert answers > 5000
+
+
+_, RECORDINGS = load_manifest()
+
+
+@pytest.mark.parametrize("recording", [r for r in RECORDINGS if r.meta["frames"]], ids=lambda r: r.id)
+def test_corpus_recordings_bit_for_bit(recording: Recording) -> None:
+    """Each corpus recording's transforms as sent (a ROS 1 buffer keeps them so), through ROS 2's
+    tf2 and through tftools' ROS 2 mode: 300 lookups between random frames at random times (0, a
+    stamp, any time between), answers and errors identical."""
+    root = root_of(recording)
+    if missing_members(root, recording.members):
+        pytest.skip(f"corpus recording {recording.id} is not in {root}")
+    path = member_path(root, recording.open)
+    sent = read_recording([path], semantics="ros1").transforms
+    names = sent.frame_names
+    if any(" " in name for name in names):
+        pytest.skip("a frame name with a space: the driver's lines cannot carry it")
+    buffer = Buffer(cache_time=None, semantics="ros2")
+    buffer.insert(sent)
+    lines = ["new 1000000000000000000"]
+    for i in range(len(sent)):
+        values = " ".join(repr(float(x)) for x in (*sent.translation[i], *sent.rotation[i]))
+        parent, child = names[sent.parent[i]] or "-", names[sent.child[i]] or "-"
+        lines.append(f"set {parent} {child} {sent.stamp[i]} {values} {int(sent.static[i])} {AUTHORITY}")
+    rng = random.Random(recording.id)
+    frames, stamps = buffer.frames, sent.stamp.tolist()
+    times = [rng.choice([0, rng.randint(min(stamps), max(stamps)), rng.choice(stamps)]) for _ in range(300)]
+    queries = [(rng.choice(frames), rng.choice(frames), time) for time in times]
+    lines += [f"lookup {target} {source} {time}" for target, source, time in queries]
+    out, _ = run_ros2_core(lines)
+    real = [line for line in out if line.startswith(("T ", "E "))]
+    for query, line in zip(queries, real, strict=True):
+        try:
+            mine = _found(buffer.lookup(*query))
+        except TransformError as e:
+            mine = _renamed(f"E {type(e).__name__} {e}".replace("\n", "\\n"))
+        if line.startswith("T "):
+            stamp, *values = line.split()[1:]
+            line = f"T {stamp} " + " ".join(repr(float.fromhex(v)) for v in values)
+        assert mine == line, query
