@@ -83,25 +83,35 @@ def cpp_core() -> Path | str:
     if built.exists():
         return built
     libraries = ["-ltf2", "-lrostime", "-lcpp_common", "-lconsole_bridge"]
-    partial = built.with_suffix(f".{os.getpid()}")
-    command = ["g++", "-std=c++17", "-O2", str(CORE_SOURCE), "-o", str(partial), *libraries]
-    try:
-        done = subprocess.run(command, capture_output=True, text=True, timeout=600)
-    except (OSError, subprocess.TimeoutExpired) as e:
-        return f"g++ cannot run: {e}"
-    if done.returncode != 0:
-        return f"ROS 1's tf2 headers and libraries are not installed (libtf2-dev): {done.stderr[-300:]}"
-    partial.replace(built)
-    return built
+    return _compile([str(CORE_SOURCE), *libraries], built, "ROS 1's tf2 core (needs Debian's libtf2-dev)")
 
 
 def run_cpp_core(lines: list[str]) -> tuple[list[str], str]:
     """``lines`` (``tf2_core.cpp``'s commands) through the C++ core: its answers, one a line, and its log."""
-    program = cpp_core()
+    return _drive(cpp_core(), lines)
+
+
+def _compile(arguments: list[str], built: Path, what: str) -> Path | str:
+    """``g++ -O2 arguments``, written to ``built`` (through a temporary name): the program, or why
+    ``what`` could not be built."""
+    partial = built.with_name(f"{built.name}.{os.getpid()}")
+    command = ["g++", "-std=c++17", "-O2", *arguments, "-o", str(partial)]
+    try:
+        done = subprocess.run(command, capture_output=True, text=True, timeout=900)
+    except (OSError, subprocess.SubprocessError) as e:
+        return f"{what} could not be built: {e}"
+    if done.returncode != 0:
+        return f"{what} could not be built: {done.stderr[-500:]}"
+    partial.replace(built)
+    return built
+
+
+def _drive(program: Path | str, lines: list[str]) -> tuple[list[str], str]:
+    """``lines`` through a built oracle: its answers, one a line, and its log."""
     assert isinstance(program, Path), program
     done = subprocess.run([str(program)], input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=600)
     if done.returncode != 0:
-        raise RuntimeError(f"tf2_core failed:\n{done.stderr[-3000:]}")
+        raise RuntimeError(f"{program.name} failed:\n{done.stderr[-3000:]}")
     return done.stdout.splitlines(), done.stderr
 
 
@@ -142,23 +152,12 @@ def ros2_core() -> Path | str:
                                      capture_output=True, check=True, timeout=300).stdout  # fmt: skip
             subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True, timeout=300)
         units = [ROS2_DRIVER / "driver.cpp", *sorted((tree / "tf2/src").glob("*.cpp"))]
-        flags = ["-std=c++17", "-O2", f"-I{ROS2_DRIVER / 'stub'}", f"-I{tree / 'tf2/include'}"]
-        partial = work / f"ros2_tf2.{os.getpid()}"
-        done = subprocess.run(["g++", *flags, *map(str, units), "-o", str(partial), "-lpthread"],
-                              capture_output=True, text=True, timeout=900)  # fmt: skip
     except (OSError, subprocess.SubprocessError) as e:
-        return f"ROS 2's tf2 could not be built: {e}"
-    if done.returncode != 0:
-        return f"ROS 2's tf2 could not be built: {done.stderr[-500:]}"
-    partial.replace(built)
-    return built
+        return f"ROS 2's tf2 sources could not be read: {e}"
+    flags = [f"-I{ROS2_DRIVER / 'stub'}", f"-I{tree / 'tf2/include'}"]
+    return _compile([*flags, *map(str, units), "-lpthread"], built, "ROS 2's tf2")
 
 
 def run_ros2_core(lines: list[str]) -> tuple[list[str], str]:
     """``lines`` through ROS 2's tf2 (``ros2_tf2/driver.cpp``'s commands): its answers and its log."""
-    program = ros2_core()
-    assert isinstance(program, Path), program
-    done = subprocess.run([str(program)], input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=600)
-    if done.returncode != 0:
-        raise RuntimeError(f"ros2_tf2 failed:\n{done.stderr[-3000:]}")
-    return done.stdout.splitlines(), done.stderr
+    return _drive(ros2_core(), lines)
