@@ -67,7 +67,7 @@ inline void fill(const Outputs& out, const int64_t* times, int64_t lo, int64_t h
 inline bool static_block(const History& h, int64_t parent, int64_t n, Accumulator& acc, bool composed) {
     if (h.end == h.start || h.parents[h.end - 1] != parent) return false;
     if (composed) {
-        const Pose edge = pose_at(h.values, h.end - 1);
+        const Pose edge = pose_at(h, h.end - 1);
         for (int64_t k = 0; k < n; ++k) acc.compose_at(k, edge);
     }
     return true;
@@ -76,9 +76,9 @@ inline bool static_block(const History& h, int64_t parent, int64_t n, Accumulato
 // Compose, at the times k0..k1 (at `lag`), the edge interpolated between the samples at `row`
 // and `row + 1`: `edges_at`'s lerp and slerp. Where every angle is small enough for small_sin
 // (the arc is), the loop has no branch, and compiles to vector instructions.
-inline void interval(Accumulator& acc, int64_t k0, int64_t k1, const double* values, int64_t row, double span,
+inline void interval(Accumulator& acc, int64_t k0, int64_t k1, const History& h, int64_t row, double span,
                      const Arc& c) {
-    const Pose a = pose_at(values, row), b = pose_at(values, row + 1);
+    const Pose a = pose_at(h, row), b = pose_at(h, row + 1);
     if (c.theta == 0.0 || c.theta > SMALL_ANGLE) {
         for (int64_t k = k0; k < k1; ++k) {
             const double r = acc.lag[k] / span, s = 1.0 - r;
@@ -121,7 +121,7 @@ inline bool edge_block(const Histories& histories, const Step& step, const int64
             ++last;
         }
         if (step.composed) {
-            interval(acc, k, last, h.values, row, static_cast<double>(t1 - t0), arc_at(h, step.frame, row, memo));
+            interval(acc, k, last, h, row, static_cast<double>(t1 - t0), arc_at(h, step.frame, row, memo));
         }
         k = last;
     }

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "walk.hpp"
+
 namespace tfinsert {
 
 // Why a row is refused, in the order the buffer records the checks (buffer._REFUSALS).
@@ -40,18 +42,20 @@ inline Values values_of(const double* translation, const double* rotation, int64
     return {{t[0], t[1], t[2], r[0], r[1], r[2], r[3]}};
 }
 
-// setTransform's checks of one sample, whose frames have the keys `parent` and `child` (names
-// without their leading slash; `empty` is the empty name's).
+// setTransform's checks of one sample (`values` as tf2 checks them: ROS 2's rotation through its
+// matrix), whose frames have the keys `parent` and `child` (names without their leading slash;
+// `empty` is the empty name's).
 inline uint8_t checks(int32_t parent, int32_t child, int32_t empty, const Values& values, double tolerance) {
     const double* v = values.v;
     uint8_t bits = 0;
     if (parent == child) bits |= 1 << SELF_TRANSFORM;
     if (child == empty) bits |= 1 << NO_CHILD_FRAME_ID;
     if (parent == empty) bits |= 1 << NO_FRAME_ID;
-    // tf2 checks isnan only and would store an infinite translation; we refuse it too.
-    bool finite = true;
-    for (int j = 0; j < 7; ++j) finite = finite && std::isfinite(v[j]);
-    if (!finite) bits |= 1 << NAN_INPUT;
+    // tf2 checks isnan only: an infinite rotation is refused by the norm check alone (ROS 2's, through
+    // its matrix, turned to NaNs, by both). It would store an infinite translation; we refuse it.
+    bool refused = false;
+    for (int j = 0; j < 7; ++j) refused = refused || std::isnan(v[j]) || (j < 3 && std::isinf(v[j]));
+    if (refused) bits |= 1 << NAN_INPUT;
     const double x = v[3], y = v[4], z = v[5], w = v[6];
     if (!(std::fabs((w * w + x * x + y * y + z * z) - 1.0) < tolerance)) bits |= 1 << DENORMALIZED_QUATERNION;
     return bits;
@@ -60,9 +64,17 @@ inline uint8_t checks(int32_t parent, int32_t child, int32_t empty, const Values
 // A history's rows start..end as the stamp checks read them.
 struct Held {
     const int64_t* stamps;
-    const double* values;
+    const double* values;  // as sent
     const int32_t* parents;
     int64_t start, end;
+    bool turned;  // ROS 2: compared with each rotation through tf2::Transform's matrix
+
+    Values compared(int64_t row) const {
+        const double* v = values + 7 * row;
+        Values out{{v[0], v[1], v[2], v[3], v[4], v[5], v[6]}};
+        if (turned) tfcore::through_matrix_all(out.v + 3, 1, 4);
+        return out;
+    }
 };
 
 // The rows of a batch offered to one history, in arrival order (`rows` into the batch's columns).
@@ -83,10 +95,10 @@ struct Offered {
 enum Verdict : uint8_t { KEEP, OLD, IGNORED };
 
 // Whether two samples are tf2's equal TransformStorage (values compared as doubles: 0.0 == -0.0).
-inline bool same_sample(const double* a, int32_t parent_a, const Values& b, int32_t parent_b) {
+inline bool same_sample(const Values& a, int32_t parent_a, const Values& b, int32_t parent_b) {
     if (parent_a != parent_b) return false;
     for (int j = 0; j < 7; ++j) {
-        if (!(a[j] == b.v[j])) return false;
+        if (!(a.v[j] == b.v[j])) return false;
     }
     return true;
 }
@@ -112,10 +124,10 @@ inline void identical_to_earlier(const Held& held, const Offered& offered, const
             for (const int64_t* h = std::lower_bound(held.stamps + held.start, end, stamp); h < end && *h == stamp;
                  ++h) {
                 const int64_t row = h - held.stamps;
-                identical = identical || same_sample(held.values + 7 * row, held.parents[row], values, parent);
+                identical = identical || same_sample(held.compared(row), held.parents[row], values, parent);
             }
             for (const auto& [other, other_parent] : kept[stamp]) {
-                identical = identical || same_sample(other.v, other_parent, values, parent);
+                identical = identical || same_sample(other, other_parent, values, parent);
             }
         }
         candidates[i] = identical;

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "insert.hpp"
 #include "many.hpp"
@@ -216,7 +217,8 @@ class EdgeTable {
             throw nb::value_error("EdgeTable.update: rows outside the history's arrays");
         }
         const bool is_static = nb::cast<bool>(attribute(history, names_.is_static));
-        histories_[frame] = {true, is_static, start, end, held.stamps.data(), held.values.data(), held.parents.data()};
+        histories_[frame] = {true, is_static, start, end, held.stamps.data(), held.values.data(), held.parents.data(),
+                             ros2_};
         held_[frame] = std::move(held);
     }
 
@@ -245,6 +247,9 @@ class EdgeTable {
         const int same = PyObject_RichCompareBool(target_frame.ptr(), source_frame.ptr(), Py_EQ);
         if (same < 0) throw nb::python_error();
         if (same) return true;
+        // tf2's validateFrameId: a name with a leading slash (a frame published as "//b" is
+        // stored as "/b") is refused, as lookup refuses it.
+        if (!plain_name(target_frame) || !plain_name(source_frame)) return false;
         const Locked locked(lock_, lock_methods_);
         const int64_t target = frame_id(target_frame, 0), source = frame_id(source_frame, 1);
         return target > 0 && source > 0 && can_transform(target, source, time);
@@ -253,9 +258,10 @@ class EdgeTable {
     // Samples offered to the buffer so far, stored or refused: the next one's sequence number.
     int64_t arrivals = 0;
 
-    std::optional<Found> lookup(int64_t target, int64_t source, int64_t time) const {
+    // `raw`: under ROS 2, the rotation as composed, before tf2::Transform's round trip (lookup_full's).
+    std::optional<Found> lookup(int64_t target, int64_t source, int64_t time, bool raw) const {
         tfcore::Pose p;
-        if (!lookup_pose(target, source, time, p)) return std::nullopt;
+        if (!lookup_pose(target, source, time, p, raw)) return std::nullopt;
         return Found{{p.v.x, p.v.y, p.v.z}, {p.q.x, p.q.y, p.q.z, p.q.w}, time};
     }
 
@@ -310,6 +316,7 @@ class EdgeTable {
         nb::gil_scoped_release unlocked;
         tfcore::lookup_many(histories_, target, source, times.data(), n,
                             {rows.data(), stamps.data(), values.data(), valid.data()}, chained);
+        returned(values, valid, rows.data(), n);
     }
 
     void lookup_in_parallel(int64_t target, int64_t source, Int64s times, Array<int64_t, nb::ndim<1>> stamps,
@@ -324,6 +331,7 @@ class EdgeTable {
         nb::gil_scoped_release unlocked;
         tfcore::lookup_any_order(histories_, target, source, times.data(), n,
                                  {nullptr, stamps.data(), values.data(), valid.data()}, threads);
+        returned(values, valid, nullptr, n);
     }
 
     int chain_takes(int64_t target, int64_t source, Int64s times) const {
@@ -372,7 +380,9 @@ class EdgeTable {
             !read_int(record_time, recorded)) {
             return false;
         }
-        const double x = v[3], y = v[4], z = v[5], w = v[6];
+        double q[4] = {v[3], v[4], v[5], v[6]};
+        if (ros2_) tfcore::through_matrix_all(q, 1, 4);  // what ROS 2's tf2 checks (and holds: pose_at)
+        const double x = q[0], y = q[1], z = q[2], w = q[3];
         // The sum of infinities and NaNs is not finite (of large values neither: the batch path decides those).
         if (!std::isfinite(v[0] + v[1] + v[2] + x + y + z + w) ||
             !(std::fabs((w * w + x * x + y * y + z * z) - 1.0) < tolerance_)) {
@@ -406,15 +416,30 @@ class EdgeTable {
         return true;
     }
 
-    // A lookup; false where tf2 fails. `time` 0 becomes the latest common time.
-    bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p) const {
+    // A lookup; false where tf2 fails. `time` 0 becomes the latest common time. ROS 2's tf2 returns
+    // the rotation through a matrix (unless `raw`).
+    bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p, bool raw = false) const {
         check_frames(target, source);
         if (time == 0 && tfcore::latest_common_time(histories_, target, source, time) != tfcore::Failure::NONE) {
             return false;
         }
         tfcore::Memo memo;
         thread_local tfcore::Chain chain;
-        return tfcore::lookup_at(histories_, target, source, time, chain, memo, p);
+        if (!tfcore::lookup_at(histories_, target, source, time, chain, memo, p)) return false;
+        if (ros2_ && !raw) p.q = tfcore::through_matrix(p.q);
+        return true;
+    }
+
+    // ROS 2's tf2 returns each answer's rotation through a matrix: the valid `rows` of `values` so.
+    void returned(Array<double, nb::shape<-1, 7>>& values, const Array<bool, nb::ndim<1>>& valid,
+                  const int64_t* rows, int64_t n) const {
+        if (!ros2_) return;
+        std::vector<uint8_t> done(rows != nullptr ? values.shape(0) : 0);  // rows given more than once: once
+        for (int64_t k = 0; k < n; ++k) {
+            const int64_t row = rows != nullptr ? rows[k] : k;
+            if (!valid.data()[row] || (rows != nullptr && std::exchange(done[row], 1))) continue;
+            tfcore::through_matrix_all(values.data() + 7 * row + 3, 1, 7);
+        }
     }
 
     // A new `answer` (Transform), its slots filled in place (its frozen __setattr__ refuses).
@@ -585,6 +610,12 @@ class BulkInsert {
     // (accepted, refused rows, their codes, their groups' bounds, rows ROS 2's tf2 ignored as identical).
     nb::tuple run() {
         key_names();
+        rotations_ = rotation_.data();
+        if (t_.ros2_) {  // ROS 2's tf2 checks and compares each rotation as it comes back from its matrix
+            turned_.assign(rotations_, rotations_ + 4 * n_);
+            tfcore::through_matrix_all(turned_.data(), n_, 4);
+            rotations_ = turned_.data();
+        }
         first_ = t_.arrivals;
         t_.arrivals += n_;
         std::vector<uint8_t> refusals(n_);
@@ -592,7 +623,7 @@ class BulkInsert {
         const int32_t* child = child_.data();
         bool refused = false;
         for (int64_t i = 0; i < n_; ++i) {
-            refusals[i] = tfinsert::checks(keys_[parent[i]], keys_[child[i]], empty_key_, values(i), t_.tolerance_);
+            refusals[i] = tfinsert::checks(keys_[parent[i]], keys_[child[i]], empty_key_, checked(i), t_.tolerance_);
             refused = refused || refusals[i];
         }
         for (int check = 0; check < tfinsert::CHECKS && refused; ++check) {
@@ -627,8 +658,13 @@ class BulkInsert {
    private:
     static constexpr int64_t NEVER = INT64_MAX;
 
+    // Row `row` as it was sent (as it is stored), and as tf2 checks and compares it (ROS 2's rotation
+    // through its matrix).
     tfinsert::Values values(int64_t row) const {
         return tfinsert::values_of(translation_.data(), rotation_.data(), row);
+    }
+    tfinsert::Values checked(int64_t row) const {
+        return tfinsert::values_of(translation_.data(), rotations_, row);
     }
 
     // Each name a row uses, without its leading slash, as a key: keys_, slash_, stripped_, empty_key_.
@@ -741,12 +777,12 @@ class BulkInsert {
         }
         const tfcore::History& h = t_.histories_[frame];
         const bool is_static = h.is_static;
-        const tfinsert::Offered offered{rows,           k, stamp_.data(), translation_.data(), rotation_.data(),
+        const tfinsert::Offered offered{rows,           k, stamp_.data(), translation_.data(), rotations_,
                                         parent_.data(), frame_of_.data()};
         std::vector<uint8_t> verdicts(k, tfinsert::KEEP);
         int64_t prune_from = 0;  // ROS 2's
         if (!is_static) {
-            verdicts = tfinsert::stamp_verdicts({h.stamps, h.values, h.parents, h.start, h.end}, offered,
+            verdicts = tfinsert::stamp_verdicts({h.stamps, h.values, h.parents, h.start, h.end, h.turned}, offered,
                                                 t_.cache_time_, t_.ros2_);
             refuse(rows, verdicts, tfinsert::OLD, tfinsert::OLD_DATA);
             if (t_.ros2_) {
@@ -830,6 +866,8 @@ class BulkInsert {
     Column<const int64_t> stamp_, record_time_;
     Array<const double, nb::shape<-1, 3>> translation_;
     Array<const double, nb::shape<-1, 4>> rotation_;
+    const double* rotations_ = nullptr;  // the rotations tf2 checks and compares: rotation_'s, or (ROS 2) turned_
+    std::vector<double> turned_;
     Column<const bool> static_;
     Column<const int32_t> authority_ids_;  // a batch publisher's id in the buffer
     nb::list histories_;                   // the buffer's, by frame id
@@ -862,7 +900,7 @@ NB_MODULE(_kernels, m) {
         .def("set_transform", &EdgeTable::set_transform, "transform"_a, "authority"_a, "static"_a, "record_time"_a)
         .def("lookup_frames", &EdgeTable::lookup_frames, "target_frame"_a, "source_frame"_a, "time"_a)
         .def("can_transform_frames", &EdgeTable::can_transform_frames, "target_frame"_a, "source_frame"_a, "time"_a)
-        .def("lookup", &EdgeTable::lookup, "target"_a, "source"_a, "time"_a)
+        .def("lookup", &EdgeTable::lookup, "target"_a, "source"_a, "time"_a, "raw"_a = false)
         .def("can_transform", &EdgeTable::can_transform, "target"_a, "source"_a, "time"_a)
         .def("latest_common_time", &EdgeTable::latest_common_time, "target"_a, "source"_a)
         .def("chain", &EdgeTable::chain, "target"_a, "source"_a, "time"_a)
@@ -872,6 +910,12 @@ NB_MODULE(_kernels, m) {
              "values"_a, "valid"_a, "threads"_a)
         .def("chain_takes", &EdgeTable::chain_takes, "target"_a, "source"_a, "times"_a);
 
+    m.def(
+        "through_matrix",
+        [](Array<double, nb::shape<-1, 4>> rotations) {
+            tfcore::through_matrix_all(rotations.data(), static_cast<int64_t>(rotations.shape(0)), 4);
+        },
+        "rotations"_a, "Rotations (N, 4), in place, as they come back from ROS 2's tf2::Transform.");
     // Buffer.insert's bulk path, bound apart from the class's other methods.
     nb::cpp_function_def(
         [](EdgeTable& table, nb::handle batch, Column<const int32_t> authority_ids, nb::list histories,

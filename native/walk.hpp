@@ -37,8 +37,9 @@ struct History {
     int64_t start = 0;
     int64_t end = 0;
     const int64_t* stamps = nullptr;
-    const double* values = nullptr;  // 7 per row: tx ty tz qx qy qz qw
+    const double* values = nullptr;  // 7 per row: tx ty tz qx qy qz qw, as they were sent
     const int32_t* parents = nullptr;
+    bool turned = false;  // ROS 2: each rotation is read through tf2::Transform's matrix (through_matrix)
 };
 
 using Histories = std::vector<History>;
@@ -66,6 +67,60 @@ inline Vec rotate(const Quat& q, const Vec& v) {
 }
 
 inline Quat conjugate(const Quat& q) { return {-q.x, -q.y, -q.z, q.w}; }
+
+// ROS 2's tf2 holds a rotation as a tf2::Transform's basis: a quaternion goes in through
+// Matrix3x3::setRotation and comes back out through Matrix3x3::getRotation (Shepperd's method,
+// which branches on the matrix's trace), on setTransform (what is checked, compared and held: the
+// history keeps the sample as sent, pose_at reads it so) and on lookupTransform (what is returned).
+// The trip normalizes, gives Shepperd's sign (w > 0 where the trace is positive, else the largest of
+// x, y, z > 0), and turns a zero or non-finite quaternion into NaNs. rotation.py's matrix_from_quat
+// and quat_from_matrix, compiled: tf2's operations in tf2's order, without contraction (its bits on x86-64).
+struct Basis { double m[3][3]; };
+
+inline Basis basis_of(const Quat& q) {  // Matrix3x3::setRotation
+    const double s = 2.0 / (q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+    const double xs = q.x * s, ys = q.y * s, zs = q.z * s;
+    const double wx = q.w * xs, wy = q.w * ys, wz = q.w * zs;
+    const double xx = q.x * xs, xy = q.x * ys, xz = q.x * zs;
+    const double yy = q.y * ys, yz = q.y * zs, zz = q.z * zs;
+    return {{{1.0 - (yy + zz), xy - wz, xz + wy},  //
+             {xy + wz, 1.0 - (xx + zz), yz - wx},
+             {xz - wy, yz + wx, 1.0 - (xx + yy)}}};
+}
+
+inline Quat rotation_of(const Basis& b) {  // Matrix3x3::getRotation
+    const auto& m = b.m;
+    double t[4];
+    const double trace = m[0][0] + m[1][1] + m[2][2];
+    if (trace > 0.0) {
+        double r = std::sqrt(trace + 1.0);
+        t[3] = r * 0.5;
+        r = 0.5 / r;
+        t[0] = (m[2][1] - m[1][2]) * r;
+        t[1] = (m[0][2] - m[2][0]) * r;
+        t[2] = (m[1][0] - m[0][1]) * r;
+    } else {
+        const int i = m[0][0] < m[1][1] ? (m[1][1] < m[2][2] ? 2 : 1) : (m[0][0] < m[2][2] ? 2 : 0);
+        const int j = (i + 1) % 3, k = (i + 2) % 3;
+        double r = std::sqrt(m[i][i] - m[j][j] - m[k][k] + 1.0);
+        t[i] = r * 0.5;
+        r = 0.5 / r;
+        t[3] = (m[k][j] - m[j][k]) * r;
+        t[j] = (m[j][i] + m[i][j]) * r;
+        t[k] = (m[k][i] + m[i][k]) * r;
+    }
+    return {t[0], t[1], t[2], t[3]};
+}
+
+inline Quat through_matrix(const Quat& q) { return rotation_of(basis_of(q)); }
+
+// `count` rotations (x y z w, `stride` doubles apart from one to the next) through the matrix, in place.
+inline void through_matrix_all(double* q, int64_t count, int64_t stride) {
+    for (int64_t i = 0; i < count; ++i, q += stride) {
+        const Quat r = through_matrix({q[0], q[1], q[2], q[3]});
+        q[0] = r.x, q[1] = r.y, q[2] = r.z, q[3] = r.w;
+    }
+}
 
 // `edge` applied after `acc`, as TransformAccum.accum composes.
 inline Pose compose(const Pose& edge, const Pose& acc) {
@@ -122,9 +177,11 @@ inline Quat slerp(const Quat& a, const Quat& b, double t, const Arc& c, bool bat
     return weigh(a, b, sine((1.0 - t) * c.theta, batch), sine(t * c.theta, batch) * c.sign, c.d);
 }
 
-inline Pose pose_at(const double* values, int64_t row) {
-    const double* v = values + 7 * row;
-    return {{v[0], v[1], v[2]}, {v[3], v[4], v[5], v[6]}};
+// Row `row` of `h` as tf2 holds the sample (ROS 2's rotation through its matrix).
+inline Pose pose_at(const History& h, int64_t row) {
+    const double* v = h.values + 7 * row;
+    const Quat q{v[3], v[4], v[5], v[6]};
+    return {{v[0], v[1], v[2]}, h.turned ? through_matrix(q) : q};
 }
 
 // --- one edge: its sample at a time, as tf2's TimeCache interpolates -----------------------------
@@ -220,11 +277,10 @@ inline RowAt row_at(const Histories& histories, int64_t frame, int64_t time, Mem
 
 // The arc between `row` and the next, memoized per frame.
 inline Arc arc_at(const History& h, int64_t frame, int64_t row, Memo& memo) {
-    const double* v = h.values + 7 * row;
-    if (!memo.on) return arc({v[3], v[4], v[5], v[6]}, {v[10], v[11], v[12], v[13]});
+    if (!memo.on) return arc(pose_at(h, row).q, pose_at(h, row + 1).q);
     if (memo.arc_row[frame] != row) {
         memo.arc_row[frame] = row;
-        memo.arcs[frame] = arc({v[3], v[4], v[5], v[6]}, {v[10], v[11], v[12], v[13]});
+        memo.arcs[frame] = arc(pose_at(h, row).q, pose_at(h, row + 1).q);
     }
     return memo.arcs[frame];
 }
@@ -381,12 +437,12 @@ inline void sample_before_slerp(const Histories& histories, const Step& step, in
                                 Edge& e) {
     const History& h = histories[step.frame];
     const int64_t row = step.at.row;
-    e.pose = pose_at(h.values, row);
+    e.pose = pose_at(h, row);
     if (!step.at.interpolate || h.parents[row + 1] != h.parents[row]) return;
     const int64_t t0 = h.stamps[row];
     const double r = static_cast<double>(time - t0) / static_cast<double>(h.stamps[row + 1] - t0);
     const double s = 1.0 - r;
-    const Pose a = e.pose, b = pose_at(h.values, row + 1);
+    const Pose a = e.pose, b = pose_at(h, row + 1);
     e.pose.v = {s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z};
     e.next = b.q, e.r = r, e.frame = step.frame, e.row = row, e.interpolate = true;
     if (memo.on && memo.arc_row[step.frame] == row) {

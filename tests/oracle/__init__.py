@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
+import tempfile
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -67,3 +69,95 @@ def run_tf2(scenarios: list[Scenario]) -> list[dict]:
     if done.returncode != 0:
         raise RuntimeError(f"tf2 harness failed:\n{done.stderr[-3000:]}")
     return json.loads(done.stdout)["results"]
+
+
+CORE_SOURCE = Path(__file__).with_name("tf2_core.cpp")
+
+
+@cache
+def cpp_core() -> Path | str:
+    """ROS 1's tf2 ``BufferCore`` in C++ (``tf2_core.cpp`` built against Debian's libtf2, once per
+    run): the path of the program, or why it cannot be built here. tf2_py rounds every stamp
+    through a double; the C++ core, like a roscpp node, keeps every nanosecond."""
+    built = Path(tempfile.gettempdir()) / f"tftools-tf2-core-{os.getuid()}-{CORE_SOURCE.stat().st_mtime_ns}"
+    if built.exists():
+        return built
+    libraries = ["-ltf2", "-lrostime", "-lcpp_common", "-lconsole_bridge"]
+    return _compile([str(CORE_SOURCE), *libraries], built, "ROS 1's tf2 core (needs Debian's libtf2-dev)")
+
+
+def run_cpp_core(lines: list[str]) -> tuple[list[str], str]:
+    """``lines`` (``tf2_core.cpp``'s commands) through the C++ core: its answers, one a line, and its log."""
+    return _drive(cpp_core(), lines)
+
+
+def _compile(arguments: list[str], built: Path, what: str) -> Path | str:
+    """``g++ -O2 arguments``, written to ``built`` (through a temporary name): the program, or why
+    ``what`` could not be built."""
+    partial = built.with_name(f"{built.name}.{os.getpid()}")
+    command = ["g++", "-std=c++17", "-O2", *arguments, "-o", str(partial)]
+    try:
+        done = subprocess.run(command, capture_output=True, text=True, timeout=900)
+    except (OSError, subprocess.SubprocessError) as e:
+        return f"{what} could not be built: {e}"
+    if done.returncode != 0:
+        return f"{what} could not be built: {done.stderr[-500:]}"
+    partial.replace(built)
+    return built
+
+
+def _drive(program: Path | str, lines: list[str]) -> tuple[list[str], str]:
+    """``lines`` through a built oracle: its answers, one a line, and its log."""
+    assert isinstance(program, Path), program
+    done = subprocess.run([str(program)], input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=600)
+    if done.returncode != 0:
+        raise RuntimeError(f"{program.name} failed:\n{done.stderr[-3000:]}")
+    return done.stdout.splitlines(), done.stderr
+
+
+ROS2_DRIVER = Path(__file__).with_name("ros2_tf2")
+
+
+def ros2_sources() -> Path | None:
+    """A ros2/geometry2 checkout or bare git directory: ``$TFTOOLS_ROS2_GEOMETRY2``, else the
+    ``.mirror`` beside the repository (or beside its worktrees' folder), where there is one."""
+    given = os.environ.get("TFTOOLS_ROS2_GEOMETRY2")
+    repository = Path(__file__).resolve().parents[2]
+    candidates = [Path(given)] if given else [repository.parent / ".mirror/ros2+geometry2/repo",
+                                              repository.parent.parent / ".mirror/ros2+geometry2/repo"]  # fmt: skip
+    return next((path for path in candidates if path.exists()), None)
+
+
+@cache
+def ros2_core() -> Path | str:
+    """ROS 2's tf2 ``BufferCore`` built from ros2/geometry2's own sources (``tf2/src``, with
+    ``ros2_tf2/stub`` standing in for rcutils and the message headers) under ``ros2_tf2/driver.cpp``,
+    which speaks ``tf2_core.cpp``'s lines: the program, or why it cannot be built. Nothing of
+    ros2/geometry2 is in this repository: the sources are read where ``ros2_sources`` finds them."""
+    sources = ros2_sources()
+    if sources is None:
+        return "no ros2/geometry2 sources (set TFTOOLS_ROS2_GEOMETRY2 to a checkout)"
+    stamp = max(path.stat().st_mtime_ns for path in ROS2_DRIVER.rglob("*") if path.is_file())
+    work = Path(tempfile.gettempdir()) / f"tftools-ros2-tf2-{os.getuid()}-{stamp}"
+    built = work / "ros2_tf2"
+    if built.exists():
+        return built
+    tree = work / "tree"
+    try:
+        if (sources / "tf2").is_dir():
+            tree = sources
+        else:  # a bare git directory
+            tree.mkdir(parents=True, exist_ok=True)
+            archive = subprocess.run(["git", "--git-dir", str(sources), "archive", "HEAD", "tf2/include", "tf2/src"],
+                                     capture_output=True, check=True, timeout=300).stdout  # fmt: skip
+            subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True, timeout=300)
+        units = [ROS2_DRIVER / "driver.cpp", *sorted((tree / "tf2/src").glob("*.cpp"))]
+    except (OSError, subprocess.SubprocessError) as e:
+        return f"ROS 2's tf2 sources could not be read: {e}"
+    flags = [f"-I{ROS2_DRIVER / 'stub'}", f"-I{tree / 'tf2/include'}"]
+    return _compile([*flags, *map(str, units), "-lpthread"], built, "ROS 2's tf2")
+
+
+def run_ros2_core(lines: list[str]) -> tuple[list[str], str]:
+    """``lines`` through ROS 2's tf2 (``ros2_tf2/driver.cpp``'s commands): its answers and its log."""
+    return _drive(ros2_core(), lines)

@@ -12,6 +12,10 @@ from tftools.core.walk import Failure
 #: Times per block of ``EdgeTable.lookup_many``'s chain path.
 BLOCK: int
 
+def through_matrix(rotations: FloatArray) -> None:
+    """Rotations (N, 4, x y z w), in place, as ROS 2's tf2 holds and returns them: through a
+    ``tf2::Transform``'s basis (``Matrix3x3::setRotation``, then ``getRotation``)."""
+
 class EdgeTable:
     """Per frame id, where its history's samples lie (see ``tftools.core.kernels``), and what
     ``Buffer``'s single calls need of their buffer, read as it changes."""
@@ -54,10 +58,11 @@ class EdgeTable:
         """``Buffer.can_transform``."""
 
     def lookup(
-        self, target: int, source: int, time: int
+        self, target: int, source: int, time: int, raw: bool = False
     ) -> tuple[tuple[float, float, float], tuple[float, float, float, float], int] | None:
         """tf2's lookup: (tx, ty, tz), (qx, qy, qz, qw) and the time used (0: the latest common time);
-        None where tf2 fails (``chain`` says why)."""
+        None where tf2 fails (``chain`` says why). ROS 2's rotation comes back through a matrix,
+        unless ``raw`` (the composed one, which ROS 2's lookup with a fixed frame multiplies)."""
 
     def can_transform(self, target: int, source: int, time: int) -> bool:
         """Whether ``lookup`` succeeds, walking parents only."""

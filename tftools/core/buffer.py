@@ -334,13 +334,14 @@ class Buffer:
         return found if found is not None else self._lookup_by_ids(target_frame, source_frame, time)
 
     @_locked
-    def _lookup_by_ids(self, target_frame: str, source_frame: str, time: int) -> Transform:
+    def _lookup_by_ids(self, target_frame: str, source_frame: str, time: int, raw: bool = False) -> Transform:
         """``lookup`` where ``lookup_frames`` does not answer: a frame to itself, names to check
-        (tf2's errors for them), and every failure, worded by ``walk.error``."""
+        (tf2's errors for them), and every failure, worded by ``walk.error``. ``raw``: ROS 2's
+        rotation as composed, before its ``tf2::Transform`` gives it back (``EdgeTable.lookup``)."""
         if target_frame == source_frame:
             return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
         target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-        found = self._table.lookup(target_id, source_id, time)
+        found = self._table.lookup(target_id, source_id, time, raw)
         if found is None:
             raise self._walk_error(target_id, source_id, self._table.chain(target_id, source_id, time)[1])
         return Transform(*found, target_frame, source_frame)
@@ -350,12 +351,13 @@ class Buffer:
         self, target_frame: str, target_time: int, source_frame: str, source_time: int, fixed_frame: str
     ) -> Transform:
         """tf2's "time travel": ``source_frame`` at ``source_time`` into ``target_frame`` at
-        ``target_time``, assuming ``fixed_frame`` does not move between the two times."""
+        ``target_time``, assuming ``fixed_frame`` does not move between the two times. Both tf2s
+        multiply the two lookups as ``tf2::Transform``s (ROS 1's as returned; ROS 2's as composed)."""
         self._frame_id("lookupTransform argument target_frame", target_frame)
         self._frame_id("lookupTransform argument source_frame", source_frame)
         self._frame_id("lookupTransform argument fixed_frame", fixed_frame)
-        source_in_fixed = self.lookup(fixed_frame, source_frame, source_time)
-        fixed_in_target = self.lookup(target_frame, fixed_frame, target_time)
+        source_in_fixed = self._lookup_by_ids(fixed_frame, source_frame, source_time, raw=True)
+        fixed_in_target = self._lookup_by_ids(target_frame, fixed_frame, target_time, raw=True)
         composed = fixed_in_target * source_in_fixed
         return Transform(composed.translation, composed.rotation, fixed_in_target.stamp, target_frame, source_frame)
 

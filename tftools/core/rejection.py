@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, NamedTuple, overload
@@ -10,6 +11,7 @@ from typing import Any, NamedTuple, overload
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core._kernels import through_matrix as kernel_through_matrix
 from tftools.core.arrays import Int32Array, Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.frames import Names
@@ -50,15 +52,15 @@ class Rejection:
 
     @property
     def message(self) -> str:
-        """tf2's log line for this rejection."""
+        """tf2's log line for this rejection (ROS 2's shows the rotation as its matrix gave it back)."""
         c, a = self.child_frame_id, self.authority
-        values = " ".join(f"{v:f}" for v in self.values)
+        shown = list(self.values)
+        if self.semantics == "ros2" and len(shown) >= 4:
+            shown[-4:] = through_matrix(shown[-4:])
+        values = " ".join(c_float(v) for v in shown)
+        vector, quaternion = " ".join(values.split(" ")[:3]), " ".join(values.split(" ")[3:])
         if self.semantics == "ros2":  # ROS 2's lines where they differ from ROS 1's
-            shown = values.split(" ")
-            vector, quaternion = " ".join(shown[:3]), " ".join(shown[3:])
             ros2 = {
-                RejectionCode.NAN_INPUT: f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{c}" from authority '
-                f'"{a}" because of a nan value in the transform ({vector}) ({quaternion})',
                 RejectionCode.SELF_TRANSFORM: f'TF_SELF_TRANSFORM: Ignoring transform from authority "{a}" with '
                 f'frame_id and  child_frame_id "{c}" because they are the same',
                 RejectionCode.OLD_DATA: f"TF_OLD_DATA ignoring data from the past for frame {c} at time "
@@ -68,8 +70,8 @@ class Rejection:
             if self.code in ros2:
                 return ros2[self.code]
         return {
-            RejectionCode.NAN_INPUT: f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{c}" '
-            f'from authority "{a}" because of a non-finite value in the transform ({values})',
+            RejectionCode.NAN_INPUT: f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{c}" from authority '
+            f'"{a}" because of a nan value in the transform ({vector}) ({quaternion})',
             RejectionCode.DENORMALIZED_QUATERNION: "TF_DENORMALIZED_QUATERNION: Ignoring transform "
             f'for child_frame_id "{c}" from authority "{a}" because of an invalid quaternion in '
             f"the transform ({values})",
@@ -85,6 +87,21 @@ class Rejection:
             RejectionCode.OLD_DATA: "TF_OLD_DATA ignoring data from the past for frame "
             f"{c} (parent {self.frame_id}) at time {to_sec(self.stamp):f} according to authority {a}",
         }[self.code]
+
+
+def c_float(value: float) -> str:
+    """``value`` as C's ``printf("%f")`` prints it: a NaN with its sign bit set as ``-nan``."""
+    if math.isnan(value):
+        return "-nan" if math.copysign(1.0, value) < 0 else "nan"
+    return f"{value:f}"
+
+
+def through_matrix(rotation: Sequence[float]) -> list[float]:
+    """``rotation`` (x y z w) as ROS 2's tf2 holds it: back from a ``tf2::Transform``'s basis (the
+    compiled kernel, whose NaNs keep tf2's signs)."""
+    turned = np.array([rotation], np.float64)
+    kernel_through_matrix(turned)
+    return [float(v) for v in turned[0]]
 
 
 #: A live buffer (finite cache time) keeps its latest this many rejections; every one is counted.

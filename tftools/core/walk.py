@@ -54,10 +54,15 @@ def frames_as_string(tree: Tree) -> str:
     return "".join(lines)
 
 
+#: allFramesAsYAML's broadcaster of a frame no publisher is recorded for.
+NO_AUTHORITY = "no recorded authority"
+
+
 def frames_as_yaml(tree: Tree, broadcasters: Mapping[int, str]) -> str:
     """tf2's ``allFramesAsYAML``: parent, latest broadcaster, rate and time span per child frame.
 
-    ``broadcasters`` names, per frame id, who sent the frame's last accepted sample.
+    ``broadcasters`` names, per frame id, who sent the frame's last accepted sample; ROS 2's
+    listener names none (``Dialect.listener_authority``).
     """
     ros2 = tree.dialect.ros2
     if len(tree.names) == 1:  # no frame at all
@@ -79,7 +84,7 @@ def frames_as_yaml(tree: Tree, broadcasters: Mapping[int, str]) -> str:
         lines += [
             f"{tree.names[frame_id]}: ",
             f"  parent: '{tree.names[hist.latest_parent]}'",
-            f"  broadcaster: '{broadcasters.get(frame_id, 'no recorded authority')}'",
+            f"  broadcaster: '{tree.dialect.listener_authority or broadcasters.get(frame_id, NO_AUTHORITY)}'",
             f"  rate: {rate:.3f}",
             f"  most_recent_transform: {newest_text}",
             f"  oldest_transform: {oldest_text}",

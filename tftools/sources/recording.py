@@ -116,7 +116,8 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
         buffer.insert(part)
         if len(buffer.rejections) > seen or len(buffer.duplicates) > seen_again:
             again = np.array(buffer.duplicates[seen_again:], np.int64)
-            sequence = np.sort(np.concatenate([buffer.rejections.sequences(seen), again]))
+            # unique: a sample refused for two reasons (NaN and denormalized) is one row
+            sequence = np.unique(np.concatenate([buffer.rejections.sequences(seen), again]))
             refused.append(take_rows(part, sequence - first))
             refused_sequence.append(sequence)
         freed += part.nbytes

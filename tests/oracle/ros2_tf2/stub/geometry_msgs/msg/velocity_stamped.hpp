@@ -1,0 +1,1 @@
+#include "geometry_msgs/msg/all.hpp"
