@@ -1,1 +1,0 @@
-#include "geometry_msgs/msg/all.hpp"

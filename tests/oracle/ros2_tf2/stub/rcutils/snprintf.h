@@ -1,3 +1,0 @@
-#pragma once
-#include <cstdio>
-#define rcutils_snprintf std::snprintf
