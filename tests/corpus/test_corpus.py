@@ -87,14 +87,6 @@ def _delays(report: dict) -> Iterator[tuple[str, dict, float]]:
                 yield key, row, row[key]
 
 
-def _depends_on(recording: Recording, request: pytest.FixtureRequest) -> None:
-    """A test the recording fails until another part of the work is done: an expected failure, named by
-    the manifest's ``depends_on`` (strict: once it passes, the marker must go)."""
-    reason = recording.meta.get("depends_on", {}).get(request.node.originalname)
-    if reason:
-        request.applymarker(pytest.mark.xfail(reason=reason, strict=True))
-
-
 # --- the manifest tells the truth about the data -----------------------------------------------
 
 
@@ -163,10 +155,8 @@ def test_wtf_times_are_counted_from_the_recording(
     recording: Recording,
     corpus: Corpus,
     tfx,  # noqa: F811
-    request: pytest.FixtureRequest,
 ) -> None:
     """Each moment a finding names, "(+S s)" into the tf data, lies within the recording, not decades away."""
-    _depends_on(recording, request)
     _, report = _run_json(tfx, "wtf", corpus(recording))
     for finding in report["bags"][0]["findings"]:
         offsets = [abs(float(x)) for x in re.findall(r"\(([+-]\d+(?:\.\d+)?) s\)", finding["message"])]
@@ -199,10 +189,8 @@ def test_monitor_delays_are_never_negative(
     recording: Recording,
     corpus: Corpus,
     tfx,  # noqa: F811
-    request: pytest.FixtureRequest,
 ) -> None:
     """A transform arrives after its stamp: a delay below 0 is a clock read wrong (say how coarse it is)."""
-    _depends_on(recording, request)
     _, report = _run_json(tfx, "monitor", "-b", corpus(recording))
     for key, row, value in _delays(report):
         assert value >= 0, f"{key} of {row} is negative"
@@ -213,10 +201,8 @@ def test_wtf_span_is_the_recordings(
     recording: Recording,
     corpus: Corpus,
     tfx,  # noqa: F811
-    request: pytest.FixtureRequest,
 ) -> None:
     """The record span is the recording's, never counted from 1970 (a time left 0 is unset)."""
-    _depends_on(recording, request)
     _, report = _run_json(tfx, "wtf", corpus(recording))
     (bag,) = report["bags"]
     assert bag["end"] - bag["start"] == pytest.approx(recording.meta["duration_s"], abs=0.1), bag

@@ -27,10 +27,10 @@ def poses_data(poses: FramePoses | None, origin: int) -> dict[str, Any] | None:
         return None
     frames = []
     for k, name in enumerate(poses.frames):
-        values = np.concatenate(
-            [poses.translations[k].round(TRANSLATION_DECIMALS), poses.rotations[k].round(ROTATION_DECIMALS)], axis=1
-        )
-        valid = poses.valid[k]
+        with np.errstate(over="ignore", invalid="ignore"):  # rounding 1e308 overflows: such a pose is not drawn
+            translations = poses.translations[k].round(TRANSLATION_DECIMALS)
+        values = np.concatenate([translations, poses.rotations[k].round(ROTATION_DECIMALS)], axis=1)
+        valid = poses.valid[k] & np.isfinite(values).all(axis=1)
         entry: dict[str, Any] = {"name": printable(name), "parent": printable(poses.parents[k] or "")}
         if valid.all() and np.ptp(values, axis=0).max() == 0.0:
             entry["pose"] = values[0].tolist()
