@@ -169,3 +169,22 @@ def test_static_chain_text_says_it_never_goes_stale(tfx, tmp_path: Path) -> None
     bag = write_scene(tmp_path, BagFormat.rosbag2_mcap, scene().messages)
     out = tfx("monitor", "base_link", "laser", "-b", bag).stdout
     assert "Net delay     avg = -: max = -" in out and "never stale" in out
+
+
+def test_a_table_too_long_to_lay_out_is_written_in_plain_columns(tfx, monkeypatch) -> None:
+    """Past MAX_LAID_OUT_ROWS rows (rich lays a table out at 0.3 ms a row) the tables go out as plain
+    columns: every name whole, every figure the JSON's."""
+    import json
+
+    from tftools.render import monitor
+
+    monkeypatch.setattr(monitor, "MAX_LAID_OUT_ROWS", 2)
+    text = tfx("monitor", "-b", SAMPLE_BAGS["ros1"])
+    figures = json.loads(tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "-f", "json").stdout)
+    assert text.code == 0, text.stderr
+    rows = {tuple(line.split()[:2]): line.split() for line in text.stdout.splitlines() if len(line.split()) > 4}
+    for edge in figures["edges"]:
+        row = rows[(edge["parent"], edge["child"])]
+        assert row[3] == str(edge["count"])
+        assert row[4] == ("static" if edge["static"] else f"{edge['rate_hz']:.2f}")
+    assert "Frames:" in text.stdout and "All Broadcasters:" in text.stdout
