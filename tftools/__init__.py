@@ -1,7 +1,8 @@
 """tftools: diagnose ROS tf trees on bag files and live systems, with tf2's exact semantics.
 
 The names below load on first use (PEP 562), so that ``import tftools`` and ``tfx --version`` cost
-no numpy, and a command imports only what it uses."""
+no numpy, and a command imports only what it uses. ``__version__`` is the installed distribution's
+(pyproject.toml's, the one place it is written), read on first use too."""
 
 from __future__ import annotations
 
@@ -37,7 +38,7 @@ if TYPE_CHECKING:
     )
     from tftools.sources import Recording, load, read_recording
 
-__version__ = "0.1.0"
+__version__: str  # set on first use, by __getattr__
 
 __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "ConnectivityError",
@@ -50,7 +51,21 @@ __all__ = [
 _FROM_SOURCES = {"Recording", "load", "read_recording"}
 
 
+def version() -> str:
+    """The version pyproject.toml gives, as installed; ``0+unknown`` for a checkout that is not installed."""
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as installed
+
+    try:
+        return installed("tftools")
+    except PackageNotFoundError:
+        return "0+unknown"
+
+
 def __getattr__(name: str) -> Any:
+    if name == "__version__":
+        globals()[name] = value = version()
+        return value
     if name not in __all__:
         raise AttributeError(f"module 'tftools' has no attribute {name!r}")
     value = getattr(importlib.import_module("tftools.sources" if name in _FROM_SOURCES else "tftools.core"), name)

@@ -9,21 +9,24 @@ import os
 import sys
 from typing import TYPE_CHECKING
 
-from tftools import __version__
-
 if TYPE_CHECKING:
     import typer
 
     from tftools.core.errors import TfToolsError
 
-VERSION_LINE = f"tfx {__version__}"
+
+def version_line() -> str:
+    """``tfx --version``'s answer."""
+    from tftools import version
+
+    return f"tfx {version()}"
 
 
 def main() -> None:
     """Run ``tfx``: tftools' errors and wrong arguments print as one line and exit with code 2; so does
     any other exception (an internal error, named as such; ``TFX_DEBUG=1`` shows its traceback)."""
     if sys.argv[1:] == ["--version"]:  # the one answer that needs neither the parser nor a subcommand
-        print(VERSION_LINE)
+        print(version_line())
         sys.exit(0)
     import typer
 

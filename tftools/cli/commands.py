@@ -11,7 +11,7 @@ import typer.core
 import typer.main
 import typer.models
 
-from tftools.cli.app import VERSION_LINE
+from tftools.cli.app import version_line
 
 #: Each a module of ``tftools.cli`` (``view-frames``: ``view_frames``): its ``command``, and ``CONTEXT`` if any.
 SUBCOMMANDS = ("diff", "echo", "filter", "frames", "monitor", "report", "view-frames", "wtf", "static")
@@ -78,7 +78,7 @@ app = typer.Typer(
 
 def _version(value: bool) -> None:
     if value:
-        typer.echo(VERSION_LINE)
+        typer.echo(version_line())
         raise typer.Exit()
 
 
