@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 from collections import deque
 
 import pytest
@@ -10,6 +11,7 @@ from hypothesis import strategies as st
 
 from tests.analysis.scale_scenes import START, batch, chain, grows_linearly, recording, ring, seconds
 from tftools.analysis import wtf
+from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.graph import frame_graph
 from tftools.analysis.loops import find_loops
@@ -74,7 +76,7 @@ def test_pinning_many_findings_on_a_big_graph_is_linear() -> None:
     def run(n: int) -> float:
         star = recording(batch(["root", *(f"c{i}" for i in range(n))], [0] * n, range(1, n + 1)))
         findings = [f for f in wtf.check(star)]
-        stale = [structure.Finding(structure.Severity.warning, "stale", "", "", ("root", f"c{i}")) for i in range(n)]
+        stale = [Finding(Severity.warning, "stale", "", "", ("root", f"c{i}")) for i in range(n)]
         return seconds(lambda: frame_graph(Scene(star), findings + stale))
 
     assert grows_linearly(run(1_000), run(10_000), 10)
@@ -96,13 +98,13 @@ def test_many_roots_with_long_names_keep_the_typo_hint_cheap(monkeypatch: pytest
     """difflib is quadratic in a name's length: the typo search gives it no long name, and a bounded
     number of candidates (counted, not timed)."""
     compared: list[tuple[str, list[str]]] = []
-    close_matches = structure.difflib.get_close_matches
+    close_matches = difflib.get_close_matches
 
     def counted(word: str, possibilities: list[str], n: int = 3, cutoff: float = 0.6) -> list[str]:
         compared.append((word, list(possibilities)))
         return close_matches(word, possibilities, n, cutoff)
 
-    monkeypatch.setattr(structure.difflib, "get_close_matches", counted)
+    monkeypatch.setattr(difflib, "get_close_matches", counted)
     names = [f"short{i}" for i in range(10)] + [("y" * 5_000) + str(i) for i in range(400)]
     scene = Scene(recording(batch(names, range(0, 410, 2), range(1, 410, 2))))
     (finding,) = structure.disconnected(scene)
