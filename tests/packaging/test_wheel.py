@@ -18,13 +18,33 @@ import pytest
 REPO = Path(__file__).resolve().parents[2]
 SAMPLES = REPO / "sample_bags"
 COMPILERS = ("cc", "c++", "gcc", "g++", "clang", "clang++")
-#: Commands run by both the installed wheel and the checkout; their outputs must be the same.
+#: Every command that needs no live system, run by both the installed wheel and the checkout, each in a
+#: folder of its own: their outputs, and the files they write, must be the same.
 COMMANDS = [
     ["frames", "-b", str(SAMPLES / "robot.bag")],
     ["frames", "-b", str(SAMPLES / "robot_db3"), "--format", "yaml"],
     ["wtf", str(SAMPLES / "robot.bag"), str(SAMPLES / "robot_db3"), str(SAMPLES / "robot_mcap")],
     ["echo", "map", "gripper", "-b", str(SAMPLES / "robot_mcap"), "--at", "+5"],
     ["echo", "map", "gripper", "-b", str(SAMPLES / "robot_db3"), "--at", "+5", "--format", "json"],
+    ["monitor", "map", "gripper", "-b", str(SAMPLES / "robot.bag")],
+    ["view-frames", "-b", str(SAMPLES / "robot_mcap"), "-o", "tree.gv"],
+    ["report", str(SAMPLES / "robot.bag"), "-o", "report.html"],
+    ["diff", str(SAMPLES / "robot.bag"), str(SAMPLES / "robot_db3")],
+    [
+        "static",
+        "0.1",
+        "0",
+        "0.2",
+        "0",
+        "0",
+        "0",
+        "base_link",
+        "laser",
+        "-b",
+        str(SAMPLES / "robot.bag"),
+        "-o",
+        "out.bag",
+    ],
 ]
 
 
@@ -50,8 +70,14 @@ def test_the_wheel_installs_without_a_compiler_and_answers_as_the_checkout(tmp_p
     target = tmp_path / "venv"
     venv.create(target, with_pip=True, symlinks=True)
     bin_dir = target / "bin"
-    # Nothing but the venv on PATH: no compiler to be found; and pip may take binaries only.
-    path = str(bin_dir)
+    # On PATH only the venv and Graphviz's dot (which view-frames and report run): no compiler to be
+    # found; and pip may take binaries only.
+    tools = tmp_path / "tools"
+    tools.mkdir()
+    dot = shutil.which("dot")
+    if dot is not None:
+        (tools / "dot").symlink_to(dot)
+    path = f"{bin_dir}:{tools}"
     assert [c for c in COMPILERS if shutil.which(c, path=path)] == []
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "CC", "CXX")}
     env.update(PATH=path, CC="/nonexistent/cc", CXX="/nonexistent/c++", PIP_ONLY_BINARY=":all:")
@@ -65,8 +91,15 @@ def test_the_wheel_installs_without_a_compiler_and_answers_as_the_checkout(tmp_p
     assert version.stdout == f"tfx {expected.stdout}", (version, expected)
 
     checkout = [sys.executable, "-c", "from tftools.cli.app import main; main()"]
-    for command in COMMANDS:
-        got = _run([str(bin_dir / "tfx"), *command], env, tmp_path)
-        want = _run([*checkout, *command], dict(os.environ), REPO)
-        assert (got.returncode, got.stdout) == (want.returncode, want.stdout), (command, got.stderr)
-        assert got.returncode == 0 and got.stdout.strip(), (command, got.stderr)
+    for i, command in enumerate(COMMANDS):
+        ours, theirs = tmp_path / f"wheel{i}", tmp_path / f"checkout{i}"
+        ours.mkdir()
+        theirs.mkdir()
+        got = _run([str(bin_dir / "tfx"), *command], env, ours)
+        want = _run([*checkout, *command], dict(os.environ), theirs)
+        assert (got.returncode, got.stdout, got.stderr) == (want.returncode, want.stdout, want.stderr), command
+        written = sorted(p.name for p in theirs.iterdir())
+        assert got.returncode == 0 and (got.stdout.strip() or written), (command, got.stderr)
+        assert sorted(p.name for p in ours.iterdir()) == written
+        differ = [name for name in written if (ours / name).read_bytes() != (theirs / name).read_bytes()]
+        assert differ == [], (command, differ)
