@@ -25,12 +25,14 @@ def _cycle_check(frames: int, make=chain) -> float:
     return seconds(lambda: list(structure.cycles(Scene(scene_of))))
 
 
+@pytest.mark.slow  # seconds of CPU at full size: CI runs it
 def test_the_loop_check_is_linear_in_a_chains_frames() -> None:
     # Quadratic before: 10k frames took 20 s, 100k more than 150 s.
     small, large = _cycle_check(2_000), _cycle_check(20_000)
     assert grows_linearly(small, large, 10), (small, large)
 
 
+@pytest.mark.slow  # seconds of CPU at full size: CI runs it
 def test_a_ring_of_20000_frames_is_one_loop_found_in_linear_time() -> None:
     small, large = _cycle_check(2_000, ring), _cycle_check(20_000, ring)
     assert grows_linearly(small, large, 10), (small, large)
@@ -52,6 +54,7 @@ def test_lookups_along_a_deep_chain_answer_as_tf2_up_to_its_depth_limit() -> Non
         buffer.lookup("f0", "f5000", START)
 
 
+@pytest.mark.slow  # seconds of CPU at full size: CI runs it
 def test_wtf_and_the_graph_on_a_deep_chain_find_nothing_wrong() -> None:
     deep = recording(chain(5_000))
     assert [f.code for f in wtf.check(deep) if f.severity.rank == 0] == []
@@ -59,6 +62,7 @@ def test_wtf_and_the_graph_on_a_deep_chain_find_nothing_wrong() -> None:
     assert len(graph.edges) == 5_000 and graph.roots == ["f0"]
 
 
+@pytest.mark.slow  # seconds of CPU at full size: CI runs it
 def test_many_trees_are_listed_in_bounded_words_and_found_in_linear_time() -> None:
     def pairs(n: int) -> Scene:
         names = [f"{kind}{i}" for i in range(n) for kind in ("a", "b")]
@@ -72,6 +76,7 @@ def test_many_trees_are_listed_in_bounded_words_and_found_in_linear_time() -> No
     assert finding.count == 10_000 and len(finding.message) < 5_000 and "and 9980 more" in finding.message
 
 
+@pytest.mark.slow  # seconds of CPU at full size: CI runs it
 def test_pinning_many_findings_on_a_big_graph_is_linear() -> None:
     def run(n: int) -> float:
         star = recording(batch(["root", *(f"c{i}" for i in range(n))], [0] * n, range(1, n + 1)))
@@ -154,6 +159,7 @@ def test_find_loops_finds_what_a_search_from_every_frame_finds(edges: list[tuple
     assert [order[loop[0]] for loop in found] == sorted(order[loop[0]] for loop in found)
 
 
+@pytest.mark.slow  # seconds of CPU at full size: CI runs it
 def test_find_loops_on_a_loop_of_100000_frames_and_a_chain_into_it() -> None:
     n = 100_000
     parents = {f"r{i}": [f"r{(i + 1) % n}"] for i in range(n)}

@@ -5,6 +5,7 @@ from __future__ import annotations
 import tracemalloc
 
 import numpy as np
+import pytest
 
 from tests.analysis.scale_scenes import START, batch, grows_linearly, seconds
 from tftools.core.batch import TransformBatch
@@ -54,6 +55,7 @@ def test_rejections_read_as_the_rejection_objects_they_stand_for() -> None:
     assert buffer.rejections == [self_tf, bad] and buffer.rejections[1:] == [bad]
 
 
+@pytest.mark.slow  # seconds of CPU at full size: CI runs it
 def test_many_frames_seen_once_are_inserted_in_linear_time() -> None:
     def run(n: int) -> float:
         names = ["root", *(f"c{i}" for i in range(n))]
