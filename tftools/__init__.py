@@ -1,8 +1,8 @@
 """tftools: diagnose ROS tf trees on bag files and live systems, with tf2's exact semantics.
 
 The names below load on first use (PEP 562), so that ``import tftools`` and ``tfx --version`` cost
-no numpy, and a command imports only what it uses. ``__version__`` is the installed distribution's
-(pyproject.toml's, the one place it is written), read on first use too."""
+no numpy, and a command imports only what it uses. ``__version__`` is pyproject.toml's (the one place
+it is written), as the build wrote it into the installed package; read on first use too."""
 
 from __future__ import annotations
 
@@ -52,14 +52,13 @@ _FROM_SOURCES = {"Recording", "load", "read_recording"}
 
 
 def version() -> str:
-    """The version pyproject.toml gives, as installed; ``0+unknown`` for a checkout that is not installed."""
-    from importlib.metadata import PackageNotFoundError
-    from importlib.metadata import version as installed
-
+    """The version pyproject.toml gives, as installed (in tftools._version, which the build writes);
+    ``0+unknown`` for a checkout that is not installed."""
     try:
-        return installed("tftools")
-    except PackageNotFoundError:
+        from tftools._version import __version__ as installed
+    except ImportError:
         return "0+unknown"
+    return str(installed)
 
 
 def __getattr__(name: str) -> Any:
