@@ -1,11 +1,12 @@
 """tftools: diagnose ROS tf trees on bag files and live systems, with tf2's exact semantics.
 
 The names below load on first use (PEP 562), so that ``import tftools`` and ``tfx --version`` cost
-no numpy, and a command imports only what it uses."""
+no numpy, and a command imports only what it uses. ``__version__`` is pyproject.toml's (the one place
+it is written), as the build wrote it into the installed package; read on first use too."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from tftools import lazy
 
@@ -38,7 +39,7 @@ if TYPE_CHECKING:
     )
     from tftools.sources import Recording, load, read_recording
 
-__version__ = "0.1.0"
+__version__: str  # set on first use, by __getattr__
 
 __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "ConnectivityError",
@@ -50,6 +51,24 @@ __all__ = [
 #: The names ``tftools.sources`` exports; the others come from ``tftools.core``.
 _FROM_SOURCES = {"Recording", "load", "read_recording"}
 
-__getattr__, __dir__ = lazy.exports(
+
+def version() -> str:
+    """The version pyproject.toml gives, as installed (in tftools._version, which the build writes);
+    ``0+unknown`` for a checkout that is not installed."""
+    try:
+        from tftools._version import __version__ as installed
+    except ImportError:
+        return "0+unknown"
+    return str(installed)
+
+
+_exported, __dir__ = lazy.exports(
     __name__, {name: "tftools.sources" if name in _FROM_SOURCES else "tftools.core" for name in __all__}, __all__
 )
+
+
+def __getattr__(name: str) -> Any:
+    if name == "__version__":
+        globals()[name] = value = version()
+        return value
+    return _exported(name)

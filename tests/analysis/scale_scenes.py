@@ -16,9 +16,10 @@ from tftools.sources.recording import Recording, recording_of
 START = 1_700_000_000 * NS_PER_S
 
 
-def batch(
-    names: Sequence[str], parent: Sequence[int], child: Sequence[int], stamps: Sequence[int] | None = None
-) -> TransformBatch:
+Indices = Sequence[int] | np.ndarray
+
+
+def batch(names: Sequence[str], parent: Indices, child: Indices, stamps: Indices | None = None) -> TransformBatch:
     """Identity-rotation transforms parent[i] -> child[i] (indices into ``names``), on /tf, from /pub."""
     n = len(parent)
     stamp = np.full(n, START, np.int64) if stamps is None else np.asarray(stamps, np.int64)
@@ -58,16 +59,17 @@ def recording(part: TransformBatch) -> Recording:
 
 
 def seconds(run: Callable[[], object]) -> float:
-    """The best of two runs' wall times (a loaded machine makes single runs noisy)."""
+    """The best of two runs' CPU times (this process's: the time it waited for a busy machine's cores
+    is not counted, so a loaded machine does not make a linear step look quadratic)."""
     best = float("inf")
     for _ in range(2):
-        began = time.perf_counter()
+        began = time.process_time()
         run()
-        best = min(best, time.perf_counter() - began)
+        best = min(best, time.process_time() - began)
     return best
 
 
 def grows_linearly(small: float, large: float, factor: int) -> bool:
-    """Whether a ``factor`` times larger input took well under ``factor`` squared as long (with a
-    floor for timer noise on tiny runs)."""
+    """Whether a ``factor`` times larger input took well under ``factor`` squared as long as the
+    baseline ``small``, measured in the same test (with a floor for timer noise on tiny runs)."""
     return large <= max(small, 0.01) * factor * 3

@@ -60,9 +60,18 @@ def corpus_dir() -> Path:
 
 
 def shared_dir() -> Path:
-    """The steering repository's shared folder: ``$TFTOOLS_SHARED_DIR`` or ``<repository>/../shared``."""
+    """The steering repository's shared folder: ``$TFTOOLS_SHARED_DIR``, or ``shared`` beside the
+    repository (a clone's, or for a ``git worktree`` the main checkout's)."""
     configured = os.environ.get("TFTOOLS_SHARED_DIR")
-    return Path(configured) if configured else REPOSITORY_ROOT.parent / "shared"
+    if configured:
+        return Path(configured)
+    beside = REPOSITORY_ROOT.parent / "shared"
+    git = REPOSITORY_ROOT / ".git"
+    if not beside.is_dir() and git.is_file():  # a worktree's .git reads "gitdir: <main>/.git/worktrees/<name>"
+        main = Path(git.read_text().removeprefix("gitdir:").strip()).parents[2]
+        if (main.parent / "shared").is_dir():
+            return main.parent / "shared"
+    return beside
 
 
 def root_of(recording: Recording) -> Path:

@@ -34,7 +34,7 @@ def ready_times(request):
     events = [(row[0], 0, i) for i, row in enumerate(request["tf"])]
     events += [(m[0], 1, i) for i, m in enumerate(request["messages"])]  # tf first when records tie
     ready = [None] * len(request["messages"])
-    pending = []
+    pending: list[int] = []
 
     def can(i):
         _record, frame, sec, nsec = request["messages"][i]

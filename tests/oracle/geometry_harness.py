@@ -14,7 +14,7 @@ from geometry_msgs.msg import PointStamped, PoseStamped, TransformStamped, Vecto
 
 def main():
     request = json.load(sys.stdin)
-    out = {"points": [], "vectors": [], "positions": [], "orientations": []}
+    out: dict[str, list[list[float]]] = {"points": [], "vectors": [], "positions": [], "orientations": []}
     rows = zip(request["transforms"], request["points"], request["orientations"], strict=True)
     for values, (x, y, z), (qx, qy, qz, qw) in rows:
         t = TransformStamped()

@@ -85,7 +85,7 @@ def replay(path, target, cache_s):
                 asked.append([record, message.header.frame_id, stamp.secs, stamp.nsecs])
                 topics.append(topic)
     ready = ready_times({"cache_s": cache_s, "target": target, "tf": tf, "messages": asked})
-    per_topic = {}
+    per_topic: dict[str, list[float | None]] = {}
     for topic, when in zip(topics, ready, strict=True):
         per_topic.setdefault(topic, []).append(when)
     return per_topic

@@ -13,16 +13,20 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tftools import __version__
-
 if TYPE_CHECKING:
     import typer
 
     from tftools.core.errors import TfToolsError
 
-VERSION_LINE = f"tfx {__version__}"
 #: The exit code of a command stopped by Ctrl-C (SIGINT), as a shell gives it: 128 + 2.
 INTERRUPTED = 130
+
+
+def version_line() -> str:
+    """``tfx --version``'s answer."""
+    from tftools import version
+
+    return f"tfx {version()}"
 
 
 def main() -> None:
@@ -38,7 +42,7 @@ def main() -> None:
 
 def _run() -> int:
     if sys.argv[1:] == ["--version"]:  # the one answer that needs neither the parser nor a subcommand
-        print(VERSION_LINE)
+        print(version_line())
         return 0
     from tftools.cli.streams import OutputError, ReaderGone, checked_stdout
 

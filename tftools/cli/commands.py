@@ -15,7 +15,7 @@ import typer.main
 import typer.models
 from typer import _click as click  # the click typer's commands are made of (typer vendors it)
 
-from tftools.cli.app import VERSION_LINE
+from tftools.cli.app import version_line
 
 #: Each a module of ``tftools.cli`` (``view-frames``: ``view_frames``): its ``command``, and ``CONTEXT`` if any.
 SUBCOMMANDS = ("diff", "echo", "filter", "frames", "monitor", "report", "view-frames", "wtf", "static")
@@ -107,7 +107,7 @@ app = typer.Typer(
 
 def _version(value: bool) -> None:
     if value:
-        typer.echo(VERSION_LINE)
+        typer.echo(version_line())
         raise typer.Exit()
 
 
