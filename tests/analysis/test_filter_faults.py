@@ -114,7 +114,7 @@ def test_a_reparented_frame_is_walked_through_its_parent_at_the_stamp() -> None:
     assert (fates.fate[first] == Fate.LATER).all()
     waits = fates.ready[first] - stream.record_time[first]  # for base_link's next stamp, 30 ms late
     assert set(waits.tolist()) == {20 * MS, 30 * MS}
-    assert {fates.edge[i] for i in np.flatnonzero(first)} == {("odom", "base_link")}
+    assert {fates.edge[int(i)] for i in np.flatnonzero(first)} == {("odom", "base_link")}
     assert (fates.fate[~first][:-1] == Fate.ON_ARRIVAL).all()
 
 

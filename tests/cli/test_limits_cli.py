@@ -6,6 +6,7 @@ from __future__ import annotations
 import functools
 import warnings
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -50,7 +51,7 @@ def test_a_library_warning_is_one_line_of_tfx(tfx, monkeypatch) -> None:
     real = frames.command
 
     @functools.wraps(real)
-    def warns(*args: object, **kwargs: object) -> None:
+    def warns(*args: Any, **kwargs: Any) -> None:
         warnings.warn("overflow encountered in multiply", RuntimeWarning, stacklevel=1)
         real(*args, **kwargs)
 

@@ -28,7 +28,7 @@ def truth() -> dict[str, object]:
         [sys.executable, "-m", "tftools", "monitor", "-b", BAG, "-f", "json"], cwd=REPO, capture_output=True, text=True
     )
     assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout)  # type: ignore[no-any-return]
+    return json.loads(done.stdout)
 
 
 @pytest.mark.parametrize("columns", [80, 120])

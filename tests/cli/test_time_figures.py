@@ -181,7 +181,7 @@ def test_the_report_counts_every_time_from_the_one_origin(tmp_path: Path) -> Non
     section = recording_section(0, report).html
     shown = re.search(r'<span class="when">([+-][\d.]+) s to [+-][\d.]+ s</span>', section)
     assert shown is not None and float(shown.group(1)) == pytest.approx(float(said.group(1)), abs=0.05)
-    data = json.loads(re.search(r'class="report-data">(.*?)</script>', section).group(1))  # type: ignore[union-attr]
+    data = json.loads(re.search(r'class="report-data">(.*?)</script>', section).group(1))
     assert data["axis"]["start"] == pytest.approx((report.bins.start - WALL) / S)
     assert data["findings"][0]["from"] == pytest.approx(float(said.group(1)), abs=0.05)
 

@@ -152,7 +152,8 @@ def test_d_q_and_minus_q_are_one_sample() -> None:
     q = (0.1, -0.7, 0.3, -0.64)
     assert put(buffer, "a", "b", S, (1.0, 2.0, 3.0), q)
     assert put(buffer, "a", "b", S, (1.0, 2.0, 3.0), tuple(-x for x in q))
-    assert len(buffer.history("b")) == 1 and len(buffer.duplicates) == 1
+    history = buffer.history("b")
+    assert history is not None and len(history) == 1 and len(buffer.duplicates) == 1
     with pytest.raises(NoDataForExtrapolationError):  # still one sample
         buffer.lookup("a", "b", 2 * S)
 

@@ -129,7 +129,8 @@ def compare(verdicts: Sequence[Verdict], stream: StampedMessages, fates: Fates, 
     dropped while waiting, when), with ``queue`` (0: unlimited) applied to ``fates`` as the filter does."""
     assert len(verdicts) == len(stream), (stream.topic, len(verdicts), len(stream))
     out = pushed_out(fates, stream, queue) if queue else np.zeros(len(stream), bool)
-    agree, defect, wrong = 0, 0, []
+    agree, defect = 0, 0
+    wrong: list[str] = []
     for i, v in enumerate(verdicts):
         fate = Fate(int(fates.fate[i]))
         assert v.arrival == int(stream.record_time[i]) and v.stamp == int(stream.stamp[i]), (stream.topic, i)
