@@ -3,7 +3,6 @@ or refused with tftools' own one-line error; never a traceback, a hang or a blow
 
 from __future__ import annotations
 
-import os
 import sqlite3
 import subprocess
 import sys
@@ -16,10 +15,11 @@ import pytest
 from tests.sources import hostile
 from tftools.core.errors import TfToolsError
 from tftools.sources.bag import rosbag2, unpack
-from tftools.sources.bag.ranges import prefetch
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.rosbag2.db3_salvage import salvage
+from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError
+from tftools.sources.storage.source import ByteSource
 
 MiB = 1 << 20
 MEMORY_LIMIT = 1536 * MiB  # address space of a subprocess that reads a bomb
@@ -96,7 +96,8 @@ def test_message_compressed_db3_bomb_loses_that_message(tmp_path: Path, monkeypa
     from tftools.sources.bag.messages import MessageSet
     from tftools.sources.bag.rosbag2 import db3
 
-    scan = db3.scan(bag, ("/tf",), lambda _a, _b: None, MessageSet())
+    with ByteSource(bag) as source:
+        scan = db3.Db3File(bag, source).scan(Wanted(("/tf",)), lambda _a, _b: None, MessageSet())
     _, _, _, lost = scan.messages.decode()
     assert lost and "could not be decompressed" in lost[0] and "4 MiB a piece" in lost[0]
 
@@ -227,12 +228,9 @@ def test_db3_rows_of_the_wrong_types(tmp_path: Path) -> None:
 def test_prefetch_of_ranges_a_damaged_index_gives(tmp_path: Path) -> None:
     path = tmp_path / "f"
     path.write_bytes(b"x" * 100)
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        prefetch(fd, np.array([-5, 50, 1 << 62, 10], np.int64), np.array([10, 20, (1 << 63) - 1, 10], np.int64))
-        prefetch(fd, np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))  # type: ignore[arg-type]
-    finally:
-        os.close(fd)
+    with ByteSource(path) as source:
+        source.ahead(np.array([-5, 50, 1 << 62, 10], np.int64), np.array([10, 20, (1 << 63) - 1, 10], np.int64))
+        source.ahead(np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))  # type: ignore[arg-type]
 
 
 # metadata.yaml

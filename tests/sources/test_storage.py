@@ -91,6 +91,6 @@ def test_a_reply_longer_than_asked_is_refused(memory_bucket: str, tmp_path: Path
             return [b"x" * (e - s + 1) for s, e in zip(starts, ends, strict=True)]
 
     fd = (tmp_path / "copy").open("wb").fileno()
-    copy = RemoteCopy(Lying(), "memory://lying.bag", "/lying.bag", 1000, fd)  # type: ignore[arg-type]
+    copy = RemoteCopy(Lying(), "memory://lying.bag", "/lying.bag", 1000, fd, tmp_path / "copy")  # type: ignore[arg-type]
     with pytest.raises(Exception, match="sent 11 bytes for 10 asked"):
         copy.fill([0], [10])

@@ -163,13 +163,30 @@ def test_arrivals_keep_an_even_sample_of_a_long_recording() -> None:
     assert abs(np.median(kept) - np.median(values)) <= stride
 
 
-def test_a_window_that_cannot_be_read_ends_the_replay_with_its_error(tmp_path: Path) -> None:
-    """The file went away after the first pass: the replay thread stops, and ``follow`` raises why."""
+def test_a_window_that_cannot_be_read_ends_the_replay_with_its_error(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A window that cannot be read after the first pass: the replay thread stops, and ``follow`` raises why."""
     bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
     streamed = stream_recording([bag], window_messages=300)
-    bag.unlink()
+
+    def unreadable(*_: object) -> None:
+        raise BagNotFoundError(str(bag))
+
+    monkeypatch.setattr(streamed.reader, "read", unreadable)
     with pytest.raises(BagNotFoundError):
         follow(streamed.replay(rate=1e6), lambda _batch: None, lambda: None, period=0.01, duration=5)
+
+
+def test_the_stream_reads_through_the_files_it_opened(tmp_path: Path) -> None:
+    """The recording is opened once: a file removed after the first pass is still replayed whole
+    (its reader holds it open), and closing the stream lets it go."""
+    bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
+    whole = len(read_bag([bag]).transforms)
+    with stream_recording([bag], window_messages=300) as streamed:
+        bag.unlink()
+        assert len(streamed.windows) > 3
+        assert sum(len(part) for part in streamed.parts()) == whole
 
 
 def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None:

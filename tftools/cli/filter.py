@@ -12,7 +12,7 @@ from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, TextOrJson, UsageError, exit_with, frame_argument, open_recording, stdout, warn
 from tftools.core.time import from_sec
 from tftools.render import filter as render
-from tftools.sources.bag.stamped import read_stamped
+from tftools.sources.bag.stamped import stamped_of
 
 
 def command(
@@ -59,7 +59,8 @@ def command(
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
     if bags:
-        recording, stamped = open_recording(bags, None, tf2), read_stamped(bags, topics)
+        recording = open_recording(bags, None, tf2, headers=tuple(topics or ()))
+        stamped = stamped_of(recording.contents.files, topics)
     else:
         recording, stamped = live.capture_with_headers(ros1, use_sim_time, duration, topics, tf2)
     chosen = frame_argument(recording.buffer.frames, target) if target is not None else None

@@ -12,7 +12,6 @@ import typer
 
 from tftools.analysis.findings import counted
 from tftools.analysis.report import recording_report
-from tftools.analysis.wtf.fleet import sensor_data
 from tftools.cli import live, options
 from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, say_written, warn
 from tftools.cli.outputs import check_output
@@ -22,6 +21,7 @@ from tftools.render.files import write_atomically
 from tftools.render.graph import recording_legend
 from tftools.render.report import Section, page, recording_section, unreadable_section
 from tftools.sources import Recording
+from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import StampedMessages
 
 DEFAULT_OUTPUT = "report.html"
@@ -97,7 +97,7 @@ def _bag_sections(
     unread: list[TfToolsError] = []
     for index, group in enumerate(groups):
         try:
-            recording = open_recording(group, topics, semantics)
+            recording = open_recording(group, topics, semantics, headers=tuple(sensors or ()))
         except TfToolsError as error:
             if len(groups) == 1:
                 raise
@@ -106,7 +106,8 @@ def _bag_sections(
             name = " + ".join(str(p) for p in group)
             sections.append(unreadable_section(index, name, str(error), error.hint))
             continue
-        sections.append(_section(index, recording, sensor_data(group, sensors), target))
+        streams = stamped_of(recording.contents.files, sensors).streams
+        sections.append(_section(index, recording, streams, target))
     if len(unread) == len(groups):
         raise unread[0]
     return sections

@@ -16,6 +16,7 @@ import numpy as np
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.bag.formats import ROS1, is_format
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import TransformEncoder
 from tftools.sources.codecs.ros1 import encode_tf_message
@@ -109,7 +110,7 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
             raise BagError(str(target), "already exists", "choose another output path, or --force to replace it")
         if target.is_dir() and not only_bag_files(target):
             raise BagError(str(target), "is a folder that is not a ROS2 bag", "--force replaces only an earlier output")
-    if not (source.is_dir() or _is_ros1(source)):
+    if not (source.is_dir() or is_format(source, ROS1)):
         raise UnknownBagFormatError(
             str(source), "static transforms are added to ROS1 .bag files and ROS2 bag directories"
         )
@@ -142,14 +143,6 @@ def _never_over_the_input(source: Path, target: Path) -> None:
     given, written = source.resolve(), target.resolve()
     if written == given or given in written.parents or written in given.parents:
         raise BagError(str(target), "is the input bag, inside it or a folder holding it", "write the copy elsewhere")
-
-
-def _is_ros1(path: Path) -> bool:
-    try:
-        with path.open("rb") as f:
-            return f.read(13) == b"#ROSBAG V2.0\n"
-    except OSError:
-        return False
 
 
 def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:

@@ -1,6 +1,6 @@
 """Sources: bags and live systems turned into transforms for a buffer."""
 
-from tftools.sources.bag import BagContents, BagFileInfo, read_bag
+from tftools.sources.bag import BagContents, BagFileInfo, BagReader, read_bag
 from tftools.sources.contents import DEFAULT_TOPICS, RecordingContents, SourceInfo
 from tftools.sources.errors import (
     BagError,
@@ -18,6 +18,7 @@ __all__ = [
     "BagError",
     "BagFileInfo",
     "BagNotFoundError",
+    "BagReader",
     "CorruptBagError",
     "NoTransformsError",
     "Recording",

@@ -82,6 +82,15 @@ class Fetched:
         return line + (", .db3 files whole (SQLite reads a local file)" if self.whole else "")
 
 
+@dataclass(frozen=True)
+class OfferedQos:
+    """The QoS profiles each static topic's publishers offered, as a ROS 2 bag's metadata.yaml says:
+    what ``ros2 bag play`` publishes it with; ``problem``: why metadata.yaml does not say ("": it does)."""
+
+    profiles: dict[str, list[object]]
+    problem: str = ""
+
+
 def _megabytes(n: int) -> str:
     return f"{n / 1e6:.2f} MB" if n >= 10_000 else f"{n} bytes"
 
@@ -104,6 +113,8 @@ class SourceInfo:
     clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # this source's /clock
     fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
     stamped: list[StampedMessages] = field(default_factory=list, repr=False, compare=False)  # headers read
+    stamped_problems: list[str] = field(default_factory=list)  # headers that could not be read, one line a topic
+    qos: OfferedQos | None = None  # a ROS 2 bag directory's offered QoS (None: no metadata.yaml)
     # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
     # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.
     windowed: bool = True

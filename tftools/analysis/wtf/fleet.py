@@ -14,7 +14,7 @@ from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.sources.bag import ProgressCallback
-from tftools.sources.bag.stamped import read_stamped
+from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import Fetched, StampedMessages
 from tftools.sources.recording import Recording, read_recording
 
@@ -70,7 +70,9 @@ def check_bags(
     and against the ``expected`` tree if given; a bag that cannot be read is reported, not raised."""
     names = tuple(str(p) for p in paths)
     try:
-        recording = read_recording(paths, topics, progress, allow_empty=True, semantics=semantics)
+        recording = read_recording(
+            paths, topics, progress, allow_empty=True, semantics=semantics, headers=tuple(sensor_topics or ())
+        )
     except TfToolsError as error:
         return unreadable(names, str(error), error.hint)
     except Exception as error:  # a reader's bug on a strange file must not stop a fleet, nor pass for damage
@@ -79,7 +81,8 @@ def check_bags(
             f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
-    return check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target, expected)
+    streams = stamped_of(recording.contents.files, sensor_topics).streams
+    return check_recording(recording, streams, thresholds, ignore, target, expected)
 
 
 def check_recording(
@@ -107,15 +110,6 @@ def check_recording(
         checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
         checked.sensor_target, checked.sensor_target_reason = choose_target(scene.tree, target)
     return checked
-
-
-def sensor_data(paths: Sequence[str | os.PathLike[str]], topics: Sequence[str] | None = None) -> list[StampedMessages]:
-    """The recording's messages with a header (on ``topics``, default all), for the checks of data
-    against tf; none where they cannot be read (the transforms were: the other checks still run)."""
-    try:
-        return read_stamped(paths, topics).streams
-    except TfToolsError:
-        return []
 
 
 def unreadable(paths: tuple[str, ...], message: str, hint: str) -> BagReport:

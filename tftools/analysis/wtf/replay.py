@@ -4,7 +4,6 @@ transient local) so a late subscriber gets them, and present past the first seco
 from __future__ import annotations
 
 from collections.abc import Iterator
-from pathlib import Path
 
 import numpy as np
 
@@ -12,8 +11,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import CheckSkippedError, register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.rosbag2 import metadata_yaml
-from tftools.sources.contents import SourceInfo, is_static_topic
+from tftools.sources.contents import SourceInfo
 
 #: A recording this long (s) is one people play from the middle, split or filter.
 LONG_RECORDING_S = 60.0
@@ -36,7 +34,7 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
     if not rows.static.any():
         return
     for file in scene.recording.contents.files:
-        if not file.format.startswith("rosbag2") or not Path(file.path).exists():
+        if not file.format.startswith("rosbag2"):
             continue
         for topic, profiles in _static_qos(file).items():
             if profiles and all(_durability(p) in TRANSIENT_LOCAL for p in profiles):
@@ -56,28 +54,18 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
 
 
 def _static_qos(file: SourceInfo) -> dict[str, list[object]]:
-    """Each static topic's offered QoS profiles, from the bag directory's metadata.yaml."""
-    metadata = Path(file.path) / "metadata.yaml"
-    if not metadata.is_file():
+    """Each static topic's offered QoS profiles, as the bag directory's metadata.yaml says (read with the bag)."""
+    if file.qos is None:
         raise CheckSkippedError(
             f"{file.path} has no metadata.yaml beside it, where rosbag2 keeps the QoS it plays /tf_static with",
             "check the bag directory, not one of its files",
         )
-    try:
-        info = metadata_yaml.load(metadata)["rosbag2_bagfile_information"]
-        found = {}
-        for entry in info.get("topics_with_message_count") or []:
-            topic = entry["topic_metadata"]
-            if is_static_topic(str(topic["name"])):
-                profiles = topic.get("offered_qos_profiles") or []
-                found[str(topic["name"])] = (
-                    list(metadata_yaml.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
-                )
-        return found
-    except (metadata_yaml.MetadataError, KeyError, TypeError, AttributeError) as error:
+    if file.qos.problem:
         raise CheckSkippedError(
-            f"{metadata} does not say the QoS of /tf_static ({error})", "repair or regenerate metadata.yaml"
-        ) from None
+            f"{file.path}/metadata.yaml does not say the QoS of /tf_static ({file.qos.problem})",
+            "repair or regenerate metadata.yaml",
+        )
+    return file.qos.profiles
 
 
 def _durability(profile: object) -> object:

@@ -52,6 +52,7 @@ def file_result(
     clocks: list[ClockSamples] = []
     stamped: list[StampedMessages] = []
     problems: list[str] = []
+    stamped_problems: list[str] = []
     for index, scan in enumerate(scans):
         decoded, clock, headers, undecodable = scan.messages.decode()
         batches += decoded
@@ -59,6 +60,7 @@ def file_result(
         stamped += headers
         label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
         problems += [label + line for line in scan.problems + undecodable]
+        stamped_problems += [label + line for line in scan.messages.headers_lost]
     batches = in_record_order(batches)
     counted = [s for s in scans if s.message_count]
     topics = {name: type_name for scan in scans for name, type_name in scan.topics.items()}
@@ -74,6 +76,7 @@ def file_result(
         unread=unread_lines([u for scan in scans for u in scan.skipped]),
         clock=merged_clock(clocks),
         stamped=merged(stamped),
+        stamped_problems=stamped_problems,
         windowed=all(s.windowed for s in scans),
     )
     return batches, info

@@ -1,6 +1,6 @@
 """Remote recordings read through fsspec: listed, and each file made a local sparse copy of its size
-that the readers fill range by range (``copies``), so that only the ranges they read are fetched
-(``.db3``, ``.zstd`` and metadata.yaml files whole). Credentials and endpoints come from each
+that the readers fill range by range through its ``RemoteSource``, so that only the ranges they read
+are fetched (``.db3``, ``.zstd`` and metadata.yaml files whole). Credentials and endpoints come from each
 filesystem's standard environment (``AWS_PROFILE``, ``GOOGLE_APPLICATION_CREDENTIALS``, ...). Nothing
 at a URL is ever written.
 
@@ -20,9 +20,12 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any
 
+import numpy as np
+
+from tftools.core.arrays import Int64Array
 from tftools.sources.errors import BagError, BagNotFoundError, MissingExtraError, RemoteError
-from tftools.sources.storage import copies
 from tftools.sources.storage.locations import BAG_SUFFIXES, is_glob, recordings_in
+from tftools.sources.storage.source import ByteSource
 
 try:
     import fsspec
@@ -120,7 +123,9 @@ class RemoteCopy:
     path: str  # in ``fs``
     size: int
     fd: int
+    target: Path  # the local copy
     fetched: int = 0  # bytes received
+    requests: int = 0  # ranges asked for
     _have_starts: list[int] = field(default_factory=list)  # the ranges fetched, sorted, apart
     _have_ends: list[int] = field(default_factory=list)
 
@@ -151,6 +156,7 @@ class RemoteCopy:
             i += 1
 
     def _fetch(self, pieces: list[tuple[int, int]]) -> None:
+        self.requests += len(pieces)
         with _remote(self.url, "reading"):
             replies = self.fs.cat_ranges(
                 [self.path] * len(pieces), [s for s, _ in pieces], [e for _, e in pieces], on_error="return"
@@ -187,6 +193,17 @@ class LocalView:
     path: Path
     copies: list[RemoteCopy]
     whole: bool
+
+    def source(self, path: Path) -> ByteSource:
+        """The file at ``path`` (one of the copies), read through fetches of what is read."""
+        for copy in self.copies:
+            if copy.target == path:
+                return RemoteSource(copy)
+        return ByteSource(path)  # a file made here (a decompressed one)
+
+    @property
+    def requests(self) -> int:
+        return sum(c.requests for c in self.copies)
 
     @property
     def fetched(self) -> int:
@@ -242,16 +259,23 @@ def _size(fs: AbstractFileSystem, url: str, path: str) -> int:
 
 @contextmanager
 def _copy(fs: AbstractFileSystem, url: str, path: str, target: Path, size: int) -> Iterator[RemoteCopy]:
-    """A sparse copy of ``path`` at ``target``, registered for the readers while the context lasts."""
+    """A sparse copy of ``path`` at ``target``, while the context lasts."""
     fd = os.open(target, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o600)
     try:
         os.ftruncate(fd, size)
-        copy = RemoteCopy(fs, url, path, size, fd)
+        copy = RemoteCopy(fs, url, path, size, fd, target)
         copy.fill([0], [min(size, GAP_BYTES)])  # its magic and header: how it is recognised
-        copies.register(fd, copy)
-        try:
-            yield copy
-        finally:
-            copies.unregister(fd)
+        yield copy
     finally:
         os.close(fd)
+
+
+class RemoteSource(ByteSource):
+    """A remote file's bytes: its local sparse copy, each range fetched before it is read."""
+
+    def __init__(self, copy: RemoteCopy) -> None:
+        super().__init__(copy.target)
+        self.copy = copy
+
+    def fetch(self, starts: Int64Array, ends: Int64Array) -> None:
+        self.copy.fill(np.asarray(starts).tolist(), np.asarray(ends).tolist())

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass, field
-from typing import BinaryIO
 
 import numpy as np
 
@@ -31,7 +30,7 @@ from tftools.sources.bag.mcap.records import (
     records,
     scan_records,
 )
-from tftools.sources.bag.ranges import ahead, read_at
+from tftools.sources.storage.source import ByteSource
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
@@ -39,16 +38,18 @@ _ID_OFFSET = struct.Struct("<HQ")
 
 
 @dataclass
-class _Summary:
+class Summary:
+    """What an MCAP file's summary section says."""
+
     schemas: list[bytes] = field(default_factory=list)
     channels: list[bytes] = field(default_factory=list)
     chunks: list[ChunkIndex] = field(default_factory=list)
     statistics: tuple[int, int, int] | None = None  # message count, start, end
 
 
-def read_indexed(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallback) -> bool:
-    """Read through the summary; False when it is missing or not enough (then stream instead)."""
-    summary = _summary(f, size)
+def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels, progress: ProgressCallback) -> bool:
+    """Read through the ``summary`` (``summary_of``); False when it is missing or not enough (then
+    stream instead)."""
     if summary is None or summary.statistics is None:
         return False
     try:
@@ -65,7 +66,7 @@ def read_indexed(f: BinaryIO, size: int, channels: Channels, progress: ProgressC
     result = channels.result
     result.message_count, result.start, result.end = count, start, end
     chunks = sorted(summary.chunks, key=lambda c: c.offset)
-    lost = _read_chunks(f, chunks, channels, progress, size)
+    lost = _read_chunks(source, chunks, channels, progress)
     if lost:
         result.note_problem(
             f"{len(lost)} of {len(chunks)} chunks could not be read ({lost[0]}); their messages are lost"
@@ -74,7 +75,7 @@ def read_indexed(f: BinaryIO, size: int, channels: Channels, progress: ProgressC
 
 
 def _read_chunks(
-    f: BinaryIO, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback, size: int
+    source: ByteSource, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback
 ) -> list[str]:
     """The wanted messages of the chunks (in file order): uncompressed ones with unwanted channels
     gathered to be read in ranges, the others read whole. Returns what is wrong with each chunk
@@ -83,20 +84,20 @@ def _read_chunks(
 
     def read_whole(number: int, chunk: ChunkIndex, index: bytes | None) -> None:
         try:
-            _read_chunk(f, chunk, number, channels, index)
+            _read_chunk(source, chunk, number, channels, index)
         except McapDamageError as e:
             lost[number] = str(e)
 
-    ranged = RangedReader(f.fileno(), channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
+    ranged = RangedReader(source, channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
     indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels))]
     ends = np.array([c.end for c in indexed], np.int64)
-    ahead(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
+    source.ahead(ends, ends + np.array([c.index_length for c in indexed], np.int64))
     for number, chunk in enumerate(chunks):
         if not _in_window(chunk, channels):
             continue
         wanted = _wanted(chunk, channels)
         if _in_ranges(chunk, wanted):
-            index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
+            index = source.read(chunk.end, chunk.end + chunk.index_length)
             try:
                 entries = {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
             except McapDamageError:  # read whole, its damage is found and told
@@ -107,7 +108,7 @@ def _read_chunks(
         elif wanted or not chunk.index_offsets:
             ranged.flush()
             read_whole(number, chunk, None)
-        progress(chunk.end, size)
+        progress(chunk.end, source.size)
     ranged.flush()
     return [lost[number] for number in sorted(lost)]
 
@@ -126,19 +127,20 @@ def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
     return chunk.compression == "" and 0 < len(wanted) < len(chunk.index_offsets)
 
 
-def _summary(f: BinaryIO, size: int) -> _Summary | None:
+def summary_of(source: ByteSource) -> Summary | None:
     """The summary section; None without a footer (a cut file) or with a damaged summary."""
+    size = source.size
     tail = _FOOTER_RECORD.size + len(MAGIC)
     if size < len(MAGIC) + tail:
         return None
-    footer = read_at(f.fileno(), size - tail, size)
+    footer = source.read(size - tail, size)
     opcode, length, summary_start, _, _ = _FOOTER_RECORD.unpack_from(footer)
     if footer[-len(MAGIC) :] != MAGIC or opcode != FOOTER or length != 20:
         return None
     if not len(MAGIC) <= summary_start <= size - tail:
         return None
-    data = read_at(f.fileno(), summary_start, size - tail)
-    summary = _Summary()
+    data = source.read(summary_start, size - tail)
+    summary = Summary()
     try:
         for opcode, start, end in records(data):
             content = data[start:end]
@@ -178,10 +180,10 @@ def _chunk_index(content: bytes, size: int) -> ChunkIndex:
     return chunk
 
 
-def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
+def _read_chunk(source: ByteSource, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
     """The wanted channels' messages of one chunk read whole, found through its message indexes
     (``index``, read here when None) or, in a chunk without them, by walking its records."""
-    raw = read_at(f.fileno(), chunk.offset, chunk.end)
+    raw = source.read(chunk.offset, chunk.end)
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
         raise McapDamageError(f"no chunk at byte {chunk.offset}")
@@ -192,7 +194,7 @@ def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels,
             raise McapDamageError(damage)
         return
     if index is None:
-        index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
+        index = source.read(chunk.end, chunk.end + chunk.index_length)
     wanted = _wanted(chunk, channels)
     found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
     found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once

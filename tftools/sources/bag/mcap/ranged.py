@@ -9,8 +9,8 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.sources.bag.mcap.records import CHUNK, MESSAGE, MESSAGE_HEAD, RECORD, U16, U32, U64, Channels, ChunkIndex
-from tftools.sources.bag.ranges import read_ranges
 from tftools.sources.bag.spans import Spans, bounded
+from tftools.sources.storage.source import ByteSource
 
 INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])  # of a message, offset in its chunk's records
 PAYLOAD = RECORD.size + MESSAGE_HEAD.size  # a message's data, from the start of its record
@@ -38,8 +38,8 @@ class RangedReader:
     A chunk read in ranges is checked against its index and head, not its CRC (that needs it all).
     """
 
-    def __init__(self, fd: int, channels: Channels, read_whole: Callable[[Queued], None]) -> None:
-        self.fd = fd
+    def __init__(self, source: ByteSource, channels: Channels, read_whole: Callable[[Queued], None]) -> None:
+        self.source = source
         self.channels = channels
         self.read_whole = read_whole
         self.queued: list[Queued] = []
@@ -80,7 +80,7 @@ class RangedReader:
         heads = [batch[i].chunk for i in chunks.tolist()]
         starts = np.concatenate([[c.offset for c in heads], messages.start]).astype(np.int64)
         ends = np.concatenate([[c.records_start for c in heads], messages.end]).astype(np.int64)
-        data, where, read = read_ranges(self.fd, starts, ends)
+        data, where, read = self.source.read_ranges(starts, ends)
         n = len(heads)
         for i, chunk, at, whole in zip(chunks.tolist(), heads, where[:n].tolist(), read[:n].tolist(), strict=True):
             damaged[i] = not whole or not _is_head_of(data, at, chunk)

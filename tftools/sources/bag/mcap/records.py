@@ -6,11 +6,12 @@ import struct
 import zlib
 from dataclasses import dataclass
 
+from tftools.sources.bag.formats import MCAP
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, unpack
-from tftools.sources.codecs.select import select
+from tftools.sources.codecs.select import Wanted, select
 
-MAGIC = b"\x89MCAP0\r\n"
+MAGIC = MCAP.magic
 HEADER, FOOTER, SCHEMA, CHANNEL, MESSAGE, CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
 MESSAGE_INDEX, CHUNK_INDEX, STATISTICS, DATA_END = 0x07, 0x08, 0x0B, 0x0F
 RECORD = struct.Struct("<BQ")  # opcode, content length
@@ -129,8 +130,8 @@ _MSG_DEFINITIONS = ("ros1msg", "ros2msg")
 class Channels:
     """Schemas and channels as they are met, and which channels are read as transforms."""
 
-    def __init__(self, topics: tuple[str, ...], result: FileScan, file_size: int = 0) -> None:
-        self.topics = topics
+    def __init__(self, asked: Wanted, result: FileScan, file_size: int = 0) -> None:
+        self.asked = asked
         self.result = result
         self.budget = Budget(file_size)  # what the file's chunks may decompress to in all
         self.schemas: dict[int, tuple[str, str]] = {}  # schema id -> type name, .msg definition ("": none)
@@ -152,7 +153,7 @@ class Channels:
         self.known.add(channel_id)
         type_name, definition = self.schemas.get(schema_id, ("", ""))
         self.result.topics[topic] = type_name
-        codec, unread = select(topic, type_name, encoding, self.topics, definition)
+        codec, unread = select(topic, type_name, encoding, self.asked, definition)
         self.result.note_skipped(unread)
         if codec is not None:
             self.wanted[channel_id] = self.result.messages.channel(topic, codec)

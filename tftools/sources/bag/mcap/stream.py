@@ -22,7 +22,7 @@ from tftools.sources.bag.mcap.records import (
     known,
     scan_records,
 )
-from tftools.sources.bag.ranges import need
+from tftools.sources.storage.source import ByteSource
 
 _PROGRESS_STEP = 1 << 24
 
@@ -31,13 +31,13 @@ class UnreadableError(Exception):
     """Nothing at all could be read."""
 
 
-def stream(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallback) -> None:
+def stream(source: ByteSource, channels: Channels, progress: ProgressCallback) -> None:
     """Read the records up to the end of the data or the damage, noting what is lost; ``UnreadableError``
     when the damage comes before anything could be read."""
-    need(f.fileno(), 0, size)  # a remote file is fetched whole: every record is read
-    reader, result = _Stream(f, size, channels), channels.result
-    result.windowed = False
-    damage = reader.run(progress)
+    with source.stream() as f:  # a remote file is fetched whole: every record is read
+        reader, result = _Stream(f, source.size, channels), channels.result
+        result.windowed = False
+        damage = reader.run(progress)
     if reader.lost_chunks:
         result.note_problem(f"{reader.lost_chunks} chunks are damaged; their messages are lost")
     if not damage:

@@ -16,7 +16,6 @@ import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.ranges import ahead, need, read_ranges
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.records import (
@@ -27,6 +26,7 @@ from tftools.sources.bag.ros1.records import (
     BagHeader,
     Chunk,
     ChunkInfo,
+    Connection,
     FormatError,
     Record,
     index_entries,
@@ -45,10 +45,18 @@ _SPAN_RECORDS, _SPAN_BYTES = 8192, 64 << 20
 _CHUNK_HEADER_BYTES, _INDEX_RECORD_BYTES, _INDEX_ENTRY_BYTES = 4096, 128, 12
 
 
-def read_index(bag: BagFile, header: BagHeader) -> list[ChunkInfo]:
-    """The connections and chunk infos at the bag's end (connections met); ``FormatError`` if damaged."""
+@dataclass
+class BagIndex:
+    """The connections and chunk infos (in file order) at a bag's end."""
+
+    connections: list[Connection]
+    infos: list[ChunkInfo]
+
+
+def read_index(bag: BagFile, header: BagHeader) -> BagIndex:
+    """The connections and chunk infos at the bag's end; ``FormatError`` if damaged."""
     pos = header.index_pos
-    need(bag.fd, pos, bag.size)
+    bag.source.need(pos, bag.size)
     records = []
     for op, count in ((OP_CONNECTION, header.conn_count), (OP_CHUNK_INFO, header.chunk_count)):
         for _ in range(count):
@@ -56,13 +64,14 @@ def read_index(bag: BagFile, header: BagHeader) -> list[ChunkInfo]:
             pos = records[-1].data_end
     connections = [read_connection(bag.buf, r) for r in records[: header.conn_count]]
     infos = [read_chunk_info(bag.buf, r) for r in records[header.conn_count :]]
-    for connection in connections:
+    return BagIndex(connections, sorted(infos, key=lambda info: info.pos))
+
+
+def read_indexed(bag: BagFile, index: BagIndex, index_pos: int) -> None:
+    """The wanted messages of the chunks the index describes (its connections met first)."""
+    for connection in index.connections:
         bag.connect(connection)
-    return sorted(infos, key=lambda info: info.pos)
-
-
-def read_indexed(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
-    """The wanted messages of the chunks ``infos`` describe."""
+    infos = index.infos
     counted = [info for info in infos if info.counts]
     scan = bag.scan
     scan.message_count = sum(sum(info.counts.values()) for info in counted)
@@ -92,7 +101,7 @@ def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
             index_bytes = sum(_INDEX_RECORD_BYTES + _INDEX_ENTRY_BYTES * n for n in info.counts.values())
             starts += [info.pos, max(info.pos, end - index_bytes)]
             stops += [info.pos + _CHUNK_HEADER_BYTES, end]
-    ahead(bag.fd, np.array(starts, np.int64), np.array(stops, np.int64))
+    bag.source.ahead(np.array(starts, np.int64), np.array(stops, np.int64))
 
 
 def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
@@ -228,7 +237,7 @@ class _Gathered:
         records, _ = bounded(indexed, starts, ends)
         records = records.rows(_wanted(bag, records))
         records = records.rows(np.diff(records.start, prepend=-1) != 0)  # once each
-        data, where, complete = read_ranges(bag.fd, records.start, records.end)
+        data, where, complete = bag.source.read_ranges(records.start, records.end)
         records = records.rows(complete)
         records.start, records.end = where[complete], where[complete] + records.end - records.start
         messages, _, first_error = locate(data.data, records, follow=True)

@@ -10,8 +10,9 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.time import NS_PER_S
+from tftools.sources.bag.formats import ROS1
 
-MAGIC = b"#ROSBAG V2.0\n"
+MAGIC = ROS1.magic
 
 OP_MESSAGE = 0x02
 OP_BAG_HEADER = 0x03

@@ -3,7 +3,6 @@ is damaged) read chunk after chunk, over damage: whatever can be read of it."""
 
 from __future__ import annotations
 
-from tftools.sources.bag.ranges import need
 from tftools.sources.bag.ros1.chunks import locate, walk
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.records import (
@@ -29,7 +28,7 @@ def read_unindexed(bag: BagFile, header: BagHeader, index_damage: str = "") -> N
     what is wrong with it (else there is none, or it lies past the end of the file), and say so."""
     scanner = _Scanner(bag)
     bag.scan.windowed = False
-    need(bag.fd, header.data_start, bag.size)  # a remote bag is fetched whole: every record is read
+    bag.source.need(header.data_start, bag.size)  # a remote bag is fetched whole: every record is read
     truncated = header.index_pos > bag.size
     scanner.scan(header.data_start, header.index_pos if index_damage else bag.size)
     n = bag.transform_messages
