@@ -3,6 +3,7 @@ or refused with tftools' own one-line error; never a traceback, a hang or a blow
 
 from __future__ import annotations
 
+import os
 import sqlite3
 import subprocess
 import sys
@@ -12,13 +13,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.bags import BagFormat, TfMessage, write_bag
 from tests.sources import hostile
+from tests.sources.ros2_helpers import T0
 from tftools.core.errors import TfToolsError
-from tftools.sources.bag import rosbag2, unpack
+from tftools.core.transform import Transform
+from tftools.sources.bag import messages, rosbag2, unpack
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.rosbag2.db3_salvage import salvage
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.errors import CorruptBagError
+from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 from tftools.sources.storage.source import ByteSource
 
 MiB = 1 << 20
@@ -300,3 +304,31 @@ def test_wtf_names_a_reader_crash_an_internal_error(tmp_path: Path, monkeypatch:
     report = fleet.check_bags([str(tmp_path / "x.bag")])
     assert report.error is not None
     assert "internal error of tftools" in report.error.message and "ValueError: boom" in report.error.message
+
+
+# Special files and empty messages
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_empty_tf_messages_are_read_as_none(tmp_path: Path, fmt: BagFormat, monkeypatch: pytest.MonkeyPatch) -> None:
+    """5,000 /tf messages holding an empty TFMessage, then one transform, decoded a few at a time (as
+    hundreds of thousands are): no error, one transform."""
+    monkeypatch.setattr(messages, "_GROUP_BYTES", 256)
+    one = Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), T0 + 5000, "map", "odom")
+    written = [TfMessage("/tf", T0 + i, ()) for i in range(5000)] + [TfMessage("/tf", T0 + 5000, (one,))]
+    contents = read_bag([write_bag(tmp_path / "empty", written, fmt)])
+    assert len(contents.transforms) == 1 and contents.problems == []
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
+def test_a_fifo_is_refused_not_waited_on(tmp_path: Path) -> None:
+    """A FIFO (``tfx frames -b <(zcat x.bag.gz)``) would block forever when opened: refused unopened."""
+    fifo = tmp_path / "f.bag"
+    os.mkfifo(fifo)
+    with pytest.raises(UnknownBagFormatError, match="not a regular file"):
+        read_bag([fifo])
+    bag = tmp_path / "bag"
+    bag.mkdir()
+    os.mkfifo(bag / "bag.db3")  # a ROS 2 bag's file that is a FIFO
+    with pytest.raises(CorruptBagError, match="not a regular file"):
+        read_bag([bag])

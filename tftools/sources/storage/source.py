@@ -8,6 +8,7 @@ fetch them all first, so a file not in the page cache costs one disk wait, not o
 from __future__ import annotations
 
 import os
+import stat
 from contextlib import suppress
 from pathlib import Path
 from typing import BinaryIO
@@ -15,6 +16,7 @@ from typing import BinaryIO
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
+from tftools.sources.errors import CorruptBagError
 
 MAX_GAP = 16 << 10  # bytes between two wanted ranges read along with them: cheaper than one more read
 
@@ -25,12 +27,15 @@ class ByteSource:
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        self.fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
-        try:
-            self.size = os.fstat(self.fd).st_size
-        except OSError:
+        try:  # not blocking: a FIFO would wait for a writer
+            self.fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+        except OSError as e:
+            raise CorruptBagError(str(path), e.strerror or str(e)) from None
+        status = os.fstat(self.fd)
+        if not stat.S_ISREG(status.st_mode):
             os.close(self.fd)
-            raise
+            raise CorruptBagError(str(path), "not a regular file (a FIFO, socket or device)")
+        self.size = status.st_size
 
     def fileno(self) -> int:
         return self.fd

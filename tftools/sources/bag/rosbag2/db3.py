@@ -5,7 +5,7 @@ from __future__ import annotations
 import mmap
 import sqlite3
 from collections.abc import Iterator
-from contextlib import closing, contextmanager
+from contextlib import contextmanager
 from pathlib import Path
 from urllib.parse import quote
 
@@ -14,7 +14,7 @@ import numpy as np
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.rosbag2.db3_rows import Rows
+from tftools.sources.bag.rosbag2.db3_rows import fetches
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
@@ -169,15 +169,15 @@ def _messages(
     query = f"SELECT topic_id, timestamp, id, {data} FROM {table} WHERE {where}"
     added, latest = False, result.start  # the latest record time met: rows may come a little out of order
     try:
-        with closing(Rows(_uri(path), query)) as rows:
-            while len((fetched := rows.fetch(_FETCH, _FETCH_BYTES))[0]):
-                topic, timestamp, row_id, start, length, payloads = fetched
-                _unpack_if_compressed(payloads[start[0] : start[0] + length[0]][:4].tobytes(), result, size)
-                spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
-                result.messages.add_spans(lookup[topic], spans, payloads.data)
-                added, latest = True, max(latest, int(timestamp.max()))
-                span = result.end - result.start  # progress estimated by record time
-                progress(int(size * (latest - result.start) / span) if span > 0 else 0, size)
+        for fetched in fetches(_uri(path), query, _FETCH, _FETCH_BYTES):
+            topic, timestamp, row_id, start, length, payloads = fetched
+            _unpack_if_compressed(payloads[start[0] : start[0] + length[0]][:4].tobytes(), result, size)
+            spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
+            result.messages.add_spans(lookup[topic], spans, payloads.data)
+            added, latest = True, max(latest, int(timestamp.max()))
+            span = result.end - result.start  # progress estimated by record time
+            progress(int(size * (latest - result.start) / span) if span > 0 else 0, size)
+            del fetched, payloads  # let go: the next fetch fills the same bytes again
     except sqlite3.Error as e:
         if added:  # start again from the pages, forgetting what the query gave
             result.messages = result.messages.emptied()

@@ -18,6 +18,8 @@ def load(path: Path) -> Any:
     """The document of the YAML file at ``path``. Raises ``MetadataError`` for a file too large,
     too deep, expanding to too many nodes through its aliases, or not YAML."""
     try:
+        if not path.is_file():  # a FIFO would block: refused unopened
+            raise MetadataError("not a regular file")
         with path.open("rb") as f:
             raw = f.read(MAX_BYTES + 1)
     except OSError as e:
