@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import zstandard
 
 from tests.bags import BagFormat, TfMessage, write_bag
 from tests.sources import hostile
@@ -332,3 +333,56 @@ def test_a_fifo_is_refused_not_waited_on(tmp_path: Path) -> None:
     os.mkfifo(bag / "bag.db3")  # a ROS 2 bag's file that is a FIFO
     with pytest.raises(CorruptBagError, match="not a regular file"):
         read_bag([bag])
+
+
+def test_one_zstd_bomb_does_not_use_up_a_message_compressed_bag(tmp_path: Path) -> None:
+    """One message of a bag compressed message by message is a bomb that does not state its size: it
+    alone is lost, the 799 /tf messages after it are read (issue 32 U4)."""
+    from tests.sources.ros2_helpers import Msg, Tf, write_rosbag2
+
+    written = [Msg("/tf", T0 + i, (Tf("map", "odom", i),)) for i in range(800)]
+    bag = write_rosbag2(tmp_path / "bag", written, compression="message")
+    db = sqlite3.connect(bag / "bag.db3")
+    (first,) = db.execute("SELECT min(id) FROM messages").fetchone()
+    db.execute("UPDATE messages SET data = ? WHERE id = ?", (hostile.compressed_zeros("zstd", 1 << 30), first))
+    db.commit()
+    db.close()
+    contents = read_bag([bag])
+    assert len(contents.transforms) == 799
+    (line,) = contents.problems
+    assert line.startswith("/tf: 1 of 800 messages could not be decompressed") and "share of the file's budget" in line
+
+
+@pytest.mark.parametrize("mode", ["message", "file"])
+def test_a_compressed_bag_is_copied_within_the_budget(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, mode: str
+) -> None:
+    """``tfx static -b IN -o OUT`` (and ``--repair``) copy through rosbags, whose zstd decompression has no
+    bound: it goes through the budgeted one (issue 32 M2). A healthy compressed bag is copied with the
+    statics added; one with a bomb is refused in one line, and no copy is left."""
+    from tests.sources.ros2_helpers import Msg, Tf, write_rosbag2
+    from tftools.sinks.static_bag import add_static_transforms
+    from tftools.sources.errors import BagError
+
+    static = Transform((0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 1.0), 0, "base", "laser")
+    written = [Msg("/tf", T0 + i, (Tf("map", "odom", i),)) for i in range(50)]
+    healthy = write_rosbag2(tmp_path / "healthy", written, compression=mode)
+    copy = add_static_transforms(healthy, tmp_path / "copy", [static])
+    assert len(read_bag([copy]).transforms) == 51
+    monkeypatch.setattr(unpack, "MAX_UNPACKED", 4 << 20)
+    monkeypatch.setattr(unpack, "MIN_BUDGET", 8 << 20)
+    bomb = write_rosbag2(tmp_path / "bomb", [*written, Msg("/big", T0 + 60, ())], compression=mode)
+    if mode == "message":
+        db = sqlite3.connect(bomb / "bomb.db3")
+        db.execute("UPDATE messages SET data = ? WHERE id = (SELECT max(id) FROM messages)",
+                   (hostile.compressed_zeros("zstd", 64 << 20),))  # fmt: skip
+        db.commit()
+        db.close()
+    else:
+        (compressed,) = bomb.glob("*.zstd")  # the database, then 64 MiB of zeros sqlite would not mind
+        plain = zstandard.ZstdDecompressor().stream_reader(compressed.read_bytes()).read()
+        z = zstandard.ZstdCompressor().compressobj()
+        compressed.write_bytes(z.compress(plain) + b"".join(z.compress(bytes(1 << 20)) for _ in range(64)) + z.flush())
+    with pytest.raises(BagError, match="could not be copied"):
+        add_static_transforms(bomb, tmp_path / "bomb_copy", [static])
+    assert not (tmp_path / "bomb_copy").exists()
