@@ -4,6 +4,7 @@ and sensor headers together), and of a remote one each byte fetched at most once
 from __future__ import annotations
 
 import collections
+import itertools
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -116,7 +117,7 @@ def test_each_command_fetches_a_remote_recording_once(
         by_file.setdefault(path, []).append((start, end))
     for ranges in by_file.values():
         ranges.sort()
-        assert all(a[1] <= b[0] for a, b in zip(ranges, ranges[1:], strict=False)), "a byte fetched twice"
+        assert all(a[1] <= b[0] for a, b in itertools.pairwise(ranges)), "a byte fetched twice"
 
 
 def test_a_remote_bag_directory_has_its_qos_checked(tfx: Any, bucket: str) -> None:  # noqa: F811
