@@ -38,6 +38,7 @@ BATCH_BYTES = 64 << 20  # asked at once (the replies are held in memory until wr
 GAP_BYTES = 64 << 10  # between two ranges fetched along with them: cheaper than one more request
 MAX_FILE_BYTES = 1 << 40
 CONNECT_TIMEOUT, READ_TIMEOUT = 10, 30  # seconds
+REQUEST_DEADLINE = 300  # seconds one HTTP request may take in all (a piece is at most PIECE_BYTES)
 #: Fetched whole: SQLite reads a file through its own pages, a .zstd file is decompressed whole.
 _WHOLE_SUFFIXES = (".db3", ".zstd", ".yaml")
 #: Files of a ROS 2 bag directory worth copying.
@@ -63,9 +64,12 @@ def _options(protocol: str) -> dict[str, Any]:
     if protocol in ("http", "https"):
         import aiohttp  # fsspec's HTTP filesystem is built on it
 
-        return {
-            "client_kwargs": {"timeout": aiohttp.ClientTimeout(sock_connect=CONNECT_TIMEOUT, sock_read=READ_TIMEOUT)}
-        }
+        # A request has a deadline as a whole, not only per read (a server trickling a byte at a time);
+        # replies are taken as sent, never inflated (a gzip "bomb" would be inflated in memory before
+        # its length is checked).
+        timeout = aiohttp.ClientTimeout(total=REQUEST_DEADLINE, sock_connect=CONNECT_TIMEOUT, sock_read=READ_TIMEOUT)
+        session = {"timeout": timeout, "auto_decompress": False, "headers": {"Accept-Encoding": "identity"}}
+        return {"client_kwargs": session}
     if protocol in ("gs", "gcs"):
         return {"requests_timeout": READ_TIMEOUT}
     return {}
