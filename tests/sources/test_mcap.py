@@ -517,3 +517,23 @@ def _channel_ids(path: Path, *topics: str) -> list[int]:
     assert summary is not None
     ids = {channel.topic: channel.id for channel in summary.channels.values()}
     return [ids[topic] for topic in topics]
+
+
+def test_a_summary_that_lies_is_read_past_by_scanning(tmp_path: Path) -> None:
+    """A record inserted before the chunks moves every one of them: not one chunk is where the summary
+    says, so the file is read record by record instead, every transform found (issue 32 U4)."""
+    path = write(tmp_path / "x.mcap", "small_chunks")
+    expected = batch_rows(read_bag([path]).transforms)
+    data = path.read_bytes()
+    header_end = 8 + 9 + struct.unpack_from("<Q", data, 9)[0]  # the magic, then the header record
+    assert data[8] == 0x01
+    moved = bytearray(data[:header_end] + data[8:header_end] + data[header_end:])  # the header again
+    footer = len(moved) - 8 - 29  # the footer record: opcode, length, summary start, its offsets' start, crc
+    assert moved[footer] == 0x02
+    for at in (footer + 9, footer + 17):  # the summary is found where it now is; the chunks it lists are not
+        (offset,) = struct.unpack_from("<Q", moved, at)
+        struct.pack_into("<Q", moved, at, offset + header_end - 8 if offset else 0)
+    path.write_bytes(bytes(moved))
+    contents = read_bag([path])
+    assert batch_rows(contents.transforms) == expected and len(expected) > 100
+    assert not contents.files[0].windowed  # read whole, record by record

@@ -43,6 +43,9 @@ class McapFile:
         try:
             channels = Channels(wanted, result, self.source.size)
             if not read_indexed(self.source, self.summary, channels, progress):
+                if result.messages.count:  # none of the chunks the summary points at: what was read goes
+                    result = FileScan(messages.emptied())
+                    channels = Channels(wanted, result, self.source.size)
                 stream(self.source, channels, progress)
         except OSError as e:
             raise CorruptBagError(str(self.path), e.strerror or str(e)) from None

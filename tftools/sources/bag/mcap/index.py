@@ -48,8 +48,8 @@ class Summary:
 
 
 def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels, progress: ProgressCallback) -> bool:
-    """Read through the ``summary`` (``summary_of``); False when it is missing or not enough (then
-    stream instead)."""
+    """Read through the ``summary`` (``summary_of``); False when it is missing or not enough, or when
+    not one of the chunks it points at could be read (a summary that lies: then stream instead)."""
     if summary is None or summary.statistics is None:
         return False
     try:
@@ -66,7 +66,9 @@ def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels
     result = channels.result
     result.message_count, result.start, result.end = count, start, end
     chunks = sorted(summary.chunks, key=lambda c: c.offset)
-    lost = _read_chunks(source, chunks, channels, progress)
+    lost, tried = _read_chunks(source, chunks, channels, progress)
+    if lost and len(lost) == tried:
+        return False
     if lost:
         result.note_problem(
             f"{len(lost)} of {len(chunks)} chunks could not be read ({lost[0]}); their messages are lost"
@@ -76,11 +78,12 @@ def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels
 
 def _read_chunks(
     source: ByteSource, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback
-) -> list[str]:
+) -> tuple[list[str], int]:
     """The wanted messages of the chunks (in file order): uncompressed ones with unwanted channels
     gathered to be read in ranges, the others read whole. Returns what is wrong with each chunk
-    that could not be read."""
+    that could not be read, and how many were read or tried."""
     lost: dict[int, str] = {}
+    tried = 0
 
     def read_whole(number: int, chunk: ChunkIndex, index: bytes | None) -> None:
         try:
@@ -96,6 +99,7 @@ def _read_chunks(
         if not _in_window(chunk, channels):
             continue
         wanted = _wanted(chunk, channels)
+        tried += bool(wanted) or not chunk.index_offsets
         if _in_ranges(chunk, wanted):
             index = source.read(chunk.end, chunk.end + chunk.index_length)
             try:
@@ -110,7 +114,7 @@ def _read_chunks(
             read_whole(number, chunk, None)
         progress(chunk.end, source.size)
     ranged.flush()
-    return [lost[number] for number in sorted(lost)]
+    return [lost[number] for number in sorted(lost)], tried
 
 
 def _in_window(chunk: ChunkIndex, channels: Channels) -> bool:
