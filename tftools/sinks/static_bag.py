@@ -17,8 +17,9 @@ import numpy as np
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import ROS1, is_format
-from tftools.sources.bag.unpack import Budget, DecompressionError, zstd_file, zstd_messages
+from tftools.sources.bag.unpack import Budget, zstd_file, zstd_messages
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import TransformEncoder
 from tftools.sources.codecs.ros1 import encode_tf_message
@@ -200,7 +201,7 @@ def _budgeted_zstd(source: Path) -> Iterator[None]:
                 plain = Path(folder) / "plain"
                 loss = zstd_file(file, plain, budget)
                 if loss:
-                    raise DecompressionError(loss)
+                    raise DamageError(loss)
                 with plain.open("rb") as decompressed:
                     yield decompressed
 

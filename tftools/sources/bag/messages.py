@@ -10,6 +10,7 @@ import numpy as np
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import RecordWindow, merged_clock
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec
@@ -178,7 +179,8 @@ class MessageSet:
                 kept.append(self.unpack(bytes(payload)))  # bytes as they are, not copied
             except Exception as e:  # any decompressor error: this message is lost
                 unpacked[i] = False
-                self._unpack_failed.setdefault(int(channels[i]), []).append(f"{type(e).__name__}: {e}")
+                reason = str(e) if isinstance(e, DamageError) else f"{type(e).__name__}: {e}"
+                self._unpack_failed.setdefault(int(channels[i]), []).append(reason)
         return kept, unpacked
 
     def _decode_groups(self) -> None:

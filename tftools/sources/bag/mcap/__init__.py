@@ -7,10 +7,11 @@ from pathlib import Path
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import MCAP
 from tftools.sources.bag.mcap.index import Summary, read_indexed, summary_of
 from tftools.sources.bag.mcap.records import Channels
-from tftools.sources.bag.mcap.stream import UnreadableError, stream
+from tftools.sources.bag.mcap.stream import stream
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileScan, file_result
 from tftools.sources.codecs.select import Wanted
@@ -43,13 +44,10 @@ class McapFile:
         try:
             channels = Channels(wanted, result, self.source.size)
             if not read_indexed(self.source, self.summary, channels, progress):
-                if result.messages.count:  # none of the chunks the summary points at: what was read goes
-                    result = FileScan(messages.emptied())
-                    channels = Channels(wanted, result, self.source.size)
                 stream(self.source, channels, progress)
         except OSError as e:
             raise CorruptBagError(str(self.path), e.strerror or str(e)) from None
-        except UnreadableError as e:
+        except DamageError as e:
             raise CorruptBagError(str(self.path), str(e)) from None
         return result
 

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.mcap.ranged import INDEX_ENTRY, Queued, RangedReader, indexed, payloads
 from tftools.sources.bag.mcap.records import (
     CHANNEL,
@@ -25,7 +26,6 @@ from tftools.sources.bag.mcap.records import (
     Body,
     Channels,
     ChunkIndex,
-    McapDamageError,
     chunk_records,
     records,
     scan_records,
@@ -48,8 +48,8 @@ class Summary:
 
 
 def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels, progress: ProgressCallback) -> bool:
-    """Read through the ``summary`` (``summary_of``); False when it is missing or not enough, or when
-    not one of the chunks it points at could be read (a summary that lies: then stream instead)."""
+    """Read through the ``summary`` (``summary_of``); False when it is missing or not enough, or when not
+    one chunk read is where it says (a summary that lies, of another file: then stream instead)."""
     if summary is None or summary.statistics is None:
         return False
     try:
@@ -57,18 +57,18 @@ def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels
             channels.register(SCHEMA, content)
         for content in summary.channels:
             channels.register(CHANNEL, content)
-    except McapDamageError:
+    except DamageError:
         return False
     count, start, end = summary.statistics
     in_chunks = {c for chunk in summary.chunks for c in chunk.index_offsets}
     if (count and not summary.chunks) or not in_chunks <= channels.known:
         return False  # messages outside chunks, or unindexed
     result = channels.result
-    result.message_count, result.start, result.end = count, start, end
     chunks = sorted(summary.chunks, key=lambda c: c.offset)
-    lost, tried = _read_chunks(source, chunks, channels, progress)
-    if lost and len(lost) == tried:
+    lost, tried, misplaced = _read_chunks(source, chunks, channels, progress)
+    if tried and misplaced == tried:
         return False
+    result.message_count, result.start, result.end = count, start, end
     if lost:
         result.note_problem(
             f"{len(lost)} of {len(chunks)} chunks could not be read ({lost[0]}); their messages are lost"
@@ -78,18 +78,20 @@ def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels
 
 def _read_chunks(
     source: ByteSource, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback
-) -> tuple[list[str], int]:
+) -> tuple[list[str], int, int]:
     """The wanted messages of the chunks (in file order): uncompressed ones with unwanted channels
     gathered to be read in ranges, the others read whole. Returns what is wrong with each chunk
-    that could not be read, and how many were read or tried."""
+    that could not be read, how many were read, and of those how many are not where the summary says."""
     lost: dict[int, str] = {}
-    tried = 0
+    tried = misplaced = 0
 
     def read_whole(number: int, chunk: ChunkIndex, index: bytes | None) -> None:
+        nonlocal misplaced
         try:
             _read_chunk(source, chunk, number, channels, index)
-        except McapDamageError as e:
+        except DamageError as e:
             lost[number] = str(e)
+            misplaced += e.offset == chunk.offset
 
     ranged = RangedReader(source, channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
     indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels))]
@@ -104,7 +106,7 @@ def _read_chunks(
             index = source.read(chunk.end, chunk.end + chunk.index_length)
             try:
                 entries = {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
-            except McapDamageError:  # read whole, its damage is found and told
+            except DamageError:  # read whole, its damage is found and told
                 ranged.flush()  # the chunks before first: messages are handed on in file order
                 read_whole(number, chunk, index)
             else:
@@ -114,7 +116,7 @@ def _read_chunks(
             read_whole(number, chunk, None)
         progress(chunk.end, source.size)
     ranged.flush()
-    return [lost[number] for number in sorted(lost)], tried
+    return [lost[number] for number in sorted(lost)], tried, misplaced
 
 
 def _in_window(chunk: ChunkIndex, channels: Channels) -> bool:
@@ -159,28 +161,28 @@ def summary_of(source: ByteSource) -> Summary | None:
                 count = body.int(I64)
                 body.pos += 2 + 4 * 4  # schema, channel, attachment, metadata and chunk counts
                 summary.statistics = (max(0, count), body.int(I64), body.int(I64))
-    except McapDamageError:
+    except DamageError:
         return None
     return summary
 
 
 def _chunk_index(content: bytes, size: int) -> ChunkIndex:
-    """A chunk index of a file of ``size`` bytes; ``McapDamageError`` where it cannot be trusted."""
+    """A chunk index of a file of ``size`` bytes; ``DamageError`` where it cannot be trusted."""
     body = Body(content)
     message_start, message_end = body.int(I64), body.int(I64)
     offset, length = body.int(U64), body.int(U64)
     entries = body.bytes(U32)
     if len(entries) % _ID_OFFSET.size:
-        raise McapDamageError("bad message index offsets")
+        raise DamageError("bad message index offsets")
     offsets = dict(_ID_OFFSET.iter_unpack(entries))
     index_length = body.int(U64)
     compression = body.string()
     chunk = ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64), message_start, message_end)
     # A chunk may run past the end of a file cut short (it is then lost), but no more than the file holds.
     if not len(MAGIC) <= chunk.offset < size or chunk.length > size or chunk.index_length > size:
-        raise McapDamageError("a chunk index points outside the file")
+        raise DamageError("a chunk index points outside the file")
     if any(not chunk.end <= at < chunk.end + chunk.index_length for at in chunk.index_offsets.values()):
-        raise McapDamageError("a chunk's message indexes are not after it")
+        raise DamageError("a chunk's message indexes are not after it")
     return chunk
 
 
@@ -190,12 +192,12 @@ def _read_chunk(source: ByteSource, chunk: ChunkIndex, number: int, channels: Ch
     raw = source.read(chunk.offset, chunk.end)
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
-        raise McapDamageError(f"no chunk at byte {chunk.offset}")
+        raise DamageError(f"no chunk at byte {chunk.offset}", chunk.offset)
     data = chunk_records(memoryview(raw)[RECORD.size :], partial=False, budget=channels.budget)  # no copy of the chunk
     if not chunk.index_offsets:
         damage = scan_records(data, number, channels, counted=False)
         if damage:
-            raise McapDamageError(damage)
+            raise DamageError(damage)
         return
     if index is None:
         index = source.read(chunk.end, chunk.end + chunk.index_length)
@@ -204,16 +206,16 @@ def _read_chunk(source: ByteSource, chunk: ChunkIndex, number: int, channels: Ch
     found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
     found.end = np.full(len(found), len(data), np.int64)
     if not payloads(np.frombuffer(data, np.uint8), found.offset, found, np.ones(len(found), bool)).all():
-        raise McapDamageError("message index does not match its chunk")
+        raise DamageError("message index does not match its chunk")
     channels.result.messages.add_spans(found.looked_up(channels.wanted).astype(np.int32), found, data)
 
 
 def _message_index(index: bytes, at: int) -> bytes:
     """The entries of the MessageIndex record at ``index[at:]``."""
     if not 0 <= at <= len(index) - _INDEX_HEAD.size:
-        raise McapDamageError("bad message index")
+        raise DamageError("bad message index")
     opcode, _, _, length = _INDEX_HEAD.unpack_from(index, at)
     start = at + _INDEX_HEAD.size
     if opcode != MESSAGE_INDEX or length % INDEX_ENTRY.itemsize or start + length > len(index):
-        raise McapDamageError("bad message index")
+        raise DamageError("bad message index")
     return index[start : start + length]

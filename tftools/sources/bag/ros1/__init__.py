@@ -9,9 +9,10 @@ from pathlib import Path
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.index import BagIndex, read_index, read_indexed
-from tftools.sources.bag.ros1.records import FormatError, read_bag_header
+from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.bag.ros1.salvage import read_unindexed
 from tftools.sources.bag.scan import file_result
 from tftools.sources.codecs.select import Wanted
@@ -34,7 +35,7 @@ class Ros1File:
         try:
             source.need(0, min(source.size, 64 << 10))
             self.header = read_bag_header(self.buf)
-        except FormatError as e:
+        except DamageError as e:
             self.close()
             raise CorruptBagError(str(path), f"no readable ROS1 bag header: {e}") from None
         if self.header.encryptor:
@@ -54,7 +55,7 @@ class Ros1File:
             if self._index is None:
                 try:
                     self._index = read_index(bag, header)
-                except FormatError as e:
+                except DamageError as e:
                     self._index = str(e)
             if isinstance(self._index, str):
                 read_unindexed(bag, header, self._index)

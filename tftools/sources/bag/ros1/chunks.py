@@ -8,12 +8,12 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
     OP_MESSAGE,
     Buffer,
     Connection,
-    FormatError,
     read_connection,
     read_record,
     u32,
@@ -40,7 +40,7 @@ def walk(data: Buffer, chunk: int) -> Spans:
                 break
             starts.append(pos)
             pos = record_end
-    except FormatError:
+    except DamageError:
         pass
     return in_chunk(np.frombuffer(starts, np.int64).copy() if starts else np.zeros(0, np.int64), chunk, limit)
 
@@ -86,7 +86,7 @@ def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[C
     for row, end in enumerate(limit[~found].tolist()):
         try:
             message = _message_at(data, int(slow.start[row]), end, connections, follow)
-        except FormatError as e:
+        except DamageError as e:
             first_error = first_error or str(e)
             continue
         if message is not None:
@@ -107,11 +107,11 @@ def _message_at(
     while True:
         record = read_record(data, at, end)
         if record.data_end > end:
-            raise FormatError(f"the record at byte {at} of the chunk is cut short")
+            raise DamageError(f"the record at byte {at} of the chunk is cut short")
         if record.op == OP_MESSAGE:
             return at - pos, record.uint("conn"), record.time("time"), record.data_start, record.data_end
         if record.op != OP_CONNECTION:
-            raise FormatError(f"the record at byte {at} of the chunk has op {record.op}, not a message")
+            raise DamageError(f"the record at byte {at} of the chunk has op {record.op}, not a message")
         connections.append(read_connection(data, record))
         if not follow:
             return None
@@ -134,7 +134,7 @@ class _Template:
         """The template of the message record at ``pos``; None when it is something else."""
         try:
             record = read_record(data, pos)
-        except FormatError:
+        except DamageError:
             return None
         fields = record.fields
         if record.op != OP_MESSAGE or len(fields.get("conn", b"")) != 4 or len(fields.get("time", b"")) != 8:

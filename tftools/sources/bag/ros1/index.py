@@ -16,6 +16,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray
 from tftools.core.time import NS_PER_S
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.records import (
@@ -27,7 +28,6 @@ from tftools.sources.bag.ros1.records import (
     Chunk,
     ChunkInfo,
     Connection,
-    FormatError,
     Record,
     index_entries,
     read_chunk,
@@ -54,7 +54,7 @@ class BagIndex:
 
 
 def read_index(bag: BagFile, header: BagHeader) -> BagIndex:
-    """The connections and chunk infos at the bag's end; ``FormatError`` if damaged."""
+    """The connections and chunk infos at the bag's end; ``DamageError`` if damaged."""
     pos = header.index_pos
     bag.source.need(pos, bag.size)
     records = []
@@ -115,7 +115,7 @@ def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
 def _record(bag: BagFile, pos: int, op: int) -> Record:
     record = bag.records.read(pos)
     if record.op != op or record.data_end > bag.size:
-        raise FormatError(f"no readable record with op {op} at byte {pos}")
+        raise DamageError(f"no readable record with op {op} at byte {pos}")
     return record
 
 
@@ -125,7 +125,7 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
     try:
         record = _record(bag, info.pos, OP_CHUNK)
         chunk = read_chunk(record)
-    except FormatError as e:
+    except DamageError as e:
         bag.damage.note(info.pos, str(e), wanted)
         return
     index = _chunk_index(bag, record, info)
@@ -177,7 +177,7 @@ def _chunk_index(bag: BagFile, chunk: Record, info: ChunkInfo) -> _Index | None:
             index.conns.append(record.uint("conn"))
             index.entries.append(index_entries(bag.buf, record))
             index.end = record.data_end
-    except FormatError:
+    except DamageError:
         return None
     return index
 

@@ -3,6 +3,7 @@ is damaged) read chunk after chunk, over damage: whatever can be read of it."""
 
 from __future__ import annotations
 
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.chunks import locate, walk
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.records import (
@@ -10,7 +11,6 @@ from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
     OP_MESSAGE,
     BagHeader,
-    FormatError,
     Record,
     read_chunk,
     read_connection,
@@ -60,7 +60,7 @@ class _Scanner:
         while pos < stop:
             try:
                 pos = self._record(pos, stop)
-            except FormatError as e:
+            except DamageError as e:
                 found = self._resync(pos + 1, stop)
                 if found is None:
                     self.tail = f"the last {stop - pos} bytes are no readable record"
@@ -124,7 +124,7 @@ class _Scanner:
             for start in range(max(pos, hit - _HEADER_REACH), hit - 3):
                 try:
                     record = read_record(buf, start, stop)
-                except FormatError:
+                except DamageError:
                     continue
                 if record.op == OP_CHUNK:
                     return start
