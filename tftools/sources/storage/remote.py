@@ -30,6 +30,7 @@ from tftools.sources.storage.source import ByteSource
 try:
     import fsspec
     from fsspec import AbstractFileSystem
+    from fsspec.utils import merge_offset_ranges
 except ImportError:  # pragma: no cover - the extra's absence is tested in a subprocess
     raise MissingExtraError("reading recordings by URL") from None
 
@@ -179,14 +180,13 @@ class RemoteCopy:
 
 
 def _merged(ranges: list[tuple[int, int]], gap: int) -> list[tuple[int, int]]:
-    """``ranges`` sorted, those closer than ``gap`` (or touching) joined; empty ones left out."""
-    merged: list[tuple[int, int]] = []
-    for start, end in sorted(r for r in ranges if r[0] < r[1]):
-        if merged and start - merged[-1][1] <= gap:
-            merged[-1] = (merged[-1][0], max(merged[-1][1], end))
-        else:
-            merged.append((start, end))
-    return merged
+    """``ranges`` sorted, those closer than ``gap`` (or touching) joined (fsspec's
+    ``merge_offset_ranges``); empty ones left out."""
+    kept = [(start, end) for start, end in ranges if start < end]
+    if not kept:
+        return []
+    _, starts, ends = merge_offset_ranges(["f"] * len(kept), [s for s, _ in kept], [e for _, e in kept], gap)
+    return [(int(start), int(end)) for start, end in zip(starts, ends, strict=True) if end is not None]
 
 
 @dataclass

@@ -22,28 +22,41 @@ MAX_GAP = 16 << 10  # bytes between two wanted ranges read along with them: chea
 
 
 class ByteSource:
-    """A local file's bytes, read by range until ``close``. ``path`` is where the file is on this
-    machine, for what must open it by name (SQLite); ``fileno`` for what maps it."""
+    """A local file's bytes, read by range. ``path`` is where the file is on this machine, for what
+    must open it by name (SQLite); ``fileno`` for what maps it. ``close`` lets its descriptor go (a
+    read after it opens the file again: a bag of a thousand files need not hold a thousand open)."""
 
     def __init__(self, path: Path) -> None:
         self.path = path
+        self._fd = -1
+        self.size = self._open()
+
+    def _open(self) -> int:
+        """Open the file (a regular one only), and return its size."""
         try:  # not blocking: a FIFO would wait for a writer
-            self.fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+            fd = os.open(self.path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
         except OSError as e:
-            raise CorruptBagError(str(path), e.strerror or str(e)) from None
-        status = os.fstat(self.fd)
+            raise CorruptBagError(str(self.path), e.strerror or str(e)) from None
+        status = os.fstat(fd)
         if not stat.S_ISREG(status.st_mode):
-            os.close(self.fd)
-            raise CorruptBagError(str(path), "not a regular file (a FIFO, socket or device)")
-        self.size = status.st_size
+            os.close(fd)
+            raise CorruptBagError(str(self.path), "not a regular file (a FIFO, socket or device)")
+        self._fd = fd
+        return status.st_size
+
+    @property
+    def fd(self) -> int:
+        if self._fd < 0:
+            self._open()
+        return self._fd
 
     def fileno(self) -> int:
         return self.fd
 
     def close(self) -> None:
-        if self.fd >= 0:
-            os.close(self.fd)
-            self.fd = -1
+        if self._fd >= 0:
+            os.close(self._fd)
+            self._fd = -1
 
     def __enter__(self) -> ByteSource:
         return self

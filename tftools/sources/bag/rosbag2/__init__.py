@@ -86,7 +86,10 @@ class Rosbag2Bag:
         opened = self._opened(file)
         problems += self._decompressed.get(file, [])
         unpack = zstd_messages(opened.source.size) if self.bag.compression_mode == "message" else None
-        scan = opened.scan(wanted, progress, MessageSet(unpack, window))
+        try:
+            scan = opened.scan(wanted, progress, MessageSet(unpack, window))
+        finally:
+            opened.source.close()  # its descriptor let go until the next read: files opened one at a time
         scan.windowed &= file not in self._decompressed  # a file compressed whole is decompressed whole first
         return scan
 
