@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from tests.sources.ros2_helpers import NS, T0, Tf, string_cdr, tf_cdr
@@ -253,3 +254,19 @@ def test_both_row_readers_give_the_same_rows(tmp_path: Path) -> None:
     assert db3_rows._Native is not None, "the extension is built here"
     python = rows(native=False)
     assert python == rows(native=True) and len(python) == 2 and python[1][3] == tf_cdr([Tf("map", "base", 8)]) * 40
+
+
+def test_a_build_without_the_extension_reads_db3_files_alike(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without sqlite's headers at build time there is no _sqlite: .db3 rows come through Python's
+    sqlite3, wrong-typed rows left out by the query; the sample bag reads the same."""
+    from tests.cli.conftest import SAMPLE_BAGS
+    from tftools.sources.bag.rosbag2 import db3_rows
+
+    native = read_bag([SAMPLE_BAGS["db3"]])
+    monkeypatch.setattr(db3_rows, "_Native", None)
+    typed = " AND typeof(topic_id) = 'integer' AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob'"
+    monkeypatch.setattr(db3_reader, "TYPED", typed)
+    python = read_bag([SAMPLE_BAGS["db3"]])
+    assert python.problems == native.problems == []
+    assert len(python.transforms) == len(native.transforms) > 1000
+    assert np.array_equal(python.transforms.translation, native.transforms.translation)

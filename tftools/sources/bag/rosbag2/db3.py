@@ -14,7 +14,7 @@ import numpy as np
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.rosbag2.db3_rows import fetches
+from tftools.sources.bag.rosbag2.db3_rows import TYPED, fetches
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
@@ -162,8 +162,7 @@ def _messages(
     # NOT INDEXED: the table read in its own order, page after page, not through the timestamp index;
     # but a window's rows are found through it.
     window = result.messages.window
-    typed = "typeof(topic_id) = 'integer' AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob'"
-    table, where = "messages NOT INDEXED", f"topic_id IN ({ids}) AND {typed}"
+    table, where = "messages NOT INDEXED", f"topic_id IN ({ids}){TYPED}"
     if window is not None:
         table, where = "messages", f"{where} AND timestamp >= {int(window.first)} AND timestamp < {int(window.last)}"
     query = f"SELECT topic_id, timestamp, id, {data} FROM {table} WHERE {where}"

@@ -32,12 +32,20 @@ try:
 except ImportError:  # built without sqlite's headers
     _Native = None  # type: ignore[assignment,misc]
 
+#: Added to a query's conditions: rows whose topic or time is not an integer or whose blob is not a
+#: blob (sqlite stores any value in any column) are not messages. The extension skips them itself.
+TYPED = (
+    ""
+    if _Native is not None
+    else " AND typeof(topic_id) = 'integer' AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob'"
+)
+
 
 def fetches(uri: str, query: str, rows: int, nbytes: int, *, native: bool = True) -> Iterator[Fetched]:
-    """The rows of ``query``, ``SELECT topic, time, id, blob ...`` (which leaves out rows whose topic
-    or time is not an integer or whose blob is not a blob), on the database at ``uri`` opened
-    read-only: fetch after fetch of up to ``rows`` rows and about ``nbytes`` of blobs. ``native``
-    False: through Python's sqlite3 even where the extension is built."""
+    """The rows of ``query``, ``SELECT topic, time, id, blob ...`` (its conditions ending in ``TYPED``,
+    or of the typed rows only when ``native`` is False), on the database at ``uri`` opened read-only:
+    fetch after fetch of up to ``rows`` rows and about ``nbytes`` of blobs. ``native`` False: through
+    Python's sqlite3 even where the extension is built."""
     if native and _Native is not None:
         reader: _Rows = _Native(uri, query)
         while len((fetched := reader.fetch(rows, nbytes))[0]):
