@@ -205,3 +205,23 @@ def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None
 ])  # fmt: skip
 def test_a_stream_answers_as_the_tf2_asked_for(paths: list[Path], chosen: Semantics | None, expected: str) -> None:
     assert stream_recording(paths, semantics=chosen).semantics == expected
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_the_indexes_are_read_once_for_every_window(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: BagFormat
+) -> None:
+    """The first pass and the replay read many windows through one reader: each file's index (a ROS 1
+    bag's, an MCAP summary, a .db3's topics and statistics) is read once, not once a window."""
+    from tftools.sources.bag import mcap, ros1
+    from tftools.sources.bag.rosbag2 import db3
+
+    bag = simulation(tmp_path / "sim", fmt)
+    counted: list[str] = []
+    for module, name in ((ros1, "read_index"), (mcap, "summary_of"), (db3, "_statistics")):
+        real = getattr(module, name)
+        monkeypatch.setattr(module, name, lambda *a, _real=real, _name=name: counted.append(_name) or _real(*a))
+    with stream_recording([bag], window_messages=300) as streamed:
+        assert len(streamed.windows) > 3
+        assert sum(len(part) for part in streamed.parts()) == len(read_recording([bag]).transforms)
+    assert len(counted) == 2  # this stream's, then read_recording's
