@@ -85,10 +85,12 @@ class Fetched:
 @dataclass(frozen=True)
 class OfferedQos:
     """The QoS profiles each static topic's publishers offered, as a ROS 2 bag's metadata.yaml says:
-    what ``ros2 bag play`` publishes it with; ``problem``: why metadata.yaml does not say ("": it does)."""
+    what ``ros2 bag play`` publishes it with; ``problem``: why metadata.yaml does not say ("": it does);
+    ``metadata``: False for a bag without one (a bare .db3 or .mcap file)."""
 
     profiles: dict[str, list[object]]
     problem: str = ""
+    metadata: bool = True
 
 
 def _megabytes(n: int) -> str:
@@ -114,7 +116,7 @@ class SourceInfo:
     fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
     stamped: list[StampedMessages] = field(default_factory=list, repr=False, compare=False)  # headers read
     stamped_problems: list[str] = field(default_factory=list)  # headers that could not be read, one line a topic
-    qos: OfferedQos | None = None  # a ROS 2 bag directory's offered QoS (None: no metadata.yaml)
+    qos: OfferedQos | None = None  # a ROS 2 bag's offered QoS (None: not read from a ROS 2 bag)
     # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
     # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.
     windowed: bool = True

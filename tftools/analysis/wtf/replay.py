@@ -11,7 +11,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import CheckSkippedError, register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
 from tftools.core.time import NS_PER_S
-from tftools.sources.contents import SourceInfo
+from tftools.sources.contents import OfferedQos
 
 #: A recording this long (s) is one people play from the middle, split or filter.
 LONG_RECORDING_S = 60.0
@@ -29,14 +29,14 @@ REPAIR_HINT = "tfx static --repair -b IN -o OUT writes a copy whose statics are 
 def static_volatile(scene: Scene) -> Iterator[Finding]:
     """rosbag2 plays a topic with the QoS its publishers offered (metadata.yaml's offered_qos_profiles):
     transient local only when every profile was; none recorded plays its default, volatile. Only
-    recordings on disk are replayed: one assembled in memory has no QoS to check."""
+    recordings read from bags are replayed: one assembled in memory has no QoS to check."""
     rows = scene.rows
     if not rows.static.any():
         return
     for file in scene.recording.contents.files:
-        if not file.format.startswith("rosbag2"):
+        if not file.format.startswith("rosbag2") or file.qos is None:
             continue
-        for topic, profiles in _static_qos(file).items():
+        for topic, profiles in _static_qos(file.path, file.qos).items():
             if profiles and all(_durability(p) in TRANSIENT_LOCAL for p in profiles):
                 continue
             offered = "records no QoS for it" if not profiles else "offers it volatile"
@@ -53,19 +53,19 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
             )
 
 
-def _static_qos(file: SourceInfo) -> dict[str, list[object]]:
+def _static_qos(path: str, qos: OfferedQos) -> dict[str, list[object]]:
     """Each static topic's offered QoS profiles, as the bag directory's metadata.yaml says (read with the bag)."""
-    if file.qos is None:
+    if not qos.metadata:
         raise CheckSkippedError(
-            f"{file.path} has no metadata.yaml beside it, where rosbag2 keeps the QoS it plays /tf_static with",
+            f"{path} has no metadata.yaml beside it, where rosbag2 keeps the QoS it plays /tf_static with",
             "check the bag directory, not one of its files",
         )
-    if file.qos.problem:
+    if qos.problem:
         raise CheckSkippedError(
-            f"{file.path}/metadata.yaml does not say the QoS of /tf_static ({file.qos.problem})",
+            f"{path}/metadata.yaml does not say the QoS of /tf_static ({qos.problem})",
             "repair or regenerate metadata.yaml",
         )
-    return file.qos.profiles
+    return qos.profiles
 
 
 def _durability(profile: object) -> object:

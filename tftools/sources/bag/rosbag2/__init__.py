@@ -133,6 +133,9 @@ class Rosbag2Bag:
         self._stack.close()
 
 
+_NO_METADATA = OfferedQos({}, metadata=False)
+
+
 @dataclass
 class _Bag:
     """What a bag directory is made of, from its metadata.yaml or, failing that, its files."""
@@ -141,7 +144,7 @@ class _Bag:
     files: list[Path]
     compression_mode: str = ""  # "", "file" or "message"
     problems: list[str] = field(default_factory=list)
-    qos: OfferedQos | None = None  # None: no metadata.yaml
+    qos: OfferedQos = _NO_METADATA
 
 
 def _layout(path: Path) -> _Bag:
@@ -162,11 +165,11 @@ def _layout(path: Path) -> _Bag:
     return _Bag(storage, files, "", problems, qos)
 
 
-def _qos(path: Path, info: dict[str, Any] | None, problems: list[str]) -> OfferedQos | None:
+def _qos(path: Path, info: dict[str, Any] | None, problems: list[str]) -> OfferedQos:
     """The QoS profiles each static topic's publishers offered, as metadata.yaml says (what ``ros2 bag
-    play`` publishes them with); None without a metadata.yaml."""
+    play`` publishes them with)."""
     if not _exists(path):
-        return None
+        return _NO_METADATA
     if info is None:
         return OfferedQos({}, problems[-1] if problems else "it is unreadable")
     try:
