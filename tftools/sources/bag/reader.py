@@ -91,6 +91,8 @@ class BagReader:
         transforms, clock and headers recorded in it (the files' indexes skip the rest; a file without
         one is read whole, and its ``windowed`` is False), each ``BagFileInfo`` still describing its
         whole file. An empty window reads only the descriptions."""
+        if len(self._files) != len(self.paths):
+            raise ValueError("BagReader.read outside its with block: the recording is not open")
         shares = in_turn(progress or _unreported, [opened.size for opened in self._files])
         read = [opened.read(self.wanted, share, window) for share, opened in zip(shares, self._files, strict=True)]
         batches = [batch for part, _ in read for batch in part]
