@@ -283,3 +283,6 @@ class RemoteSource(ByteSource):
 
     def fetch(self, starts: Int64Array, ends: Int64Array) -> None:
         self.copy.fill(np.asarray(starts).tolist(), np.asarray(ends).tolist())
+
+    def need(self, start: int, end: int) -> None:
+        self.copy.fill([start], [end])

@@ -84,7 +84,6 @@ class ByteSource:
 
     def need(self, start: int, end: int) -> None:
         """``start:end`` is read next (a remote file's is fetched; a local file's is there)."""
-        self.fetch(np.array([start], np.int64), np.array([end], np.int64))
 
     def whole(self) -> None:
         """Every byte is read next (a file read without an index)."""
