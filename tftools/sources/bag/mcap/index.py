@@ -94,7 +94,7 @@ def _read_chunks(
             misplaced += e.offset == chunk.offset
 
     ranged = RangedReader(source, channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
-    indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels))]
+    indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels), channels)]
     ends = np.array([c.end for c in indexed], np.int64)
     source.ahead(ends, ends + np.array([c.index_length for c in indexed], np.int64))
     for number, chunk in enumerate(chunks):
@@ -102,7 +102,7 @@ def _read_chunks(
             continue
         wanted = _wanted(chunk, channels)
         tried += bool(wanted) or not chunk.index_offsets
-        if _in_ranges(chunk, wanted):
+        if _in_ranges(chunk, wanted, channels):
             index = source.read(chunk.end, chunk.end + chunk.index_length)
             try:
                 entries = {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
@@ -128,9 +128,11 @@ def _wanted(chunk: ChunkIndex, channels: Channels) -> list[int]:
     return [c for c in chunk.index_offsets if c in channels.wanted]
 
 
-def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
-    """Whether the chunk may be read in ranges: uncompressed, with channels wanted and others not."""
-    return chunk.compression == "" and 0 < len(wanted) < len(chunk.index_offsets)
+def _in_ranges(chunk: ChunkIndex, wanted: list[int], channels: Channels) -> bool:
+    """Whether the chunk may be read in ranges: uncompressed, with channels wanted and others not, or
+    some wanted for their messages' headers only."""
+    some = 0 < len(wanted) < len(chunk.index_offsets) or any(c in channels.headed for c in wanted)
+    return chunk.compression == "" and some
 
 
 def summary_of(source: ByteSource) -> Summary | None:

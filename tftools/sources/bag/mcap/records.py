@@ -10,7 +10,7 @@ from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import MCAP
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, unpack
-from tftools.sources.codecs.select import Wanted, select
+from tftools.sources.codecs.select import HeaderCodec, Wanted, select
 
 MAGIC = MCAP.magic
 HEADER, FOOTER, SCHEMA, CHANNEL, MESSAGE, CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
@@ -134,6 +134,7 @@ class Channels:
         self.schemas: dict[int, tuple[str, str]] = {}  # schema id -> type name, .msg definition ("": none)
         self.known: set[int] = set()
         self.wanted: dict[int, int] = {}  # MCAP channel id -> MessageSet channel
+        self.headed: set[int] = set()  # MCAP channel ids read for their messages' headers only
 
     def register(self, opcode: int, content: bytes | memoryview) -> None:
         """A schema or channel record."""
@@ -154,6 +155,8 @@ class Channels:
         self.result.note_skipped(unread)
         if codec is not None:
             self.wanted[channel_id] = self.result.messages.channel(topic, codec)
+            if isinstance(codec, HeaderCodec):
+                self.headed.add(channel_id)
 
 
 def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, counted: bool) -> str:

@@ -14,7 +14,7 @@ from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, Reco
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import Budget, Unpacked, unpack
-from tftools.sources.codecs.select import ClockCodec, Wanted, select
+from tftools.sources.codecs.select import ClockCodec, HeaderCodec, Wanted, select
 from tftools.sources.storage.source import ByteSource
 
 
@@ -63,6 +63,7 @@ class BagFile:
         self.channels: dict[int, int] = {}  # connection id -> message set channel, of those wanted
         self._met: set[int] = set()  # connection ids
         self._clocks: set[int] = set()  # message set channels of clock connections
+        self.headed: set[int] = set()  # connection ids read for their messages' headers only
 
     def connect(self, connection: Connection) -> None:
         """A connection record met: its topic described, and read if it is wanted."""
@@ -79,6 +80,8 @@ class BagFile:
             self.channels[connection.id] = channel
             if isinstance(codec, ClockCodec):
                 self._clocks.add(channel)
+            if isinstance(codec, HeaderCodec):
+                self.headed.add(connection.id)
 
     def add(self, data: bytes | memoryview, messages: Spans) -> BoolArray:
         """Keep the wanted ones of ``messages`` (their payloads copied out of ``data``); returns which."""

@@ -37,12 +37,16 @@ from tftools.sources.bag.ros1.records import (
 from tftools.sources.bag.spans import Spans, bounded
 from tftools.sources.bag.unpack import CompressionUnavailableError
 from tftools.sources.codecs.gather import distinct
+from tftools.sources.codecs.wire import HEADER_BYTES
 
 #: Records of uncompressed chunks are gathered until there are this many, or their chunks hold
 #: this many bytes, then read (a few megabytes of transforms; the cap bounds a batch of huge ones).
 _SPAN_RECORDS, _SPAN_BYTES = 8192, 64 << 20
 #: Bytes of a chunk record's header, at most, and of an index data record: a header, and 12 per message.
 _CHUNK_HEADER_BYTES, _INDEX_RECORD_BYTES, _INDEX_ENTRY_BYTES = 4096, 128, 12
+#: Bytes of a message record read for its message's header: its record header (a few dozen bytes of
+#: op, conn and time; more is read whole) and the bytes that may hold the message's header.
+_HEADED_BYTES = 256 + HEADER_BYTES
 
 
 @dataclass
@@ -237,10 +241,13 @@ class _Gathered:
         records, _ = bounded(indexed, starts, ends)
         records = records.rows(_wanted(bag, records))
         records = records.rows(np.diff(records.start, prepend=-1) != 0)  # once each
+        # Of messages read for their header, only as far as it reaches: not the image after it.
+        cut = np.isin(records.channel, list(bag.headed)) & (records.end - records.start > _HEADED_BYTES)
+        records.end[cut] = records.start[cut] + _HEADED_BYTES
         data, where, complete = bag.source.read_ranges(records.start, records.end)
-        records = records.rows(complete)
+        records, cut = records.rows(complete), cut[complete]
         records.start, records.end = where[complete], where[complete] + records.end - records.start
-        messages, _, first_error = locate(data.data, records, follow=True)
+        messages, _, first_error = locate(data.data, records, follow=True, cut=cut)
         in_batch, messages.chunk = messages.chunk, np.array([c.ordinal for c in chunks], np.int64)[messages.chunk]
         got = np.bincount(in_batch[bag.add(data.data, messages)], minlength=len(chunks))
         for pending, count in zip(chunks, got.tolist(), strict=True):
