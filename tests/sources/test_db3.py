@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from tests.sources.ros2_helpers import NS, T0, Tf, string_cdr, tf_cdr
@@ -222,3 +223,50 @@ def test_damaged_file_salvaged(tmp_path: Path, damage: str) -> None:
         assert 0 < len(got) < len(expected(rows)) and all(row in expected(rows) for row in got)
     else:  # the spilling message is lost
         assert got == expected([row for row in rows if row[0] != 151]) and "1 more lost their data" in problem
+
+
+def test_both_row_readers_give_the_same_rows(tmp_path: Path) -> None:
+    """sqlite's C API (the _sqlite extension) and Python's sqlite3 module, which reads .db3 files in a
+    build without sqlite's headers, give the same rows, wrong-typed ones left out alike."""
+    from tests.sources import hostile
+    from tftools.sources.bag.rosbag2 import db3_rows
+
+    bag = hostile.db3(tmp_path / "odd.db3", [tf_cdr([Tf("map", "odom", 7)]), tf_cdr([Tf("map", "base", 8)]) * 40])
+    db = sqlite3.connect(bag)
+    db.execute("INSERT INTO messages VALUES (5, 'x', 9, X'00')")
+    db.execute("INSERT INTO messages VALUES (6, 1, 9, 'text, not a blob')")
+    db.commit()
+    db.close()
+    uri = f"file:{bag}?mode=ro&immutable=1"
+    typed = "typeof(topic_id) = 'integer' AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob'"
+    query = f"SELECT topic_id, timestamp, id, data FROM messages WHERE {typed}"
+
+    def rows(native: bool) -> list[tuple[int, int, int, bytes]]:
+        found = []
+        for topic, time, row, start, length, data in db3_rows.fetches(uri, query, 1, 100, native=native):
+            raw = data.tobytes()
+            found += [
+                (t, s, r, raw[a : a + n])
+                for t, s, r, a, n in zip(*(c.tolist() for c in (topic, time, row, start, length)), strict=True)
+            ]
+        return found
+
+    assert db3_rows._Native is not None, "the extension is built here"
+    python = rows(native=False)
+    assert python == rows(native=True) and len(python) == 2 and python[1][3] == tf_cdr([Tf("map", "base", 8)]) * 40
+
+
+def test_a_build_without_the_extension_reads_db3_files_alike(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without sqlite's headers at build time there is no _sqlite: .db3 rows come through Python's
+    sqlite3, wrong-typed rows left out by the query; the sample bag reads the same."""
+    from tests.cli.conftest import SAMPLE_BAGS
+    from tftools.sources.bag.rosbag2 import db3_rows
+
+    native = read_bag([SAMPLE_BAGS["db3"]])
+    monkeypatch.setattr(db3_rows, "_Native", None)
+    typed = " AND typeof(topic_id) = 'integer' AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob'"
+    monkeypatch.setattr(db3_reader, "TYPED", typed)
+    python = read_bag([SAMPLE_BAGS["db3"]])
+    assert python.problems == native.problems == []
+    assert len(python.transforms) == len(native.transforms) > 1000
+    assert np.array_equal(python.transforms.translation, native.transforms.translation)

@@ -12,14 +12,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import zstandard
 
+from tests.bags import BagFormat, TfMessage, write_bag
 from tests.sources import hostile
+from tests.sources.ros2_helpers import T0
 from tftools.core.errors import TfToolsError
-from tftools.sources.bag import rosbag2, unpack
-from tftools.sources.bag.ranges import prefetch
+from tftools.core.transform import Transform
+from tftools.sources.bag import messages, rosbag2, unpack
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.rosbag2.db3_salvage import salvage
-from tftools.sources.errors import CorruptBagError
+from tftools.sources.codecs.select import Wanted
+from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
+from tftools.sources.storage.source import ByteSource
 
 MiB = 1 << 20
 MEMORY_LIMIT = 1536 * MiB  # address space of a subprocess that reads a bomb
@@ -96,7 +101,8 @@ def test_message_compressed_db3_bomb_loses_that_message(tmp_path: Path, monkeypa
     from tftools.sources.bag.messages import MessageSet
     from tftools.sources.bag.rosbag2 import db3
 
-    scan = db3.scan(bag, ("/tf",), lambda _a, _b: None, MessageSet())
+    with ByteSource(bag) as source:
+        scan = db3.Db3File(bag, source).scan(Wanted(("/tf",)), lambda _a, _b: None, MessageSet())
     _, _, _, lost = scan.messages.decode()
     assert lost and "could not be decompressed" in lost[0] and "4 MiB a piece" in lost[0]
 
@@ -227,12 +233,9 @@ def test_db3_rows_of_the_wrong_types(tmp_path: Path) -> None:
 def test_prefetch_of_ranges_a_damaged_index_gives(tmp_path: Path) -> None:
     path = tmp_path / "f"
     path.write_bytes(b"x" * 100)
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        prefetch(fd, np.array([-5, 50, 1 << 62, 10], np.int64), np.array([10, 20, (1 << 63) - 1, 10], np.int64))
-        prefetch(fd, np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))  # type: ignore[arg-type]
-    finally:
-        os.close(fd)
+    with ByteSource(path) as source:
+        source.ahead(np.array([-5, 50, 1 << 62, 10], np.int64), np.array([10, 20, (1 << 63) - 1, 10], np.int64))
+        source.ahead(np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))  # type: ignore[arg-type]
 
 
 # metadata.yaml
@@ -302,3 +305,84 @@ def test_wtf_names_a_reader_crash_an_internal_error(tmp_path: Path, monkeypatch:
     report = fleet.check_bags([str(tmp_path / "x.bag")])
     assert report.error is not None
     assert "internal error of tftools" in report.error.message and "ValueError: boom" in report.error.message
+
+
+# Special files and empty messages
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_empty_tf_messages_are_read_as_none(tmp_path: Path, fmt: BagFormat, monkeypatch: pytest.MonkeyPatch) -> None:
+    """5,000 /tf messages holding an empty TFMessage, then one transform, decoded a few at a time (as
+    hundreds of thousands are): no error, one transform."""
+    monkeypatch.setattr(messages, "_GROUP_BYTES", 256)
+    one = Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), T0 + 5000, "map", "odom")
+    written = [TfMessage("/tf", T0 + i, ()) for i in range(5000)] + [TfMessage("/tf", T0 + 5000, (one,))]
+    contents = read_bag([write_bag(tmp_path / "empty", written, fmt)])
+    assert len(contents.transforms) == 1 and contents.problems == []
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
+def test_a_fifo_is_refused_not_waited_on(tmp_path: Path) -> None:
+    """A FIFO (``tfx frames -b <(zcat x.bag.gz)``) would block forever when opened: refused unopened."""
+    fifo = tmp_path / "f.bag"
+    os.mkfifo(fifo)
+    with pytest.raises(UnknownBagFormatError, match="not a regular file"):
+        read_bag([fifo])
+    bag = tmp_path / "bag"
+    bag.mkdir()
+    os.mkfifo(bag / "bag.db3")  # a ROS 2 bag's file that is a FIFO
+    with pytest.raises(CorruptBagError, match="not a regular file"):
+        read_bag([bag])
+
+
+def test_one_zstd_bomb_does_not_use_up_a_message_compressed_bag(tmp_path: Path) -> None:
+    """One message of a bag compressed message by message is a bomb that does not state its size: it
+    alone is lost, the 799 /tf messages after it are read (issue 32 U4)."""
+    from tests.sources.ros2_helpers import Msg, Tf, write_rosbag2
+
+    written = [Msg("/tf", T0 + i, (Tf("map", "odom", i),)) for i in range(800)]
+    bag = write_rosbag2(tmp_path / "bag", written, compression="message")
+    db = sqlite3.connect(bag / "bag.db3")
+    (first,) = db.execute("SELECT min(id) FROM messages").fetchone()
+    db.execute("UPDATE messages SET data = ? WHERE id = ?", (hostile.compressed_zeros("zstd", 1 << 30), first))
+    db.commit()
+    db.close()
+    contents = read_bag([bag])
+    assert len(contents.transforms) == 799
+    (line,) = contents.problems
+    assert line.startswith("/tf: 1 of 800 messages could not be decompressed") and "share of the file's budget" in line
+
+
+@pytest.mark.parametrize("mode", ["message", "file"])
+def test_a_compressed_bag_is_copied_within_the_budget(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, mode: str
+) -> None:
+    """``tfx static -b IN -o OUT`` (and ``--repair``) copy through rosbags, whose zstd decompression has no
+    bound: it goes through the budgeted one (issue 32 M2). A healthy compressed bag is copied with the
+    statics added; one with a bomb is refused in one line, and no copy is left."""
+    from tests.sources.ros2_helpers import Msg, Tf, write_rosbag2
+    from tftools.sinks.static_bag import add_static_transforms
+    from tftools.sources.errors import BagError
+
+    static = Transform((0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 1.0), 0, "base", "laser")
+    written = [Msg("/tf", T0 + i, (Tf("map", "odom", i),)) for i in range(50)]
+    healthy = write_rosbag2(tmp_path / "healthy", written, compression=mode)
+    copy = add_static_transforms(healthy, tmp_path / "copy", [static])
+    assert len(read_bag([copy]).transforms) == 51
+    monkeypatch.setattr(unpack, "MAX_UNPACKED", 4 << 20)
+    monkeypatch.setattr(unpack, "MIN_BUDGET", 8 << 20)
+    bomb = write_rosbag2(tmp_path / "bomb", [*written, Msg("/big", T0 + 60, ())], compression=mode)
+    if mode == "message":
+        db = sqlite3.connect(bomb / "bomb.db3")
+        db.execute("UPDATE messages SET data = ? WHERE id = (SELECT max(id) FROM messages)",
+                   (hostile.compressed_zeros("zstd", 64 << 20),))  # fmt: skip
+        db.commit()
+        db.close()
+    else:
+        (compressed,) = bomb.glob("*.zstd")  # the database, then 64 MiB of zeros sqlite would not mind
+        plain = zstandard.ZstdDecompressor().stream_reader(compressed.read_bytes()).read()
+        z = zstandard.ZstdCompressor().compressobj()
+        compressed.write_bytes(z.compress(plain) + b"".join(z.compress(bytes(1 << 20)) for _ in range(64)) + z.flush())
+    with pytest.raises(BagError, match="could not be copied"):
+        add_static_transforms(bomb, tmp_path / "bomb_copy", [static])
+    assert not (tmp_path / "bomb_copy").exists()

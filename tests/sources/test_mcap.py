@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from mcap.writer import CompressionType, IndexType
 
+from tests.sources.formats import read_as
 from tests.sources.ros2_helpers import (
     NS,
     T0,
@@ -33,13 +34,13 @@ from tests.sources.ros2_helpers import (
     write_foxglove_mcap,
     write_rosbag2,
 )
-from tftools.sources.bag import mcap, ranges
 from tftools.sources.bag.mcap import index as mcap_index
 from tftools.sources.bag.mcap.records import CHUNK_HEAD, Body, ChunkIndex
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.spans import Spans
 from tftools.sources.errors import BagError, CorruptBagError
+from tftools.sources.storage.source import ByteSource
 
 DEFAULT = ("/tf", "/tf_static")
 CHANNELS = [
@@ -316,7 +317,7 @@ def test_not_mcap(tmp_path: Path, content: bytes) -> None:
     path = tmp_path / "x.mcap"
     path.write_bytes(content)
     with pytest.raises(CorruptBagError) as caught:
-        mcap.read(path, DEFAULT, lambda *_: None)
+        read_as("mcap", path, DEFAULT)
     assert "\n" not in str(caught.value)
 
 
@@ -343,11 +344,11 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     """What the MCAP reader reads of its chunks, as it reads it: ("range", bytes) of the ranges
     read from uncompressed chunks, (compression, bytes) of a chunk read whole."""
     seen: list[tuple[str, int]] = []
-    read_into, chunk_records = ranges.read_into, mcap_index.chunk_records
+    read_into, chunk_records = ByteSource.read_into, mcap_index.chunk_records
 
-    def counted_range(fd: int, view: memoryview, offset: int) -> bool:
+    def counted_range(source: ByteSource, view: memoryview, offset: int) -> bool:
         seen.append(("range", len(view)))
-        return read_into(fd, view, offset)
+        return read_into(source, view, offset)
 
     def counted_chunk(content: memoryview, **options: Any) -> bytes | memoryview:
         body = Body(content)
@@ -355,7 +356,7 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
         seen.append((body.string() or "none", len(content)))
         return chunk_records(content, **options)
 
-    monkeypatch.setattr(ranges, "read_into", counted_range)
+    monkeypatch.setattr(ByteSource, "read_into", counted_range)
     monkeypatch.setattr(mcap_index, "chunk_records", counted_chunk)
     return seen
 
@@ -394,7 +395,8 @@ def test_images_between_transforms_read_in_ranges(
     assert by_time(rows) == by_time(reference_rows(path.parent, RANGE_TOPICS))
     assert contents.problems == [] and contents.files[0].topics["/camera/image"] == IMAGE_TYPE
     assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.1 * path.stat().st_size
-    assert len(mcap_index._summary(path.open("rb"), path.stat().st_size).chunks) > 3  # type: ignore[union-attr]
+    with ByteSource(path) as source:
+        assert len(mcap_index.summary_of(source).chunks) > 3  # type: ignore[union-attr]
     data = bytearray(path.read_bytes())
     data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # no summary: read record by record
     path.write_bytes(bytes(data))
@@ -431,8 +433,8 @@ def foxglove_among_images(tmp_path: Path, **options: Any) -> Path:
 
 
 def chunks_of(path: Path) -> list[ChunkIndex]:
-    with path.open("rb") as f:
-        summary = mcap_index._summary(f, path.stat().st_size)
+    with ByteSource(path) as source:
+        summary = mcap_index.summary_of(source)
     assert summary is not None
     return sorted(summary.chunks, key=lambda c: c.offset)
 
@@ -515,3 +517,23 @@ def _channel_ids(path: Path, *topics: str) -> list[int]:
     assert summary is not None
     ids = {channel.topic: channel.id for channel in summary.channels.values()}
     return [ids[topic] for topic in topics]
+
+
+def test_a_summary_that_lies_is_read_past_by_scanning(tmp_path: Path) -> None:
+    """A record inserted before the chunks moves every one of them: not one chunk is where the summary
+    says, so the file is read record by record instead, every transform found (issue 32 U4)."""
+    path = write(tmp_path / "x.mcap", "small_chunks")
+    expected = batch_rows(read_bag([path]).transforms)
+    data = path.read_bytes()
+    header_end = 8 + 9 + struct.unpack_from("<Q", data, 9)[0]  # the magic, then the header record
+    assert data[8] == 0x01
+    moved = bytearray(data[:header_end] + data[8:header_end] + data[header_end:])  # the header again
+    footer = len(moved) - 8 - 29  # the footer record: opcode, length, summary start, its offsets' start, crc
+    assert moved[footer] == 0x02
+    for at in (footer + 9, footer + 17):  # the summary is found where it now is; the chunks it lists are not
+        (offset,) = struct.unpack_from("<Q", moved, at)
+        struct.pack_into("<Q", moved, at, offset + header_end - 8 if offset else 0)
+    path.write_bytes(bytes(moved))
+    contents = read_bag([path])
+    assert batch_rows(contents.transforms) == expected and len(expected) > 100
+    assert not contents.files[0].windowed  # read whole, record by record

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from rosbags.rosbag1 import Reader
 
+from tests.sources.formats import read_as
 from tests.sources.ros1_helpers import (
     NS,
     T0,
@@ -27,7 +28,6 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
-from tftools.sources.bag import ranges, ros1
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.ros1 import file as ros1_file
 from tftools.sources.bag.ros1 import index as ros1_index
@@ -35,6 +35,7 @@ from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.ros1 import decode_tf
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
+from tftools.sources.storage.source import ByteSource
 
 TOPICS = ("/tf", "/tf_static")
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag"
@@ -68,7 +69,7 @@ def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 
 def read(path: Path, topics: tuple[str, ...] = TOPICS):
-    return ros1.read(path, topics, lambda *_: None)
+    return read_as("ros1", path, topics)
 
 
 def tf_messages(path: Path, topics: tuple[str, ...] = TOPICS) -> int:
@@ -208,18 +209,18 @@ def test_the_images_of_an_uncompressed_bag_are_not_read(
 ) -> None:
     bag = write_rosbag(tmp_path / "b.bag", interleaved(60, 300_000), "none", chunk_threshold=768 * 1024)
     read_bytes: list[int] = []
-    pread, read_into = os.pread, ranges.read_into
+    pread, read_into = os.pread, ByteSource.read_into
 
     def counted_pread(fd: int, length: int, offset: int) -> bytes:  # a chunk read whole
         read_bytes.append(length)
         return pread(fd, length, offset)
 
-    def counted_range(fd: int, view: memoryview, offset: int) -> bool:
+    def counted_range(source: ByteSource, view: memoryview, offset: int) -> bool:
         read_bytes.append(len(view))
-        return read_into(fd, view, offset)
+        return read_into(source, view, offset)
 
     monkeypatch.setattr(os, "pread", counted_pread)
-    monkeypatch.setattr(ranges, "read_into", counted_range)
+    monkeypatch.setattr(ByteSource, "read_into", counted_range)
     batches, info = read(bag)
     assert rows_of(batches) == reference_rows(bag) and len(rows_of(batches)) == 180 and info.problems == []
     assert len(tf_counts(bag)) > 20 and bag.stat().st_size > 18_000_000
@@ -234,10 +235,10 @@ def test_chunk_headers_and_indexes_are_prefetched(
     bag = write_rosbag(tmp_path / "b.bag", interleaved(60, 300_000), "none", chunk_threshold=768 * 1024)
     prefetched: list[tuple[int, int]] = []
 
-    def noted(fd: int, starts: np.ndarray, ends: np.ndarray) -> None:
+    def noted(_source: ByteSource, starts: np.ndarray, ends: np.ndarray) -> None:
         prefetched.extend(zip(starts.tolist(), ends.tolist(), strict=True))
 
-    monkeypatch.setattr(ros1_index, "ahead", noted)
+    monkeypatch.setattr(ByteSource, "ahead", noted)
     assert rows_of(read(bag)[0]) == reference_rows(bag)
     with Reader(bag) as reader:
         infos = sorted(reader.chunk_infos, key=lambda info: info.pos)

@@ -53,3 +53,72 @@ def test_a_db3_gives_each_images_header_whole_or_compressed(tmp_path: Path, comp
     assert stream.record_time.tolist() == [1_000 + i for i in range(6)]
     assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 + 250 for i in range(6)]
     assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [frames[i % 2] for i in range(6)]
+
+
+def test_a_ros1_bag_gives_each_images_header_reading_little_more(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Of an uncompressed ROS 1 bag's images only the bytes that may hold their header are read (the
+    stamps and frames are those written, long frame names included), not the 300 KB after each."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from tftools.sources.bag.reader import BagReader
+    from tftools.sources.storage.source import ByteSource
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    frames = ["camera", "c" * 3000]
+    bag = tmp_path / "images.bag"
+    with Writer(bag) as writer:
+        connection = writer.add_connection("/camera", IMAGE, typestore=store)
+        for i in range(12):
+            header = store.types["std_msgs/msg/Header"](i, store.types["builtin_interfaces/msg/Time"](100 + i, 250),
+                                                        frames[i % 2])  # fmt: skip
+            pixels = np.random.default_rng(i).integers(0, 256, 300_000, np.uint8)
+            image = store.types[IMAGE](header, 1, 300_000, "mono8", 0, 300_000, pixels)
+            writer.write(connection, 1_000 + i, bytes(store.serialize_ros1(image, IMAGE)))
+    read: list[int] = []
+    ranges = ByteSource.read_ranges
+
+    def counted(source: ByteSource, starts: Any, ends: Any) -> Any:
+        read.append(int((ends - starts).sum()))
+        return ranges(source, starts, ends)
+
+    monkeypatch.setattr(ByteSource, "read_ranges", counted)
+    with BagReader([bag], headers=()) as reader:
+        (stream,) = reader.read().files[0].stamped
+    assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 + 250 for i in range(12)]
+    assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [frames[i % 2] for i in range(12)]
+    assert 0 < sum(read) < 0.05 * bag.stat().st_size
+
+
+def test_an_mcap_gives_each_images_header_reading_little_more(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Of an MCAP file's uncompressed chunks only the bytes that may hold each image's header are read,
+    alongside the transforms, not the 300 KB after each."""
+    from tests.sources.ros2_helpers import Msg, Tf
+    from tftools.sources.bag.reader import BagReader
+    from tftools.sources.storage.source import ByteSource
+
+    store = typestore()
+    frames = ["camera", "c" * 3000]
+    written: list[Any] = []
+    for i in range(12):
+        written.append(Other("/camera", 1_000 + 10 * i, _image(store, 100 + i, frames[i % 2], 300_000), IMAGE))
+        written.append(Msg("/tf", 1_005 + 10 * i, (Tf("map", "odom", i),)))
+    bag = write_rosbag2(tmp_path / "images", written, storage="mcap")
+    read: list[int] = []
+    ranges = ByteSource.read_ranges
+
+    def counted(source: ByteSource, starts: Any, ends: Any) -> Any:
+        read.append(int((ends - starts).sum()))
+        return ranges(source, starts, ends)
+
+    monkeypatch.setattr(ByteSource, "read_ranges", counted)
+    with BagReader([bag], headers=()) as reader:
+        contents = reader.read()
+    (stream,) = contents.files[0].stamped
+    assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 + 250 for i in range(12)]
+    assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [frames[i % 2] for i in range(12)]
+    assert len(contents.transforms) == 12 and contents.problems == []
+    size = sum(p.stat().st_size for p in bag.iterdir())
+    assert 0 < sum(read) < 0.05 * size

@@ -3,17 +3,22 @@ fsspec's in-memory filesystem read through sparse copies, only the ranges the re
 
 from __future__ import annotations
 
+import http.server
 import shutil
+import threading
+import time
+import zlib
 from collections.abc import Iterator
 from pathlib import Path
+from typing import ClassVar
 
 import fsspec
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.sources.bag import read_bag
-from tftools.sources.errors import BagNotFoundError
-from tftools.sources.storage import expand, is_url, recordings_in
+from tftools.sources.errors import BagError, BagNotFoundError, RemoteError
+from tftools.sources.storage import expand, is_url, recordings_in, remote
 from tftools.sources.storage.remote import GAP_BYTES, RemoteCopy, local_view
 
 
@@ -91,6 +96,70 @@ def test_a_reply_longer_than_asked_is_refused(memory_bucket: str, tmp_path: Path
             return [b"x" * (e - s + 1) for s, e in zip(starts, ends, strict=True)]
 
     fd = (tmp_path / "copy").open("wb").fileno()
-    copy = RemoteCopy(Lying(), "memory://lying.bag", "/lying.bag", 1000, fd)  # type: ignore[arg-type]
+    copy = RemoteCopy(Lying(), "memory://lying.bag", "/lying.bag", 1000, fd, tmp_path / "copy")  # type: ignore[arg-type]
     with pytest.raises(Exception, match="sent 11 bytes for 10 asked"):
         copy.fill([0], [10])
+
+
+class _HostileHandler(http.server.BaseHTTPRequestHandler):
+    """A server for hostile replies: a gzip-encoded body (``gzip``) or one trickled a byte at a time."""
+
+    encodings: ClassVar[list[str]] = []
+    trickle: ClassVar[bool] = False
+    body: ClassVar[bytes] = b""
+
+    def do_HEAD(self) -> None:
+        self.send_response(200)
+        self.send_header("Content-Length", str(1 << 20))
+        self.end_headers()
+
+    def do_GET(self) -> None:
+        type(self).encodings.append(self.headers.get("Accept-Encoding", ""))
+        self.send_response(206)
+        self.send_header("Content-Range", f"bytes 0-{(1 << 20) - 1}/{1 << 20}")
+        if self.trickle:  # 40 bytes in 4 s: a whole reply, each byte well within the read timeout
+            self.send_header("Content-Length", "40")
+            self.end_headers()
+            for _ in range(40):
+                self.wfile.write(b"x")
+                self.wfile.flush()
+                time.sleep(0.1)
+            return
+        self.send_header("Content-Encoding", "gzip")
+        self.send_header("Content-Length", str(len(self.body)))
+        self.end_headers()
+        self.wfile.write(self.body)
+
+    def log_message(self, *args: object) -> None:
+        pass
+
+
+@pytest.fixture
+def hostile_server() -> Iterator[str]:
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), _HostileHandler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://127.0.0.1:{server.server_address[1]}"
+    server.shutdown()
+
+
+def test_a_gzip_encoded_reply_is_not_inflated(hostile_server: str) -> None:
+    """A server answering with ``Content-Encoding: gzip`` (here 16 MiB of zeros in 16 KiB): the body is
+    taken as sent, never inflated in memory (issue 32 M5): the bag is unreadable, not a memory bomb."""
+    squeeze = zlib.compressobj(9, zlib.DEFLATED, 31)
+    _HostileHandler.body = squeeze.compress(bytes(16 << 20)) + squeeze.flush()
+    _HostileHandler.trickle = False
+    _HostileHandler.encodings.clear()
+    with pytest.raises(BagError) as caught:
+        read_bag([f"{hostile_server}/bomb.bag"])
+    assert "sent" not in str(caught.value)  # not inflated past the bytes asked for
+    assert _HostileHandler.encodings and set(_HostileHandler.encodings) == {"identity"}
+
+
+def test_a_trickling_server_meets_the_deadline(hostile_server: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A server sending a byte at a time, each within the read timeout, still meets the request's
+    overall deadline (issue 32 H2)."""
+    monkeypatch.setattr(remote, "REQUEST_DEADLINE", 1)
+    _HostileHandler.trickle = True
+    with pytest.raises(RemoteError, match="failed"):  # without the deadline: read, and not a bag
+        read_bag([f"{hostile_server}/slow.bag"])

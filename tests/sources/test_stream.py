@@ -163,13 +163,30 @@ def test_arrivals_keep_an_even_sample_of_a_long_recording() -> None:
     assert abs(np.median(kept) - np.median(values)) <= stride
 
 
-def test_a_window_that_cannot_be_read_ends_the_replay_with_its_error(tmp_path: Path) -> None:
-    """The file went away after the first pass: the replay thread stops, and ``follow`` raises why."""
+def test_a_window_that_cannot_be_read_ends_the_replay_with_its_error(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A window that cannot be read after the first pass: the replay thread stops, and ``follow`` raises why."""
     bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
     streamed = stream_recording([bag], window_messages=300)
-    bag.unlink()
+
+    def unreadable(*_: object) -> None:
+        raise BagNotFoundError(str(bag))
+
+    monkeypatch.setattr(streamed.reader, "read", unreadable)
     with pytest.raises(BagNotFoundError):
         follow(streamed.replay(rate=1e6), lambda _batch: None, lambda: None, period=0.01, duration=5)
+
+
+def test_the_stream_reads_through_the_files_it_opened(tmp_path: Path) -> None:
+    """The recording is opened once: a file removed after the first pass is still replayed whole
+    (its reader holds it open), and closing the stream lets it go."""
+    bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
+    whole = len(read_bag([bag]).transforms)
+    with stream_recording([bag], window_messages=300) as streamed:
+        bag.unlink()
+        assert len(streamed.windows) > 3
+        assert sum(len(part) for part in streamed.parts()) == whole
 
 
 def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None:
@@ -188,3 +205,23 @@ def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None
 ])  # fmt: skip
 def test_a_stream_answers_as_the_tf2_asked_for(paths: list[Path], chosen: Semantics | None, expected: str) -> None:
     assert stream_recording(paths, semantics=chosen).semantics == expected
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_the_indexes_are_read_once_for_every_window(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: BagFormat
+) -> None:
+    """The first pass and the replay read many windows through one reader: each file's index (a ROS 1
+    bag's, an MCAP summary, a .db3's topics and statistics) is read once, not once a window."""
+    from tftools.sources.bag import mcap, ros1
+    from tftools.sources.bag.rosbag2 import db3
+
+    bag = simulation(tmp_path / "sim", fmt)
+    counted: list[str] = []
+    for module, name in ((ros1, "read_index"), (mcap, "summary_of"), (db3, "_statistics")):
+        real = getattr(module, name)
+        monkeypatch.setattr(module, name, lambda *a, _real=real, _name=name: counted.append(_name) or _real(*a))
+    with stream_recording([bag], window_messages=300) as streamed:
+        assert len(streamed.windows) > 3
+        assert sum(len(part) for part in streamed.parts()) == len(read_recording([bag]).transforms)
+    assert len(counted) == 2  # this stream's, then read_recording's

@@ -15,11 +15,13 @@ from tests.sources.ros1_helpers import rows_of
 from tests.sources.ros2_helpers import varied_messages, write_rosbag2
 from tftools.core.transform import Transform
 from tftools.sources.bag.contents import BagContents, RecordWindow
-from tftools.sources.bag.mcap.index import _summary
+from tftools.sources.bag.mcap.index import summary_of
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.index import read_index
 from tftools.sources.bag.ros1.records import read_bag_header
+from tftools.sources.codecs.select import Wanted
+from tftools.sources.storage.source import ByteSource
 
 SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"
 NS = 1_000_000_000
@@ -112,16 +114,16 @@ def _damage_first_chunk(path: Path, fmt: BagFormat, into: Path) -> tuple[Path, i
     the page of its first message), and the record time of that chunk's last message."""
     if fmt is BagFormat.ros1:
         data = bytearray(path.read_bytes())
-        with path.open("rb") as f:
-            bag = BagFile(path.name, bytes(data), f.fileno(), ("/tf",), lambda *_: None)
-            chunks = read_index(bag, read_bag_header(data))
+        with ByteSource(path) as source:
+            bag = BagFile(path.name, bytes(data), source, Wanted(("/tf",)), lambda *_: None)
+            chunks = read_index(bag, read_bag_header(data)).infos
         assert len(chunks) >= 3
         at, end = chunks[0].pos, chunks[0].end
     elif fmt is BagFormat.rosbag2_mcap:
         path = next(path.glob("*.mcap"))
         data = bytearray(path.read_bytes())
-        with path.open("rb") as f:
-            summary = _summary(f, len(data))
+        with ByteSource(path) as source:
+            summary = summary_of(source)
         assert summary is not None and len(summary.chunks) >= 3
         at, end = summary.chunks[0].offset, summary.chunks[0].message_end
     else:

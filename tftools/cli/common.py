@@ -148,8 +148,10 @@ def open_recording(
     ros1: bool | None = None,
     use_sim_time: bool | None = None,
     duration: float = 5.0,
+    headers: Sequence[str] | None = None,
 ) -> Recording:
-    """Read the bags into one recording, with a progress bar; report what could not be read.
+    """Read the bags into one recording (and with ``headers``, its sensor data's headers on them, in
+    the same pass: ``read_recording``), with a progress bar; report what could not be read.
 
     Without bags: what the live system says in ``duration`` seconds (``tftools.cli.live``)."""
     if not bags:
@@ -158,7 +160,7 @@ def open_recording(
         return capture_live(ros1, use_sim_time, duration, topics, semantics)[0]
     from tftools.sources import read_recording
 
-    return _read(bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics))
+    return _read(bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics, headers=headers))
 
 
 def open_stream(bags: Sequence[str], topics: Sequence[str] | None, semantics: Semantics | None) -> StreamedRecording:

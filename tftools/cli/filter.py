@@ -58,10 +58,11 @@ def command(
         wait = positive_seconds(wait, "--wait", "0.2")
     from tftools.analysis.filter import filter_report
     from tftools.render import filter as render
-    from tftools.sources.bag.stamped import read_stamped
+    from tftools.sources.bag.stamped import stamped_of
 
     if bags:
-        recording, stamped = open_recording(bags, None, tf2), read_stamped(bags, topics)
+        recording = open_recording(bags, None, tf2, headers=tuple(topics or ()))
+        stamped = stamped_of(recording.contents.files, topics)
     else:
         recording, stamped = live.capture_with_headers(ros1, use_sim_time, duration, topics, tf2)
     chosen = frame_argument(recording.buffer.frames, target) if target is not None else None

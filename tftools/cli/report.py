@@ -110,14 +110,14 @@ def _bag_sections(
     """One section per recording; one that cannot be read is an error of its own in a fleet, and the
     command's error when it is the only one (or none can be read)."""
     from tftools.analysis.description import robot_of
-    from tftools.analysis.wtf.fleet import sensor_data
     from tftools.render.report import unreadable_section
+    from tftools.sources.bag.stamped import stamped_of
 
     sections: list[Section] = []
     unread: list[TfToolsError] = []
     for index, group in enumerate(groups):
         try:
-            recording = open_recording(group, topics, semantics)
+            recording = open_recording(group, topics, semantics, headers=tuple(sensors or ()))
         except TfToolsError as error:
             if len(groups) == 1:
                 raise
@@ -127,7 +127,8 @@ def _bag_sections(
             sections.append(unreadable_section(index, name, str(error), error.hint))
             continue
         robot, said = robot_of(group, recording, description)
-        sections.append(_section(index, recording, sensor_data(group, sensors), target, robot, said))
+        streams = stamped_of(recording.contents.files, sensors).streams
+        sections.append(_section(index, recording, streams, target, robot, said))
     if len(unread) == len(groups):
         raise unread[0]
     return sections

@@ -7,15 +7,19 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 import numpy as np
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.bag.damage import DamageError
+from tftools.sources.bag.formats import ROS1, is_format
+from tftools.sources.bag.unpack import Budget, zstd_file, zstd_messages
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import TransformEncoder
 from tftools.sources.codecs.ros1 import encode_tf_message
@@ -109,7 +113,7 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
             raise BagError(str(target), "already exists", "choose another output path, or --force to replace it")
         if target.is_dir() and not only_bag_files(target):
             raise BagError(str(target), "is a folder that is not a ROS2 bag", "--force replaces only an earlier output")
-    if not (source.is_dir() or _is_ros1(source)):
+    if not (source.is_dir() or is_format(source, ROS1)):
         raise UnknownBagFormatError(
             str(source), "static transforms are added to ROS1 .bag files and ROS2 bag directories"
         )
@@ -144,14 +148,6 @@ def _never_over_the_input(source: Path, target: Path) -> None:
         raise BagError(str(target), "is the input bag, inside it or a folder holding it", "write the copy elsewhere")
 
 
-def _is_ros1(path: Path) -> bool:
-    try:
-        with path.open("rb") as f:
-            return f.read(13) == b"#ROSBAG V2.0\n"
-    except OSError:
-        return False
-
-
 def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
     from rosbags.interfaces import ConnectionExtRosbag1
     from rosbags.rosbag1 import Reader, Writer
@@ -180,13 +176,49 @@ def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
         _copy_messages(plan, reader, writer, connections, static, own, encode_tf_message)
 
 
+@contextmanager
+def _budgeted_zstd(source: Path) -> Iterator[None]:
+    """While rosbags reads a compressed ROS 2 bag, its zstd decompression goes through tftools' budgeted
+    one (``unpack``), the same as when the bag is read for its transforms: a message or file that would
+    decompress past its share of the budget stops the copy with an error, instead of filling memory or
+    the temporary folder (rosbags decompresses without a bound)."""
+    import rosbags.rosbag2.reader as rosbag2_reader
+
+    size = sum(p.stat().st_size for p in source.iterdir() if p.is_file())
+    real = rosbag2_reader.zstd  # type: ignore[attr-defined]
+    message = zstd_messages(size)
+    budget = Budget(size)
+
+    class Budgeted:
+        @staticmethod
+        def decompress(data: bytes) -> bytes:
+            return message(bytes(data))
+
+        @staticmethod
+        @contextmanager
+        def open(file: BinaryIO, _mode: str = "rb") -> Iterator[BinaryIO]:
+            with tempfile.TemporaryDirectory(prefix="tftools-") as folder:
+                plain = Path(folder) / "plain"
+                loss = zstd_file(file, plain, budget)
+                if loss:
+                    raise DamageError(loss)
+                with plain.open("rb") as decompressed:
+                    yield decompressed
+
+    rosbag2_reader.zstd = Budgeted  # type: ignore[attr-defined,assignment]
+    try:
+        yield
+    finally:
+        rosbag2_reader.zstd = real  # type: ignore[attr-defined]
+
+
 def _copy_rosbag2(source: Path, target: Path, plan: _Plan) -> None:
     from rosbags.interfaces import ConnectionExtRosbag2
     from rosbags.rosbag2 import CompressionFormat, CompressionMode, Reader, StoragePlugin, Writer
 
     store = typestore("ros2_humble")
     plugin = StoragePlugin.MCAP if any(source.glob("*.mcap")) else StoragePlugin.SQLITE3
-    with Reader(source) as reader:
+    with _budgeted_zstd(source), Reader(source) as reader:
         writer = Writer(target, version=8, storage_plugin=plugin)
         if reader.compression_mode and reader.compression_format:
             writer.set_compression(

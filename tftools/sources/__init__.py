@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from tftools import lazy
 
 if TYPE_CHECKING:
-    from tftools.sources.bag import BagContents, BagFileInfo, read_bag
+    from tftools.sources.bag import BagContents, BagFileInfo, BagReader, read_bag
     from tftools.sources.contents import DEFAULT_TOPICS, RecordingContents, SourceInfo
     from tftools.sources.errors import (
         BagError,
@@ -28,6 +28,7 @@ __all__ = [
     "BagError",
     "BagFileInfo",
     "BagNotFoundError",
+    "BagReader",
     "CorruptBagError",
     "NoTransformsError",
     "Recording",
@@ -46,6 +47,7 @@ _HOME = {
     "BagError": "tftools.sources.errors",
     "BagFileInfo": "tftools.sources.bag",
     "BagNotFoundError": "tftools.sources.errors",
+    "BagReader": "tftools.sources.bag",
     "CorruptBagError": "tftools.sources.errors",
     "DEFAULT_TOPICS": "tftools.sources.contents",
     "NoTransformsError": "tftools.sources.errors",

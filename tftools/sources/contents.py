@@ -97,6 +97,17 @@ class Fetched:
         return line + (", .db3 files whole (SQLite reads a local file)" if self.whole else "")
 
 
+@dataclass(frozen=True)
+class OfferedQos:
+    """The QoS profiles each static topic's publishers offered, as a ROS 2 bag's metadata.yaml says:
+    what ``ros2 bag play`` publishes it with; ``problem``: why metadata.yaml does not say ("": it does);
+    ``metadata``: False for a bag without one (a bare .db3 or .mcap file)."""
+
+    profiles: dict[str, list[object]]
+    problem: str = ""
+    metadata: bool = True
+
+
 def _megabytes(n: int) -> str:
     return f"{n / 1e6:.2f} MB" if n >= 10_000 else f"{n} bytes"
 
@@ -120,6 +131,8 @@ class SourceInfo:
     fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
     stamped: list[StampedMessages] = field(default_factory=list, repr=False, compare=False)  # headers read
     whole: list[WholeMessages] = field(default_factory=list, repr=False, compare=False)  # messages read whole
+    stamped_problems: list[str] = field(default_factory=list)  # headers that could not be read, one line a topic
+    qos: OfferedQos | None = None  # a ROS 2 bag's offered QoS (None: not read from a ROS 2 bag)
     # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
     # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.
     windowed: bool = True

@@ -16,7 +16,8 @@ from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.time import SimClock
-from tftools.sources.bag import ProgressCallback, read_bag
+from tftools.sources.bag import ProgressCallback
+from tftools.sources.bag.reader import BagReader
 from tftools.sources.contents import BUFFER_FORMAT, DEFAULT_TOPICS, ClockSamples, RecordingContents, SourceInfo
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.timeline import Timeline, timeline_of
@@ -74,10 +75,14 @@ def read_recording(
     *,
     allow_empty: bool = False,
     semantics: Semantics | None = None,
+    headers: Sequence[str] | None = None,
 ) -> Recording:
     """Read bags into a whole-recording buffer (no cache limit) answering as ``semantics`` (by default
-    the recording's own); ``NoTransformsError`` when no transform was found, unless ``allow_empty``."""
-    contents = read_bag(paths, topics, progress)
+    the recording's own); ``NoTransformsError`` when no transform was found, unless ``allow_empty``.
+    With ``headers``, the sensor data's headers on those topics (none named: every topic whose
+    messages start with a header) are read in the same pass (``stamped_of(recording.contents.files)``)."""
+    with BagReader(paths, topics, headers=headers) as reader:
+        contents = reader.read(progress=progress)
     if not contents.parts and not allow_empty:
         raise no_transforms(paths, contents)
     return recording_of(contents, semantics)

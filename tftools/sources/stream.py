@@ -3,6 +3,7 @@ whole, for replays: memory stays bounded however long the recording is.
 
 A first pass over the windows learns what a replay needs to know up front (the frames, the tf's span,
 which clock the stamps are on); ``replay`` then reads the windows again as the clock reaches them.
+One ``BagReader`` serves every window of both: the files are opened and their indexes read once.
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import weakref
 from collections.abc import Iterator, Sequence
 
 import numpy as np
@@ -18,9 +20,9 @@ from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
-from tftools.sources.bag import ProgressCallback, read_bag
+from tftools.sources.bag import BagReader, ProgressCallback
 from tftools.sources.bag.contents import BagFileInfo, RecordWindow
-from tftools.sources.contents import DEFAULT_TOPICS, ClockSamples, RecordingContents
+from tftools.sources.contents import ClockSamples, RecordingContents
 from tftools.sources.recording import no_transforms, semantics_of
 from tftools.sources.replay import Replay
 from tftools.sources.timeline import (
@@ -36,8 +38,8 @@ from tftools.sources.timeline import (
 
 #: Messages (of every topic, as the files' indexes count them) a window is planned to hold.
 WINDOW_MESSAGES = 50_000
-#: Windows at most: each reads the files' indexes again, and a damaged index may count any number of
-#: messages (a day of 10 kHz tf still takes windows of under a million messages).
+#: Windows at most: a damaged index may count any number of messages (a day of 10 kHz tf still takes
+#: windows of under a million messages).
 MAX_WINDOWS = 1024
 #: Arrivals per frame the clocks' medians are taken from: every one in a short recording, evenly
 #: spaced ones over a long recording.
@@ -48,20 +50,22 @@ Window = RecordWindow | None
 
 
 class StreamedRecording:
-    """A recording described by a first pass over its windows, whose transforms ``replay`` reads again."""
+    """A recording described by a first pass over its windows, whose transforms ``replay`` reads again
+    through the open ``reader`` (closed by ``close``, or when the recording is let go)."""
 
     def __init__(
         self,
-        paths: Sequence[str],
-        topics: tuple[str, ...],
+        reader: BagReader,
         windows: Sequence[Window],
         contents: RecordingContents,
         recorded: Timeline,
         frames: Sequence[str],
         semantics: Semantics,
     ) -> None:
-        self.paths = list(paths)
-        self.topics = topics
+        self.reader = reader
+        weakref.finalize(self, reader.close)  # closed when the stream is let go, if not before
+        self.paths = list(reader.paths)
+        self.topics = reader.topics
         self.windows = tuple(windows)
         self.contents = contents  # the files described: no parts, no clock
         self.frames = list(frames)
@@ -79,7 +83,7 @@ class StreamedRecording:
         stamps' clock (``Playback``)."""
         playback = Playback(self._recorded)
         for window in self.windows:
-            contents = read_bag(self.paths, self.topics, window=window)
+            contents = self.reader.read(window)
             playback.heard(contents.clock)
             for part in contents.parts:
                 yield dataclasses.replace(part, record_time=playback.moved(part.record_time))
@@ -88,6 +92,15 @@ class StreamedRecording:
         """A replay on the clock the tf is stamped on: what a node with use_sim_time sees while the bag
         plays with its recorded /clock, or on its record clock."""
         return Replay(self.parts(), rate=rate, start=start, end=end)
+
+    def close(self) -> None:
+        self.reader.close()
+
+    def __enter__(self) -> StreamedRecording:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
 
 
 def stream_recording(
@@ -101,15 +114,19 @@ def stream_recording(
     """The recording at ``paths`` (see ``read_bag``), read in windows of about ``window_messages``
     messages to describe it; its transforms are read again by ``replay``. ``NoTransformsError`` when
     no transform was found."""
-    chosen = tuple(topics) if topics else DEFAULT_TOPICS
-    described = read_bag(paths, chosen, window=RecordWindow(0, 0))
-    windows = _windows(described.files, window_messages)
-    summary = _Summary(semantics or semantics_of(described), described.files)
-    for index, window in enumerate(windows):
-        summary.add(read_bag(paths, chosen, _share(progress, index, len(windows)), window=window))
-    contents = RecordingContents([], summary.files, chosen)
-    if not summary.transforms:
-        raise no_transforms(paths, contents)
+    reader = BagReader(paths, topics).__enter__()
+    try:
+        described = reader.read(RecordWindow(0, 0))
+        windows = _windows(described.files, window_messages)
+        summary = _Summary(semantics or semantics_of(described), described.files)
+        for index, window in enumerate(windows):
+            summary.add(reader.read(window, _share(progress, index, len(windows))))
+        contents = RecordingContents([], summary.files, reader.topics)
+        if not summary.transforms:
+            raise no_transforms(paths, contents)
+    except BaseException:
+        reader.close()
+        raise
     start = contents.start if contents.start > 0 else summary.first_known or contents.start  # of known times
     recorded = timeline_from(
         summary.edges(),
@@ -118,8 +135,7 @@ def stream_recording(
         contents.end,
         tf_span(summary.spans.values(), start, contents.end),
     )
-    paths_said = [os.fspath(p) for p in paths]
-    return StreamedRecording(paths_said, chosen, windows, contents, recorded, summary.frames, summary.semantics)
+    return StreamedRecording(reader, windows, contents, recorded, summary.frames, summary.semantics)
 
 
 def _windows(files: Sequence[BagFileInfo], messages: int) -> tuple[Window, ...]:

@@ -15,7 +15,7 @@ from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.sources.bag import ProgressCallback
-from tftools.sources.bag.stamped import read_stamped
+from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import Fetched, StampedMessages
 from tftools.sources.recording import Recording, read_recording
 from tftools.sources.urdf import RobotDescription
@@ -75,7 +75,9 @@ def check_bags(
     recorded /robot_description: ``robot_of``); a bag that cannot be read is reported, not raised."""
     names = tuple(str(p) for p in paths)
     try:
-        recording = read_recording(paths, topics, progress, allow_empty=True, semantics=semantics)
+        recording = read_recording(
+            paths, topics, progress, allow_empty=True, semantics=semantics, headers=tuple(sensor_topics or ())
+        )
     except TfToolsError as error:
         return unreadable(names, str(error), error.hint)
     except Exception as error:  # a reader's bug on a strange file must not stop a fleet, nor pass for damage
@@ -85,7 +87,8 @@ def check_bags(
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
     robot, said = robot_of(paths, recording, urdf, urdf_tolerances or (expected.tolerances if expected else None))
-    checked = check_recording(recording, sensor_data(paths, sensor_topics), thresholds, ignore, target, expected, robot)
+    streams = stamped_of(recording.contents.files, sensor_topics).streams
+    checked = check_recording(recording, streams, thresholds, ignore, target, expected, robot)
     if said is not None and said.code not in ignore:
         checked.findings = sorted([*checked.findings, said], key=lambda f: f.severity.rank)
     return checked
@@ -117,15 +120,6 @@ def check_recording(
         checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
         checked.sensor_target, checked.sensor_target_reason = choose_target(scene.tree, target)
     return checked
-
-
-def sensor_data(paths: Sequence[str | os.PathLike[str]], topics: Sequence[str] | None = None) -> list[StampedMessages]:
-    """The recording's messages with a header (on ``topics``, default all), for the checks of data
-    against tf; none where they cannot be read (the transforms were: the other checks still run)."""
-    try:
-        return read_stamped(paths, topics).streams
-    except TfToolsError:
-        return []
 
 
 def unreadable(paths: tuple[str, ...], message: str, hint: str) -> BagReport:

@@ -4,7 +4,6 @@ transient local) so a late subscriber gets them, and present past the first seco
 from __future__ import annotations
 
 from collections.abc import Iterator
-from pathlib import Path
 
 import numpy as np
 
@@ -12,8 +11,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import CheckSkippedError, register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
 from tftools.core.time import NS_PER_S
-from tftools.sources import yaml_input
-from tftools.sources.contents import SourceInfo, is_static_topic
+from tftools.sources.contents import OfferedQos
 
 #: A recording this long (s) is one people play from the middle, split or filter.
 LONG_RECORDING_S = 60.0
@@ -31,14 +29,14 @@ REPAIR_HINT = "tfx static --repair -b IN -o OUT writes a copy whose statics are 
 def static_volatile(scene: Scene) -> Iterator[Finding]:
     """rosbag2 plays a topic with the QoS its publishers offered (metadata.yaml's offered_qos_profiles):
     transient local only when every profile was; none recorded plays its default, volatile. Only
-    recordings on disk are replayed: one assembled in memory has no QoS to check."""
+    recordings read from bags are replayed: one assembled in memory has no QoS to check."""
     rows = scene.rows
     if not rows.static.any():
         return
     for file in scene.recording.contents.files:
-        if not file.format.startswith("rosbag2") or not Path(file.path).exists():
+        if not file.format.startswith("rosbag2") or file.qos is None:
             continue
-        for topic, profiles in _static_qos(file).items():
+        for topic, profiles in _static_qos(file.path, file.qos).items():
             if profiles and all(_durability(p) in TRANSIENT_LOCAL for p in profiles):
                 continue
             offered = "records no QoS for it" if not profiles else "offers it volatile"
@@ -55,29 +53,19 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
             )
 
 
-def _static_qos(file: SourceInfo) -> dict[str, list[object]]:
-    """Each static topic's offered QoS profiles, from the bag directory's metadata.yaml."""
-    metadata = Path(file.path) / "metadata.yaml"
-    if not metadata.is_file():
+def _static_qos(path: str, qos: OfferedQos) -> dict[str, list[object]]:
+    """Each static topic's offered QoS profiles, as the bag directory's metadata.yaml says (read with the bag)."""
+    if not qos.metadata:
         raise CheckSkippedError(
-            f"{file.path} has no metadata.yaml beside it, where rosbag2 keeps the QoS it plays /tf_static with",
+            f"{path} has no metadata.yaml beside it, where rosbag2 keeps the QoS it plays /tf_static with",
             "check the bag directory, not one of its files",
         )
-    try:
-        info = yaml_input.load(metadata)["rosbag2_bagfile_information"]
-        found = {}
-        for entry in info.get("topics_with_message_count") or []:
-            topic = entry["topic_metadata"]
-            if is_static_topic(str(topic["name"])):
-                profiles = topic.get("offered_qos_profiles") or []
-                found[str(topic["name"])] = (
-                    list(yaml_input.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
-                )
-        return found
-    except (yaml_input.YamlInputError, KeyError, TypeError, AttributeError) as error:
+    if qos.problem:
         raise CheckSkippedError(
-            f"{metadata} does not say the QoS of /tf_static ({error})", "repair or regenerate metadata.yaml"
-        ) from None
+            f"{path}/metadata.yaml does not say the QoS of /tf_static ({qos.problem})",
+            "repair or regenerate metadata.yaml",
+        )
+    return qos.profiles
 
 
 def _durability(profile: object) -> object:

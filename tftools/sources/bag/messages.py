@@ -10,6 +10,7 @@ import numpy as np
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import RecordWindow, merged_clock
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec, WholeCodec
@@ -70,9 +71,10 @@ class MessageSet:
         self._clocks: list[tuple[Int64Array, Int64Array]] = []  # message numbers and clock values
         self._headers: list[tuple[Int64Array, Int64Array, Int32Array]] = []  # message numbers, stamps, frames
         self._whole: list[tuple[Int64Array, list[object]]] = []  # message numbers, values
-        #: The messages read whole (``WholeTopics``), per topic in record order, once ``decode`` ran.
+        #: The messages read whole (``Wanted.whole``), per topic in record order, once ``decode`` ran.
         self.whole: list[WholeMessages] = []
         self.count = 0
+        self.headers_lost: list[str] = []  # once decoded: a line per topic whose headers were lost
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -183,7 +185,8 @@ class MessageSet:
                 kept.append(self.unpack(bytes(payload)))  # bytes as they are, not copied
             except Exception as e:  # any decompressor error: this message is lost
                 unpacked[i] = False
-                self._unpack_failed.setdefault(int(channels[i]), []).append(f"{type(e).__name__}: {e}")
+                reason = str(e) if isinstance(e, DamageError) else f"{type(e).__name__}: {e}"
+                self._unpack_failed.setdefault(int(channels[i]), []).append(reason)
         return kept, unpacked
 
     def _decode_groups(self) -> None:
@@ -219,14 +222,18 @@ class MessageSet:
 
     def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[StampedMessages], list[str]]:
         """Every transform in record-time order, in consecutive batches; the clock; the headers of
-        each topic read so; a line per topic with lost messages."""
+        each topic read so; a line per transform or clock topic with lost messages (and in
+        ``headers_lost``, one per topic whose headers were lost)."""
         self._decode_groups()
         times, positions, channel_of = (np.concatenate(column) for column in zip(*self._messages, strict=True))
         rank = _rank(times, np.array([c.tie for c in self.channels], np.int64)[channel_of], positions)
         batches = self._rows.batches(times, channel_of, rank)
         clock, stamped = self._clock(times, channel_of, rank), self._stamped(times, channel_of, rank)
         self.whole = self._whole_messages(times, channel_of, rank)
-        return batches, clock, stamped, self._problems(channel_of, rank)
+        lines = self._problems(channel_of, rank)
+        headed = {c.topic for c in self.channels if isinstance(c.codec, HeaderCodec)}
+        self.headers_lost = [line for topic, line in lines if topic in headed]
+        return batches, clock, stamped, [line for topic, line in lines if topic not in headed]
 
     def _clock(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> ClockSamples:
         """The clock messages read, in record order: ``/clock``'s, else the clock topic's with the most."""
@@ -281,7 +288,7 @@ class MessageSet:
             found.append(WholeMessages(channel.topic, channel.codec.type_name, times[ids[mine]], kept))
         return found
 
-    def _problems(self, channel_of: Int32Array, rank: Int64Array) -> list[str]:
+    def _problems(self, channel_of: Int32Array, rank: Int64Array) -> list[tuple[str, str]]:
         """A line per topic and codec with messages that could not be decompressed, and one with
         messages that could not be decoded (its first in record order named)."""
         totals: dict[tuple[str, str], int] = {}
@@ -296,13 +303,19 @@ class MessageSet:
             key = self._topic_and_codec(int(channel_of[message]))
             undecoded.setdefault(key, []).append((int(rank[message]), reason))
         lines = [
-            f"{topic}: {len(reasons)} of {totals[topic, name] + len(reasons)} messages could not be decompressed,"
-            f" skipped (first: {reasons[0]})"
+            (
+                topic,
+                f"{topic}: {len(reasons)} of {totals[topic, name] + len(reasons)} messages could not be decompressed,"
+                f" skipped (first: {reasons[0]})",
+            )
             for (topic, name), reasons in packed.items()
         ]
         return lines + [
-            f"{topic}: {len(undecoded[topic, name])} of {totals[topic, name]} messages could not be decoded as"
-            f" {name}, skipped (first: {min(undecoded[topic, name])[1]})"
+            (
+                topic,
+                f"{topic}: {len(undecoded[topic, name])} of {totals[topic, name]} messages could not be decoded as"
+                f" {name}, skipped (first: {min(undecoded[topic, name])[1]})",
+            )
             for topic, name in totals  # in channel order
             if (topic, name) in undecoded
         ]

@@ -1,4 +1,5 @@
-"""``read_bag``: recognise each path's format, read its transforms, merge in record order."""
+"""``BagReader``: one recording (a bag, or a split one's files) opened once, its indexes read once,
+read whole or window after window; ``read_bag``: a recording read whole at once."""
 
 from __future__ import annotations
 
@@ -6,9 +7,8 @@ import importlib
 import os
 from collections.abc import Callable, Sequence
 from contextlib import ExitStack
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import (
@@ -20,20 +20,100 @@ from tftools.sources.bag.contents import (
     in_turn,
     merged_clock,
 )
+from tftools.sources.bag.formats import format_of
+from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import DEFAULT_TOPICS, Fetched
-from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
+from tftools.sources.errors import BagError
 from tftools.sources.storage.locations import is_url
+from tftools.sources.storage.source import ByteSource
 
 if TYPE_CHECKING:
     from tftools.sources.storage.remote import LocalView
 
-#: A format reader: (path, topics, progress over this file's bytes, window) -> batches and description.
-FormatReader = Callable[
-    [Path, tuple[str, ...], ProgressCallback, RecordWindow | None], tuple[list[TransformBatch], BagFileInfo]
-]
 
-#: The first bytes of each format's files, and the module that reads them.
-_MAGICS = ((b"#ROSBAG V2.0\n", "ros1"), (b"SQLite format 3\x00", "rosbag2"), (b"\x89MCAP0\r\n", "mcap"))
+class FormatFile(Protocol):
+    """A file (or ROS 2 bag directory) of one format, open: its index read once, read as often as asked."""
+
+    def read(
+        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
+    ) -> tuple[list[TransformBatch], BagFileInfo]: ...
+
+    def close(self) -> None: ...
+
+
+class BagReader:
+    """The recording at ``paths`` (several: a split one's files, merged by record time), a context
+    manager: each file is opened, recognised and its index or summary read once, on entering; ``read``
+    then reads the transforms on ``topics`` (default ``/tf`` and ``/tf_static``), the recorded clock
+    (a rosgraph_msgs/Clock topic, whatever ``topics`` are) and, with ``headers``, the headers of the
+    sensor data on those topics (none named: of every topic whose messages start with a header), of the
+    whole recording or of one window of record time, as often as asked.
+
+    A path may be a URL (``s3://``, ``gs://``, ``az://``, ``http(s)://``; ``tftools[fleet]``): only
+    the ranges the readers need are fetched, once while the reader is open, and each
+    ``BagFileInfo.fetched`` says how much. Raises ``BagError`` for a path that cannot be read at all;
+    a damaged file is read as far as it goes, and what was lost is listed in its ``BagFileInfo.problems``.
+    """
+
+    def __init__(
+        self,
+        paths: Sequence[str | os.PathLike[str]],
+        topics: Sequence[str] | None = None,
+        *,
+        headers: Sequence[str] | None = None,
+        whole: Sequence[str] = (),
+    ) -> None:
+        self.paths = [os.fspath(p) for p in paths]
+        self.wanted = Wanted(
+            tuple(topics) if topics else DEFAULT_TOPICS, None if headers is None else tuple(headers), tuple(whole)
+        )
+        self._stack = ExitStack()
+        self._files: list[_Opened] = []
+
+    def __enter__(self) -> BagReader:
+        try:
+            self._files = [self._open(location) for location in self.paths]
+        except BaseException:
+            self._stack.close()
+            raise
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self._files = []
+        self._stack.close()
+
+    @property
+    def topics(self) -> tuple[str, ...]:
+        return self.wanted.topics
+
+    def read(self, window: RecordWindow | None = None, progress: ProgressCallback | None = None) -> BagContents:
+        """What the recording holds (see the class), and each file described; with a ``window``, only the
+        transforms, clock and headers recorded in it (the files' indexes skip the rest; a file without
+        one is read whole, and its ``windowed`` is False), each ``BagFileInfo`` still describing its
+        whole file. An empty window reads only the descriptions."""
+        if len(self._files) != len(self.paths):
+            raise ValueError("BagReader.read outside its with block: the recording is not open")
+        shares = in_turn(progress or _unreported, [opened.size for opened in self._files])
+        read = [opened.read(self.wanted, share, window) for share, opened in zip(shares, self._files, strict=True)]
+        batches = [batch for part, _ in read for batch in part]
+        infos = [info for _, info in read]
+        return BagContents(in_record_order(batches), infos, self.topics, merged_clock([f.clock for f in infos]))
+
+    def _open(self, location: str) -> _Opened:
+        if not is_url(location):
+            path = Path(location)
+            return _Opened(self._stack, path, _open_format(path, ByteSource), _size(path))
+        from tftools.sources.storage.remote import local_view  # fsspec loads only for a URL
+
+        view = self._stack.enter_context(local_view(location))
+        try:
+            opened = _open_format(view.path, view.source)
+        except BagError as e:
+            raise e.said_of(location) from None
+        return _Opened(self._stack, view.path, opened, view.size, location, view)
 
 
 def read_bag(
@@ -42,64 +122,39 @@ def read_bag(
     progress: ProgressCallback | None = None,
     window: RecordWindow | None = None,
 ) -> BagContents:
-    """Every transform on ``topics`` (default ``/tf`` and ``/tf_static``) of the bags at ``paths``,
-    and their recorded clock (a rosgraph_msgs/Clock topic, whatever ``topics`` are).
-
-    A path may be a URL (``s3://``, ``gs://``, ``az://``, ``http(s)://``; ``tftools[fleet]``): only
-    the ranges the readers need are fetched, and its ``BagFileInfo.fetched`` says how much.
-    Several paths are one recording (a split bag): their rows are merged by record time.
-    Raises ``BagError`` for a path that cannot be read at all; a damaged file is read as far
-    as it goes, and what was lost is listed in its ``BagFileInfo.problems``.
-
-    With a ``window``, only the transforms, clock and headers recorded in it are read (the files'
-    indexes skip the rest; a file without one is read whole, and its ``windowed`` is False); each
-    ``BagFileInfo`` still describes its whole file. An empty window reads only the descriptions.
-    """
-    chosen = tuple(topics) if topics else DEFAULT_TOPICS
-    batches, infos = read_files(paths, chosen, progress, window)
-    return BagContents(in_record_order(batches), infos, chosen, merged_clock([f.clock for f in infos]))
-
-
-def read_files(
-    paths: Sequence[str | os.PathLike[str]],
-    topics: tuple[str, ...],
-    progress: ProgressCallback | None = None,
-    window: RecordWindow | None = None,
-) -> tuple[list[TransformBatch], list[BagFileInfo]]:
-    """Each file at ``paths`` (local or a URL) read by its format's reader for ``topics`` (a
-    ``HeaderTopics`` reads sensor data's headers into each ``BagFileInfo.stamped`` instead), in
-    ``window`` (see ``read_bag``): the batches of all, and one ``BagFileInfo`` per file."""
-    with ExitStack() as stack:
-        places = [_place(os.fspath(p), stack) for p in paths]
-        readers = [_format_reader(place) for place in places]
-        shares = in_turn(progress or _unreported, [_size(place.path) for place in places])
-        read = [
-            place.said(reader, topics, share, window)
-            for share, place, reader in zip(shares, places, readers, strict=True)
-        ]
-    return [batch for batches, _ in read for batch in batches], [info for _, info in read]
+    """Every transform on ``topics`` of the recording at ``paths``, and its recorded clock, read at once
+    (see ``BagReader``)."""
+    with BagReader(paths, topics) as reader:
+        return reader.read(window, progress)
 
 
 def _unreported(_done: int, _total: int) -> None:
     pass
 
 
-@dataclass
-class _Place:
-    """Where a bag is read: its local path, or a remote one's local view (and its URL)."""
+class _Opened:
+    """One path of a recording, open: a local file or directory, or a remote one's local view."""
 
-    path: Path
-    url: str = ""
-    view: LocalView | None = None
+    def __init__(
+        self,
+        stack: ExitStack,
+        path: Path,
+        opened: FormatFile,
+        size: int,
+        url: str = "",
+        view: LocalView | None = None,
+    ) -> None:
+        stack.callback(opened.close)
+        self.path, self.opened, self.size, self.url, self.view = path, opened, size, url, view
 
-    def said(
-        self, reader: FormatReader, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None
+    def read(
+        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None
     ) -> tuple[list[TransformBatch], BagFileInfo]:
-        """The reader's result, said of the URL (with what was fetched) for a remote bag."""
+        """The format's result, said of the URL (with what was fetched) for a remote bag."""
         if self.view is None:
-            return reader(self.path, topics, progress, window)
+            return self.opened.read(wanted, progress, window)
         try:
-            batches, info = reader(self.path, topics, progress, window)
+            batches, info = self.opened.read(wanted, progress, window)
         except BagError as e:
             raise e.said_of(self.url) from None
         local = str(self.path)
@@ -109,45 +164,21 @@ class _Place:
         return batches, info
 
 
-def _place(location: str, stack: ExitStack) -> _Place:
-    if not is_url(location):
-        return _Place(Path(location))
-    from tftools.sources.storage.remote import local_view  # fsspec loads only for a URL
-
-    view = stack.enter_context(local_view(location))
-    return _Place(view.path, location, view)
-
-
-def _format_reader(place: _Place) -> FormatReader:
+def _open_format(path: Path, open_source: Callable[[Path], ByteSource]) -> FormatFile:
+    """The recording at ``path`` opened by its format's module, imported only when a file needs it: a
+    ROS1 user pays for no sqlite or MCAP code."""
+    fmt = format_of(path)
+    module = importlib.import_module(f"tftools.sources.bag.{fmt.module}")
+    if fmt.module == "rosbag2":
+        opened: FormatFile = module.Rosbag2Bag(path, open_source)
+        return opened
+    source = open_source(path)
     try:
-        return _format_of(place.path)
-    except BagError as e:
-        raise e if place.view is None else e.said_of(place.url) from None
-
-
-def _format_of(path: Path) -> FormatReader:
-    if not path.exists():
-        raise BagNotFoundError(str(path))
-    if path.is_dir():
-        if (path / "metadata.yaml").exists() or any(path.glob("*.db3")) or any(path.glob("*.mcap")):
-            return _reader("rosbag2")
-        raise UnknownBagFormatError(str(path), "a directory without metadata.yaml, .db3 or .mcap files")
-    try:
-        with path.open("rb") as f:
-            head = f.read(16)
-    except OSError as e:
-        raise UnknownBagFormatError(str(path), e.strerror or str(e)) from None
-    for magic, module in _MAGICS:
-        if head.startswith(magic):
-            return _reader(module)
-    raise UnknownBagFormatError(str(path), "unrecognised file header")
-
-
-def _reader(module: str) -> FormatReader:
-    """The ``read`` of the format module ``module``, imported only when a file needs it: a ROS1 user
-    pays for no sqlite or MCAP code."""
-    reader: FormatReader = importlib.import_module(f"tftools.sources.bag.{module}").read
-    return reader
+        opened = module.McapFile(path, source) if fmt.module == "mcap" else module.Ros1File(path, source)
+    except BaseException:
+        source.close()
+        raise
+    return opened
 
 
 def _size(path: Path) -> int:

@@ -12,9 +12,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tftools.core.arrays import Int64Array
-from tftools.sources.bag.reader import read_files
+from tftools.sources.bag.reader import BagReader
 from tftools.sources.codecs.robot import JointState
-from tftools.sources.codecs.select import WholeTopics
 
 DESCRIPTION_TOPIC = "/robot_description"
 JOINT_STATES_TOPIC = "/joint_states"
@@ -39,7 +38,9 @@ def read_robot(
     joint_topic: str = JOINT_STATES_TOPIC,
 ) -> RobotMessages:
     """The robot's messages in the recording at ``paths`` (several: a split one)."""
-    _, infos = read_files(paths, WholeTopics((description_topic, joint_topic)))
+    mine = (description_topic, joint_topic)
+    with BagReader(paths, mine, whole=mine) as reader:  # those topics only, read whole
+        infos = reader.read().files
     texts: list[tuple[int, str]] = []
     states: list[tuple[int, JointState]] = []
     for info in infos:
@@ -52,7 +53,6 @@ def read_robot(
     states.sort(key=lambda pair: pair[0])
     texts.sort(key=lambda pair: pair[0])
     topics = frozenset(t for info in infos for t in info.topics)
-    mine = (description_topic, joint_topic)
     problems = [line for info in infos for line in info.problems if line.startswith(mine)]
     return RobotMessages(
         texts[-1][1] if texts else "",

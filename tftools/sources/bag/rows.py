@@ -52,6 +52,8 @@ class Rows:
         self, message: Int64Array, parent: Int32Array, child: Int32Array, stamp: Int64Array, values: FloatArray
     ) -> None:
         """Rows of frame ids in ``frames``: ``message`` being each one's message number."""
+        if not len(message):  # messages that held no transform (an empty TFMessage): no run to keep
+            return
         self.messages.append(message)
         columns: list[Column] = [parent, child, stamp, values]
         for name, column in zip(_COLUMNS, columns, strict=True):

@@ -53,6 +53,7 @@ def file_result(
     stamped: list[StampedMessages] = []
     whole: list[WholeMessages] = []
     problems: list[str] = []
+    stamped_problems: list[str] = []
     for index, scan in enumerate(scans):
         decoded, clock, headers, undecodable = scan.messages.decode()
         batches += decoded
@@ -61,6 +62,7 @@ def file_result(
         whole += scan.messages.whole
         label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
         problems += [label + line for line in scan.problems + undecodable]
+        stamped_problems += [label + line for line in scan.messages.headers_lost]
     batches = in_record_order(batches)
     counted = [s for s in scans if s.message_count]
     topics = {name: type_name for scan in scans for name, type_name in scan.topics.items()}
@@ -77,6 +79,7 @@ def file_result(
         clock=merged_clock(clocks),
         stamped=merged(stamped),
         whole=whole,
+        stamped_problems=stamped_problems,
         windowed=all(s.windowed for s in scans),
     )
     return batches, info

@@ -15,9 +15,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, BinaryIO, Protocol
 
+from tftools.sources.bag.damage import DamageError
+
 MAX_UNPACKED = 256 << 20  # bytes one chunk, record or message may decompress to, whatever it declares
 MAX_RATIO = 1000  # a file's decompressed bytes in all, per byte of the file (real bags: ~3 to 50)
 MIN_BUDGET = 64 << 20  # ... but at least this much, so a small bag of very compressible data reads whole
+UNDECLARED_SHARE = 16  # a message not stating its size may take this share of its file's budget, at most
 FREE_SPACE_MARGIN = 256 << 20  # bytes a file decompressed to disk leaves free there
 _PIECE = 1 << 16  # compressed bytes fed at a time, so a damaged stream still yields its start
 _OUT_PIECE = 1 << 20  # decompressed bytes asked for at a time from a stream reader
@@ -25,10 +28,6 @@ _OUT_PIECE = 1 << 20  # decompressed bytes asked for at a time from a stream rea
 
 class CompressionUnavailableError(Exception):
     """A compression this machine cannot decompress (the message says what to install)."""
-
-
-class DecompressionError(Exception):
-    """A message that cannot be decompressed whole (damaged, or past what it may): it is lost."""
 
 
 @dataclass
@@ -95,10 +94,12 @@ def unpack(compression: str, data: bytes | memoryview, declared: int, budget: Bu
     raise CompressionUnavailableError(f"the compression {compression!r} is unknown")
 
 
-def zstd(data: bytes | memoryview, declared: int, budget: Budget | None = None) -> Unpacked:
-    """A zstd frame decompressed up to its declared size (see ``unpack``)."""
+def zstd(
+    data: bytes | memoryview, declared: int, budget: Budget | None = None, most: tuple[int, str] | None = None
+) -> Unpacked:
+    """A zstd frame decompressed up to its declared size (see ``unpack``; ``most``: see ``allowed``)."""
     zstandard = _zstandard()
-    limit, cap = allowed(declared, budget)
+    limit, cap = allowed(declared, budget, most)
     out = bytearray()
     loss = ""
     try:
@@ -112,8 +113,9 @@ def zstd(data: bytes | memoryview, declared: int, budget: Budget | None = None) 
 
 def zstd_messages(file_size: int) -> Callable[[bytes], bytes]:
     """Decompresses one zstd-compressed message of a file (rosbag2's compression by message) within
-    the file's budget: whole, or ``DecompressionError``. A frame that does not state its size may
-    reach ``MAX_UNPACKED``."""
+    the file's budget: whole, or ``DamageError``. A message declaring more than it may have is
+    lost unread; one that does not state its size (rosbag2 states it) may take no more than
+    ``1 / UNDECLARED_SHARE`` of the budget, so that one bomb does not use up the budget of the rest."""
     budget = Budget(file_size)
 
     def message(data: bytes) -> bytes:
@@ -121,10 +123,18 @@ def zstd_messages(file_size: int) -> Callable[[bytes], bytes]:
         try:
             declared = zstandard.frame_content_size(data)
         except zstandard.ZstdError as e:
-            raise DecompressionError(f"not a zstd frame ({e})") from None
-        unpacked = zstd(data, declared, budget)  # below 0: not declared
+            raise DamageError(f"not a zstd frame ({e})") from None
+        limit, cap = allowed(declared, budget)
+        if declared > limit:
+            raise DamageError(f"zstd data declares {declared} bytes, past {cap}")
+        most = None
+        if declared < 0:
+            share = budget.total // UNDECLARED_SHARE
+            pieces = [(MAX_UNPACKED, f"tftools' limit of {MAX_UNPACKED >> 20} MiB a piece")]
+            most = min([*pieces, (share, f"{share >> 20} MiB, its share of the file's budget")], key=lambda c: c[0])
+        unpacked = zstd(data, declared, budget, most)  # below 0: not declared
         if unpacked.loss:
-            raise DecompressionError(unpacked.loss)
+            raise DamageError(unpacked.loss)
         return bytes(unpacked.data)
 
     return message

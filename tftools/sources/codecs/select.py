@@ -52,12 +52,22 @@ class HeaderCodec(Encoded):
     decode: HeaderDecoder
 
 
-class HeaderTopics(tuple[str, ...]):
-    """Topics whose messages' headers are read, rather than transforms (none named: every topic whose
-    type starts with a header, but tf's and the clock's): given to a bag reader as its topics."""
+@dataclass(frozen=True)
+class Wanted:
+    """What a bag reader reads of each channel: transforms on ``topics`` (and, with the default topics,
+    foxglove's transform channels), the clock on any topic, and with ``headers`` the header of every
+    message on those topics (none named: of every topic whose type starts with a header, but tf's
+    and the clock's); None: no headers; and the messages of the ``whole`` topics, whole (a robot's
+    description and joint states: ``codecs.robot``)."""
 
-    def wants(self, topic: str) -> bool:
-        return topic in self if self else topic not in NOT_SENSOR_DATA
+    topics: tuple[str, ...] = DEFAULT_TOPICS
+    headers: tuple[str, ...] | None = None
+    whole: tuple[str, ...] = ()
+
+    def wants_header(self, topic: str) -> bool:
+        if self.headers is None:
+            return False
+        return topic in self.headers if self.headers else topic not in NOT_SENSOR_DATA
 
 
 @dataclass(frozen=True)
@@ -66,11 +76,6 @@ class WholeCodec(Encoded):
     description: ``codecs.robot``)."""
 
     decode: WholeDecoder
-
-
-class WholeTopics(tuple[str, ...]):
-    """Topics whose messages are read whole into values (``codecs.robot``'s types), rather than
-    transforms: given to a bag reader as its topics."""
 
 
 AnyCodec = Codec | ClockCodec | HeaderCodec | WholeCodec
@@ -120,28 +125,29 @@ class Unread:
 
 
 def select(
-    topic: str, type_name: str, encoding: str, topics: tuple[str, ...], definition: str = ""
+    topic: str, type_name: str, encoding: str, wanted: Wanted, definition: str = ""
 ) -> tuple[AnyCodec | None, Unread | None]:
     """The codec to read a channel with (None: skip it), and what is not read when a channel asked
     for (or a foxglove transform channel, with the default topics) is skipped. Clocks are read on
-    any topic; with ``HeaderTopics``, only headers are (``definition``: the type's, when the
-    recording gives it); with ``WholeTopics``, only those topics' messages, whole."""
-    if isinstance(topics, WholeTopics):
+    any topic; headers on the topics ``wanted`` says (``definition``: the type's, when the
+    recording gives it); the topics it reads ``whole``, only whole (``codecs.robot``'s types)."""
+    if topic in wanted.whole:
         whole = WHOLE_DECODERS.get((rosidl_name(type_name), encoding))
-        if whole is None or topic not in topics:
-            return None, None
-        return WholeCodec(rosidl_name(type_name), encoding, whole), None
-    if isinstance(topics, HeaderTopics):
-        decoder = _HEADER_DECODERS.get(encoding)
-        if decoder is None or not topics.wants(topic) or not has_header(type_name, encoding, definition):
-            return None, None
-        return HeaderCodec(rosidl_name(type_name), encoding, decoder), None
+        return (WholeCodec(rosidl_name(type_name), encoding, whole) if whole is not None else None), None
     clock = CLOCK_CODECS.get((type_name, encoding))
     if clock is not None:
         return clock, None
+    topics = wanted.topics
     if topic in topics or (topics == DEFAULT_TOPICS and type_name in _FOXGLOVE_TYPES):
         codec = CODECS.get((type_name, encoding))
-        return (codec, None) if codec is not None else (None, Unread(topic, type_name, encoding))
+        if codec is not None:
+            return codec, None
+        if not wanted.wants_header(topic):
+            return None, Unread(topic, type_name, encoding)
+    if wanted.wants_header(topic):
+        decoder = _HEADER_DECODERS.get(encoding)
+        if decoder is not None and has_header(type_name, encoding, definition):
+            return HeaderCodec(rosidl_name(type_name), encoding, decoder), None
     return None, None
 
 

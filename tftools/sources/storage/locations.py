@@ -77,7 +77,7 @@ def _expand_local(argument: str) -> list[str]:
 def _below_local(path: str, *, listed_only: bool) -> list[str]:
     """The recordings at or below ``path``: itself when it is a file or a ROS 2 bag directory."""
     directory = Path(path)
-    if not directory.is_dir() or _is_bag_directory(directory):
+    if not directory.is_dir() or is_bag_directory(directory):
         return [path]
     files: list[str] = []
     for root, _, names in os.walk(directory):
@@ -94,7 +94,7 @@ def _below_local(path: str, *, listed_only: bool) -> list[str]:
     return found
 
 
-def _is_bag_directory(directory: Path) -> bool:
+def is_bag_directory(directory: Path) -> bool:
     """A ROS 2 bag as the readers take one: a metadata.yaml, or .db3/.mcap files, directly inside."""
     return (directory / METADATA).exists() or any(directory.glob("*.db3")) or any(directory.glob("*.mcap"))
 

@@ -1,6 +1,6 @@
 """Remote recordings read through fsspec: listed, and each file made a local sparse copy of its size
-that the readers fill range by range (``copies``), so that only the ranges they read are fetched
-(``.db3``, ``.zstd`` and metadata.yaml files whole). Credentials and endpoints come from each
+that the readers fill range by range through its ``RemoteSource``, so that only the ranges they read
+are fetched (``.db3``, ``.zstd`` and metadata.yaml files whole). Credentials and endpoints come from each
 filesystem's standard environment (``AWS_PROFILE``, ``GOOGLE_APPLICATION_CREDENTIALS``, ...). Nothing
 at a URL is ever written.
 
@@ -20,13 +20,17 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any
 
+import numpy as np
+
+from tftools.core.arrays import Int64Array
 from tftools.sources.errors import BagError, BagNotFoundError, MissingExtraError, RemoteError
-from tftools.sources.storage import copies
 from tftools.sources.storage.locations import BAG_SUFFIXES, is_glob, recordings_in
+from tftools.sources.storage.source import ByteSource
 
 try:
     import fsspec
     from fsspec import AbstractFileSystem
+    from fsspec.utils import merge_offset_ranges
 except ImportError:  # pragma: no cover - the extra's absence is tested in a subprocess
     raise MissingExtraError("reading recordings by URL") from None
 
@@ -35,6 +39,7 @@ BATCH_BYTES = 64 << 20  # asked at once (the replies are held in memory until wr
 GAP_BYTES = 64 << 10  # between two ranges fetched along with them: cheaper than one more request
 MAX_FILE_BYTES = 1 << 40
 CONNECT_TIMEOUT, READ_TIMEOUT = 10, 30  # seconds
+REQUEST_DEADLINE = 300  # seconds one HTTP request may take in all (a piece is at most PIECE_BYTES)
 #: Fetched whole: SQLite reads a file through its own pages, a .zstd file is decompressed whole.
 _WHOLE_SUFFIXES = (".db3", ".zstd", ".yaml")
 #: Files of a ROS 2 bag directory worth copying.
@@ -60,9 +65,12 @@ def _options(protocol: str) -> dict[str, Any]:
     if protocol in ("http", "https"):
         import aiohttp  # fsspec's HTTP filesystem is built on it
 
-        return {
-            "client_kwargs": {"timeout": aiohttp.ClientTimeout(sock_connect=CONNECT_TIMEOUT, sock_read=READ_TIMEOUT)}
-        }
+        # A request has a deadline as a whole, not only per read (a server trickling a byte at a time);
+        # replies are taken as sent, never inflated (a gzip "bomb" would be inflated in memory before
+        # its length is checked).
+        timeout = aiohttp.ClientTimeout(total=REQUEST_DEADLINE, sock_connect=CONNECT_TIMEOUT, sock_read=READ_TIMEOUT)
+        session = {"timeout": timeout, "auto_decompress": False, "headers": {"Accept-Encoding": "identity"}}
+        return {"client_kwargs": session}
     if protocol in ("gs", "gcs"):
         return {"requests_timeout": READ_TIMEOUT}
     return {}
@@ -120,7 +128,9 @@ class RemoteCopy:
     path: str  # in ``fs``
     size: int
     fd: int
+    target: Path  # the local copy
     fetched: int = 0  # bytes received
+    requests: int = 0  # ranges asked for
     _have_starts: list[int] = field(default_factory=list)  # the ranges fetched, sorted, apart
     _have_ends: list[int] = field(default_factory=list)
 
@@ -151,6 +161,7 @@ class RemoteCopy:
             i += 1
 
     def _fetch(self, pieces: list[tuple[int, int]]) -> None:
+        self.requests += len(pieces)
         with _remote(self.url, "reading"):
             replies = self.fs.cat_ranges(
                 [self.path] * len(pieces), [s for s, _ in pieces], [e for _, e in pieces], on_error="return"
@@ -169,14 +180,13 @@ class RemoteCopy:
 
 
 def _merged(ranges: list[tuple[int, int]], gap: int) -> list[tuple[int, int]]:
-    """``ranges`` sorted, those closer than ``gap`` (or touching) joined; empty ones left out."""
-    merged: list[tuple[int, int]] = []
-    for start, end in sorted(r for r in ranges if r[0] < r[1]):
-        if merged and start - merged[-1][1] <= gap:
-            merged[-1] = (merged[-1][0], max(merged[-1][1], end))
-        else:
-            merged.append((start, end))
-    return merged
+    """``ranges`` sorted, those closer than ``gap`` (or touching) joined (fsspec's
+    ``merge_offset_ranges``); empty ones left out."""
+    kept = [(start, end) for start, end in ranges if start < end]
+    if not kept:
+        return []
+    _, starts, ends = merge_offset_ranges(["f"] * len(kept), [s for s, _ in kept], [e for _, e in kept], gap)
+    return [(int(start), int(end)) for start, end in zip(starts, ends, strict=True) if end is not None]
 
 
 @dataclass
@@ -187,6 +197,17 @@ class LocalView:
     path: Path
     copies: list[RemoteCopy]
     whole: bool
+
+    def source(self, path: Path) -> ByteSource:
+        """The file at ``path`` (one of the copies), read through fetches of what is read."""
+        for copy in self.copies:
+            if copy.target == path:
+                return RemoteSource(copy)
+        return ByteSource(path)  # a file made here (a decompressed one)
+
+    @property
+    def requests(self) -> int:
+        return sum(c.requests for c in self.copies)
 
     @property
     def fetched(self) -> int:
@@ -242,16 +263,26 @@ def _size(fs: AbstractFileSystem, url: str, path: str) -> int:
 
 @contextmanager
 def _copy(fs: AbstractFileSystem, url: str, path: str, target: Path, size: int) -> Iterator[RemoteCopy]:
-    """A sparse copy of ``path`` at ``target``, registered for the readers while the context lasts."""
+    """A sparse copy of ``path`` at ``target``, while the context lasts."""
     fd = os.open(target, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o600)
     try:
         os.ftruncate(fd, size)
-        copy = RemoteCopy(fs, url, path, size, fd)
+        copy = RemoteCopy(fs, url, path, size, fd, target)
         copy.fill([0], [min(size, GAP_BYTES)])  # its magic and header: how it is recognised
-        copies.register(fd, copy)
-        try:
-            yield copy
-        finally:
-            copies.unregister(fd)
+        yield copy
     finally:
         os.close(fd)
+
+
+class RemoteSource(ByteSource):
+    """A remote file's bytes: its local sparse copy, each range fetched before it is read."""
+
+    def __init__(self, copy: RemoteCopy) -> None:
+        super().__init__(copy.target)
+        self.copy = copy
+
+    def fetch(self, starts: Int64Array, ends: Int64Array) -> None:
+        self.copy.fill(np.asarray(starts).tolist(), np.asarray(ends).tolist())
+
+    def need(self, start: int, end: int) -> None:
+        self.copy.fill([start], [end])

@@ -7,34 +7,49 @@ from pathlib import Path
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
-from tftools.sources.bag.mcap.index import read_indexed
-from tftools.sources.bag.mcap.records import MAGIC, Channels
-from tftools.sources.bag.mcap.stream import UnreadableError, stream
+from tftools.sources.bag.damage import DamageError
+from tftools.sources.bag.formats import MCAP
+from tftools.sources.bag.mcap.index import Summary, read_indexed, summary_of
+from tftools.sources.bag.mcap.records import Channels
+from tftools.sources.bag.mcap.stream import stream
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileScan, file_result
+from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError
+from tftools.sources.storage.source import ByteSource
 
 
-def read(
-    path: Path, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None = None
-) -> tuple[list[TransformBatch], BagFileInfo]:
-    """The transforms of a bare ``.mcap`` file (see ``reader.read_bag``)."""
-    return file_result(path, "mcap", [scan(path, topics, progress, MessageSet(window=window))])
+class McapFile:
+    """An MCAP file open for reading, its summary read once: read whole, or window after window."""
 
-
-def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messages: MessageSet) -> FileScan:
-    """One MCAP file's messages (into ``messages``) and description; ``CorruptBagError`` when nothing could be read."""
-    result = FileScan(messages)
-    try:
-        with path.open("rb") as f:
-            size = path.stat().st_size
-            if f.read(len(MAGIC)) != MAGIC:
+    def __init__(self, path: Path, source: ByteSource) -> None:
+        self.path = path
+        self.source = source
+        try:
+            if source.read(0, len(MCAP.magic)) != MCAP.magic:
                 raise CorruptBagError(str(path), "no MCAP magic at the start")
-            channels = Channels(topics, result, size)
-            if not read_indexed(f, size, channels, progress):
-                stream(f, size, channels, progress)
-    except OSError as e:
-        raise CorruptBagError(str(path), e.strerror or str(e)) from None
-    except UnreadableError as e:
-        raise CorruptBagError(str(path), str(e)) from None
-    return result
+            self.summary: Summary | None = summary_of(source)
+        except OSError as e:
+            raise CorruptBagError(str(path), e.strerror or str(e)) from None
+
+    def read(
+        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
+    ) -> tuple[list[TransformBatch], BagFileInfo]:
+        """The transforms of a bare ``.mcap`` file (see ``reader.BagReader.read``)."""
+        return file_result(self.path, "mcap", [self.scan(wanted, progress, MessageSet(window=window))])
+
+    def scan(self, wanted: Wanted, progress: ProgressCallback, messages: MessageSet) -> FileScan:
+        """The file's messages (into ``messages``) and description; ``CorruptBagError`` when nothing could be read."""
+        result = FileScan(messages)
+        try:
+            channels = Channels(wanted, result, self.source.size)
+            if not read_indexed(self.source, self.summary, channels, progress):
+                stream(self.source, channels, progress)
+        except OSError as e:
+            raise CorruptBagError(str(self.path), e.strerror or str(e)) from None
+        except DamageError as e:
+            raise CorruptBagError(str(self.path), str(e)) from None
+        return result
+
+    def close(self) -> None:
+        self.source.close()

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass, field
-from typing import BinaryIO
 
 import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.mcap.ranged import INDEX_ENTRY, Queued, RangedReader, indexed, payloads
 from tftools.sources.bag.mcap.records import (
     CHANNEL,
@@ -26,12 +26,11 @@ from tftools.sources.bag.mcap.records import (
     Body,
     Channels,
     ChunkIndex,
-    McapDamageError,
     chunk_records,
     records,
     scan_records,
 )
-from tftools.sources.bag.ranges import ahead, read_at
+from tftools.sources.storage.source import ByteSource
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
@@ -39,16 +38,18 @@ _ID_OFFSET = struct.Struct("<HQ")
 
 
 @dataclass
-class _Summary:
+class Summary:
+    """What an MCAP file's summary section says."""
+
     schemas: list[bytes] = field(default_factory=list)
     channels: list[bytes] = field(default_factory=list)
     chunks: list[ChunkIndex] = field(default_factory=list)
     statistics: tuple[int, int, int] | None = None  # message count, start, end
 
 
-def read_indexed(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallback) -> bool:
-    """Read through the summary; False when it is missing or not enough (then stream instead)."""
-    summary = _summary(f, size)
+def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels, progress: ProgressCallback) -> bool:
+    """Read through the ``summary`` (``summary_of``); False when it is missing or not enough, or when not
+    one chunk read is where it says (a summary that lies, of another file: then stream instead)."""
     if summary is None or summary.statistics is None:
         return False
     try:
@@ -56,16 +57,18 @@ def read_indexed(f: BinaryIO, size: int, channels: Channels, progress: ProgressC
             channels.register(SCHEMA, content)
         for content in summary.channels:
             channels.register(CHANNEL, content)
-    except McapDamageError:
+    except DamageError:
         return False
     count, start, end = summary.statistics
     in_chunks = {c for chunk in summary.chunks for c in chunk.index_offsets}
     if (count and not summary.chunks) or not in_chunks <= channels.known:
         return False  # messages outside chunks, or unindexed
     result = channels.result
-    result.message_count, result.start, result.end = count, start, end
     chunks = sorted(summary.chunks, key=lambda c: c.offset)
-    lost = _read_chunks(f, chunks, channels, progress, size)
+    lost, tried, misplaced = _read_chunks(source, chunks, channels, progress)
+    if tried and misplaced == tried:
+        return False
+    result.message_count, result.start, result.end = count, start, end
     if lost:
         result.note_problem(
             f"{len(lost)} of {len(chunks)} chunks could not be read ({lost[0]}); their messages are lost"
@@ -74,32 +77,36 @@ def read_indexed(f: BinaryIO, size: int, channels: Channels, progress: ProgressC
 
 
 def _read_chunks(
-    f: BinaryIO, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback, size: int
-) -> list[str]:
+    source: ByteSource, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback
+) -> tuple[list[str], int, int]:
     """The wanted messages of the chunks (in file order): uncompressed ones with unwanted channels
     gathered to be read in ranges, the others read whole. Returns what is wrong with each chunk
-    that could not be read."""
+    that could not be read, how many were read, and of those how many are not where the summary says."""
     lost: dict[int, str] = {}
+    tried = misplaced = 0
 
     def read_whole(number: int, chunk: ChunkIndex, index: bytes | None) -> None:
+        nonlocal misplaced
         try:
-            _read_chunk(f, chunk, number, channels, index)
-        except McapDamageError as e:
+            _read_chunk(source, chunk, number, channels, index)
+        except DamageError as e:
             lost[number] = str(e)
+            misplaced += e.offset == chunk.offset
 
-    ranged = RangedReader(f.fileno(), channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
-    indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels))]
+    ranged = RangedReader(source, channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
+    indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels), channels)]
     ends = np.array([c.end for c in indexed], np.int64)
-    ahead(f.fileno(), ends, ends + np.array([c.index_length for c in indexed], np.int64))
+    source.ahead(ends, ends + np.array([c.index_length for c in indexed], np.int64))
     for number, chunk in enumerate(chunks):
         if not _in_window(chunk, channels):
             continue
         wanted = _wanted(chunk, channels)
-        if _in_ranges(chunk, wanted):
-            index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
+        tried += bool(wanted) or not chunk.index_offsets
+        if _in_ranges(chunk, wanted, channels):
+            index = source.read(chunk.end, chunk.end + chunk.index_length)
             try:
                 entries = {c: _message_index(index, at - chunk.end) for c, at in chunk.index_offsets.items()}
-            except McapDamageError:  # read whole, its damage is found and told
+            except DamageError:  # read whole, its damage is found and told
                 ranged.flush()  # the chunks before first: messages are handed on in file order
                 read_whole(number, chunk, index)
             else:
@@ -107,9 +114,9 @@ def _read_chunks(
         elif wanted or not chunk.index_offsets:
             ranged.flush()
             read_whole(number, chunk, None)
-        progress(chunk.end, size)
+        progress(chunk.end, source.size)
     ranged.flush()
-    return [lost[number] for number in sorted(lost)]
+    return [lost[number] for number in sorted(lost)], tried, misplaced
 
 
 def _in_window(chunk: ChunkIndex, channels: Channels) -> bool:
@@ -121,24 +128,27 @@ def _wanted(chunk: ChunkIndex, channels: Channels) -> list[int]:
     return [c for c in chunk.index_offsets if c in channels.wanted]
 
 
-def _in_ranges(chunk: ChunkIndex, wanted: list[int]) -> bool:
-    """Whether the chunk may be read in ranges: uncompressed, with channels wanted and others not."""
-    return chunk.compression == "" and 0 < len(wanted) < len(chunk.index_offsets)
+def _in_ranges(chunk: ChunkIndex, wanted: list[int], channels: Channels) -> bool:
+    """Whether the chunk may be read in ranges: uncompressed, with channels wanted and others not, or
+    some wanted for their messages' headers only."""
+    some = 0 < len(wanted) < len(chunk.index_offsets) or any(c in channels.headed for c in wanted)
+    return chunk.compression == "" and some
 
 
-def _summary(f: BinaryIO, size: int) -> _Summary | None:
+def summary_of(source: ByteSource) -> Summary | None:
     """The summary section; None without a footer (a cut file) or with a damaged summary."""
+    size = source.size
     tail = _FOOTER_RECORD.size + len(MAGIC)
     if size < len(MAGIC) + tail:
         return None
-    footer = read_at(f.fileno(), size - tail, size)
+    footer = source.read(size - tail, size)
     opcode, length, summary_start, _, _ = _FOOTER_RECORD.unpack_from(footer)
     if footer[-len(MAGIC) :] != MAGIC or opcode != FOOTER or length != 20:
         return None
     if not len(MAGIC) <= summary_start <= size - tail:
         return None
-    data = read_at(f.fileno(), summary_start, size - tail)
-    summary = _Summary()
+    data = source.read(summary_start, size - tail)
+    summary = Summary()
     try:
         for opcode, start, end in records(data):
             content = data[start:end]
@@ -153,61 +163,61 @@ def _summary(f: BinaryIO, size: int) -> _Summary | None:
                 count = body.int(I64)
                 body.pos += 2 + 4 * 4  # schema, channel, attachment, metadata and chunk counts
                 summary.statistics = (max(0, count), body.int(I64), body.int(I64))
-    except McapDamageError:
+    except DamageError:
         return None
     return summary
 
 
 def _chunk_index(content: bytes, size: int) -> ChunkIndex:
-    """A chunk index of a file of ``size`` bytes; ``McapDamageError`` where it cannot be trusted."""
+    """A chunk index of a file of ``size`` bytes; ``DamageError`` where it cannot be trusted."""
     body = Body(content)
     message_start, message_end = body.int(I64), body.int(I64)
     offset, length = body.int(U64), body.int(U64)
     entries = body.bytes(U32)
     if len(entries) % _ID_OFFSET.size:
-        raise McapDamageError("bad message index offsets")
+        raise DamageError("bad message index offsets")
     offsets = dict(_ID_OFFSET.iter_unpack(entries))
     index_length = body.int(U64)
     compression = body.string()
     chunk = ChunkIndex(offset, length, offsets, index_length, compression, body.int(U64), message_start, message_end)
     # A chunk may run past the end of a file cut short (it is then lost), but no more than the file holds.
     if not len(MAGIC) <= chunk.offset < size or chunk.length > size or chunk.index_length > size:
-        raise McapDamageError("a chunk index points outside the file")
+        raise DamageError("a chunk index points outside the file")
     if any(not chunk.end <= at < chunk.end + chunk.index_length for at in chunk.index_offsets.values()):
-        raise McapDamageError("a chunk's message indexes are not after it")
+        raise DamageError("a chunk's message indexes are not after it")
     return chunk
 
 
-def _read_chunk(f: BinaryIO, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
+def _read_chunk(source: ByteSource, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
     """The wanted channels' messages of one chunk read whole, found through its message indexes
     (``index``, read here when None) or, in a chunk without them, by walking its records."""
-    raw = read_at(f.fileno(), chunk.offset, chunk.end)
+    raw = source.read(chunk.offset, chunk.end)
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
-        raise McapDamageError(f"no chunk at byte {chunk.offset}")
+        raise DamageError(f"no chunk at byte {chunk.offset}", chunk.offset)
     data = chunk_records(memoryview(raw)[RECORD.size :], partial=False, budget=channels.budget)  # no copy of the chunk
     if not chunk.index_offsets:
         damage = scan_records(data, number, channels, counted=False)
         if damage:
-            raise McapDamageError(damage)
+            raise DamageError(damage)
         return
     if index is None:
-        index = read_at(f.fileno(), chunk.end, chunk.end + chunk.index_length)
+        index = source.read(chunk.end, chunk.end + chunk.index_length)
     wanted = _wanted(chunk, channels)
     found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
     found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
     found.end = np.full(len(found), len(data), np.int64)
     if not payloads(np.frombuffer(data, np.uint8), found.offset, found, np.ones(len(found), bool)).all():
-        raise McapDamageError("message index does not match its chunk")
+        raise DamageError("message index does not match its chunk")
     channels.result.messages.add_spans(found.looked_up(channels.wanted).astype(np.int32), found, data)
 
 
 def _message_index(index: bytes, at: int) -> bytes:
     """The entries of the MessageIndex record at ``index[at:]``."""
     if not 0 <= at <= len(index) - _INDEX_HEAD.size:
-        raise McapDamageError("bad message index")
+        raise DamageError("bad message index")
     opcode, _, _, length = _INDEX_HEAD.unpack_from(index, at)
     start = at + _INDEX_HEAD.size
     if opcode != MESSAGE_INDEX or length % INDEX_ENTRY.itemsize or start + length > len(index):
-        raise McapDamageError("bad message index")
+        raise DamageError("bad message index")
     return index[start : start + length]

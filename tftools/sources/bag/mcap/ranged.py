@@ -9,8 +9,9 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.sources.bag.mcap.records import CHUNK, MESSAGE, MESSAGE_HEAD, RECORD, U16, U32, U64, Channels, ChunkIndex
-from tftools.sources.bag.ranges import read_ranges
 from tftools.sources.bag.spans import Spans, bounded
+from tftools.sources.codecs.wire import HEADER_BYTES
+from tftools.sources.storage.source import ByteSource
 
 INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])  # of a message, offset in its chunk's records
 PAYLOAD = RECORD.size + MESSAGE_HEAD.size  # a message's data, from the start of its record
@@ -18,6 +19,7 @@ PAYLOAD = RECORD.size + MESSAGE_HEAD.size  # a message's data, from the start of
 _BATCH_BYTES = 64 << 20  # of chunks whose wanted ranges are gathered and read together
 _SPARSE = 0.5  # the largest share of a chunk's records wanted for it to be read in ranges (else whole)
 _HEAD = RECORD.size + U16.size  # a message record's opcode, length and channel id
+_HEADED_BYTES = PAYLOAD + HEADER_BYTES  # of a message read for its header: its record's head and the header
 
 
 @dataclass
@@ -38,8 +40,8 @@ class RangedReader:
     A chunk read in ranges is checked against its index and head, not its CRC (that needs it all).
     """
 
-    def __init__(self, fd: int, channels: Channels, read_whole: Callable[[Queued], None]) -> None:
-        self.fd = fd
+    def __init__(self, source: ByteSource, channels: Channels, read_whole: Callable[[Queued], None]) -> None:
+        self.source = source
         self.channels = channels
         self.read_whole = read_whole
         self.queued: list[Queued] = []
@@ -63,16 +65,21 @@ class RangedReader:
         entries = [(i, channel_id, part) for i, q in enumerate(batch) for channel_id, part in q.entries.items()]
         messages, whole = bounded(indexed(entries), records_start, records_end)
         messages = messages.rows(~whole[messages.chunk] & (messages.looked_up(self.channels.wanted) >= 0))
+        # Of messages read for their header, only as far as it reaches: not the image after it.
+        cut = np.isin(messages.channel, list(self.channels.headed)) & (messages.end - messages.start > _HEADED_BYTES)
+        messages.end[cut] = messages.start[cut] + _HEADED_BYTES
         wanted_bytes = np.bincount(messages.chunk, messages.end - messages.start, len(batch))
         whole |= wanted_bytes > _SPARSE * (records_end - records_start)
-        messages = messages.rows(~whole[messages.chunk])
-        data, damaged = self._read(batch, messages)
+        kept = ~whole[messages.chunk]
+        messages, cut = messages.rows(kept), cut[kept]
+        data, damaged = self._read(batch, messages, cut)
         whole |= damaged
         self._hand_on(batch, whole, messages.rows(~whole[messages.chunk]), data)
 
-    def _read(self, batch: list[Queued], messages: Spans) -> tuple[UInt8Array, BoolArray]:
-        """The bytes of the messages' ranges and of their chunks' heads, and which chunks are
-        damaged; each message's ``start`` and ``end`` made its payload's in those bytes."""
+    def _read(self, batch: list[Queued], messages: Spans, cut: BoolArray) -> tuple[UInt8Array, BoolArray]:
+        """The bytes of the messages' ranges (those ``cut``, as far as their header reaches) and of
+        their chunks' heads, and which chunks are damaged; each message's ``start`` and ``end`` made
+        its payload's in those bytes."""
         damaged = np.zeros(len(batch), bool)
         if not len(messages):
             return np.zeros(0, np.uint8), damaged
@@ -80,11 +87,11 @@ class RangedReader:
         heads = [batch[i].chunk for i in chunks.tolist()]
         starts = np.concatenate([[c.offset for c in heads], messages.start]).astype(np.int64)
         ends = np.concatenate([[c.records_start for c in heads], messages.end]).astype(np.int64)
-        data, where, read = read_ranges(self.fd, starts, ends)
+        data, where, read = self.source.read_ranges(starts, ends)
         n = len(heads)
         for i, chunk, at, whole in zip(chunks.tolist(), heads, where[:n].tolist(), read[:n].tolist(), strict=True):
             damaged[i] = not whole or not _is_head_of(data, at, chunk)
-        fits = payloads(data, where[n:], messages, read[n:])
+        fits = payloads(data, where[n:], messages, read[n:], cut)
         damaged[messages.chunk[~fits]] = True
         return data, damaged
 
@@ -123,16 +130,20 @@ def _is_head_of(data: UInt8Array, at: int, chunk: ChunkIndex) -> bool:
     return opcode == CHUNK and length == chunk.length - RECORD.size and head.endswith(fields)
 
 
-def payloads(data: UInt8Array, where: Int64Array, messages: Spans, complete: BoolArray) -> BoolArray:
+def payloads(
+    data: UInt8Array, where: Int64Array, messages: Spans, complete: BoolArray, cut: BoolArray | None = None
+) -> BoolArray:
     """Whether each message is a whole message record of its channel inside its range (read to
-    ``where`` in ``data``); its ``start`` and ``end`` made its payload's there."""
+    ``where`` in ``data``; one ``cut``, read for its header, may go on past it); its ``start`` and
+    ``end`` made its payload's there."""
     room = messages.end - messages.start
     fits = complete & (where >= 0) & (room >= PAYLOAD)  # else the range cannot hold a record head
     head = data[where[fits][:, None] + np.arange(_HEAD)]
     lengths = np.zeros(len(where), np.int64)
     lengths[fits] = head[:, 1:9].copy().view("<u8").ravel().astype(np.int64)
     fits[fits] = (head[:, 0] == MESSAGE) & (head[:, 9:].copy().view("<u2").ravel() == messages.channel[fits])
-    fits &= (lengths >= MESSAGE_HEAD.size) & (lengths <= room - RECORD.size)
+    cut = np.zeros(len(where), bool) if cut is None else cut
+    fits &= (lengths >= MESSAGE_HEAD.size) & ((lengths <= room - RECORD.size) | cut)
     messages.start = where + PAYLOAD
-    messages.end = messages.start + lengths - MESSAGE_HEAD.size
+    messages.end = messages.start + np.minimum(lengths - MESSAGE_HEAD.size, np.where(cut, room - PAYLOAD, lengths))
     return fits

@@ -6,11 +6,13 @@ import struct
 import zlib
 from dataclasses import dataclass
 
+from tftools.sources.bag.damage import DamageError
+from tftools.sources.bag.formats import MCAP
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, unpack
-from tftools.sources.codecs.select import select
+from tftools.sources.codecs.select import HeaderCodec, Wanted, select
 
-MAGIC = b"\x89MCAP0\r\n"
+MAGIC = MCAP.magic
 HEADER, FOOTER, SCHEMA, CHANNEL, MESSAGE, CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
 MESSAGE_INDEX, CHUNK_INDEX, STATISTICS, DATA_END = 0x07, 0x08, 0x0B, 0x0F
 RECORD = struct.Struct("<BQ")  # opcode, content length
@@ -19,10 +21,6 @@ RECORD = struct.Struct("<BQ")  # opcode, content length
 MESSAGE_HEAD = struct.Struct("<HIqq")
 U16, U32, U64, I64 = struct.Struct("<H"), struct.Struct("<I"), struct.Struct("<Q"), struct.Struct("<q")
 CHUNK_HEAD = struct.Struct("<QQQI")  # start time, end time, uncompressed size, crc
-
-
-class McapDamageError(Exception):
-    """Bytes that are not what the MCAP format says they should be."""
 
 
 @dataclass
@@ -50,7 +48,7 @@ class ChunkIndex:
 
 
 class Body:
-    """A cursor over a record's content, raising ``McapDamageError`` past its end."""
+    """A cursor over a record's content, raising ``DamageError`` past its end."""
 
     def __init__(self, data: bytes | memoryview) -> None:
         self.data = data
@@ -60,7 +58,7 @@ class Body:
         try:
             values = fmt.unpack_from(self.data, self.pos)
         except struct.error:
-            raise McapDamageError("record shorter than its fields") from None
+            raise DamageError("record shorter than its fields") from None
         self.pos += fmt.size
         return values
 
@@ -70,7 +68,7 @@ class Body:
     def bytes(self, length_fmt: struct.Struct) -> bytes | memoryview:
         length = self.int(length_fmt)
         if self.pos + length > len(self.data):
-            raise McapDamageError("field runs past its record")
+            raise DamageError("field runs past its record")
         self.pos += length
         return self.data[self.pos - length : self.pos]
 
@@ -91,7 +89,7 @@ def records(data: bytes) -> list[tuple[int, int, int]]:
         opcode, length = RECORD.unpack_from(data, pos)
         start = pos + RECORD.size
         if start + length > len(data):
-            raise McapDamageError(f"record at byte {pos} runs past its section")
+            raise DamageError(f"record at byte {pos} runs past its section")
         out.append((opcode, start, start + length))
         pos = start + length
     return out
@@ -100,25 +98,25 @@ def records(data: bytes) -> list[tuple[int, int, int]]:
 def chunk_records(content: bytes | memoryview, *, partial: bool, budget: Budget | None = None) -> bytes | memoryview:
     """The records inside a chunk, decompressed up to its declared size (as far as they go when
     ``partial``); a view into ``content`` when it is a view and the chunk is not compressed.
-    Raises ``McapDamageError`` for a chunk that cannot be read whole unless ``partial``."""
+    Raises ``DamageError`` for a chunk that cannot be read whole unless ``partial``."""
     body = Body(content)
     _, _, uncompressed, crc = body.take(CHUNK_HEAD)
     compression = body.string()
     length = body.int(U64)
     data = content[body.pos : body.pos + length]
     if len(data) < length and not partial:
-        raise McapDamageError("chunk shorter than it says")
+        raise DamageError("chunk shorter than it says")
     records = data
     if compression:
         try:
             unpacked = unpack(compression, data, uncompressed, budget)
         except CompressionUnavailableError as e:
-            raise McapDamageError(f"unsupported chunk compression {compression!r} ({e})") from None
+            raise DamageError(f"unsupported chunk compression {compression!r} ({e})") from None
         if unpacked.loss and not partial:
-            raise McapDamageError(f"{compression} chunk cannot be decompressed whole ({unpacked.loss})")
+            raise DamageError(f"{compression} chunk cannot be decompressed whole ({unpacked.loss})")
         records = unpacked.data
     if not partial and crc and zlib.crc32(records) != crc:  # a CRC of 0 is none
-        raise McapDamageError("chunk fails its CRC check")
+        raise DamageError("chunk fails its CRC check")
     return records
 
 
@@ -129,13 +127,14 @@ _MSG_DEFINITIONS = ("ros1msg", "ros2msg")
 class Channels:
     """Schemas and channels as they are met, and which channels are read as transforms."""
 
-    def __init__(self, topics: tuple[str, ...], result: FileScan, file_size: int = 0) -> None:
-        self.topics = topics
+    def __init__(self, asked: Wanted, result: FileScan, file_size: int = 0) -> None:
+        self.asked = asked
         self.result = result
         self.budget = Budget(file_size)  # what the file's chunks may decompress to in all
         self.schemas: dict[int, tuple[str, str]] = {}  # schema id -> type name, .msg definition ("": none)
         self.known: set[int] = set()
         self.wanted: dict[int, int] = {}  # MCAP channel id -> MessageSet channel
+        self.headed: set[int] = set()  # MCAP channel ids read for their messages' headers only
 
     def register(self, opcode: int, content: bytes | memoryview) -> None:
         """A schema or channel record."""
@@ -152,10 +151,12 @@ class Channels:
         self.known.add(channel_id)
         type_name, definition = self.schemas.get(schema_id, ("", ""))
         self.result.topics[topic] = type_name
-        codec, unread = select(topic, type_name, encoding, self.topics, definition)
+        codec, unread = select(topic, type_name, encoding, self.asked, definition)
         self.result.note_skipped(unread)
         if codec is not None:
             self.wanted[channel_id] = self.result.messages.channel(topic, codec)
+            if isinstance(codec, HeaderCodec):
+                self.headed.add(channel_id)
 
 
 def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, counted: bool) -> str:
@@ -188,7 +189,7 @@ def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, c
         elif opcode in (SCHEMA, CHANNEL):
             try:
                 channels.register(opcode, data[start:end])
-            except McapDamageError as e:
+            except DamageError as e:
                 damage = str(e)
                 break
         pos = end

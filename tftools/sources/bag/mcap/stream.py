@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import BinaryIO
 
 from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.mcap.records import (
     CHANNEL,
     CHUNK,
@@ -17,33 +18,28 @@ from tftools.sources.bag.mcap.records import (
     RECORD,
     SCHEMA,
     Channels,
-    McapDamageError,
     chunk_records,
     known,
     scan_records,
 )
-from tftools.sources.bag.ranges import need
+from tftools.sources.storage.source import ByteSource
 
 _PROGRESS_STEP = 1 << 24
 
 
-class UnreadableError(Exception):
-    """Nothing at all could be read."""
-
-
-def stream(f: BinaryIO, size: int, channels: Channels, progress: ProgressCallback) -> None:
-    """Read the records up to the end of the data or the damage, noting what is lost; ``UnreadableError``
+def stream(source: ByteSource, channels: Channels, progress: ProgressCallback) -> None:
+    """Read the records up to the end of the data or the damage, noting what is lost; ``DamageError``
     when the damage comes before anything could be read."""
-    need(f.fileno(), 0, size)  # a remote file is fetched whole: every record is read
-    reader, result = _Stream(f, size, channels), channels.result
-    result.windowed = False
-    damage = reader.run(progress)
+    with source.stream() as f:  # a remote file is fetched whole: every record is read
+        reader, result = _Stream(f, source.size, channels), channels.result
+        result.windowed = False
+        damage = reader.run(progress)
     if reader.lost_chunks:
         result.note_problem(f"{reader.lost_chunks} chunks are damaged; their messages are lost")
     if not damage:
         return
     if not result.message_count and not reader.chunks_read:
-        raise UnreadableError(damage)
+        raise DamageError(damage)
     result.note_problem(
         f"{damage}: read the {result.message_count} messages before it, up to record time {result.end / 1e9:.3f} s;"
         " the rest is lost"
@@ -69,7 +65,7 @@ class _Stream:
                 return f"cut short at byte {self.size}"
             opcode, length = RECORD.unpack_from(head)
             if self.number == 0 and opcode != HEADER:
-                raise UnreadableError("no MCAP header record")
+                raise DamageError("no MCAP header record")
             if not known(opcode):
                 return f"damaged at byte {self.pos} (unknown record type {opcode:#04x})"
             if opcode in (FOOTER, DATA_END):
@@ -81,7 +77,7 @@ class _Stream:
                 return f"cut short at byte {self.size}, inside the record at byte {self.pos}"
             try:
                 self._record(opcode, length)
-            except McapDamageError as e:
+            except DamageError as e:
                 return f"damaged at byte {self.pos} ({e})"
             self.pos, self.number = end, self.number + 1
             if self.pos - reported >= _PROGRESS_STEP:
@@ -102,7 +98,7 @@ class _Stream:
 
     def _message(self, length: int) -> None:
         if length < MESSAGE_HEAD.size:
-            raise McapDamageError("message record too short")
+            raise DamageError("message record too short")
         channel_id, _, log_time, _ = MESSAGE_HEAD.unpack(self.f.read(MESSAGE_HEAD.size))
         self.channels.result.note_times(log_time, log_time, 1)
         rest = length - MESSAGE_HEAD.size
@@ -116,7 +112,7 @@ class _Stream:
         """A chunk's records; a damaged complete chunk is counted lost and skipped."""
         try:
             data = chunk_records(content, partial=partial, budget=self.channels.budget)
-        except McapDamageError:
+        except DamageError:
             self.lost_chunks += not partial
             return
         self.chunks_read += 1

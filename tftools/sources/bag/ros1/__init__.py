@@ -4,58 +4,69 @@
 from __future__ import annotations
 
 import mmap
-from collections.abc import Iterator
-from contextlib import contextmanager, suppress
+from contextlib import suppress
 from pathlib import Path
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.file import BagFile
-from tftools.sources.bag.ros1.index import read_index, read_indexed
-from tftools.sources.bag.ros1.records import FormatError, read_bag_header
+from tftools.sources.bag.ros1.index import BagIndex, read_index, read_indexed
+from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.bag.ros1.salvage import read_unindexed
 from tftools.sources.bag.scan import file_result
+from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError
+from tftools.sources.storage.source import ByteSource
 
 
-def read(
-    path: Path, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None = None
-) -> tuple[list[TransformBatch], BagFileInfo]:
-    """The ROS1 bag at ``path`` (see ``reader.read_bag``); its chunks scanned when its index is missing or damaged."""
-    with _mapped(path) as buf, path.open("rb") as file:
+class Ros1File:
+    """A ROS1 bag open for reading, mapped, its header and index read once: read whole, or window after
+    window; its chunks scanned when its index is missing or damaged."""
+
+    def __init__(self, path: Path, source: ByteSource) -> None:
+        self.path = path
+        self.source = source
         try:
-            header = read_bag_header(buf)
-        except FormatError as e:
+            # Headers and index records are read from the map (chunks' data is read from the file).
+            self.buf = mmap.mmap(source.fileno(), 0, access=mmap.ACCESS_READ)
+        except (OSError, ValueError) as e:  # ValueError: an empty file cannot be mapped
+            raise CorruptBagError(str(path), getattr(e, "strerror", None) or str(e)) from None
+        try:
+            source.need(0, min(source.size, 64 << 10))
+            self.header = read_bag_header(self.buf)
+        except DamageError as e:
+            self.close()
             raise CorruptBagError(str(path), f"no readable ROS1 bag header: {e}") from None
-        if header.encryptor:
+        if self.header.encryptor:
+            self.close()
             raise CorruptBagError(
-                str(path), f"encrypted with {header.encryptor}; decrypt it with `rosbag decrypt` first"
+                str(path), f"encrypted with {self.header.encryptor}; decrypt it with `rosbag decrypt` first"
             )
-        bag = BagFile(path.name, buf, file.fileno(), topics, progress, window)
+        self._index: BagIndex | str | None = None  # once read: the index, or what is wrong with it
+
+    def read(
+        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
+    ) -> tuple[list[TransformBatch], BagFileInfo]:
+        """The bag's transforms (see ``reader.BagReader.read``)."""
+        header = self.header
+        bag = BagFile(self.path.name, self.buf, self.source, wanted, progress, window)
         if 0 < header.index_pos <= bag.size:
-            try:
-                infos = read_index(bag, header)
-            except FormatError as e:
-                read_unindexed(bag, header, str(e))
+            if self._index is None:
+                try:
+                    self._index = read_index(bag, header)
+                except DamageError as e:
+                    self._index = str(e)
+            if isinstance(self._index, str):
+                read_unindexed(bag, header, self._index)
             else:
-                read_indexed(bag, infos, header.index_pos)
+                read_indexed(bag, self._index, header.index_pos)
         else:
             read_unindexed(bag, header)
         bag.note_damage()
-    return file_result(path, "ros1", [bag.scan])
+        return file_result(self.path, "ros1", [bag.scan])
 
-
-@contextmanager
-def _mapped(path: Path) -> Iterator[mmap.mmap]:
-    """The file mapped read-only: headers and index records are read from it (chunks' data is
-    read from the file)."""
-    try:
-        with path.open("rb") as f:
-            buf = mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ)
-    except (OSError, ValueError) as e:  # ValueError: an empty file cannot be mapped
-        raise CorruptBagError(str(path), getattr(e, "strerror", None) or str(e)) from None
-    try:
-        yield buf
-    finally:
+    def close(self) -> None:
         with suppress(BufferError):  # a numpy view still alive: the map closes when it is freed
-            buf.close()
+            self.buf.close()
+        self.source.close()

@@ -8,12 +8,12 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.time import NS_PER_S
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
     OP_MESSAGE,
     Buffer,
     Connection,
-    FormatError,
     read_connection,
     read_record,
     u32,
@@ -40,7 +40,7 @@ def walk(data: Buffer, chunk: int) -> Spans:
                 break
             starts.append(pos)
             pos = record_end
-    except FormatError:
+    except DamageError:
         pass
     return in_chunk(np.frombuffer(starts, np.int64).copy() if starts else np.zeros(0, np.int64), chunk, limit)
 
@@ -54,17 +54,21 @@ def in_chunk(offsets: Int64Array, chunk: int, size: int) -> Spans:
     )
 
 
-def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[Connection], str]:
+def locate(
+    data: Buffer, records: Spans, *, follow: bool, cut: BoolArray | None = None
+) -> tuple[Spans, list[Connection], str]:
     """The message records among ``records`` (each at ``start`` in ``data``, within ``end``),
     with their connections, times and payloads; the connection records met; why the first that
     is not a message is not. With ``follow``, connection records before a message are stepped
-    over (index entries may point at them).
+    over (index entries may point at them). Records ``cut`` were read only so far (for their
+    message's header): their payload ends at ``end``, not where their record says.
 
     Records are recognised in bulk by their header's layout, learnt from the first record of
     each header length; any other record is read one by one.
     """
     raw = np.frombuffer(data, np.uint8)
     limit = np.minimum(records.end, len(raw))
+    cut = np.zeros(len(records), bool) if cut is None else cut
     inside = (records.start >= 0) & (records.start + 8 <= limit)
     header_len = np.full(len(records), -1, np.int64)
     header_len[inside] = u32_at(raw, records.start[inside])
@@ -74,19 +78,19 @@ def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[C
         rows = np.flatnonzero(header_len == length)
         template = _Template.learn(data, int(records.start[rows[0]]))
         if template is not None:
-            hit, values = template.match(raw, records.start[rows], limit[rows])
+            hit, values = template.match(raw, records.start[rows], limit[rows], cut[rows])
             hit_rows = rows[hit]
             found[hit_rows] = True
             header[:, hit_rows] = values
     messages = Spans(records.chunk[found], records.offset[found], *header[:, found])
-    slow = records.rows(~found)
+    slow, slow_cut = records.rows(~found), cut[~found].tolist()
     connections: list[Connection] = []
     more: list[tuple[int, ...]] = []
     first_error = ""
     for row, end in enumerate(limit[~found].tolist()):
         try:
-            message = _message_at(data, int(slow.start[row]), end, connections, follow)
-        except FormatError as e:
+            message = _message_at(data, int(slow.start[row]), end, connections, follow, cut=slow_cut[row])
+        except DamageError as e:
             first_error = first_error or str(e)
             continue
         if message is not None:
@@ -99,19 +103,22 @@ def locate(data: Buffer, records: Spans, *, follow: bool) -> tuple[Spans, list[C
 
 
 def _message_at(
-    data: Buffer, pos: int, end: int, connections: list[Connection], follow: bool
+    data: Buffer, pos: int, end: int, connections: list[Connection], follow: bool, *, cut: bool = False
 ) -> tuple[int, int, int, int, int] | None:
     """(bytes stepped over, conn, time, data start, data end) of the message record at ``pos``;
-    None for a connection record (noted in ``connections``) when not following."""
+    None for a connection record (noted in ``connections``) when not following. A message ``cut``
+    (read for its header) ends at ``end``."""
     at = pos
     while True:
         record = read_record(data, at, end)
+        if record.op == OP_MESSAGE and cut:
+            return at - pos, record.uint("conn"), record.time("time"), record.data_start, min(record.data_end, end)
         if record.data_end > end:
-            raise FormatError(f"the record at byte {at} of the chunk is cut short")
+            raise DamageError(f"the record at byte {at} of the chunk is cut short")
         if record.op == OP_MESSAGE:
             return at - pos, record.uint("conn"), record.time("time"), record.data_start, record.data_end
         if record.op != OP_CONNECTION:
-            raise FormatError(f"the record at byte {at} of the chunk has op {record.op}, not a message")
+            raise DamageError(f"the record at byte {at} of the chunk has op {record.op}, not a message")
         connections.append(read_connection(data, record))
         if not follow:
             return None
@@ -134,7 +141,7 @@ class _Template:
         """The template of the message record at ``pos``; None when it is something else."""
         try:
             record = read_record(data, pos)
-        except FormatError:
+        except DamageError:
             return None
         fields = record.fields
         if record.op != OP_MESSAGE or len(fields.get("conn", b"")) != 4 or len(fields.get("time", b"")) != 8:
@@ -143,15 +150,17 @@ class _Template:
         return cls(header, value_at(header, "conn"), value_at(header, "time"))
 
     def match(
-        self, raw: UInt8Array, offsets: Int64Array, limit: Int64Array
+        self, raw: UInt8Array, offsets: Int64Array, limit: Int64Array, cut: BoolArray
     ) -> tuple[BoolArray, tuple[Int64Array, ...]]:
-        """Which records have this layout and end within ``limit``; their conn, time, data start and end."""
+        """Which records have this layout and end within ``limit`` (or, ``cut``, are read up to it);
+        their conn, time, data start and end."""
         length_at = offsets + 4 + self.length
         hit = length_at + 4 <= limit
         fits = np.flatnonzero(hit)
         hit[fits] = (bytes_at(raw, offsets[fits], 4 + self.length)[:, self.fixed] == self.expected).all(axis=1)
         data_end = np.zeros(len(offsets), np.int64)
         data_end[fits] = length_at[fits] + 4 + u32_at(raw, length_at[fits])
+        data_end = np.where(cut & (data_end > limit), limit, data_end)
         hit &= data_end <= limit
         at = offsets[hit]
         sec, nsec = u32_at(raw, at + self.time_at), u32_at(raw, at + self.time_at + 4)

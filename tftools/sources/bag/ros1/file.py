@@ -10,12 +10,12 @@ import numpy as np
 from tftools.core.arrays import BoolArray
 from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.ranges import read_at
 from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, RecordReader
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import Budget, Unpacked, unpack
-from tftools.sources.codecs.select import ClockCodec, select
+from tftools.sources.codecs.select import ClockCodec, HeaderCodec, Wanted, select
+from tftools.sources.storage.source import ByteSource
 
 
 @dataclass
@@ -37,26 +37,25 @@ class Damage:
 
 
 class BagFile:
-    """A ROS1 bag's bytes (``buf``, mapped from the file ``fd``), being read for
-    the messages of ``topics`` recorded in ``window``: into ``scan``, its description and transform
-    and clock messages."""
+    """A ROS1 bag's bytes (``buf``, mapped from ``source``), being read for the messages ``wanted``
+    recorded in ``window``: into ``scan``, its description and transform, clock and stamped messages."""
 
     def __init__(
         self,
         name: str,
         buf: FileBuffer,
-        fd: int,
-        topics: tuple[str, ...],
+        source: ByteSource,
+        wanted: Wanted,
         progress: ProgressCallback,
         window: RecordWindow | None = None,
     ) -> None:
         self.name = name
         self.buf = buf
-        self.fd = fd  # the file ``buf`` maps, to read chunks from without mapping their pages
+        self.source = source  # the file ``buf`` maps, to read chunks from without mapping their pages
         self.size = len(buf)
         self.records = RecordReader(buf)
         self.budget = Budget(self.size)  # what its chunks may decompress to in all
-        self.topics = topics
+        self.wanted = wanted
         self.progress = progress
         self.scan = FileScan(MessageSet(window=window))
         self.damage = Damage()
@@ -64,6 +63,7 @@ class BagFile:
         self.channels: dict[int, int] = {}  # connection id -> message set channel, of those wanted
         self._met: set[int] = set()  # connection ids
         self._clocks: set[int] = set()  # message set channels of clock connections
+        self.headed: set[int] = set()  # connection ids read for their messages' headers only
 
     def connect(self, connection: Connection) -> None:
         """A connection record met: its topic described, and read if it is wanted."""
@@ -71,7 +71,7 @@ class BagFile:
             return
         self._met.add(connection.id)
         self.scan.topics.setdefault(connection.topic, connection.type)
-        codec, unread = select(connection.topic, connection.type, "ros1", self.topics, connection.definition)
+        codec, unread = select(connection.topic, connection.type, "ros1", self.wanted, connection.definition)
         self.scan.note_skipped(unread)
         if codec is not None:
             channel = self.scan.messages.channel(
@@ -80,6 +80,8 @@ class BagFile:
             self.channels[connection.id] = channel
             if isinstance(codec, ClockCodec):
                 self._clocks.add(channel)
+            if isinstance(codec, HeaderCodec):
+                self.headed.add(connection.id)
 
     def add(self, data: bytes | memoryview, messages: Spans) -> BoolArray:
         """Keep the wanted ones of ``messages`` (their payloads copied out of ``data``); returns which."""
@@ -102,15 +104,16 @@ class BagFile:
     def unpacked(self, chunk: Chunk, end: int) -> Unpacked:
         """The chunk's data up to ``end``, uncompressed: read from the file, not ``buf`` (faulting in
         the pages of a mapping costs more than the copy a read makes, and they would count as resident)."""
-        return unpack(chunk.compression, read_at(self.fd, chunk.data_start, end), chunk.size, self.budget)
+        return unpack(chunk.compression, self.source.read(chunk.data_start, end), chunk.size, self.budget)
 
     def note_damage(self) -> None:
         d = self.damage
         if not d.places:
             return
         what = "a damaged part" if d.places == 1 else f"{d.places} damaged parts"
+        kind = "transform messages" if self.wanted.headers is None else "messages of the topics read"
         if d.lost_known:
-            lost = f"{d.lost} transform messages lost"
+            lost = f"{d.lost} {kind} lost"
         else:
-            lost = f"at least {d.lost} transform messages lost" if d.lost else "the transform messages there are lost"
+            lost = f"at least {d.lost} {kind} lost" if d.lost else f"the {kind} there are lost"
         self.scan.note_problem(f"{self.name}: {what} could not be read ({d.first}); {lost}")

@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.ranges import ahead, need, read_ranges
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.records import (
@@ -27,7 +27,7 @@ from tftools.sources.bag.ros1.records import (
     BagHeader,
     Chunk,
     ChunkInfo,
-    FormatError,
+    Connection,
     Record,
     index_entries,
     read_chunk,
@@ -37,18 +37,30 @@ from tftools.sources.bag.ros1.records import (
 from tftools.sources.bag.spans import Spans, bounded
 from tftools.sources.bag.unpack import CompressionUnavailableError
 from tftools.sources.codecs.gather import distinct
+from tftools.sources.codecs.wire import HEADER_BYTES
 
 #: Records of uncompressed chunks are gathered until there are this many, or their chunks hold
 #: this many bytes, then read (a few megabytes of transforms; the cap bounds a batch of huge ones).
 _SPAN_RECORDS, _SPAN_BYTES = 8192, 64 << 20
 #: Bytes of a chunk record's header, at most, and of an index data record: a header, and 12 per message.
 _CHUNK_HEADER_BYTES, _INDEX_RECORD_BYTES, _INDEX_ENTRY_BYTES = 4096, 128, 12
+#: Bytes of a message record read for its message's header: its record header (a few dozen bytes of
+#: op, conn and time; more is read whole) and the bytes that may hold the message's header.
+_HEADED_BYTES = 256 + HEADER_BYTES
 
 
-def read_index(bag: BagFile, header: BagHeader) -> list[ChunkInfo]:
-    """The connections and chunk infos at the bag's end (connections met); ``FormatError`` if damaged."""
+@dataclass
+class BagIndex:
+    """The connections and chunk infos (in file order) at a bag's end."""
+
+    connections: list[Connection]
+    infos: list[ChunkInfo]
+
+
+def read_index(bag: BagFile, header: BagHeader) -> BagIndex:
+    """The connections and chunk infos at the bag's end; ``DamageError`` if damaged."""
     pos = header.index_pos
-    need(bag.fd, pos, bag.size)
+    bag.source.need(pos, bag.size)
     records = []
     for op, count in ((OP_CONNECTION, header.conn_count), (OP_CHUNK_INFO, header.chunk_count)):
         for _ in range(count):
@@ -56,13 +68,14 @@ def read_index(bag: BagFile, header: BagHeader) -> list[ChunkInfo]:
             pos = records[-1].data_end
     connections = [read_connection(bag.buf, r) for r in records[: header.conn_count]]
     infos = [read_chunk_info(bag.buf, r) for r in records[header.conn_count :]]
-    for connection in connections:
+    return BagIndex(connections, sorted(infos, key=lambda info: info.pos))
+
+
+def read_indexed(bag: BagFile, index: BagIndex, index_pos: int) -> None:
+    """The wanted messages of the chunks the index describes (its connections met first)."""
+    for connection in index.connections:
         bag.connect(connection)
-    return sorted(infos, key=lambda info: info.pos)
-
-
-def read_indexed(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
-    """The wanted messages of the chunks ``infos`` describe."""
+    infos = index.infos
     counted = [info for info in infos if info.counts]
     scan = bag.scan
     scan.message_count = sum(sum(info.counts.values()) for info in counted)
@@ -92,7 +105,7 @@ def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
             index_bytes = sum(_INDEX_RECORD_BYTES + _INDEX_ENTRY_BYTES * n for n in info.counts.values())
             starts += [info.pos, max(info.pos, end - index_bytes)]
             stops += [info.pos + _CHUNK_HEADER_BYTES, end]
-    ahead(bag.fd, np.array(starts, np.int64), np.array(stops, np.int64))
+    bag.source.ahead(np.array(starts, np.int64), np.array(stops, np.int64))
 
 
 def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
@@ -106,7 +119,7 @@ def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
 def _record(bag: BagFile, pos: int, op: int) -> Record:
     record = bag.records.read(pos)
     if record.op != op or record.data_end > bag.size:
-        raise FormatError(f"no readable record with op {op} at byte {pos}")
+        raise DamageError(f"no readable record with op {op} at byte {pos}")
     return record
 
 
@@ -116,7 +129,7 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
     try:
         record = _record(bag, info.pos, OP_CHUNK)
         chunk = read_chunk(record)
-    except FormatError as e:
+    except DamageError as e:
         bag.damage.note(info.pos, str(e), wanted)
         return
     index = _chunk_index(bag, record, info)
@@ -168,7 +181,7 @@ def _chunk_index(bag: BagFile, chunk: Record, info: ChunkInfo) -> _Index | None:
             index.conns.append(record.uint("conn"))
             index.entries.append(index_entries(bag.buf, record))
             index.end = record.data_end
-    except FormatError:
+    except DamageError:
         return None
     return index
 
@@ -228,10 +241,13 @@ class _Gathered:
         records, _ = bounded(indexed, starts, ends)
         records = records.rows(_wanted(bag, records))
         records = records.rows(np.diff(records.start, prepend=-1) != 0)  # once each
-        data, where, complete = read_ranges(bag.fd, records.start, records.end)
-        records = records.rows(complete)
+        # Of messages read for their header, only as far as it reaches: not the image after it.
+        cut = np.isin(records.channel, list(bag.headed)) & (records.end - records.start > _HEADED_BYTES)
+        records.end[cut] = records.start[cut] + _HEADED_BYTES
+        data, where, complete = bag.source.read_ranges(records.start, records.end)
+        records, cut = records.rows(complete), cut[complete]
         records.start, records.end = where[complete], where[complete] + records.end - records.start
-        messages, _, first_error = locate(data.data, records, follow=True)
+        messages, _, first_error = locate(data.data, records, follow=True, cut=cut)
         in_batch, messages.chunk = messages.chunk, np.array([c.ordinal for c in chunks], np.int64)[messages.chunk]
         got = np.bincount(in_batch[bag.add(data.data, messages)], minlength=len(chunks))
         for pending, count in zip(chunks, got.tolist(), strict=True):

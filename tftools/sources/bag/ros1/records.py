@@ -10,8 +10,10 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.time import NS_PER_S
+from tftools.sources.bag.damage import DamageError
+from tftools.sources.bag.formats import ROS1
 
-MAGIC = b"#ROSBAG V2.0\n"
+MAGIC = ROS1.magic
 
 OP_MESSAGE = 0x02
 OP_BAG_HEADER = 0x03
@@ -30,13 +32,9 @@ FileBuffer = bytes | mmap.mmap
 Buffer = bytes | memoryview | mmap.mmap
 
 
-class FormatError(ValueError):
-    """Bytes that are not the record the format promises there."""
-
-
 def u32(buf: Buffer, pos: int) -> int:
     if pos < 0 or pos + 4 > len(buf):
-        raise FormatError(f"a length at byte {pos} lies beyond the end")
+        raise DamageError(f"a length at byte {pos} lies beyond the end")
     return int(_U32.unpack_from(buf, pos)[0])
 
 
@@ -48,11 +46,11 @@ def header_fields(buf: Buffer, start: int, end: int) -> dict[str, bytes]:
         size = u32(buf, pos)
         pos += 4
         if pos + size > end:
-            raise FormatError(f"a header field at byte {pos - 4} runs past its header")
+            raise DamageError(f"a header field at byte {pos - 4} runs past its header")
         item = bytes(buf[pos : pos + size])
         name, equals, value = item.partition(b"=")
         if not equals:
-            raise FormatError(f"a header field at byte {pos - 4} has no '='")
+            raise DamageError(f"a header field at byte {pos - 4} has no '='")
         fields[name.decode("ascii", "replace")] = value
         pos += size
     return fields
@@ -74,12 +72,12 @@ class Record:
             return int(_U32.unpack(value)[0])
         if len(value) == 8:
             return int(_U64.unpack(value)[0])
-        raise FormatError(f"record field {name} has {len(value)} bytes")
+        raise DamageError(f"record field {name} has {len(value)} bytes")
 
     def time(self, name: str) -> int:
         value = self._field(name)
         if len(value) != 8:
-            raise FormatError(f"record field {name} has {len(value)} bytes, not a time")
+            raise DamageError(f"record field {name} has {len(value)} bytes, not a time")
         sec, nsec = _TIME.unpack(value)
         return int(sec) * NS_PER_S + int(nsec)
 
@@ -92,22 +90,22 @@ class Record:
         try:
             return self.fields[name]
         except KeyError:
-            raise FormatError(f"record at byte {self.start} lacks its {name} field") from None
+            raise DamageError(f"record at byte {self.start} lacks its {name} field") from None
 
 
 def read_record(buf: Buffer, pos: int, end: int | None = None) -> Record:
-    """The record starting at ``pos``; ``FormatError`` if it is malformed or not all there."""
+    """The record starting at ``pos``; ``DamageError`` if it is malformed or not all there."""
     limit = len(buf) if end is None else end
     header_len = u32(buf, pos)
     header_end = pos + 4 + header_len
     if header_end + 4 > limit:
-        raise FormatError(f"the record at byte {pos} is cut short")
+        raise DamageError(f"the record at byte {pos} is cut short")
     fields = header_fields(buf, pos + 4, header_end)
     data_len = u32(buf, header_end)
     data_start = header_end + 4
     op = fields.get("op", b"")
     if len(op) != 1:
-        raise FormatError(f"the record at byte {pos} has no op code")
+        raise DamageError(f"the record at byte {pos} has no op code")
     return Record(op[0], fields, pos, data_start, data_start + data_len)
 
 
@@ -152,7 +150,7 @@ def value_at(header: bytes, name: str) -> int:
         if header[pos + 4 : pos + 4 + len(key)] == key:
             return pos + 4 + len(key)
         pos += 4 + int.from_bytes(header[pos : pos + 4], "little")
-    raise FormatError(f"no {name} field")
+    raise DamageError(f"no {name} field")
 
 
 class RecordReader:
@@ -187,10 +185,10 @@ class BagHeader:
 
 def read_bag_header(buf: Buffer) -> BagHeader:
     if bytes(buf[: len(MAGIC)]) != MAGIC:
-        raise FormatError("it does not start with #ROSBAG V2.0")
+        raise DamageError("it does not start with #ROSBAG V2.0")
     record = read_record(buf, len(MAGIC))
     if record.op != OP_BAG_HEADER:
-        raise FormatError("its first record is not a bag header")
+        raise DamageError("its first record is not a bag header")
     return BagHeader(
         record.uint("index_pos"),
         record.uint("conn_count"),
@@ -237,10 +235,10 @@ def _entries(buf: Buffer, record: Record, width: int, what: str) -> npt.NDArray[
     """The ``count`` entries of version 1 that a chunk info or index data ``record`` holds, one
     row of ``width`` uint32 each."""
     if record.uint("ver") != 1:
-        raise FormatError(f"{what} version {record.uint('ver')} is unknown")
+        raise DamageError(f"{what} version {record.uint('ver')} is unknown")
     count = record.uint("count")
     if record.data_end - record.data_start < count * 4 * width or record.data_end > len(buf):
-        raise FormatError(f"the {what} at byte {record.start} is cut short")
+        raise DamageError(f"the {what} at byte {record.start} is cut short")
     return np.frombuffer(buf, "<u4", count * width, record.data_start).reshape(count, width)
 
 
@@ -248,7 +246,7 @@ def read_chunk_info(buf: Buffer, record: Record) -> ChunkInfo:
     counts = dict(_entries(buf, record, 2, "chunk info").tolist())  # connection id -> messages
     pos = record.uint("chunk_pos")
     if pos >= len(buf):
-        raise FormatError(f"the chunk info at byte {record.start} points past the end of the file")
+        raise DamageError(f"the chunk info at byte {record.start} points past the end of the file")
     return ChunkInfo(pos, record.time("start_time"), record.time("end_time"), counts)
 
 

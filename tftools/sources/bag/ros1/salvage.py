@@ -3,7 +3,7 @@ is damaged) read chunk after chunk, over damage: whatever can be read of it."""
 
 from __future__ import annotations
 
-from tftools.sources.bag.ranges import need
+from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.chunks import locate, walk
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.records import (
@@ -11,7 +11,6 @@ from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
     OP_MESSAGE,
     BagHeader,
-    FormatError,
     Record,
     read_chunk,
     read_connection,
@@ -29,7 +28,7 @@ def read_unindexed(bag: BagFile, header: BagHeader, index_damage: str = "") -> N
     what is wrong with it (else there is none, or it lies past the end of the file), and say so."""
     scanner = _Scanner(bag)
     bag.scan.windowed = False
-    need(bag.fd, header.data_start, bag.size)  # a remote bag is fetched whole: every record is read
+    bag.source.need(header.data_start, bag.size)  # a remote bag is fetched whole: every record is read
     truncated = header.index_pos > bag.size
     scanner.scan(header.data_start, header.index_pos if index_damage else bag.size)
     n = bag.transform_messages
@@ -61,7 +60,7 @@ class _Scanner:
         while pos < stop:
             try:
                 pos = self._record(pos, stop)
-            except FormatError as e:
+            except DamageError as e:
                 found = self._resync(pos + 1, stop)
                 if found is None:
                     self.tail = f"the last {stop - pos} bytes are no readable record"
@@ -125,7 +124,7 @@ class _Scanner:
             for start in range(max(pos, hit - _HEADER_REACH), hit - 3):
                 try:
                     record = read_record(buf, start, stop)
-                except FormatError:
+                except DamageError:
                     continue
                 if record.op == OP_CHUNK:
                     return start

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import re
 import tempfile
-from collections.abc import Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from tftools.core.batch import TransformBatch
 from tftools.sources import yaml_input
@@ -16,21 +16,124 @@ from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWi
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileScan, file_result
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
+from tftools.sources.codecs.select import Wanted
+from tftools.sources.contents import OfferedQos, is_static_topic
 from tftools.sources.errors import CorruptBagError
+from tftools.sources.storage.source import ByteSource
+
+if TYPE_CHECKING:
+    from tftools.sources.bag.mcap import McapFile
+    from tftools.sources.bag.rosbag2.db3 import Db3File
 
 
-def read(
-    path: Path, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None = None
-) -> tuple[list[TransformBatch], BagFileInfo]:
-    """The transforms of a ROS2 bag directory or a bare .db3 file (see ``reader.read_bag``)."""
-    if not path.is_dir():
-        bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path])
-        return file_result(path, f"rosbag2-{bag.storage}", [_scan_file(path, bag, topics, progress, window)])
-    bag = _layout(path)
-    scans, labels = _scan_files(path, bag, topics, progress, window)
-    batches, info = file_result(path, f"rosbag2-{bag.storage}", scans, labels)
-    info.problems[:0] = bag.problems
-    return batches, info
+class Rosbag2Bag:
+    """A ROS2 bag directory (or a bare .db3 or .mcap file of one) open for reading: its metadata.yaml
+    read once, each of its files opened once (one compressed whole decompressed once), each file's
+    index or schema read once; read whole, or window after window."""
+
+    def __init__(self, path: Path, open_source: Callable[[Path], ByteSource]) -> None:
+        self.path = path
+        self._open_source = open_source
+        if path.is_dir():
+            self.bag = _layout(path)
+        else:
+            self.bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path])
+        self._stack = ExitStack()
+        self._files: dict[Path, Db3File | McapFile | CorruptBagError] = {}
+        self._decompressed: dict[Path, list[str]] = {}  # files compressed whole: what decompressing them lost
+
+    def read(
+        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
+    ) -> tuple[list[TransformBatch], BagFileInfo]:
+        """The bag's transforms (see ``reader.BagReader.read``)."""
+        fmt = f"rosbag2-{self.bag.storage}"
+        if not self.path.is_dir():
+            batches, info = file_result(self.path, fmt, [self._scan_file(self.path, wanted, progress, window, [])])
+        else:
+            problems = list(self.bag.problems)
+            scans, labels = self._scan_files(wanted, progress, window, problems)
+            batches, info = file_result(self.path, fmt, scans, labels)
+            info.problems[:0] = problems
+        info.qos = self.bag.qos
+        return batches, info
+
+    def _scan_files(
+        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None, problems: list[str]
+    ) -> tuple[list[FileScan], list[str]]:
+        """Each file's scan, and a label per scan for its problems (the file name when there are several)."""
+        scans: list[FileScan] = []
+        labels: list[str] = []
+        lost: list[str] = []
+        files = self.bag.files
+        shares = in_turn(progress, [file.stat().st_size if _exists(file) else 0 for file in files])
+        for share, file in zip(shares, files, strict=True):
+            if not _exists(file):
+                lost.append(f"{_shown(file.name)} is listed in metadata.yaml but missing; its messages are lost")
+                continue
+            try:
+                scans.append(self._scan_file(file, wanted, share, window, problems))
+                labels.append(file.name if len(files) > 1 else "")
+            except CorruptBagError as e:
+                lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
+        if not scans:
+            raise CorruptBagError(str(self.path), "; ".join(lost) or "no bag files in it")
+        problems += lost
+        return scans, labels
+
+    def _scan_file(
+        self, file: Path, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None, problems: list[str]
+    ) -> FileScan:
+        opened = self._opened(file)
+        problems += self._decompressed.get(file, [])
+        unpack = zstd_messages(opened.source.size) if self.bag.compression_mode == "message" else None
+        try:
+            scan = opened.scan(wanted, progress, MessageSet(unpack, window))
+        finally:
+            opened.source.close()  # its descriptor let go until the next read: files opened one at a time
+        scan.windowed &= file not in self._decompressed  # a file compressed whole is decompressed whole first
+        return scan
+
+    def _opened(self, file: Path) -> Db3File | McapFile:
+        """The file opened, once (what could not be opened is raised each time)."""
+        if file not in self._files:
+            try:
+                plain = self._uncompressed(file)
+                source = self._stack.enter_context(self._open_source(plain))
+                if plain.suffix == ".mcap":
+                    from tftools.sources.bag.mcap import McapFile  # each storage's module only when needed
+
+                    self._files[file] = McapFile(plain, source)
+                else:
+                    from tftools.sources.bag.rosbag2.db3 import Db3File
+
+                    self._files[file] = Db3File(plain, source)
+            except CorruptBagError as e:
+                self._files[file] = e
+        opened = self._files[file]
+        if isinstance(opened, CorruptBagError):
+            raise opened
+        return opened
+
+    def _uncompressed(self, file: Path) -> Path:
+        """A file compressed whole (``.zstd``) decompressed into a temporary file, kept while the bag is
+        open (within ``unpack.zstd_file``'s limits; what is lost noted)."""
+        if file.suffix != ".zstd":
+            return file
+        folder = Path(self._stack.enter_context(tempfile.TemporaryDirectory(prefix="tftools-")))
+        plain = folder / file.stem
+        try:
+            with self._open_source(file) as compressed, compressed.stream() as src:
+                loss = zstd_file(src, plain, Budget(compressed.size))
+        except (CompressionUnavailableError, OSError) as e:
+            raise CorruptBagError(str(file), f"cannot be decompressed ({getattr(e, 'strerror', None) or e})") from None
+        self._decompressed[file] = [f"{file.name}: {loss}"] if loss else []
+        return plain
+
+    def close(self) -> None:
+        self._stack.close()
+
+
+_NO_METADATA = OfferedQos({}, metadata=False)
 
 
 @dataclass
@@ -41,23 +144,46 @@ class _Bag:
     files: list[Path]
     compression_mode: str = ""  # "", "file" or "message"
     problems: list[str] = field(default_factory=list)
+    qos: OfferedQos = _NO_METADATA
 
 
 def _layout(path: Path) -> _Bag:
     problems: list[str] = []
     info = _metadata(path / "metadata.yaml", problems)
+    qos = _qos(path / "metadata.yaml", info, problems)
     if info is not None:
         storage = str(info.get("storage_identifier") or "sqlite3")
         files = _bag_files(path, info.get("relative_file_paths"), problems)
         mode = str(info.get("compression_mode") or "").lower()
         if files:
-            return _Bag(storage, files, mode, problems)
+            return _Bag(storage, files, mode, problems, qos)
         problems.append("metadata.yaml lists no files, read the bag files found instead")
     files = sorted(
         (*path.glob("*.db3"), *path.glob("*.mcap"), *path.glob("*.db3.zstd"), *path.glob("*.mcap.zstd")), key=_natural
     )
     storage = "mcap" if files and ".mcap" in files[0].suffixes else "sqlite3"
-    return _Bag(storage, files, "", problems)
+    return _Bag(storage, files, "", problems, qos)
+
+
+def _qos(path: Path, info: dict[str, Any] | None, problems: list[str]) -> OfferedQos:
+    """The QoS profiles each static topic's publishers offered, as metadata.yaml says (what ``ros2 bag
+    play`` publishes them with)."""
+    if not _exists(path):
+        return _NO_METADATA
+    if info is None:
+        return OfferedQos({}, problems[-1] if problems else "it is unreadable")
+    try:
+        found: dict[str, list[object]] = {}
+        for entry in info.get("topics_with_message_count") or []:
+            topic = entry["topic_metadata"]
+            if is_static_topic(str(topic["name"])):
+                profiles = topic.get("offered_qos_profiles") or []
+                found[str(topic["name"])] = (
+                    list(yaml_input.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
+                )
+        return OfferedQos(found)
+    except (yaml_input.YamlInputError, KeyError, TypeError, AttributeError) as error:
+        return OfferedQos({}, str(error) or type(error).__name__)
 
 
 def _metadata(path: Path, problems: list[str]) -> dict[str, Any] | None:
@@ -111,64 +237,3 @@ def _exists(path: Path) -> bool:
 def _natural(path: Path) -> list[Any]:
     """Sort key of split files: bag_2 before bag_10."""
     return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", path.name)]
-
-
-def _scan_files(
-    path: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None
-) -> tuple[list[FileScan], list[str]]:
-    """Each file's scan, and a label per scan for its problems (the file name when there are several)."""
-    scans: list[FileScan] = []
-    labels: list[str] = []
-    lost: list[str] = []
-    shares = in_turn(progress, [file.stat().st_size if _exists(file) else 0 for file in bag.files])
-    for share, file in zip(shares, bag.files, strict=True):
-        if not _exists(file):
-            lost.append(f"{_shown(file.name)} is listed in metadata.yaml but missing; its messages are lost")
-            continue
-        try:
-            scans.append(_scan_file(file, bag, topics, share, window))
-            labels.append(file.name if len(bag.files) > 1 else "")
-        except CorruptBagError as e:
-            lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
-    if not scans:
-        raise CorruptBagError(str(path), "; ".join(lost) or "no bag files in it")
-    bag.problems += lost
-    return scans, labels
-
-
-def _scan_file(
-    file: Path, bag: _Bag, topics: tuple[str, ...], progress: ProgressCallback, window: RecordWindow | None
-) -> FileScan:
-    # Each storage's module is imported only when a file needs it.
-    unpack = zstd_messages(file.stat().st_size) if bag.compression_mode == "message" else None
-    messages = MessageSet(unpack, window)
-    with _uncompressed(file, bag.problems) as plain:
-        if plain.suffix == ".mcap":
-            from tftools.sources.bag import mcap
-
-            scan = mcap.scan(plain, topics, progress, messages)
-        else:
-            from tftools.sources.bag.rosbag2 import db3
-
-            scan = db3.scan(plain, topics, progress, messages)
-    scan.windowed &= plain == file  # a file compressed whole is decompressed whole first
-    return scan
-
-
-@contextmanager
-def _uncompressed(file: Path, problems: list[str]) -> Iterator[Path]:
-    """A file compressed whole (``.zstd``) is decompressed into a temporary file first (within
-    ``unpack.zstd_file``'s limits; what is lost noted in ``problems``)."""
-    if file.suffix != ".zstd":
-        yield file
-        return
-    with tempfile.TemporaryDirectory(prefix="tftools-") as tmp:
-        plain = Path(tmp) / file.stem
-        try:
-            with file.open("rb") as src:
-                loss = zstd_file(src, plain, Budget(file.stat().st_size))
-        except (CompressionUnavailableError, OSError) as e:
-            raise CorruptBagError(str(file), f"cannot be decompressed ({getattr(e, 'strerror', None) or e})") from None
-        if loss:
-            problems.append(f"{file.name}: {loss}")
-        yield plain

@@ -12,48 +12,61 @@ from urllib.parse import quote
 import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
+from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.rosbag2 import _sqlite
+from tftools.sources.bag.rosbag2.db3_rows import TYPED, fetches
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import zstd_messages
-from tftools.sources.codecs.select import HeaderTopics, select
+from tftools.sources.codecs.select import HeaderCodec, Wanted, select
 from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.errors import CorruptBagError
+from tftools.sources.storage.source import ByteSource
 
-MAGIC = b"SQLite format 3\x00"
-ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
 _FETCH = 1 << 12  # rows per fetch at most: progress is reported between fetches
 _FETCH_BYTES = 4 << 20  # and payload bytes (a fetch ends with the row that reaches them)
 _MAX_TOPIC_ID = 1 << 24  # topic ids index a lookup array: rosbag2 numbers them from 1
 
 
-def scan(path: Path, topics: tuple[str, ...], progress: ProgressCallback, messages: MessageSet) -> FileScan:
-    """One rosbag2 sqlite3 file's messages (into ``messages``, zstd-compressed ones decompressed) and
-    description; ``CorruptBagError`` when nothing could be read."""
-    result = FileScan(messages)
-    wal = path.with_name(path.name + "-wal")
-    unmerged = wal.exists() and wal.stat().st_size > 0
-    with _connect(path) as db:
-        channels = _channels(db, path, topics, result)
-        _statistics(db, result)
-    _messages(path, channels, result, progress, headers_only=isinstance(topics, HeaderTopics))
-    if unmerged:
-        result.note_problem(
-            f"{wal.name} holds writes never merged into the database; they were not read"
-            " (opening the bag once with sqlite3 merges them)"
-        )
-    return result
+class Db3File:
+    """A rosbag2 sqlite3 file open for reading, its topics and statistics read once: read whole, or
+    window after window."""
+
+    def __init__(self, path: Path, source: ByteSource) -> None:
+        self.path = path
+        self.source = source
+        wal = path.with_name(path.name + "-wal")
+        self.unmerged = wal.name if wal.exists() and wal.stat().st_size > 0 else ""
+        if source.read(0, len(SQLITE3.magic)) != SQLITE3.magic:
+            raise CorruptBagError(str(path), "not an SQLite database")
+        with _connect(path) as db:
+            self.topics = _topics(db, path)
+            self.statistics = _statistics(db)
+
+    def scan(self, wanted: Wanted, progress: ProgressCallback, messages: MessageSet) -> FileScan:
+        """The file's messages (into ``messages``, zstd-compressed ones decompressed) and description;
+        ``CorruptBagError`` when nothing could be read."""
+        result = FileScan(messages)
+        channels, headers = _channels(self.topics, wanted, result)
+        if self.statistics is not None:
+            result.message_count, result.start, result.end = self.statistics
+        _messages(self.path, channels, headers, result, progress)
+        if self.unmerged:
+            result.note_problem(
+                f"{self.unmerged} holds writes never merged into the database; they were not read"
+                " (opening the bag once with sqlite3 merges them)"
+            )
+        return result
+
+    def close(self) -> None:
+        self.source.close()
 
 
 @contextmanager
 def _connect(path: Path) -> Iterator[sqlite3.Connection]:
     """Read-only and immutable: sqlite neither writes nor creates -wal/-shm files next to it."""
     try:
-        with path.open("rb") as f:
-            if f.read(len(MAGIC)) != MAGIC:
-                raise CorruptBagError(str(path), "not an SQLite database")
         db = sqlite3.connect(_uri(path), uri=True)
         # A file cut short says it has more pages than it holds; sqlite then refuses it whole
         # unless the schema is "writable" (a flag of this read-only connection, nothing written).
@@ -70,27 +83,48 @@ def _uri(path: Path) -> str:
     return f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1"
 
 
-def _channels(db: sqlite3.Connection, path: Path, topics: tuple[str, ...], result: FileScan) -> dict[int, int]:
-    """Topic ids to read -> MessageSet channels; fills the description's topics."""
+#: A topic as the topics table holds it: id, name, type and serialization format.
+TopicRow = tuple[int, str, str, str]
+
+
+def _topics(db: sqlite3.Connection, path: Path) -> list[TopicRow | str]:
+    """The topics table's rows (a line for each that is not a topic)."""
     try:
         rows = db.execute("SELECT id, name, type, serialization_format FROM topics").fetchall()
     except sqlite3.Error as e:
         raise CorruptBagError(str(path), f"its topics table cannot be read: {e}") from None
-    wanted: dict[int, int] = {}
+    topics: list[TopicRow | str] = []
     for topic_id, *texts in rows:
         if not isinstance(topic_id, int) or not 0 <= topic_id <= _MAX_TOPIC_ID:
-            result.note_problem(f"a topic with id {_text(topic_id)!r} is skipped: not a topic id")
+            topics.append(f"a topic with id {_text(topic_id)!r} is skipped: not a topic id")
             continue
         name, type_name, encoding = (_text(t) for t in texts)
+        topics.append((topic_id, name, type_name, encoding))
+    return topics
+
+
+def _channels(topics: list[TopicRow | str], wanted: Wanted, result: FileScan) -> tuple[dict[int, int], set[int]]:
+    """Topic ids to read -> MessageSet channels, and those of them read for their headers only;
+    fills the description's topics."""
+    channels: dict[int, int] = {}
+    headers: set[int] = set()
+    for row in topics:
+        if isinstance(row, str):
+            result.note_problem(row)
+            continue
+        topic_id, name, type_name, encoding = row
         result.topics[name] = type_name
-        codec, unread = select(name, type_name, encoding, topics)
+        codec, unread = select(name, type_name, encoding, wanted)
         result.note_skipped(unread)
         if codec is not None:
-            wanted[topic_id] = result.messages.channel(name, codec)
-    return wanted
+            channels[topic_id] = result.messages.channel(name, codec)
+            if isinstance(codec, HeaderCodec):
+                headers.add(topic_id)
+    return channels, headers
 
 
-def _statistics(db: sqlite3.Connection, result: FileScan) -> None:
+def _statistics(db: sqlite3.Connection) -> tuple[int, int, int] | None:
+    """Messages, and the first and last record time; None for a damaged database (the messages read say)."""
     try:
         # One aggregate a query: min and max then search the timestamp index, count(*) counts its cells.
         count, start, end = db.execute(
@@ -98,22 +132,18 @@ def _statistics(db: sqlite3.Connection, result: FileScan) -> None:
             " (SELECT max(timestamp) FROM messages)"
         ).fetchone()
     except sqlite3.Error:
-        return  # a damaged database: the messages read set them
-    result.message_count, result.start, result.end = (v if isinstance(v, int) else 0 for v in (count, start, end))
+        return None
+    count, start, end = (v if isinstance(v, int) else 0 for v in (count, start, end))
+    return count, start, end
 
 
 def _messages(
-    path: Path,
-    channels: dict[int, int],
-    result: FileScan,
-    progress: ProgressCallback,
-    *,
-    headers_only: bool,
+    path: Path, channels: dict[int, int], headers: set[int], result: FileScan, progress: ProgressCallback
 ) -> None:
     """Add the wanted topics' messages, fetch after fetch in the table's order (decoded as they
     come, so they are never all held at once; ``MessageSet`` puts them in (record time, id) order);
-    from the intact pages of a damaged file. With ``headers_only``, sqlite hands over only the
-    bytes that can hold a header of each message (a compressed one whole), not the images or
+    from the intact pages of a damaged file. Of the topics in ``headers``, sqlite hands over only
+    the bytes that can hold a header of each message (a compressed one whole), not the images or
     points after it. Rows of other types (sqlite stores any value in any column) are not messages:
     left out."""
     if not channels:
@@ -122,23 +152,23 @@ def _messages(
     lookup = np.zeros(max(channels) + 1, np.int32)  # topic id -> channel
     lookup[list(channels)] = list(channels.values())
     ids = ",".join(str(int(i)) for i in channels)
+    headed = ",".join(str(int(i)) for i in headers)
     data = (
-        f"CASE WHEN substr(data, 1, {len(ZSTD_MAGIC)}) = x'{ZSTD_MAGIC.hex()}' THEN data"
-        f" ELSE substr(data, 1, {HEADER_BYTES}) END"
-        if headers_only
+        f"CASE WHEN topic_id NOT IN ({headed}) OR substr(data, 1, {len(ZSTD_MAGIC)}) = x'{ZSTD_MAGIC.hex()}'"
+        f" THEN data ELSE substr(data, 1, {HEADER_BYTES}) END"
+        if headers
         else "data"
     )
     # NOT INDEXED: the table read in its own order, page after page, not through the timestamp index;
     # but a window's rows are found through it.
     window = result.messages.window
-    table, where = "messages NOT INDEXED", f"topic_id IN ({ids})"
+    table, where = "messages NOT INDEXED", f"topic_id IN ({ids}){TYPED}"
     if window is not None:
         table, where = "messages", f"{where} AND timestamp >= {int(window.first)} AND timestamp < {int(window.last)}"
     query = f"SELECT topic_id, timestamp, id, {data} FROM {table} WHERE {where}"
     added, latest = False, result.start  # the latest record time met: rows may come a little out of order
     try:
-        rows = _sqlite.Messages(_uri(path), query)
-        while len((fetched := rows.fetch(_FETCH, _FETCH_BYTES))[0]):
+        for fetched in fetches(_uri(path), query, _FETCH, _FETCH_BYTES):
             topic, timestamp, row_id, start, length, payloads = fetched
             _unpack_if_compressed(payloads[start[0] : start[0] + length[0]][:4].tobytes(), result, size)
             spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)

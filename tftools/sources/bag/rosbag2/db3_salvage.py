@@ -20,6 +20,8 @@ import struct
 from collections.abc import Collection
 from dataclasses import dataclass, field
 
+from tftools.sources.bag.damage import DamageError
+
 Buffer = bytes | mmap.mmap
 Row = tuple[int, int, bytes]  # topic id, record time, payload
 
@@ -57,10 +59,8 @@ def salvage(data: Buffer, topic_ids: Collection[int]) -> Salvaged:
         for cell in pages.leaf_cells(number):
             try:
                 message = pages.message(cell, topic_ids)
-            except _MalformedError:
-                continue
-            except _LostOverflowError:
-                lost += 1
+            except DamageError as e:  # a malformed cell is skipped; one whose data is lost, counted
+                lost += e.what == _LOST_OVERFLOW
                 continue
             if message is not None:
                 rowid, topic_id, time, payload = message
@@ -72,12 +72,8 @@ def salvage(data: Buffer, topic_ids: Collection[int]) -> Salvaged:
     return Salvaged(rows, len(times), first, last, lost)
 
 
-class _MalformedError(Exception):
-    """Bytes that do not follow the file format."""
-
-
-class _LostOverflowError(Exception):
-    """A record whose overflow pages are missing or damaged."""
+_MALFORMED = "bytes that do not follow the file format"
+_LOST_OVERFLOW = "a record whose overflow pages are missing or damaged"
 
 
 class _Pages:
@@ -119,7 +115,7 @@ class _Pages:
         local = self._local_size(size)
         spills = local < size
         if at + local + 4 * spills > page_end or size > len(self.data):
-            raise _MalformedError
+            raise DamageError(_MALFORMED)
         record = self.data[at : at + local]
         header_size, head = _varint(record, 0, len(record))
         types: list[int] = []
@@ -132,7 +128,7 @@ class _Pages:
         topic_id, head = _integer(record, header_size, types[1])
         time, head = _integer(record, head, types[2])
         if head + (types[3] - 12) // 2 != size:
-            raise _MalformedError
+            raise DamageError(_MALFORMED)
         rowid -= (1 << 64) * (rowid >> 63)
         if topic_id not in topic_ids:
             return rowid, topic_id, time, None
@@ -155,7 +151,7 @@ class _Pages:
         while remaining > 0:
             start = (page - 1) * self.page_size
             if not 2 <= page <= self.count or page in seen or self.overflow_budget <= 0:
-                raise _LostOverflowError
+                raise DamageError(_LOST_OVERFLOW, start)
             seen.add(page)
             self.overflow_budget -= 1
             take = min(remaining, self.usable - 4)
@@ -171,14 +167,14 @@ def _varint(data: Buffer, pos: int, end: int) -> tuple[int, int]:
     value = 0
     for i in range(9):
         if pos + i >= min(end, len(data)):
-            raise _MalformedError
+            raise DamageError(_MALFORMED)
         byte = data[pos + i]
         if i == 8:
             return (value << 8) | byte, pos + 9
         value = (value << 7) | (byte & 0x7F)
         if byte < 0x80:
             return value, pos + i + 1
-    raise _MalformedError  # unreachable: the loop returns by the ninth byte
+    raise DamageError(_MALFORMED)  # unreachable: the loop returns by the ninth byte
 
 
 def _integer(record: bytes, at: int, serial: int) -> tuple[int, int]:
@@ -186,5 +182,5 @@ def _integer(record: bytes, at: int, serial: int) -> tuple[int, int]:
         return serial - 8, at
     size = _INT_SIZES[serial]
     if at + size > len(record):
-        raise _MalformedError
+        raise DamageError(_MALFORMED)
     return int.from_bytes(record[at : at + size], "big", signed=True), at + size

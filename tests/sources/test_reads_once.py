@@ -1,0 +1,128 @@
+"""Each command reads each recording once: its files opened once, read in one pass (transforms, clock
+and sensor headers together), and of a remote one each byte fetched at most once."""
+
+from __future__ import annotations
+
+import collections
+import itertools
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import fsspec
+import pytest
+
+from tests.cli.conftest import tfx  # noqa: F401 - a fixture
+from tests.cli.test_filter import bags  # noqa: F401 - a fixture
+from tftools.sources.bag.reader import BagReader
+from tftools.sources.bag.rosbag2 import metadata_yaml
+from tftools.sources.storage import remote
+from tftools.sources.storage.source import ByteSource
+
+COMMANDS = {
+    "wtf": ["wtf", "BAG"],
+    "filter": ["filter", "-b", "BAG", "--target", "odom"],
+    "report": ["report", "BAG", "-o", "OUT/report.html"],
+    "frames": ["frames", "-b", "BAG"],
+    "echo": ["echo", "odom", "base_link", "-b", "BAG"],
+}
+
+
+class Counted:
+    """What the readers did: files opened (by name), passes over the recording, metadata.yaml files read,
+    bytes fetched from a remote one."""
+
+    def __init__(self, monkeypatch: pytest.MonkeyPatch) -> None:
+        self.opened: collections.Counter[str] = collections.Counter()
+        self.passes = 0
+        self.metadata = 0
+        self.fetched: list[tuple[str, int, int]] = []
+        opened, read, load, fill = ByteSource.__init__, BagReader.read, metadata_yaml.load, remote.RemoteCopy._fetch
+
+        def counted_open(source: ByteSource, path: Path) -> None:
+            self.opened[path.name] += 1
+            opened(source, path)
+
+        def counted_read(reader: BagReader, *args: Any, **kwargs: Any) -> Any:
+            self.passes += 1
+            return read(reader, *args, **kwargs)
+
+        def counted_load(path: Path) -> Any:
+            self.metadata += 1
+            return load(path)
+
+        def counted_fetch(copy: remote.RemoteCopy, pieces: list[tuple[int, int]]) -> None:
+            self.fetched += [(copy.path, start, end) for start, end in pieces]
+            fill(copy, pieces)
+
+        monkeypatch.setattr(ByteSource, "__init__", counted_open)
+        monkeypatch.setattr(BagReader, "read", counted_read)
+        monkeypatch.setattr(metadata_yaml, "load", counted_load)
+        monkeypatch.setattr(remote.RemoteCopy, "_fetch", counted_fetch)
+
+
+def _run(tfx: Any, command: str, bag: str, out: Path) -> None:  # noqa: F811
+    args = [a.replace("BAG", bag).replace("OUT", str(out)) for a in COMMANDS[command]]
+    done = tfx(*args)
+    assert done.code in (0, 1), done.stderr
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "db3", "mcap"])
+@pytest.mark.parametrize("command", list(COMMANDS))
+def test_each_command_reads_a_local_recording_once(
+    tfx: Any,  # noqa: F811
+    bags: dict[str, Path],  # noqa: F811
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    fmt: str,
+    command: str,
+) -> None:
+    counted = Counted(monkeypatch)
+    _run(tfx, command, str(bags[fmt]), tmp_path)
+    files = [bags[fmt].name] if fmt == "ros1" else [p.name for p in bags[fmt].iterdir() if p.suffix != ".yaml"]
+    assert counted.passes == 1
+    assert dict(counted.opened) == dict.fromkeys(files, 1)
+    assert counted.metadata == (0 if fmt == "ros1" else 1)
+
+
+@pytest.fixture
+def bucket(bags: dict[str, Path]) -> Iterator[str]:  # noqa: F811
+    """The sensor bags in fsspec's in-memory filesystem."""
+    fs = fsspec.filesystem("memory")
+    root = "/tftools-reads-once"
+    fs.put(str(bags["ros1"]), f"{root}/robot.bag")
+    fs.put(str(bags["db3"]), f"{root}/robot_db3", recursive=True)
+    fs.put(str(bags["mcap"]), f"{root}/robot_mcap", recursive=True)
+    yield f"memory://{root}"
+    fs.rm(root, recursive=True)
+
+
+@pytest.mark.parametrize("name", ["robot.bag", "robot_db3", "robot_mcap"])
+@pytest.mark.parametrize("command", ["wtf", "report"])
+def test_each_command_fetches_a_remote_recording_once(
+    tfx: Any,  # noqa: F811
+    bucket: str,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    name: str,
+    command: str,
+) -> None:
+    """No byte of a remote recording is fetched twice (a .db3 is fetched whole: once, not once for the
+    transforms and again for the sensor data), and it is read in one pass."""
+    counted = Counted(monkeypatch)
+    _run(tfx, command, f"{bucket}/{name}", tmp_path)
+    assert counted.passes == 1 and counted.fetched
+    by_file: dict[str, list[tuple[int, int]]] = {}
+    for path, start, end in counted.fetched:
+        by_file.setdefault(path, []).append((start, end))
+    for ranges in by_file.values():
+        ranges.sort()
+        assert all(a[1] <= b[0] for a, b in itertools.pairwise(ranges)), "a byte fetched twice"
+
+
+def test_a_remote_bag_directory_has_its_qos_checked(tfx: Any, bucket: str) -> None:  # noqa: F811
+    """metadata.yaml's QoS comes with the bag read: a bag read by URL has /tf_static's durability
+    checked, not skipped unsaid."""
+    with BagReader([f"{bucket}/robot_db3"]) as reader:
+        (info,) = reader.read().files
+    assert info.qos is not None and not info.qos.problem and "/tf_static" in info.qos.profiles
