@@ -14,8 +14,8 @@ import pytest
 
 from tests.cli.conftest import tfx  # noqa: F401 - a fixture
 from tests.cli.test_filter import bags  # noqa: F401 - a fixture
+from tftools.sources import yaml_input
 from tftools.sources.bag.reader import BagReader
-from tftools.sources.bag.rosbag2 import metadata_yaml
 from tftools.sources.storage import remote
 from tftools.sources.storage.source import ByteSource
 
@@ -37,7 +37,7 @@ class Counted:
         self.passes = 0
         self.metadata = 0
         self.fetched: list[tuple[str, int, int]] = []
-        opened, read, load, fill = ByteSource.__init__, BagReader.read, metadata_yaml.load, remote.RemoteCopy._fetch
+        opened, read, load, fill = ByteSource.__init__, BagReader.read, yaml_input.load, remote.RemoteCopy._fetch
 
         def counted_open(source: ByteSource, path: Path) -> None:
             self.opened[path.name] += 1
@@ -57,7 +57,7 @@ class Counted:
 
         monkeypatch.setattr(ByteSource, "__init__", counted_open)
         monkeypatch.setattr(BagReader, "read", counted_read)
-        monkeypatch.setattr(metadata_yaml, "load", counted_load)
+        monkeypatch.setattr(yaml_input, "load", counted_load)
         monkeypatch.setattr(remote.RemoteCopy, "_fetch", counted_fetch)
 
 

@@ -100,12 +100,14 @@ class Fetched:
 @dataclass(frozen=True)
 class OfferedQos:
     """The QoS profiles each static topic's publishers offered, as a ROS 2 bag's metadata.yaml says:
-    what ``ros2 bag play`` publishes it with; ``problem``: why metadata.yaml does not say ("": it does);
-    ``metadata``: False for a bag without one (a bare .db3 or .mcap file)."""
+    what ``ros2 bag play`` publishes it with (and every topic's counts); ``problem``: why metadata.yaml
+    does not say ("": it does); ``metadata``: False for a bag without one (a bare .db3 or .mcap file)."""
 
     profiles: dict[str, list[object]]
     problem: str = ""
     metadata: bool = True
+    #: Per topic, its messages and its publishers (offered QoS profiles), as metadata.yaml counts them.
+    counts: dict[str, tuple[int, int]] = field(default_factory=dict)
 
 
 def _megabytes(n: int) -> str:

@@ -13,7 +13,6 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene
-from tftools.sources import yaml_input
 from tftools.sources.contents import SourceInfo, is_static_topic
 
 
@@ -67,20 +66,10 @@ def _tallies(scene: Scene) -> Iterator[TopicTally]:
 
 
 def _counts(file: SourceInfo, topics: tuple[str, ...]) -> dict[str, tuple[int, int]]:
-    """Per tf topic: its messages and its publishers, as metadata.yaml has them (nothing if unreadable:
-    ``static_volatile`` says so)."""
-    try:
-        info = yaml_input.load(Path(file.path) / "metadata.yaml")["rosbag2_bagfile_information"]
-        found = {}
-        for entry in info.get("topics_with_message_count") or []:
-            topic = entry["topic_metadata"]
-            if str(topic["name"]) in topics:
-                profiles = topic.get("offered_qos_profiles") or []
-                offered = yaml_input.load_text(profiles) if isinstance(profiles, str) else profiles
-                found[str(topic["name"])] = (int(entry.get("message_count") or 0), len(offered or []))
-        return found
-    except (yaml_input.YamlInputError, KeyError, TypeError, ValueError, AttributeError):
-        return {}
+    """Per tf topic: its messages and its publishers, as metadata.yaml has them (read with the bag; nothing
+    if unreadable: ``static_volatile`` says so)."""
+    counts = file.qos.counts if file.qos is not None else {}
+    return {topic: counted for topic, counted in counts.items() if topic in topics}
 
 
 @register("silent_tf", Severity.warning, "tf publishers that sent nothing, tf messages without transforms")

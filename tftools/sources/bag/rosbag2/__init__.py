@@ -174,15 +174,16 @@ def _qos(path: Path, info: dict[str, Any] | None, problems: list[str]) -> Offere
         return OfferedQos({}, problems[-1] if problems else "it is unreadable")
     try:
         found: dict[str, list[object]] = {}
+        counts: dict[str, tuple[int, int]] = {}
         for entry in info.get("topics_with_message_count") or []:
             topic = entry["topic_metadata"]
+            profiles = topic.get("offered_qos_profiles") or []
+            offered = list(yaml_input.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
+            counts[str(topic["name"])] = (int(entry.get("message_count") or 0), len(offered))
             if is_static_topic(str(topic["name"])):
-                profiles = topic.get("offered_qos_profiles") or []
-                found[str(topic["name"])] = (
-                    list(yaml_input.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
-                )
-        return OfferedQos(found)
-    except (yaml_input.YamlInputError, KeyError, TypeError, AttributeError) as error:
+                found[str(topic["name"])] = offered
+        return OfferedQos(found, counts=counts)
+    except (yaml_input.YamlInputError, KeyError, TypeError, ValueError, AttributeError) as error:
         return OfferedQos({}, str(error) or type(error).__name__)
 
 
