@@ -11,9 +11,8 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from tftools.cli import live, options
-from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, say_written, warn
+from tftools.cli.common import Exit, UsageError, exit_with, hinted, progress_bar, say_written, warn
 from tftools.cli.outputs import check_output
-from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
@@ -109,28 +108,33 @@ def _bag_sections(
 ) -> list[Section]:
     """One section per recording; one that cannot be read is an error of its own in a fleet, and the
     command's error when it is the only one (or none can be read)."""
-    from tftools.analysis.description import robot_of
-    from tftools.analysis.wtf.fleet import sensor_data
-    from tftools.render.report import unreadable_section
+    from tftools.analysis.report import Unreadable, report_fleet
+    from tftools.render.report import recording_section, unreadable_section
 
-    sections: list[Section] = []
-    unread: list[TfToolsError] = []
-    for index, group in enumerate(groups):
-        try:
-            recording = open_recording(group, topics, semantics)
-        except TfToolsError as error:
+    sections: dict[int, Section] = {}
+    unread: list[Unreadable] = []
+    for index, result in report_fleet(
+        groups,
+        reading=progress_bar,
+        topics=topics,
+        semantics=semantics,
+        target=target,
+        sensor_topics=sensors,
+        urdf=description,
+    ):
+        if isinstance(result, Unreadable):
             if len(groups) == 1:
-                raise
-            warn(hinted(str(error), error.hint))
-            unread.append(error)
-            name = " + ".join(str(p) for p in group)
-            sections.append(unreadable_section(index, name, str(error), error.hint))
+                raise UsageError(result.message, result.hint)
+            warn(hinted(result.message, result.hint))
+            unread.append(result)
+            sections[index] = unreadable_section(index, result.name, result.message, result.hint)
             continue
-        robot, said = robot_of(group, recording, description)
-        sections.append(_section(index, recording, sensor_data(group, sensors), target, robot, said))
+        for problem in result.problems:
+            warn(problem)
+        sections[index] = recording_section(index, result)
     if len(unread) == len(groups):
-        raise unread[0]
-    return sections
+        raise UsageError(unread[0].message, unread[0].hint)
+    return [sections[i] for i in range(len(groups))]
 
 
 def _section(
