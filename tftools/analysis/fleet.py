@@ -23,12 +23,12 @@ from concurrent import futures
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TypeVar
 
-from tftools.core.errors import TfToolsError
+from tftools.core.errors import UsageError
 
 if TYPE_CHECKING:
     from distributed import Client
 
-__all__ = ["HERE", "Fleet", "FleetError", "TaskTimeoutError", "Unfinished", "run_fleet", "timed"]
+__all__ = ["HERE", "Fleet", "TaskTimeoutError", "Unfinished", "run_fleet", "timed"]
 
 T = TypeVar("T")
 Group = Sequence[str]  # the paths of one recording (a split bag has several)
@@ -37,14 +37,6 @@ INSTALL_HINT = "install the extra: pip install 'tftools[fleet]'"
 CONNECT_SECONDS = 5
 _WORKER_HINT = "check that every worker has this tftools installed, and see the worker's log"
 _TIMEOUT_HINT = "raise --timeout, or check it alone (tfx wtf BAG)"
-
-
-class FleetError(TfToolsError):
-    """The fleet cannot run at all: Dask is not installed, or its scheduler cannot be reached."""
-
-    def __init__(self, message: str, hint: str = "") -> None:
-        super().__init__(message)
-        self.hint = hint
 
 
 class TaskTimeoutError(Exception):
@@ -78,7 +70,7 @@ def run_fleet(
 ) -> Iterator[tuple[int, T | Unfinished]]:
     """``task`` on each group of paths (each a recording), yielding ``(index in groups, result)`` as they
     finish. ``task`` must be picklable (a module's function, or a ``functools.partial`` of one) for
-    ``fleet.jobs`` > 1 or Dask. Raises ``FleetError`` when Dask is missing or its scheduler not reached."""
+    ``fleet.jobs`` > 1 or Dask. Raises ``UsageError`` when Dask is missing or its scheduler not reached."""
     check = timed(task, fleet.timeout)
     if fleet.dask is not None:
         return _on_dask(groups, check, fleet.dask)
@@ -152,7 +144,7 @@ def _on_dask(
         from distributed import KilledWorker
         from distributed import as_completed as finished
     except ImportError:
-        raise FleetError("--dask needs Dask's distributed package, which is not installed", INSTALL_HINT) from None
+        raise UsageError("--dask needs Dask's distributed package, which is not installed", INSTALL_HINT) from None
     logging.getLogger("distributed").setLevel(logging.ERROR)  # its rescheduling notices are ours to report
     client = _connect(address)
 
@@ -181,9 +173,9 @@ def _connect(address: str) -> Client:
     try:
         return Client(address, timeout=f"{CONNECT_SECONDS}s", set_as_default=False)  # type: ignore[no-untyped-call]
     except ValueError as error:
-        raise FleetError(f"--dask {address}: not a scheduler address ({error})", hint) from None
+        raise UsageError(f"--dask {address}: not a scheduler address ({error})", hint) from None
     except OSError as error:  # refused, unreachable, timed out
-        raise FleetError(f"--dask {address}: cannot reach the Dask scheduler ({error})", hint) from None
+        raise UsageError(f"--dask {address}: cannot reach the Dask scheduler ({error})", hint) from None
 
 
 def _timed_out(error: TaskTimeoutError, retried: bool) -> Unfinished:

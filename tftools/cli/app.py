@@ -125,7 +125,8 @@ def _failed(error: TfToolsError) -> int:
 
 def _usage_error(error: typer.TyperException) -> int:
     """Click's usage errors as tfx's one line, naming the command's --help (no arguments: click printed the help)."""
-    from tftools.cli.common import Exit, UsageError
+    from tftools.cli.common import Exit
+    from tftools.core.errors import UsageError
 
     if type(error).__name__ == "NoArgsIsHelpError":
         return int(Exit.UNUSABLE)
@@ -146,7 +147,7 @@ def _forgotten_bag_option(message: str) -> str:
 def _bag_among_frames() -> None:
     """``tfx echo map robot.bag``, ``tfx monitor robot.bag``: a bag where a frame or topic goes, no -b; the
     command would listen to a live system. A ``UsageError`` showing the command line with -b."""
-    from tftools.cli.common import UsageError
+    from tftools.core.errors import UsageError
 
     words = sys.argv[1:]
     if (

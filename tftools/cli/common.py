@@ -14,7 +14,7 @@ import typer
 from rich.console import Console
 from rich.text import Text
 
-from tftools.core.errors import TfToolsError
+from tftools.core.errors import TfToolsError, UsageError
 from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
 
@@ -50,14 +50,6 @@ class TextOrJson(str, enum.Enum):
 
     text = "text"
     json = "json"
-
-
-class UsageError(TfToolsError):
-    """Arguments that cannot work together, or name something that is not there."""
-
-    def __init__(self, message: str, hint: str = "") -> None:
-        super().__init__(message)
-        self.hint = hint
 
 
 class InternalError(TfToolsError):

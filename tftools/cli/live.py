@@ -7,8 +7,8 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import UsageError, stderr, warn
-from tftools.core.errors import TransformError
+from tftools.cli.common import stderr, warn
+from tftools.core.errors import TransformError, UsageError
 from tftools.core.semantics import Semantics
 from tftools.core.time import Clock, SimClock, from_sec
 from tftools.render.escape import printable

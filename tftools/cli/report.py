@@ -11,8 +11,9 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from tftools.cli import live, options
-from tftools.cli.common import Exit, UsageError, exit_with, hinted, progress_bar, say_written, warn
+from tftools.cli.common import Exit, exit_with, hinted, progress_bar, say_written, warn
 from tftools.cli.outputs import check_output
+from tftools.core.errors import UsageError
 from tftools.core.semantics import Semantics
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them

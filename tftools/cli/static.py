@@ -14,8 +14,9 @@ import typer
 
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import UsageError, stdout, warn
+from tftools.cli.common import stdout, warn
 from tftools.cli.outputs import check_output, check_replaceable
+from tftools.core.errors import UsageError
 from tftools.render.escape import printable
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.storage.locations import METADATA, is_url

@@ -18,7 +18,8 @@ from rich.table import Table
 from tftools.cli import defaults, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import Exit, UsageError, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
+from tftools.cli.common import Exit, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
+from tftools.core.errors import UsageError
 
 if TYPE_CHECKING:  # the checks and their renderers load when a command runs: --help needs none of them (nor numpy)
     from tftools.analysis.expected import Tolerances, TreeShape

@@ -22,6 +22,7 @@ if TYPE_CHECKING:
         TfToolsError,
         TransformError,
         UnknownFrameError,
+        UsageError,
     )
     from tftools.core.history import EdgeHistory
     from tftools.core.rejection import Rejection, RejectionCode
@@ -33,8 +34,8 @@ __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BackwardExtrapolationError", "BatchBuilder", "Buffer",
     "Clock", "ConnectivityError", "EdgeHistory", "ExtrapolationError", "ForwardExtrapolationError",
     "InvalidArgumentError", "LookupBatch", "NoDataForExtrapolationError", "Rejection", "RejectionCode", "Semantics",
-    "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError", "UnknownFrameError", "WallClock",
-    "format_sec", "from_sec", "to_sec",
+    "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError", "UnknownFrameError", "UsageError",
+    "WallClock", "format_sec", "from_sec", "to_sec",
 ]  # fmt: skip
 
 #: Where each name is defined.
@@ -63,6 +64,7 @@ _HOME = {
     "TransformBatch": "tftools.core.batch",
     "TransformError": "tftools.core.errors",
     "UnknownFrameError": "tftools.core.errors",
+    "UsageError": "tftools.core.errors",
     "WallClock": "tftools.core.time",
     "format_sec": "tftools.core.time",
     "from_sec": "tftools.core.time",
