@@ -15,6 +15,7 @@ from rich.console import Console
 from rich.text import Text
 
 from tftools.core.errors import TfToolsError, UsageError
+from tftools.core.frames import frame_name
 from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
 
@@ -183,7 +184,7 @@ def local_size(location: str) -> int:
 
 def frame_argument(frames: Sequence[str], frame: str) -> str:
     """A frame given on the command line (a leading ``/`` dropped, as tf did); must be one of ``frames``."""
-    name = frame[1:] if frame.startswith("/") else frame
+    name = frame_name(frame)
     if name not in frames:
         close = difflib.get_close_matches(name, frames, n=3, cutoff=0.4)
         rest = sorted(set(frames) - set(close))

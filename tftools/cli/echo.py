@@ -17,6 +17,7 @@ from tftools.cli.arguments import positive_seconds, rate_hz
 from tftools.cli.common import Exit, exit_with, frame_argument, open_recording, open_stream, stdout
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.errors import UsageError
+from tftools.core.frames import frame_name
 from tftools.core.semantics import Semantics
 from tftools.core.time import from_sec
 from tftools.render.escape import printable_lines
@@ -213,7 +214,7 @@ def _live(
     (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
     from tftools.sources.live.capture import listen
 
-    target, source = target.removeprefix("/"), source.removeprefix("/")
+    target, source = frame_name(target), frame_name(source)
     with feed:
         buffer = listen(feed, from_sec(cache), semantics)
         live.wait_for_transform(buffer, target, source, feed.describe(), wait)

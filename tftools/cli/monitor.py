@@ -13,6 +13,7 @@ from tftools.cli.arguments import positive_seconds, rate_hz
 from tftools.cli.common import TextOrJson, frame_argument, open_recording, open_stream, stdout, warn
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.core.errors import UsageError
+from tftools.core.frames import frame_name
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec
 
@@ -84,7 +85,7 @@ def command(
     if not bags:
         live.no_bag_options(**{"--start": start, "--end": end, "--play": play})
         if target is not None and source is not None:
-            target, source = target.removeprefix("/"), source.removeprefix("/")
+            target, source = frame_name(target), frame_name(source)
         with live.open_source(ros1, use_sim_time, topics) as feed:
             semantics = tf2 or live_semantics(feed)
             watch(feed, target, source, from_sec(window), duration, fmt, feed.describe(), None, semantics, trace)

@@ -24,6 +24,7 @@ if TYPE_CHECKING:
         UnknownFrameError,
         UsageError,
     )
+    from tftools.core.frames import frame_name
     from tftools.core.history import EdgeHistory
     from tftools.core.rejection import Rejection, RejectionCode
     from tftools.core.semantics import SEMANTICS, Semantics
@@ -35,7 +36,7 @@ __all__ = [
     "Clock", "ConnectivityError", "EdgeHistory", "ExtrapolationError", "ForwardExtrapolationError",
     "InvalidArgumentError", "LookupBatch", "NoDataForExtrapolationError", "Rejection", "RejectionCode", "Semantics",
     "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError", "UnknownFrameError", "UsageError",
-    "WallClock", "format_sec", "from_sec", "to_sec",
+    "WallClock", "format_sec", "frame_name", "from_sec", "to_sec",
 ]  # fmt: skip
 
 #: Where each name is defined.
@@ -67,6 +68,7 @@ _HOME = {
     "UsageError": "tftools.core.errors",
     "WallClock": "tftools.core.time",
     "format_sec": "tftools.core.time",
+    "frame_name": "tftools.core.frames",
     "from_sec": "tftools.core.time",
     "to_sec": "tftools.core.time",
 }
