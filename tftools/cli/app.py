@@ -13,14 +13,13 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tftools import __version__
+from tftools.cli import VERSION_LINE
 
 if TYPE_CHECKING:
     import typer
 
     from tftools.core.errors import TfToolsError
 
-VERSION_LINE = f"tfx {__version__}"
 #: The exit code of a command stopped by Ctrl-C (SIGINT), as a shell gives it: 128 + 2.
 INTERRUPTED = 130
 

@@ -1,4 +1,5 @@
-"""What every subcommand shares: reading bags with progress, errors, exit codes, frames and formats."""
+"""What every subcommand shares: progress bars, errors, exit codes, frames and formats (reading a recording:
+``cli.reading``)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import functools
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, NoReturn, TypeVar
+from typing import TYPE_CHECKING, NoReturn
 
 import typer
 from rich.console import Console
@@ -16,13 +17,10 @@ from rich.text import Text
 
 from tftools.core.errors import TfToolsError, UsageError
 from tftools.core.frames import frame_name
-from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
 
 if TYPE_CHECKING:  # the readers load when a command reads: its --help needs none of them (nor numpy)
-    from tftools.sources import Recording
     from tftools.sources.bag import ProgressCallback
-    from tftools.sources.stream import StreamedRecording
 
 
 def _console(*, to_stderr: bool) -> Console:
@@ -132,45 +130,6 @@ def _bar(label: str, total: int | None, enabled: bool) -> Iterator[Callable[...,
         TextColumn(label), BarColumn(), counter, TimeRemainingColumn(), console=stderr, transient=True
     ) as bar:
         yield functools.partial(bar.update, bar.add_task(label, total=total))
-
-
-def open_recording(
-    bags: Sequence[str] | None,
-    topics: Sequence[str] | None,
-    semantics: Semantics | None = None,
-    ros1: bool | None = None,
-    use_sim_time: bool | None = None,
-    duration: float = 5.0,
-) -> Recording:
-    """Read the bags into one recording, with a progress bar; report what could not be read.
-
-    Without bags: what the live system says in ``duration`` seconds (``tftools.cli.live``)."""
-    if not bags:
-        from tftools.cli.live import capture_live  # the live modules load only when listening
-
-        return capture_live(ros1, use_sim_time, duration, topics, semantics)[0]
-    from tftools.sources import read_recording
-
-    return _read(bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics))
-
-
-def open_stream(bags: Sequence[str], topics: Sequence[str] | None, semantics: Semantics | None) -> StreamedRecording:
-    """The bags as a stream to replay (``stream_recording``), with a progress bar over the first pass;
-    report what could not be read."""
-    from tftools.sources.stream import stream_recording  # only a replay streams
-
-    return _read(bags, lambda progress: stream_recording(bags, topics, progress, semantics=semantics))
-
-
-Read = TypeVar("Read", "Recording", "StreamedRecording")
-
-
-def _read(bags: Sequence[str], read: Callable[[ProgressCallback | None], Read]) -> Read:
-    with progress_bar(bags) as progress:
-        recording = read(progress)
-    for problem in recording.problems:
-        warn(problem)
-    return recording
 
 
 def local_size(location: str) -> int:
