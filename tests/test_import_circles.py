@@ -6,6 +6,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+from tftools.analysis.loops import _tangles
+
 PACKAGE = Path(__file__).resolve().parents[1] / "tftools"
 
 #: Circles still to be undone (in the readers), each as its modules.
@@ -40,38 +42,8 @@ def imports() -> dict[str, set[str]]:
 
 
 def circles(edges: dict[str, set[str]]) -> list[set[str]]:
-    """The strongly connected groups of more than one module (Tarjan's algorithm)."""
-    index: dict[str, int] = {}
-    low: dict[str, int] = {}
-    stack: list[str] = []
-    on_stack: set[str] = set()
-    found: list[set[str]] = []
-
-    def visit(node: str) -> None:
-        index[node] = low[node] = len(index)
-        stack.append(node)
-        on_stack.add(node)
-        for nxt in edges.get(node, ()):
-            if nxt not in index:
-                visit(nxt)
-                low[node] = min(low[node], low[nxt])
-            elif nxt in on_stack:
-                low[node] = min(low[node], index[nxt])
-        if low[node] == index[node]:
-            group = set()
-            while True:
-                member = stack.pop()
-                on_stack.discard(member)
-                group.add(member)
-                if member == node:
-                    break
-            if len(group) > 1:
-                found.append(group)
-
-    for node in edges:
-        if node not in index:
-            visit(node)
-    return found
+    """The groups of modules that import each other (the strongly connected sets of ``find_loops``)."""
+    return _tangles({name: sorted(imported) for name, imported in edges.items()})
 
 
 def test_circles_are_found() -> None:

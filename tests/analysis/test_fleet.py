@@ -77,3 +77,8 @@ def test_report_fleet_reports_each_recording_and_says_which_could_not_be_read(ba
     assert isinstance(healthy_report, RecordingReport) and healthy_report.name == bags["healthy"]
     assert healthy_report.edges and not healthy_report.problems
     assert isinstance(broken, Unreadable) and broken.name == bags["broken"] and bags["broken"] in broken.message
+
+
+def test_check_fleet_passes_its_checks_options_to_each_check(bags: dict[str, str]) -> None:
+    (report,) = list(check_fleet([[bags["stale"]]], Fleet(jobs=2), checks={"ignore": ["stale"]}))
+    assert "stale" not in {f.code for f in report.findings} and report.transforms > 0

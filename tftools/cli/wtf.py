@@ -7,10 +7,10 @@ import enum
 import functools
 import os
 import sys
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, TypedDict
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.table import Table
@@ -22,13 +22,10 @@ from tftools.cli.common import Exit, count_bar, exit_with, hinted, progress_bar,
 from tftools.core.errors import UsageError
 
 if TYPE_CHECKING:  # the checks and their renderers load when a command runs: --help needs none of them (nor numpy)
-    from tftools.analysis.expected import Tolerances, TreeShape
     from tftools.analysis.fleet import Fleet
     from tftools.analysis.wtf import Thresholds
-    from tftools.analysis.wtf.fleet import BagReport
-    from tftools.core.semantics import Semantics
+    from tftools.analysis.wtf.fleet import BagReport, Checks
     from tftools.sources.bag import ProgressCallback
-    from tftools.sources.urdf import RobotDescription
 
 
 class WtfFormat(str, enum.Enum):
@@ -189,7 +186,9 @@ def command(
     ignored = _ignored(ignore or [])
     groups = options.recordings_given(paths, bags)
     if groups:
-        checks = _Checks(
+        from tftools.analysis.wtf.fleet import Checks
+
+        checks = Checks(
             topics=topics,
             thresholds=thresholds,
             ignore=ignored,
@@ -268,22 +267,8 @@ def _fleet(jobs: int, dask: str | None, timeout: float | None) -> Fleet:
     return Fleet(jobs, dask, timeout)
 
 
-class _Checks(TypedDict):
-    """``check_fleet``'s options of each recording's check."""
-
-    topics: Sequence[str] | None
-    thresholds: Thresholds
-    ignore: Collection[str]
-    semantics: Semantics | None
-    target: str | None
-    sensor_topics: Sequence[str] | None
-    expected: TreeShape | None
-    urdf: RobotDescription | None
-    urdf_tolerances: Tolerances
-
-
 def _check_groups(
-    groups: list[list[str]], checks: _Checks, fleet: Fleet, resume: Path | None, stream: Callable[[BagReport], None]
+    groups: list[list[str]], checks: Checks, fleet: Fleet, resume: Path | None, stream: Callable[[BagReport], None]
 ) -> list[BagReport]:
     """Each group of paths checked as its own recording, ``stream`` ed as it finishes (those resumed first);
     reports in the given order (then those resumed that were not given)."""
@@ -293,7 +278,7 @@ def _check_groups(
     todo = remaining(groups, done)
     reports: list[BagReport] = []
     with count_bar("checking", len(todo)) as advance, _bytes_bar(todo, fleet) as progress:
-        for bag in check_fleet(groups, fleet, done, progress, **checks):
+        for bag in check_fleet(groups, fleet, done, progress, checks):
             stream(bag)
             reports.append(bag)
             if len(reports) > len(done):

@@ -6,6 +6,7 @@ import functools
 import os
 from collections.abc import Collection, Iterator, Sequence
 from dataclasses import dataclass, field
+from typing import TypedDict
 
 from tftools.analysis.description import Robot, robot_of
 from tftools.analysis.expected import Tolerances, TreeShape
@@ -93,37 +94,33 @@ def check_bags(
     return checked
 
 
+class Checks(TypedDict, total=False):
+    """``check_bags``' options of each recording's check, for ``check_fleet``."""
+
+    topics: Sequence[str] | None
+    thresholds: Thresholds | None
+    ignore: Collection[str]
+    semantics: Semantics | None
+    target: str | None
+    sensor_topics: Sequence[str] | None
+    expected: TreeShape | None
+    urdf: RobotDescription | None
+    urdf_tolerances: Tolerances | None
+
+
 def check_fleet(
     groups: Sequence[Sequence[str]],
     fleet: Fleet = HERE,
     done: Sequence[BagReport] = (),
     progress: ProgressCallback | None = None,
-    topics: Sequence[str] | None = None,
-    thresholds: Thresholds | None = None,
-    ignore: Collection[str] = (),
-    semantics: Semantics | None = None,
-    target: str | None = None,
-    sensor_topics: Sequence[str] | None = None,
-    expected: TreeShape | None = None,
-    urdf: RobotDescription | None = None,
-    urdf_tolerances: Tolerances | None = None,
+    checks: Checks | None = None,
 ) -> Iterator[BagReport]:
-    """Each group of paths checked as its own recording (``check_bags``) on ``fleet``, its report yielded as
-    it finishes; a check that did not finish is a report that says so (code ``unchecked``). The reports
-    ``done`` (of an earlier run) come first, and their recordings are not checked again (``remaining``).
-    ``progress`` is told the bytes read when the fleet is one recording checked in this process."""
-    one = functools.partial(
-        check_bags,
-        topics=topics,
-        thresholds=thresholds,
-        ignore=ignore,
-        semantics=semantics,
-        target=target,
-        sensor_topics=sensor_topics,
-        expected=expected,
-        urdf=urdf,
-        urdf_tolerances=urdf_tolerances,
-    )
+    """Each group of paths checked as its own recording (``check_bags`` with ``checks``) on ``fleet``, its
+    report yielded as it finishes; a check that did not finish is a report that says so (code
+    ``unchecked``). The reports ``done`` (of an earlier run) come first, and their recordings are not
+    checked again (``remaining``). ``progress`` is told the bytes read when the fleet is one recording
+    checked in this process."""
+    one = functools.partial(check_bags, **(checks or {}))
     todo = remaining(groups, done)
     if progress is not None and len(todo) == 1 and fleet.dask is None:
         one = functools.partial(one, progress=progress)
