@@ -45,6 +45,9 @@ def command(
             "recorded /robot_description is used.",
         ),
     ] = None,
+    jobs: Annotated[
+        int, typer.Option("--jobs", "-j", help="Read and check this many recordings at once (0: one per CPU).", min=0)
+    ] = 1,
     duration: options.Listen = 5.0,
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
@@ -78,7 +81,7 @@ def command(
     _check_output(output, [p for group in groups for p in group])
     description = read_urdf(urdf) if urdf is not None else None
     if groups:
-        sections = _bag_sections(groups, topics, tf2, target, sensors, description)
+        sections = _bag_sections(groups, topics, tf2, target, sensors, description, jobs or os.cpu_count() or 1)
     else:
         recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors)
         robot, _ = robot_of([], recording, description)
@@ -106,9 +109,11 @@ def _bag_sections(
     target: str | None,
     sensors: Sequence[str] | None,
     description: RobotDescription | None = None,
+    jobs: int = 1,
 ) -> list[Section]:
-    """One section per recording; one that cannot be read is an error of its own in a fleet, and the
-    command's error when it is the only one (or none can be read)."""
+    """One section per recording, ``jobs`` at once; one that cannot be read is an error of its own in a
+    fleet, and the command's error when it is the only one (or none can be read)."""
+    from tftools.analysis.fleet import Fleet
     from tftools.analysis.report import Unreadable, report_fleet
     from tftools.render.report import recording_section, unreadable_section
 
@@ -116,7 +121,8 @@ def _bag_sections(
     unread: list[Unreadable] = []
     for index, result in report_fleet(
         groups,
-        reading=progress_bar,
+        Fleet(jobs),
+        reading=progress_bar if jobs <= 1 or len(groups) <= 1 else None,  # one bar: of the recording read here
         topics=topics,
         semantics=semantics,
         target=target,
