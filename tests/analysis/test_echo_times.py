@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 
@@ -46,7 +48,9 @@ def test_times_in_the_grammar_from_the_recordings_tf(recording: Recording) -> No
         (lambda r: echo_times(r.buffer, r.timeline, "map", "base_link", rate=1e6), f"at most {MAX_ECHO_LINES:,}"),
     ],
 )
-def test_times_that_cannot_work_are_a_usage_error_with_a_hint(recording: Recording, call, says: str) -> None:
+def test_times_that_cannot_work_are_a_usage_error_with_a_hint(
+    recording: Recording, call: Callable[[Recording], object], says: str
+) -> None:
     with pytest.raises(UsageError, match=says.replace("+", r"\+")) as raised:
         call(recording)
     assert raised.value.hint
