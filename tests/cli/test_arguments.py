@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS
-from tftools.cli.arguments import MAX_ECHO_LINES
+from tftools.analysis.echo import MAX_ECHO_LINES
 
 ECHO = ("echo", "map", "base_link", "-b", SAMPLE_BAGS["ros1"])
 MONITOR = ("monitor", "-b", SAMPLE_BAGS["mcap"])

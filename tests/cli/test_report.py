@@ -110,6 +110,15 @@ def test_a_fleet_gets_a_section_and_a_verdict_each(tfx, troubled, tmp_path: Path
     assert "could not be read" in text
 
 
+def test_a_fleet_read_in_several_processes_gives_the_same_page(tfx, troubled, tmp_path: Path) -> None:
+    fleet = [SAMPLE_BAGS["ros1"], troubled["mcap"], tmp_path / "missing.bag"]
+    one, two = tmp_path / "one.html", tmp_path / "two.html"
+    serial, parallel = tfx("report", *fleet, "-o", one), tfx("report", *fleet, "-o", two, "--jobs", "2")
+    assert serial.code == parallel.code == 1
+    assert one.read_bytes() == two.read_bytes()
+    assert parallel.stderr.replace(str(two), str(one)) == serial.stderr
+
+
 @pytest.mark.parametrize(
     ("args", "said"),
     [

@@ -74,7 +74,7 @@ def test_tfx_wtf_loads_dask_only_for_dask() -> None:
     argv = ["tfx", "wtf", str(bag), str(bag)]
     code = f"import sys; sys.argv = {argv!r}; from tftools.cli.app import main; main()"
     modules = modules_after(code)
-    assert "tftools.cli.executors" in modules
+    assert "tftools.analysis.fleet" in modules
     assert loaded(modules, ("dask", "distributed")) == []
 
 

@@ -17,9 +17,9 @@ from tftools.core.time import NS_PER_S, WallClock
 from tftools.sources.codecs.types import definition_starts_with_header, ros1_message_type
 from tftools.sources.headers import StampedRead
 from tftools.sources.live.errors import LiveError
+from tftools.sources.live.header_store import HeaderStore
 from tftools.sources.live.ros1 import subscriber, tcpros
 from tftools.sources.live.ros1.headers import Ros1HeaderListener
-from tftools.sources.live.sensor_headers import HeaderStore
 
 SCAN = ros1_message_type("sensor_msgs/msg/LaserScan")
 STRING = ros1_message_type("std_msgs/msg/String")

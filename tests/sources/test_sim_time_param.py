@@ -6,6 +6,7 @@ import pytest
 
 from tftools.cli import live
 from tftools.core.time import SimClock
+from tftools.sources import ticker
 from tftools.sources.live.errors import NoClockError
 from tftools.sources.live.ros1.source import param_is_true
 
@@ -31,7 +32,7 @@ def test_use_sim_time_is_read_as_a_user_means_it(value: object, true: bool) -> N
 
 
 def test_ticks_on_a_clock_that_never_starts_end_with_the_reason(monkeypatch) -> None:
-    monkeypatch.setattr(live, "CLOCK_PATIENCE", 0.3)
+    monkeypatch.setattr(ticker, "CLOCK_PATIENCE", 0.3)
     ticks: list[None] = []
     with pytest.raises(NoClockError, match=r"no /clock came in 0.3 s") as caught:
         live.every(10, 3, lambda: False, lambda: ticks.append(None), SimClock())

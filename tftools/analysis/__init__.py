@@ -1,1 +1,120 @@
-"""Analyses over a buffer: echo series, frame summaries, monitor statistics, wtf checks."""
+"""Analyses over a buffer: echo series, frame summaries, monitor statistics, wtf checks, reports and fleets.
+
+The names load on first use (PEP 562): ``import tftools.analysis`` costs nothing until a name of it is
+asked for, and each brings only its own modules."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from tftools import lazy
+
+if TYPE_CHECKING:
+    from tftools.analysis.description import Robot, robot_of
+    from tftools.analysis.diff import Difference, compare
+    from tftools.analysis.echo import EchoSeries, echo, echo_times
+    from tftools.analysis.expected import Tolerances, TreeShape, shape_of
+    from tftools.analysis.filter import FilterReport, filter_report
+    from tftools.analysis.findings import Finding, Severity
+    from tftools.analysis.fleet import Fleet, Unfinished, run_fleet
+    from tftools.analysis.frames import FrameTree, frame_tree
+    from tftools.analysis.graph import FrameGraph, frame_graph
+    from tftools.analysis.loops import find_loops
+    from tftools.analysis.monitor import MonitorReport, monitor
+    from tftools.analysis.report import RecordingReport, Unreadable, recording_report, report_bags, report_fleet
+    from tftools.analysis.times import parse_time, time_range
+    from tftools.analysis.tree_file import read_tree, write_tree
+    from tftools.analysis.wtf import CHECKS, Thresholds, check, findings_of
+    from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_recording
+
+__all__ = [
+    "CHECKS",
+    "BagReport",
+    "Difference",
+    "EchoSeries",
+    "FilterReport",
+    "Finding",
+    "Fleet",
+    "FrameGraph",
+    "FrameTree",
+    "MonitorReport",
+    "RecordingReport",
+    "Robot",
+    "Severity",
+    "Thresholds",
+    "Tolerances",
+    "TreeShape",
+    "Unfinished",
+    "Unreadable",
+    "check",
+    "check_bags",
+    "check_fleet",
+    "check_recording",
+    "compare",
+    "echo",
+    "echo_times",
+    "filter_report",
+    "find_loops",
+    "findings_of",
+    "frame_graph",
+    "frame_tree",
+    "monitor",
+    "parse_time",
+    "read_tree",
+    "recording_report",
+    "report_bags",
+    "report_fleet",
+    "robot_of",
+    "run_fleet",
+    "shape_of",
+    "time_range",
+    "write_tree",
+]
+
+#: Where each name is defined.
+_HOME = {
+    "BagReport": "tftools.analysis.wtf.fleet",
+    "CHECKS": "tftools.analysis.wtf",
+    "Difference": "tftools.analysis.diff",
+    "EchoSeries": "tftools.analysis.echo",
+    "FilterReport": "tftools.analysis.filter",
+    "Finding": "tftools.analysis.findings",
+    "Fleet": "tftools.analysis.fleet",
+    "FrameGraph": "tftools.analysis.graph",
+    "FrameTree": "tftools.analysis.frames",
+    "MonitorReport": "tftools.analysis.monitor",
+    "RecordingReport": "tftools.analysis.report",
+    "Robot": "tftools.analysis.description",
+    "Severity": "tftools.analysis.findings",
+    "Thresholds": "tftools.analysis.wtf",
+    "Tolerances": "tftools.analysis.expected",
+    "TreeShape": "tftools.analysis.expected",
+    "Unfinished": "tftools.analysis.fleet",
+    "Unreadable": "tftools.analysis.report",
+    "check": "tftools.analysis.wtf",
+    "check_bags": "tftools.analysis.wtf.fleet",
+    "check_fleet": "tftools.analysis.wtf.fleet",
+    "check_recording": "tftools.analysis.wtf.fleet",
+    "compare": "tftools.analysis.diff",
+    "echo": "tftools.analysis.echo",
+    "echo_times": "tftools.analysis.echo",
+    "filter_report": "tftools.analysis.filter",
+    "find_loops": "tftools.analysis.loops",
+    "findings_of": "tftools.analysis.wtf",
+    "frame_graph": "tftools.analysis.graph",
+    "frame_tree": "tftools.analysis.frames",
+    "monitor": "tftools.analysis.monitor",
+    "parse_time": "tftools.analysis.times",
+    "read_tree": "tftools.analysis.tree_file",
+    "recording_report": "tftools.analysis.report",
+    "report_bags": "tftools.analysis.report",
+    "report_fleet": "tftools.analysis.report",
+    "robot_of": "tftools.analysis.description",
+    "run_fleet": "tftools.analysis.fleet",
+    "shape_of": "tftools.analysis.expected",
+    "time_range": "tftools.analysis.times",
+    "write_tree": "tftools.analysis.tree_file",
+}
+
+
+__getattr__, __dir__ = lazy.exports(__name__, _HOME, __all__)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -10,12 +11,17 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from tftools.analysis.times import parse_time, time_range
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import Buffer
-from tftools.core.errors import TransformError
+from tftools.core.errors import TransformError, UsageError
 from tftools.core.history import EdgeHistory
 from tftools.core.rotation import rpy_from_quat_many
 from tftools.core.time import NS_PER_S
+from tftools.sources.timeline import Timeline
+
+#: ``tfx echo`` prints at most this many lines over a range (``every`` sample prints one per sample instead).
+MAX_ECHO_LINES = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -57,6 +63,46 @@ def echo(buffer: Buffer, target: str, source: str, times: npt.ArrayLike) -> Echo
         batch.valid,
         errors,
     )
+
+
+def echo_times(
+    buffer: Buffer,
+    timeline: Timeline,
+    target: str,
+    source: str,
+    rate: float = 1.0,
+    at: str | None = None,
+    every: bool = False,
+    start: str | None = None,
+    end: str | None = None,
+) -> Int64Array:
+    """The times ``tfx echo`` looks the transform up at on a recording (its ``buffer`` and ``timeline``):
+    the one time ``at`` ("0": the latest), or from ``start`` to ``end`` (``tftools.analysis.times``'s
+    grammar; default: where every moving edge between the frames has data, ``chain_span``, else the tf
+    data's span) ``every`` stamp of the moving edges between the frames, or ``rate`` times a second (at
+    most ``MAX_ECHO_LINES``; more is a ``UsageError``)."""
+    if at is not None:
+        return np.array([0 if at.strip() == "0" else parse_time(at, timeline, "--at")], np.int64)
+    span = chain_span(buffer, target, source) or (timeline.tf_start, timeline.tf_end)
+    first, last = time_range(timeline, start, end, default=span)
+    if every:
+        return sample_times(buffer, target, source, first, last)
+    echo_line_count(first, last, rate)
+    return ticks(first, last, rate)
+
+
+def echo_line_count(first: int, last: int, rate: float) -> int:
+    """How many lines ``tfx echo`` prints from ``first`` to ``last`` at ``rate``; a ``UsageError`` past
+    ``MAX_ECHO_LINES``."""
+    length = (last - first) / NS_PER_S
+    lines = math.floor(length * rate) + 1
+    if lines > MAX_ECHO_LINES:
+        raise UsageError(
+            f"--rate {rate:g} over {length:.3f} s would print {lines:,} lines; tfx echo prints at most "
+            f"{MAX_ECHO_LINES:,}",
+            "lower --rate, narrow the range with --start/--end, or use --all for one line per sample",
+        )
+    return lines
 
 
 def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | None:

@@ -41,6 +41,7 @@ from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
+from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
 
@@ -230,7 +231,7 @@ def message_fates(
         rows = np.flatnonzero(messages.frame == frame_index)
         if not len(rows):
             continue
-        for group, chain in _chains(buffer, target, frame_id.removeprefix("/"), messages.stamp[rows], cache_time):
+        for group, chain in _chains(buffer, target, frame_name(frame_id), messages.stamp[rows], cache_time):
             mine = rows[group]
             if isinstance(chain, Fate):
                 fate[mine] = chain
@@ -447,8 +448,8 @@ def choose_target(tree: FrameTree, asked: str | None = None) -> tuple[str, str]:
     ``default_target`` (saying that ``asked`` is not there: a fleet's robots may differ)."""
     if asked is None:
         return default_target(tree)
-    if asked.removeprefix("/") in tree.frames:  # a leading '/' dropped, as tf's tools do
-        return asked.removeprefix("/"), "asked for"
+    if frame_name(asked) in tree.frames:  # a leading '/' dropped, as tf's tools do
+        return frame_name(asked), "asked for"
     target, reason = default_target(tree)
     return target, f"{reason}: '{asked}', asked for, is not a frame of this recording"
 

@@ -13,6 +13,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from tftools.cli import version_line
+
 if TYPE_CHECKING:
     import typer
 
@@ -20,13 +22,6 @@ if TYPE_CHECKING:
 
 #: The exit code of a command stopped by Ctrl-C (SIGINT), as a shell gives it: 128 + 2.
 INTERRUPTED = 130
-
-
-def version_line() -> str:
-    """``tfx --version``'s answer."""
-    from tftools import version
-
-    return f"tfx {version()}"
 
 
 def main() -> None:
@@ -129,7 +124,8 @@ def _failed(error: TfToolsError) -> int:
 
 def _usage_error(error: typer.TyperException) -> int:
     """Click's usage errors as tfx's one line, naming the command's --help (no arguments: click printed the help)."""
-    from tftools.cli.common import Exit, UsageError
+    from tftools.cli.common import Exit
+    from tftools.core.errors import UsageError
 
     if type(error).__name__ == "NoArgsIsHelpError":
         return int(Exit.UNUSABLE)
@@ -150,7 +146,7 @@ def _forgotten_bag_option(message: str) -> str:
 def _bag_among_frames() -> None:
     """``tfx echo map robot.bag``, ``tfx monitor robot.bag``: a bag where a frame or topic goes, no -b; the
     command would listen to a live system. A ``UsageError`` showing the command line with -b."""
-    from tftools.cli.common import UsageError
+    from tftools.core.errors import UsageError
 
     words = sys.argv[1:]
     if (

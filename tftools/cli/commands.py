@@ -15,7 +15,7 @@ import typer.main
 import typer.models
 from typer import _click as click  # the click typer's commands are made of (typer vendors it)
 
-from tftools.cli.app import version_line
+from tftools.cli import version_line
 
 #: Each a module of ``tftools.cli`` (``view-frames``: ``view_frames``): its ``command``, and ``CONTEXT`` if any.
 SUBCOMMANDS = ("diff", "echo", "filter", "frames", "monitor", "report", "view-frames", "wtf", "static")

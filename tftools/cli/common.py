@@ -1,4 +1,5 @@
-"""What every subcommand shares: reading bags with progress, errors, exit codes, frames and formats."""
+"""What every subcommand shares: progress bars, errors, exit codes, frames and formats (reading a recording:
+``cli.reading``)."""
 
 from __future__ import annotations
 
@@ -8,20 +9,18 @@ import functools
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, NoReturn, TypeVar
+from typing import TYPE_CHECKING, NoReturn
 
 import typer
 from rich.console import Console
 from rich.text import Text
 
-from tftools.core.errors import TfToolsError
-from tftools.core.semantics import Semantics
+from tftools.core.errors import TfToolsError, UsageError
+from tftools.core.frames import frame_name
 from tftools.render.escape import printable
 
 if TYPE_CHECKING:  # the readers load when a command reads: its --help needs none of them (nor numpy)
-    from tftools.sources import Recording
     from tftools.sources.bag import ProgressCallback
-    from tftools.sources.stream import StreamedRecording
 
 
 def _console(*, to_stderr: bool) -> Console:
@@ -50,14 +49,6 @@ class TextOrJson(str, enum.Enum):
 
     text = "text"
     json = "json"
-
-
-class UsageError(TfToolsError):
-    """Arguments that cannot work together, or name something that is not there."""
-
-    def __init__(self, message: str, hint: str = "") -> None:
-        super().__init__(message)
-        self.hint = hint
 
 
 class InternalError(TfToolsError):
@@ -141,47 +132,6 @@ def _bar(label: str, total: int | None, enabled: bool) -> Iterator[Callable[...,
         yield functools.partial(bar.update, bar.add_task(label, total=total))
 
 
-def open_recording(
-    bags: Sequence[str] | None,
-    topics: Sequence[str] | None,
-    semantics: Semantics | None = None,
-    ros1: bool | None = None,
-    use_sim_time: bool | None = None,
-    duration: float = 5.0,
-    headers: Sequence[str] | None = None,
-) -> Recording:
-    """Read the bags into one recording (and with ``headers``, its sensor data's headers on them, in
-    the same pass: ``read_recording``), with a progress bar; report what could not be read.
-
-    Without bags: what the live system says in ``duration`` seconds (``tftools.cli.live``)."""
-    if not bags:
-        from tftools.cli.live import capture_live  # the live modules load only when listening
-
-        return capture_live(ros1, use_sim_time, duration, topics, semantics)[0]
-    from tftools.sources import read_recording
-
-    return _read(bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics, headers=headers))
-
-
-def open_stream(bags: Sequence[str], topics: Sequence[str] | None, semantics: Semantics | None) -> StreamedRecording:
-    """The bags as a stream to replay (``stream_recording``), with a progress bar over the first pass;
-    report what could not be read."""
-    from tftools.sources.stream import stream_recording  # only a replay streams
-
-    return _read(bags, lambda progress: stream_recording(bags, topics, progress, semantics=semantics))
-
-
-Read = TypeVar("Read", "Recording", "StreamedRecording")
-
-
-def _read(bags: Sequence[str], read: Callable[[ProgressCallback | None], Read]) -> Read:
-    with progress_bar(bags) as progress:
-        recording = read(progress)
-    for problem in recording.problems:
-        warn(problem)
-    return recording
-
-
 def local_size(location: str) -> int:
     """Bytes of a local bag file or directory; 0 for a URL or what cannot be read."""
     path = Path(location)
@@ -193,7 +143,7 @@ def local_size(location: str) -> int:
 
 def frame_argument(frames: Sequence[str], frame: str) -> str:
     """A frame given on the command line (a leading ``/`` dropped, as tf did); must be one of ``frames``."""
-    name = frame[1:] if frame.startswith("/") else frame
+    name = frame_name(frame)
     if name not in frames:
         close = difflib.get_close_matches(name, frames, n=3, cutoff=0.4)
         rest = sorted(set(frames) - set(close))

@@ -10,7 +10,8 @@ import typer
 
 from tftools.cli import expected as expected_tree
 from tftools.cli import options
-from tftools.cli.common import Exit, TextOrJson, exit_with, open_recording
+from tftools.cli.common import Exit, TextOrJson, exit_with
+from tftools.cli.reading import open_recording
 from tftools.core.semantics import Semantics
 from tftools.sources.storage.locations import METADATA, is_url
 

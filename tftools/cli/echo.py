@@ -13,18 +13,19 @@ from typing import IO, TYPE_CHECKING, Annotated
 import typer
 
 from tftools.cli import live, options
-from tftools.cli.arguments import echo_line_count, parse_time, positive_seconds, rate_hz, time_range
-from tftools.cli.common import Exit, UsageError, exit_with, frame_argument, open_recording, open_stream, stdout
+from tftools.cli.arguments import positive_seconds, rate_hz
+from tftools.cli.common import Exit, exit_with, frame_argument, stdout
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
+from tftools.cli.reading import open_recording, open_stream
+from tftools.core.errors import UsageError
+from tftools.core.frames import frame_name
 from tftools.core.semantics import Semantics
 from tftools.core.time import from_sec
 from tftools.render.escape import printable_lines
 
 if TYPE_CHECKING:  # the lookups and their renderers load when a command runs: --help needs none of them (nor numpy)
     from tftools.analysis.echo import EchoSeries
-    from tftools.core.arrays import Int64Array
     from tftools.core.buffer import Buffer
-    from tftools.sources import Recording
     from tftools.sources.live.base import LiveSource
 
 
@@ -110,7 +111,8 @@ def command(
     [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/],
     [cyan]tfx echo base_link camera -b robot.bag --at +5 --format static[/]
     """
-    from tftools.analysis.echo import echo
+    from tftools.analysis.echo import echo, echo_times
+    from tftools.analysis.times import time_range
     from tftools.core.buffer import Buffer
     from tftools.sources.replay import follow_into
 
@@ -140,7 +142,7 @@ def command(
         exit_with(lines.done())
     recording = open_recording(bags, topics, tf2)
     target, source = frame_argument(recording.buffer.frames, target), frame_argument(recording.buffer.frames, source)
-    times = _times(recording, target, source, rate, at, every, start, end)
+    times = echo_times(recording.buffer, recording.timeline, target, source, rate, at, every, start, end)
     series = echo(recording.buffer, target, source, times)
     if plot is None:  # on a bag, the picture instead of the lines
         lines.print(series)
@@ -213,7 +215,7 @@ def _live(
     (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
     from tftools.sources.live.capture import listen
 
-    target, source = target.removeprefix("/"), source.removeprefix("/")
+    target, source = frame_name(target), frame_name(source)
     with feed:
         buffer = listen(feed, from_sec(cache), semantics)
         live.wait_for_transform(buffer, target, source, feed.describe(), wait)
@@ -226,27 +228,3 @@ def _live(
 
         live.every(rate, count, lambda: feed.finished, tick, feed.clock)
     return lines.done()
-
-
-def _times(
-    recording: Recording,
-    target: str,
-    source: str,
-    rate: float,
-    at: str | None,
-    every: bool,
-    start: str | None,
-    end: str | None,
-) -> Int64Array:
-    import numpy as np
-
-    from tftools.analysis.echo import chain_span, sample_times, ticks
-
-    if at is not None:
-        return np.array([0 if at.strip() == "0" else parse_time(at, recording.timeline, "--at")], np.int64)
-    span = chain_span(recording.buffer, target, source) or (recording.timeline.tf_start, recording.timeline.tf_end)
-    first, last = time_range(recording.timeline, start, end, default=span)
-    if every:
-        return sample_times(recording.buffer, target, source, first, last)
-    echo_line_count(first, last, rate)
-    return ticks(first, last, rate)

@@ -10,7 +10,9 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from tftools.cli import defaults
-from tftools.cli.common import UsageError, open_recording, stdout
+from tftools.cli.common import stdout
+from tftools.cli.reading import open_recording
+from tftools.core.errors import UsageError
 from tftools.core.semantics import Semantics
 
 if TYPE_CHECKING:

@@ -8,7 +8,9 @@ import typer
 
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import Exit, TextOrJson, UsageError, exit_with, frame_argument, open_recording, stdout, warn
+from tftools.cli.common import Exit, TextOrJson, exit_with, frame_argument, stdout, warn
+from tftools.cli.reading import open_recording
+from tftools.core.errors import UsageError
 from tftools.core.time import from_sec
 
 

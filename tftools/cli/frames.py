@@ -8,7 +8,8 @@ from typing import Annotated
 import typer
 
 from tftools.cli import options
-from tftools.cli.common import open_recording, stdout
+from tftools.cli.common import stdout
+from tftools.cli.reading import open_recording
 
 
 class FramesFormat(str, enum.Enum):

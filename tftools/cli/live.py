@@ -2,15 +2,16 @@
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import UsageError, stderr, warn
-from tftools.core.errors import TransformError
+from tftools.cli.common import stderr, warn
+from tftools.core.errors import TransformError, UsageError
 from tftools.core.semantics import Semantics
-from tftools.core.time import Clock, SimClock, from_sec
+from tftools.core.time import Clock
 from tftools.render.escape import printable
 
 if TYPE_CHECKING:
@@ -22,8 +23,6 @@ if TYPE_CHECKING:
 
 #: Seconds between "still waiting" notices.
 REMIND_EVERY = 5.0
-#: Seconds of wall time to wait for the first /clock under simulated time.
-CLOCK_PATIENCE = 10.0
 
 
 def say(message: str) -> None:
@@ -137,43 +136,9 @@ def wait_for_transform(buffer: Buffer, target: str, source: str, what: str, time
 def every(
     rate: float, count: int | None, stop: Callable[[], bool], on_tick: Callable[[], None], clock: Clock | None = None
 ) -> None:
-    """Call ``on_tick`` ``rate`` times a second, ``count`` times (None: until ``stop()`` or Ctrl-C).
+    """Call ``on_tick`` ``rate`` times a second, ``count`` times (None: until ``stop()`` or Ctrl-C), the
+    first at once; seconds of ``clock`` when it is a ``SimClock``, else of the wall (``tick_every``)."""
+    from tftools.sources.ticker import tick_every
 
-    Seconds of ``clock`` when it is a ``SimClock`` (``/clock``, as ``ros::Rate`` under sim time),
-    else of the wall."""
-    done = 0
-    try:
-        if isinstance(clock, SimClock):
-            _every_sim(rate, count, stop, on_tick, clock)
-            return
-        started = time.monotonic()
-        while (count is None or done < count) and not stop():
-            on_tick()
-            done += 1
-            pause = started + done / rate - time.monotonic()
-            if pause > 0 and (count is None or done < count):
-                time.sleep(pause)
-    except KeyboardInterrupt:
-        pass
-
-
-def _every_sim(
-    rate: float, count: int | None, stop: Callable[[], bool], on_tick: Callable[[], None], clock: SimClock
-) -> None:
-    period = from_sec(1.0 / rate)
-    done = 0
-    from tftools.sources.live.errors import NoClockError
-
-    given_up = time.monotonic() + CLOCK_PATIENCE
-    while clock.now() == 0 and not stop():  # no /clock yet: wait for a valid time, as ros::Time::waitForValid
-        if time.monotonic() > given_up:  # ... which waits for ever: a forgotten --clock
-            raise NoClockError(CLOCK_PATIENCE)
-        clock.wait_until(1, timeout_s=0.1)
-    due = clock.now()
-    while (count is None or done < count) and not stop():
-        if clock.now() < due - period:  # the clock jumped back (a replay restarted): start again from there
-            due = clock.now()
-        if clock.wait_until(due, timeout_s=0.1):
-            on_tick()
-            done += 1
-            due += period
+    with contextlib.suppress(KeyboardInterrupt):
+        tick_every(1.0 / rate, on_tick, count=count, stop=stop, clock=clock)

@@ -9,9 +9,12 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from tftools.cli import live, options
-from tftools.cli.arguments import positive_seconds, rate_hz, time_range
-from tftools.cli.common import TextOrJson, UsageError, frame_argument, open_recording, open_stream, stdout, warn
+from tftools.cli.arguments import positive_seconds, rate_hz
+from tftools.cli.common import TextOrJson, frame_argument, stdout, warn
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
+from tftools.cli.reading import open_recording, open_stream
+from tftools.core.errors import UsageError
+from tftools.core.frames import frame_name
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec
 
@@ -83,7 +86,7 @@ def command(
     if not bags:
         live.no_bag_options(**{"--start": start, "--end": end, "--play": play})
         if target is not None and source is not None:
-            target, source = target.removeprefix("/"), source.removeprefix("/")
+            target, source = frame_name(target), frame_name(source)
         with live.open_source(ros1, use_sim_time, topics) as feed:
             semantics = tf2 or live_semantics(feed)
             watch(feed, target, source, from_sec(window), duration, fmt, feed.describe(), None, semantics, trace)
@@ -178,6 +181,8 @@ def _chain(frames: Sequence[str], target: str | None, source: str | None) -> tup
 
 def _time_range(timeline: Timeline, start: str | None, end: str | None) -> tuple[int | None, int | None]:
     """--start and --end on the tf stamps' clock; a ``UsageError`` when they miss the recording's tf."""
+    from tftools.analysis.times import time_range
+
     first, last = time_range(timeline, start, end, default=(None, None))
     if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
         span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"

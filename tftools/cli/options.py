@@ -8,7 +8,8 @@ from typing import Annotated
 
 import typer
 
-from tftools.cli.common import UsageError, warn
+from tftools.cli.common import warn
+from tftools.core.errors import UsageError
 from tftools.core.semantics import Semantics
 from tftools.sources.errors import BagNotFoundError
 from tftools.sources.storage.locations import METADATA, expand, is_url

@@ -6,7 +6,7 @@ import os
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-from tftools.cli.common import UsageError
+from tftools.core.errors import UsageError
 from tftools.sources.storage.locations import METADATA, is_url, only_bag_files
 
 

@@ -6,8 +6,9 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tftools.cli.common import UsageError, say_written
+from tftools.cli.common import say_written
 from tftools.cli.outputs import check_output
+from tftools.core.errors import UsageError
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

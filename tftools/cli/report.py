@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from tftools.cli import live, options
-from tftools.cli.common import Exit, UsageError, exit_with, hinted, open_recording, say_written, warn
+from tftools.cli.common import Exit, exit_with, hinted, progress_bar, say_written, warn
 from tftools.cli.outputs import check_output
-from tftools.core.errors import TfToolsError
+from tftools.core.errors import UsageError
 from tftools.core.semantics import Semantics
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
@@ -45,6 +45,9 @@ def command(
             "recorded /robot_description is used.",
         ),
     ] = None,
+    jobs: Annotated[
+        int, typer.Option("--jobs", "-j", help="Read and check this many recordings at once (0: one per CPU).", min=0)
+    ] = 1,
     duration: options.Listen = 5.0,
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
@@ -78,7 +81,7 @@ def command(
     _check_output(output, [p for group in groups for p in group])
     description = read_urdf(urdf) if urdf is not None else None
     if groups:
-        sections = _bag_sections(groups, topics, tf2, target, sensors, description)
+        sections = _bag_sections(groups, topics, tf2, target, sensors, description, jobs or os.cpu_count() or 1)
     else:
         recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors)
         robot, _ = robot_of([], recording, description)
@@ -106,32 +109,39 @@ def _bag_sections(
     target: str | None,
     sensors: Sequence[str] | None,
     description: RobotDescription | None = None,
+    jobs: int = 1,
 ) -> list[Section]:
-    """One section per recording; one that cannot be read is an error of its own in a fleet, and the
-    command's error when it is the only one (or none can be read)."""
-    from tftools.analysis.description import robot_of
-    from tftools.render.report import unreadable_section
-    from tftools.sources.bag.stamped import stamped_of
+    """One section per recording, ``jobs`` at once; one that cannot be read is an error of its own in a
+    fleet, and the command's error when it is the only one (or none can be read)."""
+    from tftools.analysis.fleet import Fleet
+    from tftools.analysis.report import Unreadable, report_fleet
+    from tftools.render.report import recording_section, unreadable_section
 
-    sections: list[Section] = []
-    unread: list[TfToolsError] = []
-    for index, group in enumerate(groups):
-        try:
-            recording = open_recording(group, topics, semantics, headers=tuple(sensors or ()))
-        except TfToolsError as error:
+    sections: dict[int, Section] = {}
+    unread: list[Unreadable] = []
+    for index, result in report_fleet(
+        groups,
+        Fleet(jobs),
+        reading=progress_bar if jobs <= 1 or len(groups) <= 1 else None,  # one bar: of the recording read here
+        topics=topics,
+        semantics=semantics,
+        target=target,
+        sensor_topics=sensors,
+        urdf=description,
+    ):
+        if isinstance(result, Unreadable):
             if len(groups) == 1:
-                raise
-            warn(hinted(str(error), error.hint))
-            unread.append(error)
-            name = " + ".join(str(p) for p in group)
-            sections.append(unreadable_section(index, name, str(error), error.hint))
+                raise UsageError(result.message, result.hint)
+            warn(hinted(result.message, result.hint))
+            unread.append(result)
+            sections[index] = unreadable_section(index, result.name, result.message, result.hint)
             continue
-        robot, said = robot_of(group, recording, description)
-        streams = stamped_of(recording.contents.files, sensors).streams
-        sections.append(_section(index, recording, streams, target, robot, said))
+        for problem in result.problems:
+            warn(problem)
+        sections[index] = recording_section(index, result)
     if len(unread) == len(groups):
-        raise unread[0]
-    return sections
+        raise UsageError(unread[0].message, unread[0].hint)
+    return [sections[i] for i in range(len(groups))]
 
 
 def _section(

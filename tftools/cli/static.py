@@ -14,8 +14,10 @@ import typer
 
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import UsageError, stdout, warn
+from tftools.cli.common import stdout, warn
 from tftools.cli.outputs import check_output, check_replaceable
+from tftools.core.errors import UsageError
+from tftools.core.frames import frame_name
 from tftools.render.escape import printable
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.storage.locations import METADATA, is_url
@@ -199,7 +201,7 @@ def _checked(t: Transform) -> Transform:
     """Frames as tf2 wants them; the quaternion normalized (tf2 would refuse a denormalized one)."""
     from tftools.core.transform import Transform
 
-    frame, child = t.frame_id.removeprefix("/"), t.child_frame_id.removeprefix("/")
+    frame, child = frame_name(t.frame_id), frame_name(t.child_frame_id)
     if not frame or not child:
         raise UsageError("frame ids cannot be empty", f"got {t.frame_id!r} -> {t.child_frame_id!r}")
     if frame == child:

@@ -11,8 +11,10 @@ from typing import Annotated
 import typer
 
 from tftools.cli import options
-from tftools.cli.common import Exit, UsageError, exit_with, open_recording, say_failure, say_written
+from tftools.cli.common import Exit, exit_with, say_failure, say_written
 from tftools.cli.outputs import check_output
+from tftools.cli.reading import open_recording
+from tftools.core.errors import UsageError
 
 
 class GraphFormat(str, enum.Enum):

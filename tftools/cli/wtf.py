@@ -8,22 +8,24 @@ import functools
 import os
 import sys
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.table import Table
 
-from tftools.cli import defaults, executors, live, options
+from tftools.cli import defaults, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import Exit, UsageError, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
-from tftools.cli.deadline import timed
+from tftools.cli.common import Exit, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
+from tftools.core.errors import UsageError
 
 if TYPE_CHECKING:  # the checks and their renderers load when a command runs: --help needs none of them (nor numpy)
+    from tftools.analysis.fleet import Fleet
     from tftools.analysis.wtf import Thresholds
-    from tftools.analysis.wtf.fleet import BagReport
+    from tftools.analysis.wtf.fleet import BagReport, Checks
+    from tftools.sources.bag import ProgressCallback
 
 
 class WtfFormat(str, enum.Enum):
@@ -159,7 +161,7 @@ def command(
     """
     from tftools.analysis.description import robot_of
     from tftools.analysis.expected import Tolerances
-    from tftools.analysis.wtf.fleet import check_bags, check_recording
+    from tftools.analysis.wtf.fleet import check_recording
     from tftools.render import wtf as render
     from tftools.render import wtf_lines as render_lines
     from tftools.sources.urdf import read_urdf
@@ -184,8 +186,9 @@ def command(
     ignored = _ignored(ignore or [])
     groups = options.recordings_given(paths, bags)
     if groups:
-        one = functools.partial(
-            check_bags,
+        from tftools.analysis.wtf.fleet import Checks
+
+        checks = Checks(
             topics=topics,
             thresholds=thresholds,
             ignore=ignored,
@@ -196,9 +199,9 @@ def command(
             urdf=description,
             urdf_tolerances=robot_tolerances,
         )
-        fleet = Fleet(jobs or os.cpu_count() or 1, dask, timeout, resume)
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
-        reports = _check_groups(groups, one, fleet, stream if fmt is WtfFormat.jsonl else lambda bag: None)
+        fleet = _fleet(jobs or os.cpu_count() or 1, dask, timeout)
+        reports = _check_groups(groups, checks, fleet, resume, stream if fmt is WtfFormat.jsonl else lambda bag: None)
     elif dask is not None or resume is not None or timeout is not None:
         raise UsageError("--dask, --resume and --timeout are for recordings", "e.g. tfx wtf logs/*.bag --dask ADDRESS")
     else:
@@ -253,53 +256,39 @@ def _ignored(codes: Sequence[str]) -> tuple[str, ...]:
     return tuple(codes)
 
 
-@dataclass(frozen=True)
-class Fleet:
-    """How a fleet is checked: ``jobs`` local processes, or on the Dask scheduler at ``dask``; each
-    recording within ``timeout`` seconds; skipping those the ``resume`` report has done."""
+def _fleet(jobs: int, dask: str | None, timeout: float | None) -> Fleet:
+    """Where and how long the fleet's checks run, from --jobs, --dask and --timeout."""
+    from tftools.analysis.fleet import Fleet
 
-    jobs: int
-    dask: str | None
-    timeout: float | None
-    resume: Path | None
-
-    def __post_init__(self) -> None:
-        if self.dask is not None and self.jobs != 1:
-            raise UsageError("--jobs and --dask: choose one", "--dask runs as many at once as the cluster has threads")
-        if self.timeout is not None:
-            positive_seconds(self.timeout, "--timeout", "600")
+    if dask is not None and jobs != 1:
+        raise UsageError("--jobs and --dask: choose one", "--dask runs as many at once as the cluster has threads")
+    if timeout is not None:
+        positive_seconds(timeout, "--timeout", "600")
+    return Fleet(jobs, dask, timeout)
 
 
 def _check_groups(
-    groups: list[list[str]], one: Callable[..., BagReport], fleet: Fleet, stream: Callable[[BagReport], None]
+    groups: list[list[str]], checks: Checks, fleet: Fleet, resume: Path | None, stream: Callable[[BagReport], None]
 ) -> list[BagReport]:
     """Each group of paths checked as its own recording, ``stream`` ed as it finishes (those resumed first);
     reports in the given order (then those resumed that were not given)."""
-    done = _resumed(fleet.resume) if fleet.resume is not None else []
-    finished = {bag.paths: bag for bag in done}
-    todo = [g for g in groups if tuple(g) not in finished]
-    for bag in done:
-        stream(bag)
-    with count_bar("checking", len(todo)) as advance:
-        for index, bag in _results(todo, one, fleet):
-            finished[tuple(todo[index])] = bag
+    from tftools.analysis.wtf.fleet import check_fleet, in_order, remaining
+
+    done = _resumed(resume) if resume is not None else []
+    todo = remaining(groups, done)
+    reports: list[BagReport] = []
+    with count_bar("checking", len(todo)) as advance, _bytes_bar(todo, fleet) as progress:
+        for bag in check_fleet(groups, fleet, done, progress, checks):
             stream(bag)
-            advance()
-    given = [finished[tuple(g)] for g in groups]
-    return given + [bag for paths, bag in finished.items() if list(paths) not in groups]
+            reports.append(bag)
+            if len(reports) > len(done):
+                advance()
+    return in_order(groups, reports)
 
 
-def _results(todo: list[list[str]], one: Callable[..., BagReport], fleet: Fleet) -> executors.Results:
-    check = timed(one, fleet.timeout)
-    if fleet.dask is not None:
-        yield from executors.on_dask(todo, check, fleet.dask)
-    elif len(todo) == 1:  # one local recording: a bar of the bytes read, when it is large
-        with progress_bar(todo[0]) as progress:
-            yield from executors.in_process(todo, timed(functools.partial(one, progress=progress), fleet.timeout))
-    elif fleet.jobs <= 1:
-        yield from executors.in_process(todo, check)
-    else:
-        yield from executors.in_processes(todo, check, fleet.jobs)
+def _bytes_bar(todo: list[list[str]], fleet: Fleet) -> AbstractContextManager[ProgressCallback | None]:
+    """One local recording: a bar of the bytes read, when it is large."""
+    return progress_bar(todo[0]) if len(todo) == 1 and fleet.dask is None else nullcontext()
 
 
 def _resumed(path: Path) -> list[BagReport]:

@@ -22,7 +22,9 @@ if TYPE_CHECKING:
         TfToolsError,
         TransformError,
         UnknownFrameError,
+        UsageError,
     )
+    from tftools.core.frames import frame_name
     from tftools.core.history import EdgeHistory
     from tftools.core.rejection import Rejection, RejectionCode
     from tftools.core.semantics import SEMANTICS, Semantics
@@ -33,8 +35,8 @@ __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BackwardExtrapolationError", "BatchBuilder", "Buffer",
     "Clock", "ConnectivityError", "EdgeHistory", "ExtrapolationError", "ForwardExtrapolationError",
     "InvalidArgumentError", "LookupBatch", "NoDataForExtrapolationError", "Rejection", "RejectionCode", "Semantics",
-    "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError", "UnknownFrameError", "WallClock",
-    "format_sec", "from_sec", "to_sec",
+    "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError", "UnknownFrameError", "UsageError",
+    "WallClock", "format_sec", "frame_name", "from_sec", "to_sec",
 ]  # fmt: skip
 
 #: Where each name is defined.
@@ -63,8 +65,10 @@ _HOME = {
     "TransformBatch": "tftools.core.batch",
     "TransformError": "tftools.core.errors",
     "UnknownFrameError": "tftools.core.errors",
+    "UsageError": "tftools.core.errors",
     "WallClock": "tftools.core.time",
     "format_sec": "tftools.core.time",
+    "frame_name": "tftools.core.frames",
     "from_sec": "tftools.core.time",
     "to_sec": "tftools.core.time",
 }

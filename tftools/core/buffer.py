@@ -18,7 +18,7 @@ from tftools.core._kernels import EdgeTable
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
-from tftools.core.frames import NO_PARENT, FrameTable, Names
+from tftools.core.frames import NO_PARENT, FrameTable, Names, frame_name
 from tftools.core.history import (
     CHILD_HAD_SLASH,
     FROM_STATIC_TOPIC,
@@ -268,7 +268,7 @@ class Buffer:
             for batch in batches:
                 rows = np.bincount(batch.child, minlength=len(batch.frame_names))
                 for child in np.flatnonzero(rows).tolist():
-                    name = batch.frame_names[child].removeprefix("/")  # as the buffer names it
+                    name = frame_name(batch.frame_names[child])
                     self._expected[name] = self._expected.get(name, 0) + int(rows[child])
             self._room = RoomForHistories(self._expected.values())
 
@@ -301,7 +301,7 @@ class Buffer:
     ) -> None:
         """``batch``'s refused ``rows`` into ``rejections``, in groups of one code (``EdgeTable.insert``'s)."""
         codes, bounds = groups
-        names = [name.removeprefix("/") for name in batch.frame_names]
+        names = [frame_name(name) for name in batch.frame_names]
         slashed = np.array([name.startswith("/") for name in batch.frame_names], bool)
         for code, (start, stop) in zip(codes.tolist(), itertools.pairwise(bounds.tolist()), strict=True):
             # In parts, so that a million refusals' temporaries stay small beside the log's columns.

@@ -9,6 +9,15 @@ class TfToolsError(Exception):
     hint: str = ""
 
 
+class UsageError(TfToolsError):
+    """What was asked cannot work: arguments that do not go together, a time far outside the recording,
+    a name that is not there; ``hint`` says what to do instead."""
+
+    def __init__(self, message: str, hint: str = "") -> None:
+        super().__init__(message)
+        self.hint = hint
+
+
 class TransformError(TfToolsError):
     """A lookup failed: tf2's ``TransformException``."""
 

@@ -1,5 +1,5 @@
 """``Names``: names interned as integer ids, the one interning of frames and authorities; ``FrameTable``,
-tf2's, whose ids start at 1."""
+tf2's, whose ids start at 1; ``frame_name``, the one rule of a frame's leading ``/``."""
 
 from __future__ import annotations
 
@@ -7,6 +7,12 @@ from collections.abc import Sequence
 
 #: Id 0 is tf2's "no parent": a frame's parent is never 0.
 NO_PARENT = 0
+
+
+def frame_name(given: str) -> str:
+    """``given`` as tf2 keys the frame: one leading ``/`` dropped (tf's tools and ROS 1's tf dropped it;
+    tf2's lookups refuse it: ``Buffer``'s ``validateFrameId``)."""
+    return given.removeprefix("/")
 
 
 class Names:

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 from tftools.core.transform import Transform
-from tftools.sinks import StaticBroadcaster
+from tftools.sinks.broadcaster import StaticBroadcaster
 from tftools.sources.codecs.ros1 import encode_tf_message
 from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type
-from tftools.sources.live.base import OnNotice
+from tftools.sources.live.notices import OnNotice
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.publisher import Publication

@@ -12,11 +12,11 @@ from typing import Any
 from cyclonedds.core import DDSException
 
 from tftools.core.transform import Transform
-from tftools.sinks import StaticBroadcaster
+from tftools.sinks.broadcaster import StaticBroadcaster
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.types import TF_MESSAGE
-from tftools.sources.live.base import OnNotice, ignore_notice
 from tftools.sources.live.errors import DdsError
+from tftools.sources.live.notices import OnNotice, ignore_notice
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, take_raw, write_raw
 from tftools.sources.live.ros2.entities import decode_participant_entities

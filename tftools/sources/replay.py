@@ -12,6 +12,7 @@ import numpy as np
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, Clock, SimClock
+from tftools.sources.ticker import tick_every
 
 OnBatch = Callable[[TransformBatch], None]
 
@@ -161,22 +162,10 @@ def follow(
     """Start ``feed`` into ``on_batch`` and call ``on_tick`` every ``period`` wall seconds until
     ``duration`` seconds have passed or the feed is finished, then once more; the feed is closed, and
     the error that ended it (a replay's ``error``) raised."""
-    started = monotonic()
     feed.start(on_batch)
     try:
-        next_tick = started + period
-        while not getattr(feed, "finished", False):
-            now = monotonic()
-            if duration is not None and now - started >= duration:
-                break
-            if now >= next_tick:
-                on_tick()
-                next_tick += period
-                if next_tick <= now:  # fell behind (a slow tick): skip, do not burst
-                    next_tick = now + period
-                continue
-            stop = next_tick if duration is None else min(next_tick, started + duration)
-            sleep(max(0.0, min(stop - now, 0.05)))
+        finished = lambda: bool(getattr(feed, "finished", False))  # noqa: E731
+        tick_every(period, on_tick, stop=finished, duration=duration, first_now=False, sleep=sleep, monotonic=monotonic)
     finally:
         feed.close()
     if (error := getattr(feed, "error", None)) is not None:

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import functools
 import os
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Iterator, Sequence
 from dataclasses import dataclass, field
+from typing import TypedDict
 
 from tftools.analysis.description import Robot, robot_of
 from tftools.analysis.expected import Tolerances, TreeShape
 from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.fleet import HERE, Fleet, Unfinished, run_fleet
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.errors import TfToolsError
@@ -92,6 +95,54 @@ def check_bags(
     if said is not None and said.code not in ignore:
         checked.findings = sorted([*checked.findings, said], key=lambda f: f.severity.rank)
     return checked
+
+
+class Checks(TypedDict, total=False):
+    """``check_bags``' options of each recording's check, for ``check_fleet``."""
+
+    topics: Sequence[str] | None
+    thresholds: Thresholds | None
+    ignore: Collection[str]
+    semantics: Semantics | None
+    target: str | None
+    sensor_topics: Sequence[str] | None
+    expected: TreeShape | None
+    urdf: RobotDescription | None
+    urdf_tolerances: Tolerances | None
+
+
+def check_fleet(
+    groups: Sequence[Sequence[str]],
+    fleet: Fleet = HERE,
+    done: Sequence[BagReport] = (),
+    progress: ProgressCallback | None = None,
+    checks: Checks | None = None,
+) -> Iterator[BagReport]:
+    """Each group of paths checked as its own recording (``check_bags`` with ``checks``) on ``fleet``, its
+    report yielded as it finishes; a check that did not finish is a report that says so (code
+    ``unchecked``). The reports ``done`` (of an earlier run) come first, and their recordings are not
+    checked again (``remaining``). ``progress`` is told the bytes read when the fleet is one recording
+    checked in this process."""
+    one = functools.partial(check_bags, **(checks or {}))
+    todo = remaining(groups, done)
+    if progress is not None and len(todo) == 1 and fleet.dask is None:
+        one = functools.partial(one, progress=progress)
+    yield from done
+    for index, result in run_fleet(todo, one, fleet):
+        yield unchecked(tuple(todo[index]), result.why, result.hint) if isinstance(result, Unfinished) else result
+
+
+def remaining(groups: Sequence[Sequence[str]], done: Sequence[BagReport]) -> list[list[str]]:
+    """The groups of paths that no report of ``done`` is about."""
+    finished = {bag.paths for bag in done}
+    return [list(g) for g in groups if tuple(g) not in finished]
+
+
+def in_order(groups: Sequence[Sequence[str]], reports: Sequence[BagReport]) -> list[BagReport]:
+    """The reports in the order of ``groups``, then those about recordings not in ``groups``."""
+    by_paths = {bag.paths: bag for bag in reports}
+    given = [tuple(g) for g in groups]
+    return [by_paths[g] for g in given] + [bag for paths, bag in by_paths.items() if paths not in given]
 
 
 def check_recording(

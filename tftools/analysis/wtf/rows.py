@@ -13,7 +13,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray, UInt8Array
 from tftools.core.buffer import QUATERNION_TOLERANCE
-from tftools.core.frames import Names
+from tftools.core.frames import Names, frame_name
 from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH, EdgeHistory
 from tftools.sources.recording import Recording
 
@@ -204,7 +204,7 @@ def _refused_segment(recording: Recording, names: Names, authorities: Names) -> 
     """The rows the buffer refused, under tf2's names, with the flags a history would give them."""
     batch = recording.refused
     raw = batch.frame_names
-    stripped = np.array([names.intern(n[1:] if n.startswith("/") else n) for n in raw] or [0], np.int32)
+    stripped = np.array([names.intern(frame_name(n)) for n in raw] or [0], np.int32)
     slash = np.array([n.startswith("/") for n in raw] or [False])
     publishers = np.array([authorities.intern(a) for a in batch.authorities] or [0], np.int32)
     flags = (

@@ -9,6 +9,7 @@ from tftools.analysis.filter import TF_LOST
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, edge, listed
+from tftools.core.frames import frame_name
 
 #: A stream "mostly needs a wait" when more than this share of its messages does.
 WAITING_SHARE = 0.5
@@ -28,7 +29,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         apart = s.reasons.get("not_connected", 0)
         if not unknown and not apart:
             continue
-        missing = [f for f in s.frame_ids if f and not scene.buffer.has_frame(f.removeprefix("/"))]
+        missing = [f for f in s.frame_ids if f and not scene.buffer.has_frame(frame_name(f))]
         if unknown:
             close = {f: difflib.get_close_matches(f, scene.buffer.frames, n=1, cutoff=0.6) for f in missing}
             named = listed([f"'{f}'" + (f" (did you mean '{c[0]}'?)" if c else "") for f, c in close.items()], 3)

@@ -6,8 +6,9 @@ import os
 from collections.abc import Sequence
 from typing import Literal
 
-from tftools.sources.live.base import LiveSource, OnNotice
+from tftools.sources.live.base import LiveSource
 from tftools.sources.live.errors import LiveError, NoRosSelectedError
+from tftools.sources.live.notices import OnNotice
 
 Ros = Literal["ros1", "ros2"]
 

@@ -14,9 +14,10 @@ import numpy as np
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.time import Clock, SimClock, WallClock
 from tftools.sources.contents import DEFAULT_TOPICS
+from tftools.sources.live.notices import NoticeOnce, OnNotice, ignore_notice, printable
 
 if TYPE_CHECKING:
-    from tftools.sources.live.sensor_headers import HeaderListener, HeaderStore
+    from tftools.sources.live.header_store import HeaderListener, HeaderStore
 
 #: Called with each batch of transforms received, from the source's delivery thread (one thread,
 #: so calls never overlap); rows are static where they came on ``/tf_static``, with the publisher
@@ -26,20 +27,6 @@ OnBatch = Callable[[TransformBatch], None]
 #: Frames a live source passes on, at most: a peer inventing names (200,000 new ones a message) would
 #: grow the buffer's tables without bound. Transforms that name more are dropped, and that said once.
 MAX_LIVE_FRAMES = 20_000
-
-#: Called with a one-line notice: a publisher that speaks another type, a lost connection...
-OnNotice = Callable[[str], None]
-
-
-def printable(text: str, limit: int = 200) -> str:
-    """``text`` from a peer (a node name, its error message) fit for one line of a notice: control
-    characters (escape codes, newlines) shown escaped, and at most ``limit`` characters of it."""
-    shown = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text[:limit])
-    return shown + ("..." if len(text) > limit else "")
-
-
-def ignore_notice(_message: str) -> None:
-    """An ``OnNotice`` for no one."""
 
 
 class FrameLimit:
@@ -65,19 +52,6 @@ class FrameLimit:
             " (a publisher inventing frame names?)"
         )
         return take_rows(batch, kept)
-
-
-class NoticeOnce:
-    """Passes each distinct notice on once: a publisher failing at every message is told of once."""
-
-    def __init__(self, on_notice: OnNotice | None) -> None:
-        self._on_notice = on_notice or ignore_notice
-        self._noticed: set[str] = set()
-
-    def __call__(self, message: str) -> None:
-        if message not in self._noticed:
-            self._noticed.add(message)
-            self._on_notice(message)
 
 
 class TickedClock(SimClock):

@@ -11,9 +11,9 @@ from tftools.sources.codecs import ros1
 from tftools.sources.codecs.decoded import message_header
 from tftools.sources.codecs.types import MessageType, definition_starts_with_header, rosidl_name
 from tftools.sources.live.errors import LiveError
+from tftools.sources.live.header_store import HeaderStore
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
-from tftools.sources.live.sensor_headers import HeaderStore
 
 #: Any message type: a publisher answers with its own type, md5sum and definition.
 ANY_TYPE = MessageType("*", "*", "")

@@ -10,8 +10,8 @@ import time
 from typing import Any, Literal
 
 from tftools.sources.codecs.types import MessageType
-from tftools.sources.live.base import OnNotice, ignore_notice
 from tftools.sources.live.errors import LiveError
+from tftools.sources.live.notices import OnNotice, ignore_notice
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.publisher import Publication, TcpRosServer
 from tftools.sources.live.ros1.subscriber import Admit, OnMessage, Subscription

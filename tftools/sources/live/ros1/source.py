@@ -12,13 +12,14 @@ from tftools.sources.codecs import ros1
 from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, ros1_message_type
 from tftools.sources.contents import is_static_topic
-from tftools.sources.live.base import LiveSource, NoticeOnce, OnBatch, OnNotice
+from tftools.sources.live.base import LiveSource, OnBatch
+from tftools.sources.live.notices import NoticeOnce, OnNotice
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.subscriber import OnMessage
 
 if TYPE_CHECKING:
-    from tftools.sources.live.sensor_headers import HeaderListener, HeaderStore
+    from tftools.sources.live.header_store import HeaderListener, HeaderStore
 
 #: Transforms received and not yet delivered, at most: past it (the consumer cannot keep up) new
 #: messages are dropped, and that is said once. A message alone is always taken.

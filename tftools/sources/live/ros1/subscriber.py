@@ -9,7 +9,7 @@ import time
 from collections.abc import Callable, Mapping
 
 from tftools.sources.codecs.types import MessageType
-from tftools.sources.live.base import OnNotice, printable
+from tftools.sources.live.notices import OnNotice, printable
 from tftools.sources.live.ros1 import tcpros
 from tftools.sources.live.ros1 import xmlrpc as ros_xmlrpc
 

@@ -20,8 +20,8 @@ from urllib.parse import urlsplit
 from xml.parsers import expat
 from xmlrpc.server import SimpleXMLRPCRequestHandler, SimpleXMLRPCServer
 
-from tftools.sources.live.base import printable
 from tftools.sources.live.errors import MasterRefusedError, MasterReplyError, MasterTimeoutError, MasterUnreachableError
+from tftools.sources.live.notices import printable
 
 #: Seconds a whole call to the master or another node may take (connect, send, the whole reply).
 CALL_TIMEOUT = 3.0

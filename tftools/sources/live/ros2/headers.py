@@ -19,10 +19,10 @@ from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_header
 from tftools.sources.codecs.types import starts_with_header
 from tftools.sources.live.errors import DdsError
+from tftools.sources.live.header_store import HeaderStore
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.idl import ros2_definitions, ros2_struct
-from tftools.sources.live.sensor_headers import HeaderStore
 
 
 def sensor_type(dds_type_name: str, *, unknown_too: bool = False) -> type[IdlStruct] | None:

@@ -13,15 +13,16 @@ from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE
 from tftools.sources.contents import is_static_topic
-from tftools.sources.live.base import LiveSource, OnBatch, OnNotice
+from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.errors import DdsError
+from tftools.sources.live.notices import OnNotice
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.graph import Graph, Writer
 from tftools.sources.live.ros2.idl import ros2_struct
 
 if TYPE_CHECKING:
-    from tftools.sources.live.sensor_headers import HeaderListener, HeaderStore
+    from tftools.sources.live.header_store import HeaderListener, HeaderStore
 
 
 @dataclass(frozen=True)
