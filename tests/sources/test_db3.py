@@ -251,7 +251,7 @@ def test_both_row_readers_give_the_same_rows(tmp_path: Path) -> None:
             ]
         return found
 
-    assert db3_rows._Native is not None, "the extension is built here"
+    assert db3_rows._Native is not None, "the extension is built here"  # type: ignore[attr-defined]
     python = rows(native=False)
     assert python == rows(native=True) and len(python) == 2 and python[1][3] == tf_cdr([Tf("map", "base", 8)]) * 40
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -220,7 +221,12 @@ def test_the_indexes_are_read_once_for_every_window(
     counted: list[str] = []
     for module, name in ((ros1, "read_index"), (mcap, "summary_of"), (db3, "_statistics")):
         real = getattr(module, name)
-        monkeypatch.setattr(module, name, lambda *a, _real=real, _name=name: counted.append(_name) or _real(*a))
+
+        def count(*a: object, _real: Any = real, _name: str = name) -> Any:
+            counted.append(_name)
+            return _real(*a)
+
+        monkeypatch.setattr(module, name, count)
     with stream_recording([bag], window_messages=300) as streamed:
         assert len(streamed.windows) > 3
         assert sum(len(part) for part in streamed.parts()) == len(read_recording([bag]).transforms)
