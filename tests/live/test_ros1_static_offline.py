@@ -70,7 +70,7 @@ def test_reads_flat_entries_with_rpy_or_quaternions(tmp_path: Path) -> None:
         ("- {child_frame_id: b}\n", "has no frame_id"),
         ("- {frame_id: a, child_frame_id: b, x: nope}\n", "'nope' is not a number"),
         ("- {frame_id: a, child_frame_id: b, yaw: 1, qw: 1}\n", "both a quaternion and roll/pitch/yaw"),
-        ("[unclosed\n", "not YAML"),
+        ("[unclosed\n", "not valid YAML .expected ',' or ']', but got '<stream end>' at line 2"),
         ("", "lists no transforms"),
     ],
 )

@@ -30,7 +30,7 @@ COMMANDS = [
     ["view-frames", "-b", str(SAMPLES / "robot_mcap"), "-o", "tree.gv"],
     ["report", str(SAMPLES / "robot.bag"), "-o", "report.html"],
     ["diff", str(SAMPLES / "robot.bag"), str(SAMPLES / "robot_db3")],
-    ["static", "0.1", "0", "0.2", "0", "0", "0", "base_link", "laser", "-b", str(SAMPLES / "robot.bag"), "-o", "x.bag"],
+    ["static", "0.1", "0", "0.2", "0", "0", "0", "base_link", "sonar", "-b", str(SAMPLES / "robot.bag"), "-o", "x.bag"],
 ]
 
 

@@ -95,10 +95,18 @@ def _parse(text: str, *, every_document: bool) -> list[Any]:
     except RecursionError:  # the composer recurses once per level
         raise YamlInputError(f"nested deeper than {MAX_DEPTH} levels") from None
     except (YAMLError, ValueError) as e:
-        raise YamlInputError(f"not valid YAML ({type(e).__name__})") from None
+        raise YamlInputError(f"not valid YAML ({_where(e)})") from None
     for document in documents:
         _check(document)
     return documents
+
+
+def _where(error: Exception) -> str:
+    """What the parser found wrong, and where: "expected ',' or ']', but got '<stream end>' at line 2"."""
+    problem, mark = getattr(error, "problem", None), getattr(error, "problem_mark", None)
+    if not isinstance(problem, str):
+        return type(error).__name__
+    return f"{problem} at line {mark.line + 1}" if mark is not None else problem
 
 
 def _flow_depth(text: str) -> int:
