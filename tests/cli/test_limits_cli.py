@@ -4,6 +4,7 @@ Python's warning lines; what a warning says is one line of tfx's."""
 from __future__ import annotations
 
 import functools
+import os
 import warnings
 from pathlib import Path
 from typing import Any
@@ -59,3 +60,12 @@ def test_a_library_warning_is_one_line_of_tfx(tfx, monkeypatch) -> None:
     result = tfx("frames", "-b", Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag")
     lines = [line for line in result.stderr.splitlines() if "overflow" in line]
     assert lines == ["tfx: note: overflow encountered in multiply (RuntimeWarning in test_limits_cli)"], result.stderr
+
+
+def test_a_resumed_report_that_is_a_fifo_is_refused_at_once(tfx, tmp_path: Path) -> None:
+    """``mkfifo r.jsonl; tfx wtf --resume r.jsonl`` blocked for ever (issue 32, H1)."""
+    fifo = tmp_path / "r.jsonl"
+    os.mkfifo(fifo)
+    bag = Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag"
+    result = tfx("wtf", "--resume", fifo, bag)
+    assert result.code == 2 and "a FIFO, not a regular file" in result.stderr, result.stderr

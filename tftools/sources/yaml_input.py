@@ -9,7 +9,7 @@ import re
 import stat
 import warnings
 from itertools import accumulate
-from typing import Any
+from typing import Any, BinaryIO
 
 MAX_BYTES = 4 << 20  # a metadata.yaml of a thousand topics is well under 1 MiB
 MAX_DEPTH = 64  # rosbag2 writes 5 levels
@@ -32,10 +32,10 @@ class NotAFileError(YamlInputError):
         self.hint = hint
 
 
-def read_bytes(path: str | os.PathLike[str], max_bytes: int) -> bytes:
-    """The contents of the regular file at ``path``, at most ``max_bytes`` of them. Raises
-    ``NotAFileError`` for a missing path, a folder, a FIFO or a device (opened without blocking, so a
-    FIFO with no writer is refused at once), ``YamlInputError`` for a larger file or one that cannot be read."""
+def open_regular(path: str | os.PathLike[str]) -> BinaryIO:
+    """The regular file at ``path``, open for reading. Raises ``NotAFileError`` for a missing path, a
+    folder, a FIFO or a device (opened without blocking, so a FIFO with no writer is refused at once),
+    ``YamlInputError`` for one that cannot be opened."""
     try:
         descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except FileNotFoundError:
@@ -49,7 +49,13 @@ def read_bytes(path: str | os.PathLike[str], max_bytes: int) -> bytes:
             raise NotAFileError("a folder, not a file")
         kind = "a FIFO" if stat.S_ISFIFO(mode) else "a device or socket"
         raise NotAFileError(f"{kind}, not a regular file", "save what it gives to a file, and give that file")
-    with os.fdopen(descriptor, "rb") as f:
+    return os.fdopen(descriptor, "rb")
+
+
+def read_bytes(path: str | os.PathLike[str], max_bytes: int) -> bytes:
+    """The contents of the regular file at ``path`` (``open_regular``), at most ``max_bytes`` of them;
+    ``YamlInputError`` for a larger file or one that cannot be read."""
+    with open_regular(path) as f:
         try:
             raw = f.read(max_bytes + 1)
         except OSError as e:
