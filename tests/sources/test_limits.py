@@ -138,3 +138,23 @@ def test_half_sent_messages_are_bounded_over_all_peers(monkeypatch) -> None:
     with third, third_peer:
         third_peer.sendall(struct.pack("<I", 50) + b"z" * 50)
         assert tcpros.read_message(third) == b"z" * 50
+
+
+@pytest.mark.slow
+def test_a_silent_s3_endpoint_ends_within_the_listing_deadline(monkeypatch) -> None:
+    """An S3 endpoint that accepts connections and never answers (issue 32, H2): botocore's timeouts are
+    per read and per attempt, and retried; the call as a whole has LISTING_DEADLINE."""
+    pytest.importorskip("s3fs")
+    from tftools.sources.errors import RemoteError
+    from tftools.sources.storage import remote
+
+    server = socket.create_server(("127.0.0.1", 0))
+    held: list[socket.socket] = []
+    threading.Thread(target=lambda: held.extend(iter(lambda: server.accept()[0], None)), daemon=True).start()
+    monkeypatch.setattr(remote, "LISTING_DEADLINE", 2)
+    monkeypatch.setenv("AWS_ENDPOINT_URL", f"http://127.0.0.1:{server.getsockname()[1]}")
+    monkeypatch.setenv("AWS_ACCESS_KEY_ID", "x")
+    monkeypatch.setenv("AWS_SECRET_ACCESS_KEY", "y")
+    with server, pytest.raises(RemoteError, match="listing failed") as caught:
+        remote.expand("s3://bucket/x.bag")
+    assert "\n" not in str(caught.value) and held  # it did connect, and was held silent

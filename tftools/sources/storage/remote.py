@@ -40,6 +40,8 @@ GAP_BYTES = 64 << 10  # between two ranges fetched along with them: cheaper than
 MAX_FILE_BYTES = 1 << 40
 CONNECT_TIMEOUT, READ_TIMEOUT = 10, 30  # seconds
 REQUEST_DEADLINE = 300  # seconds one HTTP request may take in all (a piece is at most PIECE_BYTES)
+LISTING_DEADLINE = 20  # seconds a listing or a file's size may take in all, retries included
+MIN_RATE = 64 << 10  # bytes a second a read must keep up, over a whole call (a server trickling a byte at a time)
 #: Fetched whole: SQLite reads a file through its own pages, a .zstd file is decompressed whole.
 _WHOLE_SUFFIXES = (".db3", ".zstd", ".yaml")
 #: Files of a ROS 2 bag directory worth copying.
@@ -76,6 +78,12 @@ def _options(protocol: str) -> dict[str, Any]:
     return {}
 
 
+def _deadline(fs: AbstractFileSystem, seconds: float) -> dict[str, float]:
+    """The keyword that gives a call of an async filesystem (S3, GCS, HTTP, Azure) an overall deadline:
+    fsspec's ``sync(timeout=)``; their own timeouts are per read and per attempt, and retried."""
+    return {"timeout": seconds} if getattr(fs, "async_impl", False) else {}
+
+
 @contextmanager
 def _remote(url: str, doing: str) -> Iterator[None]:
     """Any failure of a remote call as one ``RemoteError`` line: the filesystems raise their own
@@ -97,7 +105,7 @@ def expand(url: str) -> list[str]:
     fs, path = filesystem(url)
     with _remote(url, "listing"):
         if is_glob(path):
-            matches = sorted(fs.glob(path))
+            matches = sorted(fs.glob(path, **_deadline(fs, LISTING_DEADLINE)))
             if not matches:
                 raise BagNotFoundError(url)
             return [found for match in matches for found in _below(fs, match, url)]
@@ -106,16 +114,16 @@ def expand(url: str) -> list[str]:
             if not found:
                 raise BagNotFoundError(url)
             return found
-        if not fs.exists(path):
+        if not fs.exists(path, **_deadline(fs, LISTING_DEADLINE)):
             raise BagNotFoundError(url)
     return [url]
 
 
 def _below(fs: AbstractFileSystem, path: str, url: str) -> list[str]:
     """The recordings at or below ``path``: itself when it is a file."""
-    if not fs.isdir(path):
+    if not fs.isdir(path, **_deadline(fs, LISTING_DEADLINE)):
         return [fs.unstrip_protocol(path)] if path.endswith(BAG_SUFFIXES) else []
-    files = [PurePosixPath(f).relative_to(path).as_posix() for f in fs.find(path)]
+    files = [PurePosixPath(f).relative_to(path).as_posix() for f in fs.find(path, **_deadline(fs, LISTING_DEADLINE))]
     return [fs.unstrip_protocol(f"{path}/{name}" if name else path) for name in recordings_in(files)]
 
 
@@ -163,8 +171,13 @@ class RemoteCopy:
     def _fetch(self, pieces: list[tuple[int, int]]) -> None:
         self.requests += len(pieces)
         with _remote(self.url, "reading"):
+            asked = sum(end - start for start, end in pieces)
             replies = self.fs.cat_ranges(
-                [self.path] * len(pieces), [s for s, _ in pieces], [e for _, e in pieces], on_error="return"
+                [self.path] * len(pieces),
+                [s for s, _ in pieces],
+                [e for _, e in pieces],
+                on_error="return",
+                **_deadline(self.fs, CONNECT_TIMEOUT + asked / MIN_RATE),
             )
         for (start, end), reply in zip(pieces, replies, strict=True):
             if isinstance(reply, BaseException):
@@ -226,10 +239,11 @@ def local_view(url: str) -> Iterator[LocalView]:
     with ExitStack() as stack:
         folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="tftools-remote-")))
         with _remote(url, "listing"):
-            if fs.isdir(path):
+            if fs.isdir(path, **_deadline(fs, LISTING_DEADLINE)):
                 local = folder / (PurePosixPath(path).name or "bag")
                 local.mkdir()
-                listed = [f for f in fs.find(path, maxdepth=1) if f.endswith(_BAG_DIRECTORY_SUFFIXES)]
+                found = fs.find(path, maxdepth=1, **_deadline(fs, LISTING_DEADLINE))
+                listed = [f for f in found if f.endswith(_BAG_DIRECTORY_SUFFIXES)]
                 files = [(f, local / PurePosixPath(f).name) for f in listed]
             else:
                 local = folder / (PurePosixPath(path).name or "recording")
@@ -255,7 +269,7 @@ def whole_copy(url: str) -> Iterator[Path]:
 
 
 def _size(fs: AbstractFileSystem, url: str, path: str) -> int:
-    size = fs.info(path).get("size")
+    size = fs.info(path, **_deadline(fs, LISTING_DEADLINE)).get("size")
     if not isinstance(size, int) or not 0 <= size <= MAX_FILE_BYTES:
         raise RemoteError(url, f"{PurePosixPath(path).name} has no usable size ({size!r})")
     return size
