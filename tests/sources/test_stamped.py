@@ -64,7 +64,6 @@ def test_a_ros1_bag_gives_each_images_header_reading_little_more(
     from rosbags.typesys import Stores, get_typestore
 
     from tftools.sources.bag.reader import BagReader
-    from tftools.sources.storage.source import ByteSource
 
     store = get_typestore(Stores.ROS1_NOETIC)
     frames = ["camera", "c" * 3000]
@@ -77,14 +76,7 @@ def test_a_ros1_bag_gives_each_images_header_reading_little_more(
             pixels = np.random.default_rng(i).integers(0, 256, 300_000, np.uint8)
             image = store.types[IMAGE](header, 1, 300_000, "mono8", 0, 300_000, pixels)
             writer.write(connection, 1_000 + i, bytes(store.serialize_ros1(image, IMAGE)))
-    read: list[int] = []
-    ranges = ByteSource.read_ranges
-
-    def counted(source: ByteSource, starts: Any, ends: Any) -> Any:
-        read.append(int((ends - starts).sum()))
-        return ranges(source, starts, ends)
-
-    monkeypatch.setattr(ByteSource, "read_ranges", counted)
+    read = _bytes_read(monkeypatch)
     with BagReader([bag], headers=()) as reader:
         (stream,) = reader.read().files[0].stamped
     assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 + 250 for i in range(12)]
@@ -97,7 +89,6 @@ def test_an_mcap_gives_each_images_header_reading_little_more(tmp_path: Path, mo
     alongside the transforms, not the 300 KB after each."""
     from tests.sources.ros2_helpers import Msg, Tf
     from tftools.sources.bag.reader import BagReader
-    from tftools.sources.storage.source import ByteSource
 
     store = typestore()
     frames = ["camera", "c" * 3000]
@@ -106,14 +97,7 @@ def test_an_mcap_gives_each_images_header_reading_little_more(tmp_path: Path, mo
         written.append(Other("/camera", 1_000 + 10 * i, _image(store, 100 + i, frames[i % 2], 300_000), IMAGE))
         written.append(Msg("/tf", 1_005 + 10 * i, (Tf("map", "odom", i),)))
     bag = write_rosbag2(tmp_path / "images", written, storage="mcap")
-    read: list[int] = []
-    ranges = ByteSource.read_ranges
-
-    def counted(source: ByteSource, starts: Any, ends: Any) -> Any:
-        read.append(int((ends - starts).sum()))
-        return ranges(source, starts, ends)
-
-    monkeypatch.setattr(ByteSource, "read_ranges", counted)
+    read = _bytes_read(monkeypatch)
     with BagReader([bag], headers=()) as reader:
         contents = reader.read()
     (stream,) = contents.files[0].stamped
@@ -122,3 +106,18 @@ def test_an_mcap_gives_each_images_header_reading_little_more(tmp_path: Path, mo
     assert len(contents.transforms) == 12 and contents.problems == []
     size = sum(p.stat().st_size for p in bag.iterdir())
     assert 0 < sum(read) < 0.05 * size
+
+
+def _bytes_read(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The bytes of each ranged read of a recording from now on (``ByteSource.read_ranges``), as a list that fills."""
+    from tftools.sources.storage.source import ByteSource
+
+    read: list[int] = []
+    ranges = ByteSource.read_ranges
+
+    def counted(source: ByteSource, starts: Any, ends: Any) -> Any:
+        read.append(int((ends - starts).sum()))
+        return ranges(source, starts, ends)
+
+    monkeypatch.setattr(ByteSource, "read_ranges", counted)
+    return read
