@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import collections
 import itertools
+import json
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -126,3 +127,27 @@ def test_a_remote_bag_directory_has_its_qos_checked(tfx: Any, bucket: str) -> No
     with BagReader([f"{bucket}/robot_db3"]) as reader:
         (info,) = reader.read().files
     assert info.qos is not None and not info.qos.problem and "/tf_static" in info.qos.profiles
+
+
+@pytest.mark.parametrize("command", ["wtf", "report"])
+def test_the_robots_description_and_joint_states_come_with_the_same_pass(
+    tfx: Any,  # noqa: F811
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    command: str,
+) -> None:
+    """A recording with /robot_description and /joint_states: wtf and report check the robot (its
+    description's joints found, its joint states compared) from the one read of the transforms."""
+    from tests.analysis.robot_scenes import Setup, robot_bag
+
+    bag = robot_bag(tmp_path, "rover", Setup(description=True))
+    counted = Counted(monkeypatch)
+    args = (
+        [command, str(bag), "--format", "json"] if command == "wtf" else [command, str(bag), "-o", f"{tmp_path}/r.html"]
+    )
+    done = tfx(*args)
+    assert done.code in (0, 1), done.stderr
+    assert counted.passes == 1 and dict(counted.opened) == {bag.name: 1}
+    if command == "wtf":
+        codes = {f["code"] for b in json.loads(done.stdout)["bags"] for f in b["findings"]}
+        assert not {c for c in codes if c.startswith("urdf_") and c != "urdf_extra"}, codes

@@ -27,7 +27,7 @@ from tftools.analysis.frames import FrameTree
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3
-from tftools.sources.bag.robot import DESCRIPTION_TOPIC, JOINT_STATES_TOPIC, RobotMessages, read_robot
+from tftools.sources.bag.robot import DESCRIPTION_TOPIC, ROBOT_TOPICS, RobotMessages, read_robot, robot_messages
 from tftools.sources.recording import Recording
 from tftools.sources.urdf import RobotDescription, UrdfError, parse_urdf, with_prefix
 
@@ -240,7 +240,9 @@ def robot_of(
             return None, None
         return Robot(_prefixed(urdf, recording), tolerances=tolerances or Tolerances(), live=True), None
     messages = RobotMessages()
-    if {DESCRIPTION_TOPIC, JOINT_STATES_TOPIC} & topics:
+    if any(w.topic in ROBOT_TOPICS for f in recording.contents.files for w in f.whole):  # read with the transforms
+        messages = robot_messages(recording.contents.files)
+    elif set(ROBOT_TOPICS) & topics:
         with contextlib.suppress(TfToolsError):  # the transforms were read: the joints are checked without states
             messages = read_robot(paths)
     if urdf is None:

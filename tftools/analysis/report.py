@@ -33,6 +33,7 @@ from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, format_sec, from_sec
 from tftools.sources.bag import ProgressCallback
+from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording, read_recording
@@ -121,7 +122,8 @@ def report_bags(
     (``sensor_topics``, default every topic with a header), against the robot's description (``urdf``, else
     the recorded /robot_description); one that cannot be read is an ``Unreadable``, not raised."""
     try:
-        recording = read_recording(paths, topics, progress, semantics=semantics, headers=tuple(sensor_topics or ()))
+        headers = tuple(sensor_topics or ())
+        recording = read_recording(paths, topics, progress, semantics=semantics, headers=headers, whole=ROBOT_TOPICS)
     except TfToolsError as error:
         return Unreadable(" + ".join(str(p) for p in paths), str(error), error.hint)
     robot, said = robot_of(paths, recording, urdf)

@@ -76,12 +76,14 @@ def read_recording(
     allow_empty: bool = False,
     semantics: Semantics | None = None,
     headers: Sequence[str] | None = None,
+    whole: Sequence[str] = (),
 ) -> Recording:
     """Read bags into a whole-recording buffer (no cache limit) answering as ``semantics`` (by default
     the recording's own); ``NoTransformsError`` when no transform was found, unless ``allow_empty``.
     With ``headers``, the sensor data's headers on those topics (none named: every topic whose
-    messages start with a header) are read in the same pass (``stamped_of(recording.contents.files)``)."""
-    with BagReader(paths, topics, headers=headers) as reader:
+    messages start with a header) are read in the same pass (``stamped_of(recording.contents.files)``),
+    and so are the messages of the ``whole`` topics, whole (``SourceInfo.whole``: the robot's topics)."""
+    with BagReader(paths, topics, headers=headers, whole=whole) as reader:
         contents = reader.read(progress=progress)
     if not contents.parts and not allow_empty:
         raise no_transforms(paths, contents)

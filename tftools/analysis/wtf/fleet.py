@@ -18,6 +18,7 @@ from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.sources.bag import ProgressCallback
+from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import Fetched, StampedMessages
 from tftools.sources.recording import Recording, read_recording
@@ -78,8 +79,9 @@ def check_bags(
     recorded /robot_description: ``robot_of``); a bag that cannot be read is reported, not raised."""
     names = tuple(str(p) for p in paths)
     try:
+        headers = tuple(sensor_topics or ())
         recording = read_recording(
-            paths, topics, progress, allow_empty=True, semantics=semantics, headers=tuple(sensor_topics or ())
+            paths, topics, progress, allow_empty=True, semantics=semantics, headers=headers, whole=ROBOT_TOPICS
         )
     except TfToolsError as error:
         return unreadable(names, str(error), error.hint)

@@ -12,11 +12,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tftools.core.arrays import Int64Array
+from tftools.sources.bag.contents import BagFileInfo
 from tftools.sources.bag.reader import BagReader
 from tftools.sources.codecs.robot import JointState
 
 DESCRIPTION_TOPIC = "/robot_description"
 JOINT_STATES_TOPIC = "/joint_states"
+#: What a read that checks the robot takes whole beside the transforms.
+ROBOT_TOPICS = (DESCRIPTION_TOPIC, JOINT_STATES_TOPIC)
 
 
 @dataclass(frozen=True)
@@ -37,10 +40,19 @@ def read_robot(
     description_topic: str = DESCRIPTION_TOPIC,
     joint_topic: str = JOINT_STATES_TOPIC,
 ) -> RobotMessages:
-    """The robot's messages in the recording at ``paths`` (several: a split one)."""
+    """The robot's messages in the recording at ``paths`` (several: a split one), in a pass of their own."""
     mine = (description_topic, joint_topic)
     with BagReader(paths, mine, whole=mine) as reader:  # those topics only, read whole
-        infos = reader.read().files
+        return robot_messages(reader.read().files, description_topic, joint_topic)
+
+
+def robot_messages(
+    infos: Sequence[BagFileInfo],
+    description_topic: str = DESCRIPTION_TOPIC,
+    joint_topic: str = JOINT_STATES_TOPIC,
+) -> RobotMessages:
+    """The robot's messages among those a read took whole (``BagReader(..., whole=ROBOT_TOPICS)``)."""
+    mine = (description_topic, joint_topic)
     texts: list[tuple[int, str]] = []
     states: list[tuple[int, JointState]] = []
     for info in infos:
