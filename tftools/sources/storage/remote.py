@@ -177,7 +177,7 @@ class RemoteCopy:
                 [s for s, _ in pieces],
                 [e for _, e in pieces],
                 on_error="return",
-                **_deadline(self.fs, CONNECT_TIMEOUT + asked / MIN_RATE),
+                **_deadline(self.fs, CONNECT_TIMEOUT * len(pieces) + asked / MIN_RATE),  # a request a piece
             )
         for (start, end), reply in zip(pieces, replies, strict=True):
             if isinstance(reply, BaseException):
