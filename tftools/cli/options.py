@@ -12,7 +12,8 @@ from tftools.cli.common import warn
 from tftools.core.errors import UsageError
 from tftools.core.semantics import Semantics
 from tftools.sources.errors import BagNotFoundError
-from tftools.sources.storage.locations import METADATA, expand, is_url
+from tftools.sources.storage import expand
+from tftools.sources.storage.locations import METADATA, is_url
 
 
 def _bags(bags: list[str] | None) -> list[str] | None:

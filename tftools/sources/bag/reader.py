@@ -5,10 +5,9 @@ from __future__ import annotations
 
 import importlib
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from contextlib import ExitStack
-from pathlib import Path
-from typing import TYPE_CHECKING, Protocol
+from typing import Protocol
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import (
@@ -20,15 +19,13 @@ from tftools.sources.bag.contents import (
     in_turn,
     merged_clock,
 )
-from tftools.sources.bag.formats import format_of
+from tftools.sources.bag.formats import HEAD_BYTES, format_of_head
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.contents import DEFAULT_TOPICS, Fetched
-from tftools.sources.errors import BagError
-from tftools.sources.storage.locations import is_url
-from tftools.sources.storage.source import ByteSource
-
-if TYPE_CHECKING:
-    from tftools.sources.storage.remote import LocalView
+from tftools.sources.contents import DEFAULT_TOPICS
+from tftools.sources.errors import BagError, UnknownBagFormatError
+from tftools.sources.storage import open_files
+from tftools.sources.storage.locations import METADATA
+from tftools.sources.storage.source import Files
 
 
 class FormatFile(Protocol):
@@ -103,17 +100,12 @@ class BagReader:
         return BagContents(in_record_order(batches), infos, self.topics, merged_clock([f.clock for f in infos]))
 
     def _open(self, location: str) -> _Opened:
-        if not is_url(location):
-            path = Path(location)
-            return _Opened(self._stack, path, _open_format(path, ByteSource), _size(path))
-        from tftools.sources.storage.remote import local_view  # fsspec loads only for a URL
-
-        view = self._stack.enter_context(local_view(location))
+        files = self._stack.enter_context(open_files(location))
         try:
-            opened = _open_format(view.path, view.source)
+            opened = _open_format(files)
         except BagError as e:
-            raise e.said_of(location) from None
-        return _Opened(self._stack, view.path, opened, view.size, location, view)
+            raise e.said_of(location) if files.fetched() else e from None
+        return _Opened(self._stack, files, opened)
 
 
 def read_bag(
@@ -133,55 +125,52 @@ def _unreported(_done: int, _total: int) -> None:
 
 
 class _Opened:
-    """One path of a recording, open: a local file or directory, or a remote one's local view."""
+    """One path of a recording, open: its files, and its format's reader of them."""
 
-    def __init__(
-        self,
-        stack: ExitStack,
-        path: Path,
-        opened: FormatFile,
-        size: int,
-        url: str = "",
-        view: LocalView | None = None,
-    ) -> None:
+    def __init__(self, stack: ExitStack, files: Files, opened: FormatFile) -> None:
         stack.callback(opened.close)
-        self.path, self.opened, self.size, self.url, self.view = path, opened, size, url, view
+        self.files, self.opened = files, opened
+        root = files.root
+        self.size = sum(files.size(p) for p in files.listing(root)) if files.is_dir(root) else files.size(root)
 
     def read(
         self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None
     ) -> tuple[list[TransformBatch], BagFileInfo]:
         """The format's result, said of the URL (with what was fetched) for a remote bag."""
-        if self.view is None:
+        fetched = self.files.fetched()
+        if fetched is None:
             return self.opened.read(wanted, progress, window)
         try:
             batches, info = self.opened.read(wanted, progress, window)
         except BagError as e:
-            raise e.said_of(self.url) from None
-        local = str(self.path)
-        info.path = self.url
-        info.problems = [line.replace(local, self.url) for line in info.problems]
-        info.fetched = Fetched(self.view.fetched, self.view.size, self.view.whole)
+            raise e.said_of(self.files.said(e.path)) from None
+        info.path = self.files.said(info.path)
+        info.problems = [self.files.said(line) for line in info.problems]
+        info.fetched = self.files.fetched()
         return batches, info
 
 
-def _open_format(path: Path, open_source: Callable[[Path], ByteSource]) -> FormatFile:
-    """The recording at ``path`` opened by its format's module, imported only when a file needs it: a
-    ROS1 user pays for no sqlite or MCAP code."""
-    fmt = format_of(path)
-    module = importlib.import_module(f"tftools.sources.bag.{fmt.module}")
-    if fmt.module == "rosbag2":
-        opened: FormatFile = module.Rosbag2Bag(path, open_source)
+def _open_format(files: Files) -> FormatFile:
+    """The recording opened by its format's module, imported only when a file needs it: a ROS1 user
+    pays for no sqlite or MCAP code. A file's format is told by its first bytes."""
+    root = files.root
+    if files.is_dir(root):
+        if not any(p.name == METADATA or p.suffix in (".db3", ".mcap") for p in files.listing(root)):
+            raise UnknownBagFormatError(str(root), "a directory without metadata.yaml, .db3 or .mcap files")
+        module = importlib.import_module("tftools.sources.bag.rosbag2")
+        opened: FormatFile = module.Rosbag2Bag(root, files)
         return opened
-    source = open_source(path)
+    source = files.open(root)
     try:
-        opened = module.McapFile(path, source) if fmt.module == "mcap" else module.Ros1File(path, source)
+        fmt = format_of_head(source.read(0, HEAD_BYTES))
+        if fmt is None:
+            raise UnknownBagFormatError(str(root), "unrecognised file header")
+        module = importlib.import_module(f"tftools.sources.bag.{fmt.module}")
+        if fmt.module == "rosbag2":
+            opened = module.Rosbag2Bag(root, files, source)
+        else:
+            opened = module.McapFile(root, source) if fmt.module == "mcap" else module.Ros1File(root, source)
     except BaseException:
         source.close()
         raise
     return opened
-
-
-def _size(path: Path) -> int:
-    if path.is_dir():
-        return sum(p.stat().st_size for p in path.iterdir() if p.is_file())
-    return path.stat().st_size

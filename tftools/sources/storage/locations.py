@@ -6,8 +6,7 @@ from __future__ import annotations
 import glob
 import os
 import re
-from collections.abc import Iterable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Iterable
 from pathlib import Path, PurePosixPath
 
 from tftools.sources.errors import BagError, BagNotFoundError
@@ -33,22 +32,16 @@ def is_glob(location: str) -> bool:
     return any(c in GLOB_CHARACTERS for c in location)
 
 
-def expand(arguments: Sequence[str | os.PathLike[str]]) -> list[str]:
-    """Each argument's recordings, in order: a glob's matches and, for a prefix ending in ``/`` that
-    is not itself a ROS 2 bag, every recording below it (sorted); any other argument as it is.
-
-    URLs need ``tftools[fleet]`` (``MissingExtraError`` without it); a URL, glob or prefix that
-    names no recording raises ``BagNotFoundError``.
-    """
-    found: list[str] = []
-    for argument in [os.fspath(a) for a in arguments]:
-        if is_url(argument):
-            from tftools.sources.storage import remote  # fsspec loads only for a URL
-
-            found += remote.expand(argument)
-        else:
-            found += _expand_local(argument)
-    return found
+def expand_local(argument: str) -> list[str]:
+    """A local argument's recordings (see ``storage.expand``)."""
+    if is_glob(argument) and not os.path.lexists(argument):  # quoted, so the shell left it
+        matches = sorted(glob.glob(argument, recursive=True))
+        if not matches:
+            raise BagNotFoundError(argument)
+        return [recording for match in matches for recording in _below_local(match, listed_only=False)]
+    if argument.endswith(("/", os.sep)) and os.path.isdir(argument):
+        return _below_local(argument, listed_only=True)
+    return [argument]
 
 
 def recordings_in(files: Iterable[str]) -> list[str]:
@@ -61,17 +54,6 @@ def recordings_in(files: Iterable[str]) -> list[str]:
         if name.suffix in BAG_SUFFIXES and not bag_directories.intersection(name.parents):
             found.add(str(name))
     return sorted(found)
-
-
-def _expand_local(argument: str) -> list[str]:
-    if is_glob(argument) and not os.path.lexists(argument):  # quoted, so the shell left it
-        matches = sorted(glob.glob(argument, recursive=True))
-        if not matches:
-            raise BagNotFoundError(argument)
-        return [recording for match in matches for recording in _below_local(match, listed_only=False)]
-    if argument.endswith(("/", os.sep)) and os.path.isdir(argument):
-        return _below_local(argument, listed_only=True)
-    return [argument]
 
 
 def _below_local(path: str, *, listed_only: bool) -> list[str]:
@@ -110,16 +92,3 @@ def only_bag_files(directory: Path) -> bool:
     return METADATA in names and all(
         entry.is_file() and not entry.is_symlink() and entry.suffix in BAG_DIRECTORY_SUFFIXES for entry in entries
     )
-
-
-@contextmanager
-def local_recording(location: str | os.PathLike[str]) -> Iterator[Path]:
-    """``location`` as a local path: itself, or a URL's recording fetched whole for as long as the
-    context lasts (``tftools[fleet]``)."""
-    if not is_url(location):
-        yield Path(location)
-        return
-    from tftools.sources.storage.remote import whole_copy  # fsspec loads only for a URL
-
-    with whole_copy(os.fspath(location)) as local:
-        yield local

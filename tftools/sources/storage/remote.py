@@ -1,51 +1,55 @@
-"""Remote recordings read through fsspec: listed, and each file made a local sparse copy of its size
-that the readers fill range by range through its ``RemoteSource``, so that only the ranges they read
-are fetched (``.db3``, ``.zstd`` and metadata.yaml files whole). Credentials and endpoints come from each
-filesystem's standard environment (``AWS_PROFILE``, ``GOOGLE_APPLICATION_CREDENTIALS``, ...). Nothing
-at a URL is ever written.
+"""Remote recordings read through fsspec: listed, and each file read by range through its
+``RemoteSource`` (fsspec's ranged reads, held in memory, never in a file), so that only the ranges
+the readers need are fetched; a ``.db3`` file is fetched whole into a private temporary directory,
+removed when the recording is closed (SQLite opens a file by name: see ``RemoteFiles.local``), and a
+``.zstd`` file is read whole to be decompressed. Credentials and endpoints come from each
+filesystem's standard environment (``AWS_PROFILE``, ``GOOGLE_APPLICATION_CREDENTIALS``, ...).
+Nothing at a URL is ever written.
 
 Reads are bounded: every request has timeouts and asks at most ``PIECE_BYTES``, at most ``BATCH_BYTES``
-are held at once, a reply longer than asked is refused (a shorter one leaves zeros the readers find
-damaged), and no file is taken to be larger than ``MAX_FILE_BYTES``.
+are asked at once, at most ``CACHE_BYTES`` of fetched pieces are kept for reads to come, a reply longer
+than asked is refused (a shorter one leaves zeros the readers find damaged), and no file is taken to
+be larger than ``MAX_FILE_BYTES``.
 """
 
 from __future__ import annotations
 
 import bisect
-import os
+import shutil
 import tempfile
-from collections.abc import Iterator, Sequence
+from collections import deque
+from collections.abc import Iterator
 from contextlib import ExitStack, contextmanager
-from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any
 
 import numpy as np
 
 from tftools.core.arrays import Int64Array
+from tftools.sources import yaml_input
+from tftools.sources.contents import Fetched
 from tftools.sources.errors import BagError, BagNotFoundError, MissingExtraError, RemoteError
-from tftools.sources.storage.locations import BAG_SUFFIXES, is_glob, recordings_in
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.locations import BAG_DIRECTORY_SUFFIXES, BAG_SUFFIXES, is_glob, recordings_in
+from tftools.sources.storage.source import ByteSource, Files, FileSource, runs
 
 try:
     import fsspec
     from fsspec import AbstractFileSystem
-    from fsspec.utils import merge_offset_ranges
 except ImportError:  # pragma: no cover - the extra's absence is tested in a subprocess
     raise MissingExtraError("reading recordings by URL") from None
 
 PIECE_BYTES = 8 << 20  # asked in one request
-BATCH_BYTES = 64 << 20  # asked at once (the replies are held in memory until written)
+BATCH_BYTES = 64 << 20  # asked at once (the replies are held in memory until read)
+CACHE_BYTES = 64 << 20  # of pieces fetched kept for reads to come (the oldest let go first)
 GAP_BYTES = 64 << 10  # between two ranges fetched along with them: cheaper than one more request
+BLOCK_BYTES = 64 << 10  # fetched at least for a small read (a record header: the next ones are near)
 MAX_FILE_BYTES = 1 << 40
 CONNECT_TIMEOUT, READ_TIMEOUT = 10, 30  # seconds
 REQUEST_DEADLINE = 300  # seconds one HTTP request may take in all (a piece is at most PIECE_BYTES)
 LISTING_DEADLINE = 20  # seconds a listing or a file's size may take in all, retries included
 MIN_RATE = 64 << 10  # bytes a second a read must keep up, over a whole call (a server trickling a byte at a time)
-#: Fetched whole: SQLite reads a file through its own pages, a .zstd file is decompressed whole.
-_WHOLE_SUFFIXES = (".db3", ".zstd", ".yaml")
-#: Files of a ROS 2 bag directory worth copying.
-_BAG_DIRECTORY_SUFFIXES = (*BAG_SUFFIXES, ".zstd", ".yaml")
+#: Fetched whole into a local file: SQLite opens a file by name (Python's sqlite3 has no virtual file system).
+_LOCAL_SUFFIXES = (".db3",)
 
 
 def filesystem(url: str) -> tuple[AbstractFileSystem, str]:
@@ -127,48 +131,139 @@ def _below(fs: AbstractFileSystem, path: str, url: str) -> list[str]:
     return [fs.unstrip_protocol(f"{path}/{name}" if name else path) for name in recordings_in(files)]
 
 
-@dataclass
-class RemoteCopy:
-    """A remote file's local sparse copy (of its listed size), filled range by range."""
 
-    fs: AbstractFileSystem
-    url: str
-    path: str  # in ``fs``
-    size: int
-    fd: int
-    target: Path  # the local copy
-    fetched: int = 0  # bytes received
-    requests: int = 0  # ranges asked for
-    _have_starts: list[int] = field(default_factory=list)  # the ranges fetched, sorted, apart
-    _have_ends: list[int] = field(default_factory=list)
 
-    def fill(self, starts: Sequence[int], ends: Sequence[int]) -> None:
-        """Fetch what of ``starts[i]:ends[i]`` is not here yet (ranges closer than ``GAP_BYTES``
-        fetched as one), ``BATCH_BYTES`` at a time."""
-        runs = _merged([(max(0, int(s)), min(self.size, int(e))) for s, e in zip(starts, ends, strict=True)], GAP_BYTES)
-        missing = [gap for start, end in runs for gap in self._missing(start, end)]
+class RemoteSource(ByteSource):
+    """A remote file's bytes, fetched by range as they are read: ranges closer than ``GAP_BYTES``
+    fetched as one, a small read's ``BLOCK_BYTES`` after it with it, what a reader said it will read
+    (``ahead``) fetched ``BATCH_BYTES`` at a time as the reads reach it; what was fetched is kept
+    (``CACHE_BYTES`` at most, the oldest let go first) so that no byte is fetched twice while kept.
+    ``fetched`` bytes were received in ``requests`` ranged reads."""
+
+    gap = GAP_BYTES
+
+    def __init__(self, fs: AbstractFileSystem, url: str, path: str, size: int) -> None:
+        self.fs, self.url, self.path, self.size = fs, url, path, size
+        self.name = url
+        self.fetched = self.requests = 0
+        self._starts: list[int] = []  # the pieces kept: sorted, apart
+        self._pieces: list[bytes] = []
+        self._order: deque[int] = deque()  # their starts, oldest first
+        self._kept = 0
+        self._plan: list[tuple[int, int]] = []  # ranges to be read soon, not fetched yet: sorted, apart
+
+    def ahead(self, starts: Int64Array, ends: Int64Array) -> None:
+        begin, stop = np.clip(starts, 0, self.size), np.clip(ends, 0, self.size)
+        planned = np.array(self._plan, np.int64).reshape(-1, 2)
+        keep = begin < stop
+        run_start, run_end, _, _ = runs(
+            np.concatenate([begin[keep], planned[:, 0]]), np.concatenate([stop[keep], planned[:, 1]]), self.gap
+        )
+        self._plan = list(zip(run_start.tolist(), run_end.tolist(), strict=True))
+
+    def read(self, start: int, end: int) -> bytes:
+        start, end = max(0, start), min(self.size, end)
+        if end <= start:
+            return b""
+        small = end - start < BLOCK_BYTES
+        if next(self._missing(start, end), None) is not None:
+            self._keep(self._from_plan(start, end))
+            if small and next(self._missing(start, end), None) is not None:
+                self._keep([(start, min(self.size, start + BLOCK_BYTES))])
+        return self._assemble(start, end, self._get([(start, end)]))
+
+    def read_into(self, view: memoryview, offset: int) -> bool:
+        """Fill ``view``, and let the pieces read go: ranges read into place are read once."""
+        data = self.read(offset, offset + len(view))
+        view[: len(data)] = data
+        self._drop(offset, offset + len(data))
+        return len(data) == len(view)
+
+    def buffer(self) -> _Buffer:
+        return _Buffer(self)
+
+    def release(self, start: int, end: int) -> None:
+        """Nothing: what a reader is done with may be near what it reads next (a chunk's index, the
+        next chunk's header) and is let go with the oldest pieces, past ``CACHE_BYTES``."""
+
+    def _drop(self, start: int, end: int) -> None:
+        """Let go of the pieces kept inside ``start:end``."""
+        first = bisect.bisect_left(self._starts, start)
+        last = first
+        while last < len(self._starts) and self._starts[last] + len(self._pieces[last]) <= end:
+            self._kept -= len(self._pieces[last])
+            last += 1
+        del self._starts[first:last], self._pieces[first:last]
+
+    def close(self) -> None:
+        self._starts, self._pieces, self._plan, self._kept = [], [], [], 0
+        self._order.clear()
+
+    def _missing(self, start: int, end: int) -> Iterator[tuple[int, int]]:
+        """The parts of ``start:end`` not kept."""
+        i = max(0, bisect.bisect_right(self._starts, start) - 1)
+        while start < end:
+            if i == len(self._starts) or self._starts[i] >= end:
+                yield start, end
+                return
+            if self._starts[i] > start:
+                yield start, self._starts[i]
+            start = max(start, self._starts[i] + len(self._pieces[i]))
+            i += 1
+
+    def _from_plan(self, start: int, end: int) -> list[tuple[int, int]]:
+        """Of the ranges planned, ``BATCH_BYTES`` from ``start`` on, taken from the plan, when
+        ``start:end`` is in it."""
+        i = bisect.bisect_right(self._plan, (start, self.size + 1)) - 1
+        i = i if i >= 0 and self._plan[i][1] > start else i + 1
+        if i == len(self._plan) or self._plan[i][0] >= end:
+            return []
+        rest = self._plan[:i]
+        first, last = self._plan[i]
+        if first < start:
+            rest.append((first, start))
+        taken, budget = [], BATCH_BYTES
+        for s, e in [(max(first, start), last), *self._plan[i + 1 :]]:
+            if budget <= 0:
+                rest.append((s, e))
+                continue
+            taken.append((s, min(e, s + budget)))
+            if s + budget < e:
+                rest.append((s + budget, e))
+            budget -= e - s
+        self._plan = sorted(rest)
+        return taken
+
+    def _keep(self, ranges: list[tuple[int, int]]) -> None:
+        """Fetch what of ``ranges`` is not kept, and keep it (the oldest pieces let go past ``CACHE_BYTES``)."""
+        for start, data in self._get(ranges):
+            i = bisect.bisect_left(self._starts, start)
+            self._starts.insert(i, start)
+            self._pieces.insert(i, data)
+            self._order.append(start)
+            self._kept += len(data)
+        while self._kept > CACHE_BYTES and self._order:
+            old = self._order.popleft()
+            i = bisect.bisect_left(self._starts, old)
+            if i < len(self._starts) and self._starts[i] == old:
+                self._kept -= len(self._pieces[i])
+                del self._starts[i], self._pieces[i]
+
+    def _get(self, ranges: list[tuple[int, int]]) -> list[tuple[int, bytes]]:
+        """The parts of ``ranges`` not kept, fetched: ``PIECE_BYTES`` a request, ``BATCH_BYTES`` a call."""
+        missing = [gap for start, end in ranges for gap in self._missing(start, end)]
         pieces = [(s, min(s + PIECE_BYTES, end)) for start, end in missing for s in range(start, end, PIECE_BYTES)]
+        got: list[tuple[int, bytes]] = []
         batch: list[tuple[int, int]] = []
         for piece in pieces:
             if batch and sum(e - s for s, e in batch) + piece[1] - piece[0] > BATCH_BYTES:
-                self._fetch(batch)
+                got += self._fetch(batch)
                 batch = []
             batch.append(piece)
-        if batch:
-            self._fetch(batch)
+        return got + self._fetch(batch) if batch else got
 
-    def _missing(self, start: int, end: int) -> Iterator[tuple[int, int]]:
-        i = bisect.bisect_right(self._have_ends, start)
-        while start < end:
-            if i == len(self._have_starts) or self._have_starts[i] >= end:
-                yield start, end
-                return
-            if self._have_starts[i] > start:
-                yield start, self._have_starts[i]
-            start = max(start, self._have_ends[i])
-            i += 1
-
-    def _fetch(self, pieces: list[tuple[int, int]]) -> None:
+    def _fetch(self, pieces: list[tuple[int, int]]) -> list[tuple[int, bytes]]:
+        """The pieces, each in one request (a reply shorter than asked padded with zeros)."""
         self.requests += len(pieces)
         with _remote(self.url, "reading"):
             asked = sum(end - start for start, end in pieces)
@@ -179,124 +274,167 @@ class RemoteCopy:
                 on_error="return",
                 **_deadline(self.fs, CONNECT_TIMEOUT * len(pieces) + asked / MIN_RATE),  # a request a piece
             )
+        got = []
         for (start, end), reply in zip(pieces, replies, strict=True):
             if isinstance(reply, BaseException):
                 with _remote(self.url, f"reading bytes {start}-{end}"):
                     raise reply
             if len(reply) > end - start:
                 raise RemoteError(self.url, f"the server sent {len(reply)} bytes for {end - start} asked")
-            os.pwrite(self.fd, reply, start)
             self.fetched += len(reply)
-        merged = _merged([*zip(self._have_starts, self._have_ends, strict=True), *pieces], 0)
-        self._have_starts = [s for s, _ in merged]
-        self._have_ends = [e for _, e in merged]
+            got.append((start, bytes(reply).ljust(end - start, b"\0")))
+        return got
+
+    def _assemble(self, start: int, end: int, fetched: list[tuple[int, bytes]]) -> bytes:
+        """``start:end`` from the pieces kept and ``fetched``, which cover it."""
+        i = max(0, bisect.bisect_right(self._starts, start) - 1)
+        found = [*zip(self._starts[i:], self._pieces[i:], strict=True), *fetched]
+        parts, pos = [], start
+        for s, data in sorted(found, key=lambda piece: piece[0]):
+            if s > pos or s >= end:
+                break
+            if s + len(data) > pos:
+                parts.append(memoryview(data)[pos - s : min(end, s + len(data)) - s])
+                pos = s + len(data)
+        return b"".join(parts)
 
 
-def _merged(ranges: list[tuple[int, int]], gap: int) -> list[tuple[int, int]]:
-    """``ranges`` sorted, those closer than ``gap`` (or touching) joined (fsspec's
-    ``merge_offset_ranges``); empty ones left out."""
-    kept = [(start, end) for start, end in ranges if start < end]
-    if not kept:
-        return []
-    _, starts, ends = merge_offset_ranges(["f"] * len(kept), [s for s, _ in kept], [e for _, e in kept], gap)
-    return [(int(start), int(end)) for start, end in zip(starts, ends, strict=True) if end is not None]
+class _Buffer:
+    """A remote file's bytes as record parsers read them (``source.FileBytes``): slices and searches
+    read through its source."""
+
+    WINDOW = 1 << 20  # searched at a time
+
+    def __init__(self, source: RemoteSource) -> None:
+        self.source = source
+
+    def __len__(self) -> int:
+        return self.source.size
+
+    def __getitem__(self, key: slice, /) -> bytes:
+        start, stop, _ = key.indices(self.source.size)
+        return self.source.read(start, stop)
+
+    def find(self, sub: bytes, start: int, end: int, /) -> int:
+        end = min(end, self.source.size)
+        while start < end:
+            stop = min(end, start + self.WINDOW)
+            hit = self.source.read(start, stop).find(sub)
+            if hit >= 0:
+                return start + hit
+            if stop == end:
+                break
+            start = stop - len(sub) + 1
+        return -1
 
 
-@dataclass
-class LocalView:
-    """A remote recording as the readers see it: ``path``, a local file or ROS 2 bag directory of
-    sparse copies; what was fetched of how much, and whether some file had to be fetched whole."""
+class RemoteFiles(Files):
+    """A remote recording (a file, or a ROS 2 bag directory: listed once, on opening), each file read
+    through a ``RemoteSource``; a ``.db3`` file fetched whole into a private temporary directory, once,
+    removed on closing."""
 
-    path: Path
-    copies: list[RemoteCopy]
-    whole: bool
-
-    def source(self, path: Path) -> ByteSource:
-        """The file at ``path`` (one of the copies), read through fetches of what is read."""
-        for copy in self.copies:
-            if copy.target == path:
-                return RemoteSource(copy)
-        return ByteSource(path)  # a file made here (a decompressed one)
-
-    @property
-    def requests(self) -> int:
-        return sum(c.requests for c in self.copies)
-
-    @property
-    def fetched(self) -> int:
-        return sum(c.fetched for c in self.copies)
-
-    @property
-    def size(self) -> int:
-        return sum(c.size for c in self.copies)
-
-
-@contextmanager
-def local_view(url: str) -> Iterator[LocalView]:
-    """``url`` (a file or ROS 2 bag directory) as local sparse copies in a temporary directory, for
-    as long as the context lasts: files fetched whole are fetched now, the others as read."""
-    fs, path = filesystem(url.rstrip("/"))
-    with ExitStack() as stack:
-        folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="tftools-remote-")))
+    def __init__(self, url: str) -> None:
+        self.url = url.rstrip("/")
+        self.fs, path = filesystem(self.url)
+        self.root = Path(path)
+        self._stack = ExitStack()
+        self._folder: Path | None = None
+        self._sources: list[RemoteSource] = []
+        self._local: dict[Path, Path] = {}
+        self._whole = 0  # bytes fetched whole into local files
         with _remote(url, "listing"):
-            if fs.isdir(path, **_deadline(fs, LISTING_DEADLINE)):
-                local = folder / (PurePosixPath(path).name or "bag")
-                local.mkdir()
-                found = fs.find(path, maxdepth=1, **_deadline(fs, LISTING_DEADLINE))
-                listed = [f for f in found if f.endswith(_BAG_DIRECTORY_SUFFIXES)]
-                files = [(f, local / PurePosixPath(f).name) for f in listed]
+            self._dir = bool(self.fs.isdir(path, **_deadline(self.fs, LISTING_DEADLINE)))
+            if self._dir:
+                found = self.fs.find(path, maxdepth=1, detail=True, **_deadline(self.fs, LISTING_DEADLINE))
+                listed = {f: i for f, i in found.items() if PurePosixPath(f).suffix in BAG_DIRECTORY_SUFFIXES}
             else:
-                local = folder / (PurePosixPath(path).name or "recording")
-                files = [(path, local)]
-            sizes = [_size(fs, url, f) for f, _ in files]
-        made = [
-            stack.enter_context(_copy(fs, url, f, target, size)) for (f, target), size in zip(files, sizes, strict=True)
-        ]
-        whole = [c for c, (f, _) in zip(made, files, strict=True) if f.endswith(_WHOLE_SUFFIXES)]
-        for copy in whole:
-            copy.fill([0], [copy.size])
-        yield LocalView(local, made, any(not c.path.endswith(".yaml") for c in whole))
+                listed = {path: self.fs.info(path, **_deadline(self.fs, LISTING_DEADLINE))}
+        self._sizes = {Path(f): _usable_size(url, f, info.get("size")) for f, info in listed.items()}
+
+    def is_dir(self, path: Path) -> bool:
+        return self._dir and path == self.root
+
+    def exists(self, path: Path) -> bool:
+        return path in self._sizes or self.is_dir(path)
+
+    def size(self, path: Path) -> int:
+        return self._sizes.get(path, 0)
+
+    def listing(self, directory: Path) -> list[Path]:
+        return [path for path in self._sizes if path.parent == directory]
+
+    def load_yaml(self, path: Path) -> Any:
+        if self.size(path) > yaml_input.MAX_BYTES:
+            raise yaml_input.YamlInputError(f"larger than {yaml_input.MAX_BYTES >> 20} MiB")
+        with self.open(path) as source:
+            return yaml_input.load_text(source.read(0, source.size).decode("utf-8", "replace"))
+
+    def open(self, path: Path) -> ByteSource:
+        if path.suffix in _LOCAL_SUFFIXES:
+            return FileSource(self.local(path))
+        if path not in self._sizes:
+            raise BagNotFoundError(self._url_of(path))
+        source = RemoteSource(self.fs, self._url_of(path), str(path), self._sizes[path])
+        self._sources.append(source)
+        return source
+
+    def local(self, path: Path) -> Path:
+        """The file fetched whole into a private temporary directory (once while this is open)."""
+        if path not in self._local:
+            if self._folder is None:
+                self._folder = Path(self._stack.enter_context(tempfile.TemporaryDirectory(prefix="tftools-remote-")))
+            target = self._folder / path.name
+            self._download(path, target)
+            self._local[path] = target
+        return self._local[path]
+
+    def _download(self, path: Path, target: Path) -> None:
+        """The file fetched whole into ``target`` (a new file), ``BATCH_BYTES`` at a time."""
+        size = self.size(path)
+        free = shutil.disk_usage(target.parent).free
+        if size > free:
+            raise RemoteError(self._url_of(path), f"needs {size >> 20} MiB on this machine, {free >> 20} MiB are free")
+        source = RemoteSource(self.fs, self._url_of(path), str(path), size)
+        with target.open("xb") as out:
+            for start in range(0, size, BATCH_BYTES):
+                out.write(source.read(start, min(size, start + BATCH_BYTES)))
+        self._whole += source.fetched
+
+    def fetched(self) -> Fetched:
+        received = sum(s.fetched for s in self._sources) + self._whole
+        return Fetched(received, sum(self._sizes.values()), bool(self._local))
+
+    def said(self, text: str) -> str:
+        for remote, local in self._local.items():
+            text = text.replace(str(local), self._url_of(remote))
+        return text.replace(str(self.root), self.url)
+
+    def close(self) -> None:
+        for source in self._sources:
+            source.close()
+        self._stack.close()
+
+    def _url_of(self, path: Path) -> str:
+        return self.url if path == self.root else f"{self.url}/{path.relative_to(self.root).as_posix()}"
 
 
-@contextmanager
-def whole_copy(url: str) -> Iterator[Path]:
-    """``url`` (a file or ROS 2 bag directory) fetched whole into a temporary directory, for as long
-    as the context lasts: for what reads every byte of a recording (a bag copier)."""
-    with local_view(url) as view:
-        for copy in view.copies:
-            copy.fill([0], [copy.size])
-        yield view.path
-
-
-def _size(fs: AbstractFileSystem, url: str, path: str) -> int:
-    size = fs.info(path, **_deadline(fs, LISTING_DEADLINE)).get("size")
+def _usable_size(url: str, path: str, size: object) -> int:
     if not isinstance(size, int) or not 0 <= size <= MAX_FILE_BYTES:
         raise RemoteError(url, f"{PurePosixPath(path).name} has no usable size ({size!r})")
     return size
 
 
 @contextmanager
-def _copy(fs: AbstractFileSystem, url: str, path: str, target: Path, size: int) -> Iterator[RemoteCopy]:
-    """A sparse copy of ``path`` at ``target``, while the context lasts."""
-    fd = os.open(target, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o600)
-    try:
-        os.ftruncate(fd, size)
-        copy = RemoteCopy(fs, url, path, size, fd, target)
-        copy.fill([0], [min(size, GAP_BYTES)])  # its magic and header: how it is recognised
-        yield copy
-    finally:
-        os.close(fd)
-
-
-class RemoteSource(ByteSource):
-    """A remote file's bytes: its local sparse copy, each range fetched before it is read."""
-
-    def __init__(self, copy: RemoteCopy) -> None:
-        super().__init__(copy.target)
-        self.copy = copy
-
-    def fetch(self, starts: Int64Array, ends: Int64Array) -> None:
-        self.copy.fill(np.asarray(starts).tolist(), np.asarray(ends).tolist())
-
-    def need(self, start: int, end: int) -> None:
-        self.copy.fill([start], [end])
+def whole_copy(url: str) -> Iterator[Path]:
+    """``url`` (a file or ROS 2 bag directory) fetched whole into a temporary directory, for as long
+    as the context lasts: for what reads every byte of a recording (a bag copier)."""
+    files = RemoteFiles(url)
+    with files, tempfile.TemporaryDirectory(prefix="tftools-remote-") as folder:
+        local = Path(folder) / (files.root.name or "recording")
+        if files.is_dir(files.root):
+            local.mkdir()
+            for path in files.listing(files.root):
+                files._download(path, local / path.name)
+        else:
+            files._download(files.root, local)
+        yield local

@@ -1,34 +1,160 @@
-"""``ByteSource``: one file's bytes read by range, whether it is local (``pread``) or remote (fsspec's
-ranged reads, ``remote.RemoteSource``): the readers of every format read through one.
+"""``ByteSource``: one file's bytes read by range, whether it is local (``FileSource``: ``pread``, and
+a map for record headers) or remote (``remote.RemoteSource``: fsspec's ranged reads): the readers of
+every format read through one. ``Files``: the files a recording is made of (a file, or a ROS 2 bag
+directory), wherever they are, each opened as a ``ByteSource``.
 
-Byte ranges are read in few calls: ranges close together share one read, and the system is asked to
-fetch them all first, so a file not in the page cache costs one disk wait, not one per range.
+Byte ranges are read in few calls: ranges close together share one read (``runs``, the one merging
+of ranges), and a reader says what it will read soon (``ahead``): a local file's ranges are then asked
+of the disk all at once, a remote file's fetched in few requests.
 """
 
 from __future__ import annotations
 
+import io
+import mmap
 import os
 import stat
+from abc import ABC, abstractmethod
 from contextlib import suppress
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO, Protocol
 
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
-from tftools.sources.errors import CorruptBagError
+from tftools.sources import yaml_input
+from tftools.sources.contents import Fetched
+from tftools.sources.errors import BagNotFoundError, CorruptBagError
 
-MAX_GAP = 16 << 10  # bytes between two wanted ranges read along with them: cheaper than one more read
+MAX_GAP = 16 << 10  # bytes between two wanted ranges of a local file read along with them: cheaper than one more read
 
 
-class ByteSource:
-    """A local file's bytes, read by range. ``path`` is where the file is on this machine, for what
-    must open it by name (SQLite); ``fileno`` for what maps it. ``close`` lets its descriptor go (a
-    read after it opens the file again: a bag of a thousand files need not hold a thousand open)."""
+class FileBytes(Protocol):
+    """A whole file's bytes as record parsers read them: its length, slices and searches (a local
+    file's map, a remote file's cached pieces, or bytes)."""
+
+    def __len__(self) -> int: ...
+
+    def __getitem__(self, key: slice, /) -> bytes: ...
+
+    def find(self, sub: bytes, start: int, end: int, /) -> int: ...
+
+
+def runs(starts: Int64Array, ends: Int64Array, gap: int) -> tuple[Int64Array, Int64Array, Int64Array, Int64Array]:
+    """Ranges ``starts[i]:ends[i]`` joined where they are closer than ``gap`` (or overlap): each run's
+    start and end (sorted), the run each range falls in, and the order that sorts the ranges."""
+    order = np.argsort(starts, kind="stable")
+    low, high = starts[order], ends[order]
+    if not len(low):
+        return low, high, np.zeros(0, np.int64), order
+    reach = np.maximum.accumulate(high)
+    first = np.append(True, low[1:] - reach[:-1] > gap)
+    firsts = np.flatnonzero(first)
+    run = np.empty(len(starts), np.int64)
+    run[order] = np.cumsum(first) - 1
+    return low[firsts], np.maximum.reduceat(high, firsts), run, order
+
+
+class ByteSource(ABC):
+    """A file's bytes, read by range; ``name`` to say which file, ``size`` its bytes. A context
+    manager: ``close`` lets what it holds go (a local file's descriptor is opened again by a read after
+    it: a bag of a thousand files need not hold a thousand open)."""
+
+    name: str
+    size: int
+
+    @abstractmethod
+    def read(self, start: int, end: int) -> bytes:
+        """The bytes ``start:end`` (fewer where the file ends first)."""
+
+    @abstractmethod
+    def read_into(self, view: memoryview, offset: int) -> bool:
+        """Fill ``view`` from the file at ``offset``; False when the file ends first."""
+
+    @abstractmethod
+    def ahead(self, starts: Int64Array, ends: Int64Array) -> None:
+        """These byte ranges will be read soon (in this order): a local file's are asked of the disk
+        all at once, a remote file's fetched together as they are reached (one by one, each would wait)."""
+
+    @abstractmethod
+    def buffer(self) -> FileBytes:
+        """The file's bytes for record parsers that read a header here and there (a ROS 1 bag's)."""
+
+    @abstractmethod
+    def release(self, start: int, end: int) -> None:
+        """Bytes ``start:end`` have been read and are not needed again: what holds them may let go."""
+
+    @abstractmethod
+    def close(self) -> None:
+        """Let go of what the source holds."""
+
+    def __enter__(self) -> ByteSource:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
+
+    def stream(self) -> BinaryIO:
+        """The whole file as a file object to read through in order (a file read without an index)."""
+        self.ahead(np.zeros(1, np.int64), np.full(1, self.size, np.int64))
+        return io.BufferedReader(_Raw(self), 1 << 20)
+
+    def read_ranges(self, starts: Int64Array, ends: Int64Array) -> tuple[UInt8Array, Int64Array, BoolArray]:
+        """The bytes ``starts[i]:ends[i]``, read in runs (``runs``: ranges closer than ``gap`` share one
+        read): the runs' bytes, where each range begins in them, and whether it was read whole."""
+        if not len(starts):
+            return np.zeros(0, np.uint8), starts, np.zeros(0, bool)
+        run_start, run_end, run, _ = runs(starts, ends, self.gap)
+        placed = np.cumsum(run_end - run_start) - (run_end - run_start)  # where each run goes in the bytes
+        self.ahead(run_start, run_end)
+        data = np.empty(int((run_end - run_start).sum()), np.uint8)
+        view = data.data  # the array's bytes, read into in place
+        complete = np.array(
+            [
+                self.read_into(view[at : at + end - start], start)
+                for start, end, at in zip(run_start.tolist(), run_end.tolist(), placed.tolist(), strict=True)
+            ],
+            bool,
+        )
+        return data, placed[run] + starts - run_start[run], complete[run]
+
+    gap = MAX_GAP
+
+
+class _Raw(io.RawIOBase):
+    """A ``ByteSource`` as a raw file object (buffered by ``ByteSource.stream``)."""
+
+    def __init__(self, source: ByteSource) -> None:
+        self.source, self.pos = source, 0
+
+    def readable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def seek(self, offset: int, whence: int = io.SEEK_SET) -> int:
+        self.pos = max(0, offset + (0, self.pos, self.source.size)[whence])
+        return self.pos
+
+    def tell(self) -> int:
+        return self.pos
+
+    def readinto(self, buffer: Any) -> int:
+        data = self.source.read(self.pos, self.pos + len(buffer))
+        memoryview(buffer).cast("B")[: len(data)] = data
+        self.pos += len(data)
+        return len(data)
+
+
+class FileSource(ByteSource):
+    """A local file's bytes: read with ``pread``, its record headers through a map of it."""
 
     def __init__(self, path: Path) -> None:
         self.path = path
+        self.name = str(path)
         self._fd = -1
+        self._map: mmap.mmap | None = None
         self.size = self._open()
 
     def _open(self) -> int:
@@ -50,31 +176,36 @@ class ByteSource:
             self._open()
         return self._fd
 
-    def fileno(self) -> int:
-        return self.fd
-
     def close(self) -> None:
+        if self._map is not None:
+            with suppress(BufferError):  # a view still alive: the map closes when it is freed
+                self._map.close()
+            self._map = None
         if self._fd >= 0:
             os.close(self._fd)
             self._fd = -1
 
-    def __enter__(self) -> ByteSource:
-        return self
+    def buffer(self) -> FileBytes:
+        if self._map is None:
+            try:
+                self._map = mmap.mmap(self.fd, 0, access=mmap.ACCESS_READ)
+            except (OSError, ValueError) as e:  # ValueError: an empty file cannot be mapped
+                raise CorruptBagError(str(self.path), getattr(e, "strerror", None) or str(e)) from None
+        return self._map
 
-    def __exit__(self, *_: object) -> None:
-        self.close()
+    def release(self, start: int, end: int) -> None:
+        """Unmap the pages read: the file's pages then stay in the page cache instead of counting
+        towards this process's resident memory."""
+        if self._map is None or not hasattr(mmap, "MADV_DONTNEED"):
+            return
+        start -= start % mmap.PAGESIZE
+        if end > start:
+            self._map.madvise(mmap.MADV_DONTNEED, start, min(end, self.size) - start)
 
-    def fetch(self, starts: Int64Array, ends: Int64Array) -> None:
-        """Have ``starts[i]:ends[i]`` here before they are read: a remote file's are fetched."""
+    def stream(self) -> BinaryIO:
+        return open(os.dup(self.fd), "rb")
 
     def ahead(self, starts: Int64Array, ends: Int64Array) -> None:
-        """These byte ranges will be read soon: a remote file's are fetched now, a local file's read
-        ahead by the system (one by one, each would wait for the disk)."""
-        self.fetch(starts, ends)
-        self._advise(starts, ends)
-
-    def _advise(self, starts: Int64Array, ends: Int64Array) -> None:
-        """Have the system start reading these byte ranges, all at once."""
         if not hasattr(os, "posix_fadvise"):
             return
         for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
@@ -82,55 +213,10 @@ class ByteSource:
                 with suppress(OSError, OverflowError):  # OverflowError: past what an off_t holds
                     os.posix_fadvise(self.fd, start, end - start, os.POSIX_FADV_WILLNEED)
 
-    def need(self, start: int, end: int) -> None:
-        """``start:end`` is read next (a remote file's is fetched; a local file's is there)."""
-
-    def whole(self) -> None:
-        """Every byte is read next (a file read without an index)."""
-        self.need(0, self.size)
-
-    def stream(self) -> BinaryIO:
-        """The whole file as a file object to read through in order (fetched whole first)."""
-        self.whole()
-        return open(os.dup(self.fd), "rb")
-
     def read(self, start: int, end: int) -> bytes:
-        """The bytes ``start:end`` (fewer where the file ends first)."""
-        self.need(start, end)
         return os.pread(self.fd, max(0, end - start), start)
 
-    def read_ranges(self, starts: Int64Array, ends: Int64Array) -> tuple[UInt8Array, Int64Array, BoolArray]:
-        """The bytes ``starts[i]:ends[i]``, read in runs (ranges closer than ``MAX_GAP`` share one
-        read): the runs' bytes, where each range begins in them, and whether it was read whole."""
-        if not len(starts):
-            return np.zeros(0, np.uint8), starts, np.zeros(0, bool)
-        order = np.argsort(starts, kind="stable")
-        low, high = starts[order], ends[order]
-        reach = np.maximum.accumulate(high)
-        first = np.append(True, low[1:] - reach[:-1] > MAX_GAP)
-        firsts = np.flatnonzero(first)
-        run = np.cumsum(first) - 1
-        run_start, run_end = low[firsts], np.maximum.reduceat(high, firsts)
-        placed = np.cumsum(run_end - run_start) - (run_end - run_start)  # where each run goes in the bytes
-        self.fetch(run_start, run_end)
-        self._advise(run_start, run_end)
-        data = np.empty(int((run_end - run_start).sum()), np.uint8)
-        view = data.data  # the array's bytes, read into in place
-        complete = np.array(
-            [
-                self.read_into(view[at : at + end - start], start)
-                for start, end, at in zip(run_start.tolist(), run_end.tolist(), placed.tolist(), strict=True)
-            ],
-            bool,
-        )
-        where = np.empty(len(starts), np.int64)
-        where[order] = placed[run] + low - run_start[run]
-        read = np.empty(len(starts), bool)
-        read[order] = complete[run]
-        return data, where, read
-
     def read_into(self, view: memoryview, offset: int) -> bool:
-        """Fill ``view`` from the file at ``offset``; False when the file ends first."""
         while len(view):
             if hasattr(os, "preadv"):
                 got = os.preadv(self.fd, [view], offset)
@@ -142,3 +228,98 @@ class ByteSource:
                 return False
             view, offset = view[got:], offset + got
         return True
+
+
+class Files(ABC):
+    """The files a recording is made of (``root``: a file, or a ROS 2 bag directory), wherever they
+    are, named by paths below ``root``; a context manager (what was fetched is let go on leaving)."""
+
+    root: Path
+
+    @abstractmethod
+    def is_dir(self, path: Path) -> bool: ...
+
+    @abstractmethod
+    def exists(self, path: Path) -> bool: ...
+
+    @abstractmethod
+    def size(self, path: Path) -> int:
+        """The file's bytes; 0 when it cannot be told."""
+
+    @abstractmethod
+    def listing(self, directory: Path) -> list[Path]:
+        """The files directly inside ``directory``."""
+
+    @abstractmethod
+    def load_yaml(self, path: Path) -> Any:
+        """The document of a YAML file (within ``yaml_input``'s limits; ``YamlInputError``)."""
+
+    @abstractmethod
+    def open(self, path: Path) -> ByteSource:
+        """The file's bytes."""
+
+    @abstractmethod
+    def local(self, path: Path) -> Path:
+        """The file on this machine, for what opens a file by name (SQLite); valid while this is open."""
+
+    def fetched(self) -> Fetched | None:
+        """What was fetched of remote files (None for local ones)."""
+        return None
+
+    def said(self, text: str) -> str:
+        """``text`` with the files' names as the user gave them."""
+        return text
+
+    @abstractmethod
+    def close(self) -> None:
+        """Let go of what was fetched."""
+
+    def __enter__(self) -> Files:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
+
+
+class LocalFiles(Files):
+    """A recording on this machine."""
+
+    def __init__(self, root: Path) -> None:
+        if not _exists(root):
+            raise BagNotFoundError(str(root))
+        self.root = root
+
+    def is_dir(self, path: Path) -> bool:
+        return path.is_dir()
+
+    def exists(self, path: Path) -> bool:
+        return _exists(path)
+
+    def size(self, path: Path) -> int:
+        try:
+            return path.stat().st_size
+        except (OSError, ValueError):
+            return 0
+
+    def listing(self, directory: Path) -> list[Path]:
+        return [p for p in directory.iterdir() if p.is_file()]
+
+    def load_yaml(self, path: Path) -> Any:
+        return yaml_input.load(path)
+
+    def open(self, path: Path) -> ByteSource:
+        return FileSource(path)
+
+    def local(self, path: Path) -> Path:
+        return path
+
+    def close(self) -> None:
+        pass
+
+
+def _exists(path: Path) -> bool:
+    """Whether ``path`` exists; False for a name the system refuses (too long, say)."""
+    try:
+        return path.exists()
+    except (OSError, ValueError):
+        return False

@@ -30,7 +30,7 @@ _PROGRESS_STEP = 1 << 24
 def stream(source: ByteSource, channels: Channels, progress: ProgressCallback) -> None:
     """Read the records up to the end of the data or the damage, noting what is lost; ``DamageError``
     when the damage comes before anything could be read."""
-    with source.stream() as f:  # a remote file is fetched whole: every record is read
+    with source.stream() as f:  # every record is read
         reader, result = _Stream(f, source.size, channels), channels.result
         result.windowed = False
         damage = reader.run(progress)

@@ -3,8 +3,6 @@
 
 from __future__ import annotations
 
-import mmap
-from contextlib import suppress
 from pathlib import Path
 
 from tftools.core.batch import TransformBatch
@@ -21,19 +19,16 @@ from tftools.sources.storage.source import ByteSource
 
 
 class Ros1File:
-    """A ROS1 bag open for reading, mapped, its header and index read once: read whole, or window after
+    """A ROS1 bag open for reading, its header and index read once: read whole, or window after
     window; its chunks scanned when its index is missing or damaged."""
 
     def __init__(self, path: Path, source: ByteSource) -> None:
         self.path = path
         self.source = source
+        # Headers and index records are read from the source's buffer (a local file's map), chunks'
+        # data from the source.
+        self.buf = source.buffer()
         try:
-            # Headers and index records are read from the map (chunks' data is read from the file).
-            self.buf = mmap.mmap(source.fileno(), 0, access=mmap.ACCESS_READ)
-        except (OSError, ValueError) as e:  # ValueError: an empty file cannot be mapped
-            raise CorruptBagError(str(path), getattr(e, "strerror", None) or str(e)) from None
-        try:
-            source.need(0, min(source.size, 64 << 10))
             self.header = read_bag_header(self.buf)
         except DamageError as e:
             self.close()
@@ -67,6 +62,4 @@ class Ros1File:
         return file_result(self.path, "ros1", [bag.scan])
 
     def close(self) -> None:
-        with suppress(BufferError):  # a numpy view still alive: the map closes when it is freed
-            self.buf.close()
         self.source.close()

@@ -55,7 +55,7 @@ def in_chunk(offsets: Int64Array, chunk: int, size: int) -> Spans:
 
 
 def locate(
-    data: Buffer, records: Spans, *, follow: bool, cut: BoolArray | None = None
+    data: bytes | memoryview, records: Spans, *, follow: bool, cut: BoolArray | None = None
 ) -> tuple[Spans, list[Connection], str]:
     """The message records among ``records`` (each at ``start`` in ``data``, within ``end``),
     with their connections, times and payloads; the connection records met; why the first that

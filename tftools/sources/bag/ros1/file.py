@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import mmap
 from dataclasses import dataclass
 
 import numpy as np
@@ -10,12 +9,12 @@ import numpy as np
 from tftools.core.arrays import BoolArray
 from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.ros1.records import Chunk, Connection, FileBuffer, RecordReader
+from tftools.sources.bag.ros1.records import Chunk, Connection, RecordReader
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import Budget, Unpacked, unpack
 from tftools.sources.codecs.select import ClockCodec, HeaderCodec, Wanted, select
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import ByteSource, FileBytes
 
 
 @dataclass
@@ -37,13 +36,13 @@ class Damage:
 
 
 class BagFile:
-    """A ROS1 bag's bytes (``buf``, mapped from ``source``), being read for the messages ``wanted``
+    """A ROS1 bag's bytes (``buf``, ``source``'s buffer), being read for the messages ``wanted``
     recorded in ``window``: into ``scan``, its description and transform, clock and stamped messages."""
 
     def __init__(
         self,
         name: str,
-        buf: FileBuffer,
+        buf: FileBytes,
         source: ByteSource,
         wanted: Wanted,
         progress: ProgressCallback,
@@ -92,17 +91,13 @@ class BagFile:
         return kept
 
     def release(self, start: int, end: int) -> None:
-        """Unmap the pages of a chunk that has been read: the file's pages then stay in the page
-        cache instead of counting towards this process's resident memory (the messages wanted
-        are copied out by then)."""
-        if not isinstance(self.buf, mmap.mmap) or not hasattr(mmap, "MADV_DONTNEED"):
-            return
-        start -= start % mmap.PAGESIZE
-        if end > start:
-            self.buf.madvise(mmap.MADV_DONTNEED, start, min(end, self.size) - start)
+        """A chunk has been read (the messages wanted are copied out by then): what holds its bytes
+        may let go (a local file's map its pages, which then count towards the page cache, not this
+        process's resident memory)."""
+        self.source.release(start, end)
 
     def unpacked(self, chunk: Chunk, end: int) -> Unpacked:
-        """The chunk's data up to ``end``, uncompressed: read from the file, not ``buf`` (faulting in
+        """The chunk's data up to ``end``, uncompressed: read from the source, not ``buf`` (faulting in
         the pages of a mapping costs more than the copy a read makes, and they would count as resident)."""
         return unpack(chunk.compression, self.source.read(chunk.data_start, end), chunk.size, self.budget)
 

@@ -60,7 +60,7 @@ class BagIndex:
 def read_index(bag: BagFile, header: BagHeader) -> BagIndex:
     """The connections and chunk infos at the bag's end; ``DamageError`` if damaged."""
     pos = header.index_pos
-    bag.source.need(pos, bag.size)
+    bag.source.ahead(np.array([pos], np.int64), np.array([bag.size], np.int64))
     records = []
     for op, count in ((OP_CONNECTION, header.conn_count), (OP_CHUNK_INFO, header.chunk_count)):
         for _ in range(count):

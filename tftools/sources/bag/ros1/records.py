@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import mmap
 import struct
 from dataclasses import dataclass, field
 
@@ -12,6 +11,7 @@ import numpy.typing as npt
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import ROS1
+from tftools.sources.storage.source import FileBytes
 
 MAGIC = ROS1.magic
 
@@ -26,16 +26,14 @@ _U32 = struct.Struct("<I")
 _U64 = struct.Struct("<Q")
 _TIME = struct.Struct("<II")
 
-#: A bag file, mapped or read.
-FileBuffer = bytes | mmap.mmap
-#: A bag file or a chunk's data (a view into the mapped file when it is not compressed).
-Buffer = bytes | memoryview | mmap.mmap
+#: A bag file (its source's buffer) or a chunk's data.
+Buffer = FileBytes | memoryview
 
 
 def u32(buf: Buffer, pos: int) -> int:
     if pos < 0 or pos + 4 > len(buf):
         raise DamageError(f"a length at byte {pos} lies beyond the end")
-    return int(_U32.unpack_from(buf, pos)[0])
+    return int(_U32.unpack(buf[pos : pos + 4])[0])
 
 
 def header_fields(buf: Buffer, start: int, end: int) -> dict[str, bytes]:
@@ -239,7 +237,7 @@ def _entries(buf: Buffer, record: Record, width: int, what: str) -> npt.NDArray[
     count = record.uint("count")
     if record.data_end - record.data_start < count * 4 * width or record.data_end > len(buf):
         raise DamageError(f"the {what} at byte {record.start} is cut short")
-    return np.frombuffer(buf, "<u4", count * width, record.data_start).reshape(count, width)
+    return np.frombuffer(buf[record.data_start : record.data_start + count * 4 * width], "<u4").reshape(count, width)
 
 
 def read_chunk_info(buf: Buffer, record: Record) -> ChunkInfo:

@@ -3,6 +3,8 @@ is damaged) read chunk after chunk, over damage: whatever can be read of it."""
 
 from __future__ import annotations
 
+import numpy as np
+
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.chunks import locate, walk
 from tftools.sources.bag.ros1.file import BagFile
@@ -28,7 +30,7 @@ def read_unindexed(bag: BagFile, header: BagHeader, index_damage: str = "") -> N
     what is wrong with it (else there is none, or it lies past the end of the file), and say so."""
     scanner = _Scanner(bag)
     bag.scan.windowed = False
-    bag.source.need(header.data_start, bag.size)  # a remote bag is fetched whole: every record is read
+    bag.source.ahead(np.array([header.data_start], np.int64), np.array([bag.size], np.int64))  # every record
     truncated = header.index_pos > bag.size
     scanner.scan(header.data_start, header.index_pos if index_damage else bag.size)
     n = bag.transform_messages
@@ -77,7 +79,7 @@ class _Scanner:
         if record.op == OP_CHUNK:
             return self._chunk(record, stop)
         if record.op == OP_MESSAGE:  # an unfinished chunk's records follow its header
-            self._messages(memoryview(buf)[pos:stop])
+            self._messages(buf[pos:stop])
             return stop
         if record.op == OP_CONNECTION and record.data_end <= stop:
             self.bag.connect(read_connection(buf, record))

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import re
 import tempfile
-from collections.abc import Callable
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
@@ -19,7 +18,7 @@ from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import OfferedQos, is_static_topic
 from tftools.sources.errors import CorruptBagError
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import ByteSource, Files, FileSource
 
 if TYPE_CHECKING:
     from tftools.sources.bag.mcap import McapFile
@@ -31,11 +30,13 @@ class Rosbag2Bag:
     read once, each of its files opened once (one compressed whole decompressed once), each file's
     index or schema read once; read whole, or window after window."""
 
-    def __init__(self, path: Path, open_source: Callable[[Path], ByteSource]) -> None:
+    def __init__(self, path: Path, files: Files, source: ByteSource | None = None) -> None:
+        """The bag at ``path`` among ``files``; ``source``: the bare file's, opened already."""
         self.path = path
-        self._open_source = open_source
-        if path.is_dir():
-            self.bag = _layout(path)
+        self.files = files
+        self._source = source
+        if files.is_dir(path):
+            self.bag = _layout(path, files)
         else:
             self.bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path])
         self._stack = ExitStack()
@@ -47,7 +48,7 @@ class Rosbag2Bag:
     ) -> tuple[list[TransformBatch], BagFileInfo]:
         """The bag's transforms (see ``reader.BagReader.read``)."""
         fmt = f"rosbag2-{self.bag.storage}"
-        if not self.path.is_dir():
+        if not self.files.is_dir(self.path):
             batches, info = file_result(self.path, fmt, [self._scan_file(self.path, wanted, progress, window, [])])
         else:
             problems = list(self.bag.problems)
@@ -65,9 +66,9 @@ class Rosbag2Bag:
         labels: list[str] = []
         lost: list[str] = []
         files = self.bag.files
-        shares = in_turn(progress, [file.stat().st_size if _exists(file) else 0 for file in files])
+        shares = in_turn(progress, [self.files.size(file) for file in files])
         for share, file in zip(shares, files, strict=True):
-            if not _exists(file):
+            if not self.files.exists(file):
                 lost.append(f"{_shown(file.name)} is listed in metadata.yaml but missing; its messages are lost")
                 continue
             try:
@@ -98,7 +99,7 @@ class Rosbag2Bag:
         if file not in self._files:
             try:
                 plain = self._uncompressed(file)
-                source = self._stack.enter_context(self._open_source(plain))
+                source = self._open(plain)
                 if plain.suffix == ".mcap":
                     from tftools.sources.bag.mcap import McapFile  # each storage's module only when needed
 
@@ -106,13 +107,24 @@ class Rosbag2Bag:
                 else:
                     from tftools.sources.bag.rosbag2.db3 import Db3File
 
-                    self._files[file] = Db3File(plain, source)
+                    local = plain if plain in self._decompressed else self.files.local(plain)
+                    self._files[file] = Db3File(local, source)
             except CorruptBagError as e:
                 self._files[file] = e
         opened = self._files[file]
         if isinstance(opened, CorruptBagError):
             raise opened
         return opened
+
+    def _open(self, file: Path) -> ByteSource:
+        """The file's bytes (a file decompressed here is local, whatever the bag's files are)."""
+        if self._source is not None and file == self.path:
+            source, self._source = self._source, None
+        elif file in self._decompressed:
+            source = FileSource(file)
+        else:
+            source = self.files.open(file)
+        return self._stack.enter_context(source)
 
     def _uncompressed(self, file: Path) -> Path:
         """A file compressed whole (``.zstd``) decompressed into a temporary file, kept while the bag is
@@ -122,11 +134,12 @@ class Rosbag2Bag:
         folder = Path(self._stack.enter_context(tempfile.TemporaryDirectory(prefix="tftools-")))
         plain = folder / file.stem
         try:
-            with self._open_source(file) as compressed, compressed.stream() as src:
+            with self.files.open(file) as compressed, compressed.stream() as src:
                 loss = zstd_file(src, plain, Budget(compressed.size))
         except (CompressionUnavailableError, OSError) as e:
             raise CorruptBagError(str(file), f"cannot be decompressed ({getattr(e, 'strerror', None) or e})") from None
         self._decompressed[file] = [f"{file.name}: {loss}"] if loss else []
+        self._decompressed[plain] = []
         return plain
 
     def close(self) -> None:
@@ -147,28 +160,27 @@ class _Bag:
     qos: OfferedQos = _NO_METADATA
 
 
-def _layout(path: Path) -> _Bag:
+def _layout(path: Path, stored: Files) -> _Bag:
     problems: list[str] = []
-    info = _metadata(path / "metadata.yaml", problems)
-    qos = _qos(path / "metadata.yaml", info, problems)
+    info = _metadata(path / "metadata.yaml", stored, problems)
+    qos = _qos(path / "metadata.yaml", stored, info, problems)
     if info is not None:
         storage = str(info.get("storage_identifier") or "sqlite3")
-        files = _bag_files(path, info.get("relative_file_paths"), problems)
+        files = _bag_files(path, stored, info.get("relative_file_paths"), problems)
         mode = str(info.get("compression_mode") or "").lower()
         if files:
             return _Bag(storage, files, mode, problems, qos)
         problems.append("metadata.yaml lists no files, read the bag files found instead")
-    files = sorted(
-        (*path.glob("*.db3"), *path.glob("*.mcap"), *path.glob("*.db3.zstd"), *path.glob("*.mcap.zstd")), key=_natural
-    )
+    names = stored.listing(path)
+    files = sorted((p for p in names if p.name.endswith((".db3", ".mcap", ".db3.zstd", ".mcap.zstd"))), key=_natural)
     storage = "mcap" if files and ".mcap" in files[0].suffixes else "sqlite3"
     return _Bag(storage, files, "", problems, qos)
 
 
-def _qos(path: Path, info: dict[str, Any] | None, problems: list[str]) -> OfferedQos:
+def _qos(path: Path, stored: Files, info: dict[str, Any] | None, problems: list[str]) -> OfferedQos:
     """The QoS profiles each static topic's publishers offered, as metadata.yaml says (what ``ros2 bag
     play`` publishes them with)."""
-    if not _exists(path):
+    if not stored.exists(path):
         return _NO_METADATA
     if info is None:
         return OfferedQos({}, problems[-1] if problems else "it is unreadable")
@@ -187,11 +199,11 @@ def _qos(path: Path, info: dict[str, Any] | None, problems: list[str]) -> Offere
         return OfferedQos({}, str(error) or type(error).__name__)
 
 
-def _metadata(path: Path, problems: list[str]) -> dict[str, Any] | None:
-    if not _exists(path):
+def _metadata(path: Path, stored: Files, problems: list[str]) -> dict[str, Any] | None:
+    if not stored.exists(path):
         return None
     try:
-        document = yaml_input.load(path)
+        document = stored.load_yaml(path)
     except yaml_input.YamlInputError as e:
         problems.append(f"metadata.yaml is unreadable ({e}), read the bag files found instead")
         return None
@@ -202,7 +214,7 @@ def _metadata(path: Path, problems: list[str]) -> dict[str, Any] | None:
     return info
 
 
-def _bag_files(directory: Path, names: object, problems: list[str]) -> list[Path]:
+def _bag_files(directory: Path, stored: Files, names: object, problems: list[str]) -> list[Path]:
     """The files metadata.yaml lists, inside ``directory``: a name that leads out of it (absolute,
     or through ``..``) is refused. Old bags list paths with the bag directory in front; keep the
     names that exist."""
@@ -213,7 +225,7 @@ def _bag_files(directory: Path, names: object, problems: list[str]) -> list[Path
             problems.append(f"metadata.yaml lists {_shown(str(name))}, outside the bag directory: not read")
             continue
         candidate = directory / relative
-        files.append(candidate if _exists(candidate) else directory / relative.name)
+        files.append(candidate if stored.exists(candidate) else directory / relative.name)
     return files
 
 
@@ -225,14 +237,6 @@ def _shown(name: str) -> str:
     holds characters that are not printable (escape codes, newlines)."""
     short = name if len(name) <= _SHOWN else name[: _SHOWN - 3] + "..."
     return short if short.isprintable() else repr(short)
-
-
-def _exists(path: Path) -> bool:
-    """Whether ``path`` exists; False for a name the system refuses (too long, say)."""
-    try:
-        return path.exists()
-    except (OSError, ValueError):
-        return False
 
 
 def _natural(path: Path) -> list[Any]:
