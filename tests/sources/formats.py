@@ -11,7 +11,7 @@ from tftools.sources.bag.mcap import McapFile
 from tftools.sources.bag.ros1 import Ros1File
 from tftools.sources.bag.rosbag2 import Rosbag2Bag
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import FileSource, LocalFiles
 
 
 def read_as(
@@ -20,9 +20,9 @@ def read_as(
     """The file or ROS 2 bag at ``path`` read by the ``kind`` ("ros1", "mcap", "rosbag2") reader."""
     wanted = Wanted(topics)
     if kind == "rosbag2":
-        with closing(Rosbag2Bag(path, ByteSource)) as bag:
+        with closing(Rosbag2Bag(path, LocalFiles(path))) as bag:
             return bag.read(wanted, lambda *_: None, window)
-    source = ByteSource(path)
+    source = FileSource(path)
     try:
         opened = McapFile(path, source) if kind == "mcap" else Ros1File(path, source)
     except BaseException:

@@ -29,7 +29,7 @@ from tests.sources.ros2_helpers import (
     write_split_rosbag2,
 )
 from tftools.sources.bag import BagContents, read_bag
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import FileSource
 
 CLOCK = "rosgraph_msgs/msg/Clock"
 ROS1_CLOCK = "rosgraph_msgs/Clock"
@@ -186,13 +186,13 @@ def test_mcap_clock_read_in_ranges(tmp_path: Path, monkeypatch: pytest.MonkeyPat
     """The clock messages of uncompressed chunks whose bulk is images are read in byte ranges
     through the chunks' indexes, with the transforms (chunks mostly wanted are read whole)."""
     in_ranges: list[int] = []
-    read_into = ByteSource.read_into
+    read_into = FileSource.read_into
 
-    def counted(source: ByteSource, view: memoryview, offset: int) -> bool:
+    def counted(source: FileSource, view: memoryview, offset: int) -> bool:
         in_ranges.append(len(view))
         return read_into(source, view, offset)
 
-    monkeypatch.setattr(ByteSource, "read_into", counted)
+    monkeypatch.setattr(FileSource, "read_into", counted)
     written = sorted(clocks(12, 200))
     tf = [Msg("/tf", T0 + i * NS // 30, (Tf("odom", "base", 1_700_000_000 + i),)) for i in range(300)]
     images = [Other("/camera", T0 + i * NS // 7, bytes(20_000), "sensor_msgs/msg/Image") for i in range(60)]

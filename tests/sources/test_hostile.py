@@ -24,7 +24,7 @@ from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.rosbag2.db3_salvage import salvage
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import FileSource
 
 MiB = 1 << 20
 MEMORY_LIMIT = 1536 * MiB  # address space of a subprocess that reads a bomb
@@ -101,7 +101,7 @@ def test_message_compressed_db3_bomb_loses_that_message(tmp_path: Path, monkeypa
     from tftools.sources.bag.messages import MessageSet
     from tftools.sources.bag.rosbag2 import db3
 
-    with ByteSource(bag) as source:
+    with FileSource(bag) as source:
         scan = db3.Db3File(bag, source).scan(Wanted(("/tf",)), lambda _a, _b: None, MessageSet())
     _, _, _, lost = scan.messages.decode()
     assert lost and "could not be decompressed" in lost[0] and "4 MiB a piece" in lost[0]
@@ -233,7 +233,7 @@ def test_db3_rows_of_the_wrong_types(tmp_path: Path) -> None:
 def test_prefetch_of_ranges_a_damaged_index_gives(tmp_path: Path) -> None:
     path = tmp_path / "f"
     path.write_bytes(b"x" * 100)
-    with ByteSource(path) as source:
+    with FileSource(path) as source:
         source.ahead(np.array([-5, 50, 1 << 62, 10], np.int64), np.array([10, 20, (1 << 63) - 1, 10], np.int64))
         source.ahead(np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))  # type: ignore[arg-type]
 

@@ -40,7 +40,7 @@ from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.spans import Spans
 from tftools.sources.errors import BagError, CorruptBagError
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import FileSource
 
 DEFAULT = ("/tf", "/tf_static")
 CHANNELS = [
@@ -344,9 +344,9 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     """What the MCAP reader reads of its chunks, as it reads it: ("range", bytes) of the ranges
     read from uncompressed chunks, (compression, bytes) of a chunk read whole."""
     seen: list[tuple[str, int]] = []
-    read_into, chunk_records = ByteSource.read_into, mcap_index.chunk_records
+    read_into, chunk_records = FileSource.read_into, mcap_index.chunk_records
 
-    def counted_range(source: ByteSource, view: memoryview, offset: int) -> bool:
+    def counted_range(source: FileSource, view: memoryview, offset: int) -> bool:
         seen.append(("range", len(view)))
         return read_into(source, view, offset)
 
@@ -356,7 +356,7 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
         seen.append((body.string() or "none", len(content)))
         return chunk_records(content, **options)
 
-    monkeypatch.setattr(ByteSource, "read_into", counted_range)
+    monkeypatch.setattr(FileSource, "read_into", counted_range)
     monkeypatch.setattr(mcap_index, "chunk_records", counted_chunk)
     return seen
 
@@ -395,7 +395,7 @@ def test_images_between_transforms_read_in_ranges(
     assert by_time(rows) == by_time(reference_rows(path.parent, RANGE_TOPICS))
     assert contents.problems == [] and contents.files[0].topics["/camera/image"] == IMAGE_TYPE
     assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.1 * path.stat().st_size
-    with ByteSource(path) as source:
+    with FileSource(path) as source:
         assert len(mcap_index.summary_of(source).chunks) > 3  # type: ignore[union-attr]
     data = bytearray(path.read_bytes())
     data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # no summary: read record by record
@@ -433,7 +433,7 @@ def foxglove_among_images(tmp_path: Path, **options: Any) -> Path:
 
 
 def chunks_of(path: Path) -> list[ChunkIndex]:
-    with ByteSource(path) as source:
+    with FileSource(path) as source:
         summary = mcap_index.summary_of(source)
     assert summary is not None
     return sorted(summary.chunks, key=lambda c: c.offset)

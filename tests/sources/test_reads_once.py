@@ -1,11 +1,13 @@
 """Each command reads each recording once: its files opened once, read in one pass (transforms, clock
-and sensor headers together), and of a remote one each byte fetched at most once."""
+and sensor headers together), and of a remote one each byte fetched at most once, by ranged reads held
+in memory (no temporary file but for a .db3, which SQLite opens by name)."""
 
 from __future__ import annotations
 
 import collections
 import itertools
 import json
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -18,7 +20,7 @@ from tests.cli.test_filter import bags  # noqa: F401 - a fixture
 from tftools.sources import yaml_input
 from tftools.sources.bag.reader import BagReader
 from tftools.sources.storage import remote
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import FileSource
 
 COMMANDS = {
     "wtf": ["wtf", "BAG"],
@@ -31,18 +33,26 @@ COMMANDS = {
 
 class Counted:
     """What the readers did: files opened (by name), passes over the recording, metadata.yaml files read,
-    bytes fetched from a remote one."""
+    ranges fetched from a remote one (each a request), temporary files and directories made."""
 
     def __init__(self, monkeypatch: pytest.MonkeyPatch) -> None:
         self.opened: collections.Counter[str] = collections.Counter()
         self.passes = 0
         self.metadata = 0
         self.fetched: list[tuple[str, int, int]] = []
-        opened, read, load, fill = ByteSource.__init__, BagReader.read, yaml_input.load, remote.RemoteCopy._fetch
+        self.temporary: list[str] = []
+        opened, read, load = FileSource.__init__, BagReader.read, yaml_input.load
+        remote_opened, fetch = remote.RemoteSource.__init__, remote.RemoteSource._fetch
+        remote_load = remote.RemoteFiles.load_yaml
 
-        def counted_open(source: ByteSource, path: Path) -> None:
+        def counted_open(source: FileSource, path: Path) -> None:
             self.opened[path.name] += 1
             opened(source, path)
+
+        def counted_remote_open(source: remote.RemoteSource, fs: Any, url: str, path: str, size: int) -> None:
+            if not path.endswith((".db3", ".yaml")):  # a .db3 is fetched whole, then opened as a local file
+                self.opened[Path(path).name] += 1
+            remote_opened(source, fs, url, path, size)
 
         def counted_read(reader: BagReader, *args: Any, **kwargs: Any) -> Any:
             self.passes += 1
@@ -52,14 +62,30 @@ class Counted:
             self.metadata += 1
             return load(path)
 
-        def counted_fetch(copy: remote.RemoteCopy, pieces: list[tuple[int, int]]) -> None:
-            self.fetched += [(copy.path, start, end) for start, end in pieces]
-            fill(copy, pieces)
+        def counted_remote_load(files: remote.RemoteFiles, path: Path) -> Any:
+            self.metadata += 1
+            return remote_load(files, path)
 
-        monkeypatch.setattr(ByteSource, "__init__", counted_open)
+        def counted_fetch(source: remote.RemoteSource, pieces: list[tuple[int, int]]) -> Any:
+            self.fetched += [(source.path, start, end) for start, end in pieces]
+            return fetch(source, pieces)
+
+        def made(maker: Any) -> Any:
+            def counted(*args: Any, **kwargs: Any) -> Any:
+                if kwargs.get("dir") is None:  # in the system's temporary directory, not beside an output
+                    self.temporary.append(maker.__name__)
+                return maker(*args, **kwargs)
+
+            return counted
+
+        monkeypatch.setattr(FileSource, "__init__", counted_open)
+        monkeypatch.setattr(remote.RemoteSource, "__init__", counted_remote_open)
         monkeypatch.setattr(BagReader, "read", counted_read)
         monkeypatch.setattr(yaml_input, "load", counted_load)
-        monkeypatch.setattr(remote.RemoteCopy, "_fetch", counted_fetch)
+        monkeypatch.setattr(remote.RemoteFiles, "load_yaml", counted_remote_load)
+        monkeypatch.setattr(remote.RemoteSource, "_fetch", counted_fetch)
+        for name in ("mkdtemp", "mkstemp", "NamedTemporaryFile", "TemporaryFile", "SpooledTemporaryFile"):
+            monkeypatch.setattr(tempfile, name, made(getattr(tempfile, name)))
 
 
 def _run(tfx: Any, command: str, bag: str, out: Path) -> None:  # noqa: F811
@@ -99,7 +125,7 @@ def bucket(bags: dict[str, Path]) -> Iterator[str]:  # noqa: F811
 
 
 @pytest.mark.parametrize("name", ["robot.bag", "robot_db3", "robot_mcap"])
-@pytest.mark.parametrize("command", ["wtf", "report"])
+@pytest.mark.parametrize("command", ["wtf", "report", "filter", "frames"])
 def test_each_command_fetches_a_remote_recording_once(
     tfx: Any,  # noqa: F811
     bucket: str,
@@ -109,10 +135,14 @@ def test_each_command_fetches_a_remote_recording_once(
     command: str,
 ) -> None:
     """No byte of a remote recording is fetched twice (a .db3 is fetched whole: once, not once for the
-    transforms and again for the sensor data), and it is read in one pass."""
+    transforms and again for the sensor data), each file is opened once and read in one pass, and a
+    ROS 1 bag or an MCAP file is read by ranged requests alone: no temporary file is made for it."""
     counted = Counted(monkeypatch)
     _run(tfx, command, f"{bucket}/{name}", tmp_path)
     assert counted.passes == 1 and counted.fetched
+    assert counted.temporary == ([] if name != "robot_db3" else ["mkdtemp"])
+    assert set(counted.opened.values()) == {1}
+    assert counted.metadata == (0 if name == "robot.bag" else 1)
     by_file: dict[str, list[tuple[int, int]]] = {}
     for path, start, end in counted.fetched:
         by_file.setdefault(path, []).append((start, end))

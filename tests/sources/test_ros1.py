@@ -35,7 +35,7 @@ from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.ros1 import decode_tf
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import FileSource
 
 TOPICS = ("/tf", "/tf_static")
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag"
@@ -209,18 +209,18 @@ def test_the_images_of_an_uncompressed_bag_are_not_read(
 ) -> None:
     bag = write_rosbag(tmp_path / "b.bag", interleaved(60, 300_000), "none", chunk_threshold=768 * 1024)
     read_bytes: list[int] = []
-    pread, read_into = os.pread, ByteSource.read_into
+    pread, read_into = os.pread, FileSource.read_into
 
     def counted_pread(fd: int, length: int, offset: int) -> bytes:  # a chunk read whole
         read_bytes.append(length)
         return pread(fd, length, offset)
 
-    def counted_range(source: ByteSource, view: memoryview, offset: int) -> bool:
+    def counted_range(source: FileSource, view: memoryview, offset: int) -> bool:
         read_bytes.append(len(view))
         return read_into(source, view, offset)
 
     monkeypatch.setattr(os, "pread", counted_pread)
-    monkeypatch.setattr(ByteSource, "read_into", counted_range)
+    monkeypatch.setattr(FileSource, "read_into", counted_range)
     batches, info = read(bag)
     assert rows_of(batches) == reference_rows(bag) and len(rows_of(batches)) == 180 and info.problems == []
     assert len(tf_counts(bag)) > 20 and bag.stat().st_size > 18_000_000
@@ -235,10 +235,10 @@ def test_chunk_headers_and_indexes_are_prefetched(
     bag = write_rosbag(tmp_path / "b.bag", interleaved(60, 300_000), "none", chunk_threshold=768 * 1024)
     prefetched: list[tuple[int, int]] = []
 
-    def noted(_source: ByteSource, starts: np.ndarray, ends: np.ndarray) -> None:
+    def noted(_source: FileSource, starts: np.ndarray, ends: np.ndarray) -> None:
         prefetched.extend(zip(starts.tolist(), ends.tolist(), strict=True))
 
-    monkeypatch.setattr(ByteSource, "ahead", noted)
+    monkeypatch.setattr(FileSource, "ahead", noted)
     assert rows_of(read(bag)[0]) == reference_rows(bag)
     with Reader(bag) as reader:
         infos = sorted(reader.chunk_infos, key=lambda info: info.pos)

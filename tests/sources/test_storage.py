@@ -1,5 +1,5 @@
-"""Recording locations and remote copies, without a server: globs and prefixes expanded, and
-fsspec's in-memory filesystem read through sparse copies, only the ranges the readers ask fetched."""
+"""Recording locations and remote files, without a server: globs and prefixes expanded, and fsspec's
+in-memory filesystem read by ranged requests, only the ranges the readers ask fetched, each once."""
 
 from __future__ import annotations
 
@@ -13,13 +13,14 @@ from pathlib import Path
 from typing import ClassVar
 
 import fsspec
+import numpy as np
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.sources.bag import read_bag
 from tftools.sources.errors import BagError, BagNotFoundError, RemoteError
 from tftools.sources.storage import expand, is_url, recordings_in, remote
-from tftools.sources.storage.remote import GAP_BYTES, RemoteCopy, local_view
+from tftools.sources.storage.remote import BATCH_BYTES, BLOCK_BYTES, RemoteFiles, RemoteSource
 
 
 def test_urls_and_paths_told_apart() -> None:
@@ -77,28 +78,63 @@ def test_missing_remote_recording_is_said_of_its_url(memory_bucket: str) -> None
         read_bag([f"{memory_bucket}/nothing.bag"])
 
 
-def test_a_copy_fetches_each_range_once(memory_bucket: str) -> None:
-    url = f"{memory_bucket}/fleet/robot.bag"
-    with local_view(url) as view:
-        (copy,) = view.copies
-        assert copy.fetched == GAP_BYTES  # its header, to recognise it
-        far = copy.size - 1000
-        copy.fill([far - 10, far], [far + 10, far + 500])
-        assert copy.fetched == GAP_BYTES + 510
-        copy.fill([far], [far + 100])  # already here
-        assert copy.fetched == GAP_BYTES + 510
-        assert view.path.read_bytes()[far - 10 : far + 500] == SAMPLE_BAGS["ros1"].read_bytes()[far - 10 : far + 500]
+def test_a_remote_file_fetches_each_range_once(memory_bucket: str) -> None:
+    """A small read fetches the block after it (the next record headers are near); what was fetched
+    is kept, and read again without a request."""
+    expected = SAMPLE_BAGS["ros1"].read_bytes()
+    with RemoteFiles(f"{memory_bucket}/fleet/robot.bag") as files, files.open(files.root) as source:
+        assert isinstance(source, RemoteSource) and source.size == len(expected)
+        assert source.read(0, 13) == expected[:13] and source.fetched == BLOCK_BYTES and source.requests == 1
+        assert source.read(100, 200) == expected[100:200] and source.requests == 1  # in the block
+        far = source.size - 1000
+        assert source.read(far - 10, far + 500) == expected[far - 10 : far + 500]
+        assert source.fetched == BLOCK_BYTES + 1000 + 10  # the block after it reaches the end
+        assert source.read(far, far + 100) == expected[far : far + 100] and source.requests == 2
 
 
-def test_a_reply_longer_than_asked_is_refused(memory_bucket: str, tmp_path: Path) -> None:
+def test_planned_ranges_are_fetched_together_as_they_are_reached(memory_bucket: str) -> None:
+    """Ranges a reader says it will read (``ahead``) are fetched in one call when the first is read
+    (ranges closer than the gap as one request), and what is read into place is not kept."""
+    expected = SAMPLE_BAGS["ros1"].read_bytes()
+    with RemoteFiles(f"{memory_bucket}/fleet/robot.bag") as files, files.open(files.root) as source:
+        starts, ends = np.array([300_000, 1000, 200_000], np.int64), np.array([300_100, 1100, 200_100], np.int64)
+        data, where, whole = source.read_ranges(starts, ends)
+        assert whole.all() and source.requests == 3 and source.fetched == 300
+        for start, end, at in zip(starts.tolist(), ends.tolist(), where.tolist(), strict=True):
+            assert data[at : at + end - start].tobytes() == expected[start:end]
+        source.ahead(np.array([400_000, 400_500], np.int64), np.array([400_100, 400_600], np.int64))
+        assert source.read(400_500, 400_600) == expected[400_500:400_600]
+        assert source.requests == 4 and source.fetched == 300 + 600  # one request, what lies between too
+        assert source.read(400_000, 400_100) == expected[400_000:400_100] and source.requests == 4
+
+
+def test_what_is_kept_is_bounded(memory_bucket: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A file read through in order (no index: every record) keeps at most ``CACHE_BYTES`` of it, and
+    asks ``BATCH_BYTES`` at a time."""
+    monkeypatch.setattr(remote, "CACHE_BYTES", 64 << 10)
+    monkeypatch.setattr(remote, "BATCH_BYTES", 32 << 10)
+    expected = SAMPLE_BAGS["ros1"].read_bytes()
+    with RemoteFiles(f"{memory_bucket}/fleet/robot.bag") as files, files.open(files.root) as source:
+        assert isinstance(source, RemoteSource)
+        buffer = source.buffer()
+        source.ahead(np.zeros(1, np.int64), np.full(1, source.size, np.int64))
+        most = 0
+        for start in range(0, source.size, 1000):
+            assert buffer[start : start + 100] == expected[start : start + 100]
+            most = max(most, source._kept)
+        assert most <= 64 << 10 and source.fetched == source.size
+        assert source.requests == -(-source.size // (32 << 10))
+    assert BATCH_BYTES == 64 << 20
+
+
+def test_a_reply_longer_than_asked_is_refused() -> None:
     class Lying:
         def cat_ranges(self, paths: list[str], starts: list[int], ends: list[int], on_error: str) -> list[bytes]:
             return [b"x" * (e - s + 1) for s, e in zip(starts, ends, strict=True)]
 
-    fd = (tmp_path / "copy").open("wb").fileno()
-    copy = RemoteCopy(Lying(), "memory://lying.bag", "/lying.bag", 1000, fd, tmp_path / "copy")  # type: ignore[arg-type]
-    with pytest.raises(Exception, match="sent 11 bytes for 10 asked"):
-        copy.fill([0], [10])
+    source = RemoteSource(Lying(), "memory://lying.bag", "/lying.bag", 1000)  # type: ignore[arg-type]
+    with pytest.raises(RemoteError, match="sent 11 bytes for 10 asked"):
+        source.read_ranges(np.zeros(1, np.int64), np.full(1, 10, np.int64))
 
 
 class _HostileHandler(http.server.BaseHTTPRequestHandler):

@@ -21,7 +21,7 @@ from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.index import read_index
 from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import FileSource
 
 SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"
 NS = 1_000_000_000
@@ -114,7 +114,7 @@ def _damage_first_chunk(path: Path, fmt: BagFormat, into: Path) -> tuple[Path, i
     the page of its first message), and the record time of that chunk's last message."""
     if fmt is BagFormat.ros1:
         data = bytearray(path.read_bytes())
-        with ByteSource(path) as source:
+        with FileSource(path) as source:
             bag = BagFile(path.name, bytes(data), source, Wanted(("/tf",)), lambda *_: None)
             chunks = read_index(bag, read_bag_header(data)).infos
         assert len(chunks) >= 3
@@ -122,7 +122,7 @@ def _damage_first_chunk(path: Path, fmt: BagFormat, into: Path) -> tuple[Path, i
     elif fmt is BagFormat.rosbag2_mcap:
         path = next(path.glob("*.mcap"))
         data = bytearray(path.read_bytes())
-        with ByteSource(path) as source:
+        with FileSource(path) as source:
             summary = summary_of(source)
         assert summary is not None and len(summary.chunks) >= 3
         at, end = summary.chunks[0].offset, summary.chunks[0].message_end

@@ -50,6 +50,7 @@ class CorruptBagError(BagError):
             f"corrupt or unreadable ({detail})",
             "for a ROS1 bag try `rosbag reindex`; re-copy the file if it was cut short",
         )
+        self.detail = detail
 
 
 class NoTransformsError(SourceError):

@@ -22,7 +22,7 @@ from tftools.sources.bag.contents import (
 from tftools.sources.bag.formats import HEAD_BYTES, format_of_head
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import DEFAULT_TOPICS
-from tftools.sources.errors import BagError, UnknownBagFormatError
+from tftools.sources.errors import BagError, CorruptBagError, UnknownBagFormatError
 from tftools.sources.storage import open_files
 from tftools.sources.storage.locations import METADATA
 from tftools.sources.storage.source import Files
@@ -160,7 +160,10 @@ def _open_format(files: Files) -> FormatFile:
         module = importlib.import_module("tftools.sources.bag.rosbag2")
         opened: FormatFile = module.Rosbag2Bag(root, files)
         return opened
-    source = files.open(root)
+    try:
+        source = files.open(root)
+    except CorruptBagError as e:  # not a file that can be read (a FIFO, say): not a recording
+        raise UnknownBagFormatError(e.path, e.detail) from None
     try:
         fmt = format_of_head(source.read(0, HEAD_BYTES))
         if fmt is None:

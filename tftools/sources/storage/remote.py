@@ -212,18 +212,19 @@ class RemoteSource(ByteSource):
             i += 1
 
     def _from_plan(self, start: int, end: int) -> list[tuple[int, int]]:
-        """Of the ranges planned, ``BATCH_BYTES`` from ``start`` on, taken from the plan, when
-        ``start:end`` is in it."""
+        """Of the ranges planned, ``BATCH_BYTES`` from the one holding ``start`` on (from ``start``
+        when it is far into it), taken from the plan, when ``start:end`` is in it."""
         i = bisect.bisect_right(self._plan, (start, self.size + 1)) - 1
         i = i if i >= 0 and self._plan[i][1] > start else i + 1
         if i == len(self._plan) or self._plan[i][0] >= end:
             return []
         rest = self._plan[:i]
         first, last = self._plan[i]
-        if first < start:
+        if start - first > self.gap:  # far into a long range (one read through in order): from here on
             rest.append((first, start))
+            first = start
         taken, budget = [], BATCH_BYTES
-        for s, e in [(max(first, start), last), *self._plan[i + 1 :]]:
+        for s, e in [(first, last), *self._plan[i + 1 :]]:
             if budget <= 0:
                 rest.append((s, e))
                 continue

@@ -302,7 +302,7 @@ class LocalFiles(Files):
             return 0
 
     def listing(self, directory: Path) -> list[Path]:
-        return [p for p in directory.iterdir() if p.is_file()]
+        return [p for p in directory.iterdir() if not p.is_dir()]
 
     def load_yaml(self, path: Path) -> Any:
         return yaml_input.load(path)
