@@ -131,8 +131,6 @@ def _below(fs: AbstractFileSystem, path: str, url: str) -> list[str]:
     return [fs.unstrip_protocol(f"{path}/{name}" if name else path) for name in recordings_in(files)]
 
 
-
-
 class RemoteSource(ByteSource):
     """A remote file's bytes, fetched by range as they are read: ranges closer than ``GAP_BYTES``
     fetched as one, a small read's ``BLOCK_BYTES`` after it with it, what a reader said it will read
