@@ -10,11 +10,8 @@ from tftools.analysis.loops import _tangles
 
 PACKAGE = Path(__file__).resolve().parents[1] / "tftools"
 
-#: Circles still to be undone (in the readers), each as its modules.
-KNOWN = [
-    {"tftools.sources.storage.locations", "tftools.sources.storage.remote"},
-    {"tftools.sources.bag.rosbag2", "tftools.sources.bag.rosbag2.db3"},
-]
+#: Circles still to be undone, each as its modules.
+KNOWN: list[set[str]] = []
 
 
 def modules() -> dict[str, Path]:

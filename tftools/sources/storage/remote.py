@@ -349,6 +349,7 @@ class RemoteFiles(Files):
             else:
                 listed = {path: self.fs.info(path, **_deadline(self.fs, LISTING_DEADLINE))}
         self._sizes = {Path(f): _usable_size(url, f, info.get("size")) for f, info in listed.items()}
+        self._paths = {Path(f): f for f in listed}  # as the filesystem names them (an HTTP one: a URL)
 
     def is_dir(self, path: Path) -> bool:
         return self._dir and path == self.root
@@ -373,7 +374,7 @@ class RemoteFiles(Files):
             return FileSource(self.local(path))
         if path not in self._sizes:
             raise BagNotFoundError(self._url_of(path))
-        source = RemoteSource(self.fs, self._url_of(path), str(path), self._sizes[path])
+        source = RemoteSource(self.fs, self._url_of(path), self._paths[path], self._sizes[path])
         self._sources.append(source)
         return source
 
@@ -393,7 +394,7 @@ class RemoteFiles(Files):
         free = shutil.disk_usage(target.parent).free
         if size > free:
             raise RemoteError(self._url_of(path), f"needs {size >> 20} MiB on this machine, {free >> 20} MiB are free")
-        source = RemoteSource(self.fs, self._url_of(path), str(path), size)
+        source = RemoteSource(self.fs, self._url_of(path), self._paths[path], size)
         with target.open("xb") as out:
             for start in range(0, size, BATCH_BYTES):
                 out.write(source.read(start, min(size, start + BATCH_BYTES)))
