@@ -108,11 +108,11 @@ def test_a_folder_holding_too_many_files_is_not_searched(tmp_path: Path, monkeyp
         for j in range(30):
             (sub / f"{j}.txt").touch()
     with pytest.raises(BagError, match="holds more than 50 files below it") as caught:
-        locations.expand([f"{tmp_path}/"])
+        locations.expand_local(f"{tmp_path}/")
     assert "a folder closer to them" in caught.value.hint
     (tmp_path / "d0" / "run.bag").touch()
     monkeypatch.setattr(locations, "MAX_FILES_BELOW", 200)
-    assert locations.expand([f"{tmp_path}/"]) == [str(tmp_path / "d0" / "run.bag")]
+    assert locations.expand_local(f"{tmp_path}/") == [str(tmp_path / "d0" / "run.bag")]
 
 
 def test_half_sent_messages_are_bounded_over_all_peers(monkeypatch) -> None:
