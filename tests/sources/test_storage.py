@@ -71,6 +71,37 @@ def test_remote_recordings_read_as_the_local_ones(memory_bucket: str) -> None:
         assert fetched.whole == url.endswith("db3")
 
 
+@pytest.mark.parametrize(
+    ("name", "damage"),
+    [("ros1", "cut"), ("ros1", "middle"), ("ros1", "index"), ("mcap", "cut"), ("mcap", "middle")],
+)
+def test_a_damaged_remote_file_reads_as_its_local_copy(tmp_path: Path, name: str, damage: str) -> None:
+    """Damaged files are read without their index (scanned, resynchronised after damage) through
+    ranged reads alone, as their local copies are: the same messages and problems, each byte fetched once."""
+    source = SAMPLE_BAGS[name] if name == "ros1" else next(SAMPLE_BAGS[name].glob("*.mcap"))
+    data = bytearray(source.read_bytes())
+    if damage == "cut":
+        data = data[: len(data) * 6 // 10]
+    elif damage == "middle":
+        data[len(data) // 3 : len(data) // 3 + 3000] = b"\xff" * 3000
+    else:  # the index records at the end
+        data[-2000:] = b"\xff" * 2000
+    local = tmp_path / f"damaged{source.suffix}"
+    local.write_bytes(bytes(data))
+    fs = fsspec.filesystem("memory")
+    fs.pipe(f"/tftools-damaged/{local.name}", bytes(data))
+    try:
+        here, there = read_bag([local]), read_bag([f"memory:///tftools-damaged/{local.name}"])
+    finally:
+        fs.rm("/tftools-damaged", recursive=True)
+    assert there.transforms.record_time.tolist() == here.transforms.record_time.tolist()
+    assert here.files[0].problems and [p.replace("damaged", "x") for p in there.files[0].problems] == [
+        p.replace("damaged", "x") for p in here.files[0].problems
+    ]
+    fetched = there.files[0].fetched
+    assert fetched is not None and fetched.received <= fetched.size == len(data)
+
+
 def test_missing_remote_recording_is_said_of_its_url(memory_bucket: str) -> None:
     with pytest.raises(BagNotFoundError, match=r"nothing\.bag"):
         expand([f"{memory_bucket}/nothing.bag"])
