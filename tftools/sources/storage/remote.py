@@ -136,7 +136,8 @@ class RemoteSource(ByteSource):
     fetched as one, a small read's ``BLOCK_BYTES`` after it with it, what a reader said it will read
     (``ahead``) fetched ``BATCH_BYTES`` at a time as the reads reach it; what was fetched is kept
     (``CACHE_BYTES`` at most, the oldest let go first) so that no byte is fetched twice while kept.
-    ``fetched`` bytes were received in ``requests`` ranged reads."""
+    ``fetched`` bytes were received in ``requests`` ranged reads. (fsspec's file caches fetch a block a
+    request, without the overall deadline a call here has, and cannot be told what a reader will read.)"""
 
     gap = GAP_BYTES
 
@@ -384,11 +385,11 @@ class RemoteFiles(Files):
             if self._folder is None:
                 self._folder = Path(self._stack.enter_context(tempfile.TemporaryDirectory(prefix="tftools-remote-")))
             target = self._folder / path.name
-            self._download(path, target)
+            self.download(path, target)
             self._local[path] = target
         return self._local[path]
 
-    def _download(self, path: Path, target: Path) -> None:
+    def download(self, path: Path, target: Path) -> None:
         """The file fetched whole into ``target`` (a new file), ``BATCH_BYTES`` at a time."""
         size = self.size(path)
         free = shutil.disk_usage(target.parent).free
@@ -434,7 +435,7 @@ def whole_copy(url: str) -> Iterator[Path]:
         if files.is_dir(files.root):
             local.mkdir()
             for path in files.listing(files.root):
-                files._download(path, local / path.name)
+                files.download(path, local / path.name)
         else:
-            files._download(files.root, local)
+            files.download(files.root, local)
         yield local

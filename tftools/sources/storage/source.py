@@ -4,7 +4,8 @@ every format read through one. ``Files``: the files a recording is made of (a fi
 directory), wherever they are, each opened as a ``ByteSource``.
 
 Byte ranges are read in few calls: ranges close together share one read (``runs``, the one merging
-of ranges), and a reader says what it will read soon (``ahead``): a local file's ranges are then asked
+of ranges, local and remote: fsspec's ``merge_offset_ranges`` does the same, but fsspec is only there
+for URLs), and a reader says what it will read soon (``ahead``): a local file's ranges are then asked
 of the disk all at once, a remote file's fetched in few requests.
 """
 
@@ -62,6 +63,7 @@ class ByteSource(ABC):
 
     name: str
     size: int
+    gap = MAX_GAP  # bytes between two ranges read along with them (``read_ranges``)
 
     @abstractmethod
     def read(self, start: int, end: int) -> bytes:
@@ -117,8 +119,6 @@ class ByteSource(ABC):
             bool,
         )
         return data, placed[run] + starts - run_start[run], complete[run]
-
-    gap = MAX_GAP
 
 
 class _Raw(io.RawIOBase):
