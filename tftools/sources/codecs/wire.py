@@ -9,8 +9,9 @@ NUL. A transform is a header, a string child_frame_id and 7 float64 (translation
 
 from __future__ import annotations
 
+import enum
 import struct
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -31,6 +32,40 @@ HEADER_BYTES = 24 + MAX_FRAME_ID
 TIME_SIZE = 8
 #: A transform's translation and rotation: 7 float64.
 VALUES_SIZE = 56
+
+
+class Reason(enum.IntEnum):
+    """Why a payload is not a well-formed message, numbered as native/tf_wire.hpp's ``Reason``; each
+    with an offset into the message and a figure."""
+
+    ENCAPSULATION = 0  # in none of the wires; figure: its first (at most 2) bytes, big endian
+    TRUNCATED = 1  # a field runs past the end; offset: where the field starts, figure: its size
+    COUNT = 2  # more transforms than the bytes can hold; figure: the count
+    TRAILING = 3  # bytes after the last transform (ROS1); offset: where they start, figure: how many
+    NOT_UTF8 = 4  # a frame id's bytes (told in Python, which decodes the names)
+
+
+def _head(length: int, head: int) -> str:
+    return head.to_bytes(min(length, 2), "big").hex() or "missing"
+
+
+def _plural(count: int, noun: str) -> str:
+    return f"{count} {noun}{'s' * (count != 1)}"
+
+
+#: Each reason in words, from the message's length, the offset and the figure.
+REASONS: dict[Reason, Callable[[int, int, int], str]] = {
+    Reason.ENCAPSULATION: lambda length, _, head: f"not a CDR payload (encapsulation {_head(length, head)})",
+    Reason.TRUNCATED: lambda length, at, size: f"message ends at byte {length}, a field needs {at + size}",
+    Reason.COUNT: lambda length, _, count: f"{_plural(count, 'transform')} cannot fit in {length} bytes",
+    Reason.TRAILING: lambda _length, _, rest: f"{_plural(rest, 'byte')} after the last transform",
+    Reason.NOT_UTF8: lambda *_: "a frame id is not UTF-8",
+}
+
+
+def worded(reason: Reason, length: int, offset: int = 0, figure: int = 0) -> str:
+    """Why a message of ``length`` bytes is not well-formed (``REASONS``)."""
+    return REASONS[reason](length, offset, figure)
 
 
 @dataclass(frozen=True)
@@ -98,7 +133,7 @@ class Cursor:
         if align > 1 and self._align > 1:
             at += (self._origin - at) % min(align, self._align)
         if at + size > self.end:
-            raise DecodeError(f"message ends at byte {self.end - self.start}, a field needs {at + size - self.start}")
+            raise DecodeError(worded(Reason.TRUNCATED, self.end - self.start, at - self.start, size))
         self.pos = at + size
         return at
 
@@ -148,7 +183,7 @@ def wire_of(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> W
     for wire in wires:
         if length >= wire.origin and head == bytes((0, wire.encapsulation or 0)):
             return wire
-    raise DecodeError(f"not a CDR payload (encapsulation {head.hex() or 'missing'})")
+    raise DecodeError(worded(Reason.ENCAPSULATION, length, 0, int.from_bytes(head, "big")))
 
 
 def partition(
