@@ -24,9 +24,9 @@ from tests.sources.ros2_helpers import (
 )
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs import _wire, cdr, ros1
-from tftools.sources.codecs.decoded import DecodeError, message_batch
+from tftools.sources.codecs.decoded import DecodeError, FrameNames, message_batch
 from tftools.sources.codecs.select import CODECS
-from tftools.sources.codecs.wire import Reason, worded
+from tftools.sources.codecs.wire import MAX_FRAME_ID, Reason, worded
 
 TF = ("tf2_msgs/msg/TFMessage", "cdr")
 
@@ -378,3 +378,14 @@ def test_the_compiled_reader_says_why_and_where_a_message_is_not_well_formed() -
     ]
     assert worded(Reason.ENCAPSULATION, 92, 0, 9) == "not a CDR payload (encapsulation 0009)"
     assert worded(Reason.TRAILING, 5, 3, 2) == "2 bytes after the last transform"
+
+
+def test_a_header_whose_frame_id_is_too_long_is_damage_and_a_short_clock_says_so() -> None:
+    header = struct.pack("<4sIIII", b"\x00\x01\x00\x00", 1, 2, MAX_FRAME_ID + 2, 0) + b"x" * (MAX_FRAME_ID + 1)
+    payload = np.frombuffer(header + b"\x00", np.uint8)
+    one = np.zeros(1, np.int64), np.array([len(payload)], np.int64)
+    headers = cdr.decode_headers(payload, *one, FrameNames())
+    assert headers.failures == [(0, f"a frame_id of {MAX_FRAME_ID + 1} bytes")]  # its NUL left out
+    assert cdr.decode_clocks(payload[:9], *[np.zeros(1, np.int64), np.array([9], np.int64)])[2] == [
+        (0, "message ends at byte 9, a Clock needs 12")
+    ]

@@ -43,6 +43,8 @@ class Reason(enum.IntEnum):
     COUNT = 2  # more transforms than the bytes can hold; figure: the count
     TRAILING = 3  # bytes after the last transform (ROS1); offset: where they start, figure: how many
     NOT_UTF8 = 4  # a frame id's bytes (told in Python, which decodes the names)
+    LONG_FRAME_ID = 5  # a header's frame_id over MAX_FRAME_ID; figure: its size (``read_headers``)
+    SHORT_CLOCK = 6  # too short for a time; figure: the bytes a time needs (``decode_times``)
 
 
 def _head(length: int, head: int) -> str:
@@ -60,6 +62,8 @@ REASONS: dict[Reason, Callable[[int, int, int], str]] = {
     Reason.COUNT: lambda length, _, count: f"{_plural(count, 'transform')} cannot fit in {length} bytes",
     Reason.TRAILING: lambda _length, _, rest: f"{_plural(rest, 'byte')} after the last transform",
     Reason.NOT_UTF8: lambda *_: "a frame id is not UTF-8",
+    Reason.LONG_FRAME_ID: lambda _length, _, size: f"a frame_id of {size} bytes",
+    Reason.SHORT_CLOCK: lambda length, _, needed: f"message ends at byte {length}, a Clock needs {needed}",
 }
 
 
@@ -225,7 +229,7 @@ def read_headers(
 def _header(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> Header:
     stamp, at, size = Cursor(raw, wire_of(raw, start, length, wires), start, start + length).header()
     if size > MAX_FRAME_ID:
-        raise DecodeError(f"a frame_id of {size} bytes")
+        raise DecodeError(worded(Reason.LONG_FRAME_ID, length, at - start, size))
     return stamp, bytes(raw[at : at + size]).decode("utf-8", "replace")
 
 
@@ -250,7 +254,7 @@ def decode_times(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires
         start, length = int(starts[message]), int(lengths[message])
         try:
             needed = wire_of(raw, start, length, wires).origin + TIME_SIZE
-            failures.append((message, f"message ends at byte {length}, a Clock needs {needed}"))
+            failures.append((message, worded(Reason.SHORT_CLOCK, length, 0, needed)))
         except DecodeError as e:
             failures.append((message, str(e)))
     order = np.argsort(messages, kind="stable")
