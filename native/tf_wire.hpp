@@ -1,8 +1,10 @@
-// Transform sequences of ROS1 and CDR read message by message, as tftools.sources.codecs.wire's
-// Cursor reads them: every field checked against its message's end before it is read. Frame names
-// are told apart here (the first time each is seen), their bytes decoded in Python.
+// Transform sequences of ROS1 and CDR read message by message: every field checked against its
+// message's end before it is read, and a message that is not well-formed told why (a Reason, where
+// and a figure), which tftools.sources.codecs.wire.REASONS words. Frame names are told apart here
+// (the first time each is seen), their bytes decoded in Python.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string_view>
@@ -25,13 +27,27 @@ struct Wire {
     int64_t smallest() const { return 4 * seq + 8 + 4 + 4 + 56; }
 };
 
+// Why a message is not well-formed (tftools.sources.codecs.wire.Reason), with an offset in the
+// message and a figure.
+enum Reason : int64_t {
+    ENCAPSULATION,  // in none of the wires: figure, its first (at most 2) bytes, big endian
+    TRUNCATED,      // a field runs past the end: offset, where the field starts; figure, its size
+    COUNT,          // more transforms than the bytes can hold: offset, after the count; figure, the count
+    TRAILING,       // bytes after the last transform (ROS1): offset, where they start; figure, how many
+};
+
+struct Failure {
+    Reason reason;
+    int64_t offset, figure;
+};
+
 // Rows of the well-formed messages, in message order; names as ids into (name_start, name_length).
 struct Rows {
     std::vector<int64_t> message, stamp;
     std::vector<double> values;  // 7 a row
     std::vector<int32_t> parent, child;
     std::vector<int64_t> name_start, name_length;  // each distinct name's first bytes in raw
-    std::vector<int64_t> bad;                      // the messages that do not read to a well-formed end
+    std::vector<int64_t> failed;  // 4 per message not read to a well-formed end: it, reason, offset, figure
 
     // Room for ``count`` rows: grown as they come, the rows would be copied again and again.
     void reserve(size_t count) {
@@ -152,39 +168,59 @@ class Reader {
     Reader(const uint8_t* raw, std::vector<Wire> wires, bool counted)
         : raw_(raw), wires_(std::move(wires)), counted_(counted), names_(raw) {}
 
-    // The message raw[start : start + length] into ``rows``, or false (and nothing added) when it
-    // is not well-formed or in none of the wires.
-    bool read(int64_t id, int64_t start, int64_t length, Rows& rows) {
-        if (!choose(start, length)) return false;
-        origin_ = start + wire_.origin;
-        end_ = start + length;
+    // The message raw[start : start + length] into ``rows``; when it is not well-formed or in none
+    // of the wires, nothing of it, and why into ``rows.failed``.
+    void read(int64_t id, int64_t start, int64_t length, Rows& rows) {
+        start_ = start;
+        if (!well_formed(id, length, rows)) {
+            rows.failed.insert(rows.failed.end(), {id, failure_.reason, failure_.offset, failure_.figure});
+        }
+    }
+
+   private:
+    bool well_formed(int64_t id, int64_t length, Rows& rows) {
+        if (!choose(length)) return false;
+        origin_ = start_ + wire_.origin;
+        end_ = start_ + length;
         pos_ = origin_;
-        if (length < wire_.origin) return false;
+        if (length < wire_.origin) return fail(TRUNCATED, 0, wire_.origin);
         uint64_t count = 1;
         if (counted_) {
             int64_t at;
             if (!take(4, 4, at)) return false;
             count = u32(at);
-            if (static_cast<int64_t>(count) * wire_.smallest() > end_ - pos_) return false;
+        }
+        if (static_cast<int64_t>(count) * wire_.smallest() > end_ - pos_) {
+            return fail(COUNT, pos_ - start_, static_cast<int64_t>(count));
         }
         const size_t first = rows.message.size(), names = rows.name_start.size();
         for (uint64_t j = 0; j < count; ++j) {
             if (!transform(id, rows)) return forget(rows, first, names);
         }
-        if (wire_.exact && pos_ != end_) return forget(rows, first, names);
+        if (wire_.exact && pos_ != end_) {
+            fail(TRAILING, pos_ - start_, end_ - pos_);
+            return forget(rows, first, names);
+        }
         return true;
     }
 
-   private:
-    // The wire of the payload at ``start``, as tftools.sources.codecs.wire.wire_of finds it.
-    bool choose(int64_t start, int64_t length) {
+    // The wire of the payload at ``start_``: the one, or the one its CDR encapsulation names.
+    bool choose(int64_t length) {
         for (const Wire& wire : wires_) {
-            if (wire.encapsulation < 0 || (length >= wire.origin && length >= 2 && raw_[start] == 0 &&
-                                           raw_[start + 1] == wire.encapsulation)) {
+            if (wire.encapsulation < 0 || (length >= wire.origin && length >= 2 && raw_[start_] == 0 &&
+                                           raw_[start_ + 1] == wire.encapsulation)) {
                 wire_ = wire;
                 return true;
             }
         }
+        int64_t head = 0;
+        for (int64_t k = 0; k < std::min<int64_t>(length, 2); ++k) head = head << 8 | raw_[start_ + k];
+        return fail(ENCAPSULATION, 0, head);
+    }
+
+    // False, the message being not well-formed for ``reason``.
+    bool fail(Reason reason, int64_t offset, int64_t figure) {
+        failure_ = {reason, offset, figure};
         return false;
     }
 
@@ -222,7 +258,7 @@ class Reader {
         at = pos_;
         const int64_t step = align < wire_.align ? align : wire_.align;  // a power of 2
         at += (origin_ - at) & (step - 1);
-        if (size > end_ - at) return false;
+        if (size > end_ - at) return fail(TRUNCATED, at - start_, size);
         pos_ = at + size;
         return true;
     }
@@ -257,7 +293,8 @@ class Reader {
     const std::vector<Wire> wires_;
     const bool counted_;
     Wire wire_{};
-    int64_t origin_ = 0, end_ = 0, pos_ = 0;
+    int64_t start_ = 0, origin_ = 0, end_ = 0, pos_ = 0;
+    Failure failure_{};
     NameIds names_;
 };
 

@@ -1,4 +1,5 @@
-// tftools.sources.codecs._wire: TFMessages of ROS1 and CDR decoded in bulk (tf_wire.hpp).
+// tftools.sources.codecs._wire: TFMessages of ROS1 and CDR decoded in bulk (tf_wire.hpp), and why each
+// message that is not well-formed is not.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/tuple.h>
@@ -68,18 +69,16 @@ Decoded decode_transforms(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::nd
         // As many rows as the bytes can hold (payloads may overlap: no more than all the bytes).
         rows.reserve(static_cast<size_t>(counted ? std::min(total, size) / smallest : n));
         tfwire::Reader reader(raw.data(), std::move(wires), counted);
-        for (int64_t i = 0; i < n; ++i) {
-            if (!reader.read(i, starts.data()[i], lengths.data()[i], rows)) rows.bad.push_back(i);
-        }
+        for (int64_t i = 0; i < n; ++i) reader.read(i, starts.data()[i], lengths.data()[i], rows);
     }
     return {owned(std::move(rows.message)),     owned(std::move(rows.stamp)),       owned(std::move(rows.values), 7),
             owned(std::move(rows.parent)),      owned(std::move(rows.child)),       owned(std::move(rows.name_start)),
-            owned(std::move(rows.name_length)), owned(std::move(rows.bad))};
+            owned(std::move(rows.name_length)), owned(std::move(rows.failed), 4)};
 }
 
 }  // namespace
 
 NB_MODULE(_wire, m) {
-    m.doc() = "TFMessages of ROS1 and CDR decoded in bulk: tftools.sources.codecs.wire's Cursor, compiled.";
+    m.doc() = "TFMessages of ROS1 and CDR decoded in bulk, each failure told (tftools.sources.codecs.wire.Reason).";
     m.def("decode_transforms", &decode_transforms, "raw"_a, "starts"_a, "lengths"_a, "wires"_a, "counted"_a);
 }

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -31,7 +32,9 @@ from tests.analysis.wtf_scenes import (
 )
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import CHECKS, Thresholds, check
+from tftools.analysis.wtf.rows import rows_of
 from tftools.core.errors import ExtrapolationError, TransformError
+from tftools.core.rejection import RejectionCode
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.contents import ClockSamples
@@ -306,6 +309,35 @@ def test_a_slightly_long_rotation_tf2_accepts_is_a_warning_or_a_note(length: flo
     finding = only(findings, "invalid_values")
     assert finding.severity is severity and finding.count == 500
     assert f"{length - 1:.2g}" in finding.message and "tf2 accepts them" in finding.message
+
+
+def test_a_rotation_ros2s_tf2_normalises_is_not_called_refused() -> None:
+    """wtf reads the buffer's verdicts: ROS 1's tf2 refuses a rotation of length 2, ROS 2's takes it
+    (its matrix normalises it), and a ROS 2 recording's rows of it are used by the other checks."""
+
+    def long_rotation(stamp: int) -> list[Transform]:
+        return [Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 2.0), stamp, "odom", "base_link")]
+
+    messages = healthy(ekf=periodic("/ekf", 50, long_rotation))
+    refused = only(check(recording(messages)), "invalid_values")
+    assert refused.severity is Severity.error and "refused by tf2 (a rotation of length 2 in 500)" in refused.message
+    taken = recording(messages, ros1=False)
+    finding = only(check(taken), "invalid_values")
+    assert finding.severity is Severity.warning and "ROS 2's tf2 accepts them and normalises each" in finding.message
+    rows = rows_of(taken)
+    assert rows.usable.all() and not rows.refused_for(*RejectionCode).any()
+
+
+def test_rows_carry_every_code_the_buffer_refused_them_for() -> None:
+    def rogue(stamp: int) -> list[Transform]:
+        return [Transform((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "/base_link", "base_link")]
+
+    taken = recording(with_extra(periodic("/rogue", 5, rogue)))
+    rows = rows_of(taken)
+    nan, self_tf = rows.refused_for(RejectionCode.NAN_INPUT), rows.refused_for(RejectionCode.SELF_TRANSFORM)
+    assert nan.sum() == 50 and (nan == self_tf).all() and (~rows.usable == nan).all() and (~rows.named == nan).all()
+    assert int((rows.refusals.whole() != 0).sum()) == len({r.sequence for r in taken.buffer.rejections})
+    assert {f.code for f in loud(check(taken))} == {"self_transform", "invalid_values", "leading_slash"}
 
 
 def test_infinity_is_refused_like_nan() -> None:

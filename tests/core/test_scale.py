@@ -10,7 +10,7 @@ import pytest
 from tests.analysis.scale_scenes import START, batch, grows_linearly, seconds
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
-from tftools.core.rejection import LIVE_REJECTIONS_KEPT, RejectionCode
+from tftools.core.rejection import LIVE_REJECTIONS_KEPT, RejectionCode, code_bits
 
 
 def _repeated(n: int) -> tuple[list[str], list[int], list[int]]:
@@ -53,6 +53,23 @@ def test_rejections_read_as_the_rejection_objects_they_stand_for() -> None:
     assert (bad.code, bad.values, bad.sequence) == (RejectionCode.DENORMALIZED_QUATERNION, (0.0, 0.0, 0.0, 2.0), 1)
     assert (self_tf.code, self_tf.frame_id, self_tf.child_frame_id) == (RejectionCode.SELF_TRANSFORM, "a", "a")
     assert buffer.rejections == [self_tf, bad] and buffer.rejections[1:] == [bad]
+
+
+def test_each_samples_verdict_holds_every_code_it_was_refused_for() -> None:
+    rows = batch(["a", "b", ""], [0, 0, 2, 0, 2], [1, 0, 1, 1, 2], [START, START, START, START - 1, START])
+    rows.translation[1, 0] = np.nan  # a self transform with a NaN: two codes
+    rows.rotation[4] = (0.0, 0.0, 0.0, 0.0)  # "" -> "" with no rotation: four
+    buffer = Buffer(cache_time=None)
+    buffer.insert(rows)
+    verdicts = buffer.rejections.verdicts(np.array([4, 0, 1, 2, 3, 9], np.int64))
+    self_nan = code_bits(RejectionCode.SELF_TRANSFORM, RejectionCode.NAN_INPUT)
+    frames = (RejectionCode.SELF_TRANSFORM, RejectionCode.NO_FRAME_ID, RejectionCode.NO_CHILD_FRAME_ID)
+    everything = code_bits(*frames, RejectionCode.DENORMALIZED_QUATERNION)
+    assert code_bits(RejectionCode.SELF_TRANSFORM) | code_bits(RejectionCode.NAN_INPUT) == self_nan
+    assert verdicts.tolist() == [everything, 0, self_nan, code_bits(RejectionCode.NO_FRAME_ID), 0, 0]
+    assert {r.code for r in buffer.rejections if r.sequence == 4} == {
+        c for c in RejectionCode if verdicts[0] & code_bits(c)
+    }
 
 
 @pytest.mark.slow  # seconds of CPU at full size: CI runs it

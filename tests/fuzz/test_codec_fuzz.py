@@ -1,7 +1,8 @@
 """Property-based fuzzing of the ROS1 and CDR transform decoders: mutants of well-formed messages
 decoded in bulk (compiled, native/tf_wire.hpp) read as each is read on its own, field by field in
-Python (``stepped.read_alone``) and through the bulk decoder as live sources decode them: the same
-rows, the same messages refused, for the same reasons.
+Python (``read_alone`` here, with ``wire.Cursor``, the reader of headers and robot messages) and
+through the bulk decoder as live sources decode them: the same rows, the same messages refused, for
+the same reasons at the same offsets.
 
 ``TFTOOLS_FUZZ_EXAMPLES`` raises the number of examples (default: a quick run for CI).
 """
@@ -9,6 +10,7 @@ rows, the same messages refused, for the same reasons.
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from functools import cache
 
 import numpy as np
@@ -19,9 +21,9 @@ from hypothesis import strategies as st
 from tests.fuzz.test_live_fuzz import mutants
 from tests.sources.ros2_helpers import Tf, foxglove_cdr, tf_cdr, tf_ros1, varied_transform
 from tftools.sources.codecs import cdr, ros1
-from tftools.sources.codecs.decoded import Decoded, FrameNames
+from tftools.sources.codecs.decoded import Decoded, DecodeError, FrameNames
 from tftools.sources.codecs.select import CLOCK_CODECS, CODECS
-from tftools.sources.codecs.stepped import read_alone
+from tftools.sources.codecs.wire import VALUES_SIZE, Cursor, Reason, Wire, wire_of, worded
 
 EXAMPLES = int(os.environ.get("TFTOOLS_FUZZ_EXAMPLES", "40"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -54,7 +56,35 @@ def recounted(seed: bytes, key: tuple[str, str]) -> st.SearchStrategy[bytes]:
     return counts | st.binary(min_size=1, max_size=9).map(lambda tail: seed + tail)
 
 
-def rows(decoded: Decoded, frames: FrameNames, message: int) -> list[tuple[object, ...]]:
+Row = tuple[str, str, int, bytes]
+
+
+def read_alone(payload: bytes, wires: Sequence[Wire], counted: bool) -> tuple[list[Row], list[str]]:
+    """One message read field by field in Python: its rows, or why it is not well-formed."""
+    try:
+        cursor = Cursor(payload, wire_of(payload, 0, len(payload), wires))
+        count = cursor.uint() if counted else 1
+        if count * cursor.wire.smallest > cursor.rest:
+            raise DecodeError(worded(Reason.COUNT, len(payload), cursor.pos, count))
+        fields = []
+        for _ in range(count):
+            stamp, frame_at, frame_size = cursor.header()
+            child_at, child_size = cursor.string()
+            at = cursor.take(VALUES_SIZE, 8)
+            values = np.frombuffer(payload[at : at + VALUES_SIZE], f"{cursor.wire.order}f8").astype(np.float64)
+            fields.append(
+                (payload[frame_at : frame_at + frame_size], payload[child_at : child_at + child_size], stamp, values)
+            )
+        if cursor.wire.exact and cursor.rest:
+            raise DecodeError(worded(Reason.TRAILING, len(payload), cursor.pos, cursor.rest))
+        return [(frame.decode(), child.decode(), stamp, values.tobytes()) for frame, child, stamp, values in fields], []
+    except DecodeError as e:
+        return [], [str(e)]
+    except UnicodeDecodeError:
+        return [], [worded(Reason.NOT_UTF8, len(payload))]
+
+
+def rows(decoded: Decoded, frames: FrameNames, message: int) -> list[Row]:
     names = frames.names
     return [
         (names[decoded.parent[i]], names[decoded.child[i]], int(decoded.stamp[i]), decoded.values[i].tobytes())
@@ -78,13 +108,14 @@ def test_in_bulk_as_one_by_one(key: tuple[str, str]) -> None:
         wires = ros1.WIRES if key[1] == "ros1" else cdr.WIRES
         counted = not key[0].endswith("FrameTransform")
         for i, payload in enumerate(payloads):
-            data = np.frombuffer(payload, np.uint8)
-            one_frames, read_frames = FrameNames(), FrameNames()
-            one = decode(data, np.zeros(1, np.int64), lengths[i : i + 1], one_frames)
-            read = read_alone(data, 0, len(payload), read_frames, wires, counted, 0)
-            for alone, alone_frames in ((one, one_frames), (read, read_frames)):
-                assert rows(bulk, frames, i) == rows(alone, alone_frames, 0)
-                assert [reason for m, reason in bulk.failures if m == i] == [reason for _, reason in alone.failures]
+            one_frames = FrameNames()
+            one = decode(np.frombuffer(payload, np.uint8), np.zeros(1, np.int64), lengths[i : i + 1], one_frames)
+            reasons = [reason for m, reason in bulk.failures if m == i]
+            assert (rows(bulk, frames, i), reasons) == read_alone(payload, wires, counted)
+            assert (rows(one, one_frames, 0), [reason for _, reason in one.failures]) == (
+                rows(bulk, frames, i),
+                reasons,
+            )
 
     check()
 

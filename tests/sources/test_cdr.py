@@ -23,9 +23,10 @@ from tests.sources.ros2_helpers import (
     varied_transform,
 )
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.codecs import _wire
-from tftools.sources.codecs.decoded import message_batch
+from tftools.sources.codecs import _wire, cdr, ros1
+from tftools.sources.codecs.decoded import DecodeError, FrameNames, message_batch
 from tftools.sources.codecs.select import CODECS
+from tftools.sources.codecs.wire import MAX_FRAME_ID, Reason, worded
 
 TF = ("tf2_msgs/msg/TFMessage", "cdr")
 
@@ -338,3 +339,53 @@ def test_compiled_reader_refuses_payloads_outside_its_bytes(starts: list[int], l
     wire = (1, False, 4, 8, False, True, True, False)  # plain CDR, little endian
     with pytest.raises(ValueError):
         _wire.decode_transforms(raw, np.array(starts, np.int64), np.array(lengths, np.int64), [wire], counted=True)
+
+
+def test_the_compiled_reader_says_why_and_where_a_message_is_not_well_formed() -> None:
+    """Each failure as (message, reason, offset, figure), worded once in Python: a field cut short, a
+    count the bytes cannot hold, an unknown encapsulation; ROS1's bytes after the last transform."""
+    good = tf_cdr([Tf("map", "odom", 1, 2, (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 1.0))])
+    assert len(good) == 92  # encapsulation, count, stamp, "map\0" at 20, "odom\0" at 28, values at 36
+    payloads = [
+        good[:24] + struct.pack("<I", 1000) + good[28:],
+        good[:4] + struct.pack("<I", 3) + good[8:],
+        b"\x00\x09" + good[2:],
+        good,
+    ]
+    ros1_good = tf_ros1([Tf("map", "odom", 1, 2, (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 1.0))])
+    cases = [
+        (
+            cdr.WIRES,
+            payloads,
+            [[0, Reason.TRUNCATED, 28, 1000], [1, Reason.COUNT, 8, 3], [2, Reason.ENCAPSULATION, 0, 9]],
+        ),
+        (ros1.WIRES, [ros1_good + b"\x07\x07"], [[0, Reason.TRAILING, len(ros1_good), 2]]),
+    ]
+    for wires, given, failed in cases:
+        lengths = np.array([len(p) for p in given], np.int64)
+        raw = np.frombuffer(b"".join(given), np.uint8)
+        found = _wire.decode_transforms(raw, np.cumsum(lengths) - lengths, lengths, [w.compiled for w in wires], True)
+        assert found[-1].tolist() == failed
+        decode = cdr.decode_tf if wires is cdr.WIRES else ros1.decode_tf
+        for message, reason, offset, figure in failed:
+            text = worded(reason, len(given[message]), offset, figure)
+            with pytest.raises(DecodeError) as error:
+                message_batch(decode, given[message], static=False, authority="", record_time=0)
+            assert str(error.value) == text
+    assert [worded(*case) for case in [(Reason.TRUNCATED, 92, 28, 1000), (Reason.COUNT, 92, 8, 3)]] == [
+        "message ends at byte 92, a field needs 1028",
+        "3 transforms cannot fit in 92 bytes",
+    ]
+    assert worded(Reason.ENCAPSULATION, 92, 0, 9) == "not a CDR payload (encapsulation 0009)"
+    assert worded(Reason.TRAILING, 5, 3, 2) == "2 bytes after the last transform"
+
+
+def test_a_header_whose_frame_id_is_too_long_is_damage_and_a_short_clock_says_so() -> None:
+    header = struct.pack("<4sIIII", b"\x00\x01\x00\x00", 1, 2, MAX_FRAME_ID + 2, 0) + b"x" * (MAX_FRAME_ID + 1)
+    payload = np.frombuffer(header + b"\x00", np.uint8)
+    one = np.zeros(1, np.int64), np.array([len(payload)], np.int64)
+    headers = cdr.decode_headers(payload, *one, FrameNames())
+    assert headers.failures == [(0, f"a frame_id of {MAX_FRAME_ID + 1} bytes")]  # its NUL left out
+    assert cdr.decode_clocks(payload[:9], *[np.zeros(1, np.int64), np.array([9], np.int64)])[2] == [
+        (0, "message ends at byte 9, a Clock needs 12")
+    ]

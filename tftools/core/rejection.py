@@ -12,7 +12,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core._kernels import through_matrix as kernel_through_matrix
-from tftools.core.arrays import Int32Array, Int64Array
+from tftools.core.arrays import Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.core.frames import Names
 from tftools.core.history import rows_as_sent
@@ -233,6 +233,19 @@ class RejectionLog(Sequence[Rejection]):
         batch = rows_as_sent(self._frames.names, self._publishers.names, {k: v[first] for k, v in c.items()})
         return batch, sequence
 
+    def verdicts(self, sequences: Int64Array) -> UInt8Array:
+        """What the samples of arrival numbers ``sequences`` were refused for, each as the bits
+        (``code_bits``) of its kept rejections' codes (several where tf2 logs several): 0 for one not
+        refused, or whose rejections are no longer kept."""
+        c = self._join()
+        bits = np.zeros(len(sequences), np.uint8)
+        order = np.argsort(sequences, kind="stable")
+        at = np.minimum(np.searchsorted(sequences, c["sequence"], sorter=order), max(len(sequences) - 1, 0))
+        if len(sequences):
+            found = sequences[order[at]] == c["sequence"]
+            np.bitwise_or.at(bits, order[at[found]], (1 << c["code"][found]).astype(np.uint8))
+        return bits
+
     def sequences(self, start: int = 0) -> Int64Array:
         """The arrival numbers of the rejections from the ``start``-th kept one on, in order."""
         sequence: Int64Array = self._join()["sequence"][start:].copy()
@@ -270,6 +283,11 @@ class RejectionLog(Sequence[Rejection]):
                 tuple(_CODES[int(i)] for i in codes[np.argsort(code_first)]),
             )
         return result
+
+
+def code_bits(*codes: RejectionCode) -> int:
+    """``codes`` as bits of ``RejectionLog.verdicts``."""
+    return sum(1 << _CODE_INDEX[code] for code in set(codes))
 
 
 def _interned(ids: npt.NDArray[np.integer[Any]], names: Sequence[str], table: Names) -> Int32Array:

@@ -12,9 +12,9 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray, UInt8Array
-from tftools.core.buffer import QUATERNION_TOLERANCE
 from tftools.core.frames import Names, frame_name
 from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH, EdgeHistory
+from tftools.core.rejection import RejectionCode, code_bits
 from tftools.sources.recording import Recording
 
 S = TypeVar("S", bound=np.generic)
@@ -32,6 +32,7 @@ class Segment(NamedTuple):
     values: FloatArray  # (N, 7): tx ty tz qx qy qz qw
     authority: Int32Array
     sequence: Int64Array
+    refusals: UInt8Array  # what the buffer refused each row for (``RejectionLog.verdicts``): 0, stored
 
 
 @dataclass(frozen=True)
@@ -98,9 +99,16 @@ class Column(Generic[S]):
         return self._layout.whole(self._of)
 
 
+#: The checks of tf2's ``setTransform`` on the frames of a sample.
+FRAME_REFUSALS = (RejectionCode.SELF_TRANSFORM, RejectionCode.NO_FRAME_ID, RejectionCode.NO_CHILD_FRAME_ID)
+#: And on its values.
+VALUE_REFUSALS = (RejectionCode.NAN_INPUT, RejectionCode.DENORMALIZED_QUATERNION)
+
+
 class Rows:
     """Every transform read (refused ones too) in arrival order, its frames under tf2's names
-    (one leading ``/`` dropped; the empty name kept), and what tf2's ``setTransform`` would say.
+    (one leading ``/`` dropped; the empty name kept), and what the buffer's tf2 said of it at
+    insertion (``refusals``: the codes of its rejections).
 
     The columns read the buffer's histories where they lie; only a few flags per row are held."""
 
@@ -123,6 +131,7 @@ class Rows:
         self.values: Column[np.float64] = Column(layout, lambda s: s.values)
         self.authority: Column[np.int32] = Column(layout, lambda s: s.authority)
         self.flags: Column[np.uint8] = Column(layout, lambda s: s.flags)  # ``EdgeHistory.flags``
+        self.refusals: Column[np.uint8] = Column(layout, lambda s: s.refusals)  # ``RejectionLog.verdicts``
 
     def __len__(self) -> int:
         return len(self._layout)
@@ -146,26 +155,20 @@ class Rows:
         """Received on /tf_static."""
         return self._layout.whole(lambda s: (s.flags & FROM_STATIC_TOPIC) != 0)
 
+    def refused_for(self, *codes: RejectionCode) -> BoolArray:
+        """The rows the buffer refused for any of ``codes``."""
+        bits = code_bits(*codes)
+        return self._layout.whole(lambda s: np.asarray(s.refusals & bits != 0, bool))
+
     @cached_property
     def named(self) -> BoolArray:
-        """Both frames named, and not the same frame."""
-        parent, child = self.parent.whole(), self.child.whole()
-        named: BoolArray = (parent != 0) & (child != 0) & (parent != child)
-        return named
-
-    @cached_property
-    def finite(self) -> BoolArray:
-        return self.of_values(lambda v: np.asarray(np.isfinite(v).all(axis=1), bool))
-
-    @cached_property
-    def normalised(self) -> BoolArray:
-        """Rotations tf2 takes for unit quaternions."""
-        return self.of_values(lambda v: norm_error(v) < QUATERNION_TOLERANCE)
+        """The rows tf2 did not refuse for their frames: both named, and not the same frame."""
+        return ~self.refused_for(*FRAME_REFUSALS)
 
     @cached_property
     def usable(self) -> BoolArray:
-        """The rows tf2 would not refuse on their face (repeated stamps aside)."""
-        return self.named & self.finite & self.normalised
+        """The rows tf2 did not refuse on their face (for their stamps at most)."""
+        return ~self.refused_for(*FRAME_REFUSALS, *VALUE_REFUSALS)
 
 
 def rows_of(recording: Recording) -> Rows:
@@ -181,7 +184,7 @@ def rows_of(recording: Recording) -> Rows:
         segments = [
             _history_segment(names.intern(child), h) for child, hist in buffer.histories() for h in _chain(hist)
         ]
-    segments.append(_refused_segment(recording, names, authorities))
+        segments.append(_refused_segment(recording, names, authorities))
     return Rows(_layout(segments), names.names, authorities.names)
 
 
@@ -197,11 +200,12 @@ def _history_segment(child: int, hist: EdgeHistory) -> Segment:
     n = len(hist)
     child_ids: Int32Array = np.broadcast_to(np.int32(child), (n,))
     columns = (hist.flags, hist.stamps, hist.record_times, hist.values, hist.authorities, hist.sequence)
-    return Segment(hist.parents, child_ids, *columns)
+    return Segment(hist.parents, child_ids, *columns, np.broadcast_to(np.uint8(0), (n,)))
 
 
 def _refused_segment(recording: Recording, names: Names, authorities: Names) -> Segment:
-    """The rows the buffer refused, under tf2's names, with the flags a history would give them."""
+    """The rows the buffer refused (or, ROS 2, took for identical ones it holds), under tf2's names, with
+    the flags a history would give them and the codes of their rejections."""
     batch = recording.refused
     raw = batch.frame_names
     stripped = np.array([names.intern(frame_name(n)) for n in raw] or [0], np.int32)
@@ -221,6 +225,7 @@ def _refused_segment(recording: Recording, names: Names, authorities: Names) -> 
         np.concatenate([batch.translation, batch.rotation], axis=1),
         publishers[batch.authority],
         recording.refused_sequence,
+        recording.buffer.rejections.verdicts(recording.refused_sequence),
     )
 
 
@@ -245,11 +250,3 @@ def split(rows: IntpArray, keys: npt.NDArray[Any]) -> Iterator[tuple[int, IntpAr
     """Per value of ``keys`` (one per row of ``rows``), first seen first: it, and its rows."""
     for key in dict.fromkeys(keys.tolist()):
         yield key, rows[keys == key]
-
-
-def norm_error(values: FloatArray) -> FloatArray:
-    """|x² + y² + z² + w² - 1| of ``values``' rotations, as tf2 tests it (NaN where a value is not finite)."""
-    q = values[:, 3:]
-    with np.errstate(invalid="ignore", over="ignore"):
-        error: FloatArray = np.abs((q * q).sum(axis=1) - 1.0)
-    return error

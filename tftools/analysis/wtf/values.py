@@ -8,9 +8,10 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.rows import split
+from tftools.analysis.wtf.rows import VALUE_REFUSALS, split
 from tftools.analysis.wtf.scene import Scene, edge, listed, transforms
-from tftools.core.arrays import BoolArray, FloatArray, IntpArray
+from tftools.core.arrays import FloatArray, IntpArray
+from tftools.core.rejection import RejectionCode
 
 #: roswtf's limit on | |q| - 1 | for a rotation to count as normalised.
 ROSWTF_NORM_TOLERANCE = 1e-6
@@ -21,21 +22,25 @@ VISIBLE_NORM_ERROR = 1e-3
 @register("invalid_values", Severity.error, "NaN, infinity, or a rotation that is not a unit quaternion")
 def invalid_values(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    nan: BoolArray = rows.of_values(lambda v: np.asarray(np.isnan(v).any(axis=1), bool))
-    inf = ~rows.finite & ~nan
-    bad_quaternion = rows.finite & ~rows.normalised
-    refused = nan | inf | bad_quaternion
+    refused = rows.refused_for(*VALUE_REFUSALS)  # the buffer's verdicts; what was wrong, told from the values
+    nan = refused & rows.of_values(lambda v: np.asarray(np.isnan(v).any(axis=1), bool))
+    inf = refused & ~nan & rows.of_values(lambda v: np.asarray(~np.isfinite(v).all(axis=1), bool))
     for parent, child, mine in rows.by_edge(refused):
         yield _refused(scene, parent, child, mine, nan, inf)
-    slightly = rows.finite & ~bad_quaternion & rows.of_values(lambda v: _length_error(v) > ROSWTF_NORM_TOLERANCE)
+    slightly = ~refused & rows.of_values(lambda v: _length_error(v) > ROSWTF_NORM_TOLERANCE)
+    accepted = (
+        "ROS 2's tf2 accepts them and normalises each (through its rotation matrix), but readers that take them "
+        "as sent scale points through this edge"
+        if scene.buffer.semantics == "ros2"
+        else "tf2 accepts them, but points through this edge get scaled"
+    )
     for parent, child, mine in rows.by_edge(slightly):
         worst = float(_length_error(rows.values[mine]).max())
         yield scene.finding(
             Severity.warning if worst > VISIBLE_NORM_ERROR else Severity.info,
             "invalid_values",
             f"rotations of {edge(parent, child)}{scene.by(scene.authorities_of(mine))} "
-            f"are not unit length in {transforms(len(mine))} (| |q| - 1 | up to {worst:.2g}): tf2 accepts them, "
-            "but points through this edge get scaled",
+            f"are not unit length in {transforms(len(mine))} (| |q| - 1 | up to {worst:.2g}): {accepted}",
             "normalise the quaternion before publishing (tf2::Quaternion::normalize()); roswtf flags rotations "
             f"off by more than {ROSWTF_NORM_TOLERANCE:g}",
             (parent, child),
@@ -46,7 +51,8 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
 def _length_error(values: FloatArray) -> FloatArray:
     """| |q| - 1 | of ``values``' rotations (0 where a value is not finite)."""
     finite = np.isfinite(values).all(axis=1)
-    error: FloatArray = np.abs(np.sqrt(np.where(finite, (values[:, 3:] ** 2).sum(axis=1), 1.0)) - 1.0)
+    with np.errstate(over="ignore"):  # a rotation too long to square: an infinite error
+        error: FloatArray = np.abs(np.sqrt(np.where(finite, (values[:, 3:] ** 2).sum(axis=1), 1.0)) - 1.0)
     return error
 
 
@@ -67,10 +73,12 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
     if n_quat:
         rotations = rows.values[mine[~nan[mine] & ~inf[mine]]][:, 3:]
         zero = int((np.abs(rotations).sum(axis=1) == 0).sum())
-        lengths = np.sqrt((rotations**2).sum(axis=1))
+        with np.errstate(over="ignore", invalid="ignore"):  # rotations too long to square: of length inf
+            lengths = np.sqrt((rotations**2).sum(axis=1))
+            spread = lengths.max() - lengths.min()
         kinds.append(
             f"a rotation of length {lengths.min():.3g}"
-            + (f" to {lengths.max():.3g}" if lengths.max() - lengths.min() > 5e-4 else "")
+            + (f" to {lengths.max():.3g}" if spread > 5e-4 else "")
             + f" in {n_quat}"
         )
         hint = "normalise the quaternion before publishing (tf2::Quaternion::normalize())"
@@ -92,9 +100,7 @@ def _refused(scene: Scene, parent: str, child: str, mine: IntpArray, nan: np.nda
 @register("self_transform", Severity.error, "a transform from a frame to itself")
 def self_transform(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
-    parents, children = rows.parent.whole(), rows.child.whole()
-    same = (parents == children) & (children != 0)
-    del parents, children
+    same = rows.refused_for(RejectionCode.SELF_TRANSFORM) & ~rows.refused_for(RejectionCode.NO_CHILD_FRAME_ID)
     for _, frame, mine in rows.by_edge(same):
         raw_pairs = zip(rows.raw_parent[mine].tolist(), rows.raw_child[mine].tolist(), strict=True)
         spelled = sorted({f"{rows.raw_names[p]} -> {rows.raw_names[c]}" for p, c in raw_pairs})
@@ -116,10 +122,10 @@ def empty_frame_id(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     parent, child = rows.parent.whole(), rows.child.whole()
     for field, other_field, missing, other in (
-        ("frame_id", "child_frame_id", parent, child),
-        ("child_frame_id", "frame_id", child, parent),
+        ("frame_id", "child_frame_id", RejectionCode.NO_FRAME_ID, child),
+        ("child_frame_id", "frame_id", RejectionCode.NO_CHILD_FRAME_ID, parent),
     ):
-        empty = np.flatnonzero(missing == 0)
+        empty = np.flatnonzero(rows.refused_for(missing))
         for other_id, mine in split(empty, other[empty]):
             named = rows.names[other_id]
             yield scene.finding(

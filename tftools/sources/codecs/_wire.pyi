@@ -8,8 +8,9 @@ WireFields = tuple[int, bool, int, int, bool, bool, bool, bool]
 def decode_transforms(
     raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: list[WireFields], counted: bool
 ) -> tuple[Int64Array, Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, Int64Array]:
-    """The payloads ``raw[starts[i] : starts[i] + lengths[i]]`` read as ``wire.Cursor`` reads them,
-    each in its wire (the one, or the one its CDR encapsulation names; a count of transforms first
-    where ``counted``): of the well-formed messages, each row's message, stamp (ns), values (N, 7)
-    and parent and child as ids among the names; each distinct name's start and length in ``raw``
-    (a CDR NUL left out); the messages not well-formed or in none of the wires."""
+    """The payloads ``raw[starts[i] : starts[i] + lengths[i]]`` read field by field, each in its wire
+    (the one, or the one its CDR encapsulation names; a count of transforms first where ``counted``):
+    of the well-formed messages, each row's message, stamp (ns), values (N, 7) and parent and child
+    as ids among the names; each distinct name's start and length in ``raw`` (a CDR NUL left out);
+    of the messages not well-formed or in none of the wires, (K, 4): each one, why (``wire.Reason``),
+    the offset in it and the figure the reason tells."""

@@ -9,8 +9,9 @@ NUL. A transform is a header, a string child_frame_id and 7 float64 (translation
 
 from __future__ import annotations
 
+import enum
 import struct
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -31,6 +32,44 @@ HEADER_BYTES = 24 + MAX_FRAME_ID
 TIME_SIZE = 8
 #: A transform's translation and rotation: 7 float64.
 VALUES_SIZE = 56
+
+
+class Reason(enum.IntEnum):
+    """Why a payload is not a well-formed message, numbered as native/tf_wire.hpp's ``Reason``; each
+    with an offset into the message and a figure."""
+
+    ENCAPSULATION = 0  # in none of the wires; figure: its first (at most 2) bytes, big endian
+    TRUNCATED = 1  # a field runs past the end; offset: where the field starts, figure: its size
+    COUNT = 2  # more transforms than the bytes can hold; figure: the count
+    TRAILING = 3  # bytes after the last transform (ROS1); offset: where they start, figure: how many
+    NOT_UTF8 = 4  # a frame id's bytes (told in Python, which decodes the names)
+    LONG_FRAME_ID = 5  # a header's frame_id over MAX_FRAME_ID; figure: its size (``read_headers``)
+    SHORT_CLOCK = 6  # too short for a time; figure: the bytes a time needs (``decode_times``)
+
+
+def _head(length: int, head: int) -> str:
+    return head.to_bytes(min(length, 2), "big").hex() or "missing"
+
+
+def _plural(count: int, noun: str) -> str:
+    return f"{count} {noun}{'s' * (count != 1)}"
+
+
+#: Each reason in words, from the message's length, the offset and the figure.
+REASONS: dict[Reason, Callable[[int, int, int], str]] = {
+    Reason.ENCAPSULATION: lambda length, _, head: f"not a CDR payload (encapsulation {_head(length, head)})",
+    Reason.TRUNCATED: lambda length, at, size: f"message ends at byte {length}, a field needs {at + size}",
+    Reason.COUNT: lambda length, _, count: f"{_plural(count, 'transform')} cannot fit in {length} bytes",
+    Reason.TRAILING: lambda _length, _, rest: f"{_plural(rest, 'byte')} after the last transform",
+    Reason.NOT_UTF8: lambda *_: "a frame id is not UTF-8",
+    Reason.LONG_FRAME_ID: lambda _length, _, size: f"a frame_id of {size} bytes",
+    Reason.SHORT_CLOCK: lambda length, _, needed: f"message ends at byte {length}, a Clock needs {needed}",
+}
+
+
+def worded(reason: Reason, length: int, offset: int = 0, figure: int = 0) -> str:
+    """Why a message of ``length`` bytes is not well-formed (``REASONS``)."""
+    return REASONS[reason](length, offset, figure)
 
 
 @dataclass(frozen=True)
@@ -98,7 +137,7 @@ class Cursor:
         if align > 1 and self._align > 1:
             at += (self._origin - at) % min(align, self._align)
         if at + size > self.end:
-            raise DecodeError(f"message ends at byte {self.end - self.start}, a field needs {at + size - self.start}")
+            raise DecodeError(worded(Reason.TRUNCATED, self.end - self.start, at - self.start, size))
         self.pos = at + size
         return at
 
@@ -148,7 +187,7 @@ def wire_of(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> W
     for wire in wires:
         if length >= wire.origin and head == bytes((0, wire.encapsulation or 0)):
             return wire
-    raise DecodeError(f"not a CDR payload (encapsulation {head.hex() or 'missing'})")
+    raise DecodeError(worded(Reason.ENCAPSULATION, length, 0, int.from_bytes(head, "big")))
 
 
 def partition(
@@ -190,7 +229,7 @@ def read_headers(
 def _header(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> Header:
     stamp, at, size = Cursor(raw, wire_of(raw, start, length, wires), start, start + length).header()
     if size > MAX_FRAME_ID:
-        raise DecodeError(f"a frame_id of {size} bytes")
+        raise DecodeError(worded(Reason.LONG_FRAME_ID, length, at - start, size))
     return stamp, bytes(raw[at : at + size]).decode("utf-8", "replace")
 
 
@@ -215,7 +254,7 @@ def decode_times(raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires
         start, length = int(starts[message]), int(lengths[message])
         try:
             needed = wire_of(raw, start, length, wires).origin + TIME_SIZE
-            failures.append((message, f"message ends at byte {length}, a Clock needs {needed}"))
+            failures.append((message, worded(Reason.SHORT_CLOCK, length, 0, needed)))
         except DecodeError as e:
             failures.append((message, str(e)))
     order = np.argsort(messages, kind="stable")
