@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import enum
 import io
 from collections.abc import Callable
@@ -111,7 +110,7 @@ def command(
     [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/],
     [cyan]tfx echo base_link camera -b robot.bag --at +5 --format static[/]
     """
-    from tftools.analysis.echo import echo, echo_times
+    from tftools.analysis.echo import echo_recording
     from tftools.analysis.times import time_range
     from tftools.core.buffer import Buffer
     from tftools.sources.replay import follow_into
@@ -142,8 +141,7 @@ def command(
         exit_with(lines.done())
     recording = open_recording(bags, topics, tf2)
     target, source = frame_argument(recording.buffer.frames, target), frame_argument(recording.buffer.frames, source)
-    times = echo_times(recording.buffer, recording.timeline, target, source, rate, at, every, start, end)
-    series = echo(recording.buffer, target, source, times)
+    series = echo_recording(recording, target, source, rate, at, every, start, end)
     if plot is None:  # on a bag, the picture instead of the lines
         lines.print(series)
     lines.shown.append(series)
@@ -177,14 +175,10 @@ class Lines:
         stdout.file.flush()
 
     def latest(self, buffer: Buffer, target: str, source: str) -> EchoSeries:
-        """Print the lookup of the latest transform, said at the buffer's time now (tf_echo's "At time" of a
-        success is the transform's stamp, its "Failure at" that time), and show it in the picture there."""
-        import numpy as np
+        """Print the lookup of the latest transform (``echo_latest``), and show it in the picture there."""
+        from tftools.analysis.echo import echo_latest
 
-        from tftools.analysis.echo import echo
-
-        with buffer.lock:
-            series = dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()], np.int64))
+        series = echo_latest(buffer, target, source)
         self.print(series)
         self.shown.append(series)
         return series
