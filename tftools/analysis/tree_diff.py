@@ -31,7 +31,7 @@ class TreeDiff:
     tolerances: Tolerances
 
 
-def diff(
+def diff_trees(
     first: str,
     second: str,
     *,

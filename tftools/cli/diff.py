@@ -39,11 +39,11 @@ def command(
     [cyan]tfx diff before.mcap after.mcap --format json[/]
     """
     from tftools.analysis.expected import Tolerances
-    from tftools.analysis.tree_diff import diff
+    from tftools.analysis.tree_diff import diff_trees
     from tftools.render import diff as render
 
     expected_tree.tolerances(Tolerances(), tolerance_mm, tolerance_deg, tolerance_rate)  # refused before reading
-    found = diff(
+    found = diff_trees(
         first,
         second,
         translation_mm=tolerance_mm,

@@ -1,8 +1,13 @@
 """Where transforms go: static transform publishers on live systems, and copies of bags with static
-transforms added. Sinks are apart from sources; they share the live systems' transports with them."""
+transforms added. Sinks are apart from sources; they share the live systems' transports with them.
+
+``tfx static``'s calls (``sinks.static``) load on first use (PEP 562)."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+from tftools import lazy
 from tftools.sinks.broadcaster import StaticBroadcaster
 from tftools.sources.live import choose_ros
 from tftools.sources.live.notices import OnNotice
@@ -27,4 +32,22 @@ def open_static_broadcaster(
     return Ros1StaticBroadcaster(master_uri, on_notice)
 
 
-__all__ = ["StaticBroadcaster", "open_static_broadcaster"]
+if TYPE_CHECKING:
+    from tftools.sinks.static import add_static, checked, publish_static, repair_static, static_transform
+
+__all__ = [
+    "StaticBroadcaster",
+    "add_static",
+    "checked",
+    "open_static_broadcaster",
+    "publish_static",
+    "repair_static",
+    "static_transform",
+]
+
+#: Where each name that loads on first use is defined.
+_HOME = {
+    name: "tftools.sinks.static" for name in __all__ if name not in ("StaticBroadcaster", "open_static_broadcaster")
+}
+
+__getattr__, __dir__ = lazy.exports(__name__, _HOME, __all__)
