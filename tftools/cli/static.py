@@ -112,10 +112,10 @@ def command(
     transforms += _given(arguments or [], numbers, frame_id, child_frame_id, degrees)
     if not transforms:
         raise UsageError("no transform given", "e.g. tfx static 0 0 1 0 0 0 base_link laser, or --from FILE.yaml")
-    transforms = [checked(t) for t in transforms]
+    given, transforms = transforms, [checked(t) for t in transforms]  # refused before any work
     if bag is not None or output is not None:
         bag, output = _copying(bag, output, force)
-        written = add_static(bag, output, transforms, force=force)
+        written = add_static(bag, output, given, force=force)
         added = f"{len(transforms)} static transform(s) added on {STATIC_TOPIC}"
         stdout.print(printable(f"{written}: a copy of {bag} with {added}"))
         return
@@ -126,7 +126,7 @@ def command(
     def started(where: str) -> None:
         live.say(f"publishing {_edges(transforms)} on {STATIC_TOPIC} to {where} {until}")
 
-    publish_static(transforms, live.ros_name(ros1), duration, on_notice=warn, on_start=started)
+    publish_static(given, live.ros_name(ros1), duration, on_notice=warn, on_start=started)
 
 
 def _given(

@@ -71,15 +71,16 @@ def copyable(bag: str) -> None:
 
 def add_static(bag: str, output: str | Path, transforms: Sequence[Transform], *, force: bool = False) -> Path:
     """``tfx static ... -b BAG -o OUTPUT``: write ``output``, a copy of ``bag`` (a path or URL: a ROS 1 .bag or
-    a ROS 2 bag directory) with ``transforms`` (as ``checked`` returns them) added on /tf_static at its start.
-    A frame the bag already has is refused (tf2 would see two values for it); so is an existing ``output``
-    unless ``force``. Returns the copy."""
+    a ROS 2 bag directory) with ``transforms`` (``checked``) added on /tf_static at its start. A frame the bag
+    already has is refused (tf2 would see two values for it); so is an existing ``output`` unless ``force``.
+    Returns the copy."""
     from tftools.sinks.static_bag import add_static_transforms
 
+    added = [checked(t) for t in transforms]
     copyable(bag)
     with local_recording(bag) as local:
-        _refuse_present(local, transforms)
-        return add_static_transforms(local, output, transforms, force=force)
+        _refuse_present(local, added)
+        return add_static_transforms(local, output, added, force=force)
 
 
 def repair_static(bag: str, output: str | Path, *, force: bool = False) -> tuple[Path, list[Transform]]:
@@ -124,15 +125,16 @@ def publish_static(
     on_notice: OnNotice | None = None,
     on_start: Callable[[str], None] | None = None,
 ) -> None:
-    """``tfx static``: publish ``transforms`` (as ``checked`` returns them), stamped now, in one latched
+    """``tfx static``: publish ``transforms`` (``checked``), stamped now, in one latched
     /tf_static message (ROS 1) or transient local (ROS 2) on the system ``open_static_broadcaster`` picks,
     for ``duration`` seconds (None: until Ctrl-C) or until the broadcaster stops. ``on_start`` is told to whom
     once they are sent."""
     from tftools.sinks import open_static_broadcaster
 
+    sent = [checked(t) for t in transforms]
     stamp = time.time_ns()
     with open_static_broadcaster(ros, on_notice=on_notice) as broadcaster:
-        broadcaster.send([replace(t, stamp=stamp) for t in transforms])
+        broadcaster.send([replace(t, stamp=stamp) for t in sent])
         if on_start is not None:
             on_start(broadcaster.describe())
         deadline = None if duration is None else time.monotonic() + duration
