@@ -53,13 +53,23 @@ def diff_trees(
         for location in (first, second)
     )
     base = a.tolerances if is_tree_file(first) else b.tolerances  # a recording's are the defaults
-    given = {"translation_mm": translation_mm, "rotation_deg": rotation_deg, "rate_percent": rate_percent}
-    tolerances = dataclasses.replace(base, **{k: v for k, v in given.items() if v is not None})
+    tolerances = overridden(base, translation_mm, rotation_deg, rate_percent)
     differences = compare(a, b, tolerances)
     for location, other in ((first, b), (second, a)):
         if location in robots:  # the frames above a robot (odom, map) are no difference from its URDF
             differences = described_differences(differences, robots[location], other)
     return TreeDiff(a, b, differences, tolerances)
+
+
+def overridden(
+    base: Tolerances,
+    translation_mm: float | None = None,
+    rotation_deg: float | None = None,
+    rate_percent: float | None = None,
+) -> Tolerances:
+    """``base`` with the tolerances given (not None) instead; a ``ValueError`` for one that is no tolerance."""
+    given = {"translation_mm": translation_mm, "rotation_deg": rotation_deg, "rate_percent": rate_percent}
+    return dataclasses.replace(base, **{k: v for k, v in given.items() if v is not None})
 
 
 def is_tree_file(location: str) -> bool:
