@@ -47,7 +47,7 @@ if TYPE_CHECKING:
         from_sec,
         to_sec,
     )
-    from tftools.render import view_frames
+    from tftools.render.graph import view_frames
     from tftools.sinks import add_static, publish_static, repair_static
     from tftools.sources import Recording, load, read_recording, stream_recording
 
@@ -80,7 +80,7 @@ _PACKAGE = {
         "tftools.analysis",
     ),
     **dict.fromkeys(["add_static", "publish_static", "repair_static"], "tftools.sinks"),
-    "view_frames": "tftools.render",
+    "view_frames": "tftools.render.graph",
 }
 
 

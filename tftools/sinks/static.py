@@ -1,6 +1,6 @@
 """``tfx static``'s work: static transforms made from static_transform_publisher's numbers and checked as tf2
-wants them, then published (``publish_static``), added to a copy of a bag (``add_static``), or a bag's own made
-safe to replay (``repair_static``). The input bag is never modified."""
+wants them, then published (``publish_static``, through ``open_static_broadcaster``), added to a copy of a bag
+(``add_static``), or a bag's own made safe to replay (``repair_static``). The input bag is never modified."""
 
 from __future__ import annotations
 
@@ -18,6 +18,7 @@ from tftools.sources.errors import NoTransformsError
 from tftools.sources.storage.locations import METADATA, is_url, local_recording
 
 if TYPE_CHECKING:
+    from tftools.sinks.broadcaster import StaticBroadcaster
     from tftools.sources.live.notices import OnNotice
 
 
@@ -117,6 +118,27 @@ def _refuse_present(bag: Path, transforms: Sequence[Transform]) -> None:
         )
 
 
+def open_static_broadcaster(
+    ros: str | None = None, *, master_uri: str | None = None, on_notice: OnNotice | None = None
+) -> StaticBroadcaster:
+    """A static transform publisher on the system ``choose_ros`` picks (ROS1: a node registered
+    with the master at ``master_uri`` or ``ROS_MASTER_URI``, latched ``/tf_static``; ROS2: a DDS
+    writer on ``rt/tf_static``, transient local, keep last 1)."""
+    from tftools.sources.live import choose_ros
+
+    chosen = "ros1" if master_uri else choose_ros(ros)
+    if chosen == "ros2":
+        from tftools.sources.live.ros2 import require_cyclonedds
+
+        require_cyclonedds()
+        from tftools.sinks.ros2_broadcaster import Ros2StaticBroadcaster
+
+        return Ros2StaticBroadcaster(on_notice)
+    from tftools.sinks.ros1_broadcaster import Ros1StaticBroadcaster
+
+    return Ros1StaticBroadcaster(master_uri, on_notice)
+
+
 def publish_static(
     transforms: Sequence[Transform],
     ros: str | None = None,
@@ -129,8 +151,6 @@ def publish_static(
     /tf_static message (ROS 1) or transient local (ROS 2) on the system ``open_static_broadcaster`` picks,
     for ``duration`` seconds (None: until Ctrl-C) or until the broadcaster stops. ``on_start`` is told to whom
     once they are sent."""
-    from tftools.sinks import open_static_broadcaster
-
     sent = [checked(t) for t in transforms]
     stamp = time.time_ns()
     with open_static_broadcaster(ros, on_notice=on_notice) as broadcaster:
