@@ -135,28 +135,29 @@ def test_view_frames(bag: str, recording: Recording) -> None:
 
 def test_wtf(bag: str) -> None:
     from tftools.analysis.wtf import Thresholds
+    from tftools.analysis.wtf.fleet import exit_code
     from tftools.render import wtf
 
     reports = list(tftools.check_fleet([[bag]]))
     out = io.StringIO()
-    wtf.write_json(reports, out, False, Thresholds(), 0)
+    wtf.write_json(reports, out, False, Thresholds(), exit_code(reports))
     assert json.loads(out.getvalue()) == tfx_json("wtf", bag, "-f", "json")
     assert not reports[0].failed()
 
 
 def test_wtf_of_a_fleet() -> None:
     from tftools.analysis.wtf import Thresholds
-    from tftools.analysis.wtf.fleet import in_order
+    from tftools.analysis.wtf.fleet import exit_code, in_order
     from tftools.render import wtf
 
     groups = [[BAGS[0]], [_corpus("ros1_tb3_waffle_static.bag")], [BAGS[2]]]
     reports = in_order(groups, list(tftools.check_fleet(groups, tftools.analysis.Fleet(jobs=2))))
     out = io.StringIO()
-    wtf.write_json(reports, out, False, Thresholds(), 1)
+    wtf.write_json(reports, out, False, Thresholds(), exit_code(reports))
     said = tfx_json("wtf", *(g[0] for g in groups), "-f", "json")
     assert json.loads(out.getvalue()) == said
     assert [r["paths"] for r in said["bags"]] == groups
-    assert [r.failed() for r in reports] == [False, True, False]
+    assert [r.failed() for r in reports] == [False, True, False] and exit_code(reports) == 1
 
 
 @pytest.mark.parametrize(
