@@ -12,7 +12,7 @@ from tftools import lazy
 if TYPE_CHECKING:
     from tftools.analysis.description import Robot, robot_of
     from tftools.analysis.diff import Difference, compare
-    from tftools.analysis.echo import EchoSeries, echo, echo_latest, echo_recording, echo_times
+    from tftools.analysis.echo import EchoSeries, echo, echo_latest, echo_played, echo_recording, echo_times
     from tftools.analysis.expected import Tolerances, TreeShape, shape_of
     from tftools.analysis.filter import FilterReport, filter_report
     from tftools.analysis.findings import Finding, Severity
@@ -57,6 +57,7 @@ __all__ = [
     "diff_trees",
     "echo",
     "echo_latest",
+    "echo_played",
     "echo_recording",
     "echo_times",
     "filter_report",
@@ -109,6 +110,7 @@ _HOME = {
     "diff_trees": "tftools.analysis.tree_diff",
     "echo": "tftools.analysis.echo",
     "echo_latest": "tftools.analysis.echo",
+    "echo_played": "tftools.analysis.echo",
     "echo_recording": "tftools.analysis.echo",
     "echo_times": "tftools.analysis.echo",
     "filter_report": "tftools.analysis.filter",
