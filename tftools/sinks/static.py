@@ -15,7 +15,7 @@ from tftools.core.errors import UsageError
 from tftools.core.frames import frame_name
 from tftools.core.transform import Transform
 from tftools.sources.errors import NoTransformsError
-from tftools.sources.storage.locations import METADATA, is_url, local_recording
+from tftools.sources.storage.locations import METADATA, is_url
 
 if TYPE_CHECKING:
     from tftools.sinks.broadcaster import StaticBroadcaster
@@ -76,6 +76,7 @@ def add_static(bag: str, output: str | Path, transforms: Sequence[Transform], *,
     already has is refused (tf2 would see two values for it); so is an existing ``output`` unless ``force``.
     Returns the copy."""
     from tftools.sinks.static_bag import add_static_transforms
+    from tftools.sources.storage import local_recording
 
     added = [checked(t) for t in transforms]
     copyable(bag)
@@ -89,6 +90,7 @@ def repair_static(bag: str, output: str | Path, *, force: bool = False) -> tuple
     are complete, durable (latched / transient local) and repeated through it (``repair_static_transforms``).
     Returns the copy and those transforms."""
     from tftools.sinks.static_bag import repair_static_transforms
+    from tftools.sources.storage import local_recording
 
     copyable(bag)
     with local_recording(bag) as local:
