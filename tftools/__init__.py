@@ -11,6 +11,16 @@ from typing import TYPE_CHECKING, Any
 from tftools import lazy
 
 if TYPE_CHECKING:
+    from tftools.analysis import (
+        check_fleet,
+        diff_trees,
+        echo_recording,
+        filter_report,
+        frame_tree,
+        monitor_recording,
+        recording_report,
+        report_fleet,
+    )
     from tftools.core import (
         DEFAULT_CACHE_TIME,
         LATEST,
@@ -37,7 +47,9 @@ if TYPE_CHECKING:
         from_sec,
         to_sec,
     )
-    from tftools.sources import Recording, load, read_recording
+    from tftools.render.graph import view_frames
+    from tftools.sinks import add_static, publish_static, repair_static
+    from tftools.sources import Recording, load, read_recording, stream_recording
 
 __version__: str  # set on first use, by __getattr__
 
@@ -45,11 +57,31 @@ __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "ConnectivityError",
     "EdgeHistory", "ExtrapolationError", "InvalidArgumentError", "LookupBatch", "Recording", "Rejection",
     "RejectionCode", "Semantics", "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError",
-    "UnknownFrameError", "WallClock", "format_sec", "from_sec", "load", "read_recording", "to_sec",
+    "UnknownFrameError", "WallClock", "add_static", "check_fleet", "diff_trees", "echo_recording", "filter_report",
+    "format_sec", "frame_tree", "from_sec", "load", "monitor_recording", "publish_static", "read_recording",
+    "recording_report", "repair_static", "report_fleet", "stream_recording", "to_sec", "view_frames",
 ]  # fmt: skip
 
-#: The names ``tftools.sources`` exports; the others come from ``tftools.core``.
-_FROM_SOURCES = {"Recording", "load", "read_recording"}
+#: The package each name comes from, when not ``tftools.core``: reading (sources), each command's call
+#: (analysis; sinks for ``tfx static``; render for ``tfx view-frames``).
+_PACKAGE = {
+    **dict.fromkeys(["Recording", "load", "read_recording", "stream_recording"], "tftools.sources"),
+    **dict.fromkeys(
+        [
+            "check_fleet",
+            "diff_trees",
+            "echo_recording",
+            "filter_report",
+            "frame_tree",
+            "monitor_recording",
+            "recording_report",
+            "report_fleet",
+        ],
+        "tftools.analysis",
+    ),
+    **dict.fromkeys(["add_static", "publish_static", "repair_static"], "tftools.sinks"),
+    "view_frames": "tftools.render.graph",
+}
 
 
 def version() -> str:
@@ -62,9 +94,7 @@ def version() -> str:
     return str(installed)
 
 
-_exported, __dir__ = lazy.exports(
-    __name__, {name: "tftools.sources" if name in _FROM_SOURCES else "tftools.core" for name in __all__}, __all__
-)
+_exported, __dir__ = lazy.exports(__name__, {name: _PACKAGE.get(name, "tftools.core") for name in __all__}, __all__)
 
 
 def __getattr__(name: str) -> Any:

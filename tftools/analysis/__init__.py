@@ -12,7 +12,7 @@ from tftools import lazy
 if TYPE_CHECKING:
     from tftools.analysis.description import Robot, robot_of
     from tftools.analysis.diff import Difference, compare
-    from tftools.analysis.echo import EchoSeries, echo, echo_times
+    from tftools.analysis.echo import EchoSeries, echo, echo_latest, echo_played, echo_recording, echo_times
     from tftools.analysis.expected import Tolerances, TreeShape, shape_of
     from tftools.analysis.filter import FilterReport, filter_report
     from tftools.analysis.findings import Finding, Severity
@@ -20,9 +20,10 @@ if TYPE_CHECKING:
     from tftools.analysis.frames import FrameTree, frame_tree
     from tftools.analysis.graph import FrameGraph, frame_graph
     from tftools.analysis.loops import find_loops
-    from tftools.analysis.monitor import MonitorReport, monitor
+    from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor, monitor_recording, watch_feed
     from tftools.analysis.report import RecordingReport, Unreadable, recording_report, report_bags, report_fleet
     from tftools.analysis.times import parse_time, time_range
+    from tftools.analysis.tree_diff import TreeDiff, diff_trees
     from tftools.analysis.tree_file import read_tree, write_tree
     from tftools.analysis.wtf import CHECKS, Thresholds, check, findings_of
     from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_recording
@@ -37,12 +38,14 @@ __all__ = [
     "Fleet",
     "FrameGraph",
     "FrameTree",
+    "LiveMonitor",
     "MonitorReport",
     "RecordingReport",
     "Robot",
     "Severity",
     "Thresholds",
     "Tolerances",
+    "TreeDiff",
     "TreeShape",
     "Unfinished",
     "Unreadable",
@@ -51,7 +54,11 @@ __all__ = [
     "check_fleet",
     "check_recording",
     "compare",
+    "diff_trees",
     "echo",
+    "echo_latest",
+    "echo_played",
+    "echo_recording",
     "echo_times",
     "filter_report",
     "find_loops",
@@ -59,6 +66,7 @@ __all__ = [
     "frame_graph",
     "frame_tree",
     "monitor",
+    "monitor_recording",
     "parse_time",
     "read_tree",
     "recording_report",
@@ -68,6 +76,7 @@ __all__ = [
     "run_fleet",
     "shape_of",
     "time_range",
+    "watch_feed",
     "write_tree",
 ]
 
@@ -82,12 +91,14 @@ _HOME = {
     "Fleet": "tftools.analysis.fleet",
     "FrameGraph": "tftools.analysis.graph",
     "FrameTree": "tftools.analysis.frames",
+    "LiveMonitor": "tftools.analysis.monitor",
     "MonitorReport": "tftools.analysis.monitor",
     "RecordingReport": "tftools.analysis.report",
     "Robot": "tftools.analysis.description",
     "Severity": "tftools.analysis.findings",
     "Thresholds": "tftools.analysis.wtf",
     "Tolerances": "tftools.analysis.expected",
+    "TreeDiff": "tftools.analysis.tree_diff",
     "TreeShape": "tftools.analysis.expected",
     "Unfinished": "tftools.analysis.fleet",
     "Unreadable": "tftools.analysis.report",
@@ -96,7 +107,11 @@ _HOME = {
     "check_fleet": "tftools.analysis.wtf.fleet",
     "check_recording": "tftools.analysis.wtf.fleet",
     "compare": "tftools.analysis.diff",
+    "diff_trees": "tftools.analysis.tree_diff",
     "echo": "tftools.analysis.echo",
+    "echo_latest": "tftools.analysis.echo",
+    "echo_played": "tftools.analysis.echo",
+    "echo_recording": "tftools.analysis.echo",
     "echo_times": "tftools.analysis.echo",
     "filter_report": "tftools.analysis.filter",
     "find_loops": "tftools.analysis.loops",
@@ -104,6 +119,7 @@ _HOME = {
     "frame_graph": "tftools.analysis.graph",
     "frame_tree": "tftools.analysis.frames",
     "monitor": "tftools.analysis.monitor",
+    "monitor_recording": "tftools.analysis.monitor",
     "parse_time": "tftools.analysis.times",
     "read_tree": "tftools.analysis.tree_file",
     "recording_report": "tftools.analysis.report",
@@ -113,6 +129,7 @@ _HOME = {
     "run_fleet": "tftools.analysis.fleet",
     "shape_of": "tftools.analysis.expected",
     "time_range": "tftools.analysis.times",
+    "watch_feed": "tftools.analysis.monitor",
     "write_tree": "tftools.analysis.tree_file",
 }
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -19,6 +19,10 @@ from tftools.core.history import EdgeHistory
 from tftools.core.rotation import rpy_from_quat_many
 from tftools.core.time import NS_PER_S
 from tftools.sources.timeline import Timeline
+
+if TYPE_CHECKING:
+    from tftools.sources.recording import Recording
+    from tftools.sources.stream import StreamedRecording
 
 #: ``tfx echo`` prints at most this many lines over a range (``every`` sample prints one per sample instead).
 MAX_ECHO_LINES = 1_000_000
@@ -63,6 +67,48 @@ def echo(buffer: Buffer, target: str, source: str, times: npt.ArrayLike) -> Echo
         batch.valid,
         errors,
     )
+
+
+def echo_recording(
+    recording: Recording,
+    target: str,
+    source: str,
+    rate: float = 1.0,
+    at: str | None = None,
+    every: bool = False,
+    start: str | None = None,
+    end: str | None = None,
+) -> EchoSeries:
+    """``tfx echo TARGET SOURCE -b BAG``: the lookups at the times ``echo_times`` chooses on the recording."""
+    times = echo_times(recording.buffer, recording.timeline, target, source, rate, at, every, start, end)
+    return echo(recording.buffer, target, source, times)
+
+
+def echo_latest(buffer: Buffer, target: str, source: str) -> EchoSeries:
+    """The lookup of the latest transform, said at the buffer's time now, as a live tf_echo prints it (its
+    "At time" of a success is the transform's stamp, its "Failure at" that time)."""
+    with buffer.lock:
+        return dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()], np.int64))
+
+
+def echo_played(
+    streamed: StreamedRecording,
+    target: str,
+    source: str,
+    on_series: Callable[[EchoSeries], object],
+    rate: float = 1.0,
+    start: str | None = None,
+    end: str | None = None,
+) -> None:
+    """``tfx echo TARGET SOURCE -b BAG --play``: the recording replayed in real time from ``start`` to ``end``
+    (``echo_times``' grammar) into a buffer as tf_echo's (the stamps' clock, the recording's semantics), and
+    ``on_series`` given ``echo_latest`` of it ``rate`` times a second."""
+    from tftools.sources.replay import follow_into
+
+    first, last = time_range(streamed.timeline, start, end, default=(None, None))
+    replay = streamed.replay(start=first, end=last)
+    buffer = Buffer(clock=replay.clock, semantics=streamed.semantics)
+    follow_into(replay, buffer, lambda: on_series(echo_latest(buffer, target, source)), period=1.0 / rate)
 
 
 def echo_times(

@@ -427,6 +427,11 @@ class FilterReport:
     skipped: list[str]  # topics with a header but never a frame_id: not tied to tf
     fates: dict[str, Fates]  # each reported topic's messages' fates, by topic
 
+    @property
+    def lost(self) -> bool:
+        """Some message never went through, or the timeout or queue given drops some (``tfx filter`` exits 1)."""
+        return any(s.never or s.dropped_by_wait or s.dropped_by_queue for s in self.streams)
+
 
 def default_target(tree: FrameTree) -> tuple[str, str]:
     """The frame sensor data is usually transformed into: ``odom`` or ``map`` where REP 105's frames

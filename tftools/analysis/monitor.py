@@ -5,7 +5,9 @@ from __future__ import annotations
 import dataclasses
 import math
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -17,14 +19,19 @@ from tftools.analysis.edges import (
     edge_stats,
     sorted_unique,
 )
+from tftools.analysis.times import time_range
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
-from tftools.core.errors import TransformError
+from tftools.core.errors import TransformError, UsageError
 from tftools.core.semantics import Semantics
-from tftools.core.time import NS_PER_S, Clock
+from tftools.core.time import NS_PER_S, Clock, to_sec
 from tftools.sources.live.base import TickedClock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
+
+if TYPE_CHECKING:
+    from tftools.sources.recording import Recording
+    from tftools.sources.replay import Feed
 
 
 @dataclass(frozen=True)
@@ -196,3 +203,49 @@ class LiveMonitor:
                 return monitor(self.buffer, target, source, start, now, by_record_time=True, timeline=timeline)
             except TransformError:  # the chain is not connected (yet): show the rest
                 return monitor(self.buffer, None, None, start, now, by_record_time=True, timeline=timeline)
+
+
+def monitor_recording(
+    recording: Recording,
+    target: str | None = None,
+    source: str | None = None,
+    start: str | None = None,
+    end: str | None = None,
+) -> MonitorReport:
+    """``tfx monitor [TARGET SOURCE] -b BAG``: ``monitor`` over the recording, or from ``start`` to ``end``
+    (``tftools.analysis.times``' grammar: ``+S``, ``-S``, absolute seconds), windowed by record time."""
+    first, last = monitored_range(recording.timeline, start, end)
+    buffer, timeline = recording.buffer, recording.timeline
+    return monitor(buffer, target, source, first, last, by_record_time=True, timeline=timeline)
+
+
+def monitored_range(timeline: Timeline, start: str | None, end: str | None) -> tuple[int | None, int | None]:
+    """``start`` and ``end`` on the tf stamps' clock (None: open); a ``UsageError`` when they miss the
+    recording's tf."""
+    first, last = time_range(timeline, start, end, default=(None, None))
+    if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
+        span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
+        raise UsageError("the time range is outside the recording", f"its tf runs from {span}")
+    return first, last
+
+
+def watch_feed(
+    feed: Feed,
+    on_tick: Callable[[LiveMonitor], None],
+    window: int = DEFAULT_CACHE_TIME,
+    timeline: Timeline | None = None,
+    semantics: Semantics = "ros1",
+    duration: float | None = None,
+) -> None:
+    """``tfx monitor`` live or ``--play``: ``feed`` (a live source or a replay) into a ``LiveMonitor`` over
+    the last ``window`` (ns), ``on_tick`` called with it once a second of the feed's clock, until ``duration``
+    wall seconds pass or the feed ends. A live source's jumps back in time clear it, as tf2_ros's listener."""
+    from tftools.sources.live.base import LiveSource
+    from tftools.sources.live.time_jump import watch_jumps
+    from tftools.sources.replay import follow
+
+    live_monitor = LiveMonitor(feed.clock, window, timeline, semantics)
+    on_batch = (
+        watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add
+    )
+    follow(feed, on_batch, lambda: on_tick(live_monitor), duration=duration)

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import Annotated
 
 import typer
 
@@ -12,11 +11,6 @@ from tftools.cli import expected as expected_tree
 from tftools.cli import options
 from tftools.cli.common import Exit, TextOrJson, exit_with
 from tftools.cli.reading import open_recording
-from tftools.core.semantics import Semantics
-from tftools.sources.storage.locations import METADATA, is_url
-
-if TYPE_CHECKING:
-    from tftools.analysis.expected import TreeShape
 
 
 def command(
@@ -44,44 +38,22 @@ def command(
     Examples: [cyan]tfx diff monday.bag tuesday.bag[/], [cyan]tfx diff tree.yaml run_db3 --tolerance-mm 2[/],
     [cyan]tfx diff before.mcap after.mcap --format json[/]
     """
-    from tftools.analysis.description import described_differences, description_shape
-    from tftools.analysis.diff import compare
+    from tftools.analysis.expected import Tolerances
+    from tftools.analysis.tree_diff import diff_trees
     from tftools.render import diff as render
-    from tftools.sources.urdf import read_urdf
 
-    robots = {location: read_urdf(location) for location in (first, second) if _is_urdf(location)}
-    a, b = (
-        description_shape(robots[location]) if location in robots else _read(location, topics, tf2)
-        for location in (first, second)
+    expected_tree.tolerances(Tolerances(), tolerance_mm, tolerance_deg, tolerance_rate)  # refused before reading
+    found = diff_trees(
+        first,
+        second,
+        translation_mm=tolerance_mm,
+        rotation_deg=tolerance_deg,
+        rate_percent=tolerance_rate,
+        read=lambda paths: open_recording(paths, topics, tf2),
     )
-    base = a.tolerances if _is_tree_file(first) else b.tolerances  # a recording's are the defaults
-    tolerances = expected_tree.tolerances(base, tolerance_mm, tolerance_deg, tolerance_rate)
-    differences = compare(a, b, tolerances)
-    for location, other in ((first, b), (second, a)):
-        if location in robots:  # the frames above a robot (odom, map) are no difference from its URDF
-            differences = described_differences(differences, robots[location], other)
-    code = Exit.PROBLEMS if differences else Exit.OK
+    code = Exit.PROBLEMS if found.differences else Exit.OK
     if fmt is TextOrJson.json:
-        render.write_json(a, b, differences, tolerances, int(code), sys.stdout)
+        render.write_json(found.a, found.b, found.differences, found.tolerances, int(code), sys.stdout)
     else:
-        render.write_text(a, b, differences, tolerances, sys.stdout)
+        render.write_text(found.a, found.b, found.differences, found.tolerances, sys.stdout)
     exit_with(code)
-
-
-def _is_tree_file(location: str) -> bool:
-    """A local YAML file other than a rosbag2 bag's own ``metadata.yaml``."""
-    path = Path(location)
-    return not is_url(location) and path.suffix in (".yaml", ".yml") and path.name != METADATA
-
-
-def _is_urdf(location: str) -> bool:
-    return not is_url(location) and Path(location).suffix in (".urdf", ".xacro")
-
-
-def _read(location: str, topics: list[str] | None, semantics: Semantics | None) -> TreeShape:
-    from tftools.analysis.expected import shape_of
-    from tftools.analysis.tree_file import read_tree
-
-    if _is_tree_file(location):
-        return read_tree(Path(location))
-    return shape_of(open_recording([location], topics, semantics))

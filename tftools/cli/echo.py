@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import enum
 import io
 from collections.abc import Callable
@@ -25,7 +24,6 @@ from tftools.render.escape import printable_lines
 
 if TYPE_CHECKING:  # the lookups and their renderers load when a command runs: --help needs none of them (nor numpy)
     from tftools.analysis.echo import EchoSeries
-    from tftools.core.buffer import Buffer
     from tftools.sources.live.base import LiveSource
 
 
@@ -111,10 +109,7 @@ def command(
     [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/],
     [cyan]tfx echo base_link camera -b robot.bag --at +5 --format static[/]
     """
-    from tftools.analysis.echo import echo, echo_times
-    from tftools.analysis.times import time_range
-    from tftools.core.buffer import Buffer
-    from tftools.sources.replay import follow_into
+    from tftools.analysis.echo import echo_played, echo_recording
 
     check_plot(plot, bags)
     every = every or (plot is not None and rate is None and at is None)
@@ -134,16 +129,11 @@ def command(
     if play:  # as tf_echo sees a live system: the bag streamed on a sim clock into a tf2-sized buffer
         streamed = open_stream(bags, topics, tf2)
         target, source = frame_argument(streamed.frames, target), frame_argument(streamed.frames, source)
-        first, last = time_range(streamed.timeline, start, end, default=(None, None))
-        replay = streamed.replay(start=first, end=last)
-        buffer = Buffer(clock=replay.clock, semantics=streamed.semantics)
-
-        follow_into(replay, buffer, lambda: lines.latest(buffer, target, source), period=1.0 / rate)
+        echo_played(streamed, target, source, lines.show, rate, start, end)
         exit_with(lines.done())
     recording = open_recording(bags, topics, tf2)
     target, source = frame_argument(recording.buffer.frames, target), frame_argument(recording.buffer.frames, source)
-    times = echo_times(recording.buffer, recording.timeline, target, source, rate, at, every, start, end)
-    series = echo(recording.buffer, target, source, times)
+    series = echo_recording(recording, target, source, rate, at, every, start, end)
     if plot is None:  # on a bag, the picture instead of the lines
         lines.print(series)
     lines.shown.append(series)
@@ -176,15 +166,8 @@ class Lines:
             render.write_text(series, stdout.file, self.precision, self.matrix)
         stdout.file.flush()
 
-    def latest(self, buffer: Buffer, target: str, source: str) -> EchoSeries:
-        """Print the lookup of the latest transform, said at the buffer's time now (tf_echo's "At time" of a
-        success is the transform's stamp, its "Failure at" that time), and show it in the picture there."""
-        import numpy as np
-
-        from tftools.analysis.echo import echo
-
-        with buffer.lock:
-            series = dataclasses.replace(echo(buffer, target, source, [0]), times=np.array([buffer.now()], np.int64))
+    def show(self, series: EchoSeries) -> EchoSeries:
+        """Print a lookup of the latest transform (``echo_latest``), and show it in the picture."""
         self.print(series)
         self.shown.append(series)
         return series
@@ -213,6 +196,7 @@ def _live(
 ) -> Exit:
     """Without -b, as tf_echo: wait for the transform, then the latest one ``rate`` times a second
     (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
+    from tftools.analysis.echo import echo_latest
     from tftools.sources.live.capture import listen
 
     target, source = frame_name(target), frame_name(source)
@@ -221,7 +205,7 @@ def _live(
         live.wait_for_transform(buffer, target, source, feed.describe(), wait)
 
         def tick() -> None:
-            series = lines.latest(buffer, target, source)
+            series = lines.show(echo_latest(buffer, target, source))
             if not series.valid.all() and lines.fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
                 stdout.file.write(f"The current list of frames is:\n{printable_lines(buffer.all_frames_as_string())}")
                 stdout.file.flush()

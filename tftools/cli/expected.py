@@ -41,9 +41,10 @@ ToleranceRateOption = Annotated[
 
 def tolerances(base: Tolerances, mm: float | None, deg: float | None, rate: float | None) -> Tolerances:
     """``base`` with the tolerances given on the command line instead."""
-    given = {"translation_mm": mm, "rotation_deg": deg, "rate_percent": rate}
+    from tftools.analysis.tree_diff import overridden
+
     try:
-        return dataclasses.replace(base, **{k: v for k, v in given.items() if v is not None})
+        return overridden(base, mm, deg, rate)
     except ValueError as error:
         raise UsageError(str(error), "e.g. --tolerance-mm 2 --tolerance-deg 0.5 --tolerance-rate 25") from None
 

@@ -81,5 +81,4 @@ def command(
         render.write_json(report, stdout.file)
     else:
         stdout.print(render.renderable(report, ", ".join(f.path for f in recording.contents.files)))
-    lost = any(s.never or s.dropped_by_wait or s.dropped_by_queue for s in report.streams)
-    exit_with(Exit.PROBLEMS if lost else Exit.OK)
+    exit_with(Exit.PROBLEMS if report.lost else Exit.OK)

@@ -21,7 +21,7 @@ from tftools.core.time import NS_PER_S, from_sec, to_sec
 if TYPE_CHECKING:  # the figures and their renderers load when a command runs: --help needs none of them (nor numpy)
     from rich.console import RenderableType
 
-    from tftools.analysis.monitor import MonitorReport
+    from tftools.analysis.monitor import LiveMonitor, MonitorReport
     from tftools.analysis.timelines import EdgeSeries, MonitorTrace
     from tftools.sources import Recording
     from tftools.sources.replay import Feed
@@ -69,7 +69,7 @@ def command(
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
     """
-    from tftools.analysis.monitor import monitor
+    from tftools.analysis.monitor import monitor_recording, monitored_range
     from tftools.analysis.timelines import MonitorTrace, edge_series
     from tftools.render import monitor as render
     from tftools.render.plots import monitor_figure
@@ -95,7 +95,7 @@ def command(
     if play:
         streamed = open_stream(bags, topics, tf2)
         target, source = _chain(streamed.frames, target, source)
-        first, last = _time_range(streamed.timeline, start, end)
+        first, last = monitored_range(streamed.timeline, start, end)
         replay = streamed.replay(rate=rate, start=first, end=last)
         played, note = streamed.timeline, f"rate {rate:g}x"
         watch(replay, target, source, from_sec(window), duration, fmt, note, played, streamed.semantics, trace)
@@ -103,10 +103,10 @@ def command(
         return
     recording = open_recording(bags, topics, tf2)
     target, source = _chain(recording.buffer.frames, target, source)
-    first, last = _time_range(recording.timeline, start, end)
-    report = monitor(recording.buffer, target, source, first, last, by_record_time=True, timeline=recording.timeline)
+    report = monitor_recording(recording, target, source, start, end)
     if plot is not None:
         keys = [e.key for e in report.chain.edges] if report.chain is not None else None
+        first, last = monitored_range(recording.timeline, start, end)
         series = edge_series(recording.buffer, recording.timeline, first, last, keys)
         write_plot(monitor_figure(series, _header(recording, report)), plot, _plotted(series))
     elif fmt is TextOrJson.json:
@@ -132,42 +132,33 @@ def watch(
     if given. Works with any feed: a replay or a live source."""
     from rich.live import Live
 
-    from tftools.analysis.monitor import LiveMonitor
+    from tftools.analysis.monitor import watch_feed
     from tftools.render import monitor as render
-    from tftools.sources.live.base import LiveSource
-    from tftools.sources.live.time_jump import watch_jumps
-    from tftools.sources.replay import follow
 
-    live_monitor = LiveMonitor(feed.clock, window, timeline, semantics)
-
-    def report() -> MonitorReport:
+    def report(live_monitor: LiveMonitor) -> MonitorReport:
         current = live_monitor.report(target, source)
         if trace is not None:
             trace.add(feed.clock.now(), current)
         return current
 
-    def table() -> RenderableType:
+    def table(live_monitor: LiveMonitor) -> RenderableType:
         now = feed.clock.now()
         since = now - (live_monitor.origin if live_monitor.origin is not None else now)
         header = f"time {to_sec(now):.3f} ({since / NS_PER_S:+.1f} s), last {window / NS_PER_S:g} s"
         header += f", {note}" if note else ""
-        return render.renderable(report(), header, target, source)
+        return render.renderable(report(live_monitor), header, target, source)
 
-    on_batch = (
-        watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add
-    )
-
-    def run(on_tick: Callable[[], None]) -> None:
-        follow(feed, on_batch, on_tick, duration=duration)
+    def run(on_tick: Callable[[LiveMonitor], None]) -> None:
+        watch_feed(feed, on_tick, window, timeline, semantics, duration)
 
     try:
         if fmt is TextOrJson.json:
-            run(lambda: render.write_json_line(report(), stdout.file))
+            run(lambda live_monitor: render.write_json_line(report(live_monitor), stdout.file))
         elif stdout.is_terminal:
             with Live(console=stdout, auto_refresh=False) as screen:
-                run(lambda: screen.update(table(), refresh=True))
+                run(lambda live_monitor: screen.update(table(live_monitor), refresh=True))
         else:  # piped: one table per refresh, as tf_monitor prints its results
-            run(lambda: stdout.print(table(), "\n"))
+            run(lambda live_monitor: stdout.print(table(live_monitor), "\n"))
     except KeyboardInterrupt:  # Ctrl-C is how a live monitor ends: the last table stays
         pass
 
@@ -177,17 +168,6 @@ def _chain(frames: Sequence[str], target: str | None, source: str | None) -> tup
     if target is None or source is None:
         return target, source
     return frame_argument(frames, target), frame_argument(frames, source)
-
-
-def _time_range(timeline: Timeline, start: str | None, end: str | None) -> tuple[int | None, int | None]:
-    """--start and --end on the tf stamps' clock; a ``UsageError`` when they miss the recording's tf."""
-    from tftools.analysis.times import time_range
-
-    first, last = time_range(timeline, start, end, default=(None, None))
-    if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
-        span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
-        raise UsageError("the time range is outside the recording", f"its tf runs from {span}")
-    return first, last
 
 
 def _write_trace(trace: MonitorTrace | None, plot: Path | None, what: str) -> None:

@@ -3,10 +3,7 @@
 from __future__ import annotations
 
 import math
-import time
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
-from dataclasses import replace
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -17,10 +14,7 @@ from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import stdout, warn
 from tftools.cli.outputs import check_output, check_replaceable
 from tftools.core.errors import UsageError
-from tftools.core.frames import frame_name
 from tftools.render.escape import printable
-from tftools.sources.errors import NoTransformsError
-from tftools.sources.storage.locations import METADATA, is_url
 
 if TYPE_CHECKING:  # the transforms, readers and writers load when used: --help needs none of them
     from tftools.core.transform import Transform
@@ -101,25 +95,38 @@ def command(
     [cyan]tfx static --from extrinsics.yaml -b in.bag -o out.bag[/]
     [cyan]tfx static --repair -b recording/ -o repaired/[/]
     """
+    from tftools.sinks.static import add_static, checked, publish_static, repair_static
+    from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC
     from tftools.sources.live.static_file import read_static_transforms
 
     numbers = {"x": x, "y": y, "z": z, "qx": qx, "qy": qy, "qz": qz, "qw": qw, "roll": roll, "pitch": pitch, "yaw": yaw}
     if repair:
         if arguments or from_file is not None or any(v is not None for v in numbers.values()):
             raise UsageError("--repair takes no transforms: it uses the bag's own", "tfx static --repair -b IN -o OUT")
-        _repair_bag(bag, output, force)
+        bag, output = _copying(bag, output, force)
+        written, statics = repair_static(bag, output, force=force)
+        said = f"{len(statics)} static transform(s) ({_edges(statics)}) at its start and every {REPAIR_EVERY_S:g} s"
+        stdout.print(printable(f"{written}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {said}"))
         return
     transforms = read_static_transforms(from_file) if from_file is not None else []
     transforms += _given(arguments or [], numbers, frame_id, child_frame_id, degrees)
     if not transforms:
         raise UsageError("no transform given", "e.g. tfx static 0 0 1 0 0 0 base_link laser, or --from FILE.yaml")
-    transforms = [_checked(t) for t in transforms]
+    given, transforms = transforms, [checked(t) for t in transforms]  # refused before any work
     if bag is not None or output is not None:
-        _write_bag(bag, output, transforms, force)
+        bag, output = _copying(bag, output, force)
+        written = add_static(bag, output, given, force=force)
+        added = f"{len(transforms)} static transform(s) added on {STATIC_TOPIC}"
+        stdout.print(printable(f"{written}: a copy of {bag} with {added}"))
         return
     if duration is not None:
         positive_seconds(duration, "--duration", "10")
-    _publish(transforms, live.ros_name(ros1), duration)
+    until = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
+
+    def started(where: str) -> None:
+        live.say(f"publishing {_edges(transforms)} on {STATIC_TOPIC} to {where} {until}")
+
+    publish_static(given, live.ros_name(ros1), duration, on_notice=warn, on_start=started)
 
 
 def _given(
@@ -127,7 +134,7 @@ def _given(
 ) -> list[Transform]:
     """The transform of the positional arguments or of the flags (None of either: none); with
     ``degrees``, their yaw, pitch and roll are in degrees."""
-    from tftools.core.transform import Transform
+    from tftools.sinks.static import static_transform
 
     flags_used = any(v is not None for v in numbers.values()) or frame is not None or child is not None
     if arguments and flags_used:
@@ -143,27 +150,19 @@ def _given(
     if frame is None or child is None:
         raise UsageError("--frame-id and --child-frame-id are both needed", "e.g. --frame-id map --child-frame-id odom")
     value = {k: (v if v is not None else 0.0) for k, v in numbers.items()}
-    translation = (value["x"], value["y"], value["z"])
+    translation = [value["x"], value["y"], value["z"]]
     if any(numbers[k] is not None for k in ("qx", "qy", "qz", "qw")):
         if any(numbers[k] is not None for k in ("roll", "pitch", "yaw")):
             raise UsageError("give a quaternion or roll/pitch/yaw, not both", "--qx .. --qw or --roll --pitch --yaw")
         qw_given = numbers["qw"] if numbers["qw"] is not None else 1.0
-        return [Transform(translation, (value["qx"], value["qy"], value["qz"], qw_given), 0, frame, child)]
-    return [_from_rpy(translation, (value["roll"], value["pitch"], value["yaw"]), degrees, frame, child)]
-
-
-def _from_rpy(
-    translation: tuple[float, float, float], rpy: tuple[float, float, float], degrees: bool, frame: str, child: str
-) -> Transform:
-    from tftools.core.transform import Transform
-
-    roll, pitch, yaw = (math.radians(angle) if degrees else angle for angle in rpy)
-    return Transform.from_rpy(translation, (roll, pitch, yaw), 0, frame, child)
+        return [static_transform([*translation, value["qx"], value["qy"], value["qz"], qw_given], frame, child)]
+    angles = [value["yaw"], value["pitch"], value["roll"]]
+    return [static_transform([*translation, *angles], frame, child, degrees=degrees)]
 
 
 def _positional(arguments: list[str], degrees: bool = False) -> Transform:
     """static_transform_publisher's positional forms; tf1's trailing period is accepted and ignored."""
-    from tftools.core.transform import Transform
+    from tftools.sinks.static import static_transform
 
     with_period = len(arguments) == 10 or (len(arguments) == 9 and not _is_number(arguments[6]))
     if with_period and _is_number(arguments[-1]):
@@ -176,12 +175,7 @@ def _positional(arguments: list[str], degrees: bool = False) -> Transform:
             "tfx static --help",
         )
     *values, frame, child = arguments
-    numbers = [_number(v) for v in values]
-    if len(numbers) == 6:
-        x, y, z, yaw, pitch, roll = numbers
-        return _from_rpy((x, y, z), (roll, pitch, yaw), degrees, frame, child)
-    x, y, z, *quaternion = numbers
-    return Transform((x, y, z), tuple(quaternion), 0, frame, child)  # type: ignore[arg-type]
+    return static_transform([_number(v) for v in values], frame, child, degrees=degrees)
 
 
 def _is_number(text: str) -> bool:
@@ -197,114 +191,17 @@ def _number(text: str) -> float:
     return float(text)
 
 
-def _checked(t: Transform) -> Transform:
-    """Frames as tf2 wants them; the quaternion normalized (tf2 would refuse a denormalized one)."""
-    from tftools.core.transform import Transform
-
-    frame, child = frame_name(t.frame_id), frame_name(t.child_frame_id)
-    if not frame or not child:
-        raise UsageError("frame ids cannot be empty", f"got {t.frame_id!r} -> {t.child_frame_id!r}")
-    if frame == child:
-        raise UsageError(f"the frame and the child frame are the same ({frame}): this cannot work", "name two frames")
-    values = (*t.translation, *t.rotation)
-    if not all(math.isfinite(v) for v in values):
-        raise UsageError(f"{frame} -> {child}: not a finite number in {values}", "check the numbers")
-    norm = math.sqrt(sum(q * q for q in t.rotation))
-    if norm < 1e-9:
-        raise UsageError(f"{frame} -> {child}: the quaternion is zero", "the identity is qx 0 qy 0 qz 0 qw 1")
-    return Transform(t.translation, tuple(q / norm for q in t.rotation), 0, frame, child)  # type: ignore[arg-type]
-
-
-@contextmanager
-def _copying(bag: str | None, output: Path | None, force: bool) -> Iterator[tuple[Path, Path]]:
-    """-b IN -o OUT checked before any work: the local input (a URL's download) and the output."""
-    from tftools.sources.storage import local_recording
+def _copying(bag: str | None, output: Path | None, force: bool) -> tuple[str, Path]:
+    """-b IN -o OUT checked before any work."""
+    from tftools.sinks.static import copyable
 
     if bag is None or output is None:
         raise UsageError("-b BAG and -o OUTPUT go together", "e.g. tfx static ... -b in.bag -o out.bag")
     check_output(output, [bag])
-    _copyable(bag)
+    copyable(bag)
     check_replaceable(output, force)
-    with local_recording(bag) as local:
-        yield local, output
-
-
-def _copyable(bag: str) -> None:
-    """A bag tfx can copy with transforms added: a ROS 1 .bag or a ROS 2 bag directory, not one of the
-    directory's files, nor a bare .mcap or .db3 file."""
-    path = Path(bag)
-    if is_url(bag) or not path.is_file() or path.suffix not in (".mcap", ".db3"):
-        return
-    if (path.parent / METADATA).is_file():
-        raise UsageError(
-            f"-b {bag} is a file of the ROS 2 bag {path.parent}",
-            f"give the bag's directory, and a directory for the copy: -b {path.parent} -o OUTPUT",
-        )
-    raise UsageError(
-        f"-b {bag}: tfx static copies ROS 1 .bag files and ROS 2 bag directories, not a bare {path.suffix} file",
-        "make it a ROS 2 bag first: put it alone in a folder and run ros2 bag reindex FOLDER, then -b FOLDER",
-    )
-
-
-def _already_there(bag: Path, transforms: Sequence[Transform]) -> None:
-    """Refuse a transform whose child frame the bag already has: tf2 would see two values (or two
-    parents) for it, and tfx wtf would fail the copy."""
-    from tftools.sources import read_recording
-
-    try:
-        buffer = read_recording([bag]).buffer
-    except NoTransformsError:
-        return
-    given = {t.child_frame_id for t in transforms}
-    for child, history in buffer.histories():
-        if child not in given:
-            continue
-        parents = sorted({buffer.frame_name(p) for p in history.parents.tolist()})
-        kind = "a static transform" if history.static else "a moving transform"
-        wanted = next(t for t in transforms if t.child_frame_id == child)
-        raise UsageError(
-            f"{bag} already has {child}, {kind} of {', '.join(parents)}: adding {wanted.frame_id} -> {child} "
-            "would give tf2 two values for it, and tfx wtf would fail the copy",
-            f"add only frames the bag lacks: tfx frames -b {bag} lists its own",
-        )
-
-
-def _repair_bag(bag: str | None, output: Path | None, force: bool) -> None:
-    from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC, repair_static_transforms
-
-    with _copying(bag, output, force) as (local, copy):
-        written, statics = repair_static_transforms(local, copy, force=force)
-    said = f"{len(statics)} static transform(s) ({_edges(statics)}) at its start and every {REPAIR_EVERY_S:g} s"
-    stdout.print(printable(f"{written}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {said}"))
-
-
-def _write_bag(bag: str | None, output: Path | None, transforms: list[Transform], force: bool) -> None:
-    from tftools.sinks.static_bag import STATIC_TOPIC, add_static_transforms
-
-    with _copying(bag, output, force) as (local, copy):
-        _already_there(local, transforms)
-        written = add_static_transforms(local, copy, transforms, force=force)
-    stdout.print(
-        printable(f"{written}: a copy of {bag} with {len(transforms)} static transform(s) added on {STATIC_TOPIC}")
-    )
+    return bag, output
 
 
 def _edges(transforms: Sequence[Transform]) -> str:
     return ", ".join(f"{t.frame_id} -> {t.child_frame_id}" for t in transforms)
-
-
-def _publish(transforms: list[Transform], ros: str | None, duration: float | None) -> None:
-    from tftools.sinks import open_static_broadcaster
-    from tftools.sinks.static_bag import STATIC_TOPIC
-
-    stamp = time.time_ns()
-    with open_static_broadcaster(ros, on_notice=warn) as broadcaster:
-        broadcaster.send([replace(t, stamp=stamp) for t in transforms])
-        until = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
-        live.say(f"publishing {_edges(transforms)} on {STATIC_TOPIC} to {broadcaster.describe()} {until}")
-        deadline = None if duration is None else time.monotonic() + duration
-        try:
-            while not broadcaster.finished and (deadline is None or time.monotonic() < deadline):
-                time.sleep(0.1)
-        except KeyboardInterrupt:
-            pass

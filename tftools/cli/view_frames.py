@@ -91,15 +91,12 @@ def command(
     [cyan]tfx view-frames -b robot.bag -o tree.svg --rankdir LR --brief[/]
     """
     from tftools.analysis.findings import Severity
-    from tftools.analysis.graph import frame_graph
-    from tftools.analysis.wtf import Scene
     from tftools.render import drawing
     from tftools.render import graph as render
 
     chosen, target = _output(output, fmt, bags or [])
     recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
-    graph = frame_graph(Scene(recording))  # with tfx wtf's findings, drawn where they are
-    dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)
+    graph, dot = render.view_frames(recording, rankdir=rankdir.value, brief=brief)
     try:
         if target == "-":
             sys.stdout.buffer.write(drawing.draw(dot, chosen.value))

@@ -232,9 +232,9 @@ def command(
 
 def outcome(reports: Sequence[BagReport], strict: bool = False) -> Exit:
     """UNUSABLE when no recording could be read, PROBLEMS when any failed (or could not be read), else OK."""
-    if not any(r.usable for r in reports):
-        return Exit.UNUSABLE
-    return Exit.PROBLEMS if any(r.failed(strict) for r in reports) else Exit.OK
+    from tftools.analysis.wtf.fleet import exit_code
+
+    return Exit(exit_code(reports, strict))
 
 
 def _thresholds(**seconds: float) -> Thresholds:

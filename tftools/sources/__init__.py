@@ -21,6 +21,7 @@ if TYPE_CHECKING:
         UnknownBagFormatError,
     )
     from tftools.sources.recording import Recording, load, read_recording
+    from tftools.sources.stream import StreamedRecording, stream_recording
 
 __all__ = [
     "DEFAULT_TOPICS",
@@ -35,10 +36,12 @@ __all__ = [
     "RecordingContents",
     "SourceError",
     "SourceInfo",
+    "StreamedRecording",
     "UnknownBagFormatError",
     "load",
     "read_bag",
     "read_recording",
+    "stream_recording",
 ]
 
 #: Where each name is defined.
@@ -55,10 +58,12 @@ _HOME = {
     "RecordingContents": "tftools.sources.contents",
     "SourceError": "tftools.sources.errors",
     "SourceInfo": "tftools.sources.contents",
+    "StreamedRecording": "tftools.sources.stream",
     "UnknownBagFormatError": "tftools.sources.errors",
     "load": "tftools.sources.recording",
     "read_bag": "tftools.sources.bag",
     "read_recording": "tftools.sources.recording",
+    "stream_recording": "tftools.sources.stream",
 }
 
 

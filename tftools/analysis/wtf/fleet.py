@@ -147,6 +147,14 @@ def in_order(groups: Sequence[Sequence[str]], reports: Sequence[BagReport]) -> l
     return [by_paths[g] for g in given] + [bag for paths, bag in by_paths.items() if paths not in given]
 
 
+def exit_code(reports: Sequence[BagReport], strict: bool = False) -> int:
+    """``tfx wtf``'s exit code (its JSON's ``exit_code``): 2 when no recording could be read, 1 when any failed
+    (``BagReport.failed``) or could not be read, else 0."""
+    if not any(r.usable for r in reports):
+        return 2
+    return 1 if any(r.failed(strict) for r in reports) else 0
+
+
 def check_recording(
     recording: Recording,
     streams: Sequence[StampedMessages] = (),

@@ -1,0 +1,260 @@
+"""The library is the product: each command's work is one public call, whose result, rendered, is what
+``tfx COMMAND --format json`` prints (the command line only parses and renders); the README's examples run."""
+
+from __future__ import annotations
+
+import importlib
+import io
+import json
+import os
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import tftools
+from tftools.sources import Recording
+
+REPO = Path(__file__).resolve().parents[1]
+SAMPLE = REPO / "sample_bags"
+BAGS = [str(SAMPLE / "robot.bag"), str(SAMPLE / "robot_db3"), str(SAMPLE / "robot_mcap")]
+
+#: Each command and the one call that does its work.
+CALLS = {
+    "frames": "frame_tree",
+    "echo": "echo_recording",
+    "monitor": "monitor_recording",
+    "view-frames": "view_frames",
+    "wtf": "check_fleet",
+    "filter": "filter_report",
+    "report": "report_fleet",
+    "diff": "diff_trees",
+    "static": "add_static",
+}
+
+
+def tfx(*arguments: str, cwd: Path = REPO) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "tftools", *arguments],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "COLUMNS": "200"},
+    )
+
+
+def tfx_json(*arguments: str) -> Any:
+    done = tfx(*arguments)
+    assert done.returncode in (0, 1), done.stderr
+    return json.loads(done.stdout)
+
+
+def rendered(write: Any, *values: Any) -> Any:
+    out = io.StringIO()
+    write(*values, out)
+    return json.loads(out.getvalue())
+
+
+@pytest.fixture(scope="module", params=BAGS, ids=lambda p: Path(p).name)
+def bag(request: pytest.FixtureRequest) -> str:
+    return str(request.param)
+
+
+@pytest.fixture(scope="module")
+def recording(bag: str) -> Recording:
+    return tftools.read_recording([bag])
+
+
+def _corpus(name: str) -> str:
+    from tests.corpus.fetch import shared_dir
+
+    path = shared_dir() / "corpus" / name
+    if not path.exists():
+        pytest.skip(f"{name} is not in {path.parent} ($TFTOOLS_SHARED_DIR/corpus)")
+    return str(path)
+
+
+def test_every_command_has_its_call_in_tftools() -> None:
+    from tftools.cli.commands import SUBCOMMANDS
+
+    assert set(CALLS) == set(SUBCOMMANDS)
+    for call in CALLS.values():
+        assert call in tftools.__all__ and callable(getattr(tftools, call))
+
+
+@pytest.mark.parametrize("package", ["tftools.sinks", "tftools.render"])
+def test_the_other_public_packages_list_their_calls(package: str) -> None:
+    module = importlib.import_module(package)
+    assert [name for name in module.__all__ if getattr(module, name, None) is None] == []
+    assert set(module.__all__) <= set(dir(module))
+
+
+def test_frames(bag: str, recording: Recording) -> None:
+    from tftools.render import frames
+
+    called = rendered(frames.write_json, tftools.frame_tree(recording.buffer))
+    assert called == tfx_json("frames", "-b", bag, "-f", "json")
+    assert len(called["frames"]) == 18
+
+
+def test_echo(bag: str, recording: Recording) -> None:
+    from tftools.render import echo
+
+    series = tftools.echo_recording(recording, "map", "gripper", rate=2, start="+1", end="-3")
+    out = io.StringIO()
+    echo.write_json(series, out)
+    printed = tfx("echo", "map", "gripper", "-b", bag, "-r", "2", "--start", "+1", "--end", "-3", "-f", "json")
+    assert out.getvalue() == printed.stdout
+    assert len(series) == 22 and series.valid.all()
+
+
+def test_monitor(bag: str, recording: Recording) -> None:
+    from tftools.render import monitor
+
+    report = tftools.monitor_recording(recording, "map", "gripper", start="+2")
+    called = rendered(monitor.write_json, report)
+    assert called == tfx_json("monitor", "map", "gripper", "-b", bag, "--start", "+2", "-f", "json")
+    assert report.chain is not None and report.chain.frames[0] == "gripper"
+
+
+def test_monitor_refuses_a_range_outside_the_recording(recording: Recording) -> None:
+    with pytest.raises(tftools.core.UsageError, match="outside the recording"):
+        tftools.monitor_recording(recording, start="+100")
+
+
+def test_view_frames(bag: str, recording: Recording) -> None:
+    graph, dot = tftools.view_frames(recording, rankdir="LR", brief=True)
+    printed = tfx("view-frames", "-b", bag, "-o", "-", "-f", "dot", "--rankdir", "LR", "--brief")
+    assert printed.returncode == 0, printed.stderr
+    assert dot.source == printed.stdout
+    assert len(graph.nodes) == 18 and not graph.findings
+
+
+def test_wtf(bag: str) -> None:
+    from tftools.analysis.wtf import Thresholds
+    from tftools.analysis.wtf.fleet import exit_code
+    from tftools.render import wtf
+
+    reports = list(tftools.check_fleet([[bag]]))
+    out = io.StringIO()
+    wtf.write_json(reports, out, False, Thresholds(), exit_code(reports))
+    assert json.loads(out.getvalue()) == tfx_json("wtf", bag, "-f", "json")
+    assert not reports[0].failed()
+
+
+def test_wtf_of_a_fleet() -> None:
+    from tftools.analysis.wtf import Thresholds
+    from tftools.analysis.wtf.fleet import exit_code, in_order
+    from tftools.render import wtf
+
+    groups = [[BAGS[0]], [_corpus("ros1_tb3_waffle_static.bag")], [BAGS[2]]]
+    reports = in_order(groups, list(tftools.check_fleet(groups, tftools.analysis.Fleet(jobs=2))))
+    out = io.StringIO()
+    wtf.write_json(reports, out, False, Thresholds(), exit_code(reports))
+    said = tfx_json("wtf", *(g[0] for g in groups), "-f", "json")
+    assert json.loads(out.getvalue()) == said
+    assert [r["paths"] for r in said["bags"]] == groups
+    assert [r.failed() for r in reports] == [False, True, False] and exit_code(reports) == 1
+
+
+@pytest.mark.parametrize(
+    ("name", "lost"), [("ros1_tb3_waffle_static.bag", True), ("ros2_db3_tb3_gazebo_walker", False)]
+)
+def test_filter(name: str, lost: bool) -> None:
+    from tftools.render import filter as render
+    from tftools.sources.bag.stamped import stamped_of
+
+    bag = _corpus(name)
+    recording = tftools.read_recording([bag], headers=())
+    streams = stamped_of(recording.contents.files).streams
+    report = tftools.filter_report(recording.buffer, streams, None)
+    done = tfx("filter", "-b", bag, "-f", "json")
+    assert rendered(render.write_json, report) == json.loads(done.stdout)
+    assert report.streams and report.lost is lost and done.returncode == int(lost)
+
+
+def test_filter_finds_no_sensor_data_in_the_sample() -> None:
+    from tftools.sources.bag.stamped import stamped_of
+
+    recording = tftools.read_recording([BAGS[0]], headers=())
+    assert stamped_of(recording.contents.files).streams == []
+    assert "no topic with a Header" in tfx("filter", "-b", BAGS[0]).stderr
+
+
+def test_report(bag: str, tmp_path: Path) -> None:
+    from tftools.render.report import page, recording_section
+
+    [(index, report)] = tftools.report_fleet([[bag]])
+    assert isinstance(report, tftools.analysis.RecordingReport)
+    written = tmp_path / "report.html"
+    done = tfx("report", "-b", bag, "-o", str(written))
+    assert done.returncode == 0, done.stderr
+    assert page(f"tfx report: {report.name}", [recording_section(index, report)]) == written.read_text()
+
+
+def test_diff() -> None:
+    from tftools.render import diff
+
+    found = tftools.diff_trees(BAGS[0], BAGS[2], translation_mm=2)
+    out = io.StringIO()
+    diff.write_json(found.a, found.b, found.differences, found.tolerances, 0, out)
+    assert json.loads(out.getvalue()) == tfx_json("diff", BAGS[0], BAGS[2], "--tolerance-mm", "2", "-f", "json")
+    assert found.tolerances.translation_mm == 2 and found.differences == []
+
+
+def test_diff_against_a_tree_file_finds_a_moved_laser(tmp_path: Path) -> None:
+    from tftools.render import diff
+
+    tree = tmp_path / "tree.yaml"
+    tree.write_text(
+        tfx("wtf", "--init", BAGS[0]).stdout.replace("translation: [0.22, 0.0, 0.18]", "translation: [0.25, 0.0, 0.18]")
+    )
+    found = tftools.diff_trees(str(tree), BAGS[1])
+    out = io.StringIO()
+    diff.write_json(found.a, found.b, found.differences, found.tolerances, 1, out)
+    assert json.loads(out.getvalue()) == tfx_json("diff", str(tree), BAGS[1], "-f", "json")
+    assert [d.change.value for d in found.differences] == ["moved"]
+
+
+@pytest.mark.parametrize("bag", [BAGS[0], BAGS[1]], ids=["robot.bag", "robot_db3"])
+def test_static(bag: str, tmp_path: Path) -> None:
+    from tftools.render import frames
+    from tftools.sinks import static_transform
+
+    suffix = ".bag" if bag.endswith(".bag") else "_db3"
+    called, printed = tmp_path / f"called{suffix}", tmp_path / f"printed{suffix}"
+    lidar = static_transform([0.1, 0, 0.3, 90, 0, 0], "/base_link", "lidar", degrees=True)
+    assert tftools.add_static(bag, called, [lidar]) == called
+    done = tfx(
+        "static", "0.1", "0", "0.3", "90", "0", "0", "/base_link", "lidar", "--deg", "-b", bag, "-o", str(printed)
+    )
+    assert done.returncode == 0, done.stderr
+    trees = [rendered(frames.write_json, tftools.frame_tree(tftools.load(path))) for path in (called, printed)]
+    assert trees[0] == trees[1]
+    lidar_frame = next(f for f in trees[0]["frames"] if f["frame"] == "lidar")
+    assert lidar_frame["parent"] == "base_link"
+
+
+def test_static_refuses_a_frame_the_bag_has(tmp_path: Path) -> None:
+    from tftools.sinks import static_transform
+
+    laser = static_transform([0, 0, 0, 0, 0, 0, 1], "base_link", "laser")
+    with pytest.raises(tftools.core.UsageError, match="already has laser"):
+        tftools.add_static(BAGS[0], tmp_path / "copy.bag", [laser])
+    assert not (tmp_path / "copy.bag").exists()
+
+
+def _readme_api() -> Iterator[str]:
+    text = (REPO / "README.md").read_text()
+    section = text.split("\n## Python API\n", 1)[1].split("\n## ", 1)[0]
+    yield section.split("```python\n", 1)[1].split("```", 1)[0]
+
+
+@pytest.mark.parametrize("code", list(_readme_api()))
+def test_the_readmes_api_examples_run(code: str, capsys: pytest.CaptureFixture[str], monkeypatch: Any) -> None:
+    monkeypatch.chdir(REPO)
+    exec(compile(code, "README.md", "exec"), {})
+    assert capsys.readouterr().out.split() == ["18", "28", "17", "False", "False", "0"]

@@ -1,0 +1,86 @@
+"""``tfx diff``'s work: two trees, each read from a recording, a tree file or a URDF, compared (``compare``: the
+one definition of "differs")."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from tftools.analysis.description import described_differences, description_shape
+from tftools.analysis.diff import Difference, compare
+from tftools.analysis.expected import Tolerances, TreeShape, shape_of
+from tftools.analysis.tree_file import read_tree
+from tftools.core.semantics import Semantics
+from tftools.sources.recording import Recording, read_recording
+from tftools.sources.storage.locations import METADATA, is_url
+from tftools.sources.urdf import read_urdf
+
+#: Reads the paths of a recording (``read_recording`` by default, or one that shows progress).
+Read = Callable[[Sequence[str]], Recording]
+
+
+@dataclass(frozen=True)
+class TreeDiff:
+    """Trees ``a`` and ``b``, what differs between them beyond ``tolerances``."""
+
+    a: TreeShape
+    b: TreeShape
+    differences: list[Difference]
+    tolerances: Tolerances
+
+
+def diff_trees(
+    first: str,
+    second: str,
+    *,
+    translation_mm: float | None = None,
+    rotation_deg: float | None = None,
+    rate_percent: float | None = None,
+    topics: Sequence[str] | None = None,
+    semantics: Semantics | None = None,
+    read: Read | None = None,
+) -> TreeDiff:
+    """``tfx diff FIRST SECOND``: where the trees of two locations differ. Each is a recording (path or URL),
+    a tree file (``.yaml``, ``tfx wtf --init``'s) or a URDF (``.urdf``: fixed joints as static edges at their
+    origins; the frames above the robot and rates are no difference from it). The tolerances are a tree
+    file's (FIRST's, else SECOND's), else the defaults, those given here instead."""
+    read = read or (lambda paths: read_recording(paths, topics, semantics=semantics))
+    robots = {location: read_urdf(location) for location in (first, second) if is_urdf(location)}
+    a, b = (
+        description_shape(robots[location]) if location in robots else _shape(location, read)
+        for location in (first, second)
+    )
+    base = a.tolerances if is_tree_file(first) else b.tolerances  # a recording's are the defaults
+    tolerances = overridden(base, translation_mm, rotation_deg, rate_percent)
+    differences = compare(a, b, tolerances)
+    for location, other in ((first, b), (second, a)):
+        if location in robots:  # the frames above a robot (odom, map) are no difference from its URDF
+            differences = described_differences(differences, robots[location], other)
+    return TreeDiff(a, b, differences, tolerances)
+
+
+def overridden(
+    base: Tolerances,
+    translation_mm: float | None = None,
+    rotation_deg: float | None = None,
+    rate_percent: float | None = None,
+) -> Tolerances:
+    """``base`` with the tolerances given (not None) instead; a ``ValueError`` for one that is no tolerance."""
+    given = {"translation_mm": translation_mm, "rotation_deg": rotation_deg, "rate_percent": rate_percent}
+    return dataclasses.replace(base, **{k: v for k, v in given.items() if v is not None})
+
+
+def is_tree_file(location: str) -> bool:
+    """A local YAML file other than a rosbag2 bag's own ``metadata.yaml``."""
+    path = Path(location)
+    return not is_url(location) and path.suffix in (".yaml", ".yml") and path.name != METADATA
+
+
+def is_urdf(location: str) -> bool:
+    return not is_url(location) and Path(location).suffix in (".urdf", ".xacro")
+
+
+def _shape(location: str, read: Read) -> TreeShape:
+    return read_tree(Path(location)) if is_tree_file(location) else shape_of(read([location]))

@@ -1,0 +1,167 @@
+"""``tfx static``'s work: static transforms made from static_transform_publisher's numbers and checked as tf2
+wants them, then published (``publish_static``, through ``open_static_broadcaster``), added to a copy of a bag
+(``add_static``), or a bag's own made safe to replay (``repair_static``). The input bag is never modified."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from tftools.core.errors import UsageError
+from tftools.core.frames import frame_name
+from tftools.core.transform import Transform
+from tftools.sources.errors import NoTransformsError
+from tftools.sources.storage.locations import METADATA, is_url
+
+if TYPE_CHECKING:
+    from tftools.sinks.broadcaster import StaticBroadcaster
+    from tftools.sources.live.notices import OnNotice
+
+
+def static_transform(values: Sequence[float], frame: str, child: str, *, degrees: bool = False) -> Transform:
+    """static_transform_publisher's numbers as a transform from ``frame`` to ``child``: ``x y z yaw pitch roll``
+    (radians, or ``degrees``) or ``x y z qx qy qz qw``; not yet ``checked``."""
+    if len(values) == 6:
+        x, y, z, yaw, pitch, roll = values
+        roll, pitch, yaw = (math.radians(angle) if degrees else angle for angle in (roll, pitch, yaw))
+        return Transform.from_rpy((x, y, z), (roll, pitch, yaw), 0, frame, child)
+    if len(values) == 7:
+        x, y, z, qx, qy, qz, qw = values
+        return Transform((x, y, z), (qx, qy, qz, qw), 0, frame, child)
+    raise ValueError(f"{len(values)} numbers: expected 6 (x y z yaw pitch roll) or 7 (x y z qx qy qz qw)")
+
+
+def checked(t: Transform) -> Transform:
+    """``t`` as tf2 wants it: frames named by tf2's rule (``frame_name``), two different ones, finite numbers,
+    the quaternion normalized (tf2 would refuse a denormalized one); else a ``UsageError``."""
+    frame, child = frame_name(t.frame_id), frame_name(t.child_frame_id)
+    if not frame or not child:
+        raise UsageError("frame ids cannot be empty", f"got {t.frame_id!r} -> {t.child_frame_id!r}")
+    if frame == child:
+        raise UsageError(f"the frame and the child frame are the same ({frame}): this cannot work", "name two frames")
+    values = (*t.translation, *t.rotation)
+    if not all(math.isfinite(v) for v in values):
+        raise UsageError(f"{frame} -> {child}: not a finite number in {values}", "check the numbers")
+    norm = math.sqrt(sum(q * q for q in t.rotation))
+    if norm < 1e-9:
+        raise UsageError(f"{frame} -> {child}: the quaternion is zero", "the identity is qx 0 qy 0 qz 0 qw 1")
+    return Transform(t.translation, tuple(q / norm for q in t.rotation), 0, frame, child)  # type: ignore[arg-type]
+
+
+def copyable(bag: str) -> None:
+    """A ``UsageError`` unless ``bag`` is a recording tfx can copy with transforms added: a ROS 1 .bag or a
+    ROS 2 bag directory, not one of the directory's files, nor a bare .mcap or .db3 file (a URL is judged
+    once fetched)."""
+    path = Path(bag)
+    if is_url(bag) or not path.is_file() or path.suffix not in (".mcap", ".db3"):
+        return
+    if (path.parent / METADATA).is_file():
+        raise UsageError(
+            f"-b {bag} is a file of the ROS 2 bag {path.parent}",
+            f"give the bag's directory, and a directory for the copy: -b {path.parent} -o OUTPUT",
+        )
+    raise UsageError(
+        f"-b {bag}: tfx static copies ROS 1 .bag files and ROS 2 bag directories, not a bare {path.suffix} file",
+        "make it a ROS 2 bag first: put it alone in a folder and run ros2 bag reindex FOLDER, then -b FOLDER",
+    )
+
+
+def add_static(bag: str, output: str | Path, transforms: Sequence[Transform], *, force: bool = False) -> Path:
+    """``tfx static ... -b BAG -o OUTPUT``: write ``output``, a copy of ``bag`` (a path or URL: a ROS 1 .bag or
+    a ROS 2 bag directory) with ``transforms`` (``checked``) added on /tf_static at its start. A frame the bag
+    already has is refused (tf2 would see two values for it); so is an existing ``output`` unless ``force``.
+    Returns the copy."""
+    from tftools.sinks.static_bag import add_static_transforms
+    from tftools.sources.storage import local_recording
+
+    added = [checked(t) for t in transforms]
+    copyable(bag)
+    with local_recording(bag) as local:
+        _refuse_present(local, added)
+        return add_static_transforms(local, output, added, force=force)
+
+
+def repair_static(bag: str, output: str | Path, *, force: bool = False) -> tuple[Path, list[Transform]]:
+    """``tfx static --repair -b BAG -o OUTPUT``: write ``output``, a copy of ``bag`` whose own static transforms
+    are complete, durable (latched / transient local) and repeated through it (``repair_static_transforms``).
+    Returns the copy and those transforms."""
+    from tftools.sinks.static_bag import repair_static_transforms
+    from tftools.sources.storage import local_recording
+
+    copyable(bag)
+    with local_recording(bag) as local:
+        return repair_static_transforms(local, output, force=force)
+
+
+def _refuse_present(bag: Path, transforms: Sequence[Transform]) -> None:
+    """Refuse a transform whose child frame the bag already has: tf2 would see two values (or two
+    parents) for it, and tfx wtf would fail the copy."""
+    from tftools.sources.recording import read_recording
+
+    try:
+        buffer = read_recording([bag]).buffer
+    except NoTransformsError:
+        return
+    given = {t.child_frame_id for t in transforms}
+    for child, history in buffer.histories():
+        if child not in given:
+            continue
+        parents = sorted({buffer.frame_name(p) for p in history.parents.tolist()})
+        kind = "a static transform" if history.static else "a moving transform"
+        wanted = next(t for t in transforms if t.child_frame_id == child)
+        raise UsageError(
+            f"{bag} already has {child}, {kind} of {', '.join(parents)}: adding {wanted.frame_id} -> {child} "
+            "would give tf2 two values for it, and tfx wtf would fail the copy",
+            f"add only frames the bag lacks: tfx frames -b {bag} lists its own",
+        )
+
+
+def open_static_broadcaster(
+    ros: str | None = None, *, master_uri: str | None = None, on_notice: OnNotice | None = None
+) -> StaticBroadcaster:
+    """A static transform publisher on the system ``choose_ros`` picks (ROS1: a node registered
+    with the master at ``master_uri`` or ``ROS_MASTER_URI``, latched ``/tf_static``; ROS2: a DDS
+    writer on ``rt/tf_static``, transient local, keep last 1)."""
+    from tftools.sources.live import choose_ros
+
+    chosen = "ros1" if master_uri else choose_ros(ros)
+    if chosen == "ros2":
+        from tftools.sources.live.ros2 import require_cyclonedds
+
+        require_cyclonedds()
+        from tftools.sinks.ros2_broadcaster import Ros2StaticBroadcaster
+
+        return Ros2StaticBroadcaster(on_notice)
+    from tftools.sinks.ros1_broadcaster import Ros1StaticBroadcaster
+
+    return Ros1StaticBroadcaster(master_uri, on_notice)
+
+
+def publish_static(
+    transforms: Sequence[Transform],
+    ros: str | None = None,
+    duration: float | None = None,
+    *,
+    on_notice: OnNotice | None = None,
+    on_start: Callable[[str], None] | None = None,
+) -> None:
+    """``tfx static``: publish ``transforms`` (``checked``), stamped now, in one latched
+    /tf_static message (ROS 1) or transient local (ROS 2) on the system ``open_static_broadcaster`` picks,
+    for ``duration`` seconds (None: until Ctrl-C) or until the broadcaster stops. ``on_start`` is told to whom
+    once they are sent."""
+    sent = [checked(t) for t in transforms]
+    stamp = time.time_ns()
+    with open_static_broadcaster(ros, on_notice=on_notice) as broadcaster:
+        broadcaster.send([replace(t, stamp=stamp) for t in sent])
+        if on_start is not None:
+            on_start(broadcaster.describe())
+        deadline = None if duration is None else time.monotonic() + duration
+        try:
+            while not broadcaster.finished and (deadline is None or time.monotonic() < deadline):
+                time.sleep(0.1)
+        except KeyboardInterrupt:
+            pass
