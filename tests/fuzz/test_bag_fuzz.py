@@ -195,13 +195,14 @@ YAML_PIECES = [
 
 def test_metadata_yaml(tmp_path: Path) -> None:
     from tftools.sources.bag import rosbag2
+    from tftools.sources.storage.source import LocalFiles
 
     @FUZZ
     @given(st.lists(st.sampled_from(YAML_PIECES) | st.text(max_size=40), max_size=12))
     def check(lines: list[str]) -> None:
         (tmp_path / "metadata.yaml").write_text("\n".join(lines), "utf-8", "surrogatepass")
         problems: list[str] = []
-        rosbag2._metadata(tmp_path / "metadata.yaml", problems)
+        rosbag2._metadata(tmp_path / "metadata.yaml", LocalFiles(tmp_path), problems)
         assert all("\n" not in p for p in problems)
 
     check()

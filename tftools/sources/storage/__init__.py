@@ -7,11 +7,18 @@ import os
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING
 
+from tftools import lazy
 from tftools.sources.storage.locations import BAG_SUFFIXES, expand_local, is_url, recordings_in
-from tftools.sources.storage.source import ByteSource, Files, LocalFiles
+
+if TYPE_CHECKING:
+    from tftools.sources.storage.source import ByteSource, Files
 
 __all__ = ["BAG_SUFFIXES", "ByteSource", "Files", "expand", "is_url", "local_recording", "open_files", "recordings_in"]
+
+# The byte sources (numpy) load on first use: the CLI's option parsing and --help import this package.
+__getattr__, __dir__ = lazy.exports(__name__, dict.fromkeys(["ByteSource", "Files"], f"{__name__}.source"), __all__)
 
 
 def expand(arguments: Sequence[str | os.PathLike[str]]) -> list[str]:
@@ -35,6 +42,8 @@ def expand(arguments: Sequence[str | os.PathLike[str]]) -> list[str]:
 def open_files(location: str | os.PathLike[str]) -> Files:
     """The files of the recording at ``location`` (a path or a URL), to be read by range."""
     if not is_url(location):
+        from tftools.sources.storage.source import LocalFiles
+
         return LocalFiles(Path(location))
     from tftools.sources.storage.remote import RemoteFiles  # fsspec loads only for a URL
 
