@@ -15,7 +15,7 @@ import pytest
 
 from tests.cli.conftest import tfx  # noqa: F401 - a fixture
 from tests.cli.test_filter import bags  # noqa: F401 - a fixture
-from tftools.sources import yaml_input
+from tftools.sources import user_files
 from tftools.sources.bag.reader import BagReader
 from tftools.sources.storage import remote
 from tftools.sources.storage.source import ByteSource
@@ -38,7 +38,7 @@ class Counted:
         self.passes = 0
         self.metadata = 0
         self.fetched: list[tuple[str, int, int]] = []
-        opened, read, load, fill = ByteSource.__init__, BagReader.read, yaml_input.load, remote.RemoteCopy._fetch
+        opened, read, load, fill = ByteSource.__init__, BagReader.read, user_files.load, remote.RemoteCopy._fetch
 
         def counted_open(source: ByteSource, path: Path) -> None:
             self.opened[path.name] += 1
@@ -58,7 +58,7 @@ class Counted:
 
         monkeypatch.setattr(ByteSource, "__init__", counted_open)
         monkeypatch.setattr(BagReader, "read", counted_read)
-        monkeypatch.setattr(yaml_input, "load", counted_load)
+        monkeypatch.setattr(user_files, "load", counted_load)
         monkeypatch.setattr(remote.RemoteCopy, "_fetch", counted_fetch)
 
 

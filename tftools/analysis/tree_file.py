@@ -24,7 +24,7 @@ from typing import IO, Any
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, quat_from_rpy, rpy_from_quat
-from tftools.sources.yaml_input import NotAFileError, YamlInputError, load
+from tftools.sources.user_files import NotAFileError, UserFileError, load, number
 
 _FRAME_KEYS = ("parent", "static", "rate_hz", "publishers", "translation", "rpy_deg", "rotation")
 _HEADER = """\
@@ -89,7 +89,7 @@ def read_tree(path: str | os.PathLike[str]) -> TreeShape:
     except NotAFileError as error:
         hint = f"{error.hint}; tfx wtf --init BAG > tree.yaml writes one"
         raise TreeFileError(name, str(error), hint) from None
-    except YamlInputError as error:
+    except UserFileError as error:
         raise TreeFileError(name, f"cannot be read: {error}") from None
     if not isinstance(document, Mapping) or not isinstance(document.get("frames"), Mapping):
         raise TreeFileError(name, "has no 'frames:' mapping of frame names")
@@ -165,6 +165,4 @@ def _numbers(what: str, values: Any, count: int) -> list[float]:
 
 
 def _number(what: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise ValueError(f"{what}: {value!r} is not a finite number")
-    return float(value)
+    return number(value, what, text=False)

@@ -21,6 +21,7 @@ from tftools.core.frames import frame_name
 from tftools.render.escape import printable
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.storage.locations import METADATA, is_url
+from tftools.sources.user_files import number
 
 if TYPE_CHECKING:  # the transforms, readers and writers load when used: --help needs none of them
     from tftools.core.transform import Transform
@@ -186,15 +187,17 @@ def _positional(arguments: list[str], degrees: bool = False) -> Transform:
 
 def _is_number(text: str) -> bool:
     try:
-        return math.isfinite(float(text))
+        number(text)
     except ValueError:
         return False
+    return True
 
 
 def _number(text: str) -> float:
-    if not _is_number(text):
-        raise UsageError(f"{text!r} is not a number", "x y z and angles in meters and radians, e.g. 0.1 or -1.57")
-    return float(text)
+    try:
+        return number(text)
+    except ValueError as error:
+        raise UsageError(str(error), "x y z and angles in meters and radians, e.g. 0.1 or -1.57") from None
 
 
 def _checked(t: Transform) -> Transform:

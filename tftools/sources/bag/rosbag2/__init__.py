@@ -11,7 +11,7 @@ from pathlib import Path, PurePosixPath
 from typing import TYPE_CHECKING, Any
 
 from tftools.core.batch import TransformBatch
-from tftools.sources import yaml_input
+from tftools.sources import user_files
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow, in_turn
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileScan, file_result
@@ -178,12 +178,12 @@ def _qos(path: Path, info: dict[str, Any] | None, problems: list[str]) -> Offere
         for entry in info.get("topics_with_message_count") or []:
             topic = entry["topic_metadata"]
             profiles = topic.get("offered_qos_profiles") or []
-            offered = list(yaml_input.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
+            offered = list(user_files.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
             counts[str(topic["name"])] = (int(entry.get("message_count") or 0), len(offered))
             if is_static_topic(str(topic["name"])):
                 found[str(topic["name"])] = offered
         return OfferedQos(found, counts=counts)
-    except (yaml_input.YamlInputError, KeyError, TypeError, ValueError, AttributeError) as error:
+    except (user_files.UserFileError, KeyError, TypeError, ValueError, AttributeError) as error:
         return OfferedQos({}, str(error) or type(error).__name__)
 
 
@@ -191,8 +191,8 @@ def _metadata(path: Path, problems: list[str]) -> dict[str, Any] | None:
     if not _exists(path):
         return None
     try:
-        document = yaml_input.load(path)
-    except yaml_input.YamlInputError as e:
+        document = user_files.load(path)
+    except user_files.UserFileError as e:
         problems.append(f"metadata.yaml is unreadable ({e}), read the bag files found instead")
         return None
     info = document.get("rosbag2_bagfile_information") if isinstance(document, dict) else None
