@@ -36,11 +36,12 @@ from typing import Final, Literal
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, chain_edges, rate_hz, silence_limit, sorted_unique
+from tftools.analysis.edges import Edge, chain_edges, sorted_unique
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
+from tftools.core.figures import rate_hz, silence_limit
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
