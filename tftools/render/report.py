@@ -236,7 +236,7 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
     for row, s in enumerate(streams):
         r = s.report
         lost = f", {r.never} lost ({', '.join(f'{n} {why}' for why, n in r.reasons.items())})" if r.never else ""
-        wait = f" (wait p50 {r.wait_s['p50']:.3f} s, p99 {r.wait_s['p99']:.3f} s)" if r.later else ""
+        wait = f" (wait p50 {seconds(r.wait['p50']):.3f} s, p99 {seconds(r.wait['p99']):.3f} s)" if r.later else ""
         open_ = sum(r.undecided.values())
         undecided = f", {open_} undecided ({', '.join(f'{n} {w}' for w, n in r.undecided.items())})" if open_ else ""
         about = (
