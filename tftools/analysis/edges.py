@@ -12,7 +12,7 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.buffer import Buffer
-from tftools.core.figures import longest_interval, mean_max, rate_of
+from tftools.core.figures import jitter, longest_interval, mean_max, rate_of
 from tftools.core.history import EdgeHistory
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
@@ -238,7 +238,7 @@ def _edge(
         first_stamp=int(stamps.min()),
         last_stamp=int(stamps.max()),
         rate_hz=rate_of(stamps) if dynamic else 0.0,
-        jitter=float(np.std(np.diff(stamps))) if dynamic and len(stamps) > 1 else 0.0,
+        jitter=jitter(stamps) if dynamic else 0.0,
         longest_interval=longest if dynamic else 0,
         longest_interval_start=longest_start,
         delay_mean=delay_mean,

@@ -119,14 +119,14 @@ def _hull(spans: Sequence[tuple[int, int]]) -> tuple[int, int] | None:
 
 
 def edge_timelines(
-    buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int, keys: Sequence[tuple[str, str]] | None = None
+    buffer: Buffer, timeline: Timeline, bins: Bins, pause_floor: int, keys: Sequence[tuple[str, str]] | None = None
 ) -> list[EdgeTimeline]:
     """Every edge's timeline (static ones too, flat), in the order of ``keys`` when given (edges not
-    among them left out); its pauses are those longer than ``gap_floor`` ns (``figures.pauses``)."""
+    among them left out); its pauses are those longer than ``pause_floor`` ns (``figures.pauses``)."""
     found = {}
     for parent, child, hist, mine in edge_rows(buffer):
         near = tuple(c for c in _reparentings(buffer, child, hist, timeline) if parent in (c.before, c.after))
-        found[(parent, child)] = _timeline(parent, child, hist, mine, timeline, bins, gap_floor, near)
+        found[(parent, child)] = _timeline(parent, child, hist, mine, timeline, bins, pause_floor, near)
     return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
 
 
@@ -145,7 +145,7 @@ def _timeline(
     mine: BoolArray,
     timeline: Timeline,
     bins: Bins,
-    gap_floor: int,
+    pause_floor: int,
     reparentings: tuple[Reparenting, ...],
 ) -> EdgeTimeline:
     """The timeline of ``hist``'s samples ``mine`` (those under ``parent``)."""
@@ -158,7 +158,7 @@ def _timeline(
     where = bins.index(axis)
     samples = np.bincount(where, minlength=bins.count).astype(np.int64)
     mean, largest = _delays(timeline, child, hist, mine, where, bins.count)
-    _, _, paused = pause_rows(stamps, gap_floor)
+    _, _, paused = pause_rows(stamps, pause_floor)
     spans = tuple((int(axis[i]), int(axis[i + 1])) for i in paused.tolist())
     at_arrival = child in timeline.off_reference
     rate = local_rate(axis, bins)
@@ -260,7 +260,7 @@ def edge_series(
     span = edge_axis(buffer, timeline)
     bins = bins_over(span[0] if start is None else start, span[1] if end is None else end)
     middles = bins.edges()[:-1] + bins.width // 2
-    edges = edge_timelines(buffer, timeline, bins, gap_floor=0, keys=keys)
+    edges = edge_timelines(buffer, timeline, bins, pause_floor=0, keys=keys)
     return [EdgeSeries(e.parent, e.child, middles, e.rate_hz, e.delay_mean) for e in edges if not e.static]
 
 

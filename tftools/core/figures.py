@@ -36,6 +36,11 @@ def period(intervals: Int64Array) -> int:
     return int(np.median(intervals)) if len(intervals) else 0
 
 
+def jitter(stamps: Int64Array) -> float:
+    """How irregular sorted ``stamps`` are (ns): the standard deviation of their intervals; 0 for fewer than two."""
+    return float(np.std(np.diff(stamps))) if len(stamps) > 1 else 0.0
+
+
 def silence_limit(rate: float, floor: int = 0) -> float:
     """How long (ns) a stream at ``rate`` Hz may be silent and still be publishing: ``PERIODS`` of its
     periods, and at least ``floor``."""

@@ -88,7 +88,7 @@ def _edges_table(edges: Sequence[EdgeStats], compact: bool) -> Table:
     numbers = ("Samples", _RATE, "Jitter\n(s)", "Largest\ngap (s)", _DELAY_MEAN, _DELAY_MAX)
     table = _table("Frames:", ("Parent", "Frame", "published\nby"), numbers, (), compact)
     for e in edges:
-        late_gap = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
+        long_interval = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
         table.add_row(
             Text(printable(e.parent)),
             Text(printable(e.child), style="bold"),
@@ -96,7 +96,7 @@ def _edges_table(edges: Sequence[EdgeStats], compact: bool) -> Table:
             str(e.count),
             Text("static", style="cyan") if e.static else f"{e.rate_hz:.2f}",
             "" if e.static else _sec(e.jitter),
-            "" if e.static else Text(_sec(e.longest_interval), style="yellow" if late_gap else ""),
+            "" if e.static else Text(_sec(e.longest_interval), style="yellow" if long_interval else ""),
             "" if e.static else _sec(e.delay_mean),
             "" if e.static else _sec(e.delay_max),
         )
