@@ -105,7 +105,7 @@ def _tolerances(entry: Any) -> Tolerances:
     if not isinstance(entry, Mapping):
         raise TypeError("tolerances: expected a mapping")
     _known_keys("tolerances", entry, Tolerances.__dataclass_fields__)
-    return Tolerances(**{str(k): _number(f"tolerances: {k}", v) for k, v in entry.items()})
+    return Tolerances(**{str(k): number(v, f"tolerances: {k}", text=False) for k, v in entry.items()})
 
 
 def _frame(name: str, entry: Any) -> FrameShape:
@@ -121,7 +121,7 @@ def _frame(name: str, entry: Any) -> FrameShape:
     if publishers is not None and not isinstance(publishers, list):
         raise TypeError(f"frame {name}: publishers is a list")
     translation, rotation = _value(name, entry)
-    rate = _number(f"frame {name}: rate_hz", entry.get("rate_hz", 0.0))
+    rate = number(entry.get("rate_hz", 0.0), f"frame {name}: rate_hz", text=False)
     if rate < 0:
         raise ValueError(f"frame {name}: rate_hz {rate} is below 0")
     return FrameShape(
@@ -161,8 +161,4 @@ def _value(name: str, entry: Mapping[str, Any]) -> tuple[Vec3 | None, Quat | Non
 def _numbers(what: str, values: Any, count: int) -> list[float]:
     if not isinstance(values, list) or len(values) != count:
         raise ValueError(f"{what}: expected a list of {count} numbers")
-    return [_number(what, v) for v in values]
-
-
-def _number(what: str, value: Any) -> float:
-    return number(value, what, text=False)
+    return [number(v, what, text=False) for v in values]
