@@ -81,7 +81,7 @@ def test_a_message_older_than_the_cache_when_it_arrives_is_dropped_at_once() -> 
     np.testing.assert_array_equal(fates.left, stream.record_time)  # dropped inside add(): never queued
     report = filter_report(buffer, [stream], "odom").streams[0]
     assert (report.never, report.reasons, report.undecided) == (56, {"too_old_on_arrival": 56}, {})
-    assert report.cache_needed_s == 15.0  # 12 s behind: a 15 s cache keeps them
+    assert report.cache_needed == 15 * NS_PER_S  # 12 s behind: a 15 s cache keeps them
 
 
 def test_the_waiters_of_a_tf_publisher_that_died_never_pass() -> None:

@@ -66,9 +66,9 @@ def test_each_stream_gets_the_reason_a_ros_user_would_see(recordings: dict[str, 
     # stamp: each scan needs the next one, 50 ms on. The last scan's would have come after the recording.
     assert (scan.later, scan.never, scan.reasons) == (599, 0, {})
     assert scan.undecided == {Fate.AFTER_RECORDED_TF.reason: 1}
-    assert scan.wait_s["p50"] == pytest.approx(0.068) and scan.late_edge == ("base_link", "laser")
+    assert scan.wait["p50"] == pytest.approx(0.068 * NS_PER_S) and scan.late_edge == ("base_link", "laser")
     assert (imu.on_arrival, imu.never) == (2998, 0)  # the last two: stamped past the last odometry recorded
     assert camera.reasons == {Fate.UNKNOWN_FRAME.reason: 150} and camera.never == 150
     assert points.reasons == {Fate.TOO_OLD_ON_ARRIVAL.reason: 30}  # dropped by add() itself
     assert points.undecided == {}
-    assert points.cache_needed_s == 15.0  # 12 s behind the newest transform
+    assert points.cache_needed == 15 * NS_PER_S  # 12 s behind the newest transform

@@ -26,6 +26,7 @@ from tftools.analysis.edges import EdgeStats
 from tftools.analysis.monitor import MonitorReport, monitor
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
+from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
@@ -51,32 +52,32 @@ def _check_edges_against_truth(report: MonitorReport, truth_scene: Scene) -> Non
         span_s = (t.stamps[-1] - t.stamps[0]) / NS_PER_S
         assert e.rate_hz == pytest.approx((len(t.stamps) - 1) / span_s, rel=1e-9)
         intervals = [b - a for a, b in itertools.pairwise(t.stamps)]
-        assert e.jitter_s == pytest.approx(statistics.pstdev(intervals) / NS_PER_S, rel=1e-6)
-        assert e.gap_max_s == pytest.approx(max(intervals) / NS_PER_S, abs=1e-9)
-        assert e.delay_mean_s == pytest.approx(statistics.mean(t.delays) / NS_PER_S, rel=1e-9)
-        assert e.delay_max_s == pytest.approx(max(t.delays) / NS_PER_S, abs=1e-9)
+        assert seconds(e.jitter) == pytest.approx(statistics.pstdev(intervals) / NS_PER_S, rel=1e-6)
+        assert seconds(e.longest_interval) == pytest.approx(max(intervals) / NS_PER_S, abs=1e-9)
+        assert seconds(e.delay_mean) == pytest.approx(statistics.mean(t.delays) / NS_PER_S, rel=1e-9)
+        assert seconds(e.delay_max) == pytest.approx(max(t.delays) / NS_PER_S, abs=1e-9)
         assert (e.first_stamp, e.last_stamp) == (t.stamps[0], t.stamps[-1])
         if child != "odom":  # the hole lowers the localizer's average rate
             assert e.rate_hz == pytest.approx(t.hz, rel=0.01)
     laser = edges["laser"]
     assert (laser.parent, laser.static, laser.rate_hz) == ("base_link", True, 0.0)
-    assert math.isnan(laser.delay_mean_s) and math.isnan(laser.delay_max_s)
+    assert math.isnan(laser.delay_mean) and math.isnan(laser.delay_max)
 
 
 def _check_designed_effects(report: MonitorReport) -> None:
     """The effects the scene was built with, in the units a user reads."""
     edges = _by_child(report)
     # Stamp noise of sigma on each stamp spreads the intervals by sigma * sqrt(2).
-    assert edges["base_link"].jitter_s == pytest.approx(JITTER_SIGMA * math.sqrt(2) / NS_PER_S, rel=0.15)
-    assert edges["wheel"].jitter_s < 1e-9  # a perfect clock
+    assert seconds(edges["base_link"].jitter) == pytest.approx(JITTER_SIGMA * math.sqrt(2) / NS_PER_S, rel=0.15)
+    assert seconds(edges["wheel"].jitter) < 1e-9  # a perfect clock
     hole = edges["odom"]
-    assert hole.gap_max_s == pytest.approx((DROP[1] - DROP[0] + 50 * MS) / NS_PER_S, abs=1e-6)
-    assert DROP[0] - 50 * MS <= hole.gap_start - START < DROP[0]
+    assert seconds(hole.longest_interval) == pytest.approx((DROP[1] - DROP[0] + 50 * MS) / NS_PER_S, abs=1e-6)
+    assert DROP[0] - 50 * MS <= hole.longest_interval_start - START < DROP[0]
     assert hole.rate_hz == pytest.approx(20 * (1 - 2.5 / 30), rel=0.01)  # 50 samples missing of 600
     lagging = edges["camera"]
-    assert LAG[0] / NS_PER_S <= lagging.delay_mean_s <= (LAG[0] + LAG[1]) / NS_PER_S
-    assert lagging.delay_mean_s == pytest.approx((LAG[0] + LAG[1] / 2) / NS_PER_S, abs=0.004)
-    assert all(edges[c].delay_max_s < 0.004 for c in ("base_link", "odom", "wheel"))
+    assert LAG[0] / NS_PER_S <= seconds(lagging.delay_mean) <= (LAG[0] + LAG[1]) / NS_PER_S
+    assert seconds(lagging.delay_mean) == pytest.approx((LAG[0] + LAG[1] / 2) / NS_PER_S, abs=0.004)
+    assert all(seconds(edges[c].delay_max) < 0.004 for c in ("base_link", "odom", "wheel"))
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
@@ -102,8 +103,8 @@ def test_publishers_rates_delays_and_edges(truth_scene: Scene) -> None:
         else:
             assert p.edges == ((t.parent, t.child),)
             assert p.messages == len(records)
-        assert p.delay_mean_s == pytest.approx(statistics.mean(t.delays) / NS_PER_S, rel=1e-9)
-        assert p.delay_max_s == pytest.approx(max(t.delays) / NS_PER_S, abs=1e-9)
+        assert seconds(p.delay_mean) == pytest.approx(statistics.mean(t.delays) / NS_PER_S, rel=1e-9)
+        assert seconds(p.delay_max) == pytest.approx(max(t.delays) / NS_PER_S, abs=1e-9)
 
 
 def test_two_publishers_of_one_edge_are_both_named() -> None:
@@ -153,11 +154,11 @@ def test_chain_and_its_delay_match_latest_lookups(truth_scene: Scene) -> None:
     assert [e.key for e in chain.edges] == [("base_link", "camera"), ("odom", "base_link"), ("map", "odom")]
     grid = np.arange(begin, truth_scene.end, MS // 2)
     expected = _chain_delay_by_lookups(buffer, truth_scene.messages, "map", "camera", grid)
-    assert chain.delay_mean_s == pytest.approx(expected.mean(), rel=0.002)
-    assert expected.max() <= chain.delay_max_s <= expected.max() + 0.0005
+    assert seconds(chain.delay_mean) == pytest.approx(expected.mean(), rel=0.002)
+    assert expected.max() <= seconds(chain.delay_max) <= expected.max() + 0.0005
     # The camera lags 250+ ms: it holds the chain back, except across the localizer's hole.
     assert chain.limiting == ("base_link", "camera")
-    assert chain.delay_max_s == pytest.approx((DROP[1] - DROP[0] + 50 * MS) / NS_PER_S, abs=0.005)
+    assert seconds(chain.delay_max) == pytest.approx((DROP[1] - DROP[0] + 50 * MS) / NS_PER_S, abs=0.005)
 
 
 def test_chain_delay_over_a_window(truth_scene: Scene) -> None:
@@ -167,14 +168,14 @@ def test_chain_delay_over_a_window(truth_scene: Scene) -> None:
     assert chain is not None
     grid = np.arange(start, end, MS // 2)
     expected = _chain_delay_by_lookups(buffer, truth_scene.messages, "odom", "wheel", grid)
-    assert chain.delay_mean_s == pytest.approx(expected.mean(), rel=0.002)
-    assert chain.delay_max_s == pytest.approx(expected.max(), abs=0.0006)
+    assert seconds(chain.delay_mean) == pytest.approx(expected.mean(), rel=0.002)
+    assert seconds(chain.delay_max) == pytest.approx(expected.max(), abs=0.0006)
 
 
 def test_a_static_chain_never_goes_stale(truth_scene: Scene) -> None:
     chain = monitor(scene_buffer(truth_scene.messages), "base_link", "laser").chain
     assert chain is not None and chain.frames == ("laser", "base_link")
-    assert math.isnan(chain.delay_mean_s) and math.isnan(chain.delay_max_s) and chain.limiting is None
+    assert math.isnan(chain.delay_mean) and math.isnan(chain.delay_max) and chain.limiting is None
 
 
 def test_unconnected_frames_raise_tf2s_error() -> None:

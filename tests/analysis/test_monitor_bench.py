@@ -10,6 +10,7 @@ import pytest
 from tftools.analysis.monitor import monitor
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
+from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, SimClock
 
 START = 1_700_000_000 * NS_PER_S
@@ -45,4 +46,4 @@ def test_twenty_minutes_of_ten_edges(capsys: pytest.CaptureFixture[str]) -> None
         print(f"\nmonitor with a 10-edge chain over {rows} transforms: {took * 1000:.0f} ms")
     assert [round(e.rate_hz, 6) for e in report.edges] == RATES
     assert report.chain is not None and report.chain.limiting == ("l0", "l1")  # the 10 Hz edge
-    assert report.chain.delay_max_s == pytest.approx(0.1 + 0.002, abs=1e-9)
+    assert seconds(report.chain.delay_max) == pytest.approx(0.1 + 0.002, abs=1e-9)

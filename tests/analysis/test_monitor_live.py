@@ -11,6 +11,7 @@ from tests.analysis.monitor_scenes import START, Scene, scene, scene_buffer
 from tests.sources.test_replay import FakeTime, HandDriven
 from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor
 from tftools.core.batch import BatchBuilder, TransformBatch
+from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S
 from tftools.render import monitor as render
 from tftools.sources.replay import Replay, follow
@@ -59,22 +60,24 @@ def test_each_refresh_shows_its_windows_numbers(rate: float) -> None:
         assert [(e.key, e.count) for e in report.edges] == [(e.key, e.count) for e in expected.edges]
         for ours, theirs in zip(report.edges, expected.edges, strict=True):
             assert ours.rate_hz == pytest.approx(theirs.rate_hz, rel=1e-12, nan_ok=True)
-            assert ours.delay_max_s == pytest.approx(theirs.delay_max_s, rel=1e-12, nan_ok=True)
-            assert ours.gap_max_s == pytest.approx(theirs.gap_max_s, rel=1e-12)
+            assert ours.delay_max == pytest.approx(theirs.delay_max, rel=1e-12, nan_ok=True)
+            assert ours.longest_interval == pytest.approx(theirs.longest_interval, rel=1e-12)
         assert [(a.authority, a.messages) for a in report.authorities] == [
             (a.authority, a.messages) for a in expected.authorities
         ]
         if report.chain is not None:
             chain = monitor(whole, "map", "camera", now - WINDOW, now, by_record_time=True).chain
-            assert chain is not None and report.chain.delay_mean_s == pytest.approx(chain.delay_mean_s, rel=1e-9)
-            assert f"avg = {report.chain.delay_mean_s:.4f}" in text
+            assert chain is not None and seconds(report.chain.delay_mean) == pytest.approx(
+                seconds(chain.delay_mean), rel=1e-9
+            )
+            assert f"avg = {seconds(report.chain.delay_mean):.4f}" in text
         odom = next(e for e in report.edges if e.child == "base_link")
-        assert f"{odom.rate_hz:.2f}" in text and f"{odom.delay_mean_s:.4f}" in text
+        assert f"{odom.rate_hz:.2f}" in text and f"{seconds(odom.delay_mean):.4f}" in text
 
 
 def test_the_hole_shows_while_it_is_in_the_window() -> None:
     refreshes = _play(scene(), 1.0, None, None)
-    gap = {round((now - START) / NS_PER_S): next(e for e in r.edges if e.child == "odom").gap_max_s
+    gap = {round((now - START) / NS_PER_S): seconds(next(e for e in r.edges if e.child == "odom").longest_interval)
            for now, r, _ in refreshes}  # fmt: skip
     assert gap[9] == pytest.approx(0.05, abs=1e-6)  # before the hole (it starts at 10 s)
     assert 1.03 < gap[11] < 1.05  # the silence so far: at once, not when the last sample leaves the window

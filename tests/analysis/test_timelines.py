@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from tests.analysis.wtf_scenes import PROBLEMS, START, healthy, recording, sensor
-from tftools.analysis.edges import edge_gaps, edge_stats
+from tftools.analysis.edges import edge_stats
 from tftools.analysis.filter import filter_report
 from tftools.analysis.monitor import monitor
 from tftools.analysis.timelines import (
@@ -20,6 +20,7 @@ from tftools.analysis.timelines import (
     local_rate,
     stream_timelines,
 )
+from tftools.core.figures import pauses, seconds
 from tftools.core.time import NS_PER_S
 
 MS = 1_000_000
@@ -68,15 +69,15 @@ def test_each_edge_over_time_agrees_with_monitor_and_wtf() -> None:
             continue
         assert timeline.samples.sum() == s.count
         weights = timeline.samples[timeline.samples > 0]
-        delays = timeline.delay_mean_s[timeline.samples > 0]
-        assert np.average(delays, weights=weights) == pytest.approx(s.delay_mean_s)
-        assert np.nanmax(timeline.delay_max_s) == pytest.approx(s.delay_max_s)
+        delays = seconds(timeline.delay_mean)[timeline.samples > 0]
+        assert np.average(delays, weights=weights) == pytest.approx(seconds(s.delay_mean))
+        assert np.nanmax(seconds(timeline.delay_max)) == pytest.approx(seconds(s.delay_max))
     amcl = timelines[("map", "odom")]
     hist = rec.buffer.history("odom")
     assert hist is not None
-    gaps = edge_gaps(hist.stamps, 500 * MS)
-    assert gaps is not None and amcl.gaps == ((gaps.first, gaps.last),)
-    assert timelines[("odom", "base_link")].gaps == ()
+    found = pauses(hist.stamps, 500 * MS)
+    assert found is not None and amcl.pauses == ((found.first, found.last),)
+    assert timelines[("odom", "base_link")].pauses == ()
 
 
 def test_a_frame_on_another_clock_is_placed_at_its_arrival() -> None:
@@ -85,7 +86,7 @@ def test_a_frame_on_another_clock_is_placed_at_its_arrival() -> None:
     assert span is not None and span[0] >= START and span[1] <= START + 11 * NS_PER_S
     timelines = {e.key: e for e in edge_timelines(rec.buffer, rec.timeline, bins_over(*span), 500 * MS)}
     odom = timelines[("odom", "base_link")]
-    assert odom.at_arrival and np.isnan(odom.delay_mean_s).all() and odom.samples.sum() == 500
+    assert odom.at_arrival and np.isnan(odom.delay_mean).all() and odom.samples.sum() == 500
     assert not timelines[("map", "odom")].at_arrival
 
 

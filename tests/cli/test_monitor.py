@@ -12,6 +12,7 @@ from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
 from tests.bags import BagFormat
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.monitor import monitor
+from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, to_sec
 from tftools.sources import read_recording
 
@@ -138,7 +139,7 @@ def test_play_ends_on_the_numbers_of_its_last_window(tfx) -> None:
     for theirs, ours in zip(last["edges"], expected.edges, strict=True):
         assert (theirs["child"], theirs["count"]) == (ours.child, ours.count)
         assert theirs["rate_hz"] == pytest.approx(ours.rate_hz, rel=1e-12)
-    assert last["chain"]["delay_mean_s"] == pytest.approx(expected.chain.delay_mean_s, rel=1e-12)
+    assert last["chain"]["delay_mean_s"] == pytest.approx(seconds(expected.chain.delay_mean), rel=1e-12)
 
 
 def test_play_text_shows_the_live_header_and_table(tfx) -> None:

@@ -9,6 +9,7 @@ and the real tf2, never taken from tftools' own output.
 from __future__ import annotations
 
 import dataclasses
+import html
 import itertools
 import json
 import re
@@ -221,6 +222,66 @@ def test_gap_is_the_same_in_wtf_and_monitor(recording: Recording, corpus: Corpus
         assert shown, finding["message"]
         edge = _edge_key(finding["frames"])
         assert float(shown.group(1)) == pytest.approx(gaps[edge], abs=0.05), (finding["message"], gaps[edge])
+
+
+def _report_page(tfx: Callable[..., Result], path: Path, out: Path) -> tuple[dict, dict[str, str]]:  # noqa: F811
+    """``tfx report``'s page for ``path``: its data (the timelines) and each edge's line of figures, by name."""
+    result = tfx("report", "-b", path, "-o", out)
+    assert result.code in (0, 1), result.stderr
+    page = out.read_text()
+    found = re.search(r'<script type="application/json" class="report-data">(.*?)</script>', page, re.S)
+    assert found, "the page holds no data"
+    rows = re.findall(r'<div class="label"><b>(.*?) &#8594; (.*?)</b><small>(.*?)</small>', page)
+    about = {f"{html.unescape(a)} -> {html.unescape(b)}": html.unescape(line) for a, b, line in rows}
+    assert len(about) == len(json.loads(found.group(1))["edges"]), "an edge of the data has no line of figures"
+    return json.loads(found.group(1)), about
+
+
+@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx, tmp_path: Path) -> None:  # noqa: F811
+    """An edge's rate, longest interval, pauses and delay, as ``monitor``, ``frames``, ``wtf`` and ``report``
+    show them, are one figure each (``core.figures``): only their rounding differs."""
+    path = corpus(recording)
+    _, monitor = _run_json(tfx, "monitor", "-b", path)
+    _, frames = _run_json(tfx, "frames", "-b", path)
+    _, wtf = _run_json(tfx, "wtf", path)
+    data, about = _report_page(tfx, path, tmp_path / "report.html")
+    edges = {(e["parent"], e["child"]): e for e in monitor["edges"]}
+    one_parent = {f["frame"]: f for f in frames["frames"] if len(f["parents"]) == 1}
+    timelines = {e["name"]: e for e in data["edges"]}
+    checked = 0
+    for (parent, child), e in edges.items():
+        name = f"{parent} -> {child}"
+        if e["static"] or name not in timelines:
+            continue
+        if child in one_parent:
+            assert one_parent[child]["rate_hz"] == e["rate_hz"], name
+        line, timeline = about[name], timelines[name]
+        assert f"{e['rate_hz']:.1f} Hz, {e['count']} samples, largest gap {e['gap_max_s']:.3f} s" in line, line
+        assert sum(timeline["samples"]) == e["count"], name
+        delays = [(d, n) for d, n in zip(timeline["delayMean"], timeline["samples"], strict=True) if d is not None]
+        if e["delay_mean_s"] is None:
+            assert not delays and "delay" not in line, name  # no delay in one command is no delay in the others
+        else:
+            assert f"delay {e['delay_mean_s'] * 1000:.1f} ms (max {e['delay_max_s'] * 1000:.1f})" in line, line
+            if sum(n for _, n in delays) == e["count"]:  # every sample has a delay: the bins' mean is the mean
+                mean_ms = sum(d * n for d, n in delays) / e["count"]
+                assert mean_ms == pytest.approx(e["delay_mean_s"] * 1000, rel=1e-3), name
+        if timeline["gaps"] and "placed at arrival" not in line:  # the longest pause shaded: the longest interval
+            start, end = max(timeline["gaps"], key=lambda g: g[1] - g[0])
+            assert end - start == pytest.approx(e["gap_max_s"], abs=2e-6), name
+        checked += 1
+    assert checked == len(timelines), "an edge of the page is not one of monitor's"
+    for finding in wtf["bags"][0]["findings"]:  # wtf's pauses: the longest is monitor's longest interval
+        said = re.search(
+            r"silent (\d+) times?.*the longest for (\d+(?:\.\d+)?) s from (\d+(?:\.\d+)?)", finding["message"]
+        )
+        if finding["code"] == "rate" and said:
+            e = edges[_edge_key(finding["frames"])]
+            assert float(said.group(2)) == pytest.approx(e["gap_max_s"], abs=0.05), finding["message"]
+            assert float(said.group(3)) == pytest.approx(e["gap_start"], abs=1e-3), finding["message"]
+            shaded = timelines[f"{finding['frames'][0]} -> {finding['frames'][1]}"]["gaps"]
+            assert len(shaded) == int(said.group(1)), finding["message"]
 
 
 # --- tfx view-frames ---------------------------------------------------------------------------

@@ -16,7 +16,8 @@ from tftools.sources.codecs.ros1 import encode_tf_message
 from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type
 from tftools.sources.live import LiveError, LiveSource, open_live
 from tftools.sources.live.capture import capture, listen
-from tftools.sources.live.ros1 import Node, Ros1Source
+from tftools.sources.live.ros1.node import Node
+from tftools.sources.live.ros1.source import Ros1Source
 
 
 @pytest.fixture(autouse=True)

@@ -193,11 +193,13 @@ def test_the_real_filter_keeps_what_each_suggested_setting_says(oracle: Path, de
             run = mf.run(oracle, designed, "odom", tmp_path / "q.jsonl", queue=s.queue_needed, topics=[s.topic])
             outcomes = [v.outcome for v in run[s.topic]]
             assert outcomes.count("later") + outcomes.count("drop_spurious") == s.later, s.topic
-        if s.cache_needed_s is not None:
-            run = mf.run(oracle, designed, "odom", tmp_path / "c.jsonl", cache_s=s.cache_needed_s, topics=[s.topic])
+        if s.cache_needed is not None:
+            run = mf.run(
+                oracle, designed, "odom", tmp_path / "c.jsonl", cache_s=s.cache_needed / NS_PER_S, topics=[s.topic]
+            )
             aged = sum(v.outcome in ("drop_out_the_back", "drop_waiting", "pending_past") for v in run[s.topic])
             decided = s.messages - sum(s.undecided.values())
             undecided_then = sum(  # stamped before the recording's tf: tftools' undecided, not lost to the cache
                 v.outcome == "drop_waiting" and v.stamp < 1_700_000_000 * NS_PER_S for v in run[s.topic]
             )
-            assert aged - undecided_then <= (1 - KEEP) * decided, (s.topic, s.cache_needed_s, aged)
+            assert aged - undecided_then <= (1 - KEEP) * decided, (s.topic, s.cache_needed, aged)

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from tftools.analysis.tree_file import TreeFileError, read_tree
-from tftools.sources import yaml_input
+from tftools.sources import user_files
 from tftools.sources.errors import BagError
 from tftools.sources.live.ros1 import tcpros
 from tftools.sources.live.static_file import StaticFileError, read_static_transforms
@@ -49,7 +49,7 @@ def test_a_missing_file_and_a_folder_are_said_so(read, tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("read", READERS)
 def test_a_file_larger_than_the_limit_is_not_read_whole(read, tmp_path: Path, monkeypatch) -> None:
-    monkeypatch.setattr(yaml_input, "MAX_BYTES", 1000)
+    monkeypatch.setattr(user_files, "MAX_BYTES", 1000)
     big = tmp_path / "big.yaml"
     big.write_bytes(b"#" * 5000)
     with pytest.raises((StaticFileError, TreeFileError), match="larger than"):
@@ -69,7 +69,7 @@ DEEP = {
 def test_deep_yaml_is_refused_as_too_deep(read, text: str, tmp_path: Path) -> None:
     path = tmp_path / "deep.yaml"
     path.write_text(text)
-    with pytest.raises((StaticFileError, TreeFileError), match=f"nested deeper than {yaml_input.MAX_DEPTH} levels"):
+    with pytest.raises((StaticFileError, TreeFileError), match=f"nested deeper than {user_files.MAX_DEPTH} levels"):
         read(path)
 
 
@@ -81,14 +81,14 @@ def test_deep_flow_is_refused_before_it_is_parsed(text: str, monkeypatch) -> Non
         raise AssertionError("parsed")
 
     monkeypatch.setattr("ruamel.yaml.YAML.load", parse)
-    with pytest.raises(yaml_input.YamlInputError, match="nested deeper"):
-        yaml_input.load_text(text)
+    with pytest.raises(user_files.UserFileError, match="nested deeper"):
+        user_files.load_text(text)
 
 
 def test_brackets_in_quotes_and_comments_do_not_count_as_nesting() -> None:
     text = "a: '[[[['\nb: \"{{{{\"  # [[[[[[[[\nc: [[1, 2], {d: [3]}]\n"
-    assert yaml_input._flow_depth(text) == 3
-    assert yaml_input.load_text(text) == {"a": "[[[[", "b": "{{{{", "c": [[1, 2], {"d": [3]}]}
+    assert user_files._flow_depth(text) == 3
+    assert user_files.load_text(text) == {"a": "[[[[", "b": "{{{{", "c": [[1, 2], {"d": [3]}]}
 
 
 def test_a_reused_anchor_is_read_without_a_library_warning(tmp_path: Path, recwarn) -> None:

@@ -17,7 +17,7 @@ import pytest
 
 from tests.cli.conftest import tfx  # noqa: F401 - a fixture
 from tests.cli.test_filter import bags  # noqa: F401 - a fixture
-from tftools.sources import yaml_input
+from tftools.sources import user_files
 from tftools.sources.bag.reader import BagReader
 from tftools.sources.storage import remote
 from tftools.sources.storage.source import FileSource
@@ -41,7 +41,7 @@ class Counted:
         self.metadata = 0
         self.fetched: list[tuple[str, int, int]] = []
         self.temporary: list[str] = []
-        opened, read, load = FileSource.__init__, BagReader.read, yaml_input.load
+        opened, read, load = FileSource.__init__, BagReader.read, user_files.load
         remote_opened, fetch = remote.RemoteSource.__init__, remote.RemoteSource._fetch
         remote_load = remote.RemoteFiles.load_yaml
 
@@ -81,7 +81,7 @@ class Counted:
         monkeypatch.setattr(FileSource, "__init__", counted_open)
         monkeypatch.setattr(remote.RemoteSource, "__init__", counted_remote_open)
         monkeypatch.setattr(BagReader, "read", counted_read)
-        monkeypatch.setattr(yaml_input, "load", counted_load)
+        monkeypatch.setattr(user_files, "load", counted_load)
         monkeypatch.setattr(remote.RemoteFiles, "load_yaml", counted_remote_load)
         monkeypatch.setattr(remote.RemoteSource, "_fetch", counted_fetch)
         for name in ("mkdtemp", "mkstemp", "NamedTemporaryFile", "TemporaryFile", "SpooledTemporaryFile"):

@@ -12,7 +12,7 @@ import pytest
 from tests.analysis.robot_scenes import URDF
 from tftools.core.rotation import quat_from_rpy, quat_multiply_many, quat_rotate_many
 from tftools.sources.urdf import UrdfError, parse_urdf, read_urdf
-from tftools.sources.yaml_input import MAX_BYTES, MAX_DEPTH
+from tftools.sources.user_files import MAX_BYTES, MAX_DEPTH
 
 
 def test_links_and_joints() -> None:

@@ -1,4 +1,5 @@
-"""Per-edge and per-publisher statistics of a buffer: rates, gaps, delays (tf_monitor's numbers)."""
+"""Per-edge and per-publisher statistics of a buffer: rates, intervals, delays (tf_monitor's numbers), each
+figure as ``core.figures`` defines it, in ns."""
 
 from __future__ import annotations
 
@@ -11,64 +12,9 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.buffer import Buffer
+from tftools.core.figures import jitter, longest_interval, mean_max, rate_of
 from tftools.core.history import EdgeHistory
-from tftools.core.time import NS_PER_S
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
-
-#: An edge counts as stale, or a pause as a gap, only when it lasts this many of its periods too.
-PERIODS = 10
-
-
-@dataclass(frozen=True)
-class Gaps:
-    """The pauses in an edge's stamps longer than ``PERIODS`` periods and a floor (ns)."""
-
-    period: int  # the median interval between consecutive stamps
-    count: int
-    longest: int
-    longest_start: int  # the stamp the longest one begins at
-    first: int  # where the first one begins, and the last one ends
-    last: int
-
-
-def rate_hz(samples: int, span: int) -> float:
-    """The one definition of a rate: ``samples`` over a span of ``span`` ns, (samples - 1) / span; 0
-    for fewer than two samples or an empty span."""
-    return (samples - 1) * NS_PER_S / span if samples > 1 and span > 0 else 0.0
-
-
-def silence_limit(rate: float, floor: int = 0) -> float:
-    """How long (ns) an edge publishing at ``rate`` Hz (its ``rate_hz``) may be silent and still be publishing:
-    ``PERIODS`` of its periods, and at least ``floor``. The one definition ``stale`` and the filter's replay share."""
-    return max(float(floor), PERIODS * NS_PER_S / rate if rate > 0 else 0.0)
-
-
-def edge_gaps(stamps: Int64Array, floor: int) -> Gaps | None:
-    """The gaps of an edge's sorted ``stamps``: intervals longer than ``floor`` and ``PERIODS`` times
-    the usual one; None if there is none. The one definition of a gap, as ``EdgeStats.gap_max_s``
-    is of the longest interval."""
-    if len(stamps) < 3:
-        return None
-    period, intervals, gaps = gap_rows(stamps, floor)
-    if not len(gaps):
-        return None
-    longest = int(gaps[np.argmax(intervals[gaps])])
-    return Gaps(
-        period,
-        len(gaps),
-        int(intervals[longest]),
-        int(stamps[longest]),
-        int(stamps[gaps[0]]),
-        int(stamps[gaps[-1] + 1]),
-    )
-
-
-def gap_rows(stamps: Int64Array, floor: int) -> tuple[int, Int64Array, IntpArray]:
-    """The median interval of sorted ``stamps``, the intervals, and the rows ``i`` where the interval
-    from ``stamps[i]`` to ``stamps[i + 1]`` is a gap (see ``edge_gaps``)."""
-    intervals = np.diff(stamps)
-    period = int(np.median(intervals)) if len(intervals) else 0
-    return period, intervals, np.flatnonzero(intervals > max(floor, PERIODS * period))
 
 
 @dataclass(frozen=True)
@@ -87,8 +33,8 @@ class Edge:
 class EdgeStats(Edge):
     """One parent -> child edge over a time window.
 
-    Rates and gaps come from the stamps (sorted, as tf2 stores them); delays are ROS time at
-    arrival minus stamp (``Timeline.delays``), NaN where that is unknown and for static edges.
+    Rates and intervals come from the stamps (sorted, as tf2 stores them); delays are ROS time at
+    arrival minus stamp (``Timeline.delays``), NaN where that is unknown and for static edges. Durations in ns.
     """
 
     static: bool
@@ -97,25 +43,25 @@ class EdgeStats(Edge):
     first_stamp: int
     last_stamp: int
     rate_hz: float  # (count - 1) / stamp span; 0 for static or single samples
-    jitter_s: float  # standard deviation of the intervals between stamps
-    gap_max_s: float  # the longest interval between two consecutive stamps
-    gap_start: int  # stamp where that interval begins
-    delay_mean_s: float
-    delay_max_s: float
+    jitter: float  # standard deviation of the intervals between stamps
+    longest_interval: int  # the longest interval between two consecutive stamps (``figures.longest_interval``)
+    longest_interval_start: int  # stamp where that interval begins
+    delay_mean: float  # NaN where no delay is known
+    delay_max: float
     last_record: int  # latest record time (0 where unknown)
 
 
 @dataclass(frozen=True)
 class AuthorityStats:
     """One publisher: its message rate (distinct record times per second), its edges, and
-    the mean and largest delay of its dynamic transforms (tf_monitor's "Node:" line)."""
+    the mean and largest delay (ns) of its dynamic transforms (tf_monitor's "Node:" line)."""
 
     authority: str
     messages: int
     rate_hz: float
     edges: tuple[tuple[str, str], ...]
-    delay_mean_s: float = math.nan
-    delay_max_s: float = math.nan
+    delay_mean: float = math.nan
+    delay_max: float = math.nan
 
 
 def edge_stats(
@@ -131,7 +77,7 @@ def edge_stats(
     ``timeline`` turns record times into ROS time (a recording's); without it, record times are
     ROS time (a live buffer's). The window selects samples by stamp, or with ``by_record_time``
     by when they arrived (the stamp where that is unknown): what a live monitor saw in its last seconds.
-    The largest gap counts every interval that overlaps the window: the one from the last
+    The longest interval counts every interval that overlaps the window: the one from the last
     sample before it, and with ``by_record_time`` and an ``end``, the silence since the last
     arrival (so an edge that stopped shows it at once, not when it leaves the window).
     """
@@ -200,9 +146,9 @@ def sorted_unique(values: Int64Array) -> Int64Array:
 def _authority(
     name: str, moving: Int64Array, static: Int64Array, edges: list[tuple[str, str]], delays: list[Int64Array]
 ) -> AuthorityStats:
-    rate = rate_hz(len(moving), int(moving[-1] - moving[0])) if len(moving) else 0.0
+    rate = rate_of(moving)
     messages = len(np.union1d(moving, static)) if len(static) else len(moving)
-    mean, largest = _mean_max(np.concatenate(delays))
+    mean, largest = mean_max(np.concatenate(delays))
     return AuthorityStats(name, messages, rate, tuple(edges), mean, largest)
 
 
@@ -265,12 +211,6 @@ def _delays(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) 
     return timeline.delays(child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
 
 
-def _mean_max(delays_ns: Int64Array) -> tuple[float, float]:
-    if not len(delays_ns):
-        return math.nan, math.nan
-    return float(delays_ns.mean()) / NS_PER_S, float(delays_ns.max()) / NS_PER_S
-
-
 def _edge(
     buffer: Buffer,
     child: str,
@@ -284,10 +224,11 @@ def _edge(
     stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
     records = hist.record_times[rows]
     dynamic = not hist.static
-    intervals = np.diff(stamps) if dynamic else np.zeros(0, np.int64)
     arrived = int(timeline.arrival(stamps, records).max())
-    gap, gap_start = _largest_gap(stamps, intervals, before, silence_end - arrived if silence_end else 0)
-    delay_mean, delay_max = _mean_max(_delays(child, hist, rows, timeline))
+    longest, longest_start = longest_interval(
+        stamps if dynamic else stamps[:1], before, silence_end - arrived if silence_end else 0
+    )
+    delay_mean, delay_max = mean_max(_delays(child, hist, rows, timeline))
     return EdgeStats(
         parent=parent,
         child=child,
@@ -296,25 +237,11 @@ def _edge(
         authorities=publishers(buffer, hist.authorities[rows]),
         first_stamp=int(stamps.min()),
         last_stamp=int(stamps.max()),
-        rate_hz=rate_hz(len(stamps), int(stamps[-1] - stamps[0])) if dynamic else 0.0,
-        jitter_s=float(np.std(intervals)) / NS_PER_S if len(intervals) else 0.0,
-        gap_max_s=gap / NS_PER_S if dynamic else 0.0,
-        gap_start=gap_start,
-        delay_mean_s=delay_mean,
-        delay_max_s=delay_max,
+        rate_hz=rate_of(stamps) if dynamic else 0.0,
+        jitter=jitter(stamps) if dynamic else 0.0,
+        longest_interval=longest if dynamic else 0,
+        longest_interval_start=longest_start,
+        delay_mean=delay_mean,
+        delay_max=delay_max,
         last_record=int(records.max()),
     )
-
-
-def _largest_gap(stamps: Int64Array, intervals: Int64Array, before: int | None, silence: int) -> tuple[int, int]:
-    """The longest interval (ns) and the stamp it begins at: between samples, from the one
-    before the window, or the silence since the last arrival."""
-    candidates = [(0, int(stamps[0]))]
-    if len(intervals):
-        i = int(np.argmax(intervals))
-        candidates.append((int(intervals[i]), int(stamps[i])))
-    if before is not None:
-        candidates.append((int(stamps[0]) - before, before))
-    if silence > 0:
-        candidates.append((silence, int(stamps[-1])))
-    return max(candidates, key=lambda c: c[0])

@@ -36,11 +36,12 @@ from typing import Final, Literal
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, chain_edges, rate_hz, silence_limit, sorted_unique
+from tftools.analysis.edges import Edge, chain_edges, sorted_unique
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
+from tftools.core.figures import rate_hz, silence_limit
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -394,7 +395,7 @@ CACHES_S = (1, 2, 5, 10, 15, 20, 30, 60, 120, 300, 600, 1800, 3600)
 class StreamReport:
     """One topic through a MessageFilter: how many messages went through on arrival, after a wait
     (and how long), or never (and why); what a filter with a timeout or queue would have dropped;
-    the smallest timeout, queue and cache that keep ``KEEP`` of them; the edge that made them wait."""
+    the smallest timeout, queue and cache that keep ``KEEP`` of them; the edge that made them wait. Durations in ns."""
 
     topic: str
     type: str
@@ -403,13 +404,13 @@ class StreamReport:
     on_arrival: int
     later: int
     never: int  # lost for good (``LOST``)
-    wait_s: dict[str, float]  # p50, p95, p99, max of the waits of the messages transformed later
+    wait: dict[str, float]  # p50, p95, p99, max of the waits of the messages transformed later
     reasons: dict[str, int]  # why the ``never`` ones were lost (their counts add up to ``never``)
     late_edge: tuple[str, str] | None  # the edge most of the waits were for
-    late_by_s: float  # that edge's median lag behind the stamps, when they arrived
-    wait_needed_s: float | None  # the smallest timeout keeping KEEP (None: no timeout can)
+    late_by: float  # that edge's median lag behind the stamps, when they arrived
+    wait_needed: int | None  # the smallest timeout keeping KEEP (None: no timeout can)
     queue_needed: int  # the smallest queue that pushes out nothing that would pass (``smallest_queue``)
-    cache_needed_s: float | None  # the smallest cache keeping KEEP, where the cache loses messages
+    cache_needed: int | None  # the smallest cache keeping KEEP, where the cache loses messages
     dropped_by_wait: int | None = None  # with a timeout: messages lost (waited longer, or never)
     dropped_by_queue: int | None = None  # with a queue size: messages lost (pushed out, or never)
     undecided: dict[str, int] = field(default_factory=dict)  # what the recording cannot tell, and why
@@ -422,7 +423,7 @@ class FilterReport:
 
     target: str
     target_reason: str
-    cache_s: float
+    cache_time: int  # the listener's cache (ns)
     streams: list[StreamReport]
     skipped: list[str]  # topics with a header but never a frame_id: not tied to tf
     fates: dict[str, Fates]  # each reported topic's messages' fates, by topic
@@ -480,7 +481,7 @@ def filter_report(
             continue
         fates[stream.topic] = message_fates(buffer, stream, target, cache_time, end)
         reports.append(_stream_report(buffer, stream, target, fates[stream.topic], wait, queue, end))
-    return FilterReport(target, reason, cache_time / 1e9, reports, skipped, fates)
+    return FilterReport(target, reason, cache_time, reports, skipped, fates)
 
 
 def _stream_report(
@@ -508,13 +509,13 @@ def _stream_report(
         on_arrival=int(counts[Fate.ON_ARRIVAL]),
         later=int(counts[Fate.LATER]),
         never=never,
-        wait_s=_percentiles(waits),
+        wait=_percentiles(waits),
         reasons={Fate(code).reason: int(counts[code]) for code in LOST if counts[code]},
         late_edge=late_edge,
-        late_by_s=float(np.median(lags)) / 1e9 if len(lags) else 0.0,
-        wait_needed_s=_wait_needed(fates, stream),
+        late_by=float(np.median(lags)) if len(lags) else 0.0,
+        wait_needed=_wait_needed(fates, stream),
         queue_needed=smallest_queue(fates, stream),
-        cache_needed_s=_cache_needed(buffer, stream, target, fates, end),
+        cache_needed=_cache_needed(buffer, stream, target, fates, end),
         dropped_by_wait=None if wait is None else int(never + (waits > wait).sum()),
         dropped_by_queue=None if queue is None else int(never + (pushed_out(fates, stream, queue) & later_mask).sum()),
         undecided={Fate(code).reason: int(counts[code]) for code in UNDECIDED if counts[code]},
@@ -530,17 +531,17 @@ def _most(edges: list[tuple[str, str] | None]) -> tuple[str, str] | None:
 def _percentiles(waits: Int64Array) -> dict[str, float]:
     if not len(waits):
         return {"p50": 0.0, "p95": 0.0, "p99": 0.0, "max": 0.0}
-    p50, p95, p99 = np.percentile(waits, [50, 95, 99]) / 1e9
-    return {"p50": float(p50), "p95": float(p95), "p99": float(p99), "max": float(waits.max()) / 1e9}
+    p50, p95, p99 = np.percentile(waits, [50, 95, 99])
+    return {"p50": float(p50), "p95": float(p95), "p99": float(p99), "max": float(waits.max())}
 
 
-def _wait_needed(fates: Fates, stream: StampedMessages) -> float | None:
-    """The smallest timeout that lets ``KEEP`` of the stream through (0 if on arrival already)."""
+def _wait_needed(fates: Fates, stream: StampedMessages) -> int | None:
+    """The smallest timeout (ns) that lets ``KEEP`` of the stream through (0 if on arrival already)."""
     must = int(np.ceil(KEEP * fates.decided)) - int((fates.fate == Fate.ON_ARRIVAL).sum())
     waits = np.sort(fates.waits(stream))
     if must <= 0:
-        return 0.0
-    return float(waits[must - 1]) / 1e9 if must <= len(waits) else None
+        return 0
+    return int(waits[must - 1]) if must <= len(waits) else None
 
 
 def smallest_queue(fates: Fates, stream: StampedMessages) -> int:
@@ -600,15 +601,15 @@ def _entered(fates: Fates, i: int) -> bool:
     return int(fates.fate[i]) not in (Fate.ON_ARRIVAL, Fate.TOO_OLD_ON_ARRIVAL, Fate.EMPTY_FRAME)
 
 
-def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int) -> float | None:
-    """The smallest cache (from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length."""
+def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int) -> int | None:
+    """The smallest cache (ns, from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length."""
     if not np.isin(fates.fate, AGED).any():
         return None
     allowed = (1 - KEEP) * fates.decided
     for seconds in CACHES_S:
         tried = message_fates(buffer, stream, target, seconds * NS_PER_S, end)
         if np.isin(tried.fate, AGED).sum() <= allowed:
-            return float(seconds)
+            return seconds * NS_PER_S
     return None
 
 

@@ -5,8 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-from tftools.analysis.edges import parents_in_order, publishers, rate_hz
+from tftools.analysis.edges import parents_in_order, publishers
 from tftools.core.buffer import Buffer
+from tftools.core.figures import rate_hz
 
 
 @dataclass(frozen=True)

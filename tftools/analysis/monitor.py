@@ -25,7 +25,7 @@ from tftools.core.batch import TransformBatch
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UsageError
 from tftools.core.semantics import Semantics
-from tftools.core.time import NS_PER_S, Clock, to_sec
+from tftools.core.time import Clock, to_sec
 from tftools.sources.live.base import TickedClock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
@@ -38,14 +38,14 @@ if TYPE_CHECKING:
 class ChainStats:
     """The edges a lookup from ``source`` to ``target`` composes, and how stale their latest
     common time is: at each moment, now minus the oldest of the moving edges' newest stamps
-    (tf_monitor's "Net delay"), averaged over time and at its worst."""
+    (tf_monitor's "Net delay"), averaged over time and at its worst (ns)."""
 
     target: str
     source: str
     frames: tuple[str, ...]  # from source to target, as the lookup walks
     edges: tuple[EdgeStats, ...]  # one per hop with data in the window
-    delay_mean_s: float  # NaN if no moving edge, or their record times are unknown
-    delay_max_s: float
+    delay_mean: float  # NaN if no moving edge, or their record times are unknown
+    delay_max: float
     limiting: tuple[str, str] | None  # the edge that held the chain back the longest
 
 
@@ -120,7 +120,7 @@ def _newest_stamps(
 def _chain_delay(
     buffer: Buffer, moving: list[tuple[str, str]], start: int | None, end: int, timeline: Timeline | None
 ) -> tuple[float, float, tuple[str, str] | None]:
-    """Mean and max over ``[start, end]`` of (t - latest common stamp at t), and the limiting edge.
+    """Mean and max (ns) over ``[start, end]`` of (t - latest common stamp at t), and the limiting edge.
 
     The latest common stamp is a step function that changes only when a sample arrives,
     so the delay is a sawtooth: its integral and maximum are computed exactly per step.
@@ -143,12 +143,12 @@ def _chain_delay(
         older = known < common
         common[older], limiting[older] = known[older], index
     bounds = np.append(steps, end)
-    rise = (bounds[:-1] - common) / NS_PER_S, (bounds[1:] - common) / NS_PER_S
+    rise = (bounds[:-1] - common).astype(np.float64), (bounds[1:] - common).astype(np.float64)
     if (timeline or ON_RECORD_CLOCK).resolution:  # read off a ticking clock: behind a stamp by less than a step
-        rise = np.maximum(rise[0], 0.0), np.maximum(rise[1], 0.0)  # is no delay (``Timeline.delays_of``)
+        rise = np.maximum(rise[0], 0.0), np.maximum(rise[1], 0.0)  # is no delay (``figures.delays``)
     integral = float(np.sum(rise[1] ** 2 - rise[0] ** 2)) / 2
     held = np.bincount(limiting, weights=np.diff(bounds).astype(float), minlength=len(series))
-    return integral * NS_PER_S / (end - begin), float(rise[1].max()), moving[int(np.argmax(held))]
+    return integral / (end - begin), float(rise[1].max()), moving[int(np.argmax(held))]
 
 
 class LiveMonitor:

@@ -148,8 +148,8 @@ def recording_report(
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None
     bins = bins_over(*_axis(recording, streams))
-    gap_floor = from_sec(scene.thresholds.max_gap)
-    edges = edge_timelines(buffer, timeline, bins, gap_floor, _tree_order(graph, scene.tree))
+    pause_floor = from_sec(scene.thresholds.max_gap)
+    edges = edge_timelines(buffer, timeline, bins, pause_floor, _tree_order(graph, scene.tree))
     flows = stream_timelines(timeline, bins, streams, sensors) if sensors else []
     facts = list(recording_facts(recording))
     if sensors:

@@ -10,11 +10,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, edge_rows, gap_rows
+from tftools.analysis.edges import Edge, edge_rows
 from tftools.analysis.filter import LOST, UNDECIDED, Fate, FilterReport, StreamReport
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import Buffer
+from tftools.core.figures import pause_rows
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -77,17 +78,17 @@ class Reparenting:
 
 @dataclass(frozen=True)
 class EdgeTimeline(Edge):
-    """One parent -> child edge over the axis: per bin its samples, rate, mean and largest delay (NaN
-    where there is none, outside its span, or where delays cannot be measured); its gaps as (start, end)
-    axis times; its frame's re-parentings."""
+    """One parent -> child edge over the axis: per bin its samples, rate, mean and largest delay (ns; NaN
+    where there is none, outside its span, or where delays cannot be measured); its pauses as (start, end)
+    axis times (``figures.pauses``); its frame's re-parentings."""
 
     static: bool
     at_arrival: bool  # placed at arrival: its stamps are on another clock than the reference
     samples: Int64Array
     rate_hz: FloatArray
-    delay_mean_s: FloatArray
-    delay_max_s: FloatArray
-    gaps: tuple[tuple[int, int], ...]
+    delay_mean: FloatArray
+    delay_max: FloatArray
+    pauses: tuple[tuple[int, int], ...]
     reparentings: tuple[Reparenting, ...]
 
 
@@ -95,11 +96,11 @@ class EdgeTimeline(Edge):
 class StreamTimeline:
     """One sensor topic through a MessageFilter: its report, and per bin of arrival how many of its
     messages went through on arrival, later, never (lost), or cannot be judged (``FATE_GROUPS``), and the
-    longest wait of those that waited (NaN where none)."""
+    longest wait (ns) of those that waited (NaN where none)."""
 
     report: StreamReport
     fates: dict[str, Int64Array]
-    wait_max_s: FloatArray
+    wait_max: FloatArray
 
 
 def edge_axis(buffer: Buffer, timeline: Timeline) -> tuple[int, int]:
@@ -118,14 +119,14 @@ def _hull(spans: Sequence[tuple[int, int]]) -> tuple[int, int] | None:
 
 
 def edge_timelines(
-    buffer: Buffer, timeline: Timeline, bins: Bins, gap_floor: int, keys: Sequence[tuple[str, str]] | None = None
+    buffer: Buffer, timeline: Timeline, bins: Bins, pause_floor: int, keys: Sequence[tuple[str, str]] | None = None
 ) -> list[EdgeTimeline]:
     """Every edge's timeline (static ones too, flat), in the order of ``keys`` when given (edges not
-    among them left out); a gap is a pause longer than ``gap_floor`` ns and ``PERIODS`` periods."""
+    among them left out); its pauses are those longer than ``pause_floor`` ns (``figures.pauses``)."""
     found = {}
     for parent, child, hist, mine in edge_rows(buffer):
         near = tuple(c for c in _reparentings(buffer, child, hist, timeline) if parent in (c.before, c.after))
-        found[(parent, child)] = _timeline(parent, child, hist, mine, timeline, bins, gap_floor, near)
+        found[(parent, child)] = _timeline(parent, child, hist, mine, timeline, bins, pause_floor, near)
     return [found[key] for key in keys if key in found] if keys is not None else list(found.values())
 
 
@@ -144,7 +145,7 @@ def _timeline(
     mine: BoolArray,
     timeline: Timeline,
     bins: Bins,
-    gap_floor: int,
+    pause_floor: int,
     reparentings: tuple[Reparenting, ...],
 ) -> EdgeTimeline:
     """The timeline of ``hist``'s samples ``mine`` (those under ``parent``)."""
@@ -157,8 +158,8 @@ def _timeline(
     where = bins.index(axis)
     samples = np.bincount(where, minlength=bins.count).astype(np.int64)
     mean, largest = _delays(timeline, child, hist, mine, where, bins.count)
-    _, _, gaps = gap_rows(stamps, gap_floor)
-    spans = tuple((int(axis[i]), int(axis[i + 1])) for i in gaps.tolist())
+    _, _, paused = pause_rows(stamps, pause_floor)
+    spans = tuple((int(axis[i]), int(axis[i + 1])) for i in paused.tolist())
     at_arrival = child in timeline.off_reference
     rate = local_rate(axis, bins)
     return EdgeTimeline(parent, child, False, at_arrival, samples, rate, mean, largest, spans, reparentings)
@@ -184,9 +185,9 @@ def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
 def _delays(
     timeline: Timeline, child: str, hist: EdgeHistory, mine: BoolArray, where: IntpArray, count: int
 ) -> tuple[FloatArray, FloatArray]:
-    """Mean and largest delay (s) of the samples ``mine`` in each bin: those that have one (``Timeline.delays_of``)."""
+    """Mean and largest delay (ns) of the samples ``mine`` in each bin: those that have one (``Timeline.delays_of``)."""
     delays, measured = timeline.delays_of(child, hist.stamps[mine], hist.record_times[mine], hist.flags[mine])
-    return _mean_max(where[measured], delays / NS_PER_S, count)
+    return _mean_max(where[measured], delays.astype(np.float64), count)
 
 
 def _mean_max(where: IntpArray, values: FloatArray, count: int) -> tuple[FloatArray, FloatArray]:
@@ -233,18 +234,18 @@ def stream_timelines(
             for name, group in FATE_GROUPS.items()
         }
         later = fates.fate == Fate.LATER
-        _, wait_max = _mean_max(where[later], fates.waits(stream) / NS_PER_S, bins.count)
+        _, wait_max = _mean_max(where[later], fates.waits(stream).astype(np.float64), bins.count)
         result.append(StreamTimeline(report, counts, wait_max))
     return result
 
 
 @dataclass(frozen=True)
 class EdgeSeries(Edge):
-    """One edge's rate and mean delay over time (NaN where unknown): what ``--plot`` draws."""
+    """One edge's rate and mean delay (ns) over time (NaN where unknown): what ``--plot`` draws."""
 
     times: Int64Array
     rate_hz: FloatArray
-    delay_s: FloatArray
+    delay: FloatArray
 
 
 def edge_series(
@@ -259,8 +260,8 @@ def edge_series(
     span = edge_axis(buffer, timeline)
     bins = bins_over(span[0] if start is None else start, span[1] if end is None else end)
     middles = bins.edges()[:-1] + bins.width // 2
-    edges = edge_timelines(buffer, timeline, bins, gap_floor=0, keys=keys)
-    return [EdgeSeries(e.parent, e.child, middles, e.rate_hz, e.delay_mean_s) for e in edges if not e.static]
+    edges = edge_timelines(buffer, timeline, bins, pause_floor=0, keys=keys)
+    return [EdgeSeries(e.parent, e.child, middles, e.rate_hz, e.delay_mean) for e in edges if not e.static]
 
 
 class MonitorTrace:
@@ -277,7 +278,7 @@ class MonitorTrace:
         self._times.append(time)
         for e in report.edges:
             if not e.static:
-                self._figures.setdefault(e.key, {})[refresh] = (e.rate_hz, e.delay_mean_s)
+                self._figures.setdefault(e.key, {})[refresh] = (e.rate_hz, e.delay_mean)
 
     def series(self) -> list[EdgeSeries]:
         """Each edge seen, over every refresh (NaN at those before it appeared or after it left the window)."""
@@ -285,7 +286,7 @@ class MonitorTrace:
         result = []
         for (parent, child), figures in self._figures.items():
             rate, delay = np.full(len(times), np.nan), np.full(len(times), np.nan)
-            for refresh, (hz, seconds) in figures.items():
-                rate[refresh], delay[refresh] = hz, seconds
+            for refresh, (hz, ns) in figures.items():
+                rate[refresh], delay[refresh] = hz, ns
             result.append(EdgeSeries(parent, child, times, rate, delay))
         return result

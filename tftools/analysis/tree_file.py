@@ -24,7 +24,7 @@ from typing import IO, Any
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, quat_from_rpy, rpy_from_quat
-from tftools.sources.yaml_input import NotAFileError, YamlInputError, load
+from tftools.sources.user_files import NotAFileError, UserFileError, load, number
 
 _FRAME_KEYS = ("parent", "static", "rate_hz", "publishers", "translation", "rpy_deg", "rotation")
 _HEADER = """\
@@ -89,7 +89,7 @@ def read_tree(path: str | os.PathLike[str]) -> TreeShape:
     except NotAFileError as error:
         hint = f"{error.hint}; tfx wtf --init BAG > tree.yaml writes one"
         raise TreeFileError(name, str(error), hint) from None
-    except YamlInputError as error:
+    except UserFileError as error:
         raise TreeFileError(name, f"cannot be read: {error}") from None
     if not isinstance(document, Mapping) or not isinstance(document.get("frames"), Mapping):
         raise TreeFileError(name, "has no 'frames:' mapping of frame names")
@@ -105,7 +105,7 @@ def _tolerances(entry: Any) -> Tolerances:
     if not isinstance(entry, Mapping):
         raise TypeError("tolerances: expected a mapping")
     _known_keys("tolerances", entry, Tolerances.__dataclass_fields__)
-    return Tolerances(**{str(k): _number(f"tolerances: {k}", v) for k, v in entry.items()})
+    return Tolerances(**{str(k): number(v, f"tolerances: {k}", text=False) for k, v in entry.items()})
 
 
 def _frame(name: str, entry: Any) -> FrameShape:
@@ -121,7 +121,7 @@ def _frame(name: str, entry: Any) -> FrameShape:
     if publishers is not None and not isinstance(publishers, list):
         raise TypeError(f"frame {name}: publishers is a list")
     translation, rotation = _value(name, entry)
-    rate = _number(f"frame {name}: rate_hz", entry.get("rate_hz", 0.0))
+    rate = number(entry.get("rate_hz", 0.0), f"frame {name}: rate_hz", text=False)
     if rate < 0:
         raise ValueError(f"frame {name}: rate_hz {rate} is below 0")
     return FrameShape(
@@ -161,10 +161,4 @@ def _value(name: str, entry: Mapping[str, Any]) -> tuple[Vec3 | None, Quat | Non
 def _numbers(what: str, values: Any, count: int) -> list[float]:
     if not isinstance(values, list) or len(values) != count:
         raise ValueError(f"{what}: expected a list of {count} numbers")
-    return [_number(what, v) for v in values]
-
-
-def _number(what: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise ValueError(f"{what}: {value!r} is not a finite number")
-    return float(value)
+    return [number(v, what, text=False) for v in values]

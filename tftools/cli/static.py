@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -15,6 +14,7 @@ from tftools.cli.common import stdout, warn
 from tftools.cli.outputs import check_output, check_replaceable
 from tftools.core.errors import UsageError
 from tftools.render.escape import printable
+from tftools.sources.user_files import number
 
 if TYPE_CHECKING:  # the transforms, readers and writers load when used: --help needs none of them
     from tftools.core.transform import Transform
@@ -180,15 +180,17 @@ def _positional(arguments: list[str], degrees: bool = False) -> Transform:
 
 def _is_number(text: str) -> bool:
     try:
-        return math.isfinite(float(text))
+        number(text)
     except ValueError:
         return False
+    return True
 
 
 def _number(text: str) -> float:
-    if not _is_number(text):
-        raise UsageError(f"{text!r} is not a number", "x y z and angles in meters and radians, e.g. 0.1 or -1.57")
-    return float(text)
+    try:
+        return number(text)
+    except ValueError as error:
+        raise UsageError(str(error), "x y z and angles in meters and radians, e.g. 0.1 or -1.57") from None
 
 
 def _copying(bag: str | None, output: Path | None, force: bool) -> tuple[str, Path]:

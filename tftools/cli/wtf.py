@@ -293,14 +293,14 @@ def _bytes_bar(todo: list[list[str]], fleet: Fleet) -> AbstractContextManager[Pr
 
 def _resumed(path: Path) -> list[BagReport]:
     from tftools.render import wtf_lines as render_lines
-    from tftools.sources.yaml_input import NotAFileError, YamlInputError, open_regular
+    from tftools.sources.user_files import NotAFileError, UserFileError, open_regular
 
     try:
         with open_regular(path) as source:
             resumed = render_lines.read_report(source, str(path))
     except NotAFileError as error:
         raise UsageError(f"--resume {path}: {error}", error.hint) from None
-    except (OSError, YamlInputError) as error:
+    except (OSError, UserFileError) as error:
         raise UsageError(f"--resume {path}: {error}", "give the report of an earlier run") from None
     if resumed.cut_short:
         warn(f"{path}: its last line was cut short; that recording is checked again")

@@ -10,6 +10,7 @@ from rich.table import Table
 from rich.text import Text
 
 from tftools.analysis.filter import KEEP, FilterReport, StreamReport
+from tftools.core.figures import seconds
 from tftools.render import jsonl
 from tftools.render.escape import printable
 
@@ -17,7 +18,8 @@ from tftools.render.escape import printable
 def renderable(report: FilterReport, header: str = "") -> RenderableType:
     """Per stream: messages, on arrival, later (and how long they waited), never (and why), the edge
     they waited for, and the filter settings that would keep ``KEEP`` of them."""
-    title = f"MessageFilter into {printable(report.target)} ({report.target_reason}), {report.cache_s:g} s cache"
+    cache = f"{seconds(report.cache_time):g} s cache"
+    title = f"MessageFilter into {printable(report.target)} ({report.target_reason}), {cache}"
     table = Table(title=Text(title, style="bold"), title_justify="left", show_lines=False)
     for name, justify in (
         ("Topic", "left"), ("Frames", "left"), ("Msgs", "right"), ("On arrival", "right"), ("Later", "right"),
@@ -32,7 +34,7 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
             str(s.messages),
             str(s.on_arrival),
             Text(str(s.later), style="yellow" if s.later else ""),
-            f"{s.wait_s['p50']:.3f} / {s.wait_s['p99']:.3f} / {s.wait_s['max']:.3f}" if s.later else "",
+            " / ".join(f"{seconds(s.wait[p]):.3f}" for p in ("p50", "p99", "max")) if s.later else "",
             Text(str(s.never), style="bold red" if s.never else ""),
             Text(_counted(s.reasons)),
             Text(_counted(s.undecided), style="dim"),
@@ -54,19 +56,19 @@ def _counted(reasons: dict[str, int]) -> str:
 def _late(s: StreamReport) -> str:
     if s.late_edge is None:
         return ""
-    return f"{s.late_edge[0]} -> {s.late_edge[1]} ({s.late_by_s:.3f} s behind)"
+    return f"{s.late_edge[0]} -> {s.late_edge[1]} ({seconds(s.late_by):.3f} s behind)"
 
 
 def _advice(s: StreamReport) -> str:
     said = []
-    if s.wait_needed_s is None:
+    if s.wait_needed is None:
         said.append("no timeout can")
-    elif s.wait_needed_s > 0:
-        said.append(f"wait {s.wait_needed_s:.3f} s")
+    elif s.wait_needed > 0:
+        said.append(f"wait {seconds(s.wait_needed):.3f} s")
     if s.queue_needed:
         said.append(f"queue {s.queue_needed}")
-    if s.cache_needed_s is not None:
-        said.append(f"cache {s.cache_needed_s:g} s")
+    if s.cache_needed is not None:
+        said.append(f"cache {seconds(s.cache_needed):g} s")
     return ", ".join(said) or "fine as it is"
 
 
@@ -74,9 +76,27 @@ def as_dict(report: FilterReport) -> dict[str, Any]:
     return {
         "target": report.target,
         "target_reason": report.target_reason,
-        "cache_s": report.cache_s,
-        "topics": [dataclasses.asdict(s) for s in report.streams],  # tuples become JSON lists
+        "cache_s": seconds(report.cache_time),
+        "topics": [_stream_dict(s) for s in report.streams],
         "skipped": report.skipped,
+    }
+
+
+def _stream_dict(s: StreamReport) -> dict[str, Any]:
+    """A stream's report, its durations in seconds (tuples become JSON lists)."""
+    shown = dataclasses.asdict(s)
+    for name in ("wait", "late_by", "wait_needed", "cache_needed"):
+        del shown[name]
+    return {
+        **{k: shown[k] for k in ("topic", "type", "frame_ids", "messages", "on_arrival", "later", "never")},
+        "wait_s": {p: seconds(ns) for p, ns in s.wait.items()},
+        "reasons": shown["reasons"],
+        "late_edge": shown["late_edge"],
+        "late_by_s": seconds(s.late_by),
+        "wait_needed_s": None if s.wait_needed is None else seconds(s.wait_needed),
+        "queue_needed": s.queue_needed,
+        "cache_needed_s": None if s.cache_needed is None else seconds(s.cache_needed),
+        **{k: shown[k] for k in ("dropped_by_wait", "dropped_by_queue", "undecided", "lost_edge")},
     }
 
 

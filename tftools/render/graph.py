@@ -12,6 +12,7 @@ import graphviz
 
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode
+from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import is_printable, printable
 from tftools.sources.recording import Recording
@@ -171,7 +172,7 @@ def _full_lines(edge: GraphEdge, now: int) -> list[str]:
         f"Most recent transform: {format_sec(s.last_stamp, 3)} ({(now - s.last_stamp) / NS_PER_S:.3f} s old)",
         f"Oldest transform: {format_sec(s.first_stamp, 3)}",
         f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s",
-        f"Largest gap: {s.gap_max_s:.3f} s",
+        f"Largest gap: {seconds(s.longest_interval):.3f} s",
     ]
 
 

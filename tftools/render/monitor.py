@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import asdict
 from typing import IO, Any
 
 from rich.console import Console, ConsoleOptions, Group, RenderableType, RenderResult
@@ -16,13 +15,15 @@ from rich.text import Text
 
 from tftools.analysis.edges import AuthorityStats, EdgeStats
 from tftools.analysis.monitor import ChainStats, MonitorReport
+from tftools.core.figures import seconds
 from tftools.core.time import to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
 
 
-def _sec(value: float) -> str:
-    return "-" if math.isnan(value) else f"{value:.4f}"
+def _sec(ns: float) -> str:
+    """A figure (ns) in seconds, "-" where unknown."""
+    return "-" if math.isnan(ns) else f"{seconds(ns):.4f}"
 
 
 def _table(
@@ -87,17 +88,17 @@ def _edges_table(edges: Sequence[EdgeStats], compact: bool) -> Table:
     numbers = ("Samples", _RATE, "Jitter\n(s)", "Largest\ngap (s)", _DELAY_MEAN, _DELAY_MAX)
     table = _table("Frames:", ("Parent", "Frame", "published\nby"), numbers, (), compact)
     for e in edges:
-        late_gap = not e.static and e.rate_hz > 0 and e.gap_max_s > 2.0 / e.rate_hz
+        long_interval = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
         table.add_row(
             Text(printable(e.parent)),
             Text(printable(e.child), style="bold"),
             Text(printable(", ".join(e.authorities)) or "?", style="yellow" if len(e.authorities) > 1 else "magenta"),
             str(e.count),
             Text("static", style="cyan") if e.static else f"{e.rate_hz:.2f}",
-            "" if e.static else _sec(e.jitter_s),
-            "" if e.static else Text(_sec(e.gap_max_s), style="yellow" if late_gap else ""),
-            "" if e.static else _sec(e.delay_mean_s),
-            "" if e.static else _sec(e.delay_max_s),
+            "" if e.static else _sec(e.jitter),
+            "" if e.static else Text(_sec(e.longest_interval), style="yellow" if long_interval else ""),
+            "" if e.static else _sec(e.delay_mean),
+            "" if e.static else _sec(e.delay_max),
         )
     return table
 
@@ -110,8 +111,8 @@ def _authorities_table(authorities: list[AuthorityStats], static: set[tuple[str,
             Text(printable(a.authority) or "?", style="magenta"),
             str(a.messages),
             Text("static", style="cyan") if set(a.edges) <= static else f"{a.rate_hz:.2f}",
-            _sec(a.delay_mean_s),
-            _sec(a.delay_max_s),
+            _sec(a.delay_mean),
+            _sec(a.delay_max),
             Text(printable(", ".join(child for _, child in a.edges)), style="dim"),
         )
     return table
@@ -120,7 +121,7 @@ def _authorities_table(authorities: list[AuthorityStats], static: set[tuple[str,
 def _chain_lines(chain: ChainStats) -> Text:
     text = Text(f"RESULTS: for {printable(chain.target)} to {printable(chain.source)}\n", style="bold")
     text.append(f"Chain is: {printable(' -> '.join(chain.frames))}\n")
-    text.append(f"Net delay     avg = {_sec(chain.delay_mean_s)}: max = {_sec(chain.delay_max_s)}")
+    text.append(f"Net delay     avg = {_sec(chain.delay_mean)}: max = {_sec(chain.delay_max)}")
     if chain.limiting is not None:
         text.append(
             f"  (held back most by {printable(chain.limiting[0])} -> {printable(chain.limiting[1])})", style="dim"
@@ -167,11 +168,11 @@ def _edge_dict(e: EdgeStats) -> dict[str, Any]:
         "authorities": list(e.authorities),
         "count": e.count,
         "rate_hz": e.rate_hz,
-        "jitter_s": e.jitter_s,
-        "gap_max_s": e.gap_max_s,
-        "gap_start": to_sec(e.gap_start),
-        "delay_mean_s": e.delay_mean_s,
-        "delay_max_s": e.delay_max_s,
+        "jitter_s": seconds(e.jitter),
+        "gap_max_s": seconds(e.longest_interval),
+        "gap_start": to_sec(e.longest_interval_start),
+        "delay_mean_s": seconds(e.delay_mean),
+        "delay_max_s": seconds(e.delay_max),
         "static": e.static,
         "first_stamp": to_sec(e.first_stamp),
         "last_stamp": to_sec(e.last_stamp),
@@ -183,8 +184,8 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
         "authority": a.authority,
         "messages": a.messages,
         "rate_hz": a.rate_hz,
-        "delay_mean_s": a.delay_mean_s,
-        "delay_max_s": a.delay_max_s,
+        "delay_mean_s": seconds(a.delay_mean),
+        "delay_max_s": seconds(a.delay_max),
         "edges": [list(edge) for edge in a.edges],
     }
 
@@ -201,7 +202,16 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
         "delays_unavailable": report.delays_unavailable or None,  # why delays are null, where they all are
     }
     if report.chain is not None:
-        result["chain"] = {**asdict(report.chain), "edges": [_edge_dict(e) for e in report.chain.edges]}
+        chain = report.chain
+        result["chain"] = {
+            "target": chain.target,
+            "source": chain.source,
+            "frames": list(chain.frames),
+            "edges": [_edge_dict(e) for e in chain.edges],
+            "delay_mean_s": seconds(chain.delay_mean),
+            "delay_max_s": seconds(chain.delay_max),
+            "limiting": list(chain.limiting) if chain.limiting is not None else None,
+        }
     return result
 
 

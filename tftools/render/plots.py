@@ -15,6 +15,7 @@ import numpy as np
 from tftools.analysis.echo import EchoSeries
 from tftools.analysis.timelines import EdgeSeries
 from tftools.core.errors import TfToolsError
+from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import printable
 from tftools.render.files import write_atomically
@@ -83,7 +84,7 @@ def monitor_figure(edges: Sequence[EdgeSeries], title: str) -> Figure:
     for e in shown:
         times = (e.times - origin) / NS_PER_S
         line = rates.plot(times, e.rate_hz, linewidth=1.2, label=printable(f"{e.parent} -> {e.child}"))[0]
-        delays.plot(times, e.delay_s * 1000, linewidth=1.2, color=line.get_color())
+        delays.plot(times, seconds(e.delay) * 1000, linewidth=1.2, color=line.get_color())
     rates.set_ylabel("rate (Hz)")
     delays.set_ylabel("mean delay (ms)")
     for axis in (rates, delays):
@@ -94,7 +95,7 @@ def monitor_figure(edges: Sequence[EdgeSeries], title: str) -> Figure:
     rates.set_title(printable(title) + (f" ({left} slower edges not drawn)" if left else ""))
     if shown:
         rates.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
-    if all(math.isnan(v) for e in shown for v in e.delay_s.tolist()):
+    if all(math.isnan(v) for e in shown for v in e.delay.tolist()):
         delays.text(0.5, 0.5, "delays unavailable", transform=delays.transAxes, ha="center", color="#777777")
     return figure
 

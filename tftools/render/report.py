@@ -23,6 +23,7 @@ from tftools.analysis.graph import GraphEdge
 from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
 from tftools.core.arrays import FloatArray
+from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
@@ -220,10 +221,10 @@ def _edge_about(stats: EdgeStats | None, *, delays_known: bool) -> str:
     if stats is None:
         return ""
     delay = ""
-    if delays_known and not math.isnan(stats.delay_mean_s):
-        delay = f", delay {stats.delay_mean_s * 1000:.1f} ms (max {stats.delay_max_s * 1000:.1f})"
+    if delays_known and not math.isnan(stats.delay_mean):
+        delay = f", delay {seconds(stats.delay_mean) * 1000:.1f} ms (max {seconds(stats.delay_max) * 1000:.1f})"
     return (
-        f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {stats.gap_max_s:.3f} s{delay}; "
+        f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {seconds(stats.longest_interval):.3f} s{delay}; "
         f"{', '.join(stats.authorities)}"
     )
 
@@ -235,7 +236,7 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
     for row, s in enumerate(streams):
         r = s.report
         lost = f", {r.never} lost ({', '.join(f'{n} {why}' for why, n in r.reasons.items())})" if r.never else ""
-        wait = f" (wait p50 {r.wait_s['p50']:.3f} s, p99 {r.wait_s['p99']:.3f} s)" if r.later else ""
+        wait = f" (wait p50 {seconds(r.wait['p50']):.3f} s, p99 {seconds(r.wait['p99']):.3f} s)" if r.later else ""
         open_ = sum(r.undecided.values())
         undecided = f", {open_} undecided ({', '.join(f'{n} {w}' for w, n in r.undecided.items())})" if open_ else ""
         about = (
@@ -269,9 +270,9 @@ def _edge_data(report: RecordingReport, edge: EdgeTimeline, svg_ids: dict[tuple[
         "svg": svg_ids.get(edge.key, ""),
         "samples": edge.samples.tolist(),
         "rate": _figures(edge.rate_hz),
-        "delayMean": _figures(edge.delay_mean_s * 1000),
-        "delayMax": _figures(edge.delay_max_s * 1000),
-        "gaps": [[_seconds(a, origin), _seconds(b, origin)] for a, b in edge.gaps],
+        "delayMean": _figures(seconds(edge.delay_mean) * 1000),
+        "delayMax": _figures(seconds(edge.delay_max) * 1000),
+        "gaps": [[_seconds(a, origin), _seconds(b, origin)] for a, b in edge.pauses],
         "reparentings": [
             [_seconds(r.time, origin), printable(f"{r.child}: {r.before} -> {r.after}")] for r in edge.reparentings
         ],
@@ -303,7 +304,7 @@ def _stream_data(stream: StreamTimeline) -> dict[str, Any]:
     return {
         "topic": printable(stream.report.topic),
         "fates": {name: stream.fates[name].tolist() for name in FATE_GROUPS},
-        "waitMax": _figures(stream.wait_max_s),
+        "waitMax": _figures(seconds(stream.wait_max)),
     }
 
 

@@ -18,6 +18,7 @@ from functools import cached_property
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core import figures
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
@@ -203,16 +204,13 @@ class Timeline:
     def delays_of(
         self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array
     ) -> tuple[Int64Array, BoolArray]:
-        """The delays of the transforms that have one, and which those are: the one definition of a delay,
-        ROS time at arrival minus stamp (ns) of the ``measurable`` transforms; none where ``delays_measured``
-        is false (``delays_unavailable`` says why). ROS time read off a clock that ticks lags by up to a
-        step, so the delay lies between the reading and a step more: the value nearest zero in that range,
-        never a negative delay that the clock's steps made."""
+        """The delays (``figures.delays``, ROS time at arrival read off a clock as coarse as ``resolution``)
+        of the ``measurable`` transforms, and which those are; none where ``delays_measured`` is false
+        (``delays_unavailable`` says why)."""
         if not self.delays_measured:
             return np.zeros(0, np.int64), np.zeros(len(stamps), bool)
         times, measured = self.measurable(child, record_times, flags)
-        read = times[measured] - stamps[measured]
-        return (np.minimum(np.maximum(read, 0), read + self.resolution) if self.resolution else read), measured
+        return figures.delays(times[measured], stamps[measured], self.resolution), measured
 
     def played(self) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the

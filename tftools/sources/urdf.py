@@ -1,7 +1,7 @@
 """A robot's description (URDF) read within limits: its links, and its joints with their origins and axes.
 
 The standard library's XML parser (expat) reads it, within metadata.yaml's limits on size, nesting and
-element count (``sources.yaml_input``), with document type declarations refused before parsing: no
+element count (``sources.user_files``), with document type declarations refused before parsing: no
 entity is ever expanded. A URDF is a plain XML file of a few elements, and only a small part of it
 (``<link name>``, ``<joint>``'s type, parent, child, origin, axis and mimic) says where frames are: no
 library would read that part better, and none is needed. xacro is not expanded (it runs Python-like
@@ -22,7 +22,7 @@ from typing import cast
 
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, matrix_apply, matrix_from_quat, quat_from_rpy
-from tftools.sources.yaml_input import MAX_BYTES, MAX_DEPTH, MAX_NODES, NotAFileError, YamlInputError, read_bytes
+from tftools.sources.user_files import MAX_BYTES, MAX_DEPTH, MAX_NODES, NotAFileError, UserFileError, number, read_bytes
 
 #: xacro's namespace as xacro files spell it (``xmlns:xacro``), as a tag's prefix.
 XACRO_NAMESPACES = ("{http://www.ros.org/wiki/xacro}", "{http://ros.org/wiki/xacro}")
@@ -132,7 +132,7 @@ def read_urdf(path: str | os.PathLike[str]) -> RobotDescription:
         raw = read_bytes(path, MAX_BYTES)
     except NotAFileError as e:
         raise UrdfError(name, str(e), f"{e.hint} (a URDF file, e.g. xacro robot.urdf.xacro > robot.urdf)") from None
-    except YamlInputError as e:
+    except UserFileError as e:
         raise UrdfError(name, str(e), "check that the file is readable") from None
     if name.endswith(".xacro"):
         raise _xacro(name)
@@ -256,9 +256,6 @@ def _vector(element: ET.Element | None, key: str, default: Vec3, joint: str, sou
 
 def _number(text: str, what: str, source: str) -> float:
     try:
-        value = float(text)
-    except ValueError:
-        raise UrdfError(source, f"{what}: {text!r} is not a number") from None
-    if not math.isfinite(value):
-        raise UrdfError(source, f"{what}: {text!r} is not a finite number")
-    return value
+        return number(text, what)
+    except ValueError as error:
+        raise UrdfError(source, str(error)) from None

@@ -10,6 +10,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, edge, listed
 from tftools.core.frames import frame_name
+from tftools.core.time import NS_PER_S, from_sec
 
 #: A stream "mostly needs a wait" when more than this share of its messages does.
 WAITING_SHARE = 0.5
@@ -58,16 +59,17 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
     for s in scene.sensors.streams:
         if s.later <= WAITING_SHARE * s.messages:
             continue
-        long = s.wait_s["p99"] > scene.thresholds.delay
+        long = s.wait["p99"] > from_sec(scene.thresholds.delay)
+        p50, p99 = s.wait["p50"] / NS_PER_S, s.wait["p99"] / NS_PER_S
         yield Finding(
             Severity.warning if long else Severity.info,
             "sensor_wait",
             f"{s.topic}: {s.later} of {s.messages} messages could not be transformed into {_target(scene)} when they "
-            f"arrived, waiting {s.wait_s['p50']:.3f} s (p99 {s.wait_s['p99']:.3f} s) for "
+            f"arrived, waiting {p50:.3f} s (p99 {p99:.3f} s) for "
             f"{edge(*s.late_edge) if s.late_edge else 'tf'}",
             f"a node transforming it at once fails with 'extrapolation into the future': use a tf2_ros MessageFilter "
             f"(queue {max(s.queue_needed, 1)}) or canTransform/lookupTransform with a timeout of at least "
-            f"{s.wait_s['p99']:.3f} s, or make the late transform come sooner",
+            f"{p99:.3f} s, or make the late transform come sooner",
             s.late_edge or (),
             count=s.later,
         )
@@ -75,19 +77,20 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
 
 @register("sensor_lost", Severity.warning, "sensor data a MessageFilter loses for good (tf too late, or too old)")
 def sensor_lost(scene: Scene) -> Iterator[Finding]:
+    cache_s = scene.sensors.cache_time / NS_PER_S
     for s in scene.sensors.streams:
         lost = sum(s.reasons.get(f.reason, 0) for f in TF_LOST)
         if lost <= LOST_SHARE * s.messages:
             continue
         why = []
-        cache = f" (a cache of {s.cache_needed_s:g} s would keep them)" if s.cache_needed_s else ""
+        cache = f" (a cache of {s.cache_needed / NS_PER_S:g} s would keep them)" if s.cache_needed else ""
         if s.reasons.get("too_old_on_arrival"):
             old = s.reasons["too_old_on_arrival"]
-            why.append(f"{old} already older than the {scene.sensors.cache_s:g} s cache when they arrived{cache}")
+            why.append(f"{old} already older than the {cache_s:g} s cache when they arrived{cache}")
             cache = ""
         if s.reasons.get("older_than_cache"):
             why.append(
-                f"{s.reasons['older_than_cache']} older than the {scene.sensors.cache_s:g} s cache holds by the "
+                f"{s.reasons['older_than_cache']} older than the {cache_s:g} s cache holds by the "
                 f"time tf reached them{cache}"
             )
         if s.reasons.get("needs_newer_tf"):

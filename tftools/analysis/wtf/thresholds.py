@@ -10,10 +10,10 @@ class Thresholds:
     """Limits in seconds; the defaults stay silent on a healthy robot.
 
     ``stale_after``: an edge silent this long before the recording ends has stopped (and at
-    least ``edges.PERIODS`` of its periods). ``max_gap``: a pause inside the recording longer than
-    this (and ``PERIODS`` periods) is a gap. ``delay``: transforms arriving this much after their stamp
-    are late (costmap_2d's default ``transform_tolerance``). ``future``: stamps this much ahead of
-    their arrival are from the future (roswtf's limit). ``clock``: stamps this much behind their
+    least ``figures.PERIODS`` of its periods). ``max_gap``: a pause inside the recording longer than
+    this (and ``PERIODS`` periods) is reported (``figures.pauses``). ``delay``: transforms arriving this
+    much after their stamp are late (costmap_2d's default ``transform_tolerance``). ``future``: stamps
+    this much ahead of their arrival are from the future (roswtf's limit). ``clock``: stamps this much behind their
     arrival (the median) are on another clock altogether, like stamps counting from boot next to
     epoch time.
     """

@@ -6,7 +6,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from tftools.analysis.edges import EdgeStats, edge_gaps, silence_limit
+from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters, sent_before
 from tftools.analysis.wtf.registry import register
@@ -14,6 +14,8 @@ from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
+from tftools.core.figures import delays as delays_of
+from tftools.core.figures import pauses, silence_limit
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.timeline import FINE_STEP
 
@@ -96,7 +98,7 @@ def future(scene: Scene) -> Iterator[Finding]:
 def delay(scene: Scene) -> Iterator[Finding]:
     limit = from_sec(scene.thresholds.delay)
     for e, stamps, records in _arrivals(scene):
-        delays = records - stamps
+        delays = delays_of(records, stamps, scene.timeline.resolution)
         late = delays > limit
         if late.mean() <= DELAY_SHARE:
             continue
@@ -121,7 +123,7 @@ def delay(scene: Scene) -> Iterator[Finding]:
 
 @register("rate", Severity.warning, "irregular publishing and long gaps")
 def rate(scene: Scene) -> Iterator[Finding]:
-    """Gaps in each edge's stamps (the samples tf2 holds: the gaps ``monitor`` and ``view-frames`` show);
+    """Pauses in each edge's stamps (the samples tf2 holds: the pauses ``report`` shades, ``figures.pauses``);
     then, where there is none, each publisher's rhythm per frame by when its transforms were received
     (a sample sent again, stamp and value, counted once, however late; refused values included: other checks
     judge those)."""
@@ -147,22 +149,22 @@ STEPS_PER_PERIOD = 3
 
 
 def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
-    gaps = edge_gaps(e.stamps, from_sec(scene.thresholds.max_gap))
-    if gaps is None:
+    found = pauses(e.stamps, from_sec(scene.thresholds.max_gap))
+    if found is None:
         return None
     return Finding(
         Severity.warning,
         "rate",
-        f"{edge(*e.key)}{scene.by(e.authorities)} went silent {counted(gaps.count, 'time')} (it "
-        f"publishes every {duration(gaps.period / NS_PER_S)}): the longest "
-        f"for {duration(gaps.longest / NS_PER_S)} from {scene.at(gaps.longest_start)}",
+        f"{edge(*e.key)}{scene.by(e.authorities)} went silent {counted(found.count, 'time')} (it "
+        f"publishes every {duration(found.period / NS_PER_S)}): the longest "
+        f"for {duration(found.longest / NS_PER_S)} from {scene.at(found.longest_start)}",
         "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
         "the publisher's load, its rate parameter and its connection",
         e.key,
         e.authorities,
-        gaps.first,
-        gaps.last,
-        gaps.count,
+        found.first,
+        found.last,
+        found.count,
     )
 
 
@@ -280,7 +282,7 @@ def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
     repeat, same = _repeats(stamps, rows.values[mine])
     repeat &= ~back
     arrived, measured = scene.timeline.measurable(child, rows.record_time[mine], rows.flags[mine])
-    late = measured & (arrived - stamps > from_sec(scene.thresholds.delay))
+    late = measured & (delays_of(arrived, stamps, scene.timeline.resolution) > from_sec(scene.thresholds.delay))
     if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
         back &= ~(late & (behind < TIME_JUMP))
     frames = (rows.names[rows.parent[mine[-1:]][0]], child)

@@ -8,13 +8,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import rate_hz
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.broadcasters import apart
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed, transforms
 from tftools.core.arrays import IntpArray
+from tftools.core.figures import rate_hz
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.

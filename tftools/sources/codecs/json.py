@@ -19,6 +19,7 @@ import numpy as np
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.sources.codecs.decoded import Clocks, Decoded, DecodeError, FrameNames
 from tftools.sources.codecs.parsed import Parsed, one_by_one
+from tftools.sources.user_files import number
 
 #: Reads one transform object into ``parsed``.
 _Transform = Callable[[Parsed, dict[str, Any]], None]
@@ -118,6 +119,7 @@ def _integer(value: Any) -> int:
 
 
 def _number(value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise DecodeError(f"{value!r} is not a number")
-    return float(value)
+    try:  # not refused where not finite: tf2 refuses it, and wtf says so
+        return number(value, text=False, finite=False)
+    except ValueError as error:
+        raise DecodeError(str(error)) from None

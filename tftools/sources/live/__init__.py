@@ -52,7 +52,7 @@ def open_live(
         from tftools.sources.live.ros2.source import Ros2Source
 
         return Ros2Source(topics, use_sim_time, on_notice)
-    from tftools.sources.live.ros1 import Ros1Source
+    from tftools.sources.live.ros1.source import Ros1Source
 
     return Ros1Source(master_uri, topics, use_sim_time, on_notice, name)
 

@@ -11,14 +11,14 @@ either at the top level or under ``transforms:``; several documents (``---``) ar
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Mapping
 from typing import Any
 
 from tftools.core.transform import Transform
-from tftools.sources import yaml_input
+from tftools.sources import user_files
 from tftools.sources.errors import SourceError
+from tftools.sources.user_files import number
 
 _RPY_KEYS = ("roll", "pitch", "yaw")
 _QUATERNION_KEYS = ("qx", "qy", "qz", "qw")
@@ -39,10 +39,10 @@ def read_static_transforms(path: str | os.PathLike[str]) -> list[Transform]:
     """The transforms listed in the YAML file at ``path`` (stamp 0), in file order."""
     name = str(path)
     try:
-        documents = yaml_input.load_all(path)
-    except yaml_input.NotAFileError as error:
+        documents = user_files.load_all(path)
+    except user_files.NotAFileError as error:
         raise StaticFileError(name, str(error), error.hint) from None
-    except yaml_input.YamlInputError as error:
+    except user_files.UserFileError as error:
         raise StaticFileError(name, f"cannot be read: {error}", "give a YAML text file") from None
     entries = [entry for document in documents for entry in _entries(name, document)]
     if not entries:
@@ -68,8 +68,8 @@ def _transform(name: str, index: int, entry: Any) -> Transform:
     try:
         if "transform" in entry or "header" in entry:  # a TransformStamped as rostopic echo prints it
             t, q = entry["transform"]["translation"], entry["transform"]["rotation"]
-            translation = (_number(t["x"]), _number(t["y"]), _number(t["z"]))
-            rotation = (_number(q["x"]), _number(q["y"]), _number(q["z"]), _number(q["w"]))
+            translation = (number(t["x"]), number(t["y"]), number(t["z"]))
+            rotation = (number(q["x"]), number(q["y"]), number(q["z"]), number(q["w"]))
             parent, child = entry["header"]["frame_id"], entry["child_frame_id"]
         else:
             translation = _translation(entry)
@@ -84,9 +84,9 @@ def _transform(name: str, index: int, entry: Any) -> Transform:
 
 def _translation(entry: Mapping[str, Any]) -> tuple[float, float, float]:
     if "translation" in entry:
-        x, y, z = (_number(v) for v in entry["translation"])
+        x, y, z = (number(v) for v in entry["translation"])
         return x, y, z
-    return _number(entry.get("x", 0)), _number(entry.get("y", 0)), _number(entry.get("z", 0))
+    return number(entry.get("x", 0)), number(entry.get("y", 0)), number(entry.get("z", 0))
 
 
 def _rotation(name: str, index: int, entry: Mapping[str, Any]) -> tuple[float, float, float, float]:
@@ -95,24 +95,12 @@ def _rotation(name: str, index: int, entry: Mapping[str, Any]) -> tuple[float, f
     if has_rpy and has_quaternion:
         raise StaticFileError(name, f"transform {index} gives both a quaternion and roll/pitch/yaw")
     if "rotation" in entry:
-        x, y, z, w = (_number(v) for v in entry["rotation"])
+        x, y, z, w = (number(v) for v in entry["rotation"])
         return x, y, z, w
     if has_quaternion:
-        x, y, z, w = (_number(entry.get(k, 1 if k == "qw" else 0)) for k in _QUATERNION_KEYS)
+        x, y, z, w = (number(entry.get(k, 1 if k == "qw" else 0)) for k in _QUATERNION_KEYS)
         return x, y, z, w
     roll, pitch, yaw = (
-        (_number(v) for v in entry["rpy"]) if "rpy" in entry else (_number(entry.get(k, 0)) for k in _RPY_KEYS)
+        (number(v) for v in entry["rpy"]) if "rpy" in entry else (number(entry.get(k, 0)) for k in _RPY_KEYS)
     )
     return Transform.from_rpy((0.0, 0.0, 0.0), (roll, pitch, yaw)).rotation
-
-
-def _number(value: Any) -> float:
-    try:
-        if isinstance(value, bool):
-            raise TypeError
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{value!r} is not a number") from None
-    if not math.isfinite(number):
-        raise ValueError(f"{value!r} is not a finite number")
-    return number

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from tftools.core.arrays import Int64Array
-from tftools.sources import yaml_input
+from tftools.sources import user_files
 from tftools.sources.contents import Fetched
 from tftools.sources.errors import BagError, BagNotFoundError, MissingExtraError, RemoteError
 from tftools.sources.storage.locations import BAG_DIRECTORY_SUFFIXES, BAG_SUFFIXES, is_glob, recordings_in
@@ -365,10 +365,10 @@ class RemoteFiles(Files):
         return [path for path in self._sizes if path.parent == directory]
 
     def load_yaml(self, path: Path) -> Any:
-        if self.size(path) > yaml_input.MAX_BYTES:
-            raise yaml_input.YamlInputError(f"larger than {yaml_input.MAX_BYTES >> 20} MiB")
+        if self.size(path) > user_files.MAX_BYTES:
+            raise user_files.UserFileError(f"larger than {user_files.MAX_BYTES >> 20} MiB")
         with self.open(path) as source:
-            return yaml_input.load_text(source.read(0, source.size).decode("utf-8", "replace"))
+            return user_files.load_text(source.read(0, source.size).decode("utf-8", "replace"))
 
     def open(self, path: Path) -> ByteSource:
         if path.suffix in _LOCAL_SUFFIXES:

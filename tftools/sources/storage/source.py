@@ -23,7 +23,7 @@ from typing import Any, BinaryIO, Protocol
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
-from tftools.sources import yaml_input
+from tftools.sources import user_files
 from tftools.sources.contents import Fetched
 from tftools.sources.errors import BagNotFoundError, CorruptBagError
 
@@ -252,7 +252,7 @@ class Files(ABC):
 
     @abstractmethod
     def load_yaml(self, path: Path) -> Any:
-        """The document of a YAML file (within ``yaml_input``'s limits; ``YamlInputError``)."""
+        """The document of a YAML file (within ``user_files``'s limits; ``UserFileError``)."""
 
     @abstractmethod
     def open(self, path: Path) -> ByteSource:
@@ -305,7 +305,7 @@ class LocalFiles(Files):
         return [p for p in directory.iterdir() if not p.is_dir()]
 
     def load_yaml(self, path: Path) -> Any:
-        return yaml_input.load(path)
+        return user_files.load(path)
 
     def open(self, path: Path) -> ByteSource:
         return FileSource(path)

@@ -10,7 +10,7 @@ from pathlib import Path, PurePosixPath
 from typing import TYPE_CHECKING, Any
 
 from tftools.core.batch import TransformBatch
-from tftools.sources import yaml_input
+from tftools.sources import user_files
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow, in_turn
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileScan, file_result
@@ -190,12 +190,12 @@ def _qos(path: Path, stored: Files, info: dict[str, Any] | None, problems: list[
         for entry in info.get("topics_with_message_count") or []:
             topic = entry["topic_metadata"]
             profiles = topic.get("offered_qos_profiles") or []
-            offered = list(yaml_input.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
+            offered = list(user_files.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
             counts[str(topic["name"])] = (int(entry.get("message_count") or 0), len(offered))
             if is_static_topic(str(topic["name"])):
                 found[str(topic["name"])] = offered
         return OfferedQos(found, counts=counts)
-    except (yaml_input.YamlInputError, KeyError, TypeError, ValueError, AttributeError) as error:
+    except (user_files.UserFileError, KeyError, TypeError, ValueError, AttributeError) as error:
         return OfferedQos({}, str(error) or type(error).__name__)
 
 
@@ -204,7 +204,7 @@ def _metadata(path: Path, stored: Files, problems: list[str]) -> dict[str, Any] 
         return None
     try:
         document = stored.load_yaml(path)
-    except yaml_input.YamlInputError as e:
+    except user_files.UserFileError as e:
         problems.append(f"metadata.yaml is unreadable ({e}), read the bag files found instead")
         return None
     info = document.get("rosbag2_bagfile_information") if isinstance(document, dict) else None

@@ -1,6 +1,5 @@
-"""Live ROS1 in pure Python: XML-RPC with the master, TCPROS with the other nodes."""
+"""Live ROS1 in pure Python: XML-RPC with the master (xmlrpc.py), TCPROS with the other nodes (tcpros.py,
+publisher.py, subscriber.py), a node joining both (node.py), and the tf source on it (source.py).
 
-from tftools.sources.live.ros1.node import Node
-from tftools.sources.live.ros1.source import Ros1Source
-
-__all__ = ["Node", "Ros1Source"]
+The package imports none of its modules, so that they may import each other through it without a circle:
+``tftools.sources.live.ros1.source.Ros1Source``, ``tftools.sources.live.ros1.node.Node``."""

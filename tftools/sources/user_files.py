@@ -1,9 +1,10 @@
-"""YAML a user gives (a rosbag2 ``metadata.yaml``, a tree file, a list of static transforms), read
-within limits: its size, nesting and aliases (a "billion laughs"), and only from a regular file (a
-FIFO or a device would block, or never end)."""
+"""The one opener of the files a user gives (a rosbag2 ``metadata.yaml``, a tree file, a list of static
+transforms, a URDF, a list of recordings): only a regular file (a FIFO or a device would block, or never
+end), within limits on its size, and for YAML on its nesting and aliases (a "billion laughs")."""
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import stat
@@ -20,11 +21,11 @@ _NOT_FLOW = re.compile(r"\"(?:[^\"\\\n]|\\.)*\"|'(?:[^'\n]|'')*'|#[^\n]*")
 _NOT_BRACKET = re.compile(r"[^\[\]{}]")
 
 
-class YamlInputError(Exception):
-    """A YAML file that is not read (the message says why, in a few words)."""
+class UserFileError(Exception):
+    """A file a user gave that is not read (the message says why, in a few words)."""
 
 
-class NotAFileError(YamlInputError):
+class NotAFileError(UserFileError):
     """The path names no regular file: it is missing, a folder, a FIFO or a device."""
 
     def __init__(self, problem: str, hint: str = "check the path") -> None:
@@ -32,16 +33,32 @@ class NotAFileError(YamlInputError):
         self.hint = hint
 
 
+def number(value: Any, what: str = "", *, text: bool = True, finite: bool = True) -> float:
+    """The one reading of a number a user gave: a YAML or JSON number (not a boolean), or with ``text`` a
+    string (a command line's, an XML attribute's, a quoted YAML value); finite unless ``finite`` is false.
+    Raises ``ValueError`` naming ``what`` it was ("frame odom: rate_hz: 'x' is not a number")."""
+    said = f"{what}: " if what else ""
+    try:
+        if isinstance(value, bool) or not isinstance(value, (int, float, str) if text else (int, float)):
+            raise TypeError
+        result = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{said}{value!r} is not a number") from None
+    if finite and not math.isfinite(result):
+        raise ValueError(f"{said}{value!r} is not a finite number")
+    return result
+
+
 def open_regular(path: str | os.PathLike[str]) -> BinaryIO:
     """The regular file at ``path``, open for reading. Raises ``NotAFileError`` for a missing path, a
     folder, a FIFO or a device (opened without blocking, so a FIFO with no writer is refused at once),
-    ``YamlInputError`` for one that cannot be opened."""
+    ``UserFileError`` for one that cannot be opened."""
     try:
         descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except FileNotFoundError:
         raise NotAFileError("no such file") from None
     except OSError as e:
-        raise YamlInputError(e.strerror or str(e)) from None
+        raise UserFileError(e.strerror or str(e)) from None
     mode = os.fstat(descriptor).st_mode
     if not stat.S_ISREG(mode):
         os.close(descriptor)
@@ -54,19 +71,19 @@ def open_regular(path: str | os.PathLike[str]) -> BinaryIO:
 
 def read_bytes(path: str | os.PathLike[str], max_bytes: int) -> bytes:
     """The contents of the regular file at ``path`` (``open_regular``), at most ``max_bytes`` of them;
-    ``YamlInputError`` for a larger file or one that cannot be read."""
+    ``UserFileError`` for a larger file or one that cannot be read."""
     with open_regular(path) as f:
         try:
             raw = f.read(max_bytes + 1)
         except OSError as e:
-            raise YamlInputError(e.strerror or str(e)) from None
+            raise UserFileError(e.strerror or str(e)) from None
     if len(raw) > max_bytes:
-        raise YamlInputError(f"larger than {_size(max_bytes)}")
+        raise UserFileError(f"larger than {_size(max_bytes)}")
     return raw
 
 
 def load(path: str | os.PathLike[str]) -> Any:
-    """The document of the YAML file at ``path``. Raises ``YamlInputError`` for a file that is not a
+    """The document of the YAML file at ``path``. Raises ``UserFileError`` for a file that is not a
     regular file, too large, too deep, expanding to too many nodes through its aliases, or not YAML."""
     return load_text(read_bytes(path, MAX_BYTES).decode("utf-8", "replace"))
 
@@ -88,9 +105,9 @@ def _parse(text: str, *, every_document: bool) -> list[Any]:
     from ruamel.yaml.error import YAMLError
 
     if len(text) > MAX_BYTES:
-        raise YamlInputError(f"larger than {_size(MAX_BYTES)}")
+        raise UserFileError(f"larger than {_size(MAX_BYTES)}")
     if _flow_depth(text) > MAX_DEPTH:  # ruamel's scanner takes time quadratic in a flow's depth
-        raise YamlInputError(f"nested deeper than {MAX_DEPTH} levels")
+        raise UserFileError(f"nested deeper than {MAX_DEPTH} levels")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # ruamel's ReusedAnchorWarning: the later anchor holds, as YAML says
@@ -99,9 +116,9 @@ def _parse(text: str, *, every_document: bool) -> list[Any]:
             yaml = YAML(typ="safe")
             documents = list(yaml.load_all(text)) if every_document else [yaml.load(text)]
     except RecursionError:  # the composer recurses once per level
-        raise YamlInputError(f"nested deeper than {MAX_DEPTH} levels") from None
+        raise UserFileError(f"nested deeper than {MAX_DEPTH} levels") from None
     except (YAMLError, ValueError) as e:
-        raise YamlInputError(f"not valid YAML ({_where(e)})") from None
+        raise UserFileError(f"not valid YAML ({_where(e)})") from None
     for document in documents:
         _check(document)
     return documents
@@ -142,11 +159,11 @@ def _check(document: Any) -> None:
             inner = [sizes.get(id(part), (1, 0)) for part in parts]
             sizes[key] = (1 + sum(nodes for nodes, _ in inner), 1 + max((levels for _, levels in inner), default=0))
             if sizes[key][0] > MAX_NODES:
-                raise YamlInputError(f"its aliases expand to more than {MAX_NODES} nodes")
+                raise UserFileError(f"its aliases expand to more than {MAX_NODES} nodes")
         elif key in open_:
-            raise YamlInputError("it holds itself (an alias inside its own anchor)")
+            raise UserFileError("it holds itself (an alias inside its own anchor)")
         elif depth + sizes.get(key, (0, 1))[1] - 1 > MAX_DEPTH:
-            raise YamlInputError(f"nested deeper than {MAX_DEPTH} levels")
+            raise UserFileError(f"nested deeper than {MAX_DEPTH} levels")
         elif key not in sizes:
             open_.add(key)
             walk.append((value, depth, True))

@@ -1,0 +1,119 @@
+"""The one definition of each figure of a stream of samples: its rate, its period, its pauses, its longest
+interval and its delays. Over int64 ns arrays, in ns (a rate in Hz); seconds only where they are shown.
+
+Three things are not called "gap" here: a *pause* is an interval much longer than the usual one (``pauses``),
+the *longest interval* is the largest one, pause or not (``longest_interval``); why a lookup extrapolates is
+``core.history``'s."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import overload
+
+import numpy as np
+
+from tftools.core.arrays import FloatArray, Int64Array, IntpArray
+from tftools.core.time import NS_PER_S
+
+#: A silence or an interval is a stop or a pause only when it lasts this many periods too.
+PERIODS = 10
+
+
+def rate_hz(samples: int, span: int) -> float:
+    """The one definition of a rate: ``samples`` over a span of ``span`` ns, (samples - 1) / span; 0
+    for fewer than two samples or an empty span."""
+    return (samples - 1) * NS_PER_S / span if samples > 1 and span > 0 else 0.0
+
+
+def rate_of(times: Int64Array) -> float:
+    """The rate (``rate_hz``) of samples at sorted ``times``."""
+    return rate_hz(len(times), int(times[-1] - times[0])) if len(times) else 0.0
+
+
+def period(intervals: Int64Array) -> int:
+    """The usual interval (ns): the median of ``intervals``; 0 without any."""
+    return int(np.median(intervals)) if len(intervals) else 0
+
+
+def jitter(stamps: Int64Array) -> float:
+    """How irregular sorted ``stamps`` are (ns): the standard deviation of their intervals; 0 for fewer than two."""
+    return float(np.std(np.diff(stamps))) if len(stamps) > 1 else 0.0
+
+
+def silence_limit(rate: float, floor: int = 0) -> float:
+    """How long (ns) a stream at ``rate`` Hz may be silent and still be publishing: ``PERIODS`` of its
+    periods, and at least ``floor``."""
+    return max(float(floor), PERIODS * NS_PER_S / rate if rate > 0 else 0.0)
+
+
+@dataclass(frozen=True)
+class Pauses:
+    """The pauses in sorted stamps: intervals longer than ``PERIODS`` periods and a floor (ns)."""
+
+    period: int  # the median interval between consecutive stamps
+    count: int
+    longest: int
+    longest_start: int  # the stamp the longest one begins at
+    first: int  # where the first one begins, and the last one ends
+    last: int
+
+
+def pause_rows(stamps: Int64Array, floor: int) -> tuple[int, Int64Array, IntpArray]:
+    """The ``period`` of sorted ``stamps``, their intervals, and the rows ``i`` where the interval from
+    ``stamps[i]`` to ``stamps[i + 1]`` is a pause: longer than ``floor`` and ``PERIODS`` periods."""
+    intervals = np.diff(stamps)
+    usual = period(intervals)
+    return usual, intervals, np.flatnonzero(intervals > max(floor, PERIODS * usual))
+
+
+def pauses(stamps: Int64Array, floor: int) -> Pauses | None:
+    """The pauses of sorted ``stamps`` (``pause_rows``); None if there is none, or fewer than 3 stamps."""
+    if len(stamps) < 3:
+        return None
+    usual, intervals, rows = pause_rows(stamps, floor)
+    if not len(rows):
+        return None
+    longest = int(rows[np.argmax(intervals[rows])])
+    return Pauses(
+        usual, len(rows), int(intervals[longest]), int(stamps[longest]), int(stamps[rows[0]]), int(stamps[rows[-1] + 1])
+    )
+
+
+def longest_interval(stamps: Int64Array, before: int | None = None, silence: int = 0) -> tuple[int, int]:
+    """The longest interval (ns) of sorted ``stamps`` and the stamp it begins at: between two of them,
+    from the stamp ``before`` them, or the ``silence`` since the last."""
+    candidates = [(0, int(stamps[0]))]
+    if len(stamps) > 1:
+        intervals = np.diff(stamps)
+        i = int(np.argmax(intervals))
+        candidates.append((int(intervals[i]), int(stamps[i])))
+    if before is not None:
+        candidates.append((int(stamps[0]) - before, before))
+    if silence > 0:
+        candidates.append((silence, int(stamps[-1])))
+    return max(candidates, key=lambda c: c[0])
+
+
+def delays(arrivals: Int64Array, stamps: Int64Array, resolution: int = 0) -> Int64Array:
+    """The one definition of a delay: time at arrival minus stamp (ns). Arrival times read off a clock that
+    ticks every ``resolution`` ns lag by up to a step, so the delay lies between the reading and a step
+    more: the value nearest zero in that range, never a negative delay that the clock's steps made."""
+    read = arrivals - stamps
+    return np.minimum(np.maximum(read, 0), read + resolution) if resolution else read
+
+
+def mean_max(values: Int64Array) -> tuple[float, float]:
+    """The mean and the largest of ``values`` (ns); NaN, NaN without any."""
+    if not len(values):
+        return math.nan, math.nan
+    return float(values.mean()), float(values.max())
+
+
+@overload
+def seconds(ns: float) -> float: ...
+@overload
+def seconds(ns: FloatArray) -> FloatArray: ...
+def seconds(ns: float | FloatArray) -> float | FloatArray:
+    """A figure (or figures) in ns, shown in seconds (NaN stays NaN)."""
+    return ns / NS_PER_S
