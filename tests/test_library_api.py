@@ -16,11 +16,14 @@ from typing import Any
 import pytest
 
 import tftools
+from tests.live import conftest as live
 from tftools.core import NS_PER_S, BatchBuilder
 from tftools.sources import Recording
 from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.header_store import HeaderListener, HeaderStore
 
+# the live tests' real roscore
+master, ros, ros1_available = live.master, live.ros, live.ros1_available
 REPO = Path(__file__).resolve().parents[1]
 SAMPLE = REPO / "sample_bags"
 BAGS = [str(SAMPLE / "robot.bag"), str(SAMPLE / "robot_db3"), str(SAMPLE / "robot_mcap")]
@@ -398,3 +401,46 @@ def test_wait_for_transform_reminds_then_gives_up() -> None:
     with pytest.raises(TransformNotHeardError, match="no transform odom <- laser after") as raised:
         wait_for_transform(buffer, "odom", "laser", timeout=0)
     assert raised.value.target == "odom" and '"laser" passed to lookupTransform' in raised.value.reason
+
+
+@pytest.fixture
+def roscore(monkeypatch: pytest.MonkeyPatch, ros: live.Ros) -> live.Ros:
+    """The live tests' real roscore (tests/live), the environment pointing at it, and tf and scans on it."""
+    from tests.live.conftest import STATIC_PUBLISHER, wait_until
+
+    monkeypatch.setenv("ROS_MASTER_URI", ros.master.uri)
+    monkeypatch.setenv("ROS_HOSTNAME", "127.0.0.1")
+    monkeypatch.delenv("ROS_IP", raising=False)
+    ros.spawn(STATIC_PUBLISHER, "0.2", "0", "0.1", "0", "0", "0", "base_link", "laser")
+    ros.node("dynamic", "/odometry", "odom", "base_link", "0", "20")
+    ros.node("scan", "/laser_driver", "/scan", "laser", "10")
+    wait_until(lambda: all(ros.master.publishers(t) for t in ("/tf", "/tf_static", "/scan")), 20, "the publishers")
+    return ros
+
+
+@pytest.mark.live
+def test_the_live_calls_on_a_real_roscore(roscore: live.Ros) -> None:
+    from tftools.analysis import EchoSeries
+    from tftools.render import filter as render
+    from tftools.sources.live import open_live
+
+    checked = tftools.check_live(open_live("ros1"), 2, {"sensor_topics": ["/scan"]})
+    said = json.loads(roscore.run_tfx("wtf", "--ros1", "-d", "2", "--sensor", "/scan", "-f", "json").stdout)["bags"][0]
+    assert checked.paths == tuple(said["paths"]) and checked.frames == said["frames"] == 3
+    assert checked.sensor_topics == ("/scan",) and not checked.failed()
+
+    fates = tftools.filter_live(open_live("ros1"), 2, "odom", ["/scan"])
+    printed = json.loads(
+        roscore.run_tfx("filter", "/scan", "--ros1", "-d", "2", "--target", "odom", "-f", "json").stdout
+    )
+    assert rendered(render.write_json, fates)["target"] == printed["target"] == "odom"
+    [scan] = fates.streams
+    assert scan.topic == "/scan" and scan.messages >= 10 and scan.never == 0
+
+    page = tftools.report_live(open_live("ros1"), 1)
+    assert page.name == checked.paths[0] and {n.name for n in page.graph.nodes} == {"odom", "base_link", "laser"}
+
+    shown: list[EchoSeries] = []
+    tftools.echo_live(open_live("ros1"), "odom", "laser", lambda series, _: shown.append(series), 20, 3, wait=20)
+    assert len(shown) == 3 and all(s.valid.all() for s in shown)
+    assert shown[-1].translations[0][2] == pytest.approx(0.1)  # the laser 10 cm above the base, turned about z
