@@ -285,7 +285,7 @@ def _readme_api() -> Iterator[str]:
 def test_the_readmes_api_examples_run(code: str, capsys: pytest.CaptureFixture[str], monkeypatch: Any) -> None:
     monkeypatch.chdir(REPO)
     exec(compile(code, "README.md", "exec"), {})
-    assert capsys.readouterr().out.split() == ["18", "28", "17", "False", "False", "0"]
+    assert capsys.readouterr().out.split() == ["18", "28", "17", "False", "None", "0"]
 
 
 class _Robot(LiveSource):
