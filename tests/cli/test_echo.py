@@ -142,6 +142,7 @@ def test_cache_sets_the_live_buffers_length(tfx, monkeypatch: pytest.MonkeyPatch
         raise ListenedError
 
     monkeypatch.setenv("TFX_DEBUG", "1")  # the test's own exception comes through
+
     class Feed(contextlib.nullcontext[None]):
         def describe(self) -> str:
             return "a test"

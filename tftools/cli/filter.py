@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from typing import Annotated
 
 import typer
@@ -62,39 +63,20 @@ def command(
     from tftools.render import filter as render
 
     cache_time, timeout = from_sec(cache), from_sec(wait) if wait is not None else None
-    try:
+    with progress_bar(bags or []) as progress:
         if bags:
-            with progress_bar(bags) as progress:
-                report = filter_recording(
-                    bags,
-                    target,
-                    topics,
-                    cache_time=cache_time,
-                    wait=timeout,
-                    queue=queue,
-                    semantics=tf2,
-                    progress=progress,
-                    on_problem=warn,
-                )
-            read = ", ".join(bags)
+            filtering, read = functools.partial(filter_recording, bags, progress=progress), ", ".join(bags)
         else:
             source = live.start_listening(ros1, use_sim_time, duration)
+            filtering, read = functools.partial(filter_live, source, duration), source.describe()
+        try:
             with live.heard(duration):
-                report = filter_live(
-                    source,
-                    duration,
-                    target,
-                    topics,
-                    cache_time=cache_time,
-                    wait=timeout,
-                    queue=queue,
-                    semantics=tf2,
-                    on_problem=warn,
+                report = filtering(
+                    target, topics, cache_time=cache_time, wait=timeout, queue=queue, semantics=tf2, on_problem=warn
                 )
-            read = source.describe()
-    except NoStampedDataError as error:
-        example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
-        raise UsageError(str(error), f"name topics of stamped messages, e.g. {example}") from None
+        except NoStampedDataError as error:
+            example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
+            raise UsageError(str(error), f"name topics of stamped messages, e.g. {example}") from None
     if fmt is TextOrJson.json:
         render.write_json(report, stdout.file)
     else:
