@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING
 
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import stderr, warn
 from tftools.core.errors import UsageError
 from tftools.core.semantics import Semantics
-from tftools.core.time import Clock
 from tftools.render.escape import printable
 
 if TYPE_CHECKING:
@@ -83,14 +82,3 @@ def remind(waiting: Waiting) -> None:
     """Say on stderr why the transform awaited is not there yet (``sources.live.capture.wait_for_transform``)."""
     frames = ", ".join(waiting.frames[:12]) or "none yet"
     say(f"still waiting ({waiting.waited:.0f} s): {waiting.reason} Frames heard: {frames}")
-
-
-def every(
-    rate: float, count: int | None, stop: Callable[[], bool], on_tick: Callable[[], None], clock: Clock | None = None
-) -> None:
-    """Call ``on_tick`` ``rate`` times a second, ``count`` times (None: until ``stop()`` or Ctrl-C), the
-    first at once; seconds of ``clock`` when it is a ``SimClock``, else of the wall (``tick_every``)."""
-    from tftools.sources.ticker import tick_every
-
-    with contextlib.suppress(KeyboardInterrupt):
-        tick_every(1.0 / rate, on_tick, count=count, stop=stop, clock=clock)
