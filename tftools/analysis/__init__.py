@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from tftools.analysis.diff import Difference, compare
     from tftools.analysis.echo import EchoSeries, echo, echo_latest, echo_played, echo_recording, echo_times
     from tftools.analysis.expected import Tolerances, TreeShape, shape_of
-    from tftools.analysis.filter import FilterReport, NoStampedDataError, filter_heard, filter_recording, filter_report
+    from tftools.analysis.filter import FilterReport, filter_heard, filter_recording, filter_report
     from tftools.analysis.findings import Finding, Severity
     from tftools.analysis.fleet import Fleet, Unfinished, run_fleet
     from tftools.analysis.frames import FrameTree, frame_tree
@@ -35,6 +35,7 @@ if TYPE_CHECKING:
     from tftools.analysis.tree_file import read_tree, write_tree
     from tftools.analysis.wtf import CHECKS, Thresholds, check, findings_of
     from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_read, check_recording
+    from tftools.sources.errors import NoStampedDataError
 
 __all__ = [
     "CHECKS",
@@ -110,7 +111,7 @@ _HOME = {
     "FrameTree": "tftools.analysis.frames",
     "LiveMonitor": "tftools.analysis.monitor",
     "MonitorReport": "tftools.analysis.monitor",
-    "NoStampedDataError": "tftools.analysis.filter",
+    "NoStampedDataError": "tftools.sources.errors",
     "RecordingReport": "tftools.analysis.report",
     "Robot": "tftools.analysis.description",
     "Severity": "tftools.analysis.findings",

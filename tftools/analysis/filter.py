@@ -41,10 +41,11 @@ from tftools.analysis.edges import Edge, chain_edges, rate_hz, silence_limit, so
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
-from tftools.core.errors import TransformError, UnknownFrameError, UsageError
-from tftools.core.frames import frame_name, known_frame
+from tftools.core.errors import TransformError, UnknownFrameError
+from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
+from tftools.sources.errors import NoStampedDataError
 
 if TYPE_CHECKING:
     from tftools.core.semantics import Semantics
@@ -489,15 +490,6 @@ def filter_report(
     return FilterReport(target, reason, cache_time / 1e9, reports, skipped, fates)
 
 
-class NoStampedDataError(UsageError):
-    """No topic with a header tied to tf to check: ``problems`` says why, as far as the reading tells."""
-
-    def __init__(self, problems: Sequence[str]) -> None:
-        why = f": {'; '.join(problems)}" if problems else ""
-        super().__init__(f"no topic with a Header to check{why}", "name topics of stamped messages, e.g. /scan")
-        self.problems = list(problems)
-
-
 def filter_recording(
     paths: Sequence[str | os.PathLike[str]],
     target: str | None = None,
@@ -534,6 +526,7 @@ def filter_heard(
 ) -> FilterReport:
     """``filter_recording`` of a recording read or heard (``analysis.live.filter_live``) with the headers
     of its sensor data; ``topics``, those asked for (said missing when not read)."""
+    from tftools.core.frames import known_frame
     from tftools.sources.bag.stamped import stamped_of
 
     stamped = stamped_of(recording.contents.files, topics)

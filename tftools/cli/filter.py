@@ -58,9 +58,10 @@ def command(
     cache = positive_seconds(cache, "--cache", "10 (tf2's default)")
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
-    from tftools.analysis.filter import NoStampedDataError, filter_recording
+    from tftools.analysis.filter import filter_recording
     from tftools.analysis.live import filter_live
     from tftools.render import filter as render
+    from tftools.sources.errors import NoStampedDataError
 
     cache_time, timeout = from_sec(cache), from_sec(wait) if wait is not None else None
     with progress_bar(bags or []) as progress:
