@@ -16,8 +16,14 @@ from typing import Any
 import pytest
 
 import tftools
+from tests.live import conftest as live
+from tftools.core import NS_PER_S, BatchBuilder
 from tftools.sources import Recording
+from tftools.sources.live.base import LiveSource, OnBatch
+from tftools.sources.live.header_store import HeaderListener, HeaderStore
 
+# the live tests' real roscore
+master, ros, ros1_available = live.master, live.ros, live.ros1_available
 REPO = Path(__file__).resolve().parents[1]
 SAMPLE = REPO / "sample_bags"
 BAGS = [str(SAMPLE / "robot.bag"), str(SAMPLE / "robot_db3"), str(SAMPLE / "robot_mcap")]
@@ -29,11 +35,15 @@ CALLS = {
     "monitor": "monitor_recording",
     "view-frames": "view_frames",
     "wtf": "check_fleet",
-    "filter": "filter_report",
+    "filter": "filter_recording",
     "report": "report_fleet",
     "diff": "diff_trees",
     "static": "add_static",
 }
+
+
+#: The commands that listen to a live system without bags, and the one call that does their work there.
+LIVE_CALLS = {"wtf": "check_live", "report": "report_live", "filter": "filter_live", "echo": "echo_live"}
 
 
 def tfx(*arguments: str, cwd: Path = REPO) -> subprocess.CompletedProcess[str]:
@@ -81,7 +91,7 @@ def test_every_command_has_its_call_in_tftools() -> None:
     from tftools.cli.commands import SUBCOMMANDS
 
     assert set(CALLS) == set(SUBCOMMANDS)
-    for call in CALLS.values():
+    for call in [*CALLS.values(), *LIVE_CALLS.values()]:
         assert call in tftools.__all__ and callable(getattr(tftools, call))
 
 
@@ -165,23 +175,41 @@ def test_wtf_of_a_fleet() -> None:
 )
 def test_filter(name: str, lost: bool) -> None:
     from tftools.render import filter as render
-    from tftools.sources.bag.stamped import stamped_of
 
     bag = _corpus(name)
-    recording = tftools.read_recording([bag], headers=())
-    streams = stamped_of(recording.contents.files).streams
-    report = tftools.filter_report(recording.buffer, streams, None)
+    report = tftools.filter_recording([bag])
     done = tfx("filter", "-b", bag, "-f", "json")
     assert rendered(render.write_json, report) == json.loads(done.stdout)
     assert report.streams and report.lost is lost and done.returncode == int(lost)
 
 
-def test_filter_finds_no_sensor_data_in_the_sample() -> None:
-    from tftools.sources.bag.stamped import stamped_of
+def test_filter_with_a_target_a_timeout_and_a_queue() -> None:
+    from tftools.render import filter as render
 
-    recording = tftools.read_recording([BAGS[0]], headers=())
-    assert stamped_of(recording.contents.files).streams == []
+    bag = _corpus("ros2_db3_tb3_gazebo_walker")
+    problems: list[str] = []
+    report = tftools.filter_recording(
+        [bag], "/odom", ["/scan", "/nothere"], cache_time=2 * tftools.NS_PER_S, wait=10**8, queue=3,
+        on_problem=problems.append,
+    )  # fmt: skip
+    done = tfx("filter", "/scan", "/nothere", "-b", bag, "--target", "/odom", "--cache", "2", "--wait", "0.1",
+               "--queue", "3", "-f", "json")  # fmt: skip
+    assert rendered(render.write_json, report) == json.loads(done.stdout)
+    assert [s.topic for s in report.streams] == ["/scan"] and report.target == "odom"
+    assert problems == ["/nothere: not in the recording, or its messages have no header"]
+    assert f"tfx: warning: {problems[0]}" in done.stderr
+
+
+def test_filter_finds_no_sensor_data_in_the_sample() -> None:
+    from tftools.analysis import NoStampedDataError
+
+    with pytest.raises(NoStampedDataError, match="no topic with a Header to check") as raised:
+        tftools.filter_recording([BAGS[0]])
+    assert isinstance(raised.value, tftools.core.UsageError) and raised.value.problems == []
     assert "no topic with a Header" in tfx("filter", "-b", BAGS[0]).stderr
+    with pytest.raises(tftools.core.UsageError, match="frame 'odm' does not exist") as unknown:
+        tftools.filter_recording([BAGS[0]], "odm")
+    assert unknown.value.hint.startswith("frames: odom")
 
 
 def test_report(bag: str, tmp_path: Path) -> None:
@@ -257,4 +285,162 @@ def _readme_api() -> Iterator[str]:
 def test_the_readmes_api_examples_run(code: str, capsys: pytest.CaptureFixture[str], monkeypatch: Any) -> None:
     monkeypatch.chdir(REPO)
     exec(compile(code, "README.md", "exec"), {})
-    assert capsys.readouterr().out.split() == ["18", "28", "17", "False", "False", "0"]
+    assert capsys.readouterr().out.split() == ["18", "28", "17", "False", "None", "0"]
+
+
+class _Robot(LiveSource):
+    """A live system without a network, on the wall clock: once started, a second of odom -> base_link
+    at 20 Hz (x = 0 .. 19) and a static base_link -> laser; and, to a header listener, five scans in laser
+    and one in a misspelt frame."""
+
+    format = "test-live"
+
+    def __init__(self, transforms: bool = True) -> None:
+        super().__init__(None, False, None)
+        self.transforms = transforms
+
+    def start(self, on_batch: OnBatch) -> None:
+        if not self.transforms:
+            return
+        builder, now = BatchBuilder(), self.clock.now()
+        for i in range(20):
+            stamp = now - (19 - i) * NS_PER_S // 20
+            builder.add("odom", "base_link", stamp, (i, 0, 0), (0, 0, 0, 1), record_time=now, authority="/odometry")
+        builder.add(
+            "base_link", "laser", now, (0.2, 0, 0.1), (0, 0, 0, 1), static=True, record_time=now, authority="/s"
+        )
+        self.message_count += 21
+        self._pass_on(on_batch, builder.take())
+
+    def describe(self) -> str:
+        return "a test robot"
+
+    def close(self) -> None:
+        self._closed.set()
+
+    def header_listener(self, store: HeaderStore) -> HeaderListener:
+        return _Scans(store)
+
+
+class _Scans:
+    def __init__(self, store: HeaderStore) -> None:
+        self.store = store
+
+    def start(self) -> None:  # the topics the store wants, as a live system's listener subscribes them
+        now = self.store.clock.now()
+        scans = [("/scan", now - NS_PER_S // 2 + i * NS_PER_S // 10, "laser") for i in range(5)]
+        for topic, stamp, frame in [*scans, ("/scan_misspelt", now - NS_PER_S // 2, "lasr")]:
+            if self.store.wants(topic):
+                self.store.heard(topic, "sensor_msgs/msg/LaserScan", (stamp, frame))
+
+    def close(self) -> None:
+        pass
+
+
+def test_check_live_of_a_fake_robot() -> None:
+    problems: list[str] = []
+    checked = tftools.check_live(_Robot(), 0.1, {"sensor_topics": ["/scan", "/nobody"]}, on_problem=problems.append)
+    assert checked.paths == ("a test robot",) and checked.transforms == 21 and checked.frames == 3
+    assert checked.sensor_topics == ("/scan",) and checked.sensor_target == "odom"
+    assert problems == ["/nobody: no message heard (is it published?)"]
+    unheard = tftools.check_live(_Robot(transforms=False), 0.1)
+    assert unheard.failed() and [f.code for f in unheard.findings] == ["no_tf"]
+
+
+def test_report_live_of_a_fake_robot() -> None:
+    from tftools.sources.live.errors import NoTransformsHeardError
+
+    report = tftools.report_live(_Robot(), 0.1, sensor_topics=["/scan"])
+    assert report.name == "a test robot" and {n.name for n in report.graph.nodes} == {"odom", "base_link", "laser"}
+    with pytest.raises(NoTransformsHeardError, match=r"no transforms on /tf, /tf_static from a test robot in 0\.1 s"):
+        tftools.report_live(_Robot(transforms=False), 0.1)
+
+
+def test_filter_live_of_a_fake_robot_loses_the_misspelt_frame() -> None:
+    from tftools.analysis import NoStampedDataError
+
+    report = tftools.filter_live(_Robot(), 0.1, "/odom")
+    streams = {s.topic: s for s in report.streams}
+    assert report.target == "odom" and set(streams) == {"/scan", "/scan_misspelt"}
+    assert streams["/scan"].messages == 5 and streams["/scan"].never == 0
+    assert streams["/scan_misspelt"].reasons == {"unknown_frame": 1} and report.lost
+    with pytest.raises(NoStampedDataError, match="/nobody: no message heard"):
+        tftools.filter_live(_Robot(), 0.1, topics=["/nobody"])
+
+
+def test_echo_live_of_a_fake_robot() -> None:
+    from tftools.analysis import EchoSeries
+    from tftools.core import Buffer
+
+    shown: list[EchoSeries] = []
+
+    def show(series: EchoSeries, buffer: Buffer) -> None:
+        assert sorted(buffer.frames) == ["base_link", "laser", "odom"]
+        shown.append(series)
+
+    tftools.echo_live(_Robot(), "/odom", "laser", show, rate=100, count=3, wait=10)
+    assert len(shown) == 3 and all(s.valid.all() for s in shown)
+    assert shown[-1].translations[0].tolist() == pytest.approx([19.2, 0, 0.1])
+
+
+def test_wait_for_transform_reminds_then_gives_up() -> None:
+    from tftools.core import Buffer
+    from tftools.sources.live.capture import Waiting, wait_for_transform
+    from tftools.sources.live.errors import TransformNotHeardError
+
+    buffer, reminded = Buffer(), list[Waiting]()
+
+    def remind(waiting: Waiting) -> None:  # the transform arrives after the first reminder
+        reminded.append(waiting)
+        builder = BatchBuilder()
+        builder.add("odom", "base_link", 1, (1, 0, 0), (0, 0, 0, 1), static=True)
+        buffer.insert(builder.take())
+
+    wait_for_transform(buffer, "odom", "base_link", on_reminder=remind, remind_every=0.01)
+    assert len(reminded) == 1 and reminded[0].frames == [] and "does not exist" in reminded[0].reason
+    with pytest.raises(TransformNotHeardError, match="no transform odom <- laser after") as raised:
+        wait_for_transform(buffer, "odom", "laser", timeout=0)
+    assert raised.value.target == "odom" and '"laser" passed to lookupTransform' in raised.value.reason
+
+
+@pytest.fixture
+def roscore(monkeypatch: pytest.MonkeyPatch, ros: live.Ros) -> live.Ros:
+    """The live tests' real roscore (tests/live), the environment pointing at it, and tf and scans on it."""
+    from tests.live.conftest import STATIC_PUBLISHER, wait_until
+
+    monkeypatch.setenv("ROS_MASTER_URI", ros.master.uri)
+    monkeypatch.setenv("ROS_HOSTNAME", "127.0.0.1")
+    monkeypatch.delenv("ROS_IP", raising=False)
+    ros.spawn(STATIC_PUBLISHER, "0.2", "0", "0.1", "0", "0", "0", "base_link", "laser")
+    ros.node("dynamic", "/odometry", "odom", "base_link", "0", "20")
+    ros.node("scan", "/laser_driver", "/scan", "laser", "10")
+    wait_until(lambda: all(ros.master.publishers(t) for t in ("/tf", "/tf_static", "/scan")), 20, "the publishers")
+    return ros
+
+
+@pytest.mark.live
+def test_the_live_calls_on_a_real_roscore(roscore: live.Ros) -> None:
+    from tftools.analysis import EchoSeries
+    from tftools.render import filter as render
+    from tftools.sources.live import open_live
+
+    checked = tftools.check_live(open_live("ros1"), 2, {"sensor_topics": ["/scan"]})
+    said = json.loads(roscore.run_tfx("wtf", "--ros1", "-d", "2", "--sensor", "/scan", "-f", "json").stdout)["bags"][0]
+    assert checked.paths == tuple(said["paths"]) and checked.frames == said["frames"] == 3
+    assert checked.sensor_topics == ("/scan",) and not checked.failed()
+
+    fates = tftools.filter_live(open_live("ros1"), 2, "odom", ["/scan"])
+    printed = json.loads(
+        roscore.run_tfx("filter", "/scan", "--ros1", "-d", "2", "--target", "odom", "-f", "json").stdout
+    )
+    assert rendered(render.write_json, fates)["target"] == printed["target"] == "odom"
+    [scan] = fates.streams
+    assert scan.topic == "/scan" and scan.messages >= 10 and scan.never == 0
+
+    page = tftools.report_live(open_live("ros1"), 1)
+    assert page.name == checked.paths[0] and {n.name for n in page.graph.nodes} == {"odom", "base_link", "laser"}
+
+    shown: list[EchoSeries] = []
+    tftools.echo_live(open_live("ros1"), "odom", "laser", lambda series, _: shown.append(series), 20, 3, wait=20)
+    assert len(shown) == 3 and all(s.valid.all() for s in shown)
+    assert shown[-1].translations[0][2] == pytest.approx(0.1)  # the laser 10 cm above the base, turned about z

@@ -13,13 +13,18 @@ from tftools import lazy
 if TYPE_CHECKING:
     from tftools.analysis import (
         check_fleet,
+        check_live,
         diff_trees,
+        echo_live,
         echo_recording,
+        filter_live,
+        filter_recording,
         filter_report,
         frame_tree,
         monitor_recording,
         recording_report,
         report_fleet,
+        report_live,
     )
     from tftools.core import (
         DEFAULT_CACHE_TIME,
@@ -57,9 +62,10 @@ __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "ConnectivityError",
     "EdgeHistory", "ExtrapolationError", "InvalidArgumentError", "LookupBatch", "Recording", "Rejection",
     "RejectionCode", "Semantics", "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError",
-    "UnknownFrameError", "WallClock", "add_static", "check_fleet", "diff_trees", "echo_recording", "filter_report",
-    "format_sec", "frame_tree", "from_sec", "load", "monitor_recording", "publish_static", "read_recording",
-    "recording_report", "repair_static", "report_fleet", "stream_recording", "to_sec", "view_frames",
+    "UnknownFrameError", "WallClock", "add_static", "check_fleet", "check_live", "diff_trees", "echo_live",
+    "echo_recording", "filter_live", "filter_recording", "filter_report", "format_sec", "frame_tree", "from_sec",
+    "load", "monitor_recording", "publish_static", "read_recording", "recording_report", "repair_static",
+    "report_fleet", "report_live", "stream_recording", "to_sec", "view_frames",
 ]  # fmt: skip
 
 #: The package each name comes from, when not ``tftools.core``: reading (sources), each command's call
@@ -69,13 +75,18 @@ _PACKAGE = {
     **dict.fromkeys(
         [
             "check_fleet",
+            "check_live",
             "diff_trees",
+            "echo_live",
             "echo_recording",
+            "filter_live",
+            "filter_recording",
             "filter_report",
             "frame_tree",
             "monitor_recording",
             "recording_report",
             "report_fleet",
+            "report_live",
         ],
         "tftools.analysis",
     ),

@@ -142,8 +142,13 @@ def test_cache_sets_the_live_buffers_length(tfx, monkeypatch: pytest.MonkeyPatch
         raise ListenedError
 
     monkeypatch.setenv("TFX_DEBUG", "1")  # the test's own exception comes through
-    monkeypatch.setattr("tftools.cli.echo.live.open_source", lambda *args: contextlib.nullcontext())
-    monkeypatch.setattr("tftools.sources.live.capture.listen", listen)
+
+    class Feed(contextlib.nullcontext[None]):
+        def describe(self) -> str:
+            return "a test"
+
+    monkeypatch.setattr("tftools.cli.echo.live.open_source", lambda *args: Feed())
+    monkeypatch.setattr("tftools.analysis.live.listen", listen)
     with pytest.raises(ListenedError):
         tfx("echo", "map", "odom", "--cache", "2.5")
     assert asked == [2_500_000_000]

@@ -1,4 +1,4 @@
-"""``every``: the live commands' ticking, on the wall clock or on /clock (sim time)."""
+"""``tick_every``: the live commands' ticking (``echo_live``'s), on the wall clock or on /clock (sim time)."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import itertools
 import threading
 import time
 
-from tftools.cli.live import every
 from tftools.core.time import NS_PER_S, SimClock
+from tftools.sources.ticker import tick_every
 
 
 def _play_clock(clock: SimClock, times_s: list[float], stop: threading.Event) -> threading.Thread:
@@ -30,7 +30,7 @@ def test_sim_ticks_wait_for_the_first_clock_then_follow_it() -> None:
     ticks: list[int] = []
     stop = threading.Event()
     player = _play_clock(clock, [1000.0 + k * 0.05 for k in range(40)], stop)
-    every(4.0, 3, lambda: False, lambda: ticks.append(clock.now()), clock)
+    tick_every(0.25, lambda: ticks.append(clock.now()), count=3, clock=clock)
     stop.set()
     player.join()
     assert len(ticks) == 3
@@ -43,12 +43,14 @@ def test_sim_ticks_stop_while_waiting_for_a_clock_that_never_comes() -> None:
     clock = SimClock()
     ticks: list[int] = []
     began = time.monotonic()
-    every(4.0, 3, lambda: time.monotonic() - began > 0.3, lambda: ticks.append(clock.now()), clock)
+    tick_every(
+        0.25, lambda: ticks.append(clock.now()), count=3, stop=lambda: time.monotonic() - began > 0.3, clock=clock
+    )
     assert ticks == []
 
 
 def test_wall_ticks_count_and_pace() -> None:
     ticks: list[float] = []
-    every(50.0, 3, lambda: False, lambda: ticks.append(time.monotonic()))
+    tick_every(0.02, lambda: ticks.append(time.monotonic()), count=3)
     assert len(ticks) == 3
     assert 0.015 <= ticks[-1] - ticks[0] < 0.5  # two periods of 20 ms

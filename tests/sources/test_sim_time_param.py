@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 
-from tftools.cli import live
 from tftools.core.time import SimClock
 from tftools.sources import ticker
 from tftools.sources.live.errors import NoClockError
@@ -35,7 +34,7 @@ def test_ticks_on_a_clock_that_never_starts_end_with_the_reason(monkeypatch) -> 
     monkeypatch.setattr(ticker, "CLOCK_PATIENCE", 0.3)
     ticks: list[None] = []
     with pytest.raises(NoClockError, match=r"no /clock came in 0.3 s") as caught:
-        live.every(10, 3, lambda: False, lambda: ticks.append(None), SimClock())
+        ticker.tick_every(0.1, lambda: ticks.append(None), count=3, clock=SimClock())
     assert not ticks and "--clock" in caught.value.hint
 
 
@@ -48,5 +47,5 @@ def test_ticks_on_a_clock_that_runs_are_counted_on_it() -> None:
         ticks.append(clock.now())
         clock.set(clock.now() + 100_000_000)
 
-    live.every(10, 3, lambda: False, tick, clock)
+    ticker.tick_every(0.1, tick, count=3, clock=clock)
     assert ticks == [5_000_000_000, 5_100_000_000, 5_200_000_000]

@@ -14,19 +14,28 @@ if TYPE_CHECKING:
     from tftools.analysis.diff import Difference, compare
     from tftools.analysis.echo import EchoSeries, echo, echo_latest, echo_played, echo_recording, echo_times
     from tftools.analysis.expected import Tolerances, TreeShape, shape_of
-    from tftools.analysis.filter import FilterReport, filter_report
+    from tftools.analysis.filter import FilterReport, filter_heard, filter_recording, filter_report
     from tftools.analysis.findings import Finding, Severity
     from tftools.analysis.fleet import Fleet, Unfinished, run_fleet
     from tftools.analysis.frames import FrameTree, frame_tree
     from tftools.analysis.graph import FrameGraph, frame_graph
+    from tftools.analysis.live import check_live, echo_live, filter_live, report_live
     from tftools.analysis.loops import find_loops
     from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor, monitor_recording, watch_feed
-    from tftools.analysis.report import RecordingReport, Unreadable, recording_report, report_bags, report_fleet
+    from tftools.analysis.report import (
+        RecordingReport,
+        Unreadable,
+        recording_report,
+        report_bags,
+        report_fleet,
+        report_read,
+    )
     from tftools.analysis.times import parse_time, time_range
     from tftools.analysis.tree_diff import TreeDiff, diff_trees
     from tftools.analysis.tree_file import read_tree, write_tree
     from tftools.analysis.wtf import CHECKS, Thresholds, check, findings_of
-    from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_recording
+    from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_read, check_recording
+    from tftools.sources.errors import NoStampedDataError
 
 __all__ = [
     "CHECKS",
@@ -40,6 +49,7 @@ __all__ = [
     "FrameTree",
     "LiveMonitor",
     "MonitorReport",
+    "NoStampedDataError",
     "RecordingReport",
     "Robot",
     "Severity",
@@ -52,14 +62,20 @@ __all__ = [
     "check",
     "check_bags",
     "check_fleet",
+    "check_live",
+    "check_read",
     "check_recording",
     "compare",
     "diff_trees",
     "echo",
     "echo_latest",
+    "echo_live",
     "echo_played",
     "echo_recording",
     "echo_times",
+    "filter_heard",
+    "filter_live",
+    "filter_recording",
     "filter_report",
     "find_loops",
     "findings_of",
@@ -72,6 +88,8 @@ __all__ = [
     "recording_report",
     "report_bags",
     "report_fleet",
+    "report_live",
+    "report_read",
     "robot_of",
     "run_fleet",
     "shape_of",
@@ -93,6 +111,7 @@ _HOME = {
     "FrameTree": "tftools.analysis.frames",
     "LiveMonitor": "tftools.analysis.monitor",
     "MonitorReport": "tftools.analysis.monitor",
+    "NoStampedDataError": "tftools.sources.errors",
     "RecordingReport": "tftools.analysis.report",
     "Robot": "tftools.analysis.description",
     "Severity": "tftools.analysis.findings",
@@ -105,14 +124,20 @@ _HOME = {
     "check": "tftools.analysis.wtf",
     "check_bags": "tftools.analysis.wtf.fleet",
     "check_fleet": "tftools.analysis.wtf.fleet",
+    "check_live": "tftools.analysis.live",
+    "check_read": "tftools.analysis.wtf.fleet",
     "check_recording": "tftools.analysis.wtf.fleet",
     "compare": "tftools.analysis.diff",
     "diff_trees": "tftools.analysis.tree_diff",
     "echo": "tftools.analysis.echo",
     "echo_latest": "tftools.analysis.echo",
+    "echo_live": "tftools.analysis.live",
     "echo_played": "tftools.analysis.echo",
     "echo_recording": "tftools.analysis.echo",
     "echo_times": "tftools.analysis.echo",
+    "filter_heard": "tftools.analysis.filter",
+    "filter_live": "tftools.analysis.live",
+    "filter_recording": "tftools.analysis.filter",
     "filter_report": "tftools.analysis.filter",
     "find_loops": "tftools.analysis.loops",
     "findings_of": "tftools.analysis.wtf",
@@ -125,6 +150,8 @@ _HOME = {
     "recording_report": "tftools.analysis.report",
     "report_bags": "tftools.analysis.report",
     "report_fleet": "tftools.analysis.report",
+    "report_live": "tftools.analysis.live",
+    "report_read": "tftools.analysis.report",
     "robot_of": "tftools.analysis.description",
     "run_fleet": "tftools.analysis.fleet",
     "shape_of": "tftools.analysis.expected",

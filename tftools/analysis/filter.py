@@ -30,9 +30,10 @@ from __future__ import annotations
 import enum
 import heapq
 import itertools
-from collections.abc import Iterator, Sequence
+import os
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Final, Literal
+from typing import TYPE_CHECKING, Final, Literal
 
 import numpy as np
 
@@ -45,6 +46,12 @@ from tftools.core.figures import rate_hz, silence_limit
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
+from tftools.sources.errors import NoStampedDataError
+
+if TYPE_CHECKING:
+    from tftools.core.semantics import Semantics
+    from tftools.sources.bag import ProgressCallback
+    from tftools.sources.recording import Recording
 
 #: A time that never comes.
 NEVER = np.iinfo(np.int64).max
@@ -482,6 +489,58 @@ def filter_report(
         fates[stream.topic] = message_fates(buffer, stream, target, cache_time, end)
         reports.append(_stream_report(buffer, stream, target, fates[stream.topic], wait, queue, end))
     return FilterReport(target, reason, cache_time, reports, skipped, fates)
+
+
+def filter_recording(
+    paths: Sequence[str | os.PathLike[str]],
+    target: str | None = None,
+    topics: Sequence[str] | None = None,
+    *,
+    cache_time: int = DEFAULT_CACHE_TIME,
+    wait: int | None = None,
+    queue: int | None = None,
+    semantics: Semantics | None = None,
+    progress: ProgressCallback | None = None,
+    on_problem: Callable[[str], object] | None = None,
+) -> FilterReport:
+    """``tfx filter -b BAG``: read the recording at ``paths`` (several: a split one) with the headers of
+    ``topics`` (default: every topic whose messages start with a header) in one pass, and replay a
+    MessageFilter on them (``filter_report``). ``target``, when given, must be a frame of the recording
+    (a leading ``/`` dropped; else ``known_frame``'s ``UsageError``); what could not be read goes to ``on_problem``.
+    Raises ``NoStampedDataError`` when no topic has a header."""
+    from tftools.sources.recording import read_recording
+
+    recording = read_recording(paths, progress=progress, semantics=semantics, headers=tuple(topics or ()))
+    for problem in recording.problems:
+        (on_problem or _ignore)(problem)
+    return filter_heard(recording, target, topics, cache_time, wait, queue, on_problem)
+
+
+def filter_heard(
+    recording: Recording,
+    target: str | None = None,
+    topics: Sequence[str] | None = None,
+    cache_time: int = DEFAULT_CACHE_TIME,
+    wait: int | None = None,
+    queue: int | None = None,
+    on_problem: Callable[[str], object] | None = None,
+) -> FilterReport:
+    """``filter_recording`` of a recording read or heard (``analysis.live.filter_live``) with the headers
+    of its sensor data; ``topics``, those asked for (said missing when not read)."""
+    from tftools.core.frames import known_frame
+    from tftools.sources.bag.stamped import stamped_of
+
+    stamped = stamped_of(recording.contents.files, topics)
+    chosen = known_frame(recording.buffer.frames, target) if target is not None else None
+    if not stamped.streams:
+        raise NoStampedDataError(stamped.problems)
+    for problem in stamped.problems:
+        (on_problem or _ignore)(problem)
+    return filter_report(recording.buffer, stamped.streams, chosen, cache_time, wait, queue)
+
+
+def _ignore(_problem: str) -> None:
+    pass
 
 
 def _stream_report(

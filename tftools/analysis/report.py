@@ -126,6 +126,18 @@ def report_bags(
         recording = read_recording(paths, topics, progress, semantics=semantics, headers=headers, whole=ROBOT_TOPICS)
     except TfToolsError as error:
         return Unreadable(" + ".join(str(p) for p in paths), str(error), error.hint)
+    return report_read(recording, paths, target, sensor_topics, urdf)
+
+
+def report_read(
+    recording: Recording,
+    paths: Sequence[str | os.PathLike[str]] = (),
+    target: str | None = None,
+    sensor_topics: Sequence[str] | None = None,
+    urdf: RobotDescription | None = None,
+) -> RecordingReport:
+    """``report_bags`` of a recording read from ``paths`` (or heard: ``analysis.live.report_live``), its
+    sensor data the headers it was read with."""
     robot, said = robot_of(paths, recording, urdf)
     streams = stamped_of(recording.contents.files, sensor_topics).streams
     report = recording_report(recording, streams, target, robot, [said] if said is not None else [])

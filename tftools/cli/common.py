@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import difflib
 import enum
 import functools
 from collections.abc import Callable, Iterator, Sequence
@@ -15,8 +14,8 @@ import typer
 from rich.console import Console
 from rich.text import Text
 
-from tftools.core.errors import TfToolsError, UsageError
-from tftools.core.frames import frame_name
+from tftools.core.errors import TfToolsError
+from tftools.core.frames import known_frame
 from tftools.render.escape import printable
 
 if TYPE_CHECKING:  # the readers load when a command reads: its --help needs none of them (nor numpy)
@@ -143,13 +142,7 @@ def local_size(location: str) -> int:
 
 def frame_argument(frames: Sequence[str], frame: str) -> str:
     """A frame given on the command line (a leading ``/`` dropped, as tf did); must be one of ``frames``."""
-    name = frame_name(frame)
-    if name not in frames:
-        close = difflib.get_close_matches(name, frames, n=3, cutoff=0.4)
-        rest = sorted(set(frames) - set(close))
-        listed = ", ".join([*close, *rest][:20]) + (", ..." if len(frames) > 20 else "")
-        raise UsageError(f"frame {frame!r} does not exist", f"frames: {listed}")
-    return name
+    return known_frame(frames, frame)
 
 
 def exit_with(code: Exit) -> NoReturn:

@@ -24,6 +24,7 @@ from tftools.render.escape import printable_lines
 
 if TYPE_CHECKING:  # the lookups and their renderers load when a command runs: --help needs none of them (nor numpy)
     from tftools.analysis.echo import EchoSeries
+    from tftools.core.buffer import Buffer
     from tftools.sources.live.base import LiveSource
 
 
@@ -194,21 +195,35 @@ def _live(
     semantics: Semantics | None,
     lines: Lines,
 ) -> Exit:
-    """Without -b, as tf_echo: wait for the transform, then the latest one ``rate`` times a second
-    (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
-    from tftools.analysis.echo import echo_latest
-    from tftools.sources.live.capture import listen
+    """Without -b, as tf_echo (``echo_live``): wait for the transform, then the latest one ``rate`` times a
+    second (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
+    from tftools.analysis.live import echo_live
+    from tftools.sources.live.errors import TransformNotHeardError
 
-    target, source = frame_name(target), frame_name(source)
-    with feed:
-        buffer = listen(feed, from_sec(cache), semantics)
-        live.wait_for_transform(buffer, target, source, feed.describe(), wait)
+    def show(series: EchoSeries, buffer: Buffer) -> None:
+        lines.show(series)
+        if not series.valid.all() and lines.fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
+            stdout.file.write(f"The current list of frames is:\n{printable_lines(buffer.all_frames_as_string())}")
+            stdout.file.flush()
 
-        def tick() -> None:
-            series = lines.show(echo_latest(buffer, target, source))
-            if not series.valid.all() and lines.fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
-                stdout.file.write(f"The current list of frames is:\n{printable_lines(buffer.all_frames_as_string())}")
-                stdout.file.flush()
-
-        live.every(rate, count, lambda: feed.finished, tick, feed.clock)
+    what = feed.describe()
+    live.say(f"listening to {what}; waiting for the transform {frame_name(target)} <- {frame_name(source)}")
+    try:
+        echo_live(
+            feed,
+            target,
+            source,
+            show,
+            rate,
+            count,
+            wait=wait,
+            cache_time=from_sec(cache),
+            semantics=semantics,
+            on_reminder=live.remind,
+        )
+    except TransformNotHeardError as error:
+        raise UsageError(
+            f"no transform {error.target} <- {error.source} from {what} after {error.waited:.1f} s: {error.reason}",
+            "check the frame names with `tfx frames`, or wait longer with --wait",
+        ) from None
     return lines.done()

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
+import functools
 from typing import Annotated
 
 import typer
 
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import Exit, TextOrJson, exit_with, frame_argument, stdout, warn
-from tftools.cli.reading import open_recording
+from tftools.cli.common import Exit, TextOrJson, exit_with, progress_bar, stdout, warn
 from tftools.core.errors import UsageError
 from tftools.core.time import from_sec
 
@@ -58,27 +58,28 @@ def command(
     cache = positive_seconds(cache, "--cache", "10 (tf2's default)")
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
-    from tftools.analysis.filter import filter_report
+    from tftools.analysis.filter import filter_recording
+    from tftools.analysis.live import filter_live
     from tftools.render import filter as render
-    from tftools.sources.bag.stamped import stamped_of
+    from tftools.sources.errors import NoStampedDataError
 
-    if bags:
-        recording = open_recording(bags, None, tf2, headers=tuple(topics or ()))
-        stamped = stamped_of(recording.contents.files, topics)
-    else:
-        recording, stamped = live.capture_with_headers(ros1, use_sim_time, duration, topics, tf2)
-    chosen = frame_argument(recording.buffer.frames, target) if target is not None else None
-    if not stamped.streams:
-        why = f": {'; '.join(stamped.problems)}" if stamped.problems else ""
-        example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
-        raise UsageError(f"no topic with a Header to check{why}", f"name topics of stamped messages, e.g. {example}")
-    for problem in stamped.problems:
-        warn(problem)
-    report = filter_report(
-        recording.buffer, stamped.streams, chosen, from_sec(cache), from_sec(wait) if wait is not None else None, queue
-    )
+    cache_time, timeout = from_sec(cache), from_sec(wait) if wait is not None else None
+    with progress_bar(bags or []) as progress:
+        if bags:
+            filtering, read = functools.partial(filter_recording, bags, progress=progress), ", ".join(bags)
+        else:
+            source = live.start_listening(ros1, use_sim_time, duration)
+            filtering, read = functools.partial(filter_live, source, duration), source.describe()
+        try:
+            with live.heard(duration):
+                report = filtering(
+                    target, topics, cache_time=cache_time, wait=timeout, queue=queue, semantics=tf2, on_problem=warn
+                )
+        except NoStampedDataError as error:
+            example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
+            raise UsageError(str(error), f"name topics of stamped messages, e.g. {example}") from None
     if fmt is TextOrJson.json:
         render.write_json(report, stdout.file)
     else:
-        stdout.print(render.renderable(report, ", ".join(f.path for f in recording.contents.files)))
+        stdout.print(render.renderable(report, read))
     exit_with(Exit.PROBLEMS if report.lost else Exit.OK)

@@ -17,11 +17,7 @@ from tftools.core.errors import UsageError
 from tftools.core.semantics import Semantics
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
-    from tftools.analysis.description import Robot
-    from tftools.analysis.findings import Finding
     from tftools.render.report import Section
-    from tftools.sources import Recording
-    from tftools.sources.contents import StampedMessages
     from tftools.sources.urdf import RobotDescription
 
 DEFAULT_OUTPUT = "report.html"
@@ -71,7 +67,6 @@ def command(
     Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
     [cyan]tfx report --ros1 -d 10 -o live.html[/]
     """
-    from tftools.analysis.description import robot_of
     from tftools.analysis.findings import counted
     from tftools.render.files import write_atomically
     from tftools.render.report import page
@@ -83,9 +78,15 @@ def command(
     if groups:
         sections = _bag_sections(groups, topics, tf2, target, sensors, description, jobs or os.cpu_count() or 1)
     else:
-        recording, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors)
-        robot, _ = robot_of([], recording, description)
-        sections = [_section(0, recording, streams, target, robot)]
+        from tftools.analysis.live import report_live
+        from tftools.render.report import recording_section
+
+        source = live.start_listening(ros1, use_sim_time, duration, topics)
+        with live.heard(duration):
+            report = report_live(source, duration, target, sensors, description, tf2, on_problem=warn)
+        for problem in report.problems:
+            warn(problem)
+        sections = [recording_section(0, report)]
     title = "tfx report: " + (sections[0].name if len(sections) == 1 else counted(len(sections), "recording"))
     write_atomically(output, page(title, sections).encode())
     failed = sum(s.verdict == "failed" for s in sections)
@@ -142,18 +143,3 @@ def _bag_sections(
     if len(unread) == len(groups):
         raise UsageError(unread[0].message, unread[0].hint)
     return [sections[i] for i in range(len(groups))]
-
-
-def _section(
-    index: int,
-    recording: Recording,
-    streams: Sequence[StampedMessages],
-    target: str | None,
-    robot: Robot | None = None,
-    said: Finding | None = None,
-) -> Section:
-    from tftools.analysis.report import recording_report
-    from tftools.render.report import recording_section
-
-    report = recording_report(recording, streams, target, robot, [said] if said is not None else [])
-    return recording_section(index, report)

@@ -159,9 +159,8 @@ def command(
     Examples: [cyan]tfx wtf robot.bag[/], [cyan]tfx wtf logs/*.bag --format junit > wtf.xml[/],
     [cyan]tfx wtf -b run_0.bag -b run_1.bag --strict[/]
     """
-    from tftools.analysis.description import robot_of
     from tftools.analysis.expected import Tolerances
-    from tftools.analysis.wtf.fleet import check_recording
+    from tftools.analysis.wtf.fleet import Checks
     from tftools.render import wtf as render
     from tftools.render import wtf_lines as render_lines
     from tftools.sources.urdf import read_urdf
@@ -184,33 +183,29 @@ def command(
     robot_tolerances = expected_tree.tolerances(Tolerances(), *tolerances) if expected is None else expected.tolerances
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
+    checks = Checks(
+        topics=topics,
+        thresholds=thresholds,
+        ignore=ignored,
+        semantics=tf2,
+        target=target,
+        sensor_topics=sensors,
+        expected=expected,
+        urdf=description,
+        urdf_tolerances=robot_tolerances,
+    )
     groups = options.recordings_given(paths, bags)
     if groups:
-        from tftools.analysis.wtf.fleet import Checks
-
-        checks = Checks(
-            topics=topics,
-            thresholds=thresholds,
-            ignore=ignored,
-            semantics=tf2,
-            target=target,
-            sensor_topics=sensors,
-            expected=expected,
-            urdf=description,
-            urdf_tolerances=robot_tolerances,
-        )
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
         fleet = _fleet(jobs or os.cpu_count() or 1, dask, timeout)
         reports = _check_groups(groups, checks, fleet, resume, stream if fmt is WtfFormat.jsonl else lambda bag: None)
     elif dask is not None or resume is not None or timeout is not None:
         raise UsageError("--dask, --resume and --timeout are for recordings", "e.g. tfx wtf logs/*.bag --dask ADDRESS")
-    else:
-        # nothing heard is the no_tf error; sensor data only from the topics named
-        heard, streams = live.capture_live(ros1, use_sim_time, duration, topics, tf2, sensors, require_tf=False)
-        for problem in heard.problems:
-            warn(problem)
-        robot, _ = robot_of([], heard, description, robot_tolerances)
-        reports = [check_recording(heard, streams, thresholds, ignored, target, expected, robot)]
+    else:  # nothing heard is the no_tf error; sensor data only from the topics named
+        from tftools.analysis.live import check_live
+
+        source = live.start_listening(ros1, use_sim_time, duration, topics)
+        reports = [check_live(source, duration, checks, on_problem=warn)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:
         render.write_json(reports, sys.stdout, strict, thresholds, code)

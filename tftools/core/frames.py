@@ -1,9 +1,13 @@
 """``Names``: names interned as integer ids, the one interning of frames and authorities; ``FrameTable``,
-tf2's, whose ids start at 1; ``frame_name``, the one rule of a frame's leading ``/``."""
+tf2's, whose ids start at 1; ``frame_name``, the one rule of a frame's leading ``/``; ``known_frame``, a frame
+someone asked for."""
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Sequence
+
+from tftools.core.errors import UsageError
 
 #: Id 0 is tf2's "no parent": a frame's parent is never 0.
 NO_PARENT = 0
@@ -13,6 +17,18 @@ def frame_name(given: str) -> str:
     """``given`` as tf2 keys the frame: one leading ``/`` dropped (tf's tools and ROS 1's tf dropped it;
     tf2's lookups refuse it: ``Buffer``'s ``validateFrameId``)."""
     return given.removeprefix("/")
+
+
+def known_frame(frames: Sequence[str], frame: str) -> str:
+    """``frame`` as tf2 keys it (``frame_name``), which must be one of ``frames``: else a ``UsageError``
+    naming the closest."""
+    name = frame_name(frame)
+    if name not in frames:
+        close = difflib.get_close_matches(name, frames, n=3, cutoff=0.4)
+        rest = sorted(set(frames) - set(close))
+        listed = ", ".join([*close, *rest][:20]) + (", ..." if len(frames) > 20 else "")
+        raise UsageError(f"frame {frame!r} does not exist", f"frames: {listed}")
+    return name
 
 
 class Names:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from tftools.core.errors import TfToolsError
+from tftools.core.errors import TfToolsError, UsageError
 
 
 class SourceError(TfToolsError):
@@ -104,3 +104,12 @@ class RemoteError(BagError):
             problem,
             "check the URL and the credentials and endpoint in the environment (e.g. AWS_PROFILE, AWS_ENDPOINT_URL)",
         )
+
+
+class NoStampedDataError(UsageError):
+    """No topic with a header tied to tf to check: ``problems`` says why, as far as the reading tells."""
+
+    def __init__(self, problems: Sequence[str]) -> None:
+        why = f": {'; '.join(problems)}" if problems else ""
+        super().__init__(f"no topic with a Header to check{why}", "name topics of stamped messages, e.g. /scan")
+        self.problems = list(problems)

@@ -91,6 +91,22 @@ def check_bags(
             f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
             "this is a bug in tftools, not necessarily in the file: please report it with the file",
         )
+    return check_read(recording, paths, thresholds, ignore, target, sensor_topics, expected, urdf, urdf_tolerances)
+
+
+def check_read(
+    recording: Recording,
+    paths: Sequence[str | os.PathLike[str]] = (),
+    thresholds: Thresholds | None = None,
+    ignore: Collection[str] = (),
+    target: str | None = None,
+    sensor_topics: Sequence[str] | None = None,
+    expected: TreeShape | None = None,
+    urdf: RobotDescription | None = None,
+    urdf_tolerances: Tolerances | None = None,
+) -> BagReport:
+    """``check_bags`` of a recording read from ``paths`` (or heard: ``analysis.live.check_live``), its sensor
+    data the headers it was read with."""
     robot, said = robot_of(paths, recording, urdf, urdf_tolerances or (expected.tolerances if expected else None))
     streams = stamped_of(recording.contents.files, sensor_topics).streams
     checked = check_recording(recording, streams, thresholds, ignore, target, expected, robot)

@@ -1,19 +1,23 @@
-"""Listening to a live system: for a while into a ``Recording``, or for ever into a ``Buffer``."""
+"""Listening to a live system: for a while into a ``Recording``, or for ever into a ``Buffer`` (and waiting
+for a transform in it)."""
 
 from __future__ import annotations
 
 import threading
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.errors import TransformError
 from tftools.core.semantics import Semantics
 from tftools.sources.codecs.types import TF_MESSAGE
 from tftools.sources.contents import RecordingContents, SourceInfo
 from tftools.sources.live.base import LiveSource
+from tftools.sources.live.errors import TransformNotHeardError
 from tftools.sources.live.time_jump import OnJump, TimeJump, watch_jumps
 from tftools.sources.recording import Recording, recording_of
 
@@ -115,3 +119,43 @@ def listen(
 
     source.start(insert)
     return buffer
+
+
+#: Wall seconds between two reminders of ``wait_for_transform``.
+REMIND_EVERY = 5.0
+
+
+@dataclass(frozen=True)
+class Waiting:
+    """What ``wait_for_transform`` tells its ``on_reminder`` every few seconds: why the transform is not
+    there yet (tf2's reason, its first line), after how long, and the frames heard so far."""
+
+    waited: float  # wall seconds
+    reason: str
+    frames: list[str]
+
+
+def wait_for_transform(
+    buffer: Buffer,
+    target: str,
+    source: str,
+    timeout: float | None = None,
+    on_reminder: Callable[[Waiting], object] | None = None,
+    remind_every: float = REMIND_EVERY,
+) -> None:
+    """Block until the latest ``target`` <- ``source`` can be looked up in ``buffer`` (one ``listen`` fills),
+    telling ``on_reminder`` every ``remind_every`` wall seconds why it is not there yet; after ``timeout``
+    seconds (None: never), ``TransformNotHeardError``."""
+    started = time.monotonic()
+    while True:
+        patience = remind_every if timeout is None else min(remind_every, started + timeout - time.monotonic())
+        try:
+            buffer.wait_for_transform(target, source, 0, max(patience, 0.0))
+            return
+        except TransformError as error:
+            reason = str(error).strip().split("\n")[0]
+            waited = time.monotonic() - started
+            if timeout is not None and waited >= timeout:
+                raise TransformNotHeardError(target, source, waited, reason) from None
+            if on_reminder is not None:
+                on_reminder(Waiting(waited, reason, list(buffer.frames)))

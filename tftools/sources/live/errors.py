@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from tftools.sources.errors import SourceError
 
 
@@ -85,3 +87,26 @@ class NoClockError(LiveError):
             "replay with the clock (rosbag play --clock BAG), or run without simulated time "
             "(rosparam set /use_sim_time false, or tfx ... --wall-time)",
         )
+
+
+class NoTransformsHeardError(LiveError):
+    """A capture heard no transform on its ``topics`` from the live system ``source`` in ``duration`` s."""
+
+    def __init__(self, topics: Sequence[str], source: str, duration: float) -> None:
+        super().__init__(
+            f"no transforms on {', '.join(topics)} from {source} in {duration:g} s",
+            "is anything publishing? (rostopic info /tf) listen longer",
+        )
+        self.topics, self.source, self.duration = list(topics), source, duration
+
+
+class TransformNotHeardError(LiveError):
+    """``wait_for_transform`` gave up: ``target`` <- ``source`` was not there after ``waited`` s, for ``reason``
+    (tf2's, its first line)."""
+
+    def __init__(self, target: str, source: str, waited: float, reason: str) -> None:
+        super().__init__(
+            f"no transform {target} <- {source} after {waited:.1f} s: {reason}",
+            "check the frame names, or wait longer",
+        )
+        self.target, self.source, self.waited, self.reason = target, source, waited, reason

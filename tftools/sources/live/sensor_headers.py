@@ -1,5 +1,6 @@
 """Sensor data heard live beside tf, what ``tfx filter`` replays: each message's header, decoded by the
-parsers bags use, and its arrival time on the capture's clock: the same ``StampedMessages`` as a bag gives."""
+parsers bags use, and its arrival time on the capture's clock: the same ``StampedMessages`` as a bag gives;
+``capture_live``, tf and them in one recording."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from tftools.core.semantics import Semantics
 from tftools.sources.headers import StampedRead
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.capture import capture
+from tftools.sources.live.errors import NoTransformsHeardError
 from tftools.sources.live.header_store import HeaderStore
 from tftools.sources.recording import Recording
 
@@ -33,3 +35,27 @@ def capture_stamped(
         finally:
             listener.close()
     return recording, store.read()
+
+
+def capture_live(
+    source: LiveSource,
+    duration: float = 5.0,
+    headers: Sequence[str] | None = None,
+    *,
+    semantics: Semantics | None = None,
+    require_tf: bool = True,
+) -> Recording:
+    """What ``source`` (not yet started; closed on return) says in ``duration`` wall seconds, as one
+    recording, the way ``read_recording`` reads a bag: tf, and with ``headers``, the headers of the sensor
+    data on those topics (none named: every topic whose messages start with a header) in its
+    ``SourceInfo`` (``stamped_of(recording.contents.files)``: what a bag read with headers has). Hearing no
+    transform is a ``NoTransformsHeardError``, unless not ``require_tf``."""
+    if headers is None:
+        recording = capture(source, duration, semantics=semantics)
+    else:
+        recording, stamped = capture_stamped(source, duration, headers or None, semantics=semantics)
+        [info] = recording.contents.files
+        info.stamped, info.stamped_problems = stamped.streams, stamped.problems
+    if require_tf and not recording.transform_count:
+        raise NoTransformsHeardError(recording.contents.topics, source.describe(), duration)
+    return recording
