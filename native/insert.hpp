@@ -1,6 +1,7 @@
-// Buffer.insert's row work, as tf2's setTransform and its caches do it: the checks of each sample,
+// tf2's rules for each sample, as its setTransform and caches apply them: the checks of each sample,
 // the samples a dynamic cache refuses or (ROS 2) ignores for their stamp, and new rows merged into a
-// history by stamp. module.cpp's EdgeTable.insert drives it over the buffer's histories.
+// history by stamp. core.hpp's Core::insert (a batch) and Core::insert_common (set_transform's one
+// sample) both apply them, through the same Core::store.
 #pragma once
 
 #include <algorithm>
@@ -186,7 +187,7 @@ inline int64_t newest_before_last(const int64_t* latest, const Offered& offered)
     return newest;
 }
 
-// A history's writable arrays (EdgeHistory.storage()).
+// A history's writable columns (core.hpp's Block).
 struct Columns {
     int64_t* stamps;
     double* values;
