@@ -339,11 +339,12 @@ class Core {
     // Buffer.insert: the batch's rows as that many tf2 setTransform calls (see _kernels.pyi).
     Inserted insert(const Batch& b);
 
-    // Buffer.set_transform's common case, through the same rules: both frames known and named
-    // without a leading slash, different, a valid sample of the child's kind, newer than its newest
-    // (unless static), a known publisher, no rows reserved. False, having changed nothing, otherwise.
-    bool insert_common(std::string_view parent_name, std::string_view child_name, int64_t stamp,
-                       const double (&values)[7], bool is_static, int64_t record_time, std::string_view authority);
+    // Buffer.set_transform's common case, through the same rules: both frames known (`parent`, `child`:
+    // their ids, or -1; named without a leading slash), different, a valid sample of the child's kind,
+    // newer than its newest (unless static), a known publisher (its id, or -1), no rows reserved. False,
+    // having changed nothing, otherwise.
+    bool insert_common(int32_t parent, int32_t child, int64_t stamp, const double (&values)[7], bool is_static,
+                       int64_t record_time, int32_t publisher);
 
    private:
     static constexpr int64_t NEVER = INT64_MAX;
@@ -384,6 +385,7 @@ class Core {
     std::vector<int32_t> broadcasters_;
     std::unordered_map<std::string, int64_t> expected_;  // rows per child frame reserved and still to come
     std::shared_ptr<Room> room_;                         // where the reserved rows' new histories go
+    std::vector<uint8_t> verdicts_;                      // store's, kept: one sample's allocates nothing
 };
 
 // The rows refused since the last group, as one group of `code` (`bounds` starts with 0, where an
@@ -428,12 +430,13 @@ inline int64_t Core::store(int32_t frame, std::string_view name, const Rows& r, 
     }
     const tfcore::History& h = view_[frame];
     const bool is_static = h.is_static;
-    std::vector<uint8_t> verdicts(k, tfinsert::KEEP);
+    std::vector<uint8_t>& verdicts = verdicts_;
+    verdicts.assign(k, tfinsert::KEEP);
     int64_t prune_from = 0;  // ROS 2's
     if (!is_static) {
         const tfinsert::Offered offered = r.offered(rows, k);
-        verdicts = tfinsert::stamp_verdicts({h.stamps, h.values, h.parents, h.start, h.end, h.turned}, offered,
-                                            settings_.cache_time, ros2);
+        tfinsert::stamp_verdicts({h.stamps, h.values, h.parents, h.start, h.end, h.turned}, offered,
+                                 settings_.cache_time, ros2, verdicts);
         refuse(out, rows, verdicts, tfinsert::OLD, tfinsert::OLD_DATA);
         if (ros2) {
             for (int64_t i = 0; i < k; ++i) {
@@ -493,17 +496,12 @@ inline void Core::append(int32_t frame, const Rows& r, const int64_t* rows, cons
     refresh(frame);
 }
 
-inline bool Core::insert_common(std::string_view parent_name, std::string_view child_name, int64_t stamp,
-                                const double (&values)[7], bool is_static, int64_t record_time,
-                                std::string_view authority) {
-    if (!expected_.empty() || !plain(parent_name) || !plain(child_name)) return false;
-    const int32_t child = frames.find(child_name), parent = frames.find(parent_name);
-    if (child <= 0 || parent <= 0 || parent == child) return false;
-    const Store* s = stores_[child].get();
+inline bool Core::insert_common(int32_t parent, int32_t child, int64_t stamp, const double (&values)[7],
+                                bool is_static, int64_t record_time, int32_t publisher) {
+    if (!expected_.empty() || child <= 0 || parent <= 0 || parent == child || publisher < 0) return false;
+    const Store* s = stores_.at(child).get();
     if (s == nullptr || s->is_static != is_static) return false;
     if (!(is_static || s->end == s->start || stamp > s->block.stamps[s->end - 1])) return false;
-    const int32_t publisher = publishers.find(authority);
-    if (publisher < 0) return false;
     double checked[4] = {values[3], values[4], values[5], values[6]};
     if (settings_.ros2) tfcore::through_matrix_all(checked, 1, 4);  // what ROS 2's tf2 checks (and holds)
     const tfinsert::Values as_checked{{values[0], values[1], values[2], checked[0], checked[1], checked[2], checked[3]}};
@@ -516,7 +514,7 @@ inline bool Core::insert_common(std::string_view parent_name, std::string_view c
     const int64_t row = 0;
     Inserted none;
     ++arrivals;
-    store(child, child_name, r, &row, 1, none);
+    store(child, std::string_view(), r, &row, 1, none);
     return true;
 }
 

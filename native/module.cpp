@@ -251,15 +251,15 @@ class BufferCore {
             PyErr_Clear();
             return false;
         }
-        std::string_view child_name, parent_name, publisher;
         double v[7];
         int64_t stamp = 0, recorded = 0;
-        if (!text(child, child_name) || !text(parent, parent_name) || !text(authority, publisher) ||
-            !read_numbers(translation, 3, v) || !read_numbers(rotation, 4, v + 3) || !read_int(stamp_object, stamp) ||
+        if (!read_numbers(translation, 3, v) || !read_numbers(rotation, 4, v + 3) || !read_int(stamp_object, stamp) ||
             !read_int(record_time, recorded)) {
             return false;
         }
-        return core.insert_common(parent_name, child_name, stamp, v, wanted_static, recorded, publisher);
+        const int32_t parent_id = remembered(parent, PARENT), child_id = remembered(child, CHILD);
+        const int32_t publisher = remembered(authority, PUBLISHER);
+        return core.insert_common(parent_id, child_id, stamp, v, wanted_static, recorded, publisher);
     }
 
     // Buffer.insert's work in one call: see _kernels.pyi.
@@ -347,7 +347,7 @@ class BufferCore {
     nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
         const Locked locked(lock_, lock_methods_);
-        const int64_t target = remembered_id(target_frame, 0), source = remembered_id(source_frame, 1);
+        const int64_t target = remembered_id(target_frame, TARGET), source = remembered_id(source_frame, SOURCE);
         if (target <= 0 || source <= 0 || target == source) return nb::none();
         tfcore::Pose p;
         if (!lookup_pose(target, source, time, p)) return nb::none();
@@ -363,7 +363,7 @@ class BufferCore {
         // stored as "/b") is refused, as lookup refuses it.
         if (!plain_name(target_frame) || !plain_name(source_frame)) return false;
         const Locked locked(lock_, lock_methods_);
-        const int64_t target = remembered_id(target_frame, 0), source = remembered_id(source_frame, 1);
+        const int64_t target = remembered_id(target_frame, TARGET), source = remembered_id(source_frame, SOURCE);
         return target > 0 && source > 0 && can_transform(target, source, time);
     }
 
@@ -479,14 +479,28 @@ class BufferCore {
         return out;
     }
 
-    // The id of the frame named `name` (0: none), remembered per argument (`which`, 0 or 1) by the
-    // name's object: a loop looks the same two frames up again and again. Frames are only ever
-    // added, so a name's id never changes; held, its object cannot be another's.
-    int64_t remembered_id(nb::handle name, int which) const {
+    // Which name a remembered id is of: lookup's two frames, set_transform's two and its publisher.
+    enum Which { TARGET, SOURCE, PARENT, CHILD, PUBLISHER };
+
+    // The id of the frame named `name` (0: none), remembered per argument (`which`) by the name's
+    // object: a loop looks the same two frames up again and again. Frames are only ever added, so a
+    // name's id never changes; held, its object cannot be another's.
+    int64_t remembered_id(nb::handle name, Which which) const {
         Remembered& last = remembered_[which];
         if (name.ptr() == last.name.ptr()) return last.id;
         const int64_t id = frame_id(name);
         if (id > 0) last = {nb::borrow(name), id};
+        return id;
+    }
+
+    // set_transform's frame (named without a leading slash) or publisher `name`: its id, -1 if none.
+    int32_t remembered(nb::handle name, Which which) {
+        Remembered& last = remembered_[which];
+        if (name.ptr() == last.name.ptr()) return static_cast<int32_t>(last.id);
+        std::string_view s;
+        if (!text(name, s) || (which != PUBLISHER && !tfbuffer::plain(s))) return -1;
+        const int32_t id = (which == PUBLISHER ? core.publishers : core.frames).find(s);
+        if (id >= 0) last = {nb::borrow(name), id};
         return id;
     }
 
@@ -572,7 +586,7 @@ class BufferCore {
         nb::object name;
         int64_t id = 0;
     };
-    mutable Remembered remembered_[2];  // remembered_id's last name and id per argument (under the lock)
+    mutable Remembered remembered_[5];  // the last name and id per argument (Which), under the lock
     nb::object fields_[5];  // the answer's fields' slot descriptors, in FIELD order
     Py_ssize_t offsets_[5];  // ... and where each slot lies in an answer
 };
