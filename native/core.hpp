@@ -102,11 +102,25 @@ struct Block {
     }
 };
 
+// Allocations of this size and up are given large pages where the kernel has them, as numpy asks for its
+// arrays' (with THP in "madvise" mode, nothing else does).
+constexpr int64_t LARGE_PAGES_FROM = 4 << 20;
+
+// Ask for large pages for the pages wholly within `bytes` at `memory`.
+inline void large_pages(void* memory, int64_t bytes) {
+    constexpr uintptr_t PAGE = 4096;
+    const auto start = reinterpret_cast<uintptr_t>(memory);
+    const uintptr_t first = (start + PAGE - 1) & ~(PAGE - 1);
+    if (bytes < LARGE_PAGES_FROM || static_cast<int64_t>(first - start) >= bytes) return;
+    madvise(reinterpret_cast<void*>(first), bytes - (first - start), MADV_HUGEPAGE);
+}
+
 // A block of its own for `capacity` rows.
 inline Block new_block(int64_t capacity) {
     const int64_t bytes = block_bytes(std::max<int64_t>(capacity, 1));
     void* memory = std::aligned_alloc(64, bytes);
     if (memory == nullptr) throw std::bad_alloc();
+    large_pages(memory, bytes);
     return {std::shared_ptr<void>(memory, std::free), static_cast<uint8_t*>(memory), capacity};
 }
 
@@ -137,6 +151,8 @@ class Room {
             const int64_t rounded = (size + LARGE_PAGE - 1) / LARGE_PAGE * LARGE_PAGE;
             void* memory = std::aligned_alloc(LARGE_PAGE, rounded);
             if (memory == nullptr) throw std::bad_alloc();
+            // numpy's rule, as for the block with its alignment's slack that it used to be
+            if (size + LARGE_PAGE >= LARGE_PAGES_FROM) madvise(memory, rounded, MADV_HUGEPAGE);
             memory_ = std::shared_ptr<void>(memory, std::free);
         }
     }
