@@ -114,6 +114,8 @@ class BufferCore:
     def publisher_names(self) -> list[str]:
         """Every publisher's name by id."""
 
+    @property
+    def publisher_count(self) -> int: ...
     def history(self, frame_id: int) -> EdgeHistory | None:
         """The frame's history; None for a root or unknown frame."""
 

@@ -118,6 +118,7 @@ class Buffer:
         #: an identical one: neither stored nor refused (with ``rejections``, every arrival); a live
         #: buffer keeps about the latest ``LIVE_REJECTIONS_KEPT``.
         self.duplicates: list[int] = []
+        self._authorities: list[str] = []
         self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
         self._changed = threading.Condition(self._mutex)
         self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
@@ -138,8 +139,10 @@ class Buffer:
 
     @property
     def authorities(self) -> list[str]:
-        """The publishers heard, by id (``EdgeHistory.authorities``)."""
-        return self._core.publisher_names()
+        """The publishers heard, by id (``EdgeHistory.authorities``): the core's, copied once per new one."""
+        if len(self._authorities) != self._core.publisher_count:
+            self._authorities = self._core.publisher_names()
+        return self._authorities
 
     @property
     def lock(self) -> threading.Condition:
