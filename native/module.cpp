@@ -63,7 +63,7 @@ std::shared_ptr<tfbuffer::Store> store_of(const nb::tuple& columns, std::shared_
     const auto n = static_cast<int64_t>(stamps.shape(0));
     for (const size_t rows : {values.shape(0), parents.shape(0), authorities.shape(0), record_times.shape(0),
                               sequence.shape(0), flags.shape(0)}) {
-        if (static_cast<int64_t>(rows) != n) throw nb::value_error("BufferCore.restore: columns of other lengths");
+        if (static_cast<int64_t>(rows) != n) throw nb::value_error("a history's columns of other lengths");
     }
     s->block = tfbuffer::new_block(std::max<int64_t>(n, 8));
     const tfbuffer::Block& b = s->block;
@@ -75,6 +75,31 @@ std::shared_ptr<tfbuffer::Store> store_of(const nb::tuple& columns, std::shared_
     std::copy(sequence.data(), sequence.data() + n, b.sequence);
     std::copy(flags.data(), flags.data() + n, b.flags);
     s->end = n;
+    return s;
+}
+
+// Rows start..end of a history's values, from column `first`, `width` of them.
+nb::object values_of(const tfbuffer::Store& s, int64_t first = 0, int64_t width = 7) {
+    return view(s.block.memory, s.block.values + 7 * s.start + first, s.size(), width, 7);
+}
+
+// `s` and the histories it replaced, newest first, as plain values (a copy's, pickle's): each one's
+// static, stamps, values, parents, authorities, record times, sequence, flags.
+nb::list chain_of(const tfbuffer::Store* s) {
+    nb::list chain;
+    for (; s != nullptr; s = s->replaced.get()) {
+        const tfbuffer::Block& b = s->block;
+        chain.append(nb::make_tuple(s->is_static, rows_of(*s, b.stamps), values_of(*s), rows_of(*s, b.parents),
+                                    rows_of(*s, b.authorities), rows_of(*s, b.record_times), rows_of(*s, b.sequence),
+                                    rows_of(*s, b.flags)));
+    }
+    return chain;
+}
+
+// The history chain_of() gave (null for none).
+std::shared_ptr<tfbuffer::Store> from_chain(const nb::list& chain) {
+    std::shared_ptr<tfbuffer::Store> s;
+    for (size_t i = chain.size(); i-- > 0;) s = store_of(nb::cast<nb::tuple>(chain[i]), std::move(s));
     return s;
 }
 
@@ -186,16 +211,7 @@ class BufferCore {
     // each frame's histories newest first: its own, then those it replaced) as a copy needs them.
     nb::tuple state() const {
         nb::list histories;
-        for (size_t frame = 0; frame < core.frames.size(); ++frame) {
-            nb::list chain;
-            for (const tfbuffer::Store* s = core.store(frame).get(); s != nullptr; s = s->replaced.get()) {
-                const tfbuffer::Block& b = s->block;
-                chain.append(nb::make_tuple(s->is_static, rows_of(*s, b.stamps), values_of(*s), rows_of(*s, b.parents),
-                                            rows_of(*s, b.authorities), rows_of(*s, b.record_times),
-                                            rows_of(*s, b.sequence), rows_of(*s, b.flags)));
-            }
-            histories.append(chain);
-        }
+        for (size_t frame = 0; frame < core.frames.size(); ++frame) histories.append(chain_of(core.store(frame).get()));
         std::vector<std::pair<std::string, int64_t>> expected(core.expected().begin(), core.expected().end());
         std::vector<std::string> frames = frame_names();
         frames.erase(frames.begin());
@@ -214,10 +230,8 @@ class BufferCore {
         }
         const nb::list histories = nb::cast<nb::list>(state[5]);
         for (size_t frame = 1; frame < histories.size(); ++frame) {
-            const nb::list chain = nb::cast<nb::list>(histories[frame]);
-            std::shared_ptr<tfbuffer::Store> s;
-            for (size_t i = chain.size(); i-- > 0;) s = store_of(nb::cast<nb::tuple>(chain[i]), std::move(s));
-            core.restore(static_cast<int32_t>(frame), std::move(s), broadcasters.at(frame));
+            core.restore(static_cast<int32_t>(frame), from_chain(nb::cast<nb::list>(histories[frame])),
+                         broadcasters.at(frame));
         }
     }
 
@@ -331,11 +345,6 @@ class BufferCore {
         const auto n = static_cast<int64_t>(times.shape(0));
         if (n < 1 || n > tfcore::BLOCK) throw nb::value_error("BufferCore.chain_takes: 1 to BLOCK times");
         return tfcore::chain_takes(core.view(), target, source, times.data(), n);
-    }
-
-    static nb::object values_of(const tfbuffer::Store& s, int64_t first = 0,
-                                                          int64_t width = 7) {
-        return view(s.block.memory, s.block.values + 7 * s.start + first, s.size(), width, 7);
     }
 
    private:
@@ -489,9 +498,9 @@ NB_MODULE(_kernels, m) {
         .def_ro("replaced", &Store::replaced)
         .def("__len__", &Store::size)
         .def_prop_ro("stamps", [](const Store& s) { return rows_of(s, s.block.stamps); })
-        .def_prop_ro("values", [](const Store& s) { return BufferCore::values_of(s); })
-        .def_prop_ro("translations", [](const Store& s) { return BufferCore::values_of(s, 0, 3); })
-        .def_prop_ro("rotations", [](const Store& s) { return BufferCore::values_of(s, 3, 4); })
+        .def_prop_ro("values", [](const Store& s) { return values_of(s); })
+        .def_prop_ro("translations", [](const Store& s) { return values_of(s, 0, 3); })
+        .def_prop_ro("rotations", [](const Store& s) { return values_of(s, 3, 4); })
         .def_prop_ro("parents", [](const Store& s) { return rows_of(s, s.block.parents); })
         .def_prop_ro("authorities", [](const Store& s) { return rows_of(s, s.block.authorities); })
         .def_prop_ro("record_times", [](const Store& s) { return rows_of(s, s.block.record_times); })
@@ -500,6 +509,8 @@ NB_MODULE(_kernels, m) {
         .def_prop_ro("latest_stamp", &Store::latest_stamp)
         .def_prop_ro("oldest_stamp", &Store::oldest_stamp)
         .def_prop_ro("latest_parent", &Store::latest_parent)
+        .def("__getstate__", [](const Store& s) { return chain_of(&s); })
+        .def("__setstate__", [](Store& s, const nb::list& chain) { new (&s) Store(std::move(*from_chain(chain))); })
         .def("parent_at", [](const Store& s, int64_t time) -> std::optional<int64_t> {
             const int64_t parent = s.parent_at(time);
             return parent < 0 ? std::nullopt : std::optional<int64_t>(parent);

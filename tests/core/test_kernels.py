@@ -118,6 +118,9 @@ def test_a_copied_buffer_gets_its_own_state():
     copy.set_transform(Transform((2.0, 0, 0), (0, 0, 0, 1), S, "a", "c"))
     assert copy.lookup("a", "c").translation == (2.0, 0.0, 0.0)
     assert not buffer.has_frame("c")
+    pickled = pickle.loads(pickle.dumps(kept))  # a history alone, the one it replaced with it
+    assert pickled.replaced is not None and pickled.values.tolist() == kept.values.tolist()
+    assert pickled.replaced.stamps.tolist() == kept.replaced.stamps.tolist() == [S, 2 * S]
 
 
 def test_a_frame_asked_for_before_it_exists_is_found_once_it_does():

@@ -52,6 +52,10 @@ class EdgeHistory:
     latest_parent: int
 
     def __len__(self) -> int: ...
+    def __getstate__(self) -> list[tuple[object, ...]]:
+        """Its columns and those of the histories it replaced, copied (pickle's)."""
+
+    def __setstate__(self, state: list[tuple[object, ...]]) -> None: ...
     def parent_at(self, time: int) -> int | None:
         """tf2's ``TimeCache::getParent``: the parent at ``time`` (of the older of the two samples around
         it), or None where the history has no sample then (the walk says why). Where samples share a stamp
