@@ -138,3 +138,24 @@ def test_views_outlive_the_columns_they_were_taken_of():
     assert before.tolist() == [[1.0, 0, 0, 0, 0, 0, 1]]
     assert not before.flags.writeable
     assert buffer.history("b").stamps.tolist() == [397 * S, 398 * S, 399 * S]
+
+
+def test_rows_reserved_for_a_frame_that_has_a_history_size_it_once():
+    """``reserve`` for frames already held (a bulk load in several reserved parts): each history is sized
+    for the rows to come once, and they are stored as without the reservation (the Python history this
+    replaced had no such method: the insert raised)."""
+    from tftools import BatchBuilder
+
+    def batch(first, count):
+        builder = BatchBuilder()
+        for k in range(first, first + count):
+            builder.add("a", "b", k * S, (k, 0, 0), (0, 0, 0, 1))
+        return builder.take()
+
+    buffer, plain = Buffer(cache_time=None), Buffer(cache_time=None)
+    for target in (buffer, plain):
+        target.insert(batch(1, 3))
+    more = batch(4, 500)
+    buffer.reserve([more])
+    assert buffer.insert(more) == plain.insert(more) == 500
+    assert state(buffer) == state(plain)
