@@ -1,6 +1,7 @@
-// Buffer.insert's row work, as tf2's setTransform and its caches do it: the checks of each sample,
+// tf2's rules for each sample, as its setTransform and caches apply them: the checks of each sample,
 // the samples a dynamic cache refuses or (ROS 2) ignores for their stamp, and new rows merged into a
-// history by stamp. module.cpp's EdgeTable.insert drives it over the buffer's histories.
+// history by stamp. core.hpp's Core::insert (a batch) and Core::insert_common (set_transform's one
+// sample) both apply them, through the same Core::store.
 #pragma once
 
 #include <algorithm>
@@ -143,14 +144,15 @@ inline int64_t wrapping_add(int64_t x, int64_t y) {
 // The verdict on each offered row of a dynamic history: OLD (TF_OLD_DATA: older by more than the
 // cache time than the newest stamp held or offered before it), IGNORED (a stamp held, or offered
 // before: ROS 1's TF_REPEATED_DATA; under ROS 2 only a sample identical to one of its stamp), else KEEP.
-inline std::vector<uint8_t> stamp_verdicts(const Held& held, const Offered& offered,
-                                           std::optional<int64_t> cache_time, bool ros2) {
+// Into `verdicts` (reused: the usual case allocates nothing).
+inline void stamp_verdicts(const Held& held, const Offered& offered, std::optional<int64_t> cache_time, bool ros2,
+                           std::vector<uint8_t>& verdicts) {
     const int64_t k = offered.count;
-    std::vector<uint8_t> verdicts(k, KEEP);
+    verdicts.assign(k, KEEP);
     const bool empty = held.end == held.start;
     bool in_order = empty || offered.stamp_at(0) > held.stamps[held.end - 1];
     for (int64_t i = 1; i < k && in_order; ++i) in_order = offered.stamp_at(i) > offered.stamp_at(i - 1);
-    if (in_order) return verdicts;  // the usual case: newer than all before, in order
+    if (in_order) return;  // the usual case: newer than all before, in order
     std::vector<int64_t> s(k);
     for (int64_t i = 0; i < k; ++i) s[i] = offered.stamp_at(i);
     std::vector<uint8_t> fresh(k, 1);
@@ -174,7 +176,6 @@ inline std::vector<uint8_t> stamp_verdicts(const Held& held, const Offered& offe
     }
     if (ros2) identical_to_earlier(held, offered, fresh, repeated);
     for (int64_t i = 0; i < k; ++i) verdicts[i] = !fresh[i] ? OLD : repeated[i] ? IGNORED : KEEP;
-    return verdicts;
 }
 
 // What ROS 2's tf2 prunes a dynamic history by after these rows: it prunes before each insertion,
@@ -186,7 +187,7 @@ inline int64_t newest_before_last(const int64_t* latest, const Offered& offered)
     return newest;
 }
 
-// A history's writable arrays (EdgeHistory.storage()).
+// A history's writable columns (core.hpp's Block).
 struct Columns {
     int64_t* stamps;
     double* values;

@@ -29,8 +29,8 @@ namespace tfcore {
 #define TFCORE_VECTOR_VERSIONS
 #endif
 
-// One frame's history as the buffer stores it (EdgeHistory.storage()): rows start..end of the
-// arrays; `has` is false for a root or a frame not yet seen.
+// One frame's history as the walk reads it (core.hpp's Store, kept up to date by its Core): rows
+// start..end of the columns; `has` is false for a root or a frame not yet seen.
 struct History {
     bool has = false;
     bool is_static = false;

@@ -17,7 +17,7 @@ CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(2) for f
 
 
 def kernel_walk(buffer: Buffer, target: str, source: str, time: int):
-    found = buffer._table.lookup(buffer._frames.get(target), buffer._frames.get(source), time)
+    found = buffer._core.lookup(buffer._core.frame_id(target), buffer._core.frame_id(source), time)
     return None if found is None else ([*found[0], *found[1]], found[2])
 
 
@@ -42,11 +42,11 @@ def test_one_walk_gives_one_verdict(seed, features):
     buffer = scenarios.load_into_buffer(built.scenario)
     asked, failures = 0, set()
     for target, source, time in lookups(built, buffer):
-        ids = buffer._frames.get(target), buffer._frames.get(source)
+        ids = buffer._core.frame_id(target), buffer._core.frame_id(source)
         for t in (time, 0):
             found = kernel_walk(buffer, target, source, t)
-            frames, failure = buffer._table.chain(*ids, t)
-            assert buffer._table.can_transform(*ids, t) == (found is not None), (target, source, t)
+            frames, failure = buffer._core.chain(*ids, t)
+            assert buffer._core.can_transform(*ids, t) == (found is not None), (target, source, t)
             assert (failure[0] == walk.NO_FAILURE) == (found is not None), (target, source, t)
             if found is not None:
                 assert (frames[0], frames[-1]) == (ids[1], ids[0])
@@ -54,7 +54,7 @@ def test_one_walk_gives_one_verdict(seed, features):
                 assert frames == []
                 failures.add(failure[0])
                 _assert_a_gap_of_its_kind(failure)
-            common, common_failure = buffer._table.latest_common_time(*ids)
+            common, common_failure = buffer._core.latest_common_time(*ids)
             if common_failure[0] == walk.NO_FAILURE:
                 assert kernel_walk(buffer, target, source, common) == kernel_walk(buffer, target, source, 0)
             else:
@@ -93,16 +93,34 @@ def test_the_table_follows_growth_pruning_and_new_frames():
     assert not buffer.can_transform("a", "b", 100 * S)
 
 
-def test_a_copied_buffer_gets_its_own_table():
-    buffer = Buffer(cache_time=None)
-    buffer.set_transform(Transform((1.0, 0, 0), (0, 0, 0, 1), S, "a", "b"))
-    buffer.lookup("a", "b")
-    state = buffer.__getstate__()  # what pickle and copy take
-    assert state["_table"] is None, "memory addresses must not travel"
+def test_a_copied_buffer_gets_its_own_state():
+    """A copied buffer (``__getstate__``, ``__setstate__``) is the same buffer where it is rebuilt:
+    its frames, publishers, histories (the ones ROS 2 replaced too), arrivals and rejections; and its own."""
+    import pickle
+
+    buffer = Buffer(cache_time=None, semantics="ros2")
+    buffer.set_transform(Transform((1.0, 0, 0), (0, 0, 0, 1), S, "a", "b"), "one")
+    buffer.set_transform(Transform((1.5, 0, 0), (0, 0, 0, 1), 2 * S, "a", "b"), "two")
+    buffer.set_transform(Transform((9.0, 0, 0), (0, 0, 0, 1), S, "a", "b"), "two", static=True)  # replaces
+    buffer.set_transform(Transform((float("nan"), 0, 0), (0, 0, 0, 1), S, "a", "d"), "two")  # refused
+    state = buffer.__getstate__()  # what pickle and copy take (a buffer's clock holds a lock: copied apart)
+    state["_core"] = pickle.loads(pickle.dumps(state["_core"]))  # plain values, no memory addresses
     copy = Buffer.__new__(Buffer)
     copy.__setstate__(state)
+    assert copy.frames == buffer.frames and copy.authorities == buffer.authorities
+    assert copy.arrivals == buffer.arrivals == 4 and len(copy.rejections) == 1
+    assert copy.all_frames_as_yaml() == buffer.all_frames_as_yaml()
+    hist, kept = copy.history("b"), buffer.history("b")
+    assert hist.static and hist.replaced is not None and not hist.replaced.static
+    for a, b in ((hist, kept), (hist.replaced, kept.replaced)):
+        for column in ("stamps", "values", "parents", "authorities", "record_times", "sequence", "flags"):
+            assert np.array_equal(getattr(a, column), getattr(b, column)), column
     copy.set_transform(Transform((2.0, 0, 0), (0, 0, 0, 1), S, "a", "c"))
     assert copy.lookup("a", "c").translation == (2.0, 0.0, 0.0)
+    assert not buffer.has_frame("c")
+    pickled = pickle.loads(pickle.dumps(kept))  # a history alone, the one it replaced with it
+    assert pickled.replaced is not None and pickled.values.tolist() == kept.values.tolist()
+    assert pickled.replaced.stamps.tolist() == kept.replaced.stamps.tolist() == [S, 2 * S]
 
 
 def test_a_frame_asked_for_before_it_exists_is_found_once_it_does():

@@ -50,14 +50,14 @@ def robot() -> Buffer:
 
 
 def _ids(buffer: Buffer, target: str, source: str) -> tuple[int, int]:
-    return buffer._frames.get(target), buffer._frames.get(source)
+    return buffer._core.frame_id(target), buffer._core.frame_id(source)
 
 
 def _run(buffer: Buffer, target: str, source: str, times, rows, chained: bool):
     """``lookup_many`` along the chain where it can, or (not ``chained``) the walk at each time."""
     n = len(times)
     out = np.zeros(n, np.int64), np.zeros((n, 7)), np.zeros(n, bool)
-    buffer._table.lookup_many(*_ids(buffer, target, source), times, rows, *out, chained=chained)
+    buffer._core.lookup_many(*_ids(buffer, target, source), times, rows, *out, chained=chained)
     return out
 
 
@@ -143,7 +143,7 @@ def test_the_answers_are_single_lookups():
 
 def _block(buffer: Buffer, target: str, source: str, times) -> bool | None:
     """Whether ``lookup_many`` takes ``times`` as one block (None: the chain does not resolve at the first)."""
-    taken = buffer._table.chain_takes(*_ids(buffer, target, source), np.ascontiguousarray(times, np.int64))
+    taken = buffer._core.chain_takes(*_ids(buffer, target, source), np.ascontiguousarray(times, np.int64))
     return None if taken < 0 else bool(taken)
 
 

@@ -74,12 +74,12 @@ def test_batch_lookups_answer_as_single_ones(seed: int, features: frozenset[str]
     times = np.array([0, *stamps, *(t + 1 for t in stamps), *(t - 1 for t in stamps)], np.int64)
     pairs = [(a, b) for a in buffer.frames for b in buffer.frames if a != b][:40]
     for target, source in pairs:
-        ids = buffer._frames.get(target), buffer._frames.get(source)
+        ids = buffer._core.frame_id(target), buffer._core.frame_id(source)
         expected = []
         for t in times.tolist():
-            found = buffer._table.lookup(*ids, t)
+            found = buffer._core.lookup(*ids, t)
             expected.append(None if found is None else (found[2], [*found[0], *found[1]]))
-        resolved, values, valid = lookup_in_parallel(buffer._table, *ids, times)
+        resolved, values, valid = lookup_in_parallel(buffer._core, *ids, times)
         for i, want in enumerate(expected):
             where = (target, source, int(times[i]))
             assert bool(valid[i]) == (want is not None), where

@@ -1,24 +1,70 @@
-"""The compiled lookups (native/module.cpp): tf2's walk over the buffer's edge histories (native/walk.hpp)."""
+"""The compiled core (native/module.cpp): the buffer's state (native/core.hpp), tf2's rules for each sample
+(native/insert.hpp) and tf2's walk over the histories (native/walk.hpp)."""
 
 import threading
-from collections.abc import Callable
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
-from tftools.core.history import EdgeHistory
 from tftools.core.transform import Transform
 from tftools.core.walk import Failure
 
-#: Times per block of ``EdgeTable.lookup_many``'s chain path.
+#: Times per block of ``BufferCore.lookup_many``'s chain path.
 BLOCK: int
+#: The bytes of one sample in a history's columns.
+ROW_BYTES: int
+#: The largest bulk load whose histories' block is laid on large pages.
+LARGE_PAGES_UP_TO: int
 
 def through_matrix(rotations: FloatArray) -> None:
     """Rotations (N, 4, x y z w), in place, as ROS 2's tf2 holds and returns them: through a
     ``tf2::Transform``'s basis (``Matrix3x3::setRotation``, then ``getRotation``)."""
 
-class EdgeTable:
-    """Per frame id, where its history's samples lie (see ``tftools.core.kernels``), and what
-    ``Buffer``'s single calls need of their buffer, read as it changes."""
+class EdgeHistory:
+    """The samples of one child frame, read-only: views of the columns the buffer's core owns (each keeps
+    them alive; a history that grows or is pruned moves to new columns, the views keep the old).
+
+    A dynamic history is sorted by stamp, like tf2's ``TimeCache``: no stamp twice under ROS 1's tf2,
+    several samples of one stamp in arrival order under ROS 2's. A static history keeps every sample in
+    arrival order and answers with the last one at every time, like tf2's ``StaticCache`` (which keeps
+    only that one). Each row stores its parent, so a frame can change parent over time."""
+
+    #: Whether the frame is static (tf2's StaticCache).
+    static: bool
+    #: The history this one replaced when ROS 2's tf2 turned the frame static or dynamic (kept only where
+    #: every sample is kept).
+    replaced: EdgeHistory | None
+    stamps: Int64Array
+    #: (N, 7): tx ty tz qx qy qz qw, as sent.
+    values: FloatArray
+    translations: FloatArray
+    rotations: FloatArray
+    parents: Int32Array
+    authorities: Int32Array
+    record_times: Int64Array
+    #: Arrival order across the whole buffer, to tell when stamps went backwards.
+    sequence: Int64Array
+    #: ``history.FROM_STATIC_TOPIC``, ``PARENT_HAD_SLASH``, ``CHILD_HAD_SLASH``.
+    flags: UInt8Array
+    #: tf2's ``getLatestTimestamp``: 0 for a static edge or an empty history.
+    latest_stamp: int
+    oldest_stamp: int
+    #: The parent of the newest sample (the current one, for a static edge); 0 if empty.
+    latest_parent: int
+
+    def __len__(self) -> int: ...
+    def __getstate__(self) -> list[tuple[object, ...]]:
+        """Its columns and those of the histories it replaced, copied (pickle's)."""
+
+    def __setstate__(self, state: list[tuple[object, ...]]) -> None: ...
+    def parent_at(self, time: int) -> int | None:
+        """tf2's ``TimeCache::getParent``: the parent at ``time`` (of the older of the two samples around
+        it), or None where the history has no sample then (the walk says why). Where samples share a stamp
+        (ROS 2), tf2's newest-first list makes the last to arrive count, except at the oldest stamp, which is
+        the list's back: there the first one."""
+
+class BufferCore:
+    """A buffer's state, one owner as tf2's BufferCore: frames (tf2's ids from 1), publishers, each child
+    frame's history, its last publisher, the rows reserved for a bulk load; and the calls on it."""
 
     #: Samples offered to the buffer so far, stored or refused: the next one's sequence number.
     arrivals: int
@@ -26,30 +72,65 @@ class EdgeTable:
     def __init__(
         self,
         lock: threading.RLock,
-        frames: dict[str, int],
         answer: type[Transform],
-        authorities: dict[str, int],
-        broadcasters: dict[int, int],
-        reserved: dict[str, int],
         cache_time: int | None,
         ros2: bool,
         tolerance: float,
+        large_pages_up_to: int,
     ) -> None:
-        """``lock``: the buffer's, which ``set_transform``, ``lookup_frames`` and
-        ``can_transform_frames`` hold (the GIL let go while they wait for it); ``frames``: name to id
-        (``FrameTable.ids``); ``answer``: the type lookups return, built through its fields' slots;
-        the rest: the buffer's publishers' ids, each child frame's last publisher, the rows it
-        reserved, its cache's length, whether it answers as ROS 2's tf2, and the squared quaternion
-        norm's tolerance."""
-
-    def update(self, frame: int, history: EdgeHistory | None) -> None:
-        """Describe ``history`` (``frame``'s) as it is now, by its ``storage()`` (arrays the table keeps alive)."""
+        """``lock``: the buffer's, which ``set_transform``, ``lookup_frames`` and ``can_transform_frames``
+        hold (the GIL let go while they wait for it); ``answer``: the type lookups return, built through its
+        fields' slots; its cache's length, whether it answers as ROS 2's tf2, the squared quaternion norm's
+        tolerance, and the largest bulk load's block laid on large pages."""
 
     def set_transform(self, transform: Transform, authority: str, static: bool, record_time: int) -> bool:
-        """``Buffer.set_transform``'s common case stored in place (the arrays, grown if full, the
-        history's bounds, its pruning, the publisher, ``arrivals``): both frames known and plain, a
-        valid sample of the child's kind, newer than its newest (unless static), a known publisher,
-        nothing reserved. False, having stored nothing, in every other case."""
+        """``Buffer.set_transform``'s common case, through ``insert``'s rules for one row: both frames known
+        and named without a leading slash, a valid sample of the child's kind, newer than its newest
+        (unless static), a known publisher, nothing reserved. False, having stored nothing, otherwise."""
+
+    def insert(self, batch: TransformBatch) -> tuple[int, Int64Array, UInt8Array, Int64Array, Int64Array, Int32Array]:
+        """``Buffer.insert``'s work, in one call: ``batch``'s rows as that many tf2 ``setTransform`` calls,
+        ``arrivals`` counted, its publishers interned.
+
+        Rows failing tf2's checks are refused; the others' frames are interned (in order of first
+        appearance, each row's child before its parent) and, frame by frame, offered to the frame's
+        history: made where there is none (or, under ROS 2, for a change between static and dynamic),
+        grown, merged by stamp, pruned; each frame's last publisher noted, its reserved rows used. Returns
+        how many rows tf2 accepted, the refused rows (indices into ``batch``) in the order tf2 refused them,
+        in groups of one code each (``Refusal`` in native/insert.hpp: the codes, and the groups' bounds
+        into the rows), the rows ROS 2's tf2 accepted without storing them (identical to a sample held),
+        and each of the batch's publishers' id in the buffer."""
+
+    def reserve(self, rows: list[tuple[str, int]]) -> None:
+        """More rows of these child frames (named without a leading slash) about to come: their
+        histories are made, or sized, for them once, in one block."""
+
+    def clear(self) -> None:
+        """tf2's ``BufferCore::clear``: each dynamic history emptied, static ones kept, names and ids kept."""
+
+    def frame_id(self, name: str) -> int:
+        """The frame's id; 0 (``NO_PARENT``) for an unknown frame."""
+
+    def frame_name(self, frame_id: int) -> str: ...
+    def frame_names(self) -> list[str]:
+        """Every frame's name by id, from 0 (``NO_PARENT``)."""
+
+    def publisher_names(self) -> list[str]:
+        """Every publisher's name by id."""
+
+    @property
+    def publisher_count(self) -> int: ...
+    def history(self, frame_id: int) -> EdgeHistory | None:
+        """The frame's history; None for a root or unknown frame."""
+
+    def broadcasters(self) -> list[int]:
+        """Per frame id, the publisher of its last accepted sample; -1 where none."""
+
+    def state(self) -> tuple[object, ...]:
+        """The state as plain values (names, counts, each history's columns), for ``restore``."""
+
+    def restore(self, state: tuple[object, ...]) -> None:
+        """This new core made into the one ``state`` came from."""
 
     def lookup_frames(self, target_frame: str, source_frame: str, time: int) -> Transform | None:
         """``Buffer.lookup`` of two different known plain frames where tf2 succeeds; None otherwise."""
@@ -108,24 +189,3 @@ class EdgeTable:
     def chain_takes(self, target: int, source: int, times: Int64Array) -> int:
         """Whether ``lookup_many`` takes ``times`` (1 to ``BLOCK``) as one block along the chain
         walked at the first: 1 or 0, -1 where that walk does not end at a root."""
-
-    def insert(
-        self,
-        batch: TransformBatch,
-        authority_ids: Int32Array,
-        histories: list[EdgeHistory | None],
-        intern: Callable[[str], int],
-        new_history: Callable[[bool, int, EdgeHistory | None], EdgeHistory],
-    ) -> tuple[int, Int64Array, UInt8Array, Int64Array, Int64Array]:
-        """``Buffer.insert``'s work, in one call: ``batch``'s rows (``authority_ids``: each of its
-        publishers' id in the buffer) as that many tf2 ``setTransform`` calls, ``arrivals`` counted.
-
-        Rows failing tf2's checks are refused; the others' frames are interned by ``intern`` (in order
-        of first appearance, each row's child before its parent) and, frame by frame, offered to the
-        frame's history: ``histories[frame]``, made by ``new_history(static, capacity, replaced)``
-        where there is none (or, under ROS 2, for a change between static and dynamic), grown, merged
-        by stamp, pruned; each frame's last publisher noted, its reserved rows used. Returns how many
-        rows tf2 accepted, the refused rows (indices into ``batch``) in the order tf2 refused them,
-        in groups of one code each (``Refusal`` in native/insert.hpp: the codes, and the groups'
-        bounds into the rows), and the rows ROS 2's tf2 accepted without storing them (identical to
-        a sample held)."""

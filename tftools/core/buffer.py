@@ -1,4 +1,5 @@
-"""``Buffer``: tf2's BufferCore over numpy edge histories."""
+"""``Buffer``: tf2's BufferCore, its state owned by the compiled core (``native/core.hpp``), read through
+numpy views (``EdgeHistory``)."""
 
 from __future__ import annotations
 
@@ -13,19 +14,14 @@ from typing import Any, TypeVar
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core import history as _history
 from tftools.core import walk
-from tftools.core._kernels import EdgeTable
+from tftools.core._kernels import BufferCore
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
-from tftools.core.frames import NO_PARENT, FrameTable, Names, frame_name
-from tftools.core.history import (
-    CHILD_HAD_SLASH,
-    FROM_STATIC_TOPIC,
-    PARENT_HAD_SLASH,
-    EdgeHistory,
-    RoomForHistories,
-)
+from tftools.core.frames import NO_PARENT, frame_name
+from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH, EdgeHistory
 from tftools.core.kernels import lookup_in_parallel
 from tftools.core.rejection import LIVE_REJECTIONS_KEPT, RejectionCode, RejectionLog
 from tftools.core.rotation import quat_multiply_many, quat_rotate_many
@@ -122,17 +118,11 @@ class Buffer:
         #: an identical one: neither stored nor refused (with ``rejections``, every arrival); a live
         #: buffer keeps about the latest ``LIVE_REJECTIONS_KEPT``.
         self.duplicates: list[int] = []
-        self._publishers = Names()
-        self.authorities: list[str] = self._publishers.names
-        self._frames = FrameTable()
-        self._histories: list[EdgeHistory | None] = [None]
-        self._broadcasters: dict[int, int] = {}  # frame id -> authority of its last accepted sample
-        self._expected: dict[str, int] = {}  # rows per child frame reserved and still to come
-        self._room: RoomForHistories | None = None  # where the reserved rows' new histories go
+        self._authorities: list[str] = []
         self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
         self._changed = threading.Condition(self._mutex)
         self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
-        self._table = self._new_table()
+        self._core = self._new_core()
 
     @property
     def cache_time(self) -> int | None:
@@ -145,7 +135,14 @@ class Buffer:
     @property
     def arrivals(self) -> int:
         """Samples offered so far, stored or refused: the next one's ``sequence`` number."""
-        return self._table.arrivals
+        return self._core.arrivals
+
+    @property
+    def authorities(self) -> list[str]:
+        """The publishers heard, by id (``EdgeHistory.authorities``): the core's, copied once per new one."""
+        if len(self._authorities) != self._core.publisher_count:
+            self._authorities = self._core.publisher_names()
+        return self._authorities
 
     @property
     def lock(self) -> threading.Condition:
@@ -155,42 +152,43 @@ class Buffer:
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
         del state["_changed"], state["_mutex"]
-        # The table holds memory addresses: rebuilt where the copy is used.
-        state.update(_table=None, _room=None, _arrivals=self.arrivals, _waiting=0)
+        with self._changed:
+            # The core's state as plain values (its histories' columns as arrays), rebuilt where the copy is used.
+            state.update(_core=self._core.state(), _waiting=0)
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         state = state.copy()
-        arrivals = state.pop("_arrivals")
+        core = state.pop("_core")
         self.__dict__.update(state)
         self._mutex = threading.RLock()
         self._changed = threading.Condition(self._mutex)
-        self._table = self._new_table()
-        self._table.arrivals = arrivals
+        self._core = self._new_core()
+        self._core.restore(core)
 
     # --- frames ------------------------------------------------------------------------------
 
     @property
     def frames(self) -> list[str]:
         """Every frame, in the order tf2 would have interned them."""
-        return self._frames.names[1:]
+        return self._core.frame_names()[1:]
 
     def has_frame(self, frame: str) -> bool:
-        return frame in self._frames
+        return self._core.frame_id(frame) != NO_PARENT
 
     def history(self, child_frame: str) -> EdgeHistory | None:
         """The samples stored for ``child_frame`` (None for a root or unknown frame)."""
-        return self._histories[self._frames.get(child_frame)]
+        return self._core.history(self._core.frame_id(child_frame))
 
     def histories(self) -> Iterator[tuple[str, EdgeHistory]]:
         """Each child frame with its history, in frame order."""
-        names = self._frames.names
-        for frame_id, hist in enumerate(self._histories):
+        for frame_id, name in enumerate(self._core.frame_names()):
+            hist = self._core.history(frame_id)
             if hist is not None:
-                yield names[frame_id], hist
+                yield name, hist
 
     def frame_name(self, frame_id: int) -> str:
-        return self._frames.names[frame_id]
+        return self._core.frame_name(frame_id)
 
     @_locked
     def parent(self, frame: str, time: int = 0) -> str | None:
@@ -199,7 +197,7 @@ class Buffer:
         if hist is None:
             return None
         parent = hist.parent_at(time)
-        return None if parent is None else self._frames.names[parent]
+        return None if parent is None else self._core.frame_name(parent)
 
     def now(self) -> int:
         return self.clock.now()
@@ -219,7 +217,7 @@ class Buffer:
         # slash, and different), a valid sample, newer than the child's newest (unless static) and
         # of its kind, from a known publisher, no rows reserved. Every other sample (nothing
         # stored yet) takes the batch path.
-        if self._table.set_transform(transform, authority, static, record_time):
+        if self._core.set_transform(transform, authority, static, record_time):
             # A waiter counts itself before it waits, holding the lock this sample was stored under.
             if self._waiting:
                 with self._changed:
@@ -254,42 +252,30 @@ class Buffer:
         """tf2's ``BufferCore::clear`` (ROS 1 and ROS 2 alike): each dynamic edge's samples dropped,
         static edges kept, every frame name and id kept (a listener's answer to a jump back in time)."""
         with self._changed:
-            for frame_id, hist in enumerate(self._histories):
-                if hist is None or hist.static:
-                    continue
-                emptied = self._histories[frame_id] = EdgeHistory(static=False)
-                self._table.update(frame_id, emptied)
+            self._core.clear()
             self._changed.notify_all()
 
     def reserve(self, batches: Iterable[TransformBatch]) -> None:
         """Size each history once for the rows of ``batches``, about to be inserted: a bulk load
         in parts then grows no history by doubling (what is never stored stays reserved)."""
+        expected: dict[str, int] = {}
+        for batch in batches:
+            rows = np.bincount(batch.child, minlength=len(batch.frame_names))
+            for child in np.flatnonzero(rows).tolist():
+                name = frame_name(batch.frame_names[child])
+                expected[name] = expected.get(name, 0) + int(rows[child])
         with self._changed:
-            for batch in batches:
-                rows = np.bincount(batch.child, minlength=len(batch.frame_names))
-                for child in np.flatnonzero(rows).tolist():
-                    name = frame_name(batch.frame_names[child])
-                    self._expected[name] = self._expected.get(name, 0) + int(rows[child])
-            self._room = RoomForHistories(self._expected.values())
+            self._core.reserve(list(expected.items()))
 
     def _insert(self, batch: TransformBatch) -> int:
-        first = self._table.arrivals
-        authority_ids = np.array([self._publishers.intern(name) for name in batch.authorities] or [0], np.int32)
-        accepted, refused, codes, bounds, identical = self._table.insert(
-            batch, authority_ids, self._histories, self._frames.intern, self._new_history
-        )
-        if not self._expected:
-            self._room = None
+        first = self._core.arrivals
+        accepted, refused, codes, bounds, identical, authority_ids = self._core.insert(batch)
         if len(refused):
             self._record_refusals(batch, authority_ids, refused, (codes, bounds), first)
         self.duplicates.extend((identical + first).tolist())
         if self._cache_time is not None and len(self.duplicates) > 2 * LIVE_REJECTIONS_KEPT:
             del self.duplicates[:-LIVE_REJECTIONS_KEPT]
         return accepted
-
-    def _new_history(self, static: bool, capacity: int, replaced: EdgeHistory | None) -> EdgeHistory:
-        """A new history for ``EdgeTable.insert``, in the room reserved for a bulk load while there is some."""
-        return EdgeHistory(static, capacity, replaced, self._room)
 
     def _record_refusals(
         self,
@@ -299,9 +285,9 @@ class Buffer:
         groups: tuple[UInt8Array, Int64Array],
         first: int,
     ) -> None:
-        """``batch``'s refused ``rows`` into ``rejections``, in groups of one code (``EdgeTable.insert``'s)."""
+        """``batch``'s refused ``rows`` into ``rejections``, in groups of one code (``BufferCore.insert``'s)."""
         codes, bounds = groups
-        names = [frame_name(name) for name in batch.frame_names]
+        names, publishers = [frame_name(name) for name in batch.frame_names], self.authorities
         slashed = np.array([name.startswith("/") for name in batch.frame_names], bool)
         for code, (start, stop) in zip(codes.tolist(), itertools.pairwise(bounds.tolist()), strict=True):
             # In parts, so that a million refusals' temporaries stay small beside the log's columns.
@@ -319,7 +305,7 @@ class Buffer:
                     "values": np.concatenate([batch.translation[part], batch.rotation[part]], axis=1),
                     "flags": flags | slashed[child] * CHILD_HAD_SLASH,
                 }
-                self.rejections.add(_REFUSALS[code], names, self.authorities, refused)
+                self.rejections.add(_REFUSALS[code], names, publishers, refused)
 
     # --- lookups -----------------------------------------------------------------------------
 
@@ -330,20 +316,20 @@ class Buffer:
         tf2's messages: ``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``,
         ``InvalidArgumentError``.
         """
-        found = self._table.lookup_frames(target_frame, source_frame, time)  # holds the lock itself
+        found = self._core.lookup_frames(target_frame, source_frame, time)  # holds the lock itself
         return found if found is not None else self._lookup_by_ids(target_frame, source_frame, time)
 
     @_locked
     def _lookup_by_ids(self, target_frame: str, source_frame: str, time: int, raw: bool = False) -> Transform:
         """``lookup`` where ``lookup_frames`` does not answer: a frame to itself, names to check
         (tf2's errors for them), and every failure, worded by ``walk.error``. ``raw``: ROS 2's
-        rotation as composed, before its ``tf2::Transform`` gives it back (``EdgeTable.lookup``)."""
+        rotation as composed, before its ``tf2::Transform`` gives it back (``BufferCore.lookup``)."""
         if target_frame == source_frame:
             return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
         target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-        found = self._table.lookup(target_id, source_id, time, raw)
+        found = self._core.lookup(target_id, source_id, time, raw)
         if found is None:
-            raise self._walk_error(target_id, source_id, self._table.chain(target_id, source_id, time)[1])
+            raise self._walk_error(target_id, source_id, self._core.chain(target_id, source_id, time)[1])
         return Transform(*found, target_frame, source_frame)
 
     @_locked
@@ -363,7 +349,7 @@ class Buffer:
 
     def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
         """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
-        return self._table.can_transform_frames(target_frame, source_frame, time)  # holds the lock itself
+        return self._core.can_transform_frames(target_frame, source_frame, time)  # holds the lock itself
 
     def can_transform_full(
         self, target_frame: str, target_time: int, source_frame: str, source_time: int, fixed_frame: str
@@ -381,7 +367,7 @@ class Buffer:
         """The newest time at which every edge between the two frames has data (0: all static)."""
         target_id = self._frame_id("get_latest_common_time", target_frame)
         source_id = self._frame_id("get_latest_common_time", source_frame)
-        common, failure = self._table.latest_common_time(target_id, source_id)
+        common, failure = self._core.latest_common_time(target_id, source_id)
         if failure[0] != walk.NO_FAILURE:
             raise self._walk_error(target_id, source_id, failure)
         return common
@@ -399,7 +385,7 @@ class Buffer:
             n = len(stamps)
             return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
         target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-        resolved, values, valid = lookup_in_parallel(self._table, target_id, source_id, stamps)
+        resolved, values, valid = lookup_in_parallel(self._core, target_id, source_id, stamps)
         return LookupBatch(resolved, values[:, :3], values[:, 3:], valid)
 
     def transform_points(
@@ -434,10 +420,11 @@ class Buffer:
         if target_frame == source_frame:
             return []
         target_id, source_id = self._frame_ids("chain", target_frame, source_frame)
-        frames, failure = self._table.chain(target_id, source_id, time)
+        frames, failure = self._core.chain(target_id, source_id, time)
         if failure[0] != walk.NO_FAILURE:
             raise self._walk_error(target_id, source_id, failure)
-        return [self._frames.names[f] for f in frames]
+        names = self._core.frame_names()
+        return [names[f] for f in frames]
 
     def wait_for_transform(
         self, target_frame: str, source_frame: str, time: int = 0, timeout_s: float = 0.0
@@ -469,31 +456,23 @@ class Buffer:
     @_locked
     def all_frames_as_yaml(self) -> str:
         """tf2's ``allFramesAsYAML``: per child frame its parent, broadcaster, rate and span."""
-        names = {frame_id: self.authorities[a] for frame_id, a in self._broadcasters.items()}
+        publishers = self.authorities
+        names = {frame_id: publishers[a] for frame_id, a in enumerate(self._core.broadcasters()) if a >= 0}
         return walk.frames_as_yaml(self._tree(), names)
 
     def _tree(self) -> walk.Tree:
-        return walk.Tree(self._histories, self._frames.names, dialect(self.semantics))
+        names = self._core.frame_names()
+        return walk.Tree([self._core.history(i) for i in range(len(names))], names, dialect(self.semantics))
 
     def _walk_error(self, target_id: int, source_id: int, failure: walk.Failure) -> TransformError:
         return walk.error(self._tree(), failure, target_id, source_id)
 
-    def _new_table(self) -> EdgeTable:
-        """The compiled calls' view of the buffer: its frames, publishers and histories."""
-        table = EdgeTable(
-            self._mutex,
-            self._frames.ids,
-            Transform,
-            self._publishers.ids,
-            self._broadcasters,
-            self._expected,
-            self._cache_time,
-            self.semantics == "ros2",
-            QUATERNION_TOLERANCE,
+    def _new_core(self) -> BufferCore:
+        """The buffer's state: its frames, publishers and histories, compiled."""
+        ros2 = self.semantics == "ros2"
+        return BufferCore(
+            self._mutex, Transform, self._cache_time, ros2, QUATERNION_TOLERANCE, _history.LARGE_PAGES_UP_TO
         )
-        for frame_id, hist in enumerate(self._histories):
-            table.update(frame_id, hist)
-        return table
 
     def _identity_stamp(self, frame: str, time: int) -> int:
         if time != 0:
@@ -503,7 +482,7 @@ class Buffer:
 
     def _frame_ids(self, call: str, target_frame: str, source_frame: str) -> tuple[int, int]:
         """The ids of a lookup's two frames, checked as tf2's ``validateFrameId`` checks them."""
-        target_id, source_id = self._frames.get(target_frame), self._frames.get(source_frame)
+        target_id, source_id = self._core.frame_id(target_frame), self._core.frame_id(source_frame)
         if not target_id or not source_id or target_frame[0] == "/" or source_frame[0] == "/":
             target_id = self._frame_id(f"{call} argument target_frame", target_frame)
             source_id = self._frame_id(f"{call} argument source_frame", source_frame)
@@ -515,7 +494,7 @@ class Buffer:
             raise dialect(self.semantics).empty_frame(argument)
         if frame.startswith("/"):
             raise dialect(self.semantics).leading_slash(frame, argument)
-        frame_id = self._frames.get(frame)
+        frame_id = self._core.frame_id(frame)
         if frame_id == NO_PARENT:
             raise UnknownFrameError.missing(frame, argument)
         return frame_id
@@ -524,7 +503,7 @@ class Buffer:
 #: Refused rows recorded at a time.
 _REFUSALS_PER_PART = 1 << 16
 
-#: ``EdgeTable.insert``'s refusal codes, by number (native/insert.hpp's ``Refusal``).
+#: ``BufferCore.insert``'s refusal codes, by number (native/insert.hpp's ``Refusal``).
 _REFUSALS = (
     RejectionCode.SELF_TRANSFORM,
     RejectionCode.NO_CHILD_FRAME_ID,

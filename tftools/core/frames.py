@@ -1,6 +1,6 @@
-"""``Names``: names interned as integer ids, the one interning of frames and authorities; ``FrameTable``,
-tf2's, whose ids start at 1; ``frame_name``, the one rule of a frame's leading ``/``; ``known_frame``, a frame
-someone asked for."""
+"""``Names``: names interned as integer ids (a batch's and the rejection log's frames and publishers; a
+buffer's are its compiled core's, tf2's ids from 1); ``frame_name``, the one rule of a frame's leading ``/``;
+``known_frame``, a frame someone asked for."""
 
 from __future__ import annotations
 
@@ -41,25 +41,9 @@ class Names:
     def __contains__(self, name: object) -> bool:
         return name in self._ids
 
-    @property
-    def ids(self) -> dict[str, int]:
-        """Name to id, the table itself (the compiled calls read it as it grows): not to be modified."""
-        return self._ids
-
     def intern(self, name: str) -> int:
         index = self._ids.get(name)
         if index is None:
             index = self._ids[name] = len(self.names)
             self.names.append(name)
         return index
-
-
-class FrameTable(Names):
-    """Frame names to ids and back, as tf2 numbers them: from 1, 0 being ``NO_PARENT``."""
-
-    def __init__(self) -> None:
-        super().__init__(["NO_PARENT"])
-
-    def get(self, name: str) -> int:
-        """The id of ``name``, or ``NO_PARENT`` if unknown."""
-        return self._ids.get(name, NO_PARENT)

@@ -20,7 +20,7 @@ from tftools.core.time import duration_to_sec, to_sec
 #: ``MAX_GRAPH_DEPTH`` edges (a loop), two trees, a time outside an edge's history.
 NO_FAILURE, LOOP, UNCONNECTED, EXTRAPOLATION = range(4)
 
-#: A walk's report (``EdgeTable.chain``'s): what failed, and for an extrapolation the ``Gap``'s
+#: A walk's report (``BufferCore.chain``'s): what failed, and for an extrapolation the ``Gap``'s
 #: kind, time and stamp.
 Failure = tuple[int, int, int, int]
 
