@@ -34,11 +34,11 @@ using namespace tfpython;
 using Found = std::tuple<std::tuple<double, double, double>, std::tuple<double, double, double, double>, int64_t>;
 
 // Why a walk failed, as tftools.core.walk reads it: what failed (tfcore::Failure), and for an
-// extrapolation the gap's kind, time and stamp (history.Gap).
+// extrapolation its kind, time and stamp (history.Extrapolation).
 using Failed = std::tuple<int, int64_t, int64_t, int64_t>;
 
-Failed failed(tfcore::Failure failure, const tfcore::Gap& gap = {}) {
-    return {static_cast<int>(failure), gap.kind, gap.time, gap.stamp};
+Failed failed(tfcore::Failure failure, const tfcore::Extrapolation& missing = {}) {
+    return {static_cast<int>(failure), missing.kind, missing.time, missing.stamp};
 }
 
 // A column of a history, rows start..end.
@@ -302,7 +302,7 @@ class BufferCore {
         tfcore::walk(histories, target, source, time, chain, memo);
         if (chain.ending != tfcore::Ending::NO_PATH) return {tfcore::frames_of(chain), failed(tfcore::Failure::NONE)};
         if (chain.failure != tfcore::Failure::EXTRAPOLATION) return {none, failed(chain.failure)};
-        return {none, failed(chain.failure, tfcore::gap_at(histories[chain.gap_frame], time))};
+        return {none, failed(chain.failure, tfcore::extrapolation_at(histories[chain.extrapolating_frame], time))};
     }
 
     void lookup_many(int64_t target, int64_t source, Int64s times, Int64s rows, Column<int64_t> stamps, Values values,

@@ -5,7 +5,7 @@
 // composing them as it goes; `edges_at`, `compose_all` and `finish` then do what tf2's
 // TransformAccum does, with rotation.py's formulas in their order (compiled without contraction
 // into fused multiply-adds or fast math, so that every build answers the same bits). A failure is
-// reported (`Failure`, with the `Gap` of an extrapolation), not worded: tftools/core/walk.py makes
+// reported (`Failure`, with the `Extrapolation` of an extrapolation), not worded: tftools/core/walk.py makes
 // tf2's error messages from it, in one place.
 #pragma once
 
@@ -295,15 +295,15 @@ enum class Ending { AT_TARGET, AT_SOURCE, AT_TOP, NO_PATH };
 // EXTRAPOLATION): more than MAX_GRAPH_DEPTH edges, two trees, or a time outside an edge's history.
 enum class Failure { NONE, LOOP, UNCONNECTED, EXTRAPOLATION };
 
-// Why a history cannot answer at `time` (history.Gap; its kinds are history.py's NO_DATA,
+// Why a history cannot answer at `time` (history.Extrapolation; its kinds are history.py's NO_DATA,
 // ONLY_ONE, FUTURE, PAST): empty, one sample at another `stamp`, after the newest or before the oldest.
-struct Gap {
+struct Extrapolation {
     int64_t kind = 0, time = 0, stamp = 0;
 };
-enum GapKind : int64_t { NO_DATA, ONLY_ONE, FUTURE, PAST };
+enum ExtrapolationKind : int64_t { NO_DATA, ONLY_ONE, FUTURE, PAST };
 
-// The gap of `h` at `time`, where row_at found one (tftools.core.history.Gap's fields).
-inline Gap gap_at(const History& h, int64_t time) {
+// The gap of `h` at `time`, where row_at found one (tftools.core.history.Extrapolation's fields).
+inline Extrapolation extrapolation_at(const History& h, int64_t time) {
     if (h.end == h.start) return {NO_DATA, time, 0};
     if (h.end - h.start == 1) return {ONLY_ONE, time, h.stamps[h.start]};
     if (time > h.stamps[h.end - 1]) return {FUTURE, time, h.stamps[h.end - 1]};
@@ -337,7 +337,7 @@ struct Chain {
     // Where there is no path, why (tf2's order: a gap on the target side, then one on the source
     // side, then no connection), and the frame whose history has the gap.
     Failure failure = Failure::NONE;
-    int64_t gap_frame = 0;
+    int64_t extrapolating_frame = 0;
     std::vector<Step> sides[2];
     std::vector<Edge> edges;  // the composed ones at the walk's time, as `edges_at` samples them
 };
@@ -355,10 +355,10 @@ inline void prefetch(const History& h, const RowAt& at) {
 }
 
 // Chain's `failure`, and its ending: no path.
-inline void fail(Chain& chain, Failure failure, int64_t gap_frame = 0) {
+inline void fail(Chain& chain, Failure failure, int64_t extrapolating_frame = 0) {
     chain.ending = Ending::NO_PATH;
     chain.failure = failure;
-    chain.gap_frame = gap_frame;
+    chain.extrapolating_frame = extrapolating_frame;
 }
 
 // tf2's walkToTopParent at a resolved `time`, into `chain`: up from the source towards the root,

@@ -48,11 +48,11 @@ ROW_BYTES = _kernels.ROW_BYTES
 LARGE_PAGES_UP_TO = _kernels.LARGE_PAGES_UP_TO
 
 
-#: ``Gap.kind``: why a history has no sample at a time (tf2's three extrapolation errors).
+#: ``Extrapolation.kind``: why a history has no sample at a time (tf2's three extrapolation errors).
 NO_DATA, ONLY_ONE, FUTURE, PAST = range(4)
 
 
-class Gap(NamedTuple):
+class Extrapolation(NamedTuple):
     """Why a history cannot answer at ``time``: empty, one sample at another ``stamp``, or
     ``time`` after the newest or before the oldest ``stamp``. The compiled walk finds it, ``walk.error``
     words it (``Dialect``)."""

@@ -103,8 +103,8 @@ from tftools.core.errors import (
 )
 from tftools.core.time import duration_to_sec, to_sec
 
-if TYPE_CHECKING:  # the history's kinds of gap are imported where a message is worded: naming a
-    from tftools.core.history import Gap  # semantics (tfx --help) needs no numpy
+if TYPE_CHECKING:  # the kinds of extrapolation are imported where a message is worded: naming a
+    from tftools.core.history import Extrapolation  # semantics (tfx --help) needs no numpy
 
 #: Which tf2 a buffer follows: ROS 1's for ROS 1 bags and systems, ROS 2's for ROS 2 ones.
 Semantics = Literal["ros1", "ros2"]
@@ -136,37 +136,38 @@ class Dialect:
         """A time or duration as this tf2 prints it in its messages."""
         return f"{to_sec(ns):.9f}"
 
-    def gap_message(self, gap: Gap) -> str:
-        """The cache's reason it has no sample at ``gap.time`` (tf2's ``findClosest``)."""
+    def extrapolation_message(self, missing: Extrapolation) -> str:
+        """The cache's reason it has no sample at ``missing.time`` (tf2's ``findClosest``)."""
         # tf2 0.7.6 formats these into fixed-size buffers that can cut the text short
         # ("... is in the buffe"); the cut is kept so that messages match byte for byte.
         from tftools.core.history import FUTURE, NO_DATA, PAST
 
-        if gap.kind == NO_DATA:
+        if missing.kind == NO_DATA:
             return ""
-        if gap.kind in (FUTURE, PAST):
-            return _fixed(self._beyond(gap, f"{self.seconds(abs(gap.time - gap.stamp))}s "), 163)
-        return _fixed(self._between(gap), 116)
+        if missing.kind in (FUTURE, PAST):
+            return _fixed(self._beyond(missing, f"{self.seconds(abs(missing.time - missing.stamp))}s "), 163)
+        return _fixed(self._between(missing), 116)
 
-    def _beyond(self, gap: Gap, amount: str = "") -> str:
+    def _beyond(self, missing: Extrapolation, amount: str = "") -> str:
         """Why a time past the newest sample, or before the oldest, has none (``amount``: ROS 1's)."""
         from tftools.core.history import FUTURE
 
-        direction, edge = ("future", "latest") if gap.kind == FUTURE else ("past", "earliest")
+        direction, edge = ("future", "latest") if missing.kind == FUTURE else ("past", "earliest")
         return (
             f"Lookup would require extrapolation {amount}into the {direction}.  "
-            f"Requested time {self.seconds(gap.time)} but the {edge} data is at time {self.seconds(gap.stamp)}"
+            f"Requested time {self.seconds(missing.time)} but the {edge} data is at time {self.seconds(missing.stamp)}"
         )
 
-    def _between(self, gap: Gap) -> str:
-        time, stamp = self.seconds(gap.time), self.seconds(gap.stamp)
+    def _between(self, missing: Extrapolation) -> str:
+        time, stamp = self.seconds(missing.time), self.seconds(missing.stamp)
         return f"Lookup would require extrapolation at time {time}, but only time {stamp} is in the buffer"
 
-    def extrapolation(self, gap: Gap, source: str, target: str) -> ExtrapolationError:
-        """The lookup's error for ``gap``, met walking from ``source`` to ``target``."""
-        text = f"{self.gap_message(gap)}, when looking up transform from frame [{source}] to frame [{target}]"
+    def extrapolation(self, missing: Extrapolation, source: str, target: str) -> ExtrapolationError:
+        """The lookup's error for ``missing``, met walking from ``source`` to ``target``."""
+        where = f"when looking up transform from frame [{source}] to frame [{target}]"
+        text = f"{self.extrapolation_message(missing)}, {where}"
         if self.ros2:
-            return _ros2_error(gap.kind)(text)
+            return _ros2_error(missing.kind)(text)
         return ExtrapolationError(text[:999])  # tf2 formats it into char[1000]
 
     def empty_frame(self, argument: str) -> InvalidArgumentError:
@@ -188,15 +189,15 @@ class _Ros2Dialect(Dialect):
     def seconds(self, ns: int) -> str:
         return f"{duration_to_sec(ns):.6f}"  # tf2::displayTimePoint
 
-    def gap_message(self, gap: Gap) -> str:
+    def extrapolation_message(self, missing: Extrapolation) -> str:
         # Rolling's wording, also for an empty cache (stamp 0), which Jazzy leaves unworded.
         from tftools.core.history import FUTURE, PAST
 
-        return self._beyond(gap) if gap.kind in (FUTURE, PAST) else self._between(gap)
+        return self._beyond(missing) if missing.kind in (FUTURE, PAST) else self._between(missing)
 
 
 def _ros2_error(kind: int) -> type[ExtrapolationError]:
-    """ROS 2's class of extrapolation error for a gap of ``kind``."""
+    """ROS 2's class of extrapolation error for a missing of ``kind``."""
     from tftools.core.history import FUTURE, PAST
 
     return {FUTURE: ForwardExtrapolationError, PAST: BackwardExtrapolationError}.get(kind, NoDataForExtrapolationError)

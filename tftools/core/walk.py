@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 from typing import NamedTuple
 
 from tftools.core.errors import ConnectivityError, TransformError, UnknownFrameError
-from tftools.core.history import EdgeHistory, Gap
+from tftools.core.history import EdgeHistory, Extrapolation
 from tftools.core.semantics import Dialect
 from tftools.core.time import duration_to_sec, to_sec
 
@@ -20,7 +20,7 @@ from tftools.core.time import duration_to_sec, to_sec
 #: ``MAX_GRAPH_DEPTH`` edges (a loop), two trees, a time outside an edge's history.
 NO_FAILURE, LOOP, UNCONNECTED, EXTRAPOLATION = range(4)
 
-#: A walk's report (``BufferCore.chain``'s): what failed, and for an extrapolation the ``Gap``'s
+#: A walk's report (``BufferCore.chain``'s): what failed, and for an extrapolation the ``Extrapolation``'s
 #: kind, time and stamp.
 Failure = tuple[int, int, int, int]
 
@@ -36,12 +36,14 @@ class Tree(NamedTuple):
 
 def error(tree: Tree, failure: Failure, target_id: int, source_id: int) -> TransformError:
     """tf2's error for a walk from ``source_id`` to ``target_id`` that failed as ``failure`` says."""
-    what, *gap = failure
+    what, *extrapolation = failure
     if what == LOOP:
         return UnknownFrameError.loop(frames_as_string(tree))
     if what == EXTRAPOLATION:
-        kind, time, stamp = gap
-        return tree.dialect.extrapolation(Gap(kind, time, stamp), tree.names[source_id], tree.names[target_id])
+        kind, time, stamp = extrapolation
+        return tree.dialect.extrapolation(
+            Extrapolation(kind, time, stamp), tree.names[source_id], tree.names[target_id]
+        )
     return ConnectivityError.between(tree.names[target_id], tree.names[source_id])
 
 
