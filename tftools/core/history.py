@@ -11,7 +11,10 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from tftools.core import _kernels
+# The bytes of one sample in a history's columns (stamp, values, parent, authority, record time, sequence,
+# flags), and the largest bulk load whose histories' block comes in large pages: the core's.
+from tftools.core._kernels import LARGE_PAGES_UP_TO as LARGE_PAGES_UP_TO
+from tftools.core._kernels import ROW_BYTES as ROW_BYTES
 from tftools.core._kernels import EdgeHistory as EdgeHistory
 from tftools.core.batch import TransformBatch
 
@@ -40,12 +43,6 @@ def rows_as_sent(names: Sequence[str], authorities: Sequence[str], columns: Mapp
         record_time=columns["record_time"],
         authority=columns["authority"],
     )
-
-
-#: The bytes of one sample in a history's columns (stamp, values, parent, authority, record time,
-#: sequence, flags), and the largest bulk load whose histories' block comes in large pages.
-ROW_BYTES = _kernels.ROW_BYTES
-LARGE_PAGES_UP_TO = _kernels.LARGE_PAGES_UP_TO
 
 
 #: ``Extrapolation.kind``: why a history has no sample at a time (tf2's three extrapolation errors).
