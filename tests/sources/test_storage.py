@@ -109,6 +109,19 @@ def test_missing_remote_recording_is_said_of_its_url(memory_bucket: str) -> None
         read_bag([f"{memory_bucket}/nothing.bag"])
 
 
+def test_a_failed_read_is_said_of_its_url_once(memory_bucket: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A read the server fails names the URL as given (it holds the filesystem's path: not said twice)."""
+    url = f"{memory_bucket}/fleet/robot.bag"
+    with RemoteFiles(url) as files:
+        monkeypatch.setattr(
+            files.fs, "cat_ranges", lambda paths, *_, **__: [ConnectionResetError("reset")] * len(paths)
+        )
+        with pytest.raises(RemoteError) as raised:
+            read_bag([url])
+    message = str(raised.value)
+    assert message.startswith(f"{url}: ") and message.count("memory:/") == 1 and "reset" in message
+
+
 def test_a_remote_file_fetches_each_range_once(memory_bucket: str) -> None:
     """A small read fetches the block after it (the next record headers are near); what was fetched
     is kept, and read again without a request."""

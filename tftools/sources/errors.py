@@ -21,8 +21,12 @@ class BagError(SourceError):
         self.hint = hint
 
     def said_of(self, path: str) -> BagError:
-        """This error said of ``path`` (a URL) rather than of the local copy it was met in."""
-        return BagError(path, self.problem.replace(self.path, path), self.hint)
+        """This error (its class kept) said of ``path`` (a URL) rather than of the local copy it was met in."""
+        said = type(self).__new__(type(self))  # not copy.copy: it calls __init__ with the message alone
+        said.__dict__.update(self.__dict__)
+        said.path, said.problem = path, self.problem.replace(self.path, path)
+        said.args = (f"{path}: {said.problem}",)
+        return said
 
 
 class BagNotFoundError(BagError):

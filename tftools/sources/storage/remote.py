@@ -408,7 +408,8 @@ class RemoteFiles(Files):
     def said(self, text: str) -> str:
         for remote, local in self._local.items():
             text = text.replace(str(local), self._url_of(remote))
-        return text.replace(str(self.root), self.url)
+        # The URL may be said already (a remote read's own error), and holds the path: left as it is.
+        return self.url.join(part.replace(str(self.root), self.url) for part in text.split(self.url))
 
     def close(self) -> None:
         for source in self._sources:
