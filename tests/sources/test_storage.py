@@ -110,16 +110,24 @@ def test_missing_remote_recording_is_said_of_its_url(memory_bucket: str) -> None
 
 
 def test_a_failed_read_is_said_of_its_url_once(memory_bucket: str, monkeypatch: pytest.MonkeyPatch) -> None:
-    """A read the server fails names the URL as given (it holds the filesystem's path: not said twice)."""
+    """A read the server fails, after the file was opened, names the URL as given (which holds the
+    filesystem's path: not replaced in it again) and stays a ``RemoteError``."""
     url = f"{memory_bucket}/fleet/robot.bag"
-    with RemoteFiles(url) as files:
-        monkeypatch.setattr(
-            files.fs, "cat_ranges", lambda paths, *_, **__: [ConnectionResetError("reset")] * len(paths)
-        )
-        with pytest.raises(RemoteError) as raised:
-            read_bag([url])
+    fs = fsspec.filesystem("memory")
+    served = fs.cat_ranges
+
+    def failing_past_the_first_block(paths: list[str], starts: list[int], ends: list[int], **kwargs: object) -> object:
+        if min(starts) < BLOCK_BYTES:
+            return served(paths, starts, ends, **kwargs)
+        return [ConnectionResetError("reset")] * len(paths)
+
+    monkeypatch.setattr(
+        type(fs), "cat_ranges", lambda self, *args, **kwargs: failing_past_the_first_block(*args, **kwargs)
+    )
+    with pytest.raises(RemoteError) as raised:
+        read_bag([url])
     message = str(raised.value)
-    assert message.startswith(f"{url}: ") and message.count("memory:/") == 1 and "reset" in message
+    assert message.startswith(f"{url}: reading bytes ") and message.count("memory:/") == 1 and "reset" in message
 
 
 def test_a_remote_file_fetches_each_range_once(memory_bucket: str) -> None:
