@@ -130,6 +130,25 @@ def test_a_failed_read_is_said_of_its_url_once(memory_bucket: str, monkeypatch: 
     assert message.startswith(f"{url}: reading bytes ") and message.count("memory:/") == 1 and "reset" in message
 
 
+def test_a_read_dropped_once_is_asked_again(memory_bucket: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A server under load drops a request now and then: the piece is asked once more, and the bag reads
+    as its local copy."""
+    url = f"{memory_bucket}/fleet/robot.bag"
+    fs = fsspec.filesystem("memory")
+    served, dropped = fs.cat_ranges, []
+
+    def dropping_each_piece_once(paths: list[str], starts: list[int], ends: list[int], **kwargs: object) -> object:
+        replies = served(paths, starts, ends, **kwargs)
+        fresh = [i for i, start in enumerate(starts) if start not in dropped]
+        dropped.extend(starts[i] for i in fresh)
+        return [ConnectionResetError("reset") if i in fresh else reply for i, reply in enumerate(replies)]
+
+    monkeypatch.setattr(type(fs), "cat_ranges", lambda self, *args, **kwargs: dropping_each_piece_once(*args, **kwargs))
+    there, here = read_bag([url]), read_bag([SAMPLE_BAGS["ros1"]])
+    assert dropped and len(there.transforms) == len(here.transforms) > 0
+    assert np.array_equal(there.transforms.stamp, here.transforms.stamp)
+
+
 def test_a_remote_file_fetches_each_range_once(memory_bucket: str) -> None:
     """A small read fetches the block after it (the next record headers are near); what was fetched
     is kept, and read again without a request."""

@@ -50,9 +50,7 @@ def test_wtf_reads_a_gcs_bucket_as_the_local_copies(
         p.replace(f"{fleet}/", "gs://bucket/fleet/") for b in expected for p in b["paths"]
     ]
     for mine, theirs in zip(got[1:], expected[1:], strict=True):
-        assert mine["transforms"] == theirs["transforms"] and mine["findings"] == theirs["findings"], (
-            mine.get("error"),
-            mine.get("problems"),
-        )
+        said = f"{mine.get('error')} {mine.get('problems')}"  # whole: pytest cuts a dict's repr short
+        assert mine["transforms"] == theirs["transforms"] and mine["findings"] == theirs["findings"], said
     (images,) = next(b for b in got if b["paths"][0].endswith("images.bag"))["fetched"]
     assert images["size"] == image_bag.stat().st_size and images["received"] < 0.05 * images["size"]

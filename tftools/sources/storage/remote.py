@@ -19,7 +19,7 @@ import shutil
 import tempfile
 from collections import deque
 from collections.abc import Iterator
-from contextlib import ExitStack, contextmanager
+from contextlib import ExitStack, contextmanager, nullcontext
 from pathlib import Path, PurePosixPath
 from typing import Any
 
@@ -263,17 +263,16 @@ class RemoteSource(ByteSource):
         return got + self._fetch(batch) if batch else got
 
     def _fetch(self, pieces: list[tuple[int, int]]) -> list[tuple[int, bytes]]:
-        """The pieces, each in one request (a reply shorter than asked padded with zeros)."""
-        self.requests += len(pieces)
-        with _remote(self.url, "reading"):
-            asked = sum(end - start for start, end in pieces)
-            replies = self.fs.cat_ranges(
-                [self.path] * len(pieces),
-                [s for s, _ in pieces],
-                [e for _, e in pieces],
-                on_error="return",
-                **_deadline(self.fs, CONNECT_TIMEOUT * len(pieces) + asked / MIN_RATE),  # a request a piece
-            )
+        """The pieces, each in one request (a reply shorter than asked padded with zeros). A server under
+        load drops a request now and then (a reset, a timeout): what failed is asked once more."""
+        try:
+            replies = self._request(pieces)
+        except Exception:
+            replies = self._request(pieces, again=True)
+        failed = [i for i, reply in enumerate(replies) if isinstance(reply, Exception)]
+        if failed and not any(isinstance(replies[i], FileNotFoundError) for i in failed):
+            for i, reply in zip(failed, self._request([pieces[i] for i in failed], again=True), strict=True):
+                replies[i] = reply
         got = []
         for (start, end), reply in zip(pieces, replies, strict=True):
             if isinstance(reply, BaseException):
@@ -284,6 +283,21 @@ class RemoteSource(ByteSource):
             self.fetched += len(reply)
             got.append((start, bytes(reply).ljust(end - start, b"\0")))
         return got
+
+    def _request(self, pieces: list[tuple[int, int]], again: bool = False) -> list[bytes | Exception]:
+        """One call for the pieces, within its deadline: each piece's bytes, or what its request met;
+        a failure of the call itself raised (as a ``RemoteError`` when ``again``)."""
+        self.requests += len(pieces)
+        asked = sum(end - start for start, end in pieces)
+        with _remote(self.url, "reading") if again else nullcontext():
+            replies: list[bytes | Exception] = self.fs.cat_ranges(
+                [self.path] * len(pieces),
+                [s for s, _ in pieces],
+                [e for _, e in pieces],
+                on_error="return",
+                **_deadline(self.fs, CONNECT_TIMEOUT * len(pieces) + asked / MIN_RATE),  # a request a piece
+            )
+        return replies
 
     def _assemble(self, start: int, end: int, fetched: list[tuple[int, bytes]]) -> bytes:
         """``start:end`` from the pieces kept and ``fetched``, which cover it."""
