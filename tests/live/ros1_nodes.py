@@ -1,6 +1,6 @@
 """ROS1 nodes for the live tests, run by Debian's /usr/bin/python3 with rospy (never imported by pytest).
 
-ros1_nodes.py dynamic NODE PARENT CHILD X [HZ]   TransformBroadcaster: translation (X, stamp mod 1000, 0), yaw 0.3
+ros1_nodes.py dynamic NODE PARENT CHILD X [HZ]   TransformBroadcaster: translation (X, stamp - 1.7e9 s, 0), yaw 0.3
 ros1_nodes.py wrong_type NODE TOPIC             a std_msgs/String publisher on TOPIC (another md5sum)
 ros1_nodes.py scan NODE TOPIC FRAME [HZ]        a sensor_msgs/LaserScan publisher on TOPIC, stamped now, in FRAME
 ros1_nodes.py static_listener                   prints the first /tf_static message as JSON, with its header
@@ -29,7 +29,7 @@ def dynamic(node, parent, child, x, hz="20"):
         t.header.frame_id = parent
         t.child_frame_id = child
         t.transform.translation.x = float(x)
-        t.transform.translation.y = now.to_sec() % 1000
+        t.transform.translation.y = now.to_sec() - 1.7e9  # steady, never wrapping: a wrap is a true jump
         t.transform.rotation.z = math.sin(0.15)
         t.transform.rotation.w = math.cos(0.15)
         broadcaster.sendTransform(t)
