@@ -60,14 +60,13 @@ class GraphTooLargeError(GraphNotDrawnError):
 
     def __init__(self, output: str, nodes: int, source_path: str | None = None) -> None:
         wrote = f"; wrote its source {source_path}" if source_path else ""
-        then = (
-            f"dot -T{Path(output).suffix.lstrip('.')} {source_path} -o {output} draws it without a limit"
-            if source_path
-            else ""
-        )
+        if source_path:
+            hint = f"dot -T{Path(output).suffix.lstrip('.')} {source_path} -o {output} draws it without a time limit"
+        else:  # drawn for a page: view-frames writes the source
+            hint = "tfx view-frames -b BAG -o frames.gv writes its source; dot -Tsvg frames.gv -o frames.svg draws it"
         super().__init__(
             f"{output} was not drawn: Graphviz's `dot` did not finish {nodes} frames in {DRAW_SECONDS:.0f} s{wrote}",
-            f"{then or 'write its source with --format dot'}; or draw a part of the tree",
+            hint,
             source_path,
         )
         self.output, self.nodes = output, nodes
@@ -119,12 +118,14 @@ def draw(dot: graphviz.Digraph, fmt: str, output: str = "the graph") -> bytes:
 
 
 def _nodes(dot: graphviz.Digraph) -> int:
-    """How many frames the graph draws (its node statements; the legend's are in a cluster of its own)."""
+    """How many frames the graph draws: its node statements at the top level (the legend's are inside a
+    cluster of their own, one tab further in)."""
     return sum(1 for line in dot.body if _NODE.match(line) and " -> " not in line)
 
 
-#: A node statement of Graphviz's source as the graphviz package writes it: an id, then its attributes.
-_NODE = re.compile(r'^\s*(?!(?:subgraph|graph|node|edge)\b)("(?:[^"\\]|\\.)*"|[\w.]+) \[')
+#: A top-level node statement of Graphviz's source as the graphviz package writes it: a tab, an id, its
+#: attributes if any.
+_NODE = re.compile(r'^\t(?!(?:subgraph|graph|node|edge)\b)("(?:[^"\\]|\\.)*"|[\w.]+)(?: \[|\s*$)')
 
 
 def write_graph(dot: graphviz.Digraph, output: str | os.PathLike[str], fmt: str) -> Path:
