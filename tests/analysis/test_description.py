@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from tests.analysis.robot_scenes import FLIPPED, MOVED, ROBOT, URDF, Setup, robot_bag
@@ -219,3 +220,23 @@ def test_live_the_joint_states_are_not_heard_and_the_hint_says_what_to_look_at()
     found = check(recording(messages), robot=Robot(ROBOT, live=True))
     wheels = [f for f in found if f.code == "urdf_missing" and "wheel" in f.message]
     assert len(wheels) == 2 and all("does a node publish" in f.hint for f in wheels)
+
+
+@pytest.mark.parametrize("multiplier", ["1e308", "-1e308"])
+def test_a_mimic_multiplier_past_any_position_is_no_crash_and_no_figure(tmp_path: Path, multiplier: str) -> None:
+    """A mimic joint whose leader's position times its multiplier overflows: that state has no position to
+    compare (and numpy says nothing on stderr), where "math domain error" was raised."""
+    mimic = URDF.replace(
+        '<origin xyz="0 -0.15 0" rpy="-1.5707963267948966 0 0"/><axis xyz="0 0 1"/>',
+        '<origin xyz="0 -0.15 0" rpy="-1.5707963267948966 0 0"/><axis xyz="0 0 1"/>'
+        f'<mimic joint="wheel_left_joint" multiplier="{multiplier}"/>',
+    )
+    bag = robot_bag(tmp_path, "rover", Setup())
+    recording = read_recording([bag])
+    robot = Robot(parse_urdf(mimic, "mimic.urdf"), read_robot([bag]))
+    with np.errstate(all="raise"):  # a warning numpy would print is an error here
+        joints = check_joints(robot, recording.buffer, frame_tree(recording.buffer))
+    right = next(j for j in joints if j.joint == "wheel_right_joint")
+    assert 0 < right.compared < 100  # the states whose product overflowed are not compared
+    assert all(math.isfinite(v) for v in (right.translation_mm, right.rotation_deg))
+    check(recording, robot=robot)  # and the whole check runs

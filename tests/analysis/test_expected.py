@@ -193,6 +193,9 @@ def test_a_hand_written_file_with_its_own_tolerances_and_quaternions(tmp_path: P
         ("frames: {a: {parent: b, static: true, translation: [1, 2]}}\n", "list of 3 numbers"),
         ("tolerances: {translation_mm: -1}\nframes: {}\n", "translation_mm"),
         ("frames: {a: [\n", "cannot be read"),
+        ("frames: {a: {parent: b, static: true, rotation: [0, 0, 0, 0]}}\n", "not a unit quaternion (length 0)"),
+        ("frames: {a: {parent: b, static: true, rotation: [0, 0, 0, 2]}}\n", "not a unit quaternion (length 2)"),
+        ("frames: {a: {parent: b, static: true, rotation: [1e308, 1e308, 0, 0]}}\n", "not a unit quaternion"),
     ],
 )
 def test_a_bad_file_is_one_error_naming_the_problem(tmp_path: Path, text: str, words: str) -> None:

@@ -180,3 +180,27 @@ def test_a_scheduler_that_is_not_there_is_one_line_and_exit_2(bags: dict[str, Pa
     code, out, err = finished(tfx(bags["healthy"], "--dask", f"tcp://127.0.0.1:{port}"))
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "cannot reach the Dask scheduler" in err and "dask scheduler" in err
+
+
+@pytest.mark.parametrize(
+    "address", ["", "garbage", "inproc://x", "ucx://127.0.0.1:8786", "tcp://[::1", "tcp://host", "tcp://:8786"]
+)
+def test_an_address_that_names_no_scheduler_is_one_line_and_exit_2(bags: dict[str, Path], address: str) -> None:
+    """Refused before Dask sees it: no traceback from a half-built client, now or when it is collected."""
+    code, out, err = finished(tfx(bags["healthy"], "--dask", address))
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert "not a scheduler address" in err and "tcp://127.0.0.1:8786" in err
+
+
+def test_a_scheduler_that_accepts_and_never_answers_is_given_up_on(bags: dict[str, Path]) -> None:
+    """A peer that takes the connection and says nothing: refused within the connect deadline, one line."""
+    pytest.importorskip("distributed")
+    with socket.socket() as silent:
+        silent.bind(("127.0.0.1", 0))
+        silent.listen(16)  # accepted by the kernel, never read nor answered
+        started = time.monotonic()
+        code, out, err = finished(tfx(bags["healthy"], "--dask", f"tcp://127.0.0.1:{silent.getsockname()[1]}"))
+        took = time.monotonic() - started
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert "Dask scheduler" in err
+    print(f"given up after {took:.1f} s")  # a figure, not a timed assertion: the machine may be busy

@@ -16,6 +16,7 @@ from tftools.core.errors import ConnectivityError
 from tftools.core.rejection import RejectionCode
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
+from tftools.sources.live import time_jump
 from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.capture import capture, listen
 from tftools.sources.live.time_jump import JumpDetector, TimeJump
@@ -118,7 +119,19 @@ def test_the_wall_clock_jumping_back_is_a_jump_too() -> None:
     )
 
 
-def test_a_looped_replay_clears_the_listeners_buffer_but_its_statics() -> None:
+class FakeSeconds:
+    """A monotonic clock the test moves."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def test_a_looped_replay_clears_the_listeners_buffer_but_its_statics(monkeypatch: pytest.MonkeyPatch) -> None:
+    seconds = FakeSeconds()
+    monkeypatch.setattr(time_jump.time, "monotonic", seconds)
     source = SimSource()
     buffer = listen(source)
     source.tick(999.9)
@@ -134,9 +147,26 @@ def test_a_looped_replay_clears_the_listeners_buffer_but_its_statics() -> None:
         "ROS time jumped back from 1012.400 s to 1000.000 s (a looped replay?): "
         "cleared the tf buffer, static transforms kept"
     ]
+    seconds.now = 10.0
     play(source, 1000.0, 1.0)  # each loop says so again, even in the same words
+    seconds.now = 20.0
     play(source, 1000.0, 1.0)
     assert source.notices[1:] == [source.notices[1]] * 2 and "from 1000.900 s to 1000.000 s" in source.notices[1]
+
+
+def test_a_clock_going_back_and_forth_is_said_every_few_seconds_with_a_count(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A replay looping every 0.04 s: 100 jumps in a few seconds make 2 lines, the second counting the rest."""
+    seconds = FakeSeconds()
+    monkeypatch.setattr(time_jump.time, "monotonic", seconds)
+    source = SimSource()
+    listen(source)
+    for n in range(100):
+        seconds.now = n * 0.04  # the first jump at 0.04 s, the last at 3.96 s: within the first line's quiet time
+        play(source, 1000.0, 0.3)
+    seconds.now = 0.04 + time_jump.QUIET_SECONDS
+    play(source, 1000.0, 0.3)
+    assert len(source.notices) == 2
+    assert source.notices[1].endswith("(98 more jumps back in the 5 s before)")
 
 
 def test_the_buffer_keeps_answering_while_the_clock_only_runs_forwards() -> None:

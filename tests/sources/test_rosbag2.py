@@ -452,3 +452,22 @@ def test_tf_cdr_round_trip_sanity() -> None:
     tf = Tf("a", "b", 3, 4, (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 1.0))
     message = typestore().deserialize_cdr(tf_cdr([tf], little_endian=False), "tf2_msgs/msg/TFMessage")
     assert message.transforms[0].child_frame_id == "b" and message.transforms[0].header.stamp.nanosec == 4
+
+
+@pytest.mark.slow  # ruamel parses the 3.8 MB metadata.yaml in ~15 s of CPU
+def test_a_metadata_listing_many_missing_files_is_said_in_one_line(tmp_path: Path) -> None:
+    """A damaged metadata.yaml that lists 200,000 files nobody wrote: one line counting them, not a line each."""
+    parts = [varied_messages(seed, 40) for seed in range(2)]
+    bag = write_split_rosbag2(tmp_path / "bag", parts, storage="mcap")
+    metadata = bag / "metadata.yaml"
+    text = metadata.read_text()
+    listed = ", ".join(f"g{n}.mcap" for n in range(200_000))  # within metadata.yaml's 4 MiB
+    assert "relative_file_paths: [bag_0.mcap, bag_1.mcap]" in text
+    metadata.write_text(text.replace("[bag_0.mcap, bag_1.mcap]", f"[{listed}, bag_0.mcap, bag_1.mcap]", 1))
+    rows, contents = read_rows(bag)
+    assert rows == expected_rows(parts[0] + parts[1])
+    (line,) = contents.problems
+    assert line == (
+        "200000 files listed in metadata.yaml are missing (g0.mcap, g1.mcap, g2.mcap and 199997 more);"
+        " their messages are lost"
+    )

@@ -105,3 +105,38 @@ def test_a_file(tmp_path: Path) -> None:
     with pytest.raises(UrdfError, match="is xacro") as raised:
         read_urdf(xacro)
     assert f"xacro {xacro} > robot.urdf" in raised.value.hint
+
+
+ENTITY_URDF = (
+    '<?xml version="1.0" encoding="UTF-16"?><!DOCTYPE r [<!ENTITY a "aaaa">]><robot name="r"><link name="&a;"/></robot>'
+)
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-le", "utf-16-be"])
+def test_a_declaration_is_refused_whatever_the_encoding(encoding: str) -> None:
+    """utf-16 writes a byte order mark, the -le/-be forms none: the declaration is found after decoding."""
+    with pytest.raises(UrdfError, match="document type declaration"):
+        parse_urdf(ENTITY_URDF.encode(encoding), "r.urdf")
+
+
+def test_an_entity_is_never_expanded_into_a_name() -> None:
+    """Many references to a long entity (a 'billion laughs' of names) are refused before any is expanded."""
+    text = (
+        '<!DOCTYPE r [<!ENTITY a "' + "x" * 400 + '">]><robot name="r"><link name="' + "&a;" * 600_000 + '"/></robot>'
+    )
+    with pytest.raises(UrdfError, match="document type declaration"):
+        parse_urdf(text.encode("utf-16"), "r.urdf")
+
+
+def test_doctype_in_a_comment_is_only_a_comment() -> None:
+    robot = parse_urdf('<!-- no <!DOCTYPE here --><robot name="r"><link name="a"/></robot>', "r.urdf")
+    assert robot.links == ("a",)
+
+
+def test_an_undeclared_entity_is_not_well_formed() -> None:
+    with pytest.raises(UrdfError, match="not well-formed XML"):
+        parse_urdf('<robot name="r"><link name="&a;"/></robot>'.encode("utf-16"), "r.urdf")
+
+
+def test_a_utf16_urdf_reads() -> None:
+    assert parse_urdf(URDF.encode("utf-16"), "rover.urdf") == parse_urdf(URDF, "rover.urdf")

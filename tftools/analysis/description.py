@@ -128,7 +128,7 @@ def _positions_over_time(robot: Robot) -> tuple[np.ndarray, dict[str, np.ndarray
     positions: dict[str, np.ndarray] = {}
     for k, i in enumerate(chosen.tolist()):
         for joint, q in states[i].positions.items():
-            positions.setdefault(joint, np.full(len(chosen), np.nan))[k] = q
+            positions.setdefault(joint, np.full(len(chosen), np.nan))[k] = q if math.isfinite(q) else math.nan
     return stamps, positions
 
 
@@ -148,11 +148,15 @@ def _follows(robot: Robot, name: str, buffer: Buffer, states: tuple[np.ndarray, 
     if hist is not None and np.isin(stamps[known], hist.stamps).any():
         known &= np.isin(stamps, hist.stamps)
     looked = buffer.lookup_many(joint.parent, joint.child, stamps[known])
-    qs = given[known][looked.valid] * multiplier + offset
+    with np.errstate(over="ignore", invalid="ignore"):  # a mimic's multiplier of 1e308: no position, no warning
+        qs = given[known][looked.valid] * multiplier + offset
+    usable = np.isfinite(qs)
+    qs = qs[usable]
     if not len(qs):
         return JointCheck(name, Verdict.fine, joint.parent)
+    translations, rotations = looked.translations[looked.valid][usable], looked.rotations[looked.valid][usable]
     mms, degs = [], []
-    for q, t, r in zip(qs.tolist(), looked.translations[looked.valid], looked.rotations[looked.valid], strict=True):
+    for q, t, r in zip(qs.tolist(), translations, rotations, strict=True):
         xyz, quat = joint.transform_at(q)
         mms.append(1000.0 * math.dist(xyz, t.tolist()))
         degs.append(rotation_angle_deg(quat, (float(r[0]), float(r[1]), float(r[2]), float(r[3]))))
@@ -161,7 +165,7 @@ def _follows(robot: Robot, name: str, buffer: Buffer, states: tuple[np.ndarray, 
     # tf interpolates between its samples, a joint state stands alone: a looser bound than for statics
     off = mm > max(tol.translation_mm, 5.0) or deg > max(tol.rotation_deg, 1.0)
     worst = int(np.argmax(degs if deg > max(tol.rotation_deg, 1.0) else mms))
-    when = int(looked.stamps[looked.valid][worst])
+    when = int(looked.stamps[looked.valid][usable][worst])
     return JointCheck(
         name,
         Verdict.disagrees if off else Verdict.fine,

@@ -22,6 +22,7 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent import futures
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, TypeVar
+from urllib.parse import urlsplit
 
 from tftools.core.errors import UsageError
 
@@ -166,16 +167,60 @@ def _on_dask(
     return results()
 
 
+#: The transports a scheduler is reached by from another process (inproc is within one process; ucx needs
+#: UCX's own packages, which the fleet extra does not install).
+SCHEMES = ("tcp", "tls", "ws", "wss")
+_ADDRESS_HINT = "start one (dask scheduler) and give its address, e.g. --dask tcp://127.0.0.1:8786"
+
+
+def scheduler_address(address: str) -> str:
+    """``address`` when it names a scheduler as ``scheme://host:port`` over a transport of ``SCHEMES``;
+    refused here with what is wrong, before Dask sees it (Dask's own refusals of such addresses surface as
+    tracebacks from a half-built client)."""
+    said = address or "''"
+    try:
+        parts = urlsplit(address)
+        named = "://" in address and parts.scheme in SCHEMES and bool(parts.hostname) and parts.port is not None
+    except ValueError:  # a port that is not a number, an IPv6 host without its closing bracket
+        named = False
+    if not named or parts.path not in ("", "/"):
+        raise UsageError(
+            f"--dask {said}: not a scheduler address (scheme://host:port, the scheme one of {', '.join(SCHEMES)})",
+            _ADDRESS_HINT,
+        )
+    return address
+
+
 def _connect(address: str) -> Client:
+    """A client of the scheduler at ``address``, within ``CONNECT_SECONDS`` and a little more: Dask's own
+    connect timeout does not cover a peer that accepts the connection and never answers (the client waits
+    for it for ever), so the client is made on a daemon thread that is left behind if it runs out of time."""
     from distributed import Client
 
-    hint = "start one (dask scheduler) and give its address, e.g. --dask tcp://127.0.0.1:8786"
-    try:
-        return Client(address, timeout=f"{CONNECT_SECONDS}s", set_as_default=False)  # type: ignore[no-untyped-call]
-    except ValueError as error:
+    hint = _ADDRESS_HINT
+    address = scheduler_address(address)
+    made: list[Client] = []
+    failed: list[BaseException] = []
+
+    def make() -> None:
+        try:
+            made.append(Client(address, timeout=f"{CONNECT_SECONDS}s", set_as_default=False))  # type: ignore[no-untyped-call]
+        except BaseException as error:  # handed to the caller's thread
+            failed.append(error)
+
+    maker = threading.Thread(target=make, name="tfx-dask-connect", daemon=True)
+    maker.start()
+    maker.join(CONNECT_SECONDS + 2)
+    if made:
+        return made[0]
+    if not failed:
+        raise UsageError(f"--dask {address}: the Dask scheduler did not answer within {CONNECT_SECONDS} s", hint)
+    error = failed[0]
+    if isinstance(error, ValueError):
         raise UsageError(f"--dask {address}: not a scheduler address ({error})", hint) from None
-    except OSError as error:  # refused, unreachable, timed out
+    if isinstance(error, OSError):  # refused, unreachable, timed out
         raise UsageError(f"--dask {address}: cannot reach the Dask scheduler ({error})", hint) from None
+    raise error
 
 
 def _timed_out(error: TaskTimeoutError, retried: bool) -> Unfinished:

@@ -26,6 +26,8 @@ from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, quat_from_rpy, rpy_from_quat
 from tftools.sources.user_files import NotAFileError, UserFileError, load, number
 
+#: How far a rotation's length may be from 1 for it to be taken (and made unit).
+QUATERNION_TOLERANCE = 0.01
 _FRAME_KEYS = ("parent", "static", "rate_hz", "publishers", "translation", "rpy_deg", "rotation")
 _HEADER = """\
 The tf tree of a healthy recording ({source}), frame by frame. Edit freely:
@@ -152,10 +154,23 @@ def _value(name: str, entry: Mapping[str, Any]) -> tuple[Vec3 | None, Quat | Non
         raise ValueError(f"frame {name}: {given[0]} is for static edges (add static: true)")
     x, y, z = _numbers(f"frame {name}: translation", entry.get("translation", [0, 0, 0]), 3)
     if "rotation" in entry:
-        qx, qy, qz, qw = _numbers(f"frame {name}: rotation", entry["rotation"], 4)
-        return (x, y, z), (qx, qy, qz, qw)
+        return (x, y, z), _unit_quaternion(
+            f"frame {name}: rotation", _numbers(f"frame {name}: rotation", entry["rotation"], 4)
+        )
     roll, pitch, yaw = _numbers(f"frame {name}: rpy_deg", entry.get("rpy_deg", [0, 0, 0]), 3)
     return (x, y, z), quat_from_rpy(math.radians(roll), math.radians(pitch), math.radians(yaw))
+
+
+def _unit_quaternion(what: str, values: list[float]) -> Quat:
+    """``values`` (x y z w) when their length is 1 to within 1% (a rounded file's); anything else (a zero
+    rotation, a scaled one) is refused, as tf2's setTransform refuses it."""
+    length = math.hypot(*values)
+    if not abs(length - 1.0) <= QUATERNION_TOLERANCE:
+        raise ValueError(
+            f"{what}: {values} is not a unit quaternion (length {length:.6g}): give x y z w of length 1, or rpy_deg"
+        )
+    qx, qy, qz, qw = values
+    return (qx, qy, qz, qw)
 
 
 def _numbers(what: str, values: Any, count: int) -> list[float]:

@@ -103,7 +103,7 @@ def command(
             sys.stdout.flush()
         else:
             drawing.write_graph(dot, target, chosen.value)
-    except drawing.GraphvizMissingError as missing:
+    except drawing.GraphNotDrawnError as missing:
         say_failure(missing)
         exit_with(Exit.PROBLEMS)
     where = "the graph to stdout" if target == "-" else target

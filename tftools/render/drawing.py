@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import os
+import re
+import shutil
+import subprocess
 from pathlib import Path
 
 import graphviz
@@ -17,15 +20,59 @@ INSTALL_HINT = (
 )
 
 
-class GraphvizMissingError(TfToolsError):
-    """Graphviz's ``dot`` is not installed: the picture could not be drawn (its source may have been written)."""
+#: How long ``dot`` may take to draw one graph: a tree of thousands of frames can take it minutes.
+DRAW_SECONDS = 15.0
+
+
+class GraphNotDrawnError(TfToolsError):
+    """The picture could not be drawn by ``dot`` (its Graphviz source may have been written instead)."""
+
+    def __init__(self, message: str, hint: str, source_path: str | None) -> None:
+        super().__init__(message)
+        self.hint = hint
+        self.source_path = source_path
+
+    def with_source(self, output: str, source_path: str) -> GraphNotDrawnError:
+        """The same failure, said of ``output`` with its source written at ``source_path`` (each kind
+        says it in its own words)."""
+        raise NotImplementedError(type(self).__name__)
+
+
+class GraphvizMissingError(GraphNotDrawnError):
+    """Graphviz's ``dot`` is not installed."""
 
     def __init__(self, output: str, source_path: str | None = None) -> None:
         wrote = f"; wrote its source {source_path}" if source_path else ""
-        super().__init__(f"Graphviz's `dot` program was not found, so {output} was not drawn{wrote}")
         then = f"; then: dot -T{Path(output).suffix.lstrip('.')} {source_path} -o {output}" if source_path else ""
-        self.hint = f"{INSTALL_HINT}{then}"
-        self.source_path = source_path
+        super().__init__(
+            f"Graphviz's `dot` program was not found, so {output} was not drawn{wrote}",
+            f"{INSTALL_HINT}{then}",
+            source_path,
+        )
+        self.output = output
+
+    def with_source(self, output: str, source_path: str) -> GraphNotDrawnError:
+        return GraphvizMissingError(output, source_path)
+
+
+class GraphTooLargeError(GraphNotDrawnError):
+    """``dot`` did not finish within ``DRAW_SECONDS`` (a graph of thousands of frames)."""
+
+    def __init__(self, output: str, nodes: int, source_path: str | None = None) -> None:
+        wrote = f"; wrote its source {source_path}" if source_path else ""
+        if source_path:
+            hint = f"dot -T{Path(output).suffix.lstrip('.')} {source_path} -o {output} draws it without a time limit"
+        else:  # drawn for a page: view-frames writes the source
+            hint = "tfx view-frames -b BAG -o frames.gv writes its source; dot -Tsvg frames.gv -o frames.svg draws it"
+        super().__init__(
+            f"{output} was not drawn: Graphviz's `dot` did not finish {nodes} frames in {DRAW_SECONDS:.0f} s{wrote}",
+            hint,
+            source_path,
+        )
+        self.output, self.nodes = output, nodes
+
+    def with_source(self, output: str, source_path: str) -> GraphNotDrawnError:
+        return GraphTooLargeError(output, self.nodes, source_path)
 
 
 class GraphvizFailedError(TfToolsError):
@@ -50,26 +97,49 @@ def draw(dot: graphviz.Digraph, fmt: str, output: str = "the graph") -> bytes:
     """``dot`` drawn as ``fmt`` (pdf, svg, png; dot: the source itself) by Graphviz's ``dot`` program."""
     if fmt == "dot":
         return str(dot.source).encode()
-    try:
-        return bytes(dot.pipe(format=fmt, engine="dot", quiet=True))  # dot's warnings would break tfx's one-line errors
-    except graphviz.ExecutableNotFound:
+    program = shutil.which("dot")
+    if program is None:
+        raise GraphvizMissingError(output)
+    try:  # dot's warnings stay in its captured stderr: they would break tfx's one-line errors
+        done = subprocess.run(
+            [program, f"-T{fmt}"],
+            input=str(dot.source).encode(),
+            capture_output=True,
+            timeout=DRAW_SECONDS,
+            check=False,
+        )
+    except subprocess.TimeoutExpired:
+        raise GraphTooLargeError(output, _nodes(dot)) from None
+    except OSError:
         raise GraphvizMissingError(output) from None
-    except graphviz.CalledProcessError as error:
-        raise GraphvizFailedError(output, error.stderr) from None
+    if done.returncode != 0:
+        raise GraphvizFailedError(output, done.stderr)
+    return done.stdout
+
+
+def _nodes(dot: graphviz.Digraph) -> int:
+    """How many frames the graph draws: its node statements at the top level (the legend's are inside a
+    cluster of their own, one tab further in)."""
+    return sum(1 for line in dot.body if _NODE.match(line) and " -> " not in line)
+
+
+#: A top-level node statement of Graphviz's source as the graphviz package writes it: a tab, an id, its
+#: attributes if any.
+_NODE = re.compile(r'^\t(?!(?:subgraph|graph|node|edge)\b)("(?:[^"\\]|\\.)*"|[\w.]+)(?: \[|\s*$)')
 
 
 def write_graph(dot: graphviz.Digraph, output: str | os.PathLike[str], fmt: str) -> Path:
     """Write ``dot`` drawn as ``fmt`` to ``output``, whole or not at all (else ``OutputError``). Without
-    Graphviz, writes the source beside it (``.gv``, never over a file tfx did not write) and raises
-    ``GraphvizMissingError`` naming it."""
+    Graphviz, or when ``dot`` runs out of its time, writes the source beside it (``.gv``, never over a file
+    tfx did not write) and raises the ``GraphNotDrawnError`` naming it."""
     target = Path(output)
     try:
         picture = draw(dot, fmt, str(target))
-    except GraphvizMissingError:
+    except GraphNotDrawnError as not_drawn:
         source_path = target.with_suffix(".gv")
         _refuse_foreign(source_path)
         write_atomically(source_path, str(dot.source).encode())
-        raise GraphvizMissingError(str(target), str(source_path)) from None
+        raise not_drawn.with_source(str(target), str(source_path)) from None
     return write_atomically(target, picture)
 
 

@@ -26,19 +26,31 @@ CSV_COLUMNS = (
 def write_text(series: EchoSeries, out: IO[str], precision: int = 3, matrix: bool = False) -> None:
     """What tf_echo prints for each time: the transform, or the failure and tf2's reason."""
     for row in _lookups(series, out):
-        f = f".{precision}f"
         t, q, rpy = series.translations[row], series.rotations[row], series.rpy[row]
         deg = [math.degrees(a) for a in rpy]
-        out.write(f"At time {to_sec(int(series.stamps[row])):{f}}\n")
-        out.write(f"- Translation: [{t[0]:{f}}, {t[1]:{f}}, {t[2]:{f}}]\n")
-        out.write(f"- Rotation: in Quaternion [{q[0]:{f}}, {q[1]:{f}}, {q[2]:{f}}, {q[3]:{f}}]\n")
-        out.write(f"            in RPY (radian) [{rpy[0]:{f}}, {rpy[1]:{f}}, {rpy[2]:{f}}]\n")
-        out.write(f"            in RPY (degree) [{deg[0]:{f}}, {deg[1]:{f}}, {deg[2]:{f}}]\n")
+
+        def shown(values: Iterable[float]) -> str:
+            return ", ".join(fixed(float(v), precision) for v in values)
+
+        out.write(f"At time {to_sec(int(series.stamps[row])):.{precision}f}\n")
+        out.write(f"- Translation: [{shown(t)}]\n")
+        out.write(f"- Rotation: in Quaternion [{shown(q)}]\n")
+        out.write(f"            in RPY (radian) [{shown(rpy)}]\n")
+        out.write(f"            in RPY (degree) [{shown(deg)}]\n")
         if matrix:
             m = Transform(tuple(t), tuple(q)).as_matrix()
             out.write("- Matrix:\n")
             for line in m:
-                out.write("  " + " ".join(f"{v:{f}}" for v in line) + "\n")
+                out.write("  " + " ".join(fixed(float(v), precision) for v in line) + "\n")
+
+
+#: Beyond this, a number in fixed notation is a screenful of digits (1e308 has 309): shown with an exponent.
+FIXED_LIMIT = 1e15
+
+
+def fixed(value: float, precision: int) -> str:
+    """``value`` with ``precision`` decimals as tf_echo prints it, or with an exponent past ``FIXED_LIMIT``."""
+    return f"{value:.{precision}{'f' if abs(value) < FIXED_LIMIT or not math.isfinite(value) else 'e'}}"
 
 
 def _exact(values: Iterable[float]) -> list[str]:

@@ -186,7 +186,7 @@ def _tree(report: RecordingReport, anchor: str) -> str:
     dot = to_digraph(report.graph, None, rankdir="LR", brief=True)
     try:
         svg = drawing.draw(dot, "svg").decode()
-    except drawing.GraphvizMissingError as missing:
+    except drawing.GraphNotDrawnError as missing:
         return f'<p class="missing">{_esc(str(missing))} ({_esc(missing.hint)})</p>'
     return re.sub(r'\b(id="|href="#|url\(#)', lambda m: f"{m.group(1)}{anchor}-", svg[svg.index("<svg") :])
 

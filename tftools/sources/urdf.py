@@ -1,24 +1,23 @@
 """A robot's description (URDF) read within limits: its links, and its joints with their origins and axes.
 
 The standard library's XML parser (expat) reads it, within metadata.yaml's limits on size, nesting and
-element count (``sources.user_files``), with document type declarations refused before parsing: no
-entity is ever expanded. A URDF is a plain XML file of a few elements, and only a small part of it
-(``<link name>``, ``<joint>``'s type, parent, child, origin, axis and mimic) says where frames are: no
-library would read that part better, and none is needed. xacro is not expanded (it runs Python-like
-macros): a xacro file is refused with the command that expands it.
+element count (``sources.user_files``), with a document type declaration refused as soon as expat meets
+it, after decoding and whatever the encoding: no entity is ever declared or expanded. A URDF is a plain
+XML file of a few elements, and only a small part of it (``<link name>``, ``<joint>``'s type, parent,
+child, origin, axis and mimic) says where frames are: no library would read that part better, and none
+is needed. xacro is not expanded (it runs Python-like macros): a xacro file is refused with the command
+that expands it.
 """
 
 from __future__ import annotations
 
 import math
 import os
-import re
 import xml.etree.ElementTree as ET
 from collections import Counter
-from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from functools import cached_property
-from typing import cast
+from xml.parsers import expat
 
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, matrix_apply, matrix_from_quat, quat_from_rpy
@@ -153,8 +152,6 @@ def parse_urdf(text: bytes | str, source: str) -> RobotDescription:
     raw = text.encode() if isinstance(text, str) else text
     if len(raw) > MAX_BYTES:
         raise UrdfError(source, f"larger than {MAX_BYTES >> 20} MiB")
-    if re.search(rb"<!(DOCTYPE|ENTITY)", raw):
-        raise UrdfError(source, "has a document type declaration, which tfx does not read (URDF needs none)")
     root = _parsed(raw, source)
     if root.tag != "robot":
         raise UrdfError(source, f"its root element is <{_local(root.tag)}>, not <robot>: not a URDF")
@@ -174,30 +171,53 @@ def parse_urdf(text: bytes | str, source: str) -> RobotDescription:
 
 
 def _parsed(raw: bytes, source: str) -> ET.Element:
-    """The document's root, parsed element by element and stopped beyond the depth or count limits."""
-    parser: ET.XMLPullParser[ET.Element] = ET.XMLPullParser(events=("start", "end"))
+    """The document's root, built element by element by expat and stopped beyond the depth or count limits.
+
+    Expat decides on a document type declaration after decoding, whatever the encoding (UTF-16 with or
+    without a byte order mark): any declaration is refused when expat meets it, before an entity could be
+    declared or expanded, while the text ``<!DOCTYPE`` inside a comment is only a comment."""
+    parser = expat.ParserCreate(namespace_separator=" ")
+    parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
+    builder = ET.TreeBuilder()
     depth = count = 0
-    root: ET.Element | None = None
+
+    def refuse_declaration(*_: object) -> None:
+        raise UrdfError(source, "has a document type declaration, which tfx does not read (URDF needs none)")
+
+    def start(tag: str, attributes: dict[str, str]) -> None:
+        nonlocal depth, count
+        depth += 1
+        count += 1
+        if depth > MAX_DEPTH:
+            raise UrdfError(source, f"nested deeper than {MAX_DEPTH} levels")
+        if count > MAX_NODES:
+            raise UrdfError(source, f"more than {MAX_NODES} elements")
+        builder.start(_clark(tag), {_clark(k): v for k, v in attributes.items()})
+
+    def end(tag: str) -> None:
+        nonlocal depth
+        depth -= 1
+        builder.end(_clark(tag))
+
+    parser.StartDoctypeDeclHandler = refuse_declaration
+    parser.EntityDeclHandler = refuse_declaration
+    parser.StartElementHandler = start
+    parser.EndElementHandler = end
     try:
         for at in range(0, len(raw), 1 << 16):
-            parser.feed(raw[at : at + (1 << 16)])
-            for event, element in cast(Iterator[tuple[str, ET.Element]], parser.read_events()):
-                if event == "start":
-                    depth += 1
-                    count += 1
-                    root = element if root is None else root
-                    if depth > MAX_DEPTH:
-                        raise UrdfError(source, f"nested deeper than {MAX_DEPTH} levels")
-                    if count > MAX_NODES:
-                        raise UrdfError(source, f"more than {MAX_NODES} elements")
-                else:
-                    depth -= 1
-        parser.close()
-    except ET.ParseError as e:
+            parser.Parse(raw[at : at + (1 << 16)], False)
+        parser.Parse(b"", True)
+    except expat.ExpatError as e:
         raise UrdfError(source, f"not well-formed XML ({e})") from None
-    if root is None:
+    if count == 0:
         raise UrdfError(source, "empty: not a URDF")
-    return root
+    return builder.close()
+
+
+def _clark(name: str) -> str:
+    """expat's ``uri local`` (the separator given to it) as ElementTree's ``{uri}local``."""
+    uri, _, local = name.rpartition(" ")
+    return f"{{{uri}}}{local}" if uri else local
 
 
 def _is_xacro(element: ET.Element) -> bool:

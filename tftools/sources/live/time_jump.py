@@ -9,6 +9,7 @@ Here, for both, ``watch_jumps`` reads the source's clock at each batch delivered
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -63,10 +64,17 @@ class JumpDetector:
         return TimeJump(before, now, isinstance(self._clock, SimClock))
 
 
-def watch_jumps(source: LiveSource, on_batch: Callable[[TransformBatch], object], on_jump: OnJump) -> OnBatch:
+def watch_jumps(
+    source: LiveSource,
+    on_batch: Callable[[TransformBatch], object],
+    on_jump: OnJump,
+    now: Callable[[], float] | None = None,
+) -> OnBatch:
     """``on_batch`` as ``source.start`` takes it, with jumps back of the source's clock seen first:
     ``on_jump`` is called (to clear what was heard) and said through ``source.notice``, then the batch
     that revealed the jump is passed on, as tf2_ros stores the message whose callback cleared its buffer.
+    A clock that keeps jumping is said at most once every ``QUIET_SECONDS`` (of ``now``, by default
+    ``time.monotonic``), with a count.
 
     ``/clock`` and ``/tf`` come on separate connections, so around a replay's loop either pass's
     transforms may come after the clock went back: the pass before's (``stale``) are dropped, and if
@@ -74,6 +82,7 @@ def watch_jumps(source: LiveSource, on_batch: Callable[[TransformBatch], object]
     find the cleared buffer empty."""
     detector = JumpDetector(source.clock)
     waiting: TimeJump | None = None  # a jump whose batch held only the pass before's transforms
+    said = _SaidEvery(QUIET_SECONDS, now or time.monotonic)
 
     def watch(batch: TransformBatch) -> None:
         nonlocal waiting
@@ -88,8 +97,32 @@ def watch_jumps(source: LiveSource, on_batch: Callable[[TransformBatch], object]
             if jump is not None:
                 waiting = None
                 on_jump(jump)
-                source.notice(jump.notice())
+                said(source.notice, jump.notice())
         if len(batch):
             on_batch(batch)
 
     return watch
+
+
+#: A clock going back and forth jumps at every pass: after a jump is said, those of the next seconds are
+#: counted, and said with the next one said.
+QUIET_SECONDS = 5.0
+
+
+class _SaidEvery:
+    """Says a line at most once every ``seconds`` (of ``now``), with how many went unsaid since."""
+
+    def __init__(self, seconds: float, now: Callable[[], float]) -> None:
+        self._seconds, self._now = seconds, now
+        self._last: float | None = None
+        self._unsaid = 0
+
+    def __call__(self, say: Callable[[str], object], line: str) -> None:
+        at = self._now()
+        if self._last is not None and at - self._last < self._seconds:
+            self._unsaid += 1
+            return
+        plural = "" if self._unsaid == 1 else "s"
+        more = f" ({self._unsaid} more jump{plural} back in the {self._seconds:.0f} s before)" if self._unsaid else ""
+        say(line + more)
+        self._last, self._unsaid = at, 0

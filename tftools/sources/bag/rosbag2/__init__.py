@@ -65,17 +65,20 @@ class Rosbag2Bag:
         scans: list[FileScan] = []
         labels: list[str] = []
         lost: list[str] = []
+        missing: list[str] = []
         files = self.bag.files
         shares = in_turn(progress, [self.files.size(file) for file in files])
         for share, file in zip(shares, files, strict=True):
             if not self.files.exists(file):
-                lost.append(f"{_shown(file.name)} is listed in metadata.yaml but missing; its messages are lost")
+                missing.append(_shown(file.name))
                 continue
             try:
                 scans.append(self._scan_file(file, wanted, share, window, problems))
                 labels.append(file.name if len(files) > 1 else "")
             except CorruptBagError as e:
                 lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
+        if missing:
+            lost.insert(0, _missing(missing))
         if not scans:
             raise CorruptBagError(str(self.path), "; ".join(lost) or "no bag files in it")
         problems += lost
@@ -242,3 +245,18 @@ def _shown(name: str) -> str:
 def _natural(path: Path) -> list[Any]:
     """Sort key of split files: bag_2 before bag_10."""
     return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", path.name)]
+
+
+#: Missing files named in one line; the rest are counted.
+NAMED_MISSING = 3
+
+
+def _missing(names: list[str]) -> str:
+    """One line for the files metadata.yaml lists that are not there, however many (a damaged metadata.yaml
+    may list thousands)."""
+    if len(names) == 1:
+        return f"{names[0]} is listed in metadata.yaml but missing; its messages are lost"
+    shown = ", ".join(names[:NAMED_MISSING]) + (
+        f" and {len(names) - NAMED_MISSING} more" if len(names) > NAMED_MISSING else ""
+    )
+    return f"{len(names)} files listed in metadata.yaml are missing ({shown}); their messages are lost"
