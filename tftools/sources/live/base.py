@@ -13,6 +13,7 @@ import numpy as np
 
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.time import Clock, SimClock, WallClock
+from tftools.sources.codecs.wire import MAX_FRAME_ID
 from tftools.sources.contents import DEFAULT_TOPICS
 from tftools.sources.live.notices import NoticeOnce, OnNotice, ignore_notice, printable
 
@@ -38,19 +39,28 @@ class FrameLimit:
         self._on_notice = on_notice
 
     def admit(self, batch: TransformBatch) -> TransformBatch:
-        """``batch`` less the rows that name a new frame once ``limit`` frames are known."""
+        """``batch`` less the rows that name a new frame once ``limit`` frames are known, and those that
+        name a frame longer than ``MAX_FRAME_ID`` characters (damage, not a name): the frames kept hold
+        at most ``limit`` times that."""
         used = np.unique(np.concatenate([batch.parent, batch.child]))
         new = [int(i) for i in used if batch.frame_names[i] not in self.names]
+        long = [i for i in new if len(batch.frame_names[i]) > MAX_FRAME_ID]
+        if long:
+            self._on_notice(
+                f"frame names longer than {MAX_FRAME_ID:,} characters heard: transforms naming them are dropped"
+            )
+            new = [i for i in new if len(batch.frame_names[i]) <= MAX_FRAME_ID]
         room = max(self.limit - len(self.names), 0)
         self.names.update(batch.frame_names[i] for i in new[:room])
-        if len(new) <= room:
+        if len(new) <= room and not long:
             return batch
-        refused = np.array(new[room:], np.int32)
+        refused = np.array(new[room:] + long, np.int32)
         kept = np.flatnonzero(~(np.isin(batch.parent, refused) | np.isin(batch.child, refused)))
-        self._on_notice(
-            f"more than {self.limit:,} frames heard: transforms naming further frames are dropped"
-            " (a publisher inventing frame names?)"
-        )
+        if len(new) > room:
+            self._on_notice(
+                f"more than {self.limit:,} frames heard: transforms naming further frames are dropped"
+                " (a publisher inventing frame names?)"
+            )
         return take_rows(batch, kept)
 
 
