@@ -11,7 +11,6 @@ import pytest
 from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import shared_dir
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import check
 from tftools.analysis.wtf.broadcasters import sent_before
@@ -230,22 +229,13 @@ def test_one_publisher_sending_one_old_sample_again_is_not_two_broadcasters() ->
     assert not [f for f in findings if "taking turns" in f.message], findings
 
 
-#: The shared corpus's recordings that do have one of these findings, checked by eye.
-TRUE_HAZARDS = {
-    "ros1_talker_world_talk.bag": {"jump"},  # world -> talk's z wraps from 4 m to -5 m at +9.5 s
-    "ros2_mcap_nav2_turtlebot4.mcap": {"map_corrections"},  # AMCL's map -> odom steps (a note)
-}
-
-
-def test_sample_bags_and_the_shared_corpus_show_no_jump_and_no_inferred_broadcaster() -> None:
+def test_sample_bags_show_no_jump_and_no_inferred_broadcaster() -> None:
+    """The shared corpus's recordings are judged each by its own manifest entry (tests/corpus: its
+    ``absent`` and ``reported`` codes), so the corpus can grow without a table here."""
     samples = Path(__file__).resolve().parents[2] / "sample_bags"
-    shared = shared_dir() / "corpus"  # ../shared beside the repository, as in CI
-    bags = [samples / "robot.bag", samples / "robot_db3", samples / "robot_mcap"]
-    bags += sorted(p for p in shared.glob("*") if p.is_dir() or p.suffix in (".bag", ".mcap"))
-    for bag in bags:
+    for bag in [samples / "robot.bag", samples / "robot_db3", samples / "robot_mcap"]:
         codes = {f.code for f in check(read_recording([bag], allow_empty=True))}
-        hazards = codes & {"jump", "map_corrections", "rep105", "multiple_authorities"}
-        assert hazards == TRUE_HAZARDS.get(bag.name, set()), (bag, codes)
+        assert not codes & {"jump", "map_corrections", "rep105", "multiple_authorities"}, (bag, codes)
 
 
 # --- publishers of /tf_static ----------------------------------------------------------------

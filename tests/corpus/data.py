@@ -19,7 +19,9 @@ from mcap.reader import make_reader
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
-TF_TOPICS = ("/tf", "/tf_static")
+# "tf" and "tf_static" (no slash) are what a writer that did not resolve the names stored: in ROS 2's root
+# namespace they are /tf and /tf_static.
+TF_TOPICS = ("/tf", "/tf_static", "tf", "tf_static")
 Edge = tuple[str, str]  # (parent, child)
 
 
@@ -51,10 +53,6 @@ class Contents:
     @property
     def dynamic(self) -> dict[Edge, EdgeSamples]:
         return {e: s for e, s in self.edges.items() if not s.static}
-
-    @property
-    def first_dynamic_stamp(self) -> int:
-        return min(s.stamps[0] for s in self.dynamic.values())
 
 
 def _ns(stamp: object) -> int:
@@ -108,7 +106,7 @@ def _add(
     stamp: int,
     value: list[float],
 ) -> None:
-    samples = edges.setdefault((parent, child), EdgeSamples(static=topic == "/tf_static"))
+    samples = edges.setdefault((parent, child), EdgeSamples(static=topic.lstrip("/") == "tf_static"))
     samples.stamps.append(stamp)
     samples.record_times.append(record_time)
     samples.values.append(value)
@@ -181,11 +179,12 @@ def q_rotate(q: npt.NDArray[np.float64], v: npt.NDArray[np.float64]) -> npt.NDAr
 
 
 def slerp(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64], ratio: float) -> npt.NDArray[np.float64]:
-    """Shortest-path spherical interpolation, as tf2's Quaternion::slerp."""
+    """Shortest-path spherical interpolation, as tf2's Quaternion::slerp: the angle is measured between the
+    quaternions as given, divided by their lengths (a recorded rotation may be a little off unit length)."""
     dot = float(np.dot(a, b))
     if dot < 0:
         b, dot = -b, -dot
-    theta = np.arccos(min(dot, 1.0))
+    theta = np.arccos(min(dot / np.sqrt(float(np.dot(a, a)) * float(np.dot(b, b))), 1.0))
     if theta < 1e-12:
         return a
     return (np.sin((1 - ratio) * theta) * a + np.sin(ratio * theta) * b) / np.sin(theta)
@@ -204,8 +203,10 @@ def invert(a: Pose) -> Pose:
 
 
 def edge_at(samples: EdgeSamples, time: int) -> Pose:
-    """The edge's transform at ``time`` (ns); ValueError outside its samples."""
-    values = np.asarray(samples.values, np.float64)
+    """The edge's transform at ``time`` (ns); ValueError outside its samples. ROS 2's tf2 holds each
+    rotation as a unit quaternion (through ``tf2::Transform``'s matrix), so these are normalized first."""
+    values = np.asarray(samples.values, np.float64).copy()
+    values[:, 3:] /= np.linalg.norm(values[:, 3:], axis=1, keepdims=True)
     if samples.static:
         return values[-1, :3], values[-1, 3:]
     stamps = np.asarray(samples.stamps, np.int64)

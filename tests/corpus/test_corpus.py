@@ -13,6 +13,7 @@ import html
 import itertools
 import json
 import re
+from collections import Counter
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -22,7 +23,7 @@ import pytest
 import tftools
 from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
 from tests.corpus import data
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.fetch import Recording, load_manifest, shared_dir
 from tests.oracle import ERROR_CLASSES, Scenario, binding_time, run_tf2
 from tftools.core.batch import concat_batches
 from tftools.core.errors import TransformError
@@ -36,18 +37,36 @@ WITH_TF = [r for r in RECORDINGS if r.meta["frames"]]
 ROS1_WITH_TF = [r for r in WITH_TF if r.meta["format"] == "ros1"]
 ROS2_WITH_TF = [r for r in WITH_TF if r.meta["format"] != "ros1"]
 DAY_S = 86_400.0
+RECORDING_SUFFIXES = (".bag", ".mcap", ".db3")
 # tf2's binding rounds stamps through a double (~120 ns at epoch times): values are compared to
 # what 1 us of motion can change, stamps to 1 us (as tests/sources/test_bags_vs_tf2.py does).
 TF2_VALUE_TOLERANCE = 1e-5
 TF2_STAMP_TOLERANCE = 1_000
-# Our own composition of the same samples differs from tftools' only by float rounding.
-COMPOSE_TOLERANCE = 1e-9
+# Our own composition of the same samples differs from tftools' only by float rounding: ROS 2's tf2 holds
+# each rotation through tf2::Transform's matrix (Shepperd's branch), which over a chain of rotations
+# recorded slightly off unit length (float32 sources) rounds by up to 2.5e-9 (the Husky's gripper chain);
+# a wrong sample, interpolation or chain is off by far more.
+COMPOSE_TOLERANCE = 1e-8
 
 Corpus = Callable[[Recording], Path]
 
 
 def _ids(recordings: list[Recording]) -> list[str]:
     return [r.id for r in recordings]
+
+
+def _marks(test: str, recording: Recording) -> list[pytest.MarkDecorator]:
+    """A strict expected failure where the entry's ``depends_on`` names ``test``: tfx today disagrees with
+    what the recording's bytes prove (the reason says how, and what fixes it). It fails with the reason,
+    and an unexpected pass fails too, so the line is removed with the fix; an entry is never weakened to
+    match tfx's output."""
+    why = recording.meta.get("depends_on", {}).get(test)
+    return [pytest.mark.xfail(reason=f"tfx disagrees with the data: {why}", strict=True)] if why else []
+
+
+def _cases(test: str, recordings: list[Recording]) -> list[pytest.param]:  # type: ignore[valid-type]
+    """``recordings`` as parameters of ``test``, each marked where its entry says tfx disagrees."""
+    return [pytest.param(r, id=r.id, marks=_marks(test, r)) for r in recordings]
 
 
 def _run_json(tfx: Callable[..., Result], *args: str | Path) -> tuple[int, dict]:  # noqa: F811
@@ -62,14 +81,27 @@ def _edge_key(frames: list[str]) -> tuple[str, str]:
     return frames[0], frames[1]
 
 
+def _kept(recording: Recording, samples: data.EdgeSamples) -> list[int]:
+    """Which of an edge's samples tf2 stores: a moving edge's sample at a stamp already held is not
+    stored again (ROS 1's tf2 ignores it, TF_REPEATED_DATA; ROS 2's takes an identical one again
+    silently), and where the manifest says (``stored_samples``) a stream mixes unset stamps (0) with
+    wall-clock ones, tf2's cache drops those as soon as the others come."""
+    seen: set[tuple[int, ...]] = set()
+    keep = []
+    for i, stamp in enumerate(samples.stamps):
+        key = (stamp,) if recording.meta["format"] == "ros1" else (stamp, *samples.values[i])
+        if (key in seen and not samples.static) or (stamp == 0 and "stored_samples" in recording.meta):
+            continue
+        seen.add(key)
+        keep.append(i)
+    return keep
+
+
 def _stored(recording: Recording, contents: data.Contents) -> data.Contents:
-    """The samples tf2 stores: all of them, but where the manifest says (``stored_samples``) a stream
-    mixes unset stamps (0) with wall-clock ones: tf2's cache drops those as soon as the others come."""
-    if "stored_samples" not in recording.meta:
-        return contents
+    """The samples tf2 stores (``_kept``)."""
     edges = {}
     for edge, samples in contents.edges.items():
-        keep = [i for i, stamp in enumerate(samples.stamps) if stamp > 0]
+        keep = _kept(recording, samples)
         edges[edge] = data.EdgeSamples(
             samples.static,
             [samples.stamps[i] for i in keep],
@@ -109,7 +141,7 @@ def test_manifest_is_complete() -> None:
             assert key in recording.meta, (recording.id, key)
 
 
-@pytest.mark.parametrize("recording", RECORDINGS, ids=_ids(RECORDINGS))
+@pytest.mark.parametrize("recording", _cases("test_manifest_matches_the_data", RECORDINGS))
 def test_manifest_matches_the_data(recording: Recording, corpus: Corpus) -> None:
     contents = data.read_contents(corpus(recording))
     meta = recording.meta
@@ -123,35 +155,71 @@ def test_manifest_matches_the_data(recording: Recording, corpus: Corpus) -> None
 # --- tfx wtf: no false alarm, the real problems ------------------------------------------------
 
 
-@pytest.mark.parametrize("recording", RECORDINGS, ids=_ids(RECORDINGS))
+@pytest.mark.parametrize("recording", _cases("test_wtf_verdict", RECORDINGS))
 def test_wtf_verdict(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
+    """The errors and warnings the entry lists, and no other (but codes the bytes leave ``uncertain``);
+    the codes it says must be ``reported`` (any severity, notes too), none it rules out (``absent``)."""
     expected = recording.meta["expected"]
+    uncertain = set(expected.get("uncertain", []))
     code, report = _run_json(tfx, "wtf", corpus(recording))
     (bag,) = report["bags"]
     findings = bag["findings"]
-    errors = sorted({f["code"] for f in findings if f["severity"] == "error"})
-    warnings = sorted({f["code"] for f in findings if f["severity"] == "warning"})
-    described = [f"{f['severity']} {f['code']}: {f['message']}" for f in findings]
-    assert errors == sorted(expected["errors"]), described
-    assert warnings == sorted(expected["warnings"]), described
-    warned = {_edge_key(f["frames"]) for f in findings if f["severity"] == "warning" and f["code"] == "rate"}
-    assert warned == {tuple(e) for e in expected["warned_edges"]}, described
-    assert code == expected["wtf_exit"], described
+    said = {f["code"] for f in findings}
+    problems = []
+    for severity, listed in (("error", expected["errors"]), ("warning", expected["warnings"])):
+        shown = {f["code"] for f in findings if f["severity"] == severity} - uncertain
+        if shown != set(listed) - uncertain:
+            problems.append(f"{severity}s: tfx {sorted(shown)}, the data {sorted(set(listed) - uncertain)}")
+    if missing := set(expected.get("reported", [])) - said:
+        problems.append(f"not reported at all: {sorted(missing)}")
+    if ruled_out := set(expected.get("absent", [])) & said:
+        problems.append(f"reported, though the data rules them out: {sorted(ruled_out)}")
+    if "rate" not in uncertain:
+        warned = {_edge_key(f["frames"]) for f in findings if f["severity"] == "warning" and f["code"] == "rate"}
+        edges = {tuple(e) for e in expected["warned_edges"]}
+        if warned != edges:
+            problems.append(f"rate warnings on {sorted(warned)}, the data {sorted(edges)}")
+    if code != expected["wtf_exit"]:
+        problems.append(f"exit {code}, the data {expected['wtf_exit']}")
+    described = "\n".join(f"  {f['severity']} {f['code']}: {f['message']}" for f in findings)
+    assert not problems, (
+        f"tfx wtf on {recording.id}: {'; '.join(problems)}\nwhy (the entry): {recording.meta.get('why', '')}\n"
+        f"tfx said:\n{described}"
+    )
 
 
-@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+def test_every_placed_recording_is_judged_by_one_entry() -> None:
+    """Each recording in the shared corpus folder is reached by exactly one entry (its ``archive`` or a
+    registry entry's ``shared_copy``). One placed without an entry breaks nothing: it is reported here
+    (skipped, with the names) until its entry is written from its data."""
+    folder = shared_dir() / "corpus"
+    if not folder.is_dir():
+        pytest.skip(f"no shared corpus folder at {folder} ($TFTOOLS_SHARED_DIR/corpus)")
+    reached = Counter(
+        place
+        for r in RECORDINGS
+        for place in (r.shared, (r.meta.get("shared_copy") or {}).get("open"))
+        if place is not None
+    )
+    assert not [p for p, n in reached.items() if n > 1], f"reached by more than one entry: {reached}"
+    placed = {f"corpus/{p.name}" for p in folder.iterdir() if p.is_dir() or p.suffix in RECORDING_SUFFIXES}
+    if unlisted := sorted(placed - set(reached)):
+        pytest.skip(f"placed in {folder} without a manifest entry, so not judged yet: {', '.join(unlisted)}")
+
+
+@pytest.mark.parametrize("recording", _cases("test_wtf_figures_are_plausible", WITH_TF))
 def test_wtf_figures_are_plausible(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
     """No finding speaks of a delay, age or offset of more than a day in a recording that is fine."""
     _, report = _run_json(tfx, "wtf", corpus(recording))
     for finding in report["bags"][0]["findings"]:
-        if finding["severity"] == "note":
+        if finding["severity"] in ("note", "info"):  # a note may give an offset as observed (a replay's)
             continue
         figures = [float(x) for x in re.findall(r"(\d+(?:\.\d+)?(?:e[+-]?\d+)?) s\b", finding["message"])]
         durations = [x for x in figures if x < 1e8]  # absolute times (epoch or sim) are not durations
         assert all(x < DAY_S for x in durations), finding["message"]
 
 
-@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+@pytest.mark.parametrize("recording", _cases("test_wtf_times_are_counted_from_the_recording", WITH_TF))
 def test_wtf_times_are_counted_from_the_recording(
     recording: Recording,
     corpus: Corpus,
@@ -167,7 +235,7 @@ def test_wtf_times_are_counted_from_the_recording(
 # --- tfx monitor: rates, gaps and delays as the data has them ----------------------------------
 
 
-@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+@pytest.mark.parametrize("recording", _cases("test_monitor_figures_match_the_data", WITH_TF))
 def test_monitor_figures_match_the_data(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
     path = corpus(recording)
     contents = _stored(recording, data.read_contents(path))
@@ -185,19 +253,22 @@ def test_monitor_figures_match_the_data(recording: Recording, corpus: Corpus, tf
         assert abs(value) < DAY_S, f"{key} of {row} is not a delay: say it is unavailable"
 
 
-@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+@pytest.mark.parametrize("recording", _cases("test_monitor_delays_are_never_negative", WITH_TF))
 def test_monitor_delays_are_never_negative(
     recording: Recording,
     corpus: Corpus,
     tfx,  # noqa: F811
 ) -> None:
-    """A transform arrives after its stamp: a delay below 0 is a clock read wrong (say how coarse it is)."""
+    """A transform arrives after its stamp: a delay below 0 is a clock read wrong (say how coarse it is),
+    but where the data puts stamps ahead of their arrival (``stamps_ahead_s``: a publisher's clock ahead of
+    the recorder's, tf1's static_transform_publisher post-dating by its period), no further than that."""
     _, report = _run_json(tfx, "monitor", "-b", corpus(recording))
+    ahead = recording.meta.get("stamps_ahead_s", 0.0)
     for key, row, value in _delays(report):
-        assert value >= 0, f"{key} of {row} is negative"
+        assert value >= -ahead, f"{key} of {row} is negative (the data puts stamps at most {ahead} s ahead)"
 
 
-@pytest.mark.parametrize("recording", RECORDINGS, ids=_ids(RECORDINGS))
+@pytest.mark.parametrize("recording", _cases("test_wtf_span_is_the_recordings", RECORDINGS))
 def test_wtf_span_is_the_recordings(
     recording: Recording,
     corpus: Corpus,
@@ -209,7 +280,7 @@ def test_wtf_span_is_the_recordings(
     assert bag["end"] - bag["start"] == pytest.approx(recording.meta["duration_s"], abs=0.1), bag
 
 
-@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+@pytest.mark.parametrize("recording", _cases("test_gap_is_the_same_in_wtf_and_monitor", WITH_TF))
 def test_gap_is_the_same_in_wtf_and_monitor(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
     path = corpus(recording)
     _, monitor = _run_json(tfx, "monitor", "-b", path)
@@ -237,7 +308,7 @@ def _report_page(tfx: Callable[..., Result], path: Path, out: Path) -> tuple[dic
     return json.loads(found.group(1)), about
 
 
-@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+@pytest.mark.parametrize("recording", _cases("test_figures_agree_across_commands", WITH_TF))
 def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx, tmp_path: Path) -> None:  # noqa: F811
     """An edge's rate, longest interval, pauses and delay, as ``monitor``, ``frames``, ``wtf`` and ``report``
     show them, are one figure each (``core.figures``): only their rounding differs."""
@@ -287,7 +358,7 @@ def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx
 # --- tfx view-frames ---------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("recording", RECORDINGS, ids=_ids(RECORDINGS))
+@pytest.mark.parametrize("recording", _cases("test_view_frames", RECORDINGS))
 def test_view_frames(recording: Recording, corpus: Corpus, tfx, tmp_path: Path) -> None:  # noqa: F811
     out = tmp_path / "frames.svg"
     result = tfx("view-frames", "-b", corpus(recording), "-o", out)
@@ -295,7 +366,7 @@ def test_view_frames(recording: Recording, corpus: Corpus, tfx, tmp_path: Path) 
     if result.code == 2:
         assert "no transforms" in result.stderr and len(result.stderr.strip().splitlines()) == 1
         return
-    svg = out.read_text()
+    svg = html.unescape(out.read_text())  # graphviz writes "-" as "&#45;"
     for frame in data.read_contents(corpus(recording)).frames:
         assert f">{frame}<" in svg, frame
     ages = [float(x) for x in re.findall(r"(\d+(?:\.\d+)?(?:e[+-]?\d+)?) s old", svg)]
@@ -304,19 +375,25 @@ def test_view_frames(recording: Recording, corpus: Corpus, tfx, tmp_path: Path) 
 
 # --- tfx echo --at +1 --------------------------------------------------------------------------
 
-ECHO_CASES = [(r, pair) for r in WITH_TF for pair in r.meta["expected"]["echo"]]
+ECHO_CASES = [
+    pytest.param(r, pair, id=f"{r.id}-{pair[0]}-{pair[1]}", marks=_marks("test_echo_one_second_in", r))
+    for r in WITH_TF
+    for pair in r.meta["expected"]["echo"]
+]
 
 
-@pytest.mark.parametrize(("recording", "pair"), ECHO_CASES, ids=[f"{r.id}-{a}-{b}" for r, (a, b) in ECHO_CASES])
+@pytest.mark.parametrize(("recording", "pair"), ECHO_CASES)
 def test_echo_one_second_in(recording: Recording, pair: list[str], corpus: Corpus, tfx) -> None:  # noqa: F811
-    """``--at +1`` is a second into the tf data (whose first second every one of these covers)."""
+    """``--at +1`` is a second into the tf data of the frames asked about, on their own time base (a tree
+    may hold two clocks), whose first second every one of these covers."""
     path = corpus(recording)
     target, source = pair
     result = tfx("echo", target, source, "-b", path, "--at", "+1", "--format", "json")
     assert result.code == 0, result.stdout + result.stderr
     shown = json.loads(result.stdout)
     contents = _stored(recording, data.read_contents(path))
-    start = contents.first_dynamic_stamp
+    chain = {*data.chain_edges(contents, target), *data.chain_edges(contents, source)}
+    start = min(min(contents.edges[e].stamps) for e in chain if e in contents.dynamic)
     assert start <= shown["stamp_ns"] <= start + int(1.5 * NS_PER_S), (shown["stamp_ns"], start)
     translation, rotation = _reference(recording, contents, path, target, source, shown["stamp_ns"])
     np.testing.assert_allclose(shown["translation"], translation, atol=TF2_VALUE_TOLERANCE)
@@ -365,11 +442,14 @@ def _tf2_queries(contents: data.Contents, pairs: list[list[str]]) -> list[list]:
     last = max(max(s.stamps) for s in samples)
     margin = min(NS_PER_S, (last - first) // 4) if last > first else NS_PER_S
     rng = np.random.default_rng(21)
-    times = np.concatenate([rng.integers(first - margin, last + margin, 150), [first, last, 0]])
+    # A ROS time is never below 0 (rospy refuses one): a recording starting under a second into simulated
+    # time is asked from 1 ns on (0 is "the latest").
+    asked = np.maximum(rng.integers(first - margin, last + margin, 150), 1)
+    times = np.concatenate([asked, [first, last, 0]])
     return [["lookup", a, b, *divmod(int(t), NS_PER_S)] for a, b in pairs for t in times]
 
 
-@pytest.mark.parametrize("recording", ROS1_WITH_TF, ids=_ids(ROS1_WITH_TF))
+@pytest.mark.parametrize("recording", _cases("test_ros1_lookups_match_tf2", ROS1_WITH_TF))
 def test_ros1_lookups_match_tf2(recording: Recording, corpus: Corpus, tf2_available: None) -> None:
     path = corpus(recording)
     contents = data.read_contents(path)
@@ -400,7 +480,7 @@ def test_ros1_lookups_match_tf2(recording: Recording, corpus: Corpus, tf2_availa
     assert failed > 0 or not contents.dynamic, "no lookup outside the moving data was asked"
 
 
-@pytest.mark.parametrize("recording", ROS2_WITH_TF, ids=_ids(ROS2_WITH_TF))
+@pytest.mark.parametrize("recording", _cases("test_ros2_lookups_match_composed_samples", ROS2_WITH_TF))
 def test_ros2_lookups_match_composed_samples(recording: Recording, corpus: Corpus) -> None:
     path = corpus(recording)
     contents = _stored(recording, data.read_contents(path))
@@ -419,7 +499,7 @@ def test_ros2_lookups_match_composed_samples(recording: Recording, corpus: Corpu
     assert checked >= needed, (checked, needed)
 
 
-@pytest.mark.parametrize("recording", WITH_TF, ids=_ids(WITH_TF))
+@pytest.mark.parametrize("recording", _cases("test_a_streamed_replay_is_the_whole_ones", WITH_TF))
 def test_a_streamed_replay_is_the_whole_ones(recording: Recording, corpus: Corpus) -> None:
     """``--play`` streams: read in windows of a few hundred messages, a real recording replays the rows
     a whole read replays, on the same clock, with the same frames and timeline."""
