@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -13,6 +14,7 @@ from rich.console import Console
 
 from tests.analysis import wtf_scenes as scenes
 from tests.analysis.robot_scenes import MOVED, Recorded, Setup, recorded, write_robot_bag
+from tests.analysis.test_description import _on_tf
 from tests.bags import BagFormat, TfMessage
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.findings import Finding, Severity, causes, explained
@@ -61,7 +63,10 @@ def test_edges_sent_in_one_message_pausing_together_are_that_publishers_pause_no
 
     messages = scenes.healthy(amcl=[], wheels=[], ekf=scenes.periodic("/ekf", 50, both, skip=(3.0, 5.0)))
     findings = check(scenes.recording(messages))
-    assert [(f.code, f.cause) for f in findings] == [("rate", "")] * 2, findings
+    assert [(f.code, f.frames[1], f.cause) for f in findings] == [
+        ("rate", "base_link", ""),
+        ("rate", "base_footprint", "rate:1"),  # the same pause, said once
+    ], findings
 
 
 def test_an_edge_that_also_paused_elsewhere_follows_the_stall_and_still_says_how_often() -> None:
@@ -135,6 +140,39 @@ def test_a_moved_joint_without_a_dispute_stands_on_its_own(tmp_path: Path) -> No
     )
     (moved,) = [f for f in check_bags([bag]).findings if f.code == "urdf_moved"]
     assert moved.cause == "" and moved.key == ""
+
+
+def test_links_under_another_parent_skipping_one_link_are_one_layout_with_its_missing_joint_beneath() -> None:
+    """tf puts the laser, the camera and the wheels straight under base_footprint; the URDF has base_link between."""
+    laser = ("/tf_static", "base_footprint", "laser", (0.2, 0, 0.25), (0, 0, 0))
+    camera = ("/tf_static", "base_footprint", "camera_link", (0.1, 0, 0.4), (0, 0.2, 0))
+    left = ("/tf", "base_footprint", "wheel_left_link", (0, 0.15, 0.1), (-math.pi / 2, 0, 0))
+    right = ("/tf", "base_footprint", "wheel_right_link", (0, -0.15, 0.1), (-math.pi / 2, 0, 0))
+    findings = _on_tf(laser, camera, left, right)
+    assert [(f.code, f.frames[1], f.cause) for f in findings] == [
+        ("urdf_parent", "laser", ""),
+        ("urdf_parent", "camera_link", "urdf_parent:1"),
+        ("urdf_parent", "wheel_left_link", "urdf_parent:1"),
+        ("urdf_parent", "wheel_right_link", "urdf_parent:1"),
+        ("urdf_missing", "base_link", "urdf_parent:1"),
+    ], findings
+    assert findings[0].frames == ("base_footprint", "laser", "base_link")
+
+
+def test_a_link_placed_by_the_kept_message_of_a_dispute_follows_it() -> None:
+    """create3's second description puts left_wheel under base_link in the message tf2 keeps: it follows the
+    dispute though the two messages do not disagree on it; its skipped joint follows it too."""
+    dispute = _f("dynamic_on_static", Severity.error, ("base_link", "bump"), 50, 50)
+    elsewhere = _f("urdf_parent", Severity.error, ("base_link", "caster", "mount"), 40, 40)
+    wheel = _f("urdf_parent", Severity.error, ("base_link", "left_wheel", "wheel_drop_left"), 50, 50)
+    drop = _f("urdf_missing", Severity.error, ("base_link", "wheel_drop_left"))
+    found = explain([drop, wheel, elsewhere, dispute])
+    assert [(f.code, f.frames[1], f.cause) for f in found] == [
+        ("urdf_parent", "caster", ""),
+        ("dynamic_on_static", "bump", ""),
+        ("urdf_missing", "wheel_drop_left", "dynamic_on_static:1"),  # through the wheel, to the root cause
+        ("urdf_parent", "left_wheel", "dynamic_on_static:1"),
+    ]
 
 
 # --- the grouping itself --------------------------------------------------------------------------
@@ -292,16 +330,19 @@ def test_create3_every_moved_joint_follows_the_disputed_statics() -> None:
     each of the 21 joints the second moved is said beneath the dispute (dynamic_on_static per edge until ROS 2's
     static_conflict is inferred, then that one finding)."""
     report = check_bags([CREATE3])
-    moved = [f for f in report.findings if f.code == "urdf_moved"]
-    assert len(moved) == 21
-    keys = {f.key: f for f in report.findings if f.key}
-    for finding in moved:
-        cause = keys[finding.cause]
-        assert cause.code in ("static_conflict", "dynamic_on_static") and finding.frames[1] in cause.frames
-    assert report.count(Severity.error) == len(causes([f for f in report.findings if f.severity is Severity.error]))
-    assert report.count(Severity.error) <= 46 - 21 and exit_code([report]) == 1
+    errors = [f for f in report.findings if f.severity is Severity.error]
+    (cause,) = causes(errors)
+    assert cause.code in ("static_conflict", "dynamic_on_static") and cause.first_time == 1663967376153481824
+    following = explained(report.findings, cause)
+    assert len(errors) == 1 + len(following) and report.count(Severity.error) == 1 and exit_code([report]) == 1
+    codes = [f.code for f in following]
+    assert (codes.count("urdf_moved"), codes.count("urdf_parent"), codes.count("urdf_missing")) == (21, 2, 2)
+    assert {f.frames[1] for f in following if f.code == "urdf_parent"} == {"left_wheel", "right_wheel"}
     document = json.loads(json.dumps(render.bag_dict(report, False)))
-    assert len(document["findings"]) == len(report.findings) and document["summary"]["explained"] >= 21
+    assert len(document["findings"]) == len(report.findings)
+    assert document["summary"]["errors"] == 1 and document["summary"]["explained"] == len(report.findings) - len(
+        causes(report.findings)
+    )
 
 
 def test_a_cause_and_its_consequences_in_a_scene_read_from_a_bag(tmp_path: Path) -> None:
