@@ -12,7 +12,7 @@ from tftools.analysis.findings import Finding, Severity
 def _on_its_frames(cause: Finding, finding: Finding) -> bool:
     """A finding about frames (a joint's link) that the cause found in dispute, or about a link whose
     static transform came in the disputed message that tf2 keeps (another description's: same arrival)."""
-    link = finding.frames[:2]
+    link = finding.frames[:2] if finding.code == "urdf_parent" else finding.frames  # its third: the description's
     same_message = finding.code == "urdf_parent" and finding.first_time == cause.last_time != 0
     return bool(link) and (set(link) <= set(cause.frames) or same_message)
 
