@@ -42,6 +42,7 @@ def test_every_edge_pausing_at_once_is_one_stall_with_each_edges_pause_beneath(r
     assert [(f.code, f.cause) for f in findings] == [("stall", ""), *[("rate", "stall:1")] * 3], findings
     stall = findings[0]
     assert stall.key == "stall:1" and stall.severity is Severity.warning and stall.count == 3
+    assert stall.hint.startswith("nothing reached the recorder")
     assert {("map", "odom"), ("odom", "base_link"), ("base_link", "wheel")} == {
         (stall.frames[i], stall.frames[i + 1]) for i in range(0, len(stall.frames), 2)
     }
@@ -96,6 +97,7 @@ def test_a_stall_of_few_of_many_edges_says_how_many_of_them() -> None:
     assert stall.message.endswith(
         "(map -> odom, base_link -> a, base_link -> b); the other moving edges went on: they stopped at once"
     )
+    assert stall.hint.startswith("the other edges went on: look for what these publishers share")
 
 
 # --- the rule of a robot description under disputed statics ------------------------------------

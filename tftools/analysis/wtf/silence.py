@@ -130,7 +130,7 @@ def stall(scene: Scene) -> Iterator[Finding]:
         lengths = sorted((p.end - p.start) / NS_PER_S for p in pauses)
         spread = (max(p.start for p in pauses) - start) / NS_PER_S
         every = len(pauses) == len(moving)
-        meanwhile = _arrivals(scene, pauses, every)
+        meanwhile, look = _meanwhile(scene, pauses, every)
         which = f"all {len(pauses)} moving edges" if every else f"{len(pauses)} of {len(moving)} moving edges"
         which = "both moving edges" if every and len(pauses) == 2 else which
         yield Finding(
@@ -139,9 +139,7 @@ def stall(scene: Scene) -> Iterator[Finding]:
             f"{which} went silent within {duration(spread)} of each other, from {scene.at(start)}, for "
             f"{_range(lengths[0], lengths[-1])} ({listed([edge(*p.edge) for p in pauses])}){meanwhile}: "
             f"{'everything on /tf' if every else 'they'} stopped at once",
-            "one stop of many publishers at once is seldom theirs: look for what they share (the machine's load "
-            "or suspend, the network or DDS, a paused simulation clock, the recorder falling behind); lookups "
-            "inside the stall interpolate across it",
+            f"{_LOOK[look]}; lookups inside the stall interpolate across it",
             tuple(f for p in pauses for f in p.edge),
             first_time=start,
             last_time=end,
@@ -149,23 +147,35 @@ def stall(scene: Scene) -> Iterator[Finding]:
         )
 
 
-def _arrivals(scene: Scene, pauses: list[Pause], every: bool) -> str:
-    """What the record clock saw meanwhile: no transform at all on /tf (the recorder, or everything, stopped),
-    or transforms that did not move the stopped edges on (stamps that did not advance), or the other edges."""
+#: What to look at, by what the record clock saw during a stall (``_meanwhile``).
+_LOOK = {
+    "nothing": "nothing reached the recorder, so what stopped is what the publishers and the recorder share: the "
+    "machine (its load, a suspend), the network or DDS, or the recorder itself",
+    "old stamps": "transforms kept coming, stamped no later than before: the clock they are stamped with stood "
+    "still (a paused simulation, a driver's clock)",
+    "others": "the other edges went on: look for what these publishers share (one node, one machine, one link)",
+    "unknown": "look for what the publishers share: the machine's load or a suspend, the network or DDS, a paused "
+    "simulation clock, the recorder falling behind",
+}
+
+
+def _meanwhile(scene: Scene, pauses: list[Pause], every: bool) -> tuple[str, str]:
+    """What the record clock saw during the stall, said, and which of ``_LOOK`` it points to: no transform at all
+    on /tf, transforms that did not move the stopped edges on (stamps that did not advance), or the other edges."""
     begin, finish = min(p.arrived[0] for p in pauses), max(p.arrived[1] for p in pauses)
     if not begin:
-        return ""
+        return "", "unknown"
     rows = scene.rows
     records = np.sort(rows.record_time[~rows.static])
     inside = records[(records >= begin) & (records <= finish)]
     silent = int(np.diff(inside).max()) if len(inside) > 1 else finish - begin
     if silent > from_sec(scene.thresholds.max_gap) and silent * 2 >= min(p.arrived[1] - p.arrived[0] for p in pauses):
-        return f"; the recorder received no transform on /tf for {duration(silent / NS_PER_S)}"
+        return f"; the recorder received no transform on /tf for {duration(silent / NS_PER_S)}", "nothing"
     if not every:
-        return "; the other moving edges went on"
+        return "; the other moving edges went on", "others"
     if len(inside) > len(pauses) * 2:
-        return f"; {len(inside):,} transforms arrived on /tf meanwhile, stamped no later than before"
-    return ""
+        return f"; {len(inside):,} transforms arrived on /tf meanwhile, stamped no later than before", "old stamps"
+    return "", "unknown"
 
 
 def _range(shortest: float, longest: float) -> str:
