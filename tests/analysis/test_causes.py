@@ -19,6 +19,7 @@ from tests.bags import BagFormat, TfMessage
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.findings import Finding, Severity, causes, explained
 from tftools.analysis.graph import frame_graph
+from tftools.analysis.report import recording_report
 from tftools.analysis.wtf import Scene, Thresholds, check
 from tftools.analysis.wtf.causes import Rule, explain
 from tftools.analysis.wtf.fleet import BagReport, check_bags, exit_code
@@ -26,6 +27,7 @@ from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.render import graph as graph_render
 from tftools.render import wtf as render
+from tftools.render.report import recording_section
 from tftools.render.wtf_lines import read_report, write_recording
 from tftools.sources.recording import read_recording
 
@@ -355,3 +357,11 @@ def test_a_cause_and_its_consequences_in_a_scene_read_from_a_bag(tmp_path: Path)
         ("stall", ""),
         *[("rate", "stall:1")] * 3,
     ]
+
+
+def test_the_report_lists_what_follows_beneath_its_cause_and_counts_causes() -> None:
+    section = recording_section(0, recording_report(scenes.recording(STALL.make())))
+    assert section.summary == "1 warning (explaining 3 more)"
+    assert section.html.count('class="finding warning explained"') == 3
+    assert section.html.count('<span class="follows">follows from [1]</span>') == 3
+    assert section.html.index("<code>stall</code>") < section.html.index("<code>rate</code>")
