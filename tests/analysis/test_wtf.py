@@ -30,7 +30,7 @@ from tests.analysis.wtf_scenes import (
     wheels,
     with_extra,
 )
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, causes
 from tftools.analysis.wtf import CHECKS, Thresholds, check
 from tftools.analysis.wtf.rows import rows_of
 from tftools.core.errors import ExtrapolationError, TransformError
@@ -41,7 +41,8 @@ from tftools.sources.contents import ClockSamples
 
 
 def loud(findings: list[Finding]) -> list[Finding]:
-    return [f for f in findings if f.severity is not Severity.info]
+    """The findings a verdict counts (those that follow from another are counted with it), but notes."""
+    return [f for f in causes(findings) if f.severity is not Severity.info]
 
 
 def only(findings: list[Finding], code: str) -> Finding:

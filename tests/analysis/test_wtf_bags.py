@@ -10,7 +10,7 @@ import pytest
 
 from tests.analysis.wtf_scenes import FORMATS, PROBLEMS, TfMessage, healthy, recording, write
 from tests.bags import BagFormat
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, causes
 from tftools.analysis.wtf import check
 from tftools.sources.recording import read_recording
 
@@ -47,7 +47,8 @@ ROSWTF_SEES = {
 
 
 def loud(findings: list[Finding]) -> list[Finding]:
-    return [f for f in findings if f.severity is not Severity.info]
+    """The findings a verdict counts (those that follow from another are counted with it), but notes."""
+    return [f for f in causes(findings) if f.severity is not Severity.info]
 
 
 @pytest.mark.parametrize("fmt", FORMATS)

@@ -312,6 +312,19 @@ PROBLEMS = {
     "rate": Problem(
         "rate", lambda: healthy(amcl=amcl(skip=(3.0, 6.0))), ("map", "odom"), "/amcl", "warning", words=("silent",)
     ),
+    "stall": Problem(
+        "stall",
+        lambda: healthy(
+            amcl=amcl(skip=(3.0, 5.0)), ekf=ekf(skip=(3.2, 5.0)), wheels=wheels(skip=(3.4, 5.0)), statics=[statics()]
+        ),
+        ("map", "odom", "base_link", "wheel"),
+        severity="warning",
+        words=(
+            "all 3 moving edges went silent within 0.450 s of each other, from 1700000002.900 (+2.9 s), for 1.6 s to "
+            "2.1 s",
+            "the recorder received no transform on /tf for 1.6 s: everything on /tf stopped at once",
+        ),
+    ),
     "invalid_values": Problem(
         "invalid_values",
         lambda: healthy(ekf=periodic("/ekf", 50, _nan_and_zero_rotation)),

@@ -1,8 +1,10 @@
-"""``Finding``: one problem the checker found, with what it involves and how to fix it."""
+"""``Finding``: one problem the checker found, with what it involves and how to fix it; findings that
+follow from another (its ``cause``) are shown beneath it and counted with it."""
 
 from __future__ import annotations
 
 import enum
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 
@@ -39,7 +41,9 @@ class Finding:
     ``frames`` lists the frames involved (edges as consecutive parent, child pairs where that
     matters is up to the check), ``first_time``/``last_time`` the stamps or record times (ns)
     where it shows, ``count`` how many samples or messages show it. A ``skipped`` finding says that
-    its check could not run on this recording, and why: never a silent pass.
+    its check could not run on this recording, and why: never a silent pass. ``key`` names a finding that
+    explains others (unique among one recording's findings); ``cause`` is the key of the finding this one
+    follows from (``analysis.wtf.causes``), empty for a finding that stands on its own.
     """
 
     severity: Severity
@@ -52,3 +56,29 @@ class Finding:
     last_time: int = 0
     count: int = 0
     skipped: bool = False
+    key: str = ""
+    cause: str = ""
+
+
+def causes(findings: Sequence[Finding]) -> list[Finding]:
+    """The findings that follow from no other: what a recording's verdict and counts are made of."""
+    return [f for f in findings if not f.cause]
+
+
+def explained(findings: Sequence[Finding], cause: Finding) -> list[Finding]:
+    """The findings that follow from ``cause``, in their order."""
+    return [f for f in findings if cause.key and f.cause == cause.key]
+
+
+def explaining(findings: Sequence[Finding], severity: Severity) -> int:
+    """How many findings follow from those of ``severity`` (``explained``): "1 error (explaining 45 more)"."""
+    keys = {f.key for f in causes(findings) if f.severity is severity and f.key}
+    return sum(f.cause in keys for f in findings)
+
+
+def tallied(findings: Sequence[Finding], severity: Severity, word: str) -> str:
+    """The causes of ``severity`` counted as ``word`` s, with what follows from them: "1 error (explaining
+    45 more)", "2 warnings"."""
+    n = sum(f.severity is severity for f in causes(findings))
+    more = explaining(findings, severity)
+    return counted(n, word) + (f" (explaining {more} more)" if more else "")

@@ -29,6 +29,7 @@ from tftools.analysis.timelines import (
     stream_timelines,
 )
 from tftools.analysis.wtf import Scene, findings_of
+from tftools.analysis.wtf.causes import explain
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, format_sec, from_sec
@@ -155,7 +156,7 @@ def recording_report(
     (into ``target``, ``analysis.filter.choose_target``; against the ``robot``'s description), with the
     findings ``extra`` its reader made."""
     scene = Scene(recording, streams=streams, target=target, robot=robot)
-    findings = sorted([*findings_of(scene), *extra], key=lambda f: f.severity.rank)
+    findings = explain([*findings_of(scene), *extra])
     graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None

@@ -10,7 +10,7 @@ from typing import cast
 
 import graphviz
 
-from tftools.analysis.findings import Finding, Severity, counted
+from tftools.analysis.findings import Finding, Severity, causes, counted, tallied
 from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, format_sec
@@ -231,11 +231,14 @@ def _problem_rows(graph: FrameGraph) -> list[str]:
     if not graph.findings:
         return [_row('<FONT COLOR="#2e8b57"><B>No problems found</B></FONT>')]
     rows = [_row(f"<B>Problems: {problem_summary(graph.findings)}</B>")]
+    numbers = {f.key: i + 1 for i, f in enumerate(graph.findings) if f.key}
     for index, finding in enumerate(graph.findings):
         colour = COLOURS[finding.severity]
         lines = textwrap.wrap(printable(finding.message), MESSAGE_WIDTH, max_lines=MESSAGE_LINES, placeholder=" ...")
         text = f'<BR ALIGN="LEFT"/>{HANGING_INDENT}'.join(_esc(line) for line in lines)
-        rows.append(_row(f'<FONT COLOR="{colour}"><B>[{index + 1}] {finding.severity.value}</B></FONT> {text}'))
+        follows = f"{HANGING_INDENT}follows from [{numbers[finding.cause]}]: " if finding.cause else ""  # beneath it
+        mark = f'<FONT COLOR="{colour}"><B>[{index + 1}] {finding.severity.value}</B></FONT>'
+        rows.append(_row(f"{follows}{mark} {text}"))
     return rows
 
 
@@ -245,9 +248,10 @@ def graph_summary(graph: FrameGraph) -> str:
 
 
 def problem_summary(findings: Sequence[Finding]) -> str:
-    """``"2 errors, 1 warning"``, or ``"no problems"``."""
-    counts = [(s, sum(f.severity is s for f in findings)) for s in Severity]
-    return ", ".join(counted(n, s.value) for s, n in counts if n) or "no problems"
+    """``"2 errors (explaining 21 more), 1 warning"``, or ``"no problems"``: findings that follow from another
+    are counted with it."""
+    shown = [s for s in Severity if any(f.severity is s for f in causes(findings))]
+    return ", ".join(tallied(findings, s, s.value) for s in shown) or "no problems"
 
 
 def _row(content: str) -> str:

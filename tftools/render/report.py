@@ -151,11 +151,13 @@ def _findings(findings: Sequence[Finding], origin: int) -> str:
     if not findings:
         return '<div class="findings"><h3>Findings</h3><p class="healthy">No problems found.</p></div>'
     items = []
+    cause_of = {f.key: i for i, f in enumerate(findings) if f.key}  # each cause's number: what follows is beneath it
     for i, f in enumerate(findings):
         when = f' <span class="when">{_esc(_span_text(f, origin))}</span>' if f.first_time or f.last_time else ""
+        follows = f'<span class="follows">follows from [{cause_of[f.cause] + 1}]</span> ' if f.cause else ""
         items.append(
-            f'<li class="finding {f.severity.value}" data-finding="{i}" tabindex="0">'
-            f'<span class="badge {f.severity.value}">[{i + 1}] {f.severity.noun}</span> '
+            f'<li class="finding {f.severity.value}{" explained" if f.cause else ""}" data-finding="{i}" tabindex="0">'
+            f'{follows}<span class="badge {f.severity.value}">[{i + 1}] {f.severity.noun}</span> '
             f"<code>{_esc(f.code)}</code>{when}"
             f'<div class="message">{_esc(f.message)}</div><div class="hint">{_esc(f.hint)}</div></li>'
         )

@@ -11,7 +11,7 @@ from rich.console import Console
 from rich.text import Text
 
 from tftools import __version__
-from tftools.analysis.findings import Finding, Severity, counted
+from tftools.analysis.findings import Finding, Severity, causes, counted, explained, explaining, tallied
 from tftools.analysis.wtf import CHECKS, Thresholds
 from tftools.analysis.wtf.fleet import BagReport
 from tftools.analysis.wtf.fleet_report import Verdict, recordings_per_day, tally, trends, verdict
@@ -79,12 +79,15 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
     console.print(header)
     findings = [bag.error] if bag.error is not None else bag.findings
     for severity in Severity:
-        mine = [f for f in findings if f.severity is severity]
+        mine = [f for f in causes(findings) if f.severity is severity]
         if not mine:
             continue
-        console.print(Text(f"{severity.noun.upper()}S ({len(mine)})", style=_MARKS[severity][1]))
+        more = explaining(findings, severity)
+        also = f", explaining {more} more" if more else ""
+        console.print(Text(f"{severity.noun.upper()}S ({len(mine)}{also})", style=_MARKS[severity][1]))
         for finding in mine:
             _write_finding(finding, console)
+            _write_explained(explained(findings, finding), console)
     console.print(_bag_line(bag, strict))
 
 
@@ -92,6 +95,25 @@ def _write_finding(finding: Finding, console: Console) -> None:
     console.print(_marked(finding.severity, finding.code).append(f": {printable(finding.message)}"))
     if finding.hint:
         console.print(Text(f"      hint: {printable(finding.hint)}", style="dim"))
+
+
+#: How many findings of one code the text shows beneath their cause (JSON has every one).
+SHOWN_PER_CODE = 5
+
+
+def _write_explained(following: Sequence[Finding], console: Console) -> None:
+    """What follows from a cause, beneath it: a line each (their hint is the cause's), a few per code."""
+    if not following:
+        return
+    console.print(Text(f"      which explains {counted(len(following), 'more finding')}:", style="dim"))
+    for code in dict.fromkeys(f.code for f in following):
+        mine = [f for f in following if f.code == code]
+        for finding in mine[:SHOWN_PER_CODE]:
+            mark, style = _MARKS[finding.severity]
+            console.print(Text(f"      {mark} {code}: {printable(finding.message)}", style=style))
+        if len(mine) > SHOWN_PER_CODE:
+            rest = len(mine) - SHOWN_PER_CODE
+            console.print(Text(f"      {mark} and {rest} more {code} (--format json lists each)", style=style))
 
 
 def _marked(severity: Severity, code: str) -> Text:
@@ -104,7 +126,7 @@ def _bag_line(bag: BagReport, strict: bool) -> Text:
     if not bag.usable:
         done = "read" if bag.error is not None and bag.error.code == "unreadable" else "checked"
         return Text(f"could not be {done}: UNUSABLE", style="bold red")
-    summary = ", ".join(counted(bag.count(s), s.noun) for s in Severity) if bag.findings else "no problems found"
+    summary = ", ".join(tallied(bag.findings, s, s.noun) for s in Severity) if bag.findings else "no problems found"
     if bag.failed(strict):
         return Text(f"{summary}: FAILED", style="bold red")
     return Text(f"{summary}: PASSED", style="bold green")
@@ -139,7 +161,9 @@ def _totals(reports: Sequence[BagReport]) -> dict[Severity, int]:
 
 
 def _counts(reports: Sequence[BagReport]) -> dict[str, int]:
-    return {f"{s.noun}s": n for s, n in _totals(reports).items()}
+    """Findings of each severity that follow from no other, and ``explained``: those that do (``Finding.cause``)."""
+    follow = sum(len(r.findings) - len(causes(r.findings)) for r in reports if r.usable)
+    return {**{f"{s.noun}s": n for s, n in _totals(reports).items()}, "explained": follow}
 
 
 def _outcomes(reports: Sequence[BagReport], strict: bool) -> dict[str, int]:
@@ -252,24 +276,32 @@ def _bag_suite(suite: ET.Element, bag: BagReport, strict: bool, ignore: Sequence
         tests += 1
         case = ET.SubElement(suite, "testcase", classname=printable(bag.name), name=code)
         mine = [f for f in bag.findings if f.code == code]
-        failing = [f for f in mine if f.severity.fails(strict)]
+        failing = [f for f in mine if f.severity.fails(strict) and not f.cause]  # a cause fails for what follows
         if failing:
             failures += 1
             severity = failing[0].severity.value
             failure = ET.SubElement(case, "failure", type=severity, message=printable(failing[0].message))
-            failure.text = "\n\n".join(_finding_text(f) for f in failing)
+            failure.text = "\n\n".join(_finding_text(f, bag.findings) for f in failing)
         not_run = [f for f in mine if f.skipped]
         if not_run and not failing:
             ET.SubElement(case, "skipped", message=printable(not_run[0].message))
         rest = [f for f in mine if f not in failing and not f.skipped]
         if rest:
-            ET.SubElement(case, "system-out").text = "\n\n".join(_finding_text(f) for f in rest)
+            ET.SubElement(case, "system-out").text = "\n\n".join(_finding_text(f, bag.findings) for f in rest)
     return {"tests": tests, "failures": failures, "errors": 0}
 
 
-def _finding_text(finding: Finding) -> str:
-    """A finding as JUnit text: names escaped (XML 1.0 cannot hold control characters)."""
-    return f"{finding.severity.value}: {finding.code}: {printable(finding.message)}\nhint: {printable(finding.hint)}"
+def _finding_text(finding: Finding, findings: Sequence[Finding] = ()) -> str:
+    """A finding as JUnit text: names escaped (XML 1.0 cannot hold control characters); a cause with what
+    follows from it, a finding that follows from another with its cause."""
+    text = f"{finding.severity.value}: {finding.code}: {printable(finding.message)}\nhint: {printable(finding.hint)}"
+    if finding.cause:
+        return f"{text}\nfollows from {finding.cause} (reported in that check's case)"
+    following = explained(findings, finding)
+    if following:
+        text += f"\nexplains {counted(len(following), 'more finding')} ({finding.key}):"
+        text += "".join(f"\n  {f.severity.value}: {f.code}: {printable(f.message)}" for f in following)
+    return text
 
 
 def write_junit(reports: Sequence[BagReport], out: IO[str], strict: bool = False, ignore: Sequence[str] = ()) -> None:

@@ -104,6 +104,8 @@ def _finding(entry: dict[str, Any]) -> Finding:
         last_time=_ns(entry["last_time"]),
         count=int(entry["count"]),
         skipped=bool(entry["skipped"]),
+        key=str(entry.get("key", "")),  # older reports have no causes
+        cause=str(entry.get("cause", "")),
     )
 
 

@@ -21,6 +21,7 @@ from tftools.analysis.wtf import (  # noqa: F401  (they register their checks)
     topics,
     values,
 )
+from tftools.analysis.wtf.causes import explain
 from tftools.analysis.wtf.registry import CHECKS, Check, CheckSkippedError
 from tftools.analysis.wtf.scene import Scene
 from tftools.analysis.wtf.thresholds import Thresholds
@@ -41,7 +42,7 @@ def check(
     robot: Robot | None = None,
 ) -> list[Finding]:
     """Every problem of ``recording`` (or a bare buffer, as ``Scene`` sees it), errors first, then
-    warnings, then notes (each in check order).
+    warnings, then notes (each in check order), each followed by those it explains (``causes.explain``).
 
     ``streams``: its sensor data (``read_stamped``), for the checks of data against tf, transformed
     into ``target`` (default and fallback: ``analysis.filter.choose_target``). ``expected``: the
@@ -65,4 +66,4 @@ def findings_of(scene: Scene, ignore: Collection[str] = ()) -> list[Finding]:
             found.extend(f for f in c.run(scene) if f.code not in ignore)  # a check may speak for another
         except CheckSkippedError as why:
             found.append(Finding(Severity.info, c.code, f"not checked: {why.reason}", why.hint, skipped=True))
-    return sorted(found, key=lambda f: f.severity.rank)
+    return explain(found)

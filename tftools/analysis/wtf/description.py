@@ -146,15 +146,30 @@ def _on(j: Joint, severity: Severity, code: str, message: str, hint: str, stamp:
 
 @register("urdf_parent", Severity.error, "a link under another parent on tf than in the description (--urdf)")
 def urdf_parent(scene: Scene) -> Iterator[Finding]:
+    """Frames: tf's parent, the link, the description's parent (the joint tf skips, if it lacks it); times:
+    when the /tf_static value tf2 keeps arrived (another description's message), if it is static."""
     for robot, c, j in _judged(scene, Verdict.parent):
+        tf_parent = c.tf_parent or j.parent
+        sent = _kept_static_arrival(scene, tf_parent, j.child)
         yield Finding(
             Severity.error,
             "urdf_parent",
             f"link {j.child} is a child of {c.tf_parent} on tf, of {j.parent} in {_from(robot)} ({_about(j)})",
             f"another node publishes {j.child} (a driver's own tf, a static_transform_publisher in a launch "
             f"file): let {RSP} alone publish the robot's links, or fix the URDF",
-            frames=(c.tf_parent or j.parent, j.child),
+            frames=(tf_parent, j.child, j.parent),
+            first_time=sent,
+            last_time=sent,
         )
+
+
+def _kept_static_arrival(scene: Scene, parent: str, child: str) -> int:
+    """When the value of static edge ``parent -> child`` that tf2 keeps (the last) arrived; 0 if not static."""
+    rows = scene.rows
+    for p, c, mine in rows.by_edge(rows.usable & rows.static):
+        if (p, c) == (parent, child):
+            return int(scene.arrival(mine[-1:])[0])
+    return 0
 
 
 @register("urdf_moved", Severity.error, "a fixed joint whose tf is not the description's origin (--urdf)")

@@ -11,9 +11,10 @@ from typing import TypedDict
 from tftools.analysis.description import Robot, robot_of
 from tftools.analysis.expected import Tolerances, TreeShape
 from tftools.analysis.filter import choose_target, tied_to_tf
-from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.findings import Finding, Severity, causes
 from tftools.analysis.fleet import HERE, Fleet, Unfinished, run_fleet
 from tftools.analysis.wtf import Scene, findings_of
+from tftools.analysis.wtf.causes import explain
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
@@ -51,13 +52,14 @@ class BagReport:
         return self.error is None
 
     def count(self, severity: Severity) -> int:
-        return sum(f.severity is severity for f in self.findings) + (
+        """Findings of ``severity`` that follow from no other (``Finding.cause``), or the error."""
+        return sum(f.severity is severity for f in causes(self.findings)) + (
             self.error is not None and severity is Severity.error
         )
 
     def failed(self, strict: bool = False) -> bool:
         """Errors (or, ``strict``, warnings too) found, or the bag could not be read."""
-        return self.error is not None or any(f.severity.fails(strict) for f in self.findings)
+        return self.error is not None or any(f.severity.fails(strict) for f in causes(self.findings))
 
 
 def check_bags(
@@ -111,7 +113,7 @@ def check_read(
     streams = stamped_of(recording.contents.files, sensor_topics).streams
     checked = check_recording(recording, streams, thresholds, ignore, target, expected, robot)
     if said is not None and said.code not in ignore:
-        checked.findings = sorted([*checked.findings, said], key=lambda f: f.severity.rank)
+        checked.findings = explain([*checked.findings, said])
     return checked
 
 

@@ -1,6 +1,6 @@
-"""tf topics that say nothing: publishers that sent no message while recorded, and messages that carry
-no transform. Only rosbag2 recordings say so: metadata.yaml lists each topic's messages and the QoS of
-each publisher the recorder found (``offered_qos_profiles``)."""
+"""tf that says nothing: moving edges that all go silent at once (a stall), publishers that sent no message
+while recorded, and messages that carry no transform. Only rosbag2 recordings say the last two: metadata.yaml
+lists each topic's messages and the QoS of each publisher the recorder found (``offered_qos_profiles``)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,9 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene
+from tftools.analysis.wtf.scene import Scene, duration, edge, listed
+from tftools.core.figures import pause_rows
+from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import SourceInfo, is_static_topic
 
 
@@ -70,6 +72,116 @@ def _counts(file: SourceInfo, topics: tuple[str, ...]) -> dict[str, tuple[int, i
     if unreadable: ``static_volatile`` says so)."""
     counts = file.qos.counts if file.qos is not None else {}
     return {topic: counted for topic, counted in counts.items() if topic in topics}
+
+
+#: Pauses of several edges are one stall when each begins within this long (ns) of the first one.
+STALL_WINDOW = NS_PER_S
+#: A stall holds this many edges at least, or every moving edge where there are fewer.
+STALL_EDGES = 3
+
+
+@dataclass(frozen=True)
+class Pause:
+    """One pause of one moving edge (``figures.pause_rows``: what ``rate`` reports): from the stamp before
+    it to the stamp after it, and when those two arrived (record clock; 0 where unknown)."""
+
+    edge: tuple[str, str]
+    start: int
+    end: int
+    arrived: tuple[int, int]
+
+
+def _pauses(scene: Scene) -> list[Pause]:
+    floor = from_sec(scene.thresholds.max_gap)
+    found = []
+    for e in scene.dynamic_edges:
+        if len(e.stamps) < 3:
+            continue
+        for r in pause_rows(e.stamps, floor)[2].tolist():
+            arrived = (int(e.record_times[r]), int(e.record_times[r + 1]))
+            found.append(Pause(e.key, int(e.stamps[r]), int(e.stamps[r + 1]), arrived))
+    return sorted(found, key=lambda p: p.start)
+
+
+def stalls(scene: Scene) -> list[list[Pause]]:
+    """Pauses of several moving edges that begin within ``STALL_WINDOW`` of the first of them, one per edge
+    (its first there), at least ``STALL_EDGES`` of them or every moving edge, and not all from one message
+    stream (edges sent together pause together: that is one publisher's pause, which ``rate`` says)."""
+    pauses = _pauses(scene)
+    moving = len({e.key for e in scene.dynamic_edges})
+    found, i = [], 0
+    while i < len(pauses):
+        window = [p for p in pauses[i:] if p.start - pauses[i].start <= STALL_WINDOW]
+        together = list({p.edge: p for p in reversed(window)}.values())[::-1]
+        streams = {(p.start, p.end, p.arrived) for p in together}
+        if len(together) >= min(STALL_EDGES, moving) and len(streams) > 1:
+            found.append(together)
+            i += len(window)
+        else:
+            i += 1
+    return found
+
+
+@register("stall", Severity.warning, "many moving edges going silent at once: one stop, said once")
+def stall(scene: Scene) -> Iterator[Finding]:
+    moving = {e.key for e in scene.dynamic_edges}
+    for pauses in stalls(scene):
+        start, end = min(p.start for p in pauses), max(p.end for p in pauses)
+        lengths = sorted((p.end - p.start) / NS_PER_S for p in pauses)
+        spread = (max(p.start for p in pauses) - start) / NS_PER_S
+        every = len(pauses) == len(moving)
+        meanwhile, look = _meanwhile(scene, pauses, every)
+        which = f"all {len(pauses)} moving edges" if every else f"{len(pauses)} of {len(moving)} moving edges"
+        which = "both moving edges" if every and len(pauses) == 2 else which
+        yield Finding(
+            Severity.warning,
+            "stall",
+            f"{which} went silent within {duration(spread)} of each other, from {scene.at(start)}, for "
+            f"{_range(lengths[0], lengths[-1])} ({listed([edge(*p.edge) for p in pauses])}){meanwhile}: "
+            f"{'everything on /tf' if every else 'they'} stopped at once",
+            f"{_LOOK[look]}; lookups inside the stall interpolate across it",
+            tuple(f for p in pauses for f in p.edge),
+            first_time=start,
+            last_time=end,
+            count=len(pauses),
+        )
+
+
+#: What to look at, by what the record clock saw during a stall (``_meanwhile``).
+_LOOK = {
+    "nothing": "nothing reached the recorder, so what stopped is what the publishers and the recorder share: the "
+    "machine (its load, a suspend), the network or DDS, or the recorder itself",
+    "old stamps": "transforms kept coming, stamped no later than before: the clock they are stamped with stood "
+    "still (a paused simulation, a driver's clock)",
+    "others": "the other edges went on: look for what these publishers share (one node, one machine, one link)",
+    "unknown": "look for what the publishers share: the machine's load or a suspend, the network or DDS, a paused "
+    "simulation clock, the recorder falling behind",
+}
+
+
+def _meanwhile(scene: Scene, pauses: list[Pause], every: bool) -> tuple[str, str]:
+    """What the record clock saw during the stall, said, and which of ``_LOOK`` it points to: no transform at all
+    on /tf, transforms that did not move the stopped edges on (stamps that did not advance), or the other edges."""
+    begin, finish = min(p.arrived[0] for p in pauses), max(p.arrived[1] for p in pauses)
+    if not begin:
+        return "", "unknown"
+    rows = scene.rows
+    records = np.sort(rows.record_time[~rows.static])
+    inside = records[(records >= begin) & (records <= finish)]
+    silent = int(np.diff(inside).max()) if len(inside) > 1 else finish - begin
+    if silent > from_sec(scene.thresholds.max_gap) and silent * 2 >= min(p.arrived[1] - p.arrived[0] for p in pauses):
+        return f"; the recorder received no transform on /tf for {duration(silent / NS_PER_S)}", "nothing"
+    if not every:
+        return "; the other moving edges went on", "others"
+    if len(inside) > len(pauses) * 2:
+        return f"; {len(inside):,} transforms arrived on /tf meanwhile, stamped no later than before", "old stamps"
+    return "", "unknown"
+
+
+def _range(shortest: float, longest: float) -> str:
+    if duration(shortest) == duration(longest):
+        return duration(longest)
+    return f"{duration(shortest)} to {duration(longest)}"
 
 
 @register("silent_tf", Severity.warning, "tf publishers that sent nothing, tf messages without transforms")

@@ -1,0 +1,367 @@
+"""One root cause, one finding: what follows from a cause is linked to it (``Finding.cause``), said beneath it
+in text, JSON, JUnit, view-frames and the report, and counted with it; designed scenes and two real recordings."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+from rich.console import Console
+
+from tests.analysis import wtf_scenes as scenes
+from tests.analysis.robot_scenes import MOVED, Recorded, Setup, recorded, write_robot_bag
+from tests.analysis.test_description import _on_tf
+from tests.bags import BagFormat, TfMessage
+from tests.corpus.fetch import shared_dir
+from tftools.analysis.findings import Finding, Severity, causes, explained
+from tftools.analysis.graph import frame_graph
+from tftools.analysis.report import recording_report
+from tftools.analysis.wtf import Scene, Thresholds, check
+from tftools.analysis.wtf.causes import Rule, explain
+from tftools.analysis.wtf.fleet import BagReport, check_bags, exit_code
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.render import graph as graph_render
+from tftools.render import wtf as render
+from tftools.render.report import recording_section
+from tftools.render.wtf_lines import read_report, write_recording
+from tftools.sources.recording import read_recording
+
+STALL = scenes.PROBLEMS["stall"]
+
+
+def _stalled(ros1: bool = True) -> list[Finding]:
+    return check(scenes.recording(STALL.make(), ros1=ros1))
+
+
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+def test_every_edge_pausing_at_once_is_one_stall_with_each_edges_pause_beneath(ros1: bool) -> None:
+    findings = _stalled(ros1)
+    assert [(f.code, f.cause) for f in findings] == [("stall", ""), *[("rate", "stall:1")] * 3], findings
+    stall = findings[0]
+    assert stall.key == "stall:1" and stall.severity is Severity.warning and stall.count == 3
+    assert stall.hint.startswith("nothing reached the recorder")
+    assert {("map", "odom"), ("odom", "base_link"), ("base_link", "wheel")} == {
+        (stall.frames[i], stall.frames[i + 1]) for i in range(0, len(stall.frames), 2)
+    }
+    assert [f.frames for f in explained(findings, stall)] == [f.frames for f in findings[1:]]
+    assert causes(findings) == [stall]
+
+
+def test_pauses_far_apart_are_each_edges_own() -> None:
+    messages = scenes.healthy(amcl=scenes.amcl(skip=(2.0, 4.0)), ekf=scenes.ekf(skip=(6.0, 8.0)))
+    findings = check(scenes.recording(messages))
+    assert [(f.code, f.cause, f.key) for f in findings] == [("rate", "", "")] * 2, findings
+
+
+def test_edges_sent_in_one_message_pausing_together_are_that_publishers_pause_not_a_stall() -> None:
+    """create3's odometry sends odom -> base_link and odom -> base_footprint in one message: they pause together."""
+
+    def both(stamp: int) -> list[Transform]:
+        return [*scenes.odom_base(stamp), scenes._t("odom", "base_footprint", stamp, 0.4 * scenes._s(stamp))]
+
+    messages = scenes.healthy(amcl=[], wheels=[], ekf=scenes.periodic("/ekf", 50, both, skip=(3.0, 5.0)))
+    findings = check(scenes.recording(messages))
+    assert [(f.code, f.frames[1], f.cause) for f in findings] == [
+        ("rate", "base_link", ""),
+        ("rate", "base_footprint", "rate:1"),  # the same pause, said once
+    ], findings
+
+
+def test_an_edge_that_also_paused_elsewhere_follows_the_stall_and_still_says_how_often() -> None:
+    """Nav2's map -> odom: one pause in the stall, one 45 s later; the line beneath the stall says both."""
+    amcl = [m for m in scenes.amcl(skip=(3.0, 5.0)) if not 8.0 <= (m.record_time - scenes.START) / NS_PER_S < 9.5]
+    messages = scenes.healthy(amcl=amcl, ekf=scenes.ekf(skip=(3.2, 5.0)), wheels=scenes.wheels(skip=(3.4, 5.0)))
+    findings = check(scenes.recording(messages))
+    (rate,) = [f for f in findings if f.frames == ("map", "odom")]
+    assert rate.cause == "stall:1" and "went silent 2 times" in rate.message
+
+
+def _sensor(name: str, skip: tuple[float, float] | None = None) -> list[TfMessage]:
+    """base_link -> ``name`` at 20 Hz from its own driver (``/name``), silent over ``skip``."""
+
+    def make(stamp: int) -> list[Transform]:
+        return [scenes._t("base_link", name, stamp, 0.1)]
+
+    return scenes.periodic(f"/{name}", 20, make, skip=skip)
+
+
+def test_a_stall_of_few_of_many_edges_says_how_many_of_them() -> None:
+    quiet = {name: _sensor(name) for name in "cd"}
+    paused = {name: _sensor(name, (4, 6)) for name in "ab"}
+    messages = scenes.with_extra(quiet["c"], quiet["d"], paused["a"], paused["b"], amcl=scenes.amcl(skip=(4.0, 6.0)))
+    stall = next(f for f in check(scenes.recording(messages)) if f.code == "stall")
+    assert stall.message.startswith("3 of 7 moving edges went silent within 0.050 s of each other"), stall.message
+    assert stall.message.endswith(
+        "(map -> odom, base_link -> a, base_link -> b); the other moving edges went on: they stopped at once"
+    )
+    assert stall.hint.startswith("the other edges went on: look for what these publishers share")
+
+
+# --- the rule of a robot description under disputed statics ------------------------------------
+
+
+def _robot_with_second_statics(tmp_path: Path, publisher: str, fmt: BagFormat = BagFormat.ros1) -> Path:
+    """The rover with its /robot_description, then a second /tf_static message (0.6 s later, from ``publisher``)
+    putting the laser 2 cm further forward: the description agrees with the first one, tf2 keeps the second."""
+    messages = recorded(Setup(description=True))
+    first = next(m for m in messages if m.topic == "/tf_static")
+    laser = next(t for t in first.value if t.child_frame_id == "laser")
+    moved = Transform(MOVED[0], laser.rotation, laser.stamp, laser.frame_id, laser.child_frame_id)
+    second = [moved if t.child_frame_id == "laser" else t for t in first.value]
+    messages.append(Recorded("/tf_static", first.record_time + 600_000_000, second, publisher))
+    return write_robot_bag(tmp_path / ("rover.bag" if fmt is BagFormat.ros1 else "rover"), messages, fmt)
+
+
+@pytest.mark.parametrize(
+    ("publisher", "fmt", "code"),
+    [
+        ("/calibration", BagFormat.ros1, "static_conflict"),  # ROS 1 names two publishers
+        ("/robot_state_publisher", BagFormat.ros1, "dynamic_on_static"),  # one publisher changing its own
+        ("", BagFormat.rosbag2_sqlite3, "dynamic_on_static"),  # ROS 2 names none (static_conflict once inferred)
+    ],
+)
+def test_a_moved_joint_on_disputed_statics_follows_the_dispute(
+    tmp_path: Path, publisher: str, fmt: BagFormat, code: str
+) -> None:
+    report = check_bags([_robot_with_second_statics(tmp_path, publisher, fmt)])
+    loud = [f for f in report.findings if f.severity is not Severity.info]
+    dispute = next(f for f in loud if f.code in ("static_conflict", "dynamic_on_static"))
+    assert dispute.code == code, loud
+    (moved,) = [f for f in loud if f.code == "urdf_moved"]
+    assert moved.cause == dispute.key != "" and moved.frames == ("base_link", "laser")
+    assert causes(loud) == [dispute] and report.count(Severity.error) == 1
+    assert report.findings.index(moved) == report.findings.index(dispute) + 1  # beneath it
+
+
+def test_a_moved_joint_without_a_dispute_stands_on_its_own(tmp_path: Path) -> None:
+    bag = write_robot_bag(
+        tmp_path / "rover.bag", recorded(Setup(description=True, real_origins={"laser_joint": MOVED}))
+    )
+    (moved,) = [f for f in check_bags([bag]).findings if f.code == "urdf_moved"]
+    assert moved.cause == "" and moved.key == ""
+
+
+def test_links_under_another_parent_skipping_one_link_are_one_layout_with_its_missing_joint_beneath() -> None:
+    """tf puts the laser, the camera and the wheels straight under base_footprint; the URDF has base_link between."""
+    laser = ("/tf_static", "base_footprint", "laser", (0.2, 0, 0.25), (0, 0, 0))
+    camera = ("/tf_static", "base_footprint", "camera_link", (0.1, 0, 0.4), (0, 0.2, 0))
+    left = ("/tf", "base_footprint", "wheel_left_link", (0, 0.15, 0.1), (-math.pi / 2, 0, 0))
+    right = ("/tf", "base_footprint", "wheel_right_link", (0, -0.15, 0.1), (-math.pi / 2, 0, 0))
+    findings = _on_tf(laser, camera, left, right)
+    assert [(f.code, f.frames[1], f.cause) for f in findings] == [
+        ("urdf_parent", "laser", ""),
+        ("urdf_parent", "camera_link", "urdf_parent:1"),
+        ("urdf_parent", "wheel_left_link", "urdf_parent:1"),
+        ("urdf_parent", "wheel_right_link", "urdf_parent:1"),
+        ("urdf_missing", "base_link", "urdf_parent:1"),
+    ], findings
+    assert findings[0].frames == ("base_footprint", "laser", "base_link")
+
+
+def test_a_link_placed_by_the_kept_message_of_a_dispute_follows_it() -> None:
+    """create3's second description puts left_wheel under base_link in the message tf2 keeps: it follows the
+    dispute though the two messages do not disagree on it; its skipped joint follows it too."""
+    dispute = _f("dynamic_on_static", Severity.error, ("base_link", "bump"), 50, 50)
+    elsewhere = _f("urdf_parent", Severity.error, ("base_link", "caster", "mount"), 40, 40)
+    wheel = _f("urdf_parent", Severity.error, ("base_link", "left_wheel", "wheel_drop_left"), 50, 50)
+    drop = _f("urdf_missing", Severity.error, ("base_link", "wheel_drop_left"))
+    found = explain([drop, wheel, elsewhere, dispute])
+    assert [(f.code, f.frames[1], f.cause) for f in found] == [
+        ("urdf_parent", "caster", ""),
+        ("dynamic_on_static", "bump", ""),
+        ("urdf_missing", "wheel_drop_left", "dynamic_on_static:1"),  # through the wheel, to the root cause
+        ("urdf_parent", "left_wheel", "dynamic_on_static:1"),
+    ]
+
+
+# --- the grouping itself --------------------------------------------------------------------------
+
+
+def _f(code: str, severity: Severity, frames: tuple[str, ...] = ("a", "b"), first: int = 0, last: int = 0) -> Finding:
+    return Finding(severity, code, f"{code} message", f"{code} hint", frames, first_time=first, last_time=last)
+
+
+LOUD = Rule(frozenset({"cause"}), frozenset({"effect"}), lambda c, f: f.frames == c.frames, "a test's rule")
+
+
+def test_a_cause_is_as_severe_as_what_follows_from_it_and_comes_first_with_it_beneath() -> None:
+    found = explain(
+        [_f("other", Severity.error, ("x", "y")), _f("effect", Severity.error), _f("cause", Severity.warning)],
+        [LOUD],
+    )
+    assert [(f.code, f.severity, f.key, f.cause) for f in found] == [
+        ("other", Severity.error, "", ""),
+        ("cause", Severity.error, "cause:1", ""),
+        ("effect", Severity.error, "", "cause:1"),
+    ]
+    bag = BagReport(("x.bag",), findings=found, start=1, end=2)
+    assert bag.count(Severity.error) == 2 and bag.count(Severity.warning) == 0
+    assert exit_code([bag]) == 1
+    assert explain(found, [LOUD]) == found  # linking again, with nothing added, changes nothing
+
+
+def test_an_effect_follows_the_first_cause_that_explains_it_and_is_numbered_per_code() -> None:
+    found = explain(
+        [_f("cause", Severity.error, ("c", "d")), _f("cause", Severity.error), _f("effect", Severity.warning)], [LOUD]
+    )
+    assert [(f.code, f.key, f.cause) for f in found] == [
+        ("cause", "", ""),
+        ("cause", "cause:1", ""),
+        ("effect", "", "cause:1"),
+    ]
+
+
+def test_a_stall_explains_a_pause_of_its_edges_during_it_only() -> None:
+    stall = _f("stall", Severity.warning, ("a", "b", "c", "d"), 10, 20)
+    during = _f("rate", Severity.warning, ("c", "d"), 5, 12)
+    after = _f("rate", Severity.warning, ("c", "d"), 21, 30)
+    elsewhere = _f("rate", Severity.warning, ("b", "c"), 10, 20)
+    found = explain([stall, during, after, elsewhere])
+    assert [(f.code, f.frames, f.cause) for f in found] == [
+        ("stall", stall.frames, ""),
+        ("rate", ("c", "d"), "stall:1"),
+        ("rate", ("c", "d"), ""),
+        ("rate", ("b", "c"), ""),
+    ]
+
+
+# --- renderings ----------------------------------------------------------------------------------
+
+
+def _report() -> BagReport:
+    findings = _stalled()
+    return BagReport(
+        ("stalled.bag",), findings=findings, formats=("rosbag1",), start=scenes.START, end=scenes.START + 1
+    )
+
+
+def test_text_says_the_cause_once_with_what_follows_beneath_and_counts_causes() -> None:
+    out = io.StringIO()
+    render.write_text([_report()], Console(file=out, width=400, no_color=True), strict=False)
+    text = out.getvalue()
+    lines = text.splitlines()
+    assert "WARNINGS (1, explaining 3 more)" in lines
+    assert sum(line.lstrip().startswith("! stall:") for line in lines) == 1
+    beneath = lines.index("      which explains 3 more findings:")
+    assert [line.split(":")[0] for line in lines[beneath + 1 : beneath + 4]] == ["      ! rate"] * 3
+    assert text.count("hint:") == 1  # what follows has its cause's hint
+    assert lines[-1] == "0 errors, 1 warning (explaining 3 more), 0 notes: PASSED"
+
+
+def test_text_shows_a_few_of_each_code_beneath_a_cause_and_says_how_many_more() -> None:
+    cause = _f("cause", Severity.error)
+    found = explain([cause, *[_f("effect", Severity.error) for _ in range(8)]], [LOUD])
+    out = io.StringIO()
+    bag = BagReport(("x.bag",), findings=found, formats=("rosbag1",), start=1, end=2)
+    render.write_text([bag], Console(file=out, width=200, no_color=True))
+    assert out.getvalue().count("✗ effect: effect message") == render.SHOWN_PER_CODE
+    assert "✗ and 3 more effect (--format json lists each)" in out.getvalue()
+
+
+def test_json_keeps_every_finding_with_its_link_and_counts_causes() -> None:
+    document = render.as_dict([_report()], False, Thresholds(), 0)
+    bag = document["bags"][0]
+    assert [(f["code"], f["key"], f["cause"]) for f in bag["findings"]] == [
+        ("stall", "stall:1", ""),
+        *[("rate", "", "stall:1")] * 3,
+    ]
+    assert bag["summary"] == {"errors": 0, "warnings": 1, "notes": 0, "explained": 3}
+    assert document["summary"]["explained"] == 3
+
+
+def test_json_lines_read_back_keep_the_links() -> None:
+    out = io.StringIO()
+    write_recording(_report(), out, strict=False)
+    (back,) = read_report(io.BytesIO(out.getvalue().encode()), "report.jsonl").reports
+    assert [(f.code, f.key, f.cause) for f in back.findings] == [(f.code, f.key, f.cause) for f in _report().findings]
+
+
+def test_junit_fails_the_causes_case_with_what_follows_and_leaves_the_others_passing() -> None:
+    root = render.junit([_report()], strict=True)
+    cases = {case.get("name"): case for case in root.iter("testcase")}
+    failure = cases["stall"].find("failure")
+    assert failure is not None and failure.text is not None
+    assert "explains 3 more findings (stall:1):" in failure.text and failure.text.count("\n  warning: rate:") == 3
+    assert cases["rate"].find("failure") is None
+    out = cases["rate"].find("system-out")
+    assert out is not None and out.text is not None and out.text.count("follows from stall:1") == 3
+    assert root.get("failures") == "1"
+    ET.fromstring(ET.tostring(root))
+
+
+def test_view_frames_counts_causes_and_puts_what_follows_beneath() -> None:
+    recording = scenes.recording(STALL.make())
+    graph = frame_graph(Scene(recording))
+    assert graph_render.problem_summary(graph.findings) == "1 warning (explaining 3 more)"
+    source = graph_render.to_digraph(graph, ["stalled"]).source
+    assert source.count("follows from [1]") == 3
+
+
+# --- real recordings ------------------------------------------------------------------------------
+
+CORPUS = shared_dir() / "corpus"
+NAV2 = CORPUS / "ros2_mcap_nav2_turtlebot4.mcap"
+CREATE3 = CORPUS / "ros2_db3_create3_real_two_urdfs"
+
+
+@pytest.mark.skipif(not NAV2.exists(), reason=f"{NAV2} is not placed")
+def test_nav2_turtlebot4_one_stall_of_every_edge_at_41_s_not_four_warnings() -> None:
+    report = check_bags([NAV2])
+    loud = [f for f in causes(report.findings) if f.severity is not Severity.info]
+    assert [f.code for f in loud] == ["stall"], report.findings
+    (stall,) = loud
+    assert stall.message.startswith(
+        "all 4 moving edges went silent within 0.778 s of each other, from 969.624 (+40.8 s)"
+    )
+    assert "the recorder received no transform on /tf for 1.9 s" in stall.message
+    assert sorted(f.frames for f in explained(report.findings, stall)) == [
+        ("base_link", "left_wheel"),
+        ("base_link", "right_wheel"),
+        ("map", "odom"),
+        ("odom", "base_link"),
+    ]
+    assert exit_code([report]) == 0
+
+
+@pytest.mark.skipif(not CREATE3.exists(), reason=f"{CREATE3} is not placed")
+def test_create3_every_moved_joint_follows_the_disputed_statics() -> None:
+    """The recorded /robot_description agrees with the first of two /tf_static messages; tf2 keeps the second:
+    each of the 21 joints the second moved is said beneath the dispute (dynamic_on_static per edge until ROS 2's
+    static_conflict is inferred, then that one finding)."""
+    report = check_bags([CREATE3])
+    errors = [f for f in report.findings if f.severity is Severity.error]
+    (cause,) = causes(errors)
+    assert cause.code in ("static_conflict", "dynamic_on_static") and cause.first_time == 1663967376153481824
+    following = explained(report.findings, cause)
+    assert len(errors) == 1 + len(following) and report.count(Severity.error) == 1 and exit_code([report]) == 1
+    codes = [f.code for f in following]
+    assert (codes.count("urdf_moved"), codes.count("urdf_parent"), codes.count("urdf_missing")) == (21, 2, 2)
+    assert {f.frames[1] for f in following if f.code == "urdf_parent"} == {"left_wheel", "right_wheel"}
+    document = json.loads(json.dumps(render.bag_dict(report, False)))
+    assert len(document["findings"]) == len(report.findings)
+    assert document["summary"]["errors"] == 1 and document["summary"]["explained"] == len(report.findings) - len(
+        causes(report.findings)
+    )
+
+
+def test_a_cause_and_its_consequences_in_a_scene_read_from_a_bag(tmp_path: Path) -> None:
+    """The stall scene written as a ROS 2 bag and read back: the same one cause (``read_recording``'s path)."""
+    bag = scenes.write(tmp_path, "stalled", BagFormat.rosbag2_sqlite3, STALL.make())
+    findings = check(read_recording([bag]))
+    assert [(f.code, f.cause) for f in findings if f.severity is not Severity.info] == [
+        ("stall", ""),
+        *[("rate", "stall:1")] * 3,
+    ]
+
+
+def test_the_report_lists_what_follows_beneath_its_cause_and_counts_causes() -> None:
+    section = recording_section(0, recording_report(scenes.recording(STALL.make())))
+    assert section.summary == "1 warning (explaining 3 more)"
+    assert section.html.count('class="finding warning explained"') == 3
+    assert section.html.count('<span class="follows">follows from [1]</span>') == 3
+    assert section.html.index("<code>stall</code>") < section.html.index("<code>rate</code>")

@@ -1,0 +1,148 @@
+"""Findings that follow from another: each rule says once which finding explains which, and ``explain``
+links them (``Finding.cause``), so that one root cause is said once, with what follows from it beneath."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+
+from tftools.analysis.findings import Finding, Severity
+
+
+def _on_its_frames(cause: Finding, finding: Finding) -> bool:
+    """A finding about frames (a joint's link) that the cause found in dispute, or about a link whose
+    static transform came in the disputed message that tf2 keeps (another description's: same arrival)."""
+    link = finding.frames[:2] if finding.code == "urdf_parent" else finding.frames  # its third: the description's
+    same_message = finding.code == "urdf_parent" and finding.first_time == cause.last_time != 0
+    return bool(link) and (set(link) <= set(cause.frames) or same_message)
+
+
+def _same_change(first: Finding, finding: Finding) -> bool:
+    """The same thing seen at the same moments on several edges (sent in one message): as many times, from
+    the same time to the same time."""
+    same = (first.first_time, first.last_time, first.count) == (finding.first_time, finding.last_time, finding.count)
+    return same and (finding.first_time, finding.last_time) != (0, 0)
+
+
+def _skipped(link: Finding, finding: Finding) -> bool:
+    """Of a link that tf puts under another parent than the description (tf's, the link, the description's):
+    another such link with the same two parents, or the joint missing from tf between them (tf skips it)."""
+    if len(link.frames) != 3:
+        return False
+    skipped = (link.frames[0], link.frames[2])
+    return finding.frames == skipped or (len(finding.frames) == 3 and finding.frames[::2] == skipped)
+
+
+def edges_of(finding: Finding) -> set[tuple[str, str]]:
+    """The edges a finding names as consecutive parent, child pairs."""
+    return set(zip(finding.frames[0::2], finding.frames[1::2], strict=False))
+
+
+def _during(cause: Finding, finding: Finding) -> bool:
+    """A finding about one of the cause's edges at a time that overlaps the cause's."""
+    return (
+        len(finding.frames) == 2
+        and edges_of(finding) <= edges_of(cause)
+        and finding.first_time <= cause.last_time
+        and cause.first_time <= finding.last_time
+    )
+
+
+@dataclass(frozen=True)
+class Rule:
+    """Findings of the codes ``follows`` follow from one of the codes ``causes`` when ``relates(cause, it)``."""
+
+    causes: frozenset[str]
+    follows: frozenset[str]
+    relates: Callable[[Finding, Finding], bool]
+    why: str
+
+
+#: A finding that follows from one that follows from another is said beneath the first (the root cause).
+RULES = (
+    Rule(
+        frozenset({"static_conflict", "dynamic_on_static"}),
+        frozenset({"urdf_moved", "urdf_parent", "urdf_missing"}),
+        _on_its_frames,
+        "a robot description that disagrees with tf on frames whose /tf_static values are in dispute: "
+        "tf holds one of the disputed values, and the description agrees with another",
+    ),
+    Rule(
+        frozenset({"dynamic_on_static"}),
+        frozenset({"dynamic_on_static"}),
+        _same_change,
+        "static edges changed by one /tf_static message: one change of a description (or a second one), said "
+        "once; ROS 2 bags, which name no publisher, show a second description so",
+    ),
+    Rule(
+        frozenset({"rate"}),
+        frozenset({"rate"}),
+        _same_change,
+        "edges with the same pauses (or rhythm) at the same times: edges of one message, one publisher's "
+        "pause, said once",
+    ),
+    Rule(
+        frozenset({"urdf_parent"}),
+        frozenset({"urdf_parent", "urdf_missing"}),
+        _skipped,
+        "links that tf puts under another parent than the description, skipping the same link, and that link's "
+        "joint missing from tf: one layout of the links (tf skips a joint), not one problem per link",
+    ),
+    Rule(
+        frozenset({"stall"}),
+        frozenset({"rate"}),
+        _during,
+        "an edge's pauses, one of them in a stall of many edges at once: one stop, not one per edge (the finding "
+        "beneath it still says how many pauses that edge had)",
+    ),
+)
+
+
+def explain(findings: Sequence[Finding], rules: Sequence[Rule] = RULES) -> list[Finding]:
+    """``findings`` with each that follows from another (by the first rule, then the first cause, that
+    explain it; of one code, an earlier one) linked to it, or to what that one follows from (its root
+    cause); each cause as severe as the worst that follows from it (a recording's verdict and exit code
+    go by causes); in order: causes by severity (as found), each followed by what it explains. Called
+    again on findings it linked (with more added), it links them anew."""
+    found = [replace(f, key="", cause="") for f in findings]
+    cause_of: dict[int, int] = {}
+    for i, finding in enumerate(found):
+        for rule in rules:
+            if finding.code in rule.follows:
+                j = next((j for j, c in enumerate(found) if _may(rule, c, j, finding, i)), None)
+                if j is not None:
+                    cause_of[i] = j
+                    break
+    for i in list(cause_of):
+        seen = {i}
+        while cause_of[i] in cause_of and cause_of[i] not in seen:  # to the root cause
+            seen.add(cause_of[i])
+            cause_of[i] = cause_of[cause_of[i]]
+        if cause_of[i] in seen:  # findings that would explain each other: none of them follows
+            del cause_of[i]
+    keys: dict[int, str] = {}
+    for j in sorted(set(cause_of.values())):
+        keys[j] = f"{found[j].code}:{sum(found[k].code == found[j].code for k in keys) + 1}"
+    for j, key in keys.items():
+        worst = min([found[j].severity, *(found[i].severity for i, c in cause_of.items() if c == j)], key=_rank)
+        found[j] = replace(found[j], key=key, severity=worst)
+    for i, j in cause_of.items():
+        found[i] = replace(found[i], cause=keys[j])
+    ordered = sorted((f for f in found if not f.cause), key=lambda f: f.severity.rank)
+    return [g for f in ordered for g in (f, *_beneath(found, f))]
+
+
+def _beneath(found: Sequence[Finding], cause: Finding) -> list[Finding]:
+    """What follows from ``cause``: the same seen elsewhere (its code) first, then the rest, each as found."""
+    following = [f for f in found if cause.key and f.cause == cause.key]
+    return sorted(following, key=lambda f: f.code != cause.code)
+
+
+def _may(rule: Rule, cause: Finding, j: int, finding: Finding, i: int) -> bool:
+    """Whether by ``rule`` the ``j``-th finding explains the ``i``-th: not itself, of one code only an earlier one."""
+    earlier = j != i and (cause.code != finding.code or j < i)
+    return earlier and cause.code in rule.causes and rule.relates(cause, finding)
+
+
+def _rank(severity: Severity) -> int:
+    return severity.rank
