@@ -160,9 +160,10 @@ def recording_report(
     graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None
-    bins = bins_over(*_axis(recording, streams))
+    order = _tree_order(graph, scene.tree)
+    bins = bins_over(*_axis(recording, streams), rows=len(order) + len(streams))
     pause_floor = from_sec(scene.thresholds.max_gap)
-    edges = edge_timelines(buffer, timeline, bins, pause_floor, _tree_order(graph, scene.tree))
+    edges = edge_timelines(buffer, timeline, bins, pause_floor, order)
     flows = stream_timelines(timeline, bins, streams, sensors) if sensors else []
     facts = list(recording_facts(recording))
     if sensors:

@@ -23,6 +23,10 @@ from tftools.sources.timeline import Timeline
 
 #: The axis is cut into at most this many bins, each at least ``FINEST_BIN`` long.
 MAX_BINS = 500
+#: The bins of all timelines together, at most (but ``MIN_BINS`` each): a recording of 20,000 moving edges
+#: gets 10 bins an edge, not 500 (950 MB and a page of 150 MB).
+MAX_CELLS = 200_000
+MIN_BINS = 10
 FINEST_BIN = NS_PER_S // 1000
 #: At most this many re-parentings of one frame are kept (two publishers disagreeing at 50 Hz make thousands).
 MAX_REPARENTINGS = 200
@@ -52,11 +56,13 @@ class Bins:
         return np.clip((times - self.start) // self.width, 0, self.count - 1).astype(np.intp)
 
 
-def bins_over(start: int, end: int) -> Bins:
+def bins_over(start: int, end: int, rows: int = 1) -> Bins:
     """At most ``MAX_BINS`` bins covering ``[start, end]``, each 1, 2 or 5 times a power of ten ns long
-    and none shorter than ``FINEST_BIN``."""
+    and none shorter than ``FINEST_BIN``; for ``rows`` timelines, fewer (down to ``MIN_BINS``) so that they
+    hold at most ``MAX_CELLS`` bins in all."""
     span = max(end - start, 1)
-    width = _round_up(max(-(-span // MAX_BINS), FINEST_BIN))
+    most = max(MIN_BINS, min(MAX_BINS, MAX_CELLS // max(rows, 1)))
+    width = _round_up(max(-(-span // most), FINEST_BIN))
     return Bins(start, width, max(1, -(-span // width)))
 
 
