@@ -21,7 +21,7 @@ from tftools.sources.bag.contents import (
 )
 from tftools.sources.bag.formats import HEAD_BYTES, format_of_head
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.contents import DEFAULT_TOPICS
+from tftools.sources.contents import DEFAULT_TOPICS, MessageSink
 from tftools.sources.errors import BagError, CorruptBagError, UnknownBagFormatError
 from tftools.sources.storage import open_files
 from tftools.sources.storage.locations import METADATA
@@ -44,7 +44,9 @@ class BagReader:
     then reads the transforms on ``topics`` (default ``/tf`` and ``/tf_static``), the recorded clock
     (a rosgraph_msgs/Clock topic, whatever ``topics`` are) and, with ``headers``, the headers of the
     sensor data on those topics (none named: of every topic whose messages start with a header), of the
-    whole recording or of one window of record time, as often as asked.
+    whole recording or of one window of record time, as often as asked. With ``copy``, nothing is
+    decoded: every message is handed to it as recorded, with its channel (``Recorded``), in the
+    files' order (a copy of the recording).
 
     A path may be a URL (``s3://``, ``gs://``, ``az://``, ``http(s)://``; ``tftools[fleet]``): only
     the ranges the readers need are fetched, once while the reader is open, and each
@@ -59,10 +61,11 @@ class BagReader:
         *,
         headers: Sequence[str] | None = None,
         whole: Sequence[str] = (),
+        copy: MessageSink | None = None,
     ) -> None:
         self.paths = [os.fspath(p) for p in paths]
         self.wanted = Wanted(
-            tuple(topics) if topics else DEFAULT_TOPICS, None if headers is None else tuple(headers), tuple(whole)
+            tuple(topics) if topics else DEFAULT_TOPICS, None if headers is None else tuple(headers), tuple(whole), copy
         )
         self._stack = ExitStack()
         self._files: list[_Opened] = []
