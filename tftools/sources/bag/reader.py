@@ -19,12 +19,11 @@ from tftools.sources.bag.contents import (
     in_turn,
     merged_clock,
 )
-from tftools.sources.bag.formats import HEAD_BYTES, format_of_head
+from tftools.sources.bag.formats import sniff
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import DEFAULT_TOPICS, MessageSink
-from tftools.sources.errors import BagError, CorruptBagError, UnknownBagFormatError
+from tftools.sources.errors import BagError
 from tftools.sources.storage import open_files
-from tftools.sources.storage.locations import METADATA
 from tftools.sources.storage.source import Files
 
 
@@ -155,22 +154,14 @@ class _Opened:
 
 def _open_format(files: Files) -> FormatFile:
     """The recording opened by its format's module, imported only when a file needs it: a ROS1 user
-    pays for no sqlite or MCAP code. A file's format is told by its first bytes."""
+    pays for no sqlite or MCAP code. A file's format is told by its first bytes (``sniff``)."""
     root = files.root
-    if files.is_dir(root):
-        if not any(p.name == METADATA or p.suffix in (".db3", ".mcap") for p in files.listing(root)):
-            raise UnknownBagFormatError(str(root), "a directory without metadata.yaml, .db3 or .mcap files")
+    fmt, source = sniff(files)
+    if source is None:  # a ROS 2 bag directory
         module = importlib.import_module("tftools.sources.bag.rosbag2")
         opened: FormatFile = module.Rosbag2Bag(root, files)
         return opened
     try:
-        source = files.open(root)
-    except CorruptBagError as e:  # not a file that can be read (a FIFO, say): not a recording
-        raise UnknownBagFormatError(e.path, e.detail) from None
-    try:
-        fmt = format_of_head(source.read(0, HEAD_BYTES))
-        if fmt is None:
-            raise UnknownBagFormatError(str(root), "unrecognised file header")
         module = importlib.import_module(f"tftools.sources.bag.{fmt.module}")
         if fmt.module == "rosbag2":
             opened = module.Rosbag2Bag(root, files, source)
