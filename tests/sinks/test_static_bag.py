@@ -16,10 +16,12 @@ from rosbags.rosbag2 import Reader as Rosbag2Reader
 from rosbags.rosbag2 import StoragePlugin
 from rosbags.rosbag2 import Writer as Rosbag2Writer
 
+from tests.corpus.fetch import shared_dir
 from tests.sources.ros2_helpers import Tf, tf_cdr, tf_ros1, typestore
 from tftools.analysis.wtf import check
 from tftools.core.transform import Transform
 from tftools.sinks.static_bag import REPAIR_EVERY_S, add_static_transforms, repair_static_transforms
+from tftools.sources.errors import BagError
 from tftools.sources.recording import read_recording
 
 S = 1_000_000_000
@@ -151,3 +153,53 @@ def test_added_transforms_come_from_tfx_own_publisher(tmp_path: Path) -> None:
         senders = sorted(str(c.ext.callerid) for c in copy.connections if c.topic == "/tf_static")
     assert senders == ["/rsp", "/tfx_static"]
     assert read_recording([written]).buffer.lookup("odom", "x").translation == (0.0, 0.0, 1.0)
+
+
+def _corpus() -> list[Path]:
+    shared = shared_dir() / "corpus"  # ../shared beside the repository, as in CI
+    return sorted(p for p in shared.glob("*") if p.is_dir() or p.suffix in (".bag", ".mcap"))
+
+
+def _topic_counts(bag: Path) -> dict[str, int]:
+    """Messages per topic, as rosbags' readers (mcap's for a bare .mcap) count them: not tftools'."""
+    if bag.suffix == ".mcap":
+        from mcap.reader import make_reader
+
+        with bag.open("rb") as f:
+            summary = make_reader(f).get_summary()
+        assert summary is not None and summary.statistics is not None
+        channels = summary.channels
+        found: dict[str, int] = {}
+        for channel, count in summary.statistics.channel_message_counts.items():
+            found[channels[channel].topic] = found.get(channels[channel].topic, 0) + count
+        return found
+    with Ros1Reader(bag) if bag.suffix == ".bag" else Rosbag2Reader(bag) as reader:
+        counted: dict[str, int] = {}
+        for c in reader.connections:
+            counted[c.topic] = counted.get(c.topic, 0) + c.msgcount
+        return counted
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("bag", _corpus(), ids=lambda p: p.name)
+def test_repair_on_every_corpus_recording_with_statics(tmp_path: Path, bag: Path) -> None:
+    """Every recording of the shared corpus that has static transforms (whatever the corpus holds) is
+    repaired: the input unchanged, every other topic's messages all there, the statics findings gone
+    and no finding the original lacks (issue 42: custom types, a bare .mcap, a second authority)."""
+    original = read_recording([bag], allow_empty=True)
+    if not original.transforms.static.any():
+        pytest.skip("no static transforms to repair")
+    before = _digest(bag)
+    try:
+        written, _ = repair_static_transforms(bag, tmp_path / (bag.name if bag.suffix else "out"))
+    except BagError as e:
+        assert "encoding: a ROS 2 copy holds CDR messages" in str(e), e  # a JSON MCAP: refused in one line
+        return
+    assert _digest(bag) == before
+    was, now = _topic_counts(bag), _topic_counts(written)
+    assert {t: n for t, n in now.items() if not t.endswith("tf_static")} == {
+        t: n for t, n in was.items() if not t.endswith("tf_static")
+    }
+    found = {f.code for f in check(read_recording([written], allow_empty=True))}
+    assert not found & {"statics_early", "static_volatile"}
+    assert found <= {f.code for f in check(original)}
