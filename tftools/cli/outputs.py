@@ -1,8 +1,10 @@
-"""Where a command may write: never over, into or above its input; ``--force`` replaces only an earlier output."""
+"""Where a command may write: never over, into or above its input, nor over a FIFO or device; ``--force`` replaces
+only an earlier output."""
 
 from __future__ import annotations
 
 import os
+import stat
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
@@ -42,6 +44,9 @@ def check_output(
             )
         if path.is_relative_to(target):
             raise UsageError(f"{said} holds the input {path}", "name a file for the output, away from the input")
+    kind = _special(output)
+    if kind:
+        raise UsageError(f"{option} {output} is {kind}, not a regular file", _SPECIAL_HINT)
     folder = target.parent
     if not folder.is_dir():
         raise UsageError(
@@ -53,10 +58,13 @@ def check_output(
 
 
 def check_replaceable(output: Path, force: bool) -> None:
-    """An existing ``output`` is replaced only with ``force``, and only when it is a file or a bag
-    directory (a folder of something else is never deleted). Call after ``check_output``."""
+    """An existing ``output`` is replaced only with ``force``, and only when it is a regular file or a bag
+    directory (a folder of something else, a FIFO or a device is never replaced). Call after ``check_output``."""
     if not output.exists() and not output.is_symlink():
         return
+    kind = _special(output)
+    if kind:
+        raise UsageError(f"-o {output} is {kind}, not a regular file", _SPECIAL_HINT)
     if not force:
         raise UsageError(f"-o {output} already exists", "name another output, or --force to replace it")
     if output.is_dir() and not output.is_symlink() and not only_bag_files(output):
@@ -64,6 +72,23 @@ def check_replaceable(output: Path, force: bool) -> None:
             f"-o {output} is a folder that is not a bag; --force replaces only an earlier output",
             "name the new bag, e.g. -o " + str(output / "with_static"),
         )
+
+
+_SPECIAL_HINT = "name a file: tfx writes regular files, and --force replaces only an earlier output"
+_KINDS = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISSOCK, "a socket"))  # fmt: skip
+
+
+def _special(output: Path) -> str:
+    """What ``output`` (or what a link there points to) is when it exists and is neither a regular file
+    nor a folder: a FIFO, a device or a socket, which writing would destroy or hang on; else ""."""
+    try:
+        mode = output.stat().st_mode
+    except OSError:  # absent, or a dangling link: nothing there to destroy
+        return ""
+    if stat.S_ISREG(mode) or stat.S_ISDIR(mode):
+        return ""
+    return next((name for test, name in _KINDS if test(mode)), "not a regular file")
 
 
 def _same_file(a: Path, b: Path) -> bool:

@@ -83,7 +83,7 @@ def command(
     `rostopic echo /tf_static` prints, or entries like
     [cyan]{frame_id: base_link, child_frame_id: laser, x: 0.2, yaw: 3.14}[/].
 
-    With -b IN -o OUT: a copy of the bag (ROS1 .bag or ROS2 bag directory)
+    With -b IN -o OUT: a copy of the bag (ROS1 .bag, ROS2 bag directory or .mcap)
     with the transforms added on /tf_static at its start; the input bag is
     never modified. With --repair -b IN -o OUT: a copy whose own static
     transforms survive a replay (latched / transient local, complete, and

@@ -35,8 +35,11 @@ class OutputError(TfToolsError):
 def write_atomically(path: str | os.PathLike[str], data: bytes) -> Path:
     """Write ``data`` to ``path``: to a temporary file beside it, then renamed over it, so that a
     full disk or an interruption never leaves a half-written file under ``path``. The file gets the
-    usual permissions (0666 less the umask). Raises ``OutputError`` (one line, with a hint)."""
+    usual permissions (0666 less the umask); what is at ``path`` is replaced only if it is a regular
+    file. Raises ``OutputError`` (one line, with a hint)."""
     target = Path(path)
+    if target.exists() and not target.is_file() and not target.is_dir():  # a FIFO or device: never replaced
+        raise OutputError(target, OSError(errno.EEXIST, "not a regular file (a FIFO, device or socket)"))
     try:
         handle, scratch = tempfile.mkstemp(prefix=f".{target.name[:64]}.", suffix=".part", dir=target.parent)
     except OSError as error:

@@ -53,8 +53,8 @@ def checked(t: Transform) -> Transform:
 
 
 def copyable(bag: str) -> None:
-    """A ``UsageError`` unless ``bag`` is a recording tfx can copy with transforms added: a ROS 1 .bag or a
-    ROS 2 bag directory, not one of the directory's files, nor a bare .mcap or .db3 file (a URL is judged
+    """A ``UsageError`` unless ``bag`` is a recording tfx can copy with transforms added: a ROS 1 .bag, a ROS 2
+    bag directory, a bare .mcap or .db3 file, but not one of a ROS 2 bag directory's files (a URL is judged
     once fetched)."""
     path = Path(bag)
     if is_url(bag) or not path.is_file() or path.suffix not in (".mcap", ".db3"):
@@ -64,17 +64,13 @@ def copyable(bag: str) -> None:
             f"-b {bag} is a file of the ROS 2 bag {path.parent}",
             f"give the bag's directory, and a directory for the copy: -b {path.parent} -o OUTPUT",
         )
-    raise UsageError(
-        f"-b {bag}: tfx static copies ROS 1 .bag files and ROS 2 bag directories, not a bare {path.suffix} file",
-        "make it a ROS 2 bag first: put it alone in a folder and run ros2 bag reindex FOLDER, then -b FOLDER",
-    )
 
 
 def add_static(bag: str, output: str | Path, transforms: Sequence[Transform], *, force: bool = False) -> Path:
-    """``tfx static ... -b BAG -o OUTPUT``: write ``output``, a copy of ``bag`` (a path or URL: a ROS 1 .bag or
-    a ROS 2 bag directory) with ``transforms`` (``checked``) added on /tf_static at its start. A frame the bag
-    already has is refused (tf2 would see two values for it); so is an existing ``output`` unless ``force``.
-    Returns the copy."""
+    """``tfx static ... -b BAG -o OUTPUT``: write ``output``, a copy of ``bag`` (a path or URL: a ROS 1 .bag,
+    a ROS 2 bag directory, a bare .db3 or .mcap) with ``transforms`` (``checked``) added on /tf_static at its
+    start. A frame the bag already has is refused (tf2 would see two values for it); so is an existing
+    ``output`` unless ``force``. Returns the copy."""
     from tftools.sinks.static_bag import add_static_transforms
     from tftools.sources.storage import local_recording
 

@@ -1,32 +1,32 @@
 """A copy of a bag with static transforms added on ``/tf_static``, as if a static_transform_publisher
 had run while it was recorded (``tfx static ... -b IN -o OUT``), or with its own static transforms
-made safe to replay (``tfx static --repair``). The input is never modified."""
+made safe to replay (``tfx static --repair``): read through tftools' reader, every message copied as
+recorded (its type known or not), written with rosbags' writers. The input is never modified."""
 
 from __future__ import annotations
 
 import os
 import shutil
 import tempfile
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
+from contextlib import ExitStack
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import Any
 
 import numpy as np
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.bag.damage import DamageError
-from tftools.sources.bag.formats import ROS1, is_format
-from tftools.sources.bag.unpack import Budget, zstd_file, zstd_messages
+from tftools.sources.bag.contents import RecordWindow
+from tftools.sources.bag.formats import MCAP, ROS1, Format, format_of
+from tftools.sources.bag.reader import BagReader
 from tftools.sources.codecs import cdr
-from tftools.sources.codecs.decoded import TransformEncoder
 from tftools.sources.codecs.ros1 import encode_tf_message
-from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type, typestore
-from tftools.sources.contents import is_static_topic
-from tftools.sources.errors import BagError, BagNotFoundError, UnknownBagFormatError
-from tftools.sources.storage.locations import only_bag_files
+from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type, rosidl_name, typestore
+from tftools.sources.contents import Recorded, is_static_topic
+from tftools.sources.errors import BagError
+from tftools.sources.storage.locations import METADATA, only_bag_files
 
 STATIC_TOPIC = "/tf_static"
 
@@ -42,8 +42,9 @@ REPAIR_EVERY_S = 5.0
 class _Plan:
     """What the copy adds: ``transforms`` at the start and, with ``every`` (ns), again that often;
     ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2);
-    ``senders``: per transform, the /tf_static connection (a ROS 1 callerid, a ROS 2 topic) that sent
-    it in the bag, so that it keeps its publisher; none: tfx's own (``PUBLISHER``)."""
+    ``senders``: per transform, who sent it in the bag (its authority: a ROS 1 callerid, else the
+    topic), so that the copy repeats it on that same connection and tfx sees one publisher of it as
+    before; none: tfx's own (``PUBLISHER``)."""
 
     transforms: Sequence[Transform]
     every: int = 0
@@ -65,9 +66,10 @@ def add_static_transforms(
     *,
     force: bool = False,
 ) -> Path:
-    """Write ``output``: every connection and message of ``bag`` (a ROS1 .bag file or a ROS2 bag
-    directory) plus one ``/tf_static`` message holding ``transforms``, stamped and recorded at the
-    bag's start. Refuses an existing ``output`` unless ``force``."""
+    """Write ``output``: every connection and message of ``bag`` (a ROS1 .bag file, a ROS2 bag directory,
+    a bare .db3, or a bare .mcap copied to a bare .mcap) plus one ``/tf_static`` message holding
+    ``transforms``, stamped and recorded at the bag's start. Refuses an existing ``output`` unless
+    ``force``."""
     return _write_copy(Path(bag), Path(output), _Plan(transforms), force)
 
 
@@ -104,19 +106,37 @@ def _latest_statics(source: Path) -> tuple[list[Transform], list[str]]:
     return statics, senders
 
 
+#: The type hash a ROS 2 copy gives a type tfx does not know whose recording gave none: rosbags'
+#: writer needs one (ROS 2 bags before Iron have none at all).
+UNKNOWN_TYPE_HASH = "RIHS01_" + "0" * 64
+
+
+class _CopyError(Exception):
+    """The writer failed on a message the reader handed on: said of the output, not of the input."""
+
+    def __init__(self, error: BaseException) -> None:
+        super().__init__(str(error))
+        self.error = error
+
+    def said_of(self, target: Path) -> BagError:
+        """A ``BagError`` raised by the copier itself as it is; any other as the output's."""
+        if isinstance(self.error, BagError):
+            return self.error
+        e = self.error
+        why = e.strerror if isinstance(e, OSError) and e.strerror else f"{type(e).__name__}: {e}"
+        return BagError(str(target), f"cannot be written ({why})")
+
+
 def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
-    if not source.exists():
-        raise BagNotFoundError(str(source))
+    fmt = format_of(source)  # the bag's own errors: missing, a FIFO, not a recording
     _never_over_the_input(source, target)
-    if target.exists():
+    if target.exists() or target.is_symlink():
         if not force:
             raise BagError(str(target), "already exists", "choose another output path, or --force to replace it")
-        if target.is_dir() and not only_bag_files(target):
-            raise BagError(str(target), "is a folder that is not a ROS2 bag", "--force replaces only an earlier output")
-    if not (source.is_dir() or is_format(source, ROS1)):
-        raise UnknownBagFormatError(
-            str(source), "static transforms are added to ROS1 .bag files and ROS2 bag directories"
-        )
+        if not (target.is_file() or (target.is_dir() and only_bag_files(target))):
+            raise BagError(
+                str(target), "is not a regular file or a bag directory", "--force replaces only an earlier output"
+            )
     # Written beside the target under its own name (a ROS2 bag names its files after its
     # directory), then moved into place: an interrupted copy leaves no half bag at ``output``.
     try:
@@ -125,16 +145,20 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
         raise BagError(str(target), f"cannot be written ({error.strerror})") from None
     partial = scratch / target.name
     try:
-        (_copy_rosbag2 if source.is_dir() else _copy_ros1)(source, partial, plan)
-        if target.is_dir():
+        written = _copy(source, fmt, partial, plan)
+        if target.is_dir() and not target.is_symlink():
             shutil.rmtree(target)
         else:
             target.unlink(missing_ok=True)
-        partial.rename(target)
+        written.rename(target)
+    except _CopyError as failed:
+        raise failed.said_of(target) from None
     except OSError as error:  # disk full, read-only folder...
         raise BagError(str(target), f"cannot be written ({error.strerror or error})") from None
-    except Exception as error:  # rosbags' reader and writer errors
-        raise BagError(str(source), f"could not be copied ({type(error).__name__}: {error})") from None
+    except BagError:  # the reader's: what is wrong with the input
+        raise
+    except Exception as error:  # rosbags' writer, closing the copy
+        raise BagError(str(target), f"cannot be written ({type(error).__name__}: {error})") from None
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     return target
@@ -148,137 +172,193 @@ def _never_over_the_input(source: Path, target: Path) -> None:
         raise BagError(str(target), "is the input bag, inside it or a folder holding it", "write the copy elsewhere")
 
 
-def _copy_ros1(source: Path, target: Path, plan: _Plan) -> None:
-    from rosbags.interfaces import ConnectionExtRosbag1
-    from rosbags.rosbag1 import Reader, Writer
-
-    with Reader(source) as reader, Writer(target) as writer:
-        connections, static = {}, {}
-        for c in reader.connections:
-            ext = c.ext if isinstance(c.ext, ConnectionExtRosbag1) else ConnectionExtRosbag1(None, None)
-            latching = 1 if plan.durable and is_static_topic(c.topic) else ext.latching
-            connections[c.id] = writer.add_connection(
-                c.topic, c.msgtype, msgdef=c.msgdef.data, md5sum=c.digest, callerid=ext.callerid, latching=latching
+def _copy(source: Path, fmt: Format, target: Path, plan: _Plan) -> Path:
+    """Copy ``source`` (of format ``fmt``) to ``target`` with ``plan``'s transforms; returns what was
+    written (a bare .mcap is copied to a bare .mcap: the file inside the rosbag2 directory written)."""
+    copy: _Copy = _Ros1Copy(target, plan) if fmt is ROS1 else _Rosbag2Copy(source, fmt, target, plan)
+    with ExitStack() as stack:
+        reader = stack.enter_context(BagReader([source], copy=copy))
+        try:
+            copy.open(stack)
+        except Exception as error:
+            raise _CopyError(error) from None
+        # The descriptions only: every connection (those without messages too), and where the bag starts.
+        head = reader.read(RecordWindow(0, 0)).files[0]
+        try:
+            copy.start(head.start if head.message_count else 0)
+        except Exception as error:
+            raise _CopyError(error) from None
+        read = reader.read().files[0]
+        if read.problems:
+            raise BagError(
+                str(source), f"cannot be copied whole: {read.problems[0]}", "tfx wtf -b BAG says what is damaged"
             )
-            if _sends_statics(c):
-                static[ext.callerid or ""] = connections[c.id]
-        tf_type = ros1_message_type(TF_MESSAGE)
-        own = None
-        if set(plan.by_sender(0)) - set(static):  # transforms of no publisher in the bag: tfx's own connection
-            own = writer.add_connection(
-                STATIC_TOPIC,
-                TF_MESSAGE,
-                msgdef=tf_type.definition,
-                md5sum=tf_type.md5sum,
-                callerid=PUBLISHER,
-                latching=1,
+    return target / f"{target.name}.mcap" if fmt is MCAP else target
+
+
+class _Copy:
+    """A copy being written: the messages handed on by the reader, and the plan's transforms at the
+    start and every ``plan.every`` ns up to the last message, each on its sender's connection."""
+
+    def __init__(self, target: Path, plan: _Plan) -> None:
+        self.target = target
+        self.plan = plan
+        self.writer: Any = None
+        self.connections: dict[tuple[str, ...], Any] = {}
+        self.mark = 0
+
+    def open(self, stack: ExitStack) -> None:
+        raise NotImplementedError
+
+    def start(self, mark: int) -> None:
+        self.mark = mark
+        self._statics(mark)
+
+    def channel(self, recorded: Recorded) -> None:
+        try:
+            self._connection(recorded)
+        except Exception as error:  # the writer's: not the reader's to judge
+            raise _CopyError(error) from None
+
+    def message(self, recorded: Recorded, time: int, payload: memoryview) -> None:
+        try:
+            while self.plan.every and time >= self.mark + self.plan.every:
+                self.mark += self.plan.every
+                self._statics(self.mark)
+            self.writer.write(self._connection(recorded), time, payload)
+        except Exception as error:  # the writer's, or a disk full: not the reader's to judge
+            raise _CopyError(error) from None
+
+    def _statics(self, stamp: int) -> None:
+        for sender, transforms in self.plan.by_sender(stamp).items():
+            self.writer.write(self._connection(self._sent_by(sender)), stamp, self._encode(transforms))
+
+    def _sent_by(self, sender: str) -> Recorded:
+        raise NotImplementedError
+
+    def _encode(self, transforms: Sequence[Transform]) -> bytes:
+        raise NotImplementedError
+
+    def _connection(self, recorded: Recorded) -> Any:
+        raise NotImplementedError
+
+
+class _Ros1Copy(_Copy):
+    """A ROS 1 bag: one connection per topic, type and callerid, latched as recorded (every /tf_static
+    one with ``plan.durable``)."""
+
+    def open(self, stack: ExitStack) -> None:
+        from rosbags.rosbag1 import Writer
+
+        self.writer = stack.enter_context(Writer(self.target))
+
+    def _sent_by(self, sender: str) -> Recorded:
+        tf = ros1_message_type(TF_MESSAGE)
+        topic, publisher = (sender, "") if is_static_topic(sender) else (STATIC_TOPIC, sender)
+        return Recorded(topic, tf.name, "ros1", tf.definition, tf.md5sum, publisher, latching=True)
+
+    def _encode(self, transforms: Sequence[Transform]) -> bytes:
+        return encode_tf_message(transforms)
+
+    def _connection(self, recorded: Recorded) -> Any:
+        key = (recorded.topic, rosidl_name(recorded.type_name), recorded.publisher)
+        if key not in self.connections:
+            latching = recorded.latching or (self.plan.durable and is_static_topic(recorded.topic))
+            self.connections[key] = self.writer.add_connection(
+                recorded.topic,
+                key[1],
+                msgdef=recorded.definition,
+                md5sum=recorded.digest or "*",  # ROS 1's "any type"
+                callerid=recorded.publisher or None,
+                latching=int(latching),
             )
-        _copy_messages(plan, reader, writer, connections, static, own, encode_tf_message)
+        return self.connections[key]
 
 
-@contextmanager
-def _budgeted_zstd(source: Path) -> Iterator[None]:
-    """While rosbags reads a compressed ROS 2 bag, its zstd decompression goes through tftools' budgeted
-    one (``unpack``), the same as when the bag is read for its transforms: a message or file that would
-    decompress past its share of the budget stops the copy with an error, instead of filling memory or
-    the temporary folder (rosbags decompresses without a bound)."""
-    import rosbags.rosbag2.reader as rosbag2_reader
+class _Rosbag2Copy(_Copy):
+    """A ROS 2 bag in the storage of the input (sqlite3 or mcap), compressed as it was: one connection
+    per topic, type and encoding, with the QoS it was recorded with (tf2_ros' static QoS on every
+    /tf_static topic with ``plan.durable``). CDR messages only."""
 
-    size = sum(p.stat().st_size for p in source.iterdir() if p.is_file())
-    real = rosbag2_reader.zstd  # type: ignore[attr-defined]
-    message = zstd_messages(size)
-    budget = Budget(size)
+    def __init__(self, source: Path, fmt: Format, target: Path, plan: _Plan) -> None:
+        super().__init__(target, plan)
+        self.source = source
+        self.mcap = fmt is MCAP or (source.is_dir() and any(source.glob("*.mcap*")))
+        self.store = typestore("ros2_humble")
+        self.hashes: dict[str, str] = {}
 
-    class Budgeted:
-        @staticmethod
-        def decompress(data: bytes) -> bytes:
-            return message(bytes(data))
+    def open(self, stack: ExitStack) -> None:
+        from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
 
-        @staticmethod
-        @contextmanager
-        def open(file: BinaryIO, _mode: str = "rb") -> Iterator[BinaryIO]:
-            with tempfile.TemporaryDirectory(prefix="tftools-") as folder:
-                plain = Path(folder) / "plain"
-                loss = zstd_file(file, plain, budget)
-                if loss:
-                    raise DamageError(loss)
-                with plain.open("rb") as decompressed:
-                    yield decompressed
+        storage = StoragePlugin.MCAP if self.mcap else StoragePlugin.SQLITE3
+        self.writer = Writer(self.target, version=8, storage_plugin=storage)
+        mode, self.hashes = _metadata(self.source)
+        if mode:
+            self.writer.set_compression(CompressionMode[mode.upper()], CompressionFormat.ZSTD)
+        stack.enter_context(self.writer)
 
-    rosbag2_reader.zstd = Budgeted  # type: ignore[attr-defined,assignment]
+    def _sent_by(self, sender: str) -> Recorded:
+        return Recorded(sender if is_static_topic(sender) else STATIC_TOPIC, TF_MESSAGE, "cdr")
+
+    def _encode(self, transforms: Sequence[Transform]) -> bytes:
+        return cdr.encode_tf_message(transforms)
+
+    def _connection(self, recorded: Recorded) -> Any:
+        key = (recorded.topic, rosidl_name(recorded.type_name), recorded.encoding)
+        if key not in self.connections:
+            if recorded.encoding != "cdr":
+                raise BagError(
+                    str(self.source),
+                    f"{recorded.topic} is in {recorded.encoding or 'no'} encoding: a ROS 2 copy holds CDR messages",
+                    "tfx static copies ROS 1 bags, and ROS 2 bags of CDR messages",
+                )
+            definition, digest = self._described(key[1], recorded)
+            self.connections[key] = self.writer.add_connection(
+                recorded.topic,
+                key[1],
+                msgdef=definition,
+                rihs01=digest,
+                serialization_format=recorded.encoding,
+                offered_qos_profiles=self._qos(recorded),
+            )
+        return self.connections[key]
+
+    def _described(self, type_name: str, recorded: Recorded) -> tuple[str, str]:
+        """The type's definition and hash: the recording's, else those of the types tfx knows (ROS 2
+        Humble's), else none (``UNKNOWN_TYPE_HASH``): its messages are copied all the same."""
+        definition = recorded.definition
+        digest = recorded.digest or self.hashes.get(recorded.type_name, "")
+        digest = digest if digest.startswith("RIHS01_") else ""
+        if type_name in self.store.fielddefs:
+            if not definition:
+                definition, _ = self.store.generate_msgdef(type_name, ros_version=2)
+            digest = digest or self.store.hash_rihs01(type_name)
+        return definition, digest or UNKNOWN_TYPE_HASH
+
+    def _qos(self, recorded: Recorded) -> list[Any]:
+        from rosbags.rosbag2.metadata import parse_qos
+
+        if is_static_topic(recorded.topic) and (self.plan.durable or not recorded.qos):
+            return [static_qos()]
+        return parse_qos(recorded.qos) if recorded.qos.strip() else []
+
+
+def _metadata(source: Path) -> tuple[str, dict[str, str]]:
+    """How the ROS 2 bag at ``source`` is compressed ("message", "file", or ""), and its types' hashes,
+    as its metadata.yaml says (an MCAP file holds no hashes): none when it has none, or it is unreadable
+    (the reader says so)."""
+    from tftools.sources import user_files
+
+    if not (source / METADATA).is_file():
+        return "", {}
     try:
-        yield
-    finally:
-        rosbag2_reader.zstd = real  # type: ignore[attr-defined]
-
-
-def _copy_rosbag2(source: Path, target: Path, plan: _Plan) -> None:
-    from rosbags.interfaces import ConnectionExtRosbag2
-    from rosbags.rosbag2 import CompressionFormat, CompressionMode, Reader, StoragePlugin, Writer
-
-    store = typestore("ros2_humble")
-    plugin = StoragePlugin.MCAP if any(source.glob("*.mcap")) else StoragePlugin.SQLITE3
-    with _budgeted_zstd(source), Reader(source) as reader:
-        writer = Writer(target, version=8, storage_plugin=plugin)
-        if reader.compression_mode and reader.compression_format:
-            writer.set_compression(
-                CompressionMode[reader.compression_mode.upper()], CompressionFormat[reader.compression_format.upper()]
-            )
-        with writer:
-            connections = {}
-            for c in reader.connections:
-                ext = c.ext if isinstance(c.ext, ConnectionExtRosbag2) else ConnectionExtRosbag2("cdr", [])
-                connections[c.id] = writer.add_connection(
-                    c.topic,
-                    c.msgtype,
-                    msgdef=c.msgdef.data,
-                    rihs01=c.digest if c.digest.startswith("RIHS01_") else None,
-                    serialization_format=ext.serialization_format,
-                    offered_qos_profiles=[static_qos()]
-                    if plan.durable and is_static_topic(c.topic)
-                    else ext.offered_qos_profiles,
-                    typestore=store,
-                )
-            existing = [c for c in reader.connections if c.topic == STATIC_TOPIC and c.msgtype == TF_MESSAGE]
-            added = (
-                connections[existing[0].id]
-                if existing
-                else writer.add_connection(
-                    STATIC_TOPIC, TF_MESSAGE, typestore=store, offered_qos_profiles=[static_qos()]
-                )
-            )
-            static = {c.topic: connections[c.id] for c in reader.connections if _sends_statics(c)}
-            _copy_messages(plan, reader, writer, connections, static, added, cdr.encode_tf_message)
-
-
-def _copy_messages(
-    plan: _Plan,
-    reader: Any,
-    writer: Any,
-    connections: dict[int, Any],
-    static: dict[str, Any],
-    own: Any,
-    encode: TransformEncoder,
-) -> None:
-    """Every message of ``reader`` on its copy in ``connections``, and the plan's transforms at the
-    bag's start, then every ``plan.every`` ns up to the last message: each on its sender's connection
-    in ``static``, else on ``own``."""
-
-    def add(stamp: int) -> None:
-        for sender, transforms in plan.by_sender(stamp).items():
-            writer.write(static.get(sender, own), stamp, encode(transforms))
-
-    mark = reader.start_time if reader.message_count else 0
-    add(mark)
-    for connection, timestamp, data in reader.messages():
-        while plan.every and timestamp >= mark + plan.every:
-            mark += plan.every
-            add(mark)
-        writer.write(connections[connection.id], timestamp, data)
-
-
-def _sends_statics(connection: Any) -> bool:
-    return bool(is_static_topic(connection.topic) and connection.msgtype == TF_MESSAGE)
+        info = user_files.load(source / METADATA)["rosbag2_bagfile_information"]
+        mode, fmt = str(info.get("compression_mode") or "").lower(), str(info.get("compression_format") or "")
+        topics = [entry["topic_metadata"] for entry in info.get("topics_with_message_count") or []]
+        hashes = {str(t["type"]): str(t.get("type_description_hash") or "") for t in topics}
+    except (user_files.UserFileError, KeyError, TypeError, AttributeError):
+        return "", {}
+    return (mode if fmt.lower() == "zstd" and mode in ("message", "file") else ""), hashes
 
 
 def static_qos() -> Any:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -21,6 +21,30 @@ NOT_SENSOR_DATA = frozenset({*DEFAULT_TOPICS, "/clock"})
 def is_static_topic(topic: str) -> bool:
     """Transforms on ``/tf_static`` (or a namespaced ``.../tf_static``) hold at every time."""
     return topic.rstrip("/").endswith("tf_static")
+
+
+@dataclass(frozen=True)
+class Recorded:
+    """A channel as the recording describes it: what a copy needs to write its messages as they are,
+    their type known to tftools or not."""
+
+    topic: str
+    type_name: str  # as the recording names it ("std_msgs/String", "std_msgs/msg/String")
+    encoding: str  # "ros1", "cdr", "json"...
+    definition: str = ""  # its type's message definition ("": the recording does not give it)
+    digest: str = ""  # a ROS 1 md5sum, a ROS 2 type hash (RIHS01_...), "" when the recording does not say
+    publisher: str = ""  # a ROS 1 connection's callerid
+    latching: bool = False  # a ROS 1 connection's
+    qos: str = ""  # the offered QoS profiles, as the ROS 2 recording writes them (YAML)
+
+
+class MessageSink(Protocol):
+    """What a recording being copied is handed: each channel as it is met, then each message with its
+    channel, record time (ns) and payload as recorded."""
+
+    def channel(self, recorded: Recorded) -> None: ...
+
+    def message(self, recorded: Recorded, time: int, payload: memoryview) -> None: ...
 
 
 @dataclass(frozen=True)

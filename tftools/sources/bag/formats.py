@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
-from pathlib import Path
+from typing import TYPE_CHECKING
 
-from tftools.sources.errors import BagNotFoundError, UnknownBagFormatError
-from tftools.sources.storage.locations import is_bag_directory
+from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
+from tftools.sources.storage import open_files
+from tftools.sources.storage.locations import METADATA
+
+if TYPE_CHECKING:
+    from tftools.sources.storage.source import ByteSource, Files
 
 
 @dataclass(frozen=True)
@@ -35,31 +40,33 @@ def format_of_head(head: bytes) -> Format | None:
     return next((f for f in FORMATS if head.startswith(f.magic)), None)
 
 
-def is_format(path: Path, fmt: Format) -> bool:
-    """Whether the file at ``path`` begins as ``fmt``'s files do (False when it cannot be read)."""
+def sniff(files: Files) -> tuple[Format, ByteSource | None]:
+    """The format of the recording at ``files``' root (local or remote): a ROS 2 bag directory, or a
+    file by its first bytes, then returned open (its ``ByteSource``, the caller's to close)."""
+    root = files.root
+    if files.is_dir(root):
+        if not any(p.name == METADATA or p.suffix in (".db3", ".mcap") for p in files.listing(root)):
+            raise UnknownBagFormatError(str(root), "a directory without metadata.yaml, .db3 or .mcap files")
+        return ROSBAG2_DIRECTORY, None
     try:
-        with path.open("rb") as f:
-            return f.read(len(fmt.magic)) == fmt.magic
-    except OSError:
-        return False
+        source = files.open(root)
+    except CorruptBagError as e:  # not a file that can be read (a FIFO, say): not a recording
+        raise UnknownBagFormatError(e.path, e.detail) from None
+    try:
+        found = format_of_head(source.read(0, HEAD_BYTES))
+        if found is None:
+            raise UnknownBagFormatError(str(root), "unrecognised file header")
+    except BaseException:
+        source.close()
+        raise
+    return found, source
 
 
-def format_of(path: Path) -> Format:
-    """The format of the recording at ``path``: a ROS 2 bag directory, or a file by its first bytes."""
-    if not path.exists():
-        raise BagNotFoundError(str(path))
-    if path.is_dir():
-        if is_bag_directory(path):
-            return ROSBAG2_DIRECTORY
-        raise UnknownBagFormatError(str(path), "a directory without metadata.yaml, .db3 or .mcap files")
-    if not path.is_file():  # a FIFO or a device: opening it may wait forever
-        raise UnknownBagFormatError(str(path), "not a regular file (a FIFO, socket or device)")
-    try:
-        with path.open("rb") as f:
-            head = f.read(HEAD_BYTES)
-    except OSError as e:
-        raise UnknownBagFormatError(str(path), e.strerror or str(e)) from None
-    found = format_of_head(head)
-    if found is None:
-        raise UnknownBagFormatError(str(path), "unrecognised file header")
-    return found
+def format_of(path: str | os.PathLike[str]) -> Format:
+    """The format of the recording at ``path`` (``sniff``): ``BagNotFoundError`` when there is none,
+    ``UnknownBagFormatError`` when it is not a recording."""
+    with open_files(path) as files:
+        found, source = sniff(files)
+        if source is not None:
+            source.close()
+        return found

@@ -13,7 +13,7 @@ from tftools.sources.bag.contents import RecordWindow, merged_clock
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
-from tftools.sources.codecs.select import AnyCodec, ClockCodec, HeaderCodec, WholeCodec
+from tftools.sources.codecs.select import AnyCodec, ClockCodec, CopyCodec, HeaderCodec, WholeCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.contents import ClockSamples, StampedMessages, WholeMessages
 
@@ -97,6 +97,8 @@ class MessageSet:
             if codec not in self._codecs:
                 self._codecs.append(codec)
             self._codec_of.append(self._codecs.index(codec))
+            if isinstance(codec, CopyCodec):
+                codec.sink.channel(codec.recorded)
         return self._channel_ids[key]
 
     def add(
@@ -141,11 +143,17 @@ class MessageSet:
         starts: Int64Array,
         lengths: Int64Array,
     ) -> None:
-        """Number the messages (those in the window) and group their payloads by codec."""
+        """Number the messages (those in the window) and group their payloads by codec; hand those of
+        copied channels on as they are."""
         if self.window is not None:
             inside = self.window.holds(times)
             channels, times, where = channels[inside], times[inside], where[inside]
             starts, lengths = starts[inside], lengths[inside]
+        copied = np.array([isinstance(c, CopyCodec) for c in self._codecs], bool)[self._codec_of][channels]
+        if copied.any():
+            self._hand_on(channels[copied], times[copied], data, starts[copied], lengths[copied])
+            kept = ~copied
+            channels, times, where, starts, lengths = (a[kept] for a in (channels, times, where, starts, lengths))
         if not len(starts):
             return
         ids = np.arange(self.count, self.count + len(channels), dtype=np.int64)  # the messages' numbers
@@ -157,6 +165,16 @@ class MessageSet:
             self._group(int(codecs[part[0]]), data, starts[part], lengths[part], ids[part])
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
+
+    def _hand_on(
+        self, channels: Int32Array, times: Int64Array, data: bytes | memoryview, starts: Int64Array, lengths: Int64Array
+    ) -> None:
+        """Each message of a copied channel to its codec's ``take``, its payload a view of ``data``."""
+        view = memoryview(data)
+        for c, time, s, n in zip(channels.tolist(), times.tolist(), starts.tolist(), lengths.tolist(), strict=True):
+            codec = self.channels[c].codec
+            assert isinstance(codec, CopyCodec)
+            codec.sink.message(codec.recorded, time, view[s : s + n])
 
     def _group(
         self, codec: int, data: bytes | memoryview, starts: Int64Array, lengths: Int64Array, ids: Int64Array
@@ -215,6 +233,7 @@ class MessageSet:
             self._headers.append((ids[headers.message], headers.stamp, headers.frame))
             failures = headers.failures
         else:
+            assert not isinstance(codec, CopyCodec)  # their messages are handed on, never grouped
             decoded = codec.decode(raw, starts, lengths, self._rows.frames)
             self._rows.add_rows(ids[decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values)
             failures = decoded.failures

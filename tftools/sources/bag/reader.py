@@ -19,12 +19,11 @@ from tftools.sources.bag.contents import (
     in_turn,
     merged_clock,
 )
-from tftools.sources.bag.formats import HEAD_BYTES, format_of_head
+from tftools.sources.bag.formats import sniff
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.contents import DEFAULT_TOPICS
-from tftools.sources.errors import BagError, CorruptBagError, UnknownBagFormatError
+from tftools.sources.contents import DEFAULT_TOPICS, MessageSink
+from tftools.sources.errors import BagError
 from tftools.sources.storage import open_files
-from tftools.sources.storage.locations import METADATA
 from tftools.sources.storage.source import Files
 
 
@@ -44,7 +43,9 @@ class BagReader:
     then reads the transforms on ``topics`` (default ``/tf`` and ``/tf_static``), the recorded clock
     (a rosgraph_msgs/Clock topic, whatever ``topics`` are) and, with ``headers``, the headers of the
     sensor data on those topics (none named: of every topic whose messages start with a header), of the
-    whole recording or of one window of record time, as often as asked.
+    whole recording or of one window of record time, as often as asked. With ``copy``, nothing is
+    decoded: every message is handed to it as recorded, with its channel (``Recorded``), in the
+    files' order (a copy of the recording).
 
     A path may be a URL (``s3://``, ``gs://``, ``az://``, ``http(s)://``; ``tftools[fleet]``): only
     the ranges the readers need are fetched, once while the reader is open, and each
@@ -59,10 +60,11 @@ class BagReader:
         *,
         headers: Sequence[str] | None = None,
         whole: Sequence[str] = (),
+        copy: MessageSink | None = None,
     ) -> None:
         self.paths = [os.fspath(p) for p in paths]
         self.wanted = Wanted(
-            tuple(topics) if topics else DEFAULT_TOPICS, None if headers is None else tuple(headers), tuple(whole)
+            tuple(topics) if topics else DEFAULT_TOPICS, None if headers is None else tuple(headers), tuple(whole), copy
         )
         self._stack = ExitStack()
         self._files: list[_Opened] = []
@@ -152,22 +154,14 @@ class _Opened:
 
 def _open_format(files: Files) -> FormatFile:
     """The recording opened by its format's module, imported only when a file needs it: a ROS1 user
-    pays for no sqlite or MCAP code. A file's format is told by its first bytes."""
+    pays for no sqlite or MCAP code. A file's format is told by its first bytes (``sniff``)."""
     root = files.root
-    if files.is_dir(root):
-        if not any(p.name == METADATA or p.suffix in (".db3", ".mcap") for p in files.listing(root)):
-            raise UnknownBagFormatError(str(root), "a directory without metadata.yaml, .db3 or .mcap files")
+    fmt, source = sniff(files)
+    if source is None:  # a ROS 2 bag directory
         module = importlib.import_module("tftools.sources.bag.rosbag2")
         opened: FormatFile = module.Rosbag2Bag(root, files)
         return opened
     try:
-        source = files.open(root)
-    except CorruptBagError as e:  # not a file that can be read (a FIFO, say): not a recording
-        raise UnknownBagFormatError(e.path, e.detail) from None
-    try:
-        fmt = format_of_head(source.read(0, HEAD_BYTES))
-        if fmt is None:
-            raise UnknownBagFormatError(str(root), "unrecognised file header")
         module = importlib.import_module(f"tftools.sources.bag.{fmt.module}")
         if fmt.module == "rosbag2":
             opened = module.Rosbag2Bag(root, files, source)

@@ -4,12 +4,16 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from tftools.sources.codecs import cdr, json, protobuf, ros1
 from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
 from tftools.sources.codecs.robot import WHOLE_DECODERS, WholeDecoder
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, has_header, rosidl_name
 from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA
+
+if TYPE_CHECKING:
+    from tftools.sources.contents import MessageSink, Recorded
 
 #: ROS1's names of TFMessage (and of tf's, the same bytes), as ROS1 bags and MCAP files of ROS1 name them.
 ROS1_TF_TYPES = ("tf2_msgs/TFMessage", "tf/tfMessage")
@@ -58,11 +62,13 @@ class Wanted:
     foxglove's transform channels), the clock on any topic, and with ``headers`` the header of every
     message on those topics (none named: of every topic whose type starts with a header, but tf's
     and the clock's); None: no headers; and the messages of the ``whole`` topics, whole (a robot's
-    description and joint states: ``codecs.robot``)."""
+    description and joint states: ``codecs.robot``). With ``copy``, nothing is decoded: every message
+    of every channel is handed to it as recorded (``CopyCodec``)."""
 
     topics: tuple[str, ...] = DEFAULT_TOPICS
     headers: tuple[str, ...] | None = None
     whole: tuple[str, ...] = ()
+    copy: MessageSink | None = None
 
     def wants_header(self, topic: str) -> bool:
         if self.headers is None:
@@ -78,7 +84,20 @@ class WholeCodec(Encoded):
     decode: WholeDecoder
 
 
-AnyCodec = Codec | ClockCodec | HeaderCodec | WholeCodec
+@dataclass(frozen=True)
+class CopyCodec(Encoded):
+    """Messages not decoded: the channel ``recorded`` and each of its messages handed to ``sink`` as
+    recorded (a copy)."""
+
+    recorded: Recorded
+    sink: MessageSink
+
+
+def copied(recorded: Recorded, sink: MessageSink) -> CopyCodec:
+    return CopyCodec(recorded.type_name, recorded.encoding, recorded, sink)
+
+
+AnyCodec = Codec | ClockCodec | HeaderCodec | WholeCodec | CopyCodec
 
 
 CODECS = {

@@ -10,7 +10,8 @@ from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import MCAP
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, unpack
-from tftools.sources.codecs.select import HeaderCodec, Wanted, select
+from tftools.sources.codecs.select import AnyCodec, HeaderCodec, Wanted, copied, select
+from tftools.sources.contents import Recorded
 
 MAGIC = MCAP.magic
 HEADER, FOOTER, SCHEMA, CHANNEL, MESSAGE, CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
@@ -151,12 +152,27 @@ class Channels:
         self.known.add(channel_id)
         type_name, definition = self.schemas.get(schema_id, ("", ""))
         self.result.topics[topic] = type_name
-        codec, unread = select(topic, type_name, encoding, self.asked, definition)
+        codec: AnyCodec | None
+        if self.asked.copy is not None:
+            qos = _metadata(body).get("offered_qos_profiles", "")
+            codec, unread = copied(Recorded(topic, type_name, encoding, definition, qos=qos), self.asked.copy), None
+        else:
+            codec, unread = select(topic, type_name, encoding, self.asked, definition)
         self.result.note_skipped(unread)
         if codec is not None:
             self.wanted[channel_id] = self.result.messages.channel(topic, codec)
             if isinstance(codec, HeaderCodec):
                 self.headed.add(channel_id)
+
+
+def _metadata(body: Body) -> dict[str, str]:
+    """A channel's metadata (a map of strings, the rest of its record)."""
+    found: dict[str, str] = {}
+    pairs = Body(body.bytes(U32))
+    while pairs.pos < len(pairs.data):
+        key = pairs.string()
+        found[key] = pairs.string()
+    return found
 
 
 def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, counted: bool) -> str:

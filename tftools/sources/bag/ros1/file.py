@@ -13,7 +13,8 @@ from tftools.sources.bag.ros1.records import Chunk, Connection, RecordReader
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import Budget, Unpacked, unpack
-from tftools.sources.codecs.select import ClockCodec, HeaderCodec, Wanted, select
+from tftools.sources.codecs.select import ClockCodec, HeaderCodec, Wanted, copied, select
+from tftools.sources.contents import Recorded
 from tftools.sources.storage.source import ByteSource, FileBytes
 
 
@@ -70,7 +71,11 @@ class BagFile:
             return
         self._met.add(connection.id)
         self.scan.topics.setdefault(connection.topic, connection.type)
-        codec, unread = select(connection.topic, connection.type, "ros1", self.wanted, connection.definition)
+        codec, unread = (
+            select(connection.topic, connection.type, "ros1", self.wanted, connection.definition)
+            if self.wanted.copy is None
+            else (copied(_recorded(connection), self.wanted.copy), None)
+        )
         self.scan.note_skipped(unread)
         if codec is not None:
             channel = self.scan.messages.channel(
@@ -112,3 +117,7 @@ class BagFile:
         else:
             lost = f"at least {d.lost} {kind} lost" if d.lost else f"the {kind} there are lost"
         self.scan.note_problem(f"{self.name}: {what} could not be read ({d.first}); {lost}")
+
+
+def _recorded(c: Connection) -> Recorded:
+    return Recorded(c.topic, c.type, "ros1", c.definition, c.md5sum, c.callerid, c.latching)

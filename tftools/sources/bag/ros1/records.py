@@ -205,6 +205,8 @@ class Connection:
     type: str
     callerid: str  # "" when the bag does not say
     definition: str = ""  # its type's message_definition
+    md5sum: str = ""
+    latching: bool = False
 
 
 def read_connection(buf: Buffer, record: Record) -> Connection:
@@ -216,6 +218,8 @@ def read_connection(buf: Buffer, record: Record) -> Connection:
         data.get("type", b"").decode("utf-8", "replace"),
         data.get("callerid", b"").decode("utf-8", "replace"),
         data.get("message_definition", b"").decode("utf-8", "replace"),
+        data.get("md5sum", b"").decode("utf-8", "replace"),
+        data.get("latching", b"0") == b"1",
     )
 
 

@@ -19,8 +19,9 @@ from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import zstd_messages
-from tftools.sources.codecs.select import HeaderCodec, Wanted, select
+from tftools.sources.codecs.select import HeaderCodec, Wanted, copied, select
 from tftools.sources.codecs.wire import HEADER_BYTES
+from tftools.sources.contents import Recorded
 from tftools.sources.errors import CorruptBagError
 from tftools.sources.storage.source import ByteSource
 
@@ -42,13 +43,14 @@ class Db3File:
             raise CorruptBagError(str(path), "not an SQLite database")
         with _connect(path) as db:
             self.topics = _topics(db, path)
+            self.definitions = _definitions(db)
             self.statistics = _statistics(db)
 
     def scan(self, wanted: Wanted, progress: ProgressCallback, messages: MessageSet) -> FileScan:
         """The file's messages (into ``messages``, zstd-compressed ones decompressed) and description;
         ``CorruptBagError`` when nothing could be read."""
         result = FileScan(messages)
-        channels, headers = _channels(self.topics, wanted, result)
+        channels, headers = _channels(self.topics, wanted, result, self.definitions)
         if self.statistics is not None:
             result.message_count, result.start, result.end = self.statistics
         _messages(self.path, channels, headers, result, progress)
@@ -83,14 +85,19 @@ def _uri(path: Path) -> str:
     return f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1"
 
 
-#: A topic as the topics table holds it: id, name, type and serialization format.
-TopicRow = tuple[int, str, str, str]
+#: A topic as the topics table holds it: id, name, type, serialization format, offered QoS profiles
+#: and type hash ("" where the table has no such column).
+TopicRow = tuple[int, str, str, str, str, str]
+#: Columns of the topics table that rosbag2 added over time (Foxy, Iron).
+_LATER_COLUMNS = ("offered_qos_profiles", "type_description_hash")
 
 
 def _topics(db: sqlite3.Connection, path: Path) -> list[TopicRow | str]:
     """The topics table's rows (a line for each that is not a topic)."""
     try:
-        rows = db.execute("SELECT id, name, type, serialization_format FROM topics").fetchall()
+        present = {str(row[1]) for row in db.execute("PRAGMA table_info(topics)")}
+        later = ", ".join(c if c in present else "''" for c in _LATER_COLUMNS)
+        rows = db.execute(f"SELECT id, name, type, serialization_format, {later} FROM topics").fetchall()
     except sqlite3.Error as e:
         raise CorruptBagError(str(path), f"its topics table cannot be read: {e}") from None
     topics: list[TopicRow | str] = []
@@ -98,12 +105,23 @@ def _topics(db: sqlite3.Connection, path: Path) -> list[TopicRow | str]:
         if not isinstance(topic_id, int) or not 0 <= topic_id <= _MAX_TOPIC_ID:
             topics.append(f"a topic with id {_text(topic_id)!r} is skipped: not a topic id")
             continue
-        name, type_name, encoding = (_text(t) for t in texts)
-        topics.append((topic_id, name, type_name, encoding))
+        name, type_name, encoding, qos, digest = (_text(t) for t in texts)
+        topics.append((topic_id, name, type_name, encoding, qos, digest))
     return topics
 
 
-def _channels(topics: list[TopicRow | str], wanted: Wanted, result: FileScan) -> tuple[dict[int, int], set[int]]:
+def _definitions(db: sqlite3.Connection) -> dict[str, str]:
+    """Each type's message definition, as rosbag2 (Iron on) stores them; none in an older file."""
+    try:
+        rows = db.execute("SELECT topic_type, encoded_message_definition FROM message_definitions").fetchall()
+    except sqlite3.Error:
+        return {}
+    return {_text(type_name): _text(definition) for type_name, definition in rows}
+
+
+def _channels(
+    topics: list[TopicRow | str], wanted: Wanted, result: FileScan, definitions: dict[str, str]
+) -> tuple[dict[int, int], set[int]]:
     """Topic ids to read -> MessageSet channels, and those of them read for their headers only;
     fills the description's topics."""
     channels: dict[int, int] = {}
@@ -112,9 +130,18 @@ def _channels(topics: list[TopicRow | str], wanted: Wanted, result: FileScan) ->
         if isinstance(row, str):
             result.note_problem(row)
             continue
-        topic_id, name, type_name, encoding = row
+        topic_id, name, type_name, encoding, qos, digest = row
         result.topics[name] = type_name
-        codec, unread = select(name, type_name, encoding, wanted)
+        codec, unread = (
+            select(name, type_name, encoding, wanted)
+            if wanted.copy is None
+            else (
+                copied(
+                    Recorded(name, type_name, encoding, definitions.get(type_name, ""), digest, qos=qos), wanted.copy
+                ),
+                None,
+            )
+        )
         result.note_skipped(unread)
         if codec is not None:
             channels[topic_id] = result.messages.channel(name, codec)

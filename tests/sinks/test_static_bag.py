@@ -1,0 +1,205 @@
+"""``tfx static``'s copier: read through tftools' reader, every message copied as recorded (of types tfx
+does not know too), written with rosbags' writers; a bare .mcap copied to a bare .mcap; a repaired copy
+keeps each static transform on the connection that sent it."""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+from pathlib import Path
+from typing import Any
+
+import pytest
+from rosbags.rosbag1 import Reader as Ros1Reader
+from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import Reader as Rosbag2Reader
+from rosbags.rosbag2 import StoragePlugin
+from rosbags.rosbag2 import Writer as Rosbag2Writer
+
+from tests.corpus.fetch import shared_dir
+from tests.sources.ros2_helpers import Tf, tf_cdr, tf_ros1, typestore
+from tftools.analysis.wtf import check
+from tftools.core.transform import Transform
+from tftools.sinks.static_bag import REPAIR_EVERY_S, add_static_transforms, repair_static_transforms
+from tftools.sources.errors import BagError
+from tftools.sources.recording import read_recording
+
+S = 1_000_000_000
+T0 = 1_700_000_000 * S
+THING = "my_msgs/msg/Thing"  # a type no type store has
+THING_HASH = "RIHS01_" + "ab" * 32
+#: Payloads that are no valid CDR of anything: a decoder would fail on them, a copy keeps them.
+PAYLOADS = [bytes([i, 255 - i, 7]) * (i + 1) for i in range(40)]
+LASER = Transform((0.1, 0.0, 0.2), (0.0, 0.0, 0.0, 1.0), 0, "base_link", "laser")
+
+
+def _digest(path: Path) -> str:
+    files = sorted(path.rglob("*")) if path.is_dir() else [path]
+    return hashlib.sha256(b"".join(p.name.encode() + p.read_bytes() for p in files if p.is_file())).hexdigest()
+
+
+def _odometry(i: int) -> tuple[Tf, ...]:
+    return (Tf("odom", "base_link", 1_700_000_000 + i // 2, i % 2 * S // 2, (0.01 * i, 0.0, 0.0)),)
+
+
+def _rosbag2(path: Path, storage: str) -> Path:
+    """A ROS 2 bag of /tf, a /tf_static sent once at its start and /thing (a type tfx does not know),
+    over 20 s."""
+    store = typestore()
+    with Rosbag2Writer(path, version=8, storage_plugin=StoragePlugin[storage.upper()]) as writer:
+        tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=store)
+        static = writer.add_connection("/tf_static", "tf2_msgs/msg/TFMessage", typestore=store)
+        thing = writer.add_connection("/thing", THING, msgdef="uint8[] data", rihs01=THING_HASH)
+        writer.add_connection("/quiet", "std_msgs/msg/String", typestore=store)  # recorded, never sent
+        writer.write(static, T0, tf_cdr([Tf("base_link", "laser", 1_700_000_000, 0, (0.1, 0.0, 0.2))]))
+        for i, payload in enumerate(PAYLOADS):
+            writer.write(thing, T0 + i * S // 2, payload)
+            writer.write(tf, T0 + i * S // 2 + 1, tf_cdr(_odometry(i)))
+    return path
+
+
+def _messages(reader: Any) -> dict[str, list[tuple[int, bytes]]]:
+    found: dict[str, list[tuple[int, bytes]]] = {}
+    for connection, time, data in reader.messages():
+        found.setdefault(connection.topic, []).append((time, bytes(data)))
+    return found
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_a_ros2_bag_with_a_type_tfx_does_not_know_is_repaired_and_copied_as_recorded(
+    tmp_path: Path, storage: str
+) -> None:
+    bag = _rosbag2(tmp_path / "in", storage)
+    before = _digest(bag)
+    written, statics = repair_static_transforms(bag, tmp_path / "out")
+    assert _digest(bag) == before
+    assert [(t.frame_id, t.child_frame_id) for t in statics] == [("base_link", "laser")]
+    with Rosbag2Reader(bag) as original, Rosbag2Reader(written) as copy:
+        was, now = _messages(original), _messages(copy)
+        (thing,) = [c for c in copy.connections if c.topic == "/thing"]
+        assert (thing.msgtype, thing.digest, thing.msgdef.data) == (THING, THING_HASH, "uint8[] data")
+        assert {c.topic: c.msgcount for c in copy.connections}["/quiet"] == 0
+        assert {c.ext.offered_qos_profiles[0].durability.name for c in copy.connections if c.topic == "/tf_static"} == {
+            "TRANSIENT_LOCAL"
+        }
+    assert now["/thing"] == was["/thing"] and now["/tf"] == was["/tf"]
+    repeats = len(now["/tf_static"]) - len(was["/tf_static"])
+    assert repeats == 1 + int((len(PAYLOADS) - 1) * 0.5 // REPAIR_EVERY_S)  # the start, then every 5 s
+    assert check(read_recording([written])) == []
+
+
+def test_a_bare_mcap_is_copied_to_a_bare_mcap(tmp_path: Path) -> None:
+    (inner,) = _rosbag2(tmp_path / "bag", "mcap").glob("*.mcap")
+    bare = Path(shutil.copy(inner, tmp_path / "bare.mcap"))
+    before = _digest(bare)
+    written = add_static_transforms(bare, tmp_path / "out.mcap", [Transform((0, 0, 1), (0, 0, 0, 1), 0, "odom", "x")])
+    assert written.is_file() and _digest(bare) == before
+    recording, original = read_recording([written]), read_recording([bare])
+    assert recording.buffer.lookup("odom", "x").translation == (0.0, 0.0, 1.0)
+    (copied,), (was,) = recording.contents.files, original.contents.files
+    assert (copied.format, copied.topics, copied.message_count) == ("mcap", was.topics, was.message_count + 1)
+
+
+def test_a_folder_holding_only_an_mcap_is_copied(tmp_path: Path) -> None:
+    bag = _rosbag2(tmp_path / "bag", "mcap")
+    (bag / "metadata.yaml").unlink()
+    written, _ = repair_static_transforms(bag, tmp_path / "out")
+    assert (written / "metadata.yaml").is_file()
+    assert check(read_recording([written])) == []
+
+
+def _ros1(path: Path, *, callerid: str | None) -> Path:
+    """A ROS 1 bag of /tf, /tf_static sent once (by ``callerid``, or a connection without one) and
+    /thing, a type tfx does not know."""
+    with Ros1Writer(path) as writer:
+        tf_def = "geometry_msgs/TransformStamped[] transforms"  # the md5sum says the type; the text is not read
+        md5 = "94810edda583a504dfda3829e70d7eec"
+        tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", msgdef=tf_def, md5sum=md5, callerid="/odom_node")
+        static = writer.add_connection(
+            "/tf_static", "tf2_msgs/msg/TFMessage", msgdef=tf_def, md5sum=md5, callerid=callerid, latching=1
+        )
+        thing = writer.add_connection("/thing", THING, msgdef="uint8[] data", md5sum="0" * 31 + "1", callerid="/x")
+        writer.write(static, T0, tf_ros1([Tf("base_link", "laser", 1_700_000_000, 0, (0.1, 0.0, 0.2))]))
+        for i, payload in enumerate(PAYLOADS):
+            writer.write(thing, T0 + i * S // 2, payload)
+            writer.write(tf, T0 + i * S // 2 + 1, tf_ros1(_odometry(i)))
+    return path
+
+
+@pytest.mark.parametrize("callerid", ["/rsp", None])
+def test_a_ros1_repair_repeats_statics_on_the_connection_that_sent_them(tmp_path: Path, callerid: str | None) -> None:
+    """Also when the bag's /tf_static connection names no callerid: the copy adds no second publisher
+    (tfx would then see two authorities of each static transform: multiple_authorities)."""
+    bag = _ros1(tmp_path / "in.bag", callerid=callerid)
+    before = _digest(bag)
+    written, _ = repair_static_transforms(bag, tmp_path / "out.bag")
+    assert _digest(bag) == before
+    with Ros1Reader(bag) as original, Ros1Reader(written) as copy:
+        was, now = _messages(original), _messages(copy)
+        statics = [c for c in copy.connections if c.topic == "/tf_static"]
+        assert [(c.ext.callerid, c.ext.latching) for c in statics] == [(callerid, 1)]
+        (thing,) = [c for c in copy.connections if c.topic == "/thing"]
+        described = (thing.msgtype, thing.digest, thing.msgdef.data, thing.ext.callerid)
+        assert described == (THING, "0" * 31 + "1", "uint8[] data", "/x")
+    assert now["/thing"] == was["/thing"] and now["/tf"] == was["/tf"]
+    assert len(now["/tf_static"]) > len(was["/tf_static"])
+    assert check(read_recording([written])) == []
+
+
+def test_added_transforms_come_from_tfx_own_publisher(tmp_path: Path) -> None:
+    bag = _ros1(tmp_path / "in.bag", callerid="/rsp")
+    written = add_static_transforms(bag, tmp_path / "out.bag", [Transform((0, 0, 1), (0, 0, 0, 1), 0, "odom", "x")])
+    with Ros1Reader(written) as copy:
+        senders = sorted(str(c.ext.callerid) for c in copy.connections if c.topic == "/tf_static")
+    assert senders == ["/rsp", "/tfx_static"]
+    assert read_recording([written]).buffer.lookup("odom", "x").translation == (0.0, 0.0, 1.0)
+
+
+def _corpus() -> list[Path]:
+    shared = shared_dir() / "corpus"  # ../shared beside the repository, as in CI
+    return sorted(p for p in shared.glob("*") if p.is_dir() or p.suffix in (".bag", ".mcap"))
+
+
+def _topic_counts(bag: Path) -> dict[str, int]:
+    """Messages per topic, as rosbags' readers (mcap's for a bare .mcap) count them: not tftools'."""
+    if bag.suffix == ".mcap":
+        from mcap.reader import make_reader
+
+        with bag.open("rb") as f:
+            summary = make_reader(f).get_summary()
+        assert summary is not None and summary.statistics is not None
+        channels = summary.channels
+        found: dict[str, int] = {}
+        for channel, count in summary.statistics.channel_message_counts.items():
+            found[channels[channel].topic] = found.get(channels[channel].topic, 0) + count
+        return found
+    with Ros1Reader(bag) if bag.suffix == ".bag" else Rosbag2Reader(bag) as reader:
+        counted: dict[str, int] = {}
+        for c in reader.connections:
+            counted[c.topic] = counted.get(c.topic, 0) + c.msgcount
+        return counted
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("bag", _corpus(), ids=lambda p: p.name)
+def test_repair_on_every_corpus_recording_with_statics(tmp_path: Path, bag: Path) -> None:
+    """Every recording of the shared corpus that has static transforms (whatever the corpus holds) is
+    repaired: the input unchanged, every other topic's messages all there, the statics findings gone
+    and no finding the original lacks (issue 42: custom types, a bare .mcap, a second authority)."""
+    original = read_recording([bag], allow_empty=True)
+    if not original.transforms.static.any():
+        pytest.skip("no static transforms to repair")
+    before = _digest(bag)
+    try:
+        written, _ = repair_static_transforms(bag, tmp_path / (bag.name if bag.suffix else "out"))
+    except BagError as e:
+        assert "encoding: a ROS 2 copy holds CDR messages" in str(e), e  # a JSON MCAP: refused in one line
+        return
+    assert _digest(bag) == before
+    was, now = _topic_counts(bag), _topic_counts(written)
+    assert {t: n for t, n in now.items() if not t.endswith("tf_static")} == {
+        t: n for t, n in was.items() if not t.endswith("tf_static")
+    }
+    found = {f.code for f in check(read_recording([written], allow_empty=True))}
+    assert not found & {"statics_early", "static_volatile"}
+    assert found <= {f.code for f in check(original)}
