@@ -89,7 +89,7 @@ def recording_section(index: int, report: RecordingReport) -> Section:
         "edges": [_edge_data(report, report.edges[i], svg_ids) for i in rows],
         "findings": [_finding_data(report, i, rows, svg_ids, anchor) for i in range(len(report.findings))],
         "streams": [_stream_data(s) for s in report.streams],
-        "scene3d": scene3d.poses_data(report.poses, report.bins.start),
+        "scene3d": scene3d.poses_data(report.poses, report.origin),  # the timelines' zero
     }
     origin = report.origin
     parts = [
