@@ -66,9 +66,8 @@ def command(
         str | None,
         typer.Option(
             envvar="DASK_SCHEDULER_ADDRESS",
-            help="Check each recording as a task on this Dask cluster (its scheduler's address, e.g. "
-            "tcp://10.0.0.5:8786; needs pip install 'tftools\\[fleet]' here and tftools on the workers). A task that "
-            "fails runs once more; one whose workers die is retried as the scheduler's allowed-failures says.",
+            help="Check each recording as a task on this Dask cluster, its scheduler's address (e.g. "
+            "tcp://10.0.0.5:8786; needs tftools\\[fleet] here and tftools on the workers).",
         ),
     ] = None,
     timeout: Annotated[
