@@ -239,3 +239,10 @@ def test_missing_bag_writes_nothing(tfx, tmp_path: Path, monkeypatch: pytest.Mon
     assert "nope.bag" in result.stderr and "Traceback" not in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+def test_rankdir_is_taken_in_either_case(tfx) -> None:
+    """Graphviz's rankdir is upper case; ``--rankdir lr`` means the same and is not refused for its case."""
+    lower = tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "--rankdir", "lr", "-f", "dot", "-o", "-")
+    upper = tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "--rankdir", "LR", "-f", "dot", "-o", "-")
+    assert lower.code == 0 and "rankdir=LR" in lower.stdout and lower.stdout == upper.stdout

@@ -68,8 +68,11 @@ def say_failure(error: TfToolsError) -> None:
 
 
 def hinted(message: str, hint: str) -> str:
-    """``message (hint)``, or the message alone when there is no hint."""
-    return f"{message} ({hint})" if hint else message
+    """``message (hint)``, or the message alone when there is no hint; ``message; hint`` where parentheses
+    would nest (a hint with its own) or follow others (a message that ends with some)."""
+    if not hint:
+        return message
+    return f"{message}; {hint}" if "(" in hint or message.endswith(")") else f"{message} ({hint})"
 
 
 #: An error line longer than this is cut (tf2's loop error names every frame of a 10,000-frame chain).
