@@ -282,7 +282,7 @@ def _check_groups(
 
 def _bytes_bar(todo: list[list[str]], fleet: Fleet) -> AbstractContextManager[ProgressCallback | None]:
     """One local recording: a bar of the bytes read, when it is large."""
-    return progress_bar(todo[0]) if len(todo) == 1 and fleet.dask is None else nullcontext()
+    return progress_bar(todo[0], "checking") if len(todo) == 1 and fleet.dask is None else nullcontext()
 
 
 def _resumed(path: Path) -> list[BagReport]:
