@@ -97,6 +97,20 @@ def frames_picture() -> None:
                         str(OUT / "view-frames")], check=True)  # fmt: skip
 
 
+def report_picture() -> None:
+    """The report of the tests' troubled robot (a pause, a stop, a re-parenting, a camera in a frame that is
+    not in the tree) as Chromium shows it 1400 pixels wide: docs/report.png."""
+    sys.path.insert(0, str(REPO))
+    from tests.browser import screenshot
+    from tests.render.report_scenes import troubled_bags
+
+    with tempfile.TemporaryDirectory() as folder:
+        bag = troubled_bags(Path(folder))["ros1"]
+        subprocess.run([sys.executable, "-m", "tftools", "report", "-b", bag.name, "-o", "robot.html"], cwd=bag.parent,
+                       capture_output=True)  # fmt: skip
+        screenshot(bag.parent / "robot.html", REPO / "docs" / "report.png", width=1400, height=2100)
+
+
 def main() -> None:
     OUT.mkdir(exist_ok=True)
     with tempfile.TemporaryDirectory() as folder:  # the recordings under short names
@@ -105,6 +119,7 @@ def main() -> None:
         picture("wtf", "tfx wtf kobuki.bag neato.bag", ["wtf", "kobuki.bag", "neato.bag"], 100, Path(folder))
     picture("monitor", "tfx monitor -b sample_bags/robot.bag", ["monitor", "-b", "sample_bags/robot.bag"], 100)
     frames_picture()
+    report_picture()
 
 
 if __name__ == "__main__":
