@@ -8,58 +8,32 @@ docs/pictures/."""
 
 from __future__ import annotations
 
-import fcntl
 import io
 import os
-import pty
 import shutil
-import struct
 import subprocess
 import sys
 import tempfile
-import termios
 from pathlib import Path
 
 from rich.console import Console
 from rich.text import Text
 
 REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+from tests.cli.terminal import raw_terminal  # noqa: E402  (the tests' pseudo-terminal, from the clone)
+
 OUT = REPO / "docs" / "pictures"
 #: The pictures' width in pixels: as wide as a README column shows them.
 WIDTH = 900
 CORPUS = Path(os.environ.get("TFTOOLS_SHARED_DIR", REPO.parent.parent / "shared")) / "corpus"
 
 
-def terminal(args: list[str], columns: int, cwd: Path = REPO) -> str:
-    """What ``tfx args`` writes on a terminal ``columns`` wide, colours (escape sequences) and all (its
-    progress bars, on stderr, left out)."""
-    main, secondary = pty.openpty()
-    fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack("HHHH", 60, columns, 0, 0))
-    environment = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES", "NO_COLOR")}
-    environment["TERM"] = "xterm-256color"
-    process = subprocess.Popen(
-        [sys.executable, "-m", "tftools", *args], cwd=cwd, stdin=secondary, stdout=secondary,
-        stderr=subprocess.DEVNULL, env=environment, close_fds=True,
-    )  # fmt: skip
-    os.close(secondary)
-    output = b""
-    while True:
-        try:
-            chunk = os.read(main, 65536)
-        except OSError:
-            break
-        if not chunk:
-            break
-        output += chunk
-    os.close(main)
-    process.wait()
-    return output.decode("utf-8", "replace").replace("\r\n", "\n")
-
-
 def picture(name: str, title: str, args: list[str], columns: int, cwd: Path = REPO) -> None:
     """The terminal's text as ``name``.png: rich's SVG of it, photographed at its size."""
     console = Console(record=True, width=columns, force_terminal=True, file=io.StringIO())
-    console.print(Text.from_ansi(terminal(args, columns, cwd).rstrip("\n")), soft_wrap=False)
+    _, output = raw_terminal(args, columns, 60, cwd, stderr=False)  # its progress bars left out
+    console.print(Text.from_ansi(output.rstrip("\n")), soft_wrap=False)
     with tempfile.TemporaryDirectory() as folder:
         svg = Path(folder) / f"{name}.svg"
         svg.write_text(console.export_svg(title=title))
@@ -100,7 +74,6 @@ def frames_picture() -> None:
 def report_picture() -> None:
     """The report of the tests' troubled robot (a pause, a stop, a re-parenting, a camera in a frame that is
     not in the tree) as Chromium shows it 1400 pixels wide: docs/report.png."""
-    sys.path.insert(0, str(REPO))
     from tests.browser import screenshot
     from tests.render.report_scenes import troubled_bags
 

@@ -18,13 +18,22 @@ _ESCAPES = re.compile(r"\x1b\[[0-9;?]*[A-Za-z]")
 
 def on_terminal(args: list[str], columns: int, rows: int = 50) -> tuple[int, str]:
     """Exit code and screen text (escape sequences dropped) of ``tfx args`` on a ``columns`` wide terminal."""
+    code, output = raw_terminal(args, columns, rows)
+    return code, _ESCAPES.sub("", output)
+
+
+def raw_terminal(
+    args: list[str], columns: int, rows: int = 50, cwd: Path = REPO, stderr: bool = True
+) -> tuple[int, str]:
+    """Exit code and output, colours (escape sequences) and all, of ``tfx args`` run in ``cwd`` on a
+    ``columns`` wide terminal; its standard error there too, or (``stderr`` False) nowhere."""
     main, secondary = pty.openpty()
     fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack("HHHH", rows, columns, 0, 0))
     environment = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES", "NO_COLOR", "TFX_DEBUG")}
     environment["TERM"] = "xterm-256color"
     process = subprocess.Popen(
-        [sys.executable, "-m", "tftools", *args], cwd=REPO, stdin=secondary, stdout=secondary, stderr=secondary,
-        env=environment, close_fds=True,
+        [sys.executable, "-m", "tftools", *args], cwd=cwd, stdin=secondary, stdout=secondary,
+        stderr=secondary if stderr else subprocess.DEVNULL, env=environment, close_fds=True,
     )  # fmt: skip
     os.close(secondary)
     output = b""
@@ -38,7 +47,7 @@ def on_terminal(args: list[str], columns: int, rows: int = 50) -> tuple[int, str
         output += chunk
     os.close(main)
     code = process.wait()
-    return code, _ESCAPES.sub("", output.decode("utf-8", "replace")).replace("\r\n", "\n")
+    return code, output.decode("utf-8", "replace").replace("\r\n", "\n")
 
 
 def table_cells(screen: str, title: str) -> list[list[str]]:
