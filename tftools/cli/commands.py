@@ -148,9 +148,9 @@ app = typer.Typer(
     name="tfx",
     help="Diagnose ROS tf trees: on bag files (ROS1 .bag, ROS2 .db3/.mcap, MCAP) in seconds, and live "
     "on ROS1 and ROS2 systems (without -b), with tf2's exact semantics.\n\nExamples:\n\n"
-    "  tfx frames -b robot.bag\n\n"
-    "  tfx echo map base_link -b robot.bag --rate 2\n\n"
     "  tfx wtf logs/*.bag\n\n"
+    "  tfx report -b robot.bag -o robot.html\n\n"
+    "  tfx echo map base_link -b robot.bag --rate 2\n\n"
     "  tfx monitor --ros2\n\n"
     "Exit codes: 0 fine, 1 problems found (failed lookups, checker errors), 2 unusable input.",
     no_args_is_help=True,
