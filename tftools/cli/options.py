@@ -74,7 +74,7 @@ Listen = Annotated[float, typer.Option("--duration", "-d", help="Live: seconds t
 Paths = Annotated[
     list[str] | None,
     typer.Argument(
-        help="Bags, each checked on its own (logs/*.bag), as -b takes them; a URL prefix (s3://bucket/fleet/) "
+        help="Bags, each on its own (a fleet: logs/*.bag), as -b takes them; a URL prefix (s3://bucket/fleet/) "
         "means every recording below it.",
         metavar="BAG",
     ),
