@@ -36,7 +36,12 @@ var rows = data.edges.map(function (e) { return e.name; });
 var map = rows.indexOf("map -> odom");
 var tree = document.querySelector(".tree");
 var view = tfxScene3d.views[0];
+var names = document.querySelectorAll(".scene3d-stage span").length;
+var first = data.findings[0];
+document.querySelector('.finding[data-finding="0"]').click();  // the 3D view goes to the finding's time
+await settled();
 return {
+  clicked: [first.from, view.data.times[view.index], Number(view.data.stamps[view.index])],
   rows: rows,
   gaps: data.edges[map].gaps,
   inGap: tinted(map, (data.edges[map].gaps[0][0] + data.edges[map].gaps[0][1]) / 2),
@@ -48,7 +53,7 @@ return {
   axes: section.plots[0].axes.length,
   page: [document.documentElement.scrollWidth, window.innerWidth],
   tree: [tree.scrollWidth, tree.clientWidth, tree.scrollHeight, tree.clientHeight],
-  names: document.querySelectorAll(".scene3d-stage span").length,
+  names: names,
   frames: view.data.frames.length,
   grid: view.gridCell,
 };
@@ -78,6 +83,10 @@ def test_the_nav2_page_shows_no_noise(tfx, chromium: str, tmp_path: Path, width:
         wide, box, tall, height = result["tree"]
         assert wide <= box and tall <= height  # the tree needs no scrollbars
     assert result["frames"] == 34 and result["names"] == 0 and result["grid"] > 0
+
+    since, shown, stamp = result["clicked"]  # the finding at +40.824 s, stamp 969.624 (was shown at 964.585)
+    assert since == pytest.approx(40.824) and shown == pytest.approx(since, abs=0.5)
+    assert stamp == pytest.approx(969.624, abs=0.5)
 
     picture = screenshot(page, tmp_path / f"nav2-{width}.png", width=width, height=3000)
     folder = os.environ.get("TFTOOLS_SCREENSHOTS")
