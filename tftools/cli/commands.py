@@ -83,6 +83,9 @@ class _LazyGroup(typer.core.TyperGroup):
 
 #: A choice's values are shown as its type where they are this short, else its name (the help lists them).
 _CHOICES_SHOWN = 16
+#: What an option's value is, where its help names it so ("Begin at TIME"): rather than ``<str>``.
+_VALUES = {"--bag": "BAG", "--start": "TIME", "--end": "TIME", "--at": "TIME", "--topic": "TOPIC", "--sensor": "TOPIC",
+           "--target": "FRAME", "--output": "FILE"}  # fmt: skip
 
 
 def unwrapped(text: str) -> str:
@@ -124,6 +127,9 @@ def _readable_at_80(command: Any) -> Any:
             name = (param.metavar or param.name or "").upper()
             param.metavar = name
             usage.append((name if param.required else f"[{name}]") + ("..." if param.nargs != 1 else ""))
+        named = [_VALUES[o] for o in param.opts if o in _VALUES]
+        if named and param.metavar is None:
+            param.metavar = named[0]
         choices = getattr(param.type, "choices", None)
         if choices and param.metavar is None:
             values = "|".join(str(getattr(c, "value", c)) for c in choices)
