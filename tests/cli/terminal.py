@@ -18,13 +18,22 @@ _ESCAPES = re.compile(r"\x1b\[[0-9;?]*[A-Za-z]")
 
 def on_terminal(args: list[str], columns: int, rows: int = 50) -> tuple[int, str]:
     """Exit code and screen text (escape sequences dropped) of ``tfx args`` on a ``columns`` wide terminal."""
+    code, output = raw_terminal(args, columns, rows)
+    return code, _ESCAPES.sub("", output)
+
+
+def raw_terminal(
+    args: list[str], columns: int, rows: int = 50, cwd: Path = REPO, stderr: bool = True
+) -> tuple[int, str]:
+    """Exit code and output, colours (escape sequences) and all, of ``tfx args`` run in ``cwd`` on a
+    ``columns`` wide terminal; its standard error there too, or (``stderr`` False) nowhere."""
     main, secondary = pty.openpty()
     fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack("HHHH", rows, columns, 0, 0))
     environment = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES", "NO_COLOR", "TFX_DEBUG")}
     environment["TERM"] = "xterm-256color"
     process = subprocess.Popen(
-        [sys.executable, "-m", "tftools", *args], cwd=REPO, stdin=secondary, stdout=secondary, stderr=secondary,
-        env=environment, close_fds=True,
+        [sys.executable, "-m", "tftools", *args], cwd=cwd, stdin=secondary, stdout=secondary,
+        stderr=secondary if stderr else subprocess.DEVNULL, env=environment, close_fds=True,
     )  # fmt: skip
     os.close(secondary)
     output = b""
@@ -38,7 +47,7 @@ def on_terminal(args: list[str], columns: int, rows: int = 50) -> tuple[int, str
         output += chunk
     os.close(main)
     code = process.wait()
-    return code, _ESCAPES.sub("", output.decode("utf-8", "replace")).replace("\r\n", "\n")
+    return code, output.decode("utf-8", "replace").replace("\r\n", "\n")
 
 
 def table_cells(screen: str, title: str) -> list[list[str]]:
@@ -61,13 +70,20 @@ def table_cells(screen: str, title: str) -> list[list[str]]:
     return [[line[a:b].strip() for a, b in spans] for line in padded]
 
 
-def rows(cells: list[list[str]], header_lines: int, key: int) -> list[list[str]]:
-    """Table lines (``table_cells``) as rows: a row begins where column ``key`` is filled; the cells of
-    its following lines are appended (a folded name comes back whole; a wrapped list with its spaces lost)."""
-    joined: list[list[str]] = []
-    for line in cells[header_lines:]:
-        if line[key] or not joined:
-            joined.append(list(line))
+def lines_rows(screen: str, title: str, header: str) -> list[tuple[list[str], str]]:
+    """The rows of a table written as lines (a terminal too narrow for its columns) under ``title``: each
+    row's figures (the words before the names' column, which the ``header`` line's names heading begins)
+    and its names, the lines a row went on to joined back."""
+    lines = screen.splitlines()
+    start = next(i for i in range(lines.index(title) + 1, len(lines)) if lines[i].lstrip().startswith(header))
+    names_at = len(lines[start]) - len(lines[start].split("  ")[-1])  # after the last two-space gap
+    found: list[tuple[list[str], str]] = []
+    for line in lines[start + 1 :]:
+        if not line.strip():
+            break
+        if line[:names_at].strip():
+            found.append((line[:names_at].split(), line[names_at:].strip()))
         else:
-            joined[-1] = [a + b for a, b in zip(joined[-1], line, strict=True)]
-    return joined
+            figures, names = found[-1]
+            found[-1] = (figures, f"{names} {line.strip()}")
+    return found

@@ -105,6 +105,8 @@ def test_latest_and_times_within_the_recording_still_work(tfx) -> None:
         (("frames", "--bogus"), ("No such option: --bogus",)),
         (("wtf", "--format", "xml"), ("--format",)),
         (("nope",), ("No such command",)),
+        (("echo", "map", "odom", "--time", "5"), ("No such option: --time (did you mean --at? see tfx echo --help)",)),
+        (("monitor", "--time", "5"), ("No such option: --time (did you mean --start? see tfx monitor --help)",)),
     ],
 )
 def test_wrong_arguments_are_one_line(tfx, args: tuple[str, ...], words: tuple[str, ...]) -> None:

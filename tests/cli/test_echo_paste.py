@@ -40,6 +40,27 @@ def _same(a: Transform, b: Transform, tolerance: float = 1e-12) -> None:
     assert np.allclose(a.rotation, sign * np.asarray(b.rotation), rtol=0, atol=tolerance)
 
 
+def _within_ulps(printed: list[float], exact: list[float]) -> bool:
+    """The printed numbers are the exact ones but for rounding noise: 2 units in the last place, or 1e-15."""
+    return all(abs(p - e) <= max(2 * math.ulp(e), 1e-15) for p, e in zip(printed, exact, strict=True))
+
+
+def test_rounding_noise_is_not_printed(tfx, tmp_path: Path) -> None:
+    """0.5 m along a frame turned by 90 degrees: tf2's arithmetic gives (1.1e-16, 0.4999999999999999) or
+    the like; the lines to paste say 0.0 and 0.5."""
+    turned, moved = tmp_path / "turned.bag", tmp_path / "moved.bag"
+    made = tfx(
+        "static", "0", "0", "0", repr(math.pi / 2), "0", "0", "world", "a", "-b", SAMPLE_BAGS["ros1"], "-o", turned
+    )
+    assert (
+        made.code == 0 and tfx("static", "0.5", "0", "0", "0", "0", "0", "a", "b", "-b", turned, "-o", moved).code == 0
+    )
+    echoed = _echoed(tfx, moved, "world", "b", [])
+    ros1 = tfx("echo", "world", "b", "-b", moved, "--format", "static").stdout.splitlines()[0].split()
+    assert ros1[3:6] == ["0.0", "0.5", "0.0"] and _within_ulps([float(w) for w in ros1[3:10]], [
+        *echoed.translation, *echoed.rotation])  # fmt: skip
+
+
 @pytest.mark.parametrize("bag", list(SAMPLE_BAGS))
 @pytest.mark.parametrize(("parent", "child", "at"), LOOKUPS)
 def test_static_lines_carry_the_exact_numbers_and_give_back_the_transform(
@@ -51,14 +72,17 @@ def test_static_lines_carry_the_exact_numbers_and_give_back_the_transform(
     ros1, ros2 = result.stdout.splitlines()
     words = shlex.split(ros1)
     assert words[:3] == ["rosrun", "tf2_ros", "static_transform_publisher"] and words[-2:] == [parent, child]
-    assert [float(w) for w in words[3:10]] == [*echoed.translation, *echoed.rotation]  # to the last bit
+    assert _within_ulps([float(w) for w in words[3:10]], [*echoed.translation, *echoed.rotation])
     flags = shlex.split(ros2)
     assert flags[:3] == ["ros2", "run", "tf2_ros"] and flags[-4:] == ["--frame-id", parent, "--child-frame-id", child]
     values = dict(zip(flags[4:-4:2], flags[5:-4:2], strict=True))
-    assert [float(values[f"--{k}"]) for k in ("x", "y", "z", "qx", "qy", "qz", "qw")] == [
-        *echoed.translation,
-        *echoed.rotation,
-    ]
+    assert _within_ulps(
+        [float(values[f"--{k}"]) for k in ("x", "y", "z", "qx", "qy", "qz", "qw")],
+        [
+            *echoed.translation,
+            *echoed.rotation,
+        ],
+    )
     _same(_pasted(tfx, tmp_path, parent, *words[3:-1], "pasted"), echoed)
     _same(_pasted(tfx, tmp_path, parent, *flags[4:-1], "pasted"), echoed)
 
@@ -85,7 +109,7 @@ def test_urdf_origin_is_fixed_axis_roll_pitch_yaw(tfx, parent: str, child: str, 
     xyz = [float(v) for v in origin.get("xyz", "").split()]
     rpy = [float(v) for v in origin.get("rpy", "").split()]
     echoed = _echoed(tfx, bag, parent, child, at)
-    assert xyz == list(echoed.translation)
+    assert _within_ulps(xyz, list(echoed.translation))
     _same(Transform.from_rpy(tuple(xyz), tuple(rpy)), echoed, 1e-9)  # type: ignore[arg-type]
 
 

@@ -116,6 +116,7 @@ def test_start_and_end_select_a_stretch(tfx) -> None:
         (("map", "base_lnk", "-b", SAMPLE_BAGS["mcap"]), "base_link"),  # the close match is offered
         (("map", "-b", SAMPLE_BAGS["mcap"]), "two frames"),
         (("-b", SAMPLE_BAGS["mcap"], "--play", "--rate", "0"), "--rate"),
+        (("-b", SAMPLE_BAGS["mcap"], "--rate", "4"), "--rate is the replay speed of --play"),  # not ignored
         (("-b", SAMPLE_BAGS["mcap"], "--start", "+10", "--end", "+5"), "empty"),
         (("-b", SAMPLE_BAGS["mcap"], "--start", "+20", "--play"), "outside the recording"),
     ],
@@ -172,20 +173,22 @@ def test_static_chain_text_says_it_never_goes_stale(tfx, tmp_path: Path) -> None
     assert "Net delay     avg = -: max = -" in out and "never stale" in out
 
 
-def test_a_table_too_long_to_lay_out_is_written_in_plain_columns(tfx, monkeypatch) -> None:
-    """Past MAX_LAID_OUT_ROWS rows (rich lays a table out at 0.3 ms a row) the tables go out as plain
-    columns: every name whole, every figure the JSON's."""
+def test_a_table_too_long_to_lay_out_is_written_as_lines(tfx, monkeypatch) -> None:
+    """Past MAX_LAID_OUT_ROWS rows (rich lays a table out at 0.3 ms a row) the tables go out as lines,
+    unmeasured: every name whole, every figure the JSON's."""
     import json
 
-    from tftools.render import monitor
+    from tftools.render import fitted
 
-    monkeypatch.setattr(monitor, "MAX_LAID_OUT_ROWS", 2)
+    monkeypatch.setattr(fitted, "MAX_LAID_OUT_ROWS", 2)
     text = tfx("monitor", "-b", SAMPLE_BAGS["ros1"])
     figures = json.loads(tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "-f", "json").stdout)
     assert text.code == 0, text.stderr
-    rows = {tuple(line.split()[:2]): line.split() for line in text.stdout.splitlines() if len(line.split()) > 4}
+    rows = {
+        tuple(line.split(" by ")[0].split()[-3::2]): line.split() for line in text.stdout.splitlines() if " -> " in line
+    }
     for edge in figures["edges"]:
         row = rows[(edge["parent"], edge["child"])]
-        assert row[3] == str(edge["count"])
-        assert row[4] == ("static" if edge["static"] else f"{edge['rate_hz']:.2f}")
+        assert row[0] == str(edge["count"])
+        assert row[1] == ("static" if edge["static"] else f"{edge['rate_hz']:.2f}")
     assert "Frames:" in text.stdout and "All Broadcasters:" in text.stdout

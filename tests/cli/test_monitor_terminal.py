@@ -13,7 +13,7 @@ import pytest
 
 from tests.bags import TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, tfx
-from tests.cli.terminal import REPO, on_terminal, rows, table_cells
+from tests.cli.terminal import REPO, lines_rows, on_terminal, table_cells
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 
@@ -32,34 +32,43 @@ def truth() -> dict[str, object]:
 
 
 @pytest.mark.parametrize("columns", [80, 120])
-def test_names_are_never_cut(truth: dict[str, object], columns: int) -> None:
+def test_names_are_never_cut_nor_folded(truth: dict[str, object], columns: int) -> None:
+    """Where the table does not fit (its natural width is ~150 columns), one line an edge: the figures,
+    then the names whole; a name that does not fit the line goes whole onto the next, under the names."""
     code, screen = on_terminal(["monitor", "-b", BAG], columns)
     assert code == 0, screen
     assert "\u2026" not in screen  # nothing cut short with an ellipsis
     tables = screen[screen.index("Frames:") :].splitlines()
-    assert max(len(line) for line in tables) <= columns  # the tables fit: the terminal wraps none of their lines
+    assert max(len(line) for line in tables) <= columns  # the terminal wraps none of their lines
 
-    frames = rows(table_cells(screen, "Frames:"), header_lines=2, key=3)
-    assert all(len(row) == 9 for row in frames)
-    shown = {(row[0], row[1], row[2]) for row in frames}
     edges = truth["edges"]
     assert isinstance(edges, list)
-    assert shown == {(e["parent"], e["child"], ", ".join(e["authorities"])) for e in edges}
+    frames = lines_rows(screen, "Frames:", "Samples")
+    assert [names for _, names in frames] == [
+        f"{e['parent']} -> {e['child']} by {', '.join(e['authorities'])}" for e in edges
+    ]
+    for (figures, _), e in zip(frames, edges, strict=True):
+        assert figures[:2] == [str(e["count"]), "static" if e["static"] else f"{e['rate_hz']:.2f}"]
+        assert len(figures) == (2 if e["static"] else 6)
+    first_lines = [line for line in tables if line.lstrip()[:1].isdigit()]
+    assert all(f"{e['parent']} -> {e['child']}" in line for e, line in zip(edges, first_lines, strict=False))
 
-    broadcasters = rows(table_cells(screen, "All Broadcasters:"), header_lines=2, key=1)
     authorities = truth["authorities"]
     assert isinstance(authorities, list)
-    assert {row[0] for row in broadcasters} == {a["authority"] for a in authorities}
-    for row in broadcasters:
-        edges_of = next(a["edges"] for a in authorities if a["authority"] == row[0])
-        assert [name.strip() for name in row[-1].split(",")] == [child for _, child in edges_of]
+    broadcasters = lines_rows(screen, "All Broadcasters:", "Messages")
+    assert [names for _, names in broadcasters] == [
+        f"{a['authority']}: {', '.join(child for _, child in a['edges'])}" for a in authorities
+    ]
+    assert "Jitter: standard deviation of the intervals between stamps" in " ".join(tables)
 
 
-def test_a_wide_terminal_folds_nothing() -> None:
-    """At 120 columns every name of the sample robot fits on its line: one line per edge."""
-    code, screen = on_terminal(["monitor", "-b", BAG], 120)
+def test_a_wide_terminal_gets_the_table() -> None:
+    """At 200 columns the table fits: a row a line, every name in its column, the headers on one line."""
+    code, screen = on_terminal(["monitor", "-b", BAG], 200)
     lines = table_cells(screen, "Frames:")
-    assert code == 0 and all(line[3] for line in lines[2:])  # every line has its samples: no folded name
+    assert code == 0 and lines[0][:4] == ["Parent", "Frame", "published by", "Samples"]
+    assert all(line[3] for line in lines[1:])  # every line has its samples: no folded name
+    assert {line[1] for line in lines[1:]} >= {"camera_optical_frame", "left_wheel", "right_wheel"}
 
 
 def test_a_simulated_clock_header_is_two_lines(tfx, tmp_path: Path) -> None:

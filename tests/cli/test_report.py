@@ -5,15 +5,26 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
-from tests.analysis.wtf_scenes import simulated, write
+from tests.analysis.wtf_scenes import START, simulated, write
 from tests.bags import BagFormat
 from tests.cli.conftest import SAMPLE_BAGS
 from tests.cli.test_bad_input import check_stderr
-from tests.render.report_scenes import EKF_STOPS, GAP, REPARENTED, page_data, troubled_bags
+from tests.cli.test_filter import scan, sensor_bags
+from tests.render.report_scenes import (
+    EKF_STOPS,
+    GAP,
+    REPARENTED,
+    page_data,
+    troubled_bags,
+    troubled_sensors,
+    troubled_tf,
+)
+from tftools.core.time import NS_PER_S
 
 FORMATS = list(SAMPLE_BAGS)
 
@@ -155,3 +166,25 @@ def test_an_edge_names_no_delay_where_the_clocks_give_none(tfx, tmp_path: Path) 
     assert "Delays unavailable" in html
     labels = re.findall(r'<div class="row edge".*?<small>(.*?)</small>', html)
     assert labels and all("Hz" in label and "delay" not in label for label in labels)
+
+
+def test_the_3d_view_and_the_timelines_count_from_one_zero(tfx, tmp_path: Path) -> None:
+    """A scan stamped 2 s before the first tf starts the timelines' bins before their zero (on the Nav2
+    TurtleBot 4 recording the 3D view counted from there, and a finding's click showed it 5 s early): the
+    3D view's times are seconds from the same zero as the timelines' and the findings'."""
+
+    def early_scan(store: Any) -> list[tuple[str, str, int, object]]:
+        stamp = START - 2 * NS_PER_S
+        return [("/scan", "sensor_msgs/msg/LaserScan", stamp + 5_000_000, scan(store, "laser", stamp))]
+
+    bags = sensor_bags(tmp_path, troubled_tf(), lambda store: early_scan(store) + troubled_sensors(store))
+    page = tmp_path / "report.html"
+    tfx("report", "-b", bags["ros1"], "-o", page)
+    (data,) = page_data(page)
+    assert data["axis"]["start"] < -1.9  # the bins begin at the early scan
+    zero = re.search(r"Time in seconds from ([0-9.]+)", page.read_text())
+    assert zero is not None and float(zero.group(1)) == START / NS_PER_S
+    scene = data["scene3d"]
+    assert [float(stamp) - START / NS_PER_S for stamp in scene["stamps"]] == pytest.approx(scene["times"], abs=1e-6)
+    stale = next(f for f in data["findings"] if f["code"] == "stale")
+    assert stale["from"] == pytest.approx(EKF_STOPS - 0.02)  # the finding, on the same axis

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -239,3 +240,31 @@ def test_missing_bag_writes_nothing(tfx, tmp_path: Path, monkeypatch: pytest.Mon
     assert "nope.bag" in result.stderr and "Traceback" not in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+def test_rankdir_is_taken_in_either_case(tfx) -> None:
+    """Graphviz's rankdir is upper case; ``--rankdir lr`` means the same and is not refused for its case."""
+    lower = tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "--rankdir", "lr", "-f", "dot", "-o", "-")
+    upper = tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "--rankdir", "LR", "-f", "dot", "-o", "-")
+    assert lower.code == 0 and "rankdir=LR" in lower.stdout and lower.stdout == upper.stdout
+
+
+def test_notes_are_named_notes_and_decorate_no_edge(tfx) -> None:
+    """On the Nav2 TurtleBot 4 recording: the statics_early note is in the legend, as a note (the word wtf
+    and the report use, not "info"), and its 29 static edges stay dashed blue, untagged; warnings still
+    colour their edges."""
+    from tests.corpus.fetch import shared_dir
+    from tftools.render.graph import STATIC_INK
+
+    bag = shared_dir() / "corpus" / "ros2_mcap_nav2_turtlebot4.mcap"
+    if not bag.exists():
+        pytest.skip(f"{bag.name} is not in {bag.parent} ($TFTOOLS_SHARED_DIR/corpus)")
+    result = tfx("view-frames", "-b", bag, "-f", "dot", "-o", "-")
+    assert result.code == 0 and result.stderr.endswith(" notes\n"), result.stderr
+    dot = result.stdout
+    assert "info" not in re.sub(r'tooltip="[^"]*"', "", dot) and re.search(r"Problems: \d+ warnings?, 3 notes", dot)
+    edges = [line for line in dot.splitlines() if " -> " in line and "[label=" in line]
+    static = [line for line in edges if "style=dashed" in line]
+    assert len(static) == 29 and all(f'color="{STATIC_INK}"' in line for line in static)
+    assert not any("statics_early" in line or f'color="{COLOURS[Severity.info]}"' in line for line in edges)
+    assert any(f'color="{COLOURS[Severity.warning]}"' in line for line in edges)  # the gaps' rate warnings

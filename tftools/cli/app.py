@@ -6,6 +6,7 @@ application (``tftools.cli.commands``), which imports only the subcommand it run
 from __future__ import annotations
 
 import os
+import re
 import shlex
 import sys
 from collections.abc import Iterator
@@ -132,7 +133,29 @@ def _usage_error(error: typer.TyperException) -> int:
     context = getattr(error, "ctx", None)
     command = getattr(context, "command_path", "") or "tfx"
     message = error.format_message() if hasattr(error, "format_message") else str(error)
-    return _failed(UsageError(message, _forgotten_bag_option(message) or f"see {command} --help"))
+    message, meant = _meant_option(message, getattr(context, "command", None))
+    return _failed(UsageError(message, _forgotten_bag_option(message) or f"{meant}see {command} --help"))
+
+
+#: Options a user may write for one tfx has: the wrong word, and the right option.
+_MEANT = {
+    "--time": ("--at", "--start"), "--stamp": ("--at", "--start"), "--hz": ("--rate",), "--frequency": ("--rate",),
+    "--out": ("--output",),
+}  # fmt: skip
+
+
+def _meant_option(message: str, command: object) -> tuple[str, str]:
+    """Click's "No such option: --time (Possible options: ...)" as the message without its list, and "did
+    you mean --at? " where the command has the option meant (else click's possible options)."""
+    found = re.fullmatch(r"No such option: (\S+)(?: \(Possible options: (.*)\)|\s*Did you mean (\S+)\?)?", message)
+    if found is None:
+        return message, ""
+    given, possible = found.group(1), found.group(2) or found.group(3) or ""
+    options = {o for param in getattr(command, "params", []) for o in param.opts}
+    meant = [o for o in _MEANT.get(given.split("=")[0], ()) if o in options]
+    if meant:
+        return f"No such option: {given}", f"did you mean {meant[0]}? "
+    return f"No such option: {given}", f"did you mean {possible.replace(', ', ' or ')}? " if possible else ""
 
 
 def _forgotten_bag_option(message: str) -> str:

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import ast
 import importlib
+import inspect
+import re
 from collections.abc import Iterator, MutableMapping
 from pathlib import Path
 from typing import Any
@@ -18,7 +20,9 @@ from typer import _click as click  # the click typer's commands are made of (typ
 from tftools.cli import version_line
 
 #: Each a module of ``tftools.cli`` (``view-frames``: ``view_frames``): its ``command``, and ``CONTEXT`` if any.
-SUBCOMMANDS = ("diff", "echo", "filter", "frames", "monitor", "report", "view-frames", "wtf", "static")
+#: In the order a new user needs them (``tfx --help`` lists them so): check, look, the ROS tools' counterparts,
+#: then comparing and writing.
+SUBCOMMANDS = ("wtf", "report", "frames", "echo", "monitor", "view-frames", "filter", "diff", "static")
 
 
 class _Subcommands(MutableMapping[str, Any]):
@@ -36,9 +40,8 @@ class _Subcommands(MutableMapping[str, Any]):
             info = typer.models.CommandInfo(
                 name, callback=module.command, context_settings=getattr(module, "CONTEXT", None)
             )
-            self._built[name] = typer.main.get_command_from_info(
-                info, pretty_exceptions_short=True, rich_markup_mode="rich"
-            )
+            command = typer.main.get_command_from_info(info, pretty_exceptions_short=True, rich_markup_mode="rich")
+            self._built[name] = _readable_at_80(command)
         return self._built[name]
 
     def __setitem__(self, name: str, command: Any) -> None:
@@ -78,12 +81,71 @@ class _LazyGroup(typer.core.TyperGroup):
             self._listing = False
 
 
+#: A choice's values are shown as its type where they are this short, else its name (the help lists them).
+_CHOICES_SHOWN = 16
+#: What an option's value is, where its help names it so ("Begin at TIME"): rather than ``<str>``.
+_VALUES = {"--bag": "BAG", "--start": "TIME", "--end": "TIME", "--at": "TIME", "--topic": "TOPIC", "--sensor": "TOPIC",
+           "--target": "FRAME", "--output": "FILE"}  # fmt: skip
+
+
+def unwrapped(text: str) -> str:
+    """A docstring's paragraphs each on one line: rich wraps them to the terminal (lines broken in the
+    source at 100 columns would be broken again at 80, raggedly)."""
+    paragraphs = [" ".join(line.strip() for line in p.splitlines()) for p in inspect.cleandoc(text).split("\n\n")]
+    return "\n\n".join(_examples(p) if p.startswith("Examples:") else p for p in paragraphs)
+
+
+def _examples(paragraph: str) -> str:
+    """An "Examples:" paragraph (each example in ``[cyan]...[/]``, what follows it a remark) as one example a
+    line, indented, kept as it is by click (its ``\\b``)."""
+    from rich.text import Text
+
+    found = re.findall(r"\[cyan\](.*?)\[/\]([^\[]*)", paragraph)
+    lines = [f"  {Text.from_markup(example).plain} {remark.strip(' ,')}".rstrip() for example, remark in found]
+    return "\b\nExamples:\n" + "\n".join(lines)
+
+
+def _plain(text: str) -> str:
+    """Help text without rich's markup (``[cyan]...[/]``, ``\\[fleet]``), click's ``\\b`` kept (rich drops it)."""
+    from rich.text import Text
+
+    return "\n\n".join(Text.from_markup(p).plain if p[:1] != "\b" else p for p in text.split("\n\n"))
+
+
+def _readable_at_80(command: Any) -> Any:
+    """``command`` with its help as click lays it out (options and their help in two columns, which
+    read at 80 columns where rich's table of five squeezes the help into 20), its docstring unwrapped
+    and its choices' long lists of values (``<text|json|jsonl|junit>``) named by their option instead."""
+    command.rich_markup_mode = None
+    command.help = _plain(unwrapped(command.help or ""))
+    for param in command.params:
+        if getattr(param, "help", None):
+            param.help = _plain(param.help)
+    usage = [command.options_metavar]
+    for param in command.params:
+        if param.param_type_name == "argument":  # TARGET SOURCE, [BAG]...: not {target} {source}, [BAG] for many
+            name = (param.metavar or param.name or "").upper()
+            param.metavar = name
+            usage.append((name if param.required else f"[{name}]") + ("..." if param.nargs != 1 else ""))
+        named = [_VALUES[o] for o in param.opts if o in _VALUES]
+        if named and param.metavar is None:
+            param.metavar = named[0]
+        choices = getattr(param.type, "choices", None)
+        if choices and param.metavar is None:
+            values = "|".join(str(getattr(c, "value", c)) for c in choices)
+            param.metavar = (
+                f"<{values}>" if len(values) <= _CHOICES_SHOWN else max(param.opts, key=len).strip("-").upper()
+            )
+    command.collect_usage_pieces = lambda ctx: usage
+    return command
+
+
 def _summary(name: str) -> str:
     """The docstring of the subcommand's ``command``, from its module's source (nothing imported)."""
     source = Path(__file__).with_name(f"{name.replace('-', '_')}.py").read_text(encoding="utf-8")
     for node in ast.parse(source).body:
         if isinstance(node, ast.FunctionDef) and node.name == "command":
-            return ast.get_docstring(node) or ""
+            return unwrapped(ast.get_docstring(node) or "")
     return ""
 
 
@@ -92,9 +154,9 @@ app = typer.Typer(
     name="tfx",
     help="Diagnose ROS tf trees: on bag files (ROS1 .bag, ROS2 .db3/.mcap, MCAP) in seconds, and live "
     "on ROS1 and ROS2 systems (without -b), with tf2's exact semantics.\n\nExamples:\n\n"
-    "  tfx frames -b robot.bag\n\n"
-    "  tfx echo map base_link -b robot.bag --rate 2\n\n"
     "  tfx wtf logs/*.bag\n\n"
+    "  tfx report -b robot.bag -o robot.html\n\n"
+    "  tfx echo map base_link -b robot.bag --rate 2\n\n"
     "  tfx monitor --ros2\n\n"
     "Exit codes: 0 fine, 1 problems found (failed lookups, checker errors), 2 unusable input.",
     no_args_is_help=True,

@@ -68,8 +68,11 @@ def say_failure(error: TfToolsError) -> None:
 
 
 def hinted(message: str, hint: str) -> str:
-    """``message (hint)``, or the message alone when there is no hint."""
-    return f"{message} ({hint})" if hint else message
+    """``message (hint)``, or the message alone when there is no hint; ``message; hint`` where parentheses
+    would nest (a hint with its own) or follow others (a message that ends with some)."""
+    if not hint:
+        return message
+    return f"{message}; {hint}" if "(" in hint or message.endswith(")") else f"{message} ({hint})"
 
 
 #: An error line longer than this is cut (tf2's loop error names every frame of a 10,000-frame chain).
@@ -100,10 +103,21 @@ LARGE_BYTES = 20_000_000
 
 
 @contextmanager
-def progress_bar(bags: Sequence[str]) -> Iterator[ProgressCallback | None]:
-    """A bar on stderr of the bytes read, when the local ``bags`` are large and stderr is a terminal."""
+def progress_bar(bags: Sequence[str], then: str = "analysing") -> Iterator[ProgressCallback | None]:
+    """A bar on stderr of the bytes read, when the local ``bags`` are large and stderr is a terminal; once
+    all is read, it says so and ``then`` (what runs next: seconds of checks on a long bag), and pulses."""
     with _bar("reading", None, enabled=sum(local_size(p) for p in bags) > LARGE_BYTES) as update:
-        yield None if update is None else lambda done, total: update(completed=done, total=total)
+        if update is None:
+            yield None
+            return
+
+        def read(done: int, total: int) -> None:
+            if total and done >= total:
+                update(completed=done, total=None, description=f"read {total / 1e6:.1f} MB, {then}")
+            else:
+                update(completed=done, total=total)
+
+        yield read
 
 
 @contextmanager
@@ -126,7 +140,7 @@ def _bar(label: str, total: int | None, enabled: bool) -> Iterator[Callable[...,
 
     counter = DownloadColumn() if total is None else MofNCompleteColumn()
     with Progress(
-        TextColumn(label), BarColumn(), counter, TimeRemainingColumn(), console=stderr, transient=True
+        TextColumn("{task.description}"), BarColumn(), counter, TimeRemainingColumn(), console=stderr, transient=True
     ) as bar:
         yield functools.partial(bar.update, bar.add_task(label, total=total))
 

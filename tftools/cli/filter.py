@@ -64,7 +64,7 @@ def command(
     from tftools.sources.errors import NoStampedDataError
 
     cache_time, timeout = from_sec(cache), from_sec(wait) if wait is not None else None
-    with progress_bar(bags or []) as progress:
+    with progress_bar(bags or [], "replaying the filter") as progress:
         if bags:
             filtering, read = functools.partial(filter_recording, bags, progress=progress), ", ".join(bags)
         else:

@@ -39,7 +39,9 @@ def command(
     play: Annotated[
         bool, typer.Option("--play", help="Replay the bag on a simulated clock and refresh the table live.")
     ] = False,
-    rate: Annotated[float, typer.Option("--rate", "-r", help="With --play: replay speed, 1 = real time.")] = 1.0,
+    rate: Annotated[
+        float | None, typer.Option("--rate", "-r", help="With --play: replay speed (default 1, real time).")
+    ] = None,
     window: Annotated[float, typer.Option(help="Live: the table covers the last WINDOW seconds.")] = 10.0,
     duration: Annotated[float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.")] = None,
     fmt: Annotated[
@@ -59,7 +61,8 @@ def command(
 ) -> None:
     """Rates, jitter, gaps and delays of every edge and publisher, as tf_monitor shows them.
 
-    The delay is how late a transform arrives behind its stamp (record time minus stamp);
+    The jitter is how irregular an edge's stamps are: the standard deviation of the intervals
+    between them. The delay is how late a transform arrives behind its stamp (record time minus stamp);
     with TARGET and SOURCE, the chain between them and its net delay: how far behind the
     newest transform between them lags, the oldest edge deciding (what "extrapolation into
     the future" errors are about). On a bag: over the whole recording, or --start/--end
@@ -79,7 +82,9 @@ def command(
     trace = MonitorTrace() if plot is not None else None
     if (target is None) != (source is None):
         raise UsageError("give two frames or none", "tfx monitor TARGET SOURCE, e.g. tfx monitor map base_link")
-    rate = rate_hz(rate, example="2")
+    if rate is not None and not play:  # said, not ignored: the table covers the whole bag whatever the speed
+        raise UsageError("--rate is the replay speed of --play", "tfx monitor -b BAG --play --rate 2")
+    rate = rate_hz(rate if rate is not None else 1.0, example="2")
     window = positive_seconds(window, "--window", "5")
     if duration is not None:
         duration = positive_seconds(duration, "--duration", "10")

@@ -34,9 +34,8 @@ Bags = Annotated[
     typer.Option(
         "--bag",
         "-b",
-        help="A bag to read: ROS1 .bag, ROS2 .db3/.mcap file or bag directory, local or a URL "
-        "(s3://, gs://, az://, http(s)://; needs tftools\\[fleet]). "
-        "Repeat for a split recording. Without it, tfx listens to a live system.",
+        help="A bag: ROS1 .bag, ROS2 .db3/.mcap or bag directory, or a URL (s3://, gs://, az://, http(s)://; "
+        "needs tftools\\[fleet]). Repeat for a split recording. Without -b: the live system.",
         callback=_bags,
     ),
 ]
@@ -52,8 +51,7 @@ Tf2 = Annotated[
     Semantics | None,
     typer.Option(
         "--tf2",
-        help="Answer as ROS 1's or ROS 2's tf2 (they differ on repeated stamps, statics after dynamics, "
-        "error wording); default: the recording's own (ros1 for .bag, ros2 for .db3/.mcap), or the live system's.",
+        help="Answer as ROS 1's or ROS 2's tf2 (default: the recording's own, or the live system's).",
     ),
 ]
 End = Annotated[str | None, typer.Option(help="Stop at TIME (same forms as --start).")]
@@ -61,41 +59,39 @@ Ros = Annotated[
     bool | None,
     typer.Option(
         "--ros1/--ros2",
-        help="Live: ROS1 (the master at ROS_MASTER_URI) or ROS2 (DDS domain ROS_DOMAIN_ID). "
-        "Default: as the environment says (ROS_VERSION, ROS_MASTER_URI, ROS_DOMAIN_ID).",
+        help="Live: ROS1 (ROS_MASTER_URI) or ROS2 (ROS_DOMAIN_ID); default: as the environment says.",
     ),
 ]
 SimTime = Annotated[
     bool | None,
     typer.Option(
         "--use-sim-time/--wall-time",
-        help="Live: follow /clock (e.g. during `rosbag play --clock`), or the wall clock. "
-        "Default: the master's /use_sim_time parameter (ROS1), the wall clock (ROS2).",
+        help="Live: follow /clock (as during rosbag play --clock) or the wall clock; default: the master's "
+        "/use_sim_time (ROS1), the wall clock (ROS2).",
     ),
 ]
 Listen = Annotated[float, typer.Option("--duration", "-d", help="Live: seconds to listen before answering.")]
 Paths = Annotated[
     list[str] | None,
     typer.Argument(
-        help="Bags to check, each on its own: a fleet (e.g. logs/*.bag). ROS1 .bag, ROS2 .db3/.mcap or bag directory, "
-        "local or a URL (s3://bucket/fleet/ checks every recording below it, 's3://bucket/*.bag' the matches; "
-        "needs tftools\\[fleet]).",
+        help="Bags, each on its own (a fleet: logs/*.bag), as -b takes them; a URL prefix (s3://bucket/fleet/) "
+        "means every recording below it.",
         metavar="BAG",
     ),
 ]
 Target = Annotated[
     str | None,
     typer.Option(
-        help="Check sensor data (messages with a header) against tf in this frame "
-        "(default: odom or map, else the tree's root; so too where a recording lacks the frame).",
+        help="Check sensor data (messages with a header) against tf in this frame (default: odom or map, "
+        "else the tree's root).",
     ),
 ]
 Sensors = Annotated[
     list[str] | None,
     typer.Option(
         "--sensor",
-        help="Check this topic's data against tf (repeat for more). Default: every topic of a bag whose messages "
-        "start with a Header; live, none (listening to every camera would load the network).",
+        help="Check this topic's data against tf (repeat for more; default: a bag's every topic with a Header, "
+        "live none).",
     ),
 ]
 

@@ -48,10 +48,12 @@ def command(
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
 ) -> None:
-    """Write one HTML page to look at rather than read: the tree as view-frames draws it (problems in
-    colour), each edge over time (rate, delay, samples, gaps, re-parentings) on one time axis, tfx wtf's
-    findings linked to the edges and times they are about, the sensor data a tf2 MessageFilter would have
-    dropped and when, and the recording's facts (files, formats, clocks, span).
+    """Write one HTML page to look at: findings, tree, each edge over time, every frame in 3D.
+
+    The tree as view-frames draws it, problems in colour; each edge over time (rate, delay, samples,
+    gaps, re-parentings) on one time axis; tfx wtf's findings linked to the edges and times they are
+    about; every frame in 3D over time; the sensor data a tf2 MessageFilter would have dropped and
+    when; and the recording's facts: files, formats, clocks, span.
 
     The file holds everything it shows (scripts and styles too): it opens in any browser without a
     network or a server, and can be attached to a bug report. Click a finding to zoom every timeline to

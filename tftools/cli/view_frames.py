@@ -61,7 +61,8 @@ def command(
         ),
     ] = None,
     rankdir: Annotated[
-        RankDir, typer.Option(help="Tree direction: TB top-down, LR left-right (wide trees), BT, RL.")
+        RankDir,
+        typer.Option(help="Tree direction: TB top-down, LR left-right (wide trees), BT, RL.", case_sensitive=False),
     ] = RankDir.TB,
     brief: Annotated[bool, typer.Option("--brief", help="Short edge labels: publisher and rate only.")] = False,
     topics: options.Topics = None,
@@ -86,8 +87,7 @@ def command(
 
     Exit codes: 0 drawn, no errors; 1 drawn with errors shown (or dot missing); 2 unusable input.
 
-    Examples: [cyan]tfx view-frames -b robot.bag[/]
-
+    Examples: [cyan]tfx view-frames -b robot.bag[/],
     [cyan]tfx view-frames -b robot.bag -o tree.svg --rankdir LR --brief[/]
     """
     from tftools.analysis.findings import Severity

@@ -66,9 +66,8 @@ def command(
         str | None,
         typer.Option(
             envvar="DASK_SCHEDULER_ADDRESS",
-            help="Check each recording as a task on this Dask cluster (its scheduler's address, e.g. "
-            "tcp://10.0.0.5:8786; needs pip install 'tftools\\[fleet]' here and tftools on the workers). A task that "
-            "fails runs once more; one whose workers die is retried as the scheduler's allowed-failures says.",
+            help="Check each recording as a task on this Dask cluster, its scheduler's address (e.g. "
+            "tcp://10.0.0.5:8786; needs tftools\\[fleet] here and tftools on the workers).",
         ),
     ] = None,
     timeout: Annotated[
@@ -283,7 +282,7 @@ def _check_groups(
 
 def _bytes_bar(todo: list[list[str]], fleet: Fleet) -> AbstractContextManager[ProgressCallback | None]:
     """One local recording: a bar of the bytes read, when it is large."""
-    return progress_bar(todo[0]) if len(todo) == 1 and fleet.dask is None else nullcontext()
+    return progress_bar(todo[0], "checking") if len(todo) == 1 and fleet.dask is None else nullcontext()
 
 
 def _resumed(path: Path) -> list[BagReport]:

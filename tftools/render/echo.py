@@ -53,9 +53,27 @@ def fixed(value: float, precision: int) -> str:
     return f"{value:.{precision}{'f' if abs(value) < FIXED_LIMIT or not math.isfinite(value) else 'e'}}"
 
 
+#: How far (in units of the last place) a printed number may be from the double: the one or two ulps of
+#: rounding that composing rotations leaves (0.4999999999999999 for 0.5), far below any instrument; and
+#: below what a number is 0 (the 1.1e-16 m a rotation by 90 degrees leaves of an exact 0).
+ULPS, ZERO = 2, 1e-15
+
+
 def _exact(values: Iterable[float]) -> list[str]:
-    """Each number as Python's shortest text that reads back to the same double."""
-    return [repr(float(v)) for v in values]
+    """Each number as the shortest text of at most 15 significant digits within ``ULPS`` of it (0.5, not the
+    0.4999999999999999 that composing rotations makes of it; 0.0 below ``ZERO``), else Python's shortest
+    exact text."""
+    return [_shortest(float(v)) for v in values]
+
+
+def _shortest(value: float) -> str:
+    if abs(value) < ZERO:
+        return "0.0"
+    for digits in range(1, 16):
+        text = f"{value:.{digits}g}"
+        if abs(float(text) - value) <= ULPS * math.ulp(value):
+            return repr(float(text))
+    return repr(value)
 
 
 def write_static(series: EchoSeries, out: IO[str]) -> None:

@@ -13,6 +13,7 @@ from tftools.analysis.filter import KEEP, FilterReport, StreamReport
 from tftools.core.figures import seconds
 from tftools.render import jsonl
 from tftools.render.escape import printable
+from tftools.render.fitted import Fitted, Paragraphs
 
 
 def renderable(report: FilterReport, header: str = "") -> RenderableType:
@@ -26,7 +27,7 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
         ("Wait p50 / p99 / max (s)", "right"), ("Never", "right"), ("Why never", "left"), ("Undecided", "left"),
         ("Waited for", "left"), (f"To keep {KEEP:.1%}", "left"),
     ):  # fmt: skip
-        table.add_column(name, justify=justify)  # type: ignore[arg-type]
+        table.add_column(name, justify=justify, no_wrap=True)  # type: ignore[arg-type]
     for s in report.streams:
         table.add_row(
             Text(printable(s.topic)),
@@ -42,11 +43,37 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
             Text(_advice(s)),
         )
     parts: list[RenderableType] = [Text(header, style="dim")] if header else []
-    parts.append(table)
+    parts.append(Fitted(table, Paragraphs(Text(title, style="bold"), [_paragraph(s) for s in report.streams])))
     if report.skipped:
         skipped = printable(", ".join(report.skipped))
         parts.append(Text(f"with a header but no frame_id (not tied to tf): {skipped}", style="dim"))
     return Group(*parts)
+
+
+def _paragraph(s: StreamReport) -> list[Text]:
+    """A stream as words, its clauses apart by semicolons: topic and frames, counts, the wait, why never,
+    the edge waited for, the advice. A name is one word: never split."""
+    clauses = [f"{s.messages} messages", f"{s.on_arrival} on arrival"]
+    if s.later:
+        wait = ", ".join(f"{p} {seconds(s.wait[p]):.3f} s" for p in ("p50", "p99", "max"))
+        clauses.append(f"{s.later} later, waiting {wait}")
+    else:
+        clauses.append("0 later")
+    clauses.append(f"{s.never} never" + (f": {_counted(s.reasons)}" if s.never else ""))
+    if s.undecided:
+        clauses.append(f"undecided: {_counted(s.undecided)}")
+    words = [Text(printable(s.topic), style="bold"), Text("in"), *(Text(printable(f)) for f in s.frame_ids)]
+    words[-1].append(":")
+    words += [Text(word) for word in "; ".join(clauses).split(" ")]
+    if s.late_edge is not None:
+        parent, child = (Text(printable(name)) for name in s.late_edge)
+        child.append(",")
+        behind = f"{seconds(s.late_by):.3f} s behind".split(" ")
+        words[-1].append(";")
+        words += [Text("waited"), Text("for"), parent, Text("->"), child, *(Text(w) for w in behind)]
+    words[-1].append(";")
+    words += [Text(word) for word in f"to keep {KEEP:.1%}: {_advice(s)}".split(" ")]
+    return words
 
 
 def _counted(reasons: dict[str, int]) -> str:

@@ -123,12 +123,19 @@ def _text_attribute(text: str) -> str:
     return shown.replace("\\", "\\\\").replace('"', '\\"')
 
 
+def _marked(graph: FrameGraph, problems: Sequence[int]) -> list[int]:
+    """The problems drawn on a frame or an edge: errors and warnings. A note is in the legend only: it
+    decorates nothing (the Nav2 recording's statics_early note tagged all 29 static edges, greyed)."""
+    return [i for i in problems if graph.findings[i].severity is not Severity.info]
+
+
 def _add_node(dot: graphviz.Digraph, graph: FrameGraph, node: GraphNode, ids: dict[str, str]) -> None:
-    severity = graph.severity(node.problems)
+    marked = _marked(graph, node.problems)
+    severity = graph.severity(marked)
     lines = [f"<B>{_name(node.name)}</B>"]
     if node.root:
         lines.append('<FONT POINT-SIZE="9" COLOR="#555555">root</FONT>')
-    lines += [_problem_line(graph, i) for i in node.problems]
+    lines += [_problem_line(graph, i) for i in marked]
     colour = COLOURS[severity] if severity else INK
     fill = FILLS[severity] if severity else ROOT_FILL if node.root else FRAME_FILL
     width = "2.5" if severity or node.root else "1"
@@ -138,10 +145,11 @@ def _add_node(dot: graphviz.Digraph, graph: FrameGraph, node: GraphNode, ids: di
 
 
 def _add_edge(dot: graphviz.Digraph, graph: FrameGraph, edge: GraphEdge, brief: bool, ids: dict[str, str]) -> None:
-    severity = graph.severity(edge.problems)
+    marked = _marked(graph, edge.problems)
+    severity = graph.severity(marked)
     lines = _brief_lines(edge) if brief else _full_lines(edge, graph.now)
     lines += [f'<FONT COLOR="{COLOURS[Severity.error]}">rejected: {n} x {code}</FONT>' for code, n in edge.rejected]
-    lines += [_problem_line(graph, i) for i in edge.problems]
+    lines += [_problem_line(graph, i) for i in marked]
     label = "".join(f'{line}<BR ALIGN="LEFT"/>' for line in lines)
     style = "dotted" if edge.stats is None else "dashed" if edge.static else "solid"
     colour = COLOURS[severity] if severity else STATIC_INK if edge.static else INK
@@ -180,8 +188,9 @@ def _brief_lines(edge: GraphEdge) -> list[str]:
     s = edge.stats
     if s is None:
         return []
-    who = _name(", ".join(s.authorities) or "?")
-    return [who, "<B>static</B>" if s.static else f"{s.rate_hz:.1f} Hz"]
+    if s.static:  # dashed blue says it; 29 labels "/tf_static static" widened the Nav2 TurtleBot 4's tree
+        return []
+    return [_name(", ".join(s.authorities) or "?"), f"{s.rate_hz:.1f} Hz"]
 
 
 def _problem_line(graph: FrameGraph, index: int) -> str:
@@ -237,7 +246,7 @@ def _problem_rows(graph: FrameGraph) -> list[str]:
         lines = textwrap.wrap(printable(finding.message), MESSAGE_WIDTH, max_lines=MESSAGE_LINES, placeholder=" ...")
         text = f'<BR ALIGN="LEFT"/>{HANGING_INDENT}'.join(_esc(line) for line in lines)
         follows = f"{HANGING_INDENT}follows from [{numbers[finding.cause]}]: " if finding.cause else ""  # beneath it
-        mark = f'<FONT COLOR="{colour}"><B>[{index + 1}] {finding.severity.value}</B></FONT>'
+        mark = f'<FONT COLOR="{colour}"><B>[{index + 1}] {finding.severity.noun}</B></FONT>'
         rows.append(_row(f"{follows}{mark} {text}"))
     return rows
 
@@ -251,7 +260,7 @@ def problem_summary(findings: Sequence[Finding]) -> str:
     """``"2 errors (explaining 21 more), 1 warning"``, or ``"no problems"``: findings that follow from another
     are counted with it."""
     shown = [s for s in Severity if any(f.severity is s for f in causes(findings))]
-    return ", ".join(tallied(findings, s, s.value) for s in shown) or "no problems"
+    return ", ".join(tallied(findings, s, s.noun) for s in shown) or "no problems"
 
 
 def _row(content: str) -> str:

@@ -3,13 +3,10 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Sequence
 from typing import IO, Any
 
-from rich.console import Console, ConsoleOptions, Group, RenderableType, RenderResult
-from rich.measure import Measurement
-from rich.segment import Segment
-from rich.style import Style
+from rich.console import Group, RenderableType
 from rich.table import Table
 from rich.text import Text
 
@@ -19,6 +16,7 @@ from tftools.core.figures import seconds
 from tftools.core.time import to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
+from tftools.render.fitted import Fitted, Lines, Row
 
 
 def _sec(ns: float) -> str:
@@ -26,96 +24,75 @@ def _sec(ns: float) -> str:
     return "-" if math.isnan(ns) else f"{seconds(ns):.4f}"
 
 
-def _table(
-    title: str, names: Sequence[str], numbers: Sequence[str], names_after: Sequence[str], compact: bool
-) -> Table:
-    """A table whose name columns (frames, publishers) are never cut: on a narrow terminal (``compact``)
-    the figures' headers take two lines and the columns one space apart, and names fold onto more lines."""
-    padding = (0, 1, 0, 0) if compact else (0, 1)
-    table = Table(title=title, title_justify="left", title_style="bold", header_style="bold", box=None, padding=padding)
+#: What the figures are, said once above the lines of a narrow terminal (the table's headers say it wide).
+KEY = "Rate in Hz; Jitter: standard deviation of the intervals between stamps; Gap: the largest; times in s"
 
-    def header(name: str) -> str:
-        return name if compact else name.replace("\n", " ")
 
+def _table(title: str, names: Sequence[str], numbers: Sequence[str], names_after: Sequence[str]) -> Table:
+    """A table whose name columns (frames, publishers) are never cut or folded: it is shown only where it
+    fits (``fitted.Fitted``)."""
+    table = Table(title=title, title_justify="left", title_style="bold", header_style="bold", box=None, padding=(0, 1))
     for name in names:
-        table.add_column(header(name), overflow="fold")
+        table.add_column(name, no_wrap=True)
     for name in numbers:
-        table.add_column(header(name), justify="right", no_wrap=True)
+        table.add_column(name, justify="right", no_wrap=True)
     for name in names_after:
-        table.add_column(header(name), overflow="fold")
+        table.add_column(name, no_wrap=True)
     return table
 
 
-class _Fitted:
-    """A table as wide as it needs where the width allows (tf_monitor's headers on one line), else compact."""
-
-    def __init__(self, table: Callable[[bool], Table]) -> None:
-        self._table = table
-
-    def __rich_console__(self, console: Console, options: ConsoleOptions) -> RenderResult:
-        wide = self._table(False)
-        if wide.row_count > MAX_LAID_OUT_ROWS:
-            yield from _plain(wide)
-            return
-        natural = Measurement.get(console, options.update_width(1_000_000), wide).maximum  # unclamped
-        yield wide if natural <= options.max_width else self._table(True)
+#: The figures' headers: tf_monitor's words.
+_RATE, _DELAY_MEAN, _DELAY_MAX = "Rate (Hz)", "Average Delay (s)", "Max Delay (s)"
 
 
-#: Past this many rows a table is written as plain columns: rich lays a table out at 0.3 ms a row, minutes
-#: for the 20,000 frames of a simulated fleet.
-MAX_LAID_OUT_ROWS = 2000
+def _edge_cells(e: EdgeStats) -> tuple[Text, Text, Text, list[Text]]:
+    """An edge's parent, child, publishers and figures (static edges have no rate, jitter, gap or delay)."""
+    long_interval = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
+    figures = [
+        Text(str(e.count)),
+        Text("static", style="cyan") if e.static else Text(f"{e.rate_hz:.2f}"),
+        Text("" if e.static else _sec(e.jitter)),
+        Text("" if e.static else _sec(e.longest_interval), style="yellow" if long_interval else ""),
+        Text("" if e.static else _sec(e.delay_mean)),
+        Text("" if e.static else _sec(e.delay_max)),
+    ]
+    publishers = printable(", ".join(e.authorities)) or "?"
+    by = Text(publishers, style="yellow" if len(e.authorities) > 1 else "magenta")
+    return Text(printable(e.parent)), Text(printable(e.child), style="bold"), by, figures
 
 
-def _plain(table: Table) -> Iterator[Segment]:
-    """``table``'s title, headers and rows in columns two spaces apart, names whole, without colours."""
-    columns = [[column.header if isinstance(column.header, str) else "", *column.cells] for column in table.columns]
-    texts = [[cell.plain if isinstance(cell, Text) else str(cell) for cell in cells] for cells in columns]
-    widths = [max(len(text) for text in column) for column in texts]
-    right = [column.justify == "right" for column in table.columns]
-    if isinstance(table.title, str):
-        yield Segment(table.title + "\n", Style(bold=True))
-    for row in zip(*texts, strict=True):
-        laid = zip(row, widths, right, strict=True)
-        cells = (text.rjust(width) if r else text.ljust(width) for text, width, r in laid)
-        yield Segment("  ".join(cells).rstrip() + "\n")
-
-
-#: The figures' headers: tf_monitor's words, on two lines where the width is short.
-_RATE, _DELAY_MEAN, _DELAY_MAX = "Rate\n(Hz)", "Average\nDelay (s)", "Max\nDelay (s)"
-
-
-def _edges_table(edges: Sequence[EdgeStats], compact: bool) -> Table:
-    numbers = ("Samples", _RATE, "Jitter\n(s)", "Largest\ngap (s)", _DELAY_MEAN, _DELAY_MAX)
-    table = _table("Frames:", ("Parent", "Frame", "published\nby"), numbers, (), compact)
+def _edges(edges: Sequence[EdgeStats]) -> Fitted:
+    numbers = ("Samples", _RATE, "Jitter (s)", "Largest gap (s)", _DELAY_MEAN, _DELAY_MAX)
+    table = _table("Frames:", ("Parent", "Frame", "published by"), numbers, ())
+    rows = []
     for e in edges:
-        long_interval = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
-        table.add_row(
-            Text(printable(e.parent)),
-            Text(printable(e.child), style="bold"),
-            Text(printable(", ".join(e.authorities)) or "?", style="yellow" if len(e.authorities) > 1 else "magenta"),
-            str(e.count),
-            Text("static", style="cyan") if e.static else f"{e.rate_hz:.2f}",
-            "" if e.static else _sec(e.jitter),
-            "" if e.static else Text(_sec(e.longest_interval), style="yellow" if long_interval else ""),
-            "" if e.static else _sec(e.delay_mean),
-            "" if e.static else _sec(e.delay_max),
-        )
-    return table
+        parent, child, by, figures = _edge_cells(e)
+        table.add_row(parent, child, by, *figures)
+        publishers = [Text(f"{a}," if k < len(e.authorities) - 1 else a, style=by.style) for k, a in enumerate(
+            printable(a) for a in e.authorities)] or [by]  # fmt: skip
+        rows.append(Row(figures, [Text.assemble(parent, " -> ", child), Text("by", style="dim"), *publishers]))
+    headers = ("Samples", "Rate", "Jitter", "Gap", "Delay", "Max")
+    return Fitted(table, Lines("Frames:", headers, "Parent -> Frame by publishers", rows, KEY))
 
 
-def _authorities_table(authorities: list[AuthorityStats], static: set[tuple[str, str]], compact: bool) -> Table:
+def _authorities(authorities: list[AuthorityStats], static: set[tuple[str, str]]) -> Fitted:
     numbers = ("Messages", _RATE, _DELAY_MEAN, _DELAY_MAX)
-    table = _table("All Broadcasters:", ("Node",), numbers, ("Frames",), compact)
+    table = _table("All Broadcasters:", ("Node",), numbers, ("Frames",))
+    rows = []
     for a in authorities:
-        table.add_row(
-            Text(printable(a.authority) or "?", style="magenta"),
-            str(a.messages),
-            Text("static", style="cyan") if set(a.edges) <= static else f"{a.rate_hz:.2f}",
-            _sec(a.delay_mean),
-            _sec(a.delay_max),
-            Text(printable(", ".join(child for _, child in a.edges)), style="dim"),
-        )
-    return table
+        node = Text(printable(a.authority) or "?", style="magenta")
+        figures = [
+            Text(str(a.messages)),
+            Text("static", style="cyan") if set(a.edges) <= static else Text(f"{a.rate_hz:.2f}"),
+            Text(_sec(a.delay_mean)),
+            Text(_sec(a.delay_max)),
+        ]
+        children = [printable(child) for _, child in a.edges]
+        table.add_row(node, *figures, Text(", ".join(children), style="dim"))
+        frames = [Text(f"{c}," if k < len(children) - 1 else c, style="dim") for k, c in enumerate(children)]
+        rows.append(Row(figures, [Text.assemble(node, ":"), *frames]))
+    headers = ("Messages", "Rate", "Delay", "Max")
+    return Fitted(table, Lines("All Broadcasters:", headers, "Node: frames", rows))
 
 
 def _chain_lines(chain: ChainStats) -> Text:
@@ -154,9 +131,9 @@ def renderable(
     static = {e.key for e in report.edges if e.static}
     parts += [
         Text(""),
-        _Fitted(lambda compact: _edges_table(edges, compact)),
+        _edges(edges),
         Text(""),
-        _Fitted(lambda compact: _authorities_table(report.authorities, static, compact)),
+        _authorities(report.authorities, static),
     ]
     return Group(*parts)
 

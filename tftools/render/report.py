@@ -86,10 +86,11 @@ def recording_section(index: int, report: RecordingReport) -> Section:
             "step": report.bins.width / NS_PER_S,
             "count": report.bins.count,
         },
+        "delays": not report.delays_unavailable,  # else no delay is drawn, nor its axis
         "edges": [_edge_data(report, report.edges[i], svg_ids) for i in rows],
         "findings": [_finding_data(report, i, rows, svg_ids, anchor) for i in range(len(report.findings))],
         "streams": [_stream_data(s) for s in report.streams],
-        "scene3d": scene3d.poses_data(report.poses, report.bins.start),
+        "scene3d": scene3d.poses_data(report.poses, report.origin),  # the timelines' zero
     }
     origin = report.origin
     parts = [
@@ -125,7 +126,7 @@ def _verdict(findings: Sequence[Finding]) -> tuple[str, str]:
     errors = any(f.severity is Severity.error for f in findings)
     warnings = any(f.severity is Severity.warning for f in findings)
     verdict = "failed" if errors else "warnings" if warnings else "passed"
-    return verdict, problem_summary(findings).replace("info", "note")
+    return verdict, problem_summary(findings)
 
 
 def _fleet_table(sections: Sequence[Section]) -> str:
@@ -198,7 +199,8 @@ def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str
         return '<h3>Timelines</h3><p class="none">No moving transforms: nothing changes over time.</p>'
     header = (
         f'<h3>Timelines</h3><p class="axis">Time in seconds from {_esc(format_sec(origin, 3))} (the stamps\' clock); '
-        f"rate in Hz, delay in ms. Shaded: gaps; violet lines: re-parentings; red and orange: the findings' times. "
+        f"rate in Hz{'' if report.delays_unavailable else ', delay in ms'}. Shaded: gaps; violet lines: re-parentings; "
+        f"red and orange: the errors' and warnings' times. "
         f'<button type="button" class="reset">Zoom out</button></p>'
     )
     if report.delays_unavailable:

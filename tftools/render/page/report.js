@@ -21,8 +21,8 @@
   };
   var EDGE_HEIGHT = 120;
   // The tree is drawn at Graphviz's size (labels of 9 to 12 pt), shrunk to fit its box down to this
-  // scale (9 pt still 10 px), and scrolled beyond it: never too small to read.
-  var TREE_MIN_SCALE = 0.85;
+  // scale (the Nav2 TurtleBot 4's 34 frames fit 1400 px), and scrolled beyond it.
+  var TREE_MIN_SCALE = 0.6;
   var STREAM_HEIGHT = 110;
   var report = { sections: [] };
   window.tfxReport = report;
@@ -128,13 +128,20 @@
     };
   };
 
-  Section.prototype.findingBands = function (u, row) {
+  // Each error's and warning's time on the rows it is about: over the edge's gaps within its span where it
+  // has some (two 2 s gaps, not the 46 s between their starts), else the span. Notes draw nothing, as in
+  // the tree: the legend names red and orange only.
+  Section.prototype.findingBands = function (u, row, gaps) {
     var self = this;
     this.data.findings.forEach(function (finding, index) {
-      if (finding.from == null || finding.rows.indexOf(row) < 0) return;
+      if (finding.from == null || finding.severity === "info" || finding.rows.indexOf(row) < 0) return;
       var colour = COLOURS[finding.severity];
-      band(u, finding.from, finding.to, colour);
-      if (index === self.active) band(u, finding.from, finding.to, colour);
+      var inside = gaps.filter(function (g) { return g[1] >= finding.from && g[0] <= finding.to; });
+      var spans = inside.length ? inside : [[finding.from, finding.to]];
+      spans.forEach(function (span) {
+        band(u, span[0], span[1], colour);
+        if (index === self.active) band(u, span[0], span[1], colour);
+      });
     });
   };
 
@@ -143,7 +150,7 @@
     var draw = {
       under: function (u) {
         edge.gaps.forEach(function (gap) { band(u, gap[0], gap[1], COLOURS.gap); });
-        self.findingBands(u, index);
+        self.findingBands(u, index, edge.gaps);
       },
       over: function (u) {
         var ctx = u.ctx;
@@ -180,6 +187,11 @@
       ms: { range: function (u, min, max) { return [0, Math.max((max || 0) * 1.8, 0.01)]; } },
     };
     var values = [this.xs, edge.rate, edge.delayMean, edge.delayMax, edge.samples];
+    if (!this.data.delays) { // the recording's clocks give no delays: no delay lines, no empty axis for them
+      series.splice(1, 2);
+      axes.splice(1, 1);
+      values.splice(2, 2);
+    }
     return new uPlot(this.options(row, EDGE_HEIGHT, series, axes, scales, draw), values, row.querySelector(".plot"));
   };
 
