@@ -127,6 +127,27 @@ def command(
     duration: options.Listen = 5.0,
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
+    watch: Annotated[
+        bool,
+        typer.Option(
+            "--watch",
+            help="Live: check again every second, until Ctrl-C, what was heard over the last --window seconds, "
+            "and publish tf's health on /diagnostics as diagnostic_updater does (one status per check and per "
+            "edge; rqt_robot_monitor, Foxglove's Diagnostics panel).",
+        ),
+    ] = False,
+    window: Annotated[
+        float, typer.Option(help="With --watch: the seconds of what was heard that each check covers.")
+    ] = 10.0,
+    mcap: Annotated[
+        Path | None,
+        typer.Option(
+            help="Also write the recording's findings to this MCAP file, to open beside it in Foxglove: each "
+            "finding as a foxglove.Log when it showed, /diagnostics once a second, the frames it names "
+            "(needs pip install 'tftools\\[foxglove]').",
+        ),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Let --mcap overwrite an existing file.")] = False,
 ) -> None:
     """Check tf for what breaks lookups, and say how to fix each problem (roswtf's tf checks and more).
 
@@ -195,7 +216,16 @@ def command(
         urdf_tolerances=robot_tolerances,
     )
     groups = options.recordings_given(paths, bags)
-    if groups:
+    if watch:
+        if groups or mcap is not None:
+            raise UsageError("--watch listens to a live system", "give no bag (or drop --watch)")
+        _watch(ros1, use_sim_time, topics, checks, window)
+        return
+    if mcap is not None:
+        if len(groups) != 1:
+            raise UsageError("--mcap writes the findings of one recording", "give one bag (or its parts with -b)")
+        reports = [_check_into_mcap(groups[0], checks, mcap, force)]
+    elif groups:
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
         fleet = _fleet(jobs or os.cpu_count() or 1, dask, timeout)
         reports = _check_groups(groups, checks, fleet, resume, stream if fmt is WtfFormat.jsonl else lambda bag: None)
@@ -223,6 +253,49 @@ def command(
         more = f" (and {len(reports) - 1} more recordings)" if len(reports) > 1 else ""
         say_error(hinted(f"{first.message}{more}", first.hint))
     exit_with(code)
+
+
+def _watch(
+    ros1: bool | None, use_sim_time: bool | None, topics: Sequence[str] | None, checks: Checks, window: float
+) -> None:
+    """``--watch``: the live system checked every second, its health on /diagnostics and its changes on stdout."""
+    from tftools.analysis.watch import Health, watch_live
+    from tftools.render.escape import printable
+    from tftools.sinks.diagnostics import open_diagnostics
+    from tftools.sources.live.errors import LiveError
+
+    positive_seconds(window, "--window", "10")
+    if checks.get("sensor_topics"):
+        raise UsageError("--watch checks tf only", "drop --sensor")
+    source = live.open_source(ros1, use_sim_time, topics)
+    try:
+        publisher = open_diagnostics(source.format.startswith("ros1"), on_notice=warn)
+    except LiveError:
+        source.close()
+        raise
+    said: dict[str, int] = {}
+
+    def tell(health: Health) -> None:  # on the terminal, what changed level (the figures change every second)
+        publisher.publish(health.now, health.statuses)
+        for status in health.statuses:
+            if said.get(status.name, 0) != status.level:
+                said[status.name] = status.level
+                line = printable(f"{status.level.name:5} {status.name}: {status.message}")  # names from peers
+                stdout.print(line, markup=False, highlight=False)
+
+    live.say(f"watching {source.describe()}, publishing {publisher.describe()} once a second (Ctrl-C stops)")
+    with publisher:
+        watch_live(source, tell, window, checks)
+
+
+def _check_into_mcap(paths: Sequence[str], checks: Checks, mcap: Path, force: bool) -> BagReport:
+    """Check one recording and write its findings to ``mcap`` (refused before any reading if it may not be)."""
+    from tftools.sinks.findings_mcap import check_into_mcap
+
+    report, written = check_into_mcap(paths, mcap, checks, force=force)
+    if report.usable:
+        live.say(f"wrote {written} messages to {mcap}")
+    return report
 
 
 def outcome(reports: Sequence[BagReport], strict: bool = False) -> Exit:
