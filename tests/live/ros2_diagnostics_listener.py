@@ -1,9 +1,12 @@
 # ruff: noqa: N801 - the structs carry the names ROS 2 gives them on the wire
+# mypy: disable-error-code="type-arg, assignment, attr-defined"
+# (Cyclone DDS's IDL annotations are not types mypy knows.)
 """A Cyclone DDS reader of ROS 2's /diagnostics with its own definition of the type (ROS 2's name
 ``diagnostic_msgs::msg::dds_::DiagnosticArray_``, not tftools'), printing each sample as one JSON line:
 the independent subscriber of the /diagnostics tests. Says "ready" once its reader exists."""
 
 import json
+import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -11,7 +14,7 @@ from dataclasses import dataclass, field
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import DomainParticipant
 from cyclonedds.idl import IdlStruct
-from cyclonedds.idl.types import int32, sequence, uint8, uint32
+from cyclonedds.idl.types import byte, int32, sequence, uint32
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 
@@ -36,7 +39,7 @@ class KeyValue_(IdlStruct, typename="diagnostic_msgs::msg::dds_::KeyValue_"):
 
 @dataclass
 class DiagnosticStatus_(IdlStruct, typename="diagnostic_msgs::msg::dds_::DiagnosticStatus_"):
-    level: uint8 = 0
+    level: byte = 0  # rosidl's byte: IDL's octet
     name: str = ""
     message: str = ""
     hardware_id: str = ""
@@ -50,7 +53,7 @@ class DiagnosticArray_(IdlStruct, typename="diagnostic_msgs::msg::dds_::Diagnost
 
 
 def main() -> None:
-    participant = DomainParticipant()
+    participant = DomainParticipant(int(os.environ.get("ROS_DOMAIN_ID", "0")))
     topic = Topic(participant, "rt/diagnostics", DiagnosticArray_)
     # as a ROS 2 subscriber with the default QoS: reliable, volatile, keep last 10
     reader = DataReader(participant, topic, qos=Qos(Policy.Reliability.Reliable(0), Policy.History.KeepLast(10)))
@@ -59,7 +62,7 @@ def main() -> None:
         for sample in reader.take(N=100):
             statuses = [
                 {
-                    "level": int(s.level),
+                    "level": s.level if isinstance(s.level, int) else ord(s.level),
                     "name": s.name,
                     "message": s.message,
                     "hardware_id": s.hardware_id,
