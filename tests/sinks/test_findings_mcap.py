@@ -121,3 +121,27 @@ def test_one_recording_at_a_time(tfx, stopping_bag, tmp_path):
     result = tfx("wtf", stopping_bag, other, "--mcap", tmp_path / "f.mcap")
     assert result.code == 2 and "one recording" in result.stderr
     assert not (tmp_path / "f.mcap").exists()
+
+
+def test_report_writes_the_same_findings_beside_its_page(tfx, stopping_bag, tmp_path):
+    out, page = tmp_path / "findings.mcap", tmp_path / "report.html"
+    result = tfx("report", stopping_bag, "-o", page, "--mcap", out)
+    assert result.code == 1, result.stderr
+    assert page.exists()
+    names = {log.name for _, schema, _, log in _messages(out) if schema == "foxglove.Log"}
+    assert "tfx wtf: stale" in names
+
+
+def test_report_refuses_an_existing_mcap_before_writing_its_page(tfx, stopping_bag, tmp_path):
+    out, page = tmp_path / "findings.mcap", tmp_path / "report.html"
+    out.write_bytes(b"mine")
+    result = tfx("report", stopping_bag, "-o", page, "--mcap", out)
+    assert result.code == 2 and "exists" in result.stderr
+    assert not page.exists() and out.read_bytes() == b"mine"
+
+
+def test_watch_is_for_a_live_system(tfx, stopping_bag, tmp_path):
+    result = tfx("wtf", stopping_bag, "--watch")
+    assert result.code == 2 and "--watch listens to a live system" in result.stderr
+    result = tfx("wtf", "--watch", "--window", "0")
+    assert result.code == 2 and "--window" in result.stderr

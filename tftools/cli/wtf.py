@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.table import Table
 
-from tftools.cli import defaults, live, options
+from tftools.cli import defaults, findings_file, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
@@ -139,15 +139,8 @@ def command(
     window: Annotated[
         float, typer.Option(help="With --watch: the seconds of what was heard that each check covers.")
     ] = 10.0,
-    mcap: Annotated[
-        Path | None,
-        typer.Option(
-            help="Also write the recording's findings to this MCAP file, to open beside it in Foxglove: each "
-            "finding as a foxglove.Log when it showed, /diagnostics once a second, the frames it names "
-            "(needs pip install 'tftools\\[foxglove]').",
-        ),
-    ] = None,
-    force: Annotated[bool, typer.Option("--force", help="Let --mcap overwrite an existing file.")] = False,
+    mcap: findings_file.McapOption = None,
+    force: findings_file.ForceOption = False,
 ) -> None:
     """Check tf for what breaks lookups, and say how to fix each problem (roswtf's tf checks and more).
 
@@ -222,9 +215,7 @@ def command(
         _watch(ros1, use_sim_time, topics, checks, window)
         return
     if mcap is not None:
-        if len(groups) != 1:
-            raise UsageError("--mcap writes the findings of one recording", "give one bag (or its parts with -b)")
-        reports = [_check_into_mcap(groups[0], checks, mcap, force)]
+        reports = [findings_file.check_into_mcap(findings_file.one_recording(groups), checks, mcap, force)]
     elif groups:
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
         fleet = _fleet(jobs or os.cpu_count() or 1, dask, timeout)
@@ -286,16 +277,6 @@ def _watch(
     live.say(f"watching {source.describe()}, publishing {publisher.describe()} once a second (Ctrl-C stops)")
     with publisher:
         watch_live(source, tell, window, checks)
-
-
-def _check_into_mcap(paths: Sequence[str], checks: Checks, mcap: Path, force: bool) -> BagReport:
-    """Check one recording and write its findings to ``mcap`` (refused before any reading if it may not be)."""
-    from tftools.sinks.findings_mcap import check_into_mcap
-
-    report, written = check_into_mcap(paths, mcap, checks, force=force)
-    if report.usable:
-        live.say(f"wrote {written} messages to {mcap}")
-    return report
 
 
 def outcome(reports: Sequence[BagReport], strict: bool = False) -> Exit:
