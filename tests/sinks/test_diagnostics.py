@@ -76,8 +76,10 @@ def test_an_edge_heard_before_but_not_now_is_stale_and_nothing_heard_is_a_stale_
     said = _by_name(statuses(_report(), [], NOW, gone={("odom", "base_link"): NOW - 30 * NS_PER_S}))
     gone = said[edge_name("odom", "base_link")]
     assert gone.level is Level.STALE and gone.message == "not heard for 30.000 s"
-    empty = BagReport(("live",))
-    assert _by_name(statuses(empty, [], NOW))["tf: tree"].level is Level.STALE
+    nothing = Finding(Severity.error, "no_tf", "no transforms on /tf, /tf_static", "start the robot")
+    empty = _by_name(statuses(BagReport(("live",), [nothing]), [], NOW))
+    assert empty["tf: tree"].level is Level.STALE
+    assert empty[check_name("no_tf")].level is Level.STALE  # no data yet, as the aggregator says it
 
 
 def test_ignored_checks_have_no_status():

@@ -5,6 +5,7 @@ findings MCAP shows beside its recording (``sinks.findings_mcap``)."""
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import itertools
 import math
@@ -75,6 +76,8 @@ def statuses(
     gap). ``gone``: edges heard before but not in this span, with when they were last heard: STALE.
     ``window``: the span's length (ns; 0 for a whole recording), said in the tree's status."""
     checks = [_check_status(code, report.findings, hardware_id) for code in _codes(ignore)]
+    if not report.transforms and report.error is None:  # nothing heard (yet): no data, as the aggregator says it
+        checks = [dataclasses.replace(s, level=Level.STALE) if s.level is Level.ERROR else s for s in checks]
     edge_statuses = [_edge_status(edge, report.findings, now, hardware_id) for edge in edges]
     for (parent, child), last in sorted((gone or {}).items()):
         age = f"{to_sec(now - last):.3f}" if last else "unknown"
