@@ -69,12 +69,14 @@ def statuses(
     gone: Mapping[tuple[str, str], int] | None = None,
     window: int = 0,
     hardware_id: str = HARDWARE_ID,
+    delays_unavailable: str = "",
 ) -> list[Status]:
     """The statuses of ``report`` at ``now`` (ns, the clock of the edges' record times): the tree's
     (its worst level; STALE when nothing was heard), one per check that runs on tf (OK when it found
     nothing) and one per edge of ``edges`` (its worst finding's level, its rate, delay, age and longest
     gap). ``gone``: edges heard before but not in this span, with when they were last heard: STALE.
-    ``window``: the span's length (ns; 0 for a whole recording), said in the tree's status."""
+    ``window``: the span's length (ns; 0 for a whole recording), and ``delays_unavailable`` why the edges'
+    delays are unknown (``Timeline.delays_unavailable``), said in the tree's status."""
     checks = [_check_status(code, report.findings, hardware_id) for code in _codes(ignore)]
     if not report.transforms and report.error is None:  # nothing heard (yet): no data, as the aggregator says it
         checks = [dataclasses.replace(s, level=Level.STALE) if s.level is Level.ERROR else s for s in checks]
@@ -84,7 +86,10 @@ def statuses(
         message = f"not heard for {age} s" if last else "not heard"
         values = (("parent", parent), ("child", child), ("age (s)", age))
         edge_statuses.append(Status(Level.STALE, edge_name(parent, child), message, hardware_id, values))
-    return [_tree_status(report, [*checks, *edge_statuses], window, hardware_id), *checks, *edge_statuses]
+    tree = _tree_status(report, [*checks, *edge_statuses], window, hardware_id)
+    if delays_unavailable:
+        tree = dataclasses.replace(tree, values=(*tree.values, ("delays", f"unknown: {delays_unavailable}")))
+    return [tree, *checks, *edge_statuses]
 
 
 def worst(levels: Collection[Level]) -> Level:

@@ -132,7 +132,16 @@ def check_window(
     start = max(begin, now - window.window)
     edges = edge_stats(recording.buffer, start, now, by_record_time=True, timeline=recording.timeline)
     ignore: Collection[str] = checks.get("ignore", ())
-    said = statuses(report, edges, now, ignore=ignore, gone=gone, window=window.window, hardware_id=hardware_id)
+    said = statuses(
+        report,
+        edges,
+        now,
+        ignore=ignore,
+        gone=gone,
+        window=window.window,
+        hardware_id=hardware_id,
+        delays_unavailable=recording.timeline.delays_unavailable,
+    )
     return Health(now, report, said)
 
 

@@ -191,7 +191,8 @@ def diagnostics_over(
         edges = edge_stats(
             recording.buffer, max(start, at - WINDOW), at, by_record_time=True, timeline=recording.timeline
         )
-        yield at, statuses(held, edges, at, ignore=ignore, window=WINDOW)
+        unavailable = recording.timeline.delays_unavailable
+        yield at, statuses(held, edges, at, ignore=ignore, window=WINDOW, delays_unavailable=unavailable)
         at += PERIOD
 
 
