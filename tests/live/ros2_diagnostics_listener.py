@@ -14,21 +14,10 @@ from dataclasses import dataclass, field
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import DomainParticipant
 from cyclonedds.idl import IdlStruct
-from cyclonedds.idl.types import byte, int32, sequence, uint32
+from cyclonedds.idl.types import byte, sequence
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
-
-
-@dataclass
-class Time_(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
-    sec: int32 = 0
-    nanosec: uint32 = 0
-
-
-@dataclass
-class Header_(IdlStruct, typename="std_msgs::msg::dds_::Header_"):
-    stamp: Time_ = field(default_factory=Time_)
-    frame_id: str = ""
+from ros2_nodes import Header_  # beside it: the stand-in nodes' own std_msgs/Header
 
 
 @dataclass
