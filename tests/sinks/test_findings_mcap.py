@@ -138,10 +138,3 @@ def test_report_refuses_an_existing_mcap_before_writing_its_page(tfx, stopping_b
     result = tfx("report", stopping_bag, "-o", page, "--mcap", out)
     assert result.code == 2 and "exists" in result.stderr
     assert not page.exists() and out.read_bytes() == b"mine"
-
-
-def test_watch_is_for_a_live_system(tfx, stopping_bag, tmp_path):
-    result = tfx("wtf", stopping_bag, "--watch")
-    assert result.code == 2 and "--watch listens to a live system" in result.stderr
-    result = tfx("wtf", "--watch", "--window", "0")
-    assert result.code == 2 and "--window" in result.stderr

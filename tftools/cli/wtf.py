@@ -212,6 +212,8 @@ def command(
     if watch:
         if groups or mcap is not None:
             raise UsageError("--watch listens to a live system", "give no bag (or drop --watch)")
+        if fmt is not WtfFormat.text:
+            raise UsageError("--watch says its changes as text lines", "drop --format; /diagnostics carries the rest")
         _watch(ros1, use_sim_time, topics, checks, window)
         return
     if mcap is not None:
