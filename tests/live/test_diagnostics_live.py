@@ -178,7 +178,7 @@ def test_a_dead_publisher_is_said_stale_and_a_restarted_one_heard_again(ros, mas
         assert watching.wait(20) == 0
 
 
-def test_an_independent_dds_reader_hears_ros2_diagnostics(domain, tmp_path):
+def test_an_independent_dds_reader_hears_ros2_diagnostics_from_an_announced_node(domain, tmp_path):
     listener = Process([sys.executable, str(ROS2_LISTENER)], domain.env)
     try:
         listener.wait_for("ready")
@@ -202,6 +202,8 @@ def test_an_independent_dds_reader_hears_ros2_diagnostics(domain, tmp_path):
         assert abs(array["stamp"] - time.time_ns()) < 5 * 10**9  # wall time, as the source's clock
         checks = [s for s in array["status"] if s["name"].startswith("tf check: ")]
         assert checks and all(s["level"] == Level.OK for s in checks), [s for s in checks if s["level"]]
+        graph = domain.node("discovery_listener", "16")  # as ros2 node list learns the nodes
+        assert "/tfx_diagnostics_" in graph.wait_for("/tfx_diagnostics_", timeout=20)
         watcher.popen.send_signal(signal.SIGINT)
         assert watcher.finish().returncode == 0
     finally:

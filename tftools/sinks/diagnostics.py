@@ -91,11 +91,12 @@ class Ros1DiagnosticsPublisher(DiagnosticsPublisher):
 
 class Ros2DiagnosticsPublisher(DiagnosticsPublisher):
     """A DDS writer on ``rt/diagnostics`` with diagnostic_updater's QoS: rclcpp's ``create_publisher(...,
-    "/diagnostics", 1)``, reliable, volatile, keep last 1."""
+    "/diagnostics", 1)``, reliable, volatile, keep last 1; announced as node ``/tfx_diagnostics_*``."""
 
-    def __init__(self) -> None:
+    def __init__(self, on_notice: OnNotice | None = None) -> None:
         from cyclonedds.core import DDSException
 
+        from tftools.sinks.ros2_broadcaster import AnnouncedNode
         from tftools.sources.live.errors import DdsError
         from tftools.sources.live.ros2 import conventions as ros2
         from tftools.sources.live.ros2.dds import Participant
@@ -111,6 +112,7 @@ class Ros2DiagnosticsPublisher(DiagnosticsPublisher):
         except DDSException as error:
             self._participant.close()
             raise DdsError(f"publish on DDS domain {self.domain_id}", error) from None
+        self._node = AnnouncedNode(self._participant, self.node_name, [self._writer.guid.bytes], on_notice)
 
     def publish(self, stamp: int, statuses: Sequence[Status]) -> None:
         from tftools.sources.live.ros2.dds import write_raw
@@ -118,12 +120,13 @@ class Ros2DiagnosticsPublisher(DiagnosticsPublisher):
         write_raw(self._writer, encode_cdr(stamp, statuses))
 
     def describe(self) -> str:
-        return f"{TOPIC} on ROS2 DDS domain {self.domain_id}"
+        return f"{TOPIC} as node /{self.node_name} on ROS2 DDS domain {self.domain_id}"
 
     def close(self) -> None:
+        self._node.close()
         self._participant.close()
 
 
 def open_diagnostics(ros1: bool, on_notice: OnNotice | None = None) -> DiagnosticsPublisher:
     """A publisher of ``/diagnostics`` on the system's ROS 1 master (``ROS_MASTER_URI``) or ROS 2 DDS domain."""
-    return Ros1DiagnosticsPublisher(on_notice=on_notice) if ros1 else Ros2DiagnosticsPublisher()
+    return Ros1DiagnosticsPublisher(on_notice=on_notice) if ros1 else Ros2DiagnosticsPublisher(on_notice)
