@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from tftools.cli import live, options
+from tftools.cli import findings_file, live, options
 from tftools.cli.common import Exit, exit_with, hinted, progress_bar, say_written, warn
 from tftools.cli.outputs import check_output
 from tftools.core.errors import UsageError
@@ -47,6 +47,8 @@ def command(
     duration: options.Listen = 5.0,
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
+    mcap: findings_file.McapOption = None,
+    force: findings_file.ForceOption = False,
 ) -> None:
     """Write one HTML page to look at: findings, tree, each edge over time, every frame in 3D.
 
@@ -76,6 +78,10 @@ def command(
 
     groups = options.recordings_given(paths, bags)
     _check_output(output, [p for group in groups for p in group])
+    if mcap is not None:
+        findings_file.refuse(mcap, findings_file.one_recording(groups), force)
+        if mcap.resolve() == output.resolve():
+            raise UsageError(f"--mcap {mcap} is the page's -o", "give them different names")
     description = read_urdf(urdf) if urdf is not None else None
     if groups:
         sections = _bag_sections(groups, topics, tf2, target, sensors, description, jobs or os.cpu_count() or 1)
@@ -94,6 +100,11 @@ def command(
     failed = sum(s.verdict == "failed" for s in sections)
     said = ", ".join(s.summary for s in sections) if len(sections) == 1 else f"{failed} of {len(sections)} failed"
     say_written(str(output), said)
+    if mcap is not None:  # the same checks as the page's, the recording read once more
+        from tftools.analysis.wtf.fleet import Checks
+
+        checks = Checks(topics=topics, semantics=tf2, target=target, sensor_topics=sensors, urdf=description)
+        findings_file.check_into_mcap(groups[0], checks, mcap, force)
     exit_with(Exit.PROBLEMS if failed else Exit.OK)
 
 

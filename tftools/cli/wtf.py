@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.table import Table
 
-from tftools.cli import defaults, live, options
+from tftools.cli import defaults, findings_file, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
@@ -126,6 +126,20 @@ def command(
     duration: options.Listen = 5.0,
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
+    watch: Annotated[
+        bool,
+        typer.Option(
+            "--watch",
+            help="Live: check again every second, until Ctrl-C, what was heard over the last --window seconds, "
+            "and publish tf's health on /diagnostics as diagnostic_updater does (one status per check and per "
+            "edge; rqt_robot_monitor, Foxglove's Diagnostics panel).",
+        ),
+    ] = False,
+    window: Annotated[
+        float, typer.Option(help="With --watch: the seconds of what was heard that each check covers.")
+    ] = 10.0,
+    mcap: findings_file.McapOption = None,
+    force: findings_file.ForceOption = False,
 ) -> None:
     """Check tf for what breaks lookups, and say how to fix each problem (roswtf's tf checks and more).
 
@@ -194,7 +208,16 @@ def command(
         urdf_tolerances=robot_tolerances,
     )
     groups = options.recordings_given(paths, bags)
-    if groups:
+    if watch:
+        if groups or mcap is not None:
+            raise UsageError("--watch listens to a live system", "give no bag (or drop --watch)")
+        if fmt is not WtfFormat.text:
+            raise UsageError("--watch says its changes as text lines", "drop --format; /diagnostics carries the rest")
+        _watch(ros1, use_sim_time, topics, checks, window)
+        return
+    if mcap is not None:
+        reports = [findings_file.check_into_mcap(findings_file.one_recording(groups), checks, mcap, force)]
+    elif groups:
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
         fleet = _fleet(jobs or os.cpu_count() or 1, dask, timeout)
         reports = _check_groups(groups, checks, fleet, resume, stream if fmt is WtfFormat.jsonl else lambda bag: None)
@@ -222,6 +245,39 @@ def command(
         more = f" (and {len(reports) - 1} more recordings)" if len(reports) > 1 else ""
         say_error(hinted(f"{first.message}{more}", first.hint))
     exit_with(code)
+
+
+def _watch(
+    ros1: bool | None, use_sim_time: bool | None, topics: Sequence[str] | None, checks: Checks, window: float
+) -> None:
+    """``--watch``: the live system checked every second, its health on /diagnostics and its changes on stdout."""
+    from tftools.analysis.watch import Health, watch_live
+    from tftools.render.escape import printable
+    from tftools.sinks.diagnostics import open_diagnostics
+    from tftools.sources.live.errors import LiveError
+
+    positive_seconds(window, "--window", "10")
+    if checks.get("sensor_topics"):
+        raise UsageError("--watch checks tf only", "drop --sensor")
+    source = live.open_source(ros1, use_sim_time, topics)
+    try:
+        publisher = open_diagnostics(source.format.startswith("ros1"), on_notice=warn)
+    except LiveError:
+        source.close()
+        raise
+    said: dict[str, int] = {}
+
+    def tell(health: Health) -> None:  # on the terminal, what changed level (the figures change every second)
+        publisher.publish(health.now, health.statuses)
+        for status in health.statuses:
+            if said.get(status.name, 0) != status.level:
+                said[status.name] = status.level
+                line = printable(f"{status.level.name:5} {status.name}: {status.message}")  # names from peers
+                stdout.print(line, markup=False, highlight=False)
+
+    live.say(f"watching {source.describe()}, publishing {publisher.describe()} once a second (Ctrl-C stops)")
+    with publisher:
+        watch_live(source, tell, window, checks)
 
 
 def outcome(reports: Sequence[BagReport], strict: bool = False) -> Exit:

@@ -29,9 +29,7 @@ GID24_DISTROS = frozenset({"ardent", "bouncy", "crystal", "dashing", "eloquent",
 
 class Ros2StaticBroadcaster(StaticBroadcaster):
     """A DDS writer on ``rt/tf_static`` with tf2_ros's StaticBroadcasterQoS, announced as node ``/NAME``
-    as rmw_dds_common's GraphCache does, in the system's ``gid_size``: ``ROS_DISTRO``'s where set; else
-    16 (Iron on) at once, switched to 24 for good when another participant's announcement shows
-    Humble's size. A node of the other size cannot read the announcement and ignores it, nothing worse."""
+    (``AnnouncedNode``)."""
 
     def __init__(self, on_notice: OnNotice | None = None) -> None:
         super().__init__()
@@ -47,14 +45,7 @@ class Ros2StaticBroadcaster(StaticBroadcaster):
         except DDSException as error:
             self._participant.close()
             raise DdsError(f"publish on DDS domain {self.domain_id}", error) from None
-        self._announcer: Any = None  # kept: deleting it would take the (transient local) announcement back
-        distro = os.environ.get("ROS_DISTRO", "").strip().lower()
-        self.gid_size = 24 if distro in GID24_DISTROS else 16
-        self._announce(self.gid_size)
-        self._watcher: threading.Thread | None = None
-        if not distro:
-            self._watcher = threading.Thread(target=self._watch_gid_size, name="tfx-ros2-announce", daemon=True)
-            self._watcher.start()
+        self._node = AnnouncedNode(self._participant, self.node_name, [self._writer.guid.bytes], self._on_notice)
 
     @property
     def finished(self) -> bool:
@@ -66,23 +57,52 @@ class Ros2StaticBroadcaster(StaticBroadcaster):
     def describe(self) -> str:
         return f"ROS2 DDS domain {self.domain_id} as node /{self.node_name}"
 
+    @property
+    def gid_size(self) -> int:
+        return self._node.gid_size
+
     def close(self) -> None:
         if self._closed.is_set():
             return
         self._closed.set()
+        self._node.close()
+        self._participant.close()
+
+
+class AnnouncedNode:
+    """Node ``/NAME`` of ``participant`` with ``writers``, announced on ``ros_discovery_info`` as rmw_dds_common's
+    GraphCache does, in the system's ``gid_size``: ``ROS_DISTRO``'s where set; else 16 (Iron on) at once,
+    switched to 24 for good when another participant's announcement shows Humble's size. A node of the other
+    size cannot read the announcement and ignores it, nothing worse. ``close`` before the participant."""
+
+    def __init__(
+        self, participant: Participant, name: str, writers: list[bytes], on_notice: OnNotice | None = None
+    ) -> None:
+        self._participant, self.name, self._writers = participant, name, writers
+        self._on_notice = on_notice or ignore_notice
+        self._closed = threading.Event()
+        self._announcer: Any = None  # kept: deleting it would take the (transient local) announcement back
+        distro = os.environ.get("ROS_DISTRO", "").strip().lower()
+        self.gid_size = 24 if distro in GID24_DISTROS else 16
+        self._announce(self.gid_size)
+        self._watcher: threading.Thread | None = None
+        if not distro:
+            self._watcher = threading.Thread(target=self._watch_gid_size, name="tfx-ros2-announce", daemon=True)
+            self._watcher.start()
+
+    def close(self) -> None:
+        self._closed.set()
         if self._watcher is not None:
             self._watcher.join(timeout=1.0)
-        self._participant.close()
 
     def _announce(self, gid_size: int) -> None:
         try:
             announcer = self._participant.writer(
                 ros2.DISCOVERY_TOPIC, participant_entities_info(gid_size), ros2.DISCOVERY_WRITER_QOS
             )
-            writers = [self._writer.guid.bytes]
-            announcer.write(announcement(gid_size, self._participant.guid, "/", self.node_name, writers))
+            announcer.write(announcement(gid_size, self._participant.guid, "/", self.name, self._writers))
         except DDSException as error:
-            self._on_notice(f"could not announce node /{self.node_name} on {ros2.DISCOVERY_TOPIC}: {error}")
+            self._on_notice(f"could not announce node /{self.name} on {ros2.DISCOVERY_TOPIC}: {error}")
             return
         self._announcer, self.gid_size = announcer, gid_size
 

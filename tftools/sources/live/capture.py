@@ -44,7 +44,7 @@ def capture(
             time.sleep(min(0.1, max(0.0, deadline - time.monotonic())))
         end = source.clock.now()
     transforms, begin = heard.transforms()
-    return _recording(source, transforms, begin, end, semantics)
+    return heard_recording(source, transforms, begin, end, semantics)
 
 
 class _Heard:
@@ -79,9 +79,10 @@ class _Heard:
             return concat_batches(self._batches), self._begin
 
 
-def _recording(
-    source: LiveSource, transforms: TransformBatch, begin: int, end: int, semantics: Semantics | None
+def heard_recording(
+    source: LiveSource, transforms: TransformBatch, begin: int, end: int, semantics: Semantics | None = None
 ) -> Recording:
+    """``transforms`` heard from ``source`` between ``begin`` and ``end`` (its clock, ns) as a recording."""
     if len(transforms):  # a sim clock reads 0 until its first /clock: span what was heard too
         first = int(transforms.record_time.min())
         begin = min(begin, first) if begin > 0 else first

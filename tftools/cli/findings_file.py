@@ -1,0 +1,50 @@
+"""``--mcap FILE`` of ``tfx wtf`` and ``tfx report``: a recording's findings written beside it, for Foxglove."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from tftools.cli import live
+from tftools.core.errors import UsageError
+
+if TYPE_CHECKING:
+    from tftools.analysis.wtf.fleet import BagReport, Checks
+
+McapOption = Annotated[
+    Path | None,
+    typer.Option(
+        help="Also write the recording's findings to this MCAP file, to open beside it in Foxglove: each finding as "
+        "a foxglove.Log when it showed, /diagnostics once a second, the frames it names as foxglove.FrameTransforms "
+        "(needs pip install 'tftools\\[foxglove]').",
+    ),
+]
+ForceOption = Annotated[bool, typer.Option("--force", help="Let --mcap overwrite an existing file.")]
+
+
+def one_recording(groups: Sequence[Sequence[str]]) -> Sequence[str]:
+    """The one recording ``--mcap`` writes the findings of (a ``UsageError`` for none or several)."""
+    if len(groups) != 1:
+        raise UsageError("--mcap writes the findings of one recording", "give one bag (or its parts with -b)")
+    return groups[0]
+
+
+def check_into_mcap(paths: Sequence[str], checks: Checks, mcap: Path, force: bool) -> BagReport:
+    """Check the recording ``paths`` and write its findings to ``mcap``, said on stderr (refused before any
+    reading if ``mcap`` may not be written)."""
+    from tftools.sinks.findings_mcap import check_into_mcap as check
+
+    report, written = check(paths, mcap, checks, force=force)
+    if report.usable:
+        live.say(f"wrote {written} messages to {mcap}")
+    return report
+
+
+def refuse(mcap: Path, inputs: Sequence[str], force: bool) -> None:
+    """Before any reading: a ``UsageError`` if ``mcap`` is an input or exists (without ``force``)."""
+    from tftools.sinks.findings_mcap import refuse_output
+
+    refuse_output(mcap, inputs, force)
