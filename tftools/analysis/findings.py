@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 
 def counted(n: int, thing: str) -> str:
@@ -39,7 +39,8 @@ class Finding:
     ``frames`` lists the frames involved (edges as consecutive parent, child pairs where that
     matters is up to the check), ``first_time``/``last_time`` the stamps or record times (ns)
     where it shows, ``count`` how many samples or messages show it. A ``skipped`` finding says that
-    its check could not run on this recording, and why: never a silent pass.
+    its check could not run on this recording, and why: never a silent pass. ``figures`` holds what was
+    observed, by name (counts, metres, degrees, seconds), as the message says it: for JSON and the report.
     """
 
     severity: Severity
@@ -52,3 +53,4 @@ class Finding:
     last_time: int = 0
     count: int = 0
     skipped: bool = False
+    figures: dict[str, float | int | str] = field(default_factory=dict, hash=False)

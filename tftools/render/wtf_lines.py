@@ -104,6 +104,7 @@ def _finding(entry: dict[str, Any]) -> Finding:
         last_time=_ns(entry["last_time"]),
         count=int(entry["count"]),
         skipped=bool(entry["skipped"]),
+        figures=dict(entry.get("figures") or {}),
     )
 
 

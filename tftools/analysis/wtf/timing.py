@@ -181,18 +181,7 @@ def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrival
         return
     what = f"{edge(*frames)}{scene.by(who)}"
     if not scene.publishers_known and _interleaved(arrivals, step):
-        if frames in {f.frames for f in inferred_broadcasters(scene)}:
-            return  # already said
-        hz = NS_PER_S / float(np.median(np.diff(arrivals[0::2])))
-        code = "multiple_authorities"
-        message = (
-            f"{what} arrives as two steady {hz:.1f} Hz streams taking turns: two publishers of one edge, it seems "
-            "(this bag does not name publishers)"
-        )
-        hint = (
-            "tf2 takes every sample as it comes, so lookups mix both publishers' values: find them (ros2 topic info "
-            "/tf --verbose) and turn the transform off in all but one"
-        )
+        return  # two rhythms taking turns: one publisher on a stepped clock, or two (``broadcasters`` tells)
     elif _cyclic(intervals):  # a driver sending two messages every 100 ms, 33 then 67 ms apart, is regular
         return
     else:

@@ -1,0 +1,173 @@
+"""Who sent each /tf_static transform: the publisher a ROS 1 bag names, or, where the recording names none
+(ROS 2 bags, MCAP), one told from the messages. A StaticTransformBroadcaster re-sends all of its
+transforms in every message, so a message that lacks transforms of an earlier one comes from another
+publisher; and metadata.yaml lists how many publishers /tf_static had when recording began, so where it
+lists several, a message whose values differ from an earlier one's is taken for another publisher's."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from tftools.analysis.findings import counted
+from tftools.analysis.wtf.broadcasters import listed_publishers
+from tftools.analysis.wtf.scene import Scene
+from tftools.core.arrays import Int32Array, IntpArray
+
+#: Beyond this many different /tf_static messages, publishers are not told apart (each topic is one).
+MESSAGES_COMPARED = 1000
+
+
+@dataclass(frozen=True)
+class Sender:
+    """One publisher of /tf_static: how a finding names it, and what was seen of it."""
+
+    name: str
+    messages: int = 0
+    transforms: int = 0  # in its first message
+    first: int = 0  # when its first message arrived (``Scene.arrival``)
+    evidence: str = ""  # why it is not the publisher of an earlier message, said of it ("lacks ..."; "": none)
+
+
+@dataclass(frozen=True)
+class StaticSenders:
+    """``sender[row]`` indexes ``senders`` for each /tf_static row of ``Rows`` (-1 for the others);
+    ``inferred``: told from the messages, the recording naming no publishers."""
+
+    sender: Int32Array
+    senders: list[Sender]
+    inferred: bool
+
+    def of(self, rows: IntpArray) -> tuple[int, ...]:
+        """The senders of ``rows``, in order of first appearance."""
+        return tuple(dict.fromkeys(self.sender[rows].tolist()))
+
+    def names(self, ids: tuple[int, ...]) -> list[str]:
+        return [self.senders[i].name for i in ids]
+
+
+def static_senders(scene: Scene) -> StaticSenders:
+    """Who sent each /tf_static row; computed once per scene."""
+    return scene.shared("static_senders", lambda: _senders(scene))
+
+
+def _senders(scene: Scene) -> StaticSenders:
+    rows = scene.rows
+    static = rows.static & rows.usable
+    sender = np.full(len(rows), -1, np.int32)
+    named = rows.authority.whole()
+    sender[static] = named[static]
+    by_name = StaticSenders(sender, [Sender(scene.publisher(a)) for a in rows.authorities], False)
+    if scene.publishers_known or not static.any():
+        return by_name
+    told = _told_apart(scene, np.flatnonzero(static))
+    if told is None:
+        return by_name
+    sender[static] = -1
+    for k, message in enumerate(told[0]):
+        sender[message] = told[1][k]
+    return StaticSenders(sender, told[2], True)
+
+
+@dataclass
+class _Publisher:
+    """A publisher being told apart: the transforms of its latest message (edge -> value bytes)."""
+
+    latest: dict[tuple[int, int], bytes]
+    messages: int
+    transforms: int
+    first: int
+    evidence: str
+
+
+def _told_apart(scene: Scene, static: IntpArray) -> tuple[list[IntpArray], list[int], list[Sender]] | None:
+    """The /tf_static messages (rows of one topic received at one instant), the publisher each is told to
+    come from, and those publishers; None where there are too many different messages to compare."""
+    rows = scene.rows
+    messages = _messages(scene, static)
+    keys = [_fingerprint(scene, m) for m in messages]
+    if len(set(keys)) > MESSAGES_COMPARED:
+        return None
+    listed = {t: listed_publishers(scene, t) for t in scene.authorities_of(static)}
+    publishers: list[_Publisher] = []
+    chosen: list[int] = []
+    seen: dict[bytes, int] = {}
+    several = max((n or 0) for n in listed.values()) >= 2
+    for message, key in zip(messages, keys, strict=True):
+        if key in seen:  # the same transforms again: a re-send
+            publishers[seen[key]].messages += 1
+            chosen.append(seen[key])
+            continue
+        edges = {
+            (int(p), int(c)): v.tobytes()
+            for p, c, v in zip(rows.parent[message], rows.child[message], rows.values[message], strict=True)
+        }
+        k, evidence = _publisher_of(scene, publishers, edges, several, listed)
+        arrival = int(scene.arrival(message).min())
+        if k is None:
+            publishers.append(_Publisher(edges, 1, len(edges), arrival, evidence))
+            k = len(publishers) - 1
+        else:
+            publishers[k].latest = edges
+            publishers[k].messages += 1
+        seen[key] = k
+        chosen.append(k)
+    senders = [_sender(scene, p) for p in publishers]
+    return messages, chosen, senders
+
+
+def _publisher_of(
+    scene: Scene,
+    publishers: list[_Publisher],
+    edges: dict[tuple[int, int], bytes],
+    several: bool,
+    listed: dict[str, int | None],
+) -> tuple[int | None, str]:
+    """Which earlier publisher could have sent a message of ``edges`` (None: another), and if another, why.
+    A publisher's next message holds every transform of its last; where metadata.yaml lists ``several``
+    publishers, one whose values differ from this message's is taken for another."""
+    could: list[tuple[bool, int]] = []
+    differ: list[tuple[bool, int]] = []
+    for k, p in enumerate(publishers):
+        if not p.latest.keys() <= edges.keys():
+            continue
+        same = all(edges[e] == v for e, v in p.latest.items())
+        (could if same or not several else differ).append((same, k))
+    if could:
+        return max(could)[1], ""  # the same values first, then the latest
+    overlapping = [p for p in publishers if p.latest.keys() & edges.keys()]
+    if not overlapping:
+        return None, ""
+    if differ:
+        n = max(n for n in listed.values() if n is not None)
+        return None, f"differs in value from an earlier one, while metadata.yaml lists {n} publishers of /tf_static"
+    last = overlapping[-1]
+    missing = len(last.latest.keys() - edges.keys())
+    return None, (
+        f"lacks {missing} of the {counted(len(last.latest), 'transform')} of the one at {scene.rel(last.first)}, "
+        "which a StaticTransformBroadcaster re-sends in every message"
+    )
+
+
+def _sender(scene: Scene, p: _Publisher) -> Sender:
+    name = f"the publisher of the {counted(p.transforms, 'transform')} at {scene.rel(p.first)}"
+    return Sender(name, p.messages, p.transforms, p.first, p.evidence)
+
+
+def _messages(scene: Scene, static: IntpArray) -> list[IntpArray]:
+    """The rows of each /tf_static message, in arrival order: those of one topic received at one instant."""
+    rows = scene.rows
+    keys = np.stack([rows.authority[static].astype(np.int64), rows.record_time[static]], axis=1)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    order = np.argsort(inverse, kind="stable")
+    parts = np.split(static[order], np.flatnonzero(np.diff(inverse[order])) + 1)
+    return [parts[k] for k in np.argsort(first, kind="stable").tolist()]
+
+
+def _fingerprint(scene: Scene, message: IntpArray) -> bytes:
+    """A message's transforms (frames and values, in its order): equal for a re-send of the same message."""
+    rows = scene.rows
+    frames = rows.parent[message].tobytes() + rows.child[message].tobytes()
+    return frames + np.ascontiguousarray(rows.values[message]).tobytes()
