@@ -28,6 +28,7 @@ class Sender:
     transforms: int = 0  # in its first message
     first: int = 0  # when its first message arrived (``Scene.arrival``)
     evidence: str = ""  # why it is not the publisher of an earlier message, said of it ("lacks ..."; "": none)
+    number: int = 0  # told from the messages: 1 for the first to send
 
 
 @dataclass(frozen=True)
@@ -113,7 +114,7 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[list[IntpArray], list[
             publishers[k].messages += 1
         seen[key] = k
         chosen.append(k)
-    senders = [_sender(scene, p) for p in publishers]
+    senders = [_sender(k, p) for k, p in enumerate(publishers, 1)]
     return messages, chosen, senders
 
 
@@ -128,31 +129,33 @@ def _publisher_of(
     A publisher's next message holds every transform of its last; where metadata.yaml lists ``several``
     publishers, one whose values differ from this message's is taken for another."""
     could: list[tuple[bool, int]] = []
-    differ: list[tuple[bool, int]] = []
+    differ: list[int] = []
     for k, p in enumerate(publishers):
         if not p.latest.keys() <= edges.keys():
             continue
         same = all(edges[e] == v for e, v in p.latest.items())
-        (could if same or not several else differ).append((same, k))
+        if same or not several:
+            could.append((same, k))
+        else:
+            differ.append(k)
     if could:
         return max(could)[1], ""  # the same values first, then the latest
-    overlapping = [p for p in publishers if p.latest.keys() & edges.keys()]
+    overlapping = [k for k, p in enumerate(publishers) if p.latest.keys() & edges.keys()]
     if not overlapping:
         return None, ""
     if differ:
         n = max(n for n in listed.values() if n is not None)
-        return None, f"differs in value from an earlier one, while metadata.yaml lists {n} publishers of /tf_static"
-    last = overlapping[-1]
+        return None, f"differs in value from publisher {differ[-1] + 1}'s while metadata.yaml lists {n} publishers"
+    last = publishers[overlapping[-1]]
     missing = len(last.latest.keys() - edges.keys())
     return None, (
-        f"lacks {missing} of the {counted(len(last.latest), 'transform')} of the one at {scene.rel(last.first)}, "
-        "which a StaticTransformBroadcaster re-sends in every message"
+        f"lacks {missing} of publisher {overlapping[-1] + 1}'s {counted(len(last.latest), 'transform')} (a "
+        "StaticTransformBroadcaster re-sends all of its transforms in every message)"
     )
 
 
-def _sender(scene: Scene, p: _Publisher) -> Sender:
-    name = f"the publisher of the {counted(p.transforms, 'transform')} at {scene.rel(p.first)}"
-    return Sender(name, p.messages, p.transforms, p.first, p.evidence)
+def _sender(number: int, p: _Publisher) -> Sender:
+    return Sender(f"/tf_static publisher {number} (unnamed)", p.messages, p.transforms, p.first, p.evidence, number)
 
 
 def _messages(scene: Scene, static: IntpArray) -> list[IntpArray]:

@@ -221,14 +221,17 @@ def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Find
     }
     if senders.inferred:
         who = [senders.senders[k] for k in group.senders]
-        sent = ", ".join(f"{counted(s.transforms, 'transform')} at {scene.at(s.first)}" + _times(s) for s in who)
-        why = "; ".join(f"the one at {scene.rel(s.first)} {s.evidence}" for s in who if s.evidence)
+        sent = "; ".join(
+            f"publisher {s.number}: {counted(s.transforms, 'transform')} at {scene.at(s.first)}{_times(s)}"
+            + (f", which {s.evidence}" if s.evidence else "")
+            for s in who
+        )
         message = (
             f"/tf_static came from {len(who)} publishers, told apart by their messages (this recording does not "
-            f"name them): {sent}; {why}. They send different values for "
+            f"name them): {sent}. They send different values for "
             f"{counted(len(group.differ), 'static transform')}: {listed(described)}; up to "
             f"{worst[2] * 1000:.1f} mm ({edge(worst[0], worst[1])}) and {turned[3]:.2f}° ({edge(turned[0], turned[1])})"
-            f"{agree}. tf2 keeps the last received for every time: that of the one at {scene.rel(kept.first)}"
+            f"{agree}. tf2 keeps the last received for every time: publisher {kept.number}'s"
         )
         hint = (
             "two descriptions of one robot are published at once (a driver's own static transforms and "
@@ -265,7 +268,7 @@ def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Find
 
 
 def _times(sender: Sender) -> str:
-    return f" (sent {sender.messages} times)" if sender.messages > 1 else ""
+    return f" (the same {sender.messages} times)" if sender.messages > 1 else ""
 
 
 def _apart(metres: float, degrees: float) -> str:
