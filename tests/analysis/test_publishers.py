@@ -232,6 +232,8 @@ def test_one_static_publisher_that_changed_a_value_is_still_dynamic_on_static(tm
     transforms, one with another value: it changed its mind."""
     (finding,) = loud(_neato(1, tmp_path))
     assert (finding.code, finding.frames) == ("dynamic_on_static", ("base_link", "laser"))
+    assert "holds every transform of the one before it" in finding.message
+    assert "metadata.yaml lists 1 publisher of it: one publisher, it seems" in finding.message
 
 
 def test_a_frame_two_static_publishers_give_different_parents_is_not_an_object_picked_up(tmp_path: Path) -> None:

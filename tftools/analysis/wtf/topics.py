@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import apart
+from tftools.analysis.wtf.broadcasters import apart, listed_publishers
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed, transforms
@@ -126,21 +126,32 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
         distinct = len(np.unique(values, axis=0))
         when = scene.arrival(mine[changed])
         who = scene.authorities_of(mine)
-        yield Finding(
+        evidence, hint = "", ""
+        if senders.inferred:
+            n = max((c for a in who if (c := listed_publishers(scene, a)) is not None), default=None)
+            listed_said = f"; metadata.yaml lists {counted(n, 'publisher')} of it" if n is not None else ""
+            evidence = (
+                " (each /tf_static message holds every transform of the one before it, as one "
+                f"StaticTransformBroadcaster sends them{listed_said}: one publisher, it seems; this recording does "
+                "not name publishers)"
+            )
+            hint = "; if two nodes send it (ros2 topic info /tf_static --verbose lists them), publish it from one"
+        finding = Finding(
             Severity.error,
             "dynamic_on_static",
             f"{edge(parent, child)} takes {distinct} different values on /tf_static"
             f"{_by(scene, who)}: it changed {counted(len(changed), 'time')}, first at "
-            f"{scene.at(int(when[0]))}",
+            f"{scene.at(int(when[0]))}{evidence}",
             "a static transform holds at every time, so tf2 applies its latest value to the past too: send a "
             "moving transform on /tf with current stamps (a TransformBroadcaster), and on /tf_static only what "
-            "never moves",
+            f"never moves{hint}",
             (parent, child),
             who,
             int(when[0]),
             int(when[-1]),
             len(changed),
         )
+        yield dataclasses.replace(finding, figures={"values": distinct, "changes": len(changed)})
 
 
 def _changes_its_own(rows: Rows, senders: StaticSenders, mine: np.ndarray) -> bool:
