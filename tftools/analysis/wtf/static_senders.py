@@ -65,9 +65,7 @@ def _senders(scene: Scene) -> StaticSenders:
     told = _told_apart(scene, np.flatnonzero(static))
     if told is None:
         return by_name
-    sender[static] = -1
-    for k, message in enumerate(told[0]):
-        sender[message] = told[1][k]
+    sender[told[0]] = told[1]
     return StaticSenders(sender, told[2], True)
 
 
@@ -82,40 +80,36 @@ class _Publisher:
     evidence: str
 
 
-def _told_apart(scene: Scene, static: IntpArray) -> tuple[list[IntpArray], list[int], list[Sender]] | None:
-    """The /tf_static messages (rows of one topic received at one instant), the publisher each is told to
-    come from, and those publishers; None where there are too many different messages to compare."""
-    rows = scene.rows
-    messages = _messages(scene, static)
-    keys = [_fingerprint(scene, m) for m in messages]
+def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array, list[Sender]] | None:
+    """The /tf_static rows, the publisher each is told to come from, and those publishers; None where there
+    are too many different messages to compare."""
+    messages = _Messages(scene, static)
+    keys = [messages.fingerprint(k) for k in range(len(messages))]
     if len(set(keys)) > MESSAGES_COMPARED:
         return None
     listed = {t: listed_publishers(scene, t) for t in scene.authorities_of(static)}
-    publishers: list[_Publisher] = []
-    chosen: list[int] = []
-    seen: dict[bytes, int] = {}
     several = max((n or 0) for n in listed.values()) >= 2
-    for message, key in zip(messages, keys, strict=True):
+    publishers: list[_Publisher] = []
+    chosen = np.empty(len(messages), np.int32)
+    seen: dict[bytes, int] = {}
+    for m in messages.in_arrival_order():
+        key = keys[m]
         if key in seen:  # the same transforms again: a re-send
             publishers[seen[key]].messages += 1
-            chosen.append(seen[key])
+            chosen[m] = seen[key]
             continue
-        edges = {
-            (int(p), int(c)): v.tobytes()
-            for p, c, v in zip(rows.parent[message], rows.child[message], rows.values[message], strict=True)
-        }
+        edges = messages.transforms(m)
         k, evidence = _publisher_of(scene, publishers, edges, several, listed)
-        arrival = int(scene.arrival(message).min())
         if k is None:
-            publishers.append(_Publisher(edges, 1, len(edges), arrival, evidence))
+            publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence))
             k = len(publishers) - 1
         else:
             publishers[k].latest = edges
             publishers[k].messages += 1
         seen[key] = k
-        chosen.append(k)
+        chosen[m] = k
     senders = [_sender(k, p) for k, p in enumerate(publishers, 1)]
-    return messages, chosen, senders
+    return messages.rows, np.repeat(chosen, np.diff(messages.bounds)), senders
 
 
 def _publisher_of(
@@ -158,19 +152,44 @@ def _sender(number: int, p: _Publisher) -> Sender:
     return Sender(f"/tf_static publisher {number} (unnamed)", p.messages, p.transforms, p.first, p.evidence, number)
 
 
-def _messages(scene: Scene, static: IntpArray) -> list[IntpArray]:
-    """The rows of each /tf_static message, in arrival order: those of one topic received at one instant."""
-    rows = scene.rows
-    keys = np.stack([rows.authority[static].astype(np.int64), rows.record_time[static]], axis=1)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.ravel()
-    order = np.argsort(inverse, kind="stable")
-    parts = np.split(static[order], np.flatnonzero(np.diff(inverse[order])) + 1)
-    return [parts[k] for k in np.argsort(first, kind="stable").tolist()]
+class _Messages:
+    """The /tf_static rows grouped into messages (those of one topic received at one instant), each a
+    slice of ``rows``: message ``k`` is ``rows[bounds[k]:bounds[k + 1]]``."""
 
+    def __init__(self, scene: Scene, static: IntpArray) -> None:
+        rows = scene.rows
+        keys = np.stack([rows.authority[static].astype(np.int64), rows.record_time[static]], axis=1)
+        _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+        inverse = inverse.ravel()
+        order = np.argsort(inverse, kind="stable")  # by message, each in record order
+        self.rows: IntpArray = static[order]
+        self.bounds = np.concatenate([[0], np.flatnonzero(np.diff(inverse[order])) + 1, [len(order)]])
+        self._first = first
+        self._parent, self._child = rows.parent[self.rows], rows.child[self.rows]
+        self._values = np.ascontiguousarray(rows.values[self.rows])
+        self._arrival = scene.arrival(self.rows)
 
-def _fingerprint(scene: Scene, message: IntpArray) -> bytes:
-    """A message's transforms (frames and values, in its order): equal for a re-send of the same message."""
-    rows = scene.rows
-    frames = rows.parent[message].tobytes() + rows.child[message].tobytes()
-    return frames + np.ascontiguousarray(rows.values[message]).tobytes()
+    def __len__(self) -> int:
+        return len(self.bounds) - 1
+
+    def in_arrival_order(self) -> list[int]:
+        return np.argsort(self._first, kind="stable").tolist()  # type: ignore[no-any-return]
+
+    def _slice(self, k: int) -> slice:
+        return slice(int(self.bounds[k]), int(self.bounds[k + 1]))
+
+    def fingerprint(self, k: int) -> bytes:
+        """Message ``k``'s transforms (frames and values, in its order): equal for a re-send of it."""
+        s = self._slice(k)
+        return self._parent[s].tobytes() + self._child[s].tobytes() + self._values[s].tobytes()
+
+    def transforms(self, k: int) -> dict[tuple[int, int], bytes]:
+        """Message ``k``'s transforms: (parent id, child id) -> value bytes."""
+        s = self._slice(k)
+        return {
+            (int(p), int(c)): v.tobytes()
+            for p, c, v in zip(self._parent[s], self._child[s], self._values[s], strict=True)
+        }
+
+    def arrival(self, k: int) -> int:
+        return int(self._arrival[self._slice(k)].min())
