@@ -190,8 +190,9 @@ def test_a_static_message_lacking_an_earlier_ones_transforms_is_another_publishe
     assert "/tf_static came from 2 publishers, told apart by their messages" in message
     assert (
         "publisher 1: 7 transforms at 1700000000.100 (+0.1 s); publisher 2: 3 transforms at 1700000000.700 (+0.7 s), "
-        "which lacks 4 of publisher 1's 7 transforms (a StaticTransformBroadcaster re-sends all of its transforms "
-        "in every message). They send different values for 3 static transforms"
+        "which lacks 4 of publisher 1's 7 transforms (C++'s StaticTransformBroadcaster, robot_state_publisher's and "
+        "static_transform_publisher's, re-sends all of its transforms in every message). They send different values "
+        "for 3 static transforms"
     ) in message
     assert "base_link -> bump (175.0 mm and 0.00° apart)" in message
     assert message.endswith("tf2 keeps the last received for every time: publisher 2's")

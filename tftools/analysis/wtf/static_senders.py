@@ -1,8 +1,10 @@
 """Who sent each /tf_static transform: the publisher a ROS 1 bag names, or, where the recording names none
-(ROS 2 bags, MCAP), one told from the messages. A StaticTransformBroadcaster re-sends all of its
-transforms in every message, so a message that lacks transforms of an earlier one comes from another
-publisher; and metadata.yaml lists how many publishers /tf_static had when recording began, so where it
-lists several, a message whose values differ from an earlier one's is taken for another publisher's."""
+(ROS 2 bags, MCAP), one told from the messages. C++'s StaticTransformBroadcaster (robot_state_publisher's,
+static_transform_publisher's) re-sends all of its transforms in every message, so a message that lacks
+transforms of an earlier one comes from another publisher (Python's sends only those it is given: a node
+that changes one of its transforms that way is taken for two publishers, which disagree all the same);
+and metadata.yaml lists how many publishers /tf_static had when recording began, so where it lists
+several, a message whose values differ from an earlier one's is taken for another publisher's."""
 
 from __future__ import annotations
 
@@ -143,8 +145,9 @@ def _publisher_of(
     last = publishers[overlapping[-1]]
     missing = len(last.latest.keys() - edges.keys())
     return None, (
-        f"lacks {missing} of publisher {overlapping[-1] + 1}'s {counted(len(last.latest), 'transform')} (a "
-        "StaticTransformBroadcaster re-sends all of its transforms in every message)"
+        f"lacks {missing} of publisher {overlapping[-1] + 1}'s {counted(len(last.latest), 'transform')} (C++'s "
+        "StaticTransformBroadcaster, robot_state_publisher's and static_transform_publisher's, re-sends all of its "
+        "transforms in every message)"
     )
 
 
