@@ -153,6 +153,23 @@ def test_two_identical_publishers_are_one_warning_for_all_their_edges(
     assert conclusion in finding.message and finding.figures["edges"] == 2
 
 
+def test_two_publishers_of_the_same_stamps_that_disagree_are_one_warning_for_every_edge(tmp_path: Path) -> None:
+    """A second robot_state_publisher whose URDF puts both wheels 5 cm further out: one finding for both
+    edges, which no other check reports again (their stamps come twice, with other values)."""
+    first = scenes.periodic("", 20, _two_wheels)
+    shifted = [TfMessage("/tf", m.record_time + 50_000, [_moved(t, 0.05) for t in m.transforms], "") for m in first]
+    findings = _findings(tmp_path, scenes.healthy(wheels=first + shifted), {"/tf": 2})
+    (finding,) = loud(findings)
+    assert finding.code == "multiple_authorities"
+    assert finding.frames == ("base_link", "wheel", "base_link", "wheel_right")
+    assert "with values up to 50.0 mm and 0.00° apart" in finding.message and "mix" in finding.hint
+
+
+def _moved(t: Transform, y: float) -> Transform:
+    x, y0, z = t.translation
+    return Transform((x, y0 + (y if y0 > 0 else -y), z), t.rotation, t.stamp, t.frame_id, t.child_frame_id)
+
+
 # --- (d) publishers taking turns with different values ----------------------------------------------
 
 

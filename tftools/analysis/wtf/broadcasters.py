@@ -47,6 +47,11 @@ def inferred_broadcasters(scene: Scene) -> list[Finding]:
     return [f for f in _inferred(scene) if f.severity is not Severity.info]
 
 
+def inferred_edges(scene: Scene) -> set[tuple[str, str]]:
+    """The (parent, child) edges ``inferred_broadcasters`` speaks of (a finding's ``frames`` pair them)."""
+    return {(f.frames[i], f.frames[i + 1]) for f in inferred_broadcasters(scene) for i in range(0, len(f.frames), 2)}
+
+
 def inferred_findings(scene: Scene) -> list[Finding]:
     """``inferred_broadcasters``, and a note per edge one publisher re-sends (the same stamp and value again)."""
     return _inferred(scene)

@@ -8,7 +8,7 @@ import numpy as np
 
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import inferred_broadcasters, sent_before
+from tftools.analysis.wtf.broadcasters import inferred_edges, sent_before
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
@@ -228,7 +228,7 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     """Per frame and publisher: what two publishers do to each other's stamps is theirs to answer for
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
-    taking_turns = {f.frames[1] for f in inferred_broadcasters(scene)}
+    taking_turns = {child for _, child in inferred_edges(scene)}
     for child, mine in _streams(scene, rows.usable & ~rows.static):
         if child not in taking_turns:
             yield from _stamps_of(scene, child, mine)
