@@ -133,11 +133,11 @@ def listed_publishers(scene: Scene, topic: str) -> int | None:
 
 def _listed_said(scene: Scene, topics: tuple[str, ...]) -> tuple[str, int | None]:
     """ "; metadata.yaml lists 2 publishers of /tf" where it does."""
-    listed_counts = [n for t in topics if (n := listed_publishers(scene, t)) is not None]
+    listed_counts = [(n, t) for t in topics if (n := listed_publishers(scene, t)) is not None]
     if not listed_counts:
         return "", None
-    n = max(listed_counts)
-    return f"; metadata.yaml lists {counted(n, 'publisher')} of {topics[0]} when recording began", n
+    n, topic = max(listed_counts)
+    return f"; metadata.yaml lists {counted(n, 'publisher')} of {topic} when recording began", n
 
 
 def _infer(scene: Scene) -> list[Finding]:
