@@ -86,9 +86,13 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
     """The /tf_static rows, the publisher each is told to come from, and those publishers; None where there
     are too many different messages to compare."""
     messages = _Messages(scene, static)
-    keys = [messages.fingerprint(k) for k in range(len(messages))]
-    if len(set(keys)) > MESSAGES_COMPARED:
-        return None
+    keys: list[bytes] = []
+    distinct: set[bytes] = set()
+    for k in range(len(messages)):
+        keys.append(messages.fingerprint(k))
+        distinct.add(keys[-1])
+        if len(distinct) > MESSAGES_COMPARED:
+            return None
     listed = {t: listed_publishers(scene, t) for t in scene.authorities_of(static)}
     several = max((n or 0) for n in listed.values()) >= 2
     publishers: list[_Publisher] = []
@@ -101,11 +105,12 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
             chosen[m] = seen[key]
             continue
         edges = messages.transforms(m)
-        k, evidence = _publisher_of(scene, publishers, edges, several, listed)
-        if k is None:
+        earlier, evidence = _publisher_of(scene, publishers, edges, several, listed)
+        if earlier is None:
             publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence))
             k = len(publishers) - 1
         else:
+            k = earlier
             publishers[k].latest = edges
             publishers[k].messages += 1
         seen[key] = k
