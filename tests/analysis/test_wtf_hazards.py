@@ -207,7 +207,7 @@ def test_two_identical_publishers_of_every_sample_are_two_broadcasters_in_a_ros2
         Severity.warning,
         ("base_link", "wheel"),
     )
-    assert "arrives twice: 200 of its 200 stamps came again, with the same values" in finding.message
+    assert "arrives twice: 200 of its 200 stamps arrived again (2 times each), with identical values" in finding.message
     assert "robot_state_publisher" in finding.message and "drops the exact copies" in finding.hint
 
 

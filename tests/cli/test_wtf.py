@@ -131,7 +131,7 @@ def test_json_findings_carry_every_field_with_times_in_seconds(tfx, bags: dict[s
     (finding,) = bag["findings"]
     assert set(finding) == {
         "severity", "code", "message", "hint", "frames", "authorities", "first_time", "last_time", "count", "skipped",
-        "key", "cause",
+        "key", "cause", "figures",
     }  # fmt: skip
     assert finding["severity"] == "error" and finding["frames"] == ["odom", "base_link"]
     assert finding["skipped"] is False

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 
 def counted(n: int, thing: str) -> str:
@@ -43,7 +43,9 @@ class Finding:
     where it shows, ``count`` how many samples or messages show it. A ``skipped`` finding says that
     its check could not run on this recording, and why: never a silent pass. ``key`` names a finding that
     explains others (unique among one recording's findings); ``cause`` is the key of the finding this one
-    follows from (``analysis.wtf.causes``), empty for a finding that stands on its own.
+    follows from (``analysis.wtf.causes``), empty for a finding that stands on its own. ``figures`` holds
+    what was observed, by name (counts, metres, degrees, seconds), as the message says it: for JSON and the
+    report.
     """
 
     severity: Severity
@@ -58,6 +60,7 @@ class Finding:
     skipped: bool = False
     key: str = ""
     cause: str = ""
+    figures: dict[str, float | int | str] = field(default_factory=dict, hash=False)
 
 
 def causes(findings: Sequence[Finding]) -> list[Finding]:

@@ -106,6 +106,7 @@ def _finding(entry: dict[str, Any]) -> Finding:
         skipped=bool(entry["skipped"]),
         key=str(entry.get("key", "")),  # older reports have no causes
         cause=str(entry.get("cause", "")),
+        figures=dict(entry.get("figures") or {}),
     )
 
 

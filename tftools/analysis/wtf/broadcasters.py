@@ -1,18 +1,28 @@
-"""Several broadcasters of one edge where the recording does not name publishers (ROS 2 bags, MCAP):
-inferred from the edge's own stream. Three patterns are told apart: most stamps sent twice (two
-identical broadcasters, such as two robot_state_publishers); one publisher sending an old stamp
-again among its own (not two broadcasters: ``time_backwards`` says so); and, among the samples not
-sent before, stamps going back and forth or values alternating between two places, sample after
-sample (broadcasters taking turns)."""
+"""Several broadcasters of one moving edge where the recording does not name publishers (ROS 2 bags,
+MCAP), told from what the edge's stream holds: its stamps, values, when each sample arrived, and how many
+publishers of its topic metadata.yaml lists. Four patterns are told apart:
+
+- a stamp sent again with the same value, the newest stamp each time, as long after the sample before it
+  as new samples come: one publisher re-sending its last value (a timer whose input did not change: a
+  simulation step not yet taken, no new scan); a note;
+- most stamps sent again, each soon after the first (well within the stream's interval): two identical
+  publishers (two robot_state_publishers), or two that disagree where the values differ;
+- among the samples not sent before, stamps going back and forth or values alternating between two
+  places, sample after sample: publishers taking turns;
+- anything else is one publisher (intervals alternating on a stepped clock, stamps rising, values smooth)."""
 
 from __future__ import annotations
 
+import dataclasses
+from dataclasses import dataclass
+
 import numpy as np
 
-from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf.scene import Scene, edge, listed
+from tftools.analysis.findings import Finding, Severity, counted
+from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.rotation import angle_between_many
+from tftools.core.time import NS_PER_S
 
 #: A sign must show in this many samples, and this share of them, to tell two broadcasters.
 TURNS_MIN = 5
@@ -22,12 +32,113 @@ APART_M = 0.01
 APART_DEG = 1.0
 #: Two identical broadcasters: at least this share of an edge's stamps sent twice (or more).
 TWINS_SHARE = 0.5
+#: A copy that comes at least this share of the stream's usual interval after the sample before it is a
+#: re-send on the publisher's own timer; one that comes sooner, a second publisher's copy of the same input.
+RESEND_SHARE = 0.5
+#: Edges named in one finding; the rest are counted.
+LISTED = 6
+#: Re-sends of the last value: at least this share of the copies carry the newest stamp sent so far.
+NEWEST_SHARE = 0.9
 
 
 def inferred_broadcasters(scene: Scene) -> list[Finding]:
-    """One ``multiple_authorities`` finding per moving edge that looks like several broadcasters
-    taking turns, where the recording names no publishers (none elsewhere); computed once per scene."""
+    """One ``multiple_authorities`` finding (a warning) per moving edge that several broadcasters seem to
+    send, where the recording names no publishers (none elsewhere); computed once per scene."""
+    return [f for f in _inferred(scene) if f.severity is not Severity.info]
+
+
+def inferred_edges(scene: Scene) -> set[tuple[str, str]]:
+    """The (parent, child) edges ``inferred_broadcasters`` speaks of (a finding's ``frames`` pair them)."""
+    return {(f.frames[i], f.frames[i + 1]) for f in inferred_broadcasters(scene) for i in range(0, len(f.frames), 2)}
+
+
+def resent_notes(scene: Scene) -> list[Finding]:
+    """A ``resent`` note per edge one publisher re-sends (the same stamp and value again, on its own timer),
+    where the recording names no publishers; computed with ``inferred_broadcasters``."""
+    return [f for f in _inferred(scene) if f.severity is Severity.info]
+
+
+def _inferred(scene: Scene) -> list[Finding]:
     return scene.shared("inferred_broadcasters", lambda: list(_infer(scene)))
+
+
+@dataclass(frozen=True)
+class Repeats:
+    """The samples of one edge's stream (in arrival order) that carry a stamp sent before, as observed."""
+
+    again: BoolArray  # per sample: its stamp was sent before
+    identical: BoolArray  # per sample: its stamp and value were sent before
+    stamps: int  # distinct stamps
+    stamps_again: int  # distinct stamps sent more than once
+    times: tuple[int, int]  # fewest and most times one of those came
+    apart: float  # median ns between a repeat and the sample before it
+    interval: float  # median ns between a new sample and the sample before it
+    newest: float  # share of the repeats that carry the newest stamp sent so far
+
+    @property
+    def resent(self) -> bool:
+        """Repeats as long after the sample before them as new samples come: one publisher's timer."""
+        return self.apart >= RESEND_SHARE * self.interval > 0
+
+    def said(self, whose: str = "its") -> str:
+        """ "182 of its 598 stamps arrived again (2 times each)"."""
+        low, high = self.times
+        each = f"{low} times each" if low == high else f"{low} to {high} times each"
+        return f"{self.stamps_again} of {whose} {self.stamps} stamps arrived again ({each})"
+
+    def timing(self) -> str:
+        """ "21 ms after the sample before them (new samples: every 20 ms)"."""
+        return f"{_ms(self.apart)} after the sample before them (new samples come every {_ms(self.interval)})"
+
+    def figures(self) -> dict[str, float | int | str]:
+        return {
+            "stamps": self.stamps,
+            "stamps_sent_again": self.stamps_again,
+            "times_min": self.times[0],
+            "times_max": self.times[1],
+            "repeat_after_s": self.apart / NS_PER_S,
+            "new_sample_interval_s": self.interval / NS_PER_S,
+            "newest_share": round(self.newest, 3),
+        }
+
+
+def repeats_of(stamps: Int64Array, values: FloatArray, arrivals: Int64Array) -> Repeats:
+    """What the stream of one edge (``stamps``, ``values``, ``arrivals`` in arrival order) sent again."""
+    again = sent_before(stamps)
+    identical = sent_before(stamps, values)
+    distinct, counts = np.unique(stamps, return_counts=True)
+    more = counts[counts > 1]
+    gaps = np.diff(arrivals).astype(np.float64)
+    repeat_gaps, new_gaps = gaps[again[1:]], gaps[~again[1:]]
+    newest_before = np.maximum.accumulate(stamps)
+    return Repeats(
+        again,
+        identical,
+        len(distinct),
+        len(more),
+        (int(more.min()), int(more.max())) if len(more) else (1, 1),
+        float(np.median(repeat_gaps)) if len(repeat_gaps) else 0.0,
+        float(np.median(new_gaps)) if len(new_gaps) else 0.0,
+        float((stamps[again] == newest_before[again]).mean()) if again.any() else 0.0,
+    )
+
+
+def listed_publishers(scene: Scene, topic: str) -> int | None:
+    """How many publishers of ``topic`` the recording's metadata.yaml lists (one per publisher the recorder
+    found when it began: ``offered_qos_profiles``); None where no file says."""
+    found = [
+        f.qos.counts[topic][1] for f in scene.recording.contents.files if f.qos is not None and topic in f.qos.counts
+    ]
+    return max(found) if found else None
+
+
+def _listed_said(scene: Scene, topics: tuple[str, ...]) -> tuple[str, int | None]:
+    """ "; metadata.yaml lists 2 publishers of /tf" where it does."""
+    listed_counts = [(n, t) for t in topics if (n := listed_publishers(scene, t)) is not None]
+    if not listed_counts:
+        return "", None
+    n, topic = max(listed_counts)
+    return f"; metadata.yaml lists {counted(n, 'publisher')} of {topic} when recording began", n
 
 
 def _infer(scene: Scene) -> list[Finding]:
@@ -35,14 +146,19 @@ def _infer(scene: Scene) -> list[Finding]:
         return []
     rows = scene.rows
     found = []
+    twins: dict[tuple[str, ...], list[tuple[tuple[str, str], IntpArray, Repeats]]] = {}
     for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
-        stamps = rows.stamp[mine]
-        again = sent_before(stamps)
         frames = (parent, child)
-        if _enough(twice := _stamps_sent_twice(stamps, again), len(np.unique(stamps)), TWINS_SHARE):
-            found.append(_twins(scene, frames, mine, twice, again))
-            continue
-        new = mine[~again]  # a publisher re-sending an old stamp is one publisher, not a turn
+        repeats = repeats_of(rows.stamp[mine], rows.values[mine], scene.received(mine))
+        if _enough(repeats.stamps_again, repeats.stamps):
+            if repeats.resent and repeats.newest >= NEWEST_SHARE:
+                if repeats.identical[repeats.again].all():
+                    found.append(_resent(scene, frames, mine, repeats))
+                continue  # one publisher sending its newest stamp again: other values are ``time_backwards``'
+            if not repeats.resent and repeats.stamps_again >= TWINS_SHARE * repeats.stamps:
+                twins.setdefault(scene.authorities_of(mine), []).append((frames, mine, repeats))
+                continue
+        new = mine[~repeats.again]  # a publisher re-sending an old stamp is one publisher, not a turn
         back = _back_and_forth(rows.stamp[new])
         alternating = _alternating(rows.values[new])
         signs = [
@@ -51,21 +167,23 @@ def _infer(scene: Scene) -> list[Finding]:
         ]
         if not any(signs):
             continue
-        found.append(
-            scene.finding(
-                Severity.warning,
-                "multiple_authorities",
-                f"{edge(*frames)}{scene.by(scene.authorities_of(mine))} seems to come from several broadcasters "
-                f"taking turns: {listed([s for s in signs if s])} in {len(mine)} samples (this recording does not "
-                "name publishers)",
-                "tf2 takes every sample as it comes, so lookups mix the broadcasters' values: find them "
-                "(ros2 topic info /tf --verbose) and turn the transform off in all but one",
-                frames,
-                mine,
-                scene.arrival(mine),
-            )
+        authorities = scene.authorities_of(mine)
+        metadata, _ = _listed_said(scene, authorities)
+        finding = scene.finding(
+            Severity.warning,
+            "multiple_authorities",
+            f"{edge(*frames)}{scene.by(authorities)}: {listed([s for s in signs if s])} in {len(new)} new samples"
+            f"{metadata}: several broadcasters taking turns, it seems (this recording does not name publishers)",
+            "tf2 takes every sample as it comes, so lookups mix the broadcasters' values: find them "
+            "(ros2 topic info /tf --verbose) and turn the transform off in all but one",
+            frames,
+            mine,
+            scene.arrival(mine),
         )
-    return found
+        figures: dict[str, float | int | str] = {"samples": len(mine), "new_samples": len(new)}
+        figures |= {"stamps_back": back, "values_alternating": alternating}
+        found.append(dataclasses.replace(finding, figures=figures))
+    return found + [_twins(scene, edges) for edges in twins.values()]
 
 
 def _enough(count: int, samples: int, share: float = TURNS_SHARE) -> bool:
@@ -85,35 +203,94 @@ def sent_before(stamps: Int64Array, values: FloatArray | None = None) -> BoolArr
     return ~first
 
 
-def _stamps_sent_twice(stamps: Int64Array, again: BoolArray) -> int:
-    return len(np.unique(stamps[again]))
+def _resent(scene: Scene, frames: tuple[str, str], mine: IntpArray, repeats: Repeats) -> Finding:
+    """One publisher re-sending its last sample, stamp and value, on its own timer."""
+    authorities = scene.authorities_of(mine)
+    metadata, listed_count = _listed_said(scene, authorities)
+    if scene.buffer.semantics == "ros2":
+        effect = "nothing to fix: ROS 2's tf2 takes an identical sample again without a word"
+    else:
+        effect = "ROS 1's tf2 refuses each copy (TF_REPEATED_DATA), which changes nothing but the log"
+    finding = scene.finding(
+        Severity.info,
+        "resent",
+        f"{edge(*frames)}{scene.by(authorities)}: {repeats.said()}, with identical values, {repeats.timing()}, "
+        f"each time the newest stamp sent so far{metadata}: one publisher re-sending its last value, not two",
+        f"{effect}; a publisher on a timer sends its last transform again when its input has not changed "
+        "(a simulation step not yet taken, no new scan)",
+        frames,
+        mine[repeats.again],
+        scene.arrival(mine[repeats.again]),
+    )
+    figures = repeats.figures() | ({"publishers_listed": listed_count} if listed_count is not None else {})
+    return dataclasses.replace(finding, figures=figures)
 
 
-def _twins(scene: Scene, frames: tuple[str, str], mine: IntpArray, twice: int, again: BoolArray) -> Finding:
-    """Most stamps sent twice: two broadcasters of the same transform, each sending every sample."""
+def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]) -> Finding:
+    """Most stamps of ``edges`` (of the same topics) sent again, soon after the first: two broadcasters of
+    the same transforms, each sending every sample (two robot_state_publishers fed the same joint states)."""
     rows = scene.rows
-    stamps, values = rows.stamp[mine], rows.values[mine]
-    first = np.unique(stamps, return_index=True)
-    originals = values[first[1][np.searchsorted(first[0], stamps[again])]]
-    metres, degrees = apart(originals, values[again])
-    if metres.max() == 0 and degrees.max() == 0:
-        values_said = "the same values"
+    metres, degrees = 0.0, 0.0
+    for _, mine, repeats in edges:
+        stamps, values = rows.stamp[mine], rows.values[mine]
+        first = np.unique(stamps, return_index=True)
+        originals = values[first[1][np.searchsorted(first[0], stamps[repeats.again])]]
+        m, d = apart(originals, values[repeats.again])
+        metres, degrees = max(metres, float(m.max())), max(degrees, float(d.max()))
+    if metres == 0 and degrees == 0:
+        values_said = "identical values"
         effect = "tf2 drops the exact copies, so lookups are right, but every sample costs twice"
     else:
-        values_said = f"values up to {metres.max() * 1000:.1f} mm and {degrees.max():.2f}° apart"
+        values_said = f"values up to {metres * 1000:.1f} mm and {degrees:.2f}° apart"
         effect = "tf2 keeps both where they differ, so lookups mix the two publishers' values"
-    distinct = len(first[0])
-    return scene.finding(
+    every = np.sort(np.concatenate([mine for _, mine, _ in edges]))
+    together = _together([repeats for _, _, repeats in edges])
+    authorities = scene.authorities_of(every)
+    metadata, listed_count = _listed_said(scene, authorities)
+    if listed_count == 1:
+        conclusion = "one publisher sending each sample twice, or a second one started after recording began"
+    else:
+        conclusion = "two identical publishers, it seems (two robot_state_publishers, or one launched twice)"
+    named = [edge(*frames) for frames, _, _ in edges]
+    names = and_joined(named) if len(named) <= LISTED else listed(named, LISTED)
+    finding = scene.finding(
         Severity.warning,
         "multiple_authorities",
-        f"{edge(*frames)}{scene.by(scene.authorities_of(mine))} arrives twice: {twice} of its {distinct} stamps "
-        f"came again, with {values_said}: two identical publishers, it seems (two robot_state_publishers, or one "
-        "launched twice; this recording does not name publishers)",
+        f"{names}{scene.by(authorities)} {'arrive' if len(edges) > 1 else 'arrives'} twice: "
+        f"{together.said('their' if len(edges) > 1 else 'its')}, "
+        f"with {values_said}, {together.timing()}{metadata}: {conclusion}; this recording does not name publishers",
         f"{effect}: find them (ros2 node list, ros2 topic info /tf --verbose) and stop the one that should not run",
-        frames,
-        mine,
-        scene.arrival(mine),
+        tuple(f for frames, _, _ in edges for f in frames),
+        every,
+        scene.arrival(every),
     )
+    figures = together.figures() | {"edges": len(edges), "apart_m": metres, "apart_deg": degrees}
+    if listed_count is not None:
+        figures["publishers_listed"] = listed_count
+    return dataclasses.replace(finding, figures=figures)
+
+
+def _together(each: list[Repeats]) -> Repeats:
+    """The repeats of several edges counted as one: stamps added up, intervals their median."""
+    if len(each) == 1:
+        return each[0]
+    return Repeats(
+        np.concatenate([r.again for r in each]),
+        np.concatenate([r.identical for r in each]),
+        sum(r.stamps for r in each),
+        sum(r.stamps_again for r in each),
+        (min(r.times[0] for r in each), max(r.times[1] for r in each)),
+        float(np.median([r.apart for r in each])),
+        float(np.median([r.interval for r in each])),
+        float(np.mean([r.newest for r in each])),
+    )
+
+
+def _ms(ns: float) -> str:
+    """A short interval: "40 us", "20.5 ms", "1.2 s"."""
+    if ns < 1e6:
+        return f"{ns / 1e3:.0f} us"
+    return f"{ns / 1e6:.1f} ms" if ns < NS_PER_S else duration(ns / NS_PER_S)
 
 
 def _back_and_forth(stamps: Int64Array) -> int:

@@ -11,7 +11,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree
-from tftools.analysis.wtf.broadcasters import apart, inferred_broadcasters
+from tftools.analysis.wtf.broadcasters import apart, inferred_edges
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray
@@ -88,7 +88,7 @@ def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Ju
     """Each moving edge of one publisher, into odom or not (``into_odom``), with its unexplained steps
     and the stamps they end at (edges where several publishers take turns are ``multiple_authorities``'
     to report: their values alternate)."""
-    contested = {(f.frames[0], f.frames[1]) for f in inferred_broadcasters(scene)}
+    contested = inferred_edges(scene)
     for samples in scene.dynamic_edges:
         if len(samples.authorities) > 1 or samples.key in contested:
             continue

@@ -55,11 +55,12 @@ class Layout:
             s = int(which[0]) if len(which) else 0
             one: npt.NDArray[S] = column(self.segments[s])[places - self.starts[s]]
             return one
-        found = np.unique(which)
-        first = column(self.segments[int(found[0])])
+        order = np.argsort(which, kind="stable")  # each segment's rows together: linear, not rows x segments
+        parts = np.split(order, np.flatnonzero(np.diff(which[order])) + 1)
+        first = column(self.segments[int(which[order[0]])])
         out = np.empty((len(places), *first.shape[1:]), first.dtype)
-        for s in found.tolist():
-            mine = which == s
+        for mine in parts:
+            s = int(which[mine[0]])
             out[mine] = column(self.segments[s])[places[mine] - self.starts[s]]
         return out
 

@@ -10,11 +10,12 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.loops import find_loops
-from tftools.analysis.wtf.broadcasters import inferred_broadcasters
+from tftools.analysis.wtf.broadcasters import inferred_broadcasters, resent_notes
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
-from tftools.analysis.wtf.topics import StaticShared, both, static_shared
+from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
+from tftools.analysis.wtf.static_senders import static_senders
+from tftools.analysis.wtf.topics import StaticShared, static_shared
 from tftools.core.arrays import Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 
@@ -197,7 +198,9 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         f", first at {scene.at(int(switch_times[0]))}, and is now under {now}"
     )
     all_publishers = tuple(dict.fromkeys(a for group in publishers for a in group))
-    if scene.publishers_known and not set.intersection(*map(set, publishers)):
+    if rows.static[mine].all():
+        hint = _static_parents_hint(scene, child, mine, names, now)
+    elif scene.publishers_known and not set.intersection(*map(set, publishers)):
         hint = (
             f"{child} can have one parent only, and these publishers fight over it: lookups jump between trees. "
             f"Let one of them publish {child}; the others attach elsewhere (a localizer publishes map -> odom, "
@@ -221,6 +224,23 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
     )
 
 
+def _static_parents_hint(scene: Scene, child: str, mine: IntpArray, names: list[str], now: str) -> str:
+    """A frame sent on /tf_static under several parents: by several publishers (two descriptions of the
+    robot), or by one that changed its mind; tf2 keeps the last for every time either way."""
+    senders = static_senders(scene)
+    lost = listed([n for n in names if n != now])
+    kept = (
+        f"tf2 keeps the last static transform received for every time: {child} is under {now} at every time, and "
+        f"its transform from {lost} is lost"
+    )
+    if len(senders.of(mine)) > 1:
+        return (
+            f"{kept}. {and_joined(senders.names(senders.of(mine)))} publish {child} on /tf_static under different "
+            "parents (two descriptions of the robot): publish it from one of them"
+        )
+    return f"{kept}: fix the frame_id its publisher sends on /tf_static"
+
+
 @register("multiple_authorities", Severity.warning, "two publishers of one edge")
 def multiple_authorities(scene: Scene) -> Iterator[Finding]:
     """Per moving edge; static edges per set of publishers (where they differ, ``static_conflict``). Where the
@@ -237,13 +257,20 @@ def multiple_authorities(scene: Scene) -> Iterator[Finding]:
             yield _same_statics(scene, group)
 
 
+@register("resent", Severity.info, "one publisher sending a sample again: a stamp and value it sent before")
+def resent(scene: Scene) -> Iterator[Finding]:
+    """Where the recording names no publishers (ROS 2 bags): edges whose stream repeats samples on the
+    publisher's own timer, told apart from a second publisher (``multiple_authorities``)."""
+    yield from resent_notes(scene)
+
+
 def _same_statics(scene: Scene, group: StaticShared) -> Finding:
     """Several publishers of the same static transforms, with the same values: harmless, one finding for them all."""
     agree = [edge(p, c) for p, c in group.agree]
     return scene.finding(
         Severity.info,
         "multiple_authorities",
-        f"{both(scene, group.authorities)} both send {counted(len(agree), 'static transform')}, with the same "
+        f"{and_joined(group.names)} both send {counted(len(agree), 'static transform')}, with the same "
         f"values: {listed(agree)}",
         "fine: tf2 keeps one value per static transform, and here they are equal; one publisher is enough",
         tuple(dict.fromkeys(f for p, c in group.agree for f in (p, c))),

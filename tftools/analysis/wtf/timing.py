@@ -8,7 +8,7 @@ import numpy as np
 
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import inferred_broadcasters, sent_before
+from tftools.analysis.wtf.broadcasters import inferred_edges, sent_before
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
@@ -181,18 +181,7 @@ def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrival
         return
     what = f"{edge(*frames)}{scene.by(who)}"
     if not scene.publishers_known and _interleaved(arrivals, step):
-        if frames in {f.frames for f in inferred_broadcasters(scene)}:
-            return  # already said
-        hz = NS_PER_S / float(np.median(np.diff(arrivals[0::2])))
-        code = "multiple_authorities"
-        message = (
-            f"{what} arrives as two steady {hz:.1f} Hz streams taking turns: two publishers of one edge, it seems "
-            "(this bag does not name publishers)"
-        )
-        hint = (
-            "tf2 takes every sample as it comes, so lookups mix both publishers' values: find them (ros2 topic info "
-            "/tf --verbose) and turn the transform off in all but one"
-        )
+        return  # two rhythms taking turns: one publisher on a stepped clock, or two (``broadcasters`` tells)
     elif _cyclic(intervals):  # a driver sending two messages every 100 ms, 33 then 67 ms apart, is regular
         return
     else:
@@ -239,7 +228,7 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     """Per frame and publisher: what two publishers do to each other's stamps is theirs to answer for
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
-    taking_turns = {f.frames[1] for f in inferred_broadcasters(scene)}
+    taking_turns = {child for _, child in inferred_edges(scene)}
     for child, mine in _streams(scene, rows.usable & ~rows.static):
         if child not in taking_turns:
             yield from _stamps_of(scene, child, mine)

@@ -3,16 +3,18 @@ and publishers of /tf_static that disagree."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import apart
+from tftools.analysis.wtf.broadcasters import apart, listed_publishers
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed, transforms
+from tftools.analysis.wtf.static_senders import Sender, StaticSenders, static_senders
 from tftools.core.arrays import IntpArray
 from tftools.core.figures import rate_hz
 from tftools.core.time import NS_PER_S
@@ -112,36 +114,49 @@ def _moving_by_nature(parent: str) -> bool:
 
 @register("dynamic_on_static", Severity.error, "a changing transform on /tf_static")
 def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
-    """Static edges whose value one publisher changed (publishers that disagree: ``static_conflict``)."""
+    """Static edges whose value one publisher changed (publishers that disagree: ``static_conflict``; where
+    the recording names none, ``static_senders`` tells them apart)."""
     rows = scene.rows
+    senders = static_senders(scene)
     for parent, child, mine in rows.by_edge(rows.usable & rows.static):
         values = rows.values[mine]
         changed = np.flatnonzero((values[1:] != values[:-1]).any(axis=1)) + 1
-        if not len(changed) or not _changes_its_own(rows, mine):
+        if not len(changed) or not _changes_its_own(rows, senders, mine):
             continue
         distinct = len(np.unique(values, axis=0))
         when = scene.arrival(mine[changed])
         who = scene.authorities_of(mine)
-        yield Finding(
+        evidence, hint = "", ""
+        if senders.inferred:
+            n = max((c for a in who if (c := listed_publishers(scene, a)) is not None), default=None)
+            listed_said = f"; metadata.yaml lists {counted(n, 'publisher')} of it" if n is not None else ""
+            evidence = (
+                " (each /tf_static message holds every transform of the one before it, as one "
+                f"StaticTransformBroadcaster sends them{listed_said}: one publisher, it seems; this recording does "
+                "not name publishers)"
+            )
+            hint = "; if two nodes send it (ros2 topic info /tf_static --verbose lists them), publish it from one"
+        finding = Finding(
             Severity.error,
             "dynamic_on_static",
             f"{edge(parent, child)} takes {distinct} different values on /tf_static"
             f"{_by(scene, who)}: it changed {counted(len(changed), 'time')}, first at "
-            f"{scene.at(int(when[0]))}",
+            f"{scene.at(int(when[0]))}{evidence}",
             "a static transform holds at every time, so tf2 applies its latest value to the past too: send a "
             "moving transform on /tf with current stamps (a TransformBroadcaster), and on /tf_static only what "
-            "never moves",
+            f"never moves{hint}",
             (parent, child),
             who,
             int(when[0]),
             int(when[-1]),
             len(changed),
         )
+        yield dataclasses.replace(finding, figures={"values": distinct, "changes": len(changed)})
 
 
-def _changes_its_own(rows: Rows, mine: np.ndarray) -> bool:
+def _changes_its_own(rows: Rows, senders: StaticSenders, mine: np.ndarray) -> bool:
     """Whether a publisher of the static edge ``mine`` sent it with more than one value."""
-    for _, theirs in split(mine, rows.authority[mine]):
+    for _, theirs in split(mine, senders.sender[mine]):
         values = rows.values[theirs]
         if (values != values[0]).any():
             return True
@@ -150,10 +165,13 @@ def _changes_its_own(rows: Rows, mine: np.ndarray) -> bool:
 
 @dataclass(frozen=True)
 class StaticShared:
-    """Static edges sent by the same several publishers: those on which their values differ (with how
-    far the other publishers' latest value is from the one tf2 keeps: metres, degrees), and the others."""
+    """Static edges sent by the same several publishers (``static_senders``): those on which their values
+    differ (with how far the other publishers' latest value is from the one tf2 keeps: metres, degrees),
+    and the others."""
 
-    authorities: tuple[str, ...]
+    senders: tuple[int, ...]
+    names: list[str]  # the publishers as findings name them
+    authorities: tuple[str, ...]  # as the recording names them (the topic, where it names none)
     differ: list[tuple[str, str, float, float]]
     agree: list[tuple[str, str]]
     rows: IntpArray  # every row of these edges
@@ -166,13 +184,14 @@ def static_shared(scene: Scene) -> list[StaticShared]:
 
 def _static_shared(scene: Scene) -> list[StaticShared]:
     rows = scene.rows
-    groups: dict[tuple[str, ...], tuple[list[tuple[str, str, float, float]], list[tuple[str, str]], list[IntpArray]]]
+    senders = static_senders(scene)
+    groups: dict[tuple[int, ...], tuple[list[tuple[str, str, float, float]], list[tuple[str, str]], list[IntpArray]]]
     groups = {}
     for parent, child, mine in rows.by_edge(rows.usable & rows.static):
-        ids = rows.authority[mine]
-        if ids.min() == ids.max() or _changes_its_own(rows, mine):
+        ids = senders.sender[mine]
+        if ids.min() == ids.max() or _changes_its_own(rows, senders, mine):
             continue
-        differ, agree, members = groups.setdefault(scene.authorities_of(mine), ([], [], []))
+        differ, agree, members = groups.setdefault(senders.of(mine), ([], [], []))
         members.append(mine)
         values = rows.values[mine]
         metres, degrees = apart(values, np.broadcast_to(values[-1], values.shape))  # from the one tf2 keeps
@@ -180,43 +199,87 @@ def _static_shared(scene: Scene) -> list[StaticShared]:
             differ.append((parent, child, float(metres.max()), float(degrees.max())))
         else:
             agree.append((parent, child))
-    return [StaticShared(who, d, a, np.sort(np.concatenate(m))) for who, (d, a, m) in groups.items()]
+    shared = []
+    for who, (d, a, m) in groups.items():
+        every = np.sort(np.concatenate(m))
+        shared.append(StaticShared(who, senders.names(who), scene.authorities_of(every), d, a, every))
+    return shared
 
 
 @register("static_conflict", Severity.error, "publishers of /tf_static that disagree on frames")
 def static_conflict(scene: Scene) -> Iterator[Finding]:
     """Two robot descriptions or calibrations latched at once: one finding per set of publishers,
     with the frames they disagree on and by how much."""
-    rows = scene.rows
+    senders = static_senders(scene)
     for group in static_shared(scene):
-        if not group.differ:
-            continue
-        worst = max(group.differ, key=lambda d: (d[2], d[3]))
-        kept = scene.publisher(rows.authorities[int(rows.authority[group.rows[-1:]][0])])
-        described = [f"{edge(p, c)} ({_apart(m, d)})" for p, c, m, d in group.differ]
-        agree = f"; they agree on {counted(len(group.agree), 'other')}" if group.agree else ""
-        arrivals = scene.arrival(group.rows)
-        yield Finding(
-            Severity.error,
-            "static_conflict",
-            f"{both(scene, group.authorities)} send different values for "
+        if group.differ:
+            yield _conflict(scene, senders, group)
+
+
+def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Finding:
+    worst = max(group.differ, key=lambda d: (d[2], d[3]))
+    turned = max(group.differ, key=lambda d: (d[3], d[2]))
+    kept = senders.senders[int(senders.sender[group.rows[-1]])]
+    described = [f"{edge(p, c)} ({_apart(m, d)})" for p, c, m, d in group.differ]
+    agree = f"; they agree on {counted(len(group.agree), 'other')}" if group.agree else ""
+    arrivals = scene.arrival(group.rows)
+    figures: dict[str, float | int | str] = {
+        "publishers": len(group.senders),
+        "transforms_differing": len(group.differ),
+        "transforms_agreeing": len(group.agree),
+        "apart_m_max": worst[2],
+        "apart_deg_max": turned[3],
+    }
+    if senders.inferred:
+        who = [senders.senders[k] for k in group.senders]
+        sent = "; ".join(
+            f"publisher {s.number}: {counted(s.transforms, 'transform')} at {scene.at(s.first)}{_times(s)}"
+            + (f", which {s.evidence}" if s.evidence else "")
+            for s in who
+        )
+        message = (
+            f"/tf_static came from {len(who)} publishers, told apart by their messages (this recording does not "
+            f"name them): {sent}. They send different values for "
+            f"{counted(len(group.differ), 'static transform')}: {listed(described)}; up to "
+            f"{worst[2] * 1000:.1f} mm ({edge(worst[0], worst[1])}) and {turned[3]:.2f}° ({edge(turned[0], turned[1])})"
+            f"{agree}. tf2 keeps the last received for every time: publisher {kept.number}'s"
+        )
+        hint = (
+            "two descriptions of one robot are published at once (a driver's own static transforms and "
+            "robot_state_publisher's URDF, two robot_state_publishers, two calibration files): publish each frame "
+            "from one of them (ros2 topic info /tf_static --verbose lists the publishers); tfx diff compares two "
+            "recordings' calibrations"
+        )
+        for i, s in enumerate(who, 1):
+            figures |= {f"publisher_{i}_transforms": s.transforms, f"publisher_{i}_at_s": s.first / NS_PER_S}
+    else:
+        message = (
+            f"{and_joined(group.names)} send different values for "
             f"{counted(len(group.differ), 'static transform')}: {listed(described)}; the largest "
             f"{edge(worst[0], worst[1])}, {_apart(worst[2], worst[3])}{agree}. tf2 keeps the last received "
-            f"for every time: {kept}'s, at {scene.at(int(arrivals.max()))}",
+            f"for every time: {kept.name}'s, at {scene.at(int(arrivals.max()))}"
+        )
+        hint = (
             "two descriptions of one robot are published at once (two calibration files, two "
             "robot_state_publishers with different URDFs): publish each frame from one of them; "
-            "tfx diff compares two recordings' calibrations",
-            tuple(dict.fromkeys(f for p, c, _, _ in group.differ for f in (p, c))),
-            group.authorities,
-            int(arrivals.min()),
-            int(arrivals.max()),
-            len(group.differ),
+            "tfx diff compares two recordings' calibrations"
         )
+    finding = Finding(
+        Severity.error,
+        "static_conflict",
+        message,
+        hint,
+        tuple(dict.fromkeys(f for p, c, _, _ in group.differ for f in (p, c))),
+        group.authorities,
+        int(arrivals.min()),
+        int(arrivals.max()),
+        len(group.differ),
+    )
+    return dataclasses.replace(finding, figures=figures)
 
 
-def both(scene: Scene, authorities: Sequence[str]) -> str:
-    """ "/a and /b", "/a, /b and /c": publishers as a person knows them."""
-    return and_joined([scene.publisher(a) for a in authorities])
+def _times(sender: Sender) -> str:
+    return f" (the same {sender.messages} times)" if sender.messages > 1 else ""
 
 
 def _apart(metres: float, degrees: float) -> str:
@@ -231,16 +294,7 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
         if static.all() or not static.any():
             continue
         fixed, moving = mine[static], mine[~static]
-        if static[0]:
-            effect = (
-                "tf2 made it a static frame (its first transform came on /tf_static), so each /tf transform "
-                "replaces its value for every time"
-            )
-        else:
-            effect = (
-                "tf2 made it a moving frame (its first transform came on /tf), so the /tf_static one counts only "
-                "at its stamp"
-            )
+        effect = _mixed_effect(scene, mine, static)
         parents = sorted({rows.names[p] for p in rows.parent[mine].tolist()})
         yield scene.finding(
             Severity.error,
@@ -253,3 +307,29 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
             mine,
             scene.arrival(mine),
         )
+
+
+def _mixed_effect(scene: Scene, mine: IntpArray, static: np.ndarray) -> str:
+    """What the recording's tf2 made of a frame sent on both topics (``static``: which of ``mine`` came on
+    /tf_static): ROS 1's keeps the cache its first sample made; ROS 2's replaces it at each switch."""
+    if scene.buffer.semantics == "ros2":
+        switches = np.flatnonzero(static[1:] != static[:-1]) + 1
+        last = scene.at(int(scene.arrival(mine[switches[-1:]])[0]))
+        held = (
+            "the last /tf_static value, for every time, and none of the /tf transforms"
+            if static[-1]
+            else "only the /tf transforms since then"
+        )
+        return (
+            "ROS 2's tf2 replaces a frame's cache when it switches between /tf_static and /tf, dropping what it "
+            f"held: it switched {counted(len(switches), 'time')}, the last at {last} to "
+            f"{'/tf_static' if static[-1] else '/tf'}, so tf2 holds {held}"
+        )
+    if static[0]:
+        return (
+            "tf2 made it a static frame (its first transform came on /tf_static), so each /tf transform "
+            "replaces its value for every time"
+        )
+    return (
+        "tf2 made it a moving frame (its first transform came on /tf), so the /tf_static one counts only at its stamp"
+    )

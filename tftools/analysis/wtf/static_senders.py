@@ -1,0 +1,203 @@
+"""Who sent each /tf_static transform: the publisher a ROS 1 bag names, or, where the recording names none
+(ROS 2 bags, MCAP), one told from the messages. C++'s StaticTransformBroadcaster (robot_state_publisher's,
+static_transform_publisher's) re-sends all of its transforms in every message, so a message that lacks
+transforms of an earlier one comes from another publisher (Python's sends only those it is given: a node
+that changes one of its transforms that way is taken for two publishers, which disagree all the same);
+and metadata.yaml lists how many publishers /tf_static had when recording began, so where it lists
+several, a message whose values differ from an earlier one's is taken for another publisher's."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from tftools.analysis.findings import counted
+from tftools.analysis.wtf.broadcasters import listed_publishers
+from tftools.analysis.wtf.scene import Scene
+from tftools.core.arrays import Int32Array, IntpArray
+
+#: Beyond this many different /tf_static messages, publishers are not told apart (each topic is one).
+MESSAGES_COMPARED = 1000
+
+
+@dataclass(frozen=True)
+class Sender:
+    """One publisher of /tf_static: how a finding names it, and what was seen of it."""
+
+    name: str
+    messages: int = 0
+    transforms: int = 0  # in its first message
+    first: int = 0  # when its first message arrived (``Scene.arrival``)
+    evidence: str = ""  # why it is not the publisher of an earlier message, said of it ("lacks ..."; "": none)
+    number: int = 0  # told from the messages: 1 for the first to send
+
+
+@dataclass(frozen=True)
+class StaticSenders:
+    """``sender[row]`` indexes ``senders`` for each /tf_static row of ``Rows`` (-1 for the others);
+    ``inferred``: told from the messages, the recording naming no publishers."""
+
+    sender: Int32Array
+    senders: list[Sender]
+    inferred: bool
+
+    def of(self, rows: IntpArray) -> tuple[int, ...]:
+        """The senders of ``rows``, in order of first appearance."""
+        return tuple(dict.fromkeys(self.sender[rows].tolist()))
+
+    def names(self, ids: tuple[int, ...]) -> list[str]:
+        return [self.senders[i].name for i in ids]
+
+
+def static_senders(scene: Scene) -> StaticSenders:
+    """Who sent each /tf_static row; computed once per scene."""
+    return scene.shared("static_senders", lambda: _senders(scene))
+
+
+def _senders(scene: Scene) -> StaticSenders:
+    rows = scene.rows
+    static = rows.static & rows.usable
+    sender = np.full(len(rows), -1, np.int32)
+    named = rows.authority.whole()
+    sender[static] = named[static]
+    by_name = StaticSenders(sender, [Sender(scene.publisher(a)) for a in rows.authorities], False)
+    if scene.publishers_known or not static.any():
+        return by_name
+    told = _told_apart(scene, np.flatnonzero(static))
+    if told is None:
+        return by_name
+    sender[told[0]] = told[1]
+    return StaticSenders(sender, told[2], True)
+
+
+@dataclass
+class _Publisher:
+    """A publisher being told apart: the transforms of its latest message (edge -> value bytes)."""
+
+    latest: dict[tuple[int, int], bytes]
+    messages: int
+    transforms: int
+    first: int
+    evidence: str
+
+
+def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array, list[Sender]] | None:
+    """The /tf_static rows, the publisher each is told to come from, and those publishers; None where there
+    are too many different messages to compare."""
+    messages = _Messages(scene, static)
+    keys: list[bytes] = []
+    distinct: set[bytes] = set()
+    for k in range(len(messages)):
+        keys.append(messages.fingerprint(k))
+        distinct.add(keys[-1])
+        if len(distinct) > MESSAGES_COMPARED:
+            return None
+    listed = {t: listed_publishers(scene, t) for t in scene.authorities_of(static)}
+    several = max((n or 0) for n in listed.values()) >= 2
+    publishers: list[_Publisher] = []
+    chosen = np.empty(len(messages), np.int32)
+    seen: dict[bytes, int] = {}
+    for m in messages.in_arrival_order():
+        key = keys[m]
+        if key in seen:  # the same transforms again: a re-send
+            publishers[seen[key]].messages += 1
+            chosen[m] = seen[key]
+            continue
+        edges = messages.transforms(m)
+        earlier, evidence = _publisher_of(scene, publishers, edges, several, listed)
+        if earlier is None:
+            publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence))
+            k = len(publishers) - 1
+        else:
+            k = earlier
+            publishers[k].latest = edges
+            publishers[k].messages += 1
+        seen[key] = k
+        chosen[m] = k
+    senders = [_sender(k, p) for k, p in enumerate(publishers, 1)]
+    return messages.rows, np.repeat(chosen, np.diff(messages.bounds)), senders
+
+
+def _publisher_of(
+    scene: Scene,
+    publishers: list[_Publisher],
+    edges: dict[tuple[int, int], bytes],
+    several: bool,
+    listed: dict[str, int | None],
+) -> tuple[int | None, str]:
+    """Which earlier publisher could have sent a message of ``edges`` (None: another), and if another, why.
+    A publisher's next message holds every transform of its last; where metadata.yaml lists ``several``
+    publishers, one whose values differ from this message's is taken for another."""
+    could: list[tuple[bool, int]] = []
+    differ: list[int] = []
+    for k, p in enumerate(publishers):
+        if not p.latest.keys() <= edges.keys():
+            continue
+        same = all(edges[e] == v for e, v in p.latest.items())
+        if same or not several:
+            could.append((same, k))
+        else:
+            differ.append(k)
+    if could:
+        return max(could)[1], ""  # the same values first, then the latest
+    overlapping = [k for k, p in enumerate(publishers) if p.latest.keys() & edges.keys()]
+    if not overlapping:
+        return None, ""
+    if differ:
+        n = max(n for n in listed.values() if n is not None)
+        return None, f"differs in value from publisher {differ[-1] + 1}'s while metadata.yaml lists {n} publishers"
+    last = publishers[overlapping[-1]]
+    missing = len(last.latest.keys() - edges.keys())
+    return None, (
+        f"lacks {missing} of publisher {overlapping[-1] + 1}'s {counted(len(last.latest), 'transform')} (C++'s "
+        "StaticTransformBroadcaster, robot_state_publisher's and static_transform_publisher's, re-sends all of its "
+        "transforms in every message)"
+    )
+
+
+def _sender(number: int, p: _Publisher) -> Sender:
+    return Sender(f"/tf_static publisher {number} (unnamed)", p.messages, p.transforms, p.first, p.evidence, number)
+
+
+class _Messages:
+    """The /tf_static rows grouped into messages (those of one topic received at one instant), each a
+    slice of ``rows``: message ``k`` is ``rows[bounds[k]:bounds[k + 1]]``."""
+
+    def __init__(self, scene: Scene, static: IntpArray) -> None:
+        rows = scene.rows
+        keys = np.stack([rows.authority[static].astype(np.int64), rows.record_time[static]], axis=1)
+        _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+        inverse = inverse.ravel()
+        order = np.argsort(inverse, kind="stable")  # by message, each in record order
+        self.rows: IntpArray = static[order]
+        self.bounds = np.concatenate([[0], np.flatnonzero(np.diff(inverse[order])) + 1, [len(order)]])
+        self._first = first
+        self._parent, self._child = rows.parent[self.rows], rows.child[self.rows]
+        self._values = np.ascontiguousarray(rows.values[self.rows])
+        self._arrival = scene.arrival(self.rows)
+
+    def __len__(self) -> int:
+        return len(self.bounds) - 1
+
+    def in_arrival_order(self) -> list[int]:
+        return np.argsort(self._first, kind="stable").tolist()  # type: ignore[no-any-return]
+
+    def _slice(self, k: int) -> slice:
+        return slice(int(self.bounds[k]), int(self.bounds[k + 1]))
+
+    def fingerprint(self, k: int) -> bytes:
+        """Message ``k``'s transforms (frames and values, in its order): equal for a re-send of it."""
+        s = self._slice(k)
+        return self._parent[s].tobytes() + self._child[s].tobytes() + self._values[s].tobytes()
+
+    def transforms(self, k: int) -> dict[tuple[int, int], bytes]:
+        """Message ``k``'s transforms: (parent id, child id) -> value bytes."""
+        s = self._slice(k)
+        return {
+            (int(p), int(c)): v.tobytes()
+            for p, c, v in zip(self._parent[s], self._child[s], self._values[s], strict=True)
+        }
+
+    def arrival(self, k: int) -> int:
+        return int(self._arrival[self._slice(k)].min())
