@@ -1,0 +1,63 @@
+"""Issue 39: one time base per question, ROS 2's words on ROS 2 data, each check's severity as listed."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.analysis.wtf_scenes import (
+    SIM_START,
+    START,
+    TfMessage,
+    _t,
+    map_odom,
+    periodic,
+    recording,
+    sim,
+    simulated,
+    with_extra,
+)
+from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf import check
+from tftools.core.time import NS_PER_S
+
+
+def _codes(findings: list[Finding]) -> list[tuple[str, Severity]]:
+    return [(f.code, f.severity) for f in findings]
+
+
+@pytest.mark.parametrize("with_reference", [False, True], ids=["sim-on-wall", "wall"])
+def test_a_stamp_frozen_in_the_past_is_stale_not_a_second_clock(with_reference: bool) -> None:
+    """map -> odom re-sent 1,000 times with one stamp 91 s old, on the other frames' clock: stale (its stamp
+    stood still, which says nothing of its clock), said with how often it was sent and ROS 2's command."""
+    make = (lambda **kw: with_extra(**kw)) if with_reference else simulated
+    frozen = (START if with_reference else sim(START)) - 91 * NS_PER_S
+    findings = check(recording(make(amcl=periodic("/amcl", 100, map_odom, stamp=lambda t: frozen)), ros1=False))
+    assert ("clock", Severity.error) not in _codes(findings)
+    (stale,) = [f for f in findings if f.code == "stale"]
+    assert stale.frames == ("map", "odom")
+    assert "sent 1,000 times on /tf, always stamped" in stale.message and "on /tf on /tf" not in stale.message
+    assert "ros2 run tf2_ros static_transform_publisher" in stale.hint
+
+
+def test_one_stamp_on_another_time_base_is_still_another_clock() -> None:
+    """The stood-still exception is for an old stamp on the others' clock: one in epoch time among frames on
+    simulated time is a second clock."""
+    wall = periodic("/cam", 100, lambda t: [_t("base_link", "camera", START)])
+    findings = check(recording(simulated(amcl=[]) + wall, ros1=False))
+    assert ("clock", Severity.error) in _codes(findings)
+
+
+def test_a_real_second_clock_is_still_two_clocks() -> None:
+    """ros2_db3_ur5_topic_tf_two_clocks' shape: an arm on simulated time beside detections on wall time."""
+    arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - SIM_START) / NS_PER_S)], stamp=sim)
+    detections = periodic("/det", 2, lambda t: [_t("base_link", "tag", t)])
+    findings = check(recording(sorted(arm + detections, key=lambda m: m.record_time), ros1=False))
+    (clock,) = [f for f in findings if f.code == "clock" and f.severity is Severity.error]
+    assert clock.frames == ("base_link", "arm")
+    assert "rosbag" not in clock.hint and "ros::Time" not in clock.hint
+
+
+def test_a_transform_sent_once_is_said_once() -> None:
+    once = TfMessage("/tf", START + 3_000_000, [_t("base_link", "sonar", START)], "/tf")
+    (stale,) = [f for f in check(recording(with_extra([once]), ros1=False)) if f.code == "stale"]
+    assert "sonar was sent once on /tf, stamped" in stale.message
