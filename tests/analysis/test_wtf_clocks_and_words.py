@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from tests.analysis.wtf_scenes import (
+    PROBLEMS,
+    SECONDS,
     SIM_START,
     START,
     TfMessage,
     _t,
+    healthy,
     map_odom,
     periodic,
     recording,
@@ -17,8 +21,9 @@ from tests.analysis.wtf_scenes import (
     with_extra,
 )
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf import CHECKS, check
 from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
 
 
 def _codes(findings: list[Finding]) -> list[tuple[str, Severity]]:
@@ -61,3 +66,33 @@ def test_a_transform_sent_once_is_said_once() -> None:
     once = TfMessage("/tf", START + 3_000_000, [_t("base_link", "sonar", START)], "/tf")
     (stale,) = [f for f in check(recording(with_extra([once]), ros1=False)) if f.code == "stale"]
     assert "sonar was sent once on /tf, stamped" in stale.message
+
+
+def _boat(stamp: int) -> list[Transform]:
+    """odom -> base_link of a boat at 0.5 m/s whose odometry fuses a GPS fix each second: after each, a step
+    of 0.05 to 0.20 m (the fix's correction)."""
+    s = (stamp - START) / NS_PER_S
+    corrections = np.cumsum([0.05 + 0.05 * (i % 4) for i in range(int(SECONDS) + 1)])
+    return [_t("odom", "base_link", stamp, 0.5 * s + float(corrections[int(s)]))]
+
+
+def test_odometry_stepping_after_each_gps_fix_is_a_warning_and_lookups_work() -> None:
+    """Issue 39's boat: jump on odom -> base_link was raised to an error (wtf and view-frames exit 1) while
+    ``--list-checks`` said warning and every lookup worked."""
+    rec = recording(healthy(ekf=periodic("/ekf", 50, _boat)), ros1=False)
+    findings = check(rec)
+    assert _codes(findings) == [("jump", Severity.warning)]
+    assert "REP 105" in findings[0].hint and "GPS" in findings[0].hint
+    times = np.arange(START + NS_PER_S // 10, START + 9 * NS_PER_S, NS_PER_S // 50)
+    assert rec.buffer.lookup_many("map", "base_link", times).valid.all()
+
+
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+def test_no_check_reports_more_than_its_listed_severity(ros1: bool) -> None:
+    """The rule: a check's registered severity (``--list-checks``) is the most it reports; a finding may be
+    milder (``sensor_wait``'s short waits, ``no_tf``'s static-only recording are notes)."""
+    for name, problem in PROBLEMS.items():
+        clock = problem.clock() if problem.clock else None
+        streams = problem.streams() if problem.streams else ()
+        for f in check(recording(problem.make(), problem.topics, ros1=ros1, clock=clock), streams=streams):
+            assert f.severity.rank >= CHECKS[f.code].severity.rank, (name, f)
