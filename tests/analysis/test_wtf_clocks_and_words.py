@@ -16,8 +16,11 @@ from tests.analysis.wtf_scenes import (
     map_odom,
     periodic,
     recording,
+    sensor,
     sim,
     simulated,
+    statics,
+    wheels,
     with_extra,
 )
 from tftools.analysis.findings import Finding, Severity
@@ -96,3 +99,25 @@ def test_no_check_reports_more_than_its_listed_severity(ros1: bool) -> None:
         streams = problem.streams() if problem.streams else ()
         for f in check(recording(problem.make(), problem.topics, ros1=ros1, clock=clock), streams=streams):
             assert f.severity.rank >= CHECKS[f.code].severity.rank, (name, f)
+
+
+@pytest.mark.parametrize("tf", ["not recorded", "recorded empty", "recorded"])
+def test_sensor_data_in_a_frame_no_transform_names_is_told_what_is_missing(tf: str) -> None:
+    """Issue 39: ros1_tb3_waffle_static (no /tf recorded) was told to set the driver's frame_id; what is
+    missing there is /tf; where /tf was recorded empty (ros2_db3_tb3_webots_no_tf), its publishers' output;
+    where tf moves but nothing names odom, odometry's transform."""
+    messages = [statics()]
+    if tf == "recorded empty":
+        messages.append(TfMessage("/tf", START + NS_PER_S, [], "/tf"))
+    elif tf == "recorded":
+        messages += wheels()
+    rec = recording(sorted(messages, key=lambda m: m.record_time), ros1=False)
+    (found,) = [f for f in check(rec, streams=[sensor("/odom", "odom", 10, 5_000_000)]) if f.code == "sensor_frame"]
+    said = {
+        "not recorded": "this recording holds no /tf: the moving transforms",
+        "recorded empty": "/tf was recorded but holds no transform",
+        "recorded": "odometry's odom -> base_link",
+    }[tf]
+    assert said in found.hint and "frame_id" not in found.hint.split(":")[0]
+    if tf == "not recorded":
+        assert "ros2 bag record /tf /tf_static" in found.hint
