@@ -59,10 +59,17 @@ def test_tf_static_offered_volatile_is_a_warning_and_transient_local_is_quiet(tm
 
 def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -> None:
     bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_sqlite3, scenes.healthy())
-    (file,) = bag.glob("*.db3")
-    (finding,) = check(read_recording([file]))
+    (inside,) = bag.glob("*.db3")
+    assert check(read_recording([inside])) == []  # issue 39: given inside its folder, the metadata.yaml beside it
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    (alone / inside.name).write_bytes(inside.read_bytes())
+    (finding,) = check(read_recording([alone / inside.name]))
     assert finding.skipped and finding.code == "static_volatile" and finding.severity is Severity.info
     assert "not checked" in finding.message and "metadata.yaml" in finding.message
+    volatile = _volatile(bag)  # what the metadata.yaml beside it says is what is judged
+    (said,) = check(read_recording([next(volatile.glob("*.db3"))]))
+    assert (said.code, said.severity) == ("static_volatile", Severity.warning)
 
 
 @pytest.mark.parametrize("fmt", scenes.FORMATS)
