@@ -118,7 +118,9 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
         if lost <= LOST_SHARE * s.messages:
             continue
         why = []
-        cache = f" (a cache of {s.cache_needed / NS_PER_S:g} s would keep them)" if s.cache_needed else ""
+        early = min(s.before_tf, lost)
+        after = " stamped after tf began" if early else ""
+        cache = f" (a cache of {s.cache_needed / NS_PER_S:g} s would keep those{after})" if s.cache_needed else ""
         if s.reasons.get("too_old_on_arrival"):
             old = s.reasons["too_old_on_arrival"]
             why.append(f"{old} already older than the {cache_s:g} s cache when they arrived{cache}")
@@ -127,6 +129,12 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
             why.append(
                 f"{s.reasons['older_than_cache']} older than the {cache_s:g} s cache holds by the "
                 f"time tf reached them{cache}"
+            )
+        if early:
+            why.append(
+                f"{'all' if early == lost else early} of them stamped before the recording's tf of their chain "
+                "began: no cache keeps those; record tf from before the sensor starts, or drop messages stamped "
+                "before tf starts"
             )
         if s.reasons.get("needs_newer_tf"):
             edge_ = edge(*s.lost_edge) if s.lost_edge else "tf"
