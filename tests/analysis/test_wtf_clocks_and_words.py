@@ -12,21 +12,25 @@ from tests.analysis.wtf_scenes import (
     START,
     TfMessage,
     _t,
+    ekf,
     healthy,
     map_odom,
     periodic,
     recording,
     sensor,
     sim,
+    sim_clock,
     simulated,
     statics,
     wheels,
     with_extra,
 )
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.monitor import monitor_recording
 from tftools.analysis.wtf import CHECKS, check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.recording import Recording
 
 
 def _codes(findings: list[Finding]) -> list[tuple[str, Severity]]:
@@ -121,3 +125,30 @@ def test_sensor_data_in_a_frame_no_transform_names_is_told_what_is_missing(tf: s
     assert said in found.hint and "frame_id" not in found.hint.split(":")[0]
     if tf == "not recorded":
         assert "ros2 bag record /tf /tf_static" in found.hint
+
+
+def _ignition(delays_ms: tuple[float, float]) -> Recording:
+    """A simulation whose /clock ticks every 3 ms (333 Hz), odometry arriving ``delays_ms`` (from, to) after
+    its stamps, cycling; recorded on wall time."""
+    low, high = delays_ms
+
+    def late(t: int) -> int:
+        phase = ((t - START) // (20 * 1_000_000)) % 12 / 11  # 0 .. 1 over 12 messages
+        return sim(t) - round((low + (high - low) * phase) * 1_000_000)
+
+    return recording(simulated(ekf=ekf(stamp=late)), clock=sim_clock(hz=333), ros1=False)
+
+
+def test_delays_of_several_ticks_of_a_coarse_clock_are_measured_to_a_tick() -> None:
+    """Issue 39: an Ignition run with /clock at 333 Hz showed no delay ('delays shorter than 3 ms cannot be
+    measured') although its delays of -12 to +21 ms are measurable to a tick; tf well within a tick of
+    /clock (rosbag play's 100 Hz, ros2_db3_webots_epuck's 50 Hz) still is not."""
+    measurable = _ignition((-12, 21))
+    assert 2_900_000 <= measurable.timeline.resolution <= 3_100_000
+    assert measurable.timeline.delays_measured and measurable.timeline.delays_unavailable == ""
+    report = monitor_recording(measurable)
+    odom = next(e for e in report.edges if e.key == ("odom", "base_link"))
+    assert 0.018 * NS_PER_S <= odom.delay_max <= 0.024 * NS_PER_S  # the largest, +21 ms, to a tick of 3 ms
+    within_a_tick = _ignition((0.5, 1.5))
+    assert not within_a_tick.timeline.delays_measured
+    assert "cannot be measured" in within_a_tick.timeline.delays_unavailable
