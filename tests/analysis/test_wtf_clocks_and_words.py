@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -24,12 +26,15 @@ from tests.analysis.wtf_scenes import (
     statics,
     wheels,
     with_extra,
+    write,
 )
+from tests.bags import BagFormat
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.monitor import monitor_recording
 from tftools.analysis.wtf import CHECKS, check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources import read_recording
 from tftools.sources.recording import Recording
 
 
@@ -152,3 +157,19 @@ def test_delays_of_several_ticks_of_a_coarse_clock_are_measured_to_a_tick() -> N
     within_a_tick = _ignition((0.5, 1.5))
     assert not within_a_tick.timeline.delays_measured
     assert "cannot be measured" in within_a_tick.timeline.delays_unavailable
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_empty_tf_messages_are_counted_where_they_are_read(tmp_path: Path, fmt: BagFormat) -> None:
+    """Issue 39: a fifth of /tf empty went unmentioned where no metadata.yaml counts the topic (a ROS 1 bag, a
+    bare .db3 or .mcap): the reader counts them, and a note says how many (a warning past half)."""
+    messages = healthy()
+    empty = [TfMessage("/tf", m.record_time + 1, [], m.publisher) for m in messages if m.topic == "/tf"][::4]
+    bag = write(tmp_path, "bag", fmt, sorted(messages + empty, key=lambda m: m.record_time))
+    given = bag if fmt is BagFormat.ros1 else next(p for p in bag.iterdir() if p.suffix in (".db3", ".mcap"))
+    for path in {bag, given}:
+        (found,) = [f for f in check(read_recording([path])) if f.code == "silent_tf"]
+        tf = sum(m.topic == "/tf" for m in messages) + len(empty)
+        assert found.severity is Severity.info and f"{len(empty):,} of {tf:,} messages on /tf carry no transform" in (
+            found.message
+        )
