@@ -13,6 +13,7 @@ from tftools.analysis.echo import MAX_ECHO_LINES, chain_span, echo, echo_times
 from tftools.analysis.times import parse_time, time_range
 from tftools.core.errors import UsageError
 from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
 from tftools.sources import Recording, read_recording
 
 
@@ -54,3 +55,25 @@ def test_times_that_cannot_work_are_a_usage_error_with_a_hint(
     with pytest.raises(UsageError, match=says.replace("+", r"\+")) as raised:
         call(recording)
     assert raised.value.hint
+
+
+def test_plus_s_counts_on_the_clock_of_the_frames_asked_about() -> None:
+    """Issue 39 (ros2_db3_ur5_topic_tf_two_clocks: an arm on simulated time, ArUco detections on wall time):
+    ``--at +1`` between two of the arm's frames is a second into the arm's stamps, not the detections'."""
+    from tests.analysis import wtf_scenes as scenes
+
+    def arm(stamp: int) -> list[Transform]:
+        return [scenes._t("base_link", "arm", stamp, 0.1 * (stamp - scenes.SIM_START) / NS_PER_S)]
+
+    detections = scenes.periodic("/det", 2, lambda t: [scenes._t("camera", "tag", t)])
+    arm_on_sim = scenes.periodic("/arm", 20, arm, stamp=scenes.sim)
+    recording = scenes.recording(sorted(detections + arm_on_sim, key=lambda m: m.record_time), ros1=False)
+    timeline = recording.timeline
+    assert timeline.tf_start == scenes.START  # the recording's tf span is the detections' (the record clock's)
+    (at,) = echo_times(recording.buffer, timeline, "base_link", "arm", at="+1")
+    assert at == scenes.SIM_START + NS_PER_S
+    assert echo(recording.buffer, "base_link", "arm", [at]).valid.all()
+    first, last = time_range(timeline, "+1", "-1", (0, 0), ["arm"])
+    assert (first, last) == (scenes.SIM_START + NS_PER_S, timeline.span_of(["arm"])[1] - NS_PER_S)
+    (tag,) = echo_times(recording.buffer, timeline, "camera", "tag", at="+1")  # the detections: their own clock
+    assert tag == timeline.tf_start + NS_PER_S

@@ -81,7 +81,22 @@ def test_a_message_older_than_the_cache_when_it_arrives_is_dropped_at_once() -> 
     np.testing.assert_array_equal(fates.left, stream.record_time)  # dropped inside add(): never queued
     report = filter_report(buffer, [stream], "odom").streams[0]
     assert (report.never, report.reasons, report.undecided) == (56, {"too_old_on_arrival": 56}, {})
-    assert report.cache_needed == 15 * NS_PER_S  # 12 s behind: a 15 s cache keeps them
+    assert report.cache_needed == 15 * NS_PER_S  # 12 s behind: a 15 s cache keeps those stamped after tf began
+    assert report.before_tf == 24  # stamped before T0 (tf's start): the real filter drops them with any cache
+
+
+def test_no_cache_is_suggested_for_messages_stamped_before_their_chains_tf_began() -> None:
+    """Issue 39: clouds stamped 12 s behind from the recording's first second are all stamped before tf began:
+    'cache 15 s' was suggested, and the real MessageFilter with a 15 s cache drops every one (tf2 never held
+    tf that old: 'earlier than all the data in the transform cache'). No cache keeps them: say what does."""
+    arrivals = [T0 + 300 * MS + i * NS_PER_S // 2 for i in range(20)]
+    stream = _stream([(a, "laser", a - 12 * NS_PER_S) for a in arrivals])
+    buffer = _buffer(_base())
+    fates = message_fates(buffer, stream, "odom", 15 * NS_PER_S)
+    assert fates.early().all() and not (fates.fate == Fate.LATER).any()  # a 15 s cache passes none of them
+    whole = filter_report(buffer, [stream], "odom")
+    assert (whole.streams[0].cache_needed, whole.streams[0].before_tf) == (None, 20)
+    assert "20 stamped before tf began: no cache keeps them" in " ".join(_text(whole).split())
 
 
 def test_the_waiters_of_a_tf_publisher_that_died_never_pass() -> None:

@@ -127,10 +127,11 @@ def echo_times(
     grammar; default: where every moving edge between the frames has data, ``chain_span``, else the tf
     data's span) ``every`` stamp of the moving edges between the frames, or ``rate`` times a second (at
     most ``MAX_ECHO_LINES``; more is a ``UsageError``)."""
+    frames = list(_moving_edges(buffer, target, source))  # times are on their clock (``Timeline.span_of``)
     if at is not None:
-        return np.array([0 if at.strip() == "0" else parse_time(at, timeline, "--at")], np.int64)
-    span = chain_span(buffer, target, source) or (timeline.tf_start, timeline.tf_end)
-    first, last = time_range(timeline, start, end, default=span)
+        return np.array([0 if at.strip() == "0" else parse_time(at, timeline, "--at", frames)], np.int64)
+    span = chain_span(buffer, target, source) or timeline.span_of(frames)
+    first, last = time_range(timeline, start, end, span, frames)
     if every:
         return sample_times(buffer, target, source, first, last)
     echo_line_count(first, last, rate)
@@ -154,7 +155,7 @@ def echo_line_count(first: int, last: int, rate: float) -> int:
 def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | None:
     """The stretch of time over which every moving edge between the frames has data (None: they are not
     connected now, or only by static edges)."""
-    edges = _moving_edges(buffer, target, source)
+    edges = list(_moving_edges(buffer, target, source).values())
     if not edges:
         return None
     start = max(hist.oldest_stamp for hist in edges)
@@ -164,24 +165,24 @@ def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | No
 
 def sample_times(buffer: Buffer, target: str, source: str, start: int, end: int) -> Int64Array:
     """Every stamp of the moving edges between the frames within ``[start, end]``, sorted."""
-    edges = _moving_edges(buffer, target, source)
+    edges = list(_moving_edges(buffer, target, source).values())
     if not edges:
         return np.zeros(0, np.int64)
     every = np.unique(np.concatenate([hist.stamps for hist in edges]))
     return every[(every >= start) & (every <= end)]
 
 
-def _moving_edges(buffer: Buffer, target: str, source: str) -> list[EdgeHistory]:
-    """The dynamic edges a lookup between the frames composes now (latest common time)."""
+def _moving_edges(buffer: Buffer, target: str, source: str) -> dict[str, EdgeHistory]:
+    """The dynamic edges a lookup between the frames composes now (latest common time), by child frame."""
     try:
         frames = buffer.chain(target, source)
     except TransformError:
-        return []
-    edges = []
+        return {}
+    edges = {}
     for name in frames:
         hist = buffer.history(name)
         if hist is not None and not hist.static and buffer.frame_name(hist.latest_parent) in frames:
-            edges.append(hist)
+            edges[name] = hist
     return edges
 
 

@@ -96,13 +96,19 @@ class Fates:
     when it left the filter's queue (passed or dropped; its arrival where it never entered the queue,
     ``NEVER`` where it was still waiting when the recording ended); ``edge`` the (parent, child) that
     decided it (made it wait, never caught up, or had dropped its stamp), ``lag`` how far that edge's
-    newest stamp was behind the message's stamp at arrival (ns)."""
+    newest stamp was behind the message's stamp at arrival (ns); ``before_tf`` which were stamped before
+    the recording's tf of their chain began (none where empty): no cache keeps those if they age out."""
 
     fate: Int8Array
     ready: Int64Array
     edge: Sequence[tuple[str, str] | None]
     lag: Int64Array
     left: Int64Array
+    before_tf: BoolArray = field(default_factory=lambda: np.zeros(0, np.bool_))
+
+    def early(self) -> BoolArray:
+        """``before_tf``, one flag per message."""
+        return self.before_tf if len(self.before_tf) == len(self.fate) else np.zeros(len(self.fate), np.bool_)
 
     @property
     def decided(self) -> int:
@@ -202,6 +208,11 @@ class _Chain:
         oldest = np.max(np.stack([e.oldest_at(times) for e in moving]), axis=0)
         return _Chain(edges, times, common, np.asarray(oldest <= common, np.bool_))
 
+    @property
+    def began(self) -> int:
+        """The first stamp at which the recording's tf holds every moving edge (0: none moves)."""
+        return max((int(e.oldest.min()) for e in self.edges if not e.static and len(e.oldest)), default=0)
+
     def out_the_back(self, stamps: Int64Array, cache_time: int) -> Int64Array:
         """When tf2 first finds each of ``stamps`` plus the cache before the latest common time
         (``BufferCore::testTransformableRequests``' TransformFailure), else NEVER."""
@@ -234,6 +245,7 @@ def message_fates(
     ready = np.full(n, NEVER, np.int64)
     left = np.full(n, NEVER, np.int64)
     lag = np.zeros(n, np.int64)
+    before_tf = np.zeros(n, np.bool_)
     decided: list[tuple[str, str] | None] = [None] * n
     for frame_index, frame_id in enumerate(messages.frame_ids):
         rows = np.flatnonzero(messages.frame == frame_index)
@@ -248,9 +260,10 @@ def message_fates(
                 continue
             arrived, stamps = messages.record_time[mine], messages.stamp[mine]
             fate[mine], ready[mine], left[mine], lag[mine], limiting = _judge(chain, arrived, stamps, end, cache_time)
+            before_tf[mine] = (stamps < chain.began) & (stamps != 0)
             for row, edge in zip(mine.tolist(), limiting, strict=True):
                 decided[row] = edge
-    return Fates(fate, ready, decided, lag, left)
+    return Fates(fate, ready, decided, lag, left, before_tf)
 
 
 def _chains(
@@ -372,8 +385,7 @@ def _judge(
     fate[waiting] = np.where(reach[waiting], Fate.AFTER_RECORDED_TF, Fate.NEEDS_NEWER_TF)
     # Dropped for its age after a wait, stamped before the recording's tf of an edge began: a listener
     # started before the recording might have had that tf.
-    began = max((int(e.oldest.min()) for e in edges if not e.static and len(e.oldest)), default=0)
-    fate[(fate == Fate.OLDER_THAN_CACHE) & (stamps < began) & ~zero] = Fate.BEFORE_RECORDED_TF
+    fate[(fate == Fate.OLDER_THAN_CACHE) & (stamps < chain.began) & ~zero] = Fate.BEFORE_RECORDED_TF
     deciding = np.where(np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL)), dropped_by, waited_for)
     newest = np.stack([e.newest_at(arrived) for e in edges])
     lag = np.maximum(stamps - newest[deciding, np.arange(n)], 0)
@@ -422,6 +434,9 @@ class StreamReport:
     dropped_by_queue: int | None = None  # with a queue size: messages lost (pushed out, or never)
     undecided: dict[str, int] = field(default_factory=dict)  # what the recording cannot tell, and why
     lost_edge: tuple[str, str] | None = None  # the edge most of the messages lost to tf were lost for
+    # Lost to their age (or undecided for it), stamped before the recording's tf of their chain began: no
+    # cache keeps them (tf2 never held tf that old), starting tf before the sensor or dropping them does.
+    before_tf: int = 0
 
 
 @dataclass(frozen=True)
@@ -579,6 +594,7 @@ def _stream_report(
         dropped_by_queue=None if queue is None else int(never + (pushed_out(fates, stream, queue) & later_mask).sum()),
         undecided={Fate(code).reason: int(counts[code]) for code in UNDECIDED if counts[code]},
         lost_edge=_most(lost),
+        before_tf=int((fates.early() & np.isin(fates.fate, (*AGED, Fate.BEFORE_RECORDED_TF))).sum()),
     )
 
 
@@ -661,13 +677,16 @@ def _entered(fates: Fates, i: int) -> bool:
 
 
 def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int) -> int | None:
-    """The smallest cache (ns, from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length."""
-    if not np.isin(fates.fate, AGED).any():
+    """The smallest cache (ns, from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length,
+    of the messages stamped after their chain's tf began: those stamped before it no cache keeps (tf2 never
+    held tf that old; the real filter drops them with any cache), ``StreamReport.before_tf`` counts them."""
+    after = ~fates.early()
+    if not (np.isin(fates.fate, AGED) & after).any():
         return None
-    allowed = (1 - KEEP) * fates.decided
+    allowed = (1 - KEEP) * int((after & ~np.isin(fates.fate, UNDECIDED)).sum())
     for seconds in CACHES_S:
         tried = message_fates(buffer, stream, target, seconds * NS_PER_S, end)
-        if np.isin(tried.fate, AGED).sum() <= allowed:
+        if (np.isin(tried.fate, AGED) & after).sum() <= allowed:
             return seconds * NS_PER_S
     return None
 

@@ -360,7 +360,7 @@ def _resumed(path: Path) -> list[BagReport]:
 def _list_checks() -> None:
     from tftools.analysis.wtf import CHECKS
 
-    table = Table(box=None, header_style="bold")
+    table = Table(box=None, header_style="bold", caption="Severity: the most a check reports; some findings are milder")
     for name in ("Code", "Severity", "Looks for"):
         table.add_column(name)
     for code, c in CHECKS.items():

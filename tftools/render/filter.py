@@ -96,6 +96,8 @@ def _advice(s: StreamReport) -> str:
         said.append(f"queue {s.queue_needed}")
     if s.cache_needed is not None:
         said.append(f"cache {seconds(s.cache_needed):g} s")
+    if s.before_tf:
+        said.append(f"{s.before_tf} stamped before tf began: no cache keeps them; record tf from before the sensor")
     return ", ".join(said) or "fine as it is"
 
 
@@ -123,7 +125,7 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
         "wait_needed_s": None if s.wait_needed is None else seconds(s.wait_needed),
         "queue_needed": s.queue_needed,
         "cache_needed_s": None if s.cache_needed is None else seconds(s.cache_needed),
-        **{k: shown[k] for k in ("dropped_by_wait", "dropped_by_queue", "undecided", "lost_edge")},
+        **{k: shown[k] for k in ("dropped_by_wait", "dropped_by_queue", "undecided", "lost_edge", "before_tf")},
     }
 
 

@@ -158,6 +158,8 @@ class SourceInfo:
     stamped: list[StampedMessages] = field(default_factory=list, repr=False, compare=False)  # headers read
     whole: list[WholeMessages] = field(default_factory=list, repr=False, compare=False)  # messages read whole
     stamped_problems: list[str] = field(default_factory=list)  # headers that could not be read, one line a topic
+    #: Per tf topic read, its messages and how many held no transform, as read (a file's, not metadata.yaml's).
+    tf_messages: dict[str, tuple[int, int]] = field(default_factory=dict)
     qos: OfferedQos | None = None  # a ROS 2 bag's offered QoS (None: not read from a ROS 2 bag)
     # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
     # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.

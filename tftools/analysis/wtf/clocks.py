@@ -18,18 +18,25 @@ CLOCK_PAUSE = 1 * NS_PER_S
 #: tf arriving this long before the first /clock message is worth a note.
 BEFORE_CLOCK = 1 * NS_PER_S
 
-_HINTS = {
-    "boot": "the publisher stamps with a clock other than ROS time (time since boot, a steady or sensor clock), "
-    "or runs with use_sim_time while nothing publishes /clock: stamp with ros::Time::now() (the node's clock in "
-    "ROS2) and set use_sim_time the same for every node",
-    "simulated": "the other frames run on simulated time (use_sim_time, /clock) but this publisher stamps "
-    "wall-clock time: set use_sim_time true for it too (and replay bags with rosbag play --clock)",
-    "behind": "stamps from an older time: a bag replayed without --clock while nodes run on wall time (use "
-    "rosbag play --clock with use_sim_time true), or this publisher's machine clock is behind: sync the clocks "
-    "(chrony/NTP)",
-    "ahead": "this publisher's clock runs ahead of the others': sync the clocks (chrony/NTP), or set "
-    "use_sim_time the same for every node",
-}
+
+def _hint(kind: str, ros2: bool) -> str:
+    """What to do about frames stamped on another clock (``kind``), in the words of the recording's ROS."""
+    now = "the node's clock (node->now())" if ros2 else "ros::Time::now()"
+    play = "ros2 bag play --clock" if ros2 else "rosbag play --clock"
+    return {
+        "boot": "the publisher stamps with a clock other than ROS time (time since boot, a steady or sensor clock), "
+        f"or runs with use_sim_time while nothing publishes /clock: stamp with {now} and set use_sim_time the "
+        "same for every node",
+        "simulated": "the other frames run on simulated time (use_sim_time, /clock) but this publisher stamps "
+        f"wall-clock time: set use_sim_time true for it too (and replay bags with {play})",
+        "behind": f"stamps from an older time: a bag replayed without --clock while nodes run on wall time (use "
+        f"{play} with use_sim_time true), or this publisher's machine clock is behind: sync the clocks "
+        "(chrony/NTP)",
+        "ahead": "this publisher's clock runs ahead of the others': sync the clocks (chrony/NTP), or set "
+        "use_sim_time the same for every node",
+    }[kind]
+
+
 _CONSEQUENCE = "; until then lookups combining these with other frames fail with extrapolation errors"
 
 
@@ -40,8 +47,8 @@ def clock(scene: Scene) -> Iterator[Finding]:
         yield from _without_reference(scene)
         return
     against = timeline.reference is Reference.CLOCK
-    off = [e for e in timeline.edges if e.child in timeline.off_reference]
     on = [e for e in timeline.edges if e.child not in timeline.off_reference]
+    off = [e for e in timeline.edges if e.child in timeline.off_reference and not _stood_still(e, on)]
     groups: dict[str, list[EdgeClock]] = {}
     for e in off:
         groups.setdefault(_kind(_offset(e, against), e.median_stamp, _reference_time(e, against)), []).append(e)
@@ -51,6 +58,17 @@ def clock(scene: Scene) -> Iterator[Finding]:
         yield _ignoring_clock(scene, on)
     if timeline.reference is Reference.CLOCK:
         yield from _wall_receive_times(scene)
+
+
+def _stood_still(e: EdgeClock, others: Sequence[EdgeClock]) -> bool:
+    """Whether ``e``'s stamps stood still (one stamp, re-sent or not) behind the ``others`` on their time base:
+    an old stamp (``stale`` reports it), no evidence of another clock; one stamp on another time base
+    (epoch time among simulated time) or ahead of the others still is."""
+    moving = [o for o in others if o is not e and o.last_stamp > o.first_stamp]
+    if e.last_stamp > e.first_stamp or not moving:
+        return False
+    newest = max(o.last_stamp for o in moving)
+    return (e.last_stamp < EPOCH_FLOOR) == (newest < EPOCH_FLOOR) and e.last_stamp <= newest
 
 
 def _offset(e: EdgeClock, against_clock: bool) -> int:
@@ -97,7 +115,7 @@ def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) 
         Severity.error,
         "clock",
         f"{listed([edge(_parent(scene, e.child), e.child) for e in edges], 4)}{scene.by(authorities)}: {said}",
-        _HINTS[kind] + _CONSEQUENCE,
+        _hint(kind, scene.ros2) + _CONSEQUENCE,
         tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
         authorities,
         count=sum(e.arrivals for e in edges),
@@ -107,7 +125,8 @@ def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) 
 def _without_reference(scene: Scene) -> Iterator[Finding]:
     """No frame follows the record clock or /clock: the frames agreeing with most others are the tf clock
     (a note on what cannot be measured); those on yet another clock disagree with them (an error)."""
-    clusters = clock_groups(scene.timeline.edges, scene.timeline.same_clock)
+    edges = scene.timeline.edges
+    clusters = clock_groups([e for e in edges if not _stood_still(e, edges)], scene.timeline.same_clock)
     main = max(clusters, key=len)
     for cluster in clusters:
         if cluster is not main:
@@ -182,8 +201,8 @@ def sim_clock(scene: Scene) -> Iterator[Finding]:
             "sim_clock",
             f"{clock.topic} went back {counted(len(back), 'time')}, by up to "
             f"{duration(-float(steps[back].min()) / NS_PER_S)}, first at {first}",
-            "a looped replay (rosbag play --loop) or a reset simulation: listeners clear their tf buffers at each "
-            "jump back, and lookups across it mix two timelines",
+            f"a looped replay ({'ros2 bag' if scene.ros2 else 'rosbag'} play --loop) or a reset simulation: listeners "
+            "clear their tf buffers at each jump back, and lookups across it mix two timelines",
             first_time=int(clock.record_time[back[0] + 1]),
             last_time=int(clock.record_time[back[-1] + 1]),
             count=len(back),
@@ -220,7 +239,8 @@ def _before_clock(scene: Scene) -> Iterator[Finding]:
         f"{transforms(len(early))} arrived before the first {clock.topic} (up to "
         f"{duration((clock.record_time[0] - int(rows.record_time[early].min())) / NS_PER_S)} before): nodes with "
         "use_sim_time had no time yet (ROS time 0)",
-        "start the simulator (or rosbag play --clock) before the nodes that stamp with its time",
+        f"start the simulator (or {'ros2 bag' if scene.ros2 else 'rosbag'} play --clock) before the nodes that stamp "
+        "with its time",
         first_time=int(rows.stamp[early].min()),
         last_time=int(rows.stamp[early].max()),
         count=len(early),

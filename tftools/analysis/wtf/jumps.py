@@ -98,18 +98,21 @@ def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Ju
 
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")
 def jump(scene: Scene) -> Iterator[Finding]:
-    """Not map -> odom, whose corrections REP 105 allows (``map_corrections``)."""
+    """Not map -> odom, whose corrections REP 105 allows (``map_corrections``). A warning, on odom -> base_link
+    too: every lookup through a jump works (an error breaks lookups), and a step is a correction (GPS fused
+    into odom) as often as a reset; REP 105's advice says what it does to what is planned in odom."""
     for samples, found, when in _edge_jumps(scene, into_odom=False):
         continuous = base_name(samples.parent) == ODOM
         why = (
-            "REP 105 wants odom -> base continuous (odometry that never jumps): a reset odometry or a "
-            "localizer publishing here makes everything planned in odom leap; publish corrections as map -> odom"
+            "REP 105 wants odom -> base continuous (odometry that never jumps): a reset odometry, or a "
+            "localizer or GPS fused into odom, makes everything planned in odom leap; publish corrections as "
+            "map -> odom"
             if continuous
             else "a localization correction or a reset published as this edge's motion: if it is a correction, "
             "publish it as map -> odom (REP 105), so that odom stays continuous"
         )
         yield samples.finding(
-            Severity.error if continuous else Severity.warning,
+            Severity.warning,
             "jump",
             f"{edge(*samples.key)}{scene.by(samples.authorities)} jumped {_times(len(found))} "
             f"further than its own motion explains: the largest {_largest(found)} at "

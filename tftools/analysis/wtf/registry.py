@@ -26,9 +26,10 @@ class CheckSkippedError(Exception):
 
 @dataclass(frozen=True)
 class Check:
-    """One check: ``code`` names it in findings, ``severity`` is its usual one (a finding may be
-    milder), ``title`` says what it looks for. ``run`` is None for what the bag runner reports
-    itself (a bag it could not read); ``needs_transforms`` checks are skipped on an empty recording."""
+    """One check: ``code`` names it in findings, ``severity`` is the most it reports (``--list-checks``
+    lists it; a finding may be milder, never more severe), ``title`` says what it looks for. ``run`` is
+    None for what the bag runner reports itself (a bag it could not read); ``needs_transforms`` checks
+    are skipped on an empty recording."""
 
     code: str
     severity: Severity

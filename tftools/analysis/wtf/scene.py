@@ -93,6 +93,11 @@ class Scene:
     def stats(self) -> list[EdgeStats]:
         return edge_stats(self.buffer, timeline=self.timeline)
 
+    @property
+    def ros2(self) -> bool:
+        """Whether the recording is ROS 2's (its tf2's rules, and ROS 2's commands in hints)."""
+        return self.buffer.semantics == "ros2"
+
     @cached_property
     def publishers_known(self) -> bool:
         return publishers_named(self.recording)

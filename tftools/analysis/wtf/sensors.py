@@ -8,9 +8,10 @@ from collections.abc import Iterator
 from tftools.analysis.filter import TF_LOST
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, edge, listed
+from tftools.analysis.wtf.scene import Scene, and_joined, base_name, edge, listed
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
+from tftools.sources.contents import is_static_topic
 
 #: A stream "mostly needs a wait" when more than this share of its messages does.
 WAITING_SHARE = 0.5
@@ -35,7 +36,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             close = {f: difflib.get_close_matches(f, scene.buffer.frames, n=1, cutoff=0.6) for f in missing}
             named = listed([f"'{f}'" + (f" (did you mean '{c[0]}'?)" if c else "") for f, c in close.items()], 3)
             message = f"{s.topic}: {unknown} of {s.messages} messages are in frame {named}, which no transform names"
-            hint = "set the driver's frame_id parameter to a frame of the tree, or publish its transform"
+            hint = _unknown_frame_hint(scene, missing, any(close.values()))
         else:
             message = (
                 f"{s.topic}: {apart} of {s.messages} messages are in {listed(list(s.frame_ids), 3)}, in a tree apart "
@@ -50,6 +51,40 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             tuple(missing),
             count=unknown + apart,
         )
+
+
+def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool) -> str:
+    """What is missing where sensor data names a frame no transform names: the moving transforms, not
+    recorded or sent empty; else a typo (a frame of the tree is close) or the transform's publisher."""
+    rows = scene.rows
+    moving = [t for t in scene.recording.contents.topics if not is_static_topic(t)]
+    recorded = {t for f in scene.recording.contents.files for t in f.topics}
+    record = "ros2 bag record" if scene.ros2 else "rosbag record"
+    if not (~rows.static).any() and moving:
+        if not recorded & set(moving):
+            return (
+                f"this recording holds no {and_joined(moving)}: the moving transforms (odometry's odom -> "
+                f"base_link, the joints) were not recorded; record them with the rest ({record} /tf /tf_static)"
+            )
+        return (
+            f"{and_joined(moving)} was recorded but holds no transform: their publishers (odometry, "
+            "robot_state_publisher) sent nothing while recorded; check that they ran and had their input"
+        )
+    if typo:
+        return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
+    if {base_name(f) for f in missing} <= {"odom", "map"}:
+        return (
+            "no transform names it: the node that publishes it (odometry's odom -> base_link, localization's "
+            "map -> odom) did not run or does not publish tf (e.g. a controller's enable_odom_tf, a publish_tf "
+            "parameter): turn it on, or record it"
+        )
+    static = (
+        "ros2 run tf2_ros static_transform_publisher" if scene.ros2 else "rosrun tf2_ros static_transform_publisher"
+    )
+    return (
+        f"no transform names it: publish the sensor's mount (robot_state_publisher with a URDF that has the link, "
+        f"or {static}), or set the driver's frame_id parameter to a frame of the tree"
+    )
 
 
 @register("sensor_wait", Severity.warning, "sensor data that mostly waits for tf (MessageFilter, waitForTransform)")
@@ -83,7 +118,9 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
         if lost <= LOST_SHARE * s.messages:
             continue
         why = []
-        cache = f" (a cache of {s.cache_needed / NS_PER_S:g} s would keep them)" if s.cache_needed else ""
+        early = min(s.before_tf, lost)
+        after = " stamped after tf began" if early else ""
+        cache = f" (a cache of {s.cache_needed / NS_PER_S:g} s would keep those{after})" if s.cache_needed else ""
         if s.reasons.get("too_old_on_arrival"):
             old = s.reasons["too_old_on_arrival"]
             why.append(f"{old} already older than the {cache_s:g} s cache when they arrived{cache}")
@@ -92,6 +129,12 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
             why.append(
                 f"{s.reasons['older_than_cache']} older than the {cache_s:g} s cache holds by the "
                 f"time tf reached them{cache}"
+            )
+        if early:
+            why.append(
+                f"{'all' if early == lost else early} of them stamped before the recording's tf of their chain "
+                "began: no cache keeps those; record tf from before the sensor starts, or drop messages stamped "
+                "before tf starts"
             )
         if s.reasons.get("needs_newer_tf"):
             edge_ = edge(*s.lost_edge) if s.lost_edge else "tf"

@@ -28,15 +28,17 @@ class TopicTally:
     transforms: int
     instants: int  # record times of those transforms: messages at one instant cannot be told apart
     publishers: int
+    observed: int | None = None  # the messages read that held no transform, where the reader counted them
 
     @property
     def empty(self) -> int:
-        """Messages that carry no transform, at least: each other one carries one or more."""
-        return max(0, self.messages - self.transforms)
+        """Messages that carry no transform: as read, else at least those that metadata.yaml counts beyond
+        the transforms (each other one carries one or more)."""
+        return self.observed if self.observed is not None else max(0, self.messages - self.transforms)
 
     @property
     def empty_at_most(self) -> int:
-        return max(0, self.messages - self.instants)
+        return self.observed if self.observed is not None else max(0, self.messages - self.instants)
 
     @property
     def static(self) -> bool:
@@ -56,15 +58,23 @@ def silent_moving_topics(scene: Scene) -> list[TopicTally]:
 
 
 def _tallies(scene: Scene) -> Iterator[TopicTally]:
+    """Per file and tf topic: metadata.yaml's counts (a rosbag2 directory), and the empty messages as read
+    where the reader counted them (every file read: a bare .db3, an MCAP, a ROS 1 bag)."""
     rows = scene.rows
     records, static = rows.record_time.whole(), rows.static
     for file in scene.recording.contents.files:
-        if not file.format.startswith("rosbag2") or not Path(file.path).is_dir():
-            continue
+        listed = _counts(file, scene.recording.contents.topics) if Path(file.path).is_dir() else {}
+        read = file.tf_messages
         inside = (records >= file.start) & (records <= file.end)
-        for topic, (messages, publishers) in _counts(file, scene.recording.contents.topics).items():
+        for topic in dict.fromkeys([*listed, *read]):
+            messages, publishers = listed.get(topic, (read.get(topic, (0, 0))[0], 0))
+            seen, empty = read.get(topic, (0, 0))
+            observed = empty if topic in read and seen == messages else None  # a window read: not all of it
+            if topic not in listed and not empty:
+                continue  # no metadata to judge by, and nothing empty observed
             mine = inside & (static == is_static_topic(topic))
-            yield TopicTally(file.path, topic, messages, int(mine.sum()), len(np.unique(records[mine])), publishers)
+            transforms, instants = int(mine.sum()), len(np.unique(records[mine]))
+            yield TopicTally(file.path, topic, messages, transforms, instants, publishers, observed)
 
 
 def _counts(file: SourceInfo, topics: tuple[str, ...]) -> dict[str, tuple[int, int]]:
@@ -210,9 +220,8 @@ def silent_tf(scene: Scene) -> Iterator[Finding]:
                 "joint states, odometry, a clock), or the recorder missed them: lookups through them all fail"
             )
         if tally.empty:
-            hints.append(
-                "a node sending tf messages without transforms is misconfigured: ros2 topic info -v names them"
-            )
+            named = "ros2 topic info -v" if scene.ros2 else "rostopic info"
+            hints.append(f"a node sending tf messages without transforms is misconfigured: {named} names them")
         yield Finding(
             Severity.warning if warning else Severity.info,
             "silent_tf",

@@ -17,7 +17,7 @@ from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.figures import delays as delays_of
 from tftools.core.figures import pauses, silence_limit
 from tftools.core.time import NS_PER_S, from_sec
-from tftools.sources.timeline import FINE_STEP
+from tftools.sources.timeline import FINE_STEP, seconds_since
 
 #: Stamps going back this far (ns) are a jump in time, never transforms that arrived late.
 TIME_JUMP = NS_PER_S
@@ -43,20 +43,45 @@ def stale(scene: Scene) -> Iterator[Finding]:
         if silent <= silence_limit(s.rate_hz, from_sec(scene.thresholds.stale_after)):
             continue
         by = scene.by(s.authorities)
+        before_end: int | None = silent
         if s.count == 1:
-            message = f"{edge(*s.key)} was sent once on /tf{by}, stamped {scene.at(s.last_stamp)}"
+            sent = scene.shared("arrivals", lambda: _sent(scene)).get(s.key, 1)
+            where = by if by.startswith(" on ") else f" on /tf{by}"
+            times = "once" if sent == 1 else f"{sent:,} times"
+            always = "" if sent == 1 else " always"
+            message = f"{edge(*s.key)} was sent {times}{where},{always} stamped {scene.at(s.last_stamp)}"
+            static = "ros2 run tf2_ros static_transform_publisher" if scene.ros2 else "static_transform_publisher"
             hint = (
                 "a /tf transform holds only at its stamp, so lookups at any other time fail: publish a fixed "
-                "transform on /tf_static (static_transform_publisher), or keep publishing it"
+                f"transform on /tf_static ({static}), or keep publishing it"
             )
+            if sent > 1:
+                before_end = _age(scene, s.last_stamp)  # re-sent to the end, but its stamp stood still
+                hint = (
+                    "its publisher re-sends one old transform without stamping it anew (a stalled localizer "
+                    "re-sending its last correction, a node whose input stopped): " + hint.split(": ", 1)[1]
+                )
         else:
             message = f"{edge(*s.key)}{by} stopped at {scene.at(s.last_stamp)}"
             hint = (
                 "its publisher stopped (crashed, shut down or stalled) while the recording went on: lookups after "
                 "its last stamp fail with 'Lookup would require extrapolation into the future'; check that node"
             )
-        message += f", {duration(silent / NS_PER_S)} before the recording ends"
+        if before_end is not None:
+            message += f", {duration(before_end / NS_PER_S)} before the recording ends"
         yield Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
+
+
+def _age(scene: Scene, stamp: int) -> int | None:
+    """How far ``stamp`` is behind ROS time at the recording's end, on its clock (None: another time base)."""
+    since = seconds_since(stamp, scene.timeline.end)
+    return None if since is None else from_sec(since)
+
+
+def _sent(scene: Scene) -> dict[tuple[str, str], int]:
+    """How many times each moving edge was received (its re-sent samples, which tf2 keeps once, counted)."""
+    rows = scene.rows
+    return {(parent, child): len(mine) for parent, child, mine in rows.by_edge(~rows.static)}
 
 
 def _last_arrival(s: EdgeStats) -> int:

@@ -13,7 +13,7 @@ from tftools.sources.bag.contents import RecordWindow, merged_clock
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
-from tftools.sources.codecs.select import AnyCodec, ClockCodec, CopyCodec, HeaderCodec, WholeCodec
+from tftools.sources.codecs.select import AnyCodec, ClockCodec, Codec, CopyCodec, HeaderCodec, WholeCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.contents import ClockSamples, StampedMessages, WholeMessages
 
@@ -75,6 +75,7 @@ class MessageSet:
         self.whole: list[WholeMessages] = []
         self.count = 0
         self.headers_lost: list[str] = []  # once decoded: a line per topic whose headers were lost
+        self.tf_messages: dict[str, tuple[int, int]] = {}  # once decoded: per tf topic, its messages and the empty
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -246,6 +247,7 @@ class MessageSet:
         self._decode_groups()
         times, positions, channel_of = (np.concatenate(column) for column in zip(*self._messages, strict=True))
         rank = _rank(times, np.array([c.tie for c in self.channels], np.int64)[channel_of], positions)
+        self.tf_messages = self._tf_messages(channel_of)
         batches = self._rows.batches(times, channel_of, rank)
         clock, stamped = self._clock(times, channel_of, rank), self._stamped(times, channel_of, rank)
         self.whole = self._whole_messages(times, channel_of, rank)
@@ -253,6 +255,22 @@ class MessageSet:
         headed = {c.topic for c in self.channels if isinstance(c.codec, HeaderCodec)}
         self.headers_lost = [line for topic, line in lines if topic in headed]
         return batches, clock, stamped, [line for topic, line in lines if topic not in headed]
+
+    def _tf_messages(self, channel_of: Int32Array) -> dict[str, tuple[int, int]]:
+        """Per transform topic: its messages, and those decoded that held no transform (an empty TFMessage)."""
+        transforms = [i for i, c in enumerate(self.channels) if isinstance(c.codec, Codec)]
+        if not transforms:
+            return {}
+        held = np.zeros(len(channel_of), np.bool_)
+        for messages in self._rows.messages_with_rows():
+            held[messages] = True
+        held[[message for message, _ in self._failed]] = True  # not read: not known to be empty
+        counts: dict[str, tuple[int, int]] = {}
+        for i in transforms:
+            mine = channel_of == i
+            before = counts.get(self.channels[i].topic, (0, 0))
+            counts[self.channels[i].topic] = (before[0] + int(mine.sum()), before[1] + int((mine & ~held).sum()))
+        return counts
 
     def _clock(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> ClockSamples:
         """The clock messages read, in record order: ``/clock``'s, else the clock topic's with the most."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -58,6 +59,10 @@ class Rows:
         columns: list[Column] = [parent, child, stamp, values]
         for name, column in zip(_COLUMNS, columns, strict=True):
             self.parts[name].append(column)
+
+    def messages_with_rows(self) -> Iterator[Int64Array]:
+        """The numbers of the messages settled that held a transform, part after part."""
+        return (messages for messages, _ in self.runs)
 
     def settle(self) -> None:
         """Merge the parts added since the last call into one, in message order (a few

@@ -54,8 +54,12 @@ def file_result(
     whole: list[WholeMessages] = []
     problems: list[str] = []
     stamped_problems: list[str] = []
+    tf_messages: dict[str, tuple[int, int]] = {}
     for index, scan in enumerate(scans):
         decoded, clock, headers, undecodable = scan.messages.decode()
+        for topic, (messages, empty) in scan.messages.tf_messages.items():
+            before = tf_messages.get(topic, (0, 0))
+            tf_messages[topic] = (before[0] + messages, before[1] + empty)
         batches += decoded
         clocks.append(clock)
         stamped += headers
@@ -81,5 +85,6 @@ def file_result(
         whole=whole,
         stamped_problems=stamped_problems,
         windowed=all(s.windowed for s in scans),
+        tf_messages=tf_messages,
     )
     return batches, info

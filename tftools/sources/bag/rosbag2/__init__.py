@@ -38,7 +38,7 @@ class Rosbag2Bag:
         if files.is_dir(path):
             self.bag = _layout(path, files)
         else:
-            self.bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path])
+            self.bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path], qos=_beside(path, files))
         self._stack = ExitStack()
         self._files: dict[Path, Db3File | McapFile | CorruptBagError] = {}
         self._decompressed: dict[Path, list[str]] = {}  # files compressed whole: what decompressing them lost
@@ -178,6 +178,15 @@ def _layout(path: Path, stored: Files) -> _Bag:
     files = sorted((p for p in names if p.name.endswith((".db3", ".mcap", ".db3.zstd", ".mcap.zstd"))), key=_natural)
     storage = "mcap" if files and ".mcap" in files[0].suffixes else "sqlite3"
     return _Bag(storage, files, "", problems, qos)
+
+
+def _beside(path: Path, stored: Files) -> OfferedQos:
+    """The offered QoS of a bare file's bag directory, where the metadata.yaml beside it lists it (a .db3
+    given inside its folder)."""
+    if not stored.exists(path.parent / "metadata.yaml"):
+        return _NO_METADATA
+    bag = _layout(path.parent, stored)
+    return bag.qos if path in bag.files else _NO_METADATA
 
 
 def _qos(path: Path, stored: Files, info: dict[str, Any] | None, problems: list[str]) -> OfferedQos:
