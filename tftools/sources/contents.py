@@ -18,6 +18,12 @@ DEFAULT_TOPICS = ("/tf", "/tf_static")
 NOT_SENSOR_DATA = frozenset({*DEFAULT_TOPICS, "/clock"})
 
 
+def global_name(topic: str) -> str:
+    """``topic`` as a node in the root namespace resolves it: a relative name (``tf``, as a writer may store
+    it in a bag) is ``/tf``, which is what ``ros2 bag play`` and ``rosbag play`` publish it as."""
+    return topic if topic.startswith("/") else "/" + topic
+
+
 def is_static_topic(topic: str) -> bool:
     """Transforms on ``/tf_static`` (or a namespaced ``.../tf_static``) hold at every time."""
     return topic.rstrip("/").endswith("tf_static")

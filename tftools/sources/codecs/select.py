@@ -10,7 +10,7 @@ from tftools.sources.codecs import cdr, json, protobuf, ros1
 from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
 from tftools.sources.codecs.robot import WHOLE_DECODERS, WholeDecoder
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, has_header, rosidl_name
-from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA
+from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA, global_name
 
 if TYPE_CHECKING:
     from tftools.sources.contents import MessageSink, Recorded
@@ -73,7 +73,7 @@ class Wanted:
     def wants_header(self, topic: str) -> bool:
         if self.headers is None:
             return False
-        return topic in self.headers if self.headers else topic not in NOT_SENSOR_DATA
+        return topic in self.headers if self.headers else global_name(topic) not in NOT_SENSOR_DATA
 
 
 @dataclass(frozen=True)
@@ -157,7 +157,7 @@ def select(
     if clock is not None:
         return clock, None
     topics = wanted.topics
-    if topic in topics or (topics == DEFAULT_TOPICS and type_name in _FOXGLOVE_TYPES):
+    if topic in topics or global_name(topic) in topics or (topics == DEFAULT_TOPICS and type_name in _FOXGLOVE_TYPES):
         codec = CODECS.get((type_name, encoding))
         if codec is not None:
             return codec, None
