@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 
+from tests.analysis.wtf_scenes import PROBLEMS, recording
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
@@ -14,6 +16,7 @@ from tftools.analysis.wtf import Scene, check
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
+from tftools.render.graph import to_digraph
 
 START = 1_700_000_000 * NS_PER_S
 END = START + 10 * NS_PER_S
@@ -189,3 +192,14 @@ def test_given_findings_replace_the_engines_and_are_pinned_the_same_way() -> Non
 def test_empty_buffer_gives_an_empty_graph_that_says_so() -> None:
     graph = frame_graph(Scene(Buffer(None)))
     assert graph.nodes == () and graph.edges == () and codes(graph) == ["no_tf"]
+
+
+def test_an_edge_stamped_on_another_clock_is_aged_on_that_clock() -> None:
+    """An arm on simulated time (1234 s) among frames on epoch time: its newest sample is as old as the arm's
+    own clock says, never the 54 years between the two clocks (a real UR5 recording drew 1695944400.698 s)."""
+    scene = Scene(recording(PROBLEMS["clock"].make()).buffer)
+    graph = frame_graph(scene)
+    (arm,) = [e for e in graph.edges if e.key == ("odom", "base_link")]
+    assert graph.now_of(arm) == arm.stats.last_stamp < graph.now
+    ages = [float(a) for a in re.findall(r"\(([0-9.]+) s old\)", to_digraph(graph, None).source)]
+    assert ages and max(ages) < 10.0

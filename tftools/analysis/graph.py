@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 
 from tftools.analysis.edges import Edge, EdgeStats
 from tftools.analysis.findings import Finding, Severity
@@ -46,6 +46,12 @@ class FrameGraph:
     edges: tuple[GraphEdge, ...]
     findings: tuple[Finding, ...]
     now: int  # the time ages are measured from (the recording's end)
+    clock_ends: Mapping[str, int] = field(default_factory=dict)  # frames on another clock: their own end
+
+    def now_of(self, edge: Edge) -> int:
+        """The time ``edge``'s age is measured from: the recording's end, or for a frame stamped on another
+        clock than the rest (``Timeline.own_clock_ends``), the newest stamp on that clock."""
+        return self.clock_ends.get(edge.child, self.now)
 
     @property
     def roots(self) -> list[str]:
@@ -77,7 +83,7 @@ def frame_graph(scene: Scene, findings: Sequence[Finding] | None = None) -> Fram
         for (p, c), pinned in edge_problems.items()
     )
     nodes = tuple(GraphNode(name, name in roots, tuple(node_problems.get(name, ()))) for name in names)
-    return FrameGraph(nodes, edges, found, buffer.now())
+    return FrameGraph(nodes, edges, found, buffer.now(), scene.timeline.own_clock_ends)
 
 
 def _pin(

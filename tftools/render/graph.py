@@ -147,7 +147,7 @@ def _add_node(dot: graphviz.Digraph, graph: FrameGraph, node: GraphNode, ids: di
 def _add_edge(dot: graphviz.Digraph, graph: FrameGraph, edge: GraphEdge, brief: bool, ids: dict[str, str]) -> None:
     marked = _marked(graph, edge.problems)
     severity = graph.severity(marked)
-    lines = _brief_lines(edge) if brief else _full_lines(edge, graph.now)
+    lines = _brief_lines(edge) if brief else _full_lines(edge, graph.now_of(edge))
     lines += [f'<FONT COLOR="{COLOURS[Severity.error]}">rejected: {n} x {code}</FONT>' for code, n in edge.rejected]
     lines += [_problem_line(graph, i) for i in marked]
     label = "".join(f'{line}<BR ALIGN="LEFT"/>' for line in lines)

@@ -125,6 +125,21 @@ class Timeline:
         return min(e.first_stamp for e in group), max(e.last_stamp for e in group)
 
     @cached_property
+    def own_clock_ends(self) -> dict[str, int]:
+        """For each frame stamped outside the recording's tf span (a chain on simulated time among frames on
+        wall time), the newest stamp on its own clock: where its ages count from, as ``span_of`` counts its
+        ``+S``. Frames within the span are not listed."""
+        near = self.same_clock
+        off = {e.child for e in self.edges if not self.tf_start - near <= e.median_stamp <= self.tf_end + near}
+        if not off:
+            return {}
+        ends: dict[str, int] = {}
+        for group in clock_groups(self.edges, near):
+            end = max(e.last_stamp for e in group)
+            ends.update((e.child, end) for e in group if e.child in off)
+        return ends
+
+    @cached_property
     def clock_step(self) -> int:
         """How often ``/clock`` ticked (ns): the median of its positive steps; 0 without /clock."""
         steps = np.diff(self.clock.clock)
