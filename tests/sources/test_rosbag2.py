@@ -14,6 +14,7 @@ from typing import Any
 
 import pytest
 
+from tests.bags import BagFormat, TfMessage, write_bag
 from tests.sources.formats import read_as
 from tests.sources.ros2_helpers import (
     NS,
@@ -31,8 +32,10 @@ from tests.sources.ros2_helpers import (
     write_rosbag2,
     write_split_rosbag2,
 )
+from tftools.core.transform import Transform
 from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import BagError, CorruptBagError
+from tftools.sources.recording import read_recording
 
 TOPICS = ("/tf", "/tf_static")
 MESSAGES = varied_messages(7)
@@ -471,3 +474,18 @@ def test_a_metadata_listing_many_missing_files_is_said_in_one_line(tmp_path: Pat
         "200000 files listed in metadata.yaml are missing (g0.mcap, g1.mcap, g2.mcap and 199997 more);"
         " their messages are lost"
     )
+
+
+@pytest.mark.parametrize("fmt", [BagFormat.rosbag2_sqlite3, BagFormat.rosbag2_mcap, BagFormat.ros1])
+def test_tf_topics_stored_without_their_slash_are_read_as_tf(tmp_path: Path, fmt: BagFormat) -> None:
+    """A writer that stored the topics as ``tf`` and ``tf_static`` (relative names, published as /tf and
+    /tf_static by a bag player in the root namespace): read as the tf topics they are, statics static."""
+    second = 1_000_000_000
+    moving = [
+        TfMessage("tf", 1000 * second + k, [Transform((k, 0, 0), (0, 0, 0, 1), 1000 * second + k, "odom", "base")])
+        for k in range(5)
+    ]
+    fixed = TfMessage("tf_static", 1000 * second, [Transform((0.1, 0, 0), (0, 0, 0, 1), 0, "base", "laser")])
+    recording = read_recording([write_bag(tmp_path / "relative", [fixed, *moving], fmt)])
+    assert recording.buffer.lookup("odom", "laser").translation == pytest.approx((4.1, 0, 0))
+    assert recording.buffer.history("laser").static and not recording.buffer.history("base").static
