@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS, SAMPLES, tfx
+from tftools.sources.recording import read_recording
 
 __all__ = ["tfx"]  # a fixture, for pytest
 
@@ -94,12 +95,13 @@ def test_static_on_a_file_of_a_rosbag2_directory_names_the_directory(tfx, tmp_pa
     assert not (tmp_path / "out").exists()
 
 
-def test_static_on_a_bare_mcap_file_says_what_it_copies(tfx, tmp_path: Path) -> None:
+def test_static_on_a_bare_mcap_file_copies_it_to_a_bare_mcap_file(tfx, tmp_path: Path) -> None:
     bare = tmp_path / "bare.mcap"
     shutil.copy(SAMPLE_BAGS["mcap"] / "robot_mcap.mcap", bare)
-    result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", bare, "-o", tmp_path / "out")
-    assert result.code == 2 and result.stderr.count("\n") == 1
-    assert "copies ROS 1 .bag files and ROS 2 bag directories, not a bare .mcap file" in result.stderr
+    result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", bare, "-o", tmp_path / "out.mcap")
+    assert result.code == 0 and "1 static transform added" in result.stdout, result
+    copy = read_recording([tmp_path / "out.mcap"])
+    assert copy.buffer.lookup("base_link", "tool").translation == (0.0, 0.0, 1.0)
 
 
 @pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))

@@ -17,9 +17,8 @@ if TYPE_CHECKING:
 McapOption = Annotated[
     Path | None,
     typer.Option(
-        help="Also write the recording's findings to this MCAP file, to open beside it in Foxglove: each finding as "
-        "a foxglove.Log when it showed, /diagnostics once a second, the frames it names as foxglove.FrameTransforms "
-        "(needs pip install 'tftools\\[foxglove]').",
+        help="Also write the findings to this MCAP file, to open beside the recording in Foxglove (as "
+        "foxglove.Log, /diagnostics and foxglove.FrameTransforms; needs pip install 'tftools\\[foxglove]').",
     ),
 ]
 ForceOption = Annotated[bool, typer.Option("--force", help="Let --mcap overwrite an existing file.")]

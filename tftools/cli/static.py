@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from tftools.analysis.findings import counted
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import stdout, warn
@@ -105,7 +106,8 @@ def command(
             raise UsageError("--repair takes no transforms: it uses the bag's own", "tfx static --repair -b IN -o OUT")
         bag, output = _copying(bag, output, force)
         written, statics = repair_static(bag, output, force=force)
-        said = f"{len(statics)} static transform(s) ({_edges(statics)}) at its start and every {REPAIR_EVERY_S:g} s"
+        every = f"at its start and every {REPAIR_EVERY_S:g} s"
+        said = f"{counted(len(statics), 'static transform')} ({_edges(statics)}) {every}"
         stdout.print(printable(f"{written}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {said}"))
         return
     transforms = read_static_transforms(from_file) if from_file is not None else []
@@ -116,7 +118,7 @@ def command(
     if bag is not None or output is not None:
         bag, output = _copying(bag, output, force)
         written = add_static(bag, output, given, force=force)
-        added = f"{len(transforms)} static transform(s) added on {STATIC_TOPIC}"
+        added = f"{counted(len(transforms), 'static transform')} added on {STATIC_TOPIC}"
         stdout.print(printable(f"{written}: a copy of {bag} with {added}"))
         return
     if duration is not None:

@@ -130,9 +130,8 @@ def command(
         bool,
         typer.Option(
             "--watch",
-            help="Live: check again every second, until Ctrl-C, what was heard over the last --window seconds, "
-            "and publish tf's health on /diagnostics as diagnostic_updater does (one status per check and per "
-            "edge; rqt_robot_monitor, Foxglove's Diagnostics panel).",
+            help="Live, until Ctrl-C: every second, check the last --window seconds heard and publish tf's "
+            "health on /diagnostics as diagnostic_updater does (for rqt_robot_monitor, Foxglove).",
         ),
     ] = False,
     window: Annotated[
