@@ -119,3 +119,27 @@ def test_static_adds_a_new_frame_and_wtf_passes_the_copy(tfx, tmp_path: Path) ->
     result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", SAMPLE_BAGS["ros1"], "-o", output)
     assert result.code == 0, result.stderr
     assert tfx("wtf", output).code == 0
+
+
+@pytest.mark.parametrize(
+    ("angles", "extra", "warned"),
+    [
+        (["90", "0", "0"], [], "yaw 90 taken in radians"),
+        (["0", "0", "-180"], [], "roll -180"),
+        (["90", "0", "0"], ["--deg"], ""),
+    ],
+)
+def test_an_angle_past_a_whole_turn_is_taken_in_radians_with_a_hint(
+    tfx, tmp_path: Path, angles: list[str], extra: list[str], warned: str
+) -> None:
+    """ROS's rule is radians, so yaw 90 is 90 rad, as static_transform_publisher takes it; but it was almost
+    surely meant in degrees: said once, with --deg."""
+    out = tmp_path / "copy.bag"
+    result = tfx(
+        "static", "0.1", "0", "0.2", *angles, "base_link", "sonar", *extra, "-b", SAMPLE_BAGS["ros1"], "-o", out
+    )
+    assert result.code == 0, result
+    if warned:
+        assert warned in result.stderr and "add --deg if you meant degrees" in result.stderr
+    else:
+        assert "radians" not in result.stderr

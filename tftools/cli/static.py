@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -159,6 +160,7 @@ def _given(
         qw_given = numbers["qw"] if numbers["qw"] is not None else 1.0
         return [static_transform([*translation, value["qx"], value["qy"], value["qz"], qw_given], frame, child)]
     angles = [value["yaw"], value["pitch"], value["roll"]]
+    _say_if_degrees_were_meant(dict(zip(("yaw", "pitch", "roll"), angles, strict=True)), degrees)
     return [static_transform([*translation, *angles], frame, child, degrees=degrees)]
 
 
@@ -177,7 +179,21 @@ def _positional(arguments: list[str], degrees: bool = False) -> Transform:
             "tfx static --help",
         )
     *values, frame, child = arguments
-    return static_transform([_number(v) for v in values], frame, child, degrees=degrees)
+    numbers = [_number(v) for v in values]
+    if len(numbers) == 6:
+        _say_if_degrees_were_meant(dict(zip(("yaw", "pitch", "roll"), numbers[3:], strict=True)), degrees)
+    return static_transform(numbers, frame, child, degrees=degrees)
+
+
+def _say_if_degrees_were_meant(angles: dict[str, float], degrees: bool) -> None:
+    """ROS's tools take angles in radians: an angle past a whole turn (yaw 90) was almost surely meant in
+    degrees. Taken as given, as the ROS tool would, with a warning that says so."""
+    turned = [f"{name} {value:g}" for name, value in angles.items() if abs(value) > 2 * math.pi]
+    if turned and not degrees:
+        warn(
+            f"{', '.join(turned)} taken in radians, as static_transform_publisher takes it (more than a whole "
+            "turn): add --deg if you meant degrees"
+        )
 
 
 def _is_number(text: str) -> bool:
