@@ -17,7 +17,7 @@ CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(2) for f
 
 
 def kernel_walk(buffer: Buffer, target: str, source: str, time: int):
-    found = buffer._core.lookup(buffer._core.frame_id(target), buffer._core.frame_id(source), time)
+    found, _ = buffer._core.lookup(buffer._core.frame_id(target), buffer._core.frame_id(source), time)
     return None if found is None else ([*found[0], *found[1]], found[2])
 
 
@@ -48,6 +48,12 @@ def test_one_walk_gives_one_verdict(seed, features):
             frames, failure = buffer._core.chain(*ids, t)
             assert buffer._core.can_transform(*ids, t) == (found is not None), (target, source, t)
             assert (failure[0] == walk.NO_FAILURE) == (found is not None), (target, source, t)
+            assert buffer._core.lookup(*ids, t)[1] == failure, "the lookup's own walk says why it fails"
+            answered = buffer._core.lookup_frames(target, source, t)
+            assert (answered is None) == (found is None)
+            # A failed lookup_frames keeps its walk's failure, for the Python path that words it.
+            assert buffer._core.last_failure(*ids, t) == (None if found is not None else failure)
+            assert buffer._core.last_failure(*ids, t + 1) is None
             if found is not None:
                 assert (frames[0], frames[-1]) == (ids[1], ids[0])
             else:
