@@ -179,3 +179,18 @@ def test_lookup_many_over_times_spanning_all_int64(monkeypatch):
         assert got.stamps[i] == (time or 10 * S)
         if expected is not None:
             assert [*got.translations[i], *got.rotations[i]] == expected[0]  # the very same bits
+
+
+def test_lookup_through_the_plain_c_call_takes_what_the_binding_takes():
+    """``Buffer.lookup``'s call into the core (``BufferCore.lookup_call``, no binding's dispatch) takes a
+    time as the binding does (an int, or what converts to one without loss) and refuses anything else."""
+    buffer = Buffer(cache_time=None)
+    for stamp in (10, 20):
+        buffer.set_transform(Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", "b"))
+    assert buffer.lookup("a", "b", np.int64(15)).stamp == 15
+    assert buffer._core.lookup_call("a", "b", 15) == buffer._core.lookup_frames("a", "b", 15)
+    for time in (1.5, "15", None):
+        with pytest.raises(TypeError):
+            buffer.lookup("a", "b", time)  # type: ignore[arg-type]
+    with pytest.raises(TypeError):
+        buffer._core.lookup_call("a", "b")  # type: ignore[call-arg]
