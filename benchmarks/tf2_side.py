@@ -4,6 +4,8 @@
 ``measure BAG LOOKUPS SECONDS``: rosbag + BufferCore ingest, then lookups and can_transform through
 the binding in a Python loop, and ``set_transform`` one call per transform into a new BufferCore;
 prints one JSON object.
+``script BAG``: what a user's whole script does (the bag read into a BufferCore, one lookup), the
+imports included: its parent times the whole process (``ratios.py``).
 """
 
 import json
@@ -105,9 +107,17 @@ def measure(path, lookups, seconds):
     )
 
 
+def script(path):
+    core, _count = ingest(path)
+    at = rospy.Time(*divmod(robot.START + 100 * robot.NS, robot.NS))
+    print(json.dumps({"x": core.lookup_transform_core(robot.TARGET, robot.SOURCE, at).transform.translation.x}))
+
+
 def main():
     command, path = sys.argv[1], sys.argv[2]
-    if command == "write":
+    if command == "script":
+        script(path)
+    elif command == "write":
         write(path, int(sys.argv[3]), sys.argv[4:] == ["images"])
     else:
         measure(path, int(sys.argv[3]), int(sys.argv[4]))

@@ -28,7 +28,7 @@
 
 namespace tfbuffer {
 
-// history.FROM_STATIC_TOPIC, PARENT_HAD_SLASH, CHILD_HAD_SLASH: a row's flags.
+// A row's flags (EdgeHistory.flags; the binding exports them to Python).
 constexpr uint8_t FROM_STATIC_TOPIC = 1, PARENT_HAD_SLASH = 2, CHILD_HAD_SLASH = 4;
 
 // Names to ids and back: ids in order of first interning, after the `reserved` names (never interned).

@@ -17,7 +17,8 @@
 
 namespace tfinsert {
 
-// Why a row is refused, in the order the buffer records the checks (buffer._REFUSALS).
+// Why a row is refused, in the order the buffer records the checks; named for Python (the binding's
+// REFUSALS: rejection.RejectionCode's names) by REFUSAL_NAMES.
 enum Refusal : uint8_t {
     SELF_TRANSFORM,
     NO_CHILD_FRAME_ID,
@@ -27,6 +28,9 @@ enum Refusal : uint8_t {
     OLD_DATA,
     REPEATED_DATA,
 };
+constexpr const char* REFUSAL_NAMES[] = {"SELF_TRANSFORM", "NO_CHILD_FRAME_ID", "NO_FRAME_ID", "NAN_INPUT",
+                                         "DENORMALIZED_QUATERNION", "OLD_DATA", "REPEATED_DATA"};
+static_assert(sizeof(REFUSAL_NAMES) / sizeof(REFUSAL_NAMES[0]) == REPEATED_DATA + 1, "a name per refusal");
 
 // The checks of setTransform, each refusal a bit (1 << Refusal) of the answer.
 constexpr int CHECKS = 5;

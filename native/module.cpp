@@ -237,19 +237,33 @@ class BufferCore {
 
     // --- lookups -----------------------------------------------------------------------------
 
-    // Buffer.lookup where the walk answers, under the buffer's lock: a `answer` (Transform); None
-    // for the Python path (a frame to itself, an unknown or invalid name, a failure to word).
+    // Buffer.lookup where the walk answers (ReadLocked): a `answer` (Transform); None
+    // for the Python path (a frame to itself, an unknown or invalid name, a failure to word: which
+    // `last_failure` then gives, from this one walk).
     nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
+        last_failure_.walked = false;
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
-        const Locked locked(lock_, lock_methods_);
+        const ReadLocked locked(lock_, lock_methods_);
         const int64_t target = remembered_id(target_frame, TARGET), source = remembered_id(source_frame, SOURCE);
         if (target <= 0 || source <= 0 || target == source) return nb::none();
         tfcore::Pose p;
-        if (!lookup_pose(target, source, time, p)) return nb::none();
+        const int64_t asked = time;
+        Failed why;
+        if (!lookup_pose(target, source, time, p, false, &why)) {
+            last_failure_ = {true, target, source, asked, why};
+            return nb::none();
+        }
         return make_answer(p, time, target_frame, source_frame);
     }
 
-    // Buffer.can_transform, under the buffer's lock.
+    // Why this thread's last lookup_frames failed, if it walked from `source` to `target` at `time`.
+    std::optional<Failed> last_failure(int64_t target, int64_t source, int64_t time) const {
+        const LastFailure& last = last_failure_;
+        if (!last.walked || last.target != target || last.source != source || last.time != time) return std::nullopt;
+        return last.failure;
+    }
+
+    // Buffer.can_transform (ReadLocked).
     bool can_transform_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
         const int same = PyObject_RichCompareBool(target_frame.ptr(), source_frame.ptr(), Py_EQ);
         if (same < 0) throw nb::python_error();
@@ -257,16 +271,18 @@ class BufferCore {
         // tf2's validateFrameId: a name with a leading slash (a frame published as "//b" is
         // stored as "/b") is refused, as lookup refuses it.
         if (!plain_name(target_frame) || !plain_name(source_frame)) return false;
-        const Locked locked(lock_, lock_methods_);
+        const ReadLocked locked(lock_, lock_methods_);
         const int64_t target = remembered_id(target_frame, TARGET), source = remembered_id(source_frame, SOURCE);
         return target > 0 && source > 0 && can_transform(target, source, time);
     }
 
-    // `raw`: under ROS 2, the rotation as composed, before tf2::Transform's round trip (lookup_full's).
-    std::optional<Found> lookup(int64_t target, int64_t source, int64_t time, bool raw) const {
+    // The lookup's answer, or None and why it failed, from one walk. `raw`: under ROS 2, the rotation
+    // as composed, before tf2::Transform's round trip (lookup_full's).
+    std::tuple<std::optional<Found>, Failed> lookup(int64_t target, int64_t source, int64_t time, bool raw) const {
         tfcore::Pose p;
-        if (!lookup_pose(target, source, time, p, raw)) return std::nullopt;
-        return Found{{p.v.x, p.v.y, p.v.z}, {p.q.x, p.q.y, p.q.z, p.q.w}, time};
+        Failed why = failed(tfcore::Failure::NONE);
+        if (!lookup_pose(target, source, time, p, raw, &why)) return {std::nullopt, why};
+        return {Found{{p.v.x, p.v.y, p.v.z}, {p.q.x, p.q.y, p.q.z, p.q.w}, time}, why};
     }
 
     bool can_transform(int64_t target, int64_t source, int64_t time) const {
@@ -394,17 +410,26 @@ class BufferCore {
         return id;
     }
 
-    // A lookup; false where tf2 fails. `time` 0 becomes the latest common time. ROS 2's tf2 returns
-    // the rotation through a matrix (unless `raw`).
-    bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p, bool raw = false) const {
+    // A lookup; false where tf2 fails, and why into `why`. `time` 0 becomes the latest common time.
+    // ROS 2's tf2 returns the rotation through a matrix (unless `raw`).
+    bool lookup_pose(int64_t target, int64_t source, int64_t& time, tfcore::Pose& p, bool raw, Failed* why) const {
         check_frames(target, source);
         const tfcore::Histories& histories = core.view();
-        if (time == 0 && tfcore::latest_common_time(histories, target, source, time) != tfcore::Failure::NONE) {
-            return false;
+        if (time == 0) {
+            const tfcore::Failure failure = tfcore::latest_common_time(histories, target, source, time);
+            if (failure != tfcore::Failure::NONE) {
+                *why = failed(failure);
+                return false;
+            }
         }
         tfcore::Memo memo;
         thread_local tfcore::Chain chain;
-        if (!tfcore::lookup_at(histories, target, source, time, chain, memo, p)) return false;
+        if (!tfcore::lookup_at(histories, target, source, time, chain, memo, p)) {
+            *why = chain.failure != tfcore::Failure::EXTRAPOLATION
+                       ? failed(chain.failure)
+                       : failed(chain.failure, tfcore::extrapolation_at(histories[chain.extrapolating_frame], time));
+            return false;
+        }
         if (core.settings().ros2 && !raw) p.q = tfcore::through_matrix(p.q);
         return true;
     }
@@ -476,10 +501,42 @@ class BufferCore {
         nb::object name;
         int64_t id = 0;
     };
-    mutable Remembered remembered_[5];  // the last name and id per argument (Which), under the lock
+    mutable Remembered remembered_[5];  // the last name and id per argument (Which), under the GIL or the lock
+    // A failed lookup_frames' walk, kept for the Python path that words it (per thread: another
+    // thread's lookups come between).
+    struct LastFailure {
+        bool walked = false;
+        int64_t target = 0, source = 0, time = 0;
+        Failed failure;
+    };
+    static thread_local LastFailure last_failure_;
     nb::object fields_[5];  // the answer's fields' slot descriptors, in FIELD order
     Py_ssize_t offsets_[5];  // ... and where each slot lies in an answer
 };
+
+thread_local BufferCore::LastFailure BufferCore::last_failure_;
+
+// BufferCore.lookup_frames as a plain C method bound to one core (`lookup_call`): called as
+// f(target_frame, source_frame, time), with the same casts and errors, without nanobind's dispatch
+// (which costs a tenth of a lookup: overloads, keywords, the instance's C++ object found by type).
+PyObject* lookup_frames_call(PyObject* core, PyObject* const* args, Py_ssize_t n) noexcept {
+    try {
+        if (n != 3) throw nb::type_error("lookup_frames(target_frame, source_frame, time): 3 arguments");
+        int64_t time = 0;
+        if (!nb::try_cast(nb::handle(args[2]), time)) throw nb::type_error("lookup_frames: time must be an int");
+        return nb::inst_ptr<BufferCore>(core)->lookup_frames(args[0], args[1], time).release().ptr();
+    } catch (nb::python_error& e) {
+        e.restore();
+    } catch (const nb::builtin_exception& e) {
+        PyErr_SetString(e.type() == nb::exception_type::type_error ? PyExc_TypeError : PyExc_ValueError, e.what());
+    } catch (const std::exception& e) {
+        PyErr_SetString(PyExc_RuntimeError, e.what());
+    }
+    return nullptr;
+}
+
+PyMethodDef lookup_frames_def = {"lookup_frames", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(lookup_frames_call)),
+                                 METH_FASTCALL, "BufferCore.lookup_frames, bound to its core."};
 
 }  // namespace
 
@@ -491,6 +548,22 @@ NB_MODULE(_kernels, m) {
     m.attr("BLOCK") = tfcore::BLOCK;
     m.attr("ROW_BYTES") = tfbuffer::ROW_BYTES;
     m.attr("LARGE_PAGES_UP_TO") = tfbuffer::LARGE_PAGES_UP_TO;
+    // The codes Python reads, defined once here: why a walk failed (walk.Failure's first item), why a
+    // history had no sample (history.Extrapolation.kind), a row's flags, and insert's refusals by number.
+    m.attr("NO_FAILURE") = static_cast<int>(tfcore::Failure::NONE);
+    m.attr("LOOP") = static_cast<int>(tfcore::Failure::LOOP);
+    m.attr("UNCONNECTED") = static_cast<int>(tfcore::Failure::UNCONNECTED);
+    m.attr("EXTRAPOLATION") = static_cast<int>(tfcore::Failure::EXTRAPOLATION);
+    m.attr("NO_DATA") = static_cast<int>(tfcore::NO_DATA);
+    m.attr("ONLY_ONE") = static_cast<int>(tfcore::ONLY_ONE);
+    m.attr("FUTURE") = static_cast<int>(tfcore::FUTURE);
+    m.attr("PAST") = static_cast<int>(tfcore::PAST);
+    m.attr("FROM_STATIC_TOPIC") = tfbuffer::FROM_STATIC_TOPIC;
+    m.attr("PARENT_HAD_SLASH") = tfbuffer::PARENT_HAD_SLASH;
+    m.attr("CHILD_HAD_SLASH") = tfbuffer::CHILD_HAD_SLASH;
+    nb::list refusals;
+    for (const char* name : tfinsert::REFUSAL_NAMES) refusals.append(name);
+    m.attr("REFUSALS") = nb::tuple(refusals);
 
     using tfbuffer::Store;
     nb::class_<Store>(m, "EdgeHistory")
@@ -538,7 +611,10 @@ NB_MODULE(_kernels, m) {
         .def("state", &BufferCore::state)
         .def("restore", &BufferCore::restore, "state"_a)
         .def("lookup_frames", &BufferCore::lookup_frames, "target_frame"_a, "source_frame"_a, "time"_a)
+        .def_prop_ro("lookup_call",
+                     [](nb::handle core) { return nb::steal(PyCFunction_New(&lookup_frames_def, core.ptr())); })
         .def("can_transform_frames", &BufferCore::can_transform_frames, "target_frame"_a, "source_frame"_a, "time"_a)
+        .def("last_failure", &BufferCore::last_failure, "target"_a, "source"_a, "time"_a)
         .def("lookup", &BufferCore::lookup, "target"_a, "source"_a, "time"_a, "raw"_a = false)
         .def("can_transform", &BufferCore::can_transform, "target"_a, "source"_a, "time"_a)
         .def("latest_common_time", &BufferCore::latest_common_time, "target"_a, "source"_a)

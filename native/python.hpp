@@ -63,6 +63,21 @@ class Locked {
     const LockMethods& methods_;
 };
 
+// What a read of the buffer's state that keeps the GIL needs against insertions from other threads:
+// nothing under the GIL (each insertion holds it through its one call into the core, and a read that
+// lets go of it holds the buffer's lock), the buffer's lock without one (a free-threaded Python).
+class ReadLocked {
+   public:
+#ifdef Py_GIL_DISABLED
+    ReadLocked(nb::handle lock, const LockMethods& methods) : locked_(lock, methods) {}
+
+   private:
+    Locked locked_;
+#else
+    ReadLocked(nb::handle, const LockMethods&) {}
+#endif
+};
+
 // A str's UTF-8 (which the str keeps); false for anything else.
 inline bool text(nb::handle s, std::string_view& out) {
     if (!PyUnicode_Check(s.ptr())) return false;

@@ -291,12 +291,12 @@ inline Arc arc_at(const History& h, int64_t frame, int64_t row, Memo& memo) {
 // ancestor of the target, both meet at one top frame; or no path.
 enum class Ending { AT_TARGET, AT_SOURCE, AT_TOP, NO_PATH };
 
-// Why tf2 fails, of the errors a walk raises (tftools.core.walk's NO_FAILURE, LOOP, UNCONNECTED,
+// Why tf2 fails, of the errors a walk raises (the binding exports them as NO_FAILURE, LOOP, UNCONNECTED,
 // EXTRAPOLATION): more than MAX_GRAPH_DEPTH edges, two trees, or a time outside an edge's history.
 enum class Failure { NONE, LOOP, UNCONNECTED, EXTRAPOLATION };
 
-// Why a history cannot answer at `time` (history.Extrapolation; its kinds are history.py's NO_DATA,
-// ONLY_ONE, FUTURE, PAST): empty, one sample at another `stamp`, after the newest or before the oldest.
+// Why a history cannot answer at `time` (history.Extrapolation; its kinds, NO_DATA, ONLY_ONE, FUTURE,
+// PAST, exported by the binding): empty, one sample at another `stamp`, after the newest or before the oldest.
 struct Extrapolation {
     int64_t kind = 0, time = 0, stamp = 0;
 };

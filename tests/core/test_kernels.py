@@ -17,7 +17,7 @@ CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(2) for f
 
 
 def kernel_walk(buffer: Buffer, target: str, source: str, time: int):
-    found = buffer._core.lookup(buffer._core.frame_id(target), buffer._core.frame_id(source), time)
+    found, _ = buffer._core.lookup(buffer._core.frame_id(target), buffer._core.frame_id(source), time)
     return None if found is None else ([*found[0], *found[1]], found[2])
 
 
@@ -48,6 +48,12 @@ def test_one_walk_gives_one_verdict(seed, features):
             frames, failure = buffer._core.chain(*ids, t)
             assert buffer._core.can_transform(*ids, t) == (found is not None), (target, source, t)
             assert (failure[0] == walk.NO_FAILURE) == (found is not None), (target, source, t)
+            assert buffer._core.lookup(*ids, t)[1] == failure, "the lookup's own walk says why it fails"
+            answered = buffer._core.lookup_frames(target, source, t)
+            assert (answered is None) == (found is None)
+            # A failed lookup_frames keeps its walk's failure, for the Python path that words it.
+            assert buffer._core.last_failure(*ids, t) == (None if found is not None else failure)
+            assert buffer._core.last_failure(*ids, t + 1) is None
             if found is not None:
                 assert (frames[0], frames[-1]) == (ids[1], ids[0])
             else:
@@ -173,3 +179,18 @@ def test_lookup_many_over_times_spanning_all_int64(monkeypatch):
         assert got.stamps[i] == (time or 10 * S)
         if expected is not None:
             assert [*got.translations[i], *got.rotations[i]] == expected[0]  # the very same bits
+
+
+def test_lookup_through_the_plain_c_call_takes_what_the_binding_takes():
+    """``Buffer.lookup``'s call into the core (``BufferCore.lookup_call``, no binding's dispatch) takes a
+    time as the binding does (an int, or what converts to one without loss) and refuses anything else."""
+    buffer = Buffer(cache_time=None)
+    for stamp in (10, 20):
+        buffer.set_transform(Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", "b"))
+    assert buffer.lookup("a", "b", np.int64(15)).stamp == 15
+    assert buffer._core.lookup_call("a", "b", 15) == buffer._core.lookup_frames("a", "b", 15)
+    for time in (1.5, "15", None):
+        with pytest.raises(TypeError):
+            buffer.lookup("a", "b", time)  # type: ignore[arg-type]
+    with pytest.raises(TypeError):
+        buffer._core.lookup_call("a", "b")  # type: ignore[call-arg]

@@ -77,7 +77,7 @@ def test_batch_lookups_answer_as_single_ones(seed: int, features: frozenset[str]
         ids = buffer._core.frame_id(target), buffer._core.frame_id(source)
         expected = []
         for t in times.tolist():
-            found = buffer._core.lookup(*ids, t)
+            found, _ = buffer._core.lookup(*ids, t)
             expected.append(None if found is None else (found[2], [*found[0], *found[1]]))
         resolved, values, valid = lookup_in_parallel(buffer._core, *ids, times)
         for i, want in enumerate(expected):

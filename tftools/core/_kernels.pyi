@@ -2,6 +2,7 @@
 (native/insert.hpp) and tf2's walk over the histories (native/walk.hpp)."""
 
 import threading
+from collections.abc import Callable
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
@@ -14,6 +15,22 @@ BLOCK: int
 ROW_BYTES: int
 #: The largest bulk load whose histories' block is laid on large pages.
 LARGE_PAGES_UP_TO: int
+#: Why a walk failed (``walk.Failure``'s first item): it did not, a loop, two trees, an extrapolation.
+NO_FAILURE: int
+LOOP: int
+UNCONNECTED: int
+EXTRAPOLATION: int
+#: Why a history had no sample at a time (``history.Extrapolation.kind``).
+NO_DATA: int
+ONLY_ONE: int
+FUTURE: int
+PAST: int
+#: ``EdgeHistory.flags`` bits.
+FROM_STATIC_TOPIC: int
+PARENT_HAD_SLASH: int
+CHILD_HAD_SLASH: int
+#: ``BufferCore.insert``'s refusal codes by number, as ``rejection.RejectionCode``'s names.
+REFUSALS: tuple[str, ...]
 
 def through_matrix(rotations: FloatArray) -> None:
     """Rotations (N, 4, x y z w), in place, as ROS 2's tf2 holds and returns them: through a
@@ -133,17 +150,28 @@ class BufferCore:
         """This new core made into the one ``state`` came from."""
 
     def lookup_frames(self, target_frame: str, source_frame: str, time: int) -> Transform | None:
-        """``Buffer.lookup`` of two different known plain frames where tf2 succeeds; None otherwise."""
+        """``Buffer.lookup`` of two different known plain frames where tf2 succeeds; None otherwise
+        (``last_failure`` then says why the walk failed, where it walked)."""
+
+    @property
+    def lookup_call(self) -> Callable[[str, str, int], Transform | None]:
+        """``lookup_frames``, bound to this core as a plain C function: called without the binding's
+        dispatch (its arguments all positional)."""
+
+    def last_failure(self, target: int, source: int, time: int) -> Failure | None:
+        """Why this thread's last ``lookup_frames`` failed, if it walked from ``source`` to ``target``
+        at ``time``; else None."""
 
     def can_transform_frames(self, target_frame: str, source_frame: str, time: int) -> bool:
         """``Buffer.can_transform``."""
 
     def lookup(
         self, target: int, source: int, time: int, raw: bool = False
-    ) -> tuple[tuple[float, float, float], tuple[float, float, float, float], int] | None:
-        """tf2's lookup: (tx, ty, tz), (qx, qy, qz, qw) and the time used (0: the latest common time);
-        None where tf2 fails (``chain`` says why). ROS 2's rotation comes back through a matrix,
-        unless ``raw`` (the composed one, which ROS 2's lookup with a fixed frame multiplies)."""
+    ) -> tuple[tuple[tuple[float, float, float], tuple[float, float, float, float], int] | None, Failure]:
+        """tf2's lookup, from one walk: (tx, ty, tz), (qx, qy, qz, qw) and the time used (0: the latest
+        common time), or None where tf2 fails; and why it failed (``walk.Failure``). ROS 2's rotation comes
+        back through a matrix, unless ``raw`` (the composed one, which ROS 2's lookup with a fixed frame
+        multiplies)."""
 
     def can_transform(self, target: int, source: int, time: int) -> bool:
         """Whether ``lookup`` succeeds, walking parents only."""

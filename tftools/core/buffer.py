@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 from tftools.core import history as _history
 from tftools.core import walk
-from tftools.core._kernels import BufferCore
+from tftools.core._kernels import REFUSALS, BufferCore
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
@@ -123,6 +123,8 @@ class Buffer:
         self._changed = threading.Condition(self._mutex)
         self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
         self._core = self._new_core()
+        #: ``self._core.lookup_frames``, called as a plain C function (no binding's dispatch).
+        self._lookup_frames = self._core.lookup_call
 
     @property
     def cache_time(self) -> int | None:
@@ -151,7 +153,7 @@ class Buffer:
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        del state["_changed"], state["_mutex"]
+        del state["_changed"], state["_mutex"], state["_lookup_frames"]
         with self._changed:
             # The core's state as plain values (its histories' columns as arrays), rebuilt where the copy is used.
             state.update(_core=self._core.state(), _waiting=0)
@@ -165,6 +167,7 @@ class Buffer:
         self._changed = threading.Condition(self._mutex)
         self._core = self._new_core()
         self._core.restore(core)
+        self._lookup_frames = self._core.lookup_call
 
     # --- frames ------------------------------------------------------------------------------
 
@@ -316,21 +319,24 @@ class Buffer:
         tf2's messages: ``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``,
         ``InvalidArgumentError``.
         """
-        found = self._core.lookup_frames(target_frame, source_frame, time)  # holds the lock itself
+        found = self._lookup_frames(target_frame, source_frame, time)
         return found if found is not None else self._lookup_by_ids(target_frame, source_frame, time)
 
     @_locked
     def _lookup_by_ids(self, target_frame: str, source_frame: str, time: int, raw: bool = False) -> Transform:
         """``lookup`` where ``lookup_frames`` does not answer: a frame to itself, names to check
-        (tf2's errors for them), and every failure, worded by ``walk.error``. ``raw``: ROS 2's
-        rotation as composed, before its ``tf2::Transform`` gives it back (``BufferCore.lookup``)."""
+        (tf2's errors for them), and every failure, worded by ``walk.error`` from the failed walk
+        (``lookup_frames``', else this one's). ``raw``: ROS 2's rotation as composed, before its
+        ``tf2::Transform`` gives it back (``BufferCore.lookup``)."""
         if target_frame == source_frame:
             return Transform.identity(self._identity_stamp(target_frame, time), target_frame, source_frame)
         target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-        found = self._core.lookup(target_id, source_id, time, raw)
-        if found is None:
-            raise self._walk_error(target_id, source_id, self._core.chain(target_id, source_id, time)[1])
-        return Transform(*found, target_frame, source_frame)
+        failure = None if raw else self._core.last_failure(target_id, source_id, time)
+        if failure is None:
+            found, failure = self._core.lookup(target_id, source_id, time, raw)
+            if found is not None:
+                return Transform(*found, target_frame, source_frame)
+        raise self._walk_error(target_frame, source_frame, failure)
 
     @_locked
     def lookup_full(
@@ -349,7 +355,7 @@ class Buffer:
 
     def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
         """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
-        return self._core.can_transform_frames(target_frame, source_frame, time)  # holds the lock itself
+        return self._core.can_transform_frames(target_frame, source_frame, time)
 
     def can_transform_full(
         self, target_frame: str, target_time: int, source_frame: str, source_time: int, fixed_frame: str
@@ -369,7 +375,7 @@ class Buffer:
         source_id = self._frame_id("get_latest_common_time", source_frame)
         common, failure = self._core.latest_common_time(target_id, source_id)
         if failure[0] != walk.NO_FAILURE:
-            raise self._walk_error(target_id, source_id, failure)
+            raise self._walk_error(target_frame, source_frame, failure)
         return common
 
     @_locked
@@ -422,7 +428,7 @@ class Buffer:
         target_id, source_id = self._frame_ids("chain", target_frame, source_frame)
         frames, failure = self._core.chain(target_id, source_id, time)
         if failure[0] != walk.NO_FAILURE:
-            raise self._walk_error(target_id, source_id, failure)
+            raise self._walk_error(target_frame, source_frame, failure)
         names = self._core.frame_names()
         return [names[f] for f in frames]
 
@@ -464,8 +470,8 @@ class Buffer:
         names = self._core.frame_names()
         return walk.Tree([self._core.history(i) for i in range(len(names))], names, dialect(self.semantics))
 
-    def _walk_error(self, target_id: int, source_id: int, failure: walk.Failure) -> TransformError:
-        return walk.error(self._tree(), failure, target_id, source_id)
+    def _walk_error(self, target_frame: str, source_frame: str, failure: walk.Failure) -> TransformError:
+        return walk.error(failure, target_frame, source_frame, dialect(self.semantics), self._tree)
 
     def _new_core(self) -> BufferCore:
         """The buffer's state: its frames, publishers and histories, compiled."""
@@ -503,16 +509,8 @@ class Buffer:
 #: Refused rows recorded at a time.
 _REFUSALS_PER_PART = 1 << 16
 
-#: ``BufferCore.insert``'s refusal codes, by number (native/insert.hpp's ``Refusal``).
-_REFUSALS = (
-    RejectionCode.SELF_TRANSFORM,
-    RejectionCode.NO_CHILD_FRAME_ID,
-    RejectionCode.NO_FRAME_ID,
-    RejectionCode.NAN_INPUT,
-    RejectionCode.DENORMALIZED_QUATERNION,
-    RejectionCode.OLD_DATA,
-    RejectionCode.REPEATED_DATA,
-)
+#: ``BufferCore.insert``'s refusal codes, by number (the core's names for them).
+_REFUSALS = tuple(RejectionCode[name] for name in REFUSALS)
 
 
 def _times_for(times: npt.ArrayLike, rows: npt.ArrayLike) -> Int64Array:

@@ -11,17 +11,21 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-# The bytes of one sample in a history's columns (stamp, values, parent, authority, record time, sequence,
-# flags), and the largest bulk load whose histories' block comes in large pages: the core's.
+# The core's: the bytes of one sample in a history's columns (stamp, values, parent, authority, record
+# time, sequence, flags), the largest bulk load whose histories' block comes in large pages, the
+# ``EdgeHistory.flags`` bits, and ``Extrapolation.kind`` (why a history has no sample at a time: tf2's
+# three extrapolation errors).
+from tftools.core._kernels import CHILD_HAD_SLASH as CHILD_HAD_SLASH
+from tftools.core._kernels import FROM_STATIC_TOPIC as FROM_STATIC_TOPIC
+from tftools.core._kernels import FUTURE as FUTURE
 from tftools.core._kernels import LARGE_PAGES_UP_TO as LARGE_PAGES_UP_TO
+from tftools.core._kernels import NO_DATA as NO_DATA
+from tftools.core._kernels import ONLY_ONE as ONLY_ONE
+from tftools.core._kernels import PARENT_HAD_SLASH as PARENT_HAD_SLASH
+from tftools.core._kernels import PAST as PAST
 from tftools.core._kernels import ROW_BYTES as ROW_BYTES
 from tftools.core._kernels import EdgeHistory as EdgeHistory
 from tftools.core.batch import TransformBatch
-
-#: ``EdgeHistory.flags`` bits.
-FROM_STATIC_TOPIC = 1
-PARENT_HAD_SLASH = 2
-CHILD_HAD_SLASH = 4
 
 
 def rows_as_sent(names: Sequence[str], authorities: Sequence[str], columns: Mapping[str, Any]) -> TransformBatch:
@@ -43,10 +47,6 @@ def rows_as_sent(names: Sequence[str], authorities: Sequence[str], columns: Mapp
         record_time=columns["record_time"],
         authority=columns["authority"],
     )
-
-
-#: ``Extrapolation.kind``: why a history has no sample at a time (tf2's three extrapolation errors).
-NO_DATA, ONLY_ONE, FUTURE, PAST = range(4)
 
 
 class Extrapolation(NamedTuple):

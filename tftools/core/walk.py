@@ -8,17 +8,19 @@ this one place because users compare our errors with theirs.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import NamedTuple
 
+# What made a walk fail (the core's codes): nothing, more than tf2's ``MAX_GRAPH_DEPTH`` edges (a
+# loop), two trees, a time outside an edge's history.
+from tftools.core._kernels import EXTRAPOLATION as EXTRAPOLATION
+from tftools.core._kernels import LOOP as LOOP
+from tftools.core._kernels import NO_FAILURE as NO_FAILURE
+from tftools.core._kernels import UNCONNECTED as UNCONNECTED
 from tftools.core.errors import ConnectivityError, TransformError, UnknownFrameError
 from tftools.core.history import EdgeHistory, Extrapolation
 from tftools.core.semantics import Dialect
 from tftools.core.time import duration_to_sec, to_sec
-
-#: What made a walk fail (native/walk.hpp's ``Failure``): nothing, more than tf2's
-#: ``MAX_GRAPH_DEPTH`` edges (a loop), two trees, a time outside an edge's history.
-NO_FAILURE, LOOP, UNCONNECTED, EXTRAPOLATION = range(4)
 
 #: A walk's report (``BufferCore.chain``'s): what failed, and for an extrapolation the ``Extrapolation``'s
 #: kind, time and stamp.
@@ -34,17 +36,18 @@ class Tree(NamedTuple):
     dialect: Dialect
 
 
-def error(tree: Tree, failure: Failure, target_id: int, source_id: int) -> TransformError:
-    """tf2's error for a walk from ``source_id`` to ``target_id`` that failed as ``failure`` says."""
+def error(
+    failure: Failure, target_frame: str, source_frame: str, dialect: Dialect, tree: Callable[[], Tree]
+) -> TransformError:
+    """tf2's error, in ``dialect``'s words, for a walk from ``source_frame`` to ``target_frame`` that
+    failed as ``failure`` says; ``tree`` gives the frames a loop's message lists (made only then)."""
     what, *extrapolation = failure
     if what == LOOP:
-        return UnknownFrameError.loop(frames_as_string(tree))
+        return UnknownFrameError.loop(frames_as_string(tree()))
     if what == EXTRAPOLATION:
         kind, time, stamp = extrapolation
-        return tree.dialect.extrapolation(
-            Extrapolation(kind, time, stamp), tree.names[source_id], tree.names[target_id]
-        )
-    return ConnectivityError.between(tree.names[target_id], tree.names[source_id])
+        return dialect.extrapolation(Extrapolation(kind, time, stamp), source_frame, target_frame)
+    return ConnectivityError.between(target_frame, source_frame)
 
 
 def frames_as_string(tree: Tree) -> str:

@@ -1,0 +1,153 @@
+"""Issue 41's ratios against tf2 in one run: tf2's time over tftools', per measure, run by run.
+
+Run: ``python benchmarks/ratios.py [--runs 5] [--against PYTHON]``. Each run starts every side afresh
+(a new process each), the sides interleaved (tf2, tftools, then the other tftools of ``--against``), so
+that a shared machine's load falls on all of them alike; each figure is the median of the runs, and
+each ratio is shown as its median and its range over the runs (a goal "every run" is met when the
+range's low end meets it). ``--against`` is an interpreter whose ``tftools`` is another version (a
+"before"), measured the same way in the same runs. The workload is ``vs_tf2.py``'s 300 s robot
+(258k transforms) as .bag, .db3 and .mcap; tf2 is Debian's rosbag + tf2_py (``tf2_side.py``).
+
+The whole script is the wall time of a process that imports, loads the bag and looks one transform up
+(``tftools.load`` / rosbag + ``BufferCore``); ingest is ``ours_side.py``'s (imports paid before the
+clock, as on tf2's side) and, as a user's first ``load`` pays them, with tftools' lazy imports counted.
+Asserts nothing; prints the table and the machine's load.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import robot
+from vs_tf2 import HERE, LOOKUPS, ROS_PYTHON, UNIT_SECONDS, real_rosbag, settle, write_bags
+
+SAMPLE = HERE.parent / "sample_bags" / "robot.bag"
+#: A user's whole script, and a user's first load (tftools imported, the rest paid inside the clock).
+SCRIPT = "import tftools; b = tftools.load({bag!r}); print(b.lookup({target!r}, {source!r}, {at}).translation[0])"
+FIRST_LOAD = (
+    "import json, time, tftools; began = time.perf_counter(); tftools.load({bag!r}); "
+    "print(json.dumps({{'first_load_s': time.perf_counter() - began}}))"
+)
+#: Each measure's goal: tf2's time over ours, at least (None: shown only).
+GOALS = {"script": 10.0, "ingest": 30.0, "first_load": None, "lookup": 10.0, "can_transform": None,
+         "batch": 150.0, "set_transform": 5.0, "frames": None}  # fmt: skip
+
+
+def run_json(command: list[str]) -> dict:
+    """``command`` run from ``/`` (no checkout on its path but its own), its last line's JSON."""
+    done = subprocess.run(command, capture_output=True, text=True, check=False, cwd="/")
+    if done.returncode != 0:
+        sys.exit(f"{' '.join(command)} failed:\n{done.stderr}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def wall(command: list[str]) -> float:
+    """Seconds the process ``command`` took, start to end."""
+    began = time.perf_counter()
+    done = subprocess.run(command, capture_output=True, check=False, cwd="/")
+    if done.returncode != 0:
+        sys.exit(f"{' '.join(command)} failed:\n{done.stderr.decode(errors='replace')}")
+    return time.perf_counter() - began
+
+
+def tftools_run(python: str, bags: dict[str, Path]) -> dict[str, float]:
+    """One run of every tftools measure, each in a fresh process of ``python``."""
+    ours = str(HERE / "ours_side.py")
+    at = robot.START + 100 * robot.NS
+    code = SCRIPT.format(bag=str(bags["ros1"]), target=robot.TARGET, source=robot.SOURCE, at=at)
+    settle(bags["ros1"], cold=False)
+    out = {"script": wall([python, "-c", code])}
+    for fmt, bag in bags.items():
+        settle(bag, cold=False)
+        out[f"ingest {fmt}"] = run_json([python, ours, "ingest", str(bag)])["ingest_s"]
+    out["first_load"] = run_json([python, "-c", FIRST_LOAD.format(bag=str(bags["ros1"]))])["first_load_s"]
+    calls = run_json([python, ours, "lookups", str(bags["ros1"]), str(LOOKUPS), str(UNIT_SECONDS)])
+    out.update({key: calls[f"{key}_s"] for key in ("lookup", "can_transform", "set_transform")})
+    out["batch"] = run_json([python, ours, "batch", str(bags["ros1"]), str(UNIT_SECONDS)])["batch_next_s"]
+    out["frames"] = wall([python, "-m", "tftools", "frames", "-b", str(SAMPLE)])
+    return out
+
+
+def tf2_run(bags: dict[str, Path]) -> dict[str, float]:
+    """One run of tf2's measures, each in a fresh process of Debian's Python."""
+    side = str(HERE / "tf2_side.py")
+    settle(bags["ros1"], cold=False)
+    script = wall([ROS_PYTHON, side, "script", str(bags["ros1"])])
+    theirs = run_json([ROS_PYTHON, side, "measure", str(bags["ros1"]), str(LOOKUPS), str(UNIT_SECONDS)])
+    out = {"script": script, "lookup": theirs["lookup_s"], "can_transform": theirs["can_transform_s"],
+           "set_transform": theirs["set_transform_s"], "first_load": theirs["ingest_s"],
+           "batch": theirs["lookup_s"]}  # fmt: skip
+    out.update({f"ingest {fmt}": theirs["ingest_s"] for fmt in bags})
+    return out
+
+
+def shown(seconds: float) -> str:
+    if seconds >= 0.01:
+        return f"{seconds:.3f} s"
+    return f"{seconds * 1e6:.2f} us" if seconds >= 1e-6 else f"{seconds * 1e9:.0f} ns"
+
+
+def ratios(theirs: list[dict[str, float]], ours: list[dict[str, float]], key: str) -> str:
+    """tf2's time over ours, run by run: the median and the range."""
+    each = [t[key] / o[key] for t, o in zip(theirs, ours, strict=True)]
+    return f"{statistics.median(each):.1f}x ({min(each):.1f}-{max(each):.1f})"
+
+
+def lowest(theirs: list[dict[str, float]], ours: list[dict[str, float]], key: str) -> float:
+    return min(t[key] / o[key] for t, o in zip(theirs, ours, strict=True))
+
+
+def print_table(rows: list[tuple[str, ...]]) -> None:
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
+    for row in rows:
+        print(" | ".join(cell.ljust(width) for cell, width in zip(row, widths, strict=True)).rstrip())
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--runs", type=int, default=5, help="runs, each side in fresh processes; medians shown")
+    parser.add_argument("--against", help="an interpreter whose tftools is another version, measured alike")
+    args = parser.parse_args()
+    if not real_rosbag():
+        sys.exit(f"tf2 is missing ({ROS_PYTHON} -c 'import rosbag, tf2_py' fails): see scripts/install-reference.sh")
+    bags = write_bags(UNIT_SECONDS, False)
+    loads = [os.getloadavg()[0]]
+    sides: dict[str, Callable[[], dict[str, float]]] = {"tf2": lambda: tf2_run(bags)}
+    if args.against:
+        sides["before"] = lambda: tftools_run(args.against, bags)
+    sides["tftools"] = lambda: tftools_run(sys.executable, bags)
+    runs: dict[str, list[dict[str, float]]] = {name: [] for name in sides}
+    for _ in range(args.runs):
+        for name, side in sides.items():
+            runs[name].append(side())
+        loads.append(os.getloadavg()[0])
+    header = ["measure", *sides, *(f"ratio {name}" for name in sides if name != "tf2"), "goal", "met every run?"]
+    rows = [tuple(header)]
+    keys = ["script", *(f"ingest {fmt}" for fmt in bags), "first_load", "lookup", "can_transform", "batch",
+            "set_transform", "frames"]  # fmt: skip
+    for key in keys:
+        goal = GOALS[key.split()[0]]
+        figures = [shown(statistics.median(run[key] for run in runs[name])) if key in runs[name][0] else "-"
+                   for name in sides]  # fmt: skip
+        if key in runs["tf2"][0]:
+            shown_ratios = [ratios(runs["tf2"], runs[name], key) for name in sides if name != "tf2"]
+            met = "-" if goal is None else ("yes" if lowest(runs["tf2"], runs["tftools"], key) >= goal else "NO")
+        else:
+            shown_ratios, met = ["-" for name in sides if name != "tf2"], "-"
+        rows.append((key, *figures, *shown_ratios, "-" if goal is None else f">= {goal:.0f}x", met))
+    print_table(rows)
+    print(f"\nmedians of {args.runs} runs, sides interleaved, each measure a fresh process; batch = 1M random "
+          f"times, per time (its ratio: tf2's one lookup over it); load average (1 min) {min(loads):.1f}-"
+          f"{max(loads):.1f} on {os.cpu_count()} cores")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
