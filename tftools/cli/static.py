@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from tftools.analysis.findings import counted
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import stdout, warn
@@ -97,6 +96,7 @@ def command(
     [cyan]tfx static --from extrinsics.yaml -b in.bag -o out.bag[/]
     [cyan]tfx static --repair -b recording/ -o repaired/[/]
     """
+    from tftools.analysis.findings import counted
     from tftools.sinks.static import add_static, checked, publish_static, repair_static
     from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC
     from tftools.sources.live.static_file import read_static_transforms
