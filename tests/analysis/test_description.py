@@ -10,7 +10,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.analysis.robot_scenes import FLIPPED, MOVED, ROBOT, URDF, Setup, robot_bag
+from tests.analysis.robot_scenes import (
+    FLIPPED,
+    MOVED,
+    ROBOT,
+    URDF,
+    Recorded,
+    Setup,
+    recorded,
+    robot_bag,
+    write_robot_bag,
+)
 from tests.analysis.wtf_scenes import START, recording
 from tests.bags import BagFormat, TfMessage
 from tftools.analysis.description import Robot, check_joints, description_shape, robot_of
@@ -19,6 +29,8 @@ from tftools.analysis.frames import frame_tree
 from tftools.analysis.wtf import CHECKS, check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sources.bag import messages as bag_messages
+from tftools.sources.bag.reader import BagReader
 from tftools.sources.bag.robot import read_robot
 from tftools.sources.recording import read_recording
 from tftools.sources.urdf import parse_urdf
@@ -240,3 +252,21 @@ def test_a_mimic_multiplier_past_any_position_is_no_crash_and_no_figure(tmp_path
     assert 0 < right.compared < 100  # the states whose product overflowed are not compared
     assert all(math.isfinite(v) for v in (right.translation_mm, right.rotation_deg))
     check(recording, robot=robot)  # and the whole check runs
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_of_many_recorded_descriptions_the_latest_is_read_and_few_are_held(
+    tmp_path: Path, fmt: BagFormat, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A recording that holds the description many times (re-latched at every start): the latest one is used,
+    and the reader holds the latest ones only up to its budget, not every one (hundreds of 4 MiB took GBs)."""
+    monkeypatch.setattr(bag_messages, "MAX_WHOLE_TEXT", 3 * len(URDF))
+    messages = recorded(Setup())
+    texts = [URDF.replace('name="rover"', f'name="rover{n}"') for n in range(12)]
+    messages += [Recorded("/robot_description", START + n * NS_PER_S // 10, t, "/rsp") for n, t in enumerate(texts)]
+    path = tmp_path / ("many.bag" if fmt is BagFormat.ros1 else "many")
+    bag = write_robot_bag(path, sorted(messages, key=lambda m: m.record_time), fmt)
+    assert read_robot([bag]).description == texts[-1]
+    with BagReader([bag], ("/robot_description",), whole=("/robot_description",)) as reader:
+        (held,) = [w for info in reader.read().files for w in info.whole if w.topic == "/robot_description"]
+    assert held.values[-1] == texts[-1] and 1 <= len(held.values) <= 3

@@ -24,6 +24,10 @@ Failures = list[tuple[int, str]]  # (message, reason) of the messages that could
 #: Messages read whole held at most per kind (their ``key``: a joint state's names) once thinned: beyond,
 #: every other one is let go, so that hours of joint states stay a few megabytes, evenly spread.
 MAX_WHOLE = 20_000
+#: Characters of text read whole (recorded /robot_description messages, 4 MiB each at most) held at most:
+#: only the latest description is used, so past it the earliest read are let go (hundreds of descriptions
+#: in a recording were all decoded and held: 2 to 3 GB).
+MAX_WHOLE_TEXT = 16 << 20
 _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
 _ALONE_BYTES = 512 << 10  # payload bytes of one codec handed at once that are decoded at once, uncopied
 
@@ -229,6 +233,8 @@ class MessageSet:
             self._whole.append((ids[np.array(read, np.int64)], objects))
             if sum(len(part) for _, part in self._whole) > 2 * MAX_WHOLE:
                 self._thin_whole()
+            if any(isinstance(value, str) for value in objects):
+                self._keep_latest_texts()
         elif isinstance(codec, HeaderCodec):
             headers = codec.decode(raw, starts, lengths, self._rows.frames)
             self._headers.append((ids[headers.message], headers.stamp, headers.frame))
@@ -308,6 +314,22 @@ class MessageSet:
             kinds[kind] = members
         kept = sorted(k for members in kinds.values() for k in members)
         self._whole = [(ids[np.array(kept, np.int64)], [values[k] for k in kept])]
+
+    def _keep_latest_texts(self) -> None:
+        """The texts read whole, the latest read first, kept while they hold at most ``MAX_WHOLE_TEXT``
+        characters (the latest always); the others let go. Messages are numbered as they are read: in
+        the file's order, which is the recorder's."""
+        ids = np.concatenate([i for i, _ in self._whole])
+        values = [v for _, part in self._whole for v in part]
+        held, dropped = 0, set()
+        for k in np.argsort(ids, kind="stable")[::-1].tolist():
+            if isinstance(values[k], str):
+                held += len(values[k])
+                if held > MAX_WHOLE_TEXT and held > len(values[k]):
+                    dropped.add(k)
+        if dropped:
+            kept = [k for k in range(len(values)) if k not in dropped]
+            self._whole = [(ids[np.array(kept, np.int64)], [values[k] for k in kept])]
 
     def _whole_messages(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[WholeMessages]:
         """The messages read whole, per topic in record order."""
