@@ -154,19 +154,20 @@ def test_a_looped_replay_clears_the_listeners_buffer_but_its_statics(monkeypatch
     assert source.notices[1:] == [source.notices[1]] * 2 and "from 1000.900 s to 1000.000 s" in source.notices[1]
 
 
-def test_a_clock_going_back_and_forth_is_said_every_few_seconds_with_a_count(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A replay looping every 0.04 s: 100 jumps in a few seconds make 2 lines, the second counting the rest."""
+def test_a_clock_going_back_and_forth_is_said_once_a_second_with_a_count(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A clock going back every 10 ms: 100 jumps within a second make 2 lines, the second counting the rest
+    (446 lines in 5 s before)."""
     seconds = FakeSeconds()
     monkeypatch.setattr(time_jump.time, "monotonic", seconds)
     source = SimSource()
     listen(source)
     for n in range(100):
-        seconds.now = n * 0.04  # the first jump at 0.04 s, the last at 3.96 s: within the first line's quiet time
+        seconds.now = n * 0.0099  # the first jump at 0.0099 s, the last at 0.98 s: within the first line's second
         play(source, 1000.0, 0.3)
-    seconds.now = 0.04 + time_jump.QUIET_SECONDS
+    seconds.now = 0.0099 + time_jump.QUIET_SECONDS
     play(source, 1000.0, 0.3)
     assert len(source.notices) == 2
-    assert source.notices[1].endswith("(98 more jumps back in the 5 s before)")
+    assert source.notices[1].endswith("(98 more jumps back since the last said)")
 
 
 def test_the_buffer_keeps_answering_while_the_clock_only_runs_forwards() -> None:

@@ -40,23 +40,19 @@ REPAIR_EVERY_S = 5.0
 
 @dataclass(frozen=True)
 class _Plan:
-    """What the copy adds: ``transforms`` at the start and, with ``every`` (ns), again that often;
-    ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2);
-    ``senders``: per transform, who sent it in the bag (its authority: a ROS 1 callerid, else the
-    topic), so that the copy repeats it on that same connection and tfx sees one publisher of it as
-    before; none: tfx's own (``PUBLISHER``)."""
+    """What the copy adds: ``messages``, each (who sends it, its transforms), at the start and, with
+    ``every`` (ns), again that often; ``durable``: every /tf_static connection latched (ROS 1) or offered
+    transient local (ROS 2). A sender is who sent those transforms in the bag (its authority: a ROS 1
+    callerid, else the topic), so that the copy repeats them on that same connection, message for message
+    as they were sent, and tfx sees the publishers it saw before; ``PUBLISHER``: tfx's own."""
 
-    transforms: Sequence[Transform]
+    messages: Sequence[tuple[str, Sequence[Transform]]]
     every: int = 0
     durable: bool = False
-    senders: Sequence[str] = ()
 
-    def by_sender(self, stamp: int) -> dict[str, list[Transform]]:
-        """The transforms stamped ``stamp``, one message per sender."""
-        groups: dict[str, list[Transform]] = {}
-        for i, t in enumerate(self.transforms):
-            groups.setdefault(self.senders[i] if self.senders else PUBLISHER, []).append(replace(t, stamp=stamp))
-        return groups
+    def stamped(self, stamp: int) -> list[tuple[str, list[Transform]]]:
+        """The messages with their transforms stamped ``stamp``."""
+        return [(sender, [replace(t, stamp=stamp) for t in transforms]) for sender, transforms in self.messages]
 
 
 def add_static_transforms(
@@ -70,40 +66,54 @@ def add_static_transforms(
     a bare .db3, or a bare .mcap copied to a bare .mcap) plus one ``/tf_static`` message holding
     ``transforms``, stamped and recorded at the bag's start. Refuses an existing ``output`` unless
     ``force``."""
-    return _write_copy(Path(bag), Path(output), _Plan(transforms), force)
+    return _write_copy(Path(bag), Path(output), _Plan([(PUBLISHER, transforms)]), force)
 
 
 def repair_static_transforms(
     bag: str | os.PathLike[str], output: str | os.PathLike[str], *, force: bool = False
 ) -> tuple[Path, list[Transform]]:
-    """Write ``output``: ``bag`` with its static transforms complete (the latest value of each, all in
-    one message) at its start and every ``REPAIR_EVERY_S`` s, and ``/tf_static`` latched (ROS 1) or
-    offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to late
-    subscribers and a copy from any point keeps them. Returns the copy and the transforms."""
+    """Write ``output``: ``bag`` with its static transforms repeated (each /tf_static message as its
+    publisher last sent it) at its start and every ``REPAIR_EVERY_S`` s, and ``/tf_static`` latched
+    (ROS 1) or offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to
+    late subscribers and a copy from any point keeps them. Returns the copy and the transforms (the latest
+    value of each)."""
     source = Path(bag)
-    statics, senders = _latest_statics(source)  # read_recording says when there is no such bag
-    plan = _Plan(statics, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, senders=senders)
+    messages, statics = _latest_statics(source)  # read_recording says when there is no such bag
+    plan = _Plan(messages, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True)
     return _write_copy(source, Path(output), plan, force), statics
 
 
-def _latest_statics(source: Path) -> tuple[list[Transform], list[str]]:
-    """The latest value of each static transform of the recording at ``source`` (in first-seen
-    order), and who sent it (``_Plan.senders``)."""
+def _latest_statics(source: Path) -> tuple[list[tuple[str, list[Transform]]], list[Transform]]:
+    """The recording's /tf_static messages as the copy repeats them: of each sender's messages of one
+    set of transforms, the latest, in the order of those latest ones (so that a transform two messages
+    hold ends with the value tf2 kept); and the latest value of each static transform, in first-seen
+    order. Repeating each message as it was (not one message of them all) keeps the shapes by which a
+    recording that names no publishers tells them apart."""
     from tftools.sources.recording import read_recording
 
     batch = read_recording([source]).transforms
-    latest: dict[tuple[int, int], int] = {}
-    for row in np.flatnonzero(batch.static).tolist():
-        latest[(int(batch.parent[row]), int(batch.child[row]))] = row
-    if not latest:
+    rows = np.flatnonzero(batch.static)
+    if not len(rows):
         raise BagError(str(source), "holds no static transforms", "add them with tfx static X Y Z ... -b IN -o OUT")
     names = batch.frame_names
-    senders = [batch.authorities[int(batch.authority[row])] for row in latest.values()]
-    statics = [
-        Transform(tuple(batch.translation[row].tolist()), tuple(batch.rotation[row].tolist()), 0, names[p], names[c])
-        for (p, c), row in latest.items()
-    ]
-    return statics, senders
+
+    def transform(row: int) -> Transform:
+        value = (tuple(batch.translation[row].tolist()), tuple(batch.rotation[row].tolist()))
+        return Transform(value[0], value[1], 0, names[int(batch.parent[row])], names[int(batch.child[row])])
+
+    latest: dict[tuple[int, int], int] = {}
+    shapes: dict[tuple[int, tuple[tuple[int, int], ...]], list[int]] = {}  # (sender, edges) -> its latest rows
+    message = (batch.authority[rows].astype(np.int64), batch.record_time[rows])  # one sender, one instant
+    starts = np.flatnonzero(np.r_[True, (np.diff(message[0]) != 0) | (np.diff(message[1]) != 0)])
+    for part in np.split(rows, starts[1:]):
+        mine = part.tolist()
+        edges = tuple((int(batch.parent[r]), int(batch.child[r])) for r in mine)
+        key = (int(batch.authority[mine[0]]), edges)
+        shapes.pop(key, None)  # re-inserted last: the order of the latest messages
+        shapes[key] = mine
+        latest.update(zip(edges, mine, strict=True))
+    messages = [(batch.authorities[sender], [transform(r) for r in mine]) for (sender, _), mine in shapes.items()]
+    return messages, [transform(row) for row in latest.values()]
 
 
 #: The type hash a ROS 2 copy gives a type tfx does not know whose recording gave none: rosbags'
@@ -230,8 +240,9 @@ class _Copy:
             raise _CopyError(error) from None
 
     def _statics(self, stamp: int) -> None:
-        for sender, transforms in self.plan.by_sender(stamp).items():
-            self.writer.write(self._connection(self._sent_by(sender)), stamp, self._encode(transforms))
+        for k, (sender, transforms) in enumerate(self.plan.stamped(stamp)):
+            # a nanosecond apart: messages of one sender recorded at one instant would read as one message
+            self.writer.write(self._connection(self._sent_by(sender)), stamp + k, self._encode(transforms))
 
     def _sent_by(self, sender: str) -> Recorded:
         raise NotImplementedError

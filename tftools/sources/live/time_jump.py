@@ -104,9 +104,9 @@ def watch_jumps(
     return watch
 
 
-#: A clock going back and forth jumps at every pass: after a jump is said, those of the next seconds are
-#: counted, and said with the next one said.
-QUIET_SECONDS = 5.0
+#: A clock going back and forth jumps at every pass: after a jump is said, those of the next second are
+#: counted, and said with the next one said (a replay looping every few seconds is said at every loop).
+QUIET_SECONDS = 1.0
 
 
 class _SaidEvery:
@@ -123,6 +123,6 @@ class _SaidEvery:
             self._unsaid += 1
             return
         plural = "" if self._unsaid == 1 else "s"
-        more = f" ({self._unsaid} more jump{plural} back in the {self._seconds:.0f} s before)" if self._unsaid else ""
+        more = f" ({self._unsaid} more jump{plural} back since the last said)" if self._unsaid else ""
         say(line + more)
         self._last, self._unsaid = at, 0
