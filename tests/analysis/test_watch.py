@@ -28,8 +28,8 @@ def _odom(seconds: float, hz: int = 20, begin: int = START) -> TransformBatch:
 
 def test_the_window_keeps_its_last_seconds_and_the_statics_for_ever():
     window = Window(2 * NS_PER_S)
-    window.add(_batch([("base_link", "laser", START, True)]))
-    window.add(_odom(10))
+    window.keep(_batch([("base_link", "laser", START, True)]))
+    window.keep(_odom(10))
     kept, begin, gone = window.take(START + 10 * NS_PER_S)
     dynamic = kept.record_time[~kept.static]
     assert dynamic.min() >= START + 8 * NS_PER_S and len(dynamic) == 40
@@ -40,7 +40,7 @@ def test_the_window_keeps_its_last_seconds_and_the_statics_for_ever():
 
 def test_an_edge_no_longer_heard_is_gone_with_when_it_was_last():
     window = Window(2 * NS_PER_S)
-    window.add(_odom(1))
+    window.keep(_odom(1))
     window.take(START + NS_PER_S)
     _, _, gone = window.take(START + 5 * NS_PER_S)
     assert gone == {("odom", "base_link"): START + 19 * NS_PER_S // 20}
@@ -48,8 +48,8 @@ def test_an_edge_no_longer_heard_is_gone_with_when_it_was_last():
 
 def test_a_jump_back_forgets_the_dynamic_transforms_and_what_was_heard():
     window = Window(10 * NS_PER_S)
-    window.add(_batch([("base_link", "laser", START, True)]))
-    window.add(_odom(5))
+    window.keep(_batch([("base_link", "laser", START, True)]))
+    window.keep(_odom(5))
     window.take(START + 5 * NS_PER_S)
     window.forget_dynamic(TimeJump(START + 5 * NS_PER_S, START, sim_time=True))
     kept, begin, gone = window.take(START + NS_PER_S // 2)
@@ -60,7 +60,7 @@ def test_a_jump_back_forgets_the_dynamic_transforms_and_what_was_heard():
 def test_memory_is_bounded_by_the_window_however_long_it_runs():
     window = Window(NS_PER_S)
     for second in range(200):
-        window.add(_odom(1, begin=START + second * NS_PER_S))
+        window.keep(_odom(1, begin=START + second * NS_PER_S))
         kept, _, _ = window.take(START + (second + 1) * NS_PER_S)
         assert len(kept) <= 21
 
@@ -84,8 +84,8 @@ class _Held(LiveSource):
 
 def test_a_healthy_window_is_ok_and_an_edge_that_stopped_is_an_error_then_stale():
     window = Window(10 * NS_PER_S)
-    window.add(_batch([("base_link", "laser", START, True)]))
-    window.add(_odom(10))
+    window.keep(_batch([("base_link", "laser", START, True)]))
+    window.keep(_odom(10))
     health = check_window(_Held(START + 10 * NS_PER_S), window)
     levels = {s.name: s.level for s in health.statuses}
     assert levels["tf: tree"] is Level.OK, [s for s in health.statuses if s.level]

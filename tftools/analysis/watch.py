@@ -4,7 +4,6 @@ checks of a bag (``check_read``) on each window, and its health (``analysis.heal
 from __future__ import annotations
 
 import contextlib
-import threading
 from collections.abc import Callable, Collection
 from dataclasses import dataclass
 
@@ -18,7 +17,7 @@ from tftools.analysis.wtf.jumps import NEIGHBOURS
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.time import from_sec
 from tftools.sources.live.base import LiveSource
-from tftools.sources.live.capture import heard_recording
+from tftools.sources.live.capture import Heard, heard_recording
 from tftools.sources.live.time_jump import TimeJump, watch_jumps
 from tftools.sources.ticker import tick_every
 
@@ -39,31 +38,20 @@ class Health:
     statuses: list[Status]
 
 
-class Window:
+class Window(Heard):
     """The transforms a live source said over the last ``window`` ns of its clock, the static ones for
     ever (the latest of each child: /tf_static is said once), fed from the source's thread. A jump back
     of the clock forgets the dynamic ones, as a tf2 listener clears its buffer."""
 
     def __init__(self, window: int) -> None:
+        super().__init__(None)
         self.window = window
-        self._lock = threading.Lock()
-        self._batches: list[TransformBatch] = []
-        self._begin = 0
         self._last_heard: dict[tuple[str, str], int] = {}  # dynamic edges heard, and when last
-
-    def since(self, begin: int) -> None:
-        with self._lock:
-            self._begin = begin
-
-    def add(self, batch: TransformBatch) -> None:
-        with self._lock:
-            self._batches.append(batch)
 
     def forget_dynamic(self, jump: TimeJump) -> None:
         with self._lock:
-            self._batches = [take_rows(b, np.flatnonzero(b.static)) for b in self._batches]
-            self._begin = jump.after
             self._last_heard.clear()
+        super().forget_dynamic(jump)
 
     def take(self, now: int) -> tuple[TransformBatch, int, dict[tuple[str, str], int]]:
         """What was heard over ``[now - window, now]`` (and the statics), where that span begins (or
@@ -182,7 +170,7 @@ def watch_live(
     pass (None: for ever), the source ends, or Ctrl-C."""
     held = Window(from_sec(window))
     with source:
-        source.start(watch_jumps(source, held.add, held.forget_dynamic))
+        source.start(watch_jumps(source, held.keep, held.forget_dynamic))
         held.since(source.clock.now())
 
         def tick() -> None:

@@ -35,7 +35,7 @@ def capture(
     whose record times are receive times on the source's clock. When that clock jumps back (a replay
     that loops), what was heard is forgotten but for static transforms, as a tf2 listener clears its
     buffer, and the recording spans from the jump; ``on_jump`` is told of each."""
-    heard = _Heard(on_jump)
+    heard = Heard(on_jump)
     with source:
         source.start(watch_jumps(source, heard.keep, heard.forget_dynamic))
         heard.since(source.clock.now())
@@ -47,9 +47,10 @@ def capture(
     return heard_recording(source, transforms, begin, end, semantics)
 
 
-class _Heard:
-    """The batches a capture heard, from the source's thread: a jump back of the clock forgets the
-    dynamic transforms heard before it (static ones kept), as ``Buffer.clear`` does a buffer."""
+class Heard:
+    """The batches a capture (or a watch's window) heard, from the source's thread: a jump back of the
+    clock forgets the dynamic transforms heard before it (static ones kept), as ``Buffer.clear`` does a
+    buffer."""
 
     def __init__(self, on_jump: OnJump | None) -> None:
         self._on_jump = on_jump
