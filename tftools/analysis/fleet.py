@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, TypeVar
 from urllib.parse import urlsplit
 
-from tftools.core.errors import UsageError
+from tftools.core.errors import FleetUnavailableError
 
 if TYPE_CHECKING:
     from distributed import Client
@@ -71,7 +71,7 @@ def run_fleet(
 ) -> Iterator[tuple[int, T | Unfinished]]:
     """``task`` on each group of paths (each a recording), yielding ``(index in groups, result)`` as they
     finish. ``task`` must be picklable (a module's function, or a ``functools.partial`` of one) for
-    ``fleet.jobs`` > 1 or Dask. Raises ``UsageError`` when Dask is missing or its scheduler not reached."""
+    ``fleet.jobs`` > 1 or Dask. Raises ``FleetUnavailableError`` when Dask is missing or its scheduler not reached."""
     check = timed(task, fleet.timeout)
     if fleet.dask is not None:
         return _on_dask(groups, check, fleet.dask)
@@ -145,7 +145,7 @@ def _on_dask(
         from distributed import KilledWorker
         from distributed import as_completed as finished
     except ImportError:
-        raise UsageError("--dask needs Dask's distributed package, which is not installed", INSTALL_HINT) from None
+        raise FleetUnavailableError(None, "Dask's distributed package is not installed", INSTALL_HINT) from None
     logging.getLogger("distributed").setLevel(logging.ERROR)  # its rescheduling notices are ours to report
     client = _connect(address)
 
@@ -170,7 +170,7 @@ def _on_dask(
 #: The transports a scheduler is reached by from another process (inproc is within one process; ucx needs
 #: UCX's own packages, which the fleet extra does not install).
 SCHEMES = ("tcp", "tls", "ws", "wss")
-_ADDRESS_HINT = "start one (dask scheduler) and give its address, e.g. --dask tcp://127.0.0.1:8786"
+_ADDRESS_HINT = "start one (dask scheduler) and give its address, e.g. tcp://127.0.0.1:8786"
 
 
 def scheduler_address(address: str) -> str:
@@ -184,9 +184,8 @@ def scheduler_address(address: str) -> str:
     except ValueError:  # a port that is not a number, an IPv6 host without its closing bracket
         named = False
     if not named or parts.path not in ("", "/"):
-        raise UsageError(
-            f"--dask {said}: not a scheduler address (scheme://host:port, the scheme one of {', '.join(SCHEMES)})",
-            _ADDRESS_HINT,
+        raise FleetUnavailableError(
+            said, f"not a scheduler address (scheme://host:port, the scheme one of {', '.join(SCHEMES)})", _ADDRESS_HINT
         )
     return address
 
@@ -214,12 +213,12 @@ def _connect(address: str) -> Client:
     if made:
         return made[0]
     if not failed:
-        raise UsageError(f"--dask {address}: the Dask scheduler did not answer within {CONNECT_SECONDS} s", hint)
+        raise FleetUnavailableError(address, f"the Dask scheduler did not answer within {CONNECT_SECONDS} s", hint)
     error = failed[0]
     if isinstance(error, ValueError):
-        raise UsageError(f"--dask {address}: not a scheduler address ({error})", hint) from None
+        raise FleetUnavailableError(address, f"not a scheduler address ({error})", hint) from None
     if isinstance(error, OSError):  # refused, unreachable, timed out
-        raise UsageError(f"--dask {address}: cannot reach the Dask scheduler ({error})", hint) from None
+        raise FleetUnavailableError(address, f"cannot reach the Dask scheduler ({error})", hint) from None
     raise error
 
 

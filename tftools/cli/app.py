@@ -116,17 +116,19 @@ def _warnings_as_notices() -> Iterator[None]:
 
 
 def _failed(error: TfToolsError) -> int:
-    """The error's one line, and its exit code."""
-    from tftools.cli.common import Exit, say_failure
+    """The error's one line, in the command line's words (``errors.TABLE``), and its exit code."""
+    from tftools.cli.common import say_failure
+    from tftools.cli.errors import worded
 
-    say_failure(error)
-    return int(Exit.UNUSABLE)
+    said, code = worded(error)
+    say_failure(said)
+    return int(code)
 
 
 def _usage_error(error: typer.TyperException) -> int:
     """Click's usage errors as tfx's one line, naming the command's --help (no arguments: click printed the help)."""
     from tftools.cli.common import Exit
-    from tftools.core.errors import UsageError
+    from tftools.cli.errors import UsageError
 
     if type(error).__name__ == "NoArgsIsHelpError":
         return int(Exit.UNUSABLE)
@@ -169,7 +171,7 @@ def _forgotten_bag_option(message: str) -> str:
 def _bag_among_frames() -> None:
     """``tfx echo map robot.bag``, ``tfx monitor robot.bag``: a bag where a frame or topic goes, no -b; the
     command would listen to a live system. A ``UsageError`` showing the command line with -b."""
-    from tftools.core.errors import UsageError
+    from tftools.cli.errors import UsageError
 
     words = sys.argv[1:]
     if (

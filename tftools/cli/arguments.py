@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from tftools.core.errors import UsageError
+from tftools.cli.errors import UsageError
 
 #: ``--rate`` (lines, refreshes or replay speed per second) from one a fortnight to a million a second.
 MIN_RATE_HZ = 1e-6

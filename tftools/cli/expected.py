@@ -11,8 +11,8 @@ import typer
 
 from tftools.cli import defaults
 from tftools.cli.common import stdout
+from tftools.cli.errors import UsageError
 from tftools.cli.reading import open_recording
-from tftools.core.errors import UsageError
 from tftools.core.semantics import Semantics
 
 if TYPE_CHECKING:

@@ -10,7 +10,7 @@ import typer
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, TextOrJson, exit_with, progress_bar, stdout, warn
-from tftools.core.errors import UsageError
+from tftools.cli.errors import UsageError
 from tftools.core.time import from_sec
 
 

@@ -11,9 +11,9 @@ import typer
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds, rate_hz
 from tftools.cli.common import TextOrJson, frame_argument, stdout, warn
+from tftools.cli.errors import UsageError
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.cli.reading import open_recording, open_stream
-from tftools.core.errors import UsageError
 from tftools.core.frames import frame_name
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, from_sec, to_sec

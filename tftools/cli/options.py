@@ -9,7 +9,7 @@ from typing import Annotated
 import typer
 
 from tftools.cli.common import warn
-from tftools.core.errors import UsageError
+from tftools.cli.errors import UsageError
 from tftools.core.semantics import Semantics
 from tftools.sources.errors import BagNotFoundError
 from tftools.sources.storage import expand

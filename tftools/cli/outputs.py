@@ -8,7 +8,7 @@ import stat
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-from tftools.core.errors import UsageError
+from tftools.cli.errors import UsageError
 from tftools.sources.storage.locations import METADATA, is_url, only_bag_files
 
 

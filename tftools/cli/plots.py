@@ -7,8 +7,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from tftools.cli.common import say_written
+from tftools.cli.errors import UsageError
 from tftools.cli.outputs import check_output
-from tftools.core.errors import UsageError
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

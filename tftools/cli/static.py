@@ -12,8 +12,8 @@ import typer
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import stdout, warn
+from tftools.cli.errors import UsageError
 from tftools.cli.outputs import check_output, check_replaceable
-from tftools.core.errors import UsageError
 from tftools.render.escape import printable
 from tftools.sources.user_files import number
 

@@ -12,9 +12,9 @@ import typer
 
 from tftools.cli import options
 from tftools.cli.common import Exit, exit_with, say_failure, say_written
+from tftools.cli.errors import UsageError
 from tftools.cli.outputs import check_output
 from tftools.cli.reading import open_recording
-from tftools.core.errors import UsageError
 
 
 class GraphFormat(str, enum.Enum):

@@ -16,13 +16,14 @@ if TYPE_CHECKING:
         BackwardExtrapolationError,
         ConnectivityError,
         ExtrapolationError,
+        FleetUnavailableError,
         ForwardExtrapolationError,
         InvalidArgumentError,
+        InvalidTransformError,
         NoDataForExtrapolationError,
         TfToolsError,
         TransformError,
         UnknownFrameError,
-        UsageError,
     )
     from tftools.core.frames import frame_name
     from tftools.core.history import EdgeHistory
@@ -33,10 +34,11 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BackwardExtrapolationError", "BatchBuilder", "Buffer",
-    "Clock", "ConnectivityError", "EdgeHistory", "ExtrapolationError", "ForwardExtrapolationError",
-    "InvalidArgumentError", "LookupBatch", "NoDataForExtrapolationError", "Rejection", "RejectionCode", "Semantics",
-    "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError", "UnknownFrameError", "UsageError",
-    "WallClock", "format_sec", "frame_name", "from_sec", "to_sec",
+    "Clock", "ConnectivityError", "EdgeHistory", "ExtrapolationError", "FleetUnavailableError",
+    "ForwardExtrapolationError", "InvalidArgumentError", "InvalidTransformError", "LookupBatch",
+    "NoDataForExtrapolationError", "Rejection", "RejectionCode", "Semantics", "SimClock", "TfToolsError", "Transform",
+    "TransformBatch", "TransformError", "UnknownFrameError", "WallClock", "format_sec", "frame_name", "from_sec",
+    "to_sec",
 ]  # fmt: skip
 
 #: Where each name is defined.
@@ -49,8 +51,10 @@ _HOME = {
     "DEFAULT_CACHE_TIME": "tftools.core.buffer",
     "EdgeHistory": "tftools.core.history",
     "ExtrapolationError": "tftools.core.errors",
+    "FleetUnavailableError": "tftools.core.errors",
     "ForwardExtrapolationError": "tftools.core.errors",
     "InvalidArgumentError": "tftools.core.errors",
+    "InvalidTransformError": "tftools.core.errors",
     "LATEST": "tftools.core.time",
     "LookupBatch": "tftools.core.buffer",
     "NS_PER_S": "tftools.core.time",
@@ -65,7 +69,6 @@ _HOME = {
     "TransformBatch": "tftools.core.batch",
     "TransformError": "tftools.core.errors",
     "UnknownFrameError": "tftools.core.errors",
-    "UsageError": "tftools.core.errors",
     "WallClock": "tftools.core.time",
     "format_sec": "tftools.core.time",
     "frame_name": "tftools.core.frames",

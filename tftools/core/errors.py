@@ -10,12 +10,35 @@ class TfToolsError(Exception):
 
 
 class UsageError(TfToolsError):
-    """What was asked cannot work: arguments that do not go together, a time far outside the recording,
-    a name that is not there; ``hint`` says what to do instead."""
+    """Transitional: the command line's error (now ``tftools.cli.errors.UsageError``), still raised by
+    analysis/echo, filter, monitor and times until their own errors replace it; then it goes."""
 
     def __init__(self, message: str, hint: str = "") -> None:
         super().__init__(message)
         self.hint = hint
+
+
+class FleetUnavailableError(TfToolsError):
+    """A fleet's engine cannot run: Dask's distributed package is not installed (``address`` None), or the
+    scheduler at ``address`` is not one, or cannot be reached (``problem`` says which)."""
+
+    def __init__(self, address: str | None, problem: str, hint: str = "") -> None:
+        super().__init__(problem if address is None else f"{address}: {problem}")
+        self.address = address
+        self.problem = problem
+        self.hint = hint
+
+
+class InvalidTransformError(TfToolsError):
+    """A transform that cannot be given to tf2 (empty or equal frames, numbers not finite, a zero quaternion),
+    or that a recording already has (``recording``: where)."""
+
+    def __init__(self, problem: str, hint: str = "", *, child: str = "", recording: str = "") -> None:
+        super().__init__(problem)
+        self.problem = problem
+        self.hint = hint
+        self.child = child
+        self.recording = recording
 
 
 class TransformError(TfToolsError):
@@ -23,7 +46,18 @@ class TransformError(TfToolsError):
 
 
 class UnknownFrameError(TransformError):
-    """A frame is not in the buffer, or the graph loops: tf2's ``LookupException``."""
+    """A frame is not in the buffer, or the graph loops: tf2's ``LookupException``. One someone asked for
+    (``absent``) carries the facts: the ``frame`` given and the ``frames`` there are, closest first."""
+
+    frame: str = ""
+    frames: tuple[str, ...] = ()
+
+    @classmethod
+    def absent(cls, frame: str, frames: tuple[str, ...]) -> UnknownFrameError:
+        shown = ", ".join(frames[:20]) + (", ..." if len(frames) > 20 else "")
+        error = cls(f"frame {frame!r} does not exist")
+        error.frame, error.frames, error.hint = frame, frames, f"frames: {shown}"
+        return error
 
     @classmethod
     def missing(cls, frame: str, argument: str) -> UnknownFrameError:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Sequence
 
-from tftools.core.errors import UsageError
+from tftools.core.errors import UnknownFrameError
 
 #: Id 0 is tf2's "no parent": a frame's parent is never 0.
 NO_PARENT = 0
@@ -20,14 +20,12 @@ def frame_name(given: str) -> str:
 
 
 def known_frame(frames: Sequence[str], frame: str) -> str:
-    """``frame`` as tf2 keys it (``frame_name``), which must be one of ``frames``: else a ``UsageError``
-    naming the closest."""
+    """``frame`` as tf2 keys it (``frame_name``), which must be one of ``frames``: else an
+    ``UnknownFrameError`` with the frames there are, the closest first."""
     name = frame_name(frame)
     if name not in frames:
         close = difflib.get_close_matches(name, frames, n=3, cutoff=0.4)
-        rest = sorted(set(frames) - set(close))
-        listed = ", ".join([*close, *rest][:20]) + (", ..." if len(frames) > 20 else "")
-        raise UsageError(f"frame {frame!r} does not exist", f"frames: {listed}")
+        raise UnknownFrameError.absent(frame, (*close, *sorted(set(frames) - set(close))))
     return name
 
 

@@ -11,10 +11,10 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tftools.core.errors import UsageError
+from tftools.core.errors import InvalidTransformError
 from tftools.core.frames import frame_name
 from tftools.core.transform import Transform
-from tftools.sources.errors import NoTransformsError
+from tftools.sources.errors import NoTransformsError, PartOfBagError
 from tftools.sources.storage.locations import METADATA, is_url
 
 if TYPE_CHECKING:
@@ -37,33 +37,34 @@ def static_transform(values: Sequence[float], frame: str, child: str, *, degrees
 
 def checked(t: Transform) -> Transform:
     """``t`` as tf2 wants it: frames named by tf2's rule (``frame_name``), two different ones, finite numbers,
-    the quaternion normalized (tf2 would refuse a denormalized one); else a ``UsageError``."""
+    the quaternion normalized (tf2 would refuse a denormalized one); else an ``InvalidTransformError``."""
     frame, child = frame_name(t.frame_id), frame_name(t.child_frame_id)
     if not frame or not child:
-        raise UsageError("frame ids cannot be empty", f"got {t.frame_id!r} -> {t.child_frame_id!r}")
+        raise InvalidTransformError("frame ids cannot be empty", f"got {t.frame_id!r} -> {t.child_frame_id!r}")
     if frame == child:
-        raise UsageError(f"the frame and the child frame are the same ({frame}): this cannot work", "name two frames")
+        raise InvalidTransformError(
+            f"the frame and the child frame are the same ({frame}): this cannot work", "name two frames"
+        )
     values = (*t.translation, *t.rotation)
     if not all(math.isfinite(v) for v in values):
-        raise UsageError(f"{frame} -> {child}: not a finite number in {values}", "check the numbers")
+        raise InvalidTransformError(f"{frame} -> {child}: not a finite number in {values}", "check the numbers")
     norm = math.sqrt(sum(q * q for q in t.rotation))
     if norm < 1e-9:
-        raise UsageError(f"{frame} -> {child}: the quaternion is zero", "the identity is qx 0 qy 0 qz 0 qw 1")
+        raise InvalidTransformError(
+            f"{frame} -> {child}: the quaternion is zero", "the identity is qx 0 qy 0 qz 0 qw 1"
+        )
     return Transform(t.translation, tuple(q / norm for q in t.rotation), 0, frame, child)  # type: ignore[arg-type]
 
 
 def copyable(bag: str) -> None:
-    """A ``UsageError`` unless ``bag`` is a recording tfx can copy with transforms added: a ROS 1 .bag, a ROS 2
+    """A ``PartOfBagError`` unless ``bag`` is a recording tfx can copy with transforms added: a ROS 1 .bag, a ROS 2
     bag directory, a bare .mcap or .db3 file, but not one of a ROS 2 bag directory's files (a URL is judged
     once fetched)."""
     path = Path(bag)
     if is_url(bag) or not path.is_file() or path.suffix not in (".mcap", ".db3"):
         return
     if (path.parent / METADATA).is_file():
-        raise UsageError(
-            f"-b {bag} is a file of the ROS 2 bag {path.parent}",
-            f"give the bag's directory, and a directory for the copy: -b {path.parent} -o OUTPUT",
-        )
+        raise PartOfBagError(bag, str(path.parent))
 
 
 def add_static(bag: str, output: str | Path, transforms: Sequence[Transform], *, force: bool = False) -> Path:
@@ -109,10 +110,12 @@ def _refuse_present(bag: Path, transforms: Sequence[Transform]) -> None:
         parents = sorted({buffer.frame_name(p) for p in history.parents.tolist()})
         kind = "a static transform" if history.static else "a moving transform"
         wanted = next(t for t in transforms if t.child_frame_id == child)
-        raise UsageError(
+        raise InvalidTransformError(
             f"{bag} already has {child}, {kind} of {', '.join(parents)}: adding {wanted.frame_id} -> {child} "
             "would give tf2 two values for it, and tfx wtf would fail the copy",
-            f"add only frames the bag lacks: tfx frames -b {bag} lists its own",
+            "add only frames the bag lacks",
+            child=child,
+            recording=str(bag),
         )
 
 

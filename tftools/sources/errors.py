@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from tftools.core.errors import TfToolsError, UsageError
+from tftools.core.errors import TfToolsError
 
 
 class SourceError(TfToolsError):
@@ -99,6 +99,14 @@ class MissingExtraError(SourceError):
         super().__init__(f"{what} needs tftools[fleet]: pip install 'tftools[fleet]'")
 
 
+class PartOfBagError(BagError):
+    """A file of a ROS 2 bag directory given where the whole ``bag`` (the directory) is needed."""
+
+    def __init__(self, path: str, bag: str) -> None:
+        super().__init__(path, f"a file of the ROS 2 bag {bag}", "give the bag's directory")
+        self.bag = bag
+
+
 class RemoteError(BagError):
     """A remote recording that could not be listed or fetched (missing, refused, timed out, ...)."""
 
@@ -110,7 +118,7 @@ class RemoteError(BagError):
         )
 
 
-class NoStampedDataError(UsageError):
+class NoStampedDataError(SourceError):
     """No topic with a header tied to tf to check: ``problems`` says why, as far as the reading tells."""
 
     def __init__(self, problems: Sequence[str]) -> None:
