@@ -12,8 +12,10 @@ from tftools import lazy
 
 if TYPE_CHECKING:
     from tftools.analysis import (
+        CheckQuery,
+        ReportQuery,
+        check,
         check_fleet,
-        check_live,
         diff_trees,
         echo_live,
         echo_recording,
@@ -22,10 +24,9 @@ if TYPE_CHECKING:
         filter_report,
         frame_tree,
         monitor_recording,
-        recording_report,
         report_fleet,
-        report_live,
     )
+    from tftools.analysis.report import report
     from tftools.core import (
         DEFAULT_CACHE_TIME,
         LATEST,
@@ -59,13 +60,13 @@ if TYPE_CHECKING:
 __version__: str  # set on first use, by __getattr__
 
 __all__ = [
-    "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "ConnectivityError",
-    "EdgeHistory", "ExtrapolationError", "InvalidArgumentError", "LookupBatch", "Recording", "Rejection",
-    "RejectionCode", "Semantics", "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError",
-    "UnknownFrameError", "WallClock", "add_static", "check_fleet", "check_live", "diff_trees", "echo_live",
+    "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "CheckQuery",
+    "ConnectivityError", "EdgeHistory", "ExtrapolationError", "InvalidArgumentError", "LookupBatch", "Recording",
+    "Rejection", "RejectionCode", "ReportQuery", "Semantics", "SimClock", "TfToolsError", "Transform", "TransformBatch",
+    "TransformError", "UnknownFrameError", "WallClock", "add_static", "check", "check_fleet", "diff_trees", "echo_live",
     "echo_recording", "filter_live", "filter_recording", "filter_report", "format_sec", "frame_tree", "from_sec",
-    "load", "monitor_recording", "publish_static", "read_recording", "recording_report", "repair_static",
-    "report_fleet", "report_live", "stream_recording", "to_sec", "view_frames",
+    "load", "monitor_recording", "publish_static", "read_recording", "repair_static", "report", "report_fleet",
+    "stream_recording", "to_sec", "view_frames",
 ]  # fmt: skip
 
 #: The package each name comes from, when not ``tftools.core``: reading (sources), each command's call
@@ -74,8 +75,10 @@ _PACKAGE = {
     **dict.fromkeys(["Recording", "load", "read_recording", "stream_recording"], "tftools.sources"),
     **dict.fromkeys(
         [
+            "CheckQuery",
+            "ReportQuery",
+            "check",
             "check_fleet",
-            "check_live",
             "diff_trees",
             "echo_live",
             "echo_recording",
@@ -84,13 +87,12 @@ _PACKAGE = {
             "filter_report",
             "frame_tree",
             "monitor_recording",
-            "recording_report",
             "report_fleet",
-            "report_live",
         ],
         "tftools.analysis",
     ),
     **dict.fromkeys(["add_static", "publish_static", "repair_static"], "tftools.sinks"),
+    "report": "tftools.analysis.report",  # the function: in tftools.analysis, ``report`` is its package
     "view_frames": "tftools.render.graph",
 }
 

@@ -19,10 +19,10 @@ from tests.bags import BagFormat, TfMessage
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.findings import Finding, Severity, causes, explained
 from tftools.analysis.graph import frame_graph
-from tftools.analysis.report import recording_report
-from tftools.analysis.wtf import Scene, Thresholds, check
+from tftools.analysis.report import report
+from tftools.analysis.wtf import Scene, Thresholds
 from tftools.analysis.wtf.causes import Rule, explain
-from tftools.analysis.wtf.fleet import BagReport, check_bags, exit_code
+from tftools.analysis.wtf.fleet import BagReport, check, check_fleet, exit_code
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.render import graph as graph_render
@@ -34,8 +34,14 @@ from tftools.sources.recording import read_recording
 STALL = scenes.PROBLEMS["stall"]
 
 
+def checked_bag(path: str | Path) -> BagReport:
+    """``tfx wtf BAG``'s report of the recording at ``path``."""
+    (checked,) = check_fleet([[str(path)]])
+    return checked
+
+
 def _stalled(ros1: bool = True) -> list[Finding]:
-    return check(scenes.recording(STALL.make(), ros1=ros1))
+    return check(scenes.recording(STALL.make(), ros1=ros1)).findings
 
 
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
@@ -54,7 +60,7 @@ def test_every_edge_pausing_at_once_is_one_stall_with_each_edges_pause_beneath(r
 
 def test_pauses_far_apart_are_each_edges_own() -> None:
     messages = scenes.healthy(amcl=scenes.amcl(skip=(2.0, 4.0)), ekf=scenes.ekf(skip=(6.0, 8.0)))
-    findings = check(scenes.recording(messages))
+    findings = check(scenes.recording(messages)).findings
     assert [(f.code, f.cause, f.key) for f in findings] == [("rate", "", "")] * 2, findings
 
 
@@ -65,7 +71,7 @@ def test_edges_sent_in_one_message_pausing_together_are_that_publishers_pause_no
         return [*scenes.odom_base(stamp), scenes._t("odom", "base_footprint", stamp, 0.4 * scenes._s(stamp))]
 
     messages = scenes.healthy(amcl=[], wheels=[], ekf=scenes.periodic("/ekf", 50, both, skip=(3.0, 5.0)))
-    findings = check(scenes.recording(messages))
+    findings = check(scenes.recording(messages)).findings
     assert [(f.code, f.frames[1], f.cause) for f in findings] == [
         ("rate", "base_link", ""),
         ("rate", "base_footprint", "rate:1"),  # the same pause, said once
@@ -76,7 +82,7 @@ def test_an_edge_that_also_paused_elsewhere_follows_the_stall_and_still_says_how
     """Nav2's map -> odom: one pause in the stall, one 45 s later; the line beneath the stall says both."""
     amcl = [m for m in scenes.amcl(skip=(3.0, 5.0)) if not 8.0 <= (m.record_time - scenes.START) / NS_PER_S < 9.5]
     messages = scenes.healthy(amcl=amcl, ekf=scenes.ekf(skip=(3.2, 5.0)), wheels=scenes.wheels(skip=(3.4, 5.0)))
-    findings = check(scenes.recording(messages))
+    findings = check(scenes.recording(messages)).findings
     (rate,) = [f for f in findings if f.frames == ("map", "odom")]
     assert rate.cause == "stall:1" and "went silent 2 times" in rate.message
 
@@ -94,7 +100,7 @@ def test_a_stall_of_few_of_many_edges_says_how_many_of_them() -> None:
     quiet = {name: _sensor(name) for name in "cd"}
     paused = {name: _sensor(name, (4, 6)) for name in "ab"}
     messages = scenes.with_extra(quiet["c"], quiet["d"], paused["a"], paused["b"], amcl=scenes.amcl(skip=(4.0, 6.0)))
-    stall = next(f for f in check(scenes.recording(messages)) if f.code == "stall")
+    stall = next(f for f in check(scenes.recording(messages)).findings if f.code == "stall")
     assert stall.message.startswith("3 of 7 moving edges went silent within 0.050 s of each other"), stall.message
     assert stall.message.endswith(
         "(map -> odom, base_link -> a, base_link -> b); the other moving edges went on: they stopped at once"
@@ -128,7 +134,7 @@ def _robot_with_second_statics(tmp_path: Path, publisher: str, fmt: BagFormat = 
 def test_a_moved_joint_on_disputed_statics_follows_the_dispute(
     tmp_path: Path, publisher: str, fmt: BagFormat, code: str
 ) -> None:
-    report = check_bags([_robot_with_second_statics(tmp_path, publisher, fmt)])
+    report = checked_bag(_robot_with_second_statics(tmp_path, publisher, fmt))
     loud = [f for f in report.findings if f.severity is not Severity.info]
     dispute = next(f for f in loud if f.code in ("static_conflict", "dynamic_on_static"))
     assert dispute.code == code, loud
@@ -142,7 +148,7 @@ def test_a_moved_joint_without_a_dispute_stands_on_its_own(tmp_path: Path) -> No
     bag = write_robot_bag(
         tmp_path / "rover.bag", recorded(Setup(description=True, real_origins={"laser_joint": MOVED}))
     )
-    (moved,) = [f for f in check_bags([bag]).findings if f.code == "urdf_moved"]
+    (moved,) = [f for f in checked_bag(bag).findings if f.code == "urdf_moved"]
     assert moved.cause == "" and moved.key == ""
 
 
@@ -311,7 +317,7 @@ CREATE3 = CORPUS / "ros2_db3_create3_real_two_urdfs"
 
 @pytest.mark.skipif(not NAV2.exists(), reason=f"{NAV2} is not placed")
 def test_nav2_turtlebot4_one_stall_of_every_edge_at_41_s_not_four_warnings() -> None:
-    report = check_bags([NAV2])
+    report = checked_bag(NAV2)
     loud = [f for f in causes(report.findings) if f.severity is not Severity.info]
     assert [f.code for f in loud] == ["stall"], report.findings
     (stall,) = loud
@@ -333,7 +339,7 @@ def test_create3_every_moved_joint_follows_the_disputed_statics() -> None:
     """The recorded /robot_description agrees with the first of two /tf_static messages; tf2 keeps the second:
     each of the 21 joints the second moved is said beneath the one static_conflict (ROS 2's, inferred from the
     messages' shape)."""
-    report = check_bags([CREATE3])
+    report = checked_bag(CREATE3)
     errors = [f for f in report.findings if f.severity is Severity.error]
     (cause,) = causes(errors)
     assert cause.code == "static_conflict" and cause.last_time == 1663967376153481824  # the message tf2 keeps
@@ -352,7 +358,7 @@ def test_create3_every_moved_joint_follows_the_disputed_statics() -> None:
 def test_a_cause_and_its_consequences_in_a_scene_read_from_a_bag(tmp_path: Path) -> None:
     """The stall scene written as a ROS 2 bag and read back: the same one cause (``read_recording``'s path)."""
     bag = scenes.write(tmp_path, "stalled", BagFormat.rosbag2_sqlite3, STALL.make())
-    findings = check(read_recording([bag]))
+    findings = check(read_recording([bag])).findings
     assert [(f.code, f.cause) for f in findings if f.severity is not Severity.info] == [
         ("stall", ""),
         *[("rate", "stall:1")] * 3,
@@ -360,7 +366,7 @@ def test_a_cause_and_its_consequences_in_a_scene_read_from_a_bag(tmp_path: Path)
 
 
 def test_the_report_lists_what_follows_beneath_its_cause_and_counts_causes() -> None:
-    section = recording_section(0, recording_report(scenes.recording(STALL.make())))
+    section = recording_section(0, report(scenes.recording(STALL.make())))
     assert section.summary == "1 warning (explaining 3 more)"
     assert section.html.count('class="finding warning explained"') == 3
     assert section.html.count('<span class="follows">follows from [1]</span>') == 3

@@ -26,7 +26,7 @@ from tests.bags import BagFormat, TfMessage
 from tftools.analysis.description import Robot, check_joints, description_shape, robot_of
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
-from tftools.analysis.wtf import CHECKS, check
+from tftools.analysis.wtf import CHECKS, Scene, findings_of
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.bag import messages as bag_messages
@@ -42,7 +42,7 @@ def _findings(tmp_path: Path, setup: Setup, fmt: BagFormat = BagFormat.ros1, urd
     bag = robot_bag(tmp_path, "rover", setup, fmt)
     recording = read_recording([bag])
     robot, said = robot_of([bag], recording, ROBOT if urdf else None)
-    found = check(recording, robot=robot)
+    found = findings_of(Scene(recording, robot=robot))
     return [f for f in found + ([said] if said else []) if f.code.startswith("urdf")]
 
 
@@ -147,7 +147,7 @@ def test_a_moving_joint_not_where_its_state_puts_it(tmp_path: Path) -> None:
     bag = robot_bag(tmp_path, "rover", Setup())
     recording = read_recording([bag])
     robot = Robot(parse_urdf(other, "other.urdf"), read_robot([bag]))
-    (off,) = [f for f in check(recording, robot=robot) if f.code == "urdf_joint_state"]
+    (off,) = [f for f in findings_of(Scene(recording, robot=robot)) if f.code == "urdf_joint_state"]
     assert "wheel_left_joint" in off.message and "median of 100 joint states" in off.message
 
 
@@ -188,7 +188,7 @@ def _on_tf(*transforms: tuple[str, str, str, tuple, tuple]) -> list[Finding]:
         for topic, p, c, xyz, rpy in transforms
         if topic == "/tf" or i == 0
     ]
-    found = check(recording(sorted(messages, key=lambda m: m.record_time)), robot=Robot(ROBOT))
+    found = findings_of(Scene(recording(sorted(messages, key=lambda m: m.record_time)), robot=Robot(ROBOT)))
     return [f for f in found if f.code.startswith("urdf")]
 
 
@@ -218,9 +218,11 @@ def test_a_fixed_joint_on_tf_and_a_moving_one_on_tf_static() -> None:
 def test_a_link_joined_to_nothing_is_unseen() -> None:
     lonely = parse_urdf(URDF.replace("</robot>", '<link name="antenna"/></robot>'), "rover.urdf")
     base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
-    found = check(
-        recording([TfMessage(m[0], START, [Transform.from_rpy(m[3], m[4], START, m[1], m[2])]) for m in [base]]),
-        robot=Robot(lonely),
+    found = findings_of(
+        Scene(
+            recording([TfMessage(m[0], START, [Transform.from_rpy(m[3], m[4], START, m[1], m[2])]) for m in [base]]),
+            robot=Robot(lonely),
+        )
     )
     (unseen,) = [f for f in found if f.code == "urdf_unseen"]
     assert unseen.message == "link antenna of rover.urdf is never named on tf" and "joined to nothing" in unseen.hint
@@ -229,7 +231,7 @@ def test_a_link_joined_to_nothing_is_unseen() -> None:
 def test_live_the_joint_states_are_not_heard_and_the_hint_says_what_to_look_at() -> None:
     base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
     messages = [TfMessage(base[0], START, [Transform.from_rpy(base[3], base[4], START, base[1], base[2])])]
-    found = check(recording(messages), robot=Robot(ROBOT, live=True))
+    found = findings_of(Scene(recording(messages), robot=Robot(ROBOT, live=True)))
     wheels = [f for f in found if f.code == "urdf_missing" and "wheel" in f.message]
     assert len(wheels) == 2 and all("does a node publish" in f.hint for f in wheels)
 
@@ -251,7 +253,7 @@ def test_a_mimic_multiplier_past_any_position_is_no_crash_and_no_figure(tmp_path
     right = next(j for j in joints if j.joint == "wheel_right_joint")
     assert 0 < right.compared < 100  # the states whose product overflowed are not compared
     assert all(math.isfinite(v) for v in (right.translation_mm, right.rotation_deg))
-    check(recording, robot=robot)  # and the whole check runs
+    findings_of(Scene(recording, robot=robot))  # and the whole check runs
 
 
 @pytest.mark.parametrize("fmt", FORMATS)

@@ -32,7 +32,9 @@ from tftools.analysis.diff import Change, compare, rotation_angle_deg
 from tftools.analysis.expected import Tolerances, shape_of
 from tftools.analysis.findings import Severity
 from tftools.analysis.tree_file import TreeFileError, read_tree, write_tree
-from tftools.analysis.wtf import CHECKS, check
+from tftools.analysis.wtf import CHECKS
+from tftools.analysis.wtf.fleet import check
+from tftools.analysis.wtf.query import CheckQuery
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording
 
@@ -101,7 +103,7 @@ def test_the_healthy_robot_meets_its_expected_tree_in_every_format(
     tmp_path: Path, expected_file: Path, fmt: BagFormat
 ) -> None:
     bag = write(tmp_path, "again", fmt, healthy())
-    assert check(read_recording([bag]), expected=read_tree(expected_file)) == []
+    assert check(read_recording([bag]), CheckQuery(expected=read_tree(expected_file))).findings == []
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
@@ -111,7 +113,7 @@ def test_each_difference_written_to_a_bag_gives_its_finding(
 ) -> None:
     make, code, frames, words = DIFFERENT[name]
     bag = write(tmp_path, name, fmt, make())
-    findings = check(read_recording([bag]), expected=read_tree(expected_file))
+    findings = check(read_recording([bag]), CheckQuery(expected=read_tree(expected_file))).findings
     assert [f.code for f in findings] == [code], findings
     assert findings[0].severity is CHECKS[code].severity
     assert set(frames) <= set(findings[0].frames)
@@ -124,17 +126,17 @@ def test_other_publishers_are_a_note_where_both_name_them(tmp_path: Path, expect
     renamed = periodic("/amcl_new", 10, map_odom)
     expected = read_tree(expected_file)
     ros1 = write(tmp_path, "ros1", BagFormat.ros1, healthy(amcl=renamed))
-    findings = check(read_recording([ros1]), expected=expected)
+    findings = check(read_recording([ros1]), CheckQuery(expected=expected)).findings
     assert [(f.code, f.severity, f.authorities) for f in findings] == [
         ("expect_publishers", Severity.info, ("/amcl_new",))
     ]
     ros2 = write(tmp_path, "ros2", BagFormat.rosbag2_mcap, healthy(amcl=renamed))  # names topics, not nodes
-    assert check(read_recording([ros2]), expected=expected) == []
+    assert check(read_recording([ros2]), CheckQuery(expected=expected)).findings == []
 
 
 def test_a_faster_edge_is_a_note(tmp_path: Path, expected_file: Path) -> None:
     bag = write(tmp_path, "fast", BagFormat.ros1, healthy(amcl=periodic("/amcl", 20, map_odom)))
-    findings = check(read_recording([bag]), expected=read_tree(expected_file))
+    findings = check(read_recording([bag]), CheckQuery(expected=read_tree(expected_file))).findings
     assert [(f.code, f.severity) for f in findings] == [("expect_rate", Severity.info)]
 
 
@@ -145,7 +147,7 @@ def test_tolerances_decide_what_differs(tmp_path: Path, expected_file: Path) -> 
     assert [d.change for d in compare(expected, moved, Tolerances(translation_mm=9.9))] == [Change.moved]
     assert compare(expected, moved, Tolerances(translation_mm=10.1)) == []
     wide = dataclasses.replace(expected, tolerances=Tolerances(translation_mm=20))
-    assert check(read_recording([bag]), expected=wide) == []
+    assert check(read_recording([bag]), CheckQuery(expected=wide)).findings == []
 
 
 def test_a_static_edge_that_turned_is_measured_in_degrees(tmp_path: Path, expected_file: Path) -> None:
@@ -160,7 +162,7 @@ def test_a_static_edge_that_turned_is_measured_in_degrees(tmp_path: Path, expect
 def test_a_frame_that_became_static_differs(tmp_path: Path, expected_file: Path) -> None:
     fixed = [TfMessage("/tf_static", START + 3, wheel(START), "/rsp")]
     bag = write(tmp_path, "fixed", BagFormat.ros1, healthy(wheels=[], amcl=amcl(), statics=[statics(), *fixed]))
-    findings = check(read_recording([bag]), expected=read_tree(expected_file))
+    findings = check(read_recording([bag]), CheckQuery(expected=read_tree(expected_file))).findings
     assert [f.code for f in findings] == ["expect_static"]
     assert "is moving at 20.0 Hz in" in findings[0].message and "static in this recording" in findings[0].message
 

@@ -12,8 +12,11 @@ import pytest
 from tests.analysis.wtf_scenes import PROBLEMS, healthy, write
 from tests.bags import BagFormat
 from tftools.analysis.fleet import Fleet, Unfinished, run_fleet
-from tftools.analysis.report import RecordingReport, Unreadable, report_fleet
-from tftools.analysis.wtf.fleet import check_bags, check_fleet, in_order, remaining
+from tftools.analysis.report import RecordingReport, ReportQuery, Unreadable, report, report_fleet
+from tftools.analysis.wtf.fleet import check, check_fleet, in_order, remaining
+from tftools.analysis.wtf.query import CheckQuery
+from tftools.render.report import recording_section
+from tftools.sources.recording import read_recording
 
 
 @pytest.fixture(scope="module")
@@ -52,14 +55,14 @@ def test_a_task_over_its_time_is_unfinished_and_the_others_finish() -> None:
     assert results[1] == Unfinished("its check took longer than 0.5 s", hint)
 
 
-def test_check_fleet_checks_each_recording_as_check_bags_does(bags: dict[str, str]) -> None:
+def test_check_fleet_checks_each_recording_as_check_does(bags: dict[str, str]) -> None:
     groups = [[bags["healthy"]], [bags["stale"]], [bags["broken"]]]
-    reports = list(check_fleet(groups, Fleet(jobs=2)))
+    reports = list(check_fleet(groups, fleet=Fleet(jobs=2)))
     ordered = in_order(groups, reports)
     assert [r.paths for r in ordered] == [tuple(g) for g in groups]
     assert [r.failed() for r in ordered] == [False, True, True]
     assert "stale" in {f.code for f in ordered[1].findings} and ordered[2].error is not None
-    assert ordered[0].findings == check_bags(groups[0]).findings
+    assert ordered[0].findings == check(CheckQuery().reading().read(groups[0])).findings
 
 
 def test_check_fleet_skips_what_was_done_and_yields_it_first(bags: dict[str, str]) -> None:
@@ -80,5 +83,30 @@ def test_report_fleet_reports_each_recording_and_says_which_could_not_be_read(ba
 
 
 def test_check_fleet_passes_its_checks_options_to_each_check(bags: dict[str, str]) -> None:
-    (report,) = list(check_fleet([[bags["stale"]]], Fleet(jobs=2), checks={"ignore": ["stale"]}))
-    assert "stale" not in {f.code for f in report.findings} and report.transforms > 0
+    (checked,) = list(check_fleet([[bags["stale"]]], CheckQuery(ignore=("stale",)), Fleet(jobs=2)))
+    assert "stale" not in {f.code for f in checked.findings} and checked.transforms > 0
+
+
+def test_check_of_a_recording_asks_what_its_query_says(bags: dict[str, str]) -> None:
+    recording = read_recording([bags["stale"]])
+    assert "stale" in {f.code for f in check(recording).findings}
+    assert "stale" not in {f.code for f in check(recording, CheckQuery(ignore=("stale",))).findings}
+    with pytest.raises(ValueError, match="no such check: stail"):
+        check(recording, CheckQuery(ignore=("stail",)))
+
+
+def test_report_fleet_reports_each_recording_as_report_does(bags: dict[str, str]) -> None:
+    query = ReportQuery(target="odom")
+    [(index, shown)] = list(report_fleet([[bags["healthy"]]], query, Fleet(jobs=2)))
+    alone = report(query.reading().read([bags["healthy"]]), query)
+    assert index == 0 and isinstance(shown, RecordingReport)
+    assert shown.facts == alone.facts and shown.findings == alone.findings
+    assert recording_section(0, shown).html == recording_section(0, alone).html
+
+
+def test_a_query_is_a_frozen_value_with_the_commands_defaults() -> None:
+    query = CheckQuery(ignore=("rate",))
+    with pytest.raises(AttributeError):
+        query.ignore = ()  # type: ignore[misc]
+    assert query == CheckQuery(ignore=("rate",)) and CheckQuery().thresholds is None
+    assert query.reading().allow_empty and not ReportQuery().reading().allow_empty

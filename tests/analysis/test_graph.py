@@ -12,7 +12,7 @@ from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.graph import FrameGraph, frame_graph
-from tftools.analysis.wtf import Scene, check
+from tftools.analysis.wtf import Scene, findings_of
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
@@ -168,7 +168,7 @@ def test_one_sample_refused_for_two_reasons_is_one_finding() -> None:
     buffer = healthy()
     both = Transform((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0, 2.0), START, "base_link", "arm")
     buffer.set_transform(both, "/arm")
-    findings = check(buffer)
+    findings = findings_of(Scene(buffer))
     assert [f.code for f in findings] == ["invalid_values"]
     assert findings[0].count == 1 and "1 transform base_link -> arm by /arm refused" in findings[0].message
 

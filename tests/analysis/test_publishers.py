@@ -16,7 +16,7 @@ from tests.bags import BagFormat, TfMessage
 from tests.corpus import data
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording
@@ -51,7 +51,7 @@ def _ros2_bag(tmp_path: Path, messages: list[TfMessage], listed: dict[str, int])
 
 
 def _findings(tmp_path: Path, messages: list[TfMessage], listed: dict[str, int]) -> list[Finding]:
-    return check(read_recording([_ros2_bag(tmp_path, messages, listed)]))
+    return check(read_recording([_ros2_bag(tmp_path, messages, listed)])).findings
 
 
 # --- (a) one publisher re-sending its last value ----------------------------------------------------
@@ -273,7 +273,7 @@ def _more(parent: str) -> list[Transform]:
 def test_mixed_static_explains_the_rule_of_the_recordings_tf2(ros1: bool) -> None:
     """ROS 1's tf2 keeps the cache the first sample made; ROS 2's replaces it at each switch of topic."""
     late_static = TfMessage("/tf_static", START + 5 * NS_PER_S, [scenes._t("odom", "base_link", START)], "/rsp")
-    (finding,) = coded(check(scenes.recording(scenes.with_extra([late_static]), ros1=ros1)), "mixed_static")
+    (finding,) = coded(check(scenes.recording(scenes.with_extra([late_static]), ros1=ros1)).findings, "mixed_static")
     if ros1:
         assert "tf2 made it a moving frame (its first transform came on /tf)" in finding.message
     else:
@@ -297,7 +297,7 @@ def test_webots_epuck_re_sending_its_odometry_is_one_publisher() -> None:
     path = _corpus("ros2_db3_webots_epuck")
     samples = data.read_contents(path).edges[("odom", "base_link")]
     distinct, counts = np.unique(samples.stamps, return_counts=True)
-    findings = check(read_recording([path]))
+    findings = check(read_recording([path])).findings
     assert not coded(findings, "multiple_authorities") and not [f for f in findings if "taking turns" in f.message]
     (note,) = coded(findings, "resent")
     assert f"{(counts > 1).sum()} of its {len(distinct)} stamps arrived again (2 times each)" in note.message
@@ -308,7 +308,7 @@ def test_create3_two_robot_descriptions_are_one_static_conflict() -> None:
     path = _corpus("ros2_db3_create3_real_two_urdfs")
     statics = {e: s for e, s in data.read_contents(path).edges.items() if s.static}
     differ = {e for e, s in statics.items() if len(s.values) > 1 and s.values[0] != s.values[-1]}
-    findings = check(read_recording([path]))
+    findings = check(read_recording([path])).findings
     assert not coded(findings, "dynamic_on_static")
     (conflict,) = coded(findings, "static_conflict")
     assert conflict.count == len(differ) == 21 and set(conflict.frames) == {f for e in differ for f in e}
@@ -322,7 +322,7 @@ def test_two_robot_state_publishers_are_one_warning_for_both_wheels() -> None:
     edges = data.read_contents(path).edges
     wheels = [("base_link", "wheel_left_link"), ("base_link", "wheel_right_link")]
     stamps = [np.unique(edges[w].stamps, return_counts=True) for w in wheels]
-    findings = check(read_recording([path]))
+    findings = check(read_recording([path])).findings
     (finding,) = loud(findings)
     assert (finding.code, finding.frames) == ("multiple_authorities", (*wheels[0], *wheels[1]))
     again, total = sum(int((c > 1).sum()) for _, c in stamps), sum(len(s) for s, _ in stamps)

@@ -10,12 +10,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tests.analysis.scale_scenes import START, batch, chain, grows_linearly, recording, ring, seconds
-from tftools.analysis import wtf
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.graph import frame_graph
 from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf import structure
+from tftools.analysis.wtf.fleet import check
 from tftools.analysis.wtf.scene import Scene
 from tftools.core.errors import UnknownFrameError
 
@@ -57,7 +57,7 @@ def test_lookups_along_a_deep_chain_answer_as_tf2_up_to_its_depth_limit() -> Non
 @pytest.mark.slow  # seconds of CPU at full size: CI runs it
 def test_wtf_and_the_graph_on_a_deep_chain_find_nothing_wrong() -> None:
     deep = recording(chain(5_000))
-    assert [f.code for f in wtf.check(deep) if f.severity.rank == 0] == []
+    assert [f.code for f in check(deep).findings if f.severity.rank == 0] == []
     graph = frame_graph(Scene(deep), [])
     assert len(graph.edges) == 5_000 and graph.roots == ["f0"]
 
@@ -80,7 +80,7 @@ def test_many_trees_are_listed_in_bounded_words_and_found_in_linear_time() -> No
 def test_pinning_many_findings_on_a_big_graph_is_linear() -> None:
     def run(n: int) -> float:
         star = recording(batch(["root", *(f"c{i}" for i in range(n))], [0] * n, range(1, n + 1)))
-        findings = [f for f in wtf.check(star)]
+        findings = [f for f in check(star).findings]
         stale = [Finding(Severity.warning, "stale", "", "", ("root", f"c{i}")) for i in range(n)]
         return seconds(lambda: frame_graph(Scene(star), findings + stale))
 
@@ -94,7 +94,7 @@ def test_names_of_10000_characters_and_control_characters_go_through_every_check
     children = range(1, len(names))
     scene = recording(batch(names, [0] * len(children), children))
     assert set(scene.buffer.frames) == set(names)
-    assert [f.code for f in wtf.check(scene) if f.severity.rank == 0] == []
+    assert [f.code for f in check(scene).findings if f.severity.rank == 0] == []
     graph = frame_graph(Scene(scene))
     assert {n.name for n in graph.nodes} == set(names)
 

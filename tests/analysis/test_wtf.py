@@ -31,7 +31,9 @@ from tests.analysis.wtf_scenes import (
     with_extra,
 )
 from tftools.analysis.findings import Finding, Severity, causes
-from tftools.analysis.wtf import CHECKS, Thresholds, check
+from tftools.analysis.wtf import CHECKS, Scene, Thresholds, findings_of
+from tftools.analysis.wtf.fleet import check
+from tftools.analysis.wtf.query import CheckQuery
 from tftools.analysis.wtf.rows import rows_of
 from tftools.core.errors import ExtrapolationError, TransformError
 from tftools.core.rejection import RejectionCode
@@ -53,7 +55,7 @@ def only(findings: list[Finding], code: str) -> Finding:
 
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
 def test_a_healthy_robot_gives_no_finding_at_all(ros1: bool) -> None:
-    assert check(recording(healthy(), ros1=ros1)) == []
+    assert check(recording(healthy(), ros1=ros1)).findings == []
 
 
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
@@ -62,7 +64,7 @@ def test_each_problem_gives_exactly_its_finding_naming_frames_and_publisher(name
     problem = PROBLEMS[name]
     clock = problem.clock() if problem.clock else None
     streams = problem.streams() if problem.streams else ()
-    findings = check(recording(problem.make(), problem.topics, ros1=ros1, clock=clock), streams=streams)
+    findings = findings_of(Scene(recording(problem.make(), problem.topics, ros1=ros1, clock=clock), streams=streams))
     if problem.ros1_only and not ros1:
         assert [f.code for f in loud(findings)] == ([problem.ros2_code] if problem.ros2_code else []), findings
         return
@@ -84,7 +86,7 @@ def test_each_problem_gives_exactly_its_finding_naming_frames_and_publisher(name
 @pytest.mark.parametrize("with_clock", [True, False], ids=["clock", "no_clock"])
 def test_a_simulation_recorded_on_wall_time_gives_only_a_note(with_clock: bool) -> None:
     """ros2 bag record without --use-sim-time: stamps on sim time, receive times on wall time."""
-    findings = check(recording(simulated(), clock=sim_clock() if with_clock else None, ros1=False))
+    findings = check(recording(simulated(), clock=sim_clock() if with_clock else None, ros1=False)).findings
     assert loud(findings) == []
     note = only(findings, "clock")
     assert note.severity is Severity.info
@@ -98,13 +100,13 @@ def test_a_simulation_recorded_on_sim_time_gives_no_finding() -> None:
     messages = [dataclasses.replace(m, record_time=sim(m.record_time)) for m in simulated()]
     clock = sim_clock()
     on_sim = ClockSamples(clock.topic, clock.clock + MS, clock.clock)
-    assert check(recording(messages, clock=on_sim)) == []
+    assert check(recording(messages, clock=on_sim)).findings == []
 
 
 def test_delays_are_measured_against_the_recorded_clock() -> None:
     """With /clock, a late frame is late in simulated time, whatever the receive times' clock."""
     messages = simulated(ekf=ekf(stamp=lambda t: sim(t) - 400 * MS))
-    finding = only(check(recording(messages, clock=sim_clock())), "delay")
+    finding = only(check(recording(messages, clock=sim_clock())).findings, "delay")
     assert "odom -> base_link" in finding.message and "median 0.400 s" in finding.message
 
 
@@ -113,11 +115,13 @@ def test_a_joint_at_rest_among_moving_joints_is_not_a_static_transform_on_tf(ros
     """robot_state_publisher sends every movable joint in one message: a finger that did not move is no mistake."""
     finger = _t("base_link", "finger", START, 0.05)
     joints = periodic("/rsp", 20, lambda t: [*wheel(t), dataclasses.replace(finger, stamp=t)])
-    assert check(recording(healthy(wheels=joints), ros1=ros1)) == []
+    assert check(recording(healthy(wheels=joints), ros1=ros1)).findings == []
     resting = periodic("/robot_state_publisher", 15, lambda t: [dataclasses.replace(finger, stamp=t)], phase=0.013)
-    assert check(recording(with_extra(resting))) == []  # ROS1: robot_state_publisher sends movable joints on /tf
+    assert (
+        check(recording(with_extra(resting))).findings == []
+    )  # ROS1: robot_state_publisher sends movable joints on /tf
     alone = periodic("/finger_tf", 20, lambda t: [dataclasses.replace(finger, stamp=t)], phase=0.013)
-    findings = check(recording(with_extra(alone), ros1=ros1))  # constant by design, in messages of its own
+    findings = check(recording(with_extra(alone), ros1=ros1)).findings  # constant by design, in messages of its own
     assert only(findings, "static_on_dynamic").frames == ("base_link", "finger")
 
 
@@ -125,7 +129,7 @@ def test_two_messages_a_cycle_are_a_regular_rhythm() -> None:
     """20 Hz sent as 33 ms then 67 ms (a driver's 100 ms cycle): regular; its median is either interval."""
     cycle = [t for i in range(100) for t in (i * 100, i * 100 + 33)]
     odometry = [TfMessage("/tf", START + ms * MS + DELAY, odom_base(START + ms * MS), "/ekf") for ms in cycle]
-    assert check(recording(healthy(ekf=odometry))) == []
+    assert check(recording(healthy(ekf=odometry))).findings == []
 
 
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
@@ -140,7 +144,7 @@ def test_a_stamp_sent_again_with_other_values_is_judged_by_the_recordings_tf2(ro
         TfMessage(m.topic, m.record_time + MS // 2, other_value(m.transforms[0].stamp), m.publisher) for m in ekf()
     ]
     messages = healthy(ekf=sorted(ekf() + again, key=lambda m: m.record_time))
-    findings = check(recording(messages, ros1=ros1))
+    findings = check(recording(messages, ros1=ros1)).findings
     if ros1:
         finding = only(findings, "time_backwards")
         assert finding.severity is Severity.error and "TF_REPEATED_DATA" in finding.message
@@ -170,7 +174,7 @@ def test_findings_come_errors_first() -> None:
     messages = with_extra(
         periodic("/sonar_tf", 10, lambda t: [_t("base_link", "sonar", t, 0.3)], phase=0.013), ekf=ekf(end=4.0)
     )  # a warning and an error
-    findings = check(recording(messages))
+    findings = check(recording(messages)).findings
     assert [f.code for f in findings] == ["stale", "static_on_dynamic"]
 
 
@@ -179,23 +183,25 @@ def test_findings_come_errors_first() -> None:
 
 def test_thresholds_move_the_limits() -> None:
     late = recording(PROBLEMS["delay"].make())
-    assert check(late, Thresholds(delay=1.0)) == []
-    assert [f.code for f in check(late, Thresholds(delay=0.4))] == ["delay"]
+    assert check(late, CheckQuery(thresholds=Thresholds(delay=1.0))).findings == []
+    assert [f.code for f in check(late, CheckQuery(thresholds=Thresholds(delay=0.4))).findings] == ["delay"]
     stopped = recording(PROBLEMS["stale"].make())
-    assert check(stopped, Thresholds(stale_after=7.0)) == []
+    assert check(stopped, CheckQuery(thresholds=Thresholds(stale_after=7.0))).findings == []
     gap = recording(PROBLEMS["rate"].make())
-    assert check(gap, Thresholds(max_gap=4.0)) == []
+    assert check(gap, CheckQuery(thresholds=Thresholds(max_gap=4.0))).findings == []
     ahead = recording(PROBLEMS["future"].make())
-    assert check(ahead, Thresholds(future=5.0)) == []
+    assert check(ahead, CheckQuery(thresholds=Thresholds(future=5.0))).findings == []
     replayed = recording(PROBLEMS["clock_replay"].make())  # 3 days behind: on another clock, or just late
-    assert {f.code for f in check(replayed, Thresholds(clock=400_000.0))} == {"delay"}
+    assert {f.code for f in check(replayed, CheckQuery(thresholds=Thresholds(clock=400_000.0))).findings} == {"delay"}
 
 
 def test_the_clock_threshold_also_chooses_the_reference_clock() -> None:
     behind = {"stamp": lambda t: t - 20 * NS_PER_S}
     late = recording(healthy(amcl=amcl(**behind), ekf=ekf(**behind), wheels=wheels(**behind)))
-    assert "delay" not in {f.code for f in check(late)}  # 20 s behind everything: stamps on no recorded clock
-    delayed = {f.frames for f in check(late, Thresholds(clock=30.0)) if f.code == "delay"}
+    assert "delay" not in {f.code for f in check(late).findings}  # 20 s behind everything: stamps on no recorded clock
+    delayed = {
+        f.frames for f in check(late, CheckQuery(thresholds=Thresholds(clock=30.0))).findings if f.code == "delay"
+    }
     assert delayed == {("map", "odom"), ("odom", "base_link"), ("base_link", "wheel")}
 
 
@@ -206,20 +212,20 @@ def test_thresholds_must_be_positive() -> None:
 
 def test_ignored_checks_do_not_run_and_unknown_codes_are_refused() -> None:
     stopped = recording(PROBLEMS["stale"].make())
-    assert check(stopped, ignore={"stale"}) == []
+    assert check(stopped, CheckQuery(ignore=("stale",))).findings == []
     with pytest.raises(ValueError, match="no such check: stail"):
-        check(stopped, ignore={"stail"})
+        check(stopped, CheckQuery(ignore=("stail",)))
     # in a ROS2 bag the rhythm check speaks for multiple_authorities: ignoring that code silences it too
     twins = recording(PROBLEMS["multiple_authorities_one_topic"].make(), ros1=False)
-    assert [f.code for f in check(twins)] == ["multiple_authorities"]
-    assert check(twins, ignore={"multiple_authorities"}) == []
+    assert [f.code for f in check(twins).findings] == ["multiple_authorities"]
+    assert check(twins, CheckQuery(ignore=("multiple_authorities",))).findings == []
 
 
 # --- what each finding says, case by case ----------------------------------------------------
 
 
 def test_cycle_of_the_latest_parents_names_the_loop_in_order_and_tf2s_error() -> None:
-    finding = only(check(recording(PROBLEMS["cycle"].make())), "cycle")
+    finding = only(check(recording(PROBLEMS["cycle"].make())).findings, "cycle")
     assert "base_link -> map -> odom -> base_link" in finding.message  # map's parent is base_link
     assert "contains a loop" in finding.message
     assert set(finding.authorities) == {"/amcl", "/ekf", "/rogue"}
@@ -230,7 +236,7 @@ def test_a_loop_only_in_the_raw_data_is_found_with_the_times_it_held() -> None:
     messages = with_extra(
         periodic("/rogue", 10, lambda t: [_t("base_link", "odom", t, _s(t))], start=2.0, end=5.0, phase=0.05)
     )
-    findings = check(recording(messages))
+    findings = check(recording(messages)).findings
     assert {f.code for f in loud(findings)} == {"cycle", "multiple_parents"}
     loop = only(findings, "cycle")
     assert "transforms stamped" in loop.message and "+2.0 s" in loop.message
@@ -244,20 +250,20 @@ def test_a_loop_across_times_that_never_overlap_is_no_cycle() -> None:
         periodic("/rogue", 50, lambda t: [_t("base_link", "odom", t, _s(t))], start=5.0, phase=0.01),
         ekf=ekf(end=4.0),
     )
-    codes = {f.code for f in loud(check(recording(messages)))}
+    codes = {f.code for f in loud(check(recording(messages)).findings)}
     assert "multiple_parents" in codes and "cycle" not in codes
 
 
 def test_disconnected_lists_each_tree_and_spots_a_misspelt_root() -> None:
     typo = TfMessage("/tf_static", START + 3 * MS, [_t("base_lnk", "sonar", START)], "/rsp")
-    finding = only(check(recording(with_extra([typo]))), "disconnected")
+    finding = only(check(recording(with_extra([typo]))).findings, "disconnected")
     assert finding.frames == ("map", "base_lnk")
     assert "map (6 frames" in finding.message and "base_lnk (2 frames: base_lnk, sonar)" in finding.message
     assert "'base_lnk' looks like a misspelling of 'base_link'" in finding.hint
 
 
 def test_multiple_parents_says_who_set_each_parent_and_when() -> None:
-    finding = only(check(recording(PROBLEMS["multiple_parents"].make())), "multiple_parents")
+    finding = only(check(recording(PROBLEMS["multiple_parents"].make())).findings, "multiple_parents")
     assert finding.frames == ("base_link", "odom", "map")
     assert "odom (by /ekf, 500 transforms" in finding.message and "map (by /rogue, 50 transforms" in finding.message
     assert "fight over it" in finding.hint
@@ -267,7 +273,7 @@ def test_multiple_parents_says_who_set_each_parent_and_when() -> None:
 
 def test_an_edge_handed_over_from_one_publisher_to_another_is_a_note() -> None:
     messages = healthy(ekf=ekf(end=5.0) + periodic("/ekf_new", 50, odom_base, start=5.3))
-    findings = check(recording(messages))
+    findings = check(recording(messages)).findings
     assert loud(findings) == []
     note = only(findings, "multiple_authorities")
     assert note.severity is Severity.info and note.authorities == ("/ekf", "/ekf_new")
@@ -275,13 +281,13 @@ def test_an_edge_handed_over_from_one_publisher_to_another_is_a_note() -> None:
 
 def test_a_transform_sent_once_on_tf_is_stale_with_the_static_advice() -> None:
     once = TfMessage("/tf", START + 3 * MS, [_t("base_link", "sonar", START)], "/sonar")
-    finding = only(check(recording(with_extra([once]))), "stale")
+    finding = only(check(recording(with_extra([once]))).findings, "stale")
     assert "sent once on /tf" in finding.message and "/tf_static" in finding.hint
 
 
 def test_a_frame_moved_under_another_parent_is_not_stale() -> None:
     messages = healthy(ekf=ekf(end=5.0)) + periodic("/ekf", 50, lambda t: [_t("map", "base_link", t, _s(t))], start=5.0)
-    codes = {f.code for f in check(recording(sorted(messages, key=lambda m: m.record_time)))}
+    codes = {f.code for f in check(recording(sorted(messages, key=lambda m: m.record_time))).findings}
     assert "stale" not in codes and "multiple_parents" in codes
 
 
@@ -289,7 +295,7 @@ def test_a_recorder_on_simulated_time_among_nodes_on_wall_time_is_a_note() -> No
     """Every frame agrees with every other: lookups work, only arrival-based figures are lost."""
     sim = 500 * NS_PER_S  # the recorder's /clock
     messages = [TfMessage(m.topic, m.record_time - START + sim, m.transforms, m.publisher) for m in healthy()]
-    findings = check(recording(sorted(messages, key=lambda m: m.record_time)))
+    findings = check(recording(sorted(messages, key=lambda m: m.record_time))).findings
     assert loud(findings) == []
     note = only(findings, "clock")
     assert "wall-clock time" in note.message and "record clock is simulated time" in note.message
@@ -298,7 +304,7 @@ def test_a_recorder_on_simulated_time_among_nodes_on_wall_time_is_a_note() -> No
 
 def test_a_clock_far_ahead_is_future_with_the_advice_to_sync_clocks() -> None:
     ahead = recording(healthy(ekf=ekf(stamp=lambda t: t + 3600 * NS_PER_S)))
-    finding = only(check(ahead), "future")
+    finding = only(check(ahead).findings, "future")
     assert "500 of 500 transforms stamped up to 60.0 min after they arrived" in finding.message
     assert "chrony" in finding.hint
 
@@ -308,7 +314,7 @@ def test_a_slightly_long_rotation_tf2_accepts_is_a_warning_or_a_note(length: flo
     def long_rotation(stamp: int) -> list[Transform]:
         return [Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, length), stamp, "odom", "base_link")]
 
-    findings = check(recording(healthy(ekf=periodic("/ekf", 50, long_rotation))))
+    findings = check(recording(healthy(ekf=periodic("/ekf", 50, long_rotation)))).findings
     finding = only(findings, "invalid_values")
     assert finding.severity is severity and finding.count == 500
     assert f"{length - 1:.2g}" in finding.message and "tf2 accepts them" in finding.message
@@ -322,10 +328,10 @@ def test_a_rotation_ros2s_tf2_normalises_is_not_called_refused() -> None:
         return [Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 2.0), stamp, "odom", "base_link")]
 
     messages = healthy(ekf=periodic("/ekf", 50, long_rotation))
-    refused = only(check(recording(messages)), "invalid_values")
+    refused = only(check(recording(messages)).findings, "invalid_values")
     assert refused.severity is Severity.error and "refused by tf2 (a rotation of length 2 in 500)" in refused.message
     taken = recording(messages, ros1=False)
-    finding = only(check(taken), "invalid_values")
+    finding = only(check(taken).findings, "invalid_values")
     assert finding.severity is Severity.warning and "ROS 2's tf2 accepts them and normalises each" in finding.message
     rows = rows_of(taken)
     assert rows.usable.all() and not rows.refused_for(*RejectionCode).any()
@@ -340,7 +346,7 @@ def test_rows_carry_every_code_the_buffer_refused_them_for() -> None:
     nan, self_tf = rows.refused_for(RejectionCode.NAN_INPUT), rows.refused_for(RejectionCode.SELF_TRANSFORM)
     assert nan.sum() == 50 and (nan == self_tf).all() and (~rows.usable == nan).all() and (~rows.named == nan).all()
     assert int((rows.refusals.whole() != 0).sum()) == len({r.sequence for r in taken.buffer.rejections})
-    assert {f.code for f in loud(check(taken))} == {"self_transform", "invalid_values", "leading_slash"}
+    assert {f.code for f in loud(check(taken).findings)} == {"self_transform", "invalid_values", "leading_slash"}
 
 
 def test_infinity_is_refused_like_nan() -> None:
@@ -349,13 +355,13 @@ def test_infinity_is_refused_like_nan() -> None:
             return [Transform((float("inf"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "odom", "base_link")]
         return odom_base(stamp)
 
-    finding = only(check(recording(healthy(ekf=periodic("/ekf", 50, infinite)))), "invalid_values")
+    finding = only(check(recording(healthy(ekf=periodic("/ekf", 50, infinite)))).findings, "invalid_values")
     assert "infinity in 5" in finding.message and finding.severity is Severity.error
 
 
 def test_a_self_transform_spelt_with_a_slash_says_it_is_one_frame() -> None:
     messages = with_extra(periodic("/rogue", 5, lambda t: [_t("/base_link", "base_link", t)]))
-    findings = check(recording(messages))
+    findings = check(recording(messages)).findings
     finding = only(findings, "self_transform")
     assert "sent as /base_link -> base_link" in finding.message
     assert {f.code for f in loud(findings)} == {"self_transform", "leading_slash"}
@@ -363,7 +369,7 @@ def test_a_self_transform_spelt_with_a_slash_says_it_is_one_frame() -> None:
 
 def test_empty_child_frame_id_is_named_as_such() -> None:
     messages = with_extra(periodic("/rogue", 5, lambda t: [_t("base_link", "", t)]))
-    finding = only(check(recording(messages)), "empty_frame_id")
+    finding = only(check(recording(messages)).findings, "empty_frame_id")
     assert "empty child_frame_id (frame_id base_link)" in finding.message and "TF_NO_CHILD_FRAME_ID" in finding.message
 
 
@@ -371,7 +377,7 @@ def test_stamps_jumping_back_beyond_tf2s_cache_suggest_a_time_jump() -> None:
     def looped(t: int) -> int:  # a bag played with -l: stamps restart after 6 s
         return t - 6 * NS_PER_S if t >= START + 6 * NS_PER_S else t
 
-    finding = only(check(recording(healthy(ekf=ekf(stamp=looped)))), "time_backwards")
+    finding = only(check(recording(healthy(ekf=ekf(stamp=looped)))).findings, "time_backwards")
     assert "went back 1 time, by up to 6.0 s" in finding.message
     assert "200 transforms stamped before one already sent" in finding.message
     assert "time jumped back" in finding.hint
@@ -384,44 +390,44 @@ def test_repeated_stamps_with_new_values_are_an_error() -> None:
         return START + (stamp - START) // (100 * MS) * 100 * MS
 
     messages = healthy(ekf=periodic("/ekf", 50, lambda t: [_t("odom", "base_link", stuck(t), _s(t))]))
-    finding = only(check(recording(messages)), "time_backwards")
+    finding = only(check(recording(messages)).findings, "time_backwards")
     assert finding.severity is Severity.error and finding.count == 400
     assert "other values" in finding.message
 
 
 def test_mixed_static_first_on_tf_says_the_static_one_counts_at_its_stamp_only() -> None:
     late_static = TfMessage("/tf_static", START + 5 * NS_PER_S, [_t("odom", "base_link", START)], "/rsp")
-    finding = only(check(recording(with_extra([late_static]))), "mixed_static")
+    finding = only(check(recording(with_extra([late_static]))).findings, "mixed_static")
     assert "first transform came on /tf)" in finding.message
 
 
 def test_only_static_transforms_is_a_note() -> None:
-    findings = check(recording([statics()]))
+    findings = check(recording([statics()])).findings
     assert loud(findings) == []
     assert only(findings, "no_tf").severity is Severity.info
 
 
 def test_no_transforms_at_all_runs_no_other_check() -> None:
-    findings = check(recording(PROBLEMS["no_tf"].make()))
+    findings = check(recording(PROBLEMS["no_tf"].make())).findings
     assert [f.code for f in findings] == ["no_tf"]
 
 
 def test_amcl_post_dating_below_a_second_is_no_future_error() -> None:
-    assert check(recording(healthy(amcl=amcl(stamp=lambda t: t + 900 * MS)))) == []
+    assert check(recording(healthy(amcl=amcl(stamp=lambda t: t + 900 * MS)))).findings == []
 
 
 def test_a_publisher_that_stutters_is_irregular_but_one_pause_is_a_gap() -> None:
     dropped = np.random.default_rng(7).random(100) < 0.3  # about one 0.1 s slot in three, at random
     messages = [m for m in amcl() if not dropped[round((m.record_time - START) / NS_PER_S * 10) % 100]]
-    finding = only(check(recording(healthy(amcl=messages))), "rate")
+    finding = only(check(recording(healthy(amcl=messages))).findings, "rate")
     assert "publishes irregularly" in finding.message and finding.frames == ("map", "odom")
-    gap = only(check(recording(PROBLEMS["rate"].make())), "rate")
+    gap = only(check(recording(PROBLEMS["rate"].make())).findings, "rate")
     assert "went silent 1 time" in gap.message and "3.1 s" in gap.message
 
 
 def test_a_robot_standing_still_is_healthy_though_odom_is_constant() -> None:
     parked = periodic("/ekf", 50, lambda t: [_t("odom", "base_link", t, 2.0)])
-    assert check(recording(healthy(ekf=parked))) == []
+    assert check(recording(healthy(ekf=parked))).findings == []
 
 
 @pytest.mark.parametrize("name", ["cycle", "multiple_parents", "multiple_authorities"])
@@ -431,7 +437,7 @@ def test_a_constant_rogue_transform_is_reported_once_as_what_it_breaks(name: str
         "multiple_parents": periodic("/rogue", 10, lambda t: [_t("map", "base_link", t)], phase=0.01),
         "multiple_authorities": periodic("/rogue", 10, lambda t: [_t("base_link", "wheel", t)], phase=0.01),
     }[name]
-    assert [f.code for f in loud(check(recording(with_extra(rogue))))] == [name]
+    assert [f.code for f in loud(check(recording(with_extra(rogue))).findings)] == [name]
 
 
 def test_a_few_late_arrivals_are_enough_for_a_delay_warning() -> None:
@@ -440,26 +446,26 @@ def test_a_few_late_arrivals_are_enough_for_a_delay_warning() -> None:
         TfMessage(m.topic, m.record_time + (800 * MS if i % 10 == 0 else 0), m.transforms, m.publisher)
         for i, m in enumerate(messages)
     ]
-    finding = only(check(recording(healthy(ekf=late))), "delay")
+    finding = only(check(recording(healthy(ekf=late))).findings, "delay")
     assert "50 of 500 transforms more than 0.2 s after their stamp" in finding.message
     # tolerated lateness: what remains is that newer transforms overtook them, which tf2 copes with
-    (overtaken,) = check(recording(healthy(ekf=late)), Thresholds(delay=0.9))
+    (overtaken,) = check(recording(healthy(ekf=late)), CheckQuery(thresholds=Thresholds(delay=0.9))).findings
     assert overtaken.code == "time_backwards" and overtaken.severity is Severity.warning
     assert "50 transforms arrived out of order" in overtaken.message
 
 
 def test_the_transform_that_closed_a_loop_late_is_named_in_the_hint() -> None:
     late_rogue = periodic("/rogue", 10, lambda t: [_t("base_link", "map", t, _s(t))], start=3.0, phase=0.05)
-    finding = only(check(recording(with_extra(late_rogue))), "cycle")
+    finding = only(check(recording(with_extra(late_rogue))).findings, "cycle")
     assert "since 1700000003.052 (+3.1 s)" in finding.message
     assert finding.hint.endswith("base_link -> map by /rogue closed it, at 1700000003.052 (+3.1 s)")
-    early = only(check(recording(PROBLEMS["cycle"].make())), "cycle")  # all began together: no guess
+    early = only(check(recording(PROBLEMS["cycle"].make())).findings, "cycle")  # all began together: no guess
     assert "closed it" not in early.hint
 
 
 def test_what_cycle_claims_holds_lookups_through_the_loop_fail_with_tf2s_loop_error() -> None:
     looped = recording(PROBLEMS["cycle"].make())
-    finding = only(check(looped), "cycle")
+    finding = only(check(looped).findings, "cycle")
     with pytest.raises(TransformError, match="contains a loop"):
         looped.buffer.lookup("laser", "odom")
     assert "contains a loop" in finding.message
@@ -467,7 +473,7 @@ def test_what_cycle_claims_holds_lookups_through_the_loop_fail_with_tf2s_loop_er
 
 def test_what_stale_claims_holds_lookups_after_the_last_stamp_extrapolate_into_the_future() -> None:
     stopped = recording(PROBLEMS["stale"].make())
-    finding = only(check(stopped), "stale")
+    finding = only(check(stopped).findings, "stale")
     stopped.buffer.lookup("map", "base_link", finding.first_time)
     with pytest.raises(ExtrapolationError, match="into the future"):
         stopped.buffer.lookup("map", "base_link", finding.first_time + 100 * MS)

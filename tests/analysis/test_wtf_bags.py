@@ -11,7 +11,7 @@ import pytest
 from tests.analysis.wtf_scenes import FORMATS, PROBLEMS, TfMessage, healthy, recording, write
 from tests.bags import BagFormat
 from tftools.analysis.findings import Finding, Severity, causes
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf.fleet import check
 from tftools.sources.recording import read_recording
 
 SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"
@@ -53,7 +53,7 @@ def loud(findings: list[Finding]) -> list[Finding]:
 
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_the_sample_robot_bags_give_no_finding(fmt: BagFormat) -> None:
-    assert check(read_recording([SAMPLES / SAMPLE_BAGS[fmt]])) == []
+    assert check(read_recording([SAMPLES / SAMPLE_BAGS[fmt]])).findings == []
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
@@ -63,7 +63,7 @@ def test_each_problem_written_to_a_bag_gives_its_finding(tmp_path: Path, fmt: Ba
     if problem.streams is not None:
         pytest.skip("sensor data is not written to these bags: tests/cli/test_filter.py checks wtf on such bags")
     path = write(tmp_path, name, fmt, problem.make(), problem.clock() if problem.clock else None)
-    findings = check(read_recording([path], problem.topics, allow_empty=True))
+    findings = check(read_recording([path], problem.topics, allow_empty=True)).findings
     if problem.ros1_only and fmt is not BagFormat.ros1:  # ROS 2 bags answer as ROS 2's tf2, naming no publisher
         assert [f.code for f in loud(findings)] == ([problem.ros2_code] if problem.ros2_code else []), findings
         return
@@ -121,7 +121,7 @@ def test_roswtf_agrees_each_scene_shows_its_problem(roswtf: dict[str, dict[str, 
 @pytest.mark.parametrize("name", list(PROBLEMS))
 def test_whatever_roswtf_reports_we_report_too(roswtf: dict[str, dict[str, object]], name: str) -> None:
     problem = PROBLEMS[name]
-    ours = {f.code for f in check(recording(problem.make(), problem.topics))}
+    ours = {f.code for f in check(recording(problem.make(), problem.topics)).findings}
     for rule, said in roswtf[name].items():
         if said:
             assert ours & ROSWTF_CODES[rule], f"roswtf {rule}: {said}; ours: {ours}"
@@ -130,14 +130,16 @@ def test_whatever_roswtf_reports_we_report_too(roswtf: dict[str, dict[str, objec
 def test_roswtf_and_we_name_the_same_reparenting_publisher(roswtf: dict[str, dict[str, object]]) -> None:
     said = roswtf["multiple_parents"]["reparenting"]
     assert said == ["reparenting of [base_link] to [map] by [/rogue]", "reparenting of [base_link] to [odom] by [/ekf]"]
-    finding = next(f for f in check(recording(PROBLEMS["multiple_parents"].make())) if f.code == "multiple_parents")
+    finding = next(
+        f for f in check(recording(PROBLEMS["multiple_parents"].make())).findings if f.code == "multiple_parents"
+    )
     assert finding.frames == ("base_link", "odom", "map") and set(finding.authorities) == {"/ekf", "/rogue"}
 
 
 def test_roswtf_and_we_see_the_same_loop(roswtf: dict[str, dict[str, object]]) -> None:
     loops = roswtf["cycle"]["cycle_detection"]
     assert isinstance(loops, list) and loops
-    finding = next(f for f in check(recording(PROBLEMS["cycle"].make())) if f.code == "cycle")
+    finding = next(f for f in check(recording(PROBLEMS["cycle"].make())).findings if f.code == "cycle")
     for said in loops:  # "Frame X is in a loop. It's loop has elements:\nX -> Y -> Z"
         assert set(said.split("\n")[1].split(" -> ")) == set(finding.frames)
 
@@ -147,7 +149,7 @@ def test_bags_written_by_the_real_rosbag_give_the_finding(tf2_available: None, t
     problem = PROBLEMS[name]
     path = tmp_path / f"{name}.bag"
     run_harness(["bag", str(path)], {"messages": as_json(problem.make())})
-    findings = check(read_recording([path]))
+    findings = check(read_recording([path])).findings
     shown = findings if problem.severity == "info" else loud(findings)
     assert [f.code for f in shown] == [problem.code], findings
     assert set(problem.frames) <= set(findings[0].frames)

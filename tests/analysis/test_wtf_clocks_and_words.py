@@ -31,7 +31,8 @@ from tests.analysis.wtf_scenes import (
 from tests.bags import BagFormat
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.monitor import monitor_recording
-from tftools.analysis.wtf import CHECKS, check
+from tftools.analysis.wtf import CHECKS, Scene, findings_of
+from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
@@ -48,7 +49,9 @@ def test_a_stamp_frozen_in_the_past_is_stale_not_a_second_clock(with_reference: 
     stood still, which says nothing of its clock), said with how often it was sent and ROS 2's command."""
     make = (lambda **kw: with_extra(**kw)) if with_reference else simulated
     frozen = (START if with_reference else sim(START)) - 91 * NS_PER_S
-    findings = check(recording(make(amcl=periodic("/amcl", 100, map_odom, stamp=lambda t: frozen)), ros1=False))
+    findings = check(
+        recording(make(amcl=periodic("/amcl", 100, map_odom, stamp=lambda t: frozen)), ros1=False)
+    ).findings
     assert ("clock", Severity.error) not in _codes(findings)
     (stale,) = [f for f in findings if f.code == "stale"]
     assert stale.frames == ("map", "odom")
@@ -60,7 +63,7 @@ def test_one_stamp_on_another_time_base_is_still_another_clock() -> None:
     """The stood-still exception is for an old stamp on the others' clock: one in epoch time among frames on
     simulated time is a second clock."""
     wall = periodic("/cam", 100, lambda t: [_t("base_link", "camera", START)])
-    findings = check(recording(simulated(amcl=[]) + wall, ros1=False))
+    findings = check(recording(simulated(amcl=[]) + wall, ros1=False)).findings
     assert ("clock", Severity.error) in _codes(findings)
 
 
@@ -68,7 +71,7 @@ def test_a_real_second_clock_is_still_two_clocks() -> None:
     """ros2_db3_ur5_topic_tf_two_clocks' shape: an arm on simulated time beside detections on wall time."""
     arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - SIM_START) / NS_PER_S)], stamp=sim)
     detections = periodic("/det", 2, lambda t: [_t("base_link", "tag", t)])
-    findings = check(recording(sorted(arm + detections, key=lambda m: m.record_time), ros1=False))
+    findings = check(recording(sorted(arm + detections, key=lambda m: m.record_time), ros1=False)).findings
     (clock,) = [f for f in findings if f.code == "clock" and f.severity is Severity.error]
     assert clock.frames == ("base_link", "arm")
     assert "rosbag" not in clock.hint and "ros::Time" not in clock.hint
@@ -76,7 +79,7 @@ def test_a_real_second_clock_is_still_two_clocks() -> None:
 
 def test_a_transform_sent_once_is_said_once() -> None:
     once = TfMessage("/tf", START + 3_000_000, [_t("base_link", "sonar", START)], "/tf")
-    (stale,) = [f for f in check(recording(with_extra([once]), ros1=False)) if f.code == "stale"]
+    (stale,) = [f for f in check(recording(with_extra([once]), ros1=False)).findings if f.code == "stale"]
     assert "sonar was sent once on /tf, stamped" in stale.message
 
 
@@ -92,7 +95,7 @@ def test_odometry_stepping_after_each_gps_fix_is_a_warning_and_lookups_work() ->
     """Issue 39's boat: jump on odom -> base_link was raised to an error (wtf and view-frames exit 1) while
     ``--list-checks`` said warning and every lookup worked."""
     rec = recording(healthy(ekf=periodic("/ekf", 50, _boat)), ros1=False)
-    findings = check(rec)
+    findings = check(rec).findings
     assert _codes(findings) == [("jump", Severity.warning)]
     assert "REP 105" in findings[0].hint and "GPS" in findings[0].hint
     times = np.arange(START + NS_PER_S // 10, START + 9 * NS_PER_S, NS_PER_S // 50)
@@ -106,7 +109,7 @@ def test_no_check_reports_more_than_its_listed_severity(ros1: bool) -> None:
     for name, problem in PROBLEMS.items():
         clock = problem.clock() if problem.clock else None
         streams = problem.streams() if problem.streams else ()
-        for f in check(recording(problem.make(), problem.topics, ros1=ros1, clock=clock), streams=streams):
+        for f in findings_of(Scene(recording(problem.make(), problem.topics, ros1=ros1, clock=clock), streams=streams)):
             assert f.severity.rank >= CHECKS[f.code].severity.rank, (name, f)
 
 
@@ -121,7 +124,9 @@ def test_sensor_data_in_a_frame_no_transform_names_is_told_what_is_missing(tf: s
     elif tf == "recorded":
         messages += wheels()
     rec = recording(sorted(messages, key=lambda m: m.record_time), ros1=False)
-    (found,) = [f for f in check(rec, streams=[sensor("/odom", "odom", 10, 5_000_000)]) if f.code == "sensor_frame"]
+    (found,) = [
+        f for f in findings_of(Scene(rec, streams=[sensor("/odom", "odom", 10, 5_000_000)])) if f.code == "sensor_frame"
+    ]
     said = {
         "not recorded": "this recording holds no /tf: the moving transforms",
         "recorded empty": "/tf was recorded but holds no transform",
@@ -168,7 +173,7 @@ def test_empty_tf_messages_are_counted_where_they_are_read(tmp_path: Path, fmt: 
     bag = write(tmp_path, "bag", fmt, sorted(messages + empty, key=lambda m: m.record_time))
     given = bag if fmt is BagFormat.ros1 else next(p for p in bag.iterdir() if p.suffix in (".db3", ".mcap"))
     for path in {bag, given}:
-        (found,) = [f for f in check(read_recording([path])) if f.code == "silent_tf"]
+        (found,) = [f for f in check(read_recording([path])).findings if f.code == "silent_tf"]
         tf = sum(m.topic == "/tf" for m in messages) + len(empty)
         assert found.severity is Severity.info and f"{len(empty):,} of {tf:,} messages on /tf carry no transform" in (
             found.message

@@ -12,8 +12,8 @@ from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf import check
 from tftools.analysis.wtf.broadcasters import sent_before
+from tftools.analysis.wtf.fleet import check
 from tftools.analysis.wtf.jumps import FLOOR_M, JUMP_FACTOR, jumps
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -48,9 +48,9 @@ def _digest(path: Path) -> str:
 @pytest.mark.parametrize("fmt", ROS2_FORMATS)
 def test_tf_static_offered_volatile_is_a_warning_and_transient_local_is_quiet(tmp_path: Path, fmt: BagFormat) -> None:
     durable = scenes.write(tmp_path, "durable", fmt, scenes.healthy())
-    assert check(read_recording([durable])) == []
+    assert check(read_recording([durable])).findings == []
     volatile = _volatile(scenes.write(tmp_path, "volatile", fmt, scenes.healthy()))
-    (finding,) = check(read_recording([volatile]))
+    (finding,) = check(read_recording([volatile])).findings
     assert (finding.code, finding.severity) == ("static_volatile", Severity.warning)
     assert "volatile" in finding.message and "--repair" in finding.hint
     assert {"base_link", "laser", "camera"} <= set(finding.frames)
@@ -59,15 +59,17 @@ def test_tf_static_offered_volatile_is_a_warning_and_transient_local_is_quiet(tm
 def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -> None:
     bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_sqlite3, scenes.healthy())
     (inside,) = bag.glob("*.db3")
-    assert check(read_recording([inside])) == []  # issue 39: given inside its folder, the metadata.yaml beside it
+    assert (
+        check(read_recording([inside])).findings == []
+    )  # issue 39: given inside its folder, the metadata.yaml beside it
     alone = tmp_path / "alone"
     alone.mkdir()
     (alone / inside.name).write_bytes(inside.read_bytes())
-    (finding,) = check(read_recording([alone / inside.name]))
+    (finding,) = check(read_recording([alone / inside.name])).findings
     assert finding.skipped and finding.code == "static_volatile" and finding.severity is Severity.info
     assert "not checked" in finding.message and "metadata.yaml" in finding.message
     volatile = _volatile(bag)  # what the metadata.yaml beside it says is what is judged
-    (said,) = check(read_recording([next(volatile.glob("*.db3"))]))
+    (said,) = check(read_recording([next(volatile.glob("*.db3"))])).findings
     assert (said.code, said.severity) == ("static_volatile", Severity.warning)
 
 
@@ -79,7 +81,7 @@ def test_repair_makes_statics_durable_complete_and_repeated_and_leaves_the_input
     if fmt is not BagFormat.ros1:
         _volatile(bag)
     before = _digest(bag)
-    found = {(f.code, f.severity) for f in check(read_recording([bag]))}
+    found = {(f.code, f.severity) for f in check(read_recording([bag])).findings}
     assert found == {("statics_early", Severity.info)} | (
         set() if fmt is BagFormat.ros1 else {("static_volatile", Severity.warning)}
     )
@@ -88,7 +90,7 @@ def test_repair_makes_statics_durable_complete_and_repeated_and_leaves_the_input
     assert _digest(bag) == before
     assert {(t.frame_id, t.child_frame_id) for t in statics} == {("base_link", "laser"), ("base_link", "camera")}
     repaired = read_recording([written])
-    assert check(repaired) == []
+    assert check(repaired).findings == []
     batch = repaired.transforms
     times = np.unique(batch.record_time[batch.static])
     assert len(times) >= scenes.LONG / REPAIR_EVERY_S and np.diff(times).max() <= REPAIR_EVERY_S * NS_PER_S
@@ -120,7 +122,7 @@ def test_statics_repeated_through_a_long_recording_are_quiet() -> None:
         ekf=scenes.ekf(end=scenes.LONG),
         wheels=scenes.wheels(end=scenes.LONG),
     )
-    assert check(scenes.recording(messages)) == []
+    assert check(scenes.recording(messages)).findings == []
 
 
 # --- jumps and REP 105 -----------------------------------------------------------------------
@@ -130,7 +132,9 @@ def test_a_jump_on_another_edge_is_a_warning_with_when_and_how_far() -> None:
     def arm(stamp: int) -> list:  # type: ignore[type-arg]
         return [scenes._t("base_link", "arm", stamp, 0.1 * scenes._s(stamp) + (0.5 if scenes._s(stamp) >= 6 else 0.0))]
 
-    (finding,) = check(scenes.recording(scenes.healthy(wheels=[*scenes.wheels(), *scenes.periodic("/arm", 20, arm)])))
+    (finding,) = check(
+        scenes.recording(scenes.healthy(wheels=[*scenes.wheels(), *scenes.periodic("/arm", 20, arm)]))
+    ).findings
     assert (finding.code, finding.severity, finding.frames) == ("jump", Severity.warning, ("base_link", "arm"))
     assert "0.505 m" in finding.message and "+6.0 s" in finding.message
 
@@ -154,7 +158,7 @@ def test_motion_from_rest_fast_turns_and_a_gap_are_explained_by_the_edge_s_own_m
 def test_the_healthy_robots_jumps_and_rep105_stay_quiet(ros1: bool) -> None:
     assert not [
         f
-        for f in check(scenes.recording(scenes.healthy(), ros1=ros1))
+        for f in check(scenes.recording(scenes.healthy(), ros1=ros1)).findings
         if f.code in {"jump", "map_corrections", "rep105"}
     ]
 
@@ -184,7 +188,7 @@ def test_two_broadcasters_taking_turns_are_inferred_in_ros2_bags(
     bag = scenes.write(
         tmp_path, "two", fmt, scenes.healthy(ekf=sorted(scenes.ekf() + other, key=lambda m: m.record_time))
     )
-    findings = loud(check(read_recording([bag])))
+    findings = loud(check(read_recording([bag])).findings)
     assert [f.code for f in findings] == ["multiple_authorities"], findings
     assert sign in findings[0].message and findings[0].frames == ("odom", "base_link")
 
@@ -197,7 +201,7 @@ def _other_wheel(stamp: int) -> list:  # type: ignore[type-arg]
 
 
 def _ros2_findings(messages: list[TfMessage]) -> list[Finding]:
-    return loud(check(scenes.recording(messages, ros1=False)))
+    return loud(check(scenes.recording(messages, ros1=False)).findings)
 
 
 def test_two_identical_publishers_of_every_sample_are_two_broadcasters_in_a_ros2_bag() -> None:
@@ -241,7 +245,7 @@ def test_sample_bags_show_no_jump_and_no_inferred_broadcaster() -> None:
     ``absent`` and ``reported`` codes), so the corpus can grow without a table here."""
     samples = Path(__file__).resolve().parents[2] / "sample_bags"
     for bag in [samples / "robot.bag", samples / "robot_db3", samples / "robot_mcap"]:
-        codes = {f.code for f in check(read_recording([bag], allow_empty=True))}
+        codes = {f.code for f in check(read_recording([bag], allow_empty=True)).findings}
         assert not codes & {"jump", "map_corrections", "rep105", "multiple_authorities"}, (bag, codes)
 
 
@@ -250,7 +254,7 @@ def test_sample_bags_show_no_jump_and_no_inferred_broadcaster() -> None:
 
 def test_two_publishers_of_the_same_statics_are_one_note_not_one_per_edge() -> None:
     twin = TfMessage("/tf_static", scenes.START + 5 * NS_PER_S, scenes.statics().transforms, "/rsp2")
-    (finding,) = check(scenes.recording(scenes.with_extra([twin])))
+    (finding,) = check(scenes.recording(scenes.with_extra([twin]))).findings
     assert (finding.code, finding.severity) == ("multiple_authorities", Severity.info)
     assert "/rsp and /rsp2 both send 2 static transforms, with the same values" in finding.message
     assert finding.count == 4 and set(finding.frames) == {"base_link", "laser", "camera"}
@@ -264,7 +268,7 @@ def test_two_calibrations_that_disagree_are_one_finding_naming_publishers_frames
         scenes._t("base_link", "sonar", scenes.START, 0.3),
     ]
     unnamed = TfMessage("/tf_static", scenes.START + 5 * NS_PER_S, other, "/tf_static")
-    findings = check(scenes.recording(scenes.with_extra([unnamed])))
+    findings = check(scenes.recording(scenes.with_extra([unnamed]))).findings
     (finding,) = [f for f in findings if f.severity is not Severity.info]
     assert (finding.code, finding.severity, finding.count) == ("static_conflict", Severity.error, 2)
     assert finding.message.startswith(
@@ -308,7 +312,7 @@ def test_a_tf_whose_publishers_sent_nothing_and_empty_static_messages_are_said_n
     """The recording that was called "fine for a fixed setup": /tf had two publishers that sent nothing
     and /tf_static held 2,036 messages without a transform."""
     bag = _quiet_bag(tmp_path / "quiet", empty=2036, tf_publishers=2)
-    findings = check(read_recording([bag]))
+    findings = check(read_recording([bag])).findings
     assert [(f.code, f.severity) for f in findings] == [
         ("silent_tf", Severity.warning),
         ("silent_tf", Severity.warning),
@@ -322,7 +326,7 @@ def test_a_tf_whose_publishers_sent_nothing_and_empty_static_messages_are_said_n
 
 def test_a_few_empty_messages_beside_moving_transforms_are_a_note(tmp_path: Path) -> None:
     bag = _quiet_bag(tmp_path / "few", empty=1, tf_publishers=1, moving=True)
-    (finding,) = check(read_recording([bag]))
+    (finding,) = check(read_recording([bag])).findings
     assert (finding.code, finding.severity) == ("silent_tf", Severity.info)
     assert finding.message.endswith(": 1 of 2 messages on /tf_static carry no transform (2 transforms in the others)")
     assert "moves" not in finding.message
@@ -330,7 +334,7 @@ def test_a_few_empty_messages_beside_moving_transforms_are_a_note(tmp_path: Path
 
 def test_a_static_only_rosbag2_recording_without_silent_publishers_is_still_a_note(tmp_path: Path) -> None:
     bag = _quiet_bag(tmp_path / "fixed", empty=0, tf_publishers=0)
-    (finding,) = check(read_recording([bag]))
+    (finding,) = check(read_recording([bag])).findings
     assert (finding.code, finding.severity) == ("no_tf", Severity.info) and "fine for a fixed setup" in finding.hint
 
 

@@ -13,11 +13,11 @@ from typing import Any
 
 from tftools.analysis.wtf import fleet
 
-_check_bags = inspect.unwrap(fleet.check_bags)  # dask may load a preload twice
+_check_group = inspect.unwrap(fleet._check_group)  # dask may load a preload twice
 
 
-@functools.wraps(_check_bags)
-def _tried(paths: list[str], **options: Any) -> fleet.BagReport:
+@functools.wraps(_check_group)
+def _tried(query: Any, progress: Any, paths: list[str]) -> fleet.BagReport:
     name = Path(paths[0]).name
     marks = Path(os.environ["TFX_TEST_MARKS"])
     tries = len(list(marks.glob(f"started-*-{name}")))
@@ -26,7 +26,7 @@ def _tried(paths: list[str], **options: Any) -> fleet.BagReport:
         time.sleep(120)  # until the test kills this worker
     elif "slow_always" in name:
         time.sleep(3)
-    return _check_bags(paths, **options)
+    return _check_group(query, progress, paths)
 
 
-fleet.check_bags = _tried  # type: ignore[assignment]  (tasks name it: the worker unpickles this one)
+fleet._check_group = _tried  # (tasks name it: the worker unpickles this one)

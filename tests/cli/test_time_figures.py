@@ -14,9 +14,9 @@ import pytest
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.monitor import monitor
-from tftools.analysis.report import recording_facts, recording_report
-from tftools.analysis.wtf import check
-from tftools.analysis.wtf.fleet import check_recording
+from tftools.analysis.report import recording_facts
+from tftools.analysis.report import report as recording_report
+from tftools.analysis.wtf.fleet import check
 from tftools.core.batch import BatchBuilder, take_rows
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S
@@ -76,7 +76,7 @@ def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx) -> None:
         for line in tfx("monitor", "-b", bag, "--play", "--rate", "50", "-f", "json").stdout.splitlines()
     ]
     assert played and all(e["delay_mean_s"] is None for r in played for e in r["edges"])  # a replay too
-    codes = {f.code for f in check(recording)}
+    codes = {f.code for f in check(recording).findings}
     assert not codes & {"delay", "future"}
 
 
@@ -134,9 +134,9 @@ def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx) -> 
     assert "(19.900 s)" in facts["tf stamps"]
     at = tfx("echo", "arm_base", "arm_link", "-b", bag, "--topic", "tf", "--at", "1905")  # its own clock's times
     assert at.code == 0 and at.stdout.startswith("At time 1905.000\n- Translation: [50.000,")
-    (clock,) = [f for f in check(recording) if f.code == "clock"]  # the arm is still told of
+    (clock,) = [f for f in check(recording).findings if f.code == "clock"]  # the arm is still told of
     assert "arm_base -> arm_link" in clock.message and "stamped around 1910.0 s" in clock.message
-    assert not re.search(r"[+-]\d{6,}\.\d s", "\n".join(f.message for f in check(recording)))
+    assert not re.search(r"[+-]\d{6,}\.\d s", "\n".join(f.message for f in check(recording).findings))
 
 
 def test_the_timelines_tf_span_follows_its_clock_threshold(tmp_path: Path) -> None:
@@ -174,7 +174,8 @@ def test_the_report_counts_every_time_from_the_one_origin(tmp_path: Path) -> Non
     recording = read_recording([write_bag(tmp_path / "stale.bag", messages)])
     times = WALL - 5 * S + np.arange(0, 350) * S // 10  # a scan from 5 s before tf to its end
     scan = StampedMessages("/scan", "sensor_msgs/msg/LaserScan", times, times, np.zeros(350, np.int32), ["base"])
-    report = recording_report(recording, [scan])
+    recording.contents.files[0].stamped = [scan]  # as read with its headers
+    report = recording_report(recording)
     assert report.origin == recording.timeline.origin == WALL and report.bins.start < WALL - 4 * S
     (stale,) = [f for f in report.findings if f.code == "stale"]
     said = re.search(r"stopped at [\d.]+ \(([+-][\d.]+) s\)", stale.message)
@@ -214,10 +215,10 @@ def test_arrivals_read_off_a_10_ms_clock_raise_no_false_rate_warning() -> None:
     """tfx wtf beside rosbag play --clock gave 'rate' warnings for steady edges: the rhythm of arrivals
     read off /clock's 10 ms steps (a 100 Hz edge's intervals read 0, 10 or 20 ms). Knowing the step,
     only the edge that is irregular is."""
-    blind = check_recording(recording_of(heard_on_a_clock(10 * MS, 0)))
+    blind = check(recording_of(heard_on_a_clock(10 * MS, 0)))
     assert {f.frames for f in blind.findings if f.code == "rate"} == {("odom", "base"), ("map", "odom")}
     knowing = recording_of(heard_on_a_clock(10 * MS, 0), record_step=10 * MS)
-    rates = [f for f in check_recording(knowing).findings if f.code == "rate"]
+    rates = [f for f in check(knowing).findings if f.code == "rate"]
     assert [f.frames for f in rates] == [("map", "odom")] and "publishes irregularly" in rates[0].message
     assert knowing.timeline.record_step == 10 * MS and "ticks every 0.010 s" in knowing.timeline.describe()
     report = monitor(knowing.buffer, timeline=knowing.timeline)
@@ -286,7 +287,7 @@ def test_the_healthy_sample_replayed_on_sim_time_gets_no_rate_warning() -> None:
     """'tfx wtf -d 12' beside 'rosbag play --clock' of the sample bag: 7 'rate' warnings ('33% of its
     intervals are more than 50% off') for its 50 Hz edges, whose arrivals, read off /clock, are 10 or
     30 ms apart as often as 20. Knowing the clock's step (the source's), none."""
-    blind = check_recording(recording_of(sample_replayed_on_sim_time(10 * MS)))
+    blind = check(recording_of(sample_replayed_on_sim_time(10 * MS)))
     assert len([f for f in blind.findings if f.code == "rate" and "publishes irregularly" in f.message]) >= 5
-    knowing = check_recording(recording_of(sample_replayed_on_sim_time(10 * MS), record_step=10 * MS))
+    knowing = check(recording_of(sample_replayed_on_sim_time(10 * MS), record_step=10 * MS))
     assert [f.message for f in knowing.findings] == []

@@ -17,7 +17,7 @@ from tests.bags import BagFormat, TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf.fleet import check
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -140,7 +140,7 @@ PINNED = {  # where each problem must be drawn: edges (parent, child) or frames
 @pytest.mark.parametrize("bag", bag_formats())
 def test_problems_are_drawn_listed_and_fail_the_exit_code(tfx, tmp_path: Path, problem_bags, bag: str) -> None:
     need("dot")
-    findings = check(read_recording([problem_bags[bag]]))
+    findings = check(read_recording([problem_bags[bag]])).findings
     assert {f.code for f in findings} == EXPECTED_CODES  # the bag shows what it was written to show
     output = tmp_path / "problems.pdf"
     result = tfx("view-frames", "-b", problem_bags[bag], "-o", output)

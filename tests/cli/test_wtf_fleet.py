@@ -11,7 +11,9 @@ import pytest
 
 from tests.analysis.wtf_scenes import PROBLEMS, healthy, write
 from tests.bags import BagFormat
+from tftools.analysis.reading import Progress
 from tftools.analysis.wtf import fleet
+from tftools.analysis.wtf.query import CheckQuery
 
 DB3 = BagFormat.rosbag2_sqlite3
 
@@ -30,13 +32,13 @@ def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 def checked(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     """The recordings tfx checks (in this process: --jobs 1), in order."""
     seen: list[str] = []
-    check_bags = fleet.check_bags
+    check_group = fleet._check_group
 
-    def counting(paths: list[str], **options: object) -> fleet.BagReport:
+    def counting(query: CheckQuery, progress: Progress, paths: list[str]) -> fleet.BagReport:
         seen.append(paths[0])
-        return check_bags(paths, **options)  # type: ignore[arg-type]
+        return check_group(query, progress, paths)
 
-    monkeypatch.setattr("tftools.analysis.wtf.fleet.check_bags", counting)
+    monkeypatch.setattr("tftools.analysis.wtf.fleet._check_group", counting)
     return seen
 
 
@@ -105,14 +107,14 @@ def test_resume_refuses_what_is_not_a_report_in_one_line(tfx, bags: dict[str, Pa
 def test_a_recording_over_its_timeout_is_reported_as_not_checked(
     tfx, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    check_bags = fleet.check_bags
+    check_group = fleet._check_group
 
-    def slow_for_stale(paths: list[str], **options: object) -> fleet.BagReport:
+    def slow_for_stale(query: CheckQuery, progress: Progress, paths: list[str]) -> fleet.BagReport:
         if "stale" in paths[0]:
             time.sleep(3)
-        return check_bags(paths, **options)  # type: ignore[arg-type]
+        return check_group(query, progress, paths)
 
-    monkeypatch.setattr("tftools.analysis.wtf.fleet.check_bags", slow_for_stale)
+    monkeypatch.setattr("tftools.analysis.wtf.fleet._check_group", slow_for_stale)
     result = tfx("wtf", bags["healthy"], bags["stale"], "--timeout", "0.5", "--format", "json")
     good, slow = json.loads(result.stdout)["bags"]
     assert result.code == 1 and good["verdict"] == "passed"

@@ -18,7 +18,7 @@ from rosbags.rosbag2 import Writer as Rosbag2Writer
 
 from tests.corpus.fetch import shared_dir
 from tests.sources.ros2_helpers import Tf, tf_cdr, tf_ros1, typestore
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf.fleet import check
 from tftools.core.transform import Transform
 from tftools.sinks.static_bag import REPAIR_EVERY_S, add_static_transforms, repair_static_transforms
 from tftools.sources.errors import BagError
@@ -85,7 +85,7 @@ def test_a_ros2_bag_with_a_type_tfx_does_not_know_is_repaired_and_copied_as_reco
     assert now["/thing"] == was["/thing"] and now["/tf"] == was["/tf"]
     repeats = len(now["/tf_static"]) - len(was["/tf_static"])
     assert repeats == 1 + int((len(PAYLOADS) - 1) * 0.5 // REPAIR_EVERY_S)  # the start, then every 5 s
-    assert check(read_recording([written])) == []
+    assert check(read_recording([written])).findings == []
 
 
 def test_a_bare_mcap_is_copied_to_a_bare_mcap(tmp_path: Path) -> None:
@@ -105,7 +105,7 @@ def test_a_folder_holding_only_an_mcap_is_copied(tmp_path: Path) -> None:
     (bag / "metadata.yaml").unlink()
     written, _ = repair_static_transforms(bag, tmp_path / "out")
     assert (written / "metadata.yaml").is_file()
-    assert check(read_recording([written])) == []
+    assert check(read_recording([written])).findings == []
 
 
 def _ros1(path: Path, *, callerid: str | None) -> Path:
@@ -143,7 +143,7 @@ def test_a_ros1_repair_repeats_statics_on_the_connection_that_sent_them(tmp_path
         assert described == (THING, "0" * 31 + "1", "uint8[] data", "/x")
     assert now["/thing"] == was["/thing"] and now["/tf"] == was["/tf"]
     assert len(now["/tf_static"]) > len(was["/tf_static"])
-    assert check(read_recording([written])) == []
+    assert check(read_recording([written])).findings == []
 
 
 def test_added_transforms_come_from_tfx_own_publisher(tmp_path: Path) -> None:
@@ -200,6 +200,6 @@ def test_repair_on_every_corpus_recording_with_statics(tmp_path: Path, bag: Path
     assert {t: n for t, n in now.items() if not t.endswith("tf_static")} == {
         t: n for t, n in was.items() if not t.endswith("tf_static")
     }
-    found = {f.code for f in check(read_recording([written], allow_empty=True))}
+    found = {f.code for f in check(read_recording([written], allow_empty=True)).findings}
     assert not found & {"statics_early", "static_volatile"}
-    assert found <= {f.code for f in check(original)}
+    assert found <= {f.code for f in check(original).findings}

@@ -296,13 +296,14 @@ def test_metadata_file_names(tmp_path: Path, name: str) -> None:
 
 
 def test_wtf_names_a_reader_crash_an_internal_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from tftools.analysis.wtf import fleet
+    from tftools.analysis import reading
+    from tftools.analysis.wtf.fleet import check_fleet
 
     def crash(*_args: object, **_kwargs: object) -> None:
         raise ValueError("boom")
 
-    monkeypatch.setattr(fleet, "read_recording", crash)
-    report = fleet.check_bags([str(tmp_path / "x.bag")])
+    monkeypatch.setattr(reading, "read_recording", crash)
+    (report,) = check_fleet([[str(tmp_path / "x.bag")]])
     assert report.error is not None
     assert "internal error of tftools" in report.error.message and "ValueError: boom" in report.error.message
 

@@ -13,7 +13,7 @@ import pytest
 from mcap.writer import Writer as McapWriter
 
 from tests.sources.ros2_helpers import NS, T0, TF_TYPE, Tf, batch_rows, tf_cdr, typestore, varied_transform
-from tftools.analysis.wtf import check
+from tftools.analysis.wtf.fleet import check
 from tftools.sources.bag import read_bag
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import read_recording
@@ -129,14 +129,14 @@ def test_unsupported_encoding_among_read_topics(tmp_path: Path) -> None:
     assert len(contents.transforms) == 1
     (line,) = contents.unread
     assert line.startswith(f"/tf_static: {TF_TYPE} in protobuf encoding, which tfx does not read (it reads ")
-    findings = [(f.code, f.message, f.hint) for f in check(read_recording([path]))]
+    findings = [(f.code, f.message, f.hint) for f in check(read_recording([path])).findings]
     assert ("bag_problem", line) in [(code, message) for code, message, _ in findings]
     assert not any("repair" in hint for _, _, hint in findings)
 
 
 def test_wtf_names_the_encoding(tmp_path: Path) -> None:
     path = unsupported(tmp_path, "protobuf")
-    findings = check(read_recording([path], allow_empty=True))
+    findings = check(read_recording([path], allow_empty=True)).findings
     (no_tf,) = [f for f in findings if f.code == "no_tf"]
     assert f"no transforms read in {path}: /tf_static, /tf: {TF_TYPE} in protobuf encoding" in no_tf.message
     assert "topics present" not in no_tf.message

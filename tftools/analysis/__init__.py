@@ -1,5 +1,8 @@
 """Analyses over a buffer: echo series, frame summaries, monitor statistics, wtf checks, reports and fleets.
 
+``tfx report``'s one call is ``tftools.analysis.report.report`` (``tftools.report``): here ``report`` names its
+room, the package.
+
 The names load on first use (PEP 562): ``import tftools.analysis`` costs nothing until a name of it is
 asked for, and each brings only its own modules."""
 
@@ -19,27 +22,22 @@ if TYPE_CHECKING:
     from tftools.analysis.fleet import Fleet, Unfinished, run_fleet
     from tftools.analysis.frames import FrameTree, frame_tree
     from tftools.analysis.graph import FrameGraph, frame_graph
-    from tftools.analysis.live import check_live, echo_live, filter_live, report_live
+    from tftools.analysis.live import echo_live, filter_live
     from tftools.analysis.loops import find_loops
     from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor, monitor_recording, watch_feed
-    from tftools.analysis.report import (
-        RecordingReport,
-        Unreadable,
-        recording_report,
-        report_bags,
-        report_fleet,
-        report_read,
-    )
+    from tftools.analysis.report import RecordingReport, ReportQuery, Unreadable, report_fleet
     from tftools.analysis.times import parse_time, time_range
     from tftools.analysis.tree_diff import TreeDiff, diff_trees
     from tftools.analysis.tree_file import read_tree, write_tree
-    from tftools.analysis.wtf import CHECKS, Thresholds, check, findings_of
-    from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_read, check_recording
+    from tftools.analysis.wtf import CHECKS, Thresholds, findings_of
+    from tftools.analysis.wtf.fleet import BagReport, check, check_fleet
+    from tftools.analysis.wtf.query import CheckQuery
     from tftools.sources.errors import NoStampedDataError
 
 __all__ = [
     "CHECKS",
     "BagReport",
+    "CheckQuery",
     "Difference",
     "EchoSeries",
     "FilterReport",
@@ -51,6 +49,7 @@ __all__ = [
     "MonitorReport",
     "NoStampedDataError",
     "RecordingReport",
+    "ReportQuery",
     "Robot",
     "Severity",
     "Thresholds",
@@ -60,11 +59,7 @@ __all__ = [
     "Unfinished",
     "Unreadable",
     "check",
-    "check_bags",
     "check_fleet",
-    "check_live",
-    "check_read",
-    "check_recording",
     "compare",
     "diff_trees",
     "echo",
@@ -85,11 +80,7 @@ __all__ = [
     "monitor_recording",
     "parse_time",
     "read_tree",
-    "recording_report",
-    "report_bags",
     "report_fleet",
-    "report_live",
-    "report_read",
     "robot_of",
     "run_fleet",
     "shape_of",
@@ -102,6 +93,7 @@ __all__ = [
 _HOME = {
     "BagReport": "tftools.analysis.wtf.fleet",
     "CHECKS": "tftools.analysis.wtf",
+    "CheckQuery": "tftools.analysis.wtf.query",
     "Difference": "tftools.analysis.diff",
     "EchoSeries": "tftools.analysis.echo",
     "FilterReport": "tftools.analysis.filter",
@@ -113,6 +105,7 @@ _HOME = {
     "MonitorReport": "tftools.analysis.monitor",
     "NoStampedDataError": "tftools.sources.errors",
     "RecordingReport": "tftools.analysis.report",
+    "ReportQuery": "tftools.analysis.report",
     "Robot": "tftools.analysis.description",
     "Severity": "tftools.analysis.findings",
     "Thresholds": "tftools.analysis.wtf",
@@ -121,12 +114,8 @@ _HOME = {
     "TreeShape": "tftools.analysis.expected",
     "Unfinished": "tftools.analysis.fleet",
     "Unreadable": "tftools.analysis.report",
-    "check": "tftools.analysis.wtf",
-    "check_bags": "tftools.analysis.wtf.fleet",
+    "check": "tftools.analysis.wtf.fleet",
     "check_fleet": "tftools.analysis.wtf.fleet",
-    "check_live": "tftools.analysis.live",
-    "check_read": "tftools.analysis.wtf.fleet",
-    "check_recording": "tftools.analysis.wtf.fleet",
     "compare": "tftools.analysis.diff",
     "diff_trees": "tftools.analysis.tree_diff",
     "echo": "tftools.analysis.echo",
@@ -147,11 +136,7 @@ _HOME = {
     "monitor_recording": "tftools.analysis.monitor",
     "parse_time": "tftools.analysis.times",
     "read_tree": "tftools.analysis.tree_file",
-    "recording_report": "tftools.analysis.report",
-    "report_bags": "tftools.analysis.report",
     "report_fleet": "tftools.analysis.report",
-    "report_live": "tftools.analysis.live",
-    "report_read": "tftools.analysis.report",
     "robot_of": "tftools.analysis.description",
     "run_fleet": "tftools.analysis.fleet",
     "shape_of": "tftools.analysis.expected",

@@ -1,5 +1,6 @@
-"""The commands' work on a live system, one call each, as on a bag: ``check_live`` (``tfx wtf``),
-``report_live`` (``tfx report``), ``filter_live`` (``tfx filter``), ``echo_live`` (``tfx echo``).
+"""The commands' work on a live system, one call each, as on a bag: ``filter_live`` (``tfx filter``),
+``echo_live`` (``tfx echo``). (``tfx wtf`` and ``tfx report`` capture a ``Recording``,
+``sources.live.sensor_headers.capture_live``, and make their one call on it: ``check``, ``report``.)
 
 Each is given a live source not yet started (``sources.live.open_live``), listens to it, and closes it;
 what it has to say while it works goes to callbacks (``on_problem``, ``on_reminder``), never to a terminal."""
@@ -11,61 +12,17 @@ from collections.abc import Callable, Sequence
 
 from tftools.analysis.echo import EchoSeries, echo_latest
 from tftools.analysis.filter import FilterReport, filter_heard
-from tftools.analysis.report import RecordingReport, report_read
-from tftools.analysis.wtf.fleet import BagReport, Checks, check_read
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.frames import frame_name
 from tftools.core.semantics import Semantics
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.capture import Waiting, listen, wait_for_transform
 from tftools.sources.live.sensor_headers import capture_live
-from tftools.sources.recording import Recording
 from tftools.sources.ticker import tick_every
-from tftools.sources.urdf import RobotDescription
 
-__all__ = ["Waiting", "capture_live", "check_live", "echo_live", "filter_live", "report_live"]
+__all__ = ["Waiting", "capture_live", "echo_live", "filter_live"]
 
 OnProblem = Callable[[str], object]
-
-
-def check_live(
-    source: LiveSource, duration: float = 5.0, checks: Checks | None = None, on_problem: OnProblem | None = None
-) -> BagReport:
-    """``tfx wtf`` without bags: ``check_bags``' checks (``checks``, as ``check_fleet`` takes them; the tf
-    topics are the source's) on what ``source`` says in ``duration`` seconds, the headers of the
-    ``sensor_topics`` (none unless named: listening to every camera would load the network) with it.
-    Hearing no transform is the ``no_tf`` finding; what could not be heard goes to ``on_problem``."""
-    checks = checks or {}
-    sensors = checks.get("sensor_topics")
-    recording = capture_live(source, duration, sensors or None, semantics=checks.get("semantics"), require_tf=False)
-    _tell([*_stamped_problems(recording), *recording.problems], on_problem)
-    return check_read(
-        recording,
-        thresholds=checks.get("thresholds"),
-        ignore=checks.get("ignore", ()),
-        target=checks.get("target"),
-        sensor_topics=sensors,
-        expected=checks.get("expected"),
-        urdf=checks.get("urdf"),
-        urdf_tolerances=checks.get("urdf_tolerances"),
-    )
-
-
-def report_live(
-    source: LiveSource,
-    duration: float = 5.0,
-    target: str | None = None,
-    sensor_topics: Sequence[str] | None = None,
-    urdf: RobotDescription | None = None,
-    semantics: Semantics | None = None,
-    on_problem: OnProblem | None = None,
-) -> RecordingReport:
-    """``tfx report`` without bags: ``report_bags``' report of what ``source`` says in ``duration`` seconds
-    (and the headers of the ``sensor_topics``, none unless named); what could not be heard of them goes to
-    ``on_problem``. Hearing no transform is a ``NoTransformsHeardError``."""
-    recording = capture_live(source, duration, sensor_topics or None, semantics=semantics)
-    _tell(_stamped_problems(recording), on_problem)
-    return report_read(recording, target=target, sensor_topics=sensor_topics, urdf=urdf)
 
 
 def filter_live(
@@ -115,13 +72,3 @@ def echo_live(
 
         with contextlib.suppress(KeyboardInterrupt):
             tick_every(1.0 / rate, tick, count=count, stop=lambda: source.finished, clock=source.clock)
-
-
-def _stamped_problems(recording: Recording) -> list[str]:
-    return [problem for info in recording.contents.files for problem in info.stamped_problems]
-
-
-def _tell(problems: Sequence[str], on_problem: OnProblem | None) -> None:
-    if on_problem is not None:
-        for problem in problems:
-            on_problem(problem)

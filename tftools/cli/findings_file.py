@@ -9,10 +9,11 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from tftools.cli import live
-from tftools.core.errors import UsageError
+from tftools.cli.errors import UsageError
 
 if TYPE_CHECKING:
-    from tftools.analysis.wtf.fleet import BagReport, Checks
+    from tftools.analysis.wtf.fleet import BagReport
+    from tftools.analysis.wtf.query import CheckQuery
 
 McapOption = Annotated[
     Path | None,
@@ -31,12 +32,12 @@ def one_recording(groups: Sequence[Sequence[str]]) -> Sequence[str]:
     return groups[0]
 
 
-def check_into_mcap(paths: Sequence[str], checks: Checks, mcap: Path, force: bool) -> BagReport:
+def check_into_mcap(paths: Sequence[str], query: CheckQuery, mcap: Path, force: bool) -> BagReport:
     """Check the recording ``paths`` and write its findings to ``mcap``, said on stderr (refused before any
     reading if ``mcap`` may not be written)."""
     from tftools.sinks.findings_mcap import check_into_mcap as check
 
-    report, written = check(paths, mcap, checks, force=force)
+    report, written = check(paths, mcap, query, force=force)
     if report.usable:
         live.say(f"wrote {written} messages to {mcap}")
     return report

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import stderr, warn
-from tftools.core.errors import UsageError
+from tftools.cli.errors import UsageError
 from tftools.core.semantics import Semantics
 from tftools.render.escape import printable
 
@@ -48,6 +48,27 @@ def capture_live(
     source = start_listening(ros1, use_sim_time, duration, topics)
     with heard(duration):
         return capture(source, duration, semantics=semantics)
+
+
+def capture_recording(
+    source: LiveSource,
+    duration: float,
+    sensor_topics: Sequence[str] | None,
+    semantics: Semantics | None = None,
+    *,
+    require_tf: bool = True,
+) -> Recording:
+    """What ``source`` (``start_listening``'s) says in ``duration`` seconds, with the headers of the
+    ``sensor_topics`` (none unless named: listening to every camera would load the network), as a recording
+    for ``tfx wtf`` and ``tfx report``'s one call; what could not be heard is said as warnings, and hearing no
+    transform (when ``require_tf``) as the command's error."""
+    from tftools.sources.live.sensor_headers import capture_live as capture
+
+    with heard(duration):
+        recording = capture(source, duration, sensor_topics or None, semantics=semantics, require_tf=require_tf)
+    for problem in [*(p for info in recording.contents.files for p in info.stamped_problems), *recording.problems]:
+        warn(problem)
+    return recording
 
 
 def start_listening(

@@ -12,13 +12,12 @@ import typer
 
 from tftools.cli import findings_file, live, options
 from tftools.cli.common import Exit, exit_with, hinted, progress_bar, say_written, warn
+from tftools.cli.errors import UsageError
 from tftools.cli.outputs import check_output
-from tftools.core.errors import UsageError
-from tftools.core.semantics import Semantics
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
+    from tftools.analysis.report import ReportQuery
     from tftools.render.report import Section
-    from tftools.sources.urdf import RobotDescription
 
 DEFAULT_OUTPUT = "report.html"
 
@@ -72,6 +71,7 @@ def command(
     [cyan]tfx report --ros1 -d 10 -o live.html[/]
     """
     from tftools.analysis.findings import counted
+    from tftools.analysis.report import ReportQuery
     from tftools.render.files import write_atomically
     from tftools.render.report import page
     from tftools.sources.urdf import read_urdf
@@ -82,28 +82,37 @@ def command(
         findings_file.refuse(mcap, findings_file.one_recording(groups), force)
         if mcap.resolve() == output.resolve():
             raise UsageError(f"--mcap {mcap} is the page's -o", "give them different names")
-    description = read_urdf(urdf) if urdf is not None else None
+    query = ReportQuery(
+        topics=tuple(topics) if topics else None,
+        semantics=tf2,
+        target=target,
+        sensor_topics=tuple(sensors) if sensors else None,
+        urdf=read_urdf(urdf) if urdf is not None else None,
+    )
     if groups:
-        sections = _bag_sections(groups, topics, tf2, target, sensors, description, jobs or os.cpu_count() or 1)
+        sections = _bag_sections(groups, query, jobs or os.cpu_count() or 1)
     else:
-        from tftools.analysis.live import report_live
+        from tftools.analysis.report import report
         from tftools.render.report import recording_section
 
         source = live.start_listening(ros1, use_sim_time, duration, topics)
-        with live.heard(duration):
-            report = report_live(source, duration, target, sensors, description, tf2, on_problem=warn)
-        for problem in report.problems:
-            warn(problem)
-        sections = [recording_section(0, report)]
+        recording = live.capture_recording(source, duration, query.sensor_topics, tf2)
+        sections = [recording_section(0, report(recording, query))]
     title = "tfx report: " + (sections[0].name if len(sections) == 1 else counted(len(sections), "recording"))
     write_atomically(output, page(title, sections).encode())
     failed = sum(s.verdict == "failed" for s in sections)
     said = ", ".join(s.summary for s in sections) if len(sections) == 1 else f"{failed} of {len(sections)} failed"
     say_written(str(output), said)
     if mcap is not None:  # the same checks as the page's, the recording read once more
-        from tftools.analysis.wtf.fleet import Checks
+        from tftools.analysis.wtf.query import CheckQuery
 
-        checks = Checks(topics=topics, semantics=tf2, target=target, sensor_topics=sensors, urdf=description)
+        checks = CheckQuery(
+            topics=query.topics,
+            semantics=query.semantics,
+            target=query.target,
+            sensor_topics=query.sensor_topics,
+            urdf=query.urdf,
+        )
         findings_file.check_into_mcap(groups[0], checks, mcap, force)
     exit_with(Exit.PROBLEMS if failed else Exit.OK)
 
@@ -116,15 +125,7 @@ def _check_output(output: Path, inputs: Sequence[str]) -> None:
         raise UsageError(f"-o {output}: cannot write in {folder}", "write elsewhere with -o")
 
 
-def _bag_sections(
-    groups: Sequence[Sequence[str]],
-    topics: Sequence[str] | None,
-    semantics: Semantics | None,
-    target: str | None,
-    sensors: Sequence[str] | None,
-    description: RobotDescription | None = None,
-    jobs: int = 1,
-) -> list[Section]:
+def _bag_sections(groups: Sequence[Sequence[str]], query: ReportQuery, jobs: int = 1) -> list[Section]:
     """One section per recording, ``jobs`` at once; one that cannot be read is an error of its own in a
     fleet, and the command's error when it is the only one (or none can be read)."""
     from tftools.analysis.fleet import Fleet
@@ -133,16 +134,8 @@ def _bag_sections(
 
     sections: dict[int, Section] = {}
     unread: list[Unreadable] = []
-    for index, result in report_fleet(
-        groups,
-        Fleet(jobs),
-        reading=progress_bar if jobs <= 1 or len(groups) <= 1 else None,  # one bar: of the recording read here
-        topics=topics,
-        semantics=semantics,
-        target=target,
-        sensor_topics=sensors,
-        urdf=description,
-    ):
+    here = jobs <= 1 or len(groups) <= 1  # each recording read here: one bar at a time
+    for index, result in report_fleet(groups, query, Fleet(jobs), progress=progress_bar if here else None):
         if isinstance(result, Unreadable):
             if len(groups) == 1:
                 raise UsageError(result.message, result.hint)

@@ -8,7 +8,6 @@ import functools
 import os
 import sys
 from collections.abc import Callable, Sequence
-from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -19,13 +18,14 @@ from tftools.cli import defaults, findings_file, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
-from tftools.core.errors import UsageError
+from tftools.cli.errors import UsageError
 
 if TYPE_CHECKING:  # the checks and their renderers load when a command runs: --help needs none of them (nor numpy)
     from tftools.analysis.fleet import Fleet
+    from tftools.analysis.reading import Progress
     from tftools.analysis.wtf import Thresholds
-    from tftools.analysis.wtf.fleet import BagReport, Checks
-    from tftools.sources.bag import ProgressCallback
+    from tftools.analysis.wtf.fleet import BagReport
+    from tftools.analysis.wtf.query import CheckQuery
 
 
 class WtfFormat(str, enum.Enum):
@@ -172,7 +172,7 @@ def command(
     [cyan]tfx wtf -b run_0.bag -b run_1.bag --strict[/]
     """
     from tftools.analysis.expected import Tolerances
-    from tftools.analysis.wtf.fleet import Checks
+    from tftools.analysis.wtf.query import CheckQuery
     from tftools.render import wtf as render
     from tftools.render import wtf_lines as render_lines
     from tftools.sources.urdf import read_urdf
@@ -195,13 +195,13 @@ def command(
     robot_tolerances = expected_tree.tolerances(Tolerances(), *tolerances) if expected is None else expected.tolerances
     thresholds = _thresholds(stale_after=stale_after, max_gap=max_gap, delay=delay, future=future, clock=clock)
     ignored = _ignored(ignore or [])
-    checks = Checks(
-        topics=topics,
+    query = CheckQuery(
+        topics=tuple(topics) if topics else None,
+        semantics=tf2,
         thresholds=thresholds,
         ignore=ignored,
-        semantics=tf2,
         target=target,
-        sensor_topics=sensors,
+        sensor_topics=tuple(sensors) if sensors else None,
         expected=expected,
         urdf=description,
         urdf_tolerances=robot_tolerances,
@@ -212,21 +212,22 @@ def command(
             raise UsageError("--watch listens to a live system", "give no bag (or drop --watch)")
         if fmt is not WtfFormat.text:
             raise UsageError("--watch says its changes as text lines", "drop --format; /diagnostics carries the rest")
-        _watch(ros1, use_sim_time, topics, checks, window)
+        _watch(ros1, use_sim_time, topics, query, window)
         return
     if mcap is not None:
-        reports = [findings_file.check_into_mcap(findings_file.one_recording(groups), checks, mcap, force)]
+        reports = [findings_file.check_into_mcap(findings_file.one_recording(groups), query, mcap, force)]
     elif groups:
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)
         fleet = _fleet(jobs or os.cpu_count() or 1, dask, timeout)
-        reports = _check_groups(groups, checks, fleet, resume, stream if fmt is WtfFormat.jsonl else lambda bag: None)
+        reports = _check_groups(groups, query, fleet, resume, stream if fmt is WtfFormat.jsonl else lambda bag: None)
     elif dask is not None or resume is not None or timeout is not None:
         raise UsageError("--dask, --resume and --timeout are for recordings", "e.g. tfx wtf logs/*.bag --dask ADDRESS")
     else:  # nothing heard is the no_tf error; sensor data only from the topics named
-        from tftools.analysis.live import check_live
+        from tftools.analysis.wtf.fleet import check
 
         source = live.start_listening(ros1, use_sim_time, duration, topics)
-        reports = [check_live(source, duration, checks, on_problem=warn)]
+        recording = live.capture_recording(source, duration, query.sensor_topics, tf2, require_tf=False)
+        reports = [check(recording, query)]
     code = outcome(reports, strict)
     if fmt is WtfFormat.json:
         render.write_json(reports, sys.stdout, strict, thresholds, code)
@@ -247,16 +248,17 @@ def command(
 
 
 def _watch(
-    ros1: bool | None, use_sim_time: bool | None, topics: Sequence[str] | None, checks: Checks, window: float
+    ros1: bool | None, use_sim_time: bool | None, topics: Sequence[str] | None, query: CheckQuery, window: float
 ) -> None:
     """``--watch``: the live system checked every second, its health on /diagnostics and its changes on stdout."""
     from tftools.analysis.watch import Health, watch_live
+    from tftools.analysis.wtf.fleet import checks_of
     from tftools.render.escape import printable
     from tftools.sinks.diagnostics import open_diagnostics
     from tftools.sources.live.errors import LiveError
 
     positive_seconds(window, "--window", "10")
-    if checks.get("sensor_topics"):
+    if query.sensor_topics:
         raise UsageError("--watch checks tf only", "drop --sensor")
     source = live.open_source(ros1, use_sim_time, topics)
     try:
@@ -276,7 +278,7 @@ def _watch(
 
     live.say(f"watching {source.describe()}, publishing {publisher.describe()} once a second (Ctrl-C stops)")
     with publisher:
-        watch_live(source, tell, window, checks)
+        watch_live(source, tell, window, checks_of(query))
 
 
 def outcome(reports: Sequence[BagReport], strict: bool = False) -> Exit:
@@ -317,7 +319,7 @@ def _fleet(jobs: int, dask: str | None, timeout: float | None) -> Fleet:
 
 
 def _check_groups(
-    groups: list[list[str]], checks: Checks, fleet: Fleet, resume: Path | None, stream: Callable[[BagReport], None]
+    groups: list[list[str]], query: CheckQuery, fleet: Fleet, resume: Path | None, stream: Callable[[BagReport], None]
 ) -> list[BagReport]:
     """Each group of paths checked as its own recording, ``stream`` ed as it finishes (those resumed first);
     reports in the given order (then those resumed that were not given)."""
@@ -326,8 +328,8 @@ def _check_groups(
     done = _resumed(resume) if resume is not None else []
     todo = remaining(groups, done)
     reports: list[BagReport] = []
-    with count_bar("checking", len(todo)) as advance, _bytes_bar(todo, fleet) as progress:
-        for bag in check_fleet(groups, fleet, done, progress, checks):
+    with count_bar("checking", len(todo)) as advance:
+        for bag in check_fleet(groups, query, fleet, done=done, progress=_bytes_bar(todo, fleet)):
             stream(bag)
             reports.append(bag)
             if len(reports) > len(done):
@@ -335,9 +337,9 @@ def _check_groups(
     return in_order(groups, reports)
 
 
-def _bytes_bar(todo: list[list[str]], fleet: Fleet) -> AbstractContextManager[ProgressCallback | None]:
+def _bytes_bar(todo: list[list[str]], fleet: Fleet) -> Progress | None:
     """One local recording: a bar of the bytes read, when it is large."""
-    return progress_bar(todo[0], "checking") if len(todo) == 1 and fleet.dask is None else nullcontext()
+    return functools.partial(progress_bar, then="checking") if len(todo) == 1 and fleet.dask is None else None
 
 
 def _resumed(path: Path) -> list[BagReport]:

@@ -24,7 +24,7 @@ from tftools.sinks.diagnostics import DIAGNOSTIC_ARRAY, TOPIC, encode_ros1
 from tftools.sources.codecs.types import ros1_message_type
 
 if TYPE_CHECKING:
-    from tftools.analysis.wtf.fleet import Checks
+    from tftools.analysis.wtf.query import CheckQuery
     from tftools.core.buffer import Buffer
     from tftools.core.transform import Transform
     from tftools.sources.recording import Recording
@@ -52,40 +52,21 @@ class FoxgloveSchemasMissingError(TfToolsError):
 
 
 def check_into_mcap(
-    paths: Sequence[str | os.PathLike[str]], path: str | os.PathLike[str], checks: Checks, *, force: bool = False
+    paths: Sequence[str | os.PathLike[str]], path: str | os.PathLike[str], query: CheckQuery, *, force: bool = False
 ) -> tuple[BagReport, int]:
-    """``check_bags`` of the recording ``paths`` with ``checks``, its findings written to a new MCAP at ``path``
-    (``write_findings_mcap``; refused before any reading if it may not be written): the report and the
-    messages written (none when the recording could not be read)."""
-    from tftools.analysis.wtf.fleet import check_read, unreadable
-    from tftools.sources.bag.robot import ROBOT_TOPICS
-    from tftools.sources.recording import read_recording
+    """``check`` of the recording ``paths`` (read as ``query.reading()`` says), its findings written to a new MCAP
+    at ``path`` (``write_findings_mcap``; refused before any reading if it may not be written): the report and
+    the messages written (none when the recording could not be read)."""
+    from tftools.analysis.wtf.fleet import check, unreadable
 
     refuse_output(path, paths, force)
     _protobuf()
     try:
-        recording = read_recording(
-            paths,
-            checks.get("topics"),
-            allow_empty=True,
-            semantics=checks.get("semantics"),
-            headers=tuple(checks.get("sensor_topics") or ()),
-            whole=ROBOT_TOPICS,
-        )
+        recording = query.reading().read(paths)
     except TfToolsError as error:
         return unreadable(tuple(str(p) for p in paths), str(error), error.hint), 0
-    report = check_read(
-        recording,
-        paths,
-        checks.get("thresholds"),
-        checks.get("ignore", ()),
-        checks.get("target"),
-        checks.get("sensor_topics"),
-        checks.get("expected"),
-        checks.get("urdf"),
-        checks.get("urdf_tolerances"),
-    )
-    return report, write_findings_mcap(path, report, recording, force=force, ignore=tuple(checks.get("ignore", ())))
+    report = check(recording, query)
+    return report, write_findings_mcap(path, report, recording, force=force, ignore=query.ignore)
 
 
 def refuse_output(path: str | os.PathLike[str], inputs: Sequence[str | os.PathLike[str]], force: bool) -> None:

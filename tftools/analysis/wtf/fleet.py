@@ -1,29 +1,25 @@
-"""Checking bags: each recording of a fleet (one bag or a split one) into a ``BagReport``."""
+"""``tfx wtf``'s one call: ``check(recording, query)``, a recording's ``BagReport``; and ``check_fleet``, each
+recording of a fleet (one bag or a split one) read and checked."""
 
 from __future__ import annotations
 
 import functools
-import os
-from collections.abc import Collection, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import TypedDict
+from typing import Any
 
-from tftools.analysis.description import Robot, robot_of
-from tftools.analysis.expected import Tolerances, TreeShape
+from tftools.analysis.description import robot_of
 from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity, causes
 from tftools.analysis.fleet import HERE, Fleet, Unfinished, run_fleet
+from tftools.analysis.reading import Progress, unwatched
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.causes import explain
-from tftools.analysis.wtf.thresholds import Thresholds
+from tftools.analysis.wtf.query import CHECK_DEFAULTS, CheckQuery
 from tftools.core.errors import TfToolsError
-from tftools.core.semantics import Semantics
-from tftools.sources.bag import ProgressCallback
-from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.bag.stamped import stamped_of
-from tftools.sources.contents import Fetched, StampedMessages
-from tftools.sources.recording import Recording, read_recording
-from tftools.sources.urdf import RobotDescription
+from tftools.sources.contents import Fetched
+from tftools.sources.recording import Recording
 
 
 @dataclass
@@ -62,94 +58,67 @@ class BagReport:
         return self.error is not None or any(f.severity.fails(strict) for f in causes(self.findings))
 
 
-def check_bags(
-    paths: Sequence[str | os.PathLike[str]],
-    topics: Sequence[str] | None = None,
-    thresholds: Thresholds | None = None,
-    ignore: Collection[str] = (),
-    progress: ProgressCallback | None = None,
-    semantics: Semantics | None = None,
-    target: str | None = None,
-    sensor_topics: Sequence[str] | None = None,
-    expected: TreeShape | None = None,
-    urdf: RobotDescription | None = None,
-    urdf_tolerances: Tolerances | None = None,
-) -> BagReport:
-    """Read ``paths`` as one recording and check it, its sensor data (``sensor_topics``, default:
-    every topic whose messages start with a header) against tf in ``target`` (``choose_target``),
-    against the ``expected`` tree if given, and against the robot's description (``urdf``, else the
-    recorded /robot_description: ``robot_of``); a bag that cannot be read is reported, not raised."""
-    names = tuple(str(p) for p in paths)
-    try:
-        headers = tuple(sensor_topics or ())
-        recording = read_recording(
-            paths, topics, progress, allow_empty=True, semantics=semantics, headers=headers, whole=ROBOT_TOPICS
-        )
-    except TfToolsError as error:
-        return unreadable(names, str(error), error.hint)
-    except Exception as error:  # a reader's bug on a strange file must not stop a fleet, nor pass for damage
-        return unreadable(
-            names,
-            f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
-            "this is a bug in tftools, not necessarily in the file: please report it with the file",
-        )
-    return check_read(recording, paths, thresholds, ignore, target, sensor_topics, expected, urdf, urdf_tolerances)
-
-
-def check_read(
-    recording: Recording,
-    paths: Sequence[str | os.PathLike[str]] = (),
-    thresholds: Thresholds | None = None,
-    ignore: Collection[str] = (),
-    target: str | None = None,
-    sensor_topics: Sequence[str] | None = None,
-    expected: TreeShape | None = None,
-    urdf: RobotDescription | None = None,
-    urdf_tolerances: Tolerances | None = None,
-) -> BagReport:
-    """``check_bags`` of a recording read from ``paths`` (or heard: ``analysis.live.check_live``), its sensor
-    data the headers it was read with."""
-    robot, said = robot_of(paths, recording, urdf, urdf_tolerances or (expected.tolerances if expected else None))
-    streams = stamped_of(recording.contents.files, sensor_topics).streams
-    checked = check_recording(recording, streams, thresholds, ignore, target, expected, robot)
-    if said is not None and said.code not in ignore:
+def check(recording: Recording, query: CheckQuery = CHECK_DEFAULTS) -> BagReport:
+    """``tfx wtf``'s check of ``recording`` (read from files or URLs with ``query.reading()``, or captured live):
+    every check but those ignored, its sensor data (the headers it was read with) against tf, against the
+    expected tree if given, and against the robot's description (``robot_of``)."""
+    robot, said = robot_of(recording.paths, recording, query.urdf, query.robot_tolerances)
+    streams = stamped_of(recording.contents.files, query.sensor_topics).streams
+    scene = Scene(recording, query.thresholds, streams, query.target, query.expected, robot)
+    checked = BagReport(
+        paths=tuple(recording.paths),
+        findings=findings_of(scene, query.ignore),
+        formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
+        start=recording.start,
+        end=recording.end,
+        transforms=recording.transform_count,
+        frames=len(recording.buffer.frames),
+        fetched=tuple(f.fetched for f in recording.contents.files if f.fetched is not None),
+    )
+    if any(tied_to_tf(s) for s in streams):
+        checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
+        checked.sensor_target, checked.sensor_target_reason = choose_target(scene.tree, query.target)
+    if said is not None and said.code not in query.ignore:
         checked.findings = explain([*checked.findings, said])
     return checked
 
 
-class Checks(TypedDict, total=False):
-    """``check_bags``' options of each recording's check, for ``check_fleet``."""
-
-    topics: Sequence[str] | None
-    thresholds: Thresholds | None
-    ignore: Collection[str]
-    semantics: Semantics | None
-    target: str | None
-    sensor_topics: Sequence[str] | None
-    expected: TreeShape | None
-    urdf: RobotDescription | None
-    urdf_tolerances: Tolerances | None
-
-
 def check_fleet(
-    groups: Sequence[Sequence[str]],
+    sources: Sequence[Sequence[str]],
+    query: CheckQuery = CHECK_DEFAULTS,
     fleet: Fleet = HERE,
+    *,
     done: Sequence[BagReport] = (),
-    progress: ProgressCallback | None = None,
-    checks: Checks | None = None,
+    progress: Progress | None = None,
 ) -> Iterator[BagReport]:
-    """Each group of paths checked as its own recording (``check_bags`` with ``checks``) on ``fleet``, its
-    report yielded as it finishes; a check that did not finish is a report that says so (code
-    ``unchecked``). The reports ``done`` (of an earlier run) come first, and their recordings are not
-    checked again (``remaining``). ``progress`` is told the bytes read when the fleet is one recording
-    checked in this process."""
-    one = functools.partial(check_bags, **(checks or {}))
-    todo = remaining(groups, done)
-    if progress is not None and len(todo) == 1 and fleet.dask is None:
-        one = functools.partial(one, progress=progress)
+    """Each group of paths or URLs in ``sources`` read as its own recording and checked (``check``) on
+    ``fleet``, its report yielded as it finishes; one that cannot be read is a report that says so (code
+    ``unreadable``), one whose check did not finish too (code ``unchecked``). The reports ``done`` (of an
+    earlier run) come first, and their recordings are not checked again (``remaining``). ``progress``: for
+    each recording read in this process, a context told the bytes read (a progress bar)."""
+    todo = remaining(sources, done)
     yield from done
-    for index, result in run_fleet(todo, one, fleet):
+    task = functools.partial(_check_group, query, progress or unwatched)
+    for index, result in run_fleet(todo, task, fleet):
         yield unchecked(tuple(todo[index]), result.why, result.hint) if isinstance(result, Unfinished) else result
+
+
+def _check_group(query: CheckQuery, progress: Progress, paths: Sequence[str]) -> BagReport:
+    """One recording of a fleet read and checked (``progress`` told of it throughout); one that cannot be
+    read is reported, not raised."""
+    names = tuple(str(p) for p in paths)
+    with progress(paths) as told:
+        try:
+            recording = query.reading().read(paths, told)
+        except TfToolsError as error:
+            return unreadable(names, str(error), error.hint)
+        except Exception as error:  # a reader's bug on a strange file must not stop a fleet, nor pass for damage
+            return unreadable(
+                names,
+                f"{names[0]}: internal error of tftools while reading it ({type(error).__name__}: {error})",
+                "this is a bug in tftools, not necessarily in the file: please report it with the file",
+            )
+        return check(recording, query)
 
 
 def remaining(groups: Sequence[Sequence[str]], done: Sequence[BagReport]) -> list[list[str]]:
@@ -173,34 +142,6 @@ def exit_code(reports: Sequence[BagReport], strict: bool = False) -> int:
     return 1 if any(r.failed(strict) for r in reports) else 0
 
 
-def check_recording(
-    recording: Recording,
-    streams: Sequence[StampedMessages] = (),
-    thresholds: Thresholds | None = None,
-    ignore: Collection[str] = (),
-    target: str | None = None,
-    expected: TreeShape | None = None,
-    robot: Robot | None = None,
-) -> BagReport:
-    """Check a recording read (or heard) and its sensor data ``streams`` against tf in ``target``
-    (and against the ``expected`` tree, and the ``robot``'s description)."""
-    scene = Scene(recording, thresholds, streams, target, expected, robot)
-    checked = BagReport(
-        paths=tuple(recording.paths),
-        findings=findings_of(scene, ignore),
-        formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
-        start=recording.start,
-        end=recording.end,
-        transforms=recording.transform_count,
-        frames=len(recording.buffer.frames),
-        fetched=tuple(f.fetched for f in recording.contents.files if f.fetched is not None),
-    )
-    if any(tied_to_tf(s) for s in streams):
-        checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
-        checked.sensor_target, checked.sensor_target_reason = choose_target(scene.tree, target)
-    return checked
-
-
 def unreadable(paths: tuple[str, ...], message: str, hint: str) -> BagReport:
     hint = hint or "check that the file is a complete bag"
     return BagReport(paths, error=Finding(Severity.error, "unreadable", message, hint))
@@ -210,3 +151,16 @@ def unchecked(paths: tuple[str, ...], why: str, hint: str) -> BagReport:
     """A recording whose check did not finish (its worker died, it ran out of time): said, not passed."""
     message = f"{' + '.join(paths)}: not checked: {why}"
     return BagReport(paths, error=Finding(Severity.error, "unchecked", message, hint))
+
+
+# Transitional, for ``analysis/watch.py`` alone until it takes a ``CheckQuery`` (its owner's change, issue 40):
+# the query as the dict it reads (``checks_of``), and its check. Not exported; goes with that change.
+Checks = dict[str, Any]
+
+
+def checks_of(query: CheckQuery) -> Checks:
+    return {name: getattr(query, name) for name in CheckQuery.__dataclass_fields__}
+
+
+def check_read(recording: Recording, **checks: Any) -> BagReport:
+    return check(recording, CheckQuery(**checks))

@@ -1,23 +1,20 @@
-"""``tfx report``'s data: one recording's facts, ``tfx wtf``'s findings, its frame graph, and its edges and
-sensor streams over time (``analysis.timelines``) on one axis."""
+"""``tfx report``'s one call: ``report(recording, query)``, what the page shows of one recording: its facts,
+``tfx wtf``'s findings, its frame graph, and its edges and sensor streams over time (``analysis.timelines``) on
+one axis."""
 
 from __future__ import annotations
 
-import dataclasses
-import functools
-import os
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import AbstractContextManager, nullcontext
+from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 
-from tftools.analysis.description import Robot, robot_of
+from tftools.analysis.description import robot_of
 from tftools.analysis.filter import tied_to_tf
 from tftools.analysis.findings import Finding
-from tftools.analysis.fleet import HERE, Fleet, Unfinished, run_fleet
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
 from tftools.analysis.poses import FramePoses, frame_poses
+from tftools.analysis.report.query import REPORT_DEFAULTS, ReportQuery
 from tftools.analysis.timelines import (
     Bins,
     EdgeTimeline,
@@ -30,16 +27,11 @@ from tftools.analysis.timelines import (
 )
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.causes import explain
-from tftools.core.errors import TfToolsError
-from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, format_sec, from_sec
-from tftools.sources.bag import ProgressCallback
-from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import StampedMessages
-from tftools.sources.recording import Recording, read_recording
+from tftools.sources.recording import Recording
 from tftools.sources.timeline import EPOCH_FLOOR, Reference
-from tftools.sources.urdf import RobotDescription
 
 #: What the tf2 semantics are called on the page.
 TF2_NAMES = {"ros1": "ROS 1's (Noetic)", "ros2": "ROS 2's (Rolling, Jazzy)"}
@@ -62,101 +54,15 @@ class RecordingReport:
     problems: tuple[str, ...] = ()  # what its reader could not read (also among the facts)
 
 
-@dataclass(frozen=True)
-class Unreadable:
-    """A recording of a fleet that could not be read (or whose report did not finish): what went wrong,
-    and what to do."""
-
-    name: str
-    message: str
-    hint: str
-
-
-#: Per recording read in this process, a context whose value is told the bytes read (or None).
-Reading = Callable[[Sequence[str]], AbstractContextManager[ProgressCallback | None]]
-
-
-def report_fleet(
-    groups: Sequence[Sequence[str]],
-    fleet: Fleet = HERE,
-    reading: Reading | None = None,
-    topics: Sequence[str] | None = None,
-    semantics: Semantics | None = None,
-    target: str | None = None,
-    sensor_topics: Sequence[str] | None = None,
-    urdf: RobotDescription | None = None,
-) -> Iterator[tuple[int, RecordingReport | Unreadable]]:
-    """Each group of paths reported as its own recording (``report_bags``) on ``fleet``, yielded with its
-    index in ``groups`` as it finishes."""
-    report = functools.partial(
-        report_bags, topics=topics, semantics=semantics, target=target, sensor_topics=sensor_topics, urdf=urdf
-    )
-    task = functools.partial(_report_reading, reading or _unwatched, report)
-    for index, result in run_fleet(groups, task, fleet):
-        if isinstance(result, Unfinished):
-            name = " + ".join(groups[index])
-            result = Unreadable(name, f"{name}: not checked: {result.why}", result.hint)
-        yield index, result
-
-
-def _report_reading(
-    reading: Reading, report: Callable[..., RecordingReport | Unreadable], paths: Sequence[str]
-) -> RecordingReport | Unreadable:
-    with reading(paths) as progress:
-        return report(paths, progress=progress)
-
-
-def _unwatched(paths: Sequence[str]) -> AbstractContextManager[None]:
-    return nullcontext()
-
-
-def report_bags(
-    paths: Sequence[str | os.PathLike[str]],
-    topics: Sequence[str] | None = None,
-    semantics: Semantics | None = None,
-    target: str | None = None,
-    sensor_topics: Sequence[str] | None = None,
-    urdf: RobotDescription | None = None,
-    progress: ProgressCallback | None = None,
-) -> RecordingReport | Unreadable:
-    """Read ``paths`` as one recording and report it (``recording_report``) with its sensor data
-    (``sensor_topics``, default every topic with a header), against the robot's description (``urdf``, else
-    the recorded /robot_description); one that cannot be read is an ``Unreadable``, not raised."""
-    try:
-        headers = tuple(sensor_topics or ())
-        recording = read_recording(paths, topics, progress, semantics=semantics, headers=headers, whole=ROBOT_TOPICS)
-    except TfToolsError as error:
-        return Unreadable(" + ".join(str(p) for p in paths), str(error), error.hint)
-    return report_read(recording, paths, target, sensor_topics, urdf)
-
-
-def report_read(
-    recording: Recording,
-    paths: Sequence[str | os.PathLike[str]] = (),
-    target: str | None = None,
-    sensor_topics: Sequence[str] | None = None,
-    urdf: RobotDescription | None = None,
-) -> RecordingReport:
-    """``report_bags`` of a recording read from ``paths`` (or heard: ``analysis.live.report_live``), its
-    sensor data the headers it was read with."""
-    robot, said = robot_of(paths, recording, urdf)
-    streams = stamped_of(recording.contents.files, sensor_topics).streams
-    report = recording_report(recording, streams, target, robot, [said] if said is not None else [])
-    return dataclasses.replace(report, problems=tuple(recording.problems))
-
-
-def recording_report(
-    recording: Recording,
-    streams: Sequence[StampedMessages] = (),
-    target: str | None = None,
-    robot: Robot | None = None,
-    extra: Sequence[Finding] = (),
-) -> RecordingReport:
-    """The report of ``recording`` and its sensor data ``streams``, checked as ``tfx wtf`` checks them
-    (into ``target``, ``analysis.filter.choose_target``; against the ``robot``'s description), with the
-    findings ``extra`` its reader made."""
-    scene = Scene(recording, streams=streams, target=target, robot=robot)
-    findings = explain([*findings_of(scene), *extra])
+def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> RecordingReport:
+    """What ``tfx report``'s page shows of ``recording`` (read from files or URLs with ``query.reading()``, or
+    captured live): its facts, its findings as ``tfx wtf`` checks it (its sensor data, the headers it was read
+    with, into ``query.target``: ``analysis.filter.choose_target``; against the robot's description,
+    ``robot_of``), its frame graph, its edges and sensor data over time, and every frame in 3D."""
+    robot, said = robot_of(recording.paths, recording, query.urdf)
+    streams = stamped_of(recording.contents.files, query.sensor_topics).streams
+    scene = Scene(recording, streams=streams, target=query.target, robot=robot)
+    findings = explain([*findings_of(scene), *([said] if said is not None else [])])
     graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None
@@ -180,6 +86,7 @@ def recording_report(
         timeline.delays_unavailable,
         timeline.origin,
         frame_poses(buffer, scene.tree, bins.start, bins.start + bins.count * bins.width),
+        problems=tuple(recording.problems),
     )
 
 
