@@ -1,0 +1,110 @@
+"""The library's errors name no option; the command line words each with the option it came from, on one line,
+with exit code 2 (``tftools.cli.errors.TABLE``)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.cli.conftest import SAMPLE_BAGS, Result
+from tftools.analysis.fleet import Fleet, run_fleet, scheduler_address
+from tftools.cli.errors import TABLE, UsageError, worded
+from tftools.core.errors import (
+    FleetUnavailableError,
+    InvalidTransformError,
+    TfToolsError,
+    TransformError,
+    UnknownFrameError,
+)
+from tftools.core.frames import known_frame
+from tftools.core.transform import Transform
+from tftools.sinks.static import add_static, checked, copyable
+from tftools.sources.errors import NoStampedDataError, PartOfBagError
+
+BAG = str(SAMPLE_BAGS["ros1"])
+DB3 = SAMPLE_BAGS["db3"] / "robot_db3.db3"
+
+
+def one_error_line(result: Result) -> str:
+    """The command's one line on stderr, which must be an error with exit code 2 and nothing on stdout."""
+    assert result.code == 2 and result.stdout == "" and result.stderr.count("\n") == 1, result
+    assert result.stderr.startswith("tfx: error: ")
+    return result.stderr
+
+
+def said_by_library(error: TfToolsError) -> str:
+    return f"{error} {error.hint}"
+
+
+def test_an_address_that_is_no_scheduler_is_the_librarys_fact_and_the_dask_options_words(tfx) -> None:
+    with pytest.raises(FleetUnavailableError) as raised:
+        scheduler_address("nonsense")
+    assert raised.value.address == "nonsense" and "--" not in said_by_library(raised.value)
+    line = one_error_line(tfx("wtf", BAG, "--dask", "nonsense"))
+    assert line.startswith("tfx: error: --dask nonsense: not a scheduler address (scheme://host:port")
+    assert "e.g. --dask tcp://127.0.0.1:8786" in line
+
+
+def test_dask_not_installed_is_said_without_the_option_by_the_library(
+    tfx, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed raises ImportError
+    with pytest.raises(FleetUnavailableError) as raised:
+        dict(run_fleet([[BAG]], len, Fleet(dask="tcp://127.0.0.1:8786")))
+    assert raised.value.address is None and "--" not in said_by_library(raised.value)
+    line = one_error_line(tfx("wtf", BAG, "--dask", "tcp://127.0.0.1:8786"))
+    assert "--dask needs Dask's distributed package, which is not installed" in line
+
+
+def test_a_transform_tf2_cannot_take_is_an_invalid_transform(tfx, tmp_path: Path) -> None:
+    with pytest.raises(InvalidTransformError, match=r"the frame and the child frame are the same \(a\)"):
+        checked(Transform((0, 0, 0), (0, 0, 0, 1), 0, "a", "a"))
+    line = one_error_line(tfx("static", "0", "0", "0", "0", "0", "0", "0", "a", "b", "-b", BAG, "-o", tmp_path / "o"))
+    assert "a -> b: the quaternion is zero (the identity is qx 0 qy 0 qz 0 qw 1)" in line
+
+
+def test_a_frame_the_bag_has_names_tfx_frames_only_on_the_command_line(tfx, tmp_path: Path) -> None:
+    laser = Transform((0, 0, 0), (0, 0, 0, 1), 0, "base_link", "laser")
+    with pytest.raises(InvalidTransformError, match="already has laser") as raised:
+        add_static(BAG, tmp_path / "copy.bag", [laser])
+    assert (raised.value.child, raised.value.recording) == ("laser", BAG)
+    assert raised.value.hint == "add only frames the bag lacks"
+    args = ("0", "0", "0", "0", "0", "0", "1", "base_link", "laser", "-b", BAG, "-o", tmp_path / "copy.bag")
+    line = one_error_line(tfx("static", *args))
+    assert f"add only frames the bag lacks: tfx frames -b {BAG} lists its own" in line
+    assert not (tmp_path / "copy.bag").exists()
+
+
+def test_a_file_of_a_ros2_bag_is_refused_in_the_bags_words_and_then_the_b_options(tfx, tmp_path: Path) -> None:
+    with pytest.raises(PartOfBagError) as raised:
+        copyable(str(DB3))
+    assert raised.value.bag == str(DB3.parent) and "-b" not in said_by_library(raised.value)
+    args = ("0", "0", "0", "0", "0", "0", "1", "a", "b", "-b", DB3, "-o", tmp_path / "copy")
+    line = one_error_line(tfx("static", *args))
+    assert f"-b {DB3} is a file of the ROS 2 bag {DB3.parent}" in line
+    assert f"-b {DB3.parent} -o OUTPUT" in line
+
+
+def test_a_frame_not_there_carries_the_frames_there_are(tfx) -> None:
+    with pytest.raises(UnknownFrameError) as raised:
+        known_frame(["odom", "base_link", "laser"], "/lasr")
+    assert raised.value.frame == "/lasr" and raised.value.frames == ("laser", "base_link", "odom")
+    assert isinstance(raised.value, TransformError) and "--" not in said_by_library(raised.value)
+    line = one_error_line(tfx("echo", "odm", "base_link", "-b", BAG))
+    assert "frame 'odm' does not exist (frames: odom, " in line
+
+
+def test_no_sensor_data_is_a_source_error_with_its_reasons() -> None:
+    error = NoStampedDataError(["/scan: not in the recording"])
+    assert error.problems == ["/scan: not in the recording"] and "--" not in said_by_library(error)
+    said, code = worded(error)
+    assert isinstance(said, UsageError) and str(said) == str(error) and code == 2
+
+
+def test_the_table_has_one_row_per_error_sorted_and_others_pass_as_they_are() -> None:
+    names = [kind.__name__ for kind in TABLE]
+    assert names == sorted(names)
+    plain = TfToolsError("something")
+    assert worded(plain) == (plain, 2)
