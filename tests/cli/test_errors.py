@@ -108,3 +108,18 @@ def test_the_table_has_one_row_per_error_sorted_and_others_pass_as_they_are() ->
     assert names == sorted(names)
     plain = TfToolsError("something")
     assert worded(plain) == (plain, 2)
+
+
+def test_a_findings_file_that_may_not_be_written_names_force_only_on_the_command_line(tfx, tmp_path: Path) -> None:
+    from tftools.sinks.errors import FindingsFileError
+    from tftools.sinks.findings_mcap import refuse_output
+
+    there = tmp_path / "findings.mcap"
+    there.write_bytes(b"")
+    with pytest.raises(FindingsFileError) as raised:
+        refuse_output(there, [BAG], force=False)
+    assert raised.value.reason == "exists" and "--" not in said_by_library(raised.value)
+    line = one_error_line(tfx("wtf", BAG, "--mcap", there))
+    assert f"{there} exists (give another file name, or --force to overwrite it)" in line
+    line = one_error_line(tfx("wtf", BAG, "--mcap", tmp_path))
+    assert f"{tmp_path} is a folder (give a file name for --mcap)" in line

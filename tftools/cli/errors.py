@@ -9,6 +9,7 @@ from typing import Any
 
 from tftools.cli.common import Exit
 from tftools.core.errors import FleetUnavailableError, InvalidTransformError, TfToolsError, UnknownFrameError
+from tftools.sinks.errors import FindingsFileError
 from tftools.sources.errors import NoStampedDataError, PartOfBagError
 
 
@@ -36,6 +37,11 @@ def _fleet(error: FleetUnavailableError) -> UsageError:
     return UsageError(f"--dask {error}", error.hint.replace("e.g. ", "e.g. --dask "))
 
 
+def _findings_file(error: FindingsFileError) -> UsageError:
+    hint = {"exists": "give another file name, or --force to overwrite it", "folder": "give a file name for --mcap"}
+    return UsageError(str(error), hint.get(error.reason, "give another file name for --mcap"))
+
+
 def _transform(error: InvalidTransformError) -> UsageError:
     if error.recording:
         return UsageError(str(error), f"{error.hint}: tfx frames -b {error.recording} lists its own")
@@ -56,6 +62,7 @@ def _said(error: TfToolsError) -> UsageError:
 
 #: Each library error the command line words its own way (rows sorted by class name).
 TABLE: dict[type[TfToolsError], Row] = {
+    FindingsFileError: Row(_findings_file),
     FleetUnavailableError: Row(_fleet),
     InvalidTransformError: Row(_transform),
     NoStampedDataError: Row(_said),

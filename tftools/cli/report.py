@@ -104,16 +104,7 @@ def command(
     said = ", ".join(s.summary for s in sections) if len(sections) == 1 else f"{failed} of {len(sections)} failed"
     say_written(str(output), said)
     if mcap is not None:  # the same checks as the page's, the recording read once more
-        from tftools.analysis.wtf.query import CheckQuery
-
-        checks = CheckQuery(
-            topics=query.topics,
-            semantics=query.semantics,
-            target=query.target,
-            sensor_topics=query.sensor_topics,
-            urdf=query.urdf,
-        )
-        findings_file.check_into_mcap(groups[0], checks, mcap, force)
+        findings_file.check_into_mcap(groups[0], query.checks(), mcap, force)
     exit_with(Exit.PROBLEMS if failed else Exit.OK)
 
 

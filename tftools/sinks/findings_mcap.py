@@ -21,6 +21,7 @@ from tftools.analysis.wtf.fleet import BagReport
 from tftools.core.errors import TfToolsError, TransformError
 from tftools.render.files import write_atomically
 from tftools.sinks.diagnostics import DIAGNOSTIC_ARRAY, TOPIC, encode_ros1
+from tftools.sinks.errors import FindingsFileError
 from tftools.sources.codecs.types import ros1_message_type
 
 if TYPE_CHECKING:
@@ -35,14 +36,6 @@ FRAMES_TOPIC = "/tfx/finding_frames"
 PERIOD = 1_000_000_000
 #: The window each second's edge figures are taken over (ns), as ``tfx wtf --watch``'s default.
 WINDOW = 10_000_000_000
-
-
-class FindingsFileError(TfToolsError):
-    """The findings MCAP may not be written: it exists (without --force), or is the recording itself."""
-
-    def __init__(self, message: str, hint: str) -> None:
-        super().__init__(message)
-        self.hint = hint
 
 
 class FoxgloveSchemasMissingError(TfToolsError):
@@ -73,11 +66,11 @@ def refuse_output(path: str | os.PathLike[str], inputs: Sequence[str | os.PathLi
     """A ``FindingsFileError`` if ``path`` is one of the ``inputs``, or exists (unless ``force``)."""
     target = Path(path)
     if any(_same_file(target, Path(p)) for p in inputs):
-        raise FindingsFileError(f"{target} is the recording being checked", "give another file name for --mcap")
+        raise FindingsFileError(str(target), "input")
     if target.is_dir():
-        raise FindingsFileError(f"{target} is a folder", "give a file name for --mcap")
+        raise FindingsFileError(str(target), "folder")
     if target.exists() and not force:
-        raise FindingsFileError(f"{target} exists", "give another file name, or --force to overwrite it")
+        raise FindingsFileError(str(target), "exists")
 
 
 def write_findings_mcap(

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from tftools.analysis.reading import Reading
+from tftools.analysis.wtf.query import CheckQuery
 from tftools.core.semantics import Semantics
 from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.urdf import RobotDescription
@@ -22,6 +23,16 @@ class ReportQuery:
     target: str | None = None
     sensor_topics: tuple[str, ...] | None = None
     urdf: RobotDescription | None = None
+
+    def checks(self) -> CheckQuery:
+        """``tfx wtf``'s query of the same checks as the page's findings."""
+        return CheckQuery(
+            topics=self.topics,
+            semantics=self.semantics,
+            target=self.target,
+            sensor_topics=self.sensor_topics,
+            urdf=self.urdf,
+        )
 
     def reading(self) -> Reading:
         """What to read of a recording file for it: one without transforms cannot be shown
