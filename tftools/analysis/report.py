@@ -12,12 +12,12 @@ from dataclasses import dataclass
 from datetime import datetime, timezone
 
 from tftools.analysis.description import Robot, robot_of
-from tftools.analysis.filter import tied_to_tf
 from tftools.analysis.findings import Finding
 from tftools.analysis.fleet import HERE, Fleet, Unfinished, run_fleet
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
 from tftools.analysis.poses import FramePoses, frame_poses
+from tftools.analysis.targets import tied_to_tf
 from tftools.analysis.timelines import (
     Bins,
     EdgeTimeline,
@@ -153,7 +153,7 @@ def recording_report(
     extra: Sequence[Finding] = (),
 ) -> RecordingReport:
     """The report of ``recording`` and its sensor data ``streams``, checked as ``tfx wtf`` checks them
-    (into ``target``, ``analysis.filter.choose_target``; against the ``robot``'s description), with the
+    (into ``target``, ``analysis.targets.choose_target``; against the ``robot``'s description), with the
     findings ``extra`` its reader made."""
     scene = Scene(recording, streams=streams, target=target, robot=robot)
     findings = explain([*findings_of(scene), *extra])

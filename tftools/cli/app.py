@@ -118,8 +118,9 @@ def _warnings_as_notices() -> Iterator[None]:
 def _failed(error: TfToolsError) -> int:
     """The error's one line, and its exit code."""
     from tftools.cli.common import Exit, say_failure
+    from tftools.cli.errors import in_cli_words
 
-    say_failure(error)
+    say_failure(in_cli_words(error))
     return int(Exit.UNUSABLE)
 
 

@@ -10,9 +10,9 @@ from typing import TypedDict
 
 from tftools.analysis.description import Robot, robot_of
 from tftools.analysis.expected import Tolerances, TreeShape
-from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity, causes
 from tftools.analysis.fleet import HERE, Fleet, Unfinished, run_fleet
+from tftools.analysis.targets import choose_target, tied_to_tf
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.causes import explain
 from tftools.analysis.wtf.thresholds import Thresholds
