@@ -96,9 +96,9 @@ def echo_stream(
     yet started; ``semantics``: its tf2's, default the source's): listened to into a buffer of
     ``query.cache_time``, the transform awaited first (``wait`` seconds at most: ``TransformNotHeardError``;
     meanwhile ``on_reminder``, as ``wait_for_transform``), then ``count`` times, or until it ends or Ctrl-C."""
-    from tftools.sources.live.base import LiveSource
+    from tftools.sources.stream import StreamedRecording
 
-    if isinstance(feed, LiveSource):
+    if not isinstance(feed, StreamedRecording):
         _echo_live(feed, query, on_series, count, wait, semantics, on_reminder)
         return
     from tftools.sources.replay import follow_into
