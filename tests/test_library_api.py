@@ -232,7 +232,7 @@ def test_report(bag: str, tmp_path: Path) -> None:
 def test_diff() -> None:
     from tftools.render import diff
 
-    found = tftools.diff_trees(BAGS[0], BAGS[2], translation_mm=2)
+    found = tftools.diff_trees(BAGS[0], BAGS[2], tftools.DiffQuery(translation_mm=2))
     out = io.StringIO()
     diff.write_json(found.a, found.b, found.differences, found.tolerances, 0, out)
     assert json.loads(out.getvalue()) == tfx_json("diff", BAGS[0], BAGS[2], "--tolerance-mm", "2", "-f", "json")

@@ -32,7 +32,7 @@ if TYPE_CHECKING:
         report_read,
     )
     from tftools.analysis.times import Offset, Stamp, TimeSpec, parse_time_spec
-    from tftools.analysis.tree_diff import TreeDiff, diff_trees
+    from tftools.analysis.tree_diff import DiffQuery, TreeDiff, diff_trees
     from tftools.analysis.tree_file import read_tree, write_tree
     from tftools.analysis.wtf import CHECKS, Thresholds, check, findings_of
     from tftools.analysis.wtf.fleet import BagReport, check_bags, check_fleet, check_read, check_recording
@@ -41,6 +41,7 @@ if TYPE_CHECKING:
 __all__ = [
     "CHECKS",
     "BagReport",
+    "DiffQuery",
     "Difference",
     "EchoQuery",
     "EchoSeries",
@@ -100,6 +101,7 @@ __all__ = [
 _HOME = {
     "BagReport": "tftools.analysis.wtf.fleet",
     "CHECKS": "tftools.analysis.wtf",
+    "DiffQuery": "tftools.analysis.tree_diff",
     "Difference": "tftools.analysis.diff",
     "EchoQuery": "tftools.analysis.echo",
     "EchoSeries": "tftools.analysis.echo",
