@@ -362,7 +362,7 @@ def test_report_live_of_a_fake_robot() -> None:
         tftools.report_live(_Robot(transforms=False), 0.1)
 
 
-def test_filter_live_of_a_fake_robot_loses_the_misspelt_frame() -> None:
+def test_filter_of_a_fake_robot_heard_loses_the_misspelt_frame() -> None:
     from tftools.analysis import NoStampedDataError
     from tftools.sources.live.sensor_headers import capture_live
 
@@ -377,7 +377,7 @@ def test_filter_live_of_a_fake_robot_loses_the_misspelt_frame() -> None:
         tftools.filter_messages(capture_live(_Robot(), 0.1, query.reading()), query)
 
 
-def test_echo_live_of_a_fake_robot() -> None:
+def test_echo_stream_of_a_fake_robot() -> None:
     from tftools.analysis import EchoSeries
     from tftools.core import Buffer
 

@@ -181,7 +181,7 @@ class Lines:
         stdout.file.flush()
 
     def show(self, series: EchoSeries) -> EchoSeries:
-        """Print a lookup of the latest transform (``echo_latest``), and show it in the picture."""
+        """Print a lookup of the latest transform (``analysis.echo.latest``), and show it in the picture."""
         self.print(series)
         self.shown.append(series)
         return series
