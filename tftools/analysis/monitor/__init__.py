@@ -101,11 +101,14 @@ def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | N
     hists = [hist for child in frames if (hist := buffer.history(child)) is not None]
     stamps = np.concatenate([hist.stamps for hist in hists])
     arrived = np.concatenate([timeline.arrival(hist.stamps, hist.record_times) for hist in hists])
-    after = arrived[stamps >= first] if first is not None else arrived
-    before = arrived[stamps <= last] if last is not None else arrived
+    after, before = (
+        arrived[stamps >= first] if first is not None else arrived,
+        arrived[stamps <= last] if last is not None else arrived,
+    )
+    # none of the chain's stamps in the range (its clock's other frames are): an empty window after or before them
     return (
-        int(after.min()) if first is not None and len(after) else first,
-        int(before.max()) if last is not None and len(before) else last,
+        None if first is None else int(after.min()) if len(after) else int(arrived.max()) + 1,
+        None if last is None else int(before.max()) if len(before) else int(arrived.min()) - 1,
     )
 
 
