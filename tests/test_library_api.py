@@ -372,9 +372,10 @@ def test_filter_of_a_fake_robot_heard_loses_the_misspelt_frame() -> None:
     assert report.target == "odom" and set(streams) == {"/scan", "/scan_misspelt"}
     assert streams["/scan"].messages == 5 and streams["/scan"].never == 0
     assert streams["/scan_misspelt"].reasons == {"unknown_frame": 1} and report.lost
-    with pytest.raises(NoStampedDataError, match="/nobody: no message heard"):
+    with pytest.raises(NoStampedDataError, match="/nobody: no message heard") as unheard:
         query = tftools.FilterQuery(topics=("/nobody",))
         tftools.filter_messages(capture_live(_Robot(), 0.1, query.reading()), query)
+    assert unheard.value.problems == ["/nobody: no message heard (is it published?)"]  # said once, as heard
 
 
 def test_echo_stream_of_a_fake_robot() -> None:

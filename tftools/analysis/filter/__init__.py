@@ -47,7 +47,9 @@ def filter_messages(
     ``on_problem``. Raises ``NoStampedDataError`` when no topic has a header."""
     from tftools.sources.bag.stamped import stamped_of
 
-    stamped = stamped_of(recording.contents.files, query.topics)
+    files = recording.contents.files
+    said = {problem.split(":", 1)[0] for info in files for problem in info.stamped_problems}  # a capture's "not heard"
+    stamped = stamped_of(files, [topic for topic in query.topics or () if topic not in said])
     if not stamped.streams:
         raise NoStampedDataError(stamped.problems)
     for problem in stamped.problems:
