@@ -2,7 +2,7 @@
 
 Builds the benchmark robot's tf for an hour straight into a buffer (no bag: only the replay is timed), and ten
 streams of stamped messages at 10 to 200 Hz on frames along the robot's chains, each arriving a few ms after its
-stamp; then times ``filter_report`` into ``odom`` (every message's fate, the per-stream figures and the
+stamp; then times ``filter_streams`` into ``odom`` (every message's fate, the per-stream figures and the
 suggested settings). Prints the figures; asserts nothing.
 
     .venv/bin/python benchmarks/filter.py [--minutes 60]
@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from tftools.analysis.filter import filter_report
+from tftools.analysis.filter import FilterQuery, filter_streams
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.sources.bag.stamped import StampedMessages
@@ -82,7 +82,7 @@ def main() -> None:
     best = float("inf")
     for _ in range(3):
         started = time.perf_counter()
-        report = filter_report(buffer, data, "odom")
+        report = filter_streams(buffer, data, FilterQuery(target="odom"))
         best = min(best, time.perf_counter() - started)
     waited = sum(s.later for s in report.streams)
     print(f"filter: {seconds / 60:g} min, {len(data)} streams, {messages:,} messages, tf built in {built:.1f} s")

@@ -31,11 +31,11 @@ BAGS = [str(SAMPLE / "robot.bag"), str(SAMPLE / "robot_db3"), str(SAMPLE / "robo
 #: Each command and the one call that does its work.
 CALLS = {
     "frames": "frame_tree",
-    "echo": "echo_recording",
-    "monitor": "monitor_recording",
+    "echo": "echo",
+    "monitor": "monitor",
     "view-frames": "view_frames",
     "wtf": "check_fleet",
-    "filter": "filter_recording",
+    "filter": "filter_messages",
     "report": "report_fleet",
     "diff": "diff_trees",
     "static": "add_static",
@@ -43,8 +43,9 @@ CALLS = {
 
 
 #: The commands that listen to a live system without bags, and the one call that does their work there.
-#: (``tfx wtf`` and ``tfx report`` make their one call on a recording captured live: ``analysis.live.capture_live``.)
-LIVE_CALLS = {"wtf": "check", "report": "report", "filter": "filter_live", "echo": "echo_live"}
+#: (``tfx wtf``, ``tfx report`` and ``tfx filter`` make their one call on a recording captured live:
+#: ``tftools.capture_live``; ``tfx echo`` streams.)
+LIVE_CALLS = {"wtf": "check", "report": "report", "filter": "filter_messages", "echo": "echo_stream"}
 
 
 def tfx(*arguments: str, cwd: Path = REPO) -> subprocess.CompletedProcess[str]:
@@ -114,7 +115,10 @@ def test_frames(bag: str, recording: Recording) -> None:
 def test_echo(bag: str, recording: Recording) -> None:
     from tftools.render import echo
 
-    series = tftools.echo_recording(recording, "map", "gripper", rate=2, start="+1", end="-3")
+    query = tftools.EchoQuery(
+        target="map", source="gripper", rate=2, start=tftools.Offset(1), end=tftools.Offset(-3, True)
+    )
+    series = tftools.echo(recording, query)
     out = io.StringIO()
     echo.write_json(series, out)
     printed = tfx("echo", "map", "gripper", "-b", bag, "-r", "2", "--start", "+1", "--end", "-3", "-f", "json")
@@ -125,15 +129,19 @@ def test_echo(bag: str, recording: Recording) -> None:
 def test_monitor(bag: str, recording: Recording) -> None:
     from tftools.render import monitor
 
-    report = tftools.monitor_recording(recording, "map", "gripper", start="+2")
+    report = tftools.monitor(recording, tftools.MonitorQuery(target="map", source="gripper", start=tftools.Offset(2)))
     called = rendered(monitor.write_json, report)
     assert called == tfx_json("monitor", "map", "gripper", "-b", bag, "--start", "+2", "-f", "json")
     assert report.chain is not None and report.chain.frames[0] == "gripper"
 
 
 def test_monitor_refuses_a_range_outside_the_recording(recording: Recording) -> None:
-    with pytest.raises(tftools.core.errors.UsageError, match="outside the recording"):
-        tftools.monitor_recording(recording, start="+100")
+    from tftools.core.errors import TimeRangeError
+
+    with pytest.raises(TimeRangeError, match="outside the recording") as raised:
+        tftools.monitor(recording, tftools.MonitorQuery(start=tftools.Offset(100)))
+    assert raised.value.span == (recording.timeline.tf_start, recording.timeline.tf_end)
+    assert "its tf runs from" in tfx("monitor", "-b", BAGS[0], "--start", "+100").stderr
 
 
 def test_view_frames(bag: str, recording: Recording) -> None:
@@ -178,7 +186,7 @@ def test_filter(name: str, lost: bool) -> None:
     from tftools.render import filter as render
 
     bag = _corpus(name)
-    report = tftools.filter_recording([bag])
+    report = tftools.filter_messages(tftools.read_recording([bag], headers=()), tftools.FilterQuery())
     done = tfx("filter", "-b", bag, "-f", "json")
     assert rendered(render.write_json, report) == json.loads(done.stdout)
     assert report.streams and report.lost is lost and done.returncode == int(lost)
@@ -189,10 +197,11 @@ def test_filter_with_a_target_a_timeout_and_a_queue() -> None:
 
     bag = _corpus("ros2_db3_tb3_gazebo_walker")
     problems: list[str] = []
-    report = tftools.filter_recording(
-        [bag], "/odom", ["/scan", "/nothere"], cache_time=2 * tftools.NS_PER_S, wait=10**8, queue=3,
-        on_problem=problems.append,
-    )  # fmt: skip
+    query = tftools.FilterQuery(
+        target="/odom", sensor_topics=("/scan", "/nothere"), cache_time=2 * tftools.NS_PER_S, wait=10**8, queue=3
+    )
+    recording = query.reading().read([bag])
+    report = tftools.filter_messages(recording, query, on_problem=problems.append)
     done = tfx("filter", "/scan", "/nothere", "-b", bag, "--target", "/odom", "--cache", "2", "--wait", "0.1",
                "--queue", "3", "-f", "json")  # fmt: skip
     assert rendered(render.write_json, report) == json.loads(done.stdout)
@@ -205,12 +214,10 @@ def test_filter_finds_no_sensor_data_in_the_sample() -> None:
     from tftools.analysis import NoStampedDataError
 
     with pytest.raises(NoStampedDataError, match="no topic with a Header to check") as raised:
-        tftools.filter_recording([BAGS[0]])
+        tftools.filter_messages(tftools.read_recording([BAGS[0]], headers=()), tftools.FilterQuery())
     assert raised.value.problems == [] and "--" not in str(raised.value)
     assert "no topic with a Header" in tfx("filter", "-b", BAGS[0]).stderr
-    with pytest.raises(tftools.UnknownFrameError, match="frame 'odm' does not exist") as unknown:
-        tftools.filter_recording([BAGS[0]], "odm")
-    assert unknown.value.hint.startswith("frames: odom") and unknown.value.frames[0] == "odom"
+    assert "frame 'odm' does not exist (frames: odom" in tfx("filter", "-b", BAGS[0], "--target", "odm").stderr
 
 
 def test_report(bag: str, tmp_path: Path) -> None:
@@ -227,7 +234,7 @@ def test_report(bag: str, tmp_path: Path) -> None:
 def test_diff() -> None:
     from tftools.render import diff
 
-    found = tftools.diff_trees(BAGS[0], BAGS[2], translation_mm=2)
+    found = tftools.diff_trees(BAGS[0], BAGS[2], tftools.DiffQuery(translation_mm=2))
     out = io.StringIO()
     diff.write_json(found.a, found.b, found.differences, found.tolerances, 0, out)
     assert json.loads(out.getvalue()) == tfx_json("diff", BAGS[0], BAGS[2], "--tolerance-mm", "2", "-f", "json")
@@ -341,7 +348,7 @@ class _Scans:
 
 
 def test_check_of_a_fake_robot_heard_live() -> None:
-    from tftools.analysis.live import capture_live
+    from tftools import capture_live
 
     query = tftools.CheckQuery(sensor_topics=("/scan", "/nobody"))
     heard = capture_live(_Robot(), 0.1, query.sensor_topics, require_tf=False)
@@ -355,7 +362,7 @@ def test_check_of_a_fake_robot_heard_live() -> None:
 
 
 def test_report_of_a_fake_robot_heard_live() -> None:
-    from tftools.analysis.live import capture_live
+    from tftools import capture_live
     from tftools.sources.live.errors import NoTransformsHeardError
 
     query = tftools.ReportQuery(sensor_topics=("/scan",))
@@ -365,19 +372,23 @@ def test_report_of_a_fake_robot_heard_live() -> None:
         capture_live(_Robot(transforms=False), 0.1)
 
 
-def test_filter_live_of_a_fake_robot_loses_the_misspelt_frame() -> None:
+def test_filter_of_a_fake_robot_heard_loses_the_misspelt_frame() -> None:
     from tftools.analysis import NoStampedDataError
+    from tftools.sources.live.sensor_headers import capture_live
 
-    report = tftools.filter_live(_Robot(), 0.1, "/odom")
+    query = tftools.FilterQuery(target="/odom")
+    report = tftools.filter_messages(capture_live(_Robot(), 0.1, query.reading().headers), query)
     streams = {s.topic: s for s in report.streams}
     assert report.target == "odom" and set(streams) == {"/scan", "/scan_misspelt"}
     assert streams["/scan"].messages == 5 and streams["/scan"].never == 0
     assert streams["/scan_misspelt"].reasons == {"unknown_frame": 1} and report.lost
-    with pytest.raises(NoStampedDataError, match="/nobody: no message heard"):
-        tftools.filter_live(_Robot(), 0.1, topics=["/nobody"])
+    with pytest.raises(NoStampedDataError, match="/nobody: no message heard") as unheard:
+        query = tftools.FilterQuery(sensor_topics=("/nobody",))
+        tftools.filter_messages(capture_live(_Robot(), 0.1, query.reading().headers), query)
+    assert unheard.value.problems == ["/nobody: no message heard (is it published?)"]  # said once, as heard
 
 
-def test_echo_live_of_a_fake_robot() -> None:
+def test_echo_stream_of_a_fake_robot() -> None:
     from tftools.analysis import EchoSeries
     from tftools.core import Buffer
 
@@ -387,7 +398,7 @@ def test_echo_live_of_a_fake_robot() -> None:
         assert sorted(buffer.frames) == ["base_link", "laser", "odom"]
         shown.append(series)
 
-    tftools.echo_live(_Robot(), "/odom", "laser", show, rate=100, count=3, wait=10)
+    tftools.echo_stream(_Robot(), tftools.EchoQuery(target="/odom", source="laser", rate=100), show, count=3, wait=10)
     assert len(shown) == 3 and all(s.valid.all() for s in shown)
     assert shown[-1].translations[0].tolist() == pytest.approx([19.2, 0, 0.1])
 
@@ -429,8 +440,8 @@ def roscore(monkeypatch: pytest.MonkeyPatch, ros: live.Ros) -> live.Ros:
 
 @pytest.mark.live
 def test_the_live_calls_on_a_real_roscore(roscore: live.Ros) -> None:
+    from tftools import capture_live
     from tftools.analysis import EchoSeries
-    from tftools.analysis.live import capture_live
     from tftools.render import filter as render
     from tftools.sources.live import open_live
 
@@ -439,7 +450,10 @@ def test_the_live_calls_on_a_real_roscore(roscore: live.Ros) -> None:
     assert checked.paths == tuple(said["paths"]) and checked.frames == said["frames"] == 3
     assert checked.sensor_topics == ("/scan",) and not checked.failed()
 
-    fates = tftools.filter_live(open_live("ros1"), 2, "odom", ["/scan"])
+    from tftools.sources.live.sensor_headers import capture_live
+
+    query = tftools.FilterQuery(target="odom", sensor_topics=("/scan",))
+    fates = tftools.filter_messages(capture_live(open_live("ros1"), 2, query.reading().headers), query)
     printed = json.loads(
         roscore.run_tfx("filter", "/scan", "--ros1", "-d", "2", "--target", "odom", "-f", "json").stdout
     )
@@ -451,6 +465,7 @@ def test_the_live_calls_on_a_real_roscore(roscore: live.Ros) -> None:
     assert page.name == checked.paths[0] and {n.name for n in page.graph.nodes} == {"odom", "base_link", "laser"}
 
     shown: list[EchoSeries] = []
-    tftools.echo_live(open_live("ros1"), "odom", "laser", lambda series, _: shown.append(series), 20, 3, wait=20)
+    asked = tftools.EchoQuery(target="odom", source="laser", rate=20)
+    tftools.echo_stream(open_live("ros1"), asked, lambda series, _: shown.append(series), count=3, wait=20)
     assert len(shown) == 3 and all(s.valid.all() for s in shown)
     assert shown[-1].translations[0][2] == pytest.approx(0.1)  # the laser 10 cm above the base, turned about z

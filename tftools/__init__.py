@@ -13,19 +13,21 @@ from tftools import lazy
 if TYPE_CHECKING:
     from tftools.analysis import (
         CheckQuery,
+        DiffQuery,
+        FilterQuery,
+        MonitorQuery,
+        Offset,
         ReportQuery,
+        Stamp,
         check,
         check_fleet,
         diff_trees,
-        echo_live,
-        echo_recording,
-        filter_live,
-        filter_recording,
-        filter_report,
+        filter_messages,
         frame_tree,
-        monitor_recording,
         report_fleet,
     )
+    from tftools.analysis.echo import EchoQuery, echo, echo_stream
+    from tftools.analysis.monitor import monitor, monitor_stream
     from tftools.analysis.report import report
     from tftools.core import (
         DEFAULT_CACHE_TIME,
@@ -56,17 +58,19 @@ if TYPE_CHECKING:
     from tftools.render.graph import view_frames
     from tftools.sinks import add_static, publish_static, repair_static
     from tftools.sources import Recording, load, read_recording, stream_recording
+    from tftools.sources.live.sensor_headers import capture_live
 
 __version__: str  # set on first use, by __getattr__
 
 __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "CheckQuery",
-    "ConnectivityError", "EdgeHistory", "ExtrapolationError", "InvalidArgumentError", "LookupBatch", "Recording",
-    "Rejection", "RejectionCode", "ReportQuery", "Semantics", "SimClock", "TfToolsError", "Transform", "TransformBatch",
-    "TransformError", "UnknownFrameError", "WallClock", "add_static", "check", "check_fleet", "diff_trees", "echo_live",
-    "echo_recording", "filter_live", "filter_recording", "filter_report", "format_sec", "frame_tree", "from_sec",
-    "load", "monitor_recording", "publish_static", "read_recording", "repair_static", "report", "report_fleet",
-    "stream_recording", "to_sec", "view_frames",
+    "ConnectivityError", "DiffQuery", "EchoQuery", "EdgeHistory", "ExtrapolationError", "FilterQuery",
+    "InvalidArgumentError", "LookupBatch", "MonitorQuery", "Offset", "Recording", "Rejection", "RejectionCode",
+    "ReportQuery", "Semantics", "SimClock", "Stamp", "TfToolsError", "Transform", "TransformBatch", "TransformError",
+    "UnknownFrameError", "WallClock", "add_static", "capture_live", "check", "check_fleet", "diff_trees", "echo",
+    "echo_stream", "filter_messages", "format_sec", "frame_tree", "from_sec", "load", "monitor", "monitor_stream",
+    "publish_static", "read_recording", "repair_static", "report", "report_fleet", "stream_recording", "to_sec",
+    "view_frames",
 ]  # fmt: skip
 
 #: The package each name comes from, when not ``tftools.core``: reading (sources), each command's call
@@ -76,23 +80,27 @@ _PACKAGE = {
     **dict.fromkeys(
         [
             "CheckQuery",
+            "DiffQuery",
+            "FilterQuery",
+            "MonitorQuery",
+            "Offset",
             "ReportQuery",
+            "Stamp",
             "check",
             "check_fleet",
             "diff_trees",
-            "echo_live",
-            "echo_recording",
-            "filter_live",
-            "filter_recording",
-            "filter_report",
+            "filter_messages",
             "frame_tree",
-            "monitor_recording",
             "report_fleet",
         ],
         "tftools.analysis",
     ),
+    # named as their rooms are: from the room itself, which ``tftools.analysis``'s attribute becomes once imported
+    **dict.fromkeys(["EchoQuery", "echo", "echo_stream"], "tftools.analysis.echo"),
+    **dict.fromkeys(["monitor", "monitor_stream"], "tftools.analysis.monitor"),
     **dict.fromkeys(["add_static", "publish_static", "repair_static"], "tftools.sinks"),
     "report": "tftools.analysis.report",  # the function: in tftools.analysis, ``report`` is its package
+    "capture_live": "tftools.sources.live.sensor_headers",
     "view_frames": "tftools.render.graph",
 }
 

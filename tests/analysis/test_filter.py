@@ -11,7 +11,7 @@ import pytest
 
 from tests.analysis.wtf_scenes import TfMessage, recording
 from tests.oracle import ROS_PYTHON
-from tftools.analysis.filter import NEVER, Fate, message_fates
+from tftools.analysis.filter.fates import NEVER, Fate, message_fates
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.bag.stamped import StampedMessages
@@ -124,8 +124,8 @@ def test_each_message_says_why_it_waited_or_was_lost() -> None:
 
 
 def test_the_default_target_is_odom_else_the_root_of_the_largest_tree() -> None:
-    from tftools.analysis.filter import default_target
     from tftools.analysis.frames import frame_tree
+    from tftools.analysis.targets import default_target
 
     assert default_target(frame_tree(recording(robot()).buffer)) == ("odom", "REP 105's odom frame")
     trees = [

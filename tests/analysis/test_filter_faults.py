@@ -9,7 +9,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from tests.analysis.wtf_scenes import TfMessage, recording
-from tftools.analysis.filter import NEVER, Fate, Fates, filter_report, message_fates, pushed_out, smallest_queue
+from tftools.analysis.filter import FilterQuery, filter_streams
+from tftools.analysis.filter.fates import NEVER, Fate, Fates, message_fates, pushed_out, smallest_queue
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -79,7 +80,7 @@ def test_a_message_older_than_the_cache_when_it_arrives_is_dropped_at_once() -> 
     fates = _fates(buffer, stream)
     assert (fates.fate == Fate.TOO_OLD_ON_ARRIVAL).all()  # tf2: stamp + 10 s is before the latest common time
     np.testing.assert_array_equal(fates.left, stream.record_time)  # dropped inside add(): never queued
-    report = filter_report(buffer, [stream], "odom").streams[0]
+    report = filter_streams(buffer, [stream], FilterQuery(target="odom")).streams[0]
     assert (report.never, report.reasons, report.undecided) == (56, {"too_old_on_arrival": 56}, {})
     assert report.cache_needed == 15 * NS_PER_S  # 12 s behind: a 15 s cache keeps those stamped after tf began
     assert report.before_tf == 24  # stamped before T0 (tf's start): the real filter drops them with any cache
@@ -94,7 +95,7 @@ def test_no_cache_is_suggested_for_messages_stamped_before_their_chains_tf_began
     buffer = _buffer(_base())
     fates = message_fates(buffer, stream, "odom", 15 * NS_PER_S)
     assert fates.early().all() and not (fates.fate == Fate.LATER).any()  # a 15 s cache passes none of them
-    whole = filter_report(buffer, [stream], "odom")
+    whole = filter_streams(buffer, [stream], FilterQuery(target="odom"))
     assert (whole.streams[0].cache_needed, whole.streams[0].before_tf) == (None, 20)
     assert "20 stamped before tf began: no cache keeps them" in " ".join(_text(whole).split())
 
@@ -115,7 +116,7 @@ def test_the_waiters_of_a_tf_publisher_that_died_never_pass() -> None:
     laser = np.flatnonzero(stream.frame == stream.frame_ids.index("laser"))  # base_link publishes to the end:
     assert fates.fate[laser[-1]] == Fate.AFTER_RECORDED_TF  # the last scan's tf would have come after it
     assert (fates.fate[laser[:-1]] == Fate.LATER).all()
-    report = filter_report(_buffer(tf), [stream], "odom").streams[0]
+    report = filter_streams(_buffer(tf), [stream], FilterQuery(target="odom")).streams[0]
     assert report.reasons == {"needs_newer_tf": 400} and report.undecided == {"after_recorded_tf": 1}
 
 
@@ -144,11 +145,11 @@ def test_the_suggested_queue_counts_the_messages_that_never_pass() -> None:
     later = fates.fate == Fate.LATER
     rear = stream.frame == stream.frame_ids.index("laser_rear")
     assert later.sum() == 1499 and (fates.fate[rear] == Fate.UNKNOWN_FRAME).all()
-    queue = filter_report(buffer, [stream], "odom").streams[0].queue_needed
+    queue = filter_streams(buffer, [stream], FilterQuery(target="odom")).streams[0].queue_needed
     assert not (pushed_out(fates, stream, queue) & later).any()
     assert (pushed_out(fates, stream, queue - 1) & later).any()
     assert queue > 3  # what only the passing messages held at once would suggest
-    report = filter_report(buffer, [stream], "odom", queue=queue).streams[0]
+    report = filter_streams(buffer, [stream], FilterQuery(target="odom", queue=queue)).streams[0]
     assert report.dropped_by_queue == report.never  # only the unknown frame's
 
 
@@ -193,11 +194,11 @@ def test_the_counts_add_up() -> None:
     fates = _fates(buffer, stream)
     assert (fates.fate[:3] == Fate.BEFORE_RECORDED_TF).all()
     np.testing.assert_array_equal(fates.left[:3], T0 + 9_850 * MS + 30 * MS)  # when 9.85 s arrived: 9.8 + 10 s
-    report = filter_report(buffer, [stream], "odom").streams[0]
+    report = filter_streams(buffer, [stream], FilterQuery(target="odom")).streams[0]
     assert report.never == sum(report.reasons.values()) == 300
     assert report.undecided == {"before_recorded_tf": 3}
     assert report.on_arrival + report.later + report.never + sum(report.undecided.values()) == report.messages
-    text = _text(filter_report(buffer, [stream], "odom"))
+    text = _text(filter_streams(buffer, [stream], FilterQuery(target="odom")))
     assert "unknown frame 300" in text and "before recorded tf 3" in text
 
 

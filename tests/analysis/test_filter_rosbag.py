@@ -15,7 +15,8 @@ import pytest
 
 from tests.oracle import ROS_PYTHON
 from tests.sources.test_rosbag2 import convert
-from tftools.analysis.filter import NEVER, Fate, filter_report, message_fates
+from tftools.analysis.filter import FilterQuery, filter_streams
+from tftools.analysis.filter.fates import NEVER, Fate, message_fates
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.stamped import read_stamped
 from tftools.sources.recording import read_recording
@@ -58,7 +59,9 @@ def test_each_message_is_ready_when_the_real_tf2_says(
 
 
 def test_each_stream_gets_the_reason_a_ros_user_would_see(recordings: dict[str, Path]) -> None:
-    report = filter_report(read_recording([recordings["ros1"]]).buffer, read_stamped([recordings["ros1"]]).streams)
+    report = filter_streams(
+        read_recording([recordings["ros1"]]).buffer, read_stamped([recordings["ros1"]]).streams, FilterQuery()
+    )
     streams = {s.topic: s for s in report.streams}
     assert report.target == "odom"
     scan, imu, camera, points = (streams[t] for t in ("/scan", "/imu", "/camera/image_raw", "/points"))

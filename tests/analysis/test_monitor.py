@@ -23,7 +23,7 @@ from tests.analysis.monitor_scenes import (
 )
 from tests.bags import BagFormat
 from tftools.analysis.edges import EdgeStats
-from tftools.analysis.monitor import MonitorReport, monitor
+from tftools.analysis.monitor import MonitorReport, monitor_buffer
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
 from tftools.core.figures import seconds
@@ -83,13 +83,13 @@ def _check_designed_effects(report: MonitorReport) -> None:
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_bag_numbers_match_the_truth(tmp_path: Path, truth_scene: Scene, fmt: BagFormat) -> None:
     recording = read_recording([write_scene(tmp_path, fmt, truth_scene.messages)])
-    report = monitor(recording.buffer, by_record_time=True)
+    report = monitor_buffer(recording.buffer, by_record_time=True)
     _check_edges_against_truth(report, truth_scene)
     _check_designed_effects(report)
 
 
 def test_publishers_rates_delays_and_edges(truth_scene: Scene) -> None:
-    report = monitor(scene_buffer(truth_scene.messages))
+    report = monitor_buffer(scene_buffer(truth_scene.messages))
     publishers = {a.authority: a for a in report.authorities}
     assert set(publishers) == {t.publisher for t in truth_scene.truth.values()}
     for t in truth_scene.truth.values():
@@ -114,7 +114,7 @@ def test_two_publishers_of_one_edge_are_both_named() -> None:
         publisher = "/a" if k % 2 else "/b"
         odom = Transform((0, 0, 0), (0, 0, 0, 1), stamp, "map", "odom")
         buffer.set_transform(odom, publisher, record_time=stamp + MS)
-    (edge,) = monitor(buffer).edges
+    (edge,) = monitor_buffer(buffer).edges
     assert sorted(edge.authorities) == ["/a", "/b"]
     assert edge.rate_hz == pytest.approx(10.0, rel=1e-9)
 
@@ -122,7 +122,7 @@ def test_two_publishers_of_one_edge_are_both_named() -> None:
 def test_a_window_counts_only_what_arrived_in_it(truth_scene: Scene) -> None:
     buffer = scene_buffer(truth_scene.messages)
     start, end = START + 5 * NS_PER_S, START + 8 * NS_PER_S
-    edges = _by_child(monitor(buffer, start=start, end=end, by_record_time=True))
+    edges = _by_child(monitor_buffer(buffer, start=start, end=end, by_record_time=True))
     for child, t in truth_scene.truth.items():
         inside = [s for s, r in zip(t.stamps, t.records, strict=True) if start <= r <= end]
         assert edges[child].count == len(inside)
@@ -148,7 +148,7 @@ def _chain_delay_by_lookups(buffer: Buffer, messages: list, target: str, source:
 def test_chain_and_its_delay_match_latest_lookups(truth_scene: Scene) -> None:
     buffer = scene_buffer(truth_scene.messages)
     begin = START + NS_PER_S  # (a latest-time lookup fails in the first milliseconds: stamps jitter)
-    chain = monitor(buffer, "map", "camera", start=begin).chain
+    chain = monitor_buffer(buffer, "map", "camera", start=begin).chain
     assert chain is not None
     assert chain.frames == ("camera", "base_link", "odom", "map")
     assert [e.key for e in chain.edges] == [("base_link", "camera"), ("odom", "base_link"), ("map", "odom")]
@@ -164,7 +164,7 @@ def test_chain_and_its_delay_match_latest_lookups(truth_scene: Scene) -> None:
 def test_chain_delay_over_a_window(truth_scene: Scene) -> None:
     buffer = scene_buffer(truth_scene.messages)
     start, end = START + 20 * NS_PER_S, START + 25 * NS_PER_S
-    chain = monitor(buffer, "odom", "wheel", start, end, by_record_time=True).chain
+    chain = monitor_buffer(buffer, "odom", "wheel", start, end, by_record_time=True).chain
     assert chain is not None
     grid = np.arange(start, end, MS // 2)
     expected = _chain_delay_by_lookups(buffer, truth_scene.messages, "odom", "wheel", grid)
@@ -173,7 +173,7 @@ def test_chain_delay_over_a_window(truth_scene: Scene) -> None:
 
 
 def test_a_static_chain_never_goes_stale(truth_scene: Scene) -> None:
-    chain = monitor(scene_buffer(truth_scene.messages), "base_link", "laser").chain
+    chain = monitor_buffer(scene_buffer(truth_scene.messages), "base_link", "laser").chain
     assert chain is not None and chain.frames == ("laser", "base_link")
     assert math.isnan(chain.delay_mean) and math.isnan(chain.delay_max) and chain.limiting is None
 
@@ -183,4 +183,4 @@ def test_unconnected_frames_raise_tf2s_error() -> None:
     buffer.set_transform(Transform((0, 0, 0), (0, 0, 0, 1), START, "a", "b"), "/x", record_time=START)
     buffer.set_transform(Transform((0, 0, 0), (0, 0, 0, 1), START, "c", "d"), "/x", record_time=START)
     with pytest.raises(ConnectivityError):
-        monitor(buffer, "a", "d")
+        monitor_buffer(buffer, "a", "d")

@@ -8,8 +8,8 @@ import pytest
 
 from tests.analysis.wtf_scenes import PROBLEMS, START, healthy, recording, sensor
 from tftools.analysis.edges import edge_stats
-from tftools.analysis.filter import filter_report
-from tftools.analysis.monitor import monitor
+from tftools.analysis.filter import FilterQuery, filter_streams
+from tftools.analysis.monitor import monitor_buffer
 from tftools.analysis.timelines import (
     MAX_BINS,
     MAX_CELLS,
@@ -105,7 +105,7 @@ def test_re_parentings_are_marked_on_both_edges() -> None:
 def test_sensor_fates_over_time_add_up_to_the_filters_counts() -> None:
     rec = recording(healthy())
     streams = [sensor("/camera", "camra", 10, 5 * MS), sensor("/scan", "laser", 20, 5 * MS, phase=0.007)]
-    report = filter_report(rec.buffer, streams, "odom")
+    report = filter_streams(rec.buffer, streams, FilterQuery(target="odom"))
     bins = bins_over(START, START + 10 * NS_PER_S)
     flows = {f.report.topic: f for f in stream_timelines(rec.timeline, bins, streams, report)}
     for topic, flow in flows.items():
@@ -121,7 +121,7 @@ def test_a_monitor_trace_keeps_each_refresh() -> None:
     trace = MonitorTrace()
     refreshes = [START + s * NS_PER_S for s in (2, 6, 9)]
     for now in refreshes:
-        window = monitor(rec.buffer, start=now - NS_PER_S, end=now, by_record_time=True, timeline=rec.timeline)
+        window = monitor_buffer(rec.buffer, start=now - NS_PER_S, end=now, by_record_time=True, timeline=rec.timeline)
         trace.add(now, window)
     series = {(s.parent, s.child): s for s in trace.series()}
     assert list(series[("map", "odom")].times) == refreshes

@@ -30,7 +30,7 @@ from tests.analysis.wtf_scenes import (
 )
 from tests.bags import BagFormat
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.monitor import monitor_recording
+from tftools.analysis.monitor import MonitorQuery, monitor
 from tftools.analysis.wtf import CHECKS, Scene, findings_of
 from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
@@ -156,7 +156,7 @@ def test_delays_of_several_ticks_of_a_coarse_clock_are_measured_to_a_tick() -> N
     measurable = _ignition((-12, 21))
     assert 2_900_000 <= measurable.timeline.resolution <= 3_100_000
     assert measurable.timeline.delays_measured and measurable.timeline.delays_unavailable == ""
-    report = monitor_recording(measurable)
+    report = monitor(measurable, MonitorQuery())
     odom = next(e for e in report.edges if e.key == ("odom", "base_link"))
     assert 0.018 * NS_PER_S <= odom.delay_max <= 0.024 * NS_PER_S  # the largest, +21 ms, to a tick of 3 ms
     within_a_tick = _ignition((0.5, 1.5))

@@ -148,7 +148,7 @@ def test_cache_sets_the_live_buffers_length(tfx, monkeypatch: pytest.MonkeyPatch
             return "a test"
 
     monkeypatch.setattr("tftools.cli.echo.live.open_source", lambda *args: Feed())
-    monkeypatch.setattr("tftools.analysis.live.listen", listen)
+    monkeypatch.setattr("tftools.sources.live.capture.listen", listen)
     with pytest.raises(ListenedError):
         tfx("echo", "map", "odom", "--cache", "2.5")
     assert asked == [2_500_000_000]

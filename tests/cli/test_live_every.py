@@ -1,4 +1,4 @@
-"""``tick_every``: the live commands' ticking (``echo_live``'s), on the wall clock or on /clock (sim time)."""
+"""``tick_every``: the live commands' ticking (``echo_stream``'s, live), on the wall clock or on /clock (sim time)."""
 
 from __future__ import annotations
 

@@ -11,7 +11,7 @@ import pytest
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
 from tests.bags import BagFormat
 from tests.cli.conftest import SAMPLE_BAGS
-from tftools.analysis.monitor import monitor
+from tftools.analysis.monitor import monitor_buffer
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, to_sec
 from tftools.sources import read_recording
@@ -135,7 +135,7 @@ def test_play_ends_on_the_numbers_of_its_last_window(tfx) -> None:
     last = json.loads(result.stdout.splitlines()[-1])
     recording = read_recording([SAMPLE_BAGS["mcap"]])
     end = recording.end
-    expected = monitor(recording.buffer, "map", "base_footprint", end - 4 * NS_PER_S, end, by_record_time=True)
+    expected = monitor_buffer(recording.buffer, "map", "base_footprint", end - 4 * NS_PER_S, end, by_record_time=True)
     assert last["window"] == {"start": to_sec(end - 4 * NS_PER_S), "end": to_sec(end)}
     for theirs, ours in zip(last["edges"], expected.edges, strict=True):
         assert (theirs["child"], theirs["count"]) == (ours.child, ours.count)

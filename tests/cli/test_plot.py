@@ -14,7 +14,7 @@ from matplotlib import image
 from tests.cli.conftest import SAMPLE_BAGS
 from tests.cli.test_bad_input import check_stderr
 from tests.render.report_scenes import EKF_STOPS, GAP, troubled_bags
-from tftools.analysis.echo import chain_span, echo, sample_times
+from tftools.analysis.echo import chain_span, lookups, sample_times
 from tftools.analysis.timelines import edge_series
 from tftools.core.time import NS_PER_S
 from tftools.render.plots import DPI, WIDTH_IN, echo_figure, monitor_figure
@@ -62,7 +62,7 @@ def test_echo_figure_holds_each_coordinate_and_leaves_failures_out() -> None:
     buffer = read_recording([SAMPLE_BAGS["ros1"]]).buffer
     start = 1_700_000_001 * NS_PER_S
     times = [start + i * NS_PER_S // 10 for i in range(50)] + [start + 3600 * NS_PER_S]  # the last: far too late
-    series = echo(buffer, "map", "base_link", times)
+    series = lookups(buffer, "map", "base_link", times)
     moves, turns = echo_figure(series).axes
     assert [line.get_label() for line in moves.get_lines()] == ["x", "y", "z"]
     assert [line.get_label() for line in turns.get_lines()] == ["roll", "pitch", "yaw"]

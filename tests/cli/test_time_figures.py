@@ -13,9 +13,10 @@ import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.corpus.fetch import shared_dir
-from tftools.analysis.monitor import monitor
+from tftools.analysis.monitor import MonitorQuery, monitor, monitor_buffer
 from tftools.analysis.report import recording_facts
 from tftools.analysis.report import report as recording_report
+from tftools.analysis.times import Offset
 from tftools.analysis.wtf.fleet import check
 from tftools.core.batch import BatchBuilder, take_rows
 from tftools.core.figures import seconds
@@ -62,7 +63,7 @@ def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx) -> None:
     were shown. Now none, and the reason, in text and JSON."""
     bag = gazebo(tmp_path, 10)
     recording = read_recording([bag])
-    report = monitor(recording.buffer, timeline=recording.timeline)
+    report = monitor_buffer(recording.buffer, timeline=recording.timeline)
     (base,) = [e for e in report.edges if e.child == "base"]
     assert math.isnan(base.delay_mean) and math.isnan(base.delay_max)
     assert "ticks every 0.100 s (10 Hz)" in report.delays_unavailable
@@ -83,14 +84,14 @@ def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx) -> None:
 def test_a_fine_clock_measures_delays_never_below_zero(tmp_path: Path) -> None:
     """/clock at 1 kHz: the 2 ms delays are measured; a reading a tick behind the stamp is no negative delay."""
     recording = read_recording([gazebo(tmp_path, 1000)])
-    report = monitor(recording.buffer, timeline=recording.timeline)
+    report = monitor_buffer(recording.buffer, timeline=recording.timeline)
     (base,) = [e for e in report.edges if e.child == "base"]
     assert report.delays_unavailable == ""
     assert 0.001 <= seconds(base.delay_mean) <= 0.0025 and seconds(base.delay_max) <= 0.003
     stamps, records = recording.buffer.history("base").stamps, recording.buffer.history("base").record_times
     delays = recording.timeline.delays("base", stamps, records, recording.buffer.history("base").flags)
     assert len(delays) == 300 and delays.min() >= 0
-    chain = monitor(recording.buffer, "odom", "base", timeline=recording.timeline).chain
+    chain = monitor_buffer(recording.buffer, "odom", "base", timeline=recording.timeline).chain
     assert chain is not None and 0 <= seconds(chain.delay_mean) <= seconds(chain.delay_max) < 0.04
 
 
@@ -137,6 +138,52 @@ def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx) -> 
     (clock,) = [f for f in check(recording).findings if f.code == "clock"]  # the arm is still told of
     assert "arm_base -> arm_link" in clock.message and "stamped around 1910.0 s" in clock.message
     assert not re.search(r"[+-]\d{6,}\.\d s", "\n".join(f.message for f in check(recording).findings))
+
+
+def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx) -> None:
+    """Issue 39: ``tfx monitor`` counted ``+S`` on the record clock's tf (the detections') while ``tfx echo --at``
+    counted it on the chain's own: an arm on simulated time recorded from 3 s before the first detection was
+    monitored from 1904 s for ``--start +1``. Now from 1901 s, a second into its own stamps."""
+    messages = []
+    for i in range(200):
+        record = WALL + i * S // 10
+        transforms = [moving("arm_base", "arm_link", 1900 * S + i * S // 10, i)]
+        if i >= 30:  # the detections begin 3 s into the recording
+            transforms.append(moving("camera", "object", record - 5 * MS, i))
+        messages.append(TfMessage("tf", record, transforms))
+    bag = write_bag(tmp_path / "late_detections.bag", messages)
+    recording = read_recording([bag], topics=["tf"])
+    assert recording.timeline.tf_start == WALL + 3 * S - 5 * MS  # the record clock's tf: the detections'
+    query = MonitorQuery(target="arm_base", source="arm_link", start=Offset(1), end=Offset(-1, from_end=True))
+    report = monitor(recording, query)
+    arm = next(e for e in report.edges if e.key == ("arm_base", "arm_link"))
+    assert (arm.first_stamp, arm.last_stamp, arm.count) == (1901 * S, 19189 * S // 10, 180)
+    printed = json.loads(
+        tfx("monitor", "arm_base", "arm_link", "-b", bag, "--topic", "tf", "--start", "+1", "-f", "json").stdout
+    )
+    [edge] = [e for e in printed["edges"] if e["child"] == "arm_link"]
+    assert edge["first_stamp"] == 1901.0 and edge["count"] == 190
+    whole = json.loads(tfx("monitor", "-b", bag, "--topic", "tf", "--start", "+1", "-f", "json").stdout)
+    [edge] = [e for e in whole["edges"] if e["child"] == "arm_link"]  # no chain asked: the record clock's tf
+    assert edge["first_stamp"] == 1904.0
+
+
+def test_monitor_start_on_a_real_chain_on_simulated_time(tfx) -> None:
+    """ros2_db3_ur5_topic_tf_two_clocks: the UR5 arm on simulated time (1907.175 to 1914.325 s) beside ArUco
+    detections on wall time, the arm recorded from 0.57 s before the first detection. ``--start +1`` between
+    base_link and wrist_3_link is 1908.175 s, as ``tfx echo --at +1`` asks (it monitored from 1908.575 s)."""
+    bag = corpus("ros2_db3_ur5_topic_tf_two_clocks")
+    recording = read_recording([bag], topics=["tf"])
+    first, last = recording.timeline.span_of(["wrist_3_link"])
+    assert (first, last) == (1907175 * MS, 1914325 * MS)
+    report = monitor(recording, MonitorQuery(target="base_link", source="wrist_3_link", start=Offset(1)))
+    assert report.chain is not None and len(report.chain.edges) == 6
+    assert {(e.first_stamp, e.last_stamp, e.count) for e in report.chain.edges} == {(first + S, last, 124)}
+    printed = tfx("monitor", "base_link", "wrist_3_link", "-b", bag, "--topic", "tf", "--start", "+1", "-f", "json")
+    arm = [e for e in json.loads(printed.stdout)["edges"] if e["child"] in report.chain.frames]
+    assert len(arm) == 6 and {(e["first_stamp"], e["count"]) for e in arm} == {(1908.175, 124)}
+    at = tfx("echo", "base_link", "wrist_3_link", "-b", bag, "--topic", "tf", "--at", "+1", "-f", "json")
+    assert json.loads(at.stdout)["time"] == 1908.175  # echo and monitor count +1 alike
 
 
 def test_the_timelines_tf_span_follows_its_clock_threshold(tmp_path: Path) -> None:
@@ -221,7 +268,7 @@ def test_arrivals_read_off_a_10_ms_clock_raise_no_false_rate_warning() -> None:
     rates = [f for f in check(knowing).findings if f.code == "rate"]
     assert [f.frames for f in rates] == [("map", "odom")] and "publishes irregularly" in rates[0].message
     assert knowing.timeline.record_step == 10 * MS and "ticks every 0.010 s" in knowing.timeline.describe()
-    report = monitor(knowing.buffer, timeline=knowing.timeline)
+    report = monitor_buffer(knowing.buffer, timeline=knowing.timeline)
     assert all(math.isnan(e.delay_mean) for e in report.edges) and "0.010 s (100 Hz)" in report.delays_unavailable
 
 

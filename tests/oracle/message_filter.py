@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from tests.oracle import ROS_PYTHON
-from tftools.analysis.filter import NEVER, Fate, Fates, pushed_out
+from tftools.analysis.filter.fates import NEVER, Fate, Fates, pushed_out
 from tftools.sources.contents import StampedMessages
 
 HERE = Path(__file__).with_name("msgfilter")

@@ -17,7 +17,8 @@ import pytest
 from tests.corpus.fetch import Recording, load_manifest, shared_dir
 from tests.oracle import message_filter as mf
 from tests.oracle import unavailable_reason
-from tftools.analysis.filter import KEEP, Fate, filter_report, message_fates, recording_end
+from tftools.analysis.filter import FilterQuery, filter_streams
+from tftools.analysis.filter.fates import KEEP, Fate, message_fates, recording_end
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.stamped import read_stamped
 from tftools.sources.errors import NoTransformsError
@@ -125,7 +126,9 @@ def test_each_fault_of_issue_29_is_the_real_filters_answer(oracle: Path, designe
     # F: a stamp-0 message never passes after a wait by tf2's rule; tf2 0.7 passes those waiting for the
     # static transform that makes their frame known only by its defect (a dangling TransformAvailable).
     assert outcomes("/scan_zero_late") == {"on_arrival", "later_defect"}
-    report = filter_report(read_recording([designed]).buffer, read_stamped([designed]).streams, "odom")
+    report = filter_streams(
+        read_recording([designed]).buffer, read_stamped([designed]).streams, FilterQuery(target="odom")
+    )
     streams = {s.topic: s for s in report.streams}
     assert streams["/scan_dead"].reasons == {Fate.NEEDS_NEWER_TF.reason: len(dead)}
     assert streams["/cloud_old"].reasons == {Fate.TOO_OLD_ON_ARRIVAL.reason: len(verdicts["/cloud_old"])}
@@ -185,7 +188,7 @@ def test_every_message_of_a_real_recording_meets_the_real_filters_fate(
 ) -> None:
     bag = recording if isinstance(recording, Path) else corpus(recording)
     try:
-        target = filter_report(read_recording([bag]).buffer, []).target
+        target = filter_streams(read_recording([bag]).buffer, [], FilterQuery()).target
     except NoTransformsError:
         pytest.skip(f"{bag.name} holds no tf: tfx filter refuses it (exit 2), there is no fate to compare")
     if not target:
@@ -205,7 +208,9 @@ def test_the_real_filter_keeps_what_each_suggested_setting_says(oracle: Path, de
     """Issue 29: a suggestion is one under which the real filter keeps what it says. The queue: every message
     that passes with an unlimited queue passes with it. The cache: no more than 0.1% of the messages the
     recording decides are lost to their age with it."""
-    report = filter_report(read_recording([designed]).buffer, read_stamped([designed]).streams, "odom")
+    report = filter_streams(
+        read_recording([designed]).buffer, read_stamped([designed]).streams, FilterQuery(target="odom")
+    )
     for s in report.streams:
         if s.queue_needed:
             run = mf.run(oracle, designed, "odom", tmp_path / "q.jsonl", queue=s.queue_needed, topics=[s.topic])

@@ -1,7 +1,9 @@
 """Analyses over a buffer: echo series, frame summaries, monitor statistics, wtf checks, reports and fleets.
 
-``tfx report``'s one call is ``tftools.analysis.report.report`` (``tftools.report``): here ``report`` names its
-room, the package.
+Three commands' calls share their room's name (``echo``, ``monitor``, ``report``): here those names are the rooms
+(packages), so the calls are reached as ``tftools.echo`` / ``tftools.monitor`` / ``tftools.report``, or from the
+room (``from tftools.analysis.echo import echo``), never as an attribute that would turn into the package once
+it is imported.
 
 The names load on first use (PEP 562): ``import tftools.analysis`` costs nothing until a name of it is
 asked for, and each brings only its own modules."""
@@ -15,19 +17,19 @@ from tftools import lazy
 if TYPE_CHECKING:
     from tftools.analysis.description import Robot, robot_of
     from tftools.analysis.diff import Difference, compare
-    from tftools.analysis.echo import EchoSeries, echo, echo_latest, echo_played, echo_recording, echo_times
+    from tftools.analysis.echo import EchoQuery, EchoSeries, echo_stream
     from tftools.analysis.expected import Tolerances, TreeShape, shape_of
-    from tftools.analysis.filter import FilterReport, filter_heard, filter_recording, filter_report
+    from tftools.analysis.filter import FilterQuery, filter_messages
+    from tftools.analysis.filter.fates import FilterReport
     from tftools.analysis.findings import Finding, Severity
     from tftools.analysis.fleet import Fleet, Unfinished, run_fleet
     from tftools.analysis.frames import FrameTree, frame_tree
     from tftools.analysis.graph import FrameGraph, frame_graph
-    from tftools.analysis.live import echo_live, filter_live
     from tftools.analysis.loops import find_loops
-    from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor, monitor_recording, watch_feed
+    from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor_stream
     from tftools.analysis.report import RecordingReport, ReportQuery, Unreadable, report_fleet
-    from tftools.analysis.times import parse_time, time_range
-    from tftools.analysis.tree_diff import TreeDiff, diff_trees
+    from tftools.analysis.times import Offset, Stamp, TimeSpec, parse_time_spec
+    from tftools.analysis.tree_diff import DiffQuery, TreeDiff, diff_trees
     from tftools.analysis.tree_file import read_tree, write_tree
     from tftools.analysis.wtf import CHECKS, Thresholds, findings_of
     from tftools.analysis.wtf.fleet import BagReport, check, check_fleet
@@ -38,21 +40,28 @@ __all__ = [
     "CHECKS",
     "BagReport",
     "CheckQuery",
+    "DiffQuery",
     "Difference",
+    "EchoQuery",
     "EchoSeries",
+    "FilterQuery",
     "FilterReport",
     "Finding",
     "Fleet",
     "FrameGraph",
     "FrameTree",
     "LiveMonitor",
+    "MonitorQuery",
     "MonitorReport",
     "NoStampedDataError",
+    "Offset",
     "RecordingReport",
     "ReportQuery",
     "Robot",
     "Severity",
+    "Stamp",
     "Thresholds",
+    "TimeSpec",
     "Tolerances",
     "TreeDiff",
     "TreeShape",
@@ -62,30 +71,19 @@ __all__ = [
     "check_fleet",
     "compare",
     "diff_trees",
-    "echo",
-    "echo_latest",
-    "echo_live",
-    "echo_played",
-    "echo_recording",
-    "echo_times",
-    "filter_heard",
-    "filter_live",
-    "filter_recording",
-    "filter_report",
+    "echo_stream",
+    "filter_messages",
     "find_loops",
     "findings_of",
     "frame_graph",
     "frame_tree",
-    "monitor",
-    "monitor_recording",
-    "parse_time",
+    "monitor_stream",
+    "parse_time_spec",
     "read_tree",
     "report_fleet",
     "robot_of",
     "run_fleet",
     "shape_of",
-    "time_range",
-    "watch_feed",
     "write_tree",
 ]
 
@@ -94,21 +92,28 @@ _HOME = {
     "BagReport": "tftools.analysis.wtf.fleet",
     "CHECKS": "tftools.analysis.wtf",
     "CheckQuery": "tftools.analysis.wtf.query",
+    "DiffQuery": "tftools.analysis.tree_diff",
     "Difference": "tftools.analysis.diff",
+    "EchoQuery": "tftools.analysis.echo",
     "EchoSeries": "tftools.analysis.echo",
-    "FilterReport": "tftools.analysis.filter",
+    "FilterQuery": "tftools.analysis.filter",
+    "FilterReport": "tftools.analysis.filter.fates",
     "Finding": "tftools.analysis.findings",
     "Fleet": "tftools.analysis.fleet",
     "FrameGraph": "tftools.analysis.graph",
     "FrameTree": "tftools.analysis.frames",
     "LiveMonitor": "tftools.analysis.monitor",
+    "MonitorQuery": "tftools.analysis.monitor",
     "MonitorReport": "tftools.analysis.monitor",
     "NoStampedDataError": "tftools.sources.errors",
+    "Offset": "tftools.analysis.times",
     "RecordingReport": "tftools.analysis.report",
     "ReportQuery": "tftools.analysis.report",
     "Robot": "tftools.analysis.description",
     "Severity": "tftools.analysis.findings",
+    "Stamp": "tftools.analysis.times",
     "Thresholds": "tftools.analysis.wtf",
+    "TimeSpec": "tftools.analysis.times",
     "Tolerances": "tftools.analysis.expected",
     "TreeDiff": "tftools.analysis.tree_diff",
     "TreeShape": "tftools.analysis.expected",
@@ -118,30 +123,19 @@ _HOME = {
     "check_fleet": "tftools.analysis.wtf.fleet",
     "compare": "tftools.analysis.diff",
     "diff_trees": "tftools.analysis.tree_diff",
-    "echo": "tftools.analysis.echo",
-    "echo_latest": "tftools.analysis.echo",
-    "echo_live": "tftools.analysis.live",
-    "echo_played": "tftools.analysis.echo",
-    "echo_recording": "tftools.analysis.echo",
-    "echo_times": "tftools.analysis.echo",
-    "filter_heard": "tftools.analysis.filter",
-    "filter_live": "tftools.analysis.live",
-    "filter_recording": "tftools.analysis.filter",
-    "filter_report": "tftools.analysis.filter",
+    "echo_stream": "tftools.analysis.echo",
+    "filter_messages": "tftools.analysis.filter",
     "find_loops": "tftools.analysis.loops",
     "findings_of": "tftools.analysis.wtf",
     "frame_graph": "tftools.analysis.graph",
     "frame_tree": "tftools.analysis.frames",
-    "monitor": "tftools.analysis.monitor",
-    "monitor_recording": "tftools.analysis.monitor",
-    "parse_time": "tftools.analysis.times",
+    "monitor_stream": "tftools.analysis.monitor",
+    "parse_time_spec": "tftools.analysis.times",
     "read_tree": "tftools.analysis.tree_file",
     "report_fleet": "tftools.analysis.report",
     "robot_of": "tftools.analysis.description",
     "run_fleet": "tftools.analysis.fleet",
     "shape_of": "tftools.analysis.expected",
-    "time_range": "tftools.analysis.times",
-    "watch_feed": "tftools.analysis.monitor",
     "write_tree": "tftools.analysis.tree_file",
 }
 

@@ -12,6 +12,7 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.buffer import Buffer
+from tftools.core.errors import TransformError
 from tftools.core.figures import jitter, longest_interval, mean_max, rate_of
 from tftools.core.history import EdgeHistory
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
@@ -245,3 +246,18 @@ def _edge(
         delay_max=delay_max,
         last_record=int(records.max()),
     )
+
+
+def chain_moving_edges(buffer: Buffer, target: str, source: str) -> dict[str, EdgeHistory]:
+    """The dynamic edges a lookup between the frames composes now (latest common time), by child frame
+    (none where they are not connected)."""
+    try:
+        frames = buffer.chain(target, source)
+    except TransformError:
+        return {}
+    edges = {}
+    for name in frames:
+        hist = buffer.history(name)
+        if hist is not None and not hist.static and buffer.frame_name(hist.latest_parent) in frames:
+            edges[name] = hist
+    return edges

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.edges import Edge, edge_rows
-from tftools.analysis.filter import LOST, UNDECIDED, Fate, FilterReport, StreamReport
+from tftools.analysis.filter.fates import LOST, UNDECIDED, Fate, FilterReport, StreamReport
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import Buffer

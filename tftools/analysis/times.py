@@ -1,17 +1,29 @@
-"""Times a user gives against a recording, in one grammar (``tfx echo --at``, ``--start``, ``--end`` and
-``tfx monitor``'s): absolute seconds, ``+S`` after the recording's first tf stamp, ``-S`` before its last."""
+"""Times asked of a recording, as library values: ``Offset`` (seconds after the first tf stamp, or before
+the last, on the clock of the frames asked about) and ``Stamp`` (absolute); ``parse_time_spec`` reads the
+one grammar users type (``1700000012.5``, ``+S``, ``-S``), ``resolve_time`` turns a value into nanoseconds
+on a recording."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from typing import TypeVar
 
-from tftools.core.errors import UsageError
-from tftools.core.time import NS_PER_S, from_sec, to_sec
+from tftools.core.errors import InvalidTimeError, TimeRangeError
+from tftools.core.time import from_sec, to_sec
 from tftools.sources.timeline import Timeline
 
-__all__ = ["TIME_FORMS", "TIME_SLACK_S", "parse_time", "time_range"]
+__all__ = [
+    "TIME_FORMS",
+    "TIME_SLACK_S",
+    "Offset",
+    "Stamp",
+    "TimeSpec",
+    "parse_time_spec",
+    "resolve_range",
+    "resolve_time",
+]
 
 #: A time more than this many seconds before or after the recording's tf is refused: a typo, not a question.
 TIME_SLACK_S = 3600.0
@@ -19,49 +31,82 @@ TIME_SLACK_S = 3600.0
 TIME_FORMS = "absolute seconds (e.g. 1700000012.5), +S after the first tf stamp or -S before the last"
 
 
-def parse_time(text: str, timeline: Timeline, option: str, frames: Sequence[str] = ()) -> int:
-    """TIME as nanoseconds on the tf stamps' clock: absolute seconds, ``+S`` from the tf data's first
-    stamp, ``-S`` from its last (so +1 is a second into the tf, whatever clock the bag was recorded on);
-    with ``frames`` (the ones asked about), the tf data on their clock (``Timeline.span_of``).
+@dataclass(frozen=True, slots=True)
+class Offset:
+    """``seconds`` after the first tf stamp, or (``from_end``) added to the last one (so at most 0), on the
+    clock of the frames asked about (``Timeline.span_of``): +1 is a second into their tf, whatever clock the
+    recording was made on. ``given``: the text it was read from, said back in errors."""
 
-    Not a number, not finite, or more than ``TIME_SLACK_S`` outside the recording's tf: a ``UsageError``
-    that says the recording's span."""
+    seconds: float
+    from_end: bool = False
+    given: str = field(default="", compare=False)
+
+    def __str__(self) -> str:
+        return self.given or f"{self.seconds:+g}"
+
+
+@dataclass(frozen=True, slots=True)
+class Stamp:
+    """An absolute time on the tf stamps' clock (ns); 0 asks for the latest, as tf2's time 0 does."""
+
+    ns: int
+    given: str = field(default="", compare=False)
+
+    def __str__(self) -> str:
+        return self.given or f"{to_sec(self.ns):g}"
+
+
+TimeSpec = Offset | Stamp
+
+
+def parse_time_spec(text: str, role: str = "time") -> TimeSpec:
+    """``text`` as a time: absolute seconds (``Stamp``), ``+S`` or ``-S`` (``Offset``); else an
+    ``InvalidTimeError`` (``role``: which time it is, said in it)."""
     given = text.strip()
     try:
         value = float(given)
     except ValueError:
-        raise UsageError(f"{option} {given}: not a time", f"e.g. {option} +3") from None
+        raise InvalidTimeError(given, None, "not a time", role) from None
     if not math.isfinite(value):
-        raise UsageError(f"{option} {given}: not a finite number", f"e.g. {option} +3")
+        raise InvalidTimeError(given, None, "not a finite number", role)
+    if given.startswith(("+", "-")):
+        return Offset(value, from_end=given.startswith("-"), given=given)
+    return Stamp(from_sec(value), given=given)
+
+
+def resolve_time(spec: TimeSpec, timeline: Timeline, frames: Sequence[str] = (), role: str = "time") -> int:
+    """``spec`` as nanoseconds on the tf stamps' clock; with ``frames`` (the ones asked about), an
+    ``Offset`` counts on the tf data of their clock (``Timeline.span_of``). More than ``TIME_SLACK_S``
+    outside the recording's tf: an ``InvalidTimeError`` carrying its span."""
     start, end = timeline.span_of(frames)
-    base = start if given.startswith("+") else end if given.startswith("-") else 0
-    seconds = to_sec(base) + value
-    span = f"{to_sec(start):.3f} to {to_sec(end):.3f}"
-    length = (end - start) / NS_PER_S
+    if isinstance(spec, Offset):
+        ns = (end if spec.from_end else start) + from_sec(spec.seconds)
+        seconds = to_sec(end if spec.from_end else start) + spec.seconds
+    else:
+        ns, seconds = spec.ns, to_sec(spec.ns)
     spans = ((start, end), timeline.stamps_span)  # frames on another clock: theirs too
     if not any(to_sec(first) - TIME_SLACK_S <= seconds <= to_sec(last) + TIME_SLACK_S for first, last in spans):
         where = "before" if seconds < to_sec(start) else "after"
-        raise UsageError(
-            f"{option} {given} is more than {TIME_SLACK_S:g} s {where} the recording's tf ({span}, {length:.3f} s)",
-            f"give {TIME_FORMS}, e.g. {option} +{length / 2:.1f}",
+        raise InvalidTimeError(
+            str(spec), (start, end), f"more than {TIME_SLACK_S:g} s {where} the recording's tf", role
         )
-    return base + from_sec(value)
+    return ns
 
 
 Default = TypeVar("Default", int, None)
 
 
-def time_range(
+def resolve_range(
     timeline: Timeline,
-    start: str | None,
-    end: str | None,
+    start: TimeSpec | None,
+    end: TimeSpec | None,
     default: tuple[Default, Default],
     frames: Sequence[str] = (),
 ) -> tuple[int | Default, int | Default]:
-    """``--start`` and ``--end`` as nanoseconds (``default`` where not given), on the clock of ``frames``
-    (``parse_time``); a ``UsageError`` when the range is empty."""
-    first = parse_time(start, timeline, "--start", frames) if start is not None else default[0]
-    last = parse_time(end, timeline, "--end", frames) if end is not None else default[1]
+    """``start`` and ``end`` as nanoseconds (``default`` where not given), on the clock of ``frames``
+    (``resolve_time``); a ``TimeRangeError`` when the range is empty."""
+    first = resolve_time(start, timeline, frames, "start") if start is not None else default[0]
+    last = resolve_time(end, timeline, frames, "end") if end is not None else default[1]
     if first is not None and last is not None and last < first:
-        raise UsageError("the time range is empty", "--start must come before --end")
+        raise TimeRangeError()
     return first, last

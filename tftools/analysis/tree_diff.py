@@ -12,7 +12,6 @@ from tftools.analysis.description import described_differences, description_shap
 from tftools.analysis.diff import Difference, compare
 from tftools.analysis.expected import Tolerances, TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
-from tftools.core.semantics import Semantics
 from tftools.sources.recording import Recording, read_recording
 from tftools.sources.storage.locations import METADATA, is_url
 from tftools.sources.urdf import read_urdf
@@ -31,29 +30,30 @@ class TreeDiff:
     tolerances: Tolerances
 
 
-def diff_trees(
-    first: str,
-    second: str,
-    *,
-    translation_mm: float | None = None,
-    rotation_deg: float | None = None,
-    rate_percent: float | None = None,
-    topics: Sequence[str] | None = None,
-    semantics: Semantics | None = None,
-    read: Read | None = None,
-) -> TreeDiff:
-    """``tfx diff FIRST SECOND``: where the trees of two locations differ. Each is a recording (path or URL),
-    a tree file (``.yaml``, ``tfx wtf --init``'s) or a URDF (``.urdf``: fixed joints as static edges at their
-    origins; the frames above the robot and rates are no difference from it). The tolerances are a tree
-    file's (FIRST's, else SECOND's), else the defaults, those given here instead."""
-    read = read or (lambda paths: read_recording(paths, topics, semantics=semantics))
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DiffQuery:
+    """What ``tfx diff`` asks beyond its two locations: the tolerances to compare with, each given one instead
+    of the tree file's (FIRST's, else SECOND's) or the defaults (``Tolerances``); None: not given."""
+
+    translation_mm: float | None = None
+    rotation_deg: float | None = None
+    rate_percent: float | None = None
+
+
+def diff_trees(first: str, second: str, query: DiffQuery | None = None, *, read: Read | None = None) -> TreeDiff:
+    """``tfx diff FIRST SECOND``: where the trees of two locations differ. Each is a recording (path or URL,
+    read with ``read``, default ``read_recording``), a tree file (``.yaml``, ``tfx wtf --init``'s) or a URDF
+    (``.urdf``: fixed joints as static edges at their origins; the frames above the robot and rates are no
+    difference from it), compared with ``query``'s tolerances."""
+    query = query or DiffQuery()
+    read = read or read_recording
     robots = {location: read_urdf(location) for location in (first, second) if is_urdf(location)}
     a, b = (
         description_shape(robots[location]) if location in robots else _shape(location, read)
         for location in (first, second)
     )
     base = a.tolerances if is_tree_file(first) else b.tolerances  # a recording's are the defaults
-    tolerances = overridden(base, translation_mm, rotation_deg, rate_percent)
+    tolerances = overridden(base, query.translation_mm, query.rotation_deg, query.rate_percent)
     differences = compare(a, b, tolerances)
     for location, other in ((first, b), (second, a)):
         if location in robots:  # the frames above a robot (odom, map) are no difference from its URDF

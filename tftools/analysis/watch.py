@@ -1,5 +1,5 @@
 """``tfx wtf --watch``: a live system checked again and again over a sliding window of what it said, the
-checks of a bag (``check_read``) on each window, and its health (``analysis.health``) told once a second."""
+checks of a bag (``check``) on each window, and its health (``analysis.health``) told once a second."""
 
 from __future__ import annotations
 
@@ -12,8 +12,9 @@ import numpy as np
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding
 from tftools.analysis.health import Status, statuses
-from tftools.analysis.wtf.fleet import BagReport, Checks, check_read
+from tftools.analysis.wtf.fleet import BagReport, check
 from tftools.analysis.wtf.jumps import NEIGHBOURS
+from tftools.analysis.wtf.query import CHECK_DEFAULTS, CheckQuery
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.time import from_sec
 from tftools.sources.live.base import LiveSource
@@ -99,27 +100,18 @@ def _edges(batch: TransformBatch) -> dict[tuple[str, str], int]:
 def check_window(
     source: LiveSource,
     window: Window,
-    checks: Checks | None = None,
+    query: CheckQuery = CHECK_DEFAULTS,
     hardware_id: str = "tf",
 ) -> Health:
-    """The checks of ``check_live`` on what ``window`` holds now, and its statuses."""
-    checks = checks or {}
+    """``check`` of what ``window`` holds now, with ``query``, and its statuses."""
     now = source.clock.now()
     transforms, begin, gone = window.take(now)
-    recording = heard_recording(source, transforms, begin, now, checks.get("semantics"))
-    report = check_read(
-        recording,
-        thresholds=checks.get("thresholds"),
-        ignore=checks.get("ignore", ()),
-        target=checks.get("target"),
-        expected=checks.get("expected"),
-        urdf=checks.get("urdf"),
-        urdf_tolerances=checks.get("urdf_tolerances"),
-    )
+    recording = heard_recording(source, transforms, begin, now, query.semantics)
+    report = check(recording, query)
     report.findings = [f for f in report.findings if _settled(f, transforms)]
     start = max(begin, now - window.window)
     edges = edge_stats(recording.buffer, start, now, by_record_time=True, timeline=recording.timeline)
-    ignore: Collection[str] = checks.get("ignore", ())
+    ignore: Collection[str] = query.ignore
     said = statuses(
         report,
         edges,
@@ -159,7 +151,7 @@ def watch_live(
     source: LiveSource,
     on_health: Callable[[Health], object],
     window: float = DEFAULT_WINDOW,
-    checks: Checks | None = None,
+    query: CheckQuery = CHECK_DEFAULTS,
     *,
     period: float = 1.0,
     duration: float | None = None,
@@ -174,7 +166,7 @@ def watch_live(
         held.since(source.clock.now())
 
         def tick() -> None:
-            on_health(check_window(source, held, checks, hardware_id))
+            on_health(check_window(source, held, query, hardware_id))
 
         with contextlib.suppress(KeyboardInterrupt):
             count = None if duration is None else max(1, round(duration / period))  # a simulated clock's

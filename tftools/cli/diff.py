@@ -39,18 +39,12 @@ def command(
     [cyan]tfx diff before.mcap after.mcap --format json[/]
     """
     from tftools.analysis.expected import Tolerances
-    from tftools.analysis.tree_diff import diff_trees
+    from tftools.analysis.tree_diff import DiffQuery, diff_trees
     from tftools.render import diff as render
 
     expected_tree.tolerances(Tolerances(), tolerance_mm, tolerance_deg, tolerance_rate)  # refused before reading
-    found = diff_trees(
-        first,
-        second,
-        translation_mm=tolerance_mm,
-        rotation_deg=tolerance_deg,
-        rate_percent=tolerance_rate,
-        read=lambda paths: open_recording(paths, topics, tf2),
-    )
+    query = DiffQuery(translation_mm=tolerance_mm, rotation_deg=tolerance_deg, rate_percent=tolerance_rate)
+    found = diff_trees(first, second, query, read=lambda paths: open_recording(paths, topics, tf2))
     code = Exit.PROBLEMS if found.differences else Exit.OK
     if fmt is TextOrJson.json:
         render.write_json(found.a, found.b, found.differences, found.tolerances, int(code), sys.stdout)

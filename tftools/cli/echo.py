@@ -5,7 +5,7 @@ from __future__ import annotations
 import enum
 import io
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Annotated
 
@@ -23,7 +23,7 @@ from tftools.core.time import from_sec
 from tftools.render.escape import printable_lines
 
 if TYPE_CHECKING:  # the lookups and their renderers load when a command runs: --help needs none of them (nor numpy)
-    from tftools.analysis.echo import EchoSeries
+    from tftools.analysis.echo import EchoQuery, EchoSeries
     from tftools.core.buffer import Buffer
     from tftools.sources.live.base import LiveSource
 
@@ -110,7 +110,8 @@ def command(
     [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/],
     [cyan]tfx echo base_link camera -b robot.bag --at +5 --format static[/]
     """
-    from tftools.analysis.echo import echo_played, echo_recording
+    from tftools.analysis.echo import EchoQuery, echo, echo_stream
+    from tftools.analysis.times import Stamp, parse_time_spec
 
     check_plot(plot, bags)
     every = every or (plot is not None and rate is None and at is None)
@@ -120,21 +121,33 @@ def command(
     cache = positive_seconds(cache, "--cache", "10")
     if at is not None and every:
         raise UsageError("--at and --all do not go together", "use one of them")
-    if fmt in PASTE_FORMATS and at is None and not every and rate_given is None and start is None and end is None:
-        at = "0"
+    latest = fmt in PASTE_FORMATS and at is None and not every and rate_given is None and start is None and end is None
     lines = Lines(fmt, precision, matrix, plot)
     if not bags:
         live.no_bag_options(**{"--at": at, "--all": every, "--start": start, "--end": end, "--play": play})
         feed = live.open_source(ros1, use_sim_time, topics)
-        exit_with(_live(feed, target, source, rate, count, wait, cache, tf2, lines))
+        query = EchoQuery(target=target, source=source, rate=rate, cache_time=from_sec(cache))
+        exit_with(_live(feed, query, count, wait, tf2, lines))
+    query = EchoQuery(
+        target=target,
+        source=source,
+        at=Stamp(0) if latest else parse_time_spec(at, "at") if at is not None else None,
+        start=parse_time_spec(start, "start") if start is not None else None,
+        end=parse_time_spec(end, "end") if end is not None else None,
+        rate=rate,
+        every=every,
+    )
     if play:  # as tf_echo sees a live system: the bag streamed on a sim clock into a tf2-sized buffer
         streamed = open_stream(bags, topics, tf2)
-        target, source = frame_argument(streamed.frames, target), frame_argument(streamed.frames, source)
-        echo_played(streamed, target, source, lines.show, rate, start, end)
+        frames = streamed.frames
+        query = replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
+        echo_stream(streamed, query, lambda series, _buffer: lines.show(series))
         exit_with(lines.done())
     recording = open_recording(bags, topics, tf2)
-    target, source = frame_argument(recording.buffer.frames, target), frame_argument(recording.buffer.frames, source)
-    series = echo_recording(recording, target, source, rate, at, every, start, end)
+    frames = recording.buffer.frames
+    series = echo(
+        recording, replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
+    )
     if plot is None:  # on a bag, the picture instead of the lines
         lines.print(series)
     lines.shown.append(series)
@@ -168,7 +181,7 @@ class Lines:
         stdout.file.flush()
 
     def show(self, series: EchoSeries) -> EchoSeries:
-        """Print a lookup of the latest transform (``echo_latest``), and show it in the picture."""
+        """Print a lookup of the latest transform (``analysis.echo.latest``), and show it in the picture."""
         self.print(series)
         self.shown.append(series)
         return series
@@ -185,19 +198,12 @@ class Lines:
 
 
 def _live(
-    feed: LiveSource,
-    target: str,
-    source: str,
-    rate: float,
-    count: int | None,
-    wait: float | None,
-    cache: float,
-    semantics: Semantics | None,
-    lines: Lines,
+    feed: LiveSource, query: EchoQuery, count: int | None, wait: float | None, semantics: Semantics | None, lines: Lines
 ) -> Exit:
-    """Without -b, as tf_echo (``echo_live``): wait for the transform, then the latest one ``rate`` times a
-    second (``count`` times, or until Ctrl-C); a failure prints tf2's reason and the frames known."""
-    from tftools.analysis.live import echo_live
+    """Without -b, as tf_echo (``echo_stream`` of the live source): wait for the transform, then the latest
+    one ``query.rate`` times a second (``count`` times, or until Ctrl-C); a failure prints tf2's reason and
+    the frames known."""
+    from tftools.analysis.echo import echo_stream
     from tftools.sources.live.errors import TransformNotHeardError
 
     def show(series: EchoSeries, buffer: Buffer) -> None:
@@ -207,20 +213,9 @@ def _live(
             stdout.file.flush()
 
     what = feed.describe()
-    live.say(f"listening to {what}; waiting for the transform {frame_name(target)} <- {frame_name(source)}")
+    live.say(f"listening to {what}; waiting for the transform {frame_name(query.target)} <- {frame_name(query.source)}")
     try:
-        echo_live(
-            feed,
-            target,
-            source,
-            show,
-            rate,
-            count,
-            wait=wait,
-            cache_time=from_sec(cache),
-            semantics=semantics,
-            on_reminder=live.remind,
-        )
+        echo_stream(feed, query, show, count=count, wait=wait, semantics=semantics, on_reminder=live.remind)
     except TransformNotHeardError as error:
         raise UsageError(
             f"no transform {error.target} <- {error.source} from {what} after {error.waited:.1f} s: {error.reason}",

@@ -8,7 +8,16 @@ from dataclasses import dataclass
 from typing import Any
 
 from tftools.cli.common import Exit
-from tftools.core.errors import FleetUnavailableError, InvalidTransformError, TfToolsError, UnknownFrameError
+from tftools.core.errors import (
+    FleetUnavailableError,
+    InvalidTimeError,
+    InvalidTransformError,
+    TfToolsError,
+    TimeRangeError,
+    TooManyLinesError,
+    UnknownFrameError,
+)
+from tftools.core.time import NS_PER_S, to_sec
 from tftools.sinks.errors import FindingsFileError
 from tftools.sources.errors import NoStampedDataError, PartOfBagError
 
@@ -55,6 +64,41 @@ def _part_of_bag(error: PartOfBagError) -> UsageError:
     )
 
 
+#: The option a time of a query was given with (``InvalidTimeError.role``).
+TIME_OPTIONS = {"at": "--at", "start": "--start", "end": "--end"}
+
+
+def _invalid_time(error: InvalidTimeError) -> UsageError:
+    from tftools.analysis.times import TIME_FORMS
+
+    option = TIME_OPTIONS.get(error.role, error.role)
+    if error.span is None:
+        return UsageError(f"{option} {error.text}: {error.reason}", f"e.g. {option} +3")
+    start, end = error.span
+    length = (end - start) / NS_PER_S
+    return UsageError(
+        f"{option} {error.text} is {error.reason} ({to_sec(start):.3f} to {to_sec(end):.3f}, {length:.3f} s)",
+        f"give {TIME_FORMS}, e.g. {option} +{length / 2:.1f}",
+    )
+
+
+def _time_range(error: TimeRangeError) -> UsageError:
+    if error.span is None:
+        return UsageError("the time range is empty", "--start must come before --end")
+    start, end = error.span
+    return UsageError(
+        "the time range is outside the recording", f"its tf runs from {to_sec(start):.3f} to {to_sec(end):.3f}"
+    )
+
+
+def _too_many_lines(error: TooManyLinesError) -> UsageError:
+    return UsageError(
+        f"--rate {error.rate:g} over {error.length:.3f} s would print {error.lines:,} lines; tfx echo prints at most "
+        f"{error.limit:,}",
+        "lower --rate, narrow the range with --start/--end, or use --all for one line per sample",
+    )
+
+
 def _said(error: TfToolsError) -> UsageError:
     """An error whose library words are already the command line's."""
     return UsageError(str(error), error.hint)
@@ -64,9 +108,12 @@ def _said(error: TfToolsError) -> UsageError:
 TABLE: dict[type[TfToolsError], Row] = {
     FindingsFileError: Row(_findings_file),
     FleetUnavailableError: Row(_fleet),
+    InvalidTimeError: Row(_invalid_time),
     InvalidTransformError: Row(_transform),
     NoStampedDataError: Row(_said),
     PartOfBagError: Row(_part_of_bag),
+    TimeRangeError: Row(_time_range),
+    TooManyLinesError: Row(_too_many_lines),
     UnknownFrameError: Row(_said),
 }
 

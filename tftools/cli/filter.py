@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import functools
+from dataclasses import replace
 from typing import Annotated
 
 import typer
 
-from tftools.cli import live, options
+from tftools.cli import options
 from tftools.cli.arguments import positive_seconds
-from tftools.cli.common import Exit, TextOrJson, exit_with, progress_bar, stdout, warn
+from tftools.cli.common import Exit, TextOrJson, exit_with, stdout, warn
 from tftools.cli.errors import UsageError
 from tftools.core.time import from_sec
 
@@ -58,26 +58,25 @@ def command(
     cache = positive_seconds(cache, "--cache", "10 (tf2's default)")
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
-    from tftools.analysis.filter import filter_recording
-    from tftools.analysis.live import filter_live
+    from tftools.analysis.filter import FilterQuery, filter_messages
+    from tftools.cli.common import frame_argument
+    from tftools.cli.reading import open_recording
     from tftools.render import filter as render
     from tftools.sources.errors import NoStampedDataError
 
-    cache_time, timeout = from_sec(cache), from_sec(wait) if wait is not None else None
-    with progress_bar(bags or [], "replaying the filter") as progress:
-        if bags:
-            filtering, read = functools.partial(filter_recording, bags, progress=progress), ", ".join(bags)
-        else:
-            source = live.start_listening(ros1, use_sim_time, duration)
-            filtering, read = functools.partial(filter_live, source, duration), source.describe()
-        try:
-            with live.heard(duration):
-                report = filtering(
-                    target, topics, cache_time=cache_time, wait=timeout, queue=queue, semantics=tf2, on_problem=warn
-                )
-        except NoStampedDataError as error:
-            example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
-            raise UsageError(str(error), f"name topics of stamped messages, e.g. {example}") from None
+    timeout = from_sec(wait) if wait is not None else None
+    query = FilterQuery(
+        sensor_topics=tuple(topics) if topics else None, cache_time=from_sec(cache), wait=timeout, queue=queue
+    )
+    recording = open_recording(bags, None, tf2, ros1, use_sim_time, duration, headers=query.reading().headers)
+    read = ", ".join(bags) if bags else recording.paths[0]
+    if target is not None:
+        query = replace(query, target=frame_argument(recording.buffer.frames, target))
+    try:
+        report = filter_messages(recording, query, on_problem=warn)
+    except NoStampedDataError as error:
+        example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
+        raise UsageError(str(error), f"name topics of stamped messages, e.g. {example}") from None
     if fmt is TextOrJson.json:
         render.write_json(report, stdout.file)
     else:

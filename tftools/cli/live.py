@@ -41,13 +41,15 @@ def capture_live(
     duration: float,
     topics: Sequence[str] | None = None,
     semantics: Semantics | None = None,
+    headers: Sequence[str] | None = None,
 ) -> Recording:
-    """What the live system says in ``duration`` seconds (tf only: ``sources.live.capture_live``)."""
+    """What the live system says in ``duration`` seconds (``sources.live.capture_live``: tf, and with
+    ``headers``, the headers of the sensor data on those topics, () every topic with a header)."""
     from tftools.sources.live.sensor_headers import capture_live as capture
 
     source = start_listening(ros1, use_sim_time, duration, topics)
     with heard(duration):
-        return capture(source, duration, semantics=semantics)
+        return capture(source, duration, headers, semantics=semantics)
 
 
 def capture_recording(

@@ -21,7 +21,7 @@ from tftools.core.time import NS_PER_S, from_sec, to_sec
 if TYPE_CHECKING:  # the figures and their renderers load when a command runs: --help needs none of them (nor numpy)
     from rich.console import RenderableType
 
-    from tftools.analysis.monitor import LiveMonitor, MonitorReport
+    from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport
     from tftools.analysis.timelines import EdgeSeries, MonitorTrace
     from tftools.sources import Recording
     from tftools.sources.replay import Feed
@@ -72,8 +72,9 @@ def command(
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
     """
-    from tftools.analysis.monitor import monitor_recording, monitored_range
+    from tftools.analysis.monitor import MonitorQuery, monitor, monitored_window, played_window
     from tftools.analysis.timelines import MonitorTrace, edge_series
+    from tftools.analysis.times import parse_time_spec
     from tftools.render import monitor as render
     from tftools.render.plots import monitor_figure
     from tftools.sources.live.capture import live_semantics
@@ -92,26 +93,31 @@ def command(
         live.no_bag_options(**{"--start": start, "--end": end, "--play": play})
         if target is not None and source is not None:
             target, source = frame_name(target), frame_name(source)
+        query = MonitorQuery(target=target, source=source, window=from_sec(window))
         with live.open_source(ros1, use_sim_time, topics) as feed:
             semantics = tf2 or live_semantics(feed)
-            watch(feed, target, source, from_sec(window), duration, fmt, feed.describe(), None, semantics, trace)
+            _watch(feed, query, duration, fmt, feed.describe(), None, semantics, trace)
         _write_trace(trace, plot, feed.describe())
         return
+    first_spec = parse_time_spec(start, "start") if start is not None else None
+    last_spec = parse_time_spec(end, "end") if end is not None else None
     if play:
         streamed = open_stream(bags, topics, tf2)
         target, source = _chain(streamed.frames, target, source)
-        first, last = monitored_range(streamed.timeline, start, end)
+        query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec, window=from_sec(window))
+        first, last = played_window(streamed.timeline, query)
         replay = streamed.replay(rate=rate, start=first, end=last)
         played, note = streamed.timeline, f"rate {rate:g}x"
-        watch(replay, target, source, from_sec(window), duration, fmt, note, played, streamed.semantics, trace)
+        _watch(replay, query, duration, fmt, note, played, streamed.semantics, trace)
         _write_trace(trace, plot, ", ".join(streamed.paths))
         return
     recording = open_recording(bags, topics, tf2)
     target, source = _chain(recording.buffer.frames, target, source)
-    report = monitor_recording(recording, target, source, start, end)
+    query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec)
+    report = monitor(recording, query)
     if plot is not None:
         keys = [e.key for e in report.chain.edges] if report.chain is not None else None
-        first, last = monitored_range(recording.timeline, start, end)
+        first, last = monitored_window(recording, query)
         series = edge_series(recording.buffer, recording.timeline, first, last, keys)
         write_plot(monitor_figure(series, _header(recording, report)), plot, _plotted(series))
     elif fmt is TextOrJson.json:
@@ -120,11 +126,9 @@ def command(
         stdout.print(render.renderable(report, _header(recording, report)))
 
 
-def watch(
+def _watch(
     feed: Feed,
-    target: str | None,
-    source: str | None,
-    window: int,
+    query: MonitorQuery,
     duration: float | None,
     fmt: TextOrJson,
     note: str = "",
@@ -132,13 +136,15 @@ def watch(
     semantics: Semantics = "ros1",
     trace: MonitorTrace | None = None,
 ) -> None:
-    """The live table: ``feed`` into a monitor, its report over the last ``window`` (ns) once
-    a second, until ``duration`` wall seconds pass or the feed ends; each report kept in ``trace``
+    """The live table: ``feed`` into a monitor (``monitor_stream``), its report over the last ``query.window`` (ns)
+    once a second, until ``duration`` wall seconds pass or the feed ends; each report kept in ``trace``
     if given. Works with any feed: a replay or a live source."""
     from rich.live import Live
 
-    from tftools.analysis.monitor import watch_feed
+    from tftools.analysis.monitor import monitor_stream
     from tftools.render import monitor as render
+
+    target, source, window = query.target, query.source, query.window
 
     def report(live_monitor: LiveMonitor) -> MonitorReport:
         current = live_monitor.report(target, source)
@@ -154,7 +160,7 @@ def watch(
         return render.renderable(report(live_monitor), header, target, source)
 
     def run(on_tick: Callable[[LiveMonitor], None]) -> None:
-        watch_feed(feed, on_tick, window, timeline, semantics, duration)
+        monitor_stream(feed, query, on_tick, timeline=timeline, semantics=semantics, duration=duration)
 
     try:
         if fmt is TextOrJson.json:

@@ -31,7 +31,7 @@ def open_recording(
     if not bags:
         from tftools.cli.live import capture_live  # the live modules load only when listening
 
-        return capture_live(ros1, use_sim_time, duration, topics, semantics)
+        return capture_live(ros1, use_sim_time, duration, topics, semantics, headers)
     from tftools.sources import read_recording
 
     return _read(bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics, headers=headers))

@@ -252,7 +252,6 @@ def _watch(
 ) -> None:
     """``--watch``: the live system checked every second, its health on /diagnostics and its changes on stdout."""
     from tftools.analysis.watch import Health, watch_live
-    from tftools.analysis.wtf.fleet import checks_of
     from tftools.render.escape import printable
     from tftools.sinks.diagnostics import open_diagnostics
     from tftools.sources.live.errors import LiveError
@@ -278,7 +277,7 @@ def _watch(
 
     live.say(f"watching {source.describe()}, publishing {publisher.describe()} once a second (Ctrl-C stops)")
     with publisher:
-        watch_live(source, tell, window, checks_of(query))
+        watch_live(source, tell, window, query)
 
 
 def outcome(reports: Sequence[BagReport], strict: bool = False) -> Exit:

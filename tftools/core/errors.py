@@ -9,15 +9,6 @@ class TfToolsError(Exception):
     hint: str = ""
 
 
-class UsageError(TfToolsError):
-    """Transitional: the command line's error (now ``tftools.cli.errors.UsageError``), still raised by
-    analysis/echo, filter, monitor and times until their own errors replace it; then it goes."""
-
-    def __init__(self, message: str, hint: str = "") -> None:
-        super().__init__(message)
-        self.hint = hint
-
-
 class FleetUnavailableError(TfToolsError):
     """A fleet's engine cannot run: Dask's distributed package is not installed (``address`` None), or the
     scheduler at ``address`` is not one, or cannot be reached (``problem`` says which)."""
@@ -99,3 +90,31 @@ class NoDataForExtrapolationError(ExtrapolationError):
 class InvalidArgumentError(TransformError):
     """An empty frame id or one with a leading slash: tf2's ``InvalidArgumentException`` (its texts:
     ``semantics.Dialect``)."""
+
+
+class InvalidTimeError(TfToolsError):
+    """A time asked of a recording that cannot be one: ``text`` as given (``"+99999"``), ``role`` which time
+    of the question it is (``"at"``, ``"start"``, ``"end"``), ``reason`` what is wrong with it, ``span`` the
+    recording's tf span on the asked frames' clock (ns), None where the text is not a time at all."""
+
+    def __init__(self, text: str, span: tuple[int, int] | None, reason: str, role: str = "time") -> None:
+        super().__init__(f"{role} {text}: {reason}")
+        self.text, self.span, self.reason, self.role = text, span, reason, role
+
+
+class TimeRangeError(TfToolsError):
+    """A time range with nothing in it: its end before its start (``span`` None), or outside the recording's
+    tf, whose ``span`` (ns) it carries."""
+
+    def __init__(self, span: tuple[int, int] | None = None) -> None:
+        super().__init__("the time range is empty" if span is None else "the time range is outside the recording")
+        self.span = span
+
+
+class TooManyLinesError(TfToolsError):
+    """An echo over a range at a rate that would give more than ``limit`` lookups (``lines`` of them over
+    ``length`` seconds at ``rate`` a second)."""
+
+    def __init__(self, lines: int, rate: float, length: float, limit: int) -> None:
+        super().__init__(f"{lines:,} lookups over {length:.3f} s at {rate:g} a second: at most {limit:,}")
+        self.lines, self.rate, self.length, self.limit = lines, rate, length, limit

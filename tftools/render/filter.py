@@ -9,7 +9,7 @@ from rich.console import Group, RenderableType
 from rich.table import Table
 from rich.text import Text
 
-from tftools.analysis.filter import KEEP, FilterReport, StreamReport
+from tftools.analysis.filter.fates import KEEP, FilterReport, StreamReport
 from tftools.core.figures import seconds
 from tftools.render import jsonl
 from tftools.render.escape import printable

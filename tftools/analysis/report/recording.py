@@ -9,12 +9,12 @@ from dataclasses import dataclass
 from datetime import datetime, timezone
 
 from tftools.analysis.description import robot_of
-from tftools.analysis.filter import tied_to_tf
 from tftools.analysis.findings import Finding
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
 from tftools.analysis.poses import FramePoses, frame_poses
 from tftools.analysis.report.query import REPORT_DEFAULTS, ReportQuery
+from tftools.analysis.targets import tied_to_tf
 from tftools.analysis.timelines import (
     Bins,
     EdgeTimeline,
@@ -57,7 +57,7 @@ class RecordingReport:
 def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> RecordingReport:
     """What ``tfx report``'s page shows of ``recording`` (read from files or URLs with ``query.reading()``, or
     captured live): its facts, its findings as ``tfx wtf`` checks it (its sensor data, the headers it was read
-    with, into ``query.target``: ``analysis.filter.choose_target``; against the robot's description,
+    with, into ``query.target``: ``analysis.targets.choose_target``; against the robot's description,
     ``robot_of``), its frame graph, its edges and sensor data over time, and every frame in 3D."""
     robot, said = robot_of(recording.paths, recording, query.urdf)
     streams = stamped_of(recording.contents.files, query.sensor_topics).streams

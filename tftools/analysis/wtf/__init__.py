@@ -45,7 +45,7 @@ def check(
     warnings, then notes (each in check order), each followed by those it explains (``causes.explain``).
 
     ``streams``: its sensor data (``read_stamped``), for the checks of data against tf, transformed
-    into ``target`` (default and fallback: ``analysis.filter.choose_target``). ``expected``: the
+    into ``target`` (default and fallback: ``analysis.targets.choose_target``). ``expected``: the
     tree it should have (``tfx wtf --expect``), within its tolerances. ``robot``: its description and
     joint states (``tfx wtf --urdf``, ``analysis.description``). ``ignore``
     lists codes not to run. Raises ``ValueError`` for a code that does not exist.

@@ -6,13 +6,12 @@ from __future__ import annotations
 import functools
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 from tftools.analysis.description import robot_of
-from tftools.analysis.filter import choose_target, tied_to_tf
 from tftools.analysis.findings import Finding, Severity, causes
 from tftools.analysis.fleet import HERE, Fleet, Unfinished, run_fleet
 from tftools.analysis.reading import Progress, unwatched
+from tftools.analysis.targets import choose_target, tied_to_tf
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.causes import explain
 from tftools.analysis.wtf.query import CHECK_DEFAULTS, CheckQuery
@@ -151,16 +150,3 @@ def unchecked(paths: tuple[str, ...], why: str, hint: str) -> BagReport:
     """A recording whose check did not finish (its worker died, it ran out of time): said, not passed."""
     message = f"{' + '.join(paths)}: not checked: {why}"
     return BagReport(paths, error=Finding(Severity.error, "unchecked", message, hint))
-
-
-# Transitional, for ``analysis/watch.py`` alone until it takes a ``CheckQuery`` (its owner's change, issue 40):
-# the query as the dict it reads (``checks_of``), and its check. Not exported; goes with that change.
-Checks = dict[str, Any]
-
-
-def checks_of(query: CheckQuery) -> Checks:
-    return {name: getattr(query, name) for name in CheckQuery.__dataclass_fields__}
-
-
-def check_read(recording: Recording, **checks: Any) -> BagReport:
-    return check(recording, CheckQuery(**checks))

@@ -12,7 +12,7 @@ import numpy as np
 from tftools.analysis.description import Robot
 from tftools.analysis.edges import Edge, EdgeStats, edge_rows, edge_stats, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
-from tftools.analysis.filter import FilterReport, filter_report
+from tftools.analysis.filter import FilterQuery, FilterReport, filter_streams
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.analysis.wtf.rows import Rows, rows_of
@@ -83,7 +83,7 @@ class Scene:
     @cached_property
     def sensors(self) -> FilterReport:
         """What a MessageFilter into the target frame made of each sensor stream."""
-        return filter_report(self.buffer, self.streams, self.target, tree=self.tree)
+        return filter_streams(self.buffer, self.streams, FilterQuery(target=self.target), self.tree)
 
     @cached_property
     def tree(self) -> FrameTree:

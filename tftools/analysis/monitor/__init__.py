@@ -1,4 +1,5 @@
-"""``tfx monitor``'s work: tf_monitor's numbers per edge, per publisher, and along a chain."""
+"""``tfx monitor``'s work: tf_monitor's numbers per edge, per publisher, and along a chain: ``monitor(recording,
+query)`` over a recording, ``monitor_stream(feed, query, on_tick)`` refreshed over a replay or a live system."""
 
 from __future__ import annotations
 
@@ -16,16 +17,17 @@ from tftools.analysis.edges import (
     EdgeStats,
     authority_stats,
     chain_edges,
+    chain_moving_edges,
     edge_stats,
     sorted_unique,
 )
-from tftools.analysis.times import time_range
+from tftools.analysis.times import TimeSpec, resolve_range
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
-from tftools.core.errors import TransformError, UsageError
+from tftools.core.errors import TimeRangeError, TransformError
 from tftools.core.semantics import Semantics
-from tftools.core.time import Clock, to_sec
+from tftools.core.time import Clock
 from tftools.sources.live.base import TickedClock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
@@ -61,7 +63,65 @@ class MonitorReport:
     delays_unavailable: str = ""  # why the delays are not shown (``Timeline.delays_unavailable``), "" if they are
 
 
-def monitor(
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MonitorQuery:
+    """What ``tfx monitor`` asks: every edge's and publisher's numbers, with ``target`` and ``source`` their
+    chain's too; on a recording from ``start`` to ``end`` (default: all of it; on the clock of the chain asked
+    about, ``Timeline.span_of``), on a stream over the last ``window`` (ns) of its clock."""
+
+    target: str | None = None
+    source: str | None = None
+    start: TimeSpec | None = None
+    end: TimeSpec | None = None
+    window: int = DEFAULT_CACHE_TIME
+
+
+def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
+    """``tfx monitor [TARGET SOURCE] -b BAG``: ``monitor_buffer`` over the recording, or over the window of
+    ``query.start`` to ``query.end`` (``monitored_window``), windowed by when the transforms arrived.
+    Raises tf2's errors when the frames are not connected, ``InvalidTimeError`` or ``TimeRangeError``."""
+    first, last = monitored_window(recording, query)
+    buffer, timeline = recording.buffer, recording.timeline
+    return monitor_buffer(buffer, query.target, query.source, first, last, by_record_time=True, timeline=timeline)
+
+
+def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | None, int | None]:
+    """``query.start`` and ``query.end`` on the arrival axis (ROS time when transforms arrived; None: open),
+    counted on the clock of the chain asked about: a chain stamped on its own clock (simulated time among
+    frames on wall time) is windowed from the arrival of its first transform stamped at or after ``start``
+    to that of its last stamped at or before ``end``. A ``TimeRangeError`` when they miss its tf."""
+    buffer, timeline = recording.buffer, recording.timeline
+    frames = list(chain_moving_edges(buffer, query.target, query.source)) if query.target and query.source else []
+    first, last = resolve_range(timeline, query.start, query.end, (None, None), frames)
+    span = timeline.span_of(frames)
+    if (first is not None and first > span[1]) or (last is not None and last < span[0]):
+        raise TimeRangeError(span)
+    if span == (timeline.tf_start, timeline.tf_end) or (first is None and last is None):
+        return first, last
+    hists = [hist for child in frames if (hist := buffer.history(child)) is not None]
+    stamps = np.concatenate([hist.stamps for hist in hists])
+    arrived = np.concatenate([timeline.arrival(hist.stamps, hist.record_times) for hist in hists])
+    after, before = (
+        arrived[stamps >= first] if first is not None else arrived,
+        arrived[stamps <= last] if last is not None else arrived,
+    )
+    # none of the chain's stamps in the range (its clock's other frames are): an empty window after or before them
+    return (
+        None if first is None else int(after.min()) if len(after) else int(arrived.max()) + 1,
+        None if last is None else int(before.max()) if len(before) else int(arrived.min()) - 1,
+    )
+
+
+def played_window(timeline: Timeline, query: MonitorQuery) -> tuple[int | None, int | None]:
+    """``query.start`` and ``query.end`` of a replay on the tf stamps' clock (None: open); a
+    ``TimeRangeError`` when they miss the recording's tf."""
+    first, last = resolve_range(timeline, query.start, query.end, default=(None, None))
+    if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
+        raise TimeRangeError((timeline.tf_start, timeline.tf_end))
+    return first, last
+
+
+def monitor_buffer(
     buffer: Buffer,
     target: str | None = None,
     source: str | None = None,
@@ -200,51 +260,30 @@ class LiveMonitor:
                 target = source = None  # no chain asked for, or its frames not seen yet
             timeline = self._timeline()
             try:
-                return monitor(self.buffer, target, source, start, now, by_record_time=True, timeline=timeline)
+                return monitor_buffer(self.buffer, target, source, start, now, by_record_time=True, timeline=timeline)
             except TransformError:  # the chain is not connected (yet): show the rest
-                return monitor(self.buffer, None, None, start, now, by_record_time=True, timeline=timeline)
+                return monitor_buffer(self.buffer, None, None, start, now, by_record_time=True, timeline=timeline)
 
 
-def monitor_recording(
-    recording: Recording,
-    target: str | None = None,
-    source: str | None = None,
-    start: str | None = None,
-    end: str | None = None,
-) -> MonitorReport:
-    """``tfx monitor [TARGET SOURCE] -b BAG``: ``monitor`` over the recording, or from ``start`` to ``end``
-    (``tftools.analysis.times``' grammar: ``+S``, ``-S``, absolute seconds), windowed by record time."""
-    first, last = monitored_range(recording.timeline, start, end)
-    buffer, timeline = recording.buffer, recording.timeline
-    return monitor(buffer, target, source, first, last, by_record_time=True, timeline=timeline)
-
-
-def monitored_range(timeline: Timeline, start: str | None, end: str | None) -> tuple[int | None, int | None]:
-    """``start`` and ``end`` on the tf stamps' clock (None: open); a ``UsageError`` when they miss the
-    recording's tf."""
-    first, last = time_range(timeline, start, end, default=(None, None))
-    if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
-        span = f"{to_sec(timeline.tf_start):.3f} to {to_sec(timeline.tf_end):.3f}"
-        raise UsageError("the time range is outside the recording", f"its tf runs from {span}")
-    return first, last
-
-
-def watch_feed(
+def monitor_stream(
     feed: Feed,
+    query: MonitorQuery,
     on_tick: Callable[[LiveMonitor], None],
-    window: int = DEFAULT_CACHE_TIME,
+    *,
     timeline: Timeline | None = None,
     semantics: Semantics = "ros1",
     duration: float | None = None,
 ) -> None:
-    """``tfx monitor`` live or ``--play``: ``feed`` (a live source or a replay) into a ``LiveMonitor`` over
-    the last ``window`` (ns), ``on_tick`` called with it once a second of the feed's clock, until ``duration``
-    wall seconds pass or the feed ends. A live source's jumps back in time clear it, as tf2_ros's listener."""
+    """``tfx monitor`` live or ``--play``: ``feed`` (a live source, or a replay with its recording's
+    ``timeline``, ``Timeline.played``) into a ``LiveMonitor`` over the last ``query.window`` (ns), ``on_tick``
+    called with it once a second of the feed's clock, until ``duration`` wall seconds pass or the feed ends
+    (its report: ``LiveMonitor.report`` of the query's frames). A live source's jumps back in time clear
+    it, as tf2_ros's listener."""
     from tftools.sources.live.base import LiveSource
     from tftools.sources.live.time_jump import watch_jumps
     from tftools.sources.replay import follow
 
-    live_monitor = LiveMonitor(feed.clock, window, timeline, semantics)
+    live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics)
     on_batch = (
         watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add
     )

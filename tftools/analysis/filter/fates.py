@@ -30,15 +30,13 @@ from __future__ import annotations
 import enum
 import heapq
 import itertools
-import os
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Final, Literal
 
 import numpy as np
 
 from tftools.analysis.edges import Edge, chain_edges, sorted_unique
-from tftools.analysis.frames import FrameTree, frame_tree
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
@@ -46,12 +44,9 @@ from tftools.core.figures import rate_hz, silence_limit
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
-from tftools.sources.errors import NoStampedDataError
 
 if TYPE_CHECKING:
-    from tftools.core.semantics import Semantics
-    from tftools.sources.bag import ProgressCallback
-    from tftools.sources.recording import Recording
+    pass
 
 #: A time that never comes.
 NEVER = np.iinfo(np.int64).max
@@ -456,109 +451,7 @@ class FilterReport:
         return any(s.never or s.dropped_by_wait or s.dropped_by_queue for s in self.streams)
 
 
-def default_target(tree: FrameTree) -> tuple[str, str]:
-    """The frame sensor data is usually transformed into: ``odom`` or ``map`` where REP 105's frames
-    exist (odom, where both do: what a costmap or a scan matcher asks for), else the tree's root."""
-    for frame in ("odom", "map"):
-        if frame in tree.frames:
-            return frame, f"REP 105's {frame} frame"
-    trees = tree.trees()
-    return max(sorted(trees), key=lambda root: len(trees[root]), default=""), "the root of the largest tree"
-
-
-def tied_to_tf(stream: StampedMessages) -> bool:
-    """Whether some message of ``stream`` names a frame (a header with an empty frame_id only is not tf's)."""
-    return any(stream.frame_ids)
-
-
-def choose_target(tree: FrameTree, asked: str | None = None) -> tuple[str, str]:
-    """The target frame and why it was chosen: ``asked`` where it is a frame of ``tree``, else
-    ``default_target`` (saying that ``asked`` is not there: a fleet's robots may differ)."""
-    if asked is None:
-        return default_target(tree)
-    if frame_name(asked) in tree.frames:  # a leading '/' dropped, as tf's tools do
-        return frame_name(asked), "asked for"
-    target, reason = default_target(tree)
-    return target, f"{reason}: '{asked}', asked for, is not a frame of this recording"
-
-
-def filter_report(
-    buffer: Buffer,
-    streams: Sequence[StampedMessages],
-    target: str | None = None,
-    cache_time: int = DEFAULT_CACHE_TIME,
-    wait: int | None = None,
-    queue: int | None = None,
-    tree: FrameTree | None = None,
-) -> FilterReport:
-    """What a MessageFilter into ``target`` (see ``choose_target``; ``tree``: the buffer's ``frame_tree``,
-    if already made) with a ``cache_time`` cache, and optionally a timeout ``wait`` (ns) or a queue of
-    ``queue`` messages, did to each stream."""
-    target, reason = choose_target(tree if tree is not None else frame_tree(buffer), target)
-    end = recording_end(buffer, streams)
-    reports, skipped, fates = [], [], {}
-    for stream in streams:
-        if not tied_to_tf(stream):
-            skipped.append(stream.topic)
-            continue
-        fates[stream.topic] = message_fates(buffer, stream, target, cache_time, end)
-        reports.append(_stream_report(buffer, stream, target, fates[stream.topic], wait, queue, end))
-    return FilterReport(target, reason, cache_time, reports, skipped, fates)
-
-
-def filter_recording(
-    paths: Sequence[str | os.PathLike[str]],
-    target: str | None = None,
-    topics: Sequence[str] | None = None,
-    *,
-    cache_time: int = DEFAULT_CACHE_TIME,
-    wait: int | None = None,
-    queue: int | None = None,
-    semantics: Semantics | None = None,
-    progress: ProgressCallback | None = None,
-    on_problem: Callable[[str], object] | None = None,
-) -> FilterReport:
-    """``tfx filter -b BAG``: read the recording at ``paths`` (several: a split one) with the headers of
-    ``topics`` (default: every topic whose messages start with a header) in one pass, and replay a
-    MessageFilter on them (``filter_report``). ``target``, when given, must be a frame of the recording
-    (a leading ``/`` dropped; else ``known_frame``'s ``UsageError``); what could not be read goes to ``on_problem``.
-    Raises ``NoStampedDataError`` when no topic has a header."""
-    from tftools.sources.recording import read_recording
-
-    recording = read_recording(paths, progress=progress, semantics=semantics, headers=tuple(topics or ()))
-    for problem in recording.problems:
-        (on_problem or _ignore)(problem)
-    return filter_heard(recording, target, topics, cache_time, wait, queue, on_problem)
-
-
-def filter_heard(
-    recording: Recording,
-    target: str | None = None,
-    topics: Sequence[str] | None = None,
-    cache_time: int = DEFAULT_CACHE_TIME,
-    wait: int | None = None,
-    queue: int | None = None,
-    on_problem: Callable[[str], object] | None = None,
-) -> FilterReport:
-    """``filter_recording`` of a recording read or heard (``analysis.live.filter_live``) with the headers
-    of its sensor data; ``topics``, those asked for (said missing when not read)."""
-    from tftools.core.frames import known_frame
-    from tftools.sources.bag.stamped import stamped_of
-
-    stamped = stamped_of(recording.contents.files, topics)
-    chosen = known_frame(recording.buffer.frames, target) if target is not None else None
-    if not stamped.streams:
-        raise NoStampedDataError(stamped.problems)
-    for problem in stamped.problems:
-        (on_problem or _ignore)(problem)
-    return filter_report(recording.buffer, stamped.streams, chosen, cache_time, wait, queue)
-
-
-def _ignore(_problem: str) -> None:
-    pass
-
-
-def _stream_report(
+def stream_report(
     buffer: Buffer,
     stream: StampedMessages,
     target: str,

@@ -1,0 +1,229 @@
+"""``tfx echo``'s work: the transform between two frames over time, as tf_echo shows it: ``echo(recording,
+query)`` on a recording, ``echo_stream(feed, query, on_series)`` on a replay or a live system."""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from tftools.analysis.edges import chain_moving_edges
+from tftools.analysis.times import Stamp, TimeSpec, resolve_range, resolve_time
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array
+from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.errors import TooManyLinesError, TransformError
+from tftools.core.frames import frame_name
+from tftools.core.rotation import rpy_from_quat_many
+from tftools.core.time import NS_PER_S
+from tftools.sources.timeline import Timeline
+
+if TYPE_CHECKING:
+    from tftools.core.semantics import Semantics
+    from tftools.sources.live.base import LiveSource
+    from tftools.sources.live.capture import Waiting
+    from tftools.sources.recording import Recording
+    from tftools.sources.stream import StreamedRecording
+
+#: ``tfx echo`` prints at most this many lines over a range (``every`` sample prints one per sample instead).
+MAX_ECHO_LINES = 1_000_000
+
+
+@dataclass(frozen=True)
+class EchoSeries:
+    """``T_target^source`` at each requested time; failed rows carry tf2's reason."""
+
+    target: str
+    source: str
+    times: Int64Array  # requested (ns)
+    stamps: Int64Array  # the stamp of each answer (ns)
+    translations: FloatArray
+    rotations: FloatArray
+    rpy: FloatArray
+    valid: BoolArray
+    errors: dict[int, TransformError]  # row -> why it failed
+
+    def __len__(self) -> int:
+        return len(self.times)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class EchoQuery:
+    """What ``tfx echo`` asks: ``T_target^source`` at one time ``at`` (``Stamp(0)``: the latest), or from
+    ``start`` to ``end`` (default: where every moving edge between the frames has data, ``chain_span``,
+    else the tf data's span) at ``every`` stamp of the moving edges between the frames, or ``rate`` times a
+    second (at most ``MAX_ECHO_LINES``). Times count on the clock of the frames asked about. Streamed (a
+    replay, a live system): the latest transform ``rate`` times a second, from ``start`` to ``end`` of a
+    replay; live, in a listener's buffer of ``cache_time`` (ns)."""
+
+    target: str
+    source: str
+    at: TimeSpec | None = None
+    start: TimeSpec | None = None
+    end: TimeSpec | None = None
+    rate: float = 1.0
+    every: bool = False
+    cache_time: int = DEFAULT_CACHE_TIME
+
+
+def echo(recording: Recording, query: EchoQuery) -> EchoSeries:
+    """``tfx echo TARGET SOURCE -b BAG``: the lookups at the times ``query`` asks for (``echo_times``).
+    Raises ``InvalidTimeError``, ``TimeRangeError`` or ``TooManyLinesError`` for times that cannot be."""
+    times = echo_times(recording.buffer, recording.timeline, query)
+    return lookups(recording.buffer, query.target, query.source, times)
+
+
+def echo_stream(
+    feed: StreamedRecording | LiveSource,
+    query: EchoQuery,
+    on_series: Callable[[EchoSeries, Buffer], object],
+    *,
+    count: int | None = None,
+    wait: float | None = None,
+    semantics: Semantics | None = None,
+    on_reminder: Callable[[Waiting], object] | None = None,
+) -> None:
+    """``tfx echo`` on a stream, as tf_echo sees a live system: ``on_series`` given the latest transform
+    (``latest``) and the buffer it is looked up in ``query.rate`` times a second of the feed's clock.
+
+    A recording streamed (``--play``): replayed in real time from ``query.start`` to ``query.end`` into a
+    buffer as tf_echo's (the stamps' clock, the recording's semantics), until it ends. A live source (not
+    yet started; ``semantics``: its tf2's, default the source's): listened to into a buffer of
+    ``query.cache_time``, the transform awaited first (``wait`` seconds at most: ``TransformNotHeardError``;
+    meanwhile ``on_reminder``, as ``wait_for_transform``), then ``count`` times, or until it ends or Ctrl-C."""
+    from tftools.sources.stream import StreamedRecording
+
+    if not isinstance(feed, StreamedRecording):
+        _echo_live(feed, query, on_series, count, wait, semantics, on_reminder)
+        return
+    from tftools.sources.replay import follow_into
+
+    first, last = resolve_range(feed.timeline, query.start, query.end, default=(None, None))
+    replay = feed.replay(start=first, end=last)
+    buffer = Buffer(clock=replay.clock, semantics=feed.semantics)
+    target, source = query.target, query.source
+    follow_into(replay, buffer, lambda: on_series(latest(buffer, target, source), buffer), period=1.0 / query.rate)
+
+
+def _echo_live(
+    source: LiveSource,
+    query: EchoQuery,
+    on_series: Callable[[EchoSeries, Buffer], object],
+    count: int | None,
+    wait: float | None,
+    semantics: Semantics | None,
+    on_reminder: Callable[[Waiting], object] | None,
+) -> None:
+    from tftools.sources.live.capture import listen, wait_for_transform
+    from tftools.sources.ticker import tick_every
+
+    target, source_frame = frame_name(query.target), frame_name(query.source)
+    with source:
+        buffer = listen(source, query.cache_time, semantics)
+        wait_for_transform(buffer, target, source_frame, wait, on_reminder)
+
+        def tick() -> None:
+            on_series(latest(buffer, target, source_frame), buffer)
+
+        with contextlib.suppress(KeyboardInterrupt):
+            tick_every(1.0 / query.rate, tick, count=count, stop=lambda: source.finished, clock=source.clock)
+
+
+def lookups(buffer: Buffer, target: str, source: str, times: npt.ArrayLike) -> EchoSeries:
+    """Look ``T_target^source`` up at every time (vectorized), with tf2's reason for each failure."""
+    requested = np.asarray(times, np.int64).reshape(-1)
+    batch = buffer.lookup_many(target, source, requested)
+    errors: dict[int, TransformError] = {}
+    for row in np.flatnonzero(~batch.valid):
+        try:
+            buffer.lookup(target, source, int(requested[row]))
+        except TransformError as error:
+            errors[int(row)] = error
+    return EchoSeries(
+        target,
+        source,
+        requested,
+        batch.stamps,
+        batch.translations,
+        batch.rotations,
+        rpy_from_quat_many(batch.rotations),
+        batch.valid,
+        errors,
+    )
+
+
+def latest(buffer: Buffer, target: str, source: str) -> EchoSeries:
+    """The lookup of the latest transform, said at the buffer's time now, as a live tf_echo prints it (its
+    "At time" of a success is the transform's stamp, its "Failure at" that time)."""
+    with buffer.lock:
+        return dataclasses.replace(lookups(buffer, target, source, [0]), times=np.array([buffer.now()], np.int64))
+
+
+def echo_times(buffer: Buffer, timeline: Timeline, query: EchoQuery) -> Int64Array:
+    """The times ``echo`` looks the transform up at on a recording (its ``buffer`` and ``timeline``)."""
+    target, source = query.target, query.source
+    frames = list(chain_moving_edges(buffer, target, source))  # times are on their clock (``Timeline.span_of``)
+    if query.at is not None:
+        at = query.at
+        return np.array([0 if at == Stamp(0) else resolve_time(at, timeline, frames, "at")], np.int64)
+    span = chain_span(buffer, target, source) or timeline.span_of(frames)
+    first, last = resolve_range(timeline, query.start, query.end, span, frames)
+    if query.every:
+        return sample_times(buffer, target, source, first, last)
+    echo_line_count(first, last, query.rate)
+    return ticks(first, last, query.rate)
+
+
+def echo_line_count(first: int, last: int, rate: float) -> int:
+    """How many lines ``tfx echo`` prints from ``first`` to ``last`` at ``rate``; a ``TooManyLinesError``
+    past ``MAX_ECHO_LINES``."""
+    length = (last - first) / NS_PER_S
+    lines = math.floor(length * rate) + 1
+    if lines > MAX_ECHO_LINES:
+        raise TooManyLinesError(lines, rate, length, MAX_ECHO_LINES)
+    return lines
+
+
+def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | None:
+    """The stretch of time over which every moving edge between the frames has data (None: they are not
+    connected now, or only by static edges)."""
+    edges = list(chain_moving_edges(buffer, target, source).values())
+    if not edges:
+        return None
+    start = max(hist.oldest_stamp for hist in edges)
+    end = min(hist.latest_stamp for hist in edges)
+    return (start, end) if start <= end else None
+
+
+def sample_times(buffer: Buffer, target: str, source: str, start: int, end: int) -> Int64Array:
+    """Every stamp of the moving edges between the frames within ``[start, end]``, sorted."""
+    edges = list(chain_moving_edges(buffer, target, source).values())
+    if not edges:
+        return np.zeros(0, np.int64)
+    every = np.unique(np.concatenate([hist.stamps for hist in edges]))
+    return every[(every >= start) & (every <= end)]
+
+
+def ticks(start: int, end: int, rate_hz: float) -> Int64Array:
+    """Times from ``start`` to ``end`` inclusive, ``rate_hz`` per second."""
+    if rate_hz <= 0:
+        raise ValueError("the rate must be above 0 Hz")
+    step = NS_PER_S / rate_hz
+    count = int((end - start) // step) + 1 if end >= start else 0
+    return start + np.round(np.arange(count) * step).astype(np.int64)
+
+
+def joined(parts: Sequence[EchoSeries]) -> EchoSeries:
+    """Series of the same two frames as one, in order (a live echo's lines); at least one part."""
+    offsets = np.cumsum([0, *(len(p) for p in parts)]).tolist()
+    errors = {offset + row: error for p, offset in zip(parts, offsets, strict=False) for row, error in p.errors.items()}
+    arrays: dict[str, Any] = {
+        column: np.concatenate([getattr(p, column) for p in parts])
+        for column in ("times", "stamps", "translations", "rotations", "rpy", "valid")
+    }
+    return dataclasses.replace(parts[0], errors=errors, **arrays)

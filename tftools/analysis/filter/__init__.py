@@ -1,0 +1,76 @@
+"""``tfx filter``'s work: what a ``tf2_ros::MessageFilter`` would have done to each stamped message of a
+recording (``filter_messages(recording, query)``; each message's fate: ``fates``)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from tftools.analysis.filter.fates import FilterReport, message_fates, recording_end, stream_report
+from tftools.analysis.frames import FrameTree, frame_tree
+from tftools.analysis.reading import Reading
+from tftools.analysis.targets import choose_target, tied_to_tf
+from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.sources.contents import StampedMessages
+from tftools.sources.errors import NoStampedDataError
+
+if TYPE_CHECKING:
+    from tftools.sources.recording import Recording
+
+__all__ = ["FilterQuery", "FilterReport", "filter_messages", "filter_streams"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class FilterQuery:
+    """What ``tfx filter`` asks: what a MessageFilter into ``target`` (``choose_target``: asked for where it is
+    a frame of the recording, else REP 105's odom or map, else the largest tree's root) with a listener's
+    cache of ``cache_time`` (ns), and optionally a timeout ``wait`` (ns) or a queue of ``queue`` messages,
+    does to the messages of ``sensor_topics`` (None: every topic whose messages start with a header)."""
+
+    target: str | None = None
+    sensor_topics: tuple[str, ...] | None = None
+    cache_time: int = DEFAULT_CACHE_TIME
+    wait: int | None = None
+    queue: int | None = None
+
+    def reading(self) -> Reading:
+        """What to read of a recording for it: tf and the headers of the topics asked for (all whose messages
+        start with a header when none are named; live, ``capture_live`` takes ``reading().headers``)."""
+        return Reading(headers=tuple(self.sensor_topics or ()))
+
+
+def filter_messages(
+    recording: Recording, query: FilterQuery, *, on_problem: Callable[[str], object] | None = None
+) -> FilterReport:
+    """``tfx filter``: a MessageFilter replayed on the sensor data ``recording`` was read or heard with
+    (``query.reading()``) against its tf; what could not be read of the topics asked for goes to
+    ``on_problem``. Raises ``NoStampedDataError`` when no topic has a header."""
+    from tftools.sources.bag.stamped import stamped_of
+
+    files = recording.contents.files
+    said = {problem.split(":", 1)[0] for info in files for problem in info.stamped_problems}  # a capture's "not heard"
+    stamped = stamped_of(files, [topic for topic in query.sensor_topics or () if topic not in said])
+    if not stamped.streams:
+        raise NoStampedDataError(stamped.problems)
+    for problem in stamped.problems:
+        if on_problem is not None:
+            on_problem(problem)
+    return filter_streams(recording.buffer, stamped.streams, query)
+
+
+def filter_streams(
+    buffer: Buffer, streams: Sequence[StampedMessages], query: FilterQuery, tree: FrameTree | None = None
+) -> FilterReport:
+    """``filter_messages`` of ``streams`` against the tf in ``buffer`` (``tree``: its ``frame_tree``, if
+    already made; ``query.sensor_topics`` not looked at: the streams are those asked about)."""
+    target, reason = choose_target(tree if tree is not None else frame_tree(buffer), query.target)
+    end = recording_end(buffer, streams)
+    reports, skipped, fates = [], [], {}
+    for stream in streams:
+        if not tied_to_tf(stream):
+            skipped.append(stream.topic)
+            continue
+        fates[stream.topic] = message_fates(buffer, stream, target, query.cache_time, end)
+        reports.append(stream_report(buffer, stream, target, fates[stream.topic], query.wait, query.queue, end))
+    return FilterReport(target, reason, query.cache_time, reports, skipped, fates)

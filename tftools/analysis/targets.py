@@ -1,0 +1,34 @@
+"""The target frame of a question several commands ask (``tfx filter``'s, ``tfx wtf``'s sensor checks): the
+frame sensor data is transformed into, asked for or chosen by REP 105."""
+
+from __future__ import annotations
+
+from tftools.analysis.frames import FrameTree
+from tftools.core.frames import frame_name
+from tftools.sources.contents import StampedMessages
+
+
+def default_target(tree: FrameTree) -> tuple[str, str]:
+    """The frame sensor data is usually transformed into: ``odom`` or ``map`` where REP 105's frames
+    exist (odom, where both do: what a costmap or a scan matcher asks for), else the tree's root."""
+    for frame in ("odom", "map"):
+        if frame in tree.frames:
+            return frame, f"REP 105's {frame} frame"
+    trees = tree.trees()
+    return max(sorted(trees), key=lambda root: len(trees[root]), default=""), "the root of the largest tree"
+
+
+def tied_to_tf(stream: StampedMessages) -> bool:
+    """Whether some message of ``stream`` names a frame (a header with an empty frame_id only is not tf's)."""
+    return any(stream.frame_ids)
+
+
+def choose_target(tree: FrameTree, asked: str | None = None) -> tuple[str, str]:
+    """The target frame and why it was chosen: ``asked`` where it is a frame of ``tree``, else
+    ``default_target`` (saying that ``asked`` is not there: a fleet's robots may differ)."""
+    if asked is None:
+        return default_target(tree)
+    if frame_name(asked) in tree.frames:  # a leading '/' dropped, as tf's tools do
+        return frame_name(asked), "asked for"
+    target, reason = default_target(tree)
+    return target, f"{reason}: '{asked}', asked for, is not a frame of this recording"
