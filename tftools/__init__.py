@@ -54,7 +54,7 @@ if TYPE_CHECKING:
     )
     from tftools.render.graph import view_frames
     from tftools.sinks import add_static, publish_static, repair_static
-    from tftools.sources import Recording, load, read_recording, stream_recording
+    from tftools.sources import Recording, read_recording, stream_recording
 
 __version__: str  # set on first use, by __getattr__
 
@@ -64,14 +64,14 @@ __all__ = [
     "RejectionCode", "Semantics", "SimClock", "TfToolsError", "Transform", "TransformBatch", "TransformError",
     "UnknownFrameError", "WallClock", "add_static", "check_fleet", "check_live", "diff_trees", "echo_live",
     "echo_recording", "filter_live", "filter_recording", "filter_report", "format_sec", "frame_tree", "from_sec",
-    "load", "monitor_recording", "publish_static", "read_recording", "recording_report", "repair_static",
+    "monitor_recording", "publish_static", "read_recording", "recording_report", "repair_static",
     "report_fleet", "report_live", "stream_recording", "to_sec", "view_frames",
 ]  # fmt: skip
 
 #: The package each name comes from, when not ``tftools.core``: reading (sources), each command's call
 #: (analysis; sinks for ``tfx static``; render for ``tfx view-frames``).
 _PACKAGE = {
-    **dict.fromkeys(["Recording", "load", "read_recording", "stream_recording"], "tftools.sources"),
+    **dict.fromkeys(["Recording", "read_recording", "stream_recording"], "tftools.sources"),
     **dict.fromkeys(
         [
             "check_fleet",

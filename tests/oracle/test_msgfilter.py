@@ -19,7 +19,6 @@ from tests.oracle import message_filter as mf
 from tests.oracle import unavailable_reason
 from tftools.analysis.filter import KEEP, Fate, filter_report, message_fates, recording_end
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.stamped import read_stamped
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import read_recording
 
@@ -53,8 +52,9 @@ def agreement(
 ) -> list[mf.Agreement]:
     """Per header topic of ``bag``: how ``tfx filter``'s replay agrees with the real filter's."""
     verdicts = mf.run(oracle, bag, target, out, queue, cache_s)
-    buffer = read_recording([bag]).buffer
-    streams = {s.topic: s for s in read_stamped([bag], sorted(verdicts)).streams}
+    recording = read_recording([bag], headers=sorted(verdicts))
+    buffer = recording.buffer
+    streams = {s.topic: s for s in recording.stamped.streams}
     end = recording_end(buffer, list(streams.values()))
     found = []
     for topic, theirs in sorted(verdicts.items()):
@@ -125,7 +125,8 @@ def test_each_fault_of_issue_29_is_the_real_filters_answer(oracle: Path, designe
     # F: a stamp-0 message never passes after a wait by tf2's rule; tf2 0.7 passes those waiting for the
     # static transform that makes their frame known only by its defect (a dangling TransformAvailable).
     assert outcomes("/scan_zero_late") == {"on_arrival", "later_defect"}
-    report = filter_report(read_recording([designed]).buffer, read_stamped([designed]).streams, "odom")
+    recording = read_recording([designed], headers=())
+    report = filter_report(recording.buffer, recording.stamped.streams, "odom")
     streams = {s.topic: s for s in report.streams}
     assert streams["/scan_dead"].reasons == {Fate.NEEDS_NEWER_TF.reason: len(dead)}
     assert streams["/cloud_old"].reasons == {Fate.TOO_OLD_ON_ARRIVAL.reason: len(verdicts["/cloud_old"])}
@@ -205,7 +206,8 @@ def test_the_real_filter_keeps_what_each_suggested_setting_says(oracle: Path, de
     """Issue 29: a suggestion is one under which the real filter keeps what it says. The queue: every message
     that passes with an unlimited queue passes with it. The cache: no more than 0.1% of the messages the
     recording decides are lost to their age with it."""
-    report = filter_report(read_recording([designed]).buffer, read_stamped([designed]).streams, "odom")
+    recording = read_recording([designed], headers=())
+    report = filter_report(recording.buffer, recording.stamped.streams, "odom")
     for s in report.streams:
         if s.queue_needed:
             run = mf.run(oracle, designed, "odom", tmp_path / "q.jsonl", queue=s.queue_needed, topics=[s.topic])

@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
+from tests.sources.bag.reading import read_contents
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
-from tftools.sources.bag import read_bag
 from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.errors import BagNotFoundError, NoTransformsError
 from tftools.sources.replay import Replay, follow
@@ -130,8 +130,8 @@ def test_a_replay_of_parts_delivers_what_a_replay_of_the_whole_does(tmp_path: Pa
 
 def test_a_bag_without_transforms_is_refused(tmp_path: Path) -> None:
     bag = write_bag(tmp_path / "clock.bag", [], BagFormat.ros1, [ClockMessage(WALL, SIM)])
-    with pytest.raises(NoTransformsError):
-        stream_recording([bag])
+    with pytest.raises(NoTransformsError), stream_recording([bag]):
+        pass
 
 
 def test_a_bag_read_whole_is_streamed_as_one_window(tmp_path: Path) -> None:
@@ -183,15 +183,29 @@ def test_the_stream_reads_through_the_files_it_opened(tmp_path: Path) -> None:
     """The recording is opened once: a file removed after the first pass is still replayed whole
     (its reader holds it open), and closing the stream lets it go."""
     bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
-    whole = len(read_bag([bag]).transforms)
+    whole = len(read_contents([bag]).transforms)
     with stream_recording([bag], window_messages=300) as streamed:
         bag.unlink()
         assert len(streamed.windows) > 3
         assert sum(len(part) for part in streamed.parts()) == whole
 
 
+def test_the_stream_closes_its_files_on_leaving_the_block_an_error_included(tmp_path: Path) -> None:
+    """``with stream_recording(...) as streamed``: the files are let go on leaving the block, whether it
+    ended or raised; a replay of a closed stream is told so."""
+    bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
+    with stream_recording([bag], window_messages=300) as streamed:
+        assert streamed.reader.read(RecordWindow(0, 0)).files
+    with pytest.raises(ValueError, match="not open"):
+        next(streamed.parts())
+    with pytest.raises(KeyError), stream_recording([bag], window_messages=300) as failed:
+        raise KeyError("the caller's own error")
+    with pytest.raises(ValueError, match="not open"):
+        next(failed.parts())
+
+
 def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None:
-    described = read_bag([SAMPLES / "robot.bag"], window=RecordWindow(0, 0)).files
+    described = read_contents([SAMPLES / "robot.bag"], window=RecordWindow(0, 0)).files
     lying = [dataclasses.replace(f, message_count=2**62, end=2**63 - 1) for f in described]
     windows = _windows(lying, 4)
     assert len(windows) == MAX_WINDOWS
@@ -205,7 +219,8 @@ def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None
     ([SAMPLES / "robot.bag"], "ros2", "ros2"),
 ])  # fmt: skip
 def test_a_stream_answers_as_the_tf2_asked_for(paths: list[Path], chosen: Semantics | None, expected: str) -> None:
-    assert stream_recording(paths, semantics=chosen).semantics == expected
+    with stream_recording(paths, semantics=chosen) as streamed:
+        assert streamed.semantics == expected
 
 
 @pytest.mark.parametrize("fmt", list(BagFormat))

@@ -528,24 +528,22 @@ def filter_recording(
     recording = read_recording(paths, progress=progress, semantics=semantics, headers=tuple(topics or ()))
     for problem in recording.problems:
         (on_problem or _ignore)(problem)
-    return filter_heard(recording, target, topics, cache_time, wait, queue, on_problem)
+    return filter_heard(recording, target, cache_time, wait, queue, on_problem)
 
 
 def filter_heard(
     recording: Recording,
     target: str | None = None,
-    topics: Sequence[str] | None = None,
     cache_time: int = DEFAULT_CACHE_TIME,
     wait: int | None = None,
     queue: int | None = None,
     on_problem: Callable[[str], object] | None = None,
 ) -> FilterReport:
     """``filter_recording`` of a recording read or heard (``analysis.live.filter_live``) with the headers
-    of its sensor data; ``topics``, those asked for (said missing when not read)."""
+    of its sensor data (``Recording.stamped``: those asked for and not read are said in its problems)."""
     from tftools.core.frames import known_frame
-    from tftools.sources.bag.stamped import stamped_of
 
-    stamped = stamped_of(recording.contents.files, topics)
+    stamped = recording.stamped
     chosen = known_frame(recording.buffer.frames, target) if target is not None else None
     if not stamped.streams:
         raise NoStampedDataError(stamped.problems)

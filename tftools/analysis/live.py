@@ -84,7 +84,7 @@ def filter_live(
     and the headers of the sensor ``topics`` (default: every topic whose messages start with a header).
     Raises ``NoTransformsHeardError``, or ``NoStampedDataError`` when no sensor data was heard."""
     recording = capture_live(source, duration, tuple(topics or ()), semantics=semantics)
-    return filter_heard(recording, target, None, cache_time, wait, queue, on_problem)
+    return filter_heard(recording, target, cache_time, wait, queue, on_problem)
 
 
 def echo_live(
@@ -118,7 +118,7 @@ def echo_live(
 
 
 def _stamped_problems(recording: Recording) -> list[str]:
-    return [problem for info in recording.contents.files for problem in info.stamped_problems]
+    return recording.stamped.problems
 
 
 def _tell(problems: Sequence[str], on_problem: OnProblem | None) -> None:

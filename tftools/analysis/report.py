@@ -35,7 +35,6 @@ from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S, format_sec, from_sec
 from tftools.sources.bag import ProgressCallback
 from tftools.sources.bag.robot import ROBOT_TOPICS
-from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording, read_recording
 from tftools.sources.timeline import EPOCH_FLOOR, Reference
@@ -140,7 +139,7 @@ def report_read(
     """``report_bags`` of a recording read from ``paths`` (or heard: ``analysis.live.report_live``), its
     sensor data the headers it was read with."""
     robot, said = robot_of(paths, recording, urdf)
-    streams = stamped_of(recording.contents.files, sensor_topics).streams
+    streams = recording.stamped.streams
     report = recording_report(recording, streams, target, robot, [said] if said is not None else [])
     return dataclasses.replace(report, problems=tuple(recording.problems))
 

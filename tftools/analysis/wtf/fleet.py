@@ -20,7 +20,6 @@ from tftools.core.errors import TfToolsError
 from tftools.core.semantics import Semantics
 from tftools.sources.bag import ProgressCallback
 from tftools.sources.bag.robot import ROBOT_TOPICS
-from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import Fetched, StampedMessages
 from tftools.sources.recording import Recording, read_recording
 from tftools.sources.urdf import RobotDescription
@@ -110,7 +109,7 @@ def check_read(
     """``check_bags`` of a recording read from ``paths`` (or heard: ``analysis.live.check_live``), its sensor
     data the headers it was read with."""
     robot, said = robot_of(paths, recording, urdf, urdf_tolerances or (expected.tolerances if expected else None))
-    streams = stamped_of(recording.contents.files, sensor_topics).streams
+    streams = recording.stamped.streams
     checked = check_recording(recording, streams, thresholds, ignore, target, expected, robot)
     if said is not None and said.code not in ignore:
         checked.findings = explain([*checked.findings, said])

@@ -155,8 +155,8 @@ def test_a_remote_bag_directory_has_its_qos_checked(tfx: Any, bucket: str) -> No
     """metadata.yaml's QoS comes with the bag read: a bag read by URL has /tf_static's durability
     checked, not skipped unsaid."""
     with BagReader([f"{bucket}/robot_db3"]) as reader:
-        (info,) = reader.read().files
-    assert info.qos is not None and not info.qos.problem and "/tf_static" in info.qos.profiles
+        (qos,) = reader.read().qos.values()
+    assert not qos.problem and "/tf_static" in qos.profiles
 
 
 @pytest.mark.parametrize("command", ["wtf", "report"])

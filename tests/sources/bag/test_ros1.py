@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from rosbags.rosbag1 import Reader
 
+from tests.sources.bag.reading import read_contents
 from tests.sources.formats import read_as
 from tests.sources.ros1_helpers import (
     NS,
@@ -28,7 +29,6 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.ros1 import file as ros1_file
 from tftools.sources.bag.ros1 import index as ros1_index
 from tftools.sources.bag.ros1.records import read_bag_header
@@ -38,7 +38,7 @@ from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 from tftools.sources.storage.source import FileSource
 
 TOPICS = ("/tf", "/tf_static")
-SAMPLE = Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag"
+SAMPLE = Path(__file__).resolve().parents[3] / "sample_bags" / "robot.bag"
 
 
 @pytest.fixture(scope="session")
@@ -318,7 +318,7 @@ def test_read_bag_reports_progress_and_other_types(tmp_path: Path) -> None:
     ]
     bag = write_rosbags(tmp_path / "b.bag", messages)
     seen: list[tuple[int, int]] = []
-    contents = read_bag([bag], progress=lambda done, total: seen.append((done, total)))
+    contents = read_contents([bag], progress=lambda done, total: seen.append((done, total)))
     assert contents.problems == ["/tf: std_msgs/String (ros1) is not a transform message tftools reads, skipped"]
     assert rows_of(contents.transforms) == [
         ("base", "laser", T0, np.array([0.0] * 6 + [1.0]).tobytes(), T0 + 1, "/rsp", True)
@@ -374,7 +374,7 @@ def test_a_bag_cut_in_its_header_is_corrupt(bags: dict[str, Path], tmp_path: Pat
     bag = tmp_path / "cut.bag"
     bag.write_bytes(SAMPLE.read_bytes()[:cut])
     with pytest.raises((CorruptBagError, UnknownBagFormatError)):
-        read_bag([bag])
+        read_contents([bag])
 
 
 def test_not_a_bag(tmp_path: Path) -> None:
@@ -384,7 +384,7 @@ def test_not_a_bag(tmp_path: Path) -> None:
         read(bag)
     bag.write_bytes(b"no bag at all" * 100)
     with pytest.raises(UnknownBagFormatError):
-        read_bag([bag])
+        read_contents([bag])
 
 
 @pytest.mark.parametrize("compression", ["none", "bz2"])
