@@ -228,13 +228,14 @@ def test_the_indexes_are_read_once_for_every_window(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: BagFormat
 ) -> None:
     """The first pass and the replay read many windows through one reader: each file's index (a ROS 1
-    bag's, an MCAP summary, a .db3's topics and statistics) is read once, not once a window."""
+    bag's, an MCAP summary) is read once, not once a window, and a .db3 is read through one sqlite
+    connection (its topics, statistics and every window's rows)."""
     from tftools.sources.bag import mcap, ros1
     from tftools.sources.bag.rosbag2 import db3
 
     bag = simulation(tmp_path / "sim", fmt)
     counted: list[str] = []
-    for module, name in ((ros1, "read_index"), (mcap, "summary_of"), (db3, "_statistics")):
+    for module, name in ((ros1, "read_index"), (mcap, "summary_of"), (db3, "Database")):
         real = getattr(module, name)
 
         def count(*a: object, _real: Any = real, _name: str = name) -> Any:

@@ -268,3 +268,28 @@ def test_a_build_without_the_extension_reads_db3_files_alike(monkeypatch: pytest
     assert python.problems == native.problems == []
     assert len(python.transforms) == len(native.transforms) > 1000
     assert np.array_equal(python.transforms.translation, native.transforms.translation)
+
+
+@pytest.mark.parametrize("native", [True, False], ids=["extension", "sqlite3"])
+def test_one_connection_serves_the_tables_and_the_messages(tmp_path: Path, native: bool) -> None:
+    """A .db3's one connection answers the small tables' queries (text not in UTF-8 with replacement
+    characters, alike through the extension and Python's sqlite3) and its messages, until closed."""
+    from tftools.sources.bag.rosbag2.database import Database
+
+    rows = mixed_rows(300)
+    bag = write_db3(tmp_path / "a.db3", rows)
+    with sqlite3.connect(bag) as writer:
+        writer.execute("INSERT INTO topics VALUES (9, CAST(X'2F6361FF' AS TEXT), 'x/msg/Y', 'cdr', '')")
+    writer.close()
+    db = Database(bag, native=native)
+    assert db.native == native
+    assert db.rows("SELECT count(*), min(timestamp) FROM messages") == [(len(rows), T0)]
+    assert db.rows("SELECT name FROM topics WHERE id = 9") == [("/ca\ufffd",)]
+    query = f"SELECT topic_id, timestamp, id, data FROM messages WHERE topic_id = 4{db.typed}"
+    fetched = [(row, data[start : start + length].tobytes())
+               for topic, _time, ids, starts, lengths, data in db.messages(query, 7, 1 << 20)
+               for row, start, length in zip(ids.tolist(), starts.tolist(), lengths.tolist(), strict=True)]  # fmt: skip
+    assert fetched == [(row_id, data) for row_id, topic, _t, data in rows if topic == 4]
+    db.close()
+    with pytest.raises(sqlite3.Error):
+        db.rows("SELECT count(*) FROM messages")
