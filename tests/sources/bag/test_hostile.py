@@ -4,11 +4,13 @@ or refused with tftools' own one-line error; never a traceback, a hang or a blow
 from __future__ import annotations
 
 import os
+import shutil
 import sqlite3
 import subprocess
 import sys
 import textwrap
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 import pytest
@@ -22,6 +24,7 @@ from tftools.core.errors import TfToolsError
 from tftools.core.transform import Transform
 from tftools.sources.bag import messages, rosbag2, unpack
 from tftools.sources.bag.rosbag2.db3_salvage import salvage
+from tftools.sources.bag.unpack import Budget
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 from tftools.sources.storage.source import FileSource
@@ -121,7 +124,7 @@ def test_file_compressed_rosbag2_bomb_writes_no_more_than_its_budget(
     written: list[int] = []
     real = unpack.zstd_file
 
-    def measured(source, target, budget):  # type: ignore[no-untyped-def]
+    def measured(source: BinaryIO, target: Path, budget: Budget) -> str:
         loss = real(source, target, budget)
         written.append(target.stat().st_size)
         return loss
@@ -136,7 +139,7 @@ def test_file_compressed_rosbag2_stops_short_of_a_full_disk(tmp_path: Path, monk
     target = tmp_path / "plain"
     source = tmp_path / "bomb.zstd"
     source.write_bytes(hostile.compressed_zeros("zstd", 8 * MiB))
-    free = unpack.shutil.disk_usage(tmp_path).free
+    free = shutil.disk_usage(tmp_path).free
     monkeypatch.setattr(unpack, "FREE_SPACE_MARGIN", free - MiB)  # as if only 1 MiB were free
     with source.open("rb") as f:
         loss = unpack.zstd_file(f, target, unpack.Budget(1 << 30))
@@ -235,7 +238,7 @@ def test_prefetch_of_ranges_a_damaged_index_gives(tmp_path: Path) -> None:
     path.write_bytes(b"x" * 100)
     with FileSource(path) as source:
         source.ahead(np.array([-5, 50, 1 << 62, 10], np.int64), np.array([10, 20, (1 << 63) - 1, 10], np.int64))
-        source.ahead(np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))  # type: ignore[arg-type]
+        source.ahead(np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))
 
 
 # metadata.yaml

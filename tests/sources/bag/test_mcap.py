@@ -36,7 +36,7 @@ from tests.sources.ros2_helpers import (
     write_rosbag2,
 )
 from tftools.sources.bag.mcap import index as mcap_index
-from tftools.sources.bag.mcap.records import CHUNK_HEAD, Body, ChunkIndex
+from tftools.sources.bag.mcap.records import CHUNK_HEAD, Body, ChunkIndex, chunk_records
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.spans import Spans
 from tftools.sources.errors import BagError, CorruptBagError
@@ -78,7 +78,7 @@ def scene(seed: int, count: int = 400) -> tuple[list[Msg], list[Other], list[Msg
         else:
             others.append(Other(topic, record_time, tf_cdr(message.transforms), TF_TYPE))
             tf2[id(others[-1])] = message
-    stream = sorted([*foxglove, *others], key=lambda m: m.record_time)  # as write_foxglove_mcap does
+    stream: list[Msg | Other] = sorted([*foxglove, *others], key=lambda m: m.record_time)  # as write_foxglove_mcap does
     written = [m if isinstance(m, Msg) else tf2[id(m)] for m in stream if isinstance(m, Msg) or id(m) in tf2]
     return foxglove, others, written
 
@@ -116,7 +116,8 @@ def test_layouts(tmp_path: Path, layout: str) -> None:
     reference = [row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT]
     assert by_time(rows) == by_time(reference)
     (info,) = contents.files
-    times = [m.record_time for m in [*FOXGLOVE_MESSAGES, *OTHERS]]
+    every: list[Msg | Other] = [*FOXGLOVE_MESSAGES, *OTHERS]
+    times = [m.record_time for m in every]
     assert info.problems == [] and info.format == "mcap"
     assert (info.message_count, info.start, info.end) == (len(times), min(times), max(times))
     assert info.topics["/fox/pb"] == "foxglove.FrameTransforms"
@@ -344,7 +345,7 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     """What the MCAP reader reads of its chunks, as it reads it: ("range", bytes) of the ranges
     read from uncompressed chunks, (compression, bytes) of a chunk read whole."""
     seen: list[tuple[str, int]] = []
-    read_into, chunk_records = FileSource.read_into, mcap_index.chunk_records
+    read_into = FileSource.read_into
 
     def counted_range(source: FileSource, view: memoryview, offset: int) -> bool:
         seen.append(("range", len(view)))
@@ -396,7 +397,8 @@ def test_images_between_transforms_read_in_ranges(
     assert contents.problems == [] and contents.files[0].topics["/camera/image"] == IMAGE_TYPE
     assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.1 * path.stat().st_size
     with FileSource(path) as source:
-        assert len(mcap_index.summary_of(source).chunks) > 3  # type: ignore[union-attr]
+        summary = mcap_index.summary_of(source)
+        assert summary is not None and len(summary.chunks) > 3
     data = bytearray(path.read_bytes())
     data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # no summary: read record by record
     path.write_bytes(bytes(data))
@@ -421,7 +423,11 @@ def test_compressed_and_uncompressed_chunks(tmp_path: Path, reads: list[tuple[st
 def foxglove_among_images(tmp_path: Path, **options: Any) -> Path:
     """An MCAP file by the mcap library with every kind of transform channel among camera images,
     read: the transforms written, in order, as the mcap library reads them, and no problem."""
-    images = [m for m in with_images(list(OTHERS), every=3, size=20_000) if m.topic == "/camera/image"]
+    images = [
+        m
+        for m in with_images(list(OTHERS), every=3, size=20_000)
+        if isinstance(m, Other) and m.topic == "/camera/image"
+    ]
     written = McapOptions(extra=[*OTHERS, *images], **options)
     path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, FOXGLOVE_MESSAGES, written)
     contents = read_contents([path])

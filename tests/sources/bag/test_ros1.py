@@ -32,6 +32,7 @@ from tests.sources.ros1_helpers import (
 from tftools.sources.bag.ros1 import file as ros1_file
 from tftools.sources.bag.ros1 import index as ros1_index
 from tftools.sources.bag.ros1.records import read_bag_header
+from tftools.sources.bag.unpack import Budget, Unpacked, unpack
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.ros1 import decode_tf
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
@@ -175,11 +176,10 @@ def test_only_chunks_holding_transforms_are_decompressed(tmp_path: Path, monkeyp
     images = [Msg("/camera/image", "string", T0 + 6 * NS + i * NS // 10, "/camera", "x" * 200_000) for i in range(40)]
     bag = write_rosbags(tmp_path / "b.bag", early + images, "bz2", chunk_threshold=100_000)
     decompressed: list[int] = []
-    real = ros1_file.unpack
 
-    def counting(compression: str, raw: bytes, size: int, budget: object = None):
+    def counting(compression: str, raw: bytes | memoryview, size: int, budget: Budget | None = None) -> Unpacked:
         decompressed.append(size)
-        return real(compression, raw, size, budget)
+        return unpack(compression, raw, size, budget)
 
     monkeypatch.setattr(ros1_file, "unpack", counting)
     batches, info = read(bag)

@@ -384,7 +384,7 @@ def test_undecodable_messages(tmp_path: Path) -> None:
     good = varied_messages(5, 100, ties=False)
     bad = [Other("/tf", T0 + 30 * NS + i, b"\x00\x01\x00\x00" + bytes([i]) * 3, "tf2_msgs/msg/TFMessage")
            for i in range(1, 4)]  # fmt: skip
-    bag = write_rosbag2(tmp_path / "bag", good + bad)
+    bag = write_rosbag2(tmp_path / "bag", [*good, *bad])
     rows, contents = read_rows(bag)
     assert rows == expected_rows(good)
     (line,) = contents.problems

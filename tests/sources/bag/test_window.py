@@ -116,7 +116,7 @@ def _damage_first_chunk(path: Path, fmt: BagFormat, into: Path) -> tuple[Path, i
         data = bytearray(path.read_bytes())
         with FileSource(path) as source:
             bag = BagFile(path.name, bytes(data), source, Wanted(("/tf",)), lambda *_: None)
-            chunks = read_index(bag, read_bag_header(data)).infos
+            chunks = read_index(bag, read_bag_header(memoryview(data))).infos
         assert len(chunks) >= 3
         at, end = chunks[0].pos, chunks[0].end
     elif fmt is BagFormat.rosbag2_mcap:

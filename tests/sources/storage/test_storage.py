@@ -135,7 +135,8 @@ def test_a_read_dropped_once_is_asked_again(memory_bucket: str, monkeypatch: pyt
     as its local copy."""
     url = f"{memory_bucket}/fleet/robot.bag"
     fs = fsspec.filesystem("memory")
-    served, dropped = fs.cat_ranges, []
+    served = fs.cat_ranges
+    dropped: list[int] = []
 
     def dropping_each_piece_once(paths: list[str], starts: list[int], ends: list[int], **kwargs: object) -> object:
         replies = served(paths, starts, ends, **kwargs)
@@ -168,6 +169,7 @@ def test_planned_ranges_are_fetched_together_as_they_are_reached(memory_bucket: 
     (ranges closer than the gap as one request), and what is read into place is not kept."""
     expected = SAMPLE_BAGS["ros1"].read_bytes()
     with RemoteFiles(f"{memory_bucket}/fleet/robot.bag") as files, files.open(files.root) as source:
+        assert isinstance(source, RemoteSource)
         starts, ends = np.array([300_000, 1000, 200_000], np.int64), np.array([300_100, 1100, 200_100], np.int64)
         data, where, whole = source.read_ranges(starts, ends)
         assert whole.all() and source.requests == 3 and source.fetched == 300
@@ -203,7 +205,7 @@ def test_a_reply_longer_than_asked_is_refused() -> None:
         def cat_ranges(self, paths: list[str], starts: list[int], ends: list[int], on_error: str) -> list[bytes]:
             return [b"x" * (e - s + 1) for s, e in zip(starts, ends, strict=True)]
 
-    source = RemoteSource(Lying(), "memory://lying.bag", "/lying.bag", 1000)  # type: ignore[arg-type]
+    source = RemoteSource(Lying(), "memory://lying.bag", "/lying.bag", 1000)
     with pytest.raises(RemoteError, match="sent 11 bytes for 10 asked"):
         source.read_ranges(np.zeros(1, np.int64), np.full(1, 10, np.int64))
 
