@@ -19,7 +19,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from tests.bags import BagFormat, TfMessage, write_bag
-from tests.sources import hostile
+from tests.sources.bag import hostile
 from tests.sources.bag.reading import read_contents
 from tftools.core.errors import TfToolsError
 from tftools.core.transform import Transform

@@ -228,7 +228,7 @@ def test_damaged_file_salvaged(tmp_path: Path, damage: str) -> None:
 def test_both_row_readers_give_the_same_rows(tmp_path: Path) -> None:
     """sqlite's C API (the _sqlite extension) and Python's sqlite3 module, which reads .db3 files in a
     build without sqlite's headers, give the same rows, wrong-typed ones left out alike."""
-    from tests.sources import hostile
+    from tests.sources.bag import hostile
     from tftools.sources.bag.rosbag2 import database
 
     bag = hostile.db3(tmp_path / "odd.db3", [tf_cdr([Tf("map", "odom", 7)]), tf_cdr([Tf("map", "base", 8)]) * 40])

@@ -17,7 +17,7 @@ import pytest
 import zstandard
 
 from tests.bags import BagFormat, TfMessage, write_bag
-from tests.sources import hostile
+from tests.sources.bag import hostile
 from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import T0
 from tftools.core.errors import TfToolsError

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from mcap.writer import CompressionType, IndexType
 
+from tests.sources.bag.formats import read_as
 from tests.sources.bag.reading import read_contents
-from tests.sources.formats import read_as
 from tests.sources.ros2_helpers import (
     NS,
     T0,

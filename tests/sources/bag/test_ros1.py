@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from rosbags.rosbag1 import Reader
 
+from tests.sources.bag.formats import read_as
 from tests.sources.bag.reading import read_contents
-from tests.sources.formats import read_as
 from tests.sources.ros1_helpers import (
     NS,
     T0,

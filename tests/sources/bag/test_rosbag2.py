@@ -15,8 +15,8 @@ from typing import Any
 import pytest
 
 from tests.bags import BagFormat, TfMessage, write_bag
+from tests.sources.bag.formats import read_as
 from tests.sources.bag.reading import read_contents
-from tests.sources.formats import read_as
 from tests.sources.ros2_helpers import (
     NS,
     T0,
