@@ -18,6 +18,7 @@ from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
 from tftools.sources.bag.contents import RecordWindow
+from tftools.sources.contents import RecordingContents
 from tftools.sources.errors import BagNotFoundError, NoTransformsError
 from tftools.sources.replay import Replay, follow
 from tftools.sources.stream import MAX_WINDOWS, SAMPLES_PER_FRAME, _Arrivals, _windows, stream_recording
@@ -247,3 +248,25 @@ def test_the_indexes_are_read_once_for_every_window(
         assert len(streamed.windows) > 3
         assert sum(len(part) for part in streamed.parts()) == len(read_recording([bag]).transforms)
     assert len(counted) == 2  # this stream's, then read_recording's
+
+
+@pytest.mark.parametrize("native", [True, False], ids=["extension", "sqlite3"])
+def test_a_db3_stream_is_replayed_from_another_thread_through_its_one_connection(
+    monkeypatch: pytest.MonkeyPatch, native: bool
+) -> None:
+    """A replay reads its windows in a thread of its own, through the connection the first pass opened (one
+    used by one thread at a time): every row comes back, through the extension or Python's sqlite3."""
+    import threading
+
+    from tftools.sources.bag.rosbag2 import database
+
+    if not native:
+        monkeypatch.setattr(database, "_Native", None)
+    paths = [SAMPLES / "robot_db3"]
+    read: list[RecordingContents] = []
+    with stream_recording(paths, window_messages=300) as streamed:
+        thread = threading.Thread(target=lambda: read.extend(streamed.reader.read(w) for w in streamed.windows))
+        thread.start()
+        thread.join()
+    assert len(read) == len(streamed.windows) > 3 and all(not contents.problems for contents in read)
+    assert sum(len(contents.transforms) for contents in read) == len(read_recording(paths).transforms)
