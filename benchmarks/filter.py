@@ -18,7 +18,7 @@ import numpy as np
 from tftools.analysis.filter import FilterQuery, filter_streams
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.buffer import Buffer
-from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.contents import StampedMessages
 
 NS = 1_000_000_000
 MS = 1_000_000

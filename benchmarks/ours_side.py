@@ -1,7 +1,7 @@
 """tftools' side of the benchmark, one measurement per process so peak memory is its own.
 
 ``ingest BAG``: ``read_recording`` (read every tf message, build the buffer), split into reading
-(``read_bag``) and inserting (``recording_of``), the readers' modules imported first.
+(``BagReader``) and inserting (``recording_of``), the readers' modules imported first.
 
 ``lookups BAG N SECONDS``: ``Buffer.lookup`` and ``can_transform`` in a Python loop
 at tf2_side's times, then ``lookup_many`` at a million times, and ``set_transform`` one call
@@ -25,10 +25,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import robot
+from timing import read_whole
 
 from tftools.core.buffer import Buffer
 from tftools.core.transform import Transform
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.recording import read_recording, recording_of
 
 BATCH = 1_000_000
@@ -43,7 +43,7 @@ def ingest(path: str) -> dict:
     import_readers()
     before = peak_rss()
     began = time.perf_counter()
-    contents = read_bag([path])
+    contents = read_whole([path])
     read_s = time.perf_counter() - began
     began = time.perf_counter()
     recording = recording_of(contents)  # the buffer takes the rows: they are held once

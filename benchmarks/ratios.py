@@ -9,7 +9,7 @@ range's low end meets it). ``--against`` is an interpreter whose ``tftools`` is 
 (258k transforms) as .bag, .db3 and .mcap; tf2 is Debian's rosbag + tf2_py (``tf2_side.py``).
 
 The whole script is the wall time of a process that imports, loads the bag and looks one transform up
-(``tftools.load`` / rosbag + ``BufferCore``); ingest is ``ours_side.py``'s (imports paid before the
+(``tftools.read_recording`` / rosbag + ``BufferCore``); ingest is ``ours_side.py``'s (imports paid before the
 clock, as on tf2's side) and, as a user's first ``load`` pays them, with tftools' lazy imports counted.
 Asserts nothing; prints the table and the machine's load.
 """
@@ -31,9 +31,12 @@ from vs_tf2 import HERE, LOOKUPS, ROS_PYTHON, UNIT_SECONDS, real_rosbag, settle,
 
 SAMPLE = HERE.parent / "sample_bags" / "robot.bag"
 #: A user's whole script, and a user's first load (tftools imported, the rest paid inside the clock).
-SCRIPT = "import tftools; b = tftools.load({bag!r}); print(b.lookup({target!r}, {source!r}, {at}).translation[0])"
+SCRIPT = (
+    "import tftools; b = tftools.read_recording([{bag!r}]).buffer; "
+    "print(b.lookup({target!r}, {source!r}, {at}).translation[0])"
+)
 FIRST_LOAD = (
-    "import json, time, tftools; began = time.perf_counter(); tftools.load({bag!r}); "
+    "import json, time, tftools; began = time.perf_counter(); tftools.read_recording([{bag!r}]); "
     "print(json.dumps({{'first_load_s': time.perf_counter() - began}}))"
 )
 #: Each measure's goal: tf2's time over ours, at least (None: shown only).

@@ -1,4 +1,4 @@
-"""Transforms per second of ``read_bag`` on ROS1 bags of a 17-frame robot recorded 600 s (252k transforms).
+"""Transforms per second of ``BagReader`` on ROS1 bags of a 17-frame robot recorded 600 s (252k transforms).
 
 Run: ``python3 benchmarks/ros1_ingest.py [--images]``; bags are written once under /tmp/tftools-bench.
 Prints figures, asserts nothing. ``--images`` adds a 640x480 mono camera at 10 Hz (1.8 GB of the
@@ -13,9 +13,7 @@ import struct
 from pathlib import Path
 
 from rosbags.rosbag1 import Writer
-from timing import rosbags_transforms, timed
-
-from tftools.sources.bag.reader import read_bag
+from timing import read_whole, rosbags_transforms, timed
 
 NS = 1_000_000_000
 START = 1_700_000_000 * NS
@@ -87,7 +85,7 @@ def main() -> None:
     for compression in ("none", "lz4", "bz2"):
         bag = write(OUT / f"robot_600s_{compression}{suffix}.bag", compression, images)
         size = bag.stat().st_size / 1e6
-        timed(f"read_bag, {compression} ({size:.0f} MB)", lambda bag=bag: len(read_bag([bag]).transforms))
+        timed(f"BagReader, {compression} ({size:.0f} MB)", lambda bag=bag: len(read_whole([bag]).transforms))
     bag = OUT / f"robot_600s_none{suffix}.bag"
     timed("rosbags' reader and deserializer, none", lambda: rosbags_transforms(bag), repeat=1)
     if images:

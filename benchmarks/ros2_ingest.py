@@ -1,4 +1,4 @@
-"""Transforms per second of ``read_bag`` on ROS2 bags (sqlite3, mcap, zstd-compressed) and Foxglove
+"""Transforms per second of ``BagReader`` on ROS2 bags (sqlite3, mcap, zstd-compressed) and Foxglove
 MCAP files (CDR, protobuf) of a 17-frame robot recorded 600 s (252k transforms).
 
 Run: ``python3 benchmarks/ros2_ingest.py``; bags are written once under /tmp/tftools-bench.
@@ -15,9 +15,7 @@ import numpy as np
 from mcap.writer import Writer as McapWriter
 from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
-from timing import rosbags_transforms, timed
-
-from tftools.sources.bag.reader import read_bag
+from timing import read_whole, rosbags_transforms, timed
 
 NS = 1_000_000_000
 START = 1_700_000_000 * NS
@@ -143,8 +141,8 @@ def main() -> None:
     first = None
     for name, bag in bags.items():
         size = sum(p.stat().st_size for p in bag.iterdir()) if bag.is_dir() else bag.stat().st_size
-        timed(f"read_bag, {name} ({size / 1e6:.0f} MB)", lambda bag=bag: len(read_bag([bag]).transforms))
-        batch = read_bag([bag]).transforms
+        timed(f"BagReader, {name} ({size / 1e6:.0f} MB)", lambda bag=bag: len(read_whole([bag]).transforms))
+        batch = read_whole([bag]).transforms
         values = np.hstack([batch.stamp[:, None].astype(float), batch.translation, batch.rotation])
         first = values if first is None else first
         if not np.array_equal(values, first):

@@ -3,9 +3,18 @@
 from __future__ import annotations
 
 import math
+import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
+
+from tftools.sources.bag import BagContents, BagReader, RecordWindow
+
+
+def read_whole(paths: Sequence[str | os.PathLike[str]], window: RecordWindow | None = None) -> BagContents:
+    """The recording at ``paths`` read at once through ``BagReader`` (a ``window`` of it: its record times)."""
+    with BagReader(paths) as reader:
+        return reader.read(window)
 
 
 def timed(label: str, run: Callable[[], int], repeat: int = 3) -> int:

@@ -1,4 +1,4 @@
-"""What a window of record time costs ``read_bag`` against the whole recording, in each format: a
+"""What a window of record time costs ``BagReader`` against the whole recording, in each format: a
 60 s window amid an hours-long recording, an empty one (the files' descriptions only), the whole.
 
 Run: ``python3 benchmarks/window.py [BAG ...]`` (default: the 4800 s robot of benchmarks/vs_tf2.py
@@ -15,9 +15,10 @@ import sys
 import time
 from pathlib import Path
 
+from timing import read_whole
+
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.contents import RecordWindow
-from tftools.sources.bag.reader import read_bag
 
 BENCH = Path("/tmp/tftools-bench")
 BAGS = [BENCH / "robot_4800s.bag", BENCH / "robot_4800s_db3", BENCH / "robot_4800s_mcap"]
@@ -28,7 +29,7 @@ REPEAT = 3
 def main(paths: list[Path]) -> None:
     print(f"load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     for path in paths:
-        info = read_bag([path], window=RecordWindow(0, 0)).files[0]
+        info = read_whole([path], window=RecordWindow(0, 0)).files[0]
         middle = (info.start + info.end) // 2
         reads = {
             "60 s window": RecordWindow(middle, middle + WIDTH),
@@ -41,7 +42,7 @@ def main(paths: list[Path]) -> None:
         for _ in range(REPEAT):  # interleaved: the machine's load falls on each alike
             for label, window in reads.items():
                 began, began_wall = time.thread_time(), time.perf_counter()
-                contents = read_bag([path], window=window)
+                contents = read_whole([path], window=window)
                 best[label] = min(best[label], time.thread_time() - began)
                 wall[label] = min(wall[label], time.perf_counter() - began_wall)
                 counts[label] = sum(len(p) for p in contents.parts)

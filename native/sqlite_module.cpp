@@ -1,5 +1,7 @@
-// tftools.sources.bag.rosbag2._sqlite: a query's rows read through sqlite's C API, fetch after fetch,
-// into arrays and one byte buffer (Python's sqlite3 would build a tuple and a bytes object a row).
+// tftools.sources.bag.rosbag2._sqlite: one read-only connection to a .db3 file (``Database``), serving its
+// small tables' queries as tuples and its messages through sqlite's C API, fetch after fetch, into arrays
+// and one byte buffer (Python's sqlite3 would build a tuple and a bytes object a row).
+#include <Python.h>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
@@ -50,25 +52,33 @@ struct Fetched {
 using FetchedArrays = std::tuple<Output<int64_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>,
                                  Output<int64_t>, Output<uint8_t>>;
 
+struct Close {
+    void operator()(sqlite3* db) const { sqlite3_close(db); }
+    void operator()(sqlite3_stmt* statement) const { sqlite3_finalize(statement); }
+};
+
+// A connection shared by its database and the message queries on it: closed when the last lets it go.
+using Connection = std::shared_ptr<sqlite3>;
+
+[[noreturn]] void fail(sqlite3* db) { throw SqliteError(db ? sqlite3_errmsg(db) : "out of memory"); }
+
+std::unique_ptr<sqlite3_stmt, Close> prepare(const Connection& db, const std::string& query) {
+    if (!db) throw SqliteError("the database is closed");
+    sqlite3_stmt* statement = nullptr;
+    const int prepared = sqlite3_prepare_v2(db.get(), query.c_str(), -1, &statement, nullptr);
+    std::unique_ptr<sqlite3_stmt, Close> held(statement);
+    if (prepared != SQLITE_OK) fail(db.get());
+    return held;
+}
+
 // The rows of ``SELECT topic, time, id, blob ...`` on a database opened read-only; a row whose topic
 // or time is not an integer or whose blob is not a blob is not a message: skipped.
 class Messages {
    public:
-    Messages(const std::string& uri, const std::string& query) {
-        sqlite3* db = nullptr;
-        // NOMUTEX: the connection is this reader's alone, read by one thread: no lock around every call.
-        const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_URI | SQLITE_OPEN_NOMUTEX;
-        const int opened = sqlite3_open_v2(uri.c_str(), &db, flags, nullptr);
-        db_.reset(db);  // closed when this throws, as when it is let go
-        if (opened != SQLITE_OK) fail();
-        // A file cut short says it has more pages than it holds; sqlite then refuses it whole
-        // unless the schema is "writable" (a flag of this read-only connection, nothing written).
-        if (sqlite3_exec(db, "PRAGMA writable_schema=ON", nullptr, nullptr, nullptr) != SQLITE_OK) fail();
-        sqlite3_stmt* statement = nullptr;
-        const int prepared = sqlite3_prepare_v2(db, query.c_str(), -1, &statement, nullptr);
-        statement_.reset(statement);
-        if (prepared != SQLITE_OK) fail();
-        if (sqlite3_column_count(statement) != 4) throw nb::value_error("Messages: the query must give 4 columns");
+    Messages(Connection db, const std::string& query) : db_(std::move(db)), statement_(prepare(db_, query)) {
+        if (sqlite3_column_count(statement_.get()) != 4) {
+            throw nb::value_error("Messages: the query must give 4 columns");
+        }
     }
 
     // The next rows, up to ``rows`` of them or until ``bytes`` of blobs are held; none at the end.
@@ -118,25 +128,81 @@ class Messages {
         return {};
     }
 
-    [[noreturn]] void fail() const { throw SqliteError(db_ ? sqlite3_errmsg(db_.get()) : "out of memory"); }
-
-    struct Close {
-        void operator()(sqlite3* db) const { sqlite3_close(db); }
-        void operator()(sqlite3_stmt* statement) const { sqlite3_finalize(statement); }
-    };
-    // Declared in this order so that the statement is finalized before its database is closed.
-    std::unique_ptr<sqlite3, Close> db_;
+    // Declared in this order so that the statement is finalized before its database is let go.
+    Connection db_;
     std::unique_ptr<sqlite3_stmt, Close> statement_;
     std::shared_ptr<std::vector<uint8_t>> data_;  // the blobs of the latest fetch
     bool done_ = false;
 };
 
+// A column's value as Python's sqlite3 gives it; text not in UTF-8 decoded with replacement characters.
+nb::object value(sqlite3_stmt* statement, int column) {
+    switch (sqlite3_column_type(statement, column)) {
+        case SQLITE_INTEGER:
+            return nb::int_(sqlite3_column_int64(statement, column));
+        case SQLITE_FLOAT:
+            return nb::float_(sqlite3_column_double(statement, column));
+        case SQLITE_TEXT: {
+            const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement, column));
+            const auto length = static_cast<Py_ssize_t>(sqlite3_column_bytes(statement, column));
+            return nb::steal(PyUnicode_DecodeUTF8(text, length, "replace"));
+        }
+        case SQLITE_BLOB: {
+            const void* blob = sqlite3_column_blob(statement, column);
+            return nb::bytes(static_cast<const char*>(blob), static_cast<size_t>(sqlite3_column_bytes(statement, column)));
+        }
+        default:
+            return nb::none();
+    }
+}
+
+// One read-only connection to a database: its small queries answered as lists of tuples, its messages
+// read by ``messages``; closed by ``close`` (the message queries still open keep it until they go).
+class Database {
+   public:
+    explicit Database(const std::string& uri) {
+        sqlite3* db = nullptr;
+        // NOMUTEX: the connection is this reader's alone, used by one thread at a time: no lock around every call.
+        const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_URI | SQLITE_OPEN_NOMUTEX;
+        const int opened = sqlite3_open_v2(uri.c_str(), &db, flags, nullptr);
+        db_ = Connection(db, Close{});  // closed when this throws, as when it is let go
+        if (opened != SQLITE_OK) fail(db);
+        // A file cut short says it has more pages than it holds; sqlite then refuses it whole
+        // unless the schema is "writable" (a flag of this read-only connection, nothing written).
+        if (sqlite3_exec(db, "PRAGMA writable_schema=ON", nullptr, nullptr, nullptr) != SQLITE_OK) fail(db);
+    }
+
+    nb::list rows(const std::string& query) {
+        auto statement = prepare(db_, query);
+        const int columns = sqlite3_column_count(statement.get());
+        nb::list found;
+        int result;
+        while ((result = sqlite3_step(statement.get())) == SQLITE_ROW) {
+            nb::list row;
+            for (int c = 0; c < columns; ++c) row.append(value(statement.get(), c));
+            found.append(nb::tuple(row));
+        }
+        if (result != SQLITE_DONE) fail(db_.get());
+        return found;
+    }
+
+    Messages messages(const std::string& query) { return Messages(db_, query); }
+
+    void close() { db_.reset(); }
+
+   private:
+    Connection db_;
+};
+
 }  // namespace
 
 NB_MODULE(_sqlite, m) {
-    m.doc() = "A query's rows read through sqlite's C API into arrays, fetch after fetch.";
+    m.doc() = "One read-only sqlite connection: small queries as tuples, messages into arrays fetch after fetch.";
     nb::exception<SqliteError>(m, "SqliteError", nb::module_::import_("sqlite3").attr("DatabaseError").ptr());
-    nb::class_<Messages>(m, "Messages")
-        .def(nb::init<const std::string&, const std::string&>(), "uri"_a, "query"_a)
-        .def("fetch", &Messages::fetch, "rows"_a, "bytes"_a);
+    nb::class_<Messages>(m, "Messages").def("fetch", &Messages::fetch, "rows"_a, "bytes"_a);
+    nb::class_<Database>(m, "Database")
+        .def(nb::init<const std::string&>(), "uri"_a)
+        .def("rows", &Database::rows, "query"_a)
+        .def("messages", &Database::messages, "query"_a)
+        .def("close", &Database::close);
 }

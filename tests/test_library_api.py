@@ -268,7 +268,10 @@ def test_static(bag: str, tmp_path: Path) -> None:
         "static", "0.1", "0", "0.3", "90", "0", "0", "/base_link", "lidar", "--deg", "-b", bag, "-o", str(printed)
     )
     assert done.returncode == 0, done.stderr
-    trees = [rendered(frames.write_json, tftools.frame_tree(tftools.load(path))) for path in (called, printed)]
+    trees = [
+        rendered(frames.write_json, tftools.frame_tree(tftools.read_recording([path]).buffer))
+        for path in (called, printed)
+    ]
     assert trees[0] == trees[1]
     lidar_frame = next(f for f in trees[0]["frames"] if f["frame"] == "lidar")
     assert lidar_frame["parent"] == "base_link"

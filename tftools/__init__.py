@@ -57,7 +57,7 @@ if TYPE_CHECKING:
     )
     from tftools.render.graph import view_frames
     from tftools.sinks import add_static, publish_static, repair_static
-    from tftools.sources import Recording, load, read_recording, stream_recording
+    from tftools.sources import Recording, read_recording, stream_recording
     from tftools.sources.live.sensor_headers import capture_live
 
 __version__: str  # set on first use, by __getattr__
@@ -68,7 +68,7 @@ __all__ = [
     "InvalidArgumentError", "LookupBatch", "MonitorQuery", "Offset", "Recording", "Rejection", "RejectionCode",
     "ReportQuery", "Semantics", "SimClock", "Stamp", "TfToolsError", "Transform", "TransformBatch", "TransformError",
     "UnknownFrameError", "WallClock", "add_static", "capture_live", "check", "check_fleet", "diff_trees", "echo",
-    "echo_stream", "filter_messages", "format_sec", "frame_tree", "from_sec", "load", "monitor", "monitor_stream",
+    "echo_stream", "filter_messages", "format_sec", "frame_tree", "from_sec", "monitor", "monitor_stream",
     "publish_static", "read_recording", "repair_static", "report", "report_fleet", "stream_recording", "to_sec",
     "view_frames",
 ]  # fmt: skip
@@ -76,7 +76,7 @@ __all__ = [
 #: The package each name comes from, when not ``tftools.core``: reading (sources), each command's call
 #: (analysis; sinks for ``tfx static``; render for ``tfx view-frames``).
 _PACKAGE = {
-    **dict.fromkeys(["Recording", "load", "read_recording", "stream_recording"], "tftools.sources"),
+    **dict.fromkeys(["Recording", "read_recording", "stream_recording"], "tftools.sources"),
     **dict.fromkeys(
         [
             "CheckQuery",

@@ -31,7 +31,7 @@ from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.bag import messages as bag_messages
 from tftools.sources.bag.reader import BagReader
-from tftools.sources.bag.robot import read_robot
+from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.recording import read_recording
 from tftools.sources.urdf import parse_urdf
 
@@ -53,7 +53,7 @@ def _codes(findings: list[Finding]) -> list[tuple[str, str]]:
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_the_joint_states_and_the_description_are_read_in_every_format(tmp_path: Path, fmt: BagFormat) -> None:
     bag = robot_bag(tmp_path, "rover", Setup(description=True), fmt)
-    read = read_robot([bag])
+    read = read_recording([bag], whole=ROBOT_TOPICS).robot
     assert read.description == URDF
     assert len(read.joint_states) == 100 and read.problems == []
     first, last = read.joint_states[0], read.joint_states[-1]
@@ -146,7 +146,7 @@ def test_a_moving_joint_not_where_its_state_puts_it(tmp_path: Path) -> None:
     )
     bag = robot_bag(tmp_path, "rover", Setup())
     recording = read_recording([bag])
-    robot = Robot(parse_urdf(other, "other.urdf"), read_robot([bag]))
+    robot = Robot(parse_urdf(other, "other.urdf"), read_recording([bag], whole=ROBOT_TOPICS).robot)
     (off,) = [f for f in findings_of(Scene(recording, robot=robot)) if f.code == "urdf_joint_state"]
     assert "wheel_left_joint" in off.message and "median of 100 joint states" in off.message
 
@@ -247,7 +247,7 @@ def test_a_mimic_multiplier_past_any_position_is_no_crash_and_no_figure(tmp_path
     )
     bag = robot_bag(tmp_path, "rover", Setup())
     recording = read_recording([bag])
-    robot = Robot(parse_urdf(mimic, "mimic.urdf"), read_robot([bag]))
+    robot = Robot(parse_urdf(mimic, "mimic.urdf"), read_recording([bag], whole=ROBOT_TOPICS).robot)
     with np.errstate(all="raise"):  # a warning numpy would print is an error here
         joints = check_joints(robot, recording.buffer, frame_tree(recording.buffer))
     right = next(j for j in joints if j.joint == "wheel_right_joint")
@@ -268,7 +268,7 @@ def test_of_many_recorded_descriptions_the_latest_is_read_and_few_are_held(
     messages += [Recorded("/robot_description", START + n * NS_PER_S // 10, t, "/rsp") for n, t in enumerate(texts)]
     path = tmp_path / ("many.bag" if fmt is BagFormat.ros1 else "many")
     bag = write_robot_bag(path, sorted(messages, key=lambda m: m.record_time), fmt)
-    assert read_robot([bag]).description == texts[-1]
+    assert read_recording([bag], whole=ROBOT_TOPICS).robot.description == texts[-1]
     with BagReader([bag], ("/robot_description",), whole=("/robot_description",)) as reader:
-        (held,) = [w for info in reader.read().files for w in info.whole if w.topic == "/robot_description"]
+        (held,) = [w for w in reader.read().whole if w.topic == "/robot_description"]
     assert held.values[-1] == texts[-1] and 1 <= len(held.values) <= 3

@@ -14,7 +14,7 @@ from tests.oracle import ROS_PYTHON
 from tftools.analysis.filter.fates import NEVER, Fate, message_fates
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.bag.stamped import StampedMessages
+from tftools.sources.contents import StampedMessages
 
 HARNESS = Path(__file__).parents[1] / "oracle" / "filter_harness.py"
 MS = 1_000_000

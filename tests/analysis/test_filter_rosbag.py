@@ -14,11 +14,10 @@ import numpy as np
 import pytest
 
 from tests.oracle import ROS_PYTHON
-from tests.sources.test_rosbag2 import convert
+from tests.sources.bag.test_rosbag2 import convert
 from tftools.analysis.filter import FilterQuery, filter_streams
 from tftools.analysis.filter.fates import NEVER, Fate, message_fates
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.stamped import read_stamped
 from tftools.sources.recording import read_recording
 
 HARNESS = Path(__file__).parents[1] / "oracle" / "sensor_bag.py"
@@ -48,8 +47,8 @@ def test_each_message_is_ready_when_the_real_tf2_says(
     recordings: dict[str, Path], fmt: str, target: str, cache_s: float
 ) -> None:
     expected = json.loads(_harness("replay", str(recordings["ros1"]), target, str(cache_s)))
-    buffer = read_recording([recordings[fmt]]).buffer
-    streams = read_stamped([recordings[fmt]]).streams
+    recording = read_recording([recordings[fmt]], headers=())
+    buffer, streams = recording.buffer, recording.stamped.streams
     assert {s.topic for s in streams} == set(expected)
     for stream in streams:
         fates = message_fates(buffer, stream, target, round(cache_s * NS_PER_S))
@@ -59,9 +58,8 @@ def test_each_message_is_ready_when_the_real_tf2_says(
 
 
 def test_each_stream_gets_the_reason_a_ros_user_would_see(recordings: dict[str, Path]) -> None:
-    report = filter_streams(
-        read_recording([recordings["ros1"]]).buffer, read_stamped([recordings["ros1"]]).streams, FilterQuery()
-    )
+    recording = read_recording([recordings["ros1"]], headers=())
+    report = filter_streams(recording.buffer, recording.stamped.streams, FilterQuery())
     streams = {s.topic: s for s in report.streams}
     assert report.target == "odom"
     scan, imu, camera, points = (streams[t] for t in ("/scan", "/imu", "/camera/image_raw", "/points"))

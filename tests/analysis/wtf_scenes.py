@@ -14,8 +14,7 @@ from tftools.core.batch import BatchBuilder
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.bag.contents import BagContents, BagFileInfo
-from tftools.sources.bag.stamped import StampedMessages
-from tftools.sources.contents import DEFAULT_TOPICS, ClockSamples, is_static_topic
+from tftools.sources.contents import DEFAULT_TOPICS, ClockSamples, StampedMessages, is_static_topic
 from tftools.sources.recording import Recording, recording_of
 
 START = 1_700_000_000 * NS_PER_S

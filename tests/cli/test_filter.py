@@ -12,7 +12,7 @@ import pytest
 
 from tests.analysis.test_filter import START, robot
 from tests.bags import TfMessage, write_bag
-from tests.sources.test_rosbag2 import convert
+from tests.sources.bag.test_rosbag2 import convert
 from tftools.core.time import NS_PER_S
 
 MS = 1_000_000

@@ -456,7 +456,7 @@ def test_ros1_lookups_match_tf2(recording: Recording, corpus: Corpus, tf2_availa
     queries = _tf2_queries(contents, recording.meta["expected"]["lookups"])
     tolerance = max(TF2_VALUE_TOLERANCE, 2e-6 * _fastest(contents))
     (result,) = run_tf2([Scenario(bag=str(path), queries=queries)])
-    buffer = tftools.load(path)
+    buffer = tftools.read_recording([path]).buffer
     answered = failed = 0
     for query, theirs in zip(queries, result["answers"], strict=True):
         _, target, source, sec, nsec = query
@@ -484,7 +484,7 @@ def test_ros1_lookups_match_tf2(recording: Recording, corpus: Corpus, tf2_availa
 def test_ros2_lookups_match_composed_samples(recording: Recording, corpus: Corpus) -> None:
     path = corpus(recording)
     contents = _stored(recording, data.read_contents(path))
-    buffer = tftools.load(path)
+    buffer = tftools.read_recording([path]).buffer
     checked = needed = 0
     for target, source in recording.meta["expected"]["lookups"]:
         times = data.covered_sample_times(contents, target, source, limit=200)

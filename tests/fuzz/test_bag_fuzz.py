@@ -19,12 +19,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from tests.bags import BagFormat, TfMessage, write_bag
-from tests.sources import hostile
+from tests.sources.bag import hostile
+from tests.sources.bag.reading import read_contents
 from tftools.core.errors import TfToolsError
 from tftools.core.transform import Transform
 from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.codecs.select import CODECS
 
 EXAMPLES = int(os.environ.get("TFTOOLS_FUZZ_EXAMPLES", "25"))
@@ -124,7 +124,7 @@ WINDOWS = [None, RecordWindow(10**9 + 5 * 10**7, 10**9 + 12 * 10**7), RecordWind
 def read_anything(path: Path, window: RecordWindow | None = None) -> None:
     """Read ``path``: transforms, or tftools' own error in one line; anything else fails the test."""
     try:
-        contents = read_bag([path], window=window)
+        contents = read_contents([path], window=window)
     except TfToolsError as e:
         assert "\n" not in str(e), str(e)
         return

@@ -15,7 +15,7 @@ from tests.live.fake_ros1 import fake_master, fake_publisher, ros_reply, silence
 from tests.live.test_ros1_hostile import finishes
 from tftools.core.time import NS_PER_S, WallClock
 from tftools.sources.codecs.types import definition_starts_with_header, ros1_message_type
-from tftools.sources.headers import StampedRead
+from tftools.sources.contents import StampedRead
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.header_store import HeaderStore
 from tftools.sources.live.ros1 import subscriber, tcpros

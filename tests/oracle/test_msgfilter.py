@@ -20,7 +20,6 @@ from tests.oracle import unavailable_reason
 from tftools.analysis.filter import FilterQuery, filter_streams
 from tftools.analysis.filter.fates import KEEP, Fate, message_fates, recording_end
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.stamped import read_stamped
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import read_recording
 
@@ -54,8 +53,9 @@ def agreement(
 ) -> list[mf.Agreement]:
     """Per header topic of ``bag``: how ``tfx filter``'s replay agrees with the real filter's."""
     verdicts = mf.run(oracle, bag, target, out, queue, cache_s)
-    buffer = read_recording([bag]).buffer
-    streams = {s.topic: s for s in read_stamped([bag], sorted(verdicts)).streams}
+    recording = read_recording([bag], headers=sorted(verdicts))
+    buffer = recording.buffer
+    streams = {s.topic: s for s in recording.stamped.streams}
     end = recording_end(buffer, list(streams.values()))
     found = []
     for topic, theirs in sorted(verdicts.items()):
@@ -126,9 +126,8 @@ def test_each_fault_of_issue_29_is_the_real_filters_answer(oracle: Path, designe
     # F: a stamp-0 message never passes after a wait by tf2's rule; tf2 0.7 passes those waiting for the
     # static transform that makes their frame known only by its defect (a dangling TransformAvailable).
     assert outcomes("/scan_zero_late") == {"on_arrival", "later_defect"}
-    report = filter_streams(
-        read_recording([designed]).buffer, read_stamped([designed]).streams, FilterQuery(target="odom")
-    )
+    recording = read_recording([designed], headers=())
+    report = filter_streams(recording.buffer, recording.stamped.streams, FilterQuery(target="odom"))
     streams = {s.topic: s for s in report.streams}
     assert streams["/scan_dead"].reasons == {Fate.NEEDS_NEWER_TF.reason: len(dead)}
     assert streams["/cloud_old"].reasons == {Fate.TOO_OLD_ON_ARRIVAL.reason: len(verdicts["/cloud_old"])}
@@ -208,9 +207,8 @@ def test_the_real_filter_keeps_what_each_suggested_setting_says(oracle: Path, de
     """Issue 29: a suggestion is one under which the real filter keeps what it says. The queue: every message
     that passes with an unlimited queue passes with it. The cache: no more than 0.1% of the messages the
     recording decides are lost to their age with it."""
-    report = filter_streams(
-        read_recording([designed]).buffer, read_stamped([designed]).streams, FilterQuery(target="odom")
-    )
+    recording = read_recording([designed], headers=())
+    report = filter_streams(recording.buffer, recording.stamped.streams, FilterQuery(target="odom"))
     for s in report.streams:
         if s.queue_needed:
             run = mf.run(oracle, designed, "odom", tmp_path / "q.jsonl", queue=s.queue_needed, topics=[s.topic])

@@ -56,7 +56,7 @@ def tf2_answers(tf2_available: None) -> list[dict]:
 def buffer(request: pytest.FixtureRequest) -> tftools.Buffer:
     """Each format's copy of the ROS 1 bag, read as ROS 1's tf2 would (the oracle): ROS 2 files
     default to ROS 2's tf2, whose messages differ (tests/core/test_ros2_tf2.py)."""
-    return tftools.load(FORMATS[request.param], semantics="ros1")
+    return tftools.read_recording([FORMATS[request.param]], semantics="ros1").buffer
 
 
 def _stamp(answer: dict) -> int:

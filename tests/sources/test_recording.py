@@ -6,13 +6,18 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
+from tests.analysis.robot_scenes import URDF, Setup, robot_bag
+from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
+from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import batch_rows
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.rejection import RejectionCode
+from tftools.core.transform import Transform
 from tftools.sources.bag.contents import BagContents, BagFileInfo, in_record_order
-from tftools.sources.bag.reader import read_bag
+from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.recording import read_recording, recording_of, recording_of_buffer
 
 SAMPLE_BAGS = Path(__file__).resolve().parents[2] / "sample_bags"
@@ -92,7 +97,7 @@ def test_a_buffer_as_a_recording_gives_back_its_rows_and_the_refused_ones_its_lo
 
 def test_a_bag_read_into_a_recording_gives_back_every_row_as_read() -> None:
     bag = SAMPLE_BAGS / "robot.bag"
-    read = read_bag([bag])
+    read = read_contents([bag])
     assert len(read.parts) >= 1
     recording = read_recording([bag])
     assert batch_rows(recording.transforms) == batch_rows(read.transforms)
@@ -110,3 +115,36 @@ def test_parts_that_overlap_in_record_time_are_merged_in_order() -> None:
     (merged,) = in_record_order([late, early])
     assert merged.record_time.tolist() == [1, 2, 3, 3, 4]
     assert merged.stamp.tolist() == [1, 2, 4, 3, 5]  # a tie keeps the order given
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_what_a_read_took_beside_the_transforms_is_the_recordings_own(tmp_path: Path, fmt: BagFormat) -> None:
+    """One read gives, as the recording's attributes: the robot's latest description and its joint states, the
+    QoS a ROS 2 bag's publishers offered (by the bag's path), and the sensor headers asked for, one asked for
+    and not recorded said in their problems."""
+    bag = robot_bag(tmp_path, "rover", Setup(description=True), fmt)
+    recording = read_recording([bag], headers=("/nothing",), whole=ROBOT_TOPICS)
+    assert recording.robot.description == URDF and len(recording.robot.joint_states) == 100
+    assert recording.stamped.streams == []
+    assert recording.stamped.problems == ["/nothing: not in the recording, or its messages have no header"]
+    ros2 = fmt is not BagFormat.ros1
+    assert list(recording.qos) == ([str(bag)] if ros2 else [])
+    assert all(qos.metadata and not qos.problem and "/tf_static" in qos.profiles for qos in recording.qos.values())
+    plain = read_recording([bag])  # read without them: none of them
+    assert (plain.robot.description, plain.robot.joint_states, plain.stamped.streams) == ("", [], [])
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_the_recorded_clock_is_the_recordings(tmp_path: Path, fmt: BagFormat) -> None:
+    """The /clock samples recorded (a split recording's merged) are ``Recording.clock``, in record order."""
+    first, second = (
+        write_bag(tmp_path / name, [_tf(record)], fmt, [ClockMessage(record + k, 5_000 + record + k) for k in range(3)])
+        for name, record in (("a", 1_000), ("b", 2_000))
+    )
+    clock = read_recording([second, first]).clock
+    assert clock.topic == "/clock" and clock.record_time.tolist() == [1_000, 1_001, 1_002, 2_000, 2_001, 2_002]
+    assert (clock.clock - clock.record_time).tolist() == [5_000] * 6
+
+
+def _tf(record: int) -> TfMessage:
+    return TfMessage("/tf", record, [Transform((1.0, 0.0, 0.0), IDENTITY, record, "map", "odom")])

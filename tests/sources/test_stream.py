@@ -11,13 +11,14 @@ import numpy as np
 import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
+from tests.sources.bag.reading import read_contents
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
-from tftools.sources.bag import read_bag
 from tftools.sources.bag.contents import RecordWindow
+from tftools.sources.contents import RecordingContents
 from tftools.sources.errors import BagNotFoundError, NoTransformsError
 from tftools.sources.replay import Replay, follow
 from tftools.sources.stream import MAX_WINDOWS, SAMPLES_PER_FRAME, _Arrivals, _windows, stream_recording
@@ -130,8 +131,8 @@ def test_a_replay_of_parts_delivers_what_a_replay_of_the_whole_does(tmp_path: Pa
 
 def test_a_bag_without_transforms_is_refused(tmp_path: Path) -> None:
     bag = write_bag(tmp_path / "clock.bag", [], BagFormat.ros1, [ClockMessage(WALL, SIM)])
-    with pytest.raises(NoTransformsError):
-        stream_recording([bag])
+    with pytest.raises(NoTransformsError), stream_recording([bag]):
+        pass
 
 
 def test_a_bag_read_whole_is_streamed_as_one_window(tmp_path: Path) -> None:
@@ -183,15 +184,29 @@ def test_the_stream_reads_through_the_files_it_opened(tmp_path: Path) -> None:
     """The recording is opened once: a file removed after the first pass is still replayed whole
     (its reader holds it open), and closing the stream lets it go."""
     bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
-    whole = len(read_bag([bag]).transforms)
+    whole = len(read_contents([bag]).transforms)
     with stream_recording([bag], window_messages=300) as streamed:
         bag.unlink()
         assert len(streamed.windows) > 3
         assert sum(len(part) for part in streamed.parts()) == whole
 
 
+def test_the_stream_closes_its_files_on_leaving_the_block_an_error_included(tmp_path: Path) -> None:
+    """``with stream_recording(...) as streamed``: the files are let go on leaving the block, whether it
+    ended or raised; a replay of a closed stream is told so."""
+    bag = simulation(tmp_path / "sim.bag", BagFormat.ros1)
+    with stream_recording([bag], window_messages=300) as streamed:
+        assert streamed.reader.read(RecordWindow(0, 0)).files
+    with pytest.raises(ValueError, match="not open"):
+        next(streamed.parts())
+    with pytest.raises(KeyError), stream_recording([bag], window_messages=300) as failed:
+        raise KeyError("the caller's own error")
+    with pytest.raises(ValueError, match="not open"):
+        next(failed.parts())
+
+
 def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None:
-    described = read_bag([SAMPLES / "robot.bag"], window=RecordWindow(0, 0)).files
+    described = read_contents([SAMPLES / "robot.bag"], window=RecordWindow(0, 0)).files
     lying = [dataclasses.replace(f, message_count=2**62, end=2**63 - 1) for f in described]
     windows = _windows(lying, 4)
     assert len(windows) == MAX_WINDOWS
@@ -205,7 +220,8 @@ def test_an_index_counting_too_many_messages_makes_at_most_max_windows() -> None
     ([SAMPLES / "robot.bag"], "ros2", "ros2"),
 ])  # fmt: skip
 def test_a_stream_answers_as_the_tf2_asked_for(paths: list[Path], chosen: Semantics | None, expected: str) -> None:
-    assert stream_recording(paths, semantics=chosen).semantics == expected
+    with stream_recording(paths, semantics=chosen) as streamed:
+        assert streamed.semantics == expected
 
 
 @pytest.mark.parametrize("fmt", list(BagFormat))
@@ -213,13 +229,14 @@ def test_the_indexes_are_read_once_for_every_window(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: BagFormat
 ) -> None:
     """The first pass and the replay read many windows through one reader: each file's index (a ROS 1
-    bag's, an MCAP summary, a .db3's topics and statistics) is read once, not once a window."""
+    bag's, an MCAP summary) is read once, not once a window, and a .db3 is read through one sqlite
+    connection (its topics, statistics and every window's rows)."""
     from tftools.sources.bag import mcap, ros1
     from tftools.sources.bag.rosbag2 import db3
 
     bag = simulation(tmp_path / "sim", fmt)
     counted: list[str] = []
-    for module, name in ((ros1, "read_index"), (mcap, "summary_of"), (db3, "_statistics")):
+    for module, name in ((ros1, "read_index"), (mcap, "summary_of"), (db3, "Database")):
         real = getattr(module, name)
 
         def count(*a: object, _real: Any = real, _name: str = name) -> Any:
@@ -231,3 +248,25 @@ def test_the_indexes_are_read_once_for_every_window(
         assert len(streamed.windows) > 3
         assert sum(len(part) for part in streamed.parts()) == len(read_recording([bag]).transforms)
     assert len(counted) == 2  # this stream's, then read_recording's
+
+
+@pytest.mark.parametrize("native", [True, False], ids=["extension", "sqlite3"])
+def test_a_db3_stream_is_replayed_from_another_thread_through_its_one_connection(
+    monkeypatch: pytest.MonkeyPatch, native: bool
+) -> None:
+    """A replay reads its windows in a thread of its own, through the connection the first pass opened (one
+    used by one thread at a time): every row comes back, through the extension or Python's sqlite3."""
+    import threading
+
+    from tftools.sources.bag.rosbag2 import database
+
+    if not native:
+        monkeypatch.setattr(database, "_Native", None)
+    paths = [SAMPLES / "robot_db3"]
+    read: list[RecordingContents] = []
+    with stream_recording(paths, window_messages=300) as streamed:
+        thread = threading.Thread(target=lambda: read.extend(streamed.reader.read(w) for w in streamed.windows))
+        thread.start()
+        thread.join()
+    assert len(read) == len(streamed.windows) > 3 and all(not contents.problems for contents in read)
+    assert sum(len(contents.transforms) for contents in read) == len(read_recording(paths).transforms)

@@ -27,8 +27,8 @@ from tftools.analysis.frames import FrameTree
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3
-from tftools.sources.bag.robot import DESCRIPTION_TOPIC, ROBOT_TOPICS, RobotMessages, read_robot, robot_messages
-from tftools.sources.recording import Recording
+from tftools.sources.bag.robot import DESCRIPTION_TOPIC, ROBOT_TOPICS, RobotMessages
+from tftools.sources.recording import Recording, read_recording
 from tftools.sources.urdf import RobotDescription, UrdfError, parse_urdf, with_prefix
 
 #: Joint states compared with tf, at most, spread evenly over the recording.
@@ -244,11 +244,11 @@ def robot_of(
             return None, None
         return Robot(_prefixed(urdf, recording), tolerances=tolerances or Tolerances(), live=True), None
     messages = RobotMessages()
-    if any(w.topic in ROBOT_TOPICS for f in recording.contents.files for w in f.whole):  # read with the transforms
-        messages = robot_messages(recording.contents.files)
+    if any(w.topic in ROBOT_TOPICS for w in recording.contents.whole):  # read with the transforms
+        messages = recording.robot
     elif set(ROBOT_TOPICS) & topics:
         with contextlib.suppress(TfToolsError):  # the transforms were read: the joints are checked without states
-            messages = read_robot(paths)
+            messages = read_recording(paths, ROBOT_TOPICS, allow_empty=True, whole=ROBOT_TOPICS).robot
     if urdf is None:
         if not messages.description:
             return None, None

@@ -68,7 +68,7 @@ def capture_recording(
 
     with heard(duration):
         recording = capture(source, duration, sensor_topics or None, semantics=semantics, require_tf=require_tf)
-    for problem in [*(p for info in recording.contents.files for p in info.stamped_problems), *recording.problems]:
+    for problem in [*recording.stamped.problems, *recording.problems]:
         warn(problem)
     return recording
 

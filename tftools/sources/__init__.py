@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from tftools import lazy
 
 if TYPE_CHECKING:
-    from tftools.sources.bag import BagContents, BagFileInfo, BagReader, read_bag
+    from tftools.sources.bag import BagContents, BagFileInfo, BagReader
     from tftools.sources.contents import DEFAULT_TOPICS, RecordingContents, SourceInfo
     from tftools.sources.errors import (
         BagError,
@@ -20,7 +20,7 @@ if TYPE_CHECKING:
         SourceError,
         UnknownBagFormatError,
     )
-    from tftools.sources.recording import Recording, load, read_recording
+    from tftools.sources.recording import Recording, read_recording
     from tftools.sources.stream import StreamedRecording, stream_recording
 
 __all__ = [
@@ -38,8 +38,6 @@ __all__ = [
     "SourceInfo",
     "StreamedRecording",
     "UnknownBagFormatError",
-    "load",
-    "read_bag",
     "read_recording",
     "stream_recording",
 ]
@@ -60,8 +58,6 @@ _HOME = {
     "SourceInfo": "tftools.sources.contents",
     "StreamedRecording": "tftools.sources.stream",
     "UnknownBagFormatError": "tftools.sources.errors",
-    "load": "tftools.sources.recording",
-    "read_bag": "tftools.sources.bag",
     "read_recording": "tftools.sources.recording",
     "stream_recording": "tftools.sources.stream",
 }

@@ -159,14 +159,9 @@ class SourceInfo:
     # Topics asked for (or foxglove transform channels) of a type or encoding tfx does not read,
     # one line each: a healthy file, nothing to repair.
     unread: list[str] = field(default_factory=list)
-    clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # this source's /clock
     fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
-    stamped: list[StampedMessages] = field(default_factory=list, repr=False, compare=False)  # headers read
-    whole: list[WholeMessages] = field(default_factory=list, repr=False, compare=False)  # messages read whole
-    stamped_problems: list[str] = field(default_factory=list)  # headers that could not be read, one line a topic
     #: Per tf topic read, its messages and how many held no transform, as read (a file's, not metadata.yaml's).
     tf_messages: dict[str, tuple[int, int]] = field(default_factory=dict)
-    qos: OfferedQos | None = None  # a ROS 2 bag's offered QoS (None: not read from a ROS 2 bag)
     # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
     # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.
     windowed: bool = True
@@ -182,15 +177,28 @@ class SourceInfo:
         return not self.format.startswith(("rosbag2", "mcap"))
 
 
+@dataclass(frozen=True)
+class StampedRead:
+    """Each topic's stamped messages, and what could not be read of them (one line a topic)."""
+
+    streams: list[StampedMessages] = field(default_factory=list)
+    problems: list[str] = field(default_factory=list)
+
+
 @dataclass
 class RecordingContents:
-    """Every transform read, in record-time order (in consecutive parts, as decoded), and a
-    description of each source it came from."""
+    """Every transform read, in record-time order (in consecutive parts, as decoded), a description of
+    each source it came from, and what else the read took: the recorded clock, the sensor data's
+    headers, the messages read whole and the ROS 2 bags' offered QoS."""
 
     parts: list[TransformBatch]
     files: list[SourceInfo]  # the files read, or the live system heard
     topics: tuple[str, ...]
     clock: ClockSamples = field(default_factory=ClockSamples.empty, repr=False, compare=False)  # the files' merged
+    stamped: StampedRead = field(default_factory=StampedRead, repr=False, compare=False)  # headers read
+    whole: list[WholeMessages] = field(default_factory=list, repr=False, compare=False)  # messages read whole
+    #: Each ROS 2 bag's offered QoS, by its path (``SourceInfo.path``); none for other sources.
+    qos: dict[str, OfferedQos] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def transforms(self) -> TransformBatch:

@@ -15,14 +15,6 @@ from tftools.sources.codecs.gather import first_and_inverse
 from tftools.sources.contents import StampedMessages
 
 
-@dataclass(frozen=True)
-class StampedRead:
-    """Each topic's stamped messages, and what could not be read."""
-
-    streams: list[StampedMessages]
-    problems: list[str]
-
-
 @dataclass
 class HeaderCollector:
     """One topic's headers as they are read, at most ``limit`` of them (None: all)."""

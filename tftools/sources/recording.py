@@ -18,7 +18,16 @@ from tftools.core.stored import stored_rows
 from tftools.core.time import SimClock
 from tftools.sources.bag import ProgressCallback
 from tftools.sources.bag.reader import BagReader
-from tftools.sources.contents import BUFFER_FORMAT, DEFAULT_TOPICS, ClockSamples, RecordingContents, SourceInfo
+from tftools.sources.bag.robot import RobotMessages, robot_messages
+from tftools.sources.contents import (
+    BUFFER_FORMAT,
+    DEFAULT_TOPICS,
+    ClockSamples,
+    OfferedQos,
+    RecordingContents,
+    SourceInfo,
+    StampedRead,
+)
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.timeline import Timeline, timeline_of
 
@@ -54,6 +63,29 @@ class Recording:
         return self.contents.problems
 
     @property
+    def clock(self) -> ClockSamples:
+        """The recorded /clock (a split recording's files merged); none live or for a buffer."""
+        return self.contents.clock
+
+    @property
+    def stamped(self) -> StampedRead:
+        """The headers of the sensor data read with the transforms (``read_recording``'s ``headers``, or
+        heard live beside them), each topic's, and one line per topic whose headers could not be read."""
+        return self.contents.stamped
+
+    @property
+    def qos(self) -> dict[str, OfferedQos]:
+        """Each ROS 2 bag's offered QoS (the profiles its publishers offered, and per topic its messages and
+        publishers, as metadata.yaml says), by the bag's path; none for other sources."""
+        return self.contents.qos
+
+    @functools.cached_property
+    def robot(self) -> RobotMessages:
+        """The recorded robot description (the latest) and joint states, of a recording read with
+        ``whole=ROBOT_TOPICS``; empty otherwise."""
+        return robot_messages(self.contents)
+
+    @property
     def transform_count(self) -> int:
         """Transforms read, stored or refused."""
         return sum(f.transform_count for f in self.contents.files)
@@ -81,8 +113,8 @@ def read_recording(
     """Read bags into a whole-recording buffer (no cache limit) answering as ``semantics`` (by default
     the recording's own); ``NoTransformsError`` when no transform was found, unless ``allow_empty``.
     With ``headers``, the sensor data's headers on those topics (none named: every topic whose
-    messages start with a header) are read in the same pass (``stamped_of(recording.contents.files)``),
-    and so are the messages of the ``whole`` topics, whole (``SourceInfo.whole``: the robot's topics)."""
+    messages start with a header) are read in the same pass (``Recording.stamped``), and so are the
+    messages of the ``whole`` topics, whole (``ROBOT_TOPICS``: ``Recording.robot``)."""
     with BagReader(paths, topics, headers=headers, whole=whole) as reader:
         contents = reader.read(progress=progress)
     if not contents.parts and not allow_empty:
@@ -167,14 +199,3 @@ def recording_of_buffer(buffer: Buffer) -> Recording:
     contents = RecordingContents([], [info], DEFAULT_TOPICS)
     timeline = timeline_of(buffer, ClockSamples.empty(), start, end)
     return Recording(buffer, contents, timeline, refused, refused_sequence)
-
-
-def load(
-    *paths: str | os.PathLike[str],
-    topics: Sequence[str] | None = None,
-    progress: ProgressCallback | None = None,
-    semantics: Semantics | None = None,
-) -> Buffer:
-    """Every transform of the bags at ``paths`` (one recording) in a buffer with tf2's semantics:
-    ROS 1's for ROS 1 bags, ROS 2's for rosbag2 and MCAP files, unless ``semantics`` says."""
-    return read_recording(paths, topics, progress, semantics=semantics).buffer

@@ -111,7 +111,7 @@ def stream_recording(
     semantics: Semantics | None = None,
     window_messages: int = WINDOW_MESSAGES,
 ) -> StreamedRecording:
-    """The recording at ``paths`` (see ``read_bag``), read in windows of about ``window_messages``
+    """The recording at ``paths`` (see ``read_recording``), read in windows of about ``window_messages``
     messages to describe it; its transforms are read again by ``replay``. ``NoTransformsError`` when
     no transform was found."""
     reader = BagReader(paths, topics).__enter__()

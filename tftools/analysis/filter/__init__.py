@@ -46,11 +46,7 @@ def filter_messages(
     """``tfx filter``: a MessageFilter replayed on the sensor data ``recording`` was read or heard with
     (``query.reading()``) against its tf; what could not be read of the topics asked for goes to
     ``on_problem``. Raises ``NoStampedDataError`` when no topic has a header."""
-    from tftools.sources.bag.stamped import stamped_of
-
-    files = recording.contents.files
-    said = {problem.split(":", 1)[0] for info in files for problem in info.stamped_problems}  # a capture's "not heard"
-    stamped = stamped_of(files, [topic for topic in query.sensor_topics or () if topic not in said])
+    stamped = recording.stamped
     if not stamped.streams:
         raise NoStampedDataError(stamped.problems)
     for problem in stamped.problems:

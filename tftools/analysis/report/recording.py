@@ -28,7 +28,6 @@ from tftools.analysis.timelines import (
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.causes import explain
 from tftools.core.time import NS_PER_S, format_sec, from_sec
-from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording
 from tftools.sources.timeline import EPOCH_FLOOR, Reference
@@ -60,7 +59,7 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
     with, into ``query.target``: ``analysis.targets.choose_target``; against the robot's description,
     ``robot_of``), its frame graph, its edges and sensor data over time, and every frame in 3D."""
     robot, said = robot_of(recording.paths, recording, query.urdf)
-    streams = stamped_of(recording.contents.files, query.sensor_topics).streams
+    streams = recording.stamped.streams
     scene = Scene(recording, streams=streams, target=query.target, robot=robot)
     findings = explain([*findings_of(scene), *([said] if said is not None else [])])
     graph = frame_graph(scene, findings)

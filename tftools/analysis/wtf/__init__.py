@@ -44,7 +44,7 @@ def check(
     """Every problem of ``recording`` (or a bare buffer, as ``Scene`` sees it), errors first, then
     warnings, then notes (each in check order), each followed by those it explains (``causes.explain``).
 
-    ``streams``: its sensor data (``read_stamped``), for the checks of data against tf, transformed
+    ``streams``: its sensor data (``Recording.stamped``), for the checks of data against tf, transformed
     into ``target`` (default and fallback: ``analysis.targets.choose_target``). ``expected``: the
     tree it should have (``tfx wtf --expect``), within its tolerances. ``robot``: its description and
     joint states (``tfx wtf --urdf``, ``analysis.description``). ``ignore``

@@ -126,9 +126,7 @@ def repeats_of(stamps: Int64Array, values: FloatArray, arrivals: Int64Array) -> 
 def listed_publishers(scene: Scene, topic: str) -> int | None:
     """How many publishers of ``topic`` the recording's metadata.yaml lists (one per publisher the recorder
     found when it began: ``offered_qos_profiles``); None where no file says."""
-    found = [
-        f.qos.counts[topic][1] for f in scene.recording.contents.files if f.qos is not None and topic in f.qos.counts
-    ]
+    found = [qos.counts[topic][1] for qos in scene.recording.qos.values() if topic in qos.counts]
     return max(found) if found else None
 
 

@@ -16,7 +16,6 @@ from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.causes import explain
 from tftools.analysis.wtf.query import CHECK_DEFAULTS, CheckQuery
 from tftools.core.errors import TfToolsError
-from tftools.sources.bag.stamped import stamped_of
 from tftools.sources.contents import Fetched
 from tftools.sources.recording import Recording
 
@@ -62,7 +61,7 @@ def check(recording: Recording, query: CheckQuery = CHECK_DEFAULTS) -> BagReport
     every check but those ignored, its sensor data (the headers it was read with) against tf, against the
     expected tree if given, and against the robot's description (``robot_of``)."""
     robot, said = robot_of(recording.paths, recording, query.urdf, query.robot_tolerances)
-    streams = stamped_of(recording.contents.files, query.sensor_topics).streams
+    streams = recording.stamped.streams
     scene = Scene(recording, query.thresholds, streams, query.target, query.expected, robot)
     checked = BagReport(
         paths=tuple(recording.paths),

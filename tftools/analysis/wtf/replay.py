@@ -34,9 +34,10 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
     if not rows.static.any():
         return
     for file in scene.recording.contents.files:
-        if not file.format.startswith("rosbag2") or file.qos is None:
+        qos = scene.recording.qos.get(file.path)
+        if not file.format.startswith("rosbag2") or qos is None:
             continue
-        for topic, profiles in _static_qos(file.path, file.qos).items():
+        for topic, profiles in _static_qos(file.path, qos).items():
             if profiles and all(_durability(p) in TRANSIENT_LOCAL for p in profiles):
                 continue
             offered = "records no QoS for it" if not profiles else "offers it volatile"

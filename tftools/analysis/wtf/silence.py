@@ -15,7 +15,7 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
 from tftools.core.figures import pause_rows
 from tftools.core.time import NS_PER_S, from_sec
-from tftools.sources.contents import SourceInfo, is_static_topic
+from tftools.sources.contents import OfferedQos, is_static_topic
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,8 @@ def _tallies(scene: Scene) -> Iterator[TopicTally]:
     rows = scene.rows
     records, static = rows.record_time.whole(), rows.static
     for file in scene.recording.contents.files:
-        listed = _counts(file, scene.recording.contents.topics) if Path(file.path).is_dir() else {}
+        qos = scene.recording.qos.get(file.path)
+        listed = _counts(qos, scene.recording.contents.topics) if Path(file.path).is_dir() else {}
         read = file.tf_messages
         inside = (records >= file.start) & (records <= file.end)
         for topic in dict.fromkeys([*listed, *read]):
@@ -77,10 +78,10 @@ def _tallies(scene: Scene) -> Iterator[TopicTally]:
             yield TopicTally(file.path, topic, messages, transforms, instants, publishers, observed)
 
 
-def _counts(file: SourceInfo, topics: tuple[str, ...]) -> dict[str, tuple[int, int]]:
+def _counts(qos: OfferedQos | None, topics: tuple[str, ...]) -> dict[str, tuple[int, int]]:
     """Per tf topic: its messages and its publishers, as metadata.yaml has them (read with the bag; nothing
     if unreadable: ``static_volatile`` says so)."""
-    counts = file.qos.counts if file.qos is not None else {}
+    counts = qos.counts if qos is not None else {}
     return {topic: counted for topic, counted in counts.items() if topic in topics}
 
 

@@ -1,5 +1,5 @@
 """``BagReader``: one recording (a bag, or a split one's files) opened once, its indexes read once,
-read whole or window after window; ``read_bag``: a recording read whole at once."""
+read whole or window after window."""
 
 from __future__ import annotations
 
@@ -9,10 +9,8 @@ from collections.abc import Sequence
 from contextlib import ExitStack
 from typing import Protocol
 
-from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import (
     BagContents,
-    BagFileInfo,
     ProgressCallback,
     RecordWindow,
     in_record_order,
@@ -20,9 +18,11 @@ from tftools.sources.bag.contents import (
     merged_clock,
 )
 from tftools.sources.bag.formats import sniff
+from tftools.sources.bag.scan import FileRead
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.contents import DEFAULT_TOPICS, MessageSink
+from tftools.sources.contents import DEFAULT_TOPICS, MessageSink, StampedRead
 from tftools.sources.errors import BagError
+from tftools.sources.headers import merged
 from tftools.sources.storage import open_files
 from tftools.sources.storage.source import Files
 
@@ -30,9 +30,7 @@ from tftools.sources.storage.source import Files
 class FormatFile(Protocol):
     """A file (or ROS 2 bag directory) of one format, open: its index read once, read as often as asked."""
 
-    def read(
-        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
-    ) -> tuple[list[TransformBatch], BagFileInfo]: ...
+    def read(self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None) -> FileRead: ...
 
     def close(self) -> None: ...
 
@@ -92,14 +90,25 @@ class BagReader:
         """What the recording holds (see the class), and each file described; with a ``window``, only the
         transforms, clock and headers recorded in it (the files' indexes skip the rest; a file without
         one is read whole, and its ``windowed`` is False), each ``BagFileInfo`` still describing its
-        whole file. An empty window reads only the descriptions."""
+        whole file. An empty window reads only the descriptions. The headers asked for by name that
+        were not read are each said in ``stamped.problems``."""
         if len(self._files) != len(self.paths):
             raise ValueError("BagReader.read outside its with block: the recording is not open")
         shares = in_turn(progress or _unreported, [opened.size for opened in self._files])
-        read = [opened.read(self.wanted, share, window) for share, opened in zip(shares, self._files, strict=True)]
-        batches = [batch for part, _ in read for batch in part]
-        infos = [info for _, info in read]
-        return BagContents(in_record_order(batches), infos, self.topics, merged_clock([f.clock for f in infos]))
+        reads = [opened.read(self.wanted, share, window) for share, opened in zip(shares, self._files, strict=True)]
+        streams = merged([stream for read in reads for stream in read.stamped])
+        problems = [line for read in reads for line in read.stamped_problems]
+        missing = sorted(set(self.wanted.headers or ()) - {stream.topic for stream in streams})
+        problems += [f"{topic}: not in the recording, or its messages have no header" for topic in missing]
+        return BagContents(
+            in_record_order([batch for read in reads for batch in read.batches]),
+            [read.info for read in reads],
+            self.topics,
+            merged_clock([read.clock for read in reads]),
+            StampedRead(streams, problems),
+            [whole for read in reads for whole in read.whole],
+            {read.info.path: read.qos for read in reads if read.qos is not None},
+        )
 
     def _open(self, location: str) -> _Opened:
         files = self._stack.enter_context(open_files(location))
@@ -108,18 +117,6 @@ class BagReader:
         except BagError as e:
             raise e.said_of(location) if files.fetched() else e from None
         return _Opened(self._stack, files, opened)
-
-
-def read_bag(
-    paths: Sequence[str | os.PathLike[str]],
-    topics: Sequence[str] | None = None,
-    progress: ProgressCallback | None = None,
-    window: RecordWindow | None = None,
-) -> BagContents:
-    """Every transform on ``topics`` of the recording at ``paths``, and its recorded clock, read at once
-    (see ``BagReader``)."""
-    with BagReader(paths, topics) as reader:
-        return reader.read(window, progress)
 
 
 def _unreported(_done: int, _total: int) -> None:
@@ -135,21 +132,20 @@ class _Opened:
         root = files.root
         self.size = sum(files.size(p) for p in files.listing(root)) if files.is_dir(root) else files.size(root)
 
-    def read(
-        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None
-    ) -> tuple[list[TransformBatch], BagFileInfo]:
+    def read(self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None) -> FileRead:
         """The format's result, said of the URL (with what was fetched) for a remote bag."""
         fetched = self.files.fetched()
         if fetched is None:
             return self.opened.read(wanted, progress, window)
         try:
-            batches, info = self.opened.read(wanted, progress, window)
+            read = self.opened.read(wanted, progress, window)
         except BagError as e:
             raise e.said_of(self.files.said(e.path)) from None
+        info = read.info
         info.path = self.files.said(info.path)
         info.problems = [self.files.said(line) for line in info.problems]
         info.fetched = self.files.fetched()
-        return batches, info
+        return read
 
 
 def _open_format(files: Files) -> FormatFile:

@@ -1,20 +1,18 @@
-"""``read_robot``: what a recording says of the robot itself: its description (the latest
+"""What a recording says of the robot itself (``Recording.robot``): its description (the latest
 ``/robot_description``, a std_msgs/String: latched in ROS 1, transient local in ROS 2) and its joints'
-positions over time (``/joint_states``, sensor_msgs/JointState), read through the bag readers as
-transforms are."""
+positions over time (``/joint_states``, sensor_msgs/JointState), read whole by the bag readers in the
+pass that reads the transforms (``read_recording(..., whole=ROBOT_TOPICS)``)."""
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from tftools.core.arrays import Int64Array
-from tftools.sources.bag.contents import BagFileInfo
-from tftools.sources.bag.reader import BagReader
 from tftools.sources.codecs.robot import JointState
+from tftools.sources.contents import RecordingContents
 
 DESCRIPTION_TOPIC = "/robot_description"
 JOINT_STATES_TOPIC = "/joint_states"
@@ -35,42 +33,25 @@ class RobotMessages:
     problems: Sequence[str] = ()
 
 
-def read_robot(
-    paths: Sequence[str | os.PathLike[str]],
-    description_topic: str = DESCRIPTION_TOPIC,
-    joint_topic: str = JOINT_STATES_TOPIC,
-) -> RobotMessages:
-    """The robot's messages in the recording at ``paths`` (several: a split one), in a pass of their own."""
-    mine = (description_topic, joint_topic)
-    with BagReader(paths, mine, whole=mine) as reader:  # those topics only, read whole
-        return robot_messages(reader.read().files, description_topic, joint_topic)
-
-
-def robot_messages(
-    infos: Sequence[BagFileInfo],
-    description_topic: str = DESCRIPTION_TOPIC,
-    joint_topic: str = JOINT_STATES_TOPIC,
-) -> RobotMessages:
+def robot_messages(contents: RecordingContents) -> RobotMessages:
     """The robot's messages among those a read took whole (``BagReader(..., whole=ROBOT_TOPICS)``)."""
-    mine = (description_topic, joint_topic)
     texts: list[tuple[int, str]] = []
     states: list[tuple[int, JointState]] = []
-    for info in infos:
-        for whole in info.whole:
-            times = whole.record_time.tolist()
-            if whole.topic == description_topic:
-                texts += [(t, str(v)) for t, v in zip(times, whole.values, strict=True)]
-            elif whole.topic == joint_topic:
-                states += [(t, v) for t, v in zip(times, whole.values, strict=True) if isinstance(v, JointState)]
+    for whole in contents.whole:
+        times = whole.record_time.tolist()
+        if whole.topic == DESCRIPTION_TOPIC:
+            texts += [(t, str(v)) for t, v in zip(times, whole.values, strict=True)]
+        elif whole.topic == JOINT_STATES_TOPIC:
+            states += [(t, v) for t, v in zip(times, whole.values, strict=True) if isinstance(v, JointState)]
     states.sort(key=lambda pair: pair[0])
     texts.sort(key=lambda pair: pair[0])
-    topics = frozenset(t for info in infos for t in info.topics)
-    problems = [line for info in infos for line in info.problems if line.startswith(mine)]
+    topics = frozenset(t for info in contents.files for t in info.topics)
+    problems = [line for info in contents.files for line in info.problems if line.startswith(ROBOT_TOPICS)]
     return RobotMessages(
         texts[-1][1] if texts else "",
         np.array([t for t, _ in states], np.int64),
         [s for _, s in states],
-        joint_topic,
+        JOINT_STATES_TOPIC,
         topics,
         problems,
     )

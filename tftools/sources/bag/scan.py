@@ -1,4 +1,4 @@
-"""``FileScan``: what one bag file held, undecoded; ``file_result``: scans made a bag's result."""
+"""``FileScan``: what one bag file held, undecoded; ``file_result``: scans made a bag's result (``FileRead``)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,23 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.select import Unread, unread_lines
-from tftools.sources.contents import ClockSamples, StampedMessages, WholeMessages
+from tftools.sources.contents import ClockSamples, OfferedQos, StampedMessages, WholeMessages
 from tftools.sources.headers import merged
+
+
+@dataclass
+class FileRead:
+    """What one bag (a file, or a ROS 2 bag directory) gave: its transforms in record order, its
+    description, its recorded clock, its sensor data's headers (and one line per topic whose headers
+    could not be read), the messages read whole and, for a ROS 2 bag, the QoS its publishers offered."""
+
+    batches: list[TransformBatch]
+    info: BagFileInfo
+    clock: ClockSamples = field(default_factory=ClockSamples.empty)
+    stamped: list[StampedMessages] = field(default_factory=list)
+    stamped_problems: list[str] = field(default_factory=list)
+    whole: list[WholeMessages] = field(default_factory=list)
+    qos: OfferedQos | None = None
 
 
 @dataclass
@@ -43,9 +58,7 @@ class FileScan:
             self.skipped.append(unread)
 
 
-def file_result(
-    path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequence[str] = ()
-) -> tuple[list[TransformBatch], BagFileInfo]:
+def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequence[str] = ()) -> FileRead:
     """The scans of one bag's files decoded into batches in record order, and the bag described;
     ``labels`` (one per scan, e.g. file names) prefix each file's problem lines."""
     batches: list[TransformBatch] = []
@@ -80,11 +93,7 @@ def file_result(
         transform_count=sum(len(b) for b in batches),
         problems=problems,
         unread=unread_lines([u for scan in scans for u in scan.skipped]),
-        clock=merged_clock(clocks),
-        stamped=merged(stamped),
-        whole=whole,
-        stamped_problems=stamped_problems,
         windowed=all(s.windowed for s in scans),
         tf_messages=tf_messages,
     )
-    return batches, info
+    return FileRead(batches, info, merged_clock(clocks), merged(stamped), stamped_problems, whole)

@@ -9,8 +9,8 @@ from typing import Protocol
 
 from tftools.core.time import Clock
 from tftools.sources.codecs.decoded import Header
-from tftools.sources.contents import NOT_SENSOR_DATA
-from tftools.sources.headers import HeaderCollector, StampedRead
+from tftools.sources.contents import NOT_SENSOR_DATA, StampedRead
+from tftools.sources.headers import HeaderCollector
 from tftools.sources.live.notices import NoticeOnce, OnNotice
 
 #: Headers kept per topic, at most (a 1 kHz IMU for 200 s): past it, messages are counted, not kept.

@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from tftools.core.semantics import Semantics
-from tftools.sources.headers import StampedRead
+from tftools.sources.contents import StampedRead
 from tftools.sources.live.base import LiveSource
 from tftools.sources.live.capture import capture
 from tftools.sources.live.errors import NoTransformsHeardError
@@ -48,14 +48,13 @@ def capture_live(
     """What ``source`` (not yet started; closed on return) says in ``duration`` wall seconds, as one
     recording, the way ``read_recording`` reads a bag: tf, and with ``headers``, the headers of the sensor
     data on those topics (none named: every topic whose messages start with a header) in its
-    ``SourceInfo`` (``stamped_of(recording.contents.files)``: what a bag read with headers has). Hearing no
+    ``Recording.stamped`` (what a bag read with headers has). Hearing no
     transform is a ``NoTransformsHeardError``, unless not ``require_tf``."""
     if headers is None:
         recording = capture(source, duration, semantics=semantics)
     else:
         recording, stamped = capture_stamped(source, duration, headers or None, semantics=semantics)
-        [info] = recording.contents.files
-        info.stamped, info.stamped_problems = stamped.streams, stamped.problems
+        recording.contents.stamped = stamped
     if require_tf and not recording.transform_count:
         raise NoTransformsHeardError(recording.contents.topics, source.describe(), duration)
     return recording

@@ -5,15 +5,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
+from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import MCAP
 from tftools.sources.bag.mcap.index import Summary, read_indexed, summary_of
 from tftools.sources.bag.mcap.records import Channels
 from tftools.sources.bag.mcap.stream import stream
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.scan import FileScan, file_result
+from tftools.sources.bag.scan import FileRead, FileScan, file_result
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError
 from tftools.sources.storage.source import ByteSource
@@ -32,9 +31,7 @@ class McapFile:
         except OSError as e:
             raise CorruptBagError(str(path), e.strerror or str(e)) from None
 
-    def read(
-        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
-    ) -> tuple[list[TransformBatch], BagFileInfo]:
+    def read(self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None) -> FileRead:
         """The transforms of a bare ``.mcap`` file (see ``reader.BagReader.read``)."""
         return file_result(self.path, "mcap", [self.scan(wanted, progress, MessageSet(window=window))])
 

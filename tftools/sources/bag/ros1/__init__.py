@@ -5,14 +5,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tftools.core.batch import TransformBatch
-from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
+from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.index import BagIndex, read_index, read_indexed
 from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.bag.ros1.salvage import read_unindexed
-from tftools.sources.bag.scan import file_result
+from tftools.sources.bag.scan import FileRead, file_result
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError
 from tftools.sources.storage.source import ByteSource
@@ -40,9 +39,7 @@ class Ros1File:
             )
         self._index: BagIndex | str | None = None  # once read: the index, or what is wrong with it
 
-    def read(
-        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
-    ) -> tuple[list[TransformBatch], BagFileInfo]:
+    def read(self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None) -> FileRead:
         """The bag's transforms (see ``reader.BagReader.read``)."""
         header = self.header
         bag = BagFile(self.path.name, self.buf, self.source, wanted, progress, window)

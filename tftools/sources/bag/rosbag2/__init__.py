@@ -9,11 +9,10 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import TYPE_CHECKING, Any
 
-from tftools.core.batch import TransformBatch
 from tftools.sources import user_files
-from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow, in_turn
+from tftools.sources.bag.contents import ProgressCallback, RecordWindow, in_turn
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.scan import FileScan, file_result
+from tftools.sources.bag.scan import FileRead, FileScan, file_result
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import OfferedQos, is_static_topic
@@ -43,20 +42,18 @@ class Rosbag2Bag:
         self._files: dict[Path, Db3File | McapFile | CorruptBagError] = {}
         self._decompressed: dict[Path, list[str]] = {}  # files compressed whole: what decompressing them lost
 
-    def read(
-        self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
-    ) -> tuple[list[TransformBatch], BagFileInfo]:
+    def read(self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None) -> FileRead:
         """The bag's transforms (see ``reader.BagReader.read``)."""
         fmt = f"rosbag2-{self.bag.storage}"
         if not self.files.is_dir(self.path):
-            batches, info = file_result(self.path, fmt, [self._scan_file(self.path, wanted, progress, window, [])])
+            read = file_result(self.path, fmt, [self._scan_file(self.path, wanted, progress, window, [])])
         else:
             problems = list(self.bag.problems)
             scans, labels = self._scan_files(wanted, progress, window, problems)
-            batches, info = file_result(self.path, fmt, scans, labels)
-            info.problems[:0] = problems
-        info.qos = self.bag.qos
-        return batches, info
+            read = file_result(self.path, fmt, scans, labels)
+            read.info.problems[:0] = problems
+        read.qos = self.bag.qos
+        return read
 
     def _scan_files(
         self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None, problems: list[str]

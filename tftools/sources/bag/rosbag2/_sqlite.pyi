@@ -1,21 +1,33 @@
-"""A query's rows read through sqlite's C API into arrays, fetch after fetch (native/sqlite_module.cpp)."""
+"""One read-only sqlite connection: small queries as tuples, messages into arrays fetch after fetch
+(native/sqlite_module.cpp)."""
 
 import sqlite3
 
 from tftools.core.arrays import Int64Array, UInt8Array
 
 class SqliteError(sqlite3.DatabaseError):
-    """sqlite's error while it read the rows (a damaged database, say)."""
+    """sqlite's error while it read (a damaged database, say)."""
 
 class Messages:
-    """The rows of ``query``, ``SELECT topic, time, id, blob ...``, on the database at the URI
-    ``uri`` opened read-only (its schema writable: a flag of the connection, nothing written).
-    A row whose topic or time is not an integer or whose blob is not a blob is skipped."""
+    """The rows of a query ``SELECT topic, time, id, blob ...`` (``Database.messages``). A row whose
+    topic or time is not an integer or whose blob is not a blob is skipped."""
 
-    def __init__(self, uri: str, query: str) -> None: ...
     def fetch(
         self, rows: int, bytes: int
     ) -> tuple[Int64Array, Int64Array, Int64Array, Int64Array, Int64Array, UInt8Array]:
         """The next rows, up to ``rows`` of them or until their blobs reach ``bytes``: each row's
         topic, time and id, where its blob starts in the bytes and its length, and the bytes; none
         at the end."""
+
+class Database:
+    """The database at the URI ``uri`` opened read-only (its schema writable: a flag of the
+    connection, nothing written), until ``close``."""
+
+    def __init__(self, uri: str) -> None: ...
+    def rows(self, query: str) -> list[tuple[object, ...]]:
+        """Every row of ``query``, each column as Python's sqlite3 gives it (text not in UTF-8
+        decoded with replacement characters)."""
+    def messages(self, query: str) -> Messages:
+        """The message rows of ``query`` on this connection."""
+    def close(self) -> None:
+        """Let the connection go (once the message queries on it are let go too)."""

@@ -1,20 +1,18 @@
-"""rosbag2 sqlite3 files (.db3): the transform messages of one file, read by sqlite (when damaged, from its pages)."""
+"""rosbag2 sqlite3 files (.db3): the transform messages of one file, read through its one sqlite connection
+(``Database``; when damaged, from its pages)."""
 
 from __future__ import annotations
 
 import mmap
 import sqlite3
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
-from urllib.parse import quote
 
 import numpy as np
 
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.rosbag2.db3_rows import TYPED, fetches
+from tftools.sources.bag.rosbag2.database import Database
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
@@ -31,8 +29,8 @@ _MAX_TOPIC_ID = 1 << 24  # topic ids index a lookup array: rosbag2 numbers them 
 
 
 class Db3File:
-    """A rosbag2 sqlite3 file open for reading, its topics and statistics read once: read whole, or
-    window after window."""
+    """A rosbag2 sqlite3 file open for reading through one connection, its topics and statistics read
+    once: read whole, or window after window."""
 
     def __init__(self, path: Path, source: ByteSource) -> None:
         self.path = path
@@ -41,10 +39,14 @@ class Db3File:
         self.unmerged = wal.name if wal.exists() and wal.stat().st_size > 0 else ""
         if source.read(0, len(SQLITE3.magic)) != SQLITE3.magic:
             raise CorruptBagError(str(path), "not an SQLite database")
-        with _connect(path) as db:
-            self.topics = _topics(db, path)
-            self.definitions = _definitions(db)
-            self.statistics = _statistics(db)
+        self.database = Database(path)
+        try:
+            self.topics = _topics(self.database)
+            self.definitions = _definitions(self.database)
+            self.statistics = _statistics(self.database)
+        except BaseException:
+            self.database.close()
+            raise
 
     def scan(self, wanted: Wanted, progress: ProgressCallback, messages: MessageSet) -> FileScan:
         """The file's messages (into ``messages``, zstd-compressed ones decompressed) and description;
@@ -53,7 +55,7 @@ class Db3File:
         channels, headers = _channels(self.topics, wanted, result, self.definitions)
         if self.statistics is not None:
             result.message_count, result.start, result.end = self.statistics
-        _messages(self.path, channels, headers, result, progress)
+        _messages(self.database, channels, headers, result, progress)
         if self.unmerged:
             result.note_problem(
                 f"{self.unmerged} holds writes never merged into the database; they were not read"
@@ -62,27 +64,8 @@ class Db3File:
         return result
 
     def close(self) -> None:
+        self.database.close()
         self.source.close()
-
-
-@contextmanager
-def _connect(path: Path) -> Iterator[sqlite3.Connection]:
-    """Read-only and immutable: sqlite neither writes nor creates -wal/-shm files next to it."""
-    try:
-        db = sqlite3.connect(_uri(path), uri=True)
-        # A file cut short says it has more pages than it holds; sqlite then refuses it whole
-        # unless the schema is "writable" (a flag of this read-only connection, nothing written).
-        db.execute("PRAGMA writable_schema=ON")
-    except (OSError, sqlite3.Error) as e:
-        raise CorruptBagError(str(path), str(e)) from None
-    try:
-        yield db
-    finally:
-        db.close()
-
-
-def _uri(path: Path) -> str:
-    return f"file:{quote(str(path.resolve()))}?mode=ro&immutable=1"
 
 
 #: A topic as the topics table holds it: id, name, type, serialization format, offered QoS profiles
@@ -92,14 +75,14 @@ TopicRow = tuple[int, str, str, str, str, str]
 _LATER_COLUMNS = ("offered_qos_profiles", "type_description_hash")
 
 
-def _topics(db: sqlite3.Connection, path: Path) -> list[TopicRow | str]:
+def _topics(db: Database) -> list[TopicRow | str]:
     """The topics table's rows (a line for each that is not a topic)."""
     try:
-        present = {str(row[1]) for row in db.execute("PRAGMA table_info(topics)")}
+        present = {str(row[1]) for row in db.rows("PRAGMA table_info(topics)")}
         later = ", ".join(c if c in present else "''" for c in _LATER_COLUMNS)
-        rows = db.execute(f"SELECT id, name, type, serialization_format, {later} FROM topics").fetchall()
+        rows = db.rows(f"SELECT id, name, type, serialization_format, {later} FROM topics")
     except sqlite3.Error as e:
-        raise CorruptBagError(str(path), f"its topics table cannot be read: {e}") from None
+        raise CorruptBagError(str(db.path), f"its topics table cannot be read: {e}") from None
     topics: list[TopicRow | str] = []
     for topic_id, *texts in rows:
         if not isinstance(topic_id, int) or not 0 <= topic_id <= _MAX_TOPIC_ID:
@@ -110,10 +93,10 @@ def _topics(db: sqlite3.Connection, path: Path) -> list[TopicRow | str]:
     return topics
 
 
-def _definitions(db: sqlite3.Connection) -> dict[str, str]:
+def _definitions(db: Database) -> dict[str, str]:
     """Each type's message definition, as rosbag2 (Iron on) stores them; none in an older file."""
     try:
-        rows = db.execute("SELECT topic_type, encoded_message_definition FROM message_definitions").fetchall()
+        rows = db.rows("SELECT topic_type, encoded_message_definition FROM message_definitions")
     except sqlite3.Error:
         return {}
     return {_text(type_name): _text(definition) for type_name, definition in rows}
@@ -150,14 +133,14 @@ def _channels(
     return channels, headers
 
 
-def _statistics(db: sqlite3.Connection) -> tuple[int, int, int] | None:
+def _statistics(db: Database) -> tuple[int, int, int] | None:
     """Messages, and the first and last record time; None for a damaged database (the messages read say)."""
     try:
         # One aggregate a query: min and max then search the timestamp index, count(*) counts its cells.
-        count, start, end = db.execute(
+        ((count, start, end),) = db.rows(
             "SELECT (SELECT count(*) FROM messages), (SELECT min(timestamp) FROM messages),"
             " (SELECT max(timestamp) FROM messages)"
-        ).fetchone()
+        )
     except sqlite3.Error:
         return None
     count, start, end = (v if isinstance(v, int) else 0 for v in (count, start, end))
@@ -165,7 +148,7 @@ def _statistics(db: sqlite3.Connection) -> tuple[int, int, int] | None:
 
 
 def _messages(
-    path: Path, channels: dict[int, int], headers: set[int], result: FileScan, progress: ProgressCallback
+    db: Database, channels: dict[int, int], headers: set[int], result: FileScan, progress: ProgressCallback
 ) -> None:
     """Add the wanted topics' messages, fetch after fetch in the table's order (decoded as they
     come, so they are never all held at once; ``MessageSet`` puts them in (record time, id) order);
@@ -175,6 +158,7 @@ def _messages(
     left out."""
     if not channels:
         return
+    path = db.path
     size = path.stat().st_size
     lookup = np.zeros(max(channels) + 1, np.int32)  # topic id -> channel
     lookup[list(channels)] = list(channels.values())
@@ -189,13 +173,13 @@ def _messages(
     # NOT INDEXED: the table read in its own order, page after page, not through the timestamp index;
     # but a window's rows are found through it.
     window = result.messages.window
-    table, where = "messages NOT INDEXED", f"topic_id IN ({ids}){TYPED}"
+    table, where = "messages NOT INDEXED", f"topic_id IN ({ids}){db.typed}"
     if window is not None:
         table, where = "messages", f"{where} AND timestamp >= {int(window.first)} AND timestamp < {int(window.last)}"
     query = f"SELECT topic_id, timestamp, id, {data} FROM {table} WHERE {where}"
     added, latest = False, result.start  # the latest record time met: rows may come a little out of order
     try:
-        for fetched in fetches(_uri(path), query, _FETCH, _FETCH_BYTES):
+        for fetched in db.messages(query, _FETCH, _FETCH_BYTES):
             topic, timestamp, row_id, start, length, payloads = fetched
             _unpack_if_compressed(payloads[start[0] : start[0] + length[0]][:4].tobytes(), result, size)
             spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)

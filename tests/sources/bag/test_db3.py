@@ -12,10 +12,10 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import NS, T0, Tf, string_cdr, tf_cdr
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.rosbag2 import db3 as db3_reader
 from tftools.sources.bag.spans import Spans
 
@@ -85,7 +85,7 @@ def expected(rows: Sequence[DbRow]) -> list[tuple[int, int, str]]:
 
 
 def read(path: Path, progress: ProgressCallback | None = None) -> tuple[list[tuple[int, int, str]], Any]:
-    contents = read_bag([path], progress=progress)
+    contents = read_contents([path], progress=progress)
     batch = contents.transforms
     got = [
         (int(batch.record_time[i]), int(batch.stamp[i] // NS), batch.frame_names[batch.child[i]])
@@ -228,8 +228,8 @@ def test_damaged_file_salvaged(tmp_path: Path, damage: str) -> None:
 def test_both_row_readers_give_the_same_rows(tmp_path: Path) -> None:
     """sqlite's C API (the _sqlite extension) and Python's sqlite3 module, which reads .db3 files in a
     build without sqlite's headers, give the same rows, wrong-typed ones left out alike."""
-    from tests.sources import hostile
-    from tftools.sources.bag.rosbag2 import db3_rows
+    from tests.sources.bag import hostile
+    from tftools.sources.bag.rosbag2 import database
 
     bag = hostile.db3(tmp_path / "odd.db3", [tf_cdr([Tf("map", "odom", 7)]), tf_cdr([Tf("map", "base", 8)]) * 40])
     db = sqlite3.connect(bag)
@@ -237,21 +237,21 @@ def test_both_row_readers_give_the_same_rows(tmp_path: Path) -> None:
     db.execute("INSERT INTO messages VALUES (6, 1, 9, 'text, not a blob')")
     db.commit()
     db.close()
-    uri = f"file:{bag}?mode=ro&immutable=1"
-    typed = "typeof(topic_id) = 'integer' AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob'"
-    query = f"SELECT topic_id, timestamp, id, data FROM messages WHERE {typed}"
 
     def rows(native: bool) -> list[tuple[int, int, int, bytes]]:
+        db = database.Database(bag, native=native)
+        assert db.native == native, "the extension is built here"
+        query = f"SELECT topic_id, timestamp, id, data FROM messages WHERE 1{db.typed}"
         found = []
-        for topic, time, row, start, length, data in db3_rows.fetches(uri, query, 1, 100, native=native):
+        for topic, time, row, start, length, data in db.messages(query, 1, 100):
             raw = data.tobytes()
             found += [
                 (t, s, r, raw[a : a + n])
                 for t, s, r, a, n in zip(*(c.tolist() for c in (topic, time, row, start, length)), strict=True)
             ]
+        db.close()
         return found
 
-    assert db3_rows._Native is not None, "the extension is built here"  # type: ignore[attr-defined]
     python = rows(native=False)
     assert python == rows(native=True) and len(python) == 2 and python[1][3] == tf_cdr([Tf("map", "base", 8)]) * 40
 
@@ -260,13 +260,36 @@ def test_a_build_without_the_extension_reads_db3_files_alike(monkeypatch: pytest
     """Without sqlite's headers at build time there is no _sqlite: .db3 rows come through Python's
     sqlite3, wrong-typed rows left out by the query; the sample bag reads the same."""
     from tests.cli.conftest import SAMPLE_BAGS
-    from tftools.sources.bag.rosbag2 import db3_rows
+    from tftools.sources.bag.rosbag2 import database
 
-    native = read_bag([SAMPLE_BAGS["db3"]])
-    monkeypatch.setattr(db3_rows, "_Native", None)
-    typed = " AND typeof(topic_id) = 'integer' AND typeof(timestamp) = 'integer' AND typeof(data) = 'blob'"
-    monkeypatch.setattr(db3_reader, "TYPED", typed)
-    python = read_bag([SAMPLE_BAGS["db3"]])
+    native = read_contents([SAMPLE_BAGS["db3"]])
+    monkeypatch.setattr(database, "_Native", None)
+    python = read_contents([SAMPLE_BAGS["db3"]])
     assert python.problems == native.problems == []
     assert len(python.transforms) == len(native.transforms) > 1000
     assert np.array_equal(python.transforms.translation, native.transforms.translation)
+
+
+@pytest.mark.parametrize("native", [True, False], ids=["extension", "sqlite3"])
+def test_one_connection_serves_the_tables_and_the_messages(tmp_path: Path, native: bool) -> None:
+    """A .db3's one connection answers the small tables' queries (text not in UTF-8 with replacement
+    characters, alike through the extension and Python's sqlite3) and its messages, until closed."""
+    from tftools.sources.bag.rosbag2.database import Database
+
+    rows = mixed_rows(300)
+    bag = write_db3(tmp_path / "a.db3", rows)
+    with sqlite3.connect(bag) as writer:
+        writer.execute("INSERT INTO topics VALUES (9, CAST(X'2F6361FF' AS TEXT), 'x/msg/Y', 'cdr', '')")
+    writer.close()
+    db = Database(bag, native=native)
+    assert db.native == native
+    assert db.rows("SELECT count(*), min(timestamp) FROM messages") == [(len(rows), T0)]
+    assert db.rows("SELECT name FROM topics WHERE id = 9") == [("/ca\ufffd",)]
+    query = f"SELECT topic_id, timestamp, id, data FROM messages WHERE topic_id = 4{db.typed}"
+    fetched = [(row, data[start : start + length].tobytes())
+               for topic, _time, ids, starts, lengths, data in db.messages(query, 7, 1 << 20)
+               for row, start, length in zip(ids.tolist(), starts.tolist(), lengths.tolist(), strict=True)]  # fmt: skip
+    assert fetched == [(row_id, data) for row_id, topic, _t, data in rows if topic == 4]
+    db.close()
+    with pytest.raises(sqlite3.Error):
+        db.rows("SELECT count(*) FROM messages")

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from mcap.writer import Writer as McapWriter
 
+from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import NS, T0, TF_TYPE, Tf, batch_rows, tf_cdr, typestore, varied_transform
 from tftools.analysis.wtf.fleet import check
-from tftools.sources.bag import read_bag
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import read_recording
 
@@ -77,8 +77,8 @@ def _payload(encoding: str, transforms: Sequence[Tf], number: int) -> bytes:
 @pytest.mark.parametrize("type_name", [TF_TYPE, "tf2_msgs/TFMessage"])
 def test_json_tf_messages_read_as_cdr_ones(tmp_path: Path, type_name: str) -> None:
     written = messages(1)
-    cdr = read_bag([write_mcap(tmp_path / "cdr.mcap", written, "cdr")])
-    as_json = read_bag([write_mcap(tmp_path / "json.mcap", written, "json", type_name)])
+    cdr = read_contents([write_mcap(tmp_path / "cdr.mcap", written, "cdr")])
+    as_json = read_contents([write_mcap(tmp_path / "json.mcap", written, "json", type_name)])
     assert len(cdr.transforms) > 150 and cdr.problems == []
     assert batch_rows(as_json.parts) == batch_rows(cdr.parts) and as_json.problems == []
 
@@ -93,7 +93,7 @@ def test_json_tf_messages_malformed_skipped(tmp_path: Path) -> None:
         for i, payload in enumerate([good, b"{", b'{"transforms": 1}', b'{"transforms": [{"header": 2}]}', good]):
             writer.add_message(channel, T0 + i, payload, T0 + i)
         writer.finish()
-    contents = read_bag([path])
+    contents = read_contents([path])
     assert len(contents.transforms) == 2 and contents.unread == []
     (line,) = contents.problems
     assert line.startswith(f"/tf: 3 of 5 messages could not be decoded as {TF_TYPE} (json), skipped")
@@ -105,7 +105,7 @@ def unsupported(tmp_path: Path, encoding: str = "cbor") -> Path:
 
 def test_unsupported_encoding_named_not_damage(tmp_path: Path) -> None:
     """Topic, type, encoding and what tfx reads, in one line; not among the file's damage."""
-    contents = read_bag([unsupported(tmp_path)])
+    contents = read_contents([unsupported(tmp_path)])
     assert len(contents.transforms) == 0 and contents.files[0].problems == []
     (line,) = contents.unread
     assert line.startswith(f"/tf_static, /tf: {TF_TYPE} in cbor encoding, which tfx does not read (it reads ")
@@ -125,7 +125,7 @@ def test_unsupported_encoding_among_read_topics(tmp_path: Path) -> None:
         for channel in (read, not_read, elsewhere):
             writer.add_message(channel, T0, json_tf([Tf("map", "odom", 1)], "nanosec"), T0)
         writer.finish()
-    contents = read_bag([path])
+    contents = read_contents([path])
     assert len(contents.transforms) == 1
     (line,) = contents.unread
     assert line.startswith(f"/tf_static: {TF_TYPE} in protobuf encoding, which tfx does not read (it reads ")
@@ -145,7 +145,7 @@ def test_wtf_names_the_encoding(tmp_path: Path) -> None:
 
 def test_no_transforms_error_names_the_encoding(tmp_path: Path) -> None:
     path = unsupported(tmp_path)
-    contents = read_bag([path])
+    contents = read_contents([path])
     error = NoTransformsError([str(path)], ("/tf", "/tf_static"), ["/tf", "/tf_static", "/odom"], contents.unread)
     message = str(error)
     assert message.startswith(f"{path}: no transforms read: /tf_static, /tf: {TF_TYPE} in cbor encoding")

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 from rosbags.rosbag1 import Reader
 
-from tests.sources.formats import read_as
+from tests.sources.bag.formats import read_as
+from tests.sources.bag.reading import read_contents
 from tests.sources.ros1_helpers import (
     NS,
     T0,
@@ -28,17 +29,17 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.ros1 import file as ros1_file
 from tftools.sources.bag.ros1 import index as ros1_index
 from tftools.sources.bag.ros1.records import read_bag_header
+from tftools.sources.bag.unpack import Budget, Unpacked, unpack
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.ros1 import decode_tf
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 from tftools.sources.storage.source import FileSource
 
 TOPICS = ("/tf", "/tf_static")
-SAMPLE = Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag"
+SAMPLE = Path(__file__).resolve().parents[3] / "sample_bags" / "robot.bag"
 
 
 @pytest.fixture(scope="session")
@@ -175,11 +176,10 @@ def test_only_chunks_holding_transforms_are_decompressed(tmp_path: Path, monkeyp
     images = [Msg("/camera/image", "string", T0 + 6 * NS + i * NS // 10, "/camera", "x" * 200_000) for i in range(40)]
     bag = write_rosbags(tmp_path / "b.bag", early + images, "bz2", chunk_threshold=100_000)
     decompressed: list[int] = []
-    real = ros1_file.unpack
 
-    def counting(compression: str, raw: bytes, size: int, budget: object = None):
+    def counting(compression: str, raw: bytes | memoryview, size: int, budget: Budget | None = None) -> Unpacked:
         decompressed.append(size)
-        return real(compression, raw, size, budget)
+        return unpack(compression, raw, size, budget)
 
     monkeypatch.setattr(ros1_file, "unpack", counting)
     batches, info = read(bag)
@@ -318,7 +318,7 @@ def test_read_bag_reports_progress_and_other_types(tmp_path: Path) -> None:
     ]
     bag = write_rosbags(tmp_path / "b.bag", messages)
     seen: list[tuple[int, int]] = []
-    contents = read_bag([bag], progress=lambda done, total: seen.append((done, total)))
+    contents = read_contents([bag], progress=lambda done, total: seen.append((done, total)))
     assert contents.problems == ["/tf: std_msgs/String (ros1) is not a transform message tftools reads, skipped"]
     assert rows_of(contents.transforms) == [
         ("base", "laser", T0, np.array([0.0] * 6 + [1.0]).tobytes(), T0 + 1, "/rsp", True)
@@ -374,7 +374,7 @@ def test_a_bag_cut_in_its_header_is_corrupt(bags: dict[str, Path], tmp_path: Pat
     bag = tmp_path / "cut.bag"
     bag.write_bytes(SAMPLE.read_bytes()[:cut])
     with pytest.raises((CorruptBagError, UnknownBagFormatError)):
-        read_bag([bag])
+        read_contents([bag])
 
 
 def test_not_a_bag(tmp_path: Path) -> None:
@@ -384,7 +384,7 @@ def test_not_a_bag(tmp_path: Path) -> None:
         read(bag)
     bag.write_bytes(b"no bag at all" * 100)
     with pytest.raises(UnknownBagFormatError):
-        read_bag([bag])
+        read_contents([bag])
 
 
 @pytest.mark.parametrize("compression", ["none", "bz2"])

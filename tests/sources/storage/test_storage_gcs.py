@@ -13,9 +13,9 @@ from pathlib import Path
 
 import pytest
 
+from tests.sources.bag.test_ros1 import interleaved, rosbag_available  # noqa: F401 (a fixture)
 from tests.sources.ros1_helpers import write_rosbag
-from tests.sources.test_ros1 import interleaved, rosbag_available  # noqa: F401 (a fixture)
-from tests.sources.test_storage_s3 import IMAGE_BYTES, IMAGES, fleet, free_port, server_on, tfx  # noqa: F401 (a fixture)
+from tests.sources.storage.test_storage_s3 import IMAGE_BYTES, IMAGES, fleet, free_port, server_on, tfx  # noqa: F401 (a fixture)
 
 pytestmark = pytest.mark.slow
 NO_GRPC = {"GCSFS_EXPERIMENTAL_ZB_HNS_SUPPORT": "false"}

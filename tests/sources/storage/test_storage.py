@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS
-from tftools.sources.bag import read_bag
+from tests.sources.bag.reading import read_contents
 from tftools.sources.errors import BagError, BagNotFoundError, RemoteError
 from tftools.sources.storage import expand, is_url, recordings_in, remote
 from tftools.sources.storage.remote import BATCH_BYTES, BLOCK_BYTES, RemoteFiles, RemoteSource
@@ -63,7 +63,7 @@ def test_remote_recordings_read_as_the_local_ones(memory_bucket: str) -> None:
     names = ["broken.bag", "robot.bag", "robot_db3", "robot_mcap"]
     assert found == [f"{memory_bucket}/fleet/{name}" for name in names]
     for url, local in zip(found[1:], (SAMPLE_BAGS["ros1"], SAMPLE_BAGS["db3"], SAMPLE_BAGS["mcap"]), strict=True):
-        remote, here = read_bag([url]), read_bag([local])
+        remote, here = read_contents([url]), read_contents([local])
         assert remote.files[0].path == url and remote.files[0].format == here.files[0].format
         assert remote.transforms.record_time.tolist() == here.transforms.record_time.tolist()
         fetched = remote.files[0].fetched
@@ -91,7 +91,7 @@ def test_a_damaged_remote_file_reads_as_its_local_copy(tmp_path: Path, name: str
     fs = fsspec.filesystem("memory")
     fs.pipe(f"/tftools-damaged/{local.name}", bytes(data))
     try:
-        here, there = read_bag([local]), read_bag([f"memory:///tftools-damaged/{local.name}"])
+        here, there = read_contents([local]), read_contents([f"memory:///tftools-damaged/{local.name}"])
     finally:
         fs.rm("/tftools-damaged", recursive=True)
     assert there.transforms.record_time.tolist() == here.transforms.record_time.tolist()
@@ -106,7 +106,7 @@ def test_missing_remote_recording_is_said_of_its_url(memory_bucket: str) -> None
     with pytest.raises(BagNotFoundError, match=r"nothing\.bag"):
         expand([f"{memory_bucket}/nothing.bag"])
     with pytest.raises(BagNotFoundError):
-        read_bag([f"{memory_bucket}/nothing.bag"])
+        read_contents([f"{memory_bucket}/nothing.bag"])
 
 
 def test_a_failed_read_is_said_of_its_url_once(memory_bucket: str, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -125,7 +125,7 @@ def test_a_failed_read_is_said_of_its_url_once(memory_bucket: str, monkeypatch: 
         type(fs), "cat_ranges", lambda self, *args, **kwargs: failing_past_the_first_block(*args, **kwargs)
     )
     with pytest.raises(RemoteError) as raised:
-        read_bag([url])
+        read_contents([url])
     message = str(raised.value)
     assert message.startswith(f"{url}: reading bytes ") and message.count("memory:/") == 1 and "reset" in message
 
@@ -135,7 +135,8 @@ def test_a_read_dropped_once_is_asked_again(memory_bucket: str, monkeypatch: pyt
     as its local copy."""
     url = f"{memory_bucket}/fleet/robot.bag"
     fs = fsspec.filesystem("memory")
-    served, dropped = fs.cat_ranges, []
+    served = fs.cat_ranges
+    dropped: list[int] = []
 
     def dropping_each_piece_once(paths: list[str], starts: list[int], ends: list[int], **kwargs: object) -> object:
         replies = served(paths, starts, ends, **kwargs)
@@ -144,7 +145,7 @@ def test_a_read_dropped_once_is_asked_again(memory_bucket: str, monkeypatch: pyt
         return [ConnectionResetError("reset") if i in fresh else reply for i, reply in enumerate(replies)]
 
     monkeypatch.setattr(type(fs), "cat_ranges", lambda self, *args, **kwargs: dropping_each_piece_once(*args, **kwargs))
-    there, here = read_bag([url]), read_bag([SAMPLE_BAGS["ros1"]])
+    there, here = read_contents([url]), read_contents([SAMPLE_BAGS["ros1"]])
     assert dropped and len(there.transforms) == len(here.transforms) > 0
     assert np.array_equal(there.transforms.stamp, here.transforms.stamp)
 
@@ -168,6 +169,7 @@ def test_planned_ranges_are_fetched_together_as_they_are_reached(memory_bucket: 
     (ranges closer than the gap as one request), and what is read into place is not kept."""
     expected = SAMPLE_BAGS["ros1"].read_bytes()
     with RemoteFiles(f"{memory_bucket}/fleet/robot.bag") as files, files.open(files.root) as source:
+        assert isinstance(source, RemoteSource)
         starts, ends = np.array([300_000, 1000, 200_000], np.int64), np.array([300_100, 1100, 200_100], np.int64)
         data, where, whole = source.read_ranges(starts, ends)
         assert whole.all() and source.requests == 3 and source.fetched == 300
@@ -203,7 +205,7 @@ def test_a_reply_longer_than_asked_is_refused() -> None:
         def cat_ranges(self, paths: list[str], starts: list[int], ends: list[int], on_error: str) -> list[bytes]:
             return [b"x" * (e - s + 1) for s, e in zip(starts, ends, strict=True)]
 
-    source = RemoteSource(Lying(), "memory://lying.bag", "/lying.bag", 1000)  # type: ignore[arg-type]
+    source = RemoteSource(Lying(), "memory://lying.bag", "/lying.bag", 1000)
     with pytest.raises(RemoteError, match="sent 11 bytes for 10 asked"):
         source.read_ranges(np.zeros(1, np.int64), np.full(1, 10, np.int64))
 
@@ -258,7 +260,7 @@ def test_a_gzip_encoded_reply_is_not_inflated(hostile_server: str) -> None:
     _HostileHandler.trickle = False
     _HostileHandler.encodings.clear()
     with pytest.raises(BagError) as caught:
-        read_bag([f"{hostile_server}/bomb.bag"])
+        read_contents([f"{hostile_server}/bomb.bag"])
     assert "sent" not in str(caught.value)  # not inflated past the bytes asked for
     assert _HostileHandler.encodings and set(_HostileHandler.encodings) == {"identity"}
 
@@ -269,4 +271,4 @@ def test_a_trickling_server_meets_the_deadline(hostile_server: str, monkeypatch:
     monkeypatch.setattr(remote, "REQUEST_DEADLINE", 1)
     _HostileHandler.trickle = True
     with pytest.raises(RemoteError, match="failed"):  # without the deadline: read, and not a bag
-        read_bag([f"{hostile_server}/slow.bag"])
+        read_contents([f"{hostile_server}/slow.bag"])

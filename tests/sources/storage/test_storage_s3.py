@@ -21,11 +21,11 @@ from pathlib import Path
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS
+from tests.sources.bag.test_ros1 import interleaved, rosbag_available  # noqa: F401 (a fixture)
 from tests.sources.ros1_helpers import write_rosbag
-from tests.sources.test_ros1 import interleaved, rosbag_available  # noqa: F401 (a fixture)
 
 pytestmark = pytest.mark.slow
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 IMAGES, IMAGE_BYTES = 60, 300_000
 
 

@@ -17,11 +17,13 @@ from tftools.sources.storage.source import FileSource, LocalFiles
 def read_as(
     kind: str, path: Path, topics: tuple[str, ...], window: RecordWindow | None = None
 ) -> tuple[list[TransformBatch], BagFileInfo]:
-    """The file or ROS 2 bag at ``path`` read by the ``kind`` ("ros1", "mcap", "rosbag2") reader."""
+    """The file or ROS 2 bag at ``path`` read by the ``kind`` ("ros1", "mcap", "rosbag2") reader: its
+    transforms and its description."""
     wanted = Wanted(topics)
     if kind == "rosbag2":
         with closing(Rosbag2Bag(path, LocalFiles(path))) as bag:
-            return bag.read(wanted, lambda *_: None, window)
+            read = bag.read(wanted, lambda *_: None, window)
+            return read.batches, read.info
     source = FileSource(path)
     try:
         opened = McapFile(path, source) if kind == "mcap" else Ros1File(path, source)
@@ -29,4 +31,5 @@ def read_as(
         source.close()
         raise
     with closing(opened):
-        return opened.read(wanted, lambda *_: None, window)
+        read = opened.read(wanted, lambda *_: None, window)
+        return read.batches, read.info

@@ -1,4 +1,4 @@
-"""``read_bag(..., window=...)``: the transforms and clock recorded in a window of record time, each
+"""``read_contents(..., window=...)``: the transforms and clock recorded in a window of record time, each
 file's index skipping what lies outside it; files without one read whole, and saying so."""
 
 from __future__ import annotations
@@ -11,19 +11,19 @@ import numpy as np
 import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
+from tests.sources.bag.reading import read_contents
 from tests.sources.ros1_helpers import rows_of
 from tests.sources.ros2_helpers import varied_messages, write_rosbag2
 from tftools.core.transform import Transform
 from tftools.sources.bag.contents import BagContents, RecordWindow
 from tftools.sources.bag.mcap.index import summary_of
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.ros1.file import BagFile
 from tftools.sources.bag.ros1.index import read_index
 from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.storage.source import FileSource
 
-SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"
+SAMPLES = Path(__file__).resolve().parents[3] / "sample_bags"
 NS = 1_000_000_000
 T0 = 1_700_000_000 * NS
 STEP = 10_000_000  # between transform messages: 1500 of them over 15 s, in about 3 chunks of a MiB
@@ -60,11 +60,11 @@ def bag(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory
 def _assert_windows_make_the_whole(path: Path, width: int) -> BagContents:
     """Windows of ``width`` ns one after the other over the recording (and past its ends) give its
     rows and clock, each described as the whole file; returns the whole read."""
-    whole = read_bag([path])
+    whole = read_contents([path])
     rows: list[object] = []
     clock_times, clock_values = [], []
     for first in range(whole.start - width, whole.end + width, width):
-        part = read_bag([path], window=RecordWindow(first, first + width))
+        part = read_contents([path], window=RecordWindow(first, first + width))
         assert all(first <= t < first + width for b in part.parts for t in b.record_time.tolist())
         rows += rows_of(part.parts)
         clock_times.append(part.clock.record_time)
@@ -95,13 +95,13 @@ def test_sample_bags_windowed(name: str) -> None:
 
 @pytest.mark.parametrize("where", ["before", "after", "empty"])
 def test_window_without_messages(bag: Path, where: str) -> None:
-    whole = read_bag([bag])
+    whole = read_contents([bag])
     window = {
         "before": RecordWindow(0, whole.start),
         "after": RecordWindow(whole.end + 1, whole.end + NS),
         "empty": RecordWindow(whole.start + NS, whole.start + NS),
     }[where]
-    part = read_bag([bag], window=window)
+    part = read_contents([bag], window=window)
     assert part.parts == [] and len(part.clock) == 0
     assert part.files[0].message_count == whole.files[0].message_count and part.files[0].transform_count == 0
 
@@ -116,7 +116,7 @@ def _damage_first_chunk(path: Path, fmt: BagFormat, into: Path) -> tuple[Path, i
         data = bytearray(path.read_bytes())
         with FileSource(path) as source:
             bag = BagFile(path.name, bytes(data), source, Wanted(("/tf",)), lambda *_: None)
-            chunks = read_index(bag, read_bag_header(data)).infos
+            chunks = read_index(bag, read_bag_header(memoryview(data))).infos
         assert len(chunks) >= 3
         at, end = chunks[0].pos, chunks[0].end
     elif fmt is BagFormat.rosbag2_mcap:
@@ -148,13 +148,15 @@ def _first_leaf_page(path: Path) -> int:
 
 def test_index_skips_what_lies_outside_the_window(bag: Path, tmp_path: Path) -> None:
     damaged, first_chunk_end = _damage_first_chunk(bag, BagFormat(bag.name), tmp_path)
-    assert read_bag([damaged]).problems  # read whole, the damage is met
-    assert read_bag([damaged]).files[0].windowed == (bag.name != "rosbag2-sqlite3")  # a damaged .db3: from its pages
+    assert read_contents([damaged]).problems  # read whole, the damage is met
+    assert read_contents([damaged]).files[0].windowed == (
+        bag.name != "rosbag2-sqlite3"
+    )  # a damaged .db3: from its pages
     later = RecordWindow(first_chunk_end + 1, T0 + 15 * NS)
-    part = read_bag([damaged], window=later)
+    part = read_contents([damaged], window=later)
     assert part.problems == [] and part.files[0].windowed
-    assert rows_of(part.parts) == rows_of(read_bag([bag], window=later).parts)
-    assert read_bag([damaged], window=RecordWindow(T0, T0)).problems == []
+    assert rows_of(part.parts) == rows_of(read_contents([bag], window=later).parts)
+    assert read_contents([damaged], window=RecordWindow(T0, T0)).problems == []
 
 
 # Files without an index are read whole, and filtered to the window.
@@ -169,7 +171,7 @@ def test_unindexed_files_read_whole(fmt: BagFormat, tmp_path_factory: pytest.Tem
     cut.write_bytes(data[: len(data) * 2 // 3])  # no index: the bag's end, the MCAP summary lost
     whole = _assert_windows_make_the_whole(cut, 900_000_000)
     assert whole.problems and not whole.files[0].windowed
-    assert not read_bag([cut], window=RecordWindow(T0, T0)).files[0].windowed
+    assert not read_contents([cut], window=RecordWindow(T0, T0)).files[0].windowed
 
 
 @pytest.mark.parametrize("storage", ["sqlite3", "mcap"])

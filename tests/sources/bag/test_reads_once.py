@@ -19,6 +19,7 @@ from tests.cli.conftest import tfx  # noqa: F401 - a fixture
 from tests.cli.test_filter import bags  # noqa: F401 - a fixture
 from tftools.sources import user_files
 from tftools.sources.bag.reader import BagReader
+from tftools.sources.bag.rosbag2.database import Database
 from tftools.sources.storage import remote
 from tftools.sources.storage.source import FileSource
 
@@ -33,15 +34,17 @@ COMMANDS = {
 
 class Counted:
     """What the readers did: files opened (by name), passes over the recording, metadata.yaml files read,
-    ranges fetched from a remote one (each a request), temporary files and directories made."""
+    sqlite connections to .db3 files, ranges fetched from a remote one (each a request), temporary files
+    and directories made."""
 
     def __init__(self, monkeypatch: pytest.MonkeyPatch) -> None:
         self.opened: collections.Counter[str] = collections.Counter()
         self.passes = 0
         self.metadata = 0
+        self.connections = 0
         self.fetched: list[tuple[str, int, int]] = []
         self.temporary: list[str] = []
-        opened, read, load = FileSource.__init__, BagReader.read, user_files.load
+        opened, read, load, connected = FileSource.__init__, BagReader.read, user_files.load, Database.__init__
         remote_opened, fetch = remote.RemoteSource.__init__, remote.RemoteSource._fetch
         remote_load = remote.RemoteFiles.load_yaml
 
@@ -53,6 +56,10 @@ class Counted:
             if not path.endswith((".db3", ".yaml")):  # a .db3 is fetched whole, then opened as a local file
                 self.opened[Path(path).name] += 1
             remote_opened(source, fs, url, path, size)
+
+        def counted_connect(database: Database, path: Path, *, native: bool = True) -> None:
+            self.connections += 1
+            connected(database, path, native=native)
 
         def counted_read(reader: BagReader, *args: Any, **kwargs: Any) -> Any:
             self.passes += 1
@@ -81,6 +88,7 @@ class Counted:
         monkeypatch.setattr(FileSource, "__init__", counted_open)
         monkeypatch.setattr(remote.RemoteSource, "__init__", counted_remote_open)
         monkeypatch.setattr(BagReader, "read", counted_read)
+        monkeypatch.setattr(Database, "__init__", counted_connect)
         monkeypatch.setattr(user_files, "load", counted_load)
         monkeypatch.setattr(remote.RemoteFiles, "load_yaml", counted_remote_load)
         monkeypatch.setattr(remote.RemoteSource, "_fetch", counted_fetch)
@@ -110,6 +118,7 @@ def test_each_command_reads_a_local_recording_once(
     assert counted.passes == 1
     assert dict(counted.opened) == dict.fromkeys(files, 1)
     assert counted.metadata == (0 if fmt == "ros1" else 1)
+    assert counted.connections == (len(files) if fmt == "db3" else 0)  # one sqlite connection a .db3
 
 
 @pytest.fixture
@@ -155,8 +164,8 @@ def test_a_remote_bag_directory_has_its_qos_checked(tfx: Any, bucket: str) -> No
     """metadata.yaml's QoS comes with the bag read: a bag read by URL has /tf_static's durability
     checked, not skipped unsaid."""
     with BagReader([f"{bucket}/robot_db3"]) as reader:
-        (info,) = reader.read().files
-    assert info.qos is not None and not info.qos.problem and "/tf_static" in info.qos.profiles
+        (qos,) = reader.read().qos.values()
+    assert not qos.problem and "/tf_static" in qos.profiles
 
 
 @pytest.mark.parametrize("command", ["wtf", "report"])

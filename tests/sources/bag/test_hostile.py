@@ -4,24 +4,27 @@ or refused with tftools' own one-line error; never a traceback, a hang or a blow
 from __future__ import annotations
 
 import os
+import shutil
 import sqlite3
 import subprocess
 import sys
 import textwrap
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 import pytest
 import zstandard
 
 from tests.bags import BagFormat, TfMessage, write_bag
-from tests.sources import hostile
+from tests.sources.bag import hostile
+from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import T0
 from tftools.core.errors import TfToolsError
 from tftools.core.transform import Transform
 from tftools.sources.bag import messages, rosbag2, unpack
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.rosbag2.db3_salvage import salvage
+from tftools.sources.bag.unpack import Budget
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 from tftools.sources.storage.source import FileSource
@@ -34,7 +37,7 @@ CODECS = ["bz2", "lz4", "zstd"]
 def problems(path: Path) -> str:
     """The problem lines of the bag at ``path``, or its one-line error."""
     try:
-        return " ".join(p for f in read_bag([path]).files for p in f.problems)
+        return " ".join(p for f in read_contents([path]).files for p in f.problems)
     except TfToolsError as e:
         assert "\n" not in str(e)
         return str(e)
@@ -121,14 +124,14 @@ def test_file_compressed_rosbag2_bomb_writes_no_more_than_its_budget(
     written: list[int] = []
     real = unpack.zstd_file
 
-    def measured(source, target, budget):  # type: ignore[no-untyped-def]
+    def measured(source: BinaryIO, target: Path, budget: Budget) -> str:
         loss = real(source, target, budget)
         written.append(target.stat().st_size)
         return loss
 
     monkeypatch.setattr(rosbag2, "zstd_file", measured)
     with pytest.raises(CorruptBagError, match="not an SQLite database"):
-        read_bag([bag])
+        read_contents([bag])
     assert written and written[0] <= max(2 * MiB, unpack.MAX_RATIO * (bag / "bag_0.db3.zstd").stat().st_size)
 
 
@@ -136,7 +139,7 @@ def test_file_compressed_rosbag2_stops_short_of_a_full_disk(tmp_path: Path, monk
     target = tmp_path / "plain"
     source = tmp_path / "bomb.zstd"
     source.write_bytes(hostile.compressed_zeros("zstd", 8 * MiB))
-    free = unpack.shutil.disk_usage(tmp_path).free
+    free = shutil.disk_usage(tmp_path).free
     monkeypatch.setattr(unpack, "FREE_SPACE_MARGIN", free - MiB)  # as if only 1 MiB were free
     with source.open("rb") as f:
         loss = unpack.zstd_file(f, target, unpack.Budget(1 << 30))
@@ -151,7 +154,7 @@ def _run_limited(code: str, timeout: float = 30) -> subprocess.CompletedProcess[
         capture_output=True,
         text=True,
         timeout=timeout,
-        cwd=Path(__file__).parents[2],
+        cwd=Path(__file__).parents[3],
     )
 
 
@@ -163,8 +166,8 @@ def test_mcap_gigabyte_bomb_reads_within_memory_and_time(tmp_path: Path, summary
     path.write_bytes(hostile.mcap_bomb("zstd", hostile.compressed_zeros("zstd", 1 << 30), 1 << 30, summary=summary))
     done = _run_limited(
         f"""
-        from tftools.sources.bag.reader import read_bag
-        print(read_bag([{str(path)!r}]).files[0].problems)
+        from tests.sources.bag.reading import read_contents
+        print(read_contents([{str(path)!r}]).files[0].problems)
         """,
         timeout=20,
     )
@@ -181,9 +184,9 @@ def test_db3_overflow_chain_looping_on_itself(tmp_path: Path) -> None:
     done = _run_limited(
         f"""
         from tftools.core.errors import TfToolsError
-        from tftools.sources.bag.reader import read_bag
+        from tests.sources.bag.reading import read_contents
         try:
-            read_bag([{str(bag)!r}])
+            read_contents([{str(bag)!r}])
         except TfToolsError as e:
             print("refused:", e)
         """,
@@ -226,7 +229,7 @@ def test_db3_rows_of_the_wrong_types(tmp_path: Path) -> None:
     db.execute("INSERT INTO messages VALUES (4, 1, NULL, NULL)")
     db.commit()
     db.close()
-    contents = read_bag([bag])
+    contents = read_contents([bag])
     assert sum(f.transform_count for f in contents.files) == 1
 
 
@@ -235,7 +238,7 @@ def test_prefetch_of_ranges_a_damaged_index_gives(tmp_path: Path) -> None:
     path.write_bytes(b"x" * 100)
     with FileSource(path) as source:
         source.ahead(np.array([-5, 50, 1 << 62, 10], np.int64), np.array([10, 20, (1 << 63) - 1, 10], np.int64))
-        source.ahead(np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))  # type: ignore[arg-type]
+        source.ahead(np.array([1 << 63], np.uint64), np.array([(1 << 64) - 1], np.uint64))
 
 
 # metadata.yaml
@@ -250,7 +253,7 @@ def _bag_with_metadata(tmp_path: Path, text: str) -> Path:
 
 
 def _problems(bag: Path) -> list[str]:
-    return [p for f in read_bag([bag]).files for p in f.problems]
+    return [p for f in read_contents([bag]).files for p in f.problems]
 
 
 def test_metadata_billion_laughs(tmp_path: Path) -> None:
@@ -259,8 +262,8 @@ def test_metadata_billion_laughs(tmp_path: Path) -> None:
     bag = _bag_with_metadata(tmp_path, "\n".join(lines) + "\nrosbag2_bagfile_information: *a9\n")
     done = _run_limited(
         f"""
-        from tftools.sources.bag.reader import read_bag
-        print([p for f in read_bag([{str(bag)!r}]).files for p in f.problems])
+        from tests.sources.bag.reading import read_contents
+        print([p for f in read_contents([{str(bag)!r}]).files for p in f.problems])
         """,
         timeout=20,
     )
@@ -285,7 +288,7 @@ def test_metadata_file_names(tmp_path: Path, name: str) -> None:
     found = sorted(p.name for p in bag.glob("*.db3"))
     listed = ", ".join(f'"{n}"' for n in [name.replace("\x1b", "\\e").replace("\n", "\\n"), *found])
     (bag / "metadata.yaml").write_text(f"rosbag2_bagfile_information:\n  relative_file_paths: [{listed}]\n")
-    contents = read_bag([bag])
+    contents = read_contents([bag])
     assert sum(f.transform_count for f in contents.files) == 1
     problems = " ".join(p for f in contents.files for p in f.problems)
     assert "\x1b" not in problems and "\n" not in problems
@@ -318,7 +321,7 @@ def test_empty_tf_messages_are_read_as_none(tmp_path: Path, fmt: BagFormat, monk
     monkeypatch.setattr(messages, "_GROUP_BYTES", 256)
     one = Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), T0 + 5000, "map", "odom")
     written = [TfMessage("/tf", T0 + i, ()) for i in range(5000)] + [TfMessage("/tf", T0 + 5000, (one,))]
-    contents = read_bag([write_bag(tmp_path / "empty", written, fmt)])
+    contents = read_contents([write_bag(tmp_path / "empty", written, fmt)])
     assert len(contents.transforms) == 1 and contents.problems == []
 
 
@@ -328,12 +331,12 @@ def test_a_fifo_is_refused_not_waited_on(tmp_path: Path) -> None:
     fifo = tmp_path / "f.bag"
     os.mkfifo(fifo)
     with pytest.raises(UnknownBagFormatError, match="not a regular file"):
-        read_bag([fifo])
+        read_contents([fifo])
     bag = tmp_path / "bag"
     bag.mkdir()
     os.mkfifo(bag / "bag.db3")  # a ROS 2 bag's file that is a FIFO
     with pytest.raises(CorruptBagError, match="not a regular file"):
-        read_bag([bag])
+        read_contents([bag])
 
 
 def test_one_zstd_bomb_does_not_use_up_a_message_compressed_bag(tmp_path: Path) -> None:
@@ -348,7 +351,7 @@ def test_one_zstd_bomb_does_not_use_up_a_message_compressed_bag(tmp_path: Path) 
     db.execute("UPDATE messages SET data = ? WHERE id = ?", (hostile.compressed_zeros("zstd", 1 << 30), first))
     db.commit()
     db.close()
-    contents = read_bag([bag])
+    contents = read_contents([bag])
     assert len(contents.transforms) == 799
     (line,) = contents.problems
     assert line.startswith("/tf: 1 of 800 messages could not be decompressed") and "share of the file's budget" in line
@@ -369,7 +372,7 @@ def test_a_compressed_bag_is_copied_within_the_budget(
     written = [Msg("/tf", T0 + i, (Tf("map", "odom", i),)) for i in range(50)]
     healthy = write_rosbag2(tmp_path / "healthy", written, compression=mode)
     copy = add_static_transforms(healthy, tmp_path / "copy", [static])
-    assert len(read_bag([copy]).transforms) == 51
+    assert len(read_contents([copy]).transforms) == 51
     assert (any(copy.glob("*.zstd")), "compression_mode: message" in (copy / "metadata.yaml").read_text()) == (
         mode == "file",
         mode == "message",

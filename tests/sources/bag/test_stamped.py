@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from tests.sources.ros2_helpers import Other, typestore, write_rosbag2
-from tftools.sources.bag.stamped import read_stamped
+from tftools.sources import read_recording
 from tftools.sources.contents import StampedMessages
 from tftools.sources.headers import merged
 
@@ -49,7 +49,7 @@ def test_a_db3_gives_each_images_header_whole_or_compressed(tmp_path: Path, comp
     frames = ["camera", "c" * 3000]
     images = [Other("/camera", 1_000 + i, _image(store, 100 + i, frames[i % 2], 50_000), IMAGE) for i in range(6)]
     bag = write_rosbag2(tmp_path / "images", images, compression=compression)
-    (stream,) = read_stamped([bag]).streams
+    (stream,) = read_recording([bag], headers=(), allow_empty=True).stamped.streams
     assert stream.record_time.tolist() == [1_000 + i for i in range(6)]
     assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 + 250 for i in range(6)]
     assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [frames[i % 2] for i in range(6)]
@@ -78,7 +78,7 @@ def test_a_ros1_bag_gives_each_images_header_reading_little_more(
             writer.write(connection, 1_000 + i, bytes(store.serialize_ros1(image, IMAGE)))
     read = _bytes_read(monkeypatch)
     with BagReader([bag], headers=()) as reader:
-        (stream,) = reader.read().files[0].stamped
+        (stream,) = reader.read().stamped.streams
     assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 + 250 for i in range(12)]
     assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [frames[i % 2] for i in range(12)]
     assert 0 < sum(read) < 0.05 * bag.stat().st_size
@@ -100,7 +100,7 @@ def test_an_mcap_gives_each_images_header_reading_little_more(tmp_path: Path, mo
     read = _bytes_read(monkeypatch)
     with BagReader([bag], headers=()) as reader:
         contents = reader.read()
-    (stream,) = contents.files[0].stamped
+    (stream,) = contents.stamped.streams
     assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 + 250 for i in range(12)]
     assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [frames[i % 2] for i in range(12)]
     assert len(contents.transforms) == 12 and contents.problems == []

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 from mcap.writer import CompressionType, IndexType
 
-from tests.sources.formats import read_as
+from tests.sources.bag.formats import read_as
+from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import (
     NS,
     T0,
@@ -35,9 +36,8 @@ from tests.sources.ros2_helpers import (
     write_rosbag2,
 )
 from tftools.sources.bag.mcap import index as mcap_index
-from tftools.sources.bag.mcap.records import CHUNK_HEAD, Body, ChunkIndex
+from tftools.sources.bag.mcap.records import CHUNK_HEAD, Body, ChunkIndex, chunk_records
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.bag.spans import Spans
 from tftools.sources.errors import BagError, CorruptBagError
 from tftools.sources.storage.source import FileSource
@@ -78,7 +78,7 @@ def scene(seed: int, count: int = 400) -> tuple[list[Msg], list[Other], list[Msg
         else:
             others.append(Other(topic, record_time, tf_cdr(message.transforms), TF_TYPE))
             tf2[id(others[-1])] = message
-    stream = sorted([*foxglove, *others], key=lambda m: m.record_time)  # as write_foxglove_mcap does
+    stream: list[Msg | Other] = sorted([*foxglove, *others], key=lambda m: m.record_time)  # as write_foxglove_mcap does
     written = [m if isinstance(m, Msg) else tf2[id(m)] for m in stream if isinstance(m, Msg) or id(m) in tf2]
     return foxglove, others, written
 
@@ -110,13 +110,14 @@ def by_time(rows: list[tuple[Any, ...]]) -> list[tuple[Any, ...]]:
 @pytest.mark.parametrize("layout", list(LAYOUTS))
 def test_layouts(tmp_path: Path, layout: str) -> None:
     path = write(tmp_path / "x.mcap", layout)
-    contents = read_bag([path])
+    contents = read_contents([path])
     rows = batch_rows(contents.transforms)
     assert rows == expected_rows(WRITTEN, READ_BY_DEFAULT)
     reference = [row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT]
     assert by_time(rows) == by_time(reference)
     (info,) = contents.files
-    times = [m.record_time for m in [*FOXGLOVE_MESSAGES, *OTHERS]]
+    every: list[Msg | Other] = [*FOXGLOVE_MESSAGES, *OTHERS]
+    times = [m.record_time for m in every]
     assert info.problems == [] and info.format == "mcap"
     assert (info.message_count, info.start, info.end) == (len(times), min(times), max(times))
     assert info.topics["/fox/pb"] == "foxglove.FrameTransforms"
@@ -127,7 +128,7 @@ def test_layouts(tmp_path: Path, layout: str) -> None:
 
 def test_static_flag_and_publishers(tmp_path: Path) -> None:
     """Rows published by their topic; static on a tf_static topic, whatever the message type."""
-    batch = read_bag([write(tmp_path / "x.mcap", "chunked_zstd")]).transforms
+    batch = read_contents([write(tmp_path / "x.mcap", "chunked_zstd")]).transforms
     topics = [batch.authorities[a] for a in batch.authority]
     assert set(topics) == set(READ_BY_DEFAULT)
     assert batch.static.tolist() == [t.endswith("tf_static") for t in topics]
@@ -137,7 +138,7 @@ def test_chosen_topics(tmp_path: Path) -> None:
     """Asked for topics, only they are read (foxglove channels elsewhere too)."""
     path = write(tmp_path / "x.mcap", "small_chunks")
     topics = ("/robot/tf", "/fox/json", "/chatter")
-    contents = read_bag([path], topics)
+    contents = read_contents([path], topics)
     assert batch_rows(contents.transforms) == expected_rows(WRITTEN, topics[:2])
     assert contents.problems == [
         "/chatter: std_msgs/msg/String (cdr) is not a transform message tftools reads, skipped"
@@ -154,7 +155,7 @@ def test_zero_and_absent_fields(tmp_path: Path, encoding: str) -> None:
     messages += [Msg("/zs", T0 + 100 + i, tuple(zeros[i:])) for i in range(len(zeros))]
     channels = [FoxgloveChannel("/z", encoding, single=True), FoxgloveChannel("/zs", encoding)]
     path = write_foxglove_mcap(tmp_path / "z.mcap", channels, messages)
-    rows = batch_rows(read_bag([path]).transforms)
+    rows = batch_rows(read_contents([path]).transforms)
     assert rows == expected_rows(messages, ("/z", "/zs")) == mcap_reference_rows(path)
 
 
@@ -171,7 +172,7 @@ def test_ros1_channels(tmp_path: Path) -> None:
                 FoxgloveChannel("/tf_old", "ros1", single=True)]  # fmt: skip
     path = write_foxglove_mcap(tmp_path / "ros1.mcap", channels, messages, McapOptions(chunk_size=5000))
     topics = ("/tf", "/tf_static", "/tf_old")
-    contents = read_bag([path], topics)
+    contents = read_contents([path], topics)
     rows = batch_rows(contents.transforms)
     assert rows == expected_rows(messages, topics)
     assert by_time(rows) == by_time(mcap_reference_rows(path))
@@ -184,7 +185,7 @@ def test_ros2_bag_storage_file_alone(tmp_path: Path) -> None:
 
     messages = varied_messages(4)
     bag = write_rosbag2(tmp_path / "bag", messages, storage="mcap")
-    rows = batch_rows(read_bag([bag / "bag.mcap"]).transforms)
+    rows = batch_rows(read_contents([bag / "bag.mcap"]).transforms)
     assert rows == expected_rows(messages)
 
 
@@ -208,7 +209,7 @@ def test_cut_short(tmp_path: Path, layout: str) -> None:
         cut = tmp_path / "cut.mcap"
         cut.write_bytes(data[: int(len(data) * fraction)])
         try:
-            contents = read_bag([cut])
+            contents = read_contents([cut])
         except BagError as e:  # too short to be recognised, or nothing readable
             assert fraction < 0.1 and "\n" not in str(e), e
             counts.append(0)
@@ -228,7 +229,7 @@ def test_damaged_chunk(tmp_path: Path, compression: CompressionType) -> None:
     messages, others, _ = scene(2, 1500)
     options = McapOptions(chunk_size=10_000, compression=compression, extra=others)
     path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, messages, options)
-    expected = batch_rows(read_bag([path]).transforms)
+    expected = batch_rows(read_contents([path]).transforms)
     data = bytearray(path.read_bytes())
     chunks = chunk_offsets(bytes(data))
     assert len(chunks) > 3
@@ -236,7 +237,7 @@ def test_damaged_chunk(tmp_path: Path, compression: CompressionType) -> None:
     middle = start + length // 2
     data[middle : middle + 64] = bytes(range(64))
     path.write_bytes(bytes(data))
-    contents = read_bag([path])
+    contents = read_contents([path])
     rows = batch_rows(contents.transforms)
     assert_partial(rows, expected, contents.problems)
     assert 0.5 * len(expected) < len(rows) < len(expected)
@@ -263,7 +264,7 @@ def test_damaged_footer_reads_everything(tmp_path: Path) -> None:
     data = bytearray(path.read_bytes())
     data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # summary start beyond the end
     path.write_bytes(bytes(data))
-    contents = read_bag([path])
+    contents = read_contents([path])
     assert batch_rows(contents.transforms) == expected_rows(WRITTEN, READ_BY_DEFAULT)
     assert contents.problems == []
 
@@ -277,7 +278,7 @@ def test_damaged_record_without_summary(tmp_path: Path) -> None:
         pos += 9 + struct.unpack_from("<Q", data, pos + 1)[0]
     data[pos] = 0x50
     path.write_bytes(bytes(data[: len(data) * 3 // 4]))  # and no summary
-    contents = read_bag([path])
+    contents = read_contents([path])
     rows = batch_rows(contents.transforms)
     expected = expected_rows(WRITTEN, READ_BY_DEFAULT)
     assert_partial(rows, expected, contents.problems)
@@ -288,14 +289,14 @@ def test_damaged_record_without_summary(tmp_path: Path) -> None:
 
 def test_damaged_message_index(tmp_path: Path) -> None:
     path = write(tmp_path / "x.mcap", "small_chunks")
-    expected = batch_rows(read_bag([path]).transforms)
+    expected = batch_rows(read_contents([path]).transforms)
     data = bytearray(path.read_bytes())
     start, length = chunk_offsets(bytes(data))[2]
     index = start + length  # the chunk's message index records follow it
     assert data[index] == 0x07
     data[index + 9 + 2 + 4 + 8 : index + 9 + 2 + 4 + 16] = struct.pack("<Q", 10**9)  # an offset out of the chunk
     path.write_bytes(bytes(data))
-    contents = read_bag([path])
+    contents = read_contents([path])
     rows = batch_rows(contents.transforms)
     assert_partial(rows, expected, contents.problems)
     assert len(rows) < len(expected)
@@ -306,7 +307,7 @@ def test_damaged_message_index(tmp_path: Path) -> None:
 def test_undecodable_messages(tmp_path: Path) -> None:
     bad = [Other("/tf", T0 + 20 * NS + i, b"\x00\x01\x00\x00\xff\xff\xff\x7f", TF_TYPE) for i in range(4)]
     path = write(tmp_path / "x.mcap", "small_chunks", others=[*OTHERS, *bad])
-    contents = read_bag([path])
+    contents = read_contents([path])
     assert batch_rows(contents.transforms) == expected_rows(WRITTEN, READ_BY_DEFAULT)
     (line,) = contents.problems
     assert line.startswith("/tf: 4 of ") and "could not be decoded as tf2_msgs/msg/TFMessage (cdr)" in line
@@ -344,7 +345,7 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
     """What the MCAP reader reads of its chunks, as it reads it: ("range", bytes) of the ranges
     read from uncompressed chunks, (compression, bytes) of a chunk read whole."""
     seen: list[tuple[str, int]] = []
-    read_into, chunk_records = FileSource.read_into, mcap_index.chunk_records
+    read_into = FileSource.read_into
 
     def counted_range(source: FileSource, view: memoryview, offset: int) -> bool:
         seen.append(("range", len(view)))
@@ -389,18 +390,19 @@ def test_images_between_transforms_read_in_ranges(
     every message zstd-compressed on its own too (the bag directory says so)."""
     messages = with_images(varied_messages(21, 1200))
     path = rosbags_mcap(tmp_path, messages, compression)
-    contents = read_bag([path.parent if compression else path], RANGE_TOPICS)
+    contents = read_contents([path.parent if compression else path], RANGE_TOPICS)
     rows = batch_rows(contents.transforms)
     assert rows == expected_rows(messages, RANGE_TOPICS)
     assert by_time(rows) == by_time(reference_rows(path.parent, RANGE_TOPICS))
     assert contents.problems == [] and contents.files[0].topics["/camera/image"] == IMAGE_TYPE
     assert {kind for kind, _ in reads} == {"range"} and sum(n for _, n in reads) < 0.1 * path.stat().st_size
     with FileSource(path) as source:
-        assert len(mcap_index.summary_of(source).chunks) > 3  # type: ignore[union-attr]
+        summary = mcap_index.summary_of(source)
+        assert summary is not None and len(summary.chunks) > 3
     data = bytearray(path.read_bytes())
     data[-8 - 20 : -8 - 12] = struct.pack("<Q", len(data) * 3)  # no summary: read record by record
     path.write_bytes(bytes(data))
-    assert batch_rows(read_bag([path.parent if compression else path], RANGE_TOPICS).transforms) == rows
+    assert batch_rows(read_contents([path.parent if compression else path], RANGE_TOPICS).transforms) == rows
 
 
 def test_foxglove_channels_between_images(tmp_path: Path, reads: list[tuple[str, int]]) -> None:
@@ -421,10 +423,14 @@ def test_compressed_and_uncompressed_chunks(tmp_path: Path, reads: list[tuple[st
 def foxglove_among_images(tmp_path: Path, **options: Any) -> Path:
     """An MCAP file by the mcap library with every kind of transform channel among camera images,
     read: the transforms written, in order, as the mcap library reads them, and no problem."""
-    images = [m for m in with_images(list(OTHERS), every=3, size=20_000) if m.topic == "/camera/image"]
+    images = [
+        m
+        for m in with_images(list(OTHERS), every=3, size=20_000)
+        if isinstance(m, Other) and m.topic == "/camera/image"
+    ]
     written = McapOptions(extra=[*OTHERS, *images], **options)
     path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, FOXGLOVE_MESSAGES, written)
-    contents = read_bag([path])
+    contents = read_contents([path])
     rows = batch_rows(contents.transforms)
     assert rows == expected_rows(WRITTEN, READ_BY_DEFAULT)
     assert by_time(rows) == by_time([row for row in mcap_reference_rows(path) if row[7] in READ_BY_DEFAULT])
@@ -467,7 +473,7 @@ def test_index_entry_pointing_elsewhere(tmp_path: Path, where: str) -> None:
     if where.startswith("swapped"):
         struct.pack_into("<Q", data, image_entry, offset)
     path.write_bytes(bytes(data))
-    contents = read_bag([path], RANGE_TOPICS)
+    contents = read_contents([path], RANGE_TOPICS)
     assert batch_rows(contents.transforms) == rows_outside(expected_rows(messages, RANGE_TOPICS), bytes(data), chunk)
     (line,) = contents.problems
     assert line == f"1 of {count} chunks could not be read (message index does not match its chunk);" + LOST
@@ -482,7 +488,7 @@ def test_chunk_head_damaged(tmp_path: Path, field: str) -> None:
     else:
         struct.pack_into("<Q", data, chunk.records_start - 8, chunk.records_length + 1)
     path.write_bytes(bytes(data))
-    contents = read_bag([path], RANGE_TOPICS)
+    contents = read_contents([path], RANGE_TOPICS)
     assert batch_rows(contents.transforms) == rows_outside(expected_rows(messages, RANGE_TOPICS), bytes(data), chunk)
     (line,) = contents.problems
     assert line.startswith(f"1 of {count} chunks could not be read (") and line.endswith(LOST)
@@ -502,7 +508,7 @@ def test_cut_inside_a_chunk_summary_kept(tmp_path: Path, fraction: float) -> Non
     moved = summary_start - cut
     footer = struct.pack("<BQQQI", 0x02, 20, summary_start - moved, summary_offsets - moved, 0) + data[-8:]
     path.write_bytes(data[:cut] + data[summary_start : len(data) - 8 - 29] + footer)
-    contents = read_bag([path], RANGE_TOPICS)
+    contents = read_contents([path], RANGE_TOPICS)
     expected = expected_rows(messages, RANGE_TOPICS)
     assert batch_rows(contents.transforms) == rows_outside(expected, data, last)
     (line,) = contents.problems
@@ -523,7 +529,7 @@ def test_a_summary_that_lies_is_read_past_by_scanning(tmp_path: Path) -> None:
     """A record inserted before the chunks moves every one of them: not one chunk is where the summary
     says, so the file is read record by record instead, every transform found (issue 32 U4)."""
     path = write(tmp_path / "x.mcap", "small_chunks")
-    expected = batch_rows(read_bag([path]).transforms)
+    expected = batch_rows(read_contents([path]).transforms)
     data = path.read_bytes()
     header_end = 8 + 9 + struct.unpack_from("<Q", data, 9)[0]  # the magic, then the header record
     assert data[8] == 0x01
@@ -534,6 +540,6 @@ def test_a_summary_that_lies_is_read_past_by_scanning(tmp_path: Path) -> None:
         (offset,) = struct.unpack_from("<Q", moved, at)
         struct.pack_into("<Q", moved, at, offset + header_end - 8 if offset else 0)
     path.write_bytes(bytes(moved))
-    contents = read_bag([path])
+    contents = read_contents([path])
     assert batch_rows(contents.transforms) == expected and len(expected) > 100
     assert not contents.files[0].windowed  # read whole, record by record

@@ -15,7 +15,8 @@ from typing import Any
 import pytest
 
 from tests.bags import BagFormat, TfMessage, write_bag
-from tests.sources.formats import read_as
+from tests.sources.bag.formats import read_as
+from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import (
     NS,
     T0,
@@ -33,7 +34,6 @@ from tests.sources.ros2_helpers import (
     write_split_rosbag2,
 )
 from tftools.core.transform import Transform
-from tftools.sources.bag.reader import read_bag
 from tftools.sources.errors import BagError, CorruptBagError
 from tftools.sources.recording import read_recording
 
@@ -47,7 +47,7 @@ def by_time(rows: list[tuple[Any, ...]]) -> list[tuple[Any, ...]]:
 
 
 def read_rows(*paths: Path, topics: tuple[str, ...] = TOPICS) -> tuple[list[tuple[Any, ...]], Any]:
-    contents = read_bag(list(paths), topics)
+    contents = read_contents(list(paths), topics)
     return batch_rows(contents.transforms), contents
 
 
@@ -170,8 +170,8 @@ def test_messages_out_of_order_in_the_file(tmp_path: Path) -> None:
 def test_input_is_not_modified(tmp_path: Path) -> None:
     bag = write_rosbag2(tmp_path / "bag", MESSAGES)
     before = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in bag.iterdir()}
-    read_bag([bag])
-    read_bag([bag / "bag.db3"])
+    read_contents([bag])
+    read_contents([bag / "bag.db3"])
     assert {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in bag.iterdir()} == before
 
 
@@ -179,7 +179,7 @@ def test_input_is_not_modified(tmp_path: Path) -> None:
 def test_progress_reaches_the_end(tmp_path: Path, compression: str) -> None:
     bag = write_rosbag2(tmp_path / "bag", big_messages(1000), compression=compression)
     calls: list[tuple[int, int]] = []
-    read_bag([bag], progress=lambda done, total: calls.append((done, total)))
+    read_contents([bag], progress=lambda done, total: calls.append((done, total)))
     total = sum(p.stat().st_size for p in bag.iterdir())
     assert calls[-1] == (total, total) and len(calls) > 2
     assert [done for done, _ in calls] == sorted(done for done, _ in calls)
@@ -188,7 +188,7 @@ def test_progress_reaches_the_end(tmp_path: Path, compression: str) -> None:
 
 # --- bags converted from ROS1 by rosbags-convert ---------------------------------------------
 
-SAMPLE = Path(__file__).resolve().parents[2] / "sample_bags" / "robot.bag"
+SAMPLE = Path(__file__).resolve().parents[3] / "sample_bags" / "robot.bag"
 
 
 def ros1_rows(path: Path) -> list[tuple[Any, ...]]:
@@ -349,7 +349,7 @@ def test_every_file_missing(tmp_path: Path) -> None:
     bag = write_rosbag2(tmp_path / "bag", MESSAGES)
     (bag / "bag.db3").unlink()
     with pytest.raises(CorruptBagError, match=r"bag\.db3 is listed in metadata\.yaml but missing"):
-        read_bag([bag])
+        read_contents([bag])
 
 
 @pytest.mark.parametrize(
@@ -384,7 +384,7 @@ def test_undecodable_messages(tmp_path: Path) -> None:
     good = varied_messages(5, 100, ties=False)
     bad = [Other("/tf", T0 + 30 * NS + i, b"\x00\x01\x00\x00" + bytes([i]) * 3, "tf2_msgs/msg/TFMessage")
            for i in range(1, 4)]  # fmt: skip
-    bag = write_rosbag2(tmp_path / "bag", good + bad)
+    bag = write_rosbag2(tmp_path / "bag", [*good, *bad])
     rows, contents = read_rows(bag)
     assert rows == expected_rows(good)
     (line,) = contents.problems
@@ -414,7 +414,7 @@ def test_not_a_bag(tmp_path: Path, content: bytes) -> None:
     path = tmp_path / "x.db3"
     path.write_bytes(content)
     with pytest.raises(BagError):
-        read_bag([path])
+        read_contents([path])
     with pytest.raises(CorruptBagError):
         read_as("rosbag2", path, TOPICS)
 
@@ -425,7 +425,7 @@ def test_directory_of_garbage(tmp_path: Path) -> None:
     (bag / "a.db3").write_bytes(b"not sqlite")
     (bag / "b.mcap").write_bytes(b"not mcap")
     with pytest.raises(CorruptBagError) as caught:
-        read_bag([bag])
+        read_contents([bag])
     assert "a.db3" in str(caught.value) and "b.mcap" in str(caught.value) and "\n" not in str(caught.value)
 
 

@@ -199,7 +199,8 @@ def test_protobuf(single: bool) -> None:
         t = tfs[0]
         values = [*t.translation, *t.rotation]
         values[zero] = 0.0
-        tfs[0] = Tf(t.parent, t.child, 0 if zero % 2 else t.sec, t.nsec, tuple(values[:3]), tuple(values[3:]))
+        translation, rotation = (values[0], values[1], values[2]), (values[3], values[4], values[5], values[6])
+        tfs[0] = Tf(t.parent, t.child, 0 if zero % 2 else t.sec, t.nsec, translation, rotation)
     payloads = [proto_message(tfs, single=single).SerializeToString() for tfs in messages]
     key = (f"foxglove.FrameTransform{'' if single else 's'}", "protobuf")
     assert decode(payloads, key) == (protobuf_rows(payloads, single), [])
@@ -368,7 +369,7 @@ def test_the_compiled_reader_says_why_and_where_a_message_is_not_well_formed() -
         assert found[-1].tolist() == failed
         decode = cdr.decode_tf if wires is cdr.WIRES else ros1.decode_tf
         for message, reason, offset, figure in failed:
-            text = worded(reason, len(given[message]), offset, figure)
+            text = worded(Reason(reason), len(given[message]), offset, figure)
             with pytest.raises(DecodeError) as error:
                 message_batch(decode, given[message], static=False, authority="", record_time=0)
             assert str(error.value) == text
