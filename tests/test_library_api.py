@@ -358,7 +358,7 @@ def test_check_of_a_fake_robot_heard_live() -> None:
     checked = tftools.check(heard, query)
     assert checked.paths == ("a test robot",) and checked.transforms == 21 and checked.frames == 3
     assert checked.sensor_topics == ("/scan",) and checked.sensor_target == "odom"
-    problems = [p for info in heard.contents.files for p in info.stamped_problems]
+    problems = heard.stamped.problems
     assert problems == ["/nobody: no message heard (is it published?)"]
     unheard = tftools.check(capture_live(_Robot(transforms=False), 0.1, require_tf=False))
     assert unheard.failed() and [f.code for f in unheard.findings] == ["no_tf"]

@@ -23,7 +23,7 @@ from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.render.report import recording_section
-from tftools.sources.contents import RecordingContents, SourceInfo, StampedMessages
+from tftools.sources.contents import RecordingContents, SourceInfo, StampedMessages, StampedRead
 from tftools.sources.recording import read_recording, recording_of
 from tftools.sources.stream import stream_recording
 
@@ -221,7 +221,7 @@ def test_the_report_counts_every_time_from_the_one_origin(tmp_path: Path) -> Non
     recording = read_recording([write_bag(tmp_path / "stale.bag", messages)])
     times = WALL - 5 * S + np.arange(0, 350) * S // 10  # a scan from 5 s before tf to its end
     scan = StampedMessages("/scan", "sensor_msgs/msg/LaserScan", times, times, np.zeros(350, np.int32), ["base"])
-    recording.contents.files[0].stamped = [scan]  # as read with its headers
+    recording.contents.stamped = StampedRead([scan])  # as read with its headers
     report = recording_report(recording)
     assert report.origin == recording.timeline.origin == WALL and report.bins.start < WALL - 4 * S
     (stale,) = [f for f in report.findings if f.code == "stale"]
