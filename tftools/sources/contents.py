@@ -89,9 +89,18 @@ class StampedMessages:
     stamp: Int64Array
     frame: Int32Array
     frame_ids: Sequence[str]
+    #: Per message, how many transforms of the recording were read before it: where it stands among
+    #: them, messages recorded at the same instant in the order the recording replays them; empty where
+    #: that order is not known (a live capture).
+    tf_before: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
 
     def __len__(self) -> int:
         return len(self.record_time)
+
+    @property
+    def ordered(self) -> bool:
+        """Whether ``tf_before`` places every message among the transforms."""
+        return len(self.tf_before) == len(self.record_time)
 
 
 @dataclass(frozen=True)

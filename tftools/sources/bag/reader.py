@@ -3,11 +3,14 @@ read whole or window after window; ``read_bag``: a recording read whole at once.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import os
 from collections.abc import Sequence
 from contextlib import ExitStack
 from typing import Protocol
+
+import numpy as np
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import (
@@ -97,6 +100,8 @@ class BagReader:
             raise ValueError("BagReader.read outside its with block: the recording is not open")
         shares = in_turn(progress or _unreported, [opened.size for opened in self._files])
         read = [opened.read(self.wanted, share, window) for share, opened in zip(shares, self._files, strict=True)]
+        if len(read) > 1:
+            _placed_among_files(read)
         batches = [batch for part, _ in read for batch in part]
         infos = [info for _, info in read]
         return BagContents(in_record_order(batches), infos, self.topics, merged_clock([f.clock for f in infos]))
@@ -120,6 +125,23 @@ def read_bag(
     (see ``BagReader``)."""
     with BagReader(paths, topics) as reader:
         return reader.read(window, progress)
+
+
+def _placed_among_files(read: Sequence[tuple[list[TransformBatch], BagFileInfo]]) -> None:
+    """Each file's stamped messages, placed among its own transforms (``StampedMessages.tf_before``),
+    placed among every file's as ``in_record_order`` merges them: after those of the files before it
+    recorded up to their time, and of the files after it recorded before it."""
+    times = [np.sort(np.concatenate([np.zeros(0, np.int64), *(b.record_time for b in part)])) for part, _ in read]
+    for k, (_, info) in enumerate(read):
+        placed = []
+        for stream in info.stamped:
+            before = stream.tf_before
+            if stream.ordered:
+                for j, others in enumerate(times):
+                    if j != k:
+                        before = before + np.searchsorted(others, stream.record_time, "right" if j < k else "left")
+            placed.append(dataclasses.replace(stream, tf_before=before))
+        info.stamped = placed
 
 
 def _unreported(_done: int, _total: int) -> None:
