@@ -19,7 +19,7 @@ from tests.oracle import message_filter as mf
 from tests.oracle import unavailable_reason
 from tftools.analysis.filter import KEEP, Fate, filter_report, message_fates, recording_end
 from tftools.core.time import NS_PER_S
-from tftools.sources.bag.stamped import read_stamped
+from tftools.sources.bag.stamped import read_stamped, stamped_of
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import read_recording
 
@@ -53,8 +53,9 @@ def agreement(
 ) -> list[mf.Agreement]:
     """Per header topic of ``bag``: how ``tfx filter``'s replay agrees with the real filter's."""
     verdicts = mf.run(oracle, bag, target, out, queue, cache_s)
-    buffer = read_recording([bag]).buffer
-    streams = {s.topic: s for s in read_stamped([bag], sorted(verdicts)).streams}
+    recording = read_recording([bag], headers=sorted(verdicts))  # one read, as tfx filter's
+    buffer = recording.buffer
+    streams = {s.topic: s for s in stamped_of(recording.contents.files, sorted(verdicts)).streams}
     end = recording_end(buffer, list(streams.values()))
     found = []
     for topic, theirs in sorted(verdicts.items()):
@@ -161,13 +162,8 @@ def _marks(name: str) -> list[pytest.MarkDecorator]:
 
 #: Recordings where tfx filter and the real filter still disagree, and why: a strict expected failure, which
 #: fails the run once they agree (and the entry goes).
-DISAGREE = {
-    "ros1-gazebo-kobuki-repeated-stamps-2017-bag": (
-        "recorded under use_sim_time, a sensor message and the tf that makes it transformable often share one "
-        "record time; rosbag replays a tie in file order (here the sensor message first: the real filter passes it "
-        "later, at the same instant), tftools counts a tie's tf as arrived first (on arrival): 981 of 1143 agree"
-    ),
-}
+DISAGREE: dict[str, str] = {}
+
 
 #: Corpus recordings whose comparison takes more than a few seconds here.
 HEAVY = (

@@ -80,6 +80,9 @@ class MessageSet:
         self.count = 0
         self.headers_lost: list[str] = []  # once decoded: a line per topic whose headers were lost
         self.tf_messages: dict[str, tuple[int, int]] = {}  # once decoded: per tf topic, its messages and the empty
+        #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
+        #: play`` does): the positions of its messages, sorted, and each one's place in that order.
+        self.replayed: tuple[Int64Array, Int64Array] | None = None
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -252,7 +255,10 @@ class MessageSet:
         ``headers_lost``, one per topic whose headers were lost)."""
         self._decode_groups()
         times, positions, channel_of = (np.concatenate(column) for column in zip(*self._messages, strict=True))
-        rank = _rank(times, np.array([c.tie for c in self.channels], np.int64)[channel_of], positions)
+        ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
+        if self.replayed is not None:
+            ties = _placed(self.replayed, positions, ties)
+        rank = _rank(times, ties, positions)
         self.tf_messages = self._tf_messages(channel_of)
         self._rows.settle()
         rows_before = _rows_before(rank, self._rows.runs)
@@ -405,6 +411,16 @@ def _in_record_order(parts: Sequence[tuple[Column, ...]], rank: Int64Array) -> l
     columns = [np.concatenate(column) for column in zip(*parts, strict=True)]
     order = np.argsort(rank[columns[0]], kind="stable")
     return [column[order] for column in columns]
+
+
+def _placed(replayed: tuple[Int64Array, Int64Array], positions: Int64Array, ties: Int64Array) -> Int64Array:
+    """Each message's place in the format's own order (``MessageSet.replayed``); ``ties`` unchanged where
+    a message is not in it."""
+    known, places = replayed
+    if not len(known):
+        return ties
+    at = np.minimum(np.searchsorted(known, positions), len(known) - 1)
+    return np.where(known[at] == positions, places[at], ties)
 
 
 _RowsBefore = Callable[[Int64Array], Int64Array]

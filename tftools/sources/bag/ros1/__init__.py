@@ -4,12 +4,14 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Literal
 
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, ProgressCallback, RecordWindow
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.file import BagFile
-from tftools.sources.bag.ros1.index import BagIndex, read_index, read_indexed
+from tftools.sources.bag.ros1.index import BagIndex, read_index, read_indexed, replay_order
 from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.bag.ros1.salvage import read_unindexed
 from tftools.sources.bag.scan import file_result
@@ -39,6 +41,9 @@ class Ros1File:
                 str(path), f"encrypted with {self.header.encryptor}; decrypt it with `rosbag decrypt` first"
             )
         self._index: BagIndex | str | None = None  # once read: the index, or what is wrong with it
+        #: Once the index is read: the order rosbag play replays ties of record time in (``replay_order``),
+        #: False where that is record time order.
+        self._replayed: tuple[Int64Array, Int64Array] | Literal[False] | None = None
 
     def read(
         self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None
@@ -55,6 +60,10 @@ class Ros1File:
             if isinstance(self._index, str):
                 read_unindexed(bag, header, self._index)
             else:
+                if wanted.headers is not None:  # sensor data read with the tf: a MessageFilter's replay
+                    if self._replayed is None:
+                        self._replayed = replay_order(bag, self._index.infos) or False
+                    bag.scan.messages.replayed = self._replayed or None
                 read_indexed(bag, self._index, header.index_pos)
         else:
             read_unindexed(bag, header)
