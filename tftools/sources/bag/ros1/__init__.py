@@ -62,6 +62,8 @@ class Ros1File:
             else:
                 if wanted.headers is not None:  # sensor data read with the tf: a MessageFilter's replay
                     if self._replayed is None:
+                        for connection in self._index.connections:
+                            bag.connect(connection)
                         self._replayed = replay_order(bag, self._index.infos) or False
                     bag.scan.messages.replayed = self._replayed or None
                 read_indexed(bag, self._index, header.index_pos)

@@ -119,8 +119,9 @@ def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
 
 def replay_order(bag: BagFile, infos: list[ChunkInfo]) -> tuple[Int64Array, Int64Array] | None:
     """The order ``rosbag play`` replays the bag in (``view_order``), as the positions (``Spans.position``)
-    of every message, sorted, and each one's place: None where no two connections share a record time
-    (then it is record time order), the bag has more than ``MAX_MESSAGES`` or an index cannot be read."""
+    of every message, sorted, and each one's place: None where no transform shares its record time with a
+    message of another connection (then record time order is that order for what is read), the bag has
+    more than ``MAX_MESSAGES`` or an index cannot be read. Its connections are met (``BagFile.connect``)."""
     if not 0 < sum(sum(info.counts.values()) for info in infos) <= MAX_MESSAGES:
         return None
     indexes = []
@@ -137,7 +138,7 @@ def replay_order(bag: BagFile, infos: list[ChunkInfo]) -> tuple[Int64Array, Int6
         return None
     order = np.argsort(every.time, kind="stable")  # rosbag's index: by time, then as the file lists them
     time, conn = every.time[order], every.channel[order]
-    if not ((np.diff(time) == 0) & (np.diff(conn) != 0)).any():
+    if not _transform_ties(time, conn, bag.transform_connections):
         return None
     connections = np.unique(conn)
     places = view_order([time[conn == c] for c in connections.tolist()])
@@ -147,6 +148,15 @@ def replay_order(bag: BagFile, infos: list[ChunkInfo]) -> tuple[Int64Array, Int6
     position = every.position
     by_position = np.argsort(position, kind="stable")
     return position[by_position], place[by_position]
+
+
+def _transform_ties(time: Int64Array, conn: Int64Array, transforms: set[int]) -> bool:
+    """Whether messages in record time order (``time``, of connections ``conn``) hold a transform (one of
+    the ``transforms`` connections) recorded at the same time as a message of another connection."""
+    firsts = np.flatnonzero(np.diff(time, prepend=time[0] - 1) != 0)
+    held = np.isin(conn, list(transforms)).astype(np.int8)
+    mixed = np.minimum.reduceat(conn, firsts) != np.maximum.reduceat(conn, firsts)
+    return bool((mixed & (np.maximum.reduceat(held, firsts) > 0)).any())
 
 
 def _record(bag: BagFile, pos: int, op: int) -> Record:
