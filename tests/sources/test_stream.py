@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
-from tftools.core.batch import TransformBatch, concat_batches
+from tftools.core.batch import BatchBuilder, TransformBatch, concat_batches
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S
@@ -19,6 +19,7 @@ from tftools.core.transform import Transform
 from tftools.sources import read_recording
 from tftools.sources.bag import read_bag
 from tftools.sources.bag.contents import RecordWindow
+from tftools.sources.contents import RecordingContents
 from tftools.sources.errors import BagNotFoundError, NoTransformsError
 from tftools.sources.replay import Replay, follow
 from tftools.sources.stream import (
@@ -27,6 +28,7 @@ from tftools.sources.stream import (
     SAMPLES_PER_FRAME,
     _Arrivals,
     _recent,
+    _Summary,
     _windows,
     stream_recording,
 )
@@ -210,6 +212,21 @@ def test_arrivals_keep_an_even_sample_of_a_long_recording() -> None:
     assert SAMPLES_PER_FRAME // 2 < len(kept) <= SAMPLES_PER_FRAME
     assert kept.tolist() == list(range(0, total, stride))  # every stride-th arrival, from the first
     assert abs(np.median(kept) - np.median(values)) <= stride
+
+
+def test_a_long_stream_counts_every_arrival_not_only_those_kept() -> None:
+    """Past ``SAMPLES_PER_FRAME`` arrivals a frame's clock is read off every second one, fourth one...;
+    its count of arrivals (said in the clock findings) is still every one, as a whole read counts."""
+    summary = _Summary("ros1", [])
+    for window in range(3):
+        rows = [_transform("odom", "base_link", SIM + (window * 4000 + i) * NS_PER_S // 50, 0.0) for i in range(4000)]
+        stamps = np.array([r.stamp for r in rows], np.int64)
+        builder = BatchBuilder()
+        for r, record in zip(rows, stamps + WALL - SIM, strict=True):
+            builder.add(r.frame_id, r.child_frame_id, r.stamp, r.translation, r.rotation, record_time=int(record))
+        summary.add(RecordingContents([builder.take()], [], ("/tf",)))
+    (edge,) = summary.edges()
+    assert edge.arrivals == 12_000 > SAMPLES_PER_FRAME
 
 
 def test_a_window_that_cannot_be_read_ends_the_replay_with_its_error(

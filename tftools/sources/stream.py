@@ -215,7 +215,11 @@ class _Summary:
             self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, ros, known)
 
     def edges(self) -> tuple[EdgeClock, ...]:
-        return tuple(edge_clock(child, *arrivals.kept()) for child, arrivals in self._arrivals.items())
+        """Each frame's clock from the arrivals kept, counting every arrival."""
+        return tuple(
+            dataclasses.replace(edge_clock(child, *arrivals.kept()), arrivals=arrivals.seen)
+            for child, arrivals in self._arrivals.items()
+        )
 
 
 #: How far behind its newest stamp an edge's samples are carried from one window into the next: a sample
@@ -255,6 +259,11 @@ class _Arrivals:
             stamps, records, ros, known = self.kept()
             self._parts = [(stamps[::2], records[::2], ros[::2], known[::2])]
             self._stride *= 2
+
+    @property
+    def seen(self) -> int:
+        """Every arrival added, kept or not."""
+        return self._seen
 
     def kept(self) -> tuple[Int64Array, Int64Array, Int64Array, BoolArray]:
         stamps, records, ros, known = (np.concatenate(column) for column in zip(*self._parts, strict=True))
