@@ -133,3 +133,27 @@ def test_the_default_target_is_odom_else_the_root_of_the_largest_tree() -> None:
         TfMessage("/tf_static", START, [_t("rig", "camera", START, 0.1)]),
     ]
     assert default_target(frame_tree(recording(trees).buffer)) == ("world", "the root of the largest tree")
+
+
+def test_a_message_recorded_at_its_tfs_instant_meets_it_in_the_order_the_recording_replays_them() -> None:
+    """Issue 39 (Kobuki, use_sim_time): a message and the tf that makes it transformable share one record
+    time. Where the reader says the message comes first (``tf_before``), it waits and passes at that instant,
+    as the real filter does; where it comes after, it passes on arrival; unsaid, the tf counts as first."""
+    from tftools.core.buffer import Buffer
+
+    buffer = Buffer(cache_time=None)
+    ticks = [START + i * 10 * MS for i in range(10)]
+    for stamp in ticks:  # odom -> base_link recorded at its stamp: the i-th transform read is at ticks[i]
+        buffer.set_transform(_t("odom", "base_link", stamp, 0.0), "/gazebo", record_time=stamp)
+    times = np.array(ticks[2:], np.int64)
+
+    def sensed(tf_before: list[int]) -> StampedMessages:
+        frames = np.zeros(len(times), np.int32)
+        return StampedMessages("/imu", "sensor_msgs/msg/Imu", times, times, frames, ["base_link"], np.array(tf_before))
+
+    first = message_fates(buffer, sensed([i for i in range(2, 10)]), "odom")  # each before its instant's tf
+    assert first.fate.tolist() == [Fate.LATER] * 8 and first.ready.tolist() == times.tolist()
+    after = message_fates(buffer, sensed([i + 1 for i in range(2, 10)]), "odom")
+    assert after.fate.tolist() == [Fate.ON_ARRIVAL] * 8
+    unsaid = message_fates(buffer, sensed([]), "odom")
+    assert unsaid.fate.tolist() == [Fate.ON_ARRIVAL] * 8

@@ -53,7 +53,7 @@ def agreement(
 ) -> list[mf.Agreement]:
     """Per header topic of ``bag``: how ``tfx filter``'s replay agrees with the real filter's."""
     verdicts = mf.run(oracle, bag, target, out, queue, cache_s)
-    recording = read_recording([bag], headers=sorted(verdicts))
+    recording = read_recording([bag], headers=sorted(verdicts))  # one read, as tfx filter's
     buffer = recording.buffer
     streams = {s.topic: s for s in recording.stamped.streams}
     end = recording_end(buffer, list(streams.values()))
@@ -163,13 +163,8 @@ def _marks(name: str) -> list[pytest.MarkDecorator]:
 
 #: Recordings where tfx filter and the real filter still disagree, and why: a strict expected failure, which
 #: fails the run once they agree (and the entry goes).
-DISAGREE = {
-    "ros1-gazebo-kobuki-repeated-stamps-2017-bag": (
-        "recorded under use_sim_time, a sensor message and the tf that makes it transformable often share one "
-        "record time; rosbag replays a tie in file order (here the sensor message first: the real filter passes it "
-        "later, at the same instant), tftools counts a tie's tf as arrived first (on arrival): 981 of 1143 agree"
-    ),
-}
+DISAGREE: dict[str, str] = {}
+
 
 #: Corpus recordings whose comparison takes more than a few seconds here.
 HEAVY = (

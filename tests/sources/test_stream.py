@@ -12,7 +12,8 @@ import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.sources.bag.reading import read_contents
-from tftools.core.batch import TransformBatch, concat_batches
+from tftools.core.batch import BatchBuilder, TransformBatch, concat_batches
+from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -21,7 +22,16 @@ from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.contents import RecordingContents
 from tftools.sources.errors import BagNotFoundError, NoTransformsError
 from tftools.sources.replay import Replay, follow
-from tftools.sources.stream import MAX_WINDOWS, SAMPLES_PER_FRAME, _Arrivals, _windows, stream_recording
+from tftools.sources.stream import (
+    CARRIED,
+    MAX_WINDOWS,
+    SAMPLES_PER_FRAME,
+    _Arrivals,
+    _recent,
+    _Summary,
+    _windows,
+    stream_recording,
+)
 from tftools.sources.timeline import Playback, Reference, Timeline
 
 SAMPLES = Path(__file__).resolve().parents[2] / "sample_bags"
@@ -129,6 +139,45 @@ def test_a_replay_of_parts_delivers_what_a_replay_of_the_whole_does(tmp_path: Pa
     assert whole[0][0] < start  # the statics recorded before the start come first
 
 
+def resending(path: Path, fmt: BagFormat, seconds: int = 6) -> Path:
+    """One publisher re-sending, as Webots' diff-drive controller and slam_toolbox do: every stamp of odom
+    -> base_link arrives twice, 20 ms apart (ROS 1: the copy's values differ, a repeated stamp; ROS 2:
+    identical), and map -> odom is re-sent with one frozen stamp on every 20 ms loop."""
+    ros1 = fmt is BagFormat.ros1
+    messages = []
+    for tick in range(seconds * 25):
+        stamp, record = SIM + tick * 40_000_000, WALL + tick * 40_000_000
+        for again in (0, 1):
+            copy = 0.001 * again if ros1 else 0.0
+            sent = [_transform("odom", "base_link", stamp, tick / 25 + copy), _transform("map", "odom", SIM, 1.0)]
+            messages.append(TfMessage("/tf", record + again * 20_000_000, sent))
+    return write_bag(path, messages, fmt)
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_a_sample_sent_again_in_a_later_window_is_stored_once(tmp_path: Path, fmt: BagFormat) -> None:
+    """Issue 39 (e-puck, Kobuki): a re-sent sample is stored once, as tf2 stores it, whichever window each
+    copy falls in (windows of 7 messages: most pairs straddle two), not counted as a second arrival."""
+    bag = resending(tmp_path / "resent", fmt)
+    streamed = stream_recording([bag], window_messages=7)
+    assert len(streamed.windows) > 30
+    arrivals = {e.child: e.arrivals for e in streamed.timeline.edges}
+    assert arrivals == {"base_link": 6 * 25, "odom": 1}  # one per distinct stamp, as written
+    assert_same_timeline(streamed.timeline, read_recording([bag]).timeline.played())
+    assert_same_rows(concat_batches(list(streamed.parts())), whole_replay_rows([bag]))  # every copy is replayed
+
+
+def test_only_the_last_seconds_of_each_edge_are_carried_to_the_next_window() -> None:
+    """What the first pass carries from a window to the next is bounded by time, not by the recording."""
+    buffer = Buffer(cache_time=None, semantics="ros2")
+    for tick in range(60 * 50):  # a minute at 50 Hz, and a static that is never carried
+        buffer.set_transform(_transform("odom", "base_link", SIM + tick * NS_PER_S // 50, tick / 50))
+    buffer.set_transform(_transform("base_link", "laser", SIM, 0.2), static=True)
+    carried = _recent(buffer, CARRIED)
+    assert len(carried) == CARRIED // (NS_PER_S // 50) + 1
+    assert carried.stamp.tolist() == buffer.history("base_link").stamps[-len(carried) :].tolist()
+
+
 def test_a_bag_without_transforms_is_refused(tmp_path: Path) -> None:
     bag = write_bag(tmp_path / "clock.bag", [], BagFormat.ros1, [ClockMessage(WALL, SIM)])
     with pytest.raises(NoTransformsError), stream_recording([bag]):
@@ -163,6 +212,21 @@ def test_arrivals_keep_an_even_sample_of_a_long_recording() -> None:
     assert SAMPLES_PER_FRAME // 2 < len(kept) <= SAMPLES_PER_FRAME
     assert kept.tolist() == list(range(0, total, stride))  # every stride-th arrival, from the first
     assert abs(np.median(kept) - np.median(values)) <= stride
+
+
+def test_a_long_stream_counts_every_arrival_not_only_those_kept() -> None:
+    """Past ``SAMPLES_PER_FRAME`` arrivals a frame's clock is read off every second one, fourth one...;
+    its count of arrivals (said in the clock findings) is still every one, as a whole read counts."""
+    summary = _Summary("ros1", [])
+    for window in range(3):
+        rows = [_transform("odom", "base_link", SIM + (window * 4000 + i) * NS_PER_S // 50, 0.0) for i in range(4000)]
+        stamps = np.array([r.stamp for r in rows], np.int64)
+        builder = BatchBuilder()
+        for r, record in zip(rows, stamps + WALL - SIM, strict=True):
+            builder.add(r.frame_id, r.child_frame_id, r.stamp, r.translation, r.rotation, record_time=int(record))
+        summary.add(RecordingContents([builder.take()], [], ("/tf",)))
+    (edge,) = summary.edges()
+    assert edge.arrivals == 12_000 > SAMPLES_PER_FRAME
 
 
 def test_a_window_that_cannot_be_read_ends_the_replay_with_its_error(

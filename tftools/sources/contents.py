@@ -89,9 +89,20 @@ class StampedMessages:
     stamp: Int64Array
     frame: Int32Array
     frame_ids: Sequence[str]
+    #: Per message, how many transforms of the recording were read before it: where it stands among
+    #: them, messages recorded at the same instant in the order the recording replays them; empty where
+    #: that order is not known (a live capture). Counted in the read that read the messages: a ROS 1 bag
+    #: read with its headers has its ties in rosbag play's order, so the buffer to place them in is that
+    #: read's (``stamped_of(recording.contents.files)``), not one read apart without them.
+    tf_before: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
 
     def __len__(self) -> int:
         return len(self.record_time)
+
+    @property
+    def ordered(self) -> bool:
+        """Whether ``tf_before`` places every message among the transforms."""
+        return len(self.tf_before) == len(self.record_time)
 
 
 @dataclass(frozen=True)

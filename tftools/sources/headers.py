@@ -81,7 +81,9 @@ def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:
         renumbered = np.empty(len(firsts), np.int32)
         renumbered[np.argsort(firsts, kind="stable")] = ids
         stamp = np.concatenate([p.stamp for p in pieces])[order]
+        ordered = all(p.ordered for p in pieces)
+        before = np.concatenate([p.tf_before for p in pieces])[order] if ordered else np.zeros(0, np.int64)
         merged.append(
-            StampedMessages(topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names)
+            StampedMessages(topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names, before)
         )
     return merged

@@ -17,9 +17,10 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array
-from tftools.core.batch import TransformBatch
-from tftools.core.buffer import Buffer
+from tftools.core.batch import TransformBatch, take_rows
+from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.semantics import Semantics
+from tftools.core.stored import stored_rows
 from tftools.sources.bag import BagReader, ProgressCallback
 from tftools.sources.bag.contents import BagFileInfo, RecordWindow
 from tftools.sources.contents import ClockSamples, RecordingContents
@@ -181,6 +182,7 @@ class _Summary:
         self.first_known = 0  # the earliest known (positive) record time, 0 before any
         self._clock = ClockSamples.empty()  # the /clock samples of the last window, after the one before
         self._arrivals: dict[str, _Arrivals] = {}
+        self._carried = TransformBatch.empty()  # the last window's recent samples (``_recent``)
 
     def add(self, contents: RecordingContents) -> None:
         """One window's transforms, inserted into a buffer of their own to learn them as tf2 stores them."""
@@ -193,9 +195,12 @@ class _Summary:
             if len(positive) and not 0 < self.first_known <= int(positive.min()):
                 self.first_known = int(positive.min())
         buffer = Buffer(cache_time=None, semantics=self.semantics)
-        buffer.reserve(contents.parts)
+        buffer.reserve([self._carried, *contents.parts])
+        buffer.insert(self._carried)
+        carried = buffer.arrivals
         for part in contents.parts:
             buffer.insert(part)
+        self._carried = _recent(buffer, CARRIED)
         met = set(self.frames)
         self.frames += [f for f in buffer.frames if f not in met]
         for static, first, last in stamp_spans(buffer):
@@ -206,11 +211,35 @@ class _Summary:
             # the first samples: the first /clock, and how often it ticks (``Timeline.clock_step``)
             self.first_clock = ClockSamples(clock.topic, clock.record_time[:CLOCK_STEPS], clock.clock[:CLOCK_STEPS])
         self._clock = self._clock.continued(contents.clock)
-        for child, stamps, records, ros, known in clocked_arrivals(buffer, self._clock):
+        for child, stamps, records, ros, known in clocked_arrivals(buffer, self._clock, since=carried):
             self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, ros, known)
 
     def edges(self) -> tuple[EdgeClock, ...]:
-        return tuple(edge_clock(child, *arrivals.kept()) for child, arrivals in self._arrivals.items())
+        """Each frame's clock from the arrivals kept, counting every arrival."""
+        return tuple(
+            dataclasses.replace(edge_clock(child, *arrivals.kept()), arrivals=arrivals.seen)
+            for child, arrivals in self._arrivals.items()
+        )
+
+
+#: How far behind its newest stamp an edge's samples are carried from one window into the next: a sample
+#: sent again in a later window (a re-send, a repeated stamp) is then stored once, as a whole read stores
+#: it, within tf2's default cache, which is as far back as a replay's listener would have held it.
+CARRIED = DEFAULT_CACHE_TIME
+
+
+def _recent(buffer: Buffer, within: int) -> TransformBatch:
+    """The samples ``buffer``'s moving edges hold at most ``within`` behind each edge's newest stamp, in
+    arrival order: what tells the next window's buffer which samples it already has."""
+    recent = [
+        hist.sequence[hist.stamps >= hist.latest_stamp - within]
+        for _, hist in buffer.histories()
+        if not hist.static and len(hist)
+    ]
+    if not recent:
+        return TransformBatch.empty()
+    rows, sequence = stored_rows(buffer)
+    return take_rows(rows, np.flatnonzero(np.isin(sequence, np.concatenate(recent))))
 
 
 class _Arrivals:
@@ -230,6 +259,11 @@ class _Arrivals:
             stamps, records, ros, known = self.kept()
             self._parts = [(stamps[::2], records[::2], ros[::2], known[::2])]
             self._stride *= 2
+
+    @property
+    def seen(self) -> int:
+        """Every arrival added, kept or not."""
+        return self._seen
 
     def kept(self) -> tuple[Int64Array, Int64Array, Int64Array, BoolArray]:
         stamps, records, ros, known = (np.concatenate(column) for column in zip(*self._parts, strict=True))

@@ -422,12 +422,15 @@ def _reference(edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: in
 
 
 def clocked_arrivals(
-    buffer: Buffer, clock: ClockSamples
+    buffer: Buffer, clock: ClockSamples, since: int = 0
 ) -> Iterable[tuple[str, Int64Array, Int64Array, Int64Array, BoolArray]]:
     """Per frame, the stamps and record times of its transforms that tell its clock (dynamic, on /tf,
-    with a known record time), and ``clock_at`` those record times; frames without any left out."""
+    with a known record time, offered from arrival ``since`` on), and ``clock_at`` those record times;
+    frames without any left out."""
     for child, hist in buffer.histories():
         keep = (hist.record_times > 0) & ((hist.flags & FROM_STATIC_TOPIC) == 0)
+        if since:
+            keep &= hist.sequence >= since
         if hist.static or not keep.any():
             continue
         stamps, records = (

@@ -121,3 +121,24 @@ def _bytes_read(monkeypatch: pytest.MonkeyPatch) -> list[int]:
 
     monkeypatch.setattr(ByteSource, "read_ranges", counted)
     return read
+
+
+def test_each_message_is_placed_among_the_transforms_of_every_file_read(tmp_path: Path) -> None:
+    """``tf_before``: the transforms read before each message, a tie of record time in file order (the tf
+    written after the image at its instant comes after it), counted over a split recording's files."""
+    from tests.sources.ros2_helpers import Msg, Tf
+    from tftools.sources.recording import read_recording
+
+    store = typestore()
+    parts = []
+    for part in range(2):
+        written: list[Any] = []
+        for i in range(6 * part, 6 * part + 6):
+            written.append(Other("/camera", 1_000 + 10 * i, _image(store, 100 + i, "camera", 100), IMAGE))
+            written.append(Msg("/tf", 1_000 + 10 * i, (Tf("map", "odom", i),)))  # the same instant, after it
+        parts.append(write_rosbag2(tmp_path / f"part{part}", written, storage="mcap"))
+    recording = read_recording(parts, headers=())
+    (stream,) = recording.stamped.streams
+    assert stream.ordered and stream.tf_before.tolist() == list(range(12))
+    sequence = recording.buffer.history("odom").sequence
+    assert sequence.tolist() == list(range(12))  # the buffer numbers the same transforms alike

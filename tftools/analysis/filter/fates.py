@@ -1,9 +1,9 @@
 """What a ``tf2_ros::MessageFilter`` would have done to each stamped message of a recording.
 
-The listener's tf arrives in record order (a transform recorded at the same instant as a message
-first, as rosbag's reader hands them over), its cache ``cache_time`` long behind each frame's newest
-stamp. tf2's rule, per message (``MessageFilter::add`` and ``BufferCore::addTransformableRequest`` /
-``testTransformableRequests``):
+The listener's tf arrives in record order, a transform recorded at the same instant as a message in the
+order the recording replays them where its reader said (``StampedMessages.tf_before``), else first; its
+cache is ``cache_time`` long behind each frame's newest stamp. tf2's rule, per message
+(``MessageFilter::add`` and ``BufferCore::addTransformableRequest`` / ``testTransformableRequests``):
 
 - an empty frame_id is dropped at once; a frame that is the target passes at once;
 - transformable at its stamp when it arrives: passed then. A stamp of 0 asks for the chain's latest
@@ -32,7 +32,7 @@ import heapq
 import itertools
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Final, Literal
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -92,7 +92,9 @@ class Fates:
     ``NEVER`` where it was still waiting when the recording ended); ``edge`` the (parent, child) that
     decided it (made it wait, never caught up, or had dropped its stamp), ``lag`` how far that edge's
     newest stamp was behind the message's stamp at arrival (ns); ``before_tf`` which were stamped before
-    the recording's tf of their chain began (none where empty): no cache keeps those if they age out."""
+    the recording's tf of their chain began (none where empty): no cache keeps those if they age out;
+    ``left_place`` where each left among the tf arrivals and the messages' arrivals (``_places``; none
+    where empty: by ``left``, a tf arrival at a message's instant first)."""
 
     fate: Int8Array
     ready: Int64Array
@@ -100,6 +102,7 @@ class Fates:
     lag: Int64Array
     left: Int64Array
     before_tf: BoolArray = field(default_factory=lambda: np.zeros(0, np.bool_))
+    left_place: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
 
     def early(self) -> BoolArray:
         """``before_tf``, one flag per message."""
@@ -123,32 +126,35 @@ class Fates:
 
 @dataclass(frozen=True)
 class _Edge(Edge):
-    """One edge of a chain as a listener saw it fill: after each arrival (record times, sorted), the
-    newest and the oldest stamp it held."""
+    """One edge of a chain as a listener saw it fill: after each arrival (record times, sorted; their
+    ``places`` in the listener's order, ``_places``), the newest and the oldest stamp it held."""
 
     static: bool
     rate_hz: float
     records: Int64Array
     newest: Int64Array
     oldest: Int64Array
+    places: Int64Array
 
     def first_ready(self, stamps: Int64Array) -> Int64Array:
-        """When the edge first held a stamp at or after each of ``stamps`` (any sample, for stamp 0)."""
+        """The place of the arrival from which the edge first held a stamp at or after each of ``stamps``
+        (any sample, for stamp 0)."""
         if not len(self.records):
             return np.full(len(stamps), NEVER, np.int64)
         if self.static:
-            return np.full(len(stamps), self.records[0], np.int64)
+            return np.full(len(stamps), self.places[0], np.int64)
         index = np.searchsorted(self.newest, stamps, side="left")
         index[stamps == 0] = 0
-        return _at(self.records, index)
+        return _at(self.places, index)
 
     def last_ready(self, stamps: Int64Array) -> Int64Array:
-        """When the cache first dropped each of ``stamps`` (every sample it held is newer), else NEVER."""
+        """The place of the arrival at which the cache first dropped each of ``stamps`` (every sample it held
+        is newer), else NEVER."""
         if self.static or not len(self.records):
             return np.full(len(stamps), NEVER, np.int64)
         index = np.searchsorted(self.oldest, stamps, side="right")
         index[stamps == 0] = len(self.records)
-        return _at(self.records, index)
+        return _at(self.places, index)
 
     def would_reach(self, stamps: Int64Array, end: int) -> BoolArray:
         """Whether the edge's next transforms, had the recording not ended at ``end``, would soon have
@@ -160,22 +166,33 @@ class _Edge(Edge):
         publishing = end - int(self.records[-1]) <= limit
         return np.asarray(publishing & (stamps - int(self.newest[-1]) <= limit), np.bool_)
 
-    def newest_at(self, times: Int64Array) -> Int64Array:
-        """The newest stamp held at each of ``times`` (-1 before the first arrival)."""
-        return self._held(self.newest, times)
+    def newest_at(self, places: Int64Array) -> Int64Array:
+        """The newest stamp held at each of ``places`` (-1 before the first arrival)."""
+        return self._held(self.newest, places)
 
-    def oldest_at(self, times: Int64Array) -> Int64Array:
-        """The oldest stamp held at each of ``times`` (-1 before the first arrival)."""
-        return self._held(self.oldest, times)
+    def oldest_at(self, places: Int64Array) -> Int64Array:
+        """The oldest stamp held at each of ``places`` (-1 before the first arrival)."""
+        return self._held(self.oldest, places)
 
-    def _held(self, values: Int64Array, times: Int64Array) -> Int64Array:
-        index = np.searchsorted(self.records, times, side=_TF_AT_A_TIE) - 1
+    def _held(self, values: Int64Array, places: Int64Array) -> Int64Array:
+        index = np.searchsorted(self.places, places, side="right") - 1  # a state includes the arrival at its place
         return np.where(index >= 0, values[np.maximum(index, 0)], -1)
 
 
-#: A transform and a message recorded at the same instant: the transform counts as arrived first
-#: ("right": a state at time t includes the tf recorded at t), as rosbag's reader orders them.
-_TF_AT_A_TIE: Final[Literal["left", "right"]] = "right"
+def _places(buffer_order: bool, sequence: Int64Array, records: Int64Array) -> Int64Array:
+    """Where tf arrivals (their ``sequence`` numbers in the buffer, recorded at ``records``) stand in the
+    listener's order, against ``_message_places``: even numbers, never equal to a message's."""
+    return 2 * (sequence if buffer_order else records)
+
+
+def _message_places(messages: StampedMessages, rows: IntpArray) -> Int64Array:
+    """Where messages (``rows`` of ``messages``) stand among the tf arrivals (``_places``): right after the
+    transforms read before each (``StampedMessages.tf_before``: ties of record time in the order the
+    recording replays them) where the reader said; else after every transform recorded at the same
+    instant or earlier."""
+    if messages.ordered:
+        return 2 * messages.tf_before[rows] - 1
+    return 2 * messages.record_time[rows] + 1
 
 
 @dataclass(frozen=True)
@@ -185,7 +202,7 @@ class _Chain:
     is static) and whether a lookup at time 0 succeeds (the latest common time inside every edge)."""
 
     edges: list[_Edge]
-    times: Int64Array
+    places: Int64Array  # of the tf arrivals after which the chain's state is given (``_places``)
     common: Int64Array
     latest_ok: BoolArray
 
@@ -194,14 +211,22 @@ class _Chain:
         if not edges or any(not len(e.records) for e in edges):
             empty = np.zeros(0, np.int64)
             return _Chain(edges, empty, empty, np.zeros(0, np.bool_))
-        connected = max(int(e.records[0]) for e in edges)
+        connected = max(int(e.places[0]) for e in edges)
         moving = [e for e in edges if not e.static]
-        times = sorted_unique(np.concatenate([[connected], *(e.records[e.records > connected] for e in moving)]))
+        places = sorted_unique(np.concatenate([[connected], *(e.places[e.places > connected] for e in moving)]))
         if not moving:
-            return _Chain(edges, times, np.zeros(len(times), np.int64), np.ones(len(times), np.bool_))
-        common = np.min(np.stack([e.newest_at(times) for e in moving]), axis=0)
-        oldest = np.max(np.stack([e.oldest_at(times) for e in moving]), axis=0)
-        return _Chain(edges, times, common, np.asarray(oldest <= common, np.bool_))
+            return _Chain(edges, places, np.zeros(len(places), np.int64), np.ones(len(places), np.bool_))
+        common = np.min(np.stack([e.newest_at(places) for e in moving]), axis=0)
+        oldest = np.max(np.stack([e.oldest_at(places) for e in moving]), axis=0)
+        return _Chain(edges, places, common, np.asarray(oldest <= common, np.bool_))
+
+    def time_of(self, places: Int64Array) -> Int64Array:
+        """The record time of the tf arrivals at ``places`` (NEVER for NEVER)."""
+        every = np.concatenate([e.places for e in self.edges])
+        order = np.argsort(every, kind="stable")
+        every, times = every[order], np.concatenate([e.records for e in self.edges])[order]
+        index = np.minimum(np.searchsorted(every, places), max(len(every) - 1, 0))
+        return np.where(places == NEVER, NEVER, times[index] if len(times) else NEVER)
 
     @property
     def began(self) -> int:
@@ -209,19 +234,19 @@ class _Chain:
         return max((int(e.oldest.min()) for e in self.edges if not e.static and len(e.oldest)), default=0)
 
     def out_the_back(self, stamps: Int64Array, cache_time: int) -> Int64Array:
-        """When tf2 first finds each of ``stamps`` plus the cache before the latest common time
-        (``BufferCore::testTransformableRequests``' TransformFailure), else NEVER."""
+        """The place of the tf arrival at which tf2 first finds each of ``stamps`` plus the cache before the
+        latest common time (``BufferCore::testTransformableRequests``' TransformFailure), else NEVER."""
         index = np.searchsorted(self.common, stamps + cache_time, side="right")
-        return _at(self.times, index)
+        return _at(self.places, index)
 
     def latest(self, arrived: Int64Array) -> tuple[BoolArray, Int64Array]:
-        """For stamp-0 messages arriving at ``arrived``: transformable then, and the first tf arrival
-        after it that makes them transformable (NEVER if none)."""
-        index = np.searchsorted(self.times, arrived, side=_TF_AT_A_TIE) - 1
-        now = (index >= 0) & self.latest_ok[np.maximum(index, 0)] if len(self.times) else np.zeros(len(arrived), bool)
+        """For stamp-0 messages arriving at places ``arrived``: transformable then, and the place of the
+        first tf arrival after it that makes them transformable (NEVER if none)."""
+        index = np.searchsorted(self.places, arrived, side="right") - 1
+        now = (index >= 0) & self.latest_ok[np.maximum(index, 0)] if len(self.places) else np.zeros(len(arrived), bool)
         ok = np.flatnonzero(self.latest_ok)
         after = np.searchsorted(ok, index + 1, side="left")
-        return np.asarray(now, np.bool_), _at(self.times, _at(ok, after).clip(max=len(self.times)))
+        return np.asarray(now, np.bool_), _at(self.places, _at(ok, after).clip(max=len(self.places)))
 
 
 def message_fates(
@@ -239,6 +264,7 @@ def message_fates(
     fate = np.zeros(n, np.int8)
     ready = np.full(n, NEVER, np.int64)
     left = np.full(n, NEVER, np.int64)
+    left_place = _message_places(messages, np.arange(n))
     lag = np.zeros(n, np.int64)
     before_tf = np.zeros(n, np.bool_)
     decided: list[tuple[str, str] | None] = [None] * n
@@ -246,27 +272,32 @@ def message_fates(
         rows = np.flatnonzero(messages.frame == frame_index)
         if not len(rows):
             continue
-        for group, chain in _chains(buffer, target, frame_name(frame_id), messages.stamp[rows], cache_time):
+        chains = _chains(buffer, target, frame_name(frame_id), messages.stamp[rows], cache_time, messages.ordered)
+        for group, chain in chains:
             mine = rows[group]
             if isinstance(chain, Fate):
                 fate[mine] = chain
                 if chain == Fate.EMPTY_FRAME:
                     left[mine] = messages.record_time[mine]
+                else:
+                    left_place[mine] = NEVER
                 continue
-            arrived, stamps = messages.record_time[mine], messages.stamp[mine]
-            fate[mine], ready[mine], left[mine], lag[mine], limiting = _judge(chain, arrived, stamps, end, cache_time)
+            arrived, stamps, places = messages.record_time[mine], messages.stamp[mine], _message_places(messages, mine)
+            judged = _judge(chain, arrived, places, stamps, end, cache_time)
+            fate[mine], ready[mine], left[mine], left_place[mine], lag[mine], limiting = judged
             before_tf[mine] = (stamps < chain.began) & (stamps != 0)
             for row, edge in zip(mine.tolist(), limiting, strict=True):
                 decided[row] = edge
-    return Fates(fate, ready, decided, lag, left, before_tf)
+    return Fates(fate, ready, decided, lag, left, before_tf, left_place)
 
 
 def _chains(
-    buffer: Buffer, target: str, frame: str, stamps: Int64Array, cache_time: int
+    buffer: Buffer, target: str, frame: str, stamps: Int64Array, cache_time: int, buffer_order: bool
 ) -> Iterator[tuple[IntpArray | slice, _Chain | Fate]]:
     """The messages of one frame (those of ``stamps``) grouped by the chain tf2 walks for them: each
     edge's parent at the message's stamp, as ``Buffer.chain`` walks it, where a frame on the way changed
-    parent; else the tree as it ended. A frame tf2 cannot reach from the target gets its ``Fate``."""
+    parent; else the tree as it ended. A frame tf2 cannot reach from the target gets its ``Fate``.
+    ``buffer_order``: the tf arrivals are placed by their order in the buffer (``_places``)."""
     if not frame:
         yield slice(None), Fate.EMPTY_FRAME
         return
@@ -280,7 +311,8 @@ def _chains(
         yield slice(None), Fate.NOT_CONNECTED
         return
     if not any(_reparented(buffer, f) for f in frames):
-        yield slice(None), _Chain.of([_edge_of(p, c, buffer, cache_time) for p, c in chain_edges(buffer, frames)])
+        edges = [_edge_of(p, c, buffer, cache_time, buffer_order) for p, c in chain_edges(buffer, frames)]
+        yield slice(None), _Chain.of(edges)
         return
     walked: dict[tuple[str, ...], list[int]] = {}
     at_stamp: dict[int, tuple[str, ...]] = {}
@@ -292,7 +324,7 @@ def _chains(
                 at_stamp[stamp] = tuple(frames)
         walked.setdefault(at_stamp[stamp], []).append(i)
     for path, group in walked.items():
-        edges = [_edge_of(p, c, buffer, cache_time) for p, c in _path_edges(buffer, path)]
+        edges = [_edge_of(p, c, buffer, cache_time, buffer_order) for p, c in _path_edges(buffer, path)]
         yield np.array(group, np.intp), _Chain.of(edges)
 
 
@@ -311,7 +343,7 @@ def _path_edges(buffer: Buffer, frames: Sequence[str]) -> list[tuple[str, str]]:
     return edges
 
 
-def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int) -> _Edge:
+def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int, buffer_order: bool) -> _Edge:
     """The child's cache as a listener filled it: every sample of the frame, whatever its parent (tf2
     keeps one cache per frame)."""
     hist = buffer.history(child)
@@ -321,7 +353,9 @@ def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int) -> _Edge:
     stamps = hist.stamps[order]
     newest = np.maximum.accumulate(stamps) if len(stamps) else stamps
     rate = 0.0 if hist.static else rate_hz(len(hist), hist.latest_stamp - hist.oldest_stamp)
-    return _Edge(parent, child, hist.static, rate, records, newest, _oldest_held(stamps, newest, cache_time))
+    oldest = _oldest_held(stamps, newest, cache_time)
+    places = _places(buffer_order, hist.sequence[order], records)
+    return _Edge(parent, child, hist.static, rate, records, newest, oldest, places)
 
 
 def _oldest_held(stamps: Int64Array, newest: Int64Array, cache_time: int) -> Int64Array:
@@ -347,32 +381,34 @@ def recording_end(buffer: Buffer, streams: Sequence[StampedMessages]) -> int:
 
 
 def _judge(
-    chain: _Chain, arrived: Int64Array, stamps: Int64Array, end: int, cache_time: int
-) -> tuple[Int8Array, Int64Array, Int64Array, Int64Array, list[tuple[str, str] | None]]:
-    """Fate, ready time, leaving time, lag and deciding edge of messages of one chain, in a recording
+    chain: _Chain, arrived: Int64Array, places: Int64Array, stamps: Int64Array, end: int, cache_time: int
+) -> tuple[Int8Array, Int64Array, Int64Array, Int64Array, Int64Array, list[tuple[str, str] | None]]:
+    """Fate, ready time, leaving time and place, lag and deciding edge of messages of one chain, arrived at
+    ``arrived`` (record times) and ``places`` (among the tf arrivals, ``_message_places``), in a recording
     ending at ``end``: tf2's rule, as the module says."""
     n = len(stamps)
     edges = chain.edges
     if not edges:  # the frame is the target itself
-        return np.zeros(n, np.int8), arrived.copy(), arrived.copy(), np.zeros(n, np.int64), [None] * n
+        return np.zeros(n, np.int8), arrived.copy(), arrived.copy(), places.copy(), np.zeros(n, np.int64), [None] * n
     first = np.stack([e.first_ready(stamps) for e in edges])
     last = np.stack([e.last_ready(stamps) for e in edges])
     waited_for, dropped_by = np.argmax(first, axis=0), np.argmin(last, axis=0)
-    ready_from, ready_until = first.max(axis=0), last.min(axis=0)
-    tie = arrived + (1 if _TF_AT_A_TIE == "right" else 0)  # a tf arrival at or before this is before the message
-    now = (ready_from < tie) & (tie <= ready_until)
-    passes = np.where((ready_from >= tie) & (ready_from < ready_until), ready_from, NEVER)
+    ready_from, ready_until = first.max(axis=0), last.min(axis=0)  # places, never equal to a message's
+    now = (ready_from < places) & (places < ready_until)
+    passes = np.where((ready_from > places) & (ready_from < ready_until), ready_from, NEVER)
     zero = stamps == 0
     if zero.any():
-        now[zero], passes[zero] = chain.latest(arrived[zero])
+        now[zero], passes[zero] = chain.latest(places[zero])
     dropped = chain.out_the_back(stamps, cache_time)
     fate = np.full(n, Fate.OLDER_THAN_CACHE, np.int8)
     fate[passes < dropped] = Fate.LATER
-    fate[dropped < tie] = Fate.TOO_OLD_ON_ARRIVAL
+    fate[dropped < places] = Fate.TOO_OLD_ON_ARRIVAL
     fate[now] = Fate.ON_ARRIVAL
-    ready = np.where(fate == Fate.LATER, passes, NEVER)
+    ready = np.where(fate == Fate.LATER, chain.time_of(passes), NEVER)
     ready[now] = arrived[now]
-    left = np.where(np.isin(fate, (Fate.ON_ARRIVAL, Fate.TOO_OLD_ON_ARRIVAL)), arrived, np.minimum(passes, dropped))
+    on_arrival = np.isin(fate, (Fate.ON_ARRIVAL, Fate.TOO_OLD_ON_ARRIVAL))
+    left_place = np.where(on_arrival, places, np.minimum(passes, dropped))
+    left = np.where(on_arrival, arrived, chain.time_of(left_place))
     # Still waiting when the recording ended: for newer tf (lost if its edge had stopped, undecided if it
     # was still publishing), or for nothing (the cache had dropped its stamp, lost).
     waiting = (left == NEVER) & (ready_from == NEVER)
@@ -382,13 +418,13 @@ def _judge(
     # started before the recording might have had that tf.
     fate[(fate == Fate.OLDER_THAN_CACHE) & (stamps < chain.began) & ~zero] = Fate.BEFORE_RECORDED_TF
     deciding = np.where(np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL)), dropped_by, waited_for)
-    newest = np.stack([e.newest_at(arrived) for e in edges])
+    newest = np.stack([e.newest_at(places) for e in edges])
     lag = np.maximum(stamps - newest[deciding, np.arange(n)], 0)
     lag[np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL, Fate.BEFORE_RECORDED_TF)) | zero] = 0
     keys = [e.key for e in edges]
     deciding_list, fate_list = deciding.tolist(), fate.tolist()
     limiting = [keys[i] if f != Fate.ON_ARRIVAL else None for i, f in zip(deciding_list, fate_list, strict=True)]
-    return fate, ready, left, lag, limiting
+    return fate, ready, left, left_place, lag, limiting
 
 
 def _at(values: Int64Array, index: IntpArray) -> Int64Array:
@@ -550,10 +586,13 @@ def pushed_out(fates: Fates, stream: StampedMessages, queue: int) -> BoolArray:
     out = np.zeros(len(stream), np.bool_)
     leaving: list[tuple[int, int]] = []  # (left, message) of the messages held
     held: dict[int, None] = {}  # message -> held, oldest first
+    placed = len(fates.left_place) == len(stream)  # else by time, a tf arrival at a message's instant first
+    arrivals = _message_places(stream, np.arange(len(stream))) if placed else stream.record_time
+    lefts = fates.left_place if placed else fates.left
     for i in np.argsort(stream.record_time, kind="stable").tolist():
         if not _entered(fates, i):
             continue
-        arrived = int(stream.record_time[i])
+        arrived = int(arrivals[i])
         while leaving and leaving[0][0] <= arrived:
             held.pop(heapq.heappop(leaving)[1], None)
         if len(held) + 1 > queue:
@@ -561,7 +600,7 @@ def pushed_out(fates: Fates, stream: StampedMessages, queue: int) -> BoolArray:
             del held[oldest]
             out[oldest] = True
         held[i] = None
-        heapq.heappush(leaving, (int(fates.left[i]), i))
+        heapq.heappush(leaving, (int(lefts[i]), i))
     return out
 
 

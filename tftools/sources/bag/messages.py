@@ -80,6 +80,9 @@ class MessageSet:
         self.count = 0
         self.headers_lost: list[str] = []  # once decoded: a line per topic whose headers were lost
         self.tf_messages: dict[str, tuple[int, int]] = {}  # once decoded: per tf topic, its messages and the empty
+        #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
+        #: play`` does): the positions of its messages, sorted, and each one's place in that order.
+        self.replayed: tuple[Int64Array, Int64Array] | None = None
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -252,10 +255,15 @@ class MessageSet:
         ``headers_lost``, one per topic whose headers were lost)."""
         self._decode_groups()
         times, positions, channel_of = (np.concatenate(column) for column in zip(*self._messages, strict=True))
-        rank = _rank(times, np.array([c.tie for c in self.channels], np.int64)[channel_of], positions)
+        ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
+        if self.replayed is not None:
+            ties = _placed(self.replayed, positions, ties)
+        rank = _rank(times, ties, positions)
         self.tf_messages = self._tf_messages(channel_of)
+        self._rows.settle()
+        rows_before = _rows_before(rank, self._rows.runs)
         batches = self._rows.batches(times, channel_of, rank)
-        clock, stamped = self._clock(times, channel_of, rank), self._stamped(times, channel_of, rank)
+        clock, stamped = self._clock(times, channel_of, rank), self._stamped(times, channel_of, rank, rows_before)
         self.whole = self._whole_messages(times, channel_of, rank)
         lines = self._problems(channel_of, rank)
         headed = {c.topic for c in self.channels if isinstance(c.codec, HeaderCodec)}
@@ -286,9 +294,11 @@ class MessageSet:
         topics = dict.fromkeys(topic_of.tolist())
         return merged_clock([ClockSamples(t, times[ids[topic_of == t]], values[topic_of == t]) for t in topics])
 
-    def _stamped(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[StampedMessages]:
+    def _stamped(
+        self, times: Int64Array, channel_of: Int32Array, rank: Int64Array, rows_before: _RowsBefore
+    ) -> list[StampedMessages]:
         """The headers read, per topic in record order (one for every topic read so, even without
-        any), their frames ids of every frame name of the file."""
+        any), their frames ids of every frame name of the file, and the transforms read before each."""
         headed = [c for c in self.channels if isinstance(c.codec, HeaderCodec)]
         none = np.zeros(0, np.int64)
         ids, stamps, frames = _in_record_order(self._headers or [(none, none, none.astype(np.int32))], rank)
@@ -297,7 +307,10 @@ class MessageSet:
         for topic, type_name in dict((c.topic, c.codec.type_name) for c in headed).items():
             mine = topic_of == topic
             names = self._rows.frames.names
-            streams.append(StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names))
+            before = rows_before(rank[ids[mine]])
+            streams.append(
+                StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names, before)
+            )
         return streams
 
     def _thin_whole(self) -> None:
@@ -398,6 +411,33 @@ def _in_record_order(parts: Sequence[tuple[Column, ...]], rank: Int64Array) -> l
     columns = [np.concatenate(column) for column in zip(*parts, strict=True)]
     order = np.argsort(rank[columns[0]], kind="stable")
     return [column[order] for column in columns]
+
+
+def _placed(replayed: tuple[Int64Array, Int64Array], positions: Int64Array, ties: Int64Array) -> Int64Array:
+    """Each message's place in the format's own order (``MessageSet.replayed``); ``ties`` unchanged where
+    a message is not in it."""
+    known, places = replayed
+    if not len(known):
+        return ties
+    at = np.minimum(np.searchsorted(known, positions), len(known) - 1)
+    return np.where(known[at] == positions, places[at], ties)
+
+
+_RowsBefore = Callable[[Int64Array], Int64Array]
+
+
+def _rows_before(rank: Int64Array, runs: Sequence[tuple[Int64Array, Int64Array]]) -> _RowsBefore:
+    """For messages of ``rank`` s, how many transforms (``Rows.runs``: messages, and their rows) come before
+    each in record order: its place among them."""
+    messages = np.concatenate([m for m, _ in runs]) if runs else np.zeros(0, np.int64)
+    counts = np.concatenate([c for _, c in runs]) if runs else np.zeros(0, np.int64)
+    order = np.argsort(rank[messages], kind="stable")
+    ranks, before = rank[messages][order], np.concatenate([[0], np.cumsum(counts[order])]).astype(np.int64)
+
+    def counted(of: Int64Array) -> Int64Array:
+        return before[np.searchsorted(ranks, of, side="left")]
+
+    return counted
 
 
 def _rank(times: Int64Array, ties: Int64Array, positions: Int64Array) -> Int64Array:

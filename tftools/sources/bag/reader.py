@@ -3,11 +3,14 @@ read whole or window after window."""
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import os
 from collections.abc import Sequence
 from contextlib import ExitStack
 from typing import Protocol
+
+import numpy as np
 
 from tftools.sources.bag.contents import (
     BagContents,
@@ -96,6 +99,8 @@ class BagReader:
             raise ValueError("BagReader.read outside its with block: the recording is not open")
         shares = in_turn(progress or _unreported, [opened.size for opened in self._files])
         reads = [opened.read(self.wanted, share, window) for share, opened in zip(shares, self._files, strict=True)]
+        if len(reads) > 1:
+            _placed_among_files(reads)
         streams = merged([stream for read in reads for stream in read.stamped])
         problems = [line for read in reads for line in read.stamped_problems]
         missing = sorted(set(self.wanted.headers or ()) - {stream.topic for stream in streams})
@@ -117,6 +122,23 @@ class BagReader:
         except BagError as e:
             raise e.said_of(location) if files.fetched() else e from None
         return _Opened(self._stack, files, opened)
+
+
+def _placed_among_files(reads: Sequence[FileRead]) -> None:
+    """Each file's stamped messages, placed among its own transforms (``StampedMessages.tf_before``),
+    placed among every file's as ``in_record_order`` merges them: after those of the files before it
+    recorded up to their time, and of the files after it recorded before it."""
+    times = [np.sort(np.concatenate([np.zeros(0, np.int64), *(b.record_time for b in r.batches)])) for r in reads]
+    for k, read in enumerate(reads):
+        placed = []
+        for stream in read.stamped:
+            before = stream.tf_before
+            if stream.ordered:
+                for j, others in enumerate(times):
+                    if j != k:
+                        before = before + np.searchsorted(others, stream.record_time, "right" if j < k else "left")
+            placed.append(dataclasses.replace(stream, tf_before=before))
+        read.stamped = placed
 
 
 def _unreported(_done: int, _total: int) -> None:

@@ -4,11 +4,13 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Literal
 
+from tftools.core.arrays import Int64Array
 from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.file import BagFile
-from tftools.sources.bag.ros1.index import BagIndex, read_index, read_indexed
+from tftools.sources.bag.ros1.index import BagIndex, read_index, read_indexed, replay_order
 from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.bag.ros1.salvage import read_unindexed
 from tftools.sources.bag.scan import FileRead, file_result
@@ -38,6 +40,9 @@ class Ros1File:
                 str(path), f"encrypted with {self.header.encryptor}; decrypt it with `rosbag decrypt` first"
             )
         self._index: BagIndex | str | None = None  # once read: the index, or what is wrong with it
+        #: Once the index is read: the order rosbag play replays ties of record time in (``replay_order``),
+        #: False where that is record time order.
+        self._replayed: tuple[Int64Array, Int64Array] | Literal[False] | None = None
 
     def read(self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None) -> FileRead:
         """The bag's transforms (see ``reader.BagReader.read``)."""
@@ -52,6 +57,12 @@ class Ros1File:
             if isinstance(self._index, str):
                 read_unindexed(bag, header, self._index)
             else:
+                if wanted.headers is not None:  # sensor data read with the tf: a MessageFilter's replay
+                    if self._replayed is None:
+                        for connection in self._index.connections:
+                            bag.connect(connection)
+                        self._replayed = replay_order(bag, self._index.infos) or False
+                    bag.scan.messages.replayed = self._replayed or None
                 read_indexed(bag, self._index, header.index_pos)
         else:
             read_unindexed(bag, header)

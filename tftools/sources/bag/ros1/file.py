@@ -87,6 +87,11 @@ class BagFile:
             if isinstance(codec, HeaderCodec):
                 self.headed.add(connection.id)
 
+    @property
+    def transform_connections(self) -> set[int]:
+        """The ids of the connections met whose messages are read for their transforms."""
+        return {c for c, channel in self.channels.items() if c not in self.headed and channel not in self._clocks}
+
     def add(self, data: bytes | memoryview, messages: Spans) -> BoolArray:
         """Keep the wanted ones of ``messages`` (their payloads copied out of ``data``); returns which."""
         channel = messages.looked_up(self.channels)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.arrays import BoolArray
+from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.time import NS_PER_S
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.chunks import in_chunk, locate, walk
@@ -34,6 +34,7 @@ from tftools.sources.bag.ros1.records import (
     read_chunk_info,
     read_connection,
 )
+from tftools.sources.bag.ros1.view import MAX_MESSAGES, view_order
 from tftools.sources.bag.spans import Spans, bounded
 from tftools.sources.bag.unpack import CompressionUnavailableError
 from tftools.sources.codecs.gather import distinct
@@ -114,6 +115,48 @@ def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
     if not bag.scan.messages.may_keep(info.start, info.end):
         return 0
     return sum(n for conn, n in info.counts.items() if conn in bag.channels)
+
+
+def replay_order(bag: BagFile, infos: list[ChunkInfo]) -> tuple[Int64Array, Int64Array] | None:
+    """The order ``rosbag play`` replays the bag in (``view_order``), as the positions (``Spans.position``)
+    of every message, sorted, and each one's place: None where no transform shares its record time with a
+    message of another connection (then record time order is that order for what is read), the bag has
+    more than ``MAX_MESSAGES`` or an index cannot be read. Its connections are met (``BagFile.connect``)."""
+    if not 0 < sum(sum(info.counts.values()) for info in infos) <= MAX_MESSAGES:
+        return None
+    indexes = []
+    for info in infos:
+        try:
+            index = _chunk_index(bag, _record(bag, info.pos, OP_CHUNK), info)
+        except DamageError:
+            return None
+        if index is None:
+            return None
+        indexes.append(index)
+    every = _indexed(indexes)
+    if not 0 < len(every) <= MAX_MESSAGES:
+        return None
+    order = np.argsort(every.time, kind="stable")  # rosbag's index: by time, then as the file lists them
+    time, conn = every.time[order], every.channel[order]
+    if not _transform_ties(time, conn, bag.transform_connections):
+        return None
+    connections = np.unique(conn)
+    places = view_order([time[conn == c] for c in connections.tolist()])
+    place = np.empty(len(order), np.int64)
+    for c, placed in zip(connections.tolist(), places, strict=True):
+        place[order[conn == c]] = placed
+    position = every.position
+    by_position = np.argsort(position, kind="stable")
+    return position[by_position], place[by_position]
+
+
+def _transform_ties(time: Int64Array, conn: Int64Array, transforms: set[int]) -> bool:
+    """Whether messages in record time order (``time``, of connections ``conn``) hold a transform (one of
+    the ``transforms`` connections) recorded at the same time as a message of another connection."""
+    firsts = np.flatnonzero(np.diff(time, prepend=time[0] - 1) != 0)
+    held = np.isin(conn, list(transforms)).astype(np.int8)
+    mixed = np.minimum.reduceat(conn, firsts) != np.maximum.reduceat(conn, firsts)
+    return bool((mixed & (np.maximum.reduceat(held, firsts) > 0)).any())
 
 
 def _record(bag: BagFile, pos: int, op: int) -> Record:
