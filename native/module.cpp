@@ -573,15 +573,73 @@ class BufferCore {
 
 thread_local BufferCore::LastFailure BufferCore::last_failure_;
 
-// BufferCore.lookup_frames as a plain C method bound to one core (`lookup_call`): called as
-// f(target_frame, source_frame, time), with the same casts and errors, without nanobind's dispatch
-// (which costs a tenth of a lookup: overloads, keywords, the instance's C++ object found by type).
-PyObject* lookup_frames_call(PyObject* core, PyObject* const* args, Py_ssize_t n) noexcept {
+// Buffer.lookup and Buffer.can_transform, methods in C (the module's `buffer_lookup`, `buffer_can_transform`,
+// which Buffer's class takes): called as any method, (target_frame, source_frame, time=0), keywords too,
+// without a Python frame or the binding's dispatch (argument matching, overloads, the instance found by
+// type: together a tenth of a lookup). Each finds the buffer's core as its `_core`; a lookup the walk does
+// not answer goes to Python, `_lookup_by_ids` (which words tf2's error from this walk's failure).
+struct MethodNames {
+    PyObject *core, *by_ids, *target_frame, *source_frame, *time;
+};
+MethodNames method_names;  // interned at the module's load
+PyTypeObject* core_type = nullptr;
+
+// A method's (target_frame, source_frame, time=0) from a vectorcall's arguments, into `out`; false with
+// Python's TypeError set where they do not match.
+bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, PyObject* kwnames,
+                     PyObject* (&out)[3], int64_t& time) {
+    out[0] = out[1] = out[2] = nullptr;
+    if (n > 3) {
+        PyErr_Format(PyExc_TypeError, "%s() takes from 2 to 3 positional arguments but %zd were given", method, n);
+        return false;
+    }
+    for (Py_ssize_t i = 0; i < n; ++i) out[i] = args[i];
+    const Py_ssize_t keywords = kwnames == nullptr ? 0 : PyTuple_GET_SIZE(kwnames);
+    PyObject* const names[3] = {method_names.target_frame, method_names.source_frame, method_names.time};
+    for (Py_ssize_t k = 0; k < keywords; ++k) {
+        PyObject* key = PyTuple_GET_ITEM(kwnames, k);
+        int which = 0;
+        while (which < 3 && PyUnicode_Compare(key, names[which]) != 0) ++which;
+        if (which == 3) {
+            PyErr_Format(PyExc_TypeError, "%s() got an unexpected keyword argument '%U'", method, key);
+            return false;
+        }
+        if (out[which] != nullptr) {
+            PyErr_Format(PyExc_TypeError, "%s() got multiple values for argument '%U'", method, key);
+            return false;
+        }
+        out[which] = args[n + k];
+    }
+    for (int which = 0; which < 2; ++which) {
+        if (out[which] == nullptr) {
+            PyErr_Format(PyExc_TypeError, "%s() missing required argument '%U'", method, names[which]);
+            return false;
+        }
+    }
+    time = 0;
+    if (out[2] != nullptr && !nb::try_cast(nb::handle(out[2]), time)) {
+        PyErr_Format(PyExc_TypeError, "%s(): time must be an int (nanoseconds), not %s", method,
+                     Py_TYPE(out[2])->tp_name);
+        return false;
+    }
+    return true;
+}
+
+// The core of `buffer` (its `_core`), or null with the error set.
+BufferCore* core_of(PyObject* buffer, nb::object& held) {
+    held = nb::steal(PyObject_GetAttr(buffer, method_names.core));
+    if (!held.is_valid()) return nullptr;
+    if (Py_TYPE(held.ptr()) != core_type) {
+        PyErr_SetString(PyExc_TypeError, "a Buffer's _core must be a BufferCore");
+        return nullptr;
+    }
+    return nb::inst_ptr<BufferCore>(held);
+}
+
+// The C++ exceptions of a call as Python's.
+void raised() noexcept {
     try {
-        if (n != 3) throw nb::type_error("lookup_frames(target_frame, source_frame, time): 3 arguments");
-        int64_t time = 0;
-        if (!nb::try_cast(nb::handle(args[2]), time)) throw nb::type_error("lookup_frames: time must be an int");
-        return nb::inst_ptr<BufferCore>(core)->lookup_frames(args[0], args[1], time).release().ptr();
+        throw;
     } catch (nb::python_error& e) {
         e.restore();
     } catch (const nb::builtin_exception& e) {
@@ -589,11 +647,57 @@ PyObject* lookup_frames_call(PyObject* core, PyObject* const* args, Py_ssize_t n
     } catch (const std::exception& e) {
         PyErr_SetString(PyExc_RuntimeError, e.what());
     }
+}
+
+PyObject* buffer_lookup(PyObject* buffer, PyObject* const* args, Py_ssize_t n, PyObject* kwnames) noexcept {
+    try {
+        PyObject* given[3];
+        int64_t time = 0;
+        nb::object held;
+        if (!frames_and_time("lookup", args, n, kwnames, given, time)) return nullptr;
+        BufferCore* core = core_of(buffer, held);
+        if (core == nullptr) return nullptr;
+        nb::object found = core->lookup_frames(given[0], given[1], time);
+        if (!found.is_none()) return found.release().ptr();
+        PyObject* call[4] = {buffer, given[0], given[1], nullptr};
+        const nb::object at = nb::int_(time);
+        call[3] = at.ptr();
+        return PyObject_VectorcallMethod(method_names.by_ids, call, 4, nullptr);
+    } catch (...) {
+        raised();
+    }
     return nullptr;
 }
 
-PyMethodDef lookup_frames_def = {"lookup_frames", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(lookup_frames_call)),
-                                 METH_FASTCALL, "BufferCore.lookup_frames, bound to its core."};
+PyObject* buffer_can_transform(PyObject* buffer, PyObject* const* args, Py_ssize_t n, PyObject* kwnames) noexcept {
+    try {
+        PyObject* given[3];
+        int64_t time = 0;
+        nb::object held;
+        if (!frames_and_time("can_transform", args, n, kwnames, given, time)) return nullptr;
+        BufferCore* core = core_of(buffer, held);
+        if (core == nullptr) return nullptr;
+        return Py_NewRef(core->can_transform_frames(given[0], given[1], time) ? Py_True : Py_False);
+    } catch (...) {
+        raised();
+    }
+    return nullptr;
+}
+
+PyCFunction fastcall(PyObject* (*f)(PyObject*, PyObject* const*, Py_ssize_t, PyObject*)) {
+    return reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(f));
+}
+
+PyMethodDef buffer_lookup_def = {
+    "lookup", fastcall(buffer_lookup), METH_FASTCALL | METH_KEYWORDS,
+    "lookup($self, target_frame, source_frame, time=0)\n--\n\n"
+    "The transform taking ``source_frame`` data into ``target_frame`` at ``time`` (ns).\n\n"
+    "Time 0 means the latest time all edges of the chain share. Raises tf2's errors with tf2's messages:\n"
+    "``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``, ``InvalidArgumentError``."};
+PyMethodDef buffer_can_transform_def = {
+    "can_transform", fastcall(buffer_can_transform), METH_FASTCALL | METH_KEYWORDS,
+    "can_transform($self, target_frame, source_frame, time=0)\n--\n\n"
+    "Whether ``lookup`` would succeed (tf2's ``canTransform``)."};
 
 }  // namespace
 
@@ -683,8 +787,6 @@ NB_MODULE(_kernels, m) {
         .def("state", &BufferCore::state)
         .def("restore", &BufferCore::restore, "state"_a)
         .def("lookup_frames", &BufferCore::lookup_frames, "target_frame"_a, "source_frame"_a, "time"_a)
-        .def_prop_ro("lookup_call",
-                     [](nb::handle core) { return nb::steal(PyCFunction_New(&lookup_frames_def, core.ptr())); })
         .def("can_transform_frames", &BufferCore::can_transform_frames, "target_frame"_a, "source_frame"_a, "time"_a)
         .def("last_failure", &BufferCore::last_failure, "target"_a, "source"_a, "time"_a)
         .def("lookup", &BufferCore::lookup, "target"_a, "source"_a, "time"_a, "raw"_a = false)
@@ -696,6 +798,13 @@ NB_MODULE(_kernels, m) {
         .def("lookup_in_parallel", &BufferCore::lookup_in_parallel, "target"_a, "source"_a, "times"_a, "stamps"_a,
              "values"_a, "valid"_a, "threads"_a)
         .def("chain_takes", &BufferCore::chain_takes, "target"_a, "source"_a, "times"_a);
+    core_type = reinterpret_cast<PyTypeObject*>(nb::type<BufferCore>().ptr());
+    method_names = {PyUnicode_InternFromString("_core"), PyUnicode_InternFromString("_lookup_by_ids"),
+                    PyUnicode_InternFromString("target_frame"), PyUnicode_InternFromString("source_frame"),
+                    PyUnicode_InternFromString("time")};
+    // Descriptors of methods of any object (a Buffer's class takes them as its own).
+    m.attr("buffer_lookup") = nb::steal(PyDescr_NewMethod(&PyBaseObject_Type, &buffer_lookup_def));
+    m.attr("buffer_can_transform") = nb::steal(PyDescr_NewMethod(&PyBaseObject_Type, &buffer_can_transform_def));
 
     m.def(
         "through_matrix",

@@ -1,8 +1,8 @@
 """The compiled core (native/module.cpp): the buffer's state (native/core.hpp), tf2's rules for each sample
 (native/insert.hpp) and tf2's walk over the histories (native/walk.hpp)."""
 
-from collections.abc import Callable
 from types import TracebackType
+from typing import Any
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
@@ -39,6 +39,13 @@ REFUSALS: tuple[str, ...]
 def through_matrix(rotations: FloatArray) -> None:
     """Rotations (N, 4, x y z w), in place, as ROS 2's tf2 holds and returns them: through a
     ``tf2::Transform``'s basis (``Matrix3x3::setRotation``, then ``getRotation``)."""
+
+def buffer_lookup(self: Any, target_frame: str, source_frame: str, time: int = 0) -> Transform:
+    """``Buffer.lookup``, a method in C: its core's (``self._core``) ``lookup_frames`` where the walk
+    answers, else ``self._lookup_by_ids(target_frame, source_frame, time)``."""
+
+def buffer_can_transform(self: Any, target_frame: str, source_frame: str, time: int = 0) -> bool:
+    """``Buffer.can_transform``, a method in C: its core's ``can_transform_frames``."""
 
 class EdgeHistory:
     """The samples of one child frame, read-only: views of the columns the buffer's core owns (each keeps
@@ -191,11 +198,6 @@ class BufferCore:
     def lookup_frames(self, target_frame: str, source_frame: str, time: int) -> Transform | None:
         """``Buffer.lookup`` of two different known plain frames where tf2 succeeds; None otherwise
         (``last_failure`` then says why the walk failed, where it walked)."""
-
-    @property
-    def lookup_call(self) -> Callable[[str, str, int], Transform | None]:
-        """``lookup_frames``, bound to this core as a plain C function: called without the binding's
-        dispatch (its arguments all positional)."""
 
     def last_failure(self, target: int, source: int, time: int) -> Failure | None:
         """Why this thread's last ``lookup_frames`` failed, if it walked from ``source`` to ``target``

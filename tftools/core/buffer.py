@@ -14,7 +14,7 @@ import numpy.typing as npt
 
 from tftools.core import history as _history
 from tftools.core import walk
-from tftools.core._kernels import BufferCore, BufferLock
+from tftools.core._kernels import BufferCore, BufferLock, buffer_can_transform, buffer_lookup
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
@@ -147,7 +147,7 @@ class Buffer:
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        for derived in ("_lock", "_lookup_frames", "rejections"):
+        for derived in ("_lock", "rejections"):
             del state[derived]
         with self._lock:
             # The core's state as plain values (its histories' columns as arrays), rebuilt where the copy is used.
@@ -166,8 +166,6 @@ class Buffer:
         """``core`` made this buffer's state, and what is read of it."""
         self._core = core
         self._lock = core.lock
-        #: ``self._core.lookup_frames``, called as a plain C function (no binding's dispatch).
-        self._lookup_frames = core.lookup_call
         #: What tf2 refused (``RejectionLog``: a sequence of ``Rejection`` s, the core's columns; a
         #: live buffer keeps about the latest ``LIVE_REJECTIONS_KEPT``, and counts every one in ``total``).
         self.rejections = RejectionLog(core, self.semantics)
@@ -265,15 +263,12 @@ class Buffer:
 
     # --- lookups -----------------------------------------------------------------------------
 
-    def lookup(self, target_frame: str, source_frame: str, time: int = 0) -> Transform:
-        """The transform taking ``source_frame`` data into ``target_frame`` at ``time`` (ns).
-
-        Time 0 means the latest time all edges of the chain share. Raises tf2's errors with
-        tf2's messages: ``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``,
-        ``InvalidArgumentError``.
-        """
-        found = self._lookup_frames(target_frame, source_frame, time)
-        return found if found is not None else self._lookup_by_ids(target_frame, source_frame, time)
+    #: ``lookup(target_frame, source_frame, time=0)``: the transform taking ``source_frame`` data into
+    #: ``target_frame`` at ``time`` (ns); time 0 means the latest time all edges of the chain share. Raises
+    #: tf2's errors with tf2's messages: ``UnknownFrameError``, ``ConnectivityError``,
+    #: ``ExtrapolationError``, ``InvalidArgumentError``. A method in C (the core's ``lookup_frames``
+    #: without a Python frame); where the walk does not answer, ``_lookup_by_ids``.
+    lookup = buffer_lookup
 
     @_locked
     def _lookup_by_ids(self, target_frame: str, source_frame: str, time: int, raw: bool = False) -> Transform:
@@ -306,9 +301,9 @@ class Buffer:
         composed = fixed_in_target * source_in_fixed
         return Transform(composed.translation, composed.rotation, fixed_in_target.stamp, target_frame, source_frame)
 
-    def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
-        """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
-        return self._core.can_transform_frames(target_frame, source_frame, time)
+    #: ``can_transform(target_frame, source_frame, time=0)``: whether ``lookup`` would succeed (tf2's
+    #: ``canTransform``). A method in C, as ``lookup``.
+    can_transform = buffer_can_transform
 
     def can_transform_full(
         self, target_frame: str, target_time: int, source_frame: str, source_time: int, fixed_frame: str
