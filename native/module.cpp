@@ -643,7 +643,10 @@ void raised() noexcept {
     } catch (nb::python_error& e) {
         e.restore();
     } catch (const nb::builtin_exception& e) {
-        PyErr_SetString(e.type() == nb::exception_type::type_error ? PyExc_TypeError : PyExc_ValueError, e.what());
+        PyObject* kind = e.type() == nb::exception_type::type_error      ? PyExc_TypeError
+                         : e.type() == nb::exception_type::runtime_error ? PyExc_RuntimeError
+                                                                         : PyExc_ValueError;
+        PyErr_SetString(kind, e.what());
     } catch (const std::exception& e) {
         PyErr_SetString(PyExc_RuntimeError, e.what());
     }
@@ -683,6 +686,37 @@ PyObject* buffer_can_transform(PyObject* buffer, PyObject* const* args, Py_ssize
     }
     return nullptr;
 }
+
+// The buffer's lock taken and let go in `with` (and acquire, release) as plain C methods: `with` looks
+// them up on every entry, and the binding's dispatch cost as much as a failed lookup's walk.
+PyObject* lock_acquire(PyObject* lock, PyObject*) noexcept {
+    try {
+        nb::inst_ptr<Lock>(lock)->acquire();
+        return Py_NewRef(Py_True);
+    } catch (...) {
+        raised();
+    }
+    return nullptr;
+}
+
+PyObject* lock_release(PyObject* lock, PyObject* const*, Py_ssize_t) noexcept {
+    try {
+        nb::inst_ptr<Lock>(lock)->release();
+        return Py_NewRef(Py_None);
+    } catch (...) {
+        raised();
+    }
+    return nullptr;
+}
+
+PyMethodDef lock_methods[] = {
+    {"acquire", lock_acquire, METH_NOARGS, "acquire($self, /)\n--\n\nTaken by this thread (again, if it holds it)."},
+    {"__enter__", lock_acquire, METH_NOARGS, "__enter__($self, /)\n--\n\n``acquire``."},
+    {"release", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(lock_release)), METH_FASTCALL,
+     "release($self, /)\n--\n\nLet go once; RuntimeError where this thread does not hold it."},
+    {"__exit__", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(lock_release)), METH_FASTCALL,
+     "__exit__($self, kind, error, traceback, /)\n--\n\n``release``."},
+};
 
 PyCFunction fastcall(PyObject* (*f)(PyObject*, PyObject* const*, Py_ssize_t, PyObject*)) {
     return reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(f));
@@ -752,14 +786,14 @@ NB_MODULE(_kernels, m) {
             return parent < 0 ? std::nullopt : std::optional<int64_t>(parent);
         }, "time"_a);
 
-    nb::class_<Lock>(m, "BufferLock")
-        .def("acquire", [](Lock& l) { l.acquire(); return true; })
-        .def("release", &Lock::release)
-        .def("__enter__", [](Lock& l) { l.acquire(); return true; })
-        .def("__exit__", [](Lock& l, nb::args) { l.release(); })
-        .def("wait", &Lock::wait, "timeout"_a)
-        .def("notify_all", &Lock::notify_all)
-        .def("owned", &Lock::owned);
+    auto lock_class = nb::class_<Lock>(m, "BufferLock")
+                          .def("wait", &Lock::wait, "timeout"_a)
+                          .def("notify_all", &Lock::notify_all)
+                          .def("owned", &Lock::owned);
+    for (PyMethodDef& method : lock_methods) {
+        auto* type = reinterpret_cast<PyTypeObject*>(lock_class.ptr());
+        nb::setattr(lock_class, method.ml_name, nb::steal(PyDescr_NewMethod(type, &method)));
+    }
 
     nb::class_<BufferCore>(m, "BufferCore")
         .def(nb::init<nb::handle, std::optional<int64_t>, bool, double, int64_t>(), "answer"_a, "cache_time"_a.none(),
