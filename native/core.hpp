@@ -173,6 +173,62 @@ class Room {
     bool small_pages_ = false;
 };
 
+// A column that grows at its end and is cut at its front (a log that keeps its latest rows): the rows a
+// numpy view shows never change (a cut or a growth moves the rows on to new memory; an append writes past
+// every view's end), and each view holds the memory it shows.
+template <typename T, int64_t WIDTH = 1>
+class Tail {
+   public:
+    int64_t size() const { return end_ - start_; }
+    const T* data() const { return static_cast<const T*>(memory_.get()) + WIDTH * start_; }
+    const std::shared_ptr<void>& memory() const { return memory_; }
+
+    void push(const T* row) {
+        if (end_ == capacity_) move_to(2 * size() + 64);
+        std::copy(row, row + WIDTH, static_cast<T*>(memory_.get()) + WIDTH * end_++);
+    }
+    void push(T value) { push(&value); }
+
+    // Only the latest `rows` kept.
+    void keep_last(int64_t rows) {
+        if (size() > rows) start_ = end_ - rows;
+    }
+
+   private:
+    void move_to(int64_t capacity) {
+        auto* moved = new T[WIDTH * capacity];
+        std::copy(data(), data() + WIDTH * size(), moved);
+        memory_ = std::shared_ptr<void>(moved, [](void* p) { delete[] static_cast<T*>(p); });
+        end_ = size(), start_ = 0, capacity_ = capacity;
+    }
+
+    std::shared_ptr<void> memory_;
+    int64_t start_ = 0, end_ = 0, capacity_ = 0;
+};
+
+// A live buffer (a finite cache time) keeps its latest this many refusals and duplicates (about: up to
+// twice as many); a whole recording's keeps every one. Every refusal is counted.
+constexpr int64_t LIVE_REJECTIONS_KEPT = 10000;
+
+// What tf2 refused (rejection.RejectionLog reads it), a row per refusal, in the order refused: the
+// code (tfinsert::Refusal), the frames as tf2 names them (ids into `frames`: a refused sample's frames
+// are not interned in the buffer's, as tf2 interns none), stamp, publisher (the buffer's id), record
+// time, arrival number, the 7 values as sent and the flags a history would have given the row.
+struct Refusals {
+    Tail<uint8_t> code, flags;
+    Tail<int32_t> parent, child, authority;
+    Tail<int64_t> stamp, record_time, sequence;
+    Tail<double, 7> values;
+    Names frames;
+    int64_t total = 0;  // every refusal, kept or not
+
+    void keep_last(int64_t rows) {
+        code.keep_last(rows), flags.keep_last(rows), parent.keep_last(rows), child.keep_last(rows);
+        authority.keep_last(rows), stamp.keep_last(rows), record_time.keep_last(rows), sequence.keep_last(rows);
+        values.keep_last(rows);
+    }
+};
+
 // A frame name as tf2 keys it as given: not empty, without a leading slash.
 inline bool plain(std::string_view name) { return !name.empty() && name[0] != '/'; }
 
@@ -313,6 +369,8 @@ class Core {
     Names frames{{"NO_PARENT"}};  // tf2's ids, from 1: 0 is no parent
     Names publishers;
     int64_t arrivals = 0;  // samples offered so far, stored or refused: the next one's sequence number
+    Refusals refusals;      // what tf2 refused
+    Tail<int64_t> duplicates;  // arrival numbers of samples ROS 2's tf2 took without storing (identical to one held)
 
     // Frame `frame`'s history (null: a root, or a frame not known).
     const std::shared_ptr<Store>& store(int64_t frame) const {
@@ -393,6 +451,7 @@ class Core {
     }
 
     int64_t store(int32_t frame, std::string_view name, const Rows& r, const int64_t* rows, int64_t k, Inserted& out);
+    void log(const Batch& b, const Inserted& out, const std::vector<uint8_t>& slash, int64_t first);
     void append(int32_t frame, const Rows& r, const int64_t* rows, const std::vector<uint8_t>& verdicts);
 
     Settings settings_;
@@ -632,7 +691,42 @@ inline Inserted Core::insert(const Batch& b) {
         }
     }
     if (expected_.empty()) room_.reset();
+    log(b, out, slash, first);
     return out;
+}
+
+// The batch's refused rows (`out`'s, in the order refused) into `refusals`, its duplicates into
+// `duplicates`; a live buffer keeps the latest of each.
+inline void Core::log(const Batch& b, const Inserted& out, const std::vector<uint8_t>& slash, int64_t first) {
+    std::vector<int32_t> logged(b.names.size(), -1);  // a batch name's id in the log's frames
+    const auto frame = [&](int32_t j) {
+        if (logged[j] < 0) logged[j] = refusals.frames.intern(b.names[j].substr(slash[j]));
+        return logged[j];
+    };
+    Refusals& r = refusals;
+    for (size_t group = 0; group < out.codes.size(); ++group) {
+        for (int64_t k = out.bounds[group]; k < out.bounds[group + 1]; ++k) {
+            const int64_t row = out.refused[k];
+            const int32_t parent = b.parent[row], child = b.child[row];
+            r.code.push(out.codes[group]);
+            r.parent.push(frame(parent));
+            r.child.push(frame(child));
+            r.stamp.push(b.stamp[row]);
+            r.authority.push(out.authority_ids[b.authority[row]]);
+            r.record_time.push(b.record_time[row]);
+            r.sequence.push(first + row);
+            r.values.push(tfinsert::values_of(b.translation, b.rotation, row).v);
+            r.flags.push(static_cast<uint8_t>((b.is_static[row] ? FROM_STATIC_TOPIC : 0) |
+                                              (slash[parent] ? PARENT_HAD_SLASH : 0) |
+                                              (slash[child] ? CHILD_HAD_SLASH : 0)));
+        }
+    }
+    r.total += static_cast<int64_t>(out.refused.size());
+    for (const int64_t row : out.duplicates) duplicates.push(first + row);
+    if (settings_.cache_time) {
+        if (r.code.size() > 2 * LIVE_REJECTIONS_KEPT) r.keep_last(LIVE_REJECTIONS_KEPT);
+        if (duplicates.size() > 2 * LIVE_REJECTIONS_KEPT) duplicates.keep_last(LIVE_REJECTIONS_KEPT);
+    }
 }
 
 }  // namespace tfbuffer

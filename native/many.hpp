@@ -4,11 +4,12 @@
 // so times in another order are put in order first: a counting sort of each time into one of
 // about n / TIMES_PER_BUCKET buckets of equal span, then a sort of each bucket (a few times each, in the cache).
 // That is linear where an argsort is not, and leaves each row's place with its time. The buckets
-// are then cut into one span per thread, each thread sorting its own buckets and walking their
-// times a cache-sized chunk at a time. The answers do not depend on the order (the same operations at each time).
+// are then cut into pieces, several per thread, each thread taking the next piece left, sorting its
+// buckets and walking their times a cache-sized chunk at a time. The answers do not depend on the order (the same operations at each time).
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <memory>
 #include <numeric>
 #include <thread>
@@ -157,6 +158,11 @@ class Chunks {
     int64_t held_ = 0;
 };
 
+// Pieces of the walk per thread, taken by whichever thread is free: on a busy machine a thread the system
+// does not run leaves its share to the others (with one fixed share each, the batch waited for the
+// slowest thread).
+constexpr int PIECES_PER_THREAD = 16;
+
 // lookup_many at times[0..n), in any order, each answer into its row (k-th time, k-th row), on
 // `threads` threads (this one among them).
 inline void lookup_any_order(const Histories& histories, int64_t target, int64_t source, const int64_t* times,
@@ -165,29 +171,33 @@ inline void lookup_any_order(const Histories& histories, int64_t target, int64_t
     int64_t common = 0;
     latest_common_time(histories, target, source, common);
     out.filled = true;
-    std::vector<int64_t> bounds(threads + 1, n);  // thread t walks times[bounds[t]:bounds[t + 1]] in order
+    const int pieces = threads > 1 ? threads * PIECES_PER_THREAD : 1;
+    std::vector<int64_t> bounds(pieces + 1, n);  // piece p: times[bounds[p]:bounds[p + 1]], walked in order
     const bool ascending = std::is_sorted(times, times + n);
     std::unique_ptr<uint64_t[]> keys;  // each time's key, by bucket
     Buckets buckets;
     if (ascending) {
-        for (int t = 0; t < threads; ++t) bounds[t] = n * t / threads;
+        for (int p = 0; p < pieces; ++p) bounds[p] = n * p / pieces;
     } else {
         keys.reset(new uint64_t[n]);
         buckets = bucket(times, n, keys.get(), static_cast<int>(std::min<int64_t>(threads, n)), out, common);
         const std::vector<int64_t>& starts = buckets.starts;
-        size_t at = 0;  // each thread's first bucket: where its share of the times begins
-        for (int t = 0; t < threads; ++t) {
-            while (starts[at] < n * t / threads) ++at;
-            bounds[t] = starts[at];
+        size_t at = 0;  // each piece's first bucket: where its times begin
+        for (int p = 0; p < pieces; ++p) {
+            while (starts[at] < n * p / pieces) ++at;
+            bounds[p] = starts[at];
         }
     }
-    const auto run = [&](int t) {
-        const int64_t lo = bounds[t], hi = bounds[t + 1];
+    std::atomic<int> taken{0};
+    const auto run = [&](int) {
         Chunks chunks(histories, target, source, out);
-        if (ascending) {
-            fill(out, times, lo, hi, common);
-            for (int64_t k = lo; k < hi; ++k) chunks.add(times[k], k);
-        } else {
+        for (int p = taken.fetch_add(1); p < pieces; p = taken.fetch_add(1)) {
+            const int64_t lo = bounds[p], hi = bounds[p + 1];
+            if (ascending) {
+                fill(out, times, lo, hi, common);
+                for (int64_t k = lo; k < hi; ++k) chunks.add(times[k], k);
+                continue;
+            }
             const std::vector<int64_t>& starts = buckets.starts;
             uint64_t room[RANKED];
             for (auto s = std::lower_bound(starts.begin(), starts.end(), lo); s + 1 < starts.end() && *s < hi; ++s) {

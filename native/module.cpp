@@ -9,8 +9,6 @@
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
-#include <structmember.h>
-
 #include <cstdlib>
 #include <initializer_list>
 #include <optional>
@@ -20,6 +18,7 @@
 #include <utility>
 
 #include "core.hpp"
+#include "lock.hpp"
 #include "many.hpp"
 #include "python.hpp"
 
@@ -115,11 +114,9 @@ struct Names {
 // The buffer's state (tfbuffer::Core) as Buffer calls it: see _kernels.pyi.
 class BufferCore {
    public:
-    BufferCore(nb::object lock, nb::handle answer, std::optional<int64_t> cache_time, bool ros2, double tolerance,
+    BufferCore(nb::handle answer, std::optional<int64_t> cache_time, bool ros2, double tolerance,
                int64_t large_pages_up_to)
-        : core(tfbuffer::Settings{cache_time, ros2, tolerance, large_pages_up_to}),
-          lock_(std::move(lock)),
-          lock_methods_(lock_) {
+        : core(tfbuffer::Settings{cache_time, ros2, tolerance, large_pages_up_to}), lock(std::make_shared<Lock>()) {
         if (!PyType_Check(answer.ptr())) throw nb::type_error("BufferCore: answer must be a type");
         answer_ = nb::borrow(answer);
         const nb::object slots = nb::getattr(answer, "__dict__");
@@ -127,21 +124,21 @@ class BufferCore {
                                    &names_.child_frame_id};
         for (int i = 0; i < 5; ++i) {
             fields_[i] = slots[*fields[i]];
-            if (Py_TYPE(fields_[i].ptr()) != &PyMemberDescr_Type ||
-                reinterpret_cast<PyMemberDescrObject*>(fields_[i].ptr())->d_member->type != T_OBJECT_EX) {
-                throw nb::type_error("BufferCore: answer's fields must be slots");
+            const PyTypeObject* kind = Py_TYPE(fields_[i].ptr());
+            if (kind->tp_descr_get == nullptr || kind->tp_descr_set == nullptr) {
+                throw nb::type_error("BufferCore: answer's fields must be data descriptors (slots)");
             }
-            offsets_[i] = reinterpret_cast<PyMemberDescrObject*>(fields_[i].ptr())->d_member->offset;
         }
     }
 
     tfbuffer::Core core;
+    std::shared_ptr<Lock> lock;  // the buffer's (Buffer.lock), held by every change of `core`
 
     // --- insertion ---------------------------------------------------------------------------
 
     // Buffer.set_transform's common case (Core::insert_common), under the buffer's lock.
     bool set_transform(nb::handle transform, nb::handle authority, nb::handle is_static, nb::handle record_time) {
-        const Locked locked(lock_, lock_methods_);
+        const Locked locked(*lock);
         const nb::object child = field(transform, CHILD_FRAME_ID, names_.child_frame_id);
         const nb::object parent = field(transform, FRAME_ID, names_.frame_id);
         const nb::object translation = field(transform, TRANSLATION, names_.translation);
@@ -165,11 +162,13 @@ class BufferCore {
         }
         const int32_t parent_id = remembered(parent, PARENT), child_id = remembered(child, CHILD);
         const int32_t publisher = remembered(authority, PUBLISHER);
-        return core.insert_common(parent_id, child_id, stamp, v, wanted_static, recorded, publisher);
+        if (!core.insert_common(parent_id, child_id, stamp, v, wanted_static, recorded, publisher)) return false;
+        lock->notify_all();
+        return true;
     }
 
-    // Buffer.insert's work in one call: see _kernels.pyi.
-    nb::tuple insert(nb::handle batch) {
+    // Buffer.insert's work in one call, under the lock, its waiters woken: see _kernels.pyi.
+    int64_t insert(nb::handle batch) {
         const nb::object names = nb::getattr(batch, names_.frame_names), authorities = nb::getattr(batch, names_.authorities);
         tfbuffer::Batch b;
         b.names = texts(names);
@@ -190,10 +189,29 @@ class BufferCore {
         b.parent = parent.data(), b.child = child.data(), b.authority = authority.data();
         b.stamp = stamp.data(), b.record_time = record_time.data();
         b.translation = translation.data(), b.rotation = rotation.data(), b.is_static = is_static.data();
-        tfbuffer::Inserted out = core.insert(b);
-        return nb::make_tuple(out.accepted, to_numpy(std::move(out.refused)), to_numpy(std::move(out.codes)),
-                              to_numpy(std::move(out.bounds)), to_numpy(std::move(out.duplicates)),
-                              to_numpy(std::move(out.authority_ids)));
+        const Locked locked(*lock);
+        const int64_t accepted = core.insert(b).accepted;
+        lock->notify_all();
+        return accepted;
+    }
+
+    void reserve(const std::vector<std::pair<std::string, int64_t>>& rows) {
+        const Locked locked(*lock);
+        core.reserve(rows);
+    }
+
+    void clear() {
+        const Locked locked(*lock);
+        core.clear();
+        lock->notify_all();
+    }
+
+    // The refusal log's columns (rejection.RejectionLog's), viewed: code, parent, child, stamp,
+    // authority, record time, sequence, values (N, 7), flags.
+    nb::tuple refusals() const {
+        const tfbuffer::Refusals& r = core.refusals;
+        return nb::make_tuple(tail(r.code), tail(r.parent), tail(r.child), tail(r.stamp), tail(r.authority),
+                              tail(r.record_time), tail(r.sequence), tail(r.values), tail(r.flags));
     }
 
     // --- the frames, the publishers, the histories -------------------------------------------
@@ -215,7 +233,9 @@ class BufferCore {
         std::vector<std::pair<std::string, int64_t>> expected(core.expected().begin(), core.expected().end());
         std::vector<std::string> frames = frame_names();
         frames.erase(frames.begin());
-        return nb::make_tuple(frames, publisher_names(), core.arrivals, core.broadcasters(), expected, histories);
+        const tfbuffer::Refusals& r = core.refusals;
+        const nb::tuple log = nb::make_tuple(all(r.frames), r.total, refusals(), tail(core.duplicates));
+        return nb::make_tuple(frames, publisher_names(), core.arrivals, core.broadcasters(), expected, histories, log);
     }
 
     // A new buffer's state made `state()`'s.
@@ -233,6 +253,7 @@ class BufferCore {
             core.restore(static_cast<int32_t>(frame), from_chain(nb::cast<nb::list>(histories[frame])),
                          broadcasters.at(frame));
         }
+        restore_log(nb::cast<nb::tuple>(state[6]));
     }
 
     // --- lookups -----------------------------------------------------------------------------
@@ -243,7 +264,7 @@ class BufferCore {
     nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
         last_failure_.walked = false;
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
-        const ReadLocked locked(lock_, lock_methods_);
+        const ReadLocked locked(*lock);
         const int64_t target = remembered_id(target_frame, TARGET), source = remembered_id(source_frame, SOURCE);
         if (target <= 0 || source <= 0 || target == source) return nb::none();
         tfcore::Pose p;
@@ -271,7 +292,7 @@ class BufferCore {
         // tf2's validateFrameId: a name with a leading slash (a frame published as "//b" is
         // stored as "/b") is refused, as lookup refuses it.
         if (!plain_name(target_frame) || !plain_name(source_frame)) return false;
-        const ReadLocked locked(lock_, lock_methods_);
+        const ReadLocked locked(*lock);
         const int64_t target = remembered_id(target_frame, TARGET), source = remembered_id(source_frame, SOURCE);
         return target > 0 && source > 0 && can_transform(target, source, time);
     }
@@ -364,6 +385,33 @@ class BufferCore {
     }
 
    private:
+    // The refusal log and the duplicates of state()'s `log` into this new core's.
+    void restore_log(const nb::tuple& log) {
+        tfbuffer::Refusals& r = core.refusals;
+        for (const nb::handle name : nb::cast<nb::list>(log[0])) r.frames.intern(nb::cast<std::string>(name));
+        r.total = nb::cast<int64_t>(log[1]);
+        const auto c = nb::cast<nb::tuple>(log[2]);
+        const auto code = nb::cast<Column<const uint8_t>>(c[0]), flags = nb::cast<Column<const uint8_t>>(c[8]);
+        const auto parent = nb::cast<Column<const int32_t>>(c[1]), child = nb::cast<Column<const int32_t>>(c[2]);
+        const auto stamp = nb::cast<Column<const int64_t>>(c[3]), record_time = nb::cast<Column<const int64_t>>(c[5]);
+        const auto authority = nb::cast<Column<const int32_t>>(c[4]);
+        const auto sequence = nb::cast<Column<const int64_t>>(c[6]);
+        const auto values = nb::cast<Array<const double, nb::shape<-1, 7>>>(c[7]);
+        const size_t n = code.shape(0);
+        for (const size_t rows : {flags.shape(0), parent.shape(0), child.shape(0), stamp.shape(0), record_time.shape(0),
+                                  authority.shape(0), sequence.shape(0), values.shape(0)}) {
+            if (rows != n) throw nb::value_error("BufferCore.restore: a refusal log's columns of other lengths");
+        }
+        for (size_t i = 0; i < n; ++i) {
+            r.code.push(code.data()[i]), r.flags.push(flags.data()[i]), r.parent.push(parent.data()[i]);
+            r.child.push(child.data()[i]), r.stamp.push(stamp.data()[i]), r.record_time.push(record_time.data()[i]);
+            r.authority.push(authority.data()[i]), r.sequence.push(sequence.data()[i]);
+            r.values.push(values.data() + 7 * i);
+        }
+        const auto duplicates = nb::cast<Column<const int64_t>>(log[3]);
+        for (size_t i = 0; i < duplicates.shape(0); ++i) core.duplicates.push(duplicates.data()[i]);
+    }
+
     // Each name of `names` (a sequence of str), viewed.
     static std::vector<std::string_view> texts(nb::handle names) {
         const nb::object items = nb::steal(PySequence_Fast(names.ptr(), "BufferCore.insert: names must be a sequence"));
@@ -378,6 +426,16 @@ class BufferCore {
         return out;
     }
 
+   public:
+    static std::vector<std::string> names_of(const tfbuffer::Names& names) { return all(names); }
+
+    // A log's column, viewed.
+    template <typename T, int64_t WIDTH>
+    static nb::object tail(const tfbuffer::Tail<T, WIDTH>& column) {
+        return view(column.memory(), column.data(), column.size(), WIDTH > 1 ? WIDTH : 0, WIDTH > 1 ? WIDTH : 0);
+    }
+
+   private:
     static std::vector<std::string> all(const tfbuffer::Names& names) {
         std::vector<std::string> out;
         out.reserve(names.size());
@@ -445,21 +503,23 @@ class BufferCore {
         }
     }
 
-    // A new `answer` (Transform), its slots filled as it is made (its frozen __setattr__ refuses).
+    // A new `answer` (Transform), its fields set through their descriptors' setters, as its __init__ sets
+    // them (its frozen __setattr__ refuses), without the Python frame of that __init__.
     nb::object make_answer(const tfcore::Pose& p, int64_t stamp, nb::handle target_frame,
                            nb::handle source_frame) const {
         auto* type = reinterpret_cast<PyTypeObject*>(answer_.ptr());
         const nb::object answer = nb::steal(type->tp_alloc(type, 0));
         if (!answer.is_valid()) throw nb::python_error();
-        const auto put = [&](Field field, PyObject* value) {  // into a slot of a new object: empty
-            if (value == nullptr) throw nb::python_error();
-            *reinterpret_cast<PyObject**>(reinterpret_cast<char*>(answer.ptr()) + offsets_[field]) = value;
+        const auto put = [&](Field field, nb::object value) {
+            if (!value.is_valid()) throw nb::python_error();
+            PyObject* descriptor = fields_[field].ptr();
+            if (Py_TYPE(descriptor)->tp_descr_set(descriptor, answer.ptr(), value.ptr()) != 0) throw nb::python_error();
         };
-        put(TRANSLATION, floats({p.v.x, p.v.y, p.v.z}));
-        put(ROTATION, floats({p.q.x, p.q.y, p.q.z, p.q.w}));
-        put(STAMP, PyLong_FromLongLong(stamp));
-        put(FRAME_ID, Py_NewRef(target_frame.ptr()));
-        put(CHILD_FRAME_ID, Py_NewRef(source_frame.ptr()));
+        put(TRANSLATION, nb::steal(floats({p.v.x, p.v.y, p.v.z})));
+        put(ROTATION, nb::steal(floats({p.q.x, p.q.y, p.q.z, p.q.w})));
+        put(STAMP, nb::steal(PyLong_FromLongLong(stamp)));
+        put(FRAME_ID, nb::borrow(target_frame));
+        put(CHILD_FRAME_ID, nb::borrow(source_frame));
         return answer;
     }
 
@@ -494,8 +554,6 @@ class BufferCore {
     }
 
     Names names_;
-    nb::object lock_;  // the buffer's
-    LockMethods lock_methods_;
     nb::object answer_;
     struct Remembered {
         nb::object name;
@@ -511,32 +569,169 @@ class BufferCore {
     };
     static thread_local LastFailure last_failure_;
     nb::object fields_[5];  // the answer's fields' slot descriptors, in FIELD order
-    Py_ssize_t offsets_[5];  // ... and where each slot lies in an answer
 };
 
 thread_local BufferCore::LastFailure BufferCore::last_failure_;
 
-// BufferCore.lookup_frames as a plain C method bound to one core (`lookup_call`): called as
-// f(target_frame, source_frame, time), with the same casts and errors, without nanobind's dispatch
-// (which costs a tenth of a lookup: overloads, keywords, the instance's C++ object found by type).
-PyObject* lookup_frames_call(PyObject* core, PyObject* const* args, Py_ssize_t n) noexcept {
+// Buffer.lookup and Buffer.can_transform, methods in C (the module's `buffer_lookup`, `buffer_can_transform`,
+// which Buffer's class takes): called as any method, (target_frame, source_frame, time=0), keywords too,
+// without a Python frame or the binding's dispatch (argument matching, overloads, the instance found by
+// type: together a tenth of a lookup). Each finds the buffer's core as its `_core`; a lookup the walk does
+// not answer goes to Python, `_lookup_by_ids` (which words tf2's error from this walk's failure).
+struct MethodNames {
+    PyObject *core, *by_ids, *target_frame, *source_frame, *time;
+};
+MethodNames method_names;  // interned at the module's load
+PyTypeObject* core_type = nullptr;
+
+// A method's (target_frame, source_frame, time=0) from a vectorcall's arguments, into `out`; false with
+// Python's TypeError set where they do not match.
+bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, PyObject* kwnames,
+                     PyObject* (&out)[3], int64_t& time) {
+    out[0] = out[1] = out[2] = nullptr;
+    if (n > 3) {
+        PyErr_Format(PyExc_TypeError, "%s() takes from 2 to 3 positional arguments but %zd were given", method, n);
+        return false;
+    }
+    for (Py_ssize_t i = 0; i < n; ++i) out[i] = args[i];
+    const Py_ssize_t keywords = kwnames == nullptr ? 0 : PyTuple_GET_SIZE(kwnames);
+    PyObject* const names[3] = {method_names.target_frame, method_names.source_frame, method_names.time};
+    for (Py_ssize_t k = 0; k < keywords; ++k) {
+        PyObject* key = PyTuple_GET_ITEM(kwnames, k);
+        int which = 0;
+        while (which < 3 && PyUnicode_Compare(key, names[which]) != 0) ++which;
+        if (which == 3) {
+            PyErr_Format(PyExc_TypeError, "%s() got an unexpected keyword argument '%U'", method, key);
+            return false;
+        }
+        if (out[which] != nullptr) {
+            PyErr_Format(PyExc_TypeError, "%s() got multiple values for argument '%U'", method, key);
+            return false;
+        }
+        out[which] = args[n + k];
+    }
+    for (int which = 0; which < 2; ++which) {
+        if (out[which] == nullptr) {
+            PyErr_Format(PyExc_TypeError, "%s() missing required argument '%U'", method, names[which]);
+            return false;
+        }
+    }
+    time = 0;
+    if (out[2] != nullptr && !nb::try_cast(nb::handle(out[2]), time)) {
+        PyErr_Format(PyExc_TypeError, "%s(): time must be an int (nanoseconds), not %s", method,
+                     Py_TYPE(out[2])->tp_name);
+        return false;
+    }
+    return true;
+}
+
+// The core of `buffer` (its `_core`), or null with the error set.
+BufferCore* core_of(PyObject* buffer, nb::object& held) {
+    held = nb::steal(PyObject_GetAttr(buffer, method_names.core));
+    if (!held.is_valid()) return nullptr;
+    if (Py_TYPE(held.ptr()) != core_type) {
+        PyErr_SetString(PyExc_TypeError, "a Buffer's _core must be a BufferCore");
+        return nullptr;
+    }
+    return nb::inst_ptr<BufferCore>(held);
+}
+
+// The C++ exceptions of a call as Python's.
+void raised() noexcept {
     try {
-        if (n != 3) throw nb::type_error("lookup_frames(target_frame, source_frame, time): 3 arguments");
-        int64_t time = 0;
-        if (!nb::try_cast(nb::handle(args[2]), time)) throw nb::type_error("lookup_frames: time must be an int");
-        return nb::inst_ptr<BufferCore>(core)->lookup_frames(args[0], args[1], time).release().ptr();
+        throw;
     } catch (nb::python_error& e) {
         e.restore();
     } catch (const nb::builtin_exception& e) {
-        PyErr_SetString(e.type() == nb::exception_type::type_error ? PyExc_TypeError : PyExc_ValueError, e.what());
+        PyObject* kind = e.type() == nb::exception_type::type_error      ? PyExc_TypeError
+                         : e.type() == nb::exception_type::runtime_error ? PyExc_RuntimeError
+                                                                         : PyExc_ValueError;
+        PyErr_SetString(kind, e.what());
     } catch (const std::exception& e) {
         PyErr_SetString(PyExc_RuntimeError, e.what());
+    }
+}
+
+PyObject* buffer_lookup(PyObject* buffer, PyObject* const* args, Py_ssize_t n, PyObject* kwnames) noexcept {
+    try {
+        PyObject* given[3];
+        int64_t time = 0;
+        nb::object held;
+        if (!frames_and_time("lookup", args, n, kwnames, given, time)) return nullptr;
+        BufferCore* core = core_of(buffer, held);
+        if (core == nullptr) return nullptr;
+        nb::object found = core->lookup_frames(given[0], given[1], time);
+        if (!found.is_none()) return found.release().ptr();
+        PyObject* call[4] = {buffer, given[0], given[1], nullptr};
+        const nb::object at = nb::int_(time);
+        call[3] = at.ptr();
+        return PyObject_VectorcallMethod(method_names.by_ids, call, 4, nullptr);
+    } catch (...) {
+        raised();
     }
     return nullptr;
 }
 
-PyMethodDef lookup_frames_def = {"lookup_frames", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(lookup_frames_call)),
-                                 METH_FASTCALL, "BufferCore.lookup_frames, bound to its core."};
+PyObject* buffer_can_transform(PyObject* buffer, PyObject* const* args, Py_ssize_t n, PyObject* kwnames) noexcept {
+    try {
+        PyObject* given[3];
+        int64_t time = 0;
+        nb::object held;
+        if (!frames_and_time("can_transform", args, n, kwnames, given, time)) return nullptr;
+        BufferCore* core = core_of(buffer, held);
+        if (core == nullptr) return nullptr;
+        return Py_NewRef(core->can_transform_frames(given[0], given[1], time) ? Py_True : Py_False);
+    } catch (...) {
+        raised();
+    }
+    return nullptr;
+}
+
+// The buffer's lock taken and let go in `with` (and acquire, release) as plain C methods: `with` looks
+// them up on every entry, and the binding's dispatch cost as much as a failed lookup's walk.
+PyObject* lock_acquire(PyObject* lock, PyObject*) noexcept {
+    try {
+        nb::inst_ptr<Lock>(lock)->acquire();
+        return Py_NewRef(Py_True);
+    } catch (...) {
+        raised();
+    }
+    return nullptr;
+}
+
+PyObject* lock_release(PyObject* lock, PyObject* const*, Py_ssize_t) noexcept {
+    try {
+        nb::inst_ptr<Lock>(lock)->release();
+        return Py_NewRef(Py_None);
+    } catch (...) {
+        raised();
+    }
+    return nullptr;
+}
+
+PyMethodDef lock_methods[] = {
+    {"acquire", lock_acquire, METH_NOARGS, "acquire($self, /)\n--\n\nTaken by this thread (again, if it holds it)."},
+    {"__enter__", lock_acquire, METH_NOARGS, "__enter__($self, /)\n--\n\n``acquire``."},
+    {"release", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(lock_release)), METH_FASTCALL,
+     "release($self, /)\n--\n\nLet go once; RuntimeError where this thread does not hold it."},
+    {"__exit__", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(lock_release)), METH_FASTCALL,
+     "__exit__($self, kind, error, traceback, /)\n--\n\n``release``."},
+};
+
+PyCFunction fastcall(PyObject* (*f)(PyObject*, PyObject* const*, Py_ssize_t, PyObject*)) {
+    return reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(f));
+}
+
+PyMethodDef buffer_lookup_def = {
+    "lookup", fastcall(buffer_lookup), METH_FASTCALL | METH_KEYWORDS,
+    "lookup($self, target_frame, source_frame, time=0)\n--\n\n"
+    "The transform taking ``source_frame`` data into ``target_frame`` at ``time`` (ns).\n\n"
+    "Time 0 means the latest time all edges of the chain share. Raises tf2's errors with tf2's messages:\n"
+    "``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``, ``InvalidArgumentError``."};
+PyMethodDef buffer_can_transform_def = {
+    "can_transform", fastcall(buffer_can_transform), METH_FASTCALL | METH_KEYWORDS,
+    "can_transform($self, target_frame, source_frame, time=0)\n--\n\n"
+    "Whether ``lookup`` would succeed (tf2's ``canTransform``)."};
 
 }  // namespace
 
@@ -561,6 +756,8 @@ NB_MODULE(_kernels, m) {
     m.attr("FROM_STATIC_TOPIC") = tfbuffer::FROM_STATIC_TOPIC;
     m.attr("PARENT_HAD_SLASH") = tfbuffer::PARENT_HAD_SLASH;
     m.attr("CHILD_HAD_SLASH") = tfbuffer::CHILD_HAD_SLASH;
+    m.attr("NO_PARENT") = 0;  // tf2's id of no frame: Names' reserved first
+    m.attr("LIVE_REJECTIONS_KEPT") = tfbuffer::LIVE_REJECTIONS_KEPT;
     nb::list refusals;
     for (const char* name : tfinsert::REFUSAL_NAMES) refusals.append(name);
     m.attr("REFUSALS") = nb::tuple(refusals);
@@ -589,18 +786,31 @@ NB_MODULE(_kernels, m) {
             return parent < 0 ? std::nullopt : std::optional<int64_t>(parent);
         }, "time"_a);
 
+    auto lock_class = nb::class_<Lock>(m, "BufferLock")
+                          .def("wait", &Lock::wait, "timeout"_a)
+                          .def("notify_all", &Lock::notify_all)
+                          .def("owned", &Lock::owned);
+    for (PyMethodDef& method : lock_methods) {
+        auto* type = reinterpret_cast<PyTypeObject*>(lock_class.ptr());
+        nb::setattr(lock_class, method.ml_name, nb::steal(PyDescr_NewMethod(type, &method)));
+    }
+
     nb::class_<BufferCore>(m, "BufferCore")
-        .def(nb::init<nb::object, nb::handle, std::optional<int64_t>, bool, double, int64_t>(), "lock"_a, "answer"_a,
-             "cache_time"_a.none(), "ros2"_a, "tolerance"_a, "large_pages_up_to"_a)
+        .def(nb::init<nb::handle, std::optional<int64_t>, bool, double, int64_t>(), "answer"_a, "cache_time"_a.none(),
+             "ros2"_a, "tolerance"_a, "large_pages_up_to"_a)
+        .def_ro("lock", &BufferCore::lock)
         .def_prop_rw(
             "arrivals", [](const BufferCore& b) { return b.core.arrivals; },
             [](BufferCore& b, int64_t arrivals) { b.core.arrivals = arrivals; })
         .def("set_transform", &BufferCore::set_transform, "transform"_a, "authority"_a, "static"_a, "record_time"_a)
         .def("insert", &BufferCore::insert, "batch"_a)
-        .def("reserve",
-             [](BufferCore& b, const std::vector<std::pair<std::string, int64_t>>& rows) { b.core.reserve(rows); },
-             "rows"_a)
-        .def("clear", [](BufferCore& b) { b.core.clear(); })
+        .def("reserve", &BufferCore::reserve, "rows"_a)
+        .def("clear", &BufferCore::clear)
+        .def("refusals", &BufferCore::refusals)
+        .def("refused_frame_names", [](const BufferCore& b) { return BufferCore::names_of(b.core.refusals.frames); })
+        .def_prop_ro("refusal_total", [](const BufferCore& b) { return b.core.refusals.total; })
+        .def_prop_ro("refusals_kept", [](const BufferCore& b) { return b.core.refusals.code.size(); })
+        .def("duplicates", [](const BufferCore& b) { return BufferCore::tail(b.core.duplicates); })
         .def("frame_id", &BufferCore::frame_id, "name"_a)
         .def("frame_name", [](const BufferCore& b, int64_t id) { return b.core.frames.name(id); }, "frame_id"_a)
         .def("frame_names", &BufferCore::frame_names)
@@ -611,8 +821,6 @@ NB_MODULE(_kernels, m) {
         .def("state", &BufferCore::state)
         .def("restore", &BufferCore::restore, "state"_a)
         .def("lookup_frames", &BufferCore::lookup_frames, "target_frame"_a, "source_frame"_a, "time"_a)
-        .def_prop_ro("lookup_call",
-                     [](nb::handle core) { return nb::steal(PyCFunction_New(&lookup_frames_def, core.ptr())); })
         .def("can_transform_frames", &BufferCore::can_transform_frames, "target_frame"_a, "source_frame"_a, "time"_a)
         .def("last_failure", &BufferCore::last_failure, "target"_a, "source"_a, "time"_a)
         .def("lookup", &BufferCore::lookup, "target"_a, "source"_a, "time"_a, "raw"_a = false)
@@ -624,6 +832,13 @@ NB_MODULE(_kernels, m) {
         .def("lookup_in_parallel", &BufferCore::lookup_in_parallel, "target"_a, "source"_a, "times"_a, "stamps"_a,
              "values"_a, "valid"_a, "threads"_a)
         .def("chain_takes", &BufferCore::chain_takes, "target"_a, "source"_a, "times"_a);
+    core_type = reinterpret_cast<PyTypeObject*>(nb::type<BufferCore>().ptr());
+    method_names = {PyUnicode_InternFromString("_core"), PyUnicode_InternFromString("_lookup_by_ids"),
+                    PyUnicode_InternFromString("target_frame"), PyUnicode_InternFromString("source_frame"),
+                    PyUnicode_InternFromString("time")};
+    // Descriptors of methods of any object (a Buffer's class takes them as its own).
+    m.attr("buffer_lookup") = nb::steal(PyDescr_NewMethod(&PyBaseObject_Type, &buffer_lookup_def));
+    m.attr("buffer_can_transform") = nb::steal(PyDescr_NewMethod(&PyBaseObject_Type, &buffer_can_transform_def));
 
     m.def(
         "through_matrix",

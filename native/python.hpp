@@ -1,5 +1,5 @@
-// The Python side of the compiled core's binding (module.cpp): arrays, names, numbers and the buffer's
-// lock as Python hands them over, and numpy arrays handed back.
+// The Python side of the compiled core's binding (module.cpp): arrays, names and numbers as Python hands
+// them over, and numpy arrays handed back.
 #pragma once
 
 #include <nanobind/nanobind.h>
@@ -26,57 +26,6 @@ using Values = Array<double, nb::shape<-1, 7>>;
 inline nb::object attribute(nb::handle object, const nb::str& name) {
     return nb::steal(PyObject_GetAttr(object.ptr(), name.ptr()));
 }
-
-// A lock's acquire and release, found once on its type: a call then skips looking them up by name.
-struct LockMethods {
-    nb::object acquire, release;
-
-    explicit LockMethods(nb::handle lock)
-        : acquire(nb::getattr(lock.type(), "acquire")), release(nb::getattr(lock.type(), "release")) {}
-};
-
-// `method(lock)`, or nullptr with the error set.
-inline PyObject* call(const nb::object& method, nb::handle lock) {
-    PyObject* self = lock.ptr();
-    return PyObject_Vectorcall(method.ptr(), &self, 1, nullptr);
-}
-
-// `lock` (the buffer's threading.RLock) held for a scope: acquired as Python's `with` acquires it
-// (letting go of the GIL while it waits).
-class Locked {
-   public:
-    Locked(nb::handle lock, const LockMethods& methods) : lock_(lock), methods_(methods) {
-        PyObject* taken = call(methods_.acquire, lock_);
-        if (taken == nullptr) throw nb::python_error();
-        Py_DECREF(taken);
-    }
-    Locked(const Locked&) = delete;
-    Locked& operator=(const Locked&) = delete;
-    ~Locked() {
-        PyObject* released = call(methods_.release, lock_);
-        if (released == nullptr) PyErr_WriteUnraisable(lock_.ptr());  // cannot happen: this thread holds it
-        Py_XDECREF(released);
-    }
-
-   private:
-    nb::handle lock_;
-    const LockMethods& methods_;
-};
-
-// What a read of the buffer's state that keeps the GIL needs against insertions from other threads:
-// nothing under the GIL (each insertion holds it through its one call into the core, and a read that
-// lets go of it holds the buffer's lock), the buffer's lock without one (a free-threaded Python).
-class ReadLocked {
-   public:
-#ifdef Py_GIL_DISABLED
-    ReadLocked(nb::handle lock, const LockMethods& methods) : locked_(lock, methods) {}
-
-   private:
-    Locked locked_;
-#else
-    ReadLocked(nb::handle, const LockMethods&) {}
-#endif
-};
 
 // A str's UTF-8 (which the str keeps); false for anything else.
 inline bool text(nb::handle s, std::string_view& out) {

@@ -181,16 +181,33 @@ def test_lookup_many_over_times_spanning_all_int64(monkeypatch):
             assert [*got.translations[i], *got.rotations[i]] == expected[0]  # the very same bits
 
 
-def test_lookup_through_the_plain_c_call_takes_what_the_binding_takes():
-    """``Buffer.lookup``'s call into the core (``BufferCore.lookup_call``, no binding's dispatch) takes a
-    time as the binding does (an int, or what converts to one without loss) and refuses anything else."""
+def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do():
+    """``Buffer.lookup`` and ``can_transform`` (methods in C, no binding's dispatch) take (target_frame,
+    source_frame, time=0), by position or keyword, a time as the binding takes it (an int, or what converts
+    to one without loss), and refuse anything else with Python's TypeErrors."""
     buffer = Buffer(cache_time=None)
     for stamp in (10, 20):
-        buffer.set_transform(Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", "b"))
+        buffer.set_transform(Transform((float(stamp), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", "b"))
     assert buffer.lookup("a", "b", np.int64(15)).stamp == 15
-    assert buffer._core.lookup_call("a", "b", 15) == buffer._core.lookup_frames("a", "b", 15)
-    for time in (1.5, "15", None):
-        with pytest.raises(TypeError):
-            buffer.lookup("a", "b", time)  # type: ignore[arg-type]
-    with pytest.raises(TypeError):
-        buffer._core.lookup_call("a", "b")  # type: ignore[call-arg]
+    assert buffer.lookup("a", "b", 15) == buffer._core.lookup_frames("a", "b", 15)
+    assert buffer.lookup(source_frame="b", target_frame="a", time=15).translation == (15.0, 0.0, 0.0)
+    assert buffer.lookup("a", "b").stamp == 20 == buffer.lookup("a", "b", time=0).stamp  # time 0: the latest
+    assert buffer.can_transform("a", "b", time=15) and not buffer.can_transform(
+        target_frame="a", source_frame="b", time=25
+    )
+    assert buffer.lookup("b", "b", time=15) == Transform.identity(15, "b", "b")  # answered in Python
+    for method in (buffer.lookup, buffer.can_transform):
+        for time in (1.5, "15", None):
+            with pytest.raises(TypeError, match="time must be an int"):
+                method("a", "b", time)  # type: ignore[arg-type]
+        with pytest.raises(TypeError, match="missing required argument 'source_frame'"):
+            method("a")  # type: ignore[call-arg]
+        with pytest.raises(TypeError, match="from 2 to 3 positional arguments"):
+            method("a", "b", 15, 0)  # type: ignore[call-arg]
+        with pytest.raises(TypeError, match="unexpected keyword argument 'at'"):
+            method("a", "b", at=15)  # type: ignore[call-arg]
+        with pytest.raises(TypeError, match="multiple values for argument 'time'"):
+            method("a", "b", 15, time=15)  # type: ignore[misc]
+    assert "target_frame, source_frame, time=0" in (Buffer.lookup.__doc__ or "") + str(
+        __import__("inspect").signature(Buffer.lookup)
+    )

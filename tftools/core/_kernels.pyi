@@ -1,8 +1,8 @@
 """The compiled core (native/module.cpp): the buffer's state (native/core.hpp), tf2's rules for each sample
 (native/insert.hpp) and tf2's walk over the histories (native/walk.hpp)."""
 
-import threading
-from collections.abc import Callable
+from types import TracebackType
+from typing import Any
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
@@ -29,12 +29,23 @@ PAST: int
 FROM_STATIC_TOPIC: int
 PARENT_HAD_SLASH: int
 CHILD_HAD_SLASH: int
-#: ``BufferCore.insert``'s refusal codes by number, as ``rejection.RejectionCode``'s names.
+#: tf2's id of no frame (a root's parent).
+NO_PARENT: int
+#: A live buffer keeps its latest this many refusals and duplicates (up to twice as many).
+LIVE_REJECTIONS_KEPT: int
+#: The refusal codes by number (``BufferCore.refusals``' code column), as ``rejection.RejectionCode``'s names.
 REFUSALS: tuple[str, ...]
 
 def through_matrix(rotations: FloatArray) -> None:
     """Rotations (N, 4, x y z w), in place, as ROS 2's tf2 holds and returns them: through a
     ``tf2::Transform``'s basis (``Matrix3x3::setRotation``, then ``getRotation``)."""
+
+def buffer_lookup(self: Any, target_frame: str, source_frame: str, time: int = 0) -> Transform:
+    """``Buffer.lookup``, a method in C: its core's (``self._core``) ``lookup_frames`` where the walk
+    answers, else ``self._lookup_by_ids(target_frame, source_frame, time)``."""
+
+def buffer_can_transform(self: Any, target_frame: str, source_frame: str, time: int = 0) -> bool:
+    """``Buffer.can_transform``, a method in C: its core's ``can_transform_frames``."""
 
 class EdgeHistory:
     """The samples of one child frame, read-only: views of the columns the buffer's core owns (each keeps
@@ -79,44 +90,79 @@ class EdgeHistory:
         (ROS 2), tf2's newest-first list makes the last to arrive count, except at the oldest stamp, which is
         the list's back: there the first one."""
 
+class BufferLock:
+    """A buffer's lock (``Buffer.lock``), the core's: reentrant as ``threading.RLock``, with the condition
+    its waiters wait on (``threading.Condition``'s ``wait`` and ``notify_all``). Every change of the core
+    holds it and wakes the waiters; whoever blocks on it lets go of the GIL, and a signal's handler that
+    raises interrupts the wait."""
+
+    def acquire(self) -> bool: ...
+    def release(self) -> None:
+        """RuntimeError where this thread does not hold it."""
+
+    def __enter__(self) -> bool: ...
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, traceback: TracebackType | None
+    ) -> None: ...
+    def wait(self, timeout: float) -> bool:
+        """Let go of the lock (however many times held) until ``notify_all`` or ``timeout`` seconds, then
+        hold it again as before; whether it was notified. RuntimeError where this thread does not hold it."""
+
+    def notify_all(self) -> None: ...
+    def owned(self) -> bool:
+        """Whether this thread holds it."""
+
 class BufferCore:
     """A buffer's state, one owner as tf2's BufferCore: frames (tf2's ids from 1), publishers, each child
     frame's history, its last publisher, the rows reserved for a bulk load; and the calls on it."""
 
     #: Samples offered to the buffer so far, stored or refused: the next one's sequence number.
     arrivals: int
+    #: The buffer's lock, which every change (``set_transform``, ``insert``, ``reserve``, ``clear``) holds,
+    #: waking its waiters; lookups take it only on a free-threaded Python.
+    lock: BufferLock
+    #: Every refusal so far, kept or not; those kept.
+    refusal_total: int
+    refusals_kept: int
 
     def __init__(
-        self,
-        lock: threading.RLock,
-        answer: type[Transform],
-        cache_time: int | None,
-        ros2: bool,
-        tolerance: float,
-        large_pages_up_to: int,
+        self, answer: type[Transform], cache_time: int | None, ros2: bool, tolerance: float, large_pages_up_to: int
     ) -> None:
-        """``lock``: the buffer's, which ``set_transform``, ``lookup_frames`` and ``can_transform_frames``
-        hold (the GIL let go while they wait for it); ``answer``: the type lookups return, built through its
-        fields' slots; its cache's length, whether it answers as ROS 2's tf2, the squared quaternion norm's
-        tolerance, and the largest bulk load's block laid on large pages."""
+        """``answer``: the type lookups return, built through its fields' descriptors; its cache's length,
+        whether it answers as ROS 2's tf2, the squared quaternion norm's tolerance, and the largest bulk
+        load's block laid on large pages."""
 
     def set_transform(self, transform: Transform, authority: str, static: bool, record_time: int) -> bool:
         """``Buffer.set_transform``'s common case, through ``insert``'s rules for one row: both frames known
         and named without a leading slash, a valid sample of the child's kind, newer than its newest
         (unless static), a known publisher, nothing reserved. False, having stored nothing, otherwise."""
 
-    def insert(self, batch: TransformBatch) -> tuple[int, Int64Array, UInt8Array, Int64Array, Int64Array, Int32Array]:
+    def insert(self, batch: TransformBatch) -> int:
         """``Buffer.insert``'s work, in one call: ``batch``'s rows as that many tf2 ``setTransform`` calls,
         ``arrivals`` counted, its publishers interned.
 
         Rows failing tf2's checks are refused; the others' frames are interned (in order of first
         appearance, each row's child before its parent) and, frame by frame, offered to the frame's
         history: made where there is none (or, under ROS 2, for a change between static and dynamic),
-        grown, merged by stamp, pruned; each frame's last publisher noted, its reserved rows used. Returns
-        how many rows tf2 accepted, the refused rows (indices into ``batch``) in the order tf2 refused them,
-        in groups of one code each (``Refusal`` in native/insert.hpp: the codes, and the groups' bounds
-        into the rows), the rows ROS 2's tf2 accepted without storing them (identical to a sample held),
-        and each of the batch's publishers' id in the buffer."""
+        grown, merged by stamp, pruned; each frame's last publisher noted, its reserved rows used. The refused
+        rows go to the refusal log (``refusals``) in the order tf2 refused them (by code: ``Refusal`` in
+        native/insert.hpp), the arrival numbers of rows ROS 2's tf2 accepted without storing them (identical
+        to a sample held) to ``duplicates``. Returns how many rows tf2 accepted."""
+
+    def refusals(
+        self,
+    ) -> tuple[
+        UInt8Array, Int32Array, Int32Array, Int64Array, Int32Array, Int64Array, Int64Array, FloatArray, UInt8Array
+    ]:
+        """The refusal log's kept rows, columns viewed (read-only): code (``REFUSALS``' index), parent and
+        child (``refused_frame_names``' ids), stamp, authority (a publisher's id), record time, arrival
+        number, values (N, 7, as sent) and flags (as ``EdgeHistory.flags``)."""
+
+    def refused_frame_names(self) -> list[str]:
+        """The refusal log's frames by id, as tf2 names them (a leading ``/`` dropped)."""
+
+    def duplicates(self) -> Int64Array:
+        """The kept arrival numbers of samples ROS 2's tf2 took without storing them, viewed."""
 
     def reserve(self, rows: list[tuple[str, int]]) -> None:
         """More rows of these child frames (named without a leading slash) about to come: their
@@ -152,11 +198,6 @@ class BufferCore:
     def lookup_frames(self, target_frame: str, source_frame: str, time: int) -> Transform | None:
         """``Buffer.lookup`` of two different known plain frames where tf2 succeeds; None otherwise
         (``last_failure`` then says why the walk failed, where it walked)."""
-
-    @property
-    def lookup_call(self) -> Callable[[str, str, int], Transform | None]:
-        """``lookup_frames``, bound to this core as a plain C function: called without the binding's
-        dispatch (its arguments all positional)."""
 
     def last_failure(self, target: int, source: int, time: int) -> Failure | None:
         """Why this thread's last ``lookup_frames`` failed, if it walked from ``source`` to ``target``

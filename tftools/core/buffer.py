@@ -3,8 +3,6 @@ numpy views (``EdgeHistory``)."""
 
 from __future__ import annotations
 
-import itertools
-import threading
 import time as _time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
@@ -16,14 +14,14 @@ import numpy.typing as npt
 
 from tftools.core import history as _history
 from tftools.core import walk
-from tftools.core._kernels import REFUSALS, BufferCore
-from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core._kernels import BufferCore, BufferLock, buffer_can_transform, buffer_lookup
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT, frame_name
-from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH, EdgeHistory
+from tftools.core.history import EdgeHistory
 from tftools.core.kernels import lookup_in_parallel
-from tftools.core.rejection import LIVE_REJECTIONS_KEPT, RejectionCode, RejectionLog
+from tftools.core.rejection import RejectionLog
 from tftools.core.rotation import quat_multiply_many, quat_rotate_many
 from tftools.core.semantics import Semantics, check_semantics, dialect
 from tftools.core.time import NS_PER_S, Clock, SimClock
@@ -43,7 +41,7 @@ def _locked(method: _Method) -> _Method:
 
     @wraps(method)
     def run(self: Buffer, *args: Any, **kwargs: Any) -> Any:
-        with self._mutex:
+        with self._lock:
             return method(self, *args, **kwargs)
 
     return run  # type: ignore[return-value]
@@ -111,20 +109,8 @@ class Buffer:
         self._cache_time = cache_time
         self.clock: Clock = clock if clock is not None else SimClock()
         self._semantics: Semantics = check_semantics(semantics)
-        #: What tf2 refused (``RejectionLog``: a sequence of ``Rejection`` s, held as columns; a
-        #: live buffer keeps the latest ``LIVE_REJECTIONS_KEPT``, and counts every one in ``total``).
-        self.rejections = RejectionLog(self.semantics, None if cache_time is None else LIVE_REJECTIONS_KEPT)
-        #: Arrival numbers of samples ROS 2's tf2 accepted without storing them, because it held
-        #: an identical one: neither stored nor refused (with ``rejections``, every arrival); a live
-        #: buffer keeps about the latest ``LIVE_REJECTIONS_KEPT``.
-        self.duplicates: list[int] = []
         self._authorities: list[str] = []
-        self._mutex = threading.RLock()  # held directly where no one is woken: a Condition's is slower
-        self._changed = threading.Condition(self._mutex)
-        self._waiting = 0  # threads in wait_for_transform: the only ones ``_changed`` wakes
-        self._core = self._new_core()
-        #: ``self._core.lookup_frames``, called as a plain C function (no binding's dispatch).
-        self._lookup_frames = self._core.lookup_call
+        self._attach(self._new_core())
 
     @property
     def cache_time(self) -> int | None:
@@ -140,6 +126,13 @@ class Buffer:
         return self._core.arrivals
 
     @property
+    def duplicates(self) -> Int64Array:
+        """Arrival numbers of samples ROS 2's tf2 accepted without storing them, because it held an
+        identical one: neither stored nor refused (with ``rejections``, every arrival); a live buffer
+        keeps about the latest ``LIVE_REJECTIONS_KEPT``. A read-only view of the core's log."""
+        return self._core.duplicates()
+
+    @property
     def authorities(self) -> list[str]:
         """The publishers heard, by id (``EdgeHistory.authorities``): the core's, copied once per new one."""
         if len(self._authorities) != self._core.publisher_count:
@@ -147,27 +140,35 @@ class Buffer:
         return self._authorities
 
     @property
-    def lock(self) -> threading.Condition:
-        """Held by every insertion and lookup; hold it to make several reads see one state."""
-        return self._changed
+    def lock(self) -> BufferLock:
+        """Held by every insertion and lookup (reentrant, the core's); hold it to make several reads
+        see one state."""
+        return self._lock
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        del state["_changed"], state["_mutex"], state["_lookup_frames"]
-        with self._changed:
+        for derived in ("_lock", "rejections"):
+            del state[derived]
+        with self._lock:
             # The core's state as plain values (its histories' columns as arrays), rebuilt where the copy is used.
-            state.update(_core=self._core.state(), _waiting=0)
+            state["_core"] = self._core.state()
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         state = state.copy()
-        core = state.pop("_core")
+        core_state = state.pop("_core")
         self.__dict__.update(state)
-        self._mutex = threading.RLock()
-        self._changed = threading.Condition(self._mutex)
-        self._core = self._new_core()
-        self._core.restore(core)
-        self._lookup_frames = self._core.lookup_call
+        core = self._new_core()
+        core.restore(core_state)
+        self._attach(core)
+
+    def _attach(self, core: BufferCore) -> None:
+        """``core`` made this buffer's state, and what is read of it."""
+        self._core = core
+        self._lock = core.lock
+        #: What tf2 refused (``RejectionLog``: a sequence of ``Rejection`` s, the core's columns; a
+        #: live buffer keeps about the latest ``LIVE_REJECTIONS_KEPT``, and counts every one in ``total``).
+        self.rejections = RejectionLog(core, self.semantics)
 
     # --- frames ------------------------------------------------------------------------------
 
@@ -221,10 +222,6 @@ class Buffer:
         # of its kind, from a known publisher, no rows reserved. Every other sample (nothing
         # stored yet) takes the batch path.
         if self._core.set_transform(transform, authority, static, record_time):
-            # A waiter counts itself before it waits, holding the lock this sample was stored under.
-            if self._waiting:
-                with self._changed:
-                    self._changed.notify_all()
             return True
         builder = BatchBuilder()
         builder.add(
@@ -246,17 +243,12 @@ class Buffer:
         (their arrival numbers go to ``duplicates``). Refused rows go to ``rejections``.
         Safe to call from another thread than the lookups; wakes ``wait_for_transform``.
         """
-        with self._changed:
-            accepted = self._insert(batch) if len(batch) else 0
-            self._changed.notify_all()
-        return accepted
+        return self._core.insert(batch) if len(batch) else 0
 
     def clear(self) -> None:
         """tf2's ``BufferCore::clear`` (ROS 1 and ROS 2 alike): each dynamic edge's samples dropped,
         static edges kept, every frame name and id kept (a listener's answer to a jump back in time)."""
-        with self._changed:
-            self._core.clear()
-            self._changed.notify_all()
+        self._core.clear()
 
     def reserve(self, batches: Iterable[TransformBatch]) -> None:
         """Size each history once for the rows of ``batches``, about to be inserted: a bulk load
@@ -267,60 +259,16 @@ class Buffer:
             for child in np.flatnonzero(rows).tolist():
                 name = frame_name(batch.frame_names[child])
                 expected[name] = expected.get(name, 0) + int(rows[child])
-        with self._changed:
-            self._core.reserve(list(expected.items()))
-
-    def _insert(self, batch: TransformBatch) -> int:
-        first = self._core.arrivals
-        accepted, refused, codes, bounds, identical, authority_ids = self._core.insert(batch)
-        if len(refused):
-            self._record_refusals(batch, authority_ids, refused, (codes, bounds), first)
-        self.duplicates.extend((identical + first).tolist())
-        if self._cache_time is not None and len(self.duplicates) > 2 * LIVE_REJECTIONS_KEPT:
-            del self.duplicates[:-LIVE_REJECTIONS_KEPT]
-        return accepted
-
-    def _record_refusals(
-        self,
-        batch: TransformBatch,
-        authority_ids: Int32Array,
-        rows: Int64Array,
-        groups: tuple[UInt8Array, Int64Array],
-        first: int,
-    ) -> None:
-        """``batch``'s refused ``rows`` into ``rejections``, in groups of one code (``BufferCore.insert``'s)."""
-        codes, bounds = groups
-        names, publishers = [frame_name(name) for name in batch.frame_names], self.authorities
-        slashed = np.array([name.startswith("/") for name in batch.frame_names], bool)
-        for code, (start, stop) in zip(codes.tolist(), itertools.pairwise(bounds.tolist()), strict=True):
-            # In parts, so that a million refusals' temporaries stay small beside the log's columns.
-            for part_start in range(start, stop, _REFUSALS_PER_PART):
-                part = rows[part_start : min(stop, part_start + _REFUSALS_PER_PART)]
-                parent, child = batch.parent[part], batch.child[part]
-                flags = batch.static[part] * FROM_STATIC_TOPIC | slashed[parent] * PARENT_HAD_SLASH
-                refused = {
-                    "parent": parent,
-                    "child": child,
-                    "stamp": batch.stamp[part],
-                    "authority": authority_ids[batch.authority[part]],
-                    "record_time": batch.record_time[part],
-                    "sequence": part + first,
-                    "values": np.concatenate([batch.translation[part], batch.rotation[part]], axis=1),
-                    "flags": flags | slashed[child] * CHILD_HAD_SLASH,
-                }
-                self.rejections.add(_REFUSALS[code], names, publishers, refused)
+        self._core.reserve(list(expected.items()))
 
     # --- lookups -----------------------------------------------------------------------------
 
-    def lookup(self, target_frame: str, source_frame: str, time: int = 0) -> Transform:
-        """The transform taking ``source_frame`` data into ``target_frame`` at ``time`` (ns).
-
-        Time 0 means the latest time all edges of the chain share. Raises tf2's errors with
-        tf2's messages: ``UnknownFrameError``, ``ConnectivityError``, ``ExtrapolationError``,
-        ``InvalidArgumentError``.
-        """
-        found = self._lookup_frames(target_frame, source_frame, time)
-        return found if found is not None else self._lookup_by_ids(target_frame, source_frame, time)
+    #: ``lookup(target_frame, source_frame, time=0)``: the transform taking ``source_frame`` data into
+    #: ``target_frame`` at ``time`` (ns); time 0 means the latest time all edges of the chain share. Raises
+    #: tf2's errors with tf2's messages: ``UnknownFrameError``, ``ConnectivityError``,
+    #: ``ExtrapolationError``, ``InvalidArgumentError``. A method in C (the core's ``lookup_frames``
+    #: without a Python frame); where the walk does not answer, ``_lookup_by_ids``.
+    lookup = buffer_lookup
 
     @_locked
     def _lookup_by_ids(self, target_frame: str, source_frame: str, time: int, raw: bool = False) -> Transform:
@@ -353,9 +301,9 @@ class Buffer:
         composed = fixed_in_target * source_in_fixed
         return Transform(composed.translation, composed.rotation, fixed_in_target.stamp, target_frame, source_frame)
 
-    def can_transform(self, target_frame: str, source_frame: str, time: int = 0) -> bool:
-        """Whether ``lookup`` would succeed (tf2's ``canTransform``)."""
-        return self._core.can_transform_frames(target_frame, source_frame, time)
+    #: ``can_transform(target_frame, source_frame, time=0)``: whether ``lookup`` would succeed (tf2's
+    #: ``canTransform``). A method in C, as ``lookup``.
+    can_transform = buffer_can_transform
 
     def can_transform_full(
         self, target_frame: str, target_time: int, source_frame: str, source_time: int, fixed_frame: str
@@ -438,7 +386,7 @@ class Buffer:
         """``lookup``, waiting up to ``timeout_s`` wall seconds for the data it needs to arrive
         (tf2's ``lookupTransform`` with a timeout); then raises the lookup's error."""
         deadline = _time.monotonic() + timeout_s
-        with self._changed:
+        with self._lock:
             while True:
                 try:
                     return self.lookup(target_frame, source_frame, time)
@@ -446,11 +394,7 @@ class Buffer:
                     remaining = deadline - _time.monotonic()
                     if remaining <= 0:
                         raise
-                    self._waiting += 1
-                    try:
-                        self._changed.wait(remaining)
-                    finally:
-                        self._waiting -= 1
+                    self._lock.wait(remaining)
 
     # --- tf2's introspection -----------------------------------------------------------------
 
@@ -476,9 +420,7 @@ class Buffer:
     def _new_core(self) -> BufferCore:
         """The buffer's state: its frames, publishers and histories, compiled."""
         ros2 = self.semantics == "ros2"
-        return BufferCore(
-            self._mutex, Transform, self._cache_time, ros2, QUATERNION_TOLERANCE, _history.LARGE_PAGES_UP_TO
-        )
+        return BufferCore(Transform, self._cache_time, ros2, QUATERNION_TOLERANCE, _history.LARGE_PAGES_UP_TO)
 
     def _identity_stamp(self, frame: str, time: int) -> int:
         if time != 0:
@@ -504,13 +446,6 @@ class Buffer:
         if frame_id == NO_PARENT:
             raise UnknownFrameError.missing(frame, argument)
         return frame_id
-
-
-#: Refused rows recorded at a time.
-_REFUSALS_PER_PART = 1 << 16
-
-#: ``BufferCore.insert``'s refusal codes, by number (the core's names for them).
-_REFUSALS = tuple(RejectionCode[name] for name in REFUSALS)
 
 
 def _times_for(times: npt.ArrayLike, rows: npt.ArrayLike) -> Int64Array:

@@ -7,10 +7,9 @@ from __future__ import annotations
 import difflib
 from collections.abc import Sequence
 
+# The core's id 0, tf2's "no parent": a frame's parent is never 0.
+from tftools.core._kernels import NO_PARENT as NO_PARENT
 from tftools.core.errors import UnknownFrameError
-
-#: Id 0 is tf2's "no parent": a frame's parent is never 0.
-NO_PARENT = 0
 
 
 def frame_name(given: str) -> str:

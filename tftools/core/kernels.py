@@ -3,8 +3,10 @@
 ``BufferCore`` owns a buffer's frames, publishers and histories (``native/core.hpp``) and takes every sample
 through tf2's rules (``native/insert.hpp``); Python reads the histories through ``EdgeHistory``'s numpy views.
 The compiled walk (``native/walk.hpp``) is the only one: it reports where it fails why (``walk.Failure``),
-which ``walk.py`` words as tf2 does. ``Buffer.lookup``, ``can_transform`` and ``set_transform``'s common
-case are one crossing per call, the buffer's lock held around it.
+which ``walk.py`` words as tf2 does. ``Buffer.lookup`` and ``can_transform`` are methods in C, one crossing
+per call; every change of the state (``set_transform``'s common case, ``insert``) holds the core's lock
+(``native/lock.hpp``, ``Buffer.lock``) and wakes its waiters. The refusal log and ROS 2's duplicates are the
+core's too, read as numpy views (``rejection.RejectionLog``, ``Buffer.duplicates``).
 """
 
 from __future__ import annotations

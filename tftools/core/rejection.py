@@ -11,10 +11,11 @@ from typing import Any, NamedTuple, overload
 import numpy as np
 import numpy.typing as npt
 
+from tftools.core._kernels import LIVE_REJECTIONS_KEPT as LIVE_REJECTIONS_KEPT
+from tftools.core._kernels import REFUSALS, BufferCore
 from tftools.core._kernels import through_matrix as kernel_through_matrix
-from tftools.core.arrays import Int32Array, Int64Array, UInt8Array
+from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
-from tftools.core.frames import Names
 from tftools.core.history import rows_as_sent
 from tftools.core.semantics import Semantics, dialect
 from tftools.core.time import to_sec
@@ -104,10 +105,11 @@ def through_matrix(rotation: Sequence[float]) -> list[float]:
     return [float(v) for v in turned[0]]
 
 
-#: A live buffer (finite cache time) keeps its latest this many rejections; every one is counted.
-LIVE_REJECTIONS_KEPT = 10_000
+# LIVE_REJECTIONS_KEPT (the core's): a live buffer (finite cache time) keeps its latest this many
+# rejections (up to twice as many); every one is counted.
 
-_CODES = list(RejectionCode)
+#: The codes by the core's number for them.
+_CODES = tuple(RejectionCode[name] for name in REFUSALS)
 _CODE_INDEX = {code: i for i, code in enumerate(_CODES)}
 #: How many of a refused sample's 7 values its ``Rejection`` shows (the last ones), as tf2's log
 #: line does: all for NaN, the rotation for the other checks of ``setTransform``, none for a stamp.
@@ -134,56 +136,39 @@ class EdgeRejections(NamedTuple):
 
 
 class RejectionLog(Sequence[Rejection]):
-    """A buffer's refused samples, in the order refused, held as columns: a ``Rejection`` is
-    made only when one is read, so a million refusals cost tens of megabytes, not a gigabyte.
-    Each keeps the whole sample, so that ``rows`` gives back what was sent.
+    """A buffer's refused samples, in the order refused: the log its compiled core keeps, as columns
+    (numpy views of them); a ``Rejection`` is made only when one is read, so a million refusals cost
+    tens of megabytes, not a gigabyte. Each keeps the whole sample, so that ``rows`` gives back what
+    was sent.
 
-    ``limit`` keeps only the latest that many (a live buffer's); ``total`` counts every one.
+    A live buffer's keeps only about the latest ``LIVE_REJECTIONS_KEPT``; ``total`` counts every one.
     """
 
-    def __init__(self, semantics: Semantics = "ros1", limit: int | None = None) -> None:
+    def __init__(self, core: BufferCore, semantics: Semantics = "ros1") -> None:
         self.semantics: Semantics = semantics
-        self.limit = limit
-        self.total = 0
-        self._frames = Names()
-        self._publishers = Names()
-        self._parts: list[dict[str, npt.NDArray[Any]]] = []
-        self._joined = {name: np.zeros((0, 7) if name == "values" else 0, dtype) for name, dtype in _COLUMNS.items()}
+        self._core = core
+        self._seen = -1  # the ``total`` the views below were taken at
+        self._columns: dict[str, npt.NDArray[Any]] = {}
+        self._frames: list[str] = []
+        self._publishers: list[str] = []
 
-    # --- recording ---------------------------------------------------------------------------
-
-    def add(
-        self, code: RejectionCode, names: Sequence[str], authorities: Sequence[str], rows: Mapping[str, Any]
-    ) -> None:
-        """Refusals of one ``code``, a row each, in the columns of ``_COLUMNS`` but ``code``: frames (as
-        tf2 names them) and publishers as indices into ``names`` and ``authorities`` (interned here, once
-        per distinct one), ``values`` (N, 7), ``flags`` as ``EdgeHistory.flags``."""
-        n = len(rows["stamp"])
-        if n == 0:
-            return
-        interned = {
-            "parent": _interned(rows["parent"], names, self._frames),
-            "child": _interned(rows["child"], names, self._frames),
-            "authority": _interned(rows["authority"], authorities, self._publishers),
-        }
-        given = {**rows, **interned, "code": np.full(n, _CODE_INDEX[code])}
-        self._parts.append({name: np.array(given[name], dtype) for name, dtype in _COLUMNS.items()})
-        self.total += n
-        if self.limit is not None and len(self) > 2 * self.limit:
-            self._join()
-            self._joined = {k: v[-self.limit :].copy() for k, v in self._joined.items()}
+    @property
+    def total(self) -> int:
+        return self._core.refusal_total
 
     def _join(self) -> dict[str, npt.NDArray[Any]]:
-        if self._parts:
-            parts = [self._joined, *self._parts]
-            self._joined = {k: np.concatenate([p[k] for p in parts]) for k in self._joined}
-            self._parts = []
-        return self._joined
+        """The core's columns, viewed as they are now (taken again only after a refusal)."""
+        if self._seen != self._core.refusal_total:
+            self._columns = dict(zip(_COLUMNS, self._core.refusals(), strict=True))
+            self._frames = self._core.refused_frame_names()
+            self._publishers = self._core.publisher_names()
+            self._seen = self._core.refusal_total
+        return self._columns
 
     # --- reading -----------------------------------------------------------------------------
 
     def __len__(self) -> int:
-        return len(self._joined["stamp"]) + sum(len(p["stamp"]) for p in self._parts)
+        return self._core.refusals_kept
 
     @overload
     def __getitem__(self, index: int) -> Rejection: ...
@@ -215,10 +200,10 @@ class RejectionLog(Sequence[Rejection]):
         shown = _SHOWN_VALUES.get(code, 0)
         return Rejection(
             code,
-            self._frames.names[int(c["parent"][i])],
-            self._frames.names[int(c["child"][i])],
+            self._frames[int(c["parent"][i])],
+            self._frames[int(c["child"][i])],
             int(c["stamp"][i]),
-            self._publishers.names[int(c["authority"][i])],
+            self._publishers[int(c["authority"][i])],
             int(c["record_time"][i]),
             tuple(c["values"][i, 7 - shown :].tolist()) if shown else (),
             int(c["sequence"][i]),
@@ -230,7 +215,7 @@ class RejectionLog(Sequence[Rejection]):
         refuse one for several reasons), and each one's arrival number."""
         c = self._join()
         sequence, first = np.unique(c["sequence"], return_index=True)
-        batch = rows_as_sent(self._frames.names, self._publishers.names, {k: v[first] for k, v in c.items()})
+        batch = rows_as_sent(self._frames, self._publishers, {k: v[first] for k, v in c.items()})
         return batch, sequence
 
     def verdicts(self, sequences: Int64Array) -> UInt8Array:
@@ -262,7 +247,7 @@ class RejectionLog(Sequence[Rejection]):
         labels = [groups[code] if groups else code.value for code in _CODES]
         label_ids = {label: i for i, label in enumerate(dict.fromkeys(labels))}
         group_of = np.array([label_ids[label] for label in labels], np.int64)[c["code"]]
-        key = (c["parent"].astype(np.int64) * len(self._frames.names) + c["child"]) * len(label_ids) + group_of
+        key = (c["parent"].astype(np.int64) * len(self._frames) + c["child"]) * len(label_ids) + group_of
         order = np.argsort(key, kind="stable")
         bounds = np.flatnonzero(np.diff(key[order])) + 1
         result: dict[tuple[str, str, str], EdgeRejections] = {}
@@ -273,13 +258,13 @@ class RejectionLog(Sequence[Rejection]):
                 np.stack([stamps, c["record_time"][rows], c["authority"][rows].astype(np.int64)]), axis=1
             )
             codes, code_first = np.unique(c["code"][rows], return_index=True)
-            parent, child = self._frames.names[int(c["parent"][first])], self._frames.names[int(c["child"][first])]
+            parent, child = self._frames[int(c["parent"][first])], self._frames[int(c["child"][first])]
             result[(parent, child, labels[int(c["code"][first])])] = EdgeRejections(
                 len(rows),
                 int(samples.shape[1]),
                 int(stamps.min()),
                 int(stamps.max()),
-                tuple(sorted({self._publishers.names[a] for a in np.unique(c["authority"][rows]).tolist()})),
+                tuple(sorted({self._publishers[a] for a in np.unique(c["authority"][rows]).tolist()})),
                 tuple(_CODES[int(i)] for i in codes[np.argsort(code_first)]),
             )
         return result
@@ -290,22 +275,7 @@ def code_bits(*codes: RejectionCode) -> int:
     return sum(1 << _CODE_INDEX[code] for code in set(codes))
 
 
-def _interned(ids: npt.NDArray[np.integer[Any]], names: Sequence[str], table: Names) -> Int32Array:
-    """``ids`` (into ``names``) as ids of ``table``, interning each distinct name once."""
-    distinct, where = np.unique(np.asarray(ids), return_inverse=True)
-    mapped = np.array([table.intern(names[name_id]) for name_id in distinct.tolist()], np.int32)
-    return mapped[where.reshape(-1)]
-
-
-#: The columns a ``RejectionLog`` holds, and their types (values: (N, 7)).
-_COLUMNS: dict[str, type[np.generic]] = {
-    "code": np.uint8,
-    "parent": np.int32,
-    "child": np.int32,
-    "stamp": np.int64,
-    "authority": np.int32,
-    "record_time": np.int64,
-    "sequence": np.int64,
-    "values": np.float64,
-    "flags": np.uint8,
-}
+#: The log's columns, in ``BufferCore.refusals``' order: code (the core's number), parent and child (ids
+#: into ``BufferCore.refused_frame_names``), stamp, authority (the buffer's publisher id), record time,
+#: sequence (arrival number), values (N, 7) and flags (as ``EdgeHistory.flags``).
+_COLUMNS = ("code", "parent", "child", "stamp", "authority", "record_time", "sequence", "values", "flags")

@@ -460,7 +460,7 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
 
 def _reach(read: Int64Array) -> int:
     """The 95th percentile of how far arrival strays from the stamp, either way (ns)."""
-    return int(np.percentile(np.abs(read), 95)) if len(read) else 0
+    return int(figures.percentile(np.abs(read), 95)) if len(read) else 0
 
 
 def _median(values: Int64Array) -> int:
