@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from tftools.cli import live
+from tftools.cli.outputs import check_output, check_replaceable
 from tftools.core.errors import UsageError
 
 if TYPE_CHECKING:
@@ -21,7 +22,6 @@ McapOption = Annotated[
         "foxglove.Log, /diagnostics and foxglove.FrameTransforms; needs pip install 'tftools\\[foxglove]').",
     ),
 ]
-ForceOption = Annotated[bool, typer.Option("--force", help="Let --mcap overwrite an existing file.")]
 
 
 def one_recording(groups: Sequence[Sequence[str]]) -> Sequence[str]:
@@ -43,7 +43,10 @@ def check_into_mcap(paths: Sequence[str], checks: Checks, mcap: Path, force: boo
 
 
 def refuse(mcap: Path, inputs: Sequence[str], force: bool) -> None:
-    """Before any reading: a ``UsageError`` if ``mcap`` is an input or exists (without ``force``)."""
+    """Before any reading: a ``UsageError`` if ``mcap`` is an input, inside or above one, or exists (without
+    ``force``, or not a regular file), as every output (``outputs``)."""
     from tftools.sinks.findings_mcap import refuse_output
 
+    check_output(mcap, inputs, option="--mcap", file_name="findings.mcap")
+    check_replaceable(mcap, force, "--mcap")
     refuse_output(mcap, inputs, force)
