@@ -4,11 +4,14 @@ bursts of thousands of samples. Each command ends on time with one-line notices,
 
 from __future__ import annotations
 
+import resource
+
 import pytest
 
 from tests.live.ros2_processes import Ros2Domain, domain_fixture  # noqa: F401 - the fixture `domain`
 from tftools.sources.live import base, open_live
 from tftools.sources.live.capture import capture
+from tftools.sources.live.ros2 import conventions as ros2
 
 KINDS = ["flood", "names", "values", "graph", "burst"]
 COMMANDS = {
@@ -39,3 +42,32 @@ def test_a_flood_of_frame_names_is_cut_at_the_limit_and_said_once(domain: Ros2Do
     assert 20_000 <= len(heard) <= 30_000
     said = "more than 30,000 frames heard: transforms naming further frames are dropped"
     assert [n for n in notices if "frames heard" in n] == [f"{said} (a publisher inventing frame names?)"]
+
+
+def test_samples_larger_than_the_limit_are_dropped_and_said_once(domain: Ros2Domain) -> None:
+    """A peer sending samples of 60 MiB back to back: taken a bounded number of bytes at a time, dropped
+    unread, said once with the first one's size (the monitor grew to 1.57 GB)."""
+    domain.node("hostile", "huge").wait_for("ready", timeout=30)
+    notices: list[str] = []
+    recording = capture(open_live("ros2", on_notice=notices.append), duration=10.0)  # a 60 MiB sample takes seconds
+    assert not len(recording.transforms)
+    said = [n for n in notices if "larger than" in n]
+    assert said == [
+        "/hostile sent a sample of 60.0 MiB on /tf, larger than 16 MiB (100,000 transforms take 8.5 MB):"
+        " such are dropped unread"
+    ]
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss < 1_500_000  # KiB: within the issue's 1.5 GB
+
+
+def test_a_flood_of_participants_is_forgotten_oldest_first_and_said_once(
+    domain: Ros2Domain, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(ros2, "MAX_PARTICIPANTS", 5)
+    domain.node("hostile", "participants").wait_for("ready", timeout=30)
+    notices: list[str] = []
+    capture(open_live("ros2", on_notice=notices.append), duration=3.0)
+    said = [n for n in notices if "participants announced" in n]
+    assert said == [
+        "more than 5 participants announced on ros_discovery_info: the oldest are forgotten, their writers named"
+        " by participant (a flood of participants?)"
+    ]

@@ -186,7 +186,22 @@ def rows_of(recording: Recording) -> Rows:
             _history_segment(names.intern(child), h) for child, hist in buffer.histories() for h in _chain(hist)
         ]
         segments.append(_refused_segment(recording, names, authorities))
-    return Rows(_layout(segments), names.names, authorities.names)
+    return Rows(_layout(_coalesced(segments)), names.names, authorities.names)
+
+
+#: Histories of at most this many rows are read from one copy of them all: each segment costs every column
+#: read a Python step, and 100,000 static edges of one row each made the checks take a minute.
+SMALL_SEGMENT = 16
+
+
+def _coalesced(segments: list[Segment]) -> list[Segment]:
+    """``segments``, the small ones (``SMALL_SEGMENT`` rows at most) copied into one: a copy of at most
+    ``SMALL_SEGMENT`` rows per history, whatever the recording's length."""
+    small = [s for s in segments if len(s.stamp) <= SMALL_SEGMENT]
+    if len(small) < 2:
+        return segments
+    merged = Segment(*(np.concatenate(column) for column in zip(*small, strict=True)))
+    return [*(s for s in segments if len(s.stamp) > SMALL_SEGMENT), merged]
 
 
 def _chain(hist: EdgeHistory) -> Iterator[EdgeHistory]:

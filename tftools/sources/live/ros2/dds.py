@@ -165,15 +165,32 @@ class Waiter:
         self._waitset.attach(condition)
 
 
-def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, SampleInfo]]:
-    """Up to ``limit`` samples as the CDR bytes that arrived (encapsulation header first), each with
-    its sample info: decoded by tftools in bulk rather than into one Python object per field."""
+#: The bytes of samples one take brings into Python at most (beside the one sample that crosses it): samples
+#: of 60 MiB back to back, taken 256 at a time, held gigabytes.
+TAKE_BYTES = 64 << 20
+
+
+def take_raw(reader: DataReader[Any], limit: int = 256, max_bytes: int = TAKE_BYTES) -> list[tuple[bytes, SampleInfo]]:
+    """Up to ``limit`` samples, and no more once ``max_bytes`` are taken, as the CDR bytes that arrived
+    (encapsulation header first), each with its sample info: decoded by tftools in bulk rather than into
+    one Python object per field. What is left stays in the reader (its waitset condition wakes again)."""
     from cyclonedds._clayer import ddspy_take  # what DataReader.take calls before deserializing
 
-    taken = ddspy_take(reader._ref, _ANY_SAMPLE, limit)
-    if isinstance(taken, int):
-        raise DDSException(taken, f"Occurred while taking data in {reader!r}")
-    return [(data, info) for data, info in taken if info.valid_data]
+    samples: list[tuple[bytes, SampleInfo]] = []
+    size = 0
+    for _ in range(limit):
+        if size >= max_bytes:
+            break
+        taken = ddspy_take(reader._ref, _ANY_SAMPLE, 1)  # one at a time: a sample's size is known once taken
+        if isinstance(taken, int):
+            raise DDSException(taken, f"Occurred while taking data in {reader!r}")
+        if not taken:
+            break
+        data, info = taken[0]
+        if info.valid_data:
+            samples.append((data, info))
+            size += len(data)
+    return samples
 
 
 def write_raw(writer: DataWriter[Any], data: bytes) -> None:
