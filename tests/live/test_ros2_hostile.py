@@ -4,7 +4,10 @@ bursts of thousands of samples. Each command ends on time with one-line notices,
 
 from __future__ import annotations
 
+import os
 import resource
+import socket
+import time
 
 import pytest
 
@@ -71,3 +74,33 @@ def test_a_flood_of_participants_is_forgotten_oldest_first_and_said_once(
         "more than 5 participants announced on ros_discovery_info: the oldest are forgotten, their writers named"
         " by participant (a flood of participants?)"
     ]
+
+
+def _malformed_packets(domain_id: int, seconds: float) -> int:
+    """RTPS packets whose DATA submessage runs past the packet's end, sent to every participant's unicast
+    ports of the domain for ``seconds``: Cyclone DDS logs each one it receives on stderr; how many were sent."""
+    sent = 0
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            for index in range(8):
+                for offset in (10, 11):  # discovery and user unicast ports of participant ``index``
+                    packet = b"RTPS\x02\x01\x01\x10" + os.urandom(12) + b"\x15\x05\xff\x7f" + os.urandom(20)
+                    sock.sendto(packet, ("127.0.0.1", 7400 + 250 * domain_id + offset + 2 * index))
+                    sent += 1
+            time.sleep(0.01)
+    return sent
+
+
+@pytest.mark.parametrize("debug", [False, True], ids=["quiet", "TFX_DEBUG"])
+def test_cyclone_s_own_log_of_malformed_packets_stays_off_stderr(domain: Ros2Domain, debug: bool) -> None:
+    """Cyclone DDS printed a line of its own for each malformed packet (100 to 640 lines in 5 s); with
+    TFX_DEBUG=1 its log is kept (which shows the packets did reach tfx)."""
+    env = {**domain.env, **({"TFX_DEBUG": "1"} if debug else {})}
+    command = domain.tfx("monitor", "--ros2", "--duration", "4", "-f", "json", env=env)
+    time.sleep(1.0)
+    assert _malformed_packets(domain.id, 2.0) > 100
+    finished = command.finish(timeout=60)  # a hang guard
+    assert finished.returncode == 0, finished.stderr
+    malformed = [line for line in finished.stderr.splitlines() if "malformed packet" in line]
+    assert bool(malformed) is debug, finished.stderr[-500:]
