@@ -173,6 +173,8 @@ def _join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
 def multiple_parents(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     for child, mine in rows.by_child(rows.usable):
+        if len(mine) < 2:  # one row, one parent (a tree of 100,000 statics has little else)
+            continue
         parents = rows.parent[mine]
         if parents.min() == parents.max():
             continue
