@@ -168,6 +168,14 @@ def test_a_recorded_xacro_is_said_not_checked(tmp_path: Path) -> None:
     assert "is xacro" in findings[0].message and "xacro" in findings[0].hint
 
 
+def test_a_recorded_description_naming_a_link_of_a_mebibyte_is_said_not_checked(tmp_path: Path) -> None:
+    long = URDF.replace('"laser"', '"' + "l" * (1 << 20) + '"')
+    findings = _findings(tmp_path, Setup(description=True, description_text=long), urdf=False)
+    assert _codes(findings) == [("urdf_unread", "warning")]
+    assert "a <link> name of 1,048,576 characters, longer than 4,096" in findings[0].message
+    assert len(findings[0].message) < 300
+
+
 def test_no_description_no_findings(tmp_path: Path) -> None:
     assert _findings(tmp_path, Setup(), urdf=False) == []
 

@@ -33,6 +33,7 @@ from tftools.analysis.expected import Tolerances, shape_of
 from tftools.analysis.findings import Severity
 from tftools.analysis.tree_file import TreeFileError, read_tree, write_tree
 from tftools.analysis.wtf import CHECKS
+from tftools.analysis.wtf.expectations import SHOWN
 from tftools.analysis.wtf.fleet import check
 from tftools.analysis.wtf.query import CheckQuery
 from tftools.core.transform import Transform
@@ -235,3 +236,22 @@ def test_a_topic_standing_in_for_an_unnamed_publisher_is_no_publisher_change() -
     assert compare(named, unnamed, Tolerances()) == [] == compare(unnamed, named, Tolerances())
     renamed = shape_of(recording(healthy(amcl=periodic("/amcl_new", 10, map_odom))))
     assert [(d.change, d.frame) for d in compare(named, renamed, Tolerances())] == [(Change.publishers, "odom")]
+
+
+def test_many_differences_of_a_kind_are_said_a_few_then_counted(tmp_path: Path, expected_file: Path) -> None:
+    """A tree file of 100,000 frames against another recording made a finding a frame: 20 MB of output."""
+    path = tmp_path / "big.yaml"
+    extra = "".join(f"  x{k}: {{parent: map}}\n" for k in range(40))
+    path.write_text(expected_file.read_text() + extra)
+    findings = check(
+        read_recording([expected_file.parent / "healthy.bag"]), CheckQuery(expected=read_tree(path))
+    ).findings
+    missing = [f for f in findings if f.code == "expect_missing"]
+    assert len(missing) == SHOWN + 1
+    assert all("x" + str(k) + " is in" in f.message for k, f in enumerate(missing[:SHOWN]))
+    last = missing[-1]
+    assert last.message == (
+        f"{40 - SHOWN} more frames as above (a frame of the expected tree is missing): "
+        f"x{SHOWN}, x{SHOWN + 1}, x{SHOWN + 2}, x{SHOWN + 3}, x{SHOWN + 4}, and {40 - SHOWN - 5} others"
+    )
+    assert last.severity is Severity.error and last.frames == tuple(f"x{SHOWN + k}" for k in range(5))

@@ -243,6 +243,15 @@ def test_a_loop_only_in_the_raw_data_is_found_with_the_times_it_held() -> None:
     assert START + 2 * NS_PER_S <= loop.first_time <= loop.last_time <= START + 5 * NS_PER_S
 
 
+def test_a_loop_closed_by_one_transform_holds_at_its_stamp() -> None:
+    """One transform sent once (an edge of one row, read with the other one-row edges at once) closes a loop."""
+    once = START + 3 * NS_PER_S + 5 * NS_PER_S // 100
+    messages = with_extra([TfMessage("/tf", once + DELAY, [_t("base_link", "odom", once)], "/rogue")])
+    loop = only(check(recording(messages)).findings, "cycle")
+    assert "transforms stamped" in loop.message and "+3.0" in loop.message
+    assert loop.first_time == loop.last_time == once
+
+
 def test_a_loop_across_times_that_never_overlap_is_no_cycle() -> None:
     # base_link under odom until 4 s, then under map; odom under base_link from 5 s: never a loop at one time
     messages = with_extra(

@@ -1,5 +1,6 @@
-"""Output paths: never the input, inside it or above it; --force replaces only an earlier output; a
-missing folder, a read-only folder or a full disk is one line and leaves no half-written file."""
+"""Output paths: never the input, inside it or above it; a file already there replaced only with --force, and
+only a regular file, by every command that writes one; a missing folder, a read-only folder or a full disk is
+one line and leaves no half-written file."""
 
 from __future__ import annotations
 
@@ -105,6 +106,61 @@ def test_force_replaces_an_earlier_output_only(tfx, bags: dict[str, Path], tmp_p
     assert (documents / "thesis.tex").read_text() == "precious"
 
 
+#: Every command that writes a file, and its option naming it (OUT: where the file goes).
+WRITERS = {
+    "view-frames": ("view-frames", "-o", "OUT.gv"),
+    "report": ("report", "-o", "OUT.html"),
+    "report --mcap": ("report", "-o", "page.html", "--mcap", "OUT.mcap"),
+    "wtf --mcap": ("wtf", "--mcap", "OUT.mcap"),
+    "echo --plot": ("echo", "base_link", "odom", "--plot", "OUT.png"),
+    "monitor --plot": ("monitor", "--plot", "OUT.png"),
+    "static": (*STATIC, "-o", "OUT.bag"),
+}
+
+
+def _writing(command: str, bag: Path, folder: Path) -> tuple[list[str], Path]:
+    """``command``'s arguments writing into ``folder``, and the file it writes."""
+    arguments = [str(folder / a) if a.startswith(("OUT.", "page.")) else a for a in WRITERS[command]]
+    (output,) = [Path(a) for a in arguments if a.startswith(str(folder / "OUT."))]
+    return [*arguments, "-b", str(bag)], output
+
+
+@pytest.mark.parametrize("command", WRITERS)
+def test_every_writer_replaces_a_file_only_with_force(tfx, bags: dict[str, Path], tmp_path: Path, command: str) -> None:
+    arguments, output = _writing(command, bags["ros1"], tmp_path)
+    output.write_text("someone's notes")
+    (tmp_path / "page.html").unlink(missing_ok=True)
+    refused(tfx(*arguments), f"{output} already exists", "--force to replace it")
+    assert output.read_text() == "someone's notes"
+    assert tfx(*arguments, "--force").code in (0, 1)
+    assert output.read_bytes() != b"someone's notes"
+
+
+@pytest.mark.parametrize("command", WRITERS)
+def test_no_writer_replaces_a_fifo_even_with_force(tfx, bags: dict[str, Path], tmp_path: Path, command: str) -> None:
+    arguments, output = _writing(command, bags["ros1"], tmp_path)
+    os.mkfifo(output)
+    refused(tfx(*arguments, "--force"), f"{output} is a FIFO, not a regular file")
+    assert output.is_fifo()
+
+
+def test_view_frames_redraws_its_default_output_but_a_named_one_only_with_force(
+    tfx, bags: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """As ROS's view_frames: running it again redraws frames.pdf (here frames.gv); a file named with -o is
+    replaced only with --force, and the default is never a FIFO."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "frames.gv").write_text("an earlier drawing")
+    assert tfx("view-frames", "-b", bags["ros1"], "-f", "dot").code == 0
+    assert "digraph frames" in (tmp_path / "frames.gv").read_text()
+    assert tfx("view-frames", "-b", bags["ros1"], "-o", "tree.gv").code == 0
+    refused(tfx("view-frames", "-b", bags["ros1"], "-o", "tree.gv"), "-o tree.gv already exists")
+    assert tfx("view-frames", "-b", bags["ros1"], "-o", "tree.gv", "--force").code == 0
+    (tmp_path / "frames.gv").unlink()
+    os.mkfifo(tmp_path / "frames.gv")
+    refused(tfx("view-frames", "-b", bags["ros1"], "-f", "dot"), "frames.gv is a FIFO, not a regular file")
+
+
 @pytest.mark.parametrize("command", ["view-frames", "static"])
 def test_a_missing_folder_is_one_line(tfx, bags: dict[str, Path], tmp_path: Path, command: str) -> None:
     output = tmp_path / "missing" / "out.bag"
@@ -159,7 +215,7 @@ def test_an_earlier_output_survives_a_failed_write(tfx, bags, tmp_path: Path, mo
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
     monkeypatch.setattr(files.os, "fsync", full)
-    refused(tfx("view-frames", "-b", bags["mcap"], "-o", output), "the disk is full")
+    refused(tfx("view-frames", "-b", bags["mcap"], "-o", output, "--force"), "the disk is full")
     assert output.read_bytes() == earlier
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frames.gv", "in"]
 

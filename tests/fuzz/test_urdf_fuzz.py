@@ -16,6 +16,7 @@ from tests.fuzz.test_bag_fuzz import FUZZ
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.robot import WHOLE_DECODERS
 from tftools.sources.codecs.select import WholeCodec
+from tftools.sources.codecs.wire import MAX_FRAME_ID
 from tftools.sources.urdf import RobotDescription, UrdfError, parse_urdf
 
 
@@ -66,3 +67,30 @@ def test_urdf_reader_on_any_text() -> None:
                 joint.transform_at(0.5)
 
     check()
+
+
+LONG = "n" * (MAX_FRAME_ID + 1)
+#: Where a URDF names a frame, a joint or itself: each place given a name one character too long.
+NAME_PLACES = {
+    "robot": URDF.replace('<robot name="rover">', f'<robot name="{LONG}">'),
+    "link": URDF.replace('"laser"', f'"{LONG}"'),
+    "joint": URDF.replace('"laser_joint"', f'"{LONG}"'),
+    "mimic": URDF.replace(
+        '<joint name="laser_joint" type="fixed">', f'<joint name="laser_joint" type="fixed"><mimic joint="{LONG}"/>'
+    ),
+}
+
+
+@pytest.mark.parametrize("place", NAME_PLACES)
+def test_a_name_longer_than_frame_names_may_be_is_refused_in_one_line(place: str) -> None:
+    with pytest.raises(UrdfError) as refused:
+        parse_urdf(NAME_PLACES[place], "long.urdf")
+    said = str(refused.value)
+    assert said.startswith("long.urdf: a <") and f"of {MAX_FRAME_ID + 1:,} characters, longer than 4,096" in said
+    assert len(said) < 200 and "4,096" in refused.value.hint
+
+
+def test_a_name_as_long_as_frame_names_may_be_is_read() -> None:
+    longest = "n" * MAX_FRAME_ID
+    robot = parse_urdf(URDF.replace('"laser"', f'"{longest}"'), "long.urdf")
+    assert longest in robot.links and robot.joint("laser_joint").child == longest

@@ -24,7 +24,9 @@ their own type definitions (tftools' are not used, so a mistake there cannot hid
                                         new frame names a sample, 10 Hz), "names" (escape codes, newlines, 10,000-
                                         character names), "values" (NaN, inf, 1e308, a zero quaternion), "graph"
                                         (ros_discovery_info naming 1,000 nodes of hostile names), "burst" (10,000
-                                        samples as fast as it can)
+                                        samples as fast as it can), "huge" (samples of 60 MiB back to back: one
+                                        name of 60 MiB), "participants" (ros_discovery_info announcing a new
+                                        participant of 1,000 nodes in every sample, as fast as it can)
 Each prints "ready" once its writers exist, then runs until killed.
 """
 
@@ -274,6 +276,20 @@ def hostile(dp, kind):
         junk = DataWriter(dp, topic, qos=qos(1, transient_local=True))
         nodes = [node("/\x1b[31m", f"n{i}\n\x07" + "x" * 200, [], []) for i in range(1000)]
         junk.write(info(gid(list(dp.guid.bytes)), nodes))
+    if kind == "participants":
+        gid, node, info = gid_types(16)
+        flood = DataWriter(dp, Topic(dp, "ros_discovery_info", info), qos=qos(1, transient_local=True))
+        writers = [gid(list(range(16))) for _ in range(10)]
+        nodes = [node("/", f"n{i}_" + "x" * 200, [], writers) for i in range(1000)]
+        print("ready", flush=True)
+        for k in range(10**9):
+            flood.write(info(gid(list(k.to_bytes(16, "little"))), nodes))
+    if kind == "huge":
+        huge = "h" * (60 << 20)
+        print("ready", flush=True)
+        while True:
+            stamp = Time_(*divmod(time.time_ns(), 1_000_000_000))
+            tf.write(TFMessage_([TransformStamped_(Header_(stamp, "root"), huge, Transform_())]))
     print("ready", flush=True)
 
     def transform(parent, child, x=0.0, rotation=None):

@@ -160,12 +160,16 @@ def _ids(values: Int32Array) -> IntpArray:
 
 def publishers(buffer: Buffer, authorities: Int32Array) -> tuple[str, ...]:
     """The names of the distinct ``authorities`` (ids of ``buffer``'s), by id."""
+    if len(authorities) == 1:  # a static edge sent once: numpy's calls cost more than the answer
+        return (buffer.authorities[int(authorities[0])],)
     return tuple(buffer.authorities[int(a)] for a in _ids(authorities))
 
 
 def parents_in_order(hist: EdgeHistory) -> list[int]:
     """The ids of every parent ``hist`` had, first seen first: the one order a frame's history splits into edges."""
     parents = hist.parents
+    if len(parents) == 1:
+        return [int(parents[0])]
     if len(parents) and parents.min() == parents.max():  # the usual case: one parent ever
         return [int(parents[0])]
     arrival = hist.parents[np.argsort(hist.sequence, kind="stable")]

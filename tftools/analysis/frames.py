@@ -89,7 +89,8 @@ def frame_tree(buffer: Buffer) -> FrameTree:
         if len(hist) == 0:
             continue
         stamps = hist.stamps
-        first, last = (stamps[0], stamps[-1]) if not hist.static else (stamps.min(), stamps.max())
+        one = len(stamps) == 1  # a static edge sent once: numpy's reductions cost more than the answer
+        first, last = (stamps[0], stamps[-1]) if one or not hist.static else (stamps.min(), stamps.max())
         frames[name] = FrameSummary(
             frame=name,
             parent=names(hist.latest_parent),

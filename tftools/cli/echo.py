@@ -99,6 +99,7 @@ def command(
             "the lines (every sample, unless --rate), live and with --play when they end.",
         ),
     ] = None,
+    force: options.Force = False,
 ) -> None:
     """Print the transform from SOURCE to TARGET, as tf_echo does: [bold]where SOURCE is in TARGET[/].
 
@@ -113,7 +114,7 @@ def command(
     from tftools.analysis.echo import EchoQuery, echo, echo_stream
     from tftools.analysis.times import Stamp, parse_time_spec
 
-    check_plot(plot, bags)
+    check_plot(plot, bags, force)
     every = every or (plot is not None and rate is None and at is None)
     rate_given, rate = rate, rate_hz(1.0 if rate is None else rate)
     if wait is not None:

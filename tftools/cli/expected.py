@@ -14,11 +14,16 @@ from tftools.cli.common import stdout
 from tftools.cli.errors import UsageError
 from tftools.cli.reading import open_recording
 from tftools.core.semantics import Semantics
+from tftools.sources.user_files import MAX_ITEMS
 
 if TYPE_CHECKING:
     from tftools.analysis.expected import Tolerances, TreeShape
 
 _DEFAULTS = defaults.tolerances()
+#: The frames of a tree file ``--init`` writes at most: each a line of 8 to 10 of the lines and items
+#: that YAML is parsed within (``user_files.MAX_ITEMS``), so that ``--expect`` reads it back (writing
+#: 100,000 frames took ruamel 169 s, for a file no reader would take).
+MAX_INIT_FRAMES = MAX_ITEMS // 10
 
 
 def _tolerance(option: str, beyond: str, default: float) -> Any:
@@ -64,4 +69,11 @@ def write_init(bags: Sequence[str], topics: Sequence[str] | None, semantics: Sem
     from tftools.analysis.expected import shape_of
     from tftools.analysis.tree_file import write_tree
 
-    write_tree(shape_of(open_recording(bags, topics, semantics)), stdout.file)
+    shape = shape_of(open_recording(bags, topics, semantics))
+    if len(shape.frames) > MAX_INIT_FRAMES:
+        raise UsageError(
+            f"--init: the recording has {len(shape.frames):,} frames, more than the {MAX_INIT_FRAMES:,} of a tree"
+            " file that --expect reads back",
+            "compare such recordings with each other: tfx diff good.bag new.bag",
+        )
+    write_tree(shape, stdout.file)

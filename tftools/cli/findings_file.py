@@ -10,6 +10,7 @@ import typer
 
 from tftools.cli import live
 from tftools.cli.errors import UsageError
+from tftools.cli.outputs import check_output, check_replaceable
 
 if TYPE_CHECKING:
     from tftools.analysis.wtf.fleet import BagReport
@@ -22,7 +23,6 @@ McapOption = Annotated[
         "foxglove.Log, /diagnostics and foxglove.FrameTransforms; needs pip install 'tftools\\[foxglove]').",
     ),
 ]
-ForceOption = Annotated[bool, typer.Option("--force", help="Let --mcap overwrite an existing file.")]
 
 
 def one_recording(groups: Sequence[Sequence[str]]) -> Sequence[str]:
@@ -44,7 +44,10 @@ def check_into_mcap(paths: Sequence[str], query: CheckQuery, mcap: Path, force: 
 
 
 def refuse(mcap: Path, inputs: Sequence[str], force: bool) -> None:
-    """Before any reading: a ``UsageError`` if ``mcap`` is an input or exists (without ``force``)."""
+    """Before any reading: a ``UsageError`` if ``mcap`` is an input, inside or above one, or exists (without
+    ``force``, or not a regular file), as every output (``outputs``)."""
     from tftools.sinks.findings_mcap import refuse_output
 
+    check_output(mcap, inputs, option="--mcap", file_name="findings.mcap")
+    check_replaceable(mcap, force, "--mcap")
     refuse_output(mcap, inputs, force)

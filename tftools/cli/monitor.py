@@ -58,6 +58,7 @@ def command(
             "table (with TARGET SOURCE, the chain's edges), live and with --play each refresh's, when it ends.",
         ),
     ] = None,
+    force: options.Force = False,
 ) -> None:
     """Rates, jitter, gaps and delays of every edge and publisher, as tf_monitor shows them.
 
@@ -79,7 +80,7 @@ def command(
     from tftools.render.plots import monitor_figure
     from tftools.sources.live.capture import live_semantics
 
-    check_plot(plot, bags)
+    check_plot(plot, bags, force)
     trace = MonitorTrace() if plot is not None else None
     if (target is None) != (source is None):
         raise UsageError("give two frames or none", "tfx monitor TARGET SOURCE, e.g. tfx monitor map base_link")

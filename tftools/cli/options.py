@@ -86,6 +86,12 @@ Target = Annotated[
         "else the tree's root).",
     ),
 ]
+Force = Annotated[
+    bool,
+    typer.Option(
+        "--force", help="Replace an output file that exists (a regular file only: never an input, a FIFO or a device)."
+    ),
+]
 Sensors = Annotated[
     list[str] | None,
     typer.Option(

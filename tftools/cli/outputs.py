@@ -1,5 +1,5 @@
-"""Where a command may write: never over, into or above its input, nor over a FIFO or device; ``--force`` replaces
-only an earlier output."""
+"""Where a command may write: never over, into or above its input, nor over a FIFO or device; a file already there
+is replaced only with ``--force``, one rule for every command that writes a file (``check_replaceable``)."""
 
 from __future__ import annotations
 
@@ -57,24 +57,25 @@ def check_output(
     return Path(output)
 
 
-def check_replaceable(output: Path, force: bool) -> None:
+def check_replaceable(output: Path, force: bool, option: str = "-o") -> None:
     """An existing ``output`` is replaced only with ``force``, and only when it is a regular file or a bag
-    directory (a folder of something else, a FIFO or a device is never replaced). Call after ``check_output``."""
+    directory (a folder of something else, a FIFO or a device is never replaced): the rule of every
+    command that writes a file (``-o``, ``--plot``, ``--mcap``). Call after ``check_output``."""
     if not output.exists() and not output.is_symlink():
         return
     kind = _special(output)
     if kind:
-        raise UsageError(f"-o {output} is {kind}, not a regular file", _SPECIAL_HINT)
+        raise UsageError(f"{option} {output} is {kind}, not a regular file", _SPECIAL_HINT)
     if not force:
-        raise UsageError(f"-o {output} already exists", "name another output, or --force to replace it")
+        raise UsageError(f"{option} {output} already exists", "name another output, or --force to replace it")
     if output.is_dir() and not output.is_symlink() and not only_bag_files(output):
         raise UsageError(
-            f"-o {output} is a folder that is not a bag; --force replaces only an earlier output",
-            "name the new bag, e.g. -o " + str(output / "with_static"),
+            f"{option} {output} is a folder that is not a bag; --force replaces only a file or a bag",
+            f"name a file, e.g. {option} " + str(output / "with_static"),
         )
 
 
-_SPECIAL_HINT = "name a file: tfx writes regular files, and --force replaces only an earlier output"
+_SPECIAL_HINT = "name a file: tfx writes regular files, and --force replaces only a regular file"
 _KINDS = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
           (stat.S_ISSOCK, "a socket"))  # fmt: skip
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 from tftools.cli.common import say_written
 from tftools.cli.errors import UsageError
-from tftools.cli.outputs import check_output
+from tftools.cli.outputs import check_output, check_replaceable
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -17,9 +17,9 @@ if TYPE_CHECKING:
 PLOT_FILE = "a .png, .svg or .pdf file; needs matplotlib: pip install 'tftools\\[plot]'"
 
 
-def check_plot(plot: Path | None, inputs: Sequence[str] | None) -> None:
+def check_plot(plot: Path | None, inputs: Sequence[str] | None, force: bool) -> None:
     """A picture ``--plot`` can write (None: none asked for): matplotlib installed, a suffix it draws,
-    never over or into an input."""
+    never over or into an input, nor over a file without ``force``."""
     from tftools.render.plots import SUFFIXES, plot_format, require_matplotlib
 
     if plot is None:
@@ -29,6 +29,7 @@ def check_plot(plot: Path | None, inputs: Sequence[str] | None) -> None:
             f"--plot {plot}: not a picture tfx draws", f"name a {', '.join(SUFFIXES)} file, e.g. --plot {plot.stem}.png"
         )
     check_output(plot, inputs or [], option="--plot", file_name="plot.png")
+    check_replaceable(plot, force, "--plot")
     require_matplotlib()
 
 

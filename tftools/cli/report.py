@@ -13,7 +13,7 @@ import typer
 from tftools.cli import findings_file, live, options
 from tftools.cli.common import Exit, exit_with, hinted, progress_bar, say_written, warn
 from tftools.cli.errors import UsageError
-from tftools.cli.outputs import check_output
+from tftools.cli.outputs import check_output, check_replaceable
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
     from tftools.analysis.report import ReportQuery
@@ -47,7 +47,7 @@ def command(
     ros1: options.Ros = None,
     use_sim_time: options.SimTime = None,
     mcap: findings_file.McapOption = None,
-    force: findings_file.ForceOption = False,
+    force: options.Force = False,
 ) -> None:
     """Write one HTML page to look at: findings, tree, each edge over time, every frame in 3D.
 
@@ -77,7 +77,7 @@ def command(
     from tftools.sources.urdf import read_urdf
 
     groups = options.recordings_given(paths, bags)
-    _check_output(output, [p for group in groups for p in group])
+    _check_output(output, [p for group in groups for p in group], force)
     if mcap is not None:
         findings_file.refuse(mcap, findings_file.one_recording(groups), force)
         if mcap.resolve() == output.resolve():
@@ -108,9 +108,11 @@ def command(
     exit_with(Exit.PROBLEMS if failed else Exit.OK)
 
 
-def _check_output(output: Path, inputs: Sequence[str]) -> None:
-    """Refuse, before any reading, an output that would touch an input, a folder, or a place not writable."""
+def _check_output(output: Path, inputs: Sequence[str], force: bool) -> None:
+    """Refuse, before any reading, an output that would touch an input, a folder, a file there (without
+    ``force``), or a place not writable."""
     check_output(output, inputs, file_name=DEFAULT_OUTPUT)
+    check_replaceable(output, force)
     folder = output.resolve().parent
     if not os.access(folder, os.W_OK):
         raise UsageError(f"-o {output}: cannot write in {folder}", "write elsewhere with -o")

@@ -13,7 +13,7 @@ import typer
 from tftools.cli import options
 from tftools.cli.common import Exit, exit_with, say_failure, say_written
 from tftools.cli.errors import UsageError
-from tftools.cli.outputs import check_output
+from tftools.cli.outputs import check_output, check_replaceable
 from tftools.cli.reading import open_recording
 
 
@@ -65,6 +65,7 @@ def command(
         typer.Option(help="Tree direction: TB top-down, LR left-right (wide trees), BT, RL.", case_sensitive=False),
     ] = RankDir.TB,
     brief: Annotated[bool, typer.Option("--brief", help="Short edge labels: publisher and rate only.")] = False,
+    force: options.Force = False,
     topics: options.Topics = None,
     tf2: options.Tf2 = None,
     duration: options.Listen = 5.0,
@@ -94,7 +95,7 @@ def command(
     from tftools.render import drawing
     from tftools.render import graph as render
 
-    chosen, target = _output(output, fmt, bags or [])
+    chosen, target = _output(output, fmt, bags or [], force)
     recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
     graph, dot = render.view_frames(recording, rankdir=rankdir.value, brief=brief)
     try:
@@ -112,15 +113,18 @@ def command(
         exit_with(Exit.PROBLEMS)
 
 
-def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[str]) -> tuple[GraphFormat, str]:
+def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[str], force: bool) -> tuple[GraphFormat, str]:
     """The format and the path: from -o's suffix, --format, or view_frames' default frames.pdf;
-    never an input, inside one or above one (``outputs.check_output``)."""
+    never an input, inside one or above one (``outputs.check_output``), nor a file named with -o already
+    there without ``force`` (``outputs.check_replaceable``). The default frames.pdf is replaced as ROS's
+    view_frames replaces it (running the command again redraws it), but never a FIFO, a device or a folder."""
     if output == "-":
         return fmt or GraphFormat.pdf, output
     if output is None:
         chosen = fmt or GraphFormat.pdf
         default = f"frames{_suffix(chosen)}"
         check_output(Path(default), bags, option="the default output")
+        check_replaceable(Path(default), True, "the default output")
         return chosen, default
     implied = SUFFIXES.get(Path(output).suffix.lower())
     if fmt is not None and implied is not None and implied is not fmt:
@@ -129,6 +133,7 @@ def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[str]) ->
             f"name it {Path(output).with_suffix(_suffix(fmt))}",
         )
     check_output(Path(output), bags, file_name="frames.pdf")
+    check_replaceable(Path(output), force)
     return fmt or implied or GraphFormat.pdf, output
 
 

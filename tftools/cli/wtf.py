@@ -138,7 +138,7 @@ def command(
         float, typer.Option(help="With --watch: the seconds of what was heard that each check covers.")
     ] = 10.0,
     mcap: findings_file.McapOption = None,
-    force: findings_file.ForceOption = False,
+    force: options.Force = False,
 ) -> None:
     """Check tf for what breaks lookups, and say how to fix each problem (roswtf's tf checks and more).
 
@@ -215,6 +215,7 @@ def command(
         _watch(ros1, use_sim_time, topics, query, window)
         return
     if mcap is not None:
+        findings_file.refuse(mcap, findings_file.one_recording(groups), force)
         reports = [findings_file.check_into_mcap(findings_file.one_recording(groups), query, mcap, force)]
     elif groups:
         stream = functools.partial(render_lines.write_recording, out=sys.stdout, strict=strict)

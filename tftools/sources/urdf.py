@@ -21,6 +21,7 @@ from xml.parsers import expat
 
 from tftools.core.errors import TfToolsError
 from tftools.core.rotation import Quat, Vec3, matrix_apply, matrix_from_quat, quat_from_rpy
+from tftools.sources.codecs.wire import MAX_FRAME_ID
 from tftools.sources.user_files import MAX_BYTES, MAX_DEPTH, MAX_NODES, NotAFileError, UserFileError, number, read_bytes
 
 #: xacro's namespace as xacro files spell it (``xmlns:xacro``), as a tag's prefix.
@@ -167,7 +168,8 @@ def parse_urdf(text: bytes | str, source: str) -> RobotDescription:
     twice = next((c for c, n in Counter(j.child for j in joints).items() if n > 1), None)
     if twice is not None:
         raise UrdfError(source, f"link {twice} is the child of several joints: a URDF is a tree")
-    return RobotDescription(root.get("name", ""), source, links, joints)
+    robot = _name(root, "robot", source) if root.get("name") else ""
+    return RobotDescription(robot, source, links, joints)
 
 
 def _parsed(raw: bytes, source: str) -> ET.Element:
@@ -230,10 +232,18 @@ def _local(tag: str) -> str:
     return tag.rsplit("}", 1)[-1]
 
 
-def _name(element: ET.Element, what: str, source: str) -> str:
-    name = element.get("name")
+def _name(element: ET.Element, what: str, source: str, key: str = "name") -> str:
+    """The ``key`` attribute of ``element`` (a ``<what>``): a name of at most ``MAX_FRAME_ID`` characters, the
+    limit tf's names have wherever tfx reads them (a longer one is damage, and would swell every output)."""
+    name = element.get(key)
     if not name:
-        raise UrdfError(source, f"a <{what}> without a name")
+        raise UrdfError(source, f"a <{what}> without a {key}")
+    if len(name) > MAX_FRAME_ID:
+        raise UrdfError(
+            source,
+            f"a <{what}> {key} of {len(name):,} characters, longer than {MAX_FRAME_ID:,}: not a frame name",
+            f"names are at most {MAX_FRAME_ID:,} characters: fix the description",
+        )
     return name
 
 
@@ -245,10 +255,9 @@ def _joint(element: ET.Element, source: str) -> Joint:
     links = []
     for role in ("parent", "child"):
         tag = element.find(role)
-        link = tag.get("link") if tag is not None else None
-        if not link:
+        if tag is None or not tag.get("link"):
             raise UrdfError(source, f"joint {name}: no <{role} link=...>")
-        links.append(link)
+        links.append(_name(tag, role, source, "link"))
     origin = element.find("origin")
     xyz = _vector(origin, "xyz", (0.0, 0.0, 0.0), name, source)
     rpy = _vector(origin, "rpy", (0.0, 0.0, 0.0), name, source)
@@ -256,6 +265,7 @@ def _joint(element: ET.Element, source: str) -> Joint:
     mimic_tag = element.find("mimic")
     mimic = None
     if mimic_tag is not None and mimic_tag.get("joint"):
+        _name(mimic_tag, "mimic", source, "joint")
         numbers = [
             _number(mimic_tag.get(k, d), f"joint {name}: mimic {k}", source)
             for k, d in (("multiplier", "1"), ("offset", "0"))

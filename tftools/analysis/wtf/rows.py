@@ -78,11 +78,13 @@ class Layout:
         keys = (self.whole(lambda s: s.parent)[rows].astype(np.int64) << 32 | child) if by_parent else child
         order = np.argsort(keys, kind="stable")  # within a key, rows stay in record order
         ordered = keys[order]
-        bounds = np.flatnonzero(ordered[1:] != ordered[:-1]) + 1
-        parts = np.split(rows[order], bounds)
-        edges = ordered[np.r_[0, bounds]].tolist()
-        for k in np.argsort([int(part[0]) for part in parts], kind="stable").tolist():  # by first arrival
-            yield edges[k] >> 32, edges[k] & 0xFFFFFFFF, parts[k].astype(np.intp)
+        grouped = rows[order].astype(np.intp)
+        starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]])
+        ends = np.r_[starts[1:], len(ordered)]
+        edges = ordered[starts].tolist()
+        begins, stops = starts.tolist(), ends.tolist()
+        for k in np.argsort(grouped[starts], kind="stable").tolist():  # by first arrival
+            yield edges[k] >> 32, edges[k] & 0xFFFFFFFF, grouped[begins[k] : stops[k]]
 
 
 class Column(Generic[S]):
@@ -186,7 +188,22 @@ def rows_of(recording: Recording) -> Rows:
             _history_segment(names.intern(child), h) for child, hist in buffer.histories() for h in _chain(hist)
         ]
         segments.append(_refused_segment(recording, names, authorities))
-    return Rows(_layout(segments), names.names, authorities.names)
+    return Rows(_layout(_coalesced(segments)), names.names, authorities.names)
+
+
+#: Histories of at most this many rows are read from one copy of them all: each segment costs every column
+#: read a Python step, and 100,000 static edges of one row each made the checks take a minute.
+SMALL_SEGMENT = 16
+
+
+def _coalesced(segments: list[Segment]) -> list[Segment]:
+    """``segments``, the small ones (``SMALL_SEGMENT`` rows at most) copied into one: a copy of at most
+    ``SMALL_SEGMENT`` rows per history, whatever the recording's length."""
+    small = [s for s in segments if len(s.stamp) <= SMALL_SEGMENT]
+    if len(small) < 2:
+        return segments
+    merged = Segment(*(np.concatenate(column) for column in zip(*small, strict=True)))
+    return [*(s for s in segments if len(s.stamp) > SMALL_SEGMENT), merged]
 
 
 def _chain(hist: EdgeHistory) -> Iterator[EdgeHistory]:
@@ -199,8 +216,10 @@ def _chain(hist: EdgeHistory) -> Iterator[EdgeHistory]:
 
 def _history_segment(child: int, hist: EdgeHistory) -> Segment:
     n = len(hist)
-    child_ids: Int32Array = np.broadcast_to(np.int32(child), (n,))
     columns = (hist.flags, hist.stamps, hist.record_times, hist.values, hist.authorities, hist.sequence)
+    if n <= SMALL_SEGMENT:  # np.full is ~20 times faster than broadcast_to for a few rows
+        return Segment(hist.parents, np.full(n, child, np.int32), *columns, np.zeros(n, np.uint8))
+    child_ids: Int32Array = np.broadcast_to(np.int32(child), (n,))
     return Segment(hist.parents, child_ids, *columns, np.broadcast_to(np.uint8(0), (n,)))
 
 

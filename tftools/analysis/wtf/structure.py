@@ -51,11 +51,22 @@ def cycles(scene: Scene) -> Iterator[Finding]:
 def _edge_spans(scene: Scene) -> dict[tuple[str, str], tuple[int, int]]:
     """Each edge's stamp range among the usable rows (every time, for a static one)."""
     rows = scene.rows
-    spans = {}
+    spans: dict[tuple[str, str], tuple[int, int]] = {}
+    singles: list[tuple[tuple[str, str], int]] = []  # one-row edges, read at once after (100,000 statics)
     for parent, child, mine in rows.by_edge(rows.usable):
         static = bool(rows.static[mine].all())
+        if len(mine) == 1 and not static:
+            spans[(parent, child)] = _ALWAYS  # its place in the order; its stamp below
+            singles.append(((parent, child), int(mine[0])))
+            continue
+        if static:
+            spans[(parent, child)] = _ALWAYS
+            continue
         stamps = rows.stamp[mine]
-        spans[(parent, child)] = _ALWAYS if static else (int(stamps.min()), int(stamps.max()))
+        spans[(parent, child)] = (int(stamps.min()), int(stamps.max()))
+    if singles:
+        stamps = rows.stamp[np.array([row for _, row in singles], np.intp)].tolist()
+        spans.update(((e, (t, t)) for (e, _), t in zip(singles, stamps, strict=True)))
     return spans
 
 
@@ -173,6 +184,8 @@ def _join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
 def multiple_parents(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     for child, mine in rows.by_child(rows.usable):
+        if len(mine) < 2:  # one row, one parent (a tree of 100,000 statics has little else)
+            continue
         parents = rows.parent[mine]
         if parents.min() == parents.max():
             continue

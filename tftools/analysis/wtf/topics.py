@@ -101,6 +101,8 @@ def _contested(scene: Scene) -> set[str]:
     rows = scene.rows
     found = set()
     for child, mine in rows.by_child(rows.usable):
+        if len(mine) < 2:  # one row: one parent, one publisher
+            continue
         parents, publishers = rows.parent[mine], rows.authority[mine]
         if parents.min() != parents.max() or publishers.min() != publishers.max():
             found.add(child)
@@ -119,6 +121,8 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     senders = static_senders(scene)
     for parent, child, mine in rows.by_edge(rows.usable & rows.static):
+        if len(mine) < 2:  # one value never changes
+            continue
         values = rows.values[mine]
         changed = np.flatnonzero((values[1:] != values[:-1]).any(axis=1)) + 1
         if not len(changed) or not _changes_its_own(rows, senders, mine):

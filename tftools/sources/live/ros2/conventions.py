@@ -113,6 +113,13 @@ def domain_id(environ: Mapping[str, str] | None = None) -> int:
 #: instead of reassembling them in memory (its default allows 2 GiB). As TCPROS's ``MAX_MESSAGE``.
 MAX_SAMPLE_SIZE = 64 << 20
 
+#: The largest /tf or /tf_static sample decoded: 100,000 transforms take 8.5 MB; a larger one is dropped, said
+#: once (a peer sending 60 MiB samples back to back is not sending transforms).
+MAX_TF_SAMPLE = 16 << 20
+#: Participants whose ros_discovery_info announcement is kept (to name their writers' nodes): beyond, the
+#: oldest is forgotten, said once (a flood of new participants held gigabytes).
+MAX_PARTICIPANTS = 1024
+
 _LIMITS = (
     f"<CycloneDDS><Domain><Internal><MaxSampleSize>{MAX_SAMPLE_SIZE}B</MaxSampleSize></Internal></Domain></CycloneDDS>,"
 )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import threading
 from collections.abc import Callable
 from typing import Any
@@ -18,7 +19,7 @@ from cyclonedds.core import (
     WaitSet,
 )
 from cyclonedds.domain import Domain, DomainParticipant
-from cyclonedds.internal import SampleInfo
+from cyclonedds.internal import SampleInfo, load_cyclonedds
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
@@ -50,6 +51,18 @@ def qos(profile: QosProfile, *, writer: bool = False) -> Qos:
     return Qos(*policies)
 
 
+#: Cyclone DDS's log categories (dds_public_log.h DDS_LC_FATAL, _ERROR, _WARNING): what it prints on stderr.
+_LOG_FATAL = 1
+
+
+def _quiet_log() -> None:
+    """Cyclone DDS prints a line of its own on stderr for every malformed packet or sample a peer sends (100
+    to 640 lines in 5 s of a hostile peer; its build exports no log sink to capture them): only its fatal
+    errors are printed, tfx saying in its notices what a peer did. ``TFX_DEBUG=1`` keeps its whole log."""
+    if not os.environ.get("TFX_DEBUG"):
+        load_cyclonedds().dds_set_log_mask(_LOG_FATAL)
+
+
 class _Domains:
     """Domains of this process, created once with ROS 2's discovery settings and shared (as
     rmw_cyclonedds's check_create_domain does): Cyclone refuses a second domain of the same id."""
@@ -62,6 +75,7 @@ class _Domains:
         with self._lock:
             domain, users = self._domains.get(domain_id) or (None, 0)
             if domain is None:
+                _quiet_log()
                 try:
                     domain = Domain(domain_id, discovery_config())
                 except DDSException as error:
@@ -165,15 +179,32 @@ class Waiter:
         self._waitset.attach(condition)
 
 
-def take_raw(reader: DataReader[Any], limit: int = 256) -> list[tuple[bytes, SampleInfo]]:
-    """Up to ``limit`` samples as the CDR bytes that arrived (encapsulation header first), each with
-    its sample info: decoded by tftools in bulk rather than into one Python object per field."""
+#: The bytes of samples one take brings into Python at most (beside the one sample that crosses it): samples
+#: of 60 MiB back to back, taken 256 at a time, held gigabytes.
+TAKE_BYTES = 64 << 20
+
+
+def take_raw(reader: DataReader[Any], limit: int = 256, max_bytes: int = TAKE_BYTES) -> list[tuple[bytes, SampleInfo]]:
+    """Up to ``limit`` samples, and no more once ``max_bytes`` are taken, as the CDR bytes that arrived
+    (encapsulation header first), each with its sample info: decoded by tftools in bulk rather than into
+    one Python object per field. What is left stays in the reader (its waitset condition wakes again)."""
     from cyclonedds._clayer import ddspy_take  # what DataReader.take calls before deserializing
 
-    taken = ddspy_take(reader._ref, _ANY_SAMPLE, limit)
-    if isinstance(taken, int):
-        raise DDSException(taken, f"Occurred while taking data in {reader!r}")
-    return [(data, info) for data, info in taken if info.valid_data]
+    samples: list[tuple[bytes, SampleInfo]] = []
+    size = 0
+    for _ in range(limit):
+        if size >= max_bytes:
+            break
+        taken = ddspy_take(reader._ref, _ANY_SAMPLE, 1)  # one at a time: a sample's size is known once taken
+        if isinstance(taken, int):
+            raise DDSException(taken, f"Occurred while taking data in {reader!r}")
+        if not taken:
+            break
+        data, info = taken[0]
+        if info.valid_data:
+            samples.append((data, info))
+            size += len(data)
+    return samples
 
 
 def write_raw(writer: DataWriter[Any], data: bytes) -> None:

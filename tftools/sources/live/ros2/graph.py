@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -11,6 +12,7 @@ from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, D
 from cyclonedds.core import DDSException, Policy
 from cyclonedds.sub import DataReader
 
+from tftools.sources.live.notices import OnNotice, ignore_notice
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, take_raw
 from tftools.sources.live.ros2.entities import decode_participant_entities
@@ -48,18 +50,57 @@ def participant_name(guid: bytes) -> str:
     return f"dds:{prefix[:8]}:{prefix[8:16]}:{prefix[16:]}"
 
 
+class Announced:
+    """The node of each writer, as each participant's latest ``ros_discovery_info`` says, for at most
+    ``MAX_PARTICIPANTS`` participants: beyond, the one announced longest ago is forgotten (its writers go
+    unnamed), said once through ``on_notice``."""
+
+    def __init__(self, on_notice: OnNotice = ignore_notice, limit: int | None = None) -> None:
+        self._on_notice = on_notice
+        self._limit = ros2.MAX_PARTICIPANTS if limit is None else limit
+        self._writers: OrderedDict[bytes, dict[bytes, str]] = OrderedDict()  # participant -> writer GUID -> node
+        self._node_of_writer: dict[bytes, str] = {}
+        self.forgotten = 0
+
+    def __len__(self) -> int:
+        return len(self._writers)
+
+    def announce(self, participant: bytes, writers: dict[bytes, str]) -> None:
+        """``participant``'s nodes now own ``writers`` (its earlier announcement replaced)."""
+        self._forget(participant)
+        self._writers[participant] = writers
+        self._node_of_writer.update(writers)
+        if len(self._writers) > self._limit:
+            self._forget(next(iter(self._writers)))
+            self.forgotten += 1
+            if self.forgotten == 1:
+                self._on_notice(
+                    f"more than {self._limit:,} participants announced on {ros2.DISCOVERY_TOPIC}: the oldest are"
+                    " forgotten, their writers named by participant (a flood of participants?)"
+                )
+
+    def node_of(self, writer: bytes) -> str:
+        """The node that owns ``writer`` (a GUID), "" where none was announced."""
+        return self._node_of_writer.get(writer, "")
+
+    def _forget(self, participant: bytes) -> None:
+        for writer in self._writers.pop(participant, {}):
+            self._node_of_writer.pop(writer, None)
+
+
 class Graph:
     """Writers (builtin DCPSPublication topic, by instance handle: the same handle a sample's info
     gives as ``publication_handle``) and the nodes that own them (``ros_discovery_info``, where every
     ROS 2 participant lists its nodes and their writers' GUIDs)."""
 
-    def __init__(self, participant: Participant, on_writer: Callable[[Writer, str], None]) -> None:
+    def __init__(
+        self, participant: Participant, on_writer: Callable[[Writer, str], None], on_notice: OnNotice = ignore_notice
+    ) -> None:
         self._on_writer = on_writer  # told of each writer discovered, with its name
         self.publications = BuiltinDataReader(participant.dds, BuiltinTopicDcpsPublication)
         self.discovery = discovery_readers(participant)
         self._writers: dict[int, Writer] = {}
-        self._nodes: dict[bytes, dict[bytes, str]] = {}  # participant -> writer GUID -> node name
-        self._node_of_writer: dict[bytes, str] = {}
+        self.nodes = Announced(on_notice)
         self._first_asked: dict[int, float] = {}
 
     @property
@@ -76,8 +117,7 @@ class Graph:
                 entities = decode_participant_entities(data)
             except ValueError:
                 continue  # another rmw's idea of the type: its nodes stay unnamed
-            self._nodes[entities.participant] = {w: n.full_name for n in entities.nodes for w in n.writers}
-            self._node_of_writer = {w: n for nodes in self._nodes.values() for w, n in nodes.items()}
+            self.nodes.announce(entities.participant, {w: n.full_name for n in entities.nodes for w in n.writers})
 
     def writer(self, handle: int, reader: DataReader[Any]) -> Writer | None:
         """The writer of a sample (its info's ``publication_handle``) as discovered; ``reader``, the one
@@ -96,7 +136,7 @@ class Graph:
         """Whether a sample's writer can be named for good: its node is known, or ``NAMING_GRACE``
         seconds passed since tftools first asked (a plain DDS writer has no node)."""
         writer = self.writer(handle, reader)
-        if writer is not None and writer.guid in self._node_of_writer:
+        if writer is not None and self.nodes.node_of(writer.guid):
             return True
         first = self._first_asked.setdefault(handle, time.monotonic())
         return time.monotonic() - first >= NAMING_GRACE
@@ -108,7 +148,7 @@ class Graph:
 
     def name_of(self, writer: Writer) -> str:
         """``writer``'s node (``/namespace/name``) where announced, else its DDS participant."""
-        return self._node_of_writer.get(writer.guid) or participant_name(writer.participant)
+        return self.nodes.node_of(writer.guid) or participant_name(writer.participant)
 
     def _add_writer(self, endpoint: DcpsEndpoint, handle: int | None = None) -> Writer:
         qos = endpoint.qos

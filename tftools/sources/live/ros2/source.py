@@ -15,7 +15,7 @@ from tftools.sources.codecs.types import CLOCK, TF_MESSAGE
 from tftools.sources.contents import is_static_topic
 from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.errors import DdsError
-from tftools.sources.live.notices import OnNotice
+from tftools.sources.live.notices import OnNotice, printable
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.graph import Graph, Writer
@@ -61,6 +61,7 @@ class Ros2Source(LiveSource):
         self.domain_id = ros2.domain_id()
         self._participant = Participant(self.domain_id)
         self._waiter = Waiter(self._participant)
+        self._told_large: set[tuple[str, str]] = set()  # (publisher, topic) told of samples over MAX_TF_SAMPLE
 
     def describe(self) -> str:
         return f"ROS2 DDS domain {self.domain_id}"
@@ -86,7 +87,7 @@ class Ros2Source(LiveSource):
 
     def _listen(self) -> _Listening:
         participant = self._participant
-        graph = Graph(participant, self._check_writer)
+        graph = Graph(participant, self._check_writer, self._notice_once)
         tf_type = ros2_struct(TF_MESSAGE)
         readers = {t: participant.reader(ros2.dds_topic(t), tf_type, ros2.listener_qos(t)) for t in self.topics}
         clock = None
@@ -114,10 +115,24 @@ class Ros2Source(LiveSource):
         samples = listening.pending
         for topic, reader in listening.readers.items():
             for data, info in take_raw(reader):
+                if len(data) > ros2.MAX_TF_SAMPLE:
+                    self._too_large(topic, len(data), graph.authority(info.publication_handle, reader))
+                    continue
                 samples.append(_Sample(topic, reader, data, info.publication_handle, self._clock.now()))
         listening.pending = [s for s in samples if not graph.settled(s.handle, s.reader)]
         batches = [self._decode(s, graph) for s in samples if graph.settled(s.handle, s.reader)]
         return concat_batches([b for b in batches if b is not None])
+
+    def _too_large(self, topic: str, size: int, sender: str) -> None:
+        """Say once per publisher and topic that its samples over ``MAX_TF_SAMPLE`` are dropped (the first's size)."""
+        if (sender, topic) in self._told_large:  # the DDS thread alone calls this
+            return
+        self._told_large.add((sender, topic))
+        limit = ros2.MAX_TF_SAMPLE >> 20
+        self._notice_once(
+            f"{printable(sender)} sent a sample of {size / (1 << 20):.1f} MiB on {topic}, larger than {limit} MiB"
+            " (100,000 transforms take 8.5 MB): such are dropped unread"
+        )
 
     def _decode(self, sample: _Sample, graph: Graph) -> TransformBatch | None:
         authority = graph.authority(sample.handle, sample.reader)
