@@ -119,7 +119,7 @@ def test_a_findings_file_that_may_not_be_written_names_force_only_on_the_command
     with pytest.raises(FindingsFileError) as raised:
         refuse_output(there, [BAG], force=False)
     assert raised.value.reason == "exists" and "--" not in said_by_library(raised.value)
-    line = one_error_line(tfx("wtf", BAG, "--mcap", there))
-    assert f"{there} exists (give another file name, or --force to overwrite it)" in line
+    line = one_error_line(tfx("wtf", BAG, "--mcap", there))  # the command line's one rule of outputs words it first
+    assert f"--mcap {there} already exists (name another output, or --force to replace it)" in line
     line = one_error_line(tfx("wtf", BAG, "--mcap", tmp_path))
-    assert f"{tmp_path} is a folder (give a file name for --mcap)" in line
+    assert f"--mcap {tmp_path} is a directory (give a file name, e.g. --mcap {tmp_path}/findings.mcap)" in line
