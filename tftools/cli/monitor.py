@@ -106,7 +106,7 @@ def command(
         streamed = open_stream(bags, topics, tf2)
         target, source = _chain(streamed.frames, target, source)
         query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec, window=from_sec(window))
-        first, last = played_window(streamed.timeline, query)
+        first, last = played_window(streamed, query)
         replay = streamed.replay(rate=rate, start=first, end=last)
         played, note = streamed.timeline, f"rate {rate:g}x"
         _watch(replay, query, duration, fmt, note, played, streamed.semantics, trace)

@@ -21,7 +21,7 @@ from tftools.analysis.edges import (
     edge_stats,
     sorted_unique,
 )
-from tftools.analysis.times import TimeSpec, resolve_range
+from tftools.analysis.times import TimeSpec, played_range, resolve_range
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
@@ -34,6 +34,7 @@ from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 if TYPE_CHECKING:
     from tftools.sources.recording import Recording
     from tftools.sources.replay import Feed
+    from tftools.sources.stream import StreamedRecording
 
 
 @dataclass(frozen=True)
@@ -112,13 +113,11 @@ def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | N
     )
 
 
-def played_window(timeline: Timeline, query: MonitorQuery) -> tuple[int | None, int | None]:
-    """``query.start`` and ``query.end`` of a replay on the tf stamps' clock (None: open); a
-    ``TimeRangeError`` when they miss the recording's tf."""
-    first, last = resolve_range(timeline, query.start, query.end, default=(None, None))
-    if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
-        raise TimeRangeError((timeline.tf_start, timeline.tf_end))
-    return first, last
+def played_window(stream: StreamedRecording, query: MonitorQuery) -> tuple[int | None, int | None]:
+    """``query.start`` and ``query.end`` of a replay of ``stream`` on its clock (None: open), counted on the
+    clock of the chain asked about as ``monitored_window`` counts them (``played_range``); a
+    ``TimeRangeError`` when they miss its tf."""
+    return played_range(stream, query.start, query.end, query.target, query.source)
 
 
 def monitor_buffer(
