@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from tftools.analysis.findings import Finding, Severity
     from tftools.analysis.fleet import Fleet, Unfinished, run_fleet
     from tftools.analysis.frames import FrameTree, frame_tree
-    from tftools.analysis.graph import FrameGraph, frame_graph
+    from tftools.analysis.graph import FrameGraph, frame_graph, view_frames
     from tftools.analysis.loops import find_loops
     from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor_stream
     from tftools.analysis.report import RecordingReport, ReportQuery, Unreadable, report_fleet
@@ -84,6 +84,7 @@ __all__ = [
     "robot_of",
     "run_fleet",
     "shape_of",
+    "view_frames",
     "write_tree",
 ]
 
@@ -136,6 +137,7 @@ _HOME = {
     "robot_of": "tftools.analysis.description",
     "run_fleet": "tftools.analysis.fleet",
     "shape_of": "tftools.analysis.expected",
+    "view_frames": "tftools.analysis.graph",
     "write_tree": "tftools.analysis.tree_file",
 }
 
