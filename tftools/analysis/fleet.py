@@ -1,7 +1,7 @@
 """Running one task per recording of a fleet: here, in local processes, or on an existing Dask cluster,
 through one ``concurrent.futures`` path. ``run_fleet`` yields ``(index, result)`` as tasks finish; a task
 that did not finish (its process or worker died, it ran out of its time, it raised in a worker) is an
-``Unfinished`` that says why (a ``Cause`` and its facts), for the caller to word as its own result.
+``Unfinished`` that says why (an ``UnfinishedCause`` and its facts), for the caller to word as its own result.
 
 Dask is the engine there: tasks are submitted with ``retries=1`` (a task that raised, e.g. timed out, runs
 once more), and a worker that dies is handled by the scheduler, which runs its tasks elsewhere until they
@@ -30,7 +30,7 @@ from tftools.core.errors import FleetUnavailableError
 if TYPE_CHECKING:
     from distributed import Client
 
-__all__ = ["HERE", "Cause", "Fleet", "TaskTimeoutError", "Unfinished", "run_fleet", "timed"]
+__all__ = ["HERE", "Fleet", "TaskTimeoutError", "Unfinished", "UnfinishedCause", "run_fleet", "timed"]
 
 T = TypeVar("T")
 Group = Sequence[str]  # the paths of one recording (a split bag has several)
@@ -58,7 +58,7 @@ class Fleet:
 HERE = Fleet()
 
 
-class Cause(enum.Enum):
+class UnfinishedCause(enum.Enum):
     """Why a task did not finish."""
 
     TIMED_OUT = "timed_out"  # it ran out of the fleet's time (on Dask: twice)
@@ -68,9 +68,9 @@ class Cause(enum.Enum):
 
 #: What to do about each cause, in the library's words (a command line words them with its own options).
 HINTS = {
-    Cause.TIMED_OUT: "give it more time, or check it alone",
-    Cause.WORKERS_DIED: "check it alone: it may crash or exhaust them",
-    Cause.FAILED: _WORKER_HINT,
+    UnfinishedCause.TIMED_OUT: "give it more time, or check it alone",
+    UnfinishedCause.WORKERS_DIED: "check it alone: it may crash or exhaust them",
+    UnfinishedCause.FAILED: _WORKER_HINT,
 }
 
 
@@ -79,7 +79,7 @@ class Unfinished:
     """A task that did not finish: why (``cause``, said with its facts in ``why``)."""
 
     why: str
-    cause: Cause
+    cause: UnfinishedCause
 
     @property
     def hint(self) -> str:
@@ -179,7 +179,7 @@ def _on_dask(
                     yield index, future.result()
                 except KilledWorker:
                     why = "the workers that ran it died each time (see the scheduler's allowed-failures)"
-                    yield index, Unfinished(why, Cause.WORKERS_DIED)
+                    yield index, Unfinished(why, UnfinishedCause.WORKERS_DIED)
                 except TaskTimeoutError as error:
                     yield index, _timed_out(error, retried=True)
                 except Exception as error:  # anything a task raised is that recording's outcome, not the fleet's
@@ -244,9 +244,9 @@ def _connect(address: str) -> Client:
 
 
 def _timed_out(error: TaskTimeoutError, retried: bool) -> Unfinished:
-    return Unfinished(f"{error}{', twice' if retried else ''}", Cause.TIMED_OUT)
+    return Unfinished(f"{error}{', twice' if retried else ''}", UnfinishedCause.TIMED_OUT)
 
 
 def _failed(error: BaseException) -> Unfinished:
     said = " ".join(str(error).split())  # Dask's messages run over several lines
-    return Unfinished(f"its task failed ({type(error).__name__}: {said})", Cause.FAILED)
+    return Unfinished(f"its task failed ({type(error).__name__}: {said})", UnfinishedCause.FAILED)

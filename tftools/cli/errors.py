@@ -118,8 +118,8 @@ TABLE: dict[type[TfToolsError], Row] = {
 }
 
 
-#: What to do about a recording of a fleet whose task did not finish, by its cause (``analysis.fleet.Cause``'s
-#: values), in the options' words; a cause not here keeps the library's hint.
+#: What to do about a recording of a fleet whose task did not finish, by its cause (the values of
+#: ``analysis.fleet.UnfinishedCause``), in the options' words; a cause not here keeps the library's hint.
 UNFINISHED = {
     "timed_out": "raise --timeout, or check it alone (tfx wtf BAG)",
     "workers_died": "check it alone (tfx wtf BAG): it may crash or exhaust them",

@@ -6,7 +6,7 @@ import functools
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-from tftools.analysis.fleet import HERE, Cause, Fleet, Unfinished, run_fleet
+from tftools.analysis.fleet import HERE, Fleet, Unfinished, UnfinishedCause, run_fleet
 from tftools.analysis.reading import Progress, unwatched
 from tftools.analysis.report.query import REPORT_DEFAULTS, ReportQuery
 from tftools.analysis.report.recording import RecordingReport, report
@@ -21,7 +21,7 @@ class Unreadable:
     name: str
     message: str
     hint: str
-    cause: Cause | None = None  # why its report did not finish; None: it could not be read
+    cause: UnfinishedCause | None = None  # why its report did not finish; None: it could not be read
 
 
 def report_fleet(

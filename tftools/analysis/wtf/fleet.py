@@ -147,7 +147,7 @@ def unreadable(paths: tuple[str, ...], message: str, hint: str) -> BagReport:
 
 def unchecked(paths: tuple[str, ...], unfinished: Unfinished) -> BagReport:
     """A recording whose check did not finish (its worker died, it ran out of time): said, not passed; its
-    ``Cause`` in the finding's figures (``cause``)."""
+    ``UnfinishedCause`` in the finding's figures (``cause``)."""
     message = f"{' + '.join(paths)}: not checked: {unfinished.why}"
     figures: dict[str, float | int | str] = {"cause": unfinished.cause.value}
     return BagReport(paths, error=Finding(Severity.error, "unchecked", message, unfinished.hint, figures=figures))
