@@ -265,22 +265,32 @@ class LiveMonitor:
 
 
 def monitor_stream(
-    feed: Feed,
+    feed: Feed | StreamedRecording,
     query: MonitorQuery,
     on_tick: Callable[[LiveMonitor], None],
     *,
     timeline: Timeline | None = None,
     semantics: Semantics = "ros1",
     duration: float | None = None,
+    speed: float = 1.0,
 ) -> None:
-    """``tfx monitor`` live or ``--play``: ``feed`` (a live source, or a replay with its recording's
-    ``timeline``, ``Timeline.played``) into a ``LiveMonitor`` over the last ``query.window`` (ns), ``on_tick``
-    called with it once a second of the feed's clock, until ``duration`` wall seconds pass or the feed ends
-    (its report: ``LiveMonitor.report`` of the query's frames). A live source's jumps back in time clear
-    it, as tf2_ros's listener."""
+    """``tfx monitor`` live or ``--play``: ``feed`` into a ``LiveMonitor`` over the last ``query.window`` (ns),
+    ``on_tick`` called with it once a second of the feed's clock, until ``duration`` wall seconds pass or the
+    feed ends (its report: ``LiveMonitor.report`` of the query's frames).
+
+    A recording streamed (``--play``): replayed at ``speed`` times real time from ``query.start`` to
+    ``query.end`` (``played_window``: a ``TimeRangeError`` when they miss its tf) on its own timeline and
+    semantics. A live source (or a replay made by hand, with its recording's ``timeline``,
+    ``Timeline.played``): its jumps back in time clear the monitor, as tf2_ros's listener."""
     from tftools.sources.live.base import LiveSource
     from tftools.sources.live.time_jump import watch_jumps
     from tftools.sources.replay import follow
+    from tftools.sources.stream import StreamedRecording
+
+    if isinstance(feed, StreamedRecording):
+        first, last = played_window(feed, query)
+        timeline, semantics = feed.timeline, feed.semantics
+        feed = feed.replay(rate=speed, start=first, end=last)
 
     live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics)
     on_batch = (
