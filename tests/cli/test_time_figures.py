@@ -201,12 +201,14 @@ def test_a_replay_starts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, t
 def test_a_long_replay_starts_between_the_arrivals_its_first_pass_kept(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """A frame's arrivals are thinned past ``SAMPLES_PER_FRAME``: a stamp between two kept ones plays when
-    its neighbours' arrivals say, never after the next transform stamped from it."""
-    monkeypatch.setattr("tftools.sources.stream.SAMPLES_PER_FRAME", 16)
+    """A frame's arrivals are thinned past ``SAMPLES_PER_FRAME`` while they are read and to ``PLAYED_ARRIVALS``
+    for the replay: a stamp between two kept ones plays when its neighbours' arrivals say, never after the
+    next transform stamped from it."""
+    monkeypatch.setattr("tftools.sources.stream.SAMPLES_PER_FRAME", 64)
+    monkeypatch.setattr("tftools.sources.stream.PLAYED_ARRIVALS", 16)
     stream = stream_recording([late_detections(tmp_path)], topics=["tf"])
     stamps, played = stream.arrivals["arm_link"]
-    assert len(stamps) < 200
+    assert len(stamps) == 16
     thinned = int(np.setdiff1d(1900 * S + np.arange(200) * S // 10, stamps)[5])
     arrival = WALL + (thinned - 1900 * S)  # the arm is received at its stamp's distance from 1900 s
     assert stream.replay_time(thinned, ["arm_link"]) == arrival

@@ -223,6 +223,11 @@ def _share(progress: ProgressCallback | None, index: int, count: int) -> Progres
     return reported
 
 
+#: Arrivals per frame a streamed recording keeps for its replay's times (``StreamedRecording.replay_time``):
+#: every one of a short recording, evenly spaced ones (the first and last among them) of a long one, so
+#: that what it keeps while it plays does not grow with its length (16 KiB a frame).
+PLAYED_ARRIVALS = 1024
+
 #: The /clock samples of a streamed recording's first window kept to tell how often /clock ticks.
 CLOCK_STEPS = 1000
 
@@ -277,9 +282,9 @@ class _Summary:
             self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, ros, known)
 
     def played_arrivals(self, timeline: Timeline) -> dict[str, tuple[Int64Array, Int64Array]]:
-        """Each frame's arrivals kept, by stamp, and when they play on the replay of ``timeline``: their
-        record times, /clock then (its first value before it ticked), or record times less the frames'
-        median offset, as ``Playback`` moves them."""
+        """Each frame's arrivals kept (at most ``PLAYED_ARRIVALS``), by stamp, and when they play on the replay
+        of ``timeline``: their record times, /clock then (its first value before it ticked), or record times
+        less the frames' median offset, as ``Playback`` moves them."""
         shift = int(np.median([e.offset_record for e in timeline.edges])) if timeline.edges else 0
         first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
         played: dict[str, tuple[Int64Array, Int64Array]] = {}
@@ -290,7 +295,8 @@ class _Summary:
             else:
                 times = records - shift if timeline.reference is Reference.NONE else records
             order = np.argsort(stamps, kind="stable")
-            played[child] = stamps[order], times[order]
+            picked = order[np.unique(np.linspace(0, len(order) - 1, min(len(order), PLAYED_ARRIVALS)).astype(np.int64))]
+            played[child] = stamps[picked], times[picked]
         return played
 
     def edges(self) -> tuple[EdgeClock, ...]:
