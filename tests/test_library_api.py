@@ -107,7 +107,7 @@ def test_the_other_public_packages_list_their_calls(package: str) -> None:
 def test_frames(bag: str, recording: Recording) -> None:
     from tftools.render import frames
 
-    called = rendered(frames.write_json, tftools.frame_tree(recording.buffer))
+    called = rendered(frames.write_json, tftools.frame_tree(recording))
     assert called == tfx_json("frames", "-b", bag, "-f", "json")
     assert len(called["frames"]) == 18
 
@@ -145,7 +145,10 @@ def test_monitor_refuses_a_range_outside_the_recording(recording: Recording) -> 
 
 
 def test_view_frames(bag: str, recording: Recording) -> None:
-    graph, dot = tftools.view_frames(recording, rankdir="LR", brief=True)
+    from tftools.render import recording_legend, to_digraph
+
+    graph = tftools.view_frames(recording)
+    dot = to_digraph(graph, recording_legend(recording), rankdir="LR", brief=True)
     printed = tfx("view-frames", "-b", bag, "-o", "-", "-f", "dot", "--rankdir", "LR", "--brief")
     assert printed.returncode == 0, printed.stderr
     assert dot.source == printed.stdout
@@ -269,8 +272,7 @@ def test_static(bag: str, tmp_path: Path) -> None:
     )
     assert done.returncode == 0, done.stderr
     trees = [
-        rendered(frames.write_json, tftools.frame_tree(tftools.read_recording([path]).buffer))
-        for path in (called, printed)
+        rendered(frames.write_json, tftools.frame_tree(tftools.read_recording([path]))) for path in (called, printed)
     ]
     assert trees[0] == trees[1]
     lidar_frame = next(f for f in trees[0]["frames"] if f["frame"] == "lidar")

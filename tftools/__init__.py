@@ -25,6 +25,7 @@ if TYPE_CHECKING:
         filter_messages,
         frame_tree,
         report_fleet,
+        view_frames,
     )
     from tftools.analysis.echo import EchoQuery, echo, echo_stream
     from tftools.analysis.monitor import monitor, monitor_stream
@@ -55,7 +56,6 @@ if TYPE_CHECKING:
         from_sec,
         to_sec,
     )
-    from tftools.render.graph import view_frames
     from tftools.sinks import add_static, publish_static, repair_static
     from tftools.sources import Recording, read_recording, stream_recording
     from tftools.sources.live.sensor_headers import capture_live
@@ -74,7 +74,7 @@ __all__ = [
 ]  # fmt: skip
 
 #: The package each name comes from, when not ``tftools.core``: reading (sources), each command's call
-#: (analysis; sinks for ``tfx static``; render for ``tfx view-frames``).
+#: (analysis; sinks for ``tfx static``).
 _PACKAGE = {
     **dict.fromkeys(["Recording", "read_recording", "stream_recording"], "tftools.sources"),
     **dict.fromkeys(
@@ -92,6 +92,7 @@ _PACKAGE = {
             "filter_messages",
             "frame_tree",
             "report_fleet",
+            "view_frames",
         ],
         "tftools.analysis",
     ),
@@ -101,7 +102,6 @@ _PACKAGE = {
     **dict.fromkeys(["add_static", "publish_static", "repair_static"], "tftools.sinks"),
     "report": "tftools.analysis.report",  # the function: in tftools.analysis, ``report`` is its package
     "capture_live": "tftools.sources.live.sensor_headers",
-    "view_frames": "tftools.render.graph",
 }
 
 

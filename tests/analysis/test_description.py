@@ -71,7 +71,7 @@ def test_a_healthy_robot_says_only_that_odom_is_not_its_own(tmp_path: Path, fmt:
     recording = read_recording([bag])
     robot, _ = robot_of([bag], recording, ROBOT)
     assert robot is not None
-    checks = {c.joint: c for c in check_joints(robot, recording.buffer, frame_tree(recording.buffer))}
+    checks = {c.joint: c for c in check_joints(robot, recording.buffer, frame_tree(recording))}
     assert {c.verdict.value for c in checks.values()} == {"fine"}
     assert checks["wheel_left_joint"].compared == 100 and checks["wheel_left_joint"].rotation_deg < 1e-6
 
@@ -257,7 +257,7 @@ def test_a_mimic_multiplier_past_any_position_is_no_crash_and_no_figure(tmp_path
     recording = read_recording([bag])
     robot = Robot(parse_urdf(mimic, "mimic.urdf"), read_recording([bag], whole=ROBOT_TOPICS).robot)
     with np.errstate(all="raise"):  # a warning numpy would print is an error here
-        joints = check_joints(robot, recording.buffer, frame_tree(recording.buffer))
+        joints = check_joints(robot, recording.buffer, frame_tree(recording))
     right = next(j for j in joints if j.joint == "wheel_right_joint")
     assert 0 < right.compared < 100  # the states whose product overflowed are not compared
     assert all(math.isfinite(v) for v in (right.translation_mm, right.rotation_deg))

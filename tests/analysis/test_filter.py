@@ -127,12 +127,12 @@ def test_the_default_target_is_odom_else_the_root_of_the_largest_tree() -> None:
     from tftools.analysis.frames import frame_tree
     from tftools.analysis.targets import default_target
 
-    assert default_target(frame_tree(recording(robot()).buffer)) == ("odom", "REP 105's odom frame")
+    assert default_target(frame_tree(recording(robot()))) == ("odom", "REP 105's odom frame")
     trees = [
         TfMessage("/tf_static", START, [_t("world", "arm", START, 0.1), _t("arm", "hand", START, 0.1)]),
         TfMessage("/tf_static", START, [_t("rig", "camera", START, 0.1)]),
     ]
-    assert default_target(frame_tree(recording(trees).buffer)) == ("world", "the root of the largest tree")
+    assert default_target(frame_tree(recording(trees))) == ("world", "the root of the largest tree")
 
 
 def test_a_message_recorded_at_its_tfs_instant_meets_it_in_the_order_the_recording_replays_them() -> None:

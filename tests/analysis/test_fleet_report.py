@@ -5,6 +5,7 @@ from __future__ import annotations
 import datetime
 
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.fleet import Unfinished, UnfinishedCause
 from tftools.analysis.wtf.fleet import BagReport, unchecked, unreadable
 from tftools.analysis.wtf.fleet_report import Verdict, day_of, recordings_per_day, tally, trends, verdict
 from tftools.core.time import NS_PER_S
@@ -51,7 +52,7 @@ def test_verdicts() -> None:
     assert verdict(bag("x", found("cycle"))) is Verdict.failed
     assert verdict(warned) is Verdict.passed and verdict(warned, strict=True) is Verdict.failed
     assert verdict(unreadable(("u",), "u: corrupt", "")) is Verdict.unusable
-    assert verdict(unchecked(("k",), "its worker died", "")) is Verdict.unusable
+    assert verdict(unchecked(("k",), Unfinished("its worker died", UnfinishedCause.FAILED))) is Verdict.unusable
 
 
 def test_recordings_are_dated_by_their_first_record_time_in_utc() -> None:

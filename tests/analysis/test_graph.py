@@ -10,7 +10,7 @@ import pytest
 from tests.analysis.wtf_scenes import PROBLEMS, recording
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.frames import frame_tree
+from tftools.analysis.frames import tree_of
 from tftools.analysis.graph import FrameGraph, frame_graph
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.core.buffer import Buffer
@@ -73,7 +73,7 @@ def test_healthy_tree_has_every_frame_and_edge_with_its_statistics_and_no_proble
     assert [n.name for n in graph.nodes] == buffer.frames
     assert graph.roots == ["map"]
     assert {(e.parent, e.child) for e in graph.edges} == {
-        (f.parent, f.frame) for f in frame_tree(buffer).frames.values() if f.parent
+        (f.parent, f.frame) for f in tree_of(buffer).frames.values() if f.parent
     }
     stats = {s.key: s for s in edge_stats(buffer)}
     for edge in graph.edges:

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from tests.analysis.scale_scenes import START, batch, chain, grows_linearly, recording, ring, seconds
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.frames import frame_tree
+from tftools.analysis.frames import tree_of
 from tftools.analysis.graph import frame_graph
 from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf import structure
@@ -42,7 +42,7 @@ def test_a_ring_of_20000_frames_is_one_loop_found_in_linear_time() -> None:
 
 def test_a_deep_chain_is_a_tree_walked_without_recursion() -> None:
     buffer = recording(chain(5_000)).buffer
-    lines = list(frame_tree(buffer).walk())
+    lines = list(tree_of(buffer).walk())
     assert lines[0] == (0, "f0", True) and lines[-1] == (5_000, "f5000", True) and len(lines) == 5_001
     assert "f5000:" in buffer.all_frames_as_yaml()
 

@@ -13,7 +13,7 @@ import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.corpus.fetch import shared_dir
-from tftools.analysis.monitor import MonitorQuery, monitor, monitor_buffer
+from tftools.analysis.monitor import MonitorQuery, monitor, monitor_buffer, played_window
 from tftools.analysis.report import recording_facts
 from tftools.analysis.report import report as recording_report
 from tftools.analysis.times import Offset
@@ -168,6 +168,56 @@ def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Pa
     assert edge["first_stamp"] == 1904.0
 
 
+def late_detections(tmp_path: Path) -> Path:
+    """``two_clocks``' arm on simulated time (1900 s on, received at its stamp's tenth of a second into the
+    recording), its detections on wall time beginning 3 s into it."""
+    messages = []
+    for i in range(200):
+        record = WALL + i * S // 10
+        transforms = [moving("arm_base", "arm_link", 1900 * S + i * S // 10, i)]
+        if i >= 30:
+            transforms.append(moving("camera", "object", record - 5 * MS, i))
+        messages.append(TfMessage("tf", record, transforms))
+    return write_bag(tmp_path / "late_detections.bag", messages)
+
+
+def test_a_replay_starts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx) -> None:
+    """Issue 39 item 4 for ``--play``: a replay counted ``+S`` on the record clock's tf (the detections', 3 s
+    in) whatever the frames; now from the arrival of the arm's first transform stamped at its own first
+    stamp + 1 s (1901 s, received 1 s into the recording), to that of its last stamped 1 s before its end."""
+    stream = stream_recording([late_detections(tmp_path)], topics=["tf"])
+    assert stream.timeline.tf_start == WALL + 3 * S - 5 * MS
+    assert stream.moving_chain("arm_base", "arm_link") == ["arm_link"]
+    query = MonitorQuery(target="arm_base", source="arm_link", start=Offset(1), end=Offset(-1, from_end=True))
+    assert played_window(stream, query) == (WALL + S, WALL + 189 * S // 10)
+    assert played_window(stream, MonitorQuery(start=Offset(1))) == (WALL + 4 * S - 5 * MS, None)  # no chain
+    printed = tfx("monitor", "arm_base", "arm_link", "-b", tmp_path / "late_detections.bag", "--topic", "tf",
+                  "--start", "+1", "--play", "--rate", "100", "--window", "30", "-f", "json")  # fmt: skip
+    assert printed.code == 0, printed.stderr
+    [edge] = [e for e in json.loads(printed.stdout.splitlines()[-1])["edges"] if e["child"] == "arm_link"]
+    assert (edge["first_stamp"], edge["count"]) == (1901.0, 190)  # as the whole read counts them
+
+
+def test_a_long_replay_starts_between_the_arrivals_its_first_pass_kept(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A frame's arrivals are thinned past ``SAMPLES_PER_FRAME`` while they are read and to ``PLAYED_ARRIVALS``
+    for the replay: a stamp between two kept ones plays when its neighbours' arrivals say, never after the
+    next transform stamped from it."""
+    monkeypatch.setattr("tftools.sources.stream.SAMPLES_PER_FRAME", 64)
+    monkeypatch.setattr("tftools.sources.stream.PLAYED_ARRIVALS", 16)
+    stream = stream_recording([late_detections(tmp_path)], topics=["tf"])
+    stamps, played = stream.arrivals["arm_link"]
+    assert len(stamps) == 16
+    thinned = int(np.setdiff1d(1900 * S + np.arange(200) * S // 10, stamps)[5])
+    arrival = WALL + (thinned - 1900 * S)  # the arm is received at its stamp's distance from 1900 s
+    assert stream.replay_time(thinned, ["arm_link"]) == arrival
+    assert stream.replay_time(thinned + 50 * MS, ["arm_link"]) == arrival + 50 * MS  # before the next one's
+    assert stream.replay_time(thinned + 50 * MS, ["arm_link"], last=True) == arrival + 50 * MS
+    assert stream.replay_time(2000 * S, ["arm_link"]) == played[-1] + 1  # none stamped from it: after the last
+    assert stream.replay_time(0, ["arm_link"], last=True) == WALL - 1  # none stamped up to it: before the first
+
+
 def test_monitor_start_on_a_real_chain_on_simulated_time(tfx) -> None:
     """ros2_db3_ur5_topic_tf_two_clocks: the UR5 arm on simulated time (1907.175 to 1914.325 s) beside ArUco
     detections on wall time, the arm recorded from 0.57 s before the first detection. ``--start +1`` between
@@ -184,6 +234,28 @@ def test_monitor_start_on_a_real_chain_on_simulated_time(tfx) -> None:
     assert len(arm) == 6 and {(e["first_stamp"], e["count"]) for e in arm} == {(1908.175, 124)}
     at = tfx("echo", "base_link", "wrist_3_link", "-b", bag, "--topic", "tf", "--at", "+1", "-f", "json")
     assert json.loads(at.stdout)["time"] == 1908.175  # echo and monitor count +1 alike
+
+
+def test_a_replay_of_a_real_chain_on_simulated_time_starts_on_its_clock(tfx) -> None:
+    """ros2_db3_ur5_topic_tf_two_clocks with ``--play``: ``--start +1`` between base_link and wrist_3_link
+    replayed from 1908.575 s of the arm (116 samples per joint: +1 counted on the detections' wall clock);
+    now from 1908.175 s, 124 samples, as the whole read."""
+    bag = corpus("ros2_db3_ur5_topic_tf_two_clocks")
+    played = tfx("monitor", "base_link", "wrist_3_link", "-b", bag, "--topic", "tf", "--start", "+1", "--end", "-1",
+                 "--play", "--rate", "50", "-f", "json")  # fmt: skip
+    assert played.code == 0, played.stderr
+    whole = tfx("monitor", "base_link", "wrist_3_link", "-b", bag, "--topic", "tf", "--start", "+1", "--end", "-1",
+                "-f", "json")  # fmt: skip
+    chain = json.loads(whole.stdout)["chain"]["frames"]
+    seen = [
+        {
+            (e["child"], e["first_stamp"], e["last_stamp"], e["count"])
+            for e in json.loads(out)["edges"]
+            if e["child"] in chain
+        }
+        for out in (played.stdout.splitlines()[-1], whole.stdout)
+    ]
+    assert seen[0] == seen[1] and {e[1:] for e in seen[0]} == {(1908.175, 1913.325, 104)}
 
 
 def test_the_timelines_tf_span_follows_its_clock_threshold(tmp_path: Path) -> None:

@@ -120,6 +120,9 @@ def test_a_recording_over_its_timeout_is_reported_as_not_checked(
     assert result.code == 1 and good["verdict"] == "passed"
     assert slow["verdict"] == "unusable" and slow["error"]["code"] == "unchecked"
     assert slow["error"]["message"] == f"{bags['stale']}: not checked: its check took longer than 0.5 s"
+    # the library's result says why (its cause), the command line words what to do with its options
+    assert slow["error"]["figures"] == {"cause": "timed_out"}
+    assert slow["error"]["hint"] == "raise --timeout, or check it alone (tfx wtf BAG)"
 
 
 def test_dask_without_distributed_names_the_extra(tfx, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:

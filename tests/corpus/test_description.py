@@ -44,7 +44,7 @@ def urdf_from_tf(recording: Recording, root: str, moving: dict[str, str], extra:
     """A URDF written from what the recording's tf shows under ``root``: each static edge a fixed joint at
     its value, each ``moving`` child (its joint's name) a continuous joint at its first value (its joint
     states are all 0 in these recordings); ``extra`` joints added as given."""
-    tree = frame_tree(recording.buffer)
+    tree = frame_tree(recording)
     links, joints, todo = [root], [], [root]
     while todo:
         for child in sorted(tree.children.get(todo.pop(), [])):
@@ -77,7 +77,7 @@ def test_the_panda_as_its_urdf_says(tfx) -> None:  # noqa: F811
     recording = read_recording([bag])
     robot, said = robot_of([bag], recording, read_urdf(PANDA_URDF))
     assert robot is not None and said is None and len(robot.messages.joint_states) == 110
-    checks = check_joints(robot, recording.buffer, frame_tree(recording.buffer))
+    checks = check_joints(robot, recording.buffer, frame_tree(recording))
     assert {c.verdict for c in checks} == {Verdict.fine} and len(checks) == 21
     moving = [c for c in checks if c.compared]
     # every joint state of the 7 arm joints and both fingers (one mimics the other): where tf put the link
@@ -141,7 +141,7 @@ def test_the_gazebo_turtlebot_against_its_own_recorded_description(tfx) -> None:
     robot, said = robot_of([bag], recording, None)
     assert robot is not None and said is None
     assert robot.description.name == "turtlebot3_waffle_pi" and robot.description.source.endswith("/robot_description")
-    checks = {c.joint: c for c in check_joints(robot, recording.buffer, frame_tree(recording.buffer))}
+    checks = {c.joint: c for c in check_joints(robot, recording.buffer, frame_tree(recording))}
     assert {c.verdict for c in checks.values()} == {Verdict.fine}
     # the joint states (200 of them, evenly spread) whose stamp tf has a sample at: robot_state_publisher's
     assert 100 < checks["wheel_left_joint"].compared <= 200 and checks["wheel_left_joint"].rotation_deg < 1e-3

@@ -22,9 +22,9 @@ if TYPE_CHECKING:
     from tftools.analysis.filter import FilterQuery, filter_messages
     from tftools.analysis.filter.fates import FilterReport
     from tftools.analysis.findings import Finding, Severity
-    from tftools.analysis.fleet import Fleet, Unfinished, run_fleet
+    from tftools.analysis.fleet import Fleet, Unfinished, UnfinishedCause, run_fleet
     from tftools.analysis.frames import FrameTree, frame_tree
-    from tftools.analysis.graph import FrameGraph, frame_graph
+    from tftools.analysis.graph import FrameGraph, frame_graph, view_frames
     from tftools.analysis.loops import find_loops
     from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor_stream
     from tftools.analysis.report import RecordingReport, ReportQuery, Unreadable, report_fleet
@@ -66,6 +66,7 @@ __all__ = [
     "TreeDiff",
     "TreeShape",
     "Unfinished",
+    "UnfinishedCause",
     "Unreadable",
     "check",
     "check_fleet",
@@ -84,6 +85,7 @@ __all__ = [
     "robot_of",
     "run_fleet",
     "shape_of",
+    "view_frames",
     "write_tree",
 ]
 
@@ -118,6 +120,7 @@ _HOME = {
     "TreeDiff": "tftools.analysis.tree_diff",
     "TreeShape": "tftools.analysis.expected",
     "Unfinished": "tftools.analysis.fleet",
+    "UnfinishedCause": "tftools.analysis.fleet",
     "Unreadable": "tftools.analysis.report",
     "check": "tftools.analysis.wtf.fleet",
     "check_fleet": "tftools.analysis.wtf.fleet",
@@ -136,6 +139,7 @@ _HOME = {
     "robot_of": "tftools.analysis.description",
     "run_fleet": "tftools.analysis.fleet",
     "shape_of": "tftools.analysis.expected",
+    "view_frames": "tftools.analysis.graph",
     "write_tree": "tftools.analysis.tree_file",
 }
 

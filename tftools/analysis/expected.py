@@ -9,7 +9,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from tftools.analysis.frames import FrameTree, frame_tree
+from tftools.analysis.frames import FrameTree, tree_of
 from tftools.core.rotation import Quat, Vec3
 from tftools.sources.recording import Recording
 
@@ -54,12 +54,12 @@ class TreeShape:
 
 
 def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
-    """The shape of ``recording``'s tree (``tree``: its ``frame_tree``, if already made), from its roots
+    """The shape of ``recording``'s tree (``tree``: its ``tree_of``, if already made), from its roots
     down: each frame's latest parent, the latest value of its static edges, the rate of its moving ones
     over their span, their publishers where the bag names them."""
     buffer = recording.buffer
     named = publishers_named(recording)
-    tree = tree if tree is not None else frame_tree(buffer)
+    tree = tree if tree is not None else tree_of(buffer)
     in_order = dict.fromkeys([frame for _, frame, _ in tree.walk()] + list(tree.frames))  # roots down; loops last
     frames: dict[str, FrameShape] = {}
     for name in in_order:

@@ -1,7 +1,7 @@
 """Running one task per recording of a fleet: here, in local processes, or on an existing Dask cluster,
 through one ``concurrent.futures`` path. ``run_fleet`` yields ``(index, result)`` as tasks finish; a task
 that did not finish (its process or worker died, it ran out of its time, it raised in a worker) is an
-``Unfinished`` that says why, for the caller to word as its own result.
+``Unfinished`` that says why (an ``UnfinishedCause`` and its facts), for the caller to word as its own result.
 
 Dask is the engine there: tasks are submitted with ``retries=1`` (a task that raised, e.g. timed out, runs
 once more), and a worker that dies is handled by the scheduler, which runs its tasks elsewhere until they
@@ -13,6 +13,7 @@ thread: the abandoned task keeps its worker busy until it ends). Workers import 
 
 from __future__ import annotations
 
+import enum
 import functools
 import logging
 import multiprocessing
@@ -29,7 +30,7 @@ from tftools.core.errors import FleetUnavailableError
 if TYPE_CHECKING:
     from distributed import Client
 
-__all__ = ["HERE", "Fleet", "TaskTimeoutError", "Unfinished", "run_fleet", "timed"]
+__all__ = ["HERE", "Fleet", "TaskTimeoutError", "Unfinished", "UnfinishedCause", "run_fleet", "timed"]
 
 T = TypeVar("T")
 Group = Sequence[str]  # the paths of one recording (a split bag has several)
@@ -37,7 +38,6 @@ Group = Sequence[str]  # the paths of one recording (a split bag has several)
 INSTALL_HINT = "install the extra: pip install 'tftools[fleet]'"
 CONNECT_SECONDS = 5
 _WORKER_HINT = "check that every worker has this tftools installed, and see the worker's log"
-_TIMEOUT_HINT = "raise --timeout, or check it alone (tfx wtf BAG)"
 
 
 class TaskTimeoutError(Exception):
@@ -58,12 +58,33 @@ class Fleet:
 HERE = Fleet()
 
 
+class UnfinishedCause(enum.Enum):
+    """Why a task did not finish."""
+
+    TIMED_OUT = "timed_out"  # it ran out of the fleet's time (on Dask: twice)
+    WORKERS_DIED = "workers_died"  # the workers that ran it died each time
+    FAILED = "failed"  # it raised, or its process died
+
+
+#: What to do about each cause, in the library's words (a command line words them with its own options).
+HINTS = {
+    UnfinishedCause.TIMED_OUT: "give it more time, or check it alone",
+    UnfinishedCause.WORKERS_DIED: "check it alone: it may crash or exhaust them",
+    UnfinishedCause.FAILED: _WORKER_HINT,
+}
+
+
 @dataclass(frozen=True)
 class Unfinished:
-    """A task that did not finish: why, and what to do about it."""
+    """A task that did not finish: why (``cause``, said with its facts in ``why``)."""
 
     why: str
-    hint: str
+    cause: UnfinishedCause
+
+    @property
+    def hint(self) -> str:
+        """What to do about it (``HINTS``)."""
+        return HINTS[self.cause]
 
 
 def run_fleet(
@@ -158,7 +179,7 @@ def _on_dask(
                     yield index, future.result()
                 except KilledWorker:
                     why = "the workers that ran it died each time (see the scheduler's allowed-failures)"
-                    yield index, Unfinished(why, "check it alone (tfx wtf BAG): it may crash or exhaust them")
+                    yield index, Unfinished(why, UnfinishedCause.WORKERS_DIED)
                 except TaskTimeoutError as error:
                     yield index, _timed_out(error, retried=True)
                 except Exception as error:  # anything a task raised is that recording's outcome, not the fleet's
@@ -223,9 +244,9 @@ def _connect(address: str) -> Client:
 
 
 def _timed_out(error: TaskTimeoutError, retried: bool) -> Unfinished:
-    return Unfinished(f"{error}{', twice' if retried else ''}", _TIMEOUT_HINT)
+    return Unfinished(f"{error}{', twice' if retried else ''}", UnfinishedCause.TIMED_OUT)
 
 
 def _failed(error: BaseException) -> Unfinished:
     said = " ".join(str(error).split())  # Dask's messages run over several lines
-    return Unfinished(f"its task failed ({type(error).__name__}: {said})", _WORKER_HINT)
+    return Unfinished(f"its task failed ({type(error).__name__}: {said})", UnfinishedCause.FAILED)

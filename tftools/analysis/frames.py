@@ -1,13 +1,18 @@
-"""The frame tree summarised: each frame's parent, publishers, rate and time span."""
+"""``tfx frames``' work: the frame tree summarised, each frame's parent, publishers, rate and time span:
+``frame_tree(recording)``; ``tree_of(buffer)`` for the analyses that hold a buffer."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from tftools.analysis.edges import parents_in_order, publishers
 from tftools.core.buffer import Buffer
 from tftools.core.figures import rate_hz
+
+if TYPE_CHECKING:
+    from tftools.sources.recording import Recording
 
 
 @dataclass(frozen=True)
@@ -81,7 +86,12 @@ def _in_turn(depth: int, frames: list[str]) -> list[tuple[int, str, bool]]:
     return [(depth, frame, i == len(ordered) - 1) for i, frame in enumerate(ordered)][::-1]
 
 
-def frame_tree(buffer: Buffer) -> FrameTree:
+def frame_tree(recording: Recording) -> FrameTree:
+    """``tfx frames -b BAG``: the recording's frames summarised and arranged by their latest parent."""
+    return tree_of(recording.buffer)
+
+
+def tree_of(buffer: Buffer) -> FrameTree:
     """Summarise ``buffer``'s frames and arrange them by their latest parent."""
     frames = {name: FrameSummary(name, None) for name in buffer.frames}
     names = buffer.frame_name

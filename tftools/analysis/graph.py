@@ -1,14 +1,19 @@
-"""The frame graph view_frames draws: every edge with its statistics, and the problems pinned where they are."""
+"""``tfx view-frames``' work: the frame graph view_frames draws, every edge with its statistics and the problems
+pinned where they are: ``view_frames(recording)`` (drawn by ``render.graph.to_digraph``)."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from tftools.analysis.edges import Edge, EdgeStats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.core.rejection import RejectionLog
+
+if TYPE_CHECKING:
+    from tftools.sources.recording import Recording
 
 #: Findings that name whole trees: only their roots are marked, not every edge inside.
 _TREE_CODES = frozenset({"disconnected"})
@@ -61,6 +66,11 @@ class FrameGraph:
         """The worst severity among ``problems`` (None when there are none)."""
         severities = [self.findings[i].severity for i in problems]
         return min(severities, key=lambda s: s.rank) if severities else None
+
+
+def view_frames(recording: Recording) -> FrameGraph:
+    """``tfx view-frames -b BAG``: the recording's frame graph with ``tfx wtf``'s findings pinned where they are."""
+    return frame_graph(Scene(recording))
 
 
 def frame_graph(scene: Scene, findings: Sequence[Finding] | None = None) -> FrameGraph:

@@ -8,11 +8,14 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 from tftools.core.errors import InvalidTimeError, TimeRangeError
 from tftools.core.time import from_sec, to_sec
 from tftools.sources.timeline import Timeline
+
+if TYPE_CHECKING:
+    from tftools.sources.stream import StreamedRecording
 
 __all__ = [
     "TIME_FORMS",
@@ -21,6 +24,7 @@ __all__ = [
     "Stamp",
     "TimeSpec",
     "parse_time_spec",
+    "played_range",
     "resolve_range",
     "resolve_time",
 ]
@@ -110,3 +114,29 @@ def resolve_range(
     if first is not None and last is not None and last < first:
         raise TimeRangeError()
     return first, last
+
+
+def played_range(
+    stream: StreamedRecording,
+    start: TimeSpec | None,
+    end: TimeSpec | None,
+    target: str | None = None,
+    source: str | None = None,
+) -> tuple[int | None, int | None]:
+    """``start`` and ``end`` of a replay of ``stream`` on its clock (None: open), counted as a whole read
+    counts them: on the clock of the chain between ``target`` and ``source`` (``resolve_range``), then
+    moved to when that chain's first transform stamped from ``start`` and its last stamped up to ``end`` play
+    (``StreamedRecording.replay_time``) where its clock is not the replay's. A ``TimeRangeError`` when they
+    miss the chain's tf."""
+    timeline = stream.timeline
+    frames = stream.moving_chain(target, source) if target and source else []
+    first, last = resolve_range(timeline, start, end, (None, None), frames)
+    span = timeline.span_of(frames)
+    if (first is not None and first > span[1]) or (last is not None and last < span[0]):
+        raise TimeRangeError(span)
+    if span == (timeline.tf_start, timeline.tf_end):
+        return first, last
+    return (
+        None if first is None else stream.replay_time(first, frames),
+        None if last is None else stream.replay_time(last, frames, last=True),
+    )

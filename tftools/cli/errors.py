@@ -118,6 +118,19 @@ TABLE: dict[type[TfToolsError], Row] = {
 }
 
 
+#: What to do about a recording of a fleet whose task did not finish, by its cause (the values of
+#: ``analysis.fleet.UnfinishedCause``), in the options' words; a cause not here keeps the library's hint.
+UNFINISHED = {
+    "timed_out": "raise --timeout, or check it alone (tfx wtf BAG)",
+    "workers_died": "check it alone (tfx wtf BAG): it may crash or exhaust them",
+}
+
+
+def unfinished_hint(cause: float | str, hint: str) -> str:
+    """The hint the command line gives for an unfinished task of ``cause`` (the library's ``hint`` else)."""
+    return UNFINISHED.get(str(cause), hint)
+
+
 def worded(error: TfToolsError) -> tuple[TfToolsError, Exit]:
     """``error`` as the command line says it, and the exit code: its class's row (or its nearest base's), else
     as the library said it, with code 2."""

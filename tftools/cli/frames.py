@@ -42,7 +42,7 @@ def command(
     from tftools.render import frames as render
 
     recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
-    tree = frame_tree(recording.buffer)
+    tree = frame_tree(recording)
     if fmt is FramesFormat.json:
         render.write_json(tree, stdout.file)
     elif fmt is FramesFormat.yaml:

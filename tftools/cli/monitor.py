@@ -25,7 +25,7 @@ if TYPE_CHECKING:  # the figures and their renderers load when a command runs: -
     from tftools.analysis.timelines import EdgeSeries, MonitorTrace
     from tftools.sources import Recording
     from tftools.sources.replay import Feed
-    from tftools.sources.timeline import Timeline
+    from tftools.sources.stream import StreamedRecording
 
 
 def command(
@@ -73,7 +73,7 @@ def command(
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
     """
-    from tftools.analysis.monitor import MonitorQuery, monitor, monitored_window, played_window
+    from tftools.analysis.monitor import MonitorQuery, monitor, monitored_window
     from tftools.analysis.timelines import MonitorTrace, edge_series
     from tftools.analysis.times import parse_time_spec
     from tftools.render import monitor as render
@@ -97,7 +97,7 @@ def command(
         query = MonitorQuery(target=target, source=source, window=from_sec(window))
         with live.open_source(ros1, use_sim_time, topics) as feed:
             semantics = tf2 or live_semantics(feed)
-            _watch(feed, query, duration, fmt, feed.describe(), None, semantics, trace)
+            _watch(feed, query, duration, fmt, feed.describe(), semantics, trace)
         _write_trace(trace, plot, feed.describe())
         return
     first_spec = parse_time_spec(start, "start") if start is not None else None
@@ -106,10 +106,7 @@ def command(
         streamed = open_stream(bags, topics, tf2)
         target, source = _chain(streamed.frames, target, source)
         query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec, window=from_sec(window))
-        first, last = played_window(streamed.timeline, query)
-        replay = streamed.replay(rate=rate, start=first, end=last)
-        played, note = streamed.timeline, f"rate {rate:g}x"
-        _watch(replay, query, duration, fmt, note, played, streamed.semantics, trace)
+        _watch(streamed, query, duration, fmt, f"rate {rate:g}x", trace=trace, speed=rate)
         _write_trace(trace, plot, ", ".join(streamed.paths))
         return
     recording = open_recording(bags, topics, tf2)
@@ -128,18 +125,18 @@ def command(
 
 
 def _watch(
-    feed: Feed,
+    feed: Feed | StreamedRecording,
     query: MonitorQuery,
     duration: float | None,
     fmt: TextOrJson,
     note: str = "",
-    timeline: Timeline | None = None,
     semantics: Semantics = "ros1",
     trace: MonitorTrace | None = None,
+    speed: float = 1.0,
 ) -> None:
     """The live table: ``feed`` into a monitor (``monitor_stream``), its report over the last ``query.window`` (ns)
     once a second, until ``duration`` wall seconds pass or the feed ends; each report kept in ``trace``
-    if given. Works with any feed: a replay or a live source."""
+    if given. Works with any feed: a recording replayed (at ``speed``) or a live source."""
     from rich.live import Live
 
     from tftools.analysis.monitor import monitor_stream
@@ -150,18 +147,18 @@ def _watch(
     def report(live_monitor: LiveMonitor) -> MonitorReport:
         current = live_monitor.report(target, source)
         if trace is not None:
-            trace.add(feed.clock.now(), current)
+            trace.add(live_monitor.clock.now(), current)
         return current
 
     def table(live_monitor: LiveMonitor) -> RenderableType:
-        now = feed.clock.now()
+        now = live_monitor.clock.now()
         since = now - (live_monitor.origin if live_monitor.origin is not None else now)
         header = f"time {to_sec(now):.3f} ({since / NS_PER_S:+.1f} s), last {window / NS_PER_S:g} s"
         header += f", {note}" if note else ""
         return render.renderable(report(live_monitor), header, target, source)
 
     def run(on_tick: Callable[[LiveMonitor], None]) -> None:
-        monitor_stream(feed, query, on_tick, timeline=timeline, semantics=semantics, duration=duration)
+        monitor_stream(feed, query, on_tick, semantics=semantics, duration=duration, speed=speed)
 
     try:
         if fmt is TextOrJson.json:

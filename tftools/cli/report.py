@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -12,7 +13,7 @@ import typer
 
 from tftools.cli import findings_file, live, options
 from tftools.cli.common import Exit, exit_with, hinted, progress_bar, say_written, warn
-from tftools.cli.errors import UsageError
+from tftools.cli.errors import UsageError, unfinished_hint
 from tftools.cli.outputs import check_output, check_replaceable
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
@@ -130,6 +131,8 @@ def _bag_sections(groups: Sequence[Sequence[str]], query: ReportQuery, jobs: int
     here = jobs <= 1 or len(groups) <= 1  # each recording read here: one bar at a time
     for index, result in report_fleet(groups, query, Fleet(jobs), progress=progress_bar if here else None):
         if isinstance(result, Unreadable):
+            if result.cause is not None:
+                result = replace(result, hint=unfinished_hint(result.cause.value, result.hint))
             if len(groups) == 1:
                 raise UsageError(result.message, result.hint)
             warn(hinted(result.message, result.hint))

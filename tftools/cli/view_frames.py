@@ -92,12 +92,14 @@ def command(
     [cyan]tfx view-frames -b robot.bag -o tree.svg --rankdir LR --brief[/]
     """
     from tftools.analysis.findings import Severity
+    from tftools.analysis.graph import view_frames
     from tftools.render import drawing
     from tftools.render import graph as render
 
     chosen, target = _output(output, fmt, bags or [], force)
     recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
-    graph, dot = render.view_frames(recording, rankdir=rankdir.value, brief=brief)
+    graph = view_frames(recording)
+    dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)
     try:
         if target == "-":
             sys.stdout.buffer.write(drawing.draw(dot, chosen.value))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import enum
 import functools
@@ -18,7 +19,7 @@ from tftools.cli import defaults, findings_file, live, options
 from tftools.cli import expected as expected_tree
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, count_bar, exit_with, hinted, progress_bar, say_error, stdout, warn
-from tftools.cli.errors import UsageError
+from tftools.cli.errors import UsageError, unfinished_hint
 
 if TYPE_CHECKING:  # the checks and their renderers load when a command runs: --help needs none of them (nor numpy)
     from tftools.analysis.fleet import Fleet
@@ -329,12 +330,23 @@ def _check_groups(
     todo = remaining(groups, done)
     reports: list[BagReport] = []
     with count_bar("checking", len(todo)) as advance:
-        for bag in check_fleet(groups, query, fleet, done=done, progress=_bytes_bar(todo, fleet)):
+        for checked in check_fleet(groups, query, fleet, done=done, progress=_bytes_bar(todo, fleet)):
+            bag = _worded(checked)
             stream(bag)
             reports.append(bag)
             if len(reports) > len(done):
                 advance()
     return in_order(groups, reports)
+
+
+def _worded(bag: BagReport) -> BagReport:
+    """``bag`` with the hint of a check that did not finish (code ``unchecked``) in the options' words."""
+    error = bag.error
+    if error is None or error.code != "unchecked" or "cause" not in error.figures:
+        return bag
+    return dataclasses.replace(
+        bag, error=dataclasses.replace(error, hint=unfinished_hint(error.figures["cause"], error.hint))
+    )
 
 
 def _bytes_bar(todo: list[list[str]], fleet: Fleet) -> Progress | None:

@@ -10,17 +10,17 @@ from tftools import lazy
 
 if TYPE_CHECKING:
     from tftools.render.drawing import draw, write_graph
-    from tftools.render.graph import to_digraph, view_frames
+    from tftools.render.graph import recording_legend, to_digraph
     from tftools.render.report import page
 
-__all__ = ["draw", "page", "to_digraph", "view_frames", "write_graph"]
+__all__ = ["draw", "page", "recording_legend", "to_digraph", "write_graph"]
 
 #: Where each name is defined.
 _HOME = {
     "draw": "tftools.render.drawing",
     "page": "tftools.render.report",
+    "recording_legend": "tftools.render.graph",
     "to_digraph": "tftools.render.graph",
-    "view_frames": "tftools.render.graph",
     "write_graph": "tftools.render.drawing",
 }
 

@@ -82,18 +82,6 @@ def to_digraph(
     return dot
 
 
-def view_frames(
-    recording: Recording, *, rankdir: str = "TB", brief: bool = False
-) -> tuple[FrameGraph, graphviz.Digraph]:
-    """``tfx view-frames``: the recording's frame graph with ``tfx wtf``'s findings drawn where they are, and
-    its Graphviz source with the legend (``drawing.write_graph`` writes it as a PDF, SVG or PNG)."""
-    from tftools.analysis.graph import frame_graph
-    from tftools.analysis.wtf import Scene
-
-    graph = frame_graph(Scene(recording))
-    return graph, to_digraph(graph, recording_legend(recording), rankdir=rankdir, brief=brief)
-
-
 def node_ids(names: Sequence[str]) -> dict[str, str]:
     """Each frame's Graphviz id: its name when Graphviz reads it back as it is, else a mark and a number
     (control characters, bytes that were not UTF-8, a final backslash, a colon, the mark itself); HTML-looking

@@ -29,6 +29,7 @@ from tftools.sources.replay import Replay
 from tftools.sources.timeline import (
     EdgeClock,
     Playback,
+    Reference,
     Timeline,
     clocked_arrivals,
     edge_clock,
@@ -46,6 +47,8 @@ MAX_WINDOWS = 1024
 #: spaced ones over a long recording.
 SAMPLES_PER_FRAME = 8192
 
+_NONE = np.zeros(0, np.int64)
+
 #: Record times read at once; None: the whole recording (a file without an index).
 Window = RecordWindow | None
 
@@ -62,6 +65,8 @@ class StreamedRecording:
         recorded: Timeline,
         frames: Sequence[str],
         semantics: Semantics,
+        parents: dict[str, tuple[str, bool]] | None = None,
+        arrivals: dict[str, tuple[Int64Array, Int64Array]] | None = None,
     ) -> None:
         self.reader = reader
         weakref.finalize(self, reader.close)  # closed when the stream is let go, if not before
@@ -74,6 +79,44 @@ class StreamedRecording:
         #: The replay's timeline: its record times are replay times, on the stamps' clock (``Timeline.played``).
         self.timeline = recorded.played()
         self._recorded = recorded  # whose clock holds the first /clock sample only: enough for ``Playback``
+        #: The tree as last seen: each child's latest parent, and whether its edge is static.
+        self.parents = dict(parents or {})
+        #: Each moving frame's arrivals kept by the first pass (``_Arrivals``): stamps in order, and when
+        #: each plays (``Playback``'s times, estimated alike).
+        self.arrivals = dict(arrivals or {})
+
+    def moving_chain(self, target: str, source: str) -> list[str]:
+        """The children of the dynamic edges between the frames in the tree as last seen (their latest
+        parents), as ``chain_moving_edges`` finds them in a whole read; none where they are not connected."""
+        up = [self._ancestry(target), self._ancestry(source)]
+        common = next((frame for frame in up[0] if frame in up[1]), None)
+        if common is None:
+            return []
+        path = [f for line in up for f in line[: line.index(common)]]
+        return [f for f in path if not self.parents[f][1]]
+
+    def _ancestry(self, frame: str) -> list[str]:
+        """``frame`` and its ancestors to its root (a loop's walk stops where it comes back)."""
+        line = [frame]
+        while (parent := self.parents.get(line[-1])) is not None and parent[0] not in line:
+            line.append(parent[0])
+        return line
+
+    def replay_time(self, stamp: int, frames: Sequence[str], *, last: bool = False) -> int:
+        """When the first transform of ``frames`` (children) stamped at or after ``stamp`` plays, on the
+        replay's clock (``last``: the last one stamped at or before it), as a whole read windows a chain by
+        arrival (``monitored_window``); between the arrivals kept of a long recording, where its
+        neighbours' would. ``stamp`` itself where no arrival of them is known."""
+        times = []
+        for child in frames:
+            stamps, played = self.arrivals.get(child, (_NONE, _NONE))
+            if len(stamps):
+                beyond = stamp < stamps[0] if last else stamp > stamps[-1]  # none stamped on that side
+                edge = int(played[0]) - 1 if last else int(played[-1]) + 1
+                times.append(edge if beyond else _between(stamp, stamps, played, last))
+        if not times:
+            return stamp
+        return max(times) if last else min(times)
 
     @property
     def problems(self) -> list[str]:
@@ -102,6 +145,18 @@ class StreamedRecording:
 
     def __exit__(self, *_: object) -> None:
         self.close()
+
+
+def _between(stamp: int, stamps: Int64Array, played: Int64Array, last: bool) -> int:
+    """When the transform stamped ``stamp`` plays (the first or ``last`` so stamped), or one stamped between
+    two kept would: interpolated in integers (a float's 0.2 us at epoch times would miss it)."""
+    index = int(np.searchsorted(stamps, stamp, side="right" if last else "left"))
+    exact = index - 1 if last else index
+    if 0 <= exact < len(stamps) and stamps[exact] == stamp:
+        return int(played[exact])
+    before, after = index - 1, index  # stamps[before] < stamp < stamps[after]
+    low, high = int(stamps[before]), int(stamps[after])
+    return int(played[before]) + (int(played[after]) - int(played[before])) * (stamp - low) // (high - low)
 
 
 def stream_recording(
@@ -136,7 +191,10 @@ def stream_recording(
         contents.end,
         tf_span(summary.spans.values(), start, contents.end),
     )
-    return StreamedRecording(reader, windows, contents, recorded, summary.frames, summary.semantics)
+    arrivals = summary.played_arrivals(recorded)
+    return StreamedRecording(
+        reader, windows, contents, recorded, summary.frames, summary.semantics, summary.parents, arrivals
+    )
 
 
 def _windows(files: Sequence[BagFileInfo], messages: int) -> tuple[Window, ...]:
@@ -165,6 +223,11 @@ def _share(progress: ProgressCallback | None, index: int, count: int) -> Progres
     return reported
 
 
+#: Arrivals per frame a streamed recording keeps for its replay's times (``StreamedRecording.replay_time``):
+#: every one of a short recording, evenly spaced ones (the first and last among them) of a long one, so
+#: that what it keeps while it plays does not grow with its length (16 KiB a frame).
+PLAYED_ARRIVALS = 1024
+
 #: The /clock samples of a streamed recording's first window kept to tell how often /clock ticks.
 CLOCK_STEPS = 1000
 
@@ -177,6 +240,7 @@ class _Summary:
         self.files = [dataclasses.replace(f, problems=list(f.problems), transform_count=0) for f in files]
         self.transforms = 0
         self.frames: list[str] = []
+        self.parents: dict[str, tuple[str, bool]] = {}  # each child's latest parent, and whether static
         self.spans: dict[bool, tuple[bool, int, int]] = {}  # static or not: the stamps' span
         self.first_clock = ClockSamples.empty()
         self.first_known = 0  # the earliest known (positive) record time, 0 before any
@@ -203,6 +267,9 @@ class _Summary:
         self._carried = _recent(buffer, CARRIED)
         met = set(self.frames)
         self.frames += [f for f in buffer.frames if f not in met]
+        for child, hist in buffer.histories():
+            if len(hist):
+                self.parents[child] = (buffer.frame_name(hist.latest_parent), hist.static)
         for static, first, last in stamp_spans(buffer):
             seen = self.spans.get(static, (static, first, last))
             self.spans[static] = (static, min(seen[1], first), max(seen[2], last))
@@ -213,6 +280,24 @@ class _Summary:
         self._clock = self._clock.continued(contents.clock)
         for child, stamps, records, ros, known in clocked_arrivals(buffer, self._clock, since=carried):
             self._arrivals.setdefault(child, _Arrivals()).add(stamps, records, ros, known)
+
+    def played_arrivals(self, timeline: Timeline) -> dict[str, tuple[Int64Array, Int64Array]]:
+        """Each frame's arrivals kept (at most ``PLAYED_ARRIVALS``), by stamp, and when they play on the replay
+        of ``timeline``: their record times, /clock then (its first value before it ticked), or record times
+        less the frames' median offset, as ``Playback`` moves them."""
+        shift = int(np.median([e.offset_record for e in timeline.edges])) if timeline.edges else 0
+        first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
+        played: dict[str, tuple[Int64Array, Int64Array]] = {}
+        for child, arrivals in self._arrivals.items():
+            stamps, records, ros, known = arrivals.kept()
+            if timeline.reference is Reference.CLOCK:
+                times = np.where(known, ros, first)
+            else:
+                times = records - shift if timeline.reference is Reference.NONE else records
+            order = np.argsort(stamps, kind="stable")
+            picked = order[np.unique(np.linspace(0, len(order) - 1, min(len(order), PLAYED_ARRIVALS)).astype(np.int64))]
+            played[child] = stamps[picked], times[picked]
+        return played
 
     def edges(self) -> tuple[EdgeClock, ...]:
         """Each frame's clock from the arrivals kept, counting every arrival."""

@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.analysis.edges import chain_moving_edges
-from tftools.analysis.times import Stamp, TimeSpec, resolve_range, resolve_time
+from tftools.analysis.times import Stamp, TimeSpec, played_range, resolve_range, resolve_time
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TooManyLinesError, TransformError
@@ -103,7 +103,7 @@ def echo_stream(
         return
     from tftools.sources.replay import follow_into
 
-    first, last = resolve_range(feed.timeline, query.start, query.end, default=(None, None))
+    first, last = played_range(feed, query.start, query.end, query.target, query.source)
     replay = feed.replay(start=first, end=last)
     buffer = Buffer(clock=replay.clock, semantics=feed.semantics)
     target, source = query.target, query.source

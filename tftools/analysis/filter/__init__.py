@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from tftools.analysis.filter.fates import FilterReport, message_fates, recording_end, stream_report
-from tftools.analysis.frames import FrameTree, frame_tree
+from tftools.analysis.frames import FrameTree, tree_of
 from tftools.analysis.reading import Reading
 from tftools.analysis.targets import choose_target, tied_to_tf
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
@@ -58,9 +58,9 @@ def filter_messages(
 def filter_streams(
     buffer: Buffer, streams: Sequence[StampedMessages], query: FilterQuery, tree: FrameTree | None = None
 ) -> FilterReport:
-    """``filter_messages`` of ``streams`` against the tf in ``buffer`` (``tree``: its ``frame_tree``, if
+    """``filter_messages`` of ``streams`` against the tf in ``buffer`` (``tree``: its ``tree_of``, if
     already made; ``query.sensor_topics`` not looked at: the streams are those asked about)."""
-    target, reason = choose_target(tree if tree is not None else frame_tree(buffer), query.target)
+    target, reason = choose_target(tree if tree is not None else tree_of(buffer), query.target)
     end = recording_end(buffer, streams)
     reports, skipped, fates = [], [], {}
     for stream in streams:

@@ -21,7 +21,7 @@ from tftools.analysis.edges import (
     edge_stats,
     sorted_unique,
 )
-from tftools.analysis.times import TimeSpec, resolve_range
+from tftools.analysis.times import TimeSpec, played_range, resolve_range
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
@@ -34,6 +34,7 @@ from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 if TYPE_CHECKING:
     from tftools.sources.recording import Recording
     from tftools.sources.replay import Feed
+    from tftools.sources.stream import StreamedRecording
 
 
 @dataclass(frozen=True)
@@ -112,13 +113,11 @@ def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | N
     )
 
 
-def played_window(timeline: Timeline, query: MonitorQuery) -> tuple[int | None, int | None]:
-    """``query.start`` and ``query.end`` of a replay on the tf stamps' clock (None: open); a
-    ``TimeRangeError`` when they miss the recording's tf."""
-    first, last = resolve_range(timeline, query.start, query.end, default=(None, None))
-    if (first is not None and first > timeline.tf_end) or (last is not None and last < timeline.tf_start):
-        raise TimeRangeError((timeline.tf_start, timeline.tf_end))
-    return first, last
+def played_window(stream: StreamedRecording, query: MonitorQuery) -> tuple[int | None, int | None]:
+    """``query.start`` and ``query.end`` of a replay of ``stream`` on its clock (None: open), counted on the
+    clock of the chain asked about as ``monitored_window`` counts them (``played_range``); a
+    ``TimeRangeError`` when they miss its tf."""
+    return played_range(stream, query.start, query.end, query.target, query.source)
 
 
 def monitor_buffer(
@@ -266,22 +265,32 @@ class LiveMonitor:
 
 
 def monitor_stream(
-    feed: Feed,
+    feed: Feed | StreamedRecording,
     query: MonitorQuery,
     on_tick: Callable[[LiveMonitor], None],
     *,
     timeline: Timeline | None = None,
     semantics: Semantics = "ros1",
     duration: float | None = None,
+    speed: float = 1.0,
 ) -> None:
-    """``tfx monitor`` live or ``--play``: ``feed`` (a live source, or a replay with its recording's
-    ``timeline``, ``Timeline.played``) into a ``LiveMonitor`` over the last ``query.window`` (ns), ``on_tick``
-    called with it once a second of the feed's clock, until ``duration`` wall seconds pass or the feed ends
-    (its report: ``LiveMonitor.report`` of the query's frames). A live source's jumps back in time clear
-    it, as tf2_ros's listener."""
+    """``tfx monitor`` live or ``--play``: ``feed`` into a ``LiveMonitor`` over the last ``query.window`` (ns),
+    ``on_tick`` called with it once a second of the feed's clock, until ``duration`` wall seconds pass or the
+    feed ends (its report: ``LiveMonitor.report`` of the query's frames).
+
+    A recording streamed (``--play``): replayed at ``speed`` times real time from ``query.start`` to
+    ``query.end`` (``played_window``: a ``TimeRangeError`` when they miss its tf) on its own timeline and
+    semantics. A live source (or a replay made by hand, with its recording's ``timeline``,
+    ``Timeline.played``): its jumps back in time clear the monitor, as tf2_ros's listener."""
     from tftools.sources.live.base import LiveSource
     from tftools.sources.live.time_jump import watch_jumps
     from tftools.sources.replay import follow
+    from tftools.sources.stream import StreamedRecording
+
+    if isinstance(feed, StreamedRecording):
+        first, last = played_window(feed, query)
+        timeline, semantics = feed.timeline, feed.semantics
+        feed = feed.replay(rate=speed, start=first, end=last)
 
     live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics)
     on_batch = (

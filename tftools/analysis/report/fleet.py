@@ -6,7 +6,7 @@ import functools
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-from tftools.analysis.fleet import HERE, Fleet, Unfinished, run_fleet
+from tftools.analysis.fleet import HERE, Fleet, Unfinished, UnfinishedCause, run_fleet
 from tftools.analysis.reading import Progress, unwatched
 from tftools.analysis.report.query import REPORT_DEFAULTS, ReportQuery
 from tftools.analysis.report.recording import RecordingReport, report
@@ -21,6 +21,7 @@ class Unreadable:
     name: str
     message: str
     hint: str
+    cause: UnfinishedCause | None = None  # why its report did not finish; None: it could not be read
 
 
 def report_fleet(
@@ -38,7 +39,7 @@ def report_fleet(
     for index, result in run_fleet(sources, task, fleet):
         if isinstance(result, Unfinished):
             name = " + ".join(sources[index])
-            result = Unreadable(name, f"{name}: not checked: {result.why}", result.hint)
+            result = Unreadable(name, f"{name}: not checked: {result.why}", result.hint, result.cause)
         yield index, result
 
 

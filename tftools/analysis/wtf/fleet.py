@@ -98,7 +98,7 @@ def check_fleet(
     yield from done
     task = functools.partial(_check_group, query, progress or unwatched)
     for index, result in run_fleet(todo, task, fleet):
-        yield unchecked(tuple(todo[index]), result.why, result.hint) if isinstance(result, Unfinished) else result
+        yield unchecked(tuple(todo[index]), result) if isinstance(result, Unfinished) else result
 
 
 def _check_group(query: CheckQuery, progress: Progress, paths: Sequence[str]) -> BagReport:
@@ -145,7 +145,9 @@ def unreadable(paths: tuple[str, ...], message: str, hint: str) -> BagReport:
     return BagReport(paths, error=Finding(Severity.error, "unreadable", message, hint))
 
 
-def unchecked(paths: tuple[str, ...], why: str, hint: str) -> BagReport:
-    """A recording whose check did not finish (its worker died, it ran out of time): said, not passed."""
-    message = f"{' + '.join(paths)}: not checked: {why}"
-    return BagReport(paths, error=Finding(Severity.error, "unchecked", message, hint))
+def unchecked(paths: tuple[str, ...], unfinished: Unfinished) -> BagReport:
+    """A recording whose check did not finish (its worker died, it ran out of time): said, not passed; its
+    ``UnfinishedCause`` in the finding's figures (``cause``)."""
+    message = f"{' + '.join(paths)}: not checked: {unfinished.why}"
+    figures: dict[str, float | int | str] = {"cause": unfinished.cause.value}
+    return BagReport(paths, error=Finding(Severity.error, "unchecked", message, unfinished.hint, figures=figures))

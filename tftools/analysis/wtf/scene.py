@@ -14,7 +14,7 @@ from tftools.analysis.edges import Edge, EdgeStats, edge_rows, edge_stats, publi
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterQuery, FilterReport, filter_streams
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.frames import FrameTree, frame_tree
+from tftools.analysis.frames import FrameTree, tree_of
 from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
@@ -87,7 +87,7 @@ class Scene:
 
     @cached_property
     def tree(self) -> FrameTree:
-        return frame_tree(self.buffer)
+        return tree_of(self.buffer)
 
     @cached_property
     def stats(self) -> list[EdgeStats]:
