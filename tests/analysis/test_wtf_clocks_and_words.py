@@ -36,6 +36,7 @@ from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
+from tftools.sources.contents import ClockSamples
 from tftools.sources.recording import Recording
 
 
@@ -178,3 +179,28 @@ def test_empty_tf_messages_are_counted_where_they_are_read(tmp_path: Path, fmt: 
         assert found.severity is Severity.info and f"{len(empty):,} of {tf:,} messages on /tf carry no transform" in (
             found.message
         )
+
+
+def _clock_recorded_from(seconds: float) -> ClockSamples:
+    """The simulator's /clock, its first ``seconds`` not recorded (the recorder subscribed to it late)."""
+    clock = sim_clock()
+    late = clock.record_time >= START + round(seconds * NS_PER_S)
+    return ClockSamples(clock.topic, clock.record_time[late], clock.clock[late])
+
+
+def test_tf_on_simulated_time_before_the_first_recorded_clock_is_no_finding() -> None:
+    """A TurtleBot3 in Gazebo (PabloMatilla/IR2121 rosbag2_2023_10_21-19_09_03): tf from the first second,
+    stamped 319.7 s on; /clock first recorded 2.3 s later at 320.9 s. The stamps say the nodes had simulated
+    time: the recorder only got /clock late, and nothing is wrong."""
+    findings = check(recording(simulated(), clock=_clock_recorded_from(2.5), ros1=False)).findings
+    assert "sim_clock" not in [f.code for f in findings]
+
+
+def test_tf_stamped_zero_before_the_first_clock_is_a_note() -> None:
+    """Stamped ROS time 0 before /clock began: the nodes with use_sim_time had no time yet."""
+    zero_until = START + round(2.5 * NS_PER_S)
+    early = ekf(stamp=lambda t: sim(t) if t >= zero_until else 0)
+    findings = check(recording(simulated(ekf=early), clock=_clock_recorded_from(2.5), ros1=False)).findings
+    (note,) = [f for f in findings if f.code == "sim_clock"]
+    assert note.severity is Severity.info
+    assert "before the first /clock" in note.message and "stamped no later than 0.000 s" in note.message
