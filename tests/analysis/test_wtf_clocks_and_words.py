@@ -14,6 +14,7 @@ from tests.analysis.wtf_scenes import (
     START,
     TfMessage,
     _t,
+    amcl,
     ekf,
     healthy,
     map_odom,
@@ -136,6 +137,28 @@ def test_sensor_data_in_a_frame_no_transform_names_is_told_what_is_missing(tf: s
     assert said in found.hint and "frame_id" not in found.hint.split(":")[0]
     if tf == "not recorded":
         assert "ros2 bag record /tf /tf_static" in found.hint
+
+
+@pytest.mark.parametrize("tf_static", ["not recorded", "recorded empty"])
+def test_sensor_data_in_a_mount_frame_without_tf_static_is_told_what_is_missing(tf_static: str) -> None:
+    """A TurtleBot3 under AMCL (PabloMatilla/IR2121@25fabcf rosbag2_2023_10_21-21_16_22): map -> odom ->
+    base_footprint on /tf, /tf_static recorded with 0 messages, /scan in base_scan. Missing is /tf_static's
+    content, not the driver's frame_id."""
+    messages = [*amcl(), *ekf()]
+    if tf_static == "recorded empty":
+        messages.append(TfMessage("/tf_static", START + NS_PER_S, [], "/tf_static"))
+    rec = recording(sorted(messages, key=lambda m: m.record_time), ros1=False)
+    (found,) = [
+        f
+        for f in findings_of(Scene(rec, streams=[sensor("/scan", "base_scan", 10, 5_000_000)]))
+        if f.code == "sensor_frame"
+    ]
+    said = {
+        "not recorded": "this recording holds no /tf_static: the sensors' mounts",
+        "recorded empty": "/tf_static was recorded but holds no transform",
+    }[tf_static]
+    assert found.hint.startswith(said)  # what the recording shows first; 'base_scan' is close to base_link
+    assert "typo, set the driver's frame_id" in found.hint
 
 
 def _ignition(delays_ms: tuple[float, float]) -> Recording:
