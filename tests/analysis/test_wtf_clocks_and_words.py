@@ -14,6 +14,7 @@ from tests.analysis.wtf_scenes import (
     START,
     TfMessage,
     _t,
+    amcl,
     ekf,
     healthy,
     map_odom,
@@ -36,6 +37,7 @@ from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
+from tftools.sources.contents import ClockSamples
 from tftools.sources.recording import Recording
 
 
@@ -137,6 +139,28 @@ def test_sensor_data_in_a_frame_no_transform_names_is_told_what_is_missing(tf: s
         assert "ros2 bag record /tf /tf_static" in found.hint
 
 
+@pytest.mark.parametrize("tf_static", ["not recorded", "recorded empty"])
+def test_sensor_data_in_a_mount_frame_without_tf_static_is_told_what_is_missing(tf_static: str) -> None:
+    """A TurtleBot3 under AMCL (PabloMatilla/IR2121@25fabcf rosbag2_2023_10_21-21_16_22): map -> odom ->
+    base_footprint on /tf, /tf_static recorded with 0 messages, /scan in base_scan. Missing is /tf_static's
+    content, not the driver's frame_id."""
+    messages = [*amcl(), *ekf()]
+    if tf_static == "recorded empty":
+        messages.append(TfMessage("/tf_static", START + NS_PER_S, [], "/tf_static"))
+    rec = recording(sorted(messages, key=lambda m: m.record_time), ros1=False)
+    (found,) = [
+        f
+        for f in findings_of(Scene(rec, streams=[sensor("/scan", "base_scan", 10, 5_000_000)]))
+        if f.code == "sensor_frame"
+    ]
+    said = {
+        "not recorded": "this recording holds no /tf_static: the sensors' mounts",
+        "recorded empty": "/tf_static was recorded but holds no transform",
+    }[tf_static]
+    assert found.hint.startswith(said)  # what the recording shows first; 'base_scan' is close to base_link
+    assert "typo, set the driver's frame_id" in found.hint
+
+
 def _ignition(delays_ms: tuple[float, float]) -> Recording:
     """A simulation whose /clock ticks every 3 ms (333 Hz), odometry arriving ``delays_ms`` (from, to) after
     its stamps, cycling; recorded on wall time."""
@@ -178,3 +202,28 @@ def test_empty_tf_messages_are_counted_where_they_are_read(tmp_path: Path, fmt: 
         assert found.severity is Severity.info and f"{len(empty):,} of {tf:,} messages on /tf carry no transform" in (
             found.message
         )
+
+
+def _clock_recorded_from(seconds: float) -> ClockSamples:
+    """The simulator's /clock, its first ``seconds`` not recorded (the recorder subscribed to it late)."""
+    clock = sim_clock()
+    late = clock.record_time >= START + round(seconds * NS_PER_S)
+    return ClockSamples(clock.topic, clock.record_time[late], clock.clock[late])
+
+
+def test_tf_on_simulated_time_before_the_first_recorded_clock_is_no_finding() -> None:
+    """A TurtleBot3 in Gazebo (PabloMatilla/IR2121 rosbag2_2023_10_21-19_09_03): tf from the first second,
+    stamped 319.7 s on; /clock first recorded 2.3 s later at 320.9 s. The stamps say the nodes had simulated
+    time: the recorder only got /clock late, and nothing is wrong."""
+    findings = check(recording(simulated(), clock=_clock_recorded_from(2.5), ros1=False)).findings
+    assert "sim_clock" not in [f.code for f in findings]
+
+
+def test_tf_stamped_zero_before_the_first_clock_is_a_note() -> None:
+    """Stamped ROS time 0 before /clock began: the nodes with use_sim_time had no time yet."""
+    zero_until = START + round(2.5 * NS_PER_S)
+    early = ekf(stamp=lambda t: sim(t) if t >= zero_until else 0)
+    findings = check(recording(simulated(ekf=early), clock=_clock_recorded_from(2.5), ros1=False)).findings
+    (note,) = [f for f in findings if f.code == "sim_clock"]
+    assert note.severity is Severity.info
+    assert "before the first /clock" in note.message and "stamped no later than 0.000 s" in note.message

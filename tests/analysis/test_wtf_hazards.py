@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import sqlite3
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -65,12 +68,34 @@ def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -
     alone = tmp_path / "alone"
     alone.mkdir()
     (alone / inside.name).write_bytes(inside.read_bytes())
+    assert check(read_recording([alone / inside.name])).findings == []  # its topics table says transient local
+    _set_topics_qos(alone / inside.name, lambda text: "")  # a table without QoS (recorded with no publisher)
     (finding,) = check(read_recording([alone / inside.name])).findings
     assert finding.skipped and finding.code == "static_volatile" and finding.severity is Severity.info
     assert "not checked" in finding.message and "metadata.yaml" in finding.message
     volatile = _volatile(bag)  # what the metadata.yaml beside it says is what is judged
     (said,) = check(read_recording([next(volatile.glob("*.db3"))])).findings
     assert (said.code, said.severity) == ("static_volatile", Severity.warning)
+
+
+def _set_topics_qos(db3: Path, change: Callable[[str], str]) -> None:
+    """The offered QoS profiles in ``db3``'s topics table (this test's own copy) rewritten by ``change``."""
+    with contextlib.closing(sqlite3.connect(db3)) as db, db:
+        for topic_id, text in db.execute("SELECT id, offered_qos_profiles FROM topics").fetchall():
+            db.execute("UPDATE topics SET offered_qos_profiles = ? WHERE id = ?", (change(text), topic_id))
+
+
+def test_a_bag_directory_cut_short_is_judged_by_the_qos_in_its_topics_table(tmp_path: Path) -> None:
+    """A recording stopped before rosbag2 wrote metadata.yaml (hurtaditoo/IR2121@5c91492
+    rosbag2_2023_10_04-17_00_14: a .db3 and its -wal, no metadata.yaml) still says in its topics table the
+    QoS /tf_static was offered with, as ros2 bag reindex reads it: judged by it, not 'not checked'."""
+    bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_sqlite3, scenes.healthy())
+    (bag / "metadata.yaml").unlink()
+    assert check(read_recording([bag])).findings == []
+    volatile = "durability: volatile"
+    _set_topics_qos(next(bag.glob("*.db3")), lambda text: text.replace("durability: transient_local", volatile))
+    (finding,) = check(read_recording([bag])).findings
+    assert (finding.code, finding.severity) == ("static_volatile", Severity.warning)
 
 
 @pytest.mark.parametrize("fmt", scenes.FORMATS)

@@ -58,8 +58,10 @@ def _static_qos(path: str, qos: OfferedQos) -> dict[str, list[object]]:
     """Each static topic's offered QoS profiles, as the bag directory's metadata.yaml says (read with the bag)."""
     if not qos.metadata:
         raise CheckSkippedError(
-            f"{path} has no metadata.yaml beside it, where rosbag2 keeps the QoS it plays /tf_static with",
-            "check the bag directory, not one of its files",
+            f"{path} has no metadata.yaml (beside or in it) and its topics table no QoS profiles, where rosbag2 "
+            "keeps the QoS it plays /tf_static with",
+            "give tfx the bag directory if the file has one; a bag directory without metadata.yaml was cut short "
+            "(ros2 bag reindex rebuilds it, on a copy)",
         )
     if qos.problem:
         raise CheckSkippedError(

@@ -70,6 +70,21 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool) -> str:
             f"{and_joined(moving)} was recorded but holds no transform: their publishers (odometry, "
             "robot_state_publisher) sent nothing while recorded; check that they ran and had their input"
         )
+    statics = [t for t in scene.recording.contents.topics if is_static_topic(t)]
+    also = "; if the frame's name is a typo, set the driver's frame_id parameter instead" if typo else ""
+    if not rows.static.any() and statics:
+        # A TurtleBot3 under AMCL (PabloMatilla/IR2121 rosbag2_2023_10_21-21_16_22): /tf_static recorded,
+        # 0 messages, /scan in base_scan; the frame is the URDF's, the missing part is its publisher's output.
+        if not recorded & set(statics):
+            return (
+                f"this recording holds no {and_joined(statics)}: the sensors' mounts (robot_state_publisher's "
+                f"fixed joints, static_transform_publisher) were not recorded; record them with the rest "
+                f"({record} /tf /tf_static){also}"
+            )
+        return (
+            f"{and_joined(statics)} was recorded but holds no transform: its publishers (robot_state_publisher, "
+            f"static_transform_publisher) sent nothing while recorded; check that they ran{also}"
+        )
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
     if {base_name(f) for f in missing} <= {"odom", "map"}:

@@ -226,6 +226,12 @@ def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Find
     kept = senders.senders[int(senders.sender[group.rows[-1]])]
     described = [f"{edge(p, c)} ({_apart(m, d)})" for p, c, m, d in group.differ]
     agree = f"; they agree on {counted(len(group.agree), 'other')}" if group.agree else ""
+    most = (
+        f"; up to {worst[2] * 1000:.1f} mm ({edge(worst[0], worst[1])}) and {turned[3]:.2f}° "
+        f"({edge(turned[0], turned[1])})"
+        if len(group.differ) > 1
+        else ""  # one transform: its figures are said with it
+    )
     arrivals = scene.arrival(group.rows)
     figures: dict[str, float | int | str] = {
         "publishers": len(group.senders),
@@ -244,9 +250,8 @@ def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Find
         message = (
             f"/tf_static came from {len(who)} publishers, told apart by their messages (this recording does not "
             f"name them): {sent}. They send different values for "
-            f"{counted(len(group.differ), 'static transform')}: {listed(described)}; up to "
-            f"{worst[2] * 1000:.1f} mm ({edge(worst[0], worst[1])}) and {turned[3]:.2f}° ({edge(turned[0], turned[1])})"
-            f"{agree}. tf2 keeps the last received for every time: publisher {kept.number}'s"
+            f"{counted(len(group.differ), 'static transform')}: {listed(described)}{most}{agree}. tf2 keeps the "
+            f"last received for every time: publisher {kept.number}'s"
         )
         hint = (
             "two descriptions of one robot are published at once (a driver's own static transforms and "

@@ -38,6 +38,9 @@ class FileScan:
     end: int = 0
     message_count: int = 0  # every topic
     topics: dict[str, str] = field(default_factory=dict)
+    #: Each topic's offered QoS profiles (YAML) as the file itself holds them: rosbag2's sqlite3 topics table
+    #: (Foxy on), what ``ros2 bag reindex`` rebuilds metadata.yaml from.
+    offered_qos: dict[str, str] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)  # damage: what was lost
     skipped: list[Unread] = field(default_factory=list)  # asked-for topics of types or encodings not read
     windowed: bool = True  # False: read whole, without an index to find a record-time window by

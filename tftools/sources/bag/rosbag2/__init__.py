@@ -46,13 +46,14 @@ class Rosbag2Bag:
         """The bag's transforms (see ``reader.BagReader.read``)."""
         fmt = f"rosbag2-{self.bag.storage}"
         if not self.files.is_dir(self.path):
-            read = file_result(self.path, fmt, [self._scan_file(self.path, wanted, progress, window, [])])
+            scans = [self._scan_file(self.path, wanted, progress, window, [])]
+            read = file_result(self.path, fmt, scans)
         else:
             problems = list(self.bag.problems)
             scans, labels = self._scan_files(wanted, progress, window, problems)
             read = file_result(self.path, fmt, scans, labels)
             read.info.problems[:0] = problems
-        read.qos = self.bag.qos
+        read.qos = self.bag.qos if self.bag.qos.metadata else _qos_in_files(scans) or self.bag.qos
         return read
 
     def _scan_files(
@@ -206,6 +207,18 @@ def _qos(path: Path, stored: Files, info: dict[str, Any] | None, problems: list[
         return OfferedQos(found, counts=counts)
     except (user_files.UserFileError, KeyError, TypeError, ValueError, AttributeError) as error:
         return OfferedQos({}, str(error) or type(error).__name__)
+
+
+def _qos_in_files(scans: list[FileScan]) -> OfferedQos | None:
+    """Without metadata.yaml (a recording cut short, or a .db3 copied alone), the offered QoS of the static
+    topics as the files' own topics tables hold them; None where they hold none."""
+    offered = {name: text for scan in scans for name, text in scan.offered_qos.items() if is_static_topic(name)}
+    if not offered:
+        return None
+    try:
+        return OfferedQos({name: list(user_files.load_text(text) or []) for name, text in offered.items()})
+    except user_files.UserFileError as error:
+        return OfferedQos({}, f"the bag file's topics table holds unreadable QoS profiles ({error})")
 
 
 def _metadata(path: Path, stored: Files, problems: list[str]) -> dict[str, Any] | None:

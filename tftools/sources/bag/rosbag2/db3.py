@@ -115,6 +115,8 @@ def _channels(
             continue
         topic_id, name, type_name, encoding, qos, digest = row
         result.topics[name] = type_name
+        if qos:
+            result.offered_qos[name] = qos
         codec, unread = (
             select(name, type_name, encoding, wanted)
             if wanted.copy is None
