@@ -23,6 +23,7 @@ def test_a_bag_imports_only_ros1_codecs() -> None:
     modules = load(str(SAMPLE_BAGS["ros1"]))
     assert f"{PACKAGE}.ros1" in modules
     assert loaded(modules, (*NOT_ROS, f"{PACKAGE}.cdr")) == []
+    assert loaded(modules, ("bz2", "lzma")) == []  # its chunks are not compressed
 
 
 @pytest.mark.parametrize("kind", ["db3", "mcap"])
