@@ -66,6 +66,8 @@ def import_readers() -> None:
 
     from tftools.sources.bag import mcap, ros1, rosbag2  # noqa: F401
     from tftools.sources.bag.rosbag2 import db3  # noqa: F401
+    from tftools.sources.codecs import cdr  # noqa: F401 (the codec table imports the codecs on first use)
+    from tftools.sources.codecs import ros1 as ros1_codecs  # noqa: F401
 
 
 def lookup_times(count: int, seconds: int) -> list[int]:

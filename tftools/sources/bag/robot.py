@@ -7,12 +7,15 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from tftools.core.arrays import Int64Array
-from tftools.sources.codecs.robot import JointState
 from tftools.sources.contents import RecordingContents
+
+if TYPE_CHECKING:
+    from tftools.sources.codecs.robot import JointState
 
 DESCRIPTION_TOPIC = "/robot_description"
 JOINT_STATES_TOPIC = "/joint_states"
@@ -42,6 +45,8 @@ def robot_messages(contents: RecordingContents) -> RobotMessages:
         if whole.topic == DESCRIPTION_TOPIC:
             texts += [(t, str(v)) for t, v in zip(times, whole.values, strict=True)]
         elif whole.topic == JOINT_STATES_TOPIC:
+            from tftools.sources.codecs.robot import JointState  # loaded already: its decoder made these
+
             states += [(t, v) for t, v in zip(times, whole.values, strict=True) if isinstance(v, JointState)]
     states.sort(key=lambda pair: pair[0])
     texts.sort(key=lambda pair: pair[0])

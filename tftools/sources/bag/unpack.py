@@ -8,8 +8,6 @@ what it could decompress with a line saying what was lost.
 
 from __future__ import annotations
 
-import bz2 as _bz2
-import shutil
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -82,7 +80,9 @@ def unpack(compression: str, data: bytes | memoryview, declared: int, budget: Bu
         cut = f"cut short at {len(data)} of {declared} bytes" if len(data) < declared else ""
         return Unpacked(data, cut)
     if compression == "bz2":
-        return _fed("bz2", _bz2.BZ2Decompressor(), data, declared, budget)
+        import bz2  # imported for the bags that need it, as lz4 and zstd are
+
+        return _fed("bz2", bz2.BZ2Decompressor(), data, declared, budget)
     if compression == "lz4":
         try:
             from lz4.frame import LZ4FrameDecompressor
@@ -151,6 +151,8 @@ def zstd_file(source: BinaryIO, target: Path, budget: Budget) -> str:
         declared = zstandard.frame_content_size(head)
     except zstandard.ZstdError:
         declared = -1
+    import shutil
+
     free = max(0, shutil.disk_usage(target.parent).free - FREE_SPACE_MARGIN)
     limit, cap = allowed(declared, budget, (free, f"the {free >> 20} MiB free in {target.parent} (less a margin)"))
     written, loss = 0, ""

@@ -2,17 +2,17 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
-from tftools.sources.codecs import cdr, json, protobuf, ros1
-from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
-from tftools.sources.codecs.robot import WHOLE_DECODERS, WholeDecoder
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, has_header, rosidl_name
 from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA, global_name
 
 if TYPE_CHECKING:
+    from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
+    from tftools.sources.codecs.robot import WholeDecoder
     from tftools.sources.contents import MessageSink, Recorded
 
 #: ROS1's names of TFMessage (and of tf's, the same bytes), as ROS1 bags and MCAP files of ROS1 name them.
@@ -34,26 +34,49 @@ class Encoded:
         return f"{self.type_name} ({self.encoding})"
 
 
+@functools.cache
+def _decoder(where: str) -> object:
+    """The decoder named ``where`` ("module.name" in ``tftools.sources.codecs``), its module imported
+    on first use: a .bag needs only ``ros1``'s, a .db3 only ``cdr``'s, and json's and protobuf's
+    modules are a good part of a first load's imports."""
+    module, name = where.rsplit(".", 1)
+    # __import__, not importlib.import_module, whose imports -X importtime does not count
+    return getattr(__import__(f"tftools.sources.codecs.{module}", fromlist=[name]), name)
+
+
 @dataclass(frozen=True)
 class Codec(Encoded):
-    """How transform messages of a type and encoding are decoded."""
+    """How transform messages of a type and encoding are decoded (``decoder``: "module.name" of the
+    decoder in ``tftools.sources.codecs``, imported on first use)."""
 
-    decode: BulkDecoder
+    decoder: str
     foxglove: bool  # read on every topic when the default topics are asked for
+
+    @property
+    def decode(self) -> BulkDecoder:
+        return cast("BulkDecoder", _decoder(self.decoder))
 
 
 @dataclass(frozen=True)
 class ClockCodec(Encoded):
     """How clock messages of a type and encoding are decoded (read on every topic)."""
 
-    decode: ClockDecoder
+    decoder: str
+
+    @property
+    def decode(self) -> ClockDecoder:
+        return cast("ClockDecoder", _decoder(self.decoder))
 
 
 @dataclass(frozen=True)
 class HeaderCodec(Encoded):
     """How the headers of messages of a type and encoding are decoded (the rest of each is not)."""
 
-    decode: HeaderDecoder
+    decoder: str
+
+    @property
+    def decode(self) -> HeaderDecoder:
+        return cast("HeaderDecoder", _decoder(self.decoder))
 
 
 @dataclass(frozen=True)
@@ -103,23 +126,23 @@ AnyCodec = Codec | ClockCodec | HeaderCodec | WholeCodec | CopyCodec
 CODECS = {
     (c.type_name, c.encoding): c
     for c in [
-        # type name, message encoding, bulk decoder, foxglove
-        Codec(TF_MESSAGE, "cdr", cdr.decode_tf, False),
-        Codec(TF_MESSAGE, "json", json.decode_tf, False),
-        *(Codec(ros1_name, "ros1", ros1.decode_tf, False) for ros1_name in ROS1_TF_TYPES),
-        Codec(ROS1_TF_TYPES[0], "json", json.decode_tf, False),
-        Codec(FRAME_TRANSFORMS, "cdr", cdr.decode_tf, True),
-        Codec(FRAME_TRANSFORM, "cdr", cdr.decode_frame_transform, True),
-        Codec("foxglove.FrameTransforms", "protobuf", protobuf.decode_frame_transforms, True),
-        Codec("foxglove.FrameTransform", "protobuf", protobuf.decode_frame_transform, True),
-        Codec("foxglove.FrameTransforms", "json", json.decode_frame_transforms, True),
-        Codec("foxglove.FrameTransform", "json", json.decode_frame_transform, True),
+        # type name, message encoding, bulk decoder (module.name), foxglove
+        Codec(TF_MESSAGE, "cdr", "cdr.decode_tf", False),
+        Codec(TF_MESSAGE, "json", "json.decode_tf", False),
+        *(Codec(ros1_name, "ros1", "ros1.decode_tf", False) for ros1_name in ROS1_TF_TYPES),
+        Codec(ROS1_TF_TYPES[0], "json", "json.decode_tf", False),
+        Codec(FRAME_TRANSFORMS, "cdr", "cdr.decode_tf", True),
+        Codec(FRAME_TRANSFORM, "cdr", "cdr.decode_frame_transform", True),
+        Codec("foxglove.FrameTransforms", "protobuf", "protobuf.decode_frame_transforms", True),
+        Codec("foxglove.FrameTransform", "protobuf", "protobuf.decode_frame_transform", True),
+        Codec("foxglove.FrameTransforms", "json", "json.decode_frame_transforms", True),
+        Codec("foxglove.FrameTransform", "json", "json.decode_frame_transform", True),
     ]
 }
-_CLOCK_DECODERS = {"cdr": cdr.decode_clocks, "ros1": ros1.decode_clocks, "json": json.decode_clocks}
-CLOCK_CODECS = {(t, e): ClockCodec(t, e, d) for t in CLOCK_TYPES for e, d in _CLOCK_DECODERS.items()}
+CLOCK_CODECS = {(t, e): ClockCodec(t, e, f"{e}.decode_clocks") for t in CLOCK_TYPES for e in ("cdr", "ros1", "json")}
 _FOXGLOVE_TYPES = {c.type_name for c in CODECS.values() if c.foxglove}
-_HEADER_DECODERS = {"ros1": ros1.decode_headers, "cdr": cdr.decode_headers}
+#: The encodings whose headers are read (each module's ``decode_headers``).
+_HEADER_ENCODINGS = ("ros1", "cdr")
 
 
 def readable() -> str:
@@ -151,6 +174,8 @@ def select(
     any topic; headers on the topics ``wanted`` says (``definition``: the type's, when the
     recording gives it); the topics it reads ``whole``, only whole (``codecs.robot``'s types)."""
     if topic in wanted.whole:
+        from tftools.sources.codecs.robot import WHOLE_DECODERS  # only for a read that takes topics whole
+
         whole = WHOLE_DECODERS.get((rosidl_name(type_name), encoding))
         return (WholeCodec(rosidl_name(type_name), encoding, whole) if whole is not None else None), None
     clock = CLOCK_CODECS.get((type_name, encoding))
@@ -163,10 +188,8 @@ def select(
             return codec, None
         if not wanted.wants_header(topic):
             return None, Unread(topic, type_name, encoding)
-    if wanted.wants_header(topic):
-        decoder = _HEADER_DECODERS.get(encoding)
-        if decoder is not None and has_header(type_name, encoding, definition):
-            return HeaderCodec(rosidl_name(type_name), encoding, decoder), None
+    if wanted.wants_header(topic) and encoding in _HEADER_ENCODINGS and has_header(type_name, encoding, definition):
+        return HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers"), None
     return None, None
 
 
