@@ -61,7 +61,7 @@ class Ros1File:
                     if self._replayed is None:
                         for connection in self._index.connections:
                             bag.connect(connection)
-                        self._replayed = replay_order(bag, self._index.infos) or False
+                        self._replayed = replay_order(bag, self._index.infos, header.index_pos) or False
                     bag.scan.messages.replayed = self._replayed or None
                 read_indexed(bag, self._index, header.index_pos)
         else:

@@ -92,17 +92,18 @@ def read_indexed(bag: BagFile, index: BagIndex, index_pos: int) -> None:
     gathered.read(bag)
 
 
-def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> None:
-    """Have the system fetch the headers and index records of the chunks holding wanted messages all at
-    once (one by one, each would wait for the disk). A chunk's index records end where the next chunk
-    (or the bag's index) begins, about ``_INDEX_ENTRY_BYTES`` a message before it."""
+def _prefetch(bag: BagFile, infos: list[ChunkInfo], index_pos: int, every: bool = False) -> None:
+    """Have the system fetch the headers and index records of the chunks holding wanted messages (with
+    ``every``, of every chunk) all at once (one by one, each would wait for the disk or a remote store). A
+    chunk's index records end where the next chunk (or the bag's index) begins, about ``_INDEX_ENTRY_BYTES``
+    a message before it."""
     if not infos:
         return
     ends = [*(info.pos for info in infos[1:]), index_pos]
     starts: list[int] = []
     stops: list[int] = []
     for info, end in zip(infos, ends, strict=True):
-        if _wanted_count(bag, info):
+        if every or _wanted_count(bag, info):
             index_bytes = sum(_INDEX_RECORD_BYTES + _INDEX_ENTRY_BYTES * n for n in info.counts.values())
             starts += [info.pos, max(info.pos, end - index_bytes)]
             stops += [info.pos + _CHUNK_HEADER_BYTES, end]
@@ -117,13 +118,14 @@ def _wanted_count(bag: BagFile, info: ChunkInfo) -> int:
     return sum(n for conn, n in info.counts.items() if conn in bag.channels)
 
 
-def replay_order(bag: BagFile, infos: list[ChunkInfo]) -> tuple[Int64Array, Int64Array] | None:
+def replay_order(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> tuple[Int64Array, Int64Array] | None:
     """The order ``rosbag play`` replays the bag in (``view_order``), as the positions (``Spans.position``)
     of every message, sorted, and each one's place: None where no transform shares its record time with a
     message of another connection (then record time order is that order for what is read), the bag has
     more than ``MAX_MESSAGES`` or an index cannot be read. Its connections are met (``BagFile.connect``)."""
     if not 0 < sum(sum(info.counts.values()) for info in infos) <= MAX_MESSAGES:
         return None
+    _prefetch(bag, infos, index_pos, every=True)
     indexes = []
     for info in infos:
         try:
