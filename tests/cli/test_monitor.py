@@ -3,17 +3,19 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
 import pytest
 
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
-from tests.bags import BagFormat
+from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS
 from tftools.analysis.monitor import monitor_buffer
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, to_sec
+from tftools.core.transform import Transform
 from tftools.sources import read_recording
 
 # The truth sample_bags/generate.py wrote (its docstring): child frame -> publishing rate.
@@ -25,6 +27,7 @@ PUBLISHER_RATES = {"/amcl": 10, "/ekf_localization": 50, "/robot_state_publisher
 EDGE_KEYS = {"parent", "child", "authorities", "count", "rate_hz", "jitter_s", "gap_max_s", "gap_start",
              "delay_mean_s", "delay_max_s", "static", "first_stamp", "last_stamp"}  # fmt: skip
 SAMPLES = list(SAMPLE_BAGS)
+MS_NS = 1_000_000
 
 
 @pytest.mark.parametrize("fmt", SAMPLES)
@@ -192,3 +195,41 @@ def test_a_table_too_long_to_lay_out_is_written_as_lines(tfx, monkeypatch) -> No
         assert row[0] == str(edge["count"])
         assert row[1] == ("static" if edge["static"] else f"{edge['rate_hz']:.2f}")
     assert "Frames:" in text.stdout and "All Broadcasters:" in text.stdout
+
+
+def _gazebo_under_sim_time(path: Path) -> Path:
+    """A ``rosbag record`` under use_sim_time of a simulator on a 10 ms /clock (the shape of
+    ``ros1_gazebo_kobuki_repeated_stamps.bag``, the real recording where ``--play`` counted 160 of /gazebo's
+    199 messages and the whole read 166): record times are /clock's, every fifth odom message repeats the
+    last stamp with other values (tf2's ``TF_REPEATED_DATA``), a state publisher's wheel is sent on every
+    fourth tick, its latched static recorded a tick before the first /clock."""
+    tick, start = 10 * MS_NS, 220 * MS_NS
+    messages = [TfMessage("/tf_static", start - tick, [Transform((0, 0, 0.1), (0, 0, 0, 1), 0, "base_footprint",
+                                                                  "base_link")], "/rsp")]  # fmt: skip
+    stamp = start
+    for k in range(100):
+        now = start + k * tick
+        stamp = stamp if k % 5 == 4 else now  # the simulation did not step: the last stamp again
+        odom = Transform((0.001 * k, 0, 0), (0, 0, 0, 1), stamp, "odom", "base_footprint")
+        messages.append(TfMessage("/tf", now, [odom], "/gazebo"))
+        if k % 4 == 0:
+            wheel = Transform((0, 0.1, 0), (0, 0, math.sin(k / 40), math.cos(k / 40)), now, "base_link", "wheel")
+            messages.append(TfMessage("/tf", now, [wheel], "/rsp"))
+    clock = [ClockMessage(start + k * tick, start + k * tick) for k in range(100)]
+    return write_bag(path / "sim.bag", messages, BagFormat.ros1, clock)
+
+
+def test_a_publishers_messages_are_those_it_sent_in_the_whole_read_and_the_replay(tfx, tmp_path: Path) -> None:
+    bag = _gazebo_under_sim_time(tmp_path)
+    whole = tfx("monitor", "-b", bag, "-f", "json")
+    played = tfx("monitor", "-b", bag, "--play", "--rate", "500", "-f", "json")
+    assert whole.code == 0 and played.code == 0, whole.stderr + played.stderr
+    for report in (json.loads(whole.stdout), json.loads(played.stdout.splitlines()[-1])):
+        publishers = {a["authority"]: a for a in report["authorities"]}
+        # 100 messages on /tf, 20 of them refused as repeated stamps, on 10 ms record times: all counted
+        assert publishers["/gazebo"]["messages"] == 100
+        assert publishers["/gazebo"]["rate_hz"] == pytest.approx(100.0, rel=1e-9)
+        # 25 on /tf and the latched /tf_static message (played at the first /clock, with a /tf one)
+        assert publishers["/rsp"]["messages"] == 26
+        edges = {e["child"]: e for e in report["edges"]}
+        assert edges["base_footprint"]["count"] == 80  # the samples tf2 stored

@@ -11,9 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
+from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
-from tftools.core.figures import jitter, longest_interval, mean_max, rate_of
+from tftools.core.figures import jitter, longest_interval, mean_max, rate_hz, rate_of
 from tftools.core.history import EdgeHistory
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
@@ -100,29 +101,71 @@ def authority_stats(
     *,
     by_record_time: bool = False,
     timeline: Timeline | None = None,
+    unstored: TransformBatch | None = None,
 ) -> list[AuthorityStats]:
-    """Each publisher's messages over the window (as ``edge_stats`` selects it) and its edges.
+    """Each publisher's messages over the window (as ``edge_stats`` selects it) and its edges; ``unstored``:
+    the rows tf2 refused or took again without storing them (``Recording.refused``; default: the refused
+    ones the buffer's log keeps).
 
     Its rate counts the messages of its moving edges only: a latched static message sent
-    once is not part of a rhythm (tf_monitor lists static publishers apart).
+    once is not part of a rhythm (tf_monitor lists static publishers apart). A message is
+    counted as tf_monitor counts it, on arrival: the samples tf2 refused (a stamp sent again,
+    ``TF_REPEATED_DATA``) or took again (ROS 2, an identical one) too, and at least as many as any one
+    of its edges had samples
+    (record times read off a coarse /clock put several messages at one time).
     """
     moving: dict[int, list[Int64Array]] = {}
     static: dict[int, list[Int64Array]] = {}
     delays: dict[int, list[Int64Array]] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
+    samples: dict[int, dict[str, int]] = {}  # per publisher and child: the samples that arrived in the window
     timeline = timeline or ON_RECORD_CLOCK
+    if unstored is None:
+        unstored = buffer.rejections.rows()[0] if len(buffer.rejections) else TransformBatch.empty()
+    refused = _unstored(unstored, start, end, by_record_time, timeline)
     for child, hist in buffer.histories():
         window = _window(hist, start, end, by_record_time, timeline)
         for authority in _ids(hist.authorities[window]):
             a = int(authority)
             mine = window & (hist.authorities == authority)
-            (static if hist.static else moving).setdefault(a, []).append(hist.record_times[mine])
+            arrivals, count = hist.record_times[mine], int(mine.sum())
+            if (name := buffer.authorities[a], child) in refused and not hist.static:
+                count, extra = count + len(refused[name, child]), refused[name, child]
+                arrivals = np.concatenate([arrivals, extra])
+            (static if hist.static else moving).setdefault(a, []).append(arrivals)
+            samples.setdefault(a, {})[child] = count if not hist.static else 0
             delays.setdefault(a, []).append(_delays(child, hist, mine, timeline))
             edges.setdefault(a, []).extend((buffer.frame_name(int(p)), child) for p in _ids(hist.parents[mine]))
     return [
-        _authority(buffer.authorities[a], _arrivals(moving.get(a)), _arrivals(static.get(a)), edges[a], delays[a])
+        _authority(
+            buffer.authorities[a],
+            _arrivals(moving.get(a)),
+            _arrivals(static.get(a)),
+            max(samples[a].values(), default=0),
+            edges[a],
+            delays[a],
+        )
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]
+
+
+def _unstored(
+    rows: TransformBatch, start: int | None, end: int | None, by_record_time: bool, timeline: Timeline
+) -> dict[tuple[str, str], Int64Array]:
+    """The record times of the moving ``rows`` within the window, per (publisher, child): they arrived,
+    as messages, though the buffer holds none of them."""
+    if not len(rows):
+        return {}
+    times = timeline.arrival(rows.stamp, rows.record_time) if by_record_time else rows.stamp
+    inside = ~rows.static
+    if start is not None:
+        inside &= times >= start
+    if end is not None:
+        inside &= times <= end
+    found: dict[tuple[str, str], list[int]] = {}
+    for a, c, t in zip(rows.authority[inside], rows.child[inside], rows.record_time[inside], strict=True):
+        found.setdefault((rows.authorities[a], rows.frame_names[c].lstrip("/")), []).append(int(t))
+    return {key: np.array(times, np.int64) for key, times in found.items()}
 
 
 def _arrivals(record_times: list[Int64Array] | None) -> Int64Array:
@@ -145,10 +188,18 @@ def sorted_unique(values: Int64Array) -> Int64Array:
 
 
 def _authority(
-    name: str, moving: Int64Array, static: Int64Array, edges: list[tuple[str, str]], delays: list[Int64Array]
+    name: str,
+    moving: Int64Array,
+    static: Int64Array,
+    most_samples: int,
+    edges: list[tuple[str, str]],
+    delays: list[Int64Array],
 ) -> AuthorityStats:
-    rate = rate_of(moving)
-    messages = len(np.union1d(moving, static)) if len(static) else len(moving)
+    """``most_samples``: the most samples one of its moving edges had: at least that many messages came on
+    /tf. Its /tf_static messages are others, even where one arrived at the time of a /tf message."""
+    moved = max(len(moving), most_samples)
+    rate = rate_hz(moved, int(moving[-1] - moving[0])) if len(moving) else 0.0
+    messages = moved + len(static)
     mean, largest = mean_max(np.concatenate(delays))
     return AuthorityStats(name, messages, rate, tuple(edges), mean, largest)
 

@@ -96,6 +96,7 @@ class Timeline:
     same_clock: int = SAME_CLOCK  # the ``clock`` threshold (ns): behind the reference by more, another clock
     record_step: int = 0  # how coarse record times are (ns): the step of the /clock they were read off, 0 if fine
     full_tf: tuple[int, int] | None = None  # every frame's span, where ``tf_start``/``tf_end`` leave some out
+    played_estimate: bool = False  # a replay's without a reference: its record times are the replay's clock
 
     @property
     def stamps_span(self) -> tuple[int, int]:
@@ -217,7 +218,7 @@ class Timeline:
         """ROS time (on the stamps' clock) when messages recorded at ``record_times`` arrived, and
         where that is known (a record time is known, and under /clock, a /clock had been recorded)."""
         records = np.asarray(record_times, np.int64)
-        if self.reference is Reference.RECORD:
+        if self.reference is Reference.RECORD or self.played_estimate:
             return records, records > 0
         if self.reference is Reference.NONE:
             return np.zeros(len(records), np.int64), np.zeros(len(records), bool)
@@ -255,9 +256,10 @@ class Timeline:
     def played(self) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the
         stamps' clock (as coarse as ROS time at arrival was), or still without a reference (delays stay
-        unknown; playback only estimates)."""
+        unknown; playback only estimates: ROS time at arrival is the replay's clock, so that a window of it
+        holds what was played in it, not what is stamped in it)."""
         if self.reference is Reference.NONE:
-            return self
+            return dataclasses.replace(self, played_estimate=True)
         edges = tuple(
             dataclasses.replace(
                 e,

@@ -23,7 +23,7 @@ from tftools.analysis.edges import (
 )
 from tftools.analysis.times import TimeSpec, played_range, resolve_range
 from tftools.core.arrays import Int64Array
-from tftools.core.batch import TransformBatch
+from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TimeRangeError, TransformError
 from tftools.core.semantics import Semantics
@@ -83,7 +83,10 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
     Raises tf2's errors when the frames are not connected, ``InvalidTimeError`` or ``TimeRangeError``."""
     first, last = monitored_window(recording, query)
     buffer, timeline = recording.buffer, recording.timeline
-    return monitor_buffer(buffer, query.target, query.source, first, last, by_record_time=True, timeline=timeline)
+    return monitor_buffer(
+        buffer, query.target, query.source, first, last, by_record_time=True, timeline=timeline,
+        unstored=recording.refused,
+    )  # fmt: skip
 
 
 def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | None, int | None]:
@@ -129,12 +132,16 @@ def monitor_buffer(
     *,
     by_record_time: bool = False,
     timeline: Timeline | None = None,
+    unstored: TransformBatch | None = None,
 ) -> MonitorReport:
     """tf_monitor's statistics over ``[start, end]`` (windowed as ``edge_stats`` windows them); with two
     frames, their chain too, its delay over the same window on the arrival axis (``end`` defaults to the
-    buffer's clock). Raises tf2's errors when the frames are not connected."""
+    buffer's clock). ``unstored``: the rows tf2 did not store (``authority_stats``): each publisher's
+    messages count them. Raises tf2's errors when the frames are not connected."""
     edges = edge_stats(buffer, start, end, by_record_time=by_record_time, timeline=timeline)
-    authorities = authority_stats(buffer, start, end, by_record_time=by_record_time, timeline=timeline)
+    authorities = authority_stats(
+        buffer, start, end, by_record_time=by_record_time, timeline=timeline, unstored=unstored
+    )
     chain = None
     if target is not None and source is not None:
         end = end if end is not None else buffer.now()
@@ -229,12 +236,16 @@ class LiveMonitor:
         self.origin: int | None = None  # when the first transform arrived (since the last jump back): +S counts from it
         # Keep a little more than the window: samples that arrive late still fall inside it.
         self.buffer = Buffer(cache_time=window + DEFAULT_CACHE_TIME, clock=clock, semantics=semantics)
+        #: The rows tf2 refused or took again without storing them (ROS 2: an identical sample), as
+        #: ``Recording.refused`` holds them: messages that arrived all the same.
+        self.unstored: list[TransformBatch] = []
         self._lock = threading.Lock()
 
     def clear(self, _jump: object = None) -> None:
         """Forget the dynamic transforms (statics kept), as tf2_ros's listener at a jump back in time."""
         with self._lock:
             self.buffer.clear()
+            self.unstored = []
             self.origin = None
 
     def add(self, batch: TransformBatch) -> None:
@@ -242,7 +253,12 @@ class LiveMonitor:
         with self._lock:
             if self.origin is None and len(batch) and (first := int(batch.record_time.min())) > 0:
                 self.origin = first
+            arrivals, refused = self.buffer.arrivals, self.buffer.rejections.total
             self.buffer.insert(batch)
+            again = self.buffer.duplicates  # arrival numbers, in arrival order: the newest last
+            if self.buffer.rejections.total > refused or (len(again) and int(again[-1]) >= arrivals):
+                sequence = np.concatenate([self.buffer.rejections.sequences(), again])
+                self.unstored.append(take_rows(batch, np.unique(sequence[sequence >= arrivals]) - arrivals))
 
     def _timeline(self) -> Timeline:
         if self.timeline is not None:
@@ -258,10 +274,16 @@ class LiveMonitor:
             if not all(frame is not None and self.buffer.has_frame(frame) for frame in (target, source)):
                 target = source = None  # no chain asked for, or its frames not seen yet
             timeline = self._timeline()
+            self.unstored = [b for b in self.unstored if int(b.record_time.max()) >= start - self.window]
+            unstored = concat_batches(self.unstored) if self.unstored else None
             try:
-                return monitor_buffer(self.buffer, target, source, start, now, by_record_time=True, timeline=timeline)
+                return monitor_buffer(
+                    self.buffer, target, source, start, now, by_record_time=True, timeline=timeline, unstored=unstored
+                )
             except TransformError:  # the chain is not connected (yet): show the rest
-                return monitor_buffer(self.buffer, None, None, start, now, by_record_time=True, timeline=timeline)
+                return monitor_buffer(
+                    self.buffer, None, None, start, now, by_record_time=True, timeline=timeline, unstored=unstored
+                )
 
 
 def monitor_stream(
