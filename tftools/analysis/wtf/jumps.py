@@ -7,12 +7,14 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.wtf.broadcasters import apart, inferred_edges
 from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.rows import Rows
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
@@ -22,6 +24,8 @@ from tftools.core.time import NS_PER_S
 #: times its interval, plus a floor for noise and the first motion from rest.
 JUMP_FACTOR = 5.0
 NEIGHBOURS = 3
+#: An edge sent in messages with other edges this often is a joint (``_joints``).
+JOINT_SHARE = 0.9
 WINDOWS_AT_ONCE = 65536
 FLOOR_M = 0.05
 FLOOR_DEG = 3.0
@@ -101,6 +105,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
     """Not map -> odom, whose corrections REP 105 allows (``map_corrections``). A warning, on odom -> base_link
     too: every lookup through a jump works (an error breaks lookups), and a step is a correction (GPS fused
     into odom) as often as a reset; REP 105's advice says what it does to what is planned in odom."""
+    joints = scene.shared("joints", lambda: _joints(scene))
     for samples, found, when in _edge_jumps(scene, into_odom=False):
         continuous = base_name(samples.parent) == ODOM
         why = (
@@ -108,6 +113,11 @@ def jump(scene: Scene) -> Iterator[Finding]:
             "localizer or GPS fused into odom, makes everything planned in odom leap; publish corrections as "
             "map -> odom"
             if continuous
+            else "a joint whose position steps (it comes in messages with other edges, as robot_state_publisher "
+            "sends a robot's joints): /joint_states from two sources taking turns (joint_state_publisher's "
+            "defaults beside the driver's or the simulator's readings), or a driver resetting the joint; check "
+            "who publishes /joint_states"
+            if samples.key in joints
             else "a localization correction or a reset published as this edge's motion: if it is a correction, "
             "publish it as map -> odom (REP 105), so that odom stays continuous"
         )
@@ -120,6 +130,25 @@ def jump(scene: Scene) -> Iterator[Finding]:
             why,
             when,
         )
+
+
+def _joints(scene: Scene) -> set[tuple[str, str]]:
+    """The moving edges sent in messages that carry other edges too (one publisher, one record time and
+    stamp), at least ``JOINT_SHARE`` of the time: a state publisher's joints, not a localizer's output."""
+    rows = scene.rows
+    edges = list(rows.by_edge(rows.usable & ~rows.static))
+    if len(edges) < 2 or not (rows.record_time.whole() > 0).all():
+        return set()
+    keys = [_message_keys(rows, mine) for _, _, mine in edges]
+    shared, counts = np.unique(np.concatenate([np.unique(k) for k in keys]), return_counts=True)
+    multi = shared[counts > 1]
+    return {(p, c) for (p, c, _), k in zip(edges, keys, strict=True) if np.isin(k, multi).mean() >= JOINT_SHARE}
+
+
+def _message_keys(rows: Rows, which: IntpArray) -> npt.NDArray[np.void]:
+    """One value per (publisher, record time, stamp): the transforms of one message share it."""
+    triples = np.stack([rows.authority[which].astype(np.int64), rows.record_time[which], rows.stamp[which]], axis=1)
+    return triples.view(np.dtype((np.void, triples.dtype.itemsize * 3))).ravel()
 
 
 @register("map_corrections", Severity.info, "map -> odom's corrections (REP 105 lets it step): how many, how far")

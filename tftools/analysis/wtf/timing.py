@@ -34,12 +34,16 @@ CYCLIC_SHARE = 0.8
 @register("stale", Severity.error, "an edge that stops updating while the recording goes on")
 def stale(scene: Scene) -> Iterator[Finding]:
     latest: dict[str, int] = {}
+    last_sent = scene.shared("last arrivals", lambda: _last_sent(scene))
     for s in scene.stats:
-        latest[s.child] = max(latest.get(s.child, 0), _last_arrival(s))
+        latest[s.child] = max(latest.get(s.child, 0), _last_arrival(s), last_sent.get(s.key, 0))
     for s in scene.stats:
-        if s.static or _last_arrival(s) < latest[s.child]:
+        if s.static or max(_last_arrival(s), last_sent.get(s.key, 0)) < latest[s.child]:
             continue  # a frame that went on under another parent has not stopped
-        silent = scene.end - _last_arrival(s)
+        # re-sent after its last new transform (ROS 2's tf2 stores an identical one once): it did not stop
+        # arriving; its stamp stood still, as far behind as its clock went on (a stalled localizer's)
+        resent = s.count > 1 and last_sent.get(s.key, 0) > _last_arrival(s)
+        silent = (_age(scene, s.last_stamp) or 0) if resent else scene.end - _last_arrival(s)
         if silent <= silence_limit(s.rate_hz, from_sec(scene.thresholds.stale_after)):
             continue
         by = scene.by(s.authorities)
@@ -61,6 +65,13 @@ def stale(scene: Scene) -> Iterator[Finding]:
                     "its publisher re-sends one old transform without stamping it anew (a stalled localizer "
                     "re-sending its last correction, a node whose input stopped): " + hint.split(": ", 1)[1]
                 )
+        elif resent:
+            message = f"{edge(*s.key)}{by} stopped advancing at {scene.at(s.last_stamp)}, re-sent to the end"
+            hint = (
+                "its publisher re-sends one old transform without stamping it anew (a stalled localizer re-sending "
+                "its last correction, a node whose input stopped): lookups after that stamp fail with 'Lookup "
+                "would require extrapolation into the future'; check that node"
+            )
         else:
             message = f"{edge(*s.key)}{by} stopped at {scene.at(s.last_stamp)}"
             hint = (
@@ -70,6 +81,16 @@ def stale(scene: Scene) -> Iterator[Finding]:
         if before_end is not None:
             message += f", {duration(before_end / NS_PER_S)} before the recording ends"
         yield Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
+
+
+def _last_sent(scene: Scene) -> dict[tuple[str, str], int]:
+    """When each moving edge's last transform arrived, re-sent ones too (record time; 0 where unknown)."""
+    rows = scene.rows
+    return {
+        (parent, child): int(rows.record_time[mine].max())
+        for parent, child, mine in rows.by_edge(~rows.static)
+        if len(mine)
+    }
 
 
 def _age(scene: Scene, stamp: int) -> int | None:
@@ -294,6 +315,8 @@ def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
         return
     behind, back = _behind(stamps)
     repeat, same = _repeats(stamps, rows.values[mine])
+    if not (back & (behind >= TIME_JUMP)).any():  # no jump back in time: a sample received again (a link
+        back &= ~(repeat & same)  # re-delivering it) is a repeat (ROS 2's tf2 takes it silently), not one out of order
     repeat &= ~back
     arrived, measured = scene.timeline.measurable(child, rows.record_time[mine], rows.flags[mine])
     late = measured & (delays_of(arrived, stamps, scene.timeline.resolution) > from_sec(scene.thresholds.delay))
