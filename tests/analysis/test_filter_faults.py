@@ -226,3 +226,12 @@ def test_the_suggested_queue_is_the_smallest_that_keeps_every_passing_message() 
         later = fate == Fate.LATER
         keeps = [q for q in range(1, n + 2) if not (pushed_out(fates, stream, q) & later).any()]
         assert smallest_queue(fates, stream) == (keeps[0] if later.any() else 0)
+
+
+def test_a_topic_recorded_without_a_message_is_not_said_to_lack_a_frame_id() -> None:
+    """ros2_db3_jetacker_real_stamps_back recorded /imu/data_raw and /imu/mag with 0 messages; filter said
+    they had 'a header but no frame_id': nothing was read to say so. One with messages without a frame_id is."""
+    buffer = _buffer(_moving("odom", "base_link", 20, MS))
+    unframed = _stream([(T0 + NS_PER_S, "", T0 + NS_PER_S)], "/unframed")
+    report = filter_streams(buffer, [_stream([], "/imu/mag"), unframed], FilterQuery(target="odom"))
+    assert report.skipped == ["/unframed"] and not report.streams

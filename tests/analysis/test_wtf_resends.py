@@ -146,3 +146,18 @@ def test_monitor_counts_the_messages_a_slam_node_re_sent(tfx, tmp_path: Path, pl
     publishers = {a["authority"]: a for a in report["authorities"]}
     assert publishers["/tf"]["messages"] == sum(m.topic == "/tf" for m in messages)
     assert {e["child"] for e in report["edges"] if not e["static"]} == {"odom", "base_link"}
+
+
+def test_a_stamp_re_valued_then_re_sent_is_one_stamp() -> None:
+    """ros2_db3_jetacker_slam_toolbox_static_map: slam_toolbox sent map -> odom at 15.020 twice as identity,
+    then its new correction at that same stamp 77 times; 'sent 77 transforms with a stamp it had already
+    sent' counted the re-sends of one new value as 77 updates."""
+
+    def revalued(t: int) -> list[Transform]:
+        stamp = START + (t - START) // NS_PER_S * NS_PER_S  # a new stamp each second, re-sent at 50 Hz
+        fixed = (t - START) % NS_PER_S >= 500 * MS and stamp == START + 5 * NS_PER_S
+        return [_t("map", "odom", stamp, 0.01 if fixed else 0.0)]
+
+    messages = sorted([statics(), *periodic("/tf", 50, revalued)], key=lambda m: m.record_time)
+    (again,) = [f for f in check(recording(messages, ros1=False)).findings if f.code == "time_backwards"]
+    assert "1 stamp it had already sent came again with other values (25 transforms)" in again.message

@@ -64,6 +64,8 @@ def filter_streams(
     end = recording_end(buffer, streams)
     reports, skipped, fates = [], [], {}
     for stream in streams:
+        if not len(stream):  # recorded without a message: nothing says whether it names a frame
+            continue
         if not tied_to_tf(stream):
             skipped.append(stream.topic)
             continue

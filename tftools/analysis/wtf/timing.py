@@ -398,9 +398,11 @@ def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same:
         )
     elif scene.buffer.semantics == "ros2":
         severity, hint = Severity.warning, other_values
+        stamps = counted(len(np.unique(scene.rows.stamp[offenders])), "stamp")  # a new value re-sent is one
         message = (
-            f"{sent} with a stamp it had already sent but other values, first at {first}: ROS 2's tf2 keeps both, "
-            "and lookups at that stamp answer with the last one received (ROS 1's would ignore it: TF_REPEATED_DATA)"
+            f"{edge(*frames)}{scene.by(scene.authorities_of(offenders))}: {stamps} it had already sent came again "
+            f"with other values ({transforms(len(offenders))}), first at {first}: ROS 2's tf2 keeps both, and "
+            "lookups at that stamp answer with the last one received (ROS 1's would ignore it: TF_REPEATED_DATA)"
         )
     else:
         severity, hint = Severity.error, other_values
