@@ -1,4 +1,5 @@
-"""What a recording holds, read without tftools (rosbags' reader), and lookups composed with numpy.
+"""What a recording holds, read without tftools (rosbags' reader; sqlite3 for a .db3 left without
+metadata.yaml), and lookups composed with numpy.
 
 The corpus tests compare tftools against these: tf samples per edge (stamps, values, record
 times), whether /clock was recorded, and a lookup computed as ROS 2's tf2 does it (statics
@@ -9,6 +10,8 @@ linearly, rotation by shortest-path slerp; the chain composed through the tree).
 from __future__ import annotations
 
 import json
+import sqlite3
+from contextlib import closing
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -69,6 +72,8 @@ def read_contents(path: Path) -> Contents:
     messages). A record time of 0 is unset (a writer that left an MCAP log time empty): not the span's."""
     if path.suffix == ".mcap" and _json_mcap(path):
         return _read_json_mcap(path)
+    if _db3_without_metadata(path):
+        return _read_db3(path)
     edges: dict[Edge, EdgeSamples] = {}
     clock: list[tuple[int, int]] = []
     times: list[int] = []
@@ -116,6 +121,39 @@ def _add(
 def _contents(topics: set[str], times: list[int], edges: dict[Edge, EdgeSamples], clock: list) -> Contents:
     known = [t for t in times if t > 0]
     return Contents(topics, min(known, default=0), max(known, default=0), edges, clock)
+
+
+def _db3_without_metadata(path: Path) -> bool:
+    """A rosbag2 sqlite3 bag whose recorder stopped before writing metadata.yaml (rosbags refuses it)."""
+    folder = path if path.is_dir() else path.parent
+    return not (folder / "metadata.yaml").exists() and any(folder.glob("*.db3"))
+
+
+def _read_db3(path: Path) -> Contents:
+    """Its .db3 files read with sqlite3 directly, immutable (a -wal file beside one is neither read nor
+    merged: nothing given is modified), each message decoded from its topic's CDR type by rosbags."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    edges: dict[Edge, EdgeSamples] = {}
+    clock: list[tuple[int, int]] = []
+    times: list[int] = []
+    topics: set[str] = set()
+    for db3 in sorted(path.glob("*.db3")) if path.is_dir() else [path]:
+        with closing(sqlite3.connect(f"{db3.resolve().as_uri()}?immutable=1", uri=True)) as db:
+            types = {i: (name, kind) for i, name, kind in db.execute("SELECT id, name, type FROM topics")}
+            topics |= {name for name, _ in types.values()}
+            query = "SELECT topic_id, timestamp, data FROM messages ORDER BY timestamp, id"
+            for topic_id, record_time, raw in db.execute(query):
+                times.append(record_time)
+                topic, kind = types[topic_id]
+                if topic in TF_TOPICS:
+                    for t in store.deserialize_cdr(raw, kind).transforms:
+                        tr, q = t.transform.translation, t.transform.rotation
+                        value = [tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w]
+                        parent, child = _strip(t.header.frame_id), _strip(t.child_frame_id)
+                        _add(edges, topic, topic, record_time, parent, child, _ns(t.header.stamp), value)
+                elif topic == "/clock":
+                    clock.append((_ns(store.deserialize_cdr(raw, kind).clock), record_time))
+    return _contents(topics, times, edges, clock)
 
 
 def _json_mcap(path: Path) -> bool:
