@@ -230,3 +230,16 @@ def test_a_bag_without_transforms_is_the_no_tf_error(tfx, tmp_path: Path) -> Non
     result = tfx("wtf", bag)
     assert result.code == 1
     assert "no_tf: no transforms on /tf, /tf_static in" in result.stdout and "topics present: /odom_tf" in result.stdout
+
+
+@pytest.mark.parametrize(("fmt", "record"), [(DB3, "ros2 bag record"), (BagFormat.ros1, "rosbag record")])
+def test_no_tf_is_told_in_its_own_ros_words_without_an_empty_frame(tfx, tmp_path: Path, fmt, record: str) -> None:
+    """ros2_mcap_abitobot_no_tf (a gz simulation's /imu and /joint_states, no tf): the hint gave ROS 1's and
+    ROS 2's commands together, and the header said '1 topic of sensor data checked in  (the root of the
+    largest tree)' with no tree."""
+    bag = write(tmp_path, "no_tf", fmt, [TfMessage("/odom_tf", 1_700_000_000 * 10**9 + i, [], "/x") for i in range(3)])
+    result = tfx("wtf", bag)
+    assert result.code == 1
+    other = "rosbag record" if record == "ros2 bag record" else "ros2 bag record"
+    assert record in result.stdout and other not in result.stdout
+    assert "checked in" not in result.stdout.splitlines()[0]

@@ -71,7 +71,7 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
         )
         for fetched in bag.fetched:
             header.append(f", {fetched.describe()}")
-        if bag.sensor_topics:
+        if bag.sensor_topics and bag.sensor_target:  # no tree, no frame to check them in
             header.append(
                 f", {counted(len(bag.sensor_topics), 'topic')} of sensor data checked in "
                 f"{printable(bag.sensor_target)} ({printable(bag.sensor_target_reason)})"

@@ -25,11 +25,12 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
     elif not len(scene.rows):
         found = sorted({t for f in contents.files for t in f.topics} - set(contents.topics))
         present = f"; topics present: {listed(found, 10)}" if found else ("" if live else "; it holds no messages")
+        tool = "ros2 topic info /tf" if scene.ros2 else "rostopic info /tf"
+        record = "ros2 bag record /tf /tf_static" if scene.ros2 else "rosbag record /tf /tf_static"
         hint = (
-            "is anything publishing? (rostopic info /tf, ros2 topic info /tf); name other topics with --topic"
+            f"is anything publishing? ({tool}); name other topics with --topic"
             if live
-            else "record the transforms with the rest (rosbag record /tf /tf_static, ros2 bag record /tf "
-            "/tf_static), or name the topics that carry them with --topic"
+            else f"record the transforms with the rest ({record}), or name the topics that carry them with --topic"
         )
         yield Finding(Severity.error, "no_tf", f"no transforms on {', '.join(contents.topics)} {where}{present}", hint)
     elif scene.rows.static.all() and not silent_moving_topics(scene):  # else ``silent_tf`` says why
