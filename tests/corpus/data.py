@@ -9,8 +9,10 @@ linearly, rotation by shortest-path slerp; the chain composed through the tree).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sqlite3
+from collections import Counter
 from contextlib import closing
 from dataclasses import dataclass, field
 from functools import cache
@@ -48,6 +50,8 @@ class Contents:
     last_record: int
     edges: dict[Edge, EdgeSamples]
     clock: list[tuple[int, int]]  # (clock value, record time) ns
+    #: Messages holding a transform, per (topic, publisher): the callerid where a ROS 1 bag names it
+    messages: Counter[tuple[str, str]] = field(default_factory=Counter)
 
     @property
     def frames(self) -> set[str]:
@@ -77,6 +81,7 @@ def read_contents(path: Path) -> Contents:
     edges: dict[Edge, EdgeSamples] = {}
     clock: list[tuple[int, int]] = []
     times: list[int] = []
+    sent: Counter[tuple[str, str]] = Counter()
     with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
         topics = {c.topic for c in reader.connections}
         for connection, record_time, raw in reader.messages():
@@ -84,6 +89,7 @@ def read_contents(path: Path) -> Contents:
             if connection.topic in TF_TOPICS:
                 publisher = getattr(connection.ext, "callerid", None) or connection.topic
                 message = reader.deserialize(raw, connection.msgtype)
+                sent[connection.topic, publisher] += bool(message.transforms)
                 for t in message.transforms:
                     tr, q = t.transform.translation, t.transform.rotation
                     _add(
@@ -98,7 +104,7 @@ def read_contents(path: Path) -> Contents:
                     )
             elif connection.topic == "/clock":
                 clock.append((_ns(reader.deserialize(raw, connection.msgtype).clock), record_time))
-    return _contents(topics, times, edges, clock)
+    return dataclasses.replace(_contents(topics, times, edges, clock), messages=sent)
 
 
 def _add(

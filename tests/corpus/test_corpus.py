@@ -253,6 +253,29 @@ def test_monitor_figures_match_the_data(recording: Recording, corpus: Corpus, tf
         assert abs(value) < DAY_S, f"{key} of {row} is not a delay: say it is unavailable"
 
 
+@pytest.mark.parametrize("recording", _cases("test_monitor_counts_each_publishers_messages", ROS1_WITH_TF))
+@pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
+def test_monitor_counts_each_publishers_messages(
+    recording: Recording,
+    corpus: Corpus,
+    tfx,  # noqa: F811
+    play: bool,
+) -> None:
+    """A ROS 1 bag names each message's publisher: ``monitor``'s messages of one that sent only on /tf are
+    its /tf messages, refused ones (a stamp sent again, TF_REPEATED_DATA) too, read whole or replayed
+    (ros1_gazebo_kobuki_repeated_stamps.bag: 166 and 160 of /gazebo's 199)."""
+    path = corpus(recording)
+    contents = data.read_contents(path)
+    only_tf = {p: n for (topic, p), n in contents.messages.items() if topic == "/tf"}
+    only_tf = {p: n for p, n in only_tf.items() if not contents.messages.get(("/tf_static", p))}
+    window = ["--play", "--rate", "1000", "--window", str(int(recording.meta["duration_s"]) + 10)] if play else []
+    result = tfx("monitor", "-b", path, *window, "--format", "json")
+    assert result.code == 0, result.stderr
+    report = json.loads(result.stdout.splitlines()[-1] if play else result.stdout)
+    shown = {a["authority"]: a["messages"] for a in report["authorities"]}
+    assert {p: shown.get(p) for p in only_tf} == only_tf
+
+
 @pytest.mark.parametrize("recording", _cases("test_monitor_delays_are_never_negative", WITH_TF))
 def test_monitor_delays_are_never_negative(
     recording: Recording,
