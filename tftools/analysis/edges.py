@@ -162,10 +162,15 @@ def _unstored(
         inside &= times >= start
     if end is not None:
         inside &= times <= end
-    found: dict[tuple[str, str], list[int]] = {}
-    for a, c, t in zip(rows.authority[inside], rows.child[inside], rows.record_time[inside], strict=True):
-        found.setdefault((rows.authorities[a], rows.frame_names[c].lstrip("/")), []).append(int(t))
-    return {key: np.array(times, np.int64) for key, times in found.items()}
+    authority, child, record = rows.authority[inside], rows.child[inside], rows.record_time[inside]
+    pairs = authority.astype(np.int64) * len(rows.frame_names) + child
+    order = np.argsort(pairs, kind="stable")
+    keys, starts = np.unique(pairs[order], return_index=True)
+    found: dict[tuple[str, str], list[Int64Array]] = {}
+    for key, times in zip(keys, np.split(record[order], starts[1:]), strict=True):
+        a, c = divmod(int(key), len(rows.frame_names))
+        found.setdefault((rows.authorities[a], rows.frame_names[c].lstrip("/")), []).append(times)
+    return {key: np.concatenate(times) for key, times in found.items()}
 
 
 def _arrivals(record_times: list[Int64Array] | None) -> Int64Array:
