@@ -1,5 +1,5 @@
 """The library's errors name no option; the command line words each with the option it came from, on one line,
-with exit code 2 (``tftools.cli.errors.TABLE``)."""
+with exit code 2 (``tftools.cli.errors.table``)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS, Result
 from tftools.analysis.fleet import Fleet, run_fleet, scheduler_address
-from tftools.cli.errors import TABLE, UsageError, worded
+from tftools.cli.errors import UsageError, table, worded
 from tftools.core.errors import (
     FleetUnavailableError,
     InvalidTransformError,
@@ -104,7 +104,7 @@ def test_no_sensor_data_is_a_source_error_with_its_reasons() -> None:
 
 
 def test_the_table_has_one_row_per_error_sorted_and_others_pass_as_they_are() -> None:
-    names = [kind.__name__ for kind in TABLE]
+    names = [kind.__name__ for kind in table()]
     assert names == sorted(names)
     plain = TfToolsError("something")
     assert worded(plain) == (plain, 2)

@@ -96,7 +96,7 @@ def repair_static(bag: str, output: str | Path, *, force: bool = False) -> tuple
 
 def _refuse_present(bag: Path, transforms: Sequence[Transform]) -> None:
     """Refuse a transform whose child frame the bag already has: tf2 would see two values (or two
-    parents) for it, and tfx wtf would fail the copy."""
+    parents) for it, and a check would fail the copy."""
     from tftools.sources.recording import read_recording
 
     try:
@@ -112,7 +112,7 @@ def _refuse_present(bag: Path, transforms: Sequence[Transform]) -> None:
         wanted = next(t for t in transforms if t.child_frame_id == child)
         raise InvalidTransformError(
             f"{bag} already has {child}, {kind} of {', '.join(parents)}: adding {wanted.frame_id} -> {child} "
-            "would give tf2 two values for it, and tfx wtf would fail the copy",
+            "would give tf2 two values for it",
             "add only frames the bag lacks",
             child=child,
             recording=str(bag),
