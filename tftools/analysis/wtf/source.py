@@ -20,16 +20,17 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
             Severity.error,
             "no_tf",
             f"no transforms read {where}: {'; '.join(contents.unread)}",
-            "convert those topics to a type and encoding tfx reads, or name other topics with --topic",
+            "convert those topics to a type and encoding tfx reads, or name other topics (tfx wtf --topic TOPIC)",
         )
     elif not len(scene.rows):
         found = sorted({t for f in contents.files for t in f.topics} - set(contents.topics))
         present = f"; topics present: {listed(found, 10)}" if found else ("" if live else "; it holds no messages")
         hint = (
-            "is anything publishing? (rostopic info /tf, ros2 topic info /tf); name other topics with --topic"
+            "is anything publishing? (rostopic info /tf, ros2 topic info /tf); "
+            "name other topics (tfx wtf --topic TOPIC)"
             if live
             else "record the transforms with the rest (rosbag record /tf /tf_static, ros2 bag record /tf "
-            "/tf_static), or name the topics that carry them with --topic"
+            "/tf_static), or name the topics that carry them (tfx wtf --topic TOPIC)"
         )
         yield Finding(Severity.error, "no_tf", f"no transforms on {', '.join(contents.topics)} {where}{present}", hint)
     elif scene.rows.static.all() and not silent_moving_topics(scene):  # else ``silent_tf`` says why
