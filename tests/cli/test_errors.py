@@ -20,7 +20,7 @@ from tftools.core.errors import (
 )
 from tftools.core.frames import known_frame
 from tftools.core.transform import Transform
-from tftools.sinks.static import add_static, checked, copyable
+from tftools.sinks.static import StaticQuery, checked, copy_with_statics, copyable
 from tftools.sources.errors import NoStampedDataError, PartOfBagError
 
 BAG = str(SAMPLE_BAGS["ros1"])
@@ -68,12 +68,14 @@ def test_a_transform_tf2_cannot_take_is_an_invalid_transform(tfx, tmp_path: Path
 def test_a_frame_the_bag_has_names_tfx_frames_only_on_the_command_line(tfx, tmp_path: Path) -> None:
     laser = Transform((0, 0, 0), (0, 0, 0, 1), 0, "base_link", "laser")
     with pytest.raises(InvalidTransformError, match="already has laser") as raised:
-        add_static(BAG, tmp_path / "copy.bag", [laser])
+        copy_with_statics(BAG, tmp_path / "copy.bag", StaticQuery((laser,)))
     assert (raised.value.child, raised.value.recording) == ("laser", BAG)
+    assert "tfx" not in str(raised.value)
     assert raised.value.hint == "add only frames the bag lacks"
     args = ("0", "0", "0", "0", "0", "0", "1", "base_link", "laser", "-b", BAG, "-o", tmp_path / "copy.bag")
     line = one_error_line(tfx("static", *args))
     assert f"add only frames the bag lacks: tfx frames -b {BAG} lists its own" in line
+    assert "would give tf2 two values for it, and tfx wtf would fail the copy" in line
     assert not (tmp_path / "copy.bag").exists()
 
 
