@@ -114,7 +114,7 @@ def test_each_message_says_why_it_waited_or_was_lost() -> None:
     assert (of("laser") == Fate.LATER).all()  # a scan stamped 7 ms after a laser transform arrives 5 ms later:
     laser = np.flatnonzero(messages.frame == messages.frame_ids.index("laser"))  # it needs the next one (43 ms
     np.testing.assert_array_equal(fates.ready[laser] - messages.record_time[laser], 68 * MS)  # on, 30 ms late)
-    assert {fates.edge[i] for i in laser} == {("base_link", "laser")}
+    assert {fates.edge[int(i)] for i in laser} == {("base_link", "laser")}
     assert (of("imu") == Fate.ON_ARRIVAL).all() and (of("/base_link") == Fate.ON_ARRIVAL).all()
     assert (of("camra") == Fate.UNKNOWN_FRAME).all() and (of("rig") == Fate.NOT_CONNECTED).all()
     base = of("base_link")  # stamped 1..18 s in, arriving 11 s later: the cache holds 10 s behind the newest tf

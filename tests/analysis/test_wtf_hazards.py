@@ -154,7 +154,7 @@ def test_statics_repeated_through_a_long_recording_are_quiet() -> None:
 
 
 def test_a_jump_on_another_edge_is_a_warning_with_when_and_how_far() -> None:
-    def arm(stamp: int) -> list:  # type: ignore[type-arg]
+    def arm(stamp: int) -> list:
         return [scenes._t("base_link", "arm", stamp, 0.1 * scenes._s(stamp) + (0.5 if scenes._s(stamp) >= 6 else 0.0))]
 
     (finding,) = check(
@@ -191,12 +191,12 @@ def test_the_healthy_robots_jumps_and_rep105_stay_quiet(ros1: bool) -> None:
 # --- several broadcasters where the bag names none -------------------------------------------
 
 
-def _fighting(stamp: int) -> list:  # type: ignore[type-arg]
+def _fighting(stamp: int) -> list:
     """A second odometry, 0.3 m off the first."""
     return [scenes._t("odom", "base_link", stamp, 0.4 * scenes._s(stamp) + 0.3, 0.1 * scenes._s(stamp))]
 
 
-def _late_twin(stamp: int) -> list:  # type: ignore[type-arg]
+def _late_twin(stamp: int) -> list:
     """A second broadcaster of the same motion whose stamps lag 35 ms behind (off the first's 20 ms grid:
     30 ms would send the first's stamps and values again, two identical publishers)."""
     return scenes.odom_base(stamp - 35_000_000)
@@ -218,7 +218,7 @@ def test_two_broadcasters_taking_turns_are_inferred_in_ros2_bags(
     assert sign in findings[0].message and findings[0].frames == ("odom", "base_link")
 
 
-def _other_wheel(stamp: int) -> list:  # type: ignore[type-arg]
+def _other_wheel(stamp: int) -> list:
     """A second robot_state_publisher whose URDF puts the wheel 5 cm further out."""
     (t,) = scenes.wheel(stamp)
     x, _, z = t.translation

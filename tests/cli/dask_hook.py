@@ -29,4 +29,4 @@ def _tried(query: Any, progress: Any, paths: list[str]) -> fleet.BagReport:
     return _check_group(query, progress, paths)
 
 
-fleet._check_group = _tried  # (tasks name it: the worker unpickles this one)
+fleet._check_group = _tried  # type: ignore[assignment]  # (tasks name it: the worker unpickles this one)

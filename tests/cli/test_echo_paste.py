@@ -103,7 +103,7 @@ def test_urdf_origin_is_fixed_axis_roll_pitch_yaw(tfx, parent: str, child: str, 
     bag = SAMPLE_BAGS["db3"]
     joint = ET.fromstring(tfx("echo", parent, child, "-b", bag, "--format", "urdf", *at).stdout)
     assert joint.get("type") == "fixed"
-    assert joint.find("parent").get("link") == parent and joint.find("child").get("link") == child  # type: ignore[union-attr]
+    assert joint.find("parent").get("link") == parent and joint.find("child").get("link") == child
     origin = joint.find("origin")
     assert origin is not None
     xyz = [float(v) for v in origin.get("xyz", "").split()]
@@ -126,7 +126,7 @@ def test_urdf_rpy_is_what_ros_makes_of_it(tfx, tf2_available: None) -> None:
         subprocess.run(["/usr/bin/python3", "-c", code], capture_output=True, text=True, check=True).stdout
     )
     echoed = _echoed(tfx, bag, "map", "gripper", ["--at", "+3"])
-    _same(Transform(echoed.translation, tuple(ros)), echoed, 1e-9)  # type: ignore[arg-type]
+    _same(Transform(echoed.translation, tuple(ros)), echoed, 1e-9)
 
 
 def test_paste_formats_escape_names_for_their_language(tfx, tmp_path: Path) -> None:
@@ -155,7 +155,7 @@ def test_paste_formats_escape_names_for_their_language(tfx, tmp_path: Path) -> N
     assert (
         ET.fromstring(tfx("echo", "base_link", odd, "-b", out, "--format", "urdf").stdout).find("child").get("link")
         == odd
-    )  # type: ignore[union-attr]
+    )
     entry = tmp_path / "odd.yaml"
     entry.write_text(tfx("echo", "base_link", odd, "-b", out, "--format", "yaml").stdout)
     from tftools.sources.live.static_file import read_static_transforms

@@ -84,7 +84,9 @@ def sensor_bags(
     ros1 = folder / "robot.bag"
     with Reader(tf_only) as reader, Writer(ros1) as writer:
         added = {}
-        rows = [(t, c.topic, c.msgtype, raw, c) for c, t, raw in reader.messages()]
+        rows: list[tuple[int, str, str, Any, Any]] = [
+            (t, c.topic, c.msgtype, raw, c) for c, t, raw in reader.messages()
+        ]
         rows += [(t, topic, kind, store.serialize_ros1(msg, kind), None) for topic, kind, t, msg in sensors(store)]
         for record, topic, kind, raw, connection in sorted(rows, key=lambda r: r[0]):
             if topic not in added:

@@ -12,7 +12,6 @@ from pathlib import Path
 import pytest
 
 from tests.cli.conftest import SAMPLE_BAGS
-from tftools.render import files
 
 STATIC = ("static", "0", "0", "1", "0", "0", "0", "base_link", "extra")
 
@@ -200,7 +199,7 @@ def test_a_full_or_read_only_disk_leaves_nothing_half_written(
         def flush(self) -> None:
             self.file.flush()
 
-    monkeypatch.setattr(files.os, "fdopen", Failing)
+    monkeypatch.setattr(os, "fdopen", Failing)
     result = tfx("view-frames", "-b", bags["ros1"], "-o", output)
     refused(result, f"cannot write {output}", words)
     assert list(output.parent.iterdir()) == []  # neither the output nor its temporary file
@@ -214,7 +213,7 @@ def test_an_earlier_output_survives_a_failed_write(tfx, bags, tmp_path: Path, mo
     def full(*args: object) -> None:
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
-    monkeypatch.setattr(files.os, "fsync", full)
+    monkeypatch.setattr(os, "fsync", full)
     refused(tfx("view-frames", "-b", bags["mcap"], "-o", output, "--force"), "the disk is full")
     assert output.read_bytes() == earlier
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frames.gv", "in"]

@@ -89,7 +89,7 @@ def test_monitor_figure_shows_the_gap_and_the_stop() -> None:
     rates, delays = figure.axes
     assert len(rates.get_lines()) == len(delays.get_lines()) == 10
     assert rates.get_ylabel() == "rate (Hz)" and delays.get_ylabel() == "mean delay (ms)"
-    assert {round(float(np.nanmedian(line.get_ydata()))) for line in rates.get_lines()} == {10, 30, 50}
+    assert {round(float(np.nanmedian(np.asarray(line.get_ydata())))) for line in rates.get_lines()} == {10, 30, 50}
 
 
 def test_a_chain_plots_its_own_edges(tfx, troubled, tmp_path: Path) -> None:

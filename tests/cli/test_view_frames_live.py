@@ -11,6 +11,7 @@ import time
 import xmlrpc.client
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any, cast
 
 import pytest
 
@@ -85,7 +86,7 @@ def ros_system(monkeypatch: pytest.MonkeyPatch) -> Iterator[str]:
         processes.append(start(["/usr/bin/python3", "-c", DYNAMIC_PUBLISHER], env))
 
         def publishing() -> bool:
-            publishers = dict(master.getSystemState("/test")[2][0])
+            publishers = dict(cast(Any, master.getSystemState("/test"))[2][0])
             return "/tf" in publishers and "/tf_static" in publishers
 
         wait_for(publishing)

@@ -189,7 +189,7 @@ def test_thresholds_have_flags(tfx, bags: dict[str, Path]) -> None:
 
 
 def test_future_and_clock_thresholds_have_flags(tfx, bags: dict[str, Path]) -> None:
-    def codes(*args: str) -> set[str]:
+    def codes(*args: str | Path) -> set[str]:
         (bag,) = as_json(tfx("wtf", *args, "--format", "json").stdout)["bags"]
         return {f["code"] for f in bag["findings"]}
 

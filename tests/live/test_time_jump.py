@@ -174,7 +174,7 @@ def test_the_buffer_keeps_answering_while_the_clock_only_runs_forwards() -> None
     source = SimSource()
     buffer = listen(source)
     play(source, 1000.0, 3.0)
-    assert source.notices == [] and len(buffer.history("base")) == 30
+    assert source.notices == [] and len(buffer.history("base") or ()) == 30
 
 
 def test_the_batch_that_shows_the_jump_is_kept_whole() -> None:
@@ -212,7 +212,7 @@ def test_the_clearing_waits_for_one_batch_only() -> None:
     source.tick(1000.0)
     source.send(("odom", "base", 1001.95, 1.95))
     source.send(("odom", "base", 1001.96, 1.96))  # stamps that do not follow the clock: cleared all the same
-    assert len(buffer.history("base")) == 0 and len(source.notices) == 1
+    assert len(buffer.history("base") or ()) == 0 and len(source.notices) == 1
     source.send(("odom", "base", 1001.97, 1.97))  # after the jump: kept
     assert buffer.lookup("odom", "base").stamp == 1001_970_000_000
 
