@@ -28,7 +28,7 @@ from tests.analysis.wtf_scenes import (
     write,
 )
 from tests.bags import BagFormat
-from tftools.analysis.diff import Change, compare, rotation_angle_deg
+from tftools.analysis.differences import Change, compare, rotation_angle_deg
 from tftools.analysis.expected import Tolerances, shape_of
 from tftools.analysis.findings import Severity
 from tftools.analysis.tree_file import TreeFileError, read_tree, write_tree

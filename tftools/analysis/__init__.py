@@ -16,7 +16,7 @@ from tftools import lazy
 
 if TYPE_CHECKING:
     from tftools.analysis.description import Robot, robot_of
-    from tftools.analysis.diff import Difference, compare
+    from tftools.analysis.differences import Difference, compare
     from tftools.analysis.echo import EchoQuery, EchoSeries, echo_stream
     from tftools.analysis.expected import Tolerances, TreeShape, shape_of
     from tftools.analysis.filter import FilterQuery, filter_messages
@@ -95,7 +95,7 @@ _HOME = {
     "CHECKS": "tftools.analysis.wtf",
     "CheckQuery": "tftools.analysis.wtf.query",
     "DiffQuery": "tftools.analysis.tree_diff",
-    "Difference": "tftools.analysis.diff",
+    "Difference": "tftools.analysis.differences",
     "EchoQuery": "tftools.analysis.echo",
     "EchoSeries": "tftools.analysis.echo",
     "FilterQuery": "tftools.analysis.filter",
@@ -124,7 +124,7 @@ _HOME = {
     "Unreadable": "tftools.analysis.report",
     "check": "tftools.analysis.wtf.fleet",
     "check_fleet": "tftools.analysis.wtf.fleet",
-    "compare": "tftools.analysis.diff",
+    "compare": "tftools.analysis.differences",
     "diff_trees": "tftools.analysis.tree_diff",
     "echo_stream": "tftools.analysis.echo",
     "filter_messages": "tftools.analysis.filter",

@@ -1,11 +1,11 @@
 """Checks against the expected tree (``tfx wtf --expect tree.yaml``): frames missing or new, other
-parents, static edges moved, edges slower, other publishers; each a ``Difference`` of ``analysis.diff``."""
+parents, static edges moved, edges slower, other publishers; each a ``Difference`` of ``analysis.differences``."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 
-from tftools.analysis.diff import Change, Difference, compare, describe
+from tftools.analysis.differences import Change, Difference, compare, describe
 from tftools.analysis.expected import shape_of
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
