@@ -16,6 +16,7 @@ from tftools import lazy
 
 if TYPE_CHECKING:
     from tftools.analysis.description import Robot, robot_of
+    from tftools.analysis.diff import DiffQuery, TreeDiff, diff_trees
     from tftools.analysis.differences import Difference, compare
     from tftools.analysis.echo import EchoQuery, EchoSeries, echo_stream
     from tftools.analysis.expected import Tolerances, TreeShape, shape_of
@@ -29,7 +30,6 @@ if TYPE_CHECKING:
     from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor_stream
     from tftools.analysis.report import RecordingReport, ReportQuery, Unreadable, report_fleet
     from tftools.analysis.times import Offset, Stamp, TimeSpec, parse_time_spec
-    from tftools.analysis.tree_diff import DiffQuery, TreeDiff, diff_trees
     from tftools.analysis.tree_file import read_tree, write_tree
     from tftools.analysis.wtf import CHECKS, Thresholds, findings_of
     from tftools.analysis.wtf.fleet import BagReport, check, check_fleet
@@ -94,7 +94,7 @@ _HOME = {
     "BagReport": "tftools.analysis.wtf.fleet",
     "CHECKS": "tftools.analysis.wtf",
     "CheckQuery": "tftools.analysis.wtf.query",
-    "DiffQuery": "tftools.analysis.tree_diff",
+    "DiffQuery": "tftools.analysis.diff",
     "Difference": "tftools.analysis.differences",
     "EchoQuery": "tftools.analysis.echo",
     "EchoSeries": "tftools.analysis.echo",
@@ -117,7 +117,7 @@ _HOME = {
     "Thresholds": "tftools.analysis.wtf",
     "TimeSpec": "tftools.analysis.times",
     "Tolerances": "tftools.analysis.expected",
-    "TreeDiff": "tftools.analysis.tree_diff",
+    "TreeDiff": "tftools.analysis.diff",
     "TreeShape": "tftools.analysis.expected",
     "Unfinished": "tftools.analysis.fleet",
     "UnfinishedCause": "tftools.analysis.fleet",
@@ -125,7 +125,7 @@ _HOME = {
     "check": "tftools.analysis.wtf.fleet",
     "check_fleet": "tftools.analysis.wtf.fleet",
     "compare": "tftools.analysis.differences",
-    "diff_trees": "tftools.analysis.tree_diff",
+    "diff_trees": "tftools.analysis.diff",
     "echo_stream": "tftools.analysis.echo",
     "filter_messages": "tftools.analysis.filter",
     "find_loops": "tftools.analysis.loops",
