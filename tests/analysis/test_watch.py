@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from tftools.analysis.health import Level, edge_name
+from tftools.analysis.wtf.health import Level, edge_name
 from tftools.analysis.wtf.watch import Window, check_window
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.time import NS_PER_S, SimClock

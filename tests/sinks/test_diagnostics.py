@@ -8,8 +8,8 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.health import Level, Status, check_name, edge_name, statuses
 from tftools.analysis.wtf.fleet import BagReport
+from tftools.analysis.wtf.health import Level, Status, check_name, edge_name, statuses
 from tftools.core.time import NS_PER_S
 from tftools.sinks.diagnostics import DIAGNOSTIC_ARRAY, encode_cdr, encode_ros1
 from tftools.sources.codecs.types import ros1_message_type

@@ -12,7 +12,7 @@ from mcap_protobuf.decoder import DecoderFactory
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from tests.bags import TfMessage, write_bag
-from tftools.analysis.health import Level, check_name, edge_name
+from tftools.analysis.wtf.health import Level, check_name, edge_name
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 
