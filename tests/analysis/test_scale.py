@@ -13,9 +13,9 @@ from tests.analysis.scale_scenes import START, batch, chain, grows_linearly, rec
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import tree_of
 from tftools.analysis.graph import frame_graph
-from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf import structure
 from tftools.analysis.wtf.fleet import check
+from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.scene import Scene
 from tftools.core.errors import UnknownFrameError
 

@@ -26,13 +26,13 @@ if TYPE_CHECKING:
     from tftools.analysis.fleet import Fleet, Unfinished, UnfinishedCause, run_fleet
     from tftools.analysis.frames import FrameTree, frame_tree
     from tftools.analysis.graph import FrameGraph, frame_graph, view_frames
-    from tftools.analysis.loops import find_loops
     from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor_stream
     from tftools.analysis.report import RecordingReport, ReportQuery, Unreadable, report_fleet
     from tftools.analysis.times import Offset, Stamp, TimeSpec, parse_time_spec
     from tftools.analysis.tree_file import read_tree, write_tree
     from tftools.analysis.wtf import CHECKS, Thresholds, findings_of
     from tftools.analysis.wtf.fleet import BagReport, check, check_fleet
+    from tftools.analysis.wtf.loops import find_loops
     from tftools.analysis.wtf.query import CheckQuery
     from tftools.sources.errors import NoStampedDataError
 
@@ -128,7 +128,7 @@ _HOME = {
     "diff_trees": "tftools.analysis.diff",
     "echo_stream": "tftools.analysis.echo",
     "filter_messages": "tftools.analysis.filter",
-    "find_loops": "tftools.analysis.loops",
+    "find_loops": "tftools.analysis.wtf.loops",
     "findings_of": "tftools.analysis.wtf",
     "frame_graph": "tftools.analysis.graph",
     "frame_tree": "tftools.analysis.frames",
