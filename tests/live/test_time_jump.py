@@ -131,7 +131,7 @@ class FakeSeconds:
 
 def test_a_looped_replay_clears_the_listeners_buffer_but_its_statics(monkeypatch: pytest.MonkeyPatch) -> None:
     seconds = FakeSeconds()
-    monkeypatch.setattr(time_jump.time, "monotonic", seconds)
+    monkeypatch.setattr("tftools.sources.live.time_jump.time.monotonic", seconds)
     source = SimSource()
     buffer = listen(source)
     source.tick(999.9)
@@ -158,7 +158,7 @@ def test_a_clock_going_back_and_forth_is_said_once_a_second_with_a_count(monkeyp
     """A clock going back every 10 ms: 100 jumps within a second make 2 lines, the second counting the rest
     (446 lines in 5 s before)."""
     seconds = FakeSeconds()
-    monkeypatch.setattr(time_jump.time, "monotonic", seconds)
+    monkeypatch.setattr("tftools.sources.live.time_jump.time.monotonic", seconds)
     source = SimSource()
     listen(source)
     for n in range(100):
