@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS, Result
+from tests.cli.conftest import SAMPLE_BAGS, Result, Tfx
 from tftools.analysis.fleet import Fleet, run_fleet, scheduler_address
 from tftools.cli.errors import UsageError, table, worded
 from tftools.core.errors import (
@@ -38,7 +38,7 @@ def said_by_library(error: TfToolsError) -> str:
     return f"{error} {error.hint}"
 
 
-def test_an_address_that_is_no_scheduler_is_the_librarys_fact_and_the_dask_options_words(tfx) -> None:
+def test_an_address_that_is_no_scheduler_is_the_librarys_fact_and_the_dask_options_words(tfx: Tfx) -> None:
     with pytest.raises(FleetUnavailableError) as raised:
         scheduler_address("nonsense")
     assert raised.value.address == "nonsense" and "--" not in said_by_library(raised.value)
@@ -48,7 +48,7 @@ def test_an_address_that_is_no_scheduler_is_the_librarys_fact_and_the_dask_optio
 
 
 def test_dask_not_installed_is_said_without_the_option_by_the_library(
-    tfx, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+    tfx: Tfx, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed raises ImportError
     with pytest.raises(FleetUnavailableError) as raised:
@@ -58,14 +58,14 @@ def test_dask_not_installed_is_said_without_the_option_by_the_library(
     assert "--dask needs Dask's distributed package, which is not installed" in line
 
 
-def test_a_transform_tf2_cannot_take_is_an_invalid_transform(tfx, tmp_path: Path) -> None:
+def test_a_transform_tf2_cannot_take_is_an_invalid_transform(tfx: Tfx, tmp_path: Path) -> None:
     with pytest.raises(InvalidTransformError, match=r"the frame and the child frame are the same \(a\)"):
         checked(Transform((0, 0, 0), (0, 0, 0, 1), 0, "a", "a"))
     line = one_error_line(tfx("static", "0", "0", "0", "0", "0", "0", "0", "a", "b", "-b", BAG, "-o", tmp_path / "o"))
     assert "a -> b: the quaternion is zero (the identity is qx 0 qy 0 qz 0 qw 1)" in line
 
 
-def test_a_frame_the_bag_has_names_tfx_frames_only_on_the_command_line(tfx, tmp_path: Path) -> None:
+def test_a_frame_the_bag_has_names_tfx_frames_only_on_the_command_line(tfx: Tfx, tmp_path: Path) -> None:
     laser = Transform((0, 0, 0), (0, 0, 0, 1), 0, "base_link", "laser")
     with pytest.raises(InvalidTransformError, match="already has laser") as raised:
         copy_with_statics(BAG, tmp_path / "copy.bag", StaticQuery((laser,)))
@@ -79,7 +79,7 @@ def test_a_frame_the_bag_has_names_tfx_frames_only_on_the_command_line(tfx, tmp_
     assert not (tmp_path / "copy.bag").exists()
 
 
-def test_a_file_of_a_ros2_bag_is_refused_in_the_bags_words_and_then_the_b_options(tfx, tmp_path: Path) -> None:
+def test_a_file_of_a_ros2_bag_is_refused_in_the_bags_words_and_then_the_b_options(tfx: Tfx, tmp_path: Path) -> None:
     with pytest.raises(PartOfBagError) as raised:
         copyable(str(DB3))
     assert raised.value.bag == str(DB3.parent) and "-b" not in said_by_library(raised.value)
@@ -89,7 +89,7 @@ def test_a_file_of_a_ros2_bag_is_refused_in_the_bags_words_and_then_the_b_option
     assert f"-b {DB3.parent} -o OUTPUT" in line
 
 
-def test_a_frame_not_there_carries_the_frames_there_are(tfx) -> None:
+def test_a_frame_not_there_carries_the_frames_there_are(tfx: Tfx) -> None:
     with pytest.raises(UnknownFrameError) as raised:
         known_frame(["odom", "base_link", "laser"], "/lasr")
     assert raised.value.frame == "/lasr" and raised.value.frames == ("laser", "base_link", "odom")
@@ -112,7 +112,7 @@ def test_the_table_has_one_row_per_error_sorted_and_others_pass_as_they_are() ->
     assert worded(plain) == (plain, 2)
 
 
-def test_a_findings_file_that_may_not_be_written_names_force_only_on_the_command_line(tfx, tmp_path: Path) -> None:
+def test_a_findings_file_that_may_not_be_written_names_force_only_on_the_command_line(tfx: Tfx, tmp_path: Path) -> None:
     from tftools.sinks.errors import FindingsFileError
     from tftools.sinks.findings_mcap import refuse_output
 

@@ -15,6 +15,7 @@ from typing import Any, cast
 
 import pytest
 
+from tests.cli.conftest import Tfx
 from tests.cli.test_view_frames import need, pdf_lines
 
 DYNAMIC_PUBLISHER = """
@@ -96,7 +97,7 @@ def ros_system(monkeypatch: pytest.MonkeyPatch) -> Iterator[str]:
             stop(process)
 
 
-def test_listens_and_draws_what_it_heard(tfx, ros_system: str, tmp_path: Path) -> None:
+def test_listens_and_draws_what_it_heard(tfx: Tfx, ros_system: str, tmp_path: Path) -> None:
     need("dot")
     output = tmp_path / "live.pdf"
     result = tfx("view-frames", "--duration", "2", "-o", output)
