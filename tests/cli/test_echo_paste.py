@@ -103,7 +103,9 @@ def test_urdf_origin_is_fixed_axis_roll_pitch_yaw(tfx: Tfx, parent: str, child: 
     bag = SAMPLE_BAGS["db3"]
     joint = ET.fromstring(tfx("echo", parent, child, "-b", bag, "--format", "urdf", *at).stdout)
     assert joint.get("type") == "fixed"
-    assert joint.find("parent").get("link") == parent and joint.find("child").get("link") == child
+    named = joint.find("parent"), joint.find("child")
+    assert named[0] is not None and named[1] is not None
+    assert named[0].get("link") == parent and named[1].get("link") == child
     origin = joint.find("origin")
     assert origin is not None
     xyz = [float(v) for v in origin.get("xyz", "").split()]
@@ -152,10 +154,8 @@ def test_paste_formats_escape_names_for_their_language(tfx: Tfx, tmp_path: Path)
     odd = 'it\'s <a> "frame"'
     static = tfx("echo", "base_link", odd, "-b", out, "--format", "static").stdout.splitlines()[0]
     assert shlex.split(static)[-1] == odd
-    assert (
-        ET.fromstring(tfx("echo", "base_link", odd, "-b", out, "--format", "urdf").stdout).find("child").get("link")
-        == odd
-    )
+    urdf_child = ET.fromstring(tfx("echo", "base_link", odd, "-b", out, "--format", "urdf").stdout).find("child")
+    assert urdf_child is not None and urdf_child.get("link") == odd
     entry = tmp_path / "odd.yaml"
     entry.write_text(tfx("echo", "base_link", odd, "-b", out, "--format", "yaml").stdout)
     from tftools.sources.live.static_file import read_static_transforms

@@ -140,6 +140,7 @@ def test_play_ends_on_the_numbers_of_its_last_window(tfx: Tfx) -> None:
     for theirs, ours in zip(last["edges"], expected.edges, strict=True):
         assert (theirs["child"], theirs["count"]) == (ours.child, ours.count)
         assert theirs["rate_hz"] == pytest.approx(ours.rate_hz, rel=1e-12)
+    assert expected.chain is not None
     assert last["chain"]["delay_mean_s"] == pytest.approx(seconds(expected.chain.delay_mean), rel=1e-12)
 
 

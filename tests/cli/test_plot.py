@@ -69,8 +69,9 @@ def test_echo_figure_holds_each_coordinate_and_leaves_failures_out() -> None:
     seconds = moves.get_lines()[0].get_xdata()
     assert np.allclose(seconds, (np.array(times) - start) / NS_PER_S)
     for column, line in enumerate(moves.get_lines()):
-        assert np.allclose(line.get_ydata()[:-1], series.translations[:-1, column]) and np.isnan(line.get_ydata()[-1])
-    assert np.allclose(turns.get_lines()[2].get_ydata()[:-1], np.degrees(series.rpy[:-1, 2]))
+        ys = np.asarray(line.get_ydata())
+        assert np.allclose(ys[:-1], series.translations[:-1, column]) and np.isnan(ys[-1])
+    assert np.allclose(np.asarray(turns.get_lines()[2].get_ydata())[:-1], np.degrees(series.rpy[:-1, 2]))
     assert moves.get_title().endswith("1 of 51 lookups failed")
 
 
@@ -115,7 +116,9 @@ def test_monitor_play_plots_each_refresh(tfx: Tfx, tmp_path: Path) -> None:
     picture = tmp_path / "replay.png"
     result = tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "--play", "--start", "-2.5", "--rate", "1", "--plot", picture)
     assert result.code == 0, result.stderr
-    points = int(re.search(r"rate and delay of 10 edges over (\d+) points", result.stderr).group(1))
+    said = re.search(r"rate and delay of 10 edges over (\d+) points", result.stderr)
+    assert said is not None
+    points = int(said.group(1))
     assert points >= 2 and picture.stat().st_size > 20_000
 
 

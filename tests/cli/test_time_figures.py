@@ -89,8 +89,9 @@ def test_a_fine_clock_measures_delays_never_below_zero(tmp_path: Path) -> None:
     (base,) = [e for e in report.edges if e.child == "base"]
     assert report.delays_unavailable == ""
     assert 0.001 <= seconds(base.delay_mean) <= 0.0025 and seconds(base.delay_max) <= 0.003
-    stamps, records = recording.buffer.history("base").stamps, recording.buffer.history("base").record_times
-    delays = recording.timeline.delays("base", stamps, records, recording.buffer.history("base").flags)
+    history = recording.buffer.history("base")
+    assert history is not None
+    delays = recording.timeline.delays("base", history.stamps, history.record_times, history.flags)
     assert len(delays) == 300 and delays.min() >= 0
     chain = monitor_buffer(recording.buffer, "odom", "base", timeline=recording.timeline).chain
     assert chain is not None and 0 <= seconds(chain.delay_mean) <= seconds(chain.delay_max) < 0.04
@@ -303,7 +304,9 @@ def test_the_report_counts_every_time_from_the_one_origin(tmp_path: Path) -> Non
     section = recording_section(0, report).html
     shown = re.search(r'<span class="when">([+-][\d.]+) s to [+-][\d.]+ s</span>', section)
     assert shown is not None and float(shown.group(1)) == pytest.approx(float(said.group(1)), abs=0.05)
-    data = json.loads(re.search(r'class="report-data">(.*?)</script>', section).group(1))
+    embedded = re.search(r'class="report-data">(.*?)</script>', section)
+    assert embedded is not None
+    data = json.loads(embedded.group(1))
     assert data["axis"]["start"] == pytest.approx((report.bins.start - WALL) / S)
     assert data["findings"][0]["from"] == pytest.approx(float(said.group(1)), abs=0.05)
 

@@ -80,7 +80,7 @@ def ros_system(monkeypatch: pytest.MonkeyPatch) -> Iterator[str]:
         monkeypatch.setenv(name, env[name])
     processes = [start(["roscore", "-p", uri.rsplit(":", 1)[1]], env)]
     try:
-        master = xmlrpc.client.ServerProxy(uri)
+        master: Any = xmlrpc.client.ServerProxy(uri)
         wait_for(lambda: master.getSystemState("/test")[0] == 1)
         static = ["/usr/lib/tf2_ros/static_transform_publisher", "0", "0", "0.3", "0", "0", "0", "base_link", "laser"]
         processes.append(start(static, env))

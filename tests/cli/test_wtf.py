@@ -9,8 +9,8 @@ from typing import Any
 
 import pytest
 
-from tests.analysis.wtf_scenes import MS, PROBLEMS, TfMessage, ekf, healthy, write
-from tests.bags import BagFormat
+from tests.analysis.wtf_scenes import MS, PROBLEMS, ekf, healthy, write
+from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.wtf import CHECKS
 

@@ -46,6 +46,7 @@ def _messages(path: Path) -> list[tuple[str, str, int, Any]]:
     with path.open("rb") as stream:
         reader = make_reader(stream, decoder_factories=[DecoderFactory()])
         for schema, channel, message in reader.iter_messages():
+            assert schema is not None
             if schema.encoding == "protobuf":
                 decoder = DecoderFactory().decoder_for("protobuf", schema)
                 assert decoder is not None
