@@ -13,7 +13,6 @@ import pytest
 from tests.analysis.wtf_scenes import (
     FORMATS,
     START,
-    TfMessage,
     _t,
     amcl,
     ekf,
@@ -27,7 +26,7 @@ from tests.analysis.wtf_scenes import (
     with_extra,
     write,
 )
-from tests.bags import BagFormat
+from tests.bags import BagFormat, TfMessage
 from tftools.analysis.differences import Change, compare, rotation_angle_deg
 from tftools.analysis.expected import Tolerances, shape_of
 from tftools.analysis.findings import Severity
