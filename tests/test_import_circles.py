@@ -6,7 +6,7 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-from tftools.analysis.loops import _tangles
+from tftools.analysis.wtf.loops import _tangles
 
 PACKAGE = Path(__file__).resolve().parents[1] / "tftools"
 

@@ -38,7 +38,7 @@ CALLS = {
     "filter": "filter_messages",
     "report": "report_fleet",
     "diff": "diff_trees",
-    "static": "add_static",
+    "static": "copy_with_statics",
 }
 
 
@@ -266,7 +266,8 @@ def test_static(bag: str, tmp_path: Path) -> None:
     suffix = ".bag" if bag.endswith(".bag") else "_db3"
     called, printed = tmp_path / f"called{suffix}", tmp_path / f"printed{suffix}"
     lidar = static_transform([0.1, 0, 0.3, 90, 0, 0], "/base_link", "lidar", degrees=True)
-    assert tftools.add_static(bag, called, [lidar]) == called
+    copy = tftools.copy_with_statics(bag, called, tftools.StaticQuery((lidar,)))
+    assert copy.path == called and copy.transforms == (tftools.sinks.checked(lidar),)
     done = tfx(
         "static", "0.1", "0", "0.3", "90", "0", "0", "/base_link", "lidar", "--deg", "-b", bag, "-o", str(printed)
     )
@@ -279,12 +280,26 @@ def test_static(bag: str, tmp_path: Path) -> None:
     assert lidar_frame["parent"] == "base_link"
 
 
+def test_static_repair_is_the_same_call(tmp_path: Path) -> None:
+    from tftools.sinks import static_transform
+
+    called, printed = tmp_path / "called.bag", tmp_path / "printed.bag"
+    copy = tftools.copy_with_statics(BAGS[0], called, tftools.StaticQuery(repair=True))
+    done = tfx("static", "--repair", "-b", BAGS[0], "-o", str(printed))
+    assert done.returncode == 0, done.stderr
+    assert copy.path == called and called.read_bytes() == printed.read_bytes()
+    statics = tftools.read_recording([BAGS[0]]).transforms
+    assert len(copy.transforms) == len({int(c) for c in statics.child[statics.static]}) > 0
+    with pytest.raises(ValueError, match="takes none"):
+        tftools.StaticQuery((static_transform([0, 0, 0, 0, 0, 0], "a", "b"),), repair=True)
+
+
 def test_static_refuses_a_frame_the_bag_has(tmp_path: Path) -> None:
     from tftools.sinks import static_transform
 
     laser = static_transform([0, 0, 0, 0, 0, 0, 1], "base_link", "laser")
     with pytest.raises(tftools.core.InvalidTransformError, match="already has laser") as present:
-        tftools.add_static(BAGS[0], tmp_path / "copy.bag", [laser])
+        tftools.copy_with_statics(BAGS[0], tmp_path / "copy.bag", tftools.StaticQuery((laser,)))
     assert present.value.child == "laser" and present.value.recording == BAGS[0]
     assert "tfx" not in present.value.hint and "-b" not in present.value.hint
     assert not (tmp_path / "copy.bag").exists()

@@ -56,7 +56,7 @@ if TYPE_CHECKING:
         from_sec,
         to_sec,
     )
-    from tftools.sinks import add_static, publish_static, repair_static
+    from tftools.sinks import StaticQuery, copy_with_statics, publish_static
     from tftools.sources import Recording, read_recording, stream_recording
     from tftools.sources.live.sensor_headers import capture_live
 
@@ -66,10 +66,10 @@ __all__ = [
     "DEFAULT_CACHE_TIME", "LATEST", "NS_PER_S", "SEMANTICS", "BatchBuilder", "Buffer", "CheckQuery",
     "ConnectivityError", "DiffQuery", "EchoQuery", "EdgeHistory", "ExtrapolationError", "FilterQuery",
     "InvalidArgumentError", "LookupBatch", "MonitorQuery", "Offset", "Recording", "Rejection", "RejectionCode",
-    "ReportQuery", "Semantics", "SimClock", "Stamp", "TfToolsError", "Transform", "TransformBatch", "TransformError",
-    "UnknownFrameError", "WallClock", "add_static", "capture_live", "check", "check_fleet", "diff_trees", "echo",
-    "echo_stream", "filter_messages", "format_sec", "frame_tree", "from_sec", "monitor", "monitor_stream",
-    "publish_static", "read_recording", "repair_static", "report", "report_fleet", "stream_recording", "to_sec",
+    "ReportQuery", "Semantics", "SimClock", "Stamp", "StaticQuery", "TfToolsError", "Transform", "TransformBatch",
+    "TransformError", "UnknownFrameError", "WallClock", "capture_live", "check", "check_fleet", "copy_with_statics",
+    "diff_trees", "echo", "echo_stream", "filter_messages", "format_sec", "frame_tree", "from_sec", "monitor",
+    "monitor_stream", "publish_static", "read_recording", "report", "report_fleet", "stream_recording", "to_sec",
     "view_frames",
 ]  # fmt: skip
 
@@ -99,7 +99,7 @@ _PACKAGE = {
     # named as their rooms are: from the room itself, which ``tftools.analysis``'s attribute becomes once imported
     **dict.fromkeys(["EchoQuery", "echo", "echo_stream"], "tftools.analysis.echo"),
     **dict.fromkeys(["monitor", "monitor_stream"], "tftools.analysis.monitor"),
-    **dict.fromkeys(["add_static", "publish_static", "repair_static"], "tftools.sinks"),
+    **dict.fromkeys(["StaticQuery", "copy_with_statics", "publish_static"], "tftools.sinks"),
     "report": "tftools.analysis.report",  # the function: in tftools.analysis, ``report`` is its package
     "capture_live": "tftools.sources.live.sensor_headers",
 }

@@ -27,6 +27,7 @@ from tftools.analysis.description import Robot, check_joints, description_shape,
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.wtf import CHECKS, Scene, findings_of
+from tftools.core.rotation import Vec3
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.bag import messages as bag_messages
@@ -124,7 +125,7 @@ def test_statics_not_recorded(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("origin", "mm", "deg"), [(MOVED, 20.0, 0.0), (FLIPPED, 0.0, 180.0)])
-def test_a_moved_or_flipped_sensor(tmp_path: Path, origin: tuple, mm: float, deg: float) -> None:
+def test_a_moved_or_flipped_sensor(tmp_path: Path, origin: tuple[Vec3, Vec3], mm: float, deg: float) -> None:
     findings = _findings(tmp_path, Setup(real_origins={"laser_joint": origin}))
     assert _codes(findings) == [("urdf_moved", "error"), ("urdf_extra", "info")]
     moved = findings[0]
@@ -188,7 +189,7 @@ def test_the_description_as_a_tree_shape() -> None:
     assert not shape.frames["wheel_left_link"].static
 
 
-def _on_tf(*transforms: tuple[str, str, str, tuple, tuple]) -> list[Finding]:
+def _on_tf(*transforms: tuple[str, str, str, Vec3, Vec3]) -> list[Finding]:
     """The robot's URDF against a recording (without files) of ``(topic, parent, child, xyz, rpy)`` at 10 Hz."""
     messages = [
         TfMessage(topic, START + i * NS_PER_S // 10, [Transform.from_rpy(xyz, rpy, START + i * NS_PER_S // 10, p, c)])

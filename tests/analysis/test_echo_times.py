@@ -24,7 +24,8 @@ def recording() -> Recording:
 
 def _times(recording: Recording, **asked: object) -> list[int]:
     query = EchoQuery(target="map", source="base_link", **asked)  # type: ignore[arg-type]
-    return echo_times(recording.buffer, recording.timeline, query).tolist()
+    times: list[int] = echo_times(recording.buffer, recording.timeline, query).tolist()
+    return times
 
 
 def test_times_step_at_the_rate_over_where_every_moving_edge_between_has_data(recording: Recording) -> None:

@@ -13,7 +13,6 @@ import pytest
 from tests.analysis.wtf_scenes import (
     FORMATS,
     START,
-    TfMessage,
     _t,
     amcl,
     ekf,
@@ -27,8 +26,8 @@ from tests.analysis.wtf_scenes import (
     with_extra,
     write,
 )
-from tests.bags import BagFormat
-from tftools.analysis.diff import Change, compare, rotation_angle_deg
+from tests.bags import BagFormat, TfMessage
+from tftools.analysis.differences import Change, compare, rotation_angle_deg
 from tftools.analysis.expected import Tolerances, shape_of
 from tftools.analysis.findings import Severity
 from tftools.analysis.tree_file import TreeFileError, read_tree, write_tree

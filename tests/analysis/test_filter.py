@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import json
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from tests.analysis.wtf_scenes import TfMessage, recording
+from tests.analysis.wtf_scenes import recording
+from tests.bags import TfMessage
 from tests.oracle import ROS_PYTHON
 from tftools.analysis.filter.fates import NEVER, Fate, message_fates
 from tftools.core.time import NS_PER_S
@@ -26,7 +28,9 @@ def _t(parent: str, child: str, stamp: int, x: float) -> Transform:
     return Transform.from_rpy((x, 0.0, 0.1), (0.0, 0.0, 0.01 * x), stamp, parent, child)
 
 
-def _periodic(hz: float, delay: int, make, seconds: float = SECONDS) -> list[TfMessage]:
+def _periodic(
+    hz: float, delay: int, make: Callable[[int], list[Transform]], seconds: float = SECONDS
+) -> list[TfMessage]:
     times = START + np.round(np.arange(round(seconds * hz)) * NS_PER_S / hz).astype(np.int64)
     return [TfMessage("/tf", int(t) + delay, make(int(t)), "/node") for t in times]
 
@@ -87,7 +91,8 @@ def oracle(tf: list[TfMessage], messages: StampedMessages, target: str, cache_s:
     request = {"cache_s": cache_s, "target": target, "tf": rows, "messages": asked}
     done = subprocess.run([ROS_PYTHON, str(HARNESS)], input=json.dumps(request), capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-2000:]
-    return json.loads(done.stdout)["ready"]
+    ready: list[int | None] = json.loads(done.stdout)["ready"]
+    return ready
 
 
 @pytest.mark.parametrize("cache_s", [10.0, 0.5])
@@ -109,12 +114,13 @@ def test_each_message_says_why_it_waited_or_was_lost() -> None:
     fates = message_fates(recording(robot()).buffer, messages, "odom")
 
     def of(frame: str) -> np.ndarray:
-        return fates.fate[messages.frame == messages.frame_ids.index(frame)]
+        fate: np.ndarray = fates.fate[messages.frame == messages.frame_ids.index(frame)]
+        return fate
 
     assert (of("laser") == Fate.LATER).all()  # a scan stamped 7 ms after a laser transform arrives 5 ms later:
     laser = np.flatnonzero(messages.frame == messages.frame_ids.index("laser"))  # it needs the next one (43 ms
     np.testing.assert_array_equal(fates.ready[laser] - messages.record_time[laser], 68 * MS)  # on, 30 ms late)
-    assert {fates.edge[i] for i in laser} == {("base_link", "laser")}
+    assert {fates.edge[int(i)] for i in laser} == {("base_link", "laser")}
     assert (of("imu") == Fate.ON_ARRIVAL).all() and (of("/base_link") == Fate.ON_ARRIVAL).all()
     assert (of("camra") == Fate.UNKNOWN_FRAME).all() and (of("rig") == Fate.NOT_CONNECTED).all()
     base = of("base_link")  # stamped 1..18 s in, arriving 11 s later: the cache holds 10 s behind the newest tf

@@ -8,7 +8,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from tests.analysis.wtf_scenes import TfMessage, recording
+from tests.analysis.wtf_scenes import recording
+from tests.bags import TfMessage
 from tftools.analysis.filter import FilterQuery, filter_streams
 from tftools.analysis.filter.fates import NEVER, Fate, Fates, message_fates, pushed_out, smallest_queue
 from tftools.core.buffer import Buffer

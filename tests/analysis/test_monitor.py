@@ -21,7 +21,7 @@ from tests.analysis.monitor_scenes import (
     scene_buffer,
     write_scene,
 )
-from tests.bags import BagFormat
+from tests.bags import BagFormat, TfMessage
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.monitor import MonitorReport, monitor_buffer
 from tftools.core.buffer import Buffer
@@ -131,7 +131,9 @@ def test_a_window_counts_only_what_arrived_in_it(truth_scene: Scene) -> None:
     assert edges["laser"].static  # static edges hold at every time: always listed
 
 
-def _chain_delay_by_lookups(buffer: Buffer, messages: list, target: str, source: str, times: np.ndarray) -> np.ndarray:
+def _chain_delay_by_lookups(
+    buffer: Buffer, messages: list[TfMessage], target: str, source: str, times: np.ndarray
+) -> np.ndarray:
     """tf_monitor's way: at each moment, now minus the stamp a latest-time lookup gets."""
     live = Buffer(cache_time=None)
     delays = []

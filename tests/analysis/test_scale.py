@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 from collections import deque
+from collections.abc import Callable
 
 import pytest
 from hypothesis import given, settings
@@ -13,14 +14,15 @@ from tests.analysis.scale_scenes import START, batch, chain, grows_linearly, rec
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import tree_of
 from tftools.analysis.graph import frame_graph
-from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf import structure
 from tftools.analysis.wtf.fleet import check
+from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.scene import Scene
+from tftools.core.batch import TransformBatch
 from tftools.core.errors import UnknownFrameError
 
 
-def _cycle_check(frames: int, make=chain) -> float:
+def _cycle_check(frames: int, make: Callable[[int], TransformBatch] = chain) -> float:
     scene_of = recording(make(frames))
     return seconds(lambda: list(structure.cycles(Scene(scene_of))))
 

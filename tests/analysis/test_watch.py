@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from tftools.analysis.health import Level, edge_name
-from tftools.analysis.watch import Window, check_window
+from tftools.analysis.wtf.health import Level, edge_name
+from tftools.analysis.wtf.watch import Window, check_window
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.sources.live.base import LiveSource
@@ -26,7 +26,7 @@ def _odom(seconds: float, hz: int = 20, begin: int = START) -> TransformBatch:
     return _batch([("odom", "base_link", begin + i * NS_PER_S // hz, False) for i in range(int(seconds * hz))])
 
 
-def test_the_window_keeps_its_last_seconds_and_the_statics_for_ever():
+def test_the_window_keeps_its_last_seconds_and_the_statics_for_ever() -> None:
     window = Window(2 * NS_PER_S)
     window.keep(_batch([("base_link", "laser", START, True)]))
     window.keep(_odom(10))
@@ -38,7 +38,7 @@ def test_the_window_keeps_its_last_seconds_and_the_statics_for_ever():
     assert gone == {}
 
 
-def test_an_edge_no_longer_heard_is_gone_with_when_it_was_last():
+def test_an_edge_no_longer_heard_is_gone_with_when_it_was_last() -> None:
     window = Window(2 * NS_PER_S)
     window.keep(_odom(1))
     window.take(START + NS_PER_S)
@@ -46,7 +46,7 @@ def test_an_edge_no_longer_heard_is_gone_with_when_it_was_last():
     assert gone == {("odom", "base_link"): START + 19 * NS_PER_S // 20}
 
 
-def test_a_jump_back_forgets_the_dynamic_transforms_and_what_was_heard():
+def test_a_jump_back_forgets_the_dynamic_transforms_and_what_was_heard() -> None:
     window = Window(10 * NS_PER_S)
     window.keep(_batch([("base_link", "laser", START, True)]))
     window.keep(_odom(5))
@@ -57,7 +57,7 @@ def test_a_jump_back_forgets_the_dynamic_transforms_and_what_was_heard():
     assert begin == START and gone == {}
 
 
-def test_memory_is_bounded_by_the_window_however_long_it_runs():
+def test_memory_is_bounded_by_the_window_however_long_it_runs() -> None:
     window = Window(NS_PER_S)
     for second in range(200):
         window.keep(_odom(1, begin=START + second * NS_PER_S))
@@ -82,7 +82,7 @@ class _Held(LiveSource):
         pass
 
 
-def test_a_healthy_window_is_ok_and_an_edge_that_stopped_is_an_error_then_stale():
+def test_a_healthy_window_is_ok_and_an_edge_that_stopped_is_an_error_then_stale() -> None:
     window = Window(10 * NS_PER_S)
     window.keep(_batch([("base_link", "laser", START, True)]))
     window.keep(_odom(10))

@@ -13,7 +13,6 @@ from tests.analysis.wtf_scenes import (
     MS,
     PROBLEMS,
     START,
-    TfMessage,
     _s,
     _t,
     amcl,
@@ -30,6 +29,7 @@ from tests.analysis.wtf_scenes import (
     wheels,
     with_extra,
 )
+from tests.bags import TfMessage
 from tftools.analysis.findings import Finding, Severity, causes
 from tftools.analysis.wtf import CHECKS, Scene, Thresholds, findings_of
 from tftools.analysis.wtf.fleet import check

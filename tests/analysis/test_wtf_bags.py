@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from tests.analysis.wtf_scenes import FORMATS, PROBLEMS, TfMessage, healthy, recording, write
-from tests.bags import BagFormat
+from tests.analysis.wtf_scenes import FORMATS, PROBLEMS, healthy, recording, write
+from tests.bags import BagFormat, TfMessage
 from tftools.analysis.findings import Finding, Severity, causes
 from tftools.analysis.wtf.fleet import check
 from tftools.sources.recording import read_recording

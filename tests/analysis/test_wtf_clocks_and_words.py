@@ -12,7 +12,6 @@ from tests.analysis.wtf_scenes import (
     SECONDS,
     SIM_START,
     START,
-    TfMessage,
     _t,
     amcl,
     ekf,
@@ -29,7 +28,7 @@ from tests.analysis.wtf_scenes import (
     with_extra,
     write,
 )
-from tests.bags import BagFormat
+from tests.bags import BagFormat, TfMessage
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.monitor import MonitorQuery, monitor
 from tftools.analysis.wtf import CHECKS, Scene, findings_of

@@ -7,13 +7,14 @@ import hashlib
 import sqlite3
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
-from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
+from tests.cli.conftest import Result, Tfx, tfx  # noqa: F401 (the fixture)
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.broadcasters import sent_before
 from tftools.analysis.wtf.fleet import check
@@ -123,11 +124,11 @@ def test_repair_makes_statics_durable_complete_and_repeated_and_leaves_the_input
         from rosbags.rosbag1 import Reader
 
         with Reader(written) as reader:
-            assert all(c.ext.latching == 1 for c in reader.connections if c.topic == "/tf_static")
-            assert {c.ext.callerid for c in reader.connections if c.topic == "/tf_static"} == {"/rsp"}
+            exts: list[Any] = [c.ext for c in reader.connections if c.topic == "/tf_static"]
+            assert all(ext.latching == 1 for ext in exts) and {ext.callerid for ext in exts} == {"/rsp"}
 
 
-def test_repair_on_the_command_line_never_writes_over_its_input(tmp_path: Path, tfx) -> None:  # noqa: F811
+def test_repair_on_the_command_line_never_writes_over_its_input(tmp_path: Path, tfx: Tfx) -> None:  # noqa: F811
     bag = scenes.write(tmp_path, "in", BagFormat.ros1, scenes.healthy())
     before = _digest(bag)
     refused: Result = tfx("static", "--repair", "-b", bag, "-o", bag)
@@ -154,7 +155,7 @@ def test_statics_repeated_through_a_long_recording_are_quiet() -> None:
 
 
 def test_a_jump_on_another_edge_is_a_warning_with_when_and_how_far() -> None:
-    def arm(stamp: int) -> list:  # type: ignore[type-arg]
+    def arm(stamp: int) -> list[Transform]:
         return [scenes._t("base_link", "arm", stamp, 0.1 * scenes._s(stamp) + (0.5 if scenes._s(stamp) >= 6 else 0.0))]
 
     (finding,) = check(
@@ -191,12 +192,12 @@ def test_the_healthy_robots_jumps_and_rep105_stay_quiet(ros1: bool) -> None:
 # --- several broadcasters where the bag names none -------------------------------------------
 
 
-def _fighting(stamp: int) -> list:  # type: ignore[type-arg]
+def _fighting(stamp: int) -> list[Transform]:
     """A second odometry, 0.3 m off the first."""
     return [scenes._t("odom", "base_link", stamp, 0.4 * scenes._s(stamp) + 0.3, 0.1 * scenes._s(stamp))]
 
 
-def _late_twin(stamp: int) -> list:  # type: ignore[type-arg]
+def _late_twin(stamp: int) -> list[Transform]:
     """A second broadcaster of the same motion whose stamps lag 35 ms behind (off the first's 20 ms grid:
     30 ms would send the first's stamps and values again, two identical publishers)."""
     return scenes.odom_base(stamp - 35_000_000)
@@ -218,7 +219,7 @@ def test_two_broadcasters_taking_turns_are_inferred_in_ros2_bags(
     assert sign in findings[0].message and findings[0].frames == ("odom", "base_link")
 
 
-def _other_wheel(stamp: int) -> list:  # type: ignore[type-arg]
+def _other_wheel(stamp: int) -> list[Transform]:
     """A second robot_state_publisher whose URDF puts the wheel 5 cm further out."""
     (t,) = scenes.wheel(stamp)
     x, _, z = t.translation
@@ -315,7 +316,8 @@ def _quiet_bag(path: Path, empty: int, tf_publishers: int, moving: bool = False)
     that carried nothing (or the robot's odometry, if ``moving``)."""
     from rosbags.rosbag2 import StoragePlugin, Writer
 
-    from tests.bags import TF_TYPE, _typestore, rosbags_tf_message, static_qos
+    from tests.bags import TF_TYPE, _typestore, rosbags_tf_message
+    from tftools.sinks.static_bag import static_qos
 
     store = _typestore("ros2")
     with Writer(path, version=Writer.VERSION_LATEST, storage_plugin=StoragePlugin.SQLITE3) as writer:

@@ -8,6 +8,7 @@ A message is [topic, record_ns, publisher, [[parent, child, stamp_ns, tx, ty, tz
 
 import json
 import sys
+from typing import Any
 
 import genpy
 import rospy
@@ -17,7 +18,7 @@ from tf2_msgs.msg import TFMessage
 RULES = ("rostime_delta", "reparenting", "cycle_detection", "multiple_authority", "not_normalized")
 
 
-def tf_message(transforms):
+def tf_message(transforms: Any) -> Any:
     msg = TFMessage()
     for parent, child, stamp, tx, ty, tz, qx, qy, qz, qw in transforms:
         t = TransformStamped()
@@ -30,7 +31,7 @@ def tf_message(transforms):
     return msg
 
 
-def roswtf(scenes):
+def roswtf(scenes: Any) -> Any:
     import tf.tfwtf as wtf
 
     results = []
@@ -47,7 +48,7 @@ def roswtf(scenes):
     return results
 
 
-def write_bag(path, messages):
+def write_bag(path: str, messages: Any) -> None:
     import rosbag
 
     with rosbag.Bag(path, "w") as bag:

@@ -6,6 +6,7 @@ import itertools
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol
 
 import pytest
 
@@ -22,8 +23,14 @@ class Result:
     stderr: str
 
 
+class Tfx(Protocol):
+    """The ``tfx`` fixture: ``tfx(*args)`` runs ``tfx args``."""
+
+    def __call__(self, *args: str | Path) -> Result: ...
+
+
 @pytest.fixture
-def tfx(capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch):
+def tfx(capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> Tfx:
     """``tfx(*args) -> Result``: exit code and output of ``tfx args`` through its real entry point."""
 
     def run(*args: str | Path) -> Result:

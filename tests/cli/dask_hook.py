@@ -26,7 +26,8 @@ def _tried(query: Any, progress: Any, paths: list[str]) -> fleet.BagReport:
         time.sleep(120)  # until the test kills this worker
     elif "slow_always" in name:
         time.sleep(3)
-    return _check_group(query, progress, paths)
+    report: fleet.BagReport = _check_group(query, progress, paths)
+    return report
 
 
-fleet._check_group = _tried  # (tasks name it: the worker unpickles this one)
+fleet._check_group = _tried  # type: ignore[assignment]  # (tasks name it: the worker unpickles this one)

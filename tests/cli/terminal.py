@@ -56,7 +56,8 @@ def table_cells(screen: str, title: str) -> list[list[str]]:
     and a cell folded onto several lines is joined back."""
     lines = screen.splitlines()
     start = lines.index(title) + 1
-    end = next((i for i in range(start, len(lines)) if not lines[i].strip()), len(lines))
+    # the table ends at a blank line or at its caption (its rows are indented by a column's padding)
+    end = next((i for i in range(start, len(lines)) if not lines[i].startswith(" ")), len(lines))
     table = lines[start:end]
     width = max(map(len, table))
     padded = [line.ljust(width) for line in table]

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Result, Tfx
 from tftools.analysis.echo import MAX_ECHO_LINES
 
 ECHO = ("echo", "map", "base_link", "-b", SAMPLE_BAGS["ros1"])
 MONITOR = ("monitor", "-b", SAMPLE_BAGS["mcap"])
 
 
-def one_line_error(result, *words: str) -> None:
+def one_line_error(result: Result, *words: str) -> None:
     assert result.code == 2, result.stdout[:300] + result.stderr[:300]
     assert result.stderr.startswith("tfx: error: ") and result.stderr.count("\n") == 1, result.stderr
     assert "Traceback" not in result.stderr and result.stdout == ""
@@ -44,7 +44,7 @@ def one_line_error(result, *words: str) -> None:
         (("--play", "--start", "+5", "--end", "+1"), ("the time range is empty",)),
     ],
 )
-def test_echo_times_and_rates(tfx, args: tuple[str, ...], words: tuple[str, ...]) -> None:
+def test_echo_times_and_rates(tfx: Tfx, args: tuple[str, ...], words: tuple[str, ...]) -> None:
     one_line_error(tfx(*ECHO, *args), *words)
 
 
@@ -60,7 +60,7 @@ def test_echo_times_and_rates(tfx, args: tuple[str, ...], words: tuple[str, ...]
         ("--duration", "-inf", "--play"),
     ],
 )
-def test_monitor_times_and_numbers(tfx, args: tuple[str, ...]) -> None:
+def test_monitor_times_and_numbers(tfx: Tfx, args: tuple[str, ...]) -> None:
     one_line_error(tfx(*MONITOR, *args), args[0])
 
 
@@ -68,7 +68,7 @@ def test_monitor_times_and_numbers(tfx, args: tuple[str, ...]) -> None:
     ("option", "value"),
     [("--delay", "nan"), ("--stale-after", "inf"), ("--max-gap", "-1"), ("--future", "1e300"), ("--clock", "nan")],
 )
-def test_wtf_thresholds(tfx, option: str, value: str) -> None:
+def test_wtf_thresholds(tfx: Tfx, option: str, value: str) -> None:
     one_line_error(tfx("wtf", SAMPLE_BAGS["db3"], option, value), option, "e.g.")
 
 
@@ -85,11 +85,11 @@ def test_wtf_thresholds(tfx, option: str, value: str) -> None:
         ("static", "0", "0", "0", "0", "0", "0", "a", "b", "--duration", "nan"),
     ],
 )
-def test_live_numbers_are_checked_before_listening(tfx, args: tuple[str, ...]) -> None:
+def test_live_numbers_are_checked_before_listening(tfx: Tfx, args: tuple[str, ...]) -> None:
     one_line_error(tfx(*args), "must be")
 
 
-def test_latest_and_times_within_the_recording_still_work(tfx) -> None:
+def test_latest_and_times_within_the_recording_still_work(tfx: Tfx) -> None:
     assert tfx(*ECHO, "--at", "0").code == 0
     assert tfx(*ECHO, "--at", "+3").code == 0
     failed = tfx(*ECHO, "--at", "1699999000")  # before the data, within reach: tf2's answer
@@ -109,7 +109,7 @@ def test_latest_and_times_within_the_recording_still_work(tfx) -> None:
         (("monitor", "--time", "5"), ("No such option: --time (did you mean --start? see tfx monitor --help)",)),
     ],
 )
-def test_wrong_arguments_are_one_line(tfx, args: tuple[str, ...], words: tuple[str, ...]) -> None:
+def test_wrong_arguments_are_one_line(tfx: Tfx, args: tuple[str, ...], words: tuple[str, ...]) -> None:
     result = tfx(*args)
     assert result.code == 2 and result.stderr.startswith("tfx: error: ") and result.stderr.count("\n") == 1
     for word in words:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 
 COMMANDS = {
     "frames": ("frames", "-b", "BAG"),
@@ -101,7 +101,7 @@ def _nesting(line: str) -> int:
 
 @pytest.mark.parametrize("command", list(COMMANDS))
 @pytest.mark.parametrize("name", INPUTS)
-def test_bad_input_is_one_line(tfx, inputs: dict[str, Path], tmp_path: Path, name: str, command: str) -> None:
+def test_bad_input_is_one_line(tfx: Tfx, inputs: dict[str, Path], tmp_path: Path, name: str, command: str) -> None:
     args = [{"BAG": str(inputs[name]), "OUT": str(tmp_path / "out")}.get(a, a) for a in COMMANDS[command]]
     result = tfx(*args)
     check_stderr(result.stderr, result.code)
@@ -129,13 +129,13 @@ def test_bad_input_is_one_line(tfx, inputs: dict[str, Path], tmp_path: Path, nam
         ("echo", "map", "base_link", "-b", SAMPLE_BAGS["ros1"], "--topic", "/nothing"),
     ],
 )
-def test_bad_arguments_on_a_good_bag(tfx, args: tuple[str, ...]) -> None:
+def test_bad_arguments_on_a_good_bag(tfx: Tfx, args: tuple[str, ...]) -> None:
     result = tfx(*args)
     assert result.code == 2 and result.stdout == ""
     check_stderr(result.stderr, result.code)
 
 
-def test_a_fleet_with_bad_bags_runs_and_says_which(tfx, inputs: dict[str, Path]) -> None:
+def test_a_fleet_with_bad_bags_runs_and_says_which(tfx: Tfx, inputs: dict[str, Path]) -> None:
     result = tfx("wtf", SAMPLE_BAGS["ros1"], inputs["noise.bag"], inputs["missing"], inputs["truncated-mcap"])
     assert result.code == 1
     check_stderr(result.stderr, result.code)

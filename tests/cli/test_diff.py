@@ -10,6 +10,7 @@ import pytest
 
 from tests.analysis.wtf_scenes import FORMATS, healthy, map_odom, periodic, statics, write
 from tests.bags import BagFormat
+from tests.cli.conftest import Tfx
 
 
 @pytest.fixture(scope="module")
@@ -27,7 +28,7 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_diff_of_the_same_run_in_another_format_is_empty_and_exits_0(
-    tfx, runs: dict[str, Path], fmt: BagFormat
+    tfx: Tfx, runs: dict[str, Path], fmt: BagFormat
 ) -> None:
     result = tfx("diff", runs["good"], runs[f"same_{fmt.value}"])
     assert result.code == 0, result.stderr
@@ -35,7 +36,9 @@ def test_diff_of_the_same_run_in_another_format_is_empty_and_exits_0(
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_diff_says_how_far_a_static_edge_moved_and_how_a_rate_fell(tfx, runs: dict[str, Path], fmt: BagFormat) -> None:
+def test_diff_says_how_far_a_static_edge_moved_and_how_a_rate_fell(
+    tfx: Tfx, runs: dict[str, Path], fmt: BagFormat
+) -> None:
     result = tfx("diff", runs["good"], runs[f"changed_{fmt.value}"])
     assert result.code == 1
     assert "moved       base_link -> laser (static) moved by 10.0 mm and 0.00°" in result.stdout
@@ -45,7 +48,7 @@ def test_diff_says_how_far_a_static_edge_moved_and_how_a_rate_fell(tfx, runs: di
     assert loose.code == 0, loose.stdout
 
 
-def test_diff_json_lists_each_difference_with_its_figures(tfx, runs: dict[str, Path]) -> None:
+def test_diff_json_lists_each_difference_with_its_figures(tfx: Tfx, runs: dict[str, Path]) -> None:
     result = tfx("diff", runs["good"], runs["changed_rosbag2-mcap"], "--format", "json")
     document = json.loads(result.stdout)
     assert result.code == document["exit_code"] == 1 and document["differ"]
@@ -58,7 +61,7 @@ def test_diff_json_lists_each_difference_with_its_figures(tfx, runs: dict[str, P
 
 
 def test_diff_of_a_tree_file_and_a_recording_uses_the_files_tolerances(
-    tfx, runs: dict[str, Path], tmp_path: Path
+    tfx: Tfx, runs: dict[str, Path], tmp_path: Path
 ) -> None:
     init = tfx("wtf", "--init", runs["good"])
     assert init.code == 0, init.stderr
@@ -70,7 +73,7 @@ def test_diff_of_a_tree_file_and_a_recording_uses_the_files_tolerances(
     assert "(15 mm, 0.1°, rates 20%)" in result.stdout
 
 
-def test_diff_of_unusable_input_exits_2_with_one_line(tfx, runs: dict[str, Path], tmp_path: Path) -> None:
+def test_diff_of_unusable_input_exits_2_with_one_line(tfx: Tfx, runs: dict[str, Path], tmp_path: Path) -> None:
     missing = tfx("diff", runs["good"], tmp_path / "nope.bag")
     assert missing.code == 2 and missing.stderr.count("\n") == 1 and "nope.bag" in missing.stderr
     bad = tmp_path / "bad.yaml"
@@ -83,7 +86,7 @@ def test_diff_of_unusable_input_exits_2_with_one_line(tfx, runs: dict[str, Path]
 
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_wtf_expect_reports_what_differs_from_the_init_file(
-    tfx, runs: dict[str, Path], tmp_path: Path, fmt: BagFormat
+    tfx: Tfx, runs: dict[str, Path], tmp_path: Path, fmt: BagFormat
 ) -> None:
     tree = tmp_path / "tree.yaml"
     tree.write_text(tfx("wtf", "--init", runs["good"]).stdout)
@@ -96,7 +99,7 @@ def test_wtf_expect_reports_what_differs_from_the_init_file(
     assert loose.code == 1 and "expect_static" not in loose.stdout and "expect_rate" in loose.stdout
 
 
-def test_wtf_expect_findings_reach_junit_and_can_be_ignored(tfx, runs: dict[str, Path], tmp_path: Path) -> None:
+def test_wtf_expect_findings_reach_junit_and_can_be_ignored(tfx: Tfx, runs: dict[str, Path], tmp_path: Path) -> None:
     tree = tmp_path / "tree.yaml"
     tree.write_text(tfx("wtf", "--init", runs["good"]).stdout)
     junit = ET.fromstring(tfx("wtf", "--expect", tree, runs["changed_ros1"], "--format", "junit").stdout)
@@ -106,7 +109,7 @@ def test_wtf_expect_findings_reach_junit_and_can_be_ignored(tfx, runs: dict[str,
     assert ignored.code == 0 and "expect_rate" in ignored.stdout
 
 
-def test_wtf_init_and_tolerances_refuse_what_cannot_work(tfx, runs: dict[str, Path]) -> None:
+def test_wtf_init_and_tolerances_refuse_what_cannot_work(tfx: Tfx, runs: dict[str, Path]) -> None:
     two = tfx("wtf", "--init", runs["good"], runs["same_ros1"])
     assert two.code == 2 and "one recording" in two.stderr
     assert tfx("wtf", runs["good"], "--tolerance-mm", "2").code == 2

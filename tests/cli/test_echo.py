@@ -9,11 +9,13 @@ import json
 import re
 import subprocess
 import sys
+from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tests.oracle import Scenario, binding_time, run_tf2
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -22,7 +24,7 @@ FORMATS = list(SAMPLE_BAGS)
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_json_lines_match_tf2_on_the_ros1_bag(tfx, tf2_available: None, fmt: str) -> None:
+def test_json_lines_match_tf2_on_the_ros1_bag(tfx: Tfx, tf2_available: None, fmt: str) -> None:
     result = tfx("echo", "map", "gripper", "-b", SAMPLE_BAGS[fmt], "--rate", "4", "--format", "json")
     assert result.code == 0, result.stderr
     records = [json.loads(line) for line in result.stdout.splitlines()]
@@ -35,13 +37,16 @@ def test_json_lines_match_tf2_on_the_ros1_bag(tfx, tf2_available: None, fmt: str
         np.testing.assert_allclose(ours["rotation"], answer["q"], atol=1e-5)
 
 
-def test_text_has_tf_echo_layout(tfx) -> None:
+def test_text_has_tf_echo_layout(tfx: Tfx) -> None:
     result = tfx("echo", "map", "base_link", "-b", SAMPLE_BAGS["db3"], "--rate", "1", "--end", "+3")
     assert result.code == 0, result.stderr
     blocks = result.stdout.strip().split("At time ")[1:]
     assert len(blocks) == 3
     number = r"-?\d+\.\d{3}"
-    vector = lambda n: r"\[" + ", ".join([number] * n) + r"\]"  # noqa: E731
+
+    def vector(n: int) -> str:
+        return r"\[" + ", ".join([number] * n) + r"\]"
+
     pattern = (
         rf"{number}\n- Translation: {vector(3)}\n- Rotation: in Quaternion {vector(4)}\n"
         rf"\s+in RPY \(radian\) {vector(3)}\n\s+in RPY \(degree\) {vector(3)}\n?"
@@ -50,7 +55,7 @@ def test_text_has_tf_echo_layout(tfx) -> None:
         assert re.fullmatch(pattern, block), block
 
 
-def test_formats_agree(tfx) -> None:
+def test_formats_agree(tfx: Tfx) -> None:
     outputs = [
         tfx("echo", "odom", "arm_link4", "-b", SAMPLE_BAGS[f], "-f", "json", "--rate", "2").stdout for f in FORMATS
     ]
@@ -61,7 +66,7 @@ def test_formats_agree(tfx) -> None:
         np.testing.assert_allclose([r["translation"] for r in other], [r["translation"] for r in parsed[0]], atol=1e-12)
 
 
-def test_csv_columns_and_every_sample(tfx) -> None:
+def test_csv_columns_and_every_sample(tfx: Tfx) -> None:
     result = tfx("echo", "map", "odom", "-b", SAMPLE_BAGS["mcap"], "--all", "--format", "csv")
     assert result.code == 0, result.stderr
     rows = list(csv.DictReader(io.StringIO(result.stdout)))
@@ -71,7 +76,7 @@ def test_csv_columns_and_every_sample(tfx) -> None:
     assert stamps == sorted(stamps)
 
 
-def test_failed_lookup_prints_tf2_reason_and_exits_1(tfx) -> None:
+def test_failed_lookup_prints_tf2_reason_and_exits_1(tfx: Tfx) -> None:
     result = tfx("echo", "map", "gripper", "-b", SAMPLE_BAGS["db3"], "--at", "1699999000")
     assert result.code == 1
     assert result.stdout.startswith(
@@ -80,7 +85,7 @@ def test_failed_lookup_prints_tf2_reason_and_exits_1(tfx) -> None:
     assert "into the past" in result.stdout
 
 
-def test_unknown_frame_is_one_line_with_close_matches(tfx) -> None:
+def test_unknown_frame_is_one_line_with_close_matches(tfx: Tfx) -> None:
     result = tfx("echo", "map", "grippr", "-b", SAMPLE_BAGS["db3"])
     assert result.code == 2
     assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
@@ -95,14 +100,14 @@ def test_unknown_frame_is_one_line_with_close_matches(tfx) -> None:
         (lambda tmp: _write(tmp / "empty.bag", b""), "not a ROS1 bag"),
     ],
 )
-def test_bad_bags_are_one_line_errors(tfx, tmp_path, make, expected: str) -> None:
+def test_bad_bags_are_one_line_errors(tfx: Tfx, tmp_path: Path, make: Callable[[Path], Path], expected: str) -> None:
     result = tfx("echo", "map", "odom", "-b", make(tmp_path))
     assert result.code == 2
     assert result.stderr.startswith("tfx: error:") and result.stderr.count("\n") == 1
     assert expected in result.stderr
 
 
-def test_console_script_runs(tmp_path) -> None:
+def test_console_script_runs(tmp_path: Path) -> None:
     done = subprocess.run(
         [sys.executable, "-m", "tftools", "echo", "map", "laser", "-b", SAMPLE_BAGS["ros1"], "--at", "+5"],
         capture_output=True, text=True, timeout=60,
@@ -111,12 +116,12 @@ def test_console_script_runs(tmp_path) -> None:
     assert done.stdout.startswith("At time 1700000005.005")  # 5 s after the first tf stamp (1700000000.005191875)
 
 
-def _write(path, data: bytes):
+def _write(path: Path, data: bytes) -> Path:
     path.write_bytes(data)
     return path
 
 
-def test_precision_sets_the_decimals_and_matrix_adds_the_homogeneous_matrix(tfx) -> None:
+def test_precision_sets_the_decimals_and_matrix_adds_the_homogeneous_matrix(tfx: Tfx) -> None:
     args = ("echo", "map", "laser", "-b", SAMPLE_BAGS["ros1"], "--at", "+5")
     six = tfx(*args, "--precision", "6", "--matrix")
     assert six.code == 0, six.stderr
@@ -131,13 +136,13 @@ def test_precision_sets_the_decimals_and_matrix_adds_the_homogeneous_matrix(tfx)
     assert tfx(*args, "--precision", "13").code == 2
 
 
-def test_cache_sets_the_live_buffers_length(tfx, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_cache_sets_the_live_buffers_length(tfx: Tfx, monkeypatch: pytest.MonkeyPatch) -> None:
     asked: list[int | None] = []
 
     class ListenedError(Exception):
         pass
 
-    def listen(source, cache_time, semantics=None):
+    def listen(source: object, cache_time: int | None, semantics: object = None) -> None:
         asked.append(cache_time)
         raise ListenedError
 

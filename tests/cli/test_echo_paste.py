@@ -13,20 +13,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.core.transform import Transform
 
 #: A chain of static edges only, and one through moving edges (looked up 3 s in).
 LOOKUPS = [("base_link", "camera_optical_frame", []), ("map", "gripper", ["--at", "+3"])]
 
 
-def _echoed(tfx, bag: Path, parent: str, child: str, at: list[str]) -> Transform:
+def _echoed(tfx: Tfx, bag: Path, parent: str, child: str, at: list[str]) -> Transform:
     result = tfx("echo", parent, child, "-b", bag, "--format", "json", *(at or ["--at", "0"]))
     record = json.loads(result.stdout)
     return Transform(tuple(record["translation"]), tuple(record["rotation"]))
 
 
-def _pasted(tfx, tmp_path: Path, parent: str, *args: str | Path) -> Transform:
+def _pasted(tfx: Tfx, tmp_path: Path, parent: str, *args: str | Path) -> Transform:
     """``tfx static ARGS`` into a copy of the sample bag, then the transform it added, as tfx reads it."""
     out = tmp_path / f"pasted_{len(list(tmp_path.iterdir()))}.bag"
     made = tfx("static", *args, "-b", SAMPLE_BAGS["ros1"], "-o", out)
@@ -45,7 +45,7 @@ def _within_ulps(printed: list[float], exact: list[float]) -> bool:
     return all(abs(p - e) <= max(2 * math.ulp(e), 1e-15) for p, e in zip(printed, exact, strict=True))
 
 
-def test_rounding_noise_is_not_printed(tfx, tmp_path: Path) -> None:
+def test_rounding_noise_is_not_printed(tfx: Tfx, tmp_path: Path) -> None:
     """0.5 m along a frame turned by 90 degrees: tf2's arithmetic gives (1.1e-16, 0.4999999999999999) or
     the like; the lines to paste say 0.0 and 0.5."""
     turned, moved = tmp_path / "turned.bag", tmp_path / "moved.bag"
@@ -64,7 +64,7 @@ def test_rounding_noise_is_not_printed(tfx, tmp_path: Path) -> None:
 @pytest.mark.parametrize("bag", list(SAMPLE_BAGS))
 @pytest.mark.parametrize(("parent", "child", "at"), LOOKUPS)
 def test_static_lines_carry_the_exact_numbers_and_give_back_the_transform(
-    tfx, tmp_path: Path, bag: str, parent: str, child: str, at: list[str]
+    tfx: Tfx, tmp_path: Path, bag: str, parent: str, child: str, at: list[str]
 ) -> None:
     echoed = _echoed(tfx, SAMPLE_BAGS[bag], parent, child, at)
     result = tfx("echo", parent, child, "-b", SAMPLE_BAGS[bag], "--format", "static", *at)
@@ -89,7 +89,7 @@ def test_static_lines_carry_the_exact_numbers_and_give_back_the_transform(
 
 @pytest.mark.parametrize(("parent", "child", "at"), LOOKUPS)
 def test_yaml_entry_is_read_back_by_tfx_static_from(
-    tfx, tmp_path: Path, parent: str, child: str, at: list[str]
+    tfx: Tfx, tmp_path: Path, parent: str, child: str, at: list[str]
 ) -> None:
     bag = SAMPLE_BAGS["mcap"]
     result = tfx("echo", parent, child, "-b", bag, "--format", "yaml", *at)
@@ -99,11 +99,13 @@ def test_yaml_entry_is_read_back_by_tfx_static_from(
 
 
 @pytest.mark.parametrize(("parent", "child", "at"), LOOKUPS)
-def test_urdf_origin_is_fixed_axis_roll_pitch_yaw(tfx, parent: str, child: str, at: list[str]) -> None:
+def test_urdf_origin_is_fixed_axis_roll_pitch_yaw(tfx: Tfx, parent: str, child: str, at: list[str]) -> None:
     bag = SAMPLE_BAGS["db3"]
     joint = ET.fromstring(tfx("echo", parent, child, "-b", bag, "--format", "urdf", *at).stdout)
     assert joint.get("type") == "fixed"
-    assert joint.find("parent").get("link") == parent and joint.find("child").get("link") == child  # type: ignore[union-attr]
+    named = joint.find("parent"), joint.find("child")
+    assert named[0] is not None and named[1] is not None
+    assert named[0].get("link") == parent and named[1].get("link") == child
     origin = joint.find("origin")
     assert origin is not None
     xyz = [float(v) for v in origin.get("xyz", "").split()]
@@ -113,7 +115,7 @@ def test_urdf_origin_is_fixed_axis_roll_pitch_yaw(tfx, parent: str, child: str, 
     _same(Transform.from_rpy(tuple(xyz), tuple(rpy)), echoed, 1e-9)  # type: ignore[arg-type]
 
 
-def test_urdf_rpy_is_what_ros_makes_of_it(tfx, tf2_available: None) -> None:
+def test_urdf_rpy_is_what_ros_makes_of_it(tfx: Tfx, tf2_available: None) -> None:
     """ROS 1's own tf.transformations reads the rpy with static axes x, y, z, as URDF defines it."""
     bag = SAMPLE_BAGS["ros1"]
     origin = ET.fromstring(tfx("echo", "map", "gripper", "-b", bag, "--format", "urdf", "--at", "+3").stdout).find(
@@ -126,10 +128,10 @@ def test_urdf_rpy_is_what_ros_makes_of_it(tfx, tf2_available: None) -> None:
         subprocess.run(["/usr/bin/python3", "-c", code], capture_output=True, text=True, check=True).stdout
     )
     echoed = _echoed(tfx, bag, "map", "gripper", ["--at", "+3"])
-    _same(Transform(echoed.translation, tuple(ros)), echoed, 1e-9)  # type: ignore[arg-type]
+    _same(Transform(echoed.translation, tuple(ros)), echoed, 1e-9)
 
 
-def test_paste_formats_escape_names_for_their_language(tfx, tmp_path: Path) -> None:
+def test_paste_formats_escape_names_for_their_language(tfx: Tfx, tmp_path: Path) -> None:
     out = tmp_path / "odd.bag"
     assert (
         tfx(
@@ -152,10 +154,8 @@ def test_paste_formats_escape_names_for_their_language(tfx, tmp_path: Path) -> N
     odd = 'it\'s <a> "frame"'
     static = tfx("echo", "base_link", odd, "-b", out, "--format", "static").stdout.splitlines()[0]
     assert shlex.split(static)[-1] == odd
-    assert (
-        ET.fromstring(tfx("echo", "base_link", odd, "-b", out, "--format", "urdf").stdout).find("child").get("link")
-        == odd
-    )  # type: ignore[union-attr]
+    urdf_child = ET.fromstring(tfx("echo", "base_link", odd, "-b", out, "--format", "urdf").stdout).find("child")
+    assert urdf_child is not None and urdf_child.get("link") == odd
     entry = tmp_path / "odd.yaml"
     entry.write_text(tfx("echo", "base_link", odd, "-b", out, "--format", "yaml").stdout)
     from tftools.sources.live.static_file import read_static_transforms
@@ -163,7 +163,7 @@ def test_paste_formats_escape_names_for_their_language(tfx, tmp_path: Path) -> N
     assert read_static_transforms(entry)[0].child_frame_id == odd
 
 
-def test_static_deg_takes_degrees_in_both_forms(tfx, tmp_path: Path) -> None:
+def test_static_deg_takes_degrees_in_both_forms(tfx: Tfx, tmp_path: Path) -> None:
     radians = _pasted(
         tfx, tmp_path, "base_link", "0.1", "0", "0.2", str(math.pi / 2), "0", "-0.3", "base_link", "pasted"
     )

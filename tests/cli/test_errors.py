@@ -1,5 +1,5 @@
 """The library's errors name no option; the command line words each with the option it came from, on one line,
-with exit code 2 (``tftools.cli.errors.TABLE``)."""
+with exit code 2 (``tftools.cli.errors.table``)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS, Result
+from tests.cli.conftest import SAMPLE_BAGS, Result, Tfx
 from tftools.analysis.fleet import Fleet, run_fleet, scheduler_address
-from tftools.cli.errors import TABLE, UsageError, worded
+from tftools.cli.errors import UsageError, table, worded
 from tftools.core.errors import (
     FleetUnavailableError,
     InvalidTransformError,
@@ -20,7 +20,7 @@ from tftools.core.errors import (
 )
 from tftools.core.frames import known_frame
 from tftools.core.transform import Transform
-from tftools.sinks.static import add_static, checked, copyable
+from tftools.sinks.static import StaticQuery, checked, copy_with_statics, copyable
 from tftools.sources.errors import NoStampedDataError, PartOfBagError
 
 BAG = str(SAMPLE_BAGS["ros1"])
@@ -38,7 +38,7 @@ def said_by_library(error: TfToolsError) -> str:
     return f"{error} {error.hint}"
 
 
-def test_an_address_that_is_no_scheduler_is_the_librarys_fact_and_the_dask_options_words(tfx) -> None:
+def test_an_address_that_is_no_scheduler_is_the_librarys_fact_and_the_dask_options_words(tfx: Tfx) -> None:
     with pytest.raises(FleetUnavailableError) as raised:
         scheduler_address("nonsense")
     assert raised.value.address == "nonsense" and "--" not in said_by_library(raised.value)
@@ -48,7 +48,7 @@ def test_an_address_that_is_no_scheduler_is_the_librarys_fact_and_the_dask_optio
 
 
 def test_dask_not_installed_is_said_without_the_option_by_the_library(
-    tfx, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+    tfx: Tfx, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed raises ImportError
     with pytest.raises(FleetUnavailableError) as raised:
@@ -58,26 +58,28 @@ def test_dask_not_installed_is_said_without_the_option_by_the_library(
     assert "--dask needs Dask's distributed package, which is not installed" in line
 
 
-def test_a_transform_tf2_cannot_take_is_an_invalid_transform(tfx, tmp_path: Path) -> None:
+def test_a_transform_tf2_cannot_take_is_an_invalid_transform(tfx: Tfx, tmp_path: Path) -> None:
     with pytest.raises(InvalidTransformError, match=r"the frame and the child frame are the same \(a\)"):
         checked(Transform((0, 0, 0), (0, 0, 0, 1), 0, "a", "a"))
     line = one_error_line(tfx("static", "0", "0", "0", "0", "0", "0", "0", "a", "b", "-b", BAG, "-o", tmp_path / "o"))
     assert "a -> b: the quaternion is zero (the identity is qx 0 qy 0 qz 0 qw 1)" in line
 
 
-def test_a_frame_the_bag_has_names_tfx_frames_only_on_the_command_line(tfx, tmp_path: Path) -> None:
+def test_a_frame_the_bag_has_names_tfx_frames_only_on_the_command_line(tfx: Tfx, tmp_path: Path) -> None:
     laser = Transform((0, 0, 0), (0, 0, 0, 1), 0, "base_link", "laser")
     with pytest.raises(InvalidTransformError, match="already has laser") as raised:
-        add_static(BAG, tmp_path / "copy.bag", [laser])
+        copy_with_statics(BAG, tmp_path / "copy.bag", StaticQuery((laser,)))
     assert (raised.value.child, raised.value.recording) == ("laser", BAG)
+    assert "tfx" not in str(raised.value)
     assert raised.value.hint == "add only frames the bag lacks"
     args = ("0", "0", "0", "0", "0", "0", "1", "base_link", "laser", "-b", BAG, "-o", tmp_path / "copy.bag")
     line = one_error_line(tfx("static", *args))
     assert f"add only frames the bag lacks: tfx frames -b {BAG} lists its own" in line
+    assert "would give tf2 two values for it, and tfx wtf would fail the copy" in line
     assert not (tmp_path / "copy.bag").exists()
 
 
-def test_a_file_of_a_ros2_bag_is_refused_in_the_bags_words_and_then_the_b_options(tfx, tmp_path: Path) -> None:
+def test_a_file_of_a_ros2_bag_is_refused_in_the_bags_words_and_then_the_b_options(tfx: Tfx, tmp_path: Path) -> None:
     with pytest.raises(PartOfBagError) as raised:
         copyable(str(DB3))
     assert raised.value.bag == str(DB3.parent) and "-b" not in said_by_library(raised.value)
@@ -87,7 +89,7 @@ def test_a_file_of_a_ros2_bag_is_refused_in_the_bags_words_and_then_the_b_option
     assert f"-b {DB3.parent} -o OUTPUT" in line
 
 
-def test_a_frame_not_there_carries_the_frames_there_are(tfx) -> None:
+def test_a_frame_not_there_carries_the_frames_there_are(tfx: Tfx) -> None:
     with pytest.raises(UnknownFrameError) as raised:
         known_frame(["odom", "base_link", "laser"], "/lasr")
     assert raised.value.frame == "/lasr" and raised.value.frames == ("laser", "base_link", "odom")
@@ -104,13 +106,13 @@ def test_no_sensor_data_is_a_source_error_with_its_reasons() -> None:
 
 
 def test_the_table_has_one_row_per_error_sorted_and_others_pass_as_they_are() -> None:
-    names = [kind.__name__ for kind in TABLE]
+    names = [kind.__name__ for kind in table()]
     assert names == sorted(names)
     plain = TfToolsError("something")
     assert worded(plain) == (plain, 2)
 
 
-def test_a_findings_file_that_may_not_be_written_names_force_only_on_the_command_line(tfx, tmp_path: Path) -> None:
+def test_a_findings_file_that_may_not_be_written_names_force_only_on_the_command_line(tfx: Tfx, tmp_path: Path) -> None:
     from tftools.sinks.errors import FindingsFileError
     from tftools.sinks.findings_mcap import refuse_output
 

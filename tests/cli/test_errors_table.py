@@ -1,10 +1,12 @@
-"""The library's errors in the command line's words (``tftools.cli.errors.TABLE``): each row words its error
+"""The library's errors in the command line's words (``tftools.cli.errors.table``): each row words its error
 with the option it came from, as tfx said it when the library raised ``UsageError`` itself."""
 
 from __future__ import annotations
 
+import re
+
 from tftools.cli.common import Exit
-from tftools.cli.errors import TABLE, UsageError, worded
+from tftools.cli.errors import UsageError, table, worded
 from tftools.core.errors import InvalidTimeError, TfToolsError, TimeRangeError, TooManyLinesError
 from tftools.core.time import NS_PER_S
 
@@ -12,9 +14,9 @@ SPAN = (1_714_741_164_178_000_000, 1_714_741_215_785_000_000)
 
 
 def test_rows_are_sorted_by_class_name_and_word_library_errors() -> None:
-    names = [kind.__name__ for kind in TABLE]
+    names = [kind.__name__ for kind in table()]
     assert names == sorted(names)
-    assert all(issubclass(kind, TfToolsError) and not issubclass(kind, UsageError) for kind in TABLE)
+    assert all(issubclass(kind, TfToolsError) and not issubclass(kind, UsageError) for kind in table())
 
 
 def test_a_time_is_worded_with_its_option() -> None:
@@ -47,3 +49,50 @@ def _in_cli_words(error: TfToolsError) -> TfToolsError:
     said, code = worded(error)
     assert code == Exit.UNUSABLE
     return said
+
+
+#: A tfx option or command in a message: what a Python caller must never be told.
+CLI_WORDS = re.compile(r"(?<![\w-])--[a-z]|-[bo] [A-Z]|tfx (?:wtf|echo|static|frames|view-frames|filter|report)\b")
+#: A ROS tool's command line, which a message may name as a remedy (``rosbag play --clock BAG``).
+ROS_TOOL = re.compile(r"\b(?:rosbag|rosparam|rostopic|ros2 \w+) [^,;()]*")
+
+
+def _library_errors() -> list[tuple[TfToolsError, str]]:
+    """Errors the library raises whose command line words name an option or a command, each with a part of
+    those words."""
+    from tftools.analysis.tree_file import TreeFileError
+    from tftools.render.drawing import GraphTooLargeError, GraphvizFailedError, OutputExistsError
+    from tftools.render.plots import PlotUnavailableError
+    from tftools.render.wtf_lines import ReportError
+    from tftools.sinks.errors import CopyError
+    from tftools.sources.errors import NoTransformsError
+    from tftools.sources.live.errors import NoClockError, NoRosSelectedError
+
+    bag = "run.bag"
+    return [
+        (NoTransformsError([bag], ["/tf"], ["/scan"]), "was /tf recorded? pick other topics with --topic"),
+        (NoTransformsError([bag], ["/tf"], ["/tf"]), "`tfx wtf` names their type and encoding"),
+        (NoTransformsError([bag], ["/tf"], unread=["/tf: json"]), "or pick other topics with --topic"),
+        (NoRosSelectedError(), "give a bag with -b BAG"),
+        (NoClockError(5), "tfx ... --wall-time"),
+        (CopyError(bag, "holds no static transforms", "no_statics"), "tfx static X Y Z ... -b IN -o OUT"),
+        (CopyError("out.bag", "already exists", "exists"), "or --force to replace it"),
+        (CopyError("out", "is a folder", "not_replaceable"), "--force replaces only an earlier output"),
+        (CopyError(bag, "cannot be copied whole: cut", "damaged"), "tfx wtf -b BAG says what is damaged"),
+        (CopyError(bag, "/x is in json encoding", "encoding"), "tfx static copies ROS 1 bags"),
+        (TreeFileError("tree.yaml", "no such file", missing=True, fix="check the path"), "tfx wtf --init BAG >"),
+        (TreeFileError("tree.yaml", "has no 'frames:' mapping"), "see tfx wtf --help (--init writes such a file)"),
+        (GraphTooLargeError("page.svg", 5000), "tfx view-frames -b BAG -o frames.gv writes its source"),
+        (GraphvizFailedError("tree.svg", b"syntax error"), "write the Graphviz source with --format dot"),
+        (OutputExistsError("tree.pdf"), "name the output with -o"),
+        (PlotUnavailableError("plotting needs matplotlib, which is not installed"), "--plot needs matplotlib"),
+        (ReportError("old.jsonl: line 1 is not a line of a tfx wtf report"), "written by tfx wtf --format jsonl"),
+    ]
+
+
+def test_library_errors_name_no_option_and_the_command_line_words_them() -> None:
+    for error, cli_words in _library_errors():
+        said = f"{error} ({getattr(error, 'hint', '')})"
+        assert not CLI_WORDS.search(ROS_TOOL.sub("", said).replace("tfx wtf report", "")), said
+        worded_error = _in_cli_words(error)
+        assert cli_words in f"{worded_error} ({worded_error.hint})", type(error).__name__

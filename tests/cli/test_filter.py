@@ -9,16 +9,18 @@ from typing import Any
 
 import numpy as np
 import pytest
+from rosbags.typesys.store import Typestore
 
 from tests.analysis.test_filter import START, robot
 from tests.bags import TfMessage, write_bag
+from tests.cli.conftest import Tfx
 from tests.sources.bag.test_rosbag2 import convert
 from tftools.core.time import NS_PER_S
 
 MS = 1_000_000
 
 
-def _stamped(store, msgtype: str, frame_id: str, stamp: int, **fields):
+def _stamped(store: Typestore, msgtype: str, frame_id: str, stamp: int, **fields: Any) -> Any:
     types = store.types
     sec, nanosec = divmod(stamp, NS_PER_S)
     header = types["std_msgs/msg/Header"](
@@ -27,7 +29,7 @@ def _stamped(store, msgtype: str, frame_id: str, stamp: int, **fields):
     return types[msgtype](header=header, **fields)
 
 
-def scan(store, frame_id: str, stamp: int):
+def scan(store: Typestore, frame_id: str, stamp: int) -> Any:
     """An empty sensor_msgs/LaserScan."""
     empty = np.zeros(0, np.float32)
     return _stamped(store, "sensor_msgs/msg/LaserScan", frame_id, stamp, angle_min=0.0, angle_max=1.0,
@@ -35,13 +37,13 @@ def scan(store, frame_id: str, stamp: int):
                     ranges=empty, intensities=empty)  # fmt: skip
 
 
-def image(store, frame_id: str, stamp: int):
+def image(store: Typestore, frame_id: str, stamp: int) -> Any:
     """A one-pixel sensor_msgs/Image."""
     return _stamped(store, "sensor_msgs/msg/Image", frame_id, stamp, height=1, width=1, encoding="mono8",
                     is_bigendian=0, step=1, data=np.zeros(1, np.uint8))  # fmt: skip
 
 
-def _sensor_messages(store) -> list[tuple[str, str, int, object]]:
+def _sensor_messages(store: Typestore) -> list[tuple[str, str, int, object]]:
     """(topic, type, record time, message): a laser whose tf comes late, an IMU that is fine, a camera
     whose frame_id is misspelt, and a status topic with a header but no frame_id."""
     types = store.types
@@ -84,7 +86,9 @@ def sensor_bags(
     ros1 = folder / "robot.bag"
     with Reader(tf_only) as reader, Writer(ros1) as writer:
         added = {}
-        rows = [(t, c.topic, c.msgtype, raw, c) for c, t, raw in reader.messages()]
+        rows: list[tuple[int, str, str, Any, Any]] = [
+            (t, c.topic, c.msgtype, raw, c) for c, t, raw in reader.messages()
+        ]
         rows += [(t, topic, kind, store.serialize_ros1(msg, kind), None) for topic, kind, t, msg in sensors(store)]
         for record, topic, kind, raw, connection in sorted(rows, key=lambda r: r[0]):
             if topic not in added:
@@ -102,7 +106,7 @@ def sensor_bags(
 
 
 @pytest.mark.parametrize("fmt", ["ros1", "db3", "mcap"])
-def test_filter_tells_per_topic_what_a_message_filter_did(tfx, bags: dict[str, Path], fmt: str) -> None:
+def test_filter_tells_per_topic_what_a_message_filter_did(tfx: Tfx, bags: dict[str, Path], fmt: str) -> None:
     result = tfx("filter", "-b", bags[fmt], "--target", "odom", "--format", "json")
     assert result.code == 1, result.stderr  # the camera's messages are lost for good
     report = json.loads(result.stdout)
@@ -117,7 +121,7 @@ def test_filter_tells_per_topic_what_a_message_filter_did(tfx, bags: dict[str, P
     assert camera["never"] == 9 and camera["reasons"] == {"unknown_frame": 9}
 
 
-def test_a_filter_timeout_and_queue_count_what_they_drop(tfx, bags: dict[str, Path]) -> None:
+def test_a_filter_timeout_and_queue_count_what_they_drop(tfx: Tfx, bags: dict[str, Path]) -> None:
     report = json.loads(
         tfx("filter", "/scan", "-b", bags["ros1"], "--wait", "0.05", "--queue", "1", "-f", "json").stdout
     )
@@ -133,14 +137,14 @@ def test_a_filter_timeout_and_queue_count_what_they_drop(tfx, bags: dict[str, Pa
     assert text.code == 0 and "/scan" in text.stdout and "base_link -> laser" in text.stdout
 
 
-def test_filter_refuses_what_it_cannot_use(tfx, bags: dict[str, Path]) -> None:
+def test_filter_refuses_what_it_cannot_use(tfx: Tfx, bags: dict[str, Path]) -> None:
     nothing = tfx("filter", "/nothing", "-b", bags["ros1"])
     assert nothing.code == 2 and "no topic with a Header" in nothing.stderr
     unknown = tfx("filter", "-b", bags["ros1"], "--target", "nowhere")
     assert unknown.code == 2 and "frame 'nowhere' does not exist" in unknown.stderr
 
 
-def test_wtf_reports_the_sensor_data_that_tf_lets_down(tfx, bags: dict[str, Path]) -> None:
+def test_wtf_reports_the_sensor_data_that_tf_lets_down(tfx: Tfx, bags: dict[str, Path]) -> None:
     (report,) = json.loads(tfx("wtf", bags["mcap"], "--format", "json").stdout)["bags"]
     codes = {f["code"]: f for f in report["findings"]}
     assert codes["sensor_frame"]["severity"] == "error" and "'camra'" in codes["sensor_frame"]["message"]
@@ -149,7 +153,7 @@ def test_wtf_reports_the_sensor_data_that_tf_lets_down(tfx, bags: dict[str, Path
     assert waiting["severity"] == "info" and "/scan" in waiting["message"] and "odom" in waiting["message"]
 
 
-def test_wtf_says_which_frame_sensor_data_was_checked_in(tfx, bags: dict[str, Path]) -> None:
+def test_wtf_says_which_frame_sensor_data_was_checked_in(tfx: Tfx, bags: dict[str, Path]) -> None:
     (usual,) = json.loads(tfx("wtf", bags["ros1"], "-f", "json").stdout)["bags"]
     assert usual["sensor_data"] == {
         "topics": ["/camera/image_raw", "/imu", "/scan"],  # /diagnostics names no frame: not tf's business

@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import json
+from typing import Any
 
 from tests.live import conftest as live
 from tests.live.conftest import STATIC_PUBLISHER, Ros, wait_until
@@ -14,11 +15,11 @@ from tests.live.ros2_processes import Ros2Domain, domain_fixture
 master, ros, ros1_available, domain = live.master, live.ros, live.ros1_available, domain_fixture
 
 
-def _topics(report: dict) -> dict[str, dict]:
+def _topics(report: dict[str, Any]) -> dict[str, dict[str, Any]]:
     return {t["topic"]: t for t in report["topics"]}
 
 
-def _assert_scans_go_through_and_the_misspelt_never(report: dict) -> None:
+def _assert_scans_go_through_and_the_misspelt_never(report: dict[str, Any]) -> None:
     topics = _topics(report)
     assert report["target"] == "odom" and "/tf" not in topics and "/tf_static" not in topics
     scan, misspelt = topics["/scan"], topics["/scan_misspelt"]

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tests.oracle import Scenario, run_tf2
 
 TRUE_RATES = {"odom": 10, "base_footprint": 50, "left_wheel": 30, "right_wheel": 30, "arm_link1": 50, "arm_link6": 50}
@@ -14,7 +15,7 @@ STATIC = {"base_link", "laser", "imu_link", "camera_link", "camera_optical_frame
 
 
 @pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
-def test_json_describes_every_frame(tfx, fmt: str) -> None:
+def test_json_describes_every_frame(tfx: Tfx, fmt: str) -> None:
     result = tfx("frames", "-b", SAMPLE_BAGS[fmt], "--format", "json")
     assert result.code == 0, result.stderr
     doc = json.loads(result.stdout)
@@ -27,7 +28,7 @@ def test_json_describes_every_frame(tfx, fmt: str) -> None:
     assert frames["arm_link3"]["parent"] == "arm_link2"
 
 
-def test_text_tree_nests_children_under_parents(tfx) -> None:
+def test_text_tree_nests_children_under_parents(tfx: Tfx) -> None:
     result = tfx("frames", "-b", SAMPLE_BAGS["mcap"])
     assert result.code == 0, result.stderr
     lines = result.stdout.splitlines()
@@ -37,14 +38,14 @@ def test_text_tree_nests_children_under_parents(tfx) -> None:
     assert "50.0 Hz" in next(line for line in lines if "arm_link4" in line)
 
 
-def test_yaml_is_tf2s_all_frames_as_yaml(tfx, tf2_available: None) -> None:
+def test_yaml_is_tf2s_all_frames_as_yaml(tfx: Tfx, tf2_available: None) -> None:
     result = tfx("frames", "-b", SAMPLE_BAGS["ros1"], "--format", "yaml")
     (theirs,) = run_tf2([Scenario(queries=[["yaml"]], bag=str(SAMPLE_BAGS["ros1"]))])
     text = theirs["answers"][0]["text"]
     assert text.endswith("\n") and result.stdout == text
 
 
-def test_text_tree_of_a_chain_of_thousands_of_frames(tfx, tmp_path) -> None:
+def test_text_tree_of_a_chain_of_thousands_of_frames(tfx: Tfx, tmp_path: Path) -> None:
     """No recursion and no lines of thousands of indents: past a depth it is written out instead."""
     from tests.bags import TfMessage, write_bag
     from tftools.core.transform import Transform
@@ -60,7 +61,7 @@ def test_text_tree_of_a_chain_of_thousands_of_frames(tfx, tmp_path) -> None:
     assert f"[depth {MAX_DRAWN_DEPTH + 1}] f{MAX_DRAWN_DEPTH + 1}" in result.stdout
 
 
-def test_a_tree_too_large_to_colour_is_the_same_text(tfx, monkeypatch) -> None:
+def test_a_tree_too_large_to_colour_is_the_same_text(tfx: Tfx, monkeypatch: pytest.MonkeyPatch) -> None:
     """Past MAX_STYLED_LINES the tree goes out as plain text (rich costs 0.3 ms a line): the same text."""
     from tftools.render import frames
 

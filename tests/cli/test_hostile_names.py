@@ -11,7 +11,7 @@ from pathlib import Path
 import graphviz
 import pytest
 
-from tests.cli.conftest import HOSTILE_NAMES, HOSTILE_PUBLISHER, SAMPLE_BAGS
+from tests.cli.conftest import HOSTILE_NAMES, HOSTILE_PUBLISHER, SAMPLE_BAGS, Tfx
 from tftools.render.escape import printable
 
 FORMATS = ("ros1", "db3", "mcap")
@@ -45,7 +45,7 @@ def assert_one_line_errors(stderr: str) -> None:
 
 @pytest.mark.parametrize("fmt", FORMATS)
 @pytest.mark.parametrize("name", list(TEXT_COMMANDS))
-def test_text_output_shows_names_escaped(tfx, hostile_bags, fmt: str, name: str) -> None:
+def test_text_output_shows_names_escaped(tfx: Tfx, hostile_bags: dict[str, Path], fmt: str, name: str) -> None:
     args = TEXT_COMMANDS[name]
     result = tfx(*args, hostile_bags[fmt]) if args[0] == "wtf" else tfx(*args, "-b", hostile_bags[fmt])
     assert result.code in (0, 1, 2), result.stderr
@@ -64,7 +64,7 @@ def test_text_output_shows_names_escaped(tfx, hostile_bags, fmt: str, name: str)
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_json_keeps_the_exact_names(tfx, hostile_bags, fmt: str) -> None:
+def test_json_keeps_the_exact_names(tfx: Tfx, hostile_bags: dict[str, Path], fmt: str) -> None:
     frames = json.loads(tfx("frames", "-b", hostile_bags[fmt], "-f", "json").stdout)
     assert {f["frame"] for f in frames["frames"]} == {"map", *HOSTILE_NAMES}
     monitor = json.loads(tfx("monitor", "-b", hostile_bags[fmt], "-f", "json").stdout)
@@ -77,7 +77,7 @@ def test_json_keeps_the_exact_names(tfx, hostile_bags, fmt: str) -> None:
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_junit_is_valid_xml(tfx, hostile_bags, fmt: str) -> None:
+def test_junit_is_valid_xml(tfx: Tfx, hostile_bags: dict[str, Path], fmt: str) -> None:
     result = tfx("wtf", hostile_bags[fmt], "-f", "junit")
     root = ET.fromstring(result.stdout)  # XML 1.0 cannot hold control characters: they are escaped
     failures = " ".join(e.text or "" for e in root.iter("system-out"))
@@ -86,7 +86,7 @@ def test_junit_is_valid_xml(tfx, hostile_bags, fmt: str) -> None:
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_graph_source_reads_back_with_every_frame(tfx, hostile_bags, fmt: str) -> None:
+def test_graph_source_reads_back_with_every_frame(tfx: Tfx, hostile_bags: dict[str, Path], fmt: str) -> None:
     if shutil.which("dot") is None:
         pytest.skip("Graphviz's dot is not installed")
     result = tfx("view-frames", "-b", hostile_bags[fmt], "-f", "dot", "-o", "-")
@@ -103,7 +103,7 @@ def test_graph_source_reads_back_with_every_frame(tfx, hostile_bags, fmt: str) -
 
 
 @pytest.mark.parametrize("picture", ["pdf", "svg"])
-def test_graph_is_drawn(tfx, hostile_bags, tmp_path: Path, picture: str) -> None:
+def test_graph_is_drawn(tfx: Tfx, hostile_bags: dict[str, Path], tmp_path: Path, picture: str) -> None:
     if shutil.which("dot") is None:
         pytest.skip("Graphviz's dot is not installed")
     output = tmp_path / f"frames.{picture}"
@@ -112,7 +112,7 @@ def test_graph_is_drawn(tfx, hostile_bags, tmp_path: Path, picture: str) -> None
     assert result.stderr.count("\n") == 1 and result.stderr.startswith("wrote ")
 
 
-def test_a_file_name_with_escapes_and_bytes_that_are_not_utf8(tfx, tmp_path: Path) -> None:
+def test_a_file_name_with_escapes_and_bytes_that_are_not_utf8(tfx: Tfx, tmp_path: Path) -> None:
     name = os.fsdecode(b"run\x1b[2J\xff\n.bag")
     bag = tmp_path / name
     shutil.copy(SAMPLE_BAGS["ros1"], bag)

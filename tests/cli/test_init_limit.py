@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from tests.bags import BagFormat, TfMessage, write_bag
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.cli import expected
 from tftools.core.transform import Transform
 
@@ -16,7 +16,7 @@ T0 = 1_700_000_000 * 10**9
 
 
 def test_a_recording_of_more_frames_than_a_tree_file_holds_is_refused_in_one_line(
-    tfx, monkeypatch: pytest.MonkeyPatch
+    tfx: Tfx, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr(expected, "MAX_INIT_FRAMES", 5)
     result = tfx("wtf", "--init", SAMPLE_BAGS["ros1"])
@@ -27,7 +27,7 @@ def test_a_recording_of_more_frames_than_a_tree_file_holds_is_refused_in_one_lin
 
 
 @pytest.mark.slow  # ruamel writes and parses 5,000 frames in ~20 s of CPU
-def test_the_largest_tree_init_writes_is_read_back_by_expect(tfx, tmp_path: Path) -> None:
+def test_the_largest_tree_init_writes_is_read_back_by_expect(tfx: Tfx, tmp_path: Path) -> None:
     frames = expected.MAX_INIT_FRAMES - 2  # with odom and base_link
     statics = [Transform((0.1, 0.2, 0.3), (0, 0, 0.6, 0.8), T0, "base_link", f"sensor_{k}") for k in range(frames)]
     stamps = [T0 + k * 10**8 for k in range(50)]

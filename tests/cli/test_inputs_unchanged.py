@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 
 STATIC = ("static", "0", "0", "1", "0", "0", "0", "base_link", "extra")
 FRAME = "base_link"
@@ -74,7 +74,7 @@ def fingerprint(path: Path) -> dict[str, tuple[str, int]]:
 
 @pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
 @pytest.mark.parametrize("case", list(CASES))
-def test_inputs_unchanged(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: str, case: str) -> None:
+def test_inputs_unchanged(tfx: Tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: str, case: str) -> None:
     holder = tmp_path / "recordings"
     holder.mkdir()
     sample = SAMPLE_BAGS[fmt]

@@ -12,6 +12,7 @@ from typing import Any
 import pytest
 
 from tests.bags import BagFormat, TfMessage, write_bag
+from tests.cli.conftest import Tfx
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 
@@ -37,7 +38,9 @@ def huge_values(tmp_path_factory: pytest.TempPathFactory) -> Path:
     [("wtf", "BAG"), ("view-frames", "-b", "BAG", "-o", "OUT.svg"), ("report", "-b", "BAG", "-o", "OUT.html")],
     ids=["wtf", "view-frames", "report"],
 )
-def test_values_near_the_largest_float_raise_no_warning(tfx, huge_values: Path, tmp_path: Path, command) -> None:
+def test_values_near_the_largest_float_raise_no_warning(
+    tfx: Tfx, huge_values: Path, tmp_path: Path, command: tuple[str, ...]
+) -> None:
     args = [str(huge_values) if a == "BAG" else str(tmp_path / a[4:]) if a.startswith("OUT") else a for a in command]
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # a warning raised anywhere fails the command
@@ -46,7 +49,7 @@ def test_values_near_the_largest_float_raise_no_warning(tfx, huge_values: Path, 
     assert "Warning" not in result.stderr and "internal error" not in result.stderr
 
 
-def test_a_library_warning_is_one_line_of_tfx(tfx, monkeypatch) -> None:
+def test_a_library_warning_is_one_line_of_tfx(tfx: Tfx, monkeypatch: pytest.MonkeyPatch) -> None:
     from tftools.cli import frames
 
     real = frames.command
@@ -62,7 +65,7 @@ def test_a_library_warning_is_one_line_of_tfx(tfx, monkeypatch) -> None:
     assert lines == ["tfx: note: overflow encountered in multiply (RuntimeWarning in test_limits_cli)"], result.stderr
 
 
-def test_a_resumed_report_that_is_a_fifo_is_refused_at_once(tfx, tmp_path: Path) -> None:
+def test_a_resumed_report_that_is_a_fifo_is_refused_at_once(tfx: Tfx, tmp_path: Path) -> None:
     """``mkfifo r.jsonl; tfx wtf --resume r.jsonl`` blocked for ever (issue 32, H1)."""
     fifo = tmp_path / "r.jsonl"
     os.mkfifo(fifo)

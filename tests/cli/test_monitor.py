@@ -11,7 +11,7 @@ import pytest
 
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.monitor import monitor_buffer
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, to_sec
@@ -31,7 +31,7 @@ MS_NS = 1_000_000
 
 
 @pytest.mark.parametrize("fmt", SAMPLES)
-def test_sample_bags_every_edge_at_its_true_rate(tfx, fmt: str) -> None:
+def test_sample_bags_every_edge_at_its_true_rate(tfx: Tfx, fmt: str) -> None:
     result = tfx("monitor", "-b", SAMPLE_BAGS[fmt], "--format", "json")
     assert result.code == 0, result.stderr
     edges = {e["child"]: e for e in json.loads(result.stdout)["edges"]}
@@ -48,7 +48,7 @@ def test_sample_bags_every_edge_at_its_true_rate(tfx, fmt: str) -> None:
             assert publishers[name]["rate_hz"] == pytest.approx(hz, rel=0.02), name
 
 
-def test_json_schema_with_a_chain(tfx) -> None:
+def test_json_schema_with_a_chain(tfx: Tfx) -> None:
     result = tfx("monitor", "map", "gripper", "-b", SAMPLE_BAGS["mcap"], "-f", "json")
     assert result.code == 0, result.stderr
     doc = json.loads(result.stdout)
@@ -72,7 +72,7 @@ def test_json_schema_with_a_chain(tfx) -> None:
     assert "chain" not in json.loads(tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "-f", "json").stdout)
 
 
-def test_text_uses_tf_monitors_words(tfx) -> None:
+def test_text_uses_tf_monitors_words(tfx: Tfx) -> None:
     result = tfx("monitor", "-b", SAMPLE_BAGS["db3"])
     assert result.code == 0, result.stderr
     out = result.stdout
@@ -90,7 +90,7 @@ def test_text_uses_tf_monitors_words(tfx) -> None:
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_unseen_bags_text_and_json_agree_with_the_truth(tfx, tmp_path: Path, fmt: BagFormat) -> None:
+def test_unseen_bags_text_and_json_agree_with_the_truth(tfx: Tfx, tmp_path: Path, fmt: BagFormat) -> None:
     truth = scene(seed=11)
     bag = write_scene(tmp_path, fmt, truth.messages)
     doc = json.loads(tfx("monitor", "-b", bag, "-f", "json").stdout)
@@ -103,7 +103,7 @@ def test_unseen_bags_text_and_json_agree_with_the_truth(tfx, tmp_path: Path, fmt
     assert f"{edges['camera']['delay_mean_s']:.4f}" in camera and f"{edges['camera']['gap_max_s']:.4f}" in camera
 
 
-def test_start_and_end_select_a_stretch(tfx) -> None:
+def test_start_and_end_select_a_stretch(tfx: Tfx) -> None:
     whole = json.loads(tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "-f", "json").stdout)
     part = json.loads(tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "-f", "json", "--start", "+5", "--end", "+10").stdout)
     counts = {e["child"]: e["count"] for e in part["edges"]}
@@ -124,14 +124,14 @@ def test_start_and_end_select_a_stretch(tfx) -> None:
         (("-b", SAMPLE_BAGS["mcap"], "--start", "+20", "--play"), "outside the recording"),
     ],
 )
-def test_unusable_input_is_one_line_and_exit_2(tfx, args: tuple, says: str) -> None:
+def test_unusable_input_is_one_line_and_exit_2(tfx: Tfx, args: tuple[str | Path, ...], says: str) -> None:
     result = tfx("monitor", *args)
     assert result.code == 2
     assert result.stderr.startswith("tfx: error:") and says in result.stderr
     assert "Traceback" not in result.stderr and result.stderr.count("\n") == 1
 
 
-def test_play_ends_on_the_numbers_of_its_last_window(tfx) -> None:
+def test_play_ends_on_the_numbers_of_its_last_window(tfx: Tfx) -> None:
     result = tfx("monitor", "map", "base_footprint", "-b", SAMPLE_BAGS["mcap"], "--play", "--rate", "500",
                  "--window", "4", "-f", "json")  # fmt: skip
     assert result.code == 0, result.stderr
@@ -143,17 +143,18 @@ def test_play_ends_on_the_numbers_of_its_last_window(tfx) -> None:
     for theirs, ours in zip(last["edges"], expected.edges, strict=True):
         assert (theirs["child"], theirs["count"]) == (ours.child, ours.count)
         assert theirs["rate_hz"] == pytest.approx(ours.rate_hz, rel=1e-12)
+    assert expected.chain is not None
     assert last["chain"]["delay_mean_s"] == pytest.approx(seconds(expected.chain.delay_mean), rel=1e-12)
 
 
-def test_play_text_shows_the_live_header_and_table(tfx) -> None:
+def test_play_text_shows_the_live_header_and_table(tfx: Tfx) -> None:
     result = tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "--play", "--rate", "500")
     assert result.code == 0, result.stderr
     assert re.search(r"time 1700000014\.999 \(\+15\.0 s\), last 10 s, rate 500x", result.stdout)
     assert "RESULTS: for all Frames" in result.stdout and "All Broadcasters:" in result.stdout
 
 
-def test_echo_play_prints_the_latest_transform_in_bag_time(tfx) -> None:
+def test_echo_play_prints_the_latest_transform_in_bag_time(tfx: Tfx) -> None:
     # One second of bag at real speed, two lines a second: the one test here that takes wall time.
     result = tfx("echo", "map", "base_footprint", "-b", SAMPLE_BAGS["mcap"], "--play", "--start", "-1", "--rate", "4",
                  "-f", "json")  # fmt: skip
@@ -170,13 +171,13 @@ def test_echo_play_prints_the_latest_transform_in_bag_time(tfx) -> None:
     assert all(stamp <= time + 1000 for stamp, time in zip(stamps, times, strict=True))
 
 
-def test_static_chain_text_says_it_never_goes_stale(tfx, tmp_path: Path) -> None:
+def test_static_chain_text_says_it_never_goes_stale(tfx: Tfx, tmp_path: Path) -> None:
     bag = write_scene(tmp_path, BagFormat.rosbag2_mcap, scene().messages)
     out = tfx("monitor", "base_link", "laser", "-b", bag).stdout
     assert "Net delay     avg = -: max = -" in out and "never stale" in out
 
 
-def test_a_table_too_long_to_lay_out_is_written_as_lines(tfx, monkeypatch) -> None:
+def test_a_table_too_long_to_lay_out_is_written_as_lines(tfx: Tfx, monkeypatch: pytest.MonkeyPatch) -> None:
     """Past MAX_LAID_OUT_ROWS rows (rich lays a table out at 0.3 ms a row) the tables go out as lines,
     unmeasured: every name whole, every figure the JSON's."""
     import json

@@ -6,10 +6,11 @@ import json
 
 import pytest
 
+from tests.cli.conftest import Tfx
 from tests.cli.test_view_frames_live import ros_system  # noqa: F401 - the fixture
 
 
-def test_live_refreshes_with_the_publishers_rates(tfx, ros_system: str) -> None:  # noqa: F811
+def test_live_refreshes_with_the_publishers_rates(tfx: Tfx, ros_system: str) -> None:  # noqa: F811
     result = tfx("monitor", "odom", "laser", "--duration", "3.5", "--window", "2", "-f", "json")
     assert result.code == 0, result.stderr
     reports = [json.loads(line) for line in result.stdout.splitlines()]
@@ -34,6 +35,6 @@ def test_live_refreshes_with_the_publishers_rates(tfx, ros_system: str) -> None:
     assert "RESULTS: for all Frames" in text.stdout and "/odometry" in text.stdout
 
 
-def test_bag_only_options_are_refused_live(tfx) -> None:
+def test_bag_only_options_are_refused_live(tfx: Tfx) -> None:
     result = tfx("monitor", "--play")
     assert result.code == 2 and "only work on a bag" in result.stderr

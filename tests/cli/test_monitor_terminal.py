@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from tests.bags import TfMessage, write_bag
-from tests.cli.conftest import SAMPLE_BAGS, tfx
+from tests.cli.conftest import SAMPLE_BAGS, Tfx, tfx
 from tests.cli.terminal import REPO, lines_rows, on_terminal, table_cells
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -28,7 +28,8 @@ def truth() -> dict[str, object]:
         [sys.executable, "-m", "tftools", "monitor", "-b", BAG, "-f", "json"], cwd=REPO, capture_output=True, text=True
     )
     assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout)
+    truth: dict[str, object] = json.loads(done.stdout)
+    return truth
 
 
 @pytest.mark.parametrize("columns", [80, 120])
@@ -59,7 +60,10 @@ def test_names_are_never_cut_nor_folded(truth: dict[str, object], columns: int) 
     assert [names for _, names in broadcasters] == [
         f"{a['authority']}: {', '.join(child for _, child in a['edges'])}" for a in authorities
     ]
-    assert "Jitter: standard deviation of the intervals between stamps" in " ".join(tables)
+    assert (
+        "Jitter: how irregular an edge's stamps are, the standard deviation of the intervals between them"
+        in " ".join(line.strip() for line in tables)
+    )
 
 
 def test_a_wide_terminal_gets_the_table() -> None:
@@ -69,9 +73,12 @@ def test_a_wide_terminal_gets_the_table() -> None:
     assert code == 0 and lines[0][:4] == ["Parent", "Frame", "published by", "Samples"]
     assert all(line[3] for line in lines[1:])  # every line has its samples: no folded name
     assert {line[1] for line in lines[1:]} >= {"camera_optical_frame", "left_wheel", "right_wheel"}
+    assert (
+        "\nJitter: how irregular an edge's stamps are, the standard deviation of the intervals between them\n" in screen
+    )
 
 
-def test_a_simulated_clock_header_is_two_lines(tfx, tmp_path: Path) -> None:
+def test_a_simulated_clock_header_is_two_lines(tfx: Tfx, tmp_path: Path) -> None:
     """A bag stamped on simulated time without /clock: the header says delays are unavailable on a line
     of its own (not a literal backslash-n)."""
     start, wall = 1000 * NS_PER_S, 1_700_000_000 * NS_PER_S

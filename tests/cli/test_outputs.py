@@ -7,12 +7,12 @@ from __future__ import annotations
 import errno
 import os
 import shutil
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS
-from tftools.render import files
+from tests.cli.conftest import SAMPLE_BAGS, Result, Tfx
 
 STATIC = ("static", "0", "0", "1", "0", "0", "0", "base_link", "extra")
 
@@ -34,14 +34,14 @@ def snapshot(folder: Path) -> dict[str, bytes]:
     return {str(p.relative_to(folder)): p.read_bytes() if p.is_file() else b"/" for p in sorted(folder.rglob("*"))}
 
 
-def refused(result, *words: str) -> None:
+def refused(result: Result, *words: str) -> None:
     assert result.code == 2, result.stderr
     assert result.stderr.startswith("tfx: error: ") and result.stderr.count("\n") == 1, result.stderr
     for word in words:
         assert word in result.stderr
 
 
-def test_view_frames_never_writes_over_or_into_its_input(tfx, bags: dict[str, Path], tmp_path: Path) -> None:
+def test_view_frames_never_writes_over_or_into_its_input(tfx: Tfx, bags: dict[str, Path], tmp_path: Path) -> None:
     before = snapshot(tmp_path / "in")
     db3 = bags["db3"]
     cases = [
@@ -65,12 +65,14 @@ def test_view_frames_never_writes_over_or_into_its_input(tfx, bags: dict[str, Pa
     assert snapshot(tmp_path / "in") == before
 
 
-def test_view_frames_default_output_inside_a_bag_is_refused(tfx, bags, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_view_frames_default_output_inside_a_bag_is_refused(
+    tfx: Tfx, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.chdir(bags["db3"])
     refused(tfx("view-frames", "-b", "."), "the default output", "inside the input")
 
 
-def test_static_never_deletes_or_replaces_its_input(tfx, bags: dict[str, Path], tmp_path: Path) -> None:
+def test_static_never_deletes_or_replaces_its_input(tfx: Tfx, bags: dict[str, Path], tmp_path: Path) -> None:
     before = snapshot(tmp_path / "in")
     db3 = bags["db3"]
     cases = [
@@ -91,7 +93,7 @@ def test_static_never_deletes_or_replaces_its_input(tfx, bags: dict[str, Path], 
     assert snapshot(tmp_path / "in") == before
 
 
-def test_force_replaces_an_earlier_output_only(tfx, bags: dict[str, Path], tmp_path: Path) -> None:
+def test_force_replaces_an_earlier_output_only(tfx: Tfx, bags: dict[str, Path], tmp_path: Path) -> None:
     out = tmp_path / "out.bag"
     assert tfx(*STATIC, "-b", bags["ros1"], "-o", out).code == 0
     refused(tfx(*STATIC, "-b", bags["ros1"], "-o", out), "already exists", "--force")
@@ -126,7 +128,9 @@ def _writing(command: str, bag: Path, folder: Path) -> tuple[list[str], Path]:
 
 
 @pytest.mark.parametrize("command", WRITERS)
-def test_every_writer_replaces_a_file_only_with_force(tfx, bags: dict[str, Path], tmp_path: Path, command: str) -> None:
+def test_every_writer_replaces_a_file_only_with_force(
+    tfx: Tfx, bags: dict[str, Path], tmp_path: Path, command: str
+) -> None:
     arguments, output = _writing(command, bags["ros1"], tmp_path)
     output.write_text("someone's notes")
     (tmp_path / "page.html").unlink(missing_ok=True)
@@ -137,7 +141,9 @@ def test_every_writer_replaces_a_file_only_with_force(tfx, bags: dict[str, Path]
 
 
 @pytest.mark.parametrize("command", WRITERS)
-def test_no_writer_replaces_a_fifo_even_with_force(tfx, bags: dict[str, Path], tmp_path: Path, command: str) -> None:
+def test_no_writer_replaces_a_fifo_even_with_force(
+    tfx: Tfx, bags: dict[str, Path], tmp_path: Path, command: str
+) -> None:
     arguments, output = _writing(command, bags["ros1"], tmp_path)
     os.mkfifo(output)
     refused(tfx(*arguments, "--force"), f"{output} is a FIFO, not a regular file")
@@ -145,7 +151,7 @@ def test_no_writer_replaces_a_fifo_even_with_force(tfx, bags: dict[str, Path], t
 
 
 def test_view_frames_redraws_its_default_output_but_a_named_one_only_with_force(
-    tfx, bags: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tfx: Tfx, bags: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """As ROS's view_frames: running it again redraws frames.pdf (here frames.gv); a file named with -o is
     replaced only with --force, and the default is never a FIFO."""
@@ -162,7 +168,7 @@ def test_view_frames_redraws_its_default_output_but_a_named_one_only_with_force(
 
 
 @pytest.mark.parametrize("command", ["view-frames", "static"])
-def test_a_missing_folder_is_one_line(tfx, bags: dict[str, Path], tmp_path: Path, command: str) -> None:
+def test_a_missing_folder_is_one_line(tfx: Tfx, bags: dict[str, Path], tmp_path: Path, command: str) -> None:
     output = tmp_path / "missing" / "out.bag"
     args = ("view-frames",) if command == "view-frames" else STATIC
     refused(tfx(*args, "-b", bags["ros1"], "-o", output), "does not exist", "mkdir -p")
@@ -174,7 +180,7 @@ def test_a_missing_folder_is_one_line(tfx, bags: dict[str, Path], tmp_path: Path
     [(errno.ENOSPC, "the disk is full"), (errno.EACCES, "no permission"), (errno.EROFS, "read-only")],
 )
 def test_a_full_or_read_only_disk_leaves_nothing_half_written(
-    tfx, bags: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch, code: int, words: str
+    tfx: Tfx, bags: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch, code: int, words: str
 ) -> None:
     output = tmp_path / "out" / "frames.gv"
     output.parent.mkdir()
@@ -200,13 +206,15 @@ def test_a_full_or_read_only_disk_leaves_nothing_half_written(
         def flush(self) -> None:
             self.file.flush()
 
-    monkeypatch.setattr(files.os, "fdopen", Failing)
+    monkeypatch.setattr(os, "fdopen", Failing)
     result = tfx("view-frames", "-b", bags["ros1"], "-o", output)
     refused(result, f"cannot write {output}", words)
     assert list(output.parent.iterdir()) == []  # neither the output nor its temporary file
 
 
-def test_an_earlier_output_survives_a_failed_write(tfx, bags, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_an_earlier_output_survives_a_failed_write(
+    tfx: Tfx, bags: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     output = tmp_path / "frames.gv"
     assert tfx("view-frames", "-b", bags["ros1"], "-o", output).code == 0
     earlier = output.read_bytes()
@@ -214,13 +222,13 @@ def test_an_earlier_output_survives_a_failed_write(tfx, bags, tmp_path: Path, mo
     def full(*args: object) -> None:
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
-    monkeypatch.setattr(files.os, "fsync", full)
+    monkeypatch.setattr(os, "fsync", full)
     refused(tfx("view-frames", "-b", bags["mcap"], "-o", output, "--force"), "the disk is full")
     assert output.read_bytes() == earlier
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frames.gv", "in"]
 
 
-def test_written_files_get_the_usual_permissions(tfx, bags, tmp_path: Path) -> None:
+def test_written_files_get_the_usual_permissions(tfx: Tfx, bags: dict[str, Path], tmp_path: Path) -> None:
     output = tmp_path / "frames.gv"
     assert tfx("view-frames", "-b", bags["ros1"], "-o", output).code == 0
     mask = os.umask(0)
@@ -229,14 +237,14 @@ def test_written_files_get_the_usual_permissions(tfx, bags, tmp_path: Path) -> N
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
-def test_a_read_only_folder_is_one_line(tfx, bags, tmp_path: Path) -> None:
+def test_a_read_only_folder_is_one_line(tfx: Tfx, bags: dict[str, Path], tmp_path: Path) -> None:
     folder = tmp_path / "locked"
     folder.mkdir(mode=0o500)
     refused(tfx("view-frames", "-b", bags["ros1"], "-o", folder / "frames.gv"), "no permission")
 
 
 @pytest.fixture
-def tiny_disk(tmp_path: Path):
+def tiny_disk(tmp_path: Path) -> Iterator[Path]:
     """A 16 KiB tmpfs (needs root and a mount namespace that allows it; skipped otherwise)."""
     import subprocess
 
@@ -252,7 +260,7 @@ def tiny_disk(tmp_path: Path):
 
 
 @pytest.mark.parametrize("command", ["view-frames", "static"])
-def test_a_really_full_disk(tfx, bags: dict[str, Path], tiny_disk: Path, command: str) -> None:
+def test_a_really_full_disk(tfx: Tfx, bags: dict[str, Path], tiny_disk: Path, command: str) -> None:
     args = ("view-frames",) if command == "view-frames" else STATIC
     output = tiny_disk / ("frames.pdf" if command == "view-frames" else "out.bag")
     result = tfx(*args, "-b", bags["ros1"], "-o", output)

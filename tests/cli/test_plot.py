@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from matplotlib import image
 
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tests.cli.test_bad_input import check_stderr
 from tests.render.report_scenes import EKF_STOPS, GAP, troubled_bags
 from tftools.analysis.echo import chain_span, lookups, sample_times
@@ -32,7 +32,7 @@ def labels(svg: Path) -> list[str]:
 
 
 @pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
-def test_echo_plots_every_sample_of_the_chain(tfx, tmp_path: Path, fmt: str) -> None:
+def test_echo_plots_every_sample_of_the_chain(tfx: Tfx, tmp_path: Path, fmt: str) -> None:
     picture = tmp_path / "pose.png"
     result = tfx("echo", "map", "gripper", "-b", SAMPLE_BAGS[fmt], "--plot", picture)
     buffer = read_recording([SAMPLE_BAGS[fmt]]).buffer
@@ -47,7 +47,7 @@ def test_echo_plots_every_sample_of_the_chain(tfx, tmp_path: Path, fmt: str) -> 
     assert len(np.unique(pixels.reshape(-1, pixels.shape[2]), axis=0)) > 100  # six curves, not a blank canvas
 
 
-def test_echo_svg_names_its_axes(tfx, tmp_path: Path) -> None:
+def test_echo_svg_names_its_axes(tfx: Tfx, tmp_path: Path) -> None:
     picture = tmp_path / "pose.svg"
     assert tfx("echo", "map", "base_link", "-b", SAMPLE_BAGS["mcap"], "--plot", picture, "-r", "10").code == 0
     texts = labels(picture)
@@ -69,12 +69,13 @@ def test_echo_figure_holds_each_coordinate_and_leaves_failures_out() -> None:
     seconds = moves.get_lines()[0].get_xdata()
     assert np.allclose(seconds, (np.array(times) - start) / NS_PER_S)
     for column, line in enumerate(moves.get_lines()):
-        assert np.allclose(line.get_ydata()[:-1], series.translations[:-1, column]) and np.isnan(line.get_ydata()[-1])
-    assert np.allclose(turns.get_lines()[2].get_ydata()[:-1], np.degrees(series.rpy[:-1, 2]))
+        ys = np.asarray(line.get_ydata())
+        assert np.allclose(ys[:-1], series.translations[:-1, column]) and np.isnan(ys[-1])
+    assert np.allclose(np.asarray(turns.get_lines()[2].get_ydata())[:-1], np.degrees(series.rpy[:-1, 2]))
     assert moves.get_title().endswith("1 of 51 lookups failed")
 
 
-def test_monitor_plots_each_edges_rate_and_delay(tfx, troubled, tmp_path: Path) -> None:
+def test_monitor_plots_each_edges_rate_and_delay(tfx: Tfx, troubled: dict[str, Path], tmp_path: Path) -> None:
     picture = tmp_path / "rates.svg"
     result = tfx("monitor", "-b", troubled["db3"], "--plot", picture)
     assert result.code == 0 and result.stdout == "" and "rate and delay of 4 edges" in result.stderr
@@ -89,17 +90,17 @@ def test_monitor_figure_shows_the_gap_and_the_stop() -> None:
     rates, delays = figure.axes
     assert len(rates.get_lines()) == len(delays.get_lines()) == 10
     assert rates.get_ylabel() == "rate (Hz)" and delays.get_ylabel() == "mean delay (ms)"
-    assert {round(float(np.nanmedian(line.get_ydata()))) for line in rates.get_lines()} == {10, 30, 50}
+    assert {round(float(np.nanmedian(np.asarray(line.get_ydata())))) for line in rates.get_lines()} == {10, 30, 50}
 
 
-def test_a_chain_plots_its_own_edges(tfx, troubled, tmp_path: Path) -> None:
+def test_a_chain_plots_its_own_edges(tfx: Tfx, troubled: dict[str, Path], tmp_path: Path) -> None:
     picture = tmp_path / "chain.svg"
     assert tfx("monitor", "map", "wheel", "-b", troubled["ros1"], "--plot", picture).code == 0
     named = {t for t in labels(picture) if "-&gt;" in t}
     assert named == {"map -&gt; odom", "odom -&gt; base_link", "base_link -&gt; wheel"}
 
 
-def test_troubled_rates_drop_where_the_edge_paused_and_stop_where_it_stopped(troubled) -> None:
+def test_troubled_rates_drop_where_the_edge_paused_and_stop_where_it_stopped(troubled: dict[str, Path]) -> None:
     recording = read_recording([troubled["mcap"]])
     series = {(s.parent, s.child): s for s in edge_series(recording.buffer, recording.timeline)}
     origin = recording.timeline.tf_start
@@ -111,11 +112,13 @@ def test_troubled_rates_drop_where_the_edge_paused_and_stop_where_it_stopped(tro
     assert np.allclose(amcl.rate_hz[inside], 1 / (GAP[1] - GAP[0] + 0.1))  # one interval of 2.1 s
 
 
-def test_monitor_play_plots_each_refresh(tfx, tmp_path: Path) -> None:
+def test_monitor_play_plots_each_refresh(tfx: Tfx, tmp_path: Path) -> None:
     picture = tmp_path / "replay.png"
     result = tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "--play", "--start", "-2.5", "--rate", "1", "--plot", picture)
     assert result.code == 0, result.stderr
-    points = int(re.search(r"rate and delay of 10 edges over (\d+) points", result.stderr).group(1))
+    said = re.search(r"rate and delay of 10 edges over (\d+) points", result.stderr)
+    assert said is not None
+    points = int(said.group(1))
     assert points >= 2 and picture.stat().st_size > 20_000
 
 
@@ -127,7 +130,9 @@ def test_monitor_play_plots_each_refresh(tfx, tmp_path: Path) -> None:
         (("echo", "map", "odom", "-b", "BAG", "--plot", "no/such/out.png"), "does not exist"),
     ],
 )
-def test_a_bad_plot_is_one_line(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, args, said: str) -> None:
+def test_a_bad_plot_is_one_line(
+    tfx: Tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, args: tuple[str, ...], said: str
+) -> None:
     monkeypatch.chdir(tmp_path)
     names = {"BAG": str(SAMPLE_BAGS["ros1"]), "FOLDER": str(tmp_path)}
     result = tfx(*(names.get(a, a) for a in args))
@@ -136,7 +141,7 @@ def test_a_bad_plot_is_one_line(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyP
     assert list(tmp_path.iterdir()) == []
 
 
-def test_without_matplotlib_plot_says_how_to_get_it(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_without_matplotlib_plot_says_how_to_get_it(tfx: Tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setitem(sys.modules, "matplotlib", None)  # as if not installed: importing it fails
     result = tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "--plot", tmp_path / "rates.png")
     assert result.code == 2 and result.stdout == ""
@@ -144,7 +149,7 @@ def test_without_matplotlib_plot_says_how_to_get_it(tfx, tmp_path: Path, monkeyp
     assert result.stderr.endswith("(install it: pip install 'tftools[plot]')\n")
 
 
-def test_echo_play_prints_its_lines_and_plots_them_when_it_ends(tfx, tmp_path: Path) -> None:
+def test_echo_play_prints_its_lines_and_plots_them_when_it_ends(tfx: Tfx, tmp_path: Path) -> None:
     picture = tmp_path / "replay.svg"
     result = tfx("echo", "map", "base_footprint", "-b", SAMPLE_BAGS["db3"], "--play", "--start", "-1", "--rate", "4",
                  "-f", "csv", "--plot", picture)  # fmt: skip

@@ -12,7 +12,7 @@ import pytest
 
 from tests.analysis.wtf_scenes import START, simulated, write
 from tests.bags import BagFormat
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tests.cli.test_bad_input import check_stderr
 from tests.cli.test_filter import scan, sensor_bags
 from tests.render.report_scenes import (
@@ -35,7 +35,9 @@ def troubled(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_the_page_shows_each_problem_on_its_edge_and_at_its_time(tfx, troubled, tmp_path: Path, fmt: str) -> None:
+def test_the_page_shows_each_problem_on_its_edge_and_at_its_time(
+    tfx: Tfx, troubled: dict[str, Path], tmp_path: Path, fmt: str
+) -> None:
     page = tmp_path / "report.html"
     result = tfx("report", "-b", troubled[fmt], "-o", page)
     assert result.code == 1 and result.stdout == "", result.stderr
@@ -83,7 +85,7 @@ def test_the_page_shows_each_problem_on_its_edge_and_at_its_time(tfx, troubled, 
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
-def test_a_healthy_robot_passes(tfx, tmp_path: Path, fmt: str) -> None:
+def test_a_healthy_robot_passes(tfx: Tfx, tmp_path: Path, fmt: str) -> None:
     page = tmp_path / "robot.html"
     result = tfx("report", "-b", SAMPLE_BAGS[fmt], "-o", page)
     assert result.code == 0 and result.stderr == f"wrote {page}: no problems\n"
@@ -94,7 +96,7 @@ def test_a_healthy_robot_passes(tfx, tmp_path: Path, fmt: str) -> None:
     assert "Static transforms" in text and "camera_link &#8594; camera_optical_frame" in text
 
 
-def test_the_page_needs_nothing_from_outside(tfx, tmp_path: Path) -> None:
+def test_the_page_needs_nothing_from_outside(tfx: Tfx, tmp_path: Path) -> None:
     page = tmp_path / "robot.html"
     tfx("report", "-b", SAMPLE_BAGS["ros1"], "-o", page)
     text = page.read_text()
@@ -106,7 +108,7 @@ def test_the_page_needs_nothing_from_outside(tfx, tmp_path: Path) -> None:
     assert 600_000 < len(text.encode()) < 900_000  # three.js's part is 550 KB of it
 
 
-def test_a_fleet_gets_a_section_and_a_verdict_each(tfx, troubled, tmp_path: Path) -> None:
+def test_a_fleet_gets_a_section_and_a_verdict_each(tfx: Tfx, troubled: dict[str, Path], tmp_path: Path) -> None:
     page = tmp_path / "fleet.html"
     missing = tmp_path / "missing.bag"
     result = tfx("report", SAMPLE_BAGS["ros1"], troubled["mcap"], missing, "-o", page)
@@ -121,7 +123,9 @@ def test_a_fleet_gets_a_section_and_a_verdict_each(tfx, troubled, tmp_path: Path
     assert "could not be read" in text
 
 
-def test_a_fleet_read_in_several_processes_gives_the_same_page(tfx, troubled, tmp_path: Path) -> None:
+def test_a_fleet_read_in_several_processes_gives_the_same_page(
+    tfx: Tfx, troubled: dict[str, Path], tmp_path: Path
+) -> None:
     fleet = [SAMPLE_BAGS["ros1"], troubled["mcap"], tmp_path / "missing.bag"]
     one, two = tmp_path / "one.html", tmp_path / "two.html"
     serial, parallel = tfx("report", *fleet, "-o", one), tfx("report", *fleet, "-o", two, "--jobs", "2")
@@ -141,7 +145,7 @@ def test_a_fleet_read_in_several_processes_gives_the_same_page(tfx, troubled, tm
         (("-b", "BAG", "--tf2", "ros3"), "Invalid value"),
     ],
 )
-def test_bad_input_is_one_line_and_writes_nothing(tfx, tmp_path: Path, args: tuple[str, ...], said: str) -> None:
+def test_bad_input_is_one_line_and_writes_nothing(tfx: Tfx, tmp_path: Path, args: tuple[str, ...], said: str) -> None:
     names = {
         "MISSING": str(tmp_path / "missing.bag"),
         "BAG": str(SAMPLE_BAGS["ros1"]),
@@ -157,7 +161,7 @@ def test_bad_input_is_one_line_and_writes_nothing(tfx, tmp_path: Path, args: tup
     assert sorted(tmp_path.iterdir()) == before
 
 
-def test_an_edge_names_no_delay_where_the_clocks_give_none(tfx, tmp_path: Path) -> None:
+def test_an_edge_names_no_delay_where_the_clocks_give_none(tfx: Tfx, tmp_path: Path) -> None:
     bag = write(tmp_path, "simulated", BagFormat.rosbag2_sqlite3, simulated())  # sim stamps, wall-clock record times
     page = tmp_path / "report.html"
     result = tfx("report", "-b", bag, "-o", page)
@@ -168,7 +172,7 @@ def test_an_edge_names_no_delay_where_the_clocks_give_none(tfx, tmp_path: Path) 
     assert labels and all("Hz" in label and "delay" not in label for label in labels)
 
 
-def test_the_3d_view_and_the_timelines_count_from_one_zero(tfx, tmp_path: Path) -> None:
+def test_the_3d_view_and_the_timelines_count_from_one_zero(tfx: Tfx, tmp_path: Path) -> None:
     """A scan stamped 2 s before the first tf starts the timelines' bins before their zero (on the Nav2
     TurtleBot 4 recording the 3D view counted from there, and a finding's click showed it 5 s early): the
     3D view's times are seconds from the same zero as the timelines' and the findings'."""

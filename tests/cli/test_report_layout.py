@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from tests.browser import chromium, open_page, screenshot
-from tests.cli.conftest import tfx
+from tests.cli.conftest import Tfx, tfx
 from tests.render.report_scenes import troubled_bags
 
 __all__ = ["chromium", "tfx"]  # fixtures, for pytest
@@ -62,7 +62,7 @@ return result;
 
 
 @pytest.mark.parametrize("width", [1400, 800])
-def test_every_label_readable_and_every_figure_drawn(tfx, chromium: str, tmp_path: Path, width: int) -> None:
+def test_every_label_readable_and_every_figure_drawn(tfx: Tfx, chromium: str, tmp_path: Path, width: int) -> None:
     bag = troubled_bags(tmp_path)["ros1"]
     page = tmp_path / "report.html"
     assert tfx("report", "-b", bag, "-o", page).code == 1

@@ -37,7 +37,8 @@ def modules_after(code: str) -> list[str]:
     listing = "import json, sys; print(json.dumps(sorted(sys.modules)))"
     script = f"try:\n    {code}\nexcept SystemExit:\n    pass\n{listing}"
     done = subprocess.run([sys.executable, "-c", script], cwd=REPO, capture_output=True, text=True, check=True)
-    return json.loads(done.stdout.strip().splitlines()[-1])
+    modules: list[str] = json.loads(done.stdout.strip().splitlines()[-1])
+    return modules
 
 
 def loaded(modules: list[str], prefixes: tuple[str, ...]) -> list[str]:

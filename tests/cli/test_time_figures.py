@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
+from tests.cli.conftest import Tfx
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.monitor import MonitorQuery, monitor, monitor_buffer, played_window
 from tftools.analysis.report import recording_facts
@@ -58,7 +59,7 @@ def gazebo(tmp_path: Path, clock_hz: float) -> Path:
     return write_bag(tmp_path / f"gazebo_{clock_hz:g}hz", tf, BagFormat.rosbag2_sqlite3, clock)
 
 
-def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx) -> None:
+def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx: Tfx) -> None:
     """Arrivals mapped to the last /clock tick before them lag by up to 100 ms: mean delays of -0.05 s
     were shown. Now none, and the reason, in text and JSON."""
     bag = gazebo(tmp_path, 10)
@@ -88,14 +89,15 @@ def test_a_fine_clock_measures_delays_never_below_zero(tmp_path: Path) -> None:
     (base,) = [e for e in report.edges if e.child == "base"]
     assert report.delays_unavailable == ""
     assert 0.001 <= seconds(base.delay_mean) <= 0.0025 and seconds(base.delay_max) <= 0.003
-    stamps, records = recording.buffer.history("base").stamps, recording.buffer.history("base").record_times
-    delays = recording.timeline.delays("base", stamps, records, recording.buffer.history("base").flags)
+    history = recording.buffer.history("base")
+    assert history is not None
+    delays = recording.timeline.delays("base", history.stamps, history.record_times, history.flags)
     assert len(delays) == 300 and delays.min() >= 0
     chain = monitor_buffer(recording.buffer, "odom", "base", timeline=recording.timeline).chain
     assert chain is not None and 0 <= seconds(chain.delay_mean) <= seconds(chain.delay_max) < 0.04
 
 
-def test_the_gazebo_corpus_recording_shows_no_impossible_delay(tfx) -> None:
+def test_the_gazebo_corpus_recording_shows_no_impossible_delay(tfx: Tfx) -> None:
     """The TurtleBot 3 in Gazebo (ros2_walker): /clock at 10 Hz, received on wall time."""
     bag = corpus("ros2_db3_tb3_gazebo_walker")
     shown = json.loads(tfx("monitor", "-b", bag, "-f", "json").stdout)
@@ -122,7 +124,7 @@ def two_clocks(tmp_path: Path) -> Path:
     return write_bag(tmp_path / "two_clocks.bag", messages)
 
 
-def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx) -> None:
+def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx: Tfx) -> None:
     """'1695944406.454 s from 1907.175 to 1695946313.629': a span from the simulated stamps to the wall ones."""
     bag = two_clocks(tmp_path)
     recording = read_recording([bag], topics=["tf"])
@@ -140,7 +142,7 @@ def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx) -> 
     assert not re.search(r"[+-]\d{6,}\.\d s", "\n".join(f.message for f in check(recording).findings))
 
 
-def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx) -> None:
+def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx: Tfx) -> None:
     """Issue 39: ``tfx monitor`` counted ``+S`` on the record clock's tf (the detections') while ``tfx echo --at``
     counted it on the chain's own: an arm on simulated time recorded from 3 s before the first detection was
     monitored from 1904 s for ``--start +1``. Now from 1901 s, a second into its own stamps."""
@@ -181,7 +183,7 @@ def late_detections(tmp_path: Path) -> Path:
     return write_bag(tmp_path / "late_detections.bag", messages)
 
 
-def test_a_replay_starts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx) -> None:
+def test_a_replay_starts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx: Tfx) -> None:
     """Issue 39 item 4 for ``--play``: a replay counted ``+S`` on the record clock's tf (the detections', 3 s
     in) whatever the frames; now from the arrival of the arm's first transform stamped at its own first
     stamp + 1 s (1901 s, received 1 s into the recording), to that of its last stamped 1 s before its end."""
@@ -218,7 +220,7 @@ def test_a_long_replay_starts_between_the_arrivals_its_first_pass_kept(
     assert stream.replay_time(0, ["arm_link"], last=True) == WALL - 1  # none stamped up to it: before the first
 
 
-def test_monitor_start_on_a_real_chain_on_simulated_time(tfx) -> None:
+def test_monitor_start_on_a_real_chain_on_simulated_time(tfx: Tfx) -> None:
     """ros2_db3_ur5_topic_tf_two_clocks: the UR5 arm on simulated time (1907.175 to 1914.325 s) beside ArUco
     detections on wall time, the arm recorded from 0.57 s before the first detection. ``--start +1`` between
     base_link and wrist_3_link is 1908.175 s, as ``tfx echo --at +1`` asks (it monitored from 1908.575 s)."""
@@ -236,7 +238,7 @@ def test_monitor_start_on_a_real_chain_on_simulated_time(tfx) -> None:
     assert json.loads(at.stdout)["time"] == 1908.175  # echo and monitor count +1 alike
 
 
-def test_a_replay_of_a_real_chain_on_simulated_time_starts_on_its_clock(tfx) -> None:
+def test_a_replay_of_a_real_chain_on_simulated_time_starts_on_its_clock(tfx: Tfx) -> None:
     """ros2_db3_ur5_topic_tf_two_clocks with ``--play``: ``--start +1`` between base_link and wrist_3_link
     replayed from 1908.575 s of the arm (116 samples per joint: +1 counted on the detections' wall clock);
     now from 1908.175 s, 124 samples, as the whole read."""
@@ -269,7 +271,7 @@ def test_the_timelines_tf_span_follows_its_clock_threshold(tmp_path: Path) -> No
 # --- times counted from zero -------------------------------------------------------------------------
 
 
-def test_a_json_mcap_whose_first_messages_have_no_log_time_spans_its_known_times(tfx) -> None:
+def test_a_json_mcap_whose_first_messages_have_no_log_time_spans_its_known_times(tfx: Tfx) -> None:
     """The Foxglove JSON MCAP (Labelbox's Franka): messages logged at time 0 made its span 1748331284.3 s."""
     bag = corpus("json_mcap_lbx_franka.mcap")
     recording = read_recording([bag])
@@ -302,7 +304,9 @@ def test_the_report_counts_every_time_from_the_one_origin(tmp_path: Path) -> Non
     section = recording_section(0, report).html
     shown = re.search(r'<span class="when">([+-][\d.]+) s to [+-][\d.]+ s</span>', section)
     assert shown is not None and float(shown.group(1)) == pytest.approx(float(said.group(1)), abs=0.05)
-    data = json.loads(re.search(r'class="report-data">(.*?)</script>', section).group(1))
+    embedded = re.search(r'class="report-data">(.*?)</script>', section)
+    assert embedded is not None
+    data = json.loads(embedded.group(1))
     assert data["axis"]["start"] == pytest.approx((report.bins.start - WALL) / S)
     assert data["findings"][0]["from"] == pytest.approx(float(said.group(1)), abs=0.05)
 
@@ -359,7 +363,7 @@ def test_a_recording_made_on_sim_time_has_record_times_as_coarse_as_its_clock(tm
     assert recorded.timeline.record_step == 0
 
 
-def test_a_fleet_of_corpus_recordings_reports_no_trend_of_one_recording(tfx) -> None:
+def test_a_fleet_of_corpus_recordings_reports_no_trend_of_one_recording(tfx: Tfx) -> None:
     """'TRENDS (17 days, 1970-01-01 ...)': the JSON MCAP dated 1970 by its messages logged at 0, and the
     Nav2 simulation's notes, one recording's, called problems that started on its day."""
     fleet = [
@@ -371,7 +375,7 @@ def test_a_fleet_of_corpus_recordings_reports_no_trend_of_one_recording(tfx) -> 
     assert len(days) == 3 and min(days) > "2020"
 
 
-def test_a_json_mcap_replays_from_its_first_known_time(tfx) -> None:
+def test_a_json_mcap_replays_from_its_first_known_time(tfx: Tfx) -> None:
     """Its messages logged at time 0 made a replay start at 0: 55 years before its tf."""
     bag = corpus("json_mcap_lbx_franka.mcap")
     streamed = stream_recording([bag])

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS, SAMPLES, tfx
+from tests.cli.conftest import SAMPLE_BAGS, SAMPLES, Tfx, tfx
 from tftools.sources.recording import read_recording
 
 __all__ = ["tfx"]  # a fixture, for pytest
@@ -25,7 +25,7 @@ def folder(tmp_path: Path) -> Path:
 
 @pytest.mark.parametrize("slash", ["", "/"], ids=["no slash", "slash"])
 @pytest.mark.parametrize("command", ["wtf", "report"])
-def test_a_folder_of_bags_is_each_of_them(tfx, folder: Path, tmp_path: Path, command: str, slash: str) -> None:
+def test_a_folder_of_bags_is_each_of_them(tfx: Tfx, folder: Path, tmp_path: Path, command: str, slash: str) -> None:
     output = ("-o", tmp_path / "fleet.html") if command == "report" else ()
     result = tfx(command, f"{folder}{slash}", *output)
     assert result.code == 0, result.stderr
@@ -36,7 +36,7 @@ def test_a_folder_of_bags_is_each_of_them(tfx, folder: Path, tmp_path: Path, com
 
 
 @pytest.mark.parametrize("slash", ["", "/"], ids=["no slash", "slash"])
-def test_a_folder_of_bags_after_b_says_what_to_give(tfx, folder: Path, slash: str) -> None:
+def test_a_folder_of_bags_after_b_says_what_to_give(tfx: Tfx, folder: Path, slash: str) -> None:
     result = tfx("frames", "-b", f"{folder}{slash}")
     assert result.code == 2 and result.stderr.count("\n") == 1
     assert f"-b {folder}{slash} is a folder of 3 recordings, not a bag" in result.stderr
@@ -48,7 +48,7 @@ def test_a_folder_of_bags_after_b_says_what_to_give(tfx, folder: Path, slash: st
     [["frames", "BAG"], ["echo", "map", "odom", "BAG"], ["echo", "map", "BAG"], ["monitor", "BAG"], ["filter", "BAG"]],
     ids=lambda a: "-".join(a),
 )
-def test_a_bag_without_b_is_shown_with_it(tfx, args: list[str]) -> None:
+def test_a_bag_without_b_is_shown_with_it(tfx: Tfx, args: list[str]) -> None:
     bag = str(SAMPLE_BAGS["ros1"])
     result = tfx(*[bag if a == "BAG" else a for a in args])  # echo and monitor would listen to a live system
     assert result.code == 2 and result.stderr.count("\n") == 1
@@ -56,13 +56,13 @@ def test_a_bag_without_b_is_shown_with_it(tfx, args: list[str]) -> None:
     assert f"a bag is read with -b: tfx {fixed}" in result.stderr
 
 
-def test_an_extra_argument_that_is_no_bag_points_to_help(tfx) -> None:
+def test_an_extra_argument_that_is_no_bag_points_to_help(tfx: Tfx) -> None:
     result = tfx("frames", "nothing_here")
     assert result.code == 2 and "see tfx frames --help" in result.stderr and "-b" not in result.stderr
 
 
 @pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
-def test_the_same_bag_twice_is_read_once(tfx, fmt: str) -> None:
+def test_the_same_bag_twice_is_read_once(tfx: Tfx, fmt: str) -> None:
     bag = SAMPLE_BAGS[fmt]
     once = tfx("wtf", "-b", bag)
     twice = tfx("wtf", "-b", bag, "-b", f"{bag.parent}/./{bag.name}")
@@ -72,20 +72,20 @@ def test_the_same_bag_twice_is_read_once(tfx, fmt: str) -> None:
     assert twice.stderr.count("\n") == 1
 
 
-def test_a_rosbag2_file_and_its_directory_are_one_bag(tfx) -> None:
+def test_a_rosbag2_file_and_its_directory_are_one_bag(tfx: Tfx) -> None:
     folder = SAMPLE_BAGS["db3"]
     result = tfx("frames", "-b", folder, "-b", folder / "robot_db3.db3", "-f", "json")
     assert result.code == 0 and "given twice (as" in result.stderr
 
 
-def test_the_same_bag_twice_as_arguments_is_checked_once(tfx) -> None:
+def test_the_same_bag_twice_as_arguments_is_checked_once(tfx: Tfx) -> None:
     bag = SAMPLE_BAGS["ros1"]
     result = tfx("wtf", bag, bag)
     assert result.code == 0 and "given twice" in result.stderr
     assert "recordings checked" not in result.stdout  # one recording: no fleet summary
 
 
-def test_static_on_a_file_of_a_rosbag2_directory_names_the_directory(tfx, tmp_path: Path) -> None:
+def test_static_on_a_file_of_a_rosbag2_directory_names_the_directory(tfx: Tfx, tmp_path: Path) -> None:
     bag = SAMPLE_BAGS["mcap"] / "robot_mcap.mcap"
     result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", bag, "-o", tmp_path / "out")
     assert result.code == 2 and result.stderr.count("\n") == 1
@@ -95,7 +95,7 @@ def test_static_on_a_file_of_a_rosbag2_directory_names_the_directory(tfx, tmp_pa
     assert not (tmp_path / "out").exists()
 
 
-def test_static_on_a_bare_mcap_file_copies_it_to_a_bare_mcap_file(tfx, tmp_path: Path) -> None:
+def test_static_on_a_bare_mcap_file_copies_it_to_a_bare_mcap_file(tfx: Tfx, tmp_path: Path) -> None:
     bare = tmp_path / "bare.mcap"
     shutil.copy(SAMPLE_BAGS["mcap"] / "robot_mcap.mcap", bare)
     result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", bare, "-o", tmp_path / "out.mcap")
@@ -106,7 +106,7 @@ def test_static_on_a_bare_mcap_file_copies_it_to_a_bare_mcap_file(tfx, tmp_path:
 
 @pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
 @pytest.mark.parametrize("edge", [("base_link", "laser"), ("map", "laser"), ("odom", "base_footprint")])
-def test_static_refuses_a_frame_the_bag_already_has(tfx, tmp_path: Path, fmt: str, edge: tuple[str, str]) -> None:
+def test_static_refuses_a_frame_the_bag_already_has(tfx: Tfx, tmp_path: Path, fmt: str, edge: tuple[str, str]) -> None:
     output = tmp_path / "out"
     result = tfx("static", "0", "0", "1", "0", "0", "0", *edge, "-b", SAMPLE_BAGS[fmt], "-o", output)
     assert result.code == 2 and result.stderr.count("\n") == 1
@@ -114,7 +114,7 @@ def test_static_refuses_a_frame_the_bag_already_has(tfx, tmp_path: Path, fmt: st
     assert not output.exists()
 
 
-def test_static_adds_a_new_frame_and_wtf_passes_the_copy(tfx, tmp_path: Path) -> None:
+def test_static_adds_a_new_frame_and_wtf_passes_the_copy(tfx: Tfx, tmp_path: Path) -> None:
     output = tmp_path / "out.bag"
     result = tfx("static", "0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", SAMPLE_BAGS["ros1"], "-o", output)
     assert result.code == 0, result.stderr
@@ -130,7 +130,7 @@ def test_static_adds_a_new_frame_and_wtf_passes_the_copy(tfx, tmp_path: Path) ->
     ],
 )
 def test_an_angle_past_a_whole_turn_is_taken_in_radians_with_a_hint(
-    tfx, tmp_path: Path, angles: list[str], extra: list[str], warned: str
+    tfx: Tfx, tmp_path: Path, angles: list[str], extra: list[str], warned: str
 ) -> None:
     """ROS's rule is radians, so yaw 90 is 90 rad, as static_transform_publisher takes it; but it was almost
     surely meant in degrees: said once, with --deg."""

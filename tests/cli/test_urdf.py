@@ -10,10 +10,11 @@ from pathlib import Path
 import pytest
 
 from tests.analysis.robot_scenes import MOVED, URDF, Setup, robot_bag, urdf_file
+from tests.cli.conftest import Tfx
 from tests.cli.test_bad_input import check_stderr
 
 
-def test_wtf_names_the_joint_the_link_and_the_cause(tfx, tmp_path: Path) -> None:
+def test_wtf_names_the_joint_the_link_and_the_cause(tfx: Tfx, tmp_path: Path) -> None:
     bag = robot_bag(tmp_path, "rover", Setup(joint_states=("wheel_left_joint",), real_origins={"laser_joint": MOVED}))
     result = tfx("wtf", bag, "--urdf", urdf_file(tmp_path))
     assert result.code == 1, result.stderr
@@ -24,7 +25,7 @@ def test_wtf_names_the_joint_the_link_and_the_cause(tfx, tmp_path: Path) -> None
     assert "2 errors, 0 warnings, 1 note: FAILED" in out
 
 
-def test_wtf_on_a_healthy_robot_passes(tfx, tmp_path: Path) -> None:
+def test_wtf_on_a_healthy_robot_passes(tfx: Tfx, tmp_path: Path) -> None:
     bag = robot_bag(tmp_path, "rover", Setup())
     result = tfx("wtf", bag, "--urdf", urdf_file(tmp_path), "--format", "json")
     assert result.code == 0, result.stderr
@@ -32,7 +33,7 @@ def test_wtf_on_a_healthy_robot_passes(tfx, tmp_path: Path) -> None:
     assert [(f["code"], f["severity"]) for f in report["findings"]] == [("urdf_extra", "info")]
 
 
-def test_report_shows_the_findings_and_the_frames(tfx, tmp_path: Path) -> None:
+def test_report_shows_the_findings_and_the_frames(tfx: Tfx, tmp_path: Path) -> None:
     bag = robot_bag(tmp_path, "rover", Setup(state_publisher=False, description=True))
     page = tmp_path / "report.html"
     result = tfx("report", "-b", bag, "-o", page)  # the recorded description
@@ -41,7 +42,7 @@ def test_report_shows_the_findings_and_the_frames(tfx, tmp_path: Path) -> None:
     assert "urdf_missing" in text and "robot_state_publisher did not run" in text and "Frames in 3D" in text
 
 
-def test_diff_against_a_urdf(tfx, tmp_path: Path) -> None:
+def test_diff_against_a_urdf(tfx: Tfx, tmp_path: Path) -> None:
     bag = robot_bag(tmp_path, "rover", Setup(real_origins={"laser_joint": MOVED}))
     result = tfx("diff", urdf_file(tmp_path), bag, "--format", "json")
     assert result.code == 1, result.stderr
@@ -63,7 +64,9 @@ def test_diff_against_a_urdf(tfx, tmp_path: Path) -> None:
     ],
 )
 @pytest.mark.parametrize("command", ["wtf", "report", "diff"])
-def test_a_urdf_that_cannot_be_used(tfx, tmp_path: Path, name: str, text: str | None, said: str, command: str) -> None:
+def test_a_urdf_that_cannot_be_used(
+    tfx: Tfx, tmp_path: Path, name: str, text: str | None, said: str, command: str
+) -> None:
     bag = robot_bag(tmp_path, "rover", Setup())
     urdf = tmp_path / name
     if text is not None:
@@ -81,7 +84,7 @@ def test_a_urdf_that_cannot_be_used(tfx, tmp_path: Path, name: str, text: str | 
     assert sorted(tmp_path.iterdir()) == before
 
 
-def test_the_tolerances_apply_to_the_urdf(tfx, tmp_path: Path) -> None:
+def test_the_tolerances_apply_to_the_urdf(tfx: Tfx, tmp_path: Path) -> None:
     bag = robot_bag(tmp_path, "rover", Setup(real_origins={"laser_joint": MOVED}))  # 20 mm off
     urdf = urdf_file(tmp_path)
     assert "urdf_moved" in tfx("wtf", bag, "--urdf", urdf, "--tolerance-mm", "19").stdout

@@ -14,7 +14,7 @@ import graphviz
 import pytest
 
 from tests.bags import BagFormat, TfMessage, write_bag
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
 from tftools.analysis.wtf.fleet import check
@@ -84,7 +84,7 @@ def problem_bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 @pytest.mark.parametrize("bag", bag_formats())
 @pytest.mark.parametrize("fmt", ["pdf", "svg", "png", "dot"])
-def test_sample_bag_in_every_format(tfx, tmp_path: Path, bag: str, fmt: str) -> None:
+def test_sample_bag_in_every_format(tfx: Tfx, tmp_path: Path, bag: str, fmt: str) -> None:
     need("dot")
     output = tmp_path / f"graph.{'gv' if fmt == 'dot' else fmt}"
     result = tfx("view-frames", "-b", SAMPLE_BAGS[bag], "-o", output)
@@ -95,7 +95,7 @@ def test_sample_bag_in_every_format(tfx, tmp_path: Path, bag: str, fmt: str) -> 
 
 
 @pytest.mark.parametrize("bag", bag_formats())
-def test_pdf_shows_every_frame_and_each_edges_numbers(tfx, tmp_path: Path, bag: str) -> None:
+def test_pdf_shows_every_frame_and_each_edges_numbers(tfx: Tfx, tmp_path: Path, bag: str) -> None:
     need("dot")
     output = tmp_path / "frames.pdf"
     assert tfx("view-frames", "-b", SAMPLE_BAGS[bag], "-o", output).code == 0
@@ -138,7 +138,9 @@ PINNED = {  # where each problem must be drawn: edges (parent, child) or frames
 
 
 @pytest.mark.parametrize("bag", bag_formats())
-def test_problems_are_drawn_listed_and_fail_the_exit_code(tfx, tmp_path: Path, problem_bags, bag: str) -> None:
+def test_problems_are_drawn_listed_and_fail_the_exit_code(
+    tfx: Tfx, tmp_path: Path, problem_bags: dict[str, Path], bag: str
+) -> None:
     need("dot")
     findings = check(read_recording([problem_bags[bag]])).findings
     assert {f.code for f in findings} == EXPECTED_CODES  # the bag shows what it was written to show
@@ -156,7 +158,7 @@ def test_problems_are_drawn_listed_and_fail_the_exit_code(tfx, tmp_path: Path, p
     assert "rejected: 1 x TF_NAN_INPUT" in lines and "no sample accepted" in lines
 
 
-def test_dot_on_stdout_carries_the_colours(tfx, problem_bags) -> None:
+def test_dot_on_stdout_carries_the_colours(tfx: Tfx, problem_bags: dict[str, Path]) -> None:
     need("dot")
     result = tfx("view-frames", "-b", problem_bags["mcap"], "--format", "dot", "-o", "-")
     assert result.code == 1
@@ -176,7 +178,7 @@ def test_dot_on_stdout_carries_the_colours(tfx, problem_bags) -> None:
 
 
 def test_without_dot_the_source_is_written_with_one_line_saying_how_to_get_graphviz(
-    tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tfx: Tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     empty = tmp_path / "bin"
     empty.mkdir()
@@ -195,7 +197,9 @@ def test_without_dot_the_source_is_written_with_one_line_saying_how_to_get_graph
     assert piped.code == 1 and piped.stdout == "" and "apt-get install graphviz" in piped.stderr
 
 
-def test_without_dot_a_foreign_gv_file_is_not_overwritten(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_without_dot_a_foreign_gv_file_is_not_overwritten(
+    tfx: Tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     (tmp_path / "frames.gv").write_text("digraph mine {}\n")
     monkeypatch.setenv("PATH", str(tmp_path / "nothing"))
     result = tfx("view-frames", "-b", SAMPLE_BAGS["mcap"], "-o", tmp_path / "frames.pdf")
@@ -205,7 +209,7 @@ def test_without_dot_a_foreign_gv_file_is_not_overwritten(tfx, tmp_path: Path, m
 
 
 def test_default_output_is_frames_pdf_in_the_current_directory(
-    tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tfx: Tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     need("dot")
     monkeypatch.chdir(tmp_path)
@@ -225,7 +229,9 @@ def test_default_output_is_frames_pdf_in_the_current_directory(
         (["--rankdir", "XY"], "XY"),
     ],
 )
-def test_bad_arguments_are_one_line_and_exit_2(tfx, tmp_path: Path, monkeypatch, args: list[str], says: str) -> None:
+def test_bad_arguments_are_one_line_and_exit_2(
+    tfx: Tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, args: list[str], says: str
+) -> None:
     monkeypatch.chdir(tmp_path)
     result = tfx("view-frames", "-b", SAMPLE_BAGS["mcap"], *args)
     assert result.code == 2
@@ -233,7 +239,7 @@ def test_bad_arguments_are_one_line_and_exit_2(tfx, tmp_path: Path, monkeypatch,
     assert list(tmp_path.iterdir()) == []
 
 
-def test_missing_bag_writes_nothing(tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_missing_bag_writes_nothing(tfx: Tfx, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
     result = tfx("view-frames", "-b", tmp_path / "nope.bag")
     assert result.code == 2
@@ -242,14 +248,14 @@ def test_missing_bag_writes_nothing(tfx, tmp_path: Path, monkeypatch: pytest.Mon
     assert list(tmp_path.iterdir()) == []
 
 
-def test_rankdir_is_taken_in_either_case(tfx) -> None:
+def test_rankdir_is_taken_in_either_case(tfx: Tfx) -> None:
     """Graphviz's rankdir is upper case; ``--rankdir lr`` means the same and is not refused for its case."""
     lower = tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "--rankdir", "lr", "-f", "dot", "-o", "-")
     upper = tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "--rankdir", "LR", "-f", "dot", "-o", "-")
     assert lower.code == 0 and "rankdir=LR" in lower.stdout and lower.stdout == upper.stdout
 
 
-def test_notes_are_named_notes_and_decorate_no_edge(tfx) -> None:
+def test_notes_are_named_notes_and_decorate_no_edge(tfx: Tfx) -> None:
     """On the Nav2 TurtleBot 4 recording: the statics_early note is in the legend, as a note (the word wtf
     and the report use, not "info"), and its 29 static edges stay dashed blue, untagged; warnings still
     colour their edges."""

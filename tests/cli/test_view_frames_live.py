@@ -11,9 +11,11 @@ import time
 import xmlrpc.client
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any, cast
 
 import pytest
 
+from tests.cli.conftest import Tfx
 from tests.cli.test_view_frames import need, pdf_lines
 
 DYNAMIC_PUBLISHER = """
@@ -78,14 +80,14 @@ def ros_system(monkeypatch: pytest.MonkeyPatch) -> Iterator[str]:
         monkeypatch.setenv(name, env[name])
     processes = [start(["roscore", "-p", uri.rsplit(":", 1)[1]], env)]
     try:
-        master = xmlrpc.client.ServerProxy(uri)
+        master: Any = xmlrpc.client.ServerProxy(uri)
         wait_for(lambda: master.getSystemState("/test")[0] == 1)
         static = ["/usr/lib/tf2_ros/static_transform_publisher", "0", "0", "0.3", "0", "0", "0", "base_link", "laser"]
         processes.append(start(static, env))
         processes.append(start(["/usr/bin/python3", "-c", DYNAMIC_PUBLISHER], env))
 
         def publishing() -> bool:
-            publishers = dict(master.getSystemState("/test")[2][0])
+            publishers = dict(cast(Any, master.getSystemState("/test"))[2][0])
             return "/tf" in publishers and "/tf_static" in publishers
 
         wait_for(publishing)
@@ -95,7 +97,7 @@ def ros_system(monkeypatch: pytest.MonkeyPatch) -> Iterator[str]:
             stop(process)
 
 
-def test_listens_and_draws_what_it_heard(tfx, ros_system: str, tmp_path: Path) -> None:
+def test_listens_and_draws_what_it_heard(tfx: Tfx, ros_system: str, tmp_path: Path) -> None:
     need("dot")
     output = tmp_path / "live.pdf"
     result = tfx("view-frames", "--duration", "2", "-o", output)

@@ -5,12 +5,13 @@ from __future__ import annotations
 import json
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import Any
 
 import pytest
 
-from tests.analysis.wtf_scenes import MS, PROBLEMS, TfMessage, ekf, healthy, write
-from tests.bags import BagFormat
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.analysis.wtf_scenes import MS, PROBLEMS, ekf, healthy, write
+from tests.bags import BagFormat, TfMessage
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.wtf import CHECKS
 
 DB3 = BagFormat.rosbag2_sqlite3
@@ -37,19 +38,20 @@ def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     return made
 
 
-def as_json(stdout: str) -> dict:
-    return json.loads(stdout)
+def as_json(stdout: str) -> dict[str, Any]:
+    document: dict[str, Any] = json.loads(stdout)
+    return document
 
 
 @pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
-def test_the_sample_bags_pass_with_no_finding(tfx, fmt: str) -> None:
+def test_the_sample_bags_pass_with_no_finding(tfx: Tfx, fmt: str) -> None:
     result = tfx("wtf", SAMPLE_BAGS[fmt])
     assert result.code == 0, result.stdout + result.stderr
     assert "no problems found: PASSED" in result.stdout
     assert "ERRORS" not in result.stdout and "WARNINGS" not in result.stdout
 
 
-def test_a_problem_is_listed_by_severity_with_its_hint_and_exits_1(tfx, bags: dict[str, Path]) -> None:
+def test_a_problem_is_listed_by_severity_with_its_hint_and_exits_1(tfx: Tfx, bags: dict[str, Path]) -> None:
     result = tfx("wtf", bags["stale"])
     assert result.code == 1
     lines = result.stdout.splitlines()
@@ -60,14 +62,14 @@ def test_a_problem_is_listed_by_severity_with_its_hint_and_exits_1(tfx, bags: di
     assert lines[-1] == "1 error, 0 warnings, 0 notes: FAILED"
 
 
-def test_warnings_pass_unless_strict(tfx, bags: dict[str, Path]) -> None:
+def test_warnings_pass_unless_strict(tfx: Tfx, bags: dict[str, Path]) -> None:
     relaxed = tfx("wtf", bags["rate"])
     assert relaxed.code == 0 and "WARNINGS (1)" in relaxed.stdout and relaxed.stdout.endswith("PASSED\n")
     strict = tfx("wtf", bags["rate"], "--strict")
     assert strict.code == 1 and strict.stdout.endswith("FAILED\n")
 
 
-def test_a_fleet_with_one_bad_bag_exits_1_and_says_which(tfx, bags: dict[str, Path]) -> None:
+def test_a_fleet_with_one_bad_bag_exits_1_and_says_which(tfx: Tfx, bags: dict[str, Path]) -> None:
     result = tfx("wtf", bags["healthy"], bags["stale"], SAMPLE_BAGS["mcap"])
     assert result.code == 1
     last = result.stdout.splitlines()[-1]
@@ -75,7 +77,7 @@ def test_a_fleet_with_one_bad_bag_exits_1_and_says_which(tfx, bags: dict[str, Pa
     assert last.endswith(f"failing: {bags['stale']}")
 
 
-def test_a_corrupt_bag_in_a_fleet_is_reported_and_the_others_still_checked(tfx, bags: dict[str, Path]) -> None:
+def test_a_corrupt_bag_in_a_fleet_is_reported_and_the_others_still_checked(tfx: Tfx, bags: dict[str, Path]) -> None:
     result = tfx("wtf", bags["corrupt"], bags["cycle"], bags["healthy"], "--format", "json")
     assert result.code == 1
     report = as_json(result.stdout)
@@ -91,7 +93,7 @@ def test_a_corrupt_bag_in_a_fleet_is_reported_and_the_others_still_checked(tfx, 
     assert report["exit_code"] == 1
 
 
-def test_no_readable_bag_at_all_exits_2(tfx, bags: dict[str, Path], tmp_path: Path) -> None:
+def test_no_readable_bag_at_all_exits_2(tfx: Tfx, bags: dict[str, Path], tmp_path: Path) -> None:
     alone = tfx("wtf", tmp_path / "missing.bag")
     assert alone.code == 2 and alone.stdout == ""
     assert alone.stderr.startswith("tfx: error: ") and "missing.bag: no such file or directory" in alone.stderr
@@ -101,7 +103,7 @@ def test_no_readable_bag_at_all_exits_2(tfx, bags: dict[str, Path], tmp_path: Pa
     assert document.code == 2 and as_json(document.stdout)["exit_code"] == 2
 
 
-def test_a_bag_cut_short_is_checked_as_far_as_it_goes_with_a_warning(tfx, bags: dict[str, Path]) -> None:
+def test_a_bag_cut_short_is_checked_as_far_as_it_goes_with_a_warning(tfx: Tfx, bags: dict[str, Path]) -> None:
     result = tfx("wtf", bags["cut"], "--format", "json")
     bag = as_json(result.stdout)["bags"][0]
     assert result.code == 0 and bag["error"] is None and bag["transforms"] > 0
@@ -110,7 +112,7 @@ def test_a_bag_cut_short_is_checked_as_far_as_it_goes_with_a_warning(tfx, bags: 
     assert tfx("wtf", bags["cut"], "--strict").code == 1
 
 
-def test_b_bags_are_one_recording_and_positional_bags_each_their_own(tfx, bags: dict[str, Path]) -> None:
+def test_b_bags_are_one_recording_and_positional_bags_each_their_own(tfx: Tfx, bags: dict[str, Path]) -> None:
     merged = as_json(tfx("wtf", "-b", bags["part1"], "-b", bags["part2"], "--format", "json").stdout)
     assert len(merged["bags"]) == 1 and merged["bags"][0]["paths"] == [str(bags["part1"]), str(bags["part2"])]
     assert [f["code"] for f in merged["bags"][0]["findings"]] == ["stale"]
@@ -120,7 +122,7 @@ def test_b_bags_are_one_recording_and_positional_bags_each_their_own(tfx, bags: 
     assert [f["code"] for f in second["findings"]] == ["disconnected"]  # odom -> base_link is in the first part
 
 
-def test_json_findings_carry_every_field_with_times_in_seconds(tfx, bags: dict[str, Path]) -> None:
+def test_json_findings_carry_every_field_with_times_in_seconds(tfx: Tfx, bags: dict[str, Path]) -> None:
     result = tfx("wtf", bags["stale"], "--format", "json")
     report = as_json(result.stdout)
     assert report["tool"] == "tfx wtf" and report["strict"] is False
@@ -139,7 +141,7 @@ def test_json_findings_carry_every_field_with_times_in_seconds(tfx, bags: dict[s
     assert finding["first_time"] == pytest.approx(1_700_000_003.98) and finding["last_time"] == bag["end"]
 
 
-def test_jobs_check_a_fleet_in_parallel_with_the_same_report(tfx, bags: dict[str, Path]) -> None:
+def test_jobs_check_a_fleet_in_parallel_with_the_same_report(tfx: Tfx, bags: dict[str, Path]) -> None:
     fleet = [bags[n] for n in ("healthy", "stale", "corrupt", "rate", "delay")]
     serial = tfx("wtf", *fleet, "--format", "json")
     parallel = tfx("wtf", *fleet, "--format", "json", "--jobs", "3")
@@ -147,7 +149,7 @@ def test_jobs_check_a_fleet_in_parallel_with_the_same_report(tfx, bags: dict[str
     assert as_json(serial.stdout) == as_json(parallel.stdout)
 
 
-def test_junit_has_a_suite_per_bag_and_a_case_per_check(tfx, bags: dict[str, Path]) -> None:
+def test_junit_has_a_suite_per_bag_and_a_case_per_check(tfx: Tfx, bags: dict[str, Path]) -> None:
     result = tfx("wtf", bags["healthy"], bags["stale"], bags["rate"], bags["corrupt"], "--format", "junit")
     assert result.code == 1
     root = ET.fromstring(result.stdout)
@@ -170,7 +172,7 @@ def test_junit_has_a_suite_per_bag_and_a_case_per_check(tfx, bags: dict[str, Pat
     assert root.get("failures") == "1" and root.get("errors") == "1"
 
 
-def test_junit_strict_fails_on_warnings(tfx, bags: dict[str, Path]) -> None:
+def test_junit_strict_fails_on_warnings(tfx: Tfx, bags: dict[str, Path]) -> None:
     result = tfx("wtf", bags["rate"], "--format", "junit", "--strict")
     assert result.code == 1
     suite = ET.fromstring(result.stdout).find("testsuite")
@@ -178,7 +180,7 @@ def test_junit_strict_fails_on_warnings(tfx, bags: dict[str, Path]) -> None:
     assert suite.find("testcase[@name='rate']/failure") is not None
 
 
-def test_thresholds_have_flags(tfx, bags: dict[str, Path]) -> None:
+def test_thresholds_have_flags(tfx: Tfx, bags: dict[str, Path]) -> None:
     assert tfx("wtf", bags["delay"]).code == 0  # a warning
     assert "WARNINGS (1)" in tfx("wtf", bags["delay"]).stdout
     assert "no problems found" in tfx("wtf", bags["delay"], "--delay", "0.6").stdout
@@ -188,8 +190,8 @@ def test_thresholds_have_flags(tfx, bags: dict[str, Path]) -> None:
     assert bad.code == 2 and "--delay 0: must be above 0" in bad.stderr
 
 
-def test_future_and_clock_thresholds_have_flags(tfx, bags: dict[str, Path]) -> None:
-    def codes(*args: str) -> set[str]:
+def test_future_and_clock_thresholds_have_flags(tfx: Tfx, bags: dict[str, Path]) -> None:
+    def codes(*args: str | Path) -> set[str]:
         (bag,) = as_json(tfx("wtf", *args, "--format", "json").stdout)["bags"]
         return {f["code"] for f in bag["findings"]}
 
@@ -202,7 +204,7 @@ def test_future_and_clock_thresholds_have_flags(tfx, bags: dict[str, Path]) -> N
     assert bad.code == 2 and "--future" in bad.stderr
 
 
-def test_ignore_skips_checks_and_refuses_unknown_codes(tfx, bags: dict[str, Path]) -> None:
+def test_ignore_skips_checks_and_refuses_unknown_codes(tfx: Tfx, bags: dict[str, Path]) -> None:
     assert tfx("wtf", bags["stale"], "--ignore", "stale").code == 0
     wrong = tfx("wtf", bags["stale"], "--ignore", "staler")
     assert wrong.code == 2 and "there is no such check" in wrong.stderr and "did you mean stale?" in wrong.stderr
@@ -210,20 +212,20 @@ def test_ignore_skips_checks_and_refuses_unknown_codes(tfx, bags: dict[str, Path
     assert "stale" not in [case.get("name") for case in junit.iter("testcase")]
 
 
-def test_list_checks_names_every_code_with_its_severity(tfx) -> None:
+def test_list_checks_names_every_code_with_its_severity(tfx: Tfx) -> None:
     result = tfx("wtf", "--list-checks")
     assert result.code == 0
     for code, c in CHECKS.items():
         assert any(line.split()[:2] == [code, c.severity.value] for line in result.stdout.splitlines())
 
 
-def test_help_documents_fleets_and_exit_codes(tfx) -> None:
+def test_help_documents_fleets_and_exit_codes(tfx: Tfx) -> None:
     text = " ".join(tfx("wtf", "--help").stdout.split())  # as read: the help is wrapped at 80 columns
     for words in ("each on its own", "Exit codes", "--strict", "--jobs", "junit", "--stale-after"):
         assert words in text
 
 
-def test_a_bag_without_transforms_is_the_no_tf_error(tfx, tmp_path: Path) -> None:
+def test_a_bag_without_transforms_is_the_no_tf_error(tfx: Tfx, tmp_path: Path) -> None:
     bag = write(
         tmp_path, "odom_only", DB3, [TfMessage("/odom_tf", 1_700_000_000 * 10**9 + i, [], "/x") for i in range(3)]
     )

@@ -6,11 +6,13 @@ import json
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from tests.analysis.wtf_scenes import PROBLEMS, healthy, write
 from tests.bags import BagFormat
+from tests.cli.conftest import Tfx
 from tftools.analysis.reading import Progress
 from tftools.analysis.wtf import fleet
 from tftools.analysis.wtf.query import CheckQuery
@@ -42,11 +44,11 @@ def checked(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     return seen
 
 
-def lines(stdout: str) -> list[dict]:
+def lines(stdout: str) -> list[dict[str, Any]]:
     return [json.loads(line) for line in stdout.splitlines()]
 
 
-def test_the_text_report_ends_with_each_check_across_the_fleet_worst_first(tfx, bags: dict[str, Path]) -> None:
+def test_the_text_report_ends_with_each_check_across_the_fleet_worst_first(tfx: Tfx, bags: dict[str, Path]) -> None:
     result = tfx("wtf", bags["healthy"], bags["stale"], bags["stale2"], bags["cycle"])
     assert result.code == 1
     across = result.stdout[result.stdout.index("ACROSS THE FLEET") :].splitlines()
@@ -55,7 +57,7 @@ def test_the_text_report_ends_with_each_check_across_the_fleet_worst_first(tfx, 
     assert across[-1].startswith("4 recordings checked: 1 passed, 3 failed")
 
 
-def test_jsonl_is_a_line_per_recording_as_it_finishes_then_the_summary(tfx, bags: dict[str, Path]) -> None:
+def test_jsonl_is_a_line_per_recording_as_it_finishes_then_the_summary(tfx: Tfx, bags: dict[str, Path]) -> None:
     fleet_bags = [bags[n] for n in ("healthy", "stale", "cycle")]
     result = tfx("wtf", *fleet_bags, "--format", "jsonl", "--jobs", "2")
     document = json.loads(tfx("wtf", *fleet_bags, "--format", "json").stdout)
@@ -70,7 +72,7 @@ def test_jsonl_is_a_line_per_recording_as_it_finishes_then_the_summary(tfx, bags
 
 
 def test_resume_skips_what_is_done_and_reports_the_whole_fleet(
-    tfx, bags: dict[str, Path], checked: list[str], tmp_path: Path
+    tfx: Tfx, bags: dict[str, Path], checked: list[str], tmp_path: Path
 ) -> None:
     first = tfx("wtf", bags["healthy"], bags["stale"], "--format", "jsonl")
     report = tmp_path / "run1.jsonl"
@@ -85,7 +87,7 @@ def test_resume_skips_what_is_done_and_reports_the_whole_fleet(
 
 
 def test_resume_checks_again_a_recording_whose_line_was_cut_short(
-    tfx, bags: dict[str, Path], checked: list[str], tmp_path: Path
+    tfx: Tfx, bags: dict[str, Path], checked: list[str], tmp_path: Path
 ) -> None:
     first = tfx("wtf", bags["healthy"], bags["stale"], "--format", "jsonl")
     report = tmp_path / "stopped.jsonl"
@@ -97,7 +99,7 @@ def test_resume_checks_again_a_recording_whose_line_was_cut_short(
     assert lines(resumed.stdout)[-1] == lines(first.stdout)[-1]
 
 
-def test_resume_refuses_what_is_not_a_report_in_one_line(tfx, bags: dict[str, Path], tmp_path: Path) -> None:
+def test_resume_refuses_what_is_not_a_report_in_one_line(tfx: Tfx, bags: dict[str, Path], tmp_path: Path) -> None:
     result = tfx("wtf", bags["healthy"], "--resume", bags["healthy"])
     assert result.code == 2 and result.stderr.count("\n") == 1 and "is not JSON" in result.stderr
     missing = tfx("wtf", bags["healthy"], "--resume", tmp_path / "none.jsonl")
@@ -105,7 +107,7 @@ def test_resume_refuses_what_is_not_a_report_in_one_line(tfx, bags: dict[str, Pa
 
 
 def test_a_recording_over_its_timeout_is_reported_as_not_checked(
-    tfx, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch
+    tfx: Tfx, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     check_group = fleet._check_group
 
@@ -125,7 +127,9 @@ def test_a_recording_over_its_timeout_is_reported_as_not_checked(
     assert slow["error"]["hint"] == "raise --timeout, or check it alone (tfx wtf BAG)"
 
 
-def test_dask_without_distributed_names_the_extra(tfx, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
+def test_dask_without_distributed_names_the_extra(
+    tfx: Tfx, bags: dict[str, Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed raises ImportError
     result = tfx("wtf", bags["healthy"], "--dask", "tcp://127.0.0.1:8786")
     assert result.code == 2 and result.stdout == "" and result.stderr.count("\n") == 1
@@ -141,13 +145,13 @@ def test_dask_without_distributed_names_the_extra(tfx, bags: dict[str, Path], mo
     ],
 )
 def test_bad_fleet_arguments_are_one_line_and_exit_2(
-    tfx, bags: dict[str, Path], args: tuple[str, ...], says: str
+    tfx: Tfx, bags: dict[str, Path], args: tuple[str, ...], says: str
 ) -> None:
     result = tfx("wtf", bags["healthy"], *args)
     assert result.code == 2 and result.stderr.count("\n") == 1 and says in result.stderr
 
 
-def test_fleet_options_need_recordings(tfx, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_fleet_options_need_recordings(tfx: Tfx, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("DASK_SCHEDULER_ADDRESS", "tcp://127.0.0.1:8786")
     result = tfx("wtf", "--ros1", "-d", "1")
     assert result.code == 2 and "are for recordings" in result.stderr

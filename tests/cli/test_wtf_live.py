@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from typing import Any
 
 from tests.live import conftest as live
 from tests.live.conftest import Ros, wait_until
@@ -13,7 +14,7 @@ master, ros, ros1_available = live.master, live.ros, live.ros1_available
 STATIC_PUBLISHER = "/usr/lib/tf2_ros/static_transform_publisher"
 
 
-def wtf(ros: Ros, *arguments: str) -> tuple[int, dict, str]:
+def wtf(ros: Ros, *arguments: str) -> tuple[int, dict[str, Any], str]:
     result = ros.run_tfx("wtf", "--ros1", "--duration", "2", "--format", "json", *arguments)
     return result.returncode, json.loads(result.stdout), result.stderr
 

@@ -96,7 +96,7 @@ def test_static_edges_hold_at_every_time_and_keep_their_history():
     assert buffer.lookup("base", "laser", 1).translation[0] == 2.0
     assert buffer.lookup("base", "laser", 10**12).stamp == 10**12
     assert buffer.lookup("base", "laser").stamp == 0
-    assert len(buffer.history("laser")) == 2
+    assert len(buffer.history("laser") or ()) == 2
 
 
 def test_a_frame_can_change_parent_over_time():

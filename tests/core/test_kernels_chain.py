@@ -56,9 +56,9 @@ def _ids(buffer: Buffer, target: str, source: str) -> tuple[int, int]:
 def _run(buffer: Buffer, target: str, source: str, times, rows, chained: bool):
     """``lookup_many`` along the chain where it can, or (not ``chained``) the walk at each time."""
     n = len(times)
-    out = np.zeros(n, np.int64), np.zeros((n, 7)), np.zeros(n, bool)
-    buffer._core.lookup_many(*_ids(buffer, target, source), times, rows, *out, chained=chained)
-    return out
+    stamps, values, valid = np.zeros(n, np.int64), np.zeros((n, 7)), np.zeros(n, bool)
+    buffer._core.lookup_many(*_ids(buffer, target, source), times, rows, stamps, values, valid, chained=chained)
+    return stamps, values, valid
 
 
 def assert_same_bits(buffer: Buffer, target: str, source: str, times) -> np.ndarray:

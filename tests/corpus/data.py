@@ -17,6 +17,7 @@ from contextlib import closing
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -88,7 +89,7 @@ def read_contents(path: Path) -> Contents:
             times.append(record_time)
             if connection.topic in TF_TOPICS:
                 publisher = getattr(connection.ext, "callerid", None) or connection.topic
-                message = reader.deserialize(raw, connection.msgtype)
+                message: Any = reader.deserialize(raw, connection.msgtype)
                 sent[connection.topic, publisher] += bool(message.transforms)
                 for t in message.transforms:
                     tr, q = t.transform.translation, t.transform.rotation
@@ -103,7 +104,7 @@ def read_contents(path: Path) -> Contents:
                         [tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w],
                     )
             elif connection.topic == "/clock":
-                clock.append((_ns(reader.deserialize(raw, connection.msgtype).clock), record_time))
+                clock.append((_ns(cast(Any, reader.deserialize(raw, connection.msgtype)).clock), record_time))
     return dataclasses.replace(_contents(topics, times, edges, clock), messages=sent)
 
 
@@ -174,7 +175,7 @@ def _read_json_mcap(path: Path) -> Contents:
     times: list[int] = []
     with path.open("rb") as f:
         reader = make_reader(f)
-        topics = {c.topic for c in reader.get_summary().channels.values()}  # type: ignore[union-attr]
+        topics = {c.topic for c in reader.get_summary().channels.values()}
         for _, channel, message in reader.iter_messages(log_time_order=True):
             times.append(message.log_time)
             if channel.topic not in TF_TOPICS:

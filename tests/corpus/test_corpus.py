@@ -14,10 +14,11 @@ import itertools
 import json
 import re
 from collections import Counter
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 import pytest
 
 import tftools
@@ -86,7 +87,7 @@ def _kept(recording: Recording, samples: data.EdgeSamples) -> list[int]:
     stored again (ROS 1's tf2 ignores it, TF_REPEATED_DATA; ROS 2's takes an identical one again
     silently), and where the manifest says (``stored_samples``) a stream mixes unset stamps (0) with
     wall-clock ones, tf2's cache drops those as soon as the others come."""
-    seen: set[tuple[int, ...]] = set()
+    seen: set[tuple[float, ...]] = set()
     keep = []
     for i, stamp in enumerate(samples.stamps):
         key = (stamp,) if recording.meta["format"] == "ros1" else (stamp, *samples.values[i])
@@ -423,7 +424,7 @@ def test_echo_one_second_in(recording: Recording, pair: list[str], corpus: Corpu
     np.testing.assert_allclose(_same_sign(shown["rotation"], rotation), rotation, atol=TF2_VALUE_TOLERANCE)
 
 
-def _same_sign(q: list[float], like: np.ndarray) -> np.ndarray:
+def _same_sign(q: Sequence[float], like: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     q_arr = np.asarray(q, np.float64)
     return -q_arr if float(np.dot(q_arr, like)) < 0 else q_arr
 

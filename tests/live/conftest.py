@@ -13,6 +13,7 @@ import time
 import xmlrpc.client
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -83,29 +84,33 @@ class Master:
         )
         wait_until(self.answers, 30, f"roscore on port {self.port}", every=0.1)
 
+    def master(self) -> Any:
+        """The master's XML-RPC API (its answers are untyped lists)."""
+        return xmlrpc.client.ServerProxy(self.uri)
+
     def answers(self) -> bool:
         try:
-            code, _, _ = xmlrpc.client.ServerProxy(self.uri).getSystemState("/test")
+            code, _, _ = self.master().getSystemState("/test")
             return code == 1 and self.param("/run_id") is not None
         except OSError:
             return False
 
     def param(self, key: str):
-        code, _, value = xmlrpc.client.ServerProxy(self.uri).getParam("/test", key)
+        code, _, value = self.master().getParam("/test", key)
         return value if code == 1 else None
 
     def set_param(self, key: str, value: object) -> None:
-        xmlrpc.client.ServerProxy(self.uri).setParam("/test", key, value)
+        self.master().setParam("/test", key, value)
 
     def delete_param(self, key: str) -> None:
-        xmlrpc.client.ServerProxy(self.uri).deleteParam("/test", key)
+        self.master().deleteParam("/test", key)
 
     def publishers(self, topic: str) -> list[str]:
-        _, _, (publishers, _, _) = xmlrpc.client.ServerProxy(self.uri).getSystemState("/test")
+        _, _, (publishers, _, _) = self.master().getSystemState("/test")
         return next((nodes for name, nodes in publishers if name == topic), [])
 
     def subscribers(self, topic: str) -> list[str]:
-        _, _, (_, subscribers, _) = xmlrpc.client.ServerProxy(self.uri).getSystemState("/test")
+        _, _, (_, subscribers, _) = self.master().getSystemState("/test")
         return next((nodes for name, nodes in subscribers if name == topic), [])
 
     def stop(self) -> None:

@@ -58,7 +58,7 @@ class Process:
                 line = self.lines.get(timeout=max(0.0, min(0.2, deadline - time.monotonic())))
             except queue.Empty:
                 if time.monotonic() > deadline or (self.popen.poll() is not None and self.lines.empty()):
-                    pytest.fail(f"no line with {text!r} from {self.popen.args} (said: {self.seen[-5:]})")
+                    pytest.fail(f"no line with {text!r} from {self.popen.args!r} (said: {self.seen[-5:]})")
                 continue
             self.seen.append(line)
             if text in line:

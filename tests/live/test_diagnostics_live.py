@@ -20,7 +20,7 @@ from tests.live.conftest import ROS_PYTHON, read_line, wait_until
 from tests.live.ros2_processes import Process, domain_fixture  # noqa: F401 - fixture `domain`
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
-from tftools.analysis.health import LEVELS, Level, check_name, edge_name
+from tftools.analysis.wtf.health import LEVELS, Level, check_name, edge_name
 from tftools.sources.recording import read_recording
 
 pytestmark = pytest.mark.live

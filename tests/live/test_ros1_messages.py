@@ -44,7 +44,7 @@ def _rosbags_message(store, transforms: list[Transform], seq: int = 7):
     )
 
 
-frames = st.text(st.characters(codec="utf-8", exclude_categories=("Cs",)), max_size=12)
+frames = st.text(st.characters(codec="utf-8", exclude_categories=["Cs"]), max_size=12)
 floats = st.floats(allow_nan=False, width=64)
 transforms = st.builds(
     Transform,

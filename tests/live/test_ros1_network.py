@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import socket
+
 import pytest
 
 from tftools.sources.live import NoRosSelectedError, choose_ros
@@ -16,7 +18,7 @@ def test_ros_hostname_then_ros_ip_then_the_host_name(monkeypatch: pytest.MonkeyP
     monkeypatch.delenv("ROS_HOSTNAME")
     assert network.advertised_host() == "10.0.0.7"
     monkeypatch.delenv("ROS_IP")
-    assert network.advertised_host() == network.socket.gethostname()
+    assert network.advertised_host() == socket.gethostname()
 
 
 def test_binds_to_loopback_only_for_a_loopback_name() -> None:

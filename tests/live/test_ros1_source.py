@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 import pytest
@@ -18,6 +19,9 @@ from tftools.sources.live import LiveError, LiveSource, open_live
 from tftools.sources.live.capture import capture, listen
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.source import Ros1Source
+
+if TYPE_CHECKING:
+    from tftools.sinks.ros1_broadcaster import Ros1StaticBroadcaster
 
 
 @pytest.fixture(autouse=True)
@@ -96,7 +100,8 @@ def test_a_dropped_connection_is_made_again(ros: Ros) -> None:
 
 def test_publishers_that_leave_are_dropped(ros: Ros) -> None:
     collected = Collected()
-    with Ros1Source(topics=["/tf_static"]) as source, open_static_broadcaster() as broadcaster:
+    with Ros1Source(topics=["/tf_static"]) as source, open_static_broadcaster() as opened:
+        broadcaster = cast("Ros1StaticBroadcaster", opened)
         source.start(collected.add)
         broadcaster.send([Transform((0, 0, 1), (0, 0, 0, 1), 7, "leave_a", "leave_b")])
         wait_until(lambda: "leave_b" in collected.children(), 10, "the static transform")

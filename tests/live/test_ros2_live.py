@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 import pytest
@@ -15,6 +16,9 @@ from tests.live.ros2_processes import Ros2Domain, domain_fixture  # noqa: F401 -
 from tftools.core.time import NS_PER_S
 from tftools.sources.live import open_live
 from tftools.sources.live.capture import capture, listen
+
+if TYPE_CHECKING:
+    from tftools.sinks.ros2_broadcaster import Ros2StaticBroadcaster
 
 
 def edges(recording) -> dict[tuple[str, str], dict]:
@@ -169,7 +173,8 @@ def test_the_static_publisher_is_announced_in_the_systems_gid_size(domain: Ros2D
     monkeypatch.delenv("ROS_DISTRO", raising=False)
     humble_graph = domain.node("discovery_listener", "24")
     humble_graph.wait_for("ready")
-    with open_static_broadcaster("ros2") as broadcaster:
+    with open_static_broadcaster("ros2") as opened:
+        broadcaster = cast("Ros2StaticBroadcaster", opened)
         assert broadcaster.gid_size == 16  # Iron on, until the system shows otherwise
         domain.node("dynamic", "humble_node", "odom", "base_link", "--gid", "24")
         humble_graph.wait_for('"/humble_node"')

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from rosbags.interfaces import Nodetype
 from rosbags.typesys import Stores, get_typestore
-from rosbags.typesys.base import Nodetype
 
 from tests.live.ros2_processes import require_cyclonedds
 from tftools.core.time import NS_PER_S

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from tests.browser import chromium, open_page, screenshot
-from tests.cli.conftest import tfx
+from tests.cli.conftest import Tfx, tfx
 from tests.corpus.fetch import shared_dir
 
 __all__ = ["chromium", "tfx"]  # fixtures, for pytest
@@ -61,7 +61,7 @@ return {
 
 
 @pytest.mark.parametrize("width", [1400, 800])
-def test_the_nav2_page_shows_no_noise(tfx, chromium: str, tmp_path: Path, width: int) -> None:
+def test_the_nav2_page_shows_no_noise(tfx: Tfx, chromium: str, tmp_path: Path, width: int) -> None:
     bag = shared_dir() / "corpus" / "ros2_mcap_nav2_turtlebot4.mcap"
     if not bag.exists():
         pytest.skip(f"{bag.name} is not in {bag.parent} ($TFTOOLS_SHARED_DIR/corpus)")

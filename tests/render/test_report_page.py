@@ -14,7 +14,7 @@ import pytest
 
 from tests.bags import TfMessage, write_bag
 from tests.browser import chromium, open_page, png_size, screenshot
-from tests.cli.conftest import HOSTILE_NAMES, SAMPLE_BAGS, tfx
+from tests.cli.conftest import HOSTILE_NAMES, SAMPLE_BAGS, Tfx, tfx
 from tests.render.report_scenes import EKF_STOPS, troubled_bags
 from tftools.core.transform import Transform
 
@@ -57,7 +57,9 @@ def _keep(picture: Path, name: str) -> None:
 
 
 @pytest.mark.parametrize("fmt", list(SAMPLE_BAGS))
-def test_the_troubled_robot_in_a_browser(tfx, chromium: str, troubled, tmp_path: Path, fmt: str) -> None:
+def test_the_troubled_robot_in_a_browser(
+    tfx: Tfx, chromium: str, troubled: dict[str, Path], tmp_path: Path, fmt: str
+) -> None:
     page = tmp_path / "report.html"
     assert tfx("report", "-b", troubled[fmt], "-o", page).code == 1
     opened = open_page(page, INTERACT.replace("WHICH", "0"))
@@ -80,7 +82,7 @@ def test_the_troubled_robot_in_a_browser(tfx, chromium: str, troubled, tmp_path:
     _keep(picture, f"report-{fmt}.png")
 
 
-def test_a_fleet_in_a_browser(tfx, chromium: str, troubled, tmp_path: Path) -> None:
+def test_a_fleet_in_a_browser(tfx: Tfx, chromium: str, troubled: dict[str, Path], tmp_path: Path) -> None:
     page = tmp_path / "fleet.html"
     bags = [SAMPLE_BAGS["ros1"], troubled["db3"], tmp_path / "missing.bag"]
     assert tfx("report", *bags, "-o", page).code == 1
@@ -99,7 +101,7 @@ def test_a_fleet_in_a_browser(tfx, chromium: str, troubled, tmp_path: Path) -> N
 INJECTION = '</script><img src=x onerror="__errors.push(\'injected\')"><b id="injected">'
 
 
-def test_names_from_the_bag_stay_text(tfx, chromium: str, tmp_path: Path) -> None:
+def test_names_from_the_bag_stay_text(tfx: Tfx, chromium: str, tmp_path: Path) -> None:
     start = 1_700_000_000 * 10**9
     frames = ["map", INJECTION, *HOSTILE_NAMES[:5]]
     messages = [

@@ -10,13 +10,14 @@ import json
 import os
 import shutil
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 from tests.analysis.robot_scenes import FLIPPED, Setup, robot_bag, urdf_file
 from tests.browser import chromium, open_page, png_size, screenshot
-from tests.cli.conftest import tfx
+from tests.cli.conftest import Tfx, tfx
 from tests.corpus.fetch import shared_dir
 
 __all__ = ["chromium", "tfx"]  # fixtures, for pytest
@@ -69,13 +70,14 @@ def _keep(picture: Path, name: str) -> None:
         shutil.copy(picture, Path(folder) / name)
 
 
-def _echo(tfx, bag: Path, fixed: str, frame: str, stamp: str) -> dict:
+def _echo(tfx: Tfx, bag: Path, fixed: str, frame: str, stamp: str) -> dict[str, Any]:
     result = tfx("echo", fixed, frame, "-b", bag, "--at", stamp, "--format", "json")
     assert result.code == 0, result.stderr
-    return json.loads(result.stdout)
+    echoed: dict[str, Any] = json.loads(result.stdout)
+    return echoed
 
 
-def _agree(tfx, bag: Path, at: dict, fixed: str) -> int:
+def _agree(tfx: Tfx, bag: Path, at: dict[str, Any], fixed: str) -> int:
     """Every drawn frame's origin and axes against ``tfx echo fixed frame --at stamp``; how many agreed."""
     agreed = 0
     for frame, position in at["positions"].items():
@@ -97,7 +99,7 @@ def _agree(tfx, bag: Path, at: dict, fixed: str) -> int:
     return agreed
 
 
-def test_a_flipped_laser_in_3d(tfx, chromium: str, tmp_path: Path) -> None:
+def test_a_flipped_laser_in_3d(tfx: Tfx, chromium: str, tmp_path: Path) -> None:
     bag = robot_bag(tmp_path, "rover", Setup(real_origins={"laser_joint": FLIPPED}))
     page = tmp_path / "report.html"
     result = tfx("report", "-b", bag, "--urdf", urdf_file(tmp_path), "-o", page)
@@ -132,7 +134,7 @@ def test_a_flipped_laser_in_3d(tfx, chromium: str, tmp_path: Path) -> None:
     _keep(picture, "report-3d-flipped.png")
 
 
-def test_the_panda_in_3d_where_tf_echo_puts_it(tfx, chromium: str, tmp_path: Path) -> None:
+def test_the_panda_in_3d_where_tf_echo_puts_it(tfx: Tfx, chromium: str, tmp_path: Path) -> None:
     bag = shared_dir() / "corpus" / "tfbag-franka-panda.bag"
     if not bag.exists():
         pytest.skip(f"{bag.name} is not in {bag.parent} ($TFTOOLS_SHARED_DIR/corpus)")

@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.health import Level, Status, check_name, edge_name, statuses
 from tftools.analysis.wtf.fleet import BagReport
+from tftools.analysis.wtf.health import Level, Status, check_name, edge_name, statuses
 from tftools.core.time import NS_PER_S
 from tftools.sinks.diagnostics import DIAGNOSTIC_ARRAY, encode_cdr, encode_ros1
 from tftools.sources.codecs.types import ros1_message_type
@@ -48,7 +49,7 @@ def _by_name(said: list[Status]) -> dict[str, Status]:
     return {s.name: s for s in said}
 
 
-def test_each_check_and_edge_has_a_status_at_the_level_of_its_worst_finding():
+def test_each_check_and_edge_has_a_status_at_the_level_of_its_worst_finding() -> None:
     said = _by_name(
         statuses(_report(STALE, SLASH), [_edge("odom", "base_link"), _edge("base_link", "laser", static=True)], NOW)
     )
@@ -63,7 +64,7 @@ def test_each_check_and_edge_has_a_status_at_the_level_of_its_worst_finding():
     assert all(s.hardware_id == "tf" for s in said.values())
 
 
-def test_an_edges_figures_are_its_rate_delay_age_and_longest_gap():
+def test_an_edges_figures_are_its_rate_delay_age_and_longest_gap() -> None:
     said = _by_name(statuses(_report(), [_edge("odom", "base_link")], NOW))
     values = dict(said[edge_name("odom", "base_link")].values)
     assert values["rate (Hz)"] == "20.000"
@@ -72,7 +73,7 @@ def test_an_edges_figures_are_its_rate_delay_age_and_longest_gap():
     assert values["publishers"] == "/robot"
 
 
-def test_an_edge_heard_before_but_not_now_is_stale_and_nothing_heard_is_a_stale_tree():
+def test_an_edge_heard_before_but_not_now_is_stale_and_nothing_heard_is_a_stale_tree() -> None:
     said = _by_name(statuses(_report(), [], NOW, gone={("odom", "base_link"): NOW - 30 * NS_PER_S}))
     gone = said[edge_name("odom", "base_link")]
     assert gone.level is Level.STALE and gone.message == "not heard for 30.000 s"
@@ -82,12 +83,12 @@ def test_an_edge_heard_before_but_not_now_is_stale_and_nothing_heard_is_a_stale_
     assert empty[check_name("no_tf")].level is Level.STALE  # no data yet, as the aggregator says it
 
 
-def test_ignored_checks_have_no_status():
+def test_ignored_checks_have_no_status() -> None:
     said = _by_name(statuses(_report(), [], NOW, ignore=("cycle",)))
     assert check_name("cycle") not in said and check_name("stale") in said
 
 
-def _decoded(store_name: Stores, data: bytes, ros1: bool):
+def _decoded(store_name: Stores, data: bytes, ros1: bool) -> Any:
     """Decoded with a type store built from the published message definition (not tftools' encoder)."""
     store = get_typestore(Stores.EMPTY)
     definition = ros1_message_type(DIAGNOSTIC_ARRAY).definition
@@ -97,7 +98,7 @@ def _decoded(store_name: Stores, data: bytes, ros1: bool):
     return get_typestore(store_name).deserialize_cdr(data, DIAGNOSTIC_ARRAY)
 
 
-def test_the_array_decodes_as_ros1_and_ros2_read_it():
+def test_the_array_decodes_as_ros1_and_ros2_read_it() -> None:
     said = statuses(_report(STALE), [_edge("odom", "base_link")], NOW)
     for data, ros1 in ((encode_ros1(NOW, said), True), (encode_cdr(NOW, said), False)):
         message = _decoded(Stores.ROS2_HUMBLE, data, ros1)
@@ -109,6 +110,6 @@ def test_the_array_decodes_as_ros1_and_ros2_read_it():
         assert {kv.key: kv.value for kv in edge.values}["rate (Hz)"] == "20.000"
 
 
-def test_the_ros1_type_is_diagnostic_msgs_own():
+def test_the_ros1_type_is_diagnostic_msgs_own() -> None:
     # the md5sum rospy's diagnostic_msgs/DiagnosticArray has: a subscriber refuses any other
     assert ros1_message_type(DIAGNOSTIC_ARRAY).md5sum == "60810da900de1dd6ddd437c3503511da"

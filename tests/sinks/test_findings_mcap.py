@@ -12,7 +12,8 @@ from mcap_protobuf.decoder import DecoderFactory
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from tests.bags import TfMessage, write_bag
-from tftools.analysis.health import Level, check_name, edge_name
+from tests.cli.conftest import Tfx
+from tftools.analysis.wtf.health import Level, check_name, edge_name
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 
@@ -45,6 +46,7 @@ def _messages(path: Path) -> list[tuple[str, str, int, Any]]:
     with path.open("rb") as stream:
         reader = make_reader(stream, decoder_factories=[DecoderFactory()])
         for schema, channel, message in reader.iter_messages():
+            assert schema is not None
             if schema.encoding == "protobuf":
                 decoder = DecoderFactory().decoder_for("protobuf", schema)
                 assert decoder is not None
@@ -59,7 +61,7 @@ def _messages(path: Path) -> list[tuple[str, str, int, Any]]:
     return decoded
 
 
-def test_each_finding_is_a_foxglove_log_at_its_time_with_its_hint(tfx, stopping_bag, tmp_path):
+def test_each_finding_is_a_foxglove_log_at_its_time_with_its_hint(tfx: Tfx, stopping_bag: Path, tmp_path: Path) -> None:
     out = tmp_path / "findings.mcap"
     before = _digest(stopping_bag)
     result = tfx("wtf", stopping_bag, "--mcap", out)
@@ -80,14 +82,16 @@ def test_each_finding_is_a_foxglove_log_at_its_time_with_its_hint(tfx, stopping_
     assert (edge.parent_frame_id, edge.child_frame_id) == ("odom", "base_link")
 
 
-def test_diagnostics_say_the_edge_healthy_then_stopped_once_a_second(tfx, stopping_bag, tmp_path):
+def test_diagnostics_say_the_edge_healthy_then_stopped_once_a_second(
+    tfx: Tfx, stopping_bag: Path, tmp_path: Path
+) -> None:
     out = tmp_path / "findings.mcap"
     tfx("wtf", stopping_bag, "--mcap", out)
     arrays = [(at, m) for topic, _, at, m in _messages(out) if topic == "/diagnostics"]
     assert len(arrays) == 20  # one a second over the 19.9 s recording
     assert all(m.header.stamp.sec * NS_PER_S + m.header.stamp.nanosec == at for at, m in arrays)
 
-    def levels(message) -> dict[str, int]:
+    def levels(message: Any) -> dict[str, int]:
         return {s.name: s.level for s in message.status}
 
     early = levels(arrays[5][1])  # at +5 s: both edges moving
@@ -98,7 +102,7 @@ def test_diagnostics_say_the_edge_healthy_then_stopped_once_a_second(tfx, stoppi
     assert rate["rate (Hz)"] == "10.000"
 
 
-def test_an_existing_file_is_kept_without_force(tfx, stopping_bag, tmp_path):
+def test_an_existing_file_is_kept_without_force(tfx: Tfx, stopping_bag: Path, tmp_path: Path) -> None:
     out = tmp_path / "findings.mcap"
     out.write_bytes(b"mine")
     result = tfx("wtf", stopping_bag, "--mcap", out)
@@ -108,14 +112,14 @@ def test_an_existing_file_is_kept_without_force(tfx, stopping_bag, tmp_path):
     assert out.read_bytes().startswith(b"\x89MCAP")
 
 
-def test_the_recording_itself_is_never_written(tfx, stopping_bag):
+def test_the_recording_itself_is_never_written(tfx: Tfx, stopping_bag: Path) -> None:
     before = _digest(stopping_bag)
     result = tfx("wtf", stopping_bag, "--mcap", stopping_bag, "--force")
     assert result.code == 2 and "is the input" in result.stderr and "never writes over its input" in result.stderr
     assert _digest(stopping_bag) == before
 
 
-def test_one_recording_at_a_time(tfx, stopping_bag, tmp_path):
+def test_one_recording_at_a_time(tfx: Tfx, stopping_bag: Path, tmp_path: Path) -> None:
     other = tmp_path / "other.bag"
     other.write_bytes(stopping_bag.read_bytes())
     result = tfx("wtf", stopping_bag, other, "--mcap", tmp_path / "f.mcap")
@@ -123,7 +127,7 @@ def test_one_recording_at_a_time(tfx, stopping_bag, tmp_path):
     assert not (tmp_path / "f.mcap").exists()
 
 
-def test_report_writes_the_same_findings_beside_its_page(tfx, stopping_bag, tmp_path):
+def test_report_writes_the_same_findings_beside_its_page(tfx: Tfx, stopping_bag: Path, tmp_path: Path) -> None:
     out, page = tmp_path / "findings.mcap", tmp_path / "report.html"
     result = tfx("report", stopping_bag, "-o", page, "--mcap", out)
     assert result.code == 1, result.stderr
@@ -132,7 +136,7 @@ def test_report_writes_the_same_findings_beside_its_page(tfx, stopping_bag, tmp_
     assert "tfx wtf: stale" in names
 
 
-def test_report_refuses_an_existing_mcap_before_writing_its_page(tfx, stopping_bag, tmp_path):
+def test_report_refuses_an_existing_mcap_before_writing_its_page(tfx: Tfx, stopping_bag: Path, tmp_path: Path) -> None:
     out, page = tmp_path / "findings.mcap", tmp_path / "report.html"
     out.write_bytes(b"mine")
     result = tfx("report", stopping_bag, "-o", page, "--mcap", out)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS, Result, tfx  # noqa: F401 (the fixture)
+from tests.cli.conftest import SAMPLE_BAGS, Result, Tfx, tfx  # noqa: F401 (the fixture)
 from tftools.core.transform import Transform
 from tftools.render.files import OutputError, write_atomically
 from tftools.sinks.static_bag import add_static_transforms
@@ -41,7 +41,7 @@ def _refused(result: Result, special: Path) -> None:
 
 @pytest.mark.parametrize("force", [True, False])
 @pytest.mark.parametrize("repair", [True, False])
-def test_static_never_replaces_a_fifo_or_a_device(tfx, fifo: Path, force: bool, repair: bool) -> None:  # noqa: F811
+def test_static_never_replaces_a_fifo_or_a_device(tfx: Tfx, fifo: Path, force: bool, repair: bool) -> None:  # noqa: F811
     for special in (fifo, NULL):
         kind = _kind(special)
         given = ("static", "--repair") if repair else STATIC
@@ -50,14 +50,14 @@ def test_static_never_replaces_a_fifo_or_a_device(tfx, fifo: Path, force: bool, 
 
 
 @pytest.mark.parametrize("command", [("view-frames",), ("report",)])
-def test_file_outputs_never_replace_a_fifo_or_a_device(tfx, fifo: Path, command: tuple[str, ...]) -> None:  # noqa: F811
+def test_file_outputs_never_replace_a_fifo_or_a_device(tfx: Tfx, fifo: Path, command: tuple[str, ...]) -> None:  # noqa: F811
     for special in (fifo, NULL):
         kind = _kind(special)
         _refused(tfx(*command, "-b", SAMPLE_BAGS["db3"], "-o", special), special)
         assert kind(special.stat().st_mode)
 
 
-def test_a_link_to_a_device_is_refused_too(tfx, tmp_path: Path) -> None:  # noqa: F811
+def test_a_link_to_a_device_is_refused_too(tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     link = tmp_path / "out.bag"
     link.symlink_to(NULL)
     _refused(tfx(*STATIC, "-b", SAMPLE_BAGS["ros1"], "-o", link, "--force"), link)
@@ -75,7 +75,7 @@ def test_the_library_never_replaces_a_fifo_or_a_device(fifo: Path) -> None:
         assert kind(special.stat().st_mode)
 
 
-def test_force_still_replaces_an_earlier_output(tfx, tmp_path: Path) -> None:  # noqa: F811
+def test_force_still_replaces_an_earlier_output(tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     out = tmp_path / "out.bag"
     out.write_bytes(b"an earlier output")
     done = tfx(*STATIC, "-b", SAMPLE_BAGS["ros1"], "-o", out, "--force")

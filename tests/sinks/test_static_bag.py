@@ -79,9 +79,9 @@ def test_a_ros2_bag_with_a_type_tfx_does_not_know_is_repaired_and_copied_as_reco
         (thing,) = [c for c in copy.connections if c.topic == "/thing"]
         assert (thing.msgtype, thing.digest, thing.msgdef.data) == (THING, THING_HASH, "uint8[] data")
         assert {c.topic: c.msgcount for c in copy.connections}["/quiet"] == 0
-        assert {c.ext.offered_qos_profiles[0].durability.name for c in copy.connections if c.topic == "/tf_static"} == {
-            "TRANSIENT_LOCAL"
-        }
+        assert {
+            _ext(c).offered_qos_profiles[0].durability.name for c in copy.connections if c.topic == "/tf_static"
+        } == {"TRANSIENT_LOCAL"}
     assert now["/thing"] == was["/thing"] and now["/tf"] == was["/tf"]
     repeats = len(now["/tf_static"]) - len(was["/tf_static"])
     assert repeats == 1 + int((len(PAYLOADS) - 1) * 0.5 // REPAIR_EVERY_S)  # the start, then every 5 s
@@ -137,9 +137,9 @@ def test_a_ros1_repair_repeats_statics_on_the_connection_that_sent_them(tmp_path
     with Ros1Reader(bag) as original, Ros1Reader(written) as copy:
         was, now = _messages(original), _messages(copy)
         statics = [c for c in copy.connections if c.topic == "/tf_static"]
-        assert [(c.ext.callerid, c.ext.latching) for c in statics] == [(callerid, 1)]
+        assert [(_ext(c).callerid, _ext(c).latching) for c in statics] == [(callerid, 1)]
         (thing,) = [c for c in copy.connections if c.topic == "/thing"]
-        described = (thing.msgtype, thing.digest, thing.msgdef.data, thing.ext.callerid)
+        described = (thing.msgtype, thing.digest, thing.msgdef.data, _ext(thing).callerid)
         assert described == (THING, "0" * 31 + "1", "uint8[] data", "/x")
     assert now["/thing"] == was["/thing"] and now["/tf"] == was["/tf"]
     assert len(now["/tf_static"]) > len(was["/tf_static"])
@@ -150,7 +150,7 @@ def test_added_transforms_come_from_tfx_own_publisher(tmp_path: Path) -> None:
     bag = _ros1(tmp_path / "in.bag", callerid="/rsp")
     written = add_static_transforms(bag, tmp_path / "out.bag", [Transform((0, 0, 1), (0, 0, 0, 1), 0, "odom", "x")])
     with Ros1Reader(written) as copy:
-        senders = sorted(str(c.ext.callerid) for c in copy.connections if c.topic == "/tf_static")
+        senders = sorted(str(_ext(c).callerid) for c in copy.connections if c.topic == "/tf_static")
     assert senders == ["/rsp", "/tfx_static"]
     assert read_recording([written]).buffer.lookup("odom", "x").translation == (0.0, 0.0, 1.0)
 
@@ -203,3 +203,8 @@ def test_repair_on_every_corpus_recording_with_statics(tmp_path: Path, bag: Path
     found = {f.code for f in check(read_recording([written], allow_empty=True)).findings}
     assert not found & {"statics_early", "static_volatile"}
     assert found <= {f.code for f in check(original).findings}
+
+
+def _ext(connection: Any) -> Any:
+    """A connection's format-specific part (ROS 1's callerid and latching, ROS 2's QoS profiles)."""
+    return connection.ext

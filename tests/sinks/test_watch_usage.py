@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from tests.bags import TfMessage, write_bag
+from tests.cli.conftest import Tfx
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 
 
-def test_watch_is_for_a_live_system(tfx, tmp_path):
+def test_watch_is_for_a_live_system(tfx: Tfx, tmp_path: Path) -> None:
     stamp = 1_700_000_000 * NS_PER_S
     bag = write_bag(
         tmp_path / "a.bag", [TfMessage("/tf", stamp, [Transform(stamp=stamp, frame_id="a", child_frame_id="b")])]

@@ -16,7 +16,8 @@ from tftools import lazy
 
 if TYPE_CHECKING:
     from tftools.analysis.description import Robot, robot_of
-    from tftools.analysis.diff import Difference, compare
+    from tftools.analysis.diff import DiffQuery, TreeDiff, diff_trees
+    from tftools.analysis.differences import Difference, compare
     from tftools.analysis.echo import EchoQuery, EchoSeries, echo_stream
     from tftools.analysis.expected import Tolerances, TreeShape, shape_of
     from tftools.analysis.filter import FilterQuery, filter_messages
@@ -25,14 +26,13 @@ if TYPE_CHECKING:
     from tftools.analysis.fleet import Fleet, Unfinished, UnfinishedCause, run_fleet
     from tftools.analysis.frames import FrameTree, frame_tree
     from tftools.analysis.graph import FrameGraph, frame_graph, view_frames
-    from tftools.analysis.loops import find_loops
     from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor_stream
     from tftools.analysis.report import RecordingReport, ReportQuery, Unreadable, report_fleet
     from tftools.analysis.times import Offset, Stamp, TimeSpec, parse_time_spec
-    from tftools.analysis.tree_diff import DiffQuery, TreeDiff, diff_trees
     from tftools.analysis.tree_file import read_tree, write_tree
     from tftools.analysis.wtf import CHECKS, Thresholds, findings_of
     from tftools.analysis.wtf.fleet import BagReport, check, check_fleet
+    from tftools.analysis.wtf.loops import find_loops
     from tftools.analysis.wtf.query import CheckQuery
     from tftools.sources.errors import NoStampedDataError
 
@@ -94,8 +94,8 @@ _HOME = {
     "BagReport": "tftools.analysis.wtf.fleet",
     "CHECKS": "tftools.analysis.wtf",
     "CheckQuery": "tftools.analysis.wtf.query",
-    "DiffQuery": "tftools.analysis.tree_diff",
-    "Difference": "tftools.analysis.diff",
+    "DiffQuery": "tftools.analysis.diff",
+    "Difference": "tftools.analysis.differences",
     "EchoQuery": "tftools.analysis.echo",
     "EchoSeries": "tftools.analysis.echo",
     "FilterQuery": "tftools.analysis.filter",
@@ -117,18 +117,18 @@ _HOME = {
     "Thresholds": "tftools.analysis.wtf",
     "TimeSpec": "tftools.analysis.times",
     "Tolerances": "tftools.analysis.expected",
-    "TreeDiff": "tftools.analysis.tree_diff",
+    "TreeDiff": "tftools.analysis.diff",
     "TreeShape": "tftools.analysis.expected",
     "Unfinished": "tftools.analysis.fleet",
     "UnfinishedCause": "tftools.analysis.fleet",
     "Unreadable": "tftools.analysis.report",
     "check": "tftools.analysis.wtf.fleet",
     "check_fleet": "tftools.analysis.wtf.fleet",
-    "compare": "tftools.analysis.diff",
-    "diff_trees": "tftools.analysis.tree_diff",
+    "compare": "tftools.analysis.differences",
+    "diff_trees": "tftools.analysis.diff",
     "echo_stream": "tftools.analysis.echo",
     "filter_messages": "tftools.analysis.filter",
-    "find_loops": "tftools.analysis.loops",
+    "find_loops": "tftools.analysis.wtf.loops",
     "findings_of": "tftools.analysis.wtf",
     "frame_graph": "tftools.analysis.graph",
     "frame_tree": "tftools.analysis.frames",

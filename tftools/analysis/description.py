@@ -20,7 +20,7 @@ from functools import cached_property
 
 import numpy as np
 
-from tftools.analysis.diff import Change, Difference, rotation_angle_deg
+from tftools.analysis.differences import Change, Difference, rotation_angle_deg
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree

@@ -37,10 +37,18 @@ pitch, yaw in degrees; or rotation: [qx, qy, qz, qw]). Moving edges: rate_hz. Le
 to accept any. tolerances: how far a static edge may move, how far a rate may fall (percent)."""
 
 
+#: What to do about a tree file that is not one: ``write_tree`` writes one of a recording's ``shape_of``.
+WRITE_ONE = "write_tree(shape_of(recording), file) writes such a file"
+
+
 class TreeFileError(TfToolsError):
-    def __init__(self, path: str, problem: str, hint: str = "see tfx wtf --help (--init writes such a file)") -> None:
+    """The tree file at ``path`` cannot be used: ``problem`` says why; ``missing`` when it is not there (or is
+    not a regular file), and ``fix`` what to do about that."""
+
+    def __init__(self, path: str, problem: str, *, missing: bool = False, fix: str = "") -> None:
         super().__init__(f"{path}: {problem}")
-        self.hint = hint
+        self.path, self.problem, self.missing, self.fix = path, problem, missing, fix
+        self.hint = f"{fix}; {WRITE_ONE}" if missing else WRITE_ONE
 
 
 def write_tree(tree: TreeShape, out: IO[str]) -> None:
@@ -89,8 +97,7 @@ def read_tree(path: str | os.PathLike[str]) -> TreeShape:
     try:
         document = load(path)
     except NotAFileError as error:
-        hint = f"{error.hint}; tfx wtf --init BAG > tree.yaml writes one"
-        raise TreeFileError(name, str(error), hint) from None
+        raise TreeFileError(name, str(error), missing=True, fix=error.hint) from None
     except UserFileError as error:
         raise TreeFileError(name, f"cannot be read: {error}") from None
     if not isinstance(document, Mapping) or not isinstance(document.get("frames"), Mapping):

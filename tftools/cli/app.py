@@ -116,7 +116,7 @@ def _warnings_as_notices() -> Iterator[None]:
 
 
 def _failed(error: TfToolsError) -> int:
-    """The error's one line, in the command line's words (``errors.TABLE``), and its exit code."""
+    """The error's one line, in the command line's words (``errors.table``), and its exit code."""
     from tftools.cli.common import say_failure
     from tftools.cli.errors import worded
 

@@ -38,8 +38,8 @@ def command(
     Examples: [cyan]tfx diff monday.bag tuesday.bag[/], [cyan]tfx diff tree.yaml run_db3 --tolerance-mm 2[/],
     [cyan]tfx diff before.mcap after.mcap --format json[/]
     """
+    from tftools.analysis.diff import DiffQuery, diff_trees
     from tftools.analysis.expected import Tolerances
-    from tftools.analysis.tree_diff import DiffQuery, diff_trees
     from tftools.render import diff as render
 
     expected_tree.tolerances(Tolerances(), tolerance_mm, tolerance_deg, tolerance_rate)  # refused before reading

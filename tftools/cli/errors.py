@@ -3,9 +3,10 @@ it came from and gives its exit code (the library's own messages name no option)
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from tftools.cli.common import Exit
 from tftools.core.errors import (
@@ -18,8 +19,15 @@ from tftools.core.errors import (
     UnknownFrameError,
 )
 from tftools.core.time import NS_PER_S, to_sec
-from tftools.sinks.errors import FindingsFileError
-from tftools.sources.errors import NoStampedDataError, PartOfBagError
+
+if TYPE_CHECKING:
+    from tftools.analysis.tree_file import TreeFileError
+    from tftools.render.drawing import GraphTooLargeError, GraphvizFailedError, OutputExistsError
+    from tftools.render.plots import PlotUnavailableError
+    from tftools.render.wtf_lines import ReportError
+    from tftools.sinks.errors import CopyError, FindingsFileError
+    from tftools.sources.errors import NoTransformsError, PartOfBagError
+    from tftools.sources.live.errors import NoClockError, NoRosSelectedError
 
 
 class UsageError(TfToolsError):
@@ -52,8 +60,10 @@ def _findings_file(error: FindingsFileError) -> UsageError:
 
 
 def _transform(error: InvalidTransformError) -> UsageError:
-    if error.recording:
-        return UsageError(str(error), f"{error.hint}: tfx frames -b {error.recording} lists its own")
+    if error.recording:  # a frame the recording has: the copy would fail tfx wtf
+        return UsageError(
+            f"{error}, and tfx wtf would fail the copy", f"{error.hint}: tfx frames -b {error.recording} lists its own"
+        )
     return UsageError(str(error), error.hint)
 
 
@@ -99,23 +109,112 @@ def _too_many_lines(error: TooManyLinesError) -> UsageError:
     )
 
 
+def _no_transforms(error: NoTransformsError) -> UsageError:
+    hint = {
+        "unread": "convert those topics to a type and encoding tfx reads, or pick other topics with --topic",
+        "unreadable": "`tfx wtf` names their type and encoding; pick other topics with --topic",
+        "absent": "was /tf recorded? pick other topics with --topic",
+    }
+    return UsageError(str(error), hint.get(error.cause, error.hint))
+
+
+def _no_ros(error: NoRosSelectedError) -> UsageError:
+    return UsageError(
+        str(error),
+        "give a bag with -b BAG, or set ROS_MASTER_URI (e.g. http://localhost:11311), or pass --ros1, "
+        "or --ros2 for ROS 2 (DDS domain ROS_DOMAIN_ID, default 0)",
+    )
+
+
+def _no_clock(error: NoClockError) -> UsageError:
+    return UsageError(
+        str(error),
+        "replay with the clock (rosbag play --clock BAG), or run without simulated time "
+        "(rosparam set /use_sim_time false, or tfx ... --wall-time)",
+    )
+
+
+def _copy(error: CopyError) -> UsageError:
+    hint = {
+        "no_statics": "add them with tfx static X Y Z ... -b IN -o OUT",
+        "exists": "choose another output path, or --force to replace it",
+        "not_replaceable": "--force replaces only an earlier output",
+        "damaged": "tfx wtf -b BAG says what is damaged",
+        "encoding": "tfx static copies ROS 1 bags, and ROS 2 bags of CDR messages",
+    }
+    return UsageError(str(error), hint.get(error.reason, error.hint))
+
+
+def _tree_file(error: TreeFileError) -> UsageError:
+    if error.missing:
+        return UsageError(str(error), f"{error.fix}; tfx wtf --init BAG > tree.yaml writes one")
+    return UsageError(str(error), "see tfx wtf --help (--init writes such a file)")
+
+
+def _graph_too_large(error: GraphTooLargeError) -> UsageError:
+    if error.source_path is None:  # drawn for a page: view-frames writes the source
+        hint = "tfx view-frames -b BAG -o frames.gv writes its source; dot -Tsvg frames.gv -o frames.svg draws it"
+        return UsageError(str(error), hint)
+    return UsageError(str(error), error.hint)
+
+
+def _graphviz_failed(error: GraphvizFailedError) -> UsageError:
+    return UsageError(str(error), "write the Graphviz source with --format dot, and please report this to tftools")
+
+
+def _output_exists(error: OutputExistsError) -> UsageError:
+    return UsageError(
+        f"{error.path} exists and was not written by tfx view-frames; not overwriting it",
+        "move it away, or name the output with -o",
+    )
+
+
+def _plot_unavailable(error: PlotUnavailableError) -> UsageError:
+    return UsageError("--plot needs matplotlib, which is not installed", error.hint)
+
+
+def _resumed_report(error: ReportError) -> UsageError:
+    return UsageError(str(error), "give a report written by tfx wtf --format jsonl")
+
+
 def _said(error: TfToolsError) -> UsageError:
     """An error whose library words are already the command line's."""
     return UsageError(str(error), error.hint)
 
 
-#: Each library error the command line words its own way (rows sorted by class name).
-TABLE: dict[type[TfToolsError], Row] = {
-    FindingsFileError: Row(_findings_file),
-    FleetUnavailableError: Row(_fleet),
-    InvalidTimeError: Row(_invalid_time),
-    InvalidTransformError: Row(_transform),
-    NoStampedDataError: Row(_said),
-    PartOfBagError: Row(_part_of_bag),
-    TimeRangeError: Row(_time_range),
-    TooManyLinesError: Row(_too_many_lines),
-    UnknownFrameError: Row(_said),
-}
+@functools.cache
+def table() -> dict[type[TfToolsError], Row]:
+    """Each library error the command line words its own way (rows sorted by class name): the one table,
+    built when an error is worded, so that a command loads its errors' modules only then."""
+    from tftools.analysis.tree_file import TreeFileError
+    from tftools.render.drawing import GraphTooLargeError, GraphvizFailedError, OutputExistsError
+    from tftools.render.plots import PlotUnavailableError
+    from tftools.render.wtf_lines import ReportError
+    from tftools.sinks.errors import CopyError, FindingsFileError
+    from tftools.sources.errors import NoStampedDataError, NoTransformsError, PartOfBagError
+    from tftools.sources.live.errors import NoClockError, NoRosSelectedError
+
+    return {
+        CopyError: Row(_copy),
+        FindingsFileError: Row(_findings_file),
+        FleetUnavailableError: Row(_fleet),
+        GraphTooLargeError: Row(_graph_too_large),
+        GraphvizFailedError: Row(_graphviz_failed),
+        InvalidTimeError: Row(_invalid_time),
+        InvalidTransformError: Row(_transform),
+        NoClockError: Row(_no_clock),
+        NoRosSelectedError: Row(_no_ros),
+        NoStampedDataError: Row(_said),
+        NoTransformsError: Row(_no_transforms),
+        OutputExistsError: Row(_output_exists),
+        PartOfBagError: Row(_part_of_bag),
+        PlotUnavailableError: Row(_plot_unavailable),
+        ReportError: Row(_resumed_report),
+        TimeRangeError: Row(_time_range),
+        TooManyLinesError: Row(_too_many_lines),
+        TreeFileError: Row(_tree_file),
+        UnknownFrameError: Row(_said),
+    }
 
 
 #: What to do about a recording of a fleet whose task did not finish, by its cause (the values of
@@ -135,7 +234,7 @@ def worded(error: TfToolsError) -> tuple[TfToolsError, Exit]:
     """``error`` as the command line says it, and the exit code: its class's row (or its nearest base's), else
     as the library said it, with code 2."""
     for kind in type(error).__mro__:
-        row = TABLE.get(kind)
+        row = table().get(kind)
         if row is not None:
             return row.word(error), row.code
     return error, Exit.UNUSABLE

@@ -46,7 +46,7 @@ ToleranceRateOption = Annotated[
 
 def tolerances(base: Tolerances, mm: float | None, deg: float | None, rate: float | None) -> Tolerances:
     """``base`` with the tolerances given on the command line instead."""
-    from tftools.analysis.tree_diff import overridden
+    from tftools.analysis.diff import overridden
 
     try:
         return overridden(base, mm, deg, rate)

@@ -97,7 +97,7 @@ def command(
     [cyan]tfx static --repair -b recording/ -o repaired/[/]
     """
     from tftools.analysis.findings import counted
-    from tftools.sinks.static import add_static, checked, publish_static, repair_static
+    from tftools.sinks.static import StaticQuery, checked, copy_with_statics, publish_static
     from tftools.sinks.static_bag import REPAIR_EVERY_S, STATIC_TOPIC
     from tftools.sources.live.static_file import read_static_transforms
 
@@ -106,10 +106,10 @@ def command(
         if arguments or from_file is not None or any(v is not None for v in numbers.values()):
             raise UsageError("--repair takes no transforms: it uses the bag's own", "tfx static --repair -b IN -o OUT")
         bag, output = _copying(bag, output, force)
-        written, statics = repair_static(bag, output, force=force)
+        copy = copy_with_statics(bag, output, StaticQuery(repair=True, force=force))
         every = f"at its start and every {REPAIR_EVERY_S:g} s"
-        said = f"{counted(len(statics), 'static transform')} ({_edges(statics)}) {every}"
-        stdout.print(printable(f"{written}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {said}"))
+        said = f"{counted(len(copy.transforms), 'static transform')} ({_edges(copy.transforms)}) {every}"
+        stdout.print(printable(f"{copy.path}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {said}"))
         return
     transforms = read_static_transforms(from_file) if from_file is not None else []
     transforms += _given(arguments or [], numbers, frame_id, child_frame_id, degrees)
@@ -118,9 +118,9 @@ def command(
     given, transforms = transforms, [checked(t) for t in transforms]  # refused before any work
     if bag is not None or output is not None:
         bag, output = _copying(bag, output, force)
-        written = add_static(bag, output, given, force=force)
-        added = f"{counted(len(transforms), 'static transform')} added on {STATIC_TOPIC}"
-        stdout.print(printable(f"{written}: a copy of {bag} with {added}"))
+        copy = copy_with_statics(bag, output, StaticQuery(tuple(given), force=force))
+        added = f"{counted(len(copy.transforms), 'static transform')} added on {STATIC_TOPIC}"
+        stdout.print(printable(f"{copy.path}: a copy of {bag} with {added}"))
         return
     if duration is not None:
         positive_seconds(duration, "--duration", "10")

@@ -253,7 +253,7 @@ def _watch(
     ros1: bool | None, use_sim_time: bool | None, topics: Sequence[str] | None, query: CheckQuery, window: float
 ) -> None:
     """``--watch``: the live system checked every second, its health on /diagnostics and its changes on stdout."""
-    from tftools.analysis.watch import Health, watch_live
+    from tftools.analysis.wtf.watch import Health, watch_live
     from tftools.render.escape import printable
     from tftools.sinks.diagnostics import open_diagnostics
     from tftools.sources.live.errors import LiveError

@@ -6,7 +6,7 @@ from dataclasses import asdict
 from typing import IO, Any
 
 from tftools import __version__
-from tftools.analysis.diff import Difference, describe
+from tftools.analysis.differences import Difference, describe
 from tftools.analysis.expected import Tolerances, TreeShape
 from tftools.analysis.findings import counted
 from tftools.render import jsonl

@@ -63,7 +63,9 @@ class GraphTooLargeError(GraphNotDrawnError):
         if source_path:
             hint = f"dot -T{Path(output).suffix.lstrip('.')} {source_path} -o {output} draws it without a time limit"
         else:  # drawn for a page: view-frames writes the source
-            hint = "tfx view-frames -b BAG -o frames.gv writes its source; dot -Tsvg frames.gv -o frames.svg draws it"
+            hint = (
+                "write_graph(graph, 'frames.gv', 'dot') writes its source; dot -Tsvg frames.gv -o frames.svg draws it"
+            )
         super().__init__(
             f"{output} was not drawn: Graphviz's `dot` did not finish {nodes} frames in {DRAW_SECONDS:.0f} s{wrote}",
             hint,
@@ -82,15 +84,16 @@ class GraphvizFailedError(TfToolsError):
         said = stderr.decode(errors="replace") if isinstance(stderr, bytes) else stderr or ""
         first = next((line.strip() for line in said.splitlines() if line.strip()), "no message")
         super().__init__(f"Graphviz's `dot` could not draw {output}: {printable(first)}")
-        self.hint = "write the Graphviz source with --format dot, and please report this to tftools"
+        self.hint = "write the Graphviz source (format dot), and please report this to tftools"
 
 
 class OutputExistsError(TfToolsError):
     """A file tfx did not ask for would be overwritten."""
 
     def __init__(self, path: str) -> None:
-        super().__init__(f"{path} exists and was not written by tfx view-frames; not overwriting it")
-        self.hint = "move it away, or name the output with -o"
+        super().__init__(f"{path} exists and is not a graph tftools wrote; not overwriting it")
+        self.path = path
+        self.hint = "move it away, or name another output"
 
 
 def draw(dot: graphviz.Digraph, fmt: str, output: str = "the graph") -> bytes:

@@ -24,8 +24,11 @@ def _sec(ns: float) -> str:
     return "-" if math.isnan(ns) else f"{seconds(ns):.4f}"
 
 
+#: What jitter is (``core.figures.jitter``), said once where it is shown: under the wide table, in the key of
+#: the narrow lines.
+JITTER = "Jitter: how irregular an edge's stamps are, the standard deviation of the intervals between them"
 #: What the figures are, said once above the lines of a narrow terminal (the table's headers say it wide).
-KEY = "Rate in Hz; Jitter: standard deviation of the intervals between stamps; Gap: the largest; times in s"
+KEY = f"Rate in Hz; {JITTER}; Gap: the largest; times in s"
 
 
 def _table(title: str, names: Sequence[str], numbers: Sequence[str], names_after: Sequence[str]) -> Table:
@@ -64,6 +67,7 @@ def _edge_cells(e: EdgeStats) -> tuple[Text, Text, Text, list[Text]]:
 def _edges(edges: Sequence[EdgeStats]) -> Fitted:
     numbers = ("Samples", _RATE, "Jitter (s)", "Largest gap (s)", _DELAY_MEAN, _DELAY_MAX)
     table = _table("Frames:", ("Parent", "Frame", "published by"), numbers, ())
+    table.caption, table.caption_justify, table.caption_style = JITTER, "left", "dim"
     rows = []
     for e in edges:
         parent, child, by, figures = _edge_cells(e)

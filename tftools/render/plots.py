@@ -45,7 +45,7 @@ def require_matplotlib() -> None:
     try:
         import matplotlib  # noqa: F401
     except ImportError:
-        raise PlotUnavailableError("--plot needs matplotlib, which is not installed") from None
+        raise PlotUnavailableError("plotting needs matplotlib, which is not installed") from None
 
 
 def plot_format(path: str | os.PathLike[str]) -> str | None:

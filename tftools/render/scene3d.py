@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from tftools.analysis.poses import MAX_FRAMES, FramePoses
+from tftools.analysis.report.poses import MAX_FRAMES, FramePoses
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import printable
 

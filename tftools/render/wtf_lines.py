@@ -22,9 +22,9 @@ MAX_RECORDINGS = 1_000_000
 
 
 class ReportError(TfToolsError):
-    """A ``--resume`` report that is not a ``tfx wtf --format jsonl`` report."""
+    """A report to resume from that is not a ``tfx wtf --format jsonl`` report."""
 
-    hint = "give a report written by tfx wtf --format jsonl"
+    hint = "give a report written by write_recording and write_summary"
 
 
 def write_recording(bag: BagReport, out: IO[str], strict: bool) -> None:

@@ -12,21 +12,23 @@ from tftools import lazy
 if TYPE_CHECKING:
     from tftools.sinks.broadcaster import StaticBroadcaster
     from tftools.sinks.static import (
-        add_static,
+        StaticCopy,
+        StaticQuery,
         checked,
+        copy_with_statics,
         open_static_broadcaster,
         publish_static,
-        repair_static,
         static_transform,
     )
 
 __all__ = [
     "StaticBroadcaster",
-    "add_static",
+    "StaticCopy",
+    "StaticQuery",
     "checked",
+    "copy_with_statics",
     "open_static_broadcaster",
     "publish_static",
-    "repair_static",
     "static_transform",
 ]
 

@@ -8,7 +8,7 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
-from tftools.analysis.health import Status
+from tftools.analysis.wtf.health import Status
 from tftools.sources.codecs.types import ROS2_STORES, ros1_message_type, typestore
 from tftools.sources.live.base import ContextManaged
 from tftools.sources.live.notices import OnNotice

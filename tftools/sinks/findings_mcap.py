@@ -16,8 +16,8 @@ from typing import IO, TYPE_CHECKING, Any
 
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.health import statuses
 from tftools.analysis.wtf.fleet import BagReport
+from tftools.analysis.wtf.health import statuses
 from tftools.core.errors import TfToolsError, TransformError
 from tftools.render.files import write_atomically
 from tftools.sinks.diagnostics import DIAGNOSTIC_ARRAY, TOPIC, encode_ros1

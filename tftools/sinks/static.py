@@ -1,13 +1,14 @@
 """``tfx static``'s work: static transforms made from static_transform_publisher's numbers and checked as tf2
-wants them, then published (``publish_static``, through ``open_static_broadcaster``), added to a copy of a bag
-(``add_static``), or a bag's own made safe to replay (``repair_static``). The input bag is never modified."""
+wants them, then published on a live system (``publish_static``, through ``open_static_broadcaster``), or written
+into a copy of a recording (``copy_with_statics(source, output, StaticQuery)``: added, or the recording's own made
+safe to replay). The input is never modified."""
 
 from __future__ import annotations
 
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -67,36 +68,52 @@ def copyable(bag: str) -> None:
         raise PartOfBagError(bag, str(path.parent))
 
 
-def add_static(bag: str, output: str | Path, transforms: Sequence[Transform], *, force: bool = False) -> Path:
-    """``tfx static ... -b BAG -o OUTPUT``: write ``output``, a copy of ``bag`` (a path or URL: a ROS 1 .bag,
-    a ROS 2 bag directory, a bare .db3 or .mcap) with ``transforms`` (``checked``) added on /tf_static at its
-    start. A frame the bag already has is refused (tf2 would see two values for it); so is an existing
-    ``output`` unless ``force``. Returns the copy."""
-    from tftools.sinks.static_bag import add_static_transforms
+@dataclass(frozen=True)
+class StaticQuery:
+    """What a copy with static transforms holds (``copy_with_statics``): ``transforms`` (``checked``) added on
+    /tf_static at its start, as if a static_transform_publisher had run while it was recorded; or with
+    ``repair``, the recording's own static transforms made complete, durable (latched / transient local) and
+    repeated through it. ``force`` replaces an earlier output (never the input)."""
+
+    transforms: tuple[Transform, ...] = ()
+    repair: bool = False
+    force: bool = False
+
+    def __post_init__(self) -> None:
+        if self.repair and self.transforms:
+            raise ValueError("a repair repeats the recording's own static transforms: it takes none")
+
+
+@dataclass(frozen=True)
+class StaticCopy:
+    """The copy written (``path``) and the static transforms it holds for the query: those added, or with
+    ``repair`` those repeated (the latest value of each)."""
+
+    path: Path
+    transforms: tuple[Transform, ...]
+
+
+def copy_with_statics(source: str, output: str | Path, query: StaticQuery) -> StaticCopy:
+    """``tfx static``'s work on a recording: write ``output``, a copy of ``source`` (a path or URL: a ROS 1 .bag,
+    a ROS 2 bag directory, a bare .db3 or .mcap) with the static transforms ``query`` asks for. An added frame
+    the recording already has is refused (tf2 would see two values for it), as is an existing ``output``
+    unless ``query.force``. The input is never modified."""
+    from tftools.sinks.static_bag import add_static_transforms, repair_static_transforms
     from tftools.sources.storage import local_recording
 
-    added = [checked(t) for t in transforms]
-    copyable(bag)
-    with local_recording(bag) as local:
+    added = [checked(t) for t in query.transforms]
+    copyable(source)
+    with local_recording(source) as local:
+        if query.repair:
+            written, statics = repair_static_transforms(local, output, force=query.force)
+            return StaticCopy(written, tuple(statics))
         _refuse_present(local, added)
-        return add_static_transforms(local, output, added, force=force)
-
-
-def repair_static(bag: str, output: str | Path, *, force: bool = False) -> tuple[Path, list[Transform]]:
-    """``tfx static --repair -b BAG -o OUTPUT``: write ``output``, a copy of ``bag`` whose own static transforms
-    are complete, durable (latched / transient local) and repeated through it (``repair_static_transforms``).
-    Returns the copy and those transforms."""
-    from tftools.sinks.static_bag import repair_static_transforms
-    from tftools.sources.storage import local_recording
-
-    copyable(bag)
-    with local_recording(bag) as local:
-        return repair_static_transforms(local, output, force=force)
+        return StaticCopy(add_static_transforms(local, output, added, force=query.force), tuple(added))
 
 
 def _refuse_present(bag: Path, transforms: Sequence[Transform]) -> None:
     """Refuse a transform whose child frame the bag already has: tf2 would see two values (or two
-    parents) for it, and tfx wtf would fail the copy."""
+    parents) for it, and a check would fail the copy."""
     from tftools.sources.recording import read_recording
 
     try:
@@ -112,7 +129,7 @@ def _refuse_present(bag: Path, transforms: Sequence[Transform]) -> None:
         wanted = next(t for t in transforms if t.child_frame_id == child)
         raise InvalidTransformError(
             f"{bag} already has {child}, {kind} of {', '.join(parents)}: adding {wanted.frame_id} -> {child} "
-            "would give tf2 two values for it, and tfx wtf would fail the copy",
+            "would give tf2 two values for it",
             "add only frames the bag lacks",
             child=child,
             recording=str(bag),

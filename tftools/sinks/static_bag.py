@@ -18,6 +18,7 @@ import numpy as np
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.sinks.errors import CopyError
 from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.bag.formats import MCAP, ROS1, Format, format_of
 from tftools.sources.bag.reader import BagReader
@@ -94,7 +95,7 @@ def _latest_statics(source: Path) -> tuple[list[tuple[str, list[Transform]]], li
     batch = read_recording([source]).transforms
     rows = np.flatnonzero(batch.static)
     if not len(rows):
-        raise BagError(str(source), "holds no static transforms", "add them with tfx static X Y Z ... -b IN -o OUT")
+        raise CopyError(str(source), "holds no static transforms", "no_statics")
     names = batch.frame_names
 
     def transform(row: int) -> Transform:
@@ -142,11 +143,9 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
     _never_over_the_input(source, target)
     if target.exists() or target.is_symlink():
         if not force:
-            raise BagError(str(target), "already exists", "choose another output path, or --force to replace it")
+            raise CopyError(str(target), "already exists", "exists")
         if not (target.is_file() or (target.is_dir() and only_bag_files(target))):
-            raise BagError(
-                str(target), "is not a regular file or a bag directory", "--force replaces only an earlier output"
-            )
+            raise CopyError(str(target), "is not a regular file or a bag directory", "not_replaceable")
     # Written beside the target under its own name (a ROS2 bag names its files after its
     # directory), then moved into place: an interrupted copy leaves no half bag at ``output``.
     try:
@@ -200,9 +199,7 @@ def _copy(source: Path, fmt: Format, target: Path, plan: _Plan) -> Path:
             raise _CopyError(error) from None
         read = reader.read().files[0]
         if read.problems:
-            raise BagError(
-                str(source), f"cannot be copied whole: {read.problems[0]}", "tfx wtf -b BAG says what is damaged"
-            )
+            raise CopyError(str(source), f"cannot be copied whole: {read.problems[0]}", "damaged")
     return target / f"{target.name}.mcap" if fmt is MCAP else target
 
 
@@ -318,10 +315,10 @@ class _Rosbag2Copy(_Copy):
         key = (recorded.topic, rosidl_name(recorded.type_name), recorded.encoding)
         if key not in self.connections:
             if recorded.encoding != "cdr":
-                raise BagError(
+                raise CopyError(
                     str(self.source),
                     f"{recorded.topic} is in {recorded.encoding or 'no'} encoding: a ROS 2 copy holds CDR messages",
-                    "tfx static copies ROS 1 bags, and ROS 2 bags of CDR messages",
+                    "encoding",
                 )
             definition, digest = self._described(key[1], recorded)
             self.connections[key] = self.writer.add_connection(

@@ -60,7 +60,8 @@ class CorruptBagError(BagError):
 class NoTransformsError(SourceError):
     """Nothing read from ``paths``: ``lost`` lines say what damage took; ``unread`` lines which asked-for
     topics are in a type or encoding tfx does not read; without either, the ``topics`` asked for that
-    are among those ``found`` are said to be such."""
+    are among those ``found`` are said to be such. ``cause`` says which: "lost", "unread", "unreadable" (asked-for
+    topics present but not read) or "absent"."""
 
     def __init__(
         self,
@@ -73,11 +74,17 @@ class NoTransformsError(SourceError):
         where = ", ".join(paths)
         if lost:  # the transforms were there, but damage took every one
             super().__init__(f"{where}: no transforms could be read: {'; '.join(lost)}")
-            self.hint = "the file is damaged where its transforms are: re-copy it if it was cut short"
+            self.cause, self.hint = (
+                "lost",
+                "the file is damaged where its transforms are: re-copy it if it was cut short",
+            )
             return
         if unread:
             super().__init__(f"{where}: no transforms read: {'; '.join(unread)}")
-            self.hint = "convert those topics to a type and encoding tfx reads, or pick other topics with --topic"
+            self.cause, self.hint = (
+                "unread",
+                "convert those topics to a type and encoding tfx reads, or read other topics",
+            )
             return
         others = [t for t in found if t not in topics]
         unreadable = [t for t in topics if t in found]
@@ -85,10 +92,11 @@ class NoTransformsError(SourceError):
         if unreadable:
             message += f" ({', '.join(unreadable)} present, in a type or encoding tfx does not read)"
         super().__init__(message + (f"; topics present: {', '.join(others)}" if others else ""))
+        self.cause = "unreadable" if unreadable else "absent"
         self.hint = (
-            "`tfx wtf` names their type and encoding; pick other topics with --topic"
+            "a check of the recording (check) names their type and encoding; read other topics"
             if unreadable
-            else "was /tf recorded? pick other topics with --topic"
+            else "was /tf recorded? read other topics"
         )
 
 
@@ -123,5 +131,6 @@ class NoStampedDataError(SourceError):
 
     def __init__(self, problems: Sequence[str]) -> None:
         why = f": {'; '.join(problems)}" if problems else ""
-        super().__init__(f"no topic with a Header to check{why}", "name topics of stamped messages, e.g. /scan")
+        super().__init__(f"no topic with a Header to check{why}")
+        self.hint = "name topics of stamped messages, e.g. /scan"
         self.problems = list(problems)

@@ -12,7 +12,7 @@ from tftools.analysis.description import robot_of
 from tftools.analysis.findings import Finding
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
-from tftools.analysis.poses import FramePoses, frame_poses
+from tftools.analysis.report.poses import FramePoses, frame_poses
 from tftools.analysis.report.query import REPORT_DEFAULTS, ReportQuery
 from tftools.analysis.targets import tied_to_tf
 from tftools.analysis.timelines import (

@@ -51,7 +51,11 @@ def _from(robot: Robot) -> str:
     return robot.description.source
 
 
-@register("urdf_missing", Severity.error, "a joint of the robot's description that tf never carries (--urdf)")
+@register(
+    "urdf_missing",
+    Severity.error,
+    "a joint of the robot's description that tf never carries (with a robot description)",
+)
 def urdf_missing(scene: Scene) -> Iterator[Finding]:
     robot = _robot(scene)
     if robot is None:
@@ -144,7 +148,11 @@ def _on(j: Joint, severity: Severity, code: str, message: str, hint: str, stamp:
     return Finding(severity, code, message, hint, frames=(j.parent, j.child), first_time=stamp, last_time=stamp)
 
 
-@register("urdf_parent", Severity.error, "a link under another parent on tf than in the description (--urdf)")
+@register(
+    "urdf_parent",
+    Severity.error,
+    "a link under another parent on tf than in the description (with a robot description)",
+)
 def urdf_parent(scene: Scene) -> Iterator[Finding]:
     """Frames: tf's parent, the link, the description's parent (the joint tf skips, if it lacks it); times:
     when the /tf_static value tf2 keeps arrived (another description's message), if it is static."""
@@ -172,7 +180,9 @@ def _kept_static_arrival(scene: Scene, parent: str, child: str) -> int:
     return 0
 
 
-@register("urdf_moved", Severity.error, "a fixed joint whose tf is not the description's origin (--urdf)")
+@register(
+    "urdf_moved", Severity.error, "a fixed joint whose tf is not the description's origin (with a robot description)"
+)
 def urdf_moved(scene: Scene) -> Iterator[Finding]:
     for robot, c, j in _judged(scene, Verdict.moved):
         assert c.value is not None
@@ -189,7 +199,9 @@ def urdf_moved(scene: Scene) -> Iterator[Finding]:
         )
 
 
-@register("urdf_joint_state", Severity.warning, "a moving joint not where /joint_states puts it (--urdf)")
+@register(
+    "urdf_joint_state", Severity.warning, "a moving joint not where /joint_states puts it (with a robot description)"
+)
 def urdf_joint_state(scene: Scene) -> Iterator[Finding]:
     for robot, c, j in _judged(scene, Verdict.disagrees):
         yield _on(
@@ -203,7 +215,11 @@ def urdf_joint_state(scene: Scene) -> Iterator[Finding]:
         )
 
 
-@register("urdf_kind", Severity.warning, "a fixed joint on /tf, or a moving joint only on /tf_static (--urdf)")
+@register(
+    "urdf_kind",
+    Severity.warning,
+    "a fixed joint on /tf, or a moving joint only on /tf_static (with a robot description)",
+)
 def urdf_kind(scene: Scene) -> Iterator[Finding]:
     for _, c, j in _judged(scene, Verdict.not_static, Verdict.frozen):
         if c.verdict is Verdict.not_static:
@@ -216,7 +232,7 @@ def urdf_kind(scene: Scene) -> Iterator[Finding]:
             yield _on(j, Severity.warning, "urdf_kind", said, hint + ": check which is right")
 
 
-@register("urdf_unseen", Severity.error, "a link of the description that tf never names (--urdf)")
+@register("urdf_unseen", Severity.error, "a link of the description that tf never names (with a robot description)")
 def urdf_unseen(scene: Scene) -> Iterator[Finding]:
     """Links no joint check covers (a joint's child is said by ``urdf_missing``): a root, or a link joined to
     nothing."""
@@ -237,7 +253,7 @@ def urdf_unseen(scene: Scene) -> Iterator[Finding]:
         )
 
 
-@register("urdf_extra", Severity.info, "frames on tf that the description lacks (--urdf)")
+@register("urdf_extra", Severity.info, "frames on tf that the description lacks (with a robot description)")
 def urdf_extra(scene: Scene) -> Iterator[Finding]:
     robot = _robot(scene)
     if robot is None:
@@ -266,7 +282,9 @@ def urdf_extra(scene: Scene) -> Iterator[Finding]:
         )
 
 
-@register("urdf_joint_states", Severity.warning, "joints in /joint_states that no tf edge follows (--urdf)")
+@register(
+    "urdf_joint_states", Severity.warning, "joints in /joint_states that no tf edge follows (with a robot description)"
+)
 def urdf_joint_states(scene: Scene) -> Iterator[Finding]:
     robot = _robot(scene)
     if robot is None:

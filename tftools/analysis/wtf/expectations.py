@@ -1,11 +1,11 @@
 """Checks against the expected tree (``tfx wtf --expect tree.yaml``): frames missing or new, other
-parents, static edges moved, edges slower, other publishers; each a ``Difference`` of ``analysis.diff``."""
+parents, static edges moved, edges slower, other publishers; each a ``Difference`` of ``analysis.differences``."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 
-from tftools.analysis.diff import Change, Difference, compare, describe
+from tftools.analysis.differences import Change, Difference, compare, describe
 from tftools.analysis.expected import shape_of
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
@@ -56,7 +56,7 @@ def _counted(findings: Iterator[Finding], title: str) -> Iterator[Finding]:
         yield Finding(
             min((f.severity for f in rest), key=lambda s: s.rank),  # the gravest
             rest[0].code,
-            f"{len(rest):,} more frames as above ({title.split(' (--expect)')[0]}): {', '.join(named)}{more}",
+            f"{len(rest):,} more frames as above ({title}): {', '.join(named)}{more}",
             rest[0].hint,
             frames=tuple(named),
         )
@@ -76,44 +76,45 @@ def _differences_as(code: str, severity: Severity, title: str, changes: tuple[Ch
 _differences_as(
     "expect_missing",
     Severity.error,
-    "a frame of the expected tree is missing (--expect)",
+    "a frame of the expected tree is missing",
     (Change.lost,),
     "did its publisher run, and was its topic recorded? (or remove the frame from the expected tree)",
 )
 _differences_as(
     "expect_new",
     Severity.warning,
-    "a frame the expected tree does not have (--expect)",
+    "a frame the expected tree does not have",
     (Change.added,),
     "a new sensor or a misnamed frame? add it to the expected tree if it belongs there",
 )
 _differences_as(
     "expect_parent",
     Severity.error,
-    "a frame under another parent than expected (--expect)",
+    "a frame under another parent than expected",
     (Change.reparented,),
     "check which node publishes this frame and its parent's name (URDF, launch files)",
 )
 _differences_as(
     "expect_static",
     Severity.error,
-    "a static edge moved beyond the tolerance, or static no longer (--expect)",
+    "a static edge moved beyond the tolerance, or static no longer",
     (Change.static, Change.moved),
     "recalibrated on purpose? update the expected tree (tfx wtf --init); else check the URDF, the calibration "
-    "files and static_transform_publisher arguments (--tolerance-mm, --tolerance-deg)",
+    "files and static_transform_publisher arguments, or widen the tolerance (tfx wtf --expect FILE --tolerance-mm 2)",
 )
 
 
-@register("expect_rate", Severity.warning, "an edge slower than expected (--expect)")
+@register("expect_rate", Severity.warning, "an edge slower than expected")
 def expect_rate(scene: Scene) -> Iterator[Finding]:
-    return _counted(_rates(scene), "an edge slower or faster than expected (--expect)")
+    return _counted(_rates(scene), "an edge slower or faster than expected")
 
 
 def _rates(scene: Scene) -> Iterator[Finding]:
     for d in _differences(scene, Change.rate):
         slower = d.rate_change < 0
         hint = (
-            "an overloaded node or a throttled publisher? compare tfx monitor's rates (--tolerance-rate)"
+            "an overloaded node or a throttled publisher? compare tfx monitor's rates, or widen the tolerance "
+            "(tfx wtf --expect FILE --tolerance-rate 25)"
             if slower
             else "faster than expected: harmless for lookups; update the expected tree if it is the new normal"
         )
@@ -123,7 +124,7 @@ def _rates(scene: Scene) -> Iterator[Finding]:
 _differences_as(
     "expect_publishers",
     Severity.info,
-    "an edge published by other nodes than expected (--expect)",
+    "an edge published by other nodes than expected",
     (Change.publishers,),
     "a renamed or replaced node: update the expected tree if it is intended",
 )

@@ -20,7 +20,7 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
             Severity.error,
             "no_tf",
             f"no transforms read {where}: {'; '.join(contents.unread)}",
-            "convert those topics to a type and encoding tfx reads, or name other topics with --topic",
+            "convert those topics to a type and encoding tfx reads, or name other topics (tfx wtf --topic TOPIC)",
         )
     elif not len(scene.rows):
         found = sorted({t for f in contents.files for t in f.topics} - set(contents.topics))
@@ -28,9 +28,10 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
         tool = "ros2 topic info /tf" if scene.ros2 else "rostopic info /tf"
         record = "ros2 bag record /tf /tf_static" if scene.ros2 else "rosbag record /tf /tf_static"
         hint = (
-            f"is anything publishing? ({tool}); name other topics with --topic"
+            f"is anything publishing? ({tool}); name other topics (tfx wtf --topic TOPIC)"
             if live
-            else f"record the transforms with the rest ({record}), or name the topics that carry them with --topic"
+            else f"record the transforms with the rest ({record}), or name the topics that carry them "
+            "(tfx wtf --topic TOPIC)"
         )
         yield Finding(Severity.error, "no_tf", f"no transforms on {', '.join(contents.topics)} {where}{present}", hint)
     elif scene.rows.static.all() and not silent_moving_topics(scene):  # else ``silent_tf`` says why

@@ -9,8 +9,8 @@ from collections.abc import Iterator
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.loops import find_loops
 from tftools.analysis.wtf.broadcasters import inferred_broadcasters, resent_notes
+from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms

@@ -49,8 +49,8 @@ class NoRosSelectedError(LiveError):
     def __init__(self) -> None:
         super().__init__(
             "no live ROS system to listen to: ROS_MASTER_URI is not set (nor ROS_VERSION, nor ROS_DOMAIN_ID)",
-            "give a bag with -b BAG, or set ROS_MASTER_URI (e.g. http://localhost:11311), or pass --ros1, "
-            "or --ros2 for ROS 2 (DDS domain ROS_DOMAIN_ID, default 0)",
+            "read a recording, or set ROS_MASTER_URI (e.g. http://localhost:11311), or name the ROS (ros='ros1', "
+            "or ros='ros2' for ROS 2: DDS domain ROS_DOMAIN_ID, default 0)",
         )
 
 
@@ -85,7 +85,7 @@ class NoClockError(LiveError):
         super().__init__(
             f"/use_sim_time is true, but no /clock came in {seconds:g} s: time stands still at 0",
             "replay with the clock (rosbag play --clock BAG), or run without simulated time "
-            "(rosparam set /use_sim_time false, or tfx ... --wall-time)",
+            "(rosparam set /use_sim_time false, or use_sim_time=False)",
         )
 
 

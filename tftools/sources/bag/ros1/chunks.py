@@ -12,7 +12,7 @@ from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
     OP_MESSAGE,
-    Buffer,
+    ByteSpan,
     Connection,
     read_connection,
     read_record,
@@ -25,7 +25,7 @@ from tftools.sources.codecs.gather import bytes_at, distinct, u32_at
 _MIN_HEADER = 4 + len("op=") + 1  # a record header holds at least its op field
 
 
-def walk(data: Buffer, chunk: int) -> Spans:
+def walk(data: ByteSpan, chunk: int) -> Spans:
     """The records in ``data``, chunk ``chunk``'s records, up to their end or one cut short (``in_chunk``)."""
     starts = array("q")  # 8 bytes a record, not a Python int's 36: a chunk may hold millions
     pos, limit = 0, len(data)
@@ -103,7 +103,7 @@ def locate(
 
 
 def _message_at(
-    data: Buffer, pos: int, end: int, connections: list[Connection], follow: bool, *, cut: bool = False
+    data: ByteSpan, pos: int, end: int, connections: list[Connection], follow: bool, *, cut: bool = False
 ) -> tuple[int, int, int, int, int] | None:
     """(bytes stepped over, conn, time, data start, data end) of the message record at ``pos``;
     None for a connection record (noted in ``connections``) when not following. A message ``cut``
@@ -137,7 +137,7 @@ class _Template:
         self.time_at = time_at + 4
 
     @classmethod
-    def learn(cls, data: Buffer, pos: int) -> _Template | None:
+    def learn(cls, data: ByteSpan, pos: int) -> _Template | None:
         """The template of the message record at ``pos``; None when it is something else."""
         try:
             record = read_record(data, pos)

@@ -27,16 +27,16 @@ _U64 = struct.Struct("<Q")
 _TIME = struct.Struct("<II")
 
 #: A bag file (its source's buffer) or a chunk's data.
-Buffer = FileBytes | memoryview
+ByteSpan = FileBytes | memoryview
 
 
-def u32(buf: Buffer, pos: int) -> int:
+def u32(buf: ByteSpan, pos: int) -> int:
     if pos < 0 or pos + 4 > len(buf):
         raise DamageError(f"a length at byte {pos} lies beyond the end")
     return int(_U32.unpack(buf[pos : pos + 4])[0])
 
 
-def header_fields(buf: Buffer, start: int, end: int) -> dict[str, bytes]:
+def header_fields(buf: ByteSpan, start: int, end: int) -> dict[str, bytes]:
     """The ``name=value`` fields of a record header (or connection header) in ``buf[start:end]``."""
     fields: dict[str, bytes] = {}
     pos = start
@@ -91,7 +91,7 @@ class Record:
             raise DamageError(f"record at byte {self.start} lacks its {name} field") from None
 
 
-def read_record(buf: Buffer, pos: int, end: int | None = None) -> Record:
+def read_record(buf: ByteSpan, pos: int, end: int | None = None) -> Record:
     """The record starting at ``pos``; ``DamageError`` if it is malformed or not all there."""
     limit = len(buf) if end is None else end
     header_len = u32(buf, pos)
@@ -126,7 +126,7 @@ class _Layout:
         bounds = [0, *(edge for at, width, _ in self.places for edge in (at, at + width)), len(header)]
         self.fixed = [(a, b, header[a:b]) for a, b in zip(bounds[::2], bounds[1::2], strict=True)]
 
-    def read(self, buf: Buffer, pos: int) -> Record | None:
+    def read(self, buf: ByteSpan, pos: int) -> Record | None:
         """The record at ``pos`` if its header has this layout, else None."""
         header_end = pos + 4 + self.length
         if header_end + 4 > len(buf):
@@ -156,7 +156,7 @@ class RecordReader:
     infos, which a writer repeats but for a few values, are matched against one learnt from the
     first of each length instead of being parsed field by field."""
 
-    def __init__(self, buf: Buffer) -> None:
+    def __init__(self, buf: ByteSpan) -> None:
         self.buf = buf
         self._layouts: dict[int, _Layout] = {}  # by header length
 
@@ -181,7 +181,7 @@ class BagHeader:
     data_start: int  # where the first record after the bag header begins
 
 
-def read_bag_header(buf: Buffer) -> BagHeader:
+def read_bag_header(buf: ByteSpan) -> BagHeader:
     if bytes(buf[: len(MAGIC)]) != MAGIC:
         raise DamageError("it does not start with #ROSBAG V2.0")
     record = read_record(buf, len(MAGIC))
@@ -209,7 +209,7 @@ class Connection:
     latching: bool = False
 
 
-def read_connection(buf: Buffer, record: Record) -> Connection:
+def read_connection(buf: ByteSpan, record: Record) -> Connection:
     data = header_fields(buf, record.data_start, record.data_end)
     topic = record.text("topic")
     return Connection(
@@ -233,7 +233,7 @@ class ChunkInfo:
     counts: dict[int, int] = field(default_factory=dict)
 
 
-def _entries(buf: Buffer, record: Record, width: int, what: str) -> npt.NDArray[np.uint32]:
+def _entries(buf: ByteSpan, record: Record, width: int, what: str) -> npt.NDArray[np.uint32]:
     """The ``count`` entries of version 1 that a chunk info or index data ``record`` holds, one
     row of ``width`` uint32 each."""
     if record.uint("ver") != 1:
@@ -244,7 +244,7 @@ def _entries(buf: Buffer, record: Record, width: int, what: str) -> npt.NDArray[
     return np.frombuffer(buf[record.data_start : record.data_start + count * 4 * width], "<u4").reshape(count, width)
 
 
-def read_chunk_info(buf: Buffer, record: Record) -> ChunkInfo:
+def read_chunk_info(buf: ByteSpan, record: Record) -> ChunkInfo:
     counts = dict(_entries(buf, record, 2, "chunk info").tolist())  # connection id -> messages
     pos = record.uint("chunk_pos")
     if pos >= len(buf):
@@ -265,7 +265,7 @@ def read_chunk(record: Record) -> Chunk:
     return Chunk(record.start, record.text("compression"), record.uint("size"), record.data_start, record.data_end)
 
 
-def index_entries(buf: Buffer, record: Record) -> npt.NDArray[np.uint32]:
+def index_entries(buf: ByteSpan, record: Record) -> npt.NDArray[np.uint32]:
     """The entries of an index data record, a row per message it lists: its record time (seconds,
     nanoseconds), and where it begins in its chunk's data."""
     return _entries(buf, record, 3, "index data")

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 from tftools.sources.bag.damage import DamageError
 
-Buffer = bytes | mmap.mmap
+Bytes = bytes | mmap.mmap
 Row = tuple[int, int, bytes]  # topic id, record time, payload
 
 _FILE_HEADER = 100
@@ -44,7 +44,7 @@ class Salvaged:
     lost: int = 0
 
 
-def salvage(data: Buffer, topic_ids: Collection[int]) -> Salvaged:
+def salvage(data: Bytes, topic_ids: Collection[int]) -> Salvaged:
     """Every messages record in the whole leaf pages of the database image ``data``, with the
     payloads of those of ``topic_ids``. Reads no byte outside ``data``, follows no overflow chain
     round a loop, and in all no more overflow pages than the file holds (however many records
@@ -77,13 +77,13 @@ _LOST_OVERFLOW = "a record whose overflow pages are missing or damaged"
 
 
 class _Pages:
-    def __init__(self, data: Buffer, page_size: int, usable: int) -> None:
+    def __init__(self, data: Bytes, page_size: int, usable: int) -> None:
         self.data, self.page_size, self.usable = data, page_size, usable
         self.count = len(data) // page_size
         self.overflow_budget = self.count  # overflow pages still to be read
 
     @classmethod
-    def of(cls, data: Buffer) -> _Pages | None:
+    def of(cls, data: Bytes) -> _Pages | None:
         """The pages of ``data``, if its header states a valid page size."""
         if len(data) < _FILE_HEADER:
             return None
@@ -161,7 +161,7 @@ class _Pages:
         return b"".join(parts)
 
 
-def _varint(data: Buffer, pos: int, end: int) -> tuple[int, int]:
+def _varint(data: Bytes, pos: int, end: int) -> tuple[int, int]:
     """SQLite's big-endian varint at ``pos``, before ``end`` (up to 9 bytes, the ninth contributing
     all 8 bits), and the position after it."""
     value = 0

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tftools.analysis.description import described_differences, description_shape
-from tftools.analysis.diff import Difference, compare
+from tftools.analysis.differences import Difference, compare
 from tftools.analysis.expected import Tolerances, TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
 from tftools.sources.recording import Recording, read_recording

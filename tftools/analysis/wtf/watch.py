@@ -11,8 +11,8 @@ import numpy as np
 
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding
-from tftools.analysis.health import Status, statuses
 from tftools.analysis.wtf.fleet import BagReport, check
+from tftools.analysis.wtf.health import Status, statuses
 from tftools.analysis.wtf.jumps import NEIGHBOURS
 from tftools.analysis.wtf.query import CHECK_DEFAULTS, CheckQuery
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
