@@ -1,4 +1,4 @@
-"""The report's 3D view: every frame's poses over time (``analysis.poses``) as the page's data, and the
+"""The report's 3D view: every frame's poses over time (``analysis.report.poses``) as the page's data, and the
 element ``page/scene3d.js`` draws them in with three.js (vendored: ``page/vendor/three.iife.min.js``)."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """``tfx wtf --watch``: a live system checked again and again over a sliding window of what it said, the
-checks of a bag (``check``) on each window, and its health (``analysis.health``) told once a second."""
+checks of a bag (``check``) on each window, and its health (``analysis.wtf.health``) told once a second."""
 
 from __future__ import annotations
 
