@@ -211,3 +211,40 @@ def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do
     assert "target_frame, source_frame, time=0" in (Buffer.lookup.__doc__ or "") + str(
         __import__("inspect").signature(Buffer.lookup)
     )
+
+
+def test_set_transform_in_c_takes_its_arguments_as_a_python_method_does():
+    """``Buffer.set_transform`` (a method in C) takes (transform, authority="", static=False,
+    record_time=0), by position or keyword, stores its common case itself and hands every other sample
+    to the batch path (which refuses what tf2 refuses), and refuses bad calls with Python's TypeErrors."""
+    buffer = Buffer(cache_time=None)
+
+    def sample(stamp: int, child: str = "b") -> Transform:
+        return Transform((float(stamp), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", child)
+
+    assert buffer.set_transform(sample(10))  # frames unknown: the batch path
+    assert buffer.set_transform(sample(20), "pub", record_time=7)  # a new publisher: the batch path
+    assert buffer.set_transform(authority="pub", transform=sample(30), static=False, record_time=8)  # in C
+    assert buffer.set_transform(sample(40), "pub", False, 9)
+    assert buffer.set_transform(sample(50))  # authority "", record time 0 by default
+    assert buffer.set_transform(sample(60, "c"), "pub", True)  # static: the batch path
+    assert not buffer.set_transform(Transform((float("nan"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), 70, "a", "b"))
+    history = buffer.history("b")
+    assert history is not None and not history.static
+    assert history.stamps.tolist() == [10, 20, 30, 40, 50]
+    assert history.record_times.tolist() == [0, 7, 8, 9, 0]
+    assert [buffer.authorities[k] for k in history.authorities.tolist()] == ["", "pub", "pub", "pub", ""]
+    assert buffer.lookup("a", "b", 45).translation == (45.0, 0.0, 0.0)
+    static = buffer.history("c")
+    assert static is not None and static.static
+    with pytest.raises(TypeError, match="missing required argument 'transform'"):
+        buffer.set_transform()  # type: ignore[call-arg]
+    with pytest.raises(TypeError, match="from 1 to 4 positional arguments"):
+        buffer.set_transform(sample(80), "pub", False, 0, 1)  # type: ignore[call-arg]
+    with pytest.raises(TypeError, match="unexpected keyword argument 'stamp'"):
+        buffer.set_transform(sample(80), stamp=80)  # type: ignore[call-arg]
+    with pytest.raises(TypeError, match="multiple values for argument 'authority'"):
+        buffer.set_transform(sample(80), "pub", authority="pub")  # type: ignore[misc]
+    assert "transform, authority='', static=False, record_time=0" in str(
+        __import__("inspect").signature(Buffer.set_transform)
+    )
