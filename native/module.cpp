@@ -112,6 +112,14 @@ struct Names {
         child_frame_id{"child_frame_id"}, frame_names{"frame_names"}, authorities{"authorities"};
 };
 
+// Where a slot (a __slots__ member's descriptor) keeps its value in an instance: its offset, or -1 for
+// another kind of descriptor.
+Py_ssize_t slot_offset(PyObject* descriptor) {
+    if (!Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) return -1;
+    const PyMemberDef* member = reinterpret_cast<PyMemberDescrObject*>(descriptor)->d_member;
+    return member->type == T_OBJECT_EX && !(member->flags & READONLY) ? member->offset : -1;
+}
+
 // The buffer's state (tfbuffer::Core) as Buffer calls it: see _kernels.pyi.
 class BufferCore {
    public:
@@ -505,14 +513,6 @@ class BufferCore {
         }
     }
 
-    // Where a slot of any object (a __slots__ member's descriptor) keeps its value in an instance: its
-    // offset, or -1 for another kind of descriptor.
-    static Py_ssize_t slot_offset(PyObject* descriptor) {
-        if (!Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) return -1;
-        const PyMemberDef* member = reinterpret_cast<PyMemberDescrObject*>(descriptor)->d_member;
-        return member->type == T_OBJECT_EX && !(member->flags & READONLY) ? member->offset : -1;
-    }
-
     // A new `answer` (Transform), its fields set as its __init__ sets them through their slots' setters
     // (its frozen __setattr__ refuses), without the Python frame of that __init__: written in its slots
     // (the object comes zeroed, nothing to let go), else through the setters.
@@ -659,9 +659,37 @@ bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, Py
     return true;
 }
 
-// The core of `buffer` (its `_core`), or null with the error set.
+// Where instances of the class last seen keep `_core` (-1: not in a slot), while that class is unchanged
+// (its version tag, which any change of the class's attributes renews).
+// Per thread (a build without the GIL runs them at once); the class is held (a reference never let go:
+// the class outlives every call anyway).
+struct CoreSlot {
+    PyTypeObject* type = nullptr;
+    unsigned int version = 0;
+    Py_ssize_t offset = -1;
+};
+thread_local CoreSlot core_slot;
+
+// Whether `type` is core_slot's, unchanged.
+bool known_class(PyTypeObject* type) {
+    return type == core_slot.type && PyType_HasFeature(type, Py_TPFLAGS_VALID_VERSION_TAG) &&
+           type->tp_version_tag == core_slot.version;
+}
+
+// The core of `buffer` (its `_core`: read from its slot where its class keeps it in one, as Buffer does,
+// else looked up), or null with the error set.
 BufferCore* core_of(PyObject* buffer, nb::object& held) {
-    held = nb::steal(PyObject_GetAttr(buffer, method_names.core));
+    PyTypeObject* type = Py_TYPE(buffer);
+    if (!known_class(type)) {
+        const nb::object found = nb::steal(PyObject_GetAttr(reinterpret_cast<PyObject*>(type), method_names.core));
+        PyErr_Clear();
+        if (type != core_slot.type) Py_INCREF(reinterpret_cast<PyObject*>(type));
+        core_slot = {type, type->tp_version_tag, found.is_valid() ? slot_offset(found.ptr()) : -1};
+    }
+    PyObject* slot = known_class(type) && core_slot.offset >= 0
+                         ? *reinterpret_cast<PyObject**>(reinterpret_cast<char*>(buffer) + core_slot.offset)
+                         : nullptr;
+    held = slot != nullptr ? nb::borrow(slot) : nb::steal(PyObject_GetAttr(buffer, method_names.core));
     if (!held.is_valid()) return nullptr;
     if (Py_TYPE(held.ptr()) != core_type) {
         PyErr_SetString(PyExc_TypeError, "a Buffer's _core must be a BufferCore");

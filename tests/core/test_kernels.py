@@ -248,3 +248,35 @@ def test_set_transform_in_c_takes_its_arguments_as_a_python_method_does():
     assert "transform, authority='', static=False, record_time=0" in str(
         __import__("inspect").signature(Buffer.set_transform)
     )
+
+
+def test_methods_in_c_find_the_core_in_buffers_slot_or_as_an_attribute():
+    """The methods in C read a Buffer's core from its slot, and any other object's ``_core`` as an
+    attribute, whichever class came last; an object without a core raises AttributeError."""
+    buffer = Buffer(cache_time=None)
+    for stamp in (10, 20):
+        buffer.set_transform(Transform((float(stamp), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", "b"))
+
+    class Borrowing:
+        lookup = Buffer.lookup
+        can_transform = Buffer.can_transform
+
+        def __init__(self, core: object) -> None:
+            self._core = core
+
+    other = Borrowing(buffer._core)
+    for _ in range(2):
+        assert buffer.lookup("a", "b", 15).translation == (15.0, 0.0, 0.0)
+        assert other.lookup("a", "b", 12).translation == (12.0, 0.0, 0.0)
+        assert other.can_transform("a", "b", 12) and buffer.can_transform("a", "b", 12)
+    Borrowing._core = None  # the class changed: its instances' attribute still wins
+    assert other.lookup("a", "b", 12).stamp == 12
+    del other._core
+    with pytest.raises(TypeError, match="_core must be a BufferCore"):
+        other.lookup("a", "b", 12)
+    unset = Buffer.__new__(Buffer)
+    with pytest.raises(AttributeError, match="_core"):
+        unset.lookup("a", "b", 12)
+    with pytest.raises(AttributeError, match="_core"):
+        unset.set_transform(Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), 30, "a", "b"))
+    assert buffer.lookup("a", "b", 15).translation == (15.0, 0.0, 0.0)

@@ -106,6 +106,10 @@ class Buffer:
     and ROS 2 systems); ``tftools.core.semantics`` lists how they differ.
     """
 
+    # The core in a slot: the methods in C (lookup, can_transform, set_transform) read it there, at
+    # its offset, instead of looking the attribute up on every call.
+    __slots__ = ("__dict__", "__weakref__", "_core")
+
     def __init__(
         self,
         cache_time: int | None = DEFAULT_CACHE_TIME,
