@@ -599,7 +599,8 @@ thread_local BufferCore::LastFailure BufferCore::last_failure_;
 // too, without a Python frame or the binding's dispatch (argument matching, overloads, the instance found by
 // type: together a tenth of a lookup, a third of a set_transform). Each finds the buffer's core as its
 // `_core`; a lookup the walk does not answer goes to Python, `_lookup_by_ids` (which words tf2's error from
-// this walk's failure), a sample set_transform's common case does not store to `_set_transform_by_batch`.
+// this walk's failure), and a sample that set_transform's common case does not store goes to the batch
+// path, `_set_transform_by_batch`.
 struct MethodNames {
     PyObject *core, *by_ids, *by_batch, *empty, *zero;
     PyObject* frames_and_time[3];  // lookup's and can_transform's arguments
@@ -661,8 +662,7 @@ bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, Py
 
 // Where instances of the class last seen keep `_core` (-1: not in a slot), while that class is unchanged
 // (its version tag, which any change of the class's attributes renews).
-// Per thread (a build without the GIL runs them at once); the class is held (a reference never let go:
-// the class outlives every call anyway).
+// Per thread (a build without the GIL runs them at once); the class is held while it is remembered.
 struct CoreSlot {
     PyTypeObject* type = nullptr;
     unsigned int version = 0;
@@ -683,8 +683,10 @@ BufferCore* core_of(PyObject* buffer, nb::object& held) {
     if (!known_class(type)) {
         const nb::object found = nb::steal(PyObject_GetAttr(reinterpret_cast<PyObject*>(type), method_names.core));
         PyErr_Clear();
-        if (type != core_slot.type) Py_INCREF(reinterpret_cast<PyObject*>(type));
+        PyTypeObject* const forgotten = core_slot.type;
+        Py_INCREF(reinterpret_cast<PyObject*>(type));
         core_slot = {type, type->tp_version_tag, found.is_valid() ? slot_offset(found.ptr()) : -1};
+        Py_XDECREF(reinterpret_cast<PyObject*>(forgotten));
     }
     PyObject* slot = known_class(type) && core_slot.offset >= 0
                          ? *reinterpret_cast<PyObject**>(reinterpret_cast<char*>(buffer) + core_slot.offset)
