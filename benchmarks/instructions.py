@@ -7,7 +7,7 @@ valgrind). Each part of a lookup's cost is measured apart, each in its own proce
 ``dispatch`` (the same lookup through the binding's ordinary call, ``BufferCore.lookup_frames``:
 nanobind's dispatch is the difference), ``wrap`` (building the answer in Python, ``Transform(...)``,
 as a binding returning a tuple would need) and ``set_transform`` (its sample's building, ``wrap``,
-taken off). Prints JSON.
+taken off) and ``batch`` (``lookup_many`` per time, the random times' making included). Prints JSON.
 """
 
 from __future__ import annotations
@@ -27,12 +27,16 @@ CALLS = {
     "can_transform": "f = buf.can_transform\nfor _ in range(n): f(target, source, at)",
     "dispatch": "f = buf._core.lookup_frames\nfor _ in range(n): f(target, source, at)",
     "wrap": "for _ in range(n): Transform(t, r, at, target, source)",
+    # per time of a batch: ``n`` random times in 10 calls of ``lookup_many`` (its threads counted alike)
+    "batch": "times = np.random.default_rng(1).integers(S, 99 * S, n // 10)\n"
+    "for _ in range(10): buf.lookup_many(target, source, times)",
     # its samples built in the loop: ``wrap`` is subtracted from it
     "set_transform": "f = buf.set_transform\nfor k in range(n): f(Transform(t, r, (100 + k) * S, 'f9', 'f10'), 'a')",
 }
 
 SETUP = """
 import sys
+import numpy as np
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
 from tftools.core.transform import Transform

@@ -419,6 +419,7 @@ class Core {
     // having changed nothing, otherwise.
     bool insert_common(int32_t parent, int32_t child, int64_t stamp, const double (&values)[7], bool is_static,
                        int64_t record_time, int32_t publisher);
+    static void put(const tfinsert::Columns& c, int64_t at, const Rows& r, int64_t row);
 
    private:
     static constexpr int64_t NEVER = INT64_MAX;
@@ -539,6 +540,20 @@ inline int64_t Core::store(int32_t frame, std::string_view name, const Rows& r, 
     return accepted;
 }
 
+// Row `row` of `r` written at `at` of a history's columns.
+inline void Core::put(const tfinsert::Columns& c, int64_t at, const Rows& r, int64_t row) {
+    const int32_t parent = r.parent[row], child = r.child[row];
+    c.stamps[at] = r.stamp[row];
+    const tfinsert::Values v = tfinsert::values_of(r.translation, r.rotation, row);
+    for (int j = 0; j < 7; ++j) c.values[7 * at + j] = v.v[j];  // not std::copy: a call to memmove
+    c.parents[at] = r.frame_of[parent];
+    c.authorities[at] = r.authority_ids[r.authority[row]];
+    c.record_times[at] = r.record_time[row];
+    c.sequence[at] = r.first + row;
+    c.flags[at] = (r.is_static[row] ? FROM_STATIC_TOPIC : 0) | (r.slash[parent] ? PARENT_HAD_SLASH : 0) |
+                  (r.slash[child] ? CHILD_HAD_SLASH : 0);
+}
+
 // The kept rows appended to `frame`'s history (grown if full), merged in by stamp where a dynamic
 // history's order needs it.
 inline void Core::append(int32_t frame, const Rows& r, const int64_t* rows, const std::vector<uint8_t>& verdicts) {
@@ -550,19 +565,7 @@ inline void Core::append(int32_t frame, const Rows& r, const int64_t* rows, cons
     const int64_t end_old = s.end;
     int64_t end = end_old;
     for (size_t i = 0; i < verdicts.size(); ++i) {
-        if (verdicts[i] != tfinsert::KEEP) continue;
-        const int64_t row = rows[i];
-        const int32_t parent = r.parent[row], child = r.child[row];
-        c.stamps[end] = r.stamp[row];
-        const tfinsert::Values v = tfinsert::values_of(r.translation, r.rotation, row);
-        for (int j = 0; j < 7; ++j) c.values[7 * end + j] = v.v[j];  // not std::copy: a call to memmove
-        c.parents[end] = r.frame_of[parent];
-        c.authorities[end] = r.authority_ids[r.authority[row]];
-        c.record_times[end] = r.record_time[row];
-        c.sequence[end] = r.first + row;
-        c.flags[end] = (r.is_static[row] ? FROM_STATIC_TOPIC : 0) | (r.slash[parent] ? PARENT_HAD_SLASH : 0) |
-                       (r.slash[child] ? CHILD_HAD_SLASH : 0);
-        ++end;
+        if (verdicts[i] == tfinsert::KEEP) put(c, end++, r, rows[i]);
     }
     bool in_order = end_old == s.start || c.stamps[end_old] > c.stamps[end_old - 1];
     for (int64_t row = end_old + 1; row < end && in_order; ++row) in_order = c.stamps[row] > c.stamps[row - 1];
@@ -586,10 +589,17 @@ inline bool Core::insert_common(int32_t parent, int32_t child, int64_t stamp, co
     const uint8_t slash[2] = {0, 0};
     const Rows r{arrivals, names,   names + 1, &zero,    &stamp, &record_time, values,
                  values + 3, checked, &is_static, frame_of, slash,  &publisher};
-    const int64_t row = 0;
-    Inserted none;
+    // What store() does with this one row, which tf2 keeps (checked above): appended, the history
+    // pruned (ROS 2's tf2 prunes before the sample goes in: by the newest stamp before it), the
+    // walk's view refreshed, the publisher noted.
+    Store& held = *stores_[child];
+    const int64_t newest_before = held.end > held.start ? held.block.stamps[held.end - 1] : stamp;
+    if (held.end + 1 > held.block.capacity) held.grow(1);
+    put(held.block.columns(), held.end++, r, 0);
     ++arrivals;
-    store(child, std::string_view(), r, &row, 1, none);
+    if (settings_.cache_time && !is_static) held.prune(*settings_.cache_time, settings_.ros2 ? newest_before : stamp);
+    refresh(child);
+    broadcasters_[child] = publisher;
     return true;
 }
 

@@ -8,6 +8,7 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
+#include <structmember.h>
 
 #include <cstdlib>
 #include <initializer_list>
@@ -111,6 +112,14 @@ struct Names {
         child_frame_id{"child_frame_id"}, frame_names{"frame_names"}, authorities{"authorities"};
 };
 
+// Where a slot (a __slots__ member's descriptor) keeps its value in an instance: its offset, or -1 for
+// another kind of descriptor.
+Py_ssize_t slot_offset(PyObject* descriptor) {
+    if (!Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) return -1;
+    const PyMemberDef* member = reinterpret_cast<PyMemberDescrObject*>(descriptor)->d_member;
+    return member->type == T_OBJECT_EX && !(member->flags & READONLY) ? member->offset : -1;
+}
+
 // The buffer's state (tfbuffer::Core) as Buffer calls it: see _kernels.pyi.
 class BufferCore {
    public:
@@ -128,6 +137,7 @@ class BufferCore {
             if (kind->tp_descr_get == nullptr || kind->tp_descr_set == nullptr) {
                 throw nb::type_error("BufferCore: answer's fields must be data descriptors (slots)");
             }
+            offsets_[i] = slot_offset(fields_[i].ptr());
         }
     }
 
@@ -503,8 +513,9 @@ class BufferCore {
         }
     }
 
-    // A new `answer` (Transform), its fields set through their descriptors' setters, as its __init__ sets
-    // them (its frozen __setattr__ refuses), without the Python frame of that __init__.
+    // A new `answer` (Transform), its fields set as its __init__ sets them through their slots' setters
+    // (its frozen __setattr__ refuses), without the Python frame of that __init__: written in its slots
+    // (the object comes zeroed, nothing to let go), else through the setters.
     nb::object make_answer(const tfcore::Pose& p, int64_t stamp, nb::handle target_frame,
                            nb::handle source_frame) const {
         auto* type = reinterpret_cast<PyTypeObject*>(answer_.ptr());
@@ -512,6 +523,11 @@ class BufferCore {
         if (!answer.is_valid()) throw nb::python_error();
         const auto put = [&](Field field, nb::object value) {
             if (!value.is_valid()) throw nb::python_error();
+            if (offsets_[field] >= 0) {
+                *reinterpret_cast<PyObject**>(reinterpret_cast<char*>(answer.ptr()) + offsets_[field]) =
+                    value.release().ptr();
+                return;
+            }
             PyObject* descriptor = fields_[field].ptr();
             if (Py_TYPE(descriptor)->tp_descr_set(descriptor, answer.ptr(), value.ptr()) != 0) throw nb::python_error();
         };
@@ -536,11 +552,14 @@ class BufferCore {
         return tuple;
     }
 
-    // `transform`'s field (the answer's `index`-th) read through its slot where it is an answer
-    // (what Python's attribute lookup would find, minus the search), else as an attribute.
+    // `transform`'s field (the answer's `index`-th) read from its slot where it is an answer (what
+    // Python's attribute lookup would find, minus the search), else as an attribute.
     nb::object field(nb::handle transform, int index, const nb::str& name) const {
         if (Py_TYPE(transform.ptr()) != reinterpret_cast<PyTypeObject*>(answer_.ptr())) {
             return attribute(transform, name);
+        }
+        if (offsets_[index] >= 0) {  // unset: the batch path reads it again, and says what is wrong
+            return nb::borrow(*reinterpret_cast<PyObject**>(reinterpret_cast<char*>(transform.ptr()) + offsets_[index]));
         }
         PyObject* slot = fields_[index].ptr();
         return nb::steal(Py_TYPE(slot)->tp_descr_get(slot, transform.ptr(), answer_.ptr()));
@@ -569,38 +588,46 @@ class BufferCore {
     };
     static thread_local LastFailure last_failure_;
     nb::object fields_[5];  // the answer's fields' slot descriptors, in FIELD order
+    Py_ssize_t offsets_[5];  // ... and where their values lie in an answer (slot_offset)
 };
 
 thread_local BufferCore::LastFailure BufferCore::last_failure_;
 
-// Buffer.lookup and Buffer.can_transform, methods in C (the module's `buffer_lookup`, `buffer_can_transform`,
-// which Buffer's class takes): called as any method, (target_frame, source_frame, time=0), keywords too,
-// without a Python frame or the binding's dispatch (argument matching, overloads, the instance found by
-// type: together a tenth of a lookup). Each finds the buffer's core as its `_core`; a lookup the walk does
-// not answer goes to Python, `_lookup_by_ids` (which words tf2's error from this walk's failure).
+// Buffer.lookup, Buffer.can_transform and Buffer.set_transform, methods in C (the module's `buffer_lookup`,
+// `buffer_can_transform`, `buffer_set_transform`, which Buffer's class takes): called as any method,
+// (target_frame, source_frame, time=0) or (transform, authority="", static=False, record_time=0), keywords
+// too, without a Python frame or the binding's dispatch (argument matching, overloads, the instance found by
+// type: together a tenth of a lookup, a third of a set_transform). Each finds the buffer's core as its
+// `_core`; a lookup the walk does not answer goes to Python, `_lookup_by_ids` (which words tf2's error from
+// this walk's failure), and a sample that set_transform's common case does not store goes to the batch
+// path, `_set_transform_by_batch`.
 struct MethodNames {
-    PyObject *core, *by_ids, *target_frame, *source_frame, *time;
+    PyObject *core, *by_ids, *by_batch, *empty, *zero;
+    PyObject* frames_and_time[3];  // lookup's and can_transform's arguments
+    PyObject* transform_and_how[4];  // set_transform's
 };
-MethodNames method_names;  // interned at the module's load
+MethodNames method_names;  // made at the module's load
 PyTypeObject* core_type = nullptr;
 
-// A method's (target_frame, source_frame, time=0) from a vectorcall's arguments, into `out`; false with
-// Python's TypeError set where they do not match.
-bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, PyObject* kwnames,
-                     PyObject* (&out)[3], int64_t& time) {
-    out[0] = out[1] = out[2] = nullptr;
-    if (n > 3) {
-        PyErr_Format(PyExc_TypeError, "%s() takes from 2 to 3 positional arguments but %zd were given", method, n);
+// A method's arguments (named `names`, the first `required` of them required) from a vectorcall's, by
+// position or keyword, into `out` (null where not given); false with Python's TypeError set where they do
+// not match.
+template <int N>
+bool arguments(const char* method, PyObject* const* args, Py_ssize_t n, PyObject* kwnames, PyObject* const (&names)[N],
+               int required, PyObject* (&out)[N]) {
+    for (PyObject*& given : out) given = nullptr;
+    if (n > N) {
+        PyErr_Format(PyExc_TypeError, "%s() takes from %d to %d positional arguments but %zd were given", method,
+                     required, N, n);
         return false;
     }
     for (Py_ssize_t i = 0; i < n; ++i) out[i] = args[i];
     const Py_ssize_t keywords = kwnames == nullptr ? 0 : PyTuple_GET_SIZE(kwnames);
-    PyObject* const names[3] = {method_names.target_frame, method_names.source_frame, method_names.time};
     for (Py_ssize_t k = 0; k < keywords; ++k) {
         PyObject* key = PyTuple_GET_ITEM(kwnames, k);
         int which = 0;
-        while (which < 3 && PyUnicode_Compare(key, names[which]) != 0) ++which;
-        if (which == 3) {
+        while (which < N && PyUnicode_Compare(key, names[which]) != 0) ++which;
+        if (which == N) {
             PyErr_Format(PyExc_TypeError, "%s() got an unexpected keyword argument '%U'", method, key);
             return false;
         }
@@ -610,12 +637,20 @@ bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, Py
         }
         out[which] = args[n + k];
     }
-    for (int which = 0; which < 2; ++which) {
+    for (int which = 0; which < required; ++which) {
         if (out[which] == nullptr) {
             PyErr_Format(PyExc_TypeError, "%s() missing required argument '%U'", method, names[which]);
             return false;
         }
     }
+    return true;
+}
+
+// A method's (target_frame, source_frame, time=0) from a vectorcall's arguments, into `out`; false with
+// Python's TypeError set where they do not match.
+bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, PyObject* kwnames,
+                     PyObject* (&out)[3], int64_t& time) {
+    if (!arguments(method, args, n, kwnames, method_names.frames_and_time, 2, out)) return false;
     time = 0;
     if (out[2] != nullptr && !nb::try_cast(nb::handle(out[2]), time)) {
         PyErr_Format(PyExc_TypeError, "%s(): time must be an int (nanoseconds), not %s", method,
@@ -625,9 +660,38 @@ bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, Py
     return true;
 }
 
-// The core of `buffer` (its `_core`), or null with the error set.
+// Where instances of the class last seen keep `_core` (-1: not in a slot), while that class is unchanged
+// (its version tag, which any change of the class's attributes renews).
+// Per thread (a build without the GIL runs them at once); the class is held while it is remembered.
+struct CoreSlot {
+    PyTypeObject* type = nullptr;
+    unsigned int version = 0;
+    Py_ssize_t offset = -1;
+};
+thread_local CoreSlot core_slot;
+
+// Whether `type` is core_slot's, unchanged.
+bool known_class(PyTypeObject* type) {
+    return type == core_slot.type && PyType_HasFeature(type, Py_TPFLAGS_VALID_VERSION_TAG) &&
+           type->tp_version_tag == core_slot.version;
+}
+
+// The core of `buffer` (its `_core`: read from its slot where its class keeps it in one, as Buffer does,
+// else looked up), or null with the error set.
 BufferCore* core_of(PyObject* buffer, nb::object& held) {
-    held = nb::steal(PyObject_GetAttr(buffer, method_names.core));
+    PyTypeObject* type = Py_TYPE(buffer);
+    if (!known_class(type)) {
+        const nb::object found = nb::steal(PyObject_GetAttr(reinterpret_cast<PyObject*>(type), method_names.core));
+        PyErr_Clear();
+        PyTypeObject* const forgotten = core_slot.type;
+        Py_INCREF(reinterpret_cast<PyObject*>(type));
+        core_slot = {type, type->tp_version_tag, found.is_valid() ? slot_offset(found.ptr()) : -1};
+        Py_XDECREF(reinterpret_cast<PyObject*>(forgotten));
+    }
+    PyObject* slot = known_class(type) && core_slot.offset >= 0
+                         ? *reinterpret_cast<PyObject**>(reinterpret_cast<char*>(buffer) + core_slot.offset)
+                         : nullptr;
+    held = slot != nullptr ? nb::borrow(slot) : nb::steal(PyObject_GetAttr(buffer, method_names.core));
     if (!held.is_valid()) return nullptr;
     if (Py_TYPE(held.ptr()) != core_type) {
         PyErr_SetString(PyExc_TypeError, "a Buffer's _core must be a BufferCore");
@@ -687,6 +751,24 @@ PyObject* buffer_can_transform(PyObject* buffer, PyObject* const* args, Py_ssize
     return nullptr;
 }
 
+PyObject* buffer_set_transform(PyObject* buffer, PyObject* const* args, Py_ssize_t n, PyObject* kwnames) noexcept {
+    try {
+        PyObject* given[4];
+        if (!arguments("set_transform", args, n, kwnames, method_names.transform_and_how, 1, given)) return nullptr;
+        PyObject* const defaults[4] = {nullptr, method_names.empty, Py_False, method_names.zero};
+        for (int i = 1; i < 4; ++i) given[i] = given[i] != nullptr ? given[i] : defaults[i];
+        nb::object held;
+        BufferCore* core = core_of(buffer, held);
+        if (core == nullptr) return nullptr;
+        if (core->set_transform(given[0], given[1], given[2], given[3])) return Py_NewRef(Py_True);
+        PyObject* call[5] = {buffer, given[0], given[1], given[2], given[3]};
+        return PyObject_VectorcallMethod(method_names.by_batch, call, 5, nullptr);
+    } catch (...) {
+        raised();
+    }
+    return nullptr;
+}
+
 // The buffer's lock taken and let go in `with` (and acquire, release) as plain C methods: `with` looks
 // them up on every entry, and the binding's dispatch cost as much as a failed lookup's walk.
 PyObject* lock_acquire(PyObject* lock, PyObject*) noexcept {
@@ -732,6 +814,11 @@ PyMethodDef buffer_can_transform_def = {
     "can_transform", fastcall(buffer_can_transform), METH_FASTCALL | METH_KEYWORDS,
     "can_transform($self, target_frame, source_frame, time=0)\n--\n\n"
     "Whether ``lookup`` would succeed (tf2's ``canTransform``)."};
+PyMethodDef buffer_set_transform_def = {
+    "set_transform", fastcall(buffer_set_transform), METH_FASTCALL | METH_KEYWORDS,
+    "set_transform($self, transform, authority='', static=False, record_time=0)\n--\n\n"
+    "Add one transform as tf2's ``setTransform`` does; False if it was refused (ROS 2's tf2 accepts a\n"
+    "sample identical to one it holds, and stores it once)."};
 
 }  // namespace
 
@@ -833,12 +920,18 @@ NB_MODULE(_kernels, m) {
              "values"_a, "valid"_a, "threads"_a)
         .def("chain_takes", &BufferCore::chain_takes, "target"_a, "source"_a, "times"_a);
     core_type = reinterpret_cast<PyTypeObject*>(nb::type<BufferCore>().ptr());
-    method_names = {PyUnicode_InternFromString("_core"), PyUnicode_InternFromString("_lookup_by_ids"),
-                    PyUnicode_InternFromString("target_frame"), PyUnicode_InternFromString("source_frame"),
-                    PyUnicode_InternFromString("time")};
+    const auto name = [](const char* text) { return PyUnicode_InternFromString(text); };
+    method_names = {name("_core"),
+                    name("_lookup_by_ids"),
+                    name("_set_transform_by_batch"),
+                    name(""),
+                    PyLong_FromLong(0),
+                    {name("target_frame"), name("source_frame"), name("time")},
+                    {name("transform"), name("authority"), name("static"), name("record_time")}};
     // Descriptors of methods of any object (a Buffer's class takes them as its own).
     m.attr("buffer_lookup") = nb::steal(PyDescr_NewMethod(&PyBaseObject_Type, &buffer_lookup_def));
     m.attr("buffer_can_transform") = nb::steal(PyDescr_NewMethod(&PyBaseObject_Type, &buffer_can_transform_def));
+    m.attr("buffer_set_transform") = nb::steal(PyDescr_NewMethod(&PyBaseObject_Type, &buffer_set_transform_def));
 
     m.def(
         "through_matrix",

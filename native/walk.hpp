@@ -142,6 +142,10 @@ inline Cosine cosine(const Quat& a, const Quat& b) {
     return {value > 1.0 ? 1.0 : value, dot >= 0 ? 1.0 : -1.0};
 }
 
+// The angle of `c`: its acos, which is 0 exactly for a cosine of 1 (two samples of one rotation),
+// where the call is left out.
+inline double angle(const Cosine& c) { return c.value == 1.0 ? 0.0 : std::acos(c.value); }
+
 // The arc of `c`, whose angle is `theta` (its acos).
 inline Arc arc_of(const Cosine& c, double theta) {
     if (theta == 0.0) return {0.0, 0.0, 1.0};
@@ -150,7 +154,7 @@ inline Arc arc_of(const Cosine& c, double theta) {
 
 inline Arc arc(const Quat& a, const Quat& b) {
     const Cosine c = cosine(a, b);
-    return arc_of(c, std::acos(c.value));
+    return arc_of(c, angle(c));
 }
 
 // Up to this angle, batches take `small_sin` for std::sin.
@@ -468,7 +472,7 @@ inline size_t edges_at(const Histories& histories, Chain& chain, int64_t time, M
     const size_t split = edges.size();
     sample(chain.sides[1]);
     for (Edge& e : edges) {
-        if (e.interpolate && !e.known) e.arc.theta = std::acos(e.cosine.value);
+        if (e.interpolate && !e.known) e.arc.theta = angle(e.cosine);
     }
     for (Edge& e : edges) {
         if (!e.interpolate) continue;

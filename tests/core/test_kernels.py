@@ -4,6 +4,8 @@ test_tf2_differential.py.)"""
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -211,3 +213,74 @@ def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do
     assert "target_frame, source_frame, time=0" in (Buffer.lookup.__doc__ or "") + str(
         __import__("inspect").signature(Buffer.lookup)
     )
+
+
+def test_set_transform_in_c_takes_its_arguments_as_a_python_method_does():
+    """``Buffer.set_transform`` (a method in C) takes (transform, authority="", static=False,
+    record_time=0), by position or keyword, stores its common case itself and hands every other sample
+    to the batch path (which refuses what tf2 refuses), and refuses bad calls with Python's TypeErrors."""
+    buffer = Buffer(cache_time=None)
+
+    def sample(stamp: int, child: str = "b") -> Transform:
+        return Transform((float(stamp), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", child)
+
+    assert buffer.set_transform(sample(10))  # frames unknown: the batch path
+    assert buffer.set_transform(sample(20), "pub", record_time=7)  # a new publisher: the batch path
+    assert buffer.set_transform(authority="pub", transform=sample(30), static=False, record_time=8)  # in C
+    assert buffer.set_transform(sample(40), "pub", False, 9)
+    assert buffer.set_transform(sample(50))  # authority "", record time 0 by default
+    assert buffer.set_transform(sample(60, "c"), "pub", True)  # static: the batch path
+    assert not buffer.set_transform(Transform((float("nan"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), 70, "a", "b"))
+    history = buffer.history("b")
+    assert history is not None and not history.static
+    assert history.stamps.tolist() == [10, 20, 30, 40, 50]
+    assert history.record_times.tolist() == [0, 7, 8, 9, 0]
+    assert [buffer.authorities[k] for k in history.authorities.tolist()] == ["", "pub", "pub", "pub", ""]
+    assert buffer.lookup("a", "b", 45).translation == (45.0, 0.0, 0.0)
+    static = buffer.history("c")
+    assert static is not None and static.static
+    with pytest.raises(TypeError, match="missing required argument 'transform'"):
+        buffer.set_transform()  # type: ignore[call-arg]
+    with pytest.raises(TypeError, match="from 1 to 4 positional arguments"):
+        buffer.set_transform(sample(80), "pub", False, 0, 1)  # type: ignore[call-arg]
+    with pytest.raises(TypeError, match="unexpected keyword argument 'stamp'"):
+        buffer.set_transform(sample(80), stamp=80)  # type: ignore[call-arg]
+    with pytest.raises(TypeError, match="multiple values for argument 'authority'"):
+        buffer.set_transform(sample(80), "pub", authority="pub")  # type: ignore[misc]
+    assert "transform, authority='', static=False, record_time=0" in str(
+        __import__("inspect").signature(Buffer.set_transform)
+    )
+
+
+def test_methods_in_c_find_the_core_in_buffers_slot_or_as_an_attribute():
+    """The methods in C read a Buffer's core from its slot, and any other object's ``_core`` as an
+    attribute, whichever class came last; an object without a core raises AttributeError."""
+    buffer = Buffer(cache_time=None)
+    for stamp in (10, 20):
+        buffer.set_transform(Transform((float(stamp), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", "b"))
+
+    class Borrowing:
+        lookup = Buffer.lookup
+        can_transform = Buffer.can_transform
+
+        def __init__(self, core: object) -> None:
+            self._core = core
+
+    other = Borrowing(buffer._core)
+    held = sys.getrefcount(Borrowing)
+    for _ in range(100):  # the class last seen is held while remembered, and let go when another comes
+        assert other.lookup("a", "b", 12).translation == (12.0, 0.0, 0.0)
+        assert buffer.lookup("a", "b", 15).translation == (15.0, 0.0, 0.0)
+        assert other.can_transform("a", "b", 12) and buffer.can_transform("a", "b", 12)
+    assert sys.getrefcount(Borrowing) == held
+    Borrowing._core = None  # the class changed: its instances' attribute still wins
+    assert other.lookup("a", "b", 12).stamp == 12
+    del other._core
+    with pytest.raises(TypeError, match="_core must be a BufferCore"):
+        other.lookup("a", "b", 12)
+    unset = Buffer.__new__(Buffer)
+    with pytest.raises(AttributeError, match="_core"):
+        unset.lookup("a", "b", 12)
+    with pytest.raises(AttributeError, match="_core"):
+        unset.set_transform(Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), 30, "a", "b"))
+    assert buffer.lookup("a", "b", 15).translation == (15.0, 0.0, 0.0)

@@ -47,6 +47,12 @@ def buffer_lookup(self: Any, target_frame: str, source_frame: str, time: int = 0
 def buffer_can_transform(self: Any, target_frame: str, source_frame: str, time: int = 0) -> bool:
     """``Buffer.can_transform``, a method in C: its core's ``can_transform_frames``."""
 
+def buffer_set_transform(
+    self: Any, transform: Transform, authority: str = "", static: bool = False, record_time: int = 0
+) -> bool:
+    """``Buffer.set_transform``, a method in C: its core's ``set_transform`` (the common case), else
+    ``self._set_transform_by_batch(transform, authority, static, record_time)``."""
+
 class EdgeHistory:
     """The samples of one child frame, read-only: views of the columns the buffer's core owns (each keeps
     them alive; a history that grows or is pruned moves to new columns, the views keep the old).

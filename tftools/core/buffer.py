@@ -14,7 +14,13 @@ import numpy.typing as npt
 
 from tftools.core import history as _history
 from tftools.core import walk
-from tftools.core._kernels import BufferCore, BufferLock, buffer_can_transform, buffer_lookup
+from tftools.core._kernels import (
+    BufferCore,
+    BufferLock,
+    buffer_can_transform,
+    buffer_lookup,
+    buffer_set_transform,
+)
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
@@ -99,6 +105,10 @@ class Buffer:
     the tf2 to answer as: ``"ros1"`` (ROS 1 bags and systems) or ``"ros2"`` (``.db3``/``.mcap``
     and ROS 2 systems); ``tftools.core.semantics`` lists how they differ.
     """
+
+    # The core in a slot: the methods in C (lookup, can_transform, set_transform) read it there, at
+    # its offset, instead of looking the attribute up on every call.
+    __slots__ = ("__dict__", "__weakref__", "_core")
 
     def __init__(
         self,
@@ -208,21 +218,16 @@ class Buffer:
 
     # --- insertion ---------------------------------------------------------------------------
 
-    def set_transform(
-        self,
-        transform: Transform,
-        authority: str = "",
-        static: bool = False,
-        record_time: int = 0,
-    ) -> bool:
-        """Add one transform as tf2's ``setTransform`` does; False if it was refused (ROS 2's
-        tf2 accepts a sample identical to one it holds, and stores it once)."""
-        # The common case, stored in place under the lock: both frames known (named without a
-        # slash, and different), a valid sample, newer than the child's newest (unless static) and
-        # of its kind, from a known publisher, no rows reserved. Every other sample (nothing
-        # stored yet) takes the batch path.
-        if self._core.set_transform(transform, authority, static, record_time):
-            return True
+    #: ``set_transform(transform, authority="", static=False, record_time=0)``: add one transform as
+    #: tf2's ``setTransform`` does; False if it was refused (ROS 2's tf2 accepts a sample identical to
+    #: one it holds, and stores it once). A method in C: its common case (both frames known, named
+    #: without a slash, and different; a valid sample, newer than the child's newest unless static, and
+    #: of its kind; a known publisher; no rows reserved) is stored in place under the lock by the core's
+    #: ``set_transform``; every other sample (nothing stored yet) takes ``_set_transform_by_batch``.
+    set_transform = buffer_set_transform
+
+    def _set_transform_by_batch(self, transform: Transform, authority: str, static: bool, record_time: int) -> bool:
+        """``set_transform`` where its common case does not store the sample: the batch path."""
         builder = BatchBuilder()
         builder.add(
             transform.frame_id,
