@@ -89,9 +89,12 @@ CLOCK_QOS = QosProfile(depth=1, reliable=False)
 SENSOR_QOS = QosProfile(depth=100, reliable=False)
 
 # rmw_cyclonedds rmw_node.cpp: ros_discovery_info is written reliable, transient local, keep last
-# 1, and read keep all.
+# 1, and read keep all. tfx reads it keep last DISCOVERY_DEPTH: the topic is keyless, so keep all held
+# every sample of a flood of new participants that tfx had not yet taken (1.1 GB in 8 s from 6 peers);
+# a burst larger than that between two takes loses the oldest announcements (their writers go unnamed).
+DISCOVERY_DEPTH = 64
 DISCOVERY_WRITER_QOS = QosProfile(depth=1, transient_local=True)
-DISCOVERY_READER_QOS = QosProfile(depth=0, transient_local=True)
+DISCOVERY_READER_QOS = QosProfile(depth=DISCOVERY_DEPTH, transient_local=True)
 
 
 def listener_qos(ros_topic: str) -> QosProfile:
