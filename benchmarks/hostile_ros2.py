@@ -1,6 +1,7 @@
 """tfx's live ROS 2 commands against hostile peers at the rate of issue 44: samples of 60 MiB back to back, a
 ``ros_discovery_info`` flood of new participants, from ``--peers`` writer processes each writing serialized-once
-bytes as fast as Cyclone DDS takes them (tests/live/ros2_nodes.py hostile huge|participants).
+bytes as fast as Cyclone DDS takes them (tests/live/ros2_nodes.py hostile huge|participants), or another hostile
+kind (longnames: new names of 4 KiB and 1 MiB).
 
 On a private domain on loopback, for each peer kind and command, prints tfx's exit code, wall time, peak RSS
 (``/usr/bin/time -v``), its stderr lines, and how many bytes the peers' writers sent meanwhile.
@@ -25,6 +26,7 @@ COMMANDS = {
     "monitor": ["monitor", "--ros2", "--duration", "{s}", "-f", "json"],
     "wtf": ["wtf", "--ros2", "-d", "{s}"],
     "echo": ["echo", "--ros2", "root", "base", "--wait", "{s}"],
+    "frames": ["frames", "--ros2", "-d", "{s}"],
 }
 
 

@@ -23,7 +23,8 @@ their own type definitions (tftools' are not used, so a mistake there cannot hid
     ros2_nodes.py kilohertz [COUNT]     once tfx's reader is matched, COUNT (3000) /tf samples at 1 kHz of 100
                                         transforms (root -> c0 ... c99) stamped 1 s + k ms; prints "done"
     ros2_nodes.py hostile KIND          a misbehaving /tf writer announced as node /hostile: KIND "flood" (20,000
-                                        new frame names a sample, 10 Hz), "names" (escape codes, newlines, 10,000-
+                                        new frame names a sample, 10 Hz), "longnames" (1,000 new names of 4 KiB and
+                                        one of 1 MiB a sample, 10 Hz), "names" (escape codes, newlines, 10,000-
                                         character names), "values" (NaN, inf, 1e308, a zero quaternion), "graph"
                                         (ros_discovery_info naming 1,000 nodes of hostile names), "burst" (10,000
                                         samples as fast as it can), "huge" (samples of 60 MiB back to back: one
@@ -349,6 +350,9 @@ def hostile(dp, kind):
         round_ += 1
         if kind == "flood":
             message = [transform("root", f"r{round_}_{i}") for i in range(20_000)]
+        elif kind == "longnames":  # names of 4 KiB, as long as tfx keeps, and of 1 MiB
+            message = [transform("root", f"{round_}_{i}_".ljust(4096, "n")) for i in range(1000)]
+            message.append(transform("root", f"{round_}_".ljust(1 << 20, "m")))
         elif kind == "names":
             message = [
                 transform("root", "\x1b]0;title\x07\x1b[2J"),
