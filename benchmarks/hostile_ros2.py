@@ -1,7 +1,7 @@
 """tfx's live ROS 2 commands against hostile peers at the rate of issue 44: samples of 60 MiB back to back, a
 ``ros_discovery_info`` flood of new participants, from ``--peers`` writer processes each writing serialized-once
 bytes as fast as Cyclone DDS takes them (tests/live/ros2_nodes.py hostile huge|participants), or another hostile
-kind (longnames: new names of 4 KiB and 1 MiB).
+kind (longnames: new names of 4 KiB and 1 MiB), or clockloop (/clock back every 50 ms, --use-sim-time).
 
 On a private domain on loopback, for each peer kind and command, prints tfx's exit code, wall time, peak RSS
 (``/usr/bin/time -v``), its stderr lines, and how many bytes the peers' writers sent meanwhile.
@@ -21,6 +21,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from tests.live.ros2_processes import Ros2Domain
+
+#: Peers other than ``hostile KIND``: a /clock going back every 50 ms (a replay looping as fast as it can).
+PEERS = {"clockloop": ("dynamic", "robot", "odom", "base_link", "--hz", "200", "--sim", "100", "--loop", "0.05")}
 
 COMMANDS = {
     "monitor": ["monitor", "--ros2", "--duration", "{s}", "-f", "json"],
@@ -64,8 +67,10 @@ def main() -> None:
             domain = Ros2Domain()
             try:
                 for _ in range(options.peers):
-                    domain.node("hostile", kind).wait_for("ready", timeout=60)
+                    domain.node(*PEERS.get(kind, ("hostile", kind))).wait_for("ready", timeout=60)
                 command = [word.format(s=options.seconds) for word in COMMANDS[name]]
+                if kind == "clockloop":
+                    command.insert(2, "--use-sim-time")
                 result = measure(domain, command)
             finally:
                 domain.stop()
