@@ -197,6 +197,7 @@ def test_cyclone_s_own_log_of_malformed_packets_stays_off_stderr(domain: Ros2Dom
     assert bool(malformed) is debug, finished.stderr[-500:]
 
 
+@pytest.mark.slow
 def test_a_robot_s_1_khz_tf_of_100_transforms_is_read_whole(domain: Ros2Domain) -> None:
     """The bounds on DDS readers lose nothing of a busy robot: 3,000 samples at 1 kHz, each of 100 transforms."""
     domain.node("kilohertz", "3000")
