@@ -20,17 +20,23 @@ their own type definitions (tftools' are not used, so a mistake there cannot hid
                                         not matched: the listener of a Humble or of a later system)
     ros2_nodes.py static_listener       listens to /tf_static with tf2_ros's StaticListenerQoS for 1.5 s and
                                         prints as JSON each sample and its writer's QoS as DDS discovered it
+    ros2_nodes.py kilohertz [COUNT]     once tfx's reader is matched, COUNT (3000) /tf samples at 1 kHz of 100
+                                        transforms (root -> c0 ... c99) stamped 1 s + k ms; prints "done"
     ros2_nodes.py hostile KIND          a misbehaving /tf writer announced as node /hostile: KIND "flood" (20,000
-                                        new frame names a sample, 10 Hz), "names" (escape codes, newlines, 10,000-
+                                        new frame names a sample, 10 Hz), "longnames" (1,000 new names of 4 KiB and
+                                        one of 1 MiB a sample, 10 Hz), "names" (escape codes, newlines, 10,000-
                                         character names), "values" (NaN, inf, 1e308, a zero quaternion), "graph"
                                         (ros_discovery_info naming 1,000 nodes of hostile names), "burst" (10,000
                                         samples as fast as it can), "huge" (samples of 60 MiB back to back: one
-                                        name of 60 MiB), "participants" (ros_discovery_info announcing a new
-                                        participant of 1,000 nodes in every sample, as fast as it can)
+                                        name of 60 MiB, serialized once, written raw as fast as Cyclone takes
+                                        them), "participants" (ros_discovery_info announcing a new participant
+                                        of 1,000 nodes in every sample, serialized once, written raw as fast as
+                                        Cyclone takes them); run several for the rate of several writers
 Each prints "ready" once its writers exist, then runs until killed.
 """
 
 import json
+import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -185,6 +191,37 @@ def dynamic(dp, name, parent, child, gid="16", hz="50", sim=None, loop=None):
     del keep
 
 
+def kilohertz(dp, count="3000"):
+    """A robot's /tf at 1 kHz, 100 transforms (root -> c0 ... c99) a sample: serialized once with a marker
+    stamp that each sample replaces (Python's serializer is too slow for 1 kHz)."""
+    import struct
+
+    tf = DataWriter(dp, Topic(dp, "rt/tf", TFMessage_), qos=qos(100))
+    keep = announce(dp, "kilohertz", [tf], 16)
+    marker = Time_(0x7E57AB1E, 0x1D1D1D1D)
+    template = bytearray(
+        TFMessage_([TransformStamped_(Header_(marker, "root"), f"c{i}", Transform_()) for i in range(100)]).serialize()
+    )
+    packed = struct.pack("<iI", marker.sec, marker.nanosec)
+    offsets = [i for i in range(len(template)) if template.startswith(packed, i)]
+    while tf.get_publication_matched_status().current_count == 0:
+        time.sleep(0.01)
+    print("ready", flush=True)
+    time.sleep(1.0)  # tfx's reader is matched; let it settle on our node's name
+    start = time.perf_counter()
+    for k in range(int(count)):
+        while time.perf_counter() < start + k / 1000:
+            pass
+        stamp = struct.pack("<iI", *divmod(1_000_000_000 + k * 1_000_000, 1_000_000_000))
+        for offset in offsets:
+            template[offset : offset + 8] = stamp
+        write_raw(tf, bytes(template))
+    print(f"done {count} in {time.perf_counter() - start:.2f} s", flush=True)
+    while True:
+        time.sleep(1)
+    del keep
+
+
 def scan(dp, topic, frame, hz="10"):
     writer = DataWriter(dp, Topic(dp, "rt/" + topic.strip("/"), LaserScan_), qos=qos(5, reliable=False))
     print("ready", flush=True)
@@ -267,6 +304,15 @@ def discovery_listener(dp, size):
         time.sleep(0.05)
 
 
+def write_raw(writer, data):
+    """``data`` (CDR, encapsulation header first) written as is: a peer at the rate of its network, not of
+    Python's serializer."""
+    from cyclonedds._clayer import ddspy_write
+
+    while ddspy_write(writer._ref, data) < 0:  # a full writer cache (timed out): again
+        time.sleep(0.001)
+
+
 def hostile(dp, kind):
     tf = DataWriter(dp, Topic(dp, "rt/tf", TFMessage_), qos=qos(100))
     keep = announce(dp, "hostile", [tf], 16)
@@ -281,15 +327,17 @@ def hostile(dp, kind):
         flood = DataWriter(dp, Topic(dp, "ros_discovery_info", info), qos=qos(1, transient_local=True))
         writers = [gid(list(range(16))) for _ in range(10)]
         nodes = [node("/", f"n{i}_" + "x" * 200, [], writers) for i in range(1000)]
+        sample = bytearray(info(gid([0] * 16), nodes).serialize())  # serialized once; each copy a new Gid
         print("ready", flush=True)
         for k in range(10**9):
-            flood.write(info(gid(list(k.to_bytes(16, "little"))), nodes))
+            sample[4:20] = (k + (os.getpid() << 64)).to_bytes(16, "little")  # after the encapsulation header
+            write_raw(flood, bytes(sample))
     if kind == "huge":
-        huge = "h" * (60 << 20)
+        stamp = Time_(*divmod(time.time_ns(), 1_000_000_000))
+        huge = TFMessage_([TransformStamped_(Header_(stamp, "root"), "h" * (60 << 20), Transform_())]).serialize()
         print("ready", flush=True)
-        while True:
-            stamp = Time_(*divmod(time.time_ns(), 1_000_000_000))
-            tf.write(TFMessage_([TransformStamped_(Header_(stamp, "root"), huge, Transform_())]))
+        while True:  # serialized once, written as fast as Cyclone takes it
+            write_raw(tf, huge)
     print("ready", flush=True)
 
     def transform(parent, child, x=0.0, rotation=None):
@@ -302,6 +350,9 @@ def hostile(dp, kind):
         round_ += 1
         if kind == "flood":
             message = [transform("root", f"r{round_}_{i}") for i in range(20_000)]
+        elif kind == "longnames":  # names of 4 KiB, as long as tfx keeps, and of 1 MiB
+            message = [transform("root", f"{round_}_{i}_".ljust(4096, "n")) for i in range(1000)]
+            message.append(transform("root", f"{round_}_".ljust(1 << 20, "m")))
         elif kind == "names":
             message = [
                 transform("root", "\x1b]0;title\x07\x1b[2J"),
@@ -329,8 +380,6 @@ def hostile(dp, kind):
 
 
 def main():
-    import os
-
     domain = int(os.environ.get("ROS_DOMAIN_ID", "0"))
     dp = DomainParticipant(domain, qos=Qos(Policy.Userdata(b"enclave=/;")))
     mode, *arguments = sys.argv[1:]
@@ -350,6 +399,7 @@ def main():
         "static_listener": static_listener,
         "discovery_listener": discovery_listener,
         "hostile": hostile,
+        "kilohertz": kilohertz,
     }[mode](dp, *positional, **options)
 
 

@@ -7,11 +7,13 @@ from __future__ import annotations
 import os
 import resource
 import socket
+import sys
 import time
 
+import numpy as np
 import pytest
 
-from tests.live.ros2_processes import Ros2Domain, domain_fixture  # noqa: F401 - the fixture `domain`
+from tests.live.ros2_processes import Process, Ros2Domain, domain_fixture  # noqa: F401 - the fixture `domain`
 from tftools.sources.live import base, open_live
 from tftools.sources.live.capture import capture
 from tftools.sources.live.ros2 import conventions as ros2
@@ -62,6 +64,95 @@ def test_samples_larger_than_the_limit_are_dropped_and_said_once(domain: Ros2Dom
     assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss < 1_500_000  # KiB: within the issue's 1.5 GB
 
 
+#: Writer processes of a hostile peer: each writes serialized-once samples as fast as Cyclone DDS takes them.
+PEERS = 3
+
+
+#: Runs its arguments as a child and prints that child's peak RSS (KiB) last on stderr: a process of its own, so
+#: that no other process reaped (a peer) counts.
+_PEAK = (
+    "import resource, subprocess, sys; code = subprocess.run(sys.argv[1:]).returncode;"
+    " print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, file=sys.stderr); sys.exit(code)"
+)
+
+
+def _peak_of_child(domain: Ros2Domain, *command: str) -> tuple[int, str, str]:
+    """Run ``tfx COMMAND`` (its exit code checked); its peak RSS in bytes, its stderr and stdout."""
+    process = Process([sys.executable, "-c", _PEAK, sys.executable, "-m", "tftools", *command], domain.env)
+    try:
+        finished = process.finish(timeout=120)  # a hang guard
+    finally:
+        process.stop()
+    *said, peak = finished.stderr.splitlines()
+    assert finished.returncode in (0, 1), finished.stderr
+    assert "Traceback" not in finished.stderr
+    return int(peak) * 1024, "\n".join(said), finished.stdout
+
+
+@pytest.mark.slow
+def test_samples_of_60_mib_from_several_writers_back_to_back_stay_within_the_bound(domain: Ros2Domain) -> None:
+    """Issue 44: samples of 60 MiB back to back held 1.57 GB in the monitor. Several writers at Cyclone's pace
+    (3 gave 565 to 1,038 MB, 6 gave 789 MB with Cyclone reassembling up to 16 samples a writer; 656 MB with 4)."""
+    for _ in range(PEERS):
+        domain.node("hostile", "huge").wait_for("ready", timeout=60)
+    peak, stderr, _ = _peak_of_child(domain, "monitor", "--ros2", "--duration", "6", "-f", "json")
+    print(f"peak {peak >> 20} MiB")
+    assert peak < 1_500_000_000, peak  # the issue's bound
+    # as fast as they go, the writers' fragments overflow loopback's buffers: a whole sample may not arrive
+    assert set(stderr.splitlines()) <= {
+        "tfx: warning: /hostile sent a sample of 60.0 MiB on /tf, larger than 16 MiB (100,000 transforms take 8.5 MB):"
+        " such are dropped unread"
+    }
+
+
+@pytest.mark.slow
+def test_a_flood_of_new_participants_from_several_writers_stays_within_the_bound(domain: Ros2Domain) -> None:
+    """Issue 44: a ros_discovery_info flood of new participants held 2.6 to 2.9 GB in 8 s; read keep all, 6
+    writers at Cyclone's pace held 1.1 GB (keep last 64 since: 144 MB). A robot's /tf is still heard."""
+    domain.node("dynamic", "robot", "odom", "base_link").wait_for("ready", timeout=30)
+    for _ in range(PEERS):
+        domain.node("hostile", "participants").wait_for("ready", timeout=60)
+    peak, stderr, stdout = _peak_of_child(domain, "monitor", "--ros2", "--duration", "6", "-f", "json")
+    print(f"peak {peak >> 20} MiB")
+    assert peak < 600_000_000, peak
+    assert not stderr.strip(), stderr
+    assert '"base_link"' in stdout, stdout[:500]  # the robot's /tf heard through the flood
+
+
+@pytest.mark.slow
+def test_new_frame_names_of_4_kib_are_bounded_in_characters(domain: Ros2Domain) -> None:
+    """Issue 44: names of 4 KiB to 1 MiB, 1,000 new ones a sample: wtf --ros2 held 1.2 GB and took 96 s, frames
+    1.16 GB (20,000 names of 4 KiB kept, each batch holding its dropped names too); 128 MB and 16 s since."""
+    domain.node("hostile", "longnames").wait_for("ready", timeout=30)
+    peak, stderr, _ = _peak_of_child(domain, "frames", "--ros2", "-d", "6")
+    print(f"peak {peak >> 20} MiB")
+    assert peak < 600_000_000, peak
+    said = {line for line in stderr.splitlines() if not line.startswith("tfx: listening")}
+    assert said == {
+        "tfx: warning: frame names longer than 4,096 characters heard: transforms naming them are dropped",
+        "tfx: warning: frame names of more than 4,194,304 characters in all heard: transforms naming further frames"
+        " are dropped (a publisher inventing long frame names?)",
+    }
+
+
+def test_discovery_is_read_keep_last_and_a_bounded_number_at_a_time(domain: Ros2Domain) -> None:
+    """What the bounds above rest on: ros_discovery_info read keep last DISCOVERY_DEPTH (not rmw_cyclonedds's
+    keep all), a few decoded per wake-up; Cyclone reassembles 4 samples of a reliable writer at once, not 16."""
+    from cyclonedds.core import Policy
+
+    from tftools.sources.live.ros2 import graph
+    from tftools.sources.live.ros2.dds import Participant
+
+    participant = Participant(domain.id)
+    try:
+        readers = graph.discovery_readers(participant)
+        assert [r.get_qos()[Policy.History] for r in readers] == [Policy.History.KeepLast(64)] * 2
+    finally:
+        participant.close()
+    assert graph.ANNOUNCEMENTS_A_POLL < ros2.DISCOVERY_DEPTH
+    assert "<DefragReliableMaxSamples>4</DefragReliableMaxSamples>" in ros2.discovery_config({})
+
+
 def test_a_flood_of_participants_is_forgotten_oldest_first_and_said_once(
     domain: Ros2Domain, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -104,3 +195,15 @@ def test_cyclone_s_own_log_of_malformed_packets_stays_off_stderr(domain: Ros2Dom
     assert finished.returncode == 0, finished.stderr
     malformed = [line for line in finished.stderr.splitlines() if "malformed packet" in line]
     assert bool(malformed) is debug, finished.stderr[-500:]
+
+
+@pytest.mark.slow
+def test_a_robot_s_1_khz_tf_of_100_transforms_is_read_whole(domain: Ros2Domain) -> None:
+    """The bounds on DDS readers lose nothing of a busy robot: 3,000 samples at 1 kHz, each of 100 transforms."""
+    domain.node("kilohertz", "3000")
+    source = open_live("ros2")
+    recording = capture(source, duration=60.0, until=lambda: source.message_count >= 3000)  # 60 s: a hang guard
+    transforms = recording.transforms
+    assert source.message_count == 3000
+    assert len(transforms) == 300_000
+    assert len(np.unique(transforms.stamp)) == 3000

@@ -209,10 +209,10 @@ def test_qos_is_tf2_ros_s() -> None:
     assert ros2.listener_qos("/tf_static") == QosProfile(depth=100, reliable=True, transient_local=True)
     assert QosProfile(depth=1, reliable=True, transient_local=True) == ros2.TF_STATIC_BROADCASTER_QOS
     # rclcpp::ClockQoS: KeepLast(1), best_effort(); rmw_node.cpp: ros_discovery_info written
-    # reliable, transient local, keep last 1, read keep all.
+    # reliable, transient local, keep last 1, read keep all (tfx: keep last 64, a flood held gigabytes).
     assert QosProfile(depth=1, reliable=False, transient_local=False) == ros2.CLOCK_QOS
     assert QosProfile(depth=1, reliable=True, transient_local=True) == ros2.DISCOVERY_WRITER_QOS
-    assert ros2.DISCOVERY_READER_QOS.keep_all and ros2.DISCOVERY_READER_QOS.transient_local
+    assert QosProfile(depth=64, reliable=True, transient_local=True) == ros2.DISCOVERY_READER_QOS
 
 
 def test_domain_id_is_read_as_rcl_reads_it() -> None:
@@ -316,7 +316,7 @@ def test_cyclone_qos_is_rmw_cyclonedds_s(idl) -> None:
     assert listener[Policy.History] == Policy.History.KeepLast(100)
     assert listener[Policy.WriterDataLifecycle] is None and listener[Policy.DurabilityService] is None
     assert qos(ros2.CLOCK_QOS)[Policy.Reliability] == Policy.Reliability.BestEffort
-    assert qos(ros2.DISCOVERY_READER_QOS)[Policy.History] == Policy.History.KeepAll
+    assert qos(ros2.DISCOVERY_READER_QOS)[Policy.History] == Policy.History.KeepLast(64)
 
 
 @pytest.mark.parametrize("scope", ["SUBNET", "LOCALHOST", "OFF", "SYSTEM_DEFAULT"])

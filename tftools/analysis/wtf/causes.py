@@ -129,12 +129,16 @@ def explain(findings: Sequence[Finding], rules: Sequence[Rule] = RULES) -> list[
     for i, j in cause_of.items():
         found[i] = replace(found[i], cause=keys[j])
     ordered = sorted((f for f in found if not f.cause), key=lambda f: f.severity.rank)
-    return [g for f in ordered for g in (f, *_beneath(found, f))]
+    following: dict[str, list[Finding]] = {}
+    for f in found:
+        if f.cause:
+            following.setdefault(f.cause, []).append(f)
+    return [g for f in ordered for g in (f, *_beneath(following.get(f.key, []) if f.key else [], f))]
 
 
-def _beneath(found: Sequence[Finding], cause: Finding) -> list[Finding]:
-    """What follows from ``cause``: the same seen elsewhere (its code) first, then the rest, each as found."""
-    following = [f for f in found if cause.key and f.cause == cause.key]
+def _beneath(following: Sequence[Finding], cause: Finding) -> list[Finding]:
+    """What follows from ``cause`` (``following``, as found): the same seen elsewhere (its code) first, then the
+    rest. Gathered per cause in one pass: scanned per cause, 20,000 findings of a frame flood took minutes."""
     return sorted(following, key=lambda f: f.code != cause.code)
 
 

@@ -3,8 +3,9 @@ correction, an odometry reset), and REP 105's layout (map -> odom -> base_link) 
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 import numpy.typing as npt
@@ -54,26 +55,65 @@ class Jumps:
 
 def jumps(stamps: np.ndarray, values: FloatArray) -> Jumps:
     """The unexplained steps of samples sorted by stamp (``values``: N x 7, tx ty tz qx qy qz qw)."""
-    if len(stamps) < 2:
-        return Jumps(np.zeros(0, np.intp), np.zeros(0), np.zeros(0))
-    metres, degrees = apart(values[:-1], values[1:])
-    seconds = np.diff(stamps).astype(np.float64) / NS_PER_S
+    return edges_jumps([(stamps, values)])[0]
+
+
+#: Samples of several edges checked in one pass at most (their values copied together): a tree of 20,000
+#: moving edges of a few samples each cost 1.2 ms an edge in numpy's per-call overhead when checked one by one.
+SAMPLES_AT_ONCE = 1 << 20
+
+
+def edges_jumps(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[Jumps]:
+    """``jumps`` of each edge's (stamps, values), several edges in one pass: their steps laid end to end with
+    ``NEIGHBOURS`` NaN speeds between two edges, so that no step's neighbours are another edge's."""
+    found: list[Jumps] = []
+    start = 0
+    while start < len(edges):
+        end, size = start + 1, len(edges[start][0])
+        while end < len(edges) and size + len(edges[end][0]) <= SAMPLES_AT_ONCE:
+            size += len(edges[end][0])
+            end += 1
+        found += _jumps_in_one_pass(edges[start:end])
+        start = end
+    return found
+
+
+def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[Jumps]:
+    counts = np.array([len(stamps) for stamps, _ in edges], np.intp)
+    steps_of = np.maximum(counts - 1, 0)
+    if not steps_of.any():
+        return [Jumps(np.zeros(0, np.intp), np.zeros(0), np.zeros(0)) for _ in edges]
+    stamps = np.concatenate([stamps for stamps, _ in edges])
+    values = np.concatenate([values for _, values in edges]).reshape(-1, 7)
+    first = np.cumsum(counts) - counts  # each edge's first sample
+    edge_of_step = np.repeat(np.arange(len(edges)), steps_of)
+    local = np.arange(len(edge_of_step)) - np.repeat(np.cumsum(steps_of) - steps_of, steps_of)
+    begin = first[edge_of_step] + local  # each step from sample ``begin`` to the next
+    metres, degrees = apart(values[begin], values[begin + 1])
+    seconds = (stamps[begin + 1] - stamps[begin]).astype(np.float64) / NS_PER_S
+    at = np.arange(len(begin)) + NEIGHBOURS * (edge_of_step + 1)  # where each step's speed is laid
     with np.errstate(over="ignore", invalid="ignore"):  # steps of infinite metres (values near 1e308)
-        allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds) * seconds + FLOOR_M
-        allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds) * seconds + FLOOR_DEG
-    steps = np.flatnonzero((metres > allowed_m) | (degrees > allowed_deg))
-    return Jumps(steps + 1, metres[steps], degrees[steps])
+        allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds, at) * seconds + FLOOR_M
+        allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds, at) * seconds + FLOOR_DEG
+    unexplained = (metres > allowed_m) | (degrees > allowed_deg)
+    bounds = np.searchsorted(edge_of_step, np.arange(len(edges) + 1))
+    return [
+        Jumps(local[a:b][unexplained[a:b]] + 1, metres[a:b][unexplained[a:b]], degrees[a:b][unexplained[a:b]])
+        for a, b in pairwise(bounds.tolist())
+    ]
 
 
-def _neighbour_speed(steps: FloatArray, seconds: FloatArray) -> FloatArray:
-    """Per step, the median speed of the ``NEIGHBOURS`` steps on each side (not itself)."""
+def _neighbour_speed(steps: FloatArray, seconds: FloatArray, at: IntpArray) -> FloatArray:
+    """Per step, the median speed of the ``NEIGHBOURS`` steps on each side (not itself); ``at``: where each
+    step's speed is laid in the row of all (the gaps NaN), which ends ``NEIGHBOURS`` after the last."""
     with np.errstate(divide="ignore", invalid="ignore"):
         speed = np.where(seconds > 0, steps / seconds, np.nan)
-    padded = np.pad(speed, NEIGHBOURS, constant_values=np.nan)
-    windows = sliding_window_view(padded, 2 * NEIGHBOURS + 1)
+    laid = np.full(int(at[-1]) + NEIGHBOURS + 1, np.nan)
+    laid[at] = speed
+    windows = sliding_window_view(laid, 2 * NEIGHBOURS + 1)
     median: FloatArray = np.empty(len(speed))
     for start in range(0, len(speed), WINDOWS_AT_ONCE):  # the windows copied a block at a time: bounded memory
-        around = np.delete(windows[start : start + WINDOWS_AT_ONCE], NEIGHBOURS, axis=1)
+        around = np.delete(windows[at[start : start + WINDOWS_AT_ONCE] - NEIGHBOURS], NEIGHBOURS, axis=1)
         median[start : start + WINDOWS_AT_ONCE] = _nan_median(around)
     return median
 
@@ -93,10 +133,15 @@ def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Ju
     and the stamps they end at (edges where several publishers take turns are ``multiple_authorities``'
     to report: their values alternate)."""
     contested = inferred_edges(scene)
-    for samples in scene.dynamic_edges:
-        if len(samples.authorities) > 1 or samples.key in contested:
-            continue
-        if (base_name(samples.child) == ODOM) is into_odom and len(found := jumps(samples.stamps, samples.values)):
+    checked = [
+        samples
+        for samples in scene.dynamic_edges
+        if len(samples.authorities) == 1
+        and samples.key not in contested
+        and (base_name(samples.child) == ODOM) is into_odom
+    ]
+    for samples, found in zip(checked, edges_jumps([(s.stamps, s.values) for s in checked]), strict=True):
+        if len(found):
             yield samples, found, samples.stamps[found.at]
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import collections
 import threading
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from types import TracebackType
 from typing import TYPE_CHECKING, TypeVar
 
@@ -29,13 +30,21 @@ OnBatch = Callable[[TransformBatch], None]
 #: grow the buffer's tables without bound. Transforms that name more are dropped, and that said once.
 MAX_LIVE_FRAMES = 20_000
 
+#: Characters of the frame names a live source passes on, in all, at most (20,000 names of 200 characters; a
+#: robot's 500 frames take some 20,000): 20,000 new names of 4,096 characters, each a name, held 1.2 GB in
+#: tfx wtf --ros2, whose checks of them took 96 s.
+MAX_LIVE_NAME_CHARS = 4 << 20
+
 
 class FrameLimit:
-    """The frames passed on so far, at most ``limit``: a batch's rows naming a frame past it are dropped."""
+    """The frames passed on so far, at most ``limit`` and ``chars`` characters of names in all: a batch's rows
+    naming a frame past either are dropped."""
 
-    def __init__(self, limit: int, on_notice: OnNotice) -> None:
+    def __init__(self, limit: int, on_notice: OnNotice, chars: int | None = None) -> None:
         self.limit = limit
+        self.chars = MAX_LIVE_NAME_CHARS if chars is None else chars
         self.names: set[str] = set()
+        self._used_chars = 0
         self._on_notice = on_notice
 
     def admit(self, batch: TransformBatch) -> TransformBatch:
@@ -51,17 +60,45 @@ class FrameLimit:
             )
             new = [i for i in new if len(batch.frame_names[i]) <= MAX_FRAME_ID]
         room = max(self.limit - len(self.names), 0)
-        self.names.update(batch.frame_names[i] for i in new[:room])
-        if len(new) <= room and not long:
+        admitted = self._within_chars([batch.frame_names[i] for i in new[:room]])
+        self.names.update(batch.frame_names[i] for i in new[:admitted])
+        if len(new) <= admitted and not long:
             return batch
-        refused = np.array(new[room:] + long, np.int32)
+        refused = np.array(new[admitted:] + long, np.int32)
         kept = np.flatnonzero(~(np.isin(batch.parent, refused) | np.isin(batch.child, refused)))
         if len(new) > room:
             self._on_notice(
                 f"more than {self.limit:,} frames heard: transforms naming further frames are dropped"
                 " (a publisher inventing frame names?)"
             )
-        return take_rows(batch, kept)
+        if admitted < min(room, len(new)):
+            self._on_notice(
+                f"frame names of more than {self.chars:,} characters in all heard: transforms naming further"
+                " frames are dropped (a publisher inventing long frame names?)"
+            )
+        return _names_used(take_rows(batch, kept))
+
+    def _within_chars(self, names: list[str]) -> int:
+        """How many of ``names``, in order, fit in what is left of ``chars`` (counted as used)."""
+        for count, name in enumerate(names):
+            if self._used_chars + len(name) > self.chars:
+                return count
+            self._used_chars += len(name)
+        return len(names)
+
+
+def _names_used(batch: TransformBatch) -> TransformBatch:
+    """``batch`` with a frame name table of the names its rows use: the names of rows dropped are not held
+    by the rows kept (a batch of 1,000 dropped names of 4 KiB and one kept transform held them all)."""
+    used, index = np.unique(np.concatenate([batch.parent, batch.child]), return_inverse=True)
+    names = [batch.frame_names[i] for i in used]
+    rows = len(batch)
+    return replace(
+        batch,
+        frame_names=names,
+        parent=index[:rows].astype(np.int32),
+        child=index[rows:].astype(np.int32),
+    )
 
 
 class TickedClock(SimClock):

@@ -21,6 +21,10 @@ from tftools.sources.live.ros2.idl import participant_entities_info
 #: Seconds a new writer's samples wait for its node to be announced before going out unnamed.
 NAMING_GRACE = 0.3
 
+#: ``ros_discovery_info`` samples decoded at most per reader and wake-up: one of 1,000 nodes takes 17 ms, and a
+#: flood of them kept the DDS thread from /tf (and from stopping) for seconds; the rest wait in the reader.
+ANNOUNCEMENTS_A_POLL = 16
+
 
 @dataclass(frozen=True)
 class Writer:
@@ -112,7 +116,8 @@ class Graph:
         for endpoint in self.publications.take(256):
             if isinstance(endpoint, DcpsEndpoint) and endpoint.qos is not None:  # not a writer's disposal
                 self._add_writer(endpoint)
-        for data, _info in (sample for reader in self.discovery for sample in take_raw(reader)):
+        announcements = (sample for reader in self.discovery for sample in take_raw(reader, ANNOUNCEMENTS_A_POLL))
+        for data, _info in announcements:
             try:
                 entities = decode_participant_entities(data)
             except ValueError:
