@@ -24,6 +24,7 @@ from tests.analysis.monitor_scenes import (
 from tests.bags import BagFormat
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.monitor import MonitorReport, monitor_buffer
+from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
 from tftools.core.figures import seconds
@@ -184,3 +185,23 @@ def test_unconnected_frames_raise_tf2s_error() -> None:
     buffer.set_transform(Transform((0, 0, 0), (0, 0, 0, 1), START, "c", "d"), "/x", record_time=START)
     with pytest.raises(ConnectivityError):
         monitor_buffer(buffer, "a", "d")
+
+
+def test_a_message_with_no_record_time_is_still_a_message() -> None:
+    """json_mcap_lbx_franka.mcap: its first /tf and its /tf_static message are logged at time 0 (unknown), then
+    four /tf messages 0.5 s apart; ROS 2's tf2 switches base's cache /tf -> /tf_static -> /tf. Monitor said 4 /tf
+    messages and 0 /tf_static ones: 5 and 1 were sent, the rate is the four timed ones' (2 Hz)."""
+    buffer = Buffer(cache_time=None, semantics="ros2")
+    builder = BatchBuilder()
+    sent = [("/tf", 0, 0), ("/tf_static", 0, 0)] + [
+        ("/tf", t, t) for t in (START + k * NS_PER_S // 2 for k in range(4))
+    ]
+    for topic, stamp, record in sent:
+        builder.add("world", "base", stamp, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0),
+                    static=topic == "/tf_static", record_time=record, authority=topic)  # fmt: skip
+    buffer.insert(builder.take())
+    authorities = {a.authority: a for a in monitor_buffer(buffer, by_record_time=True).authorities}
+    assert (authorities["/tf"].messages, authorities["/tf_static"].messages) == (5, 1)
+    assert authorities["/tf"].rate_hz == pytest.approx(2.0)
+    assert authorities["/tf_static"].static and not authorities["/tf"].static
+    assert authorities["/tf"].edges == (("world", "base"),)

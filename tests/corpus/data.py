@@ -172,6 +172,7 @@ def _read_json_mcap(path: Path) -> Contents:
     """An MCAP whose messages are JSON (Foxglove style): tf2_msgs/TFMessage as JSON objects."""
     edges: dict[Edge, EdgeSamples] = {}
     times: list[int] = []
+    sent: Counter[tuple[str, str]] = Counter()
     with path.open("rb") as f:
         reader = make_reader(f)
         topics = {c.topic for c in reader.get_summary().channels.values()}  # type: ignore[union-attr]
@@ -179,7 +180,9 @@ def _read_json_mcap(path: Path) -> Contents:
             times.append(message.log_time)
             if channel.topic not in TF_TOPICS:
                 continue
-            for t in json.loads(message.data)["transforms"]:
+            transforms = json.loads(message.data)["transforms"]
+            sent[channel.topic, channel.topic] += bool(transforms)
+            for t in transforms:
                 header, tr, q = t["header"], t["transform"]["translation"], t["transform"]["rotation"]
                 stamp = int(header["stamp"]["sec"]) * 1_000_000_000 + int(header["stamp"]["nanosec"])
                 _add(
@@ -192,7 +195,7 @@ def _read_json_mcap(path: Path) -> Contents:
                     stamp,
                     [tr["x"], tr["y"], tr["z"], q["x"], q["y"], q["z"], q["w"]],
                 )
-    return _contents(topics, times, edges, [])
+    return dataclasses.replace(_contents(topics, times, edges, []), messages=sent)
 
 
 def largest_stamp_gap(samples: EdgeSamples) -> float:

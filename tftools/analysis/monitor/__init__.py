@@ -26,6 +26,7 @@ from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TimeRangeError, TransformError
+from tftools.core.history import EdgeHistory, rows_as_sent
 from tftools.core.semantics import Semantics
 from tftools.core.time import Clock
 from tftools.sources.live.base import TickedClock
@@ -254,6 +255,8 @@ class LiveMonitor:
             if self.origin is None and len(batch) and (first := int(batch.record_time.min())) > 0:
                 self.origin = first
             arrivals, refused = self.buffer.arrivals, self.buffer.rejections.total
+            if len(replaced := _replaced_rows(self.buffer, batch)):
+                self.unstored.append(replaced)
             self.buffer.insert(batch)
             again = self.buffer.duplicates  # arrival numbers, in arrival order: the newest last
             if self.buffer.rejections.total > refused or (len(again) and int(again[-1]) >= arrivals):
@@ -274,7 +277,10 @@ class LiveMonitor:
             if not all(frame is not None and self.buffer.has_frame(frame) for frame in (target, source)):
                 target = source = None  # no chain asked for, or its frames not seen yet
             timeline = self._timeline()
-            self.unstored = [b for b in self.unstored if int(b.record_time.max()) >= start - self.window]
+            # statics are timeless: the rows of a replaced static cache stay, as the buffer keeps its statics
+            self.unstored = [
+                b for b in self.unstored if b.static.any() or int(b.record_time.max()) >= start - self.window
+            ]
             unstored = concat_batches(self.unstored) if self.unstored else None
             try:
                 return monitor_buffer(
@@ -284,6 +290,43 @@ class LiveMonitor:
                 return monitor_buffer(
                     self.buffer, None, None, start, now, by_record_time=True, timeline=timeline, unstored=unstored
                 )
+
+
+def _replaced_rows(buffer: Buffer, batch: TransformBatch) -> TransformBatch:
+    """The rows of the caches ROS 2's tf2 replaces when ``batch`` switches a frame between /tf_static and /tf
+    (the frame's history, and its rows in ``batch`` before its last switch there): a live buffer keeps none
+    of them (the whole read's keeps them, ``EdgeHistory.replaced``), yet they arrived."""
+    if buffer.semantics != "ros2" or not len(batch):
+        return TransformBatch.empty()
+    names, authorities = ["", *buffer.frames], list(buffer.authorities)
+    lost: list[TransformBatch] = []
+    for child in np.flatnonzero(np.bincount(batch.child)):
+        rows = np.flatnonzero(batch.child == child)
+        static = batch.static[rows]
+        name = batch.frame_names[int(child)].lstrip("/")
+        hist = buffer.history(name)
+        if hist is not None and len(hist) and bool(static[0]) != hist.static:
+            lost.append(_history_rows(names, authorities, name, hist))
+        if len(switches := np.flatnonzero(static[1:] != static[:-1])):
+            lost.append(take_rows(batch, rows[: int(switches[-1]) + 1]))
+    return concat_batches(lost) if lost else TransformBatch.empty()
+
+
+def _history_rows(names: list[str], authorities: list[str], name: str, hist: EdgeHistory) -> TransformBatch:
+    """``hist``'s rows (of frame ``name``) as they were sent."""
+    columns = {of: getattr(hist, column) for of, column in _HISTORY_COLUMNS.items()}
+    return rows_as_sent(names, authorities, {**columns, "child": np.full(len(hist), names.index(name), np.int32)})
+
+
+#: ``rows_as_sent``'s columns, and the ``EdgeHistory`` views they are read from.
+_HISTORY_COLUMNS = {
+    "parent": "parents",
+    "flags": "flags",
+    "stamp": "stamps",
+    "values": "values",
+    "record_time": "record_times",
+    "authority": "authorities",
+}
 
 
 def monitor_stream(
