@@ -28,6 +28,7 @@ from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TimeRangeError, TransformError
 from tftools.core.history import EdgeHistory, rows_as_sent
 from tftools.core.semantics import Semantics
+from tftools.core.stored import SENT_COLUMNS
 from tftools.core.time import Clock
 from tftools.sources.live.base import TickedClock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
@@ -314,19 +315,8 @@ def _replaced_rows(buffer: Buffer, batch: TransformBatch) -> TransformBatch:
 
 def _history_rows(names: list[str], authorities: list[str], name: str, hist: EdgeHistory) -> TransformBatch:
     """``hist``'s rows (of frame ``name``) as they were sent."""
-    columns = {of: getattr(hist, column) for of, column in _HISTORY_COLUMNS.items()}
+    columns = {of: getattr(hist, column) for of, column in SENT_COLUMNS.items()}
     return rows_as_sent(names, authorities, {**columns, "child": np.full(len(hist), names.index(name), np.int32)})
-
-
-#: ``rows_as_sent``'s columns, and the ``EdgeHistory`` views they are read from.
-_HISTORY_COLUMNS = {
-    "parent": "parents",
-    "flags": "flags",
-    "stamp": "stamps",
-    "values": "values",
-    "record_time": "record_times",
-    "authority": "authorities",
-}
 
 
 def monitor_stream(
