@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import tftools.analysis.monitor as monitor_module
 from tests.analysis.monitor_scenes import (
     DROP,
     FORMATS,
@@ -23,12 +24,12 @@ from tests.analysis.monitor_scenes import (
 )
 from tests.bags import BagFormat
 from tftools.analysis.edges import EdgeStats
-from tftools.analysis.monitor import MonitorReport, monitor_buffer
+from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor_buffer
 from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
 from tftools.core.figures import seconds
-from tftools.core.time import NS_PER_S
+from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
 
@@ -205,3 +206,27 @@ def test_a_message_with_no_record_time_is_still_a_message() -> None:
     assert authorities["/tf"].rate_hz == pytest.approx(2.0)
     assert authorities["/tf_static"].static and not authorities["/tf"].static
     assert authorities["/tf"].edges == (("world", "base"),)
+
+
+def test_a_live_monitor_keeps_the_replaced_statics_it_counts_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A live ROS 2 monitor counts the /tf_static messages whose cache a /tf one replaced (its bounded buffer
+    keeps none of them: the JetAcker's map -> odom), but a frame switching topics at every message does
+    not grow it without end: the newest ``REPLACED_STATICS`` such rows are kept."""
+    monkeypatch.setattr(monitor_module, "REPLACED_STATICS", 40)
+    clock = SimClock()
+    live = LiveMonitor(clock, 4 * NS_PER_S, semantics="ros2")
+    for k in range(100):
+        t = START + k * NS_PER_S // 10
+        clock.set(t)
+        for topic in ("/tf_static", "/tf"):
+            builder = BatchBuilder()
+            builder.add("map", "odom", t, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0),
+                        static=topic == "/tf_static", record_time=t + (topic == "/tf"), authority=topic)  # fmt: skip
+            live.add(builder.take())
+        if k == 9:
+            first = {a.authority: a.messages for a in live.report().authorities}
+    assert first["/tf_static"] == 10
+    authorities = {a.authority: a.messages for a in live.report().authorities}
+    statics = sum(int(b.static.sum()) for b in live.replaced)
+    assert sum(len(b) for b in live.replaced) <= 40
+    assert authorities["/tf_static"] == statics >= 10

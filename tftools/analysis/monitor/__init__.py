@@ -241,6 +241,10 @@ class LiveMonitor:
         #: The rows tf2 refused or took again without storing them (ROS 2: an identical sample), as
         #: ``Recording.refused`` holds them: messages that arrived all the same.
         self.unstored: list[TransformBatch] = []
+        #: The rows of caches ROS 2's tf2 replaced (a frame switching between /tf_static and /tf,
+        #: ``_replaced_rows``): the moving ones for a window, the static ones kept as the buffer keeps its
+        #: statics (the newest ``REPLACED_STATICS`` rows: a frame switching at every message stays bounded).
+        self.replaced: list[TransformBatch] = []
         self._lock = threading.Lock()
 
     def clear(self, _jump: object = None) -> None:
@@ -248,6 +252,7 @@ class LiveMonitor:
         with self._lock:
             self.buffer.clear()
             self.unstored = []
+            self.replaced = [_statics(b) for b in self.replaced]
             self.origin = None
 
     def add(self, batch: TransformBatch) -> None:
@@ -257,7 +262,7 @@ class LiveMonitor:
                 self.origin = first
             arrivals, refused = self.buffer.arrivals, self.buffer.rejections.total
             if len(replaced := _replaced_rows(self.buffer, batch)):
-                self.unstored.append(replaced)
+                self.replaced.append(replaced)
             self.buffer.insert(batch)
             again = self.buffer.duplicates  # arrival numbers, in arrival order: the newest last
             if self.buffer.rejections.total > refused or (len(again) and int(again[-1]) >= arrivals):
@@ -278,11 +283,10 @@ class LiveMonitor:
             if not all(frame is not None and self.buffer.has_frame(frame) for frame in (target, source)):
                 target = source = None  # no chain asked for, or its frames not seen yet
             timeline = self._timeline()
-            # statics are timeless: the rows of a replaced static cache stay, as the buffer keeps its statics
-            self.unstored = [
-                b for b in self.unstored if b.static.any() or int(b.record_time.max()) >= start - self.window
-            ]
-            unstored = concat_batches(self.unstored) if self.unstored else None
+            self.unstored = [b for b in self.unstored if int(b.record_time.max()) >= start - self.window]
+            self.replaced = _kept_replaced(self.replaced, start - self.window)
+            kept = self.unstored + self.replaced
+            unstored = concat_batches(kept) if kept else None
             try:
                 return monitor_buffer(
                     self.buffer, target, source, start, now, by_record_time=True, timeline=timeline, unstored=unstored
@@ -291,6 +295,24 @@ class LiveMonitor:
                 return monitor_buffer(
                     self.buffer, None, None, start, now, by_record_time=True, timeline=timeline, unstored=unstored
                 )
+
+
+#: The most rows of replaced static caches a ``LiveMonitor`` keeps (the newest).
+REPLACED_STATICS = 10_000
+
+
+def _statics(batch: TransformBatch) -> TransformBatch:
+    return take_rows(batch, np.flatnonzero(batch.static))
+
+
+def _kept_replaced(replaced: list[TransformBatch], since: int) -> list[TransformBatch]:
+    """``replaced`` without its moving rows recorded before ``since``, and at most ``REPLACED_STATICS``
+    static rows, the newest."""
+    kept = [b if int(b.record_time.min()) >= since else _statics(b) for b in replaced]
+    kept = [b for b in kept if len(b)]
+    while sum(len(b) for b in kept) > REPLACED_STATICS and len(kept) > 1:
+        kept.pop(0)
+    return kept
 
 
 def _replaced_rows(buffer: Buffer, batch: TransformBatch) -> TransformBatch:
