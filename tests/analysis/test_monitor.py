@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import tftools.analysis.monitor as monitor_module
 from tests.analysis.monitor_scenes import (
     DROP,
     FORMATS,
@@ -23,11 +24,12 @@ from tests.analysis.monitor_scenes import (
 )
 from tests.bags import BagFormat, TfMessage
 from tftools.analysis.edges import EdgeStats
-from tftools.analysis.monitor import MonitorReport, monitor_buffer
+from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor_buffer
+from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
 from tftools.core.figures import seconds
-from tftools.core.time import NS_PER_S
+from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
 
@@ -186,3 +188,47 @@ def test_unconnected_frames_raise_tf2s_error() -> None:
     buffer.set_transform(Transform((0, 0, 0), (0, 0, 0, 1), START, "c", "d"), "/x", record_time=START)
     with pytest.raises(ConnectivityError):
         monitor_buffer(buffer, "a", "d")
+
+
+def test_a_message_with_no_record_time_is_still_a_message() -> None:
+    """json_mcap_lbx_franka.mcap: its first /tf and its /tf_static message are logged at time 0 (unknown), then
+    four /tf messages 0.5 s apart; ROS 2's tf2 switches base's cache /tf -> /tf_static -> /tf. Monitor said 4 /tf
+    messages and 0 /tf_static ones: 5 and 1 were sent, the rate is the four timed ones' (2 Hz)."""
+    buffer = Buffer(cache_time=None, semantics="ros2")
+    builder = BatchBuilder()
+    sent = [("/tf", 0, 0), ("/tf_static", 0, 0)] + [
+        ("/tf", t, t) for t in (START + k * NS_PER_S // 2 for k in range(4))
+    ]
+    for topic, stamp, record in sent:
+        builder.add("world", "base", stamp, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0),
+                    static=topic == "/tf_static", record_time=record, authority=topic)  # fmt: skip
+    buffer.insert(builder.take())
+    authorities = {a.authority: a for a in monitor_buffer(buffer, by_record_time=True).authorities}
+    assert (authorities["/tf"].messages, authorities["/tf_static"].messages) == (5, 1)
+    assert authorities["/tf"].rate_hz == pytest.approx(2.0)
+    assert authorities["/tf_static"].static and not authorities["/tf"].static
+    assert authorities["/tf"].edges == (("world", "base"),)
+
+
+def test_a_live_monitor_keeps_the_replaced_statics_it_counts_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A live ROS 2 monitor counts the /tf_static messages whose cache a /tf one replaced (its bounded buffer
+    keeps none of them: the JetAcker's map -> odom), but a frame switching topics at every message does
+    not grow it without end: the newest ``REPLACED_STATICS`` such rows are kept."""
+    monkeypatch.setattr(monitor_module, "REPLACED_STATICS", 40)
+    clock = SimClock()
+    live = LiveMonitor(clock, 4 * NS_PER_S, semantics="ros2")
+    for k in range(100):
+        t = START + k * NS_PER_S // 10
+        clock.set(t)
+        for topic in ("/tf_static", "/tf"):
+            builder = BatchBuilder()
+            builder.add("map", "odom", t, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0),
+                        static=topic == "/tf_static", record_time=t + (topic == "/tf"), authority=topic)  # fmt: skip
+            live.add(builder.take())
+        if k == 9:
+            first = {a.authority: a.messages for a in live.report().authorities}
+    assert first["/tf_static"] == 10
+    authorities = {a.authority: a.messages for a in live.report().authorities}
+    statics = sum(int(b.static.sum()) for b in live.replaced)
+    assert sum(len(b) for b in live.replaced) <= 40
+    assert authorities["/tf_static"] == statics >= 10

@@ -132,17 +132,22 @@ def test_new_samples_out_of_order_are_counted_without_those_delivered_again() ->
     assert "10 transforms arrived out of order" in late.message
 
 
+def _monitor(tfx, tmp_path: Path, messages: list[TfMessage], play: bool) -> dict:  # noqa: F811
+    """``tfx monitor -f json`` on ``messages`` written as a rosbag2 .db3, read whole or replayed (its last table)."""
+    bag = write_bag(tmp_path / "slam", messages, BagFormat.rosbag2_sqlite3)
+    args = ["monitor", "-b", bag, "-f", "json", *(["--play", "--rate", "500", "--window", "100"] if play else [])]
+    result = tfx(*args)
+    assert result.code == 0, result.stderr
+    return json.loads(result.stdout.splitlines()[-1] if play else result.stdout)
+
+
 @pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
 def test_monitor_counts_the_messages_a_slam_node_re_sent(tfx, tmp_path: Path, play: bool) -> None:  # noqa: F811
     """ros2_db3_jetacker_slam_toolbox_static_map: /tf held 3,376 messages, 3,142 of them slam_toolbox's
     re-sends; monitor said 278 (the distinct samples tf2 stored), and with --play showed no moving edge at
     all (its last window, on the replay's clock, was compared with the stamps of a 0.067x simulation)."""
     messages = _slam_run()
-    bag = write_bag(tmp_path / "slam", messages, BagFormat.rosbag2_sqlite3)
-    args = ["monitor", "-b", bag, "-f", "json", *(["--play", "--rate", "500", "--window", "100"] if play else [])]
-    result = tfx(*args)
-    assert result.code == 0, result.stderr
-    report = json.loads(result.stdout.splitlines()[-1] if play else result.stdout)
+    report = _monitor(tfx, tmp_path, messages, play)
     publishers = {a["authority"]: a for a in report["authorities"]}
     assert publishers["/tf"]["messages"] == sum(m.topic == "/tf" for m in messages)
     assert {e["child"] for e in report["edges"] if not e["static"]} == {"odom", "base_link"}
@@ -161,3 +166,19 @@ def test_a_stamp_re_valued_then_re_sent_is_one_stamp() -> None:
     messages = sorted([statics(), *periodic("/tf", 50, revalued)], key=lambda m: m.record_time)
     (again,) = [f for f in check(recording(messages, ros1=False)).findings if f.code == "time_backwards"]
     assert "1 stamp it had already sent came again with other values (25 transforms)" in again.message
+
+
+@pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
+def test_monitor_counts_a_static_message_ros2s_tf2_replaced(tfx, tmp_path: Path, play: bool) -> None:  # noqa: F811
+    """ros2_db3_jetacker_slam_toolbox_static_map: /tf_static held 2 messages, the second an identity map -> odom
+    that slam_toolbox's map -> odom on /tf then replaced in ROS 2's tf2 (the frame's cache switches topics);
+    monitor said 1 (and --play 0: that message, recorded long before /tf began on a simulation's clock,
+    played at a time before the replay clock's 0, taken for unknown). Messages are what was sent and recorded,
+    whatever tf2 then kept."""
+    early = TfMessage("/tf_static", START - 110 * NS_PER_S, [_t("map", "odom", START - 229 * NS_PER_S)], "/tf_static")
+    messages = [early, *_slam_run()]
+    report = _monitor(tfx, tmp_path, messages, play)
+    publishers = {a["authority"]: a for a in report["authorities"]}
+    assert publishers["/tf_static"]["messages"] == sum(m.topic == "/tf_static" for m in messages) == 2
+    assert ["map", "odom"] in publishers["/tf_static"]["edges"]
+    assert publishers["/tf"]["messages"] == sum(m.topic == "/tf" for m in messages)

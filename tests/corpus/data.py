@@ -83,6 +83,7 @@ def read_contents(path: Path) -> Contents:
     clock: list[tuple[int, int]] = []
     times: list[int] = []
     sent: Counter[tuple[str, str]] = Counter()
+    ros2 = path.suffix != ".bag"
     with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
         topics = {c.topic for c in reader.connections}
         for connection, record_time, raw in reader.messages():
@@ -102,6 +103,7 @@ def read_contents(path: Path) -> Contents:
                         _strip(t.child_frame_id),
                         _ns(t.header.stamp),
                         [tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w],
+                        ros2=ros2,
                     )
             elif connection.topic == "/clock":
                 clock.append((_ns(cast(Any, reader.deserialize(raw, connection.msgtype)).clock), record_time))
@@ -117,8 +119,17 @@ def _add(
     child: str,
     stamp: int,
     value: list[float],
+    *,
+    ros2: bool,
 ) -> None:
-    samples = edges.setdefault((parent, child), EdgeSamples(static=topic.lstrip("/") == "tf_static"))
+    """Adds a sample as the recording's tf2 keeps it: ROS 1's keeps a frame in the kind of cache its first
+    sample made; ROS 2's replaces the frame's cache when it switches between /tf_static and /tf, dropping
+    its samples (``core/semantics.py``)."""
+    static = topic.lstrip("/") == "tf_static"
+    if ros2:
+        for key in [key for key, held in edges.items() if key[1] == child and held.static != static]:
+            del edges[key]
+    samples = edges.setdefault((parent, child), EdgeSamples(static=static))
     samples.stamps.append(stamp)
     samples.record_times.append(record_time)
     samples.values.append(value)
@@ -157,7 +168,7 @@ def _read_db3(path: Path) -> Contents:
                         tr, q = t.transform.translation, t.transform.rotation
                         value = [tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w]
                         parent, child = _strip(t.header.frame_id), _strip(t.child_frame_id)
-                        _add(edges, topic, topic, record_time, parent, child, _ns(t.header.stamp), value)
+                        _add(edges, topic, topic, record_time, parent, child, _ns(t.header.stamp), value, ros2=True)
                 elif topic == "/clock":
                     clock.append((_ns(store.deserialize_cdr(raw, kind).clock), record_time))
     return _contents(topics, times, edges, clock)
@@ -173,6 +184,7 @@ def _read_json_mcap(path: Path) -> Contents:
     """An MCAP whose messages are JSON (Foxglove style): tf2_msgs/TFMessage as JSON objects."""
     edges: dict[Edge, EdgeSamples] = {}
     times: list[int] = []
+    sent: Counter[tuple[str, str]] = Counter()
     with path.open("rb") as f:
         reader = make_reader(f)
         topics = {c.topic for c in reader.get_summary().channels.values()}
@@ -180,7 +192,9 @@ def _read_json_mcap(path: Path) -> Contents:
             times.append(message.log_time)
             if channel.topic not in TF_TOPICS:
                 continue
-            for t in json.loads(message.data)["transforms"]:
+            transforms = json.loads(message.data)["transforms"]
+            sent[channel.topic, channel.topic] += bool(transforms)
+            for t in transforms:
                 header, tr, q = t["header"], t["transform"]["translation"], t["transform"]["rotation"]
                 stamp = int(header["stamp"]["sec"]) * 1_000_000_000 + int(header["stamp"]["nanosec"])
                 _add(
@@ -192,8 +206,9 @@ def _read_json_mcap(path: Path) -> Contents:
                     _strip(t["child_frame_id"]),
                     stamp,
                     [tr["x"], tr["y"], tr["z"], q["x"], q["y"], q["z"], q["w"]],
+                    ros2=True,
                 )
-    return _contents(topics, times, edges, [])
+    return dataclasses.replace(_contents(topics, times, edges, []), messages=sent)
 
 
 def largest_stamp_gap(samples: EdgeSamples) -> float:
@@ -261,6 +276,9 @@ def edge_at(samples: EdgeSamples, time: int) -> Pose:
         raise ValueError(f"{time} outside {stamps[0]}..{stamps[-1]}")
     i = int(np.searchsorted(stamps, time, side="left"))
     if stamps[i] == time:
+        # several samples at one stamp (ROS 2's tf2 stores each value sent): the last one counts, but at the
+        # oldest stamp the first (ROS 1's tf2 stores one sample a stamp: the two are one)
+        i = i if i == 0 else int(np.searchsorted(stamps, time, side="right")) - 1
         return values[i, :3], values[i, 3:]
     ratio = (time - stamps[i - 1]) / (stamps[i] - stamps[i - 1])
     before, after = values[i - 1], values[i]

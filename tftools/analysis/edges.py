@@ -64,6 +64,7 @@ class AuthorityStats:
     edges: tuple[tuple[str, str], ...]
     delay_mean: float = math.nan
     delay_max: float = math.nan
+    static: bool = False  # all its messages came on /tf_static (those of an edge later sent on /tf too)
 
 
 def edge_stats(
@@ -118,30 +119,42 @@ def authority_stats(
     static: dict[int, list[Int64Array]] = {}
     delays: dict[int, list[Int64Array]] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
-    samples: dict[int, dict[str, int]] = {}  # per publisher and child: the samples that arrived in the window
+    # per publisher and child: the samples that arrived in the window, and those of them whose arrival is known
+    samples: dict[int, dict[str, tuple[int, int]]] = {}
     timeline = timeline or ON_RECORD_CLOCK
     if unstored is None:
         unstored = buffer.rejections.rows()[0] if len(buffer.rejections) else TransformBatch.empty()
     refused = _unstored(unstored, start, end, by_record_time, timeline)
-    for child, hist in buffer.histories():
+    for child, hist in _sent_histories(buffer):
         window = _window(hist, start, end, by_record_time, timeline)
         for authority in _ids(hist.authorities[window]):
             a = int(authority)
             mine = window & (hist.authorities == authority)
             arrivals, count = hist.record_times[mine], int(mine.sum())
-            if (name := buffer.authorities[a], child) in refused and not hist.static:
-                count, extra = count + len(refused[name, child]), refused[name, child]
-                arrivals = np.concatenate([arrivals, extra])
+            if (extra := refused.pop((buffer.authorities[a], child, hist.static), None)) is not None:
+                count, arrivals = count + len(extra[1]), np.concatenate([arrivals, extra[1]])
             (static if hist.static else moving).setdefault(a, []).append(arrivals)
-            samples.setdefault(a, {})[child] = count if not hist.static else 0
+            if not hist.static:
+                _count(samples, a, child, arrivals, timeline.replayed)
             delays.setdefault(a, []).append(_delays(child, hist, mine, timeline))
             edges.setdefault(a, []).extend((buffer.frame_name(int(p)), child) for p in _ids(hist.parents[mine]))
+    known = {name: a for a, name in enumerate(buffer.authorities)}
+    for (name, child, was_static), (parent, times) in refused.items():
+        # the edge's only rows of this publisher were not stored (a live buffer keeps no cache ROS 2's tf2 replaced)
+        if (index := known.get(name)) is not None:
+            a = index
+            (static if was_static else moving).setdefault(a, []).append(times)
+            if not was_static:
+                _count(samples, a, child, times, timeline.replayed)
+            edges.setdefault(a, []).append((parent, child))
+            delays.setdefault(a, [])
     return [
         _authority(
             buffer.authorities[a],
-            _arrivals(moving.get(a)),
-            _arrivals(static.get(a)),
-            max(samples[a].values(), default=0),
+            _arrivals(moving.get(a), timeline.replayed),
+            _arrivals(static.get(a), timeline.replayed, at_least_one=True),
+            max((n for n, _ in samples.get(a, {}).values()), default=0),
+            max((n for _, n in samples.get(a, {}).values()), default=0),
             edges[a],
             delays[a],
         )
@@ -149,36 +162,64 @@ def authority_stats(
     ]
 
 
+def _count(
+    samples: dict[int, dict[str, tuple[int, int]]], a: int, child: str, arrivals: Int64Array, replayed: bool
+) -> None:
+    """Adds ``arrivals`` (record times) to publisher ``a``'s samples of ``child``: all, and those timed."""
+    count, timed = samples.setdefault(a, {}).get(child, (0, 0))
+    samples[a][child] = (count + len(arrivals), timed + (len(arrivals) if replayed else int((arrivals > 0).sum())))
+
+
+def _sent_histories(buffer: Buffer) -> Iterator[tuple[str, EdgeHistory]]:
+    """Every child's history and those ROS 2's tf2 replaced when the child switched between /tf_static and
+    /tf (``EdgeHistory.replaced``): their messages were sent and recorded, whatever tf2 then kept."""
+    for child, hist in buffer.histories():
+        current: EdgeHistory | None = hist
+        while current is not None:
+            yield child, current
+            current = current.replaced
+
+
 def _unstored(
     rows: TransformBatch, start: int | None, end: int | None, by_record_time: bool, timeline: Timeline
-) -> dict[tuple[str, str], Int64Array]:
-    """The record times of the moving ``rows`` within the window, per (publisher, child): they arrived,
-    as messages, though the buffer holds none of them."""
+) -> dict[tuple[str, str, bool], tuple[str, Int64Array]]:
+    """The record times of ``rows`` within the window (static ones always, as ``_window`` selects), per
+    (publisher, child, static), with the edge's parent: they arrived, as messages, though the buffer holds
+    none of them."""
     if not len(rows):
         return {}
     times = timeline.arrival(rows.stamp, rows.record_time) if by_record_time else rows.stamp
-    inside = ~rows.static
+    inside = np.ones(len(rows), bool)
     if start is not None:
-        inside &= times >= start
+        inside &= (times >= start) | rows.static
     if end is not None:
-        inside &= times <= end
-    authority, child, record = rows.authority[inside], rows.child[inside], rows.record_time[inside]
-    pairs = authority.astype(np.int64) * len(rows.frame_names) + child
-    order = np.argsort(pairs, kind="stable")
-    keys, starts = np.unique(pairs[order], return_index=True)
-    found: dict[tuple[str, str], list[Int64Array]] = {}
-    for key, times in zip(keys, np.split(record[order], starts[1:]), strict=True):
-        a, c = divmod(int(key), len(rows.frame_names))
-        found.setdefault((rows.authorities[a], rows.frame_names[c].lstrip("/")), []).append(times)
-    return {key: np.concatenate(times) for key, times in found.items()}
+        inside &= (times <= end) | rows.static
+    found: dict[tuple[str, str, bool], tuple[str, list[Int64Array]]] = {}
+    for was_static in (False, True):
+        chosen = inside & (rows.static == was_static)
+        if not chosen.any():  # np.split would give one empty group for no key
+            continue
+        authority, child, record = rows.authority[chosen], rows.child[chosen], rows.record_time[chosen]
+        parent = rows.parent[chosen]
+        pairs = authority.astype(np.int64) * len(rows.frame_names) + child
+        order = np.argsort(pairs, kind="stable")
+        keys, starts = np.unique(pairs[order], return_index=True)
+        for key, first, times in zip(keys, starts, np.split(record[order], starts[1:]), strict=True):
+            a, c = divmod(int(key), len(rows.frame_names))
+            name = (rows.authorities[a], rows.frame_names[c].lstrip("/"), was_static)
+            found.setdefault(name, (rows.frame_names[int(parent[order][first])].lstrip("/"), []))[1].append(times)
+    return {key: (parent, np.concatenate(times)) for key, (parent, times) in found.items()}
 
 
-def _arrivals(record_times: list[Int64Array] | None) -> Int64Array:
-    """The distinct known record times: one per message."""
+def _arrivals(record_times: list[Int64Array] | None, replayed: bool, *, at_least_one: bool = False) -> Int64Array:
+    """The distinct known record times: one per message (``replayed``: a replay's, every one known, at or
+    before its clock's 0 too). ``at_least_one``: rows whose record times are all unknown (0: an MCAP's log time
+    0) are one message, at the earliest time (a static publisher's message is counted where it is not timed)."""
     if not record_times:
         return np.zeros(0, np.int64)
     times = sorted_unique(np.concatenate(record_times))
-    return times[times > 0]
+    known = times if replayed else times[times > 0]
+    return times[:1] if at_least_one and not len(known) and len(times) else known
 
 
 def sorted_unique(values: Int64Array) -> Int64Array:
@@ -197,16 +238,19 @@ def _authority(
     moving: Int64Array,
     static: Int64Array,
     most_samples: int,
+    most_timed: int,
     edges: list[tuple[str, str]],
     delays: list[Int64Array],
 ) -> AuthorityStats:
     """``most_samples``: the most samples one of its moving edges had: at least that many messages came on
-    /tf. Its /tf_static messages are others, even where one arrived at the time of a /tf message."""
+    /tf; ``most_timed``: of those whose arrival is known, the span ``moving`` measures the rate over. Its
+    /tf_static messages are others, even where one arrived at the time of a /tf message."""
     moved = max(len(moving), most_samples)
-    rate = rate_hz(moved, int(moving[-1] - moving[0])) if len(moving) else 0.0
+    rate = rate_hz(max(len(moving), most_timed), int(moving[-1] - moving[0])) if len(moving) else 0.0
     messages = moved + len(static)
-    mean, largest = mean_max(np.concatenate(delays))
-    return AuthorityStats(name, messages, rate, tuple(edges), mean, largest)
+    mean, largest = mean_max(np.concatenate(delays) if delays else np.zeros(0, np.int64))
+    only_static = moved == 0 and len(static) > 0
+    return AuthorityStats(name, messages, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static)
 
 
 def _ids(values: Int32Array) -> IntpArray:

@@ -31,13 +31,15 @@ def stored_rows(buffer: Buffer) -> tuple[TransformBatch, Int64Array]:
         sequence = np.concatenate([h.sequence for _, h in histories])
         order = np.argsort(sequence, kind="stable")
         child = np.concatenate([np.full(len(h), frame_id, np.int32) for frame_id, h in histories])[order]
-        columns = {name: np.concatenate([getattr(h, of) for _, h in histories])[order] for name, of in _COLUMNS.items()}
+        columns = {
+            name: np.concatenate([getattr(h, of) for _, h in histories])[order] for name, of in SENT_COLUMNS.items()
+        }
         batch = rows_as_sent(names, authorities, {**columns, "child": child})
     return batch, sequence[order]
 
 
 #: ``rows_as_sent``'s columns, and the ``EdgeHistory`` views they are read from.
-_COLUMNS = {
+SENT_COLUMNS = {
     "parent": "parents",
     "flags": "flags",
     "stamp": "stamps",

@@ -79,7 +79,7 @@ def _edges(edges: Sequence[EdgeStats]) -> Fitted:
     return Fitted(table, Lines("Frames:", headers, "Parent -> Frame by publishers", rows, KEY))
 
 
-def _authorities(authorities: list[AuthorityStats], static: set[tuple[str, str]]) -> Fitted:
+def _authorities(authorities: list[AuthorityStats]) -> Fitted:
     numbers = ("Messages", _RATE, _DELAY_MEAN, _DELAY_MAX)
     table = _table("All Broadcasters:", ("Node",), numbers, ("Frames",))
     rows = []
@@ -87,7 +87,7 @@ def _authorities(authorities: list[AuthorityStats], static: set[tuple[str, str]]
         node = Text(printable(a.authority) or "?", style="magenta")
         figures = [
             Text(str(a.messages)),
-            Text("static", style="cyan") if set(a.edges) <= static else Text(f"{a.rate_hz:.2f}"),
+            Text("static", style="cyan") if a.static else Text(f"{a.rate_hz:.2f}"),
             Text(_sec(a.delay_mean)),
             Text(_sec(a.delay_max)),
         ]
@@ -132,12 +132,11 @@ def renderable(
     else:
         parts.append(Text("RESULTS: for all Frames", style="bold"))
         edges = report.edges
-    static = {e.key for e in report.edges if e.static}
     parts += [
         Text(""),
         _edges(edges),
         Text(""),
-        _authorities(report.authorities, static),
+        _authorities(report.authorities),
     ]
     return Group(*parts)
 

@@ -97,6 +97,7 @@ class Timeline:
     record_step: int = 0  # how coarse record times are (ns): the step of the /clock they were read off, 0 if fine
     full_tf: tuple[int, int] | None = None  # every frame's span, where ``tf_start``/``tf_end`` leave some out
     played_estimate: bool = False  # a replay's without a reference: its record times are the replay's clock
+    replayed: bool = False  # a replay's (``played``): ``Playback`` gave every record time a value, 0 or less too
 
     @property
     def stamps_span(self) -> tuple[int, int]:
@@ -219,7 +220,7 @@ class Timeline:
         where that is known (a record time is known, and under /clock, a /clock had been recorded)."""
         records = np.asarray(record_times, np.int64)
         if self.reference is Reference.RECORD or self.played_estimate:
-            return records, records > 0
+            return records, (records > 0) | self.replayed
         if self.reference is Reference.NONE:
             return np.zeros(len(records), np.int64), np.zeros(len(records), bool)
         return clock_at(self.clock, records)
@@ -259,7 +260,7 @@ class Timeline:
         unknown; playback only estimates: ROS time at arrival is the replay's clock, so that a window of it
         holds what was played in it, not what is stamped in it)."""
         if self.reference is Reference.NONE:
-            return dataclasses.replace(self, played_estimate=True)
+            return dataclasses.replace(self, played_estimate=True, replayed=True)
         edges = tuple(
             dataclasses.replace(
                 e,
@@ -270,7 +271,12 @@ class Timeline:
             for e in self.edges
         )
         return dataclasses.replace(
-            self, reference=Reference.RECORD, clock=ClockSamples.empty(), edges=edges, record_step=self.resolution
+            self,
+            reference=Reference.RECORD,
+            clock=ClockSamples.empty(),
+            edges=edges,
+            record_step=self.resolution,
+            replayed=True,
         )
 
     def describe(self) -> str:

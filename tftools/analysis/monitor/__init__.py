@@ -26,7 +26,9 @@ from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TimeRangeError, TransformError
+from tftools.core.history import EdgeHistory, rows_as_sent
 from tftools.core.semantics import Semantics
+from tftools.core.stored import SENT_COLUMNS
 from tftools.core.time import Clock
 from tftools.sources.live.base import TickedClock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
@@ -239,6 +241,10 @@ class LiveMonitor:
         #: The rows tf2 refused or took again without storing them (ROS 2: an identical sample), as
         #: ``Recording.refused`` holds them: messages that arrived all the same.
         self.unstored: list[TransformBatch] = []
+        #: The rows of caches ROS 2's tf2 replaced (a frame switching between /tf_static and /tf,
+        #: ``_replaced_rows``): the moving ones for a window, the static ones kept as the buffer keeps its
+        #: statics (the newest ``REPLACED_STATICS`` rows: a frame switching at every message stays bounded).
+        self.replaced: list[TransformBatch] = []
         self._lock = threading.Lock()
 
     def clear(self, _jump: object = None) -> None:
@@ -246,6 +252,7 @@ class LiveMonitor:
         with self._lock:
             self.buffer.clear()
             self.unstored = []
+            self.replaced = [_statics(b) for b in self.replaced]
             self.origin = None
 
     def add(self, batch: TransformBatch) -> None:
@@ -254,6 +261,8 @@ class LiveMonitor:
             if self.origin is None and len(batch) and (first := int(batch.record_time.min())) > 0:
                 self.origin = first
             arrivals, refused = self.buffer.arrivals, self.buffer.rejections.total
+            if len(replaced := _replaced_rows(self.buffer, batch)):
+                self.replaced.append(replaced)
             self.buffer.insert(batch)
             again = self.buffer.duplicates  # arrival numbers, in arrival order: the newest last
             if self.buffer.rejections.total > refused or (len(again) and int(again[-1]) >= arrivals):
@@ -275,7 +284,9 @@ class LiveMonitor:
                 target = source = None  # no chain asked for, or its frames not seen yet
             timeline = self._timeline()
             self.unstored = [b for b in self.unstored if int(b.record_time.max()) >= start - self.window]
-            unstored = concat_batches(self.unstored) if self.unstored else None
+            self.replaced = _kept_replaced(self.replaced, start - self.window)
+            kept = self.unstored + self.replaced
+            unstored = concat_batches(kept) if kept else None
             try:
                 return monitor_buffer(
                     self.buffer, target, source, start, now, by_record_time=True, timeline=timeline, unstored=unstored
@@ -284,6 +295,50 @@ class LiveMonitor:
                 return monitor_buffer(
                     self.buffer, None, None, start, now, by_record_time=True, timeline=timeline, unstored=unstored
                 )
+
+
+#: The most rows of replaced static caches a ``LiveMonitor`` keeps (the newest).
+REPLACED_STATICS = 10_000
+
+
+def _statics(batch: TransformBatch) -> TransformBatch:
+    return take_rows(batch, np.flatnonzero(batch.static))
+
+
+def _kept_replaced(replaced: list[TransformBatch], since: int) -> list[TransformBatch]:
+    """``replaced`` without its moving rows recorded before ``since``, and at most ``REPLACED_STATICS``
+    static rows, the newest."""
+    kept = [b if int(b.record_time.min()) >= since else _statics(b) for b in replaced]
+    kept = [b for b in kept if len(b)]
+    while sum(len(b) for b in kept) > REPLACED_STATICS and len(kept) > 1:
+        kept.pop(0)
+    return kept
+
+
+def _replaced_rows(buffer: Buffer, batch: TransformBatch) -> TransformBatch:
+    """The rows of the caches ROS 2's tf2 replaces when ``batch`` switches a frame between /tf_static and /tf
+    (the frame's history, and its rows in ``batch`` before its last switch there): a live buffer keeps none
+    of them (the whole read's keeps them, ``EdgeHistory.replaced``), yet they arrived."""
+    if buffer.semantics != "ros2" or not len(batch):
+        return TransformBatch.empty()
+    names, authorities = ["", *buffer.frames], list(buffer.authorities)
+    lost: list[TransformBatch] = []
+    for child in np.flatnonzero(np.bincount(batch.child)):
+        rows = np.flatnonzero(batch.child == child)
+        static = batch.static[rows]
+        name = batch.frame_names[int(child)].lstrip("/")
+        hist = buffer.history(name)
+        if hist is not None and len(hist) and bool(static[0]) != hist.static:
+            lost.append(_history_rows(names, authorities, name, hist))
+        if len(switches := np.flatnonzero(static[1:] != static[:-1])):
+            lost.append(take_rows(batch, rows[: int(switches[-1]) + 1]))
+    return concat_batches(lost) if lost else TransformBatch.empty()
+
+
+def _history_rows(names: list[str], authorities: list[str], name: str, hist: EdgeHistory) -> TransformBatch:
+    """``hist``'s rows (of frame ``name``) as they were sent."""
+    columns = {of: getattr(hist, column) for of, column in SENT_COLUMNS.items()}
+    return rows_as_sent(names, authorities, {**columns, "child": np.full(len(hist), names.index(name), np.int32)})
 
 
 def monitor_stream(
