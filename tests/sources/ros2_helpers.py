@@ -310,7 +310,8 @@ def _foxglove_payload(channel: FoxgloveChannel, transforms: Sequence[Tf]) -> byt
     if channel.encoding == "json":
         items = [_json_transform(tf) for tf in transforms]
         return json.dumps(items[0] if channel.single else {"transforms": items}).encode()
-    return proto_message(transforms, single=channel.single).SerializeToString()
+    payload: bytes = proto_message(transforms, single=channel.single).SerializeToString()
+    return payload
 
 
 def _json_transform(tf: Tf) -> dict[str, Any]:
