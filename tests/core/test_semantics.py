@@ -93,7 +93,8 @@ def test_several_samples_at_one_stamp() -> None:
     buffer = Buffer(semantics="ros2")
     for stamp, x in ((S, 1.0), (S, 2.0), (2 * S, 3.0), (2 * S, 4.0), (3 * S, 5.0), (3 * S, 6.0)):
         assert put(buffer, "a", "b", stamp, x)
-    assert buffer.history("b").values[:, 0].tolist() == [1, 2, 3, 4, 5, 6]
+    history = buffer.history("b")
+    assert history is not None and history.values[:, 0].tolist() == [1, 2, 3, 4, 5, 6]
     assert buffer.lookup("a", "b", S).translation[0] == 1.0  # the oldest stamp: the first
     assert buffer.lookup("a", "b", 2 * S).translation[0] == 4.0  # interpolated from the last, r = 0
     assert buffer.lookup("a", "b", 3 * S).translation[0] == 6.0
@@ -123,7 +124,8 @@ def test_static_after_dynamic_and_back_replace_the_cache() -> None:
         assert hist is not None and hist.static and len(hist) == 1
         assert buffer.lookup("a", "b", 100 * S).translation[0] == 3.0
         put(buffer, "a", "b", 7 * S, 4.0)
-        assert not buffer.history("b").static
+        hist = buffer.history("b")
+        assert hist is not None and not hist.static
         with pytest.raises(NoDataForExtrapolationError):
             buffer.lookup("a", "b", 5 * S)
         _, sequence = stored_rows(buffer)
@@ -131,7 +133,8 @@ def test_static_after_dynamic_and_back_replace_the_cache() -> None:
     ros1 = Buffer()
     put(ros1, "a", "b", S, 1.0)
     put(ros1, "a", "b", 5 * S, 3.0, static=True)
-    assert not ros1.history("b").static and len(ros1.history("b") or ()) == 2
+    hist = ros1.history("b")
+    assert hist is not None and not hist.static and len(hist) == 2
 
 
 def test_ros2_prunes_before_inserting() -> None:
@@ -140,9 +143,11 @@ def test_ros2_prunes_before_inserting() -> None:
         buffer = Buffer(cache_time=2 * S, semantics=semantics)  # type: ignore[arg-type]
         put(buffer, "a", "b", 0)
         put(buffer, "a", "b", 3 * S)
-        assert (buffer.history("b").stamps // S).tolist() == kept
+        history = buffer.history("b")
+        assert history is not None and (history.stamps // S).tolist() == kept
     put(buffer, "a", "b", 4 * S)
-    assert (buffer.history("b").stamps // S).tolist() == [3, 4]
+    history = buffer.history("b")
+    assert history is not None and (history.stamps // S).tolist() == [3, 4]
 
 
 def test_ros2_messages() -> None:
