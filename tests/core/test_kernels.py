@@ -204,15 +204,15 @@ def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do
     for method in (buffer.lookup, buffer.can_transform):
         for time in (1.5, "15", None):
             with pytest.raises(TypeError, match="time must be an int"):
-                method("a", "b", time)  # type: ignore[arg-type]
+                method("a", "b", time)  # type: ignore[arg-type]  # the wrong call is the test
         with pytest.raises(TypeError, match="missing required argument 'source_frame'"):
-            method("a")  # type: ignore[call-arg]
+            method("a")  # type: ignore[call-arg]  # the wrong call is the test
         with pytest.raises(TypeError, match="from 2 to 3 positional arguments"):
-            method("a", "b", 15, 0)  # type: ignore[call-arg]
+            method("a", "b", 15, 0)  # type: ignore[call-arg]  # the wrong call is the test
         with pytest.raises(TypeError, match="unexpected keyword argument 'at'"):
-            method("a", "b", at=15)  # type: ignore[call-arg]
+            method("a", "b", at=15)  # type: ignore[call-arg]  # the wrong call is the test
         with pytest.raises(TypeError, match="multiple values for argument 'time'"):
-            method("a", "b", 15, time=15)  # type: ignore[misc]
+            method("a", "b", 15, time=15)  # type: ignore[misc]  # the wrong call is the test
     assert "target_frame, source_frame, time=0" in (Buffer.lookup.__doc__ or "") + str(
         __import__("inspect").signature(Buffer.lookup)
     )

@@ -19,6 +19,7 @@ from tests.bags import BagFormat, TfMessage, write_bag
 from tests.core.test_ros2_tf2 import IDENTITY, PseudoRandom, S, position, put, ros2_buffer, setup_tree
 from tftools.core import Buffer, InvalidArgumentError, NoDataForExtrapolationError, Transform
 from tftools.core.rotation import Quat, Vec3, quat_from_rpy
+from tftools.core.semantics import Semantics
 from tftools.sources import read_recording
 
 # --- A. the returned rotation: canonical, as getRotation gives it --------------------------------
@@ -163,8 +164,8 @@ def test_d_q_and_minus_q_are_one_sample() -> None:
 
 
 @pytest.mark.parametrize("semantics", ["ros1", "ros2"])
-def test_e_leading_slash(semantics: str) -> None:
-    buffer = Buffer(semantics=semantics)  # type: ignore[arg-type]
+def test_e_leading_slash(semantics: Semantics) -> None:
+    buffer = Buffer(semantics=semantics)
     assert put(buffer, "a", "//b", S)
     assert buffer.frames == ["/b", "a"]
     assert not buffer.can_transform("/b", "a", S)
@@ -178,8 +179,8 @@ def test_e_leading_slash(semantics: str) -> None:
 
 
 @pytest.mark.parametrize("semantics", ["ros1", "ros2"])
-def test_f_infinite_translation_refused(semantics: str) -> None:
-    buffer = Buffer(semantics=semantics)  # type: ignore[arg-type]
+def test_f_infinite_translation_refused(semantics: Semantics) -> None:
+    buffer = Buffer(semantics=semantics)
     assert not put(buffer, "a", "b", S, (math.inf, 0.0, 0.0))
     assert [r.code.value for r in buffer.rejections] == ["TF_NAN_INPUT"]
     assert "(inf 0.000000 0.000000) (0.000000 0.000000 0.000000 1.000000)" in buffer.rejections[0].message

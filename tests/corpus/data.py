@@ -63,8 +63,8 @@ class Contents:
         return {e: s for e, s in self.edges.items() if not s.static}
 
 
-def _ns(stamp: object) -> int:
-    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)  # type: ignore[attr-defined]
+def _ns(stamp: Any) -> int:  # a rosbags message (untyped)
+    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
 
 
 def _strip(frame: str) -> str:

@@ -66,7 +66,7 @@ def _marks(test: str, recording: Recording) -> list[pytest.MarkDecorator]:
     return [pytest.mark.xfail(reason=f"tfx disagrees with the data: {why}", strict=True)] if why else []
 
 
-def _cases(test: str, recordings: list[Recording]) -> list[pytest.param]:  # type: ignore[valid-type]
+def _cases(test: str, recordings: list[Recording]) -> list[pytest.param]:  # type: ignore[valid-type]  # its type, ParameterSet, is private
     """``recordings`` as parameters of ``test``, each marked where its entry says tfx disagrees."""
     return [pytest.param(r, id=r.id, marks=_marks(test, r)) for r in recordings]
 

@@ -56,7 +56,7 @@ def urdf_from_tf(recording: Recording, root: str, moving: dict[str, str], extra:
             hist = recording.buffer.history(child)
             assert hist is not None
             xyz = tuple(float(v) for v in hist.translations[0])
-            rpy = rpy_from_quat(tuple(float(v) for v in hist.rotations[0]))  # type: ignore[arg-type]
+            rpy = rpy_from_quat(tuple(float(v) for v in hist.rotations[0]))  # type: ignore[arg-type]  # a row of 4
             parent = tree.frames[child].parent
             if child in moving:
                 joints.append(_joint(moving[child], "continuous", str(parent), child, xyz, rpy))

@@ -101,7 +101,7 @@ def test_a_call_has_a_total_deadline_however_the_bytes_trickle() -> None:
     ids=["endless", "declared-10GB"],
 )
 def test_a_reply_too_large_is_refused_without_reading_it_all(answer: object) -> None:
-    server = FakeXmlRpc({"getPid": answer})  # type: ignore[dict-item]
+    server = FakeXmlRpc({"getPid": answer})  # type: ignore[dict-item]  # a hostile answer is the test
     try:
         outcome = finishes(lambda: ros_xmlrpc.call(server.uri, "getPid", "/tfx", timeout=30), within=10)
     finally:
@@ -119,7 +119,7 @@ JUNK = {
     "entity-bomb": BOMB,
     "external-entity": b'<!DOCTYPE m [<!ENTITY e SYSTEM "file:///etc/passwd">]><methodResponse>&e;</methodResponse>',
     "not-a-triple": xmlrpc.client.dumps(("x",), methodresponse=True).encode(),
-    "string-code": ros_reply(False, code="1"),  # type: ignore[arg-type]
+    "string-code": ros_reply(False, code="1"),  # type: ignore[arg-type]  # a hostile answer is the test
     "fault": xmlrpc.client.dumps(xmlrpc.client.Fault(1, "no\x1b[31m"), methodresponse=True).encode(),
     "http-500": b"HTTP/1.0 500 Internal Server Error\r\nContent-Length: 0\r\n\r\n",
     "not-http": b"SSH-2.0-OpenSSH_9.2\r\n",
