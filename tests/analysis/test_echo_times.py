@@ -23,7 +23,7 @@ def recording() -> Recording:
 
 
 def _times(recording: Recording, **asked: object) -> list[int]:
-    query = EchoQuery(target="map", source="base_link", **asked)  # type: ignore[arg-type]
+    query = EchoQuery(target="map", source="base_link", **asked)  # type: ignore[arg-type]  # EchoQuery's keywords, passed on
     times: list[int] = echo_times(recording.buffer, recording.timeline, query).tolist()
     return times
 

@@ -222,7 +222,7 @@ def test_names_that_look_like_other_yaml_types_stay_names(tmp_path: Path) -> Non
 
 def test_the_angle_between_rotations_is_sign_blind() -> None:
     q = Transform.from_rpy((0, 0, 0), (0.1, 0.2, 0.3)).rotation
-    assert rotation_angle_deg(q, tuple(-v for v in q)) == pytest.approx(0, abs=1e-6)  # type: ignore[arg-type]
+    assert rotation_angle_deg(q, tuple(-v for v in q)) == pytest.approx(0, abs=1e-6)  # type: ignore[arg-type]  # 4 values
     assert rotation_angle_deg((0, 0, 0, 1), (0, 0, math.sin(0.5), math.cos(0.5))) == pytest.approx(math.degrees(1))
 
 

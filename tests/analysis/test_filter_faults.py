@@ -207,7 +207,7 @@ def _text(report: object) -> str:
     from rich.console import Console
 
     console = Console(width=250, record=True)
-    console.print(renderable(report))  # type: ignore[arg-type]
+    console.print(renderable(report))  # type: ignore[arg-type]  # a FilterReport, passed as object
     return console.export_text()
 
 

@@ -107,6 +107,6 @@ def test_report_fleet_reports_each_recording_as_report_does(bags: dict[str, str]
 def test_a_query_is_a_frozen_value_with_the_commands_defaults() -> None:
     query = CheckQuery(ignore=("rate",))
     with pytest.raises(AttributeError):
-        query.ignore = ()  # type: ignore[misc]
+        query.ignore = ()  # type: ignore[misc]  # the refused write is the test
     assert query == CheckQuery(ignore=("rate",)) and CheckQuery().thresholds is None
     assert query.reading().allow_empty and not ReportQuery().reading().allow_empty

@@ -39,7 +39,7 @@ def _play(truth: Scene, rate: float, target: str | None, source: str | None) -> 
         report = live.report(target, source)
         console = Console(file=io.StringIO(), width=200)
         console.print(render.renderable(report, "", target, source))
-        refreshes.append((replay.clock.now(), report, console.file.getvalue()))  # type: ignore[attr-defined]
+        refreshes.append((replay.clock.now(), report, console.file.getvalue()))  # type: ignore[attr-defined]  # a StringIO, typed IO[str]
 
     driven = HandDriven(replay, wall)
     follow(driven, live.add, refresh, sleep=driven.sleep, monotonic=wall.monotonic)

@@ -210,7 +210,7 @@ def _late_twin(stamp: int) -> list[Transform]:
 def test_two_broadcasters_taking_turns_are_inferred_in_ros2_bags(
     tmp_path: Path, fmt: BagFormat, second: object, sign: str
 ) -> None:
-    other = scenes.periodic("/ekf2", 50, second, phase=0.01)  # type: ignore[arg-type]
+    other = scenes.periodic("/ekf2", 50, second, phase=0.01)  # type: ignore[arg-type]  # a parametrised edge function
     bag = scenes.write(
         tmp_path, "two", fmt, scenes.healthy(ekf=sorted(scenes.ekf() + other, key=lambda m: m.record_time))
     )

@@ -8,12 +8,13 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import pytest
 
-from tests.analysis.wtf_scenes import MS, SECONDS, SIM_START, START, TfMessage, _t, periodic, recording, statics
-from tests.bags import BagFormat, write_bag
-from tests.cli.conftest import tfx  # noqa: F401 (the fixture)
+from tests.analysis.wtf_scenes import MS, SECONDS, SIM_START, START, _t, periodic, recording, statics
+from tests.bags import BagFormat, TfMessage, write_bag
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tftools.analysis.findings import Finding
 from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
@@ -132,7 +133,7 @@ def test_new_samples_out_of_order_are_counted_without_those_delivered_again() ->
     assert "10 transforms arrived out of order" in late.message
 
 
-def _monitor(tfx, tmp_path: Path, messages: list[TfMessage], play: bool) -> dict:  # noqa: F811
+def _monitor(tfx: Tfx, tmp_path: Path, messages: list[TfMessage], play: bool) -> dict[str, Any]:  # noqa: F811
     """``tfx monitor -f json`` on ``messages`` written as a rosbag2 .db3, read whole or replayed (its last table)."""
     bag = write_bag(tmp_path / "slam", messages, BagFormat.rosbag2_sqlite3)
     args = ["monitor", "-b", bag, "-f", "json", *(["--play", "--rate", "500", "--window", "100"] if play else [])]
@@ -142,7 +143,7 @@ def _monitor(tfx, tmp_path: Path, messages: list[TfMessage], play: bool) -> dict
 
 
 @pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
-def test_monitor_counts_the_messages_a_slam_node_re_sent(tfx, tmp_path: Path, play: bool) -> None:  # noqa: F811
+def test_monitor_counts_the_messages_a_slam_node_re_sent(tfx: Tfx, tmp_path: Path, play: bool) -> None:  # noqa: F811
     """ros2_db3_jetacker_slam_toolbox_static_map: /tf held 3,376 messages, 3,142 of them slam_toolbox's
     re-sends; monitor said 278 (the distinct samples tf2 stored), and with --play showed no moving edge at
     all (its last window, on the replay's clock, was compared with the stamps of a 0.067x simulation)."""

@@ -89,15 +89,15 @@ def _odometry_reset(stamp: int) -> list[Transform]:
 
 
 def amcl(**kw: object) -> list[TfMessage]:
-    return periodic("/amcl", 10, map_odom, **kw)  # type: ignore[arg-type]
+    return periodic("/amcl", 10, map_odom, **kw)  # type: ignore[arg-type]  # periodic's keywords, passed on
 
 
 def ekf(**kw: object) -> list[TfMessage]:
-    return periodic("/ekf", 50, odom_base, **kw)  # type: ignore[arg-type]
+    return periodic("/ekf", 50, odom_base, **kw)  # type: ignore[arg-type]  # periodic's keywords, passed on
 
 
 def wheels(**kw: object) -> list[TfMessage]:
-    return periodic("/rsp", 20, wheel, **kw)  # type: ignore[arg-type]
+    return periodic("/rsp", 20, wheel, **kw)  # type: ignore[arg-type]  # periodic's keywords, passed on
 
 
 def healthy(**parts: list[TfMessage]) -> list[TfMessage]:

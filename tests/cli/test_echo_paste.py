@@ -112,7 +112,7 @@ def test_urdf_origin_is_fixed_axis_roll_pitch_yaw(tfx: Tfx, parent: str, child: 
     rpy = [float(v) for v in origin.get("rpy", "").split()]
     echoed = _echoed(tfx, bag, parent, child, at)
     assert _within_ulps(xyz, list(echoed.translation))
-    _same(Transform.from_rpy(tuple(xyz), tuple(rpy)), echoed, 1e-9)  # type: ignore[arg-type]
+    _same(Transform.from_rpy(tuple(xyz), tuple(rpy)), echoed, 1e-9)  # type: ignore[arg-type]  # lists of 3
 
 
 def test_urdf_rpy_is_what_ros_makes_of_it(tfx: Tfx, tf2_available: None) -> None:

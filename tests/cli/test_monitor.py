@@ -220,7 +220,7 @@ def _gazebo_under_sim_time(path: Path) -> Path:
     return write_bag(path / "sim.bag", messages, BagFormat.ros1, clock)
 
 
-def test_a_publishers_messages_are_those_it_sent_in_the_whole_read_and_the_replay(tfx, tmp_path: Path) -> None:
+def test_a_publishers_messages_are_those_it_sent_in_the_whole_read_and_the_replay(tfx: Tfx, tmp_path: Path) -> None:
     bag = _gazebo_under_sim_time(tmp_path)
     whole = tfx("monitor", "-b", bag, "-f", "json")
     played = tfx("monitor", "-b", bag, "--play", "--rate", "500", "-f", "json")

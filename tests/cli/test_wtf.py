@@ -235,7 +235,9 @@ def test_a_bag_without_transforms_is_the_no_tf_error(tfx: Tfx, tmp_path: Path) -
 
 
 @pytest.mark.parametrize(("fmt", "record"), [(DB3, "ros2 bag record"), (BagFormat.ros1, "rosbag record")])
-def test_no_tf_is_told_in_its_own_ros_words_without_an_empty_frame(tfx, tmp_path: Path, fmt, record: str) -> None:
+def test_no_tf_is_told_in_its_own_ros_words_without_an_empty_frame(
+    tfx: Tfx, tmp_path: Path, fmt: BagFormat, record: str
+) -> None:
     """ros2_mcap_abitobot_no_tf (a gz simulation's /imu and /joint_states, no tf): the hint gave ROS 1's and
     ROS 2's commands together, and the header said '1 topic of sensor data checked in  (the root of the
     largest tree)' with no tree."""

@@ -40,7 +40,7 @@ class Cluster:
     def ready(self) -> None:
         from distributed import Client
 
-        with Client(self.address, timeout="10s") as client:  # type: ignore[no-untyped-call]
+        with Client(self.address, timeout="10s") as client:  # type: ignore[no-untyped-call]  # distributed is unannotated
             client.wait_for_workers(2, timeout=60)
 
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from tests.oracle import Scenario, binding_time
+from tests.oracle import Row, Scenario, binding_time
 from tftools import BatchBuilder, Buffer, Semantics, Transform, TransformError
 from tftools.core.batch import take_rows
 
@@ -43,7 +44,8 @@ def random_quat(rng: np.random.Generator, near_unit: bool = False) -> list[float
     q /= np.linalg.norm(q)
     if near_unit:
         q *= math.sqrt(1.0 + rng.uniform(-0.009, 0.009))
-    return q.tolist()
+    values: list[float] = q.tolist()
+    return values
 
 
 def build(seed: int, features: frozenset[str], base_s: int) -> Built:
@@ -56,7 +58,7 @@ def build(seed: int, features: frozenset[str], base_s: int) -> Built:
         parent_of.pop(int(rng.integers(2, n)))  # that frame becomes a second root
     static = {i: bool(rng.random() < 0.3) for i in parent_of}
     base = base_s * S + int(rng.integers(0, S))
-    rows: list[tuple[int, list]] = []  # (arrival key, row)
+    rows: list[tuple[int, Row]] = []  # (arrival key, row)
 
     def add(parent: str, child: str, stamp: int, values: list[float], authority: str, is_static: bool) -> None:
         stamp = binding_time(stamp)
@@ -121,7 +123,7 @@ def build(seed: int, features: frozenset[str], base_s: int) -> Built:
     return Built(scenario, frames)
 
 
-def bad_rows(base: int, frames: list[str], rng: np.random.Generator) -> list[list]:
+def bad_rows(base: int, frames: list[str], rng: np.random.Generator) -> list[Row]:
     """Samples tf2 refuses, plus frame ids with a leading slash that it strips."""
     f1, f2 = frames[1], frames[2 % len(frames)]
     sn = sec_nsec(binding_time(base + S // 2))
@@ -140,7 +142,7 @@ def bad_rows(base: int, frames: list[str], rng: np.random.Generator) -> list[lis
     ]
 
 
-def queries(scenario: Scenario, frames: list[str], rng: np.random.Generator) -> list[list]:
+def queries(scenario: Scenario, frames: list[str], rng: np.random.Generator) -> list[Row]:
     stamps = sorted({r[2] * S + r[3] for r in scenario.inserts})
     lo, hi = stamps[0], stamps[-1]
     times = [0, lo, hi, lo - 1, hi + 1, lo + 1, hi - 1, hi + S, max(lo - S, 1)]
@@ -149,7 +151,7 @@ def queries(scenario: Scenario, frames: list[str], rng: np.random.Generator) -> 
     times += rng.integers(lo - S // 10, hi + S // 10, 40).tolist()
     times = [binding_time(int(t)) for t in times if t > 0]
     names = [*frames, "ghost", "slashed_child", "slashed_parent"]
-    out: list[list] = []
+    out: list[Row] = []
     for _ in range(160):
         a, b = rng.choice(names, 2)
         t = int(rng.choice(times))
@@ -204,7 +206,7 @@ def load_one_by_one(scenario: Scenario, semantics: Semantics = "ros1") -> Buffer
     return buffer
 
 
-def stamped(t: Transform) -> dict:
+def stamped(t: Transform) -> dict[str, Any]:
     return {
         "ok": True,
         "t": list(t.translation),
@@ -215,7 +217,7 @@ def stamped(t: Transform) -> dict:
     }
 
 
-def answer(buffer: Buffer, query: list) -> dict:
+def answer(buffer: Buffer, query: Row) -> dict[str, Any]:
     kind, args = query[0], query[1:]
     try:
         if kind == "lookup":

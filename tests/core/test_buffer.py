@@ -17,15 +17,16 @@ from tftools import (
     UnknownFrameError,
 )
 from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH
+from tftools.core.rotation import Quat
 
 S = 1_000_000_000
 
 
-def tf(parent, child, stamp, x=0.0, q=(0.0, 0.0, 0.0, 1.0)) -> Transform:
+def tf(parent: str, child: str, stamp: int, x: float = 0.0, q: Quat = (0.0, 0.0, 0.0, 1.0)) -> Transform:
     return Transform((x, 0.0, 0.0), q, stamp, parent, child)
 
 
-def test_rejections_are_recorded_not_printed(capsys):
+def test_rejections_are_recorded_not_printed(capsys: pytest.CaptureFixture[str]) -> None:
     buffer = Buffer(cache_time=None)
     assert not buffer.set_transform(tf("a", "b", 5 * S, x=math.nan), "/nav", record_time=6 * S)
     assert not buffer.set_transform(tf("a", "a", 5 * S), "/self")
@@ -44,13 +45,13 @@ def test_rejections_are_recorded_not_printed(capsys):
     assert buffer.frames == []  # refused samples intern no frame, as in tf2
 
 
-def test_infinite_translation_is_refused_unlike_tf2():
+def test_infinite_translation_is_refused_unlike_tf2() -> None:
     buffer = Buffer(cache_time=None)
     assert not buffer.set_transform(tf("a", "b", S, x=math.inf))
     assert [r.code for r in buffer.rejections] == [RejectionCode.NAN_INPUT]
 
 
-def test_repeated_stamp_keeps_the_first_sample():
+def test_repeated_stamp_keeps_the_first_sample() -> None:
     buffer = Buffer(cache_time=None)
     buffer.set_transform(tf("a", "b", S, x=1.0))
     buffer.set_transform(tf("a", "b", 2 * S, x=2.0))
@@ -60,18 +61,19 @@ def test_repeated_stamp_keeps_the_first_sample():
     assert buffer.rejections[0].authority == "/late"
 
 
-def test_finite_cache_prunes_and_refuses_old_data():
+def test_finite_cache_prunes_and_refuses_old_data() -> None:
     buffer = Buffer(cache_time=2 * S)
     for k in range(10):
         buffer.set_transform(tf("a", "b", k * S, x=k))
-    assert buffer.history("b").stamps.tolist() == [7 * S, 8 * S, 9 * S]
+    history = buffer.history("b")
+    assert history is not None and history.stamps.tolist() == [7 * S, 8 * S, 9 * S]
     with pytest.raises(ExtrapolationError, match="into the past"):
         buffer.lookup("a", "b", 6 * S)
     assert not buffer.set_transform(tf("a", "b", 6 * S))
     assert buffer.rejections[-1].code is RejectionCode.OLD_DATA
 
 
-def test_samples_keep_their_provenance():
+def test_samples_keep_their_provenance() -> None:
     buffer = Buffer(cache_time=None)
     builder = BatchBuilder()
     builder.add("/odom", "base", 3 * S, (1, 0, 0), (0, 0, 0, 1), record_time=31, authority="/ekf")
@@ -79,17 +81,18 @@ def test_samples_keep_their_provenance():
     builder.add("odom", "/laser", 1 * S, (0, 0, 0), (0, 0, 0, 1), static=True, record_time=33, authority="/rsp")
     assert buffer.insert(builder.take()) == 3
     base = buffer.history("base")
+    assert base is not None
     assert base.stamps.tolist() == [1 * S, 3 * S]  # sorted by stamp ...
     assert base.sequence.tolist() == [1, 0]  # ... but arrival order is kept
     assert base.record_times.tolist() == [32, 31]
     assert [buffer.authorities[a] for a in base.authorities] == ["/other", "/ekf"]
     assert base.flags.tolist() == [0, PARENT_HAD_SLASH]
     laser = buffer.history("laser")
-    assert laser.static and laser.flags[0] == FROM_STATIC_TOPIC | CHILD_HAD_SLASH
+    assert laser is not None and laser.static and laser.flags[0] == FROM_STATIC_TOPIC | CHILD_HAD_SLASH
     assert buffer.frames == ["base", "odom", "laser"]  # child before parent, as tf2 interns
 
 
-def test_static_edges_hold_at_every_time_and_keep_their_history():
+def test_static_edges_hold_at_every_time_and_keep_their_history() -> None:
     buffer = Buffer(cache_time=None)
     buffer.set_transform(tf("base", "laser", 5 * S, x=1.0), static=True)
     buffer.set_transform(tf("base", "laser", 6 * S, x=2.0), static=True)  # replaces the first
@@ -99,7 +102,7 @@ def test_static_edges_hold_at_every_time_and_keep_their_history():
     assert len(buffer.history("laser") or ()) == 2
 
 
-def test_a_frame_can_change_parent_over_time():
+def test_a_frame_can_change_parent_over_time() -> None:
     buffer = Buffer(cache_time=None)
     for k in range(3):
         buffer.set_transform(tf("a", "x", k * S))
@@ -111,7 +114,7 @@ def test_a_frame_can_change_parent_over_time():
     assert buffer.parent("nowhere") is None
 
 
-def test_lookup_many_agrees_with_lookup_on_a_moving_chain():
+def test_lookup_many_agrees_with_lookup_on_a_moving_chain() -> None:
     buffer = Buffer(cache_time=None)
     rng = np.random.default_rng(1)
     for k in range(50):
@@ -133,7 +136,7 @@ def test_lookup_many_agrees_with_lookup_on_a_moving_chain():
         np.testing.assert_allclose(got.rotations[i], one.rotation, atol=1e-12)
 
 
-def test_lookup_many_identity_and_unknown_frames():
+def test_lookup_many_identity_and_unknown_frames() -> None:
     buffer = Buffer(cache_time=None)
     buffer.set_transform(tf("a", "b", S))
     same = buffer.lookup_many("b", "b", [0, 5])
@@ -143,7 +146,7 @@ def test_lookup_many_identity_and_unknown_frames():
         buffer.lookup_many("a", "c", [S])
 
 
-def test_chain_lists_frames_from_source_to_target():
+def test_chain_lists_frames_from_source_to_target() -> None:
     buffer = Buffer(cache_time=None)
     for parent, child in (("map", "odom"), ("odom", "base"), ("base", "laser"), ("base", "arm"), ("arm", "hand")):
         buffer.set_transform(tf(parent, child, S))
@@ -152,7 +155,7 @@ def test_chain_lists_frames_from_source_to_target():
     assert buffer.chain("hand", "map", S) == ["map", "odom", "base", "arm", "hand"]
 
 
-def test_sim_clock_drives_now():
+def test_sim_clock_drives_now() -> None:
     clock = SimClock()
     buffer = Buffer(clock=clock)
     assert buffer.now() == 0

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 from collections import Counter
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 import pytest
 
 from tests.core import scenarios
-from tftools import Buffer, Transform
+from tftools import Buffer, EdgeHistory, RejectionCode, Transform, TransformBatch
 from tftools.core.history import ROW_BYTES
 
 S = scenarios.S
@@ -17,7 +19,16 @@ CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(3) for f
 CASES += [(100 + seed, frozenset(scenarios.FEATURES) - {"cycle"}) for seed in range(3)]
 
 
-def state(buffer):
+# A buffer's whole state, comparable: its frames, publishers, each child's history as lists, its rejections.
+State = tuple[
+    list[str],
+    list[str],
+    dict[str, tuple[list[Any], list[Any], list[Any], list[Any], list[Any], list[Any], bool]],
+    Counter[tuple[RejectionCode, str, str, int, str]],
+]
+
+
+def state(buffer: Buffer) -> State:
     histories = {
         name: (hist.stamps.tolist(), hist.values.tolist(), hist.parents.tolist(), hist.authorities.tolist(),
                hist.sequence.tolist(), hist.flags.tolist(), hist.static)
@@ -28,7 +39,7 @@ def state(buffer):
 
 
 @pytest.mark.parametrize(("seed", "features"), CASES)
-def test_sliced_insertion_equals_whole_and_one_by_one(seed, features):
+def test_sliced_insertion_equals_whole_and_one_by_one(seed: int, features: frozenset[str]) -> None:
     built = scenarios.build(seed, features, 1_700_000_000)
     whole = scenarios.load_into_buffer(built.scenario)
     one_by_one = scenarios.load_one_by_one(built.scenario)
@@ -39,7 +50,7 @@ def test_sliced_insertion_equals_whole_and_one_by_one(seed, features):
     assert {k: v[:3] for k, v in histories.items()} == {k: v[:3] for k, v in state(whole)[2].items()}
 
 
-def test_frames_are_interned_child_first_in_order_of_appearance():
+def test_frames_are_interned_child_first_in_order_of_appearance() -> None:
     from tftools import BatchBuilder, Buffer
 
     builder = BatchBuilder()
@@ -49,25 +60,28 @@ def test_frames_are_interned_child_first_in_order_of_appearance():
     buffer = Buffer(cache_time=None)
     buffer.insert(builder.take())
     assert buffer.frames == ["b", "a", "d", "c", "e", "f"]
-    assert np.array_equal(buffer.history("e").parents, [buffer._core.frame_id("b")])
+    hist = buffer.history("e")
+    assert hist is not None and np.array_equal(hist.parents, [buffer._core.frame_id("b")])
 
 
-def test_in_order_samples_of_known_frames_skip_the_batch_path(monkeypatch):
+def test_in_order_samples_of_known_frames_skip_the_batch_path(monkeypatch: pytest.MonkeyPatch) -> None:
     """``set_transform``'s common case stores the sample itself (and prunes, and keeps the compiled
     lookups' view up to date); a frame's first sample, an older stamp, a new publisher take ``insert``."""
     buffer = Buffer(cache_time=3 * S)
     assert buffer.set_transform(Transform((0.0, 0, 0), (0, 0, 0, 1), S, "a", "b"), "pub")
     assert buffer.lookup("a", "b").stamp == S  # the lookups' table exists from here on
 
-    def batch_path(batch):
+    def batch_path(batch: TransformBatch) -> int:
         raise AssertionError("took the batch path")
 
     monkeypatch.setattr(buffer, "insert", batch_path)
     for k in range(2, 50):
         assert buffer.set_transform(Transform((float(k), 0, 0), (0, 0, 0, 1), k * S, "a", "b"), "pub")
     assert buffer.lookup("a", "b", 0).translation == (49.0, 0.0, 0.0)
-    assert buffer.history("b").stamps.tolist() == [46 * S, 47 * S, 48 * S, 49 * S]  # pruned as tf2 prunes
-    assert buffer.history("b").sequence.tolist() == [45, 46, 47, 48]
+    hist = buffer.history("b")
+    assert hist is not None
+    assert hist.stamps.tolist() == [46 * S, 47 * S, 48 * S, 49 * S]  # pruned as tf2 prunes
+    assert hist.sequence.tolist() == [45, 46, 47, 48]
     for refused_here in (
         Transform((0.0, 0, 0), (0, 0, 0, 1), 48 * S, "a", "b"),  # not newer
         Transform((0.0, 0, 0), (0, 0, 0, 1.2), 50 * S, "a", "b"),  # not normalized
@@ -81,11 +95,11 @@ def test_in_order_samples_of_known_frames_skip_the_batch_path(monkeypatch):
         buffer.set_transform(Transform((0.0, 0, 0), (0, 0, 0, 1), 50 * S, "a", "b"), "another publisher")
 
 
-def _columns(hist):
+def _columns(hist: EdgeHistory) -> list[npt.NDArray[Any]]:
     return [hist.stamps, hist.values, hist.parents, hist.authorities, hist.record_times, hist.sequence, hist.flags]
 
 
-def test_a_reserved_bulk_load_lays_its_histories_in_one_block_from_a_large_page():
+def test_a_reserved_bulk_load_lays_its_histories_in_one_block_from_a_large_page() -> None:
     """``reserve`` then ``insert``: every history's columns lie in one block starting on a 2 MiB page
     (so the kernel brings it in large pages), sized for the reserved rows."""
     from tftools import BatchBuilder
@@ -106,7 +120,7 @@ def test_a_reserved_bulk_load_lays_its_histories_in_one_block_from_a_large_page(
     assert [len(hist) for _, hist in buffer.histories()] == [300, 300, 300]
 
 
-def test_a_bulk_load_too_large_for_large_pages_takes_small_ones(monkeypatch):
+def test_a_bulk_load_too_large_for_large_pages_takes_small_ones(monkeypatch: pytest.MonkeyPatch) -> None:
     """Past ``LARGE_PAGES_UP_TO`` the block is anonymous memory the system keeps in small pages (a large
     page a column, resident before its rows come, would grow with the load); the histories are the same."""
     from tftools import BatchBuilder
@@ -124,29 +138,33 @@ def test_a_bulk_load_too_large_for_large_pages_takes_small_ones(monkeypatch):
         buffer.insert(batch)
         loaded[limit] = state(buffer)
         if limit:
-            assert buffer.history("b").stamps.ctypes.data % (2 << 20) == 0
+            hist = buffer.history("b")
+            assert hist is not None and hist.stamps.ctypes.data % (2 << 20) == 0
     assert loaded[0] == loaded[1 << 30]
 
 
-def test_views_outlive_the_columns_they_were_taken_of():
+def test_views_outlive_the_columns_they_were_taken_of() -> None:
     """A history's columns move when it grows or is pruned: a view taken before keeps the old ones."""
     buffer = Buffer(cache_time=2 * S)
     buffer.set_transform(Transform((1.0, 0, 0), (0, 0, 0, 1), S, "a", "b"))
-    before = buffer.history("b").values
+    hist = buffer.history("b")
+    assert hist is not None
+    before = hist.values
     for k in range(2, 400):
         buffer.set_transform(Transform((float(k), 0, 0), (0, 0, 0, 1), k * S, "a", "b"))
     assert before.tolist() == [[1.0, 0, 0, 0, 0, 0, 1]]
     assert not before.flags.writeable
-    assert buffer.history("b").stamps.tolist() == [397 * S, 398 * S, 399 * S]
+    hist = buffer.history("b")
+    assert hist is not None and hist.stamps.tolist() == [397 * S, 398 * S, 399 * S]
 
 
-def test_rows_reserved_for_a_frame_that_has_a_history_size_it_once():
+def test_rows_reserved_for_a_frame_that_has_a_history_size_it_once() -> None:
     """``reserve`` for frames already held (a bulk load in several reserved parts): each history is sized
     for the rows to come once, and they are stored as without the reservation (the Python history this
     replaced had no such method: the insert raised)."""
     from tftools import BatchBuilder
 
-    def batch(first, count):
+    def batch(first: int, count: int) -> TransformBatch:
         builder = BatchBuilder()
         for k in range(first, first + count):
             builder.add("a", "b", k * S, (k, 0, 0), (0, 0, 0, 1))

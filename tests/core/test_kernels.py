@@ -5,6 +5,7 @@ test_tf2_differential.py.)"""
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterator
 
 import numpy as np
 import pytest
@@ -18,12 +19,12 @@ S = scenarios.S
 CASES = [(seed, frozenset({f}) if f else frozenset()) for seed in range(2) for f in (None, *scenarios.FEATURES)]
 
 
-def kernel_walk(buffer: Buffer, target: str, source: str, time: int):
+def kernel_walk(buffer: Buffer, target: str, source: str, time: int) -> tuple[list[float], int] | None:
     found, _ = buffer._core.lookup(buffer._core.frame_id(target), buffer._core.frame_id(source), time)
     return None if found is None else ([*found[0], *found[1]], found[2])
 
 
-def lookups(built: scenarios.Built, buffer: Buffer):
+def lookups(built: scenarios.Built, buffer: Buffer) -> Iterator[tuple[str, str, int]]:
     for kind, *args in built.scenario.queries:
         if kind not in ("lookup", "can"):
             continue
@@ -37,7 +38,7 @@ def _case_id(value: object) -> str:
 
 
 @pytest.mark.parametrize(("seed", "features"), CASES, ids=_case_id)
-def test_one_walk_gives_one_verdict(seed, features):
+def test_one_walk_gives_one_verdict(seed: int, features: frozenset[str]) -> None:
     """Where the lookup fails, the walk reports a failure (an extrapolation with a gap of the kind its
     time and stamp tell), and succeeds with the frames from source to target where it succeeds."""
     built = scenarios.build(seed, features, 1_700_000_000)
@@ -86,7 +87,7 @@ def _assert_a_gap_of_its_kind(failure: walk.Failure) -> None:
         assert kind in (FUTURE, PAST) and (time > stamp if kind == FUTURE else time < stamp)
 
 
-def test_the_table_follows_growth_pruning_and_new_frames():
+def test_the_table_follows_growth_pruning_and_new_frames() -> None:
     buffer = Buffer(cache_time=3 * S)
     buffer.set_transform(Transform((1.0, 0, 0), (0, 0, 0, 1), S, "a", "b"))
     buffer.set_transform(Transform((2.0, 0, 0), (0, 0, 0, 1), 2 * S, "a", "b"))
@@ -101,7 +102,7 @@ def test_the_table_follows_growth_pruning_and_new_frames():
     assert not buffer.can_transform("a", "b", 100 * S)
 
 
-def test_a_copied_buffer_gets_its_own_state():
+def test_a_copied_buffer_gets_its_own_state() -> None:
     """A copied buffer (``__getstate__``, ``__setstate__``) is the same buffer where it is rebuilt:
     its frames, publishers, histories (the ones ROS 2 replaced too), arrivals and rejections; and its own."""
     import pickle
@@ -119,6 +120,7 @@ def test_a_copied_buffer_gets_its_own_state():
     assert copy.arrivals == buffer.arrivals == 4 and len(copy.rejections) == 1
     assert copy.all_frames_as_yaml() == buffer.all_frames_as_yaml()
     hist, kept = copy.history("b"), buffer.history("b")
+    assert hist is not None and kept is not None and kept.replaced is not None
     assert hist.static and hist.replaced is not None and not hist.replaced.static
     for a, b in ((hist, kept), (hist.replaced, kept.replaced)):
         for column in ("stamps", "values", "parents", "authorities", "record_times", "sequence", "flags"):
@@ -131,7 +133,7 @@ def test_a_copied_buffer_gets_its_own_state():
     assert pickled.replaced.stamps.tolist() == kept.replaced.stamps.tolist() == [S, 2 * S]
 
 
-def test_a_frame_asked_for_before_it_exists_is_found_once_it_does():
+def test_a_frame_asked_for_before_it_exists_is_found_once_it_does() -> None:
     """The table remembers the frames it last looked up by name, but not a name it did not know."""
     buffer = Buffer(cache_time=None)
     buffer.set_transform(Transform((1.0, 0, 0), (0, 0, 0, 1), S, "a", "b"))
@@ -143,7 +145,9 @@ def test_a_frame_asked_for_before_it_exists_is_found_once_it_does():
 
 
 @pytest.mark.parametrize(("seed", "features"), CASES[::3], ids=_case_id)
-def test_lookup_many_answers_as_single_lookups(seed, features, monkeypatch):
+def test_lookup_many_answers_as_single_lookups(
+    seed: int, features: frozenset[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setattr(kernels, "_TIMES_PER_THREAD", 7)  # several threads even here
     built = scenarios.build(seed, features, 1_700_000_000)
     buffer = scenarios.load_into_buffer(built.scenario)
@@ -161,7 +165,7 @@ def test_lookup_many_answers_as_single_lookups(seed, features, monkeypatch):
                     np.testing.assert_allclose(got.rotations[i], expected[0][3:], rtol=0, atol=1e-12)
 
 
-def test_lookup_many_over_times_spanning_all_int64(monkeypatch):
+def test_lookup_many_over_times_spanning_all_int64(monkeypatch: pytest.MonkeyPatch) -> None:
     """Times too far apart for a bucket's sorting key to hold each whole (the buckets are then only
     nearly sorted, each time read back from its row): the same answers as one by one, in their rows."""
     monkeypatch.setattr(kernels, "_TIMES_PER_THREAD", 7)
@@ -183,7 +187,7 @@ def test_lookup_many_over_times_spanning_all_int64(monkeypatch):
             assert [*got.translations[i], *got.rotations[i]] == expected[0]  # the very same bits
 
 
-def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do():
+def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do() -> None:
     """``Buffer.lookup`` and ``can_transform`` (methods in C, no binding's dispatch) take (target_frame,
     source_frame, time=0), by position or keyword, a time as the binding takes it (an int, or what converts
     to one without loss), and refuse anything else with Python's TypeErrors."""
@@ -201,15 +205,15 @@ def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do
     for method in (buffer.lookup, buffer.can_transform):
         for time in (1.5, "15", None):
             with pytest.raises(TypeError, match="time must be an int"):
-                method("a", "b", time)  # type: ignore[arg-type]
+                method("a", "b", time)  # type: ignore[arg-type]  # the wrong call is the test
         with pytest.raises(TypeError, match="missing required argument 'source_frame'"):
-            method("a")  # type: ignore[call-arg]
+            method("a")  # type: ignore[call-arg]  # the wrong call is the test
         with pytest.raises(TypeError, match="from 2 to 3 positional arguments"):
-            method("a", "b", 15, 0)  # type: ignore[call-arg]
+            method("a", "b", 15, 0)  # type: ignore[call-arg]  # the wrong call is the test
         with pytest.raises(TypeError, match="unexpected keyword argument 'at'"):
-            method("a", "b", at=15)  # type: ignore[call-arg]
+            method("a", "b", at=15)  # type: ignore[call-arg]  # the wrong call is the test
         with pytest.raises(TypeError, match="multiple values for argument 'time'"):
-            method("a", "b", 15, time=15)  # type: ignore[misc]
+            method("a", "b", 15, time=15)  # type: ignore[misc]  # the wrong call is the test
     assert "target_frame, source_frame, time=0" in (Buffer.lookup.__doc__ or "") + str(
         __import__("inspect").signature(Buffer.lookup)
     )

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Callable
 
 import numpy as np
+import numpy.typing as npt
 import pytest
 
 from tftools import Buffer, Transform, TransformError
@@ -24,7 +26,16 @@ def _quat(axis: int, angle: float) -> tuple[float, float, float, float]:
     return q[0], q[1], q[2], q[3]
 
 
-def _edge(buffer: Buffer, parent: str, child: str, hz: int, axis: int, angle, start: int = T0, end: int = T0 + SPAN):
+def _edge(
+    buffer: Buffer,
+    parent: str,
+    child: str,
+    hz: int,
+    axis: int,
+    angle: Callable[[int, float], float],
+    start: int = T0,
+    end: int = T0 + SPAN,
+) -> None:
     period = S // hz
     for k, stamp in enumerate(range(start + period // 3, end, period)):
         s = (stamp - T0) / S
@@ -53,7 +64,9 @@ def _ids(buffer: Buffer, target: str, source: str) -> tuple[int, int]:
     return buffer._core.frame_id(target), buffer._core.frame_id(source)
 
 
-def _run(buffer: Buffer, target: str, source: str, times, rows, chained: bool):
+def _run(
+    buffer: Buffer, target: str, source: str, times: npt.NDArray[np.int64], rows: npt.NDArray[np.int64], chained: bool
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
     """``lookup_many`` along the chain where it can, or (not ``chained``) the walk at each time."""
     n = len(times)
     stamps, values, valid = np.zeros(n, np.int64), np.zeros((n, 7)), np.zeros(n, bool)
@@ -61,12 +74,12 @@ def _run(buffer: Buffer, target: str, source: str, times, rows, chained: bool):
     return stamps, values, valid
 
 
-def assert_same_bits(buffer: Buffer, target: str, source: str, times) -> np.ndarray:
+def assert_same_bits(buffer: Buffer, target: str, source: str, times: npt.ArrayLike) -> npt.NDArray[np.bool_]:
     """lookup_many and the walk at each of ``times`` (in their order, answers to shuffled rows)."""
-    times = np.ascontiguousarray(times, np.int64)
-    rows = np.random.default_rng(0).permutation(len(times))
-    fast = _run(buffer, target, source, times, rows, chained=True)
-    each = _run(buffer, target, source, times, rows, chained=False)
+    at = np.ascontiguousarray(times, np.int64)
+    rows = np.random.default_rng(0).permutation(len(at))
+    fast = _run(buffer, target, source, at, rows, chained=True)
+    each = _run(buffer, target, source, at, rows, chained=False)
     np.testing.assert_array_equal(fast[0], each[0])
     np.testing.assert_array_equal(fast[2], each[2])
     np.testing.assert_array_equal(fast[1].view(np.int64), each[1].view(np.int64))  # -0.0 and NaN too
@@ -113,7 +126,7 @@ KINDS = ["sorted", "random", "sparse", "stamps", "first_stamp_later", "outside",
 
 @pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize(("target", "source"), PAIRS)
-def test_lookup_many_is_the_walk_at_each_time_bit_for_bit(target, source, kind):
+def test_lookup_many_is_the_walk_at_each_time_bit_for_bit(target: str, source: str, kind: str) -> None:
     buffer = robot()
     valid = assert_same_bits(buffer, target, source, times_of(kind))
     if target == "island":
@@ -122,7 +135,7 @@ def test_lookup_many_is_the_walk_at_each_time_bit_for_bit(target, source, kind):
         assert valid.all()
 
 
-def test_the_answers_are_single_lookups():
+def test_the_answers_are_single_lookups() -> None:
     buffer = robot()
     times = np.concatenate([times_of("random")[:800], times_of("outside")[-50:], [0, REPARENT]])
     for target, source in PAIRS:
@@ -141,13 +154,13 @@ def test_the_answers_are_single_lookups():
 # --- which blocks the chain takes ------------------------------------------------------------
 
 
-def _block(buffer: Buffer, target: str, source: str, times) -> bool | None:
+def _block(buffer: Buffer, target: str, source: str, times: npt.ArrayLike) -> bool | None:
     """Whether ``lookup_many`` takes ``times`` as one block (None: the chain does not resolve at the first)."""
     taken = buffer._core.chain_takes(*_ids(buffer, target, source), np.ascontiguousarray(times, np.int64))
     return None if taken < 0 else bool(taken)
 
 
-def test_the_chain_takes_healthy_blocks_and_leaves_the_others_to_the_walk():
+def test_the_chain_takes_healthy_blocks_and_leaves_the_others_to_the_walk() -> None:
     buffer = robot()
     inside = np.sort(np.random.default_rng(3).integers(T0 + S, T0 + 3 * S, 200))
     for target, source in PAIRS[:6]:

@@ -28,12 +28,12 @@ from tftools.core import (
     TransformError,
     UnknownFrameError,
 )
-from tftools.core.rotation import quat_from_rpy
+from tftools.core.rotation import Quat, Vec3, quat_from_rpy
 from tftools.core.semantics import ROS2
 from tftools.core.time import NS_PER_S, duration_to_sec
 
 S = NS_PER_S
-IDENTITY = (0.0, 0.0, 0.0, 1.0)
+IDENTITY: Quat = (0.0, 0.0, 0.0, 1.0)
 
 
 def ros2_buffer(cache_time: int | None = 10 * S) -> Buffer:
@@ -41,9 +41,9 @@ def ros2_buffer(cache_time: int | None = 10 * S) -> Buffer:
     return Buffer(cache_time=cache_time, semantics="ros2")
 
 
-def put(buffer: Buffer, parent: str, child: str, stamp: int, translation=(0.0, 0.0, 0.0), rotation=IDENTITY,
-        static: bool = False, authority: str = "authority") -> bool:  # fmt: skip
-    return buffer.set_transform(Transform(tuple(translation), tuple(rotation), stamp, parent, child), authority, static)
+def put(buffer: Buffer, parent: str, child: str, stamp: int, translation: Vec3 = (0.0, 0.0, 0.0),
+        rotation: Quat = IDENTITY, static: bool = False, authority: str = "authority") -> bool:  # fmt: skip
+    return buffer.set_transform(Transform(translation, rotation, stamp, parent, child), authority, static)
 
 
 def item(buffer: Buffer, nanosec: int, frame_id: int) -> bool:
@@ -143,6 +143,7 @@ def test_time_cache_zero_at_front() -> None:
     for i in range(1, 100):
         assert get_data(cache, i)[0] == f"p{i}"
     hist = cache.history("c")
+    assert hist is not None
     assert get_data(cache, 0)[0] == "p100" and hist.latest_stamp == 100
     item(cache, 101, 100)
     assert get_data(cache, 0)[0] == "p100" and hist.latest_stamp == 101
@@ -239,7 +240,7 @@ def test_transform_storage_equality(field: str, other: object) -> None:
     for changed, count in (({}, 1), ({field: other}, 2)):
         cache = ros2_buffer()
         for s in (sample, {**sample, **changed}):
-            put(cache, str(s["parent"]), "c", int(s["stamp"]), s["translation"], s["rotation"])  # type: ignore[call-overload]
+            put(cache, str(s["parent"]), "c", int(s["stamp"]), s["translation"], s["rotation"])  # type: ignore[call-overload, arg-type]  # a dict of mixed fields
         assert len(cache.history("c") or ()) == count
 
 

@@ -18,7 +18,8 @@ import pytest
 from tests.bags import BagFormat, TfMessage, write_bag
 from tests.core.test_ros2_tf2 import IDENTITY, PseudoRandom, S, position, put, ros2_buffer, setup_tree
 from tftools.core import Buffer, InvalidArgumentError, NoDataForExtrapolationError, Transform
-from tftools.core.rotation import quat_from_rpy
+from tftools.core.rotation import Quat, Vec3, quat_from_rpy
+from tftools.core.semantics import Semantics
 from tftools.sources import read_recording
 
 # --- A. the returned rotation: canonical, as getRotation gives it --------------------------------
@@ -102,7 +103,8 @@ def test_b_stored_rotation_through_the_matrix() -> None:
     assert buffer.lookup("a", "b", S).rotation == IDENTITY
     assert buffer.lookup("c", "a", S).translation == (-1.0, -2.0, -3.0)
     assert buffer.lookup("c", "a", S).rotation == IDENTITY
-    assert buffer.history("c").values[0, 3:].tolist() == [0.0, 0.0, 0.0, 1.004]  # as sent
+    history = buffer.history("c")
+    assert history is not None and history.values[0, 3:].tolist() == [0.0, 0.0, 0.0, 1.004]  # as sent
     ros1 = Buffer()
     assert put(ros1, "a", "c", S, (1.0, 2.0, 3.0), (0.0, 0.0, 0.0, 1.004))
     assert ros1.lookup("a", "c", S).rotation == (0.0, 0.0, 0.0, 1.004)  # ROS 1 keeps it as given
@@ -121,7 +123,7 @@ def test_c_denormalized_accepted_and_stored_unit() -> None:
     assert not put(Buffer(), "a", "b", S, rotation=(0.0, 0.0, 0.0, 2.0))  # ROS 1 refuses it
 
 
-def _log(rotation: tuple[float, ...], translation: tuple[float, ...] = (0.0, 0.0, 0.0)) -> list[str]:
+def _log(rotation: Quat, translation: Vec3 = (0.0, 0.0, 0.0)) -> list[str]:
     buffer = ros2_buffer()
     assert not put(buffer, "a", "b", S, translation, rotation)
     return [r.message for r in buffer.rejections]
@@ -149,9 +151,9 @@ def test_c_non_finite_rotation_refused_with_both_codes() -> None:
 
 def test_d_q_and_minus_q_are_one_sample() -> None:
     buffer = ros2_buffer()
-    q = (0.1, -0.7, 0.3, -0.64)
+    q: Quat = (0.1, -0.7, 0.3, -0.64)
     assert put(buffer, "a", "b", S, (1.0, 2.0, 3.0), q)
-    assert put(buffer, "a", "b", S, (1.0, 2.0, 3.0), tuple(-x for x in q))
+    assert put(buffer, "a", "b", S, (1.0, 2.0, 3.0), (-q[0], -q[1], -q[2], -q[3]))
     history = buffer.history("b")
     assert history is not None and len(history) == 1 and len(buffer.duplicates) == 1
     with pytest.raises(NoDataForExtrapolationError):  # still one sample
@@ -162,8 +164,8 @@ def test_d_q_and_minus_q_are_one_sample() -> None:
 
 
 @pytest.mark.parametrize("semantics", ["ros1", "ros2"])
-def test_e_leading_slash(semantics: str) -> None:
-    buffer = Buffer(semantics=semantics)  # type: ignore[arg-type]
+def test_e_leading_slash(semantics: Semantics) -> None:
+    buffer = Buffer(semantics=semantics)
     assert put(buffer, "a", "//b", S)
     assert buffer.frames == ["/b", "a"]
     assert not buffer.can_transform("/b", "a", S)
@@ -177,8 +179,8 @@ def test_e_leading_slash(semantics: str) -> None:
 
 
 @pytest.mark.parametrize("semantics", ["ros1", "ros2"])
-def test_f_infinite_translation_refused(semantics: str) -> None:
-    buffer = Buffer(semantics=semantics)  # type: ignore[arg-type]
+def test_f_infinite_translation_refused(semantics: Semantics) -> None:
+    buffer = Buffer(semantics=semantics)
     assert not put(buffer, "a", "b", S, (math.inf, 0.0, 0.0))
     assert [r.code.value for r in buffer.rejections] == ["TF_NAN_INPUT"]
     assert "(inf 0.000000 0.000000) (0.000000 0.000000 0.000000 1.000000)" in buffer.rejections[0].message

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numpy.typing as npt
 import pytest
 
 from tftools import Transform
@@ -14,7 +15,7 @@ rng = np.random.default_rng(42)
 QUATS = [tuple(q / np.linalg.norm(q)) for q in rng.normal(size=(50, 4))]
 
 
-def angle_between(a, b) -> float:
+def angle_between(a: npt.ArrayLike, b: npt.ArrayLike) -> float:
     """The rotation angle from a to b, well conditioned near zero (unlike acos of the dot)."""
     a, b = np.asarray(a), np.asarray(b)
     if np.dot(a, b) < 0:
@@ -22,24 +23,24 @@ def angle_between(a, b) -> float:
     return 4 * math.atan2(np.linalg.norm(a - b), np.linalg.norm(a + b))
 
 
-def same_rotation(a, b, tol=1e-12) -> bool:
+def same_rotation(a: npt.ArrayLike, b: npt.ArrayLike, tol: float = 1e-12) -> bool:
     return angle_between(a, b) < 1e-6 or np.allclose(a, b, atol=tol) or np.allclose(a, np.negative(b), atol=tol)
 
 
-def test_rpy_round_trip_and_known_values():
+def test_rpy_round_trip_and_known_values() -> None:
     assert r.rpy_from_quat(r.quat_from_rpy(0, 0, math.pi / 2)) == pytest.approx((0, 0, math.pi / 2))
     assert r.quat_from_rpy(math.pi, 0, 0) == pytest.approx((1, 0, 0, 0), abs=1e-15)
     for roll, pitch, yaw in rng.uniform([-3, -1.5, -3], [3, 1.5, 3], (50, 3)):
         assert r.rpy_from_quat(r.quat_from_rpy(roll, pitch, yaw)) == pytest.approx((roll, pitch, yaw), abs=1e-9)
 
 
-def test_rpy_at_gimbal_lock_puts_everything_in_roll():
+def test_rpy_at_gimbal_lock_puts_everything_in_roll() -> None:
     _roll, pitch, yaw = r.rpy_from_quat(r.quat_from_rpy(0.3, math.pi / 2, 0.0))
     assert pitch == pytest.approx(math.pi / 2)
     assert yaw == 0.0
 
 
-def test_vectorized_forms_equal_the_rotation_matrices():
+def test_vectorized_forms_equal_the_rotation_matrices() -> None:
     a, b = np.array(QUATS[:-1]), np.array(QUATS[1:])
     v = rng.normal(size=(len(a), 3))
     matrix = [np.array(r.matrix_from_quat(tuple(q))) for q in a]
@@ -50,7 +51,7 @@ def test_vectorized_forms_equal_the_rotation_matrices():
     np.testing.assert_allclose(r.rpy_from_quat_many(a), [r.rpy_from_quat(tuple(x)) for x in a], atol=1e-12)
 
 
-def test_composition_applies_right_to_left():
+def test_composition_applies_right_to_left() -> None:
     a = Transform.from_rpy((1, 2, 3), (0.1, 0.2, 0.3), frame_id="a", child_frame_id="b")
     b = Transform.from_rpy((-1, 0.5, 2), (-0.4, 0.1, 1.2), frame_id="b", child_frame_id="c")
     ab = a * b
@@ -60,7 +61,7 @@ def test_composition_applies_right_to_left():
     np.testing.assert_allclose(ab.as_matrix(), a.as_matrix() @ b.as_matrix(), atol=1e-12)
 
 
-def test_inverse_undoes_the_transform():
+def test_inverse_undoes_the_transform() -> None:
     t = Transform.from_rpy((1, -2, 0.5), (0.3, -0.2, 2.0), stamp=7, frame_id="a", child_frame_id="b")
     back = t.inverse()
     assert (back.frame_id, back.child_frame_id, back.stamp) == ("b", "a", 7)
@@ -69,7 +70,7 @@ def test_inverse_undoes_the_transform():
     assert same_rotation(identity.rotation, (0, 0, 0, 1))
 
 
-def test_matrix_round_trip():
+def test_matrix_round_trip() -> None:
     for q in QUATS[:20]:
         t = Transform((1.0, 2.0, 3.0), q)
         back = Transform.from_matrix(t.as_matrix())
@@ -79,6 +80,6 @@ def test_matrix_round_trip():
         Transform.from_matrix(np.eye(3))
 
 
-def test_rpy_degrees():
+def test_rpy_degrees() -> None:
     t = Transform.from_rpy((0, 0, 0), (0, 0, math.pi / 2))
     assert t.rpy_degrees() == pytest.approx((0, 0, 90))

@@ -188,7 +188,7 @@ def test_a_lookups_answer_is_the_transform_its_init_would_build() -> None:
     built = Transform((1.0, 2.0, 3.0), (0.0, 0.0, 0.6, 0.8), S, "a", "b")
     assert type(found) is Transform and found == built and hash(found) == hash(built) and repr(found) == repr(built)
     with pytest.raises(AttributeError):
-        found.stamp = 0  # type: ignore[misc]
+        found.stamp = 0  # type: ignore[misc]  # the refused write is the test
     assert pickle.loads(pickle.dumps(found)) == built
 
 
@@ -197,4 +197,4 @@ def test_the_core_refuses_an_answer_type_without_field_descriptors() -> None:
         translation = rotation = stamp = frame_id = child_frame_id = None
 
     with pytest.raises(TypeError, match="descriptors"):
-        _kernels.BufferCore(Plain, None, False, 1e-2, 0)  # type: ignore[arg-type]
+        _kernels.BufferCore(Plain, None, False, 1e-2, 0)  # type: ignore[arg-type]  # the wrong call is the test

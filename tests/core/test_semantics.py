@@ -17,6 +17,7 @@ from tftools.core import (
     Transform,
 )
 from tftools.core.kernels import lookup_in_parallel
+from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.time import format_sec
 
@@ -42,7 +43,7 @@ def put(buffer: Buffer, parent: str, child: str, stamp: int, x: float = 0.0, sta
 
 def test_semantics_is_checked_and_kept() -> None:
     with pytest.raises(ValueError, match="ros1, ros2"):
-        Buffer(semantics="ros3")  # type: ignore[arg-type]
+        Buffer(semantics="ros3")  # type: ignore[arg-type]  # the wrong call is the test
     assert Buffer().semantics == "ros1"
     buffer = Buffer(semantics="ros2")
     put(buffer, "a", "b", S)
@@ -66,10 +67,10 @@ def test_ros2_insertion_paths_agree(seed: int, features: frozenset[str]) -> None
 
 @pytest.mark.parametrize("semantics", ["ros1", "ros2"])
 @pytest.mark.parametrize(("seed", "features"), CASES)
-def test_batch_lookups_answer_as_single_ones(seed: int, features: frozenset[str], semantics: str) -> None:
+def test_batch_lookups_answer_as_single_ones(seed: int, features: frozenset[str], semantics: Semantics) -> None:
     """``lookup_many`` (the compiled lookups, in parallel) equals the single lookup at every time."""
     built = ros2_scenario(seed, features)
-    buffer = scenarios.load_into_buffer(built.scenario, semantics)  # type: ignore[arg-type]
+    buffer = scenarios.load_into_buffer(built.scenario, semantics)
     stamps = sorted({r[2] * S + r[3] for r in built.scenario.inserts})
     times = np.array([0, *stamps, *(t + 1 for t in stamps), *(t - 1 for t in stamps)], np.int64)
     pairs = [(a, b) for a in buffer.frames for b in buffer.frames if a != b][:40]
@@ -93,7 +94,8 @@ def test_several_samples_at_one_stamp() -> None:
     buffer = Buffer(semantics="ros2")
     for stamp, x in ((S, 1.0), (S, 2.0), (2 * S, 3.0), (2 * S, 4.0), (3 * S, 5.0), (3 * S, 6.0)):
         assert put(buffer, "a", "b", stamp, x)
-    assert buffer.history("b").values[:, 0].tolist() == [1, 2, 3, 4, 5, 6]
+    history = buffer.history("b")
+    assert history is not None and history.values[:, 0].tolist() == [1, 2, 3, 4, 5, 6]
     assert buffer.lookup("a", "b", S).translation[0] == 1.0  # the oldest stamp: the first
     assert buffer.lookup("a", "b", 2 * S).translation[0] == 4.0  # interpolated from the last, r = 0
     assert buffer.lookup("a", "b", 3 * S).translation[0] == 6.0
@@ -123,7 +125,8 @@ def test_static_after_dynamic_and_back_replace_the_cache() -> None:
         assert hist is not None and hist.static and len(hist) == 1
         assert buffer.lookup("a", "b", 100 * S).translation[0] == 3.0
         put(buffer, "a", "b", 7 * S, 4.0)
-        assert not buffer.history("b").static
+        hist = buffer.history("b")
+        assert hist is not None and not hist.static
         with pytest.raises(NoDataForExtrapolationError):
             buffer.lookup("a", "b", 5 * S)
         _, sequence = stored_rows(buffer)
@@ -131,18 +134,22 @@ def test_static_after_dynamic_and_back_replace_the_cache() -> None:
     ros1 = Buffer()
     put(ros1, "a", "b", S, 1.0)
     put(ros1, "a", "b", 5 * S, 3.0, static=True)
-    assert not ros1.history("b").static and len(ros1.history("b") or ()) == 2
+    hist = ros1.history("b")
+    assert hist is not None and not hist.static and len(hist) == 2
 
 
 def test_ros2_prunes_before_inserting() -> None:
     """ROS 2's cache keeps a too-old sample until the next insertion (ROS 1's drops it at once)."""
-    for semantics, kept in (("ros1", [3]), ("ros2", [0, 3])):
-        buffer = Buffer(cache_time=2 * S, semantics=semantics)  # type: ignore[arg-type]
+    cases: tuple[tuple[Semantics, list[int]], ...] = (("ros1", [3]), ("ros2", [0, 3]))
+    for semantics, kept in cases:
+        buffer = Buffer(cache_time=2 * S, semantics=semantics)
         put(buffer, "a", "b", 0)
         put(buffer, "a", "b", 3 * S)
-        assert (buffer.history("b").stamps // S).tolist() == kept
+        history = buffer.history("b")
+        assert history is not None and (history.stamps // S).tolist() == kept
     put(buffer, "a", "b", 4 * S)
-    assert (buffer.history("b").stamps // S).tolist() == [3, 4]
+    history = buffer.history("b")
+    assert history is not None and (history.stamps // S).tolist() == [3, 4]
 
 
 def test_ros2_messages() -> None:

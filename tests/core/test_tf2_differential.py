@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import itertools
 from collections import Counter, defaultdict
+from typing import Any
 
 import numpy as np
 import pytest
 
 from tests.core import scenarios
-from tests.oracle import ERROR_CLASSES, run_tf2
+from tests.oracle import ERROR_CLASSES, Row, run_tf2
 from tftools.core import ExtrapolationError
 
 SEEDS_PER_FEATURE = 3
@@ -31,13 +32,13 @@ CASES = _cases()
 
 
 @pytest.fixture(scope="module")
-def oracle(tf2_available: None) -> dict[str, tuple[scenarios.Built, dict]]:
+def oracle(tf2_available: None) -> dict[str, tuple[scenarios.Built, dict[str, Any]]]:
     built = {name: scenarios.build(seed, features, base) for name, seed, features, base in CASES}
     results = run_tf2([b.scenario for b in built.values()])
     return {name: (b, r) for (name, b), r in zip(built.items(), results, strict=True)}
 
 
-def assert_same(ours: dict, theirs: dict, query: list) -> None:
+def assert_same(ours: dict[str, Any], theirs: dict[str, Any], query: Row) -> None:
     where = f"query {query}"
     assert ours["ok"] == theirs["ok"], f"{where}: ours {ours}, tf2 {theirs}"
     if not theirs["ok"]:
@@ -54,7 +55,7 @@ def assert_same(ours: dict, theirs: dict, query: list) -> None:
 
 
 @pytest.mark.parametrize("name", [c[0] for c in CASES])
-def test_lookups_match_tf2(oracle, name: str) -> None:
+def test_lookups_match_tf2(oracle: dict[str, tuple[scenarios.Built, dict[str, Any]]], name: str) -> None:
     built, result = oracle[name]
     buffer = scenarios.load_into_buffer(built.scenario)
     for query, theirs in zip(built.scenario.queries, result["answers"], strict=True):
@@ -62,14 +63,14 @@ def test_lookups_match_tf2(oracle, name: str) -> None:
 
 
 @pytest.mark.parametrize("name", [c[0] for c in CASES])
-def test_rejections_match_tf2(oracle, name: str) -> None:
+def test_rejections_match_tf2(oracle: dict[str, tuple[scenarios.Built, dict[str, Any]]], name: str) -> None:
     built, result = oracle[name]
     buffer = scenarios.load_into_buffer(built.scenario)
     assert Counter(str(r.code) for r in buffer.rejections) == Counter(result["rejections"])
 
 
 @pytest.mark.parametrize("name", [c[0] for c in CASES if "shuffle" in c[0] or "all" in c[0] or "cache" in c[0]])
-def test_one_by_one_insertion_matches_tf2(oracle, name: str) -> None:
+def test_one_by_one_insertion_matches_tf2(oracle: dict[str, tuple[scenarios.Built, dict[str, Any]]], name: str) -> None:
     built, result = oracle[name]
     buffer = scenarios.load_one_by_one(built.scenario)
     assert Counter(str(r.code) for r in buffer.rejections) == Counter(result["rejections"])
@@ -78,10 +79,10 @@ def test_one_by_one_insertion_matches_tf2(oracle, name: str) -> None:
 
 
 @pytest.mark.parametrize("name", [c[0] for c in CASES])
-def test_lookup_many_matches_tf2(oracle, name: str) -> None:
+def test_lookup_many_matches_tf2(oracle: dict[str, tuple[scenarios.Built, dict[str, Any]]], name: str) -> None:
     built, result = oracle[name]
     buffer = scenarios.load_into_buffer(built.scenario)
-    by_pair: dict[tuple[str, str], list[tuple[int, dict]]] = defaultdict(list)
+    by_pair: dict[tuple[str, str], list[tuple[int, dict[str, Any]]]] = defaultdict(list)
     for query, theirs in zip(built.scenario.queries, result["answers"], strict=True):
         kind, *args = query
         if kind == "lookup" and buffer.has_frame(args[0]) and buffer.has_frame(args[1]):
@@ -99,7 +100,7 @@ def test_lookup_many_matches_tf2(oracle, name: str) -> None:
                 np.testing.assert_allclose(got.rotations[i], theirs["q"], atol=1e-9, err_msg=where)
 
 
-def test_binding_time_is_what_tf2_stores(tf2_available) -> None:
+def test_binding_time_is_what_tf2_stores(tf2_available: None) -> None:
     """Our model of the binding's float rounding, checked on stamps that do get rounded."""
     from tests.oracle import Scenario
 
@@ -118,7 +119,7 @@ def test_binding_time_is_what_tf2_stores(tf2_available) -> None:
     assert any(binding_time(s) != s for s in stamps), "these stamps should exercise the rounding"
 
 
-def test_ros1_deviations_match_tf2(tf2_available) -> None:
+def test_ros1_deviations_match_tf2(tf2_available: None) -> None:
     """A frame's chain to itself is empty; a fixed-frame ``can_transform`` of an unknown, empty or
     '/'-led frame to itself is False; an empty buffer's YAML is ``{}`` (all three once differed)."""
     from tests.oracle import Scenario
@@ -141,7 +142,7 @@ def test_ros1_deviations_match_tf2(tf2_available) -> None:
     assert results[1]["answers"][0]["text"] == "{}"
 
 
-def test_messages_print_times_as_tf2_does_through_a_double(tf2_available) -> None:
+def test_messages_print_times_as_tf2_does_through_a_double(tf2_available: None) -> None:
     """tf2 (ROS 1) prints ``%.09f`` of ``toSec()``. Through its binding a stamp is on the double's
     grid, where that is exact, and we match; off the grid (C++ tf2 stores every nanosecond) the
     double shows, as ``cache.cpp`` says: there our message prints it, ``format_sec`` does not."""

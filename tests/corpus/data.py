@@ -63,8 +63,8 @@ class Contents:
         return {e: s for e, s in self.edges.items() if not s.static}
 
 
-def _ns(stamp: object) -> int:
-    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)  # type: ignore[attr-defined]
+def _ns(stamp: Any) -> int:  # a rosbags message (untyped)
+    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
 
 
 def _strip(frame: str) -> str:
@@ -136,7 +136,9 @@ def _add(
     samples.publishers.add(publisher)
 
 
-def _contents(topics: set[str], times: list[int], edges: dict[Edge, EdgeSamples], clock: list) -> Contents:
+def _contents(
+    topics: set[str], times: list[int], edges: dict[Edge, EdgeSamples], clock: list[tuple[int, int]]
+) -> Contents:
     known = [t for t in times if t > 0]
     return Contents(topics, min(known, default=0), max(known, default=0), edges, clock)
 
@@ -164,13 +166,13 @@ def _read_db3(path: Path) -> Contents:
                 times.append(record_time)
                 topic, kind = types[topic_id]
                 if topic in TF_TOPICS:
-                    for t in store.deserialize_cdr(raw, kind).transforms:
+                    for t in cast(Any, store.deserialize_cdr(raw, kind)).transforms:
                         tr, q = t.transform.translation, t.transform.rotation
                         value = [tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w]
                         parent, child = _strip(t.header.frame_id), _strip(t.child_frame_id)
                         _add(edges, topic, topic, record_time, parent, child, _ns(t.header.stamp), value, ros2=True)
                 elif topic == "/clock":
-                    clock.append((_ns(store.deserialize_cdr(raw, kind).clock), record_time))
+                    clock.append((_ns(cast(Any, store.deserialize_cdr(raw, kind)).clock), record_time))
     return _contents(topics, times, edges, clock)
 
 
@@ -187,7 +189,9 @@ def _read_json_mcap(path: Path) -> Contents:
     sent: Counter[tuple[str, str]] = Counter()
     with path.open("rb") as f:
         reader = make_reader(f)
-        topics = {c.topic for c in reader.get_summary().channels.values()}
+        summary = reader.get_summary()
+        assert summary is not None, f"{path} has no summary"
+        topics = {c.topic for c in summary.channels.values()}
         for _, channel, message in reader.iter_messages(log_time_order=True):
             times.append(message.log_time)
             if channel.topic not in TF_TOPICS:
@@ -247,7 +251,8 @@ def slerp(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64], ratio: float) 
     theta = np.arccos(min(dot / np.sqrt(float(np.dot(a, a)) * float(np.dot(b, b))), 1.0))
     if theta < 1e-12:
         return a
-    return (np.sin((1 - ratio) * theta) * a + np.sin(ratio * theta) * b) / np.sin(theta)
+    mixed: npt.NDArray[np.float64] = (np.sin((1 - ratio) * theta) * a + np.sin(ratio * theta) * b) / np.sin(theta)
+    return mixed
 
 
 Pose = tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]  # translation, rotation (x y z w)

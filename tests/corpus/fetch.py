@@ -23,6 +23,7 @@ import tarfile
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
+from typing import Any
 
 MANIFEST = Path(__file__).with_name("manifest.json")
 REPOSITORY_ROOT = Path(__file__).resolve().parents[2]
@@ -45,7 +46,7 @@ class Recording:
     archive: str  # a registry archive's id; "" for a recording placed in the shared folder
     members: dict[str, str]  # path inside the archive (or the shared folder) -> sha256
     open: str  # the path (a member, or a member's directory) a reader opens
-    meta: dict  # everything else the manifest says: format, frames, expectations ...
+    meta: dict[str, Any]  # everything else the manifest says: format, frames, expectations ...
     shared: str | None = None  # "corpus/<file or dir>" inside the shared folder, if that is its source
 
 
@@ -79,7 +80,7 @@ def root_of(recording: Recording) -> Path:
     return shared_dir() if recording.shared is not None else corpus_dir()
 
 
-def _recording(r: dict) -> Recording:
+def _recording(r: dict[str, Any]) -> Recording:
     source = r["archive"]
     if isinstance(source, dict):
         shared = source.get("shared")

@@ -16,16 +16,17 @@ import re
 from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 import pytest
 
 import tftools
-from tests.cli.conftest import Result, tfx  # noqa: F401 (the fixture)
+from tests.cli.conftest import Result, Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus import data
 from tests.corpus.fetch import Recording, load_manifest, shared_dir
-from tests.oracle import ERROR_CLASSES, Scenario, binding_time, run_tf2
+from tests.oracle import ERROR_CLASSES, Row, Scenario, binding_time, run_tf2
 from tftools.core.batch import concat_batches
 from tftools.core.errors import TransformError
 from tftools.core.time import NS_PER_S
@@ -65,12 +66,12 @@ def _marks(test: str, recording: Recording) -> list[pytest.MarkDecorator]:
     return [pytest.mark.xfail(reason=f"tfx disagrees with the data: {why}", strict=True)] if why else []
 
 
-def _cases(test: str, recordings: list[Recording]) -> list[pytest.param]:  # type: ignore[valid-type]
+def _cases(test: str, recordings: list[Recording]) -> list[pytest.param]:  # type: ignore[valid-type]  # its type, ParameterSet, is private
     """``recordings`` as parameters of ``test``, each marked where its entry says tfx disagrees."""
     return [pytest.param(r, id=r.id, marks=_marks(test, r)) for r in recordings]
 
 
-def _run_json(tfx: Callable[..., Result], *args: str | Path) -> tuple[int, dict]:  # noqa: F811
+def _run_json(tfx: Callable[..., Result], *args: str | Path) -> tuple[int, dict[str, Any]]:  # noqa: F811
     result = tfx(*args, "--format", "json")
     assert result.stdout.strip(), (
         f"tfx {' '.join(map(str, args))} printed nothing (exit {result.code}): {result.stderr}"
@@ -113,7 +114,7 @@ def _stored(recording: Recording, contents: data.Contents) -> data.Contents:
     return dataclasses.replace(contents, edges=edges)
 
 
-def _delays(report: dict) -> Iterator[tuple[str, dict, float]]:
+def _delays(report: dict[str, Any]) -> Iterator[tuple[str, dict[str, Any], float]]:
     """Each delay ``monitor --format json`` gives (edges and publishers): its key, row and value."""
     for row in [*report["edges"], *report["authorities"]]:
         for key in ("delay_mean_s", "delay_max_s"):
@@ -157,7 +158,7 @@ def test_manifest_matches_the_data(recording: Recording, corpus: Corpus) -> None
 
 
 @pytest.mark.parametrize("recording", _cases("test_wtf_verdict", RECORDINGS))
-def test_wtf_verdict(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_wtf_verdict(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """The errors and warnings the entry lists, and no other (but codes the bytes leave ``uncertain``);
     the codes it says must be ``reported`` (any severity, notes too), none it rules out (``absent``)."""
     expected = recording.meta["expected"]
@@ -209,7 +210,7 @@ def test_every_placed_recording_is_judged_by_one_entry() -> None:
 
 
 @pytest.mark.parametrize("recording", _cases("test_wtf_figures_are_plausible", WITH_TF))
-def test_wtf_figures_are_plausible(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_wtf_figures_are_plausible(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """No finding speaks of a delay, age or offset of more than a day in a recording that is fine."""
     _, report = _run_json(tfx, "wtf", corpus(recording))
     for finding in report["bags"][0]["findings"]:
@@ -224,7 +225,7 @@ def test_wtf_figures_are_plausible(recording: Recording, corpus: Corpus, tfx) ->
 def test_wtf_times_are_counted_from_the_recording(
     recording: Recording,
     corpus: Corpus,
-    tfx,  # noqa: F811
+    tfx: Tfx,  # noqa: F811
 ) -> None:
     """Each moment a finding names, "(+S s)" into the tf data, lies within the recording, not decades away."""
     _, report = _run_json(tfx, "wtf", corpus(recording))
@@ -237,7 +238,7 @@ def test_wtf_times_are_counted_from_the_recording(
 
 
 @pytest.mark.parametrize("recording", _cases("test_monitor_figures_match_the_data", WITH_TF))
-def test_monitor_figures_match_the_data(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_monitor_figures_match_the_data(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     path = corpus(recording)
     contents = _stored(recording, data.read_contents(path))
     code, report = _run_json(tfx, "monitor", "-b", path)
@@ -259,7 +260,7 @@ def test_monitor_figures_match_the_data(recording: Recording, corpus: Corpus, tf
 def test_monitor_counts_each_publishers_messages(
     recording: Recording,
     corpus: Corpus,
-    tfx,  # noqa: F811
+    tfx: Tfx,  # noqa: F811
     play: bool,
 ) -> None:
     """A ROS 1 bag names each message's publisher: ``monitor``'s messages of one that sent only on /tf are
@@ -310,7 +311,7 @@ def _assert_tf_static_messages(recording: Recording, corpus: Corpus, tfx: Callab
 def test_monitor_delays_are_never_negative(
     recording: Recording,
     corpus: Corpus,
-    tfx,  # noqa: F811
+    tfx: Tfx,  # noqa: F811
 ) -> None:
     """A transform arrives after its stamp: a delay below 0 is a clock read wrong (say how coarse it is),
     but where the data puts stamps ahead of their arrival (``stamps_ahead_s``: a publisher's clock ahead of
@@ -325,7 +326,7 @@ def test_monitor_delays_are_never_negative(
 def test_wtf_span_is_the_recordings(
     recording: Recording,
     corpus: Corpus,
-    tfx,  # noqa: F811
+    tfx: Tfx,  # noqa: F811
 ) -> None:
     """The record span is the recording's, never counted from 1970 (a time left 0 is unset)."""
     _, report = _run_json(tfx, "wtf", corpus(recording))
@@ -334,7 +335,7 @@ def test_wtf_span_is_the_recordings(
 
 
 @pytest.mark.parametrize("recording", _cases("test_gap_is_the_same_in_wtf_and_monitor", WITH_TF))
-def test_gap_is_the_same_in_wtf_and_monitor(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_gap_is_the_same_in_wtf_and_monitor(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     path = corpus(recording)
     _, monitor = _run_json(tfx, "monitor", "-b", path)
     _, wtf = _run_json(tfx, "wtf", path)
@@ -348,7 +349,7 @@ def test_gap_is_the_same_in_wtf_and_monitor(recording: Recording, corpus: Corpus
         assert float(shown.group(1)) == pytest.approx(gaps[edge], abs=0.05), (finding["message"], gaps[edge])
 
 
-def _report_page(tfx: Callable[..., Result], path: Path, out: Path) -> tuple[dict, dict[str, str]]:  # noqa: F811
+def _report_page(tfx: Callable[..., Result], path: Path, out: Path) -> tuple[dict[str, Any], dict[str, str]]:  # noqa: F811
     """``tfx report``'s page for ``path``: its data (the timelines) and each edge's line of figures, by name."""
     result = tfx("report", "-b", path, "-o", out)
     assert result.code in (0, 1), result.stderr
@@ -362,7 +363,7 @@ def _report_page(tfx: Callable[..., Result], path: Path, out: Path) -> tuple[dic
 
 
 @pytest.mark.parametrize("recording", _cases("test_figures_agree_across_commands", WITH_TF))
-def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx, tmp_path: Path) -> None:  # noqa: F811
+def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     """An edge's rate, longest interval, pauses and delay, as ``monitor``, ``frames``, ``wtf`` and ``report``
     show them, are one figure each (``core.figures``): only their rounding differs."""
     path = corpus(recording)
@@ -412,7 +413,7 @@ def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx
 
 
 @pytest.mark.parametrize("recording", _cases("test_view_frames", RECORDINGS))
-def test_view_frames(recording: Recording, corpus: Corpus, tfx, tmp_path: Path) -> None:  # noqa: F811
+def test_view_frames(recording: Recording, corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     out = tmp_path / "frames.svg"
     result = tfx("view-frames", "-b", corpus(recording), "-o", out)
     assert result.code == recording.meta["expected"]["view_frames_exit"], result.stdout + result.stderr
@@ -436,7 +437,7 @@ ECHO_CASES = [
 
 
 @pytest.mark.parametrize(("recording", "pair"), ECHO_CASES)
-def test_echo_one_second_in(recording: Recording, pair: list[str], corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_echo_one_second_in(recording: Recording, pair: list[str], corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """``--at +1`` is a second into the tf data of the frames asked about, on their own time base (a tree
     may hold two clocks), whose first second every one of these covers."""
     path = corpus(recording)
@@ -487,7 +488,7 @@ def _fastest(contents: data.Contents) -> float:
     return max(speeds)
 
 
-def _tf2_queries(contents: data.Contents, pairs: list[list[str]]) -> list[list]:
+def _tf2_queries(contents: data.Contents, pairs: list[list[str]]) -> list[Row]:
     """Lookups at 150 times over the tf data (the moving edges', else the statics' stamps) and a second
     either side (a quarter of the data's span, if shorter: most inside it), and the latest (time 0)."""
     samples = contents.dynamic.values() or contents.edges.values()
@@ -586,7 +587,7 @@ def _calibrations(corpus: Corpus) -> tuple[Path, Path]:
     return first, second
 
 
-def test_two_calibrations_latched_together_are_one_static_conflict(corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_two_calibrations_latched_together_are_one_static_conflict(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """Two robot descriptions on /tf_static at once (-b both): one finding naming both publishers, the
     edges they disagree on and how far, not one dynamic_on_static error per edge. Expected from the data:
     the edges both send, with different values (the second bag names no publisher: its topic stands in)."""
@@ -607,7 +608,7 @@ def test_two_calibrations_latched_together_are_one_static_conflict(corpus: Corpu
     assert f"they agree on {len(a.keys() & b.keys()) - len(differ)} others" in conflict["message"]
 
 
-def test_diff_of_two_calibrations_counts_no_publisher_change_for_an_unnamed_one(corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_diff_of_two_calibrations_counts_no_publisher_change_for_an_unnamed_one(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """The 2025 bag names no publisher (no callerids): the topic standing in for it is not a publisher change."""
     first, second = _calibrations(corpus)
     result = tfx("diff", first, second, "--format", "json")

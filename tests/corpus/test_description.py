@@ -9,10 +9,11 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import pytest
 
-from tests.cli.conftest import tfx  # noqa: F401 (the fixture)
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.description import Verdict, check_joints, robot_of
 from tftools.analysis.frames import frame_tree
@@ -30,8 +31,10 @@ def _shared(name: str) -> Path:
     return path
 
 
-def _joint(name: str, kind: str, parent: str, child: str, xyz: tuple, rpy: tuple, axis: str = "1 0 0") -> str:
-    def f(v: tuple) -> str:
+def _joint(
+    name: str, kind: str, parent: str, child: str, xyz: tuple[float, ...], rpy: tuple[float, ...], axis: str = "1 0 0"
+) -> str:
+    def f(v: tuple[float, ...]) -> str:
         return " ".join(repr(float(x)) for x in v)
 
     return (
@@ -53,7 +56,7 @@ def urdf_from_tf(recording: Recording, root: str, moving: dict[str, str], extra:
             hist = recording.buffer.history(child)
             assert hist is not None
             xyz = tuple(float(v) for v in hist.translations[0])
-            rpy = rpy_from_quat(tuple(float(v) for v in hist.rotations[0]))  # type: ignore[arg-type]
+            rpy = rpy_from_quat(tuple(float(v) for v in hist.rotations[0]))  # type: ignore[arg-type]  # a row of 4
             parent = tree.frames[child].parent
             if child in moving:
                 joints.append(_joint(moving[child], "continuous", str(parent), child, xyz, rpy))
@@ -65,14 +68,14 @@ def urdf_from_tf(recording: Recording, root: str, moving: dict[str, str], extra:
     return f'<?xml version="1.0"?><robot name="from_tf">{body}</robot>'
 
 
-def _urdf_findings(tfx, *args: str | Path) -> list[dict]:  # noqa: F811
+def _urdf_findings(tfx: Tfx, *args: str | Path) -> list[dict[str, Any]]:  # noqa: F811
     result = tfx("wtf", *args, "--format", "json")
     assert result.stdout, result.stderr
     (report,) = json.loads(result.stdout)["bags"]
     return [f for f in report["findings"] if f["code"].startswith("urdf")]
 
 
-def test_the_panda_as_its_urdf_says(tfx) -> None:  # noqa: F811
+def test_the_panda_as_its_urdf_says(tfx: Tfx) -> None:  # noqa: F811
     bag = _shared("tfbag-franka-panda.bag")
     recording = read_recording([bag])
     robot, said = robot_of([bag], recording, read_urdf(PANDA_URDF))
@@ -89,18 +92,18 @@ def test_the_panda_as_its_urdf_says(tfx) -> None:  # noqa: F811
 
 
 @pytest.mark.parametrize("name", ["tfbag-franka-panda.bag", "tfbag-franka-panda-ros2"])
-def test_diff_of_the_panda_and_its_urdf(tfx, name: str) -> None:  # noqa: F811
+def test_diff_of_the_panda_and_its_urdf(tfx: Tfx, name: str) -> None:  # noqa: F811
     result = tfx("diff", PANDA_URDF, _shared(name))
     assert result.code == 0 and "no differences beyond the tolerances" in result.stdout, result.stdout
 
 
-def test_the_panda_db3_conversion_has_no_joint_states_and_no_false_alarm(tfx) -> None:  # noqa: F811
+def test_the_panda_db3_conversion_has_no_joint_states_and_no_false_alarm(tfx: Tfx) -> None:  # noqa: F811
     bag = _shared("tfbag-franka-panda-ros2")
     findings = _urdf_findings(tfx, bag, "--urdf", PANDA_URDF)
     assert [(f["code"], f["severity"]) for f in findings] == [("urdf_extra", "info")]
 
 
-def test_the_panda_with_a_moved_tool_frame(tfx, tmp_path: Path) -> None:  # noqa: F811
+def test_the_panda_with_a_moved_tool_frame(tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     edited = tmp_path / "panda_edited.urdf"
     text = PANDA_URDF.read_text()
     line = next(row for row in text.splitlines() if 'name="panda_hand_tcp_joint"' in row)
@@ -117,7 +120,7 @@ def test_the_panda_with_a_moved_tool_frame(tfx, tmp_path: Path) -> None:  # noqa
     assert moved[0]["frames"] == ["panda_hand", "panda_hand_tcp"]
 
 
-def test_the_panda_without_its_statics_names_robot_state_publisher(tfx) -> None:  # noqa: F811
+def test_the_panda_without_its_statics_names_robot_state_publisher(tfx: Tfx) -> None:  # noqa: F811
     # only /tf read: robot_state_publisher's /tf_static as if never recorded
     findings = _urdf_findings(tfx, _shared("tfbag-franka-panda.bag"), "--urdf", PANDA_URDF, "--topic", "/tf")
     (missing,) = [f for f in findings if f["code"] == "urdf_missing"]
@@ -126,7 +129,7 @@ def test_the_panda_without_its_statics_names_robot_state_publisher(tfx) -> None:
     assert "robot_state_publisher publishes them on /tf_static" in missing["hint"]
 
 
-def test_the_panda_without_its_moving_transforms_says_robot_state_publisher(tfx) -> None:  # noqa: F811
+def test_the_panda_without_its_moving_transforms_says_robot_state_publisher(tfx: Tfx) -> None:  # noqa: F811
     # only /tf_static read: the joint states name every arm joint, yet tf lacks them
     findings = _urdf_findings(tfx, _shared("tfbag-franka-panda.bag"), "--urdf", PANDA_URDF, "--topic", "/tf_static")
     missing = [f for f in findings if f["code"] == "urdf_missing"]
@@ -135,7 +138,7 @@ def test_the_panda_without_its_moving_transforms_says_robot_state_publisher(tfx)
     assert "panda_joint1" in missing[0]["message"] and "panda_link1" in missing[0]["message"]
 
 
-def test_the_gazebo_turtlebot_against_its_own_recorded_description(tfx) -> None:  # noqa: F811
+def test_the_gazebo_turtlebot_against_its_own_recorded_description(tfx: Tfx) -> None:  # noqa: F811
     bag = _shared("ros2_db3_tb3_gazebo_walker")
     recording = read_recording([bag])
     robot, said = robot_of([bag], recording, None)
@@ -150,7 +153,7 @@ def test_the_gazebo_turtlebot_against_its_own_recorded_description(tfx) -> None:
     assert findings[0]["frames"] == ["odom"]
 
 
-def test_the_robotino_as_its_tf_shows_it(tfx, tmp_path: Path) -> None:  # noqa: F811
+def test_the_robotino_as_its_tf_shows_it(tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     bag = _shared("uwb-slam-Record_2017-11-17-12-24-50.bag")
     recording = read_recording([bag])
     wheels = {f"wheel{i}_link": f"wheel{i}_joint" for i in range(3)}
@@ -161,7 +164,7 @@ def test_the_robotino_as_its_tf_shows_it(tfx, tmp_path: Path) -> None:  # noqa: 
     assert findings[0]["frames"] == ["odom"]
 
 
-def test_a_turtlebot_recorded_without_joint_states_lacks_its_wheels(tfx, tmp_path: Path) -> None:  # noqa: F811
+def test_a_turtlebot_recorded_without_joint_states_lacks_its_wheels(tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     bag = _shared("ros1_tb3_waffle_static.bag")
     recording = read_recording([bag])
     # turtlebot3_description's waffle: its wheels, which only /tf (never recorded here) would carry

@@ -11,22 +11,24 @@ import subprocess
 import sys
 import time
 import xmlrpc.client
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import pytest
 
 from tests.cli.conftest import tfx  # noqa: F401 - the in-process `tfx` fixture, for tests without a master
 
 ROS_PYTHON = "/usr/bin/python3"
+T = TypeVar("T")
 NODES = Path(__file__).with_name("ros1_nodes.py")
 
 
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+        port: int = s.getsockname()[1]
+        return port
 
 
 def _unavailable() -> str | None:
@@ -48,7 +50,7 @@ def ros1_available() -> None:
         pytest.skip(reason)
 
 
-def wait_until(condition, timeout: float, what: str, every: float = 0.05):
+def wait_until(condition: Callable[[], T], timeout: float, what: str, every: float = 0.05) -> T:
     """Poll ``condition()`` until it returns something true; fail after ``timeout`` seconds."""
     deadline = time.monotonic() + timeout
     while True:
@@ -95,7 +97,7 @@ class Master:
         except OSError:
             return False
 
-    def param(self, key: str):
+    def param(self, key: str) -> Any:
         code, _, value = self.master().getParam("/test", key)
         return value if code == 1 else None
 

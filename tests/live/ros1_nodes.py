@@ -13,7 +13,7 @@ import math
 import sys
 
 
-def dynamic(node, parent, child, x, hz="20"):
+def dynamic(node: str, parent: str, child: str, x: str, hz: str = "20") -> None:
     import rospy
     import tf2_ros
     from geometry_msgs.msg import TransformStamped
@@ -36,7 +36,7 @@ def dynamic(node, parent, child, x, hz="20"):
         rate.sleep()
 
 
-def wrong_type(node, topic):
+def wrong_type(node: str, topic: str) -> None:
     import rospy
     from std_msgs.msg import String
 
@@ -48,7 +48,7 @@ def wrong_type(node, topic):
         rospy.sleep(0.05)
 
 
-def scan(node, topic, frame, hz="10"):
+def scan(node: str, topic: str, frame: str, hz: str = "10") -> None:
     import rospy
     from sensor_msgs.msg import LaserScan
 
@@ -65,7 +65,7 @@ def scan(node, topic, frame, hz="10"):
         rate.sleep()
 
 
-def static_listener():
+def static_listener() -> None:
     import rospy
     from tf2_msgs.msg import TFMessage
 
@@ -93,7 +93,7 @@ def static_listener():
     )
 
 
-def write_bag(path, parent, child, seconds="10"):
+def write_bag(path: str, parent: str, child: str, seconds: str = "10") -> None:
     import genpy
     import rosbag
     from geometry_msgs.msg import TransformStamped
@@ -111,7 +111,7 @@ def write_bag(path, parent, child, seconds="10"):
             bag.write("/tf", TFMessage([t]), stamp)
 
 
-def clock_and_tf(node):
+def clock_and_tf(node: str) -> None:
     """tf2_ros's time_reset_test's publisher: /clock and /tf as stdin says, "ok" on stdout after each line."""
     import rospy
     import tf2_ros

@@ -15,6 +15,7 @@ import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO
 
 import pytest
 
@@ -45,7 +46,7 @@ class Process:
         for reader in self._readers:
             reader.start()
 
-    def _read(self, stream, kept: list[str]) -> None:
+    def _read(self, stream: IO[str], kept: list[str]) -> None:
         for line in stream:
             kept.append(line)
             self.lines.put(line.rstrip("\n"))

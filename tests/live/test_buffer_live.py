@@ -68,4 +68,5 @@ def test_lookups_while_another_thread_inserts() -> None:
     thread.join()
     assert not errors and seen > 0
     assert buffer.lookup("map", "base").translation == (400.0, 400.0, 0.0)
-    assert np.all(np.diff(buffer.history("base").stamps) > 0)
+    history = buffer.history("base")
+    assert history is not None and np.all(np.diff(history.stamps) > 0)

@@ -10,14 +10,15 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from tests.corpus.fetch import shared_dir
-from tests.live.conftest import ROS_PYTHON, read_line, wait_until
-from tests.live.ros2_processes import Process, domain_fixture  # noqa: F401 - fixture `domain`
+from tests.live.conftest import ROS_PYTHON, Master, Ros, read_line, wait_until
+from tests.live.ros2_processes import Process, Ros2Domain, domain_fixture  # noqa: F401 - fixture `domain`
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
 from tftools.analysis.wtf.health import LEVELS, Level, check_name, edge_name
@@ -42,14 +43,14 @@ def corpus(name: str) -> Path:
     return path
 
 
-def heard(path: Path) -> list[dict]:
+def heard(path: Path) -> list[dict[str, Any]]:
     """The arrays tfx published (a bag played may hold a robot's own /diagnostics)."""
     arrays = [json.loads(line) for line in path.read_text().splitlines() if line.startswith("{")]
     return [a for a in arrays if a.get("publisher", "/tfx_diagnostics").startswith("/tfx_diagnostics")]
 
 
 @contextlib.contextmanager
-def rospy_listener(ros, out: Path) -> Iterator[None]:
+def rospy_listener(ros: Ros, out: Path) -> Iterator[None]:
     """The rospy subscriber of /diagnostics, its lines into ``out`` (a file: a pipe would fill), killed after.
     Skips without Debian's diagnostic_msgs and rosdiagnostic (install-reference.sh); in CI they must be there."""
     probe = subprocess.run([ROS_PYTHON, "-c", "import diagnostic_msgs.msg, rosdiagnostic"], capture_output=True)
@@ -68,14 +69,14 @@ def rospy_listener(ros, out: Path) -> Iterator[None]:
         listener.wait()
 
 
-def watcher(ros, *options: str) -> subprocess.Popen[str]:
+def watcher(ros: Ros, *options: str) -> subprocess.Popen[str]:
     """``tfx wtf --ros1 --watch OPTIONS``, once it says it is watching."""
     started = ros.tfx("wtf", "--ros1", "--watch", *options)
     read_line(started, "watching", 30, stream="stderr")
     return started
 
 
-def levels_over(arrays: list[dict]) -> dict[str, int]:
+def levels_over(arrays: list[dict[str, Any]]) -> dict[str, int]:
     """Each status's worst level over ``arrays``."""
     worst: dict[str, int] = {}
     for array in arrays:
@@ -98,7 +99,7 @@ def unexplained(said: dict[str, int], expected: dict[str, int]) -> dict[str, int
     }
 
 
-def bag_says(tfx_run, bag: Path) -> dict[str, int]:
+def bag_says(tfx_run: Callable[..., subprocess.CompletedProcess[str]], bag: Path) -> dict[str, int]:
     """``tfx wtf BAG``'s findings as the levels of their checks' statuses."""
     done = tfx_run("wtf", str(bag), "-f", "json")
     [report] = json.loads(done.stdout)["bags"]
@@ -110,7 +111,9 @@ def bag_says(tfx_run, bag: Path) -> dict[str, int]:
     return said
 
 
-def test_a_rospy_node_and_rosdiagnostic_hear_on_diagnostics_what_wtf_says_of_the_bag(ros, master, tmp_path):
+def test_a_rospy_node_and_rosdiagnostic_hear_on_diagnostics_what_wtf_says_of_the_bag(
+    ros: Ros, master: Master, tmp_path: Path
+) -> None:
     bag = corpus(NEATO)
     expected = bag_says(ros.run_tfx, bag)
     assert expected == {check_name("static_on_dynamic"): Level.WARN}  # the manifest's verdict on it
@@ -133,7 +136,7 @@ def test_a_rospy_node_and_rosdiagnostic_hear_on_diagnostics_what_wtf_says_of_the
         )
         assert play.wait(120) == 0
         watching.send_signal(signal.SIGINT)  # Ctrl-C: a clean stop, unregistered
-        assert watching.wait(20) == 0, watching.stderr.read()
+        assert watching.wait(20) == 0, watching.stderr.read() if watching.stderr else ""
         wait_until(lambda: not master.publishers("/diagnostics"), 10, "/diagnostics unregistered")
     arrays = heard(out)
     hearing = [a for a in arrays if a["status"][0]["name"] == "tf: tree" and a["status"][0]["level"] != Level.STALE]
@@ -163,7 +166,9 @@ def test_a_rospy_node_and_rosdiagnostic_hear_on_diagnostics_what_wtf_says_of_the
     assert "hardware_id: tf" in echo.stdout
 
 
-def test_a_dead_publisher_is_said_stale_and_a_restarted_one_heard_again(ros, master, tmp_path):
+def test_a_dead_publisher_is_said_stale_and_a_restarted_one_heard_again(
+    ros: Ros, master: Master, tmp_path: Path
+) -> None:
     out = tmp_path / "heard.jsonl"
     with rospy_listener(ros, out):
         watching = watcher(ros, "--wall-time", "--window", "3")
@@ -185,7 +190,9 @@ def test_a_dead_publisher_is_said_stale_and_a_restarted_one_heard_again(ros, mas
         assert watching.wait(20) == 0
 
 
-def test_an_independent_dds_reader_hears_ros2_diagnostics_from_an_announced_node(domain, tmp_path):
+def test_an_independent_dds_reader_hears_ros2_diagnostics_from_an_announced_node(
+    domain: Ros2Domain, tmp_path: Path
+) -> None:
     listener = Process([sys.executable, str(ROS2_LISTENER)], domain.env)
     try:
         listener.wait_for("ready")
@@ -230,7 +237,9 @@ SOAK_SECONDS = float(os.environ.get("TFX_SOAK_SECONDS", "120"))
 
 
 @pytest.mark.slow
-def test_soak_a_looping_replay_memory_stays_bounded_and_the_jumps_back_are_no_findings(ros, master, tmp_path):
+def test_soak_a_looping_replay_memory_stays_bounded_and_the_jumps_back_are_no_findings(
+    ros: Ros, master: Master, tmp_path: Path
+) -> None:
     """``rosbag play --clock --loop`` for ``SOAK_SECONDS``: each loop is a jump back of ROS time. The watcher's
     memory (RSS, printed) after the first loops stays within a bound, and what it says of each pass is what
     wtf says of the bag."""
@@ -248,6 +257,7 @@ def test_soak_a_looping_replay_memory_stays_bounded_and_the_jumps_back_are_no_fi
             print(f"soak: {samples[-1][0]:7.0f} s  RSS {samples[-1][1] / 1024:6.1f} MiB", flush=True)
         watching.send_signal(signal.SIGINT)
         assert watching.wait(30) == 0
+        assert watching.stderr is not None
         told = watching.stderr.read()
     assert "ROS time jumped back" in told  # the loops were heard as jumps back (the bag is 20 s long)
     warm = max(rss for at, rss in samples if at <= SOAK_SECONDS / 4)

@@ -13,6 +13,7 @@ import time
 import xmlrpc.client
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -100,7 +101,7 @@ def test_a_call_has_a_total_deadline_however_the_bytes_trickle() -> None:
     ids=["endless", "declared-10GB"],
 )
 def test_a_reply_too_large_is_refused_without_reading_it_all(answer: object) -> None:
-    server = FakeXmlRpc({"getPid": answer})  # type: ignore[dict-item]
+    server = FakeXmlRpc({"getPid": answer})  # type: ignore[dict-item]  # a hostile answer is the test
     try:
         outcome = finishes(lambda: ros_xmlrpc.call(server.uri, "getPid", "/tfx", timeout=30), within=10)
     finally:
@@ -118,7 +119,7 @@ JUNK = {
     "entity-bomb": BOMB,
     "external-entity": b'<!DOCTYPE m [<!ENTITY e SYSTEM "file:///etc/passwd">]><methodResponse>&e;</methodResponse>',
     "not-a-triple": xmlrpc.client.dumps(("x",), methodresponse=True).encode(),
-    "string-code": ros_reply(False, code="1"),  # type: ignore[arg-type]
+    "string-code": ros_reply(False, code="1"),  # type: ignore[arg-type]  # a hostile answer is the test
     "fault": xmlrpc.client.dumps(xmlrpc.client.Fault(1, "no\x1b[31m"), methodresponse=True).encode(),
     "http-500": b"HTTP/1.0 500 Internal Server Error\r\nContent-Length: 0\r\n\r\n",
     "not-http": b"SSH-2.0-OpenSSH_9.2\r\n",
@@ -212,7 +213,7 @@ def test_a_junk_publisher_update_is_refused_and_the_node_keeps_serving(
     listening_node: tuple[node_module.Node, list[str]],
 ) -> None:
     node, notices = listening_node
-    slave = xmlrpc.client.ServerProxy(node.uri)
+    slave: Any = xmlrpc.client.ServerProxy(node.uri)  # its answers are untyped lists
     assert slave.publisherUpdate("/master", "/tf", "http://127.0.0.1:1/")[0] == -1  # a string, not a list
     assert slave.publisherUpdate("/master", "/tf", [1, 2])[0] == -1
     assert notices and all("ignored a publisherUpdate" in n for n in notices)
@@ -239,7 +240,8 @@ def test_the_node_serves_a_bounded_number_of_requests_at_once(
     deadline = time.monotonic() + ros_xmlrpc.REQUEST_TIMEOUT + 3
     while True:  # the idle callers' slots come back
         try:
-            assert xmlrpc.client.ServerProxy(node.uri).getPid("/x")[0] == 1
+            peer: Any = xmlrpc.client.ServerProxy(node.uri)  # its answers are untyped lists
+            assert peer.getPid("/x")[0] == 1
             break
         except (OSError, xmlrpc.client.ProtocolError):
             assert time.monotonic() < deadline
@@ -286,7 +288,7 @@ def test_publisher_updates_in_a_storm_do_not_pile_up_threads(
 ) -> None:
     node, _notices = listening_node
     silent = FakeXmlRpc({"requestTopic": silence})  # each link waits out its requestTopic call
-    slave = xmlrpc.client.ServerProxy(node.uri)
+    slave: Any = xmlrpc.client.ServerProxy(node.uri)  # its answers are untyped lists
     try:
         for wave in range(20):
             uris = [f"{silent.uri}{wave}/{i}" for i in range(subscriber.MAX_PUBLISHERS)]

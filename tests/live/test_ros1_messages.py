@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+from rosbags.typesys.store import Typestore
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
@@ -17,13 +20,13 @@ from tftools.sources.live.ros1 import tcpros
 
 
 @pytest.fixture(scope="module")
-def store():
+def store() -> Typestore:
     typestore = get_typestore(Stores.ROS1_NOETIC)
     typestore.register(get_types_from_msg("geometry_msgs/TransformStamped[] transforms", TF_MESSAGE))
     return typestore
 
 
-def _rosbags_message(store, transforms: list[Transform], seq: int = 7):
+def _rosbags_message(store: Typestore, transforms: list[Transform], seq: int = 7) -> Any:
     t = store.types
     return t[TF_MESSAGE](
         transforms=[
@@ -58,7 +61,7 @@ transforms = st.builds(
 
 @settings(max_examples=60, deadline=None)
 @given(st.lists(transforms, max_size=6))
-def test_decoding_matches_rosbags_deserializer(store, given_transforms: list[Transform]) -> None:
+def test_decoding_matches_rosbags_deserializer(store: Typestore, given_transforms: list[Transform]) -> None:
     data = store.serialize_ros1(_rosbags_message(store, given_transforms), TF_MESSAGE)
     batch = message_batch(decode_tf, bytes(data), static=True, authority="/pub", record_time=42)
     assert len(batch) == len(given_transforms)
@@ -74,19 +77,19 @@ def test_decoding_matches_rosbags_deserializer(store, given_transforms: list[Tra
 
 @settings(max_examples=60, deadline=None)
 @given(st.lists(transforms, max_size=6))
-def test_encoding_is_byte_for_byte_rosbags_serialization(store, given_transforms: list[Transform]) -> None:
+def test_encoding_is_byte_for_byte_rosbags_serialization(store: Typestore, given_transforms: list[Transform]) -> None:
     expected = store.serialize_ros1(_rosbags_message(store, given_transforms, seq=0), TF_MESSAGE)
     assert encode_tf_message(given_transforms) == bytes(expected)
 
 
-def test_a_truncated_message_is_refused(store) -> None:
+def test_a_truncated_message_is_refused(store: Typestore) -> None:
     data = encode_tf_message([Transform((1, 2, 3), (0, 0, 0, 1), 5, "a", "b")])
     for cut in (2, 10, 20, len(data) - 1):
         with pytest.raises(ValueError, match=f"message ends at byte {cut}|1 transform cannot fit in {cut} bytes"):
             message_batch(decode_tf, data[:cut], static=False, authority="", record_time=0)
 
 
-def test_clock_decodes_as_rosbags_wrote_it(store) -> None:
+def test_clock_decodes_as_rosbags_wrote_it(store: Typestore) -> None:
     now = 1_700_000_123_456_789_012
     t = store.types
     message = t[CLOCK](clock=t["builtin_interfaces/msg/Time"](sec=now // NS_PER_S, nanosec=now % NS_PER_S))

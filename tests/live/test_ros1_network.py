@@ -6,6 +6,7 @@ import socket
 
 import pytest
 
+from tests.cli.conftest import Tfx
 from tftools.sources.live import NoRosSelectedError, choose_ros
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.ros1 import network
@@ -46,7 +47,7 @@ def test_choosing_the_system(monkeypatch: pytest.MonkeyPatch) -> None:
     assert choose_ros() == "ros1"
 
 
-def test_bag_only_options_are_refused_live(tfx, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_bag_only_options_are_refused_live(tfx: Tfx, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")
     result = tfx("echo", "a", "b", "--all")
     assert result.code == 2 and "--all only work on a bag" in result.stderr

@@ -63,7 +63,8 @@ def test_capture_is_a_recording_of_the_live_source(ros: Ros) -> None:
     assert 0.9e9 <= info.end - info.start < 5e9
     assert recording.buffer.lookup("cap_base", "cap_laser").translation == (1.0, 0.0, 0.0)
     assert recording.buffer.lookup("cap_odom", "cap_base").translation[0] == 2.0
-    assert recording.buffer.history("cap_laser").static and not recording.buffer.history("cap_base").static
+    laser, base = recording.buffer.history("cap_laser"), recording.buffer.history("cap_base")
+    assert laser is not None and base is not None and laser.static and not base.static
     assert "/cap_odometry" in recording.buffer.authorities
     delays = transforms.record_time - transforms.stamp  # received after they were stamped (same host clock)
     assert (delays[~transforms.static] > 0).all()
@@ -78,7 +79,7 @@ def test_listen_fills_a_buffer_while_lookups_wait(ros: Ros) -> None:
         later = wait_until(
             lambda: (t := buffer.lookup("listen_a", "listen_b")).stamp > first.stamp and t, 10, "newer data"
         )
-        assert later.translation[0] == 0.5
+        assert later and later.translation[0] == 0.5
 
 
 def test_a_dropped_connection_is_made_again(ros: Ros) -> None:

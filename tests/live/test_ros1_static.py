@@ -74,7 +74,7 @@ def test_rosnode_kill_stops_it(ros: Ros) -> None:
     killed = ros.run("rosnode", "kill", node)
     assert killed.returncode == 0, killed.stderr
     assert static.wait(10) == 0
-    assert "shut down by /rosnode" in static.stderr.read()
+    assert static.stderr is not None and "shut down by /rosnode" in static.stderr.read()
     assert not _registered(ros, static.pid)
 
 

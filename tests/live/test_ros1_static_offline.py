@@ -11,8 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.cli.conftest import SAMPLE_BAGS
+from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tests.live.conftest import ROS_PYTHON
+from tftools.core.rotation import Quat
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
 from tftools.sources.live.static_file import StaticFileError, read_static_transforms
@@ -95,7 +96,7 @@ def test_bad_files_say_which_entry_and_why(tmp_path: Path, text: str, problem: s
         ([], "no transform given"),
     ],
 )
-def test_bad_arguments_are_one_line_errors(tfx, arguments: list[str], message: str) -> None:
+def test_bad_arguments_are_one_line_errors(tfx: Tfx, arguments: list[str], message: str) -> None:
     result = tfx("static", *arguments)
     assert result.code == 2
     assert message in result.stderr
@@ -108,7 +109,7 @@ def _digest(path: Path) -> str:
 
 
 @pytest.mark.parametrize("fmt", ["ros1", "db3", "mcap"])
-def test_bag_copy_adds_the_transforms_at_the_start(tfx, tmp_path: Path, fmt: str) -> None:
+def test_bag_copy_adds_the_transforms_at_the_start(tfx: Tfx, tmp_path: Path, fmt: str) -> None:
     source = SAMPLE_BAGS[fmt]
     before = _digest(source)
     output = tmp_path / ("out.bag" if fmt == "ros1" else "out")
@@ -122,14 +123,15 @@ def test_bag_copy_adds_the_transforms_at_the_start(tfx, tmp_path: Path, fmt: str
     expected = Transform.from_rpy((0.5, 0, 0.25), (0, 0, 1.0))
     np.testing.assert_allclose(added.rotation, expected.rotation, atol=1e-12)
     assert added.translation == (0.5, 0.0, 0.25)
-    assert ours.buffer.history("tool_x").static
+    history = ours.buffer.history("tool_x")
+    assert history is not None and history.static
     # every transform of the input is still there, in the same order
     rows = ours.transforms
     mask = np.array([rows.frame_names[c] != "tool_x" for c in rows.child])
     np.testing.assert_array_equal(rows.stamp[mask], theirs.transforms.stamp)
 
 
-def test_bag_copy_refuses_to_overwrite_without_force(tfx, tmp_path: Path) -> None:
+def test_bag_copy_refuses_to_overwrite_without_force(tfx: Tfx, tmp_path: Path) -> None:
     output = tmp_path / "out_db3"
     output.write_bytes(b"keep me")
     args = ("static", "0", "0", "0", "0", "0", "0", "base_link", "x", "-b", SAMPLE_BAGS["db3"], "-o", output)
@@ -141,7 +143,7 @@ def test_bag_copy_refuses_to_overwrite_without_force(tfx, tmp_path: Path) -> Non
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".tfx-static-")]
 
 
-def test_ros1_copy_reads_in_the_real_rosbag(tfx, tmp_path: Path, ros1_available: None) -> None:
+def test_ros1_copy_reads_in_the_real_rosbag(tfx: Tfx, tmp_path: Path, ros1_available: None) -> None:
     output = tmp_path / "out.bag"
     result = tfx("static", "1", "2", "3", "0", "0", "0", "base_link", "tool_y", "-b", SAMPLE_BAGS["ros1"], "-o", output)
     assert result.code == 0, result.stderr
@@ -154,8 +156,8 @@ def test_ros1_copy_reads_in_the_real_rosbag(tfx, tmp_path: Path, ros1_available:
         "first = min(t.to_nsec() for _, _, t in bag.read_messages())\n"
         "print(json.dumps({'rows': rows, 'count': bag.get_message_count(), 'first': first}))\n"
     )
-    result = subprocess.run([ROS_PYTHON, "-c", script, str(output)], capture_output=True, text=True, check=True)
-    seen = json.loads(result.stdout)
+    read = subprocess.run([ROS_PYTHON, "-c", script, str(output)], capture_output=True, text=True, check=True)
+    seen = json.loads(read.stdout)
     ours = [row for row in seen["rows"] if row[0] == "/tfx_static"]
     assert len(ours) == 1
     _callerid, latching, transforms, record_time = ours[0]
@@ -173,7 +175,7 @@ def test_ros1_copy_reads_in_the_real_rosbag(tfx, tmp_path: Path, ros1_available:
         (["--roll", "0.1", "--pitch", "0.2", "--yaw", "0.3"], Transform.from_rpy((0, 0, 0), (0.1, 0.2, 0.3)).rotation),
     ],
 )
-def test_ros2_flag_form_into_a_bag_copy(tfx, tmp_path: Path, rotation_flags: list[str], expected) -> None:
+def test_ros2_flag_form_into_a_bag_copy(tfx: Tfx, tmp_path: Path, rotation_flags: list[str], expected: Quat) -> None:
     output = tmp_path / "out"
     args = ["--x", "1", "--y", "-2", "--z", "0.5", *rotation_flags, "--frame-id", "base_link", "--child-frame-id", "f"]
     result = tfx("static", *args, "-b", SAMPLE_BAGS["db3"], "-o", output)

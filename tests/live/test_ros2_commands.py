@@ -8,6 +8,7 @@ import sys
 
 import pytest
 
+from tests.cli.conftest import Tfx
 from tests.live.ros2_processes import Ros2Domain, domain_fixture, require_cyclonedds  # noqa: F401 - fixture `domain`
 from tftools.sources.live import NoRosSelectedError, choose_ros
 
@@ -68,7 +69,9 @@ def test_ros_version_decides_first(monkeypatch: pytest.MonkeyPatch) -> None:
         ("monitor", "--ros2", "--duration", "1"),
     ],
 )
-def test_without_the_ros2_extra_ros2_says_how_to_install_it(tfx, monkeypatch: pytest.MonkeyPatch, command) -> None:
+def test_without_the_ros2_extra_ros2_says_how_to_install_it(
+    tfx: Tfx, monkeypatch: pytest.MonkeyPatch, command: tuple[str, ...]
+) -> None:
     monkeypatch.setitem(sys.modules, "cyclonedds", None)  # as if not installed
     monkeypatch.setitem(sys.modules, "cyclonedds.domain", None)
     result = tfx(*command)
@@ -78,7 +81,7 @@ def test_without_the_ros2_extra_ros2_says_how_to_install_it(tfx, monkeypatch: py
     assert "pip install 'tftools[ros2]'" in result.stderr
 
 
-def test_a_bad_domain_id_is_one_line(tfx, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_bad_domain_id_is_one_line(tfx: Tfx, monkeypatch: pytest.MonkeyPatch) -> None:
     require_cyclonedds()
     monkeypatch.setenv("ROS_DOMAIN_ID", "300")
     result = tfx("frames", "--ros2")

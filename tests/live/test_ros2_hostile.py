@@ -37,7 +37,9 @@ def test_a_hostile_participant_gets_one_line_notices(domain: Ros2Domain, kind: s
     assert all(len(line) < 12_000 for line in finished.stderr.splitlines())
 
 
-def test_a_flood_of_frame_names_is_cut_at_the_limit_and_said_once(domain: Ros2Domain, monkeypatch) -> None:
+def test_a_flood_of_frame_names_is_cut_at_the_limit_and_said_once(
+    domain: Ros2Domain, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setattr(base, "MAX_LIVE_FRAMES", 30_000)
     domain.node("hostile", "flood").wait_for("ready", timeout=30)
     notices: list[str] = []

@@ -7,7 +7,8 @@ from __future__ import annotations
 import json
 import math
 import re
-from typing import TYPE_CHECKING, cast
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import pytest
@@ -16,16 +17,17 @@ from tests.live.ros2_processes import Ros2Domain, domain_fixture  # noqa: F401 -
 from tftools.core.time import NS_PER_S
 from tftools.sources.live import open_live
 from tftools.sources.live.capture import capture, listen
+from tftools.sources.recording import Recording
 
 if TYPE_CHECKING:
     from tftools.sinks.ros2_broadcaster import Ros2StaticBroadcaster
 
 
-def edges(recording) -> dict[tuple[str, str], dict]:
+def edges(recording: Recording) -> dict[tuple[str, str], dict[str, Any]]:
     """Per (parent, child): the authorities, stamps, x values and record times heard."""
     batch = recording.transforms
     names, authorities = list(batch.frame_names), list(batch.authorities)
-    found: dict[tuple[str, str], dict] = {}
+    found: dict[tuple[str, str], dict[str, Any]] = {}
     for row in range(len(batch)):
         edge = found.setdefault((names[batch.parent[row]], names[batch.child[row]]), {"by": set(), "rows": []})
         edge["by"].add(authorities[batch.authority[row]])
@@ -36,7 +38,9 @@ def edges(recording) -> dict[tuple[str, str], dict]:
     return found
 
 
-def test_static_transforms_reach_late_joiners_in_one_transient_local_message(domain: Ros2Domain, tmp_path) -> None:
+def test_static_transforms_reach_late_joiners_in_one_transient_local_message(
+    domain: Ros2Domain, tmp_path: Path
+) -> None:
     extrinsics = tmp_path / "extrinsics.yaml"
     extrinsics.write_text("- {frame_id: base_link, child_frame_id: camera, x: 0.1, z: 0.3, roll: -1.5707963}\n")
     publisher = domain.tfx("static", "--ros2", "--from", str(extrinsics), "0.2", "0", "0.1", "1.0", "0", "0",
@@ -167,7 +171,9 @@ def test_publishers_tf2_would_not_hear_are_named(domain: Ros2Domain) -> None:
     assert any("publishes /tf_static volatile: tf2 listeners (transient local) do not hear it" in n for n in notices)
 
 
-def test_the_static_publisher_is_announced_in_the_systems_gid_size(domain: Ros2Domain, monkeypatch) -> None:
+def test_the_static_publisher_is_announced_in_the_systems_gid_size(
+    domain: Ros2Domain, monkeypatch: pytest.MonkeyPatch
+) -> None:
     from tftools.sinks import open_static_broadcaster
 
     monkeypatch.delenv("ROS_DISTRO", raising=False)

@@ -9,6 +9,8 @@ import dataclasses
 import math
 import random
 import threading
+from types import ModuleType
+from typing import Any, cast
 from xml.etree import ElementTree
 
 import numpy as np
@@ -17,6 +19,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from rosbags.interfaces import Nodetype
 from rosbags.typesys import Stores, get_typestore
+from rosbags.typesys.store import Typestore
 
 from tests.live.ros2_processes import require_cyclonedds
 from tftools.core.time import NS_PER_S
@@ -35,17 +38,17 @@ CLOCK = "rosgraph_msgs/msg/Clock"
 PARTICIPANT_INFO = "rmw_dds_common/msg/ParticipantEntitiesInfo"
 
 
-def store(distro: str):
+def store(distro: str) -> Typestore:
     return get_typestore(STORES[distro][0])
 
 
-def nested(typestore, name: str) -> list[str]:
+def nested(typestore: Typestore, name: str) -> list[str]:
     """``name`` and every message type inside it, depth first."""
     found = [name]
     for _field, (kind, detail) in typestore.fielddefs[name][1]:
         inner = detail[0] if kind in (Nodetype.ARRAY, Nodetype.SEQUENCE) else (kind, detail)
         if inner[0] == Nodetype.NAME:
-            found += [n for n in nested(typestore, inner[1]) if n not in found]
+            found += [n for n in nested(typestore, cast(str, inner[1])) if n not in found]  # a NAME's detail: the name
     return found
 
 
@@ -83,7 +86,8 @@ def test_type_names_are_those_of_every_type_inside_tfmessage_and_clock(distro: s
 
 @pytest.mark.parametrize("distro", STORES)
 def test_gid_sizes_are_those_of_rmw_dds_common(distro: str) -> None:
-    (_kind, ((_element, _), size)) = store(distro).fielddefs["rmw_dds_common/msg/Gid"][1][0][1]
+    gid: Any = store(distro).fielddefs["rmw_dds_common/msg/Gid"][1][0][1]  # an ARRAY: (kind, ((element, _), size))
+    (_kind, ((_element, _), size)) = gid
     assert size == STORES[distro][1] and size in ros2.GID_SIZES
 
 
@@ -101,7 +105,7 @@ transform = st.builds(
 )
 
 
-def rosbags_tf_message(typestore, transforms: list[Transform]):
+def rosbags_tf_message(typestore: Typestore, transforms: list[Transform]) -> Any:
     types = typestore.types
     return types[TF](
         transforms=[
@@ -145,10 +149,12 @@ def test_clock_serialized_by_ros2_decodes() -> None:
         assert message_clock(cdr.decode_clocks, data) == 1234 * NS_PER_S + 567
 
 
-def rosbags_participant_info(typestore, gid_size: int, participant: bytes, nodes: list[tuple[str, str, list[bytes]]]):
+def rosbags_participant_info(
+    typestore: Typestore, gid_size: int, participant: bytes, nodes: list[tuple[str, str, list[bytes]]]
+) -> Any:
     types = typestore.types
 
-    def gid(guid: bytes):
+    def gid(guid: bytes) -> Any:
         return types["rmw_dds_common/msg/Gid"](data=np.frombuffer(guid.ljust(gid_size, b"\0"), np.uint8))
 
     return types[PARTICIPANT_INFO](
@@ -170,7 +176,10 @@ def rosbags_participant_info(typestore, gid_size: int, participant: bytes, nodes
 def test_ros_discovery_info_of_either_gid_size_decodes(distro: str, node_count: int) -> None:
     typestore, gid_size = store(distro), STORES[distro][1]
     rng = random.Random(node_count)
-    guid = lambda: bytes(rng.randrange(256) for _ in range(16))  # noqa: E731
+
+    def guid() -> bytes:
+        return bytes(rng.randrange(256) for _ in range(16))
+
     participant = guid()
     nodes = [("/" if i % 2 else "/ns", f"node{i}", [guid() for _ in range(i + 1)]) for i in range(node_count)]
     info = rosbags_participant_info(typestore, gid_size, participant, nodes)
@@ -231,7 +240,8 @@ def test_discovery_settings_become_cyclone_configuration_as_in_rmw_cyclonedds() 
     assert "<AllowMulticast>false</AllowMulticast>" in local
     assert '<Peers><Peer address="localhost"/><Peer address="10.0.0.2"/><Peer address="b"/></Peers>' in local
     hostile = ros2.discovery_config({"ROS_STATIC_PEERS": "a\"<&'b"}).split(",")[1]
-    assert ElementTree.fromstring(hostile).find(".//Peer").get("address") == "a\"<&'b"
+    peer = ElementTree.fromstring(hostile).find(".//Peer")
+    assert peer is not None and peer.get("address") == "a\"<&'b"
     assert ros2.discovery_config({"ROS_LOCALHOST_ONLY": "1"}) == ros2.discovery_config(
         {"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST"}
     )
@@ -249,19 +259,19 @@ def test_discovery_settings_become_cyclone_configuration_as_in_rmw_cyclonedds() 
 
 
 @pytest.fixture(scope="module")
-def idl():
+def idl() -> ModuleType:
     require_cyclonedds()
     from tftools.sources.live.ros2 import idl
 
     return idl
 
 
-def idl_struct_layout(cls) -> list[tuple[str, str]]:
+def idl_struct_layout(cls: type) -> list[tuple[str, str]]:
     return [(f.name, str(f.type)) for f in dataclasses.fields(cls)]
 
 
 @pytest.mark.parametrize("distro", STORES)
-def test_idl_structs_are_ros2s_types(idl, distro: str) -> None:
+def test_idl_structs_are_ros2s_types(idl: ModuleType, distro: str) -> None:
     typestore, gid_size = store(distro), STORES[distro][1]
     info = idl.participant_entities_info(gid_size)
     structs = [info, info.Gid, info.NodeEntitiesInfo]
@@ -276,7 +286,7 @@ def test_idl_structs_are_ros2s_types(idl, distro: str) -> None:
 
 @settings(max_examples=40, deadline=None)
 @given(st.lists(transform, max_size=5))
-def test_tftools_writes_the_bytes_ros2_writes(idl, transforms: list[Transform]) -> None:
+def test_tftools_writes_the_bytes_ros2_writes(idl: ModuleType, transforms: list[Transform]) -> None:
     """What the broadcaster writes (``cdr.encode_tf_message``) is what the type it registers serializes."""
     written = cdr.encode_tf_message(transforms)
     sample = idl.ros2_struct(TF).deserialize(written)
@@ -288,7 +298,7 @@ def test_tftools_writes_the_bytes_ros2_writes(idl, transforms: list[Transform]) 
 
 
 @pytest.mark.parametrize("distro", STORES)
-def test_node_announcements_are_the_bytes_rmw_dds_common_writes(idl, distro: str) -> None:
+def test_node_announcements_are_the_bytes_rmw_dds_common_writes(idl: ModuleType, distro: str) -> None:
     typestore, gid_size = store(distro), STORES[distro][1]
     participant, writers = b"P" * 16, [b"W" * 16, b"X" * 16]
     ours = idl.announcement(gid_size, participant, "/", "tfx_static", writers).serialize()
@@ -297,7 +307,7 @@ def test_node_announcements_are_the_bytes_rmw_dds_common_writes(idl, distro: str
     assert ours == bytes(typestore.serialize_cdr(theirs, PARTICIPANT_INFO))
 
 
-def test_cyclone_qos_is_rmw_cyclonedds_s(idl) -> None:
+def test_cyclone_qos_is_rmw_cyclonedds_s(idl: ModuleType) -> None:
     from cyclonedds.core import Policy
 
     from tftools.sources.live.ros2.dds import qos
@@ -320,7 +330,9 @@ def test_cyclone_qos_is_rmw_cyclonedds_s(idl) -> None:
 
 
 @pytest.mark.parametrize("scope", ["SUBNET", "LOCALHOST", "OFF", "SYSTEM_DEFAULT"])
-def test_cyclone_accepts_each_discovery_configuration(idl, scope: str, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_cyclone_accepts_each_discovery_configuration(
+    idl: ModuleType, scope: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
     from tftools.sources.live.ros2.dds import Participant
 
     monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", scope)
@@ -332,7 +344,7 @@ def test_cyclone_accepts_each_discovery_configuration(idl, scope: str, monkeypat
         participant.close()
 
 
-def test_transforms_round_trip_through_tftools_types(idl) -> None:
+def test_transforms_round_trip_through_tftools_types(idl: ModuleType) -> None:
     transforms = [Transform.from_rpy((1.0, -2.0, 3.5), (0.1, 0.2, math.pi / 2), 5 * NS_PER_S + 7, "map", "odom")]
     data = idl.ros2_struct(TF).deserialize(cdr.encode_tf_message(transforms)).serialize()
     batch = message_batch(cdr.decode_tf, data, static=False, authority="a", record_time=1)
@@ -341,7 +353,7 @@ def test_transforms_round_trip_through_tftools_types(idl) -> None:
     assert batch.stamp.tolist() == [transforms[0].stamp]
 
 
-def test_a_failing_step_is_said_and_the_waiter_goes_on(idl, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_failing_step_is_said_and_the_waiter_goes_on(idl: ModuleType, monkeypatch: pytest.MonkeyPatch) -> None:
     from tftools.sources.live.ros2.dds import Participant, Waiter
 
     monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "OFF")

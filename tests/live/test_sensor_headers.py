@@ -14,7 +14,7 @@ import pytest
 from tests.live.fake_ros1 import fake_master, fake_publisher, ros_reply, silence
 from tests.live.test_ros1_hostile import finishes
 from tftools.core.time import NS_PER_S, WallClock
-from tftools.sources.codecs.types import definition_starts_with_header, ros1_message_type
+from tftools.sources.codecs.types import MessageType, definition_starts_with_header, ros1_message_type
 from tftools.sources.contents import StampedRead
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.header_store import HeaderStore
@@ -38,12 +38,14 @@ def scan_message(frame_id: bytes = b"laser", sec: int = 5) -> bytes:
     return header + struct.pack("<7f", -1, 1, 0.5, 0, 0, 0, 10) + struct.pack("<I", 0) * 2
 
 
-def connection_header(msg_type=SCAN, callerid: str = "/driver") -> bytes:
+def connection_header(msg_type: MessageType = SCAN, callerid: str = "/driver") -> bytes:
     fields = {"callerid": callerid, "md5sum": msg_type.md5sum, "type": msg_type.name}
     return tcpros.encode_header({**fields, "message_definition": msg_type.definition})
 
 
-def sending(*messages: bytes, msg_type=SCAN, callerid: str = "/driver") -> Callable[[socket.socket], None]:
+def sending(
+    *messages: bytes, msg_type: MessageType = SCAN, callerid: str = "/driver"
+) -> Callable[[socket.socket], None]:
     """A publisher that sends its header, then ``messages`` over and over, ten a second."""
 
     def behave(sock: socket.socket) -> None:

@@ -10,9 +10,14 @@ import tempfile
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
+from typing import Any
 
 ROS_PYTHON = "/usr/bin/python3"
 HARNESS = Path(__file__).with_name("tf2_harness.py")
+
+# One row of a scenario as the harness reads it, a JSON array read by position: an insert's frames, stamp and
+# values, or a query's name then its frames and time (mixed types, so Any).
+Row = list[Any]
 
 ERROR_CLASSES = {
     "LookupException": "UnknownFrameError",
@@ -48,13 +53,13 @@ def binding_time(ns: int) -> int:
 class Scenario:
     """Transforms to insert in order (or a ROS1 bag to read) and queries to answer."""
 
-    inserts: list[list] = field(default_factory=list)
-    queries: list[list] = field(default_factory=list)
+    inserts: list[Row] = field(default_factory=list)
+    queries: list[Row] = field(default_factory=list)
     cache_time_s: int = 1_000_000
     bag: str | None = None
 
-    def to_json(self) -> dict:
-        out: dict = {"cache_time_s": self.cache_time_s, "queries": self.queries}
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"cache_time_s": self.cache_time_s, "queries": self.queries}
         if self.bag is not None:
             out["bag"] = self.bag
         else:
@@ -62,13 +67,14 @@ class Scenario:
         return out
 
 
-def run_tf2(scenarios: list[Scenario]) -> list[dict]:
+def run_tf2(scenarios: list[Scenario]) -> list[dict[str, Any]]:
     """Each scenario's ``{"rejections": [codes], "answers": [...]}`` from the real tf2."""
     request = json.dumps({"scenarios": [s.to_json() for s in scenarios]})
     done = subprocess.run([ROS_PYTHON, str(HARNESS)], input=request, capture_output=True, text=True, timeout=600)
     if done.returncode != 0:
         raise RuntimeError(f"tf2 harness failed:\n{done.stderr[-3000:]}")
-    return json.loads(done.stdout)["results"]
+    results: list[dict[str, Any]] = json.loads(done.stdout)["results"]
+    return results
 
 
 CORE_SOURCE = Path(__file__).with_name("tf2_core.cpp")

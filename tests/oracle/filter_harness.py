@@ -10,13 +10,17 @@ ready at the first yes, never without one.
 
 import json
 import sys
+from typing import Any
 
 import rospy
 import tf2_py
 from geometry_msgs.msg import TransformStamped
 
+# The ROS modules have no type information: their messages are Any here, as are the JSON rows (mixed types,
+# read by position).
 
-def transform(row):
+
+def transform(row: list[Any]) -> Any:
     parent, child, sec, nsec, tx, ty, tz, qx, qy, qz, qw = row[1:12]
     t = TransformStamped()
     t.header.frame_id, t.child_frame_id = parent, child
@@ -27,16 +31,16 @@ def transform(row):
     return t
 
 
-def ready_times(request):
+def ready_times(request: dict[str, Any]) -> list[int | None]:
     """When each of ``request["messages"]`` became transformable (record ns), or None: see the module."""
     core = tf2_py.BufferCore(rospy.Duration(request["cache_s"]))
     target = request["target"]
     events = [(row[0], 0, i) for i, row in enumerate(request["tf"])]
     events += [(m[0], 1, i) for i, m in enumerate(request["messages"])]  # tf first when records tie
-    ready = [None] * len(request["messages"])
+    ready: list[int | None] = [None] * len(request["messages"])
     pending: list[int] = []
 
-    def can(i):
+    def can(i: int) -> bool:
         _record, frame, sec, nsec = request["messages"][i]
         frame = frame[1:] if frame.startswith("/") else frame
         ok, _reason = core.can_transform_core(target, frame, rospy.Time(sec, nsec))
@@ -64,7 +68,7 @@ def ready_times(request):
     return ready
 
 
-def main():
+def main() -> None:
     json.dump({"ready": ready_times(json.load(sys.stdin))}, sys.stdout)
 
 

@@ -12,7 +12,7 @@ import tf2_geometry_msgs
 from geometry_msgs.msg import PointStamped, PoseStamped, TransformStamped, Vector3Stamped
 
 
-def main():
+def main() -> None:
     request = json.load(sys.stdin)
     out: dict[str, list[list[float]]] = {"points": [], "vectors": [], "positions": [], "orientations": []}
     rows = zip(request["transforms"], request["points"], request["orientations"], strict=True)

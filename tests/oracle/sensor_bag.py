@@ -10,6 +10,8 @@ of it; executed by Debian's /usr/bin/python3.
 
 import json
 import sys
+from collections.abc import Callable
+from typing import Any
 
 import genpy
 import rosbag
@@ -22,12 +24,14 @@ START = 1_700_000_000 * 10**9  # every stamp a whole microsecond: tf2_py's doubl
 MS = 10**6
 SECONDS = 30
 
+# The ROS modules have no type information: their messages and times are Any here.
 
-def _time(ns):
+
+def _time(ns: int) -> Any:
     return genpy.Time(ns // 10**9, ns % 10**9)
 
 
-def _transform(parent, child, stamp, x):
+def _transform(parent: str, child: str, stamp: int, x: float) -> Any:
     t = TransformStamped()
     t.header.frame_id, t.child_frame_id, t.header.stamp = parent, child, _time(stamp)
     t.transform.translation.x, t.transform.translation.y = x, 0.1
@@ -35,20 +39,20 @@ def _transform(parent, child, stamp, x):
     return t
 
 
-def _stamped(message, frame, stamp):
+def _stamped(message: Any, frame: str, stamp: int) -> Any:
     message.header.frame_id, message.header.stamp = frame, _time(stamp)
     return message
 
 
-def write(path):
+def write(path: str) -> None:
     """odom -> base_link at 50 Hz (arriving 2 ms after its stamp), base_link -> laser at 20 Hz (30 ms
     late), map -> odom at 10 Hz, static imu, camera and lidar mounts; a laser scan at 20 Hz that waits
     for its transform, an IMU at 100 Hz that is fine, a camera whose frame_id is misspelt ('camra'),
     and point clouds stamped 12 s before they arrive (older than a 10 s cache holds). Every stream
     runs the whole 30 s, as when rosbag record stops them all at once."""
-    rows = []  # (record ns, topic, message)
+    rows: list[tuple[int, str, Any]] = []  # (record ns, topic, message)
 
-    def every(hz, late, make):
+    def every(hz: int, late: int, make: Callable[[int, int], tuple[str, Any]]) -> None:
         for i in range(SECONDS * hz):
             stamp = START + i * 10**9 // hz
             rows.append((stamp + late, *make(stamp, i)))
@@ -69,8 +73,10 @@ def write(path):
             bag.write(topic, message, _time(record))
 
 
-def replay(path, target, cache_s):
-    tf, asked, topics = [], [], []
+def replay(path: str, target: str, cache_s: float) -> dict[str, list[float | None]]:
+    tf: list[list[Any]] = []
+    asked: list[list[Any]] = []
+    topics: list[str] = []
     with rosbag.Bag(path) as bag:
         for topic, message, record in bag.read_messages():
             record = record.to_nsec()

@@ -142,7 +142,7 @@ def test_each_fault_of_issue_29_is_the_real_filters_answer(oracle: Path, designe
     assert sum(v.outcome == "drop_queue" and v.frame == "laser" for v in fewer["/scan_multi"]) > 0
 
 
-def _real_bags() -> list[pytest.param]:  # type: ignore[valid-type]
+def _real_bags() -> list[pytest.param]:  # type: ignore[valid-type]  # its type, ParameterSet, is private
     """The corpus' ROS 1 recordings: the manifest's, and any other .bag placed in the shared corpus folder."""
     manifest = [r for r in load_manifest()[1] if r.open.endswith(".bag")]
     named = {r.open.rsplit("/", 1)[-1] for r in manifest}

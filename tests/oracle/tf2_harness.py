@@ -13,6 +13,8 @@ import os
 import re
 import sys
 import tempfile
+from collections.abc import Callable
+from typing import Any
 
 import rospy
 import tf2_py
@@ -20,8 +22,11 @@ from geometry_msgs.msg import TransformStamped
 
 _CODE = re.compile(r"TF_[A-Z_]+")
 
+# The ROS modules have no type information: their messages and tf2's BufferCore are Any here, as are the
+# JSON rows and queries (mixed types, read by position).
 
-def message(row):
+
+def message(row: list[Any]) -> Any:
     parent, child, sec, nsec, tx, ty, tz, qx, qy, qz, qw = row[:11]
     t = TransformStamped()
     t.header.frame_id, t.child_frame_id = parent, child
@@ -32,19 +37,19 @@ def message(row):
     return t
 
 
-def insert(core, transform, authority, static):
+def insert(core: Any, transform: Any, authority: str, static: bool) -> None:
     if static:
         core.set_transform_static(transform, authority)
     else:
         core.set_transform(transform, authority)
 
 
-def feed_rows(core, rows):
+def feed_rows(core: Any, rows: list[list[Any]]) -> None:
     for row in rows:
         insert(core, message(row), row[11], row[12])
 
 
-def feed_bag(core, path):
+def feed_bag(core: Any, path: str) -> None:
     import rosbag
 
     with rosbag.Bag(path) as bag:
@@ -56,7 +61,7 @@ def feed_bag(core, path):
                 insert(core, transform, authority, topic == "/tf_static")
 
 
-def capture_stderr(action):
+def capture_stderr(action: Callable[[], None]) -> list[str]:
     """Run ``action`` and return the tf2 codes it logged on file descriptor 2."""
     sys.stderr.flush()
     saved = os.dup(2)
@@ -71,7 +76,7 @@ def capture_stderr(action):
         return _CODE.findall(log.read().decode("utf-8", "replace"))
 
 
-def stamped(t):
+def stamped(t: Any) -> dict[str, Any]:
     tr, rot = t.transform.translation, t.transform.rotation
     return {
         "ok": True,
@@ -83,7 +88,7 @@ def stamped(t):
     }
 
 
-def answer(core, query):
+def answer(core: Any, query: list[Any]) -> dict[str, Any]:
     kind, args = query[0], query[1:]
     try:
         if kind == "lookup":
@@ -120,7 +125,7 @@ def answer(core, query):
     raise ValueError(f"unknown query {kind}")
 
 
-def run(scenario):
+def run(scenario: dict[str, Any]) -> dict[str, Any]:
     core = tf2_py.BufferCore(rospy.Duration(scenario.get("cache_time_s", 10)))
     if "bag" in scenario:
         codes = capture_stderr(lambda: feed_bag(core, scenario["bag"]))
@@ -129,7 +134,7 @@ def run(scenario):
     return {"rejections": codes, "answers": [answer(core, q) for q in scenario["queries"]]}
 
 
-def main():
+def main() -> None:
     request = json.load(sys.stdin)
     json.dump({"results": [run(s) for s in request["scenarios"]]}, sys.stdout)
 

@@ -127,6 +127,7 @@ def _message(store: Any, m: Msg) -> Any:
 
 def reference_rows(path: Path, topics: tuple[str, ...] = ("/tf", "/tf_static")) -> list[Row]:
     """The transforms as rosbags reads and deserializes them, in its (record time) order."""
+    from rosbags.interfaces import ConnectionExtRosbag1
     from rosbags.rosbag1 import Reader
 
     store = typestore()
@@ -135,6 +136,7 @@ def reference_rows(path: Path, topics: tuple[str, ...] = ("/tf", "/tf_static")) 
         wanted = [c for c in reader.connections if c.topic in topics and c.msgtype in TF_TYPES.values()]
         for connection, record_time, data in reader.messages(connections=wanted):
             message = store.deserialize_ros1(data, connection.msgtype)
+            assert isinstance(connection.ext, ConnectionExtRosbag1)
             authority = connection.ext.callerid or connection.topic
             for t in message.transforms:
                 stamp = (t.header.stamp.sec & 0xFFFFFFFF) * NS + t.header.stamp.nanosec  # ROS1 time is unsigned

@@ -10,6 +10,7 @@ With "close" false the bag is left as a crashed recorder leaves it: flushed, nev
 import json
 import os
 import sys
+from typing import Any
 
 import genpy
 import rosbag
@@ -23,7 +24,7 @@ from tf2_msgs.msg import TFMessage
 KINDS = {"tf2": TFMessage, "tf1": tfMessage, "image": Image, "string": String, "clock": Clock}
 
 
-def make(kind, body):
+def make(kind: str, body: Any) -> Any:
     if kind == "image":
         return Image(height=1, width=body, encoding="mono8", step=body, data=bytes(body))
     if kind == "string":
@@ -43,7 +44,7 @@ def make(kind, body):
     return KINDS[kind](transforms=transforms)
 
 
-def main():
+def main() -> None:
     spec = json.load(sys.stdin)
     bag = rosbag.Bag(spec["path"], "w", compression=spec["compression"], chunk_threshold=spec["chunk_threshold"])
     seen = set()

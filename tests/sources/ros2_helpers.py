@@ -170,7 +170,7 @@ def write_rosbag2(
     big_endian: bool = False,
 ) -> Path:
     """A ROS2 bag directory written by rosbags, messages in the given order."""
-    writer = Writer(path, version=version, storage_plugin=StoragePlugin[storage.upper()])  # type: ignore[arg-type]
+    writer = Writer(path, version=version, storage_plugin=StoragePlugin[storage.upper()])  # type: ignore[arg-type]  # rosbags: a Literal of versions
     if compression:
         writer.set_compression(CompressionMode[compression.upper()], CompressionFormat.ZSTD)
     writer.open()
@@ -273,7 +273,7 @@ def _next_chunk(writer: McapWriter, options: McapOptions, chunk: int) -> None:
     writer.flush()
     if options.chunk_compressions:  # the writer has no public way to change it between chunks
         compression = options.chunk_compressions[chunk % len(options.chunk_compressions)]
-        writer._Writer__compression = compression  # type: ignore[attr-defined]
+        writer._Writer__compression = compression  # type: ignore[attr-defined]  # private: see above
 
 
 def _register_ros2(writer: McapWriter, topic: str, type_name: str) -> int:
@@ -310,7 +310,8 @@ def _foxglove_payload(channel: FoxgloveChannel, transforms: Sequence[Tf]) -> byt
     if channel.encoding == "json":
         items = [_json_transform(tf) for tf in transforms]
         return json.dumps(items[0] if channel.single else {"transforms": items}).encode()
-    return proto_message(transforms, single=channel.single).SerializeToString()
+    payload: bytes = proto_message(transforms, single=channel.single).SerializeToString()
+    return payload
 
 
 def _json_transform(tf: Tf) -> dict[str, Any]:

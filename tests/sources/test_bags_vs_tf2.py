@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
 import tftools
-from tests.oracle import ERROR_CLASSES, Scenario, binding_time, run_tf2
+from tests.oracle import ERROR_CLASSES, Row, Scenario, binding_time, run_tf2
 from tftools.core.errors import TransformError
 from tftools.core.time import NS_PER_S
 
@@ -31,10 +32,10 @@ VALUE_TOLERANCE = 1e-5
 STAMP_TOLERANCE = 1_000
 
 
-def _queries() -> list[list]:
+def _queries() -> list[Row]:
     rng = np.random.default_rng(3)
     times = np.concatenate([rng.integers(START - NS_PER_S, END + NS_PER_S, 60), [0]])
-    queries: list[list] = [["frames"], ["yaml"]]
+    queries: list[Row] = [["frames"], ["yaml"]]
     for target, source in PAIRS:
         queries.append(["lct", target, source])
         for t in times:
@@ -47,9 +48,10 @@ QUERIES = _queries()
 
 
 @pytest.fixture(scope="module")
-def tf2_answers(tf2_available: None) -> list[dict]:
+def tf2_answers(tf2_available: None) -> list[dict[str, Any]]:
     (result,) = run_tf2([Scenario(queries=QUERIES, bag=str(ROS1_BAG))])
-    return result["answers"]
+    answers: list[dict[str, Any]] = result["answers"]
+    return answers
 
 
 @pytest.fixture(scope="module", params=list(FORMATS))
@@ -59,16 +61,20 @@ def buffer(request: pytest.FixtureRequest) -> tftools.Buffer:
     return tftools.read_recording([FORMATS[request.param]], semantics="ros1").buffer
 
 
-def _stamp(answer: dict) -> int:
+def _stamp(answer: dict[str, Any]) -> int:
+    sec: int
+    nsec: int
     sec, nsec = answer["stamp"]
     return sec * NS_PER_S + nsec
 
 
-def test_frames_match(buffer: tftools.Buffer, tf2_answers: list[dict]) -> None:
+def test_frames_match(buffer: tftools.Buffer, tf2_answers: list[dict[str, Any]]) -> None:
     assert buffer.all_frames_as_string() == tf2_answers[0]["text"]
 
 
-def test_frames_yaml_matches(request: pytest.FixtureRequest, buffer: tftools.Buffer, tf2_answers: list[dict]) -> None:
+def test_frames_yaml_matches(
+    request: pytest.FixtureRequest, buffer: tftools.Buffer, tf2_answers: list[dict[str, Any]]
+) -> None:
     ours, theirs = buffer.all_frames_as_yaml(), tf2_answers[1]["text"]
     if request.node.callspec.params["buffer"] != "ros1":  # ROS2 bags name no publisher: the topic stands in
         theirs = re.sub(r"broadcaster: '[^']*'", "broadcaster: ?", theirs)
@@ -76,7 +82,7 @@ def test_frames_yaml_matches(request: pytest.FixtureRequest, buffer: tftools.Buf
     assert ours == theirs
 
 
-def test_lookups_match(buffer: tftools.Buffer, tf2_answers: list[dict]) -> None:
+def test_lookups_match(buffer: tftools.Buffer, tf2_answers: list[dict[str, Any]]) -> None:
     failures = 0
     for query, theirs in zip(QUERIES[2:], tf2_answers[2:], strict=True):
         if query[0] == "lct":

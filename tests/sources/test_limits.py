@@ -8,6 +8,7 @@ import socket
 import struct
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -30,7 +31,7 @@ def fifo(tmp_path: Path) -> Path:
 
 
 @pytest.mark.parametrize("read", READERS)
-def test_a_fifo_or_a_device_is_refused_without_blocking(read, fifo: Path) -> None:
+def test_a_fifo_or_a_device_is_refused_without_blocking(read: Callable[[Path], object], fifo: Path) -> None:
     for path, kind in ((fifo, "a FIFO"), (Path("/dev/zero"), "a device")):
         with pytest.raises((StaticFileError, TreeFileError)) as caught:
             read(path)  # a FIFO without a writer: opening it for reading would block for ever
@@ -40,7 +41,7 @@ def test_a_fifo_or_a_device_is_refused_without_blocking(read, fifo: Path) -> Non
 
 
 @pytest.mark.parametrize("read", READERS)
-def test_a_missing_file_and_a_folder_are_said_so(read, tmp_path: Path) -> None:
+def test_a_missing_file_and_a_folder_are_said_so(read: Callable[[Path], object], tmp_path: Path) -> None:
     with pytest.raises((StaticFileError, TreeFileError), match="no such file"):
         read(tmp_path / "missing.yaml")
     with pytest.raises((StaticFileError, TreeFileError), match="a folder, not a file"):
@@ -48,7 +49,9 @@ def test_a_missing_file_and_a_folder_are_said_so(read, tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("read", READERS)
-def test_a_file_larger_than_the_limit_is_not_read_whole(read, tmp_path: Path, monkeypatch) -> None:
+def test_a_file_larger_than_the_limit_is_not_read_whole(
+    read: Callable[[Path], object], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setattr(user_files, "MAX_BYTES", 1000)
     big = tmp_path / "big.yaml"
     big.write_bytes(b"#" * 5000)
@@ -66,7 +69,7 @@ DEEP = {
 
 @pytest.mark.parametrize("text", DEEP.values(), ids=DEEP)
 @pytest.mark.parametrize("read", READERS)
-def test_deep_yaml_is_refused_as_too_deep(read, text: str, tmp_path: Path) -> None:
+def test_deep_yaml_is_refused_as_too_deep(read: Callable[[Path], object], text: str, tmp_path: Path) -> None:
     path = tmp_path / "deep.yaml"
     path.write_text(text)
     with pytest.raises((StaticFileError, TreeFileError), match=f"nested deeper than {user_files.MAX_DEPTH} levels"):
@@ -74,7 +77,7 @@ def test_deep_yaml_is_refused_as_too_deep(read, text: str, tmp_path: Path) -> No
 
 
 @pytest.mark.parametrize("text", [DEEP["flow"], DEEP["mapping-flow"]], ids=["flow", "mapping-flow"])
-def test_deep_flow_is_refused_before_it_is_parsed(text: str, monkeypatch) -> None:
+def test_deep_flow_is_refused_before_it_is_parsed(text: str, monkeypatch: pytest.MonkeyPatch) -> None:
     """ruamel's scanner is quadratic in a flow's depth: reaching the recursion limit took 12 s."""
 
     def parse(*_: object) -> None:
@@ -91,7 +94,7 @@ LONG = {"lines": "- x\n" * 60_000, "flow": "[" + "x, " * 60_000 + "x]"}
 @pytest.mark.parametrize("text", LONG.values(), ids=LONG)
 @pytest.mark.parametrize("read", READERS)
 def test_yaml_of_more_lines_and_items_than_tfx_parses_is_refused_before_it_is_parsed(
-    read, text: str, tmp_path: Path, monkeypatch
+    read: Callable[[Path], object], text: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """ruamel parses ~10,000 lines or items a second: 200,000 listed files took 20 s."""
 
@@ -116,7 +119,7 @@ def test_brackets_in_quotes_and_comments_do_not_count_as_nesting() -> None:
     assert user_files.load_text(text) == {"a": "[[[[", "b": "{{{{", "c": [[1, 2], {"d": [3]}]}
 
 
-def test_a_reused_anchor_is_read_without_a_library_warning(tmp_path: Path, recwarn) -> None:
+def test_a_reused_anchor_is_read_without_a_library_warning(tmp_path: Path, recwarn: pytest.WarningsRecorder) -> None:
     path = tmp_path / "static.yaml"
     path.write_text(
         "- &a {frame_id: base_link, child_frame_id: laser, x: 1}\n- &a {frame_id: base_link, child_frame_id: cam}\n"
@@ -125,7 +128,7 @@ def test_a_reused_anchor_is_read_without_a_library_warning(tmp_path: Path, recwa
     assert not [w for w in recwarn if "nchor" in str(w.message)]
 
 
-def test_a_folder_holding_too_many_files_is_not_searched(tmp_path: Path, monkeypatch) -> None:
+def test_a_folder_holding_too_many_files_is_not_searched(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(locations, "MAX_FILES_BELOW", 50)
     for i in range(3):
         sub = tmp_path / f"d{i}"
@@ -140,7 +143,7 @@ def test_a_folder_holding_too_many_files_is_not_searched(tmp_path: Path, monkeyp
     assert locations.expand_local(f"{tmp_path}/") == [str(tmp_path / "d0" / "run.bag")]
 
 
-def test_half_sent_messages_are_bounded_over_all_peers(monkeypatch) -> None:
+def test_half_sent_messages_are_bounded_over_all_peers(monkeypatch: pytest.MonkeyPatch) -> None:
     """64 peers each half-way through a 60 MiB message held 3.3 GB; all links together now hold at most
     ``MAX_IN_FLIGHT``: a message that would pass it is refused, and its room is given back when one ends."""
     monkeypatch.setattr(tcpros, "IN_FLIGHT", tcpros._InFlight(100))
@@ -166,7 +169,7 @@ def test_half_sent_messages_are_bounded_over_all_peers(monkeypatch) -> None:
 
 
 @pytest.mark.slow
-def test_a_silent_s3_endpoint_ends_within_the_listing_deadline(monkeypatch) -> None:
+def test_a_silent_s3_endpoint_ends_within_the_listing_deadline(monkeypatch: pytest.MonkeyPatch) -> None:
     """An S3 endpoint that accepts connections and never answers (issue 32, H2): botocore's timeouts are
     per read and per attempt, and retried; the call as a whole has LISTING_DEADLINE."""
     pytest.importorskip("s3fs")

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import itertools
 
+import pytest
+
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.sources.live import base
 
@@ -23,7 +25,7 @@ class _Source(base.LiveSource):
         super().__init__(None, False, self.notices.append)
 
 
-def test_frames_past_the_limit_are_dropped_with_one_notice(monkeypatch) -> None:
+def test_frames_past_the_limit_are_dropped_with_one_notice(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(base, "MAX_LIVE_FRAMES", 5)
     source = _Source()
     passed: list[TransformBatch] = []

@@ -30,7 +30,7 @@ def test_use_sim_time_is_read_as_a_user_means_it(value: object, true: bool) -> N
     assert param_is_true(value) is true
 
 
-def test_ticks_on_a_clock_that_never_starts_end_with_the_reason(monkeypatch) -> None:
+def test_ticks_on_a_clock_that_never_starts_end_with_the_reason(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(ticker, "CLOCK_PATIENCE", 0.3)
     ticks: list[None] = []
     with pytest.raises(NoClockError, match=r"no /clock came in 0.3 s") as caught:

@@ -175,7 +175,9 @@ def test_only_the_last_seconds_of_each_edge_are_carried_to_the_next_window() -> 
     buffer.set_transform(_transform("base_link", "laser", SIM, 0.2), static=True)
     carried = _recent(buffer, CARRIED)
     assert len(carried) == CARRIED // (NS_PER_S // 50) + 1
-    assert carried.stamp.tolist() == buffer.history("base_link").stamps[-len(carried) :].tolist()
+    history = buffer.history("base_link")
+    assert history is not None
+    assert carried.stamp.tolist() == history.stamps[-len(carried) :].tolist()
 
 
 def test_a_bag_without_transforms_is_refused(tmp_path: Path) -> None:

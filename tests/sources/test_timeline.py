@@ -49,6 +49,7 @@ def test_a_delay_read_off_a_ticking_clock_is_never_a_negative_one_its_steps_made
     timeline = timeline_of(buffer, clock, wall, wall + 999 * ms)
     assert timeline.resolution == ms and timeline.delays_measured and timeline.delays_unavailable == ""
     history = buffer.history("base")
+    assert history is not None
     delays = timeline.delays("base", history.stamps, history.record_times, history.flags)
     assert delays.tolist() == [4_300_000, 0] * 25
     coarse = timeline_of(buffer, ClockSamples("/clock", clock.record_time[::10], clock.clock[::10]), wall, wall)

@@ -135,7 +135,7 @@ def _write(out: IO[bytes], report: BagReport, recording: Recording, proto: Any, 
     for sequence, (at, channel, data) in enumerate(messages):
         writer.add_message(channel, log_time=at, data=data, publish_time=at, sequence=sequence)
         written += 1
-    writer.finish()  # type: ignore[no-untyped-call]
+    writer.finish()
     return written
 
 

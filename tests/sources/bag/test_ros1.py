@@ -29,6 +29,8 @@ from tests.sources.ros1_helpers import (
     write_rosbag,
     write_rosbags,
 )
+from tftools.core.batch import TransformBatch
+from tftools.sources.bag.contents import BagFileInfo
 from tftools.sources.bag.ros1 import file as ros1_file
 from tftools.sources.bag.ros1 import index as ros1_index
 from tftools.sources.bag.ros1.records import read_bag_header
@@ -69,7 +71,7 @@ def bags(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     return made
 
 
-def read(path: Path, topics: tuple[str, ...] = TOPICS):
+def read(path: Path, topics: tuple[str, ...] = TOPICS) -> tuple[list[TransformBatch], BagFileInfo]:
     return read_as("ros1", path, topics)
 
 
@@ -486,7 +488,7 @@ def test_any_damage_reads_or_raises_corrupt_bag(tmp_path: Path) -> None:
                 assert rows == full[: len(rows)] and info.problems
 
 
-def _messages(batches) -> int:
+def _messages(batches: list[TransformBatch]) -> int:
     """Messages that the rows came from (each message's rows share a record time and publisher)."""
     rows = rows_of(batches)
     return len({(r[4], r[5]) for r in rows}) if rows else 0

@@ -506,4 +506,6 @@ def test_tf_topics_stored_without_their_slash_are_read_as_tf(tmp_path: Path, fmt
     fixed = TfMessage("tf_static", 1000 * second, [Transform((0.1, 0, 0), (0, 0, 0, 1), 0, "base", "laser")])
     recording = read_recording([write_bag(tmp_path / "relative", [fixed, *moving], fmt)])
     assert recording.buffer.lookup("odom", "laser").translation == pytest.approx((4.1, 0, 0))
-    assert recording.buffer.history("laser").static and not recording.buffer.history("base").static
+    laser, base = recording.buffer.history("laser"), recording.buffer.history("base")
+    assert laser is not None and base is not None
+    assert laser.static and not base.static

@@ -140,5 +140,7 @@ def test_each_message_is_placed_among_the_transforms_of_every_file_read(tmp_path
     recording = read_recording(parts, headers=())
     (stream,) = recording.stamped.streams
     assert stream.ordered and stream.tf_before.tolist() == list(range(12))
-    sequence = recording.buffer.history("odom").sequence
+    history = recording.buffer.history("odom")
+    assert history is not None
+    sequence = history.sequence
     assert sequence.tolist() == list(range(12))  # the buffer numbers the same transforms alike
