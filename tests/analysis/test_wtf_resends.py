@@ -136,10 +136,11 @@ def test_new_samples_out_of_order_are_counted_without_those_delivered_again() ->
 def _monitor(tfx: Tfx, tmp_path: Path, messages: list[TfMessage], play: bool) -> dict[str, Any]:  # noqa: F811
     """``tfx monitor -f json`` on ``messages`` written as a rosbag2 .db3, read whole or replayed (its last table)."""
     bag = write_bag(tmp_path / "slam", messages, BagFormat.rosbag2_sqlite3)
-    args = ["monitor", "-b", bag, "-f", "json", *(["--play", "--rate", "500", "--window", "100"] if play else [])]
-    result = tfx(*args)
+    window = ["--play", "--rate", "500", "--window", "100"] if play else []
+    result = tfx("monitor", "-b", bag, "-f", "json", *window)
     assert result.code == 0, result.stderr
-    return json.loads(result.stdout.splitlines()[-1] if play else result.stdout)
+    report: dict[str, Any] = json.loads(result.stdout.splitlines()[-1] if play else result.stdout)
+    return report
 
 
 @pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
@@ -170,7 +171,7 @@ def test_a_stamp_re_valued_then_re_sent_is_one_stamp() -> None:
 
 
 @pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
-def test_monitor_counts_a_static_message_ros2s_tf2_replaced(tfx, tmp_path: Path, play: bool) -> None:  # noqa: F811
+def test_monitor_counts_a_static_message_ros2s_tf2_replaced(tfx: Tfx, tmp_path: Path, play: bool) -> None:  # noqa: F811
     """ros2_db3_jetacker_slam_toolbox_static_map: /tf_static held 2 messages, the second an identity map -> odom
     that slam_toolbox's map -> odom on /tf then replaced in ROS 2's tf2 (the frame's cache switches topics);
     monitor said 1 (and --play 0: that message, recorded long before /tf began on a simulation's clock,

@@ -219,7 +219,7 @@ def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do
     )
 
 
-def test_set_transform_in_c_takes_its_arguments_as_a_python_method_does():
+def test_set_transform_in_c_takes_its_arguments_as_a_python_method_does() -> None:
     """``Buffer.set_transform`` (a method in C) takes (transform, authority="", static=False,
     record_time=0), by position or keyword, stores its common case itself and hands every other sample
     to the batch path (which refuses what tf2 refuses), and refuses bad calls with Python's TypeErrors."""
@@ -256,7 +256,7 @@ def test_set_transform_in_c_takes_its_arguments_as_a_python_method_does():
     )
 
 
-def test_methods_in_c_find_the_core_in_buffers_slot_or_as_an_attribute():
+def test_methods_in_c_find_the_core_in_buffers_slot_or_as_an_attribute() -> None:
     """The methods in C read a Buffer's core from its slot, and any other object's ``_core`` as an
     attribute, whichever class came last; an object without a core raises AttributeError."""
     buffer = Buffer(cache_time=None)

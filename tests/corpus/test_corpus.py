@@ -279,7 +279,7 @@ def test_monitor_counts_each_publishers_messages(
 
 
 @pytest.mark.parametrize("recording", _cases("test_monitor_counts_tf_static_messages", ROS2_WITH_TF))
-def test_monitor_counts_tf_static_messages(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_monitor_counts_tf_static_messages(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """A ROS 2 recording names no publisher: ``monitor``'s publishers are its tf topics; /tf_static's messages
     are every one that held a transform, whatever tf2 then kept (ros2_db3_jetacker_slam_toolbox_static_map: its
     second /tf_static message, a map -> odom ROS 2's tf2 replaced by /tf's, was not counted: 1 of 2). (/tf's
@@ -289,7 +289,7 @@ def test_monitor_counts_tf_static_messages(recording: Recording, corpus: Corpus,
 
 
 @pytest.mark.parametrize("recording", _cases("test_monitor_counts_tf_static_messages_replayed", ROS2_WITH_TF))
-def test_monitor_counts_tf_static_messages_replayed(recording: Recording, corpus: Corpus, tfx) -> None:  # noqa: F811
+def test_monitor_counts_tf_static_messages_replayed(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """As ``test_monitor_counts_tf_static_messages``, with ``--play`` (the JetAcker's static map -> odom, played
     before the replay clock's 0, was taken for a message of unknown time: 0 of 2)."""
     _assert_tf_static_messages(recording, corpus, tfx, play=True)
