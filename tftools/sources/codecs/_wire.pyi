@@ -28,3 +28,6 @@ def match_records(
     its length; conn's 4 at ``conn_at`` and time's 8 at ``time_at`` may differ) and end within their
     ``limits`` (or, ``cuts``, were read only that far: their payload ends there); of those, their conn,
     record time (ns), payload start and payload end."""
+
+def split_values(values: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Values (N, 7) as two contiguous arrays: translations (N, 3) and rotations (N, 4)."""
