@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -76,9 +77,99 @@ Decoded decode_transforms(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::nd
             owned(std::move(rows.name_length)), owned(std::move(rows.failed), 4)};
 }
 
+using Matched = std::tuple<Output<bool>, Output<int64_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>>;
+
+// ROS1 message records at ``offsets`` of ``raw`` whose header (``header``: its bytes after its length,
+// conn's 4 at ``conn_at`` and time's 8 at ``time_at`` free) is laid out as the template's, each ending
+// within its ``limit`` (or, ``cut``, read only that far: its payload ends there). Which match; of
+// those, conn, record time (ns), payload start and end. Python's reading of the same, in one pass.
+Matched match_records(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::ndim<1>> offsets,
+                      Input<int64_t, nb::ndim<1>> limits, Input<bool, nb::ndim<1>> cuts, nb::bytes header,
+                      int64_t conn_at, int64_t time_at) {
+    const auto n = static_cast<int64_t>(offsets.shape(0));
+    const auto size = static_cast<int64_t>(raw.shape(0));
+    const auto length = static_cast<int64_t>(header.size());
+    if (static_cast<int64_t>(limits.shape(0)) != n || static_cast<int64_t>(cuts.shape(0)) != n) {
+        throw nb::value_error("match_records: offsets, limits and cuts differ in length");
+    }
+    if (conn_at < 0 || conn_at + 4 > length || time_at < 0 || time_at + 8 > length) {
+        throw nb::value_error("match_records: conn or time outside the header");
+    }
+    // The header's fixed bytes, as ranges: all but conn's and time's.
+    std::vector<std::pair<int64_t, int64_t>> fixed;
+    {
+        std::vector<bool> free(static_cast<size_t>(length), false);
+        for (int64_t k = 0; k < 4; ++k) free[static_cast<size_t>(conn_at + k)] = true;
+        for (int64_t k = 0; k < 8; ++k) free[static_cast<size_t>(time_at + k)] = true;
+        for (int64_t k = 0; k < length;) {
+            if (free[static_cast<size_t>(k)]) {
+                ++k;
+                continue;
+            }
+            int64_t end = k;
+            while (end < length && !free[static_cast<size_t>(end)]) ++end;
+            fixed.emplace_back(k, end);
+            k = end;
+        }
+    }
+    const auto* expected = reinterpret_cast<const uint8_t*>(header.c_str());
+    std::vector<bool> hit(static_cast<size_t>(n), false);
+    std::vector<int64_t> conn, time, data_start, data_end;
+    {
+        nb::gil_scoped_release unlocked;
+        const uint8_t* bytes = raw.data();
+        const auto u32 = [bytes](int64_t at) {
+            uint32_t v;
+            std::memcpy(&v, bytes + at, 4);
+            return static_cast<int64_t>(v);
+        };
+        for (int64_t i = 0; i < n; ++i) {
+            const int64_t offset = offsets.data()[i], limit = std::min(limits.data()[i], size);
+            const int64_t length_at = offset + 4 + length;
+            if (offset < 0 || length_at + 4 > limit) continue;
+            const uint8_t* at = bytes + offset + 4;
+            bool same = true;
+            for (const auto& [begin, end] : fixed) {
+                same = same && std::memcmp(at + begin, expected + begin, static_cast<size_t>(end - begin)) == 0;
+            }
+            if (!same) continue;
+            int64_t ends = length_at + 4 + u32(length_at);
+            if (cuts.data()[i] && ends > limit) ends = limit;
+            if (ends > limit) continue;
+            hit[static_cast<size_t>(i)] = true;
+            conn.push_back(u32(offset + 4 + conn_at));
+            time.push_back(u32(offset + 4 + time_at) * 1'000'000'000 + u32(offset + 4 + time_at + 4));
+            data_start.push_back(length_at + 4);
+            data_end.push_back(ends);
+        }
+    }
+    auto* matched = new bool[static_cast<size_t>(n)];
+    std::copy(hit.begin(), hit.end(), matched);
+    nb::capsule owner(matched, [](void* p) noexcept { delete[] static_cast<bool*>(p); });
+    return {Output<bool>(matched, {static_cast<size_t>(n)}, owner), owned(std::move(conn)), owned(std::move(time)),
+            owned(std::move(data_start)), owned(std::move(data_end))};
+}
+
+// Values (N, 7) as the core takes them: translations (N, 3) and rotations (N, 4), each contiguous. (numpy
+// copies a column slice of them row by row, a call per row: ~130 instructions a row.)
+std::tuple<Output<double>, Output<double>> split_values(Input<double, nb::ndim<2>> values) {
+    if (values.shape(1) != 7) throw nb::value_error("split_values: values are not (N, 7)");
+    const size_t n = values.shape(0);
+    std::vector<double> translation(3 * n), rotation(4 * n);
+    const double* v = values.data();
+    for (size_t i = 0; i < n; ++i, v += 7) {
+        std::copy(v, v + 3, translation.data() + 3 * i);
+        std::copy(v + 3, v + 7, rotation.data() + 4 * i);
+    }
+    return {owned(std::move(translation), 3), owned(std::move(rotation), 4)};
+}
+
 }  // namespace
 
 NB_MODULE(_wire, m) {
     m.doc() = "TFMessages of ROS1 and CDR decoded in bulk, each failure told (tftools.sources.codecs.wire.Reason).";
     m.def("decode_transforms", &decode_transforms, "raw"_a, "starts"_a, "lengths"_a, "wires"_a, "counted"_a);
+    m.def("match_records", &match_records, "raw"_a, "offsets"_a, "limits"_a, "cuts"_a, "header"_a, "conn_at"_a,
+          "time_at"_a);
+    m.def("split_values", &split_values, "values"_a);
 }

@@ -4,7 +4,6 @@ as the codecs parse it, gathered per topic."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from itertools import groupby
 
 import numpy as np
@@ -15,18 +14,20 @@ from tftools.sources.codecs.gather import first_and_inverse
 from tftools.sources.contents import StampedMessages
 
 
-@dataclass
 class HeaderCollector:
     """One topic's headers as they are read, at most ``limit`` of them (None: all)."""
 
-    type: str
-    limit: int | None = None
-    record_time: list[int] = field(default_factory=list)
-    stamp: list[int] = field(default_factory=list)
-    frame: list[int] = field(default_factory=list)
-    frame_ids: Names = field(default_factory=Names)
-    damaged: int = 0
-    left_out: int = 0
+    __slots__ = ("damaged", "frame", "frame_ids", "left_out", "limit", "record_time", "stamp", "type")
+
+    def __init__(self, type: str, limit: int | None = None) -> None:
+        self.type = type
+        self.limit = limit
+        self.record_time: list[int] = []
+        self.stamp: list[int] = []
+        self.frame: list[int] = []
+        self.frame_ids = Names()
+        self.damaged = 0
+        self.left_out = 0
 
     def add(self, record_time: int, header: Header | None) -> None:
         """A message that arrived at ``record_time``; ``header`` None: one too damaged for a header."""

@@ -12,6 +12,7 @@ import numpy.typing as npt
 
 from tftools.core.arrays import FloatArray, Int32Array, Int64Array
 from tftools.core.batch import TransformBatch
+from tftools.sources.codecs import _wire
 from tftools.sources.codecs.decoded import FrameNames
 from tftools.sources.codecs.select import AnyCodec, Codec
 from tftools.sources.contents import is_static_topic
@@ -95,15 +96,17 @@ class Rows:
 
         def batch(messages: Int64Array, columns: dict[str, Column]) -> TransformBatch:
             channel = channel_of[messages]
-            values = columns.pop("values")
+            # The core takes contiguous columns: views of the values it would copy as numpy copies any
+            # strided array, row by row (a call a row: 67M instructions for 258k rows; split: ~3M).
+            translation, rotation = _wire.split_values(columns.pop("values"))
             return TransformBatch(
                 frame_names=self.frames.names,
                 authorities=authorities,
                 static=static_of[channel],
                 record_time=times[messages],
                 authority=authority_of[channel],
-                translation=values[:, :3],  # views of the values as decoded: not copied apart
-                rotation=values[:, 3:],
+                translation=translation,
+                rotation=rotation,
                 **columns,
             )
 

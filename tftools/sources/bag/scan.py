@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from tftools.core.batch import TransformBatch
@@ -14,36 +13,59 @@ from tftools.sources.contents import ClockSamples, OfferedQos, StampedMessages, 
 from tftools.sources.headers import merged
 
 
-@dataclass
 class FileRead:
     """What one bag (a file, or a ROS 2 bag directory) gave: its transforms in record order, its
     description, its recorded clock, its sensor data's headers (and one line per topic whose headers
     could not be read), the messages read whole and, for a ROS 2 bag, the QoS its publishers offered."""
 
-    batches: list[TransformBatch]
-    info: BagFileInfo
-    clock: ClockSamples = field(default_factory=ClockSamples.empty)
-    stamped: list[StampedMessages] = field(default_factory=list)
-    stamped_problems: list[str] = field(default_factory=list)
-    whole: list[WholeMessages] = field(default_factory=list)
-    qos: OfferedQos | None = None
+    __slots__ = ("batches", "clock", "info", "qos", "stamped", "stamped_problems", "whole")
+
+    def __init__(
+        self,
+        batches: list[TransformBatch],
+        info: BagFileInfo,
+        clock: ClockSamples | None = None,
+        stamped: list[StampedMessages] | None = None,
+        stamped_problems: list[str] | None = None,
+        whole: list[WholeMessages] | None = None,
+        qos: OfferedQos | None = None,
+    ) -> None:
+        self.batches = batches
+        self.info = info
+        self.clock = ClockSamples.empty() if clock is None else clock
+        self.stamped = [] if stamped is None else stamped
+        self.stamped_problems = [] if stamped_problems is None else stamped_problems
+        self.whole = [] if whole is None else whole
+        self.qos = qos
 
 
-@dataclass
 class FileScan:
     """One file's transform, clock and stamped messages (undecoded) and description."""
 
-    messages: MessageSet
-    start: int = 0  # record times over every topic (ns)
-    end: int = 0
-    message_count: int = 0  # every topic
-    topics: dict[str, str] = field(default_factory=dict)
-    #: Each topic's offered QoS profiles (YAML) as the file itself holds them: rosbag2's sqlite3 topics table
-    #: (Foxy on), what ``ros2 bag reindex`` rebuilds metadata.yaml from.
-    offered_qos: dict[str, str] = field(default_factory=dict)
-    problems: list[str] = field(default_factory=list)  # damage: what was lost
-    skipped: list[Unread] = field(default_factory=list)  # asked-for topics of types or encodings not read
-    windowed: bool = True  # False: read whole, without an index to find a record-time window by
+    __slots__ = (
+        "end",
+        "message_count",
+        "messages",
+        "offered_qos",
+        "problems",
+        "skipped",
+        "start",
+        "topics",
+        "windowed",
+    )  # fmt: skip
+
+    def __init__(self, messages: MessageSet) -> None:
+        self.messages = messages
+        self.start = 0  # record times over every topic (ns)
+        self.end = 0
+        self.message_count = 0  # every topic
+        self.topics: dict[str, str] = {}
+        #: Each topic's offered QoS profiles (YAML) as the file itself holds them: rosbag2's sqlite3 topics
+        #: table (Foxy on), what ``ros2 bag reindex`` rebuilds metadata.yaml from.
+        self.offered_qos: dict[str, str] = {}
+        self.problems: list[str] = []  # damage: what was lost
+        self.skipped: list[Unread] = []  # asked-for topics of types or encodings not read
+        self.windowed = True  # False: read whole, without an index to find a record-time window by
 
     def note_times(self, first: int, last: int, count: int) -> None:
         """``count`` messages of any topic met, recorded from ``first`` to ``last`` (when no index

@@ -3,25 +3,34 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, fields
 
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array
 
 
-@dataclass
 class Spans:
     """Message records, one row each: where each sits in its file, its channel and record time,
     and the bytes it spans. Those are first where its record lies in the file (its end: as far as
     it may reach), then in the bytes read, and once its header is read, where its payload lies."""
 
-    chunk: Int64Array  # the ordinal of its chunk in the file
-    offset: Int64Array  # where its record begins in its chunk's records
-    channel: Int64Array  # as the format numbers them (a ROS1 connection, an MCAP channel id)
-    time: Int64Array  # record time (ns)
-    start: Int64Array
-    end: Int64Array
+    __slots__ = ("channel", "chunk", "end", "offset", "start", "time")
+
+    def __init__(
+        self,
+        chunk: Int64Array,
+        offset: Int64Array,
+        channel: Int64Array,
+        time: Int64Array,
+        start: Int64Array,
+        end: Int64Array,
+    ) -> None:
+        self.chunk = chunk  # the ordinal of its chunk in the file
+        self.offset = offset  # where its record begins in its chunk's records
+        self.channel = channel  # as the format numbers them (a ROS1 connection, an MCAP channel id)
+        self.time = time  # record time (ns)
+        self.start = start
+        self.end = end
 
     @classmethod
     def empty(cls) -> Spans:
@@ -32,7 +41,7 @@ class Spans:
         return len(self.start)
 
     def rows(self, which: BoolArray | Int64Array) -> Spans:
-        return Spans(*(getattr(self, f.name)[which] for f in fields(Spans)))
+        return Spans(*(getattr(self, name)[which] for name in _COLUMNS))
 
     def looked_up(self, table: dict[int, int]) -> Int64Array:
         """Each row's ``table[channel]``, -1 where its channel is not in ``table``."""
@@ -49,11 +58,15 @@ class Spans:
         return (self.chunk << 32) + self.offset
 
 
+#: ``Spans``' columns, in the order its constructor takes them.
+_COLUMNS = ("chunk", "offset", "channel", "time", "start", "end")
+
+
 def joined(parts: Sequence[Spans]) -> Spans:
     """The rows of every part, one after the other."""
     if not parts:
         return Spans.empty()
-    return Spans(*(np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(Spans)))
+    return Spans(*(np.concatenate([getattr(p, name) for p in parts]) for name in _COLUMNS))
 
 
 def bounded(spans: Spans, records_start: Int64Array, records_end: Int64Array) -> tuple[Spans, BoolArray]:

@@ -9,7 +9,6 @@ what it could decompress with a line saying what was lost.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, BinaryIO, Protocol
 
@@ -28,12 +27,14 @@ class CompressionUnavailableError(Exception):
     """A compression this machine cannot decompress (the message says what to install)."""
 
 
-@dataclass
 class Unpacked:
     """Decompressed bytes; ``loss`` says why they end before the declared size ("" when whole)."""
 
-    data: bytes | memoryview  # a view of the decompressed bytes: not copied again
-    loss: str = ""
+    __slots__ = ("data", "loss")
+
+    def __init__(self, data: bytes | memoryview, loss: str = "") -> None:
+        self.data = data  # a view of the decompressed bytes: not copied again
+        self.loss = loss
 
 
 class Budget:

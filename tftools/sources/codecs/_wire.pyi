@@ -1,6 +1,6 @@
 """TFMessages of ROS1 and CDR decoded in bulk (native/wire_module.cpp, native/tf_wire.hpp)."""
 
-from tftools.core.arrays import FloatArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 
 #: A wire: (CDR encapsulation or -1, big endian, origin, align, seq, signed_sec, nul, exact), as ``wire.Wire``.
 WireFields = tuple[int, bool, int, int, bool, bool, bool, bool]
@@ -14,3 +14,20 @@ def decode_transforms(
     as ids among the names; each distinct name's start and length in ``raw`` (a CDR NUL left out);
     of the messages not well-formed or in none of the wires, (K, 4): each one, why (``wire.Reason``),
     the offset in it and the figure the reason tells."""
+
+def match_records(
+    raw: UInt8Array,
+    offsets: Int64Array,
+    limits: Int64Array,
+    cuts: BoolArray,
+    header: bytes,
+    conn_at: int,
+    time_at: int,
+) -> tuple[BoolArray, Int64Array, Int64Array, Int64Array, Int64Array]:
+    """Which ROS1 records at ``offsets`` of ``raw`` have a header laid out as ``header`` (its bytes after
+    its length; conn's 4 at ``conn_at`` and time's 8 at ``time_at`` may differ) and end within their
+    ``limits`` (or, ``cuts``, were read only that far: their payload ends there); of those, their conn,
+    record time (ns), payload start and payload end."""
+
+def split_values(values: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Values (N, 7) as two contiguous arrays: translations (N, 3) and rotations (N, 4)."""

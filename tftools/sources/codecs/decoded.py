@@ -4,7 +4,6 @@ once per source; clocks; and the one-message use of a bulk decoder."""
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -41,18 +40,28 @@ class FrameNames(Names):
         return np.maximum(ids, 0), ids < 0
 
 
-@dataclass
 class Decoded:
     """Transforms of decoded messages, message by message in order: ``message`` is each row's
     message (an index into the payloads given), ``parent`` and ``child`` ids of a ``FrameNames``;
     ``failures`` the (message, reason) of payloads that are not well-formed messages."""
 
-    message: Int64Array
-    parent: Int32Array
-    child: Int32Array
-    stamp: Int64Array
-    values: FloatArray  # (N, 7): x y z qx qy qz qw
-    failures: list[tuple[int, str]] = field(default_factory=list)
+    __slots__ = ("child", "failures", "message", "parent", "stamp", "values")
+
+    def __init__(
+        self,
+        message: Int64Array,
+        parent: Int32Array,
+        child: Int32Array,
+        stamp: Int64Array,
+        values: FloatArray,
+        failures: list[tuple[int, str]] | None = None,
+    ) -> None:
+        self.message = message
+        self.parent = parent
+        self.child = child
+        self.stamp = stamp
+        self.values = values  # (N, 7): x y z qx qy qz qw
+        self.failures = [] if failures is None else failures
 
     @classmethod
     def empty(cls, failures: Sequence[tuple[int, str]] = ()) -> Decoded:
@@ -97,16 +106,20 @@ class Decoded:
 _COLUMNS = ("message", "parent", "child", "stamp", "values")
 
 
-@dataclass
 class Headers:
     """The headers of decoded messages, in message order: ``message`` is each one's message (an index
     into the payloads given), ``frame`` ids of a ``FrameNames``; ``failures`` the (message, reason)
     of payloads that do not start with a header."""
 
-    message: Int64Array
-    stamp: Int64Array
-    frame: Int32Array
-    failures: list[tuple[int, str]]
+    __slots__ = ("failures", "frame", "message", "stamp")
+
+    def __init__(
+        self, message: Int64Array, stamp: Int64Array, frame: Int32Array, failures: list[tuple[int, str]]
+    ) -> None:
+        self.message = message
+        self.stamp = stamp
+        self.frame = frame
+        self.failures = failures
 
 
 #: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.

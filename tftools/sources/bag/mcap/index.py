@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import struct
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -37,14 +36,16 @@ _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, 
 _ID_OFFSET = struct.Struct("<HQ")
 
 
-@dataclass
 class Summary:
     """What an MCAP file's summary section says."""
 
-    schemas: list[bytes] = field(default_factory=list)
-    channels: list[bytes] = field(default_factory=list)
-    chunks: list[ChunkIndex] = field(default_factory=list)
-    statistics: tuple[int, int, int] | None = None  # message count, start, end
+    __slots__ = ("channels", "chunks", "schemas", "statistics")
+
+    def __init__(self) -> None:
+        self.schemas: list[bytes] = []
+        self.channels: list[bytes] = []
+        self.chunks: list[ChunkIndex] = []
+        self.statistics: tuple[int, int, int] | None = None  # message count, start, end
 
 
 def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels, progress: ProgressCallback) -> bool:

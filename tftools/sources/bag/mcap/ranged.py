@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -22,14 +21,16 @@ _HEAD = RECORD.size + U16.size  # a message record's opcode, length and channel 
 _HEADED_BYTES = PAYLOAD + HEADER_BYTES  # of a message read for its header: its record's head and the header
 
 
-@dataclass
 class Queued:
     """An uncompressed chunk waiting to be read in ranges."""
 
-    number: int  # its place in the file, which orders its messages
-    chunk: ChunkIndex
-    index: bytes  # its message index records
-    entries: dict[int, bytes]  # the message index entries of every channel in it, by channel id
+    __slots__ = ("chunk", "entries", "index", "number")
+
+    def __init__(self, number: int, chunk: ChunkIndex, index: bytes, entries: dict[int, bytes]) -> None:
+        self.number = number  # its place in the file, which orders its messages
+        self.chunk = chunk
+        self.index = index  # its message index records
+        self.entries = entries  # the message index entries of every channel in it, by channel id
 
 
 class RangedReader:

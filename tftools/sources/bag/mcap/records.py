@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import struct
 import zlib
-from dataclasses import dataclass
 
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import MCAP
@@ -24,18 +23,31 @@ U16, U32, U64, I64 = struct.Struct("<H"), struct.Struct("<I"), struct.Struct("<Q
 CHUNK_HEAD = struct.Struct("<QQQI")  # start time, end time, uncompressed size, crc
 
 
-@dataclass
 class ChunkIndex:
     """Where a chunk and its message indexes are, as the summary says."""
 
-    offset: int
-    length: int
-    index_offsets: dict[int, int]  # channel id -> file offset of its MessageIndex record
-    index_length: int
-    compression: str
-    records_length: int  # of its records as stored (compressed or not)
-    message_start: int  # record (log) time of its first message, ns
-    message_end: int  # and of its last
+    __slots__ = ("compression", "index_length", "index_offsets", "length", "message_end", "message_start",
+                 "offset", "records_length")  # fmt: skip
+
+    def __init__(
+        self,
+        offset: int,
+        length: int,
+        index_offsets: dict[int, int],
+        index_length: int,
+        compression: str,
+        records_length: int,
+        message_start: int,
+        message_end: int,
+    ) -> None:
+        self.offset = offset
+        self.length = length
+        self.index_offsets = index_offsets  # channel id -> file offset of its MessageIndex record
+        self.index_length = index_length
+        self.compression = compression
+        self.records_length = records_length  # of its records as stored (compressed or not)
+        self.message_start = message_start  # record (log) time of its first message, ns
+        self.message_end = message_end  # and of its last
 
     @property
     def records_start(self) -> int:

@@ -7,7 +7,6 @@ from array import array
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
-from tftools.core.time import NS_PER_S
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.ros1.records import (
     OP_CONNECTION,
@@ -20,7 +19,8 @@ from tftools.sources.bag.ros1.records import (
     value_at,
 )
 from tftools.sources.bag.spans import Spans, joined
-from tftools.sources.codecs.gather import bytes_at, distinct, u32_at
+from tftools.sources.codecs import _wire
+from tftools.sources.codecs.gather import distinct, u32_at
 
 _MIN_HEADER = 4 + len("op=") + 1  # a record header holds at least its op field
 
@@ -126,15 +126,12 @@ def _message_at(
 
 
 class _Template:
-    """The fixed bytes of a message record header of one length, and where conn and time sit."""
+    """The bytes of a message record header of one length, and where conn and time sit in them."""
 
     def __init__(self, header: bytes, conn_at: int, time_at: int) -> None:
-        self.length = len(header)
-        variable = set(range(conn_at, conn_at + 4)) | set(range(time_at, time_at + 8))
-        self.fixed = np.array([i for i in range(self.length) if i not in variable], np.int64) + 4
-        self.expected = np.frombuffer(header, np.uint8)[self.fixed - 4]
-        self.conn_at = conn_at + 4
-        self.time_at = time_at + 4
+        self.header = header
+        self.conn_at = conn_at
+        self.time_at = time_at
 
     @classmethod
     def learn(cls, data: ByteSpan, pos: int) -> _Template | None:
@@ -153,15 +150,6 @@ class _Template:
         self, raw: UInt8Array, offsets: Int64Array, limit: Int64Array, cut: BoolArray
     ) -> tuple[BoolArray, tuple[Int64Array, ...]]:
         """Which records have this layout and end within ``limit`` (or, ``cut``, are read up to it);
-        their conn, time, data start and end."""
-        length_at = offsets + 4 + self.length
-        hit = length_at + 4 <= limit
-        fits = np.flatnonzero(hit)
-        hit[fits] = (bytes_at(raw, offsets[fits], 4 + self.length)[:, self.fixed] == self.expected).all(axis=1)
-        data_end = np.zeros(len(offsets), np.int64)
-        data_end[fits] = length_at[fits] + 4 + u32_at(raw, length_at[fits])
-        data_end = np.where(cut & (data_end > limit), limit, data_end)
-        hit &= data_end <= limit
-        at = offsets[hit]
-        sec, nsec = u32_at(raw, at + self.time_at), u32_at(raw, at + self.time_at + 4)
-        return hit, (u32_at(raw, at + self.conn_at), sec * NS_PER_S + nsec, length_at[hit] + 4, data_end[hit])
+        their conn, time, data start and end (compiled: one pass over the records)."""
+        hit, *values = _wire.match_records(raw, offsets, limit, cut, self.header, self.conn_at, self.time_at)
+        return hit, tuple(values)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from tftools.core.arrays import BoolArray
@@ -18,14 +16,16 @@ from tftools.sources.contents import Recorded
 from tftools.sources.storage.source import ByteSource, FileBytes
 
 
-@dataclass
 class Damage:
     """Chunks (or bytes between them) that could not be read: how many, the first, messages lost."""
 
-    places: int = 0
-    first: str = ""
-    lost: int = 0
-    lost_known: bool = True  # the index says how many messages each chunk held
+    __slots__ = ("first", "lost", "lost_known", "places")
+
+    def __init__(self) -> None:
+        self.places = 0
+        self.first = ""
+        self.lost = 0
+        self.lost_known = True  # the index says how many messages each chunk held
 
     def note(self, pos: int, reason: str, lost: int | None) -> None:
         self.places += 1

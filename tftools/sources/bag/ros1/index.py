@@ -9,8 +9,6 @@ whole, one whose bulk is camera images costs little more than its transforms.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 import numpy.typing as npt
 
@@ -50,12 +48,14 @@ _CHUNK_HEADER_BYTES, _INDEX_RECORD_BYTES, _INDEX_ENTRY_BYTES = 4096, 128, 12
 _HEADED_BYTES = 256 + HEADER_BYTES
 
 
-@dataclass
 class BagIndex:
     """The connections and chunk infos (in file order) at a bag's end."""
 
-    connections: list[Connection]
-    infos: list[ChunkInfo]
+    __slots__ = ("connections", "infos")
+
+    def __init__(self, connections: list[Connection], infos: list[ChunkInfo]) -> None:
+        self.connections = connections
+        self.infos = infos
 
 
 def read_index(bag: BagFile, header: BagHeader) -> BagIndex:
@@ -206,15 +206,17 @@ def _wanted(bag: BagFile, spans: Spans) -> BoolArray:
     return spans.looked_up(bag.channels) >= 0
 
 
-@dataclass
 class _Index:
     """The index records after a chunk: each one's connection and entries (rows of the record
     time's seconds and nanoseconds, and the offset in the chunk's data, of each message), and
     where they end."""
 
-    conns: list[int]
-    entries: list[npt.NDArray[np.uint32]]
-    end: int
+    __slots__ = ("conns", "end", "entries")
+
+    def __init__(self, conns: list[int], entries: list[npt.NDArray[np.uint32]], end: int) -> None:
+        self.conns = conns
+        self.entries = entries
+        self.end = end
 
 
 def _chunk_index(bag: BagFile, chunk: Record, info: ChunkInfo) -> _Index | None:
@@ -246,23 +248,27 @@ def _indexed(indexes: list[_Index]) -> Spans:
     return Spans(np.repeat(chunk, counts), offset, np.repeat(conn, counts), time, offset, offset)
 
 
-@dataclass
 class _Pending:
     """An uncompressed chunk whose wanted records wait to be read."""
 
-    ordinal: int
-    wanted: int  # messages, as its chunk info counts them
-    index: _Index
-    chunk: Chunk
+    __slots__ = ("chunk", "index", "ordinal", "wanted")
+
+    def __init__(self, ordinal: int, wanted: int, index: _Index, chunk: Chunk) -> None:
+        self.ordinal = ordinal
+        self.wanted = wanted  # messages, as its chunk info counts them
+        self.index = index
+        self.chunk = chunk
 
 
-@dataclass
 class _Gathered:
     """Uncompressed chunks, gathered in file order until their wanted records are read together."""
 
-    chunks: list[_Pending] = field(default_factory=list)
-    records: int = 0  # wanted (about what reading them will take, whatever else the chunks hold)
-    nbytes: int = 0  # the chunks' data: at most what reading them will take
+    __slots__ = ("chunks", "nbytes", "records")
+
+    def __init__(self) -> None:
+        self.chunks: list[_Pending] = []
+        self.records = 0  # wanted (about what reading them will take, whatever else the chunks hold)
+        self.nbytes = 0  # the chunks' data: at most what reading them will take
 
     def add(self, bag: BagFile, pending: _Pending) -> None:
         """Note an uncompressed chunk, to be read with others (and its header's and index's pages

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import struct
-from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
@@ -54,15 +53,17 @@ def header_fields(buf: ByteSpan, start: int, end: int) -> dict[str, bytes]:
     return fields
 
 
-@dataclass(frozen=True)
 class Record:
     """One record: its header's fields and where its data lies in the buffer."""
 
-    op: int
-    fields: dict[str, bytes]
-    start: int  # first byte of the record (its header length)
-    data_start: int
-    data_end: int
+    __slots__ = ("data_end", "data_start", "fields", "op", "start")
+
+    def __init__(self, op: int, fields: dict[str, bytes], start: int, data_start: int, data_end: int) -> None:
+        self.op = op
+        self.fields = fields
+        self.start = start  # first byte of the record (its header length)
+        self.data_start = data_start
+        self.data_end = data_end
 
     def uint(self, name: str) -> int:
         value = self._field(name)
@@ -172,13 +173,15 @@ class RecordReader:
         return record
 
 
-@dataclass(frozen=True)
 class BagHeader:
-    index_pos: int  # 0: the bag was never closed (no index)
-    conn_count: int
-    chunk_count: int
-    encryptor: str
-    data_start: int  # where the first record after the bag header begins
+    __slots__ = ("chunk_count", "conn_count", "data_start", "encryptor", "index_pos")
+
+    def __init__(self, index_pos: int, conn_count: int, chunk_count: int, encryptor: str, data_start: int) -> None:
+        self.index_pos = index_pos  # 0: the bag was never closed (no index)
+        self.conn_count = conn_count
+        self.chunk_count = chunk_count
+        self.encryptor = encryptor
+        self.data_start = data_start  # where the first record after the bag header begins
 
 
 def read_bag_header(buf: ByteSpan) -> BagHeader:
@@ -196,17 +199,28 @@ def read_bag_header(buf: ByteSpan) -> BagHeader:
     )
 
 
-@dataclass(frozen=True)
 class Connection:
     """A topic as one publisher (callerid) recorded it."""
 
-    id: int
-    topic: str
-    type: str
-    callerid: str  # "" when the bag does not say
-    definition: str = ""  # its type's message_definition
-    md5sum: str = ""
-    latching: bool = False
+    __slots__ = ("callerid", "definition", "id", "latching", "md5sum", "topic", "type")
+
+    def __init__(
+        self,
+        id: int,
+        topic: str,
+        type: str,
+        callerid: str,
+        definition: str = "",
+        md5sum: str = "",
+        latching: bool = False,
+    ) -> None:
+        self.id = id
+        self.topic = topic
+        self.type = type
+        self.callerid = callerid  # "" when the bag does not say
+        self.definition = definition  # its type's message_definition
+        self.md5sum = md5sum
+        self.latching = latching
 
 
 def read_connection(buf: ByteSpan, record: Record) -> Connection:
@@ -223,14 +237,16 @@ def read_connection(buf: ByteSpan, record: Record) -> Connection:
     )
 
 
-@dataclass(frozen=True)
 class ChunkInfo:
     """What the index says about one chunk: where, when, and how many messages per connection."""
 
-    pos: int
-    start: int
-    end: int
-    counts: dict[int, int] = field(default_factory=dict)
+    __slots__ = ("counts", "end", "pos", "start")
+
+    def __init__(self, pos: int, start: int, end: int, counts: dict[int, int] | None = None) -> None:
+        self.pos = pos
+        self.start = start
+        self.end = end
+        self.counts = {} if counts is None else counts
 
 
 def _entries(buf: ByteSpan, record: Record, width: int, what: str) -> npt.NDArray[np.uint32]:
@@ -252,13 +268,15 @@ def read_chunk_info(buf: ByteSpan, record: Record) -> ChunkInfo:
     return ChunkInfo(pos, record.time("start_time"), record.time("end_time"), counts)
 
 
-@dataclass(frozen=True)
 class Chunk:
-    pos: int
-    compression: str
-    size: int  # uncompressed bytes
-    data_start: int
-    data_end: int
+    __slots__ = ("compression", "data_end", "data_start", "pos", "size")
+
+    def __init__(self, pos: int, compression: str, size: int, data_start: int, data_end: int) -> None:
+        self.pos = pos
+        self.compression = compression
+        self.size = size  # uncompressed bytes
+        self.data_start = data_start
+        self.data_end = data_end
 
 
 def read_chunk(record: Record) -> Chunk:

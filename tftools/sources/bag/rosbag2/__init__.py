@@ -5,7 +5,6 @@ from __future__ import annotations
 import re
 import tempfile
 from contextlib import ExitStack
-from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import TYPE_CHECKING, Any
 
@@ -150,15 +149,24 @@ class Rosbag2Bag:
 _NO_METADATA = OfferedQos({}, metadata=False)
 
 
-@dataclass
 class _Bag:
     """What a bag directory is made of, from its metadata.yaml or, failing that, its files."""
 
-    storage: str  # "sqlite3" or "mcap"
-    files: list[Path]
-    compression_mode: str = ""  # "", "file" or "message"
-    problems: list[str] = field(default_factory=list)
-    qos: OfferedQos = _NO_METADATA
+    __slots__ = ("compression_mode", "files", "problems", "qos", "storage")
+
+    def __init__(
+        self,
+        storage: str,
+        files: list[Path],
+        compression_mode: str = "",
+        problems: list[str] | None = None,
+        qos: OfferedQos = _NO_METADATA,
+    ) -> None:
+        self.storage = storage  # "sqlite3" or "mcap"
+        self.files = files
+        self.compression_mode = compression_mode  # "", "file" or "message"
+        self.problems = [] if problems is None else problems
+        self.qos = qos
 
 
 def _layout(path: Path, stored: Files) -> _Bag:

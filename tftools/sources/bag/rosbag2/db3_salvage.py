@@ -18,7 +18,6 @@ from __future__ import annotations
 import mmap
 import struct
 from collections.abc import Collection
-from dataclasses import dataclass, field
 
 from tftools.sources.bag.damage import DamageError
 
@@ -32,16 +31,20 @@ _INT_CONSTANTS = (8, 9)  # serial types of the integers 0 and 1, stored in no by
 _U16, _U32 = struct.Struct(">H"), struct.Struct(">I")
 
 
-@dataclass
 class Salvaged:
     """The wanted topics' messages found, in (record time, id) order; the count and time span of
     every topic's; how many wanted ones lost their overflow pages."""
 
-    rows: list[Row] = field(default_factory=list)
-    count: int = 0
-    start: int = 0
-    end: int = 0
-    lost: int = 0
+    __slots__ = ("count", "end", "lost", "rows", "start")
+
+    def __init__(
+        self, rows: list[Row] | None = None, count: int = 0, start: int = 0, end: int = 0, lost: int = 0
+    ) -> None:
+        self.rows = [] if rows is None else rows
+        self.count = count
+        self.start = start
+        self.end = end
+        self.lost = lost
 
 
 def salvage(data: Bytes, topic_ids: Collection[int]) -> Salvaged:
