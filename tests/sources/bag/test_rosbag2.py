@@ -439,6 +439,7 @@ def test_unmerged_wal(tmp_path: Path) -> None:
     assert rows == expected_rows(MESSAGES)
     (line,) = contents.problems
     assert line.startswith("bag.db3-wal holds writes never merged")
+    assert "a copy of the .db3" in line and "opening the original would change it" in line  # never advise that
 
 
 def test_mcap_scan_is_the_bare_reader(tmp_path: Path) -> None:

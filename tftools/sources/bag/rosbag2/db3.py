@@ -59,7 +59,8 @@ class Db3File:
         if self.unmerged:
             result.note_problem(
                 f"{self.unmerged} holds writes never merged into the database; they were not read"
-                " (opening the bag once with sqlite3 merges them)"
+                " (they are merged when a copy of the .db3 and its -wal file is opened once with sqlite3;"
+                " opening the original would change it)"
             )
         return result
 
