@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from tests.analysis.wtf_scenes import MS, SECONDS, SIM_START, START, _t, periodic, recording, statics
-from tests.bags import BagFormat, TfMessage, write_bag
+from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tftools.analysis.findings import Finding
 from tftools.analysis.wtf.fleet import check
@@ -184,3 +184,26 @@ def test_monitor_counts_a_static_message_ros2s_tf2_replaced(tfx: Tfx, tmp_path: 
     assert publishers["/tf_static"]["messages"] == sum(m.topic == "/tf_static" for m in messages) == 2
     assert ["map", "odom"] in publishers["/tf_static"]["edges"]
     assert publishers["/tf"]["messages"] == sum(m.topic == "/tf" for m in messages)
+
+
+@pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
+def test_monitor_counts_static_messages_recorded_before_the_first_clock(tfx: Tfx, tmp_path: Path, play: bool) -> None:  # noqa: F811
+    """ros2_db3_tb3_gazebo_two_rsp (and ros2_db3_webots_epuck): /tf_static messages recorded before the
+    simulation's first /clock all play at one time, so --play counted them as 1 message (2 and 8 were sent):
+    a publisher sent at least as many messages as one of its edges had samples, on /tf_static as on /tf."""
+    laser = [_t("base_link", "laser", 0)]
+    statics_sent = [TfMessage("/tf_static", START + i * MS, laser, "/tf_static") for i in range(3)]
+    ticks = range(1, 101)
+    clock = [ClockMessage(START + 100 * MS + i * 20 * MS, SIM_START + i * 20 * MS) for i in ticks]
+    odometry = [
+        TfMessage("/tf", START + 100 * MS + i * 20 * MS + MS, [_t("odom", "base_link", SIM_START + i * 20 * MS)])
+        for i in ticks
+    ]
+    messages: list[TfMessage | ClockMessage] = sorted([*statics_sent, *clock, *odometry], key=lambda m: m.record_time)
+    bag = write_bag(tmp_path / "sim", messages, BagFormat.rosbag2_sqlite3)
+    window = ["--play", "--rate", "500", "--window", "100"] if play else []
+    result = tfx("monitor", "-b", bag, "-f", "json", *window)
+    assert result.code == 0, result.stderr
+    report = json.loads(result.stdout.splitlines()[-1] if play else result.stdout)
+    publishers = {a["authority"]: a["messages"] for a in report["authorities"]}
+    assert publishers == {"/tf_static": 3, "/tf": 100}

@@ -121,6 +121,7 @@ def authority_stats(
     edges: dict[int, list[tuple[str, str]]] = {}
     # per publisher and child: the samples that arrived in the window, and those of them whose arrival is known
     samples: dict[int, dict[str, tuple[int, int]]] = {}
+    static_samples: dict[int, dict[str, tuple[int, int]]] = {}  # the same of its static edges
     timeline = timeline or ON_RECORD_CLOCK
     if unstored is None:
         unstored = buffer.rejections.rows()[0] if len(buffer.rejections) else TransformBatch.empty()
@@ -134,8 +135,7 @@ def authority_stats(
             if (extra := refused.pop((buffer.authorities[a], child, hist.static), None)) is not None:
                 count, arrivals = count + len(extra[1]), np.concatenate([arrivals, extra[1]])
             (static if hist.static else moving).setdefault(a, []).append(arrivals)
-            if not hist.static:
-                _count(samples, a, child, arrivals, timeline.replayed)
+            _count(static_samples if hist.static else samples, a, child, arrivals, timeline.replayed)
             delays.setdefault(a, []).append(_delays(child, hist, mine, timeline))
             edges.setdefault(a, []).extend((buffer.frame_name(int(p)), child) for p in _ids(hist.parents[mine]))
     known = {name: a for a, name in enumerate(buffer.authorities)}
@@ -144,8 +144,7 @@ def authority_stats(
         if (index := known.get(name)) is not None:
             a = index
             (static if was_static else moving).setdefault(a, []).append(times)
-            if not was_static:
-                _count(samples, a, child, times, timeline.replayed)
+            _count(static_samples if was_static else samples, a, child, times, timeline.replayed)
             edges.setdefault(a, []).append((parent, child))
             delays.setdefault(a, [])
     return [
@@ -155,6 +154,7 @@ def authority_stats(
             _arrivals(static.get(a), timeline.replayed, at_least_one=True),
             max((n for n, _ in samples.get(a, {}).values()), default=0),
             max((n for _, n in samples.get(a, {}).values()), default=0),
+            max((n for n, _ in static_samples.get(a, {}).values()), default=0),
             edges[a],
             delays[a],
         )
@@ -239,17 +239,21 @@ def _authority(
     static: Int64Array,
     most_samples: int,
     most_timed: int,
+    most_static: int,
     edges: list[tuple[str, str]],
     delays: list[Int64Array],
 ) -> AuthorityStats:
     """``most_samples``: the most samples one of its moving edges had: at least that many messages came on
-    /tf; ``most_timed``: of those whose arrival is known, the span ``moving`` measures the rate over. Its
-    /tf_static messages are others, even where one arrived at the time of a /tf message."""
+    /tf; ``most_timed``: of those whose arrival is known, the span ``moving`` measures the rate over;
+    ``most_static``: the most one of its static edges had (a replay plays a recording's /tf_static messages
+    recorded before its first /clock at one time). Its /tf_static messages are others, even where one arrived
+    at the time of a /tf message."""
     moved = max(len(moving), most_samples)
     rate = rate_hz(max(len(moving), most_timed), int(moving[-1] - moving[0])) if len(moving) else 0.0
-    messages = moved + len(static)
+    statics = max(len(static), most_static)
+    messages = moved + statics
     mean, largest = mean_max(np.concatenate(delays) if delays else np.zeros(0, np.int64))
-    only_static = moved == 0 and len(static) > 0
+    only_static = moved == 0 and statics > 0
     return AuthorityStats(name, messages, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static)
 
 
