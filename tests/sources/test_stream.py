@@ -12,6 +12,7 @@ import pytest
 
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.sources.bag.reading import read_contents
+from tftools.analysis.edges import chain_moving_edges
 from tftools.core.batch import BatchBuilder, TransformBatch, concat_batches
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
@@ -103,6 +104,20 @@ def test_a_streamed_sample_bag_replays_the_rows_of_the_whole(paths: list[Path]) 
     assert streamed.semantics == whole.buffer.semantics
     # each part is about one window's: no part holds much more than its share
     assert max(len(p) for p in parts) <= 4 * len(rows) / len(streamed.windows)
+
+
+@pytest.mark.parametrize("paths", RECORDINGS)
+def test_a_streams_moving_chain_is_the_whole_reads_for_every_pair_of_frames(paths: list[Path]) -> None:
+    """``moving_chain`` walks the tree as last seen through the buffer's one walk: for every pair of frames
+    the same dynamic edges as ``chain_moving_edges`` on the recording read whole."""
+    with stream_recording(paths, window_messages=100) as streamed:
+        whole = read_recording(paths).buffer
+        frames = sorted(whole.frames)
+        for target in frames:
+            for source in frames:
+                expected = set(chain_moving_edges(whole, target, source))
+                assert set(streamed.moving_chain(target, source)) == expected, (target, source)
+        assert streamed.moving_chain("base_link", "no_such_frame") == []
 
 
 @pytest.mark.parametrize("fmt", list(BagFormat))

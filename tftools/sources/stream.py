@@ -19,8 +19,10 @@ import numpy as np
 from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.errors import TransformError
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
+from tftools.core.transform import Transform
 from tftools.sources.bag import BagReader, ProgressCallback
 from tftools.sources.bag.contents import BagFileInfo, RecordWindow
 from tftools.sources.contents import ClockSamples, RecordingContents
@@ -81,26 +83,30 @@ class StreamedRecording:
         self._recorded = recorded  # whose clock holds the first /clock sample only: enough for ``Playback``
         #: The tree as last seen: each child's latest parent, and whether its edge is static.
         self.parents = dict(parents or {})
+        self._last_tree: Buffer | None = None  # ``_tree``, built on first use
         #: Each moving frame's arrivals kept by the first pass (``_Arrivals``): stamps in order, and when
         #: each plays (``Playback``'s times, estimated alike).
         self.arrivals = dict(arrivals or {})
 
     def moving_chain(self, target: str, source: str) -> list[str]:
         """The children of the dynamic edges between the frames in the tree as last seen (their latest
-        parents), as ``chain_moving_edges`` finds them in a whole read; none where they are not connected."""
-        up = [self._ancestry(target), self._ancestry(source)]
-        common = next((frame for frame in up[0] if frame in up[1]), None)
-        if common is None:
+        parents), as ``chain_moving_edges`` finds them in a whole read: through the buffer's one walk, on a
+        buffer holding that tree; none where they are not connected."""
+        try:
+            frames = self._tree().chain(target, source)
+        except TransformError:
             return []
-        path = [f for line in up for f in line[: line.index(common)]]
-        return [f for f in path if not self.parents[f][1]]
+        on_path = set(frames)
+        return [f for f in frames if (edge := self.parents.get(f)) is not None and not edge[1] and edge[0] in on_path]
 
-    def _ancestry(self, frame: str) -> list[str]:
-        """``frame`` and its ancestors to its root (a loop's walk stops where it comes back)."""
-        line = [frame]
-        while (parent := self.parents.get(line[-1])) is not None and parent[0] not in line:
-            line.append(parent[0])
-        return line
+    def _tree(self) -> Buffer:
+        """A buffer holding the tree as last seen: one sample of each edge, static where it was."""
+        if self._last_tree is None:
+            tree = Buffer(cache_time=None, semantics=self.semantics)
+            for child, (parent, static) in self.parents.items():
+                tree.set_transform(Transform(stamp=1, frame_id=parent, child_frame_id=child), static=static)
+            self._last_tree = tree
+        return self._last_tree
 
     def replay_time(self, stamp: int, frames: Sequence[str], *, last: bool = False) -> int:
         """When the first transform of ``frames`` (children) stamped at or after ``stamp`` plays, on the
