@@ -199,8 +199,7 @@ def test_monitor_counts_static_messages_recorded_before_the_first_clock(tfx: Tfx
         TfMessage("/tf", START + 100 * MS + i * 20 * MS + MS, [_t("odom", "base_link", SIM_START + i * 20 * MS)])
         for i in ticks
     ]
-    messages: list[TfMessage | ClockMessage] = sorted([*statics_sent, *clock, *odometry], key=lambda m: m.record_time)
-    bag = write_bag(tmp_path / "sim", messages, BagFormat.rosbag2_sqlite3)
+    bag = write_bag(tmp_path / "sim", [*statics_sent, *odometry], BagFormat.rosbag2_sqlite3, clock=clock)
     window = ["--play", "--rate", "500", "--window", "100"] if play else []
     result = tfx("monitor", "-b", bag, "-f", "json", *window)
     assert result.code == 0, result.stderr
