@@ -16,6 +16,7 @@ from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
 from tftools.core.figures import jitter, longest_interval, mean_max, rate_hz, rate_of
 from tftools.core.history import EdgeHistory
+from tftools.core.stored import with_replaced
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
 
@@ -126,14 +127,15 @@ def authority_stats(
     if unstored is None:
         unstored = buffer.rejections.rows()[0] if len(buffer.rejections) else TransformBatch.empty()
     refused = _unstored(unstored, start, end, by_record_time, timeline)
-    for child, hist in _sent_histories(buffer):
+    # with the histories ROS 2's tf2 replaced when a child switched between /tf_static and /tf
+    for child, hist in ((child, h) for child, current in buffer.histories() for h in with_replaced(current)):
         window = _window(hist, start, end, by_record_time, timeline)
         for authority in _ids(hist.authorities[window]):
             a = int(authority)
             mine = window & (hist.authorities == authority)
-            arrivals, count = hist.record_times[mine], int(mine.sum())
+            arrivals = hist.record_times[mine]
             if (extra := refused.pop((buffer.authorities[a], child, hist.static), None)) is not None:
-                count, arrivals = count + len(extra[1]), np.concatenate([arrivals, extra[1]])
+                arrivals = np.concatenate([arrivals, extra[1]])
             (static if hist.static else moving).setdefault(a, []).append(arrivals)
             _count(static_samples if hist.static else samples, a, child, arrivals, timeline.replayed)
             delays.setdefault(a, []).append(_delays(child, hist, mine, timeline))
@@ -168,16 +170,6 @@ def _count(
     """Adds ``arrivals`` (record times) to publisher ``a``'s samples of ``child``: all, and those timed."""
     count, timed = samples.setdefault(a, {}).get(child, (0, 0))
     samples[a][child] = (count + len(arrivals), timed + (len(arrivals) if replayed else int((arrivals > 0).sum())))
-
-
-def _sent_histories(buffer: Buffer) -> Iterator[tuple[str, EdgeHistory]]:
-    """Every child's history and those ROS 2's tf2 replaced when the child switched between /tf_static and
-    /tf (``EdgeHistory.replaced``): their messages were sent and recorded, whatever tf2 then kept."""
-    for child, hist in buffer.histories():
-        current: EdgeHistory | None = hist
-        while current is not None:
-            yield child, current
-            current = current.replaced
 
 
 def _unstored(

@@ -24,7 +24,7 @@ def stored_rows(buffer: Buffer) -> tuple[TransformBatch, Int64Array]:
     with buffer.lock:
         names = ["", *buffer.frames]  # index = the buffer's frame id
         ids = {name: frame_id for frame_id, name in enumerate(names)}
-        histories = [(ids[name], h) for name, hist in buffer.histories() for h in _with_replaced(hist)]
+        histories = [(ids[name], h) for name, hist in buffer.histories() for h in with_replaced(hist)]
         authorities = list(buffer.authorities)
         if not histories:
             return TransformBatch.empty(), np.zeros(0, np.int64)
@@ -49,8 +49,8 @@ SENT_COLUMNS = {
 }
 
 
-def _with_replaced(hist: EdgeHistory) -> Iterator[EdgeHistory]:
-    """``hist`` and the histories it replaced, newest first."""
+def with_replaced(hist: EdgeHistory) -> Iterator[EdgeHistory]:
+    """``hist`` and the histories it replaced, newest first: every sample sent, whatever tf2 then kept."""
     current: EdgeHistory | None = hist
     while current is not None:
         yield current
