@@ -9,8 +9,9 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from tftools.core.arrays import Int32Array, Int64Array
+from tftools.core.arrays import BoolArray, Int32Array, Int64Array
 from tftools.core.batch import TransformBatch, concat_batches
+from tftools.core.frames import Names
 
 #: The topics read unless told otherwise.
 DEFAULT_TOPICS = ("/tf", "/tf_static")
@@ -119,6 +120,59 @@ class WholeMessages:
         return len(self.record_time)
 
 
+@dataclass(frozen=True)
+class SentMessages:
+    """The tf messages that held a transform, one row each in record order, as the source told them apart
+    (a message of several transforms is one, whatever tf2 then kept of it): whose it was (an index into
+    ``authorities``, which name publishers as a batch's do: the publisher, else the topic), whether it came on
+    /tf_static, when it was recorded (0: unknown), and its first transform's stamp (which stands for its
+    arrival where that is unknown, as a transform's stamp does)."""
+
+    authorities: Sequence[str]
+    authority: Int32Array
+    static: BoolArray
+    record_time: Int64Array
+    stamp: Int64Array
+
+    def __len__(self) -> int:
+        return len(self.record_time)
+
+    @classmethod
+    def empty(cls) -> SentMessages:
+        none = np.zeros(0, np.int64)
+        return cls([], none.astype(np.int32), none.astype(bool), none, none)
+
+    def taken(self, rows: slice | Int64Array) -> SentMessages:
+        """The messages at ``rows``, sharing the string table."""
+        return SentMessages(
+            self.authorities, self.authority[rows], self.static[rows], self.record_time[rows], self.stamp[rows]
+        )
+
+    def recorded_up_to(self, time: int) -> int:
+        """How many of the messages were recorded at or before ``time`` (record times sorted)."""
+        return int(np.searchsorted(self.record_time, time, side="right"))
+
+
+def concat_sent(parts: Sequence[SentMessages]) -> SentMessages:
+    """One table of the messages of ``parts`` (each in record order), in record order (ties keep their order)."""
+    parts = [p for p in parts if len(p)]
+    if len(parts) < 2:
+        return parts[0] if parts else SentMessages.empty()
+    names = Names()
+    authority = np.concatenate(
+        [np.array([names.intern(n) for n in p.authorities], np.int32)[p.authority] for p in parts]
+    )
+    record_time = np.concatenate([p.record_time for p in parts])
+    order = np.argsort(record_time, kind="stable")
+    return SentMessages(
+        names.names,
+        authority[order],
+        np.concatenate([p.static for p in parts])[order],
+        record_time[order],
+        np.concatenate([p.stamp for p in parts])[order],
+    )
+
+
 #: ``SourceInfo.format`` of a buffer checked as it is (``recording_of_buffer``).
 BUFFER_FORMAT = "buffer"
 
@@ -210,6 +264,8 @@ class RecordingContents:
     whole: list[WholeMessages] = field(default_factory=list, repr=False, compare=False)  # messages read whole
     #: Each ROS 2 bag's offered QoS, by its path (``SourceInfo.path``); none for other sources.
     qos: dict[str, OfferedQos] = field(default_factory=dict, repr=False, compare=False)
+    #: The tf messages that held a transform; None where the source did not tell them apart (a buffer).
+    sent: SentMessages | None = field(default=None, repr=False, compare=False)
 
     @property
     def transforms(self) -> TransformBatch:

@@ -15,7 +15,7 @@ from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, Codec, CopyCodec, HeaderCodec, WholeCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
-from tftools.sources.contents import ClockSamples, StampedMessages, WholeMessages
+from tftools.sources.contents import ClockSamples, SentMessages, StampedMessages, WholeMessages
 
 ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
@@ -80,6 +80,7 @@ class MessageSet:
         self.count = 0
         self.headers_lost: list[str] = []  # once decoded: a line per topic whose headers were lost
         self.tf_messages: dict[str, tuple[int, int]] = {}  # once decoded: per tf topic, its messages and the empty
+        self.sent = SentMessages.empty()  # once decoded: the tf messages that held a transform
         #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
         #: play`` does): the positions of its messages, sorted, and each one's place in that order.
         self.replayed: tuple[Int64Array, Int64Array] | None = None
@@ -260,7 +261,7 @@ class MessageSet:
             ties = _placed(self.replayed, positions, ties)
         rank = _rank(times, ties, positions)
         self.tf_messages = self._tf_messages(channel_of)
-        self._rows.settle()
+        self.sent = self._rows.sent(times, channel_of, rank)
         rows_before = _rows_before(rank, self._rows.runs)
         batches = self._rows.batches(times, channel_of, rank)
         clock, stamped = self._clock(times, channel_of, rank), self._stamped(times, channel_of, rank, rows_before)

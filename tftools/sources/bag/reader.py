@@ -23,7 +23,7 @@ from tftools.sources.bag.contents import (
 from tftools.sources.bag.formats import sniff
 from tftools.sources.bag.scan import FileRead
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.contents import DEFAULT_TOPICS, MessageSink, StampedRead
+from tftools.sources.contents import DEFAULT_TOPICS, MessageSink, StampedRead, concat_sent
 from tftools.sources.errors import BagError
 from tftools.sources.headers import merged
 from tftools.sources.storage import open_files
@@ -113,6 +113,7 @@ class BagReader:
             StampedRead(streams, problems),
             [whole for read in reads for whole in read.whole],
             {read.info.path: read.qos for read in reads if read.qos is not None},
+            concat_sent([read.sent for read in reads]),
         )
 
     def _open(self, location: str) -> _Opened:

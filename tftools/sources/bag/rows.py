@@ -15,7 +15,7 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.codecs import _wire
 from tftools.sources.codecs.decoded import FrameNames
 from tftools.sources.codecs.select import AnyCodec, Codec
-from tftools.sources.contents import is_static_topic
+from tftools.sources.contents import SentMessages, is_static_topic
 
 Column = npt.NDArray[Any]
 
@@ -79,6 +79,24 @@ class Rows:
         self.messages = []
         firsts = np.flatnonzero(np.diff(message, prepend=-1))
         self.runs.append((message[firsts], np.diff(np.append(firsts, len(message)))))
+
+    def sent(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> SentMessages:
+        """The messages settled that held a transform, in record order (``rank``), with their first row's stamp."""
+        self.settle()
+        if not self.runs:
+            return SentMessages.empty()
+        messages = np.concatenate([m for m, _ in self.runs])
+        stamps = [s[np.cumsum(n) - n] for s, (_, n) in zip(self.parts["stamp"], self.runs, strict=True)]
+        order = np.argsort(rank[messages], kind="stable")
+        messages, channel = messages[order], channel_of[messages[order]]
+        transforms = [c for c in self.channels if isinstance(c.codec, Codec)]
+        authorities = list(dict.fromkeys(c.authority for c in transforms))
+        authority_of = np.array([authorities.index(c.authority) if c in transforms else -1 for c in self.channels])
+        static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
+        return SentMessages(
+            authorities, authority_of[channel].astype(np.int32), static_of[channel], times[messages],
+            np.concatenate(stamps)[order],
+        )  # fmt: skip
 
     def batches(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[TransformBatch]:
         """The rows in record order, given each message's record time, channel and place in

@@ -9,7 +9,7 @@ from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.select import Unread, unread_lines
-from tftools.sources.contents import ClockSamples, OfferedQos, StampedMessages, WholeMessages
+from tftools.sources.contents import ClockSamples, OfferedQos, SentMessages, StampedMessages, WholeMessages, concat_sent
 from tftools.sources.headers import merged
 
 
@@ -18,7 +18,7 @@ class FileRead:
     description, its recorded clock, its sensor data's headers (and one line per topic whose headers
     could not be read), the messages read whole and, for a ROS 2 bag, the QoS its publishers offered."""
 
-    __slots__ = ("batches", "clock", "info", "qos", "stamped", "stamped_problems", "whole")
+    __slots__ = ("batches", "clock", "info", "qos", "sent", "stamped", "stamped_problems", "whole")
 
     def __init__(
         self,
@@ -29,8 +29,10 @@ class FileRead:
         stamped_problems: list[str] | None = None,
         whole: list[WholeMessages] | None = None,
         qos: OfferedQos | None = None,
+        sent: SentMessages | None = None,
     ) -> None:
         self.batches = batches
+        self.sent = SentMessages.empty() if sent is None else sent
         self.info = info
         self.clock = ClockSamples.empty() if clock is None else clock
         self.stamped = [] if stamped is None else stamped
@@ -121,4 +123,5 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
         windowed=all(s.windowed for s in scans),
         tf_messages=tf_messages,
     )
-    return FileRead(batches, info, merged_clock(clocks), merged(stamped), stamped_problems, whole)
+    sent = concat_sent([scan.messages.sent for scan in scans])
+    return FileRead(batches, info, merged_clock(clocks), merged(stamped), stamped_problems, whole, sent=sent)
