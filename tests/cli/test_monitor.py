@@ -234,3 +234,41 @@ def test_a_publishers_messages_are_those_it_sent_in_the_whole_read_and_the_repla
         assert publishers["/rsp"]["messages"] == 26
         edges = {e["child"]: e for e in report["edges"]}
         assert edges["base_footprint"]["count"] == 80  # the samples tf2 stored
+
+
+def _webots_resends(path: Path, fmt: BagFormat) -> Path:
+    """A ROS 2 recording shaped as ``ros2_db3_webots_epuck`` (where ``--play`` showed 4 of 8 /tf_static messages
+    and 780 of 1,028 /tf ones): its /tf_static messages recorded before the first /clock (a broadcaster's
+    message of two transforms, then 2 and 3 re-sends of single ones, identical values), and a controller whose
+    /tf messages come two at a time on a 20 ms record clock (the simulation did not step: the last odometry
+    again, identical, with a wheel's message at that time too)."""
+    tick, start = 20 * MS_NS, 3 * NS_PER_S
+    laser = Transform((0.1, 0, 0.2), (0, 0, 0, 1), 0, "base_link", "laser")
+    footprint = Transform((0, 0, -0.02), (0, 0, 0, 1), 0, "base_link", "base_footprint")
+    messages = [TfMessage("/tf_static", start - 5 * MS_NS, [laser, footprint])]
+    messages += [TfMessage("/tf_static", start - 4 * MS_NS, [laser]) for _ in range(2)]
+    messages += [TfMessage("/tf_static", start - 3 * MS_NS, [footprint]) for _ in range(3)]
+    for k in range(50):
+        now = start + k * tick
+        odom = Transform((0.001 * k, 0, 0), (0, 0, 0, 1), now, "odom", "base_link")
+        wheel = Transform((0, 0.1, 0), (0, 0, math.sin(k / 20), math.cos(k / 20)), now, "base_link", "wheel")
+        messages += [TfMessage("/tf", now, [odom]), TfMessage("/tf", now, [odom]), TfMessage("/tf", now, [wheel])]
+    clock = [ClockMessage(start + k * tick, start + k * tick) for k in range(50)]
+    return write_bag(path / "webots", messages, fmt, clock)
+
+
+@pytest.mark.parametrize("fmt", [BagFormat.rosbag2_sqlite3, BagFormat.rosbag2_mcap])
+def test_every_message_sent_is_counted_however_many_share_a_record_time(
+    tfx: Tfx, tmp_path: Path, fmt: BagFormat
+) -> None:
+    bag = _webots_resends(tmp_path, fmt)
+    whole = tfx("monitor", "-b", bag, "-f", "json")
+    played = tfx("monitor", "-b", bag, "--play", "--rate", "500", "-f", "json")
+    assert whole.code == 0 and played.code == 0, whole.stderr + played.stderr
+    for report in (json.loads(whole.stdout), json.loads(played.stdout.splitlines()[-1])):
+        publishers = {a["authority"]: a for a in report["authorities"]}
+        assert publishers["/tf_static"]["messages"] == 6  # all before the first /clock, played at one time
+        assert publishers["/tf"]["messages"] == 150  # three a tick, two of them identical
+        assert publishers["/tf"]["rate_hz"] == pytest.approx(149 / 0.98, rel=1e-9)
+        edges = {e["child"]: e for e in report["edges"]}
+        assert edges["base_link"]["count"] == 50  # the samples tf2 stored: one a stamp

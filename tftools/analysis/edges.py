@@ -17,6 +17,7 @@ from tftools.core.errors import TransformError
 from tftools.core.figures import jitter, longest_interval, mean_max, rate_hz, rate_of
 from tftools.core.history import EdgeHistory
 from tftools.core.stored import with_replaced
+from tftools.sources.contents import SentMessages
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
 
@@ -56,7 +57,7 @@ class EdgeStats(Edge):
 
 @dataclass(frozen=True)
 class AuthorityStats:
-    """One publisher: its message rate (distinct record times per second), its edges, and
+    """One publisher: its messages (``messages_in_window``) and their rate, its edges, and
     the mean and largest delay (ns) of its dynamic transforms (tf_monitor's "Node:" line)."""
 
     authority: str
@@ -104,17 +105,17 @@ def authority_stats(
     by_record_time: bool = False,
     timeline: Timeline | None = None,
     unstored: TransformBatch | None = None,
+    sent: SentMessages | None = None,
 ) -> list[AuthorityStats]:
     """Each publisher's messages over the window (as ``edge_stats`` selects it) and its edges; ``unstored``:
     the rows tf2 refused or took again without storing them (``Recording.refused``; default: the refused
-    ones the buffer's log keeps).
+    ones the buffer's log keeps): their edges are the publisher's too.
 
-    Its rate counts the messages of its moving edges only: a latched static message sent
-    once is not part of a rhythm (tf_monitor lists static publishers apart). A message is
-    counted as tf_monitor counts it, on arrival: the samples tf2 refused (a stamp sent again,
-    ``TF_REPEATED_DATA``) or took again (ROS 2, an identical one) too, and at least as many as any one
-    of its edges had samples
-    (record times read off a coarse /clock put several messages at one time).
+    A message is counted as tf_monitor counts it, on arrival, whatever tf2 then kept of it: ``sent``, the
+    messages as the source told them apart, counted by ``messages_in_window``. Its rate counts its /tf
+    messages only: a latched static message sent once is not part of a rhythm (tf_monitor lists static
+    publishers apart). Without ``sent`` (a buffer filled by hand, which knows no message boundaries),
+    the messages are guessed from the rows (``_guessed``).
     """
     moving: dict[int, list[Int64Array]] = {}
     static: dict[int, list[Int64Array]] = {}
@@ -149,8 +150,14 @@ def authority_stats(
             _count(static_samples if was_static else samples, a, child, times, timeline.replayed)
             edges.setdefault(a, []).append((parent, child))
             delays.setdefault(a, [])
+    if sent is not None:
+        counted = messages_in_window(sent, start, end, by_record_time=by_record_time, timeline=timeline)
+        return [
+            _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], timeline.replayed)
+            for a in sorted(edges, key=lambda a: buffer.authorities[a])
+        ]
     return [
-        _authority(
+        _guessed(
             buffer.authorities[a],
             _arrivals(moving.get(a), timeline.replayed),
             _arrivals(static.get(a), timeline.replayed, at_least_one=True),
@@ -170,6 +177,56 @@ def _count(
     """Adds ``arrivals`` (record times) to publisher ``a``'s samples of ``child``: all, and those timed."""
     count, timed = samples.setdefault(a, {}).get(child, (0, 0))
     samples[a][child] = (count + len(arrivals), timed + (len(arrivals) if replayed else int((arrivals > 0).sum())))
+
+
+@dataclass(frozen=True)
+class Counted:
+    """One publisher's messages in a window: the record times of those on /tf (in record order), and how many
+    came on /tf_static."""
+
+    moving: Int64Array
+    static: int
+
+
+def messages_in_window(
+    sent: SentMessages,
+    start: int | None = None,
+    end: int | None = None,
+    *,
+    by_record_time: bool = False,
+    timeline: Timeline | None = None,
+) -> dict[str, Counted]:
+    """The one definition of a publisher's messages in a window: those of ``sent`` within ``[start, end]`` as
+    ``edge_stats`` selects transforms (by their first transform's stamp, or with ``by_record_time`` by
+    arrival), its /tf_static messages always; by publisher."""
+    timeline = timeline or ON_RECORD_CLOCK
+    times = timeline.arrival(sent.stamp, sent.record_time) if by_record_time else sent.stamp
+    inside = np.ones(len(sent), bool)
+    if start is not None:
+        inside &= times >= start
+    if end is not None:
+        inside &= times <= end
+    inside |= sent.static
+    counted = {}
+    for a in _ids(sent.authority[inside]):
+        mine = inside & (sent.authority == a)
+        statics = int(np.count_nonzero(mine & sent.static))
+        counted[sent.authorities[int(a)]] = Counted(sent.record_time[mine & ~sent.static], statics)
+    return counted
+
+
+def _counted(
+    name: str, counted: Counted | None, edges: list[tuple[str, str]], delays: list[Int64Array], replayed: bool
+) -> AuthorityStats:
+    """The publisher's numbers from its messages ``counted`` (none: it sent none in the window): its rate over
+    its /tf messages whose record time is known (``replayed``: a replay's, every one)."""
+    moving = counted.moving if counted is not None else np.zeros(0, np.int64)
+    statics = counted.static if counted is not None else 0
+    timed = moving if replayed else moving[moving > 0]
+    rate = rate_hz(len(timed), int(timed[-1] - timed[0])) if len(timed) else 0.0
+    mean, largest = mean_max(np.concatenate(delays) if delays else np.zeros(0, np.int64))
+    only_static = not len(moving) and statics > 0
+    return AuthorityStats(name, len(moving) + statics, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static)
 
 
 def _unstored(
@@ -225,7 +282,7 @@ def sorted_unique(values: Int64Array) -> Int64Array:
     return ordered[keep]
 
 
-def _authority(
+def _guessed(
     name: str,
     moving: Int64Array,
     static: Int64Array,
@@ -235,11 +292,12 @@ def _authority(
     edges: list[tuple[str, str]],
     delays: list[Int64Array],
 ) -> AuthorityStats:
-    """``most_samples``: the most samples one of its moving edges had: at least that many messages came on
-    /tf; ``most_timed``: of those whose arrival is known, the span ``moving`` measures the rate over;
-    ``most_static``: the most one of its static edges had (a replay plays a recording's /tf_static messages
-    recorded before its first /clock at one time). Its /tf_static messages are others, even where one arrived
-    at the time of a /tf message."""
+    """The publisher's messages guessed from its rows, where no source told them apart: ``moving`` and
+    ``static``, the distinct record times of its /tf and /tf_static rows; ``most_samples``: the most samples
+    one of its moving edges had: at least that many messages came on /tf; ``most_timed``: of those whose
+    arrival is known, the span ``moving`` measures the rate over; ``most_static``: the most one of its static
+    edges had (a replay plays a recording's /tf_static messages recorded before its first /clock at one
+    time). Its /tf_static messages are others, even where one arrived at the time of a /tf message."""
     moved = max(len(moving), most_samples)
     rate = rate_hz(max(len(moving), most_timed), int(moving[-1] - moving[0])) if len(moving) else 0.0
     statics = max(len(static), most_static)

@@ -4,17 +4,21 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Iterable
-from typing import Protocol
+from collections.abc import Callable, Iterable, Iterator
+from typing import Generic, Protocol, TypeVar
 
 import numpy as np
 
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, Clock, SimClock
+from tftools.sources.contents import SentMessages, concat_sent
 from tftools.sources.ticker import tick_every
 
 OnBatch = Callable[[TransformBatch], None]
+#: Called with the tf messages (``SentMessages``) a feed delivered the transforms of.
+OnSent = Callable[[SentMessages], None]
 
 #: How often the replay advances its clock when no message is due, like ``rosbag play --hz``.
 CLOCK_HZ = 100.0
@@ -32,6 +36,51 @@ class Feed(Protocol):
     def close(self) -> None: ...
 
 
+class _Timed(Protocol):
+    """A part of a replay: rows in record order."""
+
+    @property
+    def record_time(self) -> Int64Array: ...
+
+    def __len__(self) -> int: ...
+
+
+_Part = TypeVar("_Part", bound=_Timed)
+
+
+class _Parts(Generic[_Part]):
+    """Consecutive parts in record order, taken one at a time as a replay reaches them."""
+
+    def __init__(self, parts: Iterator[_Part], empty: _Part) -> None:
+        self._parts = parts
+        self._part, self._next = empty, 0  # the part being played, and its next row
+
+    def pending(self) -> _Part | None:
+        """The part holding the next row to play, taking the next parts as they are reached; None once
+        every row was played."""
+        while self._next >= len(self._part):
+            part = next(self._parts, None)
+            if part is None:
+                return None
+            self._part, self._next = part, 0
+        return self._part
+
+    def next_time(self) -> int | None:
+        """The record time of the next row to play; None once every row was played."""
+        part = self.pending()
+        return int(part.record_time[self._next]) if part is not None else None
+
+    def until(self, time: int, *, before: bool = False) -> Iterator[tuple[_Part, Int64Array]]:
+        """Each part's rows recorded at or before ``time`` (``before``: before it) not played yet, now played."""
+        while (part := self.pending()) is not None and (
+            int(part.record_time[self._next]) < time if before else int(part.record_time[self._next]) <= time
+        ):
+            upto = int(np.searchsorted(part.record_time, time, side="left" if before else "right"))
+            rows = np.arange(self._next, upto)
+            self._next = upto
+            yield part, rows
+
+
 class Replay:
     """Plays transforms in record order at ``rate`` times real speed while a ``SimClock`` follows bag
     time: ``rosbag play --clock`` seen by a node with ``use_sim_time``. Playing starts at ``start``
@@ -39,13 +88,15 @@ class Replay:
     ``/tf_static`` a late subscriber still gets), and ends at ``end`` (default: the last row).
 
     ``transforms`` is one batch, or consecutive parts in record order (a stream's windows), taken one
-    at a time as the clock reaches them: only the part being played is held.
+    at a time as the clock reaches them: only the part being played is held. ``sent``: the tf messages
+    they came in, alike (``SentMessages``), each delivered to ``on_sent`` (when set) with its transforms.
     """
 
     def __init__(
         self,
         transforms: TransformBatch | Iterable[TransformBatch],
         *,
+        sent: SentMessages | Iterable[SentMessages] = (),
         rate: float = 1.0,
         start: int | None = None,
         end: int | None = None,
@@ -55,15 +106,17 @@ class Replay:
         if not rate > 0:
             raise ValueError(f"the replay rate must be above 0, got {rate}")
         self.rate = rate
-        self._parts = iter([transforms] if isinstance(transforms, TransformBatch) else transforms)
-        self._part, self._next = TransformBatch.empty(), 0  # the part being played, and its next row
-        first = self._pending()
-        self.begin = start if start is not None else int(first.record_time[0]) if first is not None else 0
+        self._rows = _Parts(iter([transforms] if isinstance(transforms, TransformBatch) else transforms), _NO_ROWS)
+        self._sent = _Parts(iter([sent] if isinstance(sent, SentMessages) else sent), SentMessages.empty())
+        first = self._rows.next_time()
+        self.begin = start if start is not None else first if first is not None else 0
         self.end = end  # where the replay ends: if not given, the last row's record time once it was played
         self._last = self.begin  # the newest row's record time played: the end, unless given
         self._sleep, self._monotonic = sleep, monotonic
         self.clock = SimClock(self.begin)
         self._on_batch: OnBatch | None = None
+        #: Called with the messages of each batch delivered, before it.
+        self.on_sent: OnSent | None = None
         self._closed = threading.Event()
         self._finished = threading.Event()
         self._thread: threading.Thread | None = None
@@ -98,45 +151,34 @@ class Replay:
         """Deliver to ``on_batch`` from now on, starting with the static transforms recorded
         before ``begin``; for driving the replay by hand with ``advance_to``."""
         self._on_batch = on_batch
-        earlier_static: list[TransformBatch] = []
-        while (part := self._pending()) is not None and int(part.record_time[self._next]) < self.begin:
-            skipped = np.arange(self._next, int(np.searchsorted(part.record_time, self.begin, side="left")))
-            earlier_static.append(take_rows(part, skipped[part.static[skipped]]))
-            self._next += len(skipped)
-        if any(len(b) for b in earlier_static):
-            on_batch(concat_batches(earlier_static))
+        earlier = [take_rows(part, rows[part.static[rows]]) for part, rows in self._rows.until(self.begin, before=True)]
+        sent = [part.taken(rows[part.static[rows]]) for part, rows in self._sent.until(self.begin, before=True)]
+        self._deliver(earlier, sent)
 
     def advance_to(self, bag_time: int) -> None:
         """Deliver every row recorded up to ``bag_time`` (at most ``end``), then set the clock."""
         if self.end is not None:
             bag_time = min(bag_time, self.end)
-        while (part := self._pending()) is not None and int(part.record_time[self._next]) <= bag_time:
-            upto = int(np.searchsorted(part.record_time, bag_time, side="right"))
-            self._last = int(part.record_time[upto - 1])
-            if self._on_batch is not None:
-                self._on_batch(take_rows(part, np.arange(self._next, upto)))
-            self._next = upto
-        if self.end is None and self._pending() is None:
+        for part, rows in self._rows.until(bag_time):
+            self._last = int(part.record_time[rows[-1]])
+            self._deliver([take_rows(part, rows)], [part.taken(rows) for part, rows in self._sent.until(bag_time)])
+        if self.end is None and self._rows.pending() is None:
             self.end = max(self._last, self.begin)  # every row played: the replay ends at the last
             bag_time = min(bag_time, self.end)
         self.clock.set(bag_time)
         if self.end is not None and bag_time >= self.end:
             self._finished.set()
 
-    def _pending(self) -> TransformBatch | None:
-        """The part holding the next row to play, taking the next parts as they are reached; None once
-        every row was played."""
-        while self._next >= len(self._part):
-            part = next(self._parts, None)
-            if part is None:
-                return None
-            self._part, self._next = part, 0
-        return self._part
+    def _deliver(self, rows: list[TransformBatch], sent: list[SentMessages]) -> None:
+        if any(len(s) for s in sent) and self.on_sent is not None:
+            self.on_sent(concat_sent(sent))
+        if any(len(b) for b in rows) and self._on_batch is not None:
+            self._on_batch(concat_batches(rows))
 
     def _pause(self, now: int) -> float:
         """Wall seconds until the next row is due, at most one clock tick."""
-        part = self._pending()
-        due = int(part.record_time[self._next]) if part is not None else now
+        due = self._rows.next_time()
+        due = due if due is not None else now
         if self.end is not None:
             due = min(due, self.end)
         return max(0.0, min((due - now) / NS_PER_S / self.rate, 1.0 / CLOCK_HZ))
@@ -147,6 +189,9 @@ class Replay:
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=1.0)
         self._finished.set()
+
+
+_NO_ROWS = TransformBatch.empty()
 
 
 def follow(

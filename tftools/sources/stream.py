@@ -9,6 +9,7 @@ One ``BagReader`` serves every window of both: the files are opened and their in
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import os
 import weakref
@@ -25,7 +26,7 @@ from tftools.core.stored import stored_rows
 from tftools.core.transform import Transform
 from tftools.sources.bag import BagReader, ProgressCallback
 from tftools.sources.bag.contents import BagFileInfo, RecordWindow
-from tftools.sources.contents import ClockSamples, RecordingContents
+from tftools.sources.contents import ClockSamples, RecordingContents, SentMessages
 from tftools.sources.recording import no_transforms, semantics_of
 from tftools.sources.replay import Replay
 from tftools.sources.timeline import (
@@ -131,17 +132,27 @@ class StreamedRecording:
     def parts(self) -> Iterator[TransformBatch]:
         """Every transform in record order, window after window, its record time moved onto the
         stamps' clock (``Playback``)."""
+        return (part for parts, _ in self._played() for part in parts)
+
+    def _played(self) -> Iterator[tuple[list[TransformBatch], SentMessages]]:
+        """Each window's transforms and the tf messages they came in, their record times moved together onto
+        the stamps' clock (``Playback``: a message plays when its transforms do)."""
         playback = Playback(self._recorded)
         for window in self.windows:
             contents = self.reader.read(window)
             playback.heard(contents.clock)
-            for part in contents.parts:
-                yield dataclasses.replace(part, record_time=playback.moved(part.record_time))
+            sent = contents.sent or SentMessages.empty()
+            records = [sent.record_time, *(part.record_time for part in contents.parts)]
+            moved = _moved_together(playback, records)
+            parts = [dataclasses.replace(p, record_time=t) for p, t in zip(contents.parts, moved[1:], strict=True)]
+            yield parts, dataclasses.replace(sent, record_time=moved[0])
 
     def replay(self, *, rate: float = 1.0, start: int | None = None, end: int | None = None) -> Replay:
         """A replay on the clock the tf is stamped on: what a node with use_sim_time sees while the bag
-        plays with its recorded /clock, or on its record clock."""
-        return Replay(self.parts(), rate=rate, start=start, end=end)
+        plays with its recorded /clock, or on its record clock; its ``on_sent`` is told the tf messages."""
+        rows, messages = itertools.tee(self._played())
+        parts = (part for parts, _ in rows for part in parts)
+        return Replay(parts, sent=(sent for _, sent in messages), rate=rate, start=start, end=end)
 
     def close(self) -> None:
         self.reader.close()
@@ -151,6 +162,16 @@ class StreamedRecording:
 
     def __exit__(self, *_: object) -> None:
         self.close()
+
+
+def _moved_together(playback: Playback, records: Sequence[Int64Array]) -> list[Int64Array]:
+    """``Playback.moved`` of several columns of record times (each sorted) as of one, sorted: equal record
+    times play at one time."""
+    joined = np.concatenate(records)
+    order = np.argsort(joined, kind="stable")
+    moved = np.empty_like(joined)
+    moved[order] = playback.moved(joined[order])
+    return np.split(moved, np.cumsum([len(r) for r in records])[:-1])
 
 
 def _between(stamp: int, stamps: Int64Array, played: Int64Array, last: bool) -> int:

@@ -4,6 +4,7 @@ query)`` over a recording, ``monitor_stream(feed, query, on_tick)`` refreshed ov
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import threading
 from collections.abc import Callable
@@ -30,6 +31,7 @@ from tftools.core.history import EdgeHistory, rows_as_sent
 from tftools.core.semantics import Semantics
 from tftools.core.stored import SENT_COLUMNS
 from tftools.core.time import Clock
+from tftools.sources.contents import SentMessages, concat_sent
 from tftools.sources.live.base import TickedClock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
@@ -87,7 +89,7 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
     buffer, timeline = recording.buffer, recording.timeline
     return monitor_buffer(
         buffer, query.target, query.source, first, last, by_record_time=True, timeline=timeline,
-        unstored=recording.refused,
+        unstored=recording.refused, sent=recording.contents.sent,
     )  # fmt: skip
 
 
@@ -135,14 +137,15 @@ def monitor_buffer(
     by_record_time: bool = False,
     timeline: Timeline | None = None,
     unstored: TransformBatch | None = None,
+    sent: SentMessages | None = None,
 ) -> MonitorReport:
     """tf_monitor's statistics over ``[start, end]`` (windowed as ``edge_stats`` windows them); with two
     frames, their chain too, its delay over the same window on the arrival axis (``end`` defaults to the
-    buffer's clock). ``unstored``: the rows tf2 did not store (``authority_stats``): each publisher's
-    messages count them. Raises tf2's errors when the frames are not connected."""
+    buffer's clock). ``unstored``: the rows tf2 did not store, ``sent``: the messages that arrived
+    (``authority_stats``). Raises tf2's errors when the frames are not connected."""
     edges = edge_stats(buffer, start, end, by_record_time=by_record_time, timeline=timeline)
     authorities = authority_stats(
-        buffer, start, end, by_record_time=by_record_time, timeline=timeline, unstored=unstored
+        buffer, start, end, by_record_time=by_record_time, timeline=timeline, unstored=unstored, sent=sent
     )
     chain = None
     if target is not None and source is not None:
@@ -245,6 +248,9 @@ class LiveMonitor:
         #: ``_replaced_rows``): the moving ones for a window, the static ones kept as the buffer keeps its
         #: statics (the newest ``REPLACED_STATICS`` rows: a frame switching at every message stays bounded).
         self.replaced: list[TransformBatch] = []
+        #: The tf messages that arrived (``add_sent``), as their source told them apart; None until one did
+        #: (a feed that does not: the messages are guessed from the rows, ``authority_stats``).
+        self.sent: SentMessages | None = None
         self._lock = threading.Lock()
 
     def clear(self, _jump: object = None) -> None:
@@ -253,7 +259,14 @@ class LiveMonitor:
             self.buffer.clear()
             self.unstored = []
             self.replaced = [_statics(b) for b in self.replaced]
+            if self.sent is not None:
+                self.sent = self.sent.taken(np.flatnonzero(self.sent.static))
             self.origin = None
+
+    def add_sent(self, sent: SentMessages) -> None:
+        """The tf messages of the transforms ``add`` is given next (or was just given); safe from a source's thread."""
+        with self._lock:
+            self.sent = concat_sent([self.sent, sent]) if self.sent is not None else sent
 
     def add(self, batch: TransformBatch) -> None:
         """Insert a batch; safe to call from a source's thread."""
@@ -287,18 +300,33 @@ class LiveMonitor:
             self.replaced = _kept_replaced(self.replaced, start - self.window)
             kept = self.unstored + self.replaced
             unstored = concat_batches(kept) if kept else None
+            if self.sent is not None:
+                self.sent = _kept_sent(self.sent, start - self.window)
+            window = functools.partial(
+                monitor_buffer, start=start, end=now, by_record_time=True, timeline=timeline, unstored=unstored,
+                sent=self.sent,
+            )  # fmt: skip
             try:
-                return monitor_buffer(
-                    self.buffer, target, source, start, now, by_record_time=True, timeline=timeline, unstored=unstored
-                )
+                return window(self.buffer, target, source)
             except TransformError:  # the chain is not connected (yet): show the rest
-                return monitor_buffer(
-                    self.buffer, None, None, start, now, by_record_time=True, timeline=timeline, unstored=unstored
-                )
+                return window(self.buffer)
 
 
 #: The most rows of replaced static caches a ``LiveMonitor`` keeps (the newest).
 REPLACED_STATICS = 10_000
+
+
+#: The most /tf_static messages a ``LiveMonitor`` keeps (the newest): a publisher re-sending its statics at
+#: every message stays bounded.
+SENT_STATICS = 10_000
+
+
+def _kept_sent(sent: SentMessages, since: int) -> SentMessages:
+    """``sent`` without its /tf messages recorded before ``since``, and its newest ``SENT_STATICS`` /tf_static ones."""
+    statics = np.flatnonzero(sent.static)
+    kept = ~sent.static & (sent.record_time >= since)
+    kept[statics[-SENT_STATICS:]] = True
+    return sent if kept.all() else sent.taken(np.flatnonzero(kept))
 
 
 def _statics(batch: TransformBatch) -> TransformBatch:
@@ -361,7 +389,7 @@ def monitor_stream(
     ``Timeline.played``): its jumps back in time clear the monitor, as tf2_ros's listener."""
     from tftools.sources.live.base import LiveSource
     from tftools.sources.live.time_jump import watch_jumps
-    from tftools.sources.replay import follow
+    from tftools.sources.replay import Replay, follow
     from tftools.sources.stream import StreamedRecording
 
     if isinstance(feed, StreamedRecording):
@@ -370,6 +398,8 @@ def monitor_stream(
         feed = feed.replay(rate=speed, start=first, end=last)
 
     live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics)
+    if isinstance(feed, Replay):
+        feed.on_sent = live_monitor.add_sent
     on_batch = (
         watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add
     )
