@@ -24,14 +24,16 @@ from tests.analysis.monitor_scenes import (
 )
 from tests.bags import BagFormat, TfMessage
 from tftools.analysis.edges import EdgeStats
-from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor_buffer
-from tftools.core.batch import BatchBuilder
+from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor_buffer, monitor_stream
+from tftools.core.batch import BatchBuilder, concat_batches
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
+from tftools.sources.contents import sent_of_messages
+from tftools.sources.live.base import LiveSource, OnBatch
 
 MS = 1_000_000
 
@@ -232,3 +234,45 @@ def test_a_live_monitor_keeps_the_replaced_statics_it_counts_bounded(monkeypatch
     statics = sum(int(b.static.sum()) for b in live.replaced)
     assert sum(len(b) for b in live.replaced) <= 40
     assert authorities["/tf_static"] == statics >= 10
+
+
+class _SimRobot(LiveSource):
+    """A live system under use_sim_time whose /clock ticks every 10 ms: each tick, one message of
+    ``odom -> base_link`` and one of ``base_link -> wheel`` arrive at once (one receive time, read off /clock),
+    then a latched static message, twice (a broadcaster started twice)."""
+
+    format = "test-live"
+
+    def __init__(self) -> None:
+        super().__init__(None, True, None)
+
+    def start(self, on_batch: OnBatch) -> None:
+        for k in range(20):
+            now = START + k * 10 * MS
+            self._clock_message(now)
+            messages = []
+            for parent, child in [("odom", "base_link"), ("base_link", "wheel")] + [("base_link", "laser")] * 2 * (
+                k == 0
+            ):
+                builder = BatchBuilder()
+                static = child == "laser"
+                builder.add(parent, child, now, (0.01 * k, 0, 0), (0, 0, 0, 1), static=static, record_time=now,
+                            authority="/rsp" if static else "/sim")  # fmt: skip
+                messages.append(builder.take())
+            self._pass_on(on_batch, concat_batches(messages), sent_of_messages(messages))
+
+    def describe(self) -> str:
+        return "a simulated robot"
+
+    def close(self) -> None:
+        self._closed.set()
+
+
+def test_a_live_monitor_counts_the_messages_that_arrived_at_one_tick() -> None:
+    """Two publishers' messages heard at one /clock tick were one message (a live ROS 1 Gazebo on a 10 ms /clock):
+    each one heard is counted, and the static broadcaster's two messages too."""
+    reports: list[MonitorReport] = []
+    monitor_stream(_SimRobot(), MonitorQuery(), lambda live: reports.append(live.report()), duration=0.01)
+    publishers = {a.authority: a for a in reports[-1].authorities}
+    assert (publishers["/sim"].messages, publishers["/rsp"].messages) == (40, 2)
+    assert publishers["/sim"].rate_hz == pytest.approx(39 / 0.19)

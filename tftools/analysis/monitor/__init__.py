@@ -398,7 +398,7 @@ def monitor_stream(
         feed = feed.replay(rate=speed, start=first, end=last)
 
     live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics)
-    if isinstance(feed, Replay):
+    if isinstance(feed, Replay | LiveSource):
         feed.on_sent = live_monitor.add_sent
     on_batch = (
         watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add

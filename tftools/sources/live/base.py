@@ -15,7 +15,7 @@ import numpy as np
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.time import Clock, SimClock, WallClock
 from tftools.sources.codecs.wire import MAX_FRAME_ID
-from tftools.sources.contents import DEFAULT_TOPICS
+from tftools.sources.contents import DEFAULT_TOPICS, SentMessages
 from tftools.sources.live.notices import NoticeOnce, OnNotice, ignore_notice, printable
 
 if TYPE_CHECKING:
@@ -162,6 +162,8 @@ class LiveSource(ContextManaged):
         self._lock = threading.Lock()  # the receiving threads' counts and what they told
         self._told_unreadable: set[tuple[str, str]] = set()
         self._frame_limit = FrameLimit(MAX_LIVE_FRAMES, self._notice_once)
+        #: Called with the tf messages of each batch (``SentMessages``), before it.
+        self.on_sent: Callable[[SentMessages], None] | None = None
 
     @property
     def clock(self) -> Clock:
@@ -208,11 +210,14 @@ class LiveSource(ContextManaged):
         reason = str(error) if isinstance(error, ValueError) else f"tfx's {type(error).__name__}: {error}"
         self._notice_once(f"{printable(sender)} sent an unreadable message on {topic} ({reason}); such are dropped")
 
-    def _pass_on(self, on_batch: OnBatch, batch: TransformBatch) -> None:
+    def _pass_on(self, on_batch: OnBatch, batch: TransformBatch, sent: SentMessages | None = None) -> None:
+        """``batch`` to ``on_batch``, and ``sent``, the messages it came in, to ``on_sent`` first."""
         batch = self._frame_limit.admit(batch)
         if not len(batch):
             return
         try:
+            if sent is not None and self.on_sent is not None:
+                self.on_sent(sent)
             on_batch(batch)
         except Exception as error:  # the consumer's bug must not stop the listening
             self._notice_once(f"dropped transforms: {type(error).__name__}: {error}")

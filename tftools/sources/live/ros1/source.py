@@ -11,7 +11,7 @@ from tftools.core.batch import TransformBatch, concat_batches
 from tftools.sources.codecs import ros1
 from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, ros1_message_type
-from tftools.sources.contents import is_static_topic
+from tftools.sources.contents import is_static_topic, sent_of_messages
 from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.notices import NoticeOnce, OnNotice
 from tftools.sources.live.ros1 import network
@@ -161,7 +161,7 @@ class Ros1Source(LiveSource):
     def _deliver(self, on_batch: OnBatch) -> None:
         """One thread calls ``on_batch``, with whatever arrived while it was busy merged."""
         while (batches := self._queue.take_all()) is not None:
-            self._pass_on(on_batch, concat_batches(batches))
+            self._pass_on(on_batch, concat_batches(batches), sent_of_messages(batches))
 
 
 def param_is_true(value: object) -> bool:

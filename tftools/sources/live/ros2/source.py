@@ -12,7 +12,7 @@ from tftools.core.batch import TransformBatch, concat_batches
 from tftools.sources.codecs import cdr
 from tftools.sources.codecs.decoded import message_batch, message_clock
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE
-from tftools.sources.contents import is_static_topic
+from tftools.sources.contents import is_static_topic, sent_of_messages
 from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.errors import DdsError
 from tftools.sources.live.notices import OnNotice, printable
@@ -103,14 +103,15 @@ class Ros2Source(LiveSource):
         listening.graph.poll()
         if listening.clock is not None:
             self._tick(listening.clock, listening.graph)
-        batch = self._take(listening)
-        if len(batch):
-            self._pass_on(on_batch, batch)
+        messages = self._take(listening)
+        if messages:
+            self._pass_on(on_batch, concat_batches(messages), sent_of_messages(messages))
         return 0.05 if listening.pending else 1.0
 
-    def _take(self, listening: _Listening) -> TransformBatch:
+    def _take(self, listening: _Listening) -> list[TransformBatch]:
         """New samples, and those held back until their publisher's node is known (a node's
-        ``ros_discovery_info`` may come a moment after its first transforms)."""
+        ``ros_discovery_info`` may come a moment after its first transforms), a batch each (none for those
+        that held no transform)."""
         graph = listening.graph
         samples = listening.pending
         for topic, reader in listening.readers.items():
@@ -121,7 +122,7 @@ class Ros2Source(LiveSource):
                 samples.append(_Sample(topic, reader, data, info.publication_handle, self._clock.now()))
         listening.pending = [s for s in samples if not graph.settled(s.handle, s.reader)]
         batches = [self._decode(s, graph) for s in samples if graph.settled(s.handle, s.reader)]
-        return concat_batches([b for b in batches if b is not None])
+        return [b for b in batches if b is not None and len(b)]
 
     def _too_large(self, topic: str, size: int, sender: str) -> None:
         """Say once per publisher and topic that its samples over ``MAX_TF_SAMPLE`` are dropped (the first's size)."""
