@@ -114,16 +114,12 @@ def authority_stats(
     A message is counted as tf_monitor counts it, on arrival, whatever tf2 then kept of it: ``sent``, the
     messages as the source told them apart, counted by ``messages_in_window``. Its rate counts its /tf
     messages only: a latched static message sent once is not part of a rhythm (tf_monitor lists static
-    publishers apart). Without ``sent`` (a buffer filled by hand, which knows no message boundaries),
-    the messages are guessed from the rows (``_guessed``).
+    publishers apart). Without ``sent`` (a buffer filled by hand, which knows no message boundaries), the
+    messages are guessed from the rows that arrived in the window (``_guessed``).
     """
-    moving: dict[int, list[Int64Array]] = {}
-    static: dict[int, list[Int64Array]] = {}
     delays: dict[int, list[Int64Array]] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
-    # per publisher and child: the samples that arrived in the window, and those of them whose arrival is known
-    samples: dict[int, dict[str, tuple[int, int]]] = {}
-    static_samples: dict[int, dict[str, tuple[int, int]]] = {}  # the same of its static edges
+    arrived: list[_Arrived] = []  # the rows, for a guess of the messages where ``sent`` does not tell them
     timeline = timeline or ON_RECORD_CLOCK
     if unstored is None:
         unstored = buffer.rejections.rows()[0] if len(buffer.rejections) else TransformBatch.empty()
@@ -134,49 +130,46 @@ def authority_stats(
         for authority in _ids(hist.authorities[window]):
             a = int(authority)
             mine = window & (hist.authorities == authority)
-            arrivals = hist.record_times[mine]
-            if (extra := refused.pop((buffer.authorities[a], child, hist.static), None)) is not None:
-                arrivals = np.concatenate([arrivals, extra[1]])
-            (static if hist.static else moving).setdefault(a, []).append(arrivals)
-            _count(static_samples if hist.static else samples, a, child, arrivals, timeline.replayed)
+            extra = refused.pop((buffer.authorities[a], child, hist.static), None)
+            if sent is None:
+                arrived.append((a, hist.static, hist.record_times[mine], hist.stamps[mine]))
+                arrived += [(a, hist.static, extra[1], extra[2])] if extra is not None else []
             delays.setdefault(a, []).append(_delays(child, hist, mine, timeline))
             edges.setdefault(a, []).extend((buffer.frame_name(int(p)), child) for p in _ids(hist.parents[mine]))
     known = {name: a for a, name in enumerate(buffer.authorities)}
-    for (name, child, was_static), (parent, times) in refused.items():
+    for (name, child, was_static), (parent, times, stamps) in refused.items():
         # the edge's only rows of this publisher were not stored (a live buffer keeps no cache ROS 2's tf2 replaced)
         if (index := known.get(name)) is not None:
-            a = index
-            (static if was_static else moving).setdefault(a, []).append(times)
-            _count(static_samples if was_static else samples, a, child, times, timeline.replayed)
-            edges.setdefault(a, []).append((parent, child))
-            delays.setdefault(a, [])
-    if sent is not None:
-        counted = messages_in_window(sent, start, end, by_record_time=by_record_time, timeline=timeline)
-        return [
-            _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], timeline.replayed)
-            for a in sorted(edges, key=lambda a: buffer.authorities[a])
-        ]
+            arrived.append((index, was_static, times, stamps))
+            edges.setdefault(index, []).append((parent, child))
+            delays.setdefault(index, [])
+    if sent is None:  # the rows guessed into messages were those of the window
+        sent, start, end = _guessed(buffer.authorities, arrived), None, None
+    counted = messages_in_window(sent, start, end, by_record_time=by_record_time, timeline=timeline)
     return [
-        _guessed(
-            buffer.authorities[a],
-            _arrivals(moving.get(a), timeline.replayed),
-            _arrivals(static.get(a), timeline.replayed, at_least_one=True),
-            max((n for n, _ in samples.get(a, {}).values()), default=0),
-            max((n for _, n in samples.get(a, {}).values()), default=0),
-            max((n for n, _ in static_samples.get(a, {}).values()), default=0),
-            edges[a],
-            delays[a],
-        )
+        _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], timeline.replayed)
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]
 
 
-def _count(
-    samples: dict[int, dict[str, tuple[int, int]]], a: int, child: str, arrivals: Int64Array, replayed: bool
-) -> None:
-    """Adds ``arrivals`` (record times) to publisher ``a``'s samples of ``child``: all, and those timed."""
-    count, timed = samples.setdefault(a, {}).get(child, (0, 0))
-    samples[a][child] = (count + len(arrivals), timed + (len(arrivals) if replayed else int((arrivals > 0).sum())))
+#: Rows of one publisher that arrived: its id, whether on /tf_static, their record times and stamps.
+_Arrived = tuple[int, bool, Int64Array, Int64Array]
+
+
+def _guessed(authorities: Sequence[str], arrived: list[_Arrived]) -> SentMessages:
+    """The messages of rows whose source did not tell them apart (a buffer filled by hand): the rows of one
+    publisher on one topic kind at one record time are one message."""
+    if not arrived:
+        return SentMessages.empty()
+    authority = np.concatenate([np.full(len(r), a, np.int32) for a, _, r, _ in arrived])
+    static = np.concatenate([np.full(len(r), s, bool) for _, s, r, _ in arrived])
+    records = np.concatenate([r for _, _, r, _ in arrived])
+    stamps = np.concatenate([t for _, _, _, t in arrived])
+    order = np.lexsort((stamps, records, static, authority))
+    keys = np.stack([authority[order].astype(np.int64), static[order].astype(np.int64), records[order]])
+    first = order[np.flatnonzero(np.any(np.diff(keys, axis=1, prepend=-1), axis=0))]  # each one's earliest stamp
+    first = first[np.argsort(records[first], kind="stable")]
+    return SentMessages(authorities, authority[first], static[first], records[first], stamps[first])
 
 
 @dataclass(frozen=True)
@@ -231,10 +224,9 @@ def _counted(
 
 def _unstored(
     rows: TransformBatch, start: int | None, end: int | None, by_record_time: bool, timeline: Timeline
-) -> dict[tuple[str, str, bool], tuple[str, Int64Array]]:
-    """The record times of ``rows`` within the window (static ones always, as ``_window`` selects), per
-    (publisher, child, static), with the edge's parent: they arrived, as messages, though the buffer holds
-    none of them."""
+) -> dict[tuple[str, str, bool], tuple[str, Int64Array, Int64Array]]:
+    """The record times and stamps of ``rows`` within the window (static ones always, as ``_window`` selects),
+    per (publisher, child, static), with the edge's parent: they arrived, though the buffer holds none of them."""
     if not len(rows):
         return {}
     times = timeline.arrival(rows.stamp, rows.record_time) if by_record_time else rows.stamp
@@ -243,32 +235,26 @@ def _unstored(
         inside &= (times >= start) | rows.static
     if end is not None:
         inside &= (times <= end) | rows.static
-    found: dict[tuple[str, str, bool], tuple[str, list[Int64Array]]] = {}
+    found: dict[tuple[str, str, bool], tuple[str, list[Int64Array], list[Int64Array]]] = {}
     for was_static in (False, True):
         chosen = inside & (rows.static == was_static)
         if not chosen.any():  # np.split would give one empty group for no key
             continue
         authority, child, record = rows.authority[chosen], rows.child[chosen], rows.record_time[chosen]
-        parent = rows.parent[chosen]
+        parent, stamp = rows.parent[chosen], rows.stamp[chosen]
         pairs = authority.astype(np.int64) * len(rows.frame_names) + child
         order = np.argsort(pairs, kind="stable")
         keys, starts = np.unique(pairs[order], return_index=True)
-        for key, first, times in zip(keys, starts, np.split(record[order], starts[1:]), strict=True):
+        groups = zip(keys, starts, np.split(record[order], starts[1:]), np.split(stamp[order], starts[1:]), strict=True)
+        for key, first, times, stamps in groups:
             a, c = divmod(int(key), len(rows.frame_names))
             name = (rows.authorities[a], rows.frame_names[c].lstrip("/"), was_static)
-            found.setdefault(name, (rows.frame_names[int(parent[order][first])].lstrip("/"), []))[1].append(times)
-    return {key: (parent, np.concatenate(times)) for key, (parent, times) in found.items()}
-
-
-def _arrivals(record_times: list[Int64Array] | None, replayed: bool, *, at_least_one: bool = False) -> Int64Array:
-    """The distinct known record times: one per message (``replayed``: a replay's, every one known, at or
-    before its clock's 0 too). ``at_least_one``: rows whose record times are all unknown (0: an MCAP's log time
-    0) are one message, at the earliest time (a static publisher's message is counted where it is not timed)."""
-    if not record_times:
-        return np.zeros(0, np.int64)
-    times = sorted_unique(np.concatenate(record_times))
-    known = times if replayed else times[times > 0]
-    return times[:1] if at_least_one and not len(known) and len(times) else known
+            edge = found.setdefault(name, (rows.frame_names[int(parent[order][first])].lstrip("/"), [], []))
+            edge[1].append(times)
+            edge[2].append(stamps)
+    return {
+        key: (parent, np.concatenate(times), np.concatenate(stamps)) for key, (parent, times, stamps) in found.items()
+    }
 
 
 def sorted_unique(values: Int64Array) -> Int64Array:
@@ -280,31 +266,6 @@ def sorted_unique(values: Int64Array) -> Int64Array:
     keep[0] = True
     np.not_equal(ordered[1:], ordered[:-1], out=keep[1:])
     return ordered[keep]
-
-
-def _guessed(
-    name: str,
-    moving: Int64Array,
-    static: Int64Array,
-    most_samples: int,
-    most_timed: int,
-    most_static: int,
-    edges: list[tuple[str, str]],
-    delays: list[Int64Array],
-) -> AuthorityStats:
-    """The publisher's messages guessed from its rows, where no source told them apart: ``moving`` and
-    ``static``, the distinct record times of its /tf and /tf_static rows; ``most_samples``: the most samples
-    one of its moving edges had: at least that many messages came on /tf; ``most_timed``: of those whose
-    arrival is known, the span ``moving`` measures the rate over; ``most_static``: the most one of its static
-    edges had (a replay plays a recording's /tf_static messages recorded before its first /clock at one
-    time). Its /tf_static messages are others, even where one arrived at the time of a /tf message."""
-    moved = max(len(moving), most_samples)
-    rate = rate_hz(max(len(moving), most_timed), int(moving[-1] - moving[0])) if len(moving) else 0.0
-    statics = max(len(static), most_static)
-    messages = moved + statics
-    mean, largest = mean_max(np.concatenate(delays) if delays else np.zeros(0, np.int64))
-    only_static = moved == 0 and statics > 0
-    return AuthorityStats(name, messages, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static)
 
 
 def _ids(values: Int32Array) -> IntpArray:
