@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from tests.analysis.monitor_scenes import START, scene, scene_buffer
-from tftools.core.batch import BatchBuilder, TransformBatch
+from tftools.core.batch import BatchBuilder, TransformBatch, take_rows
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S
+from tftools.sources.contents import SentMessages, concat_sent, sent_of_messages
 from tftools.sources.replay import CLOCK_HZ, OnBatch, Replay, follow, follow_into
 
 MS = 1_000_000
@@ -190,3 +191,21 @@ def test_follow_into_a_buffer_sees_the_whole_bag() -> None:
         ours = live.history(child)
         assert ours is not None and np.array_equal(ours.stamps, hist.stamps)
         assert np.array_equal(ours.record_times, hist.record_times)
+
+
+def test_messages_play_with_their_transforms_statics_recorded_before_the_start_first() -> None:
+    """``on_sent`` is told each message when its transforms are delivered, two messages of one record time
+    both; the /tf_static ones recorded before the start first, the /tf ones before it never."""
+    rows = recorded([0, 5, 10, 10, 20, 30], static=[True, False, True, False, False, False])
+    sent = sent_of_messages([take_rows(rows, slice(k, k + 1)) for k in range(len(rows))])
+    replay = Replay(rows, sent=sent, start=START + 10 * MS)
+    told: list[SentMessages] = []
+    batches: list[TransformBatch] = []
+    replay.on_sent = told.append
+    replay.attach(batches.append)
+    assert [list(s.record_time - START) for s in told] == [[0]]
+    replay.advance_to(START + 20 * MS)
+    assert [list(s.record_time - START) for s in told[1:]] == [[10 * MS, 10 * MS, 20 * MS]]
+    assert [list(b.record_time - START) for b in batches[1:]] == [[10 * MS, 10 * MS, 20 * MS]]
+    replay.advance_to(START + 40 * MS)
+    assert len(concat_sent(told)) == 5 and replay.finished
