@@ -86,17 +86,19 @@ class Rows:
         if not self.runs:
             return SentMessages.empty()
         messages = np.concatenate([m for m, _ in self.runs])
-        stamps = [s[np.cumsum(n) - n] for s, (_, n) in zip(self.parts["stamp"], self.runs, strict=True)]
-        order = np.argsort(rank[messages], kind="stable")
-        messages, channel = messages[order], channel_of[messages[order]]
+        stamps = np.concatenate([s[np.cumsum(n) - n] for s, (_, n) in zip(self.parts["stamp"], self.runs, strict=True)])
+        ranks = rank[messages]
+        if not bool(np.all(ranks[1:] >= ranks[:-1])):  # read out of record order: sorted (usually they are)
+            order = np.argsort(ranks, kind="stable")
+            messages, stamps = messages[order], stamps[order]
+        channel = channel_of[messages]
         transforms = [c for c in self.channels if isinstance(c.codec, Codec)]
         authorities = list(dict.fromkeys(c.authority for c in transforms))
         authority_of = np.array([authorities.index(c.authority) if c in transforms else -1 for c in self.channels])
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
         return SentMessages(
-            authorities, authority_of[channel].astype(np.int32), static_of[channel], times[messages],
-            np.concatenate(stamps)[order],
-        )  # fmt: skip
+            authorities, authority_of[channel].astype(np.int32), static_of[channel], times[messages], stamps
+        )
 
     def batches(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> list[TransformBatch]:
         """The rows in record order, given each message's record time, channel and place in
