@@ -276,3 +276,15 @@ def test_a_live_monitor_counts_the_messages_that_arrived_at_one_tick() -> None:
     publishers = {a.authority: a for a in reports[-1].authorities}
     assert (publishers["/sim"].messages, publishers["/rsp"].messages) == (40, 2)
     assert publishers["/sim"].rate_hz == pytest.approx(39 / 0.19)
+
+
+def test_a_buffer_filled_by_hand_without_record_times_counts_a_message_an_instant() -> None:
+    """A buffer knows no message boundaries: a publisher's transforms of one record time are taken for one
+    message, and where no record time was given, those of one stamp (two wheels sent together, ten times)."""
+    buffer = Buffer(cache_time=None)
+    for k in range(10):
+        for wheel in ("left", "right"):
+            sample = Transform((0, 0, 0), (0, 0, 0, 1), START + k * NS_PER_S // 10, "base", wheel)
+            buffer.set_transform(sample, "/rsp")
+    (publisher,) = monitor_buffer(buffer).authorities
+    assert (publisher.authority, publisher.messages, publisher.rate_hz) == ("/rsp", 10, 0.0)

@@ -158,15 +158,18 @@ _Arrived = tuple[int, bool, Int64Array, Int64Array]
 
 def _guessed(authorities: Sequence[str], arrived: list[_Arrived]) -> SentMessages:
     """The messages of rows whose source did not tell them apart (a buffer filled by hand): the rows of one
-    publisher on one topic kind at one record time are one message."""
+    publisher on one topic kind at one record time are one message, or where that is unknown (0), at one stamp
+    (a broadcaster sends its transforms of one instant together)."""
     if not arrived:
         return SentMessages.empty()
     authority = np.concatenate([np.full(len(r), a, np.int32) for a, _, r, _ in arrived])
     static = np.concatenate([np.full(len(r), s, bool) for _, s, r, _ in arrived])
     records = np.concatenate([r for _, _, r, _ in arrived])
     stamps = np.concatenate([t for _, _, _, t in arrived])
-    order = np.lexsort((stamps, records, static, authority))
-    keys = np.stack([authority[order].astype(np.int64), static[order].astype(np.int64), records[order]])
+    timed = records != 0
+    instant = np.where(timed, records, stamps)
+    order = np.lexsort((stamps, instant, timed, static, authority))
+    keys = np.stack([authority[order], static[order], timed[order], instant[order]]).astype(np.int64)
     first = order[np.flatnonzero(np.any(np.diff(keys, axis=1, prepend=-1), axis=0))]  # each one's earliest stamp
     first = first[np.argsort(records[first], kind="stable")]
     return SentMessages(authorities, authority[first], static[first], records[first], stamps[first])
