@@ -128,6 +128,30 @@ def test_edges_of_one_message_that_stop_together_are_one_stale_with_the_other_be
     ], stale
 
 
+def test_one_frame_prefix_on_tf_and_tf_static_is_one_leading_slash_in_ros2_words() -> None:
+    """robot_state_publisher with a frame_prefix of '/' (ros2-turtlebot3-gazebo-leading-slash-2025-db3): its
+    fixed joints on /tf_static and its wheels on /tf name '/base_link': one naming, said once, and the hint
+    names ROS 2's frame_prefix, not ROS 1's tf_prefix."""
+
+    def wheel(stamp: int) -> list[Transform]:
+        return [scenes._t("/base_link", "/wheel", stamp, 0.0, 4.0 * scenes._s(stamp))]
+
+    statics = TfMessage("/tf_static", scenes.START, [scenes._t("/base_link", "/laser", scenes.START, 0.2)], "/rsp")
+    messages = scenes.healthy(statics=[statics], wheels=scenes.periodic("/rsp", 20, wheel))
+    slashes = [f for f in check(scenes.recording(messages, ros1=False)).findings if f.code == "leading_slash"]
+    assert [f.cause for f in slashes] == ["", "leading_slash:1"], slashes
+    assert "frame_prefix" in slashes[0].hint and "tf_prefix" not in slashes[0].hint
+
+
+def test_a_leading_slash_in_ros1_keeps_ros1_words() -> None:
+    (finding,) = [
+        f
+        for f in check(scenes.recording(scenes.PROBLEMS["leading_slash"].make())).findings
+        if f.code == "leading_slash"
+    ]
+    assert "tf_prefix is gone since ROS Hydro" in finding.hint
+
+
 def _sensor(name: str, skip: tuple[float, float] | None = None) -> list[TfMessage]:
     """base_link -> ``name`` at 20 Hz from its own driver (``/name``), silent over ``skip``."""
 

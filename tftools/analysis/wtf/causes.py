@@ -24,6 +24,11 @@ def _same_change(first: Finding, finding: Finding) -> bool:
     return same and (finding.first_time, finding.last_time) != (0, 0)
 
 
+def _shares_a_frame(first: Finding, finding: Finding) -> bool:
+    """Findings naming a frame in common: one naming of the frames (a frame prefix), seen on two topics."""
+    return bool(set(first.frames) & set(finding.frames))
+
+
 #: Edges whose stamps are ahead of their arrival by typical amounts this close (s) are ahead by one clock.
 SAME_CLOCK_S = 0.1
 
@@ -108,6 +113,13 @@ RULES = (
         _one_clock_ahead,
         "edges stamped ahead of their arrival by the same amount at the same time: one machine's clock ahead of "
         "the recorder's, said once",
+    ),
+    Rule(
+        frozenset({"leading_slash"}),
+        frozenset({"leading_slash"}),
+        _shares_a_frame,
+        "frames named with a leading '/' on /tf and /tf_static (or by two publishers) that share a frame: one "
+        "naming (robot_state_publisher's frame_prefix, a tf_prefix), said once",
     ),
     Rule(
         frozenset({"urdf_parent"}),
