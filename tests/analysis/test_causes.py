@@ -7,7 +7,7 @@ import io
 import json
 import math
 import xml.etree.ElementTree as ET
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -86,6 +86,70 @@ def test_an_edge_that_also_paused_elsewhere_follows_the_stall_and_still_says_how
     findings = check(scenes.recording(messages)).findings
     (rate,) = [f for f in findings if f.frames == ("map", "odom")]
     assert rate.cause == "stall:1" and "went silent 2 times" in rate.message
+
+
+def _ahead(seconds: float) -> Callable[[int], int]:
+    return lambda t: t + round(seconds * NS_PER_S)
+
+
+def test_edges_stamped_ahead_by_one_clock_are_one_future_with_the_others_beneath() -> None:
+    """A real TurtleBot3 (ros2-turtlebot3-real-wifi-outage-2025-db3): its clock 3.4 s ahead of the laptop
+    that recorded it, odometry and robot_state_publisher's wheels alike: one clock, said once (was 3 errors)."""
+    messages = scenes.healthy(amcl=[], ekf=scenes.ekf(stamp=_ahead(3.4)), wheels=scenes.wheels(stamp=_ahead(3.41)))
+    future = [f for f in check(scenes.recording(messages, ros1=False)).findings if f.code == "future"]
+    assert [(f.frames, f.cause) for f in future] == [
+        (("odom", "base_link"), ""),
+        (("base_link", "wheel"), "future:1"),
+    ], future
+    assert future[0].figures["ahead_s_median"] == pytest.approx(3.4, abs=0.01)
+
+
+def test_a_post_dating_publisher_beside_a_clock_ahead_is_its_own_future() -> None:
+    """amcl post-dating map -> odom by 1.5 s (its transform_tolerance) on a robot whose clock is 3.4 s ahead:
+    two causes, neither beneath the other."""
+    messages = scenes.healthy(amcl=scenes.amcl(stamp=_ahead(1.5)), ekf=scenes.ekf(stamp=_ahead(3.4)), wheels=[])
+    future = [f for f in check(scenes.recording(messages, ros1=False)).findings if f.code == "future"]
+    assert sorted((f.frames, f.cause) for f in future) == [(("map", "odom"), ""), (("odom", "base_link"), "")]
+
+
+def test_edges_of_one_message_that_stop_together_are_one_stale_with_the_other_beneath() -> None:
+    """robot_state_publisher's two wheels (one message) stop 4 s into 10 (the real TurtleBot3's wheels after
+    its Wi-Fi outage): one publisher stopped, said once; an edge of another publisher stopping is its own."""
+
+    def two(stamp: int) -> list[Transform]:
+        return [*scenes.wheel(stamp), scenes._t("base_link", "wheel_right", stamp)]
+
+    messages = scenes.healthy(amcl=scenes.amcl(end=6.0), wheels=scenes.periodic("/rsp", 20, two, end=4.0))
+    stale = [f for f in check(scenes.recording(messages, ros1=False)).findings if f.code == "stale"]
+    assert sorted((f.frames, f.cause) for f in stale) == [
+        (("base_link", "wheel"), ""),
+        (("base_link", "wheel_right"), "stale:1"),
+        (("map", "odom"), ""),
+    ], stale
+
+
+def test_one_frame_prefix_on_tf_and_tf_static_is_one_leading_slash_in_ros2_words() -> None:
+    """robot_state_publisher with a frame_prefix of '/' (ros2-turtlebot3-gazebo-leading-slash-2025-db3): its
+    fixed joints on /tf_static and its wheels on /tf name '/base_link': one naming, said once, and the hint
+    names ROS 2's frame_prefix, not ROS 1's tf_prefix."""
+
+    def wheel(stamp: int) -> list[Transform]:
+        return [scenes._t("/base_link", "/wheel", stamp, 0.0, 4.0 * scenes._s(stamp))]
+
+    statics = TfMessage("/tf_static", scenes.START, [scenes._t("/base_link", "/laser", scenes.START, 0.2)], "/rsp")
+    messages = scenes.healthy(statics=[statics], wheels=scenes.periodic("/rsp", 20, wheel))
+    slashes = [f for f in check(scenes.recording(messages, ros1=False)).findings if f.code == "leading_slash"]
+    assert [f.cause for f in slashes] == ["", "leading_slash:1"], slashes
+    assert "frame_prefix" in slashes[0].hint and "tf_prefix" not in slashes[0].hint
+
+
+def test_a_leading_slash_in_ros1_keeps_ros1_words() -> None:
+    (finding,) = [
+        f
+        for f in check(scenes.recording(scenes.PROBLEMS["leading_slash"].make())).findings
+        if f.code == "leading_slash"
+    ]
+    assert "tf_prefix is gone since ROS Hydro" in finding.hint
 
 
 def _sensor(name: str, skip: tuple[float, float] | None = None) -> list[TfMessage]:

@@ -247,6 +247,18 @@ def test_two_static_publishers_listed_in_the_metadata_that_disagree_are_a_static
     assert "up to" not in conflict.message  # one transform: its figures once (the real Neatos said them twice)
 
 
+def test_statics_recorded_a_hair_before_the_first_tf_stamp_are_at_plus_zero_not_minus_zero(tmp_path: Path) -> None:
+    """A real Neato (ros2-neato-real-two-static-publishers-2023b-db3): both /tf_static messages recorded in the
+    recording's first millisecond, a hair before the first /tf stamp: "(-0.0 s)" was said of publisher 1."""
+    laser = TfMessage(
+        "/tf_static", START - MS, [Transform((-0.1016, 0, 0.0889), (0, 0, 0, 1), START, "base_link", "laser")]
+    )
+    urdf = TfMessage("/tf_static", START, [Transform((-0.084, 0, 0.166), (0, 0, 0, 1), START, "base_link", "laser")])
+    (conflict,) = loud(_findings(tmp_path, [*scenes.healthy(statics=[]), laser, urdf], {"/tf_static": 2}))
+    assert "publisher 1: 1 transform at 1699999999.999 (+0.0 s); publisher 2: 1 transform at" in conflict.message
+    assert "-0.0" not in conflict.message
+
+
 def test_one_static_publisher_that_changed_a_value_is_still_dynamic_on_static(tmp_path: Path) -> None:
     """The same messages from the one publisher metadata.yaml lists: its next message holds all of its
     transforms, one with another value: it changed its mind."""

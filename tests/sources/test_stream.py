@@ -231,6 +231,19 @@ def test_arrivals_keep_an_even_sample_of_a_long_recording() -> None:
     assert abs(np.median(kept) - np.median(values)) <= stride
 
 
+def test_arrivals_span_every_stamp_not_only_those_kept() -> None:
+    """A 22-minute real recording's odometry (ros2-turtlebot3-real-wifi-outage-2025-db3): its last two stamps
+    fell between the kept ones, so --play's timeline ended that frame 0.1 s before the whole read's."""
+    total = 4 * SAMPLES_PER_FRAME + 3
+    stamps = np.arange(total, dtype=np.int64) * (NS_PER_S // 20)
+    arrivals = _Arrivals()
+    for part in np.array_split(stamps, 7):
+        arrivals.add(part, part, part, np.ones(len(part), bool))
+    kept, *_ = arrivals.kept()
+    assert kept[-1] < stamps[-1]  # the last stamp is not among those kept
+    assert arrivals.span == (0, int(stamps[-1]))
+
+
 def test_a_long_stream_counts_every_arrival_not_only_those_kept() -> None:
     """Past ``SAMPLES_PER_FRAME`` arrivals a frame's clock is read off every second one, fourth one...;
     its count of arrivals (said in the clock findings) is still every one, as a whole read counts."""

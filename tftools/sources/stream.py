@@ -327,9 +327,14 @@ class _Summary:
         return played
 
     def edges(self) -> tuple[EdgeClock, ...]:
-        """Each frame's clock from the arrivals kept, counting every arrival."""
+        """Each frame's clock from the arrivals kept (its medians), counting every arrival, spanning every stamp."""
         return tuple(
-            dataclasses.replace(edge_clock(child, *arrivals.kept()), arrivals=arrivals.seen)
+            dataclasses.replace(
+                edge_clock(child, *arrivals.kept()),
+                arrivals=arrivals.seen,
+                first_stamp=arrivals.span[0],
+                last_stamp=arrivals.span[1],
+            )
             for child, arrivals in self._arrivals.items()
         )
 
@@ -362,9 +367,12 @@ class _Arrivals:
         self._parts: list[tuple[Int64Array, Int64Array, Int64Array, BoolArray]] = []
         self._seen = 0
         self._stride = 1
+        self.span = (0, 0)  # the first and last stamp of every arrival, kept or not
 
     def add(self, stamps: Int64Array, records: Int64Array, ros: Int64Array, known: BoolArray) -> None:
         picked = np.arange((-self._seen) % self._stride, len(stamps), self._stride)
+        first, last = int(stamps.min()), int(stamps.max())
+        self.span = (min(self.span[0], first), max(self.span[1], last)) if self._seen else (first, last)
         self._seen += len(stamps)
         self._parts.append((stamps[picked], records[picked], ros[picked], known[picked]))
         while sum(len(p[0]) for p in self._parts) > SAMPLES_PER_FRAME:

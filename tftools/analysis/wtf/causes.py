@@ -24,6 +24,25 @@ def _same_change(first: Finding, finding: Finding) -> bool:
     return same and (finding.first_time, finding.last_time) != (0, 0)
 
 
+def _shares_a_frame(first: Finding, finding: Finding) -> bool:
+    """Findings naming a frame in common: one naming of the frames (a frame prefix), seen on two topics."""
+    return bool(set(first.frames) & set(finding.frames))
+
+
+#: Edges whose stamps are ahead of their arrival by typical amounts this close (s) are ahead by one clock.
+SAME_CLOCK_S = 0.1
+
+
+def _one_clock_ahead(first: Finding, finding: Finding) -> bool:
+    """Edges stamped ahead of their arrival by the same amount over the same time: one publishing machine's
+    clock ahead of the recorder's (every publisher on it), not one post-dating publisher per edge."""
+    a, b = first.figures.get("ahead_s_median"), finding.figures.get("ahead_s_median")
+    if not isinstance(a, float) or not isinstance(b, float):
+        return False
+    overlap = finding.first_time <= first.last_time and first.first_time <= finding.last_time
+    return overlap and abs(a - b) <= SAME_CLOCK_S
+
+
 def _skipped(link: Finding, finding: Finding) -> bool:
     """Of a link that tf puts under another parent than the description (tf's, the link, the description's):
     another such link with the same two parents, or the joint missing from tf between them (tf skips it)."""
@@ -80,6 +99,27 @@ RULES = (
         _same_change,
         "edges with the same pauses (or rhythm) at the same times: edges of one message, one publisher's "
         "pause, said once",
+    ),
+    Rule(
+        frozenset({"stale"}),
+        frozenset({"stale"}),
+        _same_change,
+        "edges that stop at the same stamp after as many samples: edges of one message, one publisher that "
+        "stopped, said once",
+    ),
+    Rule(
+        frozenset({"future"}),
+        frozenset({"future"}),
+        _one_clock_ahead,
+        "edges stamped ahead of their arrival by the same amount at the same time: one machine's clock ahead of "
+        "the recorder's, said once",
+    ),
+    Rule(
+        frozenset({"leading_slash"}),
+        frozenset({"leading_slash"}),
+        _shares_a_frame,
+        "frames named with a leading '/' on /tf and /tf_static (or by two publishers) that share a frame: one "
+        "naming (robot_state_publisher's frame_prefix, a tf_prefix), said once",
     ),
     Rule(
         frozenset({"urdf_parent"}),

@@ -158,7 +158,11 @@ def leading_slash(scene: Scene) -> Iterator[Finding]:
             f"(in {transforms(len(mine))}, first at {scene.first_at(mine)})",
             "tf2 drops the '/' when it stores them, but lookups by those names fail ('frame_ids cannot start with "
             "a /') and tools comparing names see two frames: remove the '/' from the publisher's frame names "
-            "(tf_prefix is gone since ROS Hydro)",
+            + (
+                "(robot_state_publisher's frame_prefix, the URDF's link names, a driver's frame_id parameter)"
+                if scene.ros2
+                else "(tf_prefix is gone since ROS Hydro)"
+            ),
             tuple(n[1:] for n in names),
             mine,
         )
