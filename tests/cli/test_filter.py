@@ -140,6 +140,11 @@ def test_a_filter_timeout_and_queue_count_what_they_drop(tfx: Tfx, bags: dict[st
 def test_filter_refuses_what_it_cannot_use(tfx: Tfx, bags: dict[str, Path]) -> None:
     nothing = tfx("filter", "/nothing", "-b", bags["ros1"])
     assert nothing.code == 2 and "no topic with a Header" in nothing.stderr
+    # Only headers without a frame_id (a turtlesim bag's /rosout): said so, not an empty table with exit 0.
+    unframed = tfx("filter", "/diagnostics", "-b", bags["ros1"])
+    assert unframed.code == 2 and not unframed.stdout
+    assert "only /diagnostics, whose header has no frame_id (not tied to tf)" in unframed.stderr
+    assert len(unframed.stderr.strip().splitlines()) == 1
     unknown = tfx("filter", "-b", bags["ros1"], "--target", "nowhere")
     assert unknown.code == 2 and "frame 'nowhere' does not exist" in unknown.stderr
 
