@@ -142,6 +142,16 @@ def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx: Tfx
     assert not re.search(r"[+-]\d{6,}\.\d s", "\n".join(f.message for f in check(recording).findings))
 
 
+def test_the_report_s_facts_name_the_frames_on_another_clock_and_their_span(tmp_path: Path) -> None:
+    """The real UR5 (two clocks): the page said 'tf stamps on the record clock' and a span of the detections
+    only, while its findings said the arm's 6 edges are on another clock; the facts now name them, with their
+    stamps' span on their own clock."""
+    recording = read_recording([two_clocks(tmp_path)], topics=["tf"])
+    clocks = dict(recording_facts(recording))["Clocks"]
+    assert clocks.startswith("tf stamps on the record clock; but arm_link is stamped on another clock")
+    assert f"{1900:.3f} to {1900 + 19.9:.3f} (not in the tf stamps' span)" in clocks
+
+
 def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx: Tfx) -> None:
     """Issue 39: ``tfx monitor`` counted ``+S`` on the record clock's tf (the detections') while ``tfx echo --at``
     counted it on the chain's own: an arm on simulated time recorded from 3 s before the first detection was

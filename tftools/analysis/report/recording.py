@@ -114,7 +114,7 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
     contents, timeline, buffer = recording.contents, recording.timeline, recording.buffer
     length = (recording.end - recording.start) / NS_PER_S
     tf_length = (timeline.tf_end - timeline.tf_start) / NS_PER_S
-    clocks = timeline.describe()
+    clocks = timeline.describe() + _off_clock(recording)
     if len(timeline.clock) and timeline.reference is not Reference.CLOCK:
         clocks += f"; {len(timeline.clock)} messages on {timeline.clock.topic} recorded"
     edges = [hist.static for _, hist in buffer.histories()]
@@ -133,6 +133,19 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
     ]
     facts += [("Could not read", problem) for problem in recording.problems]
     return facts
+
+
+def _off_clock(recording: Recording) -> str:
+    """The frames stamped on another clock than the others (``Timeline.off_reference``) and their stamps' span,
+    which the tf stamps' span leaves out ("" where there are none)."""
+    off = sorted(recording.timeline.off_reference)
+    stamps = [h.stamps for h in map(recording.buffer.history, off) if h is not None and len(h)]
+    if not stamps:
+        return ""
+    names = ", ".join(off[:4]) + (f" and {len(off) - 4} more" if len(off) > 4 else "")
+    low, high = min(int(s.min()) for s in stamps), max(int(s.max()) for s in stamps)
+    verb = "is" if len(off) == 1 else "are"
+    return f"; but {names} {verb} stamped on another clock, {_when(low)} to {_when(high)} (not in the tf stamps' span)"
 
 
 def _when(ns: int) -> str:
