@@ -146,10 +146,14 @@ def test_the_report_s_facts_name_the_frames_on_another_clock_and_their_span(tmp_
     """The real UR5 (two clocks): the page said 'tf stamps on the record clock' and a span of the detections
     only, while its findings said the arm's 6 edges are on another clock; the facts now name them, with their
     stamps' span on their own clock."""
-    recording = read_recording([two_clocks(tmp_path)], topics=["tf"])
-    clocks = dict(recording_facts(recording))["Clocks"]
+    bag = two_clocks(tmp_path)
+    clocks = dict(recording_facts(read_recording([bag], topics=["tf"])))["Clocks"]
     assert clocks.startswith("tf stamps on the record clock; but arm_link is stamped on another clock")
     assert f"{1900:.3f} to {1900 + 19.9:.3f} (not in the tf stamps' span)" in clocks
+    # The transforms on the topic the file names, and none on /tf_static (it said 'on /tf, /tf_static').
+    assert dict(recording_facts(read_recording([bag])))["Transforms"] == (
+        "400 in 200 messages on tf; none on /tf_static"
+    )
 
 
 def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx: Tfx) -> None:

@@ -28,7 +28,7 @@ from tftools.analysis.timelines import (
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.causes import explain
 from tftools.core.time import NS_PER_S, format_sec, from_sec
-from tftools.sources.contents import StampedMessages
+from tftools.sources.contents import StampedMessages, global_name
 from tftools.sources.recording import Recording
 from tftools.sources.timeline import EPOCH_FLOOR, Reference
 
@@ -125,7 +125,7 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
         ("Recorded", f"{_when(recording.start)} to {_when(recording.end)} ({length:.3f} s, record clock)"),
         ("tf stamps", f"{_when(timeline.tf_start)} to {_when(timeline.tf_end)} ({tf_length:.3f} s)"),
         ("Clocks", clocks),
-        ("Transforms", f"{recording.transform_count} on {', '.join(contents.topics)}"),
+        ("Transforms", _transforms(recording)),
         (
             "Frames",
             f"{len(buffer.frames)} frames; {edges.count(False)} moving and {edges.count(True)} static transforms",
@@ -133,6 +133,29 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
     ]
     facts += [("Could not read", problem) for problem in recording.problems]
     return facts
+
+
+def _transforms(recording: Recording) -> str:
+    """How many transforms, on which topics in how many messages (as the files name them), and which topics
+    asked for held none: not 'on /tf, /tf_static' for a bag that recorded no /tf_static."""
+    messages: dict[str, list[int]] = {}
+    for file in recording.contents.files:
+        for topic, (count, empty) in file.tf_messages.items():
+            held = messages.setdefault(topic, [0, 0])
+            held[0], held[1] = held[0] + count, held[1] + empty
+    asked = recording.contents.topics
+    if not messages:  # a live system, or a buffer: what was asked for
+        return f"{recording.transform_count} on {', '.join(asked)}"
+    said = [
+        f"{count:,} message{'s' * (count != 1)} on {topic}{f' ({empty:,} empty)' if empty else ''}"
+        for topic, (count, empty) in messages.items()
+        if count
+    ]
+    recorded = {global_name(topic) for topic, (count, _) in messages.items() if count}
+    none = [topic for topic in asked if global_name(topic) not in recorded]
+    return f"{recording.transform_count:,} in {', '.join(said) or 'no message'}" + (
+        f"; none on {', '.join(none)}" if none else ""
+    )
 
 
 def _off_clock(recording: Recording) -> str:
