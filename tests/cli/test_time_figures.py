@@ -23,6 +23,7 @@ from tftools.core.batch import BatchBuilder, take_rows
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.render.graph import recording_legend
 from tftools.render.report import recording_section
 from tftools.sources.contents import RecordingContents, SourceInfo, StampedMessages, StampedRead
 from tftools.sources.recording import read_recording, recording_of
@@ -154,6 +155,19 @@ def test_the_report_s_facts_name_the_frames_on_another_clock_and_their_span(tmp_
     assert dict(recording_facts(read_recording([bag])))["Transforms"] == (
         "400 in 200 messages on tf; none on /tf_static"
     )
+
+
+def test_view_frames_says_why_ages_count_from_the_newest_stamp_once(tmp_path: Path) -> None:
+    """A simulation recorded without /clock (the Nav2 TurtleBot 4 MCAP): the legend gave the clock finding's
+    whole sentence as the reason ages count from the newest stamp, then listed that finding again."""
+    messages = [
+        TfMessage("/tf", WALL + i * S // 10, [moving("odom", "base_link", 100 * S + i * S // 10, i)]) for i in range(50)
+    ]
+    recording = read_recording([write_bag(tmp_path / "sim_no_clock.bag", messages)])
+    (clock,) = [f for f in check(recording).findings if f.code == "clock"]
+    (ages,) = [line for line in recording_legend(recording) if line.startswith("Ages")]
+    assert ages == "Ages from the newest tf stamp (104.900): the recording does not tell ROS time at its end"
+    assert recording.timeline.reason not in ages and "no /clock was recorded" in clock.message
 
 
 def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx: Tfx) -> None:
