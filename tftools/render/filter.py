@@ -87,10 +87,20 @@ def _late(s: StreamReport) -> str:
     return f"{s.late_edge[0]} -> {s.late_edge[1]} ({seconds(s.late_by):.3f} s behind)"
 
 
+#: What does keep messages no timeout keeps, by why most were lost (``Fate.reason``).
+_INSTEAD = {
+    "unknown_frame": "publish its frame's transform, or fix the frame_id",
+    "not_connected": "join its frame's tree to the target's",
+    "empty_frame": "set the frame_id",
+    "needs_newer_tf": "keep the tf it waits for publishing",
+}
+
+
 def _advice(s: StreamReport) -> str:
     said = []
     if s.wait_needed is None:
-        said.append("no timeout can")
+        instead = _INSTEAD.get(max(s.reasons, key=lambda r: s.reasons[r]) if s.reasons else "")
+        said.append("no timeout can" + (f" ({instead})" if instead else ""))
     elif s.wait_needed > 0:
         said.append(f"wait {seconds(s.wait_needed):.3f} s")
     if s.queue_needed:
