@@ -14,9 +14,11 @@ import pytest
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.cli.conftest import Tfx
 from tests.corpus.fetch import shared_dir
+from tftools.analysis.frames import frame_tree
 from tftools.analysis.monitor import MonitorQuery, monitor, monitor_buffer, played_window
 from tftools.analysis.report import recording_facts
 from tftools.analysis.report import report as recording_report
+from tftools.analysis.report.poses import frame_poses
 from tftools.analysis.times import Offset
 from tftools.analysis.wtf.fleet import check
 from tftools.core.batch import BatchBuilder, take_rows
@@ -25,6 +27,7 @@ from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.render.graph import recording_legend
 from tftools.render.report import recording_section
+from tftools.render.scene3d import scene_html
 from tftools.sources.contents import RecordingContents, SourceInfo, StampedMessages, StampedRead
 from tftools.sources.recording import read_recording, recording_of
 from tftools.sources.stream import stream_recording
@@ -168,6 +171,32 @@ def test_view_frames_says_why_ages_count_from_the_newest_stamp_once(tmp_path: Pa
     (ages,) = [line for line in recording_legend(recording) if line.startswith("Ages")]
     assert ages == "Ages from the newest tf stamp (104.900): the recording does not tell ROS time at its end"
     assert recording.timeline.reason not in ages and "no /clock was recorded" in clock.message
+
+
+def test_the_report_s_3d_view_places_an_arm_on_its_own_clock(tmp_path: Path) -> None:
+    """The real UR5: base_link's arm on simulated time (1907-1914 s), its detections on wall time. The 3D view
+    looked every frame up at wall times: the arm was never placed, and nothing said so. Now at the same times
+    into its own stamps (as echo's +S counts), and the page says which frames are placed so."""
+    messages = []
+    for i in range(100):
+        record = WALL + i * S // 10
+        joint = moving("base_link", "arm_link", 1900 * S + i * S // 10, i)
+        detected = moving("base_link", "object", record - 5 * MS, i)
+        messages.append(TfMessage("tf", record, [joint, detected]))
+    recording = read_recording([write_bag(tmp_path / "arm_and_detections.bag", messages)])
+    timeline = recording.timeline
+    poses = frame_poses(recording.buffer, frame_tree(recording), timeline.tf_start, timeline.tf_end, timeline=timeline)
+    assert poses is not None and poses.fixed == "base_link" and poses.own_clock == ("arm_link",)
+    arm, seen = poses.frames.index("arm_link"), poses.frames.index("object")
+    assert poses.valid[arm].all() and poses.valid[seen].all()
+    # 5 s into the detections is 5 s into the arm's stamps: x = 50 there (``moving`` puts x at i).
+    k = int(np.argmin(np.abs(poses.times - (timeline.tf_start + 5 * S))))
+    into = (int(poses.times[k]) - timeline.tf_start) / S
+    assert poses.translations[arm, k, 0] == pytest.approx(10 * into, abs=1e-6)
+    assert "placed as far into their own stamps as the slider is into the recording's: arm_link." in scene_html(poses)
+    # The report's view spans the tf data: at its last time too every frame is placed (its end was past the data).
+    drawn = recording_report(recording).poses
+    assert drawn is not None and drawn.valid[1:].all() and drawn.times[-1] == timeline.tf_end
 
 
 def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx: Tfx) -> None:

@@ -84,7 +84,7 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
         tuple(flows),
         timeline.delays_unavailable,
         timeline.origin,
-        frame_poses(buffer, scene.tree, bins.start, bins.start + bins.count * bins.width),
+        frame_poses(buffer, scene.tree, timeline.tf_start, timeline.tf_end, timeline=timeline),  # where tf has data
         problems=tuple(recording.problems),
     )
 
