@@ -116,14 +116,14 @@ def test_the_gazebo_corpus_recording_shows_no_impossible_delay(tfx: Tfx) -> None
 # --- spans: one clock, plausible --------------------------------------------------------------------
 
 
-def two_clocks(tmp_path: Path) -> Path:
+def two_clocks(tmp_path: Path, root: str | None = None) -> Path:
     """On a topic named ``tf``: an arm stamped on simulated time (from 1900 s) and detections stamped on
-    wall time, all received on wall time, for 20 s."""
+    wall time, all received on wall time, for 20 s; in two trees, or both under ``root`` (the real UR5's)."""
     messages = []
     for i in range(200):
         record = WALL + i * S // 10
-        arm = moving("arm_base", "arm_link", 1900 * S + i * S // 10, i)
-        seen = moving("camera", "object", record - 5 * MS, i)
+        arm = moving(root or "arm_base", "arm_link", 1900 * S + i * S // 10, i)
+        seen = moving(root or "camera", "object", record - 5 * MS, i)
         messages.append(TfMessage("tf", record, [arm, seen]))
     return write_bag(tmp_path / "two_clocks.bag", messages)
 
@@ -177,13 +177,7 @@ def test_the_report_s_3d_view_places_an_arm_on_its_own_clock(tmp_path: Path) -> 
     """The real UR5: base_link's arm on simulated time (1907-1914 s), its detections on wall time. The 3D view
     looked every frame up at wall times: the arm was never placed, and nothing said so. Now at the same times
     into its own stamps (as echo's +S counts), and the page says which frames are placed so."""
-    messages = []
-    for i in range(100):
-        record = WALL + i * S // 10
-        joint = moving("base_link", "arm_link", 1900 * S + i * S // 10, i)
-        detected = moving("base_link", "object", record - 5 * MS, i)
-        messages.append(TfMessage("tf", record, [joint, detected]))
-    recording = read_recording([write_bag(tmp_path / "arm_and_detections.bag", messages)])
+    recording = read_recording([two_clocks(tmp_path, root="base_link")])
     timeline = recording.timeline
     poses = frame_poses(recording.buffer, frame_tree(recording), timeline.tf_start, timeline.tf_end, timeline=timeline)
     assert poses is not None and poses.fixed == "base_link" and poses.own_clock == ("arm_link",)
