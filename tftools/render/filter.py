@@ -87,7 +87,7 @@ def _late(s: StreamReport) -> str:
     return f"{s.late_edge[0]} -> {s.late_edge[1]} ({seconds(s.late_by):.3f} s behind)"
 
 
-#: What does keep messages no timeout keeps, by why most were lost (``Fate.reason``).
+#: What keeps the messages no timeout keeps, by why most of them were lost (``Fate.reason``).
 _INSTEAD = {
     "unknown_frame": "publish its frame's transform, or fix the frame_id",
     "not_connected": "join its frame's tree to the target's",
