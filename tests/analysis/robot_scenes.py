@@ -74,6 +74,7 @@ class Setup:
     wheel_speed: float = WHEEL_SPEED  # rad/s
     tf_every: int = 1  # robot_state_publisher publishes the moving joints of every n-th joint state
     prefix: str = ""  # robot_state_publisher's frame_prefix (a namespaced robot)
+    statics_stamped_before: int = 0  # ns: robot_state_publisher started (and stamped its statics) this long before
 
 
 def position(joint: str, seconds: float, speed: float = WHEEL_SPEED) -> float:
@@ -106,7 +107,7 @@ def recorded(setup: Setup) -> list[Recorded]:
         for j in FIXED:
             xyz, rpy = setup.real_origins.get(j.name, (j.xyz, j.rpy))
             real = Joint(j.name, j.type, j.parent, j.child, xyz, rpy)
-            statics.append(_transform(real, 0.0, START, setup.prefix))
+            statics.append(_transform(real, 0.0, START - setup.statics_stamped_before, setup.prefix))
         messages.append(Recorded("/tf_static", START + DELAY, statics, "/robot_state_publisher"))
     for i in range(round(SECONDS * HZ)):
         seconds = i / HZ

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from tests.analysis.robot_scenes import (
+    DELAY,
     FLIPPED,
     MOVED,
     ROBOT,
@@ -132,6 +133,18 @@ def test_a_moved_or_flipped_sensor(tmp_path: Path, origin: tuple[Vec3, Vec3], mm
     assert moved.frames == ("base_link", "laser") and "joint laser_joint" in moved.message
     assert f"{mm:.1f} mm and {deg:.2f}°" in moved.message
     assert "edited" in moved.hint and "tfx echo base_link laser --format urdf" in moved.hint
+
+
+def test_a_moved_sensor_s_static_stamped_hours_before_is_placed_when_it_arrived(tmp_path: Path) -> None:
+    """robot_state_publisher stamps its statics when it starts, often hours before the recording (a real
+    Create 3 recording: 4.1 h); the finding is at the /tf_static message's arrival, as urdf_parent's, not 4 h
+    before the recording began (the report's timelines zoomed there)."""
+    hours = 4 * 3600 * NS_PER_S
+    findings = _findings(tmp_path, Setup(real_origins={"laser_joint": MOVED}, statics_stamped_before=hours))
+    (moved,) = [f for f in findings if f.code == "urdf_moved"]
+    laser = read_recording([tmp_path / "rover.bag"]).buffer.history("laser")
+    assert laser is not None and laser.static and int(laser.stamps[0]) == START - hours
+    assert moved.first_time == moved.last_time == START + DELAY
 
 
 def test_joint_states_the_urdf_lacks(tmp_path: Path) -> None:

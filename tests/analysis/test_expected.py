@@ -28,7 +28,7 @@ from tests.analysis.wtf_scenes import (
 )
 from tests.bags import BagFormat, TfMessage
 from tftools.analysis.differences import Change, compare, rotation_angle_deg
-from tftools.analysis.expected import Tolerances, shape_of
+from tftools.analysis.expected import FrameShape, Tolerances, TreeShape, shape_of
 from tftools.analysis.findings import Severity
 from tftools.analysis.tree_file import TreeFileError, read_tree, write_tree
 from tftools.analysis.wtf import CHECKS
@@ -148,6 +148,21 @@ def test_tolerances_decide_what_differs(tmp_path: Path, expected_file: Path) -> 
     assert compare(expected, moved, Tolerances(translation_mm=10.1)) == []
     wide = dataclasses.replace(expected, tolerances=Tolerances(translation_mm=20))
     assert check(read_recording([bag]), CheckQuery(expected=wide)).findings == []
+
+
+def test_a_move_of_exactly_the_tolerance_is_not_beyond_it() -> None:
+    """Two TurtleBot 3 URDFs put base_scan at z 0.121 and 0.122 m: 1.0000000000000009 mm in floats, which
+    tfx diff listed as 'moved by 1.0 mm' beyond its 1 mm tolerance. Exactly the tolerance is within it."""
+    identity = (0.0, 0.0, 0.0, 1.0)
+
+    def tree(z: float) -> TreeShape:
+        laser = FrameShape("base_scan", "base_link", static=True, translation=(-0.064, 0.0, z), rotation=identity)
+        return TreeShape({"base_link": FrameShape("base_link", None), "base_scan": laser}, "tree")
+
+    assert 1000 * (0.122 - 0.121) > 1.0  # the float rounding this is about
+    assert compare(tree(0.121), tree(0.122), Tolerances(translation_mm=1.0)) == []
+    (moved,) = compare(tree(0.121), tree(0.1221), Tolerances(translation_mm=1.0))
+    assert moved.change is Change.moved and moved.translation_mm == pytest.approx(1.1)
 
 
 def test_a_static_edge_that_turned_is_measured_in_degrees(tmp_path: Path, expected_file: Path) -> None:

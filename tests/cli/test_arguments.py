@@ -42,6 +42,9 @@ def one_line_error(result: Result, *words: str) -> None:
         (("--play", "--end", "1e12"), ("--end 1e12",)),
         (("--play", "--start", "nan"), ("--start nan",)),
         (("--play", "--start", "+5", "--end", "+1"), ("the time range is empty",)),
+        # One bound past the other end of the data: said as outside it, not blamed on an --end never given.
+        (("--start", "+100"), ("the time range is outside the recording", "its tf runs from")),
+        (("--end", "-100"), ("the time range is outside the recording", "its tf runs from")),
     ],
 )
 def test_echo_times_and_rates(tfx: Tfx, args: tuple[str, ...], words: tuple[str, ...]) -> None:

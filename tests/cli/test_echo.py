@@ -76,6 +76,18 @@ def test_csv_columns_and_every_sample(tfx: Tfx) -> None:
     assert stamps == sorted(stamps)
 
 
+@pytest.mark.parametrize(("fmt", "lines"), [("text", 5), ("json", 1)])
+def test_every_sample_of_a_static_chain_is_its_one_transform(tfx: Tfx, fmt: str, lines: int) -> None:
+    """``--all`` on frames joined by static edges alone (a calibration bag of one /tf_static message) printed
+    nothing and exited 0: the chain's one transform, holding at every time, is one line (the first of the
+    default once-a-second echo)."""
+    frames = ("base_link", "camera_optical_frame")
+    every = tfx("echo", *frames, "-b", SAMPLE_BAGS["ros1"], "--all", "-f", fmt)
+    assert every.code == 0, every.stderr
+    once_a_second = tfx("echo", *frames, "-b", SAMPLE_BAGS["ros1"], "-f", fmt).stdout.splitlines()
+    assert every.stdout.splitlines() == once_a_second[:lines]
+
+
 def test_failed_lookup_prints_tf2_reason_and_exits_1(tfx: Tfx) -> None:
     result = tfx("echo", "map", "gripper", "-b", SAMPLE_BAGS["db3"], "--at", "1699999000")
     assert result.code == 1

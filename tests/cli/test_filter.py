@@ -137,9 +137,22 @@ def test_a_filter_timeout_and_queue_count_what_they_drop(tfx: Tfx, bags: dict[st
     assert text.code == 0 and "/scan" in text.stdout and "base_link -> laser" in text.stdout
 
 
+def test_what_keeps_messages_no_timeout_keeps_is_said(tfx: Tfx, bags: dict[str, Path]) -> None:
+    """The camera's frame_id is misspelt: 'to keep 99.9%: no timeout can' said what does not help; it says
+    what does (a real AUV's DVL, GPS and odometry topics name frames no transform has)."""
+    result = tfx("filter", "/camera/image_raw", "-b", bags["ros1"])
+    assert result.code == 1
+    assert "no timeout can (publish its frame's transform, or fix the frame_id)" in " ".join(result.stdout.split())
+
+
 def test_filter_refuses_what_it_cannot_use(tfx: Tfx, bags: dict[str, Path]) -> None:
     nothing = tfx("filter", "/nothing", "-b", bags["ros1"])
     assert nothing.code == 2 and "no topic with a Header" in nothing.stderr
+    # Only headers without a frame_id (a turtlesim bag's /rosout): said so, not an empty table with exit 0.
+    unframed = tfx("filter", "/diagnostics", "-b", bags["ros1"])
+    assert unframed.code == 2 and not unframed.stdout
+    assert "only /diagnostics, whose header has no frame_id (not tied to tf)" in unframed.stderr
+    assert len(unframed.stderr.strip().splitlines()) == 1
     unknown = tfx("filter", "-b", bags["ros1"], "--target", "nowhere")
     assert unknown.code == 2 and "frame 'nowhere' does not exist" in unknown.stderr
 

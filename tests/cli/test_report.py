@@ -82,6 +82,7 @@ def test_the_page_shows_each_problem_on_its_edge_and_at_its_time(
     for shown in ("sensor_frame", "did you mean &#x27;camera&#x27;?", "went silent", "stopped", "Files", "Clocks"):
         assert shown in text
     assert re.search(r'<g id="r0-edge\d+" class="edge">', text) and "<title>base_link</title>" in text  # the tree
+    assert "19 lost (unknown frame 19)" in text  # in words, as tfx filter says them: not 'unknown_frame'
 
 
 @pytest.mark.parametrize("fmt", FORMATS)

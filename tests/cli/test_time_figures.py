@@ -14,16 +14,20 @@ import pytest
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.cli.conftest import Tfx
 from tests.corpus.fetch import shared_dir
+from tftools.analysis.frames import frame_tree
 from tftools.analysis.monitor import MonitorQuery, monitor, monitor_buffer, played_window
 from tftools.analysis.report import recording_facts
 from tftools.analysis.report import report as recording_report
+from tftools.analysis.report.poses import frame_poses
 from tftools.analysis.times import Offset
 from tftools.analysis.wtf.fleet import check
 from tftools.core.batch import BatchBuilder, take_rows
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.render.graph import recording_legend
 from tftools.render.report import recording_section
+from tftools.render.scene3d import scene_html
 from tftools.sources.contents import RecordingContents, SourceInfo, StampedMessages, StampedRead
 from tftools.sources.recording import read_recording, recording_of
 from tftools.sources.stream import stream_recording
@@ -112,14 +116,14 @@ def test_the_gazebo_corpus_recording_shows_no_impossible_delay(tfx: Tfx) -> None
 # --- spans: one clock, plausible --------------------------------------------------------------------
 
 
-def two_clocks(tmp_path: Path) -> Path:
+def two_clocks(tmp_path: Path, root: str | None = None) -> Path:
     """On a topic named ``tf``: an arm stamped on simulated time (from 1900 s) and detections stamped on
-    wall time, all received on wall time, for 20 s."""
+    wall time, all received on wall time, for 20 s; in two trees, or both under ``root`` (the real UR5's)."""
     messages = []
     for i in range(200):
         record = WALL + i * S // 10
-        arm = moving("arm_base", "arm_link", 1900 * S + i * S // 10, i)
-        seen = moving("camera", "object", record - 5 * MS, i)
+        arm = moving(root or "arm_base", "arm_link", 1900 * S + i * S // 10, i)
+        seen = moving(root or "camera", "object", record - 5 * MS, i)
         messages.append(TfMessage("tf", record, [arm, seen]))
     return write_bag(tmp_path / "two_clocks.bag", messages)
 
@@ -140,6 +144,53 @@ def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx: Tfx
     (clock,) = [f for f in check(recording).findings if f.code == "clock"]  # the arm is still told of
     assert "arm_base -> arm_link" in clock.message and "stamped around 1910.0 s" in clock.message
     assert not re.search(r"[+-]\d{6,}\.\d s", "\n".join(f.message for f in check(recording).findings))
+
+
+def test_the_report_s_facts_name_the_frames_on_another_clock_and_their_span(tmp_path: Path) -> None:
+    """The real UR5 (two clocks): the page said 'tf stamps on the record clock' and a span of the detections
+    only, while its findings said the arm's 6 edges are on another clock; the facts now name them, with their
+    stamps' span on their own clock."""
+    bag = two_clocks(tmp_path)
+    clocks = dict(recording_facts(read_recording([bag], topics=["tf"])))["Clocks"]
+    assert clocks.startswith("tf stamps on the record clock; but arm_link is stamped on another clock")
+    assert f"{1900:.3f} to {1900 + 19.9:.3f} (not in the tf stamps' span)" in clocks
+    # The transforms on the topic the file names, and none on /tf_static (it said 'on /tf, /tf_static').
+    assert dict(recording_facts(read_recording([bag])))["Transforms"] == (
+        "400 in 200 messages on tf; none on /tf_static"
+    )
+
+
+def test_view_frames_says_why_ages_count_from_the_newest_stamp_once(tmp_path: Path) -> None:
+    """A simulation recorded without /clock (the Nav2 TurtleBot 4 MCAP): the legend gave the clock finding's
+    whole sentence as the reason ages count from the newest stamp, then listed that finding again."""
+    messages = [
+        TfMessage("/tf", WALL + i * S // 10, [moving("odom", "base_link", 100 * S + i * S // 10, i)]) for i in range(50)
+    ]
+    recording = read_recording([write_bag(tmp_path / "sim_no_clock.bag", messages)])
+    (clock,) = [f for f in check(recording).findings if f.code == "clock"]
+    (ages,) = [line for line in recording_legend(recording) if line.startswith("Ages")]
+    assert ages == "Ages from the newest tf stamp (104.900): the recording does not tell ROS time at its end"
+    assert recording.timeline.reason not in ages and "no /clock was recorded" in clock.message
+
+
+def test_the_report_s_3d_view_places_an_arm_on_its_own_clock(tmp_path: Path) -> None:
+    """The real UR5: base_link's arm on simulated time (1907-1914 s), its detections on wall time. The 3D view
+    looked every frame up at wall times: the arm was never placed, and nothing said so. Now at the same times
+    into its own stamps (as echo's +S counts), and the page says which frames are placed so."""
+    recording = read_recording([two_clocks(tmp_path, root="base_link")])
+    timeline = recording.timeline
+    poses = frame_poses(recording.buffer, frame_tree(recording), timeline.tf_start, timeline.tf_end, timeline=timeline)
+    assert poses is not None and poses.fixed == "base_link" and poses.own_clock == ("arm_link",)
+    arm, seen = poses.frames.index("arm_link"), poses.frames.index("object")
+    assert poses.valid[arm].all() and poses.valid[seen].all()
+    # 5 s into the detections is 5 s into the arm's stamps: x = 50 there (``moving`` puts x at i).
+    k = int(np.argmin(np.abs(poses.times - (timeline.tf_start + 5 * S))))
+    into = (int(poses.times[k]) - timeline.tf_start) / S
+    assert poses.translations[arm, k, 0] == pytest.approx(10 * into, abs=1e-6)
+    assert "placed as far into their own stamps as the slider is into the recording's: arm_link." in scene_html(poses)
+    # The report's view spans the tf data: at its last time too every frame is placed (its end was past the data).
+    drawn = recording_report(recording).poses
+    assert drawn is not None and drawn.valid[1:].all() and drawn.times[-1] == timeline.tf_end
 
 
 def test_monitor_start_counts_on_the_clock_of_the_chain_asked_about(tmp_path: Path, tfx: Tfx) -> None:

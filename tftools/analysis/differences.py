@@ -79,7 +79,8 @@ def _moved(before: FrameShape, after: FrameShape) -> tuple[float, float]:
     if before.translation is None or after.translation is None or before.rotation is None or after.rotation is None:
         return 0.0, 0.0
     mm = 1000.0 * math.dist(before.translation, after.translation)
-    return mm, rotation_angle_deg(before.rotation, after.rotation)
+    # To a nanometre and a micro-degree: 0.122 - 0.121 is 1.0000000000000009 mm in floats, beyond a 1 mm tolerance.
+    return round(mm, 6), round(rotation_angle_deg(before.rotation, after.rotation), 6)
 
 
 def rotation_angle_deg(a: Quat, b: Quat) -> float:

@@ -112,7 +112,9 @@ def resolve_range(
     first = resolve_time(start, timeline, frames, "start") if start is not None else default[0]
     last = resolve_time(end, timeline, frames, "end") if end is not None else default[1]
     if first is not None and last is not None and last < first:
-        raise TimeRangeError()
+        lone = (start is None) != (end is None)  # one bound given, past the other end of the default range
+        span = default if lone and default[0] is not None and default[1] is not None else None
+        raise TimeRangeError(span)
     return first, last
 
 

@@ -64,7 +64,10 @@ def command(
             help="One lookup at TIME: absolute seconds, +S after the start, -S before the end, 0 = latest.",
         ),
     ] = None,
-    every: Annotated[bool, typer.Option("--all", help="A line at every sample of the chain's moving edges.")] = False,
+    every: Annotated[
+        bool,
+        typer.Option("--all", help="A line at every sample of the chain's moving edges (one if only static edges)."),
+    ] = False,
     start: options.Start = None,
     end: options.End = None,
     precision: Annotated[int, typer.Option(min=1, max=12, help="Decimals in text output.")] = 3,

@@ -37,8 +37,8 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
             Text(str(s.later), style="yellow" if s.later else ""),
             " / ".join(f"{seconds(s.wait[p]):.3f}" for p in ("p50", "p99", "max")) if s.later else "",
             Text(str(s.never), style="bold red" if s.never else ""),
-            Text(_counted(s.reasons)),
-            Text(_counted(s.undecided), style="dim"),
+            Text(fates_in_words(s.reasons)),
+            Text(fates_in_words(s.undecided), style="dim"),
             Text(printable(_late(s))),
             Text(_advice(s)),
         )
@@ -59,9 +59,9 @@ def _paragraph(s: StreamReport) -> list[Text]:
         clauses.append(f"{s.later} later, waiting {wait}")
     else:
         clauses.append("0 later")
-    clauses.append(f"{s.never} never" + (f": {_counted(s.reasons)}" if s.never else ""))
+    clauses.append(f"{s.never} never" + (f": {fates_in_words(s.reasons)}" if s.never else ""))
     if s.undecided:
-        clauses.append(f"undecided: {_counted(s.undecided)}")
+        clauses.append(f"undecided: {fates_in_words(s.undecided)}")
     words = [Text(printable(s.topic), style="bold"), Text("in"), *(Text(printable(f)) for f in s.frame_ids)]
     words[-1].append(":")
     words += [Text(word) for word in "; ".join(clauses).split(" ")]
@@ -76,7 +76,8 @@ def _paragraph(s: StreamReport) -> list[Text]:
     return words
 
 
-def _counted(reasons: dict[str, int]) -> str:
+def fates_in_words(reasons: dict[str, int]) -> str:
+    """Fates and their counts in words: ``unknown frame 143, before recorded tf 26``."""
     return ", ".join(f"{reason.replace('_', ' ')} {n}" for reason, n in reasons.items())
 
 
@@ -86,10 +87,20 @@ def _late(s: StreamReport) -> str:
     return f"{s.late_edge[0]} -> {s.late_edge[1]} ({seconds(s.late_by):.3f} s behind)"
 
 
+#: What keeps the messages no timeout keeps, by why most of them were lost (``Fate.reason``).
+_INSTEAD = {
+    "unknown_frame": "publish its frame's transform, or fix the frame_id",
+    "not_connected": "join its frame's tree to the target's",
+    "empty_frame": "set the frame_id",
+    "needs_newer_tf": "keep the tf it waits for publishing",
+}
+
+
 def _advice(s: StreamReport) -> str:
     said = []
     if s.wait_needed is None:
-        said.append("no timeout can")
+        instead = _INSTEAD.get(max(s.reasons, key=lambda r: s.reasons[r]) if s.reasons else "")
+        said.append("no timeout can" + (f" ({instead})" if instead else ""))
     elif s.wait_needed > 0:
         said.append(f"wait {seconds(s.wait_needed):.3f} s")
     if s.queue_needed:

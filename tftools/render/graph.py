@@ -51,7 +51,9 @@ def recording_legend(recording: Recording) -> list[str]:
     if timeline.reference is Reference.CLOCK:
         lines.append(f"Ages on {timeline.clock.topic} (simulated time) at the end: {format_sec(timeline.end, 3)}")
     elif timeline.reference is Reference.NONE:
-        lines.append(f"Ages from the newest tf stamp ({format_sec(timeline.tf_end, 3)}): {timeline.reason}")
+        # The reason is the clock finding's, listed below: said once.
+        newest = format_sec(timeline.tf_end, 3)
+        lines.append(f"Ages from the newest tf stamp ({newest}): the recording does not tell ROS time at its end")
     files = recording.contents.files
     bags = [Path(f.path).name for f in files if not f.live]
     lines += [f"Listened to: {f.path}" for f in files if f.live]

@@ -27,6 +27,7 @@ from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
+from tftools.render.filter import fates_in_words
 from tftools.render.graph import problem_summary, to_digraph
 from tftools.sources.timeline import seconds_since
 
@@ -239,10 +240,10 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
     parts = []
     for row, s in enumerate(streams):
         r = s.report
-        lost = f", {r.never} lost ({', '.join(f'{n} {why}' for why, n in r.reasons.items())})" if r.never else ""
+        lost = f", {r.never} lost ({fates_in_words(r.reasons)})" if r.never else ""
         wait = f" (wait p50 {seconds(r.wait['p50']):.3f} s, p99 {seconds(r.wait['p99']):.3f} s)" if r.later else ""
         open_ = sum(r.undecided.values())
-        undecided = f", {open_} undecided ({', '.join(f'{n} {w}' for w, n in r.undecided.items())})" if open_ else ""
+        undecided = f", {open_} undecided ({fates_in_words(r.undecided)})" if open_ else ""
         about = (
             f"{r.type} in {', '.join(r.frame_ids)}: {r.messages} messages, {r.on_arrival} on arrival, "
             f"{r.later} later{wait}{lost}{undecided}"

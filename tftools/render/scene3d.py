@@ -51,17 +51,26 @@ def scene_html(poses: FramePoses | None) -> str:
     if poses is None:
         return ""
     fixed = html.escape(printable(poses.fixed), quote=True)
-    shown = ", ".join(poses.unplaced[:20]) + (
-        f" and {len(poses.unplaced) - 20} more" if len(poses.unplaced) > 20 else ""
-    )
     unplaced = (
-        f" Not drawn (in another tree than {fixed}'s, or beyond {MAX_FRAMES} frames): {html.escape(printable(shown))}."
+        f" Not drawn (in another tree than {fixed}'s, or beyond {MAX_FRAMES} frames): {_listed(poses.unplaced)}."
         if poses.unplaced
+        else ""
+    )
+    own_clock = (
+        " Stamped on another clock, placed as far into their own stamps as the slider is into the recording's: "
+        f"{_listed(poses.own_clock)}."
+        if poses.own_clock
         else ""
     )
     return (
         f'<h3>Frames in 3D</h3><p class="axis">Every frame in <b>{fixed}</b> as tf2 placed it: x red, y green, '
         f"z blue; grey lines join each frame to its parent. Drag to orbit, shift-drag to pan, scroll to zoom; "
         f"hover for names; the slider moves through the recording; click a finding to see its frames at its "
-        f'time.{unplaced}</p><div class="scene3d"></div>'
+        f'time.{unplaced}{own_clock}</p><div class="scene3d"></div>'
     )
+
+
+def _listed(names: tuple[str, ...], most: int = 20) -> str:
+    """Frame names for the page, the first ``most`` of them."""
+    shown = ", ".join(names[:most]) + (f" and {len(names) - most} more" if len(names) > most else "")
+    return html.escape(printable(shown))

@@ -201,10 +201,11 @@ def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | No
 
 
 def sample_times(buffer: Buffer, target: str, source: str, start: int, end: int) -> Int64Array:
-    """Every stamp of the moving edges between the frames within ``[start, end]``, sorted."""
+    """Every stamp of the moving edges between the frames within ``[start, end]``, sorted; ``start`` alone
+    where only static edges join them (one transform, holding at every time: one line, not none)."""
     edges = list(chain_moving_edges(buffer, target, source).values())
     if not edges:
-        return np.zeros(0, np.int64)
+        return np.array([start], np.int64)
     every = np.unique(np.concatenate([hist.stamps for hist in edges]))
     return every[(every >= start) & (every <= end)]
 

@@ -45,14 +45,20 @@ def filter_messages(
 ) -> FilterReport:
     """``tfx filter``: a MessageFilter replayed on the sensor data ``recording`` was read or heard with
     (``query.reading()``) against its tf; what could not be read of the topics asked for goes to
-    ``on_problem``. Raises ``NoStampedDataError`` when no topic has a header."""
+    ``on_problem``. Raises ``NoStampedDataError`` when no topic has a header with a frame_id (a recording of
+    /rosout alone: an empty table said nothing)."""
     stamped = recording.stamped
     if not stamped.streams:
         raise NoStampedDataError(stamped.problems)
     for problem in stamped.problems:
         if on_problem is not None:
             on_problem(problem)
-    return filter_streams(recording.buffer, stamped.streams, query)
+    report = filter_streams(recording.buffer, stamped.streams, query)
+    if not report.streams:
+        whose = "whose header has" if len(report.skipped) == 1 else "whose headers have"
+        unframed = [f"only {', '.join(report.skipped)}, {whose} no frame_id (not tied to tf)"] if report.skipped else []
+        raise NoStampedDataError([*stamped.problems, *unframed])
+    return report
 
 
 def filter_streams(

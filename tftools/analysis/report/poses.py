@@ -4,12 +4,17 @@ view draws. Looked up with the buffer's batch lookups (``Buffer.lookup_many``), 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from tftools.analysis.edges import chain_moving_edges
 from tftools.analysis.frames import FrameTree
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import Buffer
+
+if TYPE_CHECKING:
+    from tftools.sources.timeline import Timeline
 
 #: Times at which every frame is placed, at most: enough for a slider to move smoothly.
 MAX_TIMES = 120
@@ -33,6 +38,9 @@ class FramePoses:
     rotations: FloatArray
     valid: BoolArray
     unplaced: tuple[str, ...]  # frames in another tree than ``fixed``'s, or beyond ``MAX_FRAMES``: not drawn
+    #: Frames whose chain is stamped on another clock than the recording's (``Timeline.span_of``): placed as far
+    #: into their own stamps as each of ``times`` is into the recording's, as ``+S`` counts for them.
+    own_clock: tuple[str, ...] = ()
 
 
 def choose_fixed(tree: FrameTree) -> str | None:
@@ -53,14 +61,25 @@ def choose_fixed(tree: FrameTree) -> str | None:
     )
 
 
-def frame_poses(buffer: Buffer, tree: FrameTree, start: int, end: int, fixed: str | None = None) -> FramePoses | None:
+def frame_poses(
+    buffer: Buffer,
+    tree: FrameTree,
+    start: int,
+    end: int,
+    fixed: str | None = None,
+    timeline: Timeline | None = None,
+) -> FramePoses | None:
     """Every frame of ``fixed``'s tree (default ``choose_fixed``) placed in it at up to ``MAX_TIMES``
-    times spread evenly from ``start`` to ``end`` (ns, stamps' clock); None for a buffer without frames."""
+    times spread evenly from ``start`` to ``end`` (ns, stamps' clock); a frame whose chain is on another clock
+    than ``timeline``'s tf span (an arm on simulated time among detections on wall time), at the same times
+    into its own stamps (``FramePoses.own_clock``). None for a buffer without frames."""
     fixed = fixed if fixed is not None else choose_fixed(tree)
     if fixed is None:
         return None
     count = MAX_TIMES if end > start else 1
-    times = np.unique(np.linspace(start, end, count).round().astype(np.int64))
+    # Offsets, not epoch nanoseconds, through floats: 1.7e18 in a double is 256 ns coarse, and a last time past
+    # the last stamp was looked up in nothing (every frame missing at the slider's end).
+    times = np.unique(start + np.linspace(0, end - start, count).round().astype(np.int64))
     in_tree: list[str] = []
     todo = [fixed]
     while todo and len(in_tree) < MAX_FRAMES:
@@ -70,9 +89,17 @@ def frame_poses(buffer: Buffer, tree: FrameTree, start: int, end: int, fixed: st
     translations = np.zeros((len(in_tree), len(times), 3))
     rotations = np.tile([0.0, 0.0, 0.0, 1.0], (len(in_tree), len(times), 1))
     valid = np.ones((len(in_tree), len(times)), bool)
+    own_clock = []
     for k, frame in enumerate(in_tree[1:], start=1):
-        looked = buffer.lookup_many(fixed, frame, times)
+        at = times
+        moving = list(chain_moving_edges(buffer, fixed, frame)) if timeline is not None else []
+        if timeline is not None and moving and (own_start := timeline.span_of(moving)[0]) != timeline.tf_start:
+            at = times - timeline.tf_start + own_start
+            own_clock.append(frame)
+        looked = buffer.lookup_many(fixed, frame, at)
         translations[k], rotations[k], valid[k] = looked.translations, looked.rotations, looked.valid
     parents = tuple(tree.frames[f].parent if f in tree.frames else None for f in in_tree)
     unplaced = tuple(sorted(set(tree.frames) - set(in_tree)))
-    return FramePoses(fixed, times, tuple(in_tree), parents, translations, rotations, valid, unplaced)
+    return FramePoses(
+        fixed, times, tuple(in_tree), parents, translations, rotations, valid, unplaced, tuple(sorted(own_clock))
+    )

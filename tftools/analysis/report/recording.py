@@ -28,7 +28,7 @@ from tftools.analysis.timelines import (
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.causes import explain
 from tftools.core.time import NS_PER_S, format_sec, from_sec
-from tftools.sources.contents import StampedMessages
+from tftools.sources.contents import StampedMessages, global_name
 from tftools.sources.recording import Recording
 from tftools.sources.timeline import EPOCH_FLOOR, Reference
 
@@ -84,7 +84,7 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
         tuple(flows),
         timeline.delays_unavailable,
         timeline.origin,
-        frame_poses(buffer, scene.tree, bins.start, bins.start + bins.count * bins.width),
+        frame_poses(buffer, scene.tree, timeline.tf_start, timeline.tf_end, timeline=timeline),  # where tf has data
         problems=tuple(recording.problems),
     )
 
@@ -114,7 +114,7 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
     contents, timeline, buffer = recording.contents, recording.timeline, recording.buffer
     length = (recording.end - recording.start) / NS_PER_S
     tf_length = (timeline.tf_end - timeline.tf_start) / NS_PER_S
-    clocks = timeline.describe()
+    clocks = timeline.describe() + _off_clock(recording)
     if len(timeline.clock) and timeline.reference is not Reference.CLOCK:
         clocks += f"; {len(timeline.clock)} messages on {timeline.clock.topic} recorded"
     edges = [hist.static for _, hist in buffer.histories()]
@@ -125,7 +125,7 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
         ("Recorded", f"{_when(recording.start)} to {_when(recording.end)} ({length:.3f} s, record clock)"),
         ("tf stamps", f"{_when(timeline.tf_start)} to {_when(timeline.tf_end)} ({tf_length:.3f} s)"),
         ("Clocks", clocks),
-        ("Transforms", f"{recording.transform_count} on {', '.join(contents.topics)}"),
+        ("Transforms", _transforms(recording)),
         (
             "Frames",
             f"{len(buffer.frames)} frames; {edges.count(False)} moving and {edges.count(True)} static transforms",
@@ -133,6 +133,42 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
     ]
     facts += [("Could not read", problem) for problem in recording.problems]
     return facts
+
+
+def _transforms(recording: Recording) -> str:
+    """How many transforms, on which topics in how many messages (as the files name them), and which topics
+    asked for held none: not 'on /tf, /tf_static' for a bag that recorded no /tf_static."""
+    messages: dict[str, list[int]] = {}
+    for file in recording.contents.files:
+        for topic, (count, empty) in file.tf_messages.items():
+            held = messages.setdefault(topic, [0, 0])
+            held[0], held[1] = held[0] + count, held[1] + empty
+    asked = recording.contents.topics
+    if not messages:  # a live system, or a buffer: what was asked for
+        return f"{recording.transform_count} on {', '.join(asked)}"
+    said = [
+        f"{count:,} message{'s' * (count != 1)} on {topic}{f' ({empty:,} empty)' if empty else ''}"
+        for topic, (count, empty) in messages.items()
+        if count
+    ]
+    recorded = {global_name(topic) for topic, (count, _) in messages.items() if count}
+    none = [topic for topic in asked if global_name(topic) not in recorded]
+    return f"{recording.transform_count:,} in {', '.join(said) or 'no message'}" + (
+        f"; none on {', '.join(none)}" if none else ""
+    )
+
+
+def _off_clock(recording: Recording) -> str:
+    """The frames stamped on another clock than the others (``Timeline.off_reference``) and their stamps' span,
+    which the tf stamps' span leaves out ("" where there are none)."""
+    off = sorted(recording.timeline.off_reference)
+    stamps = [h.stamps for h in map(recording.buffer.history, off) if h is not None and len(h)]
+    if not stamps:
+        return ""
+    names = ", ".join(off[:4]) + (f" and {len(off) - 4} more" if len(off) > 4 else "")
+    low, high = min(int(s.min()) for s in stamps), max(int(s.max()) for s in stamps)
+    verb = "is" if len(off) == 1 else "are"
+    return f"; but {names} {verb} stamped on another clock, {_when(low)} to {_when(high)} (not in the tf stamps' span)"
 
 
 def _when(ns: int) -> str:

@@ -1,0 +1,111 @@
+"""The commands other than ``wtf`` and ``monitor`` on the corpus, judged by each recording's bytes (read here
+with rosbags, ``tests/corpus/data.py``): where findings are placed, what ``tfx filter`` says of recordings
+without sensor data tied to tf, ``tfx echo --all`` of a static edge, and the report's facts."""
+
+from __future__ import annotations
+
+import html
+import json
+import re
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus import data
+from tests.corpus.fetch import Recording, load_manifest
+from tftools.core.time import NS_PER_S
+
+_, RECORDINGS = load_manifest()
+WITH_TF = [r for r in RECORDINGS if r.meta["frames"]]
+BY_ID = {r.id: r for r in RECORDINGS}
+
+Corpus = Callable[[Recording], Path]
+
+
+def _span(contents: data.Contents) -> tuple[int, int]:
+    """The times a finding may be at: the moving edges' stamps and the record times (ns). A static's stamp is
+    not one: robot_state_publisher stamps its statics when it starts, hours before a recording may begin."""
+    times = [contents.first_record, contents.last_record]
+    times += [t for samples in contents.dynamic.values() for t in (min(samples.stamps), max(samples.stamps))]
+    return min(times), max(times)
+
+
+@pytest.mark.parametrize("recording", WITH_TF, ids=[r.id for r in WITH_TF])
+def test_findings_are_placed_inside_the_recording(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Each finding's time (where the report's timelines zoom when it is clicked, and wtf's JSON ``first_time``)
+    lies within the recording's stamps or record times: a real Create 3's 21 ``urdf_moved`` were placed 4.1 h
+    before the recording, at their /tf_static message's stamp."""
+    path = corpus(recording)
+    result = tfx("wtf", path, "--format", "json")
+    assert result.code in (0, 1), result.stderr
+    low, high = _span(data.read_contents(path))
+    for finding in json.loads(result.stdout)["bags"][0]["findings"]:
+        for key in ("first_time", "last_time"):
+            when = finding.get(key)
+            if when:
+                assert low - NS_PER_S <= when * NS_PER_S <= high + NS_PER_S, (finding["code"], key, when, low, high)
+
+
+@pytest.mark.parametrize("recording", WITH_TF, ids=[r.id for r in WITH_TF])
+def test_filter_checks_a_topic_or_says_in_one_line_why_not(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """``tfx filter -b BAG`` shows at least one topic, or exits 2 with one line: a turtlesim bag whose only stamped
+    topic is /rosout (a header without frame_id) printed an empty table and exited 0."""
+    result = tfx("filter", "-b", corpus(recording), "--format", "json")
+    if result.code == 2:
+        assert not result.stdout and len(result.stderr.strip().splitlines()) == 1, result.stderr
+        assert "no topic with a Header to check" in result.stderr
+    else:
+        assert result.code in (0, 1), result.stderr
+        assert json.loads(result.stdout)["topics"], "an empty table"
+
+
+def _one_valued_statics(contents: data.Contents) -> list[tuple[str, str]]:
+    """Static edges sent with one value only, whose child has no other parent: what any tf2 answers alike."""
+    parents: dict[str, int] = {}
+    for _, child in contents.edges:
+        parents[child] = parents.get(child, 0) + 1
+    return [
+        edge
+        for edge, samples in contents.edges.items()
+        if samples.static and parents[edge[1]] == 1 and len({tuple(v) for v in samples.values}) == 1
+    ]
+
+
+@pytest.mark.parametrize("recording", WITH_TF, ids=[r.id for r in WITH_TF])
+def test_echo_all_of_a_static_edge_is_its_one_transform(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """``tfx echo PARENT CHILD --all`` on a static edge prints its one transform, as the bytes hold it (a
+    calibration bag of one /tf_static message printed nothing and exited 0)."""
+    path = corpus(recording)
+    statics = _one_valued_statics(data.read_contents(path))
+    if not statics:
+        pytest.skip("no static edge of one value")
+    contents = data.read_contents(path)
+    parent, child = statics[0]
+    result = tfx("echo", parent, child, "-b", path, "--all", "--format", "json")
+    assert result.code == 0, result.stdout + result.stderr
+    (line,) = [json.loads(x) for x in result.stdout.splitlines()]
+    value = contents.edges[parent, child].values[0]
+    np.testing.assert_allclose(line["translation"], value[:3], atol=1e-9)
+    q = np.asarray(line["rotation"]) * (1 if np.dot(line["rotation"], value[3:]) >= 0 else -1)
+    np.testing.assert_allclose(q, value[3:], atol=1e-9)
+
+
+@pytest.mark.parametrize("recording", WITH_TF, ids=[r.id for r in WITH_TF])
+def test_the_report_names_the_tf_topics_recorded(
+    recording: Recording,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The page's transforms fact says 'none on /tf_static' exactly where the recording holds no /tf_static
+    message (it said 'on /tf, /tf_static' of every recording: the topics asked for)."""
+    path = corpus(recording)
+    page = tmp_path / "report.html"
+    result = tfx("report", "-b", path, "-o", page)
+    assert result.code in (0, 1), result.stderr
+    (row,) = re.findall(r"<tr><th>Transforms</th><td>(.*?)</td></tr>", page.read_text(), re.S)
+    recorded = {topic.lstrip("/") for topic, _ in data.read_contents(path).messages}
+    assert ("none on /tf_static" in html.unescape(row)) == ("tf_static" not in recorded), row
