@@ -111,7 +111,9 @@ inline bool edge_block(const Histories& histories, const Step& step, const int64
         const int64_t time = times[k];
         if (time <= earliest || time >= latest) return false;
         const int64_t row = find(h.stamps, h.start, h.end, time, memo, step.frame) - 1;
-        if (h.parents[row] != step.parent || h.parents[row + 1] != step.parent) return false;
+        if (h.sole_parent != step.parent && (h.parents[row] != step.parent || h.parents[row + 1] != step.parent)) {
+            return false;
+        }
         const int64_t t0 = h.stamps[row], t1 = h.stamps[row + 1];
         const int64_t low = row > h.start ? t0 : t0 + 1;  // at the first stamp itself, row_at does not interpolate
         int64_t last = k + 1;  // the run: times[k..last), all within [low, t1)

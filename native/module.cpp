@@ -75,6 +75,7 @@ std::shared_ptr<tfbuffer::Store> store_of(const nb::tuple& columns, std::shared_
     std::copy(sequence.data(), sequence.data() + n, b.sequence);
     std::copy(flags.data(), flags.data() + n, b.flags);
     s->end = n;
+    s->added_rows(0);
     return s;
 }
 
