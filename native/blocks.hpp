@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <memory>
 
 #include "walk.hpp"
@@ -95,12 +96,30 @@ inline void interval(Accumulator& acc, int64_t k0, int64_t k1, const History& h,
     }
 }
 
+// times[k0..k1) less `t0`, as doubles, into lag[k0..k1), each in [0, `span`) ns. Below 2**52 ns (52 days)
+// each is made from its bits (2**52 + d, less 2**52: exact, as the conversion is), a loop the compiler
+// vectorizes where AVX2 has no conversion of 64-bit integers.
+inline void lags(double* lag, const int64_t* times, int64_t k0, int64_t k1, int64_t t0, int64_t span) {
+    constexpr int64_t EXACT = int64_t{1} << 52;
+    if (span < 0 || span > EXACT) {  // (negative: stamps too far apart for int64, as `interval` takes them)
+        for (int64_t k = k0; k < k1; ++k) lag[k] = static_cast<double>(times[k] - t0);
+        return;
+    }
+    constexpr uint64_t TWO_52_BITS = 0x4330000000000000;  // 2**52 as a double
+    for (int64_t k = k0; k < k1; ++k) {
+        const uint64_t bits = static_cast<uint64_t>(times[k] - t0) | TWO_52_BITS;
+        double shifted;
+        std::memcpy(&shifted, &bits, sizeof shifted);
+        lag[k] = shifted - 4503599627370496.0;
+    }
+}
+
 // Compose `step`'s edge at times[0..n) into `acc` as row_at, edges_at and compose_all do. False
 // (`acc` then half done) unless each time lies strictly between the history's first and last stamps and
 // both rows it interpolates between have the step's parent: then edges_at interpolates at every
 // time, which is all this does. For each run of times within one interval of the history, the
 // row is found (galloping from the cursor), its parents checked and its arc taken once.
-inline bool edge_block(const Histories& histories, const Step& step, const int64_t* times, int64_t n,
+inline bool edge_block(const Histories& histories, const Step& step, const int64_t* times, int64_t n, bool sorted,
                        Accumulator& acc, Memo& memo) {
     const History& h = histories[step.frame];
     if (h.is_static) return static_block(h, step.parent, n, acc, step.composed);
@@ -111,14 +130,21 @@ inline bool edge_block(const Histories& histories, const Step& step, const int64
         const int64_t time = times[k];
         if (time <= earliest || time >= latest) return false;
         const int64_t row = find(h.stamps, h.start, h.end, time, memo, step.frame) - 1;
-        if (h.parents[row] != step.parent || h.parents[row + 1] != step.parent) return false;
+        if (h.sole_parent != step.parent && (h.parents[row] != step.parent || h.parents[row + 1] != step.parent)) {
+            return false;
+        }
         const int64_t t0 = h.stamps[row], t1 = h.stamps[row + 1];
         const int64_t low = row > h.start ? t0 : t0 + 1;  // at the first stamp itself, row_at does not interpolate
         int64_t last = k + 1;  // the run: times[k..last), all within [low, t1)
-        acc.lag[k] = static_cast<double>(time - t0);
-        while (last < n && low <= times[last] && times[last] < t1) {
-            acc.lag[last] = static_cast<double>(times[last] - t0);
-            ++last;
+        if (sorted) {  // each at least times[k], which is at least `low`
+            last = std::lower_bound(times + last, times + n, t1) - times;
+            lags(acc.lag, times, k, last, t0, t1 - t0);
+        } else {
+            acc.lag[k] = static_cast<double>(time - t0);
+            while (last < n && low <= times[last] && times[last] < t1) {
+                acc.lag[last] = static_cast<double>(times[last] - t0);
+                ++last;
+            }
         }
         if (step.composed) {
             interval(acc, k, last, h, row, static_cast<double>(t1 - t0), arc_at(h, step.frame, row, memo));
@@ -128,12 +154,12 @@ inline bool edge_block(const Histories& histories, const Step& step, const int64
     return true;
 }
 
-// Identity into `acc`, then each edge of one side of the chain, in walk order.
+// Identity into `acc`, then each edge of one side of the chain, in walk order (`sorted`: the times ascend).
 inline bool side_block(const Histories& histories, const std::vector<Step>& side, const int64_t* times, int64_t n,
-                       Accumulator& acc, Memo& memo) {
+                       bool sorted, Accumulator& acc, Memo& memo) {
     acc.reset(n);
     for (const Step& step : side) {
-        if (!edge_block(histories, step, times, n, acc, memo)) return false;
+        if (!edge_block(histories, step, times, n, sorted, acc, memo)) return false;
     }
     return true;
 }
@@ -142,8 +168,9 @@ inline bool side_block(const Histories& histories, const std::vector<Step>& side
 // time does not fit it (the accumulators are then of no use).
 TFCORE_VECTOR_VERSIONS inline bool chain_block(const Histories& histories, const Chain& chain, const int64_t* times, int64_t n,
                         Accumulator& source, Accumulator& target, Memo& memo) {
-    if (!side_block(histories, chain.sides[0], times, n, source, memo)) return false;
-    if (!side_block(histories, chain.sides[1], times, n, target, memo)) return false;
+    const bool sorted = std::is_sorted(times, times + n);
+    if (!side_block(histories, chain.sides[0], times, n, sorted, source, memo)) return false;
+    if (!side_block(histories, chain.sides[1], times, n, sorted, target, memo)) return false;
     if (chain.ending != Ending::AT_TARGET) {
         for (int64_t k = 0; k < n; ++k) source.set(k, finish(chain.ending, source.get(k), target.get(k)));
     }

@@ -252,8 +252,20 @@ struct Store {
     int64_t start = 0, end = 0;
     Block block;
     std::shared_ptr<Store> replaced;
+    // The parent of every row of start..end where they all have one (-1: rows of several parents, or none
+    // yet): the walk then knows an edge's parent without reading its row, and does not wait for that load
+    // before it goes on to the next edge. Pruning that leaves one parent keeps -1 (only slower).
+    int32_t sole_parent = -1;
 
     int64_t size() const { return end - start; }
+
+    // Rows from..end written (appended, or the whole history restored): sole_parent brought up to date.
+    void added_rows(int64_t from) {
+        if (from == start && from < end) sole_parent = block.parents[from];
+        for (int64_t row = from; row < end && sole_parent >= 0; ++row) {
+            if (block.parents[row] != sole_parent) sole_parent = -1;
+        }
+    }
 
     // tf2's getLatestTimestamp: 0 for a static history or an empty one.
     int64_t latest_stamp() const { return is_static || end == start ? 0 : block.stamps[end - 1]; }
@@ -438,7 +450,7 @@ class Core {
         view_[frame] = s == nullptr ? tfcore::History{}
                                     : tfcore::History{true,          s->is_static,     s->start,
                                                       s->end,        s->block.stamps, s->block.values,
-                                                      s->block.parents, settings_.ros2};
+                                                      s->block.parents, settings_.ros2,  s->sole_parent};
     }
 
     // The rows reserved for the frame `name`, no longer reserved.
@@ -569,8 +581,9 @@ inline void Core::append(int32_t frame, const Rows& r, const int64_t* rows, cons
     }
     bool in_order = end_old == s.start || c.stamps[end_old] > c.stamps[end_old - 1];
     for (int64_t row = end_old + 1; row < end && in_order; ++row) in_order = c.stamps[row] > c.stamps[row - 1];
-    if (!s.is_static && !in_order) tfinsert::merge_by_stamp(c, s.start, end_old, end);
     s.end = end;
+    s.added_rows(end_old);  // before the merge moves them
+    if (!s.is_static && !in_order) tfinsert::merge_by_stamp(c, s.start, end_old, end);
     refresh(frame);
 }
 
@@ -596,6 +609,7 @@ inline bool Core::insert_common(int32_t parent, int32_t child, int64_t stamp, co
     const int64_t newest_before = held.end > held.start ? held.block.stamps[held.end - 1] : stamp;
     if (held.end + 1 > held.block.capacity) held.grow(1);
     put(held.block.columns(), held.end++, r, 0);
+    held.added_rows(held.end - 1);
     ++arrivals;
     if (settings_.cache_time && !is_static) held.prune(*settings_.cache_time, settings_.ros2 ? newest_before : stamp);
     refresh(child);

@@ -75,6 +75,7 @@ std::shared_ptr<tfbuffer::Store> store_of(const nb::tuple& columns, std::shared_
     std::copy(sequence.data(), sequence.data() + n, b.sequence);
     std::copy(flags.data(), flags.data() + n, b.flags);
     s->end = n;
+    s->added_rows(0);
     return s;
 }
 
@@ -170,8 +171,8 @@ class BufferCore {
             !read_int(record_time, recorded)) {
             return false;
         }
-        const int32_t parent_id = remembered(parent, PARENT), child_id = remembered(child, CHILD);
-        const int32_t publisher = remembered(authority, PUBLISHER);
+        const int32_t parent_id = id_of(parent, false), child_id = id_of(child, false);
+        const int32_t publisher = id_of(authority, true);
         if (!core.insert_common(parent_id, child_id, stamp, v, wanted_static, recorded, publisher)) return false;
         lock->notify_all();
         return true;
@@ -275,7 +276,7 @@ class BufferCore {
         last_failure_.walked = false;
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
         const ReadLocked locked(*lock);
-        const int64_t target = remembered_id(target_frame, TARGET), source = remembered_id(source_frame, SOURCE);
+        const int64_t target = id_of(target_frame, false), source = id_of(source_frame, false);
         if (target <= 0 || source <= 0 || target == source) return nb::none();
         tfcore::Pose p;
         const int64_t asked = time;
@@ -303,7 +304,7 @@ class BufferCore {
         // stored as "/b") is refused, as lookup refuses it.
         if (!plain_name(target_frame) || !plain_name(source_frame)) return false;
         const ReadLocked locked(*lock);
-        const int64_t target = remembered_id(target_frame, TARGET), source = remembered_id(source_frame, SOURCE);
+        const int64_t target = id_of(target_frame, false), source = id_of(source_frame, false);
         return target > 0 && source > 0 && can_transform(target, source, time);
     }
 
@@ -453,28 +454,20 @@ class BufferCore {
         return out;
     }
 
-    // Which name a remembered id is of: lookup's two frames, set_transform's two and its publisher.
-    enum Which { TARGET, SOURCE, PARENT, CHILD, PUBLISHER };
+    // Names met lately, of frames and of publishers, remembered each in one of this many slots by its address.
+    static constexpr size_t SEEN = 64;
 
-    // The id of the frame named `name` (0: none), remembered per argument (`which`) by the name's
-    // object: a loop looks the same two frames up again and again. Frames are only ever added, so a
-    // name's id never changes; held, its object cannot be another's.
-    int64_t remembered_id(nb::handle name, Which which) const {
-        Remembered& last = remembered_[which];
-        if (name.ptr() == last.name.ptr()) return last.id;
-        const int64_t id = frame_id(name);
-        if (id > 0) last = {nb::borrow(name), id};
-        return id;
-    }
-
-    // set_transform's frame (named without a leading slash) or publisher `name`: its id, -1 if none.
-    int32_t remembered(nb::handle name, Which which) {
-        Remembered& last = remembered_[which];
-        if (name.ptr() == last.name.ptr()) return static_cast<int32_t>(last.id);
+    // The id of the frame (`publisher`: the publisher) named `name`, -1 for none (a frame's name must not start
+    // with a slash). Remembered by the name's object: a loop names the same few frames again and again, found
+    // so without hashing their text. Frames and publishers are only ever added, so a name's id never changes;
+    // held, its object cannot be another's. Under the GIL or the buffer's lock.
+    int32_t id_of(nb::handle name, bool publisher) const {
+        Remembered& seen = (publisher ? seen_publishers_ : seen_frames_)[(reinterpret_cast<uintptr_t>(name.ptr()) >> 4) % SEEN];
+        if (name.ptr() == seen.name.ptr()) return seen.id;
         std::string_view s;
-        if (!text(name, s) || (which != PUBLISHER && !tfbuffer::plain(s))) return -1;
-        const int32_t id = (which == PUBLISHER ? core.publishers : core.frames).find(s);
-        if (id >= 0) last = {nb::borrow(name), id};
+        if (!text(name, s) || (!publisher && !tfbuffer::plain(s))) return -1;
+        const int32_t id = (publisher ? core.publishers : core.frames).find(s);
+        if (id >= 0) seen = {nb::borrow(name), id};
         return id;
     }
 
@@ -576,9 +569,9 @@ class BufferCore {
     nb::object answer_;
     struct Remembered {
         nb::object name;
-        int64_t id = 0;
+        int32_t id = -1;
     };
-    mutable Remembered remembered_[5];  // the last name and id per argument (Which), under the GIL or the lock
+    mutable Remembered seen_frames_[SEEN], seen_publishers_[SEEN];  // id_of's
     // A failed lookup_frames' walk, kept for the Python path that words it (per thread: another
     // thread's lookups come between).
     struct LastFailure {

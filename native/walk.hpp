@@ -40,6 +40,12 @@ struct History {
     const double* values = nullptr;  // 7 per row: tx ty tz qx qy qz qw, as they were sent
     const int32_t* parents = nullptr;
     bool turned = false;  // ROS 2: each rotation is read through tf2::Transform's matrix (through_matrix)
+    int32_t sole_parent = -1;  // every row's parent where they all have one (Store::sole_parent), else -1
+
+    // The parent of row `row`.
+    int64_t parent(int64_t row) const { return sole_parent >= 0 ? sole_parent : parents[row]; }
+    // Whether rows `row` and `row + 1` have one parent.
+    bool same_parent(int64_t row) const { return sole_parent >= 0 || parents[row + 1] == parents[row]; }
 };
 
 using Histories = std::vector<History>;
@@ -358,6 +364,27 @@ inline void prefetch(const History& h, const RowAt& at) {
     }
 }
 
+// Edges ahead of a single lookup whose samples near its time `ahead` starts loading.
+constexpr int64_t AHEAD_DEPTH = 32;
+
+// Start loading, on each edge up from `frame` whose parent is its history's sole parent, the stamps
+// and the samples where the stamps' spacing puts `time` (where `find` will look first): the walk's
+// misses on them then overlap, where each edge's search otherwise waited for the one before it.
+inline void ahead(const Histories& histories, int64_t frame, int64_t time) {
+    for (int64_t depth = 0; depth < AHEAD_DEPTH && frame < static_cast<int64_t>(histories.size()); ++depth) {
+        const History& h = histories[frame];
+        if (!h.has) return;
+        if (!h.is_static && h.end - h.start > 2 && h.stamps[h.start] < time && time < h.stamps[h.end - 1]) {
+            const int64_t row = interpolated(h.stamps, h.start, h.end, time);
+            __builtin_prefetch(h.stamps + row);
+            __builtin_prefetch(h.values + 7 * row);
+            __builtin_prefetch(h.values + 7 * row + 13);
+        }
+        if (h.sole_parent < 0) return;
+        frame = h.sole_parent;
+    }
+}
+
 // Chain's `failure`, and its ending: no path.
 inline void fail(Chain& chain, Failure failure, int64_t extrapolating_frame = 0) {
     chain.ending = Ending::NO_PATH;
@@ -375,6 +402,10 @@ TFCORE_VECTOR_VERSIONS inline void walk(const Histories& histories, int64_t targ
     down.clear();
     chain.rooted = true;
     chain.failure = Failure::NONE;
+    if (!memo.on) {  // a single lookup, at a time the last may be far from
+        ahead(histories, source, time);
+        ahead(histories, target, time);
+    }
     int64_t frame = source, top = source;
     while (true) {
         const RowAt at = row_at(histories, frame, time, memo);
@@ -384,7 +415,7 @@ TFCORE_VECTOR_VERSIONS inline void walk(const Histories& histories, int64_t targ
             break;
         }
         prefetch(histories[frame], at);
-        const int64_t parent = histories[frame].parents[at.row];
+        const int64_t parent = histories[frame].parent(at.row);
         up.push_back({frame, parent, frame != target, at});
         if (frame == target) {
             chain.ending = Ending::AT_TARGET;
@@ -403,7 +434,7 @@ TFCORE_VECTOR_VERSIONS inline void walk(const Histories& histories, int64_t targ
             return fail(chain, Failure::UNCONNECTED);
         }
         prefetch(histories[frame], at);
-        const int64_t parent = histories[frame].parents[at.row];
+        const int64_t parent = histories[frame].parent(at.row);
         down.push_back({frame, parent, frame != source, at});
         if (frame == source) {  // the inverse of T_source^target: the source side is not used
             for (Step& step : up) step.composed = false;
@@ -442,7 +473,7 @@ inline void sample_before_slerp(const Histories& histories, const Step& step, in
     const History& h = histories[step.frame];
     const int64_t row = step.at.row;
     e.pose = pose_at(h, row);
-    if (!step.at.interpolate || h.parents[row + 1] != h.parents[row]) return;
+    if (!step.at.interpolate || !h.same_parent(row)) return;
     const int64_t t0 = h.stamps[row];
     const double r = static_cast<double>(time - t0) / static_cast<double>(h.stamps[row + 1] - t0);
     const double s = 1.0 - r;

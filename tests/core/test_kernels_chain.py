@@ -177,3 +177,17 @@ def test_the_chain_takes_healthy_blocks_and_leaves_the_others_to_the_walk() -> N
     assert not _block(buffer, "odom", "tool", [REPARENT - S, REPARENT + 1])  # between its samples on each parent
     assert _block(buffer, "odom", "tool", [REPARENT + S, REPARENT + 2 * S])  # after: the other chain
     assert _block(buffer, "island", "arm2", inside) is None
+
+
+def test_intervals_of_more_than_52_days_too() -> None:
+    """An interval longer than 2**52 ns, whose times' lags the chain converts one by one (shorter ones from
+    their bits): the walk's bits in both, sorted blocks that the chain takes."""
+    buffer = Buffer(cache_time=None)
+    day = 86_400 * S
+    for stamp, angle in ((T0, 0.1), (T0 + 60 * day, 0.4), (T0 + 60 * day + S, 0.5)):
+        buffer.set_transform(Transform((stamp / S % 7, 1.0, 2.0), _quat(2, angle), stamp, "a", "b"))
+    rng = np.random.default_rng(5)
+    for low, high in ((T0 + 1, T0 + 60 * day), (T0 + 60 * day + 1, T0 + 60 * day + S)):
+        times = np.sort(rng.integers(low, high, 600))
+        assert _block(buffer, "a", "b", times[:256])
+        assert assert_same_bits(buffer, "a", "b", times).all()
