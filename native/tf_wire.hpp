@@ -60,31 +60,26 @@ struct Rows {
 };
 
 // Names told apart: each distinct name's id, by its bytes (in ``raw``, where ``Rows`` keeps each
-// name's first). Open addressing with a mask, each slot's hash kept: a name's lookup is a hash of
-// its few words and, mostly, one comparison of its bytes with those of its latest sighting (in
-// the cache, where the first may be megabytes back).
+// name's first). A publisher names the same frames in the same places of its messages, mostly: the id
+// last seen in the same place (a message of the same count, the same first name, the same position in
+// it) is tried first, a comparison of a few words with that name's latest sighting (in the cache,
+// where the first may be megabytes back); else open addressing with a mask, each slot's hash kept.
 class NameIds {
    public:
-    explicit NameIds(const uint8_t* raw) : raw_(raw), slots_(64) {}
+    explicit NameIds(const uint8_t* raw) : raw_(raw), slots_(64), guesses_(kGuesses, kEmpty) {}
 
-    // The id of ``bytes`` among the names of ``rows``, where it is added when it is new.
-    int32_t find_or_add(std::string_view bytes, Rows& rows) {
-        const uint64_t hash = hash_of(bytes);
-        size_t at = hash & (slots_.size() - 1);
-        for (;; at = (at + 1) & (slots_.size() - 1)) {
-            Slot& slot = slots_[at];
-            if (slot.id == kEmpty) break;
-            if (slot.hash == hash && slot.id >= 0 && std::string_view(slot.latest, slot.length) == bytes) {
-                slot.latest = bytes.data();
-                return slot.id;
-            }
+    // The id of ``bytes`` among the names of ``rows``, where it is added when it is new; ``place``
+    // says where it is (``Reader::place``): names of one place are tried first as the last one there.
+    int32_t find_or_add(std::string_view bytes, Rows& rows, uint64_t place) {
+        int32_t& guess = guesses_[(place * 0x9E3779B97F4A7C15ull) >> (64 - kGuessBits)];
+        // An id forgotten since may name another name now: its bytes are compared all the same.
+        if (guess >= 0 && static_cast<size_t>(guess) < known_.size() &&
+            same(known_[static_cast<size_t>(guess)], bytes)) {
+            known_[static_cast<size_t>(guess)].latest = bytes.data();
+            return guess;
         }
-        const auto id = static_cast<int32_t>(rows.name_start.size());
-        rows.name_start.push_back(bytes.data() - reinterpret_cast<const char*>(raw_));
-        rows.name_length.push_back(static_cast<int64_t>(bytes.size()));
-        slots_[at] = {hash, bytes.data(), bytes.size(), id};
-        if (2 * ++used_ > slots_.size()) grow();
-        return id;
+        guess = looked_up(bytes, rows);
+        return guess;
     }
 
     // The names from ``first`` on let go (those of a message that is not well-formed).
@@ -97,19 +92,57 @@ class NameIds {
         }
         rows.name_start.resize(first);
         rows.name_length.resize(first);
+        known_.resize(first);
     }
 
    private:
     struct Slot {
         uint64_t hash = 0;
-        const char* latest = nullptr;
-        size_t length = 0;
         int32_t id = kEmpty;
     };
+    struct Known {
+        const char* latest;  // the name's latest sighting
+        size_t length;
+    };
     static constexpr int32_t kEmpty = -1, kForgotten = -2;
+    static constexpr int kGuessBits = 12;  // places remembered (a table of fixed size: a collision, a miss)
+    static constexpr size_t kGuesses = size_t{1} << kGuessBits;
+
+    int32_t looked_up(std::string_view bytes, Rows& rows) {
+        const uint64_t hash = hash_of(bytes);
+        size_t at = hash & (slots_.size() - 1);
+        for (;; at = (at + 1) & (slots_.size() - 1)) {
+            Slot& slot = slots_[at];
+            if (slot.id == kEmpty) break;
+            if (slot.hash == hash && slot.id >= 0 && same(known_[static_cast<size_t>(slot.id)], bytes)) {
+                known_[static_cast<size_t>(slot.id)].latest = bytes.data();
+                return slot.id;
+            }
+        }
+        const auto id = static_cast<int32_t>(rows.name_start.size());
+        rows.name_start.push_back(bytes.data() - reinterpret_cast<const char*>(raw_));
+        rows.name_length.push_back(static_cast<int64_t>(bytes.size()));
+        known_.push_back({bytes.data(), bytes.size()});
+        slots_[at] = {hash, id};
+        if (2 * ++used_ > slots_.size()) grow();
+        return id;
+    }
 
     std::string_view name(const Rows& rows, int32_t id) const {
         return {reinterpret_cast<const char*>(raw_ + rows.name_start[id]), static_cast<size_t>(rows.name_length[id])};
+    }
+
+    // Whether ``bytes`` are ``known``'s, compared a word at a time (a name is a few words: a call of
+    // memcmp would cost more than the comparison).
+    static bool same(const Known& known, std::string_view bytes) {
+        const size_t n = bytes.size();
+        if (known.length != n) return false;
+        const char *a = known.latest, *b = bytes.data();
+        if (n < 8) return tail(a, n) == tail(b, n);
+        for (size_t at = 0; at + 8 < n; at += 8) {
+            if (load<uint64_t>(a + at) != load<uint64_t>(b + at)) return false;
+        }
+        return load<uint64_t>(a + n - 8) == load<uint64_t>(b + n - 8);
     }
 
     static uint64_t hash_of(std::string_view bytes) {
@@ -121,7 +154,7 @@ class NameIds {
     }
 
     // The last (at most) 8 bytes of ``p[0:n]`` as a word, read in at most two loads: a copy of a
-    // variable length would be stored byte by byte and read back.
+    // variable length would be stored byte by byte and read back. Below 8 bytes, every byte is in it.
     static uint64_t tail(const char* p, size_t n) {
         if (n >= 8) return load<uint64_t>(p + n - 8);
         if (n >= 4) return (uint64_t{load<uint32_t>(p)} << 32) | load<uint32_t>(p + n - 4);
@@ -159,6 +192,8 @@ class NameIds {
     const uint8_t* raw_;
     std::vector<Slot> slots_;
     size_t used_ = 0;  // slots taken, forgotten ones included
+    std::vector<Known> known_;  // by id
+    std::vector<int32_t> guesses_;  // by place's hash: the id last found there
 };
 
 class Reader {
@@ -194,6 +229,9 @@ class Reader {
             return fail(COUNT, pos_ - start_, static_cast<int64_t>(count));
         }
         const size_t first = rows.message.size(), names = rows.name_start.size();
+        count_ = count;
+        first_ = -1;
+        position_ = 0;
         for (uint64_t j = 0; j < count; ++j) {
             if (!transform(id, rows)) return forget(rows, first, names);
         }
@@ -249,7 +287,8 @@ class Reader {
         if (!take(size, 1, at)) return false;
         const int64_t kept = wire_.nul ? (size > 0 ? size - 1 : 0) : size;
         const std::string_view bytes(reinterpret_cast<const char*>(raw_ + at), static_cast<size_t>(kept));
-        id = names_.find_or_add(bytes, rows);
+        id = names_.find_or_add(bytes, rows, place());
+        if (position_++ == 0) first_ = id;
         return true;
     }
 
@@ -296,6 +335,12 @@ class Reader {
     int64_t start_ = 0, origin_ = 0, end_ = 0, pos_ = 0;
     Failure failure_{};
     NameIds names_;
+    // Where the next name is: its message's count of transforms and first name, and its position there.
+    uint64_t place() const {
+        return (count_ << 40) ^ (static_cast<uint64_t>(static_cast<uint32_t>(first_)) << 8) ^ position_;
+    }
+    uint64_t count_ = 0, position_ = 0;
+    int32_t first_ = -1;  // the id of the message's first name (-1 before it)
 };
 
 }  // namespace tfwire
