@@ -41,21 +41,73 @@ struct Failure {
     int64_t offset, figure;
 };
 
+// A column of rows grown message by message: room for a message's rows is made once, then each row is
+// written without a check of its own (a vector's push_back checks its capacity at every value).
+template <typename T>
+class Column {
+   public:
+    Column() = default;
+    Column(const Column&) = delete;
+    Column& operator=(const Column&) = delete;
+    ~Column() { delete[] data_; }
+
+    // Room for ``count`` more values (at least twice the room when it grows, so values are copied once
+    // or twice in all).
+    void room(size_t count) {
+        if (size_ + count > capacity_) grow(std::max(size_ + count, 2 * capacity_));
+    }
+    void reserve(size_t count) {
+        if (count > capacity_) grow(count);
+    }
+    void push(T value) { data_[size_++] = value; }  // within the room made
+    void shrink(size_t size) { size_ = std::min(size, size_); }
+    size_t size() const { return size_; }
+
+    // The values, handed to their new owner (who frees them with delete[]); the column is left empty.
+    T* release() {
+        T* data = data_ != nullptr ? data_ : new T[1];
+        data_ = nullptr;
+        size_ = capacity_ = 0;
+        return data;
+    }
+
+   private:
+    void grow(size_t capacity) {
+        T* fresh = new T[capacity];
+        std::copy(data_, data_ + size_, fresh);
+        delete[] data_;
+        data_ = fresh;
+        capacity_ = capacity;
+    }
+
+    T* data_ = nullptr;
+    size_t size_ = 0, capacity_ = 0;
+};
+
 // Rows of the well-formed messages, in message order; names as ids into (name_start, name_length).
 struct Rows {
-    std::vector<int64_t> message, stamp;
-    std::vector<double> values;  // 7 a row
-    std::vector<int32_t> parent, child;
+    Column<int64_t> message, stamp;
+    Column<double> values;  // 7 a row
+    Column<int32_t> parent, child;
     std::vector<int64_t> name_start, name_length;  // each distinct name's first bytes in raw
     std::vector<int64_t> failed;  // 4 per message not read to a well-formed end: it, reason, offset, figure
 
-    // Room for ``count`` rows: grown as they come, the rows would be copied again and again.
+    // Room for ``count`` rows at first: grown as they come, the rows would be copied again and again.
     void reserve(size_t count) {
         message.reserve(count);
         stamp.reserve(count);
         values.reserve(7 * count);
         parent.reserve(count);
         child.reserve(count);
+    }
+
+    // Room for ``count`` more rows.
+    void room(size_t count) {
+        message.room(count);
+        stamp.room(count);
+        values.room(7 * count);
+        parent.room(count);
+        child.room(count);
     }
 };
 
@@ -228,6 +280,7 @@ class Reader {
         if (static_cast<int64_t>(count) * wire_.smallest() > end_ - pos_) {
             return fail(COUNT, pos_ - start_, static_cast<int64_t>(count));
         }
+        rows.room(count);  // as many as its bytes can hold: a count too large for them was refused above
         const size_t first = rows.message.size(), names = rows.name_start.size();
         count_ = count;
         first_ = -1;
@@ -271,11 +324,11 @@ class Reader {
         int32_t parent, child;
         if (!name(rows, parent) || !name(rows, child)) return false;
         if (!take(56, 8, at)) return false;
-        rows.message.push_back(id);
-        rows.stamp.push_back(stamp);
-        rows.parent.push_back(parent);
-        rows.child.push_back(child);
-        for (int k = 0; k < 7; ++k) rows.values.push_back(f64(at + 8 * k));
+        rows.message.push(id);
+        rows.stamp.push(stamp);
+        rows.parent.push(parent);
+        rows.child.push(child);
+        for (int k = 0; k < 7; ++k) rows.values.push(f64(at + 8 * k));
         return true;
     }
 
@@ -320,11 +373,11 @@ class Reader {
     // The rows from ``first`` on and the names from ``names`` on let go: false.
     bool forget(Rows& rows, size_t first, size_t names) {
         names_.forget(rows, names);
-        rows.message.resize(first);
-        rows.stamp.resize(first);
-        rows.parent.resize(first);
-        rows.child.resize(first);
-        rows.values.resize(7 * first);
+        rows.message.shrink(first);
+        rows.stamp.shrink(first);
+        rows.parent.shrink(first);
+        rows.child.shrink(first);
+        rows.values.shrink(7 * first);
         return false;
     }
 

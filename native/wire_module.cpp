@@ -34,6 +34,16 @@ Output<T> owned(std::vector<T>&& values, size_t width = 1) {
     return Output<T>(held->data(), {rows, width}, owner);
 }
 
+// ``column``'s values as a numpy array that owns them, of rows of ``width`` (1: a vector).
+template <typename T>
+Output<T> owned(tfwire::Column<T>&& column, size_t width = 1) {
+    const size_t rows = column.size() / width;
+    T* held = column.release();
+    nb::capsule owner(held, [](void* p) noexcept { delete[] static_cast<T*>(p); });
+    if (width == 1) return Output<T>(held, {rows}, owner);
+    return Output<T>(held, {rows, width}, owner);
+}
+
 using Decoded = std::tuple<Output<int64_t>, Output<int64_t>, Output<double>, Output<int32_t>, Output<int32_t>,
                            Output<int64_t>, Output<int64_t>, Output<int64_t>>;
 
