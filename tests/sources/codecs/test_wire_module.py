@@ -127,3 +127,20 @@ def _pairs(payload: bytes) -> list[tuple[str, str]]:
         at += 56
         out.append((names[0], names[1]))
     return out
+
+
+def test_rows_take_their_messages_time_and_their_channels_static_and_authority() -> None:
+    rng = np.random.default_rng(3)
+    times = rng.integers(0, 10**18, 50)
+    channel_of = rng.integers(0, 4, 50).astype(np.int32)
+    static_of, authority_of = np.array([False, True, False, True]), np.array([0, 1, -1, 0], np.int32)
+    messages, rows = rng.permutation(50)[:20], rng.integers(0, 4, 20)
+    record_time, static, authority = _wire.per_row(messages, rows, times, channel_of, static_of, authority_of)
+    each = np.repeat(messages, rows)
+    assert np.array_equal(record_time, times[each])
+    assert np.array_equal(static, static_of[channel_of[each]])
+    assert np.array_equal(authority, authority_of[channel_of[each]])
+    with pytest.raises(ValueError, match="outside"):
+        _wire.per_row(np.array([50]), np.array([1]), times, channel_of, static_of, authority_of)
+    with pytest.raises(ValueError, match="outside"):
+        _wire.per_row(np.array([0]), np.array([1]), times, np.full(50, 4, np.int32), static_of, authority_of)
