@@ -12,8 +12,6 @@ import warnings
 from itertools import accumulate
 from typing import Any, BinaryIO
 
-from tftools.sources import yaml_subset
-
 MAX_BYTES = 4 << 20  # a metadata.yaml of a thousand topics is well under 1 MiB
 MAX_DEPTH = 64  # rosbag2 writes 5 levels
 MAX_NODES = 1 << 20  # nodes once every alias is expanded: a billion laughs has 10**9
@@ -112,6 +110,8 @@ def _parse(text: str, *, every_document: bool) -> list[Any]:
         raise UserFileError(f"more than {MAX_ITEMS:,} lines and items, more than tfx parses")
     if _flow_depth(text) > MAX_DEPTH:  # ruamel's scanner takes time quadratic in a flow's depth
         raise UserFileError(f"nested deeper than {MAX_DEPTH} levels")
+    from tftools.sources import yaml_subset  # here, not with the module: a .bag's load reads no YAML
+
     if not every_document and (simple := yaml_subset.parsed(text)) is not None:
         _check(simple)
         return [simple]
