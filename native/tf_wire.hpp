@@ -41,15 +41,58 @@ struct Failure {
     int64_t offset, figure;
 };
 
+// A column of rows grown message by message: room for a message's rows is made once, then each row is
+// written without a check of its own (a vector's push_back checks its capacity at every value).
+template <typename T>
+class Column {
+   public:
+    Column() = default;
+    Column(const Column&) = delete;
+    Column& operator=(const Column&) = delete;
+    ~Column() { delete[] data_; }
+
+    // Room for ``count`` more values (at least twice the room when it grows, so values are copied once
+    // or twice in all).
+    void room(size_t count) {
+        if (size_ + count > capacity_) grow(std::max(size_ + count, 2 * capacity_));
+    }
+    void reserve(size_t count) {
+        if (count > capacity_) grow(count);
+    }
+    void push(T value) { data_[size_++] = value; }  // within the room made
+    void shrink(size_t size) { size_ = std::min(size, size_); }
+    size_t size() const { return size_; }
+
+    // The values, handed to their new owner (who frees them with delete[]); the column is left empty.
+    T* release() {
+        T* data = data_ != nullptr ? data_ : new T[1];
+        data_ = nullptr;
+        size_ = capacity_ = 0;
+        return data;
+    }
+
+   private:
+    void grow(size_t capacity) {
+        T* fresh = new T[capacity];
+        std::copy(data_, data_ + size_, fresh);
+        delete[] data_;
+        data_ = fresh;
+        capacity_ = capacity;
+    }
+
+    T* data_ = nullptr;
+    size_t size_ = 0, capacity_ = 0;
+};
+
 // Rows of the well-formed messages, in message order; names as ids into (name_start, name_length).
 struct Rows {
-    std::vector<int64_t> message, stamp;
-    std::vector<double> values;  // 7 a row
-    std::vector<int32_t> parent, child;
+    Column<int64_t> message, stamp;
+    Column<double> values;  // 7 a row
+    Column<int32_t> parent, child;
     std::vector<int64_t> name_start, name_length;  // each distinct name's first bytes in raw
     std::vector<int64_t> failed;  // 4 per message not read to a well-formed end: it, reason, offset, figure
 
-    // Room for ``count`` rows: grown as they come, the rows would be copied again and again.
+    // Room for ``count`` rows at first: grown as they come, the rows would be copied again and again.
     void reserve(size_t count) {
         message.reserve(count);
         stamp.reserve(count);
@@ -57,34 +100,38 @@ struct Rows {
         parent.reserve(count);
         child.reserve(count);
     }
+
+    // Room for ``count`` more rows.
+    void room(size_t count) {
+        message.room(count);
+        stamp.room(count);
+        values.room(7 * count);
+        parent.room(count);
+        child.room(count);
+    }
 };
 
 // Names told apart: each distinct name's id, by its bytes (in ``raw``, where ``Rows`` keeps each
-// name's first). Open addressing with a mask, each slot's hash kept: a name's lookup is a hash of
-// its few words and, mostly, one comparison of its bytes with those of its latest sighting (in
-// the cache, where the first may be megabytes back).
+// name's first). A publisher names the same frames in the same places of its messages, mostly: the id
+// last seen in the same place (a message of the same count, the same first name, the same position in
+// it) is tried first, a comparison of a few words with that name's latest sighting (in the cache,
+// where the first may be megabytes back); else open addressing with a mask, each slot's hash kept.
 class NameIds {
    public:
-    explicit NameIds(const uint8_t* raw) : raw_(raw), slots_(64) {}
+    explicit NameIds(const uint8_t* raw) : raw_(raw), slots_(64), guesses_(kGuesses, kEmpty) {}
 
-    // The id of ``bytes`` among the names of ``rows``, where it is added when it is new.
-    int32_t find_or_add(std::string_view bytes, Rows& rows) {
-        const uint64_t hash = hash_of(bytes);
-        size_t at = hash & (slots_.size() - 1);
-        for (;; at = (at + 1) & (slots_.size() - 1)) {
-            Slot& slot = slots_[at];
-            if (slot.id == kEmpty) break;
-            if (slot.hash == hash && slot.id >= 0 && std::string_view(slot.latest, slot.length) == bytes) {
-                slot.latest = bytes.data();
-                return slot.id;
-            }
+    // The id of ``bytes`` among the names of ``rows``, where it is added when it is new; ``place``
+    // says where it is (``Reader::place``): names of one place are tried first as the last one there.
+    int32_t find_or_add(std::string_view bytes, Rows& rows, uint64_t place) {
+        int32_t& guess = guesses_[(place * 0x9E3779B97F4A7C15ull) >> (64 - kGuessBits)];
+        // An id forgotten since may name another name now: its bytes are compared all the same.
+        if (guess >= 0 && static_cast<size_t>(guess) < known_.size() &&
+            same(known_[static_cast<size_t>(guess)], bytes)) {
+            known_[static_cast<size_t>(guess)].latest = bytes.data();
+            return guess;
         }
-        const auto id = static_cast<int32_t>(rows.name_start.size());
-        rows.name_start.push_back(bytes.data() - reinterpret_cast<const char*>(raw_));
-        rows.name_length.push_back(static_cast<int64_t>(bytes.size()));
-        slots_[at] = {hash, bytes.data(), bytes.size(), id};
-        if (2 * ++used_ > slots_.size()) grow();
-        return id;
+        guess = looked_up(bytes, rows);
+        return guess;
     }
 
     // The names from ``first`` on let go (those of a message that is not well-formed).
@@ -97,19 +144,57 @@ class NameIds {
         }
         rows.name_start.resize(first);
         rows.name_length.resize(first);
+        known_.resize(first);
     }
 
    private:
     struct Slot {
         uint64_t hash = 0;
-        const char* latest = nullptr;
-        size_t length = 0;
         int32_t id = kEmpty;
     };
+    struct Known {
+        const char* latest;  // the name's latest sighting
+        size_t length;
+    };
     static constexpr int32_t kEmpty = -1, kForgotten = -2;
+    static constexpr int kGuessBits = 12;  // places remembered (a table of fixed size: a collision, a miss)
+    static constexpr size_t kGuesses = size_t{1} << kGuessBits;
+
+    int32_t looked_up(std::string_view bytes, Rows& rows) {
+        const uint64_t hash = hash_of(bytes);
+        size_t at = hash & (slots_.size() - 1);
+        for (;; at = (at + 1) & (slots_.size() - 1)) {
+            Slot& slot = slots_[at];
+            if (slot.id == kEmpty) break;
+            if (slot.hash == hash && slot.id >= 0 && same(known_[static_cast<size_t>(slot.id)], bytes)) {
+                known_[static_cast<size_t>(slot.id)].latest = bytes.data();
+                return slot.id;
+            }
+        }
+        const auto id = static_cast<int32_t>(rows.name_start.size());
+        rows.name_start.push_back(bytes.data() - reinterpret_cast<const char*>(raw_));
+        rows.name_length.push_back(static_cast<int64_t>(bytes.size()));
+        known_.push_back({bytes.data(), bytes.size()});
+        slots_[at] = {hash, id};
+        if (2 * ++used_ > slots_.size()) grow();
+        return id;
+    }
 
     std::string_view name(const Rows& rows, int32_t id) const {
         return {reinterpret_cast<const char*>(raw_ + rows.name_start[id]), static_cast<size_t>(rows.name_length[id])};
+    }
+
+    // Whether ``bytes`` are ``known``'s, compared a word at a time (a name is a few words: a call of
+    // memcmp would cost more than the comparison).
+    static bool same(const Known& known, std::string_view bytes) {
+        const size_t n = bytes.size();
+        if (known.length != n) return false;
+        const char *a = known.latest, *b = bytes.data();
+        if (n < 8) return tail(a, n) == tail(b, n);
+        for (size_t at = 0; at + 8 < n; at += 8) {
+            if (load<uint64_t>(a + at) != load<uint64_t>(b + at)) return false;
+        }
+        return load<uint64_t>(a + n - 8) == load<uint64_t>(b + n - 8);
     }
 
     static uint64_t hash_of(std::string_view bytes) {
@@ -121,7 +206,7 @@ class NameIds {
     }
 
     // The last (at most) 8 bytes of ``p[0:n]`` as a word, read in at most two loads: a copy of a
-    // variable length would be stored byte by byte and read back.
+    // variable length would be stored byte by byte and read back. Below 8 bytes, every byte is in it.
     static uint64_t tail(const char* p, size_t n) {
         if (n >= 8) return load<uint64_t>(p + n - 8);
         if (n >= 4) return (uint64_t{load<uint32_t>(p)} << 32) | load<uint32_t>(p + n - 4);
@@ -159,6 +244,8 @@ class NameIds {
     const uint8_t* raw_;
     std::vector<Slot> slots_;
     size_t used_ = 0;  // slots taken, forgotten ones included
+    std::vector<Known> known_;  // by id
+    std::vector<int32_t> guesses_;  // by place's hash: the id last found there
 };
 
 class Reader {
@@ -193,7 +280,11 @@ class Reader {
         if (static_cast<int64_t>(count) * wire_.smallest() > end_ - pos_) {
             return fail(COUNT, pos_ - start_, static_cast<int64_t>(count));
         }
+        rows.room(count);  // as many as its bytes can hold: a count too large for them was refused above
         const size_t first = rows.message.size(), names = rows.name_start.size();
+        count_ = count;
+        first_ = -1;
+        position_ = 0;
         for (uint64_t j = 0; j < count; ++j) {
             if (!transform(id, rows)) return forget(rows, first, names);
         }
@@ -233,11 +324,11 @@ class Reader {
         int32_t parent, child;
         if (!name(rows, parent) || !name(rows, child)) return false;
         if (!take(56, 8, at)) return false;
-        rows.message.push_back(id);
-        rows.stamp.push_back(stamp);
-        rows.parent.push_back(parent);
-        rows.child.push_back(child);
-        for (int k = 0; k < 7; ++k) rows.values.push_back(f64(at + 8 * k));
+        rows.message.push(id);
+        rows.stamp.push(stamp);
+        rows.parent.push(parent);
+        rows.child.push(child);
+        for (int k = 0; k < 7; ++k) rows.values.push(f64(at + 8 * k));
         return true;
     }
 
@@ -249,7 +340,8 @@ class Reader {
         if (!take(size, 1, at)) return false;
         const int64_t kept = wire_.nul ? (size > 0 ? size - 1 : 0) : size;
         const std::string_view bytes(reinterpret_cast<const char*>(raw_ + at), static_cast<size_t>(kept));
-        id = names_.find_or_add(bytes, rows);
+        id = names_.find_or_add(bytes, rows, place());
+        if (position_++ == 0) first_ = id;
         return true;
     }
 
@@ -281,11 +373,11 @@ class Reader {
     // The rows from ``first`` on and the names from ``names`` on let go: false.
     bool forget(Rows& rows, size_t first, size_t names) {
         names_.forget(rows, names);
-        rows.message.resize(first);
-        rows.stamp.resize(first);
-        rows.parent.resize(first);
-        rows.child.resize(first);
-        rows.values.resize(7 * first);
+        rows.message.shrink(first);
+        rows.stamp.shrink(first);
+        rows.parent.shrink(first);
+        rows.child.shrink(first);
+        rows.values.shrink(7 * first);
         return false;
     }
 
@@ -296,6 +388,12 @@ class Reader {
     int64_t start_ = 0, origin_ = 0, end_ = 0, pos_ = 0;
     Failure failure_{};
     NameIds names_;
+    // Where the next name is: its message's count of transforms and first name, and its position there.
+    uint64_t place() const {
+        return (count_ << 40) ^ (static_cast<uint64_t>(static_cast<uint32_t>(first_)) << 8) ^ position_;
+    }
+    uint64_t count_ = 0, position_ = 0;
+    int32_t first_ = -1;  // the id of the message's first name (-1 before it)
 };
 
 }  // namespace tfwire

@@ -104,15 +104,20 @@ def load_text(text: str) -> Any:
 
 
 def _parse(text: str, *, every_document: bool) -> list[Any]:
-    from ruamel.yaml import YAML
-    from ruamel.yaml.error import YAMLError
-
     if len(text) > MAX_BYTES:
         raise UserFileError(f"larger than {_size(MAX_BYTES)}")
     if text.count("\n", 0, len(text) - 1) + text.count(",") >= MAX_ITEMS:  # a comma quoted counts: only too many
         raise UserFileError(f"more than {MAX_ITEMS:,} lines and items, more than tfx parses")
     if _flow_depth(text) > MAX_DEPTH:  # ruamel's scanner takes time quadratic in a flow's depth
         raise UserFileError(f"nested deeper than {MAX_DEPTH} levels")
+    from tftools.sources import yaml_subset  # here, not with the module: a .bag's load reads no YAML
+
+    if not every_document and (simple := yaml_subset.parsed(text)) is not None:
+        _check(simple)
+        return [simple]
+    from ruamel.yaml import YAML
+    from ruamel.yaml.error import YAMLError
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # ruamel's ReusedAnchorWarning: the later anchor holds, as YAML says

@@ -1,6 +1,6 @@
 """A load imports only the codecs of the encodings its recording holds: a .bag ``ros1``'s, a .db3 and a ROS 2
 MCAP ``cdr``'s, none of them json's, protobuf's (and their ``template``, ``parsed``) or the whole-message
-``robot`` decoders (imported when a read takes topics whole)."""
+``robot`` decoders (imported when a read takes topics whole); and no YAML library for rosbag2's metadata."""
 
 from __future__ import annotations
 
@@ -31,6 +31,7 @@ def test_a_ros2_recording_imports_only_cdr_codecs(kind: str) -> None:
     modules = load(str(SAMPLE_BAGS[kind]))
     assert f"{PACKAGE}.cdr" in modules
     assert loaded(modules, (*NOT_ROS, f"{PACKAGE}.ros1")) == []
+    assert loaded(modules, ("ruamel",)) == []  # its metadata.yaml, in the block YAML rosbag2 writes
 
 
 def test_the_robot_decoders_are_selected_for_topics_read_whole() -> None:

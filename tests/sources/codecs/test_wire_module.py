@@ -1,5 +1,6 @@
 """The compiled reading helpers beside the TFMessage decoder (native/wire_module.cpp): ROS1 message
-record headers matched against a template, and decoded values split into the core's columns."""
+record headers matched against a template, and decoded values split into the core's columns; and the
+decoder's names (native/tf_wire.hpp's ``NameIds``)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,9 @@ import struct
 import numpy as np
 import pytest
 
-from tftools.sources.codecs import _wire
+from tests.sources.ros2_helpers import Tf, tf_ros1
+from tftools.sources.codecs import _wire, ros1
+from tftools.sources.codecs.decoded import FrameNames
 
 
 def _field(name: str, value: bytes) -> bytes:
@@ -80,3 +83,64 @@ def test_values_split_into_contiguous_translations_and_rotations() -> None:
     assert empty_t.shape == (0, 3) and empty_r.shape == (0, 4)
     with pytest.raises(ValueError, match="not \\(N, 7\\)"):
         _wire.split_values(np.zeros((2, 6)))
+
+
+def test_names_are_told_apart_wherever_they_come_and_after_a_message_is_refused() -> None:
+    """A name is tried first as the one last seen in its place (count, first name, position): names that
+    change in one place, differ only in a word or in their last byte, or take the id of a name forgotten
+    with a refused message all decode as themselves."""
+
+    def message(*pairs: tuple[str, str]) -> bytes:
+        return tf_ros1([Tf(parent, child, 10 + i) for i, (parent, child) in enumerate(pairs)])
+
+    messages = [
+        message(("a", "arm_link1"), ("arm_link1", "c")),
+        message(("a", "arm_link2"), ("arm_link2", "c")),  # the same place, a name differing in its last byte
+        message(("a", "abcdefgh12345678"), ("abcdefgh12345678", "")),
+        message(("a", "abcdefgX12345678"), ("abcdefgX12345678", "")),  # differing in the first word only
+        message(("a", "new1"), ("new1", "new2"))[:-10],  # refused (truncated): new1 and new2 forgotten
+        message(("a", "zz"), ("zz", "c")),  # zz takes new1's id, in new1's place
+        message(("a", "arm_link1"), ("arm_link1", "c")),
+        message(("a", "arm_link1")),
+    ]
+    expected = [pair for i, m in enumerate(messages) if i != 4 for pair in _pairs(m)]
+    raw = np.frombuffer(b"".join(messages), np.uint8)
+    lengths = np.array([len(m) for m in messages], np.int64)
+    frames = FrameNames()
+    decoded = ros1.decode_tf(raw, np.cumsum(lengths) - lengths, lengths, frames)
+    names = frames.names
+    assert [(names[p], names[c]) for p, c in zip(decoded.parent, decoded.child, strict=True)] == expected
+    assert [m for m, _ in decoded.failures] == [4]
+    assert "new1" not in names and "new2" not in names
+
+
+def _pairs(payload: bytes) -> list[tuple[str, str]]:
+    """The (parent, child) names of a ROS1 TFMessage, read field by field."""
+    count, at, out = struct.unpack_from("<I", payload)[0], 4, []
+    for _ in range(count):
+        at += 12  # seq, stamp
+        names = []
+        for _ in range(2):
+            (size,) = struct.unpack_from("<I", payload, at)
+            names.append(payload[at + 4 : at + 4 + size].decode())
+            at += 4 + size
+        at += 56
+        out.append((names[0], names[1]))
+    return out
+
+
+def test_rows_take_their_messages_time_and_their_channels_static_and_authority() -> None:
+    rng = np.random.default_rng(3)
+    times = rng.integers(0, 10**18, 50)
+    channel_of = rng.integers(0, 4, 50).astype(np.int32)
+    static_of, authority_of = np.array([False, True, False, True]), np.array([0, 1, -1, 0], np.int32)
+    messages, rows = rng.permutation(50)[:20], rng.integers(0, 4, 20)
+    record_time, static, authority = _wire.per_row(messages, rows, times, channel_of, static_of, authority_of)
+    each = np.repeat(messages, rows)
+    assert np.array_equal(record_time, times[each])
+    assert np.array_equal(static, static_of[channel_of[each]])
+    assert np.array_equal(authority, authority_of[channel_of[each]])
+    with pytest.raises(ValueError, match="outside"):
+        _wire.per_row(np.array([50]), np.array([1]), times, channel_of, static_of, authority_of)
+    with pytest.raises(ValueError, match="outside"):
+        _wire.per_row(np.array([0]), np.array([1]), times, np.full(50, 4, np.int32), static_of, authority_of)

@@ -114,17 +114,18 @@ class Rows:
         )
         static_of = np.array([is_static_topic(c.topic) for c in self.channels], bool)
 
-        def batch(messages: Int64Array, columns: dict[str, Column]) -> TransformBatch:
-            channel = channel_of[messages]
+        def batch(messages: Int64Array, rows: Int64Array, columns: dict[str, Column]) -> TransformBatch:
+            """The rows of ``messages``, ``rows[i]`` of message ``messages[i]``, in that order."""
+            record_time, static, authority = _wire.per_row(messages, rows, times, channel_of, static_of, authority_of)
             # The core takes contiguous columns: views of the values it would copy as numpy copies any
             # strided array, row by row (a call a row: 67M instructions for 258k rows; split: ~3M).
             translation, rotation = _wire.split_values(columns.pop("values"))
             return TransformBatch(
                 frame_names=self.frames.names,
                 authorities=authorities,
-                static=static_of[channel],
-                record_time=times[messages],
-                authority=authority_of[channel],
+                static=static,
+                record_time=record_time,
+                authority=authority,
                 translation=translation,
                 rotation=rotation,
                 **columns,
@@ -137,11 +138,12 @@ class Rows:
         ):
             parts = [dict(zip(_COLUMNS, part, strict=True)) for part in zip(*self.parts.values(), strict=True)]
             self.parts = {name: [] for name in _COLUMNS}
-            return [batch(np.repeat(*run), columns) for run, columns in zip(runs, parts, strict=True)]
+            return [batch(*run, columns) for run, columns in zip(runs, parts, strict=True)]
         message = np.concatenate([np.repeat(*run) for run in runs])
         order = np.argsort(rank[message], kind="stable")
         del ranks, runs
-        return [batch(message[order], {name: self._whole(name)[order] for name in _COLUMNS})]
+        ones = np.ones(len(message), np.int64)
+        return [batch(message[order], ones, {name: self._whole(name)[order] for name in _COLUMNS})]
 
     def _whole(self, name: str) -> Column:
         """A column whole, its parts freed as it is taken: only one column is ever held twice."""

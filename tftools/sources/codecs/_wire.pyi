@@ -31,3 +31,14 @@ def match_records(
 
 def split_values(values: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Values (N, 7) as two contiguous arrays: translations (N, 3) and rotations (N, 4)."""
+
+def per_row(
+    messages: Int64Array,
+    rows: Int64Array,
+    times: Int64Array,
+    channel_of: Int32Array,
+    static_of: BoolArray,
+    authority_of: Int32Array,
+) -> tuple[Int64Array, BoolArray, Int32Array]:
+    """Of ``rows[i]`` rows of each message ``messages[i]``, in order: each row's message's record time, and
+    its message's channel's ``static_of`` and ``authority_of``."""
