@@ -126,6 +126,15 @@ def _no_ros(error: NoRosSelectedError) -> UsageError:
     )
 
 
+def _no_clock(error: NoClockError) -> UsageError:
+    from tftools.sources.live.errors import REPLAY_WITH_CLOCK
+
+    return UsageError(
+        str(error),
+        f"{REPLAY_WITH_CLOCK}, or follow the wall clock (tfx ... --wall-time; ROS 1: rosparam set /use_sim_time false)",
+    )
+
+
 def _copy(error: CopyError) -> UsageError:
     hint = {
         "no_statics": "add them with tfx static X Y Z ... -b IN -o OUT",
@@ -167,15 +176,6 @@ def _plot_unavailable(error: PlotUnavailableError) -> UsageError:
 
 def _resumed_report(error: ReportError) -> UsageError:
     return UsageError(str(error), "give a report written by tfx wtf --format jsonl")
-
-
-def _no_clock(error: NoClockError) -> UsageError:
-    from tftools.sources.live.errors import REPLAY_WITH_CLOCK
-
-    return UsageError(
-        str(error),
-        f"{REPLAY_WITH_CLOCK}, or follow the wall clock (tfx ... --wall-time; ROS 1: rosparam set /use_sim_time false)",
-    )
 
 
 def _said(error: TfToolsError) -> UsageError:
