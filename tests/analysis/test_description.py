@@ -102,9 +102,13 @@ def test_a_joint_never_published_names_the_joint_its_link_and_the_publisher(tmp_
     assert missing.frames == ("base_link", "wheel_right_link")
 
 
-def test_robot_state_publisher_not_running(tmp_path: Path) -> None:
-    findings = _findings(tmp_path, Setup(state_publisher=False))
+@pytest.mark.parametrize(
+    ("fmt", "launch"), [(BagFormat.ros1, "(roslaunch ..."), (BagFormat.rosbag2_sqlite3, "(ros2 launch ...")]
+)
+def test_robot_state_publisher_not_running(tmp_path: Path, fmt: BagFormat, launch: str) -> None:
+    findings = _findings(tmp_path, Setup(state_publisher=False), fmt)
     (missing,) = [f for f in findings if f.code == "urdf_missing"]
+    assert launch in missing.hint and "launch" not in missing.hint.replace(launch, "")  # its own ROS's only
     assert missing.message.startswith("none of the 5 joints of rover.urdf is on tf")
     for joint in ("base_joint", "laser_joint", "wheel_left_joint"):
         assert joint in missing.message
@@ -119,10 +123,17 @@ def test_a_joint_state_published_but_no_state_publisher_for_it(tmp_path: Path) -
     assert "/joint_states names wheel_right_joint, yet tf lacks it" in missing.hint
 
 
-def test_statics_not_recorded(tmp_path: Path) -> None:
-    (missing,) = [f for f in _findings(tmp_path, Setup(fixed_published=False)) if f.code == "urdf_missing"]
+@pytest.mark.parametrize(
+    ("fmt", "said", "unsaid"),
+    [
+        (BagFormat.ros1, "latched", "transient local"),  # ROS 1 gives a latched topic to a late recorder
+        (BagFormat.rosbag2_sqlite3, "transient local", "latched"),
+    ],
+)
+def test_statics_not_recorded(tmp_path: Path, fmt: BagFormat, said: str, unsaid: str) -> None:
+    (missing,) = [f for f in _findings(tmp_path, Setup(fixed_published=False), fmt) if f.code == "urdf_missing"]
     assert "none of the 3 fixed joints of rover.urdf is on /tf_static" in missing.message
-    assert "transient local" in missing.hint
+    assert said in missing.hint and unsaid not in missing.hint
 
 
 @pytest.mark.parametrize(("origin", "mm", "deg"), [(MOVED, 20.0, 0.0), (FLIPPED, 0.0, 180.0)])
@@ -250,12 +261,14 @@ def test_a_link_joined_to_nothing_is_unseen() -> None:
     assert unseen.message == "link antenna of rover.urdf is never named on tf" and "joined to nothing" in unseen.hint
 
 
-def test_live_the_joint_states_are_not_heard_and_the_hint_says_what_to_look_at() -> None:
+@pytest.mark.parametrize(("ros1", "echo"), [(True, "rostopic echo /joint_states"), (False, "ros2 topic echo")])
+def test_live_the_joint_states_are_not_heard_and_the_hint_says_what_to_look_at(ros1: bool, echo: str) -> None:
     base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
     messages = [TfMessage(base[0], START, [Transform.from_rpy(base[3], base[4], START, base[1], base[2])])]
-    found = findings_of(Scene(recording(messages), robot=Robot(ROBOT, live=True)))
+    found = findings_of(Scene(recording(messages, ros1=ros1), robot=Robot(ROBOT, live=True)))
     wheels = [f for f in found if f.code == "urdf_missing" and "wheel" in f.message]
-    assert len(wheels) == 2 and all("does a node publish" in f.hint for f in wheels)
+    assert len(wheels) == 2 and all("does a node publish" in f.hint and echo in f.hint for f in wheels)
+    assert not any(("ros2 " if ros1 else "rostopic") in f.hint for f in wheels)
 
 
 @pytest.mark.parametrize("multiplier", ["1e308", "-1e308"])

@@ -342,6 +342,7 @@ def test_a_rotation_ros2s_tf2_normalises_is_not_called_refused() -> None:
     taken = recording(messages, ros1=False)
     finding = only(check(taken).findings, "invalid_values")
     assert finding.severity is Severity.warning and "ROS 2's tf2 accepts them and normalises each" in finding.message
+    assert "ROS 1's roswtf flags" in finding.hint  # a ROS 1 tool, said as one on ROS 2 data (issue 39)
     rows = rows_of(taken)
     assert rows.usable.all() and not rows.refused_for(*RejectionCode).any()
 

@@ -57,6 +57,7 @@ def test_tf_static_offered_volatile_is_a_warning_and_transient_local_is_quiet(tm
     (finding,) = check(read_recording([volatile])).findings
     assert (finding.code, finding.severity) == ("static_volatile", Severity.warning)
     assert "volatile" in finding.message and "--repair" in finding.hint
+    assert "transient local" in finding.hint and "latched" not in finding.hint  # ROS 2's words (issue 39)
     assert {"base_link", "laser", "camera"} <= set(finding.frames)
 
 

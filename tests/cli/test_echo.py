@@ -161,6 +161,8 @@ def test_cache_sets_the_live_buffers_length(tfx: Tfx, monkeypatch: pytest.Monkey
     monkeypatch.setenv("TFX_DEBUG", "1")  # the test's own exception comes through
 
     class Feed(contextlib.nullcontext[None]):
+        format = "ros1-live"  # as LiveSource says which ROS it hears
+
         def describe(self) -> str:
             return "a test"
 

@@ -63,28 +63,38 @@ def test_rounding_noise_is_not_printed(tfx: Tfx, tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("bag", list(SAMPLE_BAGS))
 @pytest.mark.parametrize(("parent", "child", "at"), LOOKUPS)
-def test_static_lines_carry_the_exact_numbers_and_give_back_the_transform(
+def test_static_line_carries_the_exact_numbers_and_gives_back_the_transform(
     tfx: Tfx, tmp_path: Path, bag: str, parent: str, child: str, at: list[str]
 ) -> None:
+    """One line, in the recording's own ROS: ROS 1's positional form for a .bag, ROS 2's flags for the others."""
     echoed = _echoed(tfx, SAMPLE_BAGS[bag], parent, child, at)
     result = tfx("echo", parent, child, "-b", SAMPLE_BAGS[bag], "--format", "static", *at)
     assert result.code == 0, result.stderr
-    ros1, ros2 = result.stdout.splitlines()
-    words = shlex.split(ros1)
-    assert words[:3] == ["rosrun", "tf2_ros", "static_transform_publisher"] and words[-2:] == [parent, child]
-    assert _within_ulps([float(w) for w in words[3:10]], [*echoed.translation, *echoed.rotation])
-    flags = shlex.split(ros2)
+    (line,) = result.stdout.splitlines()
+    if bag == "ros1":
+        words = shlex.split(line)
+        assert words[:3] == ["rosrun", "tf2_ros", "static_transform_publisher"] and words[-2:] == [parent, child]
+        assert _within_ulps([float(w) for w in words[3:10]], [*echoed.translation, *echoed.rotation])
+        _same(_pasted(tfx, tmp_path, parent, *words[3:-1], "pasted"), echoed)
+        return
+    flags = shlex.split(line)
     assert flags[:3] == ["ros2", "run", "tf2_ros"] and flags[-4:] == ["--frame-id", parent, "--child-frame-id", child]
     values = dict(zip(flags[4:-4:2], flags[5:-4:2], strict=True))
     assert _within_ulps(
         [float(values[f"--{k}"]) for k in ("x", "y", "z", "qx", "qy", "qz", "qw")],
-        [
-            *echoed.translation,
-            *echoed.rotation,
-        ],
+        [*echoed.translation, *echoed.rotation],
     )
-    _same(_pasted(tfx, tmp_path, parent, *words[3:-1], "pasted"), echoed)
     _same(_pasted(tfx, tmp_path, parent, *flags[4:-1], "pasted"), echoed)
+
+
+@pytest.mark.parametrize(("bag", "tf2", "command"), [("ros1", "ros2", "ros2 run"), ("db3", "ros1", "rosrun")])
+def test_static_line_follows_the_tf2_asked_for(tfx: Tfx, bag: str, tf2: str, command: str) -> None:
+    """--tf2 answers as the other ROS: the line is that ROS's, as wtf's hints are."""
+    bag_path = SAMPLE_BAGS[bag]
+    result = tfx("echo", "base_link", "camera_optical_frame", "-b", bag_path, "--format", "static", "--tf2", tf2)
+    assert result.code == 0, result.stderr
+    (line,) = result.stdout.splitlines()
+    assert line.startswith(f"{command} tf2_ros static_transform_publisher ")
 
 
 @pytest.mark.parametrize(("parent", "child", "at"), LOOKUPS)

@@ -36,6 +36,8 @@ def test_ticks_on_a_clock_that_never_starts_end_with_the_reason(monkeypatch: pyt
     with pytest.raises(NoClockError, match=r"no /clock came in 0.3 s") as caught:
         ticker.tick_every(0.1, lambda: ticks.append(None), count=3, clock=SimClock())
     assert not ticks and "--clock" in caught.value.hint
+    # the clock does not know its ROS: each ROS's way, neither said as the only one (issue 39)
+    assert "ROS 1: rosbag play --clock" in caught.value.hint and "ROS 2: ros2 bag play --clock" in caught.value.hint
 
 
 def test_ticks_on_a_clock_that_runs_are_counted_on_it() -> None:

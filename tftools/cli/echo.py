@@ -41,11 +41,13 @@ class EchoFormat(str, enum.Enum):
 PASTE_FORMATS = frozenset({EchoFormat.static, EchoFormat.urdf, EchoFormat.yaml})
 
 
-def _paste(fmt: EchoFormat) -> Callable[[EchoSeries, IO[str]], None]:
-    """The writer of a format of ``PASTE_FORMATS``."""
+def _paste(fmt: EchoFormat, ros2: bool) -> Callable[[EchoSeries, IO[str]], None]:
+    """The writer of a format of ``PASTE_FORMATS``; static's command lines are ROS 2's if ``ros2``, else ROS 1's."""
     from tftools.render import echo as render
 
-    return {EchoFormat.static: render.write_static, EchoFormat.urdf: render.write_urdf}.get(fmt, render.write_yaml)
+    if fmt is EchoFormat.static:
+        return lambda series, out: render.write_static(series, out, ros2)
+    return render.write_urdf if fmt is EchoFormat.urdf else render.write_yaml
 
 
 def command(
@@ -78,7 +80,7 @@ def command(
             "--format",
             "-f",
             help="text (tf_echo's), json (one object per line), csv; to paste elsewhere (the latest transform "
-            "unless --at): static (static_transform_publisher's ROS 1 and ROS 2 command lines), urdf (a fixed "
+            "unless --at): static (static_transform_publisher's command line, in the data's ROS), urdf (a fixed "
             "joint's <origin xyz rpy>), yaml (an entry of tfx static --from).",
         ),
     ] = EchoFormat.text,
@@ -131,7 +133,8 @@ def command(
         live.no_bag_options(**{"--at": at, "--all": every, "--start": start, "--end": end, "--play": play})
         feed = live.open_source(ros1, use_sim_time, topics)
         query = EchoQuery(target=target, source=source, rate=rate, cache_time=from_sec(cache))
-        exit_with(_live(feed, query, count, wait, tf2, lines))
+        ros2 = (tf2 or ("ros2" if feed.format.startswith("ros2") else "ros1")) == "ros2"
+        exit_with(_live(feed, query, count, wait, tf2, replace(lines, ros2=ros2)))
     query = EchoQuery(
         target=target,
         source=source,
@@ -143,11 +146,13 @@ def command(
     )
     if play:  # as tf_echo sees a live system: the bag streamed on a sim clock into a tf2-sized buffer
         streamed = open_stream(bags, topics, tf2)
+        lines = replace(lines, ros2=streamed.semantics == "ros2")
         frames = streamed.frames
         query = replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
         echo_stream(streamed, query, lambda series, _buffer: lines.show(series))
         exit_with(lines.done())
     recording = open_recording(bags, topics, tf2)
+    lines = replace(lines, ros2=recording.buffer.semantics == "ros2")
     frames = recording.buffer.frames
     series = echo(
         recording, replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
@@ -166,6 +171,7 @@ class Lines:
     precision: int
     matrix: bool
     plot: Path | None
+    ros2: bool = False  # the data's ROS: whose static_transform_publisher line ``static`` prints
     shown: list[EchoSeries] = field(default_factory=list)
 
     def print(self, series: EchoSeries) -> None:
@@ -175,7 +181,7 @@ class Lines:
         if self.fmt is EchoFormat.json:
             render.write_json(series, stdout.file)
         elif self.fmt in PASTE_FORMATS:
-            _paste(self.fmt)(series, stdout.file)
+            _paste(self.fmt, self.ros2)(series, stdout.file)
         elif self.fmt is EchoFormat.csv:
             text = io.StringIO()
             render.write_csv(series, text)

@@ -127,10 +127,11 @@ def _no_ros(error: NoRosSelectedError) -> UsageError:
 
 
 def _no_clock(error: NoClockError) -> UsageError:
+    from tftools.sources.live.errors import REPLAY_WITH_CLOCK
+
     return UsageError(
         str(error),
-        "replay with the clock (rosbag play --clock BAG), or run without simulated time "
-        "(rosparam set /use_sim_time false, or tfx ... --wall-time)",
+        f"{REPLAY_WITH_CLOCK}, or follow the wall clock (tfx ... --wall-time; ROS 1: rosparam set /use_sim_time false)",
     )
 
 

@@ -1,4 +1,5 @@
-"""``tfx static``: publish static transforms on /tf_static (latched), or add them to a copy of a bag."""
+"""``tfx static``: publish static transforms on /tf_static (latched in ROS 1, transient local in ROS 2), or add
+them to a copy of a bag."""
 
 from __future__ import annotations
 
@@ -76,12 +77,13 @@ def command(
     ] = None,
     ros1: options.Ros = None,
 ) -> None:
-    """Publish static transforms on /tf_static, latched, until Ctrl-C,
-    as static_transform_publisher does.
+    """Publish static transforms on /tf_static, as static_transform_publisher
+    does, until Ctrl-C.
 
-    All go out in one latched message, as tf2_ros sends them: nodes that
-    start later get them too. --from FILE.yaml lists several: what
-    `rostopic echo /tf_static` prints, or entries like
+    All go out in one message, as tf2_ros sends them, latched (ROS 1) or
+    transient local (ROS 2): nodes that start later get them too.
+    --from FILE.yaml lists several: what `rostopic echo /tf_static` or
+    `ros2 topic echo /tf_static` prints, or entries like
     [cyan]{frame_id: base_link, child_frame_id: laser, x: 0.2, yaw: 3.14}[/].
 
     With -b IN -o OUT: a copy of the bag (ROS1 .bag, ROS2 bag directory or .mcap)
@@ -170,7 +172,7 @@ def _positional(arguments: list[str], degrees: bool = False) -> Transform:
 
     with_period = len(arguments) == 10 or (len(arguments) == 9 and not _is_number(arguments[6]))
     if with_period and _is_number(arguments[-1]):
-        warn("the period (tf1's last argument) is not needed: /tf_static is latched")
+        warn("the period (tf1's last argument) is not needed: /tf_static keeps them for late subscribers")
         arguments = arguments[:-1]
     if len(arguments) not in (8, 9):
         raise UsageError(

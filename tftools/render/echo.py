@@ -76,15 +76,19 @@ def _shortest(value: float) -> str:
     return repr(value)
 
 
-def write_static(series: EchoSeries, out: IO[str]) -> None:
-    """For each lookup, the static_transform_publisher command lines that publish it: ROS 1's
-    (x y z qx qy qz qw frame child) and ROS 2's (--x ... --frame-id ... --child-frame-id ...)."""
+def write_static(series: EchoSeries, out: IO[str], ros2: bool) -> None:
+    """For each lookup, the static_transform_publisher command line that publishes it, in the data's own
+    ROS (as ``no_tf`` names its tools): ROS 2's (--x ... --frame-id ... --child-frame-id ...), else ROS 1's
+    (x y z qx qy qz qw frame child)."""
     parent, child = printable(shlex.quote(series.target)), printable(shlex.quote(series.source))
     for row in _lookups(series, out):
         values = _exact([*series.translations[row], *series.rotations[row]])
-        out.write(f"rosrun tf2_ros static_transform_publisher {' '.join(values)} {parent} {child}\n")
-        flags = " ".join(f"--{k} {v}" for k, v in zip(("x", "y", "z", "qx", "qy", "qz", "qw"), values, strict=True))
-        out.write(f"ros2 run tf2_ros static_transform_publisher {flags} --frame-id {parent} --child-frame-id {child}\n")
+        if ros2:
+            flags = " ".join(f"--{k} {v}" for k, v in zip(("x", "y", "z", "qx", "qy", "qz", "qw"), values, strict=True))
+            out.write(f"ros2 run tf2_ros static_transform_publisher {flags} ")
+            out.write(f"--frame-id {parent} --child-frame-id {child}\n")
+        else:
+            out.write(f"rosrun tf2_ros static_transform_publisher {' '.join(values)} {parent} {child}\n")
 
 
 def _lookups(series: EchoSeries, out: IO[str]) -> Iterator[int]:

@@ -173,7 +173,7 @@ def _infer(scene: Scene) -> list[Finding]:
             f"{edge(*frames)}{scene.by(authorities)}: {listed([s for s in signs if s])} in {len(new)} new samples"
             f"{metadata}: several broadcasters taking turns, it seems (this recording does not name publishers)",
             "tf2 takes every sample as it comes, so lookups mix the broadcasters' values: find them "
-            f"({_list_publishers(scene)}) and turn the transform off in all but one",
+            f"({scene.list_publishers('/tf')}) and turn the transform off in all but one",
             frames,
             mine,
             scene.arrival(mine),
@@ -257,7 +257,7 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
         f"{names}{scene.by(authorities)} {'arrive' if len(edges) > 1 else 'arrives'} twice: "
         f"{together.said('their' if len(edges) > 1 else 'its')}, "
         f"with {values_said}, {together.timing()}{metadata}: {conclusion}; this recording does not name publishers",
-        f"{effect}: find them ({_list_publishers(scene)}) and stop the one that should not run",
+        f"{effect}: find them ({scene.list_publishers('/tf')}) and stop the one that should not run",
         tuple(f for frames, _, _ in edges for f in frames),
         every,
         scene.arrival(every),
@@ -317,8 +317,3 @@ def apart(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
     with np.errstate(over="ignore"):  # values near 1e308 are apart by an infinity of metres
         metres: FloatArray = np.linalg.norm(b[:, :3] - a[:, :3], axis=1)
     return metres, np.degrees(angle_between_many(a[:, 3:], b[:, 3:]))
-
-
-def _list_publishers(scene: Scene) -> str:
-    """The command that lists /tf's publishers on a live system of the recording's ROS."""
-    return "ros2 topic info /tf --verbose" if scene.ros2 else "rostopic info /tf"

@@ -138,8 +138,12 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
         Severity.info,
         "clock",
         scene.timeline.reason,
-        "record simulations with --use-sim-time (ros2 bag record --use-sim-time) or record /clock too; lookups "
-        "between these frames are not affected",
+        (
+            "record simulations with --use-sim-time (ros2 bag record --use-sim-time) or record /clock too"
+            if scene.ros2
+            else "record simulations with /use_sim_time true (rosbag record then follows /clock) or record /clock too"
+        )
+        + "; lookups between these frames are not affected",
         count=sum(e.arrivals for e in main),
     )
 
@@ -184,8 +188,13 @@ def _wall_receive_times(scene: Scene) -> Iterator[Finding]:
         Severity.info,
         "clock",
         f"received times are on another clock than tf and {clock.topic} (wall time: recorded without "
-        f"--use-sim-time){speed}: {measured}",
-        "nothing to fix; ros2 bag record --use-sim-time records on simulated time",
+        f"{'--use-sim-time' if scene.ros2 else '/use_sim_time true'}){speed}: {measured}",
+        "nothing to fix; "
+        + (
+            "ros2 bag record --use-sim-time records on simulated time"
+            if scene.ros2
+            else "rosbag record with /use_sim_time true records on simulated time"
+        ),
         count=len(clock),
     )
 

@@ -74,7 +74,7 @@ def urdf_missing(scene: Scene) -> Iterator[Finding]:
             f"none of the {len(every)} joints of {_from(robot)} is on tf: "
             f"{listed([f'{j.name} ({j.child})' for j in joints])}",
             f"{RSP} did not run (or its /tf and /tf_static were not recorded): start it with this URDF "
-            f"(ros2 launch ... robot_state_publisher, roslaunch ... robot_state_publisher)",
+            f"({'ros2 launch' if scene.ros2 else 'roslaunch'} ... {RSP})",
             frames=tuple(dict.fromkeys(f for j in joints for f in (j.parent, j.child))),
         )
         return
@@ -86,9 +86,14 @@ def urdf_missing(scene: Scene) -> Iterator[Finding]:
             "urdf_missing",
             f"none of the {len(all_fixed)} fixed joints of {_from(robot)} is on /tf_static, though its moving "
             f"joints are on /tf: {listed([f'{j.name} ({j.child})' for j in fixed])}",
-            f"{RSP} publishes them on /tf_static once, at its start: was /tf_static recorded (ROS 2: with "
-            "transient local durability, ros2 bag record --qos-profile-overrides-path), and did the recording "
-            f"start after {RSP}?",
+            f"{RSP} publishes them on /tf_static once, at its start: "
+            + (
+                "was /tf_static recorded, with transient local durability (ros2 bag record "
+                f"--qos-profile-overrides-path)? A recording that subscribes volatile after {RSP} started misses them"
+                if scene.ros2
+                else "was /tf_static recorded (rosbag record /tf_static)? It is latched: a recording started later "
+                "gets it too"
+            ),
             frames=tuple(dict.fromkeys(f for j in fixed for f in (j.parent, j.child))),
         )
     else:
@@ -109,7 +114,8 @@ def urdf_missing(scene: Scene) -> Iterator[Finding]:
         elif robot.live:
             cause = (
                 f"does a node publish {j.name}'s state on {robot.messages.joint_topic} (joint_state_publisher, the "
-                f"driver: rostopic echo / ros2 topic echo {robot.messages.joint_topic}), and is {RSP} running?"
+                f"driver: {'ros2 topic echo' if scene.ros2 else 'rostopic echo'} {robot.messages.joint_topic}), and "
+                f"is {RSP} running?"
             )
         elif not recorded:
             cause = (

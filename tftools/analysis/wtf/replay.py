@@ -1,5 +1,5 @@
-"""Checks of how a recording's static transforms survive a replay: offered durably (latched /
-transient local) so a late subscriber gets them, and present past the first seconds."""
+"""Checks of how a recording's static transforms survive a replay: offered durably (latched in ROS 1,
+transient local in ROS 2) so a late subscriber gets them, and present past the first seconds."""
 
 from __future__ import annotations
 
@@ -20,7 +20,12 @@ EARLY_S = 10.0
 #: rosbag2's durability policy, as metadata.yaml writes it: a number (Humble and before) or a name.
 TRANSIENT_LOCAL = (1, "transient_local")
 
-REPAIR_HINT = "tfx static --repair -b IN -o OUT writes a copy whose statics are complete, latched and repeated"
+
+def repair_hint(ros2: bool) -> str:
+    """What ``tfx static --repair`` makes of a copy, in the words of the recording's ROS: ROS 1 latches
+    /tf_static, ROS 2 offers it with transient local durability (QoS)."""
+    durable = "offered transient local (QoS durability)" if ros2 else "latched"
+    return f"tfx static --repair -b IN -o OUT writes a copy whose statics are complete, {durable} and repeated"
 
 
 @register(
@@ -46,8 +51,8 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
                 "static_volatile",
                 f"{file.path} {offered} ({topic}, metadata.yaml's offered_qos_profiles): ros2 bag play publishes "
                 f"it volatile, so a node that subscribes after its first message never gets the static transforms",
-                f"{REPAIR_HINT} (offered transient local); or play with --qos-profile-overrides-path naming "
-                f"{topic} durability: transient_local",
+                f"{repair_hint(True)}; or play with --qos-profile-overrides-path naming {topic} "
+                "durability: transient_local",
                 tuple(f for pair in _static_edges(scene) for f in pair),
                 (topic,),
                 count=len(profiles),
@@ -76,7 +81,8 @@ def _durability(profile: object) -> object:
     return value.lower() if isinstance(value, str) else value
 
 
-# A note, not a warning: a healthy ROS 1 recording holds its latched statics once, at the start.
+# A note, not a warning: a healthy recording holds its statics once, at the start (latched in ROS 1,
+# transient local in ROS 2).
 @register("statics_early", Severity.info, "static transforms only in the first seconds of a long recording")
 def statics_early(scene: Scene) -> Iterator[Finding]:
     """Playing from later on (rosbag play -s, ros2 bag play --start-offset), a split's later files
@@ -97,7 +103,8 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
         f"the static transforms{scene.by(who)} ({listed([edge(*e) for e in statics])}) were recorded only at the "
         f"start, the last {duration((last - scene.start) / NS_PER_S)} into {duration(length)}: played from later on, "
         "split or filtered by time, the copy has none and lookups through them fail",
-        f"{REPAIR_HINT} through the recording; or play it from its start",
+        f"{repair_hint(scene.ros2)} through the recording; or play it from its start ("
+        + ("ros2 bag play without --start-offset)" if scene.ros2 else "rosbag play without -s)"),
         tuple(f for pair in statics for f in pair),
         who,
         scene.start,

@@ -98,6 +98,10 @@ class Scene:
         """Whether the recording is ROS 2's (its tf2's rules, and ROS 2's commands in hints)."""
         return self.buffer.semantics == "ros2"
 
+    def list_publishers(self, topic: str) -> str:
+        """The command that lists ``topic``'s publishers on a live system of the recording's ROS."""
+        return f"ros2 topic info {topic} --verbose" if self.ros2 else f"rostopic info {topic}"
+
     @cached_property
     def publishers_known(self) -> bool:
         return publishers_named(self.recording)

@@ -221,7 +221,7 @@ def silent_tf(scene: Scene) -> Iterator[Finding]:
                 "joint states, odometry, a clock), or the recorder missed them: lookups through them all fail"
             )
         if tally.empty:
-            named = "ros2 topic info -v" if scene.ros2 else "rostopic info"
+            named = scene.list_publishers(tally.topic)
             hints.append(f"a node sending tf messages without transforms is misconfigured: {named} names them")
         yield Finding(
             Severity.warning if warning else Severity.info,

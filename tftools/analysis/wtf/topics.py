@@ -139,7 +139,7 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
                 f"StaticTransformBroadcaster sends them{listed_said}: one publisher, it seems; this recording does "
                 "not name publishers)"
             )
-            hint = "; if two nodes send it (ros2 topic info /tf_static --verbose lists them), publish it from one"
+            hint = f"; if two nodes send it ({scene.list_publishers('/tf_static')} lists them), publish it from one"
         finding = Finding(
             Severity.error,
             "dynamic_on_static",
@@ -256,7 +256,7 @@ def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Find
         hint = (
             "two descriptions of one robot are published at once (a driver's own static transforms and "
             "robot_state_publisher's URDF, two robot_state_publishers, two calibration files): publish each frame "
-            "from one of them (ros2 topic info /tf_static --verbose lists the publishers); tfx diff compares two "
+            f"from one of them ({scene.list_publishers('/tf_static')} lists the publishers); tfx diff compares two "
             "recordings' calibrations"
         )
         for i, s in enumerate(who, 1):

@@ -34,6 +34,7 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
         if scene.buffer.semantics == "ros2"
         else "tf2 accepts them, but points through this edge get scaled"
     )
+    roswtf = "ROS 1's roswtf" if scene.ros2 else "roswtf"  # a ROS 1 tool: ROS 2 has none
     for parent, child, mine in rows.by_edge(slightly):
         worst = float(_length_error(rows.values[mine]).max())
         yield scene.finding(
@@ -41,8 +42,8 @@ def invalid_values(scene: Scene) -> Iterator[Finding]:
             "invalid_values",
             f"rotations of {edge(parent, child)}{scene.by(scene.authorities_of(mine))} "
             f"are not unit length in {transforms(len(mine))} (| |q| - 1 | up to {worst:.2g}): {accepted}",
-            "normalise the quaternion before publishing (tf2::Quaternion::normalize()); roswtf flags rotations "
-            f"off by more than {ROSWTF_NORM_TOLERANCE:g}",
+            "normalise the quaternion before publishing (tf2::Quaternion::normalize()); "
+            f"{roswtf} flags rotations off by more than {ROSWTF_NORM_TOLERANCE:g}",
             (parent, child),
             mine,
         )

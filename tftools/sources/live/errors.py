@@ -80,12 +80,16 @@ class DdsError(LiveError):
         )
 
 
+#: How to replay with /clock, in both ROSes' words: the clock that waits is not told which ROS it serves.
+REPLAY_WITH_CLOCK = "replay with the clock (ROS 1: rosbag play --clock BAG; ROS 2: ros2 bag play --clock BAG)"
+
+
 class NoClockError(LiveError):
     def __init__(self, seconds: float) -> None:
         super().__init__(
-            f"/use_sim_time is true, but no /clock came in {seconds:g} s: time stands still at 0",
-            "replay with the clock (rosbag play --clock BAG), or run without simulated time "
-            "(rosparam set /use_sim_time false, or use_sim_time=False)",
+            f"simulated time is on (use_sim_time), but no /clock came in {seconds:g} s: time stands still at 0",
+            f"{REPLAY_WITH_CLOCK}, or run without simulated time (use_sim_time=False; ROS 1: rosparam set "
+            "/use_sim_time false)",
         )
 
 

@@ -1,0 +1,74 @@
+"""Issue 39 item 5: each hint names the tools and concepts of the recording's own ROS (as ``no_tf`` and
+``leading_slash`` do): latched in ROS 1, transient local durability (QoS) in ROS 2, and each ROS's commands."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.analysis.wtf_scenes import PROBLEMS, recording, sim_clock, simulated
+from tests.bags import TfMessage
+from tftools.analysis.findings import Finding
+from tftools.analysis.wtf import Scene, findings_of
+from tftools.analysis.wtf.fleet import check
+from tftools.sources.contents import ClockSamples
+
+
+def _only(code: str, ros1: bool) -> Finding:
+    (found,) = [f for f in check(recording(PROBLEMS[code].make(), ros1=ros1)).findings if f.code == code]
+    return found
+
+
+@pytest.mark.parametrize(
+    ("ros1", "said", "unsaid"),
+    [
+        (True, ("latched", "rosbag play without -s"), ("transient local", "ros2 bag")),
+        (False, ("transient local", "ros2 bag play without --start-offset"), ("latched", "rosbag play")),
+    ],
+    ids=["ros1", "ros2"],
+)
+def test_statics_only_at_the_start_are_repaired_in_the_recordings_own_words(
+    ros1: bool, said: tuple[str, ...], unsaid: tuple[str, ...]
+) -> None:
+    hint = _only("statics_early", ros1).hint
+    assert all(words in hint for words in said), hint
+    assert not any(words in hint for words in unsaid), hint
+
+
+#: Words only true of one ROS: its commands, and how it keeps /tf_static for late subscribers.
+ROS1_WORDS = ("rosrun ", "roslaunch ", "rostopic ", "rosbag ", "rosparam ", "latched", "ros::Time", "ROS Hydro")
+ROS2_WORDS = ("ros2 ", "transient local", "transient_local", "node->now()", "--qos-profile")
+
+
+def _scenes() -> dict[str, tuple[list[TfMessage], ClockSamples | None, tuple[str, ...] | None]]:
+    """Every designed problem, and simulations recorded on wall time (with and without /clock)."""
+    made = {name: (p.make(), p.clock() if p.clock else None, p.topics) for name, p in PROBLEMS.items()}
+    made["sim_on_wall_with_clock"] = (simulated(), sim_clock(), None)
+    made["sim_on_wall"] = (simulated(), None, None)
+    return made
+
+
+SCENES = _scenes()
+
+
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+@pytest.mark.parametrize("name", list(SCENES))
+def test_no_finding_speaks_of_the_other_ros(name: str, ros1: bool) -> None:
+    """On each designed problem of each ROS, no message or hint names the other ROS's commands or concepts."""
+    messages, clock, topics = SCENES[name]
+    problem = PROBLEMS.get(name)
+    streams = problem.streams() if problem is not None and problem.streams else ()
+    findings = findings_of(Scene(recording(messages, topics, ros1=ros1, clock=clock), streams=streams))
+    foreign = ROS2_WORDS if ros1 else ROS1_WORDS
+    said = [(f.code, w) for f in findings for w in foreign if w in f.message + " " + f.hint]
+    assert said == [], [f.hint for f in findings]
+
+
+@pytest.mark.parametrize(
+    ("ros1", "words"),
+    [(True, "rosbag record with /use_sim_time true"), (False, "ros2 bag record --use-sim-time")],
+    ids=["ros1", "ros2"],
+)
+def test_a_simulation_recorded_on_wall_time_is_told_its_own_recorders_way(ros1: bool, words: str) -> None:
+    """ROS 2's recorder has --use-sim-time; ROS 1's follows /clock when /use_sim_time is true."""
+    (note,) = [f for f in check(recording(simulated(), clock=sim_clock(), ros1=ros1)).findings if f.code == "clock"]
+    assert words in note.hint, note.hint
