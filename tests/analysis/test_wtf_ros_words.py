@@ -72,3 +72,12 @@ def test_a_simulation_recorded_on_wall_time_is_told_its_own_recorders_way(ros1: 
     """ROS 2's recorder has --use-sim-time; ROS 1's follows /clock when /use_sim_time is true."""
     (note,) = [f for f in check(recording(simulated(), clock=sim_clock(), ros1=ros1)).findings if f.code == "clock"]
     assert words in note.hint, note.hint
+
+
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+def test_tf_on_boot_time_without_clock_is_not_called_a_simulation_alone(ros1: bool) -> None:
+    """Stamps since boot with no /clock come from a simulation recorded on wall time or from a real driver
+    stamping on its own clock (a real Neato's): the note says both, and what to do for each."""
+    (note,) = [f for f in check(recording(simulated(), ros1=ros1)).findings if f.code == "clock"]
+    assert "or a driver stamping on its own clock" in note.message, note.message
+    assert "a driver stamping on its own clock (time since boot): stamp with the ROS time" in note.hint, note.hint

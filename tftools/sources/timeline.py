@@ -513,7 +513,7 @@ def _why_none(edges: tuple[EdgeClock, ...], clock: ClockSamples) -> str:
             f"tf is stamped on simulated time or time since boot (around {stamp / NS_PER_S:.1f} s) while the "
             f"record clock is wall time ({record / NS_PER_S:.1f} s)"
         )
-        cause = "a simulation recorded without --use-sim-time"
+        cause = "a simulation recorded on wall time, or a driver stamping on its own clock"
     else:
         side = "before" if record > stamp else "after"
         what = f"tf is stamped {abs(record - stamp) / NS_PER_S:.1f} s {side} the record clock"

@@ -139,10 +139,12 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
         "clock",
         scene.timeline.reason,
         (
-            "record simulations with --use-sim-time (ros2 bag record --use-sim-time) or record /clock too"
+            "a simulation: record it with ros2 bag record --use-sim-time, or record /clock too"
             if scene.ros2
-            else "record simulations with /use_sim_time true (rosbag record then follows /clock) or record /clock too"
+            else "a simulation: record it with /use_sim_time true (rosbag record then follows /clock), or record "
+            "/clock too"
         )
+        + "; a driver stamping on its own clock (time since boot): stamp with the ROS time of the computer that records"
         + "; lookups between these frames are not affected",
         count=sum(e.arrivals for e in main),
     )
