@@ -68,7 +68,10 @@ def command(
     newest transform between them lags, the oldest edge deciding (what "extrapolation into
     the future" errors are about). On a bag: over the whole recording, or --start/--end
     (times of recording). Without -b, on the live system, and with --play on a bag's replay:
-    refreshed once a second over the last --window seconds.
+    refreshed once a second over the last --window seconds. Where no clock of the stamps was recorded
+    (a simulation without /clock), a bag's --start/--end select by stamp, --play's by when the replay
+    (the record clock moved onto the stamps' by one offset) plays them: the two differ where the
+    simulation ran slower or faster than real time.
 
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
