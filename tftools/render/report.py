@@ -23,7 +23,7 @@ from tftools.analysis.graph import GraphEdge
 from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
 from tftools.core.arrays import FloatArray
-from tftools.core.figures import seconds
+from tftools.core.figures import KEEP, seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
@@ -241,7 +241,12 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
     for row, s in enumerate(streams):
         r = s.report
         lost = f", {r.never} lost ({fates_in_words(r.reasons)})" if r.never else ""
-        wait = f" (wait p50 {seconds(r.wait['p50']):.3f} s, p99 {seconds(r.wait['p99']):.3f} s)" if r.later else ""
+        kept = (
+            f"{KEEP:.1%} within {seconds(r.wait_needed):.3f} s"
+            if r.wait_needed is not None
+            else f"no timeout keeps {KEEP:.1%}"
+        )
+        wait = f" (wait p50 {seconds(r.wait['p50']):.3f} s, {kept})" if r.later else ""
         open_ = sum(r.undecided.values())
         undecided = f", {open_} undecided ({fates_in_words(r.undecided)})" if open_ else ""
         about = (
