@@ -154,10 +154,7 @@ def _watch(
         return current
 
     def table(live_monitor: LiveMonitor) -> RenderableType:
-        now = live_monitor.clock.now()
-        since = now - (live_monitor.origin if live_monitor.origin is not None else now)
-        header = f"time {to_sec(now):.3f} ({since / NS_PER_S:+.1f} s), last {window / NS_PER_S:g} s"
-        header += f", {note}" if note else ""
+        header = render.live_header(live_monitor.clock.now(), live_monitor.origin, window, note)
         return render.renderable(report(live_monitor), header, target, source)
 
     def run(on_tick: Callable[[LiveMonitor], None]) -> None:

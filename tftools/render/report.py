@@ -24,7 +24,7 @@ from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
 from tftools.core.arrays import FloatArray
 from tftools.core.figures import KEEP, seconds
-from tftools.core.time import NS_PER_S, format_sec
+from tftools.core.time import NS_PER_S, format_sec, signed_seconds
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
 from tftools.render.filter import fates_in_words
@@ -180,7 +180,7 @@ def _span_text(finding: Finding, origin: int) -> str:
 
 def _offset(ns: int, origin: int) -> str:
     since = seconds_since(origin, ns)
-    return f"{since:+.3f} s" if since is not None else f"{format_sec(ns, 3)} (another clock)"
+    return f"{signed_seconds(since, 3)} s" if since is not None else f"{format_sec(ns, 3)} (another clock)"
 
 
 def _tree(report: RecordingReport, anchor: str) -> str:
