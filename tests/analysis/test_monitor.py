@@ -22,9 +22,10 @@ from tests.analysis.monitor_scenes import (
     scene_buffer,
     write_scene,
 )
-from tests.bags import BagFormat, TfMessage
+from tests.bags import BagFormat, TfMessage, write_bag
 from tftools.analysis.edges import EdgeStats
-from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor_buffer, monitor_stream
+from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor, monitor_buffer, monitor_stream
+from tftools.analysis.times import Offset
 from tftools.core.batch import BatchBuilder, concat_batches
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
@@ -34,6 +35,7 @@ from tftools.core.transform import Transform
 from tftools.sources import read_recording
 from tftools.sources.contents import sent_of_messages
 from tftools.sources.live.base import LiveSource, OnBatch
+from tftools.sources.stream import stream_recording
 
 MS = 1_000_000
 
@@ -288,3 +290,35 @@ def test_a_buffer_filled_by_hand_without_record_times_counts_a_message_an_instan
             buffer.set_transform(sample, "/rsp")
     (publisher,) = monitor_buffer(buffer).authorities
     assert (publisher.authority, publisher.messages, publisher.rate_hz) == ("/rsp", 10, 0.0)
+
+
+ODOM_AND_WHEELS = (("odom", "base"), ("base", "left_wheel"), ("base", "right_wheel"))
+
+
+def test_a_publisher_is_rated_on_the_clock_its_window_is_counted_on(tmp_path: Path) -> None:
+    """Issue 39, ros2_mcap_nav2_turtlebot4.mcap (no /clock) from +2 s to +6 s: its /tf publisher was 230 messages
+    at 45.97 Hz in a whole read, 228 at 56.91 Hz replayed. With no ROS time at arrival the whole read windows by
+    stamp, yet it rated the publisher over record times: a map -> odom stamped 1 s ahead of its arrival
+    stretched the span by a second. Here odom -> base and its wheels at 50 Hz and a map -> odom stamped 1 s
+    ahead every 0.2 s, all on /tf: 201 + 20 messages stamped over 4 s, recorded over 4.9 s; 55 Hz, read whole
+    or replayed (which plays them on the record clock moved onto the stamps' by most frames' offset)."""
+    sim, wall = 100 * NS_PER_S, 1_695_944_000 * NS_PER_S
+    messages = []
+    for i in range(400):
+        at = i * 20 * MS
+        base = [Transform((0, 0, 0), (0, 0, 0, 1), sim + at, parent, child) for parent, child in ODOM_AND_WHEELS]
+        messages.append(TfMessage("/tf", wall + at + 2 * MS, base))
+        if i % 10 == 5:
+            ahead = Transform((0, 0, 0), (0, 0, 0, 1), sim + at + NS_PER_S, "map", "odom")
+            messages.append(TfMessage("/tf", wall + at + 3 * MS, [ahead]))
+    bag = write_bag(tmp_path / "no_clock", messages, BagFormat.rosbag2_sqlite3)
+    query = MonitorQuery(start=Offset(2), end=Offset(6))
+    recording = read_recording([bag])
+    assert not recording.timeline.available  # stamps on simulated time, no /clock: arrival in ROS time unknown
+    (whole,) = monitor(recording, query).authorities
+    assert whole.messages == 221 and whole.rate_hz == pytest.approx(220 / 4)  # on stamps, as its edges' rates
+    reports: list[MonitorReport] = []
+    replay = MonitorQuery(start=Offset(2), end=Offset(6), window=100 * NS_PER_S)
+    monitor_stream(stream_recording([bag]), replay, lambda live: reports.append(live.report()), speed=1000)
+    (played,) = reports[-1].authorities
+    assert played.messages == 221 and played.rate_hz == pytest.approx(220 / 4)

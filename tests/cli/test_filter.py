@@ -187,3 +187,30 @@ def test_wtf_says_which_frame_sensor_data_was_checked_in(tfx: Tfx, bags: dict[st
     (elsewhere,) = json.loads(tfx("wtf", bags["ros1"], "--target", "nowhere", "-f", "json").stdout)["bags"]
     assert elsewhere["sensor_data"]["target"] == "odom"  # a fleet's robots may lack the frame: the usual one
     assert "'nowhere', asked for, is not a frame of this recording" in elsewhere["sensor_data"]["target_reason"]
+
+
+def _scans_two_waiting_longer(store: Typestore) -> list[tuple[str, str, int, object]]:
+    """/scan at 20 Hz: each waits 68 ms for the laser's next transform, but two of 199, stamped 1 ms into
+    the laser's period and arriving 1 ms later, wait 78 ms (p99 68.2 ms; keeping 99.9% takes 78)."""
+    out: list[tuple[str, str, int, object]] = []
+    for i in range(1, 200):
+        early = i in (50, 150)
+        stamp = START + i * 50 * MS + (1 if early else 7) * MS
+        out.append(
+            ("/scan", "sensor_msgs/msg/LaserScan", stamp + (1 if early else 5) * MS, scan(store, "laser", stamp))
+        )
+    return out
+
+
+def test_wtf_and_filter_suggest_one_wait_for_a_sensor(tfx: Tfx, tmp_path: Path) -> None:
+    """Issue 39: on create3 /scan ``wtf`` suggested a timeout of at least 0.286 s (the waits' p99) while ``filter``
+    said "wait 0.413 s" to keep 99.9% of the messages: one figure (``figures.wait_keeping``), both say it."""
+    bag = sensor_bags(tmp_path, robot(), _scans_two_waiting_longer)["db3"]
+    (scan,) = json.loads(tfx("filter", "/scan", "-b", bag, "--target", "odom", "-f", "json").stdout)["topics"]
+    assert scan["wait_needed_s"] == pytest.approx(0.078) and scan["wait_s"]["p99"] == pytest.approx(0.0682)
+    (report,) = json.loads(tfx("wtf", bag, "--sensor", "/scan", "-f", "json").stdout)["bags"]
+    (waiting,) = [f for f in report["findings"] if f["code"] == "sensor_wait"]
+    assert "(99.9% within 0.078 s)" in waiting["message"]
+    assert "a timeout of at least 0.078 s (it keeps 99.9% of them)" in waiting["hint"]
+    table = tfx("filter", "/scan", "-b", bag, "--target", "odom").stdout
+    assert "wait 0.078 s" in table

@@ -18,7 +18,8 @@ from tests.corpus.fetch import Recording, load_manifest, shared_dir
 from tests.oracle import message_filter as mf
 from tests.oracle import unavailable_reason
 from tftools.analysis.filter import FilterQuery, filter_streams
-from tftools.analysis.filter.fates import KEEP, Fate, message_fates, recording_end
+from tftools.analysis.filter.fates import Fate, message_fates, recording_end
+from tftools.core.figures import KEEP
 from tftools.core.time import NS_PER_S
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import read_recording

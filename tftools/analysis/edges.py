@@ -14,7 +14,7 @@ from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
-from tftools.core.figures import jitter, longest_interval, mean_max, rate_hz, rate_of
+from tftools.core.figures import jitter, longest_interval, mean_max, rate_of
 from tftools.core.history import EdgeHistory
 from tftools.core.stored import with_replaced
 from tftools.sources.contents import SentMessages
@@ -147,7 +147,7 @@ def authority_stats(
         sent, start, end = _guessed(buffer.authorities, arrived), None, None
     counted = messages_in_window(sent, start, end, by_record_time=by_record_time, timeline=timeline)
     return [
-        _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], timeline.replayed)
+        _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a])
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]
 
@@ -177,11 +177,12 @@ def _guessed(authorities: Sequence[str], arrived: list[_Arrived]) -> SentMessage
 
 @dataclass(frozen=True)
 class Counted:
-    """One publisher's messages in a window: the record times of those on /tf (in record order), and how many
-    came on /tf_static."""
+    """One publisher's messages in a window: how many came on /tf, how many on /tf_static, and the arrivals of
+    its /tf ones that are timed (``messages_in_window``; sorted), for its rate."""
 
-    moving: Int64Array
+    moving: int
     static: int
+    times: Int64Array
 
 
 def messages_in_window(
@@ -194,9 +195,17 @@ def messages_in_window(
 ) -> dict[str, Counted]:
     """The one definition of a publisher's messages in a window: those of ``sent`` within ``[start, end]`` as
     ``edge_stats`` selects transforms (by their first transform's stamp, or with ``by_record_time`` by
-    arrival), its /tf_static messages always; by publisher."""
+    arrival, ``Timeline.arrival``), its /tf_static messages always; by publisher.
+
+    Their rate is counted on the arrival axis (``Timeline.arrival``), by stamp where no reference gives ROS
+    time at arrival: not on the record clock then, which is no clock of the stamps' (a simulation recorded
+    without /clock, whose message stamped 1 s ahead of its arrival, a transform_tolerance, stretched the span
+    of the others by 1 s). With a reference, a message whose arrival is unknown (a record time of 0) is
+    counted, not timed by its stamp."""
     timeline = timeline or ON_RECORD_CLOCK
-    times = timeline.arrival(sent.stamp, sent.record_time) if by_record_time else sent.stamp
+    arrived, known = timeline.ros_time(sent.record_time)
+    arrival, timed = np.where(known, arrived, sent.stamp), known | (not timeline.available)
+    times = arrival if by_record_time else sent.stamp
     inside = np.ones(len(sent), bool)
     if start is not None:
         inside &= times >= start
@@ -206,23 +215,25 @@ def messages_in_window(
     counted = {}
     for a in _ids(sent.authority[inside]):
         mine = inside & (sent.authority == a)
+        moving = mine & ~sent.static
         statics = int(np.count_nonzero(mine & sent.static))
-        counted[sent.authorities[int(a)]] = Counted(sent.record_time[mine & ~sent.static], statics)
+        counted[sent.authorities[int(a)]] = Counted(
+            int(np.count_nonzero(moving)), statics, np.sort(arrival[moving & timed])
+        )
     return counted
 
 
 def _counted(
-    name: str, counted: Counted | None, edges: list[tuple[str, str]], delays: list[Int64Array], replayed: bool
+    name: str, counted: Counted | None, edges: list[tuple[str, str]], delays: list[Int64Array]
 ) -> AuthorityStats:
     """The publisher's numbers from its messages ``counted`` (none: it sent none in the window): its rate over
-    its /tf messages whose record time is known (``replayed``: a replay's, every one)."""
-    moving = counted.moving if counted is not None else np.zeros(0, np.int64)
+    its /tf messages' times (``messages_in_window``)."""
+    moving = counted.moving if counted is not None else 0
     statics = counted.static if counted is not None else 0
-    timed = moving if replayed else moving[moving > 0]
-    rate = rate_hz(len(timed), int(timed[-1] - timed[0])) if len(timed) else 0.0
+    rate = rate_of(counted.times) if counted is not None else 0.0
     mean, largest = mean_max(np.concatenate(delays) if delays else np.zeros(0, np.int64))
-    only_static = not len(moving) and statics > 0
-    return AuthorityStats(name, len(moving) + statics, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static)
+    only_static = not moving and statics > 0
+    return AuthorityStats(name, moving + statics, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static)
 
 
 def _unstored(

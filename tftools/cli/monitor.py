@@ -68,7 +68,10 @@ def command(
     newest transform between them lags, the oldest edge deciding (what "extrapolation into
     the future" errors are about). On a bag: over the whole recording, or --start/--end
     (times of recording). Without -b, on the live system, and with --play on a bag's replay:
-    refreshed once a second over the last --window seconds.
+    refreshed once a second over the last --window seconds. Where no clock of the stamps was recorded
+    (a simulation without /clock), a bag's --start/--end select by stamp, --play's by when the replay
+    (the record clock moved onto the stamps' by one offset) plays them: the two differ where the
+    simulation ran slower or faster than real time.
 
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
@@ -151,10 +154,7 @@ def _watch(
         return current
 
     def table(live_monitor: LiveMonitor) -> RenderableType:
-        now = live_monitor.clock.now()
-        since = now - (live_monitor.origin if live_monitor.origin is not None else now)
-        header = f"time {to_sec(now):.3f} ({since / NS_PER_S:+.1f} s), last {window / NS_PER_S:g} s"
-        header += f", {note}" if note else ""
+        header = render.live_header(live_monitor.clock.now(), live_monitor.origin, window, note)
         return render.renderable(report(live_monitor), header, target, source)
 
     def run(on_tick: Callable[[LiveMonitor], None]) -> None:

@@ -36,6 +36,35 @@ def period(intervals: Int64Array) -> int:
     return int(np.median(intervals)) if len(intervals) else 0
 
 
+def median_ns(values: Int64Array) -> int:
+    """The median of ``values`` (ns), exact: ``np.median`` works in float64, whose step at a wall-clock time
+    in ns (1.7e18) is 256 ns. Of an even count, the mean of the middle two, towards zero (as
+    ``int(np.median(...))``); 0 without any. Ascending ``values`` (a history's stamps) are read off the
+    middle without a partition."""
+    n = len(values)
+    if not n:
+        return 0
+    middle = sorted({(n - 1) // 2, n // 2})
+    ordered = values if bool(np.all(values[1:] >= values[:-1])) else np.partition(values, middle)
+    total = int(ordered[middle[0]]) + int(ordered[middle[-1]])
+    return total // 2 if total >= 0 else -(-total // 2)
+
+
+#: The share of a sensor's messages the settings suggested for a tf2 MessageFilter (or a lookup's timeout)
+#: keep: the wait, queue and cache ``tfx filter`` and ``tfx wtf`` suggest are those keeping it.
+KEEP = 0.999
+
+
+def wait_keeping(waits: Int64Array, on_arrival: int, decided: int, keep: float = KEEP) -> int | None:
+    """The one definition of the wait a sensor stream needs: the smallest timeout (ns) with which ``keep`` of
+    its ``decided`` messages are transformed, ``on_arrival`` of them at once, the others after their
+    ``waits`` (ns); 0 where those on arrival are enough, None where no timeout is (too many never are)."""
+    must = math.ceil(keep * decided) - on_arrival
+    if must <= 0:
+        return 0
+    return int(np.partition(waits, must - 1)[must - 1]) if must <= len(waits) else None
+
+
 def jitter(stamps: Int64Array) -> float:
     """How irregular sorted ``stamps`` are (ns): the standard deviation of their intervals; 0 for fewer than two."""
     return float(np.std(np.diff(stamps))) if len(stamps) > 1 else 0.0

@@ -52,6 +52,12 @@ def format_sec(stamp_ns: int, precision: int = 9) -> str:
     return f"{sign}{whole}.{fraction:0{precision}d}"
 
 
+def signed_seconds(seconds: float, digits: int = 1) -> str:
+    """The one way a signed seconds figure (an offset, "+S") is shown: its sign, ``digits`` decimals; a moment
+    a hair before the origin is "+0.0", never "-0.0"."""
+    return f"{round(seconds, digits) + 0.0:+.{digits}f}"
+
+
 def duration_to_sec(ns: int) -> float:
     """Seconds as ROS 2's tf2 computes them (``tf2::durationToSec``, ``timeToSec``).
 

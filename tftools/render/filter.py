@@ -9,8 +9,8 @@ from rich.console import Group, RenderableType
 from rich.table import Table
 from rich.text import Text
 
-from tftools.analysis.filter.fates import KEEP, FilterReport, StreamReport
-from tftools.core.figures import seconds
+from tftools.analysis.filter.fates import FilterReport, StreamReport
+from tftools.core.figures import KEEP, seconds
 from tftools.render import jsonl
 from tftools.render.escape import printable
 from tftools.render.fitted import Fitted, Paragraphs

@@ -13,7 +13,7 @@ from rich.text import Text
 from tftools.analysis.edges import AuthorityStats, EdgeStats
 from tftools.analysis.monitor import ChainStats, MonitorReport
 from tftools.core.figures import seconds
-from tftools.core.time import to_sec
+from tftools.core.time import NS_PER_S, signed_seconds, to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
 from tftools.render.fitted import Fitted, Lines, Row
@@ -110,6 +110,14 @@ def _chain_lines(chain: ChainStats) -> Text:
     elif all(e.static for e in chain.edges):
         text.append("  (every edge is static: never stale)", style="dim")
     return text
+
+
+def live_header(now: int, origin: int | None, window: int, note: str = "") -> str:
+    """A refreshing table's first line: the clock ``now``, seconds since ``origin`` (the first transform's
+    arrival; none yet: 0), the ``window`` it covers (ns), and ``note``."""
+    since = signed_seconds((now - (origin if origin is not None else now)) / NS_PER_S)
+    header = f"time {to_sec(now):.3f} ({since} s), last {window / NS_PER_S:g} s"
+    return header + (f", {note}" if note else "")
 
 
 def renderable(

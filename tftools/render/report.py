@@ -23,8 +23,8 @@ from tftools.analysis.graph import GraphEdge
 from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
 from tftools.core.arrays import FloatArray
-from tftools.core.figures import seconds
-from tftools.core.time import NS_PER_S, format_sec
+from tftools.core.figures import KEEP, seconds
+from tftools.core.time import NS_PER_S, format_sec, signed_seconds
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
 from tftools.render.filter import fates_in_words
@@ -180,7 +180,7 @@ def _span_text(finding: Finding, origin: int) -> str:
 
 def _offset(ns: int, origin: int) -> str:
     since = seconds_since(origin, ns)
-    return f"{since:+.3f} s" if since is not None else f"{format_sec(ns, 3)} (another clock)"
+    return f"{signed_seconds(since, 3)} s" if since is not None else f"{format_sec(ns, 3)} (another clock)"
 
 
 def _tree(report: RecordingReport, anchor: str) -> str:
@@ -241,7 +241,12 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
     for row, s in enumerate(streams):
         r = s.report
         lost = f", {r.never} lost ({fates_in_words(r.reasons)})" if r.never else ""
-        wait = f" (wait p50 {seconds(r.wait['p50']):.3f} s, p99 {seconds(r.wait['p99']):.3f} s)" if r.later else ""
+        kept = (
+            f"{KEEP:.1%} within {seconds(r.wait_needed):.3f} s"
+            if r.wait_needed is not None
+            else f"no timeout keeps {KEEP:.1%}"
+        )
+        wait = f" (wait p50 {seconds(r.wait['p50']):.3f} s, {kept})" if r.later else ""
         open_ = sum(r.undecided.values())
         undecided = f", {open_} undecided ({fates_in_words(r.undecided)})" if open_ else ""
         about = (

@@ -21,6 +21,7 @@ from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError
+from tftools.core.figures import median_ns
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.transform import Transform
@@ -312,7 +313,7 @@ class _Summary:
         """Each frame's arrivals kept (at most ``PLAYED_ARRIVALS``), by stamp, and when they play on the replay
         of ``timeline``: their record times, /clock then (its first value before it ticked), or record times
         less the frames' median offset, as ``Playback`` moves them."""
-        shift = int(np.median([e.offset_record for e in timeline.edges])) if timeline.edges else 0
+        shift = median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
         first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
         played: dict[str, tuple[Int64Array, Int64Array]] = {}
         for child, arrivals in self._arrivals.items():

@@ -300,7 +300,7 @@ class Playback:
         self.reference = timeline.reference
         self._clock = timeline.clock  # the samples up to the next part: all of them, or the last one heard
         self._first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
-        self._shift = int(np.median([e.offset_record for e in timeline.edges])) if timeline.edges else 0
+        self._shift = figures.median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
         self._floor = np.iinfo(np.int64).min
         self._unknown = timeline.record_start  # a record time of 0 (unknown, an MCAP's log time 0) plays first
 
@@ -450,15 +450,15 @@ def clocked_arrivals(
 def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Array, known: BoolArray) -> EdgeClock:
     """How ``child``'s transforms (``stamps`` recorded at ``records``, when /clock said ``ros`` where
     ``known``) relate to the recording's clocks."""
-    offset_clock = int(np.median(ros[known] - stamps[known], overwrite_input=True)) if known.any() else None
+    offset_clock = figures.median_ns(ros[known] - stamps[known]) if known.any() else None
     reach_clock = _reach(ros[known] - stamps[known]) if known.any() else 0
     return EdgeClock(
         child,
         len(stamps),
-        int(np.median(records - stamps, overwrite_input=True)),
+        figures.median_ns(records - stamps),
         offset_clock,
-        _median(stamps),
-        _median(records),
+        figures.median_ns(stamps),
+        figures.median_ns(records),
         int(stamps.min()),
         int(stamps.max()),
         _reach(records - stamps),
@@ -469,15 +469,6 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
 def _reach(read: Int64Array) -> int:
     """The 95th percentile of how far arrival strays from the stamp, either way (ns)."""
     return int(figures.percentile(np.abs(read), 95)) if len(read) else 0
-
-
-def _median(values: Int64Array) -> int:
-    """``int(np.median(values))``; of ascending ``values`` (a history's stamps), read off the middle
-    without a partition (the same mean of the middle two, in floats)."""
-    n = len(values)
-    if bool(np.all(values[1:] >= values[:-1])):
-        return int(np.mean(values[(n - 1) // 2 : n // 2 + 1]))
-    return int(np.median(values))
 
 
 def stamp_spans(buffer: Buffer) -> Iterable[tuple[bool, int, int]]:

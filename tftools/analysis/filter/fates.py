@@ -40,7 +40,7 @@ from tftools.analysis.edges import Edge, chain_edges, sorted_unique
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
-from tftools.core.figures import rate_hz, silence_limit
+from tftools.core.figures import KEEP, rate_hz, silence_limit, wait_keeping
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -435,8 +435,6 @@ def _at(values: Int64Array, index: IntpArray) -> Int64Array:
     return np.where(inside, values[np.minimum(index, len(values) - 1)], NEVER)
 
 
-#: The share of messages a filter's settings should let through, for the settings it suggests.
-KEEP = 0.999
 #: Cache lengths tried, in seconds, for the smallest that keeps ``KEEP`` of a stream.
 CACHES_S = (1, 2, 5, 10, 15, 20, 30, 60, 120, 300, 600, 1800, 3600)
 
@@ -540,12 +538,8 @@ def _percentiles(waits: Int64Array) -> dict[str, float]:
 
 
 def _wait_needed(fates: Fates, stream: StampedMessages) -> int | None:
-    """The smallest timeout (ns) that lets ``KEEP`` of the stream through (0 if on arrival already)."""
-    must = int(np.ceil(KEEP * fates.decided)) - int((fates.fate == Fate.ON_ARRIVAL).sum())
-    waits = np.sort(fates.waits(stream))
-    if must <= 0:
-        return 0
-    return int(waits[must - 1]) if must <= len(waits) else None
+    """The smallest timeout (ns) that lets ``KEEP`` of the stream through (``figures.wait_keeping``)."""
+    return wait_keeping(fates.waits(stream), int((fates.fate == Fate.ON_ARRIVAL).sum()), fates.decided)
 
 
 def smallest_queue(fates: Fates, stream: StampedMessages) -> int:

@@ -19,7 +19,7 @@ from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
 from tftools.core.buffer import Buffer
-from tftools.core.time import NS_PER_S, from_sec
+from tftools.core.time import NS_PER_S, from_sec, signed_seconds
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording, recording_of_buffer
 
@@ -185,24 +185,20 @@ class Scene:
         """A moment on the stamps' clock: absolute seconds, and seconds into the tf data where plausible
         (a stamp on another time base than the tf data's has none)."""
         since = self.timeline.since_origin(stamp)
-        return f"{stamp / NS_PER_S:.3f}" + (f" ({signed(since)} s)" if since is not None else "")
+        return f"{stamp / NS_PER_S:.3f}" + (f" ({signed_seconds(since)} s)" if since is not None else "")
 
     def rel(self, stamp: int) -> str:
         """Seconds into the tf data (``Timeline.origin``), or the absolute time on another time base."""
         since = self.timeline.since_origin(stamp)
-        return f"{signed(since)} s" if since is not None else f"at {stamp / NS_PER_S:.3f}"
+        return f"{signed_seconds(since)} s" if since is not None else f"at {stamp / NS_PER_S:.3f}"
 
     def at_arrival(self, record_time: int) -> str:
         """When a message arrived: in ROS time where the timeline knows it, else on the record clock."""
         ros, known = self.timeline.ros_time(np.array([record_time], np.int64))
         if known[0]:
             return self.at(int(ros[0]))
-        return f"{record_time / NS_PER_S:.3f} on the record clock ({signed((record_time - self.start) / NS_PER_S)} s)"
-
-
-def signed(seconds: float) -> str:
-    """Seconds with their sign to a tenth; a moment a hair before the origin is "+0.0", never "-0.0"."""
-    return f"{round(seconds, 1) + 0.0:+.1f}"
+        since = signed_seconds((record_time - self.start) / NS_PER_S)
+        return f"{record_time / NS_PER_S:.3f} on the record clock ({since} s)"
 
 
 def edge(parent: str, child: str) -> str:

@@ -9,6 +9,7 @@ from tftools.analysis.filter.fates import TF_LOST
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, edge, listed
+from tftools.core.figures import KEEP
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import is_static_topic
@@ -109,17 +110,21 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
     for s in scene.sensors.streams:
         if s.later <= WAITING_SHARE * s.messages:
             continue
-        long = s.wait["p99"] > from_sec(scene.thresholds.delay)
-        p50, p99 = s.wait["p50"] / NS_PER_S, s.wait["p99"] / NS_PER_S
+        # the wait ``tfx filter`` suggests too: the timeout keeping KEEP of the messages (none if none does)
+        needed = s.wait_needed if s.wait_needed is not None else int(s.wait["max"])
+        long = needed > from_sec(scene.thresholds.delay)
+        p50, wait = s.wait["p50"] / NS_PER_S, needed / NS_PER_S
+        kept = f"{KEEP:.1%} within {wait:.3f} s" if s.wait_needed is not None else f"at most {wait:.3f} s"
+        timeout = f"{wait:.3f} s (it keeps {KEEP:.1%} of them)" if s.wait_needed is not None else f"{wait:.3f} s"
         yield Finding(
             Severity.warning if long else Severity.info,
             "sensor_wait",
             f"{s.topic}: {s.later} of {s.messages} messages could not be transformed into {_target(scene)} when they "
-            f"arrived, waiting {p50:.3f} s (p99 {p99:.3f} s) for "
+            f"arrived, waiting {p50:.3f} s ({kept}) for "
             f"{edge(*s.late_edge) if s.late_edge else 'tf'}",
             f"a node transforming it at once fails with 'extrapolation into the future': use a tf2_ros MessageFilter "
             f"(queue {max(s.queue_needed, 1)}) or canTransform/lookupTransform with a timeout of at least "
-            f"{p99:.3f} s, or make the late transform come sooner",
+            f"{timeout}, or make the late transform come sooner",
             s.late_edge or (),
             count=s.later,
         )
