@@ -157,6 +157,7 @@ def _read_db3(path: Path) -> Contents:
     clock: list[tuple[int, int]] = []
     times: list[int] = []
     topics: set[str] = set()
+    sent: Counter[tuple[str, str]] = Counter()
     for db3 in sorted(path.glob("*.db3")) if path.is_dir() else [path]:
         with closing(sqlite3.connect(f"{db3.resolve().as_uri()}?immutable=1", uri=True)) as db:
             types = {i: (name, kind) for i, name, kind in db.execute("SELECT id, name, type FROM topics")}
@@ -166,14 +167,16 @@ def _read_db3(path: Path) -> Contents:
                 times.append(record_time)
                 topic, kind = types[topic_id]
                 if topic in TF_TOPICS:
-                    for t in cast(Any, store.deserialize_cdr(raw, kind)).transforms:
+                    transforms = cast(Any, store.deserialize_cdr(raw, kind)).transforms
+                    sent[topic, topic] += bool(transforms)
+                    for t in transforms:
                         tr, q = t.transform.translation, t.transform.rotation
                         value = [tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w]
                         parent, child = _strip(t.header.frame_id), _strip(t.child_frame_id)
                         _add(edges, topic, topic, record_time, parent, child, _ns(t.header.stamp), value, ros2=True)
                 elif topic == "/clock":
                     clock.append((_ns(cast(Any, store.deserialize_cdr(raw, kind)).clock), record_time))
-    return _contents(topics, times, edges, clock)
+    return dataclasses.replace(_contents(topics, times, edges, clock), messages=sent)
 
 
 def _json_mcap(path: Path) -> bool:
