@@ -459,3 +459,28 @@ def test_many_findings_each_follow_their_own_cause_in_order() -> None:
     ] + [Finding(Severity.warning, "delay", "m", "h", (f"f{i % 3}", "x"), cause=f"stale:{i % 3 + 1}") for i in range(9)]
     for cause in findings[:3]:
         assert explained(findings, cause) == [f for f in findings[3:] if f.cause == cause.key]
+
+
+def test_findings_of_one_flooding_message_are_linked_by_key_not_compared_pairwise() -> None:
+    """Issue 44's frame flood (20,000 new frames in one message, each going stale at one stamp) took minutes
+    once stale edges of one message were said once: causes are looked up by the rule's keys, so the rule's
+    test runs about once per finding, not once per pair."""
+    compared = 0
+
+    def same_moment(cause: Finding, finding: Finding) -> bool:
+        nonlocal compared
+        compared += 1
+        return (cause.first_time, cause.last_time) == (finding.first_time, finding.last_time)
+
+    keyed = Rule(
+        frozenset({"stale"}),
+        frozenset({"stale"}),
+        same_moment,
+        "a test's keyed rule",
+        keys=lambda f: ((f.first_time, f.last_time),),
+    )
+    # 50 messages of 100 new frames each, each message's edges stopping at its own stamp
+    flood = [_f("stale", Severity.error, ("root", f"r{i}"), first=i // 100, last=i // 100) for i in range(5_000)]
+    found = explain(flood, [keyed])
+    assert len([f for f in found if f.key]) == 50 and sum(f.cause == "stale:1" for f in found) == 99
+    assert compared < 2 * len(flood)  # compared pairwise: ~n²/2

@@ -3,7 +3,7 @@ links them (``Finding.cause``), so that one root cause is said once, with what f
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Sequence
 from dataclasses import dataclass, replace
 
 from tftools.analysis.findings import Finding, Severity
@@ -22,6 +22,15 @@ def _same_change(first: Finding, finding: Finding) -> bool:
     the same time to the same time."""
     same = (first.first_time, first.last_time, first.count) == (finding.first_time, finding.last_time, finding.count)
     return same and (finding.first_time, finding.last_time) != (0, 0)
+
+
+def _change(finding: Finding) -> tuple[tuple[int, int, int]]:
+    """``_same_change``'s key: the moments and how many."""
+    return ((finding.first_time, finding.last_time, finding.count),)
+
+
+def _frames(finding: Finding) -> tuple[str, ...]:
+    return finding.frames
 
 
 def _shares_a_frame(first: Finding, finding: Finding) -> bool:
@@ -75,6 +84,9 @@ class Rule:
     follows: frozenset[str]
     relates: Callable[[Finding, Finding], bool]
     why: str
+    #: Where ``relates`` holds only between findings sharing one of these keys: causes are looked up by them,
+    #: not scanned (20,000 stale edges of one flooding message would take n² comparisons).
+    keys: Callable[[Finding], Iterable[Hashable]] | None = None
 
 
 #: A finding that follows from one that follows from another is said beneath the first (the root cause).
@@ -92,6 +104,7 @@ RULES = (
         _same_change,
         "static edges changed by one /tf_static message: one change of a description (or a second one), said "
         "once; ROS 2 bags, which name no publisher, show a second description so",
+        keys=_change,
     ),
     Rule(
         frozenset({"rate"}),
@@ -99,6 +112,7 @@ RULES = (
         _same_change,
         "edges with the same pauses (or rhythm) at the same times: edges of one message, one publisher's "
         "pause, said once",
+        keys=_change,
     ),
     Rule(
         frozenset({"stale"}),
@@ -106,6 +120,7 @@ RULES = (
         _same_change,
         "edges that stop at the same stamp after as many samples: edges of one message, one publisher that "
         "stopped, said once",
+        keys=_change,
     ),
     Rule(
         frozenset({"future"}),
@@ -120,6 +135,7 @@ RULES = (
         _shares_a_frame,
         "frames named with a leading '/' on /tf and /tf_static (or by two publishers) that share a frame: one "
         "naming (robot_state_publisher's frame_prefix, a tf_prefix), said once",
+        keys=_frames,
     ),
     Rule(
         frozenset({"urdf_parent"}),
@@ -146,10 +162,11 @@ def explain(findings: Sequence[Finding], rules: Sequence[Rule] = RULES) -> list[
     again on findings it linked (with more added), it links them anew."""
     found = [replace(f, key="", cause="") for f in findings]
     cause_of: dict[int, int] = {}
+    candidates = [_Candidates(rule, found) for rule in rules]
     for i, finding in enumerate(found):
-        for rule in rules:
+        for rule, among in zip(rules, candidates, strict=True):
             if finding.code in rule.follows:
-                j = next((j for j, c in enumerate(found) if _may(rule, c, j, finding, i)), None)
+                j = next((j for j in among.for_(finding) if _may(rule, found[j], j, finding, i)), None)
                 if j is not None:
                     cause_of[i] = j
                     break
@@ -174,6 +191,29 @@ def explain(findings: Sequence[Finding], rules: Sequence[Rule] = RULES) -> list[
         if f.cause:
             following.setdefault(f.cause, []).append(f)
     return [g for f in ordered for g in (f, *_beneath(following.get(f.key, []) if f.key else [], f))]
+
+
+class _Candidates:
+    """The findings that may explain others by one rule (of its cause codes), in order: by key where the rule
+    has keys, built on first use."""
+
+    def __init__(self, rule: Rule, found: Sequence[Finding]) -> None:
+        self.rule, self.found = rule, found
+        self._all: list[int] | None = None
+        self._by_key: dict[Hashable, list[int]] | None = None
+
+    def for_(self, finding: Finding) -> Iterable[int]:
+        if self._all is None:
+            self._all = [j for j, f in enumerate(self.found) if f.code in self.rule.causes]
+        if self.rule.keys is None:
+            return self._all
+        if self._by_key is None:
+            self._by_key = {}
+            for j in self._all:
+                for key in dict.fromkeys(self.rule.keys(self.found[j])):
+                    self._by_key.setdefault(key, []).append(j)
+        lists = [self._by_key.get(key, []) for key in dict.fromkeys(self.rule.keys(finding))]
+        return lists[0] if len(lists) == 1 else sorted({j for found in lists for j in found})
 
 
 def _beneath(following: Sequence[Finding], cause: Finding) -> list[Finding]:
