@@ -251,6 +251,7 @@ class LiveMonitor:
         #: The tf messages that arrived (``add_sent``), as their source told them apart; None until one did
         #: (a feed that does not: the messages are guessed from the rows, ``authority_stats``).
         self.sent: SentMessages | None = None
+        self._arrived: list[SentMessages] = []  # since the last report: joined once there, not at every batch
         self._lock = threading.Lock()
 
     def clear(self, _jump: object = None) -> None:
@@ -259,6 +260,7 @@ class LiveMonitor:
             self.buffer.clear()
             self.unstored = []
             self.replaced = [_statics(b) for b in self.replaced]
+            self._join_sent()
             if self.sent is not None:
                 self.sent = self.sent.taken(np.flatnonzero(self.sent.static))
             self.origin = None
@@ -266,7 +268,13 @@ class LiveMonitor:
     def add_sent(self, sent: SentMessages) -> None:
         """The tf messages of the transforms ``add`` is given next (or was just given); safe from a source's thread."""
         with self._lock:
-            self.sent = concat_sent([self.sent, sent]) if self.sent is not None else sent
+            self._arrived.append(sent)
+
+    def _join_sent(self) -> None:
+        """The messages that arrived since the last report added to ``sent`` (the lock held)."""
+        if self._arrived:
+            self.sent = concat_sent([*([self.sent] if self.sent is not None else []), *self._arrived])
+            self._arrived = []
 
     def add(self, batch: TransformBatch) -> None:
         """Insert a batch; safe to call from a source's thread."""
@@ -300,6 +308,7 @@ class LiveMonitor:
             self.replaced = _kept_replaced(self.replaced, start - self.window)
             kept = self.unstored + self.replaced
             unstored = concat_batches(kept) if kept else None
+            self._join_sent()
             if self.sent is not None:
                 self.sent = _kept_sent(self.sent, start - self.window)
             window = functools.partial(
