@@ -203,3 +203,17 @@ def test_an_edge_stamped_on_another_clock_is_aged_on_that_clock() -> None:
     assert arm.stats is not None and graph.now_of(arm) == arm.stats.last_stamp < graph.now
     ages = [float(a) for a in re.findall(r"\(([0-9.]+) s old\)", to_digraph(graph, None).source)]
     assert ages and max(ages) < 10.0
+
+
+def test_an_edge_stamped_ahead_of_the_recordings_end_is_said_ahead_never_negative_old() -> None:
+    """A real TurtleBot3 whose clock runs ahead of the recorder's (ros2_db3_tb3_foxy_stamps_ahead) drew
+    "(-0.051 s old)": an age is never negative, the label says what was observed instead."""
+    buffer = healthy()
+    publish(buffer, "base_link", "wheel", hz=10, start_s=0.05, end_s=10.15)  # newest stamp END + 0.05 s
+    graph = frame_graph(Scene(buffer))
+    (wheel,) = [e for e in graph.edges if e.key == ("base_link", "wheel")]
+    assert graph.age_of(wheel) == -50_000_000
+    source = to_digraph(graph, None).source
+    assert "(stamped 0.050 s ahead of the recording's clock)" in source
+    assert "(0.100 s old)" in source  # map -> odom at 10 Hz: its newest stamp 0.1 s before the end
+    assert not re.search(r"-[0-9.]+ s old", source)

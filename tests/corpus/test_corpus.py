@@ -441,6 +441,10 @@ def test_view_frames(recording: Recording, corpus: Corpus, tfx: Tfx, tmp_path: P
         assert f">{frame}<" in svg, frame
     ages = [float(x) for x in re.findall(r"(\d+(?:\.\d+)?(?:e[+-]?\d+)?) s old", svg)]
     assert all(age < DAY_S for age in ages), f"ages of more than a day drawn: {sorted(ages)[-3:]}"
+    assert not re.search(r"-\d[\d.]* s old", svg), "a negative age drawn"
+    if "stamps_ahead_s" in recording.meta:  # a clock ahead of the recorder's: said so, within the figure written
+        ahead = [float(x) for x in re.findall(r"stamped (\d+\.\d+) s ahead of ", svg)]
+        assert ahead and max(ahead) <= recording.meta["stamps_ahead_s"], svg
 
 
 # --- tfx echo --at +1 --------------------------------------------------------------------------

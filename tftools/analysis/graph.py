@@ -10,7 +10,9 @@ from typing import TYPE_CHECKING
 from tftools.analysis.edges import Edge, EdgeStats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import Scene, findings_of
+from tftools.core.figures import age
 from tftools.core.rejection import RejectionLog
+from tftools.sources.timeline import Reference
 
 if TYPE_CHECKING:
     from tftools.sources.recording import Recording
@@ -52,11 +54,17 @@ class FrameGraph:
     findings: tuple[Finding, ...]
     now: int  # the time ages are measured from (the recording's end)
     clock_ends: Mapping[str, int] = field(default_factory=dict)  # frames on another clock: their own end
+    clock: str = "the recording's clock"  # the clock ``now`` is read on, as a sentence names it
 
     def now_of(self, edge: Edge) -> int:
         """The time ``edge``'s age is measured from: the recording's end, or for a frame stamped on another
         clock than the rest (``Timeline.own_clock_ends``), the newest stamp on that clock."""
         return self.clock_ends.get(edge.child, self.now)
+
+    def age_of(self, edge: GraphEdge) -> int | None:
+        """How old ``edge``'s newest sample is (``core.figures.age``, ns; negative where it is stamped ahead
+        of ``clock``); None where no sample was accepted."""
+        return None if edge.stats is None else age(self.now_of(edge), edge.stats.last_stamp)
 
     @property
     def roots(self) -> list[str]:
@@ -93,7 +101,9 @@ def frame_graph(scene: Scene, findings: Sequence[Finding] | None = None) -> Fram
         for (p, c), pinned in edge_problems.items()
     )
     nodes = tuple(GraphNode(name, name in roots, tuple(node_problems.get(name, ()))) for name in names)
-    return FrameGraph(nodes, edges, found, buffer.now(), scene.timeline.own_clock_ends)
+    timeline = scene.timeline
+    clock = timeline.clock.topic if timeline.reference is Reference.CLOCK else "the recording's clock"
+    return FrameGraph(nodes, edges, found, buffer.now(), timeline.own_clock_ends, clock)
 
 
 def _pin(

@@ -158,6 +158,22 @@ def mean_max(values: Int64Array) -> tuple[float, float]:
     return float(values.mean()), float(values.max())
 
 
+def age(now: int, stamp: int) -> int:
+    """The one definition of a sample's age (ns): how far its ``stamp`` is behind ``now``, the time ages are
+    counted from (a recording's end, a live listener's clock). Signed: negative where the stamp is ahead of
+    ``now`` (a publisher's clock running ahead of the recorder's); ``age_in_words`` never shows it so."""
+    return now - stamp
+
+
+def age_in_words(age_ns: int, clock: str) -> str:
+    """An age (``age``) as a person reads it: "0.051 s old", or where the stamp is ahead of ``clock`` (the
+    clock ages are counted on), what was observed: "stamped 0.051 s ahead of the recording's clock"; an
+    age is never negative."""
+    if age_ns < 0:
+        return f"stamped {-age_ns / NS_PER_S:.3f} s ahead of {clock}"
+    return f"{age_ns / NS_PER_S:.3f} s old"
+
+
 @overload
 def seconds(ns: float) -> float: ...
 @overload

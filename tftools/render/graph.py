@@ -12,7 +12,7 @@ import graphviz
 
 from tftools.analysis.findings import Finding, Severity, causes, counted, tallied
 from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode
-from tftools.core.figures import seconds
+from tftools.core.figures import age_in_words, seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import is_printable, printable
 from tftools.sources.recording import Recording
@@ -137,7 +137,7 @@ def _add_node(dot: graphviz.Digraph, graph: FrameGraph, node: GraphNode, ids: di
 def _add_edge(dot: graphviz.Digraph, graph: FrameGraph, edge: GraphEdge, brief: bool, ids: dict[str, str]) -> None:
     marked = _marked(graph, edge.problems)
     severity = graph.severity(marked)
-    lines = _brief_lines(edge) if brief else _full_lines(edge, graph.now_of(edge))
+    lines = _brief_lines(edge) if brief else _full_lines(edge, graph)
     lines += [f'<FONT COLOR="{COLOURS[Severity.error]}">rejected: {n} x {code}</FONT>' for code, n in edge.rejected]
     lines += [_problem_line(graph, i) for i in marked]
     label = "".join(f'{line}<BR ALIGN="LEFT"/>' for line in lines)
@@ -156,9 +156,9 @@ def _add_edge(dot: graphviz.Digraph, graph: FrameGraph, edge: GraphEdge, brief: 
     )
 
 
-def _full_lines(edge: GraphEdge, now: int) -> list[str]:
-    s = edge.stats
-    if s is None:
+def _full_lines(edge: GraphEdge, graph: FrameGraph) -> list[str]:
+    s, age = edge.stats, graph.age_of(edge)
+    if s is None or age is None:
         return ["no sample accepted"]
     broadcaster = f"Broadcaster{'s' if len(s.authorities) > 1 else ''}: {_name(', '.join(s.authorities) or '?')}"
     if s.static:
@@ -167,7 +167,7 @@ def _full_lines(edge: GraphEdge, now: int) -> list[str]:
         broadcaster,
         f"Average rate: {s.rate_hz:.2f} Hz",
         f"Samples: {s.count}",
-        f"Most recent transform: {format_sec(s.last_stamp, 3)} ({(now - s.last_stamp) / NS_PER_S:.3f} s old)",
+        f"Most recent transform: {format_sec(s.last_stamp, 3)} ({age_in_words(age, graph.clock)})",
         f"Oldest transform: {format_sec(s.first_stamp, 3)}",
         f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s",
         f"Largest gap: {seconds(s.longest_interval):.3f} s",
