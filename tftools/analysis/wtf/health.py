@@ -16,6 +16,7 @@ from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.fleet import BagReport
 from tftools.analysis.wtf.registry import CHECKS
+from tftools.core.figures import age as age_of
 from tftools.core.time import to_sec
 
 #: diagnostic_updater's default hardware_id for what is not a device: the tf tree of this system.
@@ -82,7 +83,7 @@ def statuses(
         checks = [dataclasses.replace(s, level=Level.STALE) if s.level is Level.ERROR else s for s in checks]
     edge_statuses = [_edge_status(edge, report.findings, now, hardware_id) for edge in edges]
     for (parent, child), last in sorted((gone or {}).items()):
-        age = f"{to_sec(now - last):.3f}" if last else "unknown"
+        age = f"{to_sec(age_of(now, last)):.3f}" if last else "unknown"
         message = f"not heard for {age} s" if last else "not heard"
         values = (("parent", parent), ("child", child), ("age (s)", age))
         edge_statuses.append(Status(Level.STALE, edge_name(parent, child), message, hardware_id, values))
@@ -165,7 +166,7 @@ def _edge_status(edge: EdgeStats, findings: Sequence[Finding], now: int, hardwar
             ("rate (Hz)", f"{edge.rate_hz:.3f}"),
             ("delay mean (s)", _seconds(edge.delay_mean)),
             ("delay max (s)", _seconds(edge.delay_max)),
-            ("age (s)", _seconds(float(now - edge.last_record)) if edge.last_record else "unknown"),
+            ("age (s)", _seconds(float(age_of(now, edge.last_record))) if edge.last_record else "unknown"),
             ("longest gap (s)", _seconds(float(edge.longest_interval))),
         ]
     values.append(("samples", str(edge.count)))
