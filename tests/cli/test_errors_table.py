@@ -75,6 +75,14 @@ def _library_errors() -> list[tuple[TfToolsError, str]]:
         (NoTransformsError([bag], ["/tf"], unread=["/tf: json"]), "or pick other topics with --topic"),
         (NoRosSelectedError(), "give a bag with -b BAG"),
         (NoClockError(5), "tfx ... --wall-time"),
+        (
+            NoClockError(5, ros2=False),
+            "rosbag play --clock BAG), or follow the wall clock (tfx ... --wall-time, or rosparam",
+        ),
+        (
+            NoClockError(5, ros2=True),
+            "ros2 bag play --clock BAG), or follow the wall clock (tfx ... --wall-time, the def",
+        ),
         (CopyError(bag, "holds no static transforms", "no_statics"), "tfx static X Y Z ... -b IN -o OUT"),
         (CopyError("out.bag", "already exists", "exists"), "or --force to replace it"),
         (CopyError("out", "is a folder", "not_replaceable"), "--force replaces only an earlier output"),

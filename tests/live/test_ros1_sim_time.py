@@ -108,6 +108,7 @@ def test_sim_time_without_a_clock_is_said_not_waited_for_ever(ros: Ros) -> None:
         ros.master.delete_param("/use_sim_time")
     assert result.returncode == 2, result.stderr
     assert "no /clock came in 10 s" in result.stderr and "rosbag play --clock" in result.stderr
+    assert "ros2 bag play" not in result.stderr and "ROS 2" not in result.stderr  # ROS 1's words only
     assert "Traceback" not in result.stderr
 
 

@@ -137,6 +137,17 @@ def test_sim_time_follows_clock(domain: Ros2Domain) -> None:
     assert len(stamps) == 2 and all(1000 < s < 1060 for s in stamps)
 
 
+def test_sim_time_without_a_clock_is_said_in_ros2_words(domain: Ros2Domain) -> None:
+    """--use-sim-time and nothing publishes /clock (a forgotten ``ros2 bag play --clock``): tfx says why after
+    CLOCK_PATIENCE seconds, exits 2, in ROS 2's words only (no rosbag, no rosparam)."""
+    domain.node("dynamic", "walltime", "odom", "base_link").wait_for("ready")
+    result = domain.run_tfx("echo", "--ros2", "--use-sim-time", "odom", "base_link", "--count", "3", "--wait", "8")
+    assert result.returncode == 2, result.stderr
+    assert "no /clock came in 10 s" in result.stderr and "ros2 bag play --clock" in result.stderr
+    assert "rosbag play" not in result.stderr and "rosparam" not in result.stderr and "ROS 1" not in result.stderr
+    assert "Traceback" not in result.stderr
+
+
 def test_a_looped_replay_clears_the_buffer_and_keeps_the_statics(domain: Ros2Domain) -> None:
     """/clock back to 1000 s every 1.5 s: tfx echo (a 1 s cache) answers each pass's transforms,
     not the pass before's last one, keeps a static transform published once, says each jump."""

@@ -127,12 +127,14 @@ def _no_ros(error: NoRosSelectedError) -> UsageError:
 
 
 def _no_clock(error: NoClockError) -> UsageError:
-    from tftools.sources.live.errors import REPLAY_WITH_CLOCK
+    from tftools.sources.live.errors import replay_with_clock
 
-    return UsageError(
-        str(error),
-        f"{REPLAY_WITH_CLOCK}, or follow the wall clock (tfx ... --wall-time; ROS 1: rosparam set /use_sim_time false)",
-    )
+    wall = {
+        None: "tfx ... --wall-time; ROS 1: rosparam set /use_sim_time false",
+        False: "tfx ... --wall-time, or rosparam set /use_sim_time false",
+        True: "tfx ... --wall-time, the default on ROS 2",
+    }[error.ros2]
+    return UsageError(str(error), f"{replay_with_clock(error.ros2)}, or follow the wall clock ({wall})")
 
 
 def _copy(error: CopyError) -> UsageError:

@@ -64,12 +64,13 @@ def _on_sim_clock(
     first_now: bool,
     clock: SimClock,
 ) -> None:
-    from tftools.sources.live.errors import NoClockError
-
     given_up = time.monotonic() + CLOCK_PATIENCE
     while clock.now() == 0 and not stop():  # no /clock yet: wait for a valid time, as ros::Time::waitForValid
         if time.monotonic() > given_up:  # ... which waits for ever: a forgotten --clock
-            raise NoClockError(CLOCK_PATIENCE)
+            from tftools.sources.live.base import TickedClock
+            from tftools.sources.live.errors import NoClockError
+
+            raise NoClockError(CLOCK_PATIENCE, clock.ros2 if isinstance(clock, TickedClock) else None)
         clock.wait_until(1, timeout_s=0.1)
     due = clock.now() + (0 if first_now else period)
     done = 0

@@ -107,8 +107,9 @@ class TickedClock(SimClock):
     #: The step is the median of this many last steps forward.
     STEPS = 64
 
-    def __init__(self) -> None:
+    def __init__(self, ros2: bool | None = None) -> None:
         super().__init__()
+        self.ros2 = ros2  # the ROS whose /clock it follows (None: not told), for its errors' words
         self._steps: collections.deque[int] = collections.deque(maxlen=self.STEPS)
 
     @property
@@ -150,12 +151,14 @@ class LiveSource(ContextManaged):
 
     #: What a capture's ``SourceInfo`` calls this kind of source, e.g. ``"ros1-live"``.
     format: str
+    #: The ROS it listens to: ROS 2 (True), ROS 1 (False), or not told (None): its clock's errors say it.
+    ros2: bool | None = None
 
     def __init__(self, topics: Sequence[str] | None, use_sim_time: bool, on_notice: OnNotice | None) -> None:
         self.topics = tuple(topics) if topics else DEFAULT_TOPICS
         self.use_sim_time = use_sim_time
         self.message_count = 0  # transform messages received so far
-        self._clock: Clock = TickedClock() if use_sim_time else WallClock()
+        self._clock: Clock = TickedClock(self.ros2) if use_sim_time else WallClock()
         self._on_notice = on_notice or ignore_notice
         self._notice_once = NoticeOnce(on_notice)
         self._closed = threading.Event()

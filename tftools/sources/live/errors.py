@@ -80,17 +80,30 @@ class DdsError(LiveError):
         )
 
 
-#: How to replay with /clock, in both ROSes' words: the clock that waits is not told which ROS it serves.
-REPLAY_WITH_CLOCK = "replay with the clock (ROS 1: rosbag play --clock BAG; ROS 2: ros2 bag play --clock BAG)"
+def replay_with_clock(ros2: bool | None) -> str:
+    """How to replay a recording with ``/clock``, in the words of the ROS the waiting clock serves (``ros2``;
+    None: not told, each ROS's way)."""
+    ros1_way, ros2_way = "rosbag play --clock BAG", "ros2 bag play --clock BAG"
+    if ros2 is None:
+        return f"replay with the clock (ROS 1: {ros1_way}; ROS 2: {ros2_way})"
+    return f"replay with the clock ({ros2_way if ros2 else ros1_way})"
 
 
 class NoClockError(LiveError):
-    def __init__(self, seconds: float) -> None:
+    """Simulated time asked for on ROS 1 (``ros2`` False), ROS 2 (True) or a clock not told which (None),
+    and no ``/clock`` in ``seconds``."""
+
+    def __init__(self, seconds: float, ros2: bool | None = None) -> None:
+        off = {
+            None: "use_sim_time=False; ROS 1: rosparam set /use_sim_time false",
+            False: "rosparam set /use_sim_time false",
+            True: "use_sim_time=False, a ROS 2 node's default",
+        }[ros2]
         super().__init__(
             f"simulated time is on (use_sim_time), but no /clock came in {seconds:g} s: time stands still at 0",
-            f"{REPLAY_WITH_CLOCK}, or run without simulated time (use_sim_time=False; ROS 1: rosparam set "
-            "/use_sim_time false)",
+            f"{replay_with_clock(ros2)}, or run without simulated time ({off})",
         )
+        self.ros2 = ros2
 
 
 class NoTransformsHeardError(LiveError):

@@ -74,6 +74,7 @@ class Ros1Source(LiveSource):
     as every ROS node does (which also checks that the master answers)."""
 
     format = "ros1-live"
+    ros2 = False
 
     def __init__(
         self,

@@ -50,6 +50,7 @@ class Ros2Source(LiveSource):
     means wall time, as for a ROS 2 node whose parameter does not say otherwise."""
 
     format = "ros2-live"
+    ros2 = True
 
     def __init__(
         self,
