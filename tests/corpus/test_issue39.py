@@ -1,0 +1,289 @@
+"""Issue 39's defects, each on the real recording that showed it, in every output form it appears in (terminal,
+``--format json``, ``--format junit``, view-frames, report, filter, echo): what a user of that recording reads.
+
+Each test is judged by the recording's bytes and manifest entry; it skips while the recording awaits placement,
+as the rest of the corpus tests do. ``/work/notes/issue39_audit.md`` lists which defect each test pins."""
+
+from __future__ import annotations
+
+import html
+import json
+import re
+import xml.etree.ElementTree as ElementTree
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus.fetch import Recording, load_manifest
+from tftools.analysis.findings import Severity
+from tftools.analysis.wtf.registry import CHECKS
+
+_, RECORDINGS = load_manifest()
+BY_ID = {r.id: r for r in RECORDINGS}
+WITH_TF = [r for r in RECORDINGS if r.meta["frames"]]
+
+Corpus = Callable[[Recording], Path]
+
+EPUCK = "ros2-webots-epuck-resends-2025-db3"
+CREATE3 = "ros2-create3-real-two-urdfs-2022-db3"
+NEATOS = [
+    "ros2-neato-real-two-static-publishers-2023-db3",
+    "ros2-neato-real-two-static-publishers-2024-db3",
+    "ros2-neato-real-two-static-publishers-2023b-db3",
+]
+UR5 = "ros2-ur5-two-clocks-topic-tf-2023-db3"
+SLAM_TOOLBOX = "ros2-jetacker-gazebo-slam-toolbox-static-map-2025-db3"
+FRANKA_JSON = "json-mcap-franka-teleop-2025"
+BOAT = "ros2-stinger-boat-gps-into-odom-2025-db3"
+LAP = "ros2-turtlebot3-real-wifi-outage-2025-db3"
+WAFFLE_NO_TF = "turtlebot3-waffle-odom-statics-2017-bag"
+EMPTY_TF_STATIC = "ros2-turtlebot3-gazebo-amcl-empty-tf-static-2023-db3"
+CALIBRATION_2025 = "grandtour-calibration-2025-bag"
+
+#: Commands and words of ROS 1 only: never said of a ROS 2 recording (and ROS 2's never of a ROS 1 one).
+ROS1_ONLY = re.compile(r"\brosrun\b|\brosbag (?:play|record|info)\b|\brostopic\b|\brosparam\b|\broslaunch\b|latched")
+ROS2_ONLY = re.compile(r"\bros2 (?:run|bag|topic|param|launch)\b|transient local")
+
+
+def _recording(corpus: Corpus, recording_id: str) -> tuple[Recording, Path]:
+    recording = BY_ID[recording_id]
+    return recording, corpus(recording)
+
+
+def _findings(tfx: Tfx, *args: str | Path) -> tuple[int, dict[str, Any], list[dict[str, Any]]]:  # noqa: F811
+    result = tfx("wtf", *args, "--format", "json")
+    assert result.stdout.strip(), result.stderr
+    report = json.loads(result.stdout)
+    (bag,) = report["bags"]
+    return result.code, bag, bag["findings"]
+
+
+def _words(text: str) -> str:
+    """Terminal text with its wrapping undone: one space between words."""
+    return " ".join(text.split())
+
+
+def _junit_failures(tfx: Tfx, path: Path) -> list[tuple[str, str]]:  # noqa: F811
+    """(code, message) of each JUnit failure or error of ``tfx wtf --format junit``."""
+    result = tfx("wtf", path, "--format", "junit")
+    root = ElementTree.fromstring(result.stdout)
+    failed = []
+    for case in root.iter("testcase"):
+        for kind in ("failure", "error"):
+            for element in case.findall(kind):
+                failed.append((case.attrib["name"], element.attrib.get("message", "")))
+    return failed
+
+
+def _view_frames_legend(tfx: Tfx, path: Path) -> tuple[int, list[str]]:  # noqa: F811
+    """view-frames' exit code and its legend's rows, as text."""
+    result = tfx("view-frames", "-b", path, "-o", "-", "-f", "dot")
+    legend = result.stdout[result.stdout.find("legend") :]
+    rows = [html.unescape(re.sub(r"<[^>]+>", "", row)) for row in re.findall(r"<TD[^>]*>(.*?)</TD>", legend)]
+    return result.code, [_words(row) for row in rows]
+
+
+# --- one publisher taken for two ---------------------------------------------------------------
+
+
+def test_epuck_one_publisher_re_sending_is_said_so_in_every_form(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Webots' diff-drive controller re-sends its last odometry when the simulation did not advance (182 of 598
+    stamps twice, identical values): was 'two steady 17.1 Hz streams taking turns'. A note, said as observed."""
+    _, path = _recording(corpus, EPUCK)
+    code, _, findings = _findings(tfx, path)
+    assert code == 0
+    (resent,) = [f for f in findings if f["code"] == "resent"]
+    assert resent["severity"] == "info" and resent["frames"][:2] == ["odom", "base_link"]
+    assert "182 of its 598 stamps arrived again" in resent["message"]
+    assert "one publisher re-sending its last value, not two" in resent["message"]
+    text = _words(tfx("wtf", path).stdout)
+    assert "taking turns" not in text and "two identical publishers" not in text
+    assert "182 of its 598 stamps arrived again" in text
+    assert _junit_failures(tfx, path) == []
+    assert _view_frames_legend(tfx, path)[0] == 0
+
+
+def test_slam_toolbox_re_sending_map_to_odom_is_not_two_publishers(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """slam_toolbox re-sends its map -> odom correction every 20 ms (3,142 messages, 44 stamps): one node, not
+    'two identical publishers' nor turn-taking, and not stale (its stamp is the newest of the recording)."""
+    _, path = _recording(corpus, SLAM_TOOLBOX)
+    _, _, findings = _findings(tfx, path)
+    about = [f for f in findings if f["frames"][:2] == ["map", "odom"]]
+    assert not [f for f in about if f["code"] in ("multiple_authorities", "stale")], about
+    assert not [f for f in about if "taking turns" in f["message"] or "two identical" in f["message"]]
+
+
+# --- static_conflict in ROS 2, one cause -------------------------------------------------------
+
+
+def test_create3_two_descriptions_are_one_cause_in_every_form(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
+    """Two /tf_static messages (33 and 23 transforms) of two descriptions: one static_conflict, with the urdf
+    findings that follow from it beneath it (was 21 dynamic_on_static + 21 urdf_moved + 4 more errors)."""
+    _, path = _recording(corpus, CREATE3)
+    code, bag, findings = _findings(tfx, path)
+    assert code == 1
+    causes = [f for f in findings if f["severity"] == "error" and not f["cause"]]
+    assert [f["code"] for f in causes] == ["static_conflict"]
+    (conflict,) = causes
+    assert conflict["figures"]["publisher_1_transforms"] == 33 and conflict["figures"]["publisher_2_transforms"] == 23
+    assert conflict["count"] == 21 and "up to 339.1 mm" in conflict["message"]
+    assert "tf2 keeps the last received for every time: publisher 2's" in conflict["message"]
+    urdf = [f for f in findings if f["code"].startswith("urdf_") and f["severity"] == "error"]
+    assert len(urdf) == 25 and all(f["cause"] == conflict["key"] for f in urdf)
+    assert not [f for f in findings if f["code"] == "dynamic_on_static"]
+    assert bag["summary"]["errors"] == 1
+    assert "1 error (explaining 25 more)" in _words(tfx("wtf", path).stdout)
+    assert [code for code, _ in _junit_failures(tfx, path)] == ["static_conflict"]
+    exit_code, legend = _view_frames_legend(tfx, path)
+    assert exit_code == 1 and any(row.startswith("Problems: 1 error") for row in legend), legend
+    page = tmp_path / "create3.html"
+    assert tfx("report", "-b", path, "-o", page).code == 1
+    assert "1 error (explaining 25 more)" in html.unescape(page.read_text())
+
+
+@pytest.mark.parametrize("recording_id", NEATOS)
+def test_neato_two_static_publishers_are_one_static_conflict_in_every_form(
+    recording_id: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """metadata.yaml lists 2 publishers of /tf_static; the laser at (-0.1016, 0, 0.0889) in one, (-0.084, 0, 0.166)
+    in robot_state_publisher's: one static_conflict (was dynamic_on_static "it changed 1 time"), given as the bag
+    directory or as the .db3 inside it (whose metadata.yaml beside it is read)."""
+    _, path = _recording(corpus, recording_id)
+    (db3,) = path.glob("*.db3")
+    for given in (path, db3):
+        code, _, findings = _findings(tfx, given)
+        assert code == 1 and [f["code"] for f in findings] == ["static_conflict"], findings
+        message = findings[0]["message"]
+        assert "metadata.yaml lists 2 publishers" in message and "base_link -> base_laser_link (79.1 mm" in message
+        assert "tf2 keeps the last received for every time: publisher 2's" in message
+    assert [code for code, _ in _junit_failures(tfx, path)] == ["static_conflict"]
+    exit_code, legend = _view_frames_legend(tfx, path)
+    assert exit_code == 1 and "Problems: 1 error" in legend, legend
+
+
+# --- one time base per question ----------------------------------------------------------------
+
+
+def test_ur5_echo_at_plus_one_counts_on_the_arms_own_clock(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """``tfx echo base_link wrist_3_link --topic tf --at +1``, the issue's command: the arm is on simulated time
+    (1907-1914 s) beside detections on wall time; +1 was counted on the wall-clock base and failed."""
+    _, path = _recording(corpus, UR5)
+    result = tfx("echo", "base_link", "wrist_3_link", "--topic", "tf", "--at", "+1", "-b", path, "-f", "json")
+    assert result.code == 0, result.stderr
+    assert 1907.0 < json.loads(result.stdout)["stamp_ns"] / 1e9 < 1910.0
+
+
+# --- each ROS's words --------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("recording", WITH_TF, ids=[r.id for r in WITH_TF])
+def test_each_recording_is_told_in_its_own_ros_words(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """No ROS 1 command (or 'latched') in what is said of a ROS 2 recording, no ROS 2 command of a ROS 1 one; a
+    source said twice ('on /tf on /tf', an edge sent 800 times said 'sent once on /tf on /tf') nowhere."""
+    _, _, findings = _findings(tfx, corpus(recording))
+    alien = ROS1_ONLY if recording.meta["format"] != "ros1" else ROS2_ONLY
+    for f in findings:
+        said = f"{f['message']} {f['hint']}"
+        assert not alien.search(said), (f["code"], said)
+        assert not re.search(r"on (/tf(?:_static)?) on \1\b", said), (f["code"], said)
+
+
+@pytest.mark.parametrize("recording_id", [SLAM_TOOLBOX, FRANKA_JSON])
+def test_mixed_static_on_ros2_data_explains_ros2s_rule(recording_id: str, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """ROS 2's tf2 replaces a frame's cache when it switches between /tf_static and /tf (ROS 1's made it a static
+    frame for every time: the words the ROS 2 recordings were told)."""
+    _, path = _recording(corpus, recording_id)
+    _, _, findings = _findings(tfx, path)
+    mixed = [f for f in findings if f["code"] == "mixed_static"]
+    assert mixed
+    for f in mixed:
+        assert "ROS 2's tf2 replaces a frame's cache when it switches between /tf_static and /tf" in f["message"]
+        assert "static frame" not in f["message"] and "for every time" not in f["message"]
+
+
+def test_a_stale_edge_sent_many_times_is_not_said_sent_once(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The real TurtleBot3's wheels stop after a Wi-Fi outage (hundreds of transforms before): 'stopped at',
+    never 'was sent once on /tf on /tf'."""
+    _, path = _recording(corpus, LAP)
+    _, _, findings = _findings(tfx, path)
+    stale = [f for f in findings if f["code"] == "stale"]
+    assert stale and all("stopped at" in f["message"] and "sent once" not in f["message"] for f in stale)
+
+
+# --- severities as documented ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("recording", WITH_TF, ids=[r.id for r in WITH_TF])
+def test_no_finding_is_louder_than_list_checks_says(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """``--list-checks`` gives each check's severity as the most it reports (the boat's GPS steps were raised to
+    an error that --list-checks lists as a warning)."""
+    _, _, findings = _findings(tfx, corpus(recording))
+    for f in findings:
+        assert Severity(f["severity"]).rank >= CHECKS[f["code"]].severity.rank, (f["code"], f["severity"])
+
+
+def test_boat_gps_steps_are_a_warning_and_every_output_passes(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A GPS fix fused into odom steps 0.197 m at +23.5 s: jump, a warning (--list-checks' severity); wtf and
+    view-frames exit 0 (every lookup works)."""
+    _, path = _recording(corpus, BOAT)
+    code, _, findings = _findings(tfx, path)
+    assert code == 0
+    assert [(f["code"], f["severity"]) for f in findings if f["severity"] != "info"] == [("jump", "warning")]
+    assert "the largest 0.197 m" in findings[0]["message"]
+    assert _junit_failures(tfx, path) == []
+    assert _view_frames_legend(tfx, path)[0] == 0
+
+
+# --- hints that point the right way ------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("recording_id", "missing"),
+    [
+        (WAFFLE_NO_TF, "this recording holds no /tf"),
+        (EMPTY_TF_STATIC, "/tf_static was recorded but holds no transform"),
+    ],
+)
+def test_sensor_frame_without_the_tf_that_names_it_says_what_is_missing(
+    recording_id: str,
+    missing: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """Sensor data in a frame no transform names because tf was not recorded (or recorded empty): the hint says
+    that, not to set the driver's frame_id."""
+    _, path = _recording(corpus, recording_id)
+    _, _, findings = _findings(tfx, path)
+    (sensor,) = [f for f in findings if f["code"] == "sensor_frame"]
+    assert missing in sensor["hint"] and "frame_id" not in sensor["hint"], sensor["hint"]
+    assert missing in _words(tfx("wtf", path).stdout)
+
+
+def test_multiple_parents_on_tf_static_is_not_an_object_picked_up(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A calibration's /tf_static message sending box_base_model under two parents: tf2 keeps the last for every
+    time; no 'object picked up' (a /tf re-parenting's story)."""
+    _, path = _recording(corpus, CALIBRATION_2025)
+    _, _, findings = _findings(tfx, path)
+    (parents,) = [f for f in findings if f["code"] == "multiple_parents"]
+    assert "picked up" not in parents["hint"] and "tf2 keeps the last static transform" in parents["hint"]
+
+
+# --- filter: what no cache keeps ---------------------------------------------------------------
+
+
+def test_filter_says_no_cache_keeps_messages_stamped_before_tf(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The boat's first 10 IMU messages are stamped before the recording's odom -> base_link began: no cache
+    keeps them (the real MessageFilter drops them with a 15 s cache too), so no cache is suggested for them."""
+    _, path = _recording(corpus, BOAT)
+    result = tfx("filter", "-b", path, "--format", "json")
+    assert result.code == 0, result.stderr
+    (imu,) = [t for t in json.loads(result.stdout)["topics"] if t["topic"] == "/imu/data"]
+    assert imu["before_tf"] == 10 and imu["cache_needed_s"] is None
+    text = _words(tfx("filter", "-b", path).stdout)
+    assert "10 stamped before tf began: no cache keeps them; record tf from before the sensor" in text
+    assert not re.search(r"cache \d", text)
