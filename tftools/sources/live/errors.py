@@ -107,12 +107,18 @@ class NoClockError(LiveError):
 
 
 class NoTransformsHeardError(LiveError):
-    """A capture heard no transform on its ``topics`` from the live system ``source`` in ``duration`` s."""
+    """A capture heard no transform on its ``topics`` from the live system ``source`` in ``duration`` s; its hint
+    in the words of that system's ROS (``ros2``; None: not told, each ROS's way)."""
 
-    def __init__(self, topics: Sequence[str], source: str, duration: float) -> None:
+    def __init__(self, topics: Sequence[str], source: str, duration: float, ros2: bool | None = None) -> None:
+        ask = {
+            None: "rostopic info /tf on ROS 1, ros2 topic info /tf --verbose on ROS 2",
+            False: "rostopic info /tf",
+            True: "ros2 topic info /tf --verbose",
+        }[ros2]
         super().__init__(
             f"no transforms on {', '.join(topics)} from {source} in {duration:g} s",
-            "is anything publishing? (rostopic info /tf) listen longer",
+            f"is anything publishing? ({ask}) listen longer",
         )
         self.topics, self.source, self.duration = list(topics), source, duration
 

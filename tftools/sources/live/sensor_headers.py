@@ -56,5 +56,5 @@ def capture_live(
         recording, stamped = capture_stamped(source, duration, headers or None, semantics=semantics)
         recording.contents.stamped = stamped
     if require_tf and not recording.transform_count:
-        raise NoTransformsHeardError(recording.contents.topics, source.describe(), duration)
+        raise NoTransformsHeardError(recording.contents.topics, source.describe(), duration, source.ros2)
     return recording
