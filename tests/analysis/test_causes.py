@@ -484,3 +484,32 @@ def test_findings_of_one_flooding_message_are_linked_by_key_not_compared_pairwis
     found = explain(flood, [keyed])
     assert len([f for f in found if f.key]) == 50 and sum(f.cause == "stale:1" for f in found) == 99
     assert compared < 2 * len(flood)  # compared pairwise: ~n²/2
+
+
+@pytest.mark.parametrize(("both_parents_from_one", "beneath"), [(False, True), (True, False)])
+def test_a_frame_two_disputing_descriptions_place_apart_follows_their_static_conflict(
+    both_parents_from_one: bool, beneath: bool
+) -> None:
+    """ros1_gtbox_tf_static.bag with its 2025 calibration (-b both): prism_model under prism in one, under
+    box_base in the other, was an error of its own beside the static_conflict of the same two descriptions.
+    Where one description itself sends the frame under both parents (the 2025 file's box_base_model), that
+    is its own mistake: it stands alone."""
+    start = scenes.START
+    laser = [scenes._t("mount", "laser", start, 0.2)]
+    if both_parents_from_one:
+        laser.append(scenes._t("base_link", "laser", start, 0.2))
+    second = TfMessage(
+        "/tf_static",
+        start + NS_PER_S,
+        [scenes._t("base_link", "camera", start, 0.25), scenes._t("base_link", "mount", start, 0.1), *laser],
+        "/calibration",
+    )
+    found = check(scenes.recording(scenes.with_extra([second]))).findings
+    (conflict,) = [f for f in found if f.code == "static_conflict"]
+    (parents,) = [f for f in found if f.code == "multiple_parents"]
+    assert parents.frames[0] == "laser"
+    assert parents.figures["parents_each_from_other_static_publishers"] == int(not both_parents_from_one)
+    assert (parents.cause == conflict.key != "") is beneath
+    assert causes([f for f in found if f.severity is Severity.error]) == (
+        [conflict] if beneath else [conflict, parents]
+    )

@@ -66,9 +66,9 @@ def _words(text: str) -> str:
     return " ".join(text.split())
 
 
-def _junit_failures(tfx: Tfx, path: Path) -> list[tuple[str, str]]:  # noqa: F811
-    """(code, message) of each JUnit failure or error of ``tfx wtf --format junit``."""
-    result = tfx("wtf", path, "--format", "junit")
+def _junit_failures(tfx: Tfx, *paths: Path) -> list[tuple[str, str]]:  # noqa: F811
+    """(code, message) of each JUnit failure or error of ``tfx wtf -b PATH ... --format junit`` (one recording)."""
+    result = tfx("wtf", *(a for p in paths for a in ("-b", p)), "--format", "junit")
     root = ElementTree.fromstring(result.stdout)
     failed = []
     for case in root.iter("testcase"):
@@ -287,3 +287,19 @@ def test_filter_says_no_cache_keeps_messages_stamped_before_tf(corpus: Corpus, t
     text = _words(tfx("filter", "-b", path).stdout)
     assert "10 stamped before tf began: no cache keeps them; record tf from before the sensor" in text
     assert not re.search(r"cache \d", text)
+
+
+def test_two_calibrations_placing_a_frame_apart_is_beneath_their_static_conflict(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """-b both GrandTour calibrations: prism_model is under prism in the 2024 one and under box_base in the 2025
+    one: it follows from their static_conflict (said beneath it); box_base_model, sent under two parents by the
+    2025 file itself, is that file's own mistake and stands alone."""
+    _, first = _recording(corpus, "grandtour-calibration-2024-bag")
+    _, second = _recording(corpus, CALIBRATION_2025)
+    code, bag, findings = _findings(tfx, "-b", first, "-b", second)
+    assert code == 1
+    (conflict,) = [f for f in findings if f["code"] == "static_conflict"]
+    parents = {f["frames"][0]: f for f in findings if f["code"] == "multiple_parents"}
+    assert parents["prism_model"]["cause"] == conflict["key"] != ""
+    assert parents["box_base_model"]["cause"] == ""
+    assert bag["summary"]["errors"] == 2 and bag["summary"]["explained"] == 1
+    assert sorted(code for code, _ in _junit_failures(tfx, first, second)) == ["multiple_parents", "static_conflict"]

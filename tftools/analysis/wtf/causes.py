@@ -66,6 +66,13 @@ def edges_of(finding: Finding) -> set[tuple[str, str]]:
     return set(zip(finding.frames[0::2], finding.frames[1::2], strict=False))
 
 
+def _placed_apart(cause: Finding, finding: Finding) -> bool:
+    """A frame the disputing /tf_static publishers each send under another parent (of its parents, each from
+    publishers none of the others came from): their two descriptions' layouts differ, one dispute."""
+    apart = finding.figures.get("parents_each_from_other_static_publishers") == 1
+    return apart and set(finding.authorities) <= set(cause.authorities)
+
+
 def _during(cause: Finding, finding: Finding) -> bool:
     """A finding about one of the cause's edges at a time that overlaps the cause's."""
     return (
@@ -97,6 +104,13 @@ RULES = (
         _on_its_frames,
         "a robot description that disagrees with tf on frames whose /tf_static values are in dispute: "
         "tf holds one of the disputed values, and the description agrees with another",
+    ),
+    Rule(
+        frozenset({"static_conflict"}),
+        frozenset({"multiple_parents"}),
+        _placed_apart,
+        "a frame that two disputing /tf_static publishers place under different parents: their descriptions' "
+        "layouts differ, said once with the values they disagree on",
     ),
     Rule(
         frozenset({"dynamic_on_static"}),

@@ -211,8 +211,10 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         f", first at {scene.at(int(switch_times[0]))}, and is now under {now}"
     )
     all_publishers = tuple(dict.fromkeys(a for group in publishers for a in group))
+    figures: dict[str, float | int | str] = {"parents": len(names)}
     if rows.static[mine].all():
         hint = _static_parents_hint(scene, child, mine, names, now)
+        figures["parents_each_from_other_static_publishers"] = int(_each_from_others(scene, mine))
     elif scene.publishers_known and not set.intersection(*map(set, publishers)):
         hint = (
             f"{child} can have one parent only, and these publishers fight over it: lookups jump between trees. "
@@ -234,7 +236,17 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         int(switch_times[0]),
         int(switch_times[-1]),
         len(switches),
+        figures=figures,
     )
+
+
+def _each_from_others(scene: Scene, mine: IntpArray) -> bool:
+    """Whether each parent of a frame sent on /tf_static came from publishers none of its other parents came
+    from: two descriptions that place it differently (``causes``: their ``static_conflict`` explains it), not
+    one publisher sending it under two parents (a mistake of that description alone)."""
+    senders, rows = static_senders(scene), scene.rows
+    groups = [set(senders.of(theirs)) for _, theirs in split(mine, rows.parent[mine])]
+    return all(not (a & b) for a, b in itertools.combinations(groups, 2))
 
 
 def _static_parents_hint(scene: Scene, child: str, mine: IntpArray, names: list[str], now: str) -> str:
