@@ -11,12 +11,15 @@ from tests.analysis.wtf_scenes import PROBLEMS, recording
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import tree_of
-from tftools.analysis.graph import FrameGraph, frame_graph
+from tftools.analysis.graph import FrameGraph, frame_graph, view_frames
 from tftools.analysis.wtf import Scene, findings_of
+from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
 from tftools.render.graph import to_digraph
+from tftools.sources.live.base import LiveSource, OnBatch
+from tftools.sources.live.sensor_headers import capture_live
 
 START = 1_700_000_000 * NS_PER_S
 END = START + 10 * NS_PER_S
@@ -217,3 +220,33 @@ def test_an_edge_stamped_ahead_of_the_recordings_end_is_said_ahead_never_negativ
     assert "(stamped 0.050 s ahead of the recording's clock)" in source
     assert "(0.100 s old)" in source  # map -> odom at 10 Hz: its newest stamp 0.1 s before the end
     assert not re.search(r"-[0-9.]+ s old", source)
+
+
+class _AheadRobot(LiveSource):
+    """A live robot on the wall clock whose odom -> base_link is stamped 10 s ahead of the listener's clock."""
+
+    format = "test-live"
+
+    def __init__(self) -> None:
+        super().__init__(None, False, None)
+
+    def start(self, on_batch: OnBatch) -> None:
+        builder, now = BatchBuilder(), self.clock.now()
+        for i in range(5):
+            stamp = now + 10 * NS_PER_S + i * NS_PER_S // 10
+            builder.add("odom", "base_link", stamp, (i, 0, 0), (0, 0, 0, 1), record_time=now, authority="/odometry")
+        self.message_count += 5
+        self._pass_on(on_batch, builder.take())
+
+    def describe(self) -> str:
+        return "a robot ahead"
+
+    def close(self) -> None:
+        self._closed.set()
+
+
+def test_a_live_edge_stamped_ahead_is_said_ahead_of_the_listeners_clock() -> None:
+    graph = view_frames(capture_live(_AheadRobot(), 0.05))
+    source = to_digraph(graph, None).source
+    assert re.search(r"\(stamped \d+\.\d{3} s ahead of the listener's clock\)", source), source
+    assert " s old" not in source

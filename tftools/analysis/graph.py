@@ -102,7 +102,8 @@ def frame_graph(scene: Scene, findings: Sequence[Finding] | None = None) -> Fram
     )
     nodes = tuple(GraphNode(name, name in roots, tuple(node_problems.get(name, ()))) for name in names)
     timeline = scene.timeline
-    clock = timeline.clock.topic if timeline.reference is Reference.CLOCK else "the recording's clock"
+    clock = "the listener's clock" if scene.recording.contents.live else "the recording's clock"
+    clock = timeline.clock.topic if timeline.reference is Reference.CLOCK else clock
     return FrameGraph(nodes, edges, found, buffer.now(), timeline.own_clock_ends, clock)
 
 
