@@ -181,6 +181,25 @@ def test_motion_from_rest_fast_turns_and_a_gap_are_explained_by_the_edge_s_own_m
     assert jumps(stamps, values).at.tolist() == [600]
 
 
+def _wheel(angles_deg: np.ndarray) -> np.ndarray:
+    """A wheel's samples: turning about y by ``angles_deg``, never moving."""
+    values = np.zeros((len(angles_deg), 7))
+    half = np.radians(angles_deg) / 2
+    values[:, 4], values[:, 6] = np.sin(half), np.cos(half)
+    return values
+
+
+def test_a_wheel_starting_from_rest_with_a_step_under_its_usual_one_is_its_own_motion() -> None:
+    """The real Neato's wheel (corpus ros2-neato-real-person-marker-2025-db3): ~30° a sample at 5.5 Hz, at
+    rest for three samples, then 3.3° (the first motion from rest, above the fixed 3° floor) was a 'jump'."""
+    steps = np.r_[np.full(40, 29.5), 1.6, 0.0, 1.6, 0.0, 0.0, 3.3]
+    stamps = (np.arange(len(steps) + 1) * 0.18 * NS_PER_S).astype(np.int64)
+    assert len(jumps(stamps, _wheel(np.r_[0.0, np.cumsum(steps)]))) == 0
+    flips = np.r_[np.zeros(20), np.full(5, 180.0), np.zeros(20), np.full(5, 180.0), np.zeros(20)]  # its only motion
+    found = jumps(np.arange(len(flips), dtype=np.int64) * 100_000_000, _wheel(flips))
+    assert found.at.tolist() == [20, 25, 45, 50]  # each flip and each return: still jumps
+
+
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
 def test_the_healthy_robots_jumps_and_rep105_stay_quiet(ros1: bool) -> None:
     assert not [

@@ -30,6 +30,10 @@ JOINT_SHARE = 0.9
 WINDOWS_AT_ONCE = 65536
 FLOOR_M = 0.05
 FLOOR_DEG = 3.0
+#: The floors grow to this share of the edge's usual step (the median of its steps that moved): a wheel that
+#: turns 30° a sample starts from rest with a 3.3° step (a real Neato's), its own motion, while a joint whose
+#: only motion is flipping between two positions still flips by twice that share of its usual step.
+REST_SHARE = 0.5
 
 #: REP 105's frames, by their name without a namespace prefix.
 ODOM, MAP, BASES = "odom", "map", ("base_link", "base_footprint")
@@ -63,9 +67,10 @@ def jumps(stamps: np.ndarray, values: FloatArray) -> Jumps:
 SAMPLES_AT_ONCE = 1 << 20
 
 
-def edges_jumps(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[Jumps]:
+def edges_jumps(edges: Sequence[tuple[np.ndarray, FloatArray]], rest_share: float = REST_SHARE) -> list[Jumps]:
     """``jumps`` of each edge's (stamps, values), several edges in one pass: their steps laid end to end with
-    ``NEIGHBOURS`` NaN speeds between two edges, so that no step's neighbours are another edge's."""
+    ``NEIGHBOURS`` NaN speeds between two edges, so that no step's neighbours are another edge's.
+    ``rest_share``: of its usual step, what an edge may move from rest (0: the fixed floors alone)."""
     found: list[Jumps] = []
     start = 0
     while start < len(edges):
@@ -73,12 +78,12 @@ def edges_jumps(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[Jumps]:
         while end < len(edges) and size + len(edges[end][0]) <= SAMPLES_AT_ONCE:
             size += len(edges[end][0])
             end += 1
-        found += _jumps_in_one_pass(edges[start:end])
+        found += _jumps_in_one_pass(edges[start:end], rest_share)
         start = end
     return found
 
 
-def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[Jumps]:
+def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]], rest_share: float) -> list[Jumps]:
     counts = np.array([len(stamps) for stamps, _ in edges], np.intp)
     steps_of = np.maximum(counts - 1, 0)
     if not steps_of.any():
@@ -92,15 +97,33 @@ def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[J
     metres, degrees = apart(values[begin], values[begin + 1])
     seconds = (stamps[begin + 1] - stamps[begin]).astype(np.float64) / NS_PER_S
     at = np.arange(len(begin)) + NEIGHBOURS * (edge_of_step + 1)  # where each step's speed is laid
+    floor_m = np.maximum(FLOOR_M, rest_share * _usual_steps(metres, edge_of_step, len(edges)))[edge_of_step]
+    floor_deg = np.maximum(FLOOR_DEG, rest_share * _usual_steps(degrees, edge_of_step, len(edges)))[edge_of_step]
     with np.errstate(over="ignore", invalid="ignore"):  # steps of infinite metres (values near 1e308)
-        allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds, at) * seconds + FLOOR_M
-        allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds, at) * seconds + FLOOR_DEG
+        allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds, at) * seconds + floor_m
+        allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds, at) * seconds + floor_deg
     unexplained = (metres > allowed_m) | (degrees > allowed_deg)
     bounds = np.searchsorted(edge_of_step, np.arange(len(edges) + 1))
     return [
         Jumps(local[a:b][unexplained[a:b]] + 1, metres[a:b][unexplained[a:b]], degrees[a:b][unexplained[a:b]])
         for a, b in pairwise(bounds.tolist())
     ]
+
+
+def _usual_steps(steps: FloatArray, edge_of_step: IntpArray, edges: int) -> FloatArray:
+    """Per edge, the median of its steps that moved (finite, above 0), 0 for an edge that never moved: one
+    sort by (edge, step) for all, not a call per edge."""
+    moved = np.isfinite(steps) & (steps > 0)
+    owner, size = edge_of_step[moved], steps[moved]
+    order = np.lexsort((size, owner))
+    size = size[order]
+    counts = np.bincount(owner, minlength=edges)
+    first = np.cumsum(counts) - counts
+    usual: FloatArray = np.zeros(edges)
+    some = counts > 0
+    low, high = first[some] + (counts[some] - 1) // 2, first[some] + counts[some] // 2
+    usual[some] = size[low] / 2 + size[high] / 2
+    return usual
 
 
 def _neighbour_speed(steps: FloatArray, seconds: FloatArray, at: IntpArray) -> FloatArray:
@@ -140,7 +163,10 @@ def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Ju
         and samples.key not in contested
         and (base_name(samples.child) == ODOM) is into_odom
     ]
-    for samples, found in zip(checked, edges_jumps([(s.stamps, s.values) for s in checked]), strict=True):
+    # map -> odom moves by its corrections alone: its usual step is a correction, and each one is counted
+    rest_share = 0.0 if into_odom else REST_SHARE
+    found_in = edges_jumps([(s.stamps, s.values) for s in checked], rest_share)
+    for samples, found in zip(checked, found_in, strict=True):
         if len(found):
             yield samples, found, samples.stamps[found.at]
 
