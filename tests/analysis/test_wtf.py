@@ -437,6 +437,23 @@ def test_a_publisher_that_stutters_is_irregular_but_one_pause_is_a_gap() -> None
     assert "went silent 1 time" in gap.message and "3.1 s" in gap.message
 
 
+def test_edges_of_one_stuttering_publisher_in_messages_of_their_own_are_one_rate_cause() -> None:
+    """A real Neato's driver (corpus ros2-neato-real-teleop-pulses-2025-db3) sends odom -> base_footprint and
+    each wheel in a message of its own, at the same stamps, microseconds apart: one irregular rhythm, said
+    once with the others beneath (their arrivals differ, their stamps do not)."""
+    dropped = np.random.default_rng(7).random(100) < 0.3
+    messages = [m for m in amcl() if not dropped[round((m.record_time - START) / NS_PER_S * 10) % 100]]
+    beside = [
+        TfMessage(m.topic, m.record_time + 50_000, [_t("odom", "beacon", t.stamp, 1.0)], m.publisher)
+        for m in messages
+        for t in m.transforms
+    ]
+    found = [f for f in check(recording(healthy(amcl=sorted(messages + beside, key=lambda m: m.record_time)))).findings]
+    rates = [f for f in found if f.code == "rate"]
+    assert len(rates) == 2 and all("publishes irregularly" in f.message for f in rates)
+    assert [f.frames for f in causes(rates)] == [("map", "odom")] and rates[1].cause == rates[0].key
+
+
 def test_a_robot_standing_still_is_healthy_though_odom_is_constant() -> None:
     parked = periodic("/ekf", 50, lambda t: [_t("odom", "base_link", t, 2.0)])
     assert check(recording(healthy(ekf=parked))).findings == []

@@ -181,6 +181,31 @@ def test_motion_from_rest_fast_turns_and_a_gap_are_explained_by_the_edge_s_own_m
     assert jumps(stamps, values).at.tolist() == [600]
 
 
+def _wheel(angles_deg: np.ndarray) -> np.ndarray:
+    """A wheel's samples: turning about y by ``angles_deg``, never moving."""
+    values = np.zeros((len(angles_deg), 7))
+    half = np.radians(angles_deg) / 2
+    values[:, 4], values[:, 6] = np.sin(half), np.cos(half)
+    return values
+
+
+def test_steps_at_the_edge_s_usual_speed_are_its_own_motion_and_a_flip_and_back_is_not() -> None:
+    """Real Neatos at 5.5 Hz (corpus ros2-neato-real-person-marker-2025-db3 and unseen CompRobo 2025 bags): a
+    wheel turning ~30° a sample stopped, then restarted with 3.3°; odometry turned in a teleop pulse (6.5,
+    10.4, 28.9, 11.8° a sample against a usual 3°): both were 'jumps', as their neighbours' median is ~0."""
+    every = (np.arange(47) * 0.18 * NS_PER_S).astype(np.int64)
+    restart = np.r_[np.full(40, 29.5), 1.6, 0.0, 1.6, 0.0, 0.0, 3.3]
+    assert len(jumps(every, _wheel(np.r_[0.0, np.cumsum(restart)]))) == 0
+    pulse = np.r_[np.full(30, 3.0), 6.5, 10.4, 28.9, 11.8, 0.9, np.full(11, 3.0)]
+    assert len(jumps(every, _wheel(np.r_[0.0, np.cumsum(pulse)]))) == 0
+    turning = np.r_[0.0, np.cumsum(np.full(46, 10.0))]
+    turning[20] += 60.0  # one sample flipped away and back onto its path: two sources taking turns
+    assert jumps(every, _wheel(turning)).at.tolist() == [20]  # the flip (its way back is at the usual pace)
+    flips = np.r_[np.zeros(20), np.full(5, 180.0), np.zeros(20), np.full(5, 180.0), np.zeros(20)]  # its only motion
+    found = jumps(np.arange(len(flips), dtype=np.int64) * 100_000_000, _wheel(flips))
+    assert found.at.tolist() == [20, 25, 45, 50]  # each flip and each return: too few steps to be its usual speed
+
+
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
 def test_the_healthy_robots_jumps_and_rep105_stay_quiet(ros1: bool) -> None:
     assert not [

@@ -63,6 +63,11 @@ class Contents:
         return {e: s for e, s in self.edges.items() if not s.static}
 
 
+def _is_tf_message(msgtype: str) -> bool:
+    """Whether tf2 reads the type: a topic named tf of another type (a TransformStamped) is no tf."""
+    return msgtype.rsplit("/", 1)[-1].lower() == "tfmessage"
+
+
 def _ns(stamp: Any) -> int:  # a rosbags message (untyped)
     return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
 
@@ -88,7 +93,7 @@ def read_contents(path: Path) -> Contents:
         topics = {c.topic for c in reader.connections}
         for connection, record_time, raw in reader.messages():
             times.append(record_time)
-            if connection.topic in TF_TOPICS:
+            if connection.topic in TF_TOPICS and _is_tf_message(connection.msgtype):
                 publisher = getattr(connection.ext, "callerid", None) or connection.topic
                 message: Any = reader.deserialize(raw, connection.msgtype)
                 sent[connection.topic, publisher] += bool(message.transforms)
@@ -166,7 +171,7 @@ def _read_db3(path: Path) -> Contents:
             for topic_id, record_time, raw in db.execute(query):
                 times.append(record_time)
                 topic, kind = types[topic_id]
-                if topic in TF_TOPICS:
+                if topic in TF_TOPICS and _is_tf_message(kind):
                     transforms = cast(Any, store.deserialize_cdr(raw, kind)).transforms
                     sent[topic, topic] += bool(transforms)
                     for t in transforms:

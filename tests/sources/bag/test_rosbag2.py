@@ -28,6 +28,7 @@ from tests.sources.ros2_helpers import (
     reference_rows,
     string_cdr,
     tf_cdr,
+    typestore,
     varied_messages,
     write_legacy_rosbag2,
     write_rosbag2,
@@ -92,6 +93,27 @@ def test_chosen_topics_only_and_other_types_named(tmp_path: Path) -> None:
     assert contents.problems == [
         "/chatter: std_msgs/msg/String (cdr) is not a transform message tftools reads, skipped"
     ]
+
+
+def test_a_topic_named_tf_of_one_transform_is_said_to_be_no_tf_to_tf2_either(tmp_path: Path) -> None:
+    """The e-Yantra eBot's recording (corpus ros2-ebot-nav2-tf-as-transformstamped-2024-db3): topic `tf`
+    of geometry_msgs/msg/TransformStamped, which no tf2 listener reads; not a limitation of tftools alone."""
+    lone = typestore().serialize_cdr(
+        typestore().types["geometry_msgs/msg/TransformStamped"](
+            typestore().types["std_msgs/msg/Header"](typestore().types["builtin_interfaces/msg/Time"](43, 0), "odom"),
+            "ebot_base_link",
+            typestore().types["geometry_msgs/msg/Transform"](
+                typestore().types["geometry_msgs/msg/Vector3"](1.0, 2.0, 0.0),
+                typestore().types["geometry_msgs/msg/Quaternion"](0.0, 0.0, 0.0, 1.0),
+            ),
+        ),
+        "geometry_msgs/msg/TransformStamped",
+    )
+    bag = write_rosbag2(tmp_path / "bag", [Other("tf", T0, lone, "geometry_msgs/msg/TransformStamped")])
+    _, contents = read_rows(bag)
+    (line,) = contents.unread
+    assert line.startswith("tf: geometry_msgs/msg/TransformStamped (cdr) is one transform, not a tf2_msgs TFMessage")
+    assert "no tf2 listener reads it" in line
 
 
 @pytest.mark.parametrize("storage", ["sqlite3", "mcap"])

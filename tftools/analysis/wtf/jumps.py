@@ -30,6 +30,12 @@ JOINT_SHARE = 0.9
 WINDOWS_AT_ONCE = 65536
 FLOOR_M = 0.05
 FLOOR_DEG = 3.0
+#: A step no faster than ``JUMP_FACTOR`` times either step beside it, or than the edge's usual speed (the
+#: median of its steps that moved, where at least this many did), is its own motion too, unless the edge is
+#: back where the step began within ``NEIGHBOURS`` samples (a flip and back: two sources taking turns). Real
+#: Neatos' odometry and wheels at 5.5 Hz move in pulses of two or three samples (teleop) and restart from rest
+#: with a step that the neighbours' median (0 around a pulse or a start) does not explain.
+USUAL_MIN_STEPS = 10
 
 #: REP 105's frames, by their name without a namespace prefix.
 ODOM, MAP, BASES = "odom", "map", ("base_link", "base_footprint")
@@ -63,9 +69,10 @@ def jumps(stamps: np.ndarray, values: FloatArray) -> Jumps:
 SAMPLES_AT_ONCE = 1 << 20
 
 
-def edges_jumps(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[Jumps]:
+def edges_jumps(edges: Sequence[tuple[np.ndarray, FloatArray]], usual: bool = True) -> list[Jumps]:
     """``jumps`` of each edge's (stamps, values), several edges in one pass: their steps laid end to end with
-    ``NEIGHBOURS`` NaN speeds between two edges, so that no step's neighbours are another edge's."""
+    ``NEIGHBOURS`` NaN speeds between two edges, so that no step's neighbours are another edge's. ``usual``:
+    a step at the edge's usual speed is explained (``USUAL_MIN_STEPS``); otherwise its neighbours' alone."""
     found: list[Jumps] = []
     start = 0
     while start < len(edges):
@@ -73,12 +80,12 @@ def edges_jumps(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[Jumps]:
         while end < len(edges) and size + len(edges[end][0]) <= SAMPLES_AT_ONCE:
             size += len(edges[end][0])
             end += 1
-        found += _jumps_in_one_pass(edges[start:end])
+        found += _jumps_in_one_pass(edges[start:end], usual)
         start = end
     return found
 
 
-def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[Jumps]:
+def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]], usual: bool) -> list[Jumps]:
     counts = np.array([len(stamps) for stamps, _ in edges], np.intp)
     steps_of = np.maximum(counts - 1, 0)
     if not steps_of.any():
@@ -92,10 +99,27 @@ def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[J
     metres, degrees = apart(values[begin], values[begin + 1])
     seconds = (stamps[begin + 1] - stamps[begin]).astype(np.float64) / NS_PER_S
     at = np.arange(len(begin)) + NEIGHBOURS * (edge_of_step + 1)  # where each step's speed is laid
-    with np.errstate(over="ignore", invalid="ignore"):  # steps of infinite metres (values near 1e308)
-        allowed_m = JUMP_FACTOR * _neighbour_speed(metres, seconds, at) * seconds + FLOOR_M
-        allowed_deg = JUMP_FACTOR * _neighbour_speed(degrees, seconds, at) * seconds + FLOOR_DEG
-    unexplained = (metres > allowed_m) | (degrees > allowed_deg)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):  # infinite metres (values near 1e308)
+        speed_m, speed_deg = (np.where(seconds > 0, steps / seconds, np.nan) for steps in (metres, degrees))
+        own_m, own_deg = _neighbour_speed(speed_m, at), _neighbour_speed(speed_deg, at)
+        unexplained = (metres > JUMP_FACTOR * own_m * seconds + FLOOR_M) | (
+            degrees > JUMP_FACTOR * own_deg * seconds + FLOOR_DEG
+        )
+        if usual and unexplained.any():
+            # the edge's usual pace, and the steps beside: flips explain nothing (judged where they matter: the
+            # steps the neighbours leave unexplained and the steps beside them)
+            near = np.unique(np.clip(np.flatnonzero(unexplained)[:, None] + np.arange(-1, 2), 0, len(begin) - 1))
+            back = np.zeros(len(begin), bool)
+            back[near] = _undone(
+                values, begin[near], local[near], steps_of[edge_of_step[near]], metres[near], degrees[near]
+            )
+            pace_m, pace_deg = (
+                np.where(back, 0.0, np.fmax(_usual(v, edge_of_step, len(edges)), _beside(v, at)))
+                for v in (np.where(back, np.nan, speed_m), np.where(back, np.nan, speed_deg))
+            )
+            unexplained &= (metres > JUMP_FACTOR * pace_m * seconds + FLOOR_M) | (
+                degrees > JUMP_FACTOR * pace_deg * seconds + FLOOR_DEG
+            )
     bounds = np.searchsorted(edge_of_step, np.arange(len(edges) + 1))
     return [
         Jumps(local[a:b][unexplained[a:b]] + 1, metres[a:b][unexplained[a:b]], degrees[a:b][unexplained[a:b]])
@@ -103,11 +127,48 @@ def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]]) -> list[J
     ]
 
 
-def _neighbour_speed(steps: FloatArray, seconds: FloatArray, at: IntpArray) -> FloatArray:
-    """Per step, the median speed of the ``NEIGHBOURS`` steps on each side (not itself); ``at``: where each
+def _usual(speed: FloatArray, edge_of_step: IntpArray, edges: int) -> FloatArray:
+    """Per step, its edge's median speed over the steps that moved (finite, above 0), 0 where fewer than
+    ``USUAL_MIN_STEPS`` did: one sort by (edge, speed) for all, not a call per edge."""
+    moved = np.isfinite(speed) & (speed > 0)
+    owner = edge_of_step[moved]
+    ordered = speed[moved][np.lexsort((speed[moved], owner))]
+    counts = np.bincount(owner, minlength=edges)
+    first = np.cumsum(counts) - counts
+    usual: FloatArray = np.zeros(edges)
+    some = counts >= USUAL_MIN_STEPS
+    low, high = first[some] + (counts[some] - 1) // 2, first[some] + counts[some] // 2
+    usual[some] = ordered[low] / 2 + ordered[high] / 2
+    return usual[edge_of_step]
+
+
+def _beside(speed: FloatArray, at: IntpArray) -> FloatArray:
+    """Per step, the faster of the steps just before and after it on its edge (0 where neither is)."""
+    laid = np.full(int(at[-1]) + NEIGHBOURS + 1, np.nan)
+    laid[at] = speed
+    faster: FloatArray = np.nan_to_num(np.fmax(laid[at - 1], laid[at + 1]), nan=0.0)
+    return faster
+
+
+def _undone(
+    values: FloatArray, begin: IntpArray, local: IntpArray, steps: IntpArray, metres: FloatArray, degrees: FloatArray
+) -> npt.NDArray[np.bool_]:
+    """Per step (``metres``, ``degrees`` long), whether its edge is back where the step began at one of its next
+    ``NEIGHBOURS`` samples (a flip and back, however long it stays flipped) or, for a step of at most 90°, back
+    at least half way (onto its path, on a moving edge); a pulse of motion goes on. Past 90° a rotation's way
+    back is not told from a wheel turning on (the shortest rotation between samples wraps)."""
+    back = np.zeros(len(begin), bool)
+    halfway = np.where(degrees <= 90.0, np.maximum(FLOOR_DEG, degrees / 2), FLOOR_DEG)
+    for later in range(2, NEIGHBOURS + 2):  # the step's end is sample begin + 1
+        there = local + later <= steps
+        m, d = apart(values[begin], values[np.where(there, begin + later, begin + 1)])
+        back |= there & (m <= np.maximum(FLOOR_M, metres / 2)) & (d <= halfway)
+    return back
+
+
+def _neighbour_speed(speed: FloatArray, at: IntpArray) -> FloatArray:
+    """Per step, the median ``speed`` of the ``NEIGHBOURS`` steps on each side (not itself); ``at``: where each
     step's speed is laid in the row of all (the gaps NaN), which ends ``NEIGHBOURS`` after the last."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        speed = np.where(seconds > 0, steps / seconds, np.nan)
     laid = np.full(int(at[-1]) + NEIGHBOURS + 1, np.nan)
     laid[at] = speed
     windows = sliding_window_view(laid, 2 * NEIGHBOURS + 1)
@@ -140,7 +201,9 @@ def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Ju
         and samples.key not in contested
         and (base_name(samples.child) == ODOM) is into_odom
     ]
-    for samples, found in zip(checked, edges_jumps([(s.stamps, s.values) for s in checked]), strict=True):
+    # map -> odom moves by its corrections alone: its usual speed is a correction's, and each one is counted
+    found_in = edges_jumps([(s.stamps, s.values) for s in checked], usual=not into_odom)
+    for samples, found in zip(checked, found_in, strict=True):
         if len(found):
             yield samples, found, samples.stamps[found.at]
 

@@ -189,10 +189,12 @@ def rate(scene: Scene) -> Iterator[Finding]:
         if child in silent:
             continue
         stamps = rows.stamp[mine]
-        arrivals = np.sort(scene.received(mine[~sent_before(stamps, rows.values[mine])]))
+        counted = ~sent_before(stamps, rows.values[mine])
+        arrivals = np.sort(scene.received(mine[counted]))
         if len(arrivals) >= 3:
             frames = (rows.names[rows.parent[mine[-1:]][0]], child)
-            yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals)
+            span = (int(stamps[counted].min()), int(stamps[counted].max()))
+            yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals, span)
 
 
 #: The rhythm of arrivals read off a clock with steps of a third of the period or more cannot be judged.
@@ -219,10 +221,14 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
     )
 
 
-def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array) -> Iterator[Finding]:
+def _rhythm(
+    scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrivals: Int64Array, span: tuple[int, int]
+) -> Iterator[Finding]:
     """Irregular arrivals, or two publishers taking turns; ``arrivals`` read off a clock with steps of
     ``Timeline.record_step`` (a live system on /clock) are each late by up to a step: an interval is
-    off only beyond that, and a period of less than ``STEPS_PER_PERIOD`` steps is not judged."""
+    off only beyond that, and a period of less than ``STEPS_PER_PERIOD`` steps is not judged. The finding's
+    times are ``span``, its first and last stamps, as every finding's: edges sent by one publisher in messages
+    of their own share them (not their arrivals, microseconds apart), one rhythm said once (``causes``)."""
     intervals = np.diff(arrivals)
     step = scene.timeline.record_step
     if len(intervals) < IRREGULAR_MIN_INTERVALS or float(np.median(intervals)) < STEPS_PER_PERIOD * step:
@@ -243,8 +249,7 @@ def _rhythm(scene: Scene, frames: tuple[str, str], who: tuple[str, ...], arrival
             f"{duration(intervals.max() / NS_PER_S)})"
         )
         hint = "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
-    first, last = int(arrivals[0]), int(arrivals[-1])
-    yield Finding(Severity.warning, code, message, hint, frames, who, first, last, len(arrivals))
+    yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
 
 
 def _off_share(intervals: Int64Array, step: int = 0) -> float:

@@ -204,7 +204,17 @@ def unread_lines(unread: Sequence[Unread]) -> list[str]:
     return [f"{', '.join(named)}: {_why(type_name, encoding)}" for (type_name, encoding), named in topics.items()]
 
 
+#: Types that hold one transform but are no tf message: tf2's listeners (RViz's, every node's) subscribe to
+#: tf2_msgs/msg/TFMessage, so a topic named tf of these types (the e-Yantra eBot's) is no tf to them either.
+_LONE_TRANSFORMS = frozenset({"geometry_msgs/msg/TransformStamped", "geometry_msgs/TransformStamped"})
+
+
 def _why(type_name: str, encoding: str) -> str:
     if any(type_name == t for t, _ in CODECS):
         return f"{type_name} in {encoding or 'no'} encoding, which tfx does not read (it reads {readable()})"
+    if type_name in _LONE_TRANSFORMS:
+        return (
+            f"{type_name} ({encoding or 'no encoding'}) is one transform, not a tf2_msgs TFMessage: no tf2 listener "
+            "reads it, nor does tftools; skipped"
+        )
     return f"{type_name or 'no type'} ({encoding or 'no encoding'}) is not a transform message tftools reads, skipped"
