@@ -4,7 +4,7 @@ headers, and tf's topics."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any, Protocol
 
 import numpy as np
@@ -12,6 +12,7 @@ import numpy as np
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.frames import Names
+from tftools.values import record, value
 
 #: The topics read unless told otherwise.
 DEFAULT_TOPICS = ("/tf", "/tf_static")
@@ -30,7 +31,7 @@ def is_static_topic(topic: str) -> bool:
     return topic.rstrip("/").endswith("tf_static")
 
 
-@dataclass(frozen=True)
+@value
 class Recorded:
     """A channel as the recording describes it: what a copy needs to write its messages as they are,
     their type known to tftools or not."""
@@ -54,7 +55,7 @@ class MessageSink(Protocol):
     def message(self, recorded: Recorded, time: int, payload: memoryview) -> None: ...
 
 
-@dataclass(frozen=True)
+@value
 class ClockSamples:
     """The recorded /clock: when each message was recorded and the time it carried."""
 
@@ -80,7 +81,7 @@ class ClockSamples:
         )
 
 
-@dataclass(frozen=True)
+@value
 class StampedMessages:
     """One topic's messages with a header: when each arrived, its stamp and frame (index into ``frame_ids``)."""
 
@@ -106,7 +107,7 @@ class StampedMessages:
         return len(self.tf_before) == len(self.record_time)
 
 
-@dataclass(frozen=True)
+@value
 class WholeMessages:
     """One topic's messages read whole (a robot's joint states, its description): when each arrived, and
     its value (``codecs.robot``)."""
@@ -120,7 +121,7 @@ class WholeMessages:
         return len(self.record_time)
 
 
-@dataclass(frozen=True)
+@value
 class SentMessages:
     """The tf messages that held a transform, one row each in record order, as the source told them apart
     (a message of several transforms is one, whatever tf2 then kept of it): whose it was (an index into
@@ -190,7 +191,7 @@ def sent_of_messages(messages: Sequence[TransformBatch]) -> SentMessages:
 BUFFER_FORMAT = "buffer"
 
 
-@dataclass(frozen=True)
+@value
 class Fetched:
     """What reading a remote recording fetched: bytes received of its files' ``size``; ``whole`` when
     a file had to be fetched whole (a .db3: SQLite reads only a local file)."""
@@ -205,7 +206,7 @@ class Fetched:
         return line + (", .db3 files whole (SQLite reads a local file)" if self.whole else "")
 
 
-@dataclass(frozen=True)
+@value
 class OfferedQos:
     """The QoS profiles each static topic's publishers offered, as a ROS 2 bag's metadata.yaml says:
     what ``ros2 bag play`` publishes it with (and every topic's counts); ``problem``: why metadata.yaml
@@ -222,7 +223,7 @@ def _megabytes(n: int) -> str:
     return f"{n / 1e6:.2f} MB" if n >= 10_000 else f"{n} bytes"
 
 
-@dataclass
+@record
 class SourceInfo:
     """One source as read: a file (or ROS 2 bag directory), a live system listened to, or a buffer."""
 
@@ -255,7 +256,7 @@ class SourceInfo:
         return not self.format.startswith(("rosbag2", "mcap"))
 
 
-@dataclass(frozen=True)
+@value
 class StampedRead:
     """Each topic's stamped messages, and what could not be read of them (one line a topic)."""
 
@@ -263,7 +264,7 @@ class StampedRead:
     problems: list[str] = field(default_factory=list)
 
 
-@dataclass
+@record
 class RecordingContents:
     """Every transform read, in record-time order (in consecutive parts, as decoded), a description of
     each source it came from, and what else the read took: the recorded clock, the sensor data's

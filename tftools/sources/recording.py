@@ -6,7 +6,7 @@ import ctypes
 import functools
 import os
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 
 import numpy as np
 
@@ -30,9 +30,10 @@ from tftools.sources.contents import (
 )
 from tftools.sources.errors import NoTransformsError
 from tftools.sources.timeline import Timeline, timeline_of
+from tftools.values import record
 
 
-@dataclass
+@record
 class Recording:
     """One recording (one bag or a split bag, a live capture, a buffer): its buffer, whose clock stands
     at the recording's end in ROS time (``timeline.end``) and whose histories are the only copy of the

@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 import enum
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
@@ -24,6 +23,7 @@ from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import ClockSamples
+from tftools.values import value
 
 #: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
 EPOCH_FLOOR = 1_000_000_000 * NS_PER_S
@@ -53,7 +53,7 @@ class Reference(enum.Enum):
     NONE = "none"  # neither: the stamps are on a clock the recording did not keep
 
 
-@dataclass(frozen=True)
+@value
 class EdgeClock:
     """How one frame's dynamic transforms relate to the recording's clocks (medians of arrival - stamp, ns)."""
 
@@ -81,7 +81,7 @@ class EdgeClock:
         return offset >= -tolerance or (self.median_stamp < EPOCH_FLOOR) == (reference < EPOCH_FLOOR)
 
 
-@dataclass(frozen=True)
+@value
 class Timeline:
     """A recording's clocks: which one the tf stamps are on, and ROS time at any record time."""
 

@@ -5,13 +5,13 @@ from __future__ import annotations
 import functools
 import itertools
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
 from tftools.sources.contents import ClockSamples, RecordingContents, SourceInfo
+from tftools.values import value
 
 #: Called with (bytes done, bytes in all) as bags are read, for progress bars.
 ProgressCallback = Callable[[int, int], None]
@@ -20,7 +20,7 @@ ProgressCallback = Callable[[int, int], None]
 CLOCK_TOPIC = "/clock"
 
 
-@dataclass(frozen=True)
+@value
 class RecordWindow:
     """Record times ``[first, last)`` (ns): what a windowed read keeps of a recording."""
 

@@ -3,18 +3,18 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
 from tftools.sources.storage import open_files
 from tftools.sources.storage.locations import METADATA
+from tftools.values import value
 
 if TYPE_CHECKING:
     from tftools.sources.storage.source import ByteSource, Files
 
 
-@dataclass(frozen=True)
+@value
 class Format:
     """A file format: how its files begin, and the module of ``tftools.sources.bag`` that reads them."""
 

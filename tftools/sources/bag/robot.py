@@ -6,13 +6,14 @@ pass that reads the transforms (``read_recording(..., whole=ROBOT_TOPICS)``)."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from tftools.core.arrays import Int64Array
 from tftools.sources.contents import RecordingContents
+from tftools.values import value
 
 if TYPE_CHECKING:
     from tftools.sources.codecs.robot import JointState
@@ -23,7 +24,7 @@ JOINT_STATES_TOPIC = "/joint_states"
 ROBOT_TOPICS = (DESCRIPTION_TOPIC, JOINT_STATES_TOPIC)
 
 
-@dataclass(frozen=True)
+@value
 class RobotMessages:
     """The recorded description (its URDF text, "" when none was recorded) and joint states (in record
     order, ``record_time`` beside each), and one line per topic whose messages could not all be read."""

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Iterator
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -16,11 +15,12 @@ from tftools.sources.codecs import _wire
 from tftools.sources.codecs.decoded import FrameNames
 from tftools.sources.codecs.select import AnyCodec, Codec
 from tftools.sources.contents import SentMessages, is_static_topic
+from tftools.values import value
 
 Column = npt.NDArray[Any]
 
 
-@dataclass(frozen=True)
+@value
 class Channel:
     """A topic read with a codec (a clock's or stamped messages' channel has no rows), as one publisher recorded it."""
 

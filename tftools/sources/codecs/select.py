@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, has_header, rosidl_name
 from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA, global_name
+from tftools.values import value
 
 if TYPE_CHECKING:
     from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder
@@ -22,7 +22,7 @@ FRAME_TRANSFORM = "foxglove_msgs/msg/FrameTransform"
 FRAME_TRANSFORMS = "foxglove_msgs/msg/FrameTransforms"
 
 
-@dataclass(frozen=True)
+@value
 class Encoded:
     """A message type in one message encoding."""
 
@@ -44,7 +44,7 @@ def _decoder(where: str) -> object:
     return getattr(__import__(f"tftools.sources.codecs.{module}", fromlist=[name]), name)
 
 
-@dataclass(frozen=True)
+@value
 class Codec(Encoded):
     """How transform messages of a type and encoding are decoded (``decoder``: "module.name" of the
     decoder in ``tftools.sources.codecs``, imported on first use)."""
@@ -57,7 +57,7 @@ class Codec(Encoded):
         return cast("BulkDecoder", _decoder(self.decoder))
 
 
-@dataclass(frozen=True)
+@value
 class ClockCodec(Encoded):
     """How clock messages of a type and encoding are decoded (read on every topic)."""
 
@@ -68,7 +68,7 @@ class ClockCodec(Encoded):
         return cast("ClockDecoder", _decoder(self.decoder))
 
 
-@dataclass(frozen=True)
+@value
 class HeaderCodec(Encoded):
     """How the headers of messages of a type and encoding are decoded (the rest of each is not)."""
 
@@ -79,7 +79,7 @@ class HeaderCodec(Encoded):
         return cast("HeaderDecoder", _decoder(self.decoder))
 
 
-@dataclass(frozen=True)
+@value
 class Wanted:
     """What a bag reader reads of each channel: transforms on ``topics`` (and, with the default topics,
     foxglove's transform channels), the clock on any topic, and with ``headers`` the header of every
@@ -99,7 +99,7 @@ class Wanted:
         return topic in self.headers if self.headers else global_name(topic) not in NOT_SENSOR_DATA
 
 
-@dataclass(frozen=True)
+@value
 class WholeCodec(Encoded):
     """How whole messages of a type and encoding are decoded into values (a robot's joint states and
     description: ``codecs.robot``)."""
@@ -107,7 +107,7 @@ class WholeCodec(Encoded):
     decode: WholeDecoder
 
 
-@dataclass(frozen=True)
+@value
 class CopyCodec(Encoded):
     """Messages not decoded: the channel ``recorded`` and each of its messages handed to ``sink`` as
     recorded (a copy)."""
@@ -157,7 +157,7 @@ def readable() -> str:
     return "; ".join(f"{type_name} as {' or '.join(e)}" for type_name, e in encodings.items())
 
 
-@dataclass(frozen=True)
+@value
 class Unread:
     """A topic asked for (or a foxglove transform channel) of a type or encoding tfx does not read."""
 

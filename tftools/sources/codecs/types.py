@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
+
+from tftools.values import value
 
 TF_MESSAGE = "tf2_msgs/msg/TFMessage"
 CLOCK = "rosgraph_msgs/msg/Clock"
@@ -27,7 +28,7 @@ def typestore(name: str) -> Any:
     return store
 
 
-@dataclass(frozen=True)
+@value
 class MessageType:
     """What a TCPROS connection header says about a message type."""
 

@@ -12,7 +12,6 @@ from __future__ import annotations
 import enum
 import struct
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
@@ -22,6 +21,7 @@ from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.codecs.decoded import BytesLike, Clocks, DecodeError, FrameNames, Header, Headers
 from tftools.sources.codecs.gather import bytes_at
+from tftools.values import value
 
 #: A frame_id longer than this is damage, not a name.
 MAX_FRAME_ID = 4096
@@ -72,7 +72,7 @@ def worded(reason: Reason, length: int, offset: int = 0, figure: int = 0) -> str
     return REASONS[reason](length, offset, figure)
 
 
-@dataclass(frozen=True)
+@value
 class Wire:
     """How an encoding lays out its fields."""
 
