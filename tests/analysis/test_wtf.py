@@ -12,6 +12,7 @@ from tests.analysis.wtf_scenes import (
     DELAY,
     MS,
     PROBLEMS,
+    SECONDS,
     START,
     _s,
     _t,
@@ -125,6 +126,24 @@ def test_a_joint_at_rest_among_moving_joints_is_not_a_static_transform_on_tf(ros
     alone = periodic("/finger_tf", 20, lambda t: [dataclasses.replace(finger, stamp=t)], phase=0.013)
     findings = check(recording(with_extra(alone), ros1=ros1)).findings  # constant by design, in messages of its own
     assert only(findings, "static_on_dynamic").frames == ("base_link", "finger")
+
+
+def test_two_publishers_that_disagree_move_nothing_their_messages_share() -> None:
+    """ros1_stage_amcl_sim_time_2015: stageros sends base_footprint -> base_link (z 0) and base_link ->
+    base_laser_link, one edge a message, recorded at one tick of Stage's clock; robot_state_publisher sends
+    base_footprint -> base_link at z 0.0102 m. The disagreement made stageros's constant edge 'moving', and
+    the laser mount, sharing its messages' record time and stamp, passed for a joint at rest among moving
+    ones: no static_on_dynamic on a mount sent on /tf 10 times a second. (Here: base_link -> deck -> lidar.)"""
+
+    def stage(t: int) -> list[TfMessage]:
+        deck = TfMessage("/tf", t + DELAY, [_t("base_link", "deck", t)], "/stageros")
+        return [deck, TfMessage("/tf", t + DELAY, [_t("deck", "lidar", t, 0.2)], "/stageros")]
+
+    stageros = [m for k in range(int(SECONDS * 10)) for m in stage(START + k * 100 * MS)]
+    urdf = periodic("/robot_state_publisher", 5, lambda t: [_t("base_link", "deck", t, 0.0102)], phase=0.03)
+    findings = check(recording(with_extra(stageros, urdf))).findings
+    assert only(findings, "static_on_dynamic").frames == ("deck", "lidar")
+    assert "multiple_authorities" in {f.code for f in findings}
 
 
 def test_two_messages_a_cycle_are_a_regular_rhythm() -> None:

@@ -5,8 +5,10 @@ messages a publisher sent, re-sent ones too, the same in a whole read and a repl
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -103,6 +105,55 @@ def test_a_localizer_stepping_alone_keeps_the_correction_hint() -> None:
     findings = check(recording(messages, ros1=False)).findings
     (jump,) = [f for f in findings if f.code == "jump"]
     assert "map -> odom" in jump.hint
+
+
+def _wheel_and_body(times: Sequence[float], angle_at: Callable[[float], float]) -> list[TfMessage]:
+    """robot_state_publisher's messages at ``times`` (seconds): a wheel at ``angle_at(seconds)`` radians beside
+    a caster that never moves (so that the wheel is a joint: it comes in messages with other edges)."""
+    messages = []
+    for seconds in times:
+        t = START + round(seconds * NS_PER_S)
+        roll = Transform.from_rpy((0, 0.12, 0.03), (angle_at(seconds), 0, 0), t, "base_link", "wheel")
+        caster = Transform.from_rpy((-0.1, 0, 0.01), (0, 0, 0), t, "base_link", "caster")
+        messages.append(TfMessage("/tf", t + MS, [roll, caster], "/tf"))
+    return sorted([statics(), *messages], key=lambda m: m.record_time)
+
+
+def _every(seconds: float) -> list[float]:
+    return [k * seconds for k in range(int(SECONDS / seconds))]
+
+
+def _nudged(seconds: float) -> float:
+    """A wheel at rest, turned 0.55 rad in half a second at 5 s (the robot nudged), at rest again."""
+    return 0.0 if seconds < 5 else 0.55 if seconds >= 5.5 else 0.55 * (1 - math.cos(math.pi * (seconds - 5) / 0.5)) / 2
+
+
+#: Sample times 0.1 s apart but one interval in four of 0.13 s, as a Unity robot's ROS-TCP endpoint sent them.
+UNEVEN = list(itertools.accumulate([0.1, 0.1, 0.1, 0.13] * 25, initial=0.0))
+
+
+@pytest.mark.parametrize(
+    ("times", "angle_at"),
+    [(_every(0.25), _nudged), (UNEVEN, lambda seconds: 63.0 * seconds)],
+    ids=["stopped-between-samples", "a-turn-a-sample"],
+)
+def test_a_joint_moving_faster_than_its_samples_is_no_jump(
+    times: list[float], angle_at: Callable[[float], float]
+) -> None:
+    """A real TurtleBot2's wheels at 4.2 Hz (a nudge: 0.7, -7.3, -31.4, -18.4, 0 degrees a sample) and a Unity
+    robot's wheels (about a turn a sample at 2 m/s, seen modulo a turn: the longer intervals look like steps)
+    were said to jump, with the hint of two /joint_states sources taking turns: a step that neither leaves a
+    position the joint comes back to nor comes back to one it held is motion too fast for its samples."""
+    findings = check(recording(_wheel_and_body(times, angle_at), ros1=True)).findings
+    assert "jump" not in _codes(findings), [f.message for f in findings if f.code == "jump"]
+
+
+def test_a_joint_out_and_back_for_one_sample_still_jumps() -> None:
+    """ros2_db3_jetacker_slam_toolbox_static_map's steering: pi for one sample, then back where it was (here
+    on a joint that goes on moving slowly, so that it comes back near, not to, the position it left)."""
+    one_sample = _wheel_and_body(_every(0.1), lambda s: math.pi if 4.95 < s < 5.05 else 0.1 * s)
+    (jump,) = [f for f in check(recording(one_sample, ros1=True)).findings if f.code == "jump"]
+    assert jump.frames == ("base_link", "wheel") and "/joint_states" in jump.hint
 
 
 def _delivered_again(new_out_of_order: bool) -> list[TfMessage]:

@@ -31,6 +31,7 @@ from tftools.render.scene3d import scene_html
 from tftools.sources.contents import RecordingContents, SourceInfo, StampedMessages, StampedRead
 from tftools.sources.recording import read_recording, recording_of
 from tftools.sources.stream import stream_recording
+from tftools.sources.timeline import record_grid
 
 S = NS_PER_S
 MS = NS_PER_S // 1000
@@ -388,9 +389,11 @@ def heard_on_a_clock(step: int, record_step: int) -> RecordingContents:
 def test_arrivals_read_off_a_10_ms_clock_raise_no_false_rate_warning() -> None:
     """tfx wtf beside rosbag play --clock gave 'rate' warnings for steady edges: the rhythm of arrivals
     read off /clock's 10 ms steps (a 100 Hz edge's intervals read 0, 10 or 20 ms). Knowing the step,
-    only the edge that is irregular is."""
-    blind = check(recording_of(heard_on_a_clock(10 * MS, 0)))
-    assert {f.frames for f in blind.findings if f.code == "rate"} == {("odom", "base"), ("map", "odom")}
+    only the edge that is irregular is; untold, the record times show it (on one grid, samples of an edge
+    received within one tick)."""
+    untold = recording_of(heard_on_a_clock(10 * MS, 0))
+    assert untold.timeline.record_step == 10 * MS
+    assert [f.frames for f in check(untold).findings if f.code == "rate"] == [("map", "odom")]
     knowing = recording_of(heard_on_a_clock(10 * MS, 0), record_step=10 * MS)
     rates = [f for f in check(knowing).findings if f.code == "rate"]
     assert [f.frames for f in rates] == [("map", "odom")] and "publishes irregularly" in rates[0].message
@@ -412,6 +415,50 @@ def test_a_recording_made_on_sim_time_has_record_times_as_coarse_as_its_clock(tm
     wall = [ClockMessage(WALL + k * S // 100 + 3 * MS, WALL + k * S // 100) for k in range(100)]  # /clock on wall time
     recorded = read_recording([write_bag(tmp_path / "on_wall", tf, BagFormat.rosbag2_sqlite3, wall)])
     assert recorded.timeline.record_step == 0
+
+
+def stage_on_sim_time(tick: int) -> list[TfMessage]:
+    """Stage and amcl recorded under use_sim_time without /clock (ros1_stage_amcl_sim_time_2015): stamps
+    exactly 0.1 s apart, each message recorded at the simulation's last ``tick`` when it arrived (now in the
+    tick of its stamp, now in the next); amcl post-dates map -> odom by 1.0 s (its transform_tolerance)."""
+    rng = np.random.default_rng(3)
+    messages = []
+    for k in range(200):
+        stamp = 100 * S + k * S // 10
+        late = int(rng.integers(0, 2)) * tick
+        messages.append(TfMessage("/tf", stamp + late, [moving("odom", "base", stamp)], "/stageros"))
+        messages.append(TfMessage("/tf", stamp + late, [moving("map", "odom", stamp + S)], "/amcl"))
+    return messages
+
+
+@pytest.mark.parametrize("tick", [S // 10, 0], ids=["sim-ticks", "wall-clock"])
+def test_record_times_on_a_simulations_ticks_are_as_coarse_as_them(tmp_path: Path, tick: int) -> None:
+    """Stage's ticks are 100 ms: a steady 10 Hz edge's arrivals read 0, 0.1 or 0.2 s apart, and amcl's 1.0 s of
+    post-dating up to 1.1 s: 'rate' warnings on every steady edge and a 'future' error, until the grid every
+    record time lies on was taken for the record clock's step. Record times as fine as a wall clock's
+    (here: 0.3 ms after the stamps) have no step."""
+    messages = (
+        stage_on_sim_time(tick)
+        if tick
+        else [
+            TfMessage(m.topic, m.record_time + 300_000 + i, m.transforms, m.publisher)
+            for i, m in enumerate(stage_on_sim_time(0))
+        ]
+    )
+    recording = read_recording([write_bag(tmp_path / "stage.bag", messages, BagFormat.ros1)])
+    assert recording.timeline.record_step == tick
+    codes = {f.code for f in check(recording).findings}
+    assert "rate" not in codes and "future" not in codes
+
+
+def test_record_grid_needs_enough_times_on_one_grid() -> None:
+    """A grid is read off 20 or more distinct record times, every step a multiple of the smallest, that of a
+    millisecond or more: not off a few, nor off a wall clock's."""
+    ticks = 100 * S + np.arange(40, dtype=np.int64) * 3 * MS
+    assert record_grid(ticks) == 3 * MS and record_grid(np.repeat(ticks, 2)) == 3 * MS
+    jittered = ticks + np.random.default_rng(5).integers(0, 1000, 40)
+    assert record_grid(ticks[:10]) == 0 and record_grid(jittered) == 0
+    assert record_grid(100 * S + np.arange(40, dtype=np.int64) * 10_000) == 0  # 10 us apart: fine
 
 
 def test_a_fleet_of_corpus_recordings_reports_no_trend_of_one_recording(tfx: Tfx) -> None:

@@ -228,7 +228,7 @@ class SourceInfo:
     """One source as read: a file (or ROS 2 bag directory), a live system listened to, or a buffer."""
 
     path: str  # the file, or the live system (``LiveSource.describe``: "ROS1 master http://...")
-    format: str  # "ros1", "rosbag2-sqlite3", "rosbag2-mcap", "mcap"; "ros1-live", "ros2-live"; "buffer"
+    format: str  # "ros1", "ros1-mcap", "rosbag2-sqlite3", "rosbag2-mcap", "mcap"; "ros1-live", "ros2-live"; "buffer"
     start: int  # first message's record (receive) time (ns), every topic counted
     end: int  # last message's record time (ns)
     message_count: int  # messages of every topic
@@ -251,8 +251,8 @@ class SourceInfo:
 
     @property
     def names_publishers(self) -> bool:
-        """Whether each transform's authority is its publisher: ROS 1 bags, live systems and buffers
-        name the node; ROS 2 bags and MCAP files only the topic."""
+        """Whether each transform's authority is its publisher: ROS 1 bags (and MCAP files of the ros1
+        profile), live systems and buffers name the node; ROS 2 bags and other MCAP files only the topic."""
         return not self.format.startswith(("rosbag2", "mcap"))
 
 

@@ -131,8 +131,8 @@ def no_transforms(paths: Sequence[str | os.PathLike[str]], contents: RecordingCo
 
 
 def semantics_of(contents: RecordingContents) -> Semantics:
-    """ROS 1's tf2 for ROS 1 bags and live ROS 1, ROS 2's for rosbag2 and MCAP files and live ROS 2
-    (a split recording: its first file's)."""
+    """ROS 1's tf2 for ROS 1 bags, MCAP files of the ros1 profile and live ROS 1, ROS 2's for rosbag2
+    and other MCAP files and live ROS 2 (a split recording: its first file's)."""
     formats = [f.format for f in contents.files]
     return "ros1" if not formats or formats[0].startswith("ros1") else "ros2"
 

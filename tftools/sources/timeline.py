@@ -346,7 +346,38 @@ def timeline_of(
     if record_start <= 0 < record_end:  # some messages' record times unknown (0): the span of the known ones
         record_start = _first_known(buffer, clock, record_start)
     tf = tf_span(stamp_spans(buffer), record_start, record_end)
+    if not record_step and not _records_on_clock(clock):
+        record_step = _ticked_grid(buffer, clock)
     return timeline_from(edges, clock, record_start, record_end, tf, record_step)
+
+
+#: Record times on one grid (``record_grid``): at least this many distinct ones, ``FINE_STEP`` or more apart.
+GRID_MIN_TIMES = 20
+#: Samples of one edge with other stamps recorded at one instant, in pairs: no wall clock gives this many.
+SHARED_TICKS = 5
+
+
+def _ticked_grid(buffer: Buffer, clock: ClockSamples) -> int:
+    """The step of the clock the record times were read off (``record_grid``), where they show one: on one
+    grid, and samples of one edge with other stamps recorded at the same instant (received within one tick)."""
+    histories = [h for _, h in buffer.histories()]
+    shared = sum(int(((np.diff(h.record_times) == 0) & (np.diff(h.stamps) != 0)).sum()) for h in histories)
+    if shared < SHARED_TICKS:
+        return 0
+    return record_grid(np.concatenate([clock.record_time, *(h.record_times for h in histories)]))
+
+
+def record_grid(record_times: Int64Array) -> int:
+    """The step (ns) of the grid on which every known record time (tf's and /clock's) lies, where there is
+    one of at least ``FINE_STEP``: a recorder under use_sim_time reads them off /clock, which it need not
+    record (Stage's ticks every 100 ms: messages received within one tick share a record time, the next
+    skips one); 0 for record times as fine as a wall clock's."""
+    distinct = np.unique(record_times[record_times > 0])
+    if len(distinct) < GRID_MIN_TIMES:
+        return 0
+    steps = np.diff(distinct)
+    step = int(steps.min())
+    return step if step >= FINE_STEP and not (steps % step).any() else 0
 
 
 def _first_known(buffer: Buffer, clock: ClockSamples, otherwise: int) -> int:

@@ -17,7 +17,7 @@ from tftools.analysis.wtf.broadcasters import apart, inferred_edges
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
-from tftools.core.arrays import FloatArray, Int64Array, IntpArray
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
@@ -215,6 +215,10 @@ def jump(scene: Scene) -> Iterator[Finding]:
     into odom) as often as a reset; REP 105's advice says what it does to what is planned in odom."""
     joints = scene.shared("joints", lambda: _joints(scene))
     for samples, found, when in _edge_jumps(scene, into_odom=False):
+        if samples.key in joints:
+            found, when = _back_and_forth(samples.values, found, when)
+            if not len(found):
+                continue
         continuous = base_name(samples.parent) == ODOM
         why = (
             "REP 105 wants odom -> base continuous (odometry that never jumps): a reset odometry, or a "
@@ -238,6 +242,48 @@ def jump(scene: Scene) -> Iterator[Finding]:
             why,
             when,
         )
+
+
+#: Two joint values are one position when they agree to this many decimals (the same source re-sending a
+#: position computes the same floats).
+SAME_POSITION_DECIMALS = 9
+
+
+def _back_and_forth(values: FloatArray, found: Jumps, when: Int64Array) -> tuple[Jumps, Int64Array]:
+    """The steps of a joint that leave a position it comes back to, or come back to one it held: what two
+    /joint_states sources taking turns, or a driver resetting a joint, leave in its samples. A joint's step
+    that does neither is motion its samples were too sparse to follow: a wheel spinning faster than half a
+    turn a sample (each angle seen modulo a turn), or starting and stopping between two samples at 4 Hz
+    (a real TurtleBot2's wheels, a Unity robot's wheels and its body tipping over an obstacle)."""
+    _, position = np.unique(np.round(values, SAME_POSITION_DECIMALS), axis=0, return_inverse=True)
+    position = position.ravel()
+    index = np.arange(len(position))
+    first = np.full(int(position.max()) + 1, len(position))
+    np.minimum.at(first, position, index)
+    last = np.full(int(position.max()) + 1, -1)
+    np.maximum.at(last, position, index)
+    after, before = found.at, found.at - 1  # each step goes from sample ``before`` to sample ``after``
+    kept = (first[position[after]] < before) | (last[position[before]] > after)
+    kept |= _spike(values, before, after, found, out=True) | _spike(values, before, after, found, out=False)
+    return Jumps(found.at[kept], found.metres[kept], found.degrees[kept]), when[kept]
+
+
+#: A step is half of a spike when the joint is back within this share of it one sample later (out), or was
+#: there one sample before (back): one sample of another source's value, between two of the joint's own.
+SPIKE_RETURN = 0.25
+
+
+def _spike(values: FloatArray, before: IntpArray, after: IntpArray, found: Jumps, *, out: bool) -> BoolArray:
+    """Which steps go out to a one-sample value the joint then leaves for about where it was (``out``), or
+    come back from one (not ``out``)."""
+    ends = (before, after + 1) if out else (before - 1, after)
+    inside = (ends[0] >= 0) & (ends[1] < len(values))
+    spike = np.zeros(len(before), bool)
+    if inside.any():
+        metres, degrees = apart(values[ends[0][inside]], values[ends[1][inside]])
+        step = found.metres[inside] + found.degrees[inside] / 100  # a metre weighs as much as 100 degrees
+        spike[inside] = metres + degrees / 100 <= SPIKE_RETURN * step
+    return spike
 
 
 def _joints(scene: Scene) -> set[tuple[str, str]]:

@@ -9,13 +9,17 @@ from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import MCAP
 from tftools.sources.bag.mcap.index import Summary, read_indexed, summary_of
-from tftools.sources.bag.mcap.records import Channels
+from tftools.sources.bag.mcap.records import Channels, profile_of
 from tftools.sources.bag.mcap.stream import stream
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileRead, FileScan, file_result
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError
 from tftools.sources.storage.source import ByteSource
+
+#: ``SourceInfo.format`` of an MCAP file of the ros1 profile (``mcap convert`` of a ROS 1 bag, a ROS 1
+#: recorder writing MCAP): ROS 1 data, read with ROS 1's tf2 and its channels' callerids as publishers.
+ROS1_MCAP = "ros1-mcap"
 
 
 class McapFile:
@@ -28,12 +32,14 @@ class McapFile:
             if source.read(0, len(MCAP.magic)) != MCAP.magic:
                 raise CorruptBagError(str(path), "no MCAP magic at the start")
             self.summary: Summary | None = summary_of(source)
+            self.profile = profile_of(source)
         except OSError as e:
             raise CorruptBagError(str(path), e.strerror or str(e)) from None
 
     def read(self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None) -> FileRead:
         """The transforms of a bare ``.mcap`` file (see ``reader.BagReader.read``)."""
-        return file_result(self.path, "mcap", [self.scan(wanted, progress, MessageSet(window=window))])
+        fmt = ROS1_MCAP if self.profile == "ros1" else "mcap"
+        return file_result(self.path, fmt, [self.scan(wanted, progress, MessageSet(window=window))])
 
     def scan(self, wanted: Wanted, progress: ProgressCallback, messages: MessageSet) -> FileScan:
         """The file's messages (into ``messages``) and description; ``CorruptBagError`` when nothing could be read."""

@@ -11,6 +11,7 @@ from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, unpack
 from tftools.sources.codecs.select import AnyCodec, HeaderCodec, Wanted, copied, select
 from tftools.sources.contents import Recorded
+from tftools.sources.storage.source import ByteSource
 
 MAGIC = MCAP.magic
 HEADER, FOOTER, SCHEMA, CHANNEL, MESSAGE, CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
@@ -89,6 +90,21 @@ class Body:
         return bytes(self.bytes(U32)).decode("utf-8", "replace")
 
 
+def profile_of(source: ByteSource) -> str:
+    """The profile the file's header record names ("ros1", "ros2", ...), "" when none or unreadable
+    (a damaged header is the readers' to report)."""
+    head = source.read(len(MAGIC), len(MAGIC) + RECORD.size + U32.size + _PROFILE_BYTES)
+    if len(head) < RECORD.size + U32.size or head[0] != HEADER:
+        return ""
+    (length,) = U32.unpack_from(head, RECORD.size)
+    profile = head[RECORD.size + U32.size : RECORD.size + U32.size + length]
+    return bytes(profile).decode("utf-8", "replace") if len(profile) == length else ""
+
+
+#: The longest header profile read: the profiles the MCAP specification names are a few letters.
+_PROFILE_BYTES = 64
+
+
 def known(opcode: int) -> bool:
     """Whether ``opcode`` is a record type of the format (0x01 to 0x0F) or a private one (0x80 up)."""
     return 0 < opcode < 0x10 or opcode >= 0x80
@@ -164,15 +180,20 @@ class Channels:
         self.known.add(channel_id)
         type_name, definition = self.schemas.get(schema_id, ("", ""))
         self.result.topics[topic] = type_name
+        metadata = _metadata(body)
+        # The ros1 profile's channels keep the connection's callerid (``mcap convert`` of a ROS 1 bag):
+        # the publisher, as a ROS 1 bag names it.
+        publisher = metadata.get("callerid", "")
         codec: AnyCodec | None
         if self.asked.copy is not None:
-            qos = _metadata(body).get("offered_qos_profiles", "")
-            codec, unread = copied(Recorded(topic, type_name, encoding, definition, qos=qos), self.asked.copy), None
+            qos = metadata.get("offered_qos_profiles", "")
+            recorded = Recorded(topic, type_name, encoding, definition, publisher=publisher, qos=qos)
+            codec, unread = copied(recorded, self.asked.copy), None
         else:
             codec, unread = select(topic, type_name, encoding, self.asked, definition)
         self.result.note_skipped(unread)
         if codec is not None:
-            self.wanted[channel_id] = self.result.messages.channel(topic, codec)
+            self.wanted[channel_id] = self.result.messages.channel(topic, codec, publisher=publisher)
             if isinstance(codec, HeaderCodec):
                 self.headed.add(channel_id)
 
