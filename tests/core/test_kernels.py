@@ -13,6 +13,7 @@ import pytest
 from tests.core import scenarios
 from tftools import Buffer, Transform, TransformError
 from tftools.core import kernels, walk
+from tftools.core.buffer import LookupBatch
 from tftools.core.history import FUTURE, NO_DATA, ONLY_ONE, PAST
 
 S = scenarios.S
@@ -185,6 +186,44 @@ def test_lookup_many_over_times_spanning_all_int64(monkeypatch: pytest.MonkeyPat
         assert got.stamps[i] == (time or 10 * S)
         if expected is not None:
             assert [*got.translations[i], *got.rotations[i]] == expected[0]  # the very same bits
+
+
+def test_a_batch_writes_into_the_last_answers_memory_only_once_it_is_let_go(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Batches of a like size share one kept block of memory, never while an earlier answer (or any view of
+    it) is alive, and answer the same bits in it; a copied buffer keeps none of it."""
+    monkeypatch.setattr(kernels, "_KEPT_BYTES", (1, 1 << 20))  # small batches kept too
+    buffer = Buffer(cache_time=None)
+    for k in range(1, 11):
+        rotation = (0.0, 0.0, float(np.sin(0.15 * k)), float(np.cos(0.15 * k)))
+        buffer.set_transform(Transform((float(k), k * k / 7, 0), rotation, k * S, "a", "b"))
+    times = np.random.default_rng(4).integers(0, 12 * S, 1000)
+    first = buffer.lookup_many("a", "b", times)
+    expected = [first.stamps.copy(), first.translations.copy(), first.rotations.copy(), first.valid.copy()]
+    assert 0 < first.valid.sum() < len(times)
+    held = buffer.lookup_many("a", "b", times[::-1])  # while `first` is alive: memory of its own
+    assert not any(np.shares_memory(a, b) for a in vars(first).values() for b in vars(held).values())
+    translations = first.translations
+    del first, held
+    again = buffer.lookup_many("a", "b", times)  # `first`'s translations still held: new memory
+    assert not np.shares_memory(translations, again.translations)
+    assert _columns_equal(again, expected)
+    kept = _address(again.translations)  # not the block: a reference to it would hold it
+    del again, translations
+    reused = buffer.lookup_many("a", "b", times)
+    assert _address(reused.translations) == kept  # let go of: written into again, with the same bits
+    assert _columns_equal(reused, expected)
+    del reused
+    assert _address(buffer.lookup_many("a", "b", times[:100]).translations) != kept  # a tenth the size: not held
+    assert "_batch_outputs" not in buffer.__getstate__()
+
+
+def _columns_equal(batch: LookupBatch, expected: list[np.ndarray]) -> bool:
+    got = (batch.stamps, batch.translations, batch.rotations, batch.valid)
+    return all(np.array_equal(a, b) for a, b in zip(got, expected, strict=True))
+
+
+def _address(array: np.ndarray) -> int:
+    return int(array.__array_interface__["data"][0])
 
 
 def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do() -> None:
