@@ -188,9 +188,9 @@ def test_lookup_many_over_times_spanning_all_int64(monkeypatch: pytest.MonkeyPat
             assert [*got.translations[i], *got.rotations[i]] == expected[0]  # the very same bits
 
 
-def test_a_batch_writes_into_the_last_answers_memory_only_once_it_is_let_go(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Batches of a like size share one kept block of memory, never while an earlier answer (or any view of
-    it) is alive, and answer the same bits in it; a copied buffer keeps none of it."""
+def test_a_batch_writes_into_a_kept_answers_memory_only_once_it_is_let_go(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Batches of a like size take turns with two kept blocks of memory, never one that an earlier answer (or
+    any view of it) still holds, and answer the same bits in them; a copied buffer keeps none of it."""
     monkeypatch.setattr(kernels, "_KEPT_BYTES", (1, 1 << 20))  # small batches kept too
     buffer = Buffer(cache_time=None)
     for k in range(1, 11):
@@ -202,18 +202,27 @@ def test_a_batch_writes_into_the_last_answers_memory_only_once_it_is_let_go(monk
     assert 0 < first.valid.sum() < len(times)
     held = buffer.lookup_many("a", "b", times[::-1])  # while `first` is alive: memory of its own
     assert not any(np.shares_memory(a, b) for a in vars(first).values() for b in vars(held).values())
-    translations = first.translations
-    del first, held
-    again = buffer.lookup_many("a", "b", times)  # `first`'s translations still held: new memory
-    assert not np.shares_memory(translations, again.translations)
+    del held
+    translations, one = first.translations, _address(first.translations)
+    del first
+    second = buffer.lookup_many("a", "b", times)  # `first`'s translations still held: not its memory
+    assert not np.shares_memory(translations, second.translations)
+    assert _columns_equal(second, expected)
+    kept = {one, _address(second.translations)}
+    del second, translations
+    again = buffer.lookup_many("a", "b", times)
+    assert _address(again.translations) in kept  # let go of: written into again, with the same bits
     assert _columns_equal(again, expected)
-    kept = _address(again.translations)  # not the block: a reference to it would hold it
-    del again, translations
-    reused = buffer.lookup_many("a", "b", times)
-    assert _address(reused.translations) == kept  # let go of: written into again, with the same bits
-    assert _columns_equal(reused, expected)
-    del reused
-    assert _address(buffer.lookup_many("a", "b", times[:100]).translations) != kept  # a tenth the size: not held
+    del again
+    # A loop that rebinds its answer (the last one alive during each call) takes turns with the two blocks.
+    addresses = []
+    for _ in range(4):
+        answer = buffer.lookup_many("a", "b", times)
+        addresses.append(_address(answer.translations))
+        assert _columns_equal(answer, expected)
+    assert set(addresses) == kept and addresses[0] != addresses[1] and addresses[2:] == addresses[:2]
+    del answer
+    assert _address(buffer.lookup_many("a", "b", times[:100]).translations) not in kept  # a tenth the size
     assert "_batch_outputs" not in buffer.__getstate__()
 
 
