@@ -235,6 +235,41 @@ def _address(array: np.ndarray) -> int:
     return int(array.__array_interface__["data"][0])
 
 
+def test_an_answer_let_go_is_written_over_and_one_held_never_is() -> None:
+    """The last answer, where nothing but the core holds it, is the next lookup's (the same object, its
+    tuples and floats written over); an answer, or a tuple or float of one, that anything holds keeps its values."""
+    buffer = Buffer(cache_time=None)
+    for k in range(1, 11):
+        rotation = (0.0, 0.0, float(np.sin(0.15 * k)), float(np.cos(0.15 * k)))
+        buffer.set_transform(Transform((float(k), k * k / 7, 0), rotation, k * S, "a", "b"))
+        buffer.set_transform(Transform((0.5, 0, float(k)), (0, 0, 0, 1), k * S, "b", "c"))
+    times = [S + k * S // 3 for k in range(25)]
+
+    def fields(t: Transform) -> tuple[object, ...]:
+        return (t.translation, t.rotation, t.stamp, t.frame_id, t.child_frame_id)
+
+    def fresh(target: str, source: str, time: int) -> tuple[object, ...]:
+        copy = Buffer.__new__(Buffer)  # another core: nothing kept
+        copy.__setstate__(buffer.__getstate__())
+        return fields(copy.lookup(target, source, time))
+
+    expected = {(t, s, time): fresh(t, s, time) for t, s in (("a", "b"), ("a", "c"), ("b", "c")) for time in times}
+    first = id(buffer.lookup("a", "c", times[0]))
+    filler = [Transform() for _ in range(100)]  # what would take a freed answer's memory
+    assert id(buffer.lookup("a", "b", times[1])) == first  # let go of, yet not freed: written over
+    del filler
+    held = [buffer.lookup("a", "c", time) for time in times]  # each held: new ones
+    assert len({id(t) for t in held}) == len(times)
+    translation = buffer.lookup("a", "b", times[3]).translation  # its tuple held, not the answer
+    x = buffer.lookup("b", "c", times[4]).rotation[2]  # a float of it held
+    for (target, source, time), want in expected.items():
+        got = buffer.lookup(target, source, time)
+        assert fields(got) == want and got == Transform(*want)  # type: ignore[arg-type]
+    assert [fields(t) for t in held] == [expected["a", "c", time] for time in times]
+    assert translation == expected["a", "b", times[3]][0]
+    assert x == expected["b", "c", times[4]][1][2]  # type: ignore[index]
+
+
 def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do() -> None:
     """``Buffer.lookup`` and ``can_transform`` (methods in C, no binding's dispatch) take (target_frame,
     source_frame, time=0), by position or keyword, a time as the binding takes it (an int, or what converts
