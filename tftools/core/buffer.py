@@ -337,7 +337,8 @@ class Buffer:
         """``lookup`` at many times (int64 ns), vectorized; ``valid`` marks where tf2 succeeds.
 
         Unknown or invalid frame names raise as ``lookup`` does; every other failure is a
-        ``False`` in ``valid`` (call ``lookup`` at such a time for tf2's reason).
+        ``False`` in ``valid`` (call ``lookup`` at such a time for tf2's reason). A large batch's arrays
+        share one block of memory, which the buffer keeps for its next batches once they are let go.
         """
         stamps = np.asarray(times, dtype=np.int64).reshape(-1)
         if target_frame == source_frame:
