@@ -349,7 +349,10 @@ struct Chain {
     Failure failure = Failure::NONE;
     int64_t extrapolating_frame = 0;
     std::vector<Step> sides[2];
-    std::vector<Edge> edges;  // the composed ones at the walk's time, as `edges_at` samples them
+    // The composed ones at the walk's time, as `edges_at` samples them: the first `composed` (the rest are
+    // a longer walk's, kept so that a walk writes over edges already built: building one sets every field).
+    std::vector<Edge> edges;
+    size_t composed = 0;
 };
 
 // Start loading the samples `at` points to: a lookup at a time not looked at lately misses the
@@ -473,6 +476,7 @@ inline void sample_before_slerp(const Histories& histories, const Step& step, in
     const History& h = histories[step.frame];
     const int64_t row = step.at.row;
     e.pose = pose_at(h, row);
+    e.interpolate = e.known = false;
     if (!step.at.interpolate || !h.same_parent(row)) return;
     const int64_t t0 = h.stamps[row];
     const double r = static_cast<double>(time - t0) / static_cast<double>(h.stamps[row + 1] - t0);
@@ -492,26 +496,30 @@ inline void sample_before_slerp(const Histories& histories, const Step& step, in
 // (the samples, then every acos, then every sine), so that the processor overlaps the edges' libm
 // calls instead of waiting for each edge's in turn.
 inline size_t edges_at(const Histories& histories, Chain& chain, int64_t time, Memo& memo) {
-    std::vector<Edge>& edges = chain.edges;
+    std::vector<Edge>& built = chain.edges;
+    size_t n = 0;
     const auto sample = [&](const std::vector<Step>& side) {
         for (const Step& step : side) {
-            if (step.composed) sample_before_slerp(histories, step, time, memo, edges.emplace_back());
+            if (!step.composed) continue;
+            if (n == built.size()) built.emplace_back();
+            sample_before_slerp(histories, step, time, memo, built[n++]);
         }
     };
-    edges.clear();
     sample(chain.sides[0]);
-    const size_t split = edges.size();
+    const size_t split = n;
     sample(chain.sides[1]);
-    for (Edge& e : edges) {
-        if (e.interpolate && !e.known) e.arc.theta = angle(e.cosine);
+    chain.composed = n;
+    Edge* const edges = built.data();
+    for (Edge* e = edges; e != edges + n; ++e) {
+        if (e->interpolate && !e->known) e->arc.theta = angle(e->cosine);
     }
-    for (Edge& e : edges) {
-        if (!e.interpolate) continue;
-        if (!e.known) {
-            e.arc = arc_of(e.cosine, e.arc.theta);
-            if (memo.on) memo.arc_row[e.frame] = e.row, memo.arcs[e.frame] = e.arc;
+    for (Edge* e = edges; e != edges + n; ++e) {
+        if (!e->interpolate) continue;
+        if (!e->known) {
+            e->arc = arc_of(e->cosine, e->arc.theta);
+            if (memo.on) memo.arc_row[e->frame] = e->row, memo.arcs[e->frame] = e->arc;
         }
-        e.pose.q = slerp(e.pose.q, e.next, e.r, e.arc, memo.on);
+        e->pose.q = slerp(e->pose.q, e->next, e->r, e->arc, memo.on);
     }
     return split;
 }
@@ -541,7 +549,7 @@ TFCORE_VECTOR_VERSIONS inline bool lookup_at(const Histories& histories, int64_t
     const size_t split = edges_at(histories, chain, time, memo);
     const Edge* begin = chain.edges.data();
     out = finish(chain.ending, compose_all(begin, begin + split),
-                 compose_all(begin + split, begin + chain.edges.size()));
+                 compose_all(begin + split, begin + chain.composed));
     return true;
 }
 

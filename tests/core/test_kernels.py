@@ -13,6 +13,7 @@ import pytest
 from tests.core import scenarios
 from tftools import Buffer, Transform, TransformError
 from tftools.core import kernels, walk
+from tftools.core.buffer import LookupBatch
 from tftools.core.history import FUTURE, NO_DATA, ONLY_ONE, PAST
 
 S = scenarios.S
@@ -185,6 +186,88 @@ def test_lookup_many_over_times_spanning_all_int64(monkeypatch: pytest.MonkeyPat
         assert got.stamps[i] == (time or 10 * S)
         if expected is not None:
             assert [*got.translations[i], *got.rotations[i]] == expected[0]  # the very same bits
+
+
+def test_a_batch_writes_into_a_kept_answers_memory_only_once_it_is_let_go(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Batches of a like size take turns with two kept blocks of memory, never one that an earlier answer (or
+    any view of it) still holds, and answer the same bits in them; a copied buffer keeps none of it."""
+    monkeypatch.setattr(kernels, "_KEPT_BYTES", (1, 1 << 20))  # small batches kept too
+    buffer = Buffer(cache_time=None)
+    for k in range(1, 11):
+        rotation = (0.0, 0.0, float(np.sin(0.15 * k)), float(np.cos(0.15 * k)))
+        buffer.set_transform(Transform((float(k), k * k / 7, 0), rotation, k * S, "a", "b"))
+    times = np.random.default_rng(4).integers(0, 12 * S, 1000)
+    first = buffer.lookup_many("a", "b", times)
+    expected = [first.stamps.copy(), first.translations.copy(), first.rotations.copy(), first.valid.copy()]
+    assert 0 < first.valid.sum() < len(times)
+    held = buffer.lookup_many("a", "b", times[::-1])  # while `first` is alive: memory of its own
+    assert not any(np.shares_memory(a, b) for a in vars(first).values() for b in vars(held).values())
+    del held
+    translations, one = first.translations, _address(first.translations)
+    del first
+    second = buffer.lookup_many("a", "b", times)  # `first`'s translations still held: not its memory
+    assert not np.shares_memory(translations, second.translations)
+    assert _columns_equal(second, expected)
+    kept = {one, _address(second.translations)}
+    del second, translations
+    again = buffer.lookup_many("a", "b", times)
+    assert _address(again.translations) in kept  # let go of: written into again, with the same bits
+    assert _columns_equal(again, expected)
+    del again
+    # A loop that rebinds its answer (the last one alive during each call) takes turns with the two blocks.
+    addresses = []
+    for _ in range(4):
+        answer = buffer.lookup_many("a", "b", times)
+        addresses.append(_address(answer.translations))
+        assert _columns_equal(answer, expected)
+    assert set(addresses) == kept and addresses[0] != addresses[1] and addresses[2:] == addresses[:2]
+    del answer
+    assert _address(buffer.lookup_many("a", "b", times[:100]).translations) not in kept  # a tenth the size
+    assert "_batch_outputs" not in buffer.__getstate__()
+
+
+def _columns_equal(batch: LookupBatch, expected: list[np.ndarray]) -> bool:
+    got = (batch.stamps, batch.translations, batch.rotations, batch.valid)
+    return all(np.array_equal(a, b) for a, b in zip(got, expected, strict=True))
+
+
+def _address(array: np.ndarray) -> int:
+    return int(array.__array_interface__["data"][0])
+
+
+def test_an_answer_let_go_is_written_over_and_one_held_never_is() -> None:
+    """The last answer, where nothing but the core holds it, is the next lookup's (the same object, its
+    tuples and floats written over); an answer, or a tuple or float of one, that anything holds keeps its values."""
+    buffer = Buffer(cache_time=None)
+    for k in range(1, 11):
+        rotation = (0.0, 0.0, float(np.sin(0.15 * k)), float(np.cos(0.15 * k)))
+        buffer.set_transform(Transform((float(k), k * k / 7, 0), rotation, k * S, "a", "b"))
+        buffer.set_transform(Transform((0.5, 0, float(k)), (0, 0, 0, 1), k * S, "b", "c"))
+    times = [S + k * S // 3 for k in range(25)]
+
+    def fields(t: Transform) -> tuple[object, ...]:
+        return (t.translation, t.rotation, t.stamp, t.frame_id, t.child_frame_id)
+
+    def fresh(target: str, source: str, time: int) -> tuple[object, ...]:
+        copy = Buffer.__new__(Buffer)  # another core: nothing kept
+        copy.__setstate__(buffer.__getstate__())
+        return fields(copy.lookup(target, source, time))
+
+    expected = {(t, s, time): fresh(t, s, time) for t, s in (("a", "b"), ("a", "c"), ("b", "c")) for time in times}
+    first = id(buffer.lookup("a", "c", times[0]))
+    filler = [Transform() for _ in range(100)]  # what would take a freed answer's memory
+    assert id(buffer.lookup("a", "b", times[1])) == first  # let go of, yet not freed: written over
+    del filler
+    held = [buffer.lookup("a", "c", time) for time in times]  # each held: new ones
+    assert len({id(t) for t in held}) == len(times)
+    translation = buffer.lookup("a", "b", times[3]).translation  # its tuple held, not the answer
+    x = buffer.lookup("b", "c", times[4]).rotation[2]  # a float of it held
+    for (target, source, time), want in expected.items():
+        got = buffer.lookup(target, source, time)
+        assert fields(got) == want and got == Transform(*want)  # type: ignore[arg-type]
+    assert [fields(t) for t in held] == [expected["a", "c", time] for time in times]
+    assert translation == expected["a", "b", times[3]][0]
+    assert x == expected["b", "c", times[4]][1][2]  # type: ignore[index]
 
 
 def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do() -> None:

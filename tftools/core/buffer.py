@@ -26,7 +26,7 @@ from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.errors import InvalidArgumentError, TransformError, UnknownFrameError
 from tftools.core.frames import NO_PARENT, frame_name
 from tftools.core.history import EdgeHistory
-from tftools.core.kernels import lookup_in_parallel
+from tftools.core.kernels import BatchOutputs, lookup_in_parallel
 from tftools.core.rejection import RejectionLog
 from tftools.core.rotation import quat_multiply_many, quat_rotate_many
 from tftools.core.semantics import Semantics, check_semantics, dialect
@@ -157,7 +157,7 @@ class Buffer:
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        for derived in ("_lock", "rejections"):
+        for derived in ("_lock", "rejections", "_batch_outputs"):
             del state[derived]
         with self._lock:
             # The core's state as plain values (its histories' columns as arrays), rebuilt where the copy is used.
@@ -179,6 +179,7 @@ class Buffer:
         #: What tf2 refused (``RejectionLog``: a sequence of ``Rejection`` s, the core's columns; a
         #: live buffer keeps about the latest ``LIVE_REJECTIONS_KEPT``, and counts every one in ``total``).
         self.rejections = RejectionLog(core, self.semantics)
+        self._batch_outputs = BatchOutputs()
 
     # --- frames ------------------------------------------------------------------------------
 
@@ -336,7 +337,8 @@ class Buffer:
         """``lookup`` at many times (int64 ns), vectorized; ``valid`` marks where tf2 succeeds.
 
         Unknown or invalid frame names raise as ``lookup`` does; every other failure is a
-        ``False`` in ``valid`` (call ``lookup`` at such a time for tf2's reason).
+        ``False`` in ``valid`` (call ``lookup`` at such a time for tf2's reason). A large batch's arrays
+        share one block of memory, which the buffer keeps for its next batches once they are let go.
         """
         stamps = np.asarray(times, dtype=np.int64).reshape(-1)
         if target_frame == source_frame:
@@ -344,7 +346,7 @@ class Buffer:
             n = len(stamps)
             return LookupBatch(resolved, np.zeros((n, 3)), np.tile([0.0, 0, 0, 1], (n, 1)), np.ones(n, bool))
         target_id, source_id = self._frame_ids("lookupTransform", target_frame, source_frame)
-        resolved, values, valid = lookup_in_parallel(self._core, target_id, source_id, stamps)
+        resolved, values, valid = lookup_in_parallel(self._core, target_id, source_id, stamps, self._batch_outputs)
         return LookupBatch(resolved, values[:, :3], values[:, 3:], valid)
 
     def transform_points(
