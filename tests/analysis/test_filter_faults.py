@@ -236,3 +236,17 @@ def test_a_topic_recorded_without_a_message_is_not_said_to_lack_a_frame_id() -> 
     unframed = _stream([(T0 + NS_PER_S, "", T0 + NS_PER_S)], "/unframed")
     report = filter_streams(buffer, [_stream([], "/imu/mag"), unframed], FilterQuery(target="odom"))
     assert report.skipped == ["/unframed"] and not report.streams
+
+
+def test_a_wait_for_a_slow_edge_is_said_as_its_next_sample_not_as_lateness() -> None:
+    """Issue 39 (ros2_db3_neato_real_person_marker_2025): markers waited ~0.18 s for odom -> base_footprint at
+    5.5 Hz, said as '0.001 s behind'. The edge is on time; the wait is its step to the next sample: say both."""
+    edge = [TfMessage("/tf", s + MS, [_t("odom", "base_link", s)], "/odom") for s in _grid(5)]
+    stamps = _grid(5)[:-1]  # 1 ms after each tf's stamp, arriving 1 ms after that tf
+    stream = _stream([(s + 2 * MS, "base_link", s + MS) for s in stamps])
+    report = filter_streams(_buffer(edge), [stream], FilterQuery(target="odom")).streams[0]
+    assert report.later == len(stamps) and report.wait["p50"] == 199 * MS  # to the next sample's arrival
+    assert (report.late_by, report.late_after, report.late_rate_hz) == (MS, 199 * MS, 5.0)
+    text = " ".join(_text(filter_streams(_buffer(edge), [stream], FilterQuery(target="odom"))).split())
+    assert "its newest stamp 0.001 s behind the message's on arrival, its next sample stamped 0.199 s after" in text
+    assert "at 5.0 Hz" in text

@@ -67,10 +67,9 @@ def _paragraph(s: StreamReport) -> list[Text]:
     words += [Text(word) for word in "; ".join(clauses).split(" ")]
     if s.late_edge is not None:
         parent, child = (Text(printable(name)) for name in s.late_edge)
-        child.append(",")
-        behind = f"{seconds(s.late_by):.3f} s behind".split(" ")
+        child.append(":")
         words[-1].append(";")
-        words += [Text("waited"), Text("for"), parent, Text("->"), child, *(Text(w) for w in behind)]
+        words += [Text("waited"), Text("for"), parent, Text("->"), child, *(Text(w) for w in _waited(s).split(" "))]
     words[-1].append(";")
     words += [Text(word) for word in f"to keep {KEEP:.1%}: {_advice(s)}".split(" ")]
     return words
@@ -84,7 +83,18 @@ def fates_in_words(reasons: dict[str, int]) -> str:
 def _late(s: StreamReport) -> str:
     if s.late_edge is None:
         return ""
-    return f"{s.late_edge[0]} -> {s.late_edge[1]} ({seconds(s.late_by):.3f} s behind)"
+    return f"{s.late_edge[0]} -> {s.late_edge[1]} ({_waited(s)})"
+
+
+def _waited(s: StreamReport) -> str:
+    """What a wait was made of: how far the edge's newest stamp was behind the message's when it arrived,
+    and how long after the message's stamp its next sample was (its step, at its rate): the two add up
+    to the wait, give or take the delays of delivery."""
+    rate = f" at {s.late_rate_hz:.1f} Hz" if s.late_rate_hz > 0 else ""
+    return (
+        f"its newest stamp {seconds(s.late_by):.3f} s behind the message's on arrival,"
+        f" its next sample stamped {seconds(s.late_after):.3f} s after it{rate}"
+    )
 
 
 #: What keeps the messages no timeout keeps, by why most of them were lost (``Fate.reason``).
@@ -125,7 +135,7 @@ def as_dict(report: FilterReport) -> dict[str, Any]:
 def _stream_dict(s: StreamReport) -> dict[str, Any]:
     """A stream's report, its durations in seconds (tuples become JSON lists)."""
     shown = dataclasses.asdict(s)
-    for name in ("wait", "late_by", "wait_needed", "cache_needed"):
+    for name in ("wait", "late_by", "late_after", "wait_needed", "cache_needed"):
         del shown[name]
     return {
         **{k: shown[k] for k in ("topic", "type", "frame_ids", "messages", "on_arrival", "later", "never")},
@@ -133,6 +143,8 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
         "reasons": shown["reasons"],
         "late_edge": shown["late_edge"],
         "late_by_s": seconds(s.late_by),
+        "late_after_s": seconds(s.late_after),
+        "late_rate_hz": s.late_rate_hz,
         "wait_needed_s": None if s.wait_needed is None else seconds(s.wait_needed),
         "queue_needed": s.queue_needed,
         "cache_needed_s": None if s.cache_needed is None else seconds(s.cache_needed),

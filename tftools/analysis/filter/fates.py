@@ -91,7 +91,9 @@ class Fates:
     when it left the filter's queue (passed or dropped; its arrival where it never entered the queue,
     ``NEVER`` where it was still waiting when the recording ended); ``edge`` the (parent, child) that
     decided it (made it wait, never caught up, or had dropped its stamp), ``lag`` how far that edge's
-    newest stamp was behind the message's stamp at arrival (ns); ``before_tf`` which were stamped before
+    newest stamp was behind the message's stamp at arrival (ns); ``after`` how far after the message's
+    stamp that edge's sample that let it through was stamped (ns, 0 where it did not wait; none where empty):
+    the edge's step between samples, where it is what a message waits for; ``before_tf`` which were stamped before
     the recording's tf of their chain began (none where empty): no cache keeps those if they age out;
     ``left_place`` where each left among the tf arrivals and the messages' arrivals (``_places``; none
     where empty: by ``left``, a tf arrival at a message's instant first)."""
@@ -103,6 +105,7 @@ class Fates:
     left: Int64Array
     before_tf: BoolArray = field(default_factory=lambda: np.zeros(0, np.bool_))
     left_place: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
+    after: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
 
     def early(self) -> BoolArray:
         """``before_tf``, one flag per message."""
@@ -266,6 +269,7 @@ def message_fates(
     left = np.full(n, NEVER, np.int64)
     left_place = _message_places(messages, np.arange(n))
     lag = np.zeros(n, np.int64)
+    after = np.zeros(n, np.int64)
     before_tf = np.zeros(n, np.bool_)
     decided: list[tuple[str, str] | None] = [None] * n
     for frame_index, frame_id in enumerate(messages.frame_ids):
@@ -284,11 +288,11 @@ def message_fates(
                 continue
             arrived, stamps, places = messages.record_time[mine], messages.stamp[mine], _message_places(messages, mine)
             judged = _judge(chain, arrived, places, stamps, end, cache_time)
-            fate[mine], ready[mine], left[mine], left_place[mine], lag[mine], limiting = judged
+            fate[mine], ready[mine], left[mine], left_place[mine], lag[mine], after[mine], limiting = judged
             before_tf[mine] = (stamps < chain.began) & (stamps != 0)
             for row, edge in zip(mine.tolist(), limiting, strict=True):
                 decided[row] = edge
-    return Fates(fate, ready, decided, lag, left, before_tf, left_place)
+    return Fates(fate, ready, decided, lag, left, before_tf, left_place, after)
 
 
 def _chains(
@@ -382,14 +386,16 @@ def recording_end(buffer: Buffer, streams: Sequence[StampedMessages]) -> int:
 
 def _judge(
     chain: _Chain, arrived: Int64Array, places: Int64Array, stamps: Int64Array, end: int, cache_time: int
-) -> tuple[Int8Array, Int64Array, Int64Array, Int64Array, Int64Array, list[tuple[str, str] | None]]:
-    """Fate, ready time, leaving time and place, lag and deciding edge of messages of one chain, arrived at
+) -> tuple[Int8Array, Int64Array, Int64Array, Int64Array, Int64Array, Int64Array, list[tuple[str, str] | None]]:
+    """Fate, ready time, leaving time and place, lag, how far after the stamp the sample that let it
+    through was stamped, and deciding edge of messages of one chain, arrived at
     ``arrived`` (record times) and ``places`` (among the tf arrivals, ``_message_places``), in a recording
     ending at ``end``: tf2's rule, as the module says."""
     n = len(stamps)
     edges = chain.edges
     if not edges:  # the frame is the target itself
-        return np.zeros(n, np.int8), arrived.copy(), arrived.copy(), places.copy(), np.zeros(n, np.int64), [None] * n
+        none = np.zeros(n, np.int64)
+        return np.zeros(n, np.int8), arrived.copy(), arrived.copy(), places.copy(), none, none.copy(), [None] * n
     first = np.stack([e.first_ready(stamps) for e in edges])
     last = np.stack([e.last_ready(stamps) for e in edges])
     waited_for, dropped_by = np.argmax(first, axis=0), np.argmin(last, axis=0)
@@ -421,10 +427,12 @@ def _judge(
     newest = np.stack([e.newest_at(places) for e in edges])
     lag = np.maximum(stamps - newest[deciding, np.arange(n)], 0)
     lag[np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL, Fate.BEFORE_RECORDED_TF)) | zero] = 0
+    released = np.stack([e.newest_at(passes) for e in edges])[waited_for, np.arange(n)]
+    after = np.where((fate == Fate.LATER) & ~zero, np.maximum(released - stamps, 0), 0)
     keys = [e.key for e in edges]
     deciding_list, fate_list = deciding.tolist(), fate.tolist()
     limiting = [keys[i] if f != Fate.ON_ARRIVAL else None for i, f in zip(deciding_list, fate_list, strict=True)]
-    return fate, ready, left, left_place, lag, limiting
+    return fate, ready, left, left_place, lag, after, limiting
 
 
 def _at(values: Int64Array, index: IntpArray) -> Int64Array:
@@ -466,6 +474,8 @@ class StreamReport:
     # Lost to their age (or undecided for it), stamped before the recording's tf of their chain began: no
     # cache keeps them (tf2 never held tf that old), starting tf before the sensor or dropping them does.
     before_tf: int = 0
+    late_after: float = 0.0  # how long after the stamps that edge's next sample was stamped (median): its step
+    late_rate_hz: float = 0.0  # that edge's rate
 
 
 @dataclass(frozen=True)
@@ -498,7 +508,9 @@ def stream_report(
     waits = fates.waits(stream)
     later = np.flatnonzero(fates.fate == Fate.LATER).tolist()
     late_edge = _most([fates.edge[i] for i in later])
-    lags = fates.lag[[i for i in later if fates.edge[i] == late_edge]]
+    waited = [i for i in later if fates.edge[i] == late_edge]
+    lags = fates.lag[waited]
+    afters = fates.after[waited] if len(fates.after) else fates.after
     never = int(sum(counts[f] for f in LOST))
     later_mask = fates.fate == Fate.LATER
     lost = [fates.edge[i] for i in np.flatnonzero(np.isin(fates.fate, TF_LOST)).tolist()]
@@ -514,6 +526,8 @@ def stream_report(
         reasons={Fate(code).reason: int(counts[code]) for code in LOST if counts[code]},
         late_edge=late_edge,
         late_by=float(np.median(lags)) if len(lags) else 0.0,
+        late_after=float(np.median(afters)) if len(afters) else 0.0,
+        late_rate_hz=_rate(buffer, late_edge),
         wait_needed=_wait_needed(fates, stream),
         queue_needed=smallest_queue(fates, stream),
         cache_needed=_cache_needed(buffer, stream, target, fates, end),
@@ -523,6 +537,14 @@ def stream_report(
         lost_edge=_most(lost),
         before_tf=int((fates.early() & np.isin(fates.fate, (*AGED, Fate.BEFORE_RECORDED_TF))).sum()),
     )
+
+
+def _rate(buffer: Buffer, edge: tuple[str, str] | None) -> float:
+    """The rate of ``edge``'s child frame (0 for none, or a static one)."""
+    hist = None if edge is None else buffer.history(edge[1])
+    if hist is None or hist.static:
+        return 0.0
+    return rate_hz(len(hist), hist.latest_stamp - hist.oldest_stamp)
 
 
 def _most(edges: list[tuple[str, str] | None]) -> tuple[str, str] | None:
