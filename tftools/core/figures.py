@@ -174,6 +174,20 @@ def age_in_words(age_ns: int, clock: str) -> str:
     return f"{age_ns / NS_PER_S:.3f} s old"
 
 
+def under_tick(wait_ns: float, tick: int) -> bool:
+    """Whether a wait read off a clock stepping every ``tick`` ns (0: a fine one) is shorter than one step."""
+    return tick > 0 and wait_ns < tick
+
+
+def wait_in_words(wait_ns: float, tick: int = 0) -> str:
+    """A wait (ns) as a person reads it: "0.181 s", or where it was read off a clock that steps every ``tick``
+    ns (record times under use_sim_time without /clock) and is shorter than one step, what was observed:
+    "under one 0.100 s tick". Such a clock cannot tell a wait shorter than its step from none: never "0.000 s"."""
+    if under_tick(wait_ns, tick):
+        return f"under one {tick / NS_PER_S:.3f} s tick"
+    return f"{wait_ns / NS_PER_S:.3f} s"
+
+
 @overload
 def seconds(ns: float) -> float: ...
 @overload

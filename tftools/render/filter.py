@@ -10,7 +10,7 @@ from rich.table import Table
 from rich.text import Text
 
 from tftools.analysis.filter.fates import FilterReport, StreamReport
-from tftools.core.figures import KEEP, seconds
+from tftools.core.figures import KEEP, seconds, wait_in_words
 from tftools.render import jsonl
 from tftools.render.escape import printable
 from tftools.render.fitted import Fitted, Paragraphs
@@ -35,7 +35,9 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
             str(s.messages),
             str(s.on_arrival),
             Text(str(s.later), style="yellow" if s.later else ""),
-            " / ".join(f"{seconds(s.wait[p]):.3f}" for p in ("p50", "p99", "max")) if s.later else "",
+            " / ".join(wait_in_words(s.wait[p], s.tick).removesuffix(" s") for p in ("p50", "p99", "max"))
+            if s.later
+            else "",
             Text(str(s.never), style="bold red" if s.never else ""),
             Text(fates_in_words(s.reasons)),
             Text(fates_in_words(s.undecided), style="dim"),
@@ -55,7 +57,7 @@ def _paragraph(s: StreamReport) -> list[Text]:
     the edge waited for, the advice. A name is one word: never split."""
     clauses = [f"{s.messages} messages", f"{s.on_arrival} on arrival"]
     if s.later:
-        wait = ", ".join(f"{p} {seconds(s.wait[p]):.3f} s" for p in ("p50", "p99", "max"))
+        wait = ", ".join(f"{p} {wait_in_words(s.wait[p], s.tick)}" for p in ("p50", "p99", "max"))
         clauses.append(f"{s.later} later, waiting {wait}")
     else:
         clauses.append("0 later")
@@ -91,10 +93,9 @@ def _waited(s: StreamReport) -> str:
     and how long after the message's stamp its next sample was (its step, at its rate): the two add up
     to the wait, give or take the delays of delivery."""
     rate = f" at {s.late_rate_hz:.1f} Hz" if s.late_rate_hz > 0 else ""
-    return (
-        f"its newest stamp {seconds(s.late_by):.3f} s behind the message's on arrival,"
-        f" its next sample stamped {seconds(s.late_after):.3f} s after it{rate}"
-    )
+    after = f"{seconds(s.late_after):.3f} s after it" if s.late_after else "with the message's stamp"
+    newest = f"its newest stamp {seconds(s.late_by):.3f} s behind the message's on arrival"
+    return f"{newest}, its next sample stamped {after}{rate}"
 
 
 #: What keeps the messages no timeout keeps, by why most of them were lost (``Fate.reason``).
@@ -111,8 +112,8 @@ def _advice(s: StreamReport) -> str:
     if s.wait_needed is None:
         instead = _INSTEAD.get(max(s.reasons, key=lambda r: s.reasons[r]) if s.reasons else "")
         said.append("no timeout can" + (f" ({instead})" if instead else ""))
-    elif s.wait_needed > 0:
-        said.append(f"wait {seconds(s.wait_needed):.3f} s")
+    elif s.wait_needed > 0 or (s.later and s.tick):  # waits under a tick: read as 0, not none
+        said.append(f"wait {wait_in_words(s.wait_needed, s.tick)}")
     if s.queue_needed:
         said.append(f"queue {s.queue_needed}")
     if s.cache_needed is not None:
@@ -135,11 +136,12 @@ def as_dict(report: FilterReport) -> dict[str, Any]:
 def _stream_dict(s: StreamReport) -> dict[str, Any]:
     """A stream's report, its durations in seconds (tuples become JSON lists)."""
     shown = dataclasses.asdict(s)
-    for name in ("wait", "late_by", "late_after", "wait_needed", "cache_needed"):
+    for name in ("wait", "late_by", "late_after", "wait_needed", "cache_needed", "tick"):
         del shown[name]
     return {
         **{k: shown[k] for k in ("topic", "type", "frame_ids", "messages", "on_arrival", "later", "never")},
         "wait_s": {p: seconds(ns) for p, ns in s.wait.items()},
+        "tick_s": seconds(s.tick),
         "reasons": shown["reasons"],
         "late_edge": shown["late_edge"],
         "late_by_s": seconds(s.late_by),

@@ -23,7 +23,7 @@ from tftools.analysis.graph import GraphEdge
 from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
 from tftools.core.arrays import FloatArray
-from tftools.core.figures import KEEP, seconds
+from tftools.core.figures import KEEP, seconds, wait_in_words
 from tftools.core.time import NS_PER_S, format_sec, signed_seconds
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
@@ -246,7 +246,7 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
             if r.wait_needed is not None
             else f"no timeout keeps {KEEP:.1%}"
         )
-        wait = f" (wait p50 {seconds(r.wait['p50']):.3f} s, {kept})" if r.later else ""
+        wait = f" (wait p50 {wait_in_words(r.wait['p50'], r.tick)}, {kept})" if r.later else ""
         open_ = sum(r.undecided.values())
         undecided = f", {open_} undecided ({fates_in_words(r.undecided)})" if open_ else ""
         about = (

@@ -53,7 +53,7 @@ def filter_messages(
     for problem in stamped.problems:
         if on_problem is not None:
             on_problem(problem)
-    report = filter_streams(recording.buffer, stamped.streams, query)
+    report = filter_streams(recording.buffer, stamped.streams, query, tick=recording.timeline.record_step)
     if not report.streams:
         whose = "whose header has" if len(report.skipped) == 1 else "whose headers have"
         unframed = [f"only {', '.join(report.skipped)}, {whose} no frame_id (not tied to tf)"] if report.skipped else []
@@ -62,10 +62,15 @@ def filter_messages(
 
 
 def filter_streams(
-    buffer: Buffer, streams: Sequence[StampedMessages], query: FilterQuery, tree: FrameTree | None = None
+    buffer: Buffer,
+    streams: Sequence[StampedMessages],
+    query: FilterQuery,
+    tree: FrameTree | None = None,
+    tick: int = 0,
 ) -> FilterReport:
     """``filter_messages`` of ``streams`` against the tf in ``buffer`` (``tree``: its ``tree_of``, if
-    already made; ``query.sensor_topics`` not looked at: the streams are those asked about)."""
+    already made; ``query.sensor_topics`` not looked at: the streams are those asked about; ``tick``: the
+    step of the clock the record times were read off, ``Timeline.record_step``)."""
     target, reason = choose_target(tree if tree is not None else tree_of(buffer), query.target)
     end = recording_end(buffer, streams)
     reports, skipped, fates = [], [], {}
@@ -76,5 +81,5 @@ def filter_streams(
             skipped.append(stream.topic)
             continue
         fates[stream.topic] = message_fates(buffer, stream, target, query.cache_time, end)
-        reports.append(stream_report(buffer, stream, target, fates[stream.topic], query.wait, query.queue, end))
+        reports.append(stream_report(buffer, stream, target, fates[stream.topic], query.wait, query.queue, end, tick))
     return FilterReport(target, reason, query.cache_time, reports, skipped, fates)

@@ -476,6 +476,7 @@ class StreamReport:
     before_tf: int = 0
     late_after: float = 0.0  # how long after the stamps that edge's next sample was stamped (median): its step
     late_rate_hz: float = 0.0  # that edge's rate
+    tick: int = 0  # the step of the clock the waits were read off (record times on /clock's ticks; 0: fine)
 
 
 @dataclass(frozen=True)
@@ -503,6 +504,7 @@ def stream_report(
     wait: int | None,
     queue: int | None,
     end: int,
+    tick: int = 0,
 ) -> StreamReport:
     counts = np.bincount(fates.fate, minlength=len(Fate))
     waits = fates.waits(stream)
@@ -528,6 +530,7 @@ def stream_report(
         late_by=float(np.median(lags)) if len(lags) else 0.0,
         late_after=float(np.median(afters)) if len(afters) else 0.0,
         late_rate_hz=_rate(buffer, late_edge),
+        tick=tick,
         wait_needed=_wait_needed(fates, stream),
         queue_needed=smallest_queue(fates, stream),
         cache_needed=_cache_needed(buffer, stream, target, fates, end),

@@ -83,7 +83,8 @@ class Scene:
     @cached_property
     def sensors(self) -> FilterReport:
         """What a MessageFilter into the target frame made of each sensor stream."""
-        return filter_streams(self.buffer, self.streams, FilterQuery(target=self.target), self.tree)
+        query = FilterQuery(target=self.target)
+        return filter_streams(self.buffer, self.streams, query, self.tree, self.timeline.record_step)
 
     @cached_property
     def tree(self) -> FrameTree:

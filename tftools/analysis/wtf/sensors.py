@@ -9,7 +9,7 @@ from tftools.analysis.filter.fates import TF_LOST
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, edge, listed
-from tftools.core.figures import KEEP
+from tftools.core.figures import KEEP, under_tick, wait_in_words
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import is_static_topic
@@ -115,14 +115,18 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
         # loud where most messages wait long (the p99), not where a few in a thousand did (the real boat's
         # /imu/data: 97% wait 18 ms, one 0.318 s)
         long = s.wait["p99"] > from_sec(scene.thresholds.delay)
-        p50, wait = s.wait["p50"] / NS_PER_S, needed / NS_PER_S
-        kept = f"{KEEP:.1%} within {wait:.3f} s" if s.wait_needed is not None else f"at most {wait:.3f} s"
+        wait, within = needed / NS_PER_S, wait_in_words(needed, s.tick)
+        if under_tick(needed, s.tick):  # the clock cannot tell how much under a step: a timeout of one step
+            wait = s.tick / NS_PER_S
+        else:
+            within = f"within {within}"
+        kept = f"{KEEP:.1%} {within}" if s.wait_needed is not None else f"at most {wait:.3f} s"
         timeout = f"{wait:.3f} s (it keeps {KEEP:.1%} of them)" if s.wait_needed is not None else f"{wait:.3f} s"
         yield Finding(
             Severity.warning if long else Severity.info,
             "sensor_wait",
             f"{s.topic}: {s.later} of {s.messages} messages could not be transformed into {_target(scene)} when they "
-            f"arrived, waiting {p50:.3f} s ({kept}) for "
+            f"arrived, waiting {wait_in_words(s.wait['p50'], s.tick)} ({kept}) for "
             f"{edge(*s.late_edge) if s.late_edge else 'tf'}",
             f"a node transforming it at once fails with 'extrapolation into the future': use a tf2_ros MessageFilter "
             f"(queue {max(s.queue_needed, 1)}) or canTransform/lookupTransform with a timeout of at least "
