@@ -186,7 +186,11 @@ class Scene:
         """A moment on the stamps' clock: absolute seconds, and seconds into the tf data where plausible
         (a stamp on another time base than the tf data's has none)."""
         since = self.timeline.since_origin(stamp)
-        return f"{stamp / NS_PER_S:.3f}" + (f" ({signed_seconds(since)} s)" if since is not None else "")
+        if since is None:
+            return f"{stamp / NS_PER_S:.3f}"
+        if signed_seconds(since).startswith("-"):  # what was observed, not a negative offset that reads as an error
+            return f"{stamp / NS_PER_S:.3f} ({signed_seconds(-since)[1:]} s before the first tf stamp)"
+        return f"{stamp / NS_PER_S:.3f} ({signed_seconds(since)} s)"
 
     def rel(self, stamp: int) -> str:
         """Seconds into the tf data (``Timeline.origin``), or the absolute time on another time base."""
