@@ -250,3 +250,8 @@ def test_a_wait_for_a_slow_edge_is_said_as_its_next_sample_not_as_lateness() -> 
     text = " ".join(_text(filter_streams(_buffer(edge), [stream], FilterQuery(target="odom"))).split())
     assert "its newest stamp 0.001 s behind the message's on arrival, its next sample stamped 0.199 s after" in text
     assert "at 5.0 Hz" in text
+    from tftools.analysis.wtf import Scene, findings_of
+
+    (wait,) = [f for f in findings_of(Scene(recording(edge), streams=[stream])) if f.code == "sensor_wait"]
+    assert "for odom -> base_link: its newest stamp 0.001 s behind" in wait.message  # wtf says the same
+    assert "its next sample stamped 0.199 s after it at 5.0 Hz" in wait.message

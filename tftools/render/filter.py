@@ -71,7 +71,14 @@ def _paragraph(s: StreamReport) -> list[Text]:
         parent, child = (Text(printable(name)) for name in s.late_edge)
         child.append(":")
         words[-1].append(";")
-        words += [Text("waited"), Text("for"), parent, Text("->"), child, *(Text(w) for w in _waited(s).split(" "))]
+        words += [
+            Text("waited"),
+            Text("for"),
+            parent,
+            Text("->"),
+            child,
+            *(Text(w) for w in s.wait_made_of().split(" ")),
+        ]
     words[-1].append(";")
     words += [Text(word) for word in f"to keep {KEEP:.1%}: {_advice(s)}".split(" ")]
     return words
@@ -85,17 +92,7 @@ def fates_in_words(reasons: dict[str, int]) -> str:
 def _late(s: StreamReport) -> str:
     if s.late_edge is None:
         return ""
-    return f"{s.late_edge[0]} -> {s.late_edge[1]} ({_waited(s)})"
-
-
-def _waited(s: StreamReport) -> str:
-    """What a wait was made of: how far the edge's newest stamp was behind the message's when it arrived,
-    and how long after the message's stamp its next sample was (its step, at its rate): the two add up
-    to the wait, give or take the delays of delivery."""
-    rate = f" at {s.late_rate_hz:.1f} Hz" if s.late_rate_hz > 0 else ""
-    after = f"{seconds(s.late_after):.3f} s after it" if s.late_after else "with the message's stamp"
-    newest = f"its newest stamp {seconds(s.late_by):.3f} s behind the message's on arrival"
-    return f"{newest}, its next sample stamped {after}{rate}"
+    return f"{s.late_edge[0]} -> {s.late_edge[1]} ({s.wait_made_of()})"
 
 
 #: What keeps the messages no timeout keeps, by why most of them were lost (``Fate.reason``).

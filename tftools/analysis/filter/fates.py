@@ -478,6 +478,15 @@ class StreamReport:
     late_rate_hz: float = 0.0  # that edge's rate
     tick: int = 0  # the step of the clock the waits were read off (record times on /clock's ticks; 0: fine)
 
+    def wait_made_of(self) -> str:
+        """What the wait for ``late_edge`` was made of, in words: how far its newest stamp was behind the
+        message's on arrival, and how long after the message's stamp its next sample was stamped (its step,
+        at its rate): the wait is that step, give or take the delays of delivery."""
+        rate = f" at {self.late_rate_hz:.1f} Hz" if self.late_rate_hz > 0 else ""
+        after = f"{self.late_after / NS_PER_S:.3f} s after it" if self.late_after else "with the message's stamp"
+        newest = f"its newest stamp {self.late_by / NS_PER_S:.3f} s behind the message's on arrival"
+        return f"{newest}, its next sample stamped {after}{rate}"
+
 
 @dataclass(frozen=True)
 class FilterReport:

@@ -127,7 +127,7 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
             "sensor_wait",
             f"{s.topic}: {s.later} of {s.messages} messages could not be transformed into {_target(scene)} when they "
             f"arrived, waiting {wait_in_words(s.wait['p50'], s.tick)} ({kept}) for "
-            f"{edge(*s.late_edge) if s.late_edge else 'tf'}",
+            f"{edge(*s.late_edge) + ': ' + s.wait_made_of() if s.late_edge else 'tf'}",
             f"a node transforming it at once fails with 'extrapolation into the future': use a tf2_ros MessageFilter "
             f"(queue {max(s.queue_needed, 1)}) or canTransform/lookupTransform with a timeout of at least "
             f"{timeout}, or make the late transform come sooner",
