@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import pytest
 
+from tests.analysis import wtf_scenes as scenes
 from tests.analysis.wtf_scenes import PROBLEMS, recording, sim_clock, simulated
 from tests.bags import TfMessage
 from tftools.analysis.findings import Finding
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.fleet import check
+from tftools.core.time import NS_PER_S
 from tftools.sources.contents import ClockSamples
 
 
@@ -81,3 +83,21 @@ def test_tf_on_boot_time_without_clock_is_not_called_a_simulation_alone(ros1: bo
     (note,) = [f for f in check(recording(simulated(), ros1=ros1)).findings if f.code == "clock"]
     assert "or a driver stamping on its own clock" in note.message, note.message
     assert "a driver stamping on its own clock (time since boot): stamp with the ROS time" in note.hint, note.hint
+
+
+@pytest.mark.parametrize(
+    ("statics_at_s", "said"),
+    [(0.0, "all in its first millisecond"), (2.5, "the last 2.5 s into it")],
+    ids=["first-instant", "later"],
+)
+def test_statics_early_says_when_the_last_static_came_never_0_000_s(statics_at_s: float, said: str) -> None:
+    """A real TurtleBot3's 22.7 min lap recorded its statics in its first instant, said as "the last 0.000 s
+    into 22.7 min" (issue 39)."""
+    statics = [scenes.statics(record=scenes.START + round(statics_at_s * NS_PER_S))]
+    made = scenes.healthy(
+        amcl=scenes.amcl(end=scenes.LONG), ekf=scenes.ekf(end=scenes.LONG), wheels=scenes.wheels(end=scenes.LONG)
+    )
+    messages = statics + [m for m in made if m.topic != "/tf_static"]
+    (found,) = [f for f in check(recording(messages)).findings if f.code == "statics_early"]
+    assert said in found.message and "0.000 s" not in found.message, found.message
+    assert "only at the start of 70.0 s" in found.message, found.message

@@ -81,6 +81,13 @@ def _durability(profile: object) -> object:
     return value.lower() if isinstance(value, str) else value
 
 
+def _last_static(after_start_ns: int) -> str:
+    """When the last static came, in words: a millisecond is below what ``duration`` shows (never "0.000 s")."""
+    if after_start_ns < NS_PER_S // 1000:
+        return "all in its first millisecond"
+    return f"the last {duration(after_start_ns / NS_PER_S)} into it"
+
+
 # A note, not a warning: a healthy recording holds its statics once, at the start (latched in ROS 1,
 # transient local in ROS 2).
 @register("statics_early", Severity.info, "static transforms only in the first seconds of a long recording")
@@ -101,8 +108,8 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
         Severity.info,
         "statics_early",
         f"the static transforms{scene.by(who)} ({listed([edge(*e) for e in statics])}) were recorded only at the "
-        f"start, the last {duration((last - scene.start) / NS_PER_S)} into {duration(length)}: played from later on, "
-        "split or filtered by time, the copy has none and lookups through them fail",
+        f"start of {duration(length)}, {_last_static(last - scene.start)}: played from later on, split or filtered "
+        "by time, the copy has none and lookups through them fail",
         f"{repair_hint(scene.ros2)} through the recording; or play it from its start ("
         + ("ros2 bag play without --start-offset)" if scene.ros2 else "rosbag play without -s)"),
         tuple(f for pair in statics for f in pair),
