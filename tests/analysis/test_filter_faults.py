@@ -255,3 +255,16 @@ def test_a_wait_for_a_slow_edge_is_said_as_its_next_sample_not_as_lateness() -> 
     (wait,) = [f for f in findings_of(Scene(recording(edge), streams=[stream])) if f.code == "sensor_wait"]
     assert "for odom -> base_link: its newest stamp 0.001 s behind" in wait.message  # wtf says the same
     assert "its next sample stamped 0.199 s after it at 5.0 Hz" in wait.message
+
+
+def test_a_lag_under_a_millisecond_is_said_so_never_0_000_s() -> None:
+    """A real car's markers (ros1_car_path_follower.bag, /car_marker) are stamped a few microseconds after the
+    newest tf: said as 'its newest stamp 0.000 s behind'. Under a millisecond is said so; the step stays."""
+    edge = [TfMessage("/tf", s + MS, [_t("odom", "base_link", s)], "/odom") for s in _grid(20)]
+    stamps = _grid(20)[:-1]
+    stream = _stream([(s + 2 * MS, "base_link", s + 20_000) for s in stamps])  # 20 µs after each tf's stamp
+    report = filter_streams(_buffer(edge), [stream], FilterQuery(target="odom"))
+    assert report.streams[0].late_by == 20_000
+    text = " ".join(_text(report).split())
+    assert "its newest stamp under 1 ms behind the message's on arrival, its next sample stamped 0.050 s" in text
+    assert "0.000 s" not in text

@@ -483,9 +483,15 @@ class StreamReport:
         message's on arrival, and how long after the message's stamp its next sample was stamped (its step,
         at its rate): the wait is that step, give or take the delays of delivery."""
         rate = f" at {self.late_rate_hz:.1f} Hz" if self.late_rate_hz > 0 else ""
-        after = f"{self.late_after / NS_PER_S:.3f} s after it" if self.late_after else "with the message's stamp"
-        newest = f"its newest stamp {self.late_by / NS_PER_S:.3f} s behind the message's on arrival"
+        after = f"{_lag(self.late_after)} after it" if self.late_after else "with the message's stamp"
+        newest = f"its newest stamp {_lag(self.late_by)} behind the message's on arrival"
         return f"{newest}, its next sample stamped {after}{rate}"
+
+
+def _lag(ns: float) -> str:
+    """A lag in seconds to the millisecond, or "under 1 ms" where that would read 0.000 s (a real car's markers
+    stamped a few microseconds after their tf: "0.000 s behind")."""
+    return "under 1 ms" if 0 < ns < NS_PER_S / 2000 else f"{ns / NS_PER_S:.3f} s"
 
 
 @dataclass(frozen=True)
