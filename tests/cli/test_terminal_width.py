@@ -47,7 +47,7 @@ def test_filter_fits_the_terminal(troubled: Path, columns: int) -> None:
         said = f"{topic['topic']} in {', '.join(topic['frame_ids'])}: {topic['messages']} messages; "
         assert paragraph.startswith(said + f"{topic['on_arrival']} on arrival; {topic['later']} later")
         assert f"; {topic['never']} never" in paragraph and "to keep 99.9%: " in paragraph
-    assert "waited for odom -> base_link, " in paragraphs[1]  # the scans' edge, its names whole
+    assert "waited for odom -> base_link: " in paragraphs[1]  # the scans' edge, its names whole
 
 
 @pytest.mark.parametrize("name", SUBCOMMANDS)
