@@ -14,6 +14,8 @@ from typing import overload
 import numpy as np
 
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray
+from tftools.core.batch import TransformBatch
+from tftools.core.buffer import Buffer
 from tftools.core.rotation import angle_between_many
 from tftools.core.time import NS_PER_S
 
@@ -190,8 +192,7 @@ class Disagreement:
 def disagreement(a_stamps: Int64Array, a: FloatArray, b_stamps: Int64Array, b: FloatArray) -> Disagreement | None:
     """How far two streams of one edge's values (N x 7: translation, quaternion; stamps sorted) are apart at
     the same time: at each stamp of one within the other's span, against the other's value at that stamp,
-    interpolated between its samples around it as tf2 does (linearly; the rotation normalised along the
-    chord, close to tf2's slerp for a step's small turn). None where their spans never overlap."""
+    interpolated between its samples around it by tf2 (``_against``). None where their spans never overlap."""
     pairs = [_against(a_stamps, a, b_stamps, b), _against(b_stamps, b, a_stamps, a)]
     stamps = np.concatenate([p[0] for p in pairs])
     if not len(stamps):
@@ -207,20 +208,34 @@ def disagreement(a_stamps: Int64Array, a: FloatArray, b_stamps: Int64Array, b: F
 def _against(
     stamps: Int64Array, values: FloatArray, other_stamps: Int64Array, other: FloatArray
 ) -> tuple[Int64Array, FloatArray, FloatArray]:
-    """``stamps`` within ``other_stamps``' span, their values, and ``other`` interpolated at them."""
-    if not len(other_stamps):
-        return stamps[:0], values[:0], values[:0]
-    inside = (stamps >= other_stamps[0]) & (stamps <= other_stamps[-1])
-    at, mine = stamps[inside], values[inside]
-    after = np.minimum(np.searchsorted(other_stamps, at, side="left"), len(other_stamps) - 1)
-    before = np.where(other_stamps[after] == at, after, np.maximum(after - 1, 0))
-    span = (other_stamps[after] - other_stamps[before]).astype(np.float64)
-    ratio = np.divide(at - other_stamps[before], span, out=np.zeros(len(at)), where=span > 0)[:, None]
-    start, end = other[before], other[after]
-    end_q = np.where(((start[:, 3:] * end[:, 3:]).sum(axis=1) < 0)[:, None], -end[:, 3:], end[:, 3:])
-    translation = start[:, :3] + ratio * (end[:, :3] - start[:, :3])
-    rotation = start[:, 3:] + ratio * (end_q - start[:, 3:])
-    return at, mine, np.concatenate([translation, rotation], axis=1)
+    """``stamps`` within ``other_stamps``' span, their values, and ``other`` at them as tf2 gives it: one
+    edge's samples in a buffer, looked up in one batch (tf2's lerp and slerp). A stamp of 0 is tf2's
+    "latest", not a time: not compared."""
+    none = stamps[:0], values[:0], values[:0]
+    inside = (stamps >= other_stamps[0]) & (stamps <= other_stamps[-1]) & (stamps != 0) if len(other_stamps) else None
+    if inside is None or not inside.any():
+        return none
+    n = len(other_stamps)
+    buffer = Buffer(cache_time=None)
+    buffer.insert(
+        TransformBatch(
+            frame_names=("parent", "child"),
+            authorities=("",),
+            parent=np.zeros(n, np.int32),
+            child=np.ones(n, np.int32),
+            stamp=other_stamps,
+            translation=np.ascontiguousarray(other[:, :3]),
+            rotation=np.ascontiguousarray(other[:, 3:]),
+            static=np.zeros(n, np.bool_),
+            record_time=np.zeros(n, np.int64),
+        )
+    )
+    if not buffer.has_frame("child"):  # every sample refused (tf2's rules: a NaN, an unnormalisable rotation)
+        return none
+    looked = buffer.lookup_many("parent", "child", stamps[inside])
+    found = looked.valid
+    theirs = np.concatenate([looked.translations[found], looked.rotations[found]], axis=1)
+    return stamps[inside][found], values[inside][found], theirs
 
 
 def under_tick(wait_ns: float, tick: int) -> bool:
