@@ -243,6 +243,12 @@ def under_tick(wait_ns: float, tick: int) -> bool:
     return tick > 0 and wait_ns < tick
 
 
+def seconds_in_words(ns: float) -> str:
+    """A figure in seconds to the millisecond, or "under 1 ms" where that would read 0.000 s though it is not 0
+    (a real car's markers stamped a few microseconds after their tf were "0.000 s behind")."""
+    return "under 1 ms" if 0 < ns < NS_PER_S / 2000 else f"{ns / NS_PER_S:.3f} s"
+
+
 def wait_in_words(wait_ns: float, tick: int = 0) -> str:
     """A wait (ns) as a person reads it: "0.181 s", or where it was read off a clock that steps every ``tick``
     ns (record times under use_sim_time without /clock) and is shorter than one step, what was observed:

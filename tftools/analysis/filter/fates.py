@@ -40,7 +40,7 @@ from tftools.analysis.edges import Edge, chain_edges, sorted_unique
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
-from tftools.core.figures import KEEP, rate_hz, silence_limit, wait_keeping
+from tftools.core.figures import KEEP, rate_hz, seconds_in_words, silence_limit, wait_keeping
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -483,15 +483,9 @@ class StreamReport:
         message's on arrival, and how long after the message's stamp its next sample was stamped (its step,
         at its rate): the wait is that step, give or take the delays of delivery."""
         rate = f" at {self.late_rate_hz:.1f} Hz" if self.late_rate_hz > 0 else ""
-        after = f"{_lag(self.late_after)} after it" if self.late_after else "with the message's stamp"
-        newest = f"its newest stamp {_lag(self.late_by)} behind the message's on arrival"
+        after = f"{seconds_in_words(self.late_after)} after it" if self.late_after else "with the message's stamp"
+        newest = f"its newest stamp {seconds_in_words(self.late_by)} behind the message's on arrival"
         return f"{newest}, its next sample stamped {after}{rate}"
-
-
-def _lag(ns: float) -> str:
-    """A lag in seconds to the millisecond, or "under 1 ms" where that would read 0.000 s (a real car's markers
-    stamped a few microseconds after their tf: "0.000 s behind")."""
-    return "under 1 ms" if 0 < ns < NS_PER_S / 2000 else f"{ns / NS_PER_S:.3f} s"
 
 
 @dataclass(frozen=True)
