@@ -111,6 +111,27 @@ def test_one_publisher_re_sending_its_last_value_is_a_note_saying_so(
     assert not [f for f in findings if "taking turns" in f.message]
 
 
+def test_one_publisher_re_valuing_its_newest_stamp_is_one_note_and_the_stamp_where_it_matters(tmp_path: Path) -> None:
+    """ros2_db3_jetacker_slam_toolbox_static_map: slam_toolbox sent identity twice at one stamp, then its first
+    correction at the same stamp 77 times; the re-sends got no note (one stamp re-valued) and the re-valued stamp
+    was said without what ROS 2's tf2 does with it."""
+    sent = _slam_corrections()
+    stamp = sent[10].transforms[0].stamp
+    at = [i for i, m in enumerate(sent) if m.transforms[0].stamp == stamp]
+    for i in at[:2]:  # the first two sends of that stamp: identity
+        sent[i] = TfMessage("/tf", sent[i].record_time, [scenes._t("map", "odom", stamp, 0.0)], "")
+    findings = _findings(tmp_path, scenes.healthy(amcl=sent), {"/tf": 1})
+    assert coded(findings, "multiple_authorities") == []
+    (note,) = coded(findings, "resent")
+    assert "with identical values but 1 stamp that came again with another value" in note.message
+    assert note.message.endswith("one publisher re-sending its last value, not two")
+    assert note.figures["stamps_revalued"] == 1 and "time_backwards" in note.hint
+    (backwards,) = [f for f in loud(findings) if f.frames == ("map", "odom")]
+    assert (backwards.code, backwards.severity) == ("time_backwards", Severity.warning)
+    assert f"1 stamp it had already sent came again with other values ({len(at) - 2} transforms)" in backwards.message
+    assert "lookups at the stamp and up to the next one answer from the last value received" in backwards.message
+
+
 # --- (b) a stepped simulation clock -----------------------------------------------------------------
 
 

@@ -114,6 +114,11 @@ def test_slam_toolbox_re_sending_map_to_odom_is_not_two_publishers(corpus: Corpu
     about = [f for f in findings if f["frames"][:2] == ["map", "odom"]]
     assert not [f for f in about if f["code"] in ("multiple_authorities", "stale")], about
     assert not [f for f in about if "taking turns" in f["message"] or "two identical" in f["message"]]
+    (resent,) = [f for f in about if f["code"] == "resent"]  # one account of the re-sends, the re-valued stamp in it
+    assert "42 of its 43 stamps arrived again (46 to 100 times each)" in resent["message"]
+    assert "but 1 stamp that came again with another value, first at 15.020" in resent["message"]
+    (backwards,) = [f for f in about if f["code"] == "time_backwards"]  # where it matters: what tf2 answers
+    assert "answer from the last value received" in backwards["message"]
 
 
 # --- static_conflict in ROS 2, one cause -------------------------------------------------------

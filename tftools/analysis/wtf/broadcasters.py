@@ -4,7 +4,8 @@ publishers of its topic metadata.yaml lists. Four patterns are told apart:
 
 - a stamp sent again with the same value, the newest stamp each time, as long after the sample before it
   as new samples come: one publisher re-sending its last value (a timer whose input did not change: a
-  simulation step not yet taken, no new scan); a note;
+  simulation step not yet taken, no new scan); a note, which counts the stamps it re-valued in between
+  (slam_toolbox's first correction of a scan), ``time_backwards``' to report;
 - most stamps sent again, each soon after the first (well within the stream's interval): two identical
   publishers (two robot_state_publishers), or two that disagree where the values differ;
 - among the samples not sent before, stamps going back and forth or values alternating between two
@@ -150,9 +151,8 @@ def _infer(scene: Scene) -> list[Finding]:
         repeats = repeats_of(rows.stamp[mine], rows.values[mine], scene.received(mine))
         if _enough(repeats.stamps_again, repeats.stamps):
             if repeats.resent and repeats.newest >= NEWEST_SHARE:
-                if repeats.identical[repeats.again].all():
-                    found.append(_resent(scene, frames, mine, repeats))
-                continue  # one publisher sending its newest stamp again: other values are ``time_backwards``'
+                found.append(_resent(scene, frames, mine, repeats))
+                continue
             if not repeats.resent and repeats.stamps_again >= TWINS_SHARE * repeats.stamps:
                 twins.setdefault(scene.authorities_of(mine), []).append((frames, mine, repeats))
                 continue
@@ -202,25 +202,34 @@ def sent_before(stamps: Int64Array, values: FloatArray | None = None) -> BoolArr
 
 
 def _resent(scene: Scene, frames: tuple[str, str], mine: IntpArray, repeats: Repeats) -> Finding:
-    """One publisher re-sending its last sample, stamp and value, on its own timer."""
+    """One publisher re-sending its last sample on its own timer: the newest stamp again, its value the same
+    but where the publisher changed it in between (slam_toolbox's first correction of a scan); those stamps
+    are ``time_backwards``' to report, as they change what tf2 answers."""
     authorities = scene.authorities_of(mine)
     metadata, listed_count = _listed_said(scene, authorities)
+    revalued = mine[repeats.again & ~repeats.identical]
     if scene.buffer.semantics == "ros2":
-        effect = "nothing to fix: ROS 2's tf2 takes an identical sample again without a word"
+        copies = "ROS 2's tf2 takes an identical sample again without a word"
     else:
-        effect = "ROS 1's tf2 refuses each copy (TF_REPEATED_DATA), which changes nothing but the log"
+        copies = "ROS 1's tf2 refuses each copy (TF_REPEATED_DATA), which changes nothing but the log"
+    values, effect = "with identical values", f"nothing to fix: {copies}"
+    if len(revalued):
+        stamps = counted(len(np.unique(scene.rows.stamp[revalued])), "stamp")
+        values += f" but {stamps} that came again with another value, first at {scene.first_at(revalued)}"
+        effect = f"the copies: {copies}; the {stamps} re-valued: time_backwards says which value tf2 answers"
     finding = scene.finding(
         Severity.info,
         "resent",
-        f"{edge(*frames)}{scene.by(authorities)}: {repeats.said()}, with identical values, {repeats.timing()}, "
-        f"each time the newest stamp sent so far{metadata}: one publisher re-sending its last value, not two",
+        f"{edge(*frames)}{scene.by(authorities)}: {repeats.said()}, {values}, {repeats.timing()}, each time the "
+        f"newest stamp sent so far{metadata}: one publisher re-sending its last value, not two",
         f"{effect}; a publisher on a timer sends its last transform again when its input has not changed "
         "(a simulation step not yet taken, no new scan)",
         frames,
         mine[repeats.again],
         scene.arrival(mine[repeats.again]),
     )
-    figures = repeats.figures() | ({"publishers_listed": listed_count} if listed_count is not None else {})
+    figures = repeats.figures() | {"stamps_revalued": len(np.unique(scene.rows.stamp[revalued]))}
+    figures |= {"publishers_listed": listed_count} if listed_count is not None else {}
     return dataclasses.replace(finding, figures=figures)
 
 

@@ -31,11 +31,15 @@ WINDOWS_AT_ONCE = 65536
 FLOOR_M = 0.05
 FLOOR_DEG = 3.0
 #: A step no faster than ``JUMP_FACTOR`` times either step beside it, or than the edge's usual speed (the
-#: median of its steps that moved, where at least this many did), is its own motion too, unless the edge is
-#: back where the step began within ``NEIGHBOURS`` samples (a flip and back: two sources taking turns). Real
-#: Neatos' odometry and wheels at 5.5 Hz move in pulses of two or three samples (teleop) and restart from rest
-#: with a step that the neighbours' median (0 around a pulse or a start) does not explain.
+#: median of its steps that moved, where at least this many did), is its own motion too, unless it comes back
+#: (``comes_back``: a spike or a toggle). Real Neatos' odometry and wheels at 5.5 Hz move in pulses of two or
+#: three samples (teleop) and restart from rest with a step that the neighbours' median (0 around a pulse or a
+#: start) does not explain.
 USUAL_MIN_STEPS = 10
+#: A step comes back (``comes_back``) when the edge is near where it began within this many samples after it,
+#: having held where the step took it (a spike, or two sources taking turns), or the step ends near where the
+#: edge was within this many samples before it (the way back of one); a step that stays is a jump.
+BACK_WITHIN = NEIGHBOURS
 
 #: REP 105's frames, by their name without a namespace prefix.
 ODOM, MAP, BASES = "odom", "map", ("base_link", "base_footprint")
@@ -110,9 +114,9 @@ def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]], usual: bo
             # steps the neighbours leave unexplained and the steps beside them)
             near = np.unique(np.clip(np.flatnonzero(unexplained)[:, None] + np.arange(-1, 2), 0, len(begin) - 1))
             back = np.zeros(len(begin), bool)
-            back[near] = _undone(
+            back[near] = comes_back(
                 values, begin[near], local[near], steps_of[edge_of_step[near]], metres[near], degrees[near]
-            )
+            ).out  # a step's way back is judged by the pace it comes back at
             pace_m, pace_deg = (
                 np.where(back, 0.0, np.fmax(_usual(v, edge_of_step, len(edges)), _beside(v, at)))
                 for v in (np.where(back, np.nan, speed_m), np.where(back, np.nan, speed_deg))
@@ -150,20 +154,53 @@ def _beside(speed: FloatArray, at: IntpArray) -> FloatArray:
     return faster
 
 
-def _undone(
+@dataclass(frozen=True)
+class Back:
+    """Per step, how it comes back (``comes_back``)."""
+
+    out: BoolArray  # the edge is near where the step began at one of its next ``BACK_WITHIN`` samples
+    returns: BoolArray  # the step ends near where the edge was at one of the ``BACK_WITHIN`` samples before it
+
+    @property
+    def either(self) -> BoolArray:
+        """The steps that go out to, or come back from, a place the edge does not stay at."""
+        both: BoolArray = self.out | self.returns
+        return both
+
+
+def comes_back(
     values: FloatArray, begin: IntpArray, local: IntpArray, steps: IntpArray, metres: FloatArray, degrees: FloatArray
-) -> npt.NDArray[np.bool_]:
-    """Per step (``metres``, ``degrees`` long), whether its edge is back where the step began at one of its next
-    ``NEIGHBOURS`` samples (a flip and back, however long it stays flipped) or, for a step of at most 90°, back
-    at least half way (onto its path, on a moving edge); a pulse of motion goes on. Past 90° a rotation's way
-    back is not told from a wheel turning on (the shortest rotation between samples wraps)."""
-    back = np.zeros(len(begin), bool)
-    halfway = np.where(degrees <= 90.0, np.maximum(FLOOR_DEG, degrees / 2), FLOOR_DEG)
-    for later in range(2, NEIGHBOURS + 2):  # the step's end is sample begin + 1
-        there = local + later <= steps
-        m, d = apart(values[begin], values[np.where(there, begin + later, begin + 1)])
-        back |= there & (m <= np.maximum(FLOOR_M, metres / 2)) & (d <= halfway)
-    return back
+) -> Back:
+    """The one rule of a step that comes back, per step (``metres`` and ``degrees`` long) from sample ``begin``
+    of ``values`` to the next, ``local`` of its edge's ``steps`` (samples ``begin - local`` to ``begin - local +
+    steps`` are the edge's): within ``BACK_WITHIN`` samples the edge is near where the step began, having stayed
+    near where the step took it in between (a spike, or a toggle between two sources' values); or the step ends
+    near where the edge was that many samples before, having stayed near where the step began since (the way
+    back of one). Near is within half the step (``FLOOR_M``, ``FLOOR_DEG`` at least; past 90° within
+    ``FLOOR_DEG``, as a rotation's way back is not told from a wheel turning on: the shortest rotation between
+    samples wraps). A step that stays, or moves on (a pulse of motion, a wheel turning faster than its samples
+    follow), does not come back."""
+    near_m = np.maximum(FLOOR_M, metres / 2)
+    near_deg = np.where(degrees <= 90.0, np.maximum(FLOOR_DEG, degrees / 2), FLOOR_DEG)
+
+    def near(a: IntpArray, b: IntpArray) -> BoolArray:
+        m, d = apart(values[a], values[b])
+        close: BoolArray = (m <= near_m) & (d <= near_deg)
+        return close
+
+    out, returns = np.zeros(len(begin), bool), np.zeros(len(begin), bool)
+    held_out, held_in = np.ones(len(begin), bool), np.ones(len(begin), bool)
+    end = begin + 1
+    for later in range(1, BACK_WITHIN + 1):
+        there = local + 1 + later <= steps
+        sample = np.where(there, end + later, end)
+        out |= there & held_out & near(begin, sample)
+        held_out &= near(end, sample)
+        there = local - later >= 0
+        sample = np.where(there, begin - later, begin)
+        returns |= there & held_in & near(end, sample)
+        held_in &= near(begin, sample)
+    return Back(out, returns)
 
 
 def _neighbour_speed(speed: FloatArray, at: IntpArray) -> FloatArray:
@@ -244,46 +281,16 @@ def jump(scene: Scene) -> Iterator[Finding]:
         )
 
 
-#: Two joint values are one position when they agree to this many decimals (the same source re-sending a
-#: position computes the same floats).
-SAME_POSITION_DECIMALS = 9
-
-
 def _back_and_forth(values: FloatArray, found: Jumps, when: Int64Array) -> tuple[Jumps, Int64Array]:
-    """The steps of a joint that leave a position it comes back to, or come back to one it held: what two
-    /joint_states sources taking turns, or a driver resetting a joint, leave in its samples. A joint's step
-    that does neither is motion its samples were too sparse to follow: a wheel spinning faster than half a
-    turn a sample (each angle seen modulo a turn), or starting and stopping between two samples at 4 Hz
-    (a real TurtleBot2's wheels, a Unity robot's wheels and its body tipping over an obstacle)."""
-    _, position = np.unique(np.round(values, SAME_POSITION_DECIMALS), axis=0, return_inverse=True)
-    position = position.ravel()
-    index = np.arange(len(position))
-    first = np.full(int(position.max()) + 1, len(position))
-    np.minimum.at(first, position, index)
-    last = np.full(int(position.max()) + 1, -1)
-    np.maximum.at(last, position, index)
-    after, before = found.at, found.at - 1  # each step goes from sample ``before`` to sample ``after``
-    kept = (first[position[after]] < before) | (last[position[before]] > after)
-    kept |= _spike(values, before, after, found, out=True) | _spike(values, before, after, found, out=False)
+    """The steps of a joint that come back (``comes_back``): what two /joint_states sources taking turns leave
+    in its samples, or a one-sample glitch. A joint's step that stays is motion its samples were too
+    sparse to follow: a wheel spinning faster than half a turn a sample (each angle seen modulo a turn), or
+    starting and stopping between two samples at 4 Hz (a real TurtleBot2's wheels, a Unity robot's wheels and
+    its body tipping over an obstacle)."""
+    begin = found.at - 1  # each step goes from sample ``begin`` to the next
+    steps = np.full(len(begin), len(values) - 1)
+    kept = comes_back(values, begin, begin, steps, found.metres, found.degrees).either
     return Jumps(found.at[kept], found.metres[kept], found.degrees[kept]), when[kept]
-
-
-#: A step is half of a spike when the joint is back within this share of it one sample later (out), or was
-#: there one sample before (back): one sample of another source's value, between two of the joint's own.
-SPIKE_RETURN = 0.25
-
-
-def _spike(values: FloatArray, before: IntpArray, after: IntpArray, found: Jumps, *, out: bool) -> BoolArray:
-    """Which steps go out to a one-sample value the joint then leaves for about where it was (``out``), or
-    come back from one (not ``out``)."""
-    ends = (before, after + 1) if out else (before - 1, after)
-    inside = (ends[0] >= 0) & (ends[1] < len(values))
-    spike = np.zeros(len(before), bool)
-    if inside.any():
-        metres, degrees = apart(values[ends[0][inside]], values[ends[1][inside]])
-        step = found.metres[inside] + found.degrees[inside] / 100  # a metre weighs as much as 100 degrees
-        spike[inside] = metres + degrees / 100 <= SPIKE_RETURN * step
-    return spike
 
 
 def _joints(scene: Scene) -> set[tuple[str, str]]:

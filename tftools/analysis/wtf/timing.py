@@ -411,8 +411,10 @@ def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same:
         stamps = counted(len(np.unique(scene.rows.stamp[offenders])), "stamp")  # a new value re-sent is one
         message = (
             f"{edge(*frames)}{scene.by(scene.authorities_of(offenders))}: {stamps} it had already sent came again "
-            f"with other values ({transforms(len(offenders))}), first at {first}: ROS 2's tf2 keeps both, and "
-            "lookups at that stamp answer with the last one received (ROS 1's would ignore it: TF_REPEATED_DATA)"
+            f"with other values ({transforms(len(offenders))}), first at {first}: ROS 2's tf2 keeps each value "
+            "once, the newer before the older at that stamp, so lookups at the stamp and up to the next one answer "
+            "from the last value received, and lookups just before it interpolate towards the first (ROS 1's "
+            "would ignore it: TF_REPEATED_DATA)"
         )
     else:
         severity, hint = Severity.error, other_values
