@@ -40,3 +40,15 @@ def test_a_lone_step_makes_no_run_of_its_own() -> None:
     stamps, values = _heading([*STRAIGHT, 0.1, 0.2, 10.1, 0.2, -0.1, *STRAIGHT])
     found = jumps.jumps(stamps, values)
     assert len(found) == 1 and round(float(found.degrees[0])) == 10
+
+
+def test_a_heading_wobbling_for_a_sample_on_an_edge_that_turns_fast_is_no_jump() -> None:
+    """The same robot's heading dips 6 degrees for one sample and comes back (a flip and back, as two sources
+    taking turns leave): at the tens of degrees a sample it turns elsewhere, that is its own motion."""
+    stamps, values = _heading([*STRAIGHT, 0.2, -6.1, 7.0, 0.7, -0.2, *STRAIGHT, *TURN, *STRAIGHT])
+    assert len(jumps.jumps(stamps, values)) == 0
+
+
+def test_a_flip_and_back_on_an_edge_that_never_turns_still_jumps() -> None:
+    stamps, values = _heading([*STRAIGHT, 0.2, -6.1, 7.0, 0.7, -0.2, *STRAIGHT])
+    assert len(jumps.jumps(stamps, values)) >= 1

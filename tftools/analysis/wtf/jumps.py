@@ -116,9 +116,7 @@ def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]], usual: bo
                 values, begin[near], local[near], steps_of[edge_of_step[near]], metres[near], degrees[near]
             )
             pace_m, pace_deg = (
-                np.where(
-                    back, 0.0, np.fmax(_usual(v, edge_of_step, len(edges)), _own_pace(v, at, edge_of_step, len(edges)))
-                )
+                _pace(v, back, at, edge_of_step, len(edges))
                 for v in (np.where(back, np.nan, speed_m), np.where(back, np.nan, speed_deg))
             )
             unexplained &= (metres > JUMP_FACTOR * pace_m * seconds + FLOOR_M) | (
@@ -146,10 +144,15 @@ def _usual(speed: FloatArray, edge_of_step: IntpArray, edges: int) -> FloatArray
     return usual[edge_of_step]
 
 
-def _own_pace(speed: FloatArray, at: IntpArray, edge_of_step: IntpArray, edges: int) -> FloatArray:
-    """Per step, the faster of a step beside it (``_beside``) and its edge's fastest sustained motion
-    (``_sustained``)."""
-    return np.fmax(_beside(speed, at), _sustained(speed, edge_of_step, edges))
+def _pace(speed: FloatArray, back: BoolArray, at: IntpArray, edge_of_step: IntpArray, edges: int) -> FloatArray:
+    """Per step, the pace that explains it: its edge's usual speed, a step beside it or its fastest sustained
+    motion; for a flip and back (``back``, whose ``speed`` is NaN), the sustained motion alone: a heading that
+    wobbles 5 degrees for a sample on a robot turning tens of degrees a sample is its own motion, a wheel
+    flipping 180 degrees on a joint that never turns is not."""
+    sustained = _sustained(speed, edge_of_step, edges)
+    moving = np.fmax(np.fmax(_usual(speed, edge_of_step, edges), _beside(speed, at)), sustained)
+    paced: FloatArray = np.where(back, sustained, moving)
+    return paced
 
 
 def _sustained(speed: FloatArray, edge_of_step: IntpArray, edges: int) -> FloatArray:
