@@ -526,3 +526,16 @@ def test_what_stale_claims_holds_lookups_after_the_last_stamp_extrapolate_into_t
     with pytest.raises(ExtrapolationError, match="into the future"):
         stopped.buffer.lookup("map", "base_link", finding.first_time + 100 * MS)
     assert "extrapolation into the future" in finding.hint
+
+
+def test_steady_stamps_received_in_bursts_are_no_irregular_rate() -> None:
+    """A real robot's odometry (corpus zaki0929/bagfiles 2019 expt04) stamped exactly 0.100 s apart, received
+    over Wi-Fi in bursts (arrival intervals of 0 to 0.86 s): what tf2 holds is steady, so no ``rate``; the same
+    bursts with the stamps dropped as they arrive stay irregular."""
+    lag = np.random.default_rng(39).uniform(0.0, 0.15, 1000) * NS_PER_S
+    bursts = [dataclasses.replace(m, record_time=m.record_time + int(lag[i])) for i, m in enumerate(amcl())]
+    bursts.sort(key=lambda m: m.record_time)
+    assert not [f for f in check(recording(healthy(amcl=bursts))).findings if f.code == "rate"]
+    dropped = np.random.default_rng(7).random(100) < 0.3
+    stutter = [m for m in bursts if not dropped[round((m.transforms[0].stamp - START) / NS_PER_S * 10) % 100]]
+    assert "publishes irregularly" in only(check(recording(healthy(amcl=stutter))).findings, "rate").message

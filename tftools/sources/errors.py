@@ -45,6 +45,21 @@ class UnknownBagFormatError(BagError):
         )
 
 
+class OldRos1BagError(UnknownBagFormatError):
+    """A ROS 1 bag of a format before 2.0 (``#ROSRECORD V1.x``, written before ROS C Turtle, 2010)."""
+
+    def __init__(self, path: str, version: str) -> None:
+        hint = (  # Noetic's rosbag (1.15) lists a 1.2 bag but raises a TypeError on its messages, in fix and filter
+            "convert it to 2.0 with rosbag fix OLD.bag NEW.bag of a ROS 1 older than Noetic (Noetic's fails on"
+            " 1.2 bags' messages); rosbag info lists what it holds"
+            if version == "1.2"
+            else "ROS 1's rosbag reads formats 1.2 and 2.0 only"
+        )
+        BagError.__init__(
+            self, path, f"a ROS 1 bag of the old format {version}, which tftools does not read (it reads 2.0)", hint
+        )
+
+
 class CorruptBagError(BagError):
     """Nothing could be read; a bag that is only partly damaged is read as far as it goes."""
 

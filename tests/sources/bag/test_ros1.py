@@ -37,7 +37,7 @@ from tftools.sources.bag.ros1.records import read_bag_header
 from tftools.sources.bag.unpack import Budget, Unpacked, unpack
 from tftools.sources.codecs.decoded import message_batch
 from tftools.sources.codecs.ros1 import decode_tf
-from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
+from tftools.sources.errors import CorruptBagError, OldRos1BagError, UnknownBagFormatError
 from tftools.sources.storage.source import FileSource
 
 TOPICS = ("/tf", "/tf_static")
@@ -387,6 +387,24 @@ def test_not_a_bag(tmp_path: Path) -> None:
     bag.write_bytes(b"no bag at all" * 100)
     with pytest.raises(UnknownBagFormatError):
         read_contents([bag])
+
+
+@pytest.mark.parametrize(("version", "hint"), [("1.2", "rosbag fix OLD.bag NEW.bag"), ("1.1", "1.2 and 2.0 only")])
+def test_a_bag_of_the_old_format_is_said_to_be_one(tmp_path: Path, version: str, hint: str) -> None:
+    """A ROS 1 bag of format 1.x (scan_tools' 2010 demo bags are 1.2) is a ROS 1 bag tfx does not read, not
+    "not a ROS1 bag"; the hint says what converts it (Noetic's rosbag fails on a 1.2 bag's messages)."""
+    bag = tmp_path / "demo.bag"
+    # a 1.2 bag's first record: its header's length, then op=0x03 (FILE_HEADER) as "op=" field
+    bag.write_bytes(
+        f"#ROSRECORD V{version}\n".encode() + struct.pack("<I", 8) + b"\x04\x00\x00\x00op=\x03" + b"\x00" * 64
+    )
+    with pytest.raises(OldRos1BagError) as raised:
+        read_contents([bag])
+    assert isinstance(raised.value, UnknownBagFormatError)
+    assert (
+        raised.value.problem == f"a ROS 1 bag of the old format {version}, which tftools does not read (it reads 2.0)"
+    )
+    assert hint in raised.value.hint
 
 
 @pytest.mark.parametrize("compression", ["none", "bz2"])

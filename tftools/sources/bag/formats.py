@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 from typing import TYPE_CHECKING
 
-from tftools.sources.errors import CorruptBagError, UnknownBagFormatError
+from tftools.sources.errors import CorruptBagError, OldRos1BagError, UnknownBagFormatError
 from tftools.sources.storage import open_files
 from tftools.sources.storage.locations import METADATA
 from tftools.values import value
@@ -27,6 +27,8 @@ ROS1 = Format("ros1", b"#ROSBAG V2.0\n", "ros1")
 SQLITE3 = Format("sqlite3", b"SQLite format 3\x00", "rosbag2")
 MCAP = Format("mcap", b"\x89MCAP0\r\n", "mcap")
 FORMATS = (ROS1, SQLITE3, MCAP)
+#: How a ROS 1 bag of a format before 2.0 begins ("#ROSRECORD V1.2\n"): recognised to be said so, not read.
+OLD_ROS1_MAGIC = b"#ROSRECORD V"
 #: A ROS 2 bag directory: read by the rosbag2 module, whatever its storage.
 ROSBAG2_DIRECTORY = Format("rosbag2", b"", "rosbag2")
 #: The first bytes of a zstd frame: a message (or file) rosbag2 compressed.
@@ -53,7 +55,11 @@ def sniff(files: Files) -> tuple[Format, ByteSource | None]:
     except CorruptBagError as e:  # not a file that can be read (a FIFO, say): not a recording
         raise UnknownBagFormatError(e.path, e.detail) from None
     try:
-        found = format_of_head(source.read(0, HEAD_BYTES))
+        head = source.read(0, HEAD_BYTES)
+        found = format_of_head(head)
+        if found is None and head.startswith(OLD_ROS1_MAGIC):
+            version = head[len(OLD_ROS1_MAGIC) :].split(b"\n")[0].decode("ascii", "replace")
+            raise OldRos1BagError(str(root), version)
         if found is None:
             raise UnknownBagFormatError(str(root), "unrecognised file header")
     except BaseException:
