@@ -163,7 +163,7 @@ def _sustained(speed: FloatArray, edge_of_step: IntpArray, edges: int) -> FloatA
     """Per step, the fastest its edge moved for ``NEIGHBOURS`` steps in a row (the slowest step of the
     fastest such run), 0 where it never did: an odometry heading that turns 8-9 degrees a sample for a
     second elsewhere explains a 10 degree step after a stalled sample (a real Raspberry Pi Mouse under
-    gmapping), where the neighbours, at rest, do not. A flip between two sources (NaN: ``_undone``) is no
+    gmapping), where the neighbours, at rest, do not. A flip between two sources (NaN: ``comes_back``) is no
     run; a jump is alone, so it never makes a run of its own."""
     fastest: FloatArray = np.full(edges, np.nan)
     if len(speed) >= NEIGHBOURS:
