@@ -7,7 +7,9 @@ the *longest interval* is the largest one, pause or not (``longest_interval``); 
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import overload
 
@@ -203,6 +205,13 @@ def disagreement(a_stamps: Int64Array, a: FloatArray, b_stamps: Int64Array, b: F
     degrees = np.degrees(angle_between_many(mine[:, 3:], theirs[:, 3:]))
     far, turned = int(np.argmax(metres)), int(np.argmax(degrees))
     return Disagreement(float(metres[far]), int(stamps[far]), float(degrees[turned]), int(stamps[turned]), len(stamps))
+
+
+def largest_disagreement(streams: Sequence[tuple[Int64Array, FloatArray]]) -> Disagreement | None:
+    """The largest ``disagreement`` between any two of several publishers' streams of one edge (sorted
+    stamps, N x 7 values each), by metres then degrees; None where no two overlap in time."""
+    found = [disagreement(*a, *b) for a, b in itertools.combinations(streams, 2)]
+    return max((d for d in found if d is not None), key=lambda d: (d.metres, d.degrees), default=None)
 
 
 def _against(
