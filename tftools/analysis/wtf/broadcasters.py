@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,6 +46,11 @@ NEWEST_SHARE = 0.9
 #: another track (``_tracks_apart``): more than a robot moves between two samples, less than two odometries
 #: part (the real JetAcker's: 0.13 m and 6 degrees).
 TRACK_APART = 5
+#: Tracks a sample may join (those extended last), the largest tracks compared, and the samples told into
+#: tracks (the first ones): bounds on the work (a sample at a time, in Python).
+TRACKS_HELD = 4
+TRACKS_COMPARED = 4
+TRACKED_SAMPLES = 20_000
 #: Publishers' values closer than this (m, degrees) are said to be the same (to the figures shown).
 NIL_M = 5e-5
 NIL_DEG = 5e-3
@@ -312,22 +318,26 @@ def _copies_apart(stamps: Int64Array, values: FloatArray, again: BoolArray) -> D
 
 
 def _tracks_apart(stamps: Int64Array, values: FloatArray) -> Disagreement | None:
-    """How far two broadcasters taking turns are apart: the samples (in arrival order) told into tracks, each
-    to the track whose last value is nearest, a new one where none is within ``TRACK_APART`` times two
-    places' distance (``APART_M``, ``APART_DEG``); then the two largest tracks that overlap in time compared at the same
-    times (``figures.disagreement``). None where no two do (stamps going back with the same values)."""
+    """How far two broadcasters taking turns are apart: the samples (in arrival order; the first
+    ``TRACKED_SAMPLES``) told into tracks, each to the nearest of the ``TRACKS_HELD`` tracks extended last (by
+    its last value), a new one where none is within ``TRACK_APART`` times two places' distance (``APART_M``,
+    ``APART_DEG``); then the two largest tracks that overlap in time (of the ``TRACKS_COMPARED`` largest)
+    compared at the same times (``figures.disagreement``). None where no two do (stamps going back with the
+    same values, or values too scattered to follow)."""
+    stamps, values = stamps[:TRACKED_SAMPLES], values[:TRACKED_SAMPLES]
     track = np.zeros(len(stamps), np.intp)
-    last: list[FloatArray] = [values[0]]
-    for i in range(1, len(values)):
-        far = [_distance(value, values[i]) for value in last]
-        nearest = int(np.argmin(far))
-        if far[nearest] > TRACK_APART:
-            nearest = len(last)
-            last.append(values[i])
-        last[nearest] = values[i]
-        track[i] = nearest
+    rows = values.tolist()  # a sample at a time, in plain floats: numpy's per-call cost would dominate
+    held = [0]  # the tracks a sample may join, the one extended last at the end
+    last = {0: rows[0]}
+    for i in range(1, len(rows)):
+        far = [_distance(last[t], rows[i]) for t in held]
+        nearest = min(range(len(held)), key=far.__getitem__)
+        joined = held.pop(nearest) if far[nearest] <= TRACK_APART else len(last)
+        held = [*held, joined][-TRACKS_HELD:]
+        last[joined] = rows[i]
+        track[i] = joined
     sizes = np.bincount(track)
-    large = [int(t) for t in np.argsort(-sizes, kind="stable") if sizes[t] >= TURNS_MIN]
+    large = [int(t) for t in np.argsort(-sizes, kind="stable")[:TRACKS_COMPARED] if sizes[t] >= TURNS_MIN]
     for a, b in sorted(itertools.combinations(large, 2), key=lambda p: -(sizes[p[0]] + sizes[p[1]])):
         streams = []
         for t in (a, b):
@@ -340,10 +350,13 @@ def _tracks_apart(stamps: Int64Array, values: FloatArray) -> Disagreement | None
     return None
 
 
-def _distance(a: FloatArray, b: FloatArray) -> float:
-    """How far two values are, in units of two places' distance (``APART_M``, ``APART_DEG``)."""
-    metres, degrees = apart(a[None], b[None])
-    return max(float(metres[0]) / APART_M, float(degrees[0]) / APART_DEG)
+def _distance(a: list[float], b: list[float]) -> float:
+    """How far two values (x y z qx qy qz qw) are, in units of two places' distance (``APART_M``, ``APART_DEG``):
+    ``apart``'s metres and rotation angle, for one pair."""
+    metres = math.dist(a[:3], b[:3])
+    norms = math.hypot(*a[3:]) * math.hypot(*b[3:])
+    cosine = min(1.0, abs(sum(x * y for x, y in zip(a[3:], b[3:], strict=True))) / norms) if norms > 0 else 1.0
+    return max(metres / APART_M, math.degrees(2.0 * math.acos(cosine)) / APART_DEG)
 
 
 def _together(each: list[Repeats]) -> Repeats:
