@@ -169,8 +169,8 @@ def test_two_identical_publishers_are_one_warning_for_all_their_edges(
     assert finding.frames == ("base_link", "wheel", "base_link", "wheel_right")
     assert finding.message.startswith(
         "base_link -> wheel and base_link -> wheel_right on /tf arrive twice: 400 of their 400 stamps arrived "
-        "again (2 times each), with identical values, 50 us after the sample before them (new samples come every "
-        f"50.0 ms); metadata.yaml lists {listed} publisher"
+        "again (2 times each), 50 us after the sample before them (new samples come every 50.0 ms); at the same "
+        f"times their values are the same, over 800 samples compared; metadata.yaml lists {listed} publisher"
     ), finding.message
     assert conclusion in finding.message and finding.figures["edges"] == 2
 
@@ -184,7 +184,10 @@ def test_two_publishers_of_the_same_stamps_that_disagree_are_one_warning_for_eve
     (finding,) = loud(findings)
     assert finding.code == "multiple_authorities"
     assert finding.frames == ("base_link", "wheel", "base_link", "wheel_right")
-    assert "with values up to 50.0 mm and 0.00° apart" in finding.message and "mix" in finding.hint
+    # the wording and figures of every multiple_authorities finding (the Stage bag's named publishers too)
+    assert "at the same times their values are up to 50.0 mm (at +0.0 s) apart, over 800 samples" in finding.message
+    assert finding.figures["apart_m_max"] == pytest.approx(0.05) and finding.figures["samples_compared"] == 800
+    assert "mix" in finding.hint
 
 
 def _moved(t: Transform, y: float) -> Transform:
@@ -206,6 +209,25 @@ def test_two_odometries_taking_turns_are_a_warning_with_what_was_seen(tmp_path: 
     assert "metadata.yaml lists 2 publishers of /tf" in finding.message
     assert finding.message.index("alternated") < finding.message.index("taking turns")  # what was seen first
     assert int(finding.figures["values_alternating"]) >= 900
+
+
+def test_two_odometries_taking_turns_say_how_far_apart_they_are_as_two_named_publishers_do(tmp_path: Path) -> None:
+    """Issue 39: told apart from the data alone (no publisher names), the two odometries of one edge are
+    compared at the same times as two named publishers are (``figures.disagreement``): 0.3 m apart in x,
+    their headings 0.1 rad a second apart (one turns, the other does not)."""
+    second = scenes.periodic(
+        "", 50, lambda t: [scenes._t("odom", "base_link", t, 0.4 * scenes._s(t) + 0.3)], phase=0.01
+    )
+    findings = _findings(tmp_path, scenes.healthy(ekf=scenes.ekf() + second), {"/tf": 2})
+    (finding,) = loud(findings)
+    assert finding.code == "multiple_authorities"
+    assert "at the same times their values are up to 300.0 mm" in finding.message, finding.message
+    assert finding.figures["apart_m_max"] == pytest.approx(0.3, abs=1e-9)
+    turned = np.degrees(0.1 * scenes.SECONDS)  # the one odometry's heading at the end; the other's is 0
+    assert finding.figures["apart_deg_max"] == pytest.approx(turned, abs=0.2)
+    assert int(finding.figures["samples_compared"]) > 900
+    said = finding.message
+    assert said.index("alternated") < said.index("apart") < said.index("taking turns")
 
 
 # --- /tf_static publishers that disagree, in ROS 2 --------------------------------------------------
@@ -351,6 +373,20 @@ def test_create3_two_robot_descriptions_are_one_static_conflict() -> None:
     assert "up to 339.1 mm (base_link -> button_1) and 179.68° (base_link -> mouse)" in conflict.message
 
 
+def test_the_jetackers_two_odometries_are_said_as_far_apart_as_they_are() -> None:
+    """Issue 39: odom -> base_footprint alternates between two poses about 0.13 m and 6 degrees apart (e.g.
+    (0.171, 0.990, 113.4 deg) and (0.041, 0.993, 119.0 deg) at +36.5 s): said with the distance, as the
+    Stage bag's two named publishers are, not only 'taking turns'."""
+    path = _corpus("ros2_db3_jetacker_real_two_odometries")
+    findings = check(read_recording([path])).findings
+    (finding,) = coded(findings, "multiple_authorities")
+    assert finding.frames == ("odom", "base_footprint")
+    assert 0.12 <= float(finding.figures["apart_m_max"]) <= 0.15, finding.figures
+    assert 5.0 <= float(finding.figures["apart_deg_max"]) <= 7.0, finding.figures
+    assert "at the same times their values are up to 1" in finding.message
+    assert finding.message.index("alternated") < finding.message.index("apart") < finding.message.index("turns")
+
+
 def test_two_robot_state_publishers_are_one_warning_for_both_wheels() -> None:
     path = _corpus("ros2_db3_tb3_gazebo_two_rsp")
     edges = data.read_contents(path).edges
@@ -360,9 +396,8 @@ def test_two_robot_state_publishers_are_one_warning_for_both_wheels() -> None:
     (finding,) = loud(findings)
     assert (finding.code, finding.frames) == ("multiple_authorities", (*wheels[0], *wheels[1]))
     again, total = sum(int((c > 1).sum()) for _, c in stamps), sum(len(s) for s, _ in stamps)
-    assert f"arrive twice: {again} of their {total} stamps arrived again (2 times each), with identical values" in (
-        finding.message
-    )
+    assert f"arrive twice: {again} of their {total} stamps arrived again (2 times each)" in finding.message
+    assert f"at the same times their values are the same, over {2 * again} samples compared" in finding.message
     assert (
         "metadata.yaml lists 2 publishers of /tf" in finding.message and "two identical publishers" in finding.message
     )

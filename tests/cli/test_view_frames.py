@@ -13,6 +13,7 @@ from pathlib import Path
 import graphviz
 import pytest
 
+from tests.analysis import robot_scenes
 from tests.bags import BagFormat, TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.edges import edge_stats
@@ -276,3 +277,19 @@ def test_notes_are_named_notes_and_decorate_no_edge(tfx: Tfx) -> None:
     assert len(static) == 29 and all(f'color="{STATIC_INK}"' in line for line in static)
     assert not any("statics_early" in line or f'color="{COLOURS[Severity.info]}"' in line for line in edges)
     assert any(f'color="{COLOURS[Severity.warning]}"' in line for line in edges)  # the gaps' rate warnings
+
+
+def test_view_frames_runs_wtfs_checks_on_the_robots_description_and_counts_as_wtf(tfx: Tfx, tmp_path: Path) -> None:
+    """Issue 39: on the CompRobo Neatos that record /robot_description, view-frames counted 1 error where wtf
+    counted 2 (urdf_parent): it ran no check of the description. One list of checks, one count."""
+    setup = robot_scenes.Setup(description=True, joint_states=("wheel_left_joint",))  # the right wheel never on tf
+    bag = robot_scenes.robot_bag(tmp_path, "rover", setup, BagFormat.rosbag2_sqlite3)
+    wtf = tfx("wtf", bag)
+    summary = wtf.stdout.strip().splitlines()[-1].split(":")[0]  # "1 error, 0 warnings, 1 note"
+    assert "urdf_missing" in wtf.stdout and summary.startswith("1 error")
+    output = tmp_path / "rover.dot"
+    drawn = tfx("view-frames", "-b", bag, "-o", output)
+    assert drawn.code == wtf.code == 1, drawn.stderr
+    said = drawn.stderr.strip().splitlines()[-1].split("transforms, ")[-1]
+    assert said == ", ".join(part for part in summary.split(", ") if not part.startswith("0 ")), (said, summary)
+    assert "urdf_missing" in output.read_text()

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from tftools.analysis.edges import Edge, EdgeStats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf import Scene, findings_of
+from tftools.analysis.wtf.fleet import checked_scene
 from tftools.core.figures import age
 from tftools.core.rejection import RejectionLog
 from tftools.sources.timeline import Reference
@@ -77,8 +78,9 @@ class FrameGraph:
 
 
 def view_frames(recording: Recording) -> FrameGraph:
-    """``tfx view-frames -b BAG``: the recording's frame graph with ``tfx wtf``'s findings pinned where they are."""
-    return frame_graph(Scene(recording))
+    """``tfx view-frames -b BAG``: the recording's frame graph with ``tfx wtf``'s findings pinned where they are:
+    the same checks (``checked_scene``: on its sensor data and robot description too, as read), the same count."""
+    return frame_graph(*checked_scene(recording))
 
 
 def frame_graph(scene: Scene, findings: Sequence[Finding] | None = None) -> FrameGraph:

@@ -23,9 +23,11 @@ def open_recording(
     use_sim_time: bool | None = None,
     duration: float = 5.0,
     headers: Sequence[str] | None = None,
+    whole: Sequence[str] = (),
 ) -> Recording:
-    """Read the bags into one recording (and with ``headers``, its sensor data's headers on them, in
-    the same pass: ``read_recording``), with a progress bar; report what could not be read.
+    """Read the bags into one recording (and with ``headers``, its sensor data's headers on them, and the
+    messages of the ``whole`` topics, in the same pass: ``read_recording``), with a progress bar; report
+    what could not be read.
 
     Without bags: what the live system says in ``duration`` seconds (``tftools.cli.live``)."""
     if not bags:
@@ -34,7 +36,9 @@ def open_recording(
         return capture_live(ros1, use_sim_time, duration, topics, semantics, headers)
     from tftools.sources import read_recording
 
-    return _read(bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics, headers=headers))
+    return _read(
+        bags, lambda progress: read_recording(bags, topics, progress, semantics=semantics, headers=headers, whole=whole)
+    )
 
 
 def open_stream(bags: Sequence[str], topics: Sequence[str] | None, semantics: Semantics | None) -> StreamedRecording:

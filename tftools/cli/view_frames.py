@@ -95,9 +95,12 @@ def command(
     from tftools.analysis.graph import view_frames
     from tftools.render import drawing
     from tftools.render import graph as render
+    from tftools.sources.bag.robot import ROBOT_TOPICS
 
     chosen, target = _output(output, fmt, bags or [], force)
-    recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration)
+    # read as tfx wtf reads a bag (its sensor data's headers, the robot's description): the same checks and count
+    headers = () if bags else None  # live, as tfx wtf: no sensor topic unless named
+    recording = open_recording(bags, topics, tf2, ros1, use_sim_time, duration, headers, ROBOT_TOPICS)
     graph = view_frames(recording)
     dot = render.to_digraph(graph, render.recording_legend(recording), rankdir=rankdir.value, brief=brief)
     try:

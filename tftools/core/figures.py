@@ -7,7 +7,9 @@ the *longest interval* is the largest one, pause or not (``longest_interval``); 
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import overload
 
@@ -205,6 +207,13 @@ def disagreement(a_stamps: Int64Array, a: FloatArray, b_stamps: Int64Array, b: F
     return Disagreement(float(metres[far]), int(stamps[far]), float(degrees[turned]), int(stamps[turned]), len(stamps))
 
 
+def largest_disagreement(streams: Sequence[tuple[Int64Array, FloatArray]]) -> Disagreement | None:
+    """The largest ``disagreement`` between any two of several publishers' streams of one edge (sorted
+    stamps, N x 7 values each), by metres then degrees; None where no two overlap in time."""
+    found = [disagreement(*a, *b) for a, b in itertools.combinations(streams, 2)]
+    return max((d for d in found if d is not None), key=lambda d: (d.metres, d.degrees), default=None)
+
+
 def _against(
     stamps: Int64Array, values: FloatArray, other_stamps: Int64Array, other: FloatArray
 ) -> tuple[Int64Array, FloatArray, FloatArray]:
@@ -250,12 +259,29 @@ def seconds_in_words(ns: float) -> str:
 
 
 def wait_in_words(wait_ns: float, tick: int = 0) -> str:
-    """A wait (ns) as a person reads it: "0.181 s", or where it was read off a clock that steps every ``tick``
-    ns (record times under use_sim_time without /clock) and is shorter than one step, what was observed:
-    "under one 0.100 s tick". Such a clock cannot tell a wait shorter than its step from none: never "0.000 s"."""
+    """A wait (ns) as a person reads it: "0.181 s", "under 1 ms" (``seconds_in_words``: the e-puck's sensors
+    wait a few microseconds for a re-sent odometry), or where it was read off a clock that steps every
+    ``tick`` ns (record times under use_sim_time without /clock) and is shorter than one step, what was
+    observed: "under one 0.100 s tick". A wait that is not nil is never "0.000 s"."""
     if under_tick(wait_ns, tick):
         return f"under one {tick / NS_PER_S:.3f} s tick"
-    return f"{wait_ns / NS_PER_S:.3f} s"
+    return seconds_in_words(wait_ns)
+
+
+def within_in_words(wait_ns: float, tick: int = 0) -> str:
+    """How long the messages kept waited at most, in words: "within 0.018 s", "under 1 ms", "under one 0.100 s
+    tick" (``wait_in_words``)."""
+    said = wait_in_words(wait_ns, tick)
+    return said if said.startswith("under") else f"within {said}"
+
+
+def timeout_s(wait_ns: float, tick: int = 0) -> float:
+    """The timeout (s) to set for a wait of ``wait_ns``, shown to the millisecond: a wait under 1 ms asks for
+    0.001 s, never 0.000 s; one step of a clock ticking every ``tick`` ns where the wait is under it (such a
+    clock cannot tell how much under)."""
+    if under_tick(wait_ns, tick):
+        return tick / NS_PER_S
+    return max(wait_ns, NS_PER_S / 1000) / NS_PER_S if wait_ns > 0 else 0.0
 
 
 @overload

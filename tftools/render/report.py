@@ -23,7 +23,7 @@ from tftools.analysis.graph import GraphEdge
 from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
 from tftools.core.arrays import FloatArray
-from tftools.core.figures import KEEP, seconds, wait_in_words
+from tftools.core.figures import KEEP, seconds, wait_in_words, within_in_words
 from tftools.core.time import NS_PER_S, format_sec, signed_seconds
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
@@ -242,7 +242,7 @@ def _streams(streams: Sequence[StreamTimeline]) -> str:
         r = s.report
         lost = f", {r.never} lost ({fates_in_words(r.reasons)})" if r.never else ""
         kept = (
-            f"{KEEP:.1%} within {seconds(r.wait_needed):.3f} s"
+            f"{KEEP:.1%} {within_in_words(r.wait_needed, r.tick)}"
             if r.wait_needed is not None
             else f"no timeout keeps {KEEP:.1%}"
         )

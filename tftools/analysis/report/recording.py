@@ -8,7 +8,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 
-from tftools.analysis.description import robot_of
 from tftools.analysis.findings import Finding
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
@@ -25,8 +24,7 @@ from tftools.analysis.timelines import (
     stream_axis,
     stream_timelines,
 )
-from tftools.analysis.wtf import Scene, findings_of
-from tftools.analysis.wtf.causes import explain
+from tftools.analysis.wtf.fleet import checked_scene
 from tftools.core.time import NS_PER_S, format_sec, from_sec
 from tftools.sources.contents import StampedMessages, global_name
 from tftools.sources.recording import Recording
@@ -58,10 +56,8 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
     captured live): its facts, its findings as ``tfx wtf`` checks it (its sensor data, the headers it was read
     with, into ``query.target``: ``analysis.targets.choose_target``; against the robot's description,
     ``robot_of``), its frame graph, its edges and sensor data over time, and every frame in 3D."""
-    robot, said = robot_of(recording.paths, recording, query.urdf)
-    streams = recording.stamped.streams
-    scene = Scene(recording, streams=streams, target=query.target, robot=robot)
-    findings = explain([*findings_of(scene), *([said] if said is not None else [])])
+    scene, findings = checked_scene(recording, query.checks())
+    streams = scene.streams
     graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
     sensors = scene.sensors if any(tied_to_tf(s) for s in streams) else None

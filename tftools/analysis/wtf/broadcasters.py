@@ -15,6 +15,8 @@ publishers of its topic metadata.yaml lists. Four patterns are told apart:
 from __future__ import annotations
 
 import dataclasses
+import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +24,7 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
+from tftools.core.figures import Disagreement, disagreement
 from tftools.core.rotation import angle_between_many
 from tftools.core.time import NS_PER_S
 
@@ -40,6 +43,18 @@ RESEND_SHARE = 0.5
 LISTED = 6
 #: Re-sends of the last value: at least this share of the copies carry the newest stamp sent so far.
 NEWEST_SHARE = 0.9
+#: A sample this many times two places' distance (5 cm, 5 degrees) from every track's last value begins
+#: another track (``_tracks_apart``): more than a robot moves between two samples, less than two odometries
+#: part (the real JetAcker's: 0.13 m and 6 degrees).
+TRACK_APART = 5
+#: Tracks a sample may join (those extended last), the largest tracks compared, and the samples told into
+#: tracks (the first ones): bounds on the work (a sample at a time, in Python).
+TRACKS_HELD = 4
+TRACKS_COMPARED = 4
+TRACKED_SAMPLES = 20_000
+#: Publishers' values closer than this (m, degrees) are said to be the same (to the figures shown).
+NIL_M = 5e-5
+NIL_DEG = 5e-3
 
 
 def inferred_broadcasters(scene: Scene) -> list[Finding]:
@@ -167,10 +182,12 @@ def _infer(scene: Scene) -> list[Finding]:
             continue
         authorities = scene.authorities_of(mine)
         metadata, _ = _listed_said(scene, authorities)
+        apart_ = _tracks_apart(rows.stamp[new], rows.values[new])
         finding = scene.finding(
             Severity.warning,
             "multiple_authorities",
             f"{edge(*frames)}{scene.by(authorities)}: {listed([s for s in signs if s])} in {len(new)} new samples"
+            f"{'; ' + apart_said(scene, apart_) if apart_ is not None else ''}"
             f"{metadata}: several broadcasters taking turns, it seems (this recording does not name publishers)",
             "tf2 takes every sample as it comes, so lookups mix the broadcasters' values: find them "
             f"({scene.list_publishers('/tf')}) and turn the transform off in all but one",
@@ -180,6 +197,7 @@ def _infer(scene: Scene) -> list[Finding]:
         )
         figures: dict[str, float | int | str] = {"samples": len(mine), "new_samples": len(new)}
         figures |= {"stamps_back": back, "values_alternating": alternating}
+        figures |= apart_figures(apart_) if apart_ is not None else {}
         found.append(dataclasses.replace(finding, figures=figures))
     return found + [_twins(scene, edges) for edges in twins.values()]
 
@@ -237,18 +255,13 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
     """Most stamps of ``edges`` (of the same topics) sent again, soon after the first: two broadcasters of
     the same transforms, each sending every sample (two robot_state_publishers fed the same joint states)."""
     rows = scene.rows
-    metres, degrees = 0.0, 0.0
-    for _, mine, repeats in edges:
-        stamps, values = rows.stamp[mine], rows.values[mine]
-        first = np.unique(stamps, return_index=True)
-        originals = values[first[1][np.searchsorted(first[0], stamps[repeats.again])]]
-        m, d = apart(originals, values[repeats.again])
-        metres, degrees = max(metres, float(m.max())), max(degrees, float(d.max()))
-    if metres == 0 and degrees == 0:
-        values_said = "identical values"
+    each = [_copies_apart(rows.stamp[mine], rows.values[mine], repeats.again) for _, mine, repeats in edges]
+    found = [d for d in each if d is not None]
+    largest = max(found, key=lambda d: (d.metres, d.degrees))  # every edge here has copies: one at least
+    apart_ = dataclasses.replace(largest, instants=sum(d.instants for d in found))
+    if _nil(apart_):
         effect = "tf2 drops the exact copies, so lookups are right, but every sample costs twice"
     else:
-        values_said = f"values up to {metres * 1000:.1f} mm and {degrees:.2f}° apart"
         effect = "tf2 keeps both where they differ, so lookups mix the two publishers' values"
     every = np.sort(np.concatenate([mine for _, mine, _ in edges]))
     together = _together([repeats for _, _, repeats in edges])
@@ -264,17 +277,95 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
         Severity.warning,
         "multiple_authorities",
         f"{names}{scene.by(authorities)} {'arrive' if len(edges) > 1 else 'arrives'} twice: "
-        f"{together.said('their' if len(edges) > 1 else 'its')}, "
-        f"with {values_said}, {together.timing()}{metadata}: {conclusion}; this recording does not name publishers",
+        f"{together.said('their' if len(edges) > 1 else 'its')}, {together.timing()}; {apart_said(scene, apart_)}"
+        f"{metadata}: {conclusion}; this recording does not name publishers",
         f"{effect}: find them ({scene.list_publishers('/tf')}) and stop the one that should not run",
         tuple(f for frames, _, _ in edges for f in frames),
         every,
         scene.arrival(every),
     )
-    figures = together.figures() | {"edges": len(edges), "apart_m": metres, "apart_deg": degrees}
+    figures = together.figures() | {"edges": len(edges)} | apart_figures(apart_)
     if listed_count is not None:
         figures["publishers_listed"] = listed_count
     return dataclasses.replace(finding, figures=figures)
+
+
+def apart_said(scene: Scene, apart_: Disagreement) -> str:
+    """How far several publishers of one edge are apart (``figures.disagreement``), in the one wording every
+    multiple_authorities finding uses: "at the same times their values are up to 10.2 mm (at +0.6 s) apart,
+    over 254 samples compared"; each largest figure with when it was seen, none said where it is nil."""
+    said = [
+        f"{value} (at {scene.rel(at)})"
+        for value, at, seen in (
+            (f"{apart_.metres * 1000:.1f} mm", apart_.metres_at, apart_.metres >= NIL_M),
+            (f"{apart_.degrees:.2f}°", apart_.degrees_at, apart_.degrees >= NIL_DEG),
+        )
+        if seen
+    ]
+    values = f"are up to {' and '.join(said)} apart" if said else "are the same"
+    return f"at the same times their values {values}, over {apart_.instants} samples compared"
+
+
+def apart_figures(apart_: Disagreement) -> dict[str, float | int | str]:
+    """``apart_said``'s figures, for JSON."""
+    return {"apart_m_max": apart_.metres, "apart_deg_max": apart_.degrees, "samples_compared": apart_.instants}
+
+
+def _nil(apart_: Disagreement) -> bool:
+    return apart_.metres < NIL_M and apart_.degrees < NIL_DEG
+
+
+def _copies_apart(stamps: Int64Array, values: FloatArray, again: BoolArray) -> Disagreement | None:
+    """How far the copies of an edge's stamps (``again``) are from the first sample of each: at those very
+    stamps only (a stamp sent once is not interpolated against the copies around it)."""
+    copied = np.unique(stamps[again])
+    first_rows = np.flatnonzero(~again & np.isin(stamps, copied))
+    firsts = first_rows[np.argsort(stamps[first_rows], kind="stable")]
+    copies = np.flatnonzero(again)
+    copies = copies[np.argsort(stamps[copies], kind="stable")]
+    return disagreement(stamps[firsts], values[firsts], stamps[copies], values[copies])
+
+
+def _tracks_apart(stamps: Int64Array, values: FloatArray) -> Disagreement | None:
+    """How far two broadcasters taking turns are apart: the samples (in arrival order; the first
+    ``TRACKED_SAMPLES``) told into tracks, each to the nearest of the ``TRACKS_HELD`` tracks extended last (by
+    its last value), a new one where none is within ``TRACK_APART`` times two places' distance (``APART_M``,
+    ``APART_DEG``); then the two largest tracks that overlap in time (of the ``TRACKS_COMPARED`` largest)
+    compared at the same times (``figures.disagreement``). None where no two do (stamps going back with the
+    same values, or values too scattered to follow)."""
+    stamps, values = stamps[:TRACKED_SAMPLES], values[:TRACKED_SAMPLES]
+    track = np.zeros(len(stamps), np.intp)
+    rows = values.tolist()  # a sample at a time, in plain floats: numpy's per-call cost would dominate
+    held = [0]  # the tracks a sample may join, the one extended last at the end
+    last = {0: rows[0]}
+    for i in range(1, len(rows)):
+        far = [_distance(last[t], rows[i]) for t in held]
+        nearest = min(range(len(held)), key=far.__getitem__)
+        joined = held.pop(nearest) if far[nearest] <= TRACK_APART else len(last)
+        held = [*held, joined][-TRACKS_HELD:]
+        last[joined] = rows[i]
+        track[i] = joined
+    sizes = np.bincount(track)
+    large = [int(t) for t in np.argsort(-sizes, kind="stable")[:TRACKS_COMPARED] if sizes[t] >= TURNS_MIN]
+    for a, b in sorted(itertools.combinations(large, 2), key=lambda p: -(sizes[p[0]] + sizes[p[1]])):
+        streams = []
+        for t in (a, b):
+            mine = np.flatnonzero(track == t)
+            mine = mine[np.argsort(stamps[mine], kind="stable")]
+            streams.append((stamps[mine], values[mine]))
+        found = disagreement(*streams[0], *streams[1])
+        if found is not None:
+            return found
+    return None
+
+
+def _distance(a: list[float], b: list[float]) -> float:
+    """How far two values (x y z qx qy qz qw) are, in units of two places' distance (``APART_M``, ``APART_DEG``):
+    ``apart``'s metres and rotation angle, for one pair."""
+    metres = math.dist(a[:3], b[:3])
+    norms = math.hypot(*a[3:]) * math.hypot(*b[3:])
+    cosine = min(1.0, abs(sum(x * y for x, y in zip(a[3:], b[3:], strict=True))) / norms) if norms > 0 else 1.0
+    return max(metres / APART_M, math.degrees(2.0 * math.acos(cosine)) / APART_DEG)
 
 
 def _together(each: list[Repeats]) -> Repeats:

@@ -60,12 +60,11 @@ def check(recording: Recording, query: CheckQuery = CHECK_DEFAULTS) -> BagReport
     """``tfx wtf``'s check of ``recording`` (read from files or URLs with ``query.reading()``, or captured live):
     every check but those ignored, its sensor data (the headers it was read with) against tf, against the
     expected tree if given, and against the robot's description (``robot_of``)."""
-    robot, said = robot_of(recording.paths, recording, query.urdf, query.robot_tolerances)
-    streams = recording.stamped.streams
-    scene = Scene(recording, query.thresholds, streams, query.target, query.expected, robot)
+    scene, findings = checked_scene(recording, query)
+    streams = scene.streams
     checked = BagReport(
         paths=tuple(recording.paths),
-        findings=findings_of(scene, query.ignore),
+        findings=findings,
         formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
         start=recording.start,
         end=recording.end,
@@ -76,9 +75,20 @@ def check(recording: Recording, query: CheckQuery = CHECK_DEFAULTS) -> BagReport
     if any(tied_to_tf(s) for s in streams):
         checked.sensor_topics = tuple(s.topic for s in streams if tied_to_tf(s))
         checked.sensor_target, checked.sensor_target_reason = choose_target(scene.tree, query.target)
-    if said is not None and said.code not in query.ignore:
-        checked.findings = explain([*checked.findings, said])
     return checked
+
+
+def checked_scene(recording: Recording, query: CheckQuery = CHECK_DEFAULTS) -> tuple[Scene, list[Finding]]:
+    """The one list of ``tfx wtf``'s checks, which view-frames and the report run too (so that every command
+    counts the same findings): the scene of ``recording`` with its sensor data (the headers it was read with)
+    and its robot's description (``robot_of``: ``query.urdf``, else a recorded /robot_description), and
+    every finding but those ``query.ignore`` s, each under the one that explains it."""
+    robot, said = robot_of(recording.paths, recording, query.urdf, query.robot_tolerances)
+    scene = Scene(recording, query.thresholds, recording.stamped.streams, query.target, query.expected, robot)
+    findings = findings_of(scene, query.ignore)
+    if said is not None and said.code not in query.ignore:
+        findings = explain([*findings, said])
+    return scene, findings
 
 
 def check_fleet(

@@ -9,7 +9,7 @@ from tftools.analysis.filter.fates import TF_LOST
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, edge, listed
-from tftools.core.figures import KEEP, under_tick, wait_in_words
+from tftools.core.figures import KEEP, timeout_s, wait_in_words, within_in_words
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import is_static_topic
@@ -115,12 +115,8 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
         # loud where most messages wait long (the p99), not where a few in a thousand did (the real boat's
         # /imu/data: 97% wait 18 ms, one 0.318 s)
         long = s.wait["p99"] > from_sec(scene.thresholds.delay)
-        wait, within = needed / NS_PER_S, wait_in_words(needed, s.tick)
-        if under_tick(needed, s.tick):  # the clock cannot tell how much under a step: a timeout of one step
-            wait = s.tick / NS_PER_S
-        else:
-            within = f"within {within}"
-        kept = f"{KEEP:.1%} {within}" if s.wait_needed is not None else f"at most {wait:.3f} s"
+        wait = timeout_s(needed, s.tick)
+        kept = f"{KEEP:.1%} {within_in_words(needed, s.tick)}" if s.wait_needed is not None else f"at most {wait:.3f} s"
         timeout = f"{wait:.3f} s (it keeps {KEEP:.1%} of them)" if s.wait_needed is not None else f"{wait:.3f} s"
         yield Finding(
             Severity.warning if long else Severity.info,

@@ -10,7 +10,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import inferred_broadcasters, resent_notes
+from tftools.analysis.wtf.broadcasters import apart_figures, apart_said, inferred_broadcasters, resent_notes
 from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
@@ -18,7 +18,7 @@ from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.analysis.wtf.static_senders import static_senders
 from tftools.analysis.wtf.topics import StaticShared, static_shared
 from tftools.core.arrays import Int64Array, IntpArray
-from tftools.core.figures import Disagreement, disagreement
+from tftools.core.figures import Disagreement, largest_disagreement
 from tftools.core.time import NS_PER_S
 
 #: tf2's words when a lookup meets a loop.
@@ -322,8 +322,8 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
         apart = _disagreement(scene, mine)
         severity, message = Severity.warning, f"{edge(parent, child)} comes from {len(who)} {source} at once: {parts}"
         if apart is not None:
-            message += f"; at the same times {_apart(scene, apart)}, over {apart.instants} samples compared"
-            figures = {"apart_m_max": apart.metres, "apart_deg_max": apart.degrees, "samples_compared": apart.instants}
+            message += f"; {apart_said(scene, apart)}"
+            figures = apart_figures(apart)
         hint = (
             "tf2 takes every sample as it comes, so lookups mix both publishers' values: turn the transform off "
             "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter)"
@@ -340,19 +340,6 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
     return dataclasses.replace(found, figures=figures) if figures else found
 
 
-def _apart(scene: Scene, apart: Disagreement) -> str:
-    """A disagreement in words, each largest figure with when it was seen (none said where it is nil)."""
-    said = [
-        f"{value} (at {scene.rel(at)})"
-        for value, at, seen in (
-            (f"{apart.metres * 1000:.1f} mm", apart.metres_at, apart.metres >= 5e-5),
-            (f"{apart.degrees:.2f}°", apart.degrees_at, apart.degrees >= 5e-3),
-        )
-        if seen
-    ]
-    return f"their values are up to {' and '.join(said)} apart" if said else "their values are the same"
-
-
 def _disagreement(scene: Scene, mine: IntpArray) -> Disagreement | None:
     """The largest disagreement between any two publishers of one edge at the same times (``disagreement``)."""
     rows = scene.rows
@@ -360,8 +347,7 @@ def _disagreement(scene: Scene, mine: IntpArray) -> Disagreement | None:
     for _, theirs in split(mine, rows.authority[mine]):
         order = np.argsort(rows.stamp[theirs], kind="stable")
         streams.append((rows.stamp[theirs][order], rows.values[theirs][order]))
-    found = [disagreement(*a, *b) for a, b in itertools.combinations(streams, 2)]
-    return max((d for d in found if d is not None), key=lambda d: (d.metres, d.degrees), default=None)
+    return largest_disagreement(streams)
 
 
 def _during(scene: Scene, rows: IntpArray, arrivals: Int64Array) -> str:
