@@ -268,3 +268,31 @@ def test_a_lag_under_a_millisecond_is_said_so_never_0_000_s() -> None:
     text = " ".join(_text(report).split())
     assert "its newest stamp under 1 ms behind the message's on arrival, its next sample stamped 0.050 s" in text
     assert "0.000 s" not in text
+
+
+def test_a_wait_for_an_edge_not_yet_sent_is_said_so_never_as_a_lag_from_stamp_0() -> None:
+    """A real KTH robot (ros2_db3_kth_robp_scan_statics_2024): the recorder found the laser's
+    static_transform_publisher 2.3 s after it began, so 17 scans waited for base_link -> laser's first
+    transform; filter said 'its newest stamp 1710875440.851 s behind the message's' (a stamp of 0 taken for
+    the newest) and 'its next sample stamped with the message's stamp'. Nothing had arrived to be behind."""
+    scans = [(s + 2 * MS, "laser", s) for s in _grid(10, 0.0, 5.0)]
+    late = _static("base_link", "laser", record=T0 + 2 * NS_PER_S + 500 * MS)  # stamped T0, recorded at +2.5 s
+    report = filter_streams(_buffer(late), [_stream(scans)], FilterQuery(target="base_link")).streams[0]
+    assert report.later == 25 and report.never == 0 and report.late_edge == ("base_link", "laser")
+    assert (report.late_unheld, report.late_by, report.late_after) == (25, 0.0, 0.0)
+    text = " ".join(_text(filter_streams(_buffer(late), [_stream(scans)], FilterQuery(target="base_link"))).split())
+    assert "base_link -> laser (25 arrived before its first transform and waited for it)" in text
+    assert "behind" not in text and "next sample" not in text
+
+
+def test_waits_before_and_after_an_edge_first_arrived_are_said_apart() -> None:
+    """Messages that waited for a moving edge's first transform, and later ones that waited for its next
+    sample: the lag and step are the later ones' (the first ones had nothing to lag behind)."""
+    started = T0 + 1_500 * MS  # its first samples (stamped from +1.0 s) recorded together at +1.5 s
+    edge = [TfMessage("/tf", max(s + MS, started), [_t("odom", "base_link", s)], "/odom") for s in _grid(5, 1.0)]
+    stream = _stream([(s + 2 * MS, "base_link", s + MS) for s in _grid(5, 1.0)[:-1]])
+    report = filter_streams(_buffer(edge), [stream], FilterQuery(target="odom")).streams[0]
+    assert report.late_unheld == 3 and report.later == len(stream)  # stamped +1.0, +1.2, +1.4: before +1.5
+    assert (report.late_by, report.late_after) == (MS, 199 * MS)  # the waits for its next sample only
+    text = " ".join(_text(filter_streams(_buffer(edge), [stream], FilterQuery(target="odom"))).split())
+    assert "3 arrived before its first transform and waited for it; then its newest stamp 0.001 s behind" in text

@@ -226,3 +226,44 @@ def test_tf_stamped_zero_before_the_first_clock_is_a_note() -> None:
     (note,) = [f for f in findings if f.code == "sim_clock"]
     assert note.severity is Severity.info
     assert "before the first /clock" in note.message and "stamped no later than 0.000 s" in note.message
+
+
+def _no_record_clock() -> list[TfMessage]:
+    """An arm on simulated time (3 joints at 100 Hz) and two box detections on wall time, 14 s apart in their
+    stamps, written with record times of whole seconds read as nanoseconds (0 to 10 ns)."""
+    joints = (("base_link_inertia", "shoulder"), ("shoulder", "forearm"), ("forearm", "wrist"))
+    arm = periodic("/arm", 100, lambda t: [_t(p, c, t, (t - START) / NS_PER_S) for p, c in joints], stamp=sim)
+    early = periodic("/det", 15, lambda t: [_t("base_link", "box_1", t)], end=4.0)
+    late = periodic("/det", 15, lambda t: [_t("base_link", "box_6", t)], start=6.0)  # 14 s later: no second clock
+    return [
+        TfMessage(m.topic, (m.record_time - START) // NS_PER_S, m.transforms, m.publisher)  # seconds, as ns
+        for m in sorted(arm + early + late, key=lambda m: m.record_time)
+    ]
+
+
+def test_record_times_that_are_no_clock_time_nothing() -> None:
+    """e-Yantra 2024-25 Logistic coBot (ros2_db3_logistic_cobot_pymoveit2_zero_record_times_2024): a
+    pymoveit2 script's rosbag2_py writer gave 8,351 messages record times of 0 to 74 ns, while the arm and
+    the eBot are stamped on simulated time (46-74 s) and box detections on wall time. The sim-time frames
+    'agreed' with that record clock (both before the epoch floor) and were 8 `future` errors, 'stamped up to
+    73.9 s after they arrived'; the detections' two episodes were two clocks. Record times within 1 ms of
+    one another while the stamps span seconds time nothing: a note saying so, no future, delay or stale,
+    and the detections on wall time one other clock."""
+    findings = check(recording(_no_record_clock(), ros1=False)).findings
+    codes = _codes(findings)
+    assert not {"future", "delay", "stale"} & {code for code, _ in codes}
+    (note,) = [f for f in findings if f.code == "clock" and f.severity is Severity.info]
+    assert "the record times are no clock" in note.message and "rosbag2_py" in note.hint
+    (two,) = [f for f in findings if f.code == "clock" and f.severity is Severity.error]
+    assert set(two.frames) == {"base_link", "box_1", "box_6"}
+
+
+def test_a_replay_paced_by_no_clock_is_refused_in_one_line(tmp_path: Path) -> None:
+    """monitor --play on that recording played every message within 28 ns: '7974 messages at
+    284750000000.00 Hz'. It says why it cannot replay, and how to read the recording instead."""
+    from tftools.sources.stream import stream_recording
+
+    bag = write(tmp_path, "no_record_clock", BagFormat.rosbag2_sqlite3, _no_record_clock())
+    assert "the record times are no clock" in stream_recording([str(bag)]).unplayable
+    healthy_bag = write(tmp_path, "healthy", BagFormat.rosbag2_sqlite3, healthy())
+    assert stream_recording([str(healthy_bag)]).unplayable == ""

@@ -107,6 +107,9 @@ def command(
     last_spec = parse_time_spec(end, "end") if end is not None else None
     if play:
         streamed = open_stream(bags, topics, tf2)
+        if streamed.unplayable:  # a replay paced by no clock plays every message at once (rates of 1e11 Hz)
+            why = f"--play replays by arrival, and {streamed.unplayable}"
+            raise UsageError(why, "read it whole: tfx monitor -b BAG")
         target, source = _chain(streamed.frames, target, source)
         query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec, window=from_sec(window))
         _watch(streamed, query, duration, fmt, f"rate {rate:g}x", trace=trace, speed=rate)

@@ -144,6 +144,7 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
         "late_by_s": seconds(s.late_by),
         "late_after_s": seconds(s.late_after),
         "late_rate_hz": s.late_rate_hz,
+        "late_unheld": s.late_unheld,
         "wait_needed_s": None if s.wait_needed is None else seconds(s.wait_needed),
         "queue_needed": s.queue_needed,
         "cache_needed_s": None if s.cache_needed is None else seconds(s.cache_needed),

@@ -90,6 +90,12 @@ class StreamedRecording:
         #: each plays (``Playback``'s times, estimated alike).
         self.arrivals = dict(arrivals or {})
 
+    @property
+    def unplayable(self) -> str:
+        """Why the recording cannot be replayed by when its messages arrived ("" where it can): its record
+        times are no clock (``Timeline.record_clock_void``)."""
+        return self._recorded.reason if self._recorded.record_clock_void else ""
+
     def moving_chain(self, target: str, source: str) -> list[str]:
         """The children of the dynamic edges between the frames in the tree as last seen (their latest
         parents), as ``chain_moving_edges`` finds them in a whole read: through the buffer's one walk, on a

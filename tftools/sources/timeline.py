@@ -195,8 +195,13 @@ class Timeline:
     def within(self, same_clock: int) -> Timeline:
         """This recording's timeline (``timeline_of``'s) with another ``clock`` threshold (ns), its reference
         chosen again by it."""
-        reference, reason = _reference(self.edges, self.clock, same_clock)
+        reference, reason = _reference(self.edges, self.clock, same_clock, self.record_start, self.record_end)
         return _spanned(dataclasses.replace(self, reference=reference, reason=reason, same_clock=same_clock))
+
+    @property
+    def record_clock_void(self) -> bool:
+        """Whether the record times are no clock at all (``no_record_clock``)."""
+        return no_record_clock(self.edges, self.record_start, self.record_end)
 
     @property
     def available(self) -> bool:
@@ -445,19 +450,41 @@ def timeline_from(
     else on none (the reason says why); frames that follow neither are ``off_reference``, and the tf span
     is theirs only where no frame is on the reference (a span across two clocks is no span). Record times
     read off /clock (recorded with use_sim_time) are as coarse as its steps."""
-    reference, reason = _reference(edges, clock, SAME_CLOCK)
+    reference, reason = _reference(edges, clock, SAME_CLOCK, record_start, record_end)
     timeline = Timeline(reference, clock, record_start, record_end, tf[0], tf[1], edges, reason, full_tf=tf)
     if not record_step and _records_on_clock(clock):
         record_step = timeline.clock_step
     return _spanned(dataclasses.replace(timeline, record_step=record_step))
 
 
-def _reference(edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: int) -> tuple[Reference, str]:
+def _reference(
+    edges: tuple[EdgeClock, ...], clock: ClockSamples, same_clock: int, record_start: int, record_end: int
+) -> tuple[Reference, str]:
+    if no_record_clock(edges, record_start, record_end):
+        return Reference.NONE, _why_no_record_clock(edges, record_start, record_end)
     if any(e.agrees(True, same_clock) for e in edges):
         return Reference.CLOCK, ""
     if any(e.agrees(False, same_clock) for e in edges) or not edges:
         return Reference.RECORD, ""
     return Reference.NONE, _why_none(edges, clock)
+
+
+def no_record_clock(edges: Sequence[EdgeClock], record_start: int, record_end: int) -> bool:
+    """Whether the record times are no clock: every known one within ``FINE_STEP`` of the others while some
+    frame's stamps span a second or more (a writer that stored something else as receive times: a pymoveit2
+    script's rosbag2_py writer gave 8,351 messages record times of 0 to 74 ns). Nothing can be timed by them,
+    /clock at arrival neither."""
+    return record_end - record_start < FINE_STEP and any(e.last_stamp - e.first_stamp >= NS_PER_S for e in edges)
+
+
+def _why_no_record_clock(edges: Sequence[EdgeClock], record_start: int, record_end: int) -> str:
+    spread = max(e.last_stamp - e.first_stamp for e in edges) / NS_PER_S
+    return (
+        f"the record times are no clock: {sum(e.arrivals for e in edges):,} transforms recorded within "
+        f"{record_end - record_start} ns of one another (at {record_start} ns) while tf's stamps span {spread:.1f} s "
+        "(the recorder stored something else as receive times): delays, ages and staleness against arrival "
+        "cannot be measured"
+    )
 
 
 def clocked_arrivals(

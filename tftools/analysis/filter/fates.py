@@ -81,6 +81,8 @@ LOST = (
     Fate.EMPTY_FRAME,
 )
 UNDECIDED = (Fate.BEFORE_RECORDED_TF, Fate.AFTER_RECORDED_TF)
+#: ``Fates.lag`` of a message that arrived before the edge it waited for had sent anything.
+UNHELD = -1
 #: Messages lost to tf's timing (not to their frame): tf too late, or they too old.
 TF_LOST = (Fate.NEEDS_NEWER_TF, Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL)
 
@@ -91,7 +93,8 @@ class Fates:
     when it left the filter's queue (passed or dropped; its arrival where it never entered the queue,
     ``NEVER`` where it was still waiting when the recording ended); ``edge`` the (parent, child) that
     decided it (made it wait, never caught up, or had dropped its stamp), ``lag`` how far that edge's
-    newest stamp was behind the message's stamp at arrival (ns); ``after`` how far after the message's
+    newest stamp was behind the message's stamp at arrival (ns; ``UNHELD`` where the edge had sent nothing
+    yet: no stamp to be behind); ``after`` how far after the message's
     stamp that edge's sample that let it through was stamped (ns, 0 where it did not wait; none where empty):
     the edge's step between samples, where it is what a message waits for; ``before_tf`` which were stamped before
     the recording's tf of their chain began (none where empty): no cache keeps those if they age out;
@@ -424,11 +427,12 @@ def _judge(
     # started before the recording might have had that tf.
     fate[(fate == Fate.OLDER_THAN_CACHE) & (stamps < chain.began) & ~zero] = Fate.BEFORE_RECORDED_TF
     deciding = np.where(np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL)), dropped_by, waited_for)
-    newest = np.stack([e.newest_at(places) for e in edges])
-    lag = np.maximum(stamps - newest[deciding, np.arange(n)], 0)
+    held = np.stack([e.newest_at(places) for e in edges])[deciding, np.arange(n)]
+    lag = np.where(held >= 0, np.maximum(stamps - held, 0), UNHELD)  # newest_at: -1 before its first arrival
     lag[np.isin(fate, (Fate.OLDER_THAN_CACHE, Fate.TOO_OLD_ON_ARRIVAL, Fate.BEFORE_RECORDED_TF)) | zero] = 0
     released = np.stack([e.newest_at(passes) for e in edges])[waited_for, np.arange(n)]
-    after = np.where((fate == Fate.LATER) & ~zero, np.maximum(released - stamps, 0), 0)
+    # Waiting for an edge's first transform, not for its next sample: no step to say.
+    after = np.where((fate == Fate.LATER) & ~zero & (lag != UNHELD), np.maximum(released - stamps, 0), 0)
     keys = [e.key for e in edges]
     deciding_list, fate_list = deciding.tolist(), fate.tolist()
     limiting = [keys[i] if f != Fate.ON_ARRIVAL else None for i, f in zip(deciding_list, fate_list, strict=True)]
@@ -476,16 +480,21 @@ class StreamReport:
     before_tf: int = 0
     late_after: float = 0.0  # how long after the stamps that edge's next sample was stamped (median): its step
     late_rate_hz: float = 0.0  # that edge's rate
+    late_unheld: int = 0  # of the waits for that edge, those for its first transform (it had sent nothing yet)
     tick: int = 0  # the step of the clock the waits were read off (record times on /clock's ticks; 0: fine)
 
     def wait_made_of(self) -> str:
         """What the wait for ``late_edge`` was made of, in words: how far its newest stamp was behind the
         message's on arrival, and how long after the message's stamp its next sample was stamped (its step,
         at its rate): the wait is that step, give or take the delays of delivery."""
+        first = f"{self.late_unheld} arrived before its first transform and waited for it"
+        if self.late_unheld and self.late_unheld >= self.later:
+            return first
         rate = f" at {self.late_rate_hz:.1f} Hz" if self.late_rate_hz > 0 else ""
         after = f"{seconds_in_words(self.late_after)} after it" if self.late_after else "with the message's stamp"
         newest = f"its newest stamp {seconds_in_words(self.late_by)} behind the message's on arrival"
-        return f"{newest}, its next sample stamped {after}{rate}"
+        said = f"{newest}, its next sample stamped {after}{rate}"
+        return f"{first}; then {said}" if self.late_unheld else said
 
 
 @dataclass(frozen=True)
@@ -521,7 +530,9 @@ def stream_report(
     late_edge = _most([fates.edge[i] for i in later])
     waited = [i for i in later if fates.edge[i] == late_edge]
     lags = fates.lag[waited]
-    afters = fates.after[waited] if len(fates.after) else fates.after
+    held = lags != UNHELD
+    afters = (fates.after[waited] if len(fates.after) else np.zeros(len(waited), np.int64))[held]
+    lags = lags[held]
     never = int(sum(counts[f] for f in LOST))
     later_mask = fates.fate == Fate.LATER
     lost = [fates.edge[i] for i in np.flatnonzero(np.isin(fates.fate, TF_LOST)).tolist()]
@@ -539,6 +550,7 @@ def stream_report(
         late_by=float(np.median(lags)) if len(lags) else 0.0,
         late_after=float(np.median(afters)) if len(afters) else 0.0,
         late_rate_hz=_rate(buffer, late_edge),
+        late_unheld=int((~held).sum()),
         tick=tick,
         wait_needed=_wait_needed(fates, stream),
         queue_needed=smallest_queue(fates, stream),

@@ -129,11 +129,28 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
     """No frame follows the record clock or /clock: the frames agreeing with most others are the tf clock
     (a note on what cannot be measured); those on yet another clock disagree with them (an error)."""
     edges = scene.timeline.edges
-    clusters = clock_groups([e for e in edges if not _stood_still(e, edges)], scene.timeline.same_clock)
+    moving = [e for e in edges if not _stood_still(e, edges)]
+    if scene.timeline.record_clock_void:  # offsets from no clock tell nothing: only the time bases differ
+        bases = (
+            [e for e in moving if e.median_stamp < EPOCH_FLOOR],
+            [e for e in moving if e.median_stamp >= EPOCH_FLOOR],
+        )
+        clusters = [base for base in bases if base]
+    else:
+        clusters = clock_groups(moving, scene.timeline.same_clock)
     main = max(clusters, key=len)
     for cluster in clusters:
         if cluster is not main:
             yield _disagreeing_with_others(scene, cluster, main)
+    if scene.timeline.record_clock_void:
+        hint = (
+            "record with ros2 bag record, which stores when each message arrived; a script writing a bag "
+            "(rosbag2_py) must give each message its receive time in nanoseconds"
+            if scene.ros2
+            else "record with rosbag record, which stores when each message arrived"
+        )
+        yield Finding(Severity.info, "clock", scene.timeline.reason, hint, count=sum(e.arrivals for e in edges))
+        return
     yield Finding(
         Severity.info,
         "clock",
