@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <utility>
 #include <thread>
 
 namespace tfpython {
@@ -25,32 +26,26 @@ class Lock {
     // it waited, not having taken it.
     void acquire() {
         const std::thread::id me = std::this_thread::get_id();
-        {
-            const std::lock_guard<std::mutex> guard(mutex_);
-            if (count_ == 0 || owner_ == me) {
-                owner_ = me, ++count_;
-                return;
-            }
+        if (owner_.load(std::memory_order_relaxed) == me) {
+            ++count_;
+            return;
+        }
+        if (try_take(me)) {
+            count_ = 1;
+            return;
         }
         take(me, 1, true);
     }
 
     void release() {
-        const std::lock_guard<std::mutex> guard(mutex_);
-        if (count_ == 0 || owner_ != std::this_thread::get_id()) {
+        if (owner_.load(std::memory_order_relaxed) != std::this_thread::get_id()) {
             throw nb::builtin_exception(nb::exception_type::runtime_error, "cannot release un-acquired lock");
         }
-        if (--count_ == 0) {
-            owner_ = std::thread::id();
-            free_.notify_one();
-        }
+        if (--count_ == 0) let_go();
     }
 
     // Whether this thread holds it.
-    bool owned() const {
-        const std::lock_guard<std::mutex> guard(mutex_);
-        return count_ > 0 && owner_ == std::this_thread::get_id();
-    }
+    bool owned() const { return owner_.load(std::memory_order_relaxed) == std::this_thread::get_id(); }
 
     // threading.Condition.wait: let go of it (however many times this thread holds it) until notified or
     // `timeout` seconds have passed, then take it again as held before. Whether it was notified.
@@ -58,18 +53,17 @@ class Lock {
         const std::thread::id me = std::this_thread::get_id();
         const Clock::time_point deadline =
             Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout));
-        int64_t held = 0;
+        if (owner_.load(std::memory_order_relaxed) != me) {
+            throw nb::builtin_exception(nb::exception_type::runtime_error, "cannot wait on un-acquired lock");
+        }
+        const int64_t held = std::exchange(count_, 0);
         uint64_t generation = 0;
         {
             const std::lock_guard<std::mutex> guard(mutex_);
-            if (count_ == 0 || owner_ != me) {
-                throw nb::builtin_exception(nb::exception_type::runtime_error, "cannot wait on un-acquired lock");
-            }
-            held = count_, count_ = 0, owner_ = std::thread::id();
             generation = generation_;
-            ++waiting_;
-            free_.notify_one();
         }
+        ++waiting_;  // before letting go: whoever takes it next and notifies sees this waiter
+        let_go();
         bool notified = false;
         while (true) {
             {
@@ -98,15 +92,36 @@ class Lock {
    private:
     static constexpr std::chrono::milliseconds SLICE{50};
 
+    // Taken by `me` if free (one atomic instruction: no mutex where no other thread wants it).
+    bool try_take(std::thread::id me) {
+        std::thread::id none;
+        return owner_.compare_exchange_strong(none, me, std::memory_order_acquire, std::memory_order_relaxed);
+    }
+
+    // Free, a thread blocked in take() woken. Sequentially consistent, as take()'s count of the blocked: either
+    // a blocked thread's next try finds it free, or this finds that thread counted and wakes it (under the
+    // mutex, so not between its try and its wait).
+    void let_go() {
+        owner_.store(std::thread::id());
+        if (blocked_.load() == 0) return;
+        const std::lock_guard<std::mutex> guard(mutex_);
+        free_.notify_one();
+    }
+
     // Held `count` times by `me` once free, the GIL let go meanwhile; with `interruptible`, a signal's
     // handler that raises stops the wait (and leaves it not taken).
     void take(std::thread::id me, int64_t count, bool interruptible) {
+        ++blocked_;
+        struct Unblock {
+            std::atomic<int64_t>& blocked;
+            ~Unblock() { --blocked; }
+        } const unblock{blocked_};
         while (true) {
             {
                 const nb::gil_scoped_release unlocked;
                 std::unique_lock<std::mutex> guard(mutex_);
-                if (free_.wait_for(guard, SLICE, [&] { return count_ == 0; })) {
-                    owner_ = me, count_ = count;
+                if (free_.wait_for(guard, SLICE, [&] { return try_take(me); })) {
+                    count_ = count;
                     return;
                 }
             }
@@ -114,12 +129,14 @@ class Lock {
         }
     }
 
-    mutable std::mutex mutex_;  // guards the fields below (but waiting_)
-    std::condition_variable free_, changed_;
-    std::thread::id owner_;
+    // The holder (none: free), and how many times it holds it (read and written by the holder only).
+    std::atomic<std::thread::id> owner_{};
     int64_t count_ = 0;
-    uint64_t generation_ = 0;  // notifications so far
-    std::atomic<int64_t> waiting_{0};
+    mutable std::mutex mutex_;  // guards generation_, and the waits on the conditions
+    std::condition_variable free_, changed_;
+    uint64_t generation_ = 0;          // notifications so far
+    std::atomic<int64_t> waiting_{0};  // threads in wait()
+    std::atomic<int64_t> blocked_{0};  // threads in take()
 };
 
 // `lock` held for a scope.

@@ -719,13 +719,19 @@ bool frames_and_time(const char* method, PyObject* const* args, Py_ssize_t n, Py
 
 // Where instances of the class last seen keep `_core` (-1: not in a slot), while that class is unchanged
 // (its version tag, which any change of the class's attributes renews).
-// Per thread (a build without the GIL runs them at once); the class is held while it is remembered.
+// One, read and written under the GIL; per thread where there is none (a free-threaded build runs them at
+// once). Not per thread under the GIL: a thread_local of a loaded module is a call (__tls_get_addr) at
+// every read, ~50 instructions of a set_transform. The class is held while it is remembered.
 struct CoreSlot {
     PyTypeObject* type = nullptr;
     unsigned int version = 0;
     Py_ssize_t offset = -1;
 };
+#ifdef Py_GIL_DISABLED
 thread_local CoreSlot core_slot;
+#else
+CoreSlot core_slot;
+#endif
 
 // Whether `type` is core_slot's, unchanged.
 bool known_class(PyTypeObject* type) {

@@ -6,6 +6,7 @@ from __future__ import annotations
 import pickle
 import signal
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -145,6 +146,35 @@ def test_an_insertion_from_another_thread_waits_for_the_lock_and_wakes_the_waite
         assert notified and inserted.is_set()
     thread.join()
     assert buffer.lookup("a", "b", 2 * S).translation == (2.0, 0.0, 0.0)
+
+
+def test_threads_that_let_go_of_the_gil_inside_the_lock_hold_it_one_at_a_time() -> None:
+    # Each thread sleeps holding the lock (the GIL let go): the others block in the core, not in the GIL,
+    # and are woken as it is let go; inserting between holds takes its fast path.
+    buffer = Buffer(cache_time=None)
+    inside: list[int] = []
+    overlaps: list[list[int]] = []
+
+    def hold(who: int) -> None:
+        for k in range(40):
+            with buffer.lock:
+                inside.append(who)
+                time.sleep(0.0002)
+                if inside != [who]:
+                    overlaps.append(list(inside))
+                inside.remove(who)
+            buffer.set_transform(Transform((float(k), 0, 0), (0, 0, 0, 1), (who * 100 + k + 1) * S, "a", f"b{who}"))
+
+    threads = [threading.Thread(target=hold, args=(who,)) for who in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert overlaps == [] and inside == []
+    assert [len(buffer.history(f"b{who}") or ()) for who in range(4)] == [40] * 4
+    assert not buffer.lock.owned()
+    with buffer.lock:  # free again, and this thread's
+        assert buffer.lock.owned()
 
 
 def test_wait_for_transform_is_answered_by_an_insertion_from_another_thread() -> None:
