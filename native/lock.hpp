@@ -92,10 +92,13 @@ class Lock {
    private:
     static constexpr std::chrono::milliseconds SLICE{50};
 
-    // Taken by `me` if free (one atomic instruction: no mutex where no other thread wants it).
+    // Taken by `me` if free (one atomic instruction: no mutex where no other thread wants it). Sequentially
+    // consistent, failing too: a blocked thread's failed try must be ordered against let_go()'s store and its
+    // read of `blocked_`, or both could miss each other and the wake-up wait out a SLICE (x86 pays nothing
+    // more: a locked cmpxchg either way).
     bool try_take(std::thread::id me) {
         std::thread::id none;
-        return owner_.compare_exchange_strong(none, me, std::memory_order_acquire, std::memory_order_relaxed);
+        return owner_.compare_exchange_strong(none, me);
     }
 
     // Free, a thread blocked in take() woken. Sequentially consistent, as take()'s count of the blocked: either
