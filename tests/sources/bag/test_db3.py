@@ -315,28 +315,3 @@ def test_one_connection_serves_the_tables_and_the_messages(tmp_path: Path, nativ
     db.close()
     with pytest.raises(sqlite3.Error):
         db.rows("SELECT count(*) FROM messages")
-
-
-def test_fetches_read_ahead_keep_what_was_handed_over(tmp_path: Path) -> None:
-    """The extension reads each next fetch ahead on a thread of its own: the rows of every fetch stay as
-    they were handed over while later ones are read (their bytes are reused only once let go); a query
-    left unfinished does not stop the connection's other queries."""
-    from tftools.sources.bag.rosbag2.database import Database
-
-    rows = mixed_rows(500)
-    bag = write_db3(tmp_path / "a.db3", rows)
-    db = Database(bag)
-    query = "SELECT topic_id, timestamp, id, data FROM messages"
-    held = list(db.messages(query, 9, 600))  # every fetch kept alive
-    assert len(held) > 20
-    got = [(row, data[start : start + length].tobytes())
-           for _topic, _time, ids, starts, lengths, data in held
-           for row, start, length in zip(ids.tolist(), starts.tolist(), lengths.tolist(), strict=True)]  # fmt: skip
-    assert got == [(row_id, data) for row_id, _topic, _t, data in rows]
-    left = db.messages(query, 5, 1 << 20)
-    assert len(next(left)[0]) == 5  # and the next five being read ahead
-    assert db.rows("SELECT count(*) FROM messages") == [(len(rows),)]
-    again = [len(fetched[0]) for fetched in db.messages(query, 200, 1 << 20)]
-    assert again == [200, 200, len(rows) - 400]
-    del left
-    db.close()
