@@ -1,22 +1,19 @@
 // tftools.sources.bag.rosbag2._sqlite: one read-only connection to a .db3 file (``Database``), serving its
 // small tables' queries as tuples and its messages through sqlite's C API, fetch after fetch, into arrays
-// and one byte buffer (Python's sqlite3 would build a tuple and a bytes object a row), each next fetch read ahead.
+// and one byte buffer (Python's sqlite3 would build a tuple and a bytes object a row).
 #include <Python.h>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
-#include <nanobind/stl/unique_ptr.h>
+#include <nanobind/stl/vector.h>
 #include <sqlite3.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <stdexcept>
 #include <string>
-#include <system_error>
-#include <thread>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -50,7 +47,7 @@ struct SqliteError : std::runtime_error {
 // Columns of the rows of one fetch: each row's integers, where its blob starts in ``data`` and its length.
 struct Fetched {
     std::vector<int64_t> topic, time, id, start, length;
-    std::shared_ptr<std::vector<uint8_t>> data;
+    std::vector<uint8_t>* data;
 };
 
 using FetchedArrays = std::tuple<Output<int64_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>,
@@ -63,8 +60,6 @@ struct Close {
 
 // A connection shared by its database and the message queries on it: closed when the last lets it go.
 using Connection = std::shared_ptr<sqlite3>;
-// Held by whichever thread uses a connection (a message query reads ahead on a thread of its own).
-using Busy = std::shared_ptr<std::mutex>;
 
 [[noreturn]] void fail(sqlite3* db) { throw SqliteError(db ? sqlite3_errmsg(db) : "out of memory"); }
 
@@ -78,123 +73,87 @@ std::unique_ptr<sqlite3_stmt, Close> prepare(const Connection& db, const std::st
 }
 
 // The rows of ``SELECT topic, time, id, blob ...`` on a database opened read-only; a row whose topic
-// or time is not an integer or whose blob is not a blob is not a message: skipped. Each fetch reads the
-// next one ahead, with the same limits, on a thread of its own while the caller works on what it got:
-// sqlite's stepping (a third of a .db3's load) overlaps the decoding where a second core is free.
+// or time is not an integer or whose blob is not a blob is not a message, nor is a row of a topic not
+// among those listed (where some are): skipped.
 class Messages {
    public:
-    Messages(Connection db, Busy busy, const std::string& query) : db_(std::move(db)), busy_(std::move(busy)) {
-        std::lock_guard<std::mutex> hold(*busy_);  // another query's read ahead done first
-        statement_ = prepare(db_, query);
+    Messages(Connection db, const std::string& query, const std::vector<int64_t>& topics)
+        : db_(std::move(db)), statement_(prepare(db_, query)) {
+        for (const int64_t topic : topics) {
+            if (topic < 0 || topic > kMaxTopic) throw nb::value_error("Messages: a topic id out of range");
+            if (static_cast<size_t>(topic) >= wanted_.size()) wanted_.resize(static_cast<size_t>(topic) + 1);
+            wanted_[static_cast<size_t>(topic)] = 1;
+        }
         if (sqlite3_column_count(statement_.get()) != 4) {
-            statement_.reset();
             throw nb::value_error("Messages: the query must give 4 columns");
         }
     }
 
-    Messages(const Messages&) = delete;
-    Messages& operator=(const Messages&) = delete;
-    ~Messages() {
-        settle();
-        std::lock_guard<std::mutex> hold(*busy_);
-        statement_.reset();
-    }
-
-    // The next rows, up to ``rows`` of them or until ``bytes`` of blobs are held (the limits of the
-    // fetch before, where it was read ahead); none at the end.
+    // The next rows, up to ``rows`` of them or until ``bytes`` of blobs are held; none at the end.
     FetchedArrays fetch(int64_t rows, int64_t bytes) {
-        Fetched got;
+        // The bytes of the fetch before are filled again once Python has let go of them: their
+        // pages are already the process's (new ones are faulted in page by page).
+        if (data_.use_count() != 1) data_ = std::make_shared<std::vector<uint8_t>>();
+        data_->clear();
+        data_->reserve(static_cast<size_t>(std::min<int64_t>(bytes, 1 << 22)) + 65536);
+        Fetched got{{}, {}, {}, {}, {}, data_.get()};
         std::string error;
         {
             nb::gil_scoped_release unlocked;
-            settle();
-            if (ahead_) {
-                got = std::move(next_);
-                error = std::move(next_error_);
-                ahead_ = false;
-            } else {
-                error = step(got, rows, bytes);
-            }
-            if (error.empty() && !done_) {
-                try {
-                    reader_ = std::thread([this, rows, bytes] { next_error_ = step(next_, rows, bytes); });
-                    ahead_ = true;
-                } catch (const std::system_error&) {  // no thread to be had: the next fetch reads itself
-                }
-            }
+            error = step(got, rows, bytes);
         }
         if (!error.empty()) throw SqliteError(error);
         return {owned(std::move(got.topic)), owned(std::move(got.time)),   owned(std::move(got.id)),
-                owned(std::move(got.start)), owned(std::move(got.length)), shared(got.data)};
+                owned(std::move(got.start)), owned(std::move(got.length)), shared(data_)};
     }
 
    private:
-    // The read ahead finished (its rows kept for the next fetch).
-    void settle() {
-        if (reader_.joinable()) reader_.join();
-    }
-
-    // The bytes of a fetch: those of an earlier fetch once Python has let go of them (their pages
-    // are already the process's; new ones are faulted in page by page).
-    std::shared_ptr<std::vector<uint8_t>> bytes_for(int64_t bytes) {
-        auto* held = &buffers_[0];
-        if (buffers_[0].use_count() != 1 && buffers_[1].use_count() == 1) held = &buffers_[1];
-        if (held->use_count() != 1) {  // none let go (both in Python's hands, or not made yet): a new one
-            held = &buffers_[newer_ ^= 1];
-            *held = std::make_shared<std::vector<uint8_t>>();
-        }
-        (*held)->clear();
-        (*held)->reserve(static_cast<size_t>(std::min<int64_t>(bytes, 1 << 22)) + 65536);
-        return *held;
-    }
-
-    // Rows into ``got``; sqlite's error, or "". Runs without the GIL.
+    // Rows into ``got``; sqlite's error, or "".
     std::string step(Fetched& got, int64_t rows, int64_t bytes) {
-        std::lock_guard<std::mutex> hold(*busy_);
-        try {
-            got = Fetched{{}, {}, {}, {}, {}, bytes_for(bytes)};
-            sqlite3_stmt* statement = statement_.get();
-            while (!done_ && static_cast<int64_t>(got.topic.size()) < rows &&
-                   static_cast<int64_t>(got.data->size()) < bytes) {
-                const int result = sqlite3_step(statement);
-                if (result != SQLITE_ROW) {
-                    done_ = true;
-                    if (result == SQLITE_DONE) break;
-                    return sqlite3_errmsg(db_.get());
-                }
-                if (sqlite3_column_type(statement, 0) != SQLITE_INTEGER ||
-                    sqlite3_column_type(statement, 1) != SQLITE_INTEGER ||
-                    sqlite3_column_type(statement, 3) != SQLITE_BLOB) {
-                    continue;
-                }
-                const auto* blob = static_cast<const uint8_t*>(sqlite3_column_blob(statement, 3));
-                const auto length = static_cast<size_t>(sqlite3_column_bytes(statement, 3));
-                got.topic.push_back(sqlite3_column_int64(statement, 0));
-                got.time.push_back(sqlite3_column_int64(statement, 1));
-                got.id.push_back(sqlite3_column_int64(statement, 2));
-                got.start.push_back(static_cast<int64_t>(got.data->size()));
-                got.length.push_back(static_cast<int64_t>(length));
-                got.data->insert(got.data->end(), blob, blob + length);
+        sqlite3_stmt* statement = statement_.get();
+        while (!done_ && static_cast<int64_t>(got.topic.size()) < rows &&
+               static_cast<int64_t>(got.data->size()) < bytes) {
+            const int result = sqlite3_step(statement);
+            if (result != SQLITE_ROW) {
+                done_ = true;
+                if (result == SQLITE_DONE) break;
+                return sqlite3_errmsg(db_.get());
             }
-        } catch (const std::bad_alloc&) {
-            done_ = true;
-            return "out of memory";
+            // Each column's value once (a column call of sqlite's API costs a value's reading and the
+            // statement's checks: twice as many of them as values read).
+            sqlite3_value* const topic = sqlite3_column_value(statement, 0);
+            sqlite3_value* const time = sqlite3_column_value(statement, 1);
+            sqlite3_value* const payload = sqlite3_column_value(statement, 3);
+            if (sqlite3_value_type(topic) != SQLITE_INTEGER || sqlite3_value_type(time) != SQLITE_INTEGER ||
+                sqlite3_value_type(payload) != SQLITE_BLOB) {
+                continue;
+            }
+            const int64_t topic_id = sqlite3_value_int64(topic);
+            if (!wanted_.empty() &&
+                (topic_id < 0 || static_cast<uint64_t>(topic_id) >= wanted_.size() || !wanted_[topic_id])) {
+                continue;
+            }
+            const auto* blob = static_cast<const uint8_t*>(sqlite3_value_blob(payload));
+            const auto length = static_cast<size_t>(sqlite3_value_bytes(payload));
+            got.topic.push_back(topic_id);
+            got.time.push_back(sqlite3_value_int64(time));
+            got.id.push_back(sqlite3_column_int64(statement, 2));
+            got.start.push_back(static_cast<int64_t>(got.data->size()));
+            got.length.push_back(static_cast<int64_t>(length));
+            got.data->insert(got.data->end(), blob, blob + length);
         }
         return {};
     }
 
     // Declared in this order so that the statement is finalized before its database is let go.
     Connection db_;
-    Busy busy_;
     std::unique_ptr<sqlite3_stmt, Close> statement_;
-    std::shared_ptr<std::vector<uint8_t>> buffers_[2];  // the blobs of the latest fetches
-    int newer_ = 0;                                     // the slot of the buffer made last
+    static constexpr int64_t kMaxTopic = int64_t{1} << 24;
+    // Whether each topic id is wanted (none listed: every topic): sqlite's own ``topic_id IN (...)``
+    // costs more than this test.
+    std::vector<uint8_t> wanted_;
+    std::shared_ptr<std::vector<uint8_t>> data_;  // the blobs of the latest fetch
     bool done_ = false;
-    // The fetch read ahead: its thread, and (once it is joined) its rows or error.
-    std::thread reader_;
-    bool ahead_ = false;
-    Fetched next_;
-    std::string next_error_;
 };
 
 // A column's value as Python's sqlite3 gives it; text not in UTF-8 decoded with replacement characters.
@@ -224,8 +183,7 @@ class Database {
    public:
     explicit Database(const std::string& uri) {
         sqlite3* db = nullptr;
-        // NOMUTEX: the connection is this reader's alone, used by one thread at a time (``busy_``): no lock
-        // around every call.
+        // NOMUTEX: the connection is this reader's alone, used by one thread at a time: no lock around every call.
         const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_URI | SQLITE_OPEN_NOMUTEX;
         const int opened = sqlite3_open_v2(uri.c_str(), &db, flags, nullptr);
         db_ = Connection(db, Close{});  // closed when this throws, as when it is let go
@@ -236,7 +194,6 @@ class Database {
     }
 
     nb::list rows(const std::string& query) {
-        std::lock_guard<std::mutex> hold(*busy_);  // a message query's read ahead done first
         auto statement = prepare(db_, query);
         const int columns = sqlite3_column_count(statement.get());
         nb::list found;
@@ -250,15 +207,14 @@ class Database {
         return found;
     }
 
-    std::unique_ptr<Messages> messages(const std::string& query) {
-        return std::make_unique<Messages>(db_, busy_, query);
+    Messages messages(const std::string& query, const std::vector<int64_t>& topics) {
+        return Messages(db_, query, topics);
     }
 
     void close() { db_.reset(); }
 
    private:
     Connection db_;
-    Busy busy_ = std::make_shared<std::mutex>();
 };
 
 }  // namespace
@@ -270,6 +226,6 @@ NB_MODULE(_sqlite, m) {
     nb::class_<Database>(m, "Database")
         .def(nb::init<const std::string&>(), "uri"_a)
         .def("rows", &Database::rows, "query"_a)
-        .def("messages", &Database::messages, "query"_a)
+        .def("messages", &Database::messages, "query"_a, "topics"_a = std::vector<int64_t>{})
         .def("close", &Database::close);
 }

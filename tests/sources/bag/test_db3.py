@@ -129,6 +129,28 @@ def test_rows_fetched_a_batch_at_a_time_and_only_the_tf_topics(tmp_path: Path, m
     assert max(max(lengths) for lengths in handed) == max(len(row[3]) for row in tf_rows) < 20_000
 
 
+@pytest.mark.parametrize("native", [True, False], ids=["extension", "sqlite3"])
+def test_rows_of_a_topic_id_the_topics_table_does_not_list_are_left_out(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, native: bool
+) -> None:
+    """Where every topic the topics table lists is read, the extension leaves the other topic ids' rows out
+    itself (the query has no ``topic_id IN``): rows of an id the table does not list, /tf payloads or not,
+    are not read, through the extension or Python's sqlite3."""
+    from tftools.sources.bag.rosbag2 import database
+
+    rows = [(1 + i, 1 + i % 2, T0 + i * NS, tf_payload(i, 1 + i % 3)) for i in range(40)]
+    rows += [(100 + i, topic, T0 + i * NS, tf_payload(50 + i, 2)) for i, topic in enumerate((3, 4, 0, -1, 2**40))]
+    db3 = write_db3(tmp_path / "a.db3", rows)
+    with sqlite3.connect(db3) as writer:
+        writer.execute("DELETE FROM topics WHERE id > 2")
+    writer.close()
+    if not native:
+        monkeypatch.setattr(database, "_Native", None)
+    got, contents = read(db3)
+    assert got == expected(rows) and contents.problems == []
+    assert len(got) == sum(1 + i % 3 for i in range(40))
+
+
 def test_rows_stored_out_of_time_order(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """The table is read in its own order, fetch after fetch: transforms still come in (record time,
     id) order, and progress only moves forward."""
@@ -293,28 +315,3 @@ def test_one_connection_serves_the_tables_and_the_messages(tmp_path: Path, nativ
     db.close()
     with pytest.raises(sqlite3.Error):
         db.rows("SELECT count(*) FROM messages")
-
-
-def test_fetches_read_ahead_keep_what_was_handed_over(tmp_path: Path) -> None:
-    """The extension reads each next fetch ahead on a thread of its own: the rows of every fetch stay as
-    they were handed over while later ones are read (their bytes are reused only once let go); a query
-    left unfinished does not stop the connection's other queries."""
-    from tftools.sources.bag.rosbag2.database import Database
-
-    rows = mixed_rows(500)
-    bag = write_db3(tmp_path / "a.db3", rows)
-    db = Database(bag)
-    query = "SELECT topic_id, timestamp, id, data FROM messages"
-    held = list(db.messages(query, 9, 600))  # every fetch kept alive
-    assert len(held) > 20
-    got = [(row, data[start : start + length].tobytes())
-           for _topic, _time, ids, starts, lengths, data in held
-           for row, start, length in zip(ids.tolist(), starts.tolist(), lengths.tolist(), strict=True)]  # fmt: skip
-    assert got == [(row_id, data) for row_id, _topic, _t, data in rows]
-    left = db.messages(query, 5, 1 << 20)
-    assert len(next(left)[0]) == 5  # and the next five being read ahead
-    assert db.rows("SELECT count(*) FROM messages") == [(len(rows),)]
-    again = [len(fetched[0]) for fetched in db.messages(query, 200, 1 << 20)]
-    assert again == [200, 200, len(rows) - 400]
-    del left
-    db.close()

@@ -9,6 +9,7 @@ import numpy as np
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.sources.bag.mcap.records import CHUNK, MESSAGE, MESSAGE_HEAD, RECORD, U16, U32, U64, Channels, ChunkIndex
 from tftools.sources.bag.spans import Spans, bounded
+from tftools.sources.codecs.gather import bytes_at
 from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.storage.source import ByteSource
 
@@ -139,7 +140,7 @@ def payloads(
     ``end`` made its payload's there."""
     room = messages.end - messages.start
     fits = complete & (where >= 0) & (room >= PAYLOAD)  # else the range cannot hold a record head
-    head = data[where[fits][:, None] + np.arange(_HEAD)]
+    head = bytes_at(data, where[fits], _HEAD)  # a row of _HEAD bytes gathered as one item, not byte by byte
     lengths = np.zeros(len(where), np.int64)
     lengths[fits] = head[:, 1:9].copy().view("<u8").ravel().astype(np.int64)
     fits[fits] = (head[:, 0] == MESSAGE) & (head[:, 9:].copy().view("<u2").ravel() == messages.channel[fits])

@@ -10,7 +10,8 @@ class SqliteError(sqlite3.DatabaseError):
 
 class Messages:
     """The rows of a query ``SELECT topic, time, id, blob ...`` (``Database.messages``). A row whose
-    topic or time is not an integer or whose blob is not a blob is skipped."""
+    topic or time is not an integer or whose blob is not a blob is skipped, as is one whose topic is
+    not among those listed (where some are)."""
 
     def fetch(
         self, rows: int, bytes: int
@@ -27,7 +28,7 @@ class Database:
     def rows(self, query: str) -> list[tuple[object, ...]]:
         """Every row of ``query``, each column as Python's sqlite3 gives it (text not in UTF-8
         decoded with replacement characters)."""
-    def messages(self, query: str) -> Messages:
-        """The message rows of ``query`` on this connection."""
+    def messages(self, query: str, topics: list[int] = ...) -> Messages:
+        """The message rows of ``query`` on this connection, those of ``topics`` only where any are listed."""
     def close(self) -> None:
         """Let the connection go (once the message queries on it are let go too)."""

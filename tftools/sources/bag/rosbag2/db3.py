@@ -55,7 +55,8 @@ class Db3File:
         channels, headers = _channels(self.topics, wanted, result, self.definitions)
         if self.statistics is not None:
             result.message_count, result.start, result.end = self.statistics
-        _messages(self.database, channels, headers, result, progress)
+        every = len(channels) == sum(isinstance(row, tuple) for row in self.topics)
+        _messages(self.database, channels, headers, result, progress, every_topic=every)
         if self.unmerged:
             result.note_problem(
                 f"{self.unmerged} holds writes never merged into the database; they were not read"
@@ -151,14 +152,21 @@ def _statistics(db: Database) -> tuple[int, int, int] | None:
 
 
 def _messages(
-    db: Database, channels: dict[int, int], headers: set[int], result: FileScan, progress: ProgressCallback
+    db: Database,
+    channels: dict[int, int],
+    headers: set[int],
+    result: FileScan,
+    progress: ProgressCallback,
+    *,
+    every_topic: bool = False,
 ) -> None:
     """Add the wanted topics' messages, fetch after fetch in the table's order (decoded as they
     come, so they are never all held at once; ``MessageSet`` puts them in (record time, id) order);
     from the intact pages of a damaged file. Of the topics in ``headers``, sqlite hands over only
     the bytes that can hold a header of each message (a compressed one whole), not the images or
     points after it. Rows of other types (sqlite stores any value in any column) are not messages:
-    left out."""
+    left out. Where ``every_topic`` of the topics table is wanted, the reader leaves out rows of
+    other topic ids itself where it can (``Database.skips_topics``)."""
     if not channels:
         return
     path = db.path
@@ -175,14 +183,19 @@ def _messages(
     )
     # NOT INDEXED: the table read in its own order, page after page, not through the timestamp index;
     # but a window's rows are found through it.
+    # The topics' condition only where it spares sqlite other topics' rows (their blobs copied) or the
+    # reader does not skip them itself: it costs more than the reader's own test.
+    conditions = [] if every_topic and db.skips_topics else [f"topic_id IN ({ids})"]
     window = result.messages.window
-    table, where = "messages NOT INDEXED", f"topic_id IN ({ids}){db.typed}"
+    table = "messages NOT INDEXED"
     if window is not None:
-        table, where = "messages", f"{where} AND timestamp >= {int(window.first)} AND timestamp < {int(window.last)}"
-    query = f"SELECT topic_id, timestamp, id, {data} FROM {table} WHERE {where}"
+        table = "messages"
+        conditions += [f"timestamp >= {int(window.first)}", f"timestamp < {int(window.last)}"]
+    where = " AND ".join(c for c in (*conditions, db.typed.removeprefix(" AND ")) if c)
+    query = f"SELECT topic_id, timestamp, id, {data} FROM {table}" + (f" WHERE {where}" if where else "")
     added, latest = False, result.start  # the latest record time met: rows may come a little out of order
     try:
-        for fetched in db.messages(query, _FETCH, _FETCH_BYTES):
+        for fetched in db.messages(query, _FETCH, _FETCH_BYTES, list(channels)):
             topic, timestamp, row_id, start, length, payloads = fetched
             _unpack_if_compressed(payloads[start[0] : start[0] + length[0]][:4].tobytes(), result, size)
             spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
