@@ -267,3 +267,14 @@ def test_a_replay_paced_by_no_clock_is_refused_in_one_line(tmp_path: Path) -> No
     assert "the record times are no clock" in stream_recording([str(bag)]).unplayable
     healthy_bag = write(tmp_path, "healthy", BagFormat.rosbag2_sqlite3, healthy())
     assert stream_recording([str(healthy_bag)]).unplayable == ""
+
+
+def test_a_topics_rate_timed_by_stamps_on_two_time_bases_counts_each_on_its_own(tmp_path: Path) -> None:
+    """The logistic coBot's /tf (monitor on ros2_db3_logistic_cobot_pymoveit2_zero_record_times_2024): no clock
+    gives the arrivals, so messages are timed by their stamps, the arm's on simulated time and the detections'
+    on wall time; one span over both is 55 years: '7974 messages, 0.00 Hz'. Each time base counted over its own
+    stamps: the arm's 100 Hz and the detections' 120 messages over 9.93 s, summed."""
+    bag = write(tmp_path, "no_record_clock", BagFormat.rosbag2_sqlite3, _no_record_clock())
+    (tf,) = monitor(read_recording([str(bag)]), MonitorQuery()).authorities
+    assert tf.authority == "/tf" and tf.messages == 1000 + 120
+    assert tf.rate_hz == pytest.approx(999 / 9.99 + 119 / (9.0 + 14 / 15), rel=1e-6)

@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
 
-from tests.analysis.wtf_scenes import FORMATS, healthy, map_odom, periodic, statics, write
-from tests.bags import BagFormat
+from tests.analysis.wtf_scenes import DELAY, FORMATS, MS, START, healthy, map_odom, periodic, statics, write
+from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Tfx
+from tftools.core.transform import Transform
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +60,53 @@ def test_diff_json_lists_each_difference_with_its_figures(tfx: Tfx, runs: dict[s
     assert by_change["moved"]["a"]["translation"] == pytest.approx([0.2, 0.0, 0.1])
     assert by_change["moved"]["b"]["translation"] == pytest.approx([0.21, 0.0, 0.1])
     assert by_change["rate"]["rate_change"] == pytest.approx(-0.6, abs=0.01)
+
+
+def _two_static_publishers(laser_first: bool) -> list[TfMessage]:
+    """A healthy run whose /tf_static also carries a driver's laser-only message at x = 0.3 m beside
+    robot_state_publisher's 0.2 m, 4 ms apart: the driver's first (tf2 keeps 0.2) or last (tf2 keeps 0.3)."""
+    laser = Transform.from_rpy((0.3, 0.0, 0.1), (0.0, 0.0, 0.0), START, "base_link", "laser")
+    driver = TfMessage("/tf_static", START + DELAY, [laser], "/driver")
+    urdf = statics(record=START + DELAY)
+    first, second = (driver, urdf) if laser_first else (urdf, driver)
+    return healthy(statics=[first, dataclasses.replace(second, record_time=START + DELAY + 4 * MS)])
+
+
+@pytest.mark.parametrize("fmt", [BagFormat.ros1, BagFormat.rosbag2_sqlite3])
+def test_diff_of_the_same_two_static_values_in_another_order_says_so_not_that_the_edge_moved(
+    tfx: Tfx, tmp_path: Path, fmt: BagFormat
+) -> None:
+    """The real Neatos (person_marker_2025, static_conflict_urdf_first_2025): the same two laser values in both,
+    only their order differs, so tf2 keeps another one in each."""
+    a = write(tmp_path, "a", fmt, _two_static_publishers(laser_first=True))
+    b = write(tmp_path, "b", fmt, _two_static_publishers(laser_first=False))
+    result = tfx("diff", a, b)
+    assert result.code == 1
+    line = next(line for line in result.stdout.splitlines() if "laser" in line)
+    assert line.split()[0] == "reordered" and "moved" not in line
+    assert "A and B each received the same 2 values of it on /tf_static, in another order" in line
+    assert "A xyz [0.3000, 0.0000, 0.1000] m rpy [0.00, 0.00, 0.00]° (at 0.000 s) then xyz [0.2000," in line
+    assert "B xyz [0.2000, 0.0000, 0.1000] m rpy [0.00, 0.00, 0.00]° (at 0.000 s) then xyz [0.3000," in line
+    assert "(at 0.004 s)" in line
+    assert line.endswith("the order alone makes the kept values 100.0 mm and 0.00° apart")
+    document = json.loads(tfx("diff", a, b, "--format", "json").stdout)
+    (laser,) = document["differences"]
+    assert laser["change"] == "reordered" and laser["translation_mm"] == pytest.approx(100.0)
+    assert [v["translation"][0] for v in laser["a"]["received"]] == pytest.approx([0.3, 0.2])
+
+
+def test_diff_of_a_static_edge_moved_names_the_values_one_side_received(
+    tfx: Tfx, runs: dict[str, Path], tmp_path: Path
+) -> None:
+    """Where only one side received several values, the kept one moved, and which values came is said."""
+    a = write(tmp_path, "a", BagFormat.rosbag2_sqlite3, _two_static_publishers(laser_first=False))
+    result = tfx("diff", a, runs["good"])
+    line = next(line for line in result.stdout.splitlines() if "laser" in line)
+    assert line.startswith("  moved       base_link -> laser (static) moved by 100.0 mm")
+    assert line.endswith(
+        "; A received 2 values of it on /tf_static (xyz [0.2000, 0.0000, 0.1000] m rpy [0.00, 0.00, 0.00]° "
+        "(at 0.000 s) then xyz [0.3000, 0.0000, 0.1000] m rpy [0.00, 0.00, 0.00]° (at 0.004 s)), tf2 keeps the last"
+    )
 
 
 def test_diff_of_a_tree_file_and_a_recording_uses_the_files_tolerances(

@@ -174,3 +174,25 @@ def test_cache_sets_the_live_buffers_length(tfx: Tfx, monkeypatch: pytest.Monkey
     assert asked == [2_500_000_000]
     refused = tfx("echo", "map", "odom", "--cache", "0")
     assert refused.code == 2 and "--cache 0: must be above 0" in refused.stderr
+
+
+def test_a_failure_between_separate_trees_keeps_tf2_s_reason_and_hints_at_the_trees(tfx: Tfx, tmp_path: Path) -> None:
+    """The real UR5 cobots (krishi_cobot_ur5_topic_tf_2025, logistic_cobot_pymoveit2_zero_record_times_2024): an
+    arm on simulated time and detected objects on wall time, in two trees: tf2 reports an extrapolation on the
+    first edge it walks, not that the trees do not meet; the hint under it says so."""
+    from tests.analysis.wtf_scenes import FORMATS, healthy, periodic, sim, write
+
+    def marker(stamp: int) -> list[Transform]:
+        return [Transform((1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "camera_root", "marker")]
+
+    bag = write(tmp_path, "two_trees", FORMATS[1], healthy(markers=periodic("/detector", 5, marker, stamp=sim)))
+    result = tfx("echo", "base_link", "marker", "-b", bag)
+    assert result.code == 1
+    assert "Exception thrown:Lookup would require extrapolation" in result.stdout  # tf2's own words, untouched
+    assert result.stderr.startswith(
+        "hint: marker and base_link are in separate trees, marker in camera_root's (2 frames) and base_link in "
+        "map's (6 frames): no transform joins them"
+    )
+    assert "publish the transform that attaches camera_root to the map tree" in result.stderr
+    joined = tfx("echo", "map", "laser", "-b", bag, "--at", "1")  # one tree: a failure there gets no such hint
+    assert joined.code == 1 and "separate trees" not in joined.stderr

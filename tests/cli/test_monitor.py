@@ -272,3 +272,27 @@ def test_every_message_sent_is_counted_however_many_share_a_record_time(
         assert publishers["/tf"]["rate_hz"] == pytest.approx(149 / 0.98, rel=1e-9)
         edges = {e["child"]: e for e in report["edges"]}
         assert edges["base_link"]["count"] == 50  # the samples tf2 stored: one a stamp
+
+
+@pytest.mark.parametrize("fmt", [BagFormat.ros1, BagFormat.rosbag2_sqlite3])
+def test_a_statics_only_recording_says_its_recorded_span_and_the_statics_stamps(
+    tfx: Tfx, tmp_path: Path, fmt: BagFormat
+) -> None:
+    """The real kth_robp_scan_statics_2024: /tf_static stamped over 0.449 s, 37 s before a 54 s recording began;
+    the header said "0.449 s" as if it were the recording's."""
+    start = 1_700_000_000 * NS_PER_S
+    laser = Transform((0.2, 0.0, 0.1), (0.0, 0.0, 0.0, 1.0), start, "base_link", "laser")
+    camera = Transform((0.1, 0.0, 0.3), (0.0, 0.0, 0.0, 1.0), start + 500 * MS_NS, "base_link", "camera")
+    recorded = start + 30 * NS_PER_S
+    messages = [
+        TfMessage("/tf_static", recorded, [laser, camera], "/rsp"),
+        TfMessage("/tf_static", recorded + 10 * NS_PER_S, [laser, camera], "/rsp"),  # latched again, 10 s on
+    ]
+    bag = write_bag(tmp_path / ("statics.bag" if fmt is BagFormat.ros1 else "statics"), messages, fmt)
+    header = tfx("monitor", "-b", bag).stdout.splitlines()[0]
+    assert header == (
+        f"{bag}: recorded 10.000 s from 1700000030.000 to 1700000040.000; static transforms only, stamped "
+        "0.500 s from 1700000000.000 to 1700000000.500, the latest 29.5 s before recording began"
+    )
+    window = tfx("monitor", "-b", bag, "--start", "1700000000", "--end", "1700000000.5").stdout.splitlines()[0]
+    assert window == f"{bag}: 0.500 s from 1700000000.000 to 1700000000.500"  # a window asked for: as asked

@@ -6,8 +6,8 @@ import enum
 import math
 from dataclasses import dataclass
 
-from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
-from tftools.core.rotation import Quat, rpy_from_quat
+from tftools.analysis.expected import FrameShape, StaticValue, Tolerances, TreeShape
+from tftools.core.rotation import Quat, Vec3, rpy_from_quat
 
 
 class Change(str, enum.Enum):
@@ -18,6 +18,7 @@ class Change(str, enum.Enum):
     reparented = "reparented"
     static = "static"  # static in one, moving in the other
     moved = "moved"  # a static edge's value, beyond the tolerances
+    reordered = "reordered"  # the same static values received in another order: tf2 keeps another one
     rate = "rate"  # a moving edge's rate, beyond the tolerance
     publishers = "publishers"
 
@@ -63,7 +64,8 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
     elif before.static:
         mm, deg = _moved(before, after)
         if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
-            found.append(Difference(Change.moved, name, before, after, translation_mm=mm, rotation_deg=deg))
+            kind = Change.reordered if _same_values(before, after, tolerances) else Change.moved
+            found.append(Difference(kind, name, before, after, translation_mm=mm, rotation_deg=deg))
     elif before.rate_hz > 0:
         change = after.rate_hz / before.rate_hz - 1.0
         if abs(change) * 100 > tolerances.rate_percent:
@@ -78,9 +80,29 @@ def _moved(before: FrameShape, after: FrameShape) -> tuple[float, float]:
     """How far a static edge moved: the translation's distance (mm) and the rotation's angle (degrees)."""
     if before.translation is None or after.translation is None or before.rotation is None or after.rotation is None:
         return 0.0, 0.0
-    mm = 1000.0 * math.dist(before.translation, after.translation)
+    return _apart(before.translation, before.rotation, after.translation, after.rotation)
+
+
+def _apart(t1: Vec3, q1: Quat, t2: Vec3, q2: Quat) -> tuple[float, float]:
+    mm = 1000.0 * math.dist(t1, t2)
     # To a nanometre and a micro-degree: 0.122 - 0.121 is 1.0000000000000009 mm in floats, beyond a 1 mm tolerance.
-    return round(mm, 6), round(rotation_angle_deg(before.rotation, after.rotation), 6)
+    return round(mm, 6), round(rotation_angle_deg(q1, q2), 6)
+
+
+def _same_values(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> bool:
+    """Whether both sides received a static edge with the same several values (each within the tolerances
+    of one of the other side's), so that only their order tells which one tf2 keeps."""
+
+    def within(a: StaticValue, b: StaticValue) -> bool:
+        mm, deg = _apart(a.translation, a.rotation, b.translation, b.rotation)
+        return mm <= tolerances.translation_mm and deg <= tolerances.rotation_deg
+
+    mine, theirs = before.received, after.received
+    return (
+        bool(mine and theirs)
+        and all(any(within(a, b) for b in theirs) for a in mine)
+        and all(any(within(a, b) for a in mine) for b in theirs)
+    )
 
 
 def rotation_angle_deg(a: Quat, b: Quat) -> float:
@@ -103,10 +125,22 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         return f"{d.frame} is {_place(before)} in {a}, {_place(after)} in {b}"
     if d.change is Change.static:
         return f"{edge} is {_kind(before)} in {a}, {_kind(after)} in {b}"
+    if d.change is Change.reordered:
+        return (
+            f"{edge} (static): {a} and {b} each received the same {len(before.received)} values of it on "
+            f"/tf_static, in another order (at: seconds into each recording): {a} {_received(before)}; {b} "
+            f"{_received(after)}. tf2 keeps the last received, so the order alone makes the kept values "
+            f"{d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart"
+        )
     if d.change is Change.moved:
+        several = "".join(
+            f"; {side} received {len(f.received)} values of it on /tf_static ({_received(f)}), tf2 keeps the last"
+            for side, f in ((a, before), (b, after))
+            if f.received
+        )
         return (
             f"{edge} (static) moved by {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}°: "
-            f"{_value(before)} in {a}, {_value(after)} in {b}"
+            f"{_value(before)} in {a}, {_value(after)} in {b}{several}"
         )
     if d.change is Change.rate:
         return f"{edge} at {after.rate_hz:.1f} Hz in {b}, {before.rate_hz:.1f} Hz in {a} ({d.rate_change:+.0%})"
@@ -124,9 +158,20 @@ def _kind(f: FrameShape) -> str:
     return "static" if f.static else f"moving at {f.rate_hz:.1f} Hz"
 
 
-def _value(f: FrameShape) -> str:
+def _value(f: FrameShape | StaticValue) -> str:
     if f.translation is None or f.rotation is None:
         return "unknown"
     xyz = ", ".join(f"{v:.4f}" for v in f.translation)
     rpy = ", ".join(f"{round(math.degrees(v), 2) + 0.0:.2f}" for v in rpy_from_quat(f.rotation))  # no -0.00
     return f"xyz [{xyz}] m rpy [{rpy}]°"
+
+
+def _received(f: FrameShape) -> str:
+    """A static edge's values in the order they first came: each with when, and how often where more than once."""
+    return " then ".join(f"{_value(v)}{_when(v)}" for v in f.received)
+
+
+def _when(v: StaticValue) -> str:
+    said = [f"at {v.at_s:.3f} s"] if v.at_s is not None else []
+    said += [f"{v.times} times"] if v.times > 1 else []
+    return f" ({', '.join(said)})" if said else ""

@@ -18,7 +18,7 @@ from tftools.core.figures import jitter, longest_interval, mean_max, rate_of
 from tftools.core.history import EdgeHistory
 from tftools.core.stored import with_replaced
 from tftools.sources.contents import SentMessages
-from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
+from tftools.sources.timeline import EPOCH_FLOOR, ON_RECORD_CLOCK, Timeline
 
 
 @dataclass(frozen=True)
@@ -177,12 +177,12 @@ def _guessed(authorities: Sequence[str], arrived: list[_Arrived]) -> SentMessage
 
 @dataclass(frozen=True)
 class Counted:
-    """One publisher's messages in a window: how many came on /tf, how many on /tf_static, and the arrivals of
-    its /tf ones that are timed (``messages_in_window``; sorted), for its rate."""
+    """One publisher's messages in a window: how many came on /tf, how many on /tf_static, and the rate of
+    its /tf ones that are timed (``messages_in_window``)."""
 
     moving: int
     static: int
-    times: Int64Array
+    rate_hz: float
 
 
 def messages_in_window(
@@ -201,7 +201,7 @@ def messages_in_window(
     time at arrival: not on the record clock then, which is no clock of the stamps' (a simulation recorded
     without /clock, whose message stamped 1 s ahead of its arrival, a transform_tolerance, stretched the span
     of the others by 1 s). With a reference, a message whose arrival is unknown (a record time of 0) is
-    counted, not timed by its stamp."""
+    counted, not timed by its stamp; without one, by stamp on each time base apart (``_rate_by_stamps``)."""
     timeline = timeline or ON_RECORD_CLOCK
     arrived, known = timeline.ros_time(sent.record_time)
     arrival, timed = np.where(known, arrived, sent.stamp), known | (not timeline.available)
@@ -217,10 +217,19 @@ def messages_in_window(
         mine = inside & (sent.authority == a)
         moving = mine & ~sent.static
         statics = int(np.count_nonzero(mine & sent.static))
-        counted[sent.authorities[int(a)]] = Counted(
-            int(np.count_nonzero(moving)), statics, np.sort(arrival[moving & timed])
-        )
+        times = np.sort(arrival[moving & timed])
+        rate = rate_of(times) if timeline.available else _rate_by_stamps(times)
+        counted[sent.authorities[int(a)]] = Counted(int(np.count_nonzero(moving)), statics, rate)
     return counted
+
+
+def _rate_by_stamps(stamps: Int64Array) -> float:
+    """The rate of messages timed by their sorted ``stamps``, no clock giving their arrival: where some are
+    stamped from boot or a simulation's start and others from the epoch (``EPOCH_FLOOR``), the rates on each
+    time base summed (the logistic cobot's /tf: an arm on simulated time, detections on wall time; one span
+    over both is 55 years, 0.00 Hz)."""
+    split = int(np.searchsorted(stamps, EPOCH_FLOOR))
+    return rate_of(stamps[:split]) + rate_of(stamps[split:])
 
 
 def _counted(
@@ -230,7 +239,7 @@ def _counted(
     its /tf messages' times (``messages_in_window``)."""
     moving = counted.moving if counted is not None else 0
     statics = counted.static if counted is not None else 0
-    rate = rate_of(counted.times) if counted is not None else 0.0
+    rate = counted.rate_hz if counted is not None else 0.0
     mean, largest = mean_max(np.concatenate(delays) if delays else np.zeros(0, np.int64))
     only_static = not moving and statics > 0
     return AuthorityStats(name, moving + statics, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static)

@@ -8,9 +8,12 @@ from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from tftools.analysis.frames import FrameTree, tree_of
+from tftools.core.arrays import Int64Array
 from tftools.core.rotation import Quat, Vec3
+from tftools.core.time import NS_PER_S
 from tftools.sources.recording import Recording
 
 
@@ -30,9 +33,21 @@ class Tolerances:
 
 
 @dataclass(frozen=True)
+class StaticValue:
+    """One value a static edge was received with on /tf_static: when it first came (seconds into the
+    recording on its record clock; None where the recording has no record times), and how many times."""
+
+    translation: Vec3
+    rotation: Quat
+    at_s: float | None
+    times: int
+
+
+@dataclass(frozen=True)
 class FrameShape:
     """One frame: its parent (None for a root); a static edge's value, a moving edge's rate;
-    its publishers (None where the source does not name them: a ROS 2 bag names topics)."""
+    its publishers (None where the source does not name them: a ROS 2 bag names topics); where a static edge
+    was received with several values, each of them in the order they first came (tf2 keeps the last received)."""
 
     frame: str
     parent: str | None
@@ -41,6 +56,7 @@ class FrameShape:
     publishers: tuple[str, ...] | None = None
     translation: Vec3 | None = None  # static edges only
     rotation: Quat | None = None
+    received: tuple[StaticValue, ...] = ()  # static edges received with more than one value only
 
 
 @dataclass(frozen=True)
@@ -66,12 +82,12 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
         summary = tree.frames[name]
         translation: Vec3 | None = None
         rotation: Quat | None = None
+        received: tuple[StaticValue, ...] = ()
         hist = buffer.history(name)
         if summary.static and hist is not None and len(hist):
             latest = int(np.argmax(hist.sequence))
-            tx, ty, tz = (float(v) for v in hist.translations[latest])
-            qx, qy, qz, qw = (float(v) for v in hist.rotations[latest])
-            translation, rotation = (tx, ty, tz), (qx, qy, qz, qw)
+            translation, rotation = _value(hist.values[latest])
+            received = _received(hist.values, hist.sequence, hist.record_times, recording.start)
         frames[name] = FrameShape(
             frame=name,
             parent=summary.parent,
@@ -80,8 +96,31 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             publishers=_publishers(summary.authorities, recording.contents.topics) if named else None,
             translation=translation,
             rotation=rotation,
+            received=received,
         )
     return TreeShape(frames, " + ".join(recording.paths))
+
+
+def _value(row: npt.NDArray[np.float64]) -> tuple[Vec3, Quat]:
+    tx, ty, tz, qx, qy, qz, qw = (float(v) for v in row)
+    return (tx, ty, tz), (qx, qy, qz, qw)
+
+
+def _received(
+    values: npt.NDArray[np.float64], sequence: Int64Array, record_times: Int64Array, start: int
+) -> tuple[StaticValue, ...]:
+    """A static edge's different values in the order they first came (none where it had one value)."""
+    order = np.argsort(sequence, kind="stable")
+    distinct, first, times = np.unique(values[order], axis=0, return_index=True, return_counts=True)
+    if len(distinct) < 2:
+        return ()
+    found = []
+    for k in np.argsort(first, kind="stable").tolist():
+        record = int(record_times[order[first[k]]])
+        translation, rotation = _value(distinct[k])
+        at_s = (record - start) / NS_PER_S if record > 0 else None
+        found.append(StaticValue(translation, rotation, at_s, int(times[k])))
+    return tuple(found)
 
 
 def _publishers(authorities: Iterable[str], topics: Sequence[str]) -> tuple[str, ...] | None:

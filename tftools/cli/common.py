@@ -93,6 +93,12 @@ def warn(message: str) -> None:
     stderr.print(Text("tfx: warning:", style="yellow"), Text(printable(message)))
 
 
+def say_hint(message: str) -> None:
+    """``hint: MESSAGE`` on stderr, on one line: what a command's output (tf2's words, kept as tf2 says them)
+    does not say."""
+    stderr.print(Text("hint:", style="dim"), Text(printable(message)))
+
+
 def say_written(where: str, what: str) -> None:
     """``wrote WHERE: WHAT`` on stderr, once a command has written its file."""
     stderr.print(f"wrote {printable(where)}: {printable(what)}")

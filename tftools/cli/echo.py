@@ -13,7 +13,7 @@ import typer
 
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds, rate_hz
-from tftools.cli.common import Exit, exit_with, frame_argument, stdout
+from tftools.cli.common import Exit, exit_with, frame_argument, say_hint, stdout
 from tftools.cli.errors import UsageError
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.cli.reading import open_recording, open_stream
@@ -160,7 +160,25 @@ def command(
     if plot is None:  # on a bag, the picture instead of the lines
         lines.print(series)
     lines.shown.append(series)
+    if not series.valid.all():
+        _say_separate(recording.buffer, series.target, series.source)
     exit_with(lines.done())
+
+
+def _say_separate(buffer: Buffer, target: str, source: str) -> None:
+    """Under tf2's failures, on stderr: that the frames are in trees no transform joins, where they are."""
+    from tftools.analysis.echo import separate_trees
+    from tftools.analysis.findings import counted
+
+    apart = separate_trees(buffer, target, source)
+    if apart is None:
+        return
+    say_hint(
+        f"{source} and {target} are in separate trees, {source} in {apart.source_root}'s "
+        f"({counted(apart.source_frames, 'frame')}) and {target} in {apart.target_root}'s "
+        f"({counted(apart.target_frames, 'frame')}): no transform joins them, so no lookup between them succeeds "
+        f"at any time (tf2 names the first edge it cannot use at the time asked, not the missing join); {apart.hint}"
+    )
 
 
 @dataclass(frozen=True)

@@ -203,5 +203,22 @@ def _header(recording: Recording, report: MonitorReport) -> str:
     timeline = recording.timeline
     first = report.start if report.start is not None else timeline.tf_start
     last = report.end if report.end is not None else timeline.tf_end
-    span = f"{(last - first) / NS_PER_S:.3f} s from {to_sec(first):.3f} to {to_sec(last):.3f}"
-    return f"{', '.join(recording.paths)}: {span}"
+    span = _span(first, last)
+    paths = ", ".join(recording.paths)
+    windowed = report.start is not None or report.end is not None
+    if windowed or any(not hist.static for _, hist in recording.buffer.histories()):
+        return f"{paths}: {span}"
+    # Static transforms only: the span of their stamps says nothing of the recording's (a 54 s drive whose
+    # /tf_static was stamped in 0.449 s, 37 s before recording began).
+    one = last - first < NS_PER_S // 1000  # what ``_span`` shows as "0.000 s from t to t"
+    statics = f"static transforms only, stamped {f'at {to_sec(first):.3f}' if one else span}"
+    start, end = recording.start, recording.end
+    if start <= 0 or end < start:  # no record times: the stamps are all there is
+        return f"{paths}: {statics}"
+    latest = "" if one else " the latest"
+    before = f",{latest} {(start - last) / NS_PER_S:.1f} s before recording began" if last < start else ""
+    return f"{paths}: recorded {_span(start, end)}; {statics}{before}"
+
+
+def _span(first: int, last: int) -> str:
+    return f"{(last - first) / NS_PER_S:.3f} s from {to_sec(first):.3f} to {to_sec(last):.3f}"

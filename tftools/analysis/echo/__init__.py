@@ -14,6 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.analysis.edges import chain_moving_edges
+from tftools.analysis.frames import tree_of
 from tftools.analysis.times import Stamp, TimeSpec, played_range, resolve_range, resolve_time
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
@@ -162,6 +163,35 @@ def latest(buffer: Buffer, target: str, source: str) -> EchoSeries:
     "At time" of a success is the transform's stamp, its "Failure at" that time)."""
     with buffer.lock:
         return dataclasses.replace(lookups(buffer, target, source, [0]), times=np.array([buffer.now()], np.int64))
+
+
+@dataclass(frozen=True)
+class SeparateTrees:
+    """Two frames in trees that no transform joins (by each frame's latest parent): the root of each one's
+    tree, how many frames that tree has, and how to join them (``wtf``'s ``disconnected`` hint)."""
+
+    target_root: str
+    target_frames: int
+    source_root: str
+    source_frames: int
+    hint: str
+
+
+def separate_trees(buffer: Buffer, target: str, source: str) -> SeparateTrees | None:
+    """Where ``target`` and ``source`` are in two separate trees, which (None: one tree, a frame unknown, or
+    a loop). tf2 reports the first edge it cannot use at the time asked (an extrapolation) before it finds
+    that the trees do not meet: this says why no time would do."""
+    tree = tree_of(buffer)
+    if target not in tree.frames or source not in tree.frames:
+        return None
+    roots = [(tree.ancestors(frame) or [frame])[-1] for frame in (target, source)]
+    if roots[0] == roots[1] or any(tree.frames[r].parent is not None for r in roots):
+        return None
+    from tftools.analysis.wtf.structure import join_hint
+
+    members = tree.trees()
+    hint = join_hint(roots, members)
+    return SeparateTrees(roots[0], len(members[roots[0]]), roots[1], len(members[roots[1]]), hint)
 
 
 def echo_times(buffer: Buffer, timeline: Timeline, query: EchoQuery) -> Int64Array:

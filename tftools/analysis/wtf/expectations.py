@@ -98,7 +98,7 @@ _differences_as(
     "expect_static",
     Severity.error,
     "a static edge moved beyond the tolerance, or static no longer",
-    (Change.static, Change.moved),
+    (Change.static, Change.moved, Change.reordered),
     "recalibrated on purpose? update the expected tree (tfx wtf --init); else check the URDF, the calibration "
     "files and static_transform_publisher arguments, or widen the tolerance (tfx wtf --expect FILE --tolerance-mm 2)",
 )

@@ -154,18 +154,18 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         Severity.error,
         "disconnected",
         f"{len(roots)} separate trees, and no lookup between them: {trees}",
-        _join_hint(roots, members),
+        join_hint(roots, members),
         tuple(roots),
         count=len(roots),
     )
 
 
-#: The typo search of ``_join_hint`` looks at most at this many roots, against at most this many
+#: The typo search of ``join_hint`` looks at most at this many roots, against at most this many
 #: frames of the other trees, of names at most this long (difflib is quadratic in a name's length).
 TYPO_ROOTS, TYPO_FRAMES, TYPO_NAME_LENGTH = 10, 10_000, 200
 
 
-def _join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
+def join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
     """How to join the trees; a root whose name is close to a frame of another tree is likely a typo."""
     for root in roots[1:TYPO_ROOTS]:
         if len(root) > TYPO_NAME_LENGTH:
