@@ -40,6 +40,7 @@ class EdgeSamples:
     record_times: list[int] = field(default_factory=list)  # ns
     values: list[list[float]] = field(default_factory=list)  # tx ty tz qx qy qz qw
     publishers: set[str] = field(default_factory=set)
+    on_tf: list[bool] = field(default_factory=list)  # each sample: whether it came on /tf (not /tf_static)
 
 
 @dataclass
@@ -134,11 +135,14 @@ def _add(
     if ros2:
         for key in [key for key, held in edges.items() if key[1] == child and held.static != static]:
             del edges[key]
+    else:  # the frame's cache, whichever parent its first sample named
+        static = next((held.static for key, held in edges.items() if key[1] == child), static)
     samples = edges.setdefault((parent, child), EdgeSamples(static=static))
     samples.stamps.append(stamp)
     samples.record_times.append(record_time)
     samples.values.append(value)
     samples.publishers.add(publisher)
+    samples.on_tf.append(topic.lstrip("/") != "tf_static")
 
 
 def _contents(

@@ -93,12 +93,23 @@ class Pauses:
     last: int
 
 
+#: A pause is also longer than PERIODS of the usual interval among the NEIGHBOURS intervals either side of it.
+NEIGHBOURS = 5
+
+
 def pause_rows(stamps: Int64Array, floor: int) -> tuple[int, Int64Array, IntpArray]:
     """The ``period`` of sorted ``stamps``, their intervals, and the rows ``i`` where the interval from
-    ``stamps[i]`` to ``stamps[i + 1]`` is a pause: longer than ``floor`` and ``PERIODS`` periods."""
+    ``stamps[i]`` to ``stamps[i + 1]`` is a pause: longer than ``floor`` and ``PERIODS`` periods, of the
+    whole stream and of its ``NEIGHBOURS`` either side (a driver that flushed a burst of samples 10 ms apart
+    at its start, then sent every 0.4 s, has a median of the burst's: its 0.55 s intervals are its rhythm)."""
     intervals = np.diff(stamps)
     usual = period(intervals)
-    return usual, intervals, np.flatnonzero(intervals > max(floor, PERIODS * usual))
+    rows = np.flatnonzero(intervals > max(floor, PERIODS * usual))
+    around = [
+        np.concatenate((intervals[max(r - NEIGHBOURS, 0) : r], intervals[r + 1 : r + 1 + NEIGHBOURS])) for r in rows
+    ]
+    paused = [r for r, near in zip(rows.tolist(), around, strict=True) if intervals[r] > PERIODS * period(near)]
+    return usual, intervals, np.array(paused, dtype=np.intp)
 
 
 def pauses(stamps: Int64Array, floor: int) -> Pauses | None:

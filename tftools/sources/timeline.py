@@ -530,10 +530,16 @@ def _reach(read: Int64Array) -> int:
 
 
 def stamp_spans(buffer: Buffer) -> Iterable[tuple[bool, int, int]]:
-    """Whether each history is static, and its oldest and newest stamp."""
+    """Whether each history is static, and its oldest and newest stamp. The samples a static history got on
+    /tf (ROS 1's tf2 keeps a frame first sent on /tf_static static, and each /tf sample replaces its value)
+    span as dynamic ones: the tf data runs when they do, not from a latched stamp of before the recording."""
     for _, hist in buffer.histories():
         if hist.static and len(hist):
-            yield True, int(hist.stamps.min()), int(hist.stamps.max())
+            on_tf = (hist.flags & FROM_STATIC_TOPIC) == 0
+            for dynamic in (True, False):
+                mine = hist.stamps[on_tf == dynamic]
+                if len(mine):
+                    yield not dynamic, int(mine.min()), int(mine.max())
         elif len(hist):
             yield False, hist.oldest_stamp, hist.latest_stamp
 

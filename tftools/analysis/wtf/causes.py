@@ -83,6 +83,22 @@ def _during(cause: Finding, finding: Finding) -> bool:
     )
 
 
+def _its_parents_by_topic(cause: Finding, finding: Finding) -> bool:
+    """A frame sent on /tf_static and on /tf under parents the cause found it under (its frame, then those)."""
+    return finding.frames[:1] == cause.frames[:1] and set(finding.frames[1:]) <= set(cause.frames[1:])
+
+
+def _left_behind(cause: Finding, finding: Finding) -> bool:
+    """Trees (named by their roots) all rooted, but for one, at parents the re-parented frame had: the frame
+    left them, which split the tree."""
+    return len(set(finding.frames) - set(cause.frames[1:])) <= 1
+
+
+def _split_by_its_parents(cause: Finding, finding: Finding) -> bool:
+    """``mixed_static`` on the re-parented frame's parents, or ``disconnected`` where it left them."""
+    return _its_parents_by_topic(cause, finding) if finding.code == "mixed_static" else _left_behind(cause, finding)
+
+
 @dataclass(frozen=True)
 class Rule:
     """Findings of the codes ``follows`` follow from one of the codes ``causes`` when ``relates(cause, it)``."""
@@ -111,6 +127,14 @@ RULES = (
         _placed_apart,
         "a frame that two disputing /tf_static publishers place under different parents: their descriptions' "
         "layouts differ, said once with the values they disagree on",
+    ),
+    Rule(
+        frozenset({"multiple_parents"}),
+        frozenset({"mixed_static", "disconnected"}),
+        _split_by_its_parents,
+        "a frame under one parent on /tf_static and another on /tf (a URDF's base_footprint -> base_link beside a "
+        "driver's odom -> base_link): its two topics, and the tree it split by leaving a parent, follow from its "
+        "two parents, said once",
     ),
     Rule(
         frozenset({"dynamic_on_static"}),

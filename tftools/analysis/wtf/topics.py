@@ -316,12 +316,26 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
             "mixed_static",
             f"{name} (under {listed(parents)}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
             f"({transforms(len(fixed))}) and on /tf{_by(scene, scene.authorities_of(moving))} "
-            f"({transforms(len(moving))}, from {scene.first_at(moving)}): {effect}",
+            f"({transforms(len(moving))}, from {scene.first_at(moving)}){_two_values(rows, fixed, moving)}: "
+            f"{effect}",
             "send each frame on one topic: /tf_static if it never moves, /tf otherwise",
             (name, *parents),
             mine,
             scene.arrival(mine),
         )
+
+
+def _two_values(rows: Rows, fixed: IntpArray, moving: IntpArray) -> str:
+    """Where the /tf transforms of a frame hold one value under the parent of its /tf_static one, and the
+    two differ (a tf1 static_transform_publisher beside robot_state_publisher's URDF): by how much."""
+    values = rows.values[moving]
+    same_parent = bool((rows.parent[moving] == rows.parent[fixed[-1:]][0]).all())
+    if not same_parent or bool((values != values[0]).any()):
+        return ""
+    metres, degrees = apart(rows.values[fixed[-1:]], values[:1])
+    if float(metres[0]) == 0 and float(degrees[0]) == 0:
+        return ""
+    return f", one value on each, {_apart(float(metres[0]), float(degrees[0]))}"
 
 
 def _mixed_effect(scene: Scene, mine: IntpArray, static: np.ndarray) -> str:
