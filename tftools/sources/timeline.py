@@ -67,6 +67,7 @@ class EdgeClock:
     last_stamp: int = 0
     reach_record: int = 0  # how far arrival strays from the stamp (95th percentile of |record time - stamp|)
     reach_clock: int = 0  # the same against /clock at arrival
+    bases: int = 1  # time bases its samples are on (``figures.time_base_of``); all but the main one left out
 
     def offset(self, against_clock: bool) -> int | None:
         """Arrival minus stamp against /clock or the record clock (None: never arrived under /clock)."""
@@ -522,15 +523,17 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
     ``known``) relate to the recording's clocks: those on the time base most of them are on, where they are
     on several (``figures.time_base_of``: a replay's and a live publisher's, a week apart), so that no span
     or offset of one frame is measured across two clocks."""
+    arrivals = len(stamps)  # all of them, on any base
     base = figures.time_base_of(records - stamps, figures.record_span(records))
-    if base.any():
+    bases = int(base.max(initial=0)) + 1
+    if bases > 1:
         mine = base == int(np.argmax(np.bincount(base)))
         stamps, records, ros, known = stamps[mine], records[mine], ros[mine], known[mine]
     offset_clock = figures.median_ns(ros[known] - stamps[known]) if known.any() else None
     reach_clock = _reach(ros[known] - stamps[known]) if known.any() else 0
     return EdgeClock(
         child,
-        len(stamps),
+        arrivals,
         figures.median_ns(records - stamps),
         offset_clock,
         figures.median_ns(stamps),
@@ -539,6 +542,7 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
         int(stamps.max()),
         _reach(records - stamps),
         reach_clock,
+        bases,
     )
 
 
