@@ -227,12 +227,13 @@ def one_clock_intervals(samples: EdgeSamples) -> npt.NDArray[np.int64]:
     """The intervals between consecutive sorted stamps on one clock (ns): an interval longer than the samples
     took to arrive (their record span, where every record time is known) joins two clocks (a replay's
     stamps a week behind a live node's), unless half of them are (record times that are no clock)."""
-    intervals = np.diff(np.sort(np.asarray(samples.stamps, np.int64)))
+    intervals: npt.NDArray[np.int64] = np.diff(np.sort(np.asarray(samples.stamps, np.int64))).astype(np.int64)
     records = np.asarray(samples.record_times, np.int64)
     if not len(records) or records.min() <= 0:
         return intervals
     between = intervals > records.max() - records.min()
-    return intervals if 2 * between.sum() >= len(intervals) else intervals[~between]
+    kept: npt.NDArray[np.int64] = intervals if 2 * between.sum() >= len(intervals) else intervals[~between]
+    return kept
 
 
 def stamp_rate(samples: EdgeSamples) -> float:
