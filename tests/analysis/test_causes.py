@@ -513,17 +513,3 @@ def test_a_frame_two_disputing_descriptions_place_apart_follows_their_static_con
     assert causes([f for f in found if f.severity is Severity.error]) == (
         [conflict] if beneath else [conflict, parents]
     )
-
-
-def test_a_frame_on_another_clock_follows_from_an_edge_taken_in_turns_on_two_clocks() -> None:
-    """The replayed frame's ``clock`` is said beneath the two publishers of one edge on two time bases (a
-    recording replayed with its /tf beside live nodes), not where the edge's publishers are on one clock."""
-
-    def two(bases: int) -> Finding:
-        figures: dict[str, float | int | str] = {"time_bases": bases} if bases else {}
-        return Finding(Severity.warning, "multiple_authorities", "m", "h", ("map", "odom"), figures=figures)
-
-    behind = Finding(Severity.error, "clock", "c", "h", ("odom", "base_link"))
-    cause, follows = explain([behind, two(2)])
-    assert (cause.code, follows.cause, cause.severity) == ("multiple_authorities", cause.key, Severity.error)
-    assert not any(f.cause for f in explain([behind, two(0)]))

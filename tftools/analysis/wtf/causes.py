@@ -83,12 +83,6 @@ def _during(cause: Finding, finding: Finding) -> bool:
     )
 
 
-def _replayed_frame(cause: Finding, finding: Finding) -> bool:
-    """A frame stamped on another clock, joined to an edge whose publishers take turns on two time bases
-    (``broadcasters._two_clocks``): the replayed recording's frames, one replay beside live nodes."""
-    return cause.figures.get("time_bases") == 2 and bool(set(cause.frames) & set(finding.frames))
-
-
 @dataclass(frozen=True)
 class Rule:
     """Findings of the codes ``follows`` follow from one of the codes ``causes`` when ``relates(cause, it)``."""
@@ -163,13 +157,6 @@ RULES = (
         _skipped,
         "links that tf puts under another parent than the description, skipping the same link, and that link's "
         "joint missing from tf: one layout of the links (tf skips a joint), not one problem per link",
-    ),
-    Rule(
-        frozenset({"multiple_authorities"}),
-        frozenset({"clock"}),
-        _replayed_frame,
-        "a frame stamped on another clock beside an edge two publishers take turns on, on two clocks: a recording "
-        "replayed with its own /tf beside live nodes, said once, its frames' clock beneath it",
     ),
     Rule(
         frozenset({"stall"}),
