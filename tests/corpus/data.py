@@ -227,10 +227,29 @@ def _read_json_mcap(path: Path) -> Contents:
     return dataclasses.replace(_contents(topics, times, edges, []), messages=sent)
 
 
+def one_clock_intervals(samples: EdgeSamples) -> npt.NDArray[np.int64]:
+    """The intervals between consecutive sorted stamps on one clock (ns): an interval longer than the samples
+    took to arrive (their record span, where every record time is known) joins two clocks (a replay's
+    stamps a week behind a live node's), unless half of them are (record times that are no clock)."""
+    intervals: npt.NDArray[np.int64] = np.diff(np.sort(np.asarray(samples.stamps, np.int64))).astype(np.int64)
+    records = np.asarray(samples.record_times, np.int64)
+    if not len(records) or records.min() <= 0:
+        return intervals
+    between = intervals > records.max() - records.min()
+    kept: npt.NDArray[np.int64] = intervals if 2 * between.sum() >= len(intervals) else intervals[~between]
+    return kept
+
+
+def stamp_rate(samples: EdgeSamples) -> float:
+    """Samples per second over the time their stamps cover on one clock (``one_clock_intervals``)."""
+    intervals = one_clock_intervals(samples)
+    return len(intervals) * 1e9 / float(intervals.sum()) if intervals.sum() > 0 else 0.0
+
+
 def largest_stamp_gap(samples: EdgeSamples) -> float:
-    """The longest time between consecutive stamps, in seconds."""
-    stamps = np.sort(np.asarray(samples.stamps, np.int64))
-    return float(np.diff(stamps).max()) / 1e9 if len(stamps) > 1 else 0.0
+    """The longest time between consecutive stamps on one clock (``one_clock_intervals``), in seconds."""
+    intervals = one_clock_intervals(samples)
+    return float(intervals.max()) / 1e9 if len(intervals) else 0.0
 
 
 # --- lookups as ROS 2's tf2 computes them ------------------------------------------------------

@@ -14,7 +14,7 @@ from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
-from tftools.core.figures import jitter, longest_interval, mean_max, rate_of
+from tftools.core.figures import jitter, longest_interval, mean_max, rate_of, record_span
 from tftools.core.history import EdgeHistory
 from tftools.core.stored import with_replaced
 from tftools.sources.contents import SentMessages
@@ -368,8 +368,9 @@ def _edge(
     records = hist.record_times[rows]
     dynamic = not hist.static
     arrived = int(timeline.arrival(stamps, records).max())
+    span = record_span(records)  # no figure across two time bases (``figures.across_clocks``)
     longest, longest_start = longest_interval(
-        stamps if dynamic else stamps[:1], before, silence_end - arrived if silence_end else 0
+        stamps if dynamic else stamps[:1], before, silence_end - arrived if silence_end else 0, span
     )
     delay_mean, delay_max = mean_max(_delays(child, hist, rows, timeline))
     return EdgeStats(
@@ -380,8 +381,8 @@ def _edge(
         authorities=publishers(buffer, hist.authorities[rows]),
         first_stamp=int(stamps.min()),
         last_stamp=int(stamps.max()),
-        rate_hz=rate_of(stamps) if dynamic else 0.0,
-        jitter=jitter(stamps) if dynamic else 0.0,
+        rate_hz=rate_of(stamps, span) if dynamic else 0.0,
+        jitter=jitter(stamps, span) if dynamic else 0.0,
         longest_interval=longest if dynamic else 0,
         longest_interval_start=longest_start,
         delay_mean=delay_mean,

@@ -131,5 +131,10 @@ def _publishers(authorities: Iterable[str], topics: Sequence[str]) -> tuple[str,
 
 
 def publishers_named(recording: Recording) -> bool:
-    """ROS1 bags and live systems name each publisher; ROS2 bags only the topic, as the authority."""
-    return any(f.names_publishers for f in recording.contents.files)
+    """ROS1 bags and live systems name each publisher; ROS2 bags only the topic, as the authority, and so
+    does a ROS 1 bag written by a tool that kept no callerids (every authority is a topic of it)."""
+    if not any(f.names_publishers for f in recording.contents.files):
+        return False
+    heard = recording.buffer.authorities
+    topics = {t for f in recording.contents.files for t in f.topics}
+    return not heard or not set(heard) <= topics

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from tftools.analysis.edges import parents_in_order, publishers
 from tftools.core.buffer import Buffer
-from tftools.core.figures import rate_hz
+from tftools.core.figures import rate_of, record_span
 
 if TYPE_CHECKING:
     from tftools.sources.recording import Recording
@@ -27,11 +27,9 @@ class FrameSummary:
     first_stamp: int = 0
     last_stamp: int = 0
     parents: tuple[str, ...] = ()  # every parent it ever had, first seen first
-
-    @property
-    def rate_hz(self) -> float:
-        """Mean publishing rate over the samples' span; 0 for a static or single-sample edge."""
-        return 0.0 if self.static else rate_hz(self.count, self.last_stamp - self.first_stamp)
+    #: Mean publishing rate over the samples' span, on each time base apart (``figures.rate_of``); 0 for a
+    #: static or single-sample edge.
+    rate_hz: float = 0.0
 
 
 @dataclass
@@ -110,6 +108,7 @@ def tree_of(buffer: Buffer) -> FrameTree:
             first_stamp=int(first),
             last_stamp=int(last),
             parents=tuple(names(p) for p in parents_in_order(hist)),
+            rate_hz=0.0 if hist.static else rate_of(stamps, record_span(hist.record_times)),
         )
     children: dict[str, list[str]] = {name: [] for name in frames}
     for name, summary in frames.items():

@@ -15,7 +15,7 @@ from tftools.analysis.filter.fates import LOST, UNDECIDED, Fate, FilterReport, S
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import Buffer
-from tftools.core.figures import pause_rows
+from tftools.core.figures import pause_rows, record_span
 from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -164,7 +164,7 @@ def _timeline(
     where = bins.index(axis)
     samples = np.bincount(where, minlength=bins.count).astype(np.int64)
     mean, largest = _delays(timeline, child, hist, mine, where, bins.count)
-    _, _, paused = pause_rows(stamps, pause_floor)
+    _, _, paused = pause_rows(stamps, pause_floor, record_span(records))
     spans = tuple((int(axis[i]), int(axis[i + 1])) for i in paused.tolist())
     at_arrival = child in timeline.off_reference
     rate = local_rate(axis, bins)

@@ -15,7 +15,7 @@ from typing import overload
 
 import numpy as np
 
-from tftools.core.arrays import FloatArray, Int64Array, IntpArray
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.rotation import angle_between_many
@@ -31,9 +31,59 @@ def rate_hz(samples: int, span: int) -> float:
     return (samples - 1) * NS_PER_S / span if samples > 1 and span > 0 else 0.0
 
 
-def rate_of(times: Int64Array) -> float:
-    """The rate (``rate_hz``) of samples at sorted ``times``."""
-    return rate_hz(len(times), int(times[-1] - times[0])) if len(times) else 0.0
+def record_span(record_times: Int64Array) -> int:
+    """How long (ns) samples took to arrive: from the first record time to the last; 0 where any is unknown
+    (a record time of 0 or less), which ``across_clocks`` takes for "no evidence"."""
+    return int(record_times.max() - record_times.min()) if len(record_times) and record_times.min() > 0 else 0
+
+
+def across_clocks(intervals: Int64Array, span: int) -> BoolArray:
+    """Which ``intervals`` between consecutive sorted stamps of one stream join two time bases rather than two
+    moments of one clock: those longer than ``span`` (``record_span``), the time the stream took to arrive.
+    One clock cannot advance further between two samples than the recording lasted; two do (a bag replayed
+    beside live nodes: its stamps a week behind theirs). None where ``span`` is unknown (0), or where half the
+    intervals or more are longer: then the record times are no clock (a writer that put sim-time seconds
+    as nanoseconds, 74 ns for 27.7 s of stamps), as two clocks part the stamps once, not at every sample.
+    No gap, rate or period is ever measured across such an interval."""
+    across: BoolArray = intervals > span if span > 0 else np.zeros(len(intervals), np.bool_)
+    return across if 2 * int(np.count_nonzero(across)) < len(intervals) else np.zeros(len(intervals), np.bool_)
+
+
+def time_base_of(values: Int64Array, span: int) -> IntpArray:
+    """Which time base each of a stream's ``values`` (stamps, or offsets of arrival from stamp; any order) is
+    on, numbered from the earliest: sorted, they split where two are further apart than the stream's record
+    ``span`` (``across_clocks``). All 0 on one clock, or where ``span`` is unknown."""
+    base = np.zeros(len(values), np.intp)
+    if len(values) < 2 or span <= 0:
+        return base
+    order = np.argsort(values, kind="stable")
+    breaks = np.flatnonzero(across_clocks(np.diff(values[order]), span))
+    base[order] = np.searchsorted(breaks, np.arange(len(values)), side="left")
+    return base
+
+
+def nearest_base(offsets: Int64Array, span: int) -> BoolArray:
+    """Which of a stream's ``offsets`` (ROS time at arrival minus stamp, ns) are on the time base of the clock
+    they arrived on (``time_base_of``: no delay grows by more than the recording lasts): the group holding the
+    offset nearest zero. A replay's samples a week behind a live publisher's have no delay, only an offset
+    between clocks."""
+    if not len(offsets):
+        return np.ones(0, np.bool_)
+    base = time_base_of(offsets, span)
+    mine: BoolArray = base == base[int(np.argmin(np.abs(offsets)))]
+    return mine
+
+
+def rate_of(times: Int64Array, span: int = 0) -> float:
+    """The rate (``rate_hz``) of samples at sorted ``times``, on each time base apart (``across_clocks``, with
+    the stream's record ``span``): its intervals over the time they cover, never an interval between clocks."""
+    if not len(times):
+        return 0.0
+    intervals = np.diff(times)
+    across = across_clocks(intervals, span)
+    if not across.any():
+        return rate_hz(len(times), int(times[-1] - times[0]))
+    return rate_hz(int(np.count_nonzero(~across)) + 1, int(intervals[~across].sum()))
 
 
 def period(intervals: Int64Array) -> int:
@@ -70,9 +120,12 @@ def wait_keeping(waits: Int64Array, on_arrival: int, decided: int, keep: float =
     return int(np.partition(waits, must - 1)[must - 1]) if must <= len(waits) else None
 
 
-def jitter(stamps: Int64Array) -> float:
-    """How irregular sorted ``stamps`` are (ns): the standard deviation of their intervals; 0 for fewer than two."""
-    return float(np.std(np.diff(stamps))) if len(stamps) > 1 else 0.0
+def jitter(stamps: Int64Array, span: int = 0) -> float:
+    """How irregular sorted ``stamps`` are (ns): the standard deviation of their intervals (on one time base:
+    ``across_clocks``); 0 for fewer than two."""
+    intervals = np.diff(stamps)
+    intervals = intervals[~across_clocks(intervals, span)]
+    return float(np.std(intervals)) if len(intervals) else 0.0
 
 
 def silence_limit(rate: float, floor: int = 0) -> float:
@@ -97,26 +150,31 @@ class Pauses:
 NEIGHBOURS = 5
 
 
-def pause_rows(stamps: Int64Array, floor: int) -> tuple[int, Int64Array, IntpArray]:
+def pause_rows(stamps: Int64Array, floor: int, span: int = 0) -> tuple[int, Int64Array, IntpArray]:
     """The ``period`` of sorted ``stamps``, their intervals, and the rows ``i`` where the interval from
     ``stamps[i]`` to ``stamps[i + 1]`` is a pause: longer than ``floor`` and ``PERIODS`` periods, of the
     whole stream and of its ``NEIGHBOURS`` either side (a driver that flushed a burst of samples 10 ms apart
-    at its start, then sent every 0.4 s, has a median of the burst's: its 0.55 s intervals are its rhythm)."""
+    at its start, then sent every 0.4 s, has a median of the burst's: its 0.55 s intervals are its rhythm),
+    on one time base (an interval between two clocks, ``across_clocks`` with the record ``span``, is none)."""
     intervals = np.diff(stamps)
-    usual = period(intervals)
-    rows = np.flatnonzero(intervals > max(floor, PERIODS * usual))
+    one_clock = ~across_clocks(intervals, span)
+    usual = period(intervals[one_clock])
+    rows = np.flatnonzero((intervals > max(floor, PERIODS * usual)) & one_clock)
+    kept = intervals[one_clock]
+    at = np.cumsum(one_clock) - 1  # each one-clock interval's place among them
     around = [
-        np.concatenate((intervals[max(r - NEIGHBOURS, 0) : r], intervals[r + 1 : r + 1 + NEIGHBOURS])) for r in rows
+        np.concatenate((kept[max(at[r] - NEIGHBOURS, 0) : at[r]], kept[at[r] + 1 : at[r] + 1 + NEIGHBOURS]))
+        for r in rows
     ]
     paused = [r for r, near in zip(rows.tolist(), around, strict=True) if intervals[r] > PERIODS * period(near)]
     return usual, intervals, np.array(paused, dtype=np.intp)
 
 
-def pauses(stamps: Int64Array, floor: int) -> Pauses | None:
+def pauses(stamps: Int64Array, floor: int, span: int = 0) -> Pauses | None:
     """The pauses of sorted ``stamps`` (``pause_rows``); None if there is none, or fewer than 3 stamps."""
     if len(stamps) < 3:
         return None
-    usual, intervals, rows = pause_rows(stamps, floor)
+    usual, intervals, rows = pause_rows(stamps, floor, span)
     if not len(rows):
         return None
     longest = int(rows[np.argmax(intervals[rows])])
@@ -125,12 +183,13 @@ def pauses(stamps: Int64Array, floor: int) -> Pauses | None:
     )
 
 
-def longest_interval(stamps: Int64Array, before: int | None = None, silence: int = 0) -> tuple[int, int]:
-    """The longest interval (ns) of sorted ``stamps`` and the stamp it begins at: between two of them,
-    from the stamp ``before`` them, or the ``silence`` since the last."""
+def longest_interval(stamps: Int64Array, before: int | None = None, silence: int = 0, span: int = 0) -> tuple[int, int]:
+    """The longest interval (ns) of sorted ``stamps`` and the stamp it begins at: between two of them on one
+    time base (``across_clocks`` with the record ``span``), from the stamp ``before`` them, or the ``silence``
+    since the last."""
     candidates = [(0, int(stamps[0]))]
     if len(stamps) > 1:
-        intervals = np.diff(stamps)
+        intervals = np.where(across_clocks(np.diff(stamps), span), 0, np.diff(stamps))
         i = int(np.argmax(intervals))
         candidates.append((int(intervals[i]), int(stamps[i])))
     if before is not None:

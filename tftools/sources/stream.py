@@ -334,16 +334,14 @@ class _Summary:
         return played
 
     def edges(self) -> tuple[EdgeClock, ...]:
-        """Each frame's clock from the arrivals kept (its medians), counting every arrival, spanning every stamp."""
-        return tuple(
-            dataclasses.replace(
-                edge_clock(child, *arrivals.kept()),
-                arrivals=arrivals.seen,
-                first_stamp=arrivals.span[0],
-                last_stamp=arrivals.span[1],
-            )
-            for child, arrivals in self._arrivals.items()
-        )
+        """Each frame's clock from the arrivals kept (its medians), counting every arrival, spanning every stamp
+        (those kept, on its main time base, where they are on several: ``edge_clock``)."""
+        found = []
+        for child, arrivals in self._arrivals.items():
+            e = edge_clock(child, *arrivals.kept())
+            span = arrivals.span if e.bases == 1 else (e.first_stamp, e.last_stamp)
+            found.append(dataclasses.replace(e, arrivals=arrivals.seen, first_stamp=span[0], last_stamp=span[1]))
+        return tuple(found)
 
 
 #: How far behind its newest stamp an edge's samples are carried from one window into the next: a sample

@@ -67,6 +67,7 @@ class EdgeClock:
     last_stamp: int = 0
     reach_record: int = 0  # how far arrival strays from the stamp (95th percentile of |record time - stamp|)
     reach_clock: int = 0  # the same against /clock at arrival
+    bases: int = 1  # time bases its samples are on (``figures.time_base_of``); all but the main one left out
 
     def offset(self, against_clock: bool) -> int | None:
         """Arrival minus stamp against /clock or the record clock (None: never arrived under /clock)."""
@@ -110,7 +111,12 @@ class Timeline:
         return self.tf_start
 
     def since_origin(self, time: int) -> float | None:
-        """Seconds from ``origin`` to ``time`` (``seconds_since``)."""
+        """Seconds from ``origin`` to ``time`` (``seconds_since``); None where ``time`` is further outside the
+        tf span than the recording lasted (and ``same_clock``): on another clock (a replay's, a week behind),
+        whose distance from the origin is no moment of the recording."""
+        reach = max(self.record_end - self.record_start, self.same_clock)
+        if self.record_start > 0 and not self.tf_start - reach <= time <= self.tf_end + reach:
+            return None
         return seconds_since(self.origin, time)
 
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
@@ -235,14 +241,21 @@ class Timeline:
         times, known = self.ros_time(record_times)
         return np.where(known, times, stamps)
 
-    def measurable(self, child: str, record_times: Int64Array, flags: UInt8Array) -> tuple[Int64Array, BoolArray]:
+    def measurable(
+        self, child: str, record_times: Int64Array, flags: UInt8Array, stamps: Int64Array | None = None
+    ) -> tuple[Int64Array, BoolArray]:
         """ROS time at arrival of transforms of ``child`` (``flags``: ``EdgeHistory.flags``), and which have a
-        delay: their arrival is known, the frame is on the reference clock, and they came on /tf (a sample
-        latched on /tf_static keeps an old stamp by design)."""
+        delay: their arrival is known, the frame is on the reference clock, they came on /tf (a sample
+        latched on /tf_static keeps an old stamp by design), and, given their ``stamps``, they are on the
+        time base of the clock they arrived on (``figures.nearest_base``: not a replay's a week behind)."""
         times, known = self.ros_time(record_times)
         if child in self.off_reference:
             return times, np.zeros(len(times), bool)
-        return times, known & ((flags & FROM_STATIC_TOPIC) == 0)
+        measured = known & ((flags & FROM_STATIC_TOPIC) == 0)
+        if stamps is not None and measured.any():
+            span = figures.record_span(record_times[measured])
+            measured[measured] = figures.nearest_base(times[measured] - stamps[measured], span)
+        return times, measured
 
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
         """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms (``delays_of``)."""
@@ -256,7 +269,7 @@ class Timeline:
         (``delays_unavailable`` says why)."""
         if not self.delays_measured:
             return np.zeros(0, np.int64), np.zeros(len(stamps), bool)
-        times, measured = self.measurable(child, record_times, flags)
+        times, measured = self.measurable(child, record_times, flags, stamps)
         return figures.delays(times[measured], stamps[measured], self.resolution), measured
 
     def played(self) -> Timeline:
@@ -507,12 +520,20 @@ def clocked_arrivals(
 
 def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Array, known: BoolArray) -> EdgeClock:
     """How ``child``'s transforms (``stamps`` recorded at ``records``, when /clock said ``ros`` where
-    ``known``) relate to the recording's clocks."""
+    ``known``) relate to the recording's clocks: those on the time base most of them are on, where they are
+    on several (``figures.time_base_of``: a replay's and a live publisher's, a week apart), so that no span
+    or offset of one frame is measured across two clocks."""
+    arrivals = len(stamps)  # all of them, on any base
+    base = figures.time_base_of(records - stamps, figures.record_span(records))
+    bases = int(base.max(initial=0)) + 1
+    if bases > 1:
+        mine = base == int(np.argmax(np.bincount(base)))
+        stamps, records, ros, known = stamps[mine], records[mine], ros[mine], known[mine]
     offset_clock = figures.median_ns(ros[known] - stamps[known]) if known.any() else None
     reach_clock = _reach(ros[known] - stamps[known]) if known.any() else 0
     return EdgeClock(
         child,
-        len(stamps),
+        arrivals,
         figures.median_ns(records - stamps),
         offset_clock,
         figures.median_ns(stamps),
@@ -521,6 +542,7 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
         int(stamps.max()),
         _reach(records - stamps),
         reach_clock,
+        bases,
     )
 
 

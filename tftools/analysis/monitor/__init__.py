@@ -181,7 +181,7 @@ def _newest_stamps(
     assert hist is not None
     parent_ids = [i for i in np.flatnonzero(np.bincount(hist.parents)) if buffer.frame_name(int(i)) == edge[0]]
     timeline = timeline or ON_RECORD_CLOCK
-    arrived, known = timeline.measurable(edge[1], hist.record_times, hist.flags)
+    arrived, known = timeline.measurable(edge[1], hist.record_times, hist.flags, hist.stamps)
     rows = np.isin(hist.parents, parent_ids) & known & (arrived <= end)
     records, stamps = arrived[rows], hist.stamps[rows]
     order = np.argsort(records, kind="stable")

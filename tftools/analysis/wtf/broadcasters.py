@@ -24,7 +24,7 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
-from tftools.core.figures import Disagreement, disagreement
+from tftools.core.figures import Disagreement, disagreement, median_ns, period, record_span, time_base_of
 from tftools.core.rotation import angle_between_many
 from tftools.core.time import NS_PER_S
 
@@ -172,6 +172,10 @@ def _infer(scene: Scene) -> list[Finding]:
                 twins.setdefault(scene.authorities_of(mine), []).append((frames, mine, repeats))
                 continue
         new = mine[~repeats.again]  # a publisher re-sending an old stamp is one publisher, not a turn
+        clocks = _two_clocks(scene, new)
+        if clocks is not None:  # each clock's stamps rise on their own: turns between clocks, no stamp going back
+            found.append(_replayed_beside(scene, frames, mine, new, clocks))
+            continue
         back = _back_and_forth(rows.stamp[new])
         alternating = _alternating(rows.values[new])
         signs = [
@@ -200,6 +204,65 @@ def _infer(scene: Scene) -> list[Finding]:
         figures |= apart_figures(apart_) if apart_ is not None else {}
         found.append(dataclasses.replace(finding, figures=figures))
     return found + [_twins(scene, edges) for edges in twins.values()]
+
+
+@dataclass(frozen=True)
+class Clocks:
+    """One edge's new samples (in arrival order) on two time bases, taking turns (``_two_clocks``)."""
+
+    base: IntpArray  # per sample: 0 on the older time base (the one further behind its arrival), 1 on the newer
+    turns: int  # samples on another base than the one before them
+    behind: int  # how far (ns) the older base's stamps are behind the newer's, at arrival (medians)
+    counts: tuple[int, int]  # samples on each base
+    periods: tuple[int, int]  # the usual interval between stamps on each base (ns)
+
+
+def _two_clocks(scene: Scene, new: IntpArray) -> Clocks | None:
+    """Stamps of one stream on two time bases further apart than the stream took to arrive (``figures.
+    time_base_of`` over arrival minus stamp), sample after sample, each base's stamps rising on their own:
+    two publishers on two clocks (a recording replayed with its own /tf beside live nodes); None otherwise."""
+    rows = scene.rows
+    stamps, arrived = rows.stamp[new], scene.received(new)
+    offsets = arrived - stamps
+    base = time_base_of(offsets, record_span(rows.record_time[new]))
+    if int(base.max(initial=0)) != 1:
+        return None
+    turns = int(np.count_nonzero(np.diff(base)))
+    each = [stamps[base == b] for b in (0, 1)]
+    if not _enough(turns, len(new)) or any(len(e) < TURNS_MIN or bool(np.any(np.diff(e) < 0)) for e in each):
+        return None
+    older = np.where(base == 1, 0, 1)  # base 0 holds the smaller offsets: the newer clock
+    medians = [median_ns(offsets[base == b]) for b in (0, 1)]
+    counts = (int(np.count_nonzero(base == 1)), int(np.count_nonzero(base == 0)))
+    periods = (period(np.diff(each[1])), period(np.diff(each[0])))
+    return Clocks(older, turns, medians[1] - medians[0], counts, periods)
+
+
+def _replayed_beside(scene: Scene, frames: tuple[str, str], mine: IntpArray, new: IntpArray, c: Clocks) -> Finding:
+    """Two publishers of one edge on two clocks taking turns: the root cause, said from what was observed."""
+    authorities = scene.authorities_of(mine)
+    metadata, _ = _listed_said(scene, authorities)
+    behind = duration(c.behind / NS_PER_S)
+    play = "ros2 bag play" if scene.ros2 else "rosbag play"
+    finding = scene.finding(
+        Severity.warning,
+        "multiple_authorities",
+        f"{edge(*frames)}{scene.by(authorities)}: its stamps take turns between two time bases {behind} apart "
+        f"({c.turns} turns in {len(new)} new samples), each rising on its own: {c.counts[0]} samples every "
+        f"{_ms(c.periods[0])} stamped {behind} further behind their arrival than the {c.counts[1]} others, every "
+        f"{_ms(c.periods[1])}{metadata}: two publishers on two clocks, one of them sending old data (a "
+        "recording replayed with its own /tf beside live nodes, it seems)",
+        f"tf2 takes both, and refuses the older one's samples once the newer arrived (TF_OLD_DATA): replay the "
+        f"recording without this transform (filter it out of its /tf), or with {play} --clock and "
+        f"use_sim_time for every node; or stop the live publisher ({scene.list_publishers('/tf')})",
+        frames,
+        mine,
+        scene.arrival(mine),
+    )
+    figures: dict[str, float | int | str] = {"samples": len(mine), "new_samples": len(new), "time_bases": 2}
+    figures |= {"turns": c.turns, "behind_s": c.behind / NS_PER_S, "older_samples": c.counts[0]}
+    figures |= {"older_period_s": c.periods[0] / NS_PER_S, "newer_period_s": c.periods[1] / NS_PER_S}
+    return dataclasses.replace(finding, figures=figures)
 
 
 def _enough(count: int, samples: int, share: float = TURNS_SHARE) -> bool:

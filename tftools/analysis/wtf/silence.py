@@ -13,7 +13,7 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
-from tftools.core.figures import pause_rows
+from tftools.core.figures import pause_rows, record_span
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import OfferedQos, is_static_topic
 
@@ -108,7 +108,7 @@ def _pauses(scene: Scene) -> list[Pause]:
     for e in scene.dynamic_edges:
         if len(e.stamps) < 3:
             continue
-        for r in pause_rows(e.stamps, floor)[2].tolist():
+        for r in pause_rows(e.stamps, floor, record_span(e.record_times))[2].tolist():
             arrived = (int(e.record_times[r]), int(e.record_times[r + 1]))
             found.append(Pause(e.key, int(e.stamps[r]), int(e.stamps[r + 1]), arrived))
     return sorted(found, key=lambda p: p.start)

@@ -16,7 +16,7 @@ from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, trans
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.figures import delays as delays_of
-from tftools.core.figures import pauses, silence_limit
+from tftools.core.figures import pauses, record_span, silence_limit
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.timeline import FINE_STEP, seconds_since
 
@@ -116,7 +116,7 @@ def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Arra
     """Each moving edge with the stamps and ROS times at arrival of its samples with a delay
     (``Timeline.measurable``), where there are any."""
     for e in scene.dynamic_edges:
-        ros, measured = scene.timeline.measurable(e.child, e.record_times, e.flags)
+        ros, measured = scene.timeline.measurable(e.child, e.record_times, e.flags, e.stamps)
         if measured.any():
             yield e, e.stamps[measured], ros[measured]
 
@@ -204,7 +204,7 @@ STEPS_PER_PERIOD = 3
 
 
 def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
-    found = pauses(e.stamps, from_sec(scene.thresholds.max_gap))
+    found = pauses(e.stamps, from_sec(scene.thresholds.max_gap), record_span(e.record_times))
     if found is None:
         return None
     return Finding(
@@ -338,7 +338,7 @@ def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
     if not (back & (behind >= TIME_JUMP)).any():  # no jump back in time: a sample received again (a link
         back &= ~(repeat & same)  # re-delivering it) is a repeat (ROS 2's tf2 takes it silently), not one out of order
     repeat &= ~back
-    arrived, measured = scene.timeline.measurable(child, rows.record_time[mine], rows.flags[mine])
+    arrived, measured = scene.timeline.measurable(child, rows.record_time[mine], rows.flags[mine], stamps)
     late = measured & (delays_of(arrived, stamps, scene.timeline.resolution) > from_sec(scene.thresholds.delay))
     if late.mean() > DELAY_SHARE:  # ``delay`` reports these: arriving late, newer ones overtook them
         back &= ~(late & (behind < TIME_JUMP))

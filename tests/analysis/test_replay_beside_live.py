@@ -1,0 +1,95 @@
+"""A recording replayed with its own /tf beside live nodes (issue 39): a ROS 1 bag written by a tool, without
+callerids, in which map -> odom comes from the replay (stamped a week behind its arrival) and from a live SLAM
+node (its own clock), taking turns every 25 ms, and the replay's odom -> base_link a week behind. One root
+cause, said from the evidence (two time bases, each steady on its own), and every figure on one clock; first
+on a designed bag, then on the real one (ros1_raspimouse_replay_beside_live_gmapping_2018.bag)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from tests.analysis import wtf_scenes as scenes
+from tests.bags import BagFormat, TfMessage
+from tests.corpus.fetch import shared_dir
+from tftools.analysis.edges import edge_stats
+from tftools.analysis.findings import Finding
+from tftools.analysis.wtf.fleet import check
+from tftools.core.time import NS_PER_S
+from tftools.sources.recording import read_recording
+
+MS = scenes.MS
+START = scenes.START
+WEEK = 7 * 86_400 * NS_PER_S
+SECONDS = 20
+REAL = "corpus/ros1_raspimouse_replay_beside_live_gmapping_2018.bag"
+
+
+def _replay_beside_live() -> list[TfMessage]:
+    """Every 50 ms the replay sends map -> odom and odom -> base_link stamped a week behind; 25 ms later the
+    live node sends its own map -> odom, post-dated 50 ms (gmapping's transform_publish_period). No callerids."""
+    messages = []
+    for i in range(SECONDS * 20):
+        arrival = START + i * 50 * MS
+        old = arrival - WEEK - 3 * MS
+        messages.append(TfMessage("/tf", arrival, [scenes._t("map", "odom", old, 0.5)]))
+        messages.append(TfMessage("/tf", arrival + MS, [scenes._t("odom", "base_link", old, 0.01 * i)]))
+        live = arrival + 25 * MS
+        messages.append(TfMessage("/tf", live, [scenes._t("map", "odom", live + 50 * MS, 0.8, 0.1)]))
+    return messages
+
+
+def _codes(findings: list[Finding]) -> set[str]:
+    return {f.code for f in findings}
+
+
+def _durations(findings: list[Finding]) -> list[float]:
+    """Every figure in seconds a finding names, but absolute times (epoch seconds)."""
+    said = [float(x) for f in findings for x in re.findall(r"(\d+(?:\.\d+)?) s\b", f.message)]
+    return [x for x in said if x < 1e8]
+
+
+@pytest.fixture(scope="module")
+def bag(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return scenes.write(tmp_path_factory.mktemp("replay"), "replay", BagFormat.ros1, _replay_beside_live())
+
+
+def test_the_cause_is_two_publishers_on_two_clocks(bag: Path) -> None:
+    findings = check(read_recording([bag])).findings
+    (two,) = [f for f in findings if f.code == "multiple_authorities"]
+    assert two.frames == ("map", "odom")
+    assert two.figures["time_bases"] == 2 and two.figures["older_samples"] == SECONDS * 20
+    assert two.figures["behind_s"] == pytest.approx(WEEK / NS_PER_S, abs=1.0)
+    assert "two time bases 7.0 days apart" in two.message and "two publishers on two clocks" in two.message
+    assert "clock" in _codes(findings)  # odom -> base_link, the replay's, a week behind: still said
+    assert not {"rate", "time_backwards"} & _codes(findings)  # that mix seen as one publisher
+    assert all(x < 86_400 for x in _durations([f for f in findings if f.code != "clock"]))
+    assert not re.search(r"\(\+\d{4,}", " ".join(f.message for f in findings))  # no '+603862.8 s' moments
+
+
+def test_monitor_figures_are_each_clocks_own(bag: Path) -> None:
+    recording = read_recording([bag])
+    stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    both = stats[("map", "odom")]
+    assert both.count == 2 * SECONDS * 20
+    assert both.rate_hz == pytest.approx(20.0)  # each publisher's, not 799 samples over a week
+    assert both.longest_interval == 50 * MS
+    assert both.delay_mean == pytest.approx(-0.050 * NS_PER_S, abs=MS)  # the live node's post-dating only
+
+
+def test_the_real_replay_beside_a_live_gmapping() -> None:
+    path = shared_dir() / REAL
+    if not path.exists():
+        pytest.skip(f"{REAL} is not in the shared corpus ($TFTOOLS_SHARED_DIR)")
+    recording = read_recording([path])
+    findings = check(recording).findings
+    (two,) = [f for f in findings if f.code == "multiple_authorities"]
+    assert two.frames == ("map", "odom") and two.figures["older_samples"] == 1033
+    # the replayed map -> odom arrived 603862.70 s after its stamps (median), the live one 0.050 s before its own
+    assert two.figures["behind_s"] == pytest.approx(603862.70 + 0.05, abs=0.01)
+    assert not {"rate", "time_backwards"} & _codes(findings)
+    stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    assert stats[("map", "odom")].rate_hz == pytest.approx(20.0, abs=0.1)
+    assert stats[("map", "odom")].longest_interval < 0.1 * NS_PER_S

@@ -1,0 +1,72 @@
+"""Figures on one clock: a stream whose stamps hold two time bases (a bag replayed with its /tf beside live
+nodes, a week behind them) has no gap, rate, period or delay measured across the two (``figures.across_clocks``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tftools.core import figures
+from tftools.core.time import NS_PER_S
+
+MS = 1_000_000
+WEEK = 7 * 86_400 * NS_PER_S
+NOW = 1_700_000_000 * NS_PER_S
+
+
+def _two_clocks(n: int = 200) -> tuple[np.ndarray, np.ndarray]:
+    """Two publishers of one edge, each every 50 ms, taking turns 25 ms apart: one stamped a week behind its
+    arrival (a replay), one just after (a live node post-dating its transform by 50 ms); sorted stamps and
+    their record times, in arrival order."""
+    arrivals = NOW + np.arange(n, dtype=np.int64) * 25 * MS
+    replayed = np.arange(n) % 2 == 0
+    stamps = np.where(replayed, arrivals - WEEK, arrivals + 50 * MS)
+    return stamps, arrivals
+
+
+def test_an_interval_longer_than_the_recording_joins_two_clocks() -> None:
+    stamps, arrivals = _two_clocks()
+    span = figures.record_span(arrivals)
+    across = figures.across_clocks(np.diff(np.sort(stamps)), span)
+    assert int(across.sum()) == 1  # sorted, the week between the two bases is one interval
+    assert not figures.across_clocks(np.diff(np.sort(stamps)), 0).any()  # record times unknown: no evidence
+    assert figures.record_span(np.zeros(3, np.int64)) == 0
+
+
+def test_rate_gap_and_pauses_are_each_clocks_own() -> None:
+    stamps, arrivals = _two_clocks()
+    ordered, span = np.sort(stamps), figures.record_span(arrivals)
+    assert figures.rate_of(ordered, span) == 20.0  # each publisher's 50 ms, not 199 samples over a week
+    assert figures.rate_of(ordered) < 1e-3  # without the record span: the figure this fixes
+    assert figures.longest_interval(ordered, span=span)[0] == 50 * MS
+    assert figures.pauses(ordered, 0, span) is None
+    assert figures.pauses(ordered, 0) is not None
+    assert figures.jitter(ordered, span) == 0.0
+
+
+def test_one_clock_is_unchanged() -> None:
+    """A real pause shorter than the recording stays a pause, and the rate is the usual one."""
+    stamps = NOW + np.concatenate([np.arange(100), 300 + np.arange(100)]).astype(np.int64) * 20 * MS
+    span = figures.record_span(stamps + 2 * MS)
+    assert figures.rate_of(stamps, span) == figures.rate_of(stamps)
+    found = figures.pauses(stamps, 0, span)
+    assert found is not None and found.longest == 201 * 20 * MS
+    assert figures.longest_interval(stamps, span=span) == figures.longest_interval(stamps)
+
+
+def test_delays_are_measured_on_the_base_of_the_arrival_clock() -> None:
+    stamps, arrivals = _two_clocks()
+    mine = figures.nearest_base(arrivals - stamps, figures.record_span(arrivals))
+    assert np.array_equal(mine, np.arange(len(stamps)) % 2 == 1)  # the live publisher's, -50 ms each
+    assert set(figures.time_base_of(arrivals - stamps, figures.record_span(arrivals)).tolist()) == {0, 1}
+    assert figures.nearest_base(arrivals - stamps, 0).all()
+
+
+def test_record_times_that_are_no_clock_part_nothing() -> None:
+    """A writer that stored sim-time seconds as nanoseconds (the logistic cobot's 0-74 ns for 27.7 s of
+    stamps): every interval is longer than the record span, which is then no evidence of two clocks."""
+    stamps = NOW + np.arange(100, dtype=np.int64) * 10 * MS
+    records = np.arange(1, 101, dtype=np.int64)
+    span = figures.record_span(records)
+    assert not figures.across_clocks(np.diff(stamps), span).any()
+    assert figures.rate_of(stamps, span) == figures.rate_of(stamps)
+    assert figures.nearest_base(records - stamps, span).all()
