@@ -54,8 +54,8 @@ def time_base_of(values: Int64Array, span: int) -> IntpArray:
     on, numbered from the earliest: sorted, they split where two are further apart than the stream's record
     ``span`` (``across_clocks``). All 0 on one clock, or where ``span`` is unknown."""
     base = np.zeros(len(values), np.intp)
-    if len(values) < 2 or span <= 0:
-        return base
+    if len(values) < 2 or span <= 0 or int(values.max()) - int(values.min()) <= span:
+        return base  # no two further apart than the span: one clock, known without sorting (a load's every edge)
     order = np.argsort(values, kind="stable")
     breaks = np.flatnonzero(across_clocks(np.diff(values[order]), span))
     base[order] = np.searchsorted(breaks, np.arange(len(values)), side="left")
