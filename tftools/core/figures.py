@@ -153,8 +153,9 @@ NEIGHBOURS = 5
 def pause_rows(stamps: Int64Array, floor: int, span: int = 0) -> tuple[int, Int64Array, IntpArray]:
     """The ``period`` of sorted ``stamps``, their intervals, and the rows ``i`` where the interval from
     ``stamps[i]`` to ``stamps[i + 1]`` is a pause: longer than ``floor`` and ``PERIODS`` periods, of the
-    whole stream and of its ``NEIGHBOURS`` either side (a driver that flushed a burst of samples 10 ms apart
-    at its start, then sent every 0.4 s, has a median of the burst's: its 0.55 s intervals are its rhythm),
+    whole stream and of its ``NEIGHBOURS`` either side where it has that many (a driver that flushed a burst of
+    samples 10 ms apart at its start, then sent every 0.4 s, has a median of the burst's: its 0.55 s intervals
+    are its rhythm; a simulation's last seconds, 4.5, 0.96, 4.74 and 3.36 s apart, set none),
     on one time base (an interval between two clocks, ``across_clocks`` with the record ``span``, is none)."""
     intervals = np.diff(stamps)
     one_clock = ~across_clocks(intervals, span)
@@ -166,7 +167,12 @@ def pause_rows(stamps: Int64Array, floor: int, span: int = 0) -> tuple[int, Int6
         np.concatenate((kept[max(at[r] - NEIGHBOURS, 0) : at[r]], kept[at[r] + 1 : at[r] + 1 + NEIGHBOURS]))
         for r in rows
     ]
-    paused = [r for r, near in zip(rows.tolist(), around, strict=True) if intervals[r] > PERIODS * period(near)]
+    whole = 2 * NEIGHBOURS  # a rhythm is read off full neighbourhoods: by the stream's ends, its own period judges
+    paused = [
+        r
+        for r, near in zip(rows.tolist(), around, strict=True)
+        if len(near) < whole or intervals[r] > PERIODS * period(near)
+    ]
     return usual, intervals, np.array(paused, dtype=np.intp)
 
 
