@@ -10,14 +10,17 @@ import re
 from pathlib import Path
 
 import pytest
+from rich.console import Console
 
 from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding
+from tftools.analysis.frames import frame_tree
 from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
+from tftools.render.frames import write_tree
 from tftools.sources.recording import read_recording
 
 MS = scenes.MS
@@ -93,3 +96,16 @@ def test_the_real_replay_beside_a_live_gmapping() -> None:
     stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
     assert stats[("map", "odom")].rate_hz == pytest.approx(20.0, abs=0.1)
     assert stats[("map", "odom")].longest_interval < 0.1 * NS_PER_S
+
+
+def test_frames_says_an_edge_on_two_clocks_spans_no_time(bag: Path) -> None:
+    """`tfx frames` once printed map -> odom's first and last stamps a week apart as '(604800.0 s)' in a 20 s
+    recording: its stamps are on two clocks, and the tree says so; one clock keeps its span."""
+    tree = frame_tree(read_recording([bag]))
+    assert tree.frames["odom"].clocks == 2 and tree.frames["base_link"].clocks == 1
+    console = Console(width=300, record=True)
+    write_tree(tree, console)
+    text = console.export_text()
+    odom = next(line for line in text.splitlines() if "odom" in line and "samples" in line and "base_link" not in line)
+    assert "stamped on 2 clocks: no span" in odom and "604800" not in odom, odom
+    assert re.search(r"base_link .*\(19\.\d s\)", text), text

@@ -24,8 +24,9 @@ def _label(f: FrameSummary) -> Text:
     )
     if not f.static:
         span = (f.last_stamp - f.first_stamp) / NS_PER_S
+        lasted = f"{span:.1f} s" if f.clocks == 1 else f"stamped on {f.clocks} clocks: no span"
         label.append(
-            f"  {f.count} samples, {to_sec(f.first_stamp):.3f} → {to_sec(f.last_stamp):.3f} ({span:.1f} s)", style="dim"
+            f"  {f.count} samples, {to_sec(f.first_stamp):.3f} → {to_sec(f.last_stamp):.3f} ({lasted})", style="dim"
         )
     if len(f.parents) > 1:
         label.append(f"  parents over time: {printable(' → '.join(f.parents))}", style="bold red")
@@ -72,6 +73,7 @@ def _as_dict(f: FrameSummary) -> dict[str, Any]:
         "authorities": list(f.authorities),
         "count": f.count,
         "rate_hz": f.rate_hz,
+        "clocks": f.clocks,
         "first_stamp": to_sec(f.first_stamp) if f.count else None,
         "last_stamp": to_sec(f.last_stamp) if f.count else None,
         "parents": list(f.parents),
