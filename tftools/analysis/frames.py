@@ -102,6 +102,7 @@ def tree_of(buffer: Buffer) -> FrameTree:
         stamps = hist.stamps
         one = len(stamps) == 1  # a static edge sent once: numpy's reductions cost more than the answer
         first, last = (stamps[0], stamps[-1]) if one or not hist.static else (stamps.min(), stamps.max())
+        span = 0 if hist.static else record_span(hist.record_times)  # its time bases' (``figures.across_clocks``)
         frames[name] = FrameSummary(
             frame=name,
             parent=names(hist.latest_parent),
@@ -111,8 +112,8 @@ def tree_of(buffer: Buffer) -> FrameTree:
             first_stamp=int(first),
             last_stamp=int(last),
             parents=tuple(names(p) for p in parents_in_order(hist)),
-            rate_hz=0.0 if hist.static else rate_of(stamps, record_span(hist.record_times)),
-            clocks=1 if hist.static else int(time_base_of(stamps, record_span(hist.record_times)).max()) + 1,
+            rate_hz=0.0 if hist.static else rate_of(stamps, span),
+            clocks=1 if hist.static else int(time_base_of(stamps, span).max()) + 1,
         )
     children: dict[str, list[str]] = {name: [] for name in frames}
     for name, summary in frames.items():
