@@ -4,6 +4,7 @@ each case (../shared/corpus)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from pathlib import Path
 
@@ -228,6 +229,32 @@ def test_two_odometries_taking_turns_say_how_far_apart_they_are_as_two_named_pub
     assert int(finding.figures["samples_compared"]) > 900
     said = finding.message
     assert said.index("alternated") < said.index("apart") < said.index("taking turns")
+
+
+def _wheel_half_turns(stamp: int) -> list[Transform]:
+    """A real Neato's wheel sent at 2.4 Hz while the robot drives: 165 degrees between samples."""
+    angle = math.radians(165.0) * 2.4 * scenes._s(stamp)
+    return [Transform.from_rpy((0.0, 0.2, 0.0), (0.0, angle % (2 * math.pi), 0.0), stamp, "base_link", "wheel")]
+
+
+def test_a_wheel_turning_nearly_half_a_turn_between_samples_is_one_publisher(tmp_path: Path) -> None:
+    """ros2_db3_neato_obstacle_avoider_burst_2023: one publisher (metadata.yaml) whose wheel turns 150-177
+    degrees between samples 0.4 s apart comes back within 30 degrees of where it was two samples before,
+    each time further on: it was "alternated between two places 10 times in 64 new samples"."""
+    wheel = scenes.periodic("", 2.4, _wheel_half_turns)
+    findings = _findings(tmp_path, scenes.healthy(wheels=wheel), {"/tf": 1})
+    assert coded(findings, "multiple_authorities") == [], findings
+    assert not [f for f in findings if "taking turns" in f.message]
+
+
+def test_a_wheel_turning_half_turns_beside_a_second_publisher_still_tells_the_odometries_apart(tmp_path: Path) -> None:
+    """The wheel's half turns do not hide two odometries taking turns on another edge of the same recording."""
+    second = scenes.periodic(
+        "", 50, lambda t: [scenes._t("odom", "base_link", t, 0.4 * scenes._s(t) + 0.3)], phase=0.01
+    )
+    messages = scenes.healthy(ekf=scenes.ekf() + second, wheels=scenes.periodic("", 2.4, _wheel_half_turns))
+    (finding,) = coded(_findings(tmp_path, messages, {"/tf": 2}), "multiple_authorities")
+    assert finding.frames == ("odom", "base_link") and "alternated between two places" in finding.message
 
 
 # --- /tf_static publishers that disagree, in ROS 2 --------------------------------------------------

@@ -9,8 +9,10 @@ publishers of its topic metadata.yaml lists. Four patterns are told apart:
 - most stamps sent again, each soon after the first (well within the stream's interval): two identical
   publishers (two robot_state_publishers), or two that disagree where the values differ;
 - among the samples not sent before, stamps going back and forth or values alternating between two
-  places, sample after sample: publishers taking turns;
-- anything else is one publisher (intervals alternating on a stepped clock, stamps rising, values smooth)."""
+  places, sample after sample, places that can be followed as two tracks: publishers taking turns;
+- anything else is one publisher (intervals alternating on a stepped clock, stamps rising, values smooth,
+  a wheel turning nearly half a turn between samples: it comes back near where it was two samples before,
+  each time further on, two places nowhere)."""
 
 from __future__ import annotations
 
@@ -178,6 +180,11 @@ def _infer(scene: Scene) -> list[Finding]:
             continue
         back = _back_and_forth(rows.stamp[new])
         alternating = _alternating(rows.values[new])
+        if not (_enough(back, len(new)) or _enough(alternating, len(new))):
+            continue
+        apart_ = _tracks_apart(rows.stamp[new], rows.values[new])
+        if apart_ is None:  # no two places to follow: one value moving as far as it comes back (a wheel
+            alternating = 0  # turning nearly half a turn between samples), not two broadcasters' values
         signs = [
             f"its stamps went back {back} times" if _enough(back, len(new)) else "",
             f"its value alternated between two places {alternating} times" if _enough(alternating, len(new)) else "",
@@ -186,7 +193,6 @@ def _infer(scene: Scene) -> list[Finding]:
             continue
         authorities = scene.authorities_of(mine)
         metadata, _ = _listed_said(scene, authorities)
-        apart_ = _tracks_apart(rows.stamp[new], rows.values[new])
         finding = scene.finding(
             Severity.warning,
             "multiple_authorities",
