@@ -16,7 +16,7 @@ from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.edges import edge_stats
-from tftools.analysis.findings import Finding
+from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
@@ -109,3 +109,44 @@ def test_frames_says_an_edge_on_two_clocks_spans_no_time(bag: Path) -> None:
     odom = next(line for line in text.splitlines() if "odom" in line and "samples" in line and "base_link" not in line)
     assert "stamped on 2 clocks: no span" in odom and "604800" not in odom, odom
     assert re.search(r"base_link .*\(19\.\d s\)", text), text
+
+
+def _replay_ending_early() -> list[TfMessage]:
+    """``_replay_beside_live`` with the replay ending 3 s before the live node does, and a live base_link ->
+    laser (on the live clock) that stops at 10 s on its own."""
+    end = START + (SECONDS - 3) * NS_PER_S
+    messages = [m for m in _replay_beside_live() if m.transforms[0].stamp > START or m.record_time < end]
+    laser = [
+        TfMessage("/tf", START + i * 50 * MS, [scenes._t("base_link", "laser", START + i * 50 * MS, 0.2)])
+        for i in range(200)
+    ]
+    return sorted(messages + laser, key=lambda m: m.record_time)
+
+
+def test_the_replays_clock_and_its_end_are_said_beneath_the_cause(tmp_path: Path) -> None:
+    """The raspimouse replay (issue 39): the replay's odom -> base_link a week behind (clock) and stopping where
+    the replay ended (stale) follow from the two publishers on two clocks: said beneath it, the cause counted
+    once and as severe as they are; a live edge that stopped on its own stays a cause of its own."""
+    bag = scenes.write(tmp_path, "replay", BagFormat.ros1, _replay_ending_early())
+    findings = check(read_recording([bag])).findings
+    (two,) = [f for f in findings if f.code == "multiple_authorities"]
+    assert not two.cause and two.severity is Severity.error and two.key
+    beneath = {(f.code, f.frames) for f in findings if f.cause == two.key}
+    assert beneath == {("clock", ("odom", "base_link")), ("stale", ("odom", "base_link"))}, findings
+    (laser,) = [f for f in findings if f.code == "stale" and f.frames == ("base_link", "laser")]
+    assert not laser.cause
+    assert laser.figures["arrival_minus_stamp_s"] == pytest.approx(0.0, abs=0.01)
+    assert two.figures["older_offset_s"] == pytest.approx(WEEK / NS_PER_S + 0.003, abs=0.01)
+
+
+def test_the_real_replays_clock_and_its_end_are_beneath_the_cause() -> None:
+    path = shared_dir() / REAL
+    if not path.exists():
+        pytest.skip(f"{REAL} is not in the shared corpus ($TFTOOLS_SHARED_DIR)")
+    findings = check(read_recording([path])).findings
+    (two,) = [f for f in findings if f.code == "multiple_authorities"]
+    assert [f.code for f in findings if not f.cause and f.severity is not Severity.info] == ["multiple_authorities"]
+    assert {(f.code, f.frames) for f in findings if f.cause == two.key} == {
+        ("clock", ("odom", "base_link")),
+        ("stale", ("odom", "base_link")),
+    }

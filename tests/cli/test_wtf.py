@@ -13,6 +13,7 @@ from tests.analysis.wtf_scenes import MS, PROBLEMS, ekf, healthy, write
 from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.wtf import CHECKS
+from tftools.analysis.wtf.causes import severity_as_cause
 
 DB3 = BagFormat.rosbag2_sqlite3
 
@@ -213,10 +214,22 @@ def test_ignore_skips_checks_and_refuses_unknown_codes(tfx: Tfx, bags: dict[str,
 
 
 def test_list_checks_names_every_code_with_its_severity(tfx: Tfx) -> None:
+    """Each check with its own severity, and where a finding of it can explain worse ones (a root cause, as
+    severe as what follows from it: ``causes.explain``), that severity too: multiple_authorities, a warning,
+    is an error where a replay's clock and stop follow from it."""
     result = tfx("wtf", "--list-checks")
     assert result.code == 0
+    severities = {code: c.severity for code, c in CHECKS.items()}
     for code, c in CHECKS.items():
-        assert any(line.split()[:2] == [code, c.severity.value] for line in result.stdout.splitlines())
+        assert any(
+            line.split()[:2] in ([code, c.severity.value], [code, f"{c.severity.value},"])
+            for line in result.stdout.splitlines()
+        )
+    text = " ".join(result.stdout.split())
+    raised = [code for code in CHECKS if severity_as_cause(code, severities) is not severities[code]]
+    assert "multiple_authorities" in raised
+    assert text.count("error as a cause") == len(raised) + 1  # and the caption's example
+    assert "as severe as the worst of them" in text
 
 
 def test_help_documents_fleets_and_exit_codes(tfx: Tfx) -> None:

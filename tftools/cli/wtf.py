@@ -372,10 +372,19 @@ def _resumed(path: Path) -> list[BagReport]:
 
 def _list_checks() -> None:
     from tftools.analysis.wtf import CHECKS
+    from tftools.analysis.wtf.causes import severity_as_cause
 
-    table = Table(box=None, header_style="bold", caption="Severity: the most a check reports; some findings are milder")
+    caption = (
+        "Severity: the most a check reports on its own; some findings are milder. A finding that explains others "
+        "(a root cause, shown with what follows from it beneath, counted once) is as severe as the worst of them: "
+        "'warning, error as a cause' is an error where errors follow from it"
+    )
+    table = Table(box=None, header_style="bold", caption=caption)
     for name in ("Code", "Severity", "Looks for"):
         table.add_column(name)
+    severities = {code: c.severity for code, c in CHECKS.items()}
     for code, c in CHECKS.items():
-        table.add_row(code, c.severity.value, c.title)
+        raised = severity_as_cause(code, severities)
+        severity = c.severity.value if raised is c.severity else f"{c.severity.value}, {raised.value} as a cause"
+        table.add_row(code, severity, c.title)
     stdout.print(table)

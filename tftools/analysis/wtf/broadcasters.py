@@ -219,6 +219,7 @@ class Clocks:
     base: IntpArray  # per sample: 0 on the older time base (the one further behind its arrival), 1 on the newer
     turns: int  # samples on another base than the one before them
     behind: int  # how far (ns) the older base's stamps are behind the newer's, at arrival (medians)
+    offsets: tuple[int, int]  # arrival minus stamp (ns, medians) on the older base, then on the newer
     counts: tuple[int, int]  # samples on each base
     periods: tuple[int, int]  # the usual interval between stamps on each base (ns)
 
@@ -241,7 +242,7 @@ def _two_clocks(scene: Scene, new: IntpArray) -> Clocks | None:
     medians = [median_ns(offsets[base == b]) for b in (0, 1)]
     counts = (int(np.count_nonzero(base == 1)), int(np.count_nonzero(base == 0)))
     periods = (period(np.diff(each[1])), period(np.diff(each[0])))
-    return Clocks(older, turns, medians[1] - medians[0], counts, periods)
+    return Clocks(older, turns, medians[1] - medians[0], (medians[1], medians[0]), counts, periods)
 
 
 def _replayed_beside(scene: Scene, frames: tuple[str, str], mine: IntpArray, new: IntpArray, c: Clocks) -> Finding:
@@ -268,6 +269,7 @@ def _replayed_beside(scene: Scene, frames: tuple[str, str], mine: IntpArray, new
     figures: dict[str, float | int | str] = {"samples": len(mine), "new_samples": len(new), "time_bases": 2}
     figures |= {"turns": c.turns, "behind_s": c.behind / NS_PER_S, "older_samples": c.counts[0]}
     figures |= {"older_period_s": c.periods[0] / NS_PER_S, "newer_period_s": c.periods[1] / NS_PER_S}
+    figures |= {"older_offset_s": c.offsets[0] / NS_PER_S, "newer_offset_s": c.offsets[1] / NS_PER_S}
     return dataclasses.replace(finding, figures=figures)
 
 

@@ -3,7 +3,7 @@ links them (``Finding.cause``), so that one root cause is said once, with what f
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable, Iterable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 from tftools.analysis.findings import Finding, Severity
@@ -99,6 +99,17 @@ def _split_by_its_parents(cause: Finding, finding: Finding) -> bool:
     return _its_parents_by_topic(cause, finding) if finding.code == "mixed_static" else _left_behind(cause, finding)
 
 
+def _on_the_older_clock(cause: Finding, finding: Finding) -> bool:
+    """An edge whose stamps arrived as long after them as the older of two clocks' taking turns on the
+    cause's edge (nearer its offset than the newer's): the replayed recording's, stamped on its clock, and
+    stopping where the replay ended."""
+    older, newer = cause.figures.get("older_offset_s"), cause.figures.get("newer_offset_s")
+    offset = finding.figures.get("arrival_minus_stamp_s")
+    if not isinstance(older, float) or not isinstance(newer, float) or not isinstance(offset, float):
+        return False
+    return abs(offset - older) < abs(offset - newer)
+
+
 @dataclass(frozen=True)
 class Rule:
     """Findings of the codes ``follows`` follow from one of the codes ``causes`` when ``relates(cause, it)``."""
@@ -135,6 +146,14 @@ RULES = (
         "a frame under one parent on /tf_static and another on /tf (a URDF's base_footprint -> base_link beside a "
         "driver's odom -> base_link): its two topics, and the tree it split by leaving a parent, follow from its "
         "two parents, said once",
+    ),
+    Rule(
+        frozenset({"multiple_authorities"}),
+        frozenset({"clock", "stale"}),
+        _on_the_older_clock,
+        "edges stamped on the older of two clocks that take turns on one edge (a recording replayed with its own "
+        "/tf beside live nodes): their clock, and their stop where the replay ended, follow from the replay, "
+        "said once",
     ),
     Rule(
         frozenset({"dynamic_on_static"}),
@@ -190,6 +209,13 @@ RULES = (
         "beneath it still says how many pauses that edge had)",
     ),
 )
+
+
+def severity_as_cause(code: str, severities: Mapping[str, Severity], rules: Sequence[Rule] = RULES) -> Severity:
+    """The most severe a finding of ``code`` (a check's, ``severities[code]`` on its own) is made where it
+    explains others (``explain``: as severe as the worst of them): for ``--list-checks``, which says so."""
+    following = [severities[c] for rule in rules if code in rule.causes for c in rule.follows if c in severities]
+    return min([severities[code], *following], key=_rank)
 
 
 def explain(findings: Sequence[Finding], rules: Sequence[Rule] = RULES) -> list[Finding]:

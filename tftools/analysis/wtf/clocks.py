@@ -112,7 +112,8 @@ def _disagreeing(
 
 
 def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) -> Finding:
-    """The error that ``edges`` are stamped on another clock (``kind``), as ``said``."""
+    """The error that ``edges`` are stamped on another clock (``kind``), as ``said``; with how long after
+    their stamps they arrived (``arrival_minus_stamp_s``), which tells the clock they are on."""
     authorities = _authorities(scene, [e.child for e in edges])
     return Finding(
         Severity.error,
@@ -122,6 +123,7 @@ def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) 
         tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
         authorities,
         count=sum(e.arrivals for e in edges),
+        figures={"arrival_minus_stamp_s": float(np.median([e.offset_record for e in edges])) / NS_PER_S},
     )
 
 

@@ -27,7 +27,8 @@ class CheckSkippedError(Exception):
 @dataclass(frozen=True)
 class Check:
     """One check: ``code`` names it in findings, ``severity`` is the most it reports (``--list-checks``
-    lists it; a finding may be milder, never more severe), ``title`` says what it looks for. ``run`` is
+    lists it; a finding may be milder, never more severe but as a root cause, which is as severe as the worst
+    finding that follows from it: ``causes.explain``), ``title`` says what it looks for. ``run`` is
     None for what the bag runner reports itself (a bag it could not read); ``needs_transforms`` checks
     are skipped on an empty recording."""
 

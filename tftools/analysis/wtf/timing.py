@@ -81,7 +81,12 @@ def stale(scene: Scene) -> Iterator[Finding]:
             )
         if before_end is not None:
             message += f", {duration(before_end / NS_PER_S)} before the recording ends"
-        yield Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
+        # how long after its stamp its last sample arrived: which clock its stamps are on (a replay's)
+        arrived: dict[str, float | int | str] = {}
+        if s.last_record:
+            arrived["arrival_minus_stamp_s"] = (s.last_record - s.last_stamp) / NS_PER_S
+        found = Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
+        yield dataclasses.replace(found, figures=arrived)
 
 
 def _last_sent(scene: Scene) -> dict[tuple[str, str], int]:
