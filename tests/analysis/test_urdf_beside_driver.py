@@ -23,10 +23,10 @@ def _t(parent: str, child: str, stamp: int, x: float, z: float = 0.0) -> Transfo
     return Transform.from_rpy((x, 0.0, z), (0.0, 0.0, 0.0), stamp, parent, child)
 
 
-def neato() -> list[TfMessage]:
+def neato(urdf_at: int = START) -> list[TfMessage]:
     urdf = TfMessage(
         "/tf_static",
-        START,
+        urdf_at,
         [_t("base_footprint", "base_link", LATCHED, 0.0, 0.0102), _t("base_link", "laser", LATCHED, 0.0, 0.13)],
         "/robot_state_publisher",
     )
@@ -51,3 +51,15 @@ def test_a_frame_under_the_urdfs_parent_and_the_drivers_is_one_cause() -> None:
     assert parents.key and beneath == ["disconnected", "mixed_static"]
     (laser,) = [f for f in found if f.code == "mixed_static" and f.frames[0] == "laser"]
     assert not laser.cause and "one value on each, 109.6 mm and 0.00° apart" in laser.message
+
+
+def test_one_transform_is_said_at_its_moment_not_as_a_span() -> None:
+    """The real Neato's URDF arrived 0.1 s before the first /tf stamp: its one transform of base_link was said
+    "from -0.1 s to -0.1 s"."""
+    found = check(scenes.recording(neato(urdf_at=START - 100 * MS), ros1=True)).findings
+    (parents,) = [f for f in found if f.code == "multiple_parents"]
+    assert "base_footprint (by /robot_state_publisher, 1 transform 0.1 s before the first tf stamp)" in parents.message
+    assert re.search(r"odom \(by /neato, \d+ transforms from \+0\.1 s to \+\d+\.\d s\)", parents.message), (
+        parents.message
+    )
+    assert not re.search(r"from (\S+ s) to \1", parents.message)

@@ -351,4 +351,12 @@ def _disagreement(scene: Scene, mine: IntpArray) -> Disagreement | None:
 
 
 def _during(scene: Scene, rows: IntpArray, arrivals: Int64Array) -> str:
-    return f"{transforms(len(rows))} from {scene.rel(int(arrivals.min()))} to {scene.rel(int(arrivals.max()))}"
+    """ "413 transforms from +0.0 s to +88.2 s"; where the first and last read the same (one transform, or
+    several within a rounding), one moment: "1 transform 0.1 s before the first tf stamp", "2 transforms at
+    +3.0 s"."""
+    first, last = scene.rel(int(arrivals.min())), scene.rel(int(arrivals.max()))
+    if first != last:
+        return f"{transforms(len(rows))} from {first} to {last}"
+    if first.startswith("-"):  # what was observed, not a negative offset that reads as an error
+        return f"{transforms(len(rows))} {first[1:]} before the first tf stamp"
+    return f"{transforms(len(rows))} {first if first.startswith('at ') else 'at ' + first}"
