@@ -91,6 +91,17 @@ def period(intervals: Int64Array) -> int:
     return int(np.median(intervals)) if len(intervals) else 0
 
 
+def sustained_period(intervals: Int64Array) -> int:
+    """The interval (ns) a stream keeps up for most of its time: the median of ``intervals`` each weighted by
+    its length (a real Neato's 44 samples 10 ms apart in its first 0.44 s, then one every 0.32-0.55 s for 7 s:
+    about 0.4 s, where ``period``, a median by count, is the burst's 10 ms); 0 without any."""
+    if not len(intervals):
+        return 0
+    ordered = np.sort(intervals)
+    held = np.cumsum(ordered, dtype=np.float64)
+    return int(ordered[min(int(np.searchsorted(held, held[-1] / 2)), len(ordered) - 1)])
+
+
 def median_ns(values: Int64Array) -> int:
     """The median of ``values`` (ns), exact: ``np.median`` works in float64, whose step at a wall-clock time
     in ns (1.7e18) is 256 ns. Of an even count, the mean of the middle two, towards zero (as
