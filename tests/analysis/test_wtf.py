@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -526,6 +527,22 @@ def test_what_stale_claims_holds_lookups_after_the_last_stamp_extrapolate_into_t
     with pytest.raises(ExtrapolationError, match="into the future"):
         stopped.buffer.lookup("map", "base_link", finding.first_time + 100 * MS)
     assert "extrapolation into the future" in finding.hint
+
+
+def test_a_start_up_burst_is_not_said_as_the_rate_the_publisher_keeps_up() -> None:
+    """A real Neato's driver (corpus ros2_db3_neato_obstacle_avoider_burst_2023) flushes 44 samples 10 ms apart,
+    then sends one every 0.32-0.55 s: its rate finding quoted 'the usual 0.010 s', the burst's interval."""
+    gaps = np.random.default_rng(4).uniform(0.32, 0.48, 30)  # under wtf's 0.5 s floor of a pause
+    times = [i * 0.01 for i in range(44)] + list(0.43 + np.cumsum(gaps))
+    stamps = [START + round(t * NS_PER_S) for t in times]
+    odom = [TfMessage("/tf", t + DELAY, [_t("map", "odom", t, 0.01 * i)], "/amcl") for i, t in enumerate(stamps)]
+    finding = only(check(recording(healthy(amcl=odom))).findings, "rate")
+    intervals = np.diff(stamps)
+    burst = np.count_nonzero(intervals < 0.2 * NS_PER_S)
+    said = re.search(r"(\d+)% of its intervals are more than 50% off the (\d\.\d+) s it keeps up most", finding.message)
+    assert said, finding.message
+    assert 0.32 <= float(said[2]) <= 0.48  # the driver's own rhythm, not the burst's 0.010 s
+    assert int(said[1]) == round(100 * burst / len(intervals))  # the burst's intervals are those off it
 
 
 def test_steady_stamps_received_in_bursts_are_no_irregular_rate() -> None:

@@ -16,7 +16,7 @@ from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, trans
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.figures import delays as delays_of
-from tftools.core.figures import pauses, record_span, silence_limit
+from tftools.core.figures import pauses, record_span, silence_limit, sustained_period
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.timeline import FINE_STEP, seconds_since
 
@@ -250,10 +250,11 @@ def _rhythm(
         return
     else:
         code = "rate"
+        usual = sustained_period(intervals)  # a burst of many short intervals is how it was delivered, not its rate
         message = (
-            f"{what} publishes irregularly: {off:.0%} of its intervals are more than {IRREGULAR:.0%} off the usual "
-            f"{duration(float(np.median(intervals)) / NS_PER_S)} (from {duration(intervals.min() / NS_PER_S)} to "
-            f"{duration(intervals.max() / NS_PER_S)})"
+            f"{what} publishes irregularly: {_off_share(intervals, step, usual):.0%} of its intervals are more "
+            f"than {IRREGULAR:.0%} off the {duration(usual / NS_PER_S)} it keeps up most of the time (from "
+            f"{duration(intervals.min() / NS_PER_S)} to {duration(intervals.max() / NS_PER_S)})"
         )
         hint = "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
     yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
@@ -267,10 +268,10 @@ def _steady(stamps: Int64Array) -> bool:
     return len(intervals) >= IRREGULAR_MIN_INTERVALS and _off_share(intervals) <= IRREGULAR_SHARE
 
 
-def _off_share(intervals: Int64Array, step: int = 0) -> float:
-    """The share of intervals more than IRREGULAR off their median, and beyond the ``step`` of the clock
-    that measured them."""
-    period = float(np.median(intervals))
+def _off_share(intervals: Int64Array, step: int = 0, usual: int | None = None) -> float:
+    """The share of intervals more than IRREGULAR off their median (or ``usual``), and beyond the ``step`` of
+    the clock that measured them."""
+    period = float(np.median(intervals)) if usual is None else float(usual)
     return float((np.abs(intervals - period) > IRREGULAR * period + step).mean())
 
 
