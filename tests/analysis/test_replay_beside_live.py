@@ -137,6 +137,8 @@ def test_the_replays_clock_and_its_end_are_said_beneath_the_cause(tmp_path: Path
     assert not laser.cause
     assert laser.figures["arrival_minus_stamp_s"] == pytest.approx(0.0, abs=0.01)
     assert two.figures["older_offset_s"] == pytest.approx(WEEK / NS_PER_S + 0.003, abs=0.01)
+    (clock,) = [f for f in findings if f.code == "clock"]  # the frames on the recording's clock said as such
+    assert "stamped 7.0 days behind the recording's clock (which odom and laser follow): another clock" in clock.message
 
 
 def test_the_real_replays_clock_and_its_end_are_beneath_the_cause() -> None:
@@ -146,6 +148,8 @@ def test_the_real_replays_clock_and_its_end_are_beneath_the_cause() -> None:
     findings = check(read_recording([path])).findings
     (two,) = [f for f in findings if f.code == "multiple_authorities"]
     assert [f.code for f in findings if not f.cause and f.severity is not Severity.info] == ["multiple_authorities"]
+    (clock,) = [f for f in findings if f.code == "clock"]
+    assert "stamped 7.0 days behind the recording's clock (which odom follows): another clock" in clock.message
     assert {(f.code, f.frames) for f in findings if f.cause == two.key} == {
         ("clock", ("odom", "base_link")),
         ("stale", ("odom", "base_link")),
