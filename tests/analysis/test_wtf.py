@@ -340,6 +340,17 @@ def test_a_clock_far_ahead_is_future_with_the_advice_to_sync_clocks() -> None:
     assert "chrony" in finding.hint
 
 
+def test_a_robot_whose_clock_runs_ahead_is_said_from_its_first_stamp_not_before_the_tf_data() -> None:
+    """A real Raspberry Pi Mouse whose clock ran 79.8 s ahead of the recorder's (corpus ros1_raspimouse_teleop_wifi_
+    bursts_clock_ahead_2019): every tf stamp ahead, so the first arrival was said '(79.4 s before the first tf
+    stamp)'. Said on the stamps' clock, as the finding's times are."""
+    ahead = recording(ekf(stamp=lambda t: t + 80 * NS_PER_S))
+    finding = only(check(ahead).findings, "future")
+    assert f"the first stamped {(START + 80 * NS_PER_S) / NS_PER_S:.3f} (+0.0 s)" in finding.message, finding.message
+    assert "before the first tf stamp" not in finding.message
+    assert finding.first_time == START + 80 * NS_PER_S
+
+
 @pytest.mark.parametrize(("length", "severity"), [(1.0001, Severity.info), (1.002, Severity.warning)])
 def test_a_slightly_long_rotation_tf2_accepts_is_a_warning_or_a_note(length: float, severity: Severity) -> None:
     def long_rotation(stamp: int) -> list[Transform]:

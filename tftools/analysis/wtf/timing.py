@@ -132,12 +132,15 @@ def future(scene: Scene) -> Iterator[Finding]:
         ahead = stamps - records - scene.timeline.resolution  # ROS time at arrival lags by up to a clock step
         early = ahead > from_sec(scene.thresholds.future)
         if early.any():
+            # said on the stamps' clock, as the finding's times are: its arrival, on a clock running ahead of the
+            # publisher's, read "first at 1547728537.122 (79.4 s before the first tf stamp)"
+            first = int(stamps[early].min())
             finding = e.finding(
                 Severity.error,
                 "future",
                 f"{edge(*e.key)}{scene.by(e.authorities)}: {int(early.sum())} of {transforms(len(stamps))} "
-                f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, first at "
-                f"{scene.at(int(records[early].min()))}",
+                f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, the first stamped "
+                f"{scene.at(first)}",
                 "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates "
                 f"its transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's "
                 "transform_tolerance): listeners then take them for the newest data and lookups at the present "
