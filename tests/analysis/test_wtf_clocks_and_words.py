@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -281,3 +282,18 @@ def test_a_topics_rate_timed_by_stamps_on_two_time_bases_counts_each_on_its_own(
     (tf,) = monitor(read_recording([str(bag)]), MonitorQuery()).authorities
     assert tf.authority == "/tf" and tf.messages == 1000 + 120
     assert tf.rate_hz == pytest.approx(999 / 9.99 + 119 / (9.0 + 14 / 15), rel=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("problem", "said"),
+    [
+        ("clock", r"a clock counting from boot or a simulation's start, while the recording's clock \(which "),
+        ("clock_replay", r"stamped 3\.0 days behind the recording's clock \(which "),
+    ],
+)
+def test_the_frames_on_the_reference_clock_are_said_to_follow_it(problem: str, said: str) -> None:
+    """The raspimouse replay read 'stamped 7.0 days behind the recording's clock and odom: another clock', the
+    UR5 'while the recording's clock and cam_49, obj_49 ... read': as if those frames were more clocks."""
+    (found,) = [f for f in check(recording(PROBLEMS[problem].make())).findings if f.code == "clock"]
+    assert re.search(said + r"[\w, ]+ follows?\)", found.message), found.message
+    assert "clock and " not in found.message

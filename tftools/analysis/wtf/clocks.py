@@ -99,15 +99,14 @@ def _disagreeing(
     reference = float(np.median([_reference_time(e, against_clock) for e in edges])) / NS_PER_S
     offset = float(np.median([_offset(e, against_clock) for e in edges])) / NS_PER_S
     clock_name = scene.timeline.clock.topic if against_clock else "the recording's clock"
-    others = f" and {listed([e.child for e in agreeing], 3)}" if agreeing else ""
     names = [e.child for e in agreeing]
     named = and_joined(names) if len(names) <= 3 else listed(names, 3)
     following = f" (which {named} follow{'s' if len(agreeing) == 1 else ''})"
     following = following if agreeing else ""  # "behind the recording's clock and odom" read as two things
     said = {
         "boot": f"stamped around {stamp:.1f} s, a clock counting from boot or a simulation's start, while "
-        f"{clock_name}{others} read{'s' if not others else ''} {reference:.1f} s (epoch time)",
-        "simulated": f"stamped with wall-clock time ({stamp:.1f} s) while {clock_name}{others} run on simulated "
+        f"{clock_name}{following} reads {reference:.1f} s (epoch time)",
+        "simulated": f"stamped with wall-clock time ({stamp:.1f} s) while {clock_name}{following} runs on simulated "
         f"time ({reference:.1f} s)",
         "behind": f"stamped {duration(offset)} behind {clock_name}{following}: another clock",
         "ahead": f"stamped {duration(-offset)} ahead of {clock_name}{following}: another clock",
