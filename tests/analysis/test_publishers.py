@@ -257,6 +257,19 @@ def test_a_wheel_turning_half_turns_beside_a_second_publisher_still_tells_the_od
     assert finding.frames == ("odom", "base_link") and "alternated between two places" in finding.message
 
 
+def test_two_odometries_of_a_fast_robot_taking_turns_are_still_two_though_no_track_can_be_followed(
+    tmp_path: Path,
+) -> None:
+    """At 0.5 m/s and 5 Hz each, either odometry moves 0.1 m between its own samples: too far for a track to be
+    followed (``_tracks_apart``), but the values still go 0.6 m over and back, sample after sample: the
+    half-turning wheel's leniency (a value turning as far as it comes back) is for rotations only."""
+    first = scenes.periodic("/ekf", 5, lambda t: [scenes._t("odom", "base_link", t, 0.5 * scenes._s(t))])
+    second = scenes.periodic("", 5, lambda t: [scenes._t("odom", "base_link", t, 0.5 * scenes._s(t) + 0.6)], phase=0.1)
+    findings = _findings(tmp_path, scenes.healthy(ekf=sorted(first + second, key=lambda m: m.record_time)), {"/tf": 2})
+    (finding,) = coded(findings, "multiple_authorities")
+    assert finding.frames == ("odom", "base_link") and "alternated between two places" in finding.message
+
+
 # --- /tf_static publishers that disagree, in ROS 2 --------------------------------------------------
 
 

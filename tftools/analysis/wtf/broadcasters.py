@@ -9,10 +9,11 @@ publishers of its topic metadata.yaml lists. Four patterns are told apart:
 - most stamps sent again, each soon after the first (well within the stream's interval): two identical
   publishers (two robot_state_publishers), or two that disagree where the values differ;
 - among the samples not sent before, stamps going back and forth or values alternating between two
-  places, sample after sample, places that can be followed as two tracks: publishers taking turns;
+  places, sample after sample (rotations alternating only where they can be followed as two tracks):
+  publishers taking turns;
 - anything else is one publisher (intervals alternating on a stepped clock, stamps rising, values smooth,
-  a wheel turning nearly half a turn between samples: it comes back near where it was two samples before,
-  each time further on, two places nowhere)."""
+  a wheel turning nearly half a turn between samples: its rotation comes back near where it was two samples
+  before, each time further on, two places nowhere)."""
 
 from __future__ import annotations
 
@@ -183,8 +184,8 @@ def _infer(scene: Scene) -> list[Finding]:
         if not (_enough(back, len(new)) or _enough(alternating, len(new))):
             continue
         apart_ = _tracks_apart(rows.stamp[new], rows.values[new])
-        if apart_ is None:  # no two places to follow: one value moving as far as it comes back (a wheel
-            alternating = 0  # turning nearly half a turn between samples), not two broadcasters' values
+        if apart_ is None:  # no two places to follow: a rotation turning about as far as it comes back (a wheel
+            alternating = _alternating(rows.values[new], turns=False)  # half a turn a sample) is one value
         signs = [
             f"its stamps went back {back} times" if _enough(back, len(new)) else "",
             f"its value alternated between two places {alternating} times" if _enough(alternating, len(new)) else "",
@@ -469,17 +470,18 @@ def _back_and_forth(stamps: Int64Array) -> int:
     return int(((steps[:-1] < 0) & (steps[1:] > 0)).sum())
 
 
-def _alternating(values: FloatArray) -> int:
+def _alternating(values: FloatArray, turns: bool = True) -> int:
     """Samples (in arrival order) far from the one before and the one after, which are close to each
-    other: a value that goes somewhere else and comes back, sample after sample."""
+    other: a value that goes somewhere else and comes back, sample after sample (by its place, and by its
+    rotation where ``turns``: a rotation of nearly half a turn a sample also comes back near where it was)."""
     if len(values) < 3:
         return 0
     out_m, out_deg = apart(values[:-2], values[1:-1])
     back_m, back_deg = apart(values[1:-1], values[2:])
     round_m, round_deg = apart(values[:-2], values[2:])
-    moved = ((out_m > APART_M) & (back_m > APART_M) & (round_m < out_m / 4)) | (
-        (out_deg > APART_DEG) & (back_deg > APART_DEG) & (round_deg < out_deg / 4)
-    )
+    moved = (out_m > APART_M) & (back_m > APART_M) & (round_m < out_m / 4)
+    if turns:
+        moved |= (out_deg > APART_DEG) & (back_deg > APART_DEG) & (round_deg < out_deg / 4)
     return int(moved.sum())
 
 
