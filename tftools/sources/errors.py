@@ -141,11 +141,25 @@ class RemoteError(BagError):
         )
 
 
-class NoStampedDataError(SourceError):
-    """No topic with a header tied to tf to check: ``problems`` says why, as far as the reading tells."""
+#: What a topic the recording lists without a message is: the recorder subscribed and received nothing.
+UNRECORDED = "in the recording without a message"
 
-    def __init__(self, problems: Sequence[str]) -> None:
-        why = f": {'; '.join(problems)}" if problems else ""
+
+class NoStampedDataError(SourceError):
+    """No topic with a header tied to tf to check: ``problems`` says why, as far as the reading tells;
+    ``unrecorded``: the topics among them the recording lists without a message."""
+
+    def __init__(self, problems: Sequence[str], unrecorded: Sequence[str] = ()) -> None:
+        said = [*problems, *([f"{', '.join(unrecorded)}: {UNRECORDED}"] if unrecorded else [])]
+        why = f": {'; '.join(said)}" if said else ""
         super().__init__(f"no topic with a Header to check{why}")
-        self.hint = "name topics of stamped messages, e.g. /scan"
-        self.problems = list(problems)
+        # naming topics does not help where the named ones hold nothing: the recorder is what to look at
+        its, them = ("its", "it") if len(unrecorded) == 1 else ("their", "them")
+        self.hint = (
+            f"the recorder received none of {its} messages (none published while it recorded, or, in ROS 2, a "
+            f"publisher whose QoS it did not match): record {them} again, or name topics that hold messages"
+            if unrecorded
+            else "name topics of stamped messages, e.g. /scan"
+        )
+        self.problems = said
+        self.unrecorded = list(unrecorded)
