@@ -85,8 +85,11 @@ class NoTransformsError(SourceError):
         found: Sequence[str] = (),
         unread: Sequence[str] = (),
         lost: Sequence[str] = (),
+        carriers: Sequence[str] = (),
     ) -> None:
         where = ", ".join(paths)
+        #: The found topics of a transform type not among those read: what to read instead ("absent" only).
+        self.carriers = [t for t in carriers if t in found and t not in topics]
         if lost:  # the transforms were there, but damage took every one
             super().__init__(f"{where}: no transforms could be read: {'; '.join(lost)}")
             self.cause, self.hint = (
@@ -101,7 +104,7 @@ class NoTransformsError(SourceError):
                 "convert those topics to a type and encoding tfx reads, or read other topics",
             )
             return
-        others = [t for t in found if t not in topics]
+        others = self.carriers + [t for t in found if t not in topics and t not in self.carriers]
         unreadable = [t for t in topics if t in found]
         message = f"{where}: no transforms on {', '.join(topics)}"
         if unreadable:
@@ -111,6 +114,8 @@ class NoTransformsError(SourceError):
         self.hint = (
             "a check of the recording (check) names their type and encoding; read other topics"
             if unreadable
+            else f"read {' and '.join(self.carriers[:3])}, of a transform type"
+            if self.carriers
             else "was /tf recorded? read other topics"
         )
 
