@@ -148,6 +148,11 @@ def test_what_keeps_messages_no_timeout_keeps_is_said(tfx: Tfx, bags: dict[str, 
 def test_filter_refuses_what_it_cannot_use(tfx: Tfx, bags: dict[str, Path]) -> None:
     nothing = tfx("filter", "/nothing", "-b", bags["ros1"])
     assert nothing.code == 2 and "no topic with a Header" in nothing.stderr
+    assert "/nothing: not in the recording" in nothing.stderr
+    # a topic that is there, without a header: its type said (a TurtleBot3's /cmd_vel was 'not in the
+    # recording, or its messages have no header')
+    headless = tfx("filter", "/tf", "-b", bags["ros1"])
+    assert headless.code == 2 and "/tf: tf2_msgs/TFMessage messages have no header" in headless.stderr
     # Only headers without a frame_id (a turtlesim bag's /rosout): said so, not an empty table with exit 0.
     unframed = tfx("filter", "/diagnostics", "-b", bags["ros1"])
     assert unframed.code == 2 and not unframed.stdout
