@@ -148,6 +148,11 @@ def test_what_keeps_messages_no_timeout_keeps_is_said(tfx: Tfx, bags: dict[str, 
 def test_filter_refuses_what_it_cannot_use(tfx: Tfx, bags: dict[str, Path]) -> None:
     nothing = tfx("filter", "/nothing", "-b", bags["ros1"])
     assert nothing.code == 2 and "no topic with a Header" in nothing.stderr
+    assert "/nothing: not in the recording" in nothing.stderr
+    # a topic that is there, without a header: its type said (a TurtleBot3's /cmd_vel was 'not in the
+    # recording, or its messages have no header')
+    headless = tfx("filter", "/tf", "-b", bags["ros1"])
+    assert headless.code == 2 and "/tf: tf2_msgs/TFMessage messages have no header" in headless.stderr
     # Only headers without a frame_id (a turtlesim bag's /rosout): said so, not an empty table with exit 0.
     unframed = tfx("filter", "/diagnostics", "-b", bags["ros1"])
     assert unframed.code == 2 and not unframed.stdout
@@ -155,6 +160,46 @@ def test_filter_refuses_what_it_cannot_use(tfx: Tfx, bags: dict[str, Path]) -> N
     assert len(unframed.stderr.strip().splitlines()) == 1
     unknown = tfx("filter", "-b", bags["ros1"], "--target", "nowhere")
     assert unknown.code == 2 and "frame 'nowhere' does not exist" in unknown.stderr
+
+
+@pytest.fixture(scope="module")
+def unrecorded_scan(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """The robot's tf and /imu, and a /scan the recording lists without a message (a real TurtleBot3's
+    metadata v4 bag: its /scan, a best-effort topic, listed with 0 messages and no QoS profile), as a ROS1
+    bag and its .db3 copy."""
+    from rosbags.rosbag1 import Reader, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    folder = tmp_path_factory.mktemp("unrecorded")
+    source = sensor_bags(folder, robot(), lambda store: [m for m in _sensor_messages(store) if m[0] == "/imu"])
+    ros1 = folder / "empty_scan.bag"
+    with Reader(source["ros1"]) as reader, Writer(ros1) as writer:
+        connections = {
+            c.id: writer.add_connection(
+                c.topic, c.msgtype, msgdef=c.msgdef.data, md5sum=c.digest, latching=getattr(c.ext, "latching", None)
+            )
+            for c in reader.connections
+        }
+        writer.add_connection("/scan", "sensor_msgs/msg/LaserScan", typestore=get_typestore(Stores.ROS1_NOETIC))
+        for connection, record, raw in reader.messages():
+            writer.write(connections[connection.id], record, raw)
+    return {"ros1": ros1, "db3": convert(ros1, folder / "empty_scan_db3", "sqlite3")}
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "db3"])
+def test_a_topic_recorded_without_a_message_is_said_so(tfx: Tfx, unrecorded_scan: dict[str, Path], fmt: str) -> None:
+    """``tfx filter /scan`` on a recording whose /scan holds no message answered 'name topics of stamped
+    messages, e.g. tfx filter /scan -b BAG': the command just run. It says the topic is there without a message
+    and what to look at (the recorder); named beside a topic that has messages, it is not left out unsaid."""
+    alone = tfx("filter", "/scan", "-b", unrecorded_scan[fmt])
+    assert alone.code == 2 and not alone.stdout and len(alone.stderr.strip().splitlines()) == 1
+    assert "/scan: in the recording without a message" in alone.stderr
+    assert "the recorder received none of its messages" in alone.stderr and "e.g. tfx filter /scan" not in alone.stderr
+    beside = tfx("filter", "/scan", "/imu", "-b", unrecorded_scan[fmt], "-f", "json")
+    assert beside.code == 0 and [t["topic"] for t in json.loads(beside.stdout)["topics"]] == ["/imu"]
+    assert "tfx: warning: /scan: in the recording without a message" in beside.stderr
+    every = tfx("filter", "-b", unrecorded_scan[fmt])  # not asked for by name: no warning
+    assert every.code == 0 and "/imu" in every.stdout and "without a message" not in every.stderr
 
 
 def test_wtf_reports_the_sensor_data_that_tf_lets_down(tfx: Tfx, bags: dict[str, Path]) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -245,6 +246,33 @@ def test_a_bag_without_transforms_is_the_no_tf_error(tfx: Tfx, tmp_path: Path) -
     result = tfx("wtf", bag)
     assert result.code == 1
     assert "no_tf: no transforms on /tf, /tf_static in" in result.stdout and "topics present: /odom_tf" in result.stdout
+
+
+def test_no_tf_names_the_recorded_transform_topics_to_read(tfx: Tfx, tmp_path: Path) -> None:
+    """A real TurtleBot3 bag read with ``--topic /odom`` (its nav_msgs/Odometry): no_tf's hint said to record
+    the transforms (ros2 bag record /tf /tf_static), which it holds, and hid /tf behind 'and 1 more'. The
+    recording's transform topics come first and the hint says to read them; a robot under a namespace
+    (/robot1/tf) is told which --topic reads it, by wtf, echo and monitor."""
+    robot = healthy()
+    bag = write(tmp_path, "robot", DB3, robot)
+    wrong = tfx("wtf", bag, "--topic", "/odom")
+    said = " ".join(wrong.stdout.split())
+    assert wrong.code == 1 and "no_tf: no transforms on /odom in" in said
+    assert "topics present: /tf, /tf_static" in said and "ros2 bag record" not in said
+    assert "/tf and /tf_static of this recording carry transforms: tfx reads them without --topic" in said
+    spaced = write(tmp_path, "robot1", DB3, [replace(m, topic=f"/robot1{m.topic}") for m in robot])
+    default = tfx("wtf", spaced)
+    said = " ".join(default.stdout.split())
+    assert default.code == 1 and "topics present: /robot1/tf, /robot1/tf_static" in said
+    assert "are of a transform type: read them (tfx wtf --topic /robot1/tf --topic /robot1/tf_static)" in said
+    read = tfx("wtf", spaced, "--topic", "/robot1/tf", "--topic", "/robot1/tf_static")
+    assert read.code == 0 and "no problems found" in read.stdout
+    # the commands that need transforms to start say it in one line alike ('was /tf recorded?' until now)
+    echo = tfx("echo", "odom", "base_link", "-b", bag, "--topic", "/odom")
+    assert echo.code == 2 and "(/tf and /tf_static carry transforms: leave out --topic)" in echo.stderr
+    monitor = tfx("monitor", "-b", spaced)
+    assert monitor.code == 2 and "topics present: /robot1/tf, /robot1/tf_static" in monitor.stderr
+    assert "read with --topic /robot1/tf --topic /robot1/tf_static" in monitor.stderr
 
 
 @pytest.mark.parametrize(("fmt", "record"), [(DB3, "ros2 bag record"), (BagFormat.ros1, "rosbag record")])

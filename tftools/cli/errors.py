@@ -19,6 +19,7 @@ from tftools.core.errors import (
     UnknownFrameError,
 )
 from tftools.core.time import NS_PER_S, to_sec
+from tftools.sources.contents import DEFAULT_TOPICS
 
 if TYPE_CHECKING:
     from tftools.analysis.tree_file import TreeFileError
@@ -115,6 +116,12 @@ def _no_transforms(error: NoTransformsError) -> UsageError:
         "unreadable": "`tfx wtf` names their type and encoding; pick other topics with --topic",
         "absent": "was /tf recorded? pick other topics with --topic",
     }
+    if error.cause == "absent" and error.carriers:  # the recording has transforms, on topics not read
+        carriers = error.carriers[:3]
+        if set(carriers) <= set(DEFAULT_TOPICS):
+            return UsageError(str(error), f"{' and '.join(carriers)} carry transforms: leave out --topic")
+        options = " ".join(f"--topic {t}" for t in carriers)
+        return UsageError(str(error), f"{', '.join(carriers)}: of a transform type, read with {options}")
     return UsageError(str(error), hint.get(error.cause, error.hint))
 
 

@@ -76,7 +76,8 @@ def command(
         report = filter_messages(recording, query, on_problem=warn)
     except NoStampedDataError as error:
         example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
-        raise UsageError(str(error), f"name topics of stamped messages, e.g. {example}") from None
+        hint = error.hint if error.unrecorded else f"name topics of stamped messages, e.g. {example}"
+        raise UsageError(str(error), hint) from None
     if fmt is TextOrJson.json:
         render.write_json(report, stdout.file)
     else:

@@ -85,8 +85,11 @@ class NoTransformsError(SourceError):
         found: Sequence[str] = (),
         unread: Sequence[str] = (),
         lost: Sequence[str] = (),
+        carriers: Sequence[str] = (),
     ) -> None:
         where = ", ".join(paths)
+        #: The found topics of a transform type not among those read: what to read instead ("absent" only).
+        self.carriers = [t for t in carriers if t in found and t not in topics]
         if lost:  # the transforms were there, but damage took every one
             super().__init__(f"{where}: no transforms could be read: {'; '.join(lost)}")
             self.cause, self.hint = (
@@ -101,7 +104,7 @@ class NoTransformsError(SourceError):
                 "convert those topics to a type and encoding tfx reads, or read other topics",
             )
             return
-        others = [t for t in found if t not in topics]
+        others = self.carriers + [t for t in found if t not in topics and t not in self.carriers]
         unreadable = [t for t in topics if t in found]
         message = f"{where}: no transforms on {', '.join(topics)}"
         if unreadable:
@@ -111,6 +114,8 @@ class NoTransformsError(SourceError):
         self.hint = (
             "a check of the recording (check) names their type and encoding; read other topics"
             if unreadable
+            else f"read {' and '.join(self.carriers[:3])}, of a transform type"
+            if self.carriers
             else "was /tf recorded? read other topics"
         )
 
@@ -141,11 +146,25 @@ class RemoteError(BagError):
         )
 
 
-class NoStampedDataError(SourceError):
-    """No topic with a header tied to tf to check: ``problems`` says why, as far as the reading tells."""
+#: What a topic the recording lists without a message is: the recorder subscribed and received nothing.
+UNRECORDED = "in the recording without a message"
 
-    def __init__(self, problems: Sequence[str]) -> None:
-        why = f": {'; '.join(problems)}" if problems else ""
+
+class NoStampedDataError(SourceError):
+    """No topic with a header tied to tf to check: ``problems`` says why, as far as the reading tells;
+    ``unrecorded``: the topics among them the recording lists without a message."""
+
+    def __init__(self, problems: Sequence[str], unrecorded: Sequence[str] = ()) -> None:
+        said = [*problems, *([f"{', '.join(unrecorded)}: {UNRECORDED}"] if unrecorded else [])]
+        why = f": {'; '.join(said)}" if said else ""
         super().__init__(f"no topic with a Header to check{why}")
-        self.hint = "name topics of stamped messages, e.g. /scan"
-        self.problems = list(problems)
+        # naming topics does not help where the named ones hold nothing: the recorder is what to look at
+        its, them = ("its", "it") if len(unrecorded) == 1 else ("their", "them")
+        self.hint = (
+            f"the recorder received none of {its} messages (none published while it recorded, or, in ROS 2, a "
+            f"publisher whose QoS it did not match): record {them} again, or name topics that hold messages"
+            if unrecorded
+            else "name topics of stamped messages, e.g. /scan"
+        )
+        self.problems = said
+        self.unrecorded = list(unrecorded)

@@ -19,6 +19,7 @@ from tftools.core.time import SimClock
 from tftools.sources.bag import ProgressCallback
 from tftools.sources.bag.reader import BagReader
 from tftools.sources.bag.robot import RobotMessages, robot_messages
+from tftools.sources.codecs.select import carries_transforms
 from tftools.sources.contents import (
     BUFFER_FORMAT,
     DEFAULT_TOPICS,
@@ -127,7 +128,8 @@ def no_transforms(paths: Sequence[str | os.PathLike[str]], contents: RecordingCo
     """The error for bags at ``paths`` in which no transform was found: why, as far as ``contents`` tells."""
     found = sorted({t for f in contents.files for t in f.topics})
     damage = [p for f in contents.files for p in f.problems]
-    return NoTransformsError([str(p) for p in paths], contents.topics, found, contents.unread, damage)
+    carriers = sorted({t for f in contents.files for t, kind in f.topics.items() if carries_transforms(kind)})
+    return NoTransformsError([str(p) for p in paths], contents.topics, found, contents.unread, damage, carriers)
 
 
 def semantics_of(contents: RecordingContents) -> Semantics:

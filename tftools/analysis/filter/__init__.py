@@ -13,7 +13,7 @@ from tftools.analysis.reading import Reading
 from tftools.analysis.targets import choose_target, tied_to_tf
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.sources.contents import StampedMessages
-from tftools.sources.errors import NoStampedDataError
+from tftools.sources.errors import UNRECORDED, NoStampedDataError
 
 if TYPE_CHECKING:
     from tftools.sources.recording import Recording
@@ -54,10 +54,14 @@ def filter_messages(
         if on_problem is not None:
             on_problem(problem)
     report = filter_streams(recording.buffer, stamped.streams, query, tick=recording.timeline.record_step)
+    unrecorded = [s.topic for s in stamped.streams if not len(s)]
     if not report.streams:
         whose = "whose header has" if len(report.skipped) == 1 else "whose headers have"
         unframed = [f"only {', '.join(report.skipped)}, {whose} no frame_id (not tied to tf)"] if report.skipped else []
-        raise NoStampedDataError([*stamped.problems, *unframed])
+        raise NoStampedDataError([*stamped.problems, *unframed], unrecorded)
+    if query.sensor_topics and on_problem is not None:  # asked for by name: not left out of the table unsaid
+        for topic in unrecorded:
+            on_problem(f"{topic}: {UNRECORDED}")
     return report
 
 

@@ -8,6 +8,8 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import declare, register
 from tftools.analysis.wtf.scene import Scene, listed
 from tftools.analysis.wtf.silence import silent_moving_topics
+from tftools.sources.codecs.select import carries_transforms
+from tftools.sources.contents import DEFAULT_TOPICS
 
 
 @register("no_tf", Severity.error, "no transforms at all (or none on /tf)", needs_transforms=False)
@@ -23,16 +25,26 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
             "convert those topics to a type and encoding tfx reads, or name other topics (tfx wtf --topic TOPIC)",
         )
     elif not len(scene.rows):
-        found = sorted({t for f in contents.files for t in f.topics} - set(contents.topics))
+        others = {t: kind for f in contents.files for t, kind in f.topics.items() if t not in contents.topics}
+        # the topics of a transform type first: the ones to name, not to hide behind "and N more"
+        carriers = sorted(t for t, kind in others.items() if carries_transforms(kind))
+        found = carriers + sorted(set(others) - set(carriers))
         present = f"; topics present: {listed(found, 10)}" if found else ("" if live else "; it holds no messages")
         tool = "ros2 topic info /tf" if scene.ros2 else "rostopic info /tf"
         record = "ros2 bag record /tf /tf_static" if scene.ros2 else "rosbag record /tf /tf_static"
-        hint = (
-            f"is anything publishing? ({tool}); name other topics (tfx wtf --topic TOPIC)"
-            if live
-            else f"record the transforms with the rest ({record}), or name the topics that carry them "
-            "(tfx wtf --topic TOPIC)"
-        )
+        if live:
+            hint = f"is anything publishing? ({tool}); name other topics (tfx wtf --topic TOPIC)"
+        elif carriers and set(carriers) <= set(DEFAULT_TOPICS):  # --topic named others: drop it
+            hint = f"{' and '.join(carriers)} of this recording carry transforms: tfx reads them without --topic"
+        elif carriers:  # recorded on other topics than those read: name them first
+            options = " ".join(f"--topic {t}" for t in carriers[:3])
+            what = "is of a transform type: read it" if len(carriers) == 1 else "are of a transform type: read them"
+            hint = f"{listed(carriers, 3)} {what} (tfx wtf {options}), or record the transforms ({record})"
+        else:
+            hint = (
+                f"record the transforms with the rest ({record}), or name the topics that carry them "
+                "(tfx wtf --topic TOPIC)"
+            )
         yield Finding(Severity.error, "no_tf", f"no transforms on {', '.join(contents.topics)} {where}{present}", hint)
     elif scene.rows.static.all() and not silent_moving_topics(scene):  # else ``silent_tf`` says why
         yield Finding(

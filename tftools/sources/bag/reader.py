@@ -104,7 +104,11 @@ class BagReader:
         streams = merged([stream for read in reads for stream in read.stamped])
         problems = [line for read in reads for line in read.stamped_problems]
         missing = sorted(set(self.wanted.headers or ()) - {stream.topic for stream in streams})
-        problems += [f"{topic}: not in the recording, or its messages have no header" for topic in missing]
+        kinds = {topic: kind for read in reads for topic, kind in read.info.topics.items()}
+        problems += [
+            f"{topic}: {kinds[topic]} messages have no header" if topic in kinds else f"{topic}: not in the recording"
+            for topic in missing
+        ]
         return BagContents(
             in_record_order([batch for read in reads for batch in read.batches]),
             [read.info for read in reads],

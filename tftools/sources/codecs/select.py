@@ -209,8 +209,13 @@ def unread_lines(unread: Sequence[Unread]) -> list[str]:
 _LONE_TRANSFORMS = frozenset({"geometry_msgs/msg/TransformStamped", "geometry_msgs/TransformStamped"})
 
 
+def carries_transforms(type_name: str) -> bool:
+    """Whether tfx reads transforms from messages of ``type_name`` (in some encoding)."""
+    return any(type_name == t for t, _ in CODECS)
+
+
 def _why(type_name: str, encoding: str) -> str:
-    if any(type_name == t for t, _ in CODECS):
+    if carries_transforms(type_name):
         return f"{type_name} in {encoding or 'no'} encoding, which tfx does not read (it reads {readable()})"
     if type_name in _LONE_TRANSFORMS:
         return (
