@@ -27,6 +27,7 @@ from tests.cli.conftest import Result, Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus import data
 from tests.corpus.fetch import Recording, load_manifest, shared_dir
 from tests.oracle import ERROR_CLASSES, Row, Scenario, binding_time, run_tf2
+from tests.sources.test_stream import whole_parents
 from tftools.core.batch import concat_batches
 from tftools.core.errors import TransformError
 from tftools.core.time import NS_PER_S
@@ -624,6 +625,7 @@ def test_a_streamed_replay_is_the_whole_ones(recording: Recording, corpus: Corpu
     for kept, every in pairs:
         _same_edge_clock(kept, every)
     assert sorted(streamed.frames) == sorted(whole.buffer.frames)
+    assert streamed.parents == whole_parents(whole.buffer)  # static where tf2 keeps it static, across windows
 
 
 MS = 1_000_000
