@@ -18,6 +18,7 @@ from tests.analysis.wtf_scenes import (
     ekf,
     healthy,
     map_odom,
+    odom_base,
     periodic,
     recording,
     statics,
@@ -250,6 +251,21 @@ def test_a_topic_standing_in_for_an_unnamed_publisher_is_no_publisher_change() -
     assert compare(named, unnamed, Tolerances()) == [] == compare(unnamed, named, Tolerances())
     renamed = shape_of(recording(healthy(amcl=periodic("/amcl_new", 10, map_odom))))
     assert [(d.change, d.frame) for d in compare(named, renamed, Tolerances())] == [(Change.publishers, "odom")]
+
+
+def test_an_edges_publishers_are_those_that_sent_it_under_its_latest_parent() -> None:
+    """Issue 39 (ros1-neato-urdf-beside-driver-2018-bag): the URDF's /robot_state_publisher latched base_footprint ->
+    base_link, the driver sends odom -> base_link: tfx diff named /robot_state_publisher a publisher of odom ->
+    base_link, which it never sent."""
+    urdf = TfMessage("/tf_static", START, [_t("base_footprint", "base_link", START)], "/rsp")
+    beside = shape_of(recording(healthy(statics=[urdf, statics()])))
+    assert beside.frames["base_link"].parent == "odom"
+    assert beside.frames["base_link"].publishers == ("/ekf",)
+    assert beside.frames["laser"].publishers == ("/rsp",)
+    differences = compare(beside, shape_of(recording(healthy())), Tolerances())
+    assert [d.change for d in differences if d.frame == "base_link"] == [Change.static]  # ROS 1's tf2 keeps it static
+    two = healthy(ekf=sorted(ekf() + periodic("/ekf2", 50, odom_base, phase=0.01), key=lambda m: m.record_time))
+    assert shape_of(recording(two)).frames["base_link"].publishers == ("/ekf", "/ekf2")  # both sent the edge
 
 
 def test_many_differences_of_a_kind_are_said_a_few_then_counted(tmp_path: Path, expected_file: Path) -> None:

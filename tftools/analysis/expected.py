@@ -10,8 +10,10 @@ from dataclasses import asdict, dataclass
 import numpy as np
 import numpy.typing as npt
 
+from tftools.analysis.edges import publishers
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.core.arrays import Int64Array
+from tftools.core.buffer import Buffer
 from tftools.core.rotation import Quat, Vec3
 from tftools.core.time import NS_PER_S
 from tftools.sources.recording import Recording
@@ -93,7 +95,7 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             parent=summary.parent,
             static=summary.static,
             rate_hz=summary.rate_hz,
-            publishers=_publishers(summary.authorities, recording.contents.topics) if named else None,
+            publishers=_publishers(_edge_publishers(buffer, name), recording.contents.topics) if named else None,
             translation=translation,
             rotation=rotation,
             received=received,
@@ -121,6 +123,15 @@ def _received(
         at_s = (record - start) / NS_PER_S if record > 0 else None
         found.append(StaticValue(translation, rotation, at_s, int(times[k])))
     return tuple(found)
+
+
+def _edge_publishers(buffer: Buffer, child: str) -> tuple[str, ...]:
+    """The nodes that sent ``child``'s edge from its latest parent: not those that sent it under another parent
+    (a URDF's base_footprint -> base_link beside a driver's odom -> base_link)."""
+    hist = buffer.history(child)
+    if hist is None or not len(hist):
+        return ()
+    return publishers(buffer, hist.authorities[hist.parents == hist.latest_parent])
 
 
 def _publishers(authorities: Iterable[str], topics: Sequence[str]) -> tuple[str, ...] | None:

@@ -353,10 +353,10 @@ CARRIED = DEFAULT_CACHE_TIME
 def _recent(buffer: Buffer, within: int) -> TransformBatch:
     """What tells the next window's buffer what this one holds, in arrival order: the samples each moving
     edge holds at most ``within`` behind its newest stamp (which samples it already has), and each static
-    cache's first sample and latest to arrive (that its frame is static, and its parent now). tf2 keeps a frame's
-    cache kind across every sample: ROS 1's keeps the kind its first sample made (a frame latched on
-    /tf_static stays static whatever /tf sends it later), ROS 2's makes a new cache when the kind changes;
-    the next buffer, fed these first, applies its own rule."""
+    cache's first and latest sample to arrive (that its frame is static, and its parent now). tf2 keeps a
+    frame's cache kind across every sample: ROS 1's keeps the kind its first sample made (a frame latched
+    on /tf_static stays static whatever /tf sends it later), ROS 2's makes a new cache when the kind
+    changes; the next buffer, fed these first, applies its own rule."""
     recent = [
         np.array([hist.sequence.min(), hist.sequence.max()])
         if hist.static
