@@ -28,7 +28,7 @@ from tests.analysis.wtf_scenes import (
     write,
 )
 from tests.bags import BagFormat, TfMessage
-from tftools.analysis.differences import Change, compare, rotation_angle_deg
+from tftools.analysis.differences import Change, compare, describe, rotation_angle_deg
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape, shape_of
 from tftools.analysis.findings import Severity
 from tftools.analysis.tree_file import TreeFileError, read_tree, write_tree
@@ -263,7 +263,14 @@ def test_an_edges_publishers_are_those_that_sent_it_under_its_latest_parent() ->
     assert beside.frames["base_link"].publishers == ("/ekf",)
     assert beside.frames["laser"].publishers == ("/rsp",)
     differences = compare(beside, shape_of(recording(healthy())), Tolerances())
-    assert [d.change for d in differences if d.frame == "base_link"] == [Change.static]  # ROS 1's tf2 keeps it static
+    (static,) = [d for d in differences if d.frame == "base_link"]  # ROS 1's tf2 keeps it static
+    assert describe(static) == (
+        "odom -> base_link is static to tf2 though sent at 50.0 Hz on /tf (base_link's first transform came on "
+        "/tf_static: ROS 1's tf2 keeps the frame static, each transform replacing its value for every time) in A, "
+        "moving at 50.0 Hz in B"
+    )
+    ros2 = shape_of(recording(healthy(statics=[urdf, statics()]), ros1=False)).frames["base_link"]
+    assert not ros2.static and ros2.on_tf_hz == 0.0  # ROS 2's tf2 made a new, moving cache
     two = healthy(ekf=sorted(ekf() + periodic("/ekf2", 50, odom_base, phase=0.01), key=lambda m: m.record_time))
     assert shape_of(recording(two)).frames["base_link"].publishers == ("/ekf", "/ekf2")  # both sent the edge
 

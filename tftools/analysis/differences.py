@@ -155,7 +155,14 @@ def _place(f: FrameShape) -> str:
 
 
 def _kind(f: FrameShape) -> str:
-    return "static" if f.static else f"moving at {f.rate_hz:.1f} Hz"
+    if not f.static:
+        return f"moving at {f.rate_hz:.1f} Hz"
+    if f.on_tf_hz > 0:
+        return (
+            f"static to tf2 though sent at {f.on_tf_hz:.1f} Hz on /tf ({f.frame}'s first transform came on "
+            "/tf_static: ROS 1's tf2 keeps the frame static, each transform replacing its value for every time)"
+        )
+    return "static"
 
 
 def _value(f: FrameShape | StaticValue) -> str:

@@ -14,6 +14,8 @@ from tftools.analysis.edges import publishers
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
+from tftools.core.figures import rate_of, record_span
+from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
 from tftools.core.rotation import Quat, Vec3
 from tftools.core.time import NS_PER_S
 from tftools.sources.recording import Recording
@@ -59,6 +61,9 @@ class FrameShape:
     translation: Vec3 | None = None  # static edges only
     rotation: Quat | None = None
     received: tuple[StaticValue, ...] = ()  # static edges received with more than one value only
+    #: A static edge sent on /tf too (ROS 1's tf2 keeps a frame whose first transform came on /tf_static static,
+    #: each later one replacing its value for every time): its rate there; 0 for any other edge.
+    on_tf_hz: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -99,8 +104,17 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             translation=translation,
             rotation=rotation,
             received=received,
+            on_tf_hz=_on_tf_hz(hist) if summary.static and hist is not None else 0.0,
         )
     return TreeShape(frames, " + ".join(recording.paths))
+
+
+def _on_tf_hz(hist: EdgeHistory) -> float:
+    """The rate of a static edge's transforms from its latest parent that came on /tf (0 for fewer than two)."""
+    mine = (hist.parents == hist.latest_parent) & ((hist.flags & FROM_STATIC_TOPIC) == 0)
+    if np.count_nonzero(mine) < 2:
+        return 0.0
+    return rate_of(np.sort(hist.stamps[mine]), record_span(hist.record_times[mine]))
 
 
 def _value(row: npt.NDArray[np.float64]) -> tuple[Vec3, Quat]:
