@@ -36,6 +36,7 @@ from tftools.analysis.wtf import CHECKS
 from tftools.analysis.wtf.expectations import SHOWN
 from tftools.analysis.wtf.fleet import check
 from tftools.analysis.wtf.query import CheckQuery
+from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording
 
@@ -273,6 +274,21 @@ def test_an_edges_publishers_are_those_that_sent_it_under_its_latest_parent() ->
     assert not ros2.static and ros2.on_tf_hz == 0.0  # ROS 2's tf2 made a new, moving cache
     two = healthy(ekf=sorted(ekf() + periodic("/ekf2", 50, odom_base, phase=0.01), key=lambda m: m.record_time))
     assert shape_of(recording(two)).frames["base_link"].publishers == ("/ekf", "/ekf2")  # both sent the edge
+
+
+def test_an_edge_stamped_on_two_clocks_in_one_recording_only_differs() -> None:
+    """ros1-raspimouse-replay-beside-live-gmapping-2018-bag against the same robot's own run: map -> odom at 20 Hz
+    in both, but in the replay half its stamps are 7 days old (the replay's beside a live gmapping's): diff said no
+    difference."""
+    week = 7 * 86_400 * NS_PER_S
+    replayed = periodic("/replay", 10, map_odom, phase=0.05, stamp=lambda t: t - week)
+    two = shape_of(recording(healthy(amcl=sorted(amcl() + replayed, key=lambda m: m.record_time))))
+    one = shape_of(recording(healthy()))
+    assert (two.frames["odom"].clocks, one.frames["odom"].clocks) == (2, 1)
+    clocks, publishers = compare(one, two, Tolerances())
+    assert (clocks.change, clocks.frame, publishers.change) == (Change.clocks, "odom", Change.publishers)
+    assert describe(clocks).startswith("map -> odom is stamped on 2 clocks in B, on one clock in A (stamps further")
+    assert compare(two, two, Tolerances()) == []
 
 
 def test_many_differences_of_a_kind_are_said_a_few_then_counted(tmp_path: Path, expected_file: Path) -> None:

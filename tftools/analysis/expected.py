@@ -64,6 +64,7 @@ class FrameShape:
     #: A static edge sent on /tf too (ROS 1's tf2 keeps a frame whose first transform came on /tf_static static,
     #: each later one replacing its value for every time): its rate there; 0 for any other edge.
     on_tf_hz: float = 0.0
+    clocks: int = 1  # the time bases a moving edge's stamps are on (``FrameSummary.clocks``)
 
 
 @dataclass(frozen=True)
@@ -105,6 +106,7 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             rotation=rotation,
             received=received,
             on_tf_hz=_on_tf_hz(hist) if summary.static and hist is not None else 0.0,
+            clocks=summary.clocks,
         )
     return TreeShape(frames, " + ".join(recording.paths))
 
