@@ -210,7 +210,7 @@ def separate_trees(buffer: Buffer, target: str, source: str) -> SeparateTrees | 
     """Where ``target`` and ``source`` are in two separate trees, which (None: one tree, a frame unknown, or
     a loop). tf2 reports the first edge it cannot use at the time asked (an extrapolation) before it finds
     that the trees do not meet: this says why no time would do. Cheap where they are in one tree (a walk up
-    from each, as a replay or a live echo asks at each failure); the trees are summed up only where not."""
+    from each, as a live echo asks with each reminder while it waits); the trees are summed up only where not."""
     roots = [_root(buffer, frame) for frame in (target, source)]
     if None in roots or roots[0] == roots[1]:
         return None
