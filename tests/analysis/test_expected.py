@@ -276,7 +276,7 @@ def test_an_edges_publishers_are_those_that_sent_it_under_its_latest_parent() ->
     assert shape_of(recording(two)).frames["base_link"].publishers == ("/ekf", "/ekf2")  # both sent the edge
 
 
-def test_an_edge_stamped_on_two_clocks_in_one_recording_only_differs() -> None:
+def test_an_edge_stamped_on_two_clocks_in_one_recording_only_differs(tmp_path: Path) -> None:
     """ros1-raspimouse-replay-beside-live-gmapping-2018-bag against the same robot's own run: map -> odom at 20 Hz
     in both, but in the replay half its stamps are 7 days old (the replay's beside a live gmapping's): diff said no
     difference."""
@@ -289,6 +289,11 @@ def test_an_edge_stamped_on_two_clocks_in_one_recording_only_differs() -> None:
     assert (clocks.change, clocks.frame, publishers.change) == (Change.clocks, "odom", Change.publishers)
     assert describe(clocks).startswith("map -> odom is stamped on 2 clocks in B, on one clock in A (stamps further")
     assert compare(two, two, Tolerances()) == []
+    written = io.StringIO()
+    write_tree(two, written)  # a tree file does not say on how many clocks: no difference from it
+    file = tmp_path / "tree.yaml"
+    file.write_text(written.getvalue())
+    assert compare(read_tree(file), two, Tolerances()) == [] == compare(two, read_tree(file), Tolerances())
 
 
 def test_many_differences_of_a_kind_are_said_a_few_then_counted(tmp_path: Path, expected_file: Path) -> None:

@@ -72,7 +72,7 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
             change = after.rate_hz / before.rate_hz - 1.0
             if abs(change) * 100 > tolerances.rate_percent:
                 found.append(Difference(Change.rate, name, before, after, rate_change=change))
-        if before.clocks != after.clocks:
+        if before.clocks is not None and after.clocks is not None and before.clocks != after.clocks:
             found.append(Difference(Change.clocks, name, before, after))
     known = before.publishers is not None and after.publishers is not None
     if known and set(before.publishers or ()) != set(after.publishers or ()):

@@ -64,7 +64,9 @@ class FrameShape:
     #: A static edge sent on /tf too (ROS 1's tf2 keeps a frame whose first transform came on /tf_static static,
     #: each later one replacing its value for every time): its rate there; 0 for any other edge.
     on_tf_hz: float = 0.0
-    clocks: int = 1  # the time bases a moving edge's stamps are on (``FrameSummary.clocks``)
+    #: The time bases a moving edge's stamps are on (``FrameSummary.clocks``); None where not known (a tree file,
+    #: a URDF).
+    clocks: int | None = None
 
 
 @dataclass(frozen=True)
