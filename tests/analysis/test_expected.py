@@ -18,6 +18,7 @@ from tests.analysis.wtf_scenes import (
     ekf,
     healthy,
     map_odom,
+    odom_base,
     periodic,
     recording,
     statics,
@@ -27,7 +28,7 @@ from tests.analysis.wtf_scenes import (
     write,
 )
 from tests.bags import BagFormat, TfMessage
-from tftools.analysis.differences import Change, compare, rotation_angle_deg
+from tftools.analysis.differences import Change, compare, describe, rotation_angle_deg
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape, shape_of
 from tftools.analysis.findings import Severity
 from tftools.analysis.tree_file import TreeFileError, read_tree, write_tree
@@ -35,6 +36,7 @@ from tftools.analysis.wtf import CHECKS
 from tftools.analysis.wtf.expectations import SHOWN
 from tftools.analysis.wtf.fleet import check
 from tftools.analysis.wtf.query import CheckQuery
+from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording
 
@@ -250,6 +252,48 @@ def test_a_topic_standing_in_for_an_unnamed_publisher_is_no_publisher_change() -
     assert compare(named, unnamed, Tolerances()) == [] == compare(unnamed, named, Tolerances())
     renamed = shape_of(recording(healthy(amcl=periodic("/amcl_new", 10, map_odom))))
     assert [(d.change, d.frame) for d in compare(named, renamed, Tolerances())] == [(Change.publishers, "odom")]
+
+
+def test_an_edges_publishers_are_those_that_sent_it_under_its_latest_parent() -> None:
+    """Issue 39 (ros1-neato-urdf-beside-driver-2018-bag): the URDF's /robot_state_publisher latched base_footprint ->
+    base_link, the driver sends odom -> base_link: tfx diff named /robot_state_publisher a publisher of odom ->
+    base_link, which it never sent."""
+    urdf = TfMessage("/tf_static", START, [_t("base_footprint", "base_link", START)], "/rsp")
+    beside = shape_of(recording(healthy(statics=[urdf, statics()])))
+    assert beside.frames["base_link"].parent == "odom"
+    assert beside.frames["base_link"].publishers == ("/ekf",)
+    assert beside.frames["laser"].publishers == ("/rsp",)
+    differences = compare(beside, shape_of(recording(healthy())), Tolerances())
+    (static,) = [d for d in differences if d.frame == "base_link"]  # ROS 1's tf2 keeps it static
+    assert describe(static) == (
+        "odom -> base_link is static to tf2 though sent at 50.0 Hz on /tf (base_link's first transform came on "
+        "/tf_static: ROS 1's tf2 keeps the frame static, each transform replacing its value for every time) in A, "
+        "moving at 50.0 Hz in B"
+    )
+    ros2 = shape_of(recording(healthy(statics=[urdf, statics()]), ros1=False)).frames["base_link"]
+    assert not ros2.static and ros2.on_tf_hz == 0.0  # ROS 2's tf2 made a new, moving cache
+    two = healthy(ekf=sorted(ekf() + periodic("/ekf2", 50, odom_base, phase=0.01), key=lambda m: m.record_time))
+    assert shape_of(recording(two)).frames["base_link"].publishers == ("/ekf", "/ekf2")  # both sent the edge
+
+
+def test_an_edge_stamped_on_two_clocks_in_one_recording_only_differs(tmp_path: Path) -> None:
+    """ros1-raspimouse-replay-beside-live-gmapping-2018-bag against the same robot's own run: map -> odom at 20 Hz
+    in both, but in the replay half its stamps are 7 days old (the replay's beside a live gmapping's): diff said no
+    difference."""
+    week = 7 * 86_400 * NS_PER_S
+    replayed = periodic("/replay", 10, map_odom, phase=0.05, stamp=lambda t: t - week)
+    two = shape_of(recording(healthy(amcl=sorted(amcl() + replayed, key=lambda m: m.record_time))))
+    one = shape_of(recording(healthy()))
+    assert (two.frames["odom"].clocks, one.frames["odom"].clocks) == (2, 1)
+    clocks, publishers = compare(one, two, Tolerances())
+    assert (clocks.change, clocks.frame, publishers.change) == (Change.clocks, "odom", Change.publishers)
+    assert describe(clocks).startswith("map -> odom is stamped on 2 clocks in B, on one clock in A (stamps further")
+    assert compare(two, two, Tolerances()) == []
+    written = io.StringIO()
+    write_tree(two, written)  # a tree file does not say on how many clocks: no difference from it
+    file = tmp_path / "tree.yaml"
+    file.write_text(written.getvalue())
+    assert compare(read_tree(file), two, Tolerances()) == [] == compare(two, read_tree(file), Tolerances())
 
 
 def test_many_differences_of_a_kind_are_said_a_few_then_counted(tmp_path: Path, expected_file: Path) -> None:

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.bags import TfMessage
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tests.oracle import Scenario, binding_time, run_tf2
 from tftools.core.time import NS_PER_S
@@ -196,3 +197,25 @@ def test_a_failure_between_separate_trees_keeps_tf2_s_reason_and_hints_at_the_tr
     assert "publish the transform that attaches camera_root to the map tree" in result.stderr
     joined = tfx("echo", "map", "laser", "-b", bag, "--at", "1")  # one tree: a failure there gets no such hint
     assert joined.code == 1 and "separate trees" not in joined.stderr
+    played = tfx("echo", "base_link", "marker", "-b", bag, "--play", "--start", "-0.5", "--rate", "10")
+    assert played.code == 1
+    assert "Exception thrown:Could not find a connection between 'base_link' and 'marker'" in played.stdout
+    assert played.stderr.count("hint: ") == 1  # once, however many lookups failed
+    assert played.stderr.startswith(
+        "hint: marker and base_link are in separate trees, marker in camera_root's (2 frames) and base_link in "
+        "map's (6 frames): no transform joins them, so no lookup between them succeeds at any time; publish"
+    )  # tf2's reason says they are not in one tree: no word on which edge it names
+
+
+def test_a_replay_whose_frames_are_joined_later_gives_no_separate_trees_hint(tfx: Tfx, tmp_path: Path) -> None:
+    """Replayed, frames apart at first (map known by a landmark latched under it, map -> odom not sent yet) and
+    joined later: the first lookups fail, and no hint says no transform joins them; echo looks at the tree as the
+    replay ends, as a whole read does."""
+    from tests.analysis.wtf_scenes import FORMATS, START, _t, amcl, healthy, statics, write
+
+    landmark = TfMessage("/tf_static", START, [_t("map", "landmark", START)], "/map_server")
+    bag = write(tmp_path, "late_map", FORMATS[0], healthy(amcl=amcl(start=1.0), statics=[landmark, statics()]))
+    played = tfx("echo", "map", "base_link", "-b", bag, "--play", "--end", "+1.5", "--rate", "10")
+    assert played.code == 1 and "- Translation:" in played.stdout
+    assert "Exception thrown:Could not find a connection between 'map' and 'base_link'" in played.stdout
+    assert "separate trees" not in played.stderr

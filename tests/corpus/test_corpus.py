@@ -27,6 +27,8 @@ from tests.cli.conftest import Result, Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus import data
 from tests.corpus.fetch import Recording, load_manifest, shared_dir
 from tests.oracle import ERROR_CLASSES, Row, Scenario, binding_time, run_tf2
+from tests.sources.test_stream import whole_parents
+from tftools.analysis.expected import shape_of
 from tftools.core.batch import concat_batches
 from tftools.core.errors import TransformError
 from tftools.core.time import NS_PER_S
@@ -624,6 +626,7 @@ def test_a_streamed_replay_is_the_whole_ones(recording: Recording, corpus: Corpu
     for kept, every in pairs:
         _same_edge_clock(kept, every)
     assert sorted(streamed.frames) == sorted(whole.buffer.frames)
+    assert streamed.parents == whole_parents(whole.buffer)  # static where tf2 keeps it static, across windows
 
 
 MS = 1_000_000
@@ -699,3 +702,16 @@ def test_diff_of_two_calibrations_counts_no_publisher_change_for_an_unnamed_one(
     assert result.code == 1 and "publishers" not in changes
     a, b = data.read_contents(first), data.read_contents(second)
     assert changes.count("lost") == len(a.frames - b.frames) and changes.count("added") == len(b.frames - a.frames)
+
+
+@pytest.mark.parametrize("recording", _cases("test_an_edges_publishers_are_those_its_bytes_name", ROS1_WITH_TF))
+def test_an_edges_publishers_are_those_its_bytes_name(recording: Recording, corpus: Corpus) -> None:
+    """What ``tfx diff`` and ``wtf --init`` say of each edge's publishers: the callerids of the connections that
+    sent that parent -> child, read by another reader (ros1-neato-urdf-beside-driver-2018-bag: odom -> base_link
+    was said to be /robot_state_publisher's too, which sent base_footprint -> base_link only)."""
+    path = corpus(recording)
+    contents = data.read_contents(path)
+    shape = shape_of(read_recording([path]))
+    named = [f for f in shape.frames.values() if f.parent is not None and f.publishers is not None]
+    for frame in named:
+        assert set(frame.publishers or ()) == contents.edges[(frame.parent or "", frame.frame)].publishers, frame.frame

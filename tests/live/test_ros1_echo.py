@@ -128,3 +128,23 @@ def test_no_master_uri_says_what_to_do(ros: Ros) -> None:
     result = ros.run_tfx("frames", env=env)
     assert result.returncode == 2
     assert "ROS_MASTER_URI is not set" in result.stderr and "-b BAG" in result.stderr
+
+
+@pytest.mark.live
+def test_echo_between_separate_trees_says_which_while_it_waits(ros: Ros) -> None:
+    """Issue 39: the hint a recording's echo gives under failures between two trees no transform joins, live
+    too: once (with the first reminder, 5 s in, not again when echo gives up), naming both trees as heard so far."""
+    ros.spawn(STATIC_PUBLISHER, "1", "0", "0", "0", "0", "0", "sep_map", "sep_odom")
+    ros.spawn(STATIC_PUBLISHER, "0", "0", "1", "0", "0", "0", "sep_camera_root", "sep_marker")
+    wait_until(lambda: len(ros.master.publishers("/tf_static")) >= 2, 20, "the two static publishers")
+    result = ros.run_tfx("echo", "sep_odom", "sep_marker", "--wait", "6")
+    assert result.returncode == 2
+    assert "still waiting (5 s): Could not find a connection between 'sep_odom' and 'sep_marker'" in result.stderr
+    hints = [line for line in result.stderr.splitlines() if line.startswith("hint: ")]
+    assert hints == [
+        "hint: sep_marker and sep_odom are in separate trees, sep_marker in sep_camera_root's (2 frames) and sep_odom "
+        "in sep_map's (2 frames): no transform heard so far joins them, so no lookup between them succeeds yet; "
+        "publish the transform that attaches sep_camera_root to the sep_map tree (a static_transform_publisher for a "
+        "fixed mount, localization for map -> odom), or check the frame names for typos"
+    ]
+    assert "no transform sep_odom <- sep_marker" in result.stderr

@@ -101,6 +101,7 @@ def test_a_streamed_sample_bag_replays_the_rows_of_the_whole(paths: list[Path]) 
     whole = read_recording(paths)
     assert_same_timeline(streamed.timeline, whole.timeline.played())
     assert sorted(streamed.frames) == sorted(whole.buffer.frames)
+    assert streamed.parents == whole_parents(whole.buffer)
     assert streamed.semantics == whole.buffer.semantics
     # each part is about one window's: no part holds much more than its share
     assert max(len(p) for p in parts) <= 4 * len(rows) / len(streamed.windows)
@@ -183,16 +184,62 @@ def test_a_sample_sent_again_in_a_later_window_is_stored_once(tmp_path: Path, fm
 
 
 def test_only_the_last_seconds_of_each_edge_are_carried_to_the_next_window() -> None:
-    """What the first pass carries from a window to the next is bounded by time, not by the recording."""
-    buffer = Buffer(cache_time=None, semantics="ros2")
-    for tick in range(60 * 50):  # a minute at 50 Hz, and a static that is never carried
-        buffer.set_transform(_transform("odom", "base_link", SIM + tick * NS_PER_S // 50, tick / 50))
+    """What the first pass carries from a window to the next is bounded by time, not by the recording: a
+    moving edge's last seconds, a static cache's first sample and latest, however many it was sent."""
+    buffer = Buffer(cache_time=None, semantics="ros1")
     buffer.set_transform(_transform("base_link", "laser", SIM, 0.2), static=True)
+    for tick in range(60 * 50):  # a minute at 50 Hz, the laser's static cache given a value on /tf each time
+        buffer.set_transform(_transform("odom", "base_link", SIM + tick * NS_PER_S // 50, tick / 50))
+        buffer.set_transform(_transform("base_link", "laser", SIM + tick * NS_PER_S // 50, 0.3))
     carried = _recent(buffer, CARRIED)
-    assert len(carried) == CARRIED // (NS_PER_S // 50) + 1
+    laser = carried.child == carried.frame_names.index("laser")
+    assert carried.static[laser].tolist() == [True, False]  # the latched sample, then the /tf one it holds now
+    assert carried.stamp[laser].tolist() == [SIM, SIM + (60 * 50 - 1) * NS_PER_S // 50]
+    odom = carried.stamp[~laser]
+    assert len(odom) == CARRIED // (NS_PER_S // 50) + 1
     history = buffer.history("base_link")
     assert history is not None
-    assert carried.stamp.tolist() == history.stamps[-len(carried) :].tolist()
+    assert odom.tolist() == history.stamps[-len(odom) :].tolist()
+
+
+def latched_then_on_tf(path: Path, fmt: BagFormat) -> Path:
+    """base_link -> laser latched once on /tf_static, then sent on /tf at 20 Hz (tf1's static_transform_publisher
+    beside a robot_state_publisher, as on a CompRobo Neato) under an odometry at 20 Hz: the latched message lies
+    in the first window only."""
+    messages = [TfMessage("/tf_static", WALL, [_transform("base_link", "laser", WALL - 100 * NS_PER_S, 0.2)])]
+    for tick in range(1, 200):
+        stamp = WALL + tick * NS_PER_S // 20
+        sent = [_transform("odom", "base_link", stamp, tick / 20), _transform("base_link", "laser", stamp, 0.3)]
+        messages.append(TfMessage("/tf", stamp + 1000, sent))
+    return write_bag(path, messages, fmt)
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_a_frames_cache_kind_is_carried_across_windows(tmp_path: Path, fmt: BagFormat) -> None:
+    """Issue 39 (ros1-neato-urdf-beside-driver-2018-bag): past the window of the one latched /tf_static message,
+    a streamed read took the laser for a moving edge while the whole read kept it in the static cache ROS 1's tf2
+    made from its first sample (ROS 2's tf2 makes a new, moving cache on the first /tf sample: moving in both)."""
+    bag = latched_then_on_tf(tmp_path / "latched", fmt)
+    streamed = stream_recording([bag], window_messages=10)
+    assert len(streamed.windows) > 10
+    whole = read_recording([bag])
+    static = fmt is BagFormat.ros1
+    assert (
+        streamed.parents
+        == whole_parents(whole.buffer)
+        == {
+            "base_link": ("odom", False),
+            "laser": ("base_link", static),
+        }
+    )
+    assert_same_timeline(streamed.timeline, whole.timeline.played())
+    assert sorted(e.child for e in streamed.timeline.edges) == (["base_link"] if static else ["base_link", "laser"])
+    assert set(streamed.moving_chain("odom", "laser")) == set(chain_moving_edges(whole.buffer, "odom", "laser"))
+
+
+def whole_parents(buffer: Buffer) -> dict[str, tuple[str, bool]]:
+    """Each child's latest parent in a whole read's buffer, and whether its cache is static."""
+    return {child: (buffer.frame_name(h.latest_parent), h.static) for child, h in buffer.histories() if len(h)}
 
 
 def test_a_bag_without_transforms_is_refused(tmp_path: Path) -> None:

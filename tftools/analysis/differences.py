@@ -20,6 +20,7 @@ class Change(str, enum.Enum):
     moved = "moved"  # a static edge's value, beyond the tolerances
     reordered = "reordered"  # the same static values received in another order: tf2 keeps another one
     rate = "rate"  # a moving edge's rate, beyond the tolerance
+    clocks = "clocks"  # a moving edge's stamps on more time bases in one than in the other
     publishers = "publishers"
 
 
@@ -66,10 +67,13 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
         if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
             kind = Change.reordered if _same_values(before, after, tolerances) else Change.moved
             found.append(Difference(kind, name, before, after, translation_mm=mm, rotation_deg=deg))
-    elif before.rate_hz > 0:
-        change = after.rate_hz / before.rate_hz - 1.0
-        if abs(change) * 100 > tolerances.rate_percent:
-            found.append(Difference(Change.rate, name, before, after, rate_change=change))
+    else:
+        if before.rate_hz > 0:
+            change = after.rate_hz / before.rate_hz - 1.0
+            if abs(change) * 100 > tolerances.rate_percent:
+                found.append(Difference(Change.rate, name, before, after, rate_change=change))
+        if before.clocks is not None and after.clocks is not None and before.clocks != after.clocks:
+            found.append(Difference(Change.clocks, name, before, after))
     known = before.publishers is not None and after.publishers is not None
     if known and set(before.publishers or ()) != set(after.publishers or ()):
         found.append(Difference(Change.publishers, name, before, after))
@@ -144,10 +148,20 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         )
     if d.change is Change.rate:
         return f"{edge} at {after.rate_hz:.1f} Hz in {b}, {before.rate_hz:.1f} Hz in {a} ({d.rate_change:+.0%})"
+    if d.change is Change.clocks:
+        return (
+            f"{edge} is stamped on {_clocks(after)} in {b}, on {_clocks(before)} in {a} (stamps further apart than "
+            "the transforms took to arrive: publishers on different clocks, as a recording replayed with its own tf "
+            "beside live nodes; tfx wtf says which)"
+        )
     return (
         f"{edge} published by {', '.join(after.publishers or ()) or 'nobody'} in {b}, "
         f"by {', '.join(before.publishers or ()) or 'nobody'} in {a}"
     )
+
+
+def _clocks(f: FrameShape) -> str:
+    return "one clock" if f.clocks == 1 else f"{f.clocks} clocks"
 
 
 def _place(f: FrameShape) -> str:
@@ -155,7 +169,14 @@ def _place(f: FrameShape) -> str:
 
 
 def _kind(f: FrameShape) -> str:
-    return "static" if f.static else f"moving at {f.rate_hz:.1f} Hz"
+    if not f.static:
+        return f"moving at {f.rate_hz:.1f} Hz"
+    if f.on_tf_hz > 0:
+        return (
+            f"static to tf2 though sent at {f.on_tf_hz:.1f} Hz on /tf ({f.frame}'s first transform came on "
+            "/tf_static: ROS 1's tf2 keeps the frame static, each transform replacing its value for every time)"
+        )
+    return "static"
 
 
 def _value(f: FrameShape | StaticValue) -> str:

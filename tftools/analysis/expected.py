@@ -10,8 +10,12 @@ from dataclasses import asdict, dataclass
 import numpy as np
 import numpy.typing as npt
 
+from tftools.analysis.edges import publishers
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.core.arrays import Int64Array
+from tftools.core.buffer import Buffer
+from tftools.core.figures import rate_of, record_span
+from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
 from tftools.core.rotation import Quat, Vec3
 from tftools.core.time import NS_PER_S
 from tftools.sources.recording import Recording
@@ -57,6 +61,12 @@ class FrameShape:
     translation: Vec3 | None = None  # static edges only
     rotation: Quat | None = None
     received: tuple[StaticValue, ...] = ()  # static edges received with more than one value only
+    #: A static edge sent on /tf too (ROS 1's tf2 keeps a frame whose first transform came on /tf_static static,
+    #: each later one replacing its value for every time): its rate there; 0 for any other edge.
+    on_tf_hz: float = 0.0
+    #: The time bases a moving edge's stamps are on (``FrameSummary.clocks``); None where not known (a tree file,
+    #: a URDF).
+    clocks: int | None = None
 
 
 @dataclass(frozen=True)
@@ -93,12 +103,22 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             parent=summary.parent,
             static=summary.static,
             rate_hz=summary.rate_hz,
-            publishers=_publishers(summary.authorities, recording.contents.topics) if named else None,
+            publishers=_publishers(_edge_publishers(buffer, name), recording.contents.topics) if named else None,
             translation=translation,
             rotation=rotation,
             received=received,
+            on_tf_hz=_on_tf_hz(hist) if summary.static and hist is not None else 0.0,
+            clocks=summary.clocks,
         )
     return TreeShape(frames, " + ".join(recording.paths))
+
+
+def _on_tf_hz(hist: EdgeHistory) -> float:
+    """The rate of a static edge's transforms from its latest parent that came on /tf (0 for fewer than two)."""
+    mine = (hist.parents == hist.latest_parent) & ((hist.flags & FROM_STATIC_TOPIC) == 0)
+    if np.count_nonzero(mine) < 2:
+        return 0.0
+    return rate_of(np.sort(hist.stamps[mine]), record_span(hist.record_times[mine]))
 
 
 def _value(row: npt.NDArray[np.float64]) -> tuple[Vec3, Quat]:
@@ -121,6 +141,15 @@ def _received(
         at_s = (record - start) / NS_PER_S if record > 0 else None
         found.append(StaticValue(translation, rotation, at_s, int(times[k])))
     return tuple(found)
+
+
+def _edge_publishers(buffer: Buffer, child: str) -> tuple[str, ...]:
+    """The nodes that sent ``child``'s edge from its latest parent: not those that sent it under another parent
+    (a URDF's base_footprint -> base_link beside a driver's odom -> base_link)."""
+    hist = buffer.history(child)
+    if hist is None or not len(hist):
+        return ()
+    return publishers(buffer, hist.authorities[hist.parents == hist.latest_parent])
 
 
 def _publishers(authorities: Iterable[str], topics: Sequence[str]) -> tuple[str, ...] | None:

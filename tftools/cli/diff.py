@@ -27,7 +27,8 @@ def command(
 ) -> None:
     """Where the tf trees of A and B differ: frames added and lost, re-parented frames, static edges
     (extrinsics) moved, by how much in mm and degrees, or received with the same values in another order
-    (reordered: tf2 keeps the last received), rates and publishers changed.
+    (reordered: tf2 keeps the last received), edges static in one and moving in the other, rates changed,
+    edges stamped on more clocks in one, and each edge's publishers changed.
 
     A or B may be a tree file ([cyan]tfx wtf --init good.bag > tree.yaml[/]); its tolerances count
     unless given here. A or B may be a URDF file (.urdf): its links, fixed joints as static edges at

@@ -134,7 +134,7 @@ def command(
         feed = live.open_source(ros1, use_sim_time, topics)
         query = EchoQuery(target=target, source=source, rate=rate, cache_time=from_sec(cache))
         ros2 = (tf2 or ("ros2" if feed.format.startswith("ros2") else "ros1")) == "ros2"
-        exit_with(_live(feed, query, count, wait, tf2, replace(lines, ros2=ros2)))
+        exit_with(_live(feed, query, count, wait, tf2, replace(lines, ros2=ros2, live=True)))
     query = EchoQuery(
         target=target,
         source=source,
@@ -149,7 +149,7 @@ def command(
         lines = replace(lines, ros2=streamed.semantics == "ros2")
         frames = streamed.frames
         query = replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
-        echo_stream(streamed, query, lambda series, _buffer: lines.show(series))
+        echo_stream(streamed, query, lines.show)
         exit_with(lines.done())
     recording = open_recording(bags, topics, tf2)
     lines = replace(lines, ros2=recording.buffer.semantics == "ros2")
@@ -157,28 +157,8 @@ def command(
     series = echo(
         recording, replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
     )
-    if plot is None:  # on a bag, the picture instead of the lines
-        lines.print(series)
-    lines.shown.append(series)
-    if not series.valid.all():
-        _say_separate(recording.buffer, series.target, series.source)
+    lines.show(series, recording.buffer, print_lines=plot is None)  # on a bag, the picture instead of the lines
     exit_with(lines.done())
-
-
-def _say_separate(buffer: Buffer, target: str, source: str) -> None:
-    """Under tf2's failures, on stderr: that the frames are in trees no transform joins, where they are."""
-    from tftools.analysis.echo import separate_trees
-    from tftools.analysis.findings import counted
-
-    apart = separate_trees(buffer, target, source)
-    if apart is None:
-        return
-    say_hint(
-        f"{source} and {target} are in separate trees, {source} in {apart.source_root}'s "
-        f"({counted(apart.source_frames, 'frame')}) and {target} in {apart.target_root}'s "
-        f"({counted(apart.target_frames, 'frame')}): no transform joins them, so no lookup between them succeeds "
-        f"at any time (tf2 names the first edge it cannot use at the time asked, not the missing join); {apart.hint}"
-    )
 
 
 @dataclass(frozen=True)
@@ -190,7 +170,10 @@ class Lines:
     matrix: bool
     plot: Path | None
     ros2: bool = False  # the data's ROS: whose static_transform_publisher line ``static`` prints
+    live: bool = False  # a live system's lookups: its tree is the one heard so far
     shown: list[EchoSeries] = field(default_factory=list)
+    looked_in: list[Buffer] = field(default_factory=list)  # the buffer of the latest lookups shown
+    hinted: list[str] = field(default_factory=list)  # the hint said (one at most)
 
     def print(self, series: EchoSeries) -> None:
         """Print the lookups (CSV's header only before the first)."""
@@ -208,21 +191,41 @@ class Lines:
             render.write_text(series, stdout.file, self.precision, self.matrix)
         stdout.file.flush()
 
-    def show(self, series: EchoSeries) -> EchoSeries:
-        """Print a lookup of the latest transform (``analysis.echo.latest``), and show it in the picture."""
-        self.print(series)
+    def show(self, series: EchoSeries, buffer: Buffer, *, print_lines: bool = True) -> EchoSeries:
+        """Print lookups (a whole read's, or one of the latest transform, ``analysis.echo.latest``) and show
+        them in the picture; ``buffer``: the one they were looked up in, whose tree ``done`` looks at."""
+        if print_lines:
+            self.print(series)
         self.shown.append(series)
+        self.looked_in[:] = [buffer]
         return series
 
+    def hint(self, series: EchoSeries, buffer: Buffer) -> None:
+        """On stderr, once: that the frames of ``series``, whose lookups failed, are in trees that no transform
+        in ``buffer`` joins (``analysis.echo.apart_hint``): what tf2's reason leaves unsaid. Said when echo ends,
+        of the tree then (a recording read whole or replayed, a live system), and while a live echo waits."""
+        from tftools.analysis.echo import apart_hint
+
+        if self.hinted or series.valid.all():
+            return
+        said = apart_hint(buffer, series.target, series.source, series.errors.values(), heard_so_far=self.live)
+        if said is not None:
+            self.hinted.append(said)
+            say_hint(said)
+
     def done(self) -> Exit:
-        """Draw the picture, if asked for and anything was shown; PROBLEMS if a lookup failed."""
+        """The hint under failures (``hint``); the picture, if asked for and anything was shown; PROBLEMS if a
+        lookup failed."""
         from tftools.analysis.echo import joined
         from tftools.render.plots import echo_figure
 
+        failed = [s for s in self.shown if not s.valid.all()]
+        if failed and self.looked_in:
+            self.hint(joined(failed), self.looked_in[0])
         if self.plot is not None and self.shown:
             series = joined(self.shown)
             write_plot(echo_figure(series), self.plot, f"{len(series)} lookups of {series.target} <- {series.source}")
-        return Exit.OK if all(s.valid.all() for s in self.shown) else Exit.PROBLEMS
+        return Exit.PROBLEMS if failed else Exit.OK
 
 
 def _live(
@@ -235,7 +238,7 @@ def _live(
     from tftools.sources.live.errors import TransformNotHeardError
 
     def show(series: EchoSeries, buffer: Buffer) -> None:
-        lines.show(series)
+        lines.show(series, buffer)
         if not series.valid.all() and lines.fmt is EchoFormat.text:  # tf_echo lists the frames after a failure
             stdout.file.write(f"The current list of frames is:\n{printable_lines(buffer.all_frames_as_string())}")
             stdout.file.flush()
@@ -243,7 +246,16 @@ def _live(
     what = feed.describe()
     live.say(f"listening to {what}; waiting for the transform {frame_name(query.target)} <- {frame_name(query.source)}")
     try:
-        echo_stream(feed, query, show, count=count, wait=wait, semantics=semantics, on_reminder=live.remind)
+        echo_stream(
+            feed,
+            query,
+            show,
+            count=count,
+            wait=wait,
+            semantics=semantics,
+            on_reminder=live.remind,
+            on_waiting=lines.hint,
+        )
     except TransformNotHeardError as error:
         raise UsageError(
             f"no transform {error.target} <- {error.source} from {what} after {error.waited:.1f} s: {error.reason}",

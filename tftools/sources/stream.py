@@ -351,12 +351,18 @@ CARRIED = DEFAULT_CACHE_TIME
 
 
 def _recent(buffer: Buffer, within: int) -> TransformBatch:
-    """The samples ``buffer``'s moving edges hold at most ``within`` behind each edge's newest stamp, in
-    arrival order: what tells the next window's buffer which samples it already has."""
+    """What tells the next window's buffer what this one holds, in arrival order: the samples each moving
+    edge holds at most ``within`` behind its newest stamp (which samples it already has), and each static
+    cache's first and latest sample to arrive (that its frame is static, and its parent now). tf2 keeps a
+    frame's cache kind across every sample: ROS 1's keeps the kind its first sample made (a frame latched
+    on /tf_static stays static whatever /tf sends it later), ROS 2's makes a new cache when the kind
+    changes; the next buffer, fed these first, applies its own rule."""
     recent = [
-        hist.sequence[hist.stamps >= hist.latest_stamp - within]
+        np.array([hist.sequence.min(), hist.sequence.max()])
+        if hist.static
+        else hist.sequence[hist.stamps >= hist.latest_stamp - within]
         for _, hist in buffer.histories()
-        if not hist.static and len(hist)
+        if len(hist)
     ]
     if not recent:
         return TransformBatch.empty()

@@ -6,7 +6,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -14,11 +14,12 @@ import numpy as np
 import numpy.typing as npt
 
 from tftools.analysis.edges import chain_moving_edges
+from tftools.analysis.findings import counted
 from tftools.analysis.frames import tree_of
 from tftools.analysis.times import Stamp, TimeSpec, played_range, resolve_range, resolve_time
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
-from tftools.core.errors import TooManyLinesError, TransformError
+from tftools.core.errors import ExtrapolationError, TooManyLinesError, TransformError
 from tftools.core.frames import frame_name
 from tftools.core.rotation import rpy_from_quat_many
 from tftools.core.time import NS_PER_S
@@ -88,6 +89,7 @@ def echo_stream(
     wait: float | None = None,
     semantics: Semantics | None = None,
     on_reminder: Callable[[Waiting], object] | None = None,
+    on_waiting: Callable[[EchoSeries, Buffer], object] | None = None,
 ) -> None:
     """``tfx echo`` on a stream, as tf_echo sees a live system: ``on_series`` given the latest transform
     (``latest``) and the buffer it is looked up in ``query.rate`` times a second of the feed's clock.
@@ -96,11 +98,12 @@ def echo_stream(
     buffer as tf_echo's (the stamps' clock, the recording's semantics), until it ends. A live source (not
     yet started; ``semantics``: its tf2's, default the source's): listened to into a buffer of
     ``query.cache_time``, the transform awaited first (``wait`` seconds at most: ``TransformNotHeardError``;
-    meanwhile ``on_reminder``, as ``wait_for_transform``), then ``count`` times, or until it ends or Ctrl-C."""
+    meanwhile ``on_reminder``, as ``wait_for_transform``, and ``on_waiting`` given the latest lookup that failed,
+    with each reminder and on giving up), then ``count`` times, or until it ends or Ctrl-C."""
     from tftools.sources.stream import StreamedRecording
 
     if not isinstance(feed, StreamedRecording):
-        _echo_live(feed, query, on_series, count, wait, semantics, on_reminder)
+        _echo_live(feed, query, on_series, count, wait, semantics, on_reminder, on_waiting)
         return
     from tftools.sources.replay import follow_into
 
@@ -119,14 +122,30 @@ def _echo_live(
     wait: float | None,
     semantics: Semantics | None,
     on_reminder: Callable[[Waiting], object] | None,
+    on_waiting: Callable[[EchoSeries, Buffer], object] | None,
 ) -> None:
     from tftools.sources.live.capture import listen, wait_for_transform
+    from tftools.sources.live.errors import TransformNotHeardError
     from tftools.sources.ticker import tick_every
 
     target, source_frame = frame_name(query.target), frame_name(query.source)
+
+    def failing() -> None:
+        if on_waiting is not None:
+            on_waiting(latest(buffer, target, source_frame), buffer)
+
+    def reminded(waiting: Waiting) -> None:
+        if on_reminder is not None:
+            on_reminder(waiting)
+        failing()
+
     with source:
         buffer = listen(source, query.cache_time, semantics)
-        wait_for_transform(buffer, target, source_frame, wait, on_reminder)
+        try:
+            wait_for_transform(buffer, target, source_frame, wait, reminded)
+        except TransformNotHeardError:
+            failing()
+            raise
 
         def tick() -> None:
             on_series(latest(buffer, target, source_frame), buffer)
@@ -160,9 +179,19 @@ def lookups(buffer: Buffer, target: str, source: str, times: npt.ArrayLike) -> E
 
 def latest(buffer: Buffer, target: str, source: str) -> EchoSeries:
     """The lookup of the latest transform, said at the buffer's time now, as a live tf_echo prints it (its
-    "At time" of a success is the transform's stamp, its "Failure at" that time)."""
+    "At time" of a success is the transform's stamp, its "Failure at" that time). A frame not heard yet (a
+    replay started where its first transform is still to come) is a failure with tf2's reason, as tf_echo
+    prints it and goes on."""
     with buffer.lock:
-        return dataclasses.replace(lookups(buffer, target, source, [0]), times=np.array([buffer.now()], np.int64))
+        now = np.array([buffer.now()], np.int64)
+        try:
+            return dataclasses.replace(lookups(buffer, target, source, [0]), times=now)
+        except TransformError as error:
+            nothing = np.zeros((1, 3))
+            return EchoSeries(
+                target, source, now, np.zeros(1, np.int64), nothing, np.array([[0.0, 0.0, 0.0, 1.0]]), nothing,
+                np.zeros(1, bool), {0: error},
+            )  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -180,18 +209,55 @@ class SeparateTrees:
 def separate_trees(buffer: Buffer, target: str, source: str) -> SeparateTrees | None:
     """Where ``target`` and ``source`` are in two separate trees, which (None: one tree, a frame unknown, or
     a loop). tf2 reports the first edge it cannot use at the time asked (an extrapolation) before it finds
-    that the trees do not meet: this says why no time would do."""
+    that the trees do not meet: this says why no time would do. Cheap where they are in one tree (a walk up
+    from each, as a live echo asks with each reminder while it waits); the trees are summed up only where not."""
+    roots = [_root(buffer, frame) for frame in (target, source)]
+    if None in roots or roots[0] == roots[1]:
+        return None
     tree = tree_of(buffer)
-    if target not in tree.frames or source not in tree.frames:
-        return None
-    roots = [(tree.ancestors(frame) or [frame])[-1] for frame in (target, source)]
-    if roots[0] == roots[1] or any(tree.frames[r].parent is not None for r in roots):
-        return None
     from tftools.analysis.wtf.structure import join_hint
 
     members = tree.trees()
-    hint = join_hint(roots, members)
-    return SeparateTrees(roots[0], len(members[roots[0]]), roots[1], len(members[roots[1]]), hint)
+    named = [root for root in roots if root is not None]
+    if any(root not in members for root in named):
+        return None
+    hint = join_hint(named, members)
+    return SeparateTrees(named[0], len(members[named[0]]), named[1], len(members[named[1]]), hint)
+
+
+def _root(buffer: Buffer, frame: str) -> str | None:
+    """The root above ``frame`` by latest parents (``frame`` itself where it has none); None where the frame is
+    unknown or its parents loop."""
+    if not buffer.has_frame(frame):
+        return None
+    seen = {frame}
+    while (parent := buffer.parent(frame)) is not None:
+        if parent in seen:
+            return None
+        seen.add(parent)
+        frame = parent
+    return frame
+
+
+def apart_hint(
+    buffer: Buffer, target: str, source: str, errors: Iterable[TransformError], *, heard_so_far: bool = False
+) -> str | None:
+    """What to say under the failed lookups between ``target`` and ``source`` (tf2's ``errors``) where they are in
+    separate trees (``separate_trees``): which trees, and how to join them; where tf2 named an edge instead (an
+    extrapolation on the first edge it walked, as a lookup at a time fails), that no time would do. None where
+    they are in one tree. ``heard_so_far``: the tree is a live system's, as heard until now."""
+    apart = separate_trees(buffer, target, source)
+    if apart is None:
+        return None
+    named_an_edge = any(isinstance(e, ExtrapolationError) for e in errors)
+    why = " (tf2 names the first edge it cannot use at the time asked, not the missing join)" if named_an_edge else ""
+    joins = "no transform heard so far joins them" if heard_so_far else "no transform joins them"
+    return (
+        f"{source} and {target} are in separate trees, {source} in {apart.source_root}'s "
+        f"({counted(apart.source_frames, 'frame')}) and {target} in {apart.target_root}'s "
+        f"({counted(apart.target_frames, 'frame')}): {joins}, so no lookup between them succeeds "
+        f"{'yet' if heard_so_far else 'at any time'}{why}; {apart.hint}"
+    )
 
 
 def echo_times(buffer: Buffer, timeline: Timeline, query: EchoQuery) -> Int64Array:
