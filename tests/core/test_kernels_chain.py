@@ -191,3 +191,30 @@ def test_intervals_of_more_than_52_days_too() -> None:
         times = np.sort(rng.integers(low, high, 600))
         assert _block(buffer, "a", "b", times[:256])
         assert assert_same_bits(buffer, "a", "b", times).all()
+
+
+def test_into_the_root_where_the_answer_has_zeros_subnormals_or_infinities() -> None:
+    """A lookup into the tree's root: the chain leaves out ``finish`` where each answer's component is a finite
+    normal number (then it changes no bit), and must not elsewhere: exact and negative zeros, subnormal
+    translations, translations that overflow to infinity on composing (where leaving it out would give
+    ``inf`` for the walk's NaN). Each case's blocks give the walk's bits, zeros' signs and NaNs included."""
+    cases = {
+        "zeros": ((-0.0, 0.0, 1.0), (1.0, 2.0, 3.0)),
+        "subnormal": ((5e-324, 1.0, -2.0), (1.0, -1e-310, 3.0)),
+        "infinite": ((1e308, 1.0, 2.0), (1e308, 3.0, 4.0)),
+        "normal": ((0.5, 1.0, 2.0), (1.5, -3.0, 4.0)),
+    }
+    rng = np.random.default_rng(11)
+    for name, (upper, lower) in cases.items():
+        buffer = Buffer(cache_time=None)
+        for k in range(40):
+            stamp = T0 + k * S // 10
+            buffer.set_transform(Transform(upper, _quat(2, 0.01 * k), stamp, "root", "mid"))
+            buffer.set_transform(
+                Transform(
+                    lower, _quat(2, -0.02 * k) if name == "zeros" else _quat(k % 3, 0.03 * k), stamp + 1, "mid", "leaf"
+                )
+            )
+        times = np.sort(rng.integers(T0 + S // 10, T0 + 38 * S // 10, 600))
+        assert _block(buffer, "root", "leaf", times[:256]), name
+        assert assert_same_bits(buffer, "root", "leaf", times).all(), name
