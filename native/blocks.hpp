@@ -164,22 +164,13 @@ inline bool side_block(const Histories& histories, const std::vector<Step>& side
     return true;
 }
 
-// Whether every component of the first n times of `acc` is a finite normal number (not 0, not
-// subnormal, not infinite, not NaN). On the bits without their sign, u: u - 2**52 has its top bit set
-// where u is below the least normal's, u + 2**52 where u is infinity's or a NaN's; integer operations
-// that the compiler vectorizes (comparisons of doubles into a bool it did not: ~10 instructions a time against ~75).
-inline bool all_normal(const Accumulator& acc, int64_t n) {
-    constexpr uint64_t SIGN = uint64_t{1} << 63, LEAST = uint64_t{1} << 52;
+// abnormal's bits of every component of the first n times of `acc`, or-ed.
+inline uint64_t abnormal_all(const Accumulator& acc, int64_t n) {
     uint64_t bad = 0;
     for (int i = 0; i < 7; ++i) {
-        for (int64_t k = 0; k < n; ++k) {
-            uint64_t u;
-            std::memcpy(&u, &acc.c[i][k], sizeof u);
-            u &= ~SIGN;
-            bad |= (u - LEAST) | (u + LEAST);
-        }
+        for (int64_t k = 0; k < n; ++k) bad |= abnormal(acc.c[i][k]);
     }
-    return (bad & SIGN) == 0;
+    return bad;
 }
 
 // lookup_at at times[0..n) along the walked chain, the answers in `source`; false where any
@@ -188,12 +179,11 @@ TFCORE_VECTOR_VERSIONS inline bool chain_block(const Histories& histories, const
                         Accumulator& source, Accumulator& target, Memo& memo) {
     const bool sorted = std::is_sorted(times, times + n);
     if (!side_block(histories, chain.sides[0], times, n, sorted, source, memo)) return false;
-    // A target side of no edges (the target is the top: a lookup into a tree's root) is the identity,
-    // and `finish` against it gives back the source side's own bits wherever each component is a finite
-    // normal number: conjugated, it is (-0, -0, -0, 1), and each of finish's sums is then x * 1 plus
-    // products of a zero, which are zeros (x + 0 and x - 0 are x for x not 0). Its ~90 operations a
-    // time (two rotations, a product) are left out then.
-    if (chain.ending == Ending::AT_TOP && chain.sides[1].empty() && all_normal(source, n)) return true;
+    // (Checked on the bits: comparisons of doubles into a bool did not vectorize, ~75 instructions a time.)
+    if (chain.ending == Ending::AT_TOP && chain.sides[1].empty() &&
+        finish_keeps(chain.ending, true, abnormal_all(source, n))) {
+        return true;
+    }
     if (!side_block(histories, chain.sides[1], times, n, sorted, target, memo)) return false;
     if (chain.ending != Ending::AT_TARGET) {
         for (int64_t k = 0; k < n; ++k) source.set(k, finish(chain.ending, source.get(k), target.get(k)));
