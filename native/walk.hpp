@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <iterator>
 #include <vector>
 
@@ -541,6 +542,26 @@ inline Pose finish(Ending ending, const Pose& source, const Pose& target) {
     return {{r.x + iv.x, r.y + iv.y, r.z + iv.z}, multiply(iq, source.q)};
 }
 
+// The top bit set where `x` is not a finite normal number (0, subnormal, infinite, NaN): on the bits
+// without the sign, u, u - 2**52 wraps where u is below the least normal's, u + 2**52 reaches the top
+// bit from infinity's up. Integer operations, which the compiler vectorizes over a block's times.
+inline uint64_t abnormal(double x) {
+    constexpr uint64_t SIGN = uint64_t{1} << 63, LEAST = uint64_t{1} << 52;
+    uint64_t u;
+    std::memcpy(&u, &x, sizeof u);
+    u &= ~SIGN;
+    return (u - LEAST) | (u + LEAST);
+}
+
+// Whether finish(AT_TOP, source, target) is `source` itself, bit for bit, where the target side has
+// no edges (the target is the top: a lookup into a tree's root) and `bad` is abnormal's bits of
+// source's components, or-ed: then the target is the identity, its conjugate (-0, -0, -0, 1), and
+// each of finish's sums is a component times 1 plus products of a zero, which are zeros (x + 0 and
+// x - 0 are x for x not 0). Its two rotations and product (~90 operations) are then left out.
+inline bool finish_keeps(Ending ending, bool target_side_empty, uint64_t bad) {
+    return ending == Ending::AT_TOP && target_side_empty && (bad >> 63) == 0;
+}
+
 // A lookup at a resolved `time`; false where tf2 fails (chain.failure says why).
 TFCORE_VECTOR_VERSIONS inline bool lookup_at(const Histories& histories, int64_t target, int64_t source,
                                              int64_t time, Chain& chain, Memo& memo, Pose& out) {
@@ -548,8 +569,12 @@ TFCORE_VECTOR_VERSIONS inline bool lookup_at(const Histories& histories, int64_t
     if (chain.ending == Ending::NO_PATH) return false;
     const size_t split = edges_at(histories, chain, time, memo);
     const Edge* begin = chain.edges.data();
-    out = finish(chain.ending, compose_all(begin, begin + split),
-                 compose_all(begin + split, begin + chain.composed));
+    const Pose up = compose_all(begin, begin + split);
+    const uint64_t bad = abnormal(up.v.x) | abnormal(up.v.y) | abnormal(up.v.z) | abnormal(up.q.x) |
+                         abnormal(up.q.y) | abnormal(up.q.z) | abnormal(up.q.w);
+    out = finish_keeps(chain.ending, split == chain.composed, bad)
+              ? up
+              : finish(chain.ending, up, compose_all(begin + split, begin + chain.composed));
     return true;
 }
 

@@ -12,6 +12,7 @@ import numpy.typing as npt
 import pytest
 
 from tftools import Buffer, Transform, TransformError
+from tftools.core.rotation import _hamilton, _rotated
 
 S = 1_000_000_000
 T0 = 1_700_000_000 * S
@@ -191,3 +192,53 @@ def test_intervals_of_more_than_52_days_too() -> None:
         times = np.sort(rng.integers(low, high, 600))
         assert _block(buffer, "a", "b", times[:256])
         assert assert_same_bits(buffer, "a", "b", times).all()
+
+
+#: Pose: translation, rotation (x y z w).
+Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
+
+
+def _compose(edge: Pose, acc: Pose) -> Pose:
+    """``edge`` applied after ``acc``, as tf2's TransformAccum composes (rotation.py's operations)."""
+    r = _rotated(*edge[1], *acc[0])
+    return (r[0] + edge[0][0], r[1] + edge[0][1], r[2] + edge[0][2]), _hamilton(*edge[1], *acc[1])
+
+
+def _into_root(upper: Pose, lower: Pose) -> Pose:
+    """tf2's answer root <- leaf through root -> mid (``upper``) and mid -> leaf (``lower``): both edges composed
+    onto the identity, then finished against the target side's identity (its conjugate, (-0, -0, -0, 1))."""
+    up = _compose(upper, _compose(lower, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))))
+    iq = (-0.0, -0.0, -0.0, 1.0)
+    iv, r = _rotated(*iq, -0.0, -0.0, -0.0), _rotated(*iq, *up[0])
+    return (r[0] + iv[0], r[1] + iv[1], r[2] + iv[2]), _hamilton(*iq, *up[1])
+
+
+C, SN = math.cos(0.2), math.sin(0.2)
+#: (upper, lower) static edges whose answer into the root has a negative zero (finish makes it +0), subnormals,
+#: infinities (finish makes NaNs of them), or only normal numbers (finish changes no bit).
+INTO_ROOT: dict[str, tuple[Pose, Pose]] = {
+    "negative_zero": (((-0.0, 1.0, 2.0), (-0.0, 0.0, SN, -C)), ((0.0, -0.0, 1.0), (0.0, 0.0, SN, C))),
+    "subnormal": (((5e-324, 1.0, -2.0), (0.0, 0.0, SN, C)), ((1.0, -1e-310, 3.0), _quat(0, 0.4))),
+    "infinite": (((1e308, 1.0, 2.0), (0.0, 0.0, SN, C)), ((1e308, 3.0, 4.0), (0.0, 0.0, SN, C))),
+    "normal": (((0.5, 1.0, 2.0), _quat(1, 0.3)), ((1.5, -3.0, 4.0), _quat(0, 0.4))),
+}
+
+
+@pytest.mark.parametrize("case", INTO_ROOT)
+def test_into_the_root_finish_is_left_out_only_where_it_changes_no_bit(case: str) -> None:
+    """A lookup into the tree's root leaves out ``finish`` where each of the answer's components is a finite
+    normal number: a lookup, the chain's blocks and the walk at each time all give tf2's bits, zeros' signs
+    and NaNs included, where the answer has a negative zero, subnormals or infinities too."""
+    upper, lower = INTO_ROOT[case]
+    buffer = Buffer(cache_time=None)
+    buffer.set_transform(Transform(*upper, T0, "root", "mid"), static=True)
+    buffer.set_transform(Transform(*lower, T0, "mid", "leaf"), static=True)
+    translation, rotation = _into_root(upper, lower)
+    expected = np.array([*translation, *rotation])
+    got = buffer.lookup("root", "leaf", T0 + S)
+    np.testing.assert_array_equal(np.array([*got.translation, *got.rotation]).view(np.int64), expected.view(np.int64))
+    times = np.arange(T0, T0 + 600 * S, S)
+    assert _block(buffer, "root", "leaf", times[:256])
+    assert assert_same_bits(buffer, "root", "leaf", times).all()
+    values = _run(buffer, "root", "leaf", times, np.arange(len(times)), chained=True)[1]
+    np.testing.assert_array_equal(values.view(np.int64), np.tile(expected, (len(times), 1)).view(np.int64))
