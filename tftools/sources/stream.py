@@ -159,6 +159,7 @@ class StreamedRecording:
         plays with its recorded /clock, or on its record clock; its ``on_sent`` is told the tf messages."""
         rows, messages = itertools.tee(self._played())
         parts = (part for parts, _ in rows for part in parts)
+        end = self._recorded.end if end is None else end  # as rosbag play: to the recording's end, past its tf's
         return Replay(parts, sent=(sent for _, sent in messages), rate=rate, start=start, end=end)
 
     def close(self) -> None:
