@@ -61,6 +61,28 @@ def test_tf_static_offered_volatile_is_a_warning_and_transient_local_is_quiet(tm
     assert {"base_link", "laser", "camera"} <= set(finding.frames)
 
 
+@pytest.mark.parametrize("every_s", [0.05, 5.0])
+def test_statics_re_sent_through_the_recording_reach_a_late_subscriber_however_offered(
+    tmp_path: Path, every_s: float
+) -> None:
+    """CompRobo's Neato driver in 2022 re-sent its 10 statics at 20 Hz through the recording (corpus
+    ``ros2-neato-wall-follower-statics-20hz-2022-db3``), and its metadata.yaml records no QoS for /tf_static
+    (played volatile): a node subscribing at any time gets them at the next message, so there is nothing to
+    say; sent every 5 s (as ``tfx static --repair`` repeats them) neither. Sent once, or stopped before the end,
+    the finding stays."""
+    every = round(every_s * NS_PER_S)
+    times = range(scenes.START + scenes.DELAY, scenes.START + round(scenes.SECONDS * NS_PER_S) + every, every)
+    repeated = _volatile(
+        scenes.write(
+            tmp_path, "repeated", BagFormat.rosbag2_sqlite3, scenes.healthy(statics=[scenes.statics(t) for t in times])
+        )
+    )
+    assert check(read_recording([repeated])).findings == []
+    cut = [scenes.statics(t) for t in times][: max(1, len(times) // 4)]  # stopped a quarter in, or sent once
+    stopped = _volatile(scenes.write(tmp_path, "stopped", BagFormat.rosbag2_sqlite3, scenes.healthy(statics=cut)))
+    assert [f.code for f in check(read_recording([stopped])).findings] == ["static_volatile"]
+
+
 def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -> None:
     bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_sqlite3, scenes.healthy())
     (inside,) = bag.glob("*.db3")

@@ -411,3 +411,28 @@ def test_a_db3_stream_is_replayed_from_another_thread_through_its_one_connection
         thread.join()
     assert len(read) == len(streamed.windows) > 3 and all(not contents.problems for contents in read)
     assert sum(len(contents.transforms) for contents in read) == len(read_recording(paths).transforms)
+
+
+@pytest.mark.parametrize("fmt", [BagFormat.ros1, BagFormat.rosbag2_sqlite3])
+@pytest.mark.parametrize("simulated", [False, True], ids=["wall", "sim"])
+def test_a_replay_plays_to_the_recordings_end_past_its_last_tf(tmp_path: Path, fmt: BagFormat, simulated: bool) -> None:
+    """A real Neato's driver died 59.7 s into a 71.1 s recording while its wall follower went on sending
+    /cmd_vel (corpus ``ros2-neato-real-wall-follower-stopped-2023-db3``): rosbag play plays on to 71.1 s, and so
+    does the replay (``tfx monitor --play``), so that its last table shows the tf gone, not a healthy 6 Hz. In a
+    simulation the end is /clock's at the recording's end."""
+    base = SIM if simulated else WALL  # the stamps' clock
+
+    def at(tenths: int, clock: int = base) -> int:
+        return clock + tenths * NS_PER_S // 10
+
+    tf = [TfMessage("/tf", at(i, WALL) + 1000, [_transform("odom", "base_link", at(i), i)]) for i in range(50)]
+    other = [ClockMessage(at(i, WALL), at(i), topic="/clock" if simulated else "/cmd_vel_heard") for i in range(80)]
+    bag = write_bag(tmp_path / "bag", tf, fmt, other)
+    with stream_recording([bag]) as streamed:
+        replay = streamed.replay()
+        replay.attach(lambda batch: None)
+        replay.advance_to(at(50))  # every tf played: not yet the end
+        assert not replay.finished and replay.clock.now() == at(50)
+        replay.advance_to(at(100))
+        assert replay.finished and replay.end == at(79) and replay.clock.now() == at(79)
+        assert streamed.replay(end=at(10)).end == at(10)  # an end asked for is kept

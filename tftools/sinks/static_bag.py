@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from tftools.analysis.wtf.replay import REPEATED_EVERY_S
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sinks.errors import CopyError
@@ -35,8 +36,9 @@ STATIC_TOPIC = "/tf_static"
 PUBLISHER = "/tfx_static"
 
 #: A repaired copy repeats its static transforms this often (s of record time), so that playing it
-#: from any point, splitting it or filtering it by time keeps them.
-REPAIR_EVERY_S = 5.0
+#: from any point, splitting it or filtering it by time keeps them: as often as wtf's static_volatile
+#: asks of statics re-sent through a recording.
+REPAIR_EVERY_S = REPEATED_EVERY_S
 
 
 @dataclass(frozen=True)

@@ -63,11 +63,11 @@ class OldRos1BagError(UnknownBagFormatError):
 class CorruptBagError(BagError):
     """Nothing could be read; a bag that is only partly damaged is read as far as it goes."""
 
-    def __init__(self, path: str, detail: str) -> None:
+    def __init__(self, path: str, detail: str, hint: str = "") -> None:
         super().__init__(
             path,
             f"corrupt or unreadable ({detail})",
-            "for a ROS1 bag try `rosbag reindex`; re-copy the file if it was cut short",
+            hint or "for a ROS1 bag try `rosbag reindex`; re-copy the file if it was cut short",
         )
         self.detail = detail
 

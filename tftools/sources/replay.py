@@ -102,6 +102,7 @@ class Replay:
         end: int | None = None,
         sleep: Callable[[float], None] = time.sleep,
         monotonic: Callable[[], float] = time.monotonic,
+        last: Callable[[], int] | None = None,
     ) -> None:
         if not rate > 0:
             raise ValueError(f"the replay rate must be above 0, got {rate}")
@@ -111,6 +112,7 @@ class Replay:
         first = self._rows.next_time()
         self.begin = start if start is not None else first if first is not None else 0
         self.end = end  # where the replay ends: if not given, the last row's record time once it was played
+        self._recording_end = last  # or later, where the recording went on past its tf: asked once every row played
         self._last = self.begin  # the newest row's record time played: the end, unless given
         self._sleep, self._monotonic = sleep, monotonic
         self.clock = SimClock(self.begin)
@@ -163,7 +165,8 @@ class Replay:
             self._last = int(part.record_time[rows[-1]])
             self._deliver([take_rows(part, rows)], [part.taken(rows) for part, rows in self._sent.until(bag_time)])
         if self.end is None and self._rows.pending() is None:
-            self.end = max(self._last, self.begin)  # every row played: the replay ends at the last
+            # every row played: the replay ends at the last, or at the recording's end after it
+            self.end = max(self._last, self.begin, self._recording_end() if self._recording_end else self._last)
             bag_time = min(bag_time, self.end)
         self.clock.set(bag_time)
         if self.end is not None and bag_time >= self.end:

@@ -141,10 +141,10 @@ class StreamedRecording:
         stamps' clock (``Playback``)."""
         return (part for parts, _ in self._played() for part in parts)
 
-    def _played(self) -> Iterator[tuple[list[TransformBatch], SentMessages]]:
+    def _played(self, playback: Playback | None = None) -> Iterator[tuple[list[TransformBatch], SentMessages]]:
         """Each window's transforms and the tf messages they came in, their record times moved together onto
-        the stamps' clock (``Playback``: a message plays when its transforms do)."""
-        playback = Playback(self._recorded)
+        the stamps' clock by ``playback`` (``Playback``: a message plays when its transforms do)."""
+        playback = playback or Playback(self._recorded)
         for window in self.windows:
             contents = self.reader.read(window)
             playback.heard(contents.clock)
@@ -157,9 +157,24 @@ class StreamedRecording:
     def replay(self, *, rate: float = 1.0, start: int | None = None, end: int | None = None) -> Replay:
         """A replay on the clock the tf is stamped on: what a node with use_sim_time sees while the bag
         plays with its recorded /clock, or on its record clock; its ``on_sent`` is told the tf messages."""
-        rows, messages = itertools.tee(self._played())
+        playback = Playback(self._recorded)
+        rows, messages = itertools.tee(self._played(playback))
         parts = (part for parts, _ in rows for part in parts)
-        return Replay(parts, sent=(sent for _, sent in messages), rate=rate, start=start, end=end)
+        # as rosbag play, to the recording's last message (any topic's), past its tf's: moved onto the replay's
+        # clock once every window was, its /clock heard to the end
+        last = self._recorded.record_end
+
+        def played_end() -> int:
+            return int(playback.moved(np.array([last], np.int64))[0])
+
+        return Replay(
+            parts,
+            sent=(sent for _, sent in messages),
+            rate=rate,
+            start=start,
+            end=end,
+            last=played_end if last else None,
+        )
 
     def close(self) -> None:
         self.reader.close()

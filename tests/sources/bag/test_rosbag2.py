@@ -375,6 +375,19 @@ def test_every_file_missing(tmp_path: Path) -> None:
         read_contents([bag])
 
 
+def test_every_file_missing_but_another_there_says_which_to_give(tmp_path: Path) -> None:
+    """A CompRobo student's bag directory (mtong1/CompRoboWarmup2023 person_follower_demo) lists
+    person_follower_0.db3 in metadata.yaml but holds person_follower_demo_0.db3 (renamed after recording):
+    the error names the file there and how to read it, not ``rosbag reindex`` (a ROS 1 tool)."""
+    bag = write_rosbag2(tmp_path / "bag", MESSAGES)
+    (bag / "bag.db3").rename(bag / "bag_demo_0.db3")
+    with pytest.raises(CorruptBagError, match=r"bag\.db3 is listed in metadata\.yaml but missing") as raised:
+        read_contents([bag])
+    assert "bag_demo_0.db3, which metadata.yaml does not list" in raised.value.hint
+    assert str(bag / "bag_demo_0.db3") in raised.value.hint and "reindex" not in raised.value.hint
+    assert read_contents([bag / "bag_demo_0.db3"])  # what the hint says to give reads
+
+
 @pytest.mark.parametrize(
     ("text", "problem"),
     [

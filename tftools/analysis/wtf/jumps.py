@@ -126,6 +126,7 @@ def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]], usual: bo
             unexplained &= (metres > JUMP_FACTOR * pace_m * seconds + FLOOR_M) | (
                 degrees > JUMP_FACTOR * pace_deg * seconds + FLOOR_DEG
             )
+            unexplained &= back | _beyond_neighbours_steps(metres, degrees, at)
     bounds = np.searchsorted(edge_of_step, np.arange(len(edges) + 1))
     return [
         Jumps(local[a:b][unexplained[a:b]] + 1, metres[a:b][unexplained[a:b]], degrees[a:b][unexplained[a:b]])
@@ -173,6 +174,17 @@ def _sustained(speed: FloatArray, edge_of_step: IntpArray, edges: int) -> FloatA
         np.fmax.at(fastest, owner[whole, 0], runs[whole].min(axis=1))
     per_step: FloatArray = np.nan_to_num(fastest[edge_of_step], nan=0.0)
     return per_step
+
+
+def _beyond_neighbours_steps(metres: FloatArray, degrees: FloatArray, at: IntpArray) -> BoolArray:
+    """Per step, whether it is further than ``JUMP_FACTOR`` times the steps around it (their median over
+    ``NEIGHBOURS`` either side), whatever its interval: a sample whose stamp came early or late (a real
+    Neato's driver stamps each wheel reading as its serial packet arrives: two 8 ms apart, the next 185 ms
+    later) moves by a sample's usual step in a short interval, which its speed takes for a jump."""
+    beyond: BoolArray = (metres > JUMP_FACTOR * _neighbour_speed(metres, at) + FLOOR_M) | (
+        degrees > JUMP_FACTOR * _neighbour_speed(degrees, at) + FLOOR_DEG
+    )
+    return beyond
 
 
 def _beside(speed: FloatArray, at: IntpArray) -> FloatArray:

@@ -19,6 +19,9 @@ LONG_RECORDING_S = 60.0
 EARLY_S = 10.0
 #: rosbag2's durability policy, as metadata.yaml writes it: a number (Humble and before) or a name.
 TRANSIENT_LOCAL = (1, "transient_local")
+#: Statics re-sent at least this often (s of record time) from the recording's start to its end reach a
+#: late subscriber of a volatile /tf_static within that time: as often as ``tfx static --repair`` repeats them.
+REPEATED_EVERY_S = 5.0
 
 
 def repair_hint(ros2: bool) -> str:
@@ -36,7 +39,7 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
     transient local only when every profile was; none recorded plays its default, volatile. Only
     recordings read from bags are replayed: one assembled in memory has no QoS to check."""
     rows = scene.rows
-    if not rows.static.any():
+    if not rows.static.any() or _repeated_through(scene):
         return
     for file in scene.recording.contents.files:
         qos = scene.recording.qos.get(file.path)
@@ -57,6 +60,18 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
                 (topic,),
                 count=len(profiles),
             )
+
+
+def _repeated_through(scene: Scene) -> bool:
+    """Every static transform re-sent at least every ``REPEATED_EVERY_S`` from the recording's start to its end
+    (CompRobo's Neato driver in 2022 re-sent them at 20 Hz): played volatile, a late subscriber still gets
+    each of them within that time."""
+    rows, every = scene.rows, REPEATED_EVERY_S * NS_PER_S
+    for _, _, which in rows.by_edge(rows.static):
+        times = np.concatenate(([scene.start], np.sort(rows.record_time[which]), [scene.end]))
+        if np.diff(times).max() > every:
+            return False
+    return True
 
 
 def _static_qos(path: str, qos: OfferedQos) -> dict[str, list[object]]:

@@ -77,9 +77,22 @@ class Rosbag2Bag:
         if missing:
             lost.insert(0, _missing(missing))
         if not scans:
-            raise CorruptBagError(str(self.path), "; ".join(lost) or "no bag files in it")
+            raise CorruptBagError(str(self.path), "; ".join(lost) or "no bag files in it", self._unlisted_hint())
         problems += lost
         return scans, labels
+
+    def _unlisted_hint(self) -> str:
+        """Where metadata.yaml's files are missing but the directory holds others (renamed after recording,
+        as a CompRobo student's person_follower_0.db3 was to person_follower_demo_0.db3): what to give tfx."""
+        unlisted = [file for file in _storage_files(self.path, self.files) if file not in self.bag.files]
+        if not unlisted:
+            return ""
+        named = ", ".join(_shown(file.name) for file in unlisted[:NAMED_MISSING])
+        more = f" and {len(unlisted) - NAMED_MISSING} more" if len(unlisted) > NAMED_MISSING else ""
+        return (
+            f"the directory holds {named}{more}, which metadata.yaml does not list (renamed after recording?): "
+            f"give tfx that file ({unlisted[0]}), or correct relative_file_paths in metadata.yaml"
+        )
 
     def _scan_file(
         self, file: Path, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None, problems: list[str]
@@ -180,10 +193,15 @@ def _layout(path: Path, stored: Files) -> _Bag:
         if files:
             return _Bag(storage, files, mode, problems, qos)
         problems.append("metadata.yaml lists no files, read the bag files found instead")
-    names = stored.listing(path)
-    files = sorted((p for p in names if p.name.endswith((".db3", ".mcap", ".db3.zstd", ".mcap.zstd"))), key=_natural)
+    files = _storage_files(path, stored)
     storage = "mcap" if files and ".mcap" in files[0].suffixes else "sqlite3"
     return _Bag(storage, files, "", problems, qos)
+
+
+def _storage_files(path: Path, stored: Files) -> list[Path]:
+    """The bag files in directory ``path``, whatever metadata.yaml lists, in their split order."""
+    names = stored.listing(path)
+    return sorted((p for p in names if p.name.endswith((".db3", ".mcap", ".db3.zstd", ".mcap.zstd"))), key=_natural)
 
 
 def _beside(path: Path, stored: Files) -> OfferedQos:
