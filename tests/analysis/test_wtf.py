@@ -333,6 +333,16 @@ def test_a_recorder_on_simulated_time_among_nodes_on_wall_time_is_a_note() -> No
     assert "cannot be measured" in note.message
 
 
+def test_a_replay_stamped_days_before_its_record_clock_says_days_and_keeps_the_offset() -> None:
+    """ros2_mcap_coug_auv_replayed: every frame stamped 515,220 s before it was recorded, no /clock; the note
+    said "515219.9 s". Said in days for a person; the exact offset stays in the finding's figures (JSON)."""
+    behind = 515_219_958_040_448  # a figure rounded to 0.1 s (515220.0) is off by 0.04 s
+    messages = [TfMessage(m.topic, m.record_time + behind, m.transforms, m.publisher) for m in healthy()]
+    note = only(check(recording(messages, ros1=False)).findings, "clock")
+    assert note.message.startswith("tf is stamped 6.0 days before the record clock"), note.message
+    assert note.figures["arrival_minus_stamp_s"] == pytest.approx(behind / NS_PER_S, abs=0.005)  # + its delay
+
+
 def test_a_clock_far_ahead_is_future_with_the_advice_to_sync_clocks() -> None:
     ahead = recording(healthy(ekf=ekf(stamp=lambda t: t + 3600 * NS_PER_S)))
     finding = only(check(ahead).findings, "future")
