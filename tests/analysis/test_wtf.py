@@ -333,6 +333,16 @@ def test_a_recorder_on_simulated_time_among_nodes_on_wall_time_is_a_note() -> No
     assert "cannot be measured" in note.message
 
 
+def test_a_replay_stamped_days_before_its_record_clock_says_days_and_keeps_the_offset() -> None:
+    """ros2_mcap_coug_auv_replayed: every frame stamped 515,220 s before it was recorded, no /clock; the note
+    said "515219.9 s". Said in days for a person; the exact offset stays in the finding's figures (JSON)."""
+    behind = 515_219_958_040_448  # a figure rounded to 0.1 s (515220.0) is off by 0.04 s
+    messages = [TfMessage(m.topic, m.record_time + behind, m.transforms, m.publisher) for m in healthy()]
+    note = only(check(recording(messages, ros1=False)).findings, "clock")
+    assert note.message.startswith("tf is stamped 6.0 days before the record clock"), note.message
+    assert note.figures["arrival_minus_stamp_s"] == pytest.approx(behind / NS_PER_S, abs=0.005)  # + its delay
+
+
 def test_a_clock_far_ahead_is_future_with_the_advice_to_sync_clocks() -> None:
     ahead = recording(healthy(ekf=ekf(stamp=lambda t: t + 3600 * NS_PER_S)))
     finding = only(check(ahead).findings, "future")
@@ -554,6 +564,29 @@ def test_a_start_up_burst_is_not_said_as_the_rate_the_publisher_keeps_up() -> No
     assert said, finding.message
     assert 0.32 <= float(said[2]) <= 0.48  # the driver's own rhythm, not the burst's 0.010 s
     assert int(said[1]) == round(100 * burst / len(intervals))  # the burst's intervals are those off it
+
+
+def _rate_of_odometry(times: list[float]) -> Finding:
+    """The rate finding of map -> odom sent at ``times`` (seconds after START)."""
+    stamps = [START + round(t * NS_PER_S) for t in times]
+    odom = [TfMessage("/tf", t + DELAY, [_t("map", "odom", t, 0.01 * i)], "/amcl") for i, t in enumerate(stamps)]
+    return only(check(recording(healthy(amcl=odom))).findings, "rate")
+
+
+def test_off_intervals_all_in_a_start_up_burst_are_said_as_one_burst() -> None:
+    """Issue 39: the avoider Neato's rate finding (71% of its intervals off the 0.410 s) did not say that every
+    one of them came in its first 0.5 s, 10 ms apart, and none after. Said, observed then concluded; the same
+    short intervals spread among the slow ones are irregular throughout, no stretch said."""
+    gaps = list(np.random.default_rng(4).uniform(0.32, 0.48, 30))
+    burst = _rate_of_odometry([i * 0.01 for i in range(44)] + list(0.43 + np.cumsum(gaps)))
+    said = re.search(r", all (\d+) of them in a row in its first (\d\.\d+) s: a burst at its start", burst.message)
+    assert said, burst.message
+    assert int(said[1]) == 43 and float(said[2]) == pytest.approx(0.43)  # the 43 intervals of 10 ms
+    assert burst.message.endswith("steady after it")
+    spread = [0.01] * 43 + gaps
+    np.random.default_rng(5).shuffle(spread)
+    scattered = _rate_of_odometry(list(np.cumsum([0.0, *spread])))
+    assert "publishes irregularly" in scattered.message and "in a row" not in scattered.message
 
 
 def test_steady_stamps_received_in_bursts_are_no_irregular_rate() -> None:

@@ -7,7 +7,7 @@ import pytest
 
 from tftools import BatchBuilder, Buffer
 from tftools.sources.contents import ClockSamples
-from tftools.sources.timeline import seconds_since, timeline_of
+from tftools.sources.timeline import seconds_since, stamps_behind, timeline_of
 
 START = 1_700_000_000 * 10**9
 
@@ -70,3 +70,19 @@ def test_seconds_since_the_origin_only_on_its_time_base() -> None:
     assert seconds_since(START, START + 1_500_000_000) == 1.5
     assert seconds_since(START, 0) is None and seconds_since(5 * 10**9, START) is None
     assert seconds_since(5 * 10**9, 3 * 10**9) == -2.0
+
+
+def test_stamps_days_behind_the_record_clock_are_said_in_days() -> None:
+    """A replayed AUV (ros2_mcap_coug_auv_replayed): tf stamped 515,220 s before it was recorded, no /clock; the
+    reason said "515219.9 s", which a person has to divide to read. Said in days; the exact offset stays
+    ``stamps_behind``'s."""
+    behind = 515_219_908_040_448
+    builder = BatchBuilder()
+    for i in range(20):
+        stamp = START + i * 10**8
+        builder.add("odom", "base", stamp, (0, 0, 0), (0, 0, 0, 1), record_time=stamp + behind)
+    buffer = Buffer(cache_time=None)
+    buffer.insert(builder.take())
+    timeline = timeline_of(buffer, ClockSamples.empty(), START + behind, START + behind + 19 * 10**8)
+    assert timeline.reason.startswith("tf is stamped 6.0 days before the record clock"), timeline.reason
+    assert stamps_behind(timeline.edges) == behind

@@ -58,6 +58,21 @@ def signed_seconds(seconds: float, digits: int = 1) -> str:
     return f"{round(seconds, digits) + 0.0:+.{digits}f}"
 
 
+def duration(seconds: float) -> str:
+    """``seconds`` in the unit a person would use: "0.044 s", "6.0 days" (a replay's stamps 515,220 s behind
+    its record clock), for the checks and the sources' reasons alike."""
+    s = abs(seconds)
+    if s < 1:
+        return f"{seconds:.3f} s"
+    if s < 120:
+        return f"{seconds:.1f} s"
+    if s < 2 * 3600:
+        return f"{seconds / 60:.1f} min"
+    if s < 2 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.1f} days"
+
+
 def duration_to_sec(ns: int) -> float:
     """Seconds as ROS 2's tf2 computes them (``tf2::durationToSec``, ``timeToSec``).
 

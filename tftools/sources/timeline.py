@@ -21,7 +21,7 @@ from tftools.core import figures
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
-from tftools.core.time import NS_PER_S
+from tftools.core.time import NS_PER_S, duration
 from tftools.sources.contents import ClockSamples
 from tftools.values import value
 
@@ -576,9 +576,22 @@ def tf_span(spans: Iterable[tuple[bool, int, int]], record_start: int, record_en
     return min(first for first, _ in chosen), max(last for _, last in chosen)
 
 
+def stamps_behind(edges: Sequence[EdgeClock]) -> int:
+    """How far (ns) the frames' stamps are behind the record clock, negative where ahead: the median of
+    their record times minus the median of their stamps."""
+    stamp, record = _medians(edges)
+    return record - stamp
+
+
+def _medians(edges: Sequence[EdgeClock]) -> tuple[int, int]:
+    """The median of the frames' median stamps, and of their median record times (exact: ``median_ns``)."""
+    stamps = np.array([e.median_stamp for e in edges], np.int64)
+    records = np.array([e.median_record for e in edges], np.int64)
+    return figures.median_ns(stamps), figures.median_ns(records)
+
+
 def _why_none(edges: tuple[EdgeClock, ...], clock: ClockSamples) -> str:
-    stamp = int(np.median([e.median_stamp for e in edges]))
-    record = int(np.median([e.median_record for e in edges]))
+    stamp, record = _medians(edges)
     if record < EPOCH_FLOOR <= stamp:
         what = (
             f"tf is stamped on wall-clock time ({stamp / NS_PER_S:.1f} s) while the record clock is simulated "
@@ -593,7 +606,7 @@ def _why_none(edges: tuple[EdgeClock, ...], clock: ClockSamples) -> str:
         cause = "a simulation recorded on wall time, or a driver stamping on its own clock"
     else:
         side = "before" if record > stamp else "after"
-        what = f"tf is stamped {abs(record - stamp) / NS_PER_S:.1f} s {side} the record clock"
+        what = f"tf is stamped {duration(abs(record - stamp) / NS_PER_S)} {side} the record clock"
         cause = "recorded on another machine's or process's clock"
     measured = "delays, ages and staleness against arrival cannot be measured"
     if len(clock):

@@ -11,7 +11,7 @@ from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
 from tftools.core.time import NS_PER_S
-from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference, clock_groups
+from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference, clock_groups, stamps_behind
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
 CLOCK_PAUSE = 1 * NS_PER_S
@@ -169,6 +169,7 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
         + "; a driver stamping on its own clock (time since boot): stamp with the ROS time of the computer that records"
         + "; lookups between these frames are not affected",
         count=sum(e.arrivals for e in main),
+        figures={"arrival_minus_stamp_s": stamps_behind(edges) / NS_PER_S},  # said in the unit a person reads
     )
 
 

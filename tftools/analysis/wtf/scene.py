@@ -20,6 +20,7 @@ from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, from_sec, signed_seconds
+from tftools.core.time import duration as duration  # said by every check
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording, recording_of_buffer
 
@@ -222,20 +223,6 @@ def base_name(frame: str) -> str:
 
 def transforms(n: int) -> str:
     return counted(n, "transform")
-
-
-def duration(seconds: float) -> str:
-    """``seconds`` in the unit a person would use."""
-    s = abs(seconds)
-    if s < 1:
-        return f"{seconds:.3f} s"
-    if s < 120:
-        return f"{seconds:.1f} s"
-    if s < 2 * 3600:
-        return f"{seconds / 60:.1f} min"
-    if s < 2 * 86400:
-        return f"{seconds / 3600:.1f} h"
-    return f"{seconds / 86400:.1f} days"
 
 
 def listed(items: Sequence[str], most: int = 6) -> str:
