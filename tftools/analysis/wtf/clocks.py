@@ -10,8 +10,8 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed, transforms
-from tftools.core.time import NS_PER_S
-from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference, clock_groups
+from tftools.core.time import EPOCH_FLOOR, NS_PER_S
+from tftools.sources.timeline import EdgeClock, Reference, clock_groups
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
 CLOCK_PAUSE = 1 * NS_PER_S
