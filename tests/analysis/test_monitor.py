@@ -322,3 +322,27 @@ def test_a_publisher_is_rated_on_the_clock_its_window_is_counted_on(tmp_path: Pa
     monitor_stream(stream_recording([bag]), replay, lambda live: reports.append(live.report()), speed=1000)
     (played,) = reports[-1].authorities
     assert played.messages == 221 and played.rate_hz == pytest.approx(220 / 4)
+
+
+def test_the_silence_after_an_edges_last_sample_is_no_gap_read_whole_or_replayed(tmp_path: Path) -> None:
+    """Issue 39 (corpus8's finding; the raspimouse replay's odom -> base_link, whose replay stops 2.5 s before the
+    recorder): --play's largest gap counted the silence from its last sample to the end of playback (2.4738 s)
+    while the whole read said 0.1018 s. Here odom -> base every 20 ms for 10 s, then silent for the last 3 s
+    while map -> odom goes on: a gap of 20 ms and a silence of 3 s, read whole or replayed to the end."""
+    wall = 1_700_000_000 * NS_PER_S
+    messages = []
+    for i in range(651):
+        at = wall + i * 20 * MS
+        transforms = [Transform((0, 0, 0), (0, 0, 0, 1), at, "map", "odom")]
+        if i <= 500:
+            transforms.append(Transform((0, 0, 0), (0, 0, 0, 1), at, "odom", "base"))
+        messages.append(TfMessage("/tf", at + MS, transforms))
+    bag = write_bag(tmp_path / "stops", messages, BagFormat.ros1)
+    whole = _by_child(monitor(read_recording([bag]), MonitorQuery()))
+    reports: list[MonitorReport] = []
+    replay = MonitorQuery(window=100 * NS_PER_S)
+    monitor_stream(stream_recording([bag]), replay, lambda live: reports.append(live.report()), speed=1000)
+    played = _by_child(reports[-1])
+    for edges in (whole, played):
+        assert edges["base"].longest_interval == 20 * MS and edges["base"].silent_for == 3 * NS_PER_S
+        assert edges["odom"].longest_interval == 20 * MS and edges["odom"].silent_for == 0
