@@ -100,3 +100,4 @@ def test_stamps_either_side_of_the_epoch_floor_are_two_bases_without_any_record_
     assert figures.rate_of(stamps, 0, np.zeros(len(stamps), np.int64)) == pytest.approx(110.0)
     assert figures.longest_interval(stamps)[0] == 100 * MS  # not the 55 years between the two
     assert figures.jitter(stamps) == np.std(np.concatenate([np.diff(sim), np.diff(wall)]))
+    assert not figures.same_base(int(sim[-1]), int(wall[0])) and figures.same_base(int(sim[0]), int(sim[-1]))

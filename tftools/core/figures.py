@@ -57,6 +57,12 @@ def across_clocks(stamps: Int64Array, span: int = 0) -> BoolArray:
     return epochs if longer is None else longer | epochs
 
 
+def same_base(a: int, b: int) -> bool:
+    """Whether two times can be on one time base by the stamps' rule of ``across_clocks``: both from the epoch
+    or both from boot or a simulation's start (``EPOCH_FLOOR``). Two times alone hold no record span."""
+    return (a < EPOCH_FLOOR) == (b < EPOCH_FLOOR)
+
+
 def _longer_than_span(stamps: Int64Array, span: int) -> BoolArray | None:
     """The intervals of sorted ``stamps`` longer than the record ``span`` (``across_clocks``' second rule); None
     where the record times are no evidence of a clock (an unknown span, or half the intervals longer)."""

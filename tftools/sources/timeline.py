@@ -38,7 +38,7 @@ STEPS_MEASURED = 3
 def seconds_since(origin: int, time: int) -> float | None:
     """Seconds from ``origin`` to ``time`` on the stamps' clock; None where ``time`` is on another time
     base (epoch time against time since boot or a simulation's start): no plausible offset."""
-    if (time < EPOCH_FLOOR) != (origin < EPOCH_FLOOR):
+    if not figures.same_base(origin, time):
         return None
     return (time - origin) / NS_PER_S
 
@@ -77,7 +77,7 @@ class EdgeClock:
         if offset is None or offset > tolerance:
             return False
         reference = self.median_stamp + offset
-        return offset >= -tolerance or (self.median_stamp < EPOCH_FLOOR) == (reference < EPOCH_FLOOR)
+        return offset >= -tolerance or figures.same_base(self.median_stamp, reference)
 
 
 @value
