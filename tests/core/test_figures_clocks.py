@@ -101,3 +101,13 @@ def test_stamps_either_side_of_the_epoch_floor_are_two_bases_without_any_record_
     assert figures.longest_interval(stamps)[0] == 100 * MS  # not the 55 years between the two
     assert figures.jitter(stamps) == np.std(np.concatenate([np.diff(sim), np.diff(wall)]))
     assert not figures.same_base(int(sim[-1]), int(wall[0])) and figures.same_base(int(sim[0]), int(sim[-1]))
+
+
+def test_a_silence_is_counted_on_one_clock_or_not_at_all() -> None:
+    """How long a stream has been silent: to the end on the same clock; nothing where the last arrival is unknown
+    (a record time of 0) or on another time base than the end (simulated time against the epoch)."""
+    assert figures.silence(NOW, NOW + 3 * NS_PER_S) == 3 * NS_PER_S
+    assert figures.silence(NOW, None) == 0 and figures.silence(NOW + MS, NOW) == 0
+    assert figures.silence(0, NOW) == 0 and figures.silence(74 * NS_PER_S, NOW) == 0
+    assert figures.silence_in_words(3 * NS_PER_S, 10.0) == "silent for the last 3.000 s"
+    assert figures.silence_in_words(NS_PER_S // 2, 10.0) == ""  # within 10 periods: still publishing

@@ -53,7 +53,7 @@ class EdgeStats(Edge):
     delay_mean: float  # NaN where no delay is known
     delay_max: float
     last_record: int  # latest record time (0 where unknown)
-    silent_for: int = 0  # since its last arrival to the window's end (``figures.silence``); 0 for a static edge
+    silent_for: int = 0  # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static
 
 
 @dataclass(frozen=True)
@@ -86,8 +86,10 @@ def edge_stats(
     by when they arrived (the stamp where that is unknown): what a live monitor saw in its last seconds.
     The longest interval counts every interval that overlaps the window, the one from the last sample before it
     too; with ``by_record_time``, the silence since the last arrival is counted apart (``figures.silence``), to
-    ``end`` or, where the window is open, to ``until`` (a recording's end): an edge that stopped says so at once,
-    the same in a whole recording, its replay and a live window.
+    ``end`` or, where the window is open, to ``until``: the record time the recording ends at, counted on the
+    record clock as ``stale`` counts it (ROS time at its end is a guess where no clock gives arrivals: the newest
+    stamp, a map -> odom post-dated 1 s by AMCL). An edge that stopped says so at once, the same in a whole
+    recording, its replay and a live window.
     """
     timeline = timeline or ON_RECORD_CLOCK
     result = []
@@ -95,8 +97,8 @@ def edge_stats(
         rows = _window(hist, start, end, by_record_time, timeline) & mine
         if rows.any():
             before = _previous_stamp(hist, mine, rows) if start is not None else None
-            silence_end = (end if end is not None else until) if by_record_time else None
-            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end))
+            silence_end = end if by_record_time else None
+            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, until))
     return result
 
 
@@ -357,6 +359,7 @@ def _edge(
     timeline: Timeline,
     before: int | None,
     silence_end: int | None,
+    until: int | None = None,
 ) -> EdgeStats:
     stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
     records = hist.record_times[rows]
@@ -380,7 +383,7 @@ def _edge(
         delay_mean=delay_mean,
         delay_max=delay_max,
         last_record=int(records.max()),
-        silent_for=silence(arrived, silence_end) if dynamic else 0,
+        silent_for=0 if not dynamic else _silent(arrived, silence_end, int(records.max()), until),
     )
 
 
@@ -388,6 +391,12 @@ def history_rate(hist: EdgeHistory) -> float:
     """The rate of a frame's whole history as ``edge_stats`` counts an edge's (``figures.rate_of``: on its time
     bases, placed on the record clock); 0 for a static one."""
     return 0.0 if hist.static else rate_of(hist.stamps, record_span(hist.record_times), hist.record_times)
+
+
+def _silent(arrived: int, end: int | None, last_record: int, until: int | None) -> int:
+    """An edge's silence (``figures.silence``): since its last arrival in ROS time to a window's ``end``, else
+    since its last record time to the record time ``until`` (a whole recording's end)."""
+    return silence(arrived, end) if end is not None else silence(last_record, until)
 
 
 def chain_moving_edges(buffer: Buffer, target: str, source: str) -> dict[str, EdgeHistory]:

@@ -258,9 +258,12 @@ def longest_interval(stamps: Int64Array, before: int | None = None, span: int = 
 
 def silence(last_arrival: int, end: int | None) -> int:
     """The one definition of how long a stream has been silent (ns): from its last arrival to ``end`` (the
-    recording's end, a live listener's now, on the same clock); 0 where no end is known or it arrived since.
-    Said apart from its gaps: "silent for the last 2.5 s" (``silence_in_words``)."""
-    return max(end - last_arrival, 0) if end is not None else 0
+    recording's end, a live listener's now, on the same clock); 0 where either is unknown (no end, an arrival of
+    0 or less), they are on two time bases (``same_base``), or it arrived since. Said apart from its gaps:
+    "silent for the last 2.500 s" (``silence_in_words``)."""
+    if end is None or last_arrival <= 0 or not same_base(last_arrival, end):
+        return 0
+    return max(end - last_arrival, 0)
 
 
 def silence_in_words(silent: int, rate: float) -> str:
