@@ -3,7 +3,8 @@ interval and its delays. Over int64 ns arrays, in ns (a rate in Hz); seconds onl
 
 Three things are not called "gap" here: a *pause* is an interval much longer than the usual one (``pauses``),
 the *longest interval* is the largest one, pause or not (``longest_interval``); why a lookup extrapolates is
-``core.history``'s."""
+``core.history``'s. A *silence* is no interval: the time since the last sample (``silence``). No figure spans two
+time bases (``across_clocks``)."""
 
 from __future__ import annotations
 
