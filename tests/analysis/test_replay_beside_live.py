@@ -126,3 +126,16 @@ def test_filter_counts_an_edges_rate_as_monitor_does(bag: Path) -> None:
     assert hist is not None and history_rate(hist) == pytest.approx(stats["odom"].rate_hz)
     assert _rate(recording.buffer, ("map", "odom")) == pytest.approx(798 / 19.975)
     assert _rate(recording.buffer, ("odom", "base_link")) == pytest.approx(stats["base_link"].rate_hz)
+
+
+def test_view_frames_says_an_edge_on_two_clocks_has_no_buffer_length(bag: Path) -> None:
+    """view-frames drew the real replay's map -> odom with 'Buffer length: 603916.781 s' in a 54 s recording:
+    its newest stamp minus its oldest, on two clocks a week apart. It says the stamps are on two clocks."""
+    from tests.analysis.test_graph_dot import dot_source
+
+    recording = read_recording([bag])
+    stats = {s.child: s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    assert stats["odom"].clocks == 2 and stats["base_link"].clocks == 1
+    dot = dot_source(recording)
+    assert "Buffer length: stamped on 2 clocks, no span" in dot and "604800" not in dot
+    assert re.search(r"Buffer length: 19\.\d{3} s", dot), dot  # the replay's odom -> base_link, on one clock
