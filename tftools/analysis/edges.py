@@ -90,7 +90,8 @@ def edge_stats(
     ``end`` or, where the window is open, to ``until``: the record time the recording ends at, counted on the
     record clock as ``stale`` counts it (ROS time at its end is a guess where no clock gives arrivals: the newest
     stamp, a map -> odom post-dated 1 s by AMCL). An edge that stopped says so at once, the same in a whole
-    recording, its replay and a live window.
+    recording, its replay and a live window; never where staleness cannot be measured (``Timeline.available``: a
+    simulation at 0.07x real time recorded without /clock, its rates on simulated time, its silences on wall time).
     """
     timeline = timeline or ON_RECORD_CLOCK
     result = []
@@ -98,8 +99,9 @@ def edge_stats(
         rows = _window(hist, start, end, by_record_time, timeline) & mine
         if rows.any():
             before = _previous_stamp(hist, mine, rows) if start is not None else None
-            silence_end = end if by_record_time else None
-            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, until))
+            silence_end = end if by_record_time and timeline.available else None
+            counted_to = until if timeline.available else None
+            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, counted_to))
     return result
 
 
