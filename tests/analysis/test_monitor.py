@@ -29,7 +29,7 @@ from tftools.analysis.times import Offset
 from tftools.core.batch import BatchBuilder, concat_batches
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
-from tftools.core.figures import seconds
+from tftools.core.figures import seconds, silence_in_words
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
@@ -322,3 +322,55 @@ def test_a_publisher_is_rated_on_the_clock_its_window_is_counted_on(tmp_path: Pa
     monitor_stream(stream_recording([bag]), replay, lambda live: reports.append(live.report()), speed=1000)
     (played,) = reports[-1].authorities
     assert played.messages == 221 and played.rate_hz == pytest.approx(220 / 4)
+    # no silence said where staleness cannot be measured (no clock of the stamps), nor from the newest stamp
+    # (ROS time's end, guessed) post-dated 1 s: nav2's odom -> base_link read 'silent for the last 0.904 s'
+    edges = [e for e in monitor(recording, MonitorQuery()).edges if not e.static]
+    assert len(edges) == 4 and not any(silence_in_words(e.silent_for, e.rate_hz) for e in edges)
+
+
+def test_the_silence_after_an_edges_last_sample_is_no_gap_read_whole_or_replayed(tmp_path: Path) -> None:
+    """Issue 39 (corpus8's finding; the raspimouse replay's odom -> base_link, whose replay stops 2.5 s before the
+    recorder): --play's largest gap counted the silence from its last sample to the end of playback (2.4738 s)
+    while the whole read said 0.1018 s. Here odom -> base every 20 ms for 10 s, then silent for the last 3 s
+    while map -> odom goes on: a gap of 20 ms and a silence of 3 s, read whole or replayed to the end."""
+    wall = 1_700_000_000 * NS_PER_S
+    messages = []
+    for i in range(651):
+        at = wall + i * 20 * MS
+        transforms = [Transform((0, 0, 0), (0, 0, 0, 1), at, "map", "odom")]
+        if i <= 500:
+            transforms.append(Transform((0, 0, 0), (0, 0, 0, 1), at, "odom", "base"))
+        messages.append(TfMessage("/tf", at + MS, transforms))
+    bag = write_bag(tmp_path / "stops", messages, BagFormat.ros1)
+    whole = _by_child(monitor(read_recording([bag]), MonitorQuery()))
+    reports: list[MonitorReport] = []
+    replay = MonitorQuery(window=100 * NS_PER_S)
+    monitor_stream(stream_recording([bag]), replay, lambda live: reports.append(live.report()), speed=1000)
+    played = _by_child(reports[-1])
+    for edges in (whole, played):
+        assert edges["base"].longest_interval == 20 * MS and edges["base"].silent_for == 3 * NS_PER_S
+        assert edges["odom"].longest_interval == 20 * MS and edges["odom"].silent_for == 0
+
+
+def test_no_silence_is_said_where_staleness_cannot_be_measured(tmp_path: Path) -> None:
+    """ros2_db3_jetacker_slam_toolbox_static_map: a simulation at 0.067x real time recorded on wall time without
+    /clock. --play counted the wall-clock silence after each edge's last new stamp into its largest gap (0.47-1.36
+    s against 0.03-0.12 s whole); a silence on the record clock beside rates on simulated time is no figure.
+    Here odom -> base every 20 ms of simulated time, recorded 15 times slower, the last 1.5 s of the recording
+    holding only a sensor message: no silence whole or replayed, and the same largest gap."""
+    sim, wall = 14 * NS_PER_S, 1_761_607_000 * NS_PER_S
+    messages = [
+        TfMessage("/tf", wall + i * 300 * MS, [Transform((0, 0, 0), (0, 0, 0, 1), sim + i * 20 * MS, "odom", "base")])
+        for i in range(100)
+    ]
+    messages.append(TfMessage("/tf", wall + 31 * NS_PER_S, []))
+    bag = write_bag(tmp_path / "slow_sim", messages, BagFormat.rosbag2_sqlite3)
+    recording = read_recording([bag])
+    assert not recording.timeline.available
+    whole = _by_child(monitor(recording, MonitorQuery()))["base"]
+    reports: list[MonitorReport] = []
+    replay = MonitorQuery(window=100 * NS_PER_S)
+    monitor_stream(stream_recording([bag]), replay, lambda live: reports.append(live.report()), speed=1000)
+    played = _by_child(reports[-1])["base"]
+    assert whole.silent_for == played.silent_for == 0
+    assert whole.longest_interval == played.longest_interval == 20 * MS

@@ -76,12 +76,19 @@ def test_each_refresh_shows_its_windows_numbers(rate: float) -> None:
 
 
 def test_the_hole_shows_while_it_is_in_the_window() -> None:
+    """A hole in progress is a silence, said at once and apart from the gaps (a gap lies between two samples:
+    counting the silence to the window's end in it made --play's largest gap differ from the whole read's);
+    once the next sample came it is a gap, while it is in the window."""
     refreshes = _play(scene(), 1.0, None, None)
-    gap = {round((now - START) / NS_PER_S): seconds(next(e for e in r.edges if e.child == "odom").longest_interval)
-           for now, r, _ in refreshes}  # fmt: skip
-    assert gap[9] == pytest.approx(0.05, abs=1e-6)  # before the hole (it starts at 10 s)
-    assert 1.03 < gap[11] < 1.05  # the silence so far: at once, not when the last sample leaves the window
+    odom = {round((now - START) / NS_PER_S): (next(e for e in r.edges if e.child == "odom"), text)
+            for now, r, text in refreshes}  # fmt: skip
+    gap = {at: seconds(e.longest_interval) for at, (e, _) in odom.items()}
+    silent = {at: seconds(e.silent_for) for at, (e, _) in odom.items()}
+    assert gap[9] == pytest.approx(0.05, abs=1e-6) and silent[9] < 0.05  # before the hole (it starts at 10 s)
+    assert gap[11] == pytest.approx(0.05, abs=1e-6)  # in the hole: no gap yet, the silence so far, at once
+    assert 1.03 < silent[11] < 1.05 and f"-> odom: silent for the last {silent[11]:.3f} s" in odom[11][1]
     assert gap[14] == pytest.approx(2.55, abs=1e-6)  # the whole hole, though its first sample is before the window
+    assert silent[14] < 0.05 and "silent for the last" not in odom[14][1]
     assert gap[20] == pytest.approx(0.05, abs=1e-6)  # gone by
 
 

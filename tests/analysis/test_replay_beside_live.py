@@ -15,7 +15,7 @@ from rich.console import Console
 from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
 from tests.corpus.fetch import shared_dir
-from tftools.analysis.edges import edge_stats
+from tftools.analysis.edges import edge_stats, history_rate
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.wtf.fleet import check
@@ -77,7 +77,9 @@ def test_monitor_figures_are_each_clocks_own(bag: Path) -> None:
     stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
     both = stats[("map", "odom")]
     assert both.count == 2 * SECONDS * 20
-    assert both.rate_hz == pytest.approx(20.0)  # each publisher's, not 799 samples over a week
+    # both publishers side by side over the 19.975 s they arrived in (``figures.rate_of``): a sample every 25 ms;
+    # not 799 samples over a week, nor one publisher's 20 Hz (the 798 intervals over both bases' spans added)
+    assert both.rate_hz == pytest.approx(798 / 19.975)
     assert both.longest_interval == 50 * MS
     assert both.delay_mean == pytest.approx(-0.050 * NS_PER_S, abs=MS)  # the live node's post-dating only
 
@@ -94,7 +96,9 @@ def test_the_real_replay_beside_a_live_gmapping() -> None:
     assert two.figures["behind_s"] == pytest.approx(603862.70 + 0.05, abs=0.01)
     assert not {"rate", "time_backwards"} & _codes(findings)
     stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
-    assert stats[("map", "odom")].rate_hz == pytest.approx(20.0, abs=0.1)
+    # 2114 samples, the replay's and the live gmapping's, in 54 s: 39.09 Hz (tfx said 0.0035 Hz before
+    # clocks11, then 20.00 Hz: one publisher's rate for both)
+    assert stats[("map", "odom")].rate_hz == pytest.approx(39.09, abs=0.01)
     assert stats[("map", "odom")].longest_interval < 0.1 * NS_PER_S
 
 
@@ -154,3 +158,29 @@ def test_the_real_replays_clock_and_its_end_are_beneath_the_cause() -> None:
         ("clock", ("odom", "base_link")),
         ("stale", ("odom", "base_link")),
     }
+
+
+def test_filter_counts_an_edges_rate_as_monitor_does(bag: Path) -> None:
+    """`tfx filter` rated the edge it waited for over its newest minus its oldest stamp: on two clocks, 799
+    samples over a week (0.0013 Hz), so a silence limit of 2 hours; now the rate monitor shows."""
+    from tftools.analysis.filter.fates import _rate
+
+    recording = read_recording([bag])
+    stats = {s.child: s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    hist = recording.buffer.history("odom")
+    assert hist is not None and history_rate(hist) == pytest.approx(stats["odom"].rate_hz)
+    assert _rate(recording.buffer, ("map", "odom")) == pytest.approx(798 / 19.975)
+    assert _rate(recording.buffer, ("odom", "base_link")) == pytest.approx(stats["base_link"].rate_hz)
+
+
+def test_view_frames_says_an_edge_on_two_clocks_has_no_buffer_length(bag: Path) -> None:
+    """view-frames drew the real replay's map -> odom with 'Buffer length: 603916.781 s' in a 54 s recording:
+    its newest stamp minus its oldest, on two clocks a week apart. It says the stamps are on two clocks."""
+    from tests.analysis.test_graph_dot import dot_source
+
+    recording = read_recording([bag])
+    stats = {s.child: s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    assert stats["odom"].clocks == 2 and stats["base_link"].clocks == 1
+    dot = dot_source(recording)
+    assert "Buffer length: stamped on 2 clocks, no span" in dot and "604800" not in dot
+    assert re.search(r"Buffer length: 19\.\d{3} s", dot), dot  # the replay's odom -> base_link, on one clock

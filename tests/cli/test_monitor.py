@@ -24,7 +24,7 @@ TRUE_RATES = {"odom": 10, "base_footprint": 50, "left_wheel": 30, "right_wheel":
 STATIC = {"base_link", "laser", "imu_link", "camera_link", "camera_optical_frame", "arm_base", "gripper"}
 PUBLISHER_RATES = {"/amcl": 10, "/ekf_localization": 50, "/robot_state_publisher": 30, "/arm/robot_state_publisher": 50}
 
-EDGE_KEYS = {"parent", "child", "authorities", "count", "rate_hz", "jitter_s", "gap_max_s", "gap_start",
+EDGE_KEYS = {"parent", "child", "authorities", "count", "rate_hz", "jitter_s", "gap_max_s", "gap_start", "silent_s",
              "delay_mean_s", "delay_max_s", "static", "first_stamp", "last_stamp"}  # fmt: skip
 SAMPLES = list(SAMPLE_BAGS)
 MS_NS = 1_000_000

@@ -4,6 +4,7 @@ nodes, a week behind them) has no gap, rate, period or delay measured across the
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from tftools.core import figures
 from tftools.core.time import NS_PER_S
@@ -26,17 +27,21 @@ def _two_clocks(n: int = 200) -> tuple[np.ndarray, np.ndarray]:
 def test_an_interval_longer_than_the_recording_joins_two_clocks() -> None:
     stamps, arrivals = _two_clocks()
     span = figures.record_span(arrivals)
-    across = figures.across_clocks(np.diff(np.sort(stamps)), span)
+    across = figures.across_clocks(np.sort(stamps), span)
     assert int(across.sum()) == 1  # sorted, the week between the two bases is one interval
-    assert not figures.across_clocks(np.diff(np.sort(stamps)), 0).any()  # record times unknown: no evidence
+    assert not figures.across_clocks(np.sort(stamps), 0).any()  # record times unknown: no evidence
     assert figures.record_span(np.zeros(3, np.int64)) == 0
 
 
 def test_rate_gap_and_pauses_are_each_clocks_own() -> None:
     stamps, arrivals = _two_clocks()
     ordered, span = np.sort(stamps), figures.record_span(arrivals)
-    assert figures.rate_of(ordered, span) == 20.0  # each publisher's 50 ms, not 199 samples over a week
-    assert figures.rate_of(ordered) < 1e-3  # without the record span: the figure this fixes
+    records = arrivals[np.argsort(stamps, kind="stable")]
+    # 198 intervals of the two publishers side by side over the 4.975 s they took to arrive: a sample every 25 ms,
+    # neither one publisher's 50 ms (199 samples over twice the time) nor 199 samples over a week
+    assert figures.rate_of(ordered, span, records) == pytest.approx(198 / 4.975)
+    assert figures.rate_of(ordered, span) == 40.0  # nothing places them: each base's 20 Hz, side by side
+    assert figures.rate_of(ordered) < 1e-3  # without the record span: the figure clocks11 fixed
     assert figures.longest_interval(ordered, span=span)[0] == 50 * MS
     assert figures.pauses(ordered, 0, span) is None
     assert figures.pauses(ordered, 0) is not None
@@ -67,6 +72,42 @@ def test_record_times_that_are_no_clock_part_nothing() -> None:
     stamps = NOW + np.arange(100, dtype=np.int64) * 10 * MS
     records = np.arange(1, 101, dtype=np.int64)
     span = figures.record_span(records)
-    assert not figures.across_clocks(np.diff(stamps), span).any()
+    assert not figures.across_clocks(stamps, span).any()
     assert figures.rate_of(stamps, span) == figures.rate_of(stamps)
     assert figures.nearest_base(records - stamps, span).all()
+
+
+def test_a_clock_that_steps_forward_in_mid_run_is_counted_before_plus_after() -> None:
+    """One publisher every 50 ms whose clock steps a week forward half way (a robot without a real-time clock
+    whose time is set by NTP while it runs): two time bases one after the other, 20 Hz throughout; placed on the
+    record clock they do not overlap, so the rate is over their spans added, not their rates summed."""
+    arrivals = NOW + np.arange(200, dtype=np.int64) * 50 * MS
+    stamps = np.where(np.arange(200) < 100, arrivals - WEEK, arrivals)
+    span = figures.record_span(arrivals)
+    assert figures.rate_of(stamps, span, arrivals) == pytest.approx(198 / 9.9)
+    assert figures.longest_interval(stamps, span=span)[0] == 50 * MS
+
+
+def test_stamps_either_side_of_the_epoch_floor_are_two_bases_without_any_record_time() -> None:
+    """The logistic cobot's /tf: an arm stamped on simulated time (from 46 s) beside detections on wall time,
+    record times of 0: the floor parts them, whatever the record span; each base's rate, side by side."""
+    sim = 46 * NS_PER_S + np.arange(101, dtype=np.int64) * 10 * MS
+    wall = NOW + np.arange(11, dtype=np.int64) * 100 * MS
+    stamps = np.sort(np.concatenate([sim, wall]))
+    assert int(figures.across_clocks(stamps).sum()) == 1
+    assert figures.time_base_of(stamps).tolist() == [0] * 101 + [1] * 11
+    assert figures.rate_of(stamps) == pytest.approx(100.0 + 10.0)
+    assert figures.rate_of(stamps, 0, np.zeros(len(stamps), np.int64)) == pytest.approx(110.0)
+    assert figures.longest_interval(stamps)[0] == 100 * MS  # not the 55 years between the two
+    assert figures.jitter(stamps) == np.std(np.concatenate([np.diff(sim), np.diff(wall)]))
+    assert not figures.same_base(int(sim[-1]), int(wall[0])) and figures.same_base(int(sim[0]), int(sim[-1]))
+
+
+def test_a_silence_is_counted_on_one_clock_or_not_at_all() -> None:
+    """How long a stream has been silent: to the end on the same clock; nothing where the last arrival is unknown
+    (a record time of 0) or on another time base than the end (simulated time against the epoch)."""
+    assert figures.silence(NOW, NOW + 3 * NS_PER_S) == 3 * NS_PER_S
+    assert figures.silence(NOW, None) == 0 and figures.silence(NOW + MS, NOW) == 0
+    assert figures.silence(0, NOW) == 0 and figures.silence(74 * NS_PER_S, NOW) == 0
+    assert figures.silence_in_words(3 * NS_PER_S, 10.0) == "silent for the last 3.000 s"
+    assert figures.silence_in_words(NS_PER_S // 2, 10.0) == ""  # within 10 periods: still publishing

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import sqlite3
 from collections import Counter
 from contextlib import closing
@@ -227,23 +228,62 @@ def _read_json_mcap(path: Path) -> Contents:
     return dataclasses.replace(_contents(topics, times, edges, []), messages=sent)
 
 
-def one_clock_intervals(samples: EdgeSamples) -> npt.NDArray[np.int64]:
-    """The intervals between consecutive sorted stamps on one clock (ns): an interval longer than the samples
-    took to arrive (their record span, where every record time is known) joins two clocks (a replay's
-    stamps a week behind a live node's), unless half of them are (record times that are no clock)."""
-    intervals: npt.NDArray[np.int64] = np.diff(np.sort(np.asarray(samples.stamps, np.int64))).astype(np.int64)
-    records = np.asarray(samples.record_times, np.int64)
+#: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
+EPOCH_SECONDS = 1_000_000_000
+
+
+def _clock_cuts(stamps: npt.NDArray[np.int64], records: npt.NDArray[np.int64]) -> tuple[npt.NDArray[np.bool_], bool]:
+    """Which intervals between consecutive ``stamps`` (sorted; ``records`` their record times, in that order)
+    join two clocks: either side of the epoch floor, or longer than the samples took to arrive (their record
+    span, where every record time is known), unless half of them are (record times that are no clock); and
+    whether the record times are a clock."""
+    cuts = (stamps[:-1] < EPOCH_SECONDS * 10**9) & (stamps[1:] >= EPOCH_SECONDS * 10**9)
     if not len(records) or records.min() <= 0:
-        return intervals
-    between = intervals > records.max() - records.min()
-    kept: npt.NDArray[np.int64] = intervals if 2 * between.sum() >= len(intervals) else intervals[~between]
+        return cuts, False
+    between = np.diff(stamps) > records.max() - records.min()
+    if 2 * between.sum() >= len(between):
+        return cuts, False
+    return cuts | between, True
+
+
+def _sorted(samples: EdgeSamples) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    stamps = np.asarray(samples.stamps, np.int64)
+    order = np.argsort(stamps, kind="stable")
+    return stamps[order], np.asarray(samples.record_times, np.int64)[order]
+
+
+def one_clock_intervals(samples: EdgeSamples) -> npt.NDArray[np.int64]:
+    """The intervals between consecutive sorted stamps on one clock (ns), none across two (``_clock_cuts``: a
+    replay's stamps a week behind a live node's)."""
+    stamps, records = _sorted(samples)
+    cuts, _ = _clock_cuts(stamps, records)
+    kept: npt.NDArray[np.int64] = np.diff(stamps)[~cuts]
     return kept
 
 
 def stamp_rate(samples: EdgeSamples) -> float:
-    """Samples per second over the time their stamps cover on one clock (``one_clock_intervals``)."""
-    intervals = one_clock_intervals(samples)
-    return len(intervals) * 1e9 / float(intervals.sum()) if intervals.sum() > 0 else 0.0
+    """Samples per second of an edge. On one clock: over the time its stamps cover. On several
+    (``_clock_cuts``), side by side: where the record times are a clock, every clock's stamps moved onto it by
+    their median delay, the samples over the time those cover together; else each clock's rate, added."""
+    stamps, records = _sorted(samples)
+    cuts, placed = _clock_cuts(stamps, records)
+    pieces = np.split(np.arange(len(stamps)), np.flatnonzero(cuts) + 1)
+    if len(pieces) == 1:
+        span = float(stamps[-1] - stamps[0]) if len(stamps) else 0.0
+        return (len(stamps) - 1) * 1e9 / span if span > 0 else 0.0
+    if not placed:
+        spans = [float(stamps[p[-1]] - stamps[p[0]]) for p in pieces]
+        return sum((len(p) - 1) * 1e9 / span for p, span in zip(pieces, spans, strict=True) if span > 0)
+    windows = sorted(
+        (float(stamps[p[0]]) + delay, float(stamps[p[-1]]) + delay)
+        for p in pieces
+        for delay in [float(np.median(records[p] - stamps[p]))]
+    )
+    covered, reach = 0.0, -math.inf
+    for low, high in windows:
+        covered += max(high - max(low, reach), 0.0)
+        reach = max(reach, high)
+    return sum(len(p) - 1 for p in pieces) * 1e9 / covered if covered > 0 else 0.0
 
 
 def largest_stamp_gap(samples: EdgeSamples) -> float:

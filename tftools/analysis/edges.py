@@ -14,11 +14,11 @@ from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
-from tftools.core.figures import jitter, longest_interval, mean_max, rate_of, record_span
+from tftools.core.figures import jitter, longest_interval, mean_max, rate_of, record_span, silence, time_base_of
 from tftools.core.history import EdgeHistory
 from tftools.core.stored import with_replaced
 from tftools.sources.contents import SentMessages
-from tftools.sources.timeline import EPOCH_FLOOR, ON_RECORD_CLOCK, Timeline
+from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
 
 @dataclass(frozen=True)
@@ -53,6 +53,8 @@ class EdgeStats(Edge):
     delay_mean: float  # NaN where no delay is known
     delay_max: float
     last_record: int  # latest record time (0 where unknown)
+    clocks: int = 1  # the time bases its stamps are on (``figures.time_base_of``): 2 for a replay's beside a live one's
+    silent_for: int = 0  # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static
 
 
 @dataclass(frozen=True)
@@ -76,15 +78,20 @@ def edge_stats(
     *,
     by_record_time: bool = False,
     timeline: Timeline | None = None,
+    until: int | None = None,
 ) -> list[EdgeStats]:
     """Statistics of every edge with samples in ``[start, end]`` (static edges always).
 
     ``timeline`` turns record times into ROS time (a recording's); without it, record times are
     ROS time (a live buffer's). The window selects samples by stamp, or with ``by_record_time``
     by when they arrived (the stamp where that is unknown): what a live monitor saw in its last seconds.
-    The longest interval counts every interval that overlaps the window: the one from the last
-    sample before it, and with ``by_record_time`` and an ``end``, the silence since the last
-    arrival (so an edge that stopped shows it at once, not when it leaves the window).
+    The longest interval counts every interval that overlaps the window, the one from the last sample before it
+    too; with ``by_record_time``, the silence since the last arrival is counted apart (``figures.silence``), to
+    ``end`` or, where the window is open, to ``until``: the record time the recording ends at, counted on the
+    record clock as ``stale`` counts it (ROS time at its end is a guess where no clock gives arrivals: the newest
+    stamp, a map -> odom post-dated 1 s by AMCL). An edge that stopped says so at once, the same in a whole
+    recording, its replay and a live window; never where staleness cannot be measured (``Timeline.available``: a
+    simulation at 0.07x real time recorded without /clock, its rates on simulated time, its silences on wall time).
     """
     timeline = timeline or ON_RECORD_CLOCK
     result = []
@@ -92,8 +99,9 @@ def edge_stats(
         rows = _window(hist, start, end, by_record_time, timeline) & mine
         if rows.any():
             before = _previous_stamp(hist, mine, rows) if start is not None else None
-            silence_end = end if by_record_time else None
-            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end))
+            silence_end = end if by_record_time and timeline.available else None
+            counted_to = until if timeline.available else None
+            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, counted_to))
     return result
 
 
@@ -201,7 +209,8 @@ def messages_in_window(
     time at arrival: not on the record clock then, which is no clock of the stamps' (a simulation recorded
     without /clock, whose message stamped 1 s ahead of its arrival, a transform_tolerance, stretched the span
     of the others by 1 s). With a reference, a message whose arrival is unknown (a record time of 0) is
-    counted, not timed by its stamp; without one, by stamp on each time base apart (``_rate_by_stamps``)."""
+    counted, not timed by its stamp; without one, by stamp on each time base apart (``figures.rate_of``: the
+    logistic cobot's /tf, an arm on simulated time beside detections on wall time, is not one span of 55 years)."""
     timeline = timeline or ON_RECORD_CLOCK
     arrived, known = timeline.ros_time(sent.record_time)
     arrival, timed = np.where(known, arrived, sent.stamp), known | (not timeline.available)
@@ -217,19 +226,9 @@ def messages_in_window(
         mine = inside & (sent.authority == a)
         moving = mine & ~sent.static
         statics = int(np.count_nonzero(mine & sent.static))
-        times = np.sort(arrival[moving & timed])
-        rate = rate_of(times) if timeline.available else _rate_by_stamps(times)
+        rate = rate_of(np.sort(arrival[moving & timed]))  # one clock, or stamps on their bases side by side
         counted[sent.authorities[int(a)]] = Counted(int(np.count_nonzero(moving)), statics, rate)
     return counted
-
-
-def _rate_by_stamps(stamps: Int64Array) -> float:
-    """The rate of messages timed by their sorted ``stamps``, no clock giving their arrival: where some are
-    stamped from boot or a simulation's start and others from the epoch (``EPOCH_FLOOR``), the rates on each
-    time base summed (the logistic cobot's /tf: an arm on simulated time, detections on wall time; one span
-    over both is 55 years, 0.00 Hz)."""
-    split = int(np.searchsorted(stamps, EPOCH_FLOOR))
-    return rate_of(stamps[:split]) + rate_of(stamps[split:])
 
 
 def _counted(
@@ -363,15 +362,14 @@ def _edge(
     timeline: Timeline,
     before: int | None,
     silence_end: int | None,
+    until: int | None = None,
 ) -> EdgeStats:
     stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
     records = hist.record_times[rows]
     dynamic = not hist.static
     arrived = int(timeline.arrival(stamps, records).max())
     span = record_span(records)  # no figure across two time bases (``figures.across_clocks``)
-    longest, longest_start = longest_interval(
-        stamps if dynamic else stamps[:1], before, silence_end - arrived if silence_end else 0, span
-    )
+    longest, longest_start = longest_interval(stamps if dynamic else stamps[:1], before, span)
     delay_mean, delay_max = mean_max(_delays(child, hist, rows, timeline))
     return EdgeStats(
         parent=parent,
@@ -381,14 +379,28 @@ def _edge(
         authorities=publishers(buffer, hist.authorities[rows]),
         first_stamp=int(stamps.min()),
         last_stamp=int(stamps.max()),
-        rate_hz=rate_of(stamps, span) if dynamic else 0.0,
+        rate_hz=rate_of(stamps, span, records) if dynamic else 0.0,
         jitter=jitter(stamps, span) if dynamic else 0.0,
         longest_interval=longest if dynamic else 0,
         longest_interval_start=longest_start,
         delay_mean=delay_mean,
         delay_max=delay_max,
         last_record=int(records.max()),
+        clocks=int(time_base_of(stamps, span).max()) + 1 if dynamic else 1,
+        silent_for=0 if not dynamic else _silent(arrived, silence_end, int(records.max()), until),
     )
+
+
+def history_rate(hist: EdgeHistory) -> float:
+    """The rate of a frame's whole history as ``edge_stats`` counts an edge's (``figures.rate_of``: on its time
+    bases, placed on the record clock); 0 for a static one."""
+    return 0.0 if hist.static else rate_of(hist.stamps, record_span(hist.record_times), hist.record_times)
+
+
+def _silent(arrived: int, end: int | None, last_record: int, until: int | None) -> int:
+    """An edge's silence (``figures.silence``): since its last arrival in ROS time to a window's ``end``, else
+    since its last record time to the record time ``until`` (a whole recording's end)."""
+    return silence(arrived, end) if end is not None else silence(last_record, until)
 
 
 def chain_moving_edges(buffer: Buffer, target: str, source: str) -> dict[str, EdgeHistory]:

@@ -112,7 +112,7 @@ def tree_of(buffer: Buffer) -> FrameTree:
             first_stamp=int(first),
             last_stamp=int(last),
             parents=tuple(names(p) for p in parents_in_order(hist)),
-            rate_hz=0.0 if hist.static else rate_of(stamps, span),
+            rate_hz=0.0 if hist.static else rate_of(stamps, span, hist.record_times),
             clocks=1 if hist.static else int(time_base_of(stamps, span).max()) + 1,
         )
     children: dict[str, list[str]] = {name: [] for name in frames}

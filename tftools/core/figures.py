@@ -3,7 +3,8 @@ interval and its delays. Over int64 ns arrays, in ns (a rate in Hz); seconds onl
 
 Three things are not called "gap" here: a *pause* is an interval much longer than the usual one (``pauses``),
 the *longest interval* is the largest one, pause or not (``longest_interval``); why a lookup extrapolates is
-``core.history``'s."""
+``core.history``'s. A *silence* is no interval: the time since the last sample (``silence``). No figure spans two
+time bases (``across_clocks``)."""
 
 from __future__ import annotations
 
@@ -19,7 +20,7 @@ from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.rotation import angle_between_many
-from tftools.core.time import NS_PER_S
+from tftools.core.time import EPOCH_FLOOR, NS_PER_S
 
 #: A silence or an interval is a stop or a pause only when it lasts this many periods too.
 PERIODS = 10
@@ -37,27 +38,53 @@ def record_span(record_times: Int64Array) -> int:
     return int(record_times.max() - record_times.min()) if len(record_times) and record_times.min() > 0 else 0
 
 
-def across_clocks(intervals: Int64Array, span: int) -> BoolArray:
-    """Which ``intervals`` between consecutive sorted stamps of one stream join two time bases rather than two
-    moments of one clock: those longer than ``span`` (``record_span``), the time the stream took to arrive.
-    One clock cannot advance further between two samples than the recording lasted; two do (a bag replayed
-    beside live nodes: its stamps a week behind theirs). None where ``span`` is unknown (0), or where half the
-    intervals or more are longer: then the record times are no clock (a writer that put sim-time seconds
-    as nanoseconds, 74 ns for 27.7 s of stamps), as two clocks part the stamps once, not at every sample.
+def across_clocks(stamps: Int64Array, span: int = 0) -> BoolArray:
+    """The one definition of a time base: which intervals between consecutive sorted ``stamps`` of one stream
+    (or offsets of arrival from stamp) join two time bases rather than two moments of one clock. Two rules, each
+    on its own evidence:
+
+    - the stamps': one below ``EPOCH_FLOOR`` (counted from boot or a simulation's start) and the next at or above
+      it (from the epoch). Needs no record time (the logistic cobot's /tf: an arm on simulated time beside
+      detections on wall time, recorded with record times of 0; one span over both is 55 years).
+    - the record ``span``'s (``record_span``, the time the stream took to arrive): longer than it. One clock
+      cannot advance further between two samples than the recording lasted; two do (a bag replayed beside live
+      nodes: its stamps a week behind theirs). This rule parts none where ``span`` is unknown (0), or where half
+      the intervals or more are longer: then the record times are no clock (a writer that put sim-time seconds as
+      nanoseconds, 74 ns for 27.7 s of stamps), as two clocks part the stamps once, not at every sample.
+
     No gap, rate or period is ever measured across such an interval."""
-    across: BoolArray = intervals > span if span > 0 else np.zeros(len(intervals), np.bool_)
-    return across if 2 * int(np.count_nonzero(across)) < len(intervals) else np.zeros(len(intervals), np.bool_)
+    epochs: BoolArray = (stamps[:-1] < EPOCH_FLOOR) & (stamps[1:] >= EPOCH_FLOOR)
+    longer = _longer_than_span(stamps, span)
+    return epochs if longer is None else longer | epochs
 
 
-def time_base_of(values: Int64Array, span: int) -> IntpArray:
+def same_base(a: int, b: int) -> bool:
+    """Whether two times can be on one time base by the stamps' rule of ``across_clocks``: both from the epoch
+    or both from boot or a simulation's start (``EPOCH_FLOOR``). Two times alone hold no record span."""
+    return (a < EPOCH_FLOOR) == (b < EPOCH_FLOOR)
+
+
+def _longer_than_span(stamps: Int64Array, span: int) -> BoolArray | None:
+    """The intervals of sorted ``stamps`` longer than the record ``span`` (``across_clocks``' second rule); None
+    where the record times are no evidence of a clock (an unknown span, or half the intervals longer)."""
+    if span <= 0:
+        return None
+    longer: BoolArray = np.diff(stamps) > span
+    return longer if 2 * int(np.count_nonzero(longer)) < len(longer) else None
+
+
+def time_base_of(values: Int64Array, span: int = 0) -> IntpArray:
     """Which time base each of a stream's ``values`` (stamps, or offsets of arrival from stamp; any order) is
-    on, numbered from the earliest: sorted, they split where two are further apart than the stream's record
-    ``span`` (``across_clocks``). All 0 on one clock, or where ``span`` is unknown."""
+    on, numbered from the earliest: sorted, they split where ``across_clocks`` (with the stream's record
+    ``span``) parts them. All 0 on one clock."""
     base = np.zeros(len(values), np.intp)
-    if len(values) < 2 or span <= 0 or int(values.max()) - int(values.min()) <= span:
-        return base  # no two further apart than the span: one clock, known without sorting (a load's every edge)
+    if len(values) < 2:
+        return base
+    low, high = int(values.min()), int(values.max())
+    if (high < EPOCH_FLOOR or low >= EPOCH_FLOOR) and (span <= 0 or high - low <= span):
+        return base  # on one side of the floor, none further apart than the span: known without sorting
     order = np.argsort(values, kind="stable")
-    breaks = np.flatnonzero(across_clocks(np.diff(values[order]), span))
+    breaks = np.flatnonzero(across_clocks(values[order], span))
     base[order] = np.searchsorted(breaks, np.arange(len(values)), side="left")
     return base
 
@@ -74,16 +101,44 @@ def nearest_base(offsets: Int64Array, span: int) -> BoolArray:
     return mine
 
 
-def rate_of(times: Int64Array, span: int = 0) -> float:
-    """The rate (``rate_hz``) of samples at sorted ``times``, on each time base apart (``across_clocks``, with
-    the stream's record ``span``): its intervals over the time they cover, never an interval between clocks."""
+def rate_of(times: Int64Array, span: int = 0, records: Int64Array | None = None) -> float:
+    """The rate (``rate_hz``) of samples at sorted ``times`` (stamps), never over an interval between two time
+    bases (``across_clocks``, with the stream's record ``span``): on one base, its samples over its span. On
+    several, the samples over the time they cover side by side: each base's stamps moved onto the record clock
+    by its own offset (the median of ``records``, the samples' record times, minus their stamps), so that two
+    publishers taking turns on clocks a week apart are counted over the recording's 54 s, not over 108 s nor
+    7 days, and a clock that stepped forward in mid-run is counted over the time before plus after. Where the
+    record times are no clock (``span`` unknown, or no evidence: ``across_clocks``), each base's rate over its
+    own span, summed."""
     if not len(times):
         return 0.0
-    intervals = np.diff(times)
-    across = across_clocks(intervals, span)
+    first, last = int(times[0]), int(times[-1])
+    if (last < EPOCH_FLOOR or first >= EPOCH_FLOOR) and (span <= 0 or last - first <= span):
+        return rate_hz(len(times), last - first)  # one base, known from its ends (every edge of a load asks)
+    across = across_clocks(times, span)
     if not across.any():
-        return rate_hz(len(times), int(times[-1] - times[0]))
-    return rate_hz(int(np.count_nonzero(~across)) + 1, int(intervals[~across].sum()))
+        return rate_hz(len(times), last - first)
+    starts = np.concatenate(([0], np.flatnonzero(across) + 1))
+    ends = np.concatenate((starts[1:], [len(times)])) - 1
+    counts = ends - starts + 1
+    if records is None or _longer_than_span(times, span) is None:  # no record clock to place them on
+        return sum(rate_hz(int(n), int(times[e] - times[b])) for n, b, e in zip(counts, starts, ends, strict=True))
+    offsets = [median_ns(records[b : e + 1] - times[b : e + 1]) for b, e in zip(starts, ends, strict=True)]
+    low = times[starts] + np.array(offsets, np.int64)
+    high = times[ends] + np.array(offsets, np.int64)
+    return rate_hz(int(counts.sum() - len(counts)) + 1, _covered(low, high))
+
+
+def _covered(low: Int64Array, high: Int64Array) -> int:
+    """How long (ns) the union of the intervals ``[low[i], high[i]]`` lasts."""
+    order = np.argsort(low, kind="stable")
+    total, reach = 0, None
+    for a, b in zip(low[order].tolist(), high[order].tolist(), strict=True):
+        if reach is None or a > reach:
+            total, reach = total + b - a, b
+        elif b > reach:
+            total, reach = total + b - reach, b
+    return total
 
 
 def period(intervals: Int64Array) -> int:
@@ -134,8 +189,7 @@ def wait_keeping(waits: Int64Array, on_arrival: int, decided: int, keep: float =
 def jitter(stamps: Int64Array, span: int = 0) -> float:
     """How irregular sorted ``stamps`` are (ns): the standard deviation of their intervals (on one time base:
     ``across_clocks``); 0 for fewer than two."""
-    intervals = np.diff(stamps)
-    intervals = intervals[~across_clocks(intervals, span)]
+    intervals = np.diff(stamps)[~across_clocks(stamps, span)]
     return float(np.std(intervals)) if len(intervals) else 0.0
 
 
@@ -169,7 +223,7 @@ def pause_rows(stamps: Int64Array, floor: int, span: int = 0) -> tuple[int, Int6
     are its rhythm; a simulation's last seconds, 4.5, 0.96, 4.74 and 3.36 s apart, set none),
     on one time base (an interval between two clocks, ``across_clocks`` with the record ``span``, is none)."""
     intervals = np.diff(stamps)
-    one_clock = ~across_clocks(intervals, span)
+    one_clock = ~across_clocks(stamps, span)
     usual = period(intervals[one_clock])
     rows = np.flatnonzero((intervals > max(floor, PERIODS * usual)) & one_clock)
     kept = intervals[one_clock]
@@ -200,20 +254,34 @@ def pauses(stamps: Int64Array, floor: int, span: int = 0) -> Pauses | None:
     )
 
 
-def longest_interval(stamps: Int64Array, before: int | None = None, silence: int = 0, span: int = 0) -> tuple[int, int]:
+def longest_interval(stamps: Int64Array, before: int | None = None, span: int = 0) -> tuple[int, int]:
     """The longest interval (ns) of sorted ``stamps`` and the stamp it begins at: between two of them on one
-    time base (``across_clocks`` with the record ``span``), from the stamp ``before`` them, or the ``silence``
-    since the last."""
+    time base (``across_clocks`` with the record ``span``), or from the stamp ``before`` them. A gap lies
+    between two samples: the silence after the last is ``silence``'s."""
     candidates = [(0, int(stamps[0]))]
     if len(stamps) > 1:
-        intervals = np.where(across_clocks(np.diff(stamps), span), 0, np.diff(stamps))
+        intervals = np.where(across_clocks(stamps, span), 0, np.diff(stamps))
         i = int(np.argmax(intervals))
         candidates.append((int(intervals[i]), int(stamps[i])))
     if before is not None:
         candidates.append((int(stamps[0]) - before, before))
-    if silence > 0:
-        candidates.append((silence, int(stamps[-1])))
     return max(candidates, key=lambda c: c[0])
+
+
+def silence(last_arrival: int, end: int | None) -> int:
+    """The one definition of how long a stream has been silent (ns): from its last arrival to ``end`` (the
+    recording's end, a live listener's now, on the same clock); 0 where either is unknown (no end, an arrival of
+    0 or less), they are on two time bases (``same_base``), or it arrived since. Said apart from its gaps:
+    "silent for the last 2.500 s" (``silence_in_words``)."""
+    if end is None or last_arrival <= 0 or not same_base(last_arrival, end):
+        return 0
+    return max(end - last_arrival, 0)
+
+
+def silence_in_words(silent: int, rate: float) -> str:
+    """A stream's ``silence`` as a person reads it, where it is one (longer than ``PERIODS`` periods at ``rate``
+    Hz, ``silence_limit``): "silent for the last 2.500 s"; "" where it is not."""
+    return f"silent for the last {silent / NS_PER_S:.3f} s" if rate > 0 and silent > silence_limit(rate) else ""
 
 
 def delays(arrivals: Int64Array, stamps: Int64Array, resolution: int = 0) -> Int64Array:

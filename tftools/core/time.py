@@ -12,6 +12,9 @@ NS_PER_S = 1_000_000_000
 #: Time 0 asks a lookup for the latest time common to every edge of the chain, as in tf2.
 LATEST = 0
 
+#: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
+EPOCH_FLOOR = 1_000_000_000 * NS_PER_S
+
 
 def to_sec(stamp_ns: int) -> float:
     """Seconds as ``ros::Time::toSec`` computes them (``sec + 1e-9 * nsec``, floor-normalised)."""

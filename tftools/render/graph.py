@@ -169,7 +169,9 @@ def _full_lines(edge: GraphEdge, graph: FrameGraph) -> list[str]:
         f"Samples: {s.count}",
         f"Most recent transform: {format_sec(s.last_stamp, 3)} ({age_in_words(age, graph.clock)})",
         f"Oldest transform: {format_sec(s.first_stamp, 3)}",
-        f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s",
+        f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s"
+        if s.clocks == 1
+        else f"Buffer length: stamped on {s.clocks} clocks, no span",
         f"Largest gap: {seconds(s.longest_interval):.3f} s",
     ]
 

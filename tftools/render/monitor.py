@@ -12,7 +12,7 @@ from rich.text import Text
 
 from tftools.analysis.edges import AuthorityStats, EdgeStats
 from tftools.analysis.monitor import ChainStats, MonitorReport
-from tftools.core.figures import seconds
+from tftools.core.figures import seconds, silence_in_words
 from tftools.core.time import NS_PER_S, signed_seconds, to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
@@ -140,13 +140,15 @@ def renderable(
     else:
         parts.append(Text("RESULTS: for all Frames", style="bold"))
         edges = report.edges
-    parts += [
-        Text(""),
-        _edges(edges),
-        Text(""),
-        _authorities(report.authorities),
-    ]
+    parts += [Text(""), _edges(edges), *_silences(edges), Text(""), _authorities(report.authorities)]
     return Group(*parts)
+
+
+def _silences(edges: Sequence[EdgeStats]) -> list[Text]:
+    """A line for each edge silent since its last sample (``figures.silence_in_words``): said apart from its
+    gaps, which lie between two samples."""
+    said = [(e, silence_in_words(e.silent_for, e.rate_hz)) for e in edges if not e.static]
+    return [Text(printable(f"{e.parent} -> {e.child}: {words}"), style="yellow") for e, words in said if words]
 
 
 def _edge_dict(e: EdgeStats) -> dict[str, Any]:
@@ -159,6 +161,7 @@ def _edge_dict(e: EdgeStats) -> dict[str, Any]:
         "jitter_s": seconds(e.jitter),
         "gap_max_s": seconds(e.longest_interval),
         "gap_start": to_sec(e.longest_interval_start),
+        "silent_s": seconds(e.silent_for),
         "delay_mean_s": seconds(e.delay_mean),
         "delay_max_s": seconds(e.delay_max),
         "static": e.static,

@@ -21,12 +21,10 @@ from tftools.core import figures
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
-from tftools.core.time import NS_PER_S, duration
+from tftools.core.time import EPOCH_FLOOR, NS_PER_S, duration
 from tftools.sources.contents import ClockSamples
 from tftools.values import value
 
-#: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
-EPOCH_FLOOR = 1_000_000_000 * NS_PER_S
 #: Two clocks more than this apart (the median of arrival minus stamp) are different clocks, not a delay.
 SAME_CLOCK = 10 * NS_PER_S
 #: A clock that ticks in steps up to this long measures delays; a coarser one (a /clock at 10 Hz, or at
@@ -40,7 +38,7 @@ STEPS_MEASURED = 3
 def seconds_since(origin: int, time: int) -> float | None:
     """Seconds from ``origin`` to ``time`` on the stamps' clock; None where ``time`` is on another time
     base (epoch time against time since boot or a simulation's start): no plausible offset."""
-    if (time < EPOCH_FLOOR) != (origin < EPOCH_FLOOR):
+    if not figures.same_base(origin, time):
         return None
     return (time - origin) / NS_PER_S
 
@@ -79,7 +77,7 @@ class EdgeClock:
         if offset is None or offset > tolerance:
             return False
         reference = self.median_stamp + offset
-        return offset >= -tolerance or (self.median_stamp < EPOCH_FLOOR) == (reference < EPOCH_FLOOR)
+        return offset >= -tolerance or figures.same_base(self.median_stamp, reference)
 
 
 @value

@@ -36,11 +36,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, chain_edges, sorted_unique
+from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_unique
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
-from tftools.core.figures import KEEP, rate_hz, seconds_in_words, silence_limit, wait_keeping
+from tftools.core.figures import KEEP, seconds_in_words, silence_limit, wait_keeping
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -359,7 +359,7 @@ def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int, buffer_or
     records = np.maximum.accumulate(hist.record_times[order])
     stamps = hist.stamps[order]
     newest = np.maximum.accumulate(stamps) if len(stamps) else stamps
-    rate = 0.0 if hist.static else rate_hz(len(hist), hist.latest_stamp - hist.oldest_stamp)
+    rate = history_rate(hist)  # on its time bases: a replay's beside a live publisher's are not 7 days apart
     oldest = _oldest_held(stamps, newest, cache_time)
     places = _places(buffer_order, hist.sequence[order], records)
     return _Edge(parent, child, hist.static, rate, records, newest, oldest, places)
@@ -566,9 +566,7 @@ def stream_report(
 def _rate(buffer: Buffer, edge: tuple[str, str] | None) -> float:
     """The rate of ``edge``'s child frame (0 for none, or a static one)."""
     hist = None if edge is None else buffer.history(edge[1])
-    if hist is None or hist.static:
-        return 0.0
-    return rate_hz(len(hist), hist.latest_stamp - hist.oldest_stamp)
+    return 0.0 if hist is None else history_rate(hist)
 
 
 def _most(edges: list[tuple[str, str] | None]) -> tuple[str, str] | None:

@@ -89,7 +89,7 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
     buffer, timeline = recording.buffer, recording.timeline
     return monitor_buffer(
         buffer, query.target, query.source, first, last, by_record_time=True, timeline=timeline,
-        unstored=recording.refused, sent=recording.contents.sent,
+        unstored=recording.refused, sent=recording.contents.sent, until=timeline.record_end,
     )  # fmt: skip
 
 
@@ -138,12 +138,14 @@ def monitor_buffer(
     timeline: Timeline | None = None,
     unstored: TransformBatch | None = None,
     sent: SentMessages | None = None,
+    until: int | None = None,
 ) -> MonitorReport:
     """tf_monitor's statistics over ``[start, end]`` (windowed as ``edge_stats`` windows them); with two
     frames, their chain too, its delay over the same window on the arrival axis (``end`` defaults to the
     buffer's clock). ``unstored``: the rows tf2 did not store, ``sent``: the messages that arrived
-    (``authority_stats``). Raises tf2's errors when the frames are not connected."""
-    edges = edge_stats(buffer, start, end, by_record_time=by_record_time, timeline=timeline)
+    (``authority_stats``); ``until``: the record time an open window's silences end at (a recording's end,
+    ``edge_stats``). Raises tf2's errors when the frames are not connected."""
+    edges = edge_stats(buffer, start, end, by_record_time=by_record_time, timeline=timeline, until=until)
     authorities = authority_stats(
         buffer, start, end, by_record_time=by_record_time, timeline=timeline, unstored=unstored, sent=sent
     )

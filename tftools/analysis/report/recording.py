@@ -25,10 +25,10 @@ from tftools.analysis.timelines import (
     stream_timelines,
 )
 from tftools.analysis.wtf.fleet import checked_scene
-from tftools.core.time import NS_PER_S, format_sec, from_sec
+from tftools.core.time import EPOCH_FLOOR, NS_PER_S, format_sec, from_sec
 from tftools.sources.contents import StampedMessages, global_name
 from tftools.sources.recording import Recording
-from tftools.sources.timeline import EPOCH_FLOOR, Reference
+from tftools.sources.timeline import Reference
 
 #: What the tf2 semantics are called on the page.
 TF2_NAMES = {"ros1": "ROS 1's (Noetic)", "ros2": "ROS 2's (Rolling, Jazzy)"}

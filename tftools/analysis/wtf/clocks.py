@@ -10,8 +10,9 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
-from tftools.core.time import NS_PER_S
-from tftools.sources.timeline import EPOCH_FLOOR, EdgeClock, Reference, clock_groups, stamps_behind
+from tftools.core.figures import same_base
+from tftools.core.time import EPOCH_FLOOR, NS_PER_S
+from tftools.sources.timeline import EdgeClock, Reference, clock_groups, stamps_behind
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
 CLOCK_PAUSE = 1 * NS_PER_S
@@ -71,7 +72,7 @@ def _stood_still(e: EdgeClock, others: Sequence[EdgeClock]) -> bool:
     if e.last_stamp > e.first_stamp or not moving:
         return False
     newest = max(o.last_stamp for o in moving)
-    return (e.last_stamp < EPOCH_FLOOR) == (newest < EPOCH_FLOOR) and e.last_stamp <= newest
+    return same_base(e.last_stamp, newest) and e.last_stamp <= newest
 
 
 def _offset(e: EdgeClock, against_clock: bool) -> int:

@@ -11,8 +11,7 @@ from dataclasses import dataclass
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.fleet import BagReport
-from tftools.core.time import NS_PER_S
-from tftools.sources.timeline import EPOCH_FLOOR
+from tftools.core.time import EPOCH_FLOOR, NS_PER_S
 
 
 class Verdict(str, enum.Enum):
