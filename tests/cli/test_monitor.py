@@ -296,3 +296,17 @@ def test_a_statics_only_recording_says_its_recorded_span_and_the_statics_stamps(
     )
     window = tfx("monitor", "-b", bag, "--start", "1700000000", "--end", "1700000000.5").stdout.splitlines()[0]
     assert window == f"{bag}: 0.500 s from 1700000000.000 to 1700000000.500"  # a window asked for: as asked
+
+
+def test_a_frame_tf2_made_static_but_sent_on_tf_is_not_a_statics_only_recording(tfx: Tfx, tmp_path: Path) -> None:
+    """The real neato_urdf_beside_driver_2018 (ROS 1): base_link latched on /tf_static first, then 413 times on /tf
+    by the driver; tf2 keeps base_link static, and the header said "static transforms only" of 2177 /tf messages."""
+    start = 1_700_000_000 * NS_PER_S
+    mount = Transform((0.0, 0.0, 0.1), (0.0, 0.0, 0.0, 1.0), start, "base_footprint", "base_link")
+    messages = [TfMessage("/tf_static", start, [mount], "/rsp")]
+    for k in range(1, 11):
+        odom = Transform((0.1 * k, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), start + k * 100 * MS_NS, "odom", "base_link")
+        messages.append(TfMessage("/tf", start + k * 100 * MS_NS, [odom], "/driver"))
+    bag = write_bag(tmp_path / "mixed.bag", messages, BagFormat.ros1)
+    header = tfx("monitor", "-b", bag).stdout.splitlines()[0]
+    assert header == f"{bag}: 0.900 s from 1700000000.100 to 1700000001.000"  # the /tf stamps' span

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from tests.analysis.wtf_scenes import START, simulated, write
-from tests.bags import BagFormat
+from tests.bags import BagFormat, TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tests.cli.test_bad_input import check_stderr
 from tests.cli.test_filter import scan, sensor_bags
@@ -25,6 +25,7 @@ from tests.render.report_scenes import (
     troubled_tf,
 )
 from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
 
 FORMATS = list(SAMPLE_BAGS)
 
@@ -193,3 +194,27 @@ def test_the_3d_view_and_the_timelines_count_from_one_zero(tfx: Tfx, tmp_path: P
     assert [float(stamp) - START / NS_PER_S for stamp in scene["stamps"]] == pytest.approx(scene["times"], abs=1e-6)
     stale = next(f for f in data["findings"] if f["code"] == "stale")
     assert stale["from"] == pytest.approx(EKF_STOPS - 0.02)  # the finding, on the same axis
+
+
+def test_a_finding_stamped_on_a_replays_clock_is_not_placed_days_before_the_recording(tfx: Tfx, tmp_path: Path) -> None:
+    """The real raspimouse_replay_beside_live_gmapping_2018: odom -> base_link replayed with stamps 7 days behind
+    the live map -> odom, and stopping 2.5 s before the end; its stale finding read "-603788.935 s to +53.950 s"
+    of a 54 s recording. Its last stamp is on another clock: said as such, and off the timelines' axis."""
+    week = 7 * 86_400 * NS_PER_S
+    messages = []
+    for k in range(200):
+        now = START + k * 100_000_000
+        live = Transform((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), now, "map", "odom")
+        messages.append(TfMessage("/tf", now, [live], "/slam"))
+        if k < 170:  # the replay ends 3 s before the recording does
+            old = Transform((0.01 * k, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), now - week, "odom", "base_link")
+            messages.append(TfMessage("/tf", now + 1_000_000, [old], "/play"))
+    bag = write_bag(tmp_path / "replayed.bag", messages, BagFormat.ros1)
+    page = tmp_path / "report.html"
+    tfx("report", "-b", bag, "-o", page)
+    whens = re.findall(r'<span class="when">(.*?)</span>', page.read_text())
+    assert any("(another clock)" in when for when in whens), whens
+    offsets = [float(s) for when in whens for s in re.findall(r"([+-][\d.]+) s\b", when)]
+    assert offsets and all(-1 < s < 21 for s in offsets), whens  # nothing days before a 20 s recording
+    stale = next(f for (data,) in [page_data(page)] for f in data["findings"] if f["code"] == "stale")
+    assert stale["from"] is None and stale["to"] == pytest.approx(19.9, abs=0.01)

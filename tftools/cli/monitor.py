@@ -200,13 +200,17 @@ def _plotted(series: Sequence[EdgeSeries]) -> str:
 
 
 def _header(recording: Recording, report: MonitorReport) -> str:
+    from tftools.core.history import FROM_STATIC_TOPIC
+
     timeline = recording.timeline
     first = report.start if report.start is not None else timeline.tf_start
     last = report.end if report.end is not None else timeline.tf_end
     span = _span(first, last)
     paths = ", ".join(recording.paths)
     windowed = report.start is not None or report.end is not None
-    if windowed or any(not hist.static for _, hist in recording.buffer.histories()):
+    # Sent on /tf, not static to tf2: a frame tf2 made static (its first transform on /tf_static) is still
+    # a recording of moving transforms (the real neato_urdf_beside_driver: 2177 on /tf, all "static").
+    if windowed or any(((hist.flags & FROM_STATIC_TOPIC) == 0).any() for _, hist in recording.buffer.histories()):
         return f"{paths}: {span}"
     # Static transforms only: the span of their stamps says nothing of the recording's (a 54 s drive whose
     # /tf_static was stamped in 0.449 s, 37 s before recording began).

@@ -97,7 +97,7 @@ def recording_section(index: int, report: RecordingReport) -> Section:
     parts = [
         '<div class="top">',
         _facts(report.facts),
-        _findings(report.findings, origin),
+        _findings(report.findings, origin, report.other_clock),
         "</div>",
         f'<h3>Tree</h3><p class="axis">{TREE_KEY}</p><div class="tree">{tree}</div>',
         scene3d.scene_html(report.poses),
@@ -149,13 +149,17 @@ def _facts(facts: Sequence[tuple[str, str]]) -> str:
     return f'<table class="facts">{rows}</table>'
 
 
-def _findings(findings: Sequence[Finding], origin: int) -> str:
+def _findings(findings: Sequence[Finding], origin: int, other_clock: frozenset[int]) -> str:
     if not findings:
         return '<div class="findings"><h3>Findings</h3><p class="healthy">No problems found.</p></div>'
     items = []
     cause_of = {f.key: i for i, f in enumerate(findings) if f.key}  # each cause's number: what follows is beneath it
     for i, f in enumerate(findings):
-        when = f' <span class="when">{_esc(_span_text(f, origin))}</span>' if f.first_time or f.last_time else ""
+        when = (
+            f' <span class="when">{_esc(_span_text(f, origin, other_clock))}</span>'
+            if f.first_time or f.last_time
+            else ""
+        )
         follows = f'<span class="follows">follows from [{cause_of[f.cause] + 1}]</span> ' if f.cause else ""
         items.append(
             f'<li class="finding {f.severity.value}{" explained" if f.cause else ""}" data-finding="{i}" tabindex="0">'
@@ -171,15 +175,15 @@ def _span(finding: Finding) -> tuple[int, int]:
     return finding.first_time or finding.last_time, finding.last_time or finding.first_time
 
 
-def _span_text(finding: Finding, origin: int) -> str:
+def _span_text(finding: Finding, origin: int, other_clock: frozenset[int]) -> str:
     first, last = _span(finding)
     if first == last:
-        return f"at {_offset(first, origin)}"
-    return f"{_offset(first, origin)} to {_offset(last, origin)}"
+        return f"at {_offset(first, origin, other_clock)}"
+    return f"{_offset(first, origin, other_clock)} to {_offset(last, origin, other_clock)}"
 
 
-def _offset(ns: int, origin: int) -> str:
-    since = seconds_since(origin, ns)
+def _offset(ns: int, origin: int, other_clock: frozenset[int]) -> str:
+    since = None if ns in other_clock else seconds_since(origin, ns)
     return f"{signed_seconds(since, 3)} s" if since is not None else f"{format_sec(ns, 3)} (another clock)"
 
 
@@ -302,8 +306,8 @@ def _finding_data(
     return {
         "code": finding.code,
         "severity": finding.severity.value,
-        "from": _seconds(first, origin) if first and seconds_since(origin, first) is not None else None,
-        "to": _seconds(last, origin) if last and seconds_since(origin, last) is not None else None,
+        "from": _on_axis(first, origin, report.other_clock),
+        "to": _on_axis(last, origin, report.other_clock),
         "rows": [row for row, i in enumerate(rows) if report.edges[i].key in keys],
         "svg": [svg_ids[key] for key in keys] + nodes,
         "frames": [printable(f) for f in dict.fromkeys(finding.frames)],
@@ -321,6 +325,11 @@ def _stream_data(stream: StreamTimeline) -> dict[str, Any]:
 def _figures(values: FloatArray) -> list[float | None]:
     """Values rounded to ``DIGITS`` significant digits, NaN as null (JSON has no NaN)."""
     return [None if math.isnan(v) else float(f"{v:.{DIGITS}g}") for v in values.tolist()]
+
+
+def _on_axis(ns: int, origin: int, other_clock: frozenset[int]) -> float | None:
+    """A finding's time on the axis; None where unknown (0) or on another clock."""
+    return _seconds(ns, origin) if ns and ns not in other_clock and seconds_since(origin, ns) is not None else None
 
 
 def _seconds(ns: int, origin: int) -> float:

@@ -49,6 +49,8 @@ class RecordingReport:
     origin: int  # the time every time on the page is counted from (``Timeline.origin``: findings' +S too)
     poses: FramePoses | None = None  # every frame over time, for the 3D view
     problems: tuple[str, ...] = ()  # what its reader could not read (also among the facts)
+    # findings' times on another clock than the axis (``Timeline.since_origin``: a replay's, days behind)
+    other_clock: frozenset[int] = frozenset()
 
 
 def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> RecordingReport:
@@ -82,6 +84,9 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
         timeline.origin,
         frame_poses(buffer, scene.tree, timeline.tf_start, timeline.tf_end, timeline=timeline),  # where tf has data
         problems=tuple(recording.problems),
+        other_clock=frozenset(
+            t for f in findings for t in (f.first_time, f.last_time) if t and timeline.since_origin(t) is None
+        ),
     )
 
 
