@@ -64,6 +64,16 @@ def test_bounded_same_in_order_or_not(shuffled: bool) -> None:
     assert not damaged.any()
 
 
+def test_bounded_two_at_one_offset() -> None:
+    """Two entries at one offset: their chunk is damaged, and both reach to the next record further on."""
+    offsets = np.array([0, 40, 40, 90], np.int64)
+    listed = Spans(np.zeros(4, np.int64), offsets, np.arange(4), np.arange(4), offsets, offsets)
+    spans, damaged = bounded(listed, np.array([1000], np.int64), np.array([1200], np.int64))
+    assert spans.start.tolist() == [1000, 1040, 1040, 1090]
+    assert spans.end.tolist() == [1040, 1090, 1090, 1200]
+    assert damaged.tolist() == [True]
+
+
 def _message(conn: int, secs: int, nsecs: int, payload: bytes) -> bytes:
     fields = [
         ("op", bytes([OP_MESSAGE])),

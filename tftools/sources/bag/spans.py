@@ -100,8 +100,11 @@ def bounded(spans: Spans, records_start: Int64Array, records_end: Int64Array) ->
     order = inside if in_order else inside[np.argsort(placed, kind="stable")]
     spans = spans.rows(order)
     spans.start = placed if in_order else start[order]
-    damaged[spans.chunk[1:][spans.start[1:] == spans.start[:-1]]] = True
-    # The next record further on (past those at the same offset) begins in this chunk, or after its end.
-    further = np.append(spans.start, np.iinfo(np.int64).max)[np.searchsorted(spans.start, spans.start, side="right")]
+    twice = spans.start[1:] == spans.start[:-1]
+    damaged[spans.chunk[1:][twice]] = True
+    # The next record further on (past those at the same offset) begins in this chunk, or after its end: with
+    # no two at one offset, the next row's (no search: ~160 instructions a record).
+    ahead = np.append(spans.start, np.iinfo(np.int64).max)
+    further = ahead[np.searchsorted(spans.start, spans.start, side="right")] if twice.any() else ahead[1:]
     spans.end = np.minimum(further, records_end[spans.chunk])
     return spans, damaged
