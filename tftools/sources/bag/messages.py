@@ -169,9 +169,12 @@ class MessageSet:
         self.count += len(channels)
         self._messages.append((times, where, channels.copy()))
         codecs = np.array(self._codec_of, np.int64)[channels]
-        order = np.argsort(codecs, kind="stable")
-        for part in np.split(order, np.flatnonzero(np.diff(codecs[order])) + 1):
-            self._group(int(codecs[part[0]]), data, starts[part], lengths[part], ids[part])
+        if codecs.min() == codecs.max():  # one codec (a bag of tf alone): the messages as they are
+            self._group(int(codecs[0]), data, starts, lengths, ids)
+        else:
+            order = np.argsort(codecs, kind="stable")
+            for part in np.split(order, np.flatnonzero(np.diff(codecs[order])) + 1):
+                self._group(int(codecs[part[0]]), data, starts[part], lengths[part], ids[part])
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
 
@@ -246,7 +249,9 @@ class MessageSet:
         else:
             assert not isinstance(codec, CopyCodec)  # their messages are handed on, never grouped
             decoded = codec.decode(raw, starts, lengths, self._rows.frames)
-            self._rows.add_rows(ids[decoded.message], decoded.parent, decoded.child, decoded.stamp, decoded.values)
+            self._rows.add_rows(
+                _numbered(ids, decoded.message), decoded.parent, decoded.child, decoded.stamp, decoded.values
+            )
             failures = decoded.failures
         self._failed += [(int(ids[row]), reason) for row, reason in failures]
 
@@ -395,6 +400,14 @@ class MessageSet:
 
     def _topic_and_codec(self, channel: int) -> tuple[str, str]:
         return self.channels[channel].topic, self.channels[channel].codec.name
+
+
+def _numbered(ids: Int64Array, rows: Int64Array) -> Int64Array:
+    """``ids[rows]``, the numbers of the messages ``rows`` index: an addition where ``ids`` are consecutive (the
+    messages of one codec handed on at once), not a gather."""
+    if len(ids) and int(ids[-1]) - int(ids[0]) == len(ids) - 1 and bool(np.all(ids[1:] > ids[:-1])):
+        return rows + int(ids[0])
+    return ids[rows]
 
 
 def _copied(data: bytes | memoryview, starts: Int64Array, lengths: Int64Array) -> tuple[bytes, Int64Array]:

@@ -41,6 +41,11 @@ class Spans:
         return len(self.start)
 
     def rows(self, which: BoolArray | Int64Array) -> Spans:
+        """The rows ``which`` (a mask, or indices) selects, in its order. Where that is every row in
+        order, as a read that lost nothing selects, the columns are this one's, not copies (a caller
+        that writes into a column writes into both): ~6 instructions a value less, 6 columns a call."""
+        if selects_all(which, len(self)):
+            return Spans(*(getattr(self, name) for name in _COLUMNS))
         return Spans(*(getattr(self, name)[which] for name in _COLUMNS))
 
     def looked_up(self, table: dict[int, int]) -> Int64Array:
@@ -62,6 +67,16 @@ class Spans:
 _COLUMNS = ("chunk", "offset", "channel", "time", "start", "end")
 
 
+def selects_all(which: BoolArray | Int64Array, n: int) -> bool:
+    """Whether ``which`` (a mask, or indices) selects every one of ``n`` rows, in order."""
+    if len(which) != n:
+        return False
+    if which.dtype == np.bool_:
+        return bool(which.all())
+    # n strictly increasing indices from 0 to n - 1 are 0, 1, ..., n - 1.
+    return n == 0 or (int(which[0]) == 0 and int(which[-1]) == n - 1 and bool(np.all(which[1:] > which[:-1])))
+
+
 def joined(parts: Sequence[Spans]) -> Spans:
     """The rows of every part, one after the other."""
     if not parts:
@@ -80,11 +95,16 @@ def bounded(spans: Spans, records_start: Int64Array, records_end: Int64Array) ->
     damaged = np.zeros(len(records_start), bool)
     damaged[spans.chunk[outside]] = True
     inside = np.flatnonzero(~outside)
-    order = inside[np.argsort(start[inside], kind="stable")]
+    placed = start if len(inside) == len(start) else start[inside]
+    in_order = bool(np.all(placed[1:] >= placed[:-1]))  # as an index lists its chunk's records: no sort
+    order = inside if in_order else inside[np.argsort(placed, kind="stable")]
     spans = spans.rows(order)
-    spans.start = start[order]
-    damaged[spans.chunk[1:][spans.start[1:] == spans.start[:-1]]] = True
-    # The next record further on (past those at the same offset) begins in this chunk, or after its end.
-    further = np.append(spans.start, np.iinfo(np.int64).max)[np.searchsorted(spans.start, spans.start, side="right")]
+    spans.start = placed if in_order else start[order]
+    twice = spans.start[1:] == spans.start[:-1]
+    damaged[spans.chunk[1:][twice]] = True
+    # The next record further on (past those at the same offset) begins in this chunk, or after its end: with
+    # no two at one offset, the next row's (no search: ~160 instructions a record).
+    ahead = np.append(spans.start, np.iinfo(np.int64).max)
+    further = ahead[np.searchsorted(spans.start, spans.start, side="right")] if twice.any() else ahead[1:]
     spans.end = np.minimum(further, records_end[spans.chunk])
     return spans, damaged

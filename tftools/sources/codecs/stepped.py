@@ -48,4 +48,6 @@ def decode_transforms(
         kept = ~np.isin(message, lost)
         message, stamp, values, parent, child = message[kept], stamp[kept], values[kept], parent[kept], child[kept]
         failures = sorted(failures + [(m, worded(Reason.NOT_UTF8, int(lengths[m]))) for m in lost.tolist()])
+    if len(ids) and int(ids[0]) == 0 and int(ids[-1]) == len(ids) - 1 and bool(np.all(ids[1:] > ids[:-1])):
+        return Decoded(message, parent, child, stamp, values, failures)  # the names' ids are the table's already
     return Decoded(message, ids[parent], ids[child], stamp, values, failures)

@@ -18,7 +18,7 @@ from tftools.sources.bag.ros1.records import (
     u32,
     value_at,
 )
-from tftools.sources.bag.spans import Spans, joined
+from tftools.sources.bag.spans import Spans, joined, selects_all
 from tftools.sources.codecs import _wire
 from tftools.sources.codecs.gather import distinct, u32_at
 
@@ -70,18 +70,27 @@ def locate(
     limit = np.minimum(records.end, len(raw))
     cut = np.zeros(len(records), bool) if cut is None else cut
     inside = (records.start >= 0) & (records.start + 8 <= limit)
-    header_len = np.full(len(records), -1, np.int64)
-    header_len[inside] = u32_at(raw, records.start[inside])
+    if inside.all():
+        header_len = u32_at(raw, records.start)
+    else:
+        header_len = np.full(len(records), -1, np.int64)
+        header_len[inside] = u32_at(raw, records.start[inside])
     found = np.zeros(len(records), bool)
     header = np.zeros((4, len(records)), np.int64)  # conn, time, data start and end of each
     for length in distinct(header_len[header_len >= 0]).tolist():
         rows = np.flatnonzero(header_len == length)
         template = _Template.learn(data, int(records.start[rows[0]]))
-        if template is not None:
+        if template is None:
+            continue
+        if selects_all(rows, len(records)):
+            hit, values = template.match(raw, np.ascontiguousarray(records.start), limit, np.ascontiguousarray(cut))
+            if hit.all():  # every record a message of one layout (as recorders write them): no gathers
+                return Spans(records.chunk, records.offset, *values), [], ""
+        else:
             hit, values = template.match(raw, records.start[rows], limit[rows], cut[rows])
-            hit_rows = rows[hit]
-            found[hit_rows] = True
-            header[:, hit_rows] = values
+        hit_rows = rows[hit]
+        found[hit_rows] = True
+        header[:, hit_rows] = values
     messages = Spans(records.chunk[found], records.offset[found], *header[:, found])
     slow, slow_cut = records.rows(~found), cut[~found].tolist()
     connections: list[Connection] = []

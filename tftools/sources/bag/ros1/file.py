@@ -9,7 +9,7 @@ from tftools.sources.bag.contents import ProgressCallback, RecordWindow
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.ros1.records import Chunk, Connection, RecordReader
 from tftools.sources.bag.scan import FileScan
-from tftools.sources.bag.spans import Spans
+from tftools.sources.bag.spans import Spans, selects_all
 from tftools.sources.bag.unpack import Budget, Unpacked, unpack
 from tftools.sources.codecs.select import ClockCodec, HeaderCodec, Wanted, copied, select
 from tftools.sources.contents import Recorded
@@ -96,7 +96,8 @@ class BagFile:
         """Keep the wanted ones of ``messages`` (their payloads copied out of ``data``); returns which."""
         channel = messages.looked_up(self.channels)
         kept = channel >= 0
-        self.scan.messages.add_spans(channel[kept].astype(np.int32), messages.rows(kept), data)
+        every = selects_all(kept, len(kept))
+        self.scan.messages.add_spans((channel if every else channel[kept]).astype(np.int32), messages.rows(kept), data)
         self.transform_messages += int(np.count_nonzero(kept & ~np.isin(channel, list(self._clocks))))
         return kept
 
