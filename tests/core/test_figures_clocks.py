@@ -111,3 +111,18 @@ def test_a_silence_is_counted_on_one_clock_or_not_at_all() -> None:
     assert figures.silence(0, NOW) == 0 and figures.silence(74 * NS_PER_S, NOW) == 0
     assert figures.silence_in_words(3 * NS_PER_S, 10.0) == "silent for the last 3.000 s"
     assert figures.silence_in_words(NS_PER_S // 2, 10.0) == ""  # within 10 periods: still publishing
+
+
+@pytest.mark.parametrize(
+    "values, span",
+    [
+        (np.arange(100, dtype=np.int64) * 25 * MS, 0),  # from boot, no record span
+        (NOW + np.arange(100, dtype=np.int64) * 25 * MS, 3 * NS_PER_S),  # one clock, within the span
+        (np.array([5 * NS_PER_S, NOW, 6 * NS_PER_S, NOW + MS], np.int64), 0),  # either side of the epoch floor
+        (np.sort(_two_clocks()[0]), figures.record_span(_two_clocks()[1])),  # a replay beside a live node
+        (np.zeros(1, np.int64), 0),
+    ],
+)
+def test_time_bases_counts_what_time_base_of_numbers(values: np.ndarray, span: int) -> None:
+    """The count the load path asks of every edge, without the array where there is one base, is the array's."""
+    assert figures.time_bases(values, span) == int(figures.time_base_of(values, span).max()) + 1

@@ -14,7 +14,7 @@ from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
-from tftools.core.figures import jitter, longest_interval, mean_max, rate_of, record_span, silence, time_base_of
+from tftools.core.figures import jitter, longest_interval, mean_max, rate_of, record_span, silence, time_bases
 from tftools.core.history import EdgeHistory
 from tftools.core.stored import with_replaced
 from tftools.sources.contents import SentMessages
@@ -53,7 +53,7 @@ class EdgeStats(Edge):
     delay_mean: float  # NaN where no delay is known
     delay_max: float
     last_record: int  # latest record time (0 where unknown)
-    clocks: int = 1  # the time bases its stamps are on (``figures.time_base_of``): 2 for a replay's beside a live one's
+    clocks: int = 1  # the time bases its stamps are on (``figures.time_bases``): 2 for a replay's beside a live one's
     silent_for: int = 0  # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static
 
 
@@ -386,7 +386,7 @@ def _edge(
         delay_mean=delay_mean,
         delay_max=delay_max,
         last_record=int(records.max()),
-        clocks=int(time_base_of(stamps, span).max()) + 1 if dynamic else 1,
+        clocks=time_bases(stamps, span) if dynamic else 1,
         silent_for=0 if not dynamic else _silent(arrived, silence_end, int(records.max()), until),
     )
 

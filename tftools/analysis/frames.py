@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from tftools.analysis.edges import parents_in_order, publishers
 from tftools.core.buffer import Buffer
-from tftools.core.figures import rate_of, record_span, time_base_of
+from tftools.core.figures import rate_of, record_span, time_bases
 
 if TYPE_CHECKING:
     from tftools.sources.recording import Recording
@@ -30,7 +30,7 @@ class FrameSummary:
     #: Mean publishing rate over the samples' span, on each time base apart (``figures.rate_of``); 0 for a
     #: static or single-sample edge.
     rate_hz: float = 0.0
-    #: The time bases its stamps are on (``figures.time_base_of``): 2 for a replay's samples beside a live
+    #: The time bases its stamps are on (``figures.time_bases``): 2 for a replay's samples beside a live
     #: publisher's, a week apart, whose first and last stamps span no time the recording lasted.
     clocks: int = 1
 
@@ -113,7 +113,7 @@ def tree_of(buffer: Buffer) -> FrameTree:
             last_stamp=int(last),
             parents=tuple(names(p) for p in parents_in_order(hist)),
             rate_hz=0.0 if hist.static else rate_of(stamps, span, hist.record_times),
-            clocks=1 if hist.static else int(time_base_of(stamps, span).max()) + 1,
+            clocks=1 if hist.static else time_bases(stamps, span),
         )
     children: dict[str, list[str]] = {name: [] for name in frames}
     for name, summary in frames.items():

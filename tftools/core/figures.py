@@ -73,16 +73,28 @@ def _longer_than_span(stamps: Int64Array, span: int) -> BoolArray | None:
     return longer if 2 * int(np.count_nonzero(longer)) < len(longer) else None
 
 
+def _on_one_base(values: Int64Array, span: int) -> bool:
+    """Whether ``values`` are on one time base, known without sorting them: on one side of the epoch floor,
+    none further apart than the record ``span``."""
+    if len(values) < 2:
+        return True
+    low, high = int(values.min()), int(values.max())
+    return (high < EPOCH_FLOOR or low >= EPOCH_FLOOR) and (span <= 0 or high - low <= span)
+
+
+def time_bases(values: Int64Array, span: int = 0) -> int:
+    """How many time bases ``values`` are on (``time_base_of``), without an array where they are on one (the
+    load path asks it of every edge)."""
+    return 1 if _on_one_base(values, span) else int(time_base_of(values, span).max()) + 1
+
+
 def time_base_of(values: Int64Array, span: int = 0) -> IntpArray:
     """Which time base each of a stream's ``values`` (stamps, or offsets of arrival from stamp; any order) is
     on, numbered from the earliest: sorted, they split where ``across_clocks`` (with the stream's record
     ``span``) parts them. All 0 on one clock."""
     base = np.zeros(len(values), np.intp)
-    if len(values) < 2:
+    if _on_one_base(values, span):
         return base
-    low, high = int(values.min()), int(values.max())
-    if (high < EPOCH_FLOOR or low >= EPOCH_FLOOR) and (span <= 0 or high - low <= span):
-        return base  # on one side of the floor, none further apart than the span: known without sorting
     order = np.argsort(values, kind="stable")
     breaks = np.flatnonzero(across_clocks(values[order], span))
     base[order] = np.searchsorted(breaks, np.arange(len(values)), side="left")

@@ -522,9 +522,10 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
     on several (``figures.time_base_of``: a replay's and a live publisher's, a week apart), so that no span
     or offset of one frame is measured across two clocks."""
     arrivals = len(stamps)  # all of them, on any base
-    base = figures.time_base_of(records - stamps, figures.record_span(records))
-    bases = int(base.max(initial=0)) + 1
+    offsets, span = records - stamps, figures.record_span(records)
+    bases = figures.time_bases(offsets, span)
     if bases > 1:
+        base = figures.time_base_of(offsets, span)
         mine = base == int(np.argmax(np.bincount(base)))
         stamps, records, ros, known = stamps[mine], records[mine], ros[mine], known[mine]
     offset_clock = figures.median_ns(ros[known] - stamps[known]) if known.any() else None
