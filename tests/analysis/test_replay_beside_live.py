@@ -184,3 +184,20 @@ def test_view_frames_says_an_edge_on_two_clocks_has_no_buffer_length(bag: Path) 
     dot = dot_source(recording)
     assert "Buffer length: stamped on 2 clocks, no span" in dot and "604800" not in dot
     assert re.search(r"Buffer length: 19\.\d{3} s", dot), dot  # the replay's odom -> base_link, on one clock
+
+
+@pytest.mark.parametrize("target", ["map", "odom"])
+def test_plus_s_through_the_replays_frame_counts_on_the_replays_clock(bag: Path, target: str) -> None:
+    """`tfx echo map base_link --at +2` on the real replay asked for the live clock's first stamp + 2 s, where
+    the replay's odom -> base_link (a week behind) has no data, and failed with an extrapolation 603790.9 s into
+    the future: +S counts on the clock where every edge asked about has data, the replay's."""
+    from tftools.analysis.echo import EchoQuery, echo_times
+    from tftools.analysis.times import Offset
+
+    recording = read_recording([bag])
+    (at,) = echo_times(
+        recording.buffer, recording.timeline, EchoQuery(target=target, source="base_link", at=Offset(2.0))
+    )
+    first_replayed = START - WEEK - 3 * MS
+    assert at == first_replayed + 2 * NS_PER_S
+    assert recording.buffer.lookup(target, "base_link", int(at)) is not None

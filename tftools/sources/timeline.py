@@ -119,15 +119,21 @@ class Timeline:
 
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
         """The tf span on the clock of the frames a question is about (``children``): the recording's
-        (``tf_start``, ``tf_end``) where some of them are stamped within it or none tells its clock; else
-        the span of every frame stamped on the same clock as they are (a chain on simulated time in a
-        recording whose other frames are on wall time: ``+S`` counts from its own first stamp)."""
+        (``tf_start``, ``tf_end``) where all of them are stamped within it or none tells its clock; else the
+        span of every frame stamped on the clock of one that is not (a chain on simulated time in a
+        recording whose other frames are on wall time: ``+S`` counts from its own first stamp; a chain
+        through a replay's frame a week behind, beside live frames: from the replay's, where alone every
+        edge of it has data)."""
         wanted = set(children)
-        mine = [e for e in self.edges if e.child in wanted]
         near = self.same_clock
-        if not mine or any(self.tf_start - near <= e.median_stamp <= self.tf_end + near for e in mine):
+        off = [
+            e
+            for e in self.edges
+            if e.child in wanted and not self.tf_start - near <= e.median_stamp <= self.tf_end + near
+        ]
+        if not off:
             return self.tf_start, self.tf_end
-        group = next(g for g in clock_groups(self.edges, self.same_clock) if mine[0] in g)
+        group = next(g for g in clock_groups(self.edges, self.same_clock) if off[0] in g)
         return min(e.first_stamp for e in group), max(e.last_stamp for e in group)
 
     @cached_property
