@@ -157,12 +157,12 @@ def test_follow_ticks_once_a_second_until_the_feed_ends() -> None:
     assert [round((t - START) / NS_PER_S, 1) for t in ticks] == [1.0, 2.0, 3.0]
 
 
-def followed(times_ms: list[int], period: float) -> int:
+def followed(times_ms: list[int], period: float, *, summary: bool = False) -> int:
     """How many ticks ``follow`` makes on a replay (fast) of rows at ``times_ms``: as they are on its clock,
     from its beginning, however the threads run, each is due at a whole period of bag time."""
     replay = Replay(recorded(times_ms), rate=1000.0)
     ticks: list[int] = []
-    follow(replay, lambda b: None, lambda: ticks.append(replay.clock.now()), period=period)
+    follow(replay, lambda b: None, lambda: ticks.append(replay.clock.now()), period=period, summary=summary)
     assert all(t <= START + times_ms[-1] * MS for t in ticks)  # never after the replay's end
     return len(ticks)
 
@@ -177,6 +177,25 @@ def test_a_replay_ending_just_after_a_tick_gets_no_tick_of_its_own() -> None:
 def test_a_replay_ending_on_a_tick_gets_it_and_one_shorter_than_a_period_gets_one_at_its_end() -> None:
     assert followed([0, 1000, 2000], period=1.0) == 2  # the tick due as the replay ends is made
     assert followed([0, 100, 300], period=1.0) == 1  # its state shown once rather than never
+
+
+@pytest.mark.parametrize(
+    ("times_ms", "period", "seen"),
+    [([0, 500, 1000, 1507], 0.5, [0.5, 1.0, 1.5, 1.507]), ([0, 1000, 2000], 1.0, [1.0, 2.0])],
+    ids=["after", "on"],
+)
+def test_a_summary_comes_as_a_feed_ends_after_its_last_tick(
+    times_ms: list[int], period: float, seen: list[float]
+) -> None:
+    """monitor's last table covers the whole replay (echo's lines do not go past their rate); a feed that ended
+    on its last tick gets none. On a fake wall clock, so that the clock of each tick is known."""
+    wall = FakeTime()
+    replay = Replay(recorded(times_ms))
+    ticks: list[int] = []
+    driven = HandDriven(replay, wall)
+    follow(driven, lambda b: None, lambda: ticks.append(replay.clock.now()), period=period, summary=True,
+           sleep=driven.sleep, monotonic=wall.monotonic)  # fmt: skip
+    assert [round((t - START) / NS_PER_S, 3) for t in ticks] == seen
 
 
 def test_follow_stops_after_its_duration() -> None:

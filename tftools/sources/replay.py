@@ -201,6 +201,7 @@ def follow(
     *,
     period: float = 1.0,
     duration: float | None = None,
+    summary: bool = False,
     sleep: Callable[[float], None] = time.sleep,
     monotonic: Callable[[], float] = time.monotonic,
 ) -> None:
@@ -208,13 +209,13 @@ def follow(
     wall seconds have passed or the feed is finished. Seconds of a ``Replay``'s clock from its beginning,
     as a node under ``use_sim_time`` ticks on ``rosbag play --clock``: each tick its clock reaches is made,
     none after its end (the recording's). Else wall seconds. A feed that ends before its first tick gets
-    one as it ends, so that its state is shown once. The feed is closed, and the error that ended it (a
-    replay's ``error``) raised."""
-    ticks = 0
+    one as it ends, so that its state is shown once; with ``summary`` (monitor's last table), so does one
+    whose clock moved on since its last tick. The feed is closed, and the error that ended it (a replay's
+    ``error``) raised."""
+    ticks: list[int] = []  # the feed's clock at each tick
 
     def tick() -> None:
-        nonlocal ticks
-        ticks += 1
+        ticks.append(feed.clock.now())
         on_tick()
 
     def finished() -> bool:
@@ -237,7 +238,7 @@ def follow(
         feed.close()
     if (error := getattr(feed, "error", None)) is not None:
         raise error
-    if not ticks:
+    if not ticks or (summary and feed.clock.now() > ticks[-1]):
         on_tick()
 
 
