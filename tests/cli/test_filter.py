@@ -284,3 +284,22 @@ def test_wtf_and_filter_suggest_one_wait_for_a_sensor(tfx: Tfx, tmp_path: Path) 
     assert "a timeout of at least 0.078 s (it keeps 99.9% of them)" in waiting["hint"]
     table = tfx("filter", "/scan", "-b", bag, "--target", "odom").stdout
     assert "wait 0.078 s" in table
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "db3", "mcap"])
+def test_a_sensor_topic_given_as_tf_is_named_with_its_type_by_wtf_as_by_echo(
+    tfx: Tfx, bags: dict[str, Path], fmt: str
+) -> None:
+    """Issue 39, ros2_db3_kth_robp_scan_statics_2024: ``wtf --topic /scan`` said "no transforms on /scan" where
+    ``echo --topic /scan`` said /scan is a LaserScan, not a transform message (wtf reads /scan's headers, so
+    the topic was not counted as skipped): both say so now, in one line, and name the topics that carry tf."""
+    kind = "sensor_msgs/LaserScan" if fmt == "ros1" else "sensor_msgs/msg/LaserScan"
+    line = f"/scan: {kind} ({'ros1' if fmt == 'ros1' else 'cdr'}) is not a transform message tftools reads, skipped"
+    wtf = tfx("wtf", "-b", bags[fmt], "--topic", "/scan", "-f", "json")
+    (report,) = json.loads(wtf.stdout)["bags"]
+    (no_tf,) = [f for f in report["findings"] if f["code"] == "no_tf"]
+    assert no_tf["message"] == f"no transforms read in {bags[fmt]}: {line}"
+    assert "carry transforms: tfx reads them without --topic" in no_tf["hint"]
+    echo = tfx("echo", "odom", "base_link", "-b", bags[fmt], "--topic", "/scan")
+    assert echo.code == 2 and f"no transforms read: {line}" in echo.stderr
+    assert "carry transforms: leave out --topic" in echo.stderr

@@ -31,7 +31,7 @@ class FakeTime:
     def sleep(self, seconds: float) -> None:
         assert seconds >= 0
         self.sleeps.append(seconds)
-        self.now += seconds
+        self.now = round(self.now + seconds, 9)  # to the ns, as bag time: no float drift between the two
 
 
 class HandDriven:
@@ -153,8 +153,49 @@ def test_follow_ticks_once_a_second_until_the_feed_ends() -> None:
     follow(driven, lambda b: rows.extend(b.record_time.tolist()), lambda: ticks.append(replay.clock.now()),
            sleep=driven.sleep, monotonic=wall.monotonic)  # fmt: skip
     assert len(rows) == 35
-    # One tick per wall second (bag time = wall time here), then the final state.
-    assert [round((t - START) / NS_PER_S, 1) for t in ticks] == [1.0, 2.0, 3.0, 3.4]
+    # One tick per wall second (bag time = wall time here), none once the replay ended at 3.4 s.
+    assert [round((t - START) / NS_PER_S, 1) for t in ticks] == [1.0, 2.0, 3.0]
+
+
+def followed(times_ms: list[int], period: float, *, summary: bool = False) -> int:
+    """How many ticks ``follow`` makes on a replay (fast) of rows at ``times_ms``: as they are on its clock,
+    from its beginning, however the threads run, each is due at a whole period of bag time."""
+    replay = Replay(recorded(times_ms), rate=1000.0)
+    ticks: list[int] = []
+    follow(replay, lambda b: None, lambda: ticks.append(replay.clock.now()), period=period, summary=summary)
+    assert all(t <= START + times_ms[-1] * MS for t in ticks)  # never after the replay's end
+    return len(ticks)
+
+
+def test_a_replay_ending_just_after_a_tick_gets_no_tick_of_its_own() -> None:
+    """The json_mcap_lbx_franka.mcap case: 1.507 s of bag at 2 ticks a second, the last due 7 ms before the
+    end; echo --play printed a fourth line at the end (7 ms after the third), which tf_echo on rosbag play's
+    clock does not."""
+    assert followed([0, 500, 1000, 1507], period=0.5) == 3
+
+
+def test_a_replay_ending_on_a_tick_gets_it_and_one_shorter_than_a_period_gets_one_at_its_end() -> None:
+    assert followed([0, 1000, 2000], period=1.0) == 2  # the tick due as the replay ends is made
+    assert followed([0, 100, 300], period=1.0) == 1  # its state shown once rather than never
+
+
+@pytest.mark.parametrize(
+    ("times_ms", "period", "seen"),
+    [([0, 500, 1000, 1507], 0.5, [0.5, 1.0, 1.5, 1.507]), ([0, 1000, 2000], 1.0, [1.0, 2.0])],
+    ids=["after", "on"],
+)
+def test_a_summary_comes_as_a_feed_ends_after_its_last_tick(
+    times_ms: list[int], period: float, seen: list[float]
+) -> None:
+    """monitor's last table covers the whole replay (echo's lines do not go past their rate); a feed that ended
+    on its last tick gets none. On a fake wall clock, so that the clock of each tick is known."""
+    wall = FakeTime()
+    replay = Replay(recorded(times_ms))
+    ticks: list[int] = []
+    driven = HandDriven(replay, wall)
+    follow(driven, lambda b: None, lambda: ticks.append(replay.clock.now()), period=period, summary=True,
+           sleep=driven.sleep, monotonic=wall.monotonic)  # fmt: skip
+    assert [round((t - START) / NS_PER_S, 3) for t in ticks] == seen
 
 
 def test_follow_stops_after_its_duration() -> None:
@@ -173,7 +214,11 @@ def test_follow_stops_after_its_duration() -> None:
     ticks: list[float] = []
     follow(Endless(), lambda b: None, lambda: ticks.append(wall.now), duration=2.5, sleep=wall.sleep,
            monotonic=wall.monotonic)  # fmt: skip
-    assert ticks == [101.0, 102.0, 102.5] and closed == [True]
+    assert ticks == [101.0, 102.0] and closed == [True]
+    ticks.clear()
+    follow(Endless(), lambda b: None, lambda: ticks.append(wall.now), duration=2.0, sleep=wall.sleep,
+           monotonic=wall.monotonic)  # fmt: skip
+    assert ticks == [103.5, 104.5]  # the tick due as the duration ends is made, once
 
 
 def test_follow_into_a_buffer_sees_the_whole_bag() -> None:

@@ -116,7 +116,7 @@ def _no_transforms(error: NoTransformsError) -> UsageError:
         "unreadable": "`tfx wtf` names their type and encoding; pick other topics with --topic",
         "absent": "was /tf recorded? pick other topics with --topic",
     }
-    if error.cause == "absent" and error.carriers:  # the recording has transforms, on topics not read
+    if error.cause in ("absent", "unread") and error.carriers:  # the recording has transforms, on topics not read
         carriers = error.carriers[:3]
         if set(carriers) <= set(DEFAULT_TOPICS):
             return UsageError(str(error), f"{' and '.join(carriers)} carry transforms: leave out --topic")

@@ -204,21 +204,45 @@ def follow(
     *,
     period: float = 1.0,
     duration: float | None = None,
+    summary: bool = False,
     sleep: Callable[[float], None] = time.sleep,
     monotonic: Callable[[], float] = time.monotonic,
 ) -> None:
-    """Start ``feed`` into ``on_batch`` and call ``on_tick`` every ``period`` wall seconds until
-    ``duration`` seconds have passed or the feed is finished, then once more; the feed is closed, and
-    the error that ended it (a replay's ``error``) raised."""
+    """Start ``feed`` into ``on_batch`` and call ``on_tick`` every ``period`` seconds until ``duration``
+    wall seconds have passed or the feed is finished. Seconds of a ``Replay``'s clock from its beginning,
+    as a node under ``use_sim_time`` ticks on ``rosbag play --clock``: each tick its clock reaches is made,
+    none after its end (the recording's). Else wall seconds. A feed that ends before its first tick gets
+    one as it ends, so that its state is shown once; with ``summary`` (monitor's last table), so does one
+    whose clock moved on since its last tick. The feed is closed, and the error that ended it (a replay's
+    ``error``) raised."""
+    ticks: list[int] = []  # the feed's clock at each tick
+
+    def tick() -> None:
+        ticks.append(feed.clock.now())
+        on_tick()
+
+    def finished() -> bool:
+        return bool(getattr(feed, "finished", False))
+
     feed.start(on_batch)
     try:
-        finished = lambda: bool(getattr(feed, "finished", False))  # noqa: E731
-        tick_every(period, on_tick, stop=finished, duration=duration, first_now=False, sleep=sleep, monotonic=monotonic)
+        if isinstance(feed, Replay):
+            started = monotonic()
+
+            def ended() -> bool:
+                return finished() or (duration is not None and monotonic() - started >= duration)
+
+            tick_every(period, tick, stop=ended, first_now=False, clock=feed.clock, since=feed.begin)
+        else:
+            tick_every(
+                period, tick, stop=finished, duration=duration, first_now=False, sleep=sleep, monotonic=monotonic
+            )
     finally:
         feed.close()
     if (error := getattr(feed, "error", None)) is not None:
         raise error
-    on_tick()
+    if not ticks or (summary and feed.clock.now() > ticks[-1]):
+        on_tick()
 
 
 def follow_into(

@@ -25,34 +25,37 @@ def tick_every(
     duration: float | None = None,
     first_now: bool = True,
     clock: Clock | None = None,
+    since: int | None = None,
     sleep: Callable[[float], None] = time.sleep,
     monotonic: Callable[[], float] = time.monotonic,
 ) -> None:
     """Call ``on_tick`` every ``period`` seconds (the first at once, or after one period), ``count`` times
-    (None: until ``stop()`` or ``duration`` wall seconds have passed).
+    (None: until ``stop()`` or until ``duration`` wall seconds have passed, a tick due by then included).
 
     Seconds of ``clock`` when it is a ``SimClock``: its first time is waited for, as
-    ``ros::Time::waitForValid`` (``NoClockError`` after ``CLOCK_PATIENCE`` wall seconds without one), and a
-    jump back (a replay restarted) starts again from there. Else of the wall: a tick that runs late is not
-    made up for with a burst of ticks, as ``ros::Rate``."""
+    ``ros::Time::waitForValid`` (``NoClockError`` after ``CLOCK_PATIENCE`` wall seconds without one), the
+    periods counted from ``since`` (default: its first time), and a jump back (a replay restarted) starts
+    again from there; a tick the clock reached is made even if ``stop()`` came meanwhile. Else of the wall:
+    a tick that runs late is not made up for with a burst of ticks, as ``ros::Rate``."""
     if isinstance(clock, SimClock):
-        _on_sim_clock(from_sec(period), on_tick, count, stop, first_now, clock)
+        _on_sim_clock(from_sec(period), on_tick, count, stop, first_now, clock, since)
         return
     started = monotonic()
     due = started if first_now else started + period
+    end = None if duration is None else started + duration
     done = 0
-    while (count is None or done < count) and not stop():
+    while count is None or done < count:
         now = monotonic()
-        if duration is not None and now - started >= duration:
-            break
-        if now >= due:
+        if now >= due and (end is None or due <= end):  # a tick due as the duration ends, or stop comes, is made
             on_tick()
             done += 1
             due += period
             if due <= now:  # fell behind (a slow tick): skip, do not burst
                 due = now + period
             continue
-        until = due if duration is None else min(due, started + duration)
+        if stop() or (end is not None and now >= end):
+            break
+        until = due if end is None else min(due, end)
         sleep(max(0.0, min(until - now, _POLL_S)))
 
 
@@ -63,6 +66,7 @@ def _on_sim_clock(
     stop: Callable[[], bool],
     first_now: bool,
     clock: SimClock,
+    since: int | None,
 ) -> None:
     given_up = time.monotonic() + CLOCK_PATIENCE
     while clock.now() == 0 and not stop():  # no /clock yet: wait for a valid time, as ros::Time::waitForValid
@@ -72,12 +76,14 @@ def _on_sim_clock(
 
             raise NoClockError(CLOCK_PATIENCE, clock.ros2 if isinstance(clock, TickedClock) else None)
         clock.wait_until(1, timeout_s=0.1)
-    due = clock.now() + (0 if first_now else period)
+    due = (clock.now() if since is None else since) + (0 if first_now else period)
     done = 0
-    while (count is None or done < count) and not stop():
+    while count is None or done < count:
         if clock.now() < due - period:  # the clock jumped back (a replay restarted): start again from there
             due = clock.now()
         if clock.wait_until(due, timeout_s=0.1):
             on_tick()
             done += 1
             due += period
+        elif stop():
+            break

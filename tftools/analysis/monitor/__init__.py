@@ -392,7 +392,8 @@ def monitor_stream(
 ) -> None:
     """``tfx monitor`` live or ``--play``: ``feed`` into a ``LiveMonitor`` over the last ``query.window`` (ns),
     ``on_tick`` called with it once a second of the feed's clock, until ``duration`` wall seconds pass or the
-    feed ends (its report: ``LiveMonitor.report`` of the query's frames).
+    feed ends, and once more as it ends if its clock moved on (its report: ``LiveMonitor.report`` of the
+    query's frames).
 
     A recording streamed (``--play``): replayed at ``speed`` times real time from ``query.start`` to
     ``query.end`` (``played_window``: a ``TimeRangeError`` when they miss its tf) on its own timeline and
@@ -414,4 +415,4 @@ def monitor_stream(
     on_batch = (
         watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add
     )
-    follow(feed, on_batch, lambda: on_tick(live_monitor), duration=duration)
+    follow(feed, on_batch, lambda: on_tick(live_monitor), duration=duration, summary=True)

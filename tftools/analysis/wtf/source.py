@@ -17,14 +17,7 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
     contents = scene.recording.contents
     live = contents.live
     where = ("from " if live else "in ") + ", ".join(f.path for f in contents.files)
-    if not len(scene.rows) and contents.unread:
-        yield Finding(
-            Severity.error,
-            "no_tf",
-            f"no transforms read {where}: {'; '.join(contents.unread)}",
-            "convert those topics to a type and encoding tfx reads, or name other topics (tfx wtf --topic TOPIC)",
-        )
-    elif not len(scene.rows):
+    if not len(scene.rows):
         others = {t: kind for f in contents.files for t, kind in f.topics.items() if t not in contents.topics}
         # the topics of a transform type first: the ones to name, not to hide behind "and N more"
         carriers = sorted(t for t, kind in others.items() if carries_transforms(kind))
@@ -40,12 +33,20 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
             options = " ".join(f"--topic {t}" for t in carriers[:3])
             what = "is of a transform type: read it" if len(carriers) == 1 else "are of a transform type: read them"
             hint = f"{listed(carriers, 3)} {what} (tfx wtf {options}), or record the transforms ({record})"
+        elif contents.unread:
+            hint = "convert those topics to a type and encoding tfx reads, or name other topics (tfx wtf --topic TOPIC)"
         else:
             hint = (
                 f"record the transforms with the rest ({record}), or name the topics that carry them "
                 "(tfx wtf --topic TOPIC)"
             )
-        yield Finding(Severity.error, "no_tf", f"no transforms on {', '.join(contents.topics)} {where}{present}", hint)
+        # the topics asked for in a type (or encoding) tfx does not read say which: a LaserScan given as --topic
+        said = (
+            f"read {where}: {'; '.join(contents.unread)}"
+            if contents.unread
+            else f"on {', '.join(contents.topics)} {where}{present}"
+        )
+        yield Finding(Severity.error, "no_tf", f"no transforms {said}", hint)
     elif scene.rows.static.all() and not silent_moving_topics(scene):  # else ``silent_tf`` says why
         yield Finding(
             Severity.info,

@@ -182,15 +182,17 @@ def select(
     if clock is not None:
         return clock, None
     topics = wanted.topics
+    unread = None
     if topic in topics or global_name(topic) in topics or (topics == DEFAULT_TOPICS and type_name in _FOXGLOVE_TYPES):
         codec = CODECS.get((type_name, encoding))
         if codec is not None:
             return codec, None
-        if not wanted.wants_header(topic):
-            return None, Unread(topic, type_name, encoding)
+        # asked for as transforms, whether or not its headers are read: a LaserScan given as --topic is
+        # said to be one, to wtf as to echo
+        unread = Unread(topic, type_name, encoding)
     if wanted.wants_header(topic) and encoding in _HEADER_ENCODINGS and has_header(type_name, encoding, definition):
-        return HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers"), None
-    return None, None
+        return HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers"), unread
+    return None, unread
 
 
 def unread_lines(unread: Sequence[Unread]) -> list[str]:
