@@ -19,7 +19,6 @@ from tftools.core.errors import (
     UnknownFrameError,
 )
 from tftools.core.time import NS_PER_S, to_sec
-from tftools.sources.contents import DEFAULT_TOPICS
 
 if TYPE_CHECKING:
     from tftools.analysis.tree_file import TreeFileError
@@ -111,6 +110,8 @@ def _too_many_lines(error: TooManyLinesError) -> UsageError:
 
 
 def _no_transforms(error: NoTransformsError) -> UsageError:
+    from tftools.sources.contents import DEFAULT_TOPICS  # not at import: numpy's, which `tfx --help` needs not
+
     hint = {
         "unread": "convert those topics to a type and encoding tfx reads, or pick other topics with --topic",
         "unreadable": "`tfx wtf` names their type and encoding; pick other topics with --topic",
