@@ -513,3 +513,27 @@ def test_the_healthy_sample_replayed_on_sim_time_gets_no_rate_warning() -> None:
     assert [f.message for f in blind.findings] == []
     knowing = check(recording_of(sample_replayed_on_sim_time(10 * MS), record_step=10 * MS))
     assert [f.message for f in knowing.findings] == []
+
+
+@pytest.mark.parametrize("clock_hz", [100, 10])
+def test_a_simulation_recorded_on_wall_time_says_what_is_measured_against_its_clock(
+    tmp_path: Path, clock_hz: int
+) -> None:
+    """A simulation recorded without --use-sim-time (ros2_db3_tb3_gazebo_amcl_static_resent): the clock note
+    said 'ages are measured against /clock at arrival, and delays', a sentence cut short: ages and delays
+    where /clock is fine enough to time them, ages alone (and why not delays) where it is not."""
+    step = S // clock_hz
+    clock = [ClockMessage(WALL + k * step + 2 * MS, 100 * S + k * step) for k in range(20 * clock_hz)]
+    tf = [
+        TfMessage("/tf", WALL + i * S // 20 + 32 * MS, [moving("odom", "base", 100 * S + i * S // 20)])
+        for i in range(390)
+    ]
+    recording = read_recording([write_bag(tmp_path / "sim_on_wall", tf, BagFormat.rosbag2_sqlite3, clock)])
+    (note,) = [f for f in check(recording).findings if f.code == "clock"]
+    assert "recorded without --use-sim-time" in note.message
+    unavailable = recording.timeline.delays_unavailable
+    if unavailable:
+        assert note.message.endswith(f"ages are measured against /clock at arrival; {unavailable}")
+    else:
+        assert note.message.endswith("ages and delays are measured against /clock at arrival")
+    assert bool(unavailable) == (clock_hz == 10)

@@ -208,8 +208,9 @@ def _wall_receive_times(scene: Scene) -> Iterator[Finding]:
     sim = int(clock.clock[-1] - clock.clock[0])
     wall = int(clock.record_time[-1] - clock.record_time[0])
     speed = f", the simulation running at {sim / wall:.2f}x real time" if wall > 0 and sim > 0 else ""
-    measured = f"ages are measured against {clock.topic} at arrival"
-    measured += f"; {timeline.delays_unavailable}" if timeline.delays_unavailable else ", and delays"
+    unavailable = timeline.delays_unavailable
+    measured = f"{'ages are' if unavailable else 'ages and delays are'} measured against {clock.topic} at arrival"
+    measured += f"; {unavailable}" if unavailable else ""
     yield Finding(
         Severity.info,
         "clock",
