@@ -356,6 +356,11 @@ def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int, buffer_or
     hist = buffer.history(child)
     assert hist is not None
     order = np.argsort(hist.sequence, kind="stable")  # arrival order
+    if hist.static and hist.parents.min() != hist.parents.max():
+        # A static frame (ROS 1: its first transform came on /tf_static) whose parent a later transform replaced
+        # for every time: the edge from ``parent`` holds from the first sample naming it, not the frame's first.
+        named = np.array([buffer.frame_name(int(p)) == parent for p in hist.parents[order]], np.bool_)
+        order = order[int(np.argmax(named)) :] if named.any() else order
     records = np.maximum.accumulate(hist.record_times[order])
     stamps = hist.stamps[order]
     newest = np.maximum.accumulate(stamps) if len(stamps) else stamps
