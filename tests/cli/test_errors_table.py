@@ -104,3 +104,16 @@ def test_library_errors_name_no_option_and_the_command_line_words_them() -> None
         assert not CLI_WORDS.search(ROS_TOOL.sub("", said).replace("tfx wtf report", "")), said
         worded_error = _in_cli_words(error)
         assert cli_words in f"{worded_error} ({worded_error.hint})", type(error).__name__
+
+
+def test_library_errors_cross_a_process_whole() -> None:
+    """A fleet's worker hands its reading's error to the command line (``Unreadable.error``), pickled: each
+    arrives with its class and attributes, and is worded as the one raised here (Exception's own pickling
+    called the class with the message alone, which their constructors do not take)."""
+    import pickle
+
+    for error, _ in _library_errors():
+        arrived = pickle.loads(pickle.dumps(error))
+        assert type(arrived) is type(error) and arrived.args == error.args and vars(arrived) == vars(error)
+        here, there = _in_cli_words(error), _in_cli_words(arrived)
+        assert (str(there), there.hint) == (str(here), here.hint), type(error).__name__

@@ -147,6 +147,19 @@ def test_play_ends_on_the_numbers_of_its_last_window(tfx: Tfx) -> None:
     assert last["chain"]["delay_mean_s"] == pytest.approx(seconds(expected.chain.delay_mean), rel=1e-12)
 
 
+@pytest.mark.parametrize("rate", ["50", "500"])
+def test_play_refreshes_once_a_second_of_the_recording_whatever_the_rate(tfx: Tfx, rate: str) -> None:
+    """As its --help says since polish14 made a replay tick on its own clock: --rate 2 refreshes every 0.5 s of
+    wall time (ros2_db3_tb3_real_lap_2025), so the 15 s sample bag gets a table at each of its 14 whole seconds,
+    at any rate (on the wall clock, 50x would give it none before the end), and one as it ends where the replay
+    got past the last one's time first (follow's summary: how fast the replay ran decides)."""
+    result = tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "--play", "--rate", rate, "-f", "json")
+    assert result.code == 0, result.stderr
+    recording = read_recording([SAMPLE_BAGS["mcap"]])
+    seconds_of_it = (recording.end - recording.start) // NS_PER_S
+    assert seconds_of_it == 14 and len(result.stdout.splitlines()) in (seconds_of_it, seconds_of_it + 1)
+
+
 def test_play_text_shows_the_live_header_and_table(tfx: Tfx) -> None:
     result = tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "--play", "--rate", "500")
     assert result.code == 0, result.stderr

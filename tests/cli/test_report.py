@@ -218,3 +218,46 @@ def test_a_finding_stamped_on_a_replays_clock_is_not_placed_days_before_the_reco
     assert offsets and all(-1 < s < 21 for s in offsets), whens  # nothing days before a 20 s recording
     stale = next(f for (data,) in [page_data(page)] for f in data["findings"] if f["code"] == "stale")
     assert stale["from"] is None and stale["to"] == pytest.approx(19.9, abs=0.01)
+
+
+@pytest.mark.parametrize("recorded", ["without tf", "tf on other topics"])
+def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
+    tfx: Tfx, tmp_path: Path, recorded: str
+) -> None:
+    """Issue 39, ros2_db3_webots_epuck_ranges_no_tf_2025 and ros2_mcap_kth_robp_arm_joy_no_tf_2025: report said
+    "(was /tf recorded? read other topics)", the library's hint (its error went through ``Unreadable``), where
+    the other commands said "pick other topics with --topic"; and "read /tf and /tf_static, of a transform
+    type" where they said "leave out --topic". The report words the error it carries as they do; tfx filter,
+    which has no --topic, names none."""
+    if recorded == "without tf":
+        (tmp_path / "bags").mkdir()
+        bag = sensor_bags(tmp_path / "bags", [], _scans)["db3"]
+        topic, hint = [], "was /tf recorded? pick other topics with --topic"
+        filtered = tfx("filter", "-b", bag)
+        assert filtered.code == 2 and filtered.stderr.endswith(
+            "(was /tf recorded? tfx filter reads /tf and /tf_static only)\n"
+        )
+    else:
+        bag, topic, hint = SAMPLE_BAGS["ros1"], ["--topic", "/nothing"], "/tf and /tf_static carry transforms: leave"
+    commands: dict[str, list[str | Path]] = {
+        "frames": ["frames", "-b", bag],
+        "echo": ["echo", "odom", "base_link", "-b", bag],
+        "monitor": ["monitor", "-b", bag],
+        "view-frames": ["view-frames", "-b", bag, "-o", tmp_path / "frames.pdf"],
+        "diff": ["diff", bag, bag],
+        "report": ["report", "-b", bag, "-o", tmp_path / "report.html"],
+    }
+    hints = {}
+    for name, args in commands.items():
+        result = tfx(*args, *topic)
+        assert result.code == 2, name
+        check_stderr(result.stderr, result.code)
+        hints[name] = result.stderr.rstrip("\n").rpartition(" (")[2]
+    assert hints["report"].startswith(hint) and set(hints.values()) == {hints["report"]}, hints
+    assert not (tmp_path / "report.html").exists()
+
+
+def _scans(store: Any) -> list[tuple[str, str, int, object]]:
+    """Four laser scans, a second apart: a recording without tf."""
+    stamps = [START + i * NS_PER_S for i in range(1, 5)]
+    return [("/scan", "sensor_msgs/msg/LaserScan", t, scan(store, "laser", t)) for t in stamps]

@@ -87,7 +87,12 @@ def command(
     topics: options.Topics = None,
     tf2: options.Tf2 = None,
     play: Annotated[
-        bool, typer.Option("--play", help="Replay the bag in real time; the latest transform --rate times a second.")
+        bool,
+        typer.Option(
+            "--play",
+            help="Replay the bag in real time; the latest transform --rate times a second of the recording (so of wall "
+            "time too).",
+        ),
     ] = False,
     count: Annotated[int | None, typer.Option("--count", "-n", min=1, help="Live: stop after N lines.")] = None,
     wait: Annotated[

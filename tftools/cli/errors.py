@@ -109,16 +109,22 @@ def _too_many_lines(error: TooManyLinesError) -> UsageError:
     )
 
 
-def _no_transforms(error: NoTransformsError) -> UsageError:
+def no_transforms(error: NoTransformsError, *, chosen: bool = True) -> UsageError:
+    """``error`` in the command line's words: the one hint of every command for a recording whose transforms
+    were not read; ``chosen``: the command's topics can be chosen with --topic (not tfx filter's)."""
     from tftools.sources.contents import DEFAULT_TOPICS  # not at import: numpy's, which `tfx --help` needs not
 
+    # what else to read: other topics, or (tfx filter, which reads only the defaults) nothing but those
+    other = "pick other topics with --topic" if chosen else "tfx filter reads /tf and /tf_static only"
     hint = {
-        "unread": "convert those topics to a type and encoding tfx reads, or pick other topics with --topic",
-        "unreadable": "`tfx wtf` names their type and encoding; pick other topics with --topic",
-        "absent": "was /tf recorded? pick other topics with --topic",
+        "unread": f"convert those topics to a type and encoding tfx reads, or {other}",
+        "unreadable": f"`tfx wtf` names their type and encoding; {other}",
+        "absent": f"was /tf recorded? {other}",
     }
     if error.cause in ("absent", "unread") and error.carriers:  # the recording has transforms, on topics not read
         carriers = error.carriers[:3]
+        if not chosen:
+            return UsageError(str(error), f"{', '.join(carriers)}: of a transform type; {other}")
         if set(carriers) <= set(DEFAULT_TOPICS):
             return UsageError(str(error), f"{' and '.join(carriers)} carry transforms: leave out --topic")
         options = " ".join(f"--topic {t}" for t in carriers)
@@ -216,7 +222,7 @@ def table() -> dict[type[TfToolsError], Row]:
         NoClockError: Row(_no_clock),
         NoRosSelectedError: Row(_no_ros),
         NoStampedDataError: Row(_said),
-        NoTransformsError: Row(_no_transforms),
+        NoTransformsError: Row(no_transforms),
         OutputExistsError: Row(_output_exists),
         PartOfBagError: Row(_part_of_bag),
         PlotUnavailableError: Row(_plot_unavailable),

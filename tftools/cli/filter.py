@@ -10,7 +10,7 @@ import typer
 from tftools.cli import options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, TextOrJson, exit_with, stdout, warn
-from tftools.cli.errors import UsageError
+from tftools.cli.errors import UsageError, no_transforms
 from tftools.core.time import from_sec
 
 
@@ -62,13 +62,16 @@ def command(
     from tftools.cli.common import frame_argument
     from tftools.cli.reading import open_recording
     from tftools.render import filter as render
-    from tftools.sources.errors import NoStampedDataError
+    from tftools.sources.errors import NoStampedDataError, NoTransformsError
 
     timeout = from_sec(wait) if wait is not None else None
     query = FilterQuery(
         sensor_topics=tuple(topics) if topics else None, cache_time=from_sec(cache), wait=timeout, queue=queue
     )
-    recording = open_recording(bags, None, tf2, ros1, use_sim_time, duration, headers=query.reading().headers)
+    try:
+        recording = open_recording(bags, None, tf2, ros1, use_sim_time, duration, headers=query.reading().headers)
+    except NoTransformsError as error:  # its topics are /tf and /tf_static: no --topic to suggest
+        raise no_transforms(error, chosen=False) from None
     read = ", ".join(bags) if bags else recording.paths[0]
     if target is not None:
         query = replace(query, target=frame_argument(recording.buffer.frames, target))

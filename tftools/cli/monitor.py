@@ -40,7 +40,13 @@ def command(
         bool, typer.Option("--play", help="Replay the bag on a simulated clock and refresh the table live.")
     ] = False,
     rate: Annotated[
-        float | None, typer.Option("--rate", "-r", help="With --play: replay speed (default 1, real time).")
+        float | None,
+        typer.Option(
+            "--rate",
+            "-r",
+            help="With --play: replay speed (default 1, real time); the table refreshes once a second of the "
+            "recording (--rate 2: twice a second of wall time).",
+        ),
     ] = None,
     window: Annotated[float, typer.Option(help="Live: the table covers the last WINDOW seconds.")] = 10.0,
     duration: Annotated[float | None, typer.Option(help="Live: stop after DURATION seconds of wall time.")] = None,
@@ -68,7 +74,8 @@ def command(
     newest transform between them lags, the oldest edge deciding (what "extrapolation into
     the future" errors are about). On a bag: over the whole recording, or --start/--end
     (times of recording). Without -b, on the live system, and with --play on a bag's replay:
-    refreshed once a second over the last --window seconds. Where no clock of the stamps was recorded
+    over the last --window seconds, refreshed once a second of wall time live, once a second of the
+    recording with --play (--rate 2: every 0.5 s of wall time). Where no clock of the stamps was recorded
     (a simulation without /clock), a bag's --start/--end select by stamp, --play's by when the replay
     (the record clock moved onto the stamps' by one offset) plays them: the two differ where the
     simulation ran slower or faster than real time.

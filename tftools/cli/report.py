@@ -13,7 +13,7 @@ import typer
 
 from tftools.cli import findings_file, live, options
 from tftools.cli.common import Exit, exit_with, hinted, progress_bar, say_written, warn
-from tftools.cli.errors import UsageError, unfinished_hint
+from tftools.cli.errors import UsageError, unfinished_hint, worded
 from tftools.cli.outputs import check_output, check_replaceable
 
 if TYPE_CHECKING:  # the analyses and the page load when a report is written: --help needs none of them
@@ -133,6 +133,9 @@ def _bag_sections(groups: Sequence[Sequence[str]], query: ReportQuery, jobs: int
         if isinstance(result, Unreadable):
             if result.cause is not None:
                 result = replace(result, hint=unfinished_hint(result.cause.value, result.hint))
+            elif result.error is not None:  # worded as every other command words it
+                said = worded(result.error)[0]
+                result = replace(result, message=str(said), hint=said.hint)
             if len(groups) == 1:
                 raise UsageError(result.message, result.hint)
             warn(hinted(result.message, result.hint))

@@ -2,11 +2,25 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 
 class TfToolsError(Exception):
-    """Base of every error tftools raises on purpose; the CLI prints it as one line."""
+    """Base of every error tftools raises on purpose; the CLI prints it as one line. It pickles whole (its
+    class and attributes), so that one met in a worker process reaches the command line as it was raised."""
 
     hint: str = ""
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # not Exception's: that calls the class with ``args`` (the message), which its constructor does not take
+        return _rebuilt, (type(self), self.args), self.__dict__
+
+
+def _rebuilt(kind: type[TfToolsError], args: tuple[Any, ...]) -> TfToolsError:
+    """An error of ``kind`` with ``args``, its constructor not called (pickle then restores its attributes)."""
+    error = kind.__new__(kind, *args)
+    error.args = args
+    return error
 
 
 class FleetUnavailableError(TfToolsError):

@@ -16,12 +16,14 @@ from tftools.core.errors import TfToolsError
 @dataclass(frozen=True)
 class Unreadable:
     """A recording of a fleet that could not be read (or whose report did not finish): what went wrong,
-    and what to do."""
+    and what to do; ``error``: the error its reading raised, for a caller to word as it words that error
+    elsewhere (None: its report did not finish)."""
 
     name: str
     message: str
     hint: str
     cause: UnfinishedCause | None = None  # why its report did not finish; None: it could not be read
+    error: TfToolsError | None = None
 
 
 def report_fleet(
@@ -50,5 +52,5 @@ def _report_group(query: ReportQuery, progress: Progress, paths: Sequence[str]) 
         try:
             recording = query.reading().read(paths, told)
         except TfToolsError as error:
-            return Unreadable(" + ".join(str(p) for p in paths), str(error), error.hint)
+            return Unreadable(" + ".join(str(p) for p in paths), str(error), error.hint, error=error)
         return report(recording, query)
