@@ -41,8 +41,8 @@ def _play(truth: Scene, rate: float, target: str | None, source: str | None) -> 
         console.print(render.renderable(report, "", target, source))
         refreshes.append((replay.clock.now(), report, console.file.getvalue()))  # type: ignore[attr-defined]  # a StringIO, typed IO[str]
 
-    driven = HandDriven(replay, wall)
-    follow(driven, live.add, refresh, sleep=driven.sleep, monotonic=wall.monotonic)
+    driven = HandDriven(replay, wall)  # ticks on wall seconds: the path of a live feed
+    follow(driven, live.add, refresh, summary=True, sleep=driven.sleep, monotonic=wall.monotonic)  # as monitor_stream
     return refreshes
 
 
