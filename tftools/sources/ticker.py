@@ -76,6 +76,8 @@ def _on_sim_clock(
 
             raise NoClockError(CLOCK_PATIENCE, clock.ros2 if isinstance(clock, TickedClock) else None)
         clock.wait_until(1, timeout_s=0.1)
+    if clock.now() == 0:  # stopped before the clock came: no tick is due on a clock that never began
+        return
     due = (clock.now() if since is None else since) + (0 if first_now else period)
     done = 0
     while count is None or done < count:
