@@ -52,3 +52,29 @@ def test_a_heading_wobbling_for_a_sample_on_an_edge_that_turns_fast_is_no_jump()
 def test_a_flip_and_back_on_an_edge_that_never_turns_still_jumps() -> None:
     stamps, values = _heading([*STRAIGHT, 0.2, -6.1, 7.0, 0.7, -0.2, *STRAIGHT])
     assert len(jumps.jumps(stamps, values)) >= 1
+
+
+def _odometry(steps_m: list[float]) -> tuple[np.ndarray, np.ndarray]:
+    """An odometry edge moving along x by ``steps_m`` a sample, its heading fixed."""
+    values = np.zeros((len(steps_m) + 1, 7))
+    values[:, 0] = np.concatenate([[0.0], np.cumsum(steps_m)])
+    values[:, 6] = 1.0
+    return np.arange(len(values), dtype=np.int64) * PERIOD_NS, values
+
+
+DRIVE = [0.02, 0.04, 0.04, 0.04, 0.04, 0.03, 0.01]  # a real Neato's fastest: 0.4 m/s held for 0.4 s
+STILL = [0.0] * 8
+
+
+def test_a_step_six_times_the_pace_the_edge_sustains_between_standstills_jumps() -> None:
+    """Corpus ``ros2-neato-real-fsm-odom-jump-2023-db3``: a real Neato's odometry, standing still, moves 0.238 m
+    in one 0.1 s step and stands still again, six times the 0.04 m a sample it sustains when it drives; the
+    noise floor is for an edge that barely moves, not an allowance on top of five times its pace."""
+    stamps, values = _odometry([*STILL, *DRIVE, *STILL, *DRIVE, *STILL, 0.2377, *STILL])
+    found = jumps.jumps(stamps, values)
+    assert len(found) == 1 and round(float(found.metres[0]), 3) == 0.238
+
+
+def test_a_step_within_five_times_the_pace_the_edge_sustains_is_its_own_motion() -> None:
+    stamps, values = _odometry([*STILL, *DRIVE, *STILL, *DRIVE, *STILL, 0.19, *STILL])
+    assert len(jumps.jumps(stamps, values)) == 0
