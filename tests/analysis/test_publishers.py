@@ -376,6 +376,17 @@ def test_mixed_static_explains_the_rule_of_the_recordings_tf2(ros1: bool) -> Non
         assert "ROS 2's tf2 replaces a frame's cache when it switches between /tf_static and /tf" in finding.message
         assert "it switched 2 times, the last at 1700000005.0" in finding.message
         assert "to /tf, so tf2 holds only the /tf transforms since then" in finding.message
+    assert "(500 transforms, from 1700000000.002 (+0.0 s))" in finding.message, finding.message
+
+
+def test_mixed_static_says_a_first_tf_transform_stamped_0_is_unset() -> None:
+    """json_mcap_lbx_franka.mcap's first /tf transforms are stamped 0 and logged at 0 (no time of arrival): said
+    "(5 transforms, from 0.000)", a moment that never was (issue 39)."""
+    unset = TfMessage("/tf", 0, [scenes._t("odom", "base_link", 0)], "/ekf")
+    late_static = TfMessage("/tf_static", START + 5 * NS_PER_S, [scenes._t("odom", "base_link", START)], "/rsp")
+    messages = [unset, *scenes.with_extra([late_static])]
+    (finding,) = coded(check(scenes.recording(messages, ros1=False)).findings, "mixed_static")
+    assert "(501 transforms, the first stamped 0 (unset))" in finding.message, finding.message
 
 
 # --- the real recordings that showed each case ------------------------------------------------------

@@ -161,6 +161,28 @@ def test_a_joint_out_and_back_for_one_sample_still_jumps() -> None:
     one_sample = _wheel_and_body(_every(0.1), lambda s: math.pi if 4.95 < s < 5.05 else 0.1 * s)
     (jump,) = [f for f in check(recording(one_sample, ros1=True)).findings if f.code == "jump"]
     assert jump.frames == ("base_link", "wheel") and "/joint_states" in jump.hint
+    assert "jumped once, out and back, further" in jump.message and jump.count == 2, jump.message
+
+
+def test_a_joints_step_out_and_its_step_back_are_one_jump() -> None:
+    """The JetAcker slam_toolbox recording's steering was at 180 degrees for one sample, said as "jumped 2 times"
+    (issue 39): a step out and the step back within ``BACK_WITHIN`` samples are one excursion; two spikes are
+    two."""
+    spikes = _wheel_and_body(_every(0.1), lambda s: math.pi if min(abs(s - 3), abs(s - 5)) < 0.05 else 0.1 * s)
+    (jump,) = [f for f in check(recording(spikes, ros1=True)).findings if f.code == "jump"]
+    assert "jumped 2 times, each out and back, further" in jump.message and jump.count == 4, jump.message
+
+
+def test_a_localizers_spike_and_step_that_stays_are_told_apart() -> None:
+    """A one-sample spike (3 s) and a step that stays (6 s) on an edge sent alone: two jumps, one out and back."""
+
+    def tracked(t: int) -> list[Transform]:
+        s = (t - START) / NS_PER_S
+        return [_t("base_link", "tracker", t, 0.001 * s + (0.5 if abs(s - 3) < 0.01 or s > 5.99 else 0.0))]
+
+    messages = sorted([statics(), *periodic("/tf", 20, tracked)], key=lambda m: m.record_time)
+    (jump,) = [f for f in check(recording(messages, ros1=False)).findings if f.code == "jump"]
+    assert "jumped 2 times (1 of them out and back) further" in jump.message and jump.count == 3, jump.message
 
 
 def _delivered_again(new_out_of_order: bool) -> list[TfMessage]:

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from tests.analysis import wtf_scenes as scenes
@@ -101,3 +102,34 @@ def test_statics_early_says_when_the_last_static_came_never_0_000_s(statics_at_s
     (found,) = [f for f in check(recording(messages)).findings if f.code == "statics_early"]
     assert said in found.message and "0.000 s" not in found.message, found.message
     assert "only at the start of 70.0 s" in found.message, found.message
+
+
+def _long_clock() -> ClockSamples:
+    """The simulator's /clock at 100 Hz over the whole long recording (``sim_clock`` covers 10 s)."""
+    wall = scenes.START + np.arange(round(scenes.LONG * 100)) * (NS_PER_S // 100)
+    return ClockSamples("/clock", wall, wall - scenes.START + scenes.SIM_START)
+
+
+@pytest.mark.parametrize("clock", ["record", "sim_clock", "none"])
+def test_statics_early_places_its_times_on_the_stamps_clock_or_none(clock: str) -> None:
+    """A real JetAcker's record times are 184 days from its stamps, with no /clock: statics_early's times were
+    its record times, which the report showed as "1773339662.162 (another clock) to 1773339663.637 (another
+    clock)" (issue 39). Its times are ROS time at arrival where that is known (the record clock itself where
+    the stamps are on it; /clock's reading), none where not; the message and figures say them from the
+    recording's start."""
+    record = scenes.START + round(2.5 * NS_PER_S)
+    on = {"stamp": scenes.sim} if clock != "record" else {}
+    long = {"end": scenes.LONG, **on}
+    made = scenes.healthy(amcl=scenes.amcl(**long), ekf=scenes.ekf(**long), wheels=scenes.wheels(**long))
+    messages = [scenes.statics(record=record)] + [m for m in made if m.topic != "/tf_static"]
+    found = check(recording(messages, clock=_long_clock() if clock == "sim_clock" else None)).findings
+    (early,) = [f for f in found if f.code == "statics_early"]
+    start = min(m.record_time for m in messages)
+    # under /clock, the tick last heard: the first message came 2 ms after the first tick
+    expected = {"record": (start, record), "sim_clock": (scenes.SIM_START, scenes.sim(record)), "none": (0, 0)}
+    assert (early.first_time, early.last_time) == expected[clock], early
+    assert early.figures == {
+        "recording_s": (max(m.record_time for m in messages) - start) / NS_PER_S,
+        "last_static_after_start_s": (record - start) / NS_PER_S,
+    }
+    assert "the last 2.5 s into it" in early.message, early.message

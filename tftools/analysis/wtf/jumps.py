@@ -316,7 +316,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
         yield samples.finding(
             Severity.warning,
             "jump",
-            f"{edge(*samples.key)}{scene.by(samples.authorities)} jumped {_times(len(found))} "
+            f"{edge(*samples.key)}{scene.by(samples.authorities)} jumped {_excursions(samples.values, found)} "
             f"further than its own motion explains: the largest {_largest(found)} at "
             f"{scene.at(int(when[found.largest]))}, the first at {scene.at(int(when[0]))}",
             why,
@@ -369,6 +369,25 @@ def map_corrections(scene: Scene) -> Iterator[Finding]:
             "localizer (its map, its sensor data)",
             when,
         )
+
+
+def _excursions(values: FloatArray, found: Jumps) -> str:
+    """How often an edge jumped, a step out and the step back (``comes_back``) counted once: a joint at 180°
+    for one sample jumped "once, out and back", not "2 times" (the JetAcker's steering)."""
+    begin = found.at - 1
+    back = comes_back(values, begin, begin, np.full(len(begin), len(values) - 1), found.metres, found.degrees)
+    # a step back from where the step just before went out to: the two are one excursion
+    paired = back.returns[1:] & back.out[:-1] & (np.diff(found.at) <= BACK_WITHIN)
+    excursions, taken = 0, -1
+    for k in np.flatnonzero(paired).tolist():  # a step is in one excursion at most: A B A B is two
+        if k > taken:
+            excursions, taken = excursions + 1, k + 1
+    jumps = len(found) - excursions
+    if not excursions:
+        return _times(jumps)
+    if excursions == jumps:
+        return f"{_times(jumps)}, {'each ' if jumps > 1 else ''}out and back,"
+    return f"{_times(jumps)} ({excursions} of them out and back)"
 
 
 def _times(n: int) -> str:

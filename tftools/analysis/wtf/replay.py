@@ -119,6 +119,10 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
         return
     who = scene.authorities_of(np.flatnonzero(rows.static))
     statics = _static_edges(scene)
+    # Findings' times are on the stamps' clock: ROS time at arrival where known, else none (record times months
+    # from the stamps read "(another clock)"); the message and figures say them from the recording's start.
+    ros, known = scene.timeline.ros_time(np.array([scene.start, last], np.int64))
+    first_time, last_time = (int(t) for t in np.where(known, ros, 0))
     yield Finding(
         Severity.info,
         "statics_early",
@@ -129,9 +133,10 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
         + ("ros2 bag play without --start-offset)" if scene.ros2 else "rosbag play without -s)"),
         tuple(f for pair in statics for f in pair),
         who,
-        scene.start,
-        last,
+        first_time,
+        last_time,
         int(rows.static.sum()),
+        figures={"recording_s": length, "last_static_after_start_s": (last - scene.start) / NS_PER_S},
     )
 
 

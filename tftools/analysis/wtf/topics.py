@@ -316,13 +316,23 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
             "mixed_static",
             f"{name} (under {listed(parents)}) is sent on /tf_static{_by(scene, scene.authorities_of(fixed))} "
             f"({transforms(len(fixed))}) and on /tf{_by(scene, scene.authorities_of(moving))} "
-            f"({transforms(len(moving))}, from {scene.first_at(moving)}){_two_values(rows, fixed, moving)}: "
+            f"({transforms(len(moving))}, {_from(scene, moving)}){_two_values(rows, fixed, moving)}: "
             f"{effect}",
             "send each frame on one topic: /tf_static if it never moves, /tf otherwise",
             (name, *parents),
             mine,
             scene.arrival(mine),
         )
+
+
+def _from(scene: Scene, moving: IntpArray) -> str:
+    """When the first /tf transform came; one stamped 0 with no time of arrival (an MCAP's log time 0: a
+    Franka's JSON MCAP) has none: its stamp was never set, no moment to say as "from 0.000"."""
+    arrivals = scene.arrival(moving)
+    first = int(np.argmin(arrivals))
+    if arrivals[first] == 0 and scene.rows.stamp[moving[first : first + 1]][0] == 0:
+        return "the first stamped 0 (unset)"
+    return f"from {scene.at(int(arrivals[first]))}"
 
 
 def _two_values(rows: Rows, fixed: IntpArray, moving: IntpArray) -> str:
