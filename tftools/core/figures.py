@@ -76,9 +76,12 @@ def _longer_than_span(stamps: Int64Array, span: int) -> BoolArray | None:
 def _on_one_base(values: Int64Array, span: int) -> bool:
     """Whether ``values`` are on one time base, known without sorting them: on one side of the epoch floor,
     none further apart than the record ``span``."""
-    if len(values) < 2:
-        return True
-    low, high = int(values.min()), int(values.max())
+    return len(values) < 2 or _ends_on_one_base(int(values.min()), int(values.max()), span)
+
+
+def _ends_on_one_base(low: int, high: int, span: int) -> bool:
+    """Whether values from ``low`` to ``high`` are on one time base by their ends alone (``across_clocks``' two
+    rules): on one side of the epoch floor, no further apart than the record ``span``."""
     return (high < EPOCH_FLOOR or low >= EPOCH_FLOOR) and (span <= 0 or high - low <= span)
 
 
@@ -125,7 +128,7 @@ def rate_of(times: Int64Array, span: int = 0, records: Int64Array | None = None)
     if not len(times):
         return 0.0
     first, last = int(times[0]), int(times[-1])
-    if (last < EPOCH_FLOOR or first >= EPOCH_FLOOR) and (span <= 0 or last - first <= span):
+    if _ends_on_one_base(first, last, span):
         return rate_hz(len(times), last - first)  # one base, known from its ends (every edge of a load asks)
     across = across_clocks(times, span)
     if not across.any():
