@@ -99,9 +99,9 @@ def write_foxglove(path: Path, encoding: str) -> Path:
 def to_protobuf(cdr: bytes) -> bytes:
     """A CDR TFMessage as foxglove.FrameTransforms on the protobuf wire."""
     from tftools.sources.codecs import cdr as codec
-    from tftools.sources.codecs.decoded import message_batch
+    from tftools.sources.live.received import Received, decode_received
 
-    batch = message_batch(codec.decode_tf, cdr, static=False, authority="", record_time=0)
+    batch = decode_received(codec.decode_tf, [Received("/tf", cdr, "", 0)]).batch
     parents, children = ([batch.frame_names[i] for i in ids] for ids in (batch.parent, batch.child))
     rows = np.hstack([batch.translation, batch.rotation]).tolist()
     out = b""

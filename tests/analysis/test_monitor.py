@@ -26,14 +26,14 @@ from tests.bags import BagFormat, TfMessage, write_bag
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor, monitor_buffer, monitor_stream
 from tftools.analysis.times import Offset
-from tftools.core.batch import BatchBuilder, concat_batches
+from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
 from tftools.core.errors import ConnectivityError
 from tftools.core.figures import seconds, silence_in_words
 from tftools.core.time import NS_PER_S, SimClock
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
-from tftools.sources.contents import sent_of_messages
+from tftools.sources.contents import SentMessages
 from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.stream import stream_recording
 
@@ -252,16 +252,16 @@ class _SimRobot(LiveSource):
         for k in range(20):
             now = START + k * 10 * MS
             self._clock_message(now)
-            messages = []
+            builder = BatchBuilder()  # a message a transform
             for parent, child in [("odom", "base_link"), ("base_link", "wheel")] + [("base_link", "laser")] * 2 * (
                 k == 0
             ):
-                builder = BatchBuilder()
                 static = child == "laser"
                 builder.add(parent, child, now, (0.01 * k, 0, 0), (0, 0, 0, 1), static=static, record_time=now,
                             authority="/rsp" if static else "/sim")  # fmt: skip
-                messages.append(builder.take())
-            self._pass_on(on_batch, concat_batches(messages), sent_of_messages(messages))
+            batch = builder.take()
+            sent = SentMessages(batch.authorities, batch.authority, batch.static, batch.record_time, batch.stamp)
+            self._pass_on(on_batch, batch, sent)
 
     def describe(self) -> str:
         return "a simulated robot"

@@ -17,7 +17,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from tftools.sources.codecs import cdr, ros1
-from tftools.sources.codecs.decoded import message_batch, message_clock
+from tftools.sources.codecs.decoded import message_clock
+from tftools.sources.live.received import Received, decode_received
 from tftools.sources.live.ros1 import tcpros
 from tftools.sources.live.ros1 import xmlrpc as ros_xmlrpc
 from tftools.sources.live.ros2.entities import decode_participant_entities
@@ -71,11 +72,9 @@ def _apply(seed: bytes, changes: list[tuple[int, int]]) -> bytearray:
 @FUZZ
 @given(mutants(_tf_message(3)))
 def test_ros1_tf_decoder(data: bytes) -> None:
-    try:
-        batch = message_batch(ros1.decode_tf, data, static=False, authority="/x", record_time=0)
-    except ValueError:
-        return
-    assert len(batch) * 76 <= len(data)  # never more transforms than the bytes can hold
+    arrivals = decode_received(ros1.decode_tf, [Received("/tf", data, "/x", 0)])
+    assert arrivals.readable + len(arrivals.unreadable) == 1
+    assert len(arrivals.batch) * 76 <= len(data)  # never more transforms than the bytes can hold
 
 
 @FUZZ
@@ -88,11 +87,9 @@ def test_ros1_clock_decoder(data: bytes) -> None:
 @FUZZ
 @given(mutants(_cdr_tf_message(3)))
 def test_ros2_tf_decoder(data: bytes) -> None:
-    try:
-        batch = message_batch(cdr.decode_tf, data, static=False, authority="/x", record_time=0)
-    except ValueError:
-        return
-    assert len(batch) * 72 <= len(data)
+    arrivals = decode_received(cdr.decode_tf, [Received("/tf", data, "/x", 0)])
+    assert arrivals.readable + len(arrivals.unreadable) == 1
+    assert len(arrivals.batch) * 72 <= len(data)
 
 
 @FUZZ

@@ -33,6 +33,7 @@ from tests.live.fake_ros1 import (
 from tftools.core.batch import TransformBatch
 from tftools.sources.codecs.types import TF_MESSAGE, ros1_message_type
 from tftools.sources.live.errors import LiveError, MasterTimeoutError
+from tftools.sources.live.received import Received
 from tftools.sources.live.ros1 import node as node_module
 from tftools.sources.live.ros1 import publisher, subscriber, tcpros
 from tftools.sources.live.ros1 import xmlrpc as ros_xmlrpc
@@ -407,24 +408,19 @@ def test_a_good_message_is_still_read_whole() -> None:
 # --- delivery ------------------------------------------------------------------------------------
 
 
-def _batch(rows: int) -> TransformBatch:
-    from tftools.core.batch import concat_batches
-    from tftools.sources.codecs.decoded import message_batch
-    from tftools.sources.codecs.ros1 import decode_tf
-
-    one = message_batch(decode_tf, tf_message(), static=False, authority="/x", record_time=0)
-    return concat_batches([one] * rows)
+def _message(size: int) -> Received:
+    return Received("/tf", b"\0" * size, "/x", 0)
 
 
 def test_the_delivery_queue_is_bounded_and_says_so_once() -> None:
     notices: list[str] = []
     queue = _DeliveryQueue(notices.append, limit=10)
     for _ in range(5):
-        queue.put(_batch(4))
-    assert [len(b) for b in queue.take_all() or []] == [4, 4]
+        queue.put(_message(4))
+    assert [len(m.data) for m in queue.take_all() or []] == [4, 4]
     assert queue.dropped == 3 and len(notices) == 1 and "cannot keep up" in notices[0]
-    queue.put(_batch(50))  # alone: always taken
-    assert [len(b) for b in queue.take_all() or []] == [50]
+    queue.put(_message(50))  # alone: always taken
+    assert [len(m.data) for m in queue.take_all() or []] == [50]
     queue.close()
     assert queue.take_all() is None
 

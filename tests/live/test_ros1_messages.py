@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
@@ -13,9 +14,10 @@ from rosbags.typesys.store import Typestore
 
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.sources.codecs.decoded import message_batch, message_clock
+from tftools.sources.codecs.decoded import message_clock
 from tftools.sources.codecs.ros1 import decode_clocks, decode_tf, encode_tf_message
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, ros1_message_type
+from tftools.sources.live.received import Received, decode_received
 from tftools.sources.live.ros1 import tcpros
 
 
@@ -63,7 +65,7 @@ transforms = st.builds(
 @given(st.lists(transforms, max_size=6))
 def test_decoding_matches_rosbags_deserializer(store: Typestore, given_transforms: list[Transform]) -> None:
     data = store.serialize_ros1(_rosbags_message(store, given_transforms), TF_MESSAGE)
-    batch = message_batch(decode_tf, bytes(data), static=True, authority="/pub", record_time=42)
+    batch = decode_received(decode_tf, [Received("/tf_static", bytes(data), "/pub", 42)]).batch
     assert len(batch) == len(given_transforms)
     names = list(batch.frame_names)
     assert [names[i] for i in batch.parent] == [t.frame_id for t in given_transforms]
@@ -85,8 +87,8 @@ def test_encoding_is_byte_for_byte_rosbags_serialization(store: Typestore, given
 def test_a_truncated_message_is_refused(store: Typestore) -> None:
     data = encode_tf_message([Transform((1, 2, 3), (0, 0, 0, 1), 5, "a", "b")])
     for cut in (2, 10, 20, len(data) - 1):
-        with pytest.raises(ValueError, match=f"message ends at byte {cut}|1 transform cannot fit in {cut} bytes"):
-            message_batch(decode_tf, data[:cut], static=False, authority="", record_time=0)
+        ((_, reason),) = decode_received(decode_tf, [Received("/tf", data[:cut], "", 0)]).unreadable
+        assert re.fullmatch(f"message ends at byte {cut}.*|1 transform cannot fit in {cut} bytes", reason)
 
 
 def test_clock_decodes_as_rosbags_wrote_it(store: Typestore) -> None:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import random
+import re
 import threading
 from types import ModuleType
 from typing import Any, cast
@@ -25,8 +26,9 @@ from tests.live.ros2_processes import require_cyclonedds
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.codecs import cdr
-from tftools.sources.codecs.decoded import message_batch, message_clock
+from tftools.sources.codecs.decoded import message_clock
 from tftools.sources.live.errors import DomainIdError
+from tftools.sources.live.received import Received, decode_received
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.conventions import QosProfile
 from tftools.sources.live.ros2.entities import decode_participant_entities
@@ -129,7 +131,7 @@ def rosbags_tf_message(typestore: Typestore, transforms: list[Transform]) -> Any
 def test_tfmessages_serialized_by_ros2_decode_exactly(transforms: list[Transform], little: bool, distro: str) -> None:
     typestore = store(distro)
     data = bytes(typestore.serialize_cdr(rosbags_tf_message(typestore, transforms), TF, little_endian=little))
-    batch = message_batch(cdr.decode_tf, data, static=True, authority="/node", record_time=7)
+    batch = decode_received(cdr.decode_tf, [Received("/tf_static", data, "/node", 7)]).batch
     assert len(batch) == len(transforms)
     names = list(batch.frame_names)
     assert [(names[p], names[c]) for p, c in zip(batch.parent, batch.child, strict=True)] == [
@@ -201,8 +203,8 @@ def test_what_is_not_a_message_is_refused() -> None:
         good[:4] + b"\xff\xff\xff\x7f" + good[8:]: "2147483647 transforms cannot fit",
     }
     for bad, reason in refused.items():
-        with pytest.raises(ValueError, match=reason):
-            message_batch(cdr.decode_tf, bad, static=False, authority="", record_time=0)
+        ((_, said),) = decode_received(cdr.decode_tf, [Received("/tf", bad, "", 0)]).unreadable
+        assert re.search(reason, said)
     with pytest.raises(ValueError, match="not a ParticipantEntitiesInfo"):
         decode_participant_entities(good)
 
@@ -347,7 +349,7 @@ def test_cyclone_accepts_each_discovery_configuration(
 def test_transforms_round_trip_through_tftools_types(idl: ModuleType) -> None:
     transforms = [Transform.from_rpy((1.0, -2.0, 3.5), (0.1, 0.2, math.pi / 2), 5 * NS_PER_S + 7, "map", "odom")]
     data = idl.ros2_struct(TF).deserialize(cdr.encode_tf_message(transforms)).serialize()
-    batch = message_batch(cdr.decode_tf, data, static=False, authority="a", record_time=1)
+    batch = decode_received(cdr.decode_tf, [Received("/tf", data, "a", 1)]).batch
     assert batch.translation.tolist() == [list(transforms[0].translation)]
     assert batch.rotation.tolist() == [list(transforms[0].rotation)]
     assert batch.stamp.tolist() == [transforms[0].stamp]

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from tests.analysis.monitor_scenes import START, scene, scene_buffer
-from tftools.core.batch import BatchBuilder, TransformBatch, take_rows
+from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S
-from tftools.sources.contents import SentMessages, concat_sent, sent_of_messages
+from tftools.sources.contents import SentMessages, concat_sent
 from tftools.sources.replay import CLOCK_HZ, OnBatch, Replay, follow, follow_into
 
 MS = 1_000_000
@@ -242,7 +242,7 @@ def test_messages_play_with_their_transforms_statics_recorded_before_the_start_f
     """``on_sent`` is told each message when its transforms are delivered, two messages of one record time
     both; the /tf_static ones recorded before the start first, the /tf ones before it never."""
     rows = recorded([0, 5, 10, 10, 20, 30], static=[True, False, True, False, False, False])
-    sent = sent_of_messages([take_rows(rows, slice(k, k + 1)) for k in range(len(rows))])
+    sent = SentMessages(rows.authorities, rows.authority, rows.static, rows.record_time, rows.stamp)  # a row each
     replay = Replay(rows, sent=sent, start=START + 10 * MS)
     told: list[SentMessages] = []
     batches: list[TransformBatch] = []

@@ -174,19 +174,6 @@ def concat_sent(parts: Sequence[SentMessages]) -> SentMessages:
     )
 
 
-def sent_of_messages(messages: Sequence[TransformBatch]) -> SentMessages:
-    """The tf messages of a source that decodes each one into a batch of its own (a live source's), those that
-    held a transform, in record order."""
-    held = [m for m in messages if len(m)]
-    names = Names()
-    authority = np.array([names.intern(m.authorities[int(m.authority[0])]) for m in held], np.int32)
-    record_time = np.array([int(m.record_time[0]) for m in held], np.int64)
-    order = np.argsort(record_time, kind="stable")
-    static = np.array([bool(m.static[0]) for m in held], bool)
-    stamp = np.array([int(m.stamp[0]) for m in held], np.int64)
-    return SentMessages(names.names, authority[order], static[order], record_time[order], stamp[order])
-
-
 #: ``SourceInfo.format`` of a buffer checked as it is (``recording_of_buffer``).
 BUFFER_FORMAT = "buffer"
 

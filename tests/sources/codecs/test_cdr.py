@@ -24,9 +24,10 @@ from tests.sources.ros2_helpers import (
 )
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs import _wire, cdr, ros1
-from tftools.sources.codecs.decoded import DecodeError, FrameNames, message_batch
+from tftools.sources.codecs.decoded import FrameNames
 from tftools.sources.codecs.select import CODECS
 from tftools.sources.codecs.wire import MAX_FRAME_ID, Reason, worded
+from tftools.sources.live.received import Received, decode_received
 
 TF = ("tf2_msgs/msg/TFMessage", "cdr")
 
@@ -307,14 +308,13 @@ def _json(t: Tf) -> dict[str, Any]:
 
 
 def test_one_malformed_message_is_a_value_error() -> None:
-    """A message decoded on its own (as live sources do) that is not well-formed raises ValueError
-    (with the reason a bag's problem line gives)."""
+    """A message decoded as live sources decode them that is not well-formed is told unreadable with the
+    reason a bag's problem line gives."""
     bad = {"cdr": b"\x00\x09", "ros1": b"\x01\x00", "protobuf": b"\x0f", "json": b"{"}
     for key, codec in CODECS.items():
         (line,) = decode([bad[key[1]]], key)[1]
-        with pytest.raises(ValueError) as error:
-            message_batch(codec.decode, bad[key[1]], static=False, authority="", record_time=0)
-        assert line.endswith(f"(first: {error.value})")
+        ((_, reason),) = decode_received(codec.decode, [Received("/tf", bad[key[1]], "", 0)]).unreadable
+        assert line.endswith(f"(first: {reason})")
 
 
 @pytest.mark.parametrize("names", [("map", "odom"), ("a", "base_link_long"), ("wörld", ""), ("odom", "bc")])
@@ -370,9 +370,8 @@ def test_the_compiled_reader_says_why_and_where_a_message_is_not_well_formed() -
         decode = cdr.decode_tf if wires is cdr.WIRES else ros1.decode_tf
         for message, reason, offset, figure in failed:
             text = worded(Reason(reason), len(given[message]), offset, figure)
-            with pytest.raises(DecodeError) as error:
-                message_batch(decode, given[message], static=False, authority="", record_time=0)
-            assert str(error.value) == text
+            ((_, said),) = decode_received(decode, [Received("/tf", given[message], "", 0)]).unreadable
+            assert said == text
     assert [worded(*case) for case in [(Reason.TRUNCATED, 92, 28, 1000), (Reason.COUNT, 92, 8, 3)]] == [
         "message ends at byte 92, a field needs 1028",
         "3 transforms cannot fit in 92 bytes",

@@ -133,18 +133,6 @@ HeaderDecoder = Callable[[UInt8Array, Int64Array, Int64Array, FrameNames], Heade
 TransformEncoder = Callable[[Sequence[Transform]], bytes]
 
 
-def message_batch(
-    decode: BulkDecoder, data: bytes, *, static: bool, authority: str, record_time: int
-) -> TransformBatch:
-    """One message decoded by the bulk decoder ``decode`` (as live sources receive them), as a batch;
-    ``DecodeError`` when it is not well-formed."""
-    frames = FrameNames()
-    decoded = decode(*_one(data), frames)
-    if decoded.failures:
-        raise DecodeError(decoded.failures[0][1])
-    return decoded.batch(frames, static=static, authority=authority, record_time=record_time)
-
-
 def message_clock(decode: ClockDecoder, data: bytes) -> int:
     """One clock message's time (ns), decoded by the bulk decoder ``decode``; ``DecodeError`` when
     it is not well-formed."""

@@ -7,13 +7,12 @@ from collections import deque
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from tftools.core.batch import TransformBatch, concat_batches
 from tftools.sources.codecs import ros1
-from tftools.sources.codecs.decoded import message_batch, message_clock
+from tftools.sources.codecs.decoded import DecodeError, message_clock
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, ros1_message_type
-from tftools.sources.contents import is_static_topic, sent_of_messages
 from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.notices import NoticeOnce, OnNotice
+from tftools.sources.live.received import Received, decode_received
 from tftools.sources.live.ros1 import network
 from tftools.sources.live.ros1.node import Node
 from tftools.sources.live.ros1.subscriber import OnMessage
@@ -21,46 +20,46 @@ from tftools.sources.live.ros1.subscriber import OnMessage
 if TYPE_CHECKING:
     from tftools.sources.live.header_store import HeaderListener, HeaderStore
 
-#: Transforms received and not yet delivered, at most: past it (the consumer cannot keep up) new
+#: Bytes of messages received and not yet delivered, at most: past it (the consumer cannot keep up) new
 #: messages are dropped, and that is said once. A message alone is always taken.
-MAX_QUEUED_TRANSFORMS = 2_000_000
+MAX_QUEUED_BYTES = 128 << 20
 
 
 class _DeliveryQueue:
-    """Batches from the connections' threads to the one delivery thread, bounded in transforms."""
+    """Messages from the connections' threads to the one delivery thread, bounded in bytes."""
 
-    def __init__(self, on_notice: OnNotice, limit: int = MAX_QUEUED_TRANSFORMS) -> None:
+    def __init__(self, on_notice: OnNotice, limit: int = MAX_QUEUED_BYTES) -> None:
         self._ready = threading.Condition()
-        self._batches: deque[TransformBatch] = deque()
+        self._messages: deque[Received] = deque()
         self._queued = 0
         self._limit = limit
         self._closed = False
         self._on_notice = on_notice
         self.dropped = 0
 
-    def put(self, batch: TransformBatch) -> None:
+    def put(self, message: Received) -> None:
         with self._ready:
-            if self._batches and self._queued + len(batch) > self._limit:
+            if self._messages and self._queued + len(message.data) > self._limit:
                 self.dropped += 1
                 if self.dropped == 1:
                     self._on_notice(
-                        f"tfx cannot keep up: more than {self._limit} transforms wait to be handled; "
+                        f"tfx cannot keep up: more than {self._limit >> 20} MiB of messages wait to be handled; "
                         "messages are dropped until it catches up"
                     )
                 return
-            self._batches.append(batch)
-            self._queued += len(batch)
+            self._messages.append(message)
+            self._queued += len(message.data)
             self._ready.notify()
 
-    def take_all(self) -> list[TransformBatch] | None:
-        """All batches queued, waiting for one; None once closed."""
+    def take_all(self) -> list[Received] | None:
+        """All messages queued, waiting for one; None once closed."""
         with self._ready:
-            while not self._batches and not self._closed:
+            while not self._messages and not self._closed:
                 self._ready.wait()
             if self._closed:
                 return None
-            batches, self._batches, self._queued = list(self._batches), deque(), 0
-            return batches
+            messages, self._messages, self._queued = list(self._messages), deque(), 0
+            return messages
 
     def close(self) -> None:
         with self._ready:
@@ -137,19 +136,8 @@ class Ros1Source(LiveSource):
             self._delivery.join(timeout=1.0)
 
     def _receiver(self, topic: str) -> OnMessage:
-        static = is_static_topic(topic)
-
         def receive(data: bytes, callerid: str) -> None:
-            try:
-                batch = message_batch(
-                    ros1.decode_tf, data, static=static, authority=callerid, record_time=self._clock.now()
-                )
-            except Exception as error:  # ValueError: not a TFMessage; anything else would be a decoder bug
-                self._unreadable(callerid, topic, error)
-                return
-            with self._lock:
-                self.message_count += 1
-            self._queue.put(batch)
+            self._queue.put(Received(topic, data, callerid, self._clock.now()))
 
         return receive
 
@@ -160,9 +148,15 @@ class Ros1Source(LiveSource):
             self._unreadable(callerid, "/clock", error)
 
     def _deliver(self, on_batch: OnBatch) -> None:
-        """One thread calls ``on_batch``, with whatever arrived while it was busy merged."""
-        while (batches := self._queue.take_all()) is not None:
-            self._pass_on(on_batch, concat_batches(batches), sent_of_messages(batches))
+        """One thread decodes and calls ``on_batch`` with whatever arrived while it was busy, in one batch."""
+        while (messages := self._queue.take_all()) is not None:
+            arrivals = decode_received(ros1.decode_tf, messages)
+            for message, reason in arrivals.unreadable:
+                self._unreadable(message.authority, message.topic, DecodeError(reason))
+            with self._lock:
+                self.message_count += arrivals.readable
+            if len(arrivals.batch):
+                self._pass_on(on_batch, arrivals.batch, arrivals.sent)
 
 
 def param_is_true(value: object) -> bool:

@@ -8,14 +8,13 @@ from typing import TYPE_CHECKING, Any
 
 from cyclonedds.core import DDSException
 
-from tftools.core.batch import TransformBatch, concat_batches
 from tftools.sources.codecs import cdr
-from tftools.sources.codecs.decoded import message_batch, message_clock
+from tftools.sources.codecs.decoded import DecodeError, message_clock
 from tftools.sources.codecs.types import CLOCK, TF_MESSAGE
-from tftools.sources.contents import is_static_topic, sent_of_messages
 from tftools.sources.live.base import LiveSource, OnBatch
 from tftools.sources.live.errors import DdsError
 from tftools.sources.live.notices import OnNotice, printable
+from tftools.sources.live.received import Received, decode_received
 from tftools.sources.live.ros2 import conventions as ros2
 from tftools.sources.live.ros2.dds import Participant, Waiter, take_raw
 from tftools.sources.live.ros2.graph import Graph, Writer
@@ -104,15 +103,17 @@ class Ros2Source(LiveSource):
         listening.graph.poll()
         if listening.clock is not None:
             self._tick(listening.clock, listening.graph)
-        messages = self._take(listening)
-        if messages:
-            self._pass_on(on_batch, concat_batches(messages), sent_of_messages(messages))
+        arrivals = decode_received(cdr.decode_tf, self._take(listening))
+        for message, reason in arrivals.unreadable:
+            self._unreadable(message.authority, message.topic, DecodeError(reason))
+        self.message_count += arrivals.readable
+        if len(arrivals.batch):
+            self._pass_on(on_batch, arrivals.batch, arrivals.sent)
         return 0.05 if listening.pending else 1.0
 
-    def _take(self, listening: _Listening) -> list[TransformBatch]:
+    def _take(self, listening: _Listening) -> list[Received]:
         """New samples, and those held back until their publisher's node is known (a node's
-        ``ros_discovery_info`` may come a moment after its first transforms), a batch each (none for those
-        that held no transform)."""
+        ``ros_discovery_info`` may come a moment after its first transforms), those whose publisher is known."""
         graph = listening.graph
         samples = listening.pending
         for topic, reader in listening.readers.items():
@@ -122,8 +123,11 @@ class Ros2Source(LiveSource):
                     continue
                 samples.append(_Sample(topic, reader, data, info.publication_handle, self._clock.now()))
         listening.pending = [s for s in samples if not graph.settled(s.handle, s.reader)]
-        batches = [self._decode(s, graph) for s in samples if graph.settled(s.handle, s.reader)]
-        return [b for b in batches if b is not None and len(b)]
+        return [
+            Received(s.topic, s.data, graph.authority(s.handle, s.reader), s.record_time)
+            for s in samples
+            if graph.settled(s.handle, s.reader)
+        ]
 
     def _too_large(self, topic: str, size: int, sender: str) -> None:
         """Say once per publisher and topic that its samples over ``MAX_TF_SAMPLE`` are dropped (the first's size)."""
@@ -135,19 +139,6 @@ class Ros2Source(LiveSource):
             f"{printable(sender)} sent a sample of {size / (1 << 20):.1f} MiB on {topic}, larger than {limit} MiB"
             " (100,000 transforms take 8.5 MB): such are dropped unread"
         )
-
-    def _decode(self, sample: _Sample, graph: Graph) -> TransformBatch | None:
-        authority = graph.authority(sample.handle, sample.reader)
-        static = is_static_topic(sample.topic)
-        try:
-            batch = message_batch(
-                cdr.decode_tf, sample.data, static=static, authority=authority, record_time=sample.record_time
-            )
-        except Exception as error:  # ValueError: not a TFMessage; anything else, a decoder bug: either way, one sample
-            self._unreadable(authority, sample.topic, error)
-            return None
-        self.message_count += 1
-        return batch
 
     def _tick(self, reader: Any, graph: Graph) -> None:
         for data, info in take_raw(reader):
