@@ -304,15 +304,17 @@ def test_a_static_message_lacking_an_earlier_ones_transforms_is_another_publishe
 _OWN = [("imu", 0.0, 0.0), ("ir", 0.05, 0.0), ("button", 0.02, 0.0), ("omni", 0.01, 0.0)]
 
 
-def _neato(listed: int, tmp_path: Path) -> list[Finding]:
-    """A Neato: a static_transform_publisher of the laser at (-0.1016, 0, 0.0889), then 4 ms later
-    robot_state_publisher's 10 fixed joints, the laser among them at (-0.084, 0, 0.166)."""
+def _neato(listed: int, tmp_path: Path, sent: int = START, apart: int = 4 * MS) -> list[Finding]:
+    """A Neato: a static_transform_publisher of the laser at (-0.1016, 0, 0.0889), then ``apart`` later
+    robot_state_publisher's 10 fixed joints, the laser among them at (-0.084, 0, 0.166); both stamped ``sent``
+    (the second 4 ms later)."""
     laser = TfMessage(
-        "/tf_static", START + DELAY, [Transform((-0.1016, 0, 0.0889), (0, 0, 0, 1), START, "base_link", "laser")]
+        "/tf_static", START + DELAY, [Transform((-0.1016, 0, 0.0889), (0, 0, 0, 1), sent, "base_link", "laser")]
     )
-    joints = [Transform((0.01 * i, 0, 0), (0, 0, 0, 1), START, "base_link", f"part{i}") for i in range(9)]
-    urdf_laser = Transform((-0.084, 0, 0.166), (0, 0, 0, 1), START, "base_link", "laser")
-    description = TfMessage("/tf_static", START + DELAY + 4 * MS, [*joints, urdf_laser])
+    later = sent + 4 * MS
+    joints = [Transform((0.01 * i, 0, 0), (0, 0, 0, 1), later, "base_link", f"part{i}") for i in range(9)]
+    urdf_laser = Transform((-0.084, 0, 0.166), (0, 0, 0, 1), later, "base_link", "laser")
+    description = TfMessage("/tf_static", START + DELAY + apart, [*joints, urdf_laser])
     return _findings(tmp_path, [*scenes.healthy(statics=[]), laser, description], {"/tf_static": listed})
 
 
@@ -349,6 +351,18 @@ def test_one_static_publisher_that_changed_a_value_is_still_dynamic_on_static(tm
     assert (finding.code, finding.frames) == ("dynamic_on_static", ("base_link", "laser"))
     assert "holds every transform of the one before it" in finding.message
     assert "metadata.yaml lists 1 publisher of it: one publisher, it seems" in finding.message
+
+
+def test_two_static_messages_both_sent_long_before_the_recording_are_two_publishers(tmp_path: Path) -> None:
+    """A real Neato (ros2_db3_neato_real_person_follower_moampane_2023): the same two messages, received 1.06 s
+    apart, both stamped 562 s before the recording began, metadata.yaml listing one publisher: tfx said
+    dynamic_on_static ('one publisher, it seems'). A late subscriber gets only the latest message of each static
+    broadcaster (its history holds one), so two received that were sent before recording began are two
+    publishers': a static_conflict."""
+    findings = _neato(1, tmp_path, sent=START - 562 * NS_PER_S, apart=1064 * MS)
+    (conflict,) = loud(findings)
+    assert (conflict.code, conflict.frames) == ("static_conflict", ("base_link", "laser")), conflict.message
+    assert "differs in value from publisher 1's, both sent before the recording began" in conflict.message
 
 
 def test_a_frame_two_static_publishers_give_different_parents_is_not_an_object_picked_up(tmp_path: Path) -> None:

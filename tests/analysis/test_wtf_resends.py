@@ -155,6 +155,39 @@ def test_a_joint_moving_faster_than_its_samples_is_no_jump(
     assert "jump" not in _codes(findings), [f.message for f in findings if f.code == "jump"]
 
 
+def _driven_alone(parent: str, child: str) -> list[TfMessage]:
+    """A real Neato's driver at 8.5 Hz sending each transform in a message of its own
+    (ros2_db3_neato_real_checkpoint_joloujo_2023): ``parent -> child`` about a fixed origin at rest for 5 s,
+    turned 157 degrees between two samples (the wheel, as the base then moved 0.097 m), at rest again."""
+
+    def turned(t: int) -> list[Transform]:
+        angle = math.radians(157.0) if t - START >= 5 * NS_PER_S else 0.0
+        return [Transform.from_rpy((0.0, 0.12, 0.03), (0.0, angle, 0.0), t, parent, child)]
+
+    def base(t: int) -> list[Transform]:
+        return [_t("odom", "base_footprint", t, 0.097 if t - START >= 5 * NS_PER_S else 0.0)]
+
+    messages = periodic("/tf", 8.5, turned) + periodic("/tf", 8.5, base, delay=3 * MS)
+    return sorted([statics(), *messages], key=lambda m: m.record_time)
+
+
+def test_a_wheel_sent_alone_turning_between_samples_is_no_jump() -> None:
+    """ros2_db3_neato_real_checkpoint_joloujo_2023: the driver sends each wheel in a message of its own, so it was
+    not taken for a joint, and each wheel's 157-158 degree turn between two samples (the turn the base's 0.097 m
+    step takes) was said to jump: an edge turning about a fixed origin is a joint, its angle seen modulo a turn."""
+    findings = check(recording(_driven_alone("base_footprint", "wheel_left_link"), ros1=False)).findings
+    assert not [f for f in findings if f.code == "jump" and f.frames[1] == "wheel_left_link"], [
+        f.message for f in findings if f.code == "jump"
+    ]
+
+
+def test_a_heading_alone_under_odom_stepping_still_jumps() -> None:
+    """The same step on an orientation-only odometry (odom -> base_link, its origin fixed): a localizer's heading,
+    not a joint, so its step that stays is a jump."""
+    findings = check(recording(_driven_alone("odom", "base_link"), ros1=False)).findings
+    assert any(f.code == "jump" and f.frames == ("odom", "base_link") for f in findings), [f.message for f in findings]
+
+
 def test_a_joint_out_and_back_for_one_sample_still_jumps() -> None:
     """ros2_db3_jetacker_slam_toolbox_static_map's steering: pi for one sample, then back where it was (here
     on a joint that goes on moving slowly, so that it comes back near, not to, the position it left)."""

@@ -27,6 +27,9 @@ JUMP_FACTOR = 5.0
 NEIGHBOURS = 3
 #: An edge sent in messages with other edges this often is a joint (``_joints``).
 JOINT_SHARE = 0.9
+#: A moving edge below the robot's base whose origin never moves further than this turns about a fixed point: a
+#: revolute joint, however it is sent (``_turning_in_place``).
+FIXED_ORIGIN_M = 1e-6
 WINDOWS_AT_ONCE = 65536
 FLOOR_M = 0.05
 FLOOR_DEG = 3.0
@@ -305,10 +308,10 @@ def jump(scene: Scene) -> Iterator[Finding]:
             "localizer or GPS fused into odom, makes everything planned in odom leap; publish corrections as "
             "map -> odom"
             if continuous
-            else "a joint whose position steps (it comes in messages with other edges, as robot_state_publisher "
-            "sends a robot's joints): /joint_states from two sources taking turns (joint_state_publisher's "
-            "defaults beside the driver's or the simulator's readings), or a driver resetting the joint; check "
-            "who publishes /joint_states"
+            else "a joint whose position steps (it turns in place, or comes in messages with other edges, as "
+            "robot_state_publisher sends a robot's joints): /joint_states from two sources taking turns "
+            "(joint_state_publisher's defaults beside the driver's or the simulator's readings), or a driver "
+            "resetting the joint; check who publishes /joint_states"
             if samples.key in joints
             else "a localization correction or a reset published as this edge's motion: if it is a correction, "
             "publish it as map -> odom (REP 105), so that odom stays continuous"
@@ -338,15 +341,31 @@ def _back_and_forth(values: FloatArray, found: Jumps, when: Int64Array) -> tuple
 
 def _joints(scene: Scene) -> set[tuple[str, str]]:
     """The moving edges sent in messages that carry other edges too (one publisher, one record time and
-    stamp), at least ``JOINT_SHARE`` of the time: a state publisher's joints, not a localizer's output."""
+    stamp), at least ``JOINT_SHARE`` of the time: a state publisher's joints, not a localizer's output; and
+    those turning in place (``_turning_in_place``)."""
+    turning = _turning_in_place(scene)
     rows = scene.rows
     edges = list(rows.by_edge(rows.usable & ~rows.static))
     if len(edges) < 2 or not (rows.record_time.whole() > 0).all():
-        return set()
+        return turning
     keys = [_message_keys(rows, mine) for _, _, mine in edges]
     shared, counts = np.unique(np.concatenate([np.unique(k) for k in keys]), return_counts=True)
     multi = shared[counts > 1]
-    return {(p, c) for (p, c, _), k in zip(edges, keys, strict=True) if np.isin(k, multi).mean() >= JOINT_SHARE}
+    together = {(p, c) for (p, c, _), k in zip(edges, keys, strict=True) if np.isin(k, multi).mean() >= JOINT_SHARE}
+    return together | turning
+
+
+def _turning_in_place(scene: Scene) -> set[tuple[str, str]]:
+    """The moving edges whose origin never moves (``FIXED_ORIGIN_M``) while they turn, not under odom or map: a
+    wheel or a pan joint, whose angle is seen modulo a turn, sent in messages of its own (a real Neato's driver
+    sends each wheel alone). Under odom or map a heading that only turns is a localizer's: its steps jump."""
+    return {
+        samples.key
+        for samples in scene.dynamic_edges
+        if base_name(samples.parent) not in (ODOM, MAP)
+        and len(samples.values) > 1
+        and bool(np.ptp(samples.values[:, :3], axis=0).max() <= FIXED_ORIGIN_M)
+    }
 
 
 def _message_keys(rows: Rows, which: IntpArray) -> npt.NDArray[np.void]:

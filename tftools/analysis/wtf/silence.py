@@ -135,23 +135,43 @@ def stalls(scene: Scene) -> list[list[Pause]]:
 
 @register("stall", Severity.warning, "many moving edges going silent at once: one stop, said once")
 def stall(scene: Scene) -> Iterator[Finding]:
+    """One finding for the stalls of the same edges that the record clock saw alike (a robot's link dropping out
+    again and again is one problem), said with its own figures where one stands alone."""
     moving = {e.key for e in scene.dynamic_edges}
-    for pauses in stalls(scene):
+    seen = [(pauses, *_meanwhile(scene, pauses, len(pauses) == len(moving))) for pauses in stalls(scene)]
+    runs: dict[tuple[frozenset[tuple[str, str]], str], list[tuple[list[Pause], str, str]]] = {}
+    for one in seen:
+        runs.setdefault((frozenset(p.edge for p in one[0]), one[2]), []).append(one)
+    for run in runs.values():
+        pauses = [p for stopped, _, _ in run for p in stopped]
+        first = run[0][0]
         start, end = min(p.start for p in pauses), max(p.end for p in pauses)
         lengths = sorted((p.end - p.start) / NS_PER_S for p in pauses)
-        spread = (max(p.start for p in pauses) - start) / NS_PER_S
-        every = len(pauses) == len(moving)
-        meanwhile, look = _meanwhile(scene, pauses, every)
-        which = f"all {len(pauses)} moving edges" if every else f"{len(pauses)} of {len(moving)} moving edges"
-        which = "both moving edges" if every and len(pauses) == 2 else which
+        spread = max(
+            (max(p.start for p in stopped) - min(p.start for p in stopped)) / NS_PER_S for stopped, _, _ in run
+        )
+        every = len(first) == len(moving)
+        meanwhile, look = run[0][1], run[0][2]
+        which = f"all {len(first)} moving edges" if every else f"{len(first)} of {len(moving)} moving edges"
+        which = "both moving edges" if every and len(first) == 2 else which
+        if len(run) > 1:
+            longest = max(run, key=lambda one: max(p.end - p.start for p in one[0]))
+            meanwhile = longest[1].replace(" for ", " for up to ", 1) if look == "nothing" else meanwhile
+            began = min(p.start for p in longest[0])
+            when = (
+                f"at once {len(run)} times (each time within {duration(spread)} of each other), the first from "
+                f"{scene.at(start)}" + (f", the longest from {scene.at(began)}" if began != start else "")
+            )
+        else:
+            when = f"within {duration(spread)} of each other, from {scene.at(start)}"
         yield Finding(
             Severity.warning,
             "stall",
-            f"{which} went silent within {duration(spread)} of each other, from {scene.at(start)}, for "
-            f"{_range(lengths[0], lengths[-1])} ({listed([edge(*p.edge) for p in pauses])}){meanwhile}: "
+            f"{which} went silent {when}, for {_range(lengths[0], lengths[-1])} "
+            f"({listed([edge(*p.edge) for p in first])}){meanwhile}: "
             f"{'everything on /tf' if every else 'they'} stopped at once",
             f"{_LOOK[look]}; lookups inside the stall interpolate across it",
-            tuple(f for p in pauses for f in p.edge),
+            tuple(f for p in first for f in p.edge),
             first_time=start,
             last_time=end,
             count=len(pauses),

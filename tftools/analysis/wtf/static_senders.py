@@ -4,7 +4,10 @@ static_transform_publisher's) re-sends all of its transforms in every message, s
 transforms of an earlier one comes from another publisher (Python's sends only those it is given: a node
 that changes one of its transforms that way is taken for two publishers, which disagree all the same);
 and metadata.yaml lists how many publishers /tf_static had when recording began, so where it lists
-several, a message whose values differ from an earlier one's is taken for another publisher's."""
+several, a message whose values differ from an earlier one's is taken for another publisher's. So is one
+that differs where both were sent long before the recording began: a late subscriber gets only the latest
+message of each static broadcaster (its history holds one, QoS depth 1), so two such messages are two
+publishers' (a real Neato's driver and robot_state_publisher, the second found after metadata.yaml listed one)."""
 
 from __future__ import annotations
 
@@ -16,9 +19,13 @@ from tftools.analysis.findings import counted
 from tftools.analysis.wtf.broadcasters import listed_publishers
 from tftools.analysis.wtf.scene import Scene
 from tftools.core.arrays import Int32Array, IntpArray
+from tftools.core.time import NS_PER_S
 
 #: Beyond this many different /tf_static messages, publishers are not told apart (each topic is one).
 MESSAGES_COMPARED = 1000
+#: A /tf_static message stamped this long before the recording's first message was sent before the recorder
+#: subscribed (it came from its publisher's history): more than a recorder takes to start.
+LATCHED_BEFORE = 10 * NS_PER_S
 
 
 @dataclass(frozen=True)
@@ -80,6 +87,7 @@ class _Publisher:
     transforms: int
     first: int
     evidence: str
+    latched: bool  # its latest message was sent before the recording began (``LATCHED_BEFORE``)
 
 
 def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array, list[Sender]] | None:
@@ -95,6 +103,7 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
             return None
     listed = {t: listed_publishers(scene, t) for t in scene.authorities_of(static)}
     several = max((n or 0) for n in listed.values()) >= 2
+    began = _recording_began(scene)
     publishers: list[_Publisher] = []
     chosen = np.empty(len(messages), np.int32)
     seen: dict[bytes, int] = {}
@@ -105,14 +114,17 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
             chosen[m] = seen[key]
             continue
         edges = messages.transforms(m)
-        earlier, evidence = _publisher_of(scene, publishers, edges, several, listed)
+        low, high = messages.stamps(m)
+        latched = began is not None and low > 0 and high <= began - LATCHED_BEFORE
+        earlier, evidence = _publisher_of(scene, publishers, edges, several, listed, latched)
         if earlier is None:
-            publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence))
+            publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence, latched))
             k = len(publishers) - 1
         else:
             k = earlier
             publishers[k].latest = edges
             publishers[k].messages += 1
+            publishers[k].latched = latched
         seen[key] = k
         chosen[m] = k
     senders = [_sender(k, p) for k, p in enumerate(publishers, 1)]
@@ -125,17 +137,19 @@ def _publisher_of(
     edges: dict[tuple[int, int], bytes],
     several: bool,
     listed: dict[str, int | None],
+    latched: bool,
 ) -> tuple[int | None, str]:
     """Which earlier publisher could have sent a message of ``edges`` (None: another), and if another, why.
     A publisher's next message holds every transform of its last; where metadata.yaml lists ``several``
-    publishers, one whose values differ from this message's is taken for another."""
+    publishers, or both messages were sent before the recording began (``latched``: a static broadcaster's
+    history holds one), one whose values differ from this message's is taken for another."""
     could: list[tuple[bool, int]] = []
     differ: list[int] = []
     for k, p in enumerate(publishers):
         if not p.latest.keys() <= edges.keys():
             continue
         same = all(edges[e] == v for e, v in p.latest.items())
-        if same or not several:
+        if same or not (several or (latched and p.latched)):
             could.append((same, k))
         else:
             differ.append(k)
@@ -144,9 +158,14 @@ def _publisher_of(
     overlapping = [k for k, p in enumerate(publishers) if p.latest.keys() & edges.keys()]
     if not overlapping:
         return None, ""
-    if differ:
+    if differ and several:
         n = max(n for n in listed.values() if n is not None)
         return None, f"differs in value from publisher {differ[-1] + 1}'s while metadata.yaml lists {n} publishers"
+    if differ:
+        return None, (
+            f"differs in value from publisher {differ[-1] + 1}'s, both sent before the recording began (a late "
+            "subscriber gets only the latest message of each static broadcaster: its history holds one)"
+        )
     last = publishers[overlapping[-1]]
     missing = len(last.latest.keys() - edges.keys())
     return None, (
@@ -176,6 +195,7 @@ class _Messages:
         self._parent, self._child = rows.parent[self.rows], rows.child[self.rows]
         self._values = np.ascontiguousarray(rows.values[self.rows])
         self._arrival = scene.arrival(self.rows)
+        self._stamp = rows.stamp[self.rows]
 
     def __len__(self) -> int:
         return len(self.bounds) - 1
@@ -201,3 +221,17 @@ class _Messages:
 
     def arrival(self, k: int) -> int:
         return int(self._arrival[self._slice(k)].min())
+
+    def stamps(self, k: int) -> tuple[int, int]:
+        """Message ``k``'s earliest and latest stamps."""
+        stamps = self._stamp[self._slice(k)]
+        return int(stamps.min()), int(stamps.max())
+
+
+def _recording_began(scene: Scene) -> int | None:
+    """The recording's first message's arrival on the stamps' clock (None where unknown)."""
+    timeline = scene.timeline
+    if timeline.record_start <= 0:
+        return None
+    began, known = timeline.ros_time(np.array([timeline.record_start], np.int64))
+    return int(began[0]) if known[0] else None
