@@ -7,11 +7,13 @@ import re
 
 import pytest
 
-from tests.analysis.wtf_scenes import PROBLEMS, recording
+from tests.analysis.wtf_scenes import PROBLEMS, SECONDS, ekf, recording
+from tests.analysis.wtf_scenes import healthy as robot
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import tree_of
 from tftools.analysis.graph import FrameGraph, frame_graph, view_frames
+from tftools.analysis.monitor import MonitorQuery, monitor
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.core.batch import BatchBuilder
 from tftools.core.buffer import Buffer
@@ -206,6 +208,20 @@ def test_an_edge_stamped_on_another_clock_is_aged_on_that_clock() -> None:
     assert arm.stats is not None and graph.now_of(arm) == arm.stats.last_stamp < graph.now
     ages = [float(a) for a in re.findall(r"\(([0-9.]+) s old\)", to_digraph(graph, None).source)]
     assert ages and max(ages) < 10.0
+
+
+def test_an_edge_on_another_clock_that_stopped_early_is_as_old_as_its_silence() -> None:
+    """A replay's odom -> base_link 3 days behind the live frames, stopping 2.5 s before the recording ends
+    (ros1_raspimouse_replay_beside_live_gmapping_2018: "(0.000 s old)" while monitor said it had been silent
+    2.474 s and wtf that it stopped 2.5 s before the end): its own clock at the end is its newest stamp moved on
+    by its silence, so view-frames ages it as the monitor times its silence."""
+    rec = recording(robot(ekf=ekf(stamp=lambda t: t - 3 * 86400 * NS_PER_S, end=SECONDS - 2.5)))
+    graph = frame_graph(Scene(rec.buffer))
+    (odom,) = [e for e in graph.edges if e.key == ("odom", "base_link")]
+    (silent,) = [e.silent_for for e in monitor(rec, MonitorQuery()).edges if e.key == ("odom", "base_link")]
+    assert silent > 2 * NS_PER_S
+    assert graph.age_of(odom) == silent
+    assert f"({silent / NS_PER_S:.3f} s old)" in to_digraph(graph, None).source
 
 
 def test_an_edge_stamped_ahead_of_the_recordings_end_is_said_ahead_never_negative_old() -> None:

@@ -637,11 +637,12 @@ def _same_edge_clock(kept: EdgeClock, every: EdgeClock) -> None:
     spaced arrivals where there were more than ``SAMPLES_PER_FRAME`` (a 22-minute real recording's odometry):
     there they agree to 1% of the frame's span (stamps) and 10 ms (offsets), far below the 10 s that tell clocks
     apart; the rest is exact."""
-    assert (kept.child, kept.arrivals, kept.first_stamp, kept.last_stamp) == (
+    assert (kept.child, kept.arrivals, kept.first_stamp, kept.last_stamp, kept.last_record) == (
         every.child,
         every.arrivals,
         every.first_stamp,
         every.last_stamp,
+        every.last_record,
     )
     if every.arrivals <= SAMPLES_PER_FRAME:
         assert kept == every

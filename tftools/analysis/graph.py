@@ -59,7 +59,7 @@ class FrameGraph:
 
     def now_of(self, edge: Edge) -> int:
         """The time ``edge``'s age is measured from: the recording's end, or for a frame stamped on another
-        clock than the rest (``Timeline.own_clock_ends``), the newest stamp on that clock."""
+        clock than the rest, that clock at the recording's end (``Timeline.own_clock_ends``)."""
         return self.clock_ends.get(edge.child, self.now)
 
     def age_of(self, edge: GraphEdge) -> int | None:

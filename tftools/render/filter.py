@@ -101,6 +101,9 @@ _INSTEAD = {
     "not_connected": "join its frame's tree to the target's",
     "empty_frame": "set the frame_id",
     "needs_newer_tf": "keep the tf it waits for publishing",
+    # older than the cache behind the chain's newest stamp (stamp 0, an old stamp): where no cache keeps them
+    "older_than_cache": "stamp each message when it was measured, on the clock tf is stamped on",
+    "too_old_on_arrival": "stamp each message when it was measured, on the clock tf is stamped on",
 }
 
 

@@ -355,7 +355,12 @@ class _Summary:
         for child, arrivals in self._arrivals.items():
             e = edge_clock(child, *arrivals.kept())
             span = arrivals.span if e.bases == 1 else (e.first_stamp, e.last_stamp)
-            found.append(dataclasses.replace(e, arrivals=arrivals.seen, first_stamp=span[0], last_stamp=span[1]))
+            last_record = arrivals.last_record if e.bases == 1 else e.last_record
+            found.append(
+                dataclasses.replace(
+                    e, arrivals=arrivals.seen, first_stamp=span[0], last_stamp=span[1], last_record=last_record
+                )
+            )
         return tuple(found)
 
 
@@ -394,11 +399,13 @@ class _Arrivals:
         self._seen = 0
         self._stride = 1
         self.span = (0, 0)  # the first and last stamp of every arrival, kept or not
+        self.last_record = 0  # the last record time of every arrival, kept or not
 
     def add(self, stamps: Int64Array, records: Int64Array, ros: Int64Array, known: BoolArray) -> None:
         picked = np.arange((-self._seen) % self._stride, len(stamps), self._stride)
         first, last = int(stamps.min()), int(stamps.max())
         self.span = (min(self.span[0], first), max(self.span[1], last)) if self._seen else (first, last)
+        self.last_record = max(self.last_record, int(records.max()))
         self._seen += len(stamps)
         self._parts.append((stamps[picked], records[picked], ros[picked], known[picked]))
         while sum(len(p[0]) for p in self._parts) > SAMPLES_PER_FRAME:

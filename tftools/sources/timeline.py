@@ -66,6 +66,7 @@ class EdgeClock:
     reach_record: int = 0  # how far arrival strays from the stamp (95th percentile of |record time - stamp|)
     reach_clock: int = 0  # the same against /clock at arrival
     bases: int = 1  # time bases its samples are on (``figures.time_base_of``); all but the main one left out
+    last_record: int = 0  # its last arrival (record time): how long it has been silent (``figures.silence``)
 
     def offset(self, against_clock: bool) -> int | None:
         """Arrival minus stamp against /clock or the record clock (None: never arrived under /clock)."""
@@ -139,15 +140,17 @@ class Timeline:
     @cached_property
     def own_clock_ends(self) -> dict[str, int]:
         """For each frame stamped outside the recording's tf span (a chain on simulated time among frames on
-        wall time), the newest stamp on its own clock: where its ages count from, as ``span_of`` counts its
-        ``+S``. Frames within the span are not listed."""
+        wall time), its own clock at the recording's end: where its ages count from. That is the newest stamp on
+        that clock moved on by how long its frame has been silent (``figures.silence``), so that a replay's
+        frame that stopped 2.5 s before the end is 2.5 s old, as the monitor's silence and wtf's ``stale`` say,
+        not as new as the last stamp its own clock had. Frames within the span are not listed."""
         near = self.same_clock
         off = {e.child for e in self.edges if not self.tf_start - near <= e.median_stamp <= self.tf_end + near}
         if not off:
             return {}
         ends: dict[str, int] = {}
         for group in clock_groups(self.edges, near):
-            end = max(e.last_stamp for e in group)
+            end = max(e.last_stamp + figures.silence(e.last_record, self.record_end) for e in group)
             ends.update((e.child, end) for e in group if e.child in off)
         return ends
 
@@ -548,6 +551,7 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
         _reach(records - stamps),
         reach_clock,
         bases,
+        int(records.max()),
     )
 
 

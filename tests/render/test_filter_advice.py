@@ -1,0 +1,42 @@
+"""``tfx filter``'s advice: what keeps the messages a MessageFilter loses, said for every reason they are lost."""
+
+from __future__ import annotations
+
+import pytest
+from rich.console import Console
+
+from tftools.analysis.filter.fates import LOST, Fate, FilterReport, StreamReport
+from tftools.core.time import NS_PER_S
+from tftools.render.filter import renderable
+
+
+def _lost(reason: str, messages: int = 229, never: int = 5) -> StreamReport:
+    """A stream of which ``never`` messages were lost for ``reason``, and no timeout keeps them."""
+    waits = dict.fromkeys(("p50", "p95", "p99", "max"), 0.0)
+    return StreamReport(
+        "/wall", "visualization_msgs/msg/Marker", ("base_link",), messages, messages - never, 0, never, waits,
+        {reason: never}, None, 0.0, None, 0, None, lost_edge=("base_footprint", "base_link"),
+    )  # fmt: skip
+
+
+def _said(stream: StreamReport, width: int = 400) -> str:
+    console = Console(width=width, record=True)
+    report = FilterReport("odom", "REP 105's odom frame", 10 * NS_PER_S, [stream], [], {})
+    console.print(renderable(report))
+    return " ".join(console.export_text().split())
+
+
+@pytest.mark.parametrize("fate", LOST, ids=[f.reason for f in LOST])
+def test_no_timeout_can_is_never_said_alone(fate: Fate) -> None:
+    """A real Neato's /wall markers (ros2_db3_neato_real_fsm_odom_jump_2023), stamped 0, 5 of them arriving
+    before odom's tf: tf2 drops them as older than its cache, and `tfx filter` said "to keep 99.9%: no timeout
+    can", and stopped there. Each reason a message is lost for good comes with what keeps it instead."""
+    said = _said(_lost(fate.reason))
+    assert "no timeout can" in said
+    assert "no timeout can (" in said, said
+
+
+def test_a_stamp_too_old_for_the_cache_is_told_to_be_stamped_when_measured() -> None:
+    for width in (400, 80):  # the table and, where it does not fit, the paragraphs
+        said = _said(_lost("older_than_cache"), width)
+        assert "no timeout can (stamp each message when it was measured, on the clock tf is stamped on)" in said
