@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from tests.analysis.test_filter_faults import MS, T0, _moving, _static
+from tests.analysis.test_filter_faults import MS, T0, _moving, _static, _text
 from tests.analysis.wtf_scenes import recording
 from tftools.analysis.filter import FilterQuery, filter_streams
 from tftools.analysis.filter.fates import Fate, message_fates
@@ -43,8 +43,11 @@ def test_stamped_zero_before_the_chain_is_counted_and_no_cache_is_suggested() ->
     before = fates.zero_before_chain()
     assert before.tolist() == [True] * 5 + [False] * 95  # arrived before odom -> base_link's first sample
     assert (fates.fate[:5] == Fate.OLDER_THAN_CACHE).all() and (fates.fate[5:] == Fate.ON_ARRIVAL).all()
-    report = filter_streams(rec.buffer, [_markers(True)], FilterQuery(target="odom")).streams[0]
+    whole = filter_streams(rec.buffer, [_markers(True)], FilterQuery(target="odom"))
+    report = whole.streams[0]
     assert (report.never, report.stamped_zero, report.before_tf, report.cache_needed) == (5, 5, 0, None)
+    said = " ".join(_text(whole).split())  # tfx filter's advice says it too
+    assert "5 stamped 0 arrived before their tf: no cache keeps them; set header.stamp" in said, said
 
 
 def test_sensor_lost_names_stamp_zero_and_the_missing_chain_not_the_cache() -> None:
