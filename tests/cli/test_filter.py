@@ -299,7 +299,7 @@ def test_a_sensor_topic_given_as_tf_is_named_with_its_type_by_wtf_as_by_echo(
     (report,) = json.loads(wtf.stdout)["bags"]
     (no_tf,) = [f for f in report["findings"] if f["code"] == "no_tf"]
     assert no_tf["message"] == f"no transforms read in {bags[fmt]}: {line}"
-    assert "carry transforms: tfx reads them without --topic" in no_tf["hint"]
+    assert no_tf["hint"] == "/tf and /tf_static carry transforms: leave out --topic"  # every command's hint
     echo = tfx("echo", "odom", "base_link", "-b", bags[fmt], "--topic", "/scan")
     assert echo.code == 2 and f"no transforms read: {line}" in echo.stderr
     assert "carry transforms: leave out --topic" in echo.stderr

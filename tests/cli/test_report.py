@@ -3,6 +3,7 @@ browser's view of it)."""
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 from typing import Any
@@ -228,7 +229,7 @@ def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
     "(was /tf recorded? read other topics)", the library's hint (its error went through ``Unreadable``), where
     the other commands said "pick other topics with --topic"; and "read /tf and /tf_static, of a transform
     type" where they said "leave out --topic". The report words the error it carries as they do; tfx filter,
-    which has no --topic, names none."""
+    which has no --topic, names none; wtf's no_tf finding gave its own longer hint, and gives theirs now."""
     if recorded == "without tf":
         (tmp_path / "bags").mkdir()
         bag = sensor_bags(tmp_path / "bags", [], _scans)["db3"]
@@ -255,6 +256,10 @@ def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
         hints[name] = result.stderr.rstrip("\n").rpartition(" (")[2]
     assert hints["report"].startswith(hint) and set(hints.values()) == {hints["report"]}, hints
     assert not (tmp_path / "report.html").exists()
+    # wtf, which reads on and says it as its no_tf finding, gives the same hint
+    wtf = tfx("wtf", "-b", bag, *topic, "-f", "json")
+    (no_tf,) = [f for b in json.loads(wtf.stdout)["bags"] for f in b["findings"] if f["code"] == "no_tf"]
+    assert f"{no_tf['hint']})" == hints["report"], (no_tf["hint"], hints)
 
 
 def _scans(store: Any) -> list[tuple[str, str, int, object]]:

@@ -39,9 +39,10 @@ class Finding:
     """A problem: its code (e.g. ``cycle``), a one-line message naming what is involved, a hint.
 
     ``frames`` lists the frames involved (edges as consecutive parent, child pairs where that
-    matters is up to the check), ``first_time``/``last_time`` the stamps or record times (ns)
-    where it shows, ``count`` how many samples or messages show it. A ``skipped`` finding says that
-    its check could not run on this recording, and why: never a silent pass. ``key`` names a finding that
+    matters is up to the check), ``first_time``/``last_time`` where it shows (ns), on the stamps' clock:
+    stamps, or ROS time at arrival (``Scene.ros_times``), 0 where unknown, never record times; ``count`` how
+    many samples or messages show it. A ``skipped`` finding says that its check could not run on this
+    recording, and why: never a silent pass. ``key`` names a finding that
     explains others (unique among one recording's findings); ``cause`` is the key of the finding this one
     follows from (``analysis.wtf.causes``), empty for a finding that stands on its own. ``figures`` holds
     what was observed, by name (counts, metres, degrees, seconds), as the message says it: for JSON and the

@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # the lookups and their renderers load when a command runs: -
     from tftools.analysis.echo import EchoQuery, EchoSeries
     from tftools.core.buffer import Buffer
     from tftools.sources.live.base import LiveSource
+    from tftools.sources.recording import Recording
 
 
 class EchoFormat(str, enum.Enum):
@@ -159,10 +160,10 @@ def command(
     recording = open_recording(bags, topics, tf2)
     lines = replace(lines, ros2=recording.buffer.semantics == "ros2")
     frames = recording.buffer.frames
-    series = echo(
-        recording, replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
-    )
+    query = replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
+    series = echo(recording, query)
     lines.show(series, recording.buffer, print_lines=plot is None)  # on a bag, the picture instead of the lines
+    lines.say_span(recording, query, series)
     exit_with(lines.done())
 
 
@@ -214,6 +215,16 @@ class Lines:
         if self.hinted or series.valid.all():
             return
         said = apart_hint(buffer, series.target, series.source, series.errors.values(), heard_so_far=self.live)
+        if said is not None:
+            self.hinted.append(said)
+            say_hint(said)
+
+    def say_span(self, recording: Recording, query: EchoQuery, series: EchoSeries) -> None:
+        """On stderr, once: where ``--at`` fell outside the recording's tf of the chain, its span and the times
+        that reach it (``analysis.echo.span_hint``): tf2's extrapolation text, kept as tf2's, says neither."""
+        from tftools.analysis.echo import span_hint
+
+        said = None if self.hinted else span_hint(recording, query, series)
         if said is not None:
             self.hinted.append(said)
             say_hint(said)

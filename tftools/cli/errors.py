@@ -110,26 +110,12 @@ def _too_many_lines(error: TooManyLinesError) -> UsageError:
 
 
 def no_transforms(error: NoTransformsError, *, chosen: bool = True) -> UsageError:
-    """``error`` in the command line's words: the one hint of every command for a recording whose transforms
-    were not read; ``chosen``: the command's topics can be chosen with --topic (not tfx filter's)."""
-    from tftools.sources.contents import DEFAULT_TOPICS  # not at import: numpy's, which `tfx --help` needs not
+    """``error`` in the command line's words, with the one hint of every command for a recording whose
+    transforms were not read (``analysis.no_transforms``); ``chosen``: the command's topics can be chosen with
+    --topic (not tfx filter's)."""
+    from tftools.analysis.no_transforms import no_transforms_hint
 
-    # what else to read: other topics, or (tfx filter, which reads only the defaults) nothing but those
-    other = "pick other topics with --topic" if chosen else "tfx filter reads /tf and /tf_static only"
-    hint = {
-        "unread": f"convert those topics to a type and encoding tfx reads, or {other}",
-        "unreadable": f"`tfx wtf` names their type and encoding; {other}",
-        "absent": f"was /tf recorded? {other}",
-    }
-    if error.cause in ("absent", "unread") and error.carriers:  # the recording has transforms, on topics not read
-        carriers = error.carriers[:3]
-        if not chosen:
-            return UsageError(str(error), f"{', '.join(carriers)}: of a transform type; {other}")
-        if set(carriers) <= set(DEFAULT_TOPICS):
-            return UsageError(str(error), f"{' and '.join(carriers)} carry transforms: leave out --topic")
-        options = " ".join(f"--topic {t}" for t in carriers)
-        return UsageError(str(error), f"{', '.join(carriers)}: of a transform type, read with {options}")
-    return UsageError(str(error), hint.get(error.cause, error.hint))
+    return UsageError(str(error), no_transforms_hint(error, chosen=chosen))
 
 
 def _no_ros(error: NoRosSelectedError) -> UsageError:

@@ -120,6 +120,8 @@ def _advice(s: StreamReport) -> str:
         said.append(f"cache {seconds(s.cache_needed):g} s")
     if s.before_tf:
         said.append(f"{s.before_tf} stamped before tf began: no cache keeps them; record tf from before the sensor")
+    if s.stamped_zero:
+        said.append(f"{s.stamped_zero} stamped 0 arrived before their tf: no cache keeps them; set header.stamp")
     return ", ".join(said) or "fine as it is"
 
 
@@ -151,7 +153,10 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
         "wait_needed_s": None if s.wait_needed is None else seconds(s.wait_needed),
         "queue_needed": s.queue_needed,
         "cache_needed_s": None if s.cache_needed is None else seconds(s.cache_needed),
-        **{k: shown[k] for k in ("dropped_by_wait", "dropped_by_queue", "undecided", "lost_edge", "before_tf")},
+        **{
+            k: shown[k]
+            for k in ("dropped_by_wait", "dropped_by_queue", "undecided", "lost_edge", "before_tf", "stamped_zero")
+        },
     }
 
 

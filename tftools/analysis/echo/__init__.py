@@ -16,7 +16,7 @@ import numpy.typing as npt
 from tftools.analysis.edges import chain_moving_edges
 from tftools.analysis.findings import counted
 from tftools.analysis.frames import tree_of
-from tftools.analysis.times import Stamp, TimeSpec, played_range, resolve_range, resolve_time
+from tftools.analysis.times import Offset, Stamp, TimeSpec, played_range, resolve_range, resolve_time
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import ExtrapolationError, TooManyLinesError, TransformError
@@ -257,6 +257,32 @@ def apart_hint(
         f"({counted(apart.source_frames, 'frame')}) and {target} in {apart.target_root}'s "
         f"({counted(apart.target_frames, 'frame')}): {joins}, so no lookup between them succeeds "
         f"{'yet' if heard_so_far else 'at any time'}{why}; {apart.hint}"
+    )
+
+
+def span_hint(recording: Recording, query: EchoQuery, series: EchoSeries) -> str | None:
+    """What to say under a lookup at ``query.at`` that failed because it is outside the recording's tf of the
+    chain (tf2's extrapolation text says the edge's data, not the recording's length): the chain's span on its
+    clock, and the ``+S`` (``-S`` where the time was given from the end) that reach it. None where the lookup
+    succeeded, was of the latest, or failed for another reason (inside the span, or no moving chain)."""
+    at = query.at
+    if at is None or at == Stamp(0) or series.valid.all() or not len(series):
+        return None
+    buffer, target, source = recording.buffer, query.target, query.source
+    span = chain_span(buffer, target, source)
+    asked = int(series.times[0])
+    if span is None or span[0] <= asked <= span[1]:
+        return None
+    first, last = span
+    start, end = recording.timeline.span_of(list(chain_moving_edges(buffer, target, source)))
+    if isinstance(at, Offset) and at.from_end:  # the -S that reach the chain's span, rounded inwards to the ms
+        reach = f"-{math.ceil((end - last) / 1e6) / 1e3:.3f} to -{math.floor((end - first) / 1e6) / 1e3:.3f}"
+    else:
+        reach = f"+{math.ceil((first - start) / 1e6) / 1e3:.3f} to +{math.floor((last - start) / 1e6) / 1e3:.3f}"
+    return (
+        f"{asked / NS_PER_S:.3f} is {'before' if asked < first else 'after'} the recording's tf of {target} <- "
+        f"{source} ({first / NS_PER_S:.3f} to {last / NS_PER_S:.3f}, {(last - first) / NS_PER_S:.3f} s on its "
+        f"clock): --at {reach} look it up there"
     )
 
 

@@ -98,8 +98,10 @@ class Fates:
     stamp that edge's sample that let it through was stamped (ns, 0 where it did not wait; none where empty):
     the edge's step between samples, where it is what a message waits for; ``before_tf`` which were stamped before
     the recording's tf of their chain began (none where empty): no cache keeps those if they age out;
-    ``left_place`` where each left among the tf arrivals and the messages' arrivals (``_places``; none
-    where empty: by ``left``, a tf arrival at a message's instant first)."""
+    ``zero_early`` which were stamped 0 (an unset header.stamp) and arrived before their chain's tf existed
+    (none where empty): tf2 reads 0 as the latest transform only where there is one, and drops the waiting
+    request as older than its cache once tf comes; ``left_place`` where each left among the tf arrivals and the
+    messages' arrivals (``_places``; none where empty: by ``left``, a tf arrival at a message's instant first)."""
 
     fate: Int8Array
     ready: Int64Array
@@ -109,10 +111,15 @@ class Fates:
     before_tf: BoolArray = field(default_factory=lambda: np.zeros(0, np.bool_))
     left_place: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
     after: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
+    zero_early: BoolArray = field(default_factory=lambda: np.zeros(0, np.bool_))
 
     def early(self) -> BoolArray:
         """``before_tf``, one flag per message."""
         return self.before_tf if len(self.before_tf) == len(self.fate) else np.zeros(len(self.fate), np.bool_)
+
+    def zero_before_chain(self) -> BoolArray:
+        """``zero_early``, one flag per message."""
+        return self.zero_early if len(self.zero_early) == len(self.fate) else np.zeros(len(self.fate), np.bool_)
 
     @property
     def decided(self) -> int:
@@ -274,6 +281,7 @@ def message_fates(
     lag = np.zeros(n, np.int64)
     after = np.zeros(n, np.int64)
     before_tf = np.zeros(n, np.bool_)
+    zero_early = np.zeros(n, np.bool_)
     decided: list[tuple[str, str] | None] = [None] * n
     for frame_index, frame_id in enumerate(messages.frame_ids):
         rows = np.flatnonzero(messages.frame == frame_index)
@@ -293,9 +301,10 @@ def message_fates(
             judged = _judge(chain, arrived, places, stamps, end, cache_time)
             fate[mine], ready[mine], left[mine], left_place[mine], lag[mine], after[mine], limiting = judged
             before_tf[mine] = (stamps < chain.began) & (stamps != 0)
+            zero_early[mine] = (stamps == 0) & (places < (chain.places[0] if len(chain.places) else NEVER))
             for row, edge in zip(mine.tolist(), limiting, strict=True):
                 decided[row] = edge
-    return Fates(fate, ready, decided, lag, left, before_tf, left_place, after)
+    return Fates(fate, ready, decided, lag, left, before_tf, left_place, after, zero_early)
 
 
 def _chains(
@@ -483,6 +492,9 @@ class StreamReport:
     # Lost to their age (or undecided for it), stamped before the recording's tf of their chain began: no
     # cache keeps them (tf2 never held tf that old), starting tf before the sensor or dropping them does.
     before_tf: int = 0
+    # Lost to their age, stamped 0 (an unset header.stamp), arrived before their chain's tf existed: no cache
+    # keeps them either (tf2 drops the waiting request once tf comes), setting the stamp does.
+    stamped_zero: int = 0
     late_after: float = 0.0  # how long after the stamps that edge's next sample was stamped (median): its step
     late_rate_hz: float = 0.0  # that edge's rate
     late_unheld: int = 0  # of the waits for that edge, those for its first transform (it had sent nothing yet)
@@ -565,6 +577,7 @@ def stream_report(
         undecided={Fate(code).reason: int(counts[code]) for code in UNDECIDED if counts[code]},
         lost_edge=_most(lost),
         before_tf=int((fates.early() & np.isin(fates.fate, (*AGED, Fate.BEFORE_RECORDED_TF))).sum()),
+        stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
     )
 
 
@@ -654,8 +667,9 @@ def _entered(fates: Fates, i: int) -> bool:
 def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int) -> int | None:
     """The smallest cache (ns, from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length,
     of the messages stamped after their chain's tf began: those stamped before it no cache keeps (tf2 never
-    held tf that old; the real filter drops them with any cache), ``StreamReport.before_tf`` counts them."""
-    after = ~fates.early()
+    held tf that old; the real filter drops them with any cache), ``StreamReport.before_tf`` counts them; nor those
+    stamped 0 before their chain's tf existed (``StreamReport.stamped_zero``)."""
+    after = ~fates.early() & ~fates.zero_before_chain()
     if not (np.isin(fates.fate, AGED) & after).any():
         return None
     allowed = (1 - KEEP) * int((after & ~np.isin(fates.fate, UNDECIDED)).sum())

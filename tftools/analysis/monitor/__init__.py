@@ -393,7 +393,9 @@ def monitor_stream(
     """``tfx monitor`` live or ``--play``: ``feed`` into a ``LiveMonitor`` over the last ``query.window`` (ns),
     ``on_tick`` called with it once a second of the feed's clock, until ``duration`` wall seconds pass or the
     feed ends, and once more as it ends if its clock moved on (its report: ``LiveMonitor.report`` of the
-    query's frames).
+    query's frames). Never twice at one time of that clock: a replay that ran ahead of its ticks (faster
+    than its tables are drawn) has them made at once when they are due, at the time it reached; the first
+    shows that window, the others would show it again and are not made.
 
     A recording streamed (``--play``): replayed at ``speed`` times real time from ``query.start`` to
     ``query.end`` (``played_window``: a ``TimeRangeError`` when they miss its tf) on its own timeline and
@@ -415,4 +417,13 @@ def monitor_stream(
     on_batch = (
         watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add
     )
-    follow(feed, on_batch, lambda: on_tick(live_monitor), duration=duration, summary=True)
+    shown: list[int] = []  # the clock's time at the last tick made
+
+    def tick() -> None:
+        now = live_monitor.clock.now()
+        if shown and now <= shown[-1]:
+            return
+        shown[:] = [now]
+        on_tick(live_monitor)
+
+    follow(feed, on_batch, tick, duration=duration, summary=True)

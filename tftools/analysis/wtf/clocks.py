@@ -231,37 +231,47 @@ def sim_clock(scene: Scene) -> Iterator[Finding]:
     clock = scene.timeline.clock
     if len(clock) < 2:
         return
+    # Its times are ROS time at arrival (``Scene.ros_times``), as every finding's: under /clock, its readings
+    # then; the message says them on that clock.
     steps = np.diff(clock.clock)
     back = np.flatnonzero(steps < 0)
     if len(back):
-        first = scene.at_arrival(int(clock.record_time[back[0] + 1]))
+        first = int(clock.record_time[back[0] + 1])
+        first_time, last_time = scene.ros_times([first, int(clock.record_time[back[-1] + 1])])
         yield Finding(
             Severity.warning,
             "sim_clock",
             f"{clock.topic} went back {counted(len(back), 'time')}, by up to "
-            f"{duration(-float(steps[back].min()) / NS_PER_S)}, first at {first}",
+            f"{duration(-float(steps[back].min()) / NS_PER_S)}, first at {_when(scene, first)}",
             f"a looped replay ({'ros2 bag' if scene.ros2 else 'rosbag'} play --loop) or a reset simulation: listeners "
             "clear their tf buffers at each jump back, and lookups across it mix two timelines",
-            first_time=int(clock.record_time[back[0] + 1]),
-            last_time=int(clock.record_time[back[-1] + 1]),
+            first_time=first_time,
+            last_time=last_time,
             count=len(back),
         )
     pauses = np.diff(clock.record_time)
     long = np.flatnonzero(pauses > CLOCK_PAUSE)
     if len(long):
         i = int(long[np.argmax(pauses[long])])
+        first_time, last_time = scene.ros_times([int(clock.record_time[long[0]]), int(clock.record_time[long[-1] + 1])])
         yield Finding(
             Severity.warning,
             "sim_clock",
-            f"{clock.topic} paused {counted(len(long), 'time')} while the recording went on, "
-            f"the longest for {duration(float(pauses[i]) / NS_PER_S)} at {clock.clock[i] / NS_PER_S:.3f}",
+            f"{clock.topic} paused {counted(len(long), 'time')} while the recording went on, the longest for "
+            f"{duration(float(pauses[i]) / NS_PER_S)} (record clock) from {_when(scene, int(clock.record_time[i]))}",
             "ROS time stands still for every node with use_sim_time while /clock is silent (a paused or stalled "
             "simulator): timers and lookups at 'now' wait",
-            first_time=int(clock.record_time[long[0]]),
-            last_time=int(clock.record_time[long[-1] + 1]),
+            first_time=first_time,
+            last_time=last_time,
             count=len(long),
         )
     yield from _before_clock(scene)
+
+
+def _when(scene: Scene, record_time: int) -> str:
+    """When a /clock message arrived, saying the clock: ROS time where known, else the record clock's."""
+    ros, known = scene.timeline.ros_time(np.array([record_time], np.int64))
+    return f"{scene.at(int(ros[0]))} in ROS time" if known[0] else scene.at_arrival(record_time)
 
 
 def _before_clock(scene: Scene) -> Iterator[Finding]:

@@ -119,10 +119,9 @@ def statics_early(scene: Scene) -> Iterator[Finding]:
         return
     who = scene.authorities_of(np.flatnonzero(rows.static))
     statics = _static_edges(scene)
-    # Findings' times are on the stamps' clock: ROS time at arrival where known, else none (record times months
-    # from the stamps read "(another clock)"); the message and figures say them from the recording's start.
-    ros, known = scene.timeline.ros_time(np.array([scene.start, last], np.int64))
-    first_time, last_time = (int(t) for t in np.where(known, ros, 0))
+    # Findings' times are on the stamps' clock (``Scene.ros_times``); the message and figures say them from the
+    # recording's start.
+    first_time, last_time = scene.ros_times([scene.start, last])
     yield Finding(
         Severity.info,
         "statics_early",

@@ -198,6 +198,13 @@ class Scene:
         since = self.timeline.since_origin(stamp)
         return f"{signed_seconds(since)} s" if since is not None else f"at {stamp / NS_PER_S:.3f}"
 
+    def ros_times(self, record_times: Sequence[int]) -> list[int]:
+        """ROS time at the arrival of messages recorded at ``record_times``, 0 where unknown: the clock of a
+        finding's ``first_time`` and ``last_time`` where it is about arrivals (as a stamp is, on the stamps'
+        clock), never the record clock (record times months from the stamps read "(another clock)")."""
+        ros, known = self.timeline.ros_time(np.array(record_times, np.int64))
+        return [int(t) for t in np.where(known, ros, 0)]
+
     def at_arrival(self, record_time: int) -> str:
         """When a message arrived: in ROS time where the timeline knows it, else on the record clock."""
         ros, known = self.timeline.ros_time(np.array([record_time], np.int64))

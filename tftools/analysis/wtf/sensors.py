@@ -141,16 +141,21 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
             continue
         why = []
         early = min(s.before_tf, lost)
-        after = " stamped after tf began" if early else ""
+        after = " stamped after tf began" if early or s.stamped_zero else ""
         cache = f" (a cache of {s.cache_needed / NS_PER_S:g} s would keep those{after})" if s.cache_needed else ""
         if s.reasons.get("too_old_on_arrival"):
             old = s.reasons["too_old_on_arrival"]
             why.append(f"{old} already older than the {cache_s:g} s cache when they arrived{cache}")
             cache = ""
-        if s.reasons.get("older_than_cache"):
+        # stamped 0 before their chain existed: dropped as older than the cache, which no cache helps
+        if older := s.reasons.get("older_than_cache", 0) - s.stamped_zero:
+            why.append(f"{older} older than the {cache_s:g} s cache holds by the time tf reached them{cache}")
+        if s.stamped_zero:
             why.append(
-                f"{s.reasons['older_than_cache']} older than the {cache_s:g} s cache holds by the "
-                f"time tf reached them{cache}"
+                f"{'all' if s.stamped_zero == lost else s.stamped_zero} of them stamped 0 (header.stamp unset) and "
+                "arriving before the recording's tf of their chain existed: tf2 reads stamp 0 as the latest "
+                "transform only where there is one, and drops a request still waiting with it once tf comes "
+                "(time 0 is then older than the cache holds)"
             )
         if early:
             why.append(
@@ -161,14 +166,20 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
         if s.reasons.get("needs_newer_tf"):
             edge_ = edge(*s.lost_edge) if s.lost_edge else "tf"
             why.append(f"{s.reasons['needs_newer_tf']} waiting for {edge_}, which stopped before reaching their stamps")
+        hint = (
+            "a MessageFilter drops these ('earlier than all the data in the transform cache'): set header.stamp to "
+            "when the data was measured, or start the tf publishers before this one"
+            if s.stamped_zero == lost
+            else "a MessageFilter drops these ('earlier than all the data in the transform cache'), or holds them "
+            "until its queue pushes them out: stamp the data when it was measured, and check the clocks and that "
+            "every tf publisher keeps publishing"
+        )
         yield Finding(
             Severity.warning,
             "sensor_lost",
             f"{s.topic}: {lost} of {s.messages} messages could never be transformed into {_target(scene)}: "
             f"{'; '.join(why)}",
-            "a MessageFilter drops these ('earlier than all the data in the transform cache'), or holds them until "
-            "its queue pushes them out: stamp the data when it was measured, and check the clocks and that every tf "
-            "publisher keeps publishing",
+            hint,
             s.lost_edge or s.late_edge or (),
             count=lost,
         )

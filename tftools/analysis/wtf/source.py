@@ -5,11 +5,12 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.no_transforms import no_transforms_hint
 from tftools.analysis.wtf.registry import declare, register
 from tftools.analysis.wtf.scene import Scene, listed
 from tftools.analysis.wtf.silence import silent_moving_topics
 from tftools.sources.codecs.select import carries_transforms
-from tftools.sources.contents import DEFAULT_TOPICS
+from tftools.sources.recording import no_transforms
 
 
 @register("no_tf", Severity.error, "no transforms at all (or none on /tf)", needs_transforms=False)
@@ -23,23 +24,11 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
         carriers = sorted(t for t, kind in others.items() if carries_transforms(kind))
         found = carriers + sorted(set(others) - set(carriers))
         present = f"; topics present: {listed(found, 10)}" if found else ("" if live else "; it holds no messages")
-        tool = "ros2 topic info /tf" if scene.ros2 else "rostopic info /tf"
-        record = "ros2 bag record /tf /tf_static" if scene.ros2 else "rosbag record /tf /tf_static"
         if live:
+            tool = "ros2 topic info /tf" if scene.ros2 else "rostopic info /tf"
             hint = f"is anything publishing? ({tool}); name other topics (tfx wtf --topic TOPIC)"
-        elif carriers and set(carriers) <= set(DEFAULT_TOPICS):  # --topic named others: drop it
-            hint = f"{' and '.join(carriers)} of this recording carry transforms: tfx reads them without --topic"
-        elif carriers:  # recorded on other topics than those read: name them first
-            options = " ".join(f"--topic {t}" for t in carriers[:3])
-            what = "is of a transform type: read it" if len(carriers) == 1 else "are of a transform type: read them"
-            hint = f"{listed(carriers, 3)} {what} (tfx wtf {options}), or record the transforms ({record})"
-        elif contents.unread:
-            hint = "convert those topics to a type and encoding tfx reads, or name other topics (tfx wtf --topic TOPIC)"
-        else:
-            hint = (
-                f"record the transforms with the rest ({record}), or name the topics that carry them "
-                "(tfx wtf --topic TOPIC)"
-            )
+        else:  # every command's hint for a recording without transforms
+            hint = no_transforms_hint(no_transforms([f.path for f in contents.files], contents))
         # the topics asked for in a type (or encoding) tfx does not read say which: a LaserScan given as --topic
         said = (
             f"read {where}: {'; '.join(contents.unread)}"
