@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 from rich.console import Console
 
@@ -40,3 +42,11 @@ def test_a_stamp_too_old_for_the_cache_is_told_to_be_stamped_when_measured() -> 
     for width in (400, 80):  # the table and, where it does not fit, the paragraphs
         said = _said(_lost("older_than_cache"), width)
         assert "no timeout can (stamp each message when it was measured, on the clock tf is stamped on)" in said
+
+
+def test_messages_all_stamped_0_are_told_once_what_keeps_them() -> None:
+    """The same Neato's /wall markers as tfx counts them (all 5 lost stamped 0, before their chain): one advice,
+    to set header.stamp, not a second one to stamp each message when it was measured."""
+    said = _said(dataclasses.replace(_lost("older_than_cache"), stamped_zero=5))
+    assert "no timeout can, 5 stamped 0 arrived before their tf: no cache keeps them; set header.stamp" in said
+    assert "when it was measured" not in said

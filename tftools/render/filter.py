@@ -111,6 +111,8 @@ def _advice(s: StreamReport) -> str:
     said = []
     if s.wait_needed is None:
         instead = _INSTEAD.get(max(s.reasons, key=lambda r: s.reasons[r]) if s.reasons else "")
+        if s.stamped_zero >= sum(s.reasons.values()):  # every one lost was stamped 0: said below, once
+            instead = None
         said.append("no timeout can" + (f" ({instead})" if instead else ""))
     elif s.wait_needed > 0 or (s.later and s.tick):  # waits under a tick: read as 0, not none
         said.append(f"wait {wait_in_words(s.wait_needed, s.tick)}")
