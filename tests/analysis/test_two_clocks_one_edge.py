@@ -35,6 +35,12 @@ def _of(findings: list[Finding], code: str) -> list[Finding]:
     return [f for f in findings if f.code == code and f.frames[:2] == ("odom", "base_link")]
 
 
+def test_the_publisher_whose_clock_runs_ahead_is_future_not_both() -> None:
+    (future,) = _of(_findings(), "future")
+    assert future.authorities == ("/ekf",), future
+    assert "odom -> base_link by /ekf: 300 of 300 transforms stamped up to 5.0 h after they arrived" in future.message
+
+
 def test_a_leading_slash_is_placed_when_it_arrived_not_at_a_stamp_hours_away() -> None:
     """The SAIL vehicle's static_transform_publishers ran on the EKF's machine: '/base_link' stamped 5.4 h after
     the recording, so the finding's time (where the report zooms) lay outside it, though its text said '+0.1 s'."""
