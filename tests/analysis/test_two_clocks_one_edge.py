@@ -41,6 +41,13 @@ def test_the_publisher_whose_clock_runs_ahead_is_future_not_both() -> None:
     assert "odom -> base_link by /ekf: 300 of 300 transforms stamped up to 5.0 h after they arrived" in future.message
 
 
+def test_the_ekfs_gps_step_is_a_jump_beside_the_two_publishers() -> None:
+    findings = _findings()
+    (jump,) = _of(findings, "jump")
+    assert jump.authorities == ("/ekf",) and "the largest 4.0" in jump.message, jump
+    assert _of(findings, "multiple_authorities")
+
+
 def test_a_leading_slash_is_placed_when_it_arrived_not_at_a_stamp_hours_away() -> None:
     """The SAIL vehicle's static_transform_publishers ran on the EKF's machine: '/base_link' stamped 5.4 h after
     the recording, so the finding's time (where the report zooms) lay outside it, though its text said '+0.1 s'."""
