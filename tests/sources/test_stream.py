@@ -183,6 +183,33 @@ def test_a_sample_sent_again_in_a_later_window_is_stored_once(tmp_path: Path, fm
     assert_same_rows(concat_batches(list(streamed.parts())), whole_replay_rows([bag]))  # every copy is replayed
 
 
+def test_re_sends_beside_a_publisher_hours_ahead_are_stored_once_across_windows(tmp_path: Path) -> None:
+    """A real SAIL vehicle (corpus ros1-sail-zed-ekf-gps-two-odometries-2022-bag): a ZED re-sends each stamp of
+    odom -> base_link while robot_localization's EKF sends the same edge from a machine 5.8 h ahead. What was
+    carried to the next window was the last 10 s behind the edge's newest stamp, the EKF's: none of the ZED's,
+    so its re-sends in a later window were stored again (5,447 samples where the whole read holds 5,429)."""
+    ahead = 5 * 3600 * NS_PER_S
+    messages = []
+    for tick in range(5 * 25):
+        stamp = WALL + tick * 40_000_000
+        for again in (0, 1):  # the camera sends each stamp twice, 10 ms apart, the same value
+            messages.append(
+                TfMessage(
+                    "/tf",
+                    stamp + (1 + 10 * again) * 1_000_000,
+                    [_transform("odom", "base_link", stamp, 1.0)],
+                    "/camera",
+                )
+            )
+        if tick % 2 == 0:
+            sent = [_transform("odom", "base_link", stamp + ahead, tick / 25)]
+            messages.append(TfMessage("/tf", stamp + 5_000_000, sent, "/ekf"))
+    bag = write_bag(tmp_path / "two_clocks", messages, BagFormat.ros1)
+    streamed = stream_recording([bag], window_messages=7)
+    assert {e.child: e.arrivals for e in streamed.timeline.edges} == {"base_link": 125 + 63}  # distinct stamps
+    assert_same_timeline(streamed.timeline, read_recording([bag]).timeline.played())
+
+
 def test_only_the_last_seconds_of_each_edge_are_carried_to_the_next_window() -> None:
     """What the first pass carries from a window to the next is bounded by time, not by the recording: a
     moving edge's last seconds, a static cache's first sample and latest, however many it was sent."""

@@ -21,7 +21,7 @@ from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError
-from tftools.core.figures import median_ns
+from tftools.core.figures import median_ns, record_span, time_base_of
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.transform import Transform
@@ -380,7 +380,7 @@ def _recent(buffer: Buffer, within: int) -> TransformBatch:
     recent = [
         np.array([hist.sequence.min(), hist.sequence.max()])
         if hist.static
-        else hist.sequence[hist.stamps >= hist.latest_stamp - within]
+        else hist.sequence[_near_newest(hist.stamps, hist.record_times, within)]
         for _, hist in buffer.histories()
         if len(hist)
     ]
@@ -388,6 +388,17 @@ def _recent(buffer: Buffer, within: int) -> TransformBatch:
         return TransformBatch.empty()
     rows, sequence = stored_rows(buffer)
     return take_rows(rows, np.flatnonzero(np.isin(sequence, np.concatenate(recent))))
+
+
+def _near_newest(stamps: Int64Array, records: Int64Array, within: int) -> BoolArray:
+    """The samples stamped at most ``within`` behind the newest on their own time base (``time_base_of``): of
+    an edge two publishers share on clocks hours apart (a ZED beside an EKF 5.8 h ahead), each one's latest,
+    not the one clock's alone, or the other's re-sends in the next window are taken anew."""
+    base = time_base_of(records - stamps, record_span(records))
+    newest = np.full(int(base.max()) + 1, np.iinfo(np.int64).min, np.int64)
+    np.maximum.at(newest, base, stamps)
+    near: BoolArray = stamps >= newest[base] - within
+    return near
 
 
 class _Arrivals:

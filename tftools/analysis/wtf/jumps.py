@@ -4,7 +4,7 @@ correction, an odometry reset), and REP 105's layout (map -> odom -> base_link) 
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from itertools import pairwise
 
 import numpy as np
@@ -274,21 +274,43 @@ def _nan_median(rows: FloatArray) -> FloatArray:
 
 def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Jumps, Int64Array]]:
     """Each moving edge of one publisher, into odom or not (``into_odom``), with its unexplained steps
-    and the stamps they end at (edges where several publishers take turns are ``multiple_authorities``'
-    to report: their values alternate)."""
+    and the stamps they end at. Where several named publishers take turns, each one's own samples: their values
+    alternate (``multiple_authorities`` says so), but an EKF's GPS steps beside a camera's odometry are the
+    EKF's jumps all the same. Not where the publishers are only inferred (one topic, no names to part them)."""
     contested = inferred_edges(scene)
     checked = [
-        samples
+        own
         for samples in scene.dynamic_edges
-        if len(samples.authorities) == 1
-        and samples.key not in contested
-        and (base_name(samples.child) == ODOM) is into_odom
+        if samples.key not in contested and (base_name(samples.child) == ODOM) is into_odom
+        for own in ((samples,) if len(samples.authorities) == 1 else _each_publishers(scene, samples))
     ]
     # map -> odom moves by its corrections alone: its usual speed is a correction's, and each one is counted
     found_in = edges_jumps([(s.stamps, s.values) for s in checked], usual=not into_odom)
     for samples, found in zip(checked, found_in, strict=True):
         if len(found):
             yield samples, found, samples.stamps[found.at]
+
+
+def _each_publishers(scene: Scene, samples: EdgeSamples) -> Iterator[EdgeSamples]:
+    """``samples``' edge as each of its publishers sent it: its transforms on /tf by stamp, a stamp sent again
+    counted once (tf2 keeps the first)."""
+    rows = scene.rows
+    for child, mine in rows.by_child(~rows.static):
+        if child != samples.child:
+            continue
+        mine = mine[rows.parent[mine] == rows.names.index(samples.parent)]
+        for authority in np.unique(rows.authority[mine]):
+            own = mine[rows.authority[mine] == authority]
+            stamps, first = np.unique(rows.stamp[own], return_index=True)
+            own = own[first]
+            yield replace(
+                samples,
+                stamps=stamps,
+                record_times=rows.record_time[own],
+                values=rows.values[own],
+                flags=rows.flags[own],
+                authorities=(rows.authorities[authority],),
+            )
 
 
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")

@@ -119,28 +119,32 @@ def _last_arrival(s: EdgeStats) -> int:
     return s.last_record or s.last_stamp
 
 
-def _arrivals(scene: Scene) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Array]]:
+def _arrivals(scene: Scene, every_base: bool = False) -> Iterator[tuple[EdgeSamples, Int64Array, Int64Array]]:
     """Each moving edge with the stamps and ROS times at arrival of its samples with a delay
-    (``Timeline.measurable``), where there are any."""
+    (``Timeline.measurable``), where there are any; with ``every_base``, also those on another time base
+    than the clock they arrived on (a second publisher's clock hours ahead is ahead all the same)."""
     for e in scene.dynamic_edges:
-        ros, measured = scene.timeline.measurable(e.child, e.record_times, e.flags, e.stamps)
+        ros, measured = scene.timeline.measurable(e.child, e.record_times, e.flags, None if every_base else e.stamps)
         if measured.any():
             yield e, e.stamps[measured], ros[measured]
 
 
 @register("future", Severity.error, "stamps ahead of the time they were recorded")
 def future(scene: Scene) -> Iterator[Finding]:
-    for e, stamps, records in _arrivals(scene):
+    # every base: two publishers of one edge on clocks 5.8 h apart (a ZED beside an EKF on another machine) put
+    # the EKF's samples on another base than the recorder's clock, and each of them hours ahead of its arrival
+    for e, stamps, records in _arrivals(scene, every_base=True):
         ahead = stamps - records - scene.timeline.resolution  # ROS time at arrival lags by up to a clock step
         early = ahead > from_sec(scene.thresholds.future)
         if early.any():
             # said on the stamps' clock, as the finding's times are: its arrival, on a clock running ahead of the
             # publisher's, read "first at 1547728537.122 (79.4 s before the first tf stamp)"
             first = int(stamps[early].min())
+            by, sent = _senders(scene, e, stamps, early)
             finding = e.finding(
                 Severity.error,
                 "future",
-                f"{edge(*e.key)}{scene.by(e.authorities)}: {int(early.sum())} of {transforms(len(stamps))} "
+                f"{edge(*e.key)}{scene.by(by)}: {int(early.sum())} of {transforms(sent)} "
                 f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, the first stamped "
                 f"{scene.at(first)}",
                 "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates "
@@ -151,8 +155,22 @@ def future(scene: Scene) -> Iterator[Finding]:
             )
             typical = float(np.median(ahead[early])) / NS_PER_S  # one clock ahead: the same on every edge it stamps
             yield dataclasses.replace(
-                finding, figures={"ahead_s_median": typical, "ahead_s_max": ahead.max() / NS_PER_S}
+                finding, authorities=by, figures={"ahead_s_median": typical, "ahead_s_max": ahead.max() / NS_PER_S}
             )
+
+
+def _senders(scene: Scene, e: EdgeSamples, stamps: Int64Array, early: BoolArray) -> tuple[tuple[str, ...], int]:
+    """Who sent ``e``'s ``early`` samples (of ``stamps``), and how many of ``stamps`` they sent: of an edge two
+    publishers take turns on, the one whose clock runs ahead, not both."""
+    if len(e.authorities) < 2:
+        return e.authorities, len(stamps)
+    rows = scene.rows
+    for child, mine in rows.by_child(~rows.static):
+        if child == e.child:
+            theirs = mine[np.isin(rows.stamp[mine], stamps[early])]
+            sent = np.isin(rows.authority[mine], rows.authority[theirs]) & np.isin(rows.stamp[mine], stamps)
+            return scene.authorities_of(theirs), int(np.unique(rows.stamp[mine][sent]).size)
+    return e.authorities, len(stamps)
 
 
 @register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")

@@ -166,4 +166,5 @@ def leading_slash(scene: Scene) -> Iterator[Finding]:
             ),
             tuple(n[1:] for n in names),
             mine,
+            scene.arrival(mine),  # when they arrived, as the message says: a static's stamp can lie hours away
         )
