@@ -276,8 +276,10 @@ class BufferCore {
 
     // Buffer.lookup where the walk answers (ReadLocked): a `answer` (Transform); None
     // for the Python path (a frame to itself, an unknown or invalid name, a failure to word: which
-    // `last_failure` then gives, from this one walk).
-    nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time) const {
+    // `last_failure` then gives, from this one walk). `given_time`: the int `time` was read from, if
+    // any, which the answer takes as its stamp where that is `time` (no int made, none freed).
+    nb::object lookup_frames(nb::handle target_frame, nb::handle source_frame, int64_t time,
+                             nb::handle given_time = nb::handle()) const {
         last_failure_.walked = false;
         if (!plain_name(target_frame) || !plain_name(source_frame)) return nb::none();
         const ReadLocked locked(*lock);
@@ -290,7 +292,9 @@ class BufferCore {
             last_failure_ = {true, target, source, asked, why};
             return nb::none();
         }
-        return make_answer(p, time, target_frame, source_frame);
+        const bool given = given_time.is_valid() && PyLong_CheckExact(given_time.ptr()) && time == asked;
+        return make_answer(p, given ? nb::borrow(given_time) : nb::steal(PyLong_FromLongLong(time)), target_frame,
+                           source_frame);
     }
 
     // Why this thread's last lookup_frames failed, if it walked from `source` to `target` at `time`.
@@ -517,10 +521,10 @@ class BufferCore {
     // held by nothing but this core (a loop that lets each answer go before the next lookup), that one is
     // written over instead: no one can see it change, and its object, tuples and floats are not freed and
     // made again (~950 of a robot lookup's ~9,700 instructions).
-    nb::object make_answer(const tfcore::Pose& p, int64_t stamp, nb::handle target_frame,
+    nb::object make_answer(const tfcore::Pose& p, nb::object stamp, nb::handle target_frame,
                            nb::handle source_frame) const {
         if (in_slots_ && kept_answer_.is_valid() && Py_REFCNT(kept_answer_.ptr()) == 1) {
-            write_over(kept_answer_.ptr(), p, stamp, target_frame, source_frame);
+            write_over(kept_answer_.ptr(), p, std::move(stamp), target_frame, source_frame);
             return kept_answer_;
         }
         auto* type = reinterpret_cast<PyTypeObject*>(answer_.ptr());
@@ -537,7 +541,7 @@ class BufferCore {
         };
         put(TRANSLATION, nb::steal(floats({p.v.x, p.v.y, p.v.z})));
         put(ROTATION, nb::steal(floats({p.q.x, p.q.y, p.q.z, p.q.w})));
-        put(STAMP, nb::steal(PyLong_FromLongLong(stamp)));
+        put(STAMP, std::move(stamp));
         put(FRAME_ID, nb::borrow(target_frame));
         put(CHILD_FRAME_ID, nb::borrow(source_frame));
         if (in_slots_) kept_answer_ = answer;
@@ -559,11 +563,11 @@ class BufferCore {
 
     // The answer `answer`, which only this core holds, made the one make_answer would make. Its tuples and
     // their floats that nothing else holds either are written in place, every other one made anew.
-    void write_over(PyObject* answer, const tfcore::Pose& p, int64_t stamp, nb::handle target_frame,
+    void write_over(PyObject* answer, const tfcore::Pose& p, nb::object stamp, nb::handle target_frame,
                     nb::handle source_frame) const {
         write_floats(slot(answer, TRANSLATION), {p.v.x, p.v.y, p.v.z});
         write_floats(slot(answer, ROTATION), {p.q.x, p.q.y, p.q.z, p.q.w});
-        replace(slot(answer, STAMP), PyLong_FromLongLong(stamp));
+        replace(slot(answer, STAMP), stamp.release().ptr());
         replace(slot(answer, FRAME_ID), nb::borrow(target_frame).release().ptr());
         replace(slot(answer, CHILD_FRAME_ID), nb::borrow(source_frame).release().ptr());
     }
@@ -787,7 +791,7 @@ PyObject* buffer_lookup(PyObject* buffer, PyObject* const* args, Py_ssize_t n, P
         if (!frames_and_time("lookup", args, n, kwnames, given, time)) return nullptr;
         BufferCore* core = core_of(buffer, held);
         if (core == nullptr) return nullptr;
-        nb::object found = core->lookup_frames(given[0], given[1], time);
+        nb::object found = core->lookup_frames(given[0], given[1], time, given[2]);
         if (!found.is_none()) return found.release().ptr();
         PyObject* call[4] = {buffer, given[0], given[1], nullptr};
         const nb::object at = nb::int_(time);
@@ -970,7 +974,12 @@ NB_MODULE(_kernels, m) {
         .def("broadcasters", [](const BufferCore& b) { return b.core.broadcasters(); })
         .def("state", &BufferCore::state)
         .def("restore", &BufferCore::restore, "state"_a)
-        .def("lookup_frames", &BufferCore::lookup_frames, "target_frame"_a, "source_frame"_a, "time"_a)
+        .def(
+            "lookup_frames",
+            [](const BufferCore& core, nb::handle target_frame, nb::handle source_frame, int64_t time) {
+                return core.lookup_frames(target_frame, source_frame, time);
+            },
+            "target_frame"_a, "source_frame"_a, "time"_a)
         .def("can_transform_frames", &BufferCore::can_transform_frames, "target_frame"_a, "source_frame"_a, "time"_a)
         .def("last_failure", &BufferCore::last_failure, "target"_a, "source"_a, "time"_a)
         .def("lookup", &BufferCore::lookup, "target"_a, "source"_a, "time"_a, "raw"_a = false)

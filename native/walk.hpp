@@ -526,11 +526,55 @@ inline size_t edges_at(const Histories& histories, Chain& chain, int64_t time, M
 }
 
 // Edges composed in order (TransformAccum.accum).
+//
+// Where the compiler has vector extensions (GCC 12 and later, Clang), on the four lanes of a vector:
+// one lookup's edges wait each for the last, and each edge's rotation and product are then 3 and 4
+// products of 4 lanes and their sums, where compose() makes 28 and 16 products and their sums one by
+// one, with the accumulator kept in lanes from edge to edge. Each lane makes one of compose()'s
+// components with compose()'s own operations in its order, negations and subtractions included (a
+// lane that subtracts where the others add takes the difference's lane: x + -y and x - y differ in a
+// NaN's sign), so the bits are the same. (A block composes many times at once with compose() itself,
+// which the compiler vectorizes across its times.)
+#if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
+using Lanes = double __attribute__((vector_size(32)));
+#define TFCORE_PICK(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+
+inline Pose compose_all(const Edge* first, const Edge* last) {
+    Lanes v = {0.0, 0.0, 0.0, 0.0}, b = {0.0, 0.0, 0.0, 1.0};  // the accumulator (v's lane 3 unused)
+    for (const Edge* e = first; e != last; ++e) {
+        Lanes t, q;  // the edge's translation (lane 3: its rotation's x, unused) and rotation
+        static_assert(sizeof(Pose) == 7 * sizeof(double), "a pose's 7 doubles in a row");
+        std::memcpy(&t, &e->pose.v.x, sizeof t);
+        std::memcpy(&q, &e->pose.q.x, sizeof q);
+        const Lanes n = -q;
+        // rotate(q, v): p (px py pz pw) = (qw vx + qy vz - qz vy, ..., -qx vx - qy vy - qz vz)
+        const Lanes p1 = TFCORE_PICK(q, n, 3, 3, 3, 4) * TFCORE_PICK(v, v, 0, 1, 2, 0);
+        const Lanes p2 = TFCORE_PICK(q, q, 1, 2, 0, 1) * TFCORE_PICK(v, v, 2, 0, 1, 1);
+        const Lanes p3 = TFCORE_PICK(q, q, 2, 0, 1, 2) * TFCORE_PICK(v, v, 1, 2, 0, 2);
+        const Lanes p = TFCORE_PICK(p1 + p2, p1 - p2, 0, 1, 2, 7) - p3;
+        // ... then r = pw (-q) + p qw + p.yzx (-q).zxy - p.zxy (-q).yzx, plus the translation
+        const Lanes pw = TFCORE_PICK(p, p, 3, 3, 3, 3), qw = TFCORE_PICK(q, q, 3, 3, 3, 3);
+        const Lanes r = ((pw * n + p * qw) + TFCORE_PICK(p, p, 1, 2, 0, 3) * TFCORE_PICK(n, n, 2, 0, 1, 3)) -
+                        TFCORE_PICK(p, p, 2, 0, 1, 3) * TFCORE_PICK(n, n, 1, 2, 0, 3);
+        // multiply(q, b): (qw bx + qx bw + qy bz - qz by, ..., qw bw - qx bx - qy by - qz bz)
+        const Lanes m1 = qw * b;
+        const Lanes m2 = TFCORE_PICK(q, q, 0, 1, 2, 0) * TFCORE_PICK(b, b, 3, 3, 3, 0);
+        const Lanes m3 = TFCORE_PICK(q, q, 1, 2, 0, 1) * TFCORE_PICK(b, b, 2, 0, 1, 1);
+        const Lanes m4 = TFCORE_PICK(q, q, 2, 0, 1, 2) * TFCORE_PICK(b, b, 1, 2, 0, 2);
+        const Lanes m12 = TFCORE_PICK(m1 + m2, m1 - m2, 0, 1, 2, 7);
+        v = r + t;
+        b = TFCORE_PICK(m12 + m3, m12 - m3, 0, 1, 2, 7) - m4;
+    }
+    return {{v[0], v[1], v[2]}, {b[0], b[1], b[2], b[3]}};
+}
+#undef TFCORE_PICK
+#else
 inline Pose compose_all(const Edge* first, const Edge* last) {
     Pose acc;
     for (const Edge* e = first; e != last; ++e) acc = compose(e->pose, acc);
     return acc;
 }
+#endif
 
 // T_target^source from the source and target sides (TransformAccum.finalize).
 inline Pose finish(Ending ending, const Pose& source, const Pose& target) {

@@ -270,6 +270,29 @@ def test_an_answer_let_go_is_written_over_and_one_held_never_is() -> None:
     assert x == expected["b", "c", times[4]][1][2]  # type: ignore[index]
 
 
+def test_an_answer_takes_the_int_it_was_asked_at_as_its_stamp() -> None:
+    """A lookup's stamp is the very int its time was given as (no int made for it, none freed), new or
+    written over; a plain int of the same value where the time was another kind of int; for time 0, the
+    latest common time."""
+    buffer = Buffer(cache_time=None)
+    for stamp in (10 * S, 20 * S):
+        buffer.set_transform(Transform((stamp / S, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "a", "b"))
+    asked = [15 * S + k for k in range(3)]
+    held = buffer.lookup("a", "b", asked[0])  # held: the next answer is a new one
+    assert held.stamp is asked[0]
+    assert buffer.lookup("a", "b", asked[1]).stamp is asked[1]  # let go of: written over
+    assert buffer.lookup("a", "b", asked[2]).stamp is asked[2]
+    assert held.stamp is asked[0]
+
+    class Time(int):
+        pass
+
+    for time in (Time(asked[1]), np.int64(asked[1])):
+        stamp = buffer.lookup("a", "b", time).stamp
+        assert type(stamp) is int and stamp == asked[1]
+    assert buffer.lookup("a", "b", 0).stamp == 20 * S
+
+
 def test_lookup_and_can_transform_in_c_take_their_arguments_as_python_methods_do() -> None:
     """``Buffer.lookup`` and ``can_transform`` (methods in C, no binding's dispatch) take (target_frame,
     source_frame, time=0), by position or keyword, a time as the binding takes it (an int, or what converts
