@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.bags import TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, Result, Tfx
 from tftools.analysis.fleet import Fleet, run_fleet, scheduler_address
 from tftools.cli.errors import UsageError, table, worded
@@ -96,6 +97,27 @@ def test_a_frame_not_there_carries_the_frames_there_are(tfx: Tfx) -> None:
     assert isinstance(raised.value, TransformError) and "--" not in said_by_library(raised.value)
     line = one_error_line(tfx("echo", "odm", "base_link", "-b", BAG))
     assert "frame 'odm' does not exist (frames: odom, " in line
+
+
+def test_no_frame_at_all_says_tf2_kept_none_and_where_to_see_why(tfx: Tfx, tmp_path: Path) -> None:
+    # nvnmangla/beginner_tutorials' talker sends world -> talk with the rotation (1, 1, 0, 1): ROS 1's tf2 refuses
+    # every one, so the buffer has no frame, and "(frames: )" said nothing (corpus ros2-talker-tf-...-2022-db3)
+    with pytest.raises(UnknownFrameError) as raised:
+        known_frame([], "world")
+    assert raised.value.frames == () and raised.value.hint == "no frame at all: tf2 kept no transform"
+    stamps = [1_670_130_358 * 10**9 + i * 500_000_000 for i in range(4)]
+    bag = write_bag(
+        tmp_path / "denormalised.bag",
+        [
+            TfMessage(
+                "/tf", s + 100_000, [Transform((2.0, 2.0, 1.0), (1.0, 1.0, 0.0, 1.0), s, "world", "talk")], "/talker"
+            )
+            for s in stamps
+        ],
+    )
+    line = one_error_line(tfx("echo", "world", "talk", "-b", bag))
+    assert "frame 'world' does not exist (tf2 kept no transform: `tfx wtf` says which it refused, and why)" in line
+    assert tfx("wtf", bag).code == 1  # which names them: refused by tf2, a rotation of length 1.73
 
 
 def test_no_sensor_data_is_a_source_error_with_its_reasons() -> None:

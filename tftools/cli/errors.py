@@ -180,6 +180,13 @@ def _resumed_report(error: ReportError) -> UsageError:
     return UsageError(str(error), "give a report written by tfx wtf --format jsonl")
 
 
+def _unknown_frame(error: UnknownFrameError) -> UsageError:
+    """A frame not there; where tf2 kept no frame at all, what says why (refused transforms, or none read)."""
+    if error.frames or not error.frame:
+        return _said(error)
+    return UsageError(str(error), "tf2 kept no transform: `tfx wtf` says which it refused, and why")
+
+
 def _said(error: TfToolsError) -> UsageError:
     """An error whose library words are already the command line's."""
     return UsageError(str(error), error.hint)
@@ -216,7 +223,7 @@ def table() -> dict[type[TfToolsError], Row]:
         TimeRangeError: Row(_time_range),
         TooManyLinesError: Row(_too_many_lines),
         TreeFileError: Row(_tree_file),
-        UnknownFrameError: Row(_said),
+        UnknownFrameError: Row(_unknown_frame),
     }
 
 

@@ -61,7 +61,9 @@ class UnknownFrameError(TransformError):
     def absent(cls, frame: str, frames: tuple[str, ...]) -> UnknownFrameError:
         shown = ", ".join(frames[:20]) + (", ..." if len(frames) > 20 else "")
         error = cls(f"frame {frame!r} does not exist")
-        error.frame, error.frames, error.hint = frame, frames, f"frames: {shown}"
+        error.frame, error.frames = frame, frames
+        # none at all: the transforms were refused (or absent), which a list of frames cannot say
+        error.hint = f"frames: {shown}" if frames else "no frame at all: tf2 kept no transform"
         return error
 
     @classmethod
