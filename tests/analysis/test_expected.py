@@ -74,7 +74,7 @@ DIFFERENT: dict[str, tuple[Callable[[], list[TfMessage]], str, tuple[str, ...], 
         lambda: healthy(amcl=periodic("/amcl", 4, map_odom)),
         "expect_rate",
         ("map", "odom"),
-        ("4.0 Hz in this recording, 10.0 Hz in", "-60%"),
+        ("4.0 Hz in this recording, 10.0 Hz in", "(this recording 60% slower)"),
     ),
 }
 
@@ -165,6 +165,34 @@ def test_a_move_of_exactly_the_tolerance_is_not_beyond_it() -> None:
     assert compare(tree(0.121), tree(0.122), Tolerances(translation_mm=1.0)) == []
     (moved,) = compare(tree(0.121), tree(0.1221), Tolerances(translation_mm=1.0))
     assert moved.change is Change.moved and moved.translation_mm == pytest.approx(1.1)
+
+
+def test_a_rate_differs_the_same_whichever_tree_comes_first() -> None:
+    """tfx diff measured a rate change against A alone (B / A - 1): 10 and 12.1 Hz were +21%, flagged at 20%, one
+    way and -17%, not flagged, the other; neato_real_two_static_publishers_2024 against neato_real_person_marker_2025
+    (odom at 4.7 and 5.5 Hz) were +18% and -15%, one flagged at --tolerance-rate 16. The slower's shortfall from the
+    faster decides, either way round, worded with both rates and which is slower; a fall from an expected tree's
+    rate is measured as before (4 Hz against 10: 60%)."""
+
+    def tree(hz: float) -> TreeShape:
+        return TreeShape({"odom": FrameShape("odom", None), "base": FrameShape("base", "odom", rate_hz=hz)}, "tree")
+
+    for rate, tolerance, differs in [(12.1, 20.0, False), (12.1, 17.0, True), (5.5 / 4.7 * 10, 16.0, False)]:
+        ab, ba = (
+            compare(tree(10.0), tree(rate), Tolerances(rate_percent=tolerance)),
+            compare(tree(rate), tree(10.0), Tolerances(rate_percent=tolerance)),
+        )
+        assert (bool(ab), bool(ba)) == (differs, differs), (rate, tolerance)
+    (faster,) = compare(tree(10.0), tree(12.1), Tolerances(rate_percent=17.0))
+    (slower,) = compare(tree(12.1), tree(10.0), Tolerances(rate_percent=17.0))
+    assert describe(faster) == "odom -> base at 12.1 Hz in B, 10.0 Hz in A (A 17% slower)"
+    assert describe(slower) == "odom -> base at 10.0 Hz in B, 12.1 Hz in A (B 17% slower)"
+    assert faster.rate_change == pytest.approx(0.21) and slower.rate_change == pytest.approx(-0.1736, abs=1e-4)
+    (fell,) = compare(tree(10.0), tree(4.0), Tolerances())
+    assert (
+        describe(fell).endswith("(B 60% slower)") and compare(tree(10.0), tree(4.0), Tolerances(rate_percent=60)) == []
+    )
+    assert compare(tree(10.0), tree(0.0), Tolerances()) == []  # a rate left out of a tree file: any
 
 
 def test_a_static_edge_that_turned_is_measured_in_degrees(tmp_path: Path, expected_file: Path) -> None:

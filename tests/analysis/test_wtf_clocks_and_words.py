@@ -262,6 +262,25 @@ def test_record_times_that_are_no_clock_time_nothing() -> None:
     assert set(two.frames) == {"base_link", "box_1", "box_6"}
 
 
+def test_a_silence_timed_by_no_clock_is_unknown_wherever_it_is_shown(tmp_path: Path) -> None:
+    """monitor -f json on that recording said "silent_s": 0.0 for every edge, though its record times time nothing
+    (RWR's last stamp is 4.75 s before FWL's): unknown, null in JSON, "unknown" in a /diagnostics status, and no
+    "silent for the last" line, as ``figures.silence`` defines it for all of them."""
+    from tftools.analysis.wtf.health import edge_name, statuses
+    from tftools.core.figures import silence_in_words
+    from tftools.render.monitor import as_dict
+
+    bag = write(tmp_path, "no_record_clock", BagFormat.rosbag2_sqlite3, _no_record_clock())
+    recording = read_recording([str(bag)])
+    report = monitor(recording, MonitorQuery())
+    moving = [e for e in report.edges if not e.static]
+    assert moving and all(e.silent_for is None for e in moving)
+    assert all(not silence_in_words(e.silent_for, e.rate_hz) for e in moving)
+    assert {e["silent_s"] for e in as_dict(report)["edges"]} == {None}
+    said = {s.name: dict(s.values) for s in statuses(check(recording), moving, recording.timeline.record_end)}
+    assert {said[edge_name(*e.key)]["silent for the last (s)"] for e in moving} == {"unknown"}
+
+
 def test_a_replay_paced_by_no_clock_is_refused_in_one_line(tmp_path: Path) -> None:
     """monitor --play on that recording played every message within 28 ns: '7974 messages at
     284750000000.00 Hz'. It says why it cannot replay, and how to read the recording instead."""

@@ -44,7 +44,7 @@ def test_diff_says_how_far_a_static_edge_moved_and_how_a_rate_fell(
     result = tfx("diff", runs["good"], runs[f"changed_{fmt.value}"])
     assert result.code == 1
     assert "moved       base_link -> laser (static) moved by 10.0 mm and 0.00°" in result.stdout
-    assert "rate        map -> odom at 4.0 Hz in B, 10.0 Hz in A (-60%)" in result.stdout
+    assert "rate        map -> odom at 4.0 Hz in B, 10.0 Hz in A (B 60% slower)" in result.stdout
     assert "2 differences beyond the tolerances" in result.stdout
     loose = tfx("diff", runs["good"], runs[f"changed_{fmt.value}"], "--tolerance-mm", "11", "--tolerance-rate", "70")
     assert loose.code == 0, loose.stdout

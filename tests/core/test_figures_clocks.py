@@ -104,13 +104,16 @@ def test_stamps_either_side_of_the_epoch_floor_are_two_bases_without_any_record_
 
 
 def test_a_silence_is_counted_on_one_clock_or_not_at_all() -> None:
-    """How long a stream has been silent: to the end on the same clock; nothing where the last arrival is unknown
-    (a record time of 0) or on another time base than the end (simulated time against the epoch)."""
+    """How long a stream has been silent: to the end on the same clock, 0 where it arrived since; unknown (None,
+    never a 0 that reads "it just arrived") where the end is unknown (record times that are no clock), the last
+    arrival is (a record time of 0), or they are on two time bases (simulated time against the epoch)."""
     assert figures.silence(NOW, NOW + 3 * NS_PER_S) == 3 * NS_PER_S
-    assert figures.silence(NOW, None) == 0 and figures.silence(NOW + MS, NOW) == 0
-    assert figures.silence(0, NOW) == 0 and figures.silence(74 * NS_PER_S, NOW) == 0
+    assert figures.silence(NOW + MS, NOW) == 0
+    assert figures.silence(NOW, None) is None
+    assert figures.silence(0, NOW) is None and figures.silence(74 * NS_PER_S, NOW) is None
     assert figures.silence_in_words(3 * NS_PER_S, 10.0) == "silent for the last 3.000 s"
     assert figures.silence_in_words(NS_PER_S // 2, 10.0) == ""  # within 10 periods: still publishing
+    assert figures.silence_in_words(None, 10.0) == ""
 
 
 @pytest.mark.parametrize(

@@ -28,7 +28,7 @@ class Change(str, enum.Enum):
 class Difference:
     """One frame's difference; ``before`` is the frame in A, ``after`` in B (None where absent).
     ``translation_mm``/``rotation_deg`` say how far a static edge moved, ``rate_change`` the
-    rate's relative change (B / A - 1)."""
+    rate's relative change (B / A - 1; whether it differs is ``rates_apart``'s)."""
 
     change: Change
     frame: str
@@ -41,7 +41,8 @@ class Difference:
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
     """Every difference from ``a`` to ``b`` beyond ``tolerances``: A's frames in its order, then B's new ones.
-    Publishers are compared where both name them; rates where A's edge has one (two samples or more)."""
+    Publishers are compared where both name them; rates where both edges have one (two samples or more, a tree
+    file's ``rate_hz``)."""
     found: list[Difference] = []
     for name, before in a.frames.items():
         after = b.frames.get(name)
@@ -68,16 +69,25 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
             kind = Change.reordered if _same_values(before, after, tolerances) else Change.moved
             found.append(Difference(kind, name, before, after, translation_mm=mm, rotation_deg=deg))
     else:
-        if before.rate_hz > 0:
+        if rates_apart(before.rate_hz, after.rate_hz) * 100 > tolerances.rate_percent:
             change = after.rate_hz / before.rate_hz - 1.0
-            if abs(change) * 100 > tolerances.rate_percent:
-                found.append(Difference(Change.rate, name, before, after, rate_change=change))
+            found.append(Difference(Change.rate, name, before, after, rate_change=change))
         if before.clocks is not None and after.clocks is not None and before.clocks != after.clocks:
             found.append(Difference(Change.clocks, name, before, after))
     known = before.publishers is not None and after.publishers is not None
     if known and set(before.publishers or ()) != set(after.publishers or ()):
         found.append(Difference(Change.publishers, name, before, after))
     return found
+
+
+def rates_apart(a: float, b: float) -> float:
+    """How far two rates (Hz) are apart, the same whichever comes first: the slower's shortfall from the faster
+    (10 and 12.1 Hz: 0.17 either way; B / A - 1 said +21% one way, -17% the other, flagged at 20% one way only).
+    From an expected tree's rate, a fall is measured as before (4 Hz against 10: 0.60). 0 where either is
+    unknown (0: a single sample, a tree file without ``rate_hz``)."""
+    if a <= 0 or b <= 0:
+        return 0.0
+    return 1.0 - min(a, b) / max(a, b)
 
 
 def _moved(before: FrameShape, after: FrameShape) -> tuple[float, float]:
@@ -147,7 +157,9 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"{_value(before)} in {a}, {_value(after)} in {b}{several}"
         )
     if d.change is Change.rate:
-        return f"{edge} at {after.rate_hz:.1f} Hz in {b}, {before.rate_hz:.1f} Hz in {a} ({d.rate_change:+.0%})"
+        slower = b if after.rate_hz < before.rate_hz else a
+        apart = rates_apart(before.rate_hz, after.rate_hz)
+        return f"{edge} at {after.rate_hz:.1f} Hz in {b}, {before.rate_hz:.1f} Hz in {a} ({slower} {apart:.0%} slower)"
     if d.change is Change.clocks:
         return (
             f"{edge} is stamped on {_clocks(after)} in {b}, on {_clocks(before)} in {a} (stamps further apart than "

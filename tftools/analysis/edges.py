@@ -54,7 +54,8 @@ class EdgeStats(Edge):
     delay_max: float
     last_record: int  # latest record time (0 where unknown)
     clocks: int = 1  # the time bases its stamps are on (``figures.time_bases``): 2 for a replay's beside a live one's
-    silent_for: int = 0  # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static
+    # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static, None: unknown
+    silent_for: int | None = 0
 
 
 @dataclass(frozen=True)
@@ -397,7 +398,7 @@ def history_rate(hist: EdgeHistory) -> float:
     return 0.0 if hist.static else rate_of(hist.stamps, record_span(hist.record_times), hist.record_times)
 
 
-def _silent(arrived: int, end: int | None, last_record: int, until: int | None) -> int:
+def _silent(arrived: int, end: int | None, last_record: int, until: int | None) -> int | None:
     """An edge's silence (``figures.silence``): since its last arrival in ROS time to a window's ``end``, else
     since its last record time to the record time ``until`` (a whole recording's end)."""
     return silence(arrived, end) if end is not None else silence(last_record, until)

@@ -24,7 +24,8 @@ from tftools.sources.recording import Recording
 @dataclass(frozen=True)
 class Tolerances:
     """How far two trees may differ and still count as the same: a static edge's translation (mm)
-    and rotation (degrees), a moving edge's rate (percent of the first tree's)."""
+    and rotation (degrees), a moving edge's rate (percent the slower falls short of the faster, whichever tree
+    it is in: ``differences.rates_apart``)."""
 
     translation_mm: float = 1.0
     rotation_deg: float = 0.1

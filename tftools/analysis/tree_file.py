@@ -34,7 +34,8 @@ The tf tree of a healthy recording ({source}), frame by frame. Edit freely:
 tfx wtf --expect THIS_FILE BAG and tfx diff THIS_FILE BAG report where a recording differs.
 A frame without a parent is a root. Static edges: translation (m) and rpy_deg (fixed-axis roll,
 pitch, yaw in degrees; or rotation: [qx, qy, qz, qw]). Moving edges: rate_hz. Leave out a value
-to accept any. tolerances: how far a static edge may move, how far a rate may fall (percent)."""
+to accept any. tolerances: how far a static edge may move, how far a rate may fall short of the
+other (percent: the slower's shortfall from the faster, whichever is expected)."""
 
 
 #: What to do about a tree file that is not one: ``write_tree`` writes one of a recording's ``shape_of``.

@@ -40,7 +40,9 @@ ToleranceDegOption = Annotated[
 ]
 ToleranceRateOption = Annotated[
     float | None,
-    _tolerance("--tolerance-rate", "A rate that changed more than this many percent", _DEFAULTS["rate_percent"]),
+    _tolerance(
+        "--tolerance-rate", "A rate more than this many percent below the other tree's", _DEFAULTS["rate_percent"]
+    ),
 ]
 
 

@@ -283,20 +283,23 @@ def longest_interval(stamps: Int64Array, before: int | None = None, span: int = 
     return max(candidates, key=lambda c: c[0])
 
 
-def silence(last_arrival: int, end: int | None) -> int:
+def silence(last_arrival: int, end: int | None) -> int | None:
     """The one definition of how long a stream has been silent (ns): from its last arrival to ``end`` (the
-    recording's end, a live listener's now, on the same clock); 0 where either is unknown (no end, an arrival of
-    0 or less), they are on two time bases (``same_base``), or it arrived since. Said apart from its gaps:
-    "silent for the last 2.500 s" (``silence_in_words``)."""
+    recording's end, a live listener's now, on the same clock); 0 where it arrived since; None, unknown, where
+    either is (no end: record times that are no clock; an arrival of 0 or less) or they are on two time bases
+    (``same_base``): no figure, never a 0 that reads "it just arrived". Said apart from its gaps: "silent for
+    the last 2.500 s" (``silence_in_words``), unknown as "-" in tables, null in JSON."""
     if end is None or last_arrival <= 0 or not same_base(last_arrival, end):
-        return 0
+        return None
     return max(end - last_arrival, 0)
 
 
-def silence_in_words(silent: int, rate: float) -> str:
+def silence_in_words(silent: int | None, rate: float) -> str:
     """A stream's ``silence`` as a person reads it, where it is one (longer than ``PERIODS`` periods at ``rate``
-    Hz, ``silence_limit``): "silent for the last 2.500 s"; "" where it is not."""
-    return f"silent for the last {silent / NS_PER_S:.3f} s" if rate > 0 and silent > silence_limit(rate) else ""
+    Hz, ``silence_limit``): "silent for the last 2.500 s"; "" where it is not or is unknown."""
+    if silent is None or not (rate > 0 and silent > silence_limit(rate)):
+        return ""
+    return f"silent for the last {silent / NS_PER_S:.3f} s"
 
 
 def delays(arrivals: Int64Array, stamps: Int64Array, resolution: int = 0) -> Int64Array:

@@ -161,7 +161,7 @@ def _edge_dict(e: EdgeStats) -> dict[str, Any]:
         "jitter_s": seconds(e.jitter),
         "gap_max_s": seconds(e.longest_interval),
         "gap_start": to_sec(e.longest_interval_start),
-        "silent_s": seconds(e.silent_for),
+        "silent_s": None if e.silent_for is None else seconds(e.silent_for),
         "delay_mean_s": seconds(e.delay_mean),
         "delay_max_s": seconds(e.delay_max),
         "static": e.static,

@@ -150,7 +150,7 @@ class Timeline:
             return {}
         ends: dict[str, int] = {}
         for group in clock_groups(self.edges, near):
-            end = max(e.last_stamp + figures.silence(e.last_record, self.record_end) for e in group)
+            end = max(e.last_stamp + (figures.silence(e.last_record, self.record_end) or 0) for e in group)
             ends.update((e.child, end) for e in group if e.child in off)
         return ends
 

@@ -168,7 +168,7 @@ def _edge_status(edge: EdgeStats, findings: Sequence[Finding], now: int, hardwar
             ("delay max (s)", _seconds(edge.delay_max)),
             ("age (s)", _seconds(float(age_of(now, edge.last_record))) if edge.last_record else "unknown"),
             ("longest gap (s)", _seconds(float(edge.longest_interval))),
-            ("silent for the last (s)", _seconds(float(edge.silent_for))),
+            ("silent for the last (s)", _seconds(math.nan if edge.silent_for is None else float(edge.silent_for))),
         ]
     values.append(("samples", str(edge.count)))
     if about:
