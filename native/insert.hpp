@@ -58,8 +58,10 @@ inline uint8_t checks(int32_t parent, int32_t child, int32_t empty, const Values
     if (parent == empty) bits |= 1 << NO_FRAME_ID;
     // tf2 checks isnan only: an infinite rotation is refused by the norm check alone (ROS 2's, through
     // its matrix, turned to NaNs, by both). It would store an infinite translation; we refuse it.
+    // Every value tested, without a branch a value (most rows have none of these: ~27 instructions less a row).
     bool refused = false;
-    for (int j = 0; j < 7; ++j) refused = refused || std::isnan(v[j]) || (j < 3 && std::isinf(v[j]));
+    for (int j = 0; j < 7; ++j) refused |= std::isnan(v[j]);
+    for (int j = 0; j < 3; ++j) refused |= std::isinf(v[j]);
     if (refused) bits |= 1 << NAN_INPUT;
     const double x = v[3], y = v[4], z = v[5], w = v[6];
     if (!(std::fabs((w * w + x * x + y * y + z * z) - 1.0) < tolerance)) bits |= 1 << DENORMALIZED_QUATERNION;

