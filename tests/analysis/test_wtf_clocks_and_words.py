@@ -164,6 +164,26 @@ def test_sensor_data_in_a_mount_frame_without_tf_static_is_told_what_is_missing(
     assert "typo, set the driver's frame_id" in found.hint
 
 
+def test_topics_in_one_missing_map_frame_are_one_finding_pointing_at_localization() -> None:
+    """ruvu/mcl's MiR bag (the input of a localization under test): /initialpose and /landmark_list in map,
+    no map -> odom recorded. One cause, so one finding naming both topics, whose hint is localization's (not
+    odometry's odom -> base_link); a frame missing for another reason stays its own finding."""
+    rec = recording(sorted([statics(), *ekf(), *wheels()], key=lambda m: m.record_time), ros1=True)
+    streams = [
+        sensor("/initialpose", "map", 1, 5_000_000),
+        sensor("/landmark_list", "map", 2, 5_000_000),
+        sensor("/scan", "laser", 10, 5_000_000),
+        sensor("/image", "kamera", 5, 5_000_000),
+    ]
+    found = [f for f in findings_of(Scene(rec, streams=streams)) if f.code == "sensor_frame"]
+    assert [f.frames for f in found] == [("map",), ("kamera",)]
+    in_map = found[0]
+    assert in_map.message.startswith("/initialpose (10 of 10 messages), /landmark_list (20 of 20 messages) are")
+    assert in_map.count == 30
+    assert "'map' is localization's frame" in in_map.hint and "odom -> base_link" not in in_map.hint
+    assert found[1].message.startswith("/image: 50 of 50 messages are in frame 'kamera' (did you mean 'camera'?)")
+
+
 def _ignition(delays_ms: tuple[float, float]) -> Recording:
     """A simulation whose /clock ticks every 3 ms (333 Hz), odometry arriving ``delays_ms`` (from, to) after
     its stamps, cycling; recorded on wall time."""

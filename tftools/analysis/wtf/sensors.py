@@ -27,30 +27,45 @@ def _target(scene: Scene) -> str:
 
 @register("sensor_frame", Severity.error, "sensor data in a frame not in the tf tree, or not connected to it")
 def sensor_frame(scene: Scene) -> Iterator[Finding]:
+    """One finding per missing frame, however many topics name it: one cause (e.g. the localization that
+    publishes map -> odom not recorded: a MiR's /initialpose and /landmark_list in map), said once."""
+    unknown_by_frames: dict[tuple[str, ...], list[tuple[str, int, int, int]]] = {}
     for s in scene.sensors.streams:
         unknown = s.reasons.get("unknown_frame", 0)
         apart = s.reasons.get("not_connected", 0)
         if not unknown and not apart:
             continue
-        missing = [f for f in s.frame_ids if f and not scene.buffer.has_frame(frame_name(f))]
+        missing = tuple(f for f in s.frame_ids if f and not scene.buffer.has_frame(frame_name(f)))
         if unknown:
-            close = {f: difflib.get_close_matches(f, scene.buffer.frames, n=1, cutoff=0.6) for f in missing}
-            named = listed([f"'{f}'" + (f" (did you mean '{c[0]}'?)" if c else "") for f, c in close.items()], 3)
-            message = f"{s.topic}: {unknown} of {s.messages} messages are in frame {named}, which no transform names"
-            hint = _unknown_frame_hint(scene, missing, any(close.values()))
-        else:
-            message = (
-                f"{s.topic}: {apart} of {s.messages} messages are in {listed(list(s.frame_ids), 3)}, in a tree apart "
-                f"from {_target(scene)}"
-            )
-            hint = "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame)"
+            unknown_by_frames.setdefault(missing, []).append((s.topic, unknown, apart, s.messages))
+            continue
         yield Finding(
             Severity.error,
             "sensor_frame",
-            message,
-            hint + ": every tf lookup and MessageFilter on this data fails",
-            tuple(missing),
-            count=unknown + apart,
+            f"{s.topic}: {apart} of {s.messages} messages are in {listed(list(s.frame_ids), 3)}, in a tree apart "
+            f"from {_target(scene)}",
+            "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame): every tf "
+            "lookup and MessageFilter on this data fails",
+            missing,
+            count=apart,
+        )
+    for missing, topics in unknown_by_frames.items():
+        close = {f: difflib.get_close_matches(f, scene.buffer.frames, n=1, cutoff=0.6) for f in missing}
+        named = listed([f"'{f}'" + (f" (did you mean '{c[0]}'?)" if c else "") for f, c in close.items()], 3)
+        if len(topics) == 1:
+            ((topic, unknown, _, messages),) = topics
+            where = f"{topic}: {unknown} of {messages} messages are"
+        else:
+            where = listed([f"{topic} ({unknown} of {messages} messages)" for topic, unknown, _, messages in topics], 3)
+            where = f"{where} are"
+        yield Finding(
+            Severity.error,
+            "sensor_frame",
+            f"{where} in frame {named}, which no transform names",
+            _unknown_frame_hint(scene, list(missing), any(close.values()))
+            + ": every tf lookup and MessageFilter on this data fails",
+            missing,
+            count=sum(unknown + apart for _, unknown, apart, _ in topics),
         )
 
 
@@ -88,7 +103,15 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool) -> str:
         )
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
-    if {base_name(f) for f in missing} <= {"odom", "map"}:
+    named = {base_name(f) for f in missing}
+    if named == {"map"}:
+        # ruvu/mcl's MiR bag: the input of a localization under test, its map -> odom deliberately not recorded
+        return (
+            "no transform names it: 'map' is localization's frame (REP 105), and the node that publishes map -> "
+            "odom (amcl, a SLAM or localization node) did not run, was not recorded or does not publish tf (a "
+            "publish_tf / tf_broadcast parameter): run it with this data, or record it"
+        )
+    if named <= {"odom", "map"}:
         return (
             "no transform names it: the node that publishes it (odometry's odom -> base_link, localization's "
             "map -> odom) did not run or does not publish tf (e.g. a controller's enable_odom_tf, a publish_tf "
