@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from pathlib import Path
 
@@ -9,6 +10,7 @@ import numpy as np
 import pytest
 
 from tests.analysis.wtf_scenes import (
+    DELAY,
     PROBLEMS,
     SECONDS,
     SIM_START,
@@ -182,6 +184,49 @@ def test_topics_in_one_missing_map_frame_are_one_finding_pointing_at_localizatio
     assert in_map.count == 30
     assert "'map' is localization's frame" in in_map.hint and "odom -> base_link" not in in_map.hint
     assert found[1].message.startswith("/image: 50 of 50 messages are in frame 'kamera' (did you mean 'camera'?)")
+
+
+def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published() -> None:
+    """frand08/ramon_slam's cartographer bag: /odom_enc (nav_msgs/Odometry) in odom_enc, nothing on tf names it.
+    The missing part is the odometry's own transform, not a sensor mount nor a driver's frame_id."""
+    rec = recording(sorted([statics(), *ekf(), *wheels()], key=lambda m: m.record_time), ros1=True)
+    odometry = dataclasses.replace(sensor("/odom_enc", "odom_enc", 20, 5_000_000), type="nav_msgs/Odometry")
+    sonar = sensor("/range", "sonar_mount", 10, 5_000_000)  # a mount that is missing: the mount's hint
+    found = {f.frames: f for f in findings_of(Scene(rec, streams=[odometry, sonar])) if f.code == "sensor_frame"}
+    hint = found[("odom_enc",)].hint
+    assert "'odom_enc' is the frame of odometry" in hint and "enable_odom_tf" in hint
+    assert "frame_id parameter" not in hint and "mount" not in hint
+    assert "publish the sensor's mount" in found[("sonar_mount",)].hint
+
+
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+def test_a_mount_under_one_parent_on_tf_static_and_another_on_tf_is_two_descriptions(ros1: bool) -> None:
+    """frand08/ramon_slam's cartographer bag: each laser under laser_link on /tf_static and under base_link from a
+    static_transform_publisher on /tf (10 Hz). Two descriptions of one mount, not an object picked up; what tf2
+    keeps is said in the words of the recording's ROS."""
+    mount = TfMessage("/tf_static", START + DELAY, [_t("base_link", "laser_mount", START, 0.0)], "/rsp")
+    laser = TfMessage("/tf_static", START + DELAY, [_t("laser_mount", "laser_front", START, 0.3)], "/rsp")
+    again = periodic("/laser_tf", 10, lambda t: [_t("base_link", "laser_front", t, 0.3)])
+    rec = recording(sorted([mount, laser, *again, *ekf()], key=lambda m: m.record_time), ros1=ros1)
+    (parents,) = [f for f in findings_of(Scene(rec)) if f.code == "multiple_parents"]
+    assert parents.hint.startswith("laser_front is under laser_mount on /tf_static and under base_link on /tf")
+    assert "picked up" not in parents.hint
+    kept = "ROS 1's tf2 keeps it a static frame" if ros1 else "ROS 2's tf2 replaces the frame's cache"
+    assert kept in parents.hint
+
+
+def test_a_frame_on_tf_static_and_constant_on_tf_under_one_publisher_name_is_only_mixed_static() -> None:
+    """frand08/ramon_slam's cartographer bag, re-recorded through rosbag play (one callerid for all): base_footprint ->
+    base_link on /tf_static and, constant, on /tf at 10 Hz. mixed_static says it; static_on_dynamic's advice (put it
+    on /tf_static) is already done, so it is not said, as where two publishers are named."""
+    mount = TfMessage("/tf_static", START + DELAY, [_t("base_footprint", "base_link", START)], "/play")
+    again = periodic("/play", 10, lambda t: [_t("base_footprint", "base_link", t)])
+    odometry = periodic(
+        "/play", 50, lambda t: [_t("odom", "base_footprint", t, 0.4 * (t - START) / NS_PER_S)], phase=0.007
+    )  # in messages of its own: not a joint at rest among moving ones
+    rec = recording(sorted([mount, *again, *odometry], key=lambda m: m.record_time), ros1=True)
+    codes = [f.code for f in findings_of(Scene(rec))]
+    assert "mixed_static" in codes and "static_on_dynamic" not in codes
 
 
 def _ignition(delays_ms: tuple[float, float]) -> Recording:

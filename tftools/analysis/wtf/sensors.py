@@ -30,6 +30,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
     """One finding per missing frame, however many topics name it: one cause (e.g. the localization that
     publishes map -> odom not recorded: a MiR's /initialpose and /landmark_list in map), said once."""
     unknown_by_frames: dict[tuple[str, ...], list[tuple[str, int, int, int]]] = {}
+    odometry: dict[tuple[str, ...], bool] = {}
     for s in scene.sensors.streams:
         unknown = s.reasons.get("unknown_frame", 0)
         apart = s.reasons.get("not_connected", 0)
@@ -38,6 +39,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         missing = tuple(f for f in s.frame_ids if f and not scene.buffer.has_frame(frame_name(f)))
         if unknown:
             unknown_by_frames.setdefault(missing, []).append((s.topic, unknown, apart, s.messages))
+            odometry[missing] = odometry.get(missing, True) and _is_odometry(s.type)
             continue
         yield Finding(
             Severity.error,
@@ -62,14 +64,18 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             Severity.error,
             "sensor_frame",
             f"{where} in frame {named}, which no transform names",
-            _unknown_frame_hint(scene, list(missing), any(close.values()))
+            _unknown_frame_hint(scene, list(missing), any(close.values()), odometry[missing])
             + ": every tf lookup and MessageFilter on this data fails",
             missing,
             count=sum(unknown + apart for _, unknown, apart, _ in topics),
         )
 
 
-def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool) -> str:
+def _is_odometry(msgtype: str) -> bool:
+    return msgtype.rsplit("/", 1)[-1] == "Odometry"
+
+
+def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: bool = False) -> str:
     """What is missing where sensor data names a frame no transform names: the moving transforms, not
     recorded or sent empty; else a typo (a frame of the tree is close) or the transform's publisher."""
     rows = scene.rows
@@ -100,6 +106,14 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool) -> str:
         return (
             f"{and_joined(statics)} was recorded but holds no transform: its publishers (robot_state_publisher, "
             f"static_transform_publisher) sent nothing while recorded; check that they ran{also}"
+        )
+    if odometry:
+        # frand08/ramon_slam's cartographer_records/test5.bag: /odom_enc in odom_enc (child base_footprint, in the
+        # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong
+        return (
+            f"no transform names it: {listed([repr(f) for f in missing], 3)} is the frame of odometry "
+            "(nav_msgs/Odometry), and its transform to the robot (to the messages' child_frame_id) is not on tf: "
+            "turn on the odometry node's tf (e.g. a controller's enable_odom_tf, a publish_tf parameter), or record it"
         )
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"

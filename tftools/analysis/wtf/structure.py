@@ -217,6 +217,8 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
     if rows.static[mine].all():
         hint = _static_parents_hint(scene, child, mine, names, now)
         figures["parents_each_from_other_static_publishers"] = int(_each_from_others(scene, mine))
+    elif (split_by_topic := _parents_by_topic(scene, mine)) is not None:
+        hint = _mount_twice_hint(scene, child, *split_by_topic, first_static=bool(rows.static[mine[0]]))
     elif scene.publishers_known and not set.intersection(*map(set, publishers)):
         hint = (
             f"{child} can have one parent only, and these publishers fight over it: lookups jump between trees. "
@@ -239,6 +241,36 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         int(switch_times[-1]),
         len(switches),
         figures=figures,
+    )
+
+
+def _parents_by_topic(scene: Scene, mine: IntpArray) -> tuple[list[str], list[str]] | None:
+    """The parents a frame has on /tf_static and those it has on /tf, where no parent is on both: two
+    descriptions of one mount (frand08/ramon_slam's cartographer bag: each laser under laser_link on /tf_static,
+    under base_link from a static_transform_publisher on /tf); None where the topics do not split them."""
+    rows = scene.rows
+    static = rows.static[mine]
+    if static.all() or not static.any():
+        return None
+    on_static = list(dict.fromkeys(rows.names[p] for p in rows.parent[mine[static]]))
+    on_tf = list(dict.fromkeys(rows.names[p] for p in rows.parent[mine[~static]]))
+    return None if set(on_static) & set(on_tf) else (on_static, on_tf)
+
+
+def _mount_twice_hint(scene: Scene, child: str, on_static: list[str], on_tf: list[str], *, first_static: bool) -> str:
+    if scene.ros2:
+        kept = "ROS 2's tf2 replaces the frame's cache each time it switches between the two topics"
+    elif first_static:
+        kept = "ROS 1's tf2 keeps it a static frame, so whichever came last places it, under its parent, for every time"
+    else:
+        kept = (
+            "ROS 1's tf2 keeps it a moving frame (its first transform came on /tf): the static one holds at its "
+            "stamp only"
+        )
+    return (
+        f"{child} is under {and_joined(on_static)} on /tf_static and under {and_joined(on_tf)} on /tf: two "
+        f"descriptions of one mount (e.g. a static_transform_publisher on /tf beside robot_state_publisher's "
+        f"/tf_static); {kept}. Keep one description of it"
     )
 
 

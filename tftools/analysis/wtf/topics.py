@@ -103,14 +103,15 @@ def _message_keys(rows: Rows, which: np.ndarray) -> np.ndarray:
 
 
 def _contested(scene: Scene) -> set[str]:
-    """Child frames with more than one parent or publisher."""
+    """Child frames with more than one parent or publisher, or sent on both /tf_static and /tf (``mixed_static``'s:
+    a recording replayed through rosbag play names one publisher for both, frand08/ramon_slam's cartographer bag)."""
     rows = scene.rows
     found = set()
     for child, mine in rows.by_child(rows.usable):
         if len(mine) < 2:  # one row: one parent, one publisher
             continue
-        parents, publishers = rows.parent[mine], rows.authority[mine]
-        if parents.min() != parents.max() or publishers.min() != publishers.max():
+        parents, publishers, static = rows.parent[mine], rows.authority[mine], rows.static[mine]
+        if parents.min() != parents.max() or publishers.min() != publishers.max() or static.min() != static.max():
             found.add(child)
     return found
 
