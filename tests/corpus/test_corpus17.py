@@ -30,3 +30,25 @@ def test_topics_in_the_unrecorded_map_frame_are_one_finding(corpus: Corpus, tfx:
     assert "/initialpose (1 of 1 messages), /landmark_list (1 of 1 messages)" in missing["message"]
     assert "'map' is localization's frame" in missing["hint"] and "odom -> base_link" not in missing["hint"]
     assert bag["summary"]["errors"] == 1 and result.code == 1
+
+
+AGV = "ros1-agv-two-lasers-mounts-on-tf-and-tf-static-replayed-2018-bag"
+
+
+def test_two_descriptions_of_the_lasers_and_the_odometry_frame_are_told_so(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """frand08/ramon_slam's cartographer bag (a real robot, re-recorded through rosbag play): each laser is under
+    laser_link on /tf_static and under base_link on /tf (not 'an object picked up'); base_footprint -> base_link is
+    on both too (mixed_static, not also static_on_dynamic: it already is on /tf_static); /odom_enc's frame is the
+    odometry's, whose transform is not published (not a mount, not a driver's frame_id)."""
+    result = tfx("wtf", corpus(BY_ID[AGV]), "--format", "json")
+    (bag,) = json.loads(result.stdout)["bags"]
+    findings = bag["findings"]
+    parents = [f for f in findings if f["code"] == "multiple_parents"]
+    assert sorted(f["frames"][0] for f in parents) == ["back_laser_link", "front_laser_link"]
+    for finding in parents:
+        assert "under laser_link on /tf_static and under base_link on /tf" in finding["hint"]
+        assert "ROS 1's tf2 keeps it a static frame" in finding["hint"] and "picked up" not in finding["hint"]
+    constant = {tuple(f["frames"]) for f in findings if f["code"] == "static_on_dynamic"}
+    assert ("base_footprint", "base_link") not in constant and len(constant) == 3
+    (odometry,) = [f for f in findings if f["code"] == "sensor_frame"]
+    assert "'odom_enc' is the frame of odometry" in odometry["hint"] and "frame_id parameter" not in odometry["hint"]
