@@ -1,0 +1,71 @@
+"""One figure, one number, in every command (issue 39): a frame with two parents counted as monitor's edge rows in
+``tfx frames``, a silence in view-frames that is monitor's, a rate that cannot be measured flagged against an
+expected one by ``tfx diff``, and ``echo --play`` lines never repeating a moment; each on a real recording."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus.fetch import Recording, load_manifest
+from tftools.core.time import NS_PER_S
+
+_, RECORDINGS = load_manifest()
+BY_ID = {r.id: r for r in RECORDINGS}
+
+Corpus = Callable[[Recording], Path]
+
+#: base_link under base_footprint (/robot_state_publisher, once on /tf_static), then odom (/neato, 413 on /tf).
+NEATO_URDF = "ros1-neato-urdf-beside-driver-2018-bag"
+#: box_base_model under stim320_imu and box_base in one /tf_static message of a calibration file.
+CALIBRATION_2025 = "grandtour-calibration-2025-bag"
+#: A real TurtleBot3's lap: its wheels stamped up to 40 s behind their arrival (1162 s old, silent 1122 s).
+LAP = "ros2-turtlebot3-real-wifi-outage-2025-db3"
+#: world -> talk at 10 Hz from /talker.
+TALKER = "talker-world-talk-2018-bag"
+
+
+def _path(corpus: Corpus, recording_id: str) -> Path:
+    return corpus(BY_ID[recording_id])
+
+
+def _json(tfx: Tfx, *args: str | Path) -> Any:  # noqa: F811
+    result = tfx(*args, "--format", "json")
+    assert result.stdout.strip(), result.stderr
+    return json.loads(result.stdout)
+
+
+def test_echo_play_outrun_by_its_replay_shows_each_moment_once(corpus: Corpus, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``echo --play`` on the lap, its replay played to the end before the first line was due (a loaded machine,
+    a terminal that blocks): every line due meanwhile was made at once at the same time of the replay's clock,
+    1,361 lines of one moment, where monitor's tables skip a tick at a clock time already shown; now one line."""
+    from tftools.analysis.echo import EchoQuery, echo_stream
+    from tftools.sources.replay import OnBatch, Replay
+    from tftools.sources.stream import StreamedRecording, stream_recording
+
+    played = StreamedRecording.replay
+
+    def outrun(self: StreamedRecording, **kw: Any) -> Replay:
+        replay = played(self, **kw)
+
+        def start(on_batch: OnBatch) -> None:  # the whole lap played before the first line is due
+            replay.attach(on_batch)
+            replay.advance_to(replay.begin + 10_000 * NS_PER_S)
+
+        replay.start = start  # type: ignore[method-assign]  # a replay thread the lines cannot keep up with
+        return replay
+
+    monkeypatch.setattr(StreamedRecording, "replay", outrun)
+    times: list[int] = []
+    with stream_recording([_path(corpus, LAP)]) as streamed:
+        echo_stream(
+            streamed,
+            EchoQuery(target="odom", source="base_footprint"),
+            lambda series, buffer: times.append(buffer.now()),
+        )
+    assert len(times) == 1
