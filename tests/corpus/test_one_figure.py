@@ -5,15 +5,19 @@ expected one by ``tfx diff``, and ``echo --play`` lines never repeating a moment
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from tests.bags import TfMessage, write_bag
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.fetch import Recording, load_manifest
 from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+from tftools.sources.recording import read_recording
 
 _, RECORDINGS = load_manifest()
 BY_ID = {r.id: r for r in RECORDINGS}
@@ -38,6 +42,32 @@ def _json(tfx: Tfx, *args: str | Path) -> Any:  # noqa: F811
     result = tfx(*args, "--format", "json")
     assert result.stdout.strip(), result.stderr
     return json.loads(result.stdout)
+
+
+def test_diff_flags_an_edge_seen_once_against_the_rate_expected(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
+    """The talker's world -> talk at 10 Hz in the tree ``wtf --init`` wrote of it; its first message alone (the
+    recording's own bytes: stamp, value, publisher, record time) has one sample, no rate: ``tfx diff`` said nothing
+    (a single sample and a left-out ``rate_hz`` were both 0, "any rate"), exit 0."""
+    path = _path(corpus, TALKER)
+    tree = tmp_path / "tree.yaml"
+    init = tfx("wtf", "--init", path)
+    assert init.code == 0, init.stderr
+    tree.write_text(init.stdout)
+    hist = read_recording([path]).buffer.history("talk")
+    assert hist is not None
+    first = Transform(tuple(hist.values[0, :3]), tuple(hist.values[0, 3:]), int(hist.stamps[0]), "world", "talk")  # type: ignore[arg-type]  # numpy floats as a Vec3
+    once = write_bag(tmp_path / "first.bag", [TfMessage("/tf", int(hist.record_times[0]), [first], "/talker")])
+    result = tfx("diff", tree, once)
+    assert result.code == 1, result.stdout
+    assert "world -> talk at no rate (one sample, or none stamped apart) in B, 10.0 Hz in A" in result.stdout
+    report = _json(tfx, "diff", tree, once)
+    (rate,) = [d for d in report["differences"] if d["change"] == "rate"]
+    assert rate["rate_change"] == -1.0
+    assert tfx("diff", path, path).code == 0
+    left_out = tmp_path / "any_rate.yaml"
+    left_out.write_text(re.sub(r", rate_hz: [\d.]+", "", init.stdout))
+    assert "rate_hz" not in left_out.read_text().split("frames:")[1]
+    assert tfx("diff", left_out, once).code == 0  # no rate expected: any rate, one sample too
 
 
 def test_echo_play_outrun_by_its_replay_shows_each_moment_once(corpus: Corpus, monkeypatch: pytest.MonkeyPatch) -> None:
