@@ -44,6 +44,28 @@ def _json(tfx: Tfx, *args: str | Path) -> Any:  # noqa: F811
     return json.loads(result.stdout)
 
 
+@pytest.mark.parametrize("recording_id", [NEATO_URDF, CALIBRATION_2025])
+def test_a_frame_with_two_parents_is_monitors_edge_rows_in_frames(recording_id: str, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """``tfx frames`` gave the frame of tf2's one history as one (414 samples of base_link from both publishers),
+    ``tfx monitor`` a row per edge (1 under base_footprint, 413 under odom): frames now says each parent's edge as
+    monitor's row counts it, beside the frame's own figures."""
+    path = _path(corpus, recording_id)
+    frames = _json(tfx, "frames", "-b", path)["frames"]
+    rows = _json(tfx, "monitor", "-b", path)["edges"]
+    several = [f for f in frames if len(f["parents"]) > 1]
+    assert several
+    for frame in several:
+        mine = [r for r in rows if r["child"] == frame["frame"]]
+        assert [e["parent"] for e in frame["edges"]] == frame["parents"] == [r["parent"] for r in mine]
+        for edge, row in zip(frame["edges"], mine, strict=True):
+            for key in ("authorities", "count", "rate_hz", "first_stamp", "last_stamp"):
+                assert edge[key] == row[key], (frame["frame"], edge["parent"], key)
+        assert sum(e["count"] for e in frame["edges"]) == frame["count"]
+    if recording_id == NEATO_URDF:
+        text = " ".join(tfx("frames", "-b", path).stdout.split())
+        assert "parents over time (samples): base_footprint (1) → odom (413)" in text
+
+
 def test_diff_flags_an_edge_seen_once_against_the_rate_expected(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     """The talker's world -> talk at 10 Hz in the tree ``wtf --init`` wrote of it; its first message alone (the
     recording's own bytes: stamp, value, publisher, record time) has one sample, no rate: ``tfx diff`` said nothing
