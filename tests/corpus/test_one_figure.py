@@ -66,6 +66,26 @@ def test_a_frame_with_two_parents_is_monitors_edge_rows_in_frames(recording_id: 
         assert "parents over time (samples): base_footprint (1) → odom (413)" in text
 
 
+def test_view_frames_says_monitors_silence_beside_the_stamps_age(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """view-frames' "s old" is the newest stamp's age at the end; monitor's silence the time since the last
+    arrival: on the lap they differ by the wheels' delay (1162.476 s old, silent for the last 1121.827 s). Each is
+    said as what it is, and view-frames' silence is monitor's number."""
+    path = _path(corpus, LAP)
+    rows = {(r["parent"], r["child"]): r for r in _json(tfx, "monitor", "-b", path)["edges"]}
+    result = tfx("view-frames", "-b", path, "--format", "dot", "-o", "-")
+    dot = result.stdout
+    checked = 0
+    for (parent, child), row in rows.items():
+        if row["static"] or row["silent_s"] is None:
+            continue
+        line = next(ln for ln in dot.splitlines() if f'"{parent}" -> "{child}"' in ln or f"{parent} -> {child}" in ln)
+        (silent,) = re.findall(r"Silent for the last (\d+\.\d+) s", line)
+        assert float(silent) == pytest.approx(row["silent_s"], abs=0.0005), (parent, child)
+        checked += 1
+    assert checked >= 3
+    assert "1162.476 s old" in dot and "Silent for the last 1121.827 s" in dot
+
+
 def test_diff_flags_an_edge_seen_once_against_the_rate_expected(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     """The talker's world -> talk at 10 Hz in the tree ``wtf --init`` wrote of it; its first message alone (the
     recording's own bytes: stamp, value, publisher, record time) has one sample, no rate: ``tfx diff`` said nothing
