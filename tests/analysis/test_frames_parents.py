@@ -3,7 +3,8 @@ samples) and each parent's edge counted as ``tfx monitor``'s row of it (``edge_s
 
 from __future__ import annotations
 
-from tests.analysis.wtf_scenes import START, TfMessage, _t, recording
+from tests.analysis.wtf_scenes import START, _t, recording
+from tests.bags import TfMessage
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.frames import ParentEdge, tree_of
 

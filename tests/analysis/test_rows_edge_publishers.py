@@ -3,7 +3,8 @@ samples) and ``future`` (who sent the early ones) read, instead of regrouping ev
 
 from __future__ import annotations
 
-from tests.analysis.wtf_scenes import START, TfMessage, _t, recording
+from tests.analysis.wtf_scenes import START, _t, recording
+from tests.bags import TfMessage
 from tftools.analysis.wtf.rows import rows_of
 
 MS = 1_000_000

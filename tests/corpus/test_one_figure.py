@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -14,23 +13,16 @@ import pytest
 
 from tests.bags import TfMessage, write_bag
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.test_issue39 import BY_ID, CALIBRATION_2025, LAP, Corpus
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording
 
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
-
-#: base_link under base_footprint (/robot_state_publisher, once on /tf_static), then odom (/neato, 413 on /tf).
+#: base_link under base_footprint (/robot_state_publisher, once on /tf_static), then odom (/neato, 413 on /tf);
+#: CALIBRATION_2025's box_base_model under stim320_imu and box_base in one /tf_static message.
 NEATO_URDF = "ros1-neato-urdf-beside-driver-2018-bag"
-#: box_base_model under stim320_imu and box_base in one /tf_static message of a calibration file.
-CALIBRATION_2025 = "grandtour-calibration-2025-bag"
-#: A real TurtleBot3's lap: its wheels stamped up to 40 s behind their arrival (1162 s old, silent 1122 s).
-LAP = "ros2-turtlebot3-real-wifi-outage-2025-db3"
-#: world -> talk at 10 Hz from /talker.
+#: world -> talk at 10 Hz from /talker. (LAP: a real TurtleBot3's lap, its wheels' newest stamp 1162.476 s old at
+#: its end, their last arrival 1121.827 s before it.)
 TALKER = "talker-world-talk-2018-bag"
 
 
@@ -97,7 +89,8 @@ def test_diff_flags_an_edge_seen_once_against_the_rate_expected(corpus: Corpus, 
     tree.write_text(init.stdout)
     hist = read_recording([path]).buffer.history("talk")
     assert hist is not None
-    first = Transform(tuple(hist.values[0, :3]), tuple(hist.values[0, 3:]), int(hist.stamps[0]), "world", "talk")  # type: ignore[arg-type]  # numpy floats as a Vec3
+    x, y, z, qx, qy, qz, qw = (float(v) for v in hist.values[0])
+    first = Transform((x, y, z), (qx, qy, qz, qw), int(hist.stamps[0]), "world", "talk")
     once = write_bag(tmp_path / "first.bag", [TfMessage("/tf", int(hist.record_times[0]), [first], "/talker")])
     result = tfx("diff", tree, once)
     assert result.code == 1, result.stdout
