@@ -174,25 +174,41 @@ def test_a_rate_differs_the_same_whichever_tree_comes_first() -> None:
     faster decides, either way round, worded with both rates and which is slower; a fall from an expected tree's
     rate is measured as before (4 Hz against 10: 60%)."""
 
-    def tree(hz: float) -> TreeShape:
-        return TreeShape({"odom": FrameShape("odom", None), "base": FrameShape("base", "odom", rate_hz=hz)}, "tree")
-
     for rate, tolerance, differs in [(12.1, 20.0, False), (12.1, 17.0, True), (5.5 / 4.7 * 10, 16.0, False)]:
         ab, ba = (
-            compare(tree(10.0), tree(rate), Tolerances(rate_percent=tolerance)),
-            compare(tree(rate), tree(10.0), Tolerances(rate_percent=tolerance)),
+            compare(_rate_tree(10.0), _rate_tree(rate), Tolerances(rate_percent=tolerance)),
+            compare(_rate_tree(rate), _rate_tree(10.0), Tolerances(rate_percent=tolerance)),
         )
         assert (bool(ab), bool(ba)) == (differs, differs), (rate, tolerance)
-    (faster,) = compare(tree(10.0), tree(12.1), Tolerances(rate_percent=17.0))
-    (slower,) = compare(tree(12.1), tree(10.0), Tolerances(rate_percent=17.0))
+    (faster,) = compare(_rate_tree(10.0), _rate_tree(12.1), Tolerances(rate_percent=17.0))
+    (slower,) = compare(_rate_tree(12.1), _rate_tree(10.0), Tolerances(rate_percent=17.0))
     assert describe(faster) == "odom -> base at 12.1 Hz in B, 10.0 Hz in A (A 17% slower)"
     assert describe(slower) == "odom -> base at 10.0 Hz in B, 12.1 Hz in A (B 17% slower)"
     assert faster.rate_change == pytest.approx(0.21) and slower.rate_change == pytest.approx(-0.1736, abs=1e-4)
-    (fell,) = compare(tree(10.0), tree(4.0), Tolerances())
+    (fell,) = compare(_rate_tree(10.0), _rate_tree(4.0), Tolerances())
     assert (
-        describe(fell).endswith("(B 60% slower)") and compare(tree(10.0), tree(4.0), Tolerances(rate_percent=60)) == []
+        describe(fell).endswith("(B 60% slower)")
+        and compare(_rate_tree(10.0), _rate_tree(4.0), Tolerances(rate_percent=60)) == []
     )
-    assert compare(tree(10.0), tree(0.0), Tolerances()) == []  # a rate left out of a tree file: any
+    assert compare(_rate_tree(10.0), _rate_tree(None), Tolerances()) == []  # a rate left out of a tree file: any
+
+
+def _rate_tree(hz: float | None) -> TreeShape:
+    return TreeShape({"odom": FrameShape("odom", None), "base": FrameShape("base", "odom", rate_hz=hz)}, "tree")
+
+
+def test_an_edge_seen_once_differs_from_a_rate_expected_not_from_any_rate() -> None:
+    """A tree file's left-out ``rate_hz`` and a single sample's rate were both 0, "any rate": an edge seen once
+    passed a tree expecting 10 Hz. No rate expected (None) accepts it; a rate unknown (0) differs from 10 Hz."""
+    (once,) = compare(_rate_tree(10.0), _rate_tree(0.0), Tolerances())
+    assert once.change is Change.rate and once.rate_change == -1.0
+    assert describe(once) == "odom -> base at no rate (one sample, or none stamped apart) in B, 10.0 Hz in A"
+    (back,) = compare(_rate_tree(0.0), _rate_tree(10.0), Tolerances())
+    assert back.rate_change is None  # no B / A - 1 from no rate
+    assert (
+        compare(_rate_tree(None), _rate_tree(0.0), Tolerances()) == []
+        and compare(_rate_tree(0.0), _rate_tree(0.0), Tolerances()) == []
+    )
 
 
 def test_a_static_edge_that_turned_is_measured_in_degrees(tmp_path: Path, expected_file: Path) -> None:
@@ -224,7 +240,7 @@ def test_a_hand_written_file_with_its_own_tolerances_and_quaternions(tmp_path: P
     )
     tree = read_tree(path)
     assert tree.tolerances == Tolerances(translation_mm=5.0, rotation_deg=0.1, rate_percent=50.0)
-    assert tree.frames["map"].parent is None and tree.frames["odom"].rate_hz == 0
+    assert tree.frames["map"].parent is None and tree.frames["odom"].rate_hz is None  # any rate
     assert tree.frames["laser"].rotation == (0.0, 0.0, 1.0, 0.0)
     assert tree.frames["camera"].translation is None  # any value
 

@@ -18,6 +18,7 @@ from tests.bags import BagFormat, TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
+from tftools.analysis.monitor import MonitorQuery, monitor
 from tftools.analysis.wtf.fleet import check
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S
@@ -104,17 +105,20 @@ def test_pdf_shows_every_frame_and_each_edges_numbers(tfx: Tfx, tmp_path: Path, 
     recording = read_recording([SAMPLE_BAGS[bag]])
     for frame in recording.buffer.frames:
         assert frame in lines
+    silent = {e.key: e.silent_for for e in monitor(recording, MonitorQuery()).edges}  # monitor's figure
     for s in edge_stats(recording.buffer):
         who = f"Broadcaster: {', '.join(s.authorities)}"
         if s.static:
             assert contains_block(lines, [who, "static"]), s.key
             continue
-        age = (recording.end - s.last_stamp) / NS_PER_S
+        age, quiet = (recording.end - s.last_stamp) / NS_PER_S, silent[s.key]
+        assert quiet is not None
         block = [
             who,
             f"Average rate: {s.rate_hz:.2f} Hz",
             f"Samples: {s.count}",
             f"Most recent transform: {s.last_stamp / NS_PER_S:.3f} ({age:.3f} s old)",
+            f"Silent for the last {seconds(quiet):.3f} s (since it last arrived)",
             f"Oldest transform: {s.first_stamp / NS_PER_S:.3f}",
             f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s",
             f"Largest gap: {seconds(s.longest_interval):.3f} s",

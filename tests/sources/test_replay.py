@@ -158,9 +158,10 @@ def test_follow_ticks_once_a_second_until_the_feed_ends() -> None:
 
 
 def followed(times_ms: list[int], period: float, *, summary: bool = False) -> int:
-    """How many ticks ``follow`` makes on a replay (fast) of rows at ``times_ms``: as they are on its clock,
-    from its beginning, however the threads run, each is due at a whole period of bag time."""
-    replay = Replay(recorded(times_ms), rate=1000.0)
+    """How many ticks ``follow`` makes on a replay (real time) of rows at ``times_ms``: as they are on its clock,
+    from its beginning, each is due at a whole period of bag time. Not fast: ticks a replay outran, made at
+    once at the time it reached, show that time once (``test_follow_never_ticks_twice_at_one_time...``)."""
+    replay = Replay(recorded(times_ms))
     ticks: list[int] = []
     follow(replay, lambda b: None, lambda: ticks.append(replay.clock.now()), period=period, summary=summary)
     assert all(t <= START + times_ms[-1] * MS for t in ticks)  # never after the replay's end
@@ -254,3 +255,18 @@ def test_messages_play_with_their_transforms_statics_recorded_before_the_start_f
     assert [list(b.record_time - START) for b in batches[1:]] == [[10 * MS, 10 * MS, 20 * MS]]
     replay.advance_to(START + 40 * MS)
     assert len(concat_sent(told)) == 5 and replay.finished
+
+
+def test_follow_never_ticks_twice_at_one_time_of_the_feeds_clock() -> None:
+    """A replay played to its end before its first tick (``echo --play`` outrun by its replay): the three ticks
+    due meanwhile come at once, at the time it reached; one is made, not three lines of one moment."""
+    replay = Replay(recorded([0, 1000, 2000, 3000]))
+
+    def start(on_batch: OnBatch) -> None:
+        replay.attach(on_batch)
+        replay.advance_to(START + 10_000 * MS)
+
+    replay.start = start  # type: ignore[method-assign]  # a replay thread its ticks cannot keep up with
+    ticks: list[int] = []
+    follow(replay, lambda b: None, lambda: ticks.append(replay.clock.now()))
+    assert ticks == [START + 3000 * MS]

@@ -28,7 +28,8 @@ class Change(str, enum.Enum):
 class Difference:
     """One frame's difference; ``before`` is the frame in A, ``after`` in B (None where absent).
     ``translation_mm``/``rotation_deg`` say how far a static edge moved, ``rate_change`` the
-    rate's relative change (B / A - 1; whether it differs is ``rates_apart``'s)."""
+    rate's relative change (B / A - 1, -1 where B has no rate; None where A has none; whether it differs is
+    ``rates_apart``'s)."""
 
     change: Change
     frame: str
@@ -36,13 +37,12 @@ class Difference:
     after: FrameShape | None
     translation_mm: float = 0.0
     rotation_deg: float = 0.0
-    rate_change: float = 0.0
+    rate_change: float | None = 0.0
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
     """Every difference from ``a`` to ``b`` beyond ``tolerances``: A's frames in its order, then B's new ones.
-    Publishers are compared where both name them; rates where both edges have one (two samples or more, a tree
-    file's ``rate_hz``)."""
+    Publishers are compared where both name them; rates where both expect one (``rates_apart``)."""
     found: list[Difference] = []
     for name, before in a.frames.items():
         after = b.frames.get(name)
@@ -70,7 +70,8 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
             found.append(Difference(kind, name, before, after, translation_mm=mm, rotation_deg=deg))
     else:
         if rates_apart(before.rate_hz, after.rate_hz) * 100 > tolerances.rate_percent:
-            change = after.rate_hz / before.rate_hz - 1.0
+            a, b = before.rate_hz or 0.0, after.rate_hz or 0.0
+            change = b / a - 1.0 if a > 0 else None
             found.append(Difference(Change.rate, name, before, after, rate_change=change))
         if before.clocks is not None and after.clocks is not None and before.clocks != after.clocks:
             found.append(Difference(Change.clocks, name, before, after))
@@ -80,13 +81,16 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
     return found
 
 
-def rates_apart(a: float, b: float) -> float:
+def rates_apart(a: float | None, b: float | None) -> float:
     """How far two rates (Hz) are apart, the same whichever comes first: the slower's shortfall from the faster
     (10 and 12.1 Hz: 0.17 either way; B / A - 1 said +21% one way, -17% the other, flagged at 20% one way only).
-    From an expected tree's rate, a fall is measured as before (4 Hz against 10: 0.60). 0 where either is
-    unknown (0: a single sample, a tree file without ``rate_hz``)."""
-    if a <= 0 or b <= 0:
+    From an expected tree's rate, a fall is measured as before (4 Hz against 10: 0.60). 0 where either expects
+    any rate (None: a tree file without ``rate_hz``, a URDF) or neither has one; 1 where one has no rate (0: fewer
+    than two samples stamped apart) beside the other's: an edge seen once did not keep a rate of 10 Hz."""
+    if a is None or b is None or (a <= 0 and b <= 0):
         return 0.0
+    if a <= 0 or b <= 0:
+        return 1.0
     return 1.0 - min(a, b) / max(a, b)
 
 
@@ -157,9 +161,12 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"{_value(before)} in {a}, {_value(after)} in {b}{several}"
         )
     if d.change is Change.rate:
-        slower = b if after.rate_hz < before.rate_hz else a
-        apart = rates_apart(before.rate_hz, after.rate_hz)
-        return f"{edge} at {after.rate_hz:.1f} Hz in {b}, {before.rate_hz:.1f} Hz in {a} ({slower} {apart:.0%} slower)"
+        was, now = before.rate_hz or 0.0, after.rate_hz or 0.0
+        if not was or not now:
+            return f"{edge} at {_rate(now)} in {b}, {_rate(was)} in {a}"
+        slower = b if now < was else a
+        apart = rates_apart(was, now)
+        return f"{edge} at {now:.1f} Hz in {b}, {was:.1f} Hz in {a} ({slower} {apart:.0%} slower)"
     if d.change is Change.clocks:
         return (
             f"{edge} is stamped on {_clocks(after)} in {b}, on {_clocks(before)} in {a} (stamps further apart than "
@@ -172,6 +179,10 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
     )
 
 
+def _rate(hz: float) -> str:
+    return f"{hz:.1f} Hz" if hz > 0 else "no rate (one sample, or none stamped apart)"
+
+
 def _clocks(f: FrameShape) -> str:
     return "one clock" if f.clocks == 1 else f"{f.clocks} clocks"
 
@@ -182,7 +193,7 @@ def _place(f: FrameShape) -> str:
 
 def _kind(f: FrameShape) -> str:
     if not f.static:
-        return f"moving at {f.rate_hz:.1f} Hz"
+        return f"moving at {f.rate_hz:.1f} Hz" if f.rate_hz else "moving"
     if f.on_tf_hz > 0:
         return (
             f"static to tf2 though sent at {f.on_tf_hz:.1f} Hz on /tf ({f.frame}'s first transform came on "

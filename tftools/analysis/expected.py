@@ -50,14 +50,15 @@ class StaticValue:
 
 @dataclass(frozen=True)
 class FrameShape:
-    """One frame: its parent (None for a root); a static edge's value, a moving edge's rate;
+    """One frame: its parent (None for a root); a static edge's value, a moving edge's rate (None: any rate, as a
+    tree file without ``rate_hz`` or a URDF expects; 0: unknown, fewer than two samples stamped apart);
     its publishers (None where the source does not name them: a ROS 2 bag names topics); where a static edge
     was received with several values, each of them in the order they first came (tf2 keeps the last received)."""
 
     frame: str
     parent: str | None
     static: bool = False
-    rate_hz: float = 0.0
+    rate_hz: float | None = None
     publishers: tuple[str, ...] | None = None
     translation: Vec3 | None = None  # static edges only
     rotation: Quat | None = None

@@ -10,9 +10,23 @@ from typing import TYPE_CHECKING
 from tftools.analysis.edges import parents_in_order, publishers
 from tftools.core.buffer import Buffer
 from tftools.core.figures import rate_of, record_span, time_bases
+from tftools.core.history import EdgeHistory
 
 if TYPE_CHECKING:
     from tftools.sources.recording import Recording
+
+
+@dataclass(frozen=True)
+class ParentEdge:
+    """One parent -> frame edge of a frame that had several parents, counted as ``tfx monitor`` counts an edge
+    (``edges.edge_rows``): tf2 keeps one history per frame, a row of it is the edge of the parent it names."""
+
+    parent: str
+    count: int
+    authorities: tuple[str, ...]
+    first_stamp: int
+    last_stamp: int
+    rate_hz: float  # ``figures.rate_of`` of its stamps; 0 for a static or single-sample edge
 
 
 @dataclass(frozen=True)
@@ -33,6 +47,8 @@ class FrameSummary:
     #: The time bases its stamps are on (``figures.time_bases``): 2 for a replay's samples beside a live
     #: publisher's, a week apart, whose first and last stamps span no time the recording lasted.
     clocks: int = 1
+    #: Where it had several parents (``parents``), each one's edge; empty where it had one.
+    edges: tuple[ParentEdge, ...] = ()
 
 
 @dataclass
@@ -99,7 +115,7 @@ def tree_of(buffer: Buffer) -> FrameTree:
     for name, hist in buffer.histories():
         if len(hist) == 0:
             continue
-        stamps = hist.stamps
+        stamps, parents = hist.stamps, parents_in_order(hist)
         one = len(stamps) == 1  # a static edge sent once: numpy's reductions cost more than the answer
         first, last = (stamps[0], stamps[-1]) if one or not hist.static else (stamps.min(), stamps.max())
         span = 0 if hist.static else record_span(hist.record_times)  # its time bases' (``figures.across_clocks``)
@@ -111,12 +127,27 @@ def tree_of(buffer: Buffer) -> FrameTree:
             authorities=publishers(buffer, hist.authorities),
             first_stamp=int(first),
             last_stamp=int(last),
-            parents=tuple(names(p) for p in parents_in_order(hist)),
+            parents=tuple(names(p) for p in parents),
             rate_hz=0.0 if hist.static else rate_of(stamps, span, hist.record_times),
             clocks=1 if hist.static else time_bases(stamps, span),
+            edges=tuple(_parent_edge(buffer, hist, p) for p in parents) if len(parents) > 1 else (),
         )
     children: dict[str, list[str]] = {name: [] for name in frames}
     for name, summary in frames.items():
         if summary.parent is not None:
             children[summary.parent].append(name)
     return FrameTree(frames, children)
+
+
+def _parent_edge(buffer: Buffer, hist: EdgeHistory, parent: int) -> ParentEdge:
+    """The edge from ``parent`` (an id) of a frame that had several parents: its rows of ``hist``."""
+    mine = hist.parents == parent
+    stamps, records = hist.stamps[mine], hist.record_times[mine]
+    return ParentEdge(
+        parent=buffer.frame_name(parent),
+        count=len(stamps),
+        authorities=publishers(buffer, hist.authorities[mine]),
+        first_stamp=int(stamps.min()),
+        last_stamp=int(stamps.max()),
+        rate_hz=0.0 if hist.static else rate_of(stamps, record_span(records), records),
+    )

@@ -78,7 +78,7 @@ def _entry(f: FrameShape) -> dict[str, Any]:
         entry["parent"] = f.parent
     if f.static:
         entry["static"] = True
-    elif f.rate_hz > 0:
+    elif f.rate_hz:
         entry["rate_hz"] = round(f.rate_hz, 3)
     if f.translation is not None and f.rotation is not None:
         entry["translation"] = [_rounded(v) for v in f.translation]
@@ -134,11 +134,12 @@ def _frame(name: str, entry: Any) -> FrameShape:
     rate = number(entry.get("rate_hz", 0.0), f"frame {name}: rate_hz", text=False)
     if rate < 0:
         raise ValueError(f"frame {name}: rate_hz {rate} is below 0")
+    rate_hz = rate or None  # left out (or 0): any rate
     return FrameShape(
         frame=name,
         parent=None if parent is None else str(parent),
         static=static,
-        rate_hz=rate,
+        rate_hz=rate_hz,
         publishers=None if publishers is None else tuple(sorted(str(p) for p in publishers)),
         translation=translation,
         rotation=rotation,

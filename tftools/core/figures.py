@@ -73,7 +73,7 @@ def _longer_than_span(stamps: Int64Array, span: int) -> BoolArray | None:
     return longer if 2 * int(np.count_nonzero(longer)) < len(longer) else None
 
 
-def _on_one_base(values: Int64Array, span: int) -> bool:
+def on_one_base(values: Int64Array, span: int) -> bool:
     """Whether ``values`` are on one time base, known without sorting them: on one side of the epoch floor,
     none further apart than the record ``span``."""
     return len(values) < 2 or _ends_on_one_base(int(values.min()), int(values.max()), span)
@@ -88,7 +88,7 @@ def _ends_on_one_base(low: int, high: int, span: int) -> bool:
 def time_bases(values: Int64Array, span: int = 0) -> int:
     """How many time bases ``values`` are on (``time_base_of``), without an array where they are on one (the
     load path asks it of every edge)."""
-    return 1 if _on_one_base(values, span) else int(time_base_of(values, span).max()) + 1
+    return 1 if on_one_base(values, span) else int(time_base_of(values, span).max()) + 1
 
 
 def time_base_of(values: Int64Array, span: int = 0) -> IntpArray:
@@ -96,7 +96,7 @@ def time_base_of(values: Int64Array, span: int = 0) -> IntpArray:
     on, numbered from the earliest: sorted, they split where ``across_clocks`` (with the stream's record
     ``span``) parts them. All 0 on one clock."""
     base = np.zeros(len(values), np.intp)
-    if _on_one_base(values, span):
+    if on_one_base(values, span):
         return base
     order = np.argsort(values, kind="stable")
     breaks = np.flatnonzero(across_clocks(values[order], span))

@@ -7,7 +7,7 @@ from typing import IO, Any
 from rich.console import Console
 from rich.text import Text
 
-from tftools.analysis.frames import FrameSummary, FrameTree
+from tftools.analysis.frames import FrameSummary, FrameTree, ParentEdge
 from tftools.core.time import NS_PER_S, to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable, printable_lines
@@ -28,8 +28,9 @@ def _label(f: FrameSummary) -> Text:
         label.append(
             f"  {f.count} samples, {to_sec(f.first_stamp):.3f} → {to_sec(f.last_stamp):.3f} ({lasted})", style="dim"
         )
-    if len(f.parents) > 1:
-        label.append(f"  parents over time: {printable(' → '.join(f.parents))}", style="bold red")
+    if f.edges:  # each parent's samples, as tfx monitor's row of its edge counts them
+        over_time = " → ".join(f"{e.parent} ({e.count})" for e in f.edges)
+        label.append(f"  parents over time (samples): {printable(over_time)}", style="bold red")
     if len(f.authorities) > 1:
         label.append("  several publishers", style="bold yellow")
     return label
@@ -77,6 +78,18 @@ def _as_dict(f: FrameSummary) -> dict[str, Any]:
         "first_stamp": to_sec(f.first_stamp) if f.count else None,
         "last_stamp": to_sec(f.last_stamp) if f.count else None,
         "parents": list(f.parents),
+        **({"edges": [_edge_dict(e) for e in f.edges]} if f.edges else {}),
+    }
+
+
+def _edge_dict(e: ParentEdge) -> dict[str, Any]:
+    return {
+        "parent": e.parent,
+        "authorities": list(e.authorities),
+        "count": e.count,
+        "rate_hz": e.rate_hz,
+        "first_stamp": to_sec(e.first_stamp),
+        "last_stamp": to_sec(e.last_stamp),
     }
 
 

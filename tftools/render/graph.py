@@ -10,6 +10,7 @@ from typing import cast
 
 import graphviz
 
+from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, causes, counted, tallied
 from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode
 from tftools.core.figures import age_in_words, seconds
@@ -168,12 +169,21 @@ def _full_lines(edge: GraphEdge, graph: FrameGraph) -> list[str]:
         f"Average rate: {s.rate_hz:.2f} Hz",
         f"Samples: {s.count}",
         f"Most recent transform: {format_sec(s.last_stamp, 3)} ({age_in_words(age, graph.clock)})",
+        *_silence_line(s),
         f"Oldest transform: {format_sec(s.first_stamp, 3)}",
         f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s"
         if s.clocks == 1
         else f"Buffer length: stamped on {s.clocks} clocks, no span",
         f"Largest gap: {seconds(s.longest_interval):.3f} s",
     ]
+
+
+def _silence_line(s: EdgeStats) -> list[str]:
+    """Since its last arrival, as monitor's ``silent_s`` (``figures.silence``): not its newest stamp's age, which
+    differs by its delay, or a clock's offset."""
+    if s.silent_for is None:
+        return []
+    return [f"Silent for the last {seconds(s.silent_for):.3f} s (since it last arrived)"]
 
 
 def _brief_lines(edge: GraphEdge) -> list[str]:

@@ -211,14 +211,19 @@ def follow(
     """Start ``feed`` into ``on_batch`` and call ``on_tick`` every ``period`` seconds until ``duration``
     wall seconds have passed or the feed is finished. Seconds of a ``Replay``'s clock from its beginning,
     as a node under ``use_sim_time`` ticks on ``rosbag play --clock``: each tick its clock reaches is made,
-    none after its end (the recording's). Else wall seconds. A feed that ends before its first tick gets
-    one as it ends, so that its state is shown once; with ``summary`` (monitor's last table), so does one
-    whose clock moved on since its last tick. The feed is closed, and the error that ended it (a replay's
-    ``error``) raised."""
-    ticks: list[int] = []  # the feed's clock at each tick
+    none after its end (the recording's), and never two at one time of its clock: a replay that ran ahead of
+    its ticks has those due made at once, at the time it reached; the first shows it, the others would show
+    it again and are not made (monitor's tables, echo's lines). Else wall seconds. A feed that ends before
+    its first tick gets one as it ends, so that its state is shown once; with ``summary`` (monitor's last
+    table), so does one whose clock moved on since its last tick. The feed is closed, and the error that
+    ended it (a replay's ``error``) raised."""
+    ticks: list[int] = []  # the feed's clock at each tick made
 
     def tick() -> None:
-        ticks.append(feed.clock.now())
+        now = feed.clock.now()
+        if ticks and now <= ticks[-1] and isinstance(feed, Replay):  # it ran ahead of its ticks: this time was shown
+            return
+        ticks.append(now)
         on_tick()
 
     def finished() -> bool:

@@ -21,7 +21,7 @@ from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError
-from tftools.core.figures import median_ns, record_span, time_base_of
+from tftools.core.figures import median_ns, on_one_base, record_span, time_base_of
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.transform import Transform
@@ -394,7 +394,11 @@ def _near_newest(stamps: Int64Array, records: Int64Array, within: int) -> BoolAr
     """The samples stamped at most ``within`` behind the newest on their own time base (``time_base_of``): of
     an edge two publishers share on clocks hours apart (a ZED beside an EKF 5.8 h ahead), each one's latest,
     not the one clock's alone, or the other's re-sends in the next window are taken anew."""
-    base = time_base_of(records - stamps, record_span(records))
+    offsets, span = records - stamps, record_span(records)
+    if on_one_base(offsets, span):  # the usual case: known from the ends alone, with no sort
+        one: BoolArray = stamps >= stamps.max() - within
+        return one
+    base = time_base_of(offsets, span)
     newest = np.full(int(base.max()) + 1, np.iinfo(np.int64).min, np.int64)
     np.maximum.at(newest, base, stamps)
     near: BoolArray = stamps >= newest[base] - within

@@ -417,13 +417,4 @@ def monitor_stream(
     on_batch = (
         watch_jumps(feed, live_monitor.add, live_monitor.clear) if isinstance(feed, LiveSource) else live_monitor.add
     )
-    shown: list[int] = []  # the clock's time at the last tick made
-
-    def tick() -> None:
-        now = live_monitor.clock.now()
-        if shown and now <= shown[-1]:
-            return
-        shown[:] = [now]
-        on_tick(live_monitor)
-
-    follow(feed, on_batch, tick, duration=duration, summary=True)
+    follow(feed, on_batch, lambda: on_tick(live_monitor), duration=duration, summary=True)

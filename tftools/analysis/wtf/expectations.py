@@ -111,7 +111,7 @@ def expect_rate(scene: Scene) -> Iterator[Finding]:
 
 def _rates(scene: Scene) -> Iterator[Finding]:
     for d in _differences(scene, Change.rate):
-        slower = d.rate_change < 0
+        slower = d.rate_change is not None and d.rate_change < 0  # None: the expected edge had no rate
         hint = (
             "an overloaded node or a throttled publisher? compare tfx monitor's rates, or widen the tolerance "
             "(tfx wtf --expect FILE --tolerance-rate 25)"

@@ -295,22 +295,17 @@ def _each_publishers(scene: Scene, samples: EdgeSamples) -> Iterator[EdgeSamples
     """``samples``' edge as each of its publishers sent it: its transforms on /tf by stamp, a stamp sent again
     counted once (tf2 keeps the first)."""
     rows = scene.rows
-    for child, mine in rows.by_child(~rows.static):
-        if child != samples.child:
-            continue
-        mine = mine[rows.parent[mine] == rows.names.index(samples.parent)]
-        for authority in np.unique(rows.authority[mine]):
-            own = mine[rows.authority[mine] == authority]
-            stamps, first = np.unique(rows.stamp[own], return_index=True)
-            own = own[first]
-            yield replace(
-                samples,
-                stamps=stamps,
-                record_times=rows.record_time[own],
-                values=rows.values[own],
-                flags=rows.flags[own],
-                authorities=(rows.authorities[authority],),
-            )
+    for authority, own in rows.edge_publishers(samples.parent, samples.child):
+        stamps, first = np.unique(rows.stamp[own], return_index=True)
+        own = own[first]
+        yield replace(
+            samples,
+            stamps=stamps,
+            record_times=rows.record_time[own],
+            values=rows.values[own],
+            flags=rows.flags[own],
+            authorities=(rows.authorities[authority],),
+        )
 
 
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")

@@ -153,6 +153,22 @@ class Rows:
         for _, child, rows in self._layout.groups(mask, by_parent=False):
             yield self.names[child], rows
 
+    def edge_publishers(self, parent: str, child: str) -> Iterator[tuple[int, IntpArray]]:
+        """(publisher, rows) for each publisher of ``parent -> child`` on /tf, by publisher id, each one's rows
+        in record order: the edge as each of its publishers sent it."""
+        key = self.names.index(parent) << 32 | self.names.index(child)
+        mine = np.flatnonzero((self._edge_keys == key) & ~self.static)
+        authority = self.authority[mine]
+        for publisher in np.unique(authority).tolist():
+            yield publisher, mine[authority == publisher]
+
+    @cached_property
+    def _edge_keys(self) -> Int64Array:
+        """Each row's edge as one number, parent id << 32 | child id."""
+        parents = self._layout.whole(lambda s: s.parent).astype(np.int64)
+        keys: Int64Array = parents << 32 | self._layout.whole(lambda s: s.child)
+        return keys
+
     @cached_property
     def static(self) -> BoolArray:
         """Received on /tf_static."""

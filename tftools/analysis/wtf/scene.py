@@ -93,7 +93,8 @@ class Scene:
 
     @cached_property
     def stats(self) -> list[EdgeStats]:
-        return edge_stats(self.buffer, timeline=self.timeline)
+        """Each edge's figures over the whole recording, its silence to the recording's end as monitor's."""
+        return edge_stats(self.buffer, timeline=self.timeline, until=self.timeline.record_end)
 
     @property
     def ros2(self) -> bool:

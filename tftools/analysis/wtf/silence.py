@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -133,31 +134,38 @@ def stalls(scene: Scene) -> list[list[Pause]]:
     return found
 
 
+class Stall(NamedTuple):
+    """One stall (``stalls``) and what the record clock saw meanwhile (``_meanwhile``): said, and which of
+    ``_LOOK`` it points to."""
+
+    pauses: list[Pause]
+    meanwhile: str
+    look: str
+
+
 @register("stall", Severity.warning, "many moving edges going silent at once: one stop, said once")
 def stall(scene: Scene) -> Iterator[Finding]:
     """One finding for the stalls of the same edges that the record clock saw alike (a robot's link dropping out
     again and again is one problem), said with its own figures where one stands alone."""
     moving = {e.key for e in scene.dynamic_edges}
-    seen = [(pauses, *_meanwhile(scene, pauses, len(pauses) == len(moving))) for pauses in stalls(scene)]
-    runs: dict[tuple[frozenset[tuple[str, str]], str], list[tuple[list[Pause], str, str]]] = {}
+    seen = [Stall(pauses, *_meanwhile(scene, pauses, len(pauses) == len(moving))) for pauses in stalls(scene)]
+    runs: dict[tuple[frozenset[tuple[str, str]], str], list[Stall]] = {}
     for one in seen:
-        runs.setdefault((frozenset(p.edge for p in one[0]), one[2]), []).append(one)
+        runs.setdefault((frozenset(p.edge for p in one.pauses), one.look), []).append(one)
     for run in runs.values():
-        pauses = [p for stopped, _, _ in run for p in stopped]
-        first = run[0][0]
+        pauses = [p for one in run for p in one.pauses]
+        first = run[0].pauses
         start, end = min(p.start for p in pauses), max(p.end for p in pauses)
         lengths = sorted((p.end - p.start) / NS_PER_S for p in pauses)
-        spread = max(
-            (max(p.start for p in stopped) - min(p.start for p in stopped)) / NS_PER_S for stopped, _, _ in run
-        )
+        spread = max((max(p.start for p in one.pauses) - min(p.start for p in one.pauses)) / NS_PER_S for one in run)
         every = len(first) == len(moving)
-        meanwhile, look = run[0][1], run[0][2]
+        meanwhile, look = run[0].meanwhile, run[0].look
         which = f"all {len(first)} moving edges" if every else f"{len(first)} of {len(moving)} moving edges"
         which = "both moving edges" if every and len(first) == 2 else which
         if len(run) > 1:
-            longest = max(run, key=lambda one: max(p.end - p.start for p in one[0]))
-            meanwhile = longest[1].replace(" for ", " for up to ", 1) if look == "nothing" else meanwhile
-            began = min(p.start for p in longest[0])
+            longest = max(run, key=lambda one: max(p.end - p.start for p in one.pauses))
+            meanwhile = longest.meanwhile.replace(" for ", " for up to ", 1) if look == "nothing" else meanwhile
+            began = min(p.start for p in longest.pauses)
             when = (
                 f"at once {len(run)} times (each time within {duration(spread)} of each other), the first from "
                 f"{scene.at(start)}" + (f", the longest from {scene.at(began)}" if began != start else "")

@@ -165,12 +165,17 @@ def _senders(scene: Scene, e: EdgeSamples, stamps: Int64Array, early: BoolArray)
     if len(e.authorities) < 2:
         return e.authorities, len(stamps)
     rows = scene.rows
-    for child, mine in rows.by_child(~rows.static):
-        if child == e.child:
-            theirs = mine[np.isin(rows.stamp[mine], stamps[early])]
-            sent = np.isin(rows.authority[mine], rows.authority[theirs]) & np.isin(rows.stamp[mine], stamps)
-            return scene.authorities_of(theirs), int(np.unique(rows.stamp[mine][sent]).size)
-    return e.authorities, len(stamps)
+    senders = []  # (the first row it sent of an early stamp, the publisher, its rows)
+    for publisher, own in rows.edge_publishers(e.parent, e.child):
+        theirs = own[np.isin(rows.stamp[own], stamps[early])]
+        if len(theirs):
+            senders.append((int(theirs[0]), publisher, own))
+    if not senders:
+        return e.authorities, len(stamps)
+    senders.sort(key=lambda s: s[0])
+    sent = rows.stamp[np.concatenate([own for _, _, own in senders])]
+    by = tuple(rows.authorities[publisher] for _, publisher, _ in senders)
+    return by, int(np.unique(sent[np.isin(sent, stamps)]).size)
 
 
 @register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")
