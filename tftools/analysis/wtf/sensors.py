@@ -38,19 +38,26 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             named = listed([f"'{f}'" + (f" (did you mean '{c[0]}'?)" if c else "") for f, c in close.items()], 3)
             message = f"{s.topic}: {unknown} of {s.messages} messages are in frame {named}, which no transform names"
             hint = _unknown_frame_hint(scene, missing, any(close.values()))
-        else:
-            message = (
-                f"{s.topic}: {apart} of {s.messages} messages are in {listed(list(s.frame_ids), 3)}, in a tree apart "
-                f"from {_target(scene)}"
+            yield Finding(
+                Severity.error,
+                "sensor_frame",
+                message,
+                hint + ": every tf lookup and MessageFilter on this data fails",
+                tuple(missing),
+                count=unknown + apart,
             )
-            hint = "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame)"
+            continue
+        # Frames tf knows, in a tree of their own: the recording's trees are apart (``disconnected``, which
+        # explains this); lookups within that tree work, only those into the target fail.
         yield Finding(
             Severity.error,
             "sensor_frame",
-            message,
-            hint + ": every tf lookup and MessageFilter on this data fails",
-            tuple(missing),
-            count=unknown + apart,
+            f"{s.topic}: {apart} of {s.messages} messages are in {listed(list(s.frame_ids), 3)}, in a tree apart "
+            f"from {_target(scene)}",
+            "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame): every "
+            f"lookup and MessageFilter of this data into {scene.sensors.target} fails (within its own tree they work)",
+            count=apart,
+            figures={"in_a_tree_apart": 1},
         )
 
 
