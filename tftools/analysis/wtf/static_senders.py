@@ -7,7 +7,10 @@ and metadata.yaml lists how many publishers /tf_static had when recording began,
 several, a message whose values differ from an earlier one's is taken for another publisher's. So is one
 that differs where both were sent long before the recording began: a late subscriber gets only the latest
 message of each static broadcaster (its history holds one, QoS depth 1), so two such messages are two
-publishers' (a real Neato's driver and robot_state_publisher, the second found after metadata.yaml listed one)."""
+publishers' (a real Neato's driver and robot_state_publisher, the second found after metadata.yaml listed one);
+so are two with the same values and other stamps (static_transform_publisher processes left running, each
+stamped at its start), and, where metadata.yaml lists more publishers than were told apart, one with another's
+values and other stamps."""
 
 from __future__ import annotations
 
