@@ -110,6 +110,11 @@ def _on_the_older_clock(cause: Finding, finding: Finding) -> bool:
     return abs(offset - older) < abs(offset - newer)
 
 
+def _in_a_tree_apart(cause: Finding, finding: Finding) -> bool:
+    """Sensor data in frames tf knows, but in a tree apart from the target: the recording's trees are apart."""
+    return finding.figures.get("in_a_tree_apart") == 1
+
+
 @dataclass(frozen=True)
 class Rule:
     """Findings of the codes ``follows`` follow from one of the codes ``causes`` when ``relates(cause, it)``."""
@@ -200,6 +205,13 @@ RULES = (
         _skipped,
         "links that tf puts under another parent than the description, skipping the same link, and that link's "
         "joint missing from tf: one layout of the links (tf skips a joint), not one problem per link",
+    ),
+    Rule(
+        frozenset({"disconnected"}),
+        frozenset({"sensor_frame"}),
+        _in_a_tree_apart,
+        "sensor data whose frames tf knows, in another tree than the frame it is checked in: the trees apart, "
+        "said once with the frames each holds; lookups of that data into the target fail because of it",
     ),
     Rule(
         frozenset({"stall"}),

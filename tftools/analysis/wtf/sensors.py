@@ -41,15 +41,17 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             unknown_by_frames.setdefault(missing, []).append((s.topic, unknown, apart, s.messages))
             odometry[missing] = odometry.get(missing, True) and _is_odometry(s.type)
             continue
+        # Frames tf knows, in a tree of their own: the recording's trees are apart (``disconnected``, which
+        # explains this); lookups within that tree work, only those into the target fail.
         yield Finding(
             Severity.error,
             "sensor_frame",
             f"{s.topic}: {apart} of {s.messages} messages are in {listed(list(s.frame_ids), 3)}, in a tree apart "
             f"from {_target(scene)}",
-            "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame): every tf "
-            "lookup and MessageFilter on this data fails",
-            missing,
+            "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame): every "
+            f"lookup and MessageFilter of this data into {scene.sensors.target} fails (within its own tree they work)",
             count=apart,
+            figures={"in_a_tree_apart": 1},
         )
     for missing, topics in unknown_by_frames.items():
         close = {f: difflib.get_close_matches(f, scene.buffer.frames, n=1, cutoff=0.6) for f in missing}

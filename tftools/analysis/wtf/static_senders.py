@@ -7,7 +7,10 @@ and metadata.yaml lists how many publishers /tf_static had when recording began,
 several, a message whose values differ from an earlier one's is taken for another publisher's. So is one
 that differs where both were sent long before the recording began: a late subscriber gets only the latest
 message of each static broadcaster (its history holds one, QoS depth 1), so two such messages are two
-publishers' (a real Neato's driver and robot_state_publisher, the second found after metadata.yaml listed one)."""
+publishers' (a real Neato's driver and robot_state_publisher, the second found after metadata.yaml listed one);
+so are two with the same values and other stamps (static_transform_publisher processes left running, each
+stamped at its start), and, where metadata.yaml lists more publishers than were told apart, one with another's
+values and other stamps."""
 
 from __future__ import annotations
 
@@ -88,6 +91,7 @@ class _Publisher:
     first: int
     evidence: str
     latched: bool  # its latest message was sent before the recording began (``LATCHED_BEFORE``)
+    stamps: tuple[int, int] = (0, 0)  # its latest message's earliest and latest stamps
 
 
 def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array, list[Sender]] | None:
@@ -102,29 +106,36 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
         if len(distinct) > MESSAGES_COMPARED:
             return None
     listed = {t: listed_publishers(scene, t) for t in scene.authorities_of(static)}
-    several = max((n or 0) for n in listed.values()) >= 2
+    listing = max((n or 0) for n in listed.values())
+    several = listing >= 2
     began = _recording_began(scene)
     publishers: list[_Publisher] = []
     chosen = np.empty(len(messages), np.int32)
     seen: dict[bytes, int] = {}
     for m in messages.in_arrival_order():
-        key = keys[m]
+        low, high = messages.stamps(m)
+        latched = began is not None and low > 0 and high <= began - LATCHED_BEFORE
+        # Sent before the recording began, a message reached the recorder from its publisher's history, which
+        # holds one: the same transforms with other stamps are another publisher's, not a re-send.
+        key = keys[m] + (messages.stamp_bytes(m) if latched else b"")
         if key in seen:  # the same transforms again: a re-send
             publishers[seen[key]].messages += 1
             chosen[m] = seen[key]
             continue
         edges = messages.transforms(m)
-        low, high = messages.stamps(m)
-        latched = began is not None and low > 0 and high <= began - LATCHED_BEFORE
-        earlier, evidence = _publisher_of(scene, publishers, edges, several, listed, latched)
+        # Where metadata.yaml lists more publishers than are told apart, the same values with other stamps
+        # are taken for one of those not yet heard, as where both were sent before the recording began.
+        held = latched or len(publishers) < listing
+        earlier, evidence = _publisher_of(scene, publishers, edges, several, listed, (held, low, high))
         if earlier is None:
-            publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence, latched))
+            publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence, latched, (low, high)))
             k = len(publishers) - 1
         else:
             k = earlier
             publishers[k].latest = edges
             publishers[k].messages += 1
             publishers[k].latched = latched
+            publishers[k].stamps = (low, high)
         seen[key] = k
         chosen[m] = k
     senders = [_sender(k, p) for k, p in enumerate(publishers, 1)]
@@ -137,24 +148,37 @@ def _publisher_of(
     edges: dict[tuple[int, int], bytes],
     several: bool,
     listed: dict[str, int | None],
-    latched: bool,
+    sent: tuple[bool, int, int],
 ) -> tuple[int | None, str]:
     """Which earlier publisher could have sent a message of ``edges`` (None: another), and if another, why.
     A publisher's next message holds every transform of its last; where metadata.yaml lists ``several``
-    publishers, or both messages were sent before the recording began (``latched``: a static broadcaster's
-    history holds one), one whose values differ from this message's is taken for another."""
+    publishers, or both messages were sent before the recording began (``sent``: whether it was, and its
+    earliest and latest stamps; a static broadcaster's history holds one), one whose values differ from this
+    message's is taken for another, and so, both sent before, is one with the same values and other stamps."""
+    latched, low, high = sent
     could: list[tuple[bool, int]] = []
     differ: list[int] = []
+    stamped: list[int] = []
     for k, p in enumerate(publishers):
         if not p.latest.keys() <= edges.keys():
             continue
         same = all(edges[e] == v for e, v in p.latest.items())
-        if same or not (several or (latched and p.latched)):
+        if same and latched and (p.latched or several) and p.stamps != (low, high):
+            stamped.append(k)
+        elif same or not (several or (latched and p.latched)):
             could.append((same, k))
         else:
             differ.append(k)
     if could:
         return max(could)[1], ""  # the same values first, then the latest
+    if stamped and not differ:
+        why = (
+            f"while metadata.yaml lists {max(n for n in listed.values() if n is not None)} publishers"
+            if several
+            else "both sent before the recording began: a late subscriber gets only the latest message of each "
+            "static broadcaster, whose history holds one"
+        )
+        return None, f"has publisher {stamped[-1] + 1}'s values with other stamps, {why}"
     overlapping = [k for k, p in enumerate(publishers) if p.latest.keys() & edges.keys()]
     if not overlapping:
         return None, ""
@@ -221,6 +245,10 @@ class _Messages:
 
     def arrival(self, k: int) -> int:
         return int(self._arrival[self._slice(k)].min())
+
+    def stamp_bytes(self, k: int) -> bytes:
+        """Message ``k``'s stamps, in its order."""
+        return self._stamp[self._slice(k)].tobytes()
 
     def stamps(self, k: int) -> tuple[int, int]:
         """Message ``k``'s earliest and latest stamps."""

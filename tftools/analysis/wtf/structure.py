@@ -326,11 +326,17 @@ def resent(scene: Scene) -> Iterator[Finding]:
 def _same_statics(scene: Scene, group: StaticShared) -> Finding:
     """Several publishers of the same static transforms, with the same values: harmless, one finding for them all."""
     agree = [edge(p, c) for p, c in group.agree]
+    senders = static_senders(scene)
+    told = next((s.evidence for s in (senders.senders[k] for k in group.senders) if s.evidence), "")
+    inferred = senders.inferred and told
+    apart = f". Told apart by their messages (the recording names none): one {told}" if inferred else ""
+    many = senders.inferred and len(group.names) > 2
+    who = f"{len(group.names)} /tf_static publishers (unnamed)" if many else and_joined(group.names)
     return scene.finding(
         Severity.info,
         "multiple_authorities",
-        f"{and_joined(group.names)} both send {counted(len(agree), 'static transform')}, with the same "
-        f"values: {listed(agree)}",
+        f"{who} {'both' if len(group.names) == 2 else 'all'} send {counted(len(agree), 'static transform')}, with "
+        f"the same values: {listed(agree)}{apart}",
         "fine: tf2 keeps one value per static transform, and here they are equal; one publisher is enough",
         tuple(dict.fromkeys(f for p, c in group.agree for f in (p, c))),
         group.rows,
