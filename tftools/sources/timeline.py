@@ -118,6 +118,27 @@ class Timeline:
             return None
         return seconds_since(self.origin, time)
 
+    def placed(self, time: int) -> tuple[float, int] | None:
+        """A ``time`` that ``since_origin`` cannot place, stamped on the clock of frames outside the tf span on
+        the same time base (a machine hours ahead of the recorder's, a replay a week behind), moved onto the
+        reference by how far their arrivals are from their stamps: (seconds from ``origin``, how far (ns) that
+        clock runs ahead of the origin's, negative where behind); None where no such frames' stamps hold it."""
+        if not figures.same_base(self.origin, time) or not self.edges:
+            return None
+        near = self.same_clock
+        groups = clock_groups(self.edges, near)
+        main = next((g for g in groups if any(self.tf_start <= e.median_stamp <= self.tf_end for e in g)), None)
+        if main is None:
+            return None
+        for group in groups:
+            if (
+                group is not main
+                and min(e.first_stamp for e in group) - near <= time <= max(e.last_stamp for e in group) + near
+            ):
+                ahead = main[0].offset_record - group[0].offset_record
+                return (time - ahead - self.origin) / NS_PER_S, ahead
+        return None
+
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
         """The tf span on the clock of the frames a question is about (``children``): the recording's
         (``tf_start``, ``tf_end``) where all of them are stamped within it or none tells its clock; else the
@@ -428,16 +449,29 @@ def _spanned(timeline: Timeline) -> Timeline:
 
 def _plausible(timeline: Timeline) -> tuple[int, int]:
     """The tf span of the frames on the reference clock (without one, of the most frames agreeing with one
-    another), where other frames are stamped on another clock: the full span otherwise."""
+    another), where other frames are stamped on another clock: the full span otherwise. Frames stamped further
+    ahead of the reference than ``same_clock`` are on it (from the future: ``off_reference`` leaves them in)
+    but out of the span where some frame keeps time with it: a machine 5.8 h ahead of the recorder's (the
+    SAIL vehicle's EKF beside its ZED) is no 5.8 h of the recording, and its stamps no ``+20881.5 s``."""
     edges = timeline.edges
     if timeline.reference is Reference.NONE:
         on = [e.child for e in main_cluster(edges, timeline.same_clock)] if edges else []
     else:
-        on = [e.child for e in edges if e.child not in timeline.off_reference]
+        against_clock = timeline.reference is Reference.CLOCK
+        following = [e for e in edges if e.child not in timeline.off_reference]
+        in_step = [e.child for e in following if _in_step(e, against_clock, timeline.same_clock)]
+        on = in_step or [e.child for e in following]
     if not on or len(on) == len(edges):
         return timeline.stamps_span
     chosen = [e for e in edges if e.child in set(on)]
     return min(e.first_stamp for e in chosen), max(e.last_stamp for e in chosen)
+
+
+def _in_step(edge: EdgeClock, against_clock: bool, same_clock: int) -> bool:
+    """Whether a frame's stamps keep time with the reference: neither behind it nor ahead by more than
+    ``same_clock``."""
+    offset = edge.offset(against_clock)
+    return offset is not None and abs(offset) <= same_clock
 
 
 def clock_groups(edges: Sequence[EdgeClock], same_clock: int) -> list[list[EdgeClock]]:
