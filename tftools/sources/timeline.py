@@ -67,6 +67,8 @@ class EdgeClock:
     reach_clock: int = 0  # the same against /clock at arrival
     bases: int = 1  # time bases its samples are on (``figures.time_base_of``); all but the main one left out
     last_record: int = 0  # its last arrival (record time): how long it has been silent (``figures.silence``)
+    # its samples on the other time bases: (first stamp, last stamp, record time minus stamp: the median)
+    elsewhere: tuple[tuple[int, int, int], ...] = ()
 
     def offset(self, against_clock: bool) -> int | None:
         """Arrival minus stamp against /clock or the record clock (None: never arrived under /clock)."""
@@ -130,12 +132,14 @@ class Timeline:
         main = next((g for g in groups if any(self.tf_start <= e.median_stamp <= self.tf_end for e in g)), None)
         if main is None:
             return None
-        for group in groups:
-            if (
-                group is not main
-                and min(e.first_stamp for e in group) - near <= time <= max(e.last_stamp for e in group) + near
-            ):
-                ahead = main[0].offset_record - group[0].offset_record
+        others = [g for g in groups if g is not main]
+        clocks = [
+            *((min(e.first_stamp for e in g), max(e.last_stamp for e in g), g[0].offset_record) for g in others),
+            *(other for e in self.edges for other in e.elsewhere),  # an edge's second publisher's clock
+        ]
+        for first, last, offset in clocks:
+            if first - near <= time <= last + near:
+                ahead = main[0].offset_record - offset
                 return (time - ahead - self.origin) / NS_PER_S, ahead
         return None
 
@@ -164,9 +168,16 @@ class Timeline:
         wall time), its own clock at the recording's end: where its ages count from. That is the newest stamp on
         that clock moved on by how long its frame has been silent (``figures.silence``), so that a replay's
         frame that stopped 2.5 s before the end is 2.5 s old, as the monitor's silence and wtf's ``stale`` say,
-        not as new as the last stamp its own clock had. Frames within the span are not listed."""
+        not as new as the last stamp its own clock had. Frames within the span are not listed, nor those on the
+        reference clock from the future (stamped hours ahead of it: their age is negative, and said so)."""
         near = self.same_clock
-        off = {e.child for e in self.edges if not self.tf_start - near <= e.median_stamp <= self.tf_end + near}
+        ahead = self.reference is not Reference.NONE
+        off = {
+            e.child
+            for e in self.edges
+            if not self.tf_start - near <= e.median_stamp <= self.tf_end + near
+            and not (ahead and e.child not in self.off_reference)
+        }
         if not off:
             return {}
         ends: dict[str, int] = {}
@@ -461,7 +472,7 @@ def _plausible(timeline: Timeline) -> tuple[int, int]:
         following = [e for e in edges if e.child not in timeline.off_reference]
         in_step = [e.child for e in following if _in_step(e, against_clock, timeline.same_clock)]
         on = in_step or [e.child for e in following]
-    if not on or len(on) == len(edges):
+    if not on or (len(on) == len(edges) and not any(e.elsewhere for e in edges)):
         return timeline.stamps_span
     chosen = [e for e in edges if e.child in set(on)]
     return min(e.first_stamp for e in chosen), max(e.last_stamp for e in chosen)
@@ -567,9 +578,14 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
     arrivals = len(stamps)  # all of them, on any base
     offsets, span = records - stamps, figures.record_span(records)
     bases = figures.time_bases(offsets, span)
+    elsewhere: list[tuple[int, int, int]] = []
     if bases > 1:
         base = figures.time_base_of(offsets, span)
-        mine = base == int(np.argmax(np.bincount(base)))
+        main = int(np.argmax(np.bincount(base)))
+        for other in sorted(set(base.tolist()) - {main}):
+            theirs = base == other
+            elsewhere.append((int(stamps[theirs].min()), int(stamps[theirs].max()), figures.median_ns(offsets[theirs])))
+        mine = base == main
         stamps, records, ros, known = stamps[mine], records[mine], ros[mine], known[mine]
     offset_clock = figures.median_ns(ros[known] - stamps[known]) if known.any() else None
     reach_clock = _reach(ros[known] - stamps[known]) if known.any() else 0
@@ -586,6 +602,7 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
         reach_clock,
         bases,
         int(records.max()),
+        tuple(elsewhere),
     )
 
 
