@@ -588,7 +588,7 @@ def stream_report(
     )
 
 
-def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array) -> float:
+def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | None = None) -> float:
     """The rate of ``edge``'s child frame where the messages stamped ``stamps`` wait for it (0 for none, or a
     static one): of its samples on their time base (``history_rate``), not a blend of two publishers' clocks."""
     hist = None if edge is None else buffer.history(edge[1])
