@@ -13,6 +13,8 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.fetch import Recording, load_manifest
+from tftools.analysis.report.recording import recording_facts
+from tftools.sources.recording import read_recording
 
 _, RECORDINGS = load_manifest()
 BY_ID = {r.id: r for r in RECORDINGS}
@@ -35,6 +37,10 @@ def test_every_time_a_finding_says_is_placed_on_the_recorders_clock(corpus: Corp
     assert "on a clock 5.8 h ahead of the recorder's: +0." in future["message"], future["message"]
     monitor = tfx("monitor", "-b", corpus(BY_ID[TWO_ODOMETRIES]))
     assert ": 15.882 s from 1653292991.243 to 1653293007.126" in monitor.stdout.splitlines()[0]
+    facts = dict(recording_facts(read_recording([corpus(BY_ID[TWO_ODOMETRIES])])))
+    assert facts["Clocks"].startswith(
+        "tf stamps on the record clock; but part of base_link, imu_link on a clock 5.8 h ahead"
+    )
 
 
 def test_the_imu_waits_at_the_rate_of_the_ekf_on_its_clock(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

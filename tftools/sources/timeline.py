@@ -125,23 +125,41 @@ class Timeline:
         the same time base (a machine hours ahead of the recorder's, a replay a week behind), moved onto the
         reference by how far their arrivals are from their stamps: (seconds from ``origin``, how far (ns) that
         clock runs ahead of the origin's, negative where behind); None where no such frames' stamps hold it."""
-        if not figures.same_base(self.origin, time) or not self.edges:
+        if not figures.same_base(self.origin, time):
             return None
         near = self.same_clock
-        groups = clock_groups(self.edges, near)
-        main = next((g for g in groups if any(self.tf_start <= e.median_stamp <= self.tf_end for e in g)), None)
-        if main is None:
-            return None
-        others = [g for g in groups if g is not main]
-        clocks = [
-            *((min(e.first_stamp for e in g), max(e.last_stamp for e in g), g[0].offset_record) for g in others),
-            *(other for e in self.edges for other in e.elsewhere),  # an edge's second publisher's clock
-        ]
-        for first, last, offset in clocks:
+        for _, first, last, ahead in self.other_clocks:
             if first - near <= time <= last + near:
-                ahead = main[0].offset_record - offset
                 return (time - ahead - self.origin) / NS_PER_S, ahead
         return None
+
+    @cached_property
+    def other_clocks(self) -> tuple[tuple[tuple[str, ...], int, int, int], ...]:
+        """The clocks of stamps outside the tf span, beside the span's own (``clock_groups``, and an edge's
+        second publisher's, ``EdgeClock.elsewhere``): the frames on each, its first and last stamp, and how far
+        (ns) it runs ahead of the span's clock, both against the record clock (negative where behind)."""
+        groups = clock_groups(self.edges, self.same_clock) if self.edges else []
+        main = next((g for g in groups if any(self.tf_start <= e.median_stamp <= self.tf_end for e in g)), None)
+        if main is None:
+            return ()
+        own = main[0].offset_record
+        return (
+            *(
+                (
+                    tuple(e.child for e in g),
+                    min(e.first_stamp for e in g),
+                    max(e.last_stamp for e in g),
+                    own - g[0].offset_record,
+                )
+                for g in groups
+                if g is not main
+            ),
+            *(
+                ((f"part of {e.child}",), first, last, own - offset)
+                for e in self.edges
+                for first, last, offset in e.elsewhere
+            ),
+        )
 
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
         """The tf span on the clock of the frames a question is about (``children``): the recording's
@@ -343,8 +361,24 @@ class Timeline:
             measured = "ages" if coarse else "delays and ages"
             return f"tf stamps on {self.clock.topic} (simulated time); {measured} measured against it{coarse}"
         if self.reference is Reference.RECORD:
-            return f"tf stamps on the record clock{coarse}"
+            return f"tf stamps on the record clock{coarse}{self._ahead()}"
         return self.reason
+
+    def _ahead(self) -> str:
+        """The frames stamped on a clock running ahead of the tf span's on its time base (off it by more than
+        ``same_clock``), said beside it: '; imu_link and base_link (a second publisher) on a clock 5.8 h ahead'."""
+        ahead = sorted(
+            (ahead, frames)
+            for frames, first, _, ahead in self.other_clocks
+            if ahead > self.same_clock and figures.same_base(first, self.origin)
+        )
+        clocks: list[tuple[int, list[str]]] = []  # one clock: within ``same_clock`` of the one before
+        for by, frames in ahead:
+            if not clocks or by - clocks[-1][0] > self.same_clock:
+                clocks.append((by, []))
+            clocks[-1][1].extend(frames)
+        said = [f"{', '.join(frames)} on a clock {duration(by / NS_PER_S)} ahead" for by, frames in clocks]
+        return f"; but {'; '.join(said)} (not in the tf stamps' span)" if said else ""
 
 
 class Playback:
