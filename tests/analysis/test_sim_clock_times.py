@@ -5,6 +5,8 @@ first and last times, while ``statics_early`` and the others give ROS time. The 
 
 from __future__ import annotations
 
+import numpy as np
+
 from tests.analysis.wtf_scenes import MS, SIM_START, START, recording, sim_clock, simulated
 from tftools.analysis.findings import Finding
 from tftools.analysis.wtf.fleet import check
@@ -39,3 +41,19 @@ def test_a_clock_pausing_is_timed_on_ros_time_and_its_length_on_the_record_clock
     stopped = SIM_START + 4 * NS_PER_S - 10 * MS  # its last reading before the pause (the simulation stood still)
     assert (paused.first_time, paused.last_time) == (stopped, stopped + 10 * MS), paused  # and its next one after
     assert "the longest for 3.0 s (record clock) from 103.990 (+4.0 s) in ROS time" in paused.message, paused.message
+
+
+def test_a_clock_pausing_before_any_tf_arrived_is_the_simulator_starting_not_a_pause() -> None:
+    """The roomba walker's Gazebo (corpus ros2-turtlebot3-gazebo-roomba-walker-clock-at-sim-start-2023-db3):
+    /clock 0.093 then 0.169 s, 1.02 s of record time apart, its first tf 33 ms after the second tick. Nothing
+    was stamped on that clock yet, so no lookup or timer waited: no warning. The same pause once tf flows is one."""
+    clock = sim_clock()
+    wall = clock.record_time - 2 * NS_PER_S  # /clock from 2 s before the first tf, silent 1 s of it
+    wall[wall < START - NS_PER_S // 2] -= NS_PER_S
+    started = ClockSamples(
+        clock.topic,
+        np.concatenate(([wall[0] - NS_PER_S], wall)),
+        np.concatenate(([clock.clock[0] - 10 * MS], clock.clock)),
+    )
+    assert not _sim_clock(started)
+    assert _sim_clock(_paused(4.0, 3.0))

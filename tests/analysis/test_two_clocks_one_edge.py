@@ -6,12 +6,19 @@ publishers' ``multiple_authorities``."""
 
 from __future__ import annotations
 
-from tests.analysis.wtf_scenes import MS, START, _t, healthy, periodic, recording
+import dataclasses
+
+import pytest
+
+from tests.analysis.wtf_scenes import MS, START, _t, healthy, periodic, recording, sensor
 from tests.bags import TfMessage
 from tftools.analysis.findings import Finding
+from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.render.filter import _advice
+from tftools.sources.contents import StampedMessages
 
 AHEAD = 5 * 3600 * NS_PER_S
 
@@ -54,3 +61,49 @@ def test_a_leading_slash_is_placed_when_it_arrived_not_at_a_stamp_hours_away() -
     late = TfMessage("/tf_static", START + 2 * MS, [_t("/base_link", "/gps", START + AHEAD, 0.01)], "/gps_tf")
     (slash,) = [f for f in check(recording(healthy(statics=[late]))).findings if f.code == "leading_slash"]
     assert START <= slash.first_time <= START + NS_PER_S, slash
+
+
+def test_a_time_on_the_clock_ahead_is_placed_on_the_recorders_never_hours_into_it() -> None:
+    """The EKF's jump and future times were '+20881.5 s' into a 15.8 s recording: the tf span took the clock
+    ahead for the recorder's. Now the span is the camera's, and a stamp of the EKF's says its clock and where
+    it falls on the recorder's."""
+    findings = _findings()
+    (jump,) = _of(findings, "jump")
+    (future,) = _of(findings, "future")
+    for finding in (jump, future):
+        assert "on a clock 5.0 h ahead of the recorder's: +" in finding.message, finding.message
+        assert "(+18" not in finding.message, finding.message
+    assert "on a clock 5.0 h ahead of the recorder's: +5.0 s)" in jump.message, jump.message
+
+
+def _imu_on_the_ekfs_clock() -> StampedMessages:
+    """An IMU on the EKF's machine, stamped on its clock at 50 Hz, arriving 5 ms later."""
+    data = sensor("/imu", "base_link", 50, 5 * MS)
+    return dataclasses.replace(data, stamp=data.stamp + AHEAD)
+
+
+def test_a_sensor_waits_at_the_rate_of_the_publisher_on_its_clock_not_both() -> None:
+    """odom -> base_link from the camera (100 Hz) and the EKF (30 Hz) on a clock 5 h ahead: a sensor stamped on
+    the EKF's clock meets the EKF's samples only; its wait is at their 30 Hz, not the two blended (130 Hz)."""
+    camera = periodic("/camera", 100, _camera)
+    ekf = periodic("/ekf", 30, _ekf_moving_with_a_gps_step, stamp=lambda t: t + AHEAD)
+    messages = healthy(ekf=sorted(camera + ekf, key=lambda m: m.record_time))
+    (stream,) = Scene(recording(messages), streams=[_imu_on_the_ekfs_clock()]).sensors.streams
+    assert stream.late_edge == ("odom", "base_link"), stream
+    assert stream.late_rate_hz == pytest.approx(30.0, abs=0.5), stream
+
+
+def test_a_sensor_stamped_hours_from_tf_is_told_to_sync_clocks_not_to_wait() -> None:
+    """A GPS on the EKF's machine while only the camera sends odom -> base_link (the SAIL bag recorded half an
+    hour later): every fix waits for a stamp tf never reaches. No wait or cache helps: the clocks differ."""
+    gps = dataclasses.replace(sensor("/fix", "base_link", 5, 5 * MS), topic="/fix")
+    gps = dataclasses.replace(gps, stamp=gps.stamp + AHEAD)
+    messages = healthy(ekf=periodic("/camera", 100, _camera))
+    scene = Scene(recording(messages), streams=[gps])
+    (stream,) = scene.sensors.streams
+    assert stream.clock_apart == pytest.approx(AHEAD, abs=NS_PER_S), stream
+    (lost,) = [f for f in findings_of(scene) if f.code == "sensor_lost"]
+    assert "stamped 5.0 h ahead of odom -> base_link's samples" in lost.message, lost.message
+    assert "chrony/NTP" in lost.hint and "no wait or cache" in lost.message, lost
+    assert "keep the tf it waits for publishing" not in _advice(stream)
+    assert "5.0 h ahead of tf's clock: sync the machines' clocks (chrony/NTP)" in _advice(stream)

@@ -11,6 +11,7 @@ from rich.text import Text
 
 from tftools.analysis.filter.fates import FilterReport, StreamReport
 from tftools.core.figures import KEEP, seconds, wait_in_words
+from tftools.core.time import NS_PER_S, duration
 from tftools.render import jsonl
 from tftools.render.escape import printable
 from tftools.render.fitted import Fitted, Paragraphs
@@ -107,10 +108,21 @@ _INSTEAD = {
 }
 
 
+def clocks_apart(apart: int) -> str:
+    """What keeps messages stamped ``apart`` ns from the tf they wait for: one clock, not a wait."""
+    side = "ahead of" if apart > 0 else "behind"
+    return (
+        f"it is stamped {duration(abs(apart) / NS_PER_S)} {side} tf's clock: sync the machines' clocks "
+        "(chrony/NTP) or stamp it with the clock tf is stamped on"
+    )
+
+
 def _advice(s: StreamReport) -> str:
     said = []
     if s.wait_needed is None:
         instead = _INSTEAD.get(max(s.reasons, key=lambda r: s.reasons[r]) if s.reasons else "")
+        if s.clock_apart:  # no wait or cache meets a stamp hours from tf's
+            instead = clocks_apart(s.clock_apart)
         if s.stamped_zero >= sum(s.reasons.values()):  # every one lost was stamped 0: said below, once
             instead = None
         said.append("no timeout can" + (f" ({instead})" if instead else ""))
@@ -140,7 +152,7 @@ def as_dict(report: FilterReport) -> dict[str, Any]:
 def _stream_dict(s: StreamReport) -> dict[str, Any]:
     """A stream's report, its durations in seconds (tuples become JSON lists)."""
     shown = dataclasses.asdict(s)
-    for name in ("wait", "late_by", "late_after", "wait_needed", "cache_needed", "tick"):
+    for name in ("wait", "late_by", "late_after", "wait_needed", "cache_needed", "tick", "clock_apart"):
         del shown[name]
     return {
         **{k: shown[k] for k in ("topic", "type", "frame_ids", "messages", "on_arrival", "later", "never")},
@@ -152,6 +164,7 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
         "late_after_s": seconds(s.late_after),
         "late_rate_hz": s.late_rate_hz,
         "late_unheld": s.late_unheld,
+        "clock_apart_s": seconds(s.clock_apart),
         "wait_needed_s": None if s.wait_needed is None else seconds(s.wait_needed),
         "queue_needed": s.queue_needed,
         "cache_needed_s": None if s.cache_needed is None else seconds(s.cache_needed),

@@ -67,6 +67,8 @@ class EdgeClock:
     reach_clock: int = 0  # the same against /clock at arrival
     bases: int = 1  # time bases its samples are on (``figures.time_base_of``); all but the main one left out
     last_record: int = 0  # its last arrival (record time): how long it has been silent (``figures.silence``)
+    # its samples on the other time bases: (first stamp, last stamp, record time minus stamp: the median)
+    elsewhere: tuple[tuple[int, int, int], ...] = ()
 
     def offset(self, against_clock: bool) -> int | None:
         """Arrival minus stamp against /clock or the record clock (None: never arrived under /clock)."""
@@ -118,6 +120,47 @@ class Timeline:
             return None
         return seconds_since(self.origin, time)
 
+    def placed(self, time: int) -> tuple[float, int] | None:
+        """A ``time`` that ``since_origin`` cannot place, stamped on the clock of frames outside the tf span on
+        the same time base (a machine hours ahead of the recorder's, a replay a week behind), moved onto the
+        reference by how far their arrivals are from their stamps: (seconds from ``origin``, how far (ns) that
+        clock runs ahead of the origin's, negative where behind); None where no such frames' stamps hold it."""
+        if not figures.same_base(self.origin, time):
+            return None
+        near = self.same_clock
+        for _, first, last, ahead in self.other_clocks:
+            if first - near <= time <= last + near:
+                return (time - ahead - self.origin) / NS_PER_S, ahead
+        return None
+
+    @cached_property
+    def other_clocks(self) -> tuple[tuple[tuple[str, ...], int, int, int], ...]:
+        """The clocks of stamps outside the tf span, beside the span's own (``clock_groups``, and an edge's
+        second publisher's, ``EdgeClock.elsewhere``): the frames on each, its first and last stamp, and how far
+        (ns) it runs ahead of the span's clock, both against the record clock (negative where behind)."""
+        groups = clock_groups(self.edges, self.same_clock) if self.edges else []
+        main = next((g for g in groups if any(self.tf_start <= e.median_stamp <= self.tf_end for e in g)), None)
+        if main is None:
+            return ()
+        own = main[0].offset_record
+        return (
+            *(
+                (
+                    tuple(e.child for e in g),
+                    min(e.first_stamp for e in g),
+                    max(e.last_stamp for e in g),
+                    own - g[0].offset_record,
+                )
+                for g in groups
+                if g is not main
+            ),
+            *(
+                ((f"part of {e.child}",), first, last, own - offset)
+                for e in self.edges
+                for first, last, offset in e.elsewhere
+            ),
+        )
+
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
         """The tf span on the clock of the frames a question is about (``children``): the recording's
         (``tf_start``, ``tf_end``) where all of them are stamped within it or none tells its clock; else the
@@ -143,9 +186,16 @@ class Timeline:
         wall time), its own clock at the recording's end: where its ages count from. That is the newest stamp on
         that clock moved on by how long its frame has been silent (``figures.silence``), so that a replay's
         frame that stopped 2.5 s before the end is 2.5 s old, as the monitor's silence and wtf's ``stale`` say,
-        not as new as the last stamp its own clock had. Frames within the span are not listed."""
+        not as new as the last stamp its own clock had. Frames within the span are not listed, nor those on the
+        reference clock from the future (stamped hours ahead of it: their age is negative, and said so)."""
         near = self.same_clock
-        off = {e.child for e in self.edges if not self.tf_start - near <= e.median_stamp <= self.tf_end + near}
+        ahead = self.reference is not Reference.NONE
+        off = {
+            e.child
+            for e in self.edges
+            if not self.tf_start - near <= e.median_stamp <= self.tf_end + near
+            and not (ahead and e.child not in self.off_reference)
+        }
         if not off:
             return {}
         ends: dict[str, int] = {}
@@ -311,8 +361,24 @@ class Timeline:
             measured = "ages" if coarse else "delays and ages"
             return f"tf stamps on {self.clock.topic} (simulated time); {measured} measured against it{coarse}"
         if self.reference is Reference.RECORD:
-            return f"tf stamps on the record clock{coarse}"
+            return f"tf stamps on the record clock{coarse}{self._ahead()}"
         return self.reason
+
+    def _ahead(self) -> str:
+        """The frames stamped on a clock running ahead of the tf span's on its time base (off it by more than
+        ``same_clock``), said beside it: '; imu_link and base_link (a second publisher) on a clock 5.8 h ahead'."""
+        ahead = sorted(
+            (ahead, frames)
+            for frames, first, _, ahead in self.other_clocks
+            if ahead > self.same_clock and figures.same_base(first, self.origin)
+        )
+        clocks: list[tuple[int, list[str]]] = []  # one clock: within ``same_clock`` of the one before
+        for by, frames in ahead:
+            if not clocks or by - clocks[-1][0] > self.same_clock:
+                clocks.append((by, []))
+            clocks[-1][1].extend(frames)
+        said = [f"{', '.join(frames)} on a clock {duration(by / NS_PER_S)} ahead" for by, frames in clocks]
+        return f"; but {'; '.join(said)} (not in the tf stamps' span)" if said else ""
 
 
 class Playback:
@@ -428,16 +494,29 @@ def _spanned(timeline: Timeline) -> Timeline:
 
 def _plausible(timeline: Timeline) -> tuple[int, int]:
     """The tf span of the frames on the reference clock (without one, of the most frames agreeing with one
-    another), where other frames are stamped on another clock: the full span otherwise."""
+    another), where other frames are stamped on another clock: the full span otherwise. Frames stamped further
+    ahead of the reference than ``same_clock`` are on it (from the future: ``off_reference`` leaves them in)
+    but out of the span where some frame keeps time with it: a machine 5.8 h ahead of the recorder's (the
+    SAIL vehicle's EKF beside its ZED) is no 5.8 h of the recording, and its stamps no ``+20881.5 s``."""
     edges = timeline.edges
     if timeline.reference is Reference.NONE:
         on = [e.child for e in main_cluster(edges, timeline.same_clock)] if edges else []
     else:
-        on = [e.child for e in edges if e.child not in timeline.off_reference]
-    if not on or len(on) == len(edges):
+        against_clock = timeline.reference is Reference.CLOCK
+        following = [e for e in edges if e.child not in timeline.off_reference]
+        in_step = [e.child for e in following if _in_step(e, against_clock, timeline.same_clock)]
+        on = in_step or [e.child for e in following]
+    if not on or (len(on) == len(edges) and not any(e.elsewhere for e in edges)):
         return timeline.stamps_span
     chosen = [e for e in edges if e.child in set(on)]
     return min(e.first_stamp for e in chosen), max(e.last_stamp for e in chosen)
+
+
+def _in_step(edge: EdgeClock, against_clock: bool, same_clock: int) -> bool:
+    """Whether a frame's stamps keep time with the reference: neither behind it nor ahead by more than
+    ``same_clock``."""
+    offset = edge.offset(against_clock)
+    return offset is not None and abs(offset) <= same_clock
 
 
 def clock_groups(edges: Sequence[EdgeClock], same_clock: int) -> list[list[EdgeClock]]:
@@ -533,9 +612,14 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
     arrivals = len(stamps)  # all of them, on any base
     offsets, span = records - stamps, figures.record_span(records)
     bases = figures.time_bases(offsets, span)
+    elsewhere: list[tuple[int, int, int]] = []
     if bases > 1:
         base = figures.time_base_of(offsets, span)
-        mine = base == int(np.argmax(np.bincount(base)))
+        main = int(np.argmax(np.bincount(base)))
+        for other in sorted(set(base.tolist()) - {main}):
+            theirs = base == other
+            elsewhere.append((int(stamps[theirs].min()), int(stamps[theirs].max()), figures.median_ns(offsets[theirs])))
+        mine = base == main
         stamps, records, ros, known = stamps[mine], records[mine], ros[mine], known[mine]
     offset_clock = figures.median_ns(ros[known] - stamps[known]) if known.any() else None
     reach_clock = _reach(ros[known] - stamps[known]) if known.any() else 0
@@ -552,6 +636,7 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
         reach_clock,
         bases,
         int(records.max()),
+        tuple(elsewhere),
     )
 
 

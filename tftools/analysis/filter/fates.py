@@ -40,10 +40,11 @@ from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_uniqu
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
-from tftools.core.figures import KEEP, seconds_in_words, silence_limit, wait_keeping
+from tftools.core.figures import KEEP, median_ns, record_span, same_base, seconds_in_words, silence_limit, wait_keeping
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
+from tftools.sources.timeline import SAME_CLOCK
 
 if TYPE_CHECKING:
     pass
@@ -499,6 +500,10 @@ class StreamReport:
     late_rate_hz: float = 0.0  # that edge's rate
     late_unheld: int = 0  # of the waits for that edge, those for its first transform (it had sent nothing yet)
     tick: int = 0  # the step of the clock the waits were read off (record times on /clock's ticks; 0: fine)
+    # How far (ns) the messages lost to tf are stamped ahead of the edge they were lost for, both against their
+    # arrival, where more than ``SAME_CLOCK`` (negative: behind): the sensor on another machine's clock, which no
+    # wait or cache bridges; 0 on one clock.
+    clock_apart: int = 0
 
     def wait_made_of(self) -> str:
         """What the wait for ``late_edge`` was made of, in words: how far its newest stamp was behind the
@@ -552,7 +557,8 @@ def stream_report(
     lags = lags[held]
     never = int(sum(counts[f] for f in LOST))
     later_mask = fates.fate == Fate.LATER
-    lost = [fates.edge[i] for i in np.flatnonzero(np.isin(fates.fate, TF_LOST)).tolist()]
+    lost_rows = np.flatnonzero(np.isin(fates.fate, TF_LOST))
+    lost = [fates.edge[i] for i in lost_rows.tolist()]
     return StreamReport(
         topic=stream.topic,
         type=stream.type,
@@ -566,7 +572,7 @@ def stream_report(
         late_edge=late_edge,
         late_by=float(np.median(lags)) if len(lags) else 0.0,
         late_after=float(np.median(afters)) if len(afters) else 0.0,
-        late_rate_hz=_rate(buffer, late_edge),
+        late_rate_hz=_rate(buffer, late_edge, stream.stamp[waited]),
         late_unheld=int((~held).sum()),
         tick=tick,
         wait_needed=_wait_needed(fates, stream),
@@ -576,15 +582,38 @@ def stream_report(
         dropped_by_queue=None if queue is None else int(never + (pushed_out(fates, stream, queue) & later_mask).sum()),
         undecided={Fate(code).reason: int(counts[code]) for code in UNDECIDED if counts[code]},
         lost_edge=_most(lost),
+        clock_apart=_clock_apart(buffer, _most(lost), stream, lost_rows),
         before_tf=int((fates.early() & np.isin(fates.fate, (*AGED, Fate.BEFORE_RECORDED_TF))).sum()),
         stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
     )
 
 
-def _rate(buffer: Buffer, edge: tuple[str, str] | None) -> float:
-    """The rate of ``edge``'s child frame (0 for none, or a static one)."""
+def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | None = None) -> float:
+    """The rate of ``edge``'s child frame where the messages stamped ``stamps`` wait for it (0 for none, or a
+    static one): of its samples on their time base (``history_rate``), not a blend of two publishers' clocks."""
     hist = None if edge is None else buffer.history(edge[1])
-    return 0.0 if hist is None else history_rate(hist)
+    return 0.0 if hist is None else history_rate(hist, stamps)
+
+
+def _clock_apart(buffer: Buffer, edge: tuple[str, str] | None, stream: StampedMessages, rows: IntpArray) -> int:
+    """How far (ns) messages ``rows`` are stamped ahead of ``edge``'s samples, each against its arrival (the
+    medians of stamp minus record time), where more than ``SAME_CLOCK`` and the time the edge's samples took to
+    arrive, on one time base (both from the epoch, or
+    neither): two machines' clocks, not a delay; else 0. Messages stamped 0 (unset) are no clock."""
+    hist = None if edge is None else buffer.history(edge[1])
+    rows = rows[stream.stamp[rows] > 0]
+    if hist is None or hist.static or not len(rows):
+        return 0
+    arrived, known = stream.record_time[rows], hist.record_times > 0
+    if not known.any() or (arrived <= 0).any():
+        return 0
+    stamps = stream.stamp[rows]
+    if not same_base(median_ns(stamps), median_ns(hist.stamps[known])):
+        return 0
+    records = hist.record_times[known]
+    apart = median_ns(stamps - arrived) - median_ns(hist.stamps[known] - records)
+    # further than the edge's samples took to arrive: no sample of the recording's tf is near their stamps
+    return apart if abs(apart) > max(SAME_CLOCK, record_span(records)) else 0
 
 
 def _most(edges: list[tuple[str, str] | None]) -> tuple[str, str] | None:

@@ -189,7 +189,7 @@ class Scene:
         (a stamp on another time base than the tf data's has none)."""
         since = self.timeline.since_origin(stamp)
         if since is None:
-            return f"{stamp / NS_PER_S:.3f}"
+            return f"{stamp / NS_PER_S:.3f}{self._elsewhere(stamp)}"
         if signed_seconds(since).startswith("-"):  # what was observed, not a negative offset that reads as an error
             return f"{stamp / NS_PER_S:.3f} ({signed_seconds(-since)[1:]} s before the first tf stamp)"
         return f"{stamp / NS_PER_S:.3f} ({signed_seconds(since)} s)"
@@ -197,7 +197,19 @@ class Scene:
     def rel(self, stamp: int) -> str:
         """Seconds into the tf data (``Timeline.origin``), or the absolute time on another time base."""
         since = self.timeline.since_origin(stamp)
-        return f"{signed_seconds(since)} s" if since is not None else f"at {stamp / NS_PER_S:.3f}"
+        return (
+            f"{signed_seconds(since)} s" if since is not None else f"at {stamp / NS_PER_S:.3f}{self._elsewhere(stamp)}"
+        )
+
+    def _elsewhere(self, stamp: int) -> str:
+        """Where a stamp on another clock than the tf span's falls in the recording (``Timeline.placed``):
+        " (on a clock 5.8 h ahead of the recorder's: +0.1 s)"; "" where the recording does not tell."""
+        placed = self.timeline.placed(stamp)
+        if placed is None:
+            return ""
+        since, ahead = placed
+        side = "ahead of" if ahead > 0 else "behind"
+        return f" (on a clock {duration(abs(ahead) / NS_PER_S)} {side} the recorder's: {signed_seconds(since)} s)"
 
     def ros_times(self, record_times: Sequence[int]) -> list[int]:
         """ROS time at the arrival of messages recorded at ``record_times``, 0 where unknown: the clock of a

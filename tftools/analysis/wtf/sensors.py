@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from tftools.analysis.filter.fates import TF_LOST
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, and_joined, base_name, edge, listed
+from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed
 from tftools.core.figures import KEEP, timeout_s, wait_in_words, within_in_words
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
@@ -202,17 +202,32 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
                 "began: no cache keeps those; record tf from before the sensor starts, or drop messages stamped "
                 "before tf starts"
             )
-        if s.reasons.get("needs_newer_tf"):
-            edge_ = edge(*s.lost_edge) if s.lost_edge else "tf"
+        edge_ = edge(*s.lost_edge) if s.lost_edge else "tf"
+        if s.clock_apart:  # observed: stamps hours from tf's, each against its arrival; no wait reaches them
+            side = "ahead of" if s.clock_apart > 0 else "behind"
+            why = [  # the one cause of them all, said instead of each fate's
+                f"{'all' if lost == s.messages else lost} stamped {duration(abs(s.clock_apart) / NS_PER_S)} {side} "
+                f"{edge_}'s samples, each against when it arrived: the sensor's stamps are on another clock than tf's, "
+                "so no wait or cache reaches them"
+            ]
+        elif s.reasons.get("needs_newer_tf"):
             why.append(f"{s.reasons['needs_newer_tf']} waiting for {edge_}, which stopped before reaching their stamps")
-        hint = (
-            "a MessageFilter drops these ('earlier than all the data in the transform cache'): set header.stamp to "
-            "when the data was measured, or start the tf publishers before this one"
-            if s.stamped_zero == lost
-            else "a MessageFilter drops these ('earlier than all the data in the transform cache'), or holds them "
-            "until its queue pushes them out: stamp the data when it was measured, and check the clocks and that "
-            "every tf publisher keeps publishing"
-        )
+        if s.clock_apart:
+            hint = (
+                f"tf2 compares stamps on one clock: sync the clocks of the sensor's and tf's machines (chrony/NTP), "
+                f"or stamp {s.topic} with the clock tf is stamped on"
+            )
+        elif s.stamped_zero == lost:
+            hint = (
+                "a MessageFilter drops these ('earlier than all the data in the transform cache'): set header.stamp "
+                "to when the data was measured, or start the tf publishers before this one"
+            )
+        else:
+            hint = (
+                "a MessageFilter drops these ('earlier than all the data in the transform cache'), or holds them "
+                "until its queue pushes them out: stamp the data when it was measured, and check the clocks and "
+                "that every tf publisher keeps publishing"
+            )
         yield Finding(
             Severity.warning,
             "sensor_lost",
