@@ -25,6 +25,28 @@ struct Wire {
     bool exact;  // nothing may follow the last field (ROS1)
 
     int64_t smallest() const { return 4 * seq + 8 + 4 + 4 + 56; }
+
+    // The same layout (the encapsulation aside, which is checked before a message is read).
+    bool same_layout(const Wire& w) const {
+        return big_endian == w.big_endian && origin == w.origin && align == w.align && seq == w.seq &&
+               signed_sec == w.signed_sec && nul == w.nul && exact == w.exact;
+    }
+};
+
+// The layouts of nearly every recording, whose messages are read with the wire's fields known at compile
+// time (ROS 2's little-endian CDR, ROS1): each field's alignment, byte order and header a constant, not
+// read and tested at every field. The 300 s robot's 258,007 transforms: 91.4M instructions to 75.3M
+// (ROS1), 94.4M to 86.6M (CDR). Any other wire is read as given.
+struct AnyLayout {
+    static Wire fixed(const Wire& given) { return given; }
+};
+struct CdrLittleLayout {
+    static constexpr Wire kWire{-1, false, 4, 8, false, true, true, false};
+    static Wire fixed(const Wire&) { return kWire; }
+};
+struct Ros1Layout {
+    static constexpr Wire kWire{-1, false, 0, 1, true, false, false, true};
+    static Wire fixed(const Wire&) { return kWire; }
 };
 
 // Why a message is not well-formed (tftools.sources.codecs.wire.Reason), with an offset in the
@@ -123,7 +145,8 @@ class NameIds {
 
     // The id of ``bytes`` among the names of ``rows``, where it is added when it is new; ``place``
     // says where it is (``Reader::place``): names of one place are tried first as the last one there.
-    int32_t find_or_add(std::string_view bytes, Rows& rows, uint64_t place) {
+    // Inlined: called from each layout's reader, the compiler would otherwise call it (+8M instructions).
+    __attribute__((always_inline)) int32_t find_or_add(std::string_view bytes, Rows& rows, uint64_t place) {
         int32_t& guess = guesses_[(place * 0x9E3779B97F4A7C15ull) >> (64 - kGuessBits)];
         // An id forgotten since may name another name now: its bytes are compared all the same.
         if (guess >= 0 && static_cast<size_t>(guess) < known_.size() &&
@@ -321,7 +344,10 @@ class Reader {
         }
         rows.room(count);  // as many as its bytes can hold: a count too large for them was refused above
         const size_t first = rows.message.size(), names = rows.name_start.size();
-        if (!transforms(id, count, c, rows)) return forget(rows, first, names);
+        const bool read = c.wire.same_layout(CdrLittleLayout::kWire) ? transforms<CdrLittleLayout>(id, count, c, rows)
+                          : c.wire.same_layout(Ros1Layout::kWire)    ? transforms<Ros1Layout>(id, count, c, rows)
+                                                                     : transforms<AnyLayout>(id, count, c, rows);
+        if (!read) return forget(rows, first, names);
         if (c.wire.exact && c.pos != c.end) {
             c.fail(TRAILING, c.pos - c.start, c.end - c.pos);
             return forget(rows, first, names);
@@ -347,8 +373,10 @@ class Reader {
     // The message's ``count`` transforms into ``rows`` (room made for them), counted there only when
     // every one is well-formed. Where the next name is (``place``): the message's count of transforms
     // and first name's id, and its position there.
+    template <typename Layout>
     bool transforms(int64_t id, uint64_t count, Cursor& cursor, Rows& rows) {
         Cursor c = cursor;  // a copy of its own, which neither a name's lookup nor a row written can change
+        c.wire = Layout::fixed(c.wire);  // a layout's constants, where it is one of them
         int64_t* const message = rows.message.tail();
         int64_t* const stamps = rows.stamp.tail();
         int32_t* const parents = rows.parent.tail();
@@ -379,7 +407,11 @@ class Reader {
             stamps[j] = stamp;
             parents[j] = frames[0];
             children[j] = frames[1];
-            for (int k = 0; k < 7; ++k) values[k] = c.f64(at + 8 * k);
+            if (c.wire.big_endian) {  // a little-endian wire's doubles are this machine's, copied as they are
+                for (int k = 0; k < 7; ++k) values[k] = c.f64(at + 8 * k);
+            } else {
+                std::memcpy(values, c.raw + at, 56);
+            }
         }
         rows.message.extend(count);
         rows.stamp.extend(count);
