@@ -201,3 +201,18 @@ def test_plus_s_through_the_replays_frame_counts_on_the_replays_clock(bag: Path,
     first_replayed = START - WEEK - 3 * MS
     assert at == first_replayed + 2 * NS_PER_S
     assert recording.buffer.lookup(target, "base_link", int(at)) is not None
+
+
+def test_echo_over_an_edge_on_two_clocks_leaves_out_the_time_between_them(bag: Path) -> None:
+    """`tfx echo map odom` on the real replay printed 603,917 lines a second apart, interpolated across the week
+    between the replay's clock and the live node's, in which map -> odom has no sample: it echoes each clock's
+    stretch, and nothing between."""
+    from tftools.analysis.echo import EchoQuery, echo_times
+
+    recording = read_recording([bag])
+    times = echo_times(recording.buffer, recording.timeline, EchoQuery(target="map", source="odom"))
+    replayed, live = times[times < START], times[times >= START]
+    assert len(replayed) == len(live) == SECONDS  # 19.95 s of stamps on each clock: 20 ticks a second apart
+    assert replayed[-1] - replayed[0] < SECONDS * NS_PER_S and live[-1] - live[0] < SECONDS * NS_PER_S
+    assert live[0] - replayed[-1] > WEEK - SECONDS * NS_PER_S  # the week between: no line
+    assert len(echo_times(recording.buffer, recording.timeline, EchoQuery(target="odom", source="base_link"))) == 20

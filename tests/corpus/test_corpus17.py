@@ -52,3 +52,12 @@ def test_two_descriptions_of_the_lasers_and_the_odometry_frame_are_told_so(corpu
     assert ("base_footprint", "base_link") not in constant and len(constant) == 3
     (odometry,) = [f for f in findings if f["code"] == "sensor_frame"]
     assert "'odom_enc' is the frame of odometry" in odometry["hint"] and "frame_id parameter" not in odometry["hint"]
+
+
+def test_filter_says_the_odometry_s_own_tf_is_not_published(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The same bag's /odom_enc through `tfx filter`: its advice says what wtf's hint says (one place,
+    ``targets.odometry_tf_unpublished``), not "publish its frame's transform, or fix the frame_id"."""
+    result = tfx("filter", "/odom_enc", "-b", corpus(BY_ID[AGV]))
+    text = " ".join(result.stdout.split())
+    assert "'odom_enc' is the frame of odometry (nav_msgs/Odometry)" in text
+    assert "fix the frame_id" not in text and result.code == 1

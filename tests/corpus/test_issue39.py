@@ -7,6 +7,7 @@ as the rest of the corpus tests do. ``/work/notes/issue39_audit.md`` lists which
 from __future__ import annotations
 
 import html
+import itertools
 import json
 import re
 import xml.etree.ElementTree as ElementTree
@@ -311,3 +312,21 @@ def test_two_calibrations_placing_a_frame_apart_is_beneath_their_static_conflict
     assert parents["box_base_model"]["cause"] == ""
     assert bag["summary"]["errors"] == 2 and bag["summary"]["explained"] == 1
     assert sorted(code for code, _ in _junit_failures(tfx, first, second)) == ["multiple_parents", "static_conflict"]
+
+
+RASPIMOUSE_REPLAY = "ros1-raspimouse-replayed-with-its-map-odom-beside-live-gmapping-2018-bag"
+
+
+def test_echo_of_an_edge_on_two_clocks_prints_no_line_between_them(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The raspimouse replay beside a live gmapping: map -> odom from the replay (stamped 2018-05-09) and from the
+    live node (2018-05-16). `tfx echo map odom` printed 603,917 lines, one a second across the week between the
+    two clocks, where map -> odom has no sample, taking 38 s: now each clock's stretch alone, one line a second."""
+    _, path = _recording(corpus, RASPIMOUSE_REPLAY)
+    result = tfx("echo", "map", "odom", "-b", path, "-f", "json")
+    assert result.code == 0, result.stderr
+    times = [json.loads(line)["time"] for line in result.stdout.splitlines()]
+    steps = [b - a for a, b in itertools.pairwise(times)]
+    assert 100 < len(times) < 120 and sum(step > 2 for step in steps) == 1  # one jump: from one clock to the other
+    monitor = json.loads(tfx("monitor", "-b", path, "-f", "json").stdout)
+    (edge,) = [e for e in monitor["edges"] if (e["parent"], e["child"]) == ("map", "odom")]
+    assert edge["first_stamp"] <= times[0] and times[-1] <= edge["last_stamp"]

@@ -8,6 +8,7 @@ import pytest
 from rich.console import Console
 
 from tftools.analysis.filter.fates import LOST, Fate, FilterReport, StreamReport
+from tftools.analysis.targets import odometry_tf_unpublished
 from tftools.core.time import NS_PER_S
 from tftools.render.filter import renderable
 
@@ -50,3 +51,19 @@ def test_messages_all_stamped_0_are_told_once_what_keeps_them() -> None:
     said = _said(dataclasses.replace(_lost("older_than_cache"), stamped_zero=5))
     assert "no timeout can, 5 stamped 0 arrived before their tf: no cache keeps them; set header.stamp" in said
     assert "when it was measured" not in said
+
+
+@pytest.mark.parametrize("msgtype", ["nav_msgs/Odometry", "nav_msgs/msg/Odometry"])
+def test_odometry_in_a_frame_no_transform_names_is_told_its_own_tf_is_not_published(msgtype: str) -> None:
+    """frand08/ramon_slam's cartographer bag: /odom_enc (nav_msgs/Odometry) in odom_enc, which nothing on tf
+    names. `tfx filter` said "publish its frame's transform, or fix the frame_id" where `tfx wtf` says the
+    odometry's own tf is not published: both say it in the same words."""
+    odometry = dataclasses.replace(_lost("unknown_frame", 427, 427), topic="/odom_enc", type=msgtype)
+    odometry = dataclasses.replace(odometry, frame_ids=("odom_enc",))
+    for width in (400, 80):
+        said = _said(odometry, width)
+        assert f"no timeout can ({' '.join(odometry_tf_unpublished(repr('odom_enc')).split())})" in said, said
+        assert "'odom_enc' is the frame of odometry" in said and "enable_odom_tf" in said
+        assert "fix the frame_id" not in said
+    sensor = dataclasses.replace(odometry, type="sensor_msgs/msg/LaserScan")
+    assert "no timeout can (publish its frame's transform, or fix the frame_id)" in _said(sensor)

@@ -23,6 +23,23 @@ def tied_to_tf(stream: StampedMessages) -> bool:
     return any(stream.frame_ids)
 
 
+def is_odometry(msgtype: str) -> bool:
+    """Whether ``msgtype`` is odometry's (nav_msgs/Odometry, nav_msgs/msg/Odometry in ROS 2)."""
+    return msgtype.rsplit("/", 1)[-1] == "Odometry"
+
+
+def odometry_tf_unpublished(named: str) -> str:
+    """Why odometry in frames ``named`` (worded: ``'odom_enc'``) no transform names is lost, and what to do:
+    its own transform is not on tf, not a mount to publish nor a frame_id to set (frand08/ramon_slam's
+    cartographer bag: /odom_enc in odom_enc, child base_footprint in the tree). ``tfx wtf``'s and ``tfx
+    filter``'s words for it."""
+    return (
+        f"{named} is the frame of odometry (nav_msgs/Odometry), and its transform to the robot (to the messages' "
+        "child_frame_id) is not on tf: turn on the odometry node's tf (e.g. a controller's enable_odom_tf, a "
+        "publish_tf parameter), or record it"
+    )
+
+
 def choose_target(tree: FrameTree, asked: str | None = None) -> tuple[str, str]:
     """The target frame and why it was chosen: ``asked`` where it is a frame of ``tree``, else
     ``default_target`` (saying that ``asked`` is not there: a fleet's robots may differ)."""

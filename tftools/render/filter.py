@@ -10,6 +10,7 @@ from rich.table import Table
 from rich.text import Text
 
 from tftools.analysis.filter.fates import FilterReport, StreamReport
+from tftools.analysis.targets import is_odometry, odometry_tf_unpublished
 from tftools.core.figures import KEEP, seconds, wait_in_words
 from tftools.core.time import NS_PER_S, duration
 from tftools.render import jsonl
@@ -120,7 +121,10 @@ def clocks_apart(apart: int) -> str:
 def _advice(s: StreamReport) -> str:
     said = []
     if s.wait_needed is None:
-        instead = _INSTEAD.get(max(s.reasons, key=lambda r: s.reasons[r]) if s.reasons else "")
+        most = max(s.reasons, key=lambda r: s.reasons[r]) if s.reasons else ""
+        instead = _INSTEAD.get(most)
+        if most == "unknown_frame" and is_odometry(s.type):  # its frame is its own tf's, not a mount's
+            instead = odometry_tf_unpublished(", ".join(repr(f) for f in s.frame_ids))
         if s.clock_apart:  # no wait or cache meets a stamp hours from tf's
             instead = clocks_apart(s.clock_apart)
         if s.stamped_zero >= sum(s.reasons.values()):  # every one lost was stamped 0: said below, once

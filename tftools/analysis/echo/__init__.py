@@ -20,6 +20,7 @@ from tftools.analysis.times import Offset, Stamp, TimeSpec, played_range, resolv
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import ExtrapolationError, TooManyLinesError, TransformError
+from tftools.core.figures import record_span, time_base_of
 from tftools.core.frames import frame_name
 from tftools.core.rotation import rpy_from_quat_many
 from tftools.core.time import NS_PER_S
@@ -297,8 +298,9 @@ def echo_times(buffer: Buffer, timeline: Timeline, query: EchoQuery) -> Int64Arr
     first, last = resolve_range(timeline, query.start, query.end, span, frames)
     if query.every:
         return sample_times(buffer, target, source, first, last)
-    echo_line_count(first, last, query.rate)
-    return ticks(first, last, query.rate)
+    stretches = one_clock_stretches(buffer, target, source, first, last) or [(first, last)]
+    echo_line_count(0, sum(end - start for start, end in stretches), query.rate)
+    return np.concatenate([ticks(start, end, query.rate) for start, end in stretches])
 
 
 def echo_line_count(first: int, last: int, rate: float) -> int:
@@ -320,6 +322,21 @@ def chain_span(buffer: Buffer, target: str, source: str) -> tuple[int, int] | No
     start = max(hist.oldest_stamp for hist in edges)
     end = min(hist.latest_stamp for hist in edges)
     return (start, end) if start <= end else None
+
+
+def one_clock_stretches(buffer: Buffer, target: str, source: str, first: int, last: int) -> list[tuple[int, int]]:
+    """The stretches of ``[first, last]`` where every moving edge between the frames has data on one of its time
+    bases (``figures.time_base_of``), in order: the whole where each is on one clock; none where no stretch is.
+    A replay's map -> odom a week behind a live gmapping's (ros1_raspimouse_replay_beside_live_gmapping_2018)
+    has no sample in the week between its two clocks: echo printed 603,917 lines interpolated across it."""
+    stretches = [(first, last)]
+    for hist in chain_moving_edges(buffer, target, source).values():
+        base = time_base_of(hist.stamps, record_span(hist.record_times))
+        if not base.any():
+            continue
+        spans = [(int(hist.stamps[base == b].min()), int(hist.stamps[base == b].max())) for b in range(base.max() + 1)]
+        stretches = [(max(a, c), min(b, d)) for a, b in stretches for c, d in spans if max(a, c) <= min(b, d)]
+    return sorted(stretches)
 
 
 def sample_times(buffer: Buffer, target: str, source: str, start: int, end: int) -> Int64Array:

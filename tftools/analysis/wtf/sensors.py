@@ -7,6 +7,7 @@ from collections.abc import Iterator
 
 from tftools.analysis.filter.fates import TF_LOST
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.targets import is_odometry, odometry_tf_unpublished
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed
 from tftools.core.figures import KEEP, timeout_s, wait_in_words, within_in_words
@@ -39,7 +40,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         missing = tuple(f for f in s.frame_ids if f and not scene.buffer.has_frame(frame_name(f)))
         if unknown:
             unknown_by_frames.setdefault(missing, []).append((s.topic, unknown, apart, s.messages))
-            odometry[missing] = odometry.get(missing, True) and _is_odometry(s.type)
+            odometry[missing] = odometry.get(missing, True) and is_odometry(s.type)
             continue
         # Frames tf knows, in a tree of their own: the recording's trees are apart (``disconnected``, which
         # explains this); lookups within that tree work, only those into the target fail.
@@ -71,10 +72,6 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             missing,
             count=sum(unknown + apart for _, unknown, apart, _ in topics),
         )
-
-
-def _is_odometry(msgtype: str) -> bool:
-    return msgtype.rsplit("/", 1)[-1] == "Odometry"
 
 
 def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: bool = False) -> str:
@@ -112,11 +109,7 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
     if odometry:
         # frand08/ramon_slam's cartographer_records/test5.bag: /odom_enc in odom_enc (child base_footprint, in the
         # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong
-        return (
-            f"no transform names it: {listed([repr(f) for f in missing], 3)} is the frame of odometry "
-            "(nav_msgs/Odometry), and its transform to the robot (to the messages' child_frame_id) is not on tf: "
-            "turn on the odometry node's tf (e.g. a controller's enable_odom_tf, a publish_tf parameter), or record it"
-        )
+        return "no transform names it: " + odometry_tf_unpublished(listed([repr(f) for f in missing], 3))
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
     named = {base_name(f) for f in missing}
