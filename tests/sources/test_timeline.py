@@ -66,6 +66,34 @@ def test_a_delay_read_off_a_ticking_clock_is_never_a_negative_one_its_steps_made
     assert coarse.delays_unavailable.startswith("ROS time at arrival is read off /clock, which ticks every 0.010 s")
 
 
+def test_a_device_on_the_record_clock_beside_a_simulation_on_a_coarse_clock_has_its_delays() -> None:
+    """ros2_db3_ias0220_gazebo_diff_cont_2025's shape: a simulated robot on a /clock ticking every 100 ms (its
+    delays unmeasurable) beside a real device stamped on the wall clock, recorded 0.4 ms after its stamps: the
+    device's delays are measured against its record times; the robot's stay unavailable, and the reason says
+    which frames are measured."""
+    ms = 10**6
+    wall, sim = START, 1400 * 10**9
+    clock = ClockSamples("/clock", wall + np.arange(100) * 100 * ms, sim + np.arange(100) * 100 * ms)
+    builder = BatchBuilder()
+    for i in range(200):
+        builder.add("odom", "base", sim + i * 34 * ms, (0, 0, 0), (0, 0, 0, 1), record_time=wall + i * 34 * ms + ms)
+    for i in range(90):
+        stamp = wall + i * 100 * ms + 7 * ms
+        builder.add("imu", "sonar", stamp, (0, 0, 0), (0, 0, 0, 1), record_time=stamp + 400_000)
+    buffer = Buffer(cache_time=None)
+    buffer.insert(builder.take())
+    timeline = timeline_of(buffer, clock, wall, wall + 9_900 * ms)
+    assert not timeline.delays_measured and timeline.record_clocked == {"sonar"} and timeline.delays_anywhere
+    device, robot = buffer.history("sonar"), buffer.history("base")
+    assert device is not None and robot is not None
+    assert timeline.delays("sonar", device.stamps, device.record_times, device.flags).tolist() == [400_000] * 90
+    assert len(timeline.delays("base", robot.stamps, robot.record_times, robot.flags)) == 0
+    assert timeline.delays_unavailable.endswith(
+        "those of sonar (stamped on the record clock) are measured against their record times"
+    )
+    assert timeline.record_window(sim + 1000 * ms, sim + 2000 * ms) == (wall + 1000 * ms, wall + 2100 * ms - 1)
+
+
 def test_seconds_since_the_origin_only_on_its_time_base() -> None:
     assert seconds_since(START, START + 1_500_000_000) == 1.5
     assert seconds_since(START, 0) is None and seconds_since(5 * 10**9, START) is None

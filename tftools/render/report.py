@@ -87,7 +87,7 @@ def recording_section(index: int, report: RecordingReport) -> Section:
             "step": report.bins.width / NS_PER_S,
             "count": report.bins.count,
         },
-        "delays": not report.delays_unavailable,  # else no delay is drawn, nor its axis
+        "delays": report.delays_shown,  # else no delay is drawn, nor its axis
         "edges": [_edge_data(report, report.edges[i], svg_ids) for i in rows],
         "findings": [_finding_data(report, i, rows, svg_ids, anchor) for i in range(len(report.findings))],
         "streams": [_stream_data(s) for s in report.streams],
@@ -204,7 +204,7 @@ def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str
         return '<h3>Timelines</h3><p class="none">No moving transforms: nothing changes over time.</p>'
     header = (
         f'<h3>Timelines</h3><p class="axis">Time in seconds from {_esc(format_sec(origin, 3))} (the stamps\' clock); '
-        f"rate in Hz{'' if report.delays_unavailable else ', delay in ms'}. Shaded: gaps; violet lines: re-parentings; "
+        f"rate in Hz{', delay in ms' if report.delays_shown else ''}. Shaded: gaps; violet lines: re-parentings; "
         f"red and orange: the errors' and warnings' times. "
         f'<button type="button" class="reset">Zoom out</button></p>'
     )
@@ -214,7 +214,7 @@ def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str
     parts = []
     for row, i in enumerate(rows):
         e = report.edges[i]
-        about = _edge_about(stats.get(e.key), delays_known=not report.delays_unavailable)
+        about = _edge_about(stats.get(e.key), delays_known=report.delays_shown)
         if e.at_arrival:
             about += "; placed at arrival: stamped on another clock"
         parts.append(

@@ -230,9 +230,48 @@ class Timeline:
         on = [e for e in self.edges if e.child not in self.off_reference]
         return max((e.reach_clock if against_clock else e.reach_record for e in on), default=0)
 
+    @cached_property
+    def record_clocked(self) -> frozenset[str]:
+        """The frames off a ``/clock`` reference whose stamps keep time with the record clock (a real device's
+        beside a simulation on /clock): each edge's delay is arrival minus stamp on its stamps' clock, so theirs
+        are measured against their record times, where those are no coarser than ``FINE_STEP``."""
+        if self.reference is not Reference.CLOCK or self.record_step > FINE_STEP or self.record_clock_void:
+            return frozenset()
+        return frozenset(
+            e.child for e in self.edges if e.child in self.off_reference and _in_step(e, False, self.same_clock)
+        )
+
+    def delays_measured_for(self, child: str) -> bool:
+        """Whether the delays of ``child``'s transforms can be measured: on the record clock beside a /clock
+        reference (``record_clocked``), else as ``delays_measured`` says."""
+        return child in self.record_clocked or self.delays_measured
+
+    def resolution_of(self, child: str) -> int:
+        """How coarse ROS time at arrival of ``child``'s transforms is (ns): ``resolution``, or the record
+        clock's where ``child`` is ``record_clocked``."""
+        return self.record_step if child in self.record_clocked else self.resolution
+
+    def record_window(self, start: int | None, end: int) -> tuple[int | None, int]:
+        """A window of ROS time at arrival read off /clock (``start`` None: open) as record times: those that
+        ``ros_time`` places in it (the inverse of ``clock_at``), for frames measured on the record clock
+        (``record_clocked``)."""
+        ticks = self.clock
+        after = int(np.searchsorted(ticks.clock, end, side="right"))
+        last = int(ticks.record_time[after]) - 1 if after < len(ticks) else self.record_end
+        if start is None:
+            return None, last
+        first = int(np.searchsorted(ticks.clock, start, side="left"))
+        return (int(ticks.record_time[first]) if first < len(ticks) else last + 1), last
+
+    @property
+    def delays_anywhere(self) -> bool:
+        """Whether some edge's delays can be measured (``delays_measured_for``)."""
+        return self.delays_measured or bool(self.record_clocked)
+
     @property
     def delays_unavailable(self) -> str:
-        """Why delays cannot be measured ("" where they can)."""
+        """Why delays cannot be measured ("" where they can); where some frames' can (``record_clocked``),
+        why the others' cannot, and which are measured."""
         if not self.available:
             return self.reason
         if self.delays_measured:
@@ -243,7 +282,11 @@ class Timeline:
             said = f"ROS time at arrival is read off {self.clock.topic or '/clock'}, which {ticks}"
         else:
             said = f"arrivals were timed by /clock (ROS time under use_sim_time), which {ticks}"
-        return f"{said}: delays shorter than that cannot be measured"
+        why = f"{said}: delays shorter than that cannot be measured"
+        if self.record_clocked:
+            frames = ", ".join(sorted(self.record_clocked))
+            why += f"; those of {frames} (stamped on the record clock) are measured against their record times"
+        return why
 
     @cached_property
     def off_reference(self) -> frozenset[str]:
@@ -302,12 +345,16 @@ class Timeline:
         self, child: str, record_times: Int64Array, flags: UInt8Array, stamps: Int64Array | None = None
     ) -> tuple[Int64Array, BoolArray]:
         """ROS time at arrival of transforms of ``child`` (``flags``: ``EdgeHistory.flags``), and which have a
-        delay: their arrival is known, the frame is on the reference clock, they came on /tf (a sample
+        delay: their arrival is known, the frame is on the reference clock (or ``record_clocked``: then its
+        record times are its arrivals), they came on /tf (a sample
         latched on /tf_static keeps an old stamp by design), and, given their ``stamps``, they are on the
         time base of the clock they arrived on (``figures.nearest_base``: not a replay's a week behind)."""
-        times, known = self.ros_time(record_times)
-        if child in self.off_reference:
-            return times, np.zeros(len(times), bool)
+        if child in self.record_clocked:
+            times, known = record_times, record_times > 0
+        else:
+            times, known = self.ros_time(record_times)
+            if child in self.off_reference:
+                return times, np.zeros(len(times), bool)
         measured = known & ((flags & FROM_STATIC_TOPIC) == 0)
         if stamps is not None and measured.any():
             span = figures.record_span(record_times[measured])
@@ -321,13 +368,13 @@ class Timeline:
     def delays_of(
         self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array
     ) -> tuple[Int64Array, BoolArray]:
-        """The delays (``figures.delays``, ROS time at arrival read off a clock as coarse as ``resolution``)
-        of the ``measurable`` transforms, and which those are; none where ``delays_measured`` is false
+        """The delays (``figures.delays``, ROS time at arrival read off a clock as coarse as ``resolution_of``)
+        of the ``measurable`` transforms, and which those are; none where ``delays_measured_for`` is false
         (``delays_unavailable`` says why)."""
-        if not self.delays_measured:
+        if not self.delays_measured_for(child):
             return np.zeros(0, np.int64), np.zeros(len(stamps), bool)
         times, measured = self.measurable(child, record_times, flags, stamps)
-        return figures.delays(times[measured], stamps[measured], self.resolution), measured
+        return figures.delays(times[measured], stamps[measured], self.resolution_of(child)), measured
 
     def played(self) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the

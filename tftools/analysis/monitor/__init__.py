@@ -198,8 +198,11 @@ def _chain_delay(
     The latest common stamp is a step function that changes only when a sample arrives,
     so the delay is a sawtooth: its integral and maximum are computed exactly per step.
     """
-    if not (timeline or ON_RECORD_CLOCK).delays_measured:
+    timeline = timeline or ON_RECORD_CLOCK
+    if not moving or not all(timeline.delays_measured_for(child) for _, child in moving):
         return math.nan, math.nan, None
+    if all(child in timeline.record_clocked for _, child in moving):  # arrivals on their record times
+        start, end = timeline.record_window(start, end)
     series = [_newest_stamps(buffer, edge, end, timeline) for edge in moving]
     if not series or any(len(records) == 0 for records, _ in series):
         return math.nan, math.nan, None
@@ -217,7 +220,9 @@ def _chain_delay(
         common[older], limiting[older] = known[older], index
     bounds = np.append(steps, end)
     rise = (bounds[:-1] - common).astype(np.float64), (bounds[1:] - common).astype(np.float64)
-    if (timeline or ON_RECORD_CLOCK).resolution:  # read off a ticking clock: behind a stamp by less than a step
+    if max(
+        timeline.resolution_of(child) for _, child in moving
+    ):  # read off a ticking clock: behind a stamp by less than a step
         rise = np.maximum(rise[0], 0.0), np.maximum(rise[1], 0.0)  # is no delay (``figures.delays``)
     integral = float(np.sum(rise[1] ** 2 - rise[0] ** 2)) / 2
     held = np.bincount(limiting, weights=np.diff(bounds).astype(float), minlength=len(series))

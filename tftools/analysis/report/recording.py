@@ -51,6 +51,7 @@ class RecordingReport:
     problems: tuple[str, ...] = ()  # what its reader could not read (also among the facts)
     # findings' times on another clock than the axis (``Timeline.since_origin``: a replay's, days behind)
     other_clock: frozenset[int] = frozenset()
+    delays_shown: bool = True  # some edge's delays are measured (``Timeline.delays_anywhere``): drawn where known
 
 
 def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> RecordingReport:
@@ -87,6 +88,7 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
         other_clock=frozenset(
             t for f in findings for t in (f.first_time, f.last_time) if t and timeline.since_origin(t) is None
         ),
+        delays_shown=timeline.delays_anywhere,
     )
 
 
