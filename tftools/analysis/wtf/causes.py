@@ -12,7 +12,7 @@ from tftools.analysis.findings import Finding, Severity
 def _on_its_frames(cause: Finding, finding: Finding) -> bool:
     """A finding about frames (a joint's link) that the cause found in dispute, or about a link whose
     static transform came in the disputed message that tf2 keeps (another description's: same arrival)."""
-    link = finding.frames[:2] if finding.code == "urdf_parent" else finding.frames  # its third: the description's
+    link = finding.frames[:-1] if finding.code == "urdf_parent" else finding.frames  # its last: the description's
     same_message = finding.code == "urdf_parent" and finding.first_time == cause.last_time != 0
     return bool(link) and (set(link) <= set(cause.frames) or same_message)
 
@@ -53,12 +53,11 @@ def _one_clock_ahead(first: Finding, finding: Finding) -> bool:
 
 
 def _skipped(link: Finding, finding: Finding) -> bool:
-    """Of a link that tf puts under another parent than the description (tf's, the link, the description's):
-    another such link with the same two parents, or the joint missing from tf between them (tf skips it)."""
-    if len(link.frames) != 3:
+    """Of links that tf puts under another parent than the description (tf's, the links, the description's):
+    the joint missing from tf between the two parents (tf skips it)."""
+    if len(link.frames) < 3:
         return False
-    skipped = (link.frames[0], link.frames[2])
-    return finding.frames == skipped or (len(finding.frames) == 3 and finding.frames[::2] == skipped)
+    return finding.frames == (link.frames[0], link.frames[-1])
 
 
 def edges_of(finding: Finding) -> set[tuple[str, str]]:
@@ -201,10 +200,10 @@ RULES = (
     ),
     Rule(
         frozenset({"urdf_parent"}),
-        frozenset({"urdf_parent", "urdf_missing"}),
+        frozenset({"urdf_missing"}),
         _skipped,
-        "links that tf puts under another parent than the description, skipping the same link, and that link's "
-        "joint missing from tf: one layout of the links (tf skips a joint), not one problem per link",
+        "links that tf puts under another parent than the description (one finding), skipping a link, and that "
+        "link's joint missing from tf: one layout of the links (tf skips a joint), not one problem per joint",
     ),
     Rule(
         frozenset({"disconnected"}),

@@ -19,7 +19,7 @@ from tftools.analysis.description import (
 )
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import declare, register
-from tftools.analysis.wtf.scene import Scene, listed
+from tftools.analysis.wtf.scene import Scene, and_joined, listed
 from tftools.core.rotation import Quat, Vec3, rpy_from_quat
 from tftools.sources.urdf import Joint
 
@@ -160,18 +160,27 @@ def _on(j: Joint, severity: Severity, code: str, message: str, hint: str, stamp:
     "a link under another parent on tf than in the description (with a robot description)",
 )
 def urdf_parent(scene: Scene) -> Iterator[Finding]:
-    """Frames: tf's parent, the link, the description's parent (the joint tf skips, if it lacks it); times:
-    when the /tf_static value tf2 keeps arrived (another description's message), if it is static."""
+    """Frames: tf's parent, the links, the description's parent (the joint tf skips, if it lacks it); times:
+    when the /tf_static value tf2 keeps arrived (another description's message), if one is static. The links
+    one parent holds on tf and another in the description are one finding: one layout (a diff-drive plugin
+    publishing both wheels under base_footprint), never one link explaining another."""
+    moved: dict[tuple[str, str], list[tuple[Robot, Joint, int]]] = {}
     for robot, c, j in _judged(scene, Verdict.parent):
         tf_parent = c.tf_parent or j.parent
-        sent = _kept_static_arrival(scene, tf_parent, j.child)
+        moved.setdefault((tf_parent, j.parent), []).append((robot, j, _kept_static_arrival(scene, tf_parent, j.child)))
+    for (tf_parent, parent), links in moved.items():
+        robot = links[0][0]
+        children = [j.child for _, j, _ in links]
+        sent = max(at for _, _, at in links)
+        said = f"link {children[0]} is a child" if len(links) == 1 else f"links {and_joined(children)} are children"
+        joints = ", ".join(_about(j) for _, j, _ in links)
         yield Finding(
             Severity.error,
             "urdf_parent",
-            f"link {j.child} is a child of {c.tf_parent} on tf, of {j.parent} in {_from(robot)} ({_about(j)})",
-            f"another node publishes {j.child} (a driver's own tf, a static_transform_publisher in a launch "
-            f"file): let {RSP} alone publish the robot's links, or fix the URDF",
-            frames=(tf_parent, j.child, j.parent),
+            f"{said} of {tf_parent} on tf, of {parent} in {_from(robot)} ({joints})",
+            f"another node publishes {and_joined(children)} (a driver's own tf, a simulator's plugin, a "
+            f"static_transform_publisher in a launch file): let {RSP} alone publish the robot's links, or fix the URDF",
+            frames=(tf_parent, *children, parent),
             first_time=sent,
             last_time=sent,
         )
