@@ -42,6 +42,20 @@ def _hint(kind: str, ros2: bool) -> str:
 
 
 _CONSEQUENCE = "; until then lookups combining these with other frames fail with extrapolation errors"
+_APART = (
+    "; these frames are a tree of their own, apart from the frames on the other clock (disconnected), so no "
+    "lookup combines the two clocks: lookups within each tree work"
+)
+
+
+def _consequence(scene: Scene, edges: Sequence[EdgeClock]) -> str:
+    """What the other clock does to lookups: those combining ``edges``' frames with the others fail, unless
+    they are a tree apart from every frame on the other clock (then no lookup combines the two)."""
+    root_of = {frame: root for root, members in scene.tree.trees().items() for frame in members}
+    theirs = {root_of.get(e.child) for e in edges}
+    mine = {e.child for e in edges}
+    others = {root_of.get(e.child) for e in scene.timeline.edges if e.child not in mine}
+    return _APART if others and None not in theirs | others and not theirs & others else _CONSEQUENCE
 
 
 @register("clock", Severity.error, "frames stamped on another clock than the others or /clock (use_sim_time)")
@@ -123,7 +137,7 @@ def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) 
         Severity.error,
         "clock",
         f"{listed([edge(_parent(scene, e.child), e.child) for e in edges], 4)}{scene.by(authorities)}: {said}",
-        _hint(kind, scene.ros2) + _CONSEQUENCE,
+        _hint(kind, scene.ros2) + _consequence(scene, edges),
         tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
         authorities,
         count=sum(e.arrivals for e in edges),
