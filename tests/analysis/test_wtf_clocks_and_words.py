@@ -381,3 +381,35 @@ def test_the_frames_on_the_reference_clock_are_said_to_follow_it(problem: str, s
     (found,) = [f for f in check(recording(PROBLEMS[problem].make())).findings if f.code == "clock"]
     assert re.search(said + r"[\w, ]+ follows?\)", found.message), found.message
     assert "clock and " not in found.message
+
+
+@pytest.mark.parametrize("apart", [False, True], ids=["one-tree", "trees-apart"])
+def test_the_clock_hint_says_what_lookups_do_where_the_other_clock_is_a_tree_apart(apart: bool) -> None:
+    """ros2_db3_ias0220_gazebo_diff_cont_2025's shape: a robot on simulated time beside a device on wall time in a
+    tree of its own. No lookup combines the two trees, so "lookups combining these with other frames fail" would
+    be untrue there: the hint says lookups within each tree work. Joined to the robot's tree, they do fail."""
+    arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - SIM_START) / NS_PER_S)], stamp=sim)
+    root = "imu_link" if apart else "base_link"
+    device = periodic("/imu", 10, lambda t: [_t(root, "sonar", t, yaw=(t - START) / NS_PER_S)])
+    findings = check(recording(sorted(arm + device, key=lambda m: m.record_time), ros1=False)).findings
+    (clock,) = [f for f in findings if f.code == "clock" and f.severity is Severity.error]
+    assert clock.frames == ("base_link", "arm")  # the record clock is the device's: the arm is on another
+    assert ("lookups within each tree work" in clock.hint) is apart, clock.hint
+    assert ("lookups combining these with other frames fail" in clock.hint) is not apart, clock.hint
+
+
+@pytest.mark.parametrize("first_on_tf_static", [True, False], ids=["kept-static", "dynamic"])
+def test_a_stamp_back_on_tf_of_a_frame_ros1_keeps_static_is_no_time_backwards(first_on_tf_static: bool) -> None:
+    """frand08/ramon_slam's cartographer bag: front_laser_link on /tf_static, then at 10 Hz on /tf with one stamp
+    0.1 s back. ROS 1's tf2 keeps the frame static (each /tf sample replaces its value for every time, no
+    TF_OLD_DATA: checked with Debian's tf2_py), so the order of its stamps matters to no lookup: no finding. The
+    same /tf samples of a dynamic frame (never on /tf_static) go into its time cache: the warning stands."""
+    mount = TfMessage("/tf_static", START + DELAY, [_t("base_link", "laser", START, 0.3)], "/rsp")
+    again = periodic("/laser_tf", 10, lambda t: [_t("base_link", "laser", t, 0.3)])
+    back = again[20]
+    earlier = back.transforms[0].stamp - 2 * NS_PER_S // 10
+    again[20] = TfMessage(back.topic, back.record_time, [_t("base_link", "laser", earlier, 0.3)], back.publisher)
+    messages = [mount, *again] if first_on_tf_static else again
+    rec = recording(sorted([*messages, *ekf()], key=lambda m: m.record_time), ros1=True)
+    backwards = [f for f in findings_of(Scene(rec)) if f.code == "time_backwards"]
+    assert [f.frames for f in backwards] == ([] if first_on_tf_static else [("base_link", "laser")]), backwards

@@ -357,8 +357,16 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     taking_turns = {child for _, child in inferred_edges(scene)}
     for child, mine in _streams(scene, rows.usable & ~rows.static):
-        if child not in taking_turns:
+        if child not in taking_turns and not _kept_static(scene, child):
             yield from _stamps_of(scene, child, mine)
+
+
+def _kept_static(scene: Scene, child: str) -> bool:
+    """A frame ROS 1's tf2 keeps static (first sent on /tf_static): each /tf sample replaces its value for every
+    time, whatever its stamp, logging neither TF_OLD_DATA nor TF_REPEATED_DATA, so the order of its stamps matters
+    to no lookup. ROS 2's tf2 replaces such a frame's cache with a dynamic one, where it does."""
+    hist = scene.buffer.history(child)
+    return scene.buffer.semantics == "ros1" and hist is not None and hist.static
 
 
 def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
