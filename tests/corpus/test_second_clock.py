@@ -1,0 +1,79 @@
+"""Defects issue 39's corpus helpers left, each on the real recording that showed it (designed reproductions:
+tests/sources/test_timeline.py, tests/analysis/test_causes.py, tests/analysis/test_wtf_clocks_and_words.py,
+tests/analysis/test_jumps_back.py): a device's delays on the record clock beside a simulation on a coarse
+/clock, two wheels one re-parenting, the clock hint where the trees are apart, and a ROS 1 frame kept static."""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus.fetch import Recording, load_manifest
+
+DIFF_CONT = "ros2-ias0220-gazebo-diff-drive-beside-imu-device-2025-db3"
+NO_CLOCK = "ros2-ias0220-gazebo-diff-drive-no-clock-2025-db3"
+AGV = "ros1-agv-two-lasers-mounts-on-tf-and-tf-static-replayed-2018-bag"
+DEVICE = ("imu_link", "ultrasound_distance_sensor")
+BY_ID = {r.id: r for r in load_manifest()[1] if r.id in (DIFF_CONT, NO_CLOCK, AGV)}
+Corpus = Callable[[Recording], Path]
+
+
+@pytest.mark.parametrize("recording_id", [DIFF_CONT, NO_CLOCK])
+def test_the_devices_wall_clock_delays_are_measured_with_or_without_clock(
+    recording_id: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The device's samples are recorded 0.1-1 ms after their wall-clock stamps: monitor and report say so whether
+    or not a /clock (ticking every 100 ms, the simulated robot's) was recorded beside them; the robot's delays
+    stay unavailable under that /clock."""
+    path = corpus(BY_ID[recording_id])
+    report = json.loads(tfx("monitor", *DEVICE, "-b", path, "--format", "json").stdout)
+    by_child = {e["child"]: e for e in report["edges"]}
+    device = by_child[DEVICE[1]]
+    assert 0.0 < device["delay_mean_s"] < 0.001 and 0.0 < device["delay_max_s"] <= 0.001, device
+    assert report["chain"]["delay_mean_s"] is not None and report["chain"]["delay_max_s"] < 0.51, report["chain"]
+    if recording_id == DIFF_CONT:
+        assert by_child["base_footprint"]["delay_mean_s"] is None
+        assert (
+            "those of ultrasound_distance_sensor (stamped on the record clock) are measured"
+            in report["delays_unavailable"]
+        )
+
+
+def test_the_report_draws_the_devices_delay(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
+    page = tmp_path / "diff_cont.html"
+    tfx("report", corpus(BY_ID[DIFF_CONT]), "-o", page)
+    text = page.read_text()
+    (about,) = re.findall(r"ultrasound_distance_sensor</b><small>([^<]*)", text)
+    assert re.search(r"delay 0\.\d ms \(max [01]\.\d\)", about), about
+
+
+def test_the_two_wheels_are_one_re_parenting_and_the_clock_hint_says_the_trees_are_apart(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """gazebo_ros' diff_drive plugin publishes both wheels under base_footprint (base_link in the URDF): one
+    finding naming both, neither explaining the other. The device's tree on the wall clock is apart from the
+    robot's on /clock: no lookup combines them, and the clock hint says so instead of lookups failing."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[DIFF_CONT]), "--format", "json").stdout)["bags"]
+    (parent,) = [f for f in bag["findings"] if f["code"] == "urdf_parent"]
+    assert set(parent["frames"]) == {"base_footprint", "left_wheel", "right_wheel", "base_link"}, parent
+    assert "left_wheel" in parent["message"] and "right_wheel" in parent["message"]
+    assert (parent["key"], parent["cause"]) == ("", ""), parent  # explains nothing, follows from nothing
+    (clock,) = [f for f in bag["findings"] if f["code"] == "clock" and f["severity"] == "error"]
+    assert "lookups within each tree work" in clock["hint"] and "fail with extrapolation" not in clock["hint"]
+
+
+def test_a_ros1_frame_kept_static_has_no_order_to_its_stamps(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """front_laser_link came first on /tf_static: ROS 1's tf2 keeps it static and each /tf sample replaces its
+    value for every time, so its one stamp 0.1 s back changes no lookup (no TF_OLD_DATA either). The depth
+    camera's optical frame, a dynamic frame, keeps its warning."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[AGV]), "--format", "json").stdout)["bags"]
+    backwards = [f for f in bag["findings"] if f["code"] == "time_backwards"]
+    assert [f["frames"][1] for f in backwards] == ["camera_floor_depth_optical_frame"], backwards
