@@ -304,15 +304,30 @@ class Timeline:
         """ROS time at arrival of transforms of ``child`` (``flags``: ``EdgeHistory.flags``), and which have a
         delay: their arrival is known, the frame is on the reference clock, they came on /tf (a sample
         latched on /tf_static keeps an old stamp by design), and, given their ``stamps``, they are on the
-        time base of the clock they arrived on (``figures.nearest_base``: not a replay's a week behind)."""
+        time base of the clock they arrived on (``figures.nearest_base``: not a replay's a week behind) and not
+        stamped on a clock running ahead of it (``figures.clocks_apart``: a machine 5.8 h ahead)."""
         times, known = self.ros_time(record_times)
         if child in self.off_reference:
             return times, np.zeros(len(times), bool)
         measured = known & ((flags & FROM_STATIC_TOPIC) == 0)
         if stamps is not None and measured.any():
+            read = times[measured] - stamps[measured]
             span = figures.record_span(record_times[measured])
-            measured[measured] = figures.nearest_base(times[measured] - stamps[measured], span)
+            measured[measured] = figures.nearest_base(read, span) & ~figures.clocks_apart(read, self.same_clock)
         return times, measured
+
+    def apart(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> int:
+        """How far (ns, the median) the stamps of ``child``'s transforms run ahead of the clock that timed their
+        arrival, where none of them has a delay for that (``figures.clocks_apart``); 0 where some have one, or
+        none is on a clock ahead."""
+        times, measured = self.measurable(child, record_times, flags, stamps)
+        if measured.any() or not self.delays_measured:
+            return 0
+        times, known = self.ros_time(record_times)
+        arrived = known & ((flags & FROM_STATIC_TOPIC) == 0)
+        read = times[arrived] - stamps[arrived]
+        apart = read[figures.clocks_apart(read, self.same_clock)]
+        return -figures.median_ns(apart) if len(apart) else 0
 
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
         """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms (``delays_of``)."""
