@@ -120,18 +120,29 @@ class Timeline:
             return None
         return seconds_since(self.origin, time)
 
-    def placed(self, time: int) -> tuple[float, int] | None:
+    def placed(self, time: int, recorded: int = 0) -> tuple[float, int] | None:
         """A ``time`` that ``since_origin`` cannot place, stamped on the clock of frames outside the tf span on
         the same time base (a machine hours ahead of the recorder's, a replay a week behind), moved onto the
-        reference by how far their arrivals are from their stamps: (seconds from ``origin``, how far (ns) that
-        clock runs ahead of the origin's, negative where behind); None where no such frames' stamps hold it."""
+        reference: by the arrival of the one sample stamped so where its record time ``recorded`` is known
+        and placed (the EKF's first sample arrived at +0.1 s), else by how far their arrivals are from their
+        stamps, the median: (seconds from ``origin``, how far (ns) that clock runs ahead of the origin's,
+        negative where behind); None where no such frames' stamps hold it."""
         if not figures.same_base(self.origin, time):
             return None
         near = self.same_clock
         for _, first, last, ahead in self.other_clocks:
             if first - near <= time <= last + near:
-                return (time - ahead - self.origin) / NS_PER_S, ahead
+                arrived = self._arrived(recorded)
+                return (time - ahead - self.origin) / NS_PER_S if arrived is None else arrived, ahead
         return None
+
+    def _arrived(self, recorded: int) -> float | None:
+        """Seconds from ``origin`` to ROS time at the arrival of a message recorded at ``recorded`` (None: unknown,
+        or no moment of the recording)."""
+        if recorded <= 0:
+            return None
+        ros, known = self.ros_time(np.array([recorded], np.int64))
+        return self.since_origin(int(ros[0])) if known[0] else None
 
     @cached_property
     def other_clocks(self) -> tuple[tuple[tuple[str, ...], int, int, int], ...]:

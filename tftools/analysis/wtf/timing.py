@@ -149,7 +149,7 @@ def future(scene: Scene) -> Iterator[Finding]:
                 "future",
                 f"{edge(*e.key)}{scene.by(by)}: {int(early.sum())} of {transforms(sent)} "
                 f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, the first stamped "
-                f"{scene.at(first)}",
+                f"{scene.at(first, e.recorded_at(first))}",
                 "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates "
                 f"its transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's "
                 "transform_tolerance): listeners then take them for the newest data and lookups at the present "
