@@ -172,4 +172,5 @@ def test_one_sample_on_the_clock_ahead_is_placed_by_its_own_arrival() -> None:
     rec = recording(healthy(ekf=sorted(camera + ekf, key=lambda m: m.record_time)))
     (future,) = _of(check(rec).findings, "future")
     assert "the first stamped 1700018000.000 (on a clock 5.0 h ahead of the recorder's: +0.3 s)" in future.message
-    assert rec.timeline.placed(START + AHEAD) == (pytest.approx(0.0, abs=0.001), pytest.approx(AHEAD, abs=3 * MS))
+    placed = rec.timeline.placed(START + AHEAD)  # no arrival given: by the median, the stamp at the origin
+    assert placed is not None and abs(placed[0]) < 0.001 and abs(placed[1] - AHEAD) < 3 * MS, placed
