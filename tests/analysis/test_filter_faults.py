@@ -101,6 +101,20 @@ def test_no_cache_is_suggested_for_messages_stamped_before_their_chains_tf_began
     assert "20 stamped before tf began: no cache keeps them" in " ".join(_text(whole).split())
 
 
+def test_messages_stamped_before_the_first_tf_anyone_sent_are_said_to_predate_tf() -> None:
+    """The walker's (ros2_db3_tb3_roomba_walker_tarunreddyy_2023) 6 IMU messages stamped 0.173-0.198 s, recorded
+    before the simulation's first tf (0.202 s) arrived: the recorder was listening and no tf existed yet, so
+    'record tf from before the sensor' asked for what never was. Messages recorded after tf began keep it."""
+    early = [(T0 - 20 * MS + i * 5 * MS, "laser", T0 - 50 * MS + i * 5 * MS) for i in range(6)]  # before tf
+    later = [(T0 + 300 * MS + i * 20 * MS, "laser", T0 + 270 * MS + i * 20 * MS) for i in range(20)]
+    report = filter_streams(_buffer(_base()), [_stream(early + later)], FilterQuery(target="odom"))
+    (stream,) = report.streams
+    assert (stream.before_tf, stream.before_any_tf) == (6, True), stream
+    text = " ".join(_text(report).split())
+    assert "6 stamped before the first tf anyone published: the sensor started before tf" in text, text
+    assert "record tf from before the sensor" not in text, text
+
+
 def test_the_waiters_of_a_tf_publisher_that_died_never_pass() -> None:
     """Fault B: odom -> base_dead stops 10 s into a 30 s recording (/scan_dead); a scan waiting for it is
     lost. Only an edge still publishing at the end leaves its last waiters undecided."""

@@ -7,17 +7,20 @@ publishers' ``multiple_authorities``."""
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import pytest
 
 from tests.analysis.wtf_scenes import MS, START, _t, healthy, periodic, recording, sensor
 from tests.bags import TfMessage
 from tftools.analysis.findings import Finding
+from tftools.analysis.monitor import MonitorQuery, monitor
 from tftools.analysis.wtf import Scene, findings_of
 from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.render.filter import _advice
+from tftools.render.monitor import as_dict
 from tftools.sources.contents import StampedMessages
 
 AHEAD = 5 * 3600 * NS_PER_S
@@ -107,3 +110,67 @@ def test_a_sensor_stamped_hours_from_tf_is_told_to_sync_clocks_not_to_wait() -> 
     assert "chrony/NTP" in lost.hint and "no wait or cache" in lost.message, lost
     assert "keep the tf it waits for publishing" not in _advice(stream)
     assert "5.0 h ahead of tf's clock: sync the machines' clocks (chrony/NTP)" in _advice(stream)
+
+
+def _imu_broadcaster_ahead() -> list[TfMessage]:
+    """An IMU's plane -> imu_link broadcast from the EKF's machine, alone on its edge, stamped 5 h ahead."""
+    return periodic("/imu_tf", 50, lambda stamp: [_t("plane", "imu_link", stamp)], stamp=lambda t: t + AHEAD)
+
+
+def test_a_delay_across_two_clocks_is_said_not_measurable_never_minus_five_hours() -> None:
+    """monitor showed 'Average Delay -20881.49 s' for the SAIL IMU's edge: arrival on the recorder's clock minus
+    a stamp on a machine's 5.8 h ahead is how far the clocks are apart, not a delay."""
+    rec = recording(healthy(wheels=_imu_broadcaster_ahead()))
+    report = monitor(rec, MonitorQuery())
+    (imu,) = [e for e in report.edges if e.child == "imu_link"]
+    assert math.isnan(imu.delay_mean) and abs(imu.apart - AHEAD) < 10 * MS, imu
+    (base,) = [e for e in report.edges if e.child == "base_link"]
+    assert not math.isnan(base.delay_mean) and base.apart == 0, base  # the recorder's own clock: a delay
+    said = as_dict(report)
+    (shown,) = [e for e in said["edges"] if e["child"] == "imu_link"]
+    assert math.isnan(shown["delay_mean_s"]) and shown["delay_unmeasurable"] == "not measurable (clock apart by 5.0 h)"
+    (publisher,) = [a for a in said["authorities"] if a["authority"] == "/imu_tf"]
+    assert publisher["delay_unmeasurable"] == "not measurable (clock apart by 5.0 h)", publisher
+    assert all(a["delay_unmeasurable"] is None for a in said["authorities"] if a["authority"] != "/imu_tf")
+
+
+def _camera_resending(stamp: int) -> list[Transform]:
+    """The camera's odom -> base_link and map -> odom, each stamp sent twice: the second time computed again,
+    7e-12 m off (a double's last bits), as the SAIL ZED re-sends."""
+    return [_t("map", "odom", stamp, 1.25), _t("map", "odom", stamp, 1.25 + 7e-12), *_camera(stamp)]
+
+
+def _backwards(findings: list[Finding], child: str) -> list[Finding]:
+    return [f for f in findings if f.code == "time_backwards" and f.frames[1] == child]
+
+
+def test_a_stamp_resent_with_its_value_computed_again_is_an_identical_copy() -> None:
+    """ROS 1's tf2 ignores each copy (TF_REPEATED_DATA): a value 7e-12 m off is no update lost."""
+    camera = periodic("/camera", 100, _camera_resending)
+    (again,) = _backwards(check(recording(healthy(ekf=camera, amcl=[]))).findings, "odom")
+    assert "sent 1000 transforms again with a stamp and values it had already sent" in again.message, again.message
+
+
+def test_repeats_tf2_refuses_as_old_beside_a_clock_ahead_are_not_time_backwards() -> None:
+    """The SAIL ZED's re-sent odom -> base_link stamps: once the EKF's sample 5.8 h ahead is in, ROS 1's tf2
+    refuses each of the ZED's as too old (TF_OLD_DATA), before it would see a repeat; multiple_authorities says
+    that. Its map -> odom, alone on its edge, repeats (TF_REPEATED_DATA)."""
+    camera = periodic("/camera", 100, lambda stamp: [*_camera(stamp), *_camera(stamp)], start=0.1)
+    ekf = periodic("/ekf", 30, _ekf_moving_with_a_gps_step, stamp=lambda t: t + AHEAD)
+    findings = check(recording(healthy(ekf=sorted(camera + ekf, key=lambda m: m.record_time)))).findings
+    assert not _backwards(findings, "base_link"), _backwards(findings, "base_link")
+    assert _of(findings, "multiple_authorities")
+
+
+def test_one_sample_on_the_clock_ahead_is_placed_by_its_own_arrival() -> None:
+    """The SAIL EKF's first sample read '+0.0 s' (its stamp moved by the median arrival offset) though it arrived
+    at +0.1 s: a finding about one sample places it where that sample arrived; the median only places a stamp
+    no arrival tells."""
+    camera = periodic("/camera", 100, _camera)
+    ekf = periodic("/ekf", 30, _ekf_moving_with_a_gps_step, stamp=lambda t: t + AHEAD)
+    ekf[0] = dataclasses.replace(ekf[0], record_time=ekf[0].record_time + 300 * MS)  # it arrived 0.3 s late
+    rec = recording(healthy(ekf=sorted(camera + ekf, key=lambda m: m.record_time)))
+    (future,) = _of(check(rec).findings, "future")
+    assert "the first stamped 1700018000.000 (on a clock 5.0 h ahead of the recorder's: +0.3 s)" in future.message
+    placed = rec.timeline.placed(START + AHEAD)  # no arrival given: by the median, the stamp at the origin
+    assert placed is not None and abs(placed[0]) < 0.001 and abs(placed[1] - AHEAD) < 3 * MS, placed

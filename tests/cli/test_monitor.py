@@ -26,7 +26,7 @@ STATIC = {"base_link", "laser", "imu_link", "camera_link", "camera_optical_frame
 PUBLISHER_RATES = {"/amcl": 10, "/ekf_localization": 50, "/robot_state_publisher": 30, "/arm/robot_state_publisher": 50}
 
 EDGE_KEYS = {"parent", "child", "authorities", "count", "rate_hz", "jitter_s", "gap_max_s", "gap_start", "silent_s",
-             "delay_mean_s", "delay_max_s", "static", "first_stamp", "last_stamp"}  # fmt: skip
+             "delay_mean_s", "delay_max_s", "delay_unmeasurable", "static", "first_stamp", "last_stamp"}  # fmt: skip
 SAMPLES = list(SAMPLE_BAGS)
 MS_NS = 1_000_000
 
@@ -63,7 +63,10 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
         else:
             assert all(isinstance(edge[k], float) for k in ("rate_hz", "jitter_s", "gap_max_s", "delay_mean_s"))
     for authority in doc["authorities"]:
-        assert set(authority) == {"authority", "messages", "rate_hz", "delay_mean_s", "delay_max_s", "edges"}
+        assert set(authority) == {
+            "authority", "messages", "rate_hz", "delay_mean_s", "delay_max_s", "delay_unmeasurable", "edges"
+        }  # fmt: skip
+        assert authority["delay_unmeasurable"] is None  # one clock: every delay measured
     chain = doc["chain"]
     assert chain["frames"][0] == "gripper" and chain["frames"][-1] == "map" and len(chain["frames"]) == 12
     assert [e["child"] for e in chain["edges"]] == chain["frames"][:-1]

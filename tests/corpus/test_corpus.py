@@ -417,7 +417,9 @@ def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx
         assert sum(timeline["samples"]) == e["count"], name
         delays = [(d, n) for d, n in zip(timeline["delayMean"], timeline["samples"], strict=True) if d is not None]
         if e["delay_mean_s"] is None:
-            assert not delays and "delay" not in line, name  # no delay in one command is no delay in the others
+            assert not delays, name  # no delay in one command is no delay in the others, nor its reason
+            reason = f"delay {e['delay_unmeasurable']}" if e["delay_unmeasurable"] else None
+            assert (reason in line) if reason else "delay" not in line, (line, reason)
         else:
             assert f"delay {e['delay_mean_s'] * 1000:.1f} ms (max {e['delay_max_s'] * 1000:.1f})" in line, line
             if sum(n for _, n in delays) == e["count"]:  # every sample has a delay: the bins' mean is the mean

@@ -39,6 +39,7 @@ UR5 = "ros2-ur5-two-clocks-topic-tf-2023-db3"
 SLAM_TOOLBOX = "ros2-jetacker-gazebo-slam-toolbox-static-map-2025-db3"
 FRANKA_JSON = "json-mcap-franka-teleop-2025"
 BOAT = "ros2-stinger-boat-gps-into-odom-2025-db3"
+WALKER_AT_SIM_START = "ros2-turtlebot3-gazebo-roomba-walker-clock-at-sim-start-2023-db3"
 LAP = "ros2-turtlebot3-real-wifi-outage-2025-db3"
 WAFFLE_NO_TF = "turtlebot3-waffle-odom-statics-2017-bag"
 EMPTY_TF_STATIC = "ros2-turtlebot3-gazebo-amcl-empty-tf-static-2023-db3"
@@ -294,7 +295,8 @@ def test_filter_says_no_cache_keeps_messages_stamped_before_tf(corpus: Corpus, t
     (imu,) = [t for t in json.loads(result.stdout)["topics"] if t["topic"] == "/imu/data"]
     assert imu["before_tf"] == 10 and imu["cache_needed_s"] is None
     text = _words(tfx("filter", "-b", path).stdout)
-    assert "10 stamped before tf began: no cache keeps them; record tf from before the sensor" in text
+    # recorded 1.3 s before the first /tf message arrived, stamped before any tf stamp: the sensor started first
+    assert "10 stamped before the first tf anyone published: the sensor started before tf; no cache keeps" in text
     assert not re.search(r"cache \d", text)
 
 
@@ -330,3 +332,17 @@ def test_echo_of_an_edge_on_two_clocks_prints_no_line_between_them(corpus: Corpu
     monitor = json.loads(tfx("monitor", "-b", path, "-f", "json").stdout)
     (edge,) = [e for e in monitor["edges"] if (e["parent"], e["child"]) == ("map", "odom")]
     assert edge["first_stamp"] <= times[0] and times[-1] <= edge["last_stamp"]
+
+
+def test_filter_says_imu_messages_before_the_simulations_first_tf_predate_tf(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The walker's first 6 /imu messages are stamped 0.173-0.198 s and recorded before the simulation's first
+    tf (stamped 0.202 s) arrived: the recorder was listening, no tf existed yet. 'record tf from before the
+    sensor' asked for what never was; the sensor started before tf, and there is nothing earlier to record."""
+    _, path = _recording(corpus, WALKER_AT_SIM_START)
+    (imu,) = [
+        t for t in json.loads(tfx("filter", "-b", path, "--format", "json").stdout)["topics"] if t["topic"] == "/imu"
+    ]
+    assert imu["before_tf"] == 6 and imu["before_any_tf"] is True, imu
+    text = _words(tfx("filter", "-b", path).stdout)
+    assert "6 stamped before the first tf anyone published: the sensor started before tf" in text, text
+    assert "nothing to record earlier" in text and "record tf from before the sensor" not in text

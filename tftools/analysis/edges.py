@@ -64,6 +64,7 @@ class EdgeStats(Edge):
     delay_max: float
     last_record: int  # latest record time (0 where unknown)
     clocks: int = 1  # the time bases its stamps are on (``figures.time_bases``): 2 for a replay's beside a live one's
+    apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``Timeline.apart``)
     # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static, None: unknown
     silent_for: int | None = 0
 
@@ -80,6 +81,7 @@ class AuthorityStats:
     delay_mean: float = math.nan
     delay_max: float = math.nan
     static: bool = False  # all its messages came on /tf_static (those of an edge later sent on /tf too)
+    apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``Timeline.apart``)
 
 
 def edge_stats(
@@ -137,6 +139,7 @@ def authority_stats(
     messages are guessed from the rows that arrived in the window (``_guessed``).
     """
     delays: dict[int, list[Int64Array]] = {}
+    aparts: dict[int, int] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
     arrived: list[_Arrived] = []  # the rows, for a guess of the messages where ``sent`` does not tell them
     timeline = timeline or ON_RECORD_CLOCK
@@ -154,6 +157,7 @@ def authority_stats(
                 arrived.append((a, hist.static, hist.record_times[mine], hist.stamps[mine]))
                 arrived += [(a, hist.static, extra[1], extra[2])] if extra is not None else []
             delays.setdefault(a, []).append(_delays(child, hist, mine, timeline))
+            aparts[a] = max(aparts.get(a, 0), _apart(child, hist, mine, timeline))
             edges.setdefault(a, []).extend((buffer.frame_name(int(p)), child) for p in _ids(hist.parents[mine]))
     known = {name: a for a, name in enumerate(buffer.authorities)}
     for (name, child, was_static), (parent, times, stamps) in refused.items():
@@ -166,7 +170,7 @@ def authority_stats(
         sent, start, end = _guessed(buffer.authorities, arrived), None, None
     counted = messages_in_window(sent, start, end, by_record_time=by_record_time, timeline=timeline)
     return [
-        _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a])
+        _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], aparts.get(a, 0))
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]
 
@@ -243,7 +247,7 @@ def messages_in_window(
 
 
 def _counted(
-    name: str, counted: Counted | None, edges: list[tuple[str, str]], delays: list[Int64Array]
+    name: str, counted: Counted | None, edges: list[tuple[str, str]], delays: list[Int64Array], apart: int = 0
 ) -> AuthorityStats:
     """The publisher's numbers from its messages ``counted`` (none: it sent none in the window): its rate over
     its /tf messages' times (``messages_in_window``)."""
@@ -252,7 +256,8 @@ def _counted(
     rate = counted.rate_hz if counted is not None else 0.0
     mean, largest = mean_max(np.concatenate(delays) if delays else np.zeros(0, np.int64))
     only_static = not moving and statics > 0
-    return AuthorityStats(name, moving + statics, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static)
+    apart = apart if math.isnan(mean) else 0
+    return AuthorityStats(name, moving + statics, rate, tuple(dict.fromkeys(edges)), mean, largest, only_static, apart)
 
 
 def _unstored(
@@ -364,6 +369,12 @@ def _delays(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) 
     return timeline.delays(child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
 
 
+def _apart(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) -> int:
+    if hist.static or not rows.any():
+        return 0
+    return timeline.apart(child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
+
+
 def _edge(
     buffer: Buffer,
     child: str,
@@ -398,6 +409,7 @@ def _edge(
         delay_max=delay_max,
         last_record=int(records.max()),
         clocks=time_bases(stamps, span) if dynamic else 1,
+        apart=_apart(child, hist, rows, timeline),
         silent_for=0 if not dynamic else _silent(arrived, silence_end, int(records.max()), until),
     )
 

@@ -20,7 +20,7 @@ from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.rotation import angle_between_many
-from tftools.core.time import EPOCH_FLOOR, NS_PER_S
+from tftools.core.time import EPOCH_FLOOR, NS_PER_S, duration
 
 #: A silence or an interval is a stop or a pause only when it lasts this many periods too.
 PERIODS = 10
@@ -308,6 +308,20 @@ def delays(arrivals: Int64Array, stamps: Int64Array, resolution: int = 0) -> Int
     more: the value nearest zero in that range, never a negative delay that the clock's steps made."""
     read = arrivals - stamps
     return np.minimum(np.maximum(read, 0), read + resolution) if resolution else read
+
+
+def clocks_apart(read: Int64Array, same_clock: int) -> BoolArray:
+    """Which readings of arrival minus stamp (ns) are no delay: a stamp more than ``same_clock`` ahead of its
+    arrival is on a clock running ahead of the one that timed the arrival (a machine 5.8 h ahead of the
+    recorder's), and their difference is how far the clocks are apart, not how late a transform came."""
+    apart: BoolArray = read < -same_clock
+    return apart
+
+
+def apart_in_words(ahead: int) -> str:
+    """Why a delay is not shown where the stamps run ``ahead`` (ns) of the clock that timed their arrival
+    (``clocks_apart``): the one wording of ``monitor`` (text and JSON), ``report`` and ``view-frames``."""
+    return f"not measurable (clock apart by {duration(ahead / NS_PER_S)})"
 
 
 def percentile(values: Int64Array, q: float) -> float:

@@ -136,7 +136,12 @@ def _advice(s: StreamReport) -> str:
         said.append(f"queue {s.queue_needed}")
     if s.cache_needed is not None:
         said.append(f"cache {seconds(s.cache_needed):g} s")
-    if s.before_tf:
+    if s.before_tf and s.before_any_tf:
+        said.append(
+            f"{s.before_tf} stamped before the first tf anyone published: the sensor started before tf; no cache "
+            "keeps them and there is nothing to record earlier"
+        )
+    elif s.before_tf:
         said.append(f"{s.before_tf} stamped before tf began: no cache keeps them; record tf from before the sensor")
     if s.stamped_zero:
         said.append(f"{s.stamped_zero} stamped 0 arrived before their tf: no cache keeps them; set header.stamp")
@@ -174,7 +179,15 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
         "cache_needed_s": None if s.cache_needed is None else seconds(s.cache_needed),
         **{
             k: shown[k]
-            for k in ("dropped_by_wait", "dropped_by_queue", "undecided", "lost_edge", "before_tf", "stamped_zero")
+            for k in (
+                "dropped_by_wait",
+                "dropped_by_queue",
+                "undecided",
+                "lost_edge",
+                "before_tf",
+                "before_any_tf",
+                "stamped_zero",
+            )
         },
     }
 

@@ -13,7 +13,7 @@ import graphviz
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, causes, counted, tallied
 from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode
-from tftools.core.figures import age_in_words, seconds
+from tftools.core.figures import age_in_words, apart_in_words, seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import is_printable, printable
 from tftools.sources.recording import Recording
@@ -175,6 +175,7 @@ def _full_lines(edge: GraphEdge, graph: FrameGraph) -> list[str]:
         if s.clocks == 1
         else f"Buffer length: stamped on {s.clocks} clocks, no span",
         f"Largest gap: {seconds(s.longest_interval):.3f} s",
+        *([f"Delay: {apart_in_words(s.apart)}"] if s.apart else []),
     ]
 
 

@@ -12,7 +12,7 @@ from rich.text import Text
 
 from tftools.analysis.edges import AuthorityStats, EdgeStats
 from tftools.analysis.monitor import ChainStats, MonitorReport
-from tftools.core.figures import seconds, silence_in_words
+from tftools.core.figures import apart_in_words, seconds, silence_in_words
 from tftools.core.time import NS_PER_S, signed_seconds, to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
@@ -44,6 +44,13 @@ def _table(title: str, names: Sequence[str], numbers: Sequence[str], names_after
     return table
 
 
+def _delay_cells(mean: float, largest: float, apart: int) -> list[Text]:
+    """The mean and largest delay; where the stamps are on a clock ahead of the arrivals', why there is none."""
+    if said := _unmeasurable(mean, apart):
+        return [Text(said, style="dim"), Text("-")]
+    return [Text(_sec(mean)), Text(_sec(largest))]
+
+
 #: The figures' headers: tf_monitor's words.
 _RATE, _DELAY_MEAN, _DELAY_MAX = "Rate (Hz)", "Average Delay (s)", "Max Delay (s)"
 
@@ -56,8 +63,7 @@ def _edge_cells(e: EdgeStats) -> tuple[Text, Text, Text, list[Text]]:
         Text("static", style="cyan") if e.static else Text(f"{e.rate_hz:.2f}"),
         Text("" if e.static else _sec(e.jitter)),
         Text("" if e.static else _sec(e.longest_interval), style="yellow" if long_interval else ""),
-        Text("" if e.static else _sec(e.delay_mean)),
-        Text("" if e.static else _sec(e.delay_max)),
+        *(_delay_cells(e.delay_mean, e.delay_max, e.apart) if not e.static else [Text(""), Text("")]),
     ]
     publishers = printable(", ".join(e.authorities)) or "?"
     by = Text(publishers, style="yellow" if len(e.authorities) > 1 else "magenta")
@@ -88,8 +94,7 @@ def _authorities(authorities: list[AuthorityStats]) -> Fitted:
         figures = [
             Text(str(a.messages)),
             Text("static", style="cyan") if a.static else Text(f"{a.rate_hz:.2f}"),
-            Text(_sec(a.delay_mean)),
-            Text(_sec(a.delay_max)),
+            *_delay_cells(a.delay_mean, a.delay_max, a.apart),
         ]
         children = [printable(child) for _, child in a.edges]
         table.add_row(node, *figures, Text(", ".join(children), style="dim"))
@@ -164,6 +169,7 @@ def _edge_dict(e: EdgeStats) -> dict[str, Any]:
         "silent_s": None if e.silent_for is None else seconds(e.silent_for),
         "delay_mean_s": seconds(e.delay_mean),
         "delay_max_s": seconds(e.delay_max),
+        "delay_unmeasurable": _unmeasurable(e.delay_mean, e.apart),
         "static": e.static,
         "first_stamp": to_sec(e.first_stamp),
         "last_stamp": to_sec(e.last_stamp),
@@ -177,8 +183,14 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
         "rate_hz": a.rate_hz,
         "delay_mean_s": seconds(a.delay_mean),
         "delay_max_s": seconds(a.delay_max),
+        "delay_unmeasurable": _unmeasurable(a.delay_mean, a.apart),
         "edges": [list(edge) for edge in a.edges],
     }
+
+
+def _unmeasurable(mean: float, apart: int) -> str | None:
+    """Why a delay is null where its stamps are on a clock ahead of the arrivals' (``apart_in_words``)."""
+    return apart_in_words(apart) if apart and math.isnan(mean) else None
 
 
 def as_dict(report: MonitorReport) -> dict[str, Any]:

@@ -23,7 +23,7 @@ from tftools.analysis.graph import GraphEdge
 from tftools.analysis.report import RecordingReport
 from tftools.analysis.timelines import FATE_GROUPS, EdgeTimeline, StreamTimeline
 from tftools.core.arrays import FloatArray
-from tftools.core.figures import KEEP, seconds, wait_in_words, within_in_words
+from tftools.core.figures import KEEP, apart_in_words, seconds, wait_in_words, within_in_words
 from tftools.core.time import NS_PER_S, format_sec, signed_seconds
 from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
@@ -232,6 +232,8 @@ def _edge_about(stats: EdgeStats | None, *, delays_known: bool) -> str:
     delay = ""
     if delays_known and not math.isnan(stats.delay_mean):
         delay = f", delay {seconds(stats.delay_mean) * 1000:.1f} ms (max {seconds(stats.delay_max) * 1000:.1f})"
+    elif delays_known and stats.apart:
+        delay = f", delay {apart_in_words(stats.apart)}"
     return (
         f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {seconds(stats.longest_interval):.3f} s{delay}; "
         f"{', '.join(stats.authorities)}"

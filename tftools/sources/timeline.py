@@ -120,18 +120,29 @@ class Timeline:
             return None
         return seconds_since(self.origin, time)
 
-    def placed(self, time: int) -> tuple[float, int] | None:
+    def placed(self, time: int, recorded: int = 0) -> tuple[float, int] | None:
         """A ``time`` that ``since_origin`` cannot place, stamped on the clock of frames outside the tf span on
         the same time base (a machine hours ahead of the recorder's, a replay a week behind), moved onto the
-        reference by how far their arrivals are from their stamps: (seconds from ``origin``, how far (ns) that
-        clock runs ahead of the origin's, negative where behind); None where no such frames' stamps hold it."""
+        reference: by the arrival of the one sample stamped so where its record time ``recorded`` is known
+        and placed (the EKF's first sample arrived at +0.1 s), else by how far their arrivals are from their
+        stamps, the median: (seconds from ``origin``, how far (ns) that clock runs ahead of the origin's,
+        negative where behind); None where no such frames' stamps hold it."""
         if not figures.same_base(self.origin, time):
             return None
         near = self.same_clock
         for _, first, last, ahead in self.other_clocks:
             if first - near <= time <= last + near:
-                return (time - ahead - self.origin) / NS_PER_S, ahead
+                arrived = self._arrived(recorded)
+                return (time - ahead - self.origin) / NS_PER_S if arrived is None else arrived, ahead
         return None
+
+    def _arrived(self, recorded: int) -> float | None:
+        """Seconds from ``origin`` to ROS time at the arrival of a message recorded at ``recorded`` (None: unknown,
+        or no moment of the recording)."""
+        if recorded <= 0:
+            return None
+        ros, known = self.ros_time(np.array([recorded], np.int64))
+        return self.since_origin(int(ros[0])) if known[0] else None
 
     @cached_property
     def other_clocks(self) -> tuple[tuple[tuple[str, ...], int, int, int], ...]:
@@ -348,7 +359,8 @@ class Timeline:
         delay: their arrival is known, the frame is on the reference clock (or ``record_clocked``: then its
         record times are its arrivals), they came on /tf (a sample
         latched on /tf_static keeps an old stamp by design), and, given their ``stamps``, they are on the
-        time base of the clock they arrived on (``figures.nearest_base``: not a replay's a week behind)."""
+        time base of the clock they arrived on (``figures.nearest_base``: not a replay's a week behind) and not
+        stamped on a clock running ahead of it (``figures.clocks_apart``: a machine 5.8 h ahead)."""
         if child in self.record_clocked:
             times, known = record_times, record_times > 0
         else:
@@ -357,9 +369,23 @@ class Timeline:
                 return times, np.zeros(len(times), bool)
         measured = known & ((flags & FROM_STATIC_TOPIC) == 0)
         if stamps is not None and measured.any():
+            read = times[measured] - stamps[measured]
             span = figures.record_span(record_times[measured])
-            measured[measured] = figures.nearest_base(times[measured] - stamps[measured], span)
+            measured[measured] = figures.nearest_base(read, span) & ~figures.clocks_apart(read, self.same_clock)
         return times, measured
+
+    def apart(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> int:
+        """How far (ns, the median) the stamps of ``child``'s transforms run ahead of the clock that timed their
+        arrival, where none of them has a delay for that (``figures.clocks_apart``); 0 where some have one, or
+        none is on a clock ahead."""
+        times, measured = self.measurable(child, record_times, flags, stamps)
+        if measured.any() or not self.delays_measured:
+            return 0
+        times, known = self.ros_time(record_times)
+        arrived = known & ((flags & FROM_STATIC_TOPIC) == 0)
+        read = times[arrived] - stamps[arrived]
+        apart = read[figures.clocks_apart(read, self.same_clock)]
+        return -figures.median_ns(apart) if len(apart) else 0
 
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
         """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms (``delays_of``)."""

@@ -493,6 +493,10 @@ class StreamReport:
     # Lost to their age (or undecided for it), stamped before the recording's tf of their chain began: no
     # cache keeps them (tf2 never held tf that old), starting tf before the sensor or dropping them does.
     before_tf: int = 0
+    # Whether every one of ``before_tf`` is stamped before the first transform anyone sent on /tf and arrived
+    # before it did: the recorder was listening and no tf existed yet (a simulation's first 0.2 s), so nothing
+    # earlier can be recorded: the sensor started before tf.
+    before_any_tf: bool = False
     # Lost to their age, stamped 0 (an unset header.stamp), arrived before their chain's tf existed: no cache
     # keeps them either (tf2 drops the waiting request once tf comes), setting the stamp does.
     stamped_zero: int = 0
@@ -559,6 +563,7 @@ def stream_report(
     later_mask = fates.fate == Fate.LATER
     lost_rows = np.flatnonzero(np.isin(fates.fate, TF_LOST))
     lost = [fates.edge[i] for i in lost_rows.tolist()]
+    early = fates.early() & np.isin(fates.fate, (*AGED, Fate.BEFORE_RECORDED_TF))
     return StreamReport(
         topic=stream.topic,
         type=stream.type,
@@ -583,9 +588,22 @@ def stream_report(
         undecided={Fate(code).reason: int(counts[code]) for code in UNDECIDED if counts[code]},
         lost_edge=_most(lost),
         clock_apart=_clock_apart(buffer, _most(lost), stream, lost_rows),
-        before_tf=int((fates.early() & np.isin(fates.fate, (*AGED, Fate.BEFORE_RECORDED_TF))).sum()),
+        before_tf=int(early.sum()),
+        before_any_tf=bool(early.any()) and _before_any_tf(buffer, stream, early),
         stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
     )
+
+
+def _before_any_tf(buffer: Buffer, stream: StampedMessages, early: BoolArray) -> bool:
+    """Whether the messages ``early`` (stamped before their chain's tf began) are stamped before the first
+    transform on /tf of any frame and were recorded before the first one arrived: no tf existed to record."""
+    moving = [h for _, h in buffer.histories() if not h.static and len(h.stamps)]
+    arrived = [int(h.record_times[h.record_times > 0].min()) for h in moving if (h.record_times > 0).any()]
+    if not moving or not arrived:
+        return False
+    first_stamp = min(int(h.stamps.min()) for h in moving)
+    records = stream.record_time[early]
+    return bool((stream.stamp[early] < first_stamp).all() and (records > 0).all() and records.max() < min(arrived))
 
 
 def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | None = None) -> float:

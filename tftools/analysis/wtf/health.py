@@ -17,6 +17,7 @@ from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.fleet import BagReport
 from tftools.analysis.wtf.registry import CHECKS
 from tftools.core.figures import age as age_of
+from tftools.core.figures import apart_in_words
 from tftools.core.time import to_sec
 
 #: diagnostic_updater's default hardware_id for what is not a device: the tf tree of this system.
@@ -164,7 +165,7 @@ def _edge_status(edge: EdgeStats, findings: Sequence[Finding], now: int, hardwar
     else:
         values += [
             ("rate (Hz)", f"{edge.rate_hz:.3f}"),
-            ("delay mean (s)", _seconds(edge.delay_mean)),
+            ("delay mean (s)", apart_in_words(edge.apart) if edge.apart else _seconds(edge.delay_mean)),
             ("delay max (s)", _seconds(edge.delay_max)),
             ("age (s)", _seconds(float(age_of(now, edge.last_record))) if edge.last_record else "unknown"),
             ("longest gap (s)", _seconds(float(edge.longest_interval))),

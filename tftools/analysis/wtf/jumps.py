@@ -338,7 +338,8 @@ def jump(scene: Scene) -> Iterator[Finding]:
             "jump",
             f"{edge(*samples.key)}{scene.by(samples.authorities)} jumped {_excursions(samples.values, found)} "
             f"further than its own motion explains: the largest {_largest(found)} at "
-            f"{scene.at(int(when[found.largest]))}, the first at {scene.at(int(when[0]))}",
+            f"{scene.at(int(when[found.largest]), samples.recorded_at(int(when[found.largest])))}, the first at "
+            f"{scene.at(int(when[0]), samples.recorded_at(int(when[0])))}",
             why,
             when,
         )
@@ -400,7 +401,8 @@ def map_corrections(scene: Scene) -> Iterator[Finding]:
             "map_corrections",
             f"{edge(*samples.key)}{scene.by(samples.authorities)} was corrected "
             f"{_times(len(found))} in {seconds:.1f} s: typically {np.median(found.metres):.3f} m and "
-            f"{np.median(found.degrees):.1f}°, at most {_largest(found)} at {scene.at(int(when[found.largest]))}",
+            f"{np.median(found.degrees):.1f}°, at most {_largest(found)} at "
+            f"{scene.at(int(when[found.largest]), samples.recorded_at(int(when[found.largest])))}",
             "REP 105 lets localization step map -> odom; large or frequent corrections are worth a look at the "
             "localizer (its map, its sensor data)",
             when,

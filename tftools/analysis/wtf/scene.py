@@ -42,6 +42,11 @@ class EdgeSamples(Edge):
         first, last = int(stamps.min()), int(stamps.max())
         return Finding(severity, code, message, hint, self.key, self.authorities, first, last, len(stamps))
 
+    def recorded_at(self, stamp: int) -> int:
+        """The record time of its sample stamped ``stamp`` (0: none, or unknown): where that one sample arrived."""
+        at = int(np.searchsorted(self.stamps, stamp))
+        return int(self.record_times[at]) if at < len(self.stamps) and self.stamps[at] == stamp else 0
+
 
 class Scene:
     """A recording as the checks see it: the buffer tf2 would hold, the raw rows, the thresholds,
@@ -184,12 +189,13 @@ class Scene:
             return f"a publisher on {authority} (unnamed)"
         return authority
 
-    def at(self, stamp: int) -> str:
+    def at(self, stamp: int, recorded: int = 0) -> str:
         """A moment on the stamps' clock: absolute seconds, and seconds into the tf data where plausible
-        (a stamp on another time base than the tf data's has none)."""
+        (a stamp on another time base than the tf data's has none); ``recorded``: the record time of the one
+        sample stamped so, where the finding is about one (``Timeline.placed``)."""
         since = self.timeline.since_origin(stamp)
         if since is None:
-            return f"{stamp / NS_PER_S:.3f}{self._elsewhere(stamp)}"
+            return f"{stamp / NS_PER_S:.3f}{self._elsewhere(stamp, recorded)}"
         if signed_seconds(since).startswith("-"):  # what was observed, not a negative offset that reads as an error
             return f"{stamp / NS_PER_S:.3f} ({signed_seconds(-since)[1:]} s before the first tf stamp)"
         return f"{stamp / NS_PER_S:.3f} ({signed_seconds(since)} s)"
@@ -201,10 +207,11 @@ class Scene:
             f"{signed_seconds(since)} s" if since is not None else f"at {stamp / NS_PER_S:.3f}{self._elsewhere(stamp)}"
         )
 
-    def _elsewhere(self, stamp: int) -> str:
-        """Where a stamp on another clock than the tf span's falls in the recording (``Timeline.placed``):
-        " (on a clock 5.8 h ahead of the recorder's: +0.1 s)"; "" where the recording does not tell."""
-        placed = self.timeline.placed(stamp)
+    def _elsewhere(self, stamp: int, recorded: int = 0) -> str:
+        """Where a stamp on another clock than the tf span's falls in the recording (``Timeline.placed``; by
+        its sample's own arrival where ``recorded`` gives it): " (on a clock 5.8 h ahead of the recorder's:
+        +0.1 s)"; "" where the recording does not tell."""
+        placed = self.timeline.placed(stamp, recorded)
         if placed is None:
             return ""
         since, ahead = placed

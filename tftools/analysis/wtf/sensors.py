@@ -189,7 +189,13 @@ def sensor_lost(scene: Scene) -> Iterator[Finding]:
                 "transform only where there is one, and drops a request still waiting with it once tf comes "
                 "(time 0 is then older than the cache holds)"
             )
-        if early:
+        if early and s.before_any_tf:
+            why.append(
+                f"{'all' if early == lost else early} of them stamped before the first tf anyone published: the "
+                "sensor started before tf; no cache keeps those and there is nothing to record earlier: drop "
+                "messages stamped before tf starts"
+            )
+        elif early:
             why.append(
                 f"{'all' if early == lost else early} of them stamped before the recording's tf of their chain "
                 "began: no cache keeps those; record tf from before the sensor starts, or drop messages stamped "

@@ -28,6 +28,9 @@ DELAY_SHARE = 0.05
 IRREGULAR = 0.5
 IRREGULAR_SHARE = 0.25
 IRREGULAR_MIN_INTERVALS = 20
+#: A stamp re-sent with values this close (m, and quaternion components) to its first repeats that value: a
+#: double computed again differs in its last bits (the SAIL ZED's re-sends, 7e-12 m apart), not in what it says.
+SAME_VALUE = 1e-9
 #: A rhythm is a cycle when this share of its intervals equals the one a cycle (2 to 4) later.
 CYCLIC_SHARE = 0.8
 #: Off intervals all in a row are said as one stretch (``_one_stretch``) from this many on.
@@ -146,7 +149,7 @@ def future(scene: Scene) -> Iterator[Finding]:
                 "future",
                 f"{edge(*e.key)}{scene.by(by)}: {int(early.sum())} of {transforms(sent)} "
                 f"stamped up to {duration(ahead.max() / NS_PER_S)} after they arrived, the first stamped "
-                f"{scene.at(first)}",
+                f"{scene.at(first, e.recorded_at(first))}",
                 "the publisher's clock runs ahead of the recorder's (sync the clocks: chrony/NTP), or it post-dates "
                 f"its transforms by more than {scene.thresholds.future:g} s (amcl's or a SLAM node's "
                 "transform_tolerance): listeners then take them for the newest data and lookups at the present "
@@ -356,9 +359,23 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
     taking_turns = {child for _, child in inferred_edges(scene)}
+    old = _too_old(scene) if scene.buffer.semantics == "ros1" else np.zeros(len(rows), bool)
     for child, mine in _streams(scene, rows.usable & ~rows.static):
         if child not in taking_turns and not _kept_static(scene, child):
-            yield from _stamps_of(scene, child, mine)
+            yield from _stamps_of(scene, child, mine, old[mine])
+
+
+def _too_old(scene: Scene) -> BoolArray:
+    """The moving rows ROS 1's tf2 refuses as too old (TF_OLD_DATA) before it would compare their stamps with
+    its samples': stamped more than its 10 s cache behind the newest stamp of their frame already received (a
+    ZED's samples beside an EKF's stamped 5.8 h ahead). A whole recording's buffer keeps them all."""
+    rows = scene.rows
+    old = np.zeros(len(rows), bool)
+    for _, frame_rows in rows.by_child(rows.usable & ~rows.static):
+        stamps = rows.stamp[frame_rows]
+        newest = np.maximum.accumulate(stamps)
+        old[frame_rows[1:]] = stamps[1:] + DEFAULT_CACHE_TIME < newest[:-1]
+    return old
 
 
 def _kept_static(scene: Scene, child: str) -> bool:
@@ -397,13 +414,16 @@ def _jumped(scene: Scene) -> set[str]:
     return found
 
 
-def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
+def _stamps_of(scene: Scene, child: str, mine: np.ndarray, old: BoolArray) -> Iterator[Finding]:
+    """``mine``: one publisher's rows of ``child``, in arrival order; ``old``: which of them tf2 refuses as too
+    old (``_too_old``), never as repeated."""
     rows = scene.rows
     stamps = rows.stamp[mine]
     if len(stamps) < 2:
         return
     behind, back = _behind(stamps)
     repeat, same = _repeats(stamps, rows.values[mine])
+    repeat &= ~old
     if not (back & (behind >= TIME_JUMP)).any():  # no jump back in time: a sample received again (a link
         back &= ~(repeat & same)  # re-delivering it) is a repeat (ROS 2's tf2 takes it silently), not one out of order
     repeat &= ~back
@@ -421,7 +441,8 @@ def _stamps_of(scene: Scene, child: str, mine: np.ndarray) -> Iterator[Finding]:
 
 
 def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Which rows repeat an earlier row's stamp, and which of those repeat its values too."""
+    """Which rows repeat an earlier row's stamp, and which of those repeat its values too (within
+    ``SAME_VALUE``: a value computed again, 7e-12 m off, as a ZED re-sends it, is no other value)."""
     n = len(stamps)
     order = np.argsort(stamps, kind="stable")
     ordered = stamps[order]
@@ -431,7 +452,7 @@ def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.nda
     repeat[order] = again
     first = np.empty(n, np.intp)
     first[order] = order[starts]
-    same = np.all(values == values[first], axis=1)
+    same = np.all(np.abs(values - values[first]) <= SAME_VALUE, axis=1)
     return repeat, same
 
 
