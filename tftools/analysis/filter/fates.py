@@ -616,8 +616,8 @@ def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | Non
 def _clock_apart(buffer: Buffer, edge: tuple[str, str] | None, stream: StampedMessages, rows: IntpArray) -> int:
     """How far (ns) messages ``rows`` are stamped ahead of ``edge``'s samples, each against its arrival (the
     medians of stamp minus record time), where more than ``SAME_CLOCK`` and the time the edge's samples took to
-    arrive, on one time base (both from the epoch, or
-    neither): two machines' clocks, not a delay; else 0. Messages stamped 0 (unset) are no clock."""
+    arrive, on one time base (both from the epoch, or neither): two machines' clocks, not a delay; else 0.
+    Messages stamped 0 (unset) are no clock."""
     hist = None if edge is None else buffer.history(edge[1])
     rows = rows[stream.stamp[rows] > 0]
     if hist is None or hist.static or not len(rows):

@@ -220,9 +220,8 @@ def _chain_delay(
         common[older], limiting[older] = known[older], index
     bounds = np.append(steps, end)
     rise = (bounds[:-1] - common).astype(np.float64), (bounds[1:] - common).astype(np.float64)
-    if max(
-        timeline.resolution_of(child) for _, child in moving
-    ):  # read off a ticking clock: behind a stamp by less than a step
+    ticking = max(timeline.resolution_of(child) for _, child in moving)
+    if ticking:  # read off a ticking clock: behind a stamp by less than a step
         rise = np.maximum(rise[0], 0.0), np.maximum(rise[1], 0.0)  # is no delay (``figures.delays``)
     integral = float(np.sum(rise[1] ** 2 - rise[0] ** 2)) / 2
     held = np.bincount(limiting, weights=np.diff(bounds).astype(float), minlength=len(series))
