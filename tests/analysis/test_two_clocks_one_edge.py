@@ -112,6 +112,22 @@ def test_a_sensor_stamped_hours_from_tf_is_told_to_sync_clocks_not_to_wait() -> 
     assert "5.0 h ahead of tf's clock: sync the machines' clocks (chrony/NTP)" in _advice(stream)
 
 
+def test_a_sensor_on_the_clock_of_one_of_its_edges_publishers_is_not_told_the_clocks_differ() -> None:
+    """A GPS on the EKF's machine, stamped on its clock, while the camera (100 Hz) and the EKF (30 Hz, 5 h ahead)
+    both send odom -> base_link; the EKF stops at 6 s, so the later fixes are lost. The fixes' clock is the EKF's:
+    how far apart the clocks are is measured against the samples on it (``figures.base_near``, as the rate they
+    wait at), never against the median of both publishers' (the camera's, 5 h behind: 'sync the clocks')."""
+    camera = periodic("/camera", 100, _camera)
+    ekf = periodic("/ekf", 30, _ekf_moving_with_a_gps_step, stamp=lambda t: t + AHEAD, end=6.0)
+    gps = dataclasses.replace(sensor("/fix", "base_link", 5, 5 * MS), topic="/fix")
+    gps = dataclasses.replace(gps, stamp=gps.stamp + AHEAD)
+    scene = Scene(recording(healthy(ekf=sorted(camera + ekf, key=lambda m: m.record_time))), streams=[gps])
+    (stream,) = scene.sensors.streams
+    assert stream.never and stream.lost_edge == ("odom", "base_link"), stream
+    assert stream.clock_apart == 0, stream
+    assert "sync the machines' clocks" not in _advice(stream)
+
+
 def _imu_broadcaster_ahead() -> list[TfMessage]:
     """An IMU's plane -> imu_link broadcast from the EKF's machine, alone on its edge, stamped 5 h ahead."""
     return periodic("/imu_tf", 50, lambda stamp: [_t("plane", "imu_link", stamp)], stamp=lambda t: t + AHEAD)

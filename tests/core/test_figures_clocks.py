@@ -129,3 +129,15 @@ def test_a_silence_is_counted_on_one_clock_or_not_at_all() -> None:
 def test_time_bases_counts_what_time_base_of_numbers(values: np.ndarray, span: int) -> None:
     """The count the load path asks of every edge, without the array where there is one base, is the array's."""
     assert figures.time_bases(values, span) == int(figures.time_base_of(values, span).max()) + 1
+
+
+def test_the_samples_on_a_messages_clock_are_those_of_the_base_nearest_their_stamps() -> None:
+    """``base_near``: of an edge two publishers send a week apart (``_two_clocks``), messages stamped on either
+    clock meet that clock's samples alone; on one clock, or without messages, every sample is theirs."""
+    stamps, arrivals = _two_clocks()
+    span = figures.record_span(arrivals)
+    live = stamps > arrivals - WEEK // 2
+    assert (figures.base_near(stamps, span, arrivals[:5] + 60 * MS) == live).all()
+    assert (figures.base_near(stamps, span, arrivals[-5:] - WEEK) == ~live).all()
+    assert figures.base_near(stamps, span, np.zeros(0, np.int64)).all()
+    assert figures.base_near(stamps[live], span, arrivals[:3] - WEEK).all()  # one clock: all, however far

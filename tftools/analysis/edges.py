@@ -15,14 +15,13 @@ from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
 from tftools.core.figures import (
+    base_near,
     jitter,
     longest_interval,
     mean_max,
-    median_ns,
     rate_of,
     record_span,
     silence,
-    time_base_of,
     time_bases,
 )
 from tftools.core.history import EdgeHistory
@@ -417,18 +416,15 @@ def _edge(
 def history_rate(hist: EdgeHistory, near: Int64Array | None = None) -> float:
     """The rate of a frame's whole history as ``edge_stats`` counts an edge's (``figures.rate_of``: on its time
     bases, placed on the record clock); 0 for a static one. Given the stamps of messages that wait for it
-    (``near``), the rate of its samples on their time base alone (``figures.time_base_of``): of an edge two
+    (``near``), the rate of its samples on their clock alone (``figures.base_near``): of an edge two
     publishers send on clocks 5.8 h apart, the one whose samples those messages can meet."""
     if hist.static:
         return 0.0
     stamps, records = hist.stamps, hist.record_times
-    span = record_span(records)
-    if near is not None and len(near) and time_bases(stamps, span) > 1:
-        base = time_base_of(stamps, span)
-        mine = base == base[int(np.argmin(np.abs(stamps - median_ns(near))))]
-        stamps, records = stamps[mine], records[mine]
-        span = record_span(records)
-    return rate_of(stamps, span, records)
+    if near is not None:
+        mine = base_near(stamps, record_span(records), near)
+        stamps, records = (stamps, records) if mine.all() else (stamps[mine], records[mine])
+    return rate_of(stamps, record_span(records), records)
 
 
 def _silent(arrived: int, end: int | None, last_record: int, until: int | None) -> int | None:

@@ -116,6 +116,19 @@ def nearest_base(offsets: Int64Array, span: int) -> BoolArray:
     return mine
 
 
+def base_near(stamps: Int64Array, span: int, near: Int64Array) -> BoolArray:
+    """Which of an edge's sample ``stamps`` (any order; ``span``: their record span) are on the clock of messages
+    stamped ``near``: where the samples are on several time bases (``time_base_of``: two publishers' clocks 5.8 h
+    apart), those on the base of the sample nearest the messages' median stamp; else all of them, as without
+    messages. A figure of the edge for those messages (its rate, how far their clocks are apart) is of these
+    samples, never of a blend of two clocks."""
+    if not len(near) or on_one_base(stamps, span):
+        return np.ones(len(stamps), np.bool_)
+    base = time_base_of(stamps, span)
+    mine: BoolArray = base == base[int(np.argmin(np.abs(stamps - median_ns(near))))]
+    return mine
+
+
 def rate_of(times: Int64Array, span: int = 0, records: Int64Array | None = None) -> float:
     """The rate (``rate_hz``) of samples at sorted ``times`` (stamps), never over an interval between two time
     bases (``across_clocks``, with the stream's record ``span``): on one base, its samples over its span. On

@@ -40,7 +40,16 @@ from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_uniqu
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
-from tftools.core.figures import KEEP, median_ns, record_span, same_base, seconds_in_words, silence_limit, wait_keeping
+from tftools.core.figures import (
+    KEEP,
+    base_near,
+    median_ns,
+    record_span,
+    same_base,
+    seconds_in_words,
+    silence_limit,
+    wait_keeping,
+)
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
@@ -614,10 +623,10 @@ def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | Non
 
 
 def _clock_apart(buffer: Buffer, edge: tuple[str, str] | None, stream: StampedMessages, rows: IntpArray) -> int:
-    """How far (ns) messages ``rows`` are stamped ahead of ``edge``'s samples, each against its arrival (the
-    medians of stamp minus record time), where more than ``SAME_CLOCK`` and the time the edge's samples took to
-    arrive, on one time base (both from the epoch, or neither): two machines' clocks, not a delay; else 0.
-    Messages stamped 0 (unset) are no clock."""
+    """How far (ns) messages ``rows`` are stamped ahead of ``edge``'s samples on their clock (``base_near``), each
+    against its arrival (the medians of stamp minus record time), where more than ``SAME_CLOCK`` and the time
+    those samples took to arrive, on one time base (both from the epoch, or neither): two machines' clocks, not
+    a delay; else 0. Messages stamped 0 (unset) are no clock."""
     hist = None if edge is None else buffer.history(edge[1])
     rows = rows[stream.stamp[rows] > 0]
     if hist is None or hist.static or not len(rows):
@@ -625,11 +634,12 @@ def _clock_apart(buffer: Buffer, edge: tuple[str, str] | None, stream: StampedMe
     arrived, known = stream.record_time[rows], hist.record_times > 0
     if not known.any() or (arrived <= 0).any():
         return 0
-    stamps = stream.stamp[rows]
-    if not same_base(median_ns(stamps), median_ns(hist.stamps[known])):
+    stamps, samples, records = stream.stamp[rows], hist.stamps[known], hist.record_times[known]
+    mine = base_near(samples, record_span(records), stamps)
+    samples, records = samples[mine], records[mine]
+    if not same_base(median_ns(stamps), median_ns(samples)):
         return 0
-    records = hist.record_times[known]
-    apart = median_ns(stamps - arrived) - median_ns(hist.stamps[known] - records)
+    apart = median_ns(stamps - arrived) - median_ns(samples - records)
     # further than the edge's samples took to arrive: no sample of the recording's tf is near their stamps
     return apart if abs(apart) > max(SAME_CLOCK, record_span(records)) else 0
 
