@@ -195,6 +195,14 @@ class Buffer:
         """The samples stored for ``child_frame`` (None for a root or unknown frame)."""
         return self._core.history(self._core.frame_id(child_frame))
 
+    def in_static_cache(self, frame: str) -> bool:
+        """Whether tf2 holds every sample of ``frame`` in a ``StaticCache``: each replaces its value for every
+        time, whatever its stamp, refused neither as ``TF_OLD_DATA`` nor as ``TF_REPEATED_DATA``, so the order of
+        its stamps matters to no lookup. A frame first sent static, where tf2 keeps a frame's first kind of cache
+        (``Dialect.keeps_first_cache``: ROS 1's); ROS 2's turns it dynamic at its first /tf sample."""
+        hist = self.history(frame)
+        return hist is not None and hist.static and dialect(self.semantics).keeps_first_cache
+
     def histories(self) -> Iterator[tuple[str, EdgeHistory]]:
         """Each child frame with its history, in frame order."""
         for frame_id, name in enumerate(self._core.frame_names()):

@@ -25,6 +25,7 @@ from tftools.core._kernels import PARENT_HAD_SLASH as PARENT_HAD_SLASH
 from tftools.core._kernels import PAST as PAST
 from tftools.core._kernels import ROW_BYTES as ROW_BYTES
 from tftools.core._kernels import EdgeHistory as EdgeHistory
+from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch
 
 
@@ -47,6 +48,17 @@ def rows_as_sent(names: Sequence[str], authorities: Sequence[str], columns: Mapp
         record_time=columns["record_time"],
         authority=columns["authority"],
     )
+
+
+def old_data(stamps: Int64Array, cache_time: int) -> BoolArray:
+    """Which of one frame's samples, stamped ``stamps`` in the order they arrived, tf2's ``TimeCache::insertData``
+    refuses as ``TF_OLD_DATA`` with a cache ``cache_time`` long (ROS 1 and ROS 2 alike): stamped more than that
+    behind the newest sample it holds, checked before it compares their stamps with its samples' (so such a
+    sample is never a repeat). The newest it holds is the newest stamp offered before: a refused sample is
+    never newer. Of a frame in a ``StaticCache`` tf2 refuses none (``Buffer.in_static_cache``)."""
+    old = np.zeros(len(stamps), np.bool_)
+    old[1:] = stamps[1:] + cache_time < np.maximum.accumulate(stamps)[:-1]
+    return old
 
 
 class Extrapolation(NamedTuple):

@@ -123,6 +123,10 @@ class Dialect:
     """How a tf2 words what it reports; ``ROS1`` and ``ROS2`` are the two."""
 
     semantics: Semantics = "ros1"
+    #: Whether a frame keeps the kind of cache its first sample made (ROS 1's ``BufferCore`` allocates a frame's
+    #: cache once): a frame first sent static keeps its ``StaticCache``, and every later sample, from /tf too,
+    #: replaces its value for every time. ROS 2's replaces the cache with one of the new sample's kind.
+    keeps_first_cache: bool = True
     #: What ``allFramesAsYAML`` names as each frame's broadcaster: None for the publisher of its
     #: latest sample (ROS 1's listener passes the message's callerid), else this for every frame
     #: (ROS 2's C++ ``TransformListener`` passes it: a DDS sample names no publisher).
@@ -184,6 +188,7 @@ class Dialect:
 
 class _Ros2Dialect(Dialect):
     semantics: Semantics = "ros2"
+    keeps_first_cache: bool = False
     listener_authority: str | None = "Authority undetectable"
 
     def seconds(self, ns: int) -> str:

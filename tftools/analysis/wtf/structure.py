@@ -218,7 +218,7 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         hint = _static_parents_hint(scene, child, mine, names, now)
         figures["parents_each_from_other_static_publishers"] = int(_each_from_others(scene, mine))
     elif (split_by_topic := _parents_by_topic(scene, mine)) is not None:
-        hint = _mount_twice_hint(scene, child, *split_by_topic, first_static=bool(rows.static[mine[0]]))
+        hint = _mount_twice_hint(scene, child, *split_by_topic)
     elif scene.publishers_known and not set.intersection(*map(set, publishers)):
         hint = (
             f"{child} can have one parent only, and these publishers fight over it: lookups jump between trees. "
@@ -257,10 +257,10 @@ def _parents_by_topic(scene: Scene, mine: IntpArray) -> tuple[list[str], list[st
     return None if set(on_static) & set(on_tf) else (on_static, on_tf)
 
 
-def _mount_twice_hint(scene: Scene, child: str, on_static: list[str], on_tf: list[str], *, first_static: bool) -> str:
+def _mount_twice_hint(scene: Scene, child: str, on_static: list[str], on_tf: list[str]) -> str:
     if scene.ros2:
         kept = "ROS 2's tf2 replaces the frame's cache each time it switches between the two topics"
-    elif first_static:
+    elif scene.buffer.in_static_cache(child):
         kept = "ROS 1's tf2 keeps it a static frame, so whichever came last places it, under its parent, for every time"
     else:
         kept = (

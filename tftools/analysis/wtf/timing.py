@@ -17,6 +17,7 @@ from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.figures import delays as delays_of
 from tftools.core.figures import pauses, record_span, silence_limit, sustained_period
+from tftools.core.history import old_data
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.timeline import FINE_STEP, seconds_since
 
@@ -359,31 +360,21 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
     taking_turns = {child for _, child in inferred_edges(scene)}
-    old = _too_old(scene) if scene.buffer.semantics == "ros1" else np.zeros(len(rows), bool)
+    old = _old_data(scene) if scene.buffer.semantics == "ros1" else np.zeros(len(rows), bool)
     for child, mine in _streams(scene, rows.usable & ~rows.static):
-        if child not in taking_turns and not _kept_static(scene, child):
+        if child not in taking_turns and not scene.buffer.in_static_cache(child):
             yield from _stamps_of(scene, child, mine, old[mine])
 
 
-def _too_old(scene: Scene) -> BoolArray:
-    """The moving rows ROS 1's tf2 refuses as too old (TF_OLD_DATA) before it would compare their stamps with
-    its samples': stamped more than its 10 s cache behind the newest stamp of their frame already received (a
-    ZED's samples beside an EKF's stamped 5.8 h ahead). A whole recording's buffer keeps them all."""
+def _old_data(scene: Scene) -> BoolArray:
+    """The moving rows ROS 1's tf2 with its 10 s cache refuses as ``TF_OLD_DATA`` (``history.old_data``, per
+    frame: a ZED's samples beside an EKF's stamped 5.8 h ahead), never as repeated. A whole recording's buffer
+    keeps them all."""
     rows = scene.rows
     old = np.zeros(len(rows), bool)
     for _, frame_rows in rows.by_child(rows.usable & ~rows.static):
-        stamps = rows.stamp[frame_rows]
-        newest = np.maximum.accumulate(stamps)
-        old[frame_rows[1:]] = stamps[1:] + DEFAULT_CACHE_TIME < newest[:-1]
+        old[frame_rows] = old_data(rows.stamp[frame_rows], DEFAULT_CACHE_TIME)
     return old
-
-
-def _kept_static(scene: Scene, child: str) -> bool:
-    """A frame ROS 1's tf2 keeps static (first sent on /tf_static): each /tf sample replaces its value for every
-    time, whatever its stamp, logging neither TF_OLD_DATA nor TF_REPEATED_DATA, so the order of its stamps matters
-    to no lookup. ROS 2's tf2 replaces such a frame's cache with a dynamic one, where it does."""
-    hist = scene.buffer.history(child)
-    return scene.buffer.semantics == "ros1" and hist is not None and hist.static
 
 
 def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
@@ -416,7 +407,7 @@ def _jumped(scene: Scene) -> set[str]:
 
 def _stamps_of(scene: Scene, child: str, mine: np.ndarray, old: BoolArray) -> Iterator[Finding]:
     """``mine``: one publisher's rows of ``child``, in arrival order; ``old``: which of them tf2 refuses as too
-    old (``_too_old``), never as repeated."""
+    old (``_old_data``), never as repeated."""
     rows = scene.rows
     stamps = rows.stamp[mine]
     if len(stamps) < 2:
@@ -468,7 +459,7 @@ def _went_back(scene: Scene, frames: tuple[str, str], mine: IntpArray, back: Boo
             "time jumped back (a bag replayed in a loop, a restarted simulation, a clock reset): listeners then "
             "mix two timelines and must be reset (tf2_ros clears its buffer when ROS time jumps back)"
         )
-        if largest > DEFAULT_CACHE_TIME:
+        if old_data(scene.rows.stamp[mine], DEFAULT_CACHE_TIME).any():
             hint += "; tf2 refuses samples older than its 10 s cache behind the newest (TF_OLD_DATA)"
         severity = Severity.error
         message = (

@@ -310,7 +310,7 @@ def mixed_static(scene: Scene) -> Iterator[Finding]:
         if static.all() or not static.any():
             continue
         fixed, moving = mine[static], mine[~static]
-        effect = _mixed_effect(scene, mine, static)
+        effect = _mixed_effect(scene, name, mine, static)
         parents = sorted({rows.names[p] for p in rows.parent[mine].tolist()})
         yield scene.finding(
             Severity.error,
@@ -349,7 +349,7 @@ def _two_values(rows: Rows, fixed: IntpArray, moving: IntpArray) -> str:
     return f", one value on each, {_apart(float(metres[0]), float(degrees[0]))}"
 
 
-def _mixed_effect(scene: Scene, mine: IntpArray, static: np.ndarray) -> str:
+def _mixed_effect(scene: Scene, child: str, mine: IntpArray, static: np.ndarray) -> str:
     """What the recording's tf2 made of a frame sent on both topics (``static``: which of ``mine`` came on
     /tf_static): ROS 1's keeps the cache its first sample made; ROS 2's replaces it at each switch."""
     if scene.buffer.semantics == "ros2":
@@ -365,7 +365,7 @@ def _mixed_effect(scene: Scene, mine: IntpArray, static: np.ndarray) -> str:
             f"held: it switched {counted(len(switches), 'time')}, the last at {last} to "
             f"{'/tf_static' if static[-1] else '/tf'}, so tf2 holds {held}"
         )
-    if static[0]:
+    if scene.buffer.in_static_cache(child):
         return (
             "tf2 made it a static frame (its first transform came on /tf_static), so each /tf transform "
             "replaces its value for every time"
