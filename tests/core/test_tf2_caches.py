@@ -13,6 +13,7 @@ from tftools.core import Buffer, Transform
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.history import old_data
 from tftools.core.rejection import RejectionCode
+from tftools.core.semantics import Semantics
 from tftools.core.time import NS_PER_S
 
 CACHE_S = 10
@@ -79,8 +80,13 @@ def test_a_frame_first_sent_static_takes_every_sample_in_ros1_static_cache(tf2_a
     assert old_data(np.array(stamps, np.int64), CACHE_S * NS_PER_S).tolist() == [False, True, False, False, True]
 
     # ROS 2's tf2 turns the frame dynamic at its first /tf sample, and static again at a last /tf_static one.
-    cases = (("ros1", True, False, True), ("ros1", False, False, False), ("ros2", True, False, False))
-    for semantics, first_static, last_static, expected in (*cases, ("ros2", False, True, False)):
+    cases: list[tuple[Semantics, bool, bool, bool]] = [
+        ("ros1", True, False, True),
+        ("ros1", False, False, False),
+        ("ros2", True, False, False),
+        ("ros2", False, True, False),
+    ]
+    for semantics, first_static, last_static, expected in cases:
         buffer = Buffer(cache_time=None, semantics=semantics)
         _put(buffer, 400 * NS_PER_S, 0.5, first_static)
         for i, stamp in enumerate(stamps):
