@@ -59,6 +59,10 @@ invalid frame arguments    "Invalid argument passed to ..."        "Invalid argu
 ``TF_OLD_DATA`` logs                                               its time ``%.6f``, a second line
 =========================  ======================================  ========================================
 
+Over a recording's rows, without a buffer of that cache: ``history.old_data`` is the ``TF_OLD_DATA`` rule
+of the table, ``Buffer.in_static_cache`` the frame that keeps its first kind of cache
+(``Dialect.keeps_first_cache``).
+
 The same in both: a leading ``/`` is stripped (once) from inserted frame ids and refused in queried
 ones, by ``lookup`` and ``can_transform`` alike (a frame sent as ``//b`` is stored as ``/b``, which
 no query can name); which sample a lookup uses between two stamps; the connectivity, loop and
