@@ -22,6 +22,7 @@ from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S, duration
+from tftools.sources.clocks_apart import OtherClock, ahead_said, clock_groups, other_clocks
 from tftools.sources.contents import ClockSamples
 from tftools.values import value
 
@@ -120,57 +121,10 @@ class Timeline:
             return None
         return seconds_since(self.origin, time)
 
-    def placed(self, time: int, recorded: int = 0) -> tuple[float, int] | None:
-        """A ``time`` that ``since_origin`` cannot place, stamped on the clock of frames outside the tf span on
-        the same time base (a machine hours ahead of the recorder's, a replay a week behind), moved onto the
-        reference: by the arrival of the one sample stamped so where its record time ``recorded`` is known
-        and placed (the EKF's first sample arrived at +0.1 s), else by how far their arrivals are from their
-        stamps, the median: (seconds from ``origin``, how far (ns) that clock runs ahead of the origin's,
-        negative where behind); None where no such frames' stamps hold it."""
-        if not figures.same_base(self.origin, time):
-            return None
-        near = self.same_clock
-        for _, first, last, ahead in self.other_clocks:
-            if first - near <= time <= last + near:
-                arrived = self._arrived(recorded)
-                return (time - ahead - self.origin) / NS_PER_S if arrived is None else arrived, ahead
-        return None
-
-    def _arrived(self, recorded: int) -> float | None:
-        """Seconds from ``origin`` to ROS time at the arrival of a message recorded at ``recorded`` (None: unknown,
-        or no moment of the recording)."""
-        if recorded <= 0:
-            return None
-        ros, known = self.ros_time(np.array([recorded], np.int64))
-        return self.since_origin(int(ros[0])) if known[0] else None
-
     @cached_property
-    def other_clocks(self) -> tuple[tuple[tuple[str, ...], int, int, int], ...]:
-        """The clocks of stamps outside the tf span, beside the span's own (``clock_groups``, and an edge's
-        second publisher's, ``EdgeClock.elsewhere``): the frames on each, its first and last stamp, and how far
-        (ns) it runs ahead of the span's clock, both against the record clock (negative where behind)."""
-        groups = clock_groups(self.edges, self.same_clock) if self.edges else []
-        main = next((g for g in groups if any(self.tf_start <= e.median_stamp <= self.tf_end for e in g)), None)
-        if main is None:
-            return ()
-        own = main[0].offset_record
-        return (
-            *(
-                (
-                    tuple(e.child for e in g),
-                    min(e.first_stamp for e in g),
-                    max(e.last_stamp for e in g),
-                    own - g[0].offset_record,
-                )
-                for g in groups
-                if g is not main
-            ),
-            *(
-                ((f"part of {e.child}",), first, last, own - offset)
-                for e in self.edges
-                for first, last, offset in e.elsewhere
-            ),
-        )
+    def other_clocks(self) -> tuple[OtherClock, ...]:
+        """The clocks of stamps outside the tf span, beside the span's own (``clocks_apart.other_clocks``)."""
+        return other_clocks(self)
 
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
         """The tf span on the clock of the frames a question is about (``children``): the recording's
@@ -374,19 +328,6 @@ class Timeline:
             measured[measured] = figures.nearest_base(read, span) & ~figures.clocks_apart(read, self.same_clock)
         return times, measured
 
-    def apart(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> int:
-        """How far (ns, the median) the stamps of ``child``'s transforms run ahead of the clock that timed their
-        arrival, where none of them has a delay for that (``figures.clocks_apart``); 0 where some have one, or
-        none is on a clock ahead."""
-        times, measured = self.measurable(child, record_times, flags, stamps)
-        if measured.any() or not self.delays_measured:
-            return 0
-        times, known = self.ros_time(record_times)
-        arrived = known & ((flags & FROM_STATIC_TOPIC) == 0)
-        read = times[arrived] - stamps[arrived]
-        apart = read[figures.clocks_apart(read, self.same_clock)]
-        return -figures.median_ns(apart) if len(apart) else 0
-
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
         """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms (``delays_of``)."""
         return self.delays_of(child, stamps, record_times, flags)[0]
@@ -434,24 +375,8 @@ class Timeline:
             measured = "ages" if coarse else "delays and ages"
             return f"tf stamps on {self.clock.topic} (simulated time); {measured} measured against it{coarse}"
         if self.reference is Reference.RECORD:
-            return f"tf stamps on the record clock{coarse}{self._ahead()}"
+            return f"tf stamps on the record clock{coarse}{ahead_said(self)}"
         return self.reason
-
-    def _ahead(self) -> str:
-        """The frames stamped on a clock running ahead of the tf span's on its time base (off it by more than
-        ``same_clock``), said beside it: '; imu_link and base_link (a second publisher) on a clock 5.8 h ahead'."""
-        ahead = sorted(
-            (ahead, frames)
-            for frames, first, _, ahead in self.other_clocks
-            if ahead > self.same_clock and figures.same_base(first, self.origin)
-        )
-        clocks: list[tuple[int, list[str]]] = []  # one clock: within ``same_clock`` of the one before
-        for by, frames in ahead:
-            if not clocks or by - clocks[-1][0] > self.same_clock:
-                clocks.append((by, []))
-            clocks[-1][1].extend(frames)
-        said = [f"{', '.join(frames)} on a clock {duration(by / NS_PER_S)} ahead" for by, frames in clocks]
-        return f"; but {'; '.join(said)} (not in the tf stamps' span)" if said else ""
 
 
 class Playback:
@@ -590,18 +515,6 @@ def _in_step(edge: EdgeClock, against_clock: bool, same_clock: int) -> bool:
     ``same_clock``."""
     offset = edge.offset(against_clock)
     return offset is not None and abs(offset) <= same_clock
-
-
-def clock_groups(edges: Sequence[EdgeClock], same_clock: int) -> list[list[EdgeClock]]:
-    """The frames (some) grouped by clock: their offsets from the record clock in order, a new group
-    where the next is more than ``same_clock`` further."""
-    ordered = sorted(edges, key=lambda e: e.offset_record)
-    groups: list[list[EdgeClock]] = [[ordered[0]]]
-    for e in ordered[1:]:
-        if e.offset_record - groups[-1][-1].offset_record > same_clock:
-            groups.append([])
-        groups[-1].append(e)
-    return groups
 
 
 def main_cluster(edges: Sequence[EdgeClock], same_clock: int) -> list[EdgeClock]:
