@@ -68,6 +68,10 @@ def test_the_two_wheels_are_one_re_parenting_and_the_clock_hint_says_the_trees_a
     assert (parent["key"], parent["cause"]) == ("", ""), parent  # explains nothing, follows from nothing
     (clock,) = [f for f in bag["findings"] if f["code"] == "clock" and f["severity"] == "error"]
     assert "lookups within each tree work" in clock["hint"] and "fail with extrapolation" not in clock["hint"]
+    # a device stamping wall-clock time beside the simulation on purpose: said as observed, not "use_sim_time"
+    assert "arriving 0.3 ms after their stamps by the record clock" in clock["message"], clock["message"]
+    assert "a tree of their own: a device on the wall clock beside the simulation" in clock["message"]
+    assert "set use_sim_time true for it too" not in clock["hint"] and "put both on one clock" in clock["hint"]
 
 
 def test_a_ros1_frame_kept_static_has_no_order_to_its_stamps(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
