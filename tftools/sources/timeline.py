@@ -84,6 +84,38 @@ class EdgeClock:
         return offset >= -tolerance or figures.same_base(self.median_stamp, reference)
 
 
+class KeptArrivals:
+    """The record times of the frames a replay measures on their own record clock (``Timeline.record_clocked`` of
+    the recording replayed: a device's beside a simulation on /clock), kept by the replay's first pass: the
+    replay's record times are on /clock, whose ticks cannot time them. Per frame, its stamps in order, their record
+    times and their replay times; ``step``: how coarse the record times are (ns)."""
+
+    def __init__(self, frames: dict[str, tuple[Int64Array, Int64Array, Int64Array]], step: int) -> None:
+        self.frames = frames
+        self.step = step
+
+    def at(self, child: str, stamps: Int64Array) -> tuple[Int64Array, BoolArray]:
+        """The record times of ``child``'s transforms stamped ``stamps``, and which were kept."""
+        kept, records, _ = self.frames[child]
+        if not len(kept):
+            return np.zeros(len(stamps), np.int64), np.zeros(len(stamps), bool)
+        index = np.minimum(np.searchsorted(kept, stamps), len(kept) - 1)
+        found = kept[index] == stamps
+        return np.where(found, records[index], 0), found
+
+    def window(self, start: int | None, end: int, record_end: int) -> tuple[int | None, int]:
+        """A window of replay time (``start`` None: open) as record times: from the first arrival kept that played
+        in it to just before the first that played after it (``record_end`` where none did)."""
+        played = np.concatenate([p for _, _, p in self.frames.values()])
+        records = np.concatenate([r for _, r, _ in self.frames.values()])
+        after = records[played > end]
+        last = int(after.min()) - 1 if len(after) else record_end
+        if start is None:
+            return None, last
+        within = records[played >= start]
+        return (int(within.min()) if len(within) else last + 1), last
+
+
 @value
 class Timeline:
     """A recording's clocks: which one the tf stamps are on, and ROS time at any record time."""
@@ -101,6 +133,7 @@ class Timeline:
     full_tf: tuple[int, int] | None = None  # every frame's span, where ``tf_start``/``tf_end`` leave some out
     played_estimate: bool = False  # a replay's without a reference: its record times are the replay's clock
     replayed: bool = False  # a replay's (``played``): ``Playback`` gave every record time a value, 0 or less too
+    kept: KeptArrivals | None = dataclasses.field(default=None, compare=False)  # a replay's record-clocked frames'
 
     @property
     def stamps_span(self) -> tuple[int, int]:
@@ -200,6 +233,8 @@ class Timeline:
         """The frames off a ``/clock`` reference whose stamps keep time with the record clock (a real device's
         beside a simulation on /clock): each edge's delay is arrival minus stamp on its stamps' clock, so theirs
         are measured against their record times, where those are no coarser than ``FINE_STEP``."""
+        if self.kept is not None:
+            return frozenset(self.kept.frames)
         if self.reference is not Reference.CLOCK or self.record_step > FINE_STEP or self.record_clock_void:
             return frozenset()
         return frozenset(
@@ -214,12 +249,16 @@ class Timeline:
     def resolution_of(self, child: str) -> int:
         """How coarse ROS time at arrival of ``child``'s transforms is (ns): ``resolution``, or the record
         clock's where ``child`` is ``record_clocked``."""
-        return self.record_step if child in self.record_clocked else self.resolution
+        if child not in self.record_clocked:
+            return self.resolution
+        return self.kept.step if self.kept is not None else self.record_step
 
     def record_window(self, start: int | None, end: int) -> tuple[int | None, int]:
         """A window of ROS time at arrival read off /clock (``start`` None: open) as record times: those that
         ``ros_time`` places in it (the inverse of ``clock_at``), for frames measured on the record clock
-        (``record_clocked``)."""
+        (``record_clocked``); on a replay, a window of its clock (``KeptArrivals.window``)."""
+        if self.kept is not None:
+            return self.kept.window(start, end, self.record_end)
         ticks = self.clock
         after = int(np.searchsorted(ticks.clock, end, side="right"))
         last = int(ticks.record_time[after]) - 1 if after < len(ticks) else self.record_end
@@ -315,7 +354,9 @@ class Timeline:
         latched on /tf_static keeps an old stamp by design), and, given their ``stamps``, they are on the
         time base of the clock they arrived on (``figures.nearest_base``: not a replay's a week behind) and not
         stamped on a clock running ahead of it (``figures.clocks_apart``: a machine 5.8 h ahead)."""
-        if child in self.record_clocked:
+        if child in self.record_clocked and self.kept is not None:  # a replay's: the record times kept
+            times, known = self.kept.at(child, stamps) if stamps is not None else (record_times, record_times < 0)
+        elif child in self.record_clocked:
             times, known = record_times, record_times > 0
         else:
             times, known = self.ros_time(record_times)
@@ -343,11 +384,12 @@ class Timeline:
         times, measured = self.measurable(child, record_times, flags, stamps)
         return figures.delays(times[measured], stamps[measured], self.resolution_of(child)), measured
 
-    def played(self) -> Timeline:
+    def played(self, kept: KeptArrivals | None = None) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the
         stamps' clock (as coarse as ROS time at arrival was), or still without a reference (delays stay
         unknown; playback only estimates: ROS time at arrival is the replay's clock, so that a window of it
-        holds what was played in it, not what is stamped in it)."""
+        holds what was played in it, not what is stamped in it). ``kept``: the record times of the
+        ``record_clocked`` frames, whose delays the replay measures on them as a whole read does."""
         if self.reference is Reference.NONE:
             return dataclasses.replace(self, played_estimate=True, replayed=True)
         edges = tuple(
@@ -366,6 +408,7 @@ class Timeline:
             edges=edges,
             record_step=self.resolution,
             replayed=True,
+            kept=kept if kept is not None and kept.frames else None,
         )
 
     def describe(self) -> str:
