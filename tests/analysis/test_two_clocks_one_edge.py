@@ -21,6 +21,7 @@ from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.render.filter import _advice
 from tftools.render.monitor import as_dict
+from tftools.sources import clocks_apart
 from tftools.sources.contents import StampedMessages
 
 AHEAD = 5 * 3600 * NS_PER_S
@@ -188,5 +189,6 @@ def test_one_sample_on_the_clock_ahead_is_placed_by_its_own_arrival() -> None:
     rec = recording(healthy(ekf=sorted(camera + ekf, key=lambda m: m.record_time)))
     (future,) = _of(check(rec).findings, "future")
     assert "the first stamped 1700018000.000 (on a clock 5.0 h ahead of the recorder's: +0.3 s)" in future.message
-    placed = rec.timeline.placed(START + AHEAD)  # no arrival given: by the median, the stamp at the origin
+    # no arrival given: by the median, the stamp at the origin
+    placed = clocks_apart.placed(rec.timeline, START + AHEAD)
     assert placed is not None and abs(placed[0]) < 0.001 and abs(placed[1] - AHEAD) < 3 * MS, placed

@@ -413,3 +413,24 @@ def test_a_stamp_back_on_tf_of_a_frame_ros1_keeps_static_is_no_time_backwards(fi
     rec = recording(sorted([*messages, *ekf()], key=lambda m: m.record_time), ros1=True)
     backwards = [f for f in findings_of(Scene(rec)) if f.code == "time_backwards"]
     assert [f.frames for f in backwards] == ([] if first_on_tf_static else [("base_link", "laser")]), backwards
+
+
+@pytest.mark.parametrize("apart", [False, True], ids=["joined", "device-apart"])
+def test_a_device_on_the_wall_clock_beside_a_simulation_is_not_told_to_use_sim_time(apart: bool) -> None:
+    """ros2_db3_ias0220_gazebo_diff_cont_2025's shape with its /clock: a robot on simulated time beside a device
+    whose stamps keep time with the record clock, in a tree of its own. That is a device stamping wall-clock time
+    on purpose: the finding says what was observed (its stamps arrive 2 ms after them by the record clock, a tree
+    of its own) and the hint what a user can do (one clock for both, or two trees), not "set use_sim_time true for
+    it too". Joined to the robot's tree, a wall-clock publisher is a node that forgot use_sim_time."""
+    arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - SIM_START) / NS_PER_S)], stamp=sim)
+    root = "imu_link" if apart else "base_link"
+    device = periodic("/imu", 10, lambda t: [_t(root, "sonar", t, yaw=(t - START) / NS_PER_S)])
+    messages = sorted(arm + device, key=lambda m: m.record_time)
+    findings = check(recording(messages, ros1=False, clock=sim_clock())).findings
+    (clock,) = [f for f in findings if f.code == "clock" and f.severity is Severity.error]
+    assert clock.frames == (root, "sonar")  # /clock is the arm's: the device is on another clock
+    assert ("set use_sim_time true for it too" in clock.hint) is not apart, clock.hint
+    assert ("a tree of their own: a device on the wall clock" in clock.message) is apart, clock.message
+    if apart:
+        assert "arriving 2.0 ms after their stamps by the record clock" in clock.message, clock.message
+        assert "lookups within each tree work" in clock.hint and "put both on one clock" in clock.hint, clock.hint

@@ -46,6 +46,21 @@ def test_the_devices_wall_clock_delays_are_measured_with_or_without_clock(
         )
 
 
+def test_a_replay_shows_the_devices_delays_as_the_whole_recording_does(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """--play moves record times onto /clock, whose 0.1 s ticks cannot time the device: its delays were
+    "unavailable" in the replay while the whole-recording monitor measured them (0.3 ms mean). Over a window
+    holding all of it, the replay's last table shows the whole recording's figures, the chain's too."""
+    path = corpus(BY_ID[DIFF_CONT])
+    whole = json.loads(tfx("monitor", *DEVICE, "-b", path, "--format", "json").stdout)
+    replayed = tfx("monitor", *DEVICE, "-b", path, "--play", "--rate", "50", "--window", "100", "--format", "json")
+    last = json.loads(replayed.stdout.splitlines()[-1])
+    (device,) = [e for e in last["edges"] if e["child"] == DEVICE[1]]
+    (measured,) = [e for e in whole["edges"] if e["child"] == DEVICE[1]]
+    figures = ("count", "delay_mean_s", "delay_max_s")
+    assert [device[k] for k in figures] == [measured[k] for k in figures] and 0 < device["delay_mean_s"] < 0.001
+    assert last["chain"]["delay_mean_s"] == whole["chain"]["delay_mean_s"] is not None, last["chain"]
+
+
 def test_the_report_draws_the_devices_delay(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     page = tmp_path / "diff_cont.html"
     tfx("report", corpus(BY_ID[DIFF_CONT]), "-o", page)
@@ -68,6 +83,10 @@ def test_the_two_wheels_are_one_re_parenting_and_the_clock_hint_says_the_trees_a
     assert (parent["key"], parent["cause"]) == ("", ""), parent  # explains nothing, follows from nothing
     (clock,) = [f for f in bag["findings"] if f["code"] == "clock" and f["severity"] == "error"]
     assert "lookups within each tree work" in clock["hint"] and "fail with extrapolation" not in clock["hint"]
+    # a device stamping wall-clock time beside the simulation on purpose: said as observed, not "use_sim_time"
+    assert "arriving 0.3 ms after their stamps by the record clock" in clock["message"], clock["message"]
+    assert "a tree of their own: a device on the wall clock beside the simulation" in clock["message"]
+    assert "set use_sim_time true for it too" not in clock["hint"] and "put both on one clock" in clock["hint"]
 
 
 def test_a_ros1_frame_kept_static_has_no_order_to_its_stamps(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

@@ -463,3 +463,45 @@ def test_a_replay_plays_to_the_recordings_end_past_its_last_tf(tmp_path: Path, f
         replay.advance_to(at(100))
         assert replay.finished and replay.end == at(79) and replay.clock.now() == at(79)
         assert streamed.replay(end=at(10)).end == at(10)  # an end asked for is kept
+
+
+def _two_clocks(path: Path) -> Path:
+    """A simulated robot (odom -> base) on a /clock ticking every 100 ms beside a device (imu -> sonar) stamped
+    on the wall clock, recorded 0.4-0.6 ms after its stamps."""
+    ms, wall, sim = 10**6, 1_700_000_000 * NS_PER_S, 1400 * NS_PER_S
+    robot = [
+        TfMessage(
+            "/tf", wall + i * 34 * ms + ms, [Transform(stamp=sim + i * 34 * ms, frame_id="odom", child_frame_id="base")]
+        )
+        for i in range(290)
+    ]
+    device = []
+    for i in range(95):
+        stamp = wall + i * 100 * ms + 7 * ms
+        sonar = Transform(stamp=stamp, frame_id="imu", child_frame_id="sonar")
+        device.append(TfMessage("/tf", stamp + 400_000 + (i % 3) * 100_000, [sonar]))
+    ticks = [ClockMessage(wall + i * 100 * ms, sim + i * 100 * ms) for i in range(100)]
+    messages = sorted(robot + device, key=lambda m: m.record_time)
+    return write_bag(path, messages, BagFormat.rosbag2_sqlite3, ticks)
+
+
+def _delays(buffer: Buffer, timeline: Timeline, child: str) -> list[int]:
+    hist = buffer.history(child)
+    assert hist is not None
+    return timeline.delays(child, hist.stamps, hist.record_times, hist.flags).tolist()
+
+
+def test_a_replay_measures_a_devices_delays_on_its_record_times_as_a_whole_read_does(tmp_path: Path) -> None:
+    """ros2_db3_ias0220_gazebo_diff_cont_2025's shape (``_two_clocks``). A replay plays every row on /clock, whose
+    ticks cannot time the device; its delays are measured on the record times its first pass kept, as a whole
+    read measures them: the same figures (they were unavailable in the replay). The robot's stay unavailable."""
+    bag = _two_clocks(tmp_path / "two_clocks")
+    whole = read_recording([bag])
+    streamed = stream_recording([bag], window_messages=100)
+    played = Buffer(cache_time=None)
+    for part in streamed.parts():
+        played.insert(part)
+    assert streamed.timeline.record_clocked == whole.timeline.record_clocked == {"sonar"}
+    expected = [400_000 + (i % 3) * 100_000 for i in range(95)]
+    assert _delays(whole.buffer, whole.timeline, "sonar") == _delays(played, streamed.timeline, "sonar") == expected
+    assert _delays(whole.buffer, whole.timeline, "base") == _delays(played, streamed.timeline, "base") == []

@@ -26,6 +26,7 @@ from tftools.core.figures import (
 )
 from tftools.core.history import EdgeHistory
 from tftools.core.stored import with_replaced
+from tftools.sources import clocks_apart
 from tftools.sources.contents import SentMessages
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
@@ -63,7 +64,7 @@ class EdgeStats(Edge):
     delay_max: float
     last_record: int  # latest record time (0 where unknown)
     clocks: int = 1  # the time bases its stamps are on (``figures.time_bases``): 2 for a replay's beside a live one's
-    apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``Timeline.apart``)
+    apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``apart``)
     # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static, None: unknown
     silent_for: int | None = 0
 
@@ -80,7 +81,7 @@ class AuthorityStats:
     delay_mean: float = math.nan
     delay_max: float = math.nan
     static: bool = False  # all its messages came on /tf_static (those of an edge later sent on /tf too)
-    apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``Timeline.apart``)
+    apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``apart``)
 
 
 def edge_stats(
@@ -371,7 +372,7 @@ def _delays(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) 
 def _apart(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) -> int:
     if hist.static or not rows.any():
         return 0
-    return timeline.apart(child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
+    return clocks_apart.apart(timeline, child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
 
 
 def _edge(

@@ -32,6 +32,7 @@ from tftools.sources.recording import no_transforms, semantics_of
 from tftools.sources.replay import Replay
 from tftools.sources.timeline import (
     EdgeClock,
+    KeptArrivals,
     Playback,
     Reference,
     Timeline,
@@ -71,6 +72,7 @@ class StreamedRecording:
         semantics: Semantics,
         parents: dict[str, tuple[str, bool]] | None = None,
         arrivals: dict[str, tuple[Int64Array, Int64Array]] | None = None,
+        kept: KeptArrivals | None = None,
     ) -> None:
         self.reader = reader
         weakref.finalize(self, reader.close)  # closed when the stream is let go, if not before
@@ -80,8 +82,9 @@ class StreamedRecording:
         self.contents = contents  # the files described: no parts, no clock
         self.frames = list(frames)
         self.semantics = semantics  # the tf2 a replay's buffer answers as
-        #: The replay's timeline: its record times are replay times, on the stamps' clock (``Timeline.played``).
-        self.timeline = recorded.played()
+        #: The replay's timeline: its record times are replay times, on the stamps' clock (``Timeline.played``);
+        #: ``kept``: the record times of the frames measured on them (``_Summary.kept_arrivals``).
+        self.timeline = recorded.played(kept)
         self._recorded = recorded  # whose clock holds the first /clock sample only: enough for ``Playback``
         #: The tree as last seen: each child's latest parent, and whether its edge is static.
         self.parents = dict(parents or {})
@@ -241,8 +244,9 @@ def stream_recording(
         tf_span(summary.spans.values(), start, contents.end),
     )
     arrivals = summary.played_arrivals(recorded)
+    kept = summary.kept_arrivals(recorded)
     return StreamedRecording(
-        reader, windows, contents, recorded, summary.frames, summary.semantics, summary.parents, arrivals
+        reader, windows, contents, recorded, summary.frames, summary.semantics, summary.parents, arrivals, kept
     )
 
 
@@ -347,6 +351,17 @@ class _Summary:
             picked = order[np.unique(np.linspace(0, len(order) - 1, min(len(order), PLAYED_ARRIVALS)).astype(np.int64))]
             played[child] = stamps[picked], times[picked]
         return played
+
+    def kept_arrivals(self, timeline: Timeline) -> KeptArrivals:
+        """The arrivals kept of the frames measured on their record clock (``Timeline.record_clocked``): by
+        stamp, their record times and when they play (/clock then, as ``Playback`` moves them)."""
+        first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
+        frames: dict[str, tuple[Int64Array, Int64Array, Int64Array]] = {}
+        for child in timeline.record_clocked:
+            stamps, records, ros, known = self._arrivals[child].kept()
+            order = np.argsort(stamps, kind="stable")
+            frames[child] = stamps[order], records[order], np.where(known, ros, first)[order]
+        return KeptArrivals(frames, timeline.record_step)
 
     def edges(self) -> tuple[EdgeClock, ...]:
         """Each frame's clock from the arrivals kept (its medians), counting every arrival, spanning every stamp

@@ -22,6 +22,7 @@ from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S, duration
+from tftools.sources.clocks_apart import OtherClock, ahead_said, clock_groups, other_clocks
 from tftools.sources.contents import ClockSamples
 from tftools.values import value
 
@@ -83,6 +84,38 @@ class EdgeClock:
         return offset >= -tolerance or figures.same_base(self.median_stamp, reference)
 
 
+class KeptArrivals:
+    """The record times of the frames a replay measures on their own record clock (``Timeline.record_clocked`` of
+    the recording replayed: a device's beside a simulation on /clock), kept by the replay's first pass: the
+    replay's record times are on /clock, whose ticks cannot time them. Per frame, its stamps in order, their record
+    times and their replay times; ``step``: how coarse the record times are (ns)."""
+
+    def __init__(self, frames: dict[str, tuple[Int64Array, Int64Array, Int64Array]], step: int) -> None:
+        self.frames = frames
+        self.step = step
+
+    def at(self, child: str, stamps: Int64Array) -> tuple[Int64Array, BoolArray]:
+        """The record times of ``child``'s transforms stamped ``stamps``, and which were kept."""
+        kept, records, _ = self.frames[child]
+        if not len(kept):
+            return np.zeros(len(stamps), np.int64), np.zeros(len(stamps), bool)
+        index = np.minimum(np.searchsorted(kept, stamps), len(kept) - 1)
+        found = kept[index] == stamps
+        return np.where(found, records[index], 0), found
+
+    def window(self, start: int | None, end: int, record_end: int) -> tuple[int | None, int]:
+        """A window of replay time (``start`` None: open) as record times: from the first arrival kept that played
+        in it to just before the first that played after it (``record_end`` where none did)."""
+        played = np.concatenate([p for _, _, p in self.frames.values()])
+        records = np.concatenate([r for _, r, _ in self.frames.values()])
+        after = records[played > end]
+        last = int(after.min()) - 1 if len(after) else record_end
+        if start is None:
+            return None, last
+        within = records[played >= start]
+        return (int(within.min()) if len(within) else last + 1), last
+
+
 @value
 class Timeline:
     """A recording's clocks: which one the tf stamps are on, and ROS time at any record time."""
@@ -100,6 +133,7 @@ class Timeline:
     full_tf: tuple[int, int] | None = None  # every frame's span, where ``tf_start``/``tf_end`` leave some out
     played_estimate: bool = False  # a replay's without a reference: its record times are the replay's clock
     replayed: bool = False  # a replay's (``played``): ``Playback`` gave every record time a value, 0 or less too
+    kept: KeptArrivals | None = dataclasses.field(default=None, compare=False)  # a replay's record-clocked frames'
 
     @property
     def stamps_span(self) -> tuple[int, int]:
@@ -120,57 +154,10 @@ class Timeline:
             return None
         return seconds_since(self.origin, time)
 
-    def placed(self, time: int, recorded: int = 0) -> tuple[float, int] | None:
-        """A ``time`` that ``since_origin`` cannot place, stamped on the clock of frames outside the tf span on
-        the same time base (a machine hours ahead of the recorder's, a replay a week behind), moved onto the
-        reference: by the arrival of the one sample stamped so where its record time ``recorded`` is known
-        and placed (the EKF's first sample arrived at +0.1 s), else by how far their arrivals are from their
-        stamps, the median: (seconds from ``origin``, how far (ns) that clock runs ahead of the origin's,
-        negative where behind); None where no such frames' stamps hold it."""
-        if not figures.same_base(self.origin, time):
-            return None
-        near = self.same_clock
-        for _, first, last, ahead in self.other_clocks:
-            if first - near <= time <= last + near:
-                arrived = self._arrived(recorded)
-                return (time - ahead - self.origin) / NS_PER_S if arrived is None else arrived, ahead
-        return None
-
-    def _arrived(self, recorded: int) -> float | None:
-        """Seconds from ``origin`` to ROS time at the arrival of a message recorded at ``recorded`` (None: unknown,
-        or no moment of the recording)."""
-        if recorded <= 0:
-            return None
-        ros, known = self.ros_time(np.array([recorded], np.int64))
-        return self.since_origin(int(ros[0])) if known[0] else None
-
     @cached_property
-    def other_clocks(self) -> tuple[tuple[tuple[str, ...], int, int, int], ...]:
-        """The clocks of stamps outside the tf span, beside the span's own (``clock_groups``, and an edge's
-        second publisher's, ``EdgeClock.elsewhere``): the frames on each, its first and last stamp, and how far
-        (ns) it runs ahead of the span's clock, both against the record clock (negative where behind)."""
-        groups = clock_groups(self.edges, self.same_clock) if self.edges else []
-        main = next((g for g in groups if any(self.tf_start <= e.median_stamp <= self.tf_end for e in g)), None)
-        if main is None:
-            return ()
-        own = main[0].offset_record
-        return (
-            *(
-                (
-                    tuple(e.child for e in g),
-                    min(e.first_stamp for e in g),
-                    max(e.last_stamp for e in g),
-                    own - g[0].offset_record,
-                )
-                for g in groups
-                if g is not main
-            ),
-            *(
-                ((f"part of {e.child}",), first, last, own - offset)
-                for e in self.edges
-                for first, last, offset in e.elsewhere
-            ),
-        )
+    def other_clocks(self) -> tuple[OtherClock, ...]:
+        """The clocks of stamps outside the tf span, beside the span's own (``clocks_apart.other_clocks``)."""
+        return other_clocks(self)
 
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
         """The tf span on the clock of the frames a question is about (``children``): the recording's
@@ -246,6 +233,8 @@ class Timeline:
         """The frames off a ``/clock`` reference whose stamps keep time with the record clock (a real device's
         beside a simulation on /clock): each edge's delay is arrival minus stamp on its stamps' clock, so theirs
         are measured against their record times, where those are no coarser than ``FINE_STEP``."""
+        if self.kept is not None:
+            return frozenset(self.kept.frames)
         if self.reference is not Reference.CLOCK or self.record_step > FINE_STEP or self.record_clock_void:
             return frozenset()
         return frozenset(
@@ -260,12 +249,16 @@ class Timeline:
     def resolution_of(self, child: str) -> int:
         """How coarse ROS time at arrival of ``child``'s transforms is (ns): ``resolution``, or the record
         clock's where ``child`` is ``record_clocked``."""
-        return self.record_step if child in self.record_clocked else self.resolution
+        if child not in self.record_clocked:
+            return self.resolution
+        return self.kept.step if self.kept is not None else self.record_step
 
     def record_window(self, start: int | None, end: int) -> tuple[int | None, int]:
         """A window of ROS time at arrival read off /clock (``start`` None: open) as record times: those that
         ``ros_time`` places in it (the inverse of ``clock_at``), for frames measured on the record clock
-        (``record_clocked``)."""
+        (``record_clocked``); on a replay, a window of its clock (``KeptArrivals.window``)."""
+        if self.kept is not None:
+            return self.kept.window(start, end, self.record_end)
         ticks = self.clock
         after = int(np.searchsorted(ticks.clock, end, side="right"))
         last = int(ticks.record_time[after]) - 1 if after < len(ticks) else self.record_end
@@ -361,7 +354,9 @@ class Timeline:
         latched on /tf_static keeps an old stamp by design), and, given their ``stamps``, they are on the
         time base of the clock they arrived on (``figures.nearest_base``: not a replay's a week behind) and not
         stamped on a clock running ahead of it (``figures.clocks_apart``: a machine 5.8 h ahead)."""
-        if child in self.record_clocked:
+        if child in self.record_clocked and self.kept is not None:  # a replay's: the record times kept
+            times, known = self.kept.at(child, stamps) if stamps is not None else (record_times, record_times < 0)
+        elif child in self.record_clocked:
             times, known = record_times, record_times > 0
         else:
             times, known = self.ros_time(record_times)
@@ -373,19 +368,6 @@ class Timeline:
             span = figures.record_span(record_times[measured])
             measured[measured] = figures.nearest_base(read, span) & ~figures.clocks_apart(read, self.same_clock)
         return times, measured
-
-    def apart(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> int:
-        """How far (ns, the median) the stamps of ``child``'s transforms run ahead of the clock that timed their
-        arrival, where none of them has a delay for that (``figures.clocks_apart``); 0 where some have one, or
-        none is on a clock ahead."""
-        times, measured = self.measurable(child, record_times, flags, stamps)
-        if measured.any() or not self.delays_measured:
-            return 0
-        times, known = self.ros_time(record_times)
-        arrived = known & ((flags & FROM_STATIC_TOPIC) == 0)
-        read = times[arrived] - stamps[arrived]
-        apart = read[figures.clocks_apart(read, self.same_clock)]
-        return -figures.median_ns(apart) if len(apart) else 0
 
     def delays(self, child: str, stamps: Int64Array, record_times: Int64Array, flags: UInt8Array) -> Int64Array:
         """ROS time at arrival minus stamp (ns) of the ``measurable`` transforms (``delays_of``)."""
@@ -402,11 +384,12 @@ class Timeline:
         times, measured = self.measurable(child, record_times, flags, stamps)
         return figures.delays(times[measured], stamps[measured], self.resolution_of(child)), measured
 
-    def played(self) -> Timeline:
+    def played(self, kept: KeptArrivals | None = None) -> Timeline:
         """The timeline of this recording's replay, whose record times are ``Playback``'s: on the
         stamps' clock (as coarse as ROS time at arrival was), or still without a reference (delays stay
         unknown; playback only estimates: ROS time at arrival is the replay's clock, so that a window of it
-        holds what was played in it, not what is stamped in it)."""
+        holds what was played in it, not what is stamped in it). ``kept``: the record times of the
+        ``record_clocked`` frames, whose delays the replay measures on them as a whole read does."""
         if self.reference is Reference.NONE:
             return dataclasses.replace(self, played_estimate=True, replayed=True)
         edges = tuple(
@@ -425,6 +408,7 @@ class Timeline:
             edges=edges,
             record_step=self.resolution,
             replayed=True,
+            kept=kept if kept is not None and kept.frames else None,
         )
 
     def describe(self) -> str:
@@ -434,24 +418,8 @@ class Timeline:
             measured = "ages" if coarse else "delays and ages"
             return f"tf stamps on {self.clock.topic} (simulated time); {measured} measured against it{coarse}"
         if self.reference is Reference.RECORD:
-            return f"tf stamps on the record clock{coarse}{self._ahead()}"
+            return f"tf stamps on the record clock{coarse}{ahead_said(self)}"
         return self.reason
-
-    def _ahead(self) -> str:
-        """The frames stamped on a clock running ahead of the tf span's on its time base (off it by more than
-        ``same_clock``), said beside it: '; imu_link and base_link (a second publisher) on a clock 5.8 h ahead'."""
-        ahead = sorted(
-            (ahead, frames)
-            for frames, first, _, ahead in self.other_clocks
-            if ahead > self.same_clock and figures.same_base(first, self.origin)
-        )
-        clocks: list[tuple[int, list[str]]] = []  # one clock: within ``same_clock`` of the one before
-        for by, frames in ahead:
-            if not clocks or by - clocks[-1][0] > self.same_clock:
-                clocks.append((by, []))
-            clocks[-1][1].extend(frames)
-        said = [f"{', '.join(frames)} on a clock {duration(by / NS_PER_S)} ahead" for by, frames in clocks]
-        return f"; but {'; '.join(said)} (not in the tf stamps' span)" if said else ""
 
 
 class Playback:
@@ -590,18 +558,6 @@ def _in_step(edge: EdgeClock, against_clock: bool, same_clock: int) -> bool:
     ``same_clock``."""
     offset = edge.offset(against_clock)
     return offset is not None and abs(offset) <= same_clock
-
-
-def clock_groups(edges: Sequence[EdgeClock], same_clock: int) -> list[list[EdgeClock]]:
-    """The frames (some) grouped by clock: their offsets from the record clock in order, a new group
-    where the next is more than ``same_clock`` further."""
-    ordered = sorted(edges, key=lambda e: e.offset_record)
-    groups: list[list[EdgeClock]] = [[ordered[0]]]
-    for e in ordered[1:]:
-        if e.offset_record - groups[-1][-1].offset_record > same_clock:
-            groups.append([])
-        groups[-1].append(e)
-    return groups
 
 
 def main_cluster(edges: Sequence[EdgeClock], same_clock: int) -> list[EdgeClock]:

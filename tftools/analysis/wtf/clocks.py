@@ -12,7 +12,8 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
 from tftools.core.figures import same_base
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S
-from tftools.sources.timeline import EdgeClock, Reference, clock_groups, stamps_behind
+from tftools.sources.clocks_apart import clock_groups
+from tftools.sources.timeline import EdgeClock, Reference, stamps_behind
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
 CLOCK_PAUSE = 1 * NS_PER_S
@@ -38,6 +39,10 @@ def _hint(kind: str, ros2: bool) -> str:
         "(chrony/NTP)",
         "ahead": "this publisher's clock runs ahead of the others': sync the clocks (chrony/NTP), or set "
         "use_sim_time the same for every node",
+        "device": "no lookup combines the two clocks (the trees are apart): lookups within each tree work. To look "
+        "the device's frames up with the simulated ones, put both on one clock (the device's driver on use_sim_time, "
+        "stamping the simulation's time, and a transform joining its tree to the robot's), or keep the two trees "
+        "apart and look each up on its own clock",
     }[kind]
 
 
@@ -51,11 +56,25 @@ _APART = (
 def _consequence(scene: Scene, edges: Sequence[EdgeClock]) -> str:
     """What the other clock does to lookups: those combining ``edges``' frames with the others fail, unless
     they are a tree apart from every frame on the other clock (then no lookup combines the two)."""
+    return _APART if _tree_apart(scene, edges) else _CONSEQUENCE
+
+
+def _tree_apart(scene: Scene, edges: Sequence[EdgeClock]) -> bool:
+    """Whether ``edges``' frames are a tree (or trees) apart from every other moving frame's."""
     root_of = {frame: root for root, members in scene.tree.trees().items() for frame in members}
     theirs = {root_of.get(e.child) for e in edges}
     mine = {e.child for e in edges}
     others = {root_of.get(e.child) for e in scene.timeline.edges if e.child not in mine}
-    return _APART if others and None not in theirs | others and not theirs & others else _CONSEQUENCE
+    return bool(others) and None not in theirs | others and not theirs & others
+
+
+def _device(scene: Scene, edges: Sequence[EdgeClock]) -> bool:
+    """Whether ``edges``, stamped on wall-clock time beside frames on /clock, are a device's on purpose: a tree
+    of their own whose stamps keep time with the record clock (each arriving within ``same_clock`` of its
+    stamp), as a real sensor's driver stamps beside a simulation; not a node of the simulation that forgot
+    use_sim_time, whose frames would join the simulated tree."""
+    near = scene.timeline.same_clock
+    return all(abs(e.offset_record) <= near for e in edges) and _tree_apart(scene, edges)
 
 
 @register("clock", Severity.error, "frames stamped on another clock than the others or /clock (use_sim_time)")
@@ -71,7 +90,8 @@ def clock(scene: Scene) -> Iterator[Finding]:
     for e in off:
         groups.setdefault(_kind(_offset(e, against), e.median_stamp, _reference_time(e, against)), []).append(e)
     for kind, edges in groups.items():
-        yield _disagreeing(scene, kind, edges, on, against)
+        device = kind == "simulated" and _device(scene, edges)
+        yield _disagreeing(scene, "device" if device else kind, edges, on, against)
     if timeline.reference is Reference.RECORD and len(timeline.clock) and on:
         yield _ignoring_clock(scene, on)
     if timeline.reference is Reference.CLOCK:
@@ -123,10 +143,19 @@ def _disagreeing(
         f"{clock_name}{following} reads {reference:.1f} s (epoch time)",
         "simulated": f"stamped with wall-clock time ({stamp:.1f} s) while {clock_name}{following} runs on simulated "
         f"time ({reference:.1f} s)",
+        "device": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
+        f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s); a tree of "
+        "their own: a device on the wall clock beside the simulation",
         "behind": f"stamped {duration(offset)} behind {clock_name}{following}: another clock",
         "ahead": f"stamped {duration(-offset)} ahead of {clock_name}{following}: another clock",
     }[kind]
     return _two_clocks(scene, kind, edges, f"{said} (median of {transforms(sum(e.arrivals for e in edges))})")
+
+
+def _after(edges: Sequence[EdgeClock]) -> str:
+    """How long after their stamps ``edges``' transforms were recorded (the median), in the unit a person reads."""
+    seconds = float(np.median([e.offset_record for e in edges])) / NS_PER_S
+    return f"{seconds * 1000:.1f} ms" if abs(seconds) < 1 else duration(seconds)
 
 
 def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) -> Finding:
@@ -137,7 +166,7 @@ def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) 
         Severity.error,
         "clock",
         f"{listed([edge(_parent(scene, e.child), e.child) for e in edges], 4)}{scene.by(authorities)}: {said}",
-        _hint(kind, scene.ros2) + _consequence(scene, edges),
+        _hint(kind, scene.ros2) + ("" if kind == "device" else _consequence(scene, edges)),
         tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
         authorities,
         count=sum(e.arrivals for e in edges),

@@ -21,6 +21,7 @@ from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S, from_sec, signed_seconds
 from tftools.core.time import duration as duration  # said by every check
+from tftools.sources import clocks_apart
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording, recording_of_buffer
 
@@ -192,7 +193,7 @@ class Scene:
     def at(self, stamp: int, recorded: int = 0) -> str:
         """A moment on the stamps' clock: absolute seconds, and seconds into the tf data where plausible
         (a stamp on another time base than the tf data's has none); ``recorded``: the record time of the one
-        sample stamped so, where the finding is about one (``Timeline.placed``)."""
+        sample stamped so, where the finding is about one (``clocks_apart.placed``)."""
         since = self.timeline.since_origin(stamp)
         if since is None:
             return f"{stamp / NS_PER_S:.3f}{self._elsewhere(stamp, recorded)}"
@@ -208,10 +209,10 @@ class Scene:
         )
 
     def _elsewhere(self, stamp: int, recorded: int = 0) -> str:
-        """Where a stamp on another clock than the tf span's falls in the recording (``Timeline.placed``; by
+        """Where a stamp on another clock than the tf span's falls in the recording (``clocks_apart.placed``; by
         its sample's own arrival where ``recorded`` gives it): " (on a clock 5.8 h ahead of the recorder's:
         +0.1 s)"; "" where the recording does not tell."""
-        placed = self.timeline.placed(stamp, recorded)
+        placed = clocks_apart.placed(self.timeline, stamp, recorded)
         if placed is None:
             return ""
         since, ahead = placed
