@@ -103,16 +103,35 @@ def test_no_cache_is_suggested_for_messages_stamped_before_their_chains_tf_began
 
 def test_messages_stamped_before_the_first_tf_anyone_sent_are_said_to_predate_tf() -> None:
     """The walker's (ros2_db3_tb3_roomba_walker_tarunreddyy_2023) 6 IMU messages stamped 0.173-0.198 s, recorded
-    before the simulation's first tf (0.202 s) arrived: the recorder was listening and no tf existed yet, so
-    'record tf from before the sensor' asked for what never was. Messages recorded after tf began keep it."""
+    before the simulation's first tf (0.202 s) arrived, 1.65 s after the recorder's first message (/tf_static):
+    the recorder was listening and no tf existed yet, so 'record tf from before the sensor' asked for what never
+    was. They are lost, as the advice says: 'undecided: before recorded tf' beside it said a listener started
+    earlier might have had their tf. Messages recorded after tf began keep it."""
     early = [(T0 - 20 * MS + i * 5 * MS, "laser", T0 - 50 * MS + i * 5 * MS) for i in range(6)]  # before tf
     later = [(T0 + 300 * MS + i * 20 * MS, "laser", T0 + 270 * MS + i * 20 * MS) for i in range(20)]
-    report = filter_streams(_buffer(_base()), [_stream(early + later)], FilterQuery(target="odom"))
+    buffer = _buffer(_base(), _static("base_link", "imu", T0 - NS_PER_S))  # the recorder heard /tf_static 1 s before
+    report = filter_streams(buffer, [_stream(early + later)], FilterQuery(target="odom"))
     (stream,) = report.streams
     assert (stream.before_tf, stream.before_any_tf) == (6, True), stream
+    assert (stream.never, stream.reasons, stream.undecided) == (6, {"before_any_tf": 6}, {}), stream
+    assert stream.wait_needed is not None  # the timeout of the other 20, which a wait decides
     text = " ".join(_text(report).split())
     assert "6 stamped before the first tf anyone published: the sensor started before tf" in text, text
+    assert "6 never: before any tf 6" in text and "before recorded tf" not in text, text
     assert "record tf from before the sensor" not in text, text
+
+
+def test_messages_before_tf_that_came_right_after_the_recording_began_stay_undecided() -> None:
+    """The same messages where the recorder's first message is theirs and tf arrives 50 ms later, within the
+    silence a 50 Hz stream may keep and still be publishing: a listener started earlier might have had tf that
+    old, so the recording cannot tell (undecided, 'record tf from before the sensor')."""
+    early = [(T0 - 20 * MS + i * 5 * MS, "laser", T0 - 50 * MS + i * 5 * MS) for i in range(6)]
+    report = filter_streams(_buffer(_base()), [_stream(early)], FilterQuery(target="odom"))
+    (stream,) = report.streams
+    assert (stream.never, stream.undecided, stream.before_any_tf) == (0, {"before_recorded_tf": 6}, False), stream
+    assert "6 stamped before tf began: no cache keeps them; record tf from before the sensor" in " ".join(
+        _text(report).split()
+    )
 
 
 def test_the_waiters_of_a_tf_publisher_that_died_never_pass() -> None:

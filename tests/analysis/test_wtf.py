@@ -176,6 +176,25 @@ def test_a_stamp_sent_again_with_other_values_is_judged_by_the_recordings_tf2(ro
         assert "mix" in finding.hint
 
 
+def test_a_stamp_sent_again_twice_with_one_other_value_is_two_rows_lost_on_one_stamp() -> None:
+    """The second SAIL bag (ros1_sail_zed_revalued_stamps_2022.bag): a stamp sent A, B, B. ROS 1's tf2 keeps A and
+    refuses both Bs (TF_REPEATED_DATA): two rows lost, on one stamp; an identical copy of A is a warning apart."""
+    first = ekf()
+    again = first[10]
+    stamp = again.transforms[0].stamp
+    other = [dataclasses.replace(t, stamp=stamp) for t in odom_base(stamp + 10 * MS)]
+    copies = [TfMessage(again.topic, again.record_time + k * MS // 4, other, again.publisher) for k in (1, 2)]
+    same = TfMessage(first[20].topic, first[20].record_time + MS // 4, first[20].transforms, first[20].publisher)
+    messages = healthy(ekf=sorted([*first, *copies, same], key=lambda m: m.record_time))
+    said = {f.severity: f for f in check(recording(messages)).findings if f.code == "time_backwards"}
+    assert set(said) == {Severity.error, Severity.warning}, said
+    assert "sent 2 transforms with a stamp it had already sent but other values than it first had (1 stamp)" in (
+        said[Severity.error].message
+    ), said[Severity.error].message
+    assert "again with a stamp and values it had already sent" in said[Severity.warning].message
+    assert "nothing is lost" in said[Severity.warning].message
+
+
 def test_every_registered_check_has_a_scene() -> None:
     shown = {p.code for p in PROBLEMS.values()}
     against_a_tree = {c for c in CHECKS if c.startswith("expect_")}  # each with its scene in test_expected.py

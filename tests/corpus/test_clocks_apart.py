@@ -106,6 +106,25 @@ def test_time_backwards_is_the_repeats_ros1s_tf2_logs_as_repeated(corpus: Corpus
     assert again["message"].startswith(
         "map -> odom by /zed2_left/zed_node_left sent 3014 transforms again with a stamp and values it had already"
     ), again["message"]
+    # tf2 logs each at WARN level ('Warning: TF_REPEATED_DATA') and answers every lookup as before: a warning, as
+    # tf2 says it; it was an error, though nothing is lost (exit 1 stays: the EKF's stamps ahead are)
+    assert again["severity"] == "warning", again
+
+
+def test_repeats_with_other_values_are_counted_per_row_tf2_refuses(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The second SAIL bag: ROS 1's tf2 refuses all 17,659 re-sent stamps per edge (TF_REPEATED_DATA), keeping each
+    stamp's first value; 703 (odom -> base_link) and 714 (map -> odom) of the refused rows carry another value, on
+    650 and 659 stamps (the manifest said 650 and 659 re-sends): those rows' updates are lost (an error), the other
+    16,956 and 16,945 repeat the value tf2 kept (a warning: its log floods)."""
+    (bag,) = json.loads(tfx("wtf", "-b", corpus(BY_ID[REVALUED]), "--format", "json").stdout)["bags"]
+    said = {(f["severity"], f["frames"][1]): f["message"] for f in bag["findings"] if f["code"] == "time_backwards"}
+    assert set(said) == {(s, c) for s in ("error", "warning") for c in ("odom", "base_link")}, said
+    assert "odom by /zed2_left/zed_node_left sent 714 transforms with a stamp" in said["error", "odom"]
+    assert "(659 stamps)" in said["error", "odom"]
+    assert "sent 703 transforms with a stamp" in said["error", "base_link"]
+    assert "(650 stamps)" in said["error", "base_link"]
+    assert "sent 16945 transforms again with a stamp and values" in said["warning", "odom"]
+    assert "sent 16956 transforms again with a stamp and values" in said["warning", "base_link"]
 
 
 def test_the_ekfs_gps_steps_are_counted_as_the_bytes_hold_them(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

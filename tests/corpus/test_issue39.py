@@ -288,12 +288,14 @@ def test_multiple_parents_on_tf_static_is_not_an_object_picked_up(corpus: Corpus
 
 def test_filter_says_no_cache_keeps_messages_stamped_before_tf(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """The boat's first 10 IMU messages are stamped before the recording's odom -> base_link began: no cache
-    keeps them (the real MessageFilter drops them with a 15 s cache too), so no cache is suggested for them."""
+    keeps them (the real MessageFilter drops them with a 15 s cache too), so no cache is suggested for them. They
+    arrived 0.04-1.3 s into the recording, before any /tf (1.36 s in, at 10 Hz): lost, before any tf (exit 1)."""
     _, path = _recording(corpus, BOAT)
     result = tfx("filter", "-b", path, "--format", "json")
-    assert result.code == 0, result.stderr
+    assert result.code == 1, result.stderr
     (imu,) = [t for t in json.loads(result.stdout)["topics"] if t["topic"] == "/imu/data"]
     assert imu["before_tf"] == 10 and imu["cache_needed_s"] is None
+    assert imu["reasons"] == {"before_any_tf": 10} and imu["undecided"] == {}, imu
     text = _words(tfx("filter", "-b", path).stdout)
     # recorded 1.3 s before the first /tf message arrived, stamped before any tf stamp: the sensor started first
     assert "10 stamped before the first tf anyone published: the sensor started before tf; no cache keeps" in text
@@ -343,6 +345,9 @@ def test_filter_says_imu_messages_before_the_simulations_first_tf_predate_tf(cor
         t for t in json.loads(tfx("filter", "-b", path, "--format", "json").stdout)["topics"] if t["topic"] == "/imu"
     ]
     assert imu["before_tf"] == 6 and imu["before_any_tf"] is True, imu
+    # the label says what the advice says: lost, before any tf (not 'undecided: before recorded tf')
+    assert imu["reasons"] == {"before_any_tf": 6} and "before_recorded_tf" not in imu["undecided"], imu
     text = _words(tfx("filter", "-b", path).stdout)
     assert "6 stamped before the first tf anyone published: the sensor started before tf" in text, text
+    assert "6 never: before any tf 6" in text and "before recorded tf" not in text, text
     assert "nothing to record earlier" in text and "record tf from before the sensor" not in text

@@ -157,7 +157,7 @@ def test_a_rospy_node_and_rosdiagnostic_hear_on_diagnostics_what_wtf_says_of_the
         if "child" in values and values.get("rate (Hz)") not in (None, "static"):
             bag_rate = rates[(values["parent"], values["child"])]
             assert float(values["rate (Hz)"]) == pytest.approx(bag_rate, rel=0.1), status
-            assert float(values["age (s)"]) < 2.0
+            assert float(values["silent for the last (s)"]) < 2.0
     begin, end = recording.start, recording.end
     assert all(begin - 2 * 10**9 <= a["stamp"] <= end + 2 * 10**9 for a in hearing)  # on the bag's /clock
 

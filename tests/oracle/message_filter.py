@@ -96,14 +96,14 @@ AGREE = {
     "on_arrival": {Fate.ON_ARRIVAL},
     "later": {Fate.LATER},
     "drop_out_the_back": {Fate.TOO_OLD_ON_ARRIVAL},
-    "drop_waiting": {Fate.OLDER_THAN_CACHE, Fate.BEFORE_RECORDED_TF},
+    "drop_waiting": {Fate.OLDER_THAN_CACHE, Fate.BEFORE_RECORDED_TF, Fate.BEFORE_ANY_TF},
     "drop_empty_frame": {Fate.EMPTY_FRAME},
     "pending_unknown_frame": {Fate.UNKNOWN_FRAME},
     "pending_not_connected": {Fate.NOT_CONNECTED},
     "pending_future": {Fate.NEEDS_NEWER_TF, Fate.AFTER_RECORDED_TF},
-    "pending_past": {Fate.OLDER_THAN_CACHE, Fate.BEFORE_RECORDED_TF},
+    "pending_past": {Fate.OLDER_THAN_CACHE, Fate.BEFORE_RECORDED_TF, Fate.BEFORE_ANY_TF},
     "drop_spurious": {Fate.LATER},
-    "later_defect": {Fate.OLDER_THAN_CACHE, Fate.BEFORE_RECORDED_TF},
+    "later_defect": {Fate.OLDER_THAN_CACHE, Fate.BEFORE_RECORDED_TF, Fate.BEFORE_ANY_TF},
 }
 DEFECT = ("drop_spurious", "later_defect")
 PASSED = ("on_arrival", "later")

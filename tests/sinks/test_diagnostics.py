@@ -34,6 +34,7 @@ def _edge(parent: str, child: str, *, static: bool = False, last: int = NOW - NS
         2_000_000.0 if not static else math.nan,
         9_000_000.0,
         last,
+        silent_for=0 if static else NOW - last,
     )
 
 
@@ -64,12 +65,15 @@ def test_each_check_and_edge_has_a_status_at_the_level_of_its_worst_finding() ->
     assert all(s.hardware_id == "tf" for s in said.values())
 
 
-def test_an_edges_figures_are_its_rate_delay_age_and_longest_gap() -> None:
+def test_an_edges_figures_are_its_rate_delay_longest_gap_and_silence() -> None:
+    """The time since an edge's last sample arrived is its silence (``figures.silence``), under that name: tfx sent
+    it as "age (s)" too, a second figure for one thing, which read as how old its newest stamp was."""
     said = _by_name(statuses(_report(), [_edge("odom", "base_link")], NOW))
     values = dict(said[edge_name("odom", "base_link")].values)
     assert values["rate (Hz)"] == "20.000"
     assert values["delay mean (s)"] == "0.002" and values["delay max (s)"] == "0.009"
-    assert values["age (s)"] == "0.100" and values["longest gap (s)"] == "0.060"
+    assert values["silent for the last (s)"] == "0.100" and values["longest gap (s)"] == "0.060"
+    assert "age (s)" not in values
     assert values["publishers"] == "/robot"
 
 
@@ -77,6 +81,7 @@ def test_an_edge_heard_before_but_not_now_is_stale_and_nothing_heard_is_a_stale_
     said = _by_name(statuses(_report(), [], NOW, gone={("odom", "base_link"): NOW - 30 * NS_PER_S}))
     gone = said[edge_name("odom", "base_link")]
     assert gone.level is Level.STALE and gone.message == "not heard for 30.000 s"
+    assert dict(gone.values)["silent for the last (s)"] == "30.000" and "age (s)" not in dict(gone.values)
     nothing = Finding(Severity.error, "no_tf", "no transforms on /tf, /tf_static", "start the robot")
     empty = _by_name(statuses(BagReport(("live",), [nothing]), [], NOW))
     assert empty["tf: tree"].level is Level.STALE

@@ -75,6 +75,9 @@ class Fate(enum.IntEnum):
     AFTER_RECORDED_TF = 7  # undecided: still waiting at the end for an edge that was still publishing
     TOO_OLD_ON_ARRIVAL = 8  # never: older than the cache already when it arrived, dropped inside add()
     EMPTY_FRAME = 9  # never: an empty frame_id, dropped inside add()
+    # never: as BEFORE_RECORDED_TF, but stamped before the first transform anyone sent on /tf and arrived before it
+    # did: the recorder was listening and no tf existed yet, so no listener had tf that old (the sensor started first)
+    BEFORE_ANY_TF = 10
 
     @property
     def reason(self) -> str:
@@ -89,6 +92,7 @@ LOST = (
     Fate.OLDER_THAN_CACHE,
     Fate.TOO_OLD_ON_ARRIVAL,
     Fate.EMPTY_FRAME,
+    Fate.BEFORE_ANY_TF,
 )
 UNDECIDED = (Fate.BEFORE_RECORDED_TF, Fate.AFTER_RECORDED_TF)
 #: ``Fates.lag`` of a message that arrived before the edge it waited for had sent anything.
@@ -283,6 +287,7 @@ def message_fates(
     the order they arrived (record times), its cache ``cache_time`` long, until the recording's
     ``end`` (record time; default: its last transform or message)."""
     end = recording_end(buffer, [messages]) if end is None else end
+    first_tf = _first_tf(buffer, messages)
     n = len(messages)
     fate = np.zeros(n, np.int8)
     ready = np.full(n, NEVER, np.int64)
@@ -311,10 +316,37 @@ def message_fates(
             judged = _judge(chain, arrived, places, stamps, end, cache_time)
             fate[mine], ready[mine], left[mine], left_place[mine], lag[mine], after[mine], limiting = judged
             before_tf[mine] = (stamps < chain.began) & (stamps != 0)
+            predate = (fate[mine] == Fate.BEFORE_RECORDED_TF) & _before(first_tf, stamps, arrived)
+            fate[mine[predate]] = Fate.BEFORE_ANY_TF
             zero_early[mine] = (stamps == 0) & (places < (chain.places[0] if len(chain.places) else NEVER))
             for row, edge in zip(mine.tolist(), limiting, strict=True):
                 decided[row] = edge
     return Fates(fate, ready, decided, lag, left, before_tf, left_place, after, zero_early)
+
+
+def _first_tf(buffer: Buffer, messages: StampedMessages) -> tuple[int, int] | None:
+    """The first stamp of any transform on /tf and the first record time one arrived at, where the recorder was
+    listening long before it came: since its first record (a /tf_static message, the stream's first) for longer
+    than the first edge to arrive may be silent and still be publishing (``silence_limit``), so that tf started
+    during the recording. None where that is not observed (or no moving transform's arrival is recorded)."""
+    moving = [h for _, h in buffer.histories() if not h.static and len(h.stamps) and (h.record_times > 0).any()]
+    if not moving:
+        return None
+    arrivals = [int(h.record_times[h.record_times > 0].min()) for h in moving]
+    heard = [int(h.record_times[h.record_times > 0].min()) for _, h in buffer.histories() if (h.record_times > 0).any()]
+    heard += [int(messages.record_time[messages.record_time > 0].min())] if (messages.record_time > 0).any() else []
+    first = moving[int(np.argmin(arrivals))]
+    if min(arrivals) - min(heard) <= silence_limit(history_rate(first)):
+        return None
+    return min(int(h.stamps.min()) for h in moving), min(arrivals)
+
+
+def _before(first_tf: tuple[int, int] | None, stamps: Int64Array, arrived: Int64Array) -> BoolArray:
+    """Which messages are stamped before the first tf anyone sent and arrived before any did (``_first_tf``)."""
+    if first_tf is None:
+        return np.zeros(len(stamps), np.bool_)
+    before: BoolArray = (stamps < first_tf[0]) & (arrived > 0) & (arrived < first_tf[1])
+    return before
 
 
 def _chains(
@@ -572,7 +604,7 @@ def stream_report(
     later_mask = fates.fate == Fate.LATER
     lost_rows = np.flatnonzero(np.isin(fates.fate, TF_LOST))
     lost = [fates.edge[i] for i in lost_rows.tolist()]
-    early = fates.early() & np.isin(fates.fate, (*AGED, Fate.BEFORE_RECORDED_TF))
+    early = fates.early() & np.isin(fates.fate, (*AGED, Fate.BEFORE_RECORDED_TF, Fate.BEFORE_ANY_TF))
     return StreamReport(
         topic=stream.topic,
         type=stream.type,
@@ -598,21 +630,9 @@ def stream_report(
         lost_edge=_most(lost),
         clock_apart=_clock_apart(buffer, _most(lost), stream, lost_rows),
         before_tf=int(early.sum()),
-        before_any_tf=bool(early.any()) and _before_any_tf(buffer, stream, early),
+        before_any_tf=bool(early.any()) and bool((fates.fate[early] == Fate.BEFORE_ANY_TF).all()),
         stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
     )
-
-
-def _before_any_tf(buffer: Buffer, stream: StampedMessages, early: BoolArray) -> bool:
-    """Whether the messages ``early`` (stamped before their chain's tf began) are stamped before the first
-    transform on /tf of any frame and were recorded before the first one arrived: no tf existed to record."""
-    moving = [h for _, h in buffer.histories() if not h.static and len(h.stamps)]
-    arrived = [int(h.record_times[h.record_times > 0].min()) for h in moving if (h.record_times > 0).any()]
-    if not moving or not arrived:
-        return False
-    first_stamp = min(int(h.stamps.min()) for h in moving)
-    records = stream.record_time[early]
-    return bool((stream.stamp[early] < first_stamp).all() and (records > 0).all() and records.max() < min(arrived))
 
 
 def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | None = None) -> float:
@@ -657,8 +677,10 @@ def _percentiles(waits: Int64Array) -> dict[str, float]:
 
 
 def _wait_needed(fates: Fates, stream: StampedMessages) -> int | None:
-    """The smallest timeout (ns) that lets ``KEEP`` of the stream through (``figures.wait_keeping``)."""
-    return wait_keeping(fates.waits(stream), int((fates.fate == Fate.ON_ARRIVAL).sum()), fates.decided)
+    """The smallest timeout (ns) that lets ``KEEP`` of the stream through (``figures.wait_keeping``), of the messages
+    a timeout decides: not those stamped before any tf existed (``Fate.BEFORE_ANY_TF``, said apart)."""
+    decided = fates.decided - int((fates.fate == Fate.BEFORE_ANY_TF).sum())
+    return wait_keeping(fates.waits(stream), int((fates.fate == Fate.ON_ARRIVAL).sum()), decided)
 
 
 def smallest_queue(fates: Fates, stream: StampedMessages) -> int:

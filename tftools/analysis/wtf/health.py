@@ -16,8 +16,7 @@ from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.fleet import BagReport
 from tftools.analysis.wtf.registry import CHECKS
-from tftools.core.figures import age as age_of
-from tftools.core.figures import apart_in_words
+from tftools.core.figures import apart_in_words, silence
 from tftools.core.time import to_sec
 
 #: diagnostic_updater's default hardware_id for what is not a device: the tf tree of this system.
@@ -61,6 +60,10 @@ def check_name(code: str) -> str:
 #: The tree's own status.
 TREE_NAME = "tf: tree"
 
+#: An edge's silence (``figures.silence``): how long since its last sample arrived, not how old its stamp is
+#: (until this key, tfx sent that figure as "age (s)").
+SILENT = "silent for the last (s)"
+
 
 def statuses(
     report: BagReport,
@@ -75,8 +78,8 @@ def statuses(
 ) -> list[Status]:
     """The statuses of ``report`` at ``now`` (ns, the clock of the edges' record times): the tree's
     (its worst level; STALE when nothing was heard), one per check that runs on tf (OK when it found
-    nothing) and one per edge of ``edges`` (its worst finding's level, its rate, delay, age and longest
-    gap). ``gone``: edges heard before but not in this span, with when they were last heard: STALE.
+    nothing) and one per edge of ``edges`` (its worst finding's level, its rate, delay, longest gap and
+    silence). ``gone``: edges heard before but not in this span, with when they were last heard: STALE.
     ``window``: the span's length (ns; 0 for a whole recording), and ``delays_unavailable`` why the edges'
     delays are unknown (``Timeline.delays_unavailable``), said in the tree's status."""
     checks = [_check_status(code, report.findings, hardware_id) for code in _codes(ignore)]
@@ -84,9 +87,10 @@ def statuses(
         checks = [dataclasses.replace(s, level=Level.STALE) if s.level is Level.ERROR else s for s in checks]
     edge_statuses = [_edge_status(edge, report.findings, now, hardware_id) for edge in edges]
     for (parent, child), last in sorted((gone or {}).items()):
-        age = f"{to_sec(age_of(now, last)):.3f}" if last else "unknown"
-        message = f"not heard for {age} s" if last else "not heard"
-        values = (("parent", parent), ("child", child), ("age (s)", age))
+        silent = silence(last, now)
+        said = "unknown" if silent is None else f"{to_sec(silent):.3f}"
+        message = "not heard" if silent is None else f"not heard for {said} s"
+        values = (("parent", parent), ("child", child), (SILENT, said))
         edge_statuses.append(Status(Level.STALE, edge_name(parent, child), message, hardware_id, values))
     tree = _tree_status(report, [*checks, *edge_statuses], window, hardware_id)
     if delays_unavailable:
@@ -167,9 +171,8 @@ def _edge_status(edge: EdgeStats, findings: Sequence[Finding], now: int, hardwar
             ("rate (Hz)", f"{edge.rate_hz:.3f}"),
             ("delay mean (s)", apart_in_words(edge.apart) if edge.apart else _seconds(edge.delay_mean)),
             ("delay max (s)", _seconds(edge.delay_max)),
-            ("age (s)", _seconds(float(age_of(now, edge.last_record))) if edge.last_record else "unknown"),
             ("longest gap (s)", _seconds(float(edge.longest_interval))),
-            ("silent for the last (s)", _seconds(math.nan if edge.silent_for is None else float(edge.silent_for))),
+            (SILENT, _seconds(math.nan if edge.silent_for is None else float(edge.silent_for))),
         ]
     values.append(("samples", str(edge.count)))
     if about:

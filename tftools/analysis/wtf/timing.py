@@ -481,8 +481,9 @@ def _went_back(scene: Scene, frames: tuple[str, str], mine: IntpArray, back: Boo
 
 
 def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same: bool) -> Finding:
-    """Stamps sent again: with the same values (ROS 1's tf2 logs TF_REPEATED_DATA; ROS 2's takes them
-    silently and is not asked here), or with other values (ROS 1's drops them, ROS 2's keeps both)."""
+    """Stamps sent again: with the same values (ROS 1's tf2 ignores each, logging TF_REPEATED_DATA at WARN
+    level, and answers every lookup as before: a warning, as tf2 says it; ROS 2's takes them silently and is not
+    asked here), or with other values (ROS 1's drops them, updates lost: an error; ROS 2's keeps both)."""
     sent = f"{edge(*frames)}{scene.by(scene.authorities_of(offenders))} sent {transforms(len(offenders))}"
     first = scene.first_at(offenders)
     other_values = (
@@ -490,7 +491,7 @@ def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same:
     )
     if same:
         severity, hint = (
-            Severity.error,
+            Severity.warning,
             "publish each stamp once (a timer faster than its input republishes the last transform)",
         )
         message = (
@@ -507,10 +508,12 @@ def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same:
             "from the last value received, and lookups just before it interpolate towards the first (ROS 1's "
             "would ignore it: TF_REPEATED_DATA)"
         )
-    else:
+    else:  # each row tf2 refuses whose value is not the one it kept (the stamp's first): a value sent twice is two
         severity, hint = Severity.error, other_values
+        stamps = counted(len(np.unique(scene.rows.stamp[offenders])), "stamp")
         message = (
-            f"{sent} with a stamp it had already sent but other values, first at {first}: tf2 ignores them "
-            "(TF_REPEATED_DATA), so those updates are lost"
+            f"{sent} with a stamp it had already sent but other values than it first had ({stamps}), first at "
+            f"{first}: tf2 ignores them (TF_REPEATED_DATA), answering from each stamp's first value, so those "
+            "updates are lost"
         )
     return scene.finding(severity, "time_backwards", message, hint, frames, offenders)
