@@ -61,6 +61,20 @@ def test_a_replay_shows_the_devices_delays_as_the_whole_recording_does(corpus: C
     assert last["chain"]["delay_mean_s"] == whole["chain"]["delay_mean_s"] is not None, last["chain"]
 
 
+def test_a_window_counts_on_the_clock_of_the_frames_asked_about(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """--start/--end with the device's chain count on its own wall-clock stamps (+10 to +20 s after its first,
+    1761904738.875: 93 of its samples, as the bytes hold); without frames, on the simulation's tf span, each edge
+    windowed by when its transforms arrived on /clock (the device's: 88 arrived in +10 to +20 s of /clock)."""
+    path = corpus(BY_ID[DIFF_CONT])
+    window = ("--start", "+10", "--end", "+20", "--format", "json")
+    chain = json.loads(tfx("monitor", *DEVICE, "-b", path, *window).stdout)
+    every = json.loads(tfx("monitor", "-b", path, *window).stdout)
+    assert [e["count"] for e in chain["edges"] if e["child"] == DEVICE[1]] == [93], chain["edges"]
+    assert [e["count"] for e in every["edges"] if e["child"] == DEVICE[1]] == [88], every["edges"]
+    echoed = tfx("echo", *DEVICE, "-b", path, "--start", "+10", "--end", "+11").stdout
+    assert echoed.startswith("At time 1761904748.875"), echoed[:80]
+
+
 def test_the_report_draws_the_devices_delay(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
     page = tmp_path / "diff_cont.html"
     tfx("report", corpus(BY_ID[DIFF_CONT]), "-o", page)

@@ -488,7 +488,8 @@ def _two_clocks(path: Path) -> Path:
 def _delays(buffer: Buffer, timeline: Timeline, child: str) -> list[int]:
     hist = buffer.history(child)
     assert hist is not None
-    return timeline.delays(child, hist.stamps, hist.record_times, hist.flags).tolist()
+    delays: list[int] = timeline.delays(child, hist.stamps, hist.record_times, hist.flags).tolist()
+    return delays
 
 
 def test_a_replay_measures_a_devices_delays_on_its_record_times_as_a_whole_read_does(tmp_path: Path) -> None:

@@ -73,7 +73,9 @@ def command(
     with TARGET and SOURCE, the chain between them and its net delay: how far behind the
     newest transform between them lags, the oldest edge deciding (what "extrapolation into
     the future" errors are about). On a bag: over the whole recording, or --start/--end
-    (times of recording). Without -b, on the live system, and with --play on a bag's replay:
+    (times of recording: with TARGET SOURCE, counted on their chain's clock, a device on the wall clock
+    beside a simulation on its own stamps; without, on the tf span's clock, every edge windowed by when its
+    transforms arrived on it). Without -b, on the live system, and with --play on a bag's replay:
     over the last --window seconds, refreshed once a second of wall time live, once a second of the
     recording with --play (--rate 2: every 0.5 s of wall time). Where no clock of the stamps was recorded
     (a simulation without /clock), a bag's --start/--end select by stamp, --play's by when the replay

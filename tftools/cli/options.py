@@ -45,7 +45,11 @@ Topics = Annotated[
 ]
 Start = Annotated[
     str | None,
-    typer.Option(help="Begin at TIME: absolute seconds, +S after the first tf stamp or -S before the last."),
+    typer.Option(
+        help="Begin at TIME: absolute seconds, +S after the first tf stamp or -S before the last, on the clock of "
+        "the frames asked about (a device on the wall clock beside a simulation: its own stamps); without frames, "
+        "on the clock of the recording's tf span."
+    ),
 ]
 Tf2 = Annotated[
     Semantics | None,
