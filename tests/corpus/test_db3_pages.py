@@ -11,13 +11,12 @@ import pytest
 
 from tests.corpus.fetch import Recording, load_manifest
 from tests.sources.bag.test_db3_pages import from_pages, through_sqlite
-from tftools.sources.bag.rosbag2 import database
 from tftools.sources.bag.rosbag2.database import Database
 
 _, RECORDINGS = load_manifest()
 DB3 = [r for r in RECORDINGS if r.meta.get("format") == "db3"]
 
-pytestmark = pytest.mark.skipif(database._TablePages is None, reason="built without sqlite's headers")
+pytest.importorskip("tftools.sources.bag.rosbag2._sqlite", reason="built without sqlite's headers")
 
 
 @pytest.mark.parametrize("recording", DB3, ids=[r.id for r in DB3])

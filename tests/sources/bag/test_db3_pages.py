@@ -18,7 +18,7 @@ from tftools.sources.bag.rosbag2 import database
 from tftools.sources.bag.rosbag2.database import Database, Fetched, PageError
 from tftools.sources.codecs.wire import HEADER_BYTES
 
-pytestmark = pytest.mark.skipif(database._TablePages is None, reason="built without sqlite's headers")
+_sqlite = pytest.importorskip("tftools.sources.bag.rosbag2._sqlite", reason="built without sqlite's headers")
 
 Row = tuple[int, int, int, bytes]  # topic id, record time, id, bytes handed over
 TOPIC_IDS = [1, 2, 3, 4]
@@ -125,11 +125,11 @@ def test_read_from_pages_as_through_sqlite(tmp_path: Path, monkeypatch: pytest.M
     and the page reader is what read it."""
     path = write_db3(tmp_path / "a.db3", mixed_rows(3000))
     opened: list[str] = []
-    pages = database._TablePages
+    pages = _sqlite.TablePages
 
-    def spy(*args: object) -> object:
-        opened.append(str(args[0]))
-        return pages(*args)  # type: ignore[misc]
+    def spy(path: str, root: int, wanted: list[int], headed: list[int], header_bytes: int) -> object:
+        opened.append(path)
+        return pages(path, root, wanted, headed, header_bytes)
 
     monkeypatch.setattr(database, "_TablePages", spy)
     fast = read_contents([path])
@@ -199,10 +199,9 @@ def sqlite_rows(path: Path, headed: Sequence[int] = ()) -> list[Row] | None:
         db.close()
 
 
-def kinds(data: bytes, kind: int) -> list[int]:
+def kinds(path: Path, data: bytes, kind: int) -> list[int]:
     """The messages table's interior (0x05) or leaf (0x0D) pages, in the tree's order."""
-    with sqlite3.connect(":memory:") as db:
-        db.deserialize(data)
+    with sqlite3.connect(path) as db:
         (root,) = db.execute("SELECT rootpage FROM sqlite_master WHERE name = 'messages'").fetchone()
     db.close()
     found: list[int] = []
@@ -233,7 +232,7 @@ def test_loops_in_page_pointers_refused(tmp_path: Path) -> None:
     page of a chain beyond the file: refused, or (a loop) sqlite's rows, in no more reads than twice
     the file's pages."""
     path, data = small_file(tmp_path)
-    interior = kinds(data, 0x05)
+    interior = kinds(path, data, 0x05)
     assert interior, "a tree of more than one level"
     root = interior[0]
     right_most = (root - 1) * PAGE + 8
@@ -255,7 +254,7 @@ def test_huge_cell_sizes_refused(tmp_path: Path) -> None:
     """A leaf cell claiming a payload of 2**56 bytes, or more bytes than its page holds: refused, nothing
     allocated for it."""
     path, data = small_file(tmp_path)
-    leaf = kinds(data, 0x0D)[0]
+    leaf = kinds(path, data, 0x0D)[0]
     cell = int.from_bytes(data[(leaf - 1) * PAGE + 8 : (leaf - 1) * PAGE + 10], "big")
     assert pages_or_error(patched(path, data, (leaf - 1) * PAGE + cell, b"\xff" * 8)) is None
     assert pages_or_error(patched(path, data, (leaf - 1) * PAGE + cell, b"\x83\x60")) is None
@@ -275,7 +274,7 @@ def test_corrupted_bytes_sqlites_rows_or_refused(tmp_path: Path) -> None:
     reader hands rows over, sqlite gives the same rows; elsewhere it refuses, and nothing crashes or hangs."""
     path, data = small_file(tmp_path)
     overflow = [n for n in range(2, len(data) // PAGE + 1) if data[(n - 1) * PAGE] == 0]
-    table_pages = kinds(data, 0x05) + kinds(data, 0x0D) + overflow
+    table_pages = kinds(path, data, 0x05) + kinds(path, data, 0x0D) + overflow
     chance = random.Random(41)
     read = refused = 0
     for _ in range(600):
@@ -300,7 +299,7 @@ def test_a_refused_file_reads_as_through_sqlite(tmp_path: Path, monkeypatch: pyt
     """Pages refused midway (a leaf's cell out of its page, found after rows were handed over): the whole
     read is that of sqlite, the rows handed over before forgotten."""
     path, data = small_file(tmp_path)
-    leaf = kinds(data, 0x0D)[-1]
+    leaf = kinds(path, data, 0x0D)[-1]
     bad = patched(path, data, (leaf - 1) * PAGE + 8, b"\x00\x01")  # the first cell at the page's start
     assert pages_or_error(bad) is None and sqlite_rows(bad) is not None
     fast = read_contents([bad])

@@ -60,7 +60,7 @@ _BESIDE = ("-wal", "-journal")
 
 try:
     from tftools.sources.bag.rosbag2._sqlite import Database as _Native
-    from tftools.sources.bag.rosbag2._sqlite import PageError
+    from tftools.sources.bag.rosbag2._sqlite import PageError as PageError
     from tftools.sources.bag.rosbag2._sqlite import TablePages as _TablePages
 except ImportError:  # built without sqlite's headers
 
@@ -121,7 +121,10 @@ class Database:
             return None
         if "".join(sql.split()) != "".join(_MESSAGES_TABLE.split()) or not 1 < root < 1 << 32:
             return None
-        reader = _TablePages(str(self.path), root, list(topics), list(headed), header_bytes)
+        try:
+            reader = _TablePages(str(self.path), root, list(topics), list(headed), header_bytes)
+        except PageError:  # its header or root page is not what the reader reads
+            return None
         return _fetches(reader, rows, nbytes)
 
     def close(self) -> None:
