@@ -1,6 +1,7 @@
 // tftools.sources.bag.rosbag2._sqlite: one read-only connection to a .db3 file (``Database``), serving its
 // small tables' queries as tuples and its messages through sqlite's C API, fetch after fetch, into arrays
-// and one byte buffer (Python's sqlite3 would build a tuple and a bytes object a row).
+// and one byte buffer (Python's sqlite3 would build a tuple and a bytes object a row); and the messages
+// table read from its pages (``TablePages``, db3_pages.hpp) into the same arrays.
 #include <Python.h>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -17,6 +18,8 @@
 #include <tuple>
 #include <utility>
 #include <vector>
+
+#include "db3_pages.hpp"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -44,11 +47,7 @@ struct SqliteError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-// Columns of the rows of one fetch: each row's integers, where its blob starts in ``data`` and its length.
-struct Fetched {
-    std::vector<int64_t> topic, time, id, start, length;
-    std::vector<uint8_t>* data;
-};
+using db3::Fetched;
 
 using FetchedArrays = std::tuple<Output<int64_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>,
                                  Output<int64_t>, Output<uint8_t>>;
@@ -72,6 +71,42 @@ std::unique_ptr<sqlite3_stmt, Close> prepare(const Connection& db, const std::st
     return held;
 }
 
+// Whether each topic id is among ``topics`` (an empty list where none are).
+std::vector<uint8_t> flags(const std::vector<int64_t>& topics) {
+    constexpr int64_t kMaxTopic = int64_t{1} << 24;
+    std::vector<uint8_t> listed;
+    for (const int64_t topic : topics) {
+        if (topic < 0 || topic > kMaxTopic) throw nb::value_error("a topic id out of range");
+        if (static_cast<size_t>(topic) >= listed.size()) listed.resize(static_cast<size_t>(topic) + 1);
+        listed[static_cast<size_t>(topic)] = 1;
+    }
+    return listed;
+}
+
+// The byte buffer that one fetch after another fills, and each fetch's arrays.
+class Batches {
+   public:
+    // The rows ``step`` puts into a fetch's columns, the GIL let go meanwhile.
+    template <typename Step>
+    FetchedArrays fetch(int64_t bytes, Step&& step) {
+        // The bytes of the fetch before are filled again once Python has let go of them: their
+        // pages are already the process's (new ones are faulted in page by page).
+        if (data_.use_count() != 1) data_ = std::make_shared<std::vector<uint8_t>>();
+        data_->clear();
+        data_->reserve(static_cast<size_t>(std::min<int64_t>(bytes, 1 << 22)) + 65536);
+        Fetched got{{}, {}, {}, {}, {}, data_.get()};
+        {
+            nb::gil_scoped_release unlocked;
+            step(got);
+        }
+        return {owned(std::move(got.topic)), owned(std::move(got.time)),   owned(std::move(got.id)),
+                owned(std::move(got.start)), owned(std::move(got.length)), shared(data_)};
+    }
+
+   private:
+    std::shared_ptr<std::vector<uint8_t>> data_ = std::make_shared<std::vector<uint8_t>>();
+};
+
 // The rows of ``SELECT topic, time, id, blob ...`` on a database opened read-only; a row whose topic
 // or time is not an integer or whose blob is not a blob is not a message, nor is a row of a topic not
 // among those listed (where some are): skipped.
@@ -79,11 +114,7 @@ class Messages {
    public:
     Messages(Connection db, const std::string& query, const std::vector<int64_t>& topics)
         : db_(std::move(db)), statement_(prepare(db_, query)) {
-        for (const int64_t topic : topics) {
-            if (topic < 0 || topic > kMaxTopic) throw nb::value_error("Messages: a topic id out of range");
-            if (static_cast<size_t>(topic) >= wanted_.size()) wanted_.resize(static_cast<size_t>(topic) + 1);
-            wanted_[static_cast<size_t>(topic)] = 1;
-        }
+        wanted_ = flags(topics);
         if (sqlite3_column_count(statement_.get()) != 4) {
             throw nb::value_error("Messages: the query must give 4 columns");
         }
@@ -91,20 +122,10 @@ class Messages {
 
     // The next rows, up to ``rows`` of them or until ``bytes`` of blobs are held; none at the end.
     FetchedArrays fetch(int64_t rows, int64_t bytes) {
-        // The bytes of the fetch before are filled again once Python has let go of them: their
-        // pages are already the process's (new ones are faulted in page by page).
-        if (data_.use_count() != 1) data_ = std::make_shared<std::vector<uint8_t>>();
-        data_->clear();
-        data_->reserve(static_cast<size_t>(std::min<int64_t>(bytes, 1 << 22)) + 65536);
-        Fetched got{{}, {}, {}, {}, {}, data_.get()};
-        std::string error;
-        {
-            nb::gil_scoped_release unlocked;
-            error = step(got, rows, bytes);
-        }
-        if (!error.empty()) throw SqliteError(error);
-        return {owned(std::move(got.topic)), owned(std::move(got.time)),   owned(std::move(got.id)),
-                owned(std::move(got.start)), owned(std::move(got.length)), shared(data_)};
+        return batches_.fetch(bytes, [&](Fetched& got) {
+            const std::string error = step(got, rows, bytes);
+            if (!error.empty()) throw SqliteError(error);
+        });
     }
 
    private:
@@ -148,11 +169,31 @@ class Messages {
     // Declared in this order so that the statement is finalized before its database is let go.
     Connection db_;
     std::unique_ptr<sqlite3_stmt, Close> statement_;
-    static constexpr int64_t kMaxTopic = int64_t{1} << 24;
     // Whether each topic id is wanted (none listed: every topic): sqlite's own ``topic_id IN (...)``
     // costs more than this test.
     std::vector<uint8_t> wanted_;
-    std::shared_ptr<std::vector<uint8_t>> data_;  // the blobs of the latest fetch
+    Batches batches_;
+    bool done_ = false;
+};
+
+// The messages table read from its pages (db3_pages.hpp): the rows of the query ``Messages`` serves
+// without a window, of the topics ``wanted`` (those of ``headed`` cut to ``header_bytes`` but where
+// compressed); ``PageError`` where the pages are not what the reader reads.
+class TablePages {
+   public:
+    TablePages(const std::string& path, uint32_t root, const std::vector<int64_t>& wanted,
+               const std::vector<int64_t>& headed, size_t header_bytes)
+        : pages_(path, root, db3::Topics{flags(wanted), flags(headed), header_bytes}) {}
+
+    FetchedArrays fetch(int64_t rows, int64_t bytes) {
+        return batches_.fetch(bytes, [&](Fetched& got) {
+            if (!done_) done_ = !pages_.step(got, rows, bytes);
+        });
+    }
+
+   private:
+    db3::TablePages pages_;
+    Batches batches_;
     bool done_ = false;
 };
 
@@ -222,6 +263,11 @@ class Database {
 NB_MODULE(_sqlite, m) {
     m.doc() = "One read-only sqlite connection: small queries as tuples, messages into arrays fetch after fetch.";
     nb::exception<SqliteError>(m, "SqliteError", nb::module_::import_("sqlite3").attr("DatabaseError").ptr());
+    nb::exception<db3::PageError>(m, "PageError");
+    nb::class_<TablePages>(m, "TablePages")
+        .def(nb::init<const std::string&, uint32_t, const std::vector<int64_t>&, const std::vector<int64_t>&, size_t>(),
+             "path"_a, "root"_a, "wanted"_a, "headed"_a, "header_bytes"_a)
+        .def("fetch", &TablePages::fetch, "rows"_a, "bytes"_a);
     nb::class_<Messages>(m, "Messages").def("fetch", &Messages::fetch, "rows"_a, "bytes"_a);
     nb::class_<Database>(m, "Database")
         .def(nb::init<const std::string&>(), "uri"_a)

@@ -7,6 +7,11 @@ object a row: the same rows, about 2.5 times slower (a build without sqlite's he
 files). Measured (issue 31): the 84,001 rows of the 600 s robot's tf in 75-107 ms through the extension,
 255-306 ms through sqlite3 (the whole read 0.15-0.17 s against 0.27-0.33 s), which the .db3 ingest goal
 cannot spare; the corpus's largest .db3 (8,542 rows) 13-16 ms against 24-28 ms.
+
+Without a window, the extension reads rosbag2's messages table from the file's pages itself (``pages``):
+sqlite spends ~1,500 instructions a row where a leaf cell is a few varints and a blob. Wherever that
+reader meets what it does not read as sqlite does, it raises ``PageError`` and the rows are read again
+through sqlite.
 """
 
 from __future__ import annotations
@@ -44,10 +49,26 @@ class _Connection(Protocol):
     def close(self) -> None: ...
 
 
+#: rosbag2's messages table, as its every release creates it (whitespace aside): the table the page
+#: reader reads (its ``id`` the rowid).
+_MESSAGES_TABLE = (
+    "CREATE TABLE messages(id INTEGER PRIMARY KEY,topic_id INTEGER NOT NULL,timestamp INTEGER NOT NULL,"
+    "data BLOB NOT NULL)"
+)
+#: Files beside a database that may hold pages newer than its own: sqlite reads it then.
+_BESIDE = ("-wal", "-journal")
+
 try:
     from tftools.sources.bag.rosbag2._sqlite import Database as _Native
+    from tftools.sources.bag.rosbag2._sqlite import PageError as PageError
+    from tftools.sources.bag.rosbag2._sqlite import TablePages as _TablePages
 except ImportError:  # built without sqlite's headers
+
+    class PageError(Exception):  # type: ignore[no-redef]
+        """Never raised: there is no page reader."""
+
     _Native = None  # type: ignore[assignment,misc]
+    _TablePages = None  # type: ignore[assignment,misc]
 
 
 class Database:
@@ -79,13 +100,42 @@ class Database:
         """The rows of ``query``, ``SELECT topic, time, id, blob ...`` (its conditions ending in
         ``typed``), fetch after fetch of up to ``rows`` rows and about ``nbytes`` of blobs; where
         ``skips_topics``, only those of ``topics`` (none: every topic); raises ``sqlite3.Error``."""
-        reader = self._db.messages(query, list(topics))
-        while len((fetched := reader.fetch(rows, nbytes))[0]):
-            yield fetched
-            del fetched  # let go: the next fetch fills the same bytes again
+        return _fetches(self._db.messages(query, list(topics)), rows, nbytes)
+
+    def pages(
+        self, rows: int, nbytes: int, topics: Sequence[int], headed: Sequence[int], header_bytes: int
+    ) -> Iterator[Fetched] | None:
+        """The messages table's rows, as ``messages`` gives those of ``SELECT topic_id, timestamp, id, data
+        FROM messages NOT INDEXED`` of ``topics`` (the blobs of ``headed`` ones cut to ``header_bytes``
+        but where compressed), read from the file's pages; None where there is no page reader or the
+        table is not rosbag2's or pages may lie beside the file; raises ``PageError`` (the caller reads
+        them through sqlite then) and ``sqlite3.Error``."""
+        if (
+            _TablePages is None
+            or not self.native
+            or any(self.path.with_name(self.path.name + s).exists() for s in _BESIDE)
+        ):
+            return None
+        found = self.rows("SELECT rootpage, sql FROM sqlite_master WHERE type = 'table' AND name = 'messages'")
+        if len(found) != 1 or not isinstance(root := found[0][0], int) or not isinstance(sql := found[0][1], str):
+            return None
+        if "".join(sql.split()) != "".join(_MESSAGES_TABLE.split()) or not 1 < root < 1 << 32:
+            return None
+        try:
+            reader = _TablePages(str(self.path), root, list(topics), list(headed), header_bytes)
+        except PageError:  # its header or root page is not what the reader reads
+            return None
+        return _fetches(reader, rows, nbytes)
 
     def close(self) -> None:
         self._db.close()
+
+
+def _fetches(reader: _Rows, rows: int, nbytes: int) -> Iterator[Fetched]:
+    """``reader``'s rows, fetch after fetch."""
+    while len((fetched := reader.fetch(rows, nbytes))[0]):
+        yield fetched
+        del fetched  # let go: the next fetch fills the same bytes again
 
 
 class _Python:

@@ -5,14 +5,16 @@ from __future__ import annotations
 
 import mmap
 import sqlite3
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
+from tftools.core.arrays import Int32Array
 from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.rosbag2.database import Database
+from tftools.sources.bag.rosbag2.database import Database, Fetched, PageError
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
@@ -166,7 +168,8 @@ def _messages(
     the bytes that can hold a header of each message (a compressed one whole), not the images or
     points after it. Rows of other types (sqlite stores any value in any column) are not messages:
     left out. Where ``every_topic`` of the topics table is wanted, the reader leaves out rows of
-    other topic ids itself where it can (``Database.skips_topics``)."""
+    other topic ids itself where it can (``Database.skips_topics``). Without a window the rows are
+    read from the table's pages where the extension can (``Database.pages``), else through sqlite."""
     if not channels:
         return
     path = db.path
@@ -193,23 +196,41 @@ def _messages(
         conditions += [f"timestamp >= {int(window.first)}", f"timestamp < {int(window.last)}"]
     where = " AND ".join(c for c in (*conditions, db.typed.removeprefix(" AND ")) if c)
     query = f"SELECT topic_id, timestamp, id, {data} FROM {table}" + (f" WHERE {where}" if where else "")
-    added, latest = False, result.start  # the latest record time met: rows may come a little out of order
+    unpack = result.messages.unpack
     try:
-        for fetched in db.messages(query, _FETCH, _FETCH_BYTES, list(channels)):
-            topic, timestamp, row_id, start, length, payloads = fetched
-            _unpack_if_compressed(payloads[start[0] : start[0] + length[0]][:4].tobytes(), result, size)
-            spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
-            result.messages.add_spans(lookup[topic], spans, payloads.data)
-            added, latest = True, max(latest, int(timestamp.max()))
-            span = result.end - result.start  # progress estimated by record time
-            progress(int(size * (latest - result.start) / span) if span > 0 else 0, size)
-            del fetched, payloads  # let go: the next fetch fills the same bytes again
-    except sqlite3.Error as e:
-        if added:  # start again from the pages, forgetting what the query gave
-            result.messages = result.messages.emptied()
+        pages = (
+            None if window is not None else db.pages(_FETCH, _FETCH_BYTES, list(channels), list(headers), HEADER_BYTES)
+        )
+        if pages is not None:
+            try:
+                _add(pages, lookup, result, size, progress)
+                return
+            except PageError:  # read them again through sqlite, forgetting what the pages gave
+                result.messages = result.messages.emptied()
+                result.messages.unpack = unpack
+        _add(db.messages(query, _FETCH, _FETCH_BYTES, list(channels)), lookup, result, size, progress)
+    except sqlite3.Error as e:  # start again from the pages, forgetting what the query gave
+        result.messages = result.messages.emptied()
         topic_ids, times, salvaged = zip(*_salvage(path, channels, result, str(e)), strict=True)
         _unpack_if_compressed(salvaged[0], result, size)
         result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(times)), salvaged)
+
+
+def _add(
+    fetches: Iterator[Fetched], lookup: Int32Array, result: FileScan, size: int, progress: ProgressCallback
+) -> None:
+    """The messages of ``fetches`` into ``result`` (its topic ids to channels through ``lookup``), the
+    progress reported by record time after each fetch."""
+    latest = result.start  # the latest record time met: rows may come a little out of order
+    for fetched in fetches:
+        topic, timestamp, row_id, start, length, payloads = fetched
+        _unpack_if_compressed(payloads[start[0] : start[0] + length[0]][:4].tobytes(), result, size)
+        spans = Spans(np.zeros_like(row_id), row_id, topic, timestamp, start, start + length)
+        result.messages.add_spans(lookup[topic], spans, payloads.data)
+        latest = max(latest, int(timestamp.max()))
+        span = result.end - result.start  # progress estimated by record time
+        progress(int(size * (latest - result.start) / span) if span > 0 else 0, size)
+        del fetched, payloads  # let go: the next fetch fills the same bytes again
 
 
 def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str) -> list[Row]:
