@@ -319,3 +319,26 @@ def test_monitor_counts_static_messages_recorded_before_the_first_clock(tfx: Tfx
     report = json.loads(result.stdout.splitlines()[-1] if play else result.stdout)
     publishers = {a["authority"]: a["messages"] for a in report["authorities"]}
     assert publishers == {"/tf_static": 3, "/tf": 100}
+
+
+def test_a_localizer_sending_odom_with_map_in_one_message_is_no_joint() -> None:
+    """ros1_okoslam_cartographer_2019-05-12-18-44-11.bag: cartographer sends map -> odom and odom -> base_link in
+    every message (it provides the odom frame), so odom -> base_link was taken for a state publisher's joint and
+    its heading turning 21.8 degrees in one step, and staying, was dropped as motion too fast for its samples.
+    Edges under odom sent only with map -> odom are a localizer's output: the step is a jump. A state
+    publisher's odom edge sent with the robot's joints (a Unity robot's whole tree in one message) stays one."""
+
+    def localizer(t: int) -> list[Transform]:
+        yaw = math.radians(21.8) if t - START >= 5 * NS_PER_S else 0.0
+        return [_t("map", "odom", t), _t("odom", "base_link", t, 0.01 * (t - START) / NS_PER_S, yaw)]
+
+    messages = sorted([statics(), *periodic("/cartographer", 50, localizer)], key=lambda m: m.record_time)
+    (jump,) = [f for f in check(recording(messages, ros1=True)).findings if f.code == "jump"]
+    assert jump.frames == ("odom", "base_link") and "REP 105" in jump.hint
+
+    def whole_tree(t: int) -> list[Transform]:
+        wheel = Transform.from_rpy((0, 0.12, 0.03), (0, 0, 0), t, "base_link", "wheel")
+        return [*localizer(t), wheel]
+
+    messages = sorted([statics(), *periodic("/unity", 50, whole_tree)], key=lambda m: m.record_time)
+    assert "jump" not in _codes(check(recording(messages, ros1=True)).findings)

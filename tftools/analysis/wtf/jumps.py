@@ -367,10 +367,25 @@ def _joints(scene: Scene) -> set[tuple[str, str]]:
     if len(edges) < 2 or not (rows.record_time.whole() > 0).all():
         return turning
     keys = [_message_keys(rows, mine) for _, _, mine in edges]
-    shared, counts = np.unique(np.concatenate([np.unique(k) for k in keys]), return_counts=True)
+    messages = [np.unique(k) for k in keys]
+    shared, counts = np.unique(np.concatenate(messages), return_counts=True)
     multi = shared[counts > 1]
-    together = {(p, c) for (p, c, _), k in zip(edges, keys, strict=True) if np.isin(k, multi).mean() >= JOINT_SHARE}
+    together = {
+        (p, c)
+        for i, ((p, c, _), k) in enumerate(zip(edges, keys, strict=True))
+        if np.isin(k, multi).mean() >= JOINT_SHARE and not _localizer_pair(edges, messages, i)
+    }
     return together | turning
+
+
+def _localizer_pair(edges: list[tuple[str, str, IntpArray]], messages: list[npt.NDArray[np.void]], i: int) -> bool:
+    """Whether edge ``i``, under odom, shares its ``messages`` (``_message_keys``) only with edges under map: a
+    localizer sending map -> odom and odom -> base in one message (cartographer providing the odom frame), whose
+    steps are corrections, not a state publisher's joints sampled too sparsely."""
+    if base_name(edges[i][0]) != ODOM:
+        return False
+    others = [k for j, ((p, _, _), k) in enumerate(zip(edges, messages, strict=True)) if j != i and base_name(p) != MAP]
+    return not others or not bool(np.isin(messages[i], np.concatenate(others)).any())
 
 
 def _turning_in_place(scene: Scene) -> set[tuple[str, str]]:
