@@ -106,6 +106,7 @@ _INSTEAD = {
     # older than the cache behind the chain's newest stamp (stamp 0, an old stamp): where no cache keeps them
     "older_than_cache": "stamp each message when it was measured, on the clock tf is stamped on",
     "too_old_on_arrival": "stamp each message when it was measured, on the clock tf is stamped on",
+    "before_any_tf": "start tf's publishers before the sensor",
 }
 
 
