@@ -33,8 +33,9 @@ from tftools.core.batch import concat_batches
 from tftools.core.errors import TransformError
 from tftools.core.time import NS_PER_S
 from tftools.sources import read_recording
+from tftools.sources.edge_clocks import EdgeClock
 from tftools.sources.stream import SAMPLES_PER_FRAME, stream_recording
-from tftools.sources.timeline import EdgeClock, Playback
+from tftools.sources.timeline import Playback
 
 ARCHIVES, RECORDINGS = load_manifest()
 WITH_TF = [r for r in RECORDINGS if r.meta["frames"]]

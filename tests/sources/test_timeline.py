@@ -7,7 +7,8 @@ import pytest
 
 from tftools import BatchBuilder, Buffer
 from tftools.sources.contents import ClockSamples
-from tftools.sources.timeline import seconds_since, stamps_behind, timeline_of
+from tftools.sources.edge_clocks import stamps_behind
+from tftools.sources.timeline import seconds_since, timeline_of
 
 START = 1_700_000_000 * 10**9
 

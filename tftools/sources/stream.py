@@ -28,16 +28,15 @@ from tftools.core.transform import Transform
 from tftools.sources.bag import BagReader, ProgressCallback
 from tftools.sources.bag.contents import BagFileInfo, RecordWindow
 from tftools.sources.contents import ClockSamples, RecordingContents, SentMessages
+from tftools.sources.edge_clocks import EdgeClock, edge_clock
 from tftools.sources.recording import no_transforms, semantics_of
 from tftools.sources.replay import Replay
 from tftools.sources.timeline import (
-    EdgeClock,
     KeptArrivals,
     Playback,
     Reference,
     Timeline,
     clocked_arrivals,
-    edge_clock,
     stamp_spans,
     tf_span,
     timeline_from,

@@ -22,8 +22,16 @@ from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S, duration
-from tftools.sources.clocks_apart import OtherClock, ahead_said, clock_groups, other_clocks
 from tftools.sources.contents import ClockSamples
+from tftools.sources.edge_clocks import (
+    EdgeClock,
+    OtherClock,
+    ahead_said,
+    clock_groups,
+    edge_clock,
+    other_clocks,
+    stamp_medians,
+)
 from tftools.values import value
 
 #: Two clocks more than this apart (the median of arrival minus stamp) are different clocks, not a delay.
@@ -50,38 +58,6 @@ class Reference(enum.Enum):
     CLOCK = "/clock"  # the last /clock message recorded before it, as a node with use_sim_time saw it
     RECORD = "record clock"  # its record time: the tf stamps are on the record clock
     NONE = "none"  # neither: the stamps are on a clock the recording did not keep
-
-
-@value
-class EdgeClock:
-    """How one frame's dynamic transforms relate to the recording's clocks (medians of arrival - stamp, ns)."""
-
-    child: str
-    arrivals: int  # transforms with a known record time
-    offset_record: int  # record time minus stamp
-    offset_clock: int | None  # /clock at arrival minus stamp; None without /clock (or none arrived after it)
-    median_stamp: int
-    median_record: int
-    first_stamp: int = 0
-    last_stamp: int = 0
-    reach_record: int = 0  # how far arrival strays from the stamp (95th percentile of |record time - stamp|)
-    reach_clock: int = 0  # the same against /clock at arrival
-    bases: int = 1  # time bases its samples are on (``figures.time_base_of``); all but the main one left out
-    last_record: int = 0  # its last arrival (record time): how long it has been silent (``figures.silence``)
-    # its samples on the other time bases: (first stamp, last stamp, record time minus stamp: the median)
-    elsewhere: tuple[tuple[int, int, int], ...] = ()
-
-    def offset(self, against_clock: bool) -> int | None:
-        """Arrival minus stamp against /clock or the record clock (None: never arrived under /clock)."""
-        return self.offset_clock if against_clock else self.offset_record
-
-    def agrees(self, against_clock: bool, tolerance: int) -> bool:
-        """Whether the stamps follow that clock: at most ``tolerance`` behind it, or ahead on its time base."""
-        offset = self.offset(against_clock)
-        if offset is None or offset > tolerance:
-            return False
-        reference = self.median_stamp + offset
-        return offset >= -tolerance or figures.same_base(self.median_stamp, reference)
 
 
 class KeptArrivals:
@@ -156,8 +132,8 @@ class Timeline:
 
     @cached_property
     def other_clocks(self) -> tuple[OtherClock, ...]:
-        """The clocks of stamps outside the tf span, beside the span's own (``clocks_apart.other_clocks``)."""
-        return other_clocks(self)
+        """The clocks of stamps outside the tf span, beside the span's own (``edge_clocks.other_clocks``)."""
+        return other_clocks(self.edges, self.tf_start, self.tf_end, self.same_clock)
 
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
         """The tf span on the clock of the frames a question is about (``children``): the recording's
@@ -418,7 +394,7 @@ class Timeline:
             measured = "ages" if coarse else "delays and ages"
             return f"tf stamps on {self.clock.topic} (simulated time); {measured} measured against it{coarse}"
         if self.reference is Reference.RECORD:
-            return f"tf stamps on the record clock{coarse}{ahead_said(self)}"
+            return f"tf stamps on the record clock{coarse}{ahead_said(self.other_clocks, self.origin, self.same_clock)}"
         return self.reason
 
 
@@ -633,47 +609,6 @@ def clocked_arrivals(
         yield child, stamps, records, *clock_at(clock, records)
 
 
-def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Array, known: BoolArray) -> EdgeClock:
-    """How ``child``'s transforms (``stamps`` recorded at ``records``, when /clock said ``ros`` where
-    ``known``) relate to the recording's clocks: those on the time base most of them are on, where they are
-    on several (``figures.time_base_of``: a replay's and a live publisher's, a week apart), so that no span
-    or offset of one frame is measured across two clocks."""
-    arrivals = len(stamps)  # all of them, on any base
-    offsets, span = records - stamps, figures.record_span(records)
-    bases = figures.time_bases(offsets, span)
-    elsewhere: list[tuple[int, int, int]] = []
-    if bases > 1:
-        base = figures.time_base_of(offsets, span)
-        main = int(np.argmax(np.bincount(base)))
-        for other in sorted(set(base.tolist()) - {main}):
-            theirs = base == other
-            elsewhere.append((int(stamps[theirs].min()), int(stamps[theirs].max()), figures.median_ns(offsets[theirs])))
-        mine = base == main
-        stamps, records, ros, known = stamps[mine], records[mine], ros[mine], known[mine]
-    offset_clock = figures.median_ns(ros[known] - stamps[known]) if known.any() else None
-    reach_clock = _reach(ros[known] - stamps[known]) if known.any() else 0
-    return EdgeClock(
-        child,
-        arrivals,
-        figures.median_ns(records - stamps),
-        offset_clock,
-        figures.median_ns(stamps),
-        figures.median_ns(records),
-        int(stamps.min()),
-        int(stamps.max()),
-        _reach(records - stamps),
-        reach_clock,
-        bases,
-        int(records.max()),
-        tuple(elsewhere),
-    )
-
-
-def _reach(read: Int64Array) -> int:
-    """The 95th percentile of how far arrival strays from the stamp, either way (ns)."""
-    return int(figures.percentile(np.abs(read), 95)) if len(read) else 0
-
-
 def stamp_spans(buffer: Buffer) -> Iterable[tuple[bool, int, int]]:
     """Whether each history is static, and its oldest and newest stamp. The samples a static history got on
     /tf (ROS 1's tf2 keeps a frame first sent on /tf_static static, and each /tf sample replaces its value)
@@ -699,22 +634,8 @@ def tf_span(spans: Iterable[tuple[bool, int, int]], record_start: int, record_en
     return min(first for first, _ in chosen), max(last for _, last in chosen)
 
 
-def stamps_behind(edges: Sequence[EdgeClock]) -> int:
-    """How far (ns) the frames' stamps are behind the record clock, negative where ahead: the median of
-    their record times minus the median of their stamps."""
-    stamp, record = _medians(edges)
-    return record - stamp
-
-
-def _medians(edges: Sequence[EdgeClock]) -> tuple[int, int]:
-    """The median of the frames' median stamps, and of their median record times (exact: ``median_ns``)."""
-    stamps = np.array([e.median_stamp for e in edges], np.int64)
-    records = np.array([e.median_record for e in edges], np.int64)
-    return figures.median_ns(stamps), figures.median_ns(records)
-
-
 def _why_none(edges: tuple[EdgeClock, ...], clock: ClockSamples) -> str:
-    stamp, record = _medians(edges)
+    stamp, record = stamp_medians(edges)
     if record < EPOCH_FLOOR <= stamp:
         what = (
             f"tf is stamped on wall-clock time ({stamp / NS_PER_S:.1f} s) while the record clock is simulated "

@@ -12,8 +12,8 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
 from tftools.core.figures import same_base
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S
-from tftools.sources.clocks_apart import clock_groups
-from tftools.sources.timeline import EdgeClock, Reference, stamps_behind
+from tftools.sources.edge_clocks import EdgeClock, clock_groups, stamps_behind
+from tftools.sources.timeline import Reference
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
 CLOCK_PAUSE = 1 * NS_PER_S
