@@ -183,7 +183,12 @@ def test_wtf_of_a_fleet() -> None:
 
 
 @pytest.mark.parametrize(
-    ("name", "lost"), [("ros1_tb3_waffle_static.bag", True), ("ros2_db3_tb3_gazebo_walker", False)]
+    ("name", "lost"),
+    [
+        ("ros1_tb3_waffle_static.bag", True),
+        ("ros2_db3_tb3_gazebo_walker", True),  # /imu's 6 messages stamped before any tf (its entry in the manifest)
+        ("ros2_db3_tb3_gazebo_walker2", False),
+    ],
 )
 def test_filter(name: str, lost: bool) -> None:
     from tftools.render import filter as render
