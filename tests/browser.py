@@ -20,6 +20,8 @@ from typing import Any
 
 import pytest
 
+from tests.patience import patient
+
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--no-first-run")
 VIEW = "--hide-scrollbars"
@@ -114,4 +116,4 @@ def png_size(picture: Path) -> tuple[int, int]:
 
 def _run(*args: str) -> subprocess.CompletedProcess[str]:
     assert CHROMIUM is not None
-    return subprocess.run([CHROMIUM, *FLAGS, *args], capture_output=True, text=True, timeout=120, check=False)
+    return subprocess.run([CHROMIUM, *FLAGS, *args], capture_output=True, text=True, timeout=patient(120), check=False)

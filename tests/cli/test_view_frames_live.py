@@ -17,6 +17,7 @@ import pytest
 
 from tests.cli.conftest import Tfx
 from tests.cli.test_view_frames import need, pdf_lines
+from tests.patience import patient
 
 DYNAMIC_PUBLISHER = """
 import math, rospy, tf2_ros
@@ -56,7 +57,7 @@ def stop(process: subprocess.Popen[bytes]) -> None:
 
 
 def wait_for(condition: Callable[[], bool], timeout: float = 15.0) -> None:
-    deadline = time.monotonic() + timeout
+    deadline = time.monotonic() + patient(timeout)
     while time.monotonic() < deadline:
         try:
             if condition():

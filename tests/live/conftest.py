@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 import pytest
 
 from tests.cli.conftest import tfx  # noqa: F401 - the in-process `tfx` fixture, for tests without a master
+from tests.patience import patient
 
 ROS_PYTHON = "/usr/bin/python3"
 T = TypeVar("T")
@@ -52,7 +53,7 @@ def ros1_available() -> None:
 
 def wait_until(condition: Callable[[], T], timeout: float, what: str, every: float = 0.05) -> T:
     """Poll ``condition()`` until it returns something true; fail after ``timeout`` seconds."""
-    deadline = time.monotonic() + timeout
+    deadline = time.monotonic() + patient(timeout)
     while True:
         value = condition()
         if value:
@@ -206,7 +207,7 @@ def read_line(process: subprocess.Popen[str], contains: str, timeout: float, str
     lines: list[str] = []
     selector = selectors.DefaultSelector()
     selector.register(pipe, selectors.EVENT_READ)
-    deadline = time.monotonic() + timeout
+    deadline = time.monotonic() + patient(timeout)
     try:
         while True:
             remaining = deadline - time.monotonic()

@@ -19,6 +19,8 @@ from typing import IO
 
 import pytest
 
+from tests.patience import patient
+
 NODES = Path(__file__).with_name("ros2_nodes.py")
 
 
@@ -53,7 +55,7 @@ class Process:
 
     def wait_for(self, text: str, timeout: float = 15.0) -> str:
         """The first line (stdout or stderr) containing ``text``; fails after ``timeout`` seconds."""
-        deadline = time.monotonic() + timeout
+        deadline = time.monotonic() + patient(timeout)
         while True:
             try:
                 line = self.lines.get(timeout=max(0.0, min(0.2, deadline - time.monotonic())))
@@ -67,7 +69,7 @@ class Process:
 
     def finish(self, timeout: float = 30.0) -> Finished:
         """Wait for the process to end by itself; its exit code and all it printed."""
-        returncode = self.popen.wait(timeout)
+        returncode = self.popen.wait(patient(timeout))
         for reader in self._readers:
             reader.join(timeout)
         return Finished(returncode, "".join(self.output["stdout"]), "".join(self.output["stderr"]))
