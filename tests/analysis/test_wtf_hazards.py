@@ -16,9 +16,9 @@ from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Result, Tfx, tfx  # noqa: F401 (the fixture)
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.wtf.broadcasters import sent_before
+from tftools.analysis.wtf.broadcasters import FLOOR_M, sent_before
 from tftools.analysis.wtf.fleet import check
-from tftools.analysis.wtf.jumps import FLOOR_M, JUMP_FACTOR, jumps
+from tftools.analysis.wtf.jumps import JUMP_FACTOR, jumps
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sinks.static_bag import REPAIR_EVERY_S, repair_static_transforms

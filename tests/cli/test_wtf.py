@@ -13,8 +13,9 @@ import pytest
 from tests.analysis.wtf_scenes import MS, PROBLEMS, ekf, healthy, write
 from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
+from tftools.analysis.findings import Severity
 from tftools.analysis.wtf import CHECKS
-from tftools.analysis.wtf.causes import severity_as_cause
+from tftools.analysis.wtf.causes import Rule, severity_as_cause
 
 DB3 = BagFormat.rosbag2_sqlite3
 
@@ -215,9 +216,9 @@ def test_ignore_skips_checks_and_refuses_unknown_codes(tfx: Tfx, bags: dict[str,
 
 
 def test_list_checks_names_every_code_with_its_severity(tfx: Tfx) -> None:
-    """Each check with its own severity, and where a finding of it can explain worse ones (a root cause, as
-    severe as what follows from it: ``causes.explain``), that severity too: multiple_authorities, a warning,
-    is an error where a replay's clock and stop follow from it."""
+    """Each check with the most it reports on its own (multiple_authorities: an error, where two publishers at once
+    contradict each other), and where a finding of it can explain worse ones (a root cause, as severe as what
+    follows from it: ``causes.explain``), that severity too: a warning with an error following is an error."""
     result = tfx("wtf", "--list-checks")
     assert result.code == 0
     severities = {code: c.severity for code, c in CHECKS.items()}
@@ -228,7 +229,10 @@ def test_list_checks_names_every_code_with_its_severity(tfx: Tfx) -> None:
         )
     text = " ".join(result.stdout.split())
     raised = [code for code in CHECKS if severity_as_cause(code, severities) is not severities[code]]
-    assert "multiple_authorities" in raised
+    assert severities["multiple_authorities"] is Severity.error
+    follows = Rule(frozenset({"cause"}), frozenset({"effect"}), lambda cause, it: True, "")
+    as_cause = {"cause": Severity.warning, "effect": Severity.error}
+    assert severity_as_cause("cause", as_cause, (follows,)) is Severity.error
     assert text.count("error as a cause") == len(raised) + 1  # and the caption's example
     assert "as severe as the worst of them" in text
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,7 +28,14 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
-from tftools.core.figures import Disagreement, disagreement, median_ns, period, record_span, time_base_of
+from tftools.core.figures import (
+    Disagreement,
+    largest_disagreement,
+    median_ns,
+    period,
+    record_span,
+    time_base_of,
+)
 from tftools.core.rotation import angle_between_many
 from tftools.core.time import NS_PER_S
 
@@ -61,11 +69,83 @@ TRACKED_SAMPLES = 20_000
 #: Publishers' values closer than this (m, degrees) are said to be the same (to the figures shown).
 NIL_M = 5e-5
 NIL_DEG = 5e-3
+#: A change of one edge's value this small (m, degrees) may be noise: ``jump``'s floor for a step its motion does not
+#: explain, and what two publishers of one edge at once may differ by beyond the edge's own step (``AtOnce``).
+FLOOR_M = 0.05
+FLOOR_DEG = 3.0
+
+
+@dataclass(frozen=True)
+class AtOnce:
+    """Publishers of one edge sending at once: how far apart their values are at the same times
+    (``figures.disagreement``), and the edge's own step from one sample of one publisher to its next (the larger of
+    their median steps, m and degrees): how far a lookup moves between two samples of one of them."""
+
+    apart: Disagreement
+    step_m: float
+    step_deg: float
+
+    @property
+    def contradict(self) -> bool:
+        """Further apart than the edge's own step plus noise (``FLOOR_M``, ``FLOOR_DEG``): tf2 keeps both in one
+        cache, so lookups a sample apart land on one, then the other, and the pose jumps further than it moves."""
+        return self.apart.metres > self.step_m + FLOOR_M or self.apart.degrees > self.step_deg + FLOOR_DEG
+
+    @property
+    def severity(self) -> Severity:
+        """An error where they contradict each other; a warning where they agree within noise."""
+        return Severity.error if self.contradict else Severity.warning
+
+    def said(self, scene: Scene) -> str:
+        """What was observed: how far apart (``apart_said``), and where they contradict each other, how far the
+        edge's own step moves it."""
+        told = apart_said(scene, self.apart)
+        if not self.contradict:
+            return told
+        return (
+            f"{told}, while each publisher's own value moves at most {self.step_m * 1000:.1f} mm and "
+            f"{self.step_deg:.2f}° from one sample to its next (the median)"
+        )
+
+    def follows(self) -> str:
+        """What follows where they contradict each other (said after what was observed); nothing where they agree."""
+        if not self.contradict:
+            return ""
+        return (
+            f"; further apart than that plus noise ({FLOOR_M * 100:.0f} cm, {FLOOR_DEG:.0f}°), they contradict each "
+            "other: tf2 keeps both in one cache, so lookups a sample apart land on one, then the other, or between "
+            f"them, and the pose jumps by up to {_far(self.apart)} between them"
+        )
+
+    def figures(self) -> dict[str, float | int | str]:
+        """``said``'s figures, for JSON."""
+        return apart_figures(self.apart) | {
+            "own_step_m": self.step_m,
+            "own_step_deg": self.step_deg,
+            "contradict": int(self.contradict),
+        }
+
+
+def at_once(streams: Sequence[tuple[Int64Array, FloatArray]]) -> AtOnce | None:
+    """How far several publishers' streams of one edge (sorted stamps, N x 7 values each) are apart at the same times
+    (``figures.largest_disagreement``) against the edge's own step; None where no two overlap in time."""
+    found = largest_disagreement(streams)
+    if found is None:
+        return None
+    steps = [apart(values[:-1], values[1:]) for _, values in streams if len(values) > 1]
+    step_m = max((float(np.median(m)) for m, _ in steps), default=0.0)
+    return AtOnce(found, step_m, max((float(np.median(d)) for _, d in steps), default=0.0))
+
+
+def _far(apart_: Disagreement) -> str:
+    """ "1.71 m and 69.6°"."""
+    return f"{apart_.metres:.2f} m and {apart_.degrees:.1f}°" if apart_.metres >= 0.01 else f"{apart_.degrees:.1f}°"
 
 
 def inferred_broadcasters(scene: Scene) -> list[Finding]:
-    """One ``multiple_authorities`` finding (a warning) per moving edge that several broadcasters seem to
-    send, where the recording names no publishers (none elsewhere); computed once per scene."""
+    """One ``multiple_authorities`` finding per moving edge that several broadcasters seem to send (a warning, an
+    error where they contradict each other: ``AtOnce``), where the recording names no publishers (none elsewhere);
+    computed once per scene."""
     return [f for f in _inferred(scene) if f.severity is not Severity.info]
 
 
@@ -198,11 +278,12 @@ def _infer(scene: Scene) -> list[Finding]:
         authorities = scene.authorities_of(mine)
         metadata, _ = _listed_said(scene, authorities)
         finding = scene.finding(
-            Severity.warning,
+            apart_.severity if apart_ is not None else Severity.warning,
             "multiple_authorities",
             f"{edge(*frames)}{scene.by(authorities)}: {listed([s for s in signs if s])} in {len(new)} new samples"
-            f"{'; ' + apart_said(scene, apart_) if apart_ is not None else ''}"
-            f"{metadata}: several broadcasters taking turns, it seems (this recording does not name publishers)",
+            f"{'; ' + apart_.said(scene) if apart_ is not None else ''}"
+            f"{metadata}: several broadcasters taking turns, it seems (this recording does not name publishers)"
+            f"{apart_.follows() if apart_ is not None else ''}",
             "tf2 takes every sample as it comes, so lookups mix the broadcasters' values: find them "
             f"({scene.list_publishers('/tf')}) and turn the transform off in all but one",
             frames,
@@ -211,7 +292,7 @@ def _infer(scene: Scene) -> list[Finding]:
         )
         figures: dict[str, float | int | str] = {"samples": len(mine), "new_samples": len(new)}
         figures |= {"stamps_back": back, "values_alternating": alternating}
-        figures |= apart_figures(apart_) if apart_ is not None else {}
+        figures |= apart_.figures() if apart_ is not None else {}
         found.append(dataclasses.replace(finding, figures=figures))
     return found + [_twins(scene, edges) for edges in twins.values()]
 
@@ -332,8 +413,9 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
     rows = scene.rows
     each = [_copies_apart(rows.stamp[mine], rows.values[mine], repeats.again) for _, mine, repeats in edges]
     found = [d for d in each if d is not None]
-    largest = max(found, key=lambda d: (d.metres, d.degrees))  # every edge here has copies: one at least
-    apart_ = dataclasses.replace(largest, instants=sum(d.instants for d in found))
+    largest = max(found, key=lambda d: (d.apart.metres, d.apart.degrees))  # every edge here has copies: one at least
+    apart_ = dataclasses.replace(largest.apart, instants=sum(d.apart.instants for d in found))
+    compared = dataclasses.replace(largest, apart=apart_)
     if _nil(apart_):
         effect = "tf2 drops the exact copies, so lookups are right, but every sample costs twice"
     else:
@@ -349,17 +431,17 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
     named = [edge(*frames) for frames, _, _ in edges]
     names = and_joined(named) if len(named) <= LISTED else listed(named, LISTED)
     finding = scene.finding(
-        Severity.warning,
+        compared.severity,
         "multiple_authorities",
         f"{names}{scene.by(authorities)} {'arrive' if len(edges) > 1 else 'arrives'} twice: "
-        f"{together.said('their' if len(edges) > 1 else 'its')}, {together.timing()}; {apart_said(scene, apart_)}"
-        f"{metadata}: {conclusion}; this recording does not name publishers",
+        f"{together.said('their' if len(edges) > 1 else 'its')}, {together.timing()}; {compared.said(scene)}"
+        f"{metadata}: {conclusion}; this recording does not name publishers{compared.follows()}",
         f"{effect}: find them ({scene.list_publishers('/tf')}) and stop the one that should not run",
         tuple(f for frames, _, _ in edges for f in frames),
         every,
         scene.arrival(every),
     )
-    figures = together.figures() | {"edges": len(edges)} | apart_figures(apart_)
+    figures = together.figures() | {"edges": len(edges)} | compared.figures()
     if listed_count is not None:
         figures["publishers_listed"] = listed_count
     return dataclasses.replace(finding, figures=figures)
@@ -390,7 +472,7 @@ def _nil(apart_: Disagreement) -> bool:
     return apart_.metres < NIL_M and apart_.degrees < NIL_DEG
 
 
-def _copies_apart(stamps: Int64Array, values: FloatArray, again: BoolArray) -> Disagreement | None:
+def _copies_apart(stamps: Int64Array, values: FloatArray, again: BoolArray) -> AtOnce | None:
     """How far the copies of an edge's stamps (``again``) are from the first sample of each: at those very
     stamps only (a stamp sent once is not interpolated against the copies around it)."""
     copied = np.unique(stamps[again])
@@ -398,15 +480,15 @@ def _copies_apart(stamps: Int64Array, values: FloatArray, again: BoolArray) -> D
     firsts = first_rows[np.argsort(stamps[first_rows], kind="stable")]
     copies = np.flatnonzero(again)
     copies = copies[np.argsort(stamps[copies], kind="stable")]
-    return disagreement(stamps[firsts], values[firsts], stamps[copies], values[copies])
+    return at_once([(stamps[firsts], values[firsts]), (stamps[copies], values[copies])])
 
 
-def _tracks_apart(stamps: Int64Array, values: FloatArray) -> Disagreement | None:
+def _tracks_apart(stamps: Int64Array, values: FloatArray) -> AtOnce | None:
     """How far two broadcasters taking turns are apart: the samples (in arrival order; the first
     ``TRACKED_SAMPLES``) told into tracks, each to the nearest of the ``TRACKS_HELD`` tracks extended last (by
     its last value), a new one where none is within ``TRACK_APART`` times two places' distance (``APART_M``,
     ``APART_DEG``); then the two largest tracks that overlap in time (of the ``TRACKS_COMPARED`` largest)
-    compared at the same times (``figures.disagreement``). None where no two do (stamps going back with the
+    compared at the same times (``at_once``). None where no two do (stamps going back with the
     same values, or values too scattered to follow)."""
     stamps, values = stamps[:TRACKED_SAMPLES], values[:TRACKED_SAMPLES]
     track = np.zeros(len(stamps), np.intp)
@@ -428,7 +510,7 @@ def _tracks_apart(stamps: Int64Array, values: FloatArray) -> Disagreement | None
             mine = np.flatnonzero(track == t)
             mine = mine[np.argsort(stamps[mine], kind="stable")]
             streams.append((stamps[mine], values[mine]))
-        found = disagreement(*streams[0], *streams[1])
+        found = at_once(streams)
         if found is not None:
             return found
     return None

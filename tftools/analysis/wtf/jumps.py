@@ -13,7 +13,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree
-from tftools.analysis.wtf.broadcasters import apart, inferred_edges
+from tftools.analysis.wtf.broadcasters import FLOOR_DEG, FLOOR_M, apart, inferred_edges
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
@@ -22,7 +22,7 @@ from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
 #: neighbours moved at (the median over ``NEIGHBOURS`` steps either side, the step itself left out)
-#: times its interval, plus a floor for noise and the first motion from rest.
+#: times its interval, plus a floor for noise and the first motion from rest (``FLOOR_M``, ``FLOOR_DEG``).
 JUMP_FACTOR = 5.0
 NEIGHBOURS = 3
 #: An edge sent in messages with other edges this often is a joint (``_joints``).
@@ -31,8 +31,6 @@ JOINT_SHARE = 0.9
 #: revolute joint, however it is sent (``_turning_in_place``).
 FIXED_ORIGIN_M = 1e-6
 WINDOWS_AT_ONCE = 65536
-FLOOR_M = 0.05
-FLOOR_DEG = 3.0
 #: A step no faster than ``JUMP_FACTOR`` times either step beside it, or than the edge's usual speed (the
 #: median of its steps that moved, where at least this many did), is its own motion too, unless it comes back
 #: (``comes_back``: a spike or a toggle). Real Neatos' odometry and wheels at 5.5 Hz move in pulses of two or

@@ -10,7 +10,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import apart_figures, apart_said, inferred_broadcasters, resent_notes
+from tftools.analysis.wtf.broadcasters import AtOnce, at_once, inferred_broadcasters, resent_notes
 from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
@@ -18,7 +18,6 @@ from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.analysis.wtf.static_senders import static_senders
 from tftools.analysis.wtf.topics import StaticShared, static_shared
 from tftools.core.arrays import Int64Array, IntpArray
-from tftools.core.figures import Disagreement, largest_disagreement
 from tftools.core.time import NS_PER_S
 
 #: tf2's words when a lookup meets a loop.
@@ -300,10 +299,15 @@ def _static_parents_hint(scene: Scene, child: str, mine: IntpArray, names: list[
     return f"{kept}: fix the frame_id its publisher sends on /tf_static"
 
 
-@register("multiple_authorities", Severity.warning, "two publishers of one edge")
+@register(
+    "multiple_authorities",
+    Severity.error,
+    "two publishers of one edge (an error where at once they contradict each other, a warning where they agree)",
+)
 def multiple_authorities(scene: Scene) -> Iterator[Finding]:
     """Per moving edge; static edges per set of publishers (where they differ, ``static_conflict``). Where the
-    recording names no publishers (ROS 2 bags), several are inferred from each edge's stream."""
+    recording names no publishers (ROS 2 bags), several are inferred from each edge's stream. Publishers at once
+    further apart than the edge's own step and noise contradict each other (``broadcasters.AtOnce``): an error."""
     yield from inferred_broadcasters(scene)
     rows = scene.rows
     for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
@@ -357,14 +361,15 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
     source = "nodes" if scene.publishers_known else "topics"
     figures: dict[str, float | int | str] = {}
     if together:
-        apart = _disagreement(scene, mine)
+        apart = _at_once(scene, mine)
         severity, message = Severity.warning, f"{edge(parent, child)} comes from {len(who)} {source} at once: {parts}"
         if apart is not None:
-            message += f"; {apart_said(scene, apart)}"
-            figures = apart_figures(apart)
+            severity, message = apart.severity, f"{message}; {apart.said(scene)}{apart.follows()}"
+            figures = apart.figures()
         hint = (
             "tf2 takes every sample as it comes, so lookups mix both publishers' values: turn the transform off "
-            "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter)"
+            "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter, "
+            "cartographer's provide_odom_frame)"
         )
     else:
         severity = Severity.info
@@ -378,14 +383,14 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
     return dataclasses.replace(found, figures=figures) if figures else found
 
 
-def _disagreement(scene: Scene, mine: IntpArray) -> Disagreement | None:
-    """The largest disagreement between any two publishers of one edge at the same times (``disagreement``)."""
+def _at_once(scene: Scene, mine: IntpArray) -> AtOnce | None:
+    """How far the publishers of one edge are apart at the same times, against the edge's own step (``at_once``)."""
     rows = scene.rows
     streams = []
     for _, theirs in split(mine, rows.authority[mine]):
         order = np.argsort(rows.stamp[theirs], kind="stable")
         streams.append((rows.stamp[theirs][order], rows.values[theirs][order]))
-    return largest_disagreement(streams)
+    return at_once(streams)
 
 
 def _during(scene: Scene, rows: IntpArray, arrivals: Int64Array) -> str:
