@@ -148,7 +148,7 @@ def command(
 
     Errors (loops, several trees, re-parenting, stale edges, stamps on another clock or from the
     future, NaN or bad rotations, empty or self frame ids, stamps going back, no tf) break lookups;
-    warnings (several publishers, leading '/', fixed transforms on /tf, gaps, late arrival) are
+    warnings (publishers that agree, leading '/', fixed transforms on /tf, gaps, late arrival) are
     tolerated by tf2 but off; notes are for information. --list-checks lists every check. Sensor data
     (a bag's messages with a header, or the --sensor topics) is replayed through a tf2 MessageFilter
     into --target: frames not in the tree, streams that wait for tf, and messages lost for good are
