@@ -23,7 +23,7 @@ from tests.analysis.monitor_scenes import (
     write_scene,
 )
 from tests.bags import BagFormat, TfMessage, write_bag
-from tftools.analysis.edges import EdgeStats
+from tftools.analysis.edges import EdgeStats, TimeWindow
 from tftools.analysis.monitor import LiveMonitor, MonitorQuery, MonitorReport, monitor, monitor_buffer, monitor_stream
 from tftools.analysis.times import Offset
 from tftools.core.batch import BatchBuilder
@@ -89,7 +89,7 @@ def _check_designed_effects(report: MonitorReport) -> None:
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_bag_numbers_match_the_truth(tmp_path: Path, truth_scene: Scene, fmt: BagFormat) -> None:
     recording = read_recording([write_scene(tmp_path, fmt, truth_scene.messages)])
-    report = monitor_buffer(recording.buffer, by_record_time=True)
+    report = monitor_buffer(recording.buffer, window=TimeWindow(by_record_time=True))
     _check_edges_against_truth(report, truth_scene)
     _check_designed_effects(report)
 
@@ -128,7 +128,7 @@ def test_two_publishers_of_one_edge_are_both_named() -> None:
 def test_a_window_counts_only_what_arrived_in_it(truth_scene: Scene) -> None:
     buffer = scene_buffer(truth_scene.messages)
     start, end = START + 5 * NS_PER_S, START + 8 * NS_PER_S
-    edges = _by_child(monitor_buffer(buffer, start=start, end=end, by_record_time=True))
+    edges = _by_child(monitor_buffer(buffer, window=TimeWindow(start, end, by_record_time=True)))
     for child, t in truth_scene.truth.items():
         inside = [s for s, r in zip(t.stamps, t.records, strict=True) if start <= r <= end]
         assert edges[child].count == len(inside)
@@ -156,7 +156,7 @@ def _chain_delay_by_lookups(
 def test_chain_and_its_delay_match_latest_lookups(truth_scene: Scene) -> None:
     buffer = scene_buffer(truth_scene.messages)
     begin = START + NS_PER_S  # (a latest-time lookup fails in the first milliseconds: stamps jitter)
-    chain = monitor_buffer(buffer, "map", "camera", start=begin).chain
+    chain = monitor_buffer(buffer, "map", "camera", TimeWindow(begin)).chain
     assert chain is not None
     assert chain.frames == ("camera", "base_link", "odom", "map")
     assert [e.key for e in chain.edges] == [("base_link", "camera"), ("odom", "base_link"), ("map", "odom")]
@@ -172,7 +172,7 @@ def test_chain_and_its_delay_match_latest_lookups(truth_scene: Scene) -> None:
 def test_chain_delay_over_a_window(truth_scene: Scene) -> None:
     buffer = scene_buffer(truth_scene.messages)
     start, end = START + 20 * NS_PER_S, START + 25 * NS_PER_S
-    chain = monitor_buffer(buffer, "odom", "wheel", start, end, by_record_time=True).chain
+    chain = monitor_buffer(buffer, "odom", "wheel", TimeWindow(start, end, by_record_time=True)).chain
     assert chain is not None
     grid = np.arange(start, end, MS // 2)
     expected = _chain_delay_by_lookups(buffer, truth_scene.messages, "odom", "wheel", grid)
@@ -207,7 +207,7 @@ def test_a_message_with_no_record_time_is_still_a_message() -> None:
         builder.add("world", "base", stamp, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0),
                     static=topic == "/tf_static", record_time=record, authority=topic)  # fmt: skip
     buffer.insert(builder.take())
-    authorities = {a.authority: a for a in monitor_buffer(buffer, by_record_time=True).authorities}
+    authorities = {a.authority: a for a in monitor_buffer(buffer, window=TimeWindow(by_record_time=True)).authorities}
     assert (authorities["/tf"].messages, authorities["/tf_static"].messages) == (5, 1)
     assert authorities["/tf"].rate_hz == pytest.approx(2.0)
     assert authorities["/tf_static"].static and not authorities["/tf"].static

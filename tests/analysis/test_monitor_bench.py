@@ -7,6 +7,7 @@ import time
 import numpy as np
 import pytest
 
+from tftools.analysis.edges import TimeWindow
 from tftools.analysis.monitor import monitor_buffer
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
@@ -39,7 +40,7 @@ def _long_recording(seconds: int) -> Buffer:
 def test_twenty_minutes_of_ten_edges(capsys: pytest.CaptureFixture[str]) -> None:
     buffer = _long_recording(20 * 60)
     began = time.perf_counter()
-    report = monitor_buffer(buffer, "l0", "l10", by_record_time=True)
+    report = monitor_buffer(buffer, "l0", "l10", TimeWindow(by_record_time=True))
     took = time.perf_counter() - began
     rows = sum(len(h) for _, h in buffer.histories())
     with capsys.disabled():

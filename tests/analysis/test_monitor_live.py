@@ -9,6 +9,7 @@ from rich.console import Console
 
 from tests.analysis.monitor_scenes import START, Scene, scene, scene_buffer
 from tests.sources.test_replay import FakeTime, HandDriven
+from tftools.analysis.edges import TimeWindow
 from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor_buffer
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.figures import seconds
@@ -55,7 +56,7 @@ def test_each_refresh_shows_its_windows_numbers(rate: float) -> None:
     for i, (now, _, _) in enumerate(refreshes[:-1]):
         assert now == truth.start + round((i + 1) * rate * NS_PER_S)  # sim time = bag time x rate
     for now, report, text in refreshes:
-        expected = monitor_buffer(whole, start=now - WINDOW, end=now, by_record_time=True)
+        expected = monitor_buffer(whole, window=TimeWindow(now - WINDOW, now, by_record_time=True))
         assert (report.start, report.end) == (now - WINDOW, now)
         assert [(e.key, e.count) for e in report.edges] == [(e.key, e.count) for e in expected.edges]
         for ours, theirs in zip(report.edges, expected.edges, strict=True):
@@ -66,7 +67,7 @@ def test_each_refresh_shows_its_windows_numbers(rate: float) -> None:
             (a.authority, a.messages) for a in expected.authorities
         ]
         if report.chain is not None:
-            chain = monitor_buffer(whole, "map", "camera", now - WINDOW, now, by_record_time=True).chain
+            chain = monitor_buffer(whole, "map", "camera", TimeWindow(now - WINDOW, now, by_record_time=True)).chain
             assert chain is not None and seconds(report.chain.delay_mean) == pytest.approx(
                 seconds(chain.delay_mean), rel=1e-9
             )

@@ -15,7 +15,7 @@ from rich.console import Console
 from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
 from tests.corpus.fetch import shared_dir
-from tftools.analysis.edges import edge_stats, history_rate
+from tftools.analysis.edges import TimeWindow, edge_stats, history_rate
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.wtf.fleet import check
@@ -74,7 +74,7 @@ def test_the_cause_is_two_publishers_on_two_clocks(bag: Path) -> None:
 
 def test_monitor_figures_are_each_clocks_own(bag: Path) -> None:
     recording = read_recording([bag])
-    stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, TimeWindow(timeline=recording.timeline))}
     both = stats[("map", "odom")]
     assert both.count == 2 * SECONDS * 20
     # both publishers side by side over the 19.975 s they arrived in (``figures.rate_of``): a sample every 25 ms;
@@ -95,7 +95,7 @@ def test_the_real_replay_beside_a_live_gmapping() -> None:
     # the replayed map -> odom arrived 603862.70 s after its stamps (median), the live one 0.050 s before its own
     assert two.figures["behind_s"] == pytest.approx(603862.70 + 0.05, abs=0.01)
     assert not {"rate", "time_backwards"} & _codes(findings)
-    stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    stats = {(s.parent, s.child): s for s in edge_stats(recording.buffer, TimeWindow(timeline=recording.timeline))}
     # 2114 samples, the replay's and the live gmapping's, in 54 s: 39.09 Hz (tfx said 0.0035 Hz before
     # clocks11, then 20.00 Hz: one publisher's rate for both)
     assert stats[("map", "odom")].rate_hz == pytest.approx(39.09, abs=0.01)
@@ -166,7 +166,7 @@ def test_filter_counts_an_edges_rate_as_monitor_does(bag: Path) -> None:
     from tftools.analysis.filter.fates import _rate
 
     recording = read_recording([bag])
-    stats = {s.child: s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    stats = {s.child: s for s in edge_stats(recording.buffer, TimeWindow(timeline=recording.timeline))}
     hist = recording.buffer.history("odom")
     assert hist is not None and history_rate(hist) == pytest.approx(stats["odom"].rate_hz)
     assert _rate(recording.buffer, ("map", "odom")) == pytest.approx(798 / 19.975)
@@ -179,7 +179,7 @@ def test_view_frames_says_an_edge_on_two_clocks_has_no_buffer_length(bag: Path) 
     from tests.analysis.test_graph_dot import dot_source
 
     recording = read_recording([bag])
-    stats = {s.child: s for s in edge_stats(recording.buffer, timeline=recording.timeline)}
+    stats = {s.child: s for s in edge_stats(recording.buffer, TimeWindow(timeline=recording.timeline))}
     assert stats["odom"].clocks == 2 and stats["base_link"].clocks == 1
     dot = dot_source(recording)
     assert "Buffer length: stamped on 2 clocks, no span" in dot and "604800" not in dot

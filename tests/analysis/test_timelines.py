@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from tests.analysis.wtf_scenes import PROBLEMS, START, healthy, recording, sensor
-from tftools.analysis.edges import edge_stats
+from tftools.analysis.edges import TimeWindow, edge_stats
 from tftools.analysis.filter import FilterQuery, filter_streams
 from tftools.analysis.monitor import monitor_buffer
 from tftools.analysis.timelines import (
@@ -63,7 +63,7 @@ def test_each_edge_over_time_agrees_with_monitor_and_wtf() -> None:
     assert span is not None
     bins = bins_over(*span)
     timelines = {e.key: e for e in edge_timelines(rec.buffer, rec.timeline, bins, 500 * MS)}
-    stats = {s.key: s for s in edge_stats(rec.buffer, timeline=rec.timeline)}
+    stats = {s.key: s for s in edge_stats(rec.buffer, TimeWindow(timeline=rec.timeline))}
     for key, timeline in timelines.items():
         s = stats[key]
         if s.static:
@@ -121,8 +121,8 @@ def test_a_monitor_trace_keeps_each_refresh() -> None:
     trace = MonitorTrace()
     refreshes = [START + s * NS_PER_S for s in (2, 6, 9)]
     for now in refreshes:
-        window = monitor_buffer(rec.buffer, start=now - NS_PER_S, end=now, by_record_time=True, timeline=rec.timeline)
-        trace.add(now, window)
+        last_second = TimeWindow(now - NS_PER_S, now, by_record_time=True, timeline=rec.timeline)
+        trace.add(now, monitor_buffer(rec.buffer, window=last_second))
     series = {(s.parent, s.child): s for s in trace.series()}
     assert list(series[("map", "odom")].times) == refreshes
     assert series[("map", "odom")].rate_hz == pytest.approx([10.0, 10.0, 10.0], rel=0.15)

@@ -13,6 +13,7 @@ import pytest
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
+from tftools.analysis.edges import TimeWindow
 from tftools.analysis.monitor import monitor_buffer
 from tftools.core.figures import seconds
 from tftools.core.time import NS_PER_S, to_sec
@@ -142,7 +143,8 @@ def test_play_ends_on_the_numbers_of_its_last_window(tfx: Tfx) -> None:
     last = json.loads(result.stdout.splitlines()[-1])
     recording = read_recording([SAMPLE_BAGS["mcap"]])
     end = recording.end
-    expected = monitor_buffer(recording.buffer, "map", "base_footprint", end - 4 * NS_PER_S, end, by_record_time=True)
+    last_four = TimeWindow(end - 4 * NS_PER_S, end, by_record_time=True)
+    expected = monitor_buffer(recording.buffer, "map", "base_footprint", last_four)
     assert last["window"] == {"start": to_sec(end - 4 * NS_PER_S), "end": to_sec(end)}
     for theirs, ours in zip(last["edges"], expected.edges, strict=True):
         assert (theirs["child"], theirs["count"]) == (ours.child, ours.count)

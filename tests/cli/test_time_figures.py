@@ -14,6 +14,7 @@ import pytest
 from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
 from tests.cli.conftest import Tfx
 from tests.corpus.fetch import shared_dir
+from tftools.analysis.edges import TimeWindow
 from tftools.analysis.frames import frame_tree
 from tftools.analysis.monitor import MonitorQuery, monitor, monitor_buffer, played_window
 from tftools.analysis.report import recording_facts
@@ -69,7 +70,7 @@ def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx: Tfx) -> 
     were shown. Now none, and the reason, in text and JSON."""
     bag = gazebo(tmp_path, 10)
     recording = read_recording([bag])
-    report = monitor_buffer(recording.buffer, timeline=recording.timeline)
+    report = monitor_buffer(recording.buffer, window=TimeWindow(timeline=recording.timeline))
     (base,) = [e for e in report.edges if e.child == "base"]
     assert math.isnan(base.delay_mean) and math.isnan(base.delay_max)
     assert "ticks every 0.100 s (10 Hz)" in report.delays_unavailable
@@ -90,7 +91,7 @@ def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx: Tfx) -> 
 def test_a_fine_clock_measures_delays_never_below_zero(tmp_path: Path) -> None:
     """/clock at 1 kHz: the 2 ms delays are measured; a reading a tick behind the stamp is no negative delay."""
     recording = read_recording([gazebo(tmp_path, 1000)])
-    report = monitor_buffer(recording.buffer, timeline=recording.timeline)
+    report = monitor_buffer(recording.buffer, window=TimeWindow(timeline=recording.timeline))
     (base,) = [e for e in report.edges if e.child == "base"]
     assert report.delays_unavailable == ""
     assert 0.001 <= seconds(base.delay_mean) <= 0.0025 and seconds(base.delay_max) <= 0.003
@@ -98,7 +99,7 @@ def test_a_fine_clock_measures_delays_never_below_zero(tmp_path: Path) -> None:
     assert history is not None
     delays = recording.timeline.delays("base", history.stamps, history.record_times, history.flags)
     assert len(delays) == 300 and delays.min() >= 0
-    chain = monitor_buffer(recording.buffer, "odom", "base", timeline=recording.timeline).chain
+    chain = monitor_buffer(recording.buffer, "odom", "base", TimeWindow(timeline=recording.timeline)).chain
     assert chain is not None and 0 <= seconds(chain.delay_mean) <= seconds(chain.delay_max) < 0.04
 
 
@@ -398,7 +399,7 @@ def test_arrivals_read_off_a_10_ms_clock_raise_no_false_rate_warning() -> None:
     rates = [f for f in check(knowing).findings if f.code == "rate"]
     assert [f.frames for f in rates] == [("map", "odom")] and "publishes irregularly" in rates[0].message
     assert knowing.timeline.record_step == 10 * MS and "ticks every 0.010 s" in knowing.timeline.describe()
-    report = monitor_buffer(knowing.buffer, timeline=knowing.timeline)
+    report = monitor_buffer(knowing.buffer, window=TimeWindow(timeline=knowing.timeline))
     assert all(math.isnan(e.delay_mean) for e in report.edges) and "0.010 s (100 Hz)" in report.delays_unavailable
 
 

@@ -3,6 +3,7 @@ figure as ``core.figures`` defines it, in ns."""
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from collections.abc import Iterator, Sequence
@@ -29,6 +30,51 @@ from tftools.core.stored import with_replaced
 from tftools.sources import clocks_apart
 from tftools.sources.contents import SentMessages
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
+from tftools.values import value
+
+
+@value
+class TimeWindow:
+    """Which samples a statistic counts: those stamped in ``[start, end]`` (ns; None: open), or with
+    ``by_record_time`` those that arrived then (``Timeline.arrival``; the stamp where that is unknown): what a live
+    monitor saw in its last seconds; static ones always. ``timeline`` turns record times into ROS time (a
+    recording's); without it, record times are ROS time (a live buffer's). ``until``: the record time an open
+    window's silences end at (a recording's end: ``edge_stats``)."""
+
+    start: int | None = None
+    end: int | None = None
+    by_record_time: bool = False
+    timeline: Timeline | None = None
+    until: int | None = None
+
+    @property
+    def clock(self) -> Timeline:
+        """The timeline that times arrivals (``ON_RECORD_CLOCK`` where none was given)."""
+        return self.timeline or ON_RECORD_CLOCK
+
+    def times(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
+        """The times the window selects by: stamps, or with ``by_record_time`` the arrivals."""
+        return self.clock.arrival(stamps, record_times) if self.by_record_time else stamps
+
+    def holds(self, stamps: Int64Array, record_times: Int64Array, static: BoolArray | bool = False) -> BoolArray:
+        """Which samples (stamped ``stamps``, recorded at ``record_times``) are in it: ``static`` ones always."""
+        if static is True:
+            return np.ones(len(stamps), np.bool_)
+        return self.inside(self.times(stamps, record_times), static)
+
+    def inside(self, times: Int64Array, static: BoolArray | bool = False) -> BoolArray:
+        """Which of the ``times`` (``TimeWindow.times``) are in the window: ``static`` ones always."""
+        inside = np.ones(len(times), np.bool_)
+        if self.start is not None:
+            inside &= times >= self.start
+        if self.end is not None:
+            inside &= times <= self.end
+        held: BoolArray = inside | static
+        return held
+
+
+#: Every sample, stamps on the record clock: a whole live buffer's window.
+WHOLE = TimeWindow()
 
 
 @dataclass(frozen=True)
@@ -84,51 +130,38 @@ class AuthorityStats:
     apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``apart``)
 
 
-def edge_stats(
-    buffer: Buffer,
-    start: int | None = None,
-    end: int | None = None,
-    *,
-    by_record_time: bool = False,
-    timeline: Timeline | None = None,
-    until: int | None = None,
-) -> list[EdgeStats]:
-    """Statistics of every edge with samples in ``[start, end]`` (static edges always).
+def edge_stats(buffer: Buffer, window: TimeWindow = WHOLE) -> list[EdgeStats]:
+    """Statistics of every edge with samples in the ``window`` (static edges always).
 
-    ``timeline`` turns record times into ROS time (a recording's); without it, record times are
-    ROS time (a live buffer's). The window selects samples by stamp, or with ``by_record_time``
-    by when they arrived (the stamp where that is unknown): what a live monitor saw in its last seconds.
     The longest interval counts every interval that overlaps the window, the one from the last sample before it
-    too; with ``by_record_time``, the silence since the last arrival is counted apart (``figures.silence``), to
-    ``end`` or, where the window is open, to ``until``: the record time the recording ends at, counted on the
+    too; by arrival (``TimeWindow.by_record_time``), the silence since the last arrival is counted apart
+    (``figures.silence``), to the window's end or, where it is open, to ``TimeWindow.until``: the record time the
+    recording ends at, counted on the
     record clock as ``stale`` counts it (ROS time at its end is a guess where no clock gives arrivals: the newest
     stamp, a map -> odom post-dated 1 s by AMCL). An edge that stopped says so at once, the same in a whole
     recording, its replay and a live window; never where staleness cannot be measured (``Timeline.available``: a
     simulation at 0.07x real time recorded without /clock, its rates on simulated time, its silences on wall time).
     """
-    timeline = timeline or ON_RECORD_CLOCK
+    timeline = window.clock
     result = []
     for parent, child, hist, mine in edge_rows(buffer):
-        rows = _window(hist, start, end, by_record_time, timeline) & mine
+        rows = _window(hist, window) & mine
         if rows.any():
-            before = _previous_stamp(hist, mine, rows) if start is not None else None
-            silence_end = end if by_record_time and timeline.available else None
-            counted_to = until if timeline.available else None
+            before = _previous_stamp(hist, mine, rows) if window.start is not None else None
+            silence_end = window.end if window.by_record_time and timeline.available else None
+            counted_to = window.until if timeline.available else None
             result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, counted_to))
     return result
 
 
 def authority_stats(
     buffer: Buffer,
-    start: int | None = None,
-    end: int | None = None,
+    window: TimeWindow = WHOLE,
     *,
-    by_record_time: bool = False,
-    timeline: Timeline | None = None,
     unstored: TransformBatch | None = None,
     sent: SentMessages | None = None,
 ) -> list[AuthorityStats]:
-    """Each publisher's messages over the window (as ``edge_stats`` selects it) and its edges; ``unstored``:
+    """Each publisher's messages over the ``window`` (as ``edge_stats`` selects it) and its edges; ``unstored``:
     the rows tf2 refused or took again without storing them (``Recording.refused``; default: the refused
     ones the buffer's log keeps): their edges are the publisher's too.
 
@@ -142,16 +175,16 @@ def authority_stats(
     aparts: dict[int, int] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
     arrived: list[_Arrived] = []  # the rows, for a guess of the messages where ``sent`` does not tell them
-    timeline = timeline or ON_RECORD_CLOCK
+    timeline = window.clock
     if unstored is None:
         unstored = buffer.rejections.rows()[0] if len(buffer.rejections) else TransformBatch.empty()
-    refused = _unstored(unstored, start, end, by_record_time, timeline)
+    refused = _unstored(unstored, window)
     # with the histories ROS 2's tf2 replaced when a child switched between /tf_static and /tf
     for child, hist in ((child, h) for child, current in buffer.histories() for h in with_replaced(current)):
-        window = _window(hist, start, end, by_record_time, timeline)
-        for authority in _ids(hist.authorities[window]):
+        held = _window(hist, window)
+        for authority in _ids(hist.authorities[held]):
             a = int(authority)
-            mine = window & (hist.authorities == authority)
+            mine = held & (hist.authorities == authority)
             extra = refused.pop((buffer.authorities[a], child, hist.static), None)
             if sent is None:
                 arrived.append((a, hist.static, hist.record_times[mine], hist.stamps[mine]))
@@ -166,9 +199,9 @@ def authority_stats(
             arrived.append((index, was_static, times, stamps))
             edges.setdefault(index, []).append((parent, child))
             delays.setdefault(index, [])
-    if sent is None:  # the rows guessed into messages were those of the window
-        sent, start, end = _guessed(buffer.authorities, arrived), None, None
-    counted = messages_in_window(sent, start, end, by_record_time=by_record_time, timeline=timeline)
+    if sent is None:  # the rows guessed into messages were those of the window: all of them count
+        sent, window = _guessed(buffer.authorities, arrived), dataclasses.replace(window, start=None, end=None)
+    counted = messages_in_window(sent, window)
     return [
         _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], aparts.get(a, 0))
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
@@ -208,17 +241,10 @@ class Counted:
     rate_hz: float
 
 
-def messages_in_window(
-    sent: SentMessages,
-    start: int | None = None,
-    end: int | None = None,
-    *,
-    by_record_time: bool = False,
-    timeline: Timeline | None = None,
-) -> dict[str, Counted]:
-    """The one definition of a publisher's messages in a window: those of ``sent`` within ``[start, end]`` as
-    ``edge_stats`` selects transforms (by their first transform's stamp, or with ``by_record_time`` by
-    arrival, ``Timeline.arrival``), its /tf_static messages always; by publisher.
+def messages_in_window(sent: SentMessages, window: TimeWindow = WHOLE) -> dict[str, Counted]:
+    """The one definition of a publisher's messages in a window: those of ``sent`` in the ``window`` as
+    ``edge_stats`` selects transforms (by their first transform's stamp, or by arrival), its /tf_static messages
+    always; by publisher.
 
     Their rate is counted on the arrival axis (``Timeline.arrival``), by stamp where no reference gives ROS
     time at arrival: not on the record clock then, which is no clock of the stamps' (a simulation recorded
@@ -226,16 +252,10 @@ def messages_in_window(
     of the others by 1 s). With a reference, a message whose arrival is unknown (a record time of 0) is
     counted, not timed by its stamp; without one, by stamp on each time base apart (``figures.rate_of``: the
     logistic cobot's /tf, an arm on simulated time beside detections on wall time, is not one span of 55 years)."""
-    timeline = timeline or ON_RECORD_CLOCK
+    timeline = window.clock
     arrived, known = timeline.ros_time(sent.record_time)
     arrival, timed = np.where(known, arrived, sent.stamp), known | (not timeline.available)
-    times = arrival if by_record_time else sent.stamp
-    inside = np.ones(len(sent), bool)
-    if start is not None:
-        inside &= times >= start
-    if end is not None:
-        inside &= times <= end
-    inside |= sent.static
+    inside = window.inside(arrival if window.by_record_time else sent.stamp, sent.static)
     counted = {}
     for a in _ids(sent.authority[inside]):
         mine = inside & (sent.authority == a)
@@ -261,18 +281,13 @@ def _counted(
 
 
 def _unstored(
-    rows: TransformBatch, start: int | None, end: int | None, by_record_time: bool, timeline: Timeline
+    rows: TransformBatch, window: TimeWindow
 ) -> dict[tuple[str, str, bool], tuple[str, Int64Array, Int64Array]]:
     """The record times and stamps of ``rows`` within the window (static ones always, as ``_window`` selects),
     per (publisher, child, static), with the edge's parent: they arrived, though the buffer holds none of them."""
     if not len(rows):
         return {}
-    times = timeline.arrival(rows.stamp, rows.record_time) if by_record_time else rows.stamp
-    inside = np.ones(len(rows), bool)
-    if start is not None:
-        inside &= (times >= start) | rows.static
-    if end is not None:
-        inside &= (times <= end) | rows.static
+    inside = window.holds(rows.stamp, rows.record_time, rows.static)
     found: dict[tuple[str, str, bool], tuple[str, list[Int64Array], list[Int64Array]]] = {}
     for was_static in (False, True):
         chosen = inside & (rows.static == was_static)
@@ -343,18 +358,9 @@ def chain_edges(buffer: Buffer, frames: Sequence[str]) -> list[tuple[str, str]]:
     return [(b, a) if buffer.parent(a) == b else (a, b) for a, b in itertools.pairwise(frames)]
 
 
-def _window(
-    hist: EdgeHistory, start: int | None, end: int | None, by_record_time: bool, timeline: Timeline
-) -> BoolArray:
-    if hist.static:
-        return np.ones(len(hist), bool)
-    times = timeline.arrival(hist.stamps, hist.record_times) if by_record_time else hist.stamps
-    mask = np.ones(len(times), bool)
-    if start is not None:
-        mask &= times >= start
-    if end is not None:
-        mask &= times <= end
-    return mask
+def _window(hist: EdgeHistory, window: TimeWindow) -> BoolArray:
+    """The samples of ``hist`` in the ``window``: all of a static one."""
+    return window.holds(hist.stamps, hist.record_times, hist.static)
 
 
 def _previous_stamp(hist: EdgeHistory, mine: BoolArray, rows: BoolArray) -> int | None:

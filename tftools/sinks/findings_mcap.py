@@ -14,7 +14,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
 
-from tftools.analysis.edges import edge_stats
+from tftools.analysis.edges import TimeWindow, edge_stats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.fleet import BagReport
 from tftools.analysis.wtf.health import statuses
@@ -162,9 +162,8 @@ def diagnostics_over(
     at = start
     while at <= end:
         held = dataclasses.replace(report, findings=[f for f in report.findings if active(f, at, start, end)])
-        edges = edge_stats(
-            recording.buffer, max(start, at - WINDOW), at, by_record_time=True, timeline=recording.timeline
-        )
+        window = TimeWindow(max(start, at - WINDOW), at, by_record_time=True, timeline=recording.timeline)
+        edges = edge_stats(recording.buffer, window)
         unavailable = recording.timeline.delays_unavailable
         yield at, statuses(held, edges, at, ignore=ignore, window=WINDOW, delays_unavailable=unavailable)
         at += PERIOD

@@ -4,7 +4,6 @@ query)`` over a recording, ``monitor_stream(feed, query, on_tick)`` refreshed ov
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 import threading
 from collections.abc import Callable
@@ -14,8 +13,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tftools.analysis.edges import (
+    WHOLE,
     AuthorityStats,
     EdgeStats,
+    TimeWindow,
     authority_stats,
     chain_edges,
     chain_moving_edges,
@@ -87,10 +88,10 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
     Raises tf2's errors when the frames are not connected, ``InvalidTimeError`` or ``TimeRangeError``."""
     first, last = monitored_window(recording, query)
     buffer, timeline = recording.buffer, recording.timeline
+    window = TimeWindow(first, last, by_record_time=True, timeline=timeline, until=timeline.record_end)
     return monitor_buffer(
-        buffer, query.target, query.source, first, last, by_record_time=True, timeline=timeline,
-        unstored=recording.refused, sent=recording.contents.sent, until=timeline.record_end,
-    )  # fmt: skip
+        buffer, query.target, query.source, window, unstored=recording.refused, sent=recording.contents.sent
+    )
 
 
 def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | None, int | None]:
@@ -131,29 +132,23 @@ def monitor_buffer(
     buffer: Buffer,
     target: str | None = None,
     source: str | None = None,
-    start: int | None = None,
-    end: int | None = None,
+    window: TimeWindow = WHOLE,
     *,
-    by_record_time: bool = False,
-    timeline: Timeline | None = None,
     unstored: TransformBatch | None = None,
     sent: SentMessages | None = None,
-    until: int | None = None,
 ) -> MonitorReport:
-    """tf_monitor's statistics over ``[start, end]`` (windowed as ``edge_stats`` windows them); with two
-    frames, their chain too, its delay over the same window on the arrival axis (``end`` defaults to the
-    buffer's clock). ``unstored``: the rows tf2 did not store, ``sent``: the messages that arrived
-    (``authority_stats``); ``until``: the record time an open window's silences end at (a recording's end,
-    ``edge_stats``). Raises tf2's errors when the frames are not connected."""
-    edges = edge_stats(buffer, start, end, by_record_time=by_record_time, timeline=timeline, until=until)
-    authorities = authority_stats(
-        buffer, start, end, by_record_time=by_record_time, timeline=timeline, unstored=unstored, sent=sent
-    )
+    """tf_monitor's statistics over the ``window`` (``edge_stats``); with two frames, their chain too, its delay
+    over the same window on the arrival axis (an open end: the buffer's clock). ``unstored``: the rows tf2 did
+    not store, ``sent``: the messages that arrived (``authority_stats``). Raises tf2's errors when the frames are
+    not connected."""
+    edges = edge_stats(buffer, window)
+    authorities = authority_stats(buffer, window, unstored=unstored, sent=sent)
     chain = None
+    end = window.end
     if target is not None and source is not None:
         end = end if end is not None else buffer.now()
-        chain = chain_stats(buffer, edges, target, source, start, end, timeline)
-    return MonitorReport(start, end, edges, authorities, chain, (timeline or ON_RECORD_CLOCK).delays_unavailable)
+        chain = chain_stats(buffer, edges, target, source, window.start, end, window.timeline)
+    return MonitorReport(window.start, end, edges, authorities, chain, window.clock.delays_unavailable)
 
 
 def chain_stats(
@@ -317,14 +312,11 @@ class LiveMonitor:
             self._join_sent()
             if self.sent is not None:
                 self.sent = _kept_sent(self.sent, start - self.window)
-            window = functools.partial(
-                monitor_buffer, start=start, end=now, by_record_time=True, timeline=timeline, unstored=unstored,
-                sent=self.sent,
-            )  # fmt: skip
+            window = TimeWindow(start, now, by_record_time=True, timeline=timeline)
             try:
-                return window(self.buffer, target, source)
+                return monitor_buffer(self.buffer, target, source, window, unstored=unstored, sent=self.sent)
             except TransformError:  # the chain is not connected (yet): show the rest
-                return window(self.buffer)
+                return monitor_buffer(self.buffer, window=window, unstored=unstored, sent=self.sent)
 
 
 #: The most rows of replaced static caches a ``LiveMonitor`` keeps (the newest).

@@ -10,7 +10,7 @@ from typing import TypeVar, cast
 import numpy as np
 
 from tftools.analysis.description import Robot
-from tftools.analysis.edges import Edge, EdgeStats, edge_rows, edge_stats, publishers
+from tftools.analysis.edges import Edge, EdgeStats, TimeWindow, edge_rows, edge_stats, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterQuery, FilterReport, filter_streams
 from tftools.analysis.findings import Finding, Severity, counted
@@ -100,7 +100,7 @@ class Scene:
     @cached_property
     def stats(self) -> list[EdgeStats]:
         """Each edge's figures over the whole recording, its silence to the recording's end as monitor's."""
-        return edge_stats(self.buffer, timeline=self.timeline, until=self.timeline.record_end)
+        return edge_stats(self.buffer, TimeWindow(timeline=self.timeline, until=self.timeline.record_end))
 
     @property
     def ros2(self) -> bool:

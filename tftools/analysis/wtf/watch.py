@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import edge_stats
+from tftools.analysis.edges import TimeWindow, edge_stats
 from tftools.analysis.findings import Finding
 from tftools.analysis.wtf.fleet import BagReport, check
 from tftools.analysis.wtf.health import Status, statuses
@@ -110,7 +110,7 @@ def check_window(
     report = check(recording, query)
     report.findings = [f for f in report.findings if _settled(f, transforms)]
     start = max(begin, now - window.window)
-    edges = edge_stats(recording.buffer, start, now, by_record_time=True, timeline=recording.timeline)
+    edges = edge_stats(recording.buffer, TimeWindow(start, now, by_record_time=True, timeline=recording.timeline))
     ignore: Collection[str] = query.ignore
     said = statuses(
         report,
