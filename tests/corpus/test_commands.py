@@ -109,3 +109,30 @@ def test_the_report_names_the_tf_topics_recorded(
     (row,) = re.findall(r"<tr><th>Transforms</th><td>(.*?)</td></tr>", page.read_text(), re.S)
     recorded = {topic.lstrip("/") for topic, _ in data.read_contents(path).messages}
     assert ("none on /tf_static" in html.unescape(row)) == ("tf_static" not in recorded), row
+
+
+WITHOUT_TF = [r for r in RECORDINGS if "no_tf" in r.meta["expected"]["errors"]]
+
+
+@pytest.mark.parametrize("recording", WITHOUT_TF, ids=[r.id for r in WITHOUT_TF])
+def test_the_report_of_a_recording_without_transforms_says_so(
+    recording: Recording,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """Each recording the manifest finds no transform in (ros2_mcap_abitobot_no_tf, the Webots walker's ranges,
+    ...): tfx report wrote nothing and exited 2 where tfx wtf gives its no_tf error and exits 1. It writes its page
+    now, with what the recording holds (every topic, with its type) and wtf's no_tf finding, and exits as wtf does."""
+    path = corpus(recording)
+    page = tmp_path / "report.html"
+    result = tfx("report", "-b", path, "-o", page)
+    assert result.code == recording.meta["expected"]["wtf_exit"] == 1, result.stderr
+    text = html.unescape(page.read_text())
+    (bag,) = json.loads(tfx("wtf", path, "--format", "json").stdout)["bags"]
+    (no_tf,) = [f for f in bag["findings"] if f["code"] == "no_tf"]
+    assert no_tf["message"] in text and no_tf["hint"] in text
+    (held,) = re.findall(r"<tr><th>Holds</th><td>(.*?)</td></tr>", text, re.S)
+    for topic in data.read_contents(path).topics:
+        assert f"{topic} (" in held, (topic, held)  # each with its type
+    assert "No transforms: no tree" in text and "<svg" not in text
