@@ -11,6 +11,7 @@ import pytest
 
 from tests.analysis.wtf_scenes import (
     DELAY,
+    MS,
     PROBLEMS,
     SECONDS,
     SIM_START,
@@ -371,7 +372,11 @@ def test_a_topics_rate_timed_by_stamps_on_two_time_bases_counts_each_on_its_own(
 @pytest.mark.parametrize(
     ("problem", "said"),
     [
-        ("clock", r"a clock counting from boot or a simulation's start, while the recording's clock \(which "),
+        (
+            "clock",
+            r"on a clock counting from zero \(a simulation's time or time since boot: no /clock was recorded to "
+            r"tell which\), while the recording's clock \(which ",
+        ),
         ("clock_replay", r"stamped 3\.0 days behind the recording's clock \(which "),
     ],
 )
@@ -421,7 +426,10 @@ def test_a_device_on_the_wall_clock_beside_a_simulation_is_not_told_to_use_sim_t
     whose stamps keep time with the record clock, in a tree of its own. That is a device stamping wall-clock time
     on purpose: the finding says what was observed (its stamps arrive 2 ms after them by the record clock, a tree
     of its own) and the hint what a user can do (one clock for both, or two trees), not "set use_sim_time true for
-    it too". Joined to the robot's tree, a wall-clock publisher is a node that forgot use_sim_time."""
+    it too". Joined to the robot's tree (no IAS0220 recording joins it; the UR5's wall-clock detections hang from
+    its simulated arm), the bytes do not tell a node that forgot use_sim_time from a real device's driver: the
+    finding says which frames are on the wall clock, in which tree, and the hint gives what to do for either (the
+    node on use_sim_time; the device restamped on the simulation's time through a bridge, or a tree of its own)."""
     arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - SIM_START) / NS_PER_S)], stamp=sim)
     root = "imu_link" if apart else "base_link"
     device = periodic("/imu", 10, lambda t: [_t(root, "sonar", t, yaw=(t - START) / NS_PER_S)])
@@ -431,6 +439,35 @@ def test_a_device_on_the_wall_clock_beside_a_simulation_is_not_told_to_use_sim_t
     assert clock.frames == (root, "sonar")  # /clock is the arm's: the device is on another clock
     assert ("set use_sim_time true for it too" in clock.hint) is not apart, clock.hint
     assert ("a tree of their own: a device on the wall clock" in clock.message) is apart, clock.message
+    assert "arriving 2.0 ms after their stamps by the record clock" in clock.message, clock.message
+    if not apart:
+        said = "in one tree with them (under base_link): a publisher on the wall clock (a node without use_sim_time"
+        assert said in clock.message, clock.message
+        assert "a bridge node restamping them" in clock.hint and "a tree of their own" in clock.hint, clock.hint
+        assert "fail with extrapolation errors" in clock.hint, clock.hint
     if apart:
         assert "arriving 2.0 ms after their stamps by the record clock" in clock.message, clock.message
         assert "lookups within each tree work" in clock.hint and "put both on one clock" in clock.hint, clock.hint
+
+
+@pytest.mark.parametrize("clock_recorded", [False, True], ids=["no-clock", "clock-recorded"])
+def test_a_simulation_beside_a_device_without_its_clock_is_not_said_to_count_from_boot(clock_recorded: bool) -> None:
+    """ros2_db3_ias0220_gazebo_bumbaluk_2025's shape: a simulated robot stamped from the simulation's start
+    (1418-1500 s) beside a device on the wall clock, no /clock recorded: the device's clock is the reference and the
+    robot's frames were said to be on "a clock counting from boot", with the hint to stamp with the node's clock or
+    that it "runs with use_sim_time while nothing publishes /clock" (then it would stamp 0). The bytes do not tell a
+    simulation from a clock since boot (a real Neato's driver stamps time since boot too): said so, with what to do
+    for each. Where a /clock was recorded that those frames do not follow, it is not the simulation's."""
+    arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - SIM_START) / NS_PER_S)], stamp=sim)
+    device = periodic("/imu", 10, lambda t: [_t("imu_link", "sonar", t, yaw=(t - START) / NS_PER_S)])
+    messages = sorted(arm + device, key=lambda m: m.record_time)
+    other = ClockSamples("/clock", np.array([START + MS]), np.array([5000 * NS_PER_S]))
+    findings = check(recording(messages, ros1=False, clock=other if clock_recorded else None)).findings
+    (clock,) = [f for f in findings if f.code == "clock" and f.severity is Severity.error]
+    assert clock.frames == ("base_link", "arm"), clock
+    unrecorded = "a simulation's time or time since boot: no /clock was recorded to tell which"
+    assert (unrecorded in clock.message) is not clock_recorded, clock.message
+    assert "runs with use_sim_time while nothing publishes /clock" not in clock.hint or clock_recorded, clock.hint
+    if not clock_recorded:
+        assert "record /clock with them (ros2 bag record /clock ...)" in clock.hint, clock.hint
+        assert "lookups within each tree work" in clock.hint, clock.hint

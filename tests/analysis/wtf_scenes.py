@@ -246,7 +246,7 @@ PROBLEMS = {
         lambda: healthy(ekf=ekf(stamp=lambda t: t - START + 1234 * NS_PER_S)),
         ("odom", "base_link"),
         "/ekf",
-        words=("boot", "use_sim_time"),
+        words=("time since boot", "no /clock was recorded"),
     ),
     "clock_replay": Problem(
         "clock",

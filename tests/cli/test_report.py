@@ -3,6 +3,7 @@ browser's view of it)."""
 
 from __future__ import annotations
 
+import html
 import json
 import re
 from pathlib import Path
@@ -229,7 +230,8 @@ def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
     "(was /tf recorded? read other topics)", the library's hint (its error went through ``Unreadable``), where
     the other commands said "pick other topics with --topic"; and "read /tf and /tf_static, of a transform
     type" where they said "leave out --topic". The report words the error it carries as they do; tfx filter,
-    which has no --topic, names none; wtf's no_tf finding gave its own longer hint, and gives theirs now."""
+    which has no --topic, names none; wtf's no_tf finding gave its own longer hint, and gives theirs now. The
+    report, which exited 2 without a page, writes its page with wtf's no_tf finding and exits 1, as wtf does."""
     if recorded == "without tf":
         (tmp_path / "bags").mkdir()
         bag = sensor_bags(tmp_path / "bags", [], _scans)["db3"]
@@ -246,7 +248,6 @@ def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
         "monitor": ["monitor", "-b", bag],
         "view-frames": ["view-frames", "-b", bag, "-o", tmp_path / "frames.pdf"],
         "diff": ["diff", bag, bag],
-        "report": ["report", "-b", bag, "-o", tmp_path / "report.html"],
     }
     hints = {}
     for name, args in commands.items():
@@ -254,12 +255,14 @@ def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
         assert result.code == 2, name
         check_stderr(result.stderr, result.code)
         hints[name] = result.stderr.rstrip("\n").rpartition(" (")[2]
-    assert hints["report"].startswith(hint) and set(hints.values()) == {hints["report"]}, hints
-    assert not (tmp_path / "report.html").exists()
-    # wtf, which reads on and says it as its no_tf finding, gives the same hint
+    assert hints["frames"].startswith(hint) and set(hints.values()) == {hints["frames"]}, hints
+    # wtf, which reads on and says it as its no_tf finding, gives the same hint, and so does the report's page
     wtf = tfx("wtf", "-b", bag, *topic, "-f", "json")
     (no_tf,) = [f for b in json.loads(wtf.stdout)["bags"] for f in b["findings"] if f["code"] == "no_tf"]
-    assert f"{no_tf['hint']})" == hints["report"], (no_tf["hint"], hints)
+    assert f"{no_tf['hint']})" == hints["frames"], (no_tf["hint"], hints)
+    page = tmp_path / "report.html"
+    assert wtf.code == tfx("report", "-b", bag, *topic, "-o", page).code == 1
+    assert no_tf["hint"] in html.unescape(page.read_text())
 
 
 def _scans(store: Any) -> list[tuple[str, str, int, object]]:

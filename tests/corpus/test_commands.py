@@ -93,7 +93,11 @@ def test_echo_all_of_a_static_edge_is_its_one_transform(recording: Recording, co
     np.testing.assert_allclose(q, value[3:], atol=1e-9)
 
 
-@pytest.mark.parametrize("recording", WITH_TF, ids=[r.id for r in WITH_TF])
+WITHOUT_TF = [r for r in RECORDINGS if "no_tf" in r.meta["expected"]["errors"]]
+REPORTED = WITH_TF + [r for r in WITHOUT_TF if r not in WITH_TF]
+
+
+@pytest.mark.parametrize("recording", REPORTED, ids=[r.id for r in REPORTED])
 def test_the_report_names_the_tf_topics_recorded(
     recording: Recording,
     corpus: Corpus,
@@ -101,11 +105,26 @@ def test_the_report_names_the_tf_topics_recorded(
     tmp_path: Path,
 ) -> None:
     """The page's transforms fact says 'none on /tf_static' exactly where the recording holds no /tf_static
-    message (it said 'on /tf, /tf_static' of every recording: the topics asked for)."""
+    message (it said 'on /tf, /tf_static' of every recording: the topics asked for). Of a recording the manifest
+    finds no transform in (ros2_mcap_abitobot_no_tf, the Webots walker's ranges, ...), tfx report wrote nothing and
+    exited 2 where tfx wtf gives its no_tf error and exits 1: it writes its page now, with what the recording holds
+    (every topic, with its type) and wtf's no_tf finding, and exits as wtf does."""
     path = corpus(recording)
     page = tmp_path / "report.html"
     result = tfx("report", "-b", path, "-o", page)
     assert result.code in (0, 1), result.stderr
-    (row,) = re.findall(r"<tr><th>Transforms</th><td>(.*?)</td></tr>", page.read_text(), re.S)
+    text = html.unescape(page.read_text())
+    (row,) = re.findall(r"<tr><th>Transforms</th><td>(.*?)</td></tr>", text, re.S)
     recorded = {topic.lstrip("/") for topic, _ in data.read_contents(path).messages}
-    assert ("none on /tf_static" in html.unescape(row)) == ("tf_static" not in recorded), row
+    none = row.partition("none on ")[2].split(", ")  # "... ; none on /tf_static", or "none on /tf, /tf_static"
+    assert ("/tf_static" in none) == ("tf_static" not in recorded), row
+    if recording not in WITHOUT_TF:
+        return
+    assert result.code == recording.meta["expected"]["wtf_exit"] == 1, result.stderr
+    (bag,) = json.loads(tfx("wtf", path, "--format", "json").stdout)["bags"]
+    (no_tf,) = [f for f in bag["findings"] if f["code"] == "no_tf"]
+    assert no_tf["message"] in text and no_tf["hint"] in text
+    (held,) = re.findall(r"<tr><th>Holds</th><td>(.*?)</td></tr>", text, re.S)
+    for topic in data.read_contents(path).topics:
+        assert f"{topic} (" in held, (topic, held)  # each with its type
+    assert "No transforms: no tree" in text and "<svg" not in text

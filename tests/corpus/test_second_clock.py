@@ -103,6 +103,30 @@ def test_the_two_wheels_are_one_re_parenting_and_the_clock_hint_says_the_trees_a
     assert "set use_sim_time true for it too" not in clock["hint"] and "put both on one clock" in clock["hint"]
 
 
+def test_the_simulation_without_its_clock_is_not_said_to_count_from_boot(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The no-/clock sibling: the device's stamps keep time with the record clock, so they are the reference, and
+    the simulated robot (1418.3-1499.9 s) was said to be on "a clock counting from boot" and told it "runs with
+    use_sim_time while nothing publishes /clock" (then it would stamp 0, not 82 s of advancing time). The bytes
+    hold no /clock and nothing else that tells a simulation's time from a clock since boot: wtf, the report's
+    page and view-frames' legend say so, and what to do for each (record /clock; stamp with the node's clock)."""
+    path = corpus(BY_ID[NO_CLOCK])
+    (bag,) = json.loads(tfx("wtf", path, "--format", "json").stdout)["bags"]
+    (clock,) = [f for f in bag["findings"] if f["code"] == "clock"]
+    assert clock["frames"][:2] == ["odom", "base_footprint"], clock
+    said = "on a clock counting from zero (a simulation's time or time since boot: no /clock was recorded to tell"
+    assert said in clock["message"] and "1459.1 s" in clock["message"], clock["message"]
+    assert "which ultrasound_distance_sensor follows" in clock["message"], clock["message"]
+    assert "record /clock with them (ros2 bag record /clock ...)" in clock["hint"], clock["hint"]
+    assert "nothing publishes /clock" not in clock["hint"] and "lookups within each tree work" in clock["hint"]
+    page = tmp_path / "report.html"
+    tfx("report", "-b", path, "-o", page)
+    assert "counting from boot" not in page.read_text() and said.replace("'", "&#x27;") in page.read_text()
+
+
 def test_a_ros1_frame_kept_static_has_no_order_to_its_stamps(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """front_laser_link came first on /tf_static: ROS 1's tf2 keeps it static and each /tf sample replaces its
     value for every time, so its one stamp 0.1 s back changes no lookup (no TF_OLD_DATA either). The depth

@@ -15,6 +15,8 @@ import pytest
 from tests.bags import TfMessage, write_bag
 from tests.browser import chromium, open_page, png_size, screenshot
 from tests.cli.conftest import HOSTILE_NAMES, SAMPLE_BAGS, Tfx, tfx
+from tests.cli.test_filter import sensor_bags
+from tests.cli.test_report import _scans
 from tests.render.report_scenes import EKF_STOPS, troubled_bags
 from tftools.core.transform import Transform
 
@@ -116,3 +118,18 @@ def test_names_from_the_bag_stay_text(tfx: Tfx, chromium: str, tmp_path: Path) -
     opened = open_page(page, 'return [document.getElementById("injected"), document.querySelectorAll("b").length];')
     assert opened.errors == [] and opened.results[0] is None
     assert INJECTION in opened.text and "<b>html</b>" in opened.text  # shown, as text
+
+
+def test_the_page_of_a_recording_without_transforms_in_a_browser(tfx: Tfx, chromium: str, tmp_path: Path) -> None:
+    """A recording of laser scans and no tf (as ros2_mcap_abitobot_no_tf holds /imu/data and /joint_states only):
+    the page says there are no transforms, what the recording holds and wtf's no_tf finding, draws no tree or
+    timeline, and its scripts run without an error, a click on the finding too."""
+    (tmp_path / "bags").mkdir()
+    bag = sensor_bags(tmp_path / "bags", [], _scans)["db3"]
+    page = tmp_path / "report.html"
+    assert tfx("report", "-b", bag, "-o", page).code == 1
+    opened = open_page(page, 'document.querySelector(".finding").click(); await settled(); return null;')
+    assert opened.errors == []
+    for said in ("No transforms", "no_tf", "/scan (sensor_msgs/msg/LaserScan)"):
+        assert said in opened.text, said
+    assert "<svg" not in opened.dom and "<canvas" not in opened.dom

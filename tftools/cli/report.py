@@ -65,8 +65,10 @@ def command(
     the -b bags together make one more (a split bag). Without bags, listens --duration seconds to the
     live system (and to the --sensor topics).
 
-    Exit codes: 0 written, no errors found; 1 written, errors found (or some recordings could not be
-    read); 2 unusable input, nothing written.
+    A recording without any transform gets its page too: what it holds, and tfx wtf's no_tf error.
+
+    Exit codes: 0 written, no errors found; 1 written, errors found (no transforms among them, or some
+    recordings could not be read); 2 unusable input, nothing written.
 
     Examples: [cyan]tfx report -b robot.bag -o robot.html[/], [cyan]tfx report logs/*.bag -o fleet.html[/],
     [cyan]tfx report --ros1 -d 10 -o live.html[/]

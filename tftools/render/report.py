@@ -39,6 +39,12 @@ TREE_KEY = (
     "(lookups fail there), orange: warnings, as the findings' numbers say. Click an edge for its timeline."
 )
 
+#: What a recording without any transform shows instead of its tree, timelines and frames in 3D.
+NO_TRANSFORMS = (
+    '<h3>Tree</h3><p class="none">No transforms: no tree, timeline or frame in 3D to draw. The facts above say '
+    "what the recording holds, and the findings what to do.</p>"
+)
+
 
 @dataclass(frozen=True)
 class Section:
@@ -79,7 +85,7 @@ def recording_section(index: int, report: RecordingReport) -> Section:
     rows = [i for i, e in enumerate(report.edges) if not e.static]
     # each edge's id in the tree's SVG: Graphviz numbers edges in the order they were added
     svg_ids = {e.key: f"{anchor}-edge{k + 1}" for k, e in enumerate(report.graph.edges)}
-    tree = _tree(report, anchor)
+    tree = _tree(report, anchor) if report.graph.nodes else ""
     data = {
         "anchor": anchor,
         "axis": {
@@ -94,16 +100,19 @@ def recording_section(index: int, report: RecordingReport) -> Section:
         "scene3d": scene3d.poses_data(report.poses, report.origin),  # the timelines' zero
     }
     origin = report.origin
-    parts = [
-        '<div class="top">',
-        _facts(report.facts),
-        _findings(report.findings, origin, report.other_clock),
-        "</div>",
+    drawn = [
         f'<h3>Tree</h3><p class="axis">{TREE_KEY}</p><div class="tree">{tree}</div>',
         scene3d.scene_html(report.poses),
         _timelines(report, rows, origin),
         _streams(report.streams),
         _statics(report.graph.edges),
+    ]
+    parts = [
+        '<div class="top">',
+        _facts(report.facts),
+        _findings(report.findings, origin, report.other_clock),
+        "</div>",
+        *(drawn if report.graph.nodes else [NO_TRANSFORMS]),
         f'<script type="application/json" class="report-data">{_json(data)}</script>',
     ]
     return _section(anchor, report.name, verdict, summary, "".join(parts))

@@ -7,7 +7,6 @@ from dataclasses import dataclass
 from tftools.analysis.reading import Reading
 from tftools.analysis.wtf.query import CheckQuery
 from tftools.core.semantics import Semantics
-from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.urdf import RobotDescription
 
 
@@ -35,11 +34,9 @@ class ReportQuery:
         )
 
     def reading(self) -> Reading:
-        """What to read of a recording file for it: one without transforms cannot be shown
-        (``NoTransformsError``)."""
-        return Reading(
-            topics=self.topics, semantics=self.semantics, headers=self.sensor_topics or (), whole=ROBOT_TOPICS
-        )
+        """What to read of a recording file for it: even one without transforms is reported (its page says so,
+        with ``tfx wtf``'s ``no_tf`` finding and what the recording holds)."""
+        return self.checks().reading()
 
 
 #: ``tfx report``'s defaults.

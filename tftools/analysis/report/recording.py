@@ -60,6 +60,8 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
     with, into ``query.target``: ``analysis.targets.choose_target``; against the robot's description,
     ``robot_of``), its frame graph, its edges and sensor data over time, and every frame in 3D."""
     scene, findings = checked_scene(recording, query.checks())
+    if not len(recording.buffer.frames):
+        return _without_transforms(recording, findings, frame_graph(scene, findings))
     streams = scene.streams
     graph = frame_graph(scene, findings)
     buffer, timeline = recording.buffer, scene.timeline
@@ -90,6 +92,33 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
         ),
         delays_shown=timeline.delays_anywhere,
     )
+
+
+def _without_transforms(recording: Recording, findings: Sequence[Finding], graph: FrameGraph) -> RecordingReport:
+    """The report of a recording without any transform: its facts, what it holds instead among them, and its
+    findings (``no_tf``); no tree, timeline, sensor data checked in a frame or 3D view, there being no frame."""
+    facts = [(name, said) for name, said in recording_facts(recording) if name not in _OF_TF]
+    topics = {topic: kind for file in recording.contents.files for topic, kind in file.topics.items()}
+    held = ", ".join(f"{topic} ({kind})" for topic, kind in sorted(topics.items())) or "no message"
+    facts.append(("Holds", held))
+    timeline = recording.timeline
+    return RecordingReport(
+        " + ".join(recording.paths),
+        tuple(facts),
+        tuple(findings),
+        graph,
+        bins_over(recording.start, recording.end),
+        (),
+        (),
+        "",
+        timeline.origin,
+        problems=tuple(recording.problems),
+        delays_shown=False,
+    )
+
+
+#: The facts about tf's stamps and frames, which a recording without transforms has none of.
+_OF_TF = ("tf stamps", "Clocks", "Frames")
 
 
 def _tree_order(graph: FrameGraph, tree: FrameTree) -> list[tuple[str, str]]:
@@ -148,7 +177,7 @@ def _transforms(recording: Recording) -> str:
             held[0], held[1] = held[0] + count, held[1] + empty
     asked = recording.contents.topics
     if not messages:  # a live system, or a buffer: what was asked for
-        return f"{recording.transform_count} on {', '.join(asked)}"
+        return f"{recording.transform_count or 'none'} on {', '.join(asked)}"
     said = [
         f"{count:,} message{'s' * (count != 1)} on {topic}{f' ({empty:,} empty)' if empty else ''}"
         for topic, (count, empty) in messages.items()

@@ -43,6 +43,16 @@ def _hint(kind: str, ros2: bool) -> str:
         "the device's frames up with the simulated ones, put both on one clock (the device's driver on use_sim_time, "
         "stamping the simulation's time, and a transform joining its tree to the robot's), or keep the two trees "
         "apart and look each up on its own clock",
+        "joined": "lookups combining these frames with the simulated ones fail with extrapolation errors: put them "
+        "on one clock. A node of the simulation: set use_sim_time true for it "
+        f"too (and replay bags with {play}). A real device beside the simulation, whose driver stamps the wall "
+        "clock: stamp its messages with the simulation's time (its driver, or a bridge node restamping them, on "
+        "use_sim_time), or keep its frames a tree of their own, joined to no simulated frame, and look each tree up "
+        "on its own clock",
+        "zero": "no /clock was recorded: if these are a simulation's frames (Gazebo, Webots and Stage stamp their "
+        f"own time), record /clock with them ({'ros2 bag record' if ros2 else 'rosbag record'} /clock ...) so that "
+        "their time can be read; frames stamped on the wall clock (a real device's) combine with them only once both "
+        f"are on one clock. If a driver stamps time since boot (a steady or sensor clock), stamp with {now}",
     }[kind]
 
 
@@ -68,13 +78,24 @@ def _tree_apart(scene: Scene, edges: Sequence[EdgeClock]) -> bool:
     return bool(others) and None not in theirs | others and not theirs & others
 
 
-def _device(scene: Scene, edges: Sequence[EdgeClock]) -> bool:
-    """Whether ``edges``, stamped on wall-clock time beside frames on /clock, are a device's on purpose: a tree
-    of their own whose stamps keep time with the record clock (each arriving within ``same_clock`` of its
-    stamp), as a real sensor's driver stamps beside a simulation; not a node of the simulation that forgot
-    use_sim_time, whose frames would join the simulated tree."""
+def _wall_kind(scene: Scene, edges: Sequence[EdgeClock]) -> str:
+    """What ``edges``, stamped on wall-clock time beside frames on /clock, are: where their stamps keep time with
+    the record clock (each arriving within ``same_clock`` of its stamp, as a live publisher's on the wall clock),
+    a device's on purpose when they are a tree of their own (``device``), as a real sensor's driver stamps beside a
+    simulation; in the simulated tree, a publisher on the wall clock joined to it (``joined``): a node that forgot
+    use_sim_time or a real device's driver, which the bytes do not tell apart. Else ``simulated``."""
     near = scene.timeline.same_clock
-    return all(abs(e.offset_record) <= near for e in edges) and _tree_apart(scene, edges)
+    if not all(abs(e.offset_record) <= near for e in edges):
+        return "simulated"
+    return "device" if _tree_apart(scene, edges) else "joined"
+
+
+def _zero_kind(scene: Scene, kind: str) -> str:
+    """``kind``, or ``zero`` for stamps counting from zero (``boot``) beside frames on the wall clock where no
+    /clock was recorded: a simulation's time (its /clock not recorded) or a clock since boot, which the bytes do
+    not tell apart (a real Neato's driver stamps time since boot at a pace 0.3% off the wall clock, as Gazebo's
+    real-time factor does)."""
+    return "zero" if kind == "boot" and not len(scene.timeline.clock) else kind
 
 
 @register("clock", Severity.error, "frames stamped on another clock than the others or /clock (use_sim_time)")
@@ -90,8 +111,8 @@ def clock(scene: Scene) -> Iterator[Finding]:
     for e in off:
         groups.setdefault(_kind(_offset(e, against), e.median_stamp, _reference_time(e, against)), []).append(e)
     for kind, edges in groups.items():
-        device = kind == "simulated" and _device(scene, edges)
-        yield _disagreeing(scene, "device" if device else kind, edges, on, against)
+        said = _wall_kind(scene, edges) if kind == "simulated" else _zero_kind(scene, kind)
+        yield _disagreeing(scene, said, edges, on, against)
     if timeline.reference is Reference.RECORD and len(timeline.clock) and on:
         yield _ignoring_clock(scene, on)
     if timeline.reference is Reference.CLOCK:
@@ -146,6 +167,13 @@ def _disagreeing(
         "device": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
         f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s); a tree of "
         "their own: a device on the wall clock beside the simulation",
+        "joined": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
+        f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s), in one tree "
+        f"with them ({_tree_of(scene, edges)}): a publisher on the wall clock (a node without use_sim_time, or a "
+        "real device's driver) joined to the simulated frames",
+        "zero": f"stamped around {stamp:.1f} s, on a clock counting from zero (a simulation's time or time since "
+        f"boot: no /clock was recorded to tell which), while {clock_name}{following} reads {reference:.1f} s "
+        "(epoch time)",
         "behind": f"stamped {duration(offset)} behind {clock_name}{following}: another clock",
         "ahead": f"stamped {duration(-offset)} ahead of {clock_name}{following}: another clock",
     }[kind]
@@ -158,6 +186,13 @@ def _after(edges: Sequence[EdgeClock]) -> str:
     return f"{seconds * 1000:.1f} ms" if abs(seconds) < 1 else duration(seconds)
 
 
+def _tree_of(scene: Scene, edges: Sequence[EdgeClock]) -> str:
+    """Where ``edges``' frames are in the tree: under which root ("under odom")."""
+    root_of = {frame: root for root, members in scene.tree.trees().items() for frame in members}
+    roots = sorted({root_of[e.child] for e in edges if e.child in root_of})
+    return f"under {and_joined(roots)}" if roots else "in a loop"
+
+
 def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) -> Finding:
     """The error that ``edges`` are stamped on another clock (``kind``), as ``said``; with how long after
     their stamps they arrived (``arrival_minus_stamp_s``), which tells the clock they are on."""
@@ -166,7 +201,7 @@ def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) 
         Severity.error,
         "clock",
         f"{listed([edge(_parent(scene, e.child), e.child) for e in edges], 4)}{scene.by(authorities)}: {said}",
-        _hint(kind, scene.ros2) + ("" if kind == "device" else _consequence(scene, edges)),
+        _hint(kind, scene.ros2) + ("" if kind in ("device", "joined") else _consequence(scene, edges)),
         tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
         authorities,
         count=sum(e.arrivals for e in edges),
