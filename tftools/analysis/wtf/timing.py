@@ -360,16 +360,16 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
     taking_turns = {child for _, child in inferred_edges(scene)}
-    old = _old_data(scene) if scene.buffer.semantics == "ros1" else np.zeros(len(rows), bool)
+    old = _old_data(scene)
     for child, mine in _streams(scene, rows.usable & ~rows.static):
         if child not in taking_turns and not scene.buffer.in_static_cache(child):
             yield from _stamps_of(scene, child, mine, old[mine])
 
 
 def _old_data(scene: Scene) -> BoolArray:
-    """The moving rows ROS 1's tf2 with its 10 s cache refuses as ``TF_OLD_DATA`` (``history.old_data``, per
-    frame: a ZED's samples beside an EKF's stamped 5.8 h ahead), never as repeated. A whole recording's buffer
-    keeps them all."""
+    """The moving rows tf2 with its 10 s cache refuses as ``TF_OLD_DATA`` (``history.old_data``, per frame: a
+    ZED's samples beside an EKF's stamped 5.8 h ahead), never as repeated: ROS 1's and ROS 2's alike (both
+    ``TimeCache::insertData``s refuse them before comparing stamps). A whole recording's buffer keeps them all."""
     rows = scene.rows
     old = np.zeros(len(rows), bool)
     for _, frame_rows in rows.by_child(rows.usable & ~rows.static):
