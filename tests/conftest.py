@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.oracle import unavailable_reason
+from tests.oracle import cpp_core, unavailable_reason
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
@@ -27,3 +27,11 @@ def tf2_available() -> None:
         if os.environ.get("CI") == "true":
             pytest.fail(f"CI must run the tf2 comparison, but {reason}")
         pytest.skip(reason)
+
+
+@pytest.fixture(scope="session")
+def tf2_cpp() -> None:
+    """Skip unless ROS 1's tf2 core in C++ (``tests/oracle/tf2_core.cpp``) builds against Debian's libtf2."""
+    program = cpp_core()
+    if isinstance(program, str):
+        pytest.skip(program)

@@ -342,3 +342,26 @@ def test_a_localizer_sending_odom_with_map_in_one_message_is_no_joint() -> None:
 
     messages = sorted([statics(), *periodic("/unity", 50, whole_tree)], key=lambda m: m.record_time)
     assert "jump" not in _codes(check(recording(messages, ros1=True)).findings)
+
+
+def _re_valued(t: int) -> list[Transform]:
+    """A new stamp each second, re-sent at 50 Hz; the one at +5 s takes a new value half-way through its
+    second (slam_toolbox's map -> odom in ros2_db3_jetacker_slam_toolbox_static_map)."""
+    stamp = START + (t - START) // NS_PER_S * NS_PER_S
+    fixed = (t - START) % NS_PER_S >= 500 * MS and stamp == START + 5 * NS_PER_S
+    return [_t("odom", "base_link", stamp, 0.01 if fixed else 0.0)]
+
+
+@pytest.mark.parametrize("ahead", [False, True], ids=["alone", "beside-a-clock-ahead"])
+def test_ros2s_tf2_refuses_samples_older_than_its_cache_before_it_compares_stamps(ahead: bool) -> None:
+    """ROS 2's ``TimeCache::insertData`` (rolling, humble) refuses a sample more than its cache behind the
+    frame's newest (TF_OLD_DATA) before it looks for a sample at that stamp, as ROS 1's does: after one
+    sample on another tf topic stamped 5 h ahead, each of the stream's samples is refused, none kept twice.
+    Alone, ROS 2's tf2 keeps both values of the stamp that came again, and time_backwards says so."""
+    camera = periodic("/tf", 50, _re_valued)
+    arrived = START + 2 * NS_PER_S + 5 * MS
+    ekf = [TfMessage("/ekf/tf", arrived, [_t("odom", "base_link", arrived + 5 * 3600 * NS_PER_S)], "/ekf/tf")]
+    messages = sorted([statics(), *camera, *(ekf if ahead else [])], key=lambda m: m.record_time)
+    findings = check(recording(messages, topics=("/tf", "/tf_static", "/ekf/tf"), ros1=False)).findings
+    again = [f for f in findings if f.code == "time_backwards" and "came again with other values" in f.message]
+    assert bool(again) is not ahead, [f.message for f in findings]

@@ -53,6 +53,30 @@ def test_old_data_is_what_tf2_refuses_as_too_old(tf2_available: None) -> None:
     assert sorted(refused) == np.flatnonzero(ours).tolist()
 
 
+def test_old_data_of_a_frame_also_sent_static(tf2_available: None) -> None:
+    """A frame first sent on /tf, with some samples on /tf_static among them. ROS 1's tf2 puts those into the
+    frame's ``TimeCache`` with their stamps, like any (the real tf2_py's logs say which it refuses); ROS 2's
+    replaces the frame's cache at each change of kind, so a /tf sample after a /tf_static one starts an empty
+    ``TimeCache`` (our ROS 2 buffer, exact to ROS 2's tf2 on its ported tests, says which it refuses)."""
+    stamps = _stamps()
+    static = np.zeros(len(stamps), np.bool_)
+    static[[7, 8, 19, 30]] = True
+    rows = [_row(s, i / 10, bool(static[i])) for i, s in enumerate(stamps)]
+    prefixes = [Scenario(inserts=rows[: n + 1], cache_time_s=CACHE_S) for n in range(len(rows))]
+    logged = [r["rejections"].count("TF_OLD_DATA") for r in run_tf2(prefixes)]
+    cache = CACHE_S * NS_PER_S
+    ros1 = old_data(np.array(stamps, np.int64), cache, static, keeps_first_cache=True)
+    assert ros1.tolist() == (np.diff([0, *logged]) == 1).tolist()
+    ros2 = old_data(np.array(stamps, np.int64), cache, static, keeps_first_cache=False)
+    judged: list[tuple[Semantics, np.ndarray]] = [("ros1", ros1), ("ros2", ros2)]
+    for semantics, ours in judged:
+        buffer = scenarios.load_into_buffer(prefixes[-1], semantics)
+        refused = {r.sequence for r in buffer.rejections if r.code is RejectionCode.OLD_DATA}
+        assert sorted(refused) == np.flatnonzero(ours).tolist(), semantics
+    assert (ros1 & ~ros2).any(), "a /tf sample after a /tf_static one should be refused by ROS 1's tf2 alone"
+    assert not old_data(np.array(stamps, np.int64), cache, np.ones(len(stamps), np.bool_)).any()  # a StaticCache
+
+
 def test_old_data_of_no_sample_or_one() -> None:
     assert old_data(np.zeros(0, np.int64), DEFAULT_CACHE_TIME).tolist() == []
     assert old_data(np.array([5], np.int64), DEFAULT_CACHE_TIME).tolist() == [False]

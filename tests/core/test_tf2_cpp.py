@@ -14,17 +14,13 @@ import re
 
 import pytest
 
-from tests.oracle import cpp_core, run_cpp_core
+from tests.oracle import run_cpp_core
 from tftools.core import Buffer, Transform, TransformError
 
 S = 1_000_000_000
 
 
-@pytest.fixture(scope="module", autouse=True)
-def _core() -> None:
-    program = cpp_core()
-    if isinstance(program, str):
-        pytest.skip(program)
+pytestmark = pytest.mark.usefixtures("tf2_cpp")
 
 
 def _answers(rows: list[tuple[str, str, int]], queries: list[tuple[str, str, int]]) -> tuple[list[str], list[str]]:

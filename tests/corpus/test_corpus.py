@@ -26,7 +26,7 @@ import tftools
 from tests.cli.conftest import Result, Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus import data
 from tests.corpus.fetch import Recording, load_manifest, shared_dir
-from tests.oracle import ERROR_CLASSES, Row, Scenario, binding_time, run_tf2
+from tests.oracle import ERROR_CLASSES, Row, Scenario, bag_rows, binding_time, cpp_insert, run_cpp_core, run_tf2
 from tests.sources.test_stream import whole_parents
 from tftools.analysis.expected import shape_of
 from tftools.core.batch import concat_batches
@@ -43,10 +43,12 @@ ROS1_WITH_TF = [r for r in WITH_TF if r.meta["format"] == "ros1"]
 ROS2_WITH_TF = [r for r in WITH_TF if r.meta["format"] != "ros1"]
 DAY_S = 86_400.0
 RECORDING_SUFFIXES = (".bag", ".mcap", ".db3")
-# tf2's binding rounds stamps through a double (~120 ns at epoch times): values are compared to
-# what 1 us of motion can change, stamps to 1 us (as tests/sources/test_bags_vs_tf2.py does).
+# tf2's binding rounds stamps through a double (~120 ns at epoch times): values it gives are compared to
+# what 1 us of motion can change (as tests/sources/test_bags_vs_tf2.py does).
 TF2_VALUE_TOLERANCE = 1e-5
-TF2_STAMP_TOLERANCE = 1_000
+# ROS 1's tf2 in C++ holds every stamp exactly, as tftools does: what may differ is the arithmetic's last bits.
+CPP_TOLERANCE = 1e-12
+CPP_CACHE_S = 1_000_000  # longer than any recording: tftools keeps a recording's every sample
 # Our own composition of the same samples differs from tftools' only by float rounding: ROS 2's tf2 holds
 # each rotation through tf2::Transform's matrix (Shepperd's branch), which over a chain of rotations
 # recorded slightly off unit length (float32 sources) rounds by up to 2.5e-9 (the Husky's gripper chain);
@@ -520,17 +522,11 @@ def _reference(
 # --- lookups: the real tf2 (ROS1), ROS 2's semantics (ROS2) ------------------------------------
 
 
-def _fastest(contents: data.Contents) -> float:
-    """The fastest any edge moves between two samples (m/s): what 1 us of stamp rounding can change
-    (90 m/s where a tutorial's frame jumps 9 m in a 0.1 s step)."""
-    speeds = [0.0]
-    for samples in contents.dynamic.values():
-        stamps = np.asarray(samples.stamps, np.int64)
-        order = np.argsort(stamps, kind="stable")
-        steps = np.diff(stamps[order]) / NS_PER_S
-        moved = np.linalg.norm(np.diff(np.asarray(samples.values)[order, :3], axis=0), axis=1)
-        speeds.extend((moved[steps > 0] / steps[steps > 0]).tolist())
-    return max(speeds)
+def _cpp_tolerance(contents: data.Contents) -> float:
+    """How far tftools' arithmetic may stray from C++ tf2's: a few of the last bits of the largest coordinate
+    composed (its order of operations differs: a car's UTM positions, 5.8e6 m, cancel to 4.36 m 2e-9 apart)."""
+    largest = max((abs(v) for s in contents.edges.values() for row in s.values for v in row[:3]), default=0.0)
+    return max(CPP_TOLERANCE, 1e-15 * largest)
 
 
 def _tf2_queries(contents: data.Contents, pairs: list[list[str]]) -> list[Row]:
@@ -555,31 +551,37 @@ def _tf2_queries(contents: data.Contents, pairs: list[list[str]]) -> list[Row]:
 
 
 @pytest.mark.parametrize("recording", _cases("test_ros1_lookups_match_tf2", ROS1_WITH_TF))
-def test_ros1_lookups_match_tf2(recording: Recording, corpus: Corpus, tf2_available: None) -> None:
+@pytest.mark.usefixtures("tf2_available", "tf2_cpp")
+def test_ros1_lookups_match_tf2(recording: Recording, corpus: Corpus) -> None:
+    """Lookups over the recording, answered as ROS 1's tf2 in C++ answers them (a roscpp node: Debian's
+    libtf2 fed the transforms rosbag reads, every stamp and query time to the nanosecond): the same
+    stamps, values and error texts. tf2_py would round each time through a double, which moves an answer
+    where an edge turns fast: ~0.1 us on the okoslam bag's odom -> base_link, whose two publishers'
+    samples a few ms apart differ by ~1 rad, moved a rotation by 1.6e-5."""
     path = corpus(recording)
     contents = data.read_contents(path)
     queries = _tf2_queries(contents, recording.meta["expected"]["lookups"])
-    tolerance = max(TF2_VALUE_TOLERANCE, 2e-6 * _fastest(contents))
-    (result,) = run_tf2([Scenario(bag=str(path), queries=queries)])
+    times = [sec * NS_PER_S + nsec for *_, sec, nsec in queries]
+    lines = [cpp_insert(row) for row in bag_rows(str(path))]
+    lines += [f"lookup {target} {source} {time}" for (_, target, source, *_), time in zip(queries, times, strict=True)]
+    answers = [line for line in run_cpp_core(lines, cache_time_s=CPP_CACHE_S)[0] if line not in ("0", "1")]
     buffer = tftools.read_recording([path]).buffer
+    tolerance = _cpp_tolerance(contents)
     answered = failed = 0
-    for query, theirs in zip(queries, result["answers"], strict=True):
-        _, target, source, sec, nsec = query
-        time = sec * NS_PER_S + nsec
+    for (_, target, source, *_), time, theirs in zip(queries, times, answers, strict=True):
+        kind, *words = theirs.split(" ", 2)
         try:
-            # At the exact time asked: tf2's binding rounds both its data and the query through a double
-            # (binding_time), so at the first or last stamp it answers where the rounded query lands tens of
-            # ns outside the exact data; tftools holds the exact stamps, so the exact time is its equivalent.
             ours = buffer.lookup(target, source, time)
         except TransformError as error:
-            assert not theirs["ok"], f"{query}: we failed ({error}), tf2 answered"
-            assert type(error).__name__ == ERROR_CLASSES[theirs["error"]], query
+            assert kind == "E", f"{target} -> {source} at {time}: we failed ({error}), tf2 answered"
+            assert [type(error).__name__, str(error)] == [ERROR_CLASSES[words[0]], words[1]]
             failed += 1
             continue
-        assert theirs["ok"], f"{query}: tf2 failed ({theirs['message']}), we answered"
-        assert abs(ours.stamp - (theirs["stamp"][0] * NS_PER_S + theirs["stamp"][1])) <= TF2_STAMP_TOLERANCE, query
-        np.testing.assert_allclose(ours.translation, theirs["t"], atol=tolerance, err_msg=str(query))
-        np.testing.assert_allclose(ours.rotation, theirs["q"], atol=TF2_VALUE_TOLERANCE, err_msg=str(query))
+        assert kind == "T", f"{target} -> {source} at {time}: tf2 failed ({theirs}), we answered"
+        stamp, *values = theirs.split()[1:]
+        assert ours.stamp == int(stamp), (target, source, time)
+        expected = [float.fromhex(v) for v in values]
+        np.testing.assert_allclose([*ours.translation, *ours.rotation], expected, rtol=CPP_TOLERANCE, atol=tolerance)
         answered += 1
     assert answered > len(queries) // 2, (answered, failed)
     assert failed > 0 or not contents.dynamic, "no lookup outside the moving data was asked"

@@ -69,12 +69,26 @@ class Scenario:
 
 def run_tf2(scenarios: list[Scenario]) -> list[dict[str, Any]]:
     """Each scenario's ``{"rejections": [codes], "answers": [...]}`` from the real tf2."""
-    request = json.dumps({"scenarios": [s.to_json() for s in scenarios]})
-    done = subprocess.run([ROS_PYTHON, str(HARNESS)], input=request, capture_output=True, text=True, timeout=600)
+    results: list[dict[str, Any]] = _harness({"scenarios": [s.to_json() for s in scenarios]})["results"]
+    return results
+
+
+def bag_rows(bag: str) -> list[Row]:
+    """A ROS1 bag's /tf and /tf_static transforms as rosbag reads them, in order: insert rows whose
+    stamps are the message's integers (every nanosecond, where tf2_py's ``set_transform`` rounds)."""
+    rows: list[Row] = _harness({"bag_rows": bag})["rows"]
+    return rows
+
+
+def _harness(request: dict[str, Any]) -> dict[str, Any]:
+    """``request`` answered by ``tf2_harness.py`` in Debian's Python."""
+    done = subprocess.run(
+        [ROS_PYTHON, str(HARNESS)], input=json.dumps(request), capture_output=True, text=True, timeout=600
+    )
     if done.returncode != 0:
         raise RuntimeError(f"tf2 harness failed:\n{done.stderr[-3000:]}")
-    results: list[dict[str, Any]] = json.loads(done.stdout)["results"]
-    return results
+    answer: dict[str, Any] = json.loads(done.stdout)
+    return answer
 
 
 CORE_SOURCE = Path(__file__).with_name("tf2_core.cpp")
@@ -92,9 +106,19 @@ def cpp_core() -> Path | str:
     return _compile([str(CORE_SOURCE), *libraries], built, "ROS 1's tf2 core (needs Debian's libtf2-dev)")
 
 
-def run_cpp_core(lines: list[str]) -> tuple[list[str], str]:
+def run_cpp_core(lines: list[str], cache_time_s: int = 10) -> tuple[list[str], str]:
     """``lines`` (``tf2_core.cpp``'s commands) through the C++ core: its answers, one a line, and its log."""
-    return _drive(cpp_core(), lines)
+    return _drive(cpp_core(), lines, str(cache_time_s))
+
+
+def cpp_insert(row: Row) -> str:
+    """An insert row as the C++ core's ``set`` line (``repr`` of a double round-trips through ``strtod``)."""
+    parent, child, sec, nsec, *values, authority, static = row
+    words = [parent, child, authority]
+    assert all(w and not any(c.isspace() for c in w) for w in words), f"not a word of tf2_core.cpp's lines: {words}"
+    return " ".join(["set", parent, child, str(sec * 1_000_000_000 + nsec), *map(repr, map(float, values))]) + (
+        f" {int(static)} {authority}"
+    )
 
 
 def _compile(arguments: list[str], built: Path, what: str) -> Path | str:
@@ -112,10 +136,11 @@ def _compile(arguments: list[str], built: Path, what: str) -> Path | str:
     return built
 
 
-def _drive(program: Path | str, lines: list[str]) -> tuple[list[str], str]:
-    """``lines`` through a built oracle: its answers, one a line, and its log."""
+def _drive(program: Path | str, lines: list[str], *arguments: str) -> tuple[list[str], str]:
+    """``lines`` through a built oracle (run with ``arguments``): its answers, one a line, and its log."""
     assert isinstance(program, Path), program
-    done = subprocess.run([str(program)], input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=600)
+    command = [str(program), *arguments]
+    done = subprocess.run(command, input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=600)
     if done.returncode != 0:
         raise RuntimeError(f"{program.name} failed:\n{done.stderr[-3000:]}")
     return done.stdout.splitlines(), done.stderr

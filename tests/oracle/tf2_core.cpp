@@ -1,5 +1,6 @@
 // ROS 1's tf2 BufferCore (Debian's libtf2) driven by lines on stdin, for the tests: C++ holds every
 // stamp in integer nanoseconds, where tf2_py (tf2_harness.py) rounds each through a double.
+// Its one argument, if given, is the cache time in seconds (tf2's default, 10, without).
 //   set PARENT CHILD NS TX TY TZ QX QY QZ QW STATIC AUTHORITY  ->  1 or 0 (logs on stderr)
 //   lookup TARGET SOURCE NS                                    ->  T NS TX TY TZ QX QY QZ QW (%a), or E CLASS MESSAGE
 #include <geometry_msgs/TransformStamped.h>
@@ -7,14 +8,15 @@
 #include <tf2/exceptions.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 #include <string>
 
 static ros::Time time_of(long long ns) { return ros::Time(ns / 1000000000LL, ns % 1000000000LL); }
 
-int main() {
-    tf2::BufferCore core(ros::Duration(10));
+int main(int argc, char** argv) {
+    tf2::BufferCore core(ros::Duration(argc > 1 ? std::atoi(argv[1]) : 10));
     std::string line;
     while (std::getline(std::cin, line)) {
         std::istringstream in(line);

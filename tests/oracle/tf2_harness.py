@@ -1,7 +1,8 @@
 """Runs scenarios through the real tf2 BufferCore; executed by Debian's /usr/bin/python3.
 
 Reads JSON on stdin: {"scenarios": [{"cache_time_s": int, "inserts": [...] | "bag": path,
-"queries": [...]}]} and writes {"results": [{"rejections": [codes], "answers": [...]}]}.
+"queries": [...]}]} and writes {"results": [{"rejections": [codes], "answers": [...]}]};
+or {"bag_rows": path} and writes {"rows": [insert, ...]}: the bag's transforms as rosbag reads them.
 An insert is [parent, child, sec, nsec, tx, ty, tz, qx, qy, qz, qw, authority, static].
 A query is ["lookup", target, source, sec, nsec], ["lookup_full", target, sec, nsec, source,
 sec, nsec, fixed], ["can", target, source, sec, nsec], ["can_full", target, sec, nsec, source, sec, nsec,
@@ -13,7 +14,7 @@ import os
 import re
 import sys
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import rospy
@@ -49,7 +50,8 @@ def feed_rows(core: Any, rows: list[list[Any]]) -> None:
         insert(core, message(row), row[11], row[12])
 
 
-def feed_bag(core: Any, path: str) -> None:
+def bag_transforms(path: str) -> Iterator[tuple[Any, str, bool]]:
+    """Each transform of a ROS1 bag's /tf and /tf_static in order, with its publisher and whether static."""
     import rosbag
 
     with rosbag.Bag(path) as bag:
@@ -58,7 +60,20 @@ def feed_bag(core: Any, path: str) -> None:
             if isinstance(authority, bytes):  # rosbag gives connection header values as bytes
                 authority = authority.decode()
             for transform in msg.transforms:
-                insert(core, transform, authority, topic == "/tf_static")
+                yield transform, authority, topic == "/tf_static"
+
+
+def feed_bag(core: Any, path: str) -> None:
+    for transform, authority, static in bag_transforms(path):
+        insert(core, transform, authority, static)
+
+
+def row(transform: Any, authority: str, static: bool) -> list[Any]:
+    """An insert row of ``transform``: its stamp as the message's integers, every nanosecond."""
+    tr, rot = transform.transform.translation, transform.transform.rotation
+    stamp = transform.header.stamp
+    frames = [transform.header.frame_id, transform.child_frame_id]
+    return [*frames, stamp.secs, stamp.nsecs, tr.x, tr.y, tr.z, rot.x, rot.y, rot.z, rot.w, authority, static]
 
 
 def capture_stderr(action: Callable[[], None]) -> list[str]:
@@ -136,6 +151,9 @@ def run(scenario: dict[str, Any]) -> dict[str, Any]:
 
 def main() -> None:
     request = json.load(sys.stdin)
+    if "bag_rows" in request:
+        json.dump({"rows": [row(*t) for t in bag_transforms(request["bag_rows"])]}, sys.stdout)
+        return
     json.dump({"results": [run(s) for s in request["scenarios"]]}, sys.stdout)
 
 

@@ -50,14 +50,29 @@ def rows_as_sent(names: Sequence[str], authorities: Sequence[str], columns: Mapp
     )
 
 
-def old_data(stamps: Int64Array, cache_time: int) -> BoolArray:
+def old_data(
+    stamps: Int64Array, cache_time: int, static: BoolArray | None = None, keeps_first_cache: bool = True
+) -> BoolArray:
     """Which of one frame's samples, stamped ``stamps`` in the order they arrived, tf2's ``TimeCache::insertData``
     refuses as ``TF_OLD_DATA`` with a cache ``cache_time`` long (ROS 1 and ROS 2 alike): stamped more than that
     behind the newest sample it holds, checked before it compares their stamps with its samples' (so such a
-    sample is never a repeat). The newest it holds is the newest stamp offered before: a refused sample is
-    never newer. Of a frame in a ``StaticCache`` tf2 refuses none (``Buffer.in_static_cache``)."""
+    sample is never a repeat). The newest it holds is the newest stamp offered to that cache before: a refused
+    sample is never newer. ``static``: which came on /tf_static (none, if not given); a ``StaticCache`` refuses
+    none. Where tf2 keeps a frame's first kind of cache (``Dialect.keeps_first_cache``: ROS 1's), every sample
+    goes to the cache the first made, a /tf_static one into a ``TimeCache`` with its stamp; ROS 2's replaces the
+    frame's cache with an empty one of the new kind at each change of kind."""
+    static = np.zeros(len(stamps), np.bool_) if static is None else static
     old = np.zeros(len(stamps), np.bool_)
-    old[1:] = stamps[1:] + cache_time < np.maximum.accumulate(stamps)[:-1]
+    if not len(stamps):
+        return old
+    if keeps_first_cache:
+        starts = np.zeros(1, np.intp)
+    else:
+        starts = np.concatenate([[0], np.flatnonzero(static[1:] != static[:-1]) + 1])
+    for start, end in zip(starts.tolist(), [*starts[1:].tolist(), len(stamps)], strict=True):
+        if not static[start]:  # a TimeCache, from its first sample on
+            mine = stamps[start:end]
+            old[start + 1 : end] = mine[1:] + cache_time < np.maximum.accumulate(mine)[:-1]
     return old
 
 

@@ -7,7 +7,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from tftools.analysis.filter.fates import FilterReport, message_fates, recording_end, stream_report
+from tftools.analysis.filter.fates import FilterReport, TfBegan, message_fates, recording_end, stream_report
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.analysis.reading import Reading
 from tftools.analysis.targets import choose_target, tied_to_tf
@@ -76,7 +76,7 @@ def filter_streams(
     already made; ``query.sensor_topics`` not looked at: the streams are those asked about; ``tick``: the
     step of the clock the record times were read off, ``Timeline.record_step``)."""
     target, reason = choose_target(tree if tree is not None else tree_of(buffer), query.target)
-    end = recording_end(buffer, streams)
+    end, began = recording_end(buffer, streams), TfBegan.of(buffer)
     reports, skipped, fates = [], [], {}
     for stream in streams:
         if not len(stream):  # recorded without a message: nothing says whether it names a frame
@@ -84,6 +84,8 @@ def filter_streams(
         if not tied_to_tf(stream):
             skipped.append(stream.topic)
             continue
-        fates[stream.topic] = message_fates(buffer, stream, target, query.cache_time, end)
-        reports.append(stream_report(buffer, stream, target, fates[stream.topic], query.wait, query.queue, end, tick))
+        fates[stream.topic] = message_fates(buffer, stream, target, query.cache_time, end, began)
+        reports.append(
+            stream_report(buffer, stream, target, fates[stream.topic], query.wait, query.queue, end, tick, began)
+        )
     return FilterReport(target, reason, query.cache_time, reports, skipped, fates)

@@ -282,12 +282,14 @@ def message_fates(
     target: str,
     cache_time: int = DEFAULT_CACHE_TIME,
     end: int | None = None,
+    began: TfBegan | None = None,
 ) -> Fates:
     """Replay a MessageFilter on ``messages`` against a listener filled with ``buffer``'s transforms in
     the order they arrived (record times), its cache ``cache_time`` long, until the recording's
-    ``end`` (record time; default: its last transform or message)."""
+    ``end`` (record time; default: its last transform or message); ``began``: ``TfBegan.of(buffer)``,
+    if already found."""
     end = recording_end(buffer, [messages]) if end is None else end
-    first_tf = _first_tf(buffer, messages)
+    first_tf = (TfBegan.of(buffer) if began is None else began).first_tf(messages)
     n = len(messages)
     fate = np.zeros(n, np.int8)
     ready = np.full(n, NEVER, np.int64)
@@ -324,25 +326,46 @@ def message_fates(
     return Fates(fate, ready, decided, lag, left, before_tf, left_place, after, zero_early)
 
 
-def _first_tf(buffer: Buffer, messages: StampedMessages) -> tuple[int, int] | None:
-    """The first stamp of any transform on /tf and the first record time one arrived at, where the recorder was
-    listening long before it came: since its first record (a /tf_static message, the stream's first) for longer
-    than the first edge to arrive may be silent and still be publishing (``silence_limit``), so that tf started
-    during the recording. None where that is not observed (or no moving transform's arrival is recorded)."""
-    moving = [h for _, h in buffer.histories() if not h.static and len(h.stamps) and (h.record_times > 0).any()]
-    if not moving:
-        return None
-    arrivals = [int(h.record_times[h.record_times > 0].min()) for h in moving]
-    heard = [int(h.record_times[h.record_times > 0].min()) for _, h in buffer.histories() if (h.record_times > 0).any()]
-    heard += [int(messages.record_time[messages.record_time > 0].min())] if (messages.record_time > 0).any() else []
-    first = moving[int(np.argmin(arrivals))]
-    if min(arrivals) - min(heard) <= silence_limit(history_rate(first)):
-        return None
-    return min(int(h.stamps.min()) for h in moving), min(arrivals)
+@dataclass(frozen=True)
+class TfBegan:
+    """When a recording's moving tf began, from its buffer alone (``message_fates`` needs it for every topic):
+    ``stamp`` the first stamp of any transform on /tf, ``arrived`` the first record time one arrived at (both
+    None where no moving transform's arrival is recorded), ``heard`` the first record time of any transform
+    (None if none), ``silence`` how long (ns) the first edge to arrive may be silent and still be publishing
+    (``silence_limit``)."""
+
+    stamp: int | None
+    arrived: int | None
+    heard: int | None
+    silence: float
+
+    @staticmethod
+    def of(buffer: Buffer) -> TfBegan:
+        moving = [h for _, h in buffer.histories() if not h.static and len(h.stamps) and (h.record_times > 0).any()]
+        recorded = [h.record_times[h.record_times > 0] for _, h in buffer.histories()]
+        heard = min((int(r.min()) for r in recorded if len(r)), default=None)
+        if not moving:
+            return TfBegan(None, None, heard, 0.0)
+        arrivals = [int(h.record_times[h.record_times > 0].min()) for h in moving]
+        silence = silence_limit(history_rate(moving[int(np.argmin(arrivals))]))
+        return TfBegan(min(int(h.stamps.min()) for h in moving), min(arrivals), heard, silence)
+
+    def first_tf(self, messages: StampedMessages) -> tuple[int, int] | None:
+        """The first stamp of any transform on /tf and the first record time one arrived at, where the recorder
+        was listening long before it came: since its first record (a /tf_static message, the stream's first) for
+        longer than ``silence``, so that tf started during the recording. None where that is not observed (or
+        no moving transform's arrival is recorded)."""
+        if self.stamp is None or self.arrived is None:
+            return None
+        heard = [self.heard] if self.heard is not None else []
+        heard += [int(messages.record_time[messages.record_time > 0].min())] if (messages.record_time > 0).any() else []
+        if self.arrived - min(heard) <= self.silence:
+            return None
+        return self.stamp, self.arrived
 
 
 def _before(first_tf: tuple[int, int] | None, stamps: Int64Array, arrived: Int64Array) -> BoolArray:
-    """Which messages are stamped before the first tf anyone sent and arrived before any did (``_first_tf``)."""
+    """Which messages are stamped before the first tf anyone sent and arrived before any did (``first_tf``)."""
     if first_tf is None:
         return np.zeros(len(stamps), np.bool_)
     before: BoolArray = (stamps < first_tf[0]) & (arrived > 0) & (arrived < first_tf[1])
@@ -590,7 +613,10 @@ def stream_report(
     queue: int | None,
     end: int,
     tick: int = 0,
+    began: TfBegan | None = None,
 ) -> StreamReport:
+    """What the filter did to ``stream`` (its ``fates``), and what would change it (``began``: as
+    ``message_fates`` has it)."""
     counts = np.bincount(fates.fate, minlength=len(Fate))
     waits = fates.waits(stream)
     later = np.flatnonzero(fates.fate == Fate.LATER).tolist()
@@ -623,7 +649,7 @@ def stream_report(
         tick=tick,
         wait_needed=_wait_needed(fates, stream),
         queue_needed=smallest_queue(fates, stream),
-        cache_needed=_cache_needed(buffer, stream, target, fates, end),
+        cache_needed=_cache_needed(buffer, stream, target, fates, end, began),
         dropped_by_wait=None if wait is None else int(never + (waits > wait).sum()),
         dropped_by_queue=None if queue is None else int(never + (pushed_out(fates, stream, queue) & later_mask).sum()),
         undecided={Fate(code).reason: int(counts[code]) for code in UNDECIDED if counts[code]},
@@ -743,7 +769,9 @@ def _entered(fates: Fates, i: int) -> bool:
     return int(fates.fate[i]) not in (Fate.ON_ARRIVAL, Fate.TOO_OLD_ON_ARRIVAL, Fate.EMPTY_FRAME)
 
 
-def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int) -> int | None:
+def _cache_needed(
+    buffer: Buffer, stream: StampedMessages, target: str, fates: Fates, end: int, began: TfBegan | None
+) -> int | None:
     """The smallest cache (ns, from ``CACHES_S``) with which no more than 1 - ``KEEP`` are lost to its length,
     of the messages stamped after their chain's tf began: those stamped before it no cache keeps (tf2 never
     held tf that old; the real filter drops them with any cache), ``StreamReport.before_tf`` counts them; nor those
@@ -753,7 +781,7 @@ def _cache_needed(buffer: Buffer, stream: StampedMessages, target: str, fates: F
         return None
     allowed = (1 - KEEP) * int((after & ~np.isin(fates.fate, UNDECIDED)).sum())
     for seconds in CACHES_S:
-        tried = message_fates(buffer, stream, target, seconds * NS_PER_S, end)
+        tried = message_fates(buffer, stream, target, seconds * NS_PER_S, end, began)
         if (np.isin(tried.fate, AGED) & after).sum() <= allowed:
             return seconds * NS_PER_S
     return None

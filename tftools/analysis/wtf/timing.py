@@ -18,6 +18,7 @@ from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.figures import delays as delays_of
 from tftools.core.figures import pauses, record_span, silence_limit, sustained_period
 from tftools.core.history import old_data
+from tftools.core.semantics import dialect
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.timeline import FINE_STEP, seconds_since
 
@@ -360,21 +361,24 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     (``multiple_authorities``, ``multiple_parents``)."""
     rows = scene.rows
     taking_turns = {child for _, child in inferred_edges(scene)}
-    old = _old_data(scene) if scene.buffer.semantics == "ros1" else np.zeros(len(rows), bool)
+    old = _old_data(scene)
     for child, mine in _streams(scene, rows.usable & ~rows.static):
         if child not in taking_turns and not scene.buffer.in_static_cache(child):
             yield from _stamps_of(scene, child, mine, old[mine])
 
 
 def _old_data(scene: Scene) -> BoolArray:
-    """The moving rows ROS 1's tf2 with its 10 s cache refuses as ``TF_OLD_DATA`` (``history.old_data``, per
-    frame: a ZED's samples beside an EKF's stamped 5.8 h ahead), never as repeated. A whole recording's buffer
-    keeps them all."""
+    """The moving rows tf2 with its 10 s cache refuses as ``TF_OLD_DATA`` (``history.old_data``, per frame: a
+    ZED's samples beside an EKF's stamped 5.8 h ahead), never as repeated: ROS 1's and ROS 2's alike (both
+    ``TimeCache::insertData``s refuse them before comparing stamps), the frame's /tf_static rows in its caches
+    as each tf2 puts them. A whole recording's buffer keeps them all."""
     rows = scene.rows
     old = np.zeros(len(rows), bool)
-    for _, frame_rows in rows.by_child(rows.usable & ~rows.static):
-        old[frame_rows] = old_data(rows.stamp[frame_rows], DEFAULT_CACHE_TIME)
-    return old
+    keeps_first_cache = dialect(scene.buffer.semantics).keeps_first_cache
+    for _, frame_rows in rows.by_child(rows.usable):
+        stamps, static = rows.stamp[frame_rows], rows.static[frame_rows]
+        old[frame_rows] = old_data(stamps, DEFAULT_CACHE_TIME, static, keeps_first_cache)
+    return old & ~rows.static
 
 
 def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
