@@ -312,6 +312,24 @@ def test_disconnected_lists_each_tree_and_spots_a_misspelt_root() -> None:
     assert "'base_lnk' looks like a misspelling of 'base_link'" in finding.hint
 
 
+@pytest.mark.parametrize("ros1", [True, False])
+def test_disconnected_without_tf_static_recorded_says_so(ros1: bool) -> None:
+    # Formant's TurtleBot3 fixture (/tf alone): odom -> base_footprint and base_link's wheels, the fixed
+    # base_footprint -> base_link of /tf_static never recorded; the hint says that, not "attach odom to base_link"
+    base = periodic("/gazebo", 30, lambda t: [_t("odom", "base_footprint", t, 0.1 * _s(t))])
+    messages = base + periodic("/rsp", 20, wheel, phase=0.01)
+    finding = only(check(recording(messages, ros1=ros1)).findings, "disconnected")
+    record = "rosbag record" if ros1 else "ros2 bag record"
+    assert finding.hint.startswith("this recording holds no /tf_static: the fixed transforms that would join them")
+    assert f"({record} /tf /tf_static)" in finding.hint
+    recorded_empty = recording([*messages, TfMessage("/tf_static", START + DELAY, [], "/rsp")], ros1=ros1)
+    hint = only(check(recorded_empty).findings, "disconnected").hint
+    assert hint.startswith("/tf_static was recorded but holds no transform")
+    # with statics recorded, the missing transform is not /tf_static's to blame: the general hint
+    with_statics = recording([*messages, statics()], ros1=ros1)
+    assert only(check(with_statics).findings, "disconnected").hint.startswith("publish the transform that attaches")
+
+
 def test_multiple_parents_says_who_set_each_parent_and_when() -> None:
     finding = only(check(recording(PROBLEMS["multiple_parents"].make())).findings, "multiple_parents")
     assert finding.frames == ("base_link", "odom", "map")

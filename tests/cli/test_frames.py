@@ -61,6 +61,27 @@ def test_text_tree_of_a_chain_of_thousands_of_frames(tfx: Tfx, tmp_path: Path) -
     assert f"[depth {MAX_DRAWN_DEPTH + 1}] f{MAX_DRAWN_DEPTH + 1}" in result.stdout
 
 
+def test_an_edge_sent_once_has_no_rate(tfx: Tfx, tmp_path: Path) -> None:
+    """A marker detected once (DIGIT_works' camera -> marker_367): 'once' and its stamp, not '0.0 Hz, 1 samples'."""
+    from tests.bags import TfMessage, write_bag
+    from tftools.core.transform import Transform
+
+    def seen(stamp: int, child: str) -> TfMessage:
+        return TfMessage(
+            "/tf", stamp + 1_000_000, [Transform((1.0, 0, 0), (0, 0, 0, 1.0), stamp, "camera", child)], "/aruco"
+        )
+
+    messages = [seen(1_000_000_000 + i * 40_000_000, "marker_0") for i in range(50)] + [
+        seen(1_500_000_000, "marker_367")
+    ]
+    bag = write_bag(tmp_path / "detections.bag", sorted(messages, key=lambda m: m.record_time))
+    result = tfx("frames", "-b", bag)
+    assert result.code == 0, result.stderr
+    line = next(line for line in result.stdout.splitlines() if "marker_367" in line)
+    assert "once" in line and "1 sample, stamped 1.500" in line and "Hz" not in line and "samples" not in line
+    assert "25.0 Hz" in next(line for line in result.stdout.splitlines() if "marker_0" in line)
+
+
 def test_a_tree_too_large_to_colour_is_the_same_text(tfx: Tfx, monkeypatch: pytest.MonkeyPatch) -> None:
     """Past MAX_STYLED_LINES the tree goes out as plain text (rich costs 0.3 ms a line): the same text."""
     from tftools.render import frames

@@ -51,16 +51,19 @@ def feed_rows(core: Any, rows: list[list[Any]]) -> None:
 
 
 def bag_transforms(path: str) -> Iterator[tuple[Any, str, bool]]:
-    """Each transform of a ROS1 bag's /tf and /tf_static in order, with its publisher and whether static."""
+    """Each transform of a ROS1 bag's /tf and /tf_static in order, with its publisher and whether static. A bag
+    recorded as 'rosbag record tf' holds the relative name: rosbag play advertises it in the root namespace, as
+    /tf (Brandon-Yee/open-hand-capacitive-sense's test1.bag)."""
     import rosbag
 
+    topics = ["/tf", "/tf_static", "tf", "tf_static"]
     with rosbag.Bag(path) as bag:
-        for topic, msg, _t, header in bag.read_messages(topics=["/tf", "/tf_static"], return_connection_header=True):
+        for topic, msg, _t, header in bag.read_messages(topics=topics, return_connection_header=True):
             authority = header.get("callerid", topic)
             if isinstance(authority, bytes):  # rosbag gives connection header values as bytes
                 authority = authority.decode()
             for transform in msg.transforms:
-                yield transform, authority, topic == "/tf_static"
+                yield transform, authority, topic.lstrip("/") == "tf_static"
 
 
 def feed_bag(core: Any, path: str) -> None:

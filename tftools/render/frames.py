@@ -18,11 +18,15 @@ def _label(f: FrameSummary) -> Text:
     if f.parent is None:
         return label.append("  (root)", style="dim")
     label.append("  ")
-    label.append("static" if f.static else f"{f.rate_hz:.1f} Hz", style="cyan" if f.static else "green")
+    once = not f.static and f.count == 1  # one sample has no rate (a detection seen once)
+    rate = "static" if f.static else "once" if once else f"{f.rate_hz:.1f} Hz"
+    label.append(rate, style="cyan" if f.static else "green")
     label.append(
         f"  {printable(', '.join(f.authorities)) or '?'}", style="yellow" if len(f.authorities) > 1 else "magenta"
     )
-    if not f.static:
+    if once:
+        label.append(f"  1 sample, stamped {to_sec(f.first_stamp):.3f}", style="dim")
+    elif not f.static:
         span = (f.last_stamp - f.first_stamp) / NS_PER_S
         lasted = f"{span:.1f} s" if f.clocks == 1 else f"stamped on {f.clocks} clocks: no span"
         label.append(

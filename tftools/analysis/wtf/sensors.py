@@ -74,6 +74,25 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         )
 
 
+def statics_missing(scene: Scene, what: str, also: str = "") -> str | None:
+    """Why the tree holds no static transform where /tf_static was asked for: it was not recorded (``what``, the
+    transforms it would carry, were not), or recorded empty; None where static transforms were recorded."""
+    statics = [t for t in scene.recording.contents.topics if is_static_topic(t)]
+    if scene.rows.static.any() or not statics:
+        return None
+    recorded = {t for f in scene.recording.contents.files for t in f.topics}
+    if not recorded & set(statics):
+        record = "ros2 bag record" if scene.ros2 else "rosbag record"
+        return (
+            f"this recording holds no {and_joined(statics)}: {what} (robot_state_publisher's fixed joints, "
+            f"static_transform_publisher) were not recorded; record them with the rest ({record} /tf /tf_static){also}"
+        )
+    return (
+        f"{and_joined(statics)} was recorded but holds no transform: its publishers (robot_state_publisher, "
+        f"static_transform_publisher) sent nothing while recorded; check that they ran{also}"
+    )
+
+
 def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: bool = False) -> str:
     """What is missing where sensor data names a frame no transform names: the moving transforms, not
     recorded or sent empty; else a typo (a frame of the tree is close) or the transform's publisher."""
@@ -91,21 +110,11 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
             f"{and_joined(moving)} was recorded but holds no transform: their publishers (odometry, "
             "robot_state_publisher) sent nothing while recorded; check that they ran and had their input"
         )
-    statics = [t for t in scene.recording.contents.topics if is_static_topic(t)]
     also = "; if the frame's name is a typo, set the driver's frame_id parameter instead" if typo else ""
-    if not rows.static.any() and statics:
-        # A TurtleBot3 under AMCL (PabloMatilla/IR2121 rosbag2_2023_10_21-21_16_22): /tf_static recorded,
-        # 0 messages, /scan in base_scan; the frame is the URDF's, the missing part is its publisher's output.
-        if not recorded & set(statics):
-            return (
-                f"this recording holds no {and_joined(statics)}: the sensors' mounts (robot_state_publisher's "
-                f"fixed joints, static_transform_publisher) were not recorded; record them with the rest "
-                f"({record} /tf /tf_static){also}"
-            )
-        return (
-            f"{and_joined(statics)} was recorded but holds no transform: its publishers (robot_state_publisher, "
-            f"static_transform_publisher) sent nothing while recorded; check that they ran{also}"
-        )
+    # A TurtleBot3 under AMCL (PabloMatilla/IR2121 rosbag2_2023_10_21-21_16_22): /tf_static recorded,
+    # 0 messages, /scan in base_scan; the frame is the URDF's, the missing part is its publisher's output.
+    if (unrecorded := statics_missing(scene, "the sensors' mounts", also)) is not None:
+        return unrecorded
     if odometry:
         # frand08/ramon_slam's cartographer_records/test5.bag: /odom_enc in odom_enc (child base_footprint, in the
         # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong

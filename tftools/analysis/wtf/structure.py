@@ -15,6 +15,7 @@ from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
+from tftools.analysis.wtf.sensors import statics_missing
 from tftools.analysis.wtf.static_senders import static_senders
 from tftools.analysis.wtf.topics import StaticShared, static_shared
 from tftools.core.arrays import Int64Array, IntpArray
@@ -153,7 +154,9 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         Severity.error,
         "disconnected",
         f"{len(roots)} separate trees, and no lookup between them: {trees}",
-        join_hint(roots, members),
+        _misspelt_root(roots, members)
+        or statics_missing(scene, "the fixed transforms that would join them")
+        or join_hint(roots, members),
         tuple(roots),
         count=len(roots),
     )
@@ -164,8 +167,8 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
 TYPO_ROOTS, TYPO_FRAMES, TYPO_NAME_LENGTH = 10, 10_000, 200
 
 
-def join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
-    """How to join the trees; a root whose name is close to a frame of another tree is likely a typo."""
+def _misspelt_root(roots: list[str], members: dict[str, list[str]]) -> str | None:
+    """A root whose name is close to a frame of another tree is likely a typo: how to fix it, or None."""
     for root in roots[1:TYPO_ROOTS]:
         if len(root) > TYPO_NAME_LENGTH:
             continue
@@ -174,6 +177,13 @@ def join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
         close = difflib.get_close_matches(root, others, n=1, cutoff=0.8)
         if close:
             return f"'{root}' looks like a misspelling of '{close[0]}': fix the frame name where it is published"
+    return None
+
+
+def join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
+    """How to join the trees; a root whose name is close to a frame of another tree is likely a typo."""
+    if (misspelt := _misspelt_root(roots, members)) is not None:
+        return misspelt
     main, other = roots[0], roots[1]
     return (
         f"publish the transform that attaches {other} to the {main} tree (a static_transform_publisher for a "
