@@ -134,3 +134,30 @@ def test_a_ros1_frame_kept_static_has_no_order_to_its_stamps(corpus: Corpus, tfx
     (bag,) = json.loads(tfx("wtf", corpus(BY_ID[AGV]), "--format", "json").stdout)["bags"]
     backwards = [f for f in bag["findings"] if f["code"] == "time_backwards"]
     assert [f["frames"][1] for f in backwards] == ["camera_floor_depth_optical_frame"], backwards
+
+
+def test_monitor_of_the_simulated_chain_says_its_own_span_and_why_it_has_no_delay(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """``monitor odom base_footprint`` headed its table with the device's wall-clock span ("78.305 s from
+    1761903969.970") though odom -> base_footprint is stamped 1418.277-1499.945 s (no /clock recorded), and showed
+    "-" for its delays with no word why: arrival (the record clock) minus a stamp on another clock is no delay.
+    Whole and replayed, text and JSON, it says so now; the device's delays stay measured."""
+    path = corpus(BY_ID[NO_CLOCK])
+    text = tfx("monitor", "odom", "base_footprint", "-b", path).stdout
+    header = text.splitlines()[0]
+    assert header.endswith(": odom to base_footprint stamped 81.668 s from 1418.277 to 1499.945, on a clock of its own")
+    why = (
+        "those of base_footprint cannot be measured: stamped on another clock than the record clock, which timed "
+        "their arrival"
+    )
+    assert f"delays: {why}" in text and "not measurable: another clock" in text, text
+    whole = json.loads(tfx("monitor", "odom", "base_footprint", "-b", path, "--format", "json").stdout)
+    replayed = tfx("monitor", "odom", "base_footprint", "-b", path, "--play", "--rate", "50", "--format", "json")
+    last = json.loads(replayed.stdout.splitlines()[-1])
+    for report in (whole, last):
+        assert report["delays_other_clock"].startswith(why) and report["delays_unavailable"] is None, report
+        (edge,) = report["chain"]["edges"]
+        assert edge["delay_mean_s"] is None and edge["delay_unmeasurable"] == "not measurable: another clock", edge
+    windowed = tfx("monitor", "odom", "base_footprint", "-b", path, "--start", "+10", "--end", "+20").stdout
+    assert windowed.splitlines()[0].endswith("stamped 10.000 s from 1428.277 to 1438.277, on a clock of its own")
+    device = json.loads(tfx("monitor", *DEVICE, "-b", path, "--format", "json").stdout)
+    assert device["delays_other_clock"] is None and device["chain"]["edges"][0]["delay_unmeasurable"] is None
