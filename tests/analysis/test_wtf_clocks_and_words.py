@@ -327,6 +327,13 @@ def test_record_times_that_are_no_clock_time_nothing() -> None:
     assert "the record times are no clock" in note.message and "rosbag2_py" in note.hint
     (two,) = [f for f in findings if f.code == "clock" and f.severity is Severity.error]
     assert set(two.frames) == {"base_link", "box_1", "box_6"}
+    # two time bases seen in the stamps, and no record clock to say which clock a publisher keeps: not told to set
+    # use_sim_time as a node that forgot it, nor said to be "in one tree" with frames of a tree apart
+    assert "(epoch time) while" in two.message and "(counting from zero): two time bases" in two.message, two.message
+    assert "no record clock to tell which clock each keeps" in two.message and "one tree" not in two.message
+    assert "set use_sim_time true for it too" not in two.hint, two.hint
+    assert "the bytes do not tell which clock each publisher keeps" in two.hint, two.hint
+    assert "record with ros2 bag record, which stores when each message arrived, and /clock" in two.hint, two.hint
 
 
 def test_a_silence_timed_by_no_clock_is_unknown_wherever_it_is_shown(tmp_path: Path) -> None:
