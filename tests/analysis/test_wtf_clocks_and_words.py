@@ -487,7 +487,7 @@ def test_monitor_of_a_chain_on_its_own_clock_counts_on_it_and_says_why_it_has_no
     its header and "-" for the arm's delays, with no word why: its span is the arm's own stamps', and its delays
     are not measurable (stamped on another clock than the record clock that timed their arrival), said once for
     the report and per edge. The device's chain keeps the tf span and its measured delays."""
-    from tftools.render.monitor import OTHER_CLOCK, as_dict
+    from tftools.render.monitor import OTHER_CLOCK, as_dict, own_clock_stamps
 
     arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - START) / NS_PER_S)], stamp=sim)
     device = periodic("/imu", 10, lambda t: [_t("imu_link", "sonar", t, yaw=(t - START) / NS_PER_S)])
@@ -500,6 +500,8 @@ def test_monitor_of_a_chain_on_its_own_clock_counts_on_it_and_says_why_it_has_no
     assert report.other_clock == ("arm",) and report.chain is not None and np.isnan(report.chain.delay_mean)
     assert report.other_clock_why.startswith("those of arm cannot be measured: stamped on another clock than the "
                                              "record clock"), report.other_clock_why  # fmt: skip
+    newest = f"{int(stamps.stamps.max()) / NS_PER_S:.3f}"
+    assert own_clock_stamps(report) == f"base_link to arm stamped up to {newest}, on a clock of its own"
     said = as_dict(report)
     assert said["chain"]["edges"][0]["delay_unmeasurable"] == OTHER_CLOCK
     assert said["delays_other_clock"] == report.other_clock_why and said["delays_unavailable"] is None
@@ -508,5 +510,6 @@ def test_monitor_of_a_chain_on_its_own_clock_counts_on_it_and_says_why_it_has_no
     sensed = MonitorQuery(target="imu_link", source="sonar")
     measured = monitor(made, sensed)
     assert chain_span(made, sensed) is None and measured.other_clock == () and measured.other_clock_why == ""
+    assert own_clock_stamps(measured) == ""
     assert measured.chain is not None and measured.chain.edges[0].delay_mean == DELAY
     assert monitor(made, MonitorQuery()).other_clock == ("arm",)  # every edge: the arm's said, not the device's

@@ -158,6 +158,10 @@ def test_monitor_of_the_simulated_chain_says_its_own_span_and_why_it_has_no_dela
         assert report["delays_other_clock"].startswith(why) and report["delays_unavailable"] is None, report
         (edge,) = report["chain"]["edges"]
         assert edge["delay_mean_s"] is None and edge["delay_unmeasurable"] == "not measurable: another clock", edge
+    played = tfx("monitor", "odom", "base_footprint", "-b", path, "--play", "--rate", "50").stdout
+    last = played[played.rindex("time ") :].splitlines()
+    assert last[1] == "odom to base_footprint stamped up to 1499.945, on a clock of its own", last[:3]
+    assert f"delays: {why}" in last[2], last[:3]
     windowed = tfx("monitor", "odom", "base_footprint", "-b", path, "--start", "+10", "--end", "+20").stdout
     assert windowed.splitlines()[0].endswith("stamped 10.000 s from 1428.277 to 1438.277, on a clock of its own")
     device = json.loads(tfx("monitor", *DEVICE, "-b", path, "--format", "json").stdout)

@@ -168,7 +168,9 @@ def _watch(
 
     def table(live_monitor: LiveMonitor) -> RenderableType:
         header = render.live_header(live_monitor.clock.now(), live_monitor.origin, window, note)
-        return render.renderable(report(live_monitor), header, target, source)
+        current = report(live_monitor)
+        own = render.own_clock_stamps(current)  # a chain on a clock of its own: its stamps, not the replay's clock
+        return render.renderable(current, header + (f"\n{own}" if own else ""), target, source)
 
     def run(on_tick: Callable[[LiveMonitor], None]) -> None:
         monitor_stream(feed, query, on_tick, semantics=semantics, duration=duration, speed=speed)

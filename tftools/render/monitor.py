@@ -132,6 +132,17 @@ def live_header(now: int, origin: int | None, window: int, note: str = "") -> st
     return header + (f", {note}" if note else "")
 
 
+def own_clock_stamps(report: MonitorReport) -> str:
+    """A replayed table's line for a chain stamped on another clock than the replay's (``MonitorReport.other_clock``):
+    the newest of its stamps in the window, on its own clock ("" for any other chain)."""
+    chain = report.chain
+    moving = [e for e in chain.edges if not e.static] if chain is not None else []
+    if chain is None or not moving or not all(e.child in report.other_clock for e in moving):
+        return ""
+    newest = max(e.last_stamp for e in moving)
+    return f"{chain.target} to {chain.source} stamped up to {to_sec(newest):.3f}, on a clock of its own"
+
+
 def renderable(
     report: MonitorReport, header: str = "", target: str | None = None, source: str | None = None
 ) -> RenderableType:
