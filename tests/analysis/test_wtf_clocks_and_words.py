@@ -487,7 +487,8 @@ def test_monitor_of_a_chain_on_its_own_clock_counts_on_it_and_says_why_it_has_no
     its header and "-" for the arm's delays, with no word why: its span is the arm's own stamps', and its delays
     are not measurable (stamped on another clock than the record clock that timed their arrival), said once for
     the report and per edge. The device's chain keeps the tf span and its measured delays."""
-    from tftools.render.monitor import OTHER_CLOCK, as_dict, own_clock_stamps
+    from tftools.render.monitor import as_dict, own_clock_stamps
+    from tftools.sources.timeline import OTHER_CLOCK
 
     arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - START) / NS_PER_S)], stamp=sim)
     device = periodic("/imu", 10, lambda t: [_t("imu_link", "sonar", t, yaw=(t - START) / NS_PER_S)])

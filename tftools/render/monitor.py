@@ -17,6 +17,7 @@ from tftools.core.time import NS_PER_S, signed_seconds, to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
 from tftools.render.fitted import Fitted, Lines, Row
+from tftools.sources.timeline import OTHER_CLOCK
 
 
 def _sec(ns: float) -> str:
@@ -51,9 +52,6 @@ def _delay_cells(mean: float, largest: float, apart: int, other_clock: bool = Fa
         return [Text(said, style="dim"), Text("-")]
     return [Text(_sec(mean)), Text(_sec(largest))]
 
-
-#: An edge's delay where its stamps are on another clock than its arrivals' (``Timeline.on_other_clock``).
-OTHER_CLOCK = "not measurable: another clock"
 
 #: The figures' headers: tf_monitor's words.
 _RATE, _DELAY_MEAN, _DELAY_MAX = "Rate (Hz)", "Average Delay (s)", "Max Delay (s)"

@@ -34,6 +34,9 @@ from tftools.sources.edge_clocks import (
 )
 from tftools.values import value
 
+#: An edge's delay where its stamps are on another clock than its arrivals' (``Timeline.on_other_clock``): the one
+#: wording of ``monitor`` (text and JSON) and ``report``.
+OTHER_CLOCK = "not measurable: another clock"
 #: Two clocks more than this apart (the median of arrival minus stamp) are different clocks, not a delay.
 SAME_CLOCK = 10 * NS_PER_S
 #: A clock that ticks in steps up to this long measures delays; a coarser one (a /clock at 10 Hz, or at
