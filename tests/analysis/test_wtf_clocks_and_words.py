@@ -34,7 +34,8 @@ from tests.analysis.wtf_scenes import (
 )
 from tests.bags import BagFormat, TfMessage
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.monitor import MonitorQuery, monitor
+from tftools.analysis.monitor import MonitorQuery, chain_span, monitor
+from tftools.analysis.times import parse_time_spec
 from tftools.analysis.wtf import CHECKS, Scene, findings_of
 from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
@@ -326,6 +327,13 @@ def test_record_times_that_are_no_clock_time_nothing() -> None:
     assert "the record times are no clock" in note.message and "rosbag2_py" in note.hint
     (two,) = [f for f in findings if f.code == "clock" and f.severity is Severity.error]
     assert set(two.frames) == {"base_link", "box_1", "box_6"}
+    # two time bases seen in the stamps, and no record clock to say which clock a publisher keeps: not told to set
+    # use_sim_time as a node that forgot it, nor said to be "in one tree" with frames of a tree apart
+    assert "(epoch time) while" in two.message and "(counting from zero): two time bases" in two.message, two.message
+    assert "no record clock to tell which clock each keeps" in two.message and "one tree" not in two.message
+    assert "set use_sim_time true for it too" not in two.hint, two.hint
+    assert "the bytes do not tell which clock each publisher keeps" in two.hint, two.hint
+    assert "record with ros2 bag record, which stores when each message arrived, and /clock" in two.hint, two.hint
 
 
 def test_a_silence_timed_by_no_clock_is_unknown_wherever_it_is_shown(tmp_path: Path) -> None:
@@ -471,3 +479,38 @@ def test_a_simulation_beside_a_device_without_its_clock_is_not_said_to_count_fro
     if not clock_recorded:
         assert "record /clock with them (ros2 bag record /clock ...)" in clock.hint, clock.hint
         assert "lookups within each tree work" in clock.hint, clock.hint
+
+
+def test_monitor_of_a_chain_on_its_own_clock_counts_on_it_and_says_why_it_has_no_delay() -> None:
+    """ros2_db3_ias0220_gazebo_bumbaluk_2025's shape: a simulated arm stamped from 100 s, no /clock recorded, beside
+    a device on the wall clock (the record clock's). ``monitor base_link arm`` said the device's wall-clock span in
+    its header and "-" for the arm's delays, with no word why: its span is the arm's own stamps', and its delays
+    are not measurable (stamped on another clock than the record clock that timed their arrival), said once for
+    the report and per edge. The device's chain keeps the tf span and its measured delays."""
+    from tftools.render.monitor import as_dict, own_clock_stamps
+    from tftools.sources.timeline import OTHER_CLOCK
+
+    arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - START) / NS_PER_S)], stamp=sim)
+    device = periodic("/imu", 10, lambda t: [_t("imu_link", "sonar", t, yaw=(t - START) / NS_PER_S)])
+    made = recording(sorted(arm + device, key=lambda m: m.record_time), ros1=False)
+    stamps = made.buffer.history("arm")
+    assert stamps is not None
+    asked = MonitorQuery(target="base_link", source="arm")
+    assert chain_span(made, asked) == (int(stamps.stamps.min()), int(stamps.stamps.max()))
+    report = monitor(made, asked)
+    assert report.other_clock == ("arm",) and report.chain is not None and np.isnan(report.chain.delay_mean)
+    assert report.other_clock_why.startswith("those of arm cannot be measured: stamped on another clock than the "
+                                             "record clock"), report.other_clock_why  # fmt: skip
+    newest = f"{int(stamps.stamps.max()) / NS_PER_S:.3f}"
+    assert own_clock_stamps(report) == f"base_link to arm stamped up to {newest}, on a clock of its own"
+    said = as_dict(report)
+    assert said["chain"]["edges"][0]["delay_unmeasurable"] == OTHER_CLOCK
+    assert said["delays_other_clock"] == report.other_clock_why and said["delays_unavailable"] is None
+    windowed = MonitorQuery(target="base_link", source="arm", start=parse_time_spec("+2", "start"))
+    assert chain_span(made, windowed) == (int(stamps.stamps.min()) + 2 * NS_PER_S, int(stamps.stamps.max()))
+    sensed = MonitorQuery(target="imu_link", source="sonar")
+    measured = monitor(made, sensed)
+    assert chain_span(made, sensed) is None and measured.other_clock == () and measured.other_clock_why == ""
+    assert own_clock_stamps(measured) == ""
+    assert measured.chain is not None and measured.chain.edges[0].delay_mean == DELAY
+    assert monitor(made, MonitorQuery()).other_clock == ("arm",)  # every edge: the arm's said, not the device's

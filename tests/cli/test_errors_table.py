@@ -70,7 +70,14 @@ def _library_errors() -> list[tuple[TfToolsError, str]]:
 
     bag = "run.bag"
     return [
-        (NoTransformsError([bag], ["/tf"], ["/scan"]), "was /tf recorded? pick other topics with --topic"),
+        (
+            NoTransformsError([bag], ["/tf"], ["/scan"]),
+            "was /tf recorded? record it with rosbag record /tf /tf_static, or pick other topics with --topic",
+        ),
+        (  # in the words of the recording's ROS (ros2_mcap_abitobot_no_tf)
+            NoTransformsError(["run"], ["/tf"], ["/scan"], ros2=True),
+            "was /tf recorded? record it with ros2 bag record /tf /tf_static, or pick other topics with --topic",
+        ),
         (NoTransformsError([bag], ["/tf"], ["/tf"]), "`tfx wtf` names their type and encoding"),
         (NoTransformsError([bag], ["/tf"], unread=["/tf: json"]), "or pick other topics with --topic"),
         (NoRosSelectedError(), "give a bag with -b BAG"),

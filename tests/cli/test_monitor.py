@@ -54,8 +54,9 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
     result = tfx("monitor", "map", "gripper", "-b", SAMPLE_BAGS["mcap"], "-f", "json")
     assert result.code == 0, result.stderr
     doc = json.loads(result.stdout)
-    assert set(doc) == {"window", "edges", "authorities", "chain", "delays_unavailable"}
+    assert set(doc) == {"window", "edges", "authorities", "chain", "delays_unavailable", "delays_other_clock"}
     assert doc["delays_unavailable"] is None  # delays are measured: the sample robot's tf is on its record clock
+    assert doc["delays_other_clock"] is None  # and no frame is stamped on another clock
     for edge in doc["edges"]:
         assert set(edge) == EDGE_KEYS
         assert isinstance(edge["authorities"], list) and isinstance(edge["count"], int)

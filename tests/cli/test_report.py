@@ -235,11 +235,11 @@ def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
     if recorded == "without tf":
         (tmp_path / "bags").mkdir()
         bag = sensor_bags(tmp_path / "bags", [], _scans)["db3"]
-        topic, hint = [], "was /tf recorded? pick other topics with --topic"
+        recorded_tf = "was /tf recorded? record it with ros2 bag record /tf /tf_static"  # the bag's ROS's words
+        topic, hint = [], f"{recorded_tf}, or pick other topics with --topic"
         filtered = tfx("filter", "-b", bag)
-        assert filtered.code == 2 and filtered.stderr.endswith(
-            "(was /tf recorded? tfx filter reads /tf and /tf_static only)\n"
-        )
+        only = f"({recorded_tf}; tfx filter reads /tf and /tf_static only)\n"
+        assert filtered.code == 2 and filtered.stderr.endswith(only), filtered.stderr
     else:
         bag, topic, hint = SAMPLE_BAGS["ros1"], ["--topic", "/nothing"], "/tf and /tf_static carry transforms: leave"
     commands: dict[str, list[str | Path]] = {

@@ -128,3 +128,24 @@ def test_the_report_names_the_tf_topics_recorded(
     for topic in data.read_contents(path).topics:
         assert f"{topic} (" in held, (topic, held)  # each with its type
     assert "No transforms: no tree" in text and "<svg" not in text
+
+
+@pytest.mark.parametrize("recording", WITHOUT_TF, ids=[r.id for r in WITHOUT_TF])
+def test_every_command_says_how_to_record_tf_in_the_recordings_ros(
+    recording: Recording,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """'was /tf recorded?' came with no command, and a ROS 2 user needs ros2 bag record where a ROS 1 user
+    needs rosbag record (ros2_mcap_abitobot_no_tf): wtf's no_tf hint and every other command's say the
+    recording's, the same words."""
+    path = corpus(recording)
+    (bag,) = json.loads(tfx("wtf", path, "--format", "json").stdout)["bags"]
+    (no_tf,) = [f for f in bag["findings"] if f["code"] == "no_tf"]
+    if not no_tf["hint"].startswith("was /tf recorded?"):
+        return  # its transforms are there, in a type tfx does not read: the hint says what to read instead
+    record = "rosbag record" if recording.meta["format"] == "ros1" else "ros2 bag record"
+    assert no_tf["hint"].startswith(f"was /tf recorded? record it with {record} /tf /tf_static"), no_tf["hint"]
+    for command in ("frames", "monitor", "echo"):
+        said = tfx(command, *(("a", "b") if command == "echo" else ()), "-b", path)
+        assert said.code == 2 and " ".join(said.stderr.split()).endswith(f"({no_tf['hint']})"), (command, said.stderr)

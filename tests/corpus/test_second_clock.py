@@ -18,8 +18,9 @@ from tests.corpus.fetch import Recording, load_manifest
 DIFF_CONT = "ros2-ias0220-gazebo-diff-drive-beside-imu-device-2025-db3"
 NO_CLOCK = "ros2-ias0220-gazebo-diff-drive-no-clock-2025-db3"
 AGV = "ros1-agv-two-lasers-mounts-on-tf-and-tf-static-replayed-2018-bag"
+COBOT = "ros2-logistic-cobot-pymoveit2-no-record-clock-2024-db3"
 DEVICE = ("imu_link", "ultrasound_distance_sensor")
-BY_ID = {r.id: r for r in load_manifest()[1] if r.id in (DIFF_CONT, NO_CLOCK, AGV)}
+BY_ID = {r.id: r for r in load_manifest()[1] if r.id in (DIFF_CONT, NO_CLOCK, AGV, COBOT)}
 Corpus = Callable[[Recording], Path]
 
 
@@ -134,3 +135,50 @@ def test_a_ros1_frame_kept_static_has_no_order_to_its_stamps(corpus: Corpus, tfx
     (bag,) = json.loads(tfx("wtf", corpus(BY_ID[AGV]), "--format", "json").stdout)["bags"]
     backwards = [f for f in bag["findings"] if f["code"] == "time_backwards"]
     assert [f["frames"][1] for f in backwards] == ["camera_floor_depth_optical_frame"], backwards
+
+
+def test_monitor_of_the_simulated_chain_says_its_own_span_and_why_it_has_no_delay(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """``monitor odom base_footprint`` headed its table with the device's wall-clock span ("78.305 s from
+    1761903969.970") though odom -> base_footprint is stamped 1418.277-1499.945 s (no /clock recorded), and showed
+    "-" for its delays with no word why: arrival (the record clock) minus a stamp on another clock is no delay.
+    Whole and replayed, text and JSON, it says so now; the device's delays stay measured."""
+    path = corpus(BY_ID[NO_CLOCK])
+    text = tfx("monitor", "odom", "base_footprint", "-b", path).stdout
+    header = text.splitlines()[0]
+    assert header.endswith(": odom to base_footprint stamped 81.668 s from 1418.277 to 1499.945, on a clock of its own")
+    why = (
+        "those of base_footprint cannot be measured: stamped on another clock than the record clock, which timed "
+        "their arrival"
+    )
+    assert f"delays: {why}" in text and "not measurable: another clock" in text, text
+    whole = json.loads(tfx("monitor", "odom", "base_footprint", "-b", path, "--format", "json").stdout)
+    replayed = tfx("monitor", "odom", "base_footprint", "-b", path, "--play", "--rate", "50", "--format", "json")
+    last = json.loads(replayed.stdout.splitlines()[-1])
+    for report in (whole, last):
+        assert report["delays_other_clock"].startswith(why) and report["delays_unavailable"] is None, report
+        (edge,) = report["chain"]["edges"]
+        assert edge["delay_mean_s"] is None and edge["delay_unmeasurable"] == "not measurable: another clock", edge
+    played = tfx("monitor", "odom", "base_footprint", "-b", path, "--play", "--rate", "50").stdout
+    last = played[played.rindex("time ") :].splitlines()
+    assert last[1] == "odom to base_footprint stamped up to 1499.945, on a clock of its own", last[:3]
+    assert f"delays: {why}" in last[2], last[:3]
+    windowed = tfx("monitor", "odom", "base_footprint", "-b", path, "--start", "+10", "--end", "+20").stdout
+    assert windowed.splitlines()[0].endswith("stamped 10.000 s from 1428.277 to 1438.277, on a clock of its own")
+    device = json.loads(tfx("monitor", *DEVICE, "-b", path, "--format", "json").stdout)
+    assert device["delays_other_clock"] is None and device["chain"]["edges"][0]["delay_unmeasurable"] is None
+
+
+def test_two_time_bases_without_a_record_clock_are_said_as_seen(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The coBot's record times are 0-74 ns (a script's writer): no clock. Its box detections are stamped on epoch
+    time (1731467401-1731467427 s), the arm and the eBot from zero (46-74 s), in trees apart. The finding said
+    "two clocks in one tree" and told the detector to "set use_sim_time true for it too": the bytes hold two time
+    bases and nothing telling which clock each publisher keeps. Said so, with how to tell them apart."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[COBOT]), "--format", "json").stdout)["bags"]
+    (clock,) = [f for f in bag["findings"] if f["code"] == "clock" and f["severity"] == "error"]
+    assert set(clock["frames"]) == {"base_link", "obj_2", "obj_3", "obj_6", "obj_12"}, clock
+    assert "stamped around 1731467408.0 s (epoch time) while" in clock["message"], clock["message"]
+    assert "are stamped around 53.2 s (counting from zero): two time bases" in clock["message"], clock["message"]
+    assert "no record clock to tell which clock each keeps" in clock["message"] and "one tree" not in clock["message"]
+    assert "set use_sim_time true for it too" not in clock["hint"], clock["hint"]
+    assert "record with ros2 bag record, which stores when each message arrived, and /clock" in clock["hint"]
+    assert "lookups within each tree work" in clock["hint"], clock["hint"]

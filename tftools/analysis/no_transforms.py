@@ -3,7 +3,7 @@ were not read: what else to read, or why nothing was."""
 
 from __future__ import annotations
 
-from tftools.sources.errors import NoTransformsError
+from tftools.sources.errors import NoTransformsError, tf_unrecorded
 
 
 def no_transforms_hint(error: NoTransformsError, *, chosen: bool = True) -> str:
@@ -16,7 +16,7 @@ def no_transforms_hint(error: NoTransformsError, *, chosen: bool = True) -> str:
     hint = {
         "unread": f"convert those topics to a type and encoding tfx reads, or {other}",
         "unreadable": f"`tfx wtf` names their type and encoding; {other}",
-        "absent": f"was /tf recorded? {other}",
+        "absent": f"{tf_unrecorded(error.ros2)}{', or' if chosen else ';'} {other}",
     }
     if error.cause in ("absent", "unread") and error.carriers:  # the recording has transforms, on topics not read
         carriers = error.carriers[:3]

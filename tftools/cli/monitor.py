@@ -85,7 +85,7 @@ def command(
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]
     """
-    from tftools.analysis.monitor import MonitorQuery, monitor, monitored_window
+    from tftools.analysis.monitor import MonitorQuery, chain_span, monitor, monitored_window
     from tftools.analysis.timelines import MonitorTrace, edge_series
     from tftools.analysis.times import parse_time_spec
     from tftools.render import monitor as render
@@ -128,15 +128,16 @@ def command(
     target, source = _chain(recording.buffer.frames, target, source)
     query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec)
     report = monitor(recording, query)
+    header = _header(recording, report, chain_span(recording, query))
     if plot is not None:
         keys = [e.key for e in report.chain.edges] if report.chain is not None else None
         first, last = monitored_window(recording, query)
         series = edge_series(recording.buffer, recording.timeline, first, last, keys)
-        write_plot(monitor_figure(series, _header(recording, report)), plot, _plotted(series))
+        write_plot(monitor_figure(series, header), plot, _plotted(series))
     elif fmt is TextOrJson.json:
         render.write_json(report, stdout.file)
     else:
-        stdout.print(render.renderable(report, _header(recording, report)))
+        stdout.print(render.renderable(report, header))
 
 
 def _watch(
@@ -167,7 +168,9 @@ def _watch(
 
     def table(live_monitor: LiveMonitor) -> RenderableType:
         header = render.live_header(live_monitor.clock.now(), live_monitor.origin, window, note)
-        return render.renderable(report(live_monitor), header, target, source)
+        current = report(live_monitor)
+        own = render.own_clock_stamps(current)  # a chain on a clock of its own: its stamps, not the replay's clock
+        return render.renderable(current, header + (f"\n{own}" if own else ""), target, source)
 
     def run(on_tick: Callable[[LiveMonitor], None]) -> None:
         monitor_stream(feed, query, on_tick, semantics=semantics, duration=duration, speed=speed)
@@ -208,10 +211,15 @@ def _plotted(series: Sequence[EdgeSeries]) -> str:
     return f"rate and delay of {len(series)} edges over {len(series[0].times) if series else 0} points"
 
 
-def _header(recording: Recording, report: MonitorReport) -> str:
+def _header(recording: Recording, report: MonitorReport, own: tuple[int, int] | None = None) -> str:
+    """The recording and the time it covers: the tf span's (within the window asked for), or ``own``, the span of
+    the chain asked about on its own clock (``chain_span``)."""
     from tftools.core.history import FROM_STATIC_TOPIC
 
     timeline = recording.timeline
+    if own is not None and report.chain is not None:
+        chain = f"{report.chain.target} to {report.chain.source}"
+        return f"{', '.join(recording.paths)}: {chain} stamped {_span(*own)}, on a clock of its own"
     first = report.start if report.start is not None else timeline.tf_start
     last = report.end if report.end is not None else timeline.tf_end
     span = _span(first, last)

@@ -17,6 +17,7 @@ from tftools.core.time import NS_PER_S, signed_seconds, to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
 from tftools.render.fitted import Fitted, Lines, Row
+from tftools.sources.timeline import OTHER_CLOCK
 
 
 def _sec(ns: float) -> str:
@@ -44,9 +45,10 @@ def _table(title: str, names: Sequence[str], numbers: Sequence[str], names_after
     return table
 
 
-def _delay_cells(mean: float, largest: float, apart: int) -> list[Text]:
-    """The mean and largest delay; where the stamps are on a clock ahead of the arrivals', why there is none."""
-    if said := _unmeasurable(mean, apart):
+def _delay_cells(mean: float, largest: float, apart: int, other_clock: bool = False) -> list[Text]:
+    """The mean and largest delay; where the stamps are on a clock ahead of the arrivals', or on another clock
+    (``other_clock``), why there is none."""
+    if said := _unmeasurable(mean, apart, other_clock):
         return [Text(said, style="dim"), Text("-")]
     return [Text(_sec(mean)), Text(_sec(largest))]
 
@@ -55,28 +57,29 @@ def _delay_cells(mean: float, largest: float, apart: int) -> list[Text]:
 _RATE, _DELAY_MEAN, _DELAY_MAX = "Rate (Hz)", "Average Delay (s)", "Max Delay (s)"
 
 
-def _edge_cells(e: EdgeStats) -> tuple[Text, Text, Text, list[Text]]:
-    """An edge's parent, child, publishers and figures (static edges have no rate, jitter, gap or delay)."""
+def _edge_cells(e: EdgeStats, other_clock: bool) -> tuple[Text, Text, Text, list[Text]]:
+    """An edge's parent, child, publishers and figures (static edges have no rate, jitter, gap or delay;
+    ``other_clock``: its stamps are on another clock than its arrivals', no delay)."""
     long_interval = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
     figures = [
         Text(str(e.count)),
         Text("static", style="cyan") if e.static else Text(f"{e.rate_hz:.2f}"),
         Text("" if e.static else _sec(e.jitter)),
         Text("" if e.static else _sec(e.longest_interval), style="yellow" if long_interval else ""),
-        *(_delay_cells(e.delay_mean, e.delay_max, e.apart) if not e.static else [Text(""), Text("")]),
+        *(_delay_cells(e.delay_mean, e.delay_max, e.apart, other_clock) if not e.static else [Text(""), Text("")]),
     ]
     publishers = printable(", ".join(e.authorities)) or "?"
     by = Text(publishers, style="yellow" if len(e.authorities) > 1 else "magenta")
     return Text(printable(e.parent)), Text(printable(e.child), style="bold"), by, figures
 
 
-def _edges(edges: Sequence[EdgeStats]) -> Fitted:
+def _edges(edges: Sequence[EdgeStats], other_clock: Sequence[str]) -> Fitted:
     numbers = ("Samples", _RATE, "Jitter (s)", "Largest gap (s)", _DELAY_MEAN, _DELAY_MAX)
     table = _table("Frames:", ("Parent", "Frame", "published by"), numbers, ())
     table.caption, table.caption_justify, table.caption_style = JITTER, "left", "dim"
     rows = []
     for e in edges:
-        parent, child, by, figures = _edge_cells(e)
+        parent, child, by, figures = _edge_cells(e, e.child in other_clock)
         table.add_row(parent, child, by, *figures)
         publishers = [Text(f"{a}," if k < len(e.authorities) - 1 else a, style=by.style) for k, a in enumerate(
             printable(a) for a in e.authorities)] or [by]  # fmt: skip
@@ -104,7 +107,7 @@ def _authorities(authorities: list[AuthorityStats]) -> Fitted:
     return Fitted(table, Lines("All Broadcasters:", headers, "Node: frames", rows))
 
 
-def _chain_lines(chain: ChainStats) -> Text:
+def _chain_lines(chain: ChainStats, other_clock: Sequence[str]) -> Text:
     text = Text(f"RESULTS: for {printable(chain.target)} to {printable(chain.source)}\n", style="bold")
     text.append(f"Chain is: {printable(' -> '.join(chain.frames))}\n")
     text.append(f"Net delay     avg = {_sec(chain.delay_mean)}: max = {_sec(chain.delay_max)}")
@@ -114,6 +117,8 @@ def _chain_lines(chain: ChainStats) -> Text:
         )
     elif all(e.static for e in chain.edges):
         text.append("  (every edge is static: never stale)", style="dim")
+    elif math.isnan(chain.delay_mean) and any(e.child in other_clock for e in chain.edges):
+        text.append(f"  ({OTHER_CLOCK})", style="dim")
     return text
 
 
@@ -123,6 +128,17 @@ def live_header(now: int, origin: int | None, window: int, note: str = "") -> st
     since = signed_seconds((now - (origin if origin is not None else now)) / NS_PER_S)
     header = f"time {to_sec(now):.3f} ({since} s), last {window / NS_PER_S:g} s"
     return header + (f", {note}" if note else "")
+
+
+def own_clock_stamps(report: MonitorReport) -> str:
+    """A replayed table's line for a chain stamped on another clock than the replay's (``MonitorReport.other_clock``):
+    the newest of its stamps in the window, on its own clock ("" for any other chain)."""
+    chain = report.chain
+    moving = [e for e in chain.edges if not e.static] if chain is not None else []
+    if chain is None or not moving or not all(e.child in report.other_clock for e in moving):
+        return ""
+    newest = max(e.last_stamp for e in moving)
+    return f"{chain.target} to {chain.source} stamped up to {to_sec(newest):.3f}, on a clock of its own"
 
 
 def renderable(
@@ -135,8 +151,10 @@ def renderable(
         parts.append(Text("\n".join(printable(line) for line in header.split("\n")), style="dim"))
     if report.delays_unavailable:
         parts.append(Text(printable(f"delays unavailable: {report.delays_unavailable}"), style="dim"))
+    if report.other_clock_why:
+        parts.append(Text(printable(f"delays: {report.other_clock_why}"), style="dim"))
     if report.chain is not None:
-        parts.append(_chain_lines(report.chain))
+        parts.append(_chain_lines(report.chain, report.other_clock))
         edges: Sequence[EdgeStats] = report.chain.edges
     elif target is not None and source is not None:
         waiting = printable(f"Waiting for transform chain to become available between {target} and {source}")
@@ -145,7 +163,13 @@ def renderable(
     else:
         parts.append(Text("RESULTS: for all Frames", style="bold"))
         edges = report.edges
-    parts += [Text(""), _edges(edges), *_silences(edges), Text(""), _authorities(report.authorities)]
+    parts += [
+        Text(""),
+        _edges(edges, report.other_clock),
+        *_silences(edges),
+        Text(""),
+        _authorities(report.authorities),
+    ]
     return Group(*parts)
 
 
@@ -156,7 +180,7 @@ def _silences(edges: Sequence[EdgeStats]) -> list[Text]:
     return [Text(printable(f"{e.parent} -> {e.child}: {words}"), style="yellow") for e, words in said if words]
 
 
-def _edge_dict(e: EdgeStats) -> dict[str, Any]:
+def _edge_dict(e: EdgeStats, other_clock: Sequence[str]) -> dict[str, Any]:
     return {
         "parent": e.parent,
         "child": e.child,
@@ -169,7 +193,7 @@ def _edge_dict(e: EdgeStats) -> dict[str, Any]:
         "silent_s": None if e.silent_for is None else seconds(e.silent_for),
         "delay_mean_s": seconds(e.delay_mean),
         "delay_max_s": seconds(e.delay_max),
-        "delay_unmeasurable": _unmeasurable(e.delay_mean, e.apart),
+        "delay_unmeasurable": _unmeasurable(e.delay_mean, e.apart, e.child in other_clock),
         "static": e.static,
         "first_stamp": to_sec(e.first_stamp),
         "last_stamp": to_sec(e.last_stamp),
@@ -188,9 +212,12 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
     }
 
 
-def _unmeasurable(mean: float, apart: int) -> str | None:
-    """Why a delay is null where its stamps are on a clock ahead of the arrivals' (``apart_in_words``)."""
-    return apart_in_words(apart) if apart and math.isnan(mean) else None
+def _unmeasurable(mean: float, apart: int, other_clock: bool = False) -> str | None:
+    """Why a delay is null where its stamps are on a clock ahead of the arrivals' (``apart_in_words``), or on
+    another clock (``other_clock``: ``Timeline.other_clock_delays`` says which and why, once)."""
+    if not math.isnan(mean):
+        return None
+    return apart_in_words(apart) if apart else OTHER_CLOCK if other_clock else None
 
 
 def as_dict(report: MonitorReport) -> dict[str, Any]:
@@ -200,9 +227,10 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
             "start": to_sec(report.start) if report.start is not None else None,
             "end": to_sec(report.end) if report.end is not None else None,
         },
-        "edges": [_edge_dict(e) for e in report.edges],
+        "edges": [_edge_dict(e, report.other_clock) for e in report.edges],
         "authorities": [_authority_dict(a) for a in report.authorities],
         "delays_unavailable": report.delays_unavailable or None,  # why delays are null, where they all are
+        "delays_other_clock": report.other_clock_why or None,  # why those of frames on another clock are null
     }
     if report.chain is not None:
         chain = report.chain
@@ -210,7 +238,7 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
             "target": chain.target,
             "source": chain.source,
             "frames": list(chain.frames),
-            "edges": [_edge_dict(e) for e in chain.edges],
+            "edges": [_edge_dict(e, report.other_clock) for e in chain.edges],
             "delay_mean_s": seconds(chain.delay_mean),
             "delay_max_s": seconds(chain.delay_max),
             "limiting": list(chain.limiting) if chain.limiting is not None else None,

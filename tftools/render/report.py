@@ -29,7 +29,7 @@ from tftools.render import drawing, scene3d
 from tftools.render.escape import printable
 from tftools.render.filter import fates_in_words
 from tftools.render.graph import problem_summary, to_digraph
-from tftools.sources.timeline import seconds_since
+from tftools.sources.timeline import OTHER_CLOCK, seconds_since
 
 #: Significant digits of the plotted figures: what a plot can show, and a smaller file.
 DIGITS = 4
@@ -219,11 +219,14 @@ def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str
     )
     if report.delays_unavailable:
         header += f'<p class="note">Delays unavailable: {_esc(report.delays_unavailable)}</p>'
+    if report.delays_other_clock_why:
+        header += f'<p class="note">Delays: {_esc(report.delays_other_clock_why)}</p>'
     stats = {(e.parent, e.child): e.stats for e in report.graph.edges}
     parts = []
     for row, i in enumerate(rows):
         e = report.edges[i]
-        about = _edge_about(stats.get(e.key), delays_known=report.delays_shown)
+        other_clock = e.child in report.delays_other_clock
+        about = _edge_about(stats.get(e.key), delays_known=report.delays_shown, other_clock=other_clock)
         if e.at_arrival:
             about += "; placed at arrival: stamped on another clock"
         parts.append(
@@ -233,9 +236,10 @@ def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str
     return header + f'<div class="timelines">{"".join(parts)}</div>'
 
 
-def _edge_about(stats: EdgeStats | None, *, delays_known: bool) -> str:
+def _edge_about(stats: EdgeStats | None, *, delays_known: bool, other_clock: bool = False) -> str:
     """An edge's figures over the whole recording, as ``tfx monitor`` gives them (delays only where the
-    recording's clocks allow them), and its publishers."""
+    recording's clocks allow them; ``other_clock``: stamped on another clock than its arrivals'), and its
+    publishers."""
     if stats is None:
         return ""
     delay = ""
@@ -243,6 +247,8 @@ def _edge_about(stats: EdgeStats | None, *, delays_known: bool) -> str:
         delay = f", delay {seconds(stats.delay_mean) * 1000:.1f} ms (max {seconds(stats.delay_max) * 1000:.1f})"
     elif delays_known and stats.apart:
         delay = f", delay {apart_in_words(stats.apart)}"
+    elif delays_known and other_clock:
+        delay = f", delay {OTHER_CLOCK}"
     return (
         f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {seconds(stats.longest_interval):.3f} s{delay}; "
         f"{', '.join(stats.authorities)}"

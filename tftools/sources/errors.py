@@ -72,11 +72,22 @@ class CorruptBagError(BagError):
         self.detail = detail
 
 
+def record_command(ros2: bool) -> str:
+    """The command that records topics, in the words of the recording's ROS."""
+    return "ros2 bag record" if ros2 else "rosbag record"
+
+
+def tf_unrecorded(ros2: bool) -> str:
+    """What every command says of a recording without /tf: the question, and the command that records it."""
+    return f"was /tf recorded? record it with {record_command(ros2)} /tf /tf_static"
+
+
 class NoTransformsError(SourceError):
     """Nothing read from ``paths``: ``lost`` lines say what damage took; ``unread`` lines which asked-for
     topics are in a type or encoding tfx does not read; without either, the ``topics`` asked for that
     are among those ``found`` are said to be such. ``cause`` says which: "lost", "unread", "unreadable" (asked-for
-    topics present but not read) or "absent"."""
+    topics present but not read) or "absent". ``ros2``: the
+    recording is ROS 2's (the command that records /tf is said in its ROS's words, ``record_command``)."""
 
     def __init__(
         self,
@@ -86,8 +97,11 @@ class NoTransformsError(SourceError):
         unread: Sequence[str] = (),
         lost: Sequence[str] = (),
         carriers: Sequence[str] = (),
+        *,
+        ros2: bool = False,
     ) -> None:
         where = ", ".join(paths)
+        self.ros2 = ros2
         #: The found topics of a transform type not among those read: what to read instead ("absent" only).
         self.carriers = [t for t in carriers if t in found and t not in topics]
         if lost:  # the transforms were there, but damage took every one
@@ -116,7 +130,7 @@ class NoTransformsError(SourceError):
             if unreadable
             else f"read {' and '.join(self.carriers[:3])}, of a transform type"
             if self.carriers
-            else "was /tf recorded? read other topics"
+            else f"{tf_unrecorded(ros2)}, or read other topics"
         )
 
 

@@ -129,7 +129,10 @@ def no_transforms(paths: Sequence[str | os.PathLike[str]], contents: RecordingCo
     found = sorted({t for f in contents.files for t in f.topics})
     damage = [p for f in contents.files for p in f.problems]
     carriers = sorted({t for f in contents.files for t, kind in f.topics.items() if carries_transforms(kind)})
-    return NoTransformsError([str(p) for p in paths], contents.topics, found, contents.unread, damage, carriers)
+    ros2 = semantics_of(contents) == "ros2"
+    return NoTransformsError(
+        [str(p) for p in paths], contents.topics, found, contents.unread, damage, carriers, ros2=ros2
+    )
 
 
 def semantics_of(contents: RecordingContents) -> Semantics:

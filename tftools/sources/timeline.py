@@ -34,6 +34,9 @@ from tftools.sources.edge_clocks import (
 )
 from tftools.values import value
 
+#: An edge's delay where its stamps are on another clock than its arrivals' (``Timeline.on_other_clock``): the one
+#: wording of ``monitor`` (text and JSON) and ``report``.
+OTHER_CLOCK = "not measurable: another clock"
 #: Two clocks more than this apart (the median of arrival minus stamp) are different clocks, not a delay.
 SAME_CLOCK = 10 * NS_PER_S
 #: A clock that ticks in steps up to this long measures delays; a coarser one (a /clock at 10 Hz, or at
@@ -267,6 +270,25 @@ class Timeline:
             frames = ", ".join(sorted(self.record_clocked))
             why += f"; those of {frames} (stamped on the record clock) are measured against their record times"
         return why
+
+    def on_other_clock(self, children: Iterable[str]) -> tuple[str, ...]:
+        """Of ``children``, the frames whose delays no clock of the recording measures: stamped on another clock
+        than the one that timed their arrival (``off_reference``, not ``record_clocked``: a Gazebo robot stamped
+        from zero beside a device on the wall clock), where arrival minus stamp is how far the clocks are apart."""
+        return tuple(c for c in children if c in self.off_reference and c not in self.record_clocked)
+
+    def other_clock_delays(self, children: Iterable[str]) -> str:
+        """Why the delays of ``children`` stamped on another clock (``on_other_clock``) are not shown ("" where
+        none is): the one wording of ``monitor`` (text and JSON), whole or replayed."""
+        other = self.on_other_clock(children)
+        if not other:
+            return ""
+        timed = "the record clock" if self.reference is Reference.RECORD else self.clock.topic or "/clock"
+        frames = ", ".join(sorted(other))
+        return (
+            f"those of {frames} cannot be measured: stamped on another clock than {timed}, which timed their "
+            "arrival (arrival minus stamp is how far the two clocks are apart, not a delay)"
+        )
 
     @cached_property
     def off_reference(self) -> frozenset[str]:

@@ -67,6 +67,8 @@ class MonitorReport:
     authorities: list[AuthorityStats]
     chain: ChainStats | None
     delays_unavailable: str = ""  # why the delays are not shown (``Timeline.delays_unavailable``), "" if they are
+    other_clock: tuple[str, ...] = ()  # the frames stamped on another clock than their arrival's (no delay)
+    other_clock_why: str = ""  # why theirs are not shown (``Timeline.other_clock_delays``), "" if none is
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -121,6 +123,21 @@ def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | N
     )
 
 
+def chain_span(recording: Recording, query: MonitorQuery) -> tuple[int, int] | None:
+    """The stamps ``monitor`` covers of the chain asked about, where it is stamped on another clock than the tf
+    span's (``Timeline.span_of``: a Gazebo robot stamped from zero beside a device on the wall clock): its own
+    span, within ``query.start`` and ``query.end``; None where the chain keeps the tf span's clock."""
+    if not (query.target and query.source):
+        return None
+    timeline = recording.timeline
+    frames = list(chain_moving_edges(recording.buffer, query.target, query.source))
+    span = timeline.span_of(frames)
+    if span == (timeline.tf_start, timeline.tf_end):
+        return None
+    first, last = resolve_range(timeline, query.start, query.end, span, frames)
+    return max(first, span[0]), min(last, span[1])
+
+
 def played_window(stream: StreamedRecording, query: MonitorQuery) -> tuple[int | None, int | None]:
     """``query.start`` and ``query.end`` of a replay of ``stream`` on its clock (None: open), counted on the
     clock of the chain asked about as ``monitored_window`` counts them (``played_range``); a
@@ -148,7 +165,18 @@ def monitor_buffer(
     if target is not None and source is not None:
         end = end if end is not None else buffer.now()
         chain = chain_stats(buffer, edges, target, source, window.start, end, window.timeline)
-    return MonitorReport(window.start, end, edges, authorities, chain, window.clock.delays_unavailable)
+    timeline = window.clock
+    moving = [e.child for e in (chain.edges if chain is not None else edges) if not e.static]  # those shown
+    return MonitorReport(
+        window.start,
+        end,
+        edges,
+        authorities,
+        chain,
+        timeline.delays_unavailable,
+        timeline.on_other_clock(moving),
+        timeline.other_clock_delays(moving),
+    )
 
 
 def chain_stats(

@@ -52,6 +52,9 @@ class RecordingReport:
     # findings' times on another clock than the axis (``Timeline.since_origin``: a replay's, days behind)
     other_clock: frozenset[int] = frozenset()
     delays_shown: bool = True  # some edge's delays are measured (``Timeline.delays_anywhere``): drawn where known
+    # the frames stamped on another clock than their arrivals' (``Timeline.on_other_clock``): no delay, and why
+    delays_other_clock: frozenset[str] = frozenset()
+    delays_other_clock_why: str = ""
 
 
 def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> RecordingReport:
@@ -91,6 +94,8 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
             t for f in findings for t in (f.first_time, f.last_time) if t and timeline.since_origin(t) is None
         ),
         delays_shown=timeline.delays_anywhere,
+        delays_other_clock=frozenset(timeline.on_other_clock(e.child for e in edges)),
+        delays_other_clock_why=timeline.other_clock_delays(e.child for e in edges),
     )
 
 

@@ -13,6 +13,7 @@ from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.core.figures import same_base
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S
 from tftools.sources.edge_clocks import EdgeClock, clock_groups, stamps_behind
+from tftools.sources.errors import record_command
 from tftools.sources.timeline import Reference
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
@@ -49,8 +50,14 @@ def _hint(kind: str, ros2: bool) -> str:
         "clock: stamp its messages with the simulation's time (its driver, or a bridge node restamping them, on "
         "use_sim_time), or keep its frames a tree of their own, joined to no simulated frame, and look each tree up "
         "on its own clock",
+        "bases": "the record times time nothing, so the bytes do not tell which clock each publisher keeps (a "
+        "simulation's time, time since boot, or the wall clock of a node without use_sim_time): record with "
+        f"{record_command(ros2)}, which stores when each message arrived, and /clock with them to tell them apart "
+        "(the frames following /clock are on the simulation's time, those keeping time with the record clock on the "
+        "wall clock). To look them up together, stamp every publisher on one clock (use_sim_time the same for every "
+        "node)",
         "zero": "no /clock was recorded: if these are a simulation's frames (Gazebo, Webots and Stage stamp their "
-        f"own time), record /clock with them ({'ros2 bag record' if ros2 else 'rosbag record'} /clock ...) so that "
+        f"own time), record /clock with them ({record_command(ros2)} /clock ...) so that "
         "their time can be read; frames stamped on the wall clock (a real device's) combine with them only once both "
         f"are on one clock. If a driver stamps time since boot (a steady or sensor clock), stamp with {now}",
     }[kind]
@@ -225,7 +232,8 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
     main = max(clusters, key=len)
     for cluster in clusters:
         if cluster is not main:
-            yield _disagreeing_with_others(scene, cluster, main)
+            void = scene.timeline.record_clock_void
+            yield _two_bases(scene, cluster, main) if void else _disagreeing_with_others(scene, cluster, main)
     if scene.timeline.record_clock_void:
         hint = (
             "record with ros2 bag record, which stores when each message arrived; a script writing a bag "
@@ -261,6 +269,22 @@ def _disagreeing_with_others(scene: Scene, edges: list[EdgeClock], main: list[Ed
         f"{theirs:.1f} s: two clocks in one tree"
     )
     return _two_clocks(scene, kind, edges, said)
+
+
+def _two_bases(scene: Scene, edges: list[EdgeClock], main: list[EdgeClock]) -> Finding:
+    """``edges`` stamped on another time base than ``main`` (epoch time against time counted from zero) where the
+    record times are no clock: what the stamps show, and nothing of which clock a publisher keeps."""
+
+    def base(stamp: float) -> str:
+        return "epoch time" if stamp * NS_PER_S >= EPOCH_FLOOR else "counting from zero"
+
+    stamp = float(np.median([e.median_stamp for e in edges])) / NS_PER_S
+    theirs = float(np.median([e.median_stamp for e in main])) / NS_PER_S
+    said = (
+        f"stamped around {stamp:.1f} s ({base(stamp)}) while {listed([e.child for e in main], 3)} are stamped "
+        f"around {theirs:.1f} s ({base(theirs)}): two time bases, and no record clock to tell which clock each keeps"
+    )
+    return _two_clocks(scene, "bases", edges, said)
 
 
 def _ignoring_clock(scene: Scene, on: Sequence[EdgeClock]) -> Finding:

@@ -14,6 +14,7 @@ from tftools.core.figures import KEEP, timeout_s, wait_in_words, within_in_words
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import is_static_topic
+from tftools.sources.errors import record_command
 
 #: A stream "mostly needs a wait" when more than this share of its messages does.
 WAITING_SHARE = 0.5
@@ -99,7 +100,7 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
     rows = scene.rows
     moving = [t for t in scene.recording.contents.topics if not is_static_topic(t)]
     recorded = {t for f in scene.recording.contents.files for t in f.topics}
-    record = "ros2 bag record" if scene.ros2 else "rosbag record"
+    record = record_command(scene.ros2)
     if not (~rows.static).any() and moving:
         if not recorded & set(moving):
             return (
