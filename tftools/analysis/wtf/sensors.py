@@ -83,7 +83,7 @@ def statics_missing(scene: Scene, what: str, also: str = "") -> str | None:
         return None
     recorded = {t for f in scene.recording.contents.files for t in f.topics}
     if not recorded & set(statics):
-        record = "ros2 bag record" if scene.ros2 else "rosbag record"
+        record = record_command(scene.ros2)
         return (
             f"this recording holds no {and_joined(statics)}: {what} (robot_state_publisher's fixed joints, "
             f"static_transform_publisher) were not recorded; record them with the rest ({record} /tf /tf_static){also}"
