@@ -68,16 +68,14 @@ struct Accumulator {
 struct Side {
     Accumulator* in;
     Accumulator* out;
-    double* lag;  // the k-th time less the older sample's stamp, of the edge at hand
     int64_t lanes;  // vector_lanes()
     void swap() { std::swap(in, out); }
 };
 
 // What a block is composed in: both sides' accumulators (the source side's answer in one of the first
-// two, the target side's in one of the other two) and the lags.
+// two, the target side's in one of the other two).
 struct Blocks {
     Accumulator acc[3];
-    alignas(64) double lag[LANED];
 };
 
 // Where a lookup answers: row `rows[k]` of the outputs for the k-th time.
@@ -108,49 +106,48 @@ inline bool static_block(const History& h, int64_t parent, int64_t n, Side& side
     return true;
 }
 
-// Compose, at the times k0..k1 (at `lag`), the edge interpolated between the samples at `row`
-// and `row + 1`: `edges_at`'s lerp and slerp, from side.in into side.out, in whole groups of LANES
-// (the last past k1: the next run writes those lanes again). Where every angle is small enough for
-// small_sin (the arc is), the loop has no branch, and compiles to vector instructions.
-inline void interval(const Side& side, int64_t k0, int64_t k1, const History& h, int64_t row,
-                     double span, const Arc& c) {
+// times[k] less `t0` as a double, for differences in [0, 2**52) ns (52 days): made from its bits
+// (2**52 + d, less 2**52: exact, as the conversion is), which the compiler vectorizes where AVX2 has no
+// conversion of 64-bit integers.
+inline double lag_of(int64_t time, int64_t t0) {
+    constexpr uint64_t TWO_52_BITS = 0x4330000000000000;  // 2**52 as a double
+    const uint64_t bits = static_cast<uint64_t>(time - t0) | TWO_52_BITS;
+    double shifted;
+    std::memcpy(&shifted, &bits, sizeof shifted);
+    return shifted - 4503599627370496.0;
+}
+
+// Compose, at times[k0..k1), the edge interpolated between the samples at `row` and `row + 1`:
+// `edges_at`'s lerp and slerp, from side.in into side.out. Where every angle is small enough for
+// small_sin (the arc is) and the samples less than 2**52 ns apart (`lag_of`), the loop has no branch
+// and compiles to vector instructions, in whole groups of side.lanes but at the block's end `n` (the
+// last group past k1: the next run writes those lanes again).
+inline void interval(const Side& side, const int64_t* times, int64_t k0, int64_t k1, int64_t n, const History& h,
+                     int64_t row, const Arc& c) {
     const Pose a = pose_at(h, row), b = pose_at(h, row + 1);
     const Accumulator& in = *side.in;
     Accumulator& out = *side.out;
-    const double* lag = side.lag;
-    if (c.theta == 0.0 || c.theta > SMALL_ANGLE) {
-        for (int64_t k = k0; k < k1; ++k) {
-            const double r = lag[k] / span, s = 1.0 - r;
-            const Quat q = slerp(a.q, b.q, r, c, true);
-            out.set(k, compose({{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q}, in.get(k)));
-        }
+    const int64_t t0 = h.stamps[row], apart = h.stamps[row + 1] - t0;
+    const double span = static_cast<double>(apart);
+    const auto edge = [&](int64_t k, double lag) {
+        const double r = lag / span, s = 1.0 - r;
+        const Quat q = c.theta == 0.0 || c.theta > SMALL_ANGLE
+                           ? slerp(a.q, b.q, r, c, true)
+                           : weigh(a.q, b.q, small_sin((1.0 - r) * c.theta), small_sin(r * c.theta) * c.sign, c.d);
+        out.set(k, compose({{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q}, in.get(k)));
+    };
+    // (Negative: stamps too far apart for int64.)
+    if (c.theta == 0.0 || c.theta > SMALL_ANGLE || apart < 0 || apart > (int64_t{1} << 52)) {
+        for (int64_t k = k0; k < k1; ++k) edge(k, static_cast<double>(times[k] - t0));
         return;
     }
-    const int64_t end = k0 + (k1 - k0 + side.lanes - 1) / side.lanes * side.lanes;  // < BLOCK + LANES
+    const int64_t end = std::min(n, k0 + (k1 - k0 + side.lanes - 1) / side.lanes * side.lanes);
 #pragma GCC ivdep
     for (int64_t k = k0; k < end; ++k) {  // slerp where both sines are small_sin: (1 - r) * theta <= theta
-        const double r = lag[k] / span, s = 1.0 - r;
+        const double r = lag_of(times[k], t0) / span, s = 1.0 - r;
         const double s0 = small_sin((1.0 - r) * c.theta), s1 = small_sin(r * c.theta) * c.sign;
         const Quat q = weigh(a.q, b.q, s0, s1, c.d);
         out.set(k, compose({{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q}, in.get(k)));
-    }
-}
-
-// times[k0..k1) less `t0`, as doubles, into lag[k0..k1), each in [0, `span`) ns. Below 2**52 ns (52 days)
-// each is made from its bits (2**52 + d, less 2**52: exact, as the conversion is), a loop the compiler
-// vectorizes where AVX2 has no conversion of 64-bit integers.
-inline void lags(double* lag, const int64_t* times, int64_t k0, int64_t k1, int64_t t0, int64_t span) {
-    constexpr int64_t EXACT = int64_t{1} << 52;
-    if (span < 0 || span > EXACT) {  // (negative: stamps too far apart for int64, as `interval` takes them)
-        for (int64_t k = k0; k < k1; ++k) lag[k] = static_cast<double>(times[k] - t0);
-        return;
-    }
-    constexpr uint64_t TWO_52_BITS = 0x4330000000000000;  // 2**52 as a double
-    for (int64_t k = k0; k < k1; ++k) {
-        const uint64_t bits = static_cast<uint64_t>(times[k] - t0) | TWO_52_BITS;
-        double shifted;
-        std::memcpy(&shifted, &bits, sizeof shifted);
-        lag[k] = shifted - 4503599627370496.0;
     }
 }
 
@@ -178,17 +175,10 @@ inline bool edge_block(const Histories& histories, const Step& step, const int64
         int64_t last = k + 1;  // the run: times[k..last), all within [low, t1)
         if (sorted) {  // each at least times[k], which is at least `low`
             last = std::lower_bound(times + last, times + n, t1) - times;
-            lags(side.lag, times, k, last, t0, t1 - t0);
         } else {
-            side.lag[k] = static_cast<double>(time - t0);
-            while (last < n && low <= times[last] && times[last] < t1) {
-                side.lag[last] = static_cast<double>(times[last] - t0);
-                ++last;
-            }
+            while (last < n && low <= times[last] && times[last] < t1) ++last;
         }
-        if (step.composed) {
-            interval(side, k, last, h, row, static_cast<double>(t1 - t0), arc_at(h, step.frame, row, memo));
-        }
+        if (step.composed) interval(side, times, k, last, n, h, row, arc_at(h, step.frame, row, memo));
         k = last;
     }
     if (step.composed) side.swap();
@@ -221,7 +211,7 @@ TFCORE_VECTOR_VERSIONS inline const Accumulator* chain_block(const Histories& hi
                                                            const int64_t* times, int64_t n, Blocks& blocks,
                                                            Memo& memo) {
     const bool sorted = std::is_sorted(times, times + n);
-    Side source{&blocks.acc[0], &blocks.acc[1], blocks.lag, vector_lanes()};
+    Side source{&blocks.acc[0], &blocks.acc[1], vector_lanes()};
     if (!side_block(histories, chain.sides[0], times, n, sorted, source, memo)) return nullptr;
     Accumulator& answer = *source.in;
     // (Checked on the bits: comparisons of doubles into a bool did not vectorize, ~75 instructions a time.)
@@ -229,7 +219,7 @@ TFCORE_VECTOR_VERSIONS inline const Accumulator* chain_block(const Histories& hi
         finish_keeps(chain.ending, true, abnormal_all(answer, n))) {
         return &answer;
     }
-    Side target{source.out, &blocks.acc[2], blocks.lag, source.lanes};
+    Side target{source.out, &blocks.acc[2], source.lanes};
     if (!side_block(histories, chain.sides[1], times, n, sorted, target, memo)) return nullptr;
     if (chain.ending != Ending::AT_TARGET) {
         for (int64_t k = 0; k < n; ++k) answer.set(k, finish(chain.ending, answer.get(k), target.in->get(k)));
