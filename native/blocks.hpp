@@ -17,7 +17,6 @@
 #pragma once
 
 #include <algorithm>
-#include <array>
 #include <cstring>
 #include <memory>
 
@@ -25,15 +24,31 @@
 
 namespace tfcore {
 
-// Times per block: the accumulators (2 SIDE doubles) stay in the L1 cache.
+// Times per block: a side's two accumulators (below) stay in the L1 cache.
 constexpr int64_t BLOCK = 256;
 
-// A side's accumulator: component c (tx ty tz qx qy qz qw) of the k-th time at c[c][k], and the
-// k-th time less the older sample's stamp at lag[k]. Fixed strides, so that the loops over k
-// have no dependence the compiler cannot see.
+// Lanes the chosen version's vector loops take at once (walk.hpp's versions): 8 doubles with AVX-512,
+// else 4 (AVX2's; SSE2's 2 divide it). A run of times is composed in whole groups of them (`interval`),
+// its last group running past the run into lanes the next run writes again.
+constexpr int64_t LANES = 8;  // the most
+inline int64_t vector_lanes() {
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+    static const int64_t lanes = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("x86-64-v4") ? LANES : 4;
+    }();
+    return lanes;
+#else
+    return 4;
+#endif
+}
+
+// An accumulator: component c (tx ty tz qx qy qz qw) of the k-th time at c[c][k]. Fixed strides, so
+// that the loops over k have no dependence the compiler cannot see; LANES more than a block, for a
+// last group past it.
+constexpr int64_t LANED = BLOCK + LANES;
 struct Accumulator {
-    alignas(64) double c[7][BLOCK];
-    alignas(64) double lag[BLOCK];
+    alignas(64) double c[7][LANED];
 
     void reset(int64_t n) {
         for (int i = 0; i < 7; ++i) std::fill(c[i], c[i] + n, i == 6 ? 1.0 : 0.0);
@@ -43,8 +58,23 @@ struct Accumulator {
         c[0][k] = p.v.x, c[1][k] = p.v.y, c[2][k] = p.v.z;
         c[3][k] = p.q.x, c[4][k] = p.q.y, c[5][k] = p.q.z, c[6][k] = p.q.w;
     }
-    // The k-th time's accumulator = edge * it, as `walk` accumulates.
-    void compose_at(int64_t k, const Pose& edge) { set(k, compose(edge, get(k))); }
+};
+
+// A side's two accumulators: each edge composes the times' poses so far (`in`) into the other (`out`),
+// as `walk` accumulates (out = edge * in); then the two swap. Composed out of place, a group of lanes
+// past a run's end reads what the next run reads and writes what it overwrites, so that every
+// run is composed in whole vectors (in place, those lanes would be composed twice).
+struct Side {
+    Accumulator* in;
+    Accumulator* out;
+    int64_t lanes;  // vector_lanes()
+    void swap() { std::swap(in, out); }
+};
+
+// What a block is composed in: both sides' accumulators (the source side's answer in one of the first
+// two, the target side's in one of the other two).
+struct Blocks {
+    Accumulator acc[3];
 };
 
 // Where a lookup answers: row `rows[k]` of the outputs for the k-th time.
@@ -65,64 +95,70 @@ inline void fill(const Outputs& out, const int64_t* times, int64_t lo, int64_t h
 }
 
 // A static edge: its last sample at every time (`row_at`). False if it has none (or another parent).
-inline bool static_block(const History& h, int64_t parent, int64_t n, Accumulator& acc, bool composed) {
+inline bool static_block(const History& h, int64_t parent, int64_t n, Side& side, bool composed) {
     if (h.end == h.start || h.parents[h.end - 1] != parent) return false;
     if (composed) {
         const Pose edge = pose_at(h, h.end - 1);
-        for (int64_t k = 0; k < n; ++k) acc.compose_at(k, edge);
+        for (int64_t k = 0; k < n; ++k) side.out->set(k, compose(edge, side.in->get(k)));
+        side.swap();
     }
     return true;
 }
 
-// Compose, at the times k0..k1 (at `lag`), the edge interpolated between the samples at `row`
-// and `row + 1`: `edges_at`'s lerp and slerp. Where every angle is small enough for small_sin
-// (the arc is), the loop has no branch, and compiles to vector instructions.
-inline void interval(Accumulator& acc, int64_t k0, int64_t k1, const History& h, int64_t row, double span,
-                     const Arc& c) {
+// times[k] less `t0` as a double, for differences in [0, 2**52) ns (52 days): made from its bits
+// (2**52 + d, less 2**52: exact, as the conversion is), which the compiler vectorizes where AVX2 has no
+// conversion of 64-bit integers.
+inline double lag_of(int64_t time, int64_t t0) {
+    constexpr uint64_t TWO_52_BITS = 0x4330000000000000;  // 2**52 as a double
+    const uint64_t bits = static_cast<uint64_t>(time - t0) | TWO_52_BITS;
+    double shifted;
+    std::memcpy(&shifted, &bits, sizeof shifted);
+    return shifted - 4503599627370496.0;
+}
+
+// Compose, at times[k0..k1), the edge interpolated between the samples at `row` and `row + 1`:
+// `edges_at`'s lerp and slerp, from side.in into side.out. Where every angle is small enough for
+// small_sin (the arc is) and the samples less than 2**52 ns apart (`lag_of`), the loop has no branch
+// and compiles to vector instructions, in whole groups of side.lanes but at the block's end `n` (the
+// last group past k1: the next run writes those lanes again).
+inline void interval(const Side& side, const int64_t* times, int64_t k0, int64_t k1, int64_t n, const History& h,
+                     int64_t row, const Arc& c) {
     const Pose a = pose_at(h, row), b = pose_at(h, row + 1);
-    if (c.theta == 0.0 || c.theta > SMALL_ANGLE) {
-        for (int64_t k = k0; k < k1; ++k) {
-            const double r = acc.lag[k] / span, s = 1.0 - r;
-            const Quat q = slerp(a.q, b.q, r, c, true);
-            acc.compose_at(k, {{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q});
-        }
+    const Accumulator& in = *side.in;
+    Accumulator& out = *side.out;
+    const int64_t t0 = h.stamps[row], apart = h.stamps[row + 1] - t0;
+    const double span = static_cast<double>(apart);
+    const auto edge = [&](int64_t k, double lag) {
+        const double r = lag / span, s = 1.0 - r;
+        const Quat q = c.theta == 0.0 || c.theta > SMALL_ANGLE
+                           ? slerp(a.q, b.q, r, c, true)
+                           : weigh(a.q, b.q, small_sin((1.0 - r) * c.theta), small_sin(r * c.theta) * c.sign, c.d);
+        out.set(k, compose({{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q}, in.get(k)));
+    };
+    // (Negative: stamps too far apart for int64.)
+    if (c.theta == 0.0 || c.theta > SMALL_ANGLE || apart < 0 || apart > (int64_t{1} << 52)) {
+        for (int64_t k = k0; k < k1; ++k) edge(k, static_cast<double>(times[k] - t0));
         return;
     }
-    for (int64_t k = k0; k < k1; ++k) {  // slerp where both sines are small_sin: (1 - r) * theta <= theta
-        const double r = acc.lag[k] / span, s = 1.0 - r;
+    const int64_t end = std::min(n, k0 + (k1 - k0 + side.lanes - 1) / side.lanes * side.lanes);
+#pragma GCC ivdep
+    for (int64_t k = k0; k < end; ++k) {  // slerp where both sines are small_sin: (1 - r) * theta <= theta
+        const double r = lag_of(times[k], t0) / span, s = 1.0 - r;
         const double s0 = small_sin((1.0 - r) * c.theta), s1 = small_sin(r * c.theta) * c.sign;
         const Quat q = weigh(a.q, b.q, s0, s1, c.d);
-        acc.compose_at(k, {{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q});
+        out.set(k, compose({{s * a.v.x + r * b.v.x, s * a.v.y + r * b.v.y, s * a.v.z + r * b.v.z}, q}, in.get(k)));
     }
 }
 
-// times[k0..k1) less `t0`, as doubles, into lag[k0..k1), each in [0, `span`) ns. Below 2**52 ns (52 days)
-// each is made from its bits (2**52 + d, less 2**52: exact, as the conversion is), a loop the compiler
-// vectorizes where AVX2 has no conversion of 64-bit integers.
-inline void lags(double* lag, const int64_t* times, int64_t k0, int64_t k1, int64_t t0, int64_t span) {
-    constexpr int64_t EXACT = int64_t{1} << 52;
-    if (span < 0 || span > EXACT) {  // (negative: stamps too far apart for int64, as `interval` takes them)
-        for (int64_t k = k0; k < k1; ++k) lag[k] = static_cast<double>(times[k] - t0);
-        return;
-    }
-    constexpr uint64_t TWO_52_BITS = 0x4330000000000000;  // 2**52 as a double
-    for (int64_t k = k0; k < k1; ++k) {
-        const uint64_t bits = static_cast<uint64_t>(times[k] - t0) | TWO_52_BITS;
-        double shifted;
-        std::memcpy(&shifted, &bits, sizeof shifted);
-        lag[k] = shifted - 4503599627370496.0;
-    }
-}
-
-// Compose `step`'s edge at times[0..n) into `acc` as row_at, edges_at and compose_all do. False
-// (`acc` then half done) unless each time lies strictly between the history's first and last stamps and
+// Compose `step`'s edge at times[0..n) into `side` as row_at, edges_at and compose_all do. False
+// (`side` then half done) unless each time lies strictly between the history's first and last stamps and
 // both rows it interpolates between have the step's parent: then edges_at interpolates at every
 // time, which is all this does. For each run of times within one interval of the history, the
 // row is found (galloping from the cursor), its parents checked and its arc taken once.
 inline bool edge_block(const Histories& histories, const Step& step, const int64_t* times, int64_t n, bool sorted,
-                       Accumulator& acc, Memo& memo) {
+                       Side& side, Memo& memo) {
     const History& h = histories[step.frame];
-    if (h.is_static) return static_block(h, step.parent, n, acc, step.composed);
+    if (h.is_static) return static_block(h, step.parent, n, side, step.composed);
     if (h.end - h.start < 2) return false;
     const int64_t earliest = h.stamps[h.start], latest = h.stamps[h.end - 1];
     int64_t k = 0;
@@ -138,28 +174,23 @@ inline bool edge_block(const Histories& histories, const Step& step, const int64
         int64_t last = k + 1;  // the run: times[k..last), all within [low, t1)
         if (sorted) {  // each at least times[k], which is at least `low`
             last = std::lower_bound(times + last, times + n, t1) - times;
-            lags(acc.lag, times, k, last, t0, t1 - t0);
         } else {
-            acc.lag[k] = static_cast<double>(time - t0);
-            while (last < n && low <= times[last] && times[last] < t1) {
-                acc.lag[last] = static_cast<double>(times[last] - t0);
-                ++last;
-            }
+            while (last < n && low <= times[last] && times[last] < t1) ++last;
         }
-        if (step.composed) {
-            interval(acc, k, last, h, row, static_cast<double>(t1 - t0), arc_at(h, step.frame, row, memo));
-        }
+        if (step.composed) interval(side, times, k, last, n, h, row, arc_at(h, step.frame, row, memo));
         k = last;
     }
+    if (step.composed) side.swap();
     return true;
 }
 
-// Identity into `acc`, then each edge of one side of the chain, in walk order (`sorted`: the times ascend).
-inline bool side_block(const Histories& histories, const std::vector<Step>& side, const int64_t* times, int64_t n,
-                       bool sorted, Accumulator& acc, Memo& memo) {
-    acc.reset(n);
-    for (const Step& step : side) {
-        if (!edge_block(histories, step, times, n, sorted, acc, memo)) return false;
+// Identity into side.in, then each edge of one side of the chain, in walk order (`sorted`: the times
+// ascend); the answers in side.in.
+inline bool side_block(const Histories& histories, const std::vector<Step>& steps, const int64_t* times, int64_t n,
+                       bool sorted, Side& side, Memo& memo) {
+    side.in->reset(n);
+    for (const Step& step : steps) {
+        if (!edge_block(histories, step, times, n, sorted, side, memo)) return false;
     }
     return true;
 }
@@ -173,22 +204,26 @@ inline uint64_t abnormal_all(const Accumulator& acc, int64_t n) {
     return bad;
 }
 
-// lookup_at at times[0..n) along the walked chain, the answers in `source`; false where any
-// time does not fit it (the accumulators are then of no use).
-TFCORE_VECTOR_VERSIONS inline bool chain_block(const Histories& histories, const Chain& chain, const int64_t* times, int64_t n,
-                        Accumulator& source, Accumulator& target, Memo& memo) {
+// lookup_at at times[0..n) along the walked chain: the accumulator of the answers, in `blocks`; null
+// where any time does not fit it (the accumulators are then of no use).
+TFCORE_VECTOR_VERSIONS inline const Accumulator* chain_block(const Histories& histories, const Chain& chain,
+                                                           const int64_t* times, int64_t n, Blocks& blocks,
+                                                           Memo& memo) {
     const bool sorted = std::is_sorted(times, times + n);
-    if (!side_block(histories, chain.sides[0], times, n, sorted, source, memo)) return false;
+    Side source{&blocks.acc[0], &blocks.acc[1], vector_lanes()};
+    if (!side_block(histories, chain.sides[0], times, n, sorted, source, memo)) return nullptr;
+    Accumulator& answer = *source.in;
     // (Checked on the bits: comparisons of doubles into a bool did not vectorize, ~75 instructions a time.)
     if (chain.ending == Ending::AT_TOP && chain.sides[1].empty() &&
-        finish_keeps(chain.ending, true, abnormal_all(source, n))) {
-        return true;
+        finish_keeps(chain.ending, true, abnormal_all(answer, n))) {
+        return &answer;
     }
-    if (!side_block(histories, chain.sides[1], times, n, sorted, target, memo)) return false;
+    Side target{source.out, &blocks.acc[2], source.lanes};
+    if (!side_block(histories, chain.sides[1], times, n, sorted, target, memo)) return nullptr;
     if (chain.ending != Ending::AT_TARGET) {
-        for (int64_t k = 0; k < n; ++k) source.set(k, finish(chain.ending, source.get(k), target.get(k)));
+        for (int64_t k = 0; k < n; ++k) answer.set(k, finish(chain.ending, answer.get(k), target.in->get(k)));
     }
-    return true;
+    return &answer;
 }
 
 inline void put(const Outputs& out, int64_t k, int64_t time, bool ok, const Pose& p) {
@@ -224,8 +259,7 @@ inline void lookup_many(const Histories& histories, int64_t target, int64_t sour
     int64_t common = 0;
     const bool common_ok = latest_common_time(histories, target, source, common) == Failure::NONE;
     Chain chain, scratch;
-    auto accumulators = std::make_unique<std::array<Accumulator, 2>>();
-    auto& [source_acc, target_acc] = *accumulators;
+    auto blocks = std::make_unique<Blocks>();
     bool resolve = true;  // at the next block's first time: at first, and after a block did not fit
     for (int64_t lo = 0; lo < n; lo += BLOCK) {
         const int64_t m = std::min(BLOCK, n - lo);
@@ -238,8 +272,9 @@ inline void lookup_many(const Histories& histories, int64_t target, int64_t sour
         // A walk stopped at a gap may take another way at another time: blocks need a root.
         const bool fits = chained && chain.ending != Ending::NO_PATH && chain.rooted &&
                           std::find(block, block + m, 0) == block + m;
-        if (fits && chain_block(histories, chain, block, m, source_acc, target_acc, memo)) {
-            for (int64_t k = 0; k < m; ++k) put(part, k, block[k], true, source_acc.get(k));
+        const Accumulator* answer = fits ? chain_block(histories, chain, block, m, *blocks, memo) : nullptr;
+        if (answer != nullptr) {
+            for (int64_t k = 0; k < m; ++k) put(part, k, block[k], true, answer->get(k));
             continue;
         }
         resolve = true;
@@ -254,8 +289,8 @@ inline int chain_takes(const Histories& histories, int64_t target, int64_t sourc
     Chain chain;
     walk(histories, target, source, times[0], chain, memo);
     if (chain.ending == Ending::NO_PATH || !chain.rooted) return -1;
-    auto accumulators = std::make_unique<std::array<Accumulator, 2>>();
-    return chain_block(histories, chain, times, n, (*accumulators)[0], (*accumulators)[1], memo) ? 1 : 0;
+    auto blocks = std::make_unique<Blocks>();
+    return chain_block(histories, chain, times, n, *blocks, memo) != nullptr ? 1 : 0;
 }
 
 }  // namespace tfcore

@@ -152,6 +152,19 @@ def test_the_answers_are_single_lookups() -> None:
             np.testing.assert_allclose(got.rotations[i], expected.rotation, rtol=0, atol=1e-12)
 
 
+def test_runs_of_every_length_compose_as_the_walk() -> None:
+    """A block composes each run of times (those in one interval of an edge) in whole vectors, the last
+    running past the run into the next run's lanes: runs of 1 to 17 times in each 100 Hz interval, and
+    blocks ending part way through a vector, give the walk's bits."""
+    period = S // 100
+    times = [
+        T0 + period // 3 + k * period + 1 + j * (period // 40) for k in range(100, 1900) for j in range(k % 17 + 1)
+    ]
+    for target, source in (("map", "arm2"), ("wheel", "arm2"), ("arm2", "base"), ("odom", "tool")):
+        for count in (len(times), 1000 + 3):
+            assert assert_same_bits(robot(), target, source, times[:count]).all()
+
+
 # --- which blocks the chain takes ------------------------------------------------------------
 
 
