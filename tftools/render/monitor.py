@@ -61,11 +61,14 @@ def _edge_cells(e: EdgeStats, other_clock: bool) -> tuple[Text, Text, Text, list
     """An edge's parent, child, publishers and figures (static edges have no rate, jitter, gap or delay;
     ``other_clock``: its stamps are on another clock than its arrivals', no delay)."""
     long_interval = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
+    # one sample has no rate, no spread of intervals, and no gap but the one from a sample before the window
+    once = not e.static and e.count < 2
+    gap = "-" if once and not e.longest_interval else _sec(e.longest_interval)
     figures = [
         Text(str(e.count)),
-        Text("static", style="cyan") if e.static else Text(f"{e.rate_hz:.2f}"),
-        Text("" if e.static else _sec(e.jitter)),
-        Text("" if e.static else _sec(e.longest_interval), style="yellow" if long_interval else ""),
+        Text("static", style="cyan") if e.static else Text("-" if once else f"{e.rate_hz:.2f}"),
+        Text("" if e.static else "-" if once else _sec(e.jitter)),
+        Text("" if e.static else gap, style="yellow" if long_interval else ""),
         *(_delay_cells(e.delay_mean, e.delay_max, e.apart, other_clock) if not e.static else [Text(""), Text("")]),
     ]
     publishers = printable(", ".join(e.authorities)) or "?"
