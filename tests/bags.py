@@ -69,6 +69,20 @@ def write_bag(
     return target
 
 
+def detections_bag(path: str | os.PathLike[str]) -> Path:
+    """A camera's marker detections (DIGIT_works' camera -> marker_367 shape): marker_0 seen 50 times at 25 Hz from
+    1 s, marker_367 once at 1.5 s, each recorded 1 ms after its stamp."""
+
+    def seen(stamp: int, child: str) -> TfMessage:
+        return TfMessage(
+            "/tf", stamp + 1_000_000, [Transform((1.0, 0, 0), (0, 0, 0, 1.0), stamp, "camera", child)], "/aruco"
+        )
+
+    messages = [seen(1_000_000_000 + i * 40_000_000, "marker_0") for i in range(50)]
+    messages.append(seen(1_500_000_000, "marker_367"))
+    return write_bag(path, sorted(messages, key=lambda m: m.record_time))
+
+
 def _write_ros1(path: Path, messages: Iterable[Message]) -> None:
     from rosbags.rosbag1 import Writer
 

@@ -63,19 +63,9 @@ def test_text_tree_of_a_chain_of_thousands_of_frames(tfx: Tfx, tmp_path: Path) -
 
 def test_an_edge_sent_once_has_no_rate(tfx: Tfx, tmp_path: Path) -> None:
     """A marker detected once (DIGIT_works' camera -> marker_367): 'once' and its stamp, not '0.0 Hz, 1 samples'."""
-    from tests.bags import TfMessage, write_bag
-    from tftools.core.transform import Transform
+    from tests.bags import detections_bag
 
-    def seen(stamp: int, child: str) -> TfMessage:
-        return TfMessage(
-            "/tf", stamp + 1_000_000, [Transform((1.0, 0, 0), (0, 0, 0, 1.0), stamp, "camera", child)], "/aruco"
-        )
-
-    messages = [seen(1_000_000_000 + i * 40_000_000, "marker_0") for i in range(50)] + [
-        seen(1_500_000_000, "marker_367")
-    ]
-    bag = write_bag(tmp_path / "detections.bag", sorted(messages, key=lambda m: m.record_time))
-    result = tfx("frames", "-b", bag)
+    result = tfx("frames", "-b", detections_bag(tmp_path / "detections.bag"))
     assert result.code == 0, result.stderr
     line = next(line for line in result.stdout.splitlines() if "marker_367" in line)
     assert "once" in line and "1 sample, stamped 1.500" in line and "Hz" not in line and "samples" not in line

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
-from tests.bags import BagFormat, ClockMessage, TfMessage, write_bag
+from tests.bags import BagFormat, ClockMessage, TfMessage, detections_bag, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.edges import TimeWindow
 from tftools.analysis.monitor import monitor_buffer
@@ -341,17 +341,7 @@ def test_a_frame_tf2_made_static_but_sent_on_tf_is_not_a_statics_only_recording(
 def test_an_edge_sent_once_has_no_rate_jitter_or_gap(tfx: Tfx, tmp_path: Path) -> None:
     """A marker detected once (DIGIT_works' camera -> marker_367): '-' for its rate, jitter and largest gap, which one
     sample does not have, not 0.00 and 0.0000; the marker seen 50 times keeps its figures."""
-
-    def seen(stamp: int, child: str) -> TfMessage:
-        return TfMessage(
-            "/tf", stamp + 1_000_000, [Transform((1.0, 0, 0), (0, 0, 0, 1.0), stamp, "camera", child)], "/aruco"
-        )
-
-    messages = [seen(1_000_000_000 + i * 40_000_000, "marker_0") for i in range(50)] + [
-        seen(1_500_000_000, "marker_367")
-    ]
-    bag = write_bag(tmp_path / "detections.bag", sorted(messages, key=lambda m: m.record_time))
-    result = tfx("monitor", "-b", bag)
+    result = tfx("monitor", "-b", detections_bag(tmp_path / "detections.bag"))
     assert result.code == 0, result.stderr
     once = next(line for line in result.stdout.splitlines() if "marker_367" in line).split()
     assert once[once.index("/aruco") + 1 :][:4] == ["1", "-", "-", "-"]
