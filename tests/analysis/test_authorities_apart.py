@@ -74,7 +74,9 @@ def test_two_publishers_at_once_far_apart_contradict_each_other_an_error() -> No
     assert found.severity is Severity.error, found
     message = found.message
     observed = message.index("up to 500.0 mm (at ")
-    own = message.index("each publisher's own value moves at most 100.0 mm and 1.00° from one sample to its next")
+    own = message.index(
+        "each publisher's own value moves a median of at most 100.0 mm and 1.00° from one sample to its next"
+    )
     follows = message.index("they contradict each other: tf2 keeps both in one cache")
     assert observed < own < follows and "the pose jumps by up to 0.50 m and 20.0° between them" in message
     assert found.figures["contradict"] == 1 and math.isclose(float(found.figures["apart_m_max"]), 0.5)

@@ -103,8 +103,8 @@ class AtOnce:
         if not self.contradict:
             return told
         return (
-            f"{told}, while each publisher's own value moves at most {self.step_m * 1000:.1f} mm and "
-            f"{self.step_deg:.2f}° from one sample to its next (the median)"
+            f"{told}, while each publisher's own value moves a median of at most {self.step_m * 1000:.1f} mm and "
+            f"{self.step_deg:.2f}° from one sample to its next"
         )
 
     def follows(self) -> str:
