@@ -456,6 +456,17 @@ def test_the_jetackers_two_odometries_are_said_as_far_apart_as_they_are() -> Non
     assert finding.message.index("alternated") < finding.message.index("apart") < finding.message.index("turns")
 
 
+def test_the_oko_odometries_that_part_at_a_turn_say_at_how_many_times_they_contradict() -> None:
+    """Issue 39: on the moving OKO bag the odometry bridge and cartographer agree within noise until cartographer's
+    21.8 deg turn at +2.98 s, then are up to 24.5 deg apart: 358 of the 995 common times beyond the edge's own
+    step plus noise (its manifest entry, from the data). The error says so, not only the largest figure."""
+    path = _corpus("ros1_okoslam_cartographer_2019-05-12-18-44-11.bag")
+    (finding,) = coded(check(read_recording([path])).findings, "multiple_authorities")
+    assert finding.severity is Severity.error
+    assert (finding.figures["samples_contradicting"], finding.figures["samples_compared"]) == (358, 995)
+    assert "; at 358 of the 995 further apart than that plus noise (5 cm, 3°), they contradict" in finding.message
+
+
 def test_two_robot_state_publishers_are_one_warning_for_both_wheels() -> None:
     path = _corpus("ros2_db3_tb3_gazebo_two_rsp")
     edges = data.read_contents(path).edges

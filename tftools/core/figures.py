@@ -11,7 +11,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import overload
 
 import numpy as np
@@ -382,13 +382,20 @@ def age_in_words(age_ns: int, clock: str) -> str:
 @dataclass(frozen=True)
 class Disagreement:
     """How far two publishers' values of one edge are apart at the same instants: the largest translation
-    (m) and rotation (degrees) between them, each with the stamp it was seen at; ``instants`` compared."""
+    (m) and rotation (degrees) between them, each with the stamp it was seen at; ``instants`` compared, and how
+    far apart at each (``each_metres``, ``each_degrees``: ``beyond`` counts them)."""
 
     metres: float
     metres_at: int
     degrees: float
     degrees_at: int
     instants: int
+    each_metres: FloatArray = field(compare=False, repr=False)
+    each_degrees: FloatArray = field(compare=False, repr=False)
+
+    def beyond(self, metres: float, degrees: float) -> int:
+        """At how many of the instants compared the values are further apart than ``metres`` or ``degrees``."""
+        return int(np.count_nonzero((self.each_metres > metres) | (self.each_degrees > degrees)))
 
 
 def disagreement(a_stamps: Int64Array, a: FloatArray, b_stamps: Int64Array, b: FloatArray) -> Disagreement | None:
@@ -404,7 +411,9 @@ def disagreement(a_stamps: Int64Array, a: FloatArray, b_stamps: Int64Array, b: F
         metres = np.nan_to_num(np.linalg.norm(mine[:, :3] - theirs[:, :3], axis=1), nan=np.inf)
     degrees = np.degrees(angle_between_many(mine[:, 3:], theirs[:, 3:]))
     far, turned = int(np.argmax(metres)), int(np.argmax(degrees))
-    return Disagreement(float(metres[far]), int(stamps[far]), float(degrees[turned]), int(stamps[turned]), len(stamps))
+    return Disagreement(
+        float(metres[far]), int(stamps[far]), float(degrees[turned]), int(stamps[turned]), len(stamps), metres, degrees
+    )
 
 
 def largest_disagreement(streams: Sequence[tuple[Int64Array, FloatArray]]) -> Disagreement | None:

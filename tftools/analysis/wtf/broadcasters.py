@@ -86,10 +86,16 @@ class AtOnce:
     step_deg: float
 
     @property
+    def contradicting(self) -> int:
+        """At how many of the times compared they are further apart than the edge's own step plus noise
+        (``FLOOR_M``, ``FLOOR_DEG``)."""
+        return self.apart.beyond(self.step_m + FLOOR_M, self.step_deg + FLOOR_DEG)
+
+    @property
     def contradict(self) -> bool:
-        """Further apart than the edge's own step plus noise (``FLOOR_M``, ``FLOOR_DEG``): tf2 keeps both in one
+        """Further apart than the edge's own step plus noise at some of the times compared: tf2 keeps both in one
         cache, so lookups a sample apart land on one, then the other, and the pose jumps further than it moves."""
-        return self.apart.metres > self.step_m + FLOOR_M or self.apart.degrees > self.step_deg + FLOOR_DEG
+        return self.contradicting > 0
 
     @property
     def severity(self) -> Severity:
@@ -112,10 +118,17 @@ class AtOnce:
         if not self.contradict:
             return ""
         return (
-            f"; further apart than that plus noise ({FLOOR_M * 100:.0f} cm, {FLOOR_DEG:.0f}°), they contradict each "
+            f"; at {self._how_many()} further apart than that plus noise "
+            f"({FLOOR_M * 100:.0f} cm, {FLOOR_DEG:.0f}°), they contradict each "
             "other: tf2 keeps both in one cache, so lookups a sample apart land on one, then the other, or between "
             f"them, and the pose jumps by up to {_far(self.apart)} between them"
         )
+
+    def _how_many(self) -> str:
+        """ "358 of the 995", "every one of the 1512": of the times compared, those further apart than the
+        edge's own step plus noise."""
+        many = "every one" if self.contradicting == self.apart.instants else str(self.contradicting)
+        return f"{many} of the {self.apart.instants}"
 
     def figures(self) -> dict[str, float | int | str]:
         """``said``'s figures, for JSON."""
@@ -123,6 +136,7 @@ class AtOnce:
             "own_step_m": self.step_m,
             "own_step_deg": self.step_deg,
             "contradict": int(self.contradict),
+            "samples_contradicting": self.contradicting,
         }
 
 
