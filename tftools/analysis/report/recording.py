@@ -79,16 +79,17 @@ def report(recording: Recording, query: ReportQuery = REPORT_DEFAULTS) -> Record
         topics = ", ".join(s.topic for s in sensors.streams)
         facts.append(("Sensor data", f"{topics}: checked in {sensors.target} ({sensors.target_reason})"))
     return RecordingReport(
-        " + ".join(recording.paths),
-        tuple(facts),
-        tuple(findings),
-        graph,
-        bins,
-        tuple(edges),
-        tuple(flows),
-        timeline.delays_unavailable,
-        timeline.origin,
-        frame_poses(buffer, scene.tree, timeline.tf_start, timeline.tf_end, timeline=timeline),  # where tf has data
+        name=" + ".join(recording.paths),
+        facts=tuple(facts),
+        findings=tuple(findings),
+        graph=graph,
+        bins=bins,
+        edges=tuple(edges),
+        streams=tuple(flows),
+        delays_unavailable=timeline.delays_unavailable,
+        origin=timeline.origin,
+        # where tf has data
+        poses=frame_poses(buffer, scene.tree, timeline.tf_start, timeline.tf_end, timeline=timeline),
         problems=tuple(recording.problems),
         other_clock=frozenset(
             t for f in findings for t in (f.first_time, f.last_time) if t and timeline.since_origin(t) is None
@@ -106,17 +107,16 @@ def _without_transforms(recording: Recording, findings: Sequence[Finding], graph
     topics = {topic: kind for file in recording.contents.files for topic, kind in file.topics.items()}
     held = ", ".join(f"{topic} ({kind})" for topic, kind in sorted(topics.items())) or "no message"
     facts.append(("Holds", held))
-    timeline = recording.timeline
     return RecordingReport(
-        " + ".join(recording.paths),
-        tuple(facts),
-        tuple(findings),
-        graph,
-        bins_over(recording.start, recording.end),
-        (),
-        (),
-        "",
-        timeline.origin,
+        name=" + ".join(recording.paths),
+        facts=tuple(facts),
+        findings=tuple(findings),
+        graph=graph,
+        bins=bins_over(recording.start, recording.end),
+        edges=(),
+        streams=(),
+        delays_unavailable="",
+        origin=recording.timeline.origin,
         problems=tuple(recording.problems),
         delays_shown=False,
     )
