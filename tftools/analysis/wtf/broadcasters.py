@@ -84,12 +84,7 @@ class AtOnce:
     apart: Disagreement
     step_m: float
     step_deg: float
-
-    @property
-    def contradicting(self) -> int:
-        """At how many of the times compared they are further apart than the edge's own step plus noise
-        (``FLOOR_M``, ``FLOOR_DEG``)."""
-        return self.apart.beyond(self.step_m + FLOOR_M, self.step_deg + FLOOR_DEG)
+    contradicting: int  # at how many of the times compared further apart than that step plus noise
 
     @property
     def contradict(self) -> bool:
@@ -148,7 +143,8 @@ def at_once(streams: Sequence[tuple[Int64Array, FloatArray]]) -> AtOnce | None:
         return None
     steps = [apart(values[:-1], values[1:]) for _, values in streams if len(values) > 1]
     step_m = max((float(np.median(m)) for m, _ in steps), default=0.0)
-    return AtOnce(found, step_m, max((float(np.median(d)) for _, d in steps), default=0.0))
+    step_deg = max((float(np.median(d)) for _, d in steps), default=0.0)
+    return AtOnce(found, step_m, step_deg, found.beyond(step_m + FLOOR_M, step_deg + FLOOR_DEG))
 
 
 def _far(apart_: Disagreement) -> str:
@@ -429,7 +425,7 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
     found = [d for d in each if d is not None]
     largest = max(found, key=lambda d: (d.apart.metres, d.apart.degrees))  # every edge here has copies: one at least
     apart_ = dataclasses.replace(largest.apart, instants=sum(d.apart.instants for d in found))
-    compared = dataclasses.replace(largest, apart=apart_)
+    compared = dataclasses.replace(largest, apart=apart_, contradicting=sum(d.contradicting for d in found))
     if _nil(apart_):
         effect = "tf2 drops the exact copies, so lookups are right, but every sample costs twice"
     else:
