@@ -146,6 +146,18 @@ def test_sensor_data_in_a_frame_no_transform_names_is_told_what_is_missing(tf: s
         assert "ros2 bag record /tf /tf_static" in found.hint
 
 
+def test_a_mount_missing_from_a_bag_without_tf_static_may_never_have_been_published() -> None:
+    """A real Pioneer 3-DX (murillo-teixeira/monte-carlo-localization's test1.bag): odometry on /tf, /scan in
+    'laser', no /tf_static in the bag, recorded with `rosbag record -a`: nothing published base_link -> laser (its
+    authors add it when they replay). A bag without the topic cannot tell that from a recorder not asked for it:
+    the hint says both, each with its remedy, not that the mount "was not recorded"."""
+    scene = Scene(recording(ekf(), ros1=True), streams=[sensor("/scan", "laser", 10, 5_000_000)])
+    (found,) = [f for f in findings_of(scene) if f.code == "sensor_frame"]
+    assert found.hint.startswith("this recording holds no /tf_static: the sensors' mounts")
+    assert "were not recorded, or nothing published them" in found.hint
+    assert "rosbag record /tf /tf_static" in found.hint and "or run their publisher if none ran" in found.hint
+
+
 @pytest.mark.parametrize("tf_static", ["not recorded", "recorded empty"])
 def test_sensor_data_in_a_mount_frame_without_tf_static_is_told_what_is_missing(tf_static: str) -> None:
     """A TurtleBot3 under AMCL (PabloMatilla/IR2121@25fabcf rosbag2_2023_10_21-21_16_22): map -> odom ->

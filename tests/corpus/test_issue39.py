@@ -274,6 +274,23 @@ def test_sensor_frame_without_the_tf_that_names_it_says_what_is_missing(
     assert missing in _words(tfx("wtf", path).stdout)
 
 
+PIONEER_NO_LASER_TF = "ros1-pioneer3dx-real-hokuyo-scans-without-laser-tf-2023-bag"
+
+
+def test_a_mount_nothing_published_is_not_said_to_be_unrecorded(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real Pioneer 3-DX: /scan in 'laser', no /tf_static in the bag. Its recorder subscribed to every topic (its
+    /rosout: 'Subscribing to /initialpose', '/clicked_point', ..., never /tf_static) and the authors' launch file
+    publishes base_link -> laser when they replay it ('the transform that is missing in the pioneer'). The hint said
+    the mount "was not recorded" (record /tf_static); a bag without the topic cannot tell: both, with both remedies."""
+    _, path = _recording(corpus, PIONEER_NO_LASER_TF)
+    code, _, findings = _findings(tfx, path)
+    (missing,) = [f for f in findings if f["code"] == "sensor_frame"]
+    assert missing["frames"] == ["laser"] and "311 of 311 messages" in missing["message"]
+    assert "were not recorded, or nothing published them" in missing["hint"]
+    assert "rosbag record /tf /tf_static" in missing["hint"] and "run their publisher if none ran" in missing["hint"]
+    assert code == 1
+
+
 def test_multiple_parents_on_tf_static_is_not_an_object_picked_up(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """A calibration's /tf_static message sending box_base_model under two parents: tf2 keeps the last for every
     time; no 'object picked up' (a /tf re-parenting's story)."""

@@ -77,16 +77,21 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
 
 def statics_missing(scene: Scene, what: str, also: str = "") -> str | None:
     """Why the tree holds no static transform where /tf_static was asked for: it was not recorded (``what``, the
-    transforms it would carry, were not), or recorded empty; None where static transforms were recorded."""
+    transforms it would carry, were not recorded or never sent: the bytes hold neither), or recorded empty; None
+    where static transforms were recorded."""
     statics = [t for t in scene.recording.contents.topics if is_static_topic(t)]
     if scene.rows.static.any() or not statics:
         return None
     recorded = {t for f in scene.recording.contents.files for t in f.topics}
     if not recorded & set(statics):
         record = record_command(scene.ros2)
+        # A real Pioneer 3-DX (murillo-teixeira/monte-carlo-localization's test1.bag, `rosbag record -a`): no
+        # /tf_static because nothing published base_link -> laser (its authors add it when they replay): a bag
+        # without the topic cannot say which, so both are said, each with its remedy.
         return (
             f"this recording holds no {and_joined(statics)}: {what} (robot_state_publisher's fixed joints, "
-            f"static_transform_publisher) were not recorded; record them with the rest ({record} /tf /tf_static){also}"
+            f"static_transform_publisher) were not recorded, or nothing published them; record them with the rest "
+            f"({record} /tf /tf_static), or run their publisher if none ran{also}"
         )
     return (
         f"{and_joined(statics)} was recorded but holds no transform: its publishers (robot_state_publisher, "
