@@ -296,6 +296,30 @@ def longest_interval(stamps: Int64Array, before: int | None = None, span: int = 
     return max(candidates, key=lambda c: c[0])
 
 
+def sightings(stamps: Int64Array, span: int = 0) -> Sightings | None:
+    """The one definition of a stream seen in bursts, over its sorted ``stamps`` (on one time base: an interval
+    between two, ``across_clocks`` with the record ``span``, counts as neither): its intervals ``MISSED`` times
+    its ``period`` or longer part the bursts, the others are within one; the rate within bursts is theirs
+    (``rate_hz`` of what they hold), the share seen is their time over all. None for fewer than 3 stamps or where
+    it was never unseen (one burst: its rate is the stream's)."""
+    if len(stamps) < 3:
+        return None
+    intervals = np.diff(stamps)[~across_clocks(stamps, span)]
+    usual = period(intervals)
+    apart: BoolArray = intervals >= MISSED * usual
+    if not usual or not apart.any():
+        return None
+    within, whole = int(intervals[~apart].sum()), int(intervals.sum())
+    longest = int(np.argmax(np.where(across_clocks(stamps, span), 0, np.diff(stamps))))
+    return Sightings(
+        int(apart.sum()) + 1,
+        rate_hz(int((~apart).sum()) + 1, within),
+        within / whole if whole else 0.0,
+        int(stamps[longest + 1] - stamps[longest]),
+        int(stamps[longest]),
+    )
+
+
 def silence(last_arrival: int, end: int | None) -> int | None:
     """The one definition of how long a stream has been silent (ns): from its last arrival to ``end`` (the
     recording's end, a live listener's now, on the same clock); 0 where it arrived since; None, unknown, where
