@@ -347,3 +347,14 @@ def test_an_edge_sent_once_has_no_rate_jitter_or_gap(tfx: Tfx, tmp_path: Path) -
     assert once[once.index("/aruco") + 1 :][:4] == ["1", "-", "-", "-"]
     many = next(line for line in result.stdout.splitlines() if "marker_0" in line).split()
     assert many[many.index("/aruco") + 1 :][:2] == ["50", "25.00"]
+
+
+def test_an_edge_sent_once_has_null_rate_jitter_and_gap_in_json(tfx: Tfx, tmp_path: Path) -> None:
+    """The JSON of the same: null where the table shows '-' (a 0 reads as a rate measured), figures for the marker
+    seen 50 times."""
+    result = tfx("monitor", "-b", detections_bag(tmp_path / "detections.bag"), "--format", "json")
+    assert result.code == 0, result.stderr
+    edges = {e["child"]: e for e in json.loads(result.stdout)["edges"]}
+    once = edges["marker_367"]
+    assert (once["rate_hz"], once["jitter_s"], once["gap_max_s"], once["gap_start"]) == (None, None, None, None)
+    assert edges["marker_0"]["rate_hz"] == pytest.approx(25.0) and edges["marker_0"]["jitter_s"] is not None

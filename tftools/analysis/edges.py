@@ -114,6 +114,12 @@ class EdgeStats(Edge):
     # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static, None: unknown
     silent_for: int | None = 0
 
+    @property
+    def once(self) -> bool:
+        """One moving sample in the window: it has no rate nor jitter (their 0 is none: "-" in tables, null in
+        JSON), and no gap but one from a sample before the window."""
+        return not self.static and self.count < 2
+
 
 @dataclass(frozen=True)
 class AuthorityStats:
@@ -150,7 +156,8 @@ def edge_stats(buffer: Buffer, window: TimeWindow = WHOLE) -> list[EdgeStats]:
             before = _previous_stamp(hist, mine, rows) if window.start is not None else None
             silence_end = window.end if window.by_record_time and timeline.available else None
             counted_to = window.until if timeline.available else None
-            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, counted_to))
+            since = _window_start_stamp(hist, rows, window) if before is not None else None
+            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, counted_to, since))
     return result
 
 
@@ -363,6 +370,17 @@ def _window(hist: EdgeHistory, window: TimeWindow) -> BoolArray:
     return window.holds(hist.stamps, hist.record_times, hist.static)
 
 
+def _window_start_stamp(hist: EdgeHistory, rows: BoolArray, window: TimeWindow) -> int | None:
+    """The ``window``'s start on the edge's stamp axis: itself for a window of stamps; for one of arrivals, the
+    stamp of its first sample in the window less how long after the start that sample arrived (a gap from a
+    sample before the window is counted from here, ``figures.longest_interval``)."""
+    if window.start is None or not window.by_record_time:
+        return window.start
+    first = int(np.argmax(rows))
+    arrived = window.times(hist.stamps[first : first + 1], hist.record_times[first : first + 1])
+    return int(hist.stamps[first]) - max(int(arrived[0]) - window.start, 0)
+
+
 def _previous_stamp(hist: EdgeHistory, mine: BoolArray, rows: BoolArray) -> int | None:
     """The stamp of the edge's sample just before the first one in the window, if any."""
     if hist.static:
@@ -391,13 +409,14 @@ def _edge(
     before: int | None,
     silence_end: int | None,
     until: int | None = None,
+    since: int | None = None,
 ) -> EdgeStats:
     stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
     records = hist.record_times[rows]
     dynamic = not hist.static
     arrived = int(timeline.arrival(stamps, records).max())
     span = record_span(records)  # no figure across two time bases (``figures.across_clocks``)
-    longest, longest_start = longest_interval(stamps if dynamic else stamps[:1], before, span)
+    longest, longest_start = longest_interval(stamps if dynamic else stamps[:1], before, span, since)
     delay_mean, delay_max = mean_max(_delays(child, hist, rows, timeline))
     return EdgeStats(
         parent=parent,

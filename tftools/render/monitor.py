@@ -61,9 +61,8 @@ def _edge_cells(e: EdgeStats, other_clock: bool) -> tuple[Text, Text, Text, list
     """An edge's parent, child, publishers and figures (static edges have no rate, jitter, gap or delay;
     ``other_clock``: its stamps are on another clock than its arrivals', no delay)."""
     long_interval = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
-    # one sample has no rate, no spread of intervals, and no gap but the one from a sample before the window
-    once = not e.static and e.count < 2
-    gap = "-" if once and not e.longest_interval else _sec(e.longest_interval)
+    once = e.once
+    gap = "-" if _no_gap(e) else _sec(e.longest_interval)
     figures = [
         Text(str(e.count)),
         Text("static", style="cyan") if e.static else Text("-" if once else f"{e.rate_hz:.2f}"),
@@ -183,16 +182,21 @@ def _silences(edges: Sequence[EdgeStats]) -> list[Text]:
     return [Text(printable(f"{e.parent} -> {e.child}: {words}"), style="yellow") for e, words in said if words]
 
 
+def _no_gap(e: EdgeStats) -> bool:
+    """One sample and none before the window: no gap to show ("-", null)."""
+    return e.once and not e.longest_interval
+
+
 def _edge_dict(e: EdgeStats, other_clock: Sequence[str]) -> dict[str, Any]:
     return {
         "parent": e.parent,
         "child": e.child,
         "authorities": list(e.authorities),
         "count": e.count,
-        "rate_hz": e.rate_hz,
-        "jitter_s": seconds(e.jitter),
-        "gap_max_s": seconds(e.longest_interval),
-        "gap_start": to_sec(e.longest_interval_start),
+        "rate_hz": None if e.once else e.rate_hz,
+        "jitter_s": None if e.once else seconds(e.jitter),
+        "gap_max_s": None if _no_gap(e) else seconds(e.longest_interval),
+        "gap_start": None if _no_gap(e) else to_sec(e.longest_interval_start),
         "silent_s": None if e.silent_for is None else seconds(e.silent_for),
         "delay_mean_s": seconds(e.delay_mean),
         "delay_max_s": seconds(e.delay_max),
