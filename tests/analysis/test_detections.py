@@ -115,6 +115,7 @@ def test_sightings_are_bursts_parted_by_a_missed_frame() -> None:
         ("base_link", "obj_49", 4, True),
         ("camera_color_optical_frame", "drone", 1, True),  # a camera's child seen once: it came and went
         ("camera_color_optical_frame", "drone", 300, False),  # seen throughout: nothing says it is detected
+        ("camera_color_optical_frame", "drone", -300, True),  # lost for 1 s in the middle: it came and went
         ("odom", "base_link", 1, False),
         ("camera_link", "camera_color_optical_frame", 1, False),  # a camera's own frames
         ("base_link", "tag_link", 1, False),
@@ -123,5 +124,7 @@ def test_sightings_are_bursts_parted_by_a_missed_frame() -> None:
 def test_detections_are_told_by_their_names_or_a_camera_above_a_child_that_comes_and_goes(
     parent: str, child: str, count: int, expected: bool
 ) -> None:
-    stamps = (np.arange(count) * 40 * MS).astype(np.int64)
+    stamps = (np.arange(abs(count)) * 40 * MS).astype(np.int64)
+    if count < 0:
+        stamps[abs(count) // 2 :] += NS_PER_S
     assert (detection(parent, child, stamps) is not None) is expected

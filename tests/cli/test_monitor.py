@@ -358,3 +358,18 @@ def test_an_edge_sent_once_has_null_rate_jitter_and_gap_in_json(tfx: Tfx, tmp_pa
     once = edges["marker_367"]
     assert (once["rate_hz"], once["jitter_s"], once["gap_max_s"], once["gap_start"]) == (None, None, None, None)
     assert edges["marker_0"]["rate_hz"] == pytest.approx(25.0) and edges["marker_0"]["jitter_s"] is not None
+
+
+def test_a_marker_seen_in_bursts_shows_its_rate_within_them_in_text_and_json(tfx: Tfx, tmp_path: Path) -> None:
+    """A marker seen 10 times 40 ms apart, then lost 0.6 s, 10 times (DIGIT_works' marker_222, seen 58% of the
+    time): the table's rate is over the whole window; a line and the JSON say the rate within its bursts and
+    the share of the time it was seen, as wtf's rate finding does (``figures.sightings``)."""
+    stamps = [1_000_000_000 + (b * 1000 + i * 40) * MS_NS for b in range(10) for i in range(10)]
+    seen = [Transform((1.0, 0, 0), (0, 0, 0, 1.0), s, "camera", "marker_5") for s in stamps]
+    bag = write_bag(tmp_path / "bursts.bag", [TfMessage("/tf", t.stamp + MS_NS, [t], "/aruco") for t in seen])
+    text = tfx("monitor", "-b", bag).stdout
+    said = "camera -> marker_5: a detection, seen in 10 bursts, at 25.0 Hz within them, 38% of the time"
+    assert said + " (unseen for up to 0.640 s)" in " ".join(text.split()), text
+    (edge,) = json.loads(tfx("monitor", "-b", bag, "--format", "json").stdout)["edges"]
+    assert edge["sightings"]["bursts"] == 10 and edge["sightings"]["rate_hz"] == pytest.approx(25.0)
+    assert edge["sightings"]["seen_share"] == pytest.approx(3.6 / 9.36)

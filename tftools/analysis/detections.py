@@ -6,10 +6,9 @@ from __future__ import annotations
 
 import re
 
-import numpy as np
-
 from tftools.core.arrays import Int64Array
-from tftools.core.figures import PERIODS, Sightings, period, sightings
+from tftools.core.figures import Sightings, pauses, sightings
+from tftools.core.time import NS_PER_S
 
 #: A child frame named as detectors name what they see: ArUco's and AprilTag's markers (``marker_367``,
 #: ``tag0``, ``tag36h11:0``, ar_track_alvar's ``ar_marker_3``, aruco_detect's ``fiducial_12``), find_object_2d's
@@ -35,12 +34,14 @@ def detection(parent: str, child: str, stamps: Int64Array, span: int = 0) -> str
     return None
 
 
+#: A child unseen this long (ns), and ``figures.PERIODS`` of its periods, went out of view (``_comes_and_goes``).
+LOST = NS_PER_S // 2
+
+
 def _comes_and_goes(stamps: Int64Array, span: int) -> bool:
-    """Seen once, or unseen for ``PERIODS`` of its periods at least once (``figures.sightings``)."""
-    if len(stamps) == 1:
-        return True
-    seen = sightings(stamps, span)
-    return seen is not None and seen.longest_unseen >= PERIODS * period(np.diff(stamps))
+    """Seen once, or paused (``figures.pauses``, for ``LOST`` at least) at least once: a stream published
+    irregularly (a camera tracking a drone, every 0.4 to 104 ms) does not come and go."""
+    return len(stamps) == 1 or pauses(stamps, LOST, span) is not None
 
 
 def detection_sightings(parent: str, child: str, stamps: Int64Array, span: int = 0) -> Sightings | None:

@@ -11,11 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tftools.analysis.detections import detection_sightings
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
 from tftools.core.figures import (
+    Sightings,
     base_near,
     jitter,
     longest_interval,
@@ -113,6 +115,8 @@ class EdgeStats(Edge):
     apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``apart``)
     # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static, None: unknown
     silent_for: int | None = 0
+    # a detection's bursts of sightings in the window (``detections.detection_sightings``); None for any other
+    sightings: Sightings | None = None
 
     @property
     def once(self) -> bool:
@@ -436,6 +440,7 @@ def _edge(
         clocks=time_bases(stamps, span) if dynamic else 1,
         apart=_apart(child, hist, rows, timeline),
         silent_for=0 if not dynamic else _silent(arrived, silence_end, int(records.max()), until),
+        sightings=detection_sightings(parent, child, stamps, span) if dynamic else None,
     )
 
 

@@ -12,7 +12,7 @@ from rich.text import Text
 
 from tftools.analysis.edges import AuthorityStats, EdgeStats
 from tftools.analysis.monitor import ChainStats, MonitorReport
-from tftools.core.figures import apart_in_words, seconds, silence_in_words
+from tftools.core.figures import Sightings, apart_in_words, seconds, silence_in_words
 from tftools.core.time import NS_PER_S, signed_seconds, to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
@@ -169,6 +169,7 @@ def renderable(
         Text(""),
         _edges(edges, report.other_clock),
         *_silences(edges),
+        *_sightings(edges),
         Text(""),
         _authorities(report.authorities),
     ]
@@ -187,6 +188,29 @@ def _no_gap(e: EdgeStats) -> bool:
     return e.once and not e.longest_interval
 
 
+def _sightings(edges: Sequence[EdgeStats]) -> list[Text]:
+    """A line for each detection seen in bursts (``figures.sightings``): its rate within them and the share of the
+    window it was seen, which its rate over the window (the table's) does not tell."""
+    return [
+        Text(printable(f"{e.parent} -> {e.child}: a detection, {e.sightings.in_words()}"), style="dim")
+        for e in edges
+        if e.sightings is not None
+    ]
+
+
+def sightings_dict(seen: Sightings | None) -> dict[str, Any] | None:
+    """A detection's bursts of sightings as JSON (``figures.sightings``; null for any other edge)."""
+    if seen is None:
+        return None
+    return {
+        "bursts": seen.bursts,
+        "rate_hz": seen.rate_hz,
+        "seen_share": seen.seen,
+        "longest_unseen_s": seconds(seen.longest_unseen),
+        "longest_unseen_start": to_sec(seen.longest_unseen_start),
+    }
+
+
 def _edge_dict(e: EdgeStats, other_clock: Sequence[str]) -> dict[str, Any]:
     return {
         "parent": e.parent,
@@ -202,6 +226,7 @@ def _edge_dict(e: EdgeStats, other_clock: Sequence[str]) -> dict[str, Any]:
         "delay_max_s": seconds(e.delay_max),
         "delay_unmeasurable": _unmeasurable(e.delay_mean, e.apart, e.child in other_clock),
         "static": e.static,
+        "sightings": sightings_dict(e.sightings),
         "first_stamp": to_sec(e.first_stamp),
         "last_stamp": to_sec(e.last_stamp),
     }

@@ -254,7 +254,8 @@ def _edge_about(stats: EdgeStats | None, *, delays_known: bool, other_clock: boo
         if stats.once
         else f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {seconds(stats.longest_interval):.3f} s"
     )
-    return f"{figures}{delay}; {', '.join(stats.authorities)}"
+    seen = f"; a detection, {stats.sightings.in_words()}" if stats.sightings is not None else ""
+    return f"{figures}{delay}{seen}; {', '.join(stats.authorities)}"
 
 
 def _streams(streams: Sequence[StreamTimeline]) -> str:
