@@ -66,7 +66,8 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
             assert all(isinstance(edge[k], float) for k in ("rate_hz", "jitter_s", "gap_max_s", "delay_mean_s"))
     for authority in doc["authorities"]:
         assert set(authority) == {
-            "authority", "messages", "rate_hz", "delay_mean_s", "delay_max_s", "delay_unmeasurable", "edges"
+            "authority", "messages", "rate_hz", "delay_mean_s", "delay_max_s", "delay_unmeasurable", "delay_of",
+            "no_delay_of", "edges"
         }  # fmt: skip
         assert authority["delay_unmeasurable"] is None  # one clock: every delay measured
     chain = doc["chain"]
@@ -373,3 +374,23 @@ def test_a_marker_seen_in_bursts_shows_its_rate_within_them_in_text_and_json(tfx
     (edge,) = json.loads(tfx("monitor", "-b", bag, "--format", "json").stdout)["edges"]
     assert edge["sightings"]["bursts"] == 10 and edge["sightings"]["rate_hz"] == pytest.approx(25.0)
     assert edge["sightings"]["seen_share"] == pytest.approx(3.6 / 9.36)
+
+
+def test_a_publishers_delay_over_some_of_its_edges_says_which(tfx: Tfx, tmp_path: Path) -> None:
+    """One /tf of a robot simulated from 100 s (no /clock) beside a device on the wall clock (the IAS0220
+    course's Gazebo robot beside its IMU): the /tf row's delay is the device's alone, and says so, in text and
+    JSON; the simulated edge's is not measurable."""
+    wall = 1_700_000_000 * NS_PER_S
+    messages = []
+    for k in range(50):
+        record = wall + k * 100 * MS_NS
+        sim = Transform((0.01 * k, 0, 0), (0, 0, 0, 1.0), 100 * NS_PER_S + k * 100 * MS_NS, "odom", "base_link")
+        device = Transform((0, 0, 0), (0, 0, 0, 1.0), record - 2 * MS_NS, "imu_link", "range")
+        messages += [TfMessage("/tf", record, [sim]), TfMessage("/tf", record + MS_NS, [device])]
+    bag = write_bag(tmp_path / "two_clocks", messages, BagFormat.rosbag2_sqlite3)
+    text = " ".join(tfx("monitor", "-b", bag).stdout.split())
+    assert "/tf: delay of range alone; not measurable for base_link" in text, text
+    (tf,) = [a for a in json.loads(tfx("monitor", "-b", bag, "--format", "json").stdout)["authorities"]
+             if a["authority"] == "/tf"]  # fmt: skip
+    assert (tf["delay_of"], tf["no_delay_of"]) == (["range"], ["base_link"])
+    assert tf["delay_mean_s"] == pytest.approx(0.003)

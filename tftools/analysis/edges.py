@@ -138,6 +138,10 @@ class AuthorityStats:
     delay_max: float = math.nan
     static: bool = False  # all its messages came on /tf_static (those of an edge later sent on /tf too)
     apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``apart``)
+    # where its delay is over some of its moving edges only (the others on another clock, or under /clock's
+    # ticks: a simulated robot beside a device on the wall clock): those measured and those not; () where all are
+    delay_of: tuple[str, ...] = ()
+    no_delay_of: tuple[str, ...] = ()
 
 
 def edge_stats(buffer: Buffer, window: TimeWindow = WHOLE) -> list[EdgeStats]:
@@ -185,6 +189,8 @@ def authority_stats(
     delays: dict[int, list[Int64Array]] = {}
     aparts: dict[int, int] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
+    timed: dict[int, list[str]] = {}  # the moving children whose delays each publisher's figure holds
+    untimed: dict[int, list[str]] = {}  # and those it does not
     arrived: list[_Arrived] = []  # the rows, for a guess of the messages where ``sent`` does not tell them
     timeline = window.clock
     if unstored is None:
@@ -200,7 +206,10 @@ def authority_stats(
             if sent is None:
                 arrived.append((a, hist.static, hist.record_times[mine], hist.stamps[mine]))
                 arrived += [(a, hist.static, extra[1], extra[2])] if extra is not None else []
-            delays.setdefault(a, []).append(_delays(child, hist, mine, timeline))
+            measured = _delays(child, hist, mine, timeline)
+            delays.setdefault(a, []).append(measured)
+            if not hist.static:
+                (timed if len(measured) else untimed).setdefault(a, []).append(child)
             aparts[a] = max(aparts.get(a, 0), _apart(child, hist, mine, timeline))
             edges.setdefault(a, []).extend((buffer.frame_name(int(p)), child) for p in _ids(hist.parents[mine]))
     known = {name: a for a, name in enumerate(buffer.authorities)}
@@ -214,9 +223,21 @@ def authority_stats(
         sent, window = _guessed(buffer.authorities, arrived), dataclasses.replace(window, start=None, end=None)
     counted = messages_in_window(sent, window)
     return [
-        _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], aparts.get(a, 0))
+        _partly_timed(
+            _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], aparts.get(a, 0)),
+            timed.get(a, []),
+            untimed.get(a, []),
+        )
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]
+
+
+def _partly_timed(stats: AuthorityStats, timed: list[str], untimed: list[str]) -> AuthorityStats:
+    """``stats`` saying which of its moving edges its delay is over, where it is over some of them only."""
+    untimed = [child for child in untimed if child not in timed]
+    if not (timed and untimed):
+        return stats
+    return dataclasses.replace(stats, delay_of=tuple(dict.fromkeys(timed)), no_delay_of=tuple(dict.fromkeys(untimed)))
 
 
 #: Rows of one publisher that arrived: its id, whether on /tf_static, their record times and stamps.

@@ -172,8 +172,23 @@ def renderable(
         *_sightings(edges),
         Text(""),
         _authorities(report.authorities),
+        *_partly_timed(report.authorities),
     ]
     return Group(*parts)
+
+
+def _partly_timed(authorities: Sequence[AuthorityStats]) -> list[Text]:
+    """A line for each publisher whose delay is over some of its edges only (``AuthorityStats.delay_of``): which."""
+    return [
+        Text(
+            printable(
+                f"{a.authority}: delay of {', '.join(a.delay_of)} alone; not measurable for {', '.join(a.no_delay_of)}"
+            ),
+            style="dim",
+        )
+        for a in authorities
+        if a.delay_of
+    ]
 
 
 def _silences(edges: Sequence[EdgeStats]) -> list[Text]:
@@ -240,6 +255,8 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
         "delay_mean_s": seconds(a.delay_mean),
         "delay_max_s": seconds(a.delay_max),
         "delay_unmeasurable": _unmeasurable(a.delay_mean, a.apart),
+        "delay_of": list(a.delay_of) or None,  # the frames its delay is over, where it is over some only
+        "no_delay_of": list(a.no_delay_of) or None,
         "edges": [list(edge) for edge in a.edges],
     }
 
