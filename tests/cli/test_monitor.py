@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
-from tests.bags import BagFormat, ClockMessage, TfMessage, detections_bag, write_bag
+from tests.bags import BagFormat, ClockMessage, TfMessage, detections_bag, device_beside_simulation_bag, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.edges import TimeWindow
 from tftools.analysis.monitor import monitor_buffer
@@ -381,14 +381,7 @@ def test_a_publishers_delay_over_some_of_its_edges_says_which(tfx: Tfx, tmp_path
     """One /tf of a robot simulated from 100 s (no /clock) beside a device on the wall clock (the IAS0220
     course's Gazebo robot beside its IMU): the /tf row's delay is the device's alone, and says so, in text and
     JSON; the simulated edge's is not measurable."""
-    wall = 1_700_000_000 * NS_PER_S
-    messages = []
-    for k in range(50):
-        record = wall + k * 100 * MS_NS
-        sim = Transform((0.01 * k, 0, 0), (0, 0, 0, 1.0), 100 * NS_PER_S + k * 100 * MS_NS, "odom", "base_link")
-        device = Transform((0, 0, 0), (0, 0, 0, 1.0), record - 2 * MS_NS, "imu_link", "range")
-        messages += [TfMessage("/tf", record, [sim]), TfMessage("/tf", record + MS_NS, [device])]
-    bag = write_bag(tmp_path / "two_clocks", messages, BagFormat.rosbag2_sqlite3)
+    bag = device_beside_simulation_bag(tmp_path / "two_clocks")
     text = " ".join(tfx("monitor", "-b", bag).stdout.split())
     assert "/tf: delay of range alone; not measurable for base_link" in text, text
     (tf,) = [a for a in json.loads(tfx("monitor", "-b", bag, "--format", "json").stdout)["authorities"]

@@ -17,7 +17,7 @@ from tftools.core.figures import age_in_words, apart_in_words, seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import is_printable, printable
 from tftools.sources.recording import Recording
-from tftools.sources.timeline import Reference
+from tftools.sources.timeline import OTHER_CLOCK, Reference
 
 #: The first line of every dot source tfx writes, to recognise its own files.
 SIGNATURE = "tfx view-frames"
@@ -176,6 +176,7 @@ def _full_lines(edge: GraphEdge, graph: FrameGraph) -> list[str]:
         else f"Buffer length: stamped on {s.clocks} clocks, no span",
         *([] if s.once else [f"Largest gap: {seconds(s.longest_interval):.3f} s"]),
         *([f"Delay: {apart_in_words(s.apart)}"] if s.apart else []),
+        *([f"Delay: {OTHER_CLOCK}"] if not s.apart and edge.child in graph.other_clock else []),
     ]
 
 
