@@ -6,18 +6,14 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-Corpus = Callable[[Recording], Path]
+from tests.corpus.test_issue39 import BY_ID, Corpus
+from tests.corpus.test_issue39 import _findings as _checked
 
 ARUCO = "ros2-aruco-camera-drone-markers-two-robots-real-2024-db3"
 APRILTAG = "ros1-apriltag-robot-finger-relative-tf-topic-2021-bag"
@@ -25,10 +21,7 @@ DEVICE_BESIDE_GAZEBO = "ros2-ias0220-gazebo-diff-drive-no-clock-2025-db3"
 
 
 def _findings(tfx: Tfx, bag: Path) -> list[dict[str, Any]]:  # noqa: F811
-    result = tfx("wtf", bag, "--format", "json")
-    (report,) = json.loads(result.stdout)["bags"]
-    findings: list[dict[str, Any]] = report["findings"]
-    return findings
+    return _checked(tfx, bag)[2]
 
 
 def _of(findings: list[dict[str, Any]], code: str, child: str) -> dict[str, Any]:

@@ -286,9 +286,10 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
     if detected is not None:
         why, seen = detected
         bursts = f": {seen.in_words(longest=False)}" if seen is not None else ""
+        times = "once" if found.count == 1 else counted(found.count, "time")
         message = (
             f"{edge(*e.key)}{scene.by(e.authorities)}, a detection ({why}), went unseen "
-            f"{counted(found.count, 'time')} for longer than its rhythm (every {duration(found.period / NS_PER_S)}) "
+            f"{times} for longer than its rhythm (every {duration(found.period / NS_PER_S)}) "
             f"allows, the longest for {duration(found.longest / NS_PER_S)} from {scene.at(found.longest_start)}"
             f"{bursts}"
         )
