@@ -83,6 +83,20 @@ def detections_bag(path: str | os.PathLike[str]) -> Path:
     return write_bag(path, sorted(messages, key=lambda m: m.record_time))
 
 
+def device_beside_simulation_bag(path: str | os.PathLike[str]) -> Path:
+    """One /tf of a robot simulated from 100 s without /clock (odom -> base_link) beside a device stamped on the
+    wall clock (imu_link -> range, recorded 3 ms after its stamps), 50 of each every 0.1 s: the IAS0220 course's
+    Gazebo robot beside its IMU, a ROS 2 bag (no publishers named)."""
+    wall, ms = 1_700_000_000_000_000_000, 1_000_000
+    messages = []
+    for k in range(50):
+        record = wall + k * 100 * ms
+        sim = Transform((0.01 * k, 0, 0), (0, 0, 0, 1.0), 100_000_000_000 + k * 100 * ms, "odom", "base_link")
+        device = Transform((0, 0, 0), (0, 0, 0, 1.0), record - 2 * ms, "imu_link", "range")
+        messages += [TfMessage("/tf", record, [sim]), TfMessage("/tf", record + ms, [device])]
+    return write_bag(path, messages, BagFormat.rosbag2_sqlite3)
+
+
 def _write_ros1(path: Path, messages: Iterable[Message]) -> None:
     from rosbags.rosbag1 import Writer
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from tests.analysis.monitor_scenes import FORMATS, scene, write_scene
-from tests.bags import BagFormat, ClockMessage, TfMessage, detections_bag, write_bag
+from tests.bags import BagFormat, ClockMessage, TfMessage, detections_bag, device_beside_simulation_bag, write_bag
 from tests.cli.conftest import SAMPLE_BAGS, Tfx
 from tftools.analysis.edges import TimeWindow
 from tftools.analysis.monitor import monitor_buffer
@@ -27,7 +27,8 @@ STATIC = {"base_link", "laser", "imu_link", "camera_link", "camera_optical_frame
 PUBLISHER_RATES = {"/amcl": 10, "/ekf_localization": 50, "/robot_state_publisher": 30, "/arm/robot_state_publisher": 50}
 
 EDGE_KEYS = {"parent", "child", "authorities", "count", "rate_hz", "jitter_s", "gap_max_s", "gap_start", "silent_s",
-             "delay_mean_s", "delay_max_s", "delay_unmeasurable", "static", "first_stamp", "last_stamp"}  # fmt: skip
+             "delay_mean_s", "delay_max_s", "delay_unmeasurable", "static", "sightings", "first_stamp",
+             "last_stamp"}  # fmt: skip
 SAMPLES = list(SAMPLE_BAGS)
 MS_NS = 1_000_000
 
@@ -66,7 +67,8 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
             assert all(isinstance(edge[k], float) for k in ("rate_hz", "jitter_s", "gap_max_s", "delay_mean_s"))
     for authority in doc["authorities"]:
         assert set(authority) == {
-            "authority", "messages", "rate_hz", "delay_mean_s", "delay_max_s", "delay_unmeasurable", "edges"
+            "authority", "messages", "rate_hz", "delay_mean_s", "delay_max_s", "delay_unmeasurable", "delay_of",
+            "no_delay_of", "edges"
         }  # fmt: skip
         assert authority["delay_unmeasurable"] is None  # one clock: every delay measured
     chain = doc["chain"]
@@ -347,3 +349,42 @@ def test_an_edge_sent_once_has_no_rate_jitter_or_gap(tfx: Tfx, tmp_path: Path) -
     assert once[once.index("/aruco") + 1 :][:4] == ["1", "-", "-", "-"]
     many = next(line for line in result.stdout.splitlines() if "marker_0" in line).split()
     assert many[many.index("/aruco") + 1 :][:2] == ["50", "25.00"]
+
+
+def test_an_edge_sent_once_has_null_rate_jitter_and_gap_in_json(tfx: Tfx, tmp_path: Path) -> None:
+    """The JSON of the same: null where the table shows '-' (a 0 reads as a rate measured), figures for the marker
+    seen 50 times."""
+    result = tfx("monitor", "-b", detections_bag(tmp_path / "detections.bag"), "--format", "json")
+    assert result.code == 0, result.stderr
+    edges = {e["child"]: e for e in json.loads(result.stdout)["edges"]}
+    once = edges["marker_367"]
+    assert (once["rate_hz"], once["jitter_s"], once["gap_max_s"], once["gap_start"]) == (None, None, None, None)
+    assert edges["marker_0"]["rate_hz"] == pytest.approx(25.0) and edges["marker_0"]["jitter_s"] is not None
+
+
+def test_a_marker_seen_in_bursts_shows_its_rate_within_them_in_text_and_json(tfx: Tfx, tmp_path: Path) -> None:
+    """A marker seen 10 times 40 ms apart, then lost 0.6 s, 10 times (DIGIT_works' marker_222, seen 58% of the
+    time): the table's rate is over the whole window; a line and the JSON say the rate within its bursts and
+    the share of the time it was seen, as wtf's rate finding does (``figures.sightings``)."""
+    stamps = [1_000_000_000 + (b * 1000 + i * 40) * MS_NS for b in range(10) for i in range(10)]
+    seen = [Transform((1.0, 0, 0), (0, 0, 0, 1.0), s, "camera", "marker_5") for s in stamps]
+    bag = write_bag(tmp_path / "bursts.bag", [TfMessage("/tf", t.stamp + MS_NS, [t], "/aruco") for t in seen])
+    text = tfx("monitor", "-b", bag).stdout
+    said = "camera -> marker_5: a detection, seen in 10 bursts, at 25.0 Hz within them, 38% of the time"
+    assert said + " (unseen for up to 0.640 s)" in " ".join(text.split()), text
+    (edge,) = json.loads(tfx("monitor", "-b", bag, "--format", "json").stdout)["edges"]
+    assert edge["sightings"]["bursts"] == 10 and edge["sightings"]["rate_hz"] == pytest.approx(25.0)
+    assert edge["sightings"]["seen_share"] == pytest.approx(3.6 / 9.36)
+
+
+def test_a_publishers_delay_over_some_of_its_edges_says_which(tfx: Tfx, tmp_path: Path) -> None:
+    """One /tf of a robot simulated from 100 s (no /clock) beside a device on the wall clock (the IAS0220
+    course's Gazebo robot beside its IMU): the /tf row's delay is the device's alone, and says so, in text and
+    JSON; the simulated edge's is not measurable."""
+    bag = device_beside_simulation_bag(tmp_path / "two_clocks")
+    text = " ".join(tfx("monitor", "-b", bag).stdout.split())
+    assert "/tf: delay of range alone; not measurable for base_link" in text, text
+    (tf,) = [a for a in json.loads(tfx("monitor", "-b", bag, "--format", "json").stdout)["authorities"]
+             if a["authority"] == "/tf"]  # fmt: skip
+    assert (tf["delay_of"], tf["no_delay_of"]) == (["range"], ["base_link"])
+    assert tf["delay_mean_s"] == pytest.approx(0.003)

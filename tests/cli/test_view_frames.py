@@ -297,3 +297,17 @@ def test_view_frames_runs_wtfs_checks_on_the_robots_description_and_counts_as_wt
     said = drawn.stderr.strip().splitlines()[-1].split("transforms, ")[-1]
     assert said == ", ".join(part for part in summary.split(", ") if not part.startswith("0 ")), (said, summary)
     assert "urdf_missing" in output.read_text()
+
+
+def test_an_edge_on_another_clock_says_its_delay_is_not_measurable_as_monitor_does(tfx: Tfx, tmp_path: Path) -> None:
+    """A robot simulated from 100 s beside a device on the wall clock (the IAS0220 course's Gazebo robot and IMU):
+    the simulated edge's label says "not measurable: another clock", as monitor's table; the device's says none,
+    as its delay is measured (view-frames shows no delay figures)."""
+    from tests.bags import device_beside_simulation_bag
+
+    bag = device_beside_simulation_bag(tmp_path / "two_clocks")
+    result = tfx("view-frames", "-b", bag, "--format", "dot", "-o", "-")
+    labels = {m[0]: m[1] for m in re.findall(r"\t(\w+ -> \w+) \[label=<(.*?)> ", result.stdout)}
+    assert "Delay: not measurable: another clock" in labels["odom -> base_link"], labels
+    assert "Delay:" not in labels["imu_link -> range"], labels
+    assert "not measurable: another clock" in tfx("monitor", "-b", bag).stdout

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -75,6 +76,14 @@ def test_an_edges_figures_are_its_rate_delay_longest_gap_and_silence() -> None:
     assert values["silent for the last (s)"] == "0.100" and values["longest gap (s)"] == "0.060"
     assert "age (s)" not in values
     assert values["publishers"] == "/robot"
+
+
+def test_an_edge_of_one_sample_has_an_unknown_rate_and_gap_not_0() -> None:
+    """A marker seen once (DIGIT_works' marker_367): its rate and gap unknown, as monitor's '-' and null."""
+    once = dataclasses.replace(_edge("camera", "marker_367"), count=1, rate_hz=0.0, jitter=0.0, longest_interval=0)
+    said = _by_name(statuses(_report(), [once], NOW))[edge_name("camera", "marker_367")]
+    values = dict(said.values)
+    assert (values["rate (Hz)"], values["longest gap (s)"], said.message) == ("unknown", "unknown", "OK, 1 sample")
 
 
 def test_an_edge_heard_before_but_not_now_is_stale_and_nothing_heard_is_a_stale_tree() -> None:

@@ -11,11 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tftools.analysis.detections import detection_sightings
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.batch import TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.errors import TransformError
 from tftools.core.figures import (
+    Sightings,
     base_near,
     jitter,
     longest_interval,
@@ -113,6 +115,14 @@ class EdgeStats(Edge):
     apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``apart``)
     # since its last arrival to the window's or recording's end (``figures.silence``); 0 if static, None: unknown
     silent_for: int | None = 0
+    # a detection's bursts of sightings in the window (``detections.detection_sightings``); None for any other
+    sightings: Sightings | None = None
+
+    @property
+    def once(self) -> bool:
+        """One moving sample in the window: it has no rate nor jitter (their 0 is none: "-" in tables, null in
+        JSON), and no gap but one from a sample before the window."""
+        return not self.static and self.count < 2
 
 
 @dataclass(frozen=True)
@@ -128,6 +138,10 @@ class AuthorityStats:
     delay_max: float = math.nan
     static: bool = False  # all its messages came on /tf_static (those of an edge later sent on /tf too)
     apart: int = 0  # how far (ns) its stamps run ahead of their arrival where that leaves no delay (``apart``)
+    # where its delay is over some of its moving edges only (the others on another clock, or under /clock's
+    # ticks: a simulated robot beside a device on the wall clock): those measured and those not; () where all are
+    delay_of: tuple[str, ...] = ()
+    no_delay_of: tuple[str, ...] = ()
 
 
 def edge_stats(buffer: Buffer, window: TimeWindow = WHOLE) -> list[EdgeStats]:
@@ -150,7 +164,8 @@ def edge_stats(buffer: Buffer, window: TimeWindow = WHOLE) -> list[EdgeStats]:
             before = _previous_stamp(hist, mine, rows) if window.start is not None else None
             silence_end = window.end if window.by_record_time and timeline.available else None
             counted_to = window.until if timeline.available else None
-            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, counted_to))
+            since = _window_start_stamp(hist, rows, window) if before is not None else None
+            result.append(_edge(buffer, child, parent, hist, rows, timeline, before, silence_end, counted_to, since))
     return result
 
 
@@ -174,6 +189,8 @@ def authority_stats(
     delays: dict[int, list[Int64Array]] = {}
     aparts: dict[int, int] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
+    timed: dict[int, list[str]] = {}  # the moving children whose delays each publisher's figure holds
+    untimed: dict[int, list[str]] = {}  # and those it does not
     arrived: list[_Arrived] = []  # the rows, for a guess of the messages where ``sent`` does not tell them
     timeline = window.clock
     if unstored is None:
@@ -189,7 +206,10 @@ def authority_stats(
             if sent is None:
                 arrived.append((a, hist.static, hist.record_times[mine], hist.stamps[mine]))
                 arrived += [(a, hist.static, extra[1], extra[2])] if extra is not None else []
-            delays.setdefault(a, []).append(_delays(child, hist, mine, timeline))
+            measured = _delays(child, hist, mine, timeline)
+            delays.setdefault(a, []).append(measured)
+            if not hist.static:
+                (timed if len(measured) else untimed).setdefault(a, []).append(child)
             aparts[a] = max(aparts.get(a, 0), _apart(child, hist, mine, timeline))
             edges.setdefault(a, []).extend((buffer.frame_name(int(p)), child) for p in _ids(hist.parents[mine]))
     known = {name: a for a, name in enumerate(buffer.authorities)}
@@ -203,9 +223,21 @@ def authority_stats(
         sent, window = _guessed(buffer.authorities, arrived), dataclasses.replace(window, start=None, end=None)
     counted = messages_in_window(sent, window)
     return [
-        _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], aparts.get(a, 0))
+        _partly_timed(
+            _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], aparts.get(a, 0)),
+            timed.get(a, []),
+            untimed.get(a, []),
+        )
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]
+
+
+def _partly_timed(stats: AuthorityStats, timed: list[str], untimed: list[str]) -> AuthorityStats:
+    """``stats`` saying which of its moving edges its delay is over, where it is over some of them only."""
+    untimed = [child for child in untimed if child not in timed]
+    if not (timed and untimed):
+        return stats
+    return dataclasses.replace(stats, delay_of=tuple(dict.fromkeys(timed)), no_delay_of=tuple(dict.fromkeys(untimed)))
 
 
 #: Rows of one publisher that arrived: its id, whether on /tf_static, their record times and stamps.
@@ -363,6 +395,17 @@ def _window(hist: EdgeHistory, window: TimeWindow) -> BoolArray:
     return window.holds(hist.stamps, hist.record_times, hist.static)
 
 
+def _window_start_stamp(hist: EdgeHistory, rows: BoolArray, window: TimeWindow) -> int | None:
+    """The ``window``'s start on the edge's stamp axis: itself for a window of stamps; for one of arrivals, the
+    stamp of its first sample in the window less how long after the start that sample arrived (a gap from a
+    sample before the window is counted from here, ``figures.longest_interval``)."""
+    if window.start is None or not window.by_record_time:
+        return window.start
+    first = int(np.argmax(rows))
+    arrived = window.times(hist.stamps[first : first + 1], hist.record_times[first : first + 1])
+    return int(hist.stamps[first]) - max(int(arrived[0]) - window.start, 0)
+
+
 def _previous_stamp(hist: EdgeHistory, mine: BoolArray, rows: BoolArray) -> int | None:
     """The stamp of the edge's sample just before the first one in the window, if any."""
     if hist.static:
@@ -391,13 +434,14 @@ def _edge(
     before: int | None,
     silence_end: int | None,
     until: int | None = None,
+    since: int | None = None,
 ) -> EdgeStats:
     stamps = hist.stamps[rows]  # a dynamic history is sorted by stamp already
     records = hist.record_times[rows]
     dynamic = not hist.static
     arrived = int(timeline.arrival(stamps, records).max())
     span = record_span(records)  # no figure across two time bases (``figures.across_clocks``)
-    longest, longest_start = longest_interval(stamps if dynamic else stamps[:1], before, span)
+    longest, longest_start = longest_interval(stamps if dynamic else stamps[:1], before, span, since)
     delay_mean, delay_max = mean_max(_delays(child, hist, rows, timeline))
     return EdgeStats(
         parent=parent,
@@ -417,6 +461,7 @@ def _edge(
         clocks=time_bases(stamps, span) if dynamic else 1,
         apart=_apart(child, hist, rows, timeline),
         silent_for=0 if not dynamic else _silent(arrived, silence_end, int(records.max()), until),
+        sightings=detection_sightings(parent, child, stamps, span) if dynamic else None,
     )
 
 

@@ -56,6 +56,8 @@ class FrameGraph:
     now: int  # the time ages are measured from (the recording's end)
     clock_ends: Mapping[str, int] = field(default_factory=dict)  # frames on another clock: their own end
     clock: str = "the recording's clock"  # the clock ``now`` is read on, as a sentence names it
+    # moving frames stamped on another clock than the one that timed their arrival: no delay (``on_other_clock``)
+    other_clock: frozenset[str] = frozenset()
 
     def now_of(self, edge: Edge) -> int:
         """The time ``edge``'s age is measured from: the recording's end, or for a frame stamped on another
@@ -106,7 +108,8 @@ def frame_graph(scene: Scene, findings: Sequence[Finding] | None = None) -> Fram
     timeline = scene.timeline
     clock = "the listener's clock" if scene.recording.contents.live else "the recording's clock"
     clock = timeline.clock.topic if timeline.reference is Reference.CLOCK else clock
-    return FrameGraph(nodes, edges, found, buffer.now(), timeline.own_clock_ends, clock)
+    other_clock = frozenset(timeline.on_other_clock(s.child for s in scene.stats if not s.static))
+    return FrameGraph(nodes, edges, found, buffer.now(), timeline.own_clock_ends, clock, other_clock)
 
 
 def _pin(

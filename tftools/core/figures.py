@@ -282,18 +282,72 @@ def pauses(stamps: Int64Array, floor: int, span: int = 0) -> Pauses | None:
     )
 
 
-def longest_interval(stamps: Int64Array, before: int | None = None, span: int = 0) -> tuple[int, int]:
+def longest_interval(
+    stamps: Int64Array, before: int | None = None, span: int = 0, since: int | None = None
+) -> tuple[int, int]:
     """The longest interval (ns) of sorted ``stamps`` and the stamp it begins at: between two of them on one
-    time base (``across_clocks`` with the record ``span``), or from the stamp ``before`` them. A gap lies
-    between two samples: the silence after the last is ``silence``'s."""
+    time base (``across_clocks`` with the record ``span``), or from the stamp ``before`` them, counted from
+    ``since`` where that is later (a window's start: a monitor's window shows the part of a gap within it, not
+    9.3 s of a marker unseen in a 10 s window of which it was 7 s). A gap lies between two samples: the silence
+    after the last is ``silence``'s."""
     candidates = [(0, int(stamps[0]))]
     if len(stamps) > 1:
         intervals = np.where(across_clocks(stamps, span), 0, np.diff(stamps))
         i = int(np.argmax(intervals))
         candidates.append((int(intervals[i]), int(stamps[i])))
     if before is not None:
-        candidates.append((int(stamps[0]) - before, before))
+        begins = before if since is None else min(max(before, since), int(stamps[0]))
+        candidates.append((int(stamps[0]) - begins, begins))
     return max(candidates, key=lambda c: c[0])
+
+
+#: An interval this many usual ones long (``period``) or longer parts two bursts of sightings (``sightings``): a
+#: detector that missed the frame between, or more.
+MISSED = 2
+
+
+@dataclass(frozen=True)
+class Sightings:
+    """A stream seen in bursts (a detector's marker, published while the camera sees it): how many bursts, its
+    rate within them, and the share of its span they cover; the longest time it went unseen (ns) and the stamp
+    that began at."""
+
+    bursts: int
+    rate_hz: float
+    seen: float  # 0 to 1
+    longest_unseen: int
+    longest_unseen_start: int
+
+    def in_words(self, longest: bool = True) -> str:
+        """ "seen in 162 bursts, at 27.0 Hz within them, 58% of the time (unseen for up to 0.345 s)"; without
+        the ``longest`` time unseen where it is said beside."""
+        unseen = f" (unseen for up to {duration(self.longest_unseen / NS_PER_S)})" if longest else ""
+        within = f"at {self.rate_hz:.1f} Hz within them, {self.seen:.0%} of the time"
+        return f"seen in {self.bursts} bursts, {within}{unseen}"
+
+
+def sightings(stamps: Int64Array, span: int = 0) -> Sightings | None:
+    """The one definition of a stream seen in bursts, over its sorted ``stamps`` (on one time base: an interval
+    between two, ``across_clocks`` with the record ``span``, counts as neither): its intervals ``MISSED`` times
+    its ``period`` or longer part the bursts, the others are within one; the rate within bursts is theirs
+    (``rate_hz`` of what they hold), the share seen is their time over all. None for fewer than 3 stamps or where
+    it was never unseen (one burst: its rate is the stream's)."""
+    if len(stamps) < 3:
+        return None
+    intervals = np.diff(stamps)[~across_clocks(stamps, span)]
+    usual = period(intervals)
+    apart: BoolArray = intervals >= MISSED * usual
+    if not usual or not apart.any():
+        return None
+    within, whole = int(intervals[~apart].sum()), int(intervals.sum())
+    longest = int(np.argmax(np.where(across_clocks(stamps, span), 0, np.diff(stamps))))
+    return Sightings(
+        int(apart.sum()) + 1,
+        rate_hz(int((~apart).sum()) + 1, within),
+        within / whole if whole else 0.0,
+        int(stamps[longest + 1] - stamps[longest]),
+        int(stamps[longest]),
+    )
 
 
 def silence(last_arrival: int, end: int | None) -> int | None:

@@ -77,7 +77,7 @@ def _as_dict(f: FrameSummary) -> dict[str, Any]:
         "static": f.static,
         "authorities": list(f.authorities),
         "count": f.count,
-        "rate_hz": f.rate_hz,
+        "rate_hz": None if not f.static and f.count == 1 else f.rate_hz,  # one sample has none, as monitor's JSON
         "clocks": f.clocks,
         "first_stamp": to_sec(f.first_stamp) if f.count else None,
         "last_stamp": to_sec(f.last_stamp) if f.count else None,

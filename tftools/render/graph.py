@@ -17,7 +17,7 @@ from tftools.core.figures import age_in_words, apart_in_words, seconds
 from tftools.core.time import NS_PER_S, format_sec
 from tftools.render.escape import is_printable, printable
 from tftools.sources.recording import Recording
-from tftools.sources.timeline import Reference
+from tftools.sources.timeline import OTHER_CLOCK, Reference
 
 #: The first line of every dot source tfx writes, to recognise its own files.
 SIGNATURE = "tfx view-frames"
@@ -166,7 +166,7 @@ def _full_lines(edge: GraphEdge, graph: FrameGraph) -> list[str]:
         return [broadcaster, "<B>static</B>" + (f" ({s.count} samples)" if s.count > 1 else "")]
     return [
         broadcaster,
-        f"Average rate: {s.rate_hz:.2f} Hz",
+        "Average rate: - (1 sample)" if s.once else f"Average rate: {s.rate_hz:.2f} Hz",
         f"Samples: {s.count}",
         f"Most recent transform: {format_sec(s.last_stamp, 3)} ({age_in_words(age, graph.clock)})",
         *_silence_line(s),
@@ -174,8 +174,9 @@ def _full_lines(edge: GraphEdge, graph: FrameGraph) -> list[str]:
         f"Buffer length: {(s.last_stamp - s.first_stamp) / NS_PER_S:.3f} s"
         if s.clocks == 1
         else f"Buffer length: stamped on {s.clocks} clocks, no span",
-        f"Largest gap: {seconds(s.longest_interval):.3f} s",
+        *([] if s.once else [f"Largest gap: {seconds(s.longest_interval):.3f} s"]),
         *([f"Delay: {apart_in_words(s.apart)}"] if s.apart else []),
+        *([f"Delay: {OTHER_CLOCK}"] if not s.apart and edge.child in graph.other_clock else []),
     ]
 
 
@@ -193,7 +194,7 @@ def _brief_lines(edge: GraphEdge) -> list[str]:
         return []
     if s.static:  # dashed blue says it; 29 labels "/tf_static static" widened the Nav2 TurtleBot 4's tree
         return []
-    return [_name(", ".join(s.authorities) or "?"), f"{s.rate_hz:.1f} Hz"]
+    return [_name(", ".join(s.authorities) or "?"), "once" if s.once else f"{s.rate_hz:.1f} Hz"]
 
 
 def _problem_line(graph: FrameGraph, index: int) -> str:

@@ -12,7 +12,7 @@ from rich.text import Text
 
 from tftools.analysis.edges import AuthorityStats, EdgeStats
 from tftools.analysis.monitor import ChainStats, MonitorReport
-from tftools.core.figures import apart_in_words, seconds, silence_in_words
+from tftools.core.figures import Sightings, apart_in_words, seconds, silence_in_words
 from tftools.core.time import NS_PER_S, signed_seconds, to_sec
 from tftools.render import jsonl
 from tftools.render.escape import printable
@@ -61,9 +61,8 @@ def _edge_cells(e: EdgeStats, other_clock: bool) -> tuple[Text, Text, Text, list
     """An edge's parent, child, publishers and figures (static edges have no rate, jitter, gap or delay;
     ``other_clock``: its stamps are on another clock than its arrivals', no delay)."""
     long_interval = not e.static and e.rate_hz > 0 and seconds(e.longest_interval) > 2.0 / e.rate_hz
-    # one sample has no rate, no spread of intervals, and no gap but the one from a sample before the window
-    once = not e.static and e.count < 2
-    gap = "-" if once and not e.longest_interval else _sec(e.longest_interval)
+    once = e.once
+    gap = "-" if _no_gap(e) else _sec(e.longest_interval)
     figures = [
         Text(str(e.count)),
         Text("static", style="cyan") if e.static else Text("-" if once else f"{e.rate_hz:.2f}"),
@@ -170,10 +169,26 @@ def renderable(
         Text(""),
         _edges(edges, report.other_clock),
         *_silences(edges),
+        *_sightings(edges),
         Text(""),
         _authorities(report.authorities),
+        *_partly_timed(report.authorities),
     ]
     return Group(*parts)
+
+
+def _partly_timed(authorities: Sequence[AuthorityStats]) -> list[Text]:
+    """A line for each publisher whose delay is over some of its edges only (``AuthorityStats.delay_of``): which."""
+    return [
+        Text(
+            printable(
+                f"{a.authority}: delay of {', '.join(a.delay_of)} alone; not measurable for {', '.join(a.no_delay_of)}"
+            ),
+            style="dim",
+        )
+        for a in authorities
+        if a.delay_of
+    ]
 
 
 def _silences(edges: Sequence[EdgeStats]) -> list[Text]:
@@ -183,21 +198,50 @@ def _silences(edges: Sequence[EdgeStats]) -> list[Text]:
     return [Text(printable(f"{e.parent} -> {e.child}: {words}"), style="yellow") for e, words in said if words]
 
 
+def _no_gap(e: EdgeStats) -> bool:
+    """One sample and none before the window: no gap to show ("-", null)."""
+    return e.once and not e.longest_interval
+
+
+def _sightings(edges: Sequence[EdgeStats]) -> list[Text]:
+    """A line for each detection seen in bursts (``figures.sightings``): its rate within them and the share of the
+    window it was seen, which its rate over the window (the table's) does not tell."""
+    return [
+        Text(printable(f"{e.parent} -> {e.child}: a detection, {e.sightings.in_words()}"), style="dim")
+        for e in edges
+        if e.sightings is not None
+    ]
+
+
+def sightings_dict(seen: Sightings | None) -> dict[str, Any] | None:
+    """A detection's bursts of sightings as JSON (``figures.sightings``; null for any other edge)."""
+    if seen is None:
+        return None
+    return {
+        "bursts": seen.bursts,
+        "rate_hz": seen.rate_hz,
+        "seen_share": seen.seen,
+        "longest_unseen_s": seconds(seen.longest_unseen),
+        "longest_unseen_start": to_sec(seen.longest_unseen_start),
+    }
+
+
 def _edge_dict(e: EdgeStats, other_clock: Sequence[str]) -> dict[str, Any]:
     return {
         "parent": e.parent,
         "child": e.child,
         "authorities": list(e.authorities),
         "count": e.count,
-        "rate_hz": e.rate_hz,
-        "jitter_s": seconds(e.jitter),
-        "gap_max_s": seconds(e.longest_interval),
-        "gap_start": to_sec(e.longest_interval_start),
+        "rate_hz": None if e.once else e.rate_hz,
+        "jitter_s": None if e.once else seconds(e.jitter),
+        "gap_max_s": None if _no_gap(e) else seconds(e.longest_interval),
+        "gap_start": None if _no_gap(e) else to_sec(e.longest_interval_start),
         "silent_s": None if e.silent_for is None else seconds(e.silent_for),
         "delay_mean_s": seconds(e.delay_mean),
         "delay_max_s": seconds(e.delay_max),
         "delay_unmeasurable": _unmeasurable(e.delay_mean, e.apart, e.child in other_clock),
         "static": e.static,
+        "sightings": sightings_dict(e.sightings),
         "first_stamp": to_sec(e.first_stamp),
         "last_stamp": to_sec(e.last_stamp),
     }
@@ -211,6 +255,8 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
         "delay_mean_s": seconds(a.delay_mean),
         "delay_max_s": seconds(a.delay_max),
         "delay_unmeasurable": _unmeasurable(a.delay_mean, a.apart),
+        "delay_of": list(a.delay_of) or None,  # the frames its delay is over, where it is over some only
+        "no_delay_of": list(a.no_delay_of) or None,
         "edges": [list(edge) for edge in a.edges],
     }
 

@@ -249,10 +249,13 @@ def _edge_about(stats: EdgeStats | None, *, delays_known: bool, other_clock: boo
         delay = f", delay {apart_in_words(stats.apart)}"
     elif delays_known and other_clock:
         delay = f", delay {OTHER_CLOCK}"
-    return (
-        f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {seconds(stats.longest_interval):.3f} s{delay}; "
-        f"{', '.join(stats.authorities)}"
+    figures = (
+        "1 sample: no rate, no gap"
+        if stats.once
+        else f"{stats.rate_hz:.1f} Hz, {stats.count} samples, largest gap {seconds(stats.longest_interval):.3f} s"
     )
+    seen = f"; a detection, {stats.sightings.in_words()}" if stats.sightings is not None else ""
+    return f"{figures}{delay}{seen}; {', '.join(stats.authorities)}"
 
 
 def _streams(streams: Sequence[StreamTimeline]) -> str:

@@ -168,10 +168,10 @@ def _edge_status(edge: EdgeStats, findings: Sequence[Finding], now: int, hardwar
         values.append(("rate (Hz)", "static"))
     else:
         values += [
-            ("rate (Hz)", f"{edge.rate_hz:.3f}"),
+            ("rate (Hz)", "unknown" if edge.once else f"{edge.rate_hz:.3f}"),  # one sample has none
             ("delay mean (s)", apart_in_words(edge.apart) if edge.apart else _seconds(edge.delay_mean)),
             ("delay max (s)", _seconds(edge.delay_max)),
-            ("longest gap (s)", _seconds(float(edge.longest_interval))),
+            ("longest gap (s)", _seconds(math.nan if edge.once else float(edge.longest_interval))),
             (SILENT, _seconds(math.nan if edge.silent_for is None else float(edge.silent_for))),
         ]
     values.append(("samples", str(edge.count)))
@@ -181,7 +181,7 @@ def _edge_status(edge: EdgeStats, findings: Sequence[Finding], now: int, hardwar
         message = first.message + (f" (and {len(about) - 1} more)" if len(about) > 1 else "")
     else:
         level = Level.OK
-        message = "static" if edge.static else f"OK, {edge.rate_hz:.1f} Hz"
+        message = "static" if edge.static else "OK, 1 sample" if edge.once else f"OK, {edge.rate_hz:.1f} Hz"
     return Status(level, edge_name(edge.parent, edge.child), message, hardware_id, tuple(values))
 
 

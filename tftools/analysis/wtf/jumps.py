@@ -306,12 +306,21 @@ def _each_publishers(scene: Scene, samples: EdgeSamples) -> Iterator[EdgeSamples
         )
 
 
+#: ``jump``'s hint for a detection's steps (``detections.detection``): its estimate's, not a localization's.
+DETECTION_JUMP = (
+    "a detector's pose estimate steps, not the object: a planar marker's pose is ambiguous (two solutions mirrored "
+    "about its plane, between which it flips at a distance or a steep view) and noisy far from the camera; filter "
+    "the poses (reject a step no motion explains, or keep the solution nearest the last one) or use a larger "
+    "marker or a board of them"
+)
+
+
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")
 def jump(scene: Scene) -> Iterator[Finding]:
     """Not map -> odom, whose corrections REP 105 allows (``map_corrections``). A warning, on odom -> base_link
     too: every lookup through a jump works (an error breaks lookups), and a step is a correction (GPS fused
     into odom) as often as a reset; REP 105's advice says what it does to what is planned in odom."""
-    joints = scene.shared("joints", lambda: _joints(scene))
+    joints = scene.shared("joints", lambda: _joints(scene)) - set(scene.detections)  # a marker turning in view
     for samples, found, when in _edge_jumps(scene, into_odom=False):
         if samples.key in joints:
             found, when = _back_and_forth(samples.values, found, when)
@@ -328,13 +337,17 @@ def jump(scene: Scene) -> Iterator[Finding]:
             "(joint_state_publisher's defaults beside the driver's or the simulator's readings), or a driver "
             "resetting the joint; check who publishes /joint_states"
             if samples.key in joints
+            else DETECTION_JUMP
+            if samples.key in scene.detections
             else "a localization correction or a reset published as this edge's motion: if it is a correction, "
             "publish it as map -> odom (REP 105), so that odom stays continuous"
         )
+        detected = scene.detections.get(samples.key)
+        what = f", a detection ({detected[0]})," if detected is not None else ""
         yield samples.finding(
             Severity.warning,
             "jump",
-            f"{edge(*samples.key)}{scene.by(samples.authorities)} jumped {_excursions(samples.values, found)} "
+            f"{edge(*samples.key)}{scene.by(samples.authorities)}{what} jumped {_excursions(samples.values, found)} "
             f"further than its own motion explains: the largest {_largest(found)} at "
             f"{scene.at(int(when[found.largest]), samples.recorded_at(int(when[found.largest])))}, the first at "
             f"{scene.at(int(when[0]), samples.recorded_at(int(when[0])))}",

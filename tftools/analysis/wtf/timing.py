@@ -15,8 +15,8 @@ from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
 from tftools.core.arrays import BoolArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
+from tftools.core.figures import Sightings, pauses, record_span, silence_limit, sustained_period
 from tftools.core.figures import delays as delays_of
-from tftools.core.figures import pauses, record_span, silence_limit, sustained_period
 from tftools.core.history import old_data
 from tftools.core.semantics import dialect
 from tftools.core.time import NS_PER_S, from_sec
@@ -56,7 +56,10 @@ def stale(scene: Scene) -> Iterator[Finding]:
             continue
         by = scene.by(s.authorities)
         before_end: int | None = silent
-        if s.count == 1:
+        detected = scene.detections.get(s.key)
+        if detected is not None and not resent:
+            message, hint = _last_sighting(scene, s, by, *detected)
+        elif s.count == 1:
             sent = scene.shared("arrivals", lambda: _sent(scene)).get(s.key, 1)
             where = by if by.startswith(" on ") else f" on /tf{by}"
             times = "once" if sent == 1 else f"{sent:,} times"
@@ -94,6 +97,23 @@ def stale(scene: Scene) -> Iterator[Finding]:
             arrived["arrival_minus_stamp_s"] = (s.last_record - s.last_stamp) / NS_PER_S
         found = Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
         yield dataclasses.replace(found, figures=arrived)
+
+
+def _last_sighting(scene: Scene, s: EdgeStats, by: str, why: str, seen: Sightings | None) -> tuple[str, str]:
+    """What ``stale`` says of a detection (``detections.detection``) that was not seen again: how often and in how
+    many bursts it was seen, and when last; not a publisher that stopped, nor a fixed transform to publish."""
+    seen_as = f"once, at {scene.at(s.last_stamp)}"
+    if s.count > 1:
+        bursts = f", {seen.in_words()}" if seen is not None else ""
+        seen_as = f"{s.count:,} times{bursts}, last at {scene.at(s.last_stamp)}"
+    message = f"{edge(*s.key)}{by}, a detection ({why}), was seen {seen_as}"
+    hint = (
+        "a detection is only as fresh as its last sighting: lookups of it at later times (a newer sensor stamp, "
+        "or the latest common time with frames that moved on) extrapolate and fail with 'Lookup would require "
+        "extrapolation into the future'; look it up with a timeout (canTransform) or at its own stamp, and check "
+        "the stamp's age before acting on it (a marker that left the camera's view is not a fault)"
+    )
+    return message, hint
 
 
 def _last_sent(scene: Scene) -> dict[tuple[str, str], int]:
@@ -237,6 +257,14 @@ def rate(scene: Scene) -> Iterator[Finding]:
             yield from _rhythm(scene, frames, scene.authorities_of(mine), arrivals, span)
 
 
+#: ``rate``'s hint for a detection seen in bursts (``detections.detection``): the camera lost it, no publisher failed.
+DETECTION_GAPS = (
+    "a detector publishes what it sees only while it sees it: lookups between two sightings interpolate across "
+    "the time it was unseen (a guess of where it was), after the last one they extrapolate and fail; look it up "
+    "with a timeout (canTransform) and check the stamp's age before acting on it"
+)
+
+
 #: The rhythm of arrivals read off a clock with steps of a third of the period or more cannot be judged.
 STEPS_PER_PERIOD = 3
 
@@ -245,14 +273,32 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
     found = pauses(e.stamps, from_sec(scene.thresholds.max_gap), record_span(e.record_times))
     if found is None:
         return None
+    message = (
+        f"{edge(*e.key)}{scene.by(e.authorities)} went silent {counted(found.count, 'time')} (it "
+        f"publishes every {duration(found.period / NS_PER_S)}): the longest "
+        f"for {duration(found.longest / NS_PER_S)} from {scene.at(found.longest_start)}"
+    )
+    hint = (
+        "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
+        "the publisher's load, its rate parameter and its connection"
+    )
+    detected = scene.detections.get(e.key)
+    if detected is not None:
+        why, seen = detected
+        bursts = f": {seen.in_words(longest=False)}" if seen is not None else ""
+        times = "once" if found.count == 1 else counted(found.count, "time")
+        message = (
+            f"{edge(*e.key)}{scene.by(e.authorities)}, a detection ({why}), went unseen "
+            f"{times} for longer than its rhythm (every {duration(found.period / NS_PER_S)}) "
+            f"allows, the longest for {duration(found.longest / NS_PER_S)} from {scene.at(found.longest_start)}"
+            f"{bursts}"
+        )
+        hint = DETECTION_GAPS
     return Finding(
         Severity.warning,
         "rate",
-        f"{edge(*e.key)}{scene.by(e.authorities)} went silent {counted(found.count, 'time')} (it "
-        f"publishes every {duration(found.period / NS_PER_S)}): the longest "
-        f"for {duration(found.longest / NS_PER_S)} from {scene.at(found.longest_start)}",
-        "lookups inside a gap interpolate across it, and fail at its end while the data is missing: check "
-        "the publisher's load, its rate parameter and its connection",
+        message,
+        hint,
         e.key,
         e.authorities,
         found.first,
@@ -284,6 +330,11 @@ def _rhythm(
     else:
         code = "rate"
         usual = sustained_period(intervals)  # a burst of many short intervals is how it was delivered, not its rate
+        detected = scene.detections.get(frames)
+        if detected is not None and detected[1] is not None:  # seen in bursts: no period that few intervals keep
+            message = f"{what}, a detection ({detected[0]}), is {detected[1].in_words()}"
+            yield Finding(Severity.warning, code, message, DETECTION_GAPS, frames, who, span[0], span[1], len(arrivals))
+            return
         message = (
             f"{what} publishes irregularly: {_off_share(intervals, step, usual):.0%} of its intervals are more "
             f"than {IRREGULAR:.0%} off the {duration(usual / NS_PER_S)} it keeps up most of the time (from "

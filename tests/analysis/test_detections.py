@@ -1,0 +1,130 @@
+"""A detector's edges (markers a camera sees and loses) said as detections by wtf's stale, jump and rate, and a
+robot's own edge that stops still said as a publisher that stopped (issue 39, DIGIT_works' ArUco recording)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.analysis import wtf_scenes as scenes
+from tests.bags import TfMessage
+from tftools.analysis.detections import detection
+from tftools.analysis.findings import Finding
+from tftools.analysis.wtf.fleet import check
+from tftools.core.figures import sightings
+from tftools.core.time import NS_PER_S
+from tftools.core.transform import Transform
+
+MS = 1_000_000
+
+
+def _seen(child: str, seconds: list[float], x: float = 1.0, flip_at: float | None = None) -> list[TfMessage]:
+    """camera -> ``child`` at each of ``seconds`` after the scenes' START, recorded 30 ms later; rotated 30
+    degrees about x at ``flip_at`` alone (a planar marker's pose flipping to its other solution and back)."""
+    messages = []
+    for s in seconds:
+        stamp = scenes.START + round(s * NS_PER_S)
+        roll = 0.52 if flip_at is not None and abs(s - flip_at) < 1e-9 else 0.0
+        seen = Transform.from_rpy((x, 0.0, 0.5), (roll, 0.0, 0.0), stamp, "camera", child)
+        messages.append(TfMessage("/tf", stamp + 30 * MS, [seen], "/aruco"))
+    return messages
+
+
+def _bursts() -> list[float]:
+    """25 Hz while seen, for 0.4 s out of every second over 10 s: a marker the camera keeps losing."""
+    return [b + i * 0.04 for b in range(10) for i in range(10)]
+
+
+def _check(*parts: list[TfMessage]) -> list[Finding]:
+    messages = scenes.healthy(**{f"part{i}": p for i, p in enumerate(parts)})
+    return check(scenes.recording(messages, ros1=False)).findings
+
+
+def _of(findings: list[Finding], code: str, child: str) -> Finding:
+    (found,) = [f for f in findings if f.code == code and f.frames[-1] == child]
+    return found
+
+
+def test_a_marker_seen_once_is_stale_as_a_detection_not_a_transform_to_publish_statically() -> None:
+    stale = _of(_check(_seen("marker_367", [3.0])), "stale", "marker_367")
+    assert "a detection" in stale.message and "was seen once, at" in stale.message, stale.message
+    assert "static_transform_publisher" not in stale.hint and "keep publishing" not in stale.hint, stale.hint
+    assert "only as fresh as its last sighting" in stale.hint and "timeout" in stale.hint, stale.hint
+
+
+def test_a_robots_own_edge_that_stops_is_still_a_publisher_that_stopped() -> None:
+    findings = check(scenes.recording(scenes.healthy(amcl=scenes.amcl(end=6.0)), ros1=False)).findings
+    stale = _of(findings, "stale", "odom")
+    assert "a detection" not in stale.message and "its publisher stopped" in stale.hint, stale
+
+
+def test_a_marker_lost_before_the_end_says_how_it_was_seen_and_when_last() -> None:
+    stale = _of(_check(_seen("tag_3", [b + i * 0.04 for b in range(4) for i in range(10)])), "stale", "tag_3")
+    assert "was seen 40 times, seen in 4 bursts, at 25.0 Hz within them" in stale.message, stale.message
+    assert "last at" in stale.message, stale.message
+
+
+def test_a_markers_pose_flip_is_a_detectors_ambiguity_not_a_localization_correction() -> None:
+    flips = _of(_check(_seen("marker_0", [i * 0.04 for i in range(250)], flip_at=5.0)), "jump", "marker_0")
+    assert "a detection" in flips.message, flips.message
+    assert "ambiguous" in flips.hint and "map -> odom" not in flips.hint, flips.hint
+
+
+def test_map_to_odom_and_a_robots_jump_keep_the_localization_hint() -> None:
+    findings = check(scenes.recording(scenes.PROBLEMS["jump"].make(), ros1=False)).findings
+    jumped = [f for f in findings if f.code == "jump"]
+    assert jumped and all("map -> odom" in f.hint and "a detection" not in f.message for f in jumped), jumped
+
+
+def test_a_marker_seen_in_short_bursts_says_its_rate_within_them_not_a_period_few_intervals_keep() -> None:
+    """2 to 5 sightings 40 ms apart, then 0.12 to 0.3 s unseen (no pause: under ``max_gap``), to the end: the
+    real marker_222's flicker, most intervals off any one period."""
+    flickers, t = [], 0.0
+    for b in range(35):
+        flickers += [t + i * 0.04 for i in range((3, 2, 4, 3, 5, 2)[b % 6])]
+        t = flickers[-1] + (0.2, 0.12, 0.3, 0.16, 0.24)[b % 5]
+    rate = _of(_check(_seen("marker_222", flickers)), "rate", "marker_222")
+    assert rate.message.endswith(
+        "is seen in 35 bursts, at 25.0 Hz within them, 31% of the time (unseen for up to 0.300 s)"
+    ), rate.message
+    assert "it keeps up most of the time" not in rate.message and "timeout" in rate.hint, rate
+
+
+def test_a_marker_lost_for_seconds_says_its_longest_time_unseen_and_how_it_was_seen() -> None:
+    rate = _of(_check(_seen("marker_111", _bursts())), "rate", "marker_111")
+    assert "went unseen 9 times" in rate.message and "the longest for 0.640 s" in rate.message, rate.message
+    assert rate.message.endswith("seen in 10 bursts, at 25.0 Hz within them, 38% of the time"), rate.message
+    assert "check the publisher's load" not in rate.hint, rate.hint
+
+
+def test_sightings_are_bursts_parted_by_a_missed_frame() -> None:
+    stamps = np.array([b * 1000 + i * 40 for b in range(10) for i in range(10)], np.int64) * MS
+    seen = sightings(stamps)
+    assert seen is not None
+    assert (seen.bursts, round(seen.rate_hz, 3), round(seen.seen, 3)) == (10, 25.0, round(3.6 / 9.36, 3))
+    assert (seen.longest_unseen, seen.longest_unseen_start) == (640 * MS, 360 * MS)
+    assert sightings((np.arange(50) * 40 * MS).astype(np.int64)) is None  # never unseen: one rate, the stream's
+
+
+@pytest.mark.parametrize(
+    ("parent", "child", "count", "expected"),
+    [
+        ("camera", "marker_367", 1, True),
+        ("camera", "tag0", 300, True),
+        ("usb_cam", "tag36h11:0", 300, True),
+        ("base_link", "obj_49", 4, True),
+        ("camera_color_optical_frame", "drone", 1, True),  # a camera's child seen once: it came and went
+        ("camera_color_optical_frame", "drone", 300, False),  # seen throughout: nothing says it is detected
+        ("camera_color_optical_frame", "drone", -300, True),  # lost for 1 s in the middle: it came and went
+        ("odom", "base_link", 1, False),
+        ("camera_link", "camera_color_optical_frame", 1, False),  # a camera's own frames
+        ("base_link", "tag_link", 1, False),
+    ],
+)
+def test_detections_are_told_by_their_names_or_a_camera_above_a_child_that_comes_and_goes(
+    parent: str, child: str, count: int, expected: bool
+) -> None:
+    stamps = (np.arange(abs(count)) * 40 * MS).astype(np.int64)
+    if count < 0:
+        stamps[abs(count) // 2 :] += NS_PER_S
+    assert (detection(parent, child, stamps) is not None) is expected

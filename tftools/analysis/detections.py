@@ -1,0 +1,51 @@
+"""Which moving edges are a detector's (a marker, tag or object seen by a camera), from the evidence a recording
+holds: a detector's frame names, or a camera's frame above a child that appears and disappears; what wtf says of
+them (their staleness, their jumps, their rate) and what monitor and report show of them (``figures.sightings``)."""
+
+from __future__ import annotations
+
+import re
+
+from tftools.core.arrays import Int64Array
+from tftools.core.figures import Sightings, pauses, sightings
+from tftools.core.time import NS_PER_S
+
+#: A child frame named as detectors name what they see: ArUco's and AprilTag's markers (``marker_367``,
+#: ``tag0``, ``tag36h11:0``, ar_track_alvar's ``ar_marker_3``, aruco_detect's ``fiducial_12``), find_object_2d's
+#: ``object_1`` and the like (``obj_49``).
+DETECTOR_CHILD = re.compile(r"^(ar_)?(aruco_)?(marker|tag|fiducial|object|obj|apriltag|aruco)[\w:\-]*?\d+$", re.I)
+#: A parent frame that is a camera's (``camera``, ``camera_link``, ``head_camera_rgb_optical_frame``, ``cam0``).
+CAMERA_PARENT = re.compile(r"(camera|cam\d*|optical)", re.I)
+
+
+def _base(frame: str) -> str:
+    return frame.rsplit("/", 1)[-1]
+
+
+def detection(parent: str, child: str, stamps: Int64Array, span: int = 0) -> str | None:
+    """Why the edge ``parent -> child`` (its sorted ``stamps``; ``span``: their record span) is a detection,
+    in words ("named as a detector names a marker", "under the camera frame camera, seen and lost"); None where
+    nothing says so. A robot's own edge (odom -> base_link that stops) is never one."""
+    child_name, parent_name = _base(child), _base(parent)
+    if DETECTOR_CHILD.match(child_name) and not CAMERA_PARENT.search(child_name):
+        return f"{child} is named as a detector names what it sees"
+    if CAMERA_PARENT.search(parent_name) and not CAMERA_PARENT.search(child_name) and _comes_and_goes(stamps, span):
+        return f"under the camera frame {parent}, {child} comes and goes"
+    return None
+
+
+#: A child unseen this long (ns), and ``figures.PERIODS`` of its periods, went out of view (``_comes_and_goes``).
+LOST = NS_PER_S // 2
+
+
+def _comes_and_goes(stamps: Int64Array, span: int) -> bool:
+    """Seen once, or paused (``figures.pauses``, for ``LOST`` at least) at least once: a stream published
+    irregularly (a camera tracking a drone, every 0.4 to 104 ms) does not come and go."""
+    return len(stamps) == 1 or pauses(stamps, LOST, span) is not None
+
+
+def detection_sightings(parent: str, child: str, stamps: Int64Array, span: int = 0) -> Sightings | None:
+    """A detection's ``figures.sightings`` (None for an edge that is not one, ``detection``, or never unseen)."""
+    if detection(parent, child, stamps, span) is None:
+        return None
+    return sightings(stamps, span)
