@@ -272,6 +272,23 @@ class NameIds {
     std::vector<int32_t> guesses_;  // by place's hash: the id last found there
 };
 
+// A little-endian wire's 7 doubles copied as they are, as three 16-byte words and one 8-byte one. GCC
+// compiled a memcpy of the 56 bytes (or of 7 words through an array) in ROS1's reader as `rep movsl`, a
+// string instruction whose start costs more than the copy: that one line took 40% of a .bag's decode.
+inline void copy_values(double* to, const uint8_t* from) {
+    using Pair = uint64_t __attribute__((vector_size(16)));
+    Pair a, b, c;
+    uint64_t d;
+    std::memcpy(&a, from, 16);
+    std::memcpy(&b, from + 16, 16);
+    std::memcpy(&c, from + 32, 16);
+    std::memcpy(&d, from + 48, 8);
+    std::memcpy(to, &a, 16);
+    std::memcpy(to + 2, &b, 16);
+    std::memcpy(to + 4, &c, 16);
+    std::memcpy(to + 6, &d, 8);
+}
+
 class Reader {
    public:
     // ``wires``: one, or CDR's, told apart by the encapsulation each payload starts with.
@@ -410,7 +427,7 @@ class Reader {
             if (c.wire.big_endian) {  // a little-endian wire's doubles are this machine's, copied as they are
                 for (int k = 0; k < 7; ++k) values[k] = c.f64(at + 8 * k);
             } else {
-                std::memcpy(values, c.raw + at, 56);
+                copy_values(values, c.raw + at);
             }
         }
         rows.message.extend(count);
