@@ -44,8 +44,8 @@ Output<T> owned(tfwire::Column<T>&& column, size_t width = 1) {
     return Output<T>(held, {rows, width}, owner);
 }
 
-using Decoded = std::tuple<Output<int64_t>, Output<int64_t>, Output<double>, Output<int32_t>, Output<int32_t>,
-                           Output<int64_t>, Output<int64_t>, Output<int64_t>>;
+using Decoded = std::tuple<Output<int64_t>, Output<int64_t>, Output<double>, Output<double>, Output<int32_t>,
+                           Output<int32_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>>;
 
 // A wire as Python gives it: (encapsulation or -1, big_endian, origin, align, seq, signed_sec, nul, exact).
 using WireFields = std::tuple<int, bool, int64_t, int64_t, bool, bool, bool, bool>;
@@ -82,9 +82,11 @@ Decoded decode_transforms(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::nd
         tfwire::Reader reader(raw.data(), std::move(wires), counted);
         for (int64_t i = 0; i < n; ++i) reader.read(i, starts.data()[i], lengths.data()[i], rows);
     }
-    return {owned(std::move(rows.message)),     owned(std::move(rows.stamp)),       owned(std::move(rows.values), 7),
-            owned(std::move(rows.parent)),      owned(std::move(rows.child)),       owned(std::move(rows.name_start)),
-            owned(std::move(rows.name_length)), owned(std::move(rows.failed), 4)};
+    return {owned(std::move(rows.message)),         owned(std::move(rows.stamp)),
+            owned(std::move(rows.translation), 3),  owned(std::move(rows.rotation), 4),
+            owned(std::move(rows.parent)),          owned(std::move(rows.child)),
+            owned(std::move(rows.name_start)),      owned(std::move(rows.name_length)),
+            owned(std::move(rows.failed), 4)};
 }
 
 using Matched = std::tuple<Output<bool>, Output<int64_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>>;
@@ -170,22 +172,6 @@ std::pair<Output<T>, T*> unfilled(size_t rows, size_t width = 1) {
     return {Output<T>(held, {rows, width}, owner), held};
 }
 
-// Values (N, 7) as the core takes them: translations (N, 3) and rotations (N, 4), each contiguous. (numpy
-// copies a column slice of them row by row, a call per row: ~130 instructions a row.) The copies are of a
-// fixed size, so the compiler moves them in registers rather than calling memcpy for each row.
-std::tuple<Output<double>, Output<double>> split_values(Input<double, nb::ndim<2>> values) {
-    if (values.shape(1) != 7) throw nb::value_error("split_values: values are not (N, 7)");
-    const size_t n = values.shape(0);
-    auto [translation, t] = unfilled<double>(n, 3);
-    auto [rotation, r] = unfilled<double>(n, 4);
-    const double* v = values.data();
-    for (size_t i = 0; i < n; ++i, v += 7, t += 3, r += 4) {
-        for (int k = 0; k < 3; ++k) t[k] = v[k];
-        for (int k = 0; k < 4; ++k) r[k] = v[3 + k];
-    }
-    return {translation, rotation};
-}
-
 using PerRow = std::tuple<Output<int64_t>, Output<bool>, Output<int32_t>>;
 
 // What a batch's rows take from their message, row by row: messages ``messages`` of ``rows`` rows each
@@ -237,6 +223,5 @@ NB_MODULE(_wire, m) {
     m.def("decode_transforms", &decode_transforms, "raw"_a, "starts"_a, "lengths"_a, "wires"_a, "counted"_a);
     m.def("match_records", &match_records, "raw"_a, "offsets"_a, "limits"_a, "cuts"_a, "header"_a, "conn_at"_a,
           "time_at"_a);
-    m.def("split_values", &split_values, "values"_a);
     m.def("per_row", &per_row, "messages"_a, "rows"_a, "times"_a, "channel_of"_a, "static_of"_a, "authority_of"_a);
 }

@@ -1,6 +1,6 @@
 """The compiled reading helpers beside the TFMessage decoder (native/wire_module.cpp): ROS1 message
-record headers matched against a template, and decoded values split into the core's columns; and the
-decoder's names (native/tf_wire.hpp's ``NameIds``)."""
+record headers matched against a template; and the decoder's values, written as the core takes them, and
+its names (native/tf_wire.hpp's ``NameIds``)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import struct
 import numpy as np
 import pytest
 
-from tests.sources.ros2_helpers import Tf, tf_ros1
-from tftools.sources.codecs import _wire, ros1
+from tests.sources.ros2_helpers import Tf, tf_cdr, tf_ros1
+from tftools.sources.codecs import _wire, cdr, ros1
 from tftools.sources.codecs.decoded import FrameNames
 
 
@@ -74,17 +74,6 @@ def test_a_record_read_only_for_its_header_ends_at_its_limit() -> None:
     assert end == [limit] and start[0] < limit
 
 
-def test_values_split_into_contiguous_translations_and_rotations() -> None:
-    values = np.random.default_rng(1).normal(size=(5, 7))
-    translation, rotation = _wire.split_values(values)
-    assert np.array_equal(translation, values[:, :3]) and np.array_equal(rotation, values[:, 3:])
-    assert translation.flags.c_contiguous and rotation.flags.c_contiguous
-    empty_t, empty_r = _wire.split_values(np.zeros((0, 7)))
-    assert empty_t.shape == (0, 3) and empty_r.shape == (0, 4)
-    with pytest.raises(ValueError, match="not \\(N, 7\\)"):
-        _wire.split_values(np.zeros((2, 6)))
-
-
 def test_names_are_told_apart_wherever_they_come_and_after_a_message_is_refused() -> None:
     """A name is tried first as the one last seen in its place (count, first name, position): names that
     change in one place, differ only in a word or in their last byte, or take the id of a name forgotten
@@ -112,6 +101,27 @@ def test_names_are_told_apart_wherever_they_come_and_after_a_message_is_refused(
     assert [(names[p], names[c]) for p, c in zip(decoded.parent, decoded.child, strict=True)] == expected
     assert [m for m, _ in decoded.failures] == [4]
     assert "new1" not in names and "new2" not in names
+
+
+@pytest.mark.parametrize("wire", ["ros1", "cdr", "cdr_big_endian"])
+def test_values_are_copied_bit_for_bit_at_every_byte_offset(wire: str) -> None:
+    """A transform's 7 doubles come out as their bytes say, whatever byte of a cache line or word each message
+    starts at (ROS1 packs its fields: its doubles lie at any offset): NaNs with payloads, -0.0, subnormals and
+    infinities keep their bits (the rows are refused or kept later, by the buffer). They are written as the
+    core takes them: the translations (N, 3) and rotations (N, 4) apart, each contiguous."""
+    bits = [0x7FF8_0000_DEAD_BEEF, 0x8000_0000_0000_0000, 0x0000_0000_0000_0001, 0x7FF0_0000_0000_0000,
+            0xFFF4_0000_0000_1234, 0x3FF0_0000_0000_0001, 0xC00F_FFFF_FFFF_FFFF]  # fmt: skip
+    values = struct.unpack("<7d", struct.pack("<7Q", *bits))
+    tf = Tf("a", "b", 10, translation=values[:3], rotation=values[3:])
+    payload = tf_ros1([tf, tf]) if wire == "ros1" else tf_cdr([tf, tf], little_endian=wire == "cdr")
+    decode = ros1.decode_tf if wire == "ros1" else cdr.decode_tf
+    slot = (len(payload) + 31) // 16 * 16  # message k at byte k of its slot: every offset modulo 16 once
+    raw = np.frombuffer(b"".join((b"\0" * k + payload).ljust(slot, b"\0") for k in range(16)), np.uint8)
+    starts = np.arange(16, dtype=np.int64) * (slot + 1)
+    decoded = decode(raw, starts, np.full(16, len(payload), np.int64), FrameNames())
+    assert decoded.translation.shape == (32, 3) and decoded.rotation.shape == (32, 4)
+    assert decoded.translation.flags.c_contiguous and decoded.rotation.flags.c_contiguous
+    assert (decoded.values.view(np.uint64) == np.array(bits, np.uint64)).all()
 
 
 def _pairs(payload: bytes) -> list[tuple[str, str]]:

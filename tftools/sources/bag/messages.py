@@ -249,9 +249,7 @@ class MessageSet:
         else:
             assert not isinstance(codec, CopyCodec)  # their messages are handed on, never grouped
             decoded = codec.decode(raw, starts, lengths, self._rows.frames)
-            self._rows.add_rows(
-                _numbered(ids, decoded.message), decoded.parent, decoded.child, decoded.stamp, decoded.values
-            )
+            self._rows.add_rows(_numbered(ids, decoded.message), decoded)
             failures = decoded.failures
         self._failed += [(int(ids[row]), reason) for row, reason in failures]
 

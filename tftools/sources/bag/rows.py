@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.arrays import FloatArray, Int32Array, Int64Array
+from tftools.core.arrays import Int32Array, Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.codecs import _wire
-from tftools.sources.codecs.decoded import FrameNames
+from tftools.sources.codecs.decoded import Decoded, FrameNames
 from tftools.sources.codecs.select import AnyCodec, Codec
 from tftools.sources.contents import SentMessages, is_static_topic
 from tftools.values import value
@@ -50,14 +50,12 @@ class Rows:
         #: Of each part settled: its messages, and how many rows each has there (8 bytes a row less).
         self.runs: list[tuple[Int64Array, Int64Array]] = []
 
-    def add_rows(
-        self, message: Int64Array, parent: Int32Array, child: Int32Array, stamp: Int64Array, values: FloatArray
-    ) -> None:
-        """Rows of frame ids in ``frames``: ``message`` being each one's message number."""
+    def add_rows(self, message: Int64Array, decoded: Decoded) -> None:
+        """The rows ``decoded`` (frame ids in ``frames``): ``message`` being each one's message number."""
         if not len(message):  # messages that held no transform (an empty TFMessage): no run to keep
             return
         self.messages.append(message)
-        columns: list[Column] = [parent, child, stamp, values]
+        columns: list[Column] = [getattr(decoded, name) for name in _COLUMNS]
         for name, column in zip(_COLUMNS, columns, strict=True):
             self.parts[name].append(column)
 
@@ -117,17 +115,12 @@ class Rows:
         def batch(messages: Int64Array, rows: Int64Array, columns: dict[str, Column]) -> TransformBatch:
             """The rows of ``messages``, ``rows[i]`` of message ``messages[i]``, in that order."""
             record_time, static, authority = _wire.per_row(messages, rows, times, channel_of, static_of, authority_of)
-            # The core takes contiguous columns: views of the values it would copy as numpy copies any
-            # strided array, row by row (a call a row: 67M instructions for 258k rows; split: ~3M).
-            translation, rotation = _wire.split_values(columns.pop("values"))
             return TransformBatch(
                 frame_names=self.frames.names,
                 authorities=authorities,
                 static=static,
                 record_time=record_time,
                 authority=authority,
-                translation=translation,
-                rotation=rotation,
                 **columns,
             )
 
@@ -152,4 +145,5 @@ class Rows:
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
 
-_COLUMNS = ("parent", "child", "stamp", "values")  # values: (N, 7), translation then rotation
+#: The translation (N, 3) and rotation (N, 4) each contiguous, as the decoders write them and the core takes them.
+_COLUMNS = ("parent", "child", "stamp", "translation", "rotation")

@@ -7,10 +7,11 @@ WireFields = tuple[int, bool, int, int, bool, bool, bool, bool]
 
 def decode_transforms(
     raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: list[WireFields], counted: bool
-) -> tuple[Int64Array, Int64Array, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, Int64Array]:
+) -> tuple[Int64Array, Int64Array, FloatArray, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, Int64Array]:
     """The payloads ``raw[starts[i] : starts[i] + lengths[i]]`` read field by field, each in its wire
     (the one, or the one its CDR encapsulation names; a count of transforms first where ``counted``):
-    of the well-formed messages, each row's message, stamp (ns), values (N, 7) and parent and child
+    of the well-formed messages, each row's message, stamp (ns), translation (N, 3), rotation (N, 4) (each
+    contiguous, as the core takes them) and parent and child
     as ids among the names; each distinct name's start and length in ``raw`` (a CDR NUL left out);
     of the messages not well-formed or in none of the wires, (K, 4): each one, why (``wire.Reason``),
     the offset in it and the figure the reason tells."""
@@ -28,9 +29,6 @@ def match_records(
     its length; conn's 4 at ``conn_at`` and time's 8 at ``time_at`` may differ) and end within their
     ``limits`` (or, ``cuts``, were read only that far: their payload ends there); of those, their conn,
     record time (ns), payload start and payload end."""
-
-def split_values(values: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Values (N, 7) as two contiguous arrays: translations (N, 3) and rotations (N, 4)."""
 
 def per_row(
     messages: Int64Array,

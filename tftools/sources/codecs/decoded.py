@@ -43,9 +43,10 @@ class FrameNames(Names):
 class Decoded:
     """Transforms of decoded messages, message by message in order: ``message`` is each row's
     message (an index into the payloads given), ``parent`` and ``child`` ids of a ``FrameNames``;
-    ``failures`` the (message, reason) of payloads that are not well-formed messages."""
+    ``failures`` the (message, reason) of payloads that are not well-formed messages. Each row's
+    translation (N, 3) and rotation (N, 4) are apart, each contiguous, as the core takes them."""
 
-    __slots__ = ("child", "failures", "message", "parent", "stamp", "values")
+    __slots__ = ("child", "failures", "message", "parent", "rotation", "stamp", "translation")
 
     def __init__(
         self,
@@ -53,20 +54,41 @@ class Decoded:
         parent: Int32Array,
         child: Int32Array,
         stamp: Int64Array,
-        values: FloatArray,
+        translation: FloatArray,
+        rotation: FloatArray,
         failures: list[tuple[int, str]] | None = None,
     ) -> None:
         self.message = message
         self.parent = parent
         self.child = child
         self.stamp = stamp
-        self.values = values  # (N, 7): x y z qx qy qz qw
+        self.translation = translation  # (N, 3): x y z
+        self.rotation = rotation  # (N, 4): qx qy qz qw
         self.failures = [] if failures is None else failures
+
+    @classmethod
+    def of_values(
+        cls,
+        message: Int64Array,
+        parent: Int32Array,
+        child: Int32Array,
+        stamp: Int64Array,
+        values: FloatArray,
+        failures: list[tuple[int, str]] | None = None,
+    ) -> Decoded:
+        """Rows whose ``values`` are (N, 7): x y z qx qy qz qw."""
+        translation, rotation = np.ascontiguousarray(values[:, :3]), np.ascontiguousarray(values[:, 3:])
+        return cls(message, parent, child, stamp, translation, rotation, failures)
+
+    @property
+    def values(self) -> FloatArray:
+        """Each row's 7 values (N, 7): x y z qx qy qz qw (a copy)."""
+        return np.concatenate([self.translation, self.rotation], axis=1)
 
     @classmethod
     def empty(cls, failures: Sequence[tuple[int, str]] = ()) -> Decoded:
         none, ids = np.zeros(0, np.int64), np.zeros(0, np.int32)
-        return cls(none, ids, ids, none, np.zeros((0, 7)), list(failures))
+        return cls(none, ids, ids, none, np.zeros((0, 3)), np.zeros((0, 4)), list(failures))
 
     @classmethod
     def joined(cls, parts: Sequence[Decoded]) -> Decoded:
@@ -79,13 +101,16 @@ class Decoded:
         if np.any(columns[0][1:] < columns[0][:-1]):
             order = np.argsort(columns[0], kind="stable")
             columns = [column[order] for column in columns]
-        message, parent, child, stamp, values = columns
-        return cls(message, parent, child, stamp, values, sorted(f for p in parts for f in p.failures))
+        message, parent, child, stamp, translation, rotation = columns
+        failures = sorted(f for p in parts for f in p.failures)
+        return cls(message, parent, child, stamp, translation, rotation, failures)
 
     def renumbered(self, numbers: Int64Array) -> Decoded:
         """The same rows and failures, message ``i`` renumbered ``numbers[i]``."""
         failures = [(int(numbers[message]), reason) for message, reason in self.failures]
-        return Decoded(numbers[self.message], self.parent, self.child, self.stamp, self.values, failures)
+        return Decoded(
+            numbers[self.message], self.parent, self.child, self.stamp, self.translation, self.rotation, failures
+        )
 
     def batch(self, frames: FrameNames, *, static: bool, authority: str, record_time: int) -> TransformBatch:
         """The rows as one source's batch, every row from ``authority`` at ``record_time``."""
@@ -96,14 +121,14 @@ class Decoded:
             parent=self.parent,
             child=self.child,
             stamp=self.stamp,
-            translation=np.ascontiguousarray(self.values[:, :3]),
-            rotation=np.ascontiguousarray(self.values[:, 3:]),
+            translation=self.translation,
+            rotation=self.rotation,
             static=np.full(n, static),
             record_time=np.full(n, record_time, np.int64),
         )
 
 
-_COLUMNS = ("message", "parent", "child", "stamp", "values")
+_COLUMNS = ("message", "parent", "child", "stamp", "translation", "rotation")
 
 
 class Headers:

@@ -42,7 +42,7 @@ def one_by_one(
     if not rows:
         return Decoded.empty(failures)
     message, parent, child, stamp, values = zip(*rows, strict=True)
-    return Decoded(
+    return Decoded.of_values(
         np.array(message, np.int64),
         np.array(parent, np.int32),
         np.array(child, np.int32),

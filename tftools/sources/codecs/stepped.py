@@ -31,7 +31,7 @@ def decode_transforms(
     (``counted``: a count of transforms first, else a single transform each), and why each of the
     others is not well-formed: a field past its end, a count its bytes cannot hold, bytes after the
     last transform (ROS1), an encapsulation of none of the wires, or a frame id that is not UTF-8."""
-    message, stamp, values, parent, child, name_start, name_length, failed = _wire.decode_transforms(
+    message, stamp, translation, rotation, parent, child, name_start, name_length, failed = _wire.decode_transforms(
         raw,
         np.ascontiguousarray(starts, np.int64),
         np.ascontiguousarray(lengths, np.int64),
@@ -46,8 +46,9 @@ def decode_transforms(
     if broken.any():
         lost = np.unique(message[broken])
         kept = ~np.isin(message, lost)
-        message, stamp, values, parent, child = message[kept], stamp[kept], values[kept], parent[kept], child[kept]
+        message, stamp, parent, child = message[kept], stamp[kept], parent[kept], child[kept]
+        translation, rotation = translation[kept], rotation[kept]
         failures = sorted(failures + [(m, worded(Reason.NOT_UTF8, int(lengths[m]))) for m in lost.tolist()])
     if len(ids) and int(ids[0]) == 0 and int(ids[-1]) == len(ids) - 1 and bool(np.all(ids[1:] > ids[:-1])):
-        return Decoded(message, parent, child, stamp, values, failures)  # the names' ids are the table's already
-    return Decoded(message, ids[parent], ids[child], stamp, values, failures)
+        return Decoded(message, parent, child, stamp, translation, rotation, failures)  # ids the table's already
+    return Decoded(message, ids[parent], ids[child], stamp, translation, rotation, failures)

@@ -84,7 +84,7 @@ class _Template:
         left_out = rows[~fits]
         rows, block, sec, nsec = rows[fits], block[fits], sec[fits], nsec[fits]
         n, k = sec.shape
-        decoded = Decoded(
+        decoded = Decoded.of_values(
             np.repeat(rows, k),
             np.tile(self.parents, n),
             np.tile(self.children, n),
