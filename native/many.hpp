@@ -64,6 +64,10 @@ struct Buckets {
     Packing packing;
 };
 
+// How many times ahead `bucket` asks for the line a time's key will go to (1M random times, one thread:
+// placing them 9.5 ms without, 6.2 ms at 16; 8 and 32 alike).
+constexpr int64_t PLACE_AHEAD = 16;
+
 // times[0..n), each as its key, into keys[0..n) by bucket of equal span, each bucket still
 // unordered. A counting sort on `threads` threads (n >= threads), each counting, then placing, its
 // share of the times (within a bucket, the first thread's times come first); counting, each also
@@ -108,7 +112,14 @@ inline Buckets bucket(const int64_t* times, int64_t n, uint64_t* keys, int threa
     }
     on_threads(threads, [&](int t) {
         const auto [lo, hi] = share(t);
-        for (int64_t k = lo; k < hi; ++k) keys[next[t][bucket_of(times[k])]++] = packing.key(times[k], k);
+        int64_t* const places = next[t].data();
+        // Each key goes to a line of `keys` that the cache does not hold: the lines of the times PLACE_AHEAD
+        // on (and those times' counters, twice as far) are asked for first, so that the misses overlap.
+        for (int64_t k = lo; k < hi; ++k) {
+            if (k + 2 * PLACE_AHEAD < hi) __builtin_prefetch(places + bucket_of(times[k + 2 * PLACE_AHEAD]));
+            if (k + PLACE_AHEAD < hi) __builtin_prefetch(keys + places[bucket_of(times[k + PLACE_AHEAD])]);
+            keys[places[bucket_of(times[k])]++] = packing.key(times[k], k);
+        }
     });
     return {std::move(starts), packing};
 }
@@ -144,6 +155,12 @@ class Chunks {
 
     void add(int64_t time, int64_t row) {
         times_[held_] = time, rows_[held_] = row;
+        // The row's answer is written when the chunk is walked: its lines (56 bytes: one or two), at a
+        // random place in the outputs, are brought into the L2 cache now, so that those writes do not
+        // each wait for memory (1M random times, one thread: the walk 93 -> 71 ms, as over sorted times).
+        const double* answer = out_.values + 7 * row;
+        __builtin_prefetch(answer, 0, 2);
+        __builtin_prefetch(answer + 6, 0, 2);
         if (++held_ == SIZE) flush();
     }
 
