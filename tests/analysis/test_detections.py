@@ -9,7 +9,7 @@ import pytest
 from tests.analysis import wtf_scenes as scenes
 from tests.bags import TfMessage
 from tftools.analysis.detections import detection
-from tftools.analysis.findings import Finding
+from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.fleet import check
 from tftools.core.figures import sightings
 from tftools.core.time import NS_PER_S
@@ -46,7 +46,9 @@ def _of(findings: list[Finding], code: str, child: str) -> Finding:
 
 
 def test_a_marker_seen_once_is_stale_as_a_detection_not_a_transform_to_publish_statically() -> None:
+    """A warning, not an error: what a detector sees comes and goes; nothing stopped (DIGIT_works' marker_367)."""
     stale = _of(_check(_seen("marker_367", [3.0])), "stale", "marker_367")
+    assert stale.severity is Severity.warning, stale
     assert "a detection" in stale.message and "was seen once, at" in stale.message, stale.message
     assert "static_transform_publisher" not in stale.hint and "keep publishing" not in stale.hint, stale.hint
     assert "only as fresh as its last sighting" in stale.hint and "timeout" in stale.hint, stale.hint
@@ -55,6 +57,7 @@ def test_a_marker_seen_once_is_stale_as_a_detection_not_a_transform_to_publish_s
 def test_a_robots_own_edge_that_stops_is_still_a_publisher_that_stopped() -> None:
     findings = check(scenes.recording(scenes.healthy(amcl=scenes.amcl(end=6.0)), ros1=False)).findings
     stale = _of(findings, "stale", "odom")
+    assert stale.severity is Severity.error, stale
     assert "a detection" not in stale.message and "its publisher stopped" in stale.hint, stale
 
 

@@ -39,7 +39,11 @@ CYCLIC_SHARE = 0.8
 BURST_MIN = 3
 
 
-@register("stale", Severity.error, "an edge that stops updating while the recording goes on")
+@register(
+    "stale",
+    Severity.error,
+    "an edge that stops updating while the recording goes on (a warning where it is a detection, which comes and goes)",
+)
 def stale(scene: Scene) -> Iterator[Finding]:
     latest: dict[str, int] = {}
     last_sent = scene.shared("last arrivals", lambda: _last_sent(scene))
@@ -56,8 +60,11 @@ def stale(scene: Scene) -> Iterator[Finding]:
             continue
         by = scene.by(s.authorities)
         before_end: int | None = silent
+        severity = Severity.error
         detected = scene.detections.get(s.key)
         if detected is not None and not resent:
+            # what a detector sees comes and goes: lookups after its last sighting fail, but nothing stopped
+            severity = Severity.warning
             message, hint = _last_sighting(scene, s, by, *detected)
         elif s.count == 1:
             sent = scene.shared("arrivals", lambda: _sent(scene)).get(s.key, 1)
@@ -95,7 +102,7 @@ def stale(scene: Scene) -> Iterator[Finding]:
         arrived: dict[str, float | int | str] = {}
         if s.last_record:
             arrived["arrival_minus_stamp_s"] = (s.last_record - s.last_stamp) / NS_PER_S
-        found = Finding(Severity.error, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
+        found = Finding(severity, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
         yield dataclasses.replace(found, figures=arrived)
 
 
