@@ -4,17 +4,19 @@ from __future__ import annotations
 
 import io
 
+import numpy as np
 import pytest
 from rich.console import Console
 
 from tests.analysis.monitor_scenes import START, Scene, scene, scene_buffer
 from tests.sources.test_replay import FakeTime, HandDriven
 from tftools.analysis.edges import TimeWindow
-from tftools.analysis.monitor import LiveMonitor, MonitorReport, monitor_buffer
+from tftools.analysis.monitor import ARRIVED_HELD, LiveMonitor, MonitorReport, monitor_buffer
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.figures import seconds
-from tftools.core.time import NS_PER_S
+from tftools.core.time import NS_PER_S, SimClock
 from tftools.render import monitor as render
+from tftools.sources.contents import SentMessages
 from tftools.sources.replay import Replay, follow
 
 WINDOW = 4 * NS_PER_S
@@ -105,3 +107,20 @@ def test_waits_for_a_chain_that_does_not_exist_yet() -> None:
     assert all(r.chain is None and waiting in text for now, r, text in refreshes if now < START + 5 * NS_PER_S)
     assert all(r.chain is not None and "Chain is: camera -> base_link -> odom -> map" in text
                for now, r, text in refreshes if now > START + 6 * NS_PER_S)  # fmt: skip
+
+
+def test_a_monitor_fed_faster_than_it_reports_holds_only_the_messages_a_window_shows() -> None:
+    """`monitor --play --rate 100000` of a 4 h recording reports a few times only: the tf messages that arrived
+    between two reports were all held (1.1M of the robot's, its peak memory growing with the recording). Held
+    unreported past ``ARRIVED_HELD``, those older than the window shows (two windows behind the newest) go."""
+    live = LiveMonitor(SimClock(), WINDOW)
+    chunk = ARRIVED_HELD // 2 + 1
+    for k in range(6):  # a chunk every 100 s, none reported
+        times = START + k * 100 * NS_PER_S + np.arange(chunk, dtype=np.int64) * 1_000
+        sent = SentMessages(("/tf",), np.zeros(chunk, np.int32), np.zeros(chunk, np.bool_), times, times)
+        live.add_sent(sent)
+    held = live.sent
+    assert held is not None and len(held) <= 3 * chunk, held
+    newest = START + 5 * 100 * NS_PER_S + (chunk - 1) * 1_000
+    assert int(held.record_time.min()) >= newest - 2 * WINDOW - 100 * NS_PER_S
+    assert int(held.record_time.max()) >= START + 4 * 100 * NS_PER_S  # the recent ones are kept

@@ -163,7 +163,11 @@ class Replay:
             bag_time = min(bag_time, self.end)
         for part, rows in self._rows.until(bag_time):
             self._last = int(part.record_time[rows[-1]])
-            self._deliver([take_rows(part, rows)], [part.taken(rows) for part, rows in self._sent.until(bag_time)])
+            # the messages of these rows only: taking those up to ``bag_time`` would read every window up to it
+            # ahead of its rows (a stream's two iterators share its reads), the whole recording at a fast rate
+            sent = [sent.taken(rows) for sent, rows in self._sent.until(self._last)]
+            self._deliver([take_rows(part, rows)], sent)
+        self._deliver([], [sent.taken(rows) for sent, rows in self._sent.until(bag_time)])
         if self.end is None and self._rows.pending() is None:
             # every row played: the replay ends at the last, or at the recording's end after it
             self.end = max(self._last, self.begin, self._recording_end() if self._recording_end else self._last)

@@ -9,11 +9,12 @@ One ``BagReader`` serves every window of both: the files are opened and their in
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import math
 import os
 import weakref
+from collections import deque
 from collections.abc import Iterator, Sequence
+from typing import TypeVar
 
 import numpy as np
 
@@ -41,6 +42,9 @@ from tftools.sources.timeline import (
     tf_span,
     timeline_from,
 )
+
+First = TypeVar("First")
+Second = TypeVar("Second")
 
 #: Messages (of every topic, as the files' indexes count them) a window is planned to hold.
 WINDOW_MESSAGES = 50_000
@@ -160,8 +164,8 @@ class StreamedRecording:
         """A replay on the clock the tf is stamped on: what a node with use_sim_time sees while the bag
         plays with its recorded /clock, or on its record clock; its ``on_sent`` is told the tf messages."""
         playback = Playback(self._recorded)
-        rows, messages = itertools.tee(self._played(playback))
-        parts = (part for parts, _ in rows for part in parts)
+        rows, messages = _halves(self._played(playback))
+        parts = (part for parts in rows for part in parts)
         # as rosbag play, to the recording's last message (any topic's), past its tf's: moved onto the replay's
         # clock once every window was, its /clock heard to the end
         last = self._recorded.record_end
@@ -171,7 +175,7 @@ class StreamedRecording:
 
         return Replay(
             parts,
-            sent=(sent for _, sent in messages),
+            sent=messages,
             rate=rate,
             start=start,
             end=end,
@@ -247,6 +251,31 @@ def stream_recording(
     return StreamedRecording(
         reader, windows, contents, recorded, summary.frames, summary.semantics, summary.parents, arrivals, kept
     )
+
+
+def _halves(pairs: Iterator[tuple[First, Second]]) -> tuple[Iterator[First], Iterator[Second]]:
+    """Two iterators over the first and the second of each of ``pairs``, each half held until its own iterator
+    takes it, no longer: ``itertools.tee`` holds its items in blocks of 57, so a replay's windows (parts and
+    messages) stayed in memory until 57 had been read, a long recording whole."""
+    firsts: deque[First] = deque()
+    seconds: deque[Second] = deque()
+
+    def read() -> bool:
+        pair = next(pairs, None)
+        if pair is not None:
+            firsts.append(pair[0])
+            seconds.append(pair[1])
+        return pair is not None
+
+    def first() -> Iterator[First]:
+        while firsts or read():
+            yield firsts.popleft()
+
+    def second() -> Iterator[Second]:
+        while seconds or read():
+            yield seconds.popleft()
+
+    return first(), second()
 
 
 def _windows(files: Sequence[BagFileInfo], messages: int) -> tuple[Window, ...]:

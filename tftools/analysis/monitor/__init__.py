@@ -281,6 +281,7 @@ class LiveMonitor:
         #: (a feed that does not: the messages are guessed from the rows, ``authority_stats``).
         self.sent: SentMessages | None = None
         self._arrived: list[SentMessages] = []  # since the last report: joined once there, not at every batch
+        self._arrived_count = 0  # messages in ``_arrived``
         self._lock = threading.Lock()
 
     def clear(self, _jump: object = None) -> None:
@@ -298,12 +299,25 @@ class LiveMonitor:
         """The tf messages of the transforms ``add`` is given next (or was just given); safe from a source's thread."""
         with self._lock:
             self._arrived.append(sent)
+            self._arrived_count += len(sent)
+            if self._arrived_count > ARRIVED_HELD:  # a replay far ahead of its reports: keep what a window shows
+                self._join_sent()
+                # by the newest message, not the clock: a replay sets its clock once a catch-up is delivered
+                newest = int(sent.record_time.max()) if len(sent) else self.buffer.now()
+                self._drop_older(max(newest, self.buffer.now()) - 2 * self.window)
 
     def _join_sent(self) -> None:
         """The messages that arrived since the last report added to ``sent`` (the lock held)."""
         if self._arrived:
             self.sent = concat_sent([*([self.sent] if self.sent is not None else []), *self._arrived])
-            self._arrived = []
+            self._arrived, self._arrived_count = [], 0
+
+    def _drop_older(self, since: int) -> None:
+        """Forget the messages, and the rows tf2 did not store, that arrived before ``since`` (the lock held)."""
+        self.unstored = [b for b in self.unstored if int(b.record_time.max()) >= since]
+        self.replaced = _kept_replaced(self.replaced, since)
+        if self.sent is not None:
+            self.sent = _kept_sent(self.sent, since)
 
     def add(self, batch: TransformBatch) -> None:
         """Insert a batch; safe to call from a source's thread."""
@@ -333,19 +347,20 @@ class LiveMonitor:
             if not all(frame is not None and self.buffer.has_frame(frame) for frame in (target, source)):
                 target = source = None  # no chain asked for, or its frames not seen yet
             timeline = self._timeline()
-            self.unstored = [b for b in self.unstored if int(b.record_time.max()) >= start - self.window]
-            self.replaced = _kept_replaced(self.replaced, start - self.window)
+            self._join_sent()
+            self._drop_older(start - self.window)
             kept = self.unstored + self.replaced
             unstored = concat_batches(kept) if kept else None
-            self._join_sent()
-            if self.sent is not None:
-                self.sent = _kept_sent(self.sent, start - self.window)
             window = TimeWindow(start, now, by_record_time=True, timeline=timeline)
             try:
                 return monitor_buffer(self.buffer, target, source, window, unstored=unstored, sent=self.sent)
             except TransformError:  # the chain is not connected (yet): show the rest
                 return monitor_buffer(self.buffer, window=window, unstored=unstored, sent=self.sent)
 
+
+#: The most tf messages a ``LiveMonitor`` holds unjoined between two reports before it forgets those older than
+#: its window shows (a replay played faster than its reports are made would hold the whole recording).
+ARRIVED_HELD = 50_000
 
 #: The most rows of replaced static caches a ``LiveMonitor`` keeps (the newest).
 REPLACED_STATICS = 10_000
