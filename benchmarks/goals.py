@@ -35,7 +35,7 @@ COMMANDS = {
     "frames": ["frames", "-b", "BAG"],
     "echo": ["echo", robot.TARGET, "gripper", "-b", "BAG"],
     "monitor": ["monitor", "-b", "BAG"],
-    "view-frames": ["view-frames", "-b", "BAG", "-o", "/tmp/tftools-bench/goals_frames"],
+    "view-frames": ["view-frames", "-b", "BAG", "-o", "/tmp/tftools-bench/goals_frames", "--force"],
     "wtf": ["wtf", "BAG"],
 }
 
@@ -145,9 +145,11 @@ def fresh(goals: Goals) -> None:
 
 
 def peak_rss(command: list[str]) -> int:
-    """Peak resident memory of ``command`` (bytes), run as a child of a fresh waiting process."""
+    """Peak resident memory of ``command`` (bytes), run as a child of a fresh waiting process; a command that
+    failed (exit 2 and up: 1 is findings) stops the benchmark with its error, not a figure of its failure."""
     code = (
-        "import resource, subprocess, sys; subprocess.run(sys.argv[1:], capture_output=True, check=False);"
+        "import resource, subprocess, sys; done = subprocess.run(sys.argv[1:], capture_output=True, check=False);"
+        "sys.exit(done.stderr.decode()[-500:]) if done.returncode > 1 else "
         "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024)"
     )
     done = subprocess.run([sys.executable, "-c", code, *command], cwd=REPO, capture_output=True, text=True, check=True)
