@@ -100,6 +100,18 @@ def test_a_marker_lost_for_seconds_says_its_longest_time_unseen_and_how_it_was_s
     assert "check the publisher's load" not in rate.hint, rate.hint
 
 
+def test_a_markers_missed_frames_and_its_pauses_are_both_counted() -> None:
+    """Seen at 25 Hz in bursts 0.2 s apart (a frame or four missed: unseen, no pause) and twice lost for 2 s: 'went
+    unseen 2 times' beside 'seen in 13 bursts' read as a contradiction (the DIGIT_works ArUco's marker_111)."""
+    seconds, t = [], 0.0
+    for b in range(13):
+        seconds += [t + i * 0.04 for i in range(10)]
+        t = seconds[-1] + (2.0 if b in (4, 8) else 0.2)
+    rate = _of(_check(_seen("marker_111", seconds)), "rate", "marker_111")
+    assert "went unseen 12 times, 2 of them for longer than its rhythm" in rate.message, rate.message
+    assert "seen in 13 bursts" in rate.message, rate.message
+
+
 def test_sightings_are_bursts_parted_by_a_missed_frame() -> None:
     stamps = np.array([b * 1000 + i * 40 for b in range(10) for i in range(10)], np.int64) * MS
     seen = sightings(stamps)
