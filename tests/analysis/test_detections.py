@@ -88,7 +88,8 @@ def test_a_marker_seen_in_short_bursts_says_its_rate_within_them_not_a_period_fe
         t = flickers[-1] + (0.2, 0.12, 0.3, 0.16, 0.24)[b % 5]
     rate = _of(_check(_seen("marker_222", flickers)), "rate", "marker_222")
     assert rate.message.endswith(
-        "is seen in 35 bursts, at 25.0 Hz within them, 31% of the time (unseen for up to 0.300 s)"
+        "is seen in 35 bursts, at 25.0 Hz within them, 31% of the time from its first sighting to its last "
+        "(unseen for up to 0.300 s)"
     ), rate.message
     assert "it keeps up most of the time" not in rate.message and "timeout" in rate.hint, rate
 
@@ -96,7 +97,9 @@ def test_a_marker_seen_in_short_bursts_says_its_rate_within_them_not_a_period_fe
 def test_a_marker_lost_for_seconds_says_its_longest_time_unseen_and_how_it_was_seen() -> None:
     rate = _of(_check(_seen("marker_111", _bursts())), "rate", "marker_111")
     assert "went unseen 9 times" in rate.message and "the longest for 0.640 s" in rate.message, rate.message
-    assert rate.message.endswith("seen in 10 bursts, at 25.0 Hz within them, 38% of the time"), rate.message
+    assert rate.message.endswith(
+        "seen in 10 bursts, at 25.0 Hz within them, 38% of the time from its first sighting to its last"
+    ), rate.message
     assert "check the publisher's load" not in rate.hint, rate.hint
 
 

@@ -63,7 +63,10 @@ def test_aruco_marker_222_is_seen_in_bursts_the_same_in_wtf_monitor_and_report(
     most of the time' was kept by ~10% of them. Parted where one is two periods or longer (a frame missed): 162
     bursts, 27.0 Hz within them, 58% of the time seen, in wtf, monitor (text and JSON) and report."""
     bag = corpus(BY_ID[ARUCO])
-    said = "seen in 162 bursts, at 27.0 Hz within them, 58% of the time (unseen for up to 0.345 s)"
+    said = (
+        "seen in 162 bursts, at 27.0 Hz within them, 58% of the time from its first sighting to its last "
+        "(unseen for up to 0.345 s)"
+    )
     rate = _of(_findings(tfx, bag), "rate", "marker_222")
     assert rate["message"].endswith(f"a detection (marker_222 is named as a detector names what it sees), is {said}")
     assert "keeps up most of the time" not in rate["message"]
