@@ -34,6 +34,7 @@ from tests.analysis.wtf_scenes import (
 )
 from tests.bags import BagFormat, TfMessage
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.graph import view_frames
 from tftools.analysis.monitor import MonitorQuery, chain_span, monitor
 from tftools.analysis.times import parse_time_spec
 from tftools.analysis.wtf import CHECKS, Scene, findings_of
@@ -322,6 +323,25 @@ def _no_record_clock() -> list[TfMessage]:
         TfMessage(m.topic, (m.record_time - START) // NS_PER_S, m.transforms, m.publisher)  # seconds, as ns
         for m in sorted(arm + early + late, key=lambda m: m.record_time)
     ]
+
+
+def test_detections_on_one_clock_without_a_record_clock_are_aged_from_its_one_end() -> None:
+    """Two detections on wall time, seen 9.5 s apart, beside an arm on simulated time, with record times that time
+    nothing: view-frames grouped their clocks by record time minus stamp (the stamps themselves), so each was
+    aged from its own newest stamp, both '0.000 s old' (the Logistic coBot's obj_12 and obj_6). One clock, one
+    end: the newest stamp on it."""
+    joints = (("base_link_inertia", "shoulder"), ("shoulder", "forearm"))
+    arm = periodic("/arm", 100, lambda t: [_t(p, c, t, (t - START) / NS_PER_S) for p, c in joints], stamp=sim)
+    early = periodic("/det", 15, lambda t: [_t("base_link", "box_1", t)], start=1.0, end=3.0)  # recorded at 1 ns
+    late = periodic("/det", 15, lambda t: [_t("base_link", "box_6", t)], start=12.5, end=14.0)  # medians 11 s apart
+    messages = [
+        TfMessage(m.topic, (m.record_time - START) // NS_PER_S, m.transforms, m.publisher)  # seconds, as ns
+        for m in sorted(arm + early + late, key=lambda m: m.record_time)
+    ]
+    graph = view_frames(recording(messages, ros1=False))
+    ages = {e.child: graph.age_of(e) for e in graph.edges if e.child.startswith("box")}
+    newest = {e.child: e.stats.last_stamp for e in graph.edges if e.stats is not None and e.child.startswith("box")}
+    assert ages == {"box_1": newest["box_6"] - newest["box_1"], "box_6": 0}, ages
 
 
 def test_record_times_that_are_no_clock_time_nothing() -> None:

@@ -370,7 +370,10 @@ def test_a_marker_seen_in_bursts_shows_its_rate_within_them_in_text_and_json(tfx
     seen = [Transform((1.0, 0, 0), (0, 0, 0, 1.0), s, "camera", "marker_5") for s in stamps]
     bag = write_bag(tmp_path / "bursts.bag", [TfMessage("/tf", t.stamp + MS_NS, [t], "/aruco") for t in seen])
     text = tfx("monitor", "-b", bag).stdout
-    said = "camera -> marker_5: a detection, seen in 10 bursts, at 25.0 Hz within them, 38% of the time"
+    said = (
+        "camera -> marker_5: a detection, seen in 10 bursts, at 25.0 Hz within them, 38% of the time from its first "
+        "sighting to its last"
+    )
     assert said + " (unseen for up to 0.640 s)" in " ".join(text.split()), text
     (edge,) = json.loads(tfx("monitor", "-b", bag, "--format", "json").stdout)["edges"]
     assert edge["sightings"]["bursts"] == 10 and edge["sightings"]["rate_hz"] == pytest.approx(25.0)

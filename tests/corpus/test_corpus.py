@@ -440,8 +440,9 @@ def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx
         checked += 1
     assert checked == len(timelines), "an edge of the page is not one of monitor's"
     for finding in wtf["bags"][0]["findings"]:  # wtf's pauses: the longest is monitor's longest interval
-        said = re.search(  # a detection's said as unseen (``detections``)
-            r"(?:silent|unseen) (\d+|once) (?:times? )?.*the longest for (\d+(?:\.\d+)?) s from (\d+(?:\.\d+)?)",
+        said = re.search(  # a detection's said as unseen (``detections``): its pauses among its times unseen
+            r"(?:silent|unseen) (?:\d+ times, )?(\d+|once) (?:times? |of them )?.*the longest for (\d+(?:\.\d+)?) s "
+            r"from (\d+(?:\.\d+)?)",
             finding["message"],
         )
         if finding["code"] == "rate" and said:

@@ -63,7 +63,10 @@ def test_aruco_marker_222_is_seen_in_bursts_the_same_in_wtf_monitor_and_report(
     most of the time' was kept by ~10% of them. Parted where one is two periods or longer (a frame missed): 162
     bursts, 27.0 Hz within them, 58% of the time seen, in wtf, monitor (text and JSON) and report."""
     bag = corpus(BY_ID[ARUCO])
-    said = "seen in 162 bursts, at 27.0 Hz within them, 58% of the time (unseen for up to 0.345 s)"
+    said = (
+        "seen in 162 bursts, at 27.0 Hz within them, 58% of the time from its first sighting to its last "
+        "(unseen for up to 0.345 s)"
+    )
     rate = _of(_findings(tfx, bag), "rate", "marker_222")
     assert rate["message"].endswith(f"a detection (marker_222 is named as a detector names what it sees), is {said}")
     assert "keeps up most of the time" not in rate["message"]
@@ -75,6 +78,31 @@ def test_aruco_marker_222_is_seen_in_bursts_the_same_in_wtf_monitor_and_report(
     page = tmp_path / "aruco.html"
     tfx("report", bag, "-o", page)
     assert f"a detection, {said}" in page.read_text()
+
+
+LOGISTIC = "ros2-logistic-cobot-pymoveit2-no-record-clock-2024-db3"
+
+
+@pytest.mark.parametrize(
+    ("recording_id", "child", "said"),
+    [
+        (ARUCO, "marker_111", "went unseen 148 times, 6 of them for longer than its rhythm"),
+        (LOGISTIC, "obj_12", "went unseen 11 times, 4 of them for longer than its rhythm"),
+        (LOGISTIC, "obj_3", "went unseen 11 times, once for longer than its rhythm"),
+    ],
+)
+def test_a_detections_times_unseen_agree_with_its_bursts(
+    recording_id: str,
+    child: str,
+    said: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """marker_111, seen in 149 bursts, 'went unseen 6 times' (its pauses: ten periods and max_gap) beside 'seen in
+    149 bursts' (parted at two periods): both are said, the bursts' count first, the pauses' among them."""
+    rate = _of(_findings(tfx, corpus(BY_ID[recording_id])), "rate", child)
+    bursts = int(re.findall(r"seen in (\d+) bursts", rate["message"])[0])
+    assert said in rate["message"] and f"went unseen {bursts - 1} times" in rate["message"], rate["message"]
 
 
 def test_aruco_marker_seen_once_has_null_rate_and_jitter_in_monitors_json(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

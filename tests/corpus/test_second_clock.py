@@ -168,6 +168,16 @@ def test_monitor_of_the_simulated_chain_says_its_own_span_and_why_it_has_no_dela
     assert device["delays_other_clock"] is None and device["chain"]["edges"][0]["delay_unmeasurable"] is None
 
 
+def test_detections_on_one_clock_without_a_record_clock_are_aged_from_one_end(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The coBot's obj_6 (6 sightings, the last at 1731467426.909) and obj_12 (newest 1731467426.680), both on
+    epoch time, were each aged from its own clock group's newest stamp: both '0.000 s old'. One clock, one end."""
+    dot = tfx("view-frames", "-b", corpus(BY_ID[COBOT]), "--format", "dot", "-o", "-").stdout
+    labels = dict(re.findall(r"\t(base_link -> obj_\d+) \[label=<(.*?)> ", dot))
+    assert "1731467426.909 (0.000 s old)" in labels["base_link -> obj_6"], labels["base_link -> obj_6"]
+    assert "1731467426.680 (0.230 s old)" in labels["base_link -> obj_12"], labels["base_link -> obj_12"]
+    assert "1731467414.092 (12.817 s old)" in labels["base_link -> obj_2"], labels["base_link -> obj_2"]
+
+
 def test_two_time_bases_without_a_record_clock_are_said_as_seen(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """The coBot's record times are 0-74 ns (a script's writer): no clock. Its box detections are stamped on epoch
     time (1731467401-1731467427 s), the arm and the eBot from zero (46-74 s), in trees apart. The finding said

@@ -124,6 +124,22 @@ def clock_groups(edges: Sequence[EdgeClock], same_clock: int) -> list[list[EdgeC
     return groups
 
 
+def stamp_groups(edges: Sequence[EdgeClock], same_clock: int) -> list[list[EdgeClock]]:
+    """The frames (some) grouped by their stamps alone, where record times time nothing
+    (``Timeline.record_clock_void``: their offsets from it are the stamps themselves, so ``clock_groups`` would
+    part two detections on one clock seen 20 s apart): in order of first stamp, a new group where the next
+    begins more than ``same_clock`` after every stamp before it."""
+    ordered = sorted(edges, key=lambda e: e.first_stamp)
+    groups: list[list[EdgeClock]] = [[ordered[0]]]
+    last = ordered[0].last_stamp
+    for e in ordered[1:]:
+        if e.first_stamp - last > same_clock:
+            groups.append([])
+        groups[-1].append(e)
+        last = max(last, e.last_stamp)
+    return groups
+
+
 def other_clocks(edges: Sequence[EdgeClock], tf_start: int, tf_end: int, same_clock: int) -> tuple[OtherClock, ...]:
     """The clocks of stamps outside the tf span (``tf_start`` to ``tf_end``), beside the span's own
     (``clock_groups``, and an edge's second publisher's, ``EdgeClock.elsewhere``)."""

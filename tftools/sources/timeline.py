@@ -30,6 +30,7 @@ from tftools.sources.edge_clocks import (
     clock_groups,
     edge_clock,
     other_clocks,
+    stamp_groups,
     stamp_medians,
 )
 from tftools.values import value
@@ -164,7 +165,8 @@ class Timeline:
         that clock moved on by how long its frame has been silent (``figures.silence``), so that a replay's
         frame that stopped 2.5 s before the end is 2.5 s old, as the monitor's silence and wtf's ``stale`` say,
         not as new as the last stamp its own clock had. Frames within the span are not listed, nor those on the
-        reference clock from the future (stamped hours ahead of it: their age is negative, and said so)."""
+        reference clock from the future (stamped hours ahead of it: their age is negative, and said so). Where
+        the record times time nothing, frames are grouped by their stamps (``stamp_groups``)."""
         near = self.same_clock
         ahead = self.reference is not Reference.NONE
         off = {
@@ -176,7 +178,8 @@ class Timeline:
         if not off:
             return {}
         ends: dict[str, int] = {}
-        for group in clock_groups(self.edges, near):
+        grouped = stamp_groups if self.record_clock_void else clock_groups
+        for group in grouped(self.edges, near):
             end = max(e.last_stamp + (figures.silence(e.last_record, self.record_end) or 0) for e in group)
             ends.update((e.child, end) for e in group if e.child in off)
         return ends

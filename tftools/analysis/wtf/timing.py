@@ -294,6 +294,9 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
         why, seen = detected
         bursts = f": {seen.in_words(longest=False)}" if seen is not None else ""
         times = "once" if found.count == 1 else counted(found.count, "time")
+        unseen = seen.bursts - 1 if seen is not None else found.count
+        if unseen > found.count:  # its bursts part at two periods, a pause is ten and max_gap: say both counts
+            times = f"{counted(unseen, 'time')}, " + ("once" if found.count == 1 else f"{found.count} of them")
         message = (
             f"{edge(*e.key)}{scene.by(e.authorities)}, a detection ({why}), went unseen "
             f"{times} for longer than its rhythm (every {duration(found.period / NS_PER_S)}) "
