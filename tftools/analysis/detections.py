@@ -44,8 +44,14 @@ def _comes_and_goes(stamps: Int64Array, span: int) -> bool:
     return len(stamps) == 1 or pauses(stamps, LOST, span) is not None
 
 
+def detected(parent: str, child: str, stamps: Int64Array, span: int = 0) -> tuple[str, Sightings | None] | None:
+    """Why the edge is a detection (``detection``) and how it was seen (``figures.sightings``: None where never
+    unseen); None for an edge that is not one."""
+    why = detection(parent, child, stamps, span)
+    return None if why is None else (why, sightings(stamps, span))
+
+
 def detection_sightings(parent: str, child: str, stamps: Int64Array, span: int = 0) -> Sightings | None:
     """A detection's ``figures.sightings`` (None for an edge that is not one, ``detection``, or never unseen)."""
-    if detection(parent, child, stamps, span) is None:
-        return None
-    return sightings(stamps, span)
+    found = detected(parent, child, stamps, span)
+    return None if found is None else found[1]

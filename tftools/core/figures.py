@@ -338,13 +338,14 @@ def sightings(stamps: Int64Array, span: int = 0) -> Sightings | None:
     it was never unseen (one burst: its rate is the stream's)."""
     if len(stamps) < 3:
         return None
-    intervals = np.diff(stamps)[~across_clocks(stamps, span)]
+    across, every = across_clocks(stamps, span), np.diff(stamps)
+    intervals = every[~across]
     usual = period(intervals)
     apart: BoolArray = intervals >= MISSED * usual
     if not usual or not apart.any():
         return None
     within, whole = int(intervals[~apart].sum()), int(intervals.sum())
-    longest = int(np.argmax(np.where(across_clocks(stamps, span), 0, np.diff(stamps))))
+    longest = int(np.argmax(np.where(across, 0, every)))
     return Sightings(
         int(apart.sum()) + 1,
         rate_hz(int((~apart).sum()) + 1, within),

@@ -10,7 +10,7 @@ from typing import TypeVar, cast
 import numpy as np
 
 from tftools.analysis.description import Robot
-from tftools.analysis.detections import detection
+from tftools.analysis.detections import detected
 from tftools.analysis.edges import Edge, EdgeStats, TimeWindow, edge_rows, edge_stats, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterQuery, FilterReport, filter_streams
@@ -20,7 +20,7 @@ from tftools.analysis.wtf.rows import Rows, rows_of
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
 from tftools.core.buffer import Buffer
-from tftools.core.figures import Sightings, record_span, sightings
+from tftools.core.figures import Sightings, record_span
 from tftools.core.time import NS_PER_S, from_sec, signed_seconds
 from tftools.core.time import duration as duration  # said by every check
 from tftools.sources import clocks_apart
@@ -144,10 +144,8 @@ class Scene:
         (``figures.sightings``; None where never unseen or seen fewer than 3 times)."""
         found = {}
         for e in self.dynamic_edges:
-            span = record_span(e.record_times)
-            why = detection(e.parent, e.child, e.stamps, span)
-            if why is not None:
-                found[e.key] = (why, sightings(e.stamps, span))
+            if (seen := detected(e.parent, e.child, e.stamps, record_span(e.record_times))) is not None:
+                found[e.key] = seen
         return found
 
     # --- rows ------------------------------------------------------------------------------
