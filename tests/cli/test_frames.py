@@ -25,6 +25,8 @@ def test_json_describes_every_frame(tfx: Tfx, fmt: str) -> None:
     assert {name for name, f in frames.items() if f["static"]} == STATIC
     for frame, rate in TRUE_RATES.items():
         assert frames[frame]["rate_hz"] == pytest.approx(rate, rel=0.02)
+    for frame in STATIC | {"map"}:  # a static edge has no rate, a root no samples: null, not 0.0 ("a rate of zero")
+        assert frames[frame]["rate_hz"] is None, frame
     assert frames["arm_link3"]["parent"] == "arm_link2"
 
 

@@ -61,8 +61,9 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
     for edge in doc["edges"]:
         assert set(edge) == EDGE_KEYS
         assert isinstance(edge["authorities"], list) and isinstance(edge["count"], int)
-        if edge["static"]:  # NaN in Python, null in JSON
+        if edge["static"]:  # NaN in Python, null in JSON; no rhythm: null, not 0.0 ("a rate of zero", "just arrived")
             assert edge["delay_mean_s"] is None and edge["delay_max_s"] is None
+            assert [edge[k] for k in ("rate_hz", "jitter_s", "gap_max_s", "gap_start", "silent_s")] == [None] * 5
         else:
             assert all(isinstance(edge[k], float) for k in ("rate_hz", "jitter_s", "gap_max_s", "delay_mean_s"))
     for authority in doc["authorities"]:
@@ -71,6 +72,8 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
             "no_delay_of", "edges"
         }  # fmt: skip
         assert authority["delay_unmeasurable"] is None  # one clock: every delay measured
+    statics = [a for a in doc["authorities"] if all(child in STATIC for _, child in a["edges"])]
+    assert statics and all(a["rate_hz"] is None for a in statics)  # "static" in the table, no rate of zero
     chain = doc["chain"]
     assert chain["frames"][0] == "gripper" and chain["frames"][-1] == "map" and len(chain["frames"]) == 12
     assert [e["child"] for e in chain["edges"]] == chain["frames"][:-1]
@@ -151,7 +154,7 @@ def test_play_ends_on_the_numbers_of_its_last_window(tfx: Tfx) -> None:
     assert last["window"] == {"start": to_sec(end - 4 * NS_PER_S), "end": to_sec(end)}
     for theirs, ours in zip(last["edges"], expected.edges, strict=True):
         assert (theirs["child"], theirs["count"]) == (ours.child, ours.count)
-        assert theirs["rate_hz"] == pytest.approx(ours.rate_hz, rel=1e-12)
+        assert theirs["rate_hz"] == (None if ours.static else pytest.approx(ours.rate_hz, rel=1e-12))
     assert expected.chain is not None
     assert last["chain"]["delay_mean_s"] == pytest.approx(seconds(expected.chain.delay_mean), rel=1e-12)
 

@@ -414,6 +414,10 @@ def test_figures_agree_across_commands(recording: Recording, corpus: Corpus, tfx
     checked = 0
     for (parent, child), e in edges.items():
         name = f"{parent} -> {child}"
+        if e["static"]:  # no rate, jitter, gap or silence: null, not 0.0 ("a rate of zero", "just arrived")
+            assert [e[k] for k in ("rate_hz", "jitter_s", "gap_max_s", "gap_start", "silent_s")] == [None] * 5, name
+            if child in one_parent and one_parent[child]["static"]:
+                assert one_parent[child]["rate_hz"] is None, name
         if e["static"] or name not in timelines:
             continue
         if child in one_parent:

@@ -77,21 +77,26 @@ def _as_dict(f: FrameSummary) -> dict[str, Any]:
         "static": f.static,
         "authorities": list(f.authorities),
         "count": f.count,
-        "rate_hz": None if not f.static and f.count == 1 else f.rate_hz,  # one sample has none, as monitor's JSON
+        "rate_hz": _rate(f.static, f.count, f.rate_hz),
         "clocks": f.clocks,
         "first_stamp": to_sec(f.first_stamp) if f.count else None,
         "last_stamp": to_sec(f.last_stamp) if f.count else None,
         "parents": list(f.parents),
-        **({"edges": [_edge_dict(e) for e in f.edges]} if f.edges else {}),
+        **({"edges": [_edge_dict(e, f.static) for e in f.edges]} if f.edges else {}),
     }
 
 
-def _edge_dict(e: ParentEdge) -> dict[str, Any]:
+def _rate(static: bool, count: int, rate_hz: float) -> float | None:
+    """A rate, null where there is none, as in monitor's JSON: a static edge, one sample, a root (no samples)."""
+    return None if static or count < 2 else rate_hz
+
+
+def _edge_dict(e: ParentEdge, static: bool) -> dict[str, Any]:
     return {
         "parent": e.parent,
         "authorities": list(e.authorities),
         "count": e.count,
-        "rate_hz": e.rate_hz,
+        "rate_hz": _rate(static, e.count, e.rate_hz),
         "first_stamp": to_sec(e.first_stamp),
         "last_stamp": to_sec(e.last_stamp),
     }

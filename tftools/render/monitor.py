@@ -203,6 +203,12 @@ def _no_gap(e: EdgeStats) -> bool:
     return e.once and not e.longest_interval
 
 
+def _no_rhythm(e: EdgeStats) -> bool:
+    """A static edge, or one sample: no rate, jitter, gap or silence (null in JSON, where 0.0 would say "a rate
+    of zero" or "just arrived"; "static" and "-" in the table)."""
+    return e.static or e.once
+
+
 def _sightings(edges: Sequence[EdgeStats]) -> list[Text]:
     """A line for each detection seen in bursts (``figures.sightings``): its rate within them and the share of the
     window it was seen, which its rate over the window (the table's) does not tell."""
@@ -232,11 +238,11 @@ def _edge_dict(e: EdgeStats, other_clock: Sequence[str]) -> dict[str, Any]:
         "child": e.child,
         "authorities": list(e.authorities),
         "count": e.count,
-        "rate_hz": None if e.once else e.rate_hz,
-        "jitter_s": None if e.once else seconds(e.jitter),
-        "gap_max_s": None if _no_gap(e) else seconds(e.longest_interval),
-        "gap_start": None if _no_gap(e) else to_sec(e.longest_interval_start),
-        "silent_s": None if e.silent_for is None else seconds(e.silent_for),
+        "rate_hz": None if _no_rhythm(e) else e.rate_hz,
+        "jitter_s": None if _no_rhythm(e) else seconds(e.jitter),
+        "gap_max_s": None if e.static or _no_gap(e) else seconds(e.longest_interval),
+        "gap_start": None if e.static or _no_gap(e) else to_sec(e.longest_interval_start),
+        "silent_s": None if e.static or e.silent_for is None else seconds(e.silent_for),
         "delay_mean_s": seconds(e.delay_mean),
         "delay_max_s": seconds(e.delay_max),
         "delay_unmeasurable": _unmeasurable(e.delay_mean, e.apart, e.child in other_clock),
@@ -251,7 +257,7 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
     return {
         "authority": a.authority,
         "messages": a.messages,
-        "rate_hz": a.rate_hz,
+        "rate_hz": None if a.static else a.rate_hz,  # only /tf_static messages: "static" in the table
         "delay_mean_s": seconds(a.delay_mean),
         "delay_max_s": seconds(a.delay_max),
         "delay_unmeasurable": _unmeasurable(a.delay_mean, a.apart),
