@@ -138,7 +138,9 @@ def test_a_span_over_two_clocks_is_the_reference_clocks(tmp_path: Path, tfx: Tfx
     assert timeline.off_reference == {"arm_link"}
     assert (timeline.tf_start, timeline.tf_end) == (WALL - 5 * MS, WALL + 199 * S // 10 - 5 * MS)
     header = tfx("monitor", "-b", bag, "--topic", "tf").stdout.splitlines()[0]
-    assert header.endswith(f": 19.900 s from {(WALL - 5 * MS) / S:.3f} to {(WALL + 19895 * MS) / S:.3f}")
+    assert header.endswith(
+        f": tf stamped over 19.900 s from {(WALL - 5 * MS) / S:.3f} to {(WALL + 19895 * MS) / S:.3f}"
+    )
     facts = dict(recording_facts(recording))
     assert "(19.900 s)" in facts["tf stamps"]
     at = tfx("echo", "arm_base", "arm_link", "-b", bag, "--topic", "tf", "--at", "1905")  # its own clock's times
@@ -330,7 +332,7 @@ def test_a_json_mcap_whose_first_messages_have_no_log_time_spans_its_known_times
     recording = read_recording([bag])
     assert recording.start > 1_700_000_000 * S and recording.end - recording.start < 5 * S
     header = tfx("wtf", bag).stdout.splitlines()[0]
-    assert header.startswith(f"{bag}  mcap, 1.5 s, 12 transforms")
+    assert header.startswith(f"{bag}  mcap, 1.5 s recorded, 12 transforms")
     assert not re.search(r"[+-]\d{6,}\.\d s", tfx("wtf", bag).stdout)  # stamps 0 get no offset from 1748331282 s
 
 

@@ -291,6 +291,20 @@ def test_a_mount_nothing_published_is_not_said_to_be_unrecorded(corpus: Corpus, 
     assert code == 1
 
 
+def test_spans_and_rates_a_user_compares_say_what_they_count(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The Pioneer 3-DX: monitor's header gave its stamps' span (31.712 s), wtf's the record span (31.3 s), and
+    monitor's /p2os a message rate on arrival (10.08) beside its one edge's stamp rate (9.96), each a bare "s" or
+    "Hz": each label now says what it counts, the figures unchanged."""
+    _, path = _recording(corpus, PIONEER_NO_LASER_TF)
+    monitor = tfx("monitor", "-b", path).stdout
+    assert monitor.splitlines()[0].endswith(": tf stamped over 31.712 s from 1684338971.264 to 1684339002.976")
+    assert "ros1, 31.3 s recorded, 317 transforms" in tfx("wtf", path).stdout.splitlines()[0]
+    edge = next(line.split() for line in monitor.splitlines() if "base_link" in line and "/p2os" in line)
+    node = next(line.split() for line in monitor.splitlines() if line.split()[:1] == ["/p2os"])
+    assert "Rate (stamps/s)" in monitor and "Rate (msgs/s)" in monitor
+    assert edge[4] == "9.96" and node[2] == "10.08", (edge, node)
+
+
 def test_multiple_parents_on_tf_static_is_not_an_object_picked_up(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """A calibration's /tf_static message sending box_base_model under two parents: tf2 keeps the last for every
     time; no 'object picked up' (a /tf re-parenting's story)."""

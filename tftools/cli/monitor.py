@@ -227,8 +227,10 @@ def _header(recording: Recording, report: MonitorReport, own: tuple[int, int] | 
     windowed = report.start is not None or report.end is not None
     # Sent on /tf, not static to tf2: a frame tf2 made static (its first transform on /tf_static) is still
     # a recording of moving transforms (the real neato_urdf_beside_driver: 2177 on /tf, all "static").
-    if windowed or any(((hist.flags & FROM_STATIC_TOPIC) == 0).any() for _, hist in recording.buffer.histories()):
+    if windowed:
         return f"{paths}: {span}"
+    if any(((hist.flags & FROM_STATIC_TOPIC) == 0).any() for _, hist in recording.buffer.histories()):
+        return f"{paths}: tf stamped over {span}"  # the stamps' span, not the record span wtf gives ("s recorded")
     # Static transforms only: the span of their stamps says nothing of the recording's (a 54 s drive whose
     # /tf_static was stamped in 0.449 s, 37 s before recording began).
     one = last - first < NS_PER_S // 1000  # what ``_span`` shows as "0.000 s from t to t"

@@ -67,7 +67,8 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
     if bag.usable:
         seconds = (bag.end - bag.start) / NS_PER_S
         header.append(
-            f"  {printable(', '.join(bag.formats))}, {seconds:.1f} s, {bag.transforms} transforms, {bag.frames} frames"
+            f"  {printable(', '.join(bag.formats))}, {seconds:.1f} s recorded, {bag.transforms} transforms, "
+            f"{bag.frames} frames"
         )
         for fetched in bag.fetched:
             header.append(f", {fetched.describe()}")
