@@ -320,7 +320,9 @@ def test_disconnected_without_tf_static_recorded_says_so(ros1: bool) -> None:
     messages = base + periodic("/rsp", 20, wheel, phase=0.01)
     finding = only(check(recording(messages, ros1=ros1)).findings, "disconnected")
     record = "rosbag record" if ros1 else "ros2 bag record"
-    assert finding.hint.startswith("this recording holds no /tf_static: the fixed transforms that would join them")
+    assert finding.hint.startswith(
+        "this recording holds no /tf_static (no such topic in it): the fixed transforms that would join them"
+    )
     assert f"({record} /tf /tf_static)" in finding.hint
     recorded_empty = recording([*messages, TfMessage("/tf_static", START + DELAY, [], "/rsp")], ros1=ros1)
     hint = only(check(recorded_empty).findings, "disconnected").hint

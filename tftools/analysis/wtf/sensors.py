@@ -86,16 +86,24 @@ def statics_missing(scene: Scene, what: str, also: str = "") -> str | None:
     if not recorded & set(statics):
         record = record_command(scene.ros2)
         # A real Pioneer 3-DX (murillo-teixeira/monte-carlo-localization's test1.bag, `rosbag record -a`): no
-        # /tf_static because nothing published base_link -> laser (its authors add it when they replay): a bag
-        # without the topic cannot say which, so both are said, each with its remedy.
+        # /tf_static because nothing published base_link -> laser (its authors add it when they replay).
         return (
-            f"this recording holds no {and_joined(statics)}: {what} (robot_state_publisher's fixed joints, "
-            f"static_transform_publisher) were not recorded, or nothing published them; record them with the rest "
-            f"({record} /tf /tf_static), or run their publisher if none ran{also}"
+            _no_topic(statics, f"{what} (robot_state_publisher's fixed joints, static_transform_publisher)", record)
+            + also
         )
     return (
         f"{and_joined(statics)} was recorded but holds no transform: its publishers (robot_state_publisher, "
         f"static_transform_publisher) sent nothing while recorded; check that they ran{also}"
+    )
+
+
+def _no_topic(topics: list[str], what: str, record: str) -> str:
+    """Where the recording holds none of tf's ``topics`` (no such topic in its files): ``what`` they would carry was
+    not recorded, or nothing published it; a bag without the topic cannot say which, so both, each with its
+    remedy."""
+    return (
+        f"this recording holds no {and_joined(topics)} (no such topic in it): {what} were not recorded, or nothing "
+        f"published them; record them with the rest ({record} /tf /tf_static), or run their publisher if none ran"
     )
 
 
@@ -108,10 +116,9 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
     record = record_command(scene.ros2)
     if not (~rows.static).any() and moving:
         if not recorded & set(moving):
-            return (
-                f"this recording holds no {and_joined(moving)}: the moving transforms (odometry's odom -> "
-                f"base_link, the joints) were not recorded; record them with the rest ({record} /tf /tf_static)"
-            )
+            # 1hada/rosbag-merge's TurtleBot3 Waffle (TB3_WAFFLE_SLAM_odom_tf_static.bag): /odom in odom, /tf_static,
+            # no /tf topic at all: cut away, or never published, the bag cannot tell.
+            return _no_topic(moving, "the moving transforms (odometry's odom -> base_link, the joints)", record)
         return (
             f"{and_joined(moving)} was recorded but holds no transform: their publishers (odometry, "
             "robot_state_publisher) sent nothing while recorded; check that they ran and had their input"
