@@ -178,6 +178,21 @@ def test_detections_on_one_clock_without_a_record_clock_are_aged_from_one_end(co
     assert "1731467414.092 (12.817 s old)" in labels["base_link -> obj_2"], labels["base_link -> obj_2"]
 
 
+def test_plus_s_counts_on_the_clock_view_frames_ages_detections_on(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The coBot's obj_6, seen only from 1731467419.682 s, is on the detections' clock (wtf's one "epoch time"
+    group, view-frames' one end) but ``+S`` of its chain counted from its own first stamp: ``echo base_link obj_6
+    --at +1`` answered at 1731467420.682, obj_12's at 1731467402.668, one "+1" 18 s apart on one clock. Now both
+    count from the detections' first stamp: obj_6 was not seen yet, said as tf2 says it, with where it was."""
+    path = corpus(BY_ID[COBOT])
+    seen = tfx("echo", "base_link", "obj_12", "-b", path, "--at", "+1")
+    assert seen.code == 0 and seen.stdout.startswith("At time 1731467402.668\n"), seen.stdout[:200]
+    unseen = tfx("echo", "base_link", "obj_6", "-b", path, "--at", "+1")
+    assert unseen.code != 0 and "Lookup would require extrapolation into the past" in unseen.stdout + unseen.stderr
+    assert "--at +18.014 to +25.241 look it up there" in unseen.stdout + unseen.stderr
+    later = tfx("echo", "base_link", "obj_6", "-b", path, "--at", "+18.1")
+    assert later.code == 0 and later.stdout.startswith("At time 1731467419.768"), later.stdout[:200]
+
+
 def test_two_time_bases_without_a_record_clock_are_said_as_seen(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """The coBot's record times are 0-74 ns (a script's writer): no clock. Its box detections are stamped on epoch
     time (1731467401-1731467427 s), the arm and the eBot from zero (46-74 s), in trees apart. The finding said

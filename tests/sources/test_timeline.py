@@ -115,3 +115,32 @@ def test_stamps_days_behind_the_record_clock_are_said_in_days() -> None:
     timeline = timeline_of(buffer, ClockSamples.empty(), START + behind, START + behind + 19 * 10**8)
     assert timeline.reason.startswith("tf is stamped 6.0 days before the record clock"), timeline.reason
     assert stamps_behind(timeline.edges) == behind
+
+
+def test_without_a_record_clock_a_question_is_spanned_on_the_clock_its_frames_share() -> None:
+    """The Logistic coBot's shape (ros2_db3_logistic_cobot_pymoveit2_zero_record_times_2024): a rosbag2_py writer
+    gave every message a record time of 0 to 74 ns; an arm stamped from zero, two detections on epoch time, one
+    seen from the start, one only in its last 3 s. Grouped by record time minus stamp (their median stamps, 11 s
+    apart) the late one was a clock of its own: ``+1`` of its chain counted from its own first stamp, while
+    view-frames aged it on the detections' clock. Now one grouping, the stamps': one clock, one span, one end."""
+    s, ms = 10**9, 10**6
+    epoch = 1_731_467_401 * s
+    builder = BatchBuilder()
+    for i in range(280):  # the arm's three joints: 46-74 s from zero, every 100 ms
+        for parent, child in (("base_link_inertia", "shoulder_link"), ("shoulder_link", "upper_arm_link"),
+                              ("upper_arm_link", "forearm_link")):  # fmt: skip
+            builder.add(parent, child, 46 * s + i * 100 * ms, (0, 0, 0), (0, 0, 0, 1), record_time=46 + i % 28)
+    for i in range(250):  # seen throughout: 25 s at 10 Hz
+        builder.add("base_link", "obj_12", epoch + i * 100 * ms, (0, 0, 0), (0, 0, 0, 1), record_time=46 + i % 28)
+    for i in range(30):  # seen only in the last 3 s: its median stamp 11 s after obj_12's
+        builder.add("base_link", "obj_6", epoch + 22 * s + i * 100 * ms, (0, 0, 0), (0, 0, 0, 1), record_time=50)
+    buffer = Buffer(cache_time=None)
+    buffer.insert(builder.take())
+    timeline = timeline_of(buffer, ClockSamples.empty(), 46, 74)
+    assert timeline.record_clock_void
+    detections = (epoch, epoch + 249 * 100 * ms)
+    assert timeline.span_of(["obj_6"]) == timeline.span_of(["obj_12"]) == detections
+    assert timeline.span_of(["shoulder_link"]) == (46 * s, 46 * s + 279 * 100 * ms)
+    (other,) = timeline.other_clocks
+    assert set(other.frames) == {"obj_6", "obj_12"} and (other.first, other.last) == detections
+    assert timeline.own_clock_ends["obj_6"] == timeline.own_clock_ends["obj_12"]

@@ -140,10 +140,10 @@ def stamp_groups(edges: Sequence[EdgeClock], same_clock: int) -> list[list[EdgeC
     return groups
 
 
-def other_clocks(edges: Sequence[EdgeClock], tf_start: int, tf_end: int, same_clock: int) -> tuple[OtherClock, ...]:
-    """The clocks of stamps outside the tf span (``tf_start`` to ``tf_end``), beside the span's own
-    (``clock_groups``, and an edge's second publisher's, ``EdgeClock.elsewhere``)."""
-    groups = clock_groups(edges, same_clock) if edges else []
+def other_clocks(groups: Sequence[Sequence[EdgeClock]], tf_start: int, tf_end: int) -> tuple[OtherClock, ...]:
+    """The clocks of stamps outside the tf span (``tf_start`` to ``tf_end``), beside the span's own: the frames'
+    ``groups`` (``Timeline.clocks``) and an edge's second publisher's samples (``EdgeClock.elsewhere``)."""
+    edges = [e for g in groups for e in g]
     main = next((g for g in groups if any(tf_start <= e.median_stamp <= tf_end for e in g)), None)
     if main is None:
         return ()

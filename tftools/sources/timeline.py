@@ -135,14 +135,26 @@ class Timeline:
         return seconds_since(self.origin, time)
 
     @cached_property
+    def clocks(self) -> list[list[EdgeClock]]:
+        """The frames grouped by the clock their stamps are on: by their offsets from the record clock
+        (``clock_groups``), or where the record times time nothing (``record_clock_void``) by their stamps alone
+        (``stamp_groups``: offsets from no clock are the stamps themselves, and parted two detections on one clock
+        seen 20 s apart). The one grouping of a question's span (``span_of``, ``+S``), of ages (``own_clock_ends``),
+        of the clocks beside the tf span's (``other_clocks``) and of the tf span without a reference."""
+        if not self.edges:
+            return []
+        grouped = stamp_groups if self.record_clock_void else clock_groups
+        return grouped(self.edges, self.same_clock)
+
+    @cached_property
     def other_clocks(self) -> tuple[OtherClock, ...]:
         """The clocks of stamps outside the tf span, beside the span's own (``edge_clocks.other_clocks``)."""
-        return other_clocks(self.edges, self.tf_start, self.tf_end, self.same_clock)
+        return other_clocks(self.clocks, self.tf_start, self.tf_end)
 
     def span_of(self, children: Iterable[str]) -> tuple[int, int]:
         """The tf span on the clock of the frames a question is about (``children``): the recording's
         (``tf_start``, ``tf_end``) where all of them are stamped within it or none tells its clock; else the
-        span of every frame stamped on the clock of one that is not (a chain on simulated time in a
+        span of every frame stamped on the clock (``clocks``) of one that is not (a chain on simulated time in a
         recording whose other frames are on wall time: ``+S`` counts from its own first stamp; a chain
         through a replay's frame a week behind, beside live frames: from the replay's, where alone every
         edge of it has data)."""
@@ -155,7 +167,7 @@ class Timeline:
         ]
         if not off:
             return self.tf_start, self.tf_end
-        group = next(g for g in clock_groups(self.edges, self.same_clock) if off[0] in g)
+        group = next(g for g in self.clocks if off[0] in g)
         return min(e.first_stamp for e in group), max(e.last_stamp for e in group)
 
     @cached_property
@@ -165,8 +177,8 @@ class Timeline:
         that clock moved on by how long its frame has been silent (``figures.silence``), so that a replay's
         frame that stopped 2.5 s before the end is 2.5 s old, as the monitor's silence and wtf's ``stale`` say,
         not as new as the last stamp its own clock had. Frames within the span are not listed, nor those on the
-        reference clock from the future (stamped hours ahead of it: their age is negative, and said so). Where
-        the record times time nothing, frames are grouped by their stamps (``stamp_groups``)."""
+        reference clock from the future (stamped hours ahead of it: their age is negative, and said so). A clock
+        is one of ``clocks``."""
         near = self.same_clock
         ahead = self.reference is not Reference.NONE
         off = {
@@ -178,8 +190,7 @@ class Timeline:
         if not off:
             return {}
         ends: dict[str, int] = {}
-        grouped = stamp_groups if self.record_clock_void else clock_groups
-        for group in grouped(self.edges, near):
+        for group in self.clocks:
             end = max(e.last_stamp + (figures.silence(e.last_record, self.record_end) or 0) for e in group)
             ends.update((e.child, end) for e in group if e.child in off)
         return ends
@@ -542,7 +553,7 @@ def _plausible(timeline: Timeline) -> tuple[int, int]:
     SAIL vehicle's EKF beside its ZED) is no 5.8 h of the recording, and its stamps no ``+20881.5 s``."""
     edges = timeline.edges
     if timeline.reference is Reference.NONE:
-        on = [e.child for e in main_cluster(edges, timeline.same_clock)] if edges else []
+        on = [e.child for e in max(timeline.clocks, key=len)] if edges else []  # the most frames on one clock
     else:
         against_clock = timeline.reference is Reference.CLOCK
         following = [e for e in edges if e.child not in timeline.off_reference]
@@ -559,11 +570,6 @@ def _in_step(edge: EdgeClock, against_clock: bool, same_clock: int) -> bool:
     ``same_clock``."""
     offset = edge.offset(against_clock)
     return offset is not None and abs(offset) <= same_clock
-
-
-def main_cluster(edges: Sequence[EdgeClock], same_clock: int) -> list[EdgeClock]:
-    """The largest of the ``clock_groups``: the tf clock, where no frame follows the record clock or /clock."""
-    return max(clock_groups(edges, same_clock), key=len)
 
 
 def timeline_from(
