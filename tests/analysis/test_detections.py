@@ -130,7 +130,10 @@ def test_sightings_are_bursts_parted_by_a_missed_frame() -> None:
         ("camera", "marker_367", 1, True),
         ("camera", "tag0", 300, True),
         ("usb_cam", "tag36h11:0", 300, True),
-        ("base_link", "obj_49", 4, True),
+        ("base_link", "obj_49", 1, True),  # a detector's name, seen once
+        ("base_link", "obj_12", -300, True),  # a detector's name, lost for 1 s in the middle
+        ("base_link", "tag_3", 300, False),  # a robot's own frame so named, published steadily with the robot
+        ("base_link", "object_1", 4, False),  # the name alone, never unseen: nothing in the bytes says detected
         ("camera_color_optical_frame", "drone", 1, True),  # a camera's child seen once: it came and went
         ("camera_color_optical_frame", "drone", 300, False),  # seen throughout: nothing says it is detected
         ("camera_color_optical_frame", "drone", -300, True),  # lost for 1 s in the middle: it came and went
@@ -142,7 +145,23 @@ def test_sightings_are_bursts_parted_by_a_missed_frame() -> None:
 def test_detections_are_told_by_their_names_or_a_camera_above_a_child_that_comes_and_goes(
     parent: str, child: str, count: int, expected: bool
 ) -> None:
+    """A detector's name counts beside evidence in the bytes (a camera frame above it, seen once or in bursts):
+    a robot's own ``tag_3`` published steadily on /tf with the robot is the robot's frame, not a detection."""
     stamps = (np.arange(abs(count)) * 40 * MS).astype(np.int64)
     if count < 0:
         stamps[abs(count) // 2 :] += NS_PER_S
     assert (detection(parent, child, stamps) is not None) is expected
+
+
+def test_a_detections_reason_says_the_evidence_beside_its_name() -> None:
+    steady = (np.arange(300) * 40 * MS).astype(np.int64)
+    paused = steady.copy()
+    paused[150:] += NS_PER_S
+    assert detection("camera", "marker_0", steady) == (
+        "marker_0 is named as a detector names what it sees, under the camera frame camera"
+    )
+    assert (
+        detection("base_link", "obj_12", paused)
+        == "obj_12 is named as a detector names what it sees, and comes and goes"
+    )
+    assert detection("base_link", "obj_12", steady) is None

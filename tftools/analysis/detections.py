@@ -24,12 +24,24 @@ def _base(frame: str) -> str:
 
 def detection(parent: str, child: str, stamps: Int64Array, span: int = 0) -> str | None:
     """Why the edge ``parent -> child`` (its sorted ``stamps``; ``span``: their record span) is a detection,
-    in words ("named as a detector names a marker", "under the camera frame camera, seen and lost"); None where
-    nothing says so. A robot's own edge (odom -> base_link that stops) is never one."""
+    in words ("named as a detector names what it sees, under the camera frame camera", "under the camera frame
+    camera, seen and lost"); None where nothing says so. A robot's own edge (odom -> base_link that stops) is
+    never one."""
+    return _why(parent, child, stamps, span, sightings(stamps, span))
+
+
+def _why(parent: str, child: str, stamps: Int64Array, span: int, seen: Sightings | None) -> str | None:
+    """``detection`` with the edge's ``figures.sightings`` (``seen``) given. A name alone is no evidence: a robot's
+    own frame may be named ``tag_3`` or ``object_1`` and published steadily with the robot; the name counts beside
+    a camera frame above it, or where the bytes show it seen and lost (seen once, or in bursts)."""
     child_name, parent_name = _base(child), _base(parent)
+    under_camera = bool(CAMERA_PARENT.search(parent_name)) and not CAMERA_PARENT.search(child_name)
     if DETECTOR_CHILD.match(child_name) and not CAMERA_PARENT.search(child_name):
-        return f"{child} is named as a detector names what it sees"
-    if CAMERA_PARENT.search(parent_name) and not CAMERA_PARENT.search(child_name) and _comes_and_goes(stamps, span):
+        if under_camera:
+            return f"{child} is named as a detector names what it sees, under the camera frame {parent}"
+        if len(stamps) == 1 or seen is not None:
+            return f"{child} is named as a detector names what it sees, and comes and goes"
+    if under_camera and _comes_and_goes(stamps, span):
         return f"under the camera frame {parent}, {child} comes and goes"
     return None
 
@@ -47,8 +59,9 @@ def _comes_and_goes(stamps: Int64Array, span: int) -> bool:
 def detected(parent: str, child: str, stamps: Int64Array, span: int = 0) -> tuple[str, Sightings | None] | None:
     """Why the edge is a detection (``detection``) and how it was seen (``figures.sightings``: None where never
     unseen); None for an edge that is not one."""
-    why = detection(parent, child, stamps, span)
-    return None if why is None else (why, sightings(stamps, span))
+    seen = sightings(stamps, span)
+    why = _why(parent, child, stamps, span, seen)
+    return None if why is None else (why, seen)
 
 
 def detection_sightings(parent: str, child: str, stamps: Int64Array, span: int = 0) -> Sightings | None:
