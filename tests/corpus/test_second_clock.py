@@ -145,7 +145,9 @@ def test_monitor_of_the_simulated_chain_says_its_own_span_and_why_it_has_no_dela
     path = corpus(BY_ID[NO_CLOCK])
     text = tfx("monitor", "odom", "base_footprint", "-b", path).stdout
     header = text.splitlines()[0]
-    assert header.endswith(": odom to base_footprint stamped 81.668 s from 1418.277 to 1499.945, on a clock of its own")
+    assert header.endswith(
+        ": odom to base_footprint on a clock of its own, its tf stamped over 81.668 s from 1418.277 to 1499.945"
+    )
     why = (
         "those of base_footprint cannot be measured: stamped on another clock than the record clock, which timed "
         "their arrival"
@@ -163,7 +165,9 @@ def test_monitor_of_the_simulated_chain_says_its_own_span_and_why_it_has_no_dela
     assert last[1] == "odom to base_footprint stamped up to 1499.945, on a clock of its own", last[:3]
     assert f"delays: {why}" in last[2], last[:3]
     windowed = tfx("monitor", "odom", "base_footprint", "-b", path, "--start", "+10", "--end", "+20").stdout
-    assert windowed.splitlines()[0].endswith("stamped 10.000 s from 1428.277 to 1438.277, on a clock of its own")
+    assert windowed.splitlines()[0].endswith(
+        "on a clock of its own, its tf stamped over 10.000 s from 1428.277 to 1438.277"
+    )
     device = json.loads(tfx("monitor", *DEVICE, "-b", path, "--format", "json").stdout)
     assert device["delays_other_clock"] is None and device["chain"]["edges"][0]["delay_unmeasurable"] is None
 
@@ -191,6 +195,10 @@ def test_plus_s_counts_on_the_clock_view_frames_ages_detections_on(corpus: Corpu
     assert "--at +18.014 to +25.241 look it up there" in unseen.stdout + unseen.stderr
     later = tfx("echo", "base_link", "obj_6", "-b", path, "--at", "+18.1")
     assert later.code == 0 and later.stdout.startswith("At time 1731467419.768"), later.stdout[:200]
+    header = tfx("monitor", "base_link", "obj_6", "-b", path).stdout.splitlines()[0]
+    assert header.endswith(
+        ": base_link to obj_6 on a clock of its own, its tf stamped over 25.241 s from 1731467401.668 to 1731467426.909"
+    )
 
 
 def test_two_time_bases_without_a_record_clock_are_said_as_seen(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

@@ -219,7 +219,8 @@ def _header(recording: Recording, report: MonitorReport, own: tuple[int, int] | 
     timeline = recording.timeline
     if own is not None and report.chain is not None:
         chain = f"{report.chain.target} to {report.chain.source}"
-        return f"{', '.join(recording.paths)}: {chain} stamped {_span(*own)}, on a clock of its own"
+        # the span of its clock's tf (``Timeline.span_of``), which a frame seen late on it (a detection) starts after
+        return f"{', '.join(recording.paths)}: {chain} on a clock of its own, its tf stamped over {_span(*own)}"
     first = report.start if report.start is not None else timeline.tf_start
     last = report.end if report.end is not None else timeline.tf_end
     span = _span(first, last)
