@@ -48,4 +48,5 @@ def usage() -> tuple[float, float, float, int, int]:
 
 def spent_since(before: tuple[float, float, float, int, int], key: str) -> dict:
     names = ("cpu_s", "waited_s", "steal_s", "minor_faults", "major_faults")
-    return {f"{key}_{name}": now - then for name, then, now in zip(names, before, usage(), strict=True)}
+    # rounded: /proc/stat's ticks made seconds differ from whole hundredths by the float's last bits
+    return {f"{key}_{name}": round(now - then, 9) for name, then, now in zip(names, before, usage(), strict=True)}
