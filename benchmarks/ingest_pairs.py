@@ -7,7 +7,8 @@ Run: ``python benchmarks/ingest_pairs.py BEFORE [AFTER] [--rounds 9] [--formats 
 git revision (AFTER by default: the working tree), its Python sources beside this environment's compiled
 extensions (``ingest_functions.checkout``), or an interpreter whose own environment holds another version, built
 (``--against``'s of ``ratios.py``: where the extensions' interface differs between the two). Prints a line per
-format and side: medians of ``--rounds`` processes, and the best ingest.
+format and side: medians of ``--rounds`` processes, the best and worst ingest, and the most CPU time one took (a
+worst wall time with a usual CPU time was waiting for a CPU another process held).
 """
 
 from __future__ import annotations
@@ -110,8 +111,12 @@ def main() -> None:
             got = runs[side, fmt]
             figures = "  ".join(f"{k} {1e3 * statistics.median(r[k] for r in got):6.1f}" for k in FIGURES)
             faults = statistics.median(r["faults"] for r in got)
-            best = 1e3 * min(r["ingest"] for r in got)
-            print(f"{fmt:5} {side:6} {figures}  (ms)  faults {faults:,.0f}  best ingest {best:.1f} ms")
+            best, worst = (1e3 * f(r["ingest"] for r in got) for f in (min, max))
+            worst_cpu = 1e3 * max(r["cpu"] for r in got)
+            print(
+                f"{fmt:5} {side:6} {figures}  (ms)  faults {faults:,.0f}  ingest best {best:.1f} worst {worst:.1f} ms, "
+                f"most CPU {worst_cpu:.1f} ms"
+            )
     print(
         f"medians of {args.rounds} processes a side, alternated; load average (1 min) {min(loads):.1f}-{max(loads):.1f}"
     )

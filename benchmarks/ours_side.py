@@ -25,6 +25,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import robot
+from spent import spent_since, usage
 from timing import read_whole
 
 from tftools.core.buffer import Buffer
@@ -42,7 +43,7 @@ def peak_rss() -> int:
 def ingest(path: str) -> dict:
     import_readers()
     before = peak_rss()
-    began = time.perf_counter()
+    spent, began = usage(), time.perf_counter()
     contents = read_whole([path])
     read_s = time.perf_counter() - began
     began = time.perf_counter()
@@ -53,6 +54,7 @@ def ingest(path: str) -> dict:
         "read_s": read_s,
         "insert_s": insert_s,
         "ingest_s": read_s + insert_s,
+        **spent_since(spent, "ingest"),
         "peak_rss_bytes": peak_rss(),
         "rss_before_bytes": before,
     }

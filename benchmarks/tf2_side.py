@@ -19,6 +19,7 @@ import rosbag
 import rospy
 import tf2_py
 from geometry_msgs.msg import TransformStamped
+from spent import spent_since, usage
 from tf2_msgs.msg import TFMessage
 
 SET_CALLS = 100_000
@@ -82,9 +83,10 @@ def set_transform_per_call(seconds):
 
 
 def measure(path, lookups, seconds):
-    began = time.perf_counter()
+    spent, began = usage(), time.perf_counter()
     core, count = ingest(path)
     ingest_s = time.perf_counter() - began
+    spent = spent_since(spent, "ingest")
     # Times spread over the recording, inside every edge's history, as rospy.Time built beforehand.
     first, span = robot.START + robot.NS, (seconds - 2) * robot.NS
     times = [rospy.Time(*divmod(first + (k * 7_919_000_017) % span, robot.NS)) for k in range(lookups)]
@@ -98,6 +100,7 @@ def measure(path, lookups, seconds):
                 "checksum": sum(v.x + v.y + v.z for v in first),
                 "transforms": count,
                 "ingest_s": ingest_s,
+                **spent,
                 "lookup_s": lookup_s,
                 "can_transform_s": can_s,
                 "set_transform_s": set_transform_per_call(seconds),

@@ -137,7 +137,10 @@ constexpr int64_t LARGE_PAGES_UP_TO = 64 << 20;
 // column's large page is resident from its first row on, while the rows not yet inserted are still
 // held: a 258k-transform load peaks 13 MiB higher. A larger room stays in small pages, or that price
 // would grow with the histories (2 MiB a column: a 4.1M-transform load would hold 136 B a transform,
-// not 112).
+// not 112). On a virtual machine whose host takes back the free blocks it is told of (virtio-balloon's
+// free page reporting), a fresh large page's first write now and then costs ~3.5 ms, not ~0.3: one
+// ingest in five 40 ms slower. Small pages never are, and cost ~5 ms more in every ingest: kept large
+// (docs/performance.md, "One slow run in five").
 class Room {
    public:
     Room(int64_t size, int64_t large_pages_up_to) : size_(size) {

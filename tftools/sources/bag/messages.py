@@ -259,10 +259,8 @@ class MessageSet:
         ``headers_lost``, one per topic whose headers were lost)."""
         self._decode_groups()
         times, positions, channel_of = (np.concatenate(column) for column in zip(*self._messages, strict=True))
-        ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
-        if self.replayed is not None:
-            ties = _placed(self.replayed, positions, ties)
-        rank = _rank(times, ties, positions)
+        self._messages = [(times, positions, channel_of)]  # the parts let go: held once while the rows are made
+        rank = _rank(times, self._ties(channel_of, positions), positions)
         self.tf_messages = self._tf_messages(channel_of)
         self.sent = self._rows.sent(times, channel_of, rank)
         rows_before = _rows_before(rank, self._rows.runs)
@@ -273,6 +271,12 @@ class MessageSet:
         headed = {c.topic for c in self.channels if isinstance(c.codec, HeaderCodec)}
         self.headers_lost = [line for topic, line in lines if topic in headed]
         return batches, clock, stamped, [line for topic, line in lines if topic not in headed]
+
+    def _ties(self, channel_of: Int32Array, positions: Int64Array) -> Int64Array:
+        """What orders each message among those of its record time (``_rank``): its channel's tie, or its place
+        in ``rosbag play``'s order (``replayed``)."""
+        ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
+        return ties if self.replayed is None else _placed(self.replayed, positions, ties)
 
     def _tf_messages(self, channel_of: Int32Array) -> dict[str, tuple[int, int]]:
         """Per transform topic: its messages, and those decoded that held no transform (an empty TFMessage)."""
