@@ -74,15 +74,23 @@ class Layout:
         rows = np.flatnonzero(mask)
         if not len(rows):
             return
-        child = self.whole(lambda s: s.child)[rows].astype(np.int64)
-        keys = (self.whole(lambda s: s.parent)[rows].astype(np.int64) << 32 | child) if by_parent else child
-        order = np.argsort(keys, kind="stable")  # within a key, rows stay in record order
-        ordered = keys[order]
-        grouped = rows[order].astype(np.intp)
+        # a few whole columns at a time, made in place, and only the grouped rows held through the iteration:
+        # 4.1M transforms held 0.2 GB of keys and orders through every check that walks the edges
+        ordered: npt.NDArray[np.int32 | np.int64] = self.whole(lambda s: s.child)[rows]
+        if by_parent:
+            keys = self.whole(lambda s: s.parent)[rows].astype(np.int64)
+            keys <<= 32
+            keys |= ordered
+            ordered = keys
+            del keys
+        order = np.argsort(ordered, kind="stable")  # within a key, rows stay in record order
+        ordered = ordered[order]
+        grouped = rows[order]
+        del rows, order
         starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]])
-        ends = np.r_[starts[1:], len(ordered)]
         edges = ordered[starts].tolist()
-        begins, stops = starts.tolist(), ends.tolist()
+        del ordered
+        begins, stops = starts.tolist(), [*starts[1:].tolist(), len(grouped)]
         for k in np.argsort(grouped[starts], kind="stable").tolist():  # by first arrival
             yield edges[k] >> 32, edges[k] & 0xFFFFFFFF, grouped[begins[k] : stops[k]]
 
