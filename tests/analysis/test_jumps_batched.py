@@ -47,3 +47,18 @@ def test_a_jump_next_to_another_edge_is_judged_on_its_own_edge_s_motion() -> Non
     still[1:, 0] = 0.5  # a 0.5 m step at the still edge's start: a jump, whatever the fast edge before it
     found = jumps.edges_jumps([(stamps, fast), (stamps, still)])
     assert [j.at.tolist() for j in found] == [[], [1]]
+
+
+def test_steps_measured_a_block_at_a_time_are_those_measured_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A pass measures its steps' distances (``_steps_apart``) a block at a time: bounded memory, same answer."""
+    rng = np.random.default_rng(45)
+    edges = [_edge(rng, int(rng.choice([2, 3, 50, 300]))) for _ in range(200)]
+    with np.errstate(all="ignore"):
+        at_once = jumps.edges_jumps(edges)
+        monkeypatch.setattr(jumps, "WINDOWS_AT_ONCE", 7)
+        blocked = jumps.edges_jumps(edges)
+    assert sum(len(j) for j in at_once) > 100
+    for a, b in zip(at_once, blocked, strict=True):
+        assert a.at.tolist() == b.at.tolist()
+        np.testing.assert_array_equal(a.metres, b.metres)
+        np.testing.assert_array_equal(a.degrees, b.degrees)

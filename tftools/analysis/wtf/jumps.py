@@ -8,7 +8,6 @@ from dataclasses import dataclass, replace
 from itertools import pairwise
 
 import numpy as np
-import numpy.typing as npt
 from numpy.lib.stride_tricks import sliding_window_view
 
 from tftools.analysis.findings import Finding, Severity
@@ -70,8 +69,9 @@ def jumps(stamps: np.ndarray, values: FloatArray) -> Jumps:
 
 
 #: Samples of several edges checked in one pass at most (their values copied together): a tree of 20,000
-#: moving edges of a few samples each cost 1.2 ms an edge in numpy's per-call overhead when checked one by one.
-SAMPLES_AT_ONCE = 1 << 20
+#: moving edges of a few samples each cost 1.2 ms an edge in numpy's per-call overhead when checked one by one;
+#: a pass holds ~0.3 kB a sample, and a million at once raised ``wtf``'s peak on 4.1M transforms by 0.3 GB.
+SAMPLES_AT_ONCE = 1 << 18
 
 
 def edges_jumps(edges: Sequence[tuple[np.ndarray, FloatArray]], usual: bool = True) -> list[Jumps]:
@@ -95,13 +95,14 @@ def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]], usual: bo
     steps_of = np.maximum(counts - 1, 0)
     if not steps_of.any():
         return [Jumps(np.zeros(0, np.intp), np.zeros(0), np.zeros(0)) for _ in edges]
-    stamps = np.concatenate([stamps for stamps, _ in edges])
-    values = np.concatenate([values for _, values in edges]).reshape(-1, 7)
+    # one edge's samples read where they are: a copy of a long edge's values is 27 MB a 480k samples
+    stamps = edges[0][0] if len(edges) == 1 else np.concatenate([stamps for stamps, _ in edges])
+    values = (edges[0][1] if len(edges) == 1 else np.concatenate([values for _, values in edges])).reshape(-1, 7)
     first = np.cumsum(counts) - counts  # each edge's first sample
     edge_of_step = np.repeat(np.arange(len(edges)), steps_of)
     local = np.arange(len(edge_of_step)) - np.repeat(np.cumsum(steps_of) - steps_of, steps_of)
     begin = first[edge_of_step] + local  # each step from sample ``begin`` to the next
-    metres, degrees = apart(values[begin], values[begin + 1])
+    metres, degrees = _steps_apart(values, begin)
     seconds = (stamps[begin + 1] - stamps[begin]).astype(np.float64) / NS_PER_S
     at = np.arange(len(begin)) + NEIGHBOURS * (edge_of_step + 1)  # where each step's speed is laid
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):  # infinite metres (values near 1e308)
@@ -135,6 +136,18 @@ def _jumps_in_one_pass(edges: Sequence[tuple[np.ndarray, FloatArray]], usual: bo
         Jumps(local[a:b][unexplained[a:b]] + 1, metres[a:b][unexplained[a:b]], degrees[a:b][unexplained[a:b]])
         for a, b in pairwise(bounds.tolist())
     ]
+
+
+def _steps_apart(values: FloatArray, begin: IntpArray) -> tuple[FloatArray, FloatArray]:
+    """``apart`` of each step, from sample ``begin`` of ``values`` to the next: a block of ``WINDOWS_AT_ONCE``
+    steps at a time, whose two ends' values are copied (all at once, 0.1 GB a million steps)."""
+    metres, degrees = np.empty(len(begin)), np.empty(len(begin))
+    for start in range(0, len(begin), WINDOWS_AT_ONCE):
+        block = begin[start : start + WINDOWS_AT_ONCE]
+        metres[start : start + WINDOWS_AT_ONCE], degrees[start : start + WINDOWS_AT_ONCE] = apart(
+            values[block], values[block + 1]
+        )
+    return metres, degrees
 
 
 def _usual(speed: FloatArray, edge_of_step: IntpArray, edges: int) -> FloatArray:
@@ -368,35 +381,84 @@ def _back_and_forth(values: FloatArray, found: Jumps, when: Int64Array) -> tuple
     return Jumps(found.at[kept], found.metres[kept], found.degrees[kept]), when[kept]
 
 
+#: Transforms whose messages ``_joints`` compares at once, at most: a message is of one record time, so the
+#: recording is compared a span of record times at a time (4.1M transforms' message keys held 0.4 GB at once).
+MESSAGES_AT_ONCE = 1 << 19
+
+
 def _joints(scene: Scene) -> set[tuple[str, str]]:
     """The moving edges sent in messages that carry other edges too (one publisher, one record time and
     stamp), at least ``JOINT_SHARE`` of the time: a state publisher's joints, not a localizer's output; and
-    those turning in place (``_turning_in_place``)."""
+    those turning in place (``_turning_in_place``). Not an edge under odom that shares its messages with edges
+    under map alone: a localizer sending map -> odom and odom -> base in one message (cartographer providing
+    the odom frame), whose steps are corrections, not a state publisher's joints sampled too sparsely."""
     turning = _turning_in_place(scene)
     rows = scene.rows
     edges = list(rows.by_edge(rows.usable & ~rows.static))
-    if len(edges) < 2 or not (rows.record_time.whole() > 0).all():
+    records = rows.record_time.whole()
+    if len(edges) < 2 or not (records > 0).all():
         return turning
-    keys = [_message_keys(rows, mine) for _, _, mine in edges]
-    messages = [np.unique(k) for k in keys]
-    shared, counts = np.unique(np.concatenate(messages), return_counts=True)
-    multi = shared[counts > 1]
-    together = {
+    beyond_map = np.array([base_name(p) != MAP for p, _, _ in edges])
+    shared = np.zeros(len(edges), np.int64)  # each edge's transforms in messages that carry other edges too
+    beside = np.zeros(len(edges), bool)  # sent in a message with another edge not under map
+    for lo, hi in _record_spans(records, sum(len(mine) for _, _, mine in edges)):
+        parts = [_recorded_in(records, mine, lo, hi) for _, _, mine in edges]
+        mine_shared, mine_beside = _messages_shared(rows, parts, beyond_map)
+        shared += mine_shared
+        beside |= mine_beside
+    return {
         (p, c)
-        for i, ((p, c, _), k) in enumerate(zip(edges, keys, strict=True))
-        if np.isin(k, multi).mean() >= JOINT_SHARE and not _localizer_pair(edges, messages, i)
-    }
-    return together | turning
+        for i, (p, c, mine) in enumerate(edges)
+        if int(shared[i]) / len(mine) >= JOINT_SHARE and (base_name(p) != ODOM or bool(beside[i]))
+    } | turning
 
 
-def _localizer_pair(edges: list[tuple[str, str, IntpArray]], messages: list[npt.NDArray[np.void]], i: int) -> bool:
-    """Whether edge ``i``, under odom, shares its ``messages`` (``_message_keys``) only with edges under map: a
-    localizer sending map -> odom and odom -> base in one message (cartographer providing the odom frame), whose
-    steps are corrections, not a state publisher's joints sampled too sparsely."""
-    if base_name(edges[i][0]) != ODOM:
-        return False
-    others = [k for j, ((p, _, _), k) in enumerate(zip(edges, messages, strict=True)) if j != i and base_name(p) != MAP]
-    return not others or not bool(np.isin(messages[i], np.concatenate(others)).any())
+def _messages_shared(rows: Rows, parts: list[IntpArray], beyond_map: BoolArray) -> tuple[Int64Array, BoolArray]:
+    """Of each edge's rows ``parts``: how many are in a message (one publisher, record time and stamp) that
+    carries another edge too; and whether one is in a message with another edge not under map
+    (``beyond_map`` says which edges are not)."""
+    counts = np.array([len(part) for part in parts], np.intp)
+    which = np.concatenate(parts)
+    edge_of = np.repeat(np.arange(len(parts)), counts)
+    authority, record, stamp = rows.authority[which], rows.record_time[which], rows.stamp[which]
+    del which
+    order = np.lexsort((edge_of, stamp, record, authority))  # each message's rows together, by edge
+    authority, record, stamp, edge_of = authority[order], record[order], stamp[order], edge_of[order]
+    del order
+    new = np.ones(len(edge_of), bool)  # a message's first row
+    new[1:] = (authority[1:] != authority[:-1]) | (record[1:] != record[:-1]) | (stamp[1:] != stamp[:-1])
+    del authority, record, stamp
+    message = np.cumsum(new) - 1
+    first = new.copy()  # an edge's first row in a message
+    first[1:] |= edge_of[1:] != edge_of[:-1]
+    messages = int(message[-1]) + 1 if len(message) else 0
+    edges_in = np.bincount(message[first], minlength=messages)
+    shared = np.bincount(edge_of[edges_in[message] >= 2], minlength=len(parts))
+    beyond_in = np.bincount(message[first & beyond_map[edge_of]], minlength=messages)
+    # another edge not under map: two of them in the message where the edge is one, one where it is not
+    beside = np.bincount(edge_of[beyond_in[message] >= 1 + beyond_map[edge_of]], minlength=len(parts)) > 0
+    return shared.astype(np.int64), beside
+
+
+def _record_spans(records: Int64Array, count: int) -> list[tuple[int | None, int | None]]:
+    """Spans of record times [lo, hi) (None: open) of about ``MESSAGES_AT_ONCE`` of ``count`` transforms each,
+    cut at the record times of evenly spaced rows of ``records`` (in record order)."""
+    if count <= MESSAGES_AT_ONCE:
+        return [(None, None)]
+    spans = -(-count // MESSAGES_AT_ONCE)
+    cuts: list[int | None] = np.unique(records[:: -(-len(records) // spans)]).tolist()[1:]
+    return list(pairwise([None, *cuts, None]))
+
+
+def _recorded_in(records: Int64Array, mine: IntpArray, lo: int | None, hi: int | None) -> IntpArray:
+    """Those of the rows ``mine`` recorded in [lo, hi) (None: open)."""
+    if lo is None and hi is None:
+        return mine
+    times = records[mine]
+    inside = np.ones(len(mine), bool) if lo is None else times >= lo
+    if hi is not None:
+        inside &= times < hi
+    return mine[inside]
 
 
 def _turning_in_place(scene: Scene) -> set[tuple[str, str]]:
@@ -410,12 +472,6 @@ def _turning_in_place(scene: Scene) -> set[tuple[str, str]]:
         and len(samples.values) > 1
         and bool(np.ptp(samples.values[:, :3], axis=0).max() <= FIXED_ORIGIN_M)
     }
-
-
-def _message_keys(rows: Rows, which: IntpArray) -> npt.NDArray[np.void]:
-    """One value per (publisher, record time, stamp): the transforms of one message share it."""
-    triples = np.stack([rows.authority[which].astype(np.int64), rows.record_time[which], rows.stamp[which]], axis=1)
-    return triples.view(np.dtype((np.void, triples.dtype.itemsize * 3))).ravel()
 
 
 @register("map_corrections", Severity.info, "map -> odom's corrections (REP 105 lets it step): how many, how far")

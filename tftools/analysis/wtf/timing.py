@@ -508,7 +508,9 @@ def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.nda
     repeat[order] = again
     first = np.empty(n, np.intp)
     first[order] = order[starts]
-    same = np.all(np.abs(values - values[first]) <= SAME_VALUE, axis=1)
+    same = np.ones(n, bool)
+    for column in values.T:  # a column at a time: the rows' values copied whole were 3 times their 56 bytes a row
+        same &= np.abs(column - column[first]) <= SAME_VALUE
     return repeat, same
 
 
