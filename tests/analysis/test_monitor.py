@@ -374,3 +374,19 @@ def test_no_silence_is_said_where_staleness_cannot_be_measured(tmp_path: Path) -
     played = _by_child(reports[-1])["base"]
     assert whole.silent_for is None and played.silent_for is None  # unknown, not 0: not "it just arrived"
     assert whole.longest_interval == played.longest_interval == 20 * MS
+
+
+def test_transforms_without_frames_are_counted_but_name_no_edge() -> None:
+    """foxglove-wizard's drone.mcap: 17 default-made transforms (no frames, stamp 0) before world -> drone on /tf.
+    tf2 refuses them; the publisher sent them all the same (counted), but they name no frame: its frames read
+    'drone', not 'drone, '."""
+    buffer = Buffer(cache_time=None, semantics="ros2")
+    builder = BatchBuilder()
+    for k in range(6):
+        empty = k < 2
+        builder.add("" if empty else "world", "" if empty else "drone", 0 if empty else START + k * NS_PER_S // 10,
+                    (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), static=False,
+                    record_time=START + k * NS_PER_S // 10, authority="/tf")  # fmt: skip
+    buffer.insert(builder.take())
+    (publisher,) = monitor_buffer(buffer, window=TimeWindow(by_record_time=True)).authorities
+    assert (publisher.messages, publisher.edges) == (6, (("world", "drone"),))

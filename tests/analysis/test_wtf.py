@@ -465,6 +465,17 @@ def test_empty_child_frame_id_is_named_as_such() -> None:
     assert "empty child_frame_id (frame_id base_link)" in finding.message and "TF_NO_CHILD_FRAME_ID" in finding.message
 
 
+def test_both_frame_ids_empty_is_one_finding_received_when_stamped_zero() -> None:
+    """foxglove-wizard 0.3.0's drone.mcap: 17 default-made TransformStampeds (no frames, stamp 0) before the
+    flight's world -> drone. One fault, one finding (not one per empty field), and when they arrived, not
+    'at 0.000'."""
+    messages = with_extra(periodic("/rogue", 5, lambda t: [_t("", "", 0)]))
+    finding = only(check(recording(messages)).findings, "empty_frame_id")
+    assert "with both frame_id and child_frame_id empty, first received at" in finding.message
+    assert "TF_NO_CHILD_FRAME_ID, TF_NO_FRAME_ID" in finding.message and finding.count == 50
+    assert "self_transform" not in {f.code for f in check(recording(messages)).findings}
+
+
 def test_stamps_jumping_back_beyond_tf2s_cache_suggest_a_time_jump() -> None:
     def looped(t: int) -> int:  # a bag played with -l: stamps restart after 6 s
         return t - 6 * NS_PER_S if t >= START + 6 * NS_PER_S else t

@@ -16,6 +16,7 @@ from tests.analysis.wtf_scenes import (
     SECONDS,
     SIM_START,
     START,
+    _s,
     _t,
     amcl,
     ekf,
@@ -200,6 +201,19 @@ def test_topics_in_one_missing_map_frame_are_one_finding_pointing_at_localizatio
     assert in_map.count == 30
     assert "'map' is localization's frame" in in_map.hint and "odom -> base_link" not in in_map.hint
     assert found[1].message.startswith("/image: 50 of 50 messages are in frame 'kamera' (did you mean 'camera'?)")
+
+
+def test_data_in_map_beside_a_tree_without_odom_is_told_the_trees_fixed_frame_not_localization() -> None:
+    """CyberShip Voyager's motion capture (corpus ros2-cybership-voyager-mocap-basin-2025-mcap): the ship's pose
+    on tf as world -> base_link, mocap4r2's /markers in map, no odom anywhere. No localization is missing: 'map'
+    is the capture's name for what tf calls 'world'."""
+    pose = periodic("/mocap", 10, lambda stamp: [_t("world", "base_link", stamp, _s(stamp))])
+    rec = recording(sorted([statics(), *pose], key=lambda m: m.record_time), ros1=False)
+    markers = [sensor("/markers", "map", 10, 5_000_000)]
+    (found,) = [f for f in findings_of(Scene(rec, streams=markers)) if f.code == "sensor_frame"]
+    assert found.frames == ("map",)
+    assert "tree's fixed frame is 'world'" in found.hint and "frame_id parameter to 'world'" in found.hint
+    assert "amcl" not in found.hint and "localization's (REP 105) here" in found.hint
 
 
 def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published() -> None:

@@ -133,3 +133,21 @@ def test_statics_early_places_its_times_on_the_stamps_clock_or_none(clock: str) 
         "last_static_after_start_s": (record - start) / NS_PER_S,
     }
     assert "the last 2.5 s into it" in early.message, early.message
+
+
+@pytest.mark.parametrize(("ros1", "words"), [(True, "rosbag play --clock"), (False, "ros2 bag play --clock")])
+def test_epoch_stamps_days_behind_are_told_a_replay_not_a_simulation(ros1: bool, words: str) -> None:
+    """CougUV's AUV (ros2_mcap_coug_auv_replayed, 6 days) and foxglove-wizard's drone flight (2018 stamps
+    recorded in 2024): epoch stamps days behind the record clock are an earlier run replayed without its
+    clock, not a simulation's time or a boot clock, which count from zero."""
+    days = 6 * 86_400 * NS_PER_S
+
+    def behind(t: int) -> int:
+        return t - days
+
+    messages = scenes.healthy(
+        amcl=scenes.amcl(stamp=behind), ekf=scenes.ekf(stamp=behind), wheels=scenes.wheels(stamp=behind)
+    )
+    (note,) = [f for f in check(recording(messages, ros1=ros1)).findings if f.code == "clock"]
+    assert note.hint.startswith("a replay of an earlier recording") and words in note.hint, note.hint
+    assert "a simulation" not in note.hint

@@ -82,8 +82,8 @@ def _strip(frame: str) -> str:
 def read_contents(path: Path) -> Contents:
     """Every /tf and /tf_static sample and /clock value of a recording (ROS1, ROS2, or an MCAP of JSON
     messages). A record time of 0 is unset (a writer that left an MCAP log time empty): not the span's."""
-    if path.suffix == ".mcap" and _json_mcap(path):
-        return _read_json_mcap(path)
+    if path.suffix == ".mcap" and _plain_mcap(path):
+        return _read_plain_mcap(path)
     if _db3_without_metadata(path):
         return _read_db3(path)
     edges: dict[Edge, EdgeSamples] = {}
@@ -132,6 +132,8 @@ def _add(
     """Adds a sample as the recording's tf2 keeps it: ROS 1's keeps a frame in the kind of cache its first
     sample made; ROS 2's replaces the frame's cache when it switches between /tf_static and /tf, dropping
     its samples (``core/semantics.py``)."""
+    if not parent or not child:  # tf2 refuses it (TF_NO_FRAME_ID, TF_NO_CHILD_FRAME_ID): nothing is stored
+        return
     static = topic.lstrip("/") == "tf_static"
     if ros2:
         for key in [key for key, held in edges.items() if key[1] == child and held.static != static]:
@@ -189,14 +191,44 @@ def _read_db3(path: Path) -> Contents:
     return dataclasses.replace(_contents(topics, times, edges, clock), messages=sent)
 
 
-def _json_mcap(path: Path) -> bool:
+def _plain_mcap(path: Path) -> bool:
+    """An MCAP rosbags does not read: JSON messages (Foxglove style), or CDR without the ros2 profile (a file
+    rewritten by another writer, foxglove-wizard's drone.mcap)."""
     with path.open("rb") as f:
-        summary = make_reader(f).get_summary()
-    return summary is not None and any(c.message_encoding == "json" for c in summary.channels.values())
+        reader = make_reader(f)
+        profile, summary = reader.get_header().profile, reader.get_summary()
+    json_messages = summary is not None and any(c.message_encoding == "json" for c in summary.channels.values())
+    return json_messages or profile != "ros2"
 
 
-def _read_json_mcap(path: Path) -> Contents:
-    """An MCAP whose messages are JSON (Foxglove style): tf2_msgs/TFMessage as JSON objects."""
+def _mcap_transforms(encoding: str, schema: str, data: bytes) -> list[tuple[str, str, int, list[float]]]:
+    """A tf2_msgs/TFMessage's transforms, as JSON objects or CDR: (frame_id, child_frame_id, stamp, value)."""
+    if encoding == "json":
+        found = []
+        for t in json.loads(data)["transforms"]:
+            header, tr, q = t["header"], t["transform"]["translation"], t["transform"]["rotation"]
+            stamp = int(header["stamp"]["sec"]) * 1_000_000_000 + int(header["stamp"]["nanosec"])
+            value = [tr["x"], tr["y"], tr["z"], q["x"], q["y"], q["z"], q["w"]]
+            found.append((header["frame_id"], t["child_frame_id"], stamp, value))
+        return found
+    message = cast(Any, get_typestore(Stores.ROS2_HUMBLE).deserialize_cdr(data, schema))
+    return [
+        (t.header.frame_id, t.child_frame_id, _ns(t.header.stamp), [*_xyz(t.transform.translation), *_xyzw(t)])
+        for t in message.transforms
+    ]
+
+
+def _xyz(v: Any) -> list[float]:
+    return [v.x, v.y, v.z]
+
+
+def _xyzw(t: Any) -> list[float]:
+    q = t.transform.rotation
+    return [q.x, q.y, q.z, q.w]
+
+
+def _read_plain_mcap(path: Path) -> Contents:
+    """An MCAP read with the mcap library: tf2_msgs/TFMessage in JSON or CDR."""
     edges: dict[Edge, EdgeSamples] = {}
     times: list[int] = []
     sent: Counter[tuple[str, str]] = Counter()
@@ -205,24 +237,23 @@ def _read_json_mcap(path: Path) -> Contents:
         summary = reader.get_summary()
         assert summary is not None, f"{path} has no summary"
         topics = {c.topic for c in summary.channels.values()}
-        for _, channel, message in reader.iter_messages(log_time_order=True):
+        for schema, channel, message in reader.iter_messages(log_time_order=True):
             times.append(message.log_time)
             if channel.topic not in TF_TOPICS:
                 continue
-            transforms = json.loads(message.data)["transforms"]
+            name = schema.name if schema is not None else ""
+            transforms = _mcap_transforms(channel.message_encoding, name, message.data)
             sent[channel.topic, channel.topic] += bool(transforms)
-            for t in transforms:
-                header, tr, q = t["header"], t["transform"]["translation"], t["transform"]["rotation"]
-                stamp = int(header["stamp"]["sec"]) * 1_000_000_000 + int(header["stamp"]["nanosec"])
+            for parent, child, stamp, value in transforms:
                 _add(
                     edges,
                     channel.topic,
                     channel.topic,
                     message.log_time,
-                    _strip(header["frame_id"]),
-                    _strip(t["child_frame_id"]),
+                    _strip(parent),
+                    _strip(child),
                     stamp,
-                    [tr["x"], tr["y"], tr["z"], q["x"], q["y"], q["z"], q["w"]],
+                    value,
                     ros2=True,
                 )
     return dataclasses.replace(_contents(topics, times, edges, []), messages=sent)

@@ -67,3 +67,12 @@ def test_odometry_in_a_frame_no_transform_names_is_told_its_own_tf_is_not_publis
         assert "fix the frame_id" not in said
     sensor = dataclasses.replace(odometry, type="sensor_msgs/msg/LaserScan")
     assert "no timeout can (publish its frame's transform, or fix the frame_id)" in _said(sensor)
+
+
+def test_an_empty_frame_id_is_said_empty_not_left_blank() -> None:
+    """foxglove-wizard's drone.mcap: /pose_stamped's 17 default-made messages have an empty frame_id, the rest
+    world. The table and the paragraphs said ', world' and 'in  world'."""
+    stream = dataclasses.replace(_lost("empty_frame"), frame_ids=("", "world"))
+    for width in (400, 80):
+        said = _said(stream, width)
+        assert "(empty)" in said and " , world" not in said and "in , world" not in said, said

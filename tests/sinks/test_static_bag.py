@@ -12,8 +12,8 @@ from typing import Any
 import pytest
 from rosbags.rosbag1 import Reader as Ros1Reader
 from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
 from rosbags.rosbag2 import Reader as Rosbag2Reader
-from rosbags.rosbag2 import StoragePlugin
 from rosbags.rosbag2 import Writer as Rosbag2Writer
 
 from tests.corpus.fetch import shared_dir
@@ -21,6 +21,7 @@ from tests.sources.ros2_helpers import Tf, tf_cdr, tf_ros1, typestore
 from tftools.analysis.wtf.fleet import check
 from tftools.core.transform import Transform
 from tftools.sinks.static_bag import REPAIR_EVERY_S, add_static_transforms, repair_static_transforms
+from tftools.sources.bag.mcap.index import chunks_compressed
 from tftools.sources.errors import BagError
 from tftools.sources.recording import read_recording
 
@@ -42,11 +43,13 @@ def _odometry(i: int) -> tuple[Tf, ...]:
     return (Tf("odom", "base_link", 1_700_000_000 + i // 2, i % 2 * S // 2, (0.01 * i, 0.0, 0.0)),)
 
 
-def _rosbag2(path: Path, storage: str) -> Path:
+def _rosbag2(path: Path, storage: str, compression: CompressionMode = CompressionMode.NONE) -> Path:
     """A ROS 2 bag of /tf, a /tf_static sent once at its start and /thing (a type tfx does not know),
     over 20 s."""
     store = typestore()
-    with Rosbag2Writer(path, version=8, storage_plugin=StoragePlugin[storage.upper()]) as writer:
+    writer = Rosbag2Writer(path, version=8, storage_plugin=StoragePlugin[storage.upper()])
+    writer.set_compression(compression, CompressionFormat.ZSTD)
+    with writer:
         tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=store)
         static = writer.add_connection("/tf_static", "tf2_msgs/msg/TFMessage", typestore=store)
         thing = writer.add_connection("/thing", THING, msgdef="uint8[] data", rihs01=THING_HASH)
@@ -98,6 +101,20 @@ def test_a_bare_mcap_is_copied_to_a_bare_mcap(tmp_path: Path) -> None:
     assert recording.buffer.lookup("odom", "x").translation == (0.0, 0.0, 1.0)
     (copied,), (was,) = recording.contents.files, original.contents.files
     assert (copied.format, copied.topics, copied.message_count) == ("mcap", was.topics, was.message_count + 1)
+
+
+def test_an_mcap_of_compressed_chunks_is_copied_compressed(tmp_path: Path) -> None:
+    """rosbag2's mcap storage presets compress chunks (CyberShip Voyager's MCAP, corpus
+    ros2-cybership-voyager-mocap-basin-2025-mcap: zstd, 21.7 MB); its repaired copy was written uncompressed,
+    4.7 times the size. Compressed as the input, with the same messages."""
+    bag = _rosbag2(tmp_path / "in", "mcap", CompressionMode.STORAGE)
+    assert all(chunks_compressed(f) for f in bag.glob("*.mcap"))
+    written, _ = repair_static_transforms(bag, tmp_path / "out")
+    assert all(chunks_compressed(f) for f in written.glob("*.mcap"))
+    with Rosbag2Reader(bag) as original, Rosbag2Reader(written) as copy:
+        assert _messages(copy)["/thing"] == _messages(original)["/thing"]
+    plain, _ = repair_static_transforms(_rosbag2(tmp_path / "plain", "mcap"), tmp_path / "plain_out")
+    assert not any(chunks_compressed(f) for f in plain.glob("*.mcap"))
 
 
 def test_a_folder_holding_only_an_mcap_is_copied(tmp_path: Path) -> None:

@@ -217,7 +217,8 @@ def authority_stats(
         # the edge's only rows of this publisher were not stored (a live buffer keeps no cache ROS 2's tf2 replaced)
         if (index := known.get(name)) is not None:
             arrived.append((index, was_static, times, stamps))
-            edges.setdefault(index, []).append((parent, child))
+            # a transform without frames names no edge (foxglove-wizard's drone.mcap: 17 default-made ones)
+            edges.setdefault(index, []).extend([(parent, child)] if parent and child else [])
             delays.setdefault(index, [])
     if sent is None:  # the rows guessed into messages were those of the window: all of them count
         sent, window = _guessed(buffer.authorities, arrived), dataclasses.replace(window, start=None, end=None)

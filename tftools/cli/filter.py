@@ -17,7 +17,9 @@ from tftools.core.time import from_sec
 def command(
     topics: Annotated[
         list[str] | None,
-        typer.Argument(help="Topics to check (default: every topic whose messages start with a Header)."),
+        typer.Argument(
+            help="Topics to check (default: every topic whose messages start with a Header, but a gamepad's Joy)."
+        ),
     ] = None,
     bags: options.Bags = None,
     target: Annotated[

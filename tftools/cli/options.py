@@ -100,8 +100,8 @@ Sensors = Annotated[
     list[str] | None,
     typer.Option(
         "--sensor",
-        help="Check this topic's data against tf (repeat for more; default: a bag's every topic with a Header, "
-        "live none).",
+        help="Check this topic's data against tf (repeat for more; default: a bag's every topic with a Header "
+        "but a gamepad's sensor_msgs/Joy, live none).",
     ),
 ]
 

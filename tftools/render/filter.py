@@ -33,7 +33,7 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
     for s in report.streams:
         table.add_row(
             Text(printable(s.topic)),
-            Text(printable(", ".join(s.frame_ids))),
+            Text(printable(", ".join(_named(f) for f in s.frame_ids))),
             str(s.messages),
             str(s.on_arrival),
             Text(str(s.later), style="yellow" if s.later else ""),
@@ -66,7 +66,7 @@ def _paragraph(s: StreamReport) -> list[Text]:
     clauses.append(f"{s.never} never" + (f": {fates_in_words(s.reasons)}" if s.never else ""))
     if s.undecided:
         clauses.append(f"undecided: {fates_in_words(s.undecided)}")
-    words = [Text(printable(s.topic), style="bold"), Text("in"), *(Text(printable(f)) for f in s.frame_ids)]
+    words = [Text(printable(s.topic), style="bold"), Text("in"), *(Text(printable(_named(f))) for f in s.frame_ids)]
     words[-1].append(":")
     words += [Text(word) for word in "; ".join(clauses).split(" ")]
     if s.late_edge is not None:
@@ -195,3 +195,9 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
 
 def write_json(report: FilterReport, out: IO[str]) -> None:
     jsonl.write_document(as_dict(report), out)
+
+
+def _named(frame: str) -> str:
+    """A frame_id as a reader tells it: an empty one said so (foxglove-wizard's drone.mcap: /pose_stamped's
+    17 default-made messages), not a blank before a comma."""
+    return frame or "(empty)"

@@ -144,3 +144,28 @@ def test_each_message_is_placed_among_the_transforms_of_every_file_read(tmp_path
     assert history is not None
     sequence = history.sequence
     assert sequence.tolist() == list(range(12))  # the buffer numbers the same transforms alike
+
+
+def test_a_gamepads_joy_is_no_sensor_data_unless_asked_for(tmp_path: Path) -> None:
+    """CyberShip Voyager's /voyager/joy (corpus ros2-cybership-voyager-mocap-basin-2025-db3): sensor_msgs/Joy in
+    'joy', which places nothing in space, so no tree names it and no tf2 filter waits for it; a point in
+    imu_link beside it is read. Named by topic (``tfx filter --topic``), it is read like any header."""
+    store = typestore()
+
+    def joy(sec: int) -> bytes:
+        header = store.types["std_msgs/msg/Header"](store.types["builtin_interfaces/msg/Time"](sec, 0), "joy")
+        pad = store.types["sensor_msgs/msg/Joy"](header, np.zeros(2, np.float32), np.zeros(4, np.int32))
+        return bytes(store.serialize_cdr(pad, "sensor_msgs/msg/Joy"))
+
+    def point(sec: int) -> bytes:
+        header = store.types["std_msgs/msg/Header"](store.types["builtin_interfaces/msg/Time"](sec, 0), "imu_link")
+        point = store.types["geometry_msgs/msg/PointStamped"](header, store.types["geometry_msgs/msg/Point"](0, 0, 0))
+        return bytes(store.serialize_cdr(point, "geometry_msgs/msg/PointStamped"))
+
+    messages = [Other("/joy", 1_000 + i, joy(100 + i), "sensor_msgs/msg/Joy") for i in range(3)]
+    messages += [Other("/imu", 1_500 + i, point(100 + i), "geometry_msgs/msg/PointStamped") for i in range(3)]
+    bag = write_rosbag2(tmp_path / "pad", messages)
+    read = read_recording([bag], headers=(), allow_empty=True).stamped.streams
+    assert [s.topic for s in read] == ["/imu"]
+    (asked,) = read_recording([bag], headers=("/joy",), allow_empty=True).stamped.streams
+    assert (asked.topic, list(asked.frame_ids), len(asked)) == ("/joy", ["joy"], 3)

@@ -247,17 +247,37 @@ def _without_reference(scene: Scene) -> Iterator[Finding]:
         Severity.info,
         "clock",
         scene.timeline.reason,
-        (
-            "a simulation: record it with ros2 bag record --use-sim-time, or record /clock too"
-            if scene.ros2
-            else "a simulation: record it with /use_sim_time true (rosbag record then follows /clock), or record "
-            "/clock too"
-        )
-        + "; a driver stamping on its own clock (time since boot): stamp with the ROS time of the computer that records"
-        + "; lookups between these frames are not affected",
+        _unmeasured_hint(scene, main) + "; lookups between these frames are not affected",
         count=sum(e.arrivals for e in main),
         figures={"arrival_minus_stamp_s": stamps_behind(edges) / NS_PER_S},  # said in the unit a person reads
     )
+
+
+#: Epoch stamps this far behind the record clock are no simulation's nor a boot clock's: an earlier run's.
+REPLAYED_BEHIND = 86_400 * NS_PER_S
+
+
+def _unmeasured_hint(scene: Scene, main: Sequence[EdgeClock]) -> str:
+    """What puts the tf clock apart from the record clock: a simulation or a boot clock (stamps counting from
+    zero), or, for epoch stamps days behind, an earlier recording replayed without its clock (CougUV's AUV,
+    6 days; foxglove-wizard's drone flight of 2018 recorded in 2024)."""
+    epoch = float(np.median([e.median_stamp for e in main])) >= EPOCH_FLOOR
+    if epoch and stamps_behind(main) > REPLAYED_BEHIND:
+        play, record = (
+            ("ros2 bag play --clock", "with ros2 bag record --use-sim-time")
+            if scene.ros2
+            else ("rosbag play --clock", "under /use_sim_time true (rosbag record then follows /clock)")
+        )
+        return (
+            f"a replay of an earlier recording, recorded without its clock: play it with {play} and record it "
+            f"{record}, so the copy keeps the original times; or a computer whose clock was not synchronized "
+            "(NTP, chrony)"
+        )
+    return (
+        "a simulation: record it with ros2 bag record --use-sim-time, or record /clock too"
+        if scene.ros2
+        else "a simulation: record it with /use_sim_time true (rosbag record then follows /clock), or record /clock too"
+    ) + "; a driver stamping on its own clock (time since boot): stamp with the ROS time of the computer that records"
 
 
 def _disagreeing_with_others(scene: Scene, edges: list[EdgeClock], main: list[EdgeClock]) -> Finding:

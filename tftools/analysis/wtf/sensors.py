@@ -135,6 +135,18 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
     named = {base_name(f) for f in missing}
+    static = (
+        "ros2 run tf2_ros static_transform_publisher" if scene.ros2 else "rosrun tf2_ros static_transform_publisher"
+    )
+    if named == {"map"} and not scene.buffer.has_frame("odom"):
+        # CyberShip Voyager's motion capture (corpus ros2-cybership-voyager-mocap-basin-2025-mcap): mocap4r2's
+        # /markers in 'map', the ship's pose on tf as world -> base_link: no odom, so no localization is missing
+        root = scene.sensors.target
+        return (
+            f"no transform names it, and with no odom frame 'map' is not localization's (REP 105) here: the tree's "
+            f"fixed frame is '{root}'; if 'map' is the same place, set the driver's frame_id parameter to '{root}', "
+            f"or publish the transform between them ({static} with {root} as parent and map as child)"
+        )
     if named == {"map"}:
         # ruvu/mcl's MiR bag: the input of a localization under test, its map -> odom deliberately not recorded
         return (
@@ -148,9 +160,6 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
             "map -> odom) did not run or does not publish tf (e.g. a controller's enable_odom_tf, a publish_tf "
             "parameter): turn it on, or record it"
         )
-    static = (
-        "ros2 run tf2_ros static_transform_publisher" if scene.ros2 else "rosrun tf2_ros static_transform_publisher"
-    )
     return (
         f"no transform names it: publish the sensor's mount (robot_state_publisher with a URDF that has the link, "
         f"or {static}), or set the driver's frame_id parameter to a frame of the tree"

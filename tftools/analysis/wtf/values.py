@@ -122,24 +122,48 @@ def self_transform(scene: Scene) -> Iterator[Finding]:
 def empty_frame_id(scene: Scene) -> Iterator[Finding]:
     rows = scene.rows
     parent, child = rows.parent.whole(), rows.child.whole()
+    no_parent, no_child = rows.refused_for(RejectionCode.NO_FRAME_ID), rows.refused_for(RejectionCode.NO_CHILD_FRAME_ID)
+    hint = (
+        "set both header.frame_id and child_frame_id (an empty frame parameter in a launch file or config is "
+        "the usual cause)"
+    )
+    # Both empty is one fault, said once: foxglove-wizard's drone.mcap sends 17 default TransformStampeds
+    # (no frames, stamp 0) before its flight's world -> drone
+    if (both := np.flatnonzero(no_parent & no_child)).size:
+        yield scene.finding(
+            Severity.error,
+            "empty_frame_id",
+            f"{transforms(len(both))}{scene.by(scene.authorities_of(both))} with both frame_id and child_frame_id "
+            f"empty, first {_arrived(scene, both)}: tf2 ignores them (TF_NO_CHILD_FRAME_ID, TF_NO_FRAME_ID)",
+            hint,
+            (),
+            both,
+        )
     for field, other_field, missing, other in (
-        ("frame_id", "child_frame_id", RejectionCode.NO_FRAME_ID, child),
-        ("child_frame_id", "frame_id", RejectionCode.NO_CHILD_FRAME_ID, parent),
+        ("frame_id", "child_frame_id", no_parent & ~no_child, child),
+        ("child_frame_id", "frame_id", no_child & ~no_parent, parent),
     ):
-        empty = np.flatnonzero(rows.refused_for(missing))
+        empty = np.flatnonzero(missing)
         for other_id, mine in split(empty, other[empty]):
             named = rows.names[other_id]
             yield scene.finding(
                 Severity.error,
                 "empty_frame_id",
                 f"{transforms(len(mine))}{scene.by(scene.authorities_of(mine))} with an empty {field} "
-                f"({other_field} {named or 'empty too'}), first at {scene.first_at(mine)}: "
+                f"({other_field} {named}), first {_arrived(scene, mine)}: "
                 f"tf2 ignores them (TF_NO_{'CHILD_' if field == 'child_frame_id' else ''}FRAME_ID)",
-                "set both header.frame_id and child_frame_id (an empty frame parameter in a launch file or "
-                "config is the usual cause)",
-                (named,) if named else (),
+                hint,
+                (named,),
                 mine,
             )
+
+
+def _arrived(scene: Scene, rows: IntpArray) -> str:
+    """When the first of ``rows`` arrived: as ``first_at``, but on the record clock where they are all stamped
+    0 (a default-made message: its stamp says no time)."""
+    if scene.rows.stamp[rows].any() or not scene.rows.record_time[rows].any():
+        return f"at {scene.first_at(rows)}"
+    return f"received at {scene.at_arrival(int(scene.rows.record_time[rows].min()))}"
 
 
 @register("leading_slash", Severity.warning, "frame ids starting with '/' (tf_prefix style)")

@@ -143,6 +143,10 @@ CLOCK_CODECS = {(t, e): ClockCodec(t, e, f"{e}.decode_clocks") for t in CLOCK_TY
 _FOXGLOVE_TYPES = {c.type_name for c in CODECS.values() if c.foxglove}
 #: The encodings whose headers are read (each module's ``decode_headers``).
 _HEADER_ENCODINGS = ("ros1", "cdr")
+#: Types whose header's frame_id places nothing in space, so no tf2 filter waits on it: not sensor data
+#: unless asked for by topic. A gamepad's sensor_msgs/Joy (ROS 2's joy_node stamps it in 'joy'; CyberShip
+#: Voyager's /voyager/joy, corpus ros2-cybership-voyager-mocap-basin-2025-db3) is in no tree, rightly.
+_UNPLACED = frozenset({"sensor_msgs/msg/Joy"})
 
 
 def readable() -> str:
@@ -190,7 +194,12 @@ def select(
         # asked for as transforms, whether or not its headers are read: a LaserScan given as --topic is
         # said to be one, to wtf as to echo
         unread = Unread(topic, type_name, encoding)
-    if wanted.wants_header(topic) and encoding in _HEADER_ENCODINGS and has_header(type_name, encoding, definition):
+    if (
+        wanted.wants_header(topic)
+        and encoding in _HEADER_ENCODINGS
+        and (wanted.headers or rosidl_name(type_name) not in _UNPLACED)
+        and has_header(type_name, encoding, definition)
+    ):
         return HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers"), unread
     return None, unread
 

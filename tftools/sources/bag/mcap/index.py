@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import struct
+from pathlib import Path
 
 import numpy as np
 
@@ -29,7 +30,7 @@ from tftools.sources.bag.mcap.records import (
     records,
     scan_records,
 )
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import ByteSource, FileSource
 
 _FOOTER_RECORD = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
 _INDEX_HEAD = struct.Struct("<BQHI")  # a MessageIndex record's opcode, length, channel id, entries' length
@@ -167,6 +168,14 @@ def summary_of(source: ByteSource) -> Summary | None:
     except DamageError:
         return None
     return summary
+
+
+def chunks_compressed(path: Path) -> bool:
+    """Whether the MCAP file at ``path`` compresses its chunks (rosbag2's mcap storage presets, e.g. zstd_fast),
+    as its summary's chunk indexes say: False without a summary."""
+    with FileSource(path) as source:
+        summary = summary_of(source)
+    return summary is not None and any(chunk.compression for chunk in summary.chunks)
 
 
 def _chunk_index(content: bytes, size: int) -> ChunkIndex:
