@@ -101,7 +101,7 @@ Sensors = Annotated[
     typer.Option(
         "--sensor",
         help="Check this topic's data against tf (repeat for more; default: a bag's every topic with a Header "
-        "but a gamepad's sensor_msgs/Joy, live none).",
+        "but a gamepad's Joy, live none).",
     ),
 ]
 
