@@ -63,6 +63,8 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
             continue
         if _moving_by_nature(parent) or child in (parent, *scene.tree.ancestors(parent)):
             continue  # moving by nature, or in a loop
+        if (parent, child) in scene.detections:
+            continue  # a detector sends what it sees while it sees it: an object at rest is no fixed transform
         stamps = rows.stamp[mine]
         span = int(stamps.max()) - int(stamps.min())
         own = stored.get((parent, child))
