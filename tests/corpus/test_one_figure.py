@@ -82,6 +82,20 @@ def test_a_constant_edge_on_tf_is_said_at_monitors_rate(recording_id: str, corpu
         assert ("stamps in" in finding["message"]) == (recording_id == JETACKER_REAL)
 
 
+#: record times of 0 to 74 ns (a rosbag2_py writer's) for 27.7 s of stamps: they time no arrival.
+LOGISTIC = "ros2-logistic-cobot-pymoveit2-no-record-clock-2024-db3"
+
+
+def test_record_times_that_are_no_clock_give_no_arrival_figure(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The detections' clock error gave 'arrival_minus_stamp_s': -1731467407.96 in its JSON, record time 46 ns minus
+    a 2024 stamp, where the record times time nothing (the finding says so); and obj_2, a detection at rest, was a
+    static transform to put on /tf_static."""
+    findings = [f for b in _json(tfx, "wtf", _path(corpus, LOGISTIC))["bags"] for f in b["findings"]]
+    assert [f for f in findings if f["code"] == "clock" and f["severity"] == "error"]
+    assert not [f for f in findings if "arrival_minus_stamp_s" in f["figures"]]
+    assert not [f for f in findings if f["code"] == "static_on_dynamic"]
+
+
 def test_view_frames_says_monitors_silence_beside_the_stamps_age(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """view-frames' "s old" is the newest stamp's age at the end; monitor's silence the time since the last
     arrival: on the lap they differ by the wheels' delay (1162.476 s old, silent for the last 1121.827 s). Each is
