@@ -129,6 +129,33 @@ def test_a_joint_at_rest_among_moving_joints_is_not_a_static_transform_on_tf(ros
     assert only(findings, "static_on_dynamic").frames == ("base_link", "finger")
 
 
+def test_a_constant_edge_sent_again_is_counted_at_monitors_rate() -> None:
+    """ros2_db3_jetacker_real_two_odometries: base_link -> link1, constant, 544 stamps in 570 transforms (some
+    stamps sent again); wtf said '3.2 times a second (570 transforms ...)' beside monitor's 3.02 stamps/s. The
+    rate is monitor's, its stamps tf2's samples; the transforms received are said beside them."""
+    finger = _t("base_link", "finger", START, 0.05)
+    alone = periodic("/finger_tf", 20, lambda t: [dataclasses.replace(finger, stamp=t)], phase=0.013)
+    again = [dataclasses.replace(m, record_time=m.record_time + MS) for m in alone[::2]]
+    scene = Scene(recording(with_extra(sorted(alone + again, key=lambda m: m.record_time)), ros1=False))
+    finding = only(findings_of(scene), "static_on_dynamic")
+    stats = next(s for s in scene.stats if (s.parent, s.child) == ("base_link", "finger"))
+    assert stats.count == len(alone)
+    assert f"{stats.rate_hz:.1f} times a second ({len(alone)} stamps in {len(alone) + len(again)} transforms" in (
+        finding.message
+    )
+
+
+def test_a_detection_at_rest_is_no_fixed_transform_on_tf() -> None:
+    """ros2_db3_logistic_cobot_pymoveit2: base_link -> obj_2, a box's detection seen in 4 bursts (monitor: 'a
+    detection'), did not move: wtf said static_on_dynamic, 'publish it once on /tf_static'. A detector sends what
+    it sees while it sees it; a steady constant edge is still one (the finger's)."""
+    box = _t("base_link", "obj_2", START, 0.4)
+    seen = periodic("/detector", 15, lambda t: [dataclasses.replace(box, stamp=t)], phase=0.013, skip=(3.0, 5.0))
+    scene = Scene(recording(with_extra(seen), ros1=False))
+    assert ("base_link", "obj_2") in scene.detections
+    assert "static_on_dynamic" not in {f.code for f in findings_of(scene)}
+
+
 def test_two_publishers_that_disagree_move_nothing_their_messages_share() -> None:
     """ros1_stage_amcl_sim_time_2015: stageros sends base_footprint -> base_link (z 0) and base_link ->
     base_laser_link, one edge a message, recorded at one tick of Stage's clock; robot_state_publisher sends

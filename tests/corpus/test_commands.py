@@ -149,3 +149,18 @@ def test_every_command_says_how_to_record_tf_in_the_recordings_ros(
     for command in ("frames", "monitor", "echo"):
         said = tfx(command, *(("a", "b") if command == "echo" else ()), "-b", path)
         assert said.code == 2 and " ".join(said.stderr.split()).endswith(f"({no_tf['hint']})"), (command, said.stderr)
+
+
+def test_a_copy_with_statics_added_opens_where_its_recording_opens(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
+    """The Webots e-puck's .db3 (rosbag2 without definitions) holds webots_ros2_msgs/msg/StringStamped, a type no
+    type store knows: ``tfx static -b -o`` gave it an empty definition with a hash of zeros, and rosbags' reader
+    refused the whole copy ('hash mismatch'), as 39 of the corpus' 78 ROS 2 copies."""
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    source, copy = corpus(BY_ID["ros2-webots-epuck-resends-2025-db3"]), tmp_path / "copy"
+    result = tfx("static", "0.1", "0", "0.2", "0", "0", "0", "base_link", "zz_tag", "-b", source, "-o", copy)
+    assert result.code == 0, result.stderr
+    with AnyReader([source], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as was, AnyReader([copy]) as now:
+        assert {c.topic for c in now.connections} == {c.topic for c in was.connections}
+        assert sum(c.msgcount for c in now.connections) == sum(c.msgcount for c in was.connections) + 1

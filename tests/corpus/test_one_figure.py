@@ -58,6 +58,44 @@ def test_a_frame_with_two_parents_is_monitors_edge_rows_in_frames(recording_id: 
         assert "parents over time (samples): base_footprint (1) → odom (413)" in text
 
 
+#: base_link -> link1 and link1 -> w_link, constant on /tf: 544 stamps in 570 transforms (stamps sent again).
+JETACKER_REAL = "ros2-jetacker-real-two-odometries-2026-db3"
+#: car_rear_axel -> velodyne(_rear), constant on /tf: 29 stamps in 29 transforms.
+CAR = "car-path-follower-2022-bag"
+
+
+@pytest.mark.parametrize("recording_id", [JETACKER_REAL, CAR])
+def test_a_constant_edge_on_tf_is_said_at_monitors_rate(recording_id: str, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """static_on_dynamic counted every transform received over the stamps' span: '3.2 times a second (570
+    transforms ...)' on the Jetacker beside monitor's 3.02 stamps/s and 544 samples; now monitor's rate and
+    samples, with the transforms received beside them where stamps came again."""
+    path = _path(corpus, recording_id)
+    rows = {(r["parent"], r["child"]): r for r in _json(tfx, "monitor", "-b", path)["edges"]}
+    found = [f for b in _json(tfx, "wtf", path)["bags"] for f in b["findings"] if f["code"] == "static_on_dynamic"]
+    assert len(found) == 2
+    for finding in found:
+        row = rows[tuple(finding["frames"][:2])]
+        (hz, stamps) = re.findall(r"([\d.]+) times a second \((\d+) (?:stamps in \d+ )?transforms", finding["message"])[
+            0
+        ]
+        assert float(hz) == round(row["rate_hz"], 1) and int(stamps) == row["count"], finding["message"]
+        assert ("stamps in" in finding["message"]) == (recording_id == JETACKER_REAL)
+
+
+#: record times of 0 to 74 ns (a rosbag2_py writer's) for 27.7 s of stamps: they time no arrival.
+LOGISTIC = "ros2-logistic-cobot-pymoveit2-no-record-clock-2024-db3"
+
+
+def test_record_times_that_are_no_clock_give_no_arrival_figure(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The detections' clock error gave 'arrival_minus_stamp_s': -1731467407.96 in its JSON, record time 46 ns minus
+    a 2024 stamp, where the record times time nothing (the finding says so); and obj_2, a detection at rest, was a
+    static transform to put on /tf_static."""
+    findings = [f for b in _json(tfx, "wtf", _path(corpus, LOGISTIC))["bags"] for f in b["findings"]]
+    assert [f for f in findings if f["code"] == "clock" and f["severity"] == "error"]
+    assert not [f for f in findings if "arrival_minus_stamp_s" in f["figures"]]
+    assert not [f for f in findings if f["code"] == "static_on_dynamic"]
+
+
 def test_view_frames_says_monitors_silence_beside_the_stamps_age(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """view-frames' "s old" is the newest stamp's age at the end; monitor's silence the time since the last
     arrival: on the lap they differ by the wheels' delay (1162.476 s old, silent for the last 1121.827 s). Each is

@@ -6,10 +6,13 @@ from __future__ import annotations
 
 import hashlib
 import shutil
+import sqlite3
+from contextlib import closing
 from pathlib import Path
 from typing import Any
 
 import pytest
+from rosbags.highlevel import AnyReader
 from rosbags.rosbag1 import Reader as Ros1Reader
 from rosbags.rosbag1 import Writer as Ros1Writer
 from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
@@ -89,6 +92,19 @@ def test_a_ros2_bag_with_a_type_tfx_does_not_know_is_repaired_and_copied_as_reco
     repeats = len(now["/tf_static"]) - len(was["/tf_static"])
     assert repeats == 1 + int((len(PAYLOADS) - 1) * 0.5 // REPAIR_EVERY_S)  # the start, then every 5 s
     assert check(read_recording([written])).findings == []
+
+
+def test_a_type_recorded_without_a_definition_is_copied_without_one(tmp_path: Path) -> None:
+    """A .db3 of a rosbag2 that stored no definitions (Humble's): the copy gave its unknown type an empty one with
+    the hash UNKNOWN_TYPE_HASH, and rosbags' reader refused the whole copy (39 of the corpus' 78 ROS 2 copies, the
+    Webots e-puck's webots_ros2_msgs/msg/StringStamped among them); it opens as the recording does."""
+    bag = _rosbag2(tmp_path / "in", "sqlite3")
+    with closing(sqlite3.connect(next(bag.glob("*.db3")))) as db, db:
+        db.execute("DELETE FROM message_definitions")  # as Humble's recorder wrote it
+    written = add_static_transforms(bag, tmp_path / "out", [LASER])
+    with AnyReader([bag], default_typestore=typestore()) as original, AnyReader([written]) as copy:
+        assert {c.topic for c in copy.connections} == {c.topic for c in original.connections}
+        assert [bytes(m) for c, _, m in copy.messages() if c.topic == "/thing"] == PAYLOADS
 
 
 def test_a_bare_mcap_is_copied_to_a_bare_mcap(tmp_path: Path) -> None:

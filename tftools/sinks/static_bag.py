@@ -7,9 +7,10 @@ from __future__ import annotations
 
 import os
 import shutil
+import sqlite3
 import tempfile
 from collections.abc import Sequence
-from contextlib import ExitStack
+from contextlib import ExitStack, closing
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -203,6 +204,7 @@ def _copy(source: Path, fmt: Format, target: Path, plan: _Plan) -> Path:
         read = reader.read().files[0]
         if read.problems:
             raise CopyError(str(source), f"cannot be copied whole: {read.problems[0]}", "damaged")
+    copy.finish()
     return target / f"{target.name}.mcap" if fmt is MCAP else target
 
 
@@ -219,6 +221,9 @@ class _Copy:
 
     def open(self, stack: ExitStack) -> None:
         raise NotImplementedError
+
+    def finish(self) -> None:
+        """After the writer closed the copy."""
 
     def start(self, mark: int) -> None:
         self.mark = mark
@@ -311,6 +316,18 @@ class _Rosbag2Copy(_Copy):
             # 21.7 MB; copied uncompressed it was 101 MB
             self.writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
         stack.enter_context(self.writer)
+
+    def finish(self) -> None:
+        """A type whose recording gave no definition, and tfx knows none, is given none in the copy's .db3 as in
+        the recording: rosbags' writer stores it as an empty definition with the hash ``UNKNOWN_TYPE_HASH``,
+        and rosbags' reader then refuses the whole copy (the hash of an empty definition is not that one), as
+        it did 39 of the corpus' 78 ROS 2 copies (a Neato's neato2_interfaces/msg/Bump, Gazebo's
+        PerformanceMetrics). An .mcap copy keeps its empty schema (an .mcap's channel names one)."""
+        if self.mcap:
+            return
+        for db3 in self.target.glob("*.db3"):
+            with closing(sqlite3.connect(db3)) as db, db:
+                db.execute("DELETE FROM message_definitions WHERE encoded_message_definition = ''")
 
     def _sent_by(self, sender: str) -> Recorded:
         return Recorded(sender if is_static_topic(sender) else STATIC_TOPIC, TF_MESSAGE, "cdr")

@@ -212,7 +212,10 @@ def _two_clocks(scene: Scene, kind: str, edges: Sequence[EdgeClock], said: str) 
         tuple(f for e in edges for f in (_parent(scene, e.child), e.child)),
         authorities,
         count=sum(e.arrivals for e in edges),
-        figures={"arrival_minus_stamp_s": float(np.median([e.offset_record for e in edges])) / NS_PER_S},
+        # record times that are no clock time no arrival: no figure (it read -1731467407.96 s)
+        figures={}
+        if scene.timeline.record_clock_void
+        else {"arrival_minus_stamp_s": float(np.median([e.offset_record for e in edges])) / NS_PER_S},
     )
 
 

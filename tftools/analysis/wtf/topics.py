@@ -56,21 +56,28 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
             own = values[authority == who]
             if not (own == own[0]).all():
                 moving[mine[authority == who]] = True
+    # the rate and stamps as monitor counts them (the samples tf2 stores: a stamp sent again is one)
+    stored = {(s.parent, s.child): s for s in scene.stats}
     for parent, child, mine in constant:
         if len(mine) < STATIC_MIN_SAMPLES or child in contested:
             continue
         if _moving_by_nature(parent) or child in (parent, *scene.tree.ancestors(parent)):
             continue  # moving by nature, or in a loop
+        if (parent, child) in scene.detections:
+            continue  # a detector sends what it sees while it sees it: an object at rest is no fixed transform
         stamps = rows.stamp[mine]
         span = int(stamps.max()) - int(stamps.min())
-        hz = rate_hz(len(mine), span)
+        own = stored.get((parent, child))
+        samples = own.count if own else len(mine)
+        hz = own.rate_hz if own else rate_hz(len(mine), span)
         if span < STATIC_MIN_SPAN_S * NS_PER_S or hz < STATIC_MIN_RATE_HZ or _joint_at_rest(rows, mine, moving):
             continue
+        sent = transforms(len(mine)) if samples == len(mine) else f"{samples} stamps in {transforms(len(mine))}"
         yield scene.finding(
             Severity.warning,
             "static_on_dynamic",
             f"{edge(parent, child)} never changes, yet it is sent on /tf{_by(scene, scene.authorities_of(mine))} "
-            f"{hz:.1f} times a second ({transforms(len(mine))} over {duration(span / NS_PER_S)})",
+            f"{hz:.1f} times a second ({sent} over {duration(span / NS_PER_S)})",
             "publish it once on /tf_static (static_transform_publisher, or a fixed joint for robot_state_publisher): "
             "it then holds at every time and /tf carries less; ignore this if it is a joint that did not move "
             "during this recording",
