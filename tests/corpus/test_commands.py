@@ -164,3 +164,21 @@ def test_a_copy_with_statics_added_opens_where_its_recording_opens(corpus: Corpu
     with AnyReader([source], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as was, AnyReader([copy]) as now:
         assert {c.topic for c in now.connections} == {c.topic for c in was.connections}
         assert sum(c.msgcount for c in now.connections) == sum(c.msgcount for c in was.connections) + 1
+
+
+def test_a_copy_of_the_e_puck_tells_its_publishers_apart_as_the_recording(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The Webots e-puck's first /tf_static message and tfx's added one were recorded at one instant and read as one
+    message: ``tfx wtf`` on ``tfx static ... -b -o``'s copy told a publisher of both, and another sending
+    base_link -> base_footprint too (multiple_authorities), which the recording does not say; nor its repair."""
+    source = corpus(BY_ID["ros2-webots-epuck-resends-2025-db3"])
+    added, repaired = tmp_path / "added", tmp_path / "repaired"
+    assert tfx("static", "0.1", "0", "0.2", "0", "0", "0", "base_link", "zz_tag", "-b", source, "-o", added).code == 0
+    assert tfx("static", "--repair", "-b", source, "-o", repaired).code == 0
+    was = {f["code"] for f in json.loads(tfx("wtf", "--format", "json", source).stdout)["bags"][0]["findings"]}
+    for copy in (added, repaired):
+        said = tfx("wtf", "--format", "json", copy)
+        assert {f["code"] for f in json.loads(said.stdout)["bags"][0]["findings"]} == was, said.stdout

@@ -23,7 +23,7 @@ from tests.corpus.fetch import shared_dir
 from tests.sources.ros2_helpers import Tf, tf_cdr, tf_ros1, typestore
 from tftools.analysis.wtf.fleet import check
 from tftools.core.transform import Transform
-from tftools.sinks.static_bag import REPAIR_EVERY_S, add_static_transforms, repair_static_transforms
+from tftools.sinks.static_bag import REPAIR_EVERY_S, add_static_transforms, repair_static_transforms, static_qos
 from tftools.sources.bag.mcap.index import chunks_compressed
 from tftools.sources.errors import BagError
 from tftools.sources.recording import read_recording
@@ -105,6 +105,36 @@ def test_a_type_recorded_without_a_definition_is_copied_without_one(tmp_path: Pa
     with AnyReader([bag], default_typestore=typestore()) as original, AnyReader([written]) as copy:
         assert {c.topic for c in copy.connections} == {c.topic for c in original.connections}
         assert [bytes(m) for c, _, m in copy.messages() if c.topic == "/thing"] == PAYLOADS
+
+
+def test_added_transforms_are_recorded_before_the_first_message_by_a_publisher_of_their_own(tmp_path: Path) -> None:
+    """tfx's /tf_static message was recorded at the instant of the recording's first, and messages of one instant on
+    one topic read as one message: on the Webots e-puck's copy wtf told a publisher of both, and a second sending
+    its transform again (multiple_authorities). It is recorded just before the first message, and the copy's
+    metadata offers one /tf_static profile more (rosbag2 records one per publisher); a repaired copy offers as many
+    as the recording, each transient local."""
+    store, bag = typestore(), tmp_path / "in"
+    footprint = Tf("base_link", "base_footprint", 1_700_000_000, 0, (0.0, 0.0, -0.1))
+    with Rosbag2Writer(bag, version=8) as writer:
+        static = writer.add_connection(
+            "/tf_static", "tf2_msgs/msg/TFMessage", typestore=store, offered_qos_profiles=[static_qos()]
+        )
+        tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=store)
+        writer.write(static, T0, tf_cdr([footprint]))
+        for i in range(10):
+            writer.write(tf, T0 + i * S // 2 + 1, tf_cdr(_odometry(i)))
+        writer.write(static, T0 + 2 * S, tf_cdr([footprint]))  # its publisher sends it again
+    added = add_static_transforms(bag, tmp_path / "added", [LASER])
+    repaired, _ = repair_static_transforms(bag, tmp_path / "repaired")
+    with Rosbag2Reader(added) as copy:
+        assert [t for t, _ in _messages(copy)["/tf_static"]] == [T0 - 1, T0, T0 + 2 * S]
+        (offered,) = [_ext(c).offered_qos_profiles for c in copy.connections if c.topic == "/tf_static"]
+        assert offered == [static_qos(), static_qos()]
+    with Rosbag2Reader(repaired) as copy:
+        (offered,) = [_ext(c).offered_qos_profiles for c in copy.connections if c.topic == "/tf_static"]
+        assert offered == [static_qos()]
+    for written in (added, repaired):
+        assert "multiple_authorities" not in {f.code for f in check(read_recording([written])).findings}
 
 
 def test_a_bare_mcap_is_copied_to_a_bare_mcap(tmp_path: Path) -> None:

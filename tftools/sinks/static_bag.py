@@ -69,7 +69,7 @@ def add_static_transforms(
 ) -> Path:
     """Write ``output``: every connection and message of ``bag`` (a ROS1 .bag file, a ROS2 bag directory,
     a bare .db3, or a bare .mcap copied to a bare .mcap) plus one ``/tf_static`` message holding
-    ``transforms``, stamped and recorded at the bag's start. Refuses an existing ``output`` unless
+    ``transforms``, stamped at the bag's start and recorded just before its first message. Refuses an existing ``output`` unless
     ``force``."""
     return _write_copy(Path(bag), Path(output), _Plan([(PUBLISHER, transforms)]), force)
 
@@ -227,7 +227,7 @@ class _Copy:
 
     def start(self, mark: int) -> None:
         self.mark = mark
-        self._statics(mark)
+        self._statics(mark, before=len(self.plan.messages))
 
     def channel(self, recorded: Recorded) -> None:
         try:
@@ -244,10 +244,12 @@ class _Copy:
         except Exception as error:  # the writer's, or a disk full: not the reader's to judge
             raise _CopyError(error) from None
 
-    def _statics(self, stamp: int) -> None:
+    def _statics(self, stamp: int, before: int = 0) -> None:
+        """The plan's messages stamped ``stamp``, recorded from ``before`` ns ahead of it, a nanosecond apart:
+        messages recorded at one instant on one topic read as one message, as tfx's own did beside the Webots
+        e-puck's first /tf_static message (recorded at the copy's start), told a publisher of both."""
         for k, (sender, transforms) in enumerate(self.plan.stamped(stamp)):
-            # a nanosecond apart: messages of one sender recorded at one instant would read as one message
-            self.writer.write(self._connection(self._sent_by(sender)), stamp + k, self._encode(transforms))
+            self.writer.write(self._connection(self._sent_by(sender)), stamp - before + k, self._encode(transforms))
 
     def _sent_by(self, sender: str) -> Recorded:
         raise NotImplementedError
@@ -368,11 +370,19 @@ class _Rosbag2Copy(_Copy):
         return definition, digest or UNKNOWN_TYPE_HASH
 
     def _qos(self, recorded: Recorded) -> list[Any]:
+        """The QoS profiles the copy offers on ``recorded``'s topic: rosbag2 records one per publisher, which is how
+        a ROS 2 recording counts them. The recording's; on /tf_static each made tf2_ros' static QoS with
+        ``plan.durable``, and one more for tfx's own publisher of added transforms (the Webots e-puck's copy
+        listed 5 publishers where 6 sent, and wtf told two of the recording's apart by their messages)."""
         from rosbags.rosbag2.metadata import parse_qos
 
-        if is_static_topic(recorded.topic) and (self.plan.durable or not recorded.qos):
-            return [static_qos()]
-        return parse_qos(recorded.qos) if recorded.qos.strip() else []
+        profiles = parse_qos(recorded.qos) if recorded.qos.strip() else []
+        if not is_static_topic(recorded.topic):
+            return profiles
+        if self.plan.durable:
+            profiles = [static_qos() for _ in profiles]
+        added = any(sender == PUBLISHER for sender, _ in self.plan.messages)
+        return [*profiles, static_qos()] if added or not profiles else profiles
 
 
 def _mcap_files(source: Path) -> list[Path]:
