@@ -112,9 +112,9 @@ def test_added_transforms_are_recorded_before_the_first_message_by_a_publisher_o
     one topic read as one message: on the Webots e-puck's copy wtf told a publisher of both, and a second sending
     its transform again (multiple_authorities). It is recorded just before the first message, and the copy's
     metadata offers one /tf_static profile more (rosbag2 records one per publisher); a repaired copy offers as many
-    as the recording, each transient local."""
+    as the recording, each transient local, and repeats each message with its stamps."""
     store, bag = typestore(), tmp_path / "in"
-    footprint = Tf("base_link", "base_footprint", 1_700_000_000, 0, (0.0, 0.0, -0.1))
+    footprint = Tf("base_link", "base_footprint", 1_699_999_990, 0, (0.0, 0.0, -0.1))  # stamped 10 s before sent
     with Rosbag2Writer(bag, version=8) as writer:
         static = writer.add_connection(
             "/tf_static", "tf2_msgs/msg/TFMessage", typestore=store, offered_qos_profiles=[static_qos()]
@@ -135,6 +135,9 @@ def test_added_transforms_are_recorded_before_the_first_message_by_a_publisher_o
         assert offered == [static_qos()]
     for written in (added, repaired):
         assert "multiple_authorities" not in {f.code for f in check(read_recording([written])).findings}
+    # the repeats as the publisher sent them, stamps and all: restamped, the real Neatos' repairs read as 4 publishers
+    statics = read_recording([repaired]).transforms
+    assert set(statics.stamp[statics.static].tolist()) == {T0 - 10 * S}
 
 
 def test_a_bare_mcap_is_copied_to_a_bare_mcap(tmp_path: Path) -> None:
@@ -249,14 +252,17 @@ def test_repair_on_every_corpus_recording_with_statics(tmp_path: Path, bag: Path
     """Every recording of the shared corpus that has static transforms (whatever the corpus holds) is
     repaired: the input unchanged, every other topic's messages all there, the statics findings gone
     and no finding the original lacks (issue 42: custom types, a bare .mcap, a second authority)."""
-    original = read_recording([bag], allow_empty=True)
+    try:
+        original = read_recording([bag], allow_empty=True)
+    except BagError as e:  # a recording missing one of its files: refused in one line, as by tfx
+        pytest.skip(str(e))
     if not original.transforms.static.any():
         pytest.skip("no static transforms to repair")
     before = _digest(bag)
     try:
         written, _ = repair_static_transforms(bag, tmp_path / (bag.name if bag.suffix else "out"))
-    except BagError as e:
-        assert "encoding: a ROS 2 copy holds CDR messages" in str(e), e  # a JSON MCAP: refused in one line
+    except BagError as e:  # a JSON MCAP, or a .db3 whose -wal file holds writes never merged: refused in one line
+        assert "encoding: a ROS 2 copy holds CDR messages" in str(e) or "cannot be copied whole" in str(e), e
         return
     assert _digest(bag) == before
     was, now = _topic_counts(bag), _topic_counts(written)

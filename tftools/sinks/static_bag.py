@@ -54,9 +54,14 @@ class _Plan:
     messages: Sequence[tuple[str, Sequence[Transform]]]
     every: int = 0
     durable: bool = False
+    as_sent: bool = False
 
     def stamped(self, stamp: int) -> list[tuple[str, list[Transform]]]:
-        """The messages with their transforms stamped ``stamp``."""
+        """The messages with their transforms stamped ``stamp``; ``as_sent``, with their own stamps, as a
+        StaticTransformBroadcaster sends its transforms again (a repeat restamped reads as another publisher's
+        message where the recording names none: the real Neatos' repaired copies told 4 publishers of 2)."""
+        if self.as_sent:
+            return [(sender, list(transforms)) for sender, transforms in self.messages]
         return [(sender, [replace(t, stamp=stamp) for t in transforms]) for sender, transforms in self.messages]
 
 
@@ -69,8 +74,8 @@ def add_static_transforms(
 ) -> Path:
     """Write ``output``: every connection and message of ``bag`` (a ROS1 .bag file, a ROS2 bag directory,
     a bare .db3, or a bare .mcap copied to a bare .mcap) plus one ``/tf_static`` message holding
-    ``transforms``, stamped at the bag's start and recorded just before its first message. Refuses an existing ``output`` unless
-    ``force``."""
+    ``transforms``, stamped at the bag's start and recorded just before its first message. Refuses an
+    existing ``output`` unless ``force``."""
     return _write_copy(Path(bag), Path(output), _Plan([(PUBLISHER, transforms)]), force)
 
 
@@ -84,7 +89,7 @@ def repair_static_transforms(
     value of each)."""
     source = Path(bag)
     messages, statics = _latest_statics(source)  # read_recording says when there is no such bag
-    plan = _Plan(messages, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True)
+    plan = _Plan(messages, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, as_sent=True)
     return _write_copy(source, Path(output), plan, force), statics
 
 
@@ -104,7 +109,8 @@ def _latest_statics(source: Path) -> tuple[list[tuple[str, list[Transform]]], li
 
     def transform(row: int) -> Transform:
         value = (tuple(batch.translation[row].tolist()), tuple(batch.rotation[row].tolist()))
-        return Transform(value[0], value[1], 0, names[int(batch.parent[row])], names[int(batch.child[row])])
+        stamp = int(batch.stamp[row])
+        return Transform(value[0], value[1], stamp, names[int(batch.parent[row])], names[int(batch.child[row])])
 
     latest: dict[tuple[int, int], int] = {}
     shapes: dict[tuple[int, tuple[tuple[int, int], ...]], list[int]] = {}  # (sender, edges) -> its latest rows
