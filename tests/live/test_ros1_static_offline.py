@@ -118,7 +118,7 @@ def test_bag_copy_adds_the_transforms_at_the_start(tfx: Tfx, tmp_path: Path, fmt
     assert _digest(source) == before  # the input is never modified
     ours, theirs = read_recording([output]), read_recording([source])
     assert ours.contents.files[0].message_count == theirs.contents.files[0].message_count + 1
-    assert ours.start == theirs.start
+    assert ours.start == theirs.start - 1  # recorded just before the recording's first message (not at its instant)
     added = ours.buffer.lookup("base_link", "tool_x")
     expected = Transform.from_rpy((0.5, 0, 0.25), (0, 0, 1.0))
     np.testing.assert_allclose(added.rotation, expected.rotation, atol=1e-12)
@@ -165,7 +165,7 @@ def test_ros1_copy_reads_in_the_real_rosbag(tfx: Tfx, tmp_path: Path, ros1_avail
     original = subprocess.run([ROS_PYTHON, "-c", script, str(SAMPLE_BAGS["ros1"])], capture_output=True, text=True)
     before = json.loads(original.stdout)
     assert seen["count"] == before["count"] + 1
-    assert record_time == before["first"] == seen["first"]  # at the bag's start
+    assert record_time == seen["first"] == before["first"] - 1  # just before the bag's first message
 
 
 @pytest.mark.parametrize(

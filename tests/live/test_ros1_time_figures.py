@@ -87,7 +87,7 @@ def test_a_replay_on_sim_time_is_checked_with_plausible_figures(ros: Ros) -> Non
     _play(ros)
     result = ros.run_tfx("wtf", "--ros1", "--use-sim-time", "-d", "6", "--strict", timeout=60)
     assert result.returncode == 0, result.stdout + result.stderr
-    said = re.search(r"ros1-live, ([\d.]+) s,", result.stdout)
+    said = re.search(r"ros1-live, ([\d.]+) s recorded,", result.stdout)
     assert said is not None, result.stdout
     seconds = float(said.group(1))
     assert 1 <= seconds <= 20, result.stdout
