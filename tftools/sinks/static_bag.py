@@ -379,7 +379,7 @@ class _Rosbag2Copy(_Copy):
         """The QoS profiles the copy offers on ``recorded``'s topic: rosbag2 records one per publisher, which is how
         a ROS 2 recording counts them. The recording's; on /tf_static each made tf2_ros' static QoS with
         ``plan.durable``, and one more for tfx's own publisher of added transforms (the Webots e-puck's copy
-        listed 5 publishers where 6 sent, and wtf told two of the recording's apart by their messages)."""
+        listed 5 publishers where 6 sent)."""
         from rosbags.rosbag2.metadata import parse_qos
 
         profiles = parse_qos(recorded.qos) if recorded.qos.strip() else []
