@@ -77,6 +77,11 @@ def record_command(ros2: bool) -> str:
     return "ros2 bag record" if ros2 else "rosbag record"
 
 
+def play_command(ros2: bool) -> str:
+    """The command that replays a recording on its own clock (/clock), in the words of the recording's ROS."""
+    return "ros2 bag play --clock" if ros2 else "rosbag play --clock"
+
+
 def tf_unrecorded(ros2: bool) -> str:
     """What every command says of a recording without /tf: the question, and the command that records it."""
     return f"was /tf recorded? record it with {record_command(ros2)} /tf /tf_static"

@@ -13,7 +13,7 @@ from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.core.figures import same_base
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S
 from tftools.sources.edge_clocks import EdgeClock, clock_groups, stamps_behind
-from tftools.sources.errors import record_command
+from tftools.sources.errors import play_command, record_command
 from tftools.sources.timeline import Reference
 
 #: /clock silent this long (record clock) while the recording goes on: ROS time stood still.
@@ -28,7 +28,7 @@ NO_TIME_YET = 1 * NS_PER_S
 def _hint(kind: str, ros2: bool) -> str:
     """What to do about frames stamped on another clock (``kind``), in the words of the recording's ROS."""
     now = "the node's clock (node->now())" if ros2 else "ros::Time::now()"
-    play = "ros2 bag play --clock" if ros2 else "rosbag play --clock"
+    play = play_command(ros2)
     return {
         "boot": "the publisher stamps with a clock other than ROS time (time since boot, a steady or sensor clock), "
         f"or runs with use_sim_time while nothing publishes /clock: stamp with {now} and set use_sim_time the "
@@ -266,10 +266,11 @@ def _unmeasured_hint(scene: Scene, main: Sequence[EdgeClock]) -> str:
     6 days; foxglove-wizard's drone flight of 2018 recorded in 2024)."""
     epoch = float(np.median([e.median_stamp for e in main])) >= EPOCH_FLOOR
     if epoch and stamps_behind(main) > REPLAYED_BEHIND:
-        play, record = (
-            ("ros2 bag play --clock", "with ros2 bag record --use-sim-time")
+        play = play_command(scene.ros2)
+        record = (
+            "with ros2 bag record --use-sim-time"
             if scene.ros2
-            else ("rosbag play --clock", "under /use_sim_time true (rosbag record then follows /clock)")
+            else "under /use_sim_time true (rosbag record then follows /clock)"
         )
         return (
             f"a replay of an earlier recording, recorded without its clock: play it with {play} and record it "
