@@ -166,15 +166,23 @@ def test_a_copy_with_statics_added_opens_where_its_recording_opens(corpus: Corpu
         assert sum(c.msgcount for c in now.connections) == sum(c.msgcount for c in was.connections) + 1
 
 
-def test_a_copy_of_the_e_puck_tells_its_publishers_apart_as_the_recording(
+@pytest.mark.parametrize(
+    "recording",
+    ["ros2-webots-epuck-resends-2025-db3", "ros2-neato-real-lone-laser-beside-statics-20hz-allison-2022-db3"],
+)
+def test_a_copy_tells_its_publishers_apart_as_the_recording(
+    recording: str,
     corpus: Corpus,
     tfx: Tfx,  # noqa: F811
     tmp_path: Path,
 ) -> None:
     """The Webots e-puck's first /tf_static message and tfx's added one were recorded at one instant and read as one
     message: ``tfx wtf`` on ``tfx static ... -b -o``'s copy told a publisher of both, and another sending
-    base_link -> base_footprint too (multiple_authorities), which the recording does not say; nor its repair."""
-    source = corpus(BY_ID["ros2-webots-epuck-resends-2025-db3"])
+    base_link -> base_footprint too (multiple_authorities), which the recording does not say; nor its repair. The
+    real Neato's repair repeated the driver's lone laser before robot_state_publisher's 10 transforms (the latest
+    of each, in the order of the latest), which read as one broadcaster adding transforms: dynamic_on_static where
+    the recording gives static_conflict; it repeats the recording's sequence, 10, laser, 10."""
+    source = corpus(BY_ID[recording])
     added, repaired = tmp_path / "added", tmp_path / "repaired"
     assert tfx("static", "0.1", "0", "0.2", "0", "0", "0", "base_link", "zz_tag", "-b", source, "-o", added).code == 0
     assert tfx("static", "--repair", "-b", source, "-o", repaired).code == 0

@@ -23,7 +23,13 @@ from tests.corpus.fetch import shared_dir
 from tests.sources.ros2_helpers import Tf, tf_cdr, tf_ros1, typestore
 from tftools.analysis.wtf.fleet import check
 from tftools.core.transform import Transform
-from tftools.sinks.static_bag import REPAIR_EVERY_S, add_static_transforms, repair_static_transforms, static_qos
+from tftools.sinks.static_bag import (
+    REPAIR_EVERY_S,
+    REPAIR_SEQUENCE_MAX,
+    add_static_transforms,
+    repair_static_transforms,
+    static_qos,
+)
 from tftools.sources.bag.mcap.index import chunks_compressed
 from tftools.sources.errors import BagError
 from tftools.sources.recording import read_recording
@@ -138,6 +144,73 @@ def test_added_transforms_are_recorded_before_the_first_message_by_a_publisher_o
     # the repeats as the publisher sent them, stamps and all: restamped, the real Neatos' repairs read as 4 publishers
     statics = read_recording([repaired]).transforms
     assert set(statics.stamp[statics.static].tolist()) == {T0 - 10 * S}
+
+
+def _statics_bag(path: Path, sent: list[list[Tf]]) -> Path:
+    """A ROS 2 bag (no publishers named) of /tf over 10 s and the /tf_static messages ``sent``, 50 ms apart."""
+    store = typestore()
+    with Rosbag2Writer(path, version=8) as writer:
+        static = writer.add_connection(
+            "/tf_static", "tf2_msgs/msg/TFMessage", typestore=store, offered_qos_profiles=[static_qos()]
+        )
+        tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=store)
+        for i, message in enumerate(sent):
+            writer.write(static, T0 + i * S // 20, tf_cdr(message))
+        for i in range(20):
+            writer.write(tf, T0 + i * S // 2 + 1, tf_cdr(_odometry(i)))
+    return path
+
+
+def _repeated(copy: Path, original: Path) -> list[list[str]]:
+    """The children of each /tf_static message the copy adds at its start (before the recording's first message)."""
+    start = min(t for t, _ in _messages_of(original)["/tf_static"])
+    store = typestore()
+    return [
+        [t.child_frame_id for t in store.deserialize_cdr(data, "tf2_msgs/msg/TFMessage").transforms]
+        for time, data in _messages_of(copy)["/tf_static"]
+        if time < start
+    ]
+
+
+def _messages_of(bag: Path) -> dict[str, list[tuple[int, bytes]]]:
+    with Rosbag2Reader(bag) as reader:
+        return _messages(reader)
+
+
+def test_a_repair_repeats_the_recordings_sequence_of_static_messages(tmp_path: Path) -> None:
+    """The real Neato of corpus ros2-neato-real-lone-laser-beside-statics-20hz-allison-2022-db3: the URDF's
+    transforms, the driver's lone laser 50 ms later with another value, then the URDF's again and again, each
+    stamped as sent. Its repair repeated the latest of each in the order of the latest (laser, URDF): one
+    broadcaster that added transforms, so wtf said dynamic_on_static of the copy where the recording has a
+    static_conflict. The copy repeats URDF, laser, URDF, and tf2 ends on the URDF's laser in both."""
+    urdf = [
+        Tf("base_link", "caster", 1_700_000_000, 0, (-0.1, 0.0, 0.0)),
+        Tf("base_link", "laser", 0, 0, (-0.08, 0, 0.17)),
+    ]
+    driver = [Tf("base_link", "laser", 1_699_999_970, 0, (-0.1, 0.0, 0.09))]
+    restamped = [[Tf(t.parent, t.child, 1_700_000_000, i * S // 20, t.translation) for t in urdf] for i in range(30)]
+    bag = _statics_bag(tmp_path / "in", [restamped[0], driver, *restamped[2:]])
+    written, statics = repair_static_transforms(bag, tmp_path / "out")
+    assert _repeated(written, bag) == [["caster", "laser"], ["laser"], ["caster", "laser"]]
+    assert {t.child_frame_id: t.translation for t in statics}["laser"] == (-0.08, 0.0, 0.17)
+    original, copy = read_recording([bag]), read_recording([written])
+    assert copy.buffer.lookup("base_link", "laser").translation == (-0.08, 0.0, 0.17)
+    found = {f.code for f in check(copy).findings}
+    assert "static_conflict" in found and "dynamic_on_static" not in found
+    assert found == {f.code for f in check(original).findings}
+
+
+def test_a_repair_of_a_flapping_static_publisher_is_bounded(tmp_path: Path) -> None:
+    """A publisher whose static value flaps 200 times: the copy does not repeat 200 messages every 5 s, but the
+    first and the latest of each set of transforms (REPAIR_SEQUENCE_MAX), ending on the value tf2 kept."""
+    flapping = [[Tf("base_link", "laser", 1_700_000_000, i, (0.1 * (i % 2), 0.0, 0.0))] for i in range(200)]
+    bag = _statics_bag(tmp_path / "in", flapping)
+    assert 200 > REPAIR_SEQUENCE_MAX
+    written, statics = repair_static_transforms(bag, tmp_path / "out")
+    assert _repeated(written, bag) == [["laser"], ["laser"]]
+    assert statics[0].translation == (0.1, 0.0, 0.0)
+    assert read_recording([written]).buffer.lookup("base_link", "laser").translation == (0.1, 0.0, 0.0)
+    assert "dynamic_on_static" in {f.code for f in check(read_recording([written])).findings}
 
 
 def test_a_bare_mcap_is_copied_to_a_bare_mcap(tmp_path: Path) -> None:

@@ -82,23 +82,32 @@ def add_static_transforms(
 def repair_static_transforms(
     bag: str | os.PathLike[str], output: str | os.PathLike[str], *, force: bool = False
 ) -> tuple[Path, list[Transform]]:
-    """Write ``output``: ``bag`` with its static transforms repeated (each /tf_static message as its
-    publisher last sent it) at its start and every ``REPAIR_EVERY_S`` s, and ``/tf_static`` latched
-    (ROS 1) or offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to
-    late subscribers and a copy from any point keeps them. Returns the copy and the transforms (the latest
-    value of each)."""
+    """Write ``output``: ``bag`` with its static transforms repeated (its /tf_static messages as they came,
+    ``_static_messages``) at its start and every ``REPAIR_EVERY_S`` s, and ``/tf_static`` latched (ROS 1) or
+    offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to late subscribers
+    and a copy from any point keeps them. Returns the copy and the transforms (the latest value of each)."""
     source = Path(bag)
-    messages, statics = _latest_statics(source)  # read_recording says when there is no such bag
+    messages, statics = _static_messages(source)  # read_recording says when there is no such bag
     plan = _Plan(messages, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, as_sent=True)
     return _write_copy(source, Path(output), plan, force), statics
 
 
-def _latest_statics(source: Path) -> tuple[list[tuple[str, list[Transform]]], list[Transform]]:
-    """The recording's /tf_static messages as the copy repeats them: of each sender's messages of one
-    set of transforms, the latest, in the order of those latest ones (so that a transform two messages
-    hold ends with the value tf2 kept); and the latest value of each static transform, in first-seen
-    order. Repeating each message as it was (not one message of them all) keeps the shapes by which a
-    recording that names no publishers tells them apart."""
+#: A repaired copy repeats the recording's sequence of /tf_static messages where it has at most this many
+#: (consecutive re-sends counted once); beyond it (a publisher flapping between values), the first and the
+#: latest message of each sender's set of transforms: at most twice as many messages as there are such sets.
+REPAIR_SEQUENCE_MAX = 64
+
+
+def _static_messages(source: Path) -> tuple[list[tuple[str, list[Transform]]], list[Transform]]:
+    """The recording's /tf_static messages as the copy repeats them, and the latest value of each static
+    transform (in first-seen order). The messages are the recording's own sequence, each as its sender sent
+    it, a run of re-sends of the same transforms and values counted once (the last of the run, stamps and
+    all), so that a recording that names no publishers reads as it did: the real Neato of
+    ``ros2_db3_neato_real_test_run_allison_2022`` sent robot_state_publisher's 10 transforms, then the driver's
+    laser alone, then the 10 again 680 times, and its copy repeats 10, laser, 10 (a laser after the 10 lacks
+    their transforms: another publisher), where the latest of each ordered by the latest (laser, 10) read as
+    one broadcaster that added transforms. Every transform ends with the value tf2 kept either way. Beyond
+    ``REPAIR_SEQUENCE_MAX`` messages, the first and the latest of each (sender, transforms) in that order."""
     from tftools.sources.recording import read_recording
 
     batch = read_recording([source]).transforms
@@ -113,17 +122,29 @@ def _latest_statics(source: Path) -> tuple[list[tuple[str, list[Transform]]], li
         return Transform(value[0], value[1], stamp, names[int(batch.parent[row])], names[int(batch.child[row])])
 
     latest: dict[tuple[int, int], int] = {}
-    shapes: dict[tuple[int, tuple[tuple[int, int], ...]], list[int]] = {}  # (sender, edges) -> its latest rows
+    sequence: list[tuple[bytes, list[int]]] = []  # (sender, transforms and values), the rows of the latest
+    first: dict[bytes, list[int]] = {}  # (sender, edges) -> its first message's rows
+    last: dict[bytes, list[int]] = {}  # (sender, edges) -> its latest message's rows, in the order of the latest
     message = (batch.authority[rows].astype(np.int64), batch.record_time[rows])  # one sender, one instant
     starts = np.flatnonzero(np.r_[True, (np.diff(message[0]) != 0) | (np.diff(message[1]) != 0)])
     for part in np.split(rows, starts[1:]):
         mine = part.tolist()
-        edges = tuple((int(batch.parent[r]), int(batch.child[r])) for r in mine)
-        key = (int(batch.authority[mine[0]]), edges)
-        shapes.pop(key, None)  # re-inserted last: the order of the latest messages
-        shapes[key] = mine
-        latest.update(zip(edges, mine, strict=True))
-    messages = [(batch.authorities[sender], [transform(r) for r in mine]) for (sender, _), mine in shapes.items()]
+        shape = batch.authority[part[:1]].astype(np.int64).tobytes() + batch.parent[part].tobytes()
+        shape += batch.child[part].tobytes()
+        sent = shape + batch.translation[part].tobytes() + batch.rotation[part].tobytes()
+        if sequence and sequence[-1][0] == sent:
+            sequence[-1] = (sent, mine)
+        else:
+            sequence.append((sent, mine))
+        first.setdefault(shape, mine)
+        last.pop(shape, None)  # re-inserted last: the order of the latest messages
+        last[shape] = mine
+        latest.update(zip(zip(batch.parent[part].tolist(), batch.child[part].tolist(), strict=True), mine, strict=True))
+    repeated = [mine for _, mine in sequence]
+    if len(repeated) > REPAIR_SEQUENCE_MAX:
+        both = [*first.values(), *last.values()]
+        repeated = [mine for k, mine in enumerate(both) if not k or mine != both[k - 1]]
+    messages = [(batch.authorities[int(batch.authority[mine[0]])], [transform(r) for r in mine]) for mine in repeated]
     return messages, [transform(row) for row in latest.values()]
 
 
