@@ -27,6 +27,8 @@ from tftools.sinks.static_bag import (
     REPAIR_EVERY_S,
     REPAIR_SEQUENCE_MAX,
     add_static_transforms,
+    copy_adding,
+    copy_repairing,
     repair_static_transforms,
     static_qos,
 )
@@ -111,6 +113,32 @@ def test_a_type_recorded_without_a_definition_is_copied_without_one(tmp_path: Pa
     with AnyReader([bag], default_typestore=typestore()) as original, AnyReader([written]) as copy:
         assert {c.topic for c in copy.connections} == {c.topic for c in original.connections}
         assert [bytes(m) for c, _, m in copy.messages() if c.topic == "/thing"] == PAYLOADS
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_a_type_recorded_with_a_definition_and_no_hash_is_copied_so(tmp_path: Path, storage: str) -> None:
+    """A Humble recording gives its types' definitions (an .mcap's schemas) but no hashes: the copy's metadata.yaml
+    gave a type tfx does not know a hash of zeros, and rosbags' reader refused the whole copy (the CougUV AUV's,
+    corpus ros2-coug-auv-replayed-2025-mcap). The copy keeps the definition and gives no hash, as the recording;
+    a type of which nothing holds a definition is said (``undescribed``)."""
+    bag = _rosbag2(tmp_path / "in", storage)
+    metadata = bag / "metadata.yaml"
+    metadata.write_text(metadata.read_text().replace(THING_HASH, "''"))
+    if storage == "sqlite3":
+        with closing(sqlite3.connect(next(bag.glob("*.db3")))) as db, db:
+            db.execute("UPDATE message_definitions SET type_description_hash = ''")
+            db.execute("UPDATE topics SET type_description_hash = ''")
+    added = copy_adding(bag, tmp_path / "added", [LASER], force=False)
+    for copied in (added, copy_repairing(bag, tmp_path / "repaired", force=False)[0]):
+        assert copied.undescribed == ()
+        with AnyReader([copied.path]) as copy:
+            (thing,) = [c for c in copy.connections if c.topic == "/thing"]
+            assert (thing.msgdef.data, thing.digest) == ("uint8[] data", "")
+            assert [bytes(m) for c, _, m in copy.messages() if c.topic == "/thing"] == PAYLOADS
+    if storage == "sqlite3":  # a .db3 of Humble's recorder holds no definitions
+        with closing(sqlite3.connect(next(bag.glob("*.db3")))) as db, db:
+            db.execute("DELETE FROM message_definitions WHERE topic_type = ?", (THING,))
+        assert copy_adding(bag, tmp_path / "bare", [LASER], force=False).undescribed == (THING,)
 
 
 def test_added_transforms_are_recorded_before_the_first_message_by_a_publisher_of_their_own(tmp_path: Path) -> None:
@@ -205,7 +233,7 @@ def test_a_repair_of_a_flapping_static_publisher_is_bounded(tmp_path: Path) -> N
     first and the latest of each set of transforms (REPAIR_SEQUENCE_MAX), ending on the value tf2 kept."""
     flapping = [[Tf("base_link", "laser", 1_700_000_000, i, (0.1 * (i % 2), 0.0, 0.0))] for i in range(200)]
     bag = _statics_bag(tmp_path / "in", flapping)
-    assert 200 > REPAIR_SEQUENCE_MAX
+    assert REPAIR_SEQUENCE_MAX < 200
     written, statics = repair_static_transforms(bag, tmp_path / "out")
     assert _repeated(written, bag) == [["laser"], ["laser"]]
     assert statics[0].translation == (0.1, 0.0, 0.0)

@@ -112,6 +112,7 @@ def command(
         every = f"at its start and every {REPAIR_EVERY_S:g} s"
         said = f"{counted(len(copy.transforms), 'static transform')} ({_edges(copy.transforms)}) {every}"
         stdout.print(printable(f"{copy.path}: a copy of {bag} whose {STATIC_TOPIC} is durable, with its {said}"))
+        _undescribed(copy.undescribed)
         return
     transforms = read_static_transforms(from_file) if from_file is not None else []
     transforms += _given(arguments or [], numbers, frame_id, child_frame_id, degrees)
@@ -123,6 +124,7 @@ def command(
         copy = copy_with_statics(bag, output, StaticQuery(tuple(given), force=force))
         added = f"{counted(len(copy.transforms), 'static transform')} added on {STATIC_TOPIC}"
         stdout.print(printable(f"{copy.path}: a copy of {bag} with {added}"))
+        _undescribed(copy.undescribed)
         return
     if duration is not None:
         positive_seconds(duration, "--duration", "10")
@@ -132,6 +134,16 @@ def command(
         live.say(f"publishing {_edges(transforms)} on {STATIC_TOPIC} to {where} {until}")
 
     publish_static(given, live.ros_name(ros1), duration, on_notice=warn, on_start=started)
+
+
+def _undescribed(types: Sequence[str]) -> None:
+    """Say, in one line, the types whose messages the copy holds without a definition, and what a reader needs."""
+    if types:
+        warn(
+            f"the copy holds no definition of {', '.join(types)}, as its recording held none and tfx knows none: "
+            "their messages are copied as recorded; to decode them, a reader needs their packages' .msg files "
+            "(sourced in ROS 2, or given to rosbags' type store)"
+        )
 
 
 def _given(

@@ -91,6 +91,7 @@ class StaticCopy:
 
     path: Path
     transforms: tuple[Transform, ...]
+    undescribed: tuple[str, ...] = ()  # types it holds messages of but no definition (``Copied``)
 
 
 def copy_with_statics(source: str, output: str | Path, query: StaticQuery) -> StaticCopy:
@@ -98,17 +99,18 @@ def copy_with_statics(source: str, output: str | Path, query: StaticQuery) -> St
     a ROS 2 bag directory, a bare .db3 or .mcap) with the static transforms ``query`` asks for. An added frame
     the recording already has is refused (tf2 would see two values for it), as is an existing ``output``
     unless ``query.force``. The input is never modified."""
-    from tftools.sinks.static_bag import add_static_transforms, repair_static_transforms
+    from tftools.sinks.static_bag import copy_adding, copy_repairing
     from tftools.sources.storage import local_recording
 
     added = [checked(t) for t in query.transforms]
     copyable(source)
     with local_recording(source) as local:
         if query.repair:
-            written, statics = repair_static_transforms(local, output, force=query.force)
-            return StaticCopy(written, tuple(statics))
+            written, statics = copy_repairing(local, output, force=query.force)
+            return StaticCopy(written.path, tuple(statics), written.undescribed)
         _refuse_present(local, added)
-        return StaticCopy(add_static_transforms(local, output, added, force=query.force), tuple(added))
+        copied = copy_adding(local, output, added, force=query.force)
+        return StaticCopy(copied.path, tuple(added), copied.undescribed)
 
 
 def _refuse_present(bag: Path, transforms: Sequence[Transform]) -> None:

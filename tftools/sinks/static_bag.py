@@ -6,6 +6,7 @@ recorded (its type known or not), written with rosbags' writers. The input is ne
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import sqlite3
 import tempfile
@@ -65,6 +66,16 @@ class _Plan:
         return [(sender, [replace(t, stamp=stamp) for t in transforms]) for sender, transforms in self.messages]
 
 
+@dataclass(frozen=True)
+class Copied:
+    """A copy written: where, and the types it holds messages of but no definition (``undescribed``): its
+    recording held none (rosbag2 before Iron stored none in a .db3) and tfx knows none. Their messages are
+    copied as recorded; a reader that decodes them needs their definitions from elsewhere."""
+
+    path: Path
+    undescribed: tuple[str, ...] = ()
+
+
 def add_static_transforms(
     bag: str | os.PathLike[str],
     output: str | os.PathLike[str],
@@ -76,6 +87,13 @@ def add_static_transforms(
     a bare .db3, or a bare .mcap copied to a bare .mcap) plus one ``/tf_static`` message holding
     ``transforms``, stamped at the bag's start and recorded just before its first message. Refuses an
     existing ``output`` unless ``force``."""
+    return copy_adding(bag, output, transforms, force=force).path
+
+
+def copy_adding(
+    bag: str | os.PathLike[str], output: str | os.PathLike[str], transforms: Sequence[Transform], *, force: bool
+) -> Copied:
+    """``add_static_transforms``, saying which types the copy holds no definition of."""
     return _write_copy(Path(bag), Path(output), _Plan([(PUBLISHER, transforms)]), force)
 
 
@@ -86,6 +104,14 @@ def repair_static_transforms(
     ``_static_messages``) at its start and every ``REPAIR_EVERY_S`` s, and ``/tf_static`` latched (ROS 1) or
     offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to late subscribers
     and a copy from any point keeps them. Returns the copy and the transforms (the latest value of each)."""
+    copied, statics = copy_repairing(bag, output, force=force)
+    return copied.path, statics
+
+
+def copy_repairing(
+    bag: str | os.PathLike[str], output: str | os.PathLike[str], *, force: bool
+) -> tuple[Copied, list[Transform]]:
+    """``repair_static_transforms``, saying which types the copy holds no definition of."""
     source = Path(bag)
     messages, statics = _static_messages(source)  # read_recording says when there is no such bag
     plan = _Plan(messages, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, as_sent=True)
@@ -148,8 +174,9 @@ def _static_messages(source: Path) -> tuple[list[tuple[str, list[Transform]]], l
     return messages, [transform(row) for row in latest.values()]
 
 
-#: The type hash a ROS 2 copy gives a type tfx does not know whose recording gave none: rosbags'
-#: writer needs one (ROS 2 bags before Iron have none at all).
+#: The type hash a ROS 2 copy is written with where its recording gave none (ROS 2 bags before Iron have
+#: none) and tfx has no definition of its own: rosbags' writer needs one; ``_Rosbag2Copy.finish`` leaves the
+#: copy's hash empty there, as the recording's was.
 UNKNOWN_TYPE_HASH = "RIHS01_" + "0" * 64
 
 
@@ -169,7 +196,7 @@ class _CopyError(Exception):
         return BagError(str(target), f"cannot be written ({why})")
 
 
-def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
+def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Copied:
     fmt = format_of(source)  # the bag's own errors: missing, a FIFO, not a recording
     _never_over_the_input(source, target)
     if target.exists() or target.is_symlink():
@@ -185,7 +212,7 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
         raise BagError(str(target), f"cannot be written ({error.strerror})") from None
     partial = scratch / target.name
     try:
-        written = _copy(source, fmt, partial, plan)
+        written, undescribed = _copy(source, fmt, partial, plan)
         if target.is_dir() and not target.is_symlink():
             shutil.rmtree(target)
         else:
@@ -201,7 +228,7 @@ def _write_copy(source: Path, target: Path, plan: _Plan, force: bool) -> Path:
         raise BagError(str(target), f"cannot be written ({type(error).__name__}: {error})") from None
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
-    return target
+    return Copied(target, undescribed)
 
 
 def _never_over_the_input(source: Path, target: Path) -> None:
@@ -212,9 +239,10 @@ def _never_over_the_input(source: Path, target: Path) -> None:
         raise BagError(str(target), "is the input bag, inside it or a folder holding it", "write the copy elsewhere")
 
 
-def _copy(source: Path, fmt: Format, target: Path, plan: _Plan) -> Path:
+def _copy(source: Path, fmt: Format, target: Path, plan: _Plan) -> tuple[Path, tuple[str, ...]]:
     """Copy ``source`` (of format ``fmt``) to ``target`` with ``plan``'s transforms; returns what was
-    written (a bare .mcap is copied to a bare .mcap: the file inside the rosbag2 directory written)."""
+    written (a bare .mcap is copied to a bare .mcap: the file inside the rosbag2 directory written), and the
+    types it holds no definition of."""
     copy: _Copy = _Ros1Copy(target, plan) if fmt is ROS1 else _Rosbag2Copy(source, fmt, target, plan)
     with ExitStack() as stack:
         reader = stack.enter_context(BagReader([source], copy=copy))
@@ -232,7 +260,7 @@ def _copy(source: Path, fmt: Format, target: Path, plan: _Plan) -> Path:
         if read.problems:
             raise CopyError(str(source), f"cannot be copied whole: {read.problems[0]}", "damaged")
     copy.finish()
-    return target / f"{target.name}.mcap" if fmt is MCAP else target
+    return (target / f"{target.name}.mcap" if fmt is MCAP else target), tuple(sorted(copy.undescribed))
 
 
 class _Copy:
@@ -245,6 +273,7 @@ class _Copy:
         self.writer: Any = None
         self.connections: dict[tuple[str, ...], Any] = {}
         self.mark = 0
+        self.undescribed: set[str] = set()
 
     def open(self, stack: ExitStack) -> None:
         raise NotImplementedError
@@ -347,16 +376,26 @@ class _Rosbag2Copy(_Copy):
         stack.enter_context(self.writer)
 
     def finish(self) -> None:
-        """A type whose recording gave no definition, and tfx knows none, is given none in the copy's .db3 as in
-        the recording: rosbags' writer stores it as an empty definition with the hash ``UNKNOWN_TYPE_HASH``,
-        and rosbags' reader then refuses the whole copy (the hash of an empty definition is not that one), as
-        it did 39 of the corpus' 78 ROS 2 copies (a Neato's neato2_interfaces/msg/Bump, Gazebo's
-        PerformanceMetrics). An .mcap copy keeps its empty schema (an .mcap's channel names one)."""
-        if self.mcap:
-            return
+        """The copy describes each type as its recording did. A type whose recording gave no hash (ROS 2 bags
+        before Iron), and tfx no definition of its own, is left without one: rosbags' writer gave it
+        ``UNKNOWN_TYPE_HASH``, and rosbags' reader refused the whole copy, the hash of its definition not being
+        that one (the CougUV AUV's .mcap, ros2_mcap_coug_auv_replayed: its schemas of frost_interfaces/msg/... and
+        dvl_msgs/msg/... kept, their hashes zeros in metadata.yaml). A type of which the recording gave no
+        definition either gets none in the copy's .db3, as in the recording (a Neato's neato2_interfaces/msg/Bump,
+        Gazebo's PerformanceMetrics; an .mcap's channel names a schema: an empty one, as rosbag2 writes it)."""
+        metadata = self.target / METADATA
+        if metadata.is_file():
+            text = metadata.read_text(encoding="utf-8")
+            text = re.sub(rf"type_description_hash:\s+{UNKNOWN_TYPE_HASH}\b", "type_description_hash: ''", text)
+            metadata.write_text(text, encoding="utf-8")
         for db3 in self.target.glob("*.db3"):
             with closing(sqlite3.connect(db3)) as db, db:
                 db.execute("DELETE FROM message_definitions WHERE encoded_message_definition = ''")
+                for table in ("message_definitions", "topics"):
+                    db.execute(
+                        f"UPDATE {table} SET type_description_hash = '' WHERE type_description_hash = ?",
+                        (UNKNOWN_TYPE_HASH,),
+                    )
 
     def _sent_by(self, sender: str) -> Recorded:
         return Recorded(sender if is_static_topic(sender) else STATIC_TOPIC, TF_MESSAGE, "cdr")
@@ -385,15 +424,18 @@ class _Rosbag2Copy(_Copy):
         return self.connections[key]
 
     def _described(self, type_name: str, recorded: Recorded) -> tuple[str, str]:
-        """The type's definition and hash: the recording's, else those of the types tfx knows (ROS 2
-        Humble's), else none (``UNKNOWN_TYPE_HASH``): its messages are copied all the same."""
+        """The type's definition and hash: the recording's (an .mcap's schema as it is, a .db3's
+        message_definitions, metadata.yaml's hash), else, where it gave no definition, those of the types tfx
+        knows (ROS 2 Humble's; their hash is not said of another definition), else none (``UNKNOWN_TYPE_HASH``,
+        ``undescribed``): its messages are copied all the same."""
         definition = recorded.definition
         digest = recorded.digest or self.hashes.get(recorded.type_name, "")
         digest = digest if digest.startswith("RIHS01_") else ""
-        if type_name in self.store.fielddefs:
-            if not definition:
-                definition, _ = self.store.generate_msgdef(type_name, ros_version=2)
+        if not definition and type_name in self.store.fielddefs:
+            definition, _ = self.store.generate_msgdef(type_name, ros_version=2)
             digest = digest or self.store.hash_rihs01(type_name)
+        if not definition:
+            self.undescribed.add(type_name)
         return definition, digest or UNKNOWN_TYPE_HASH
 
     def _qos(self, recorded: Recorded) -> list[Any]:
