@@ -63,3 +63,31 @@ def test_data_in_a_frame_no_transform_names_is_its_own_finding() -> None:
     assert unknown[0].hint.endswith("every tf lookup and MessageFilter on this data fails")
     (apart,) = [f for f in findings if f.code == "disconnected"]
     assert [f.message.split(":")[0] for f in explained(findings, apart)] == ["/imu"]
+
+
+def _map_scene(*edges: tuple[str, str]) -> Scene:
+    stamps = [START + i * PERIOD for i in range(N)]
+    tf = [TfMessage("/tf_static", START, [_tf(START, "base_link", "imu_link", 0.0)])]
+    tf += [TfMessage("/tf", t, [_tf(t, p, c, 0.01 * i) for p, c in edges]) for i, t in enumerate(stamps)]
+    imu = _stream("/markers", "map")
+    stream = StampedMessages("/markers", "mocap4r2_msgs/msg/Markers", imu.record_time, imu.stamp, imu.frame, ["map"])
+    return Scene(recording(tf, ros1=False), streams=[stream], target=edges[0][0])
+
+
+def test_data_in_map_is_said_the_same_by_filter_and_wtf() -> None:
+    """CyberShip Voyager's motion capture (corpus ros2-cybership-voyager-mocap-basin-2025-mcap): /markers in 'map',
+    the ship under 'world', no odom. wtf's sensor_frame says 'map' is not localization's here; tfx filter said
+    "publish its frame's transform, or fix the frame_id". Both say wtf's words (``world_frame_unpublished``), as
+    they do where 'map' is localization's (an odom frame, no map -> odom)."""
+    for edges, words in (
+        ((("world", "base_link"),), "with no odom frame 'map' is not localization's (REP 105) here"),
+        ((("odom", "base_link"),), "'map' is localization's frame (REP 105)"),
+    ):
+        scene = _map_scene(*edges)
+        (unknown,) = [f for f in findings_of(scene) if f.code == "sensor_frame"]
+        (stream,) = scene.sensors.streams
+        assert words in stream.unplaced and unknown.hint.startswith(stream.unplaced), (stream.unplaced, unknown.hint)
+    assert (
+        "ros2 run tf2_ros static_transform_publisher with world as parent and map as child"
+        in _map_scene(("world", "base_link")).sensors.streams[0].unplaced
+    )  # ROS 2's command for a ROS 2 type

@@ -213,3 +213,16 @@ def test_a_copy_tells_its_publishers_apart_as_the_recording(
     for copy in (added, repaired):
         said = tfx("wtf", "--format", "json", copy)
         assert {f["code"] for f in json.loads(said.stdout)["bags"][0]["findings"]} == was, said.stdout
+
+
+def test_filter_says_wtf_s_words_of_data_in_map(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """CyberShip Voyager's MCAP: mocap4r2's /markers and /voyager/rigid_bodies in 'map', the ship under 'world', no
+    odom. wtf's sensor_frame hint says 'map' is not localization's here; `tfx filter` said "publish its frame's
+    transform, or fix the frame_id". Both say it in the same words (``targets.world_frame_unpublished``)."""
+    source = corpus(BY_ID["ros2-cybership-voyager-mocap-basin-2025-mcap"])
+    found = json.loads(tfx("wtf", "--format", "json", source).stdout)["bags"][0]["findings"]
+    (unknown,) = [f for f in found if f["code"] == "sensor_frame" and "'map'" in f["message"]]
+    words = unknown["hint"].split(": every tf lookup")[0]
+    assert "with no odom frame 'map' is not localization's (REP 105) here" in words, words
+    said = " ".join(tfx("filter", "-b", source).stdout.split())
+    assert said.count(f"no timeout can ({words})") == 2 and "fix the frame_id" not in said, said

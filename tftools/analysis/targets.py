@@ -3,6 +3,8 @@ frame sensor data is transformed into, asked for or chosen by REP 105."""
 
 from __future__ import annotations
 
+from collections.abc import Collection
+
 from tftools.analysis.frames import FrameTree
 from tftools.core.frames import frame_name
 from tftools.sources.contents import StampedMessages
@@ -38,6 +40,37 @@ def odometry_tf_unpublished(named: str) -> str:
         "child_frame_id) is not on tf: turn on the odometry node's tf (e.g. a controller's enable_odom_tf, a "
         "publish_tf parameter), or record it"
     )
+
+
+def world_frame_unpublished(named: Collection[str], has_odom: bool, root: str, ros2: bool) -> str | None:
+    """Why sensor data in REP 105's frames ``named`` (base names: 'map', 'odom') that no transform names is
+    lost, and what to do (None for other frames): ``has_odom``, whether the tree has an odom frame; ``root``,
+    the frame the data is transformed into; ``ros2``, for the command to name. ``tfx wtf``'s (sensor_frame)
+    and ``tfx filter``'s words for it."""
+    named = set(named)
+    if named == {"map"} and not has_odom:
+        # CyberShip Voyager's motion capture (corpus ros2-cybership-voyager-mocap-basin-2025-mcap): mocap4r2's
+        # /markers in 'map', the ship's pose on tf as world -> base_link: no odom, so no localization is missing
+        static = f"{'ros2 run' if ros2 else 'rosrun'} tf2_ros static_transform_publisher"
+        return (
+            f"no transform names it, and with no odom frame 'map' is not localization's (REP 105) here: the tree's "
+            f"fixed frame is '{root}'; if 'map' is the same place, set the driver's frame_id parameter to '{root}', "
+            f"or publish the transform between them ({static} with {root} as parent and map as child)"
+        )
+    if named == {"map"}:
+        # ruvu/mcl's MiR bag: the input of a localization under test, its map -> odom deliberately not recorded
+        return (
+            "no transform names it: 'map' is localization's frame (REP 105), and the node that publishes map -> "
+            "odom (amcl, a SLAM or localization node) did not run, was not recorded or does not publish tf (a "
+            "publish_tf / tf_broadcast parameter): run it with this data, or record it"
+        )
+    if named and named <= {"odom", "map"}:
+        return (
+            "no transform names it: the node that publishes it (odometry's odom -> base_link, localization's "
+            "map -> odom) did not run or does not publish tf (e.g. a controller's enable_odom_tf, a publish_tf "
+            "parameter): turn it on, or record it"
+        )
+    return None
 
 
 def choose_target(tree: FrameTree, asked: str | None = None) -> tuple[str, str]:

@@ -18,6 +18,11 @@ def frame_name(given: str) -> str:
     return given.removeprefix("/")
 
 
+def base_name(frame: str) -> str:
+    """``frame`` without a namespace prefix (``robot1/odom`` -> ``odom``)."""
+    return frame.rsplit("/", 1)[-1]
+
+
 def known_frame(frames: Sequence[str], frame: str) -> str:
     """``frame`` as tf2 keys it (``frame_name``), which must be one of ``frames``: else an
     ``UnknownFrameError`` with the frames there are, the closest first."""

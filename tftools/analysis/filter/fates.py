@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_unique
+from tftools.analysis.targets import world_frame_unpublished
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
@@ -50,7 +51,7 @@ from tftools.core.figures import (
     silence_limit,
     wait_keeping,
 )
-from tftools.core.frames import frame_name
+from tftools.core.frames import base_name, frame_name
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
 from tftools.sources.timeline import SAME_CLOCK
@@ -572,6 +573,9 @@ class StreamReport:
     # arrival, where more than ``SAME_CLOCK`` (negative: behind): the sensor on another machine's clock, which no
     # wait or cache bridges; 0 on one clock.
     clock_apart: int = 0
+    # What keeps the messages lost to an unknown frame where that frame is REP 105's map or odom (``tfx wtf``'s
+    # words, ``world_frame_unpublished``); "" for other frames.
+    unplaced: str = ""
 
     def wait_made_of(self) -> str:
         """What the wait for ``late_edge`` was made of, in words: how far its newest stamp was behind the
@@ -658,7 +662,15 @@ def stream_report(
         before_tf=int(early.sum()),
         before_any_tf=bool(early.any()) and bool((fates.fate[early] == Fate.BEFORE_ANY_TF).all()),
         stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
+        unplaced=_unplaced(buffer, stream, target) if counts[Fate.UNKNOWN_FRAME] else "",
     )
+
+
+def _unplaced(buffer: Buffer, stream: StampedMessages, target: str) -> str:
+    """``world_frame_unpublished`` of the frames of ``stream`` no transform names (ROS 2's words where its type
+    is spelt as ROS 2 spells it)."""
+    missing = {base_name(f) for f in stream.frame_ids if f and not buffer.has_frame(frame_name(f))}
+    return world_frame_unpublished(missing, buffer.has_frame("odom"), target, "/msg/" in stream.type) or ""
 
 
 def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | None = None) -> float:

@@ -21,6 +21,7 @@ from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.arrays import FloatArray, Int64Array, IntpArray, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.figures import Sightings, record_span
+from tftools.core.frames import base_name as base_name  # said by many checks
 from tftools.core.time import NS_PER_S, from_sec, signed_seconds
 from tftools.core.time import duration as duration  # said by every check
 from tftools.sources import clocks_apart
@@ -254,11 +255,6 @@ def edge(parent: str, child: str) -> str:
 def and_joined(items: Sequence[str]) -> str:
     """ "a", "a and b", "a, b and c"."""
     return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
-
-
-def base_name(frame: str) -> str:
-    """``frame`` without a namespace prefix (``robot1/odom`` -> ``odom``)."""
-    return frame.rsplit("/", 1)[-1]
 
 
 def transforms(n: int) -> str:

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 
 from tftools.analysis.filter.fates import TF_LOST
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.targets import is_odometry, odometry_tf_unpublished
+from tftools.analysis.targets import is_odometry, odometry_tf_unpublished, world_frame_unpublished
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed
 from tftools.core.figures import KEEP, timeout_s, wait_in_words, within_in_words
@@ -135,31 +135,12 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
     named = {base_name(f) for f in missing}
+    world = world_frame_unpublished(named, scene.buffer.has_frame("odom"), scene.sensors.target, scene.ros2)
+    if world is not None:
+        return world
     static = (
         "ros2 run tf2_ros static_transform_publisher" if scene.ros2 else "rosrun tf2_ros static_transform_publisher"
     )
-    if named == {"map"} and not scene.buffer.has_frame("odom"):
-        # CyberShip Voyager's motion capture (corpus ros2-cybership-voyager-mocap-basin-2025-mcap): mocap4r2's
-        # /markers in 'map', the ship's pose on tf as world -> base_link: no odom, so no localization is missing
-        root = scene.sensors.target
-        return (
-            f"no transform names it, and with no odom frame 'map' is not localization's (REP 105) here: the tree's "
-            f"fixed frame is '{root}'; if 'map' is the same place, set the driver's frame_id parameter to '{root}', "
-            f"or publish the transform between them ({static} with {root} as parent and map as child)"
-        )
-    if named == {"map"}:
-        # ruvu/mcl's MiR bag: the input of a localization under test, its map -> odom deliberately not recorded
-        return (
-            "no transform names it: 'map' is localization's frame (REP 105), and the node that publishes map -> "
-            "odom (amcl, a SLAM or localization node) did not run, was not recorded or does not publish tf (a "
-            "publish_tf / tf_broadcast parameter): run it with this data, or record it"
-        )
-    if named <= {"odom", "map"}:
-        return (
-            "no transform names it: the node that publishes it (odometry's odom -> base_link, localization's "
-            "map -> odom) did not run or does not publish tf (e.g. a controller's enable_odom_tf, a publish_tf "
-            "parameter): turn it on, or record it"
-        )
     return (
         f"no transform names it: publish the sensor's mount (robot_state_publisher with a URDF that has the link, "
         f"or {static}), or set the driver's frame_id parameter to a frame of the tree"
