@@ -303,3 +303,36 @@ def test_a_sensor_topic_given_as_tf_is_named_with_its_type_by_wtf_as_by_echo(
     echo = tfx("echo", "odom", "base_link", "-b", bags[fmt], "--topic", "/scan")
     assert echo.code == 2 and f"no transforms read: {line}" in echo.stderr
     assert "carry transforms: leave out --topic" in echo.stderr
+
+
+def test_a_recording_whose_only_header_is_a_gamepad_s_says_so(tfx: Tfx, tmp_path: Path) -> None:
+    """A gamepad's sensor_msgs/Joy (joy_node stamps it in 'joy'; the KTH arm's /joy, corpus
+    ros2_mcap_kth_robp_arm_joy_no_tf_2025) is no sensor data: where it is the only topic with a header, filter said
+    "no topic with a Header to check" alone. It says what the recording holds, and that the topic is checked when
+    named."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from tests.sources.ros2_helpers import Tf, tf_cdr
+
+    store, bag = get_typestore(Stores.ROS2_HUMBLE), tmp_path / "joy"
+    with Writer(bag, version=8) as writer:
+        tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=store)
+        joy = writer.add_connection("/joy", "sensor_msgs/msg/Joy", typestore=store)
+        for i in range(20):
+            stamp = START + i * NS_PER_S // 10
+            writer.write(tf, stamp + MS, tf_cdr([Tf("odom", "base_link", *divmod(stamp, NS_PER_S), (0.01 * i, 0, 0))]))
+            sec, nanosec = divmod(stamp, NS_PER_S)
+            header = store.types["std_msgs/msg/Header"](
+                stamp=store.types["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec), frame_id="joy"
+            )
+            pad = store.types["sensor_msgs/msg/Joy"](
+                header=header, axes=np.zeros(2, np.float32), buttons=np.zeros(4, np.int32)
+            )
+            writer.write(joy, stamp + 2 * MS, store.serialize_cdr(pad, "sensor_msgs/msg/Joy"))
+    said = tfx("filter", "-b", bag)
+    text = " ".join(said.stderr.split())
+    assert said.code == 2 and "no topic with a Header to check: /joy is sensor_msgs/msg/Joy, a gamepad's" in text, text
+    assert "its frame_id names no coordinate frame, so nothing ties it to tf" in text
+    named = tfx("filter", "/joy", "-b", bag)  # asked for: checked, its frame unknown to tf
+    assert named.code == 1 and "/joy" in named.stdout and "unknown frame" in named.stdout

@@ -12,6 +12,7 @@ from tftools.analysis.frames import FrameTree, tree_of
 from tftools.analysis.reading import Reading
 from tftools.analysis.targets import choose_target, tied_to_tf
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.sources.codecs.select import placed_nowhere
 from tftools.sources.contents import StampedMessages
 from tftools.sources.errors import UNRECORDED, NoStampedDataError
 
@@ -49,7 +50,7 @@ def filter_messages(
     /rosout alone: an empty table said nothing)."""
     stamped = recording.stamped
     if not stamped.streams:
-        raise NoStampedDataError(stamped.problems)
+        raise NoStampedDataError([*stamped.problems, *_placed_nowhere(recording, query)])
     for problem in stamped.problems:
         if on_problem is not None:
             on_problem(problem)
@@ -58,11 +59,25 @@ def filter_messages(
     if not report.streams:
         whose = "whose header has" if len(report.skipped) == 1 else "whose headers have"
         unframed = [f"only {', '.join(report.skipped)}, {whose} no frame_id (not tied to tf)"] if report.skipped else []
-        raise NoStampedDataError([*stamped.problems, *unframed], unrecorded)
+        raise NoStampedDataError([*stamped.problems, *unframed, *_placed_nowhere(recording, query)], unrecorded)
     if query.sensor_topics and on_problem is not None:  # asked for by name: not left out of the table unsaid
         for topic in unrecorded:
             on_problem(f"{topic}: {UNRECORDED}")
     return report
+
+
+def _placed_nowhere(recording: Recording, query: FilterQuery) -> list[str]:
+    """The topics not checked because their header places nothing in space (``placed_nowhere``: a gamepad's
+    Joy, whose frame_id is joy_node's 'joy' or empty, no coordinate frame), said as what they are: the KTH
+    arm's recording (ros2_mcap_kth_robp_arm_joy_no_tf_2025) holds /joy alone of such types."""
+    if query.sensor_topics:  # asked for by name: read all the same
+        return []
+    topics = {t: kind for f in recording.contents.files for t, kind in f.topics.items() if placed_nowhere(kind)}
+    return [
+        f"{topic} is {kind}, a gamepad's axes and buttons: its frame_id names no coordinate frame, so nothing ties "
+        "it to tf (asked for by name, it is checked all the same)"
+        for topic, kind in topics.items()
+    ]
 
 
 def filter_streams(

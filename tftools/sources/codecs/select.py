@@ -149,6 +149,12 @@ _HEADER_ENCODINGS = ("ros1", "cdr")
 _UNPLACED = frozenset({"sensor_msgs/msg/Joy"})
 
 
+def placed_nowhere(type_name: str) -> bool:
+    """Whether messages of ``type_name`` have a header whose frame_id places nothing in space (a gamepad's
+    Joy): not read as sensor data unless asked for by topic."""
+    return rosidl_name(type_name) in _UNPLACED
+
+
 def readable() -> str:
     """What tfx reads, for messages about what it does not: "tf2_msgs/msg/TFMessage as cdr or
     json; ...", a type with its plural alike as "foxglove.FrameTransform(s)"."""
@@ -197,7 +203,7 @@ def select(
     if (
         wanted.wants_header(topic)
         and encoding in _HEADER_ENCODINGS
-        and (wanted.headers or rosidl_name(type_name) not in _UNPLACED)
+        and (wanted.headers or not placed_nowhere(type_name))
         and has_header(type_name, encoding, definition)
     ):
         return HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers"), unread
