@@ -144,3 +144,29 @@ def test_without_a_record_clock_a_question_is_spanned_on_the_clock_its_frames_sh
     (other,) = timeline.other_clocks
     assert set(other.frames) == {"obj_6", "obj_12"} and (other.first, other.last) == detections
     assert timeline.own_clock_ends["obj_6"] == timeline.own_clock_ends["obj_12"]
+
+
+def _void(frames: dict[str, list[int]]) -> list[list[str]]:
+    """The frames grouped by clock (``Timeline.clocks``) where every record time is 0 to 74 ns (a rosbag2_py
+    writer's), each frame stamped at ``frames[child]``."""
+    builder = BatchBuilder()
+    for child, stamps in frames.items():
+        for k, stamp in enumerate(stamps):
+            builder.add("base_link", child, stamp, (0, 0, 0), (0, 0, 0, 1), record_time=k % 75)
+    buffer = Buffer(cache_time=None)
+    buffer.insert(builder.take())
+    timeline = timeline_of(buffer, ClockSamples.empty(), 0, 74)
+    assert timeline.record_clock_void
+    return sorted(sorted(e.child for e in group) for group in timeline.clocks)
+
+
+def test_without_a_record_clock_a_pause_of_one_clock_is_one_clock() -> None:
+    """Where record times are no clock, frames are grouped by their stamps alone (``stamp_groups``). One clock that
+    paused 12 s (more than ``same_clock``, 10 s) with every frame on it is one clock: each frame's stamps span the
+    pause. A frame that begins only after every other one stopped, 12 s later, is told apart: nothing in such a
+    recording tells that from another clock, which is why ``tfx wtf`` calls two clocks only two time bases there
+    (epoch time against time counted from zero), not these groups."""
+    s = 10**9
+    before, after = [START + i * s // 10 for i in range(50)], [START + 17 * s + i * s // 10 for i in range(50)]
+    assert _void({"arm": before + after, "gripper": before + after}) == [["arm", "gripper"]]
+    assert _void({"arm": before, "late": after}) == [["arm"], ["late"]]
