@@ -366,6 +366,8 @@ def test_repair_on_every_corpus_recording_with_statics(tmp_path: Path, bag: Path
         assert "encoding: a ROS 2 copy holds CDR messages" in str(e) or "cannot be copied whole" in str(e), e
         return
     assert _digest(bag) == before
+    with AnyReader([written], default_typestore=typestore()) as copy:  # rosbags opens it (the CougUV AUV's: not)
+        assert copy.connections
     was, now = _topic_counts(bag), _topic_counts(written)
     assert {t: n for t, n in now.items() if not t.endswith("tf_static")} == {
         t: n for t, n in was.items() if not t.endswith("tf_static")
