@@ -245,6 +245,21 @@ def test_a_mount_under_one_parent_on_tf_static_and_another_on_tf_is_two_descript
     assert kept in parents.hint
 
 
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+def test_odometry_ending_at_a_link_the_description_puts_elsewhere_is_not_a_mount(ros1: bool) -> None:
+    """A real Neato (ros1_neato_urdf_beside_driver_2018): the URDF's base_footprint -> base_link on /tf_static, the
+    driver's moving odom -> base_link on /tf. Not two descriptions of one mount ("keep one" would drop the
+    odometry or the description): the moving transform should end at the description's root, base_footprint."""
+    urdf = TfMessage("/tf_static", START + DELAY, [_t("base_footprint", "base_link", START, 0.0)], "/rsp")
+    rec = recording(sorted([urdf, *ekf()], key=lambda m: m.record_time), ros1=ros1)
+    (parents,) = [f for f in findings_of(Scene(rec)) if f.code == "multiple_parents"]
+    assert parents.hint.startswith("base_link is under base_footprint on /tf_static (a fixed joint of the robot")
+    assert "moves under odom on /tf" in parents.hint and "(odom -> base_footprint:" in parents.hint
+    assert "one mount" not in parents.hint and "picked up" not in parents.hint
+    kept = "ROS 1's tf2 keeps it a static frame" if ros1 else "ROS 2's tf2 replaces the frame's cache"
+    assert kept in parents.hint
+
+
 def test_a_frame_on_tf_static_and_constant_on_tf_under_one_publisher_name_is_only_mixed_static() -> None:
     """frand08/ramon_slam's cartographer bag, re-recorded through rosbag play (one callerid for all): base_footprint ->
     base_link on /tf_static and, constant, on /tf at 10 Hz. mixed_static says it; static_on_dynamic's advice (put it

@@ -1,0 +1,36 @@
+"""Defects found by sweep19 (every command on every recording, as a new user would), each on the recording that
+showed it; the designed reproductions are beside the code's own tests."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus.fetch import Recording, load_manifest
+
+_, RECORDINGS = load_manifest()
+BY_ID = {r.id: r for r in RECORDINGS}
+
+Corpus = Callable[[Recording], Path]
+
+NEATO_URDF_BESIDE_DRIVER = "ros1-neato-urdf-beside-driver-2018-bag"
+
+
+def test_odometry_ending_at_a_link_of_the_description_is_not_two_descriptions_of_a_mount(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """A real Neato: the URDF's base_footprint -> base_link on /tf_static, the driver's odom -> base_link moving
+    on /tf (413 samples). The hint said "two descriptions of one mount ... Keep one description of it": dropping
+    either breaks the robot. The odometry should end at the description's root (odom -> base_footprint)."""
+    result = tfx("wtf", corpus(BY_ID[NEATO_URDF_BESIDE_DRIVER]), "--format", "json")
+    (bag,) = json.loads(result.stdout)["bags"]
+    (parents,) = [f for f in bag["findings"] if f["code"] == "multiple_parents"]
+    assert parents["frames"][0] == "base_link"
+    hint = parents["hint"]
+    assert "moves under odom on /tf (odometry or localization)" in hint, hint
+    assert "(odom -> base_footprint: e.g. the driver's odometry child frame set to base_footprint)" in hint, hint
+    assert "one mount" not in hint and "Keep one description" not in hint, hint
+    assert result.code == 1
