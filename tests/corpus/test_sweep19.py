@@ -34,3 +34,16 @@ def test_odometry_ending_at_a_link_of_the_description_is_not_two_descriptions_of
     assert "(odom -> base_footprint: e.g. the driver's odometry child frame set to base_footprint)" in hint, hint
     assert "one mount" not in hint and "Keep one description" not in hint, hint
     assert result.code == 1
+
+
+CREATE3 = "ros2-create3-real-two-urdfs-2022-db3"
+
+
+def test_a_chain_s_header_is_the_span_all_frames_have(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real TurtleBot 4 Lite: `tfx monitor odom base_link` said "50.902 s from 1663967370.849 to 1663967421.751"
+    (its first stamp to the last record time) where `tfx monitor` says "tf stamped over 50.850 s ... to
+    1663967421.699": one span for one recording."""
+    path = corpus(BY_ID[CREATE3])
+    whole = tfx("monitor", "-b", path).stdout.splitlines()[0]
+    chain = tfx("monitor", "odom", "base_link", "-b", path).stdout.splitlines()[0]
+    assert whole == chain == f"{path}: tf stamped over 50.850 s from 1663967370.849 to 1663967421.699"
