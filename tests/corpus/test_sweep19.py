@@ -47,3 +47,17 @@ def test_a_chain_s_header_is_the_span_all_frames_have(corpus: Corpus, tfx: Tfx) 
     whole = tfx("monitor", "-b", path).stdout.splitlines()[0]
     chain = tfx("monitor", "odom", "base_link", "-b", path).stdout.splitlines()[0]
     assert whole == chain == f"{path}: tf stamped over 50.850 s from 1663967370.849 to 1663967421.699"
+
+
+OKOSLAM = "ros1-okoslam-real-scanner-cartographer-beside-odometry-bridge-at-rest-2019-bag"
+
+
+def test_a_scanners_own_frame_is_not_asked_whether_it_meant_base_link(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """okoslam's real robot: 22 scans in 'base_scan', a frame tf never names (no /tf_static). wtf asked "did you
+    mean 'base_link'?" (a shared prefix is no misspelling) and offered a typo's remedy in its hint."""
+    result = tfx("wtf", corpus(BY_ID[OKOSLAM]), "--format", "json")
+    (bag,) = json.loads(result.stdout)["bags"]
+    (missing,) = [f for f in bag["findings"] if f["code"] == "sensor_frame"]
+    assert missing["message"] == "/scan: 22 of 22 messages are in frame 'base_scan', which no transform names"
+    assert "did you mean" not in missing["message"] and "typo" not in missing["hint"], missing
+    assert "this recording holds no /tf_static" in missing["hint"]

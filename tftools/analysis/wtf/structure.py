@@ -15,7 +15,7 @@ from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
-from tftools.analysis.wtf.sensors import statics_missing
+from tftools.analysis.wtf.sensors import TYPO_CUTOFF, statics_missing
 from tftools.analysis.wtf.static_senders import static_senders
 from tftools.analysis.wtf.topics import StaticShared, static_shared
 from tftools.core.arrays import Int64Array, IntpArray
@@ -174,7 +174,7 @@ def _misspelt_root(roots: list[str], members: dict[str, list[str]]) -> str | Non
             continue
         apart = (f for r in roots if r != root for f in members[r] if len(f) <= TYPO_NAME_LENGTH)
         others = list(itertools.islice(apart, TYPO_FRAMES))
-        close = difflib.get_close_matches(root, others, n=1, cutoff=0.8)
+        close = difflib.get_close_matches(root, others, n=1, cutoff=TYPO_CUTOFF)
         if close:
             return f"'{root}' looks like a misspelling of '{close[0]}': fix the frame name where it is published"
     return None
