@@ -179,8 +179,8 @@ def test_sensor_data_in_a_mount_frame_without_tf_static_is_told_what_is_missing(
         "not recorded": "this recording holds no /tf_static (no such topic in it): the sensors' mounts",
         "recorded empty": "/tf_static was recorded but holds no transform",
     }[tf_static]
-    assert found.hint.startswith(said)  # what the recording shows first; 'base_scan' is close to base_link
-    assert "typo, set the driver's frame_id" in found.hint
+    assert found.hint.startswith(said)  # what the recording shows first
+    assert "typo" not in found.hint  # 'base_scan' shares base_link's prefix, but is the TurtleBot3's lidar frame
 
 
 def test_topics_in_one_missing_map_frame_are_one_finding_pointing_at_localization() -> None:
@@ -201,6 +201,18 @@ def test_topics_in_one_missing_map_frame_are_one_finding_pointing_at_localizatio
     assert in_map.count == 30
     assert "'map' is localization's frame" in in_map.hint and "odom -> base_link" not in in_map.hint
     assert found[1].message.startswith("/image: 50 of 50 messages are in frame 'kamera' (did you mean 'camera'?)")
+
+
+def test_a_frame_sharing_a_prefix_with_one_of_the_tree_is_no_misspelling() -> None:
+    """okoslam's cartographer bags: /scan in a TurtleBot3-style 'base_scan' (the lidar's own frame, no /tf_static
+    recorded) was asked "did you mean 'base_link'?", and the hint offered a typo's remedy; 'camra' still is one."""
+    rec = recording(sorted([statics(), *ekf(), *wheels()], key=lambda m: m.record_time), ros1=True)
+    streams = [sensor("/scan", "base_scan", 10, 5_000_000), sensor("/image", "camra", 5, 5_000_000)]
+    found = {f.frames: f for f in findings_of(Scene(rec, streams=streams)) if f.code == "sensor_frame"}
+    scan, image = found[("base_scan",)], found[("camra",)]
+    assert scan.message == "/scan: 100 of 100 messages are in frame 'base_scan', which no transform names"
+    assert "typo" not in scan.hint
+    assert "(did you mean 'camera'?)" in image.message and "typo" in image.hint
 
 
 def test_data_in_map_beside_a_tree_without_odom_is_told_the_trees_fixed_frame_not_localization() -> None:
@@ -241,6 +253,21 @@ def test_a_mount_under_one_parent_on_tf_static_and_another_on_tf_is_two_descript
     (parents,) = [f for f in findings_of(Scene(rec)) if f.code == "multiple_parents"]
     assert parents.hint.startswith("laser_front is under laser_mount on /tf_static and under base_link on /tf")
     assert "picked up" not in parents.hint
+    kept = "ROS 1's tf2 keeps it a static frame" if ros1 else "ROS 2's tf2 replaces the frame's cache"
+    assert kept in parents.hint
+
+
+@pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
+def test_odometry_ending_at_a_link_the_description_puts_elsewhere_is_not_a_mount(ros1: bool) -> None:
+    """A real Neato (ros1_neato_urdf_beside_driver_2018): the URDF's base_footprint -> base_link on /tf_static, the
+    driver's moving odom -> base_link on /tf. Not two descriptions of one mount ("keep one" would drop the
+    odometry or the description): the moving transform should end at the description's root, base_footprint."""
+    urdf = TfMessage("/tf_static", START + DELAY, [_t("base_footprint", "base_link", START, 0.0)], "/rsp")
+    rec = recording(sorted([urdf, *ekf()], key=lambda m: m.record_time), ros1=ros1)
+    (parents,) = [f for f in findings_of(Scene(rec)) if f.code == "multiple_parents"]
+    assert parents.hint.startswith("base_link is under base_footprint on /tf_static (a fixed joint of the robot")
+    assert "moves under odom on /tf" in parents.hint and "(odom -> base_footprint:" in parents.hint
+    assert "one mount" not in parents.hint and "picked up" not in parents.hint
     kept = "ROS 1's tf2 keeps it a static frame" if ros1 else "ROS 2's tf2 replaces the frame's cache"
     assert kept in parents.hint
 

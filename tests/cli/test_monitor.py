@@ -343,6 +343,24 @@ def test_a_frame_tf2_made_static_but_sent_on_tf_is_not_a_statics_only_recording(
     assert header == f"{bag}: tf stamped over 0.900 s from 1700000000.100 to 1700000001.000"  # the stamps' span
 
 
+def test_a_chain_asked_without_a_window_says_the_stamps_span_as_all_frames_do(tfx: Tfx, tmp_path: Path) -> None:
+    """The real create3 (ros2_db3_create3_real_two_urdfs): `monitor odom base_link` said "50.902 s from
+    1663967370.849 to 1663967421.751", its first stamp to the recording's last record time (the chain's delays are
+    counted to the recording's clock), beside "tf stamped over 50.850 s" for all frames. One span for both; a
+    window asked for is still said as asked."""
+    start = 1_700_000_000 * NS_PER_S
+    messages = []
+    for k in range(10):
+        odom = Transform((0.1 * k, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), start + k * 100 * MS_NS, "odom", "base_link")
+        messages.append(TfMessage("/tf", start + k * 100 * MS_NS + 50 * MS_NS, [odom], "/driver"))
+    bag = write_bag(tmp_path / "late.bag", messages, BagFormat.ros1)
+    whole = tfx("monitor", "-b", bag).stdout.splitlines()[0]
+    chain = tfx("monitor", "odom", "base_link", "-b", bag).stdout.splitlines()[0]
+    assert whole == chain == f"{bag}: tf stamped over 0.900 s from 1700000000.000 to 1700000000.900"
+    window = tfx("monitor", "odom", "base_link", "-b", bag, "--end", "1700000000.5").stdout.splitlines()[0]
+    assert window == f"{bag}: 0.500 s from 1700000000.000 to 1700000000.500"
+
+
 def test_an_edge_sent_once_has_no_rate_jitter_or_gap(tfx: Tfx, tmp_path: Path) -> None:
     """A marker detected once (DIGIT_works' camera -> marker_367): '-' for its rate, jitter and largest gap, which one
     sample does not have, not 0.00 and 0.0000; the marker seen 50 times keeps its figures."""

@@ -128,7 +128,7 @@ def command(
     target, source = _chain(recording.buffer.frames, target, source)
     query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec)
     report = monitor(recording, query)
-    header = _header(recording, report, chain_span(recording, query))
+    header = _header(recording, report, chain_span(recording, query), query.start is not None or query.end is not None)
     if plot is not None:
         keys = [e.key for e in report.chain.edges] if report.chain is not None else None
         first, last = monitored_window(recording, query)
@@ -211,9 +211,14 @@ def _plotted(series: Sequence[EdgeSeries]) -> str:
     return f"rate and delay of {len(series)} edges over {len(series[0].times) if series else 0} points"
 
 
-def _header(recording: Recording, report: MonitorReport, own: tuple[int, int] | None = None) -> str:
-    """The recording and the time it covers: the tf span's (within the window asked for), or ``own``, the span of
-    the chain asked about on its own clock (``chain_span``)."""
+def _header(
+    recording: Recording, report: MonitorReport, own: tuple[int, int] | None = None, windowed: bool = False
+) -> str:
+    """The recording and the time it covers: the tf span's (within the window asked for, ``windowed``), or ``own``,
+    the span of the chain asked about on its own clock (``chain_span``). A chain's report ends at the recording's
+    clock (its delays are counted to then): without a window asked for, the header is still the stamps' span, as
+    without a chain (the real create3's "50.902 s from 1663967370.849 to 1663967421.751", a stamp to a record time,
+    beside "tf stamped over 50.850 s" for all frames)."""
     from tftools.core.history import FROM_STATIC_TOPIC
 
     timeline = recording.timeline
@@ -221,11 +226,10 @@ def _header(recording: Recording, report: MonitorReport, own: tuple[int, int] | 
         chain = f"{report.chain.target} to {report.chain.source}"
         # the span of its clock's tf (``Timeline.span_of``), which a frame seen late on it (a detection) starts after
         return f"{', '.join(recording.paths)}: {chain} on a clock of its own, its tf stamped over {_span(*own)}"
-    first = report.start if report.start is not None else timeline.tf_start
-    last = report.end if report.end is not None else timeline.tf_end
+    first = report.start if windowed and report.start is not None else timeline.tf_start
+    last = report.end if windowed and report.end is not None else timeline.tf_end
     span = _span(first, last)
     paths = ", ".join(recording.paths)
-    windowed = report.start is not None or report.end is not None
     # Sent on /tf, not static to tf2: a frame tf2 made static (its first transform on /tf_static) is still
     # a recording of moving transforms (the real neato_urdf_beside_driver: 2177 on /tf, all "static").
     if windowed:

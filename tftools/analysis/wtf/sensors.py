@@ -27,6 +27,12 @@ def _target(scene: Scene) -> str:
     return f"{report.target} ({report.target_reason})"
 
 
+#: How alike (difflib's ratio) a name must be to a frame of the tree to be said a misspelling of it: 'camra' and
+#: 'kamera' of 'camera' (0.91, 0.83), not a TurtleBot3's lidar frame 'base_scan' of 'base_link' (0.67: a real
+#: scanner's frame sharing a prefix, okoslam's cartographer bags, was asked "did you mean 'base_link'?").
+TYPO_CUTOFF = 0.8
+
+
 @register("sensor_frame", Severity.error, "sensor data in a frame not in the tf tree, or not connected to it")
 def sensor_frame(scene: Scene) -> Iterator[Finding]:
     """One finding per missing frame, however many topics name it: one cause (e.g. the localization that
@@ -56,7 +62,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             figures={"in_a_tree_apart": 1},
         )
     for missing, topics in unknown_by_frames.items():
-        close = {f: difflib.get_close_matches(f, scene.buffer.frames, n=1, cutoff=0.6) for f in missing}
+        close = {f: difflib.get_close_matches(f, scene.buffer.frames, n=1, cutoff=TYPO_CUTOFF) for f in missing}
         named = listed([f"'{f}'" + (f" (did you mean '{c[0]}'?)" if c else "") for f, c in close.items()], 3)
         if len(topics) == 1:
             ((topic, unknown, _, messages),) = topics

@@ -15,7 +15,7 @@ from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
-from tftools.analysis.wtf.sensors import statics_missing
+from tftools.analysis.wtf.sensors import TYPO_CUTOFF, statics_missing
 from tftools.analysis.wtf.static_senders import static_senders
 from tftools.analysis.wtf.topics import StaticShared, static_shared
 from tftools.core.arrays import Int64Array, IntpArray
@@ -174,7 +174,7 @@ def _misspelt_root(roots: list[str], members: dict[str, list[str]]) -> str | Non
             continue
         apart = (f for r in roots if r != root for f in members[r] if len(f) <= TYPO_NAME_LENGTH)
         others = list(itertools.islice(apart, TYPO_FRAMES))
-        close = difflib.get_close_matches(root, others, n=1, cutoff=0.8)
+        close = difflib.get_close_matches(root, others, n=1, cutoff=TYPO_CUTOFF)
         if close:
             return f"'{root}' looks like a misspelling of '{close[0]}': fix the frame name where it is published"
     return None
@@ -227,7 +227,7 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         hint = _static_parents_hint(scene, child, mine, names, now)
         figures["parents_each_from_other_static_publishers"] = int(_each_from_others(scene, mine))
     elif (split_by_topic := _parents_by_topic(scene, mine)) is not None:
-        hint = _mount_twice_hint(scene, child, *split_by_topic)
+        hint = _mount_twice_hint(scene, child, mine, *split_by_topic)
     elif scene.publishers_known and not set.intersection(*map(set, publishers)):
         hint = (
             f"{child} can have one parent only, and these publishers fight over it: lookups jump between trees. "
@@ -266,20 +266,37 @@ def _parents_by_topic(scene: Scene, mine: IntpArray) -> tuple[list[str], list[st
     return None if set(on_static) & set(on_tf) else (on_static, on_tf)
 
 
-def _mount_twice_hint(scene: Scene, child: str, on_static: list[str], on_tf: list[str]) -> str:
-    if scene.ros2:
-        kept = "ROS 2's tf2 replaces the frame's cache each time it switches between the two topics"
-    elif scene.buffer.in_static_cache(child):
-        kept = "ROS 1's tf2 keeps it a static frame, so whichever came last places it, under its parent, for every time"
-    else:
-        kept = (
-            "ROS 1's tf2 keeps it a moving frame (its first transform came on /tf): the static one holds at its "
-            "stamp only"
+def _mount_twice_hint(scene: Scene, child: str, mine: IntpArray, on_static: list[str], on_tf: list[str]) -> str:
+    """A frame under one parent on /tf_static and another on /tf: two descriptions of one mount where its /tf
+    samples are constant; where they move, odometry (or localization) ends at a link the robot's description
+    puts under another frame (a real Neato's driver sending odom -> base_link beside a URDF rooted at
+    base_footprint), and keeping "one description" of it would drop one of two different things."""
+    kept = _kept_on_switch(scene, child)
+    on_tf_values = scene.rows.values[mine[~scene.rows.static[mine]]]
+    if not (on_tf_values == on_tf_values[0]).all():
+        ancestors = scene.tree.ancestors(on_static[0])
+        root = ancestors[-1] if ancestors else on_static[0]
+        return (
+            f"{child} is under {and_joined(on_static)} on /tf_static (a fixed joint of the robot's description) and "
+            f"moves under {and_joined(on_tf)} on /tf (odometry or localization): a frame has one parent, so the "
+            f"moving transform should end at the description's root ({edge(on_tf[0], root)}: e.g. the driver's "
+            f"odometry child frame set to {root}), or the description start at {child}; {kept}"
         )
     return (
         f"{child} is under {and_joined(on_static)} on /tf_static and under {and_joined(on_tf)} on /tf: two "
         f"descriptions of one mount (e.g. a static_transform_publisher on /tf beside robot_state_publisher's "
         f"/tf_static); {kept}. Keep one description of it"
+    )
+
+
+def _kept_on_switch(scene: Scene, child: str) -> str:
+    """What tf2 keeps of a frame sent on /tf_static and on /tf, in the words of the recording's ROS."""
+    if scene.ros2:
+        return "ROS 2's tf2 replaces the frame's cache each time it switches between the two topics"
+    if scene.buffer.in_static_cache(child):
+        return "ROS 1's tf2 keeps it a static frame, so whichever came last places it, under its parent, for every time"
+    return (
+        "ROS 1's tf2 keeps it a moving frame (its first transform came on /tf): the static one holds at its stamp only"
     )
 
 
