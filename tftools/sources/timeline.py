@@ -113,6 +113,7 @@ class Timeline:
     full_tf: tuple[int, int] | None = None  # every frame's span, where ``tf_start``/``tf_end`` leave some out
     played_estimate: bool = False  # a replay's without a reference: its record times are the replay's clock
     replayed: bool = False  # a replay's (``played``): ``Playback`` gave every record time a value, 0 or less too
+    unclocked: int | None = None  # a replay's: the time ``Playback`` gave messages recorded before any /clock
     kept: KeptArrivals | None = dataclasses.field(default=None, compare=False)  # a replay's record-clocked frames'
 
     @property
@@ -347,7 +348,8 @@ class Timeline:
         where that is known (a record time is known, and under /clock, a /clock had been recorded)."""
         records = np.asarray(record_times, np.int64)
         if self.reference is Reference.RECORD or self.played_estimate:
-            return records, (records > 0) | self.replayed
+            known = (records > 0) | self.replayed
+            return records, known if self.unclocked is None else known & (records != self.unclocked)
         if self.reference is Reference.NONE:
             return np.zeros(len(records), np.int64), np.zeros(len(records), bool)
         return clock_at(self.clock, records)
@@ -420,6 +422,7 @@ class Timeline:
             edges=edges,
             record_step=self.resolution,
             replayed=True,
+            unclocked=_unclocked(self.clock) if self.reference is Reference.CLOCK else None,
             kept=kept if kept is not None and kept.frames else None,
         )
 
@@ -434,16 +437,24 @@ class Timeline:
         return self.reason
 
 
+def _unclocked(clock: ClockSamples) -> int | None:
+    """The replay time of messages recorded before the first of ``clock``'s samples (or at no known time): 1 ns
+    before its value, so that they play first and their ROS time at arrival stays unknown, as a whole read has it
+    (``Timeline.ros_time``: a Webots robot's 96 transforms before the recorder heard /clock, all played at its
+    first value, were 147 messages in 1.0 s of the replay: 143 msgs/s for 50)."""
+    return int(clock.clock[0]) - 1 if len(clock) else None
+
+
 class Playback:
     """Record times moved onto the stamps' clock for a replay, never decreasing, part after part of a
     recording (all of it at once, or a stream's windows): ROS time at arrival (before the first /clock,
-    its first value); without a reference, shifted by the frames' median offset from the record clock
+    ``_unclocked``); without a reference, shifted by the frames' median offset from the record clock
     (an estimate: the recording kept no clock of the stamps)."""
 
     def __init__(self, timeline: Timeline) -> None:
         self.reference = timeline.reference
         self._clock = timeline.clock  # the samples up to the next part: all of them, or the last one heard
-        self._first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
+        self._unclocked = _unclocked(timeline.clock) or 0  # before the first /clock: its value less 1 ns
         self._shift = figures.median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
         self._floor = np.iinfo(np.int64).min
         self._unknown = timeline.record_start  # a record time of 0 (unknown, an MCAP's log time 0) plays first
@@ -462,7 +473,7 @@ class Playback:
         if self.reference is Reference.NONE:
             return records - self._shift
         times, known = clock_at(self._clock, records)
-        times = np.maximum.accumulate(np.maximum(np.where(known, times, self._first), self._floor))
+        times = np.maximum.accumulate(np.maximum(np.where(known, times, self._unclocked), self._floor))
         self._floor = int(times[-1])
         return times
 
