@@ -41,6 +41,7 @@ from tftools.sources.timeline import (
     stamp_spans,
     tf_span,
     timeline_from,
+    unclocked_time,
 )
 
 First = TypeVar("First")
@@ -364,10 +365,10 @@ class _Summary:
 
     def played_arrivals(self, timeline: Timeline) -> dict[str, tuple[Int64Array, Int64Array]]:
         """Each frame's arrivals kept (at most ``PLAYED_ARRIVALS``), by stamp, and when they play on the replay
-        of ``timeline``: their record times, /clock then (its first value before it ticked), or record times
+        of ``timeline``: their record times, /clock then (``unclocked_time`` before it ticked), or record times
         less the frames' median offset, as ``Playback`` moves them."""
         shift = median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
-        first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
+        first = unclocked_time(timeline.clock) or 0
         played: dict[str, tuple[Int64Array, Int64Array]] = {}
         for child, arrivals in self._arrivals.items():
             stamps, records, ros, known = arrivals.kept()

@@ -422,7 +422,7 @@ class Timeline:
             edges=edges,
             record_step=self.resolution,
             replayed=True,
-            unclocked=_unclocked(self.clock) if self.reference is Reference.CLOCK else None,
+            unclocked=unclocked_time(self.clock) if self.reference is Reference.CLOCK else None,
             kept=kept if kept is not None and kept.frames else None,
         )
 
@@ -437,7 +437,7 @@ class Timeline:
         return self.reason
 
 
-def _unclocked(clock: ClockSamples) -> int | None:
+def unclocked_time(clock: ClockSamples) -> int | None:
     """The replay time of messages recorded before the first of ``clock``'s samples (or at no known time): 1 ns
     before its value, so that they play first and their ROS time at arrival stays unknown, as a whole read has it
     (``Timeline.ros_time``: a Webots robot's 96 transforms before the recorder heard /clock, all played at its
@@ -448,13 +448,13 @@ def _unclocked(clock: ClockSamples) -> int | None:
 class Playback:
     """Record times moved onto the stamps' clock for a replay, never decreasing, part after part of a
     recording (all of it at once, or a stream's windows): ROS time at arrival (before the first /clock,
-    ``_unclocked``); without a reference, shifted by the frames' median offset from the record clock
+    ``unclocked_time``); without a reference, shifted by the frames' median offset from the record clock
     (an estimate: the recording kept no clock of the stamps)."""
 
     def __init__(self, timeline: Timeline) -> None:
         self.reference = timeline.reference
         self._clock = timeline.clock  # the samples up to the next part: all of them, or the last one heard
-        self._unclocked = _unclocked(timeline.clock) or 0  # before the first /clock: its value less 1 ns
+        self._unclocked = unclocked_time(timeline.clock) or 0  # before the first /clock: its value less 1 ns
         self._shift = figures.median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
         self._floor = np.iinfo(np.int64).min
         self._unknown = timeline.record_start  # a record time of 0 (unknown, an MCAP's log time 0) plays first
