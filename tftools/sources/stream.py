@@ -36,8 +36,10 @@ from tftools.sources.timeline import (
     KeptArrivals,
     Playback,
     Reference,
+    TickedGrid,
     Timeline,
     clocked_arrivals,
+    records_on_clock,
     stamp_spans,
     tf_span,
     timeline_from,
@@ -246,6 +248,7 @@ def stream_recording(
         start,
         contents.end,
         tf_span(summary.spans.values(), start, contents.end),
+        0 if records_on_clock(summary.first_clock) else summary.grid.step(),
     )
     arrivals = summary.played_arrivals(recorded)
     kept = summary.kept_arrivals(recorded)
@@ -329,6 +332,7 @@ class _Summary:
         self._clock = ClockSamples.empty()  # the /clock samples of the last window, after the one before
         self._arrivals: dict[str, _Arrivals] = {}
         self._carried = TransformBatch.empty()  # the last window's recent samples (``_recent``)
+        self.grid = TickedGrid()  # how coarse the record times are, where they show it
 
     def add(self, contents: RecordingContents) -> None:
         """One window's transforms, inserted into a buffer of their own to learn them as tf2 stores them."""
@@ -352,6 +356,7 @@ class _Summary:
         for child, hist in buffer.histories():
             if len(hist):
                 self.parents[child] = (buffer.frame_name(hist.latest_parent), hist.static)
+        self.grid.add(contents.clock.record_time, [h for _, h in buffer.histories()])
         for static, first, last in stamp_spans(buffer):
             seen = self.spans.get(static, (static, first, last))
             self.spans[static] = (static, min(seen[1], first), max(seen[2], last))
