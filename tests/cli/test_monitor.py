@@ -305,6 +305,47 @@ def test_every_message_sent_is_counted_however_many_share_a_record_time(
         assert edges["base_link"]["count"] == 50  # the samples tf2 stored: one a stamp
 
 
+def _clock_heard_late(path: Path, fmt: BagFormat) -> Path:
+    """A ROS 2 recording shaped as ``ros2_db3_tb3_webots_sim_clock_2025`` (where ``--play``'s first tables said
+    /tf at 143, 98 and 82 msgs/s for 50, and ``+4.1 s`` for ``--start +5``): odometry at 50 Hz stamped on
+    simulated time from 90 s, received 30 ms after them on the wall clock, the recorder hearing /clock (100 Hz, in
+    step with the stamps) only 1.92 s after the first /tf: 96 messages whose ROS time at arrival is unknown."""
+    tick, wall, sim, late = 20 * MS_NS, 1_700_000_000 * NS_PER_S, 90 * NS_PER_S, 96
+    odometry = [Transform((0.01 * k, 0, 0), (0, 0, 0, 1), sim + k * tick, "odom", "base_link") for k in range(250)]
+    messages = [TfMessage("/tf", wall + k * tick + 30 * MS_NS, [odom]) for k, odom in enumerate(odometry)]
+    clock = [ClockMessage(wall + k * tick // 2, sim + k * tick // 2) for k in range(2 * late, 500)]
+    return write_bag(path / "late_clock", messages, fmt, clock)
+
+
+@pytest.mark.parametrize("fmt", [BagFormat.rosbag2_sqlite3, BagFormat.rosbag2_mcap])
+def test_messages_before_the_first_clock_are_timed_in_the_replay_as_in_the_whole_read(
+    tfx: Tfx, tmp_path: Path, fmt: BagFormat
+) -> None:
+    """Played at /clock's first value, the 96 messages recorded before it were 147 messages in 1 s of the
+    replay; as in the whole read, their ROS time at arrival is unknown: not a rate, not a delay."""
+    bag = _clock_heard_late(tmp_path, fmt)
+    played = tfx("monitor", "-b", bag, "--play", "--rate", "500", "--end", "+2.92", "-f", "json")
+    whole = tfx("monitor", "-b", bag, "--end", "+2.92", "-f", "json")
+    assert played.code == 0 and whole.code == 0, played.stderr + whole.stderr
+    for report in (json.loads(played.stdout.splitlines()[-1]), json.loads(whole.stdout)):
+        assert report["window"]["end"] == pytest.approx(92.92)
+        (tf,) = (a for a in report["authorities"] if a["authority"] == "/tf")
+        assert tf["messages"] == 145  # 96 before /clock, 49 arrived on it by 92.92 s (30 ms after their stamps)
+        assert tf["rate_hz"] == pytest.approx(50.0, rel=0.02)
+        assert tf["delay_max_s"] == pytest.approx(0.03, abs=0.011)  # the 51 timed: not 1.92 s, /clock came late
+
+
+def test_play_counts_its_header_seconds_from_the_first_stamp_as_start_does(tfx: Tfx, tmp_path: Path) -> None:
+    """``+S`` is after the first tf stamp, in ``--start`` and in the replay's header alike (it counted from the
+    first arrival on /clock, 1.92 s later: ``--start +1`` began a table headed ``+0.1 s``)."""
+    bag = _clock_heard_late(tmp_path, BagFormat.rosbag2_mcap)
+    played = tfx("monitor", "-b", bag, "--play", "--rate", "500", "--start", "+3", "--end", "+4")
+    assert played.code == 0, played.stderr
+    headers = re.findall(r"^time ([\d.]+) \(\+([\d.]+) s\)", played.stdout, re.MULTILINE)
+    assert headers and headers[-1] == ("94.000", "4.0"), played.stdout
+    assert all(float(since) == pytest.approx(float(time) - 90, abs=0.06) for time, since in headers), headers
+
+
 @pytest.mark.parametrize("fmt", [BagFormat.ros1, BagFormat.rosbag2_sqlite3])
 def test_a_statics_only_recording_says_its_recorded_span_and_the_statics_stamps(
     tfx: Tfx, tmp_path: Path, fmt: BagFormat

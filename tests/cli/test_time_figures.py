@@ -16,7 +16,7 @@ from tests.cli.conftest import Tfx
 from tests.corpus.fetch import shared_dir
 from tftools.analysis.edges import TimeWindow
 from tftools.analysis.frames import frame_tree
-from tftools.analysis.monitor import MonitorQuery, monitor, monitor_buffer, played_window
+from tftools.analysis.monitor import MonitorQuery, MonitorReport, monitor, monitor_buffer, monitor_stream, played_window
 from tftools.analysis.report import recording_facts
 from tftools.analysis.report import report as recording_report
 from tftools.analysis.report.poses import frame_poses
@@ -452,6 +452,30 @@ def test_record_times_on_a_simulations_ticks_are_as_coarse_as_them(tmp_path: Pat
     assert recording.timeline.record_step == tick
     codes = {f.code for f in check(recording).findings}
     assert "rate" not in codes and "future" not in codes
+
+
+@pytest.mark.parametrize("window_messages", [50, 100_000], ids=["windows", "whole"])
+def test_a_stream_finds_the_ticks_a_whole_read_finds(tmp_path: Path, window_messages: int) -> None:
+    """ros1_stage_amcl_sim_time_2015's replay: its stream's timeline had no record step (the whole read's found
+    Stage's 100 ms ticks), so --play said amcl's and the fixed joints' delays a tick further from zero than the
+    whole read (-0.5 s for -0.4 s). Read in windows of 50 messages or at once, the stream finds them too."""
+    bag = write_bag(tmp_path / "stage.bag", stage_on_sim_time(S // 10), BagFormat.ros1)
+    assert read_recording([bag]).timeline.record_step == S // 10
+    with stream_recording([bag], window_messages=window_messages) as streamed:
+        assert len(streamed.windows) == (8 if window_messages == 50 else 1)
+        assert streamed.timeline.record_step == streamed.timeline.resolution == S // 10
+
+
+def test_a_replay_says_the_delays_of_a_whole_read_on_a_simulations_ticks(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "stage.bag", stage_on_sim_time(S // 10), BagFormat.ros1)
+    whole = {e.key: (e.delay_mean, e.delay_max) for e in monitor(read_recording([bag]), MonitorQuery()).edges}
+    reports: list[MonitorReport] = []
+    with stream_recording([bag], window_messages=50) as stream:
+        monitor_stream(stream, MonitorQuery(window=100 * S), lambda live: reports.append(live.report()), speed=1000)
+    assert {e.key: (e.delay_mean, e.delay_max) for e in reports[-1].edges} == whole
+    # amcl's map -> odom, post-dated 1.0 s and read off the tick of its stamp or the next: -1.0 or -0.9 s, each
+    # up to a tick more (figures.delays): -0.8 s at most, as the whole read says, not the replay's -0.9
+    assert whole[("map", "odom")][1] == -8 * S // 10
 
 
 def test_record_grid_needs_enough_times_on_one_grid() -> None:

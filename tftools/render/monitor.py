@@ -128,8 +128,9 @@ def _chain_lines(chain: ChainStats, other_clock: Sequence[str]) -> Text:
 
 
 def live_header(now: int, origin: int | None, window: int, note: str = "") -> str:
-    """A refreshing table's first line: the clock ``now``, seconds since ``origin`` (the first transform's
-    arrival; none yet: 0), the ``window`` it covers (ns), and ``note``."""
+    """A refreshing table's first line: the clock ``now``, seconds since ``origin`` (``LiveMonitor.origin``: a
+    replay's first tf stamp, a live system's first transform's arrival; none yet: 0), the ``window`` it covers
+    (ns), and ``note``."""
     since = signed_seconds((now - (origin if origin is not None else now)) / NS_PER_S)
     header = f"time {to_sec(now):.3f} ({since} s), last {window / NS_PER_S:g} s"
     return header + (f", {note}" if note else "")

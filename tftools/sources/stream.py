@@ -36,11 +36,14 @@ from tftools.sources.timeline import (
     KeptArrivals,
     Playback,
     Reference,
+    TickedGrid,
     Timeline,
     clocked_arrivals,
+    records_on_clock,
     stamp_spans,
     tf_span,
     timeline_from,
+    unclocked_time,
 )
 
 First = TypeVar("First")
@@ -245,6 +248,7 @@ def stream_recording(
         start,
         contents.end,
         tf_span(summary.spans.values(), start, contents.end),
+        0 if records_on_clock(summary.first_clock) else summary.grid.step(),
     )
     arrivals = summary.played_arrivals(recorded)
     kept = summary.kept_arrivals(recorded)
@@ -328,6 +332,7 @@ class _Summary:
         self._clock = ClockSamples.empty()  # the /clock samples of the last window, after the one before
         self._arrivals: dict[str, _Arrivals] = {}
         self._carried = TransformBatch.empty()  # the last window's recent samples (``_recent``)
+        self.grid = TickedGrid()  # how coarse the record times are, where they show it
 
     def add(self, contents: RecordingContents) -> None:
         """One window's transforms, inserted into a buffer of their own to learn them as tf2 stores them."""
@@ -351,6 +356,7 @@ class _Summary:
         for child, hist in buffer.histories():
             if len(hist):
                 self.parents[child] = (buffer.frame_name(hist.latest_parent), hist.static)
+        self.grid.add(contents.clock.record_time, [h for _, h in buffer.histories()])
         for static, first, last in stamp_spans(buffer):
             seen = self.spans.get(static, (static, first, last))
             self.spans[static] = (static, min(seen[1], first), max(seen[2], last))
@@ -364,10 +370,10 @@ class _Summary:
 
     def played_arrivals(self, timeline: Timeline) -> dict[str, tuple[Int64Array, Int64Array]]:
         """Each frame's arrivals kept (at most ``PLAYED_ARRIVALS``), by stamp, and when they play on the replay
-        of ``timeline``: their record times, /clock then (its first value before it ticked), or record times
+        of ``timeline``: their record times, /clock then (``unclocked_time`` before it ticked), or record times
         less the frames' median offset, as ``Playback`` moves them."""
         shift = median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
-        first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
+        first = unclocked_time(timeline.clock) or 0
         played: dict[str, tuple[Int64Array, Int64Array]] = {}
         for child, arrivals in self._arrivals.items():
             stamps, records, ros, known = arrivals.kept()

@@ -20,7 +20,7 @@ import numpy.typing as npt
 from tftools.core import figures
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
-from tftools.core.history import FROM_STATIC_TOPIC
+from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S, duration
 from tftools.sources.contents import ClockSamples
 from tftools.sources.edge_clocks import (
@@ -113,6 +113,7 @@ class Timeline:
     full_tf: tuple[int, int] | None = None  # every frame's span, where ``tf_start``/``tf_end`` leave some out
     played_estimate: bool = False  # a replay's without a reference: its record times are the replay's clock
     replayed: bool = False  # a replay's (``played``): ``Playback`` gave every record time a value, 0 or less too
+    unclocked: int | None = None  # a replay's: the time ``Playback`` gave messages recorded before any /clock
     kept: KeptArrivals | None = dataclasses.field(default=None, compare=False)  # a replay's record-clocked frames'
 
     @property
@@ -347,7 +348,8 @@ class Timeline:
         where that is known (a record time is known, and under /clock, a /clock had been recorded)."""
         records = np.asarray(record_times, np.int64)
         if self.reference is Reference.RECORD or self.played_estimate:
-            return records, (records > 0) | self.replayed
+            known = (records > 0) | self.replayed
+            return records, known if self.unclocked is None else known & (records != self.unclocked)
         if self.reference is Reference.NONE:
             return np.zeros(len(records), np.int64), np.zeros(len(records), bool)
         return clock_at(self.clock, records)
@@ -420,6 +422,7 @@ class Timeline:
             edges=edges,
             record_step=self.resolution,
             replayed=True,
+            unclocked=unclocked_time(self.clock) if self.reference is Reference.CLOCK else None,
             kept=kept if kept is not None and kept.frames else None,
         )
 
@@ -434,16 +437,24 @@ class Timeline:
         return self.reason
 
 
+def unclocked_time(clock: ClockSamples) -> int | None:
+    """The replay time of messages recorded before the first of ``clock``'s samples (or at no known time): 1 ns
+    before its value, so that they play first and their ROS time at arrival stays unknown, as a whole read has it
+    (``Timeline.ros_time``: a Webots robot's 96 transforms before the recorder heard /clock, all played at its
+    first value, were 147 messages in 1.0 s of the replay: 143 msgs/s for 50)."""
+    return int(clock.clock[0]) - 1 if len(clock) else None
+
+
 class Playback:
     """Record times moved onto the stamps' clock for a replay, never decreasing, part after part of a
     recording (all of it at once, or a stream's windows): ROS time at arrival (before the first /clock,
-    its first value); without a reference, shifted by the frames' median offset from the record clock
+    ``unclocked_time``); without a reference, shifted by the frames' median offset from the record clock
     (an estimate: the recording kept no clock of the stamps)."""
 
     def __init__(self, timeline: Timeline) -> None:
         self.reference = timeline.reference
         self._clock = timeline.clock  # the samples up to the next part: all of them, or the last one heard
-        self._first = int(timeline.clock.clock[0]) if len(timeline.clock) else 0
+        self._unclocked = unclocked_time(timeline.clock) or 0  # before the first /clock: its value less 1 ns
         self._shift = figures.median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
         self._floor = np.iinfo(np.int64).min
         self._unknown = timeline.record_start  # a record time of 0 (unknown, an MCAP's log time 0) plays first
@@ -462,7 +473,7 @@ class Playback:
         if self.reference is Reference.NONE:
             return records - self._shift
         times, known = clock_at(self._clock, records)
-        times = np.maximum.accumulate(np.maximum(np.where(known, times, self._first), self._floor))
+        times = np.maximum.accumulate(np.maximum(np.where(known, times, self._unclocked), self._floor))
         self._floor = int(times[-1])
         return times
 
@@ -490,8 +501,10 @@ def timeline_of(
     if record_start <= 0 < record_end:  # some messages' record times unknown (0): the span of the known ones
         record_start = _first_known(buffer, clock, record_start)
     tf = tf_span(stamp_spans(buffer), record_start, record_end)
-    if not record_step and not _records_on_clock(clock):
-        record_step = _ticked_grid(buffer, clock)
+    if not record_step and not records_on_clock(clock):
+        grid = TickedGrid()
+        grid.add(clock.record_time, [h for _, h in buffer.histories()])
+        record_step = grid.step()
     return timeline_from(edges, clock, record_start, record_end, tf, record_step)
 
 
@@ -501,14 +514,38 @@ GRID_MIN_TIMES = 20
 SHARED_TICKS = 5
 
 
-def _ticked_grid(buffer: Buffer, clock: ClockSamples) -> int:
+class TickedGrid:
     """The step of the clock the record times were read off (``record_grid``), where they show one: on one
-    grid, and samples of one edge with other stamps recorded at the same instant (received within one tick)."""
-    histories = [h for _, h in buffer.histories()]
-    shared = sum(int(((np.diff(h.record_times) == 0) & (np.diff(h.stamps) != 0)).sum()) for h in histories)
-    if shared < SHARED_TICKS:
-        return 0
-    return record_grid(np.concatenate([clock.record_time, *(h.record_times for h in histories)]))
+    grid, and samples of one edge with other stamps recorded at the same instant (received within one tick);
+    learnt part after part in record order (a stream's windows: Stage's 100 ms ticks, which its replay missed,
+    read whole or not), in memory that does not grow with the recording."""
+
+    def __init__(self) -> None:
+        self.shared = 0  # samples of one edge with other stamps recorded at one instant, in pairs
+        self._distinct = 0  # distinct known record times
+        self._last: int | None = None  # the latest of them
+        self._least = 0  # the smallest step between them (0: none yet)
+        self._common = 0  # the greatest common divisor of those steps
+
+    def add(self, clock_records: Int64Array, histories: Sequence[EdgeHistory]) -> None:
+        """The record times of a part's /clock messages and of its edges' samples (``histories``)."""
+        self.shared += sum(int(((np.diff(h.record_times) == 0) & (np.diff(h.stamps) != 0)).sum()) for h in histories)
+        times = np.concatenate([clock_records, *(h.record_times for h in histories)])
+        distinct = np.unique(times[times > 0])
+        if self._last is not None:
+            distinct = np.concatenate(([self._last], distinct[distinct > self._last]))
+        if len(distinct) > 1:
+            steps = np.diff(distinct)
+            least = int(steps.min())
+            self._least = min(self._least, least) if self._least else least
+            self._common = int(np.gcd.reduce(np.concatenate(([self._common], steps))))
+        self._distinct += len(distinct) - (self._last is not None)
+        if len(distinct):
+            self._last = int(distinct[-1])
+
+    def step(self) -> int:
+        """The grid's step (ns), or 0: too few samples shared a tick, or record times as fine as a wall clock's."""
+        return _grid_step(self._distinct, self._least, self._common) if self.shared >= SHARED_TICKS else 0
 
 
 def record_grid(record_times: Int64Array) -> int:
@@ -517,11 +554,16 @@ def record_grid(record_times: Int64Array) -> int:
     record (Stage's ticks every 100 ms: messages received within one tick share a record time, the next
     skips one); 0 for record times as fine as a wall clock's."""
     distinct = np.unique(record_times[record_times > 0])
-    if len(distinct) < GRID_MIN_TIMES:
+    if len(distinct) < 2:
         return 0
     steps = np.diff(distinct)
-    step = int(steps.min())
-    return step if step >= FINE_STEP and not (steps % step).any() else 0
+    return _grid_step(len(distinct), int(steps.min()), int(np.gcd.reduce(steps)))
+
+
+def _grid_step(distinct: int, least: int, common: int) -> int:
+    """``least``, the smallest of the steps between ``distinct`` record times, where it is the grid's: every step a
+    multiple of it (``common``, their greatest common divisor, is it), enough times, and ``FINE_STEP`` or more."""
+    return least if distinct >= GRID_MIN_TIMES and least >= FINE_STEP and common == least else 0
 
 
 def _first_known(buffer: Buffer, clock: ClockSamples, otherwise: int) -> int:
@@ -530,7 +572,7 @@ def _first_known(buffer: Buffer, clock: ClockSamples, otherwise: int) -> int:
     return min((int(t.min()) for t in known if len(t)), default=otherwise)
 
 
-def _records_on_clock(clock: ClockSamples) -> bool:
+def records_on_clock(clock: ClockSamples) -> bool:
     """Whether the record clock is ``/clock`` itself (recorded with use_sim_time): most /clock messages
     recorded at exactly the time they carry, or the one before them carried (the recorder's ROS time)."""
     if len(clock) < 2:
@@ -587,7 +629,7 @@ def timeline_from(
     read off /clock (recorded with use_sim_time) are as coarse as its steps."""
     reference, reason = _reference(edges, clock, SAME_CLOCK, record_start, record_end)
     timeline = Timeline(reference, clock, record_start, record_end, tf[0], tf[1], edges, reason, full_tf=tf)
-    if not record_step and _records_on_clock(clock):
+    if not record_step and records_on_clock(clock):
         record_step = timeline.clock_step
     return _spanned(dataclasses.replace(timeline, record_step=record_step))
 

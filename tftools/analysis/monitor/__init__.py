@@ -267,7 +267,9 @@ class LiveMonitor:
         self.window = window
         self.clock = clock
         self.timeline = timeline
-        self.origin: int | None = None  # when the first transform arrived (since the last jump back): +S counts from it
+        #: Where +S counts from: a replay's recording's origin (its tf's first stamp, as --start's +S), else when
+        #: the first transform arrived (since the last jump back).
+        self.origin: int | None = timeline.origin if timeline is not None else None
         # Keep a little more than the window: samples that arrive late still fall inside it.
         self.buffer = Buffer(cache_time=window + DEFAULT_CACHE_TIME, clock=clock, semantics=semantics)
         #: The rows tf2 refused or took again without storing them (ROS 2: an identical sample), as
