@@ -4,6 +4,7 @@ megabytes at a time."""
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,6 +17,9 @@ from tftools.sources.bag.spans import Spans
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, Codec, CopyCodec, HeaderCodec, WholeCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.contents import ClockSamples, SentMessages, StampedMessages, WholeMessages
+
+if TYPE_CHECKING:
+    from tftools.core._kernels import Spare
 
 ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
@@ -30,6 +34,9 @@ MAX_WHOLE = 20_000
 MAX_WHOLE_TEXT = 16 << 20
 _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
 _ALONE_BYTES = 512 << 10  # payload bytes of one codec handed at once that are decoded at once, uncopied
+#: Rows read from which the buffer's block for them is brought in ahead (``Spare``): ~2 MiB, where it starts
+#: on large pages.
+_ROOM_FROM_ROWS = 24_000
 
 
 #: Payloads of one codec added together: their bytes, where each payload begins in them and how
@@ -84,6 +91,9 @@ class MessageSet:
         #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
         #: play`` does): the positions of its messages, sorted, and each one's place in that order.
         self.replayed: tuple[Int64Array, Int64Array] | None = None
+        #: Where the whole file is read (no window: a bulk load's), the buffer's block for the rows read so far,
+        #: brought in on another thread as they are read.
+        self.room: Spare | None = None
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -200,6 +210,7 @@ class MessageSet:
             self._decode_groups()  # those added before first: the rows stay in message order
             self._decode(codec, np.frombuffer(data, np.uint8), starts, lengths, ids)
             self._rows.settle()
+            self._room_ahead()
             return
         piece, at = _copied(data, starts, lengths)
         self._groups.setdefault(codec, []).append((piece, at, lengths, ids))
@@ -228,6 +239,19 @@ class MessageSet:
             self._decode(number, raw, starts, lengths, ids)
         self._rows.settle()
         self._pending_bytes = 0
+        self._room_ahead()
+
+    def _room_ahead(self) -> None:
+        """The block for the rows read so far, and a part's ahead, brought in (``room``), where the whole file
+        is read."""
+        rows = self._rows.held
+        if self.room is None:
+            if self.window is not None or rows < _ROOM_FROM_ROWS:
+                return
+            from tftools.core._kernels import Spare  # a reader of a few transforms does without
+
+            self.room = Spare()
+        self.room.ahead(rows)
 
     def _decode(self, number: int, raw: UInt8Array, starts: Int64Array, lengths: Int64Array, ids: Int64Array) -> None:
         """Decode codec ``number``'s payloads of messages ``ids`` into rows, clock values or headers."""
