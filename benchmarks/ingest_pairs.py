@@ -55,7 +55,8 @@ done, after = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
 insert_cpu = time.thread_time() - thread
 cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 print(json.dumps({{"ingest": done - began, "read": read - began, "insert": done - read, "decode": spent[0],
-                  "cpu": cpu, "insert_cpu": insert_cpu, "read_cpu": thread - read_thread, "waited": spent_since(spent_before, "s")["s_waited_s"],
+                  "cpu": cpu, "insert_cpu": insert_cpu, "read_cpu": thread - read_thread,
+                  "waited": spent_since(spent_before, "s")["s_waited_s"],
                   "faults": after.ru_minflt - before.ru_minflt}}))
 """
 FIGURES = ("ingest", "read", "insert", "decode", "cpu", "read_cpu", "insert_cpu", "waited")
@@ -126,10 +127,14 @@ def main() -> None:
             worst_insert = 1e3 * max(r["insert_cpu"] for r in got)
             slow_insert = sum(r["insert_cpu"] > SLOW_INSERT_CPU for r in got)
             slow_ingest = sum(r["ingest"] > SLOW_INGEST for r in got)
+            # what the wall time would be without the waits another process caused
+            unwaited = [r["ingest"] - r["waited"] for r in got]
+            slow_unwaited = sum(u > SLOW_INGEST for u in unwaited)
             print(
                 f"{fmt:5} {side:6} {figures}  (ms)  faults {faults:,.0f}  ingest best {best:.1f} worst {worst:.1f} ms, "
-                f"most CPU {worst_cpu:.1f} ms, insert's most CPU {worst_insert:.1f} ms; slow: insert {slow_insert}, "
-                f"ingest {slow_ingest} of {len(got)}"
+                f"most CPU {worst_cpu:.1f} ms, insert's most CPU {worst_insert:.1f} ms; ingest less the wait "
+                f"{1e3 * statistics.median(unwaited):.1f}, at most {1e3 * max(unwaited):.1f} ms; slow: insert "
+                f"{slow_insert}, ingest {slow_ingest} ({slow_unwaited} less the wait) of {len(got)}"
             )
     print(
         f"medians of {args.rounds} processes a side, alternated; load average (1 min) {min(loads):.1f}-{max(loads):.1f}"
