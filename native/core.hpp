@@ -251,8 +251,9 @@ class Spare {
 // would grow with the histories (2 MiB a column: a 4.1M-transform load would hold 136 B a transform,
 // not 112). On a virtual machine whose host takes back the free blocks it is told of (virtio-balloon's
 // free page reporting), a fresh large page's first write now and then costs ~3.5 ms, not ~0.3: one
-// ingest in five 40 ms slower. Small pages never are, and cost ~5 ms more in every ingest: kept large
-// (docs/performance.md, "One slow run in five").
+// ingest in five was 40 ms slower. Small pages never are, and cost ~5 ms more in every ingest: kept
+// large, and brought in ahead on another thread where a read gives a `Spare` (docs/performance.md, "One
+// slow run in five").
 class Room {
    public:
     // `spare`: memory brought in ahead for it (taken where the room is in large pages).
