@@ -24,6 +24,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <thread>
 #include <unordered_map>
 #include <utility>
@@ -144,11 +145,12 @@ constexpr int64_t LARGE_PAGES_UP_TO = 64 << 20;
 // largest room in large pages; what the room does not use is given back when it is taken.
 class Spare {
    public:
+    // Without the address space or a thread, a spare that brings nothing in: the room is made as before.
     Spare() {
         // the room's largest size, and a large page's slack to start it on one: address space, not memory
         void* mapped = mmap(nullptr, LARGE_PAGES_UP_TO + LARGE_PAGE, PROT_READ | PROT_WRITE,
                             MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
-        if (mapped == MAP_FAILED) throw std::bad_alloc();
+        if (mapped == MAP_FAILED) return;
         const auto start = reinterpret_cast<uintptr_t>(mapped);
         const uintptr_t aligned = (start + LARGE_PAGE - 1) / LARGE_PAGE * LARGE_PAGE;
         if (aligned > start) munmap(mapped, aligned - start);
@@ -157,7 +159,11 @@ class Spare {
         }
         memory_ = reinterpret_cast<uint8_t*>(aligned);
         madvise(memory_, LARGE_PAGES_UP_TO, MADV_HUGEPAGE);
-        worker_ = std::thread([this] { work(); });
+        try {
+            worker_ = std::thread([this] { work(); });
+        } catch (const std::system_error&) {
+            take(0);
+        }
     }
     Spare(const Spare&) = delete;
     Spare& operator=(const Spare&) = delete;
@@ -170,6 +176,7 @@ class Spare {
     // part adds before the next call (at most the room's largest size). Past that size the room is not
     // laid on large pages: all of it given back at once.
     void ahead(int64_t rows) {
+        if (memory_ == nullptr) return;
         if (rows * ROW_BYTES > LARGE_PAGES_UP_TO) {
             take(0);
             return;
