@@ -111,10 +111,12 @@ def test_a_bag_read_into_a_recording_gives_back_every_row_as_read() -> None:
 def test_a_whole_read_brings_in_the_buffers_block_as_it_reads(monkeypatch: pytest.MonkeyPatch, name: str) -> None:
     """A file read whole brings in the histories' block as its rows are read (``RecordingContents.room``), which
     ``recording_of`` hands to the buffer: the histories are those of a read without it (the sample's block is
-    too small to take it: ``test_insert`` has one that does). A windowed read (a replay's) does not."""
+    too small to take it: ``test_insert`` has one that does). A windowed read (a replay's) does not, nor a read
+    where no other core is free."""
     from tftools.sources.bag import messages
 
     bag = SAMPLE_BAGS / name
+    monkeypatch.setattr(messages, "_a_core_free", lambda: True)
     loaded = []
     for rows in (1 << 60, 0):  # never; from the first part decoded
         monkeypatch.setattr(messages, "_ROOM_FROM_ROWS", rows)
@@ -129,6 +131,8 @@ def test_a_whole_read_brings_in_the_buffers_block_as_it_reads(monkeypatch: pytes
         )
     assert loaded[0] == loaded[1]
     assert read_contents([bag], window=RecordWindow(0, 1 << 62)).room is None
+    monkeypatch.setattr(messages, "_a_core_free", lambda: False)  # every core busy: its thread would slow the read
+    assert read_contents([bag]).room is None
 
 
 def test_parts_that_overlap_in_record_time_are_merged_in_order() -> None:
