@@ -50,13 +50,14 @@ before, began = resource.getrusage(resource.RUSAGE_SELF), time.perf_counter()
 read_thread = time.thread_time()
 contents = read_whole([{bag!r}])
 read, thread = time.perf_counter(), time.thread_time()
+spare = getattr(contents, "room", None) is not None
 recording_of(contents)
 done, after = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
 insert_cpu = time.thread_time() - thread
 cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 print(json.dumps({{"ingest": done - began, "read": read - began, "insert": done - read, "decode": spent[0],
                   "cpu": cpu, "insert_cpu": insert_cpu, "read_cpu": thread - read_thread,
-                  "waited": spent_since(spent_before, "s")["s_waited_s"],
+                  "waited": spent_since(spent_before, "s")["s_waited_s"], "spare": spare,
                   "faults": after.ru_minflt - before.ru_minflt}}))
 """
 FIGURES = ("ingest", "read", "insert", "decode", "cpu", "read_cpu", "insert_cpu", "waited")
@@ -130,11 +131,13 @@ def main() -> None:
             # what the wall time would be without the waits another process caused
             unwaited = [r["ingest"] - r["waited"] for r in got]
             slow_unwaited = sum(u > SLOW_INGEST for u in unwaited)
+            spares = sum(bool(r.get("spare")) for r in got)
             print(
                 f"{fmt:5} {side:6} {figures}  (ms)  faults {faults:,.0f}  ingest best {best:.1f} worst {worst:.1f} ms, "
                 f"most CPU {worst_cpu:.1f} ms, insert's most CPU {worst_insert:.1f} ms; ingest less the wait "
                 f"{1e3 * statistics.median(unwaited):.1f}, at most {1e3 * max(unwaited):.1f} ms; slow: insert "
-                f"{slow_insert}, ingest {slow_ingest} ({slow_unwaited} less the wait) of {len(got)}"
+                f"{slow_insert}, ingest {slow_ingest} ({slow_unwaited} less the wait) of {len(got)}; a spare made in "
+                f"{spares}"
             )
     print(
         f"medians of {args.rounds} processes a side, alternated; load average (1 min) {min(loads):.1f}-{max(loads):.1f}"

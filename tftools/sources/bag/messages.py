@@ -41,13 +41,16 @@ _ROOM_FROM_ROWS = 24_000
 
 
 def _a_core_free() -> bool:
-    """Whether another core is likely free for the ``Spare``'s thread while this one reads: the last minute's
-    load below the cores this process may run on, less a half. Where they are all busy, its thread would take
-    the read's turns (ingest_pairs.py at load 4 to 5 on 2 cores: the read's wall time 7 ms longer in the median)."""
+    """Whether a core is free for the ``Spare``'s thread now: fewer threads running or ready to run on the
+    machine (``/proc/loadavg``'s, this one among them) than the cores this process may run on. Where none is,
+    its thread would take the read's turns (a session's threads share one group's share of the CPU:
+    ingest_pairs.py at load 4 to 5 on 2 cores, the read 7 ms longer in the median, waiting). Elsewhere than
+    Linux, none is made."""
     try:
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-        return os.getloadavg()[0] < cores - 0.5
-    except OSError:
+        with open("/proc/loadavg") as f:
+            running = int(f.read().split()[3].split("/")[0])
+        return running < len(os.sched_getaffinity(0))
+    except (OSError, ValueError, IndexError, AttributeError):
         return False
 
 
