@@ -109,6 +109,7 @@ class MessageSet:
         #: Where the whole file is read (no window: a bulk load's) and another core is free, the buffer's block for
         #: the rows read so far, brought in on another thread as they are read.
         self.room: Spare | None = None
+        self._room_asked = False  # whether a core was asked for it (once)
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -258,10 +259,13 @@ class MessageSet:
 
     def _room_ahead(self) -> None:
         """The block for the rows read so far, and a part's ahead, brought in (``room``), where the whole file
-        is read."""
+        is read and a core was free when the rows were first enough for it."""
         rows = self._rows.held
         if self.room is None:
-            if self.window is not None or rows < _ROOM_FROM_ROWS or not _a_core_free():
+            if self.window is not None or rows < _ROOM_FROM_ROWS or self._room_asked:
+                return
+            self._room_asked = True
+            if not _a_core_free():
                 return
             from tftools.core._kernels import Spare  # a reader of a few transforms does without
 
