@@ -41,15 +41,15 @@ _ROOM_FROM_ROWS = 24_000
 
 
 def _a_core_free() -> bool:
-    """Whether a core is free for the ``Spare``'s thread now: fewer threads running or ready to run on the
-    machine (``/proc/loadavg``'s, this one among them) than the cores this process may run on. Where none is,
-    its thread would take the read's turns (a session's threads share one group's share of the CPU:
-    ingest_pairs.py at load 4 to 5 on 2 cores, the read 7 ms longer in the median, waiting). Elsewhere than
-    Linux, none is made."""
+    """Whether the ``Spare``'s thread would find a core of its own, or one shared with a single other thread, now:
+    no more threads running or ready to run on the machine (``/proc/loadavg``'s, this one among them) than the
+    cores this process may run on. Where more are, its thread would take the read's turns (a session's threads
+    share one group's share of the CPU: ingest_pairs.py at load 4 to 5 on 2 cores, the read 7 ms longer in the
+    median, waiting). Elsewhere than Linux, none is made."""
     try:
         with open("/proc/loadavg") as f:
             running = int(f.read().split()[3].split("/")[0])
-        return running < len(os.sched_getaffinity(0))
+        return running <= len(os.sched_getaffinity(0))
     except (OSError, ValueError, IndexError, AttributeError):
         return False
 
