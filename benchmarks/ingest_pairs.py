@@ -27,11 +27,13 @@ from ingest_functions import checkout
 from ratios import ENV, cached_bytecode
 from vs_tf2 import HERE, UNIT_SECONDS, write_bags
 
-#: One ingest in a process of its own, as ``ours_side.py ingest`` times it, the decode's calls timed within.
+#: One ingest in a process of its own, as ``ours_side.py ingest`` times it, the decode's calls timed within, the
+#: insert's CPU time its thread's, and the time the process's threads waited for a CPU another process held.
 PROBE = """
 import json, resource, sys, time
 sys.path.insert(0, {here!r})
 from ours_side import import_readers
+from spent import spent_since, usage
 import_readers()
 from timing import read_whole
 from tftools.sources.codecs import stepped
@@ -43,16 +45,25 @@ def timed(*args):
     spent[0] += time.perf_counter() - began
     return out
 stepped._wire.decode_transforms = timed
+spent_before = usage()
 before, began = resource.getrusage(resource.RUSAGE_SELF), time.perf_counter()
+read_thread = time.thread_time()
 contents = read_whole([{bag!r}])
-read = time.perf_counter()
+read, thread = time.perf_counter(), time.thread_time()
+spare = getattr(contents, "room", None) is not None
 recording_of(contents)
 done, after = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
+insert_cpu = time.thread_time() - thread
 cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 print(json.dumps({{"ingest": done - began, "read": read - began, "insert": done - read, "decode": spent[0],
-                  "cpu": cpu, "faults": after.ru_minflt - before.ru_minflt}}))
+                  "cpu": cpu, "insert_cpu": insert_cpu, "read_cpu": thread - read_thread,
+                  "waited": spent_since(spent_before, "s")["s_waited_s"], "spare": spare,
+                  "faults": after.ru_minflt - before.ru_minflt}}))
 """
-FIGURES = ("ingest", "read", "insert", "decode", "cpu")
+FIGURES = ("ingest", "read", "insert", "decode", "cpu", "read_cpu", "insert_cpu", "waited")
+#: A slow process (``issue 41``): the insert's CPU time over 25 ms (~13 ms usually), or an ingest over 77 ms
+#: (30x tf2's 2.32 s).
+SLOW_INSERT_CPU, SLOW_INGEST = 0.025, 0.077
 
 
 #: A side: the interpreter to run, and the tree of sources (with extensions) it reads first, if any.
@@ -86,6 +97,7 @@ def main() -> None:
     parser.add_argument("after", nargs="?", help="the same (default: the working tree)")
     parser.add_argument("--rounds", type=int, default=9, help="processes of each side and format, alternated")
     parser.add_argument("--formats", default="ros1,db3,mcap", help="comma-separated: ros1, db3, mcap")
+    parser.add_argument("--json", help="write every process's figures to this file")
     args = parser.parse_args()
     prefix = tempfile.TemporaryDirectory(prefix="tftools-bytecode-")
     cached_bytecode(prefix.name)
@@ -113,13 +125,25 @@ def main() -> None:
             faults = statistics.median(r["faults"] for r in got)
             best, worst = (1e3 * f(r["ingest"] for r in got) for f in (min, max))
             worst_cpu = 1e3 * max(r["cpu"] for r in got)
+            worst_insert = 1e3 * max(r["insert_cpu"] for r in got)
+            slow_insert = sum(r["insert_cpu"] > SLOW_INSERT_CPU for r in got)
+            slow_ingest = sum(r["ingest"] > SLOW_INGEST for r in got)
+            # what the wall time would be without the waits another process caused
+            unwaited = [r["ingest"] - r["waited"] for r in got]
+            slow_unwaited = sum(u > SLOW_INGEST for u in unwaited)
+            spares = sum(bool(r.get("spare")) for r in got)
             print(
                 f"{fmt:5} {side:6} {figures}  (ms)  faults {faults:,.0f}  ingest best {best:.1f} worst {worst:.1f} ms, "
-                f"most CPU {worst_cpu:.1f} ms"
+                f"most CPU {worst_cpu:.1f} ms, insert's most CPU {worst_insert:.1f} ms; ingest less the wait "
+                f"{1e3 * statistics.median(unwaited):.1f}, at most {1e3 * max(unwaited):.1f} ms; slow: insert "
+                f"{slow_insert}, ingest {slow_ingest} ({slow_unwaited} less the wait) of {len(got)}; a spare made in "
+                f"{spares}"
             )
     print(
         f"medians of {args.rounds} processes a side, alternated; load average (1 min) {min(loads):.1f}-{max(loads):.1f}"
     )
+    if args.json:
+        Path(args.json).write_text(json.dumps({f"{fmt} {side}": runs[side, fmt] for side, fmt in runs}))
 
 
 if __name__ == "__main__":

@@ -6,20 +6,26 @@
 // (insert.hpp's rules) or its one-row case `insert_common`.
 #pragma once
 
+#include <pthread.h>
+#include <sched.h>
 #include <sys/mman.h>
 
 #include <algorithm>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <system_error>
+#include <thread>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -130,6 +136,119 @@ constexpr int64_t LARGE_PAGE = 2 << 20;
 // The largest room for a bulk load's histories that comes in large pages.
 constexpr int64_t LARGE_PAGES_UP_TO = 64 << 20;
 
+// The memory of a bulk load's room, brought in on another thread while the rows are still read.
+//
+// A fresh large page's first write costs ~0.3 ms, or ~3.5 ms where the host of a virtual machine took
+// the block back (virtio-balloon's free page reporting): a 22 MiB room now and then 40 ms. Brought in
+// here, ahead of the rows read so far, that cost is paid on the other core while the read goes on,
+// not in the insert (docs/performance.md, "One slow run in five"). Up to `LARGE_PAGES_UP_TO`, the
+// largest room in large pages; what the room does not use is given back when it is taken.
+class Spare {
+   public:
+    // Without the address space or a thread, a spare that brings nothing in: the room is made as before.
+    Spare() {
+        // the room's largest size, and a large page's slack to start it on one: address space, not memory
+        void* mapped = mmap(nullptr, LARGE_PAGES_UP_TO + LARGE_PAGE, PROT_READ | PROT_WRITE,
+                            MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+        if (mapped == MAP_FAILED) return;
+        const auto start = reinterpret_cast<uintptr_t>(mapped);
+        const uintptr_t aligned = (start + LARGE_PAGE - 1) / LARGE_PAGE * LARGE_PAGE;
+        if (aligned > start) munmap(mapped, aligned - start);
+        if (start + LARGE_PAGE > aligned) {
+            munmap(reinterpret_cast<void*>(aligned + LARGE_PAGES_UP_TO), start + LARGE_PAGE - aligned);
+        }
+        memory_ = reinterpret_cast<uint8_t*>(aligned);
+        madvise(memory_, LARGE_PAGES_UP_TO, MADV_HUGEPAGE);
+        try {
+            worker_ = std::thread([this] { work(); });
+        } catch (const std::system_error&) {
+            take(0);
+        }
+    }
+    Spare(const Spare&) = delete;
+    Spare& operator=(const Spare&) = delete;
+    ~Spare() {
+        stop();
+        if (memory_ != nullptr) munmap(memory_, LARGE_PAGES_UP_TO);
+    }
+
+    // A room of `rows` rows or more to come: its memory brought in, and as much again as one read's
+    // part adds before the next call (at most the room's largest size). Past that size the room is not
+    // laid on large pages: all of it given back at once.
+    void ahead(int64_t rows) {
+        if (memory_ == nullptr) return;
+        if (rows * ROW_BYTES > LARGE_PAGES_UP_TO) {
+            take(0);
+            return;
+        }
+        const int64_t bytes = std::min(rows * ROW_BYTES + AHEAD, LARGE_PAGES_UP_TO);
+        {
+            const std::lock_guard<std::mutex> held(mutex_);
+            if (bytes <= wanted_ || stopping_) return;
+            wanted_ = bytes;
+        }
+        changed_.notify_one();
+    }
+
+    // The memory for a room of `size` bytes (at most `LARGE_PAGES_UP_TO`), what was brought in of it
+    // ready, the rest given back; none once taken.
+    std::shared_ptr<void> take(int64_t size) {
+        stop();
+        if (memory_ == nullptr) return nullptr;
+        const int64_t kept = size > LARGE_PAGES_UP_TO ? 0 : (size + LARGE_PAGE - 1) / LARGE_PAGE * LARGE_PAGE;
+        if (kept < LARGE_PAGES_UP_TO) munmap(memory_ + kept, LARGE_PAGES_UP_TO - kept);
+        uint8_t* memory = std::exchange(memory_, nullptr);
+        if (kept == 0) return nullptr;
+        return std::shared_ptr<void>(memory, [kept](void* p) { munmap(p, kept); });
+    }
+
+    // Bytes brought in and still held here, not yet taken or given back.
+    int64_t brought() {
+        const std::lock_guard<std::mutex> held(mutex_);
+        return memory_ == nullptr ? 0 : brought_;
+    }
+
+   private:
+    // Bytes brought in beyond the rows read so far: a part's rows (a read decodes 4 MiB of messages at once).
+    static constexpr int64_t AHEAD = 2 * LARGE_PAGE;
+
+    void work() {
+        // Never put ahead of the read on waking (SCHED_BATCH: no wakeup preemption), its share of the CPU
+        // the same: on a busy machine it would otherwise take the read's core, a page at a time.
+        const sched_param none{};
+        pthread_setschedparam(pthread_self(), SCHED_BATCH, &none);
+        std::unique_lock<std::mutex> held(mutex_);
+        while (true) {
+            changed_.wait(held, [this] { return stopping_ || brought_ < wanted_; });
+            if (stopping_) return;
+            uint8_t* page = memory_ + brought_;
+            held.unlock();
+            // Written, not MADV_POPULATE_WRITE, which holds the process's mmap lock while it zeroes: the
+            // read's own mmap and brk calls would wait for it. Nothing else touches the memory until taken.
+            for (int64_t at = 0; at < LARGE_PAGE; at += 4096) static_cast<volatile uint8_t*>(page)[at] = 0;
+            held.lock();
+            brought_ += LARGE_PAGE;
+        }
+    }
+
+    // The worker stopped between two large pages, and joined: nothing writes the memory after.
+    void stop() {
+        {
+            const std::lock_guard<std::mutex> held(mutex_);
+            stopping_ = true;
+        }
+        changed_.notify_one();
+        if (worker_.joinable()) worker_.join();
+    }
+
+    uint8_t* memory_ = nullptr;
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    int64_t wanted_ = 0, brought_ = 0;
+    bool stopping_ = false;
+    std::thread worker_;
+};
+
 // One block for the histories of a bulk load, each taking its part as it is made.
 //
 // Up to `large_pages_up_to` it starts on a large page, so the kernel brings it in a fault a large
@@ -139,11 +258,16 @@ constexpr int64_t LARGE_PAGES_UP_TO = 64 << 20;
 // would grow with the histories (2 MiB a column: a 4.1M-transform load would hold 136 B a transform,
 // not 112). On a virtual machine whose host takes back the free blocks it is told of (virtio-balloon's
 // free page reporting), a fresh large page's first write now and then costs ~3.5 ms, not ~0.3: one
-// ingest in five 40 ms slower. Small pages never are, and cost ~5 ms more in every ingest: kept large
-// (docs/performance.md, "One slow run in five").
+// ingest in five was 40 ms slower. Small pages never are, and cost ~5 ms more in every ingest: kept
+// large, and brought in ahead on another thread where a read gives a `Spare` (docs/performance.md, "One
+// slow run in five").
 class Room {
    public:
-    Room(int64_t size, int64_t large_pages_up_to) : size_(size) {
+    // `spare`: memory brought in ahead for it (taken where the room is in large pages).
+    Room(int64_t size, int64_t large_pages_up_to, Spare* spare = nullptr) : size_(size) {
+        const bool large = size <= large_pages_up_to && size + LARGE_PAGE >= LARGE_PAGES_FROM;
+        if (large && spare != nullptr) memory_ = spare->take(size);
+        if (memory_) return;
         if (size > large_pages_up_to) {
             void* memory = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
             if (memory == MAP_FAILED) throw std::bad_alloc();
@@ -155,7 +279,7 @@ class Room {
             void* memory = std::aligned_alloc(LARGE_PAGE, rounded);
             if (memory == nullptr) throw std::bad_alloc();
             // numpy's rule, as for the block with its alignment's slack that it used to be
-            if (size + LARGE_PAGE >= LARGE_PAGES_FROM) madvise(memory, rounded, MADV_HUGEPAGE);
+            if (large) madvise(memory, rounded, MADV_HUGEPAGE);
             memory_ = std::shared_ptr<void>(memory, std::free);
         }
     }
@@ -405,11 +529,12 @@ class Core {
 
     // `rows` more rows of the frame `name` (without its leading slash) about to come: its history is
     // made or sized for them once, in one room with the other reserved ones.
-    void reserve(const std::vector<std::pair<std::string, int64_t>>& expected) {
+    // `spare`: memory brought in for the room while the rows were read (taken if the room fits it).
+    void reserve(const std::vector<std::pair<std::string, int64_t>>& expected, Spare* spare = nullptr) {
         for (const auto& [name, rows] : expected) expected_[name] += rows;
         int64_t size = 0;
         for (const auto& [name, rows] : expected_) size += block_bytes(std::max<int64_t>(rows, 1));
-        room_ = size ? std::make_shared<Room>(size, settings_.large_pages_up_to) : nullptr;
+        room_ = size ? std::make_shared<Room>(size, settings_.large_pages_up_to, spare) : nullptr;
     }
     const std::unordered_map<std::string, int64_t>& expected() const { return expected_; }
     void expect(std::string name, int64_t rows) { expected_[std::move(name)] = rows; }

@@ -211,9 +211,9 @@ class BufferCore {
         return accepted;
     }
 
-    void reserve(const std::vector<std::pair<std::string, int64_t>>& rows) {
+    void reserve(const std::vector<std::pair<std::string, int64_t>>& rows, tfbuffer::Spare* spare) {
         const Locked locked(*lock);
-        core.reserve(rows);
+        core.reserve(rows, spare);
     }
 
     void clear() {
@@ -949,6 +949,11 @@ NB_MODULE(_kernels, m) {
         nb::setattr(lock_class, method.ml_name, nb::steal(PyDescr_NewMethod(type, &method)));
     }
 
+    nb::class_<tfbuffer::Spare>(m, "Spare")
+        .def(nb::init<>())
+        .def("ahead", &tfbuffer::Spare::ahead, "rows"_a)
+        .def_prop_ro("brought", &tfbuffer::Spare::brought);
+
     nb::class_<BufferCore>(m, "BufferCore")
         .def(nb::init<nb::handle, std::optional<int64_t>, bool, double, int64_t>(), "answer"_a, "cache_time"_a.none(),
              "ros2"_a, "tolerance"_a, "large_pages_up_to"_a)
@@ -958,7 +963,7 @@ NB_MODULE(_kernels, m) {
             [](BufferCore& b, int64_t arrivals) { b.core.arrivals = arrivals; })
         .def("set_transform", &BufferCore::set_transform, "transform"_a, "authority"_a, "static"_a, "record_time"_a)
         .def("insert", &BufferCore::insert, "batch"_a)
-        .def("reserve", &BufferCore::reserve, "rows"_a)
+        .def("reserve", &BufferCore::reserve, "rows"_a, "spare"_a.none() = nb::none())
         .def("clear", &BufferCore::clear)
         .def("refusals", &BufferCore::refusals)
         .def("refused_frame_names", [](const BufferCore& b) { return BufferCore::names_of(b.core.refusals.frames); })

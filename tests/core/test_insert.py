@@ -143,6 +143,54 @@ def test_a_bulk_load_too_large_for_large_pages_takes_small_ones(monkeypatch: pyt
     assert loaded[0] == loaded[1 << 30]
 
 
+def test_a_bulk_load_takes_the_memory_brought_in_for_it_while_it_was_read() -> None:
+    """A ``Spare`` brought in ahead of the rows (on a thread of its own) is the reserved block's memory: the
+    histories start on a large page and are those of a load without it; the spare holds nothing after."""
+    from tftools import BatchBuilder
+    from tftools.core._kernels import Spare
+
+    builder = BatchBuilder()
+    for k in range(1, 15_001):
+        for child in ("b", "c"):
+            builder.add("a", child, k * S, (k, 0, 0), (0, 0, 0, 1), record_time=k)
+    batch = builder.take()  # 30,000 rows: a block of 2.7 MB, on large pages
+    loaded = []
+    for spare in (None, Spare()):
+        if spare is not None:
+            spare.ahead(len(batch) // 2)  # a part read, more to come
+            spare.ahead(len(batch))
+        buffer = Buffer(cache_time=None)
+        buffer.reserve([batch], spare)
+        buffer.insert(batch)
+        loaded.append(state(buffer))
+        hist = buffer.history("b")
+        assert hist is not None and hist.stamps.ctypes.data % (2 << 20) == 0
+        assert spare is None or spare.brought == 0
+    assert loaded[0] == loaded[1]
+
+
+def test_a_spare_past_the_largest_block_on_large_pages_is_given_back_at_once() -> None:
+    """Rows past ``LARGE_PAGES_UP_TO``'s block (laid on small pages): the spare lets its memory go as soon as
+    it is told of them, and a buffer reserving with it makes its block itself."""
+    from tftools import BatchBuilder
+    from tftools.core._kernels import Spare
+    from tftools.core.history import LARGE_PAGES_UP_TO
+
+    spare = Spare()
+    spare.ahead(1)
+    spare.ahead(LARGE_PAGES_UP_TO // ROW_BYTES + 1)
+    assert spare.brought == 0
+    builder = BatchBuilder()
+    for k in range(1, 101):
+        builder.add("a", "b", k * S, (k, 0, 0), (0, 0, 0, 1))
+    batch = builder.take()
+    buffer = Buffer(cache_time=None)
+    buffer.reserve([batch], spare)
+    buffer.insert(batch)
+    hist = buffer.history("b")
+    assert hist is not None and hist.stamps.tolist() == [k * S for k in range(1, 101)]
+
+
 def test_views_outlive_the_columns_they_were_taken_of() -> None:
     """A history's columns move when it grows or is pruned: a view taken before keeps the old ones."""
     buffer = Buffer(cache_time=2 * S)

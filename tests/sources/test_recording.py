@@ -16,7 +16,7 @@ from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.buffer import Buffer
 from tftools.core.rejection import RejectionCode
 from tftools.core.transform import Transform
-from tftools.sources.bag.contents import BagContents, BagFileInfo, in_record_order
+from tftools.sources.bag.contents import BagContents, BagFileInfo, RecordWindow, in_record_order
 from tftools.sources.bag.robot import ROBOT_TOPICS
 from tftools.sources.recording import read_recording, recording_of, recording_of_buffer
 
@@ -105,6 +105,34 @@ def test_a_bag_read_into_a_recording_gives_back_every_row_as_read() -> None:
     assert history is not None and len(history) == np.count_nonzero(
         np.array(read.transforms.frame_names)[read.transforms.child] == "base_link"
     )
+
+
+@pytest.mark.parametrize("name", ["robot.bag", "robot_db3", "robot_mcap"])
+def test_a_whole_read_brings_in_the_buffers_block_as_it_reads(monkeypatch: pytest.MonkeyPatch, name: str) -> None:
+    """A file read whole brings in the histories' block as its rows are read (``RecordingContents.room``), which
+    ``recording_of`` hands to the buffer: the histories are those of a read without it (the sample's block is
+    too small to take it: ``test_insert`` has one that does). A windowed read (a replay's) does not, nor a read
+    where no other core is free."""
+    from tftools.sources.bag import messages
+
+    bag = SAMPLE_BAGS / name
+    monkeypatch.setattr(messages, "_a_core_free", lambda: True)
+    loaded = []
+    for rows in (1 << 60, 0):  # never; from the first part decoded
+        monkeypatch.setattr(messages, "_ROOM_FROM_ROWS", rows)
+        read = read_contents([bag])
+        room = read.room
+        assert (room is None) == bool(rows)
+        recording = recording_of(read)
+        assert read.room is None  # handed to the buffer (which takes a block on large pages: 2 MiB and up)
+        columns = ("stamps", "values", "parents", "authorities", "record_times", "sequence", "flags")
+        loaded.append(
+            [(child, [getattr(h, c).tobytes() for c in columns]) for child, h in recording.buffer.histories()]
+        )
+    assert loaded[0] == loaded[1]
+    assert read_contents([bag], window=RecordWindow(0, 1 << 62)).room is None
+    monkeypatch.setattr(messages, "_a_core_free", lambda: False)  # every core busy: its thread would slow the read
+    assert read_contents([bag]).room is None
 
 
 def test_parts_that_overlap_in_record_time_are_merged_in_order() -> None:

@@ -118,6 +118,17 @@ class BufferLock:
     def owned(self) -> bool:
         """Whether this thread holds it."""
 
+class Spare:
+    """The memory of a bulk load's block of histories, brought in on a thread of its own while the rows are
+    read (a fresh large page's first write is paid there, not in the insert); at most the largest block
+    laid on large pages. ``BufferCore.reserve`` takes it; what the block does not use is given back."""
+
+    #: Bytes brought in so far and still held (0 once taken or given back).
+    brought: int
+
+    def ahead(self, rows: int) -> None:
+        """A block for ``rows`` rows or more to come: its memory brought in, and a read's part ahead."""
+
 class BufferCore:
     """A buffer's state, one owner as tf2's BufferCore: frames (tf2's ids from 1), publishers, each child
     frame's history, its last publisher, the rows reserved for a bulk load; and the calls on it."""
@@ -170,9 +181,10 @@ class BufferCore:
     def duplicates(self) -> Int64Array:
         """The kept arrival numbers of samples ROS 2's tf2 took without storing them, viewed."""
 
-    def reserve(self, rows: list[tuple[str, int]]) -> None:
+    def reserve(self, rows: list[tuple[str, int]], spare: Spare | None = None) -> None:
         """More rows of these child frames (named without a leading slash) about to come: their
-        histories are made, or sized, for them once, in one block."""
+        histories are made, or sized, for them once, in one block (``spare``'s memory, where the block
+        is laid on large pages and fits it)."""
 
     def clear(self) -> None:
         """tf2's ``BufferCore::clear``: each dynamic history emptied, static ones kept, names and ids kept."""

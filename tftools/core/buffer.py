@@ -17,6 +17,7 @@ from tftools.core import walk
 from tftools.core._kernels import (
     BufferCore,
     BufferLock,
+    Spare,
     buffer_can_transform,
     buffer_lookup,
     buffer_set_transform,
@@ -264,16 +265,17 @@ class Buffer:
         static edges kept, every frame name and id kept (a listener's answer to a jump back in time)."""
         self._core.clear()
 
-    def reserve(self, batches: Iterable[TransformBatch]) -> None:
+    def reserve(self, batches: Iterable[TransformBatch], spare: Spare | None = None) -> None:
         """Size each history once for the rows of ``batches``, about to be inserted: a bulk load
-        in parts then grows no history by doubling (what is never stored stays reserved)."""
+        in parts then grows no history by doubling (what is never stored stays reserved). ``spare``: the
+        memory brought in for them while they were read (``RecordingContents.room``), taken if it fits."""
         expected: dict[str, int] = {}
         for batch in batches:
             rows = np.bincount(batch.child, minlength=len(batch.frame_names))
             for child in np.flatnonzero(rows).tolist():
                 name = frame_name(batch.frame_names[child])
                 expected[name] = expected.get(name, 0) + int(rows[child])
-        self._core.reserve(list(expected.items()))
+        self._core.reserve(list(expected.items()), spare)
 
     # --- lookups -----------------------------------------------------------------------------
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import field
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -13,6 +13,9 @@ from tftools.core.arrays import BoolArray, Int32Array, Int64Array
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.frames import Names
 from tftools.values import record, value
+
+if TYPE_CHECKING:
+    from tftools.core._kernels import Spare
 
 #: The topics read unless told otherwise.
 DEFAULT_TOPICS = ("/tf", "/tf_static")
@@ -267,6 +270,8 @@ class RecordingContents:
     qos: dict[str, OfferedQos] = field(default_factory=dict, repr=False, compare=False)
     #: The tf messages that held a transform; None where the source did not tell them apart (a buffer).
     sent: SentMessages | None = field(default=None, repr=False, compare=False)
+    #: The buffer's block for the transforms, brought in while they were read (``Spare``): a whole file's.
+    room: Spare | None = field(default=None, repr=False, compare=False)
 
     @property
     def transforms(self) -> TransformBatch:

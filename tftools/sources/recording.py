@@ -152,7 +152,9 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
     refused: list[TransformBatch] = []
     refused_sequence = [np.zeros(0, np.int64)]
     parts, contents.parts = contents.parts, []
-    buffer.reserve(parts)
+    room, contents.room = contents.room, None
+    buffer.reserve(parts, room)
+    del room  # what the histories did not take given back
     parts.reverse()
     freed = 0
     while parts:

@@ -3,7 +3,9 @@ megabytes at a time."""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,6 +18,9 @@ from tftools.sources.bag.spans import Spans
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, Codec, CopyCodec, HeaderCodec, WholeCodec
 from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.contents import ClockSamples, SentMessages, StampedMessages, WholeMessages
+
+if TYPE_CHECKING:
+    from tftools.core._kernels import Spare
 
 ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
@@ -30,6 +35,23 @@ MAX_WHOLE = 20_000
 MAX_WHOLE_TEXT = 16 << 20
 _GROUP_BYTES = 4 << 20  # payload bytes gathered before they are decoded (and then freed)
 _ALONE_BYTES = 512 << 10  # payload bytes of one codec handed at once that are decoded at once, uncopied
+#: Rows read from which the buffer's block for them is brought in ahead (``Spare``): ~2 MiB, where it starts
+#: on large pages.
+_ROOM_FROM_ROWS = 24_000
+
+
+def _a_core_free() -> bool:
+    """Whether the ``Spare``'s thread would find a core of its own, or one shared with a single other thread, now:
+    no more threads running or ready to run on the machine (``/proc/loadavg``'s, this one among them) than the
+    cores this process may run on. Where more are, its thread would take the read's turns (a session's threads
+    share one group's share of the CPU: ingest_pairs.py at load 4 to 5 on 2 cores, the read 7 ms longer in the
+    median, waiting). Elsewhere than Linux, none is made."""
+    try:
+        with open("/proc/loadavg") as f:
+            running = int(f.read().split()[3].split("/")[0])
+        return running <= len(os.sched_getaffinity(0))
+    except (OSError, ValueError, IndexError, AttributeError):
+        return False
 
 
 #: Payloads of one codec added together: their bytes, where each payload begins in them and how
@@ -84,6 +106,10 @@ class MessageSet:
         #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
         #: play`` does): the positions of its messages, sorted, and each one's place in that order.
         self.replayed: tuple[Int64Array, Int64Array] | None = None
+        #: Where the whole file is read (no window: a bulk load's) and another core is free, the buffer's block for
+        #: the rows read so far, brought in on another thread as they are read.
+        self.room: Spare | None = None
+        self._room_asked = False  # whether a core was asked for it (once)
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -200,6 +226,7 @@ class MessageSet:
             self._decode_groups()  # those added before first: the rows stay in message order
             self._decode(codec, np.frombuffer(data, np.uint8), starts, lengths, ids)
             self._rows.settle()
+            self._room_ahead()
             return
         piece, at = _copied(data, starts, lengths)
         self._groups.setdefault(codec, []).append((piece, at, lengths, ids))
@@ -228,6 +255,22 @@ class MessageSet:
             self._decode(number, raw, starts, lengths, ids)
         self._rows.settle()
         self._pending_bytes = 0
+        self._room_ahead()
+
+    def _room_ahead(self) -> None:
+        """The block for the rows read so far, and a part's ahead, brought in (``room``), where the whole file
+        is read and a core was free when the rows were first enough for it."""
+        rows = self._rows.held
+        if self.room is None:
+            if self.window is not None or rows < _ROOM_FROM_ROWS or self._room_asked:
+                return
+            self._room_asked = True
+            if not _a_core_free():
+                return
+            from tftools.core._kernels import Spare  # a reader of a few transforms does without
+
+            self.room = Spare()
+        self.room.ahead(rows)
 
     def _decode(self, number: int, raw: UInt8Array, starts: Int64Array, lengths: Int64Array, ids: Int64Array) -> None:
         """Decode codec ``number``'s payloads of messages ``ids`` into rows, clock values or headers."""

@@ -118,6 +118,7 @@ class BagReader:
             [whole for read in reads for whole in read.whole],
             {read.info.path: read.qos for read in reads if read.qos is not None},
             concat_sent([read.sent for read in reads]),
+            reads[0].room if len(reads) == 1 else None,
         )
 
     def _open(self, location: str) -> _Opened:

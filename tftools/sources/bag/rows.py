@@ -49,12 +49,14 @@ class Rows:
         self.messages: list[Int64Array] = []  # of each part added since ``settle``: each row's message number
         #: Of each part settled: its messages, and how many rows each has there (8 bytes a row less).
         self.runs: list[tuple[Int64Array, Int64Array]] = []
+        self.held = 0  # rows added so far
 
     def add_rows(self, message: Int64Array, decoded: Decoded) -> None:
         """The rows ``decoded`` (frame ids in ``frames``): ``message`` being each one's message number."""
         if not len(message):  # messages that held no transform (an empty TFMessage): no run to keep
             return
         self.messages.append(message)
+        self.held += len(message)
         columns: list[Column] = [getattr(decoded, name) for name in _COLUMNS]
         for name, column in zip(_COLUMNS, columns, strict=True):
             self.parts[name].append(column)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
@@ -12,13 +13,16 @@ from tftools.sources.codecs.select import Unread, unread_lines
 from tftools.sources.contents import ClockSamples, OfferedQos, SentMessages, StampedMessages, WholeMessages, concat_sent
 from tftools.sources.headers import merged
 
+if TYPE_CHECKING:
+    from tftools.core._kernels import Spare
+
 
 class FileRead:
     """What one bag (a file, or a ROS 2 bag directory) gave: its transforms in record order, its
     description, its recorded clock, its sensor data's headers (and one line per topic whose headers
     could not be read), the messages read whole and, for a ROS 2 bag, the QoS its publishers offered."""
 
-    __slots__ = ("batches", "clock", "info", "qos", "sent", "stamped", "stamped_problems", "whole")
+    __slots__ = ("batches", "clock", "info", "qos", "room", "sent", "stamped", "stamped_problems", "whole")
 
     def __init__(
         self,
@@ -30,8 +34,10 @@ class FileRead:
         whole: list[WholeMessages] | None = None,
         qos: OfferedQos | None = None,
         sent: SentMessages | None = None,
+        room: Spare | None = None,
     ) -> None:
         self.batches = batches
+        self.room = room  # the buffer's block for the transforms, brought in as they were read
         self.sent = SentMessages.empty() if sent is None else sent
         self.info = info
         self.clock = ClockSamples.empty() if clock is None else clock
@@ -124,4 +130,5 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
         tf_messages=tf_messages,
     )
     sent = concat_sent([scan.messages.sent for scan in scans])
-    return FileRead(batches, info, merged_clock(clocks), merged(stamped), stamped_problems, whole, sent=sent)
+    room = scans[0].messages.room if len(scans) == 1 else None  # several: each brought in a part of it
+    return FileRead(batches, info, merged_clock(clocks), merged(stamped), stamped_problems, whole, sent=sent, room=room)
