@@ -8,6 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.fetch import Recording, load_manifest
@@ -45,3 +46,30 @@ def test_a_repaired_copy_keeps_what_tf2_holds_of_a_frame_on_tf_static_and_tf(
     verdict = _verdict(tfx, copy)
     assert ("clock", "info") in verdict and ("clock", "error") not in verdict
     assert verdict == [f for f in _verdict(tfx, path) if f[0] != "statics_early"]
+
+
+#: Recordings with /joint_states beside other sensor data, and how many topics of it they have.
+WITH_JOINT_STATES = {
+    "ros2-webots-epuck-resends-2025-db3": 19,
+    "ros1-gazebo-kobuki-free-space-nav-2017-bag": 2,
+    "ros1-gazebo-kobuki-repeated-stamps-2017-bag": 2,
+    "ros2-husky-ur-moveit2-gazebo-2025-db3": 1,
+    "ros2-husky-ur-moveit2-gazebo-long-2025-db3": 1,
+}
+
+
+@pytest.mark.parametrize(("recording", "topics"), WITH_JOINT_STATES.items())
+def test_filter_checks_the_sensor_topics_wtf_counts(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    recording: str,
+    topics: int,
+) -> None:
+    """The Webots e-puck: `tfx filter` checked /joint_states (sensor_msgs/JointState, frame base_link) of its 20
+    topics where wtf's header said "19 topics of sensor data" (it read /joint_states whole); the Kobukis 3 against
+    2, the Huskies 2 against 1. One rule for both: joint states place nothing in space."""
+    path = corpus(BY_ID[recording])
+    checked = [t["topic"] for t in json.loads(tfx("filter", "-b", path, "--format", "json").stdout)["topics"]]
+    (bag,) = json.loads(tfx("wtf", path, "--format", "json").stdout)["bags"]
+    assert sorted(checked) == sorted(bag["sensor_data"]["topics"]) and len(checked) == topics
+    assert "/joint_states" not in checked
