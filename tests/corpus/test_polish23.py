@@ -73,3 +73,27 @@ def test_filter_checks_the_sensor_topics_wtf_counts(
     (bag,) = json.loads(tfx("wtf", path, "--format", "json").stdout)["bags"]
     assert sorted(checked) == sorted(bag["sensor_data"]["topics"]) and len(checked) == topics
     assert "/joint_states" not in checked
+
+
+CREATE3 = "ros2-create3-real-two-urdfs-2022-db3"
+
+
+def test_a_chain_asked_without_a_window_has_none_in_json(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real TurtleBot 4 Lite: `tfx monitor odom base_link --format json` gave "window": {"start": null, "end":
+    1663967421.751} (the recording's last record time, to which the chain's delays are counted) where no window was
+    asked for and the text's header says the stamps' span: null/null, as without a chain."""
+    path = corpus(BY_ID[CREATE3])
+    chain = json.loads(tfx("monitor", "odom", "base_link", "-b", path, "--format", "json").stdout)
+    whole = json.loads(tfx("monitor", "-b", path, "--format", "json").stdout)
+    assert chain["window"] == whole["window"] == {"start": None, "end": None}
+    assert sorted(chain["chain"]["frames"]) == ["base_link", "odom"]
+
+
+def test_odometry_s_second_base_frame_is_said_odometry_s(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The create3's odometry moves base_footprint beside base_link under odom; urdf_extra's hint said "a camera or
+    lidar driver's own frames". A child of odom on /tf is odometry's base frame (REP 105)."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[CREATE3]), "--format", "json").stdout)["bags"]
+    (extra,) = [f for f in bag["findings"] if f["code"] == "urdf_extra" and f["frames"] == ["odom", "base_footprint"]]
+    assert extra["message"].startswith("base_footprint (a child of odom on /tf) is not a link")
+    assert "the robot's base as its odometry publishes it (REP 105: odom -> base_footprint" in extra["hint"]
+    assert "camera" not in extra["hint"]
