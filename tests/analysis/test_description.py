@@ -5,6 +5,7 @@ or flipped, joint states the URDF lacks, a recorded /robot_description used with
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -76,6 +77,25 @@ def test_a_healthy_robot_says_only_that_odom_is_not_its_own(tmp_path: Path, fmt:
     checks = {c.joint: c for c in check_joints(robot, recording.buffer, frame_tree(recording))}
     assert {c.verdict.value for c in checks.values()} == {"fine"}
     assert checks["wheel_left_joint"].compared == 100 and checks["wheel_left_joint"].rotation_deg < 1e-6
+
+
+def test_a_frame_moving_under_odom_is_said_odometry_s_base_and_a_driver_s_frame_a_driver_s(tmp_path: Path) -> None:
+    """The real create3 (ros2_db3_create3_real_two_urdfs): its odometry moves base_footprint and base_link under
+    odom, and urdf_extra said of base_footprint "a camera or lidar driver's own frames". A moving child of odom is
+    odometry's base (REP 105); a static frame under a link is still a driver's, or a link the URDF lacks."""
+    messages = recorded(Setup())
+    for m in [m for m in messages if m.topic == "/tf" and m.publisher == "/odometry"]:
+        (odom,) = m.value
+        messages.append(Recorded("/tf", m.record_time + 1, [replace(odom, child_frame_id="base_odom")], "/odometry"))
+    cam = Transform((0.0, 0.0, 0.1), (0.0, 0.0, 0.0, 1.0), START, "camera_link", "camera_optical")
+    messages.append(Recorded("/tf_static", START + 1, [cam], "/camera_driver"))
+    bag = write_robot_bag(tmp_path / "rover.bag", sorted(messages, key=lambda m: m.record_time))
+    recording = read_recording([bag])
+    robot, _ = robot_of([bag], recording, ROBOT)
+    extras = {f.frames[-1]: f.hint for f in findings_of(Scene(recording, robot=robot)) if f.code == "urdf_extra"}
+    assert "the robot's base as its odometry publishes it (REP 105" in extras["base_odom"], extras
+    assert "camera or lidar" not in extras["base_odom"]
+    assert "a camera or lidar driver's own frames" in extras["camera_optical"], extras
 
 
 def test_a_wheel_turning_more_than_half_a_turn_between_samples_is_no_false_alarm(tmp_path: Path) -> None:

@@ -26,14 +26,14 @@ EARLY = 80_000  # each message arrives 80 us before the transform it waits for
 
 def _epuck() -> tuple[list[TfMessage], StampedMessages]:
     """As on ros2_db3_webots_epuck: odom -> base_link stamped every 20 ms, recorded 20 ms after its stamp on
-    the wall clock; joint states stamped with the same instants, recorded 80 us before the tf of their
+    the wall clock; sensor data stamped with the same instants, recorded 80 us before the tf of their
     stamp (after the tf before it): each waits 80 us for it."""
     n = 300
     tf = [TfMessage("/tf", START + (i + 1) * PERIOD, [_tf(START + i * PERIOD)]) for i in range(n)]
     k = np.arange(1, n)
     stream = StampedMessages(
-        "/joint_states",
-        "sensor_msgs/JointState",
+        "/imu",  # the e-puck's were /joint_states, sensor data only asked for by name (``placed_nowhere``)
+        "sensor_msgs/Imu",
         (START + (k + 1) * PERIOD - EARLY).astype(np.int64),
         (START + k * PERIOD).astype(np.int64),
         np.zeros(len(k), np.int32),

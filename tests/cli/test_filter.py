@@ -305,6 +305,44 @@ def test_a_sensor_topic_given_as_tf_is_named_with_its_type_by_wtf_as_by_echo(
     assert "carry transforms: leave out --topic" in echo.stderr
 
 
+def test_joint_states_are_sensor_data_to_filter_as_to_wtf_only_when_named(tfx: Tfx, tmp_path: Path) -> None:
+    """The Webots e-puck (ros2_db3_webots_epuck): filter checked /joint_states (frame base_link) of its 20 topics
+    where wtf said "19 topics of sensor data" (it read /joint_states whole). Joint positions place nothing in space
+    (robot_state_publisher turns them into tf): one rule for both, and a topic named is checked all the same."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from tests.sources.ros2_helpers import Tf, tf_cdr
+
+    store, bag = get_typestore(Stores.ROS2_HUMBLE), tmp_path / "joints"
+    types = {"/joint_states": "sensor_msgs/msg/JointState", "/imu": "sensor_msgs/msg/Imu"}
+    with Writer(bag, version=8) as writer:
+        tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=store)
+        sensors = {topic: writer.add_connection(topic, kind, typestore=store) for topic, kind in types.items()}
+        for i in range(20):
+            stamp = START + i * NS_PER_S // 10
+            sec, nanosec = divmod(stamp, NS_PER_S)
+            writer.write(tf, stamp + MS, tf_cdr([Tf("odom", "base_link", sec, nanosec, (0.01 * i, 0, 0))]))
+            header = store.types["std_msgs/msg/Header"](
+                stamp=store.types["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec), frame_id="base_link"
+            )
+            t = store.types
+            vector, zeros = t["geometry_msgs/msg/Vector3"](0.0, 0.0, 0.0), np.zeros(9)
+            messages = {
+                "/joint_states": t["sensor_msgs/msg/JointState"](header, ["wheel"], *([np.array([0.1 * i])] * 3)),
+                "/imu": t["sensor_msgs/msg/Imu"](
+                    header, t["geometry_msgs/msg/Quaternion"](0.0, 0.0, 0.0, 1.0), zeros, vector, zeros, vector, zeros
+                ),
+            }
+            for topic, message in messages.items():
+                writer.write(sensors[topic], stamp + 2 * MS, store.serialize_cdr(message, types[topic]))
+    checked = json.loads(tfx("filter", "-b", bag, "--format", "json").stdout)
+    assert [t["topic"] for t in checked["topics"]] == ["/imu"]
+    assert "1 topic of sensor data checked" in tfx("wtf", bag).stdout
+    named = json.loads(tfx("filter", "/joint_states", "/imu", "-b", bag, "--format", "json").stdout)
+    assert sorted(t["topic"] for t in named["topics"]) == ["/imu", "/joint_states"]
+
+
 def test_a_recording_whose_only_header_is_a_gamepad_s_says_so(tfx: Tfx, tmp_path: Path) -> None:
     """A gamepad's sensor_msgs/Joy (joy_node stamps it in 'joy'; the KTH arm's /joy, corpus
     ros2_mcap_kth_robp_arm_joy_no_tf_2025) is no sensor data: where it is the only topic with a header, filter said
@@ -333,6 +371,6 @@ def test_a_recording_whose_only_header_is_a_gamepad_s_says_so(tfx: Tfx, tmp_path
     said = tfx("filter", "-b", bag)
     text = " ".join(said.stderr.split())
     assert said.code == 2 and "no topic with a Header to check: /joy is sensor_msgs/msg/Joy, a gamepad's" in text, text
-    assert "its frame_id names no coordinate frame, so nothing ties it to tf" in text
+    assert "its frame_id places nothing in space, so nothing ties it to tf" in text
     named = tfx("filter", "/joy", "-b", bag)  # asked for: checked, its frame unknown to tf
     assert named.code == 1 and "/joy" in named.stdout and "unknown frame" in named.stdout

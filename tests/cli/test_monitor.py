@@ -384,22 +384,39 @@ def test_a_frame_tf2_made_static_but_sent_on_tf_is_not_a_statics_only_recording(
     assert header == f"{bag}: tf stamped over 0.900 s from 1700000000.100 to 1700000001.000"  # the stamps' span
 
 
-def test_a_chain_asked_without_a_window_says_the_stamps_span_as_all_frames_do(tfx: Tfx, tmp_path: Path) -> None:
-    """The real create3 (ros2_db3_create3_real_two_urdfs): `monitor odom base_link` said "50.902 s from
-    1663967370.849 to 1663967421.751", its first stamp to the recording's last record time (the chain's delays are
-    counted to the recording's clock), beside "tf stamped over 50.850 s" for all frames. One span for both; a
-    window asked for is still said as asked."""
+def _late_odometry(tmp_path: Path) -> Path:
+    """odom -> base_link at 10 Hz from 1700000000.0 over 0.9 s, each arriving 50 ms after its stamp."""
     start = 1_700_000_000 * NS_PER_S
     messages = []
     for k in range(10):
         odom = Transform((0.1 * k, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), start + k * 100 * MS_NS, "odom", "base_link")
         messages.append(TfMessage("/tf", start + k * 100 * MS_NS + 50 * MS_NS, [odom], "/driver"))
-    bag = write_bag(tmp_path / "late.bag", messages, BagFormat.ros1)
+    return write_bag(tmp_path / "late.bag", messages, BagFormat.ros1)
+
+
+def test_a_chain_asked_without_a_window_says_the_stamps_span_as_all_frames_do(tfx: Tfx, tmp_path: Path) -> None:
+    """The real create3 (ros2_db3_create3_real_two_urdfs): `monitor odom base_link` said "50.902 s from
+    1663967370.849 to 1663967421.751", its first stamp to the recording's last record time (the chain's delays are
+    counted to the recording's clock), beside "tf stamped over 50.850 s" for all frames. One span for both; a
+    window asked for is still said as asked."""
+    bag = _late_odometry(tmp_path)
     whole = tfx("monitor", "-b", bag).stdout.splitlines()[0]
     chain = tfx("monitor", "odom", "base_link", "-b", bag).stdout.splitlines()[0]
     assert whole == chain == f"{bag}: tf stamped over 0.900 s from 1700000000.000 to 1700000000.900"
     window = tfx("monitor", "odom", "base_link", "-b", bag, "--end", "1700000000.5").stdout.splitlines()[0]
     assert window == f"{bag}: 0.500 s from 1700000000.000 to 1700000000.500"
+
+
+def test_a_chain_asked_without_a_window_has_none_in_json(tfx: Tfx, tmp_path: Path) -> None:
+    """`monitor A B --format json` gave "window": {"start": null, "end": <the record end>} where no window was asked
+    (its chain's delays are counted to then): null/null, as without a chain and as the text's header says; a window
+    asked for is still given as asked."""
+    bag = _late_odometry(tmp_path)
+    chain = json.loads(tfx("monitor", "odom", "base_link", "-b", bag, "--format", "json").stdout)
+    assert chain["window"] == {"start": None, "end": None}
+    assert chain["chain"]["delay_mean_s"] is not None  # still counted to the recording's clock
+    asked = tfx("monitor", "odom", "base_link", "-b", bag, "--end", "1700000000.5", "--format", "json").stdout
+    assert json.loads(asked)["window"]["end"] == pytest.approx(1_700_000_000.5)
 
 
 def test_an_edge_sent_once_has_no_rate_jitter_or_gap(tfx: Tfx, tmp_path: Path) -> None:

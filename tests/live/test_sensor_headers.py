@@ -173,6 +173,15 @@ def test_the_store_keeps_a_bounded_number_of_headers_a_topic_and_says_so_once() 
     assert store.wants("/imu") and not store.wants("/tf") and not store.wants("/clock")
 
 
+def test_joint_states_heard_live_are_sensor_data_only_when_asked_for() -> None:
+    """One rule with a recording's (``placed_nowhere``): /joint_states' header places nothing in space."""
+    for topics, kept in ((None, ["/imu"]), (["/imu", "/joint_states"], ["/imu", "/joint_states"])):
+        store = HeaderStore(WallClock(), topics)
+        store.heard("/imu", "sensor_msgs/msg/Imu", (1, "imu"))
+        store.heard("/joint_states", "sensor_msgs/msg/JointState", (1, "base_link"))
+        assert sorted(s.topic for s in store.read().streams) == kept
+
+
 def test_ros2_sensor_topics_are_read_with_their_types_whole_layout() -> None:
     from tests.live.ros2_processes import require_cyclonedds
 

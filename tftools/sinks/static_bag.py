@@ -10,15 +10,16 @@ import re
 import shutil
 import sqlite3
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from contextlib import ExitStack, closing
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from tftools.analysis.wtf.replay import REPEATED_EVERY_S
+from tftools.core.arrays import BoolArray, Int32Array, Int64Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sinks.errors import CopyError
@@ -56,6 +57,9 @@ class _Plan:
     every: int = 0
     durable: bool = False
     as_sent: bool = False
+    #: The frames whose transforms are repeated only before a record time (ns) (``_repeated_until``): the others
+    #: always are.
+    until: Mapping[str, int] = field(default_factory=dict)
 
     def stamped(self, stamp: int) -> list[tuple[str, list[Transform]]]:
         """The messages with their transforms stamped ``stamp``; ``as_sent``, with their own stamps, as a
@@ -64,6 +68,10 @@ class _Plan:
         if self.as_sent:
             return [(sender, list(transforms)) for sender, transforms in self.messages]
         return [(sender, [replace(t, stamp=stamp) for t in transforms]) for sender, transforms in self.messages]
+
+    def repeated(self, transforms: Sequence[Transform], time: int) -> list[Transform]:
+        """Those of ``transforms`` repeated at record time ``time``."""
+        return [t for t in transforms if time < self.until.get(t.child_frame_id, time + 1)]
 
 
 @dataclass(frozen=True)
@@ -113,8 +121,8 @@ def copy_repairing(
 ) -> tuple[Copied, list[Transform]]:
     """``repair_static_transforms``, saying which types the copy holds no definition of."""
     source = Path(bag)
-    messages, statics = _static_messages(source)  # read_recording says when there is no such bag
-    plan = _Plan(messages, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, as_sent=True)
+    messages, statics, until = _static_messages(source)  # read_recording says when there is no such bag
+    plan = _Plan(messages, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, as_sent=True, until=until)
     return _write_copy(source, Path(output), plan, force), statics
 
 
@@ -124,16 +132,21 @@ def copy_repairing(
 REPAIR_SEQUENCE_MAX = 64
 
 
-def _static_messages(source: Path) -> tuple[list[tuple[str, list[Transform]]], list[Transform]]:
-    """The recording's /tf_static messages as the copy repeats them, and the latest value of each static
-    transform (in first-seen order). The messages are the recording's own sequence, each as its sender sent
-    it, a run of re-sends of the same transforms and values counted once (the last of the run, stamps and
-    all), so that a recording that names no publishers reads as it did: the real Neato of
-    ``ros2_db3_neato_real_test_run_allison_2022`` sent robot_state_publisher's 10 transforms, then the driver's
-    laser alone, then the 10 again 680 times, and its copy repeats 10, laser, 10 (a laser after the 10 lacks
-    their transforms: another publisher), where the latest of each ordered by the latest (laser, 10) read as
-    one broadcaster that added transforms. Every transform ends with the value tf2 kept either way. Beyond
-    ``REPAIR_SEQUENCE_MAX`` messages, the first and the latest of each (sender, transforms) in that order."""
+#: ``_Plan.until`` of a frame whose static transform is never repeated: it came on /tf before /tf_static.
+NEVER = -(2**63)
+
+
+def _static_messages(source: Path) -> tuple[list[tuple[str, list[Transform]]], list[Transform], dict[str, int]]:
+    """The recording's /tf_static messages as the copy repeats them, the latest value of each static
+    transform (in first-seen order), and ``_Plan.until`` (``_repeated_until``). The messages are the
+    recording's own sequence, each as its sender sent it, a run of re-sends of the same transforms and values
+    counted once (the last of the run, stamps and all), so that a recording that names no publishers reads as
+    it did: the real Neato of ``ros2_db3_neato_real_test_run_allison_2022`` sent robot_state_publisher's 10
+    transforms, then the driver's laser alone, then the 10 again 680 times, and its copy repeats 10, laser, 10
+    (a laser after the 10 lacks their transforms: another publisher), where the latest of each ordered by the
+    latest (laser, 10) read as one broadcaster that added transforms. Every transform ends with the value tf2
+    kept either way. Beyond ``REPAIR_SEQUENCE_MAX`` messages, the first and the latest of each (sender,
+    transforms) in that order."""
     from tftools.sources.recording import read_recording
 
     batch = read_recording([source]).transforms
@@ -171,7 +184,24 @@ def _static_messages(source: Path) -> tuple[list[tuple[str, list[Transform]]], l
         both = [*first.values(), *last.values()]
         repeated = [mine for k, mine in enumerate(both) if not k or mine != both[k - 1]]
     messages = [(batch.authorities[int(batch.authority[mine[0]])], [transform(r) for r in mine]) for mine in repeated]
-    return messages, [transform(row) for row in latest.values()]
+    until = _repeated_until(batch.static, batch.child, batch.record_time, len(names))
+    return messages, [transform(row) for row in latest.values()], {names[c]: t for c, t in until.items()}
+
+
+def _repeated_until(static: BoolArray, child: Int32Array, record_time: Int64Array, frames: int) -> dict[int, int]:
+    """The frames (ids) sent on both /tf_static and /tf, and the record time from which the copy no longer repeats
+    their static transforms: their first /tf sample, or ``NEVER`` where /tf came first. tf2 keeps one cache per
+    frame: ROS 2's empties it each time the frame switches between /tf_static and /tf; ROS 1's keeps the kind its
+    first sample made and lets every later sample replace a static value. Repeated after the frame's /tf samples
+    began, a static transform emptied its history (ROS 2: the JetAcker's map -> odom, 44 samples to 3, and a
+    `clock` error) or brought back the static parent (ROS 1: the Neato beside its driver, 1 change of parent to
+    35); repeated only before them, tf2 holds what it held of the recording."""
+    big = np.iinfo(np.int64).max
+    first_tf, first_static = np.full(frames, big, np.int64), np.full(frames, big, np.int64)
+    np.minimum.at(first_tf, child[~static], record_time[~static])
+    np.minimum.at(first_static, child[static], record_time[static])
+    both = np.flatnonzero((first_tf < big) & (first_static < big))
+    return {int(c): int(first_tf[c]) if first_static[c] < first_tf[c] else NEVER for c in both}
 
 
 #: The type hash a ROS 2 copy is written with where its recording gave none (ROS 2 bags before Iron have
@@ -305,7 +335,8 @@ class _Copy:
         messages recorded at one instant on one topic read as one message, as tfx's own did beside the Webots
         e-puck's first /tf_static message (recorded at the copy's start), told a publisher of both."""
         for k, (sender, transforms) in enumerate(self.plan.stamped(stamp)):
-            self.writer.write(self._connection(self._sent_by(sender)), stamp - before + k, self._encode(transforms))
+            if sent := self.plan.repeated(transforms, stamp - before + k):
+                self.writer.write(self._connection(self._sent_by(sender)), stamp - before + k, self._encode(sent))
 
     def _sent_by(self, sender: str) -> Recorded:
         raise NotImplementedError

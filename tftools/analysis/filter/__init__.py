@@ -74,7 +74,7 @@ def _placed_nowhere(recording: Recording, query: FilterQuery) -> list[str]:
         return []
     topics = {t: kind for f in recording.contents.files for t, kind in f.topics.items() if placed_nowhere(kind)}
     return [
-        f"{topic} is {kind}, a gamepad's axes and buttons: its frame_id names no coordinate frame, so nothing ties "
+        f"{topic} is {kind}, {placed_nowhere(kind)}: its frame_id places nothing in space, so nothing ties "
         "it to tf (asked for by name, it is checked all the same)"
         for topic, kind in topics.items()
     ]

@@ -284,14 +284,27 @@ def urdf_extra(scene: Scene) -> Iterator[Finding]:
             f"fine: odometry and localization (odom, map, world) publish the frames above the robot, not {RSP}",
             frames=tuple(e.frame for e in above),
         )
+    # REP 105's odometry frame above the robot (a namespace kept: robot1/odom)
+    odometry = {e.frame for e in above if e.frame.rsplit("/", 1)[-1] == "odom"}
     for e in under:
         by = scene.by(e.authorities)
+        summary = scene.tree.frames.get(e.frame)
+        if e.parent in odometry and summary is not None and not summary.static:
+            # the real create3 (ros2_db3_create3_real_two_urdfs): its odometry moves base_footprint beside base_link
+            hint = (
+                f"fine: a frame moving under {e.parent} is the robot's base as its odometry publishes it (REP 105: "
+                f"{e.parent} -> base_footprint or base_link), not a link {RSP} places"
+            )
+        else:
+            hint = (
+                "fine if another node owns it (a camera or lidar driver's own frames); if it is part of the robot, "
+                "add it to the URDF as a link with a fixed joint"
+            )
         yield Finding(
             Severity.info,
             "urdf_extra",
             f"{e.frame} ({f'a child of {e.parent}' if e.parent else 'a root'}{by}) is not a link of {_from(robot)}",
-            "fine if another node owns it (a camera or lidar driver's own frames); if it is part of the robot, "
-            "add it to the URDF as a link with a fixed joint",
+            hint,
             frames=(e.parent, e.frame) if e.parent else (e.frame,),
             authorities=e.authorities,
         )

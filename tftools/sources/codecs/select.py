@@ -144,15 +144,21 @@ _FOXGLOVE_TYPES = {c.type_name for c in CODECS.values() if c.foxglove}
 #: The encodings whose headers are read (each module's ``decode_headers``).
 _HEADER_ENCODINGS = ("ros1", "cdr")
 #: Types whose header's frame_id places nothing in space, so no tf2 filter waits on it: not sensor data
-#: unless asked for by topic. A gamepad's sensor_msgs/Joy (ROS 2's joy_node stamps it in 'joy'; CyberShip
-#: Voyager's /voyager/joy, corpus ros2-cybership-voyager-mocap-basin-2025-db3) is in no tree, rightly.
-_UNPLACED = frozenset({"sensor_msgs/msg/Joy"})
+#: unless asked for by topic (the one rule ``tfx filter`` and ``tfx wtf`` count sensor topics by), with what
+#: they hold. A gamepad's sensor_msgs/Joy (ROS 2's joy_node stamps it in 'joy'; CyberShip Voyager's
+#: /voyager/joy, corpus ros2-cybership-voyager-mocap-basin-2025-db3) is in no tree, rightly. Joint states
+#: are positions of joints, which robot_state_publisher turns into tf, whatever frame_id a driver gives them
+#: (the Webots e-puck's base_link: filter checked its /joint_states where wtf counted 19 topics of 20).
+_UNPLACED = {
+    "sensor_msgs/msg/Joy": "a gamepad's axes and buttons",
+    "sensor_msgs/msg/JointState": "joint positions, which robot_state_publisher turns into tf",
+}
 
 
-def placed_nowhere(type_name: str) -> bool:
-    """Whether messages of ``type_name`` have a header whose frame_id places nothing in space (a gamepad's
-    Joy): not read as sensor data unless asked for by topic."""
-    return rosidl_name(type_name) in _UNPLACED
+def placed_nowhere(type_name: str) -> str:
+    """What messages of ``type_name`` hold where their header's frame_id places nothing in space (a gamepad's
+    Joy, joint states), else "": not read as sensor data unless asked for by topic."""
+    return _UNPLACED.get(rosidl_name(type_name), "")
 
 
 def readable() -> str:

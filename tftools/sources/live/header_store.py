@@ -9,6 +9,7 @@ from typing import Protocol
 
 from tftools.core.time import Clock
 from tftools.sources.codecs.decoded import Header
+from tftools.sources.codecs.select import placed_nowhere
 from tftools.sources.contents import NOT_SENSOR_DATA, StampedRead
 from tftools.sources.headers import HeaderCollector
 from tftools.sources.live.notices import NoticeOnce, OnNotice
@@ -44,7 +45,11 @@ class HeaderStore:
         return topic in self.topics if self.topics is not None else topic not in NOT_SENSOR_DATA
 
     def heard(self, topic: str, msgtype: str, header: Header | None) -> None:
-        """A message of ``topic`` arrived now; ``header`` None: one whose bytes hold no header."""
+        """A message of ``topic`` arrived now; ``header`` None: one whose bytes hold no header. A type whose header
+        places nothing in space (``placed_nowhere``: joint states, a gamepad's) is kept only where asked for by
+        topic, as in a recording."""
+        if self.topics is None and placed_nowhere(msgtype):
+            return
         arrived = self.clock.now()
         with self._lock:
             collector = self._collected.get(topic)
