@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -270,3 +271,22 @@ def test_follow_never_ticks_twice_at_one_time_of_the_feeds_clock() -> None:
     ticks: list[int] = []
     follow(replay, lambda b: None, lambda: ticks.append(replay.clock.now()))
     assert ticks == [START + 3000 * MS]
+
+
+def test_a_tick_shows_one_instant_of_a_replay_playing_on_in_its_thread() -> None:
+    """``monitor --play --rate 500`` on the sample bag, under load, showed one window twice: the tick read the
+    replay's clock, the table read it again later (the replay's thread had reached the end), and the summary
+    at that end showed it again. A tick now holds the replay (``Replay.held``) while it is drawn."""
+    replay = Replay(recorded(list(range(0, 3000, 10))), rate=20.0)
+    seen: list[tuple[int, int]] = []
+
+    def drawn_slowly() -> None:
+        first = replay.clock.now()
+        time.sleep(0.03)  # 0.6 s of the replay's time at 20x, had it played on
+        seen.append((first, replay.clock.now()))
+
+    follow(replay, lambda b: None, drawn_slowly, period=0.5, summary=True)
+    assert len(seen) >= 2 and all(read == shown for read, shown in seen), seen
+    shown = [at for at, _ in seen]
+    assert all(later > earlier for earlier, later in itertools.pairwise(shown)), shown
+    assert shown[-1] == START + 2990 * MS

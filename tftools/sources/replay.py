@@ -5,6 +5,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager, nullcontext
 from typing import Generic, Protocol, TypeVar
 
 import numpy as np
@@ -122,12 +123,21 @@ class Replay:
         self._closed = threading.Event()
         self._finished = threading.Event()
         self._thread: threading.Thread | None = None
+        self._turn = threading.Lock()  # held while the replay moves on, or while one instant of it is shown
         self.error: Exception | None = None
 
     @property
     def finished(self) -> bool:
         """True once the clock has reached ``end`` (or the replay was closed)."""
         return self._finished.is_set()
+
+    @contextmanager
+    def held(self) -> Iterator[None]:
+        """While held, the replay's clock and what it delivered stay as they are: a table or a line drawn of
+        one instant (``follow``), where the replay's thread would otherwise move on between the time a tick
+        read and the time its table shows (a monitor at 500x showed one window twice)."""
+        with self._turn:
+            yield
 
     def start(self, on_batch: OnBatch) -> None:
         """Play in a background thread, calling ``on_batch`` from it."""
@@ -142,7 +152,8 @@ class Replay:
             started = self._monotonic()
             while not self._closed.is_set() and not self.finished:
                 now = self.begin + round((self._monotonic() - started) * self.rate * NS_PER_S)
-                self.advance_to(now)
+                with self._turn:
+                    self.advance_to(now)
                 if not self.finished:
                     self._sleep(self._pause(now))
         except Exception as error:
@@ -224,11 +235,12 @@ def follow(
     ticks: list[int] = []  # the feed's clock at each tick made
 
     def tick() -> None:
-        now = feed.clock.now()
-        if ticks and now <= ticks[-1] and isinstance(feed, Replay):  # it ran ahead of its ticks: this time was shown
-            return
-        ticks.append(now)
-        on_tick()
+        with feed.held() if isinstance(feed, Replay) else nullcontext():
+            now = feed.clock.now()
+            if ticks and now <= ticks[-1] and isinstance(feed, Replay):  # it ran ahead of its ticks: shown already
+                return
+            ticks.append(now)
+            on_tick()
 
     def finished() -> bool:
         return bool(getattr(feed, "finished", False))
