@@ -502,9 +502,11 @@ def timeline_of(
         record_start = _first_known(buffer, clock, record_start)
     tf = tf_span(stamp_spans(buffer), record_start, record_end)
     if not record_step and not records_on_clock(clock):
-        grid = TickedGrid()
-        grid.add(clock.record_time, [h for _, h in buffer.histories()])
-        record_step = grid.step()
+        histories = [h for _, h in buffer.histories()]
+        if shared_ticks(histories) >= SHARED_TICKS:  # else no grid, and the whole read's times need no sorting
+            grid = TickedGrid()
+            grid.add(clock.record_time, histories)
+            record_step = grid.step()
     return timeline_from(edges, clock, record_start, record_end, tf, record_step)
 
 
@@ -529,7 +531,7 @@ class TickedGrid:
 
     def add(self, clock_records: Int64Array, histories: Sequence[EdgeHistory]) -> None:
         """The record times of a part's /clock messages and of its edges' samples (``histories``)."""
-        self.shared += sum(int(((np.diff(h.record_times) == 0) & (np.diff(h.stamps) != 0)).sum()) for h in histories)
+        self.shared += shared_ticks(histories)
         times = np.concatenate([clock_records, *(h.record_times for h in histories)])
         distinct = np.unique(times[times > 0])
         if self._last is not None:
@@ -546,6 +548,11 @@ class TickedGrid:
     def step(self) -> int:
         """The grid's step (ns), or 0: too few samples shared a tick, or record times as fine as a wall clock's."""
         return _grid_step(self._distinct, self._least, self._common) if self.shared >= SHARED_TICKS else 0
+
+
+def shared_ticks(histories: Sequence[EdgeHistory]) -> int:
+    """Samples of one edge with other stamps recorded at one instant (received within one tick), in pairs."""
+    return sum(int(((np.diff(h.record_times) == 0) & (np.diff(h.stamps) != 0)).sum()) for h in histories)
 
 
 def record_grid(record_times: Int64Array) -> int:
