@@ -28,12 +28,7 @@ def _monitor(tfx: Tfx, *args: Any, window: float | None = None) -> Any:  # noqa:
 
 @pytest.mark.parametrize("recording", RATED, ids=[r.id for r in RATED])
 @pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
-def test_a_publishers_rate_is_on_the_clock_its_messages_arrived_on(
-    recording: Any,
-    corpus: Corpus,
-    tfx: Tfx,  # noqa: F811
-    play: bool,
-) -> None:
+def test_a_publishers_rate_is_on_its_arrival_clock(recording: Any, corpus: Corpus, tfx: Tfx, play: bool) -> None:  # noqa: F811
     path = corpus(recording)
     window = int(recording.meta["duration_s"]) + 10 if play else None
     shown = {a["authority"]: a["rate_hz"] for a in _monitor(tfx, "-b", path, window=window)["authorities"]}
@@ -42,11 +37,7 @@ def test_a_publishers_rate_is_on_the_clock_its_messages_arrived_on(
 
 
 @pytest.mark.parametrize("recording", REPLAYED, ids=[r.id for r in REPLAYED])
-def test_a_replay_holds_what_its_window_keeps_and_the_whole_read_with_a_window_over_it(
-    recording: Any,
-    corpus: Corpus,
-    tfx: Tfx,  # noqa: F811
-) -> None:
+def test_a_replay_holds_what_its_window_keeps(recording: Any, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """The raspimouse replayed beside a live gmapping: map -> odom's replayed samples, 7.0 days older than the
     live ones, are refused by a replay's window of 64 s as by a listener's cache; a window over 7 days holds them."""
     path = corpus(recording)
