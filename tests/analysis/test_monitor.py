@@ -299,9 +299,11 @@ def test_a_publisher_is_rated_on_the_clock_its_window_is_counted_on(tmp_path: Pa
     """Issue 39, ros2_mcap_nav2_turtlebot4.mcap (no /clock) from +2 s to +6 s: its /tf publisher was 230 messages
     at 45.97 Hz in a whole read, 228 at 56.91 Hz replayed. With no ROS time at arrival the whole read windows by
     stamp, yet it rated the publisher over record times: a map -> odom stamped 1 s ahead of its arrival
-    stretched the span by a second. Here odom -> base and its wheels at 50 Hz and a map -> odom stamped 1 s
-    ahead every 0.2 s, all on /tf: 201 + 20 messages stamped over 4 s, recorded over 4.9 s; 55 Hz, read whole
-    or replayed (which plays them on the record clock moved onto the stamps' by most frames' offset)."""
+    stretched the span by a second. Rated by stamp, a simulation at 0.07x real time was 794 msgs/s for 53.7: both
+    are windowed and rated on the record clock, as a replay plays them. Here odom -> base and its wheels at 50 Hz
+    and a map -> odom stamped 1 s ahead every 0.2 s, all on /tf: 201 + 20 messages that arrived over 4 s of the
+    record clock moved onto the stamps' by most frames' offset; 55 Hz, read whole or replayed (which plays them
+    so)."""
     sim, wall = 100 * NS_PER_S, 1_695_944_000 * NS_PER_S
     messages = []
     for i in range(400):
@@ -316,7 +318,8 @@ def test_a_publisher_is_rated_on_the_clock_its_window_is_counted_on(tmp_path: Pa
     recording = read_recording([bag])
     assert not recording.timeline.available  # stamps on simulated time, no /clock: arrival in ROS time unknown
     (whole,) = monitor(recording, query).authorities
-    assert whole.messages == 221 and whole.rate_hz == pytest.approx(220 / 4)  # on stamps, as its edges' rates
+    # windowed and rated on the record clock moved onto the stamps' by most frames' offset, as the replay plays it
+    assert whole.messages == 221 and whole.rate_hz == pytest.approx(220 / 4)
     reports: list[MonitorReport] = []
     replay = MonitorQuery(start=Offset(2), end=Offset(6), window=100 * NS_PER_S)
     monitor_stream(stream_recording([bag]), replay, lambda live: reports.append(live.report()), speed=1000)

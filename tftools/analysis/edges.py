@@ -22,6 +22,7 @@ from tftools.core.figures import (
     jitter,
     longest_interval,
     mean_max,
+    message_rate,
     rate_of,
     record_span,
     silence,
@@ -279,22 +280,21 @@ def messages_in_window(sent: SentMessages, window: TimeWindow = WHOLE) -> dict[s
     ``edge_stats`` selects transforms (by their first transform's stamp, or by arrival), its /tf_static messages
     always; by publisher.
 
-    Their rate is counted on the arrival axis (``Timeline.arrival``), by stamp where no reference gives ROS
-    time at arrival: not on the record clock then, which is no clock of the stamps' (a simulation recorded
-    without /clock, whose message stamped 1 s ahead of its arrival, a transform_tolerance, stretched the span
-    of the others by 1 s). With a reference, a message whose arrival is unknown (a record time of 0) is
-    counted, not timed by its stamp; without one, by stamp on each time base apart (``figures.rate_of``: the
-    logistic cobot's /tf, an arm on simulated time beside detections on wall time, is not one span of 55 years)."""
+    They are windowed and rated (``figures.message_rate``) on the clock they arrived on (``Timeline.counted_at``),
+    the same in a whole read and in its replay: a message whose arrival is unknown (a record time of 0) is
+    windowed by its stamp and counted, not timed; where the record times are no clock, by stamp on each time
+    base apart (the logistic cobot's /tf, an arm on simulated time beside detections on wall time, is not one
+    span of 55 years)."""
     timeline = window.clock
-    arrived, known = timeline.ros_time(sent.record_time)
-    arrival, timed = np.where(known, arrived, sent.stamp), known | (not timeline.available)
+    counted_at, timed = timeline.counted_at(sent.record_time, sent.stamp)
+    arrival = np.where(timed | timeline.replayed, counted_at, sent.stamp)  # a replay played every one
     inside = window.inside(arrival if window.by_record_time else sent.stamp, sent.static)
     counted = {}
     for a in _ids(sent.authority[inside]):
         mine = inside & (sent.authority == a)
         moving = mine & ~sent.static
         statics = int(np.count_nonzero(mine & sent.static))
-        rate = rate_of(np.sort(arrival[moving & timed]))  # one clock, or stamps on their bases side by side
+        rate = message_rate(counted_at[moving & timed])
         counted[sent.authorities[int(a)]] = Counted(int(np.count_nonzero(moving)), statics, rate)
     return counted
 

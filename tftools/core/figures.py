@@ -157,6 +157,13 @@ def rate_of(times: Int64Array, span: int = 0, records: Int64Array | None = None)
     return rate_hz(int(counts.sum() - len(counts)) + 1, _covered(low, high))
 
 
+def message_rate(arrivals: Int64Array) -> float:
+    """The one definition of a publisher's rate: its messages over the time they arrived in, on the clock they
+    arrived on (``Timeline.counted_at``: tf_monitor's, the listening node's; a replay's is the record clock), in
+    any order; where that is no clock, their stamps on each time base apart (``rate_of``)."""
+    return rate_of(np.sort(arrivals))
+
+
 def _covered(low: Int64Array, high: Int64Array) -> int:
     """How long (ns) the union of the intervals ``[low[i], high[i]]`` lasts."""
     order = np.argsort(low, kind="stable")

@@ -22,7 +22,7 @@ from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch, take_rows
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError
-from tftools.core.figures import median_ns, on_one_base, record_span, time_base_of
+from tftools.core.figures import on_one_base, record_span, time_base_of
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
 from tftools.core.transform import Transform
@@ -372,7 +372,6 @@ class _Summary:
         """Each frame's arrivals kept (at most ``PLAYED_ARRIVALS``), by stamp, and when they play on the replay
         of ``timeline``: their record times, /clock then (``unclocked_time`` before it ticked), or record times
         less the frames' median offset, as ``Playback`` moves them."""
-        shift = median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
         first = unclocked_time(timeline.clock) or 0
         played: dict[str, tuple[Int64Array, Int64Array]] = {}
         for child, arrivals in self._arrivals.items():
@@ -380,7 +379,7 @@ class _Summary:
             if timeline.reference is Reference.CLOCK:
                 times = np.where(known, ros, first)
             else:
-                times = records - shift if timeline.reference is Reference.NONE else records
+                times = records - timeline.replay_shift
             order = np.argsort(stamps, kind="stable")
             picked = order[np.unique(np.linspace(0, len(order) - 1, min(len(order), PLAYED_ARRIVALS)).astype(np.int64))]
             played[child] = stamps[picked], times[picked]

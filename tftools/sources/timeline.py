@@ -354,10 +354,28 @@ class Timeline:
             return np.zeros(len(records), np.int64), np.zeros(len(records), bool)
         return clock_at(self.clock, records)
 
+    def counted_at(self, record_times: Int64Array, stamps: Int64Array) -> tuple[Int64Array, BoolArray]:
+        """When messages recorded at ``record_times`` (stamped ``stamps``) arrived on the clock a listener counts
+        them on, and which are timed: tf_monitor rates a publisher by ``ros::Time::now()`` at each callback, the
+        node's clock. That is ROS time at arrival where the recording has a reference (``ros_time``); without
+        one (a simulation recorded without /clock), the record clock, a replay's clock whatever its settings
+        (``ros2 bag play`` plays on it, ``--clock`` publishes it), moved onto the stamps' as a replay plays it
+        (``replay_shift``), so that a window of stamps holds what a replay's does: the JetAcker's 3,376 /tf
+        messages arrived over 62.8 s of it, not over the 4.25 s of simulated time they are stamped in. Where the
+        record times are no clock (``record_clock_void``) no arrival is known: the stamps, each time base apart
+        (``figures.rate_of``). ``arrival`` less the stamps of messages whose time is unknown."""
+        if self.available or self.played_estimate:
+            return self.ros_time(record_times)
+        if self.record_clock_void:
+            return stamps, np.ones(len(stamps), bool)
+        records = np.asarray(record_times, np.int64)
+        return records - self.replay_shift, records > 0
+
     def arrival(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
-        """When transforms arrived in ROS time, or their stamps where that is unknown (windows by arrival)."""
+        """When transforms arrived in ROS time, or their stamps where that is unknown (windows by arrival); in a
+        replay, when they played, known or not (``unknown_played``: a window of the replay holds what it played)."""
         times, known = self.ros_time(record_times)
-        return np.where(known, times, stamps)
+        return np.where(known | self.replayed, times, stamps)
 
     def measurable(
         self, child: str, record_times: Int64Array, flags: UInt8Array, stamps: Int64Array | None = None
@@ -405,7 +423,8 @@ class Timeline:
         holds what was played in it, not what is stamped in it). ``kept``: the record times of the
         ``record_clocked`` frames, whose delays the replay measures on them as a whole read does."""
         if self.reference is Reference.NONE:
-            return dataclasses.replace(self, played_estimate=True, replayed=True)
+            unknown = self.unknown_played - self.replay_shift
+            return dataclasses.replace(self, played_estimate=True, replayed=True, unclocked=unknown)
         edges = tuple(
             dataclasses.replace(
                 e,
@@ -422,9 +441,26 @@ class Timeline:
             edges=edges,
             record_step=self.resolution,
             replayed=True,
-            unclocked=unclocked_time(self.clock) if self.reference is Reference.CLOCK else None,
+            unclocked=unclocked_time(self.clock) if self.reference is Reference.CLOCK else self.unknown_played,
             kept=kept if kept is not None and kept.frames else None,
         )
+
+    @property
+    def replay_shift(self) -> int:
+        """How far a replay without a reference moves record times back onto the stamps' clock (``Playback``):
+        the frames' median offset from the record clock (an estimate); 0 with a reference."""
+        if self.reference is not Reference.NONE:
+            return 0
+        return figures.median_ns(np.array([e.offset_record for e in self.edges], np.int64))
+
+    @property
+    def unknown_played(self) -> int:
+        """The record time a replay gives messages recorded at no known time (a record time of 0 or less: an
+        MCAP's log time 0), before its shift: 1 ns before the first known one, so that they play first and their
+        arrival stays unknown, as a whole read has it (``ros_time``: the Franka teleoperation's /tf message logged
+        at 0, played with the first one logged at 1748331282.8 s, made its 4 messages over 1.5 s 5: 2.65 msgs/s
+        for 1.99)."""
+        return self.record_start - 1
 
     def describe(self) -> str:
         """One line: which clock the stamps are on, and what cannot be measured if none."""
@@ -455,9 +491,9 @@ class Playback:
         self.reference = timeline.reference
         self._clock = timeline.clock  # the samples up to the next part: all of them, or the last one heard
         self._unclocked = unclocked_time(timeline.clock) or 0  # before the first /clock: its value less 1 ns
-        self._shift = figures.median_ns(np.array([e.offset_record for e in timeline.edges], np.int64))
+        self._shift = timeline.replay_shift
         self._floor = np.iinfo(np.int64).min
-        self._unknown = timeline.record_start  # a record time of 0 (unknown, an MCAP's log time 0) plays first
+        self._unknown = timeline.unknown_played  # a record time of 0 (unknown, an MCAP's log time 0) plays first
 
     def heard(self, clock: ClockSamples) -> None:
         """The /clock samples recorded since the last part (of a stream: a window's)."""
@@ -467,7 +503,7 @@ class Playback:
         """The replay times of the next part's ``record_times``."""
         records = np.asarray(record_times, np.int64)
         if len(records) and self.reference is not Reference.CLOCK and records.min() <= 0:
-            records = np.maximum(records, self._unknown)
+            records = np.where(records > 0, records, self._unknown)
         if self.reference is Reference.RECORD or not len(records):
             return records
         if self.reference is Reference.NONE:
