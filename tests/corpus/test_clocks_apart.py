@@ -59,7 +59,9 @@ def test_the_imu_waits_at_the_rate_of_the_ekf_on_its_clock(corpus: Corpus, tfx: 
     # the two rates of the one edge are said as two figures, each with its name: monitor shows the blend's
     assert "at 30.0 Hz on the messages' clock (341.7 Hz over all its clocks, as monitor counts it)" in wait["message"]
     assert imu["late_rate_all_hz"] == pytest.approx(341.7, abs=0.1), imu
-    (edge,) = [e for e in json.loads(tfx("monitor", "-b", path, "-f", "json").stdout)["edges"] if e["child"] == "base_link"]
+    (edge,) = [
+        e for e in json.loads(tfx("monitor", "-b", path, "-f", "json").stdout)["edges"] if e["child"] == "base_link"
+    ]
     assert edge["rate_hz"] == pytest.approx(imu["late_rate_all_hz"]), edge
 
 

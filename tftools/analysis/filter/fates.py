@@ -590,7 +590,8 @@ class StreamReport:
             return first
         rate = f" at {self.late_rate_hz:.1f} Hz" if self.late_rate_hz > 0 else ""
         if rate and self.late_rate_all_hz > 0:
-            rate += f" on the messages' clock ({self.late_rate_all_hz:.1f} Hz over all its clocks, as monitor counts it)"
+            every = f"{self.late_rate_all_hz:.1f} Hz over all its clocks, as monitor counts it"
+            rate += f" on the messages' clock ({every})"
         after = f"{seconds_in_words(self.late_after)} after it" if self.late_after else "with the message's stamp"
         newest = f"its newest stamp {seconds_in_words(self.late_by)} behind the message's on arrival"
         said = f"{newest}, its next sample stamped {after}{rate}"
