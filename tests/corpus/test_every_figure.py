@@ -267,3 +267,20 @@ def test_edges_silent_from_one_stamp_are_said_to_stop_at_the_same_instant(corpus
     (stall,) = [f for f in bag["findings"] if f["code"] == "stall"]
     assert "all 3 moving edges went silent at once 5 times (each time at the same instant)" in stall["message"]
     assert "0.000 s" not in stall["message"], stall["message"]
+
+
+#: A real TurtleBot 2: odom -> base_footprint at 19.6 Hz, each sample arriving within 0.5 ms of its stamp.
+TURTLEBOT2 = "ros1-turtlebot2-real-cut-no-statics-2019-bag"
+
+
+def test_a_chains_net_delay_is_not_called_its_edges_delay(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """monitor odom base_footprint: a chain of one edge gave "delay_mean_s" 0.028 for the chain and 0.0004 for its
+    one edge in the same JSON. Two figures: how far the newest stamp is behind (half a period and more), and how
+    late each sample arrived; the chain's is now named net_delay, and the text says what it is."""
+    path = corpus(BY_ID[TURTLEBOT2])
+    chain = json.loads(tfx("monitor", "odom", "base_footprint", "-b", path, "-f", "json").stdout)["chain"]
+    (edge,) = chain["edges"]
+    assert chain["net_delay_mean_s"] == pytest.approx(0.0282, abs=1e-4) and "delay_mean_s" not in chain, chain
+    assert edge["delay_mean_s"] == pytest.approx(0.0004, abs=1e-4), edge
+    text = " ".join(tfx("monitor", "odom", "base_footprint", "-b", path).stdout.split())
+    assert "Net delay avg = 0.0282: max = 0.0605" in text and "not only how late each sample arrived" in text
