@@ -284,3 +284,15 @@ def test_a_chains_net_delay_is_not_called_its_edges_delay(corpus: Corpus, tfx: T
     assert edge["delay_mean_s"] == pytest.approx(0.0004, abs=1e-4), edge
     text = " ".join(tfx("monitor", "odom", "base_footprint", "-b", path).stdout.split())
     assert "Net delay avg = 0.0282: max = 0.0605" in text and "not only how late each sample arrived" in text
+
+
+def test_frames_yaml_rate_is_tf2s_and_its_help_says_so(tfx: Tfx) -> None:  # noqa: F811
+    """tf2's allFramesAsYAML counts samples over their span (750 over 14.98 s: 50.066), every other figure of tfx
+    intervals (749: 50.00 Hz). The YAML is tf2's byte for byte, so its "rate" stays; the help says which it is."""
+    path = SAMPLES / "robot.bag"
+    said = tfx("frames", "-b", path, "--format", "yaml").stdout
+    assert "base_footprint: \n  parent: 'odom'\n  broadcaster: '/ekf_localization'\n  rate: 50.066\n" in said
+    frames = json.loads(tfx("frames", "-b", path, "-f", "json").stdout)["frames"]
+    (row,) = [f for f in frames if f["frame"] == "base_footprint"]
+    assert row["count"] == 750 and row["rate_hz"] == pytest.approx(49.9996, abs=1e-4), row
+    assert "whose rate is tf2's: samples over the span" in " ".join(tfx("frames", "--help").stdout.split())
