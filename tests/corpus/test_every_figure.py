@@ -37,6 +37,18 @@ def _duration_shown(number: str, unit: str, seconds: float | None) -> bool:
     return seconds is not None and _shown(float(number), seconds / UNITS[unit], decimals)
 
 
+#: view-frames' label lines: the figure each says, and which word of the line it is.
+LABELLED = {
+    "Average rate: ": ("rate", 2),
+    "Samples: ": ("count", 1),
+    "Most recent transform: ": ("last", 3),
+    "Oldest transform: ": ("first", 2),
+    "Buffer length: ": ("span", 2),
+    "Largest gap: ": ("gap", 2),
+    "Silent for the last ": ("silent", 4),
+}
+
+
 def _view_frames_labels(dot: str) -> dict[str, dict[str, float]]:
     """Each edge's figures as view-frames' label says them, by "parent -> child"."""
     ident = r'("(?:[^"\\]|\\.)*"|[^\s"]+)'
@@ -53,21 +65,10 @@ def _view_frames_labels(dot: str) -> dict[str, dict[str, float]]:
         parent, child = (nodes.get(name(t), name(t)) for t in (m.group(1), m.group(2)))
         figures: dict[str, float] = {}
         for item in (html.unescape(re.sub(r"<[^>]+>", "", x)) for x in m.group(3).split('<BR ALIGN="LEFT"/>')):
-            words = item.split()
-            if item.startswith("Average rate: ") and item.endswith(" Hz"):
-                figures["rate"] = float(words[2])
-            elif item.startswith("Samples: "):
-                figures["count"] = int(words[1])
-            elif item.startswith("Most recent transform: "):
-                figures["last"] = float(words[3])
-            elif item.startswith("Oldest transform: "):
-                figures["first"] = float(words[2])
-            elif item.startswith("Buffer length: ") and item.endswith(" s"):
-                figures["span"] = float(words[2])
-            elif item.startswith("Largest gap: "):
-                figures["gap"] = float(words[2])
-            elif item.startswith("Silent for the last "):
-                figures["silent"] = float(words[4])
+            for prefix, (key, at) in LABELLED.items():
+                word = item.split()[at] if item.startswith(prefix) and len(item.split()) > at else ""
+                if re.fullmatch(r"[\d.]+", word):  # not "- (1 sample)", nor "stamped on 2 clocks, no span"
+                    figures[key] = float(word)
         edges[f"{parent} -> {child}"] = figures
     return edges
 
@@ -157,6 +158,30 @@ def _findings_against(bag: dict[str, Any], edges: dict[str, dict[str, Any]]) -> 
     return wrong
 
 
+#: The figures view-frames' labels and report's captions say of a moving edge, to how many decimals.
+IN_LABEL = {"count": 0, "rate": 2, "gap": 3, "silent": 3, "first": 3, "last": 3, "span": 3}
+IN_CAPTION = {"count": 0, "rate": 1, "gap": 3, "delay_mean": 4, "delay_max": 4}
+
+
+def _differ(
+    name: str,
+    where: str,
+    said: dict[str, float],
+    figures: dict[str, Any],
+    decimals: dict[str, int],
+    required: set[str] | frozenset[str] = frozenset(),
+) -> list[str]:
+    """The ``figures`` (monitor's) that ``where`` says otherwise than rounded to its ``decimals``, or leaves out
+    though ``required`` and monitor has them."""
+    return [
+        f"{name} {key}: monitor {figures[key]}, {where} {said.get(key)}"
+        for key, places in decimals.items()
+        if (
+            not _shown(said[key], figures[key], places) if key in said else key in required and figures[key] is not None
+        )
+    ]
+
+
 def _compare(tfx: Tfx, path: Path, out: Path) -> list[str]:  # noqa: F811
     """Every figure that differs between the commands on the recording at ``path``."""
     watched = tfx("monitor", "-b", path, "-f", "json")
@@ -192,42 +217,28 @@ def _compare(tfx: Tfx, path: Path, out: Path) -> list[str]:  # noqa: F811
             for key in ("count", "rate_hz", "first_stamp", "last_stamp")
             if row[key] != frame[key]
         ]
+        figures = {
+            "count": row["count"],
+            "rate": row["rate_hz"],
+            "gap": row["gap_max_s"],
+            "silent": row["silent_s"],
+            "first": row["first_stamp"],
+            "last": row["last_stamp"],
+            "span": row["last_stamp"] - row["first_stamp"],
+            "delay_mean": row["delay_mean_s"],
+            "delay_max": row["delay_max_s"],
+        }
         label = labels.get(name)
         if label is None:
             wrong.append(f"{name}: not in view-frames")
         elif not row["static"]:
-            in_label = [
-                ("count", row["count"], 0),
-                ("rate", row["rate_hz"], 2),
-                ("gap", row["gap_max_s"], 3),
-                ("silent", row["silent_s"], 3),
-                ("first", row["first_stamp"], 3),
-                ("last", row["last_stamp"], 3),
-                ("span", row["last_stamp"] - row["first_stamp"], 3),
-            ]
-            wrong += [
-                f"{name} {key}: monitor {value}, view-frames {label.get(key)}"
-                for key, value, decimals in in_label
-                if (key in label or value is not None)
-                and not (key in label and _shown(label[key], value, decimals))
-                and not (key == "span" and key not in label)  # "stamped on 2 clocks, no span"
-            ]
+            # each figure monitor has is on the label, but a span on two clocks ("stamped on 2 clocks, no span")
+            wrong += _differ(name, "view-frames", label, figures, IN_LABEL, required=set(IN_LABEL) - {"span"})
         caption = captions.get(name)
         if row["static"] or caption is None:
             wrong += [] if row["static"] or not captions else [f"{name}: no timeline in report"]
             continue
-        in_caption = [
-            ("count", row["count"], 0),
-            ("rate", row["rate_hz"], 1),
-            ("gap", row["gap_max_s"], 3),
-            ("delay_mean", row["delay_mean_s"], 4),
-            ("delay_max", row["delay_max_s"], 4),
-        ]
-        wrong += [
-            f"{name} {key}: monitor {value}, report {caption[key]}"
-            for key, value, decimals in in_caption
-            if key in caption and not _shown(caption[key], value, decimals)
-        ]
+        wrong += _differ(name, "report", caption, figures, IN_CAPTION)
         binned = sum(n or 0 for n in timelines[int(caption["row"])]["samples"])
         wrong += [] if binned == row["count"] else [f"{name}: {row['count']} samples, report's timeline {binned}"]
     return wrong + _findings_against(bag, edges)
