@@ -191,6 +191,23 @@ def test_a_stall_of_few_of_many_edges_says_how_many_of_them() -> None:
     assert stall.hint.startswith("the other edges went on: look for what these publishers share")
 
 
+def test_edges_that_stop_at_the_same_instant_are_said_so_never_within_0_000_s() -> None:
+    """A real Neato's driver stamps its three edges alike (ros2_db3_neato_real_checkpoint_joloujo_2023): they went
+    silent 'each time within 0.000 s of each other', a figure that reads as a rounding. Here two drivers and amcl,
+    in step, all silent after their samples stamped 3.9 s, while two other drivers go on."""
+
+    def driver(name: str, delay: int) -> list[TfMessage]:  # its own messages, stamps alike, arrivals apart
+        return scenes.periodic(
+            f"/{name}", 20, lambda t: [scenes._t("base_link", name, t, 0.1)], skip=(3.91, 6), delay=delay
+        )
+
+    paused = [driver("a", 3 * scenes.MS), driver("b", 7 * scenes.MS)]
+    messages = scenes.with_extra(*paused, _sensor("c"), _sensor("d"), amcl=scenes.amcl(skip=(3.91, 6.0)))
+    stall = next(f for f in check(scenes.recording(messages)).findings if f.code == "stall")
+    assert stall.message.startswith("3 of 7 moving edges went silent at the same instant, from "), stall.message
+    assert "0.000 s" not in stall.message, stall.message
+
+
 # --- the rule of a robot description under disputed statics ------------------------------------
 
 

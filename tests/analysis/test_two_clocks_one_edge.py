@@ -95,6 +95,20 @@ def test_a_sensor_waits_at_the_rate_of_the_publisher_on_its_clock_not_both() -> 
     (stream,) = Scene(recording(messages), streams=[_imu_on_the_ekfs_clock()]).sensors.streams
     assert stream.late_edge == ("odom", "base_link"), stream
     assert stream.late_rate_hz == pytest.approx(30.0, abs=0.5), stream
+    # monitor's rate of the edge is of both clocks' samples: said beside the 30 Hz, named as such
+    assert stream.late_rate_all_hz == pytest.approx(130.0, abs=2), stream
+    assert "30.0 Hz on the messages' clock (1" in stream.wait_made_of(), stream.wait_made_of()
+
+
+def test_a_sensor_waiting_for_an_edge_on_one_clock_names_one_rate() -> None:
+    """The camera and the EKF on one clock: the edge's rate is monitor's, and no second figure stands beside it."""
+    camera = periodic("/camera", 100, _camera)
+    ekf = periodic("/ekf", 30, _ekf_moving_with_a_gps_step)
+    messages = healthy(ekf=sorted(camera + ekf, key=lambda m: m.record_time))
+    imu = sensor("/imu", "base_link", 50, 0, phase=0.003)  # arriving at its stamp: it waits for the next tf
+    (stream,) = Scene(recording(messages), streams=[imu]).sensors.streams
+    assert stream.late_rate_hz > 0 and stream.late_rate_all_hz == 0.0, stream
+    assert "clock" not in stream.wait_made_of(), stream.wait_made_of()
 
 
 def test_a_sensor_stamped_hours_from_tf_is_told_to_sync_clocks_not_to_wait() -> None:

@@ -79,7 +79,9 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
     assert [e["child"] for e in chain["edges"]] == chain["frames"][:-1]
     # map -> odom at 10 Hz holds the chain back: its newest stamp is up to 0.1 s + 5 ms old.
     assert chain["limiting"] == ["map", "odom"]
-    assert 0.05 <= chain["delay_mean_s"] <= 0.056 and 0.1 <= chain["delay_max_s"] <= 0.106
+    assert 0.05 <= chain["net_delay_mean_s"] <= 0.056 and 0.1 <= chain["net_delay_max_s"] <= 0.106
+    # a chain's net delay is no edge's delay (each about 3 ms here): never under the edges' name
+    assert "delay_mean_s" not in chain and all(e["delay_mean_s"] < 0.006 for e in chain["edges"] if not e["static"])
     assert "chain" not in json.loads(tfx("monitor", "-b", SAMPLE_BAGS["mcap"], "-f", "json").stdout)
 
 
@@ -97,6 +99,7 @@ def test_text_uses_tf_monitors_words(tfx: Tfx) -> None:
     assert "RESULTS: for odom to left_wheel" in chained
     assert "Chain is: left_wheel -> base_link -> base_footprint -> odom" in chained
     assert re.search(r"Net delay\s+avg = 0\.0\d+: max = 0\.0\d+", chained)
+    assert "Net delay: how far the chain's newest common stamp is behind ROS time" in " ".join(chained.split())
     assert "arm_link3" not in chained.split("All Broadcasters:")[0]  # only the chain's frames, as tf_monitor
 
 
@@ -156,7 +159,7 @@ def test_play_ends_on_the_numbers_of_its_last_window(tfx: Tfx) -> None:
         assert (theirs["child"], theirs["count"]) == (ours.child, ours.count)
         assert theirs["rate_hz"] == (None if ours.static else pytest.approx(ours.rate_hz, rel=1e-12))
     assert expected.chain is not None
-    assert last["chain"]["delay_mean_s"] == pytest.approx(seconds(expected.chain.delay_mean), rel=1e-12)
+    assert last["chain"]["net_delay_mean_s"] == pytest.approx(seconds(expected.chain.delay_mean), rel=1e-12)
 
 
 @pytest.mark.parametrize("rate", ["50", "500"])
@@ -414,7 +417,7 @@ def test_a_chain_asked_without_a_window_has_none_in_json(tfx: Tfx, tmp_path: Pat
     bag = _late_odometry(tmp_path)
     chain = json.loads(tfx("monitor", "odom", "base_link", "-b", bag, "--format", "json").stdout)
     assert chain["window"] == {"start": None, "end": None}
-    assert chain["chain"]["delay_mean_s"] is not None  # still counted to the recording's clock
+    assert chain["chain"]["net_delay_mean_s"] is not None  # still counted to the recording's clock
     asked = tfx("monitor", "odom", "base_link", "-b", bag, "--end", "1700000000.5", "--format", "json").stdout
     assert json.loads(asked)["window"]["end"] == pytest.approx(1_700_000_000.5)
 

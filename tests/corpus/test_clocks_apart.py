@@ -47,14 +47,22 @@ def test_every_time_a_finding_says_is_placed_on_the_recorders_clock(corpus: Corp
 
 def test_the_imu_waits_at_the_rate_of_the_ekf_on_its_clock(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """/imu/data (stamped on the EKF's clock) waits for odom -> base_link, which the ZED (~310 Hz of new stamps)
-    and the EKF (30 Hz) both send: the wait is made of the EKF's samples, at 30.0 Hz, not the blend's 341.7 Hz."""
+    and the EKF (30 Hz) both send: the wait is made of the EKF's samples, at 30.0 Hz, not the blend's 341.7 Hz.
+    monitor shows the blend as the edge's rate: the finding said "at 30.0 Hz" of the same edge, unnamed; now it
+    says which clock its figure is on, and the blend's beside it, the very number monitor shows."""
     path = corpus(BY_ID[TWO_ODOMETRIES])
     report = json.loads(tfx("filter", "-b", path, "--format", "json").stdout)
     (imu,) = [t for t in report["topics"] if t["topic"] == "/imu/data"]
     assert imu["late_edge"] == ["odom", "base_link"] and imu["late_rate_hz"] == pytest.approx(30.0, abs=0.2), imu
     (bag,) = json.loads(tfx("wtf", "-b", path, "--format", "json").stdout)["bags"]
     (wait,) = [f for f in bag["findings"] if f["code"] == "sensor_wait"]
-    assert "at 30.0 Hz" in wait["message"] and "341.7" not in wait["message"], wait["message"]
+    # the two rates of the one edge are said as two figures, each with its name: monitor shows the blend's
+    assert "at 30.0 Hz on the messages' clock (341.7 Hz over all its clocks, as monitor counts it)" in wait["message"]
+    assert imu["late_rate_all_hz"] == pytest.approx(341.7, abs=0.1), imu
+    (edge,) = [
+        e for e in json.loads(tfx("monitor", "-b", path, "-f", "json").stdout)["edges"] if e["child"] == "base_link"
+    ]
+    assert edge["rate_hz"] == pytest.approx(imu["late_rate_all_hz"]), edge
 
 
 def test_a_gps_on_a_clock_hours_ahead_is_told_to_sync_clocks(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

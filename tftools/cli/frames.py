@@ -22,7 +22,12 @@ def command(
     bags: options.Bags = None,
     fmt: Annotated[
         FramesFormat,
-        typer.Option("--format", "-f", help="text (a tree), json, or yaml (exactly tf2's allFramesAsYAML)."),
+        typer.Option(
+            "--format",
+            "-f",
+            help="text (a tree), json, or yaml (exactly tf2's allFramesAsYAML, whose rate is tf2's: samples over "
+            "the span, where tfx counts intervals, samples - 1).",
+        ),
     ] = FramesFormat.text,
     topics: options.Topics = None,
     tf2: options.Tf2 = None,

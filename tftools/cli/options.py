@@ -63,7 +63,7 @@ Ros = Annotated[
     bool | None,
     typer.Option(
         "--ros1/--ros2",
-        help="Live: ROS1 (ROS_MASTER_URI) or ROS2 (ROS_DOMAIN_ID); default: as the environment says.",
+        help="Live: ROS1 (ROS_MASTER_URI) or ROS2 (ROS_DOMAIN_ID, ROS_LOCALHOST_ONLY...); default: the environment's.",
     ),
 ]
 SimTime = Annotated[

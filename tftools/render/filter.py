@@ -175,6 +175,7 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
         "late_by_s": seconds(s.late_by),
         "late_after_s": seconds(s.late_after),
         "late_rate_hz": s.late_rate_hz,
+        "late_rate_all_hz": s.late_rate_all_hz or None,
         "late_unheld": s.late_unheld,
         "clock_apart_s": seconds(s.clock_apart),
         "wait_needed_s": None if s.wait_needed is None else seconds(s.wait_needed),

@@ -30,6 +30,11 @@ def _sec(ns: float) -> str:
 JITTER = "Jitter: how irregular an edge's stamps are, the standard deviation of the intervals between them"
 #: What the figures are, said once above the lines of a narrow terminal (the table's headers say it wide).
 KEY = f"Rate: stamps/s; {JITTER}; Gap: the largest; times in s"
+#: The chain's "Net delay" is another figure than its edges' delays, said under it (``ChainStats``).
+NET_DELAY = (
+    "Net delay: how far the chain's newest common stamp is behind ROS time, at every moment (tf_monitor's): the "
+    "time since its oldest edge's last sample counts, not only how late each sample arrived (Average Delay)"
+)
 
 
 def _table(title: str, names: Sequence[str], numbers: Sequence[str], names_after: Sequence[str]) -> Table:
@@ -124,6 +129,8 @@ def _chain_lines(chain: ChainStats, other_clock: Sequence[str]) -> Text:
         text.append("  (every edge is static: never stale)", style="dim")
     elif math.isnan(chain.delay_mean) and any(e.child in other_clock for e in chain.edges):
         text.append(f"  ({OTHER_CLOCK})", style="dim")
+    if not math.isnan(chain.delay_mean):
+        text.append(f"\n{NET_DELAY}", style="dim")
     return text
 
 
@@ -298,8 +305,9 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
             "source": chain.source,
             "frames": list(chain.frames),
             "edges": [_edge_dict(e, report.other_clock) for e in chain.edges],
-            "delay_mean_s": seconds(chain.delay_mean),
-            "delay_max_s": seconds(chain.delay_max),
+            # not its edges' delay_mean_s: how far its newest common stamp is behind, over time (``NET_DELAY``)
+            "net_delay_mean_s": seconds(chain.delay_mean),
+            "net_delay_max_s": seconds(chain.delay_max),
             "limiting": list(chain.limiting) if chain.limiting is not None else None,
         }
     return result

@@ -30,6 +30,7 @@ from __future__ import annotations
 import enum
 import heapq
 import itertools
+import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -566,7 +567,10 @@ class StreamReport:
     # keeps them either (tf2 drops the waiting request once tf comes), setting the stamp does.
     stamped_zero: int = 0
     late_after: float = 0.0  # how long after the stamps that edge's next sample was stamped (median): its step
-    late_rate_hz: float = 0.0  # that edge's rate
+    late_rate_hz: float = 0.0  # that edge's rate, of its samples on the messages' clock (``history_rate``)
+    # where that edge's samples are on several clocks, the rate of them all (monitor's): the figure said beside the
+    # other, not in its place; 0 where they are on one clock
+    late_rate_all_hz: float = 0.0
     late_unheld: int = 0  # of the waits for that edge, those for its first transform (it had sent nothing yet)
     tick: int = 0  # the step of the clock the waits were read off (record times on /clock's ticks; 0: fine)
     # How far (ns) the messages lost to tf are stamped ahead of the edge they were lost for, both against their
@@ -585,6 +589,9 @@ class StreamReport:
         if self.late_unheld and self.late_unheld >= self.later:
             return first
         rate = f" at {self.late_rate_hz:.1f} Hz" if self.late_rate_hz > 0 else ""
+        if rate and self.late_rate_all_hz > 0:
+            every = f"{self.late_rate_all_hz:.1f} Hz over all its clocks, as monitor counts it"
+            rate += f" on the messages' clock ({every})"
         after = f"{seconds_in_words(self.late_after)} after it" if self.late_after else "with the message's stamp"
         newest = f"its newest stamp {seconds_in_words(self.late_by)} behind the message's on arrival"
         said = f"{newest}, its next sample stamped {after}{rate}"
@@ -648,7 +655,8 @@ def stream_report(
         late_edge=late_edge,
         late_by=float(np.median(lags)) if len(lags) else 0.0,
         late_after=float(np.median(afters)) if len(afters) else 0.0,
-        late_rate_hz=_rate(buffer, late_edge, stream.stamp[waited]),
+        late_rate_hz=(late_rate := _rate(buffer, late_edge, stream.stamp[waited])),
+        late_rate_all_hz=_rate_all(buffer, late_edge, late_rate),
         late_unheld=int((~held).sum()),
         tick=tick,
         wait_needed=_wait_needed(fates, stream),
@@ -678,6 +686,13 @@ def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | Non
     static one): of its samples on their time base (``history_rate``), not a blend of two publishers' clocks."""
     hist = None if edge is None else buffer.history(edge[1])
     return 0.0 if hist is None else history_rate(hist, stamps)
+
+
+def _rate_all(buffer: Buffer, edge: tuple[str, str] | None, on_their_clock: float) -> float:
+    """The rate of all of ``edge``'s samples, where it differs from the rate ``on_their_clock`` (``_rate``'s, of
+    those on the messages' clock): its samples are on several clocks (two publishers 5.8 h apart); else 0."""
+    every = _rate(buffer, edge)
+    return 0.0 if math.isclose(every, on_their_clock, rel_tol=1e-9) else every
 
 
 def _clock_apart(buffer: Buffer, edge: tuple[str, str] | None, stream: StampedMessages, rows: IntpArray) -> int:

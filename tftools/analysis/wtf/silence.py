@@ -166,12 +166,11 @@ def stall(scene: Scene) -> Iterator[Finding]:
             longest = max(run, key=lambda one: max(p.end - p.start for p in one.pauses))
             meanwhile = longest.meanwhile.replace(" for ", " for up to ", 1) if look == "nothing" else meanwhile
             began = min(p.start for p in longest.pauses)
-            when = (
-                f"at once {len(run)} times (each time within {duration(spread)} of each other), the first from "
-                f"{scene.at(start)}" + (f", the longest from {scene.at(began)}" if began != start else "")
+            when = f"at once {len(run)} times (each time {_together(spread)}), the first from {scene.at(start)}" + (
+                f", the longest from {scene.at(began)}" if began != start else ""
             )
         else:
-            when = f"within {duration(spread)} of each other, from {scene.at(start)}"
+            when = f"{_together(spread)}, from {scene.at(start)}"
         yield Finding(
             Severity.warning,
             "stall",
@@ -184,6 +183,14 @@ def stall(scene: Scene) -> Iterator[Finding]:
             last_time=end,
             count=len(pauses),
         )
+
+
+def _together(spread: float) -> str:
+    """How far apart (s) the edges of a stall went silent, in words: "within 0.450 s of each other"; never "within
+    0.000 s" (a real Neato's driver sends its three edges with one stamp: they stop at the same instant)."""
+    if spread == 0:
+        return "at the same instant"
+    return "less than 1 ms apart" if spread < 0.0005 else f"within {duration(spread)} of each other"
 
 
 #: What to look at, by what the record clock saw during a stall (``_meanwhile``).
