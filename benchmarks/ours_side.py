@@ -16,6 +16,7 @@ Each prints one JSON object.
 from __future__ import annotations
 
 import json
+import os
 import resource
 import sys
 import time
@@ -31,6 +32,14 @@ from timing import read_whole
 from tftools.core.buffer import Buffer
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording, recording_of
+
+try:
+    from tftools.core.kernels import threads_for
+except ImportError:  # an earlier checkout (``ratios.py --against``): the same count, from before it was named
+
+    def threads_for(n: int) -> int:
+        return max(1, min(os.cpu_count() or 1, n // 50_000))
+
 
 BATCH = 1_000_000
 SET_CALLS = 100_000  # as tf2_side
@@ -120,13 +129,17 @@ def random_times(seconds: int):
 
 
 def batch(path: str, seconds: int) -> dict:
+    """Each call's wall time per time, and what it spent (``spent.py``: the CPU time of all its threads, the
+    page faults, steal; the wait is the calling thread's alone, the others' ended with the call), with the
+    threads it ran on."""
     buffer = read_recording([path]).buffer
-    result = {}
+    result: dict = {"batch_times": BATCH, "batch_threads": threads_for(BATCH)}
     for which in ("first", "next"):
         times = random_times(seconds)
-        began = time.perf_counter()
+        spent, began = usage(), time.perf_counter()
         buffer.lookup_many(robot.TARGET, robot.SOURCE, times)
         result[f"batch_{which}_s"] = (time.perf_counter() - began) / BATCH
+        result.update(spent_since(spent, f"batch_{which}"))
     return result
 
 

@@ -19,7 +19,8 @@ unmeasured warm-up run of every side; ``--compile-each-run`` measures as before,
 
 Every run's own figures are kept, both sides', with the CPU time of the same span where there is one (the
 whole script and ``tfx frames``: the child process's; the ingest and first load: the measured span's, from
-within; the ingest's also the time it waited for a CPU and the machine's steal time, ``spent.py``). A span
+within; the ingest's also the time it waited for a CPU and the machine's steal time, ``spent.py``; the batch's,
+per time, its threads' CPU time over their count, so that on free cores it is about the wall time). A span
 is disturbed, and named below the table whichever side it is on, where it spent a good part of its wall
 time off the CPU (another process held it, or the disk was read) or took a good deal more CPU time than
 its other runs (the same work slowed by a neighbour's: see ``DISTURBED``); ``--raw`` prints every run's
@@ -125,9 +126,20 @@ def tftools_run(python: str, bags: dict[str, Path]) -> Run:
     timed(out, "first_load", (got["first_load_s"], got["first_load_cpu_s"]))
     calls = run_json([python, ours, "lookups", str(bags["ros1"]), str(LOOKUPS), str(UNIT_SECONDS)])
     out.update({key: calls[f"{key}_s"] for key in ("lookup", "can_transform", "set_transform")})
-    out["batch"] = run_json([python, ours, "batch", str(bags["ros1"]), str(UNIT_SECONDS)])["batch_next_s"]
+    batch(out, run_json([python, ours, "batch", str(bags["ros1"]), str(UNIT_SECONDS)]))
     timed(out, "frames", wall([python, "-m", "tftools", "frames", "-b", str(SAMPLE)]))
     return out
+
+
+def batch(out: Run, got: dict) -> None:
+    """The batch's second call, per time: its wall time and, as its CPU time, its threads' CPU time shared
+    among them (on free cores about the wall time: the threads share the work as they go), so that a core
+    another process held shows as time off the CPU, and slower work as CPU time over the median."""
+    per_time = {key: value / got["batch_times"] for key, value in got.items() if key.startswith("batch_next_")}
+    per_time["batch_next_cpu_s"] /= got["batch_threads"]
+    per_time["batch_next_s"] = got["batch_next_s"]  # per time already
+    spanned(out, "batch", per_time, "batch_next")
+    out["batch faults"] = got["batch_next_minor_faults"]  # (a fresh page's first write: none where memory is reused)
 
 
 def tf2_run(bags: dict[str, Path]) -> Run:
@@ -196,13 +208,17 @@ def print_raw(runs: dict[str, list[Run]], keys: list[str]) -> None:
     rows = [("measure", "run", *(f"{name} (cpu)" for name in runs), *(f"ratio {n}" for n in runs if n != "tf2"))]
     for key in (key for key in keys if cpu(key) in runs["tftools"][0]):
         for k, theirs in enumerate(runs["tf2"]):
-            figures = [f"{shown(side[k][key])} ({shown(side[k][cpu(key)])}){' *' * bool(disturbance(side, k, key))}"
+            figures = [f"{shown(side[k][key])}{cpu_shown(side[k], key)}{' *' * bool(disturbance(side, k, key))}"
                        if key in side[k] else "-" for side in runs.values()]  # fmt: skip
             ratio = [f"{theirs[key] / side[k][key]:.1f}x" if key in theirs else "-"
                      for name, side in runs.items() if name != "tf2"]  # fmt: skip
             rows.append((key, str(k + 1), *figures, *ratio))
     print_table(rows)
     print("* disturbed (listed below the table)\n")
+
+
+def cpu_shown(run: Run, key: str) -> str:
+    return f" ({shown(run[cpu(key)])})" if cpu(key) in run else ""
 
 
 def print_disturbed(runs: dict[str, list[Run]], keys: list[str]) -> None:

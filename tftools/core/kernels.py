@@ -85,6 +85,10 @@ def lookup_in_parallel(
     ``outputs``' arrays (new ones without): the times used, values (N, 7) and validity, in the order of ``times``."""
     n = len(times)
     stamps, values, valid = (outputs or BatchOutputs()).arrays(n)
-    threads = max(1, min(os.cpu_count() or 1, n // _TIMES_PER_THREAD))
-    core.lookup_in_parallel(target_id, source_id, np.ascontiguousarray(times), stamps, values, valid, threads)
+    core.lookup_in_parallel(target_id, source_id, np.ascontiguousarray(times), stamps, values, valid, threads_for(n))
     return stamps, values, valid
+
+
+def threads_for(n: int) -> int:
+    """The threads a batch of ``n`` times runs on: as many of the CPUs as they are worth."""
+    return max(1, min(os.cpu_count() or 1, n // _TIMES_PER_THREAD))
