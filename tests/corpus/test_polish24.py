@@ -63,3 +63,32 @@ def test_a_robot_s_tree_apart_lacks_its_transform_to_world_not_a_letter(
     drawn = html.unescape((tmp_path / "frames.svg").read_text())
     for text in (finding["hint"], echoed, drawn):
         assert said in text and joined in text and "misspelling" not in text
+
+
+DRONE = "ros2-gazebo-drone-beside-ackermann-car-two-static-publishers-pfms-2024-db3"
+
+
+@pytest.mark.parametrize(
+    ("recording", "code", "said", "summary"),
+    [
+        (STAGE, "static_on_dynamic", 2, "3 warnings (explaining 5 more)"),
+        (DRONE, "urdf_extra", 2, "4 notes (explaining 9 more)"),
+    ],
+)
+def test_one_cause_is_one_finding_with_what_follows_beneath(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    recording: str,
+    code: str,
+    said: int,
+    summary: str,
+) -> None:
+    """Stage: stageros' 6 constant mounts on /tf were 6 warnings beside /local_map's (every robot at rest; the mounts
+    are constant by Stage's make, so the finding holds), now one for stageros with 5 beneath. The drone beside a
+    car: the car's 10 frames the drone's URDF lacks were 10 notes beside 'world', now one at orange/base_footprint
+    with 9 beneath. The summary line and JSON count causes."""
+    path = corpus(BY_ID[recording])
+    (bag,) = json.loads(tfx("wtf", path, "--format", "json").stdout)["bags"]
+    mine = [f for f in bag["findings"] if f["code"] == code]
+    assert sum(not f.get("cause") for f in mine) == said and all(f.get("cause") for f in mine[said:])
+    assert summary in tfx("wtf", path).stdout
