@@ -92,3 +92,14 @@ def test_one_cause_is_one_finding_with_what_follows_beneath(
     mine = [f for f in bag["findings"] if f["code"] == code]
     assert sum(not f.get("cause") for f in mine) == said and all(f.get("cause") for f in mine[said:])
     assert summary in tfx("wtf", path).stdout
+
+
+def test_monitor_says_the_clock_s_step_and_rate_on_their_own_axes(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The TurtleBot 3 circle MCAP: /clock's 336 ticks step a median 0.095 s of sim time (31.7 s of it) over 34.1 s of
+    record time, 9.8 ticks a second by ``rate_hz``: monitor said "ticks every 0.095 s (11 Hz)", the step as a rate."""
+    path = corpus(BY_ID[RENAMED[0]])
+    said = json.loads(tfx("monitor", "-b", path, "-f", "json").stdout)["delays_unavailable"]
+    assert "/clock, which ticks every 0.095 s of sim time (9.8 Hz of record time)" in said, said
