@@ -552,3 +552,33 @@ def test_a_frame_two_disputing_descriptions_place_apart_follows_their_static_con
     assert causes([f for f in found if f.severity is Severity.error]) == (
         [conflict] if beneath else [conflict, parents]
     )
+
+
+def _constant(parent: str, child: str, by: str) -> Finding:
+    return Finding(
+        Severity.warning, "static_on_dynamic", f"{parent} -> {child} never changes", "", (parent, child), (by,)
+    )
+
+
+def test_constant_edges_of_one_node_are_one_finding_with_its_edges_beneath() -> None:
+    """Stage's stageros sends each robot's base_footprint -> base_link and base_link -> laser on /tf, constant (the
+    Stage bag: 6 warnings of one node); another node's constant edge stays its own, and a ROS 2 bag's findings,
+    which name only the topic /tf, are not lumped together."""
+    stage = [_constant(f"r{r}/{p}", f"r{r}/{c}", "/stageros") for r in range(3) for p, c in [("a", "b"), ("b", "c")]]
+    found = explain([*stage, _constant("r0/c", "map", "/local_map")])
+    assert len(causes(found)) == 2 and [f.cause for f in found].count("static_on_dynamic:1") == 5
+    ros2 = explain([_constant("a", "b", "/tf"), _constant("c", "d", "/tf")])
+    assert not any(f.cause for f in ros2)
+
+
+def _extra(parent: str, frame: str) -> Finding:
+    return Finding(Severity.info, "urdf_extra", f"{frame} is not a link", "", (parent, frame), ("/tf",))
+
+
+def test_frames_a_description_lacks_under_one_it_lacks_follow_from_the_top_one() -> None:
+    """The drone beside a car (ros2_db3_pfms_drone_beside_car_2024): the car's 9 frames, none in the drone's URDF,
+    were 9 notes; the car's top frame is one, with the rest beneath. A frame under a described link stays apart."""
+    car = [("world", "car/base"), ("car/base", "car/steer"), ("car/steer", "car/wheel"), ("car/base", "car/laser")]
+    found = explain([*(_extra(*pair) for pair in car), _extra("drone/base", "drone/camera")])
+    assert [f.frames[1] for f in causes(found)] == ["car/base", "drone/camera"]
+    assert sum(f.cause == "urdf_extra:1" for f in found) == 3

@@ -339,6 +339,26 @@ def test_disconnected_lists_each_tree_and_spots_a_misspelt_root() -> None:
     assert "'base_lnk' looks like a misspelling of 'base_link'" in finding.hint
 
 
+def test_a_tree_like_another_under_another_namespace_lacks_a_transform_not_a_letter() -> None:
+    """Three robots in Stage (ros1_stage_three_robots_pfms_week11.bag): robot_2's tree has robot_0's and robot_1's
+    frames under 'robot_2/', and nothing publishes world -> robot_2/odom; 'robot_2/odom' is no misspelling of
+    'robot_1/odom'."""
+    messages = [
+        TfMessage("/tf", START + k * MS, [_t(parent, child, START + k * MS)], "/stage")
+        for k in range(3)
+        for r in range(3)
+        for parent, child in [
+            *([("world", f"robot_{r}/odom")] if r < 2 else []),
+            (f"robot_{r}/odom", f"robot_{r}/base_link"),
+            (f"robot_{r}/base_link", f"robot_{r}/laser"),
+        ]
+    ]
+    finding = only(check(recording(messages)).findings, "disconnected")
+    assert "misspelling" not in finding.hint
+    assert "robot_2/odom's tree has the same frames as robot_0's and robot_1's under 'robot_2/'" in finding.hint
+    assert "world -> robot_0/odom and world -> robot_1/odom: publish world -> robot_2/odom" in finding.hint
+
+
 @pytest.mark.parametrize("ros1", [True, False])
 def test_disconnected_without_tf_static_recorded_says_so(ros1: bool) -> None:
     # Formant's TurtleBot3 fixture (/tf alone): odom -> base_footprint and base_link's wheels, the fixed

@@ -73,7 +73,7 @@ def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx: Tfx) -> 
     report = monitor_buffer(recording.buffer, window=TimeWindow(timeline=recording.timeline))
     (base,) = [e for e in report.edges if e.child == "base"]
     assert math.isnan(base.delay_mean) and math.isnan(base.delay_max)
-    assert "ticks every 0.100 s (10 Hz)" in report.delays_unavailable
+    assert "ticks every 0.100 s of sim time (10.0 Hz of record time)" in report.delays_unavailable
     shown = json.loads(tfx("monitor", "-b", bag, "-f", "json").stdout)
     assert shown["edges"][0]["delay_mean_s"] is None and shown["authorities"][0]["delay_max_s"] is None
     assert "/clock, which ticks every 0.100 s" in shown["delays_unavailable"]
@@ -86,6 +86,19 @@ def test_a_10_hz_clock_gives_no_delay_but_says_why(tmp_path: Path, tfx: Tfx) -> 
     assert played and all(e["delay_mean_s"] is None for r in played for e in r["edges"])  # a replay too
     codes = {f.code for f in check(recording).findings}
     assert not codes & {"delay", "future"}
+
+
+def test_a_clock_slower_than_real_time_says_its_step_and_its_rate_on_their_own_axes(tmp_path: Path) -> None:
+    """Gazebo below real time (the TurtleBot 3 circle MCAP: /clock steps 0.095 s of sim time, 9.8 times a second of
+    wall time): "ticks every 0.095 s (11 Hz)" read the step as a rate. Here 0.05 s of sim time at 10 Hz."""
+    clock = [ClockMessage(WALL + k * S // 10 + MS // 2, 100 * S + k * S // 20) for k in range(100)]
+    tf = [
+        TfMessage("/tf", WALL + i * S // 10 + 2 * MS, [moving("odom", "base", 100 * S + i * S // 20, i)])
+        for i in range(100)
+    ]
+    recording = read_recording([write_bag(tmp_path / "slow", tf, BagFormat.rosbag2_sqlite3, clock)])
+    said = recording.timeline.delays_unavailable
+    assert "/clock, which ticks every 0.050 s of sim time (10.0 Hz of record time)" in said, said
 
 
 def test_a_fine_clock_measures_delays_never_below_zero(tmp_path: Path) -> None:
@@ -109,7 +122,7 @@ def test_the_gazebo_corpus_recording_shows_no_impossible_delay(tfx: Tfx) -> None
     shown = json.loads(tfx("monitor", "-b", bag, "-f", "json").stdout)
     figures = [e[k] for e in shown["edges"] + shown["authorities"] for k in ("delay_mean_s", "delay_max_s")]
     assert figures and all(f is None for f in figures)
-    assert "ticks every 0.100 s (10 Hz)" in shown["delays_unavailable"]
+    assert "ticks every 0.100 s of sim time (9.7 Hz of record time)" in shown["delays_unavailable"]
     wtf = tfx("wtf", bag)
     assert wtf.code == 0 and "delays shorter than that cannot be measured" in wtf.stdout
     assert not re.search(r"\b(delay|future)\b:", wtf.stdout)

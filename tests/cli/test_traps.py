@@ -95,6 +95,20 @@ def test_static_on_a_file_of_a_rosbag2_directory_names_the_directory(tfx: Tfx, t
     assert not (tmp_path / "out").exists()
 
 
+def test_static_on_a_file_its_metadata_yaml_does_not_list_copies_it(tfx: Tfx, tmp_path: Path) -> None:
+    """A bag directory whose file was renamed after recording (circle_0.mcap to circle.mcap, metadata.yaml unchanged):
+    the directory's error says "give tfx that file", so static takes the file, as every command does."""
+    bag = tmp_path / "renamed"
+    shutil.copytree(SAMPLE_BAGS["mcap"], bag)
+    (bag / "robot_mcap.mcap").rename(bag / "renamed.mcap")
+    refused = tfx("static", "--repair", "-b", bag, "-o", tmp_path / "dir_out")
+    assert refused.code != 0 and f"give tfx that file ({bag / 'renamed.mcap'})" in refused.stderr, refused
+    args = ("0", "0", "1", "0", "0", "0", "base_link", "tool", "-b", bag / "renamed.mcap", "-o", tmp_path / "out.mcap")
+    result = tfx("static", *args)
+    assert result.code == 0 and "1 static transform added" in result.stdout, result
+    assert read_recording([tmp_path / "out.mcap"]).buffer.lookup("base_link", "tool").translation == (0.0, 0.0, 1.0)
+
+
 def test_static_on_a_bare_mcap_file_copies_it_to_a_bare_mcap_file(tfx: Tfx, tmp_path: Path) -> None:
     bare = tmp_path / "bare.mcap"
     shutil.copy(SAMPLE_BAGS["mcap"] / "robot_mcap.mcap", bare)

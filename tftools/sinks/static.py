@@ -59,12 +59,14 @@ def checked(t: Transform) -> Transform:
 
 def copyable(bag: str) -> None:
     """A ``PartOfBagError`` unless ``bag`` is a recording tfx can copy with transforms added: a ROS 1 .bag, a ROS 2
-    bag directory, a bare .mcap or .db3 file, but not one of a ROS 2 bag directory's files (a URL is judged
-    once fetched)."""
+    bag directory, a bare .mcap or .db3 file, but not one of the files a ROS 2 bag directory's metadata.yaml
+    lists (one renamed since, which it does not list, is a recording of its own; a URL is judged once fetched)."""
+    from tftools.sources.bag.rosbag2 import listed_in_bag
+
     path = Path(bag)
     if is_url(bag) or not path.is_file() or path.suffix not in (".mcap", ".db3"):
         return
-    if (path.parent / METADATA).is_file():
+    if (path.parent / METADATA).is_file() and listed_in_bag(path):
         raise PartOfBagError(bag, str(path.parent))
 
 

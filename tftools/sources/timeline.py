@@ -277,7 +277,7 @@ class Timeline:
         step = self.resolution / NS_PER_S
         ticks = f"ticks every {step:.3f} s ({1 / step:.0f} Hz)"
         if self.reference is Reference.CLOCK:
-            said = f"ROS time at arrival is read off {self.clock.topic or '/clock'}, which {ticks}"
+            said = f"ROS time at arrival is read off {self.clock.topic or '/clock'}, which {self._clock_ticks}"
         else:
             said = f"arrivals were timed by /clock (ROS time under use_sim_time), which {ticks}"
         why = f"{said}: delays shorter than that cannot be measured"
@@ -285,6 +285,15 @@ class Timeline:
             frames = ", ".join(sorted(self.record_clocked))
             why += f"; those of {frames} (stamped on the record clock) are measured against their record times"
         return why
+
+    @property
+    def _clock_ticks(self) -> str:
+        """How /clock ticks, on its two axes: the step of simulated time (``clock_step``, what delays are read
+        to), and the ticks' rate on the record clock (a simulation slower than real time: Gazebo's 0.095 s
+        steps at 9.8 Hz of wall time)."""
+        step = self.clock_step / NS_PER_S
+        rate = figures.rate_hz(len(self.clock), figures.record_span(self.clock.record_time))
+        return f"ticks every {step:.3f} s of sim time" + (f" ({rate:.1f} Hz of record time)" if rate else "")
 
     def on_other_clock(self, children: Iterable[str]) -> tuple[str, ...]:
         """Of ``children``, the frames whose delays no clock of the recording measures: stamped on another clock

@@ -222,7 +222,7 @@ def separate_trees(buffer: Buffer, target: str, source: str) -> SeparateTrees | 
     named = [root for root in roots if root is not None]
     if any(root not in members for root in named):
         return None
-    hint = join_hint(named, members)
+    hint = join_hint(named, members, tree)
     return SeparateTrees(named[0], len(members[named[0]]), named[1], len(members[named[1]]), hint)
 
 

@@ -114,6 +114,30 @@ def _in_a_tree_apart(cause: Finding, finding: Finding) -> bool:
     return finding.figures.get("in_a_tree_apart") == 1
 
 
+def _publisher(finding: Finding) -> tuple[str, ...]:
+    """The nodes a finding names as its publishers; none where the recording names only topics (a ROS 2 bag's
+    /tf), which would lump every publisher's edges together."""
+    named = all(a and a.rsplit("/", 1)[-1] not in ("tf", "tf_static") for a in finding.authorities)
+    return finding.authorities if finding.authorities and named else ()
+
+
+def _same_publisher(first: Finding, finding: Finding) -> bool:
+    """Findings of the same named publishers (one node's choice, seen on each of its edges)."""
+    return bool(_publisher(first)) and _publisher(first) == _publisher(finding)
+
+
+def _one_publisher(finding: Finding) -> tuple[tuple[str, ...]]:
+    """``_same_publisher``'s key."""
+    return (_publisher(finding),)
+
+
+def _under_it(first: Finding, finding: Finding) -> bool:
+    """A frame under another the same finding found (one subtree: a second robot's links, each not in the
+    description): the frame's parent is the cause's frame, both named with their parent."""
+    placed = len(first.frames) == len(finding.frames) == 2 and bool(first.authorities)
+    return placed and finding.frames[0] == first.frames[1]
+
+
 @dataclass(frozen=True)
 class Rule:
     """Findings of the codes ``follows`` follow from one of the codes ``causes`` when ``relates(cause, it)``."""
@@ -196,6 +220,22 @@ RULES = (
         _shares_a_frame,
         "frames named with a leading '/' on /tf and /tf_static (or by two publishers) that share a frame: one "
         "naming (robot_state_publisher's frame_prefix, a tf_prefix), said once",
+        keys=_frames,
+    ),
+    Rule(
+        frozenset({"static_on_dynamic"}),
+        frozenset({"static_on_dynamic"}),
+        _same_publisher,
+        "constant edges one node sends on /tf (Stage's stageros: each robot's base_link and laser mounts): one "
+        "publisher's choice, said once with its edges beneath",
+        keys=_one_publisher,
+    ),
+    Rule(
+        frozenset({"urdf_extra"}),
+        frozenset({"urdf_extra"}),
+        _under_it,
+        "frames the description lacks under another it lacks (a second robot's links, a sensor's frames): one "
+        "subtree another node owns, said once at its top",
         keys=_frames,
     ),
     Rule(

@@ -275,7 +275,7 @@ def urdf_extra(scene: Scene) -> Iterator[Finding]:
         return
     extras = frames_not_described(robot, scene.tree)
     above = [e for e in extras if e.above]
-    under = [e for e in extras if not e.above]
+    under = sorted((e for e in extras if not e.above), key=lambda e: len(scene.tree.ancestors(e.frame)))  # tops first
     if above:
         yield Finding(
             Severity.info,

@@ -10,6 +10,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
+from tftools.analysis.frames import FrameTree
 from tftools.analysis.wtf.broadcasters import AtOnce, at_once, inferred_broadcasters, resent_notes
 from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.registry import register
@@ -154,9 +155,10 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         Severity.error,
         "disconnected",
         f"{len(roots)} separate trees, and no lookup between them: {trees}",
-        _misspelt_root(roots, members)
+        _twin_root(roots, members, scene.tree)
+        or _misspelt_root(roots, members)
         or statics_missing(scene, "the fixed transforms that would join them")
-        or join_hint(roots, members),
+        or join_hint(roots, members, scene.tree),
         tuple(roots),
         count=len(roots),
     )
@@ -180,10 +182,44 @@ def _misspelt_root(roots: list[str], members: dict[str, list[str]]) -> str | Non
     return None
 
 
-def join_hint(roots: list[str], members: dict[str, list[str]]) -> str:
-    """How to join the trees; a root whose name is close to a frame of another tree is likely a typo."""
-    if (misspelt := _misspelt_root(roots, members)) is not None:
-        return misspelt
+def _twin_root(roots: list[str], members: dict[str, list[str]], tree: FrameTree) -> str | None:
+    """A root whose tree has the same frames as a tree under another namespace prefix (three robots in Stage,
+    robot_2/odom's tree the same as robot_0's and robot_1's, which world holds): the transform that joins the
+    others, missing for it; None where no tree repeats another so."""
+    for root in roots[:TYPO_ROOTS]:
+        prefix, _, local = root.rpartition("/")
+        if not prefix or not local or not all(f.startswith(prefix + "/") for f in members[root]):
+            continue
+        names = [f[len(prefix) + 1 :] for f in members[root]]
+        if len(names) < 2:  # a lone frame is as likely a namespace misspelt
+            continue
+        twins = [
+            frame
+            for other in roots
+            if other != root
+            for frame in members[other]
+            if frame.endswith("/" + local)
+            and frame != root
+            and tree.frames[frame].parent is not None
+            and all(frame[: -len(local)] + name in tree.frames for name in names)
+        ]
+        if not twins:
+            continue
+        parent = tree.frames[twins[0]].parent
+        owners = and_joined([f"{twin[: -len(local) - 1]}'s" for twin in twins])
+        joins = and_joined([edge(str(tree.frames[twin].parent), twin) for twin in twins])
+        return (
+            f"{root}'s tree has the same frames as {owners} under '{prefix}/' ({listed(names)}); they are joined "
+            f"to the rest by {joins}: publish {parent} -> {root} as they do (a transform missing, not a typo)"
+        )
+    return None
+
+
+def join_hint(roots: list[str], members: dict[str, list[str]], tree: FrameTree) -> str:
+    """How to join the trees: the transform a tree like another under another namespace lacks; a root whose name
+    is close to a frame of another tree is likely a typo."""
+    if (hint := _twin_root(roots, members, tree) or _misspelt_root(roots, members)) is not None:
+        return hint
     main, other = roots[0], roots[1]
     return (
         f"publish the transform that attaches {other} to the {main} tree (a static_transform_publisher for a "

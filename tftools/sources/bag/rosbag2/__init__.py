@@ -207,10 +207,25 @@ def _storage_files(path: Path, stored: Files) -> list[Path]:
 def _beside(path: Path, stored: Files) -> OfferedQos:
     """The offered QoS of a bare file's bag directory, where the metadata.yaml beside it lists it (a .db3
     given inside its folder)."""
+    bag = _listing_bag(path, stored)
+    return bag.qos if bag is not None else _NO_METADATA
+
+
+def _listing_bag(path: Path, stored: Files) -> _Bag | None:
+    """The bag directory file ``path`` is in, where the metadata.yaml beside it lists it; None for a file
+    it does not list (renamed after recording: then the file is a recording of its own)."""
     if not stored.exists(path.parent / "metadata.yaml"):
-        return _NO_METADATA
+        return None
     bag = _layout(path.parent, stored)
-    return bag.qos if path in bag.files else _NO_METADATA
+    return bag if path in bag.files else None
+
+
+def listed_in_bag(path: Path) -> bool:
+    """Whether the bag file ``path`` (on this machine) is one the metadata.yaml beside it lists: a file of a ROS 2
+    bag directory, not one renamed since, which metadata.yaml no longer names."""
+    from tftools.sources.storage.source import LocalFiles
+
+    return _listing_bag(path, LocalFiles(path)) is not None
 
 
 def _qos(path: Path, stored: Files, info: dict[str, Any] | None, problems: list[str]) -> OfferedQos:
