@@ -181,7 +181,7 @@ def _open_format(files: Files) -> FormatFile:
     pays for no sqlite or MCAP code. A file's format is told by its first bytes (``sniff``)."""
     root = files.root
     fmt, source = sniff(files)
-    if source is None:  # a ROS 2 bag directory
+    if source is None:  # a ROS 2 bag directory, or one of its files compressed whole
         module = importlib.import_module("tftools.sources.bag.rosbag2")
         opened: FormatFile = module.Rosbag2Bag(root, files)
         return opened

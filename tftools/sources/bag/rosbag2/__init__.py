@@ -36,7 +36,7 @@ class Rosbag2Bag:
         if files.is_dir(path):
             self.bag = _layout(path, files)
         else:
-            self.bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path], qos=_beside(path, files))
+            self.bag = _Bag("mcap" if ".mcap" in path.suffixes else "sqlite3", [path], qos=_beside(path, files))
         self._stack = ExitStack()
         self._files: dict[Path, Db3File | McapFile | CorruptBagError] = {}
         self._decompressed: dict[Path, list[str]] = {}  # files compressed whole: what decompressing them lost
