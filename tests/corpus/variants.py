@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from mcap.reader import make_reader
 from mcap.writer import CompressionType, IndexType
 from mcap.writer import Writer as McapWriter
@@ -24,6 +25,8 @@ from rosbags.rosbag2 import Reader as Ros2Reader
 from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_typestore
 from ruamel.yaml import YAML
+
+from tftools.sources.bag.ros1.view import view_order
 
 _TYPES = get_typestore(Stores.ROS2_HUMBLE)
 #: rosbag2's metadata.yaml with no type description hash (bags before Iron): rosbags' writer needs one.
@@ -184,6 +187,21 @@ def write_mcap_ros1(path: Path, contents: Contents, chunked: bool = True) -> Pat
     return path
 
 
+def replay_ordered(messages: Sequence[tuple[int, int, bytes]]) -> list[tuple[int, int, bytes]]:
+    """A ROS 1 bag's messages in the order ``rosbag play`` (``rosbag::View``) gives them, ties of record time
+    included: the order a converter that replays the bag writes, and the one tfx reads the bag in. A
+    container without that order (MCAP: ties in file order) of the messages in another order holds other
+    arrivals: a sensor message before or after the tf of its instant."""
+    keys = sorted({key for key, _, _ in messages})
+    times = [np.array([t for k, t, _ in messages if k == key], np.int64) for key in keys]
+    places = view_order(times)
+    placed: list[tuple[int, tuple[int, int, bytes]]] = []
+    for key, place in zip(keys, places, strict=True):
+        mine = [m for m in messages if m[0] == key]
+        placed += zip(place.tolist(), mine, strict=True)
+    return [m for _, m in sorted(placed, key=lambda p: p[0])]
+
+
 def rewrite_mcap(source: Path, path: Path, **options: Any) -> Path:
     """An MCAP file's records written again by mcap's Writer with ``options`` (chunking, compression, index,
     summary): the same schemas, channels and messages."""
@@ -236,6 +254,11 @@ def _ties_ros1(source: Path, folder: Path) -> Path:
     return write_ros1(folder / "ties.bag", reordered, chunk_bytes=4096)
 
 
+def _replayed(source: Path) -> Contents:
+    contents = read(source)
+    return Contents(True, contents.connections, replay_ordered(contents.messages))
+
+
 def _mcap_of(source: Path, folder: Path) -> Path:
     """A ROS 2 recording's MCAP file: its own, or the bag written as MCAP."""
     own = sorted(source.glob("*.mcap")) if source.is_dir() else [source]
@@ -259,8 +282,8 @@ ROS1_VARIANTS: dict[str, Variant] = {
     "lz4 chunks": _ros1("lz4", compression="LZ4"),
     "1 KiB chunks": _ros1("tiny", chunk_bytes=1024),
     "ties reordered": _ties_ros1,
-    "mcap ros1 profile": lambda source, folder: write_mcap_ros1(folder / "ros1.mcap", read(source)),
-    "mcap ros1 unchunked": lambda source, folder: write_mcap_ros1(folder / "ros1u.mcap", read(source), False),
+    "mcap ros1 profile": lambda source, folder: write_mcap_ros1(folder / "ros1.mcap", _replayed(source)),
+    "mcap ros1 unchunked": lambda source, folder: write_mcap_ros1(folder / "ros1u.mcap", _replayed(source), False),
 }
 ROS2_VARIANTS: dict[str, Variant] = {
     "other storage": _other_storage,
