@@ -3,7 +3,7 @@ from the corpus's mostly in how it was written: every corpus recording is writte
 tools write the same messages (``variants``: bz2 / lz4 / small chunks, ties of record time interleaved otherwise,
 a ROS 1 bag as MCAP with the ros1 profile; a rosbag2 folder in the other storage, compressed by message, split in
 several files; MCAP unchunked, lz4, without summary or index) and ``tfx wtf`` must find the same in it: the same
-(code, severity, frames), the same transforms and frames counted.
+(code, severity, frames) said in the same words and figures, the same transforms and frames counted.
 
 Where a variant holds other bytes the answer may differ, and is left out here with the reason (``JUSTIFIED``)."""
 
@@ -21,7 +21,7 @@ from tftools import CheckQuery, check
 _, RECORDINGS = load_manifest()
 
 Corpus = Callable[[Recording], Path]
-Found = tuple[int, int, set[tuple[str, str, tuple[str, ...]]]]
+Found = tuple[int, int, set[tuple[str, str, tuple[str, ...], str]]]
 
 #: Recordings rosbags' readers cannot read whole (their damage is what they are in the corpus for): no variant of
 #: them can be written from what a reader gives.
@@ -36,7 +36,8 @@ JUSTIFIED: dict[tuple[str, str], str] = {}
 def _found(path: Path) -> Found:
     query = CheckQuery()
     report = check(query.reading().read([str(path)]), query)
-    return report.transforms, report.frames, {(f.code, f.severity.value, f.frames) for f in report.findings}
+    said = {(f.code, f.severity.value, f.frames, f.message.replace(str(path), "<recording>")) for f in report.findings}
+    return report.transforms, report.frames, said
 
 
 def _variants(path: Path) -> dict[str, variants.Variant]:

@@ -146,6 +146,28 @@ def test_each_message_is_placed_among_the_transforms_of_every_file_read(tmp_path
     assert sequence.tolist() == list(range(12))  # the buffer numbers the same transforms alike
 
 
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_each_message_is_placed_among_the_transforms_of_every_file_of_a_split_bag(tmp_path: Path, storage: str) -> None:
+    """As above, for one bag directory of three files (``ros2 bag record --max-bag-duration``): a message of the
+    third file comes after the transforms of the first two. Each was counted among its own file's only, and the
+    corpus's ros2_db3_create3_real_two_urdfs split in three said "16 /scan messages arrived before odom ->
+    base_link's first transform, its newest stamp 18.286 s behind" where the whole bag says 3 and 0.088 s."""
+    from tests.sources.ros2_helpers import Msg, Tf, write_split_rosbag2
+    from tftools.sources.recording import read_recording
+
+    store = typestore()
+    parts: list[list[Msg | Other]] = []
+    for part in range(3):
+        written: list[Msg | Other] = []
+        for i in range(4 * part, 4 * part + 4):
+            written.append(Other("/camera", 1_000 + 10 * i, _image(store, 100 + i, "camera", 100), IMAGE))
+            written.append(Msg("/tf", 1_000 + 10 * i, (Tf("map", "odom", i),)))  # the same instant, after it
+        parts.append(written)
+    recording = read_recording([write_split_rosbag2(tmp_path / "bag", parts, storage=storage)], headers=())
+    (stream,) = recording.stamped.streams
+    assert stream.ordered and stream.tf_before.tolist() == list(range(12))
+
+
 def test_a_gamepads_joy_is_no_sensor_data_unless_asked_for(tmp_path: Path) -> None:
     """CyberShip Voyager's /voyager/joy (corpus ros2-cybership-voyager-mocap-basin-2025-db3): sensor_msgs/Joy in
     'joy', which places nothing in space, so no tree names it and no tf2 filter waits for it; a point in

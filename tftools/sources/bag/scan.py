@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
 from tftools.sources.bag.messages import MessageSet
@@ -101,19 +105,23 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
     problems: list[str] = []
     stamped_problems: list[str] = []
     tf_messages: dict[str, tuple[int, int]] = {}
+    times: list[Int64Array] = []
+    parts: list[list[StampedMessages]] = []
     for index, scan in enumerate(scans):
         decoded, clock, headers, undecodable = scan.messages.decode()
+        times.append(record_times(decoded))
+        parts.append(headers)
         for topic, (messages, empty) in scan.messages.tf_messages.items():
             before = tf_messages.get(topic, (0, 0))
             tf_messages[topic] = (before[0] + messages, before[1] + empty)
         batches += decoded
         clocks.append(clock)
-        stamped += headers
         whole += scan.messages.whole
         label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
         problems += [label + line for line in scan.problems + undecodable]
         stamped_problems += [label + line for line in scan.messages.headers_lost]
     batches = in_record_order(batches)
+    stamped = [stream for part in (placed_among(times, parts) if len(parts) > 1 else parts) for stream in part]
     counted = [s for s in scans if s.message_count]
     topics = {name: type_name for scan in scans for name, type_name in scan.topics.items()}
     info = BagFileInfo(
@@ -132,3 +140,29 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
     sent = concat_sent([scan.messages.sent for scan in scans])
     room = scans[0].messages.room if len(scans) == 1 else None  # several: each brought in a part of it
     return FileRead(batches, info, merged_clock(clocks), merged(stamped), stamped_problems, whole, sent=sent, room=room)
+
+
+def record_times(batches: Sequence[TransformBatch]) -> Int64Array:
+    """The record times of ``batches``' transforms, sorted."""
+    return np.sort(np.concatenate([np.zeros(0, np.int64), *(b.record_time for b in batches)]))
+
+
+def placed_among(
+    times: Sequence[Int64Array], parts: Sequence[Sequence[StampedMessages]]
+) -> list[list[StampedMessages]]:
+    """Each part's stamped messages (a split bag's files', or several bags'), placed among its own transforms
+    (``StampedMessages.tf_before``), placed among every part's (``times``: each part's ``record_times``) as
+    ``in_record_order`` merges them: after those of the parts before it recorded up to their time, and of the
+    parts after it recorded before it."""
+    placed = []
+    for k, streams in enumerate(parts):
+        mine = []
+        for stream in streams:
+            before = stream.tf_before
+            if stream.ordered:
+                for j, others in enumerate(times):
+                    if j != k:
+                        before = before + np.searchsorted(others, stream.record_time, "right" if j < k else "left")
+            mine.append(dataclasses.replace(stream, tf_before=before))
+        placed.append(mine)
+    return placed
