@@ -102,6 +102,45 @@ def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -
     assert (said.code, said.severity) == ("static_volatile", Severity.warning)
 
 
+def test_a_bare_mcap_is_judged_by_its_channels_qos(tmp_path: Path) -> None:
+    """A rosbag2 .mcap given alone (ros2 bag play plays it with the QoS its channels' metadata keeps, as
+    metadata.yaml says beside it): judged as its folder is. It was not checked at all, so the corpus's
+    ros2_db3_evo_tf_example written as one .mcap lost its static_volatile note."""
+    bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_mcap, scenes.healthy())
+    (inside,) = bag.glob("*.mcap")
+    alone = tmp_path / "alone.mcap"
+    _rewrite_channels(inside, alone, lambda text: text)
+    assert check(read_recording([alone])).findings == []  # its channels say transient local
+    _rewrite_channels(inside, alone, lambda text: text.replace("durability: transient_local", "durability: volatile"))
+    (finding,) = check(read_recording([alone])).findings
+    assert (finding.code, finding.severity) == ("static_volatile", Severity.warning)
+    folder = check(read_recording([_volatile(bag)])).findings
+    assert [(f.code, f.severity, f.frames) for f in folder] == [(finding.code, finding.severity, finding.frames)]
+
+
+def _rewrite_channels(source: Path, target: Path, change: Callable[[str], str]) -> None:
+    """``source``'s records written again to ``target``, each channel's offered QoS profiles rewritten by ``change``."""
+    from mcap.reader import make_reader
+    from mcap.writer import Writer
+
+    with source.open("rb") as f, target.open("wb") as out:
+        reader = make_reader(f)
+        writer = Writer(out)
+        writer.start(profile=reader.get_header().profile)
+        schemas: dict[int, int] = {}
+        channels: dict[int, int] = {}
+        for schema, channel, message in reader.iter_messages(log_time_order=False):
+            if schema is not None and schema.id not in schemas:
+                schemas[schema.id] = writer.register_schema(schema.name, schema.encoding, schema.data)
+            if channel.id not in channels:
+                metadata = {k: change(v) if k == "offered_qos_profiles" else v for k, v in channel.metadata.items()}
+                channels[channel.id] = writer.register_channel(
+                    channel.topic, channel.message_encoding, schemas.get(channel.schema_id, 0), metadata
+                )
+            writer.add_message(channels[channel.id], message.log_time, message.data, message.publish_time)
+        writer.finish()
+
+
 def _set_topics_qos(db3: Path, change: Callable[[str], str]) -> None:
     """The offered QoS profiles in ``db3``'s topics table (this test's own copy) rewritten by ``change``."""
     with contextlib.closing(sqlite3.connect(db3)) as db, db:

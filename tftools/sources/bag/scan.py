@@ -11,10 +11,19 @@ import numpy as np
 
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
+from tftools.sources import user_files
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.select import Unread, unread_lines
-from tftools.sources.contents import ClockSamples, OfferedQos, SentMessages, StampedMessages, WholeMessages, concat_sent
+from tftools.sources.contents import (
+    ClockSamples,
+    OfferedQos,
+    SentMessages,
+    StampedMessages,
+    WholeMessages,
+    concat_sent,
+    is_static_topic,
+)
 from tftools.sources.headers import merged
 
 if TYPE_CHECKING:
@@ -166,3 +175,16 @@ def placed_among(
             mine.append(dataclasses.replace(stream, tf_before=before))
         placed.append(mine)
     return placed
+
+
+def qos_in_files(scans: list[FileScan]) -> OfferedQos | None:
+    """Without metadata.yaml (a recording cut short, or a .db3 or .mcap copied alone), the offered QoS of the
+    static topics as the files' own topics tables (a .db3's) or channels (an MCAP's) hold them; None where they
+    hold none."""
+    offered = {name: text for scan in scans for name, text in scan.offered_qos.items() if is_static_topic(name)}
+    if not offered:
+        return None
+    try:
+        return OfferedQos({name: list(user_files.load_text(text) or []) for name, text in offered.items()})
+    except user_files.UserFileError as error:
+        return OfferedQos({}, f"the bag file's topics table or channels hold unreadable QoS profiles ({error})")
