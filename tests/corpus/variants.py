@@ -274,7 +274,20 @@ def _other_storage(source: Path, folder: Path) -> Path:
 
 
 def _mcap_rewritten(name: str, **options: Any) -> Variant:
-    return lambda source, folder: rewrite_mcap(_mcap_of(source, folder), folder / f"{name}.mcap", **options)
+    """The recording's MCAP written again with ``options``: in its bag directory, beside its metadata.yaml
+    (``ros2 bag convert`` with a storage preset), or alone where it came alone."""
+
+    def written(source: Path, folder: Path) -> Path:
+        mcap = _mcap_of(source, folder)
+        if not (mcap.parent / "metadata.yaml").exists():
+            return rewrite_mcap(mcap, folder / f"{name}.mcap", **options)
+        bag = folder / name
+        bag.mkdir()
+        shutil.copyfile(mcap.parent / "metadata.yaml", bag / "metadata.yaml")
+        rewrite_mcap(mcap, bag / mcap.name, **options)
+        return bag
+
+    return written
 
 
 ROS1_VARIANTS: dict[str, Variant] = {
