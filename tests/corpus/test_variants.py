@@ -55,9 +55,12 @@ def _readable(recording: Recording) -> bool:
 def test_written_otherwise_found_alike(corpus: Corpus, recording: Recording, tmp_path: Path) -> None:
     path = corpus(recording)
     original = _found(path)
-    for name, variant in _variants(path).items():
-        if (recording.id, name) in JUSTIFIED:
-            continue
-        folder = tmp_path / name.replace(" ", "_")
-        folder.mkdir()
-        assert _found(variant(path, folder)) == original, f"{recording.id} as {name}"
+    try:
+        for name, variant in _variants(path).items():
+            if (recording.id, name) in JUSTIFIED:
+                continue
+            folder = tmp_path / name.replace(" ", "_")
+            folder.mkdir()
+            assert _found(variant(path, folder)) == original, f"{recording.id} as {name}"
+    finally:
+        variants.read.cache_clear()  # one recording's messages held at a time

@@ -7,6 +7,7 @@ topic: what tfx finds in it must be what it finds in the original."""
 
 from __future__ import annotations
 
+import functools
 import shutil
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -56,8 +57,9 @@ class Contents:
     messages: list[tuple[int, int, bytes]]
 
 
+@functools.cache
 def read(path: Path) -> Contents:
-    """A .bag's or a rosbag2 folder's connections and raw messages, as rosbags reads them."""
+    """A .bag's or a rosbag2 folder's connections and raw messages, as rosbags reads them (once per path)."""
     if path.is_file():
         with Ros1Reader(path) as bag:
             conns = {}
