@@ -120,25 +120,12 @@ def test_a_bare_mcap_is_judged_by_its_channels_qos(tmp_path: Path) -> None:
 
 def _rewrite_channels(source: Path, target: Path, change: Callable[[str], str]) -> None:
     """``source``'s records written again to ``target``, each channel's offered QoS profiles rewritten by ``change``."""
-    from mcap.reader import make_reader
-    from mcap.writer import Writer
+    from tests.corpus.variants import rewrite_mcap
 
-    with source.open("rb") as f, target.open("wb") as out:
-        reader = make_reader(f)
-        writer = Writer(out)
-        writer.start(profile=reader.get_header().profile)
-        schemas: dict[int, int] = {}
-        channels: dict[int, int] = {}
-        for schema, channel, message in reader.iter_messages(log_time_order=False):
-            if schema is not None and schema.id not in schemas:
-                schemas[schema.id] = writer.register_schema(schema.name, schema.encoding, schema.data)
-            if channel.id not in channels:
-                metadata = {k: change(v) if k == "offered_qos_profiles" else v for k, v in channel.metadata.items()}
-                channels[channel.id] = writer.register_channel(
-                    channel.topic, channel.message_encoding, schemas.get(channel.schema_id, 0), metadata
-                )
-            writer.add_message(channels[channel.id], message.log_time, message.data, message.publish_time)
-        writer.finish()
+    def changed(metadata: dict[str, str]) -> dict[str, str]:
+        return {k: change(v) if k == "offered_qos_profiles" else v for k, v in metadata.items()}
+
+    rewrite_mcap(source, target, changed)
 
 
 def _set_topics_qos(db3: Path, change: Callable[[str], str]) -> None:

@@ -204,9 +204,11 @@ def replay_ordered(messages: Sequence[tuple[int, int, bytes]]) -> list[tuple[int
     return [m for _, m in sorted(placed, key=lambda p: p[0])]
 
 
-def rewrite_mcap(source: Path, path: Path, **options: Any) -> Path:
+def rewrite_mcap(
+    source: Path, path: Path, channel_metadata: Callable[[dict[str, str]], dict[str, str]] | None = None, **options: Any
+) -> Path:
     """An MCAP file's records written again by mcap's Writer with ``options`` (chunking, compression, index,
-    summary): the same schemas, channels and messages."""
+    summary): the same schemas, channels (their metadata as ``channel_metadata`` makes it) and messages."""
     with source.open("rb") as f, path.open("wb") as out:
         reader = make_reader(f)
         header = reader.get_header()
@@ -219,8 +221,9 @@ def rewrite_mcap(source: Path, path: Path, **options: Any) -> Path:
                 schemas[schema.id] = writer.register_schema(schema.name, schema.encoding, schema.data)
             if channel.id not in channels:
                 schema_id = schemas.get(channel.schema_id, 0)
+                metadata = channel.metadata if channel_metadata is None else channel_metadata(channel.metadata)
                 channels[channel.id] = writer.register_channel(
-                    channel.topic, channel.message_encoding, schema_id, channel.metadata
+                    channel.topic, channel.message_encoding, schema_id, metadata
                 )
             writer.add_message(
                 channels[channel.id], message.log_time, message.data, message.publish_time, message.sequence
