@@ -112,7 +112,7 @@ def write_ros1(path: Path, contents: Contents, compression: str = "", chunk_byte
 
 def write_ros2(path: Path, contents: Contents, storage: str = "sqlite3", message_zstd: bool = False) -> Path:
     """A rosbag2 folder as ``ros2 bag record`` writes it (``-s mcap``; ``--compression-mode message``)."""
-    writer = Ros2Writer(path, version=8, storage_plugin=StoragePlugin[storage.upper()])
+    writer = Ros2Writer(path, version=9, storage_plugin=StoragePlugin[storage.upper()])
     if message_zstd:
         writer.set_compression(CompressionMode.MESSAGE, CompressionFormat.ZSTD)
     writer.open()
