@@ -216,7 +216,8 @@ def rewrite_mcap(
         writer.start(profile=header.profile, library=header.library)
         schemas: dict[int, int] = {}
         channels: dict[int, int] = {}
-        for schema, channel, message in reader.iter_messages(log_time_order=False):
+
+        def registered(schema: Any, channel: Any) -> None:
             if schema is not None and schema.id not in schemas:
                 schemas[schema.id] = writer.register_schema(schema.name, schema.encoding, schema.data)
             if channel.id not in channels:
@@ -225,6 +226,12 @@ def rewrite_mcap(
                 channels[channel.id] = writer.register_channel(
                     channel.topic, channel.message_encoding, schema_id, metadata
                 )
+
+        summary = reader.get_summary()
+        for channel in summary.channels.values() if summary is not None else ():  # those without messages too
+            registered(summary.schemas.get(channel.schema_id) if summary is not None else None, channel)
+        for schema, channel, message in reader.iter_messages(log_time_order=False):
+            registered(schema, channel)
             writer.add_message(
                 channels[channel.id], message.log_time, message.data, message.publish_time, message.sequence
             )
