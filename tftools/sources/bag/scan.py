@@ -118,7 +118,8 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
     parts: list[list[StampedMessages]] = []
     for index, scan in enumerate(scans):
         decoded, clock, headers, undecodable = scan.messages.decode()
-        times.append(record_times(decoded))
+        if len(scans) > 1:  # to place each file's sensor messages among the others' transforms
+            times.append(record_times(decoded))
         parts.append(headers)
         for topic, (messages, empty) in scan.messages.tf_messages.items():
             before = tf_messages.get(topic, (0, 0))
@@ -130,7 +131,7 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
         problems += [label + line for line in scan.problems + undecodable]
         stamped_problems += [label + line for line in scan.messages.headers_lost]
     batches = in_record_order(batches)
-    stamped = [stream for part in (placed_among(times, parts) if len(parts) > 1 else parts) for stream in part]
+    stamped = [stream for part in (placed_among(times, parts) if len(scans) > 1 else parts) for stream in part]
     counted = [s for s in scans if s.message_count]
     topics = {name: type_name for scan in scans for name, type_name in scan.topics.items()}
     info = BagFileInfo(
