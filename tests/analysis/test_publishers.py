@@ -4,7 +4,10 @@ each case (../shared/corpus)."""
 
 from __future__ import annotations
 
+import contextlib
 import math
+import shutil
+import sqlite3
 from collections.abc import Callable
 from pathlib import Path
 
@@ -334,6 +337,26 @@ def test_two_static_publishers_listed_in_the_metadata_that_disagree_are_a_static
     ) in conflict.message
     assert "base_link -> laser (79.1 mm and 0.00° apart)" in conflict.message
     assert "up to" not in conflict.message  # one transform: its figures once (the real Neatos said them twice)
+
+
+@pytest.mark.parametrize("listed", [1, 2])
+def test_a_db3_given_alone_counts_publishers_by_its_topics_table(tmp_path: Path, listed: int) -> None:
+    """The .db3 of a bag without its metadata.yaml (copied alone): its topics table holds the same offered QoS
+    profiles, one per publisher, and the publishers are counted by it as by metadata.yaml. Counted by nothing,
+    the corpus's two Neatos with two /tf_static publishers (ros2_db3_neato_real_drive_square_earljr_2023,
+    ros2_db3_neato_obstacle_avoider_burst_2023) given as their .db3 alone, or as one .mcap, said
+    dynamic_on_static where their folders say static_conflict."""
+    _neato(listed, tmp_path)
+    (db3,) = (tmp_path / "bag_rosbag2-sqlite3").glob("*.db3")
+    alone = tmp_path / "alone" / db3.name
+    alone.parent.mkdir()
+    shutil.copyfile(db3, alone)
+    profile = "- {history: keep_last, depth: 1, reliability: reliable, durability: transient_local}\n"
+    with contextlib.closing(sqlite3.connect(alone)) as db, db:
+        db.execute("UPDATE topics SET offered_qos_profiles = ? WHERE name = '/tf_static'", (profile * listed,))
+    (finding,) = loud(check(read_recording([alone])).findings)
+    assert finding.code == ("static_conflict" if listed == 2 else "dynamic_on_static"), finding.message
+    assert finding.frames == ("base_link", "laser")
 
 
 def test_statics_recorded_a_hair_before_the_first_tf_stamp_are_at_plus_zero_not_minus_zero(tmp_path: Path) -> None:

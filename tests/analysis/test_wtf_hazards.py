@@ -102,6 +102,32 @@ def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -
     assert (said.code, said.severity) == ("static_volatile", Severity.warning)
 
 
+def test_a_bare_mcap_is_judged_by_its_channels_qos(tmp_path: Path) -> None:
+    """A rosbag2 .mcap given alone (ros2 bag play plays it with the QoS its channels' metadata keeps, as
+    metadata.yaml says beside it): judged as its folder is. It was not checked at all, so the corpus's
+    ros2_db3_evo_tf_example written as one .mcap lost its static_volatile note."""
+    bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_mcap, scenes.healthy())
+    (inside,) = bag.glob("*.mcap")
+    alone = tmp_path / "alone.mcap"
+    _rewrite_channels(inside, alone, lambda text: text)
+    assert check(read_recording([alone])).findings == []  # its channels say transient local
+    _rewrite_channels(inside, alone, lambda text: text.replace("durability: transient_local", "durability: volatile"))
+    (finding,) = check(read_recording([alone])).findings
+    assert (finding.code, finding.severity) == ("static_volatile", Severity.warning)
+    folder = check(read_recording([_volatile(bag)])).findings
+    assert [(f.code, f.severity, f.frames) for f in folder] == [(finding.code, finding.severity, finding.frames)]
+
+
+def _rewrite_channels(source: Path, target: Path, change: Callable[[str], str]) -> None:
+    """``source``'s records written again to ``target``, each channel's offered QoS profiles rewritten by ``change``."""
+    from tests.corpus.variants import rewrite_mcap
+
+    def changed(metadata: dict[str, str]) -> dict[str, str]:
+        return {k: change(v) if k == "offered_qos_profiles" else v for k, v in metadata.items()}
+
+    rewrite_mcap(source, target, changed)
+
+
 def _set_topics_qos(db3: Path, change: Callable[[str], str]) -> None:
     """The offered QoS profiles in ``db3``'s topics table (this test's own copy) rewritten by ``change``."""
     with contextlib.closing(sqlite3.connect(db3)) as db, db:

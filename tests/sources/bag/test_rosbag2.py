@@ -137,6 +137,21 @@ def test_zstd_compressed(tmp_path: Path, storage: str, mode: str) -> None:
     assert sorted(bag.iterdir()) == files  # decompressed elsewhere, nothing left beside the bag
 
 
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_bare_file_compressed_whole(tmp_path: Path, storage: str) -> None:
+    """A file of ``--compression-mode file`` given alone, away from its metadata.yaml (a user copied the one
+    file): read as its directory is, decompressed elsewhere (it was refused as an unknown format)."""
+    bag = write_rosbag2(tmp_path / "bag", MESSAGES, storage=storage, compression="file")
+    (compressed,) = [p for p in bag.iterdir() if p.suffix == ".zstd"]
+    alone = tmp_path / "alone" / compressed.name
+    alone.parent.mkdir()
+    compressed.rename(alone)
+    rows, contents = read_rows(alone)
+    assert rows == expected_rows(MESSAGES) and contents.problems == []
+    assert contents.files[0].format == f"rosbag2-{storage}"
+    assert list(alone.parent.iterdir()) == [alone]
+
+
 def test_bare_db3_compressed_message_by_message(tmp_path: Path) -> None:
     """Without metadata.yaml to say so, zstd-compressed payloads are recognised as such."""
     bag = write_rosbag2(tmp_path / "bag", MESSAGES, compression="message")

@@ -146,6 +146,28 @@ def test_each_message_is_placed_among_the_transforms_of_every_file_read(tmp_path
     assert sequence.tolist() == list(range(12))  # the buffer numbers the same transforms alike
 
 
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_each_message_is_placed_among_the_transforms_of_every_file_of_a_split_bag(tmp_path: Path, storage: str) -> None:
+    """As above, for one bag directory of three files (``ros2 bag record --max-bag-duration``): a message of the
+    third file comes after the transforms of the first two. Each was counted among its own file's only, and the
+    corpus's ros2_db3_create3_real_two_urdfs split in three said "16 /scan messages arrived before odom ->
+    base_link's first transform, its newest stamp 18.286 s behind" where the whole bag says 3 and 0.088 s."""
+    from tests.sources.ros2_helpers import Msg, Tf, write_split_rosbag2
+    from tftools.sources.recording import read_recording
+
+    store = typestore()
+    parts: list[list[Msg | Other]] = []
+    for part in range(3):
+        written: list[Msg | Other] = []
+        for i in range(4 * part, 4 * part + 4):
+            written.append(Other("/camera", 1_000 + 10 * i, _image(store, 100 + i, "camera", 100), IMAGE))
+            written.append(Msg("/tf", 1_000 + 10 * i, (Tf("map", "odom", i),)))  # the same instant, after it
+        parts.append(written)
+    recording = read_recording([write_split_rosbag2(tmp_path / "bag", parts, storage=storage)], headers=())
+    (stream,) = recording.stamped.streams
+    assert stream.ordered and stream.tf_before.tolist() == list(range(12))
+
+
 def test_a_gamepads_joy_is_no_sensor_data_unless_asked_for(tmp_path: Path) -> None:
     """CyberShip Voyager's /voyager/joy (corpus ros2-cybership-voyager-mocap-basin-2025-db3): sensor_msgs/Joy in
     'joy', which places nothing in space, so no tree names it and no tf2 filter waits for it; a point in
@@ -169,3 +191,38 @@ def test_a_gamepads_joy_is_no_sensor_data_unless_asked_for(tmp_path: Path) -> No
     assert [s.topic for s in read] == ["/imu"]
     (asked,) = read_recording([bag], headers=("/joy",), allow_empty=True).stamped.streams
     assert (asked.topic, list(asked.frame_ids), len(asked)) == ("/joy", ["joy"], 3)
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_a_type_only_the_recording_defines_is_read_for_its_header_from_both_storages(
+    tmp_path: Path, storage: str
+) -> None:
+    """A driver's own message type (dvl_msgs/msg/DVL) that begins with a Header: its definition is in the recording
+    (an MCAP's schema; a .db3's message_definitions table, rosbag2 Iron on), and its headers are read from either.
+    The .db3's definitions went unused: the corpus's ros2_mcap_coug_auv_replayed written as a .db3 lost its DVL
+    and GPSFix topics from wtf's sensor checks (sensor_frame named 3 topics fewer)."""
+    import struct
+
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    from tests.sources.ros2_helpers import TF_TYPE, Tf, tf_cdr
+
+    def dvl(sec: int) -> bytes:
+        frame = b"dvl_link\x00"
+        head = struct.pack("<iiI", sec, 0, len(frame)) + frame
+        return b"\x00\x01\x00\x00" + head + b"\x00" * (-len(head) % 8) + struct.pack("<d", 1.5)
+
+    bag = tmp_path / "bag"
+    writer = Writer(bag, version=9, storage_plugin=StoragePlugin[storage.upper()])
+    writer.open()
+    sensor = writer.add_connection(
+        "/dvl", "dvl_msgs/msg/DVL", msgdef="std_msgs/Header header\nfloat64 time\n", rihs01="RIHS01_" + "0" * 64
+    )
+    tf = writer.add_connection("/tf", TF_TYPE, typestore=typestore())
+    for i in range(3):
+        writer.write(tf, 1_000 + 10 * i, tf_cdr((Tf("map", "dvl_link", i),)))
+        writer.write(sensor, 1_001 + 10 * i, dvl(100 + i))
+    writer.close()
+    (stream,) = read_recording([bag], headers=()).stamped.streams
+    assert stream.topic == "/dvl" and stream.frame_ids == ["dvl_link"]
+    assert stream.stamp.tolist() == [(100 + i) * 1_000_000_000 for i in range(3)]

@@ -43,7 +43,7 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
         return
     for file in scene.recording.contents.files:
         qos = scene.recording.qos.get(file.path)
-        if not file.format.startswith("rosbag2") or qos is None:
+        if not file.format.startswith(("rosbag2", "mcap")) or qos is None:  # "mcap": a ros2 one given alone
             continue
         for topic, profiles in _static_qos(file.path, qos).items():
             if profiles and all(_durability(p) in TRANSIENT_LOCAL for p in profiles):

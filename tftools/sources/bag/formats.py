@@ -33,6 +33,8 @@ OLD_ROS1_MAGIC = b"#ROSRECORD V"
 ROSBAG2_DIRECTORY = Format("rosbag2", b"", "rosbag2")
 #: The first bytes of a zstd frame: a message (or file) rosbag2 compressed.
 ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
+#: A rosbag2 file compressed whole (``--compression-mode file``), given without its folder: read as its folder's.
+ZSTD_FILE_SUFFIXES = (".db3.zstd", ".mcap.zstd")
 #: Bytes read to recognise a file.
 HEAD_BYTES = max(len(f.magic) for f in FORMATS)
 
@@ -44,7 +46,8 @@ def format_of_head(head: bytes) -> Format | None:
 
 def sniff(files: Files) -> tuple[Format, ByteSource | None]:
     """The format of the recording at ``files``' root (local or remote): a ROS 2 bag directory, or a
-    file by its first bytes, then returned open (its ``ByteSource``, the caller's to close)."""
+    file by its first bytes, then returned open (its ``ByteSource``, the caller's to close); a rosbag2 file
+    compressed whole is read as its directory is (no source: it is decompressed first)."""
     root = files.root
     if files.is_dir(root):
         if not any(p.name == METADATA or p.suffix in (".db3", ".mcap") for p in files.listing(root)):
@@ -57,6 +60,9 @@ def sniff(files: Files) -> tuple[Format, ByteSource | None]:
     try:
         head = source.read(0, HEAD_BYTES)
         found = format_of_head(head)
+        if found is None and head.startswith(ZSTD_MAGIC) and root.name.endswith(ZSTD_FILE_SUFFIXES):
+            source.close()
+            return ROSBAG2_DIRECTORY, None
         if found is None and head.startswith(OLD_ROS1_MAGIC):
             version = head[len(OLD_ROS1_MAGIC) :].split(b"\n")[0].decode("ascii", "replace")
             raise OldRos1BagError(str(root), version)

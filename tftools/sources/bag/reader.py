@@ -3,14 +3,11 @@ read whole or window after window."""
 
 from __future__ import annotations
 
-import dataclasses
 import importlib
 import os
 from collections.abc import Sequence
 from contextlib import ExitStack
 from typing import Protocol
-
-import numpy as np
 
 from tftools.sources.bag.contents import (
     BagContents,
@@ -21,7 +18,7 @@ from tftools.sources.bag.contents import (
     merged_clock,
 )
 from tftools.sources.bag.formats import sniff
-from tftools.sources.bag.scan import FileRead
+from tftools.sources.bag.scan import FileRead, placed_among, record_times
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import DEFAULT_TOPICS, MessageSink, StampedRead, concat_sent
 from tftools.sources.errors import BagError
@@ -131,20 +128,10 @@ class BagReader:
 
 
 def _placed_among_files(reads: Sequence[FileRead]) -> None:
-    """Each file's stamped messages, placed among its own transforms (``StampedMessages.tf_before``),
-    placed among every file's as ``in_record_order`` merges them: after those of the files before it
-    recorded up to their time, and of the files after it recorded before it."""
-    times = [np.sort(np.concatenate([np.zeros(0, np.int64), *(b.record_time for b in r.batches)])) for r in reads]
-    for k, read in enumerate(reads):
-        placed = []
-        for stream in read.stamped:
-            before = stream.tf_before
-            if stream.ordered:
-                for j, others in enumerate(times):
-                    if j != k:
-                        before = before + np.searchsorted(others, stream.record_time, "right" if j < k else "left")
-            placed.append(dataclasses.replace(stream, tf_before=before))
-        read.stamped = placed
+    """Each file's stamped messages placed among every file's transforms (``scan.placed_among``)."""
+    placed = placed_among([record_times(r.batches) for r in reads], [r.stamped for r in reads])
+    for read, streams in zip(reads, placed, strict=True):
+        read.stamped = streams
 
 
 def _unreported(_done: int, _total: int) -> None:
@@ -181,7 +168,7 @@ def _open_format(files: Files) -> FormatFile:
     pays for no sqlite or MCAP code. A file's format is told by its first bytes (``sniff``)."""
     root = files.root
     fmt, source = sniff(files)
-    if source is None:  # a ROS 2 bag directory
+    if source is None:  # a ROS 2 bag directory, or one of its files compressed whole
         module = importlib.import_module("tftools.sources.bag.rosbag2")
         opened: FormatFile = module.Rosbag2Bag(root, files)
         return opened

@@ -2,15 +2,28 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
+from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
+from tftools.sources import user_files
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.select import Unread, unread_lines
-from tftools.sources.contents import ClockSamples, OfferedQos, SentMessages, StampedMessages, WholeMessages, concat_sent
+from tftools.sources.contents import (
+    ClockSamples,
+    OfferedQos,
+    SentMessages,
+    StampedMessages,
+    WholeMessages,
+    concat_sent,
+    is_static_topic,
+)
 from tftools.sources.headers import merged
 
 if TYPE_CHECKING:
@@ -101,19 +114,24 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
     problems: list[str] = []
     stamped_problems: list[str] = []
     tf_messages: dict[str, tuple[int, int]] = {}
+    times: list[Int64Array] = []
+    parts: list[list[StampedMessages]] = []
     for index, scan in enumerate(scans):
         decoded, clock, headers, undecodable = scan.messages.decode()
+        if len(scans) > 1:  # to place each file's sensor messages among the others' transforms
+            times.append(record_times(decoded))
+        parts.append(headers)
         for topic, (messages, empty) in scan.messages.tf_messages.items():
             before = tf_messages.get(topic, (0, 0))
             tf_messages[topic] = (before[0] + messages, before[1] + empty)
         batches += decoded
         clocks.append(clock)
-        stamped += headers
         whole += scan.messages.whole
         label = f"{labels[index]}: " if index < len(labels) and labels[index] else ""
         problems += [label + line for line in scan.problems + undecodable]
         stamped_problems += [label + line for line in scan.messages.headers_lost]
     batches = in_record_order(batches)
+    stamped = [stream for part in (placed_among(times, parts) if len(scans) > 1 else parts) for stream in part]
     counted = [s for s in scans if s.message_count]
     topics = {name: type_name for scan in scans for name, type_name in scan.topics.items()}
     info = BagFileInfo(
@@ -132,3 +150,50 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
     sent = concat_sent([scan.messages.sent for scan in scans])
     room = scans[0].messages.room if len(scans) == 1 else None  # several: each brought in a part of it
     return FileRead(batches, info, merged_clock(clocks), merged(stamped), stamped_problems, whole, sent=sent, room=room)
+
+
+def record_times(batches: Sequence[TransformBatch]) -> Int64Array:
+    """The record times of ``batches``' transforms, sorted."""
+    return np.sort(np.concatenate([np.zeros(0, np.int64), *(b.record_time for b in batches)]))
+
+
+def placed_among(
+    times: Sequence[Int64Array], parts: Sequence[Sequence[StampedMessages]]
+) -> list[list[StampedMessages]]:
+    """Each part's stamped messages (a split bag's files', or several bags'), placed among its own transforms
+    (``StampedMessages.tf_before``), placed among every part's (``times``: each part's ``record_times``) as
+    ``in_record_order`` merges them: after those of the parts before it recorded up to their time, and of the
+    parts after it recorded before it."""
+    placed = []
+    for k, streams in enumerate(parts):
+        mine = []
+        for stream in streams:
+            before = stream.tf_before
+            if stream.ordered:
+                for j, others in enumerate(times):
+                    if j != k:
+                        before = before + np.searchsorted(others, stream.record_time, "right" if j < k else "left")
+            mine.append(dataclasses.replace(stream, tf_before=before))
+        placed.append(mine)
+    return placed
+
+
+def qos_in_files(scans: list[FileScan]) -> OfferedQos | None:
+    """Without metadata.yaml (a recording cut short, or a .db3 or .mcap copied alone), the offered QoS of the
+    static topics as the files' own topics tables (a .db3's) or channels (an MCAP's) hold them, and each
+    topic's publishers (a profile each) and messages read, as metadata.yaml counts them; None where they hold
+    none for a static topic. Called once the scans are decoded."""
+    offered = {name: text for scan in scans for name, text in scan.offered_qos.items()}
+    if not any(is_static_topic(name) for name in offered):
+        return None
+    try:
+        profiles = {name: list(user_files.load_text(text) or []) for name, text in offered.items()}
+    except user_files.UserFileError as error:
+        return OfferedQos({}, f"the bag file's topics table or channels hold unreadable QoS profiles ({error})")
+    messages: dict[str, int] = {}
+    for scan in scans:
+        for topic, (count, _) in scan.messages.tf_messages.items():
+            messages[topic] = messages.get(topic, 0) + count
+    counts = {name: (messages.get(name, 0), len(offered_by)) for name, offered_by in profiles.items()}
+    static = {name: offered_by for name, offered_by in profiles.items() if is_static_topic(name)}
+    return OfferedQos(static, counts=counts)

@@ -12,7 +12,7 @@ from tftools.sources.bag.mcap.index import Summary, read_indexed, summary_of
 from tftools.sources.bag.mcap.records import Channels, profile_of
 from tftools.sources.bag.mcap.stream import stream
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.scan import FileRead, FileScan, file_result
+from tftools.sources.bag.scan import FileRead, FileScan, file_result, qos_in_files
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.errors import CorruptBagError
 from tftools.sources.storage.source import ByteSource
@@ -39,7 +39,11 @@ class McapFile:
     def read(self, wanted: Wanted, progress: ProgressCallback, window: RecordWindow | None = None) -> FileRead:
         """The transforms of a bare ``.mcap`` file (see ``reader.BagReader.read``)."""
         fmt = ROS1_MCAP if self.profile == "ros1" else "mcap"
-        return file_result(self.path, fmt, [self.scan(wanted, progress, MessageSet(window=window))])
+        scan = self.scan(wanted, progress, MessageSet(window=window))
+        read = file_result(self.path, fmt, [scan])
+        if self.profile == "ros2":  # a rosbag2 file given alone: ros2 bag play plays it with its channels' QoS
+            read.qos = qos_in_files([scan])
+        return read
 
     def scan(self, wanted: Wanted, progress: ProgressCallback, messages: MessageSet) -> FileScan:
         """The file's messages (into ``messages``) and description; ``CorruptBagError`` when nothing could be read."""

@@ -184,9 +184,11 @@ class Channels:
         # The ros1 profile's channels keep the connection's callerid (``mcap convert`` of a ROS 1 bag):
         # the publisher, as a ROS 1 bag names it.
         publisher = metadata.get("callerid", "")
+        qos = metadata.get("offered_qos_profiles", "")
+        if "offered_qos_profiles" in metadata:  # rosbag2's MCAP storage keeps what its metadata.yaml says
+            self.result.offered_qos[topic] = qos
         codec: AnyCodec | None
         if self.asked.copy is not None:
-            qos = metadata.get("offered_qos_profiles", "")
             recorded = Recorded(topic, type_name, encoding, definition, publisher=publisher, qos=qos)
             codec, unread = copied(recorded, self.asked.copy), None
         else:

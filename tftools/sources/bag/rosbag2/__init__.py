@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 from tftools.sources import user_files
 from tftools.sources.bag.contents import ProgressCallback, RecordWindow, in_turn
 from tftools.sources.bag.messages import MessageSet
-from tftools.sources.bag.scan import FileRead, FileScan, file_result
+from tftools.sources.bag.scan import FileRead, FileScan, file_result, qos_in_files
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import OfferedQos, is_static_topic
@@ -36,7 +36,7 @@ class Rosbag2Bag:
         if files.is_dir(path):
             self.bag = _layout(path, files)
         else:
-            self.bag = _Bag("mcap" if path.suffix == ".mcap" else "sqlite3", [path], qos=_beside(path, files))
+            self.bag = _Bag("mcap" if ".mcap" in path.suffixes else "sqlite3", [path], qos=_beside(path, files))
         self._stack = ExitStack()
         self._files: dict[Path, Db3File | McapFile | CorruptBagError] = {}
         self._decompressed: dict[Path, list[str]] = {}  # files compressed whole: what decompressing them lost
@@ -52,7 +52,7 @@ class Rosbag2Bag:
             scans, labels = self._scan_files(wanted, progress, window, problems)
             read = file_result(self.path, fmt, scans, labels)
             read.info.problems[:0] = problems
-        read.qos = self.bag.qos if self.bag.qos.metadata else _qos_in_files(scans) or self.bag.qos
+        read.qos = self.bag.qos if self.bag.qos.metadata else qos_in_files(scans) or self.bag.qos
         return read
 
     def _scan_files(
@@ -248,18 +248,6 @@ def _qos(path: Path, stored: Files, info: dict[str, Any] | None, problems: list[
         return OfferedQos(found, counts=counts)
     except (user_files.UserFileError, KeyError, TypeError, ValueError, AttributeError) as error:
         return OfferedQos({}, str(error) or type(error).__name__)
-
-
-def _qos_in_files(scans: list[FileScan]) -> OfferedQos | None:
-    """Without metadata.yaml (a recording cut short, or a .db3 copied alone), the offered QoS of the static
-    topics as the files' own topics tables hold them; None where they hold none."""
-    offered = {name: text for scan in scans for name, text in scan.offered_qos.items() if is_static_topic(name)}
-    if not offered:
-        return None
-    try:
-        return OfferedQos({name: list(user_files.load_text(text) or []) for name, text in offered.items()})
-    except user_files.UserFileError as error:
-        return OfferedQos({}, f"the bag file's topics table holds unreadable QoS profiles ({error})")
 
 
 def _metadata(path: Path, stored: Files, problems: list[str]) -> dict[str, Any] | None:

@@ -122,7 +122,7 @@ def _channels(
         if qos:
             result.offered_qos[name] = qos
         codec, unread = (
-            select(name, type_name, encoding, wanted)
+            select(name, type_name, encoding, wanted, definitions.get(type_name, ""))
             if wanted.copy is None
             else (
                 copied(
