@@ -373,6 +373,16 @@ def test_text_shows_a_few_of_each_code_beneath_a_cause_and_says_how_many_more() 
     assert "✗ and 3 more effect (--format json lists each)" in out.getvalue()
 
 
+def test_text_heads_findings_of_the_causes_own_code_as_its_like_not_its_effects() -> None:
+    alike = Rule(frozenset({"same"}), frozenset({"same"}), lambda c, f: f.frames != c.frames, "a test's rule")
+    found = explain([_f("same", Severity.warning, ("a", "b")), _f("same", Severity.warning, ("c", "d"))], [alike])
+    out = io.StringIO()
+    bag = BagReport(("x.bag",), findings=found, formats=("rosbag1",), start=1, end=2)
+    render.write_text([bag], Console(file=out, width=200, no_color=True))
+    assert "      and 1 more finding of the same cause:" in out.getvalue().splitlines()
+    assert "which explains" not in out.getvalue()
+
+
 def test_json_keeps_every_finding_with_its_link_and_counts_causes() -> None:
     document = render.as_dict([_report()], False, Thresholds(), 0)
     bag = document["bags"][0]

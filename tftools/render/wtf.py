@@ -88,7 +88,7 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
         console.print(Text(f"{severity.noun.upper()}S ({len(mine)}{also})", style=_MARKS[severity][1]))
         for finding in mine:
             _write_finding(finding, console)
-            _write_explained(explained(findings, finding), console)
+            _write_explained(finding, explained(findings, finding), console)
     console.print(_bag_line(bag, strict))
 
 
@@ -102,11 +102,16 @@ def _write_finding(finding: Finding, console: Console) -> None:
 SHOWN_PER_CODE = 5
 
 
-def _write_explained(following: Sequence[Finding], console: Console) -> None:
-    """What follows from a cause, beneath it: a line each (their hint is the cause's), a few per code."""
+def _write_explained(cause: Finding, following: Sequence[Finding], console: Console) -> None:
+    """What follows from a cause, beneath it: a line each (their hint is the cause's), a few per code. Findings
+    of the cause's own code are its like (one publisher's edges, one subtree), not its effects."""
     if not following:
         return
-    console.print(Text(f"      which explains {counted(len(following), 'more finding')}:", style="dim"))
+    if all(f.code == cause.code for f in following):
+        heading = f"      and {counted(len(following), 'more finding')} of the same cause:"
+    else:
+        heading = f"      which explains {counted(len(following), 'more finding')}:"
+    console.print(Text(heading, style="dim"))
     for code in dict.fromkeys(f.code for f in following):
         mine = [f for f in following if f.code == code]
         for finding in mine[:SHOWN_PER_CODE]:
