@@ -508,7 +508,8 @@ def _repeats(stamps: Int64Array, values: Callable[[IntpArray], FloatArray]) -> t
     n = len(stamps)
     order = np.argsort(stamps, kind="stable")
     ordered = stamps[order]
-    again = np.concatenate([[False], ordered[1:] == ordered[:-1]])
+    again = np.zeros(n, bool)
+    again[1:] = ordered[1:] == ordered[:-1]
     starts = np.maximum.accumulate(np.where(again, 0, np.arange(n)))
     repeat = np.zeros(n, bool)
     repeat[order] = again
