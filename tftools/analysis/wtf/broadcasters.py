@@ -20,7 +20,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -372,25 +372,36 @@ def _enough(count: int, samples: int, share: float = TURNS_SHARE) -> bool:
     return count >= TURNS_MIN and count >= share * samples
 
 
-def sent_before(stamps: Int64Array, values: FloatArray | None = None) -> BoolArray:
+def sent_before(stamps: Int64Array, values: FloatArray | Callable[[IntpArray], FloatArray] | None = None) -> BoolArray:
     """Which samples (in arrival order) carry a stamp an earlier one of the same stream carried (and its
-    value too, if ``values`` are given: a clock reset that replays old stamps elsewhere is new data)."""
-    first = np.zeros(len(stamps), bool)
+    value too, if ``values`` are given, or the function giving those of some samples: a clock reset that
+    replays old stamps elsewhere is new data)."""
+    _, firsts, inverse, counts = np.unique(stamps, return_index=True, return_inverse=True, return_counts=True)
+    again = np.ones(len(stamps), bool)
+    again[firsts] = False
     if values is None:
-        first[np.unique(stamps, return_index=True)[1]] = True
-        return ~first
+        return again
+    # only a stamp carried more than once can carry its value again: those samples' values alone are read
+    shared = np.flatnonzero(counts[inverse] > 1)
+    del inverse
+    again[:] = False
+    if not len(shared):
+        return again
+    sub = values(shared) if callable(values) else np.asarray(values)[shared]
     # the same stamp and value bit for bit (a value's 64 bits as an integer: -0.0 is not 0.0, a NaN is its bits),
     # by a stable sort of integers: not a 64-byte record a sample sorted as bytes (0.1 GB and seconds a 1M)
-    bits = np.ascontiguousarray(values, np.float64).reshape(len(stamps), 7).view(np.int64)
-    columns = [bits[:, i] for i in range(6, -1, -1)] + [np.asarray(stamps, np.int64)]  # the stamp sorts first
+    bits = np.ascontiguousarray(sub, np.float64).reshape(len(shared), 7).view(np.int64)
+    columns = [bits[:, i] for i in range(6, -1, -1)] + [np.asarray(stamps[shared], np.int64)]  # the stamp sorts first
     order = np.lexsort(columns)
-    new = np.zeros(len(stamps), bool)  # a row unlike the one before it in that order: its stamp and value's first
+    new = np.zeros(len(shared), bool)  # a row unlike the one before it in that order: its stamp and value's first
     new[:1] = True
     for column in columns:
         ordered = column[order]
         new[1:] |= ordered[1:] != ordered[:-1]
+    first = np.zeros(len(shared), bool)
     first[order[new]] = True
-    return ~first
+    again[shared] = ~first
+    return again
 
 
 def _resent(scene: Scene, frames: tuple[str, str], mine: IntpArray, repeats: Repeats) -> Finding:

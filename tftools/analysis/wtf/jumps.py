@@ -16,7 +16,7 @@ from tftools.analysis.wtf.broadcasters import FLOOR_DEG, FLOOR_M, apart, inferre
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
-from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
@@ -394,26 +394,37 @@ def _joints(scene: Scene) -> set[tuple[str, str]]:
     the odom frame), whose steps are corrections, not a state publisher's joints sampled too sparsely."""
     turning = _turning_in_place(scene)
     rows = scene.rows
-    edges = list(rows.by_edge(rows.usable & ~rows.static))
+    moving = rows.usable & ~rows.static
     records = rows.record_time.whole()
-    if len(edges) < 2 or not (records > 0).all():
+    if not (records > 0).all():
+        return turning
+    spans = _record_spans(records, int(np.count_nonzero(moving)))
+    del records  # each edge's own record times instead: the whole column beside every edge's rows held 66 MB
+    edges: list[tuple[str, str, int]] = []  # each edge and its count of rows
+    parts: list[list[Int32Array]] = [[] for _ in spans]  # of each span, each edge's rows recorded in it
+    for p, c, mine in rows.by_edge(moving):
+        edges.append((p, c, len(mine)))
+        times = rows.record_time[mine] if len(spans) > 1 else None
+        for span, (lo, hi) in zip(parts, spans, strict=True):
+            span.append(_recorded_in(times, mine, lo, hi).astype(np.int32))
+    if len(edges) < 2:
         return turning
     beyond_map = np.array([base_name(p) != MAP for p, _, _ in edges])
     shared = np.zeros(len(edges), np.int64)  # each edge's transforms in messages that carry other edges too
     beside = np.zeros(len(edges), bool)  # sent in a message with another edge not under map
-    for lo, hi in _record_spans(records, sum(len(mine) for _, _, mine in edges)):
-        parts = [_recorded_in(records, mine, lo, hi) for _, _, mine in edges]
-        mine_shared, mine_beside = _messages_shared(rows, parts, beyond_map)
+    for span in parts:
+        mine_shared, mine_beside = _messages_shared(rows, span, beyond_map)
         shared += mine_shared
         beside |= mine_beside
+        span.clear()
     return {
         (p, c)
-        for i, (p, c, mine) in enumerate(edges)
-        if int(shared[i]) / len(mine) >= JOINT_SHARE and (base_name(p) != ODOM or bool(beside[i]))
+        for i, (p, c, count) in enumerate(edges)
+        if int(shared[i]) / count >= JOINT_SHARE and (base_name(p) != ODOM or bool(beside[i]))
     } | turning
 
 
-def _messages_shared(rows: Rows, parts: list[IntpArray], beyond_map: BoolArray) -> tuple[Int64Array, BoolArray]:
+def _messages_shared(rows: Rows, parts: list[Int32Array], beyond_map: BoolArray) -> tuple[Int64Array, BoolArray]:
     """Of each edge's rows ``parts``: how many are in a message (one publisher, record time and stamp) that
     carries another edge too; and whether one is in a message with another edge not under map
     (``beyond_map`` says which edges are not)."""
@@ -450,11 +461,11 @@ def _record_spans(records: Int64Array, count: int) -> list[tuple[int | None, int
     return list(pairwise([None, *cuts, None]))
 
 
-def _recorded_in(records: Int64Array, mine: IntpArray, lo: int | None, hi: int | None) -> IntpArray:
-    """Those of the rows ``mine`` recorded in [lo, hi) (None: open)."""
+def _recorded_in(times: Int64Array | None, mine: IntpArray, lo: int | None, hi: int | None) -> IntpArray:
+    """Those of the rows ``mine`` (recorded at ``times``) recorded in [lo, hi) (None: open)."""
     if lo is None and hi is None:
         return mine
-    times = records[mine]
+    assert times is not None
     inside = np.ones(len(mine), bool) if lo is None else times >= lo
     if hi is not None:
         inside &= times < hi

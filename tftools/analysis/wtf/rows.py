@@ -47,7 +47,9 @@ class Layout:
     def __len__(self) -> int:
         return len(self.place)
 
-    def gather(self, column: Callable[[Segment], npt.NDArray[S]], rows: IntpArray | BoolArray) -> npt.NDArray[S]:
+    def gather(
+        self, column: Callable[[Segment], npt.NDArray[S]], rows: IntpArray | Int32Array | BoolArray
+    ) -> npt.NDArray[S]:
         """``column``'s values (of a segment) of ``rows``, in their order."""
         places = self.place[np.flatnonzero(rows) if rows.dtype == np.bool_ else rows]
         which = np.searchsorted(self.starts, places, side="right") - 1
@@ -66,33 +68,61 @@ class Layout:
 
     def whole(self, column: Callable[[Segment], npt.NDArray[S]]) -> npt.NDArray[S]:
         """``column`` for every row, in record order (a copy)."""
-        return np.concatenate([column(segment) for segment in self.segments])[self.place]
+        # each segment's put in place: the segments' concatenation, then its gather, held the column twice
+        out: npt.NDArray[S] | None = None
+        for start, segment in zip(self.starts.tolist(), self.segments, strict=True):
+            part = column(segment)
+            if out is None:
+                out = np.empty((len(self.row), *part.shape[1:]), part.dtype)
+            elif part.dtype != out.dtype:  # as the concatenation's: the wider type
+                out = out.astype(np.result_type(out, part))
+            out[self.row[start : start + len(part)]] = part
+        assert out is not None  # the refused rows' segment is always there
+        return out
 
     def groups(self, mask: BoolArray, by_parent: bool) -> Iterator[tuple[int, int, IntpArray]]:
         """(parent id, child id, rows) for each edge (or child, parent 0) among the ``mask`` rows, each
         in record order, in order of first arrival."""
-        if not mask.any():
-            return
-        # a few whole columns at a time, made in place, and only the grouped rows held through the iteration:
-        # 4.1M transforms held 0.2 GB of keys and orders through every check that walks the edges
-        keys: npt.NDArray[np.int32 | np.int64] = self.whole(lambda s: s.child)[mask]
+        # a segment is one child's history (its parent changes seldom): its rows are found edge by edge from
+        # the segments, and one edge's rows at a time are held. Sorting every row's key as one column held
+        # ~0.1 GB at 4.1M transforms in every check that walks the edges (keys, their order, the sorted keys).
+        first: dict[int, int] = {}  # key -> its first row
+        pieces: dict[int, list[int | Int32Array]] = {}  # key -> the segments holding it whole, or its rows
+        for s in range(len(self.segments)):
+            chosen, keys = self._chosen(s, mask, by_parent)
+            if not len(chosen):
+                continue
+            low, high = int(keys.min()), int(keys.max())
+            if low == high:  # the usual: the segment is one edge's, found again when it is yielded
+                first[low] = min(first.get(low, len(self.row)), int(chosen.min()))
+                pieces.setdefault(low, []).append(s)
+                continue
+            order = np.argsort(keys, kind="stable")
+            ordered, chosen = keys[order], chosen[order]
+            bounds = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]])
+            for key, low_row, part in zip(
+                ordered[bounds].tolist(),
+                np.minimum.reduceat(chosen, bounds).tolist(),
+                np.split(chosen, bounds[1:]),
+                strict=True,
+            ):
+                first[key] = min(first.get(key, len(self.row)), low_row)
+                pieces.setdefault(key, []).append(part)
+        for key in sorted(first, key=first.__getitem__):  # by first arrival
+            parts = [self._chosen(p, mask, by_parent)[0] if isinstance(p, int) else p for p in pieces.pop(key)]
+            yield key >> 32, key & 0xFFFFFFFF, np.sort(np.concatenate(parts)).astype(np.intp)
+
+    def _chosen(self, s: int, mask: BoolArray, by_parent: bool) -> tuple[Int32Array, Int64Array]:
+        """The ``mask`` rows of segment ``s`` (in its order), and each one's key: parent id << 32 | child id
+        (``by_parent``), else the child id."""
+        start = int(self.starts[s])
+        segment = self.segments[s]
+        rows = self.row[start : start + len(segment.stamp)]
+        inside = mask[rows]
+        keys = segment.child[inside].astype(np.int64)
         if by_parent:
-            wide = self.whole(lambda s: s.parent)[mask].astype(np.int64)
-            wide <<= 32
-            wide |= keys
-            keys = wide
-            del wide
-        order = np.argsort(keys, kind="stable")  # within a key, rows stay in record order
-        ordered = keys[order]
-        del keys
-        starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]])
-        edges = ordered[starts].tolist()
-        del ordered
-        grouped = np.flatnonzero(mask)[order]
-        del order
-        begins, stops = starts.tolist(), [*starts[1:].tolist(), len(grouped)]
-        for k in np.argsort(grouped[starts], kind="stable").tolist():  # by first arrival
-            yield edges[k] >> 32, edges[k] & 0xFFFFFFFF, grouped[begins[k] : stops[k]]
+            keys |= segment.parent[inside].astype(np.int64) << 32
+        return rows[inside], keys
 
 
 class Column(Generic[S]):
@@ -102,7 +132,7 @@ class Column(Generic[S]):
         self._layout = layout
         self._of = of
 
-    def __getitem__(self, rows: IntpArray | BoolArray) -> npt.NDArray[S]:
+    def __getitem__(self, rows: IntpArray | Int32Array | BoolArray) -> npt.NDArray[S]:
         return self._layout.gather(self._of, rows)
 
     def whole(self) -> npt.NDArray[S]:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import numpy as np
 
@@ -11,9 +11,9 @@ from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.broadcasters import inferred_edges, sent_before
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.rows import split
+from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
-from tftools.core.arrays import BoolArray, Int64Array, IntpArray
+from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
 from tftools.core.figures import Sightings, pauses, record_span, silence_limit, sustained_period
 from tftools.core.figures import delays as delays_of
@@ -254,7 +254,7 @@ def rate(scene: Scene) -> Iterator[Finding]:
         if child in silent:
             continue
         stamps = rows.stamp[mine]
-        counted = ~sent_before(stamps, rows.values[mine])
+        counted = ~sent_before(stamps, _values_of(rows, mine))
         if _steady(stamps[counted]):
             continue  # what tf2 holds is steady; arrivals bunched by a link are ``delay``'s (or ``future``'s)
         arrivals = np.sort(scene.received(mine[counted]))
@@ -478,7 +478,7 @@ def _stamps_of(scene: Scene, child: str, mine: np.ndarray, old: BoolArray) -> It
     if len(stamps) < 2:
         return
     behind, back = _behind(stamps)
-    repeat, same = _repeats(stamps, rows.values[mine])
+    repeat, same = _repeats(stamps, _values_of(rows, mine))
     repeat &= ~old
     if not (back & (behind >= TIME_JUMP)).any():  # no jump back in time: a sample received again (a link
         back &= ~(repeat & same)  # re-delivering it) is a repeat (ROS 2's tf2 takes it silently), not one out of order
@@ -496,21 +496,28 @@ def _stamps_of(scene: Scene, child: str, mine: np.ndarray, old: BoolArray) -> It
             yield _repeated(scene, frames, mine[again], identical)
 
 
-def _repeats(stamps: Int64Array, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _values_of(rows: Rows, mine: IntpArray) -> Callable[[IntpArray], FloatArray]:
+    """The values of some of the rows ``mine`` (their places in it): read when needed, not the whole edge's."""
+    return lambda which: rows.values[mine[which]]
+
+
+def _repeats(stamps: Int64Array, values: Callable[[IntpArray], FloatArray]) -> tuple[BoolArray, BoolArray]:
     """Which rows repeat an earlier row's stamp, and which of those repeat its values too (within
-    ``SAME_VALUE``: a value computed again, 7e-12 m off, as a ZED re-sends it, is no other value)."""
+    ``SAME_VALUE``: a value computed again, 7e-12 m off, as a ZED re-sends it, is no other value); ``values``
+    gives those of some rows: the repeats' and their first's alone are read (``same`` means nothing elsewhere)."""
     n = len(stamps)
     order = np.argsort(stamps, kind="stable")
     ordered = stamps[order]
-    again = np.concatenate([[False], ordered[1:] == ordered[:-1]])
+    again = np.zeros(n, bool)
+    again[1:] = ordered[1:] == ordered[:-1]
     starts = np.maximum.accumulate(np.where(again, 0, np.arange(n)))
     repeat = np.zeros(n, bool)
     repeat[order] = again
-    first = np.empty(n, np.intp)
-    first[order] = order[starts]
+    which = order[again]
+    first = order[starts[again]]
     same = np.ones(n, bool)
-    for column in values.T:  # a column at a time: the rows' values copied whole were 3 times their 56 bytes a row
-        same &= np.abs(column - column[first]) <= SAME_VALUE
+    if len(which):
+        same[which] = (np.abs(values(which) - values(first)) <= SAME_VALUE).all(axis=1)
     return repeat, same
 
 

@@ -45,17 +45,8 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     constant: list[tuple[str, str, np.ndarray]] = []
     moving = np.zeros(len(rows), bool)
     for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
-        values = rows.values[mine]
-        if (values == values[0]).all():
+        if _mark_moving(rows, mine, moving):
             constant.append((parent, child, mine))
-            continue
-        # moving where one publisher's own samples change: two publishers that disagree (Stage's
-        # base_footprint -> base_link at z 0 beside robot_state_publisher's at 0.0102 m) move nothing
-        authority = rows.authority[mine]
-        for who in np.unique(authority):
-            own = values[authority == who]
-            if not (own == own[0]).all():
-                moving[mine[authority == who]] = True
     # the rate and stamps as monitor counts them (the samples tf2 stores: a stamp sent again is one)
     stored = {(s.parent, s.child): s for s in scene.stats}
     for parent, child, mine in constant:
@@ -84,6 +75,22 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
             (parent, child),
             mine,
         )
+
+
+def _mark_moving(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
+    """Whether the ``mine`` rows (one edge's) never change; if they do, ``moving`` marked where one publisher's
+    own samples change: two publishers that disagree (Stage's base_footprint -> base_link at z 0 beside
+    robot_state_publisher's at 0.0102 m) move nothing. One edge's values held at a time, copied once."""
+    values = rows.values[mine]
+    if (values == values[0]).all():
+        return True
+    authority = rows.authority[mine]
+    publishers = np.unique(authority)
+    for who in publishers:
+        own = values if len(publishers) == 1 else values[authority == who]
+        if not (own == own[0]).all():
+            moving[mine[authority == who]] = True
+    return False
 
 
 def _joint_at_rest(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
