@@ -549,9 +549,7 @@ def timeline_of(
     if not record_step and not records_on_clock(clock):
         histories = [h for _, h in buffer.histories()]
         if shared_ticks(histories) >= SHARED_TICKS:  # else no grid, and the whole read's times need no sorting
-            grid = TickedGrid()
-            grid.add(clock.record_time, histories)
-            record_step = grid.step()
+            record_step = record_grid(np.concatenate([clock.record_time, *(h.record_times for h in histories)]))
     return timeline_from(edges, clock, record_start, record_end, tf, record_step)
 
 

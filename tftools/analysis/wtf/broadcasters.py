@@ -376,15 +376,15 @@ def sent_before(stamps: Int64Array, values: FloatArray | Callable[[IntpArray], F
     """Which samples (in arrival order) carry a stamp an earlier one of the same stream carried (and its
     value too, if ``values`` are given, or the function giving those of some samples: a clock reset that
     replays old stamps elsewhere is new data)."""
-    _, firsts, inverse, counts = np.unique(stamps, return_index=True, return_inverse=True, return_counts=True)
-    again = np.ones(len(stamps), bool)
-    again[firsts] = False
     if values is None:
+        again = np.ones(len(stamps), bool)
+        again[np.unique(stamps, return_index=True)[1]] = False
         return again
     # only a stamp carried more than once can carry its value again: those samples' values alone are read
+    _, inverse, counts = np.unique(stamps, return_inverse=True, return_counts=True)
     shared = np.flatnonzero(counts[inverse] > 1)
     del inverse
-    again[:] = False
+    again = np.zeros(len(stamps), bool)
     if not len(shared):
         return again
     sub = values(shared) if callable(values) else np.asarray(values)[shared]
