@@ -16,7 +16,7 @@ from tftools.core.errors import InvalidTransformError
 from tftools.core.frames import frame_name
 from tftools.core.transform import Transform
 from tftools.sources.errors import NoTransformsError, PartOfBagError
-from tftools.sources.storage.locations import METADATA, is_url
+from tftools.sources.storage.locations import is_url
 
 if TYPE_CHECKING:
     from tftools.sinks.broadcaster import StaticBroadcaster
@@ -61,12 +61,12 @@ def copyable(bag: str) -> None:
     """A ``PartOfBagError`` unless ``bag`` is a recording tfx can copy with transforms added: a ROS 1 .bag, a ROS 2
     bag directory, a bare .mcap or .db3 file, but not one of the files a ROS 2 bag directory's metadata.yaml
     lists (one renamed since, which it does not list, is a recording of its own; a URL is judged once fetched)."""
-    from tftools.sources.bag.rosbag2 import listed_in_bag
-
     path = Path(bag)
     if is_url(bag) or not path.is_file() or path.suffix not in (".mcap", ".db3"):
         return
-    if (path.parent / METADATA).is_file() and listed_in_bag(path):
+    from tftools.sources.bag.rosbag2 import listed_in_bag  # a .bag's copy needs no rosbag2 code
+
+    if listed_in_bag(path):
         raise PartOfBagError(bag, str(path.parent))
 
 
