@@ -473,3 +473,27 @@ def test_a_publishers_delay_over_some_of_its_edges_says_which(tfx: Tfx, tmp_path
              if a["authority"] == "/tf"]  # fmt: skip
     assert (tf["delay_of"], tf["no_delay_of"]) == (["range"], ["base_link"])
     assert tf["delay_mean_s"] == pytest.approx(0.003)
+
+
+def test_an_edge_ros1s_tf2_holds_static_has_no_delay_whole_or_replayed(tfx: Tfx, tmp_path: Path) -> None:
+    """A ROS 1 bag shaped as the Neato beside its driver: a URDF's base_link -> laser latched on /tf_static, then the
+    laser sent every 50 ms on /tf too, each 20 ms after its stamp. ROS 1's tf2 holds laser static for every time
+    (each /tf sample replaces its value): view-frames and report show a static edge without delay; monitor's JSON
+    gave it 0.020 s. The edge has no delay now, whole and replayed; the publisher's is still tf_monitor's, how late
+    its messages came over the link."""
+    wall = 1_700_000_000 * NS_PER_S
+    laser = Transform((0.1, 0, 0.2), (0, 0, 0, 1), wall - 3600 * NS_PER_S, "base_link", "laser")
+    messages = [TfMessage("/tf_static", wall, [laser], "/robot_state_publisher")]
+    stamps = [wall + k * 50 * MS_NS for k in range(1, 41)]
+    on_tf = [Transform((0.1, 0, 0.2), (0, 0, 0, 1), stamp, "base_link", "laser") for stamp in stamps]
+    messages += [TfMessage("/tf", t.stamp + 20 * MS_NS, [t], "/laser_to_base") for t in on_tf]
+    bag = write_bag(tmp_path / "laser", messages, BagFormat.ros1)
+    whole = tfx("monitor", "-b", bag, "-f", "json")
+    played = tfx("monitor", "-b", bag, "--play", "--rate", "500", "--window", "100", "-f", "json")
+    assert whole.code == 0 and played.code == 0, whole.stderr + played.stderr
+    for report in (json.loads(whole.stdout), json.loads(played.stdout.splitlines()[-1])):
+        (edge,) = report["edges"]
+        assert edge["static"] and edge["count"] == 41, edge
+        assert (edge["delay_mean_s"], edge["delay_max_s"]) == (None, None), edge
+        publishers = {a["authority"]: a for a in report["authorities"]}
+        assert publishers["/laser_to_base"]["delay_mean_s"] == pytest.approx(0.020, abs=1e-6)

@@ -69,6 +69,8 @@ def _view_frames_labels(dot: str) -> dict[str, dict[str, float]]:
                 word = item.split()[at] if item.startswith(prefix) and len(item.split()) > at else ""
                 if re.fullmatch(r"[\d.]+", word):  # not "- (1 sample)", nor "stamped on 2 clocks, no span"
                     figures[key] = float(word)
+            if static := re.fullmatch(r"static(?: \((\d+) samples\))?", item):  # "static (104 samples)"
+                figures.update(static=1.0, count=float(static.group(1) or 1))
         edges[f"{parent} -> {child}"] = figures
     return edges
 
@@ -231,10 +233,21 @@ def _compare(tfx: Tfx, path: Path, out: Path) -> list[str]:  # noqa: F811
         label = labels.get(name)
         if label is None:
             wrong.append(f"{name}: not in view-frames")
+        elif row["static"] != bool(label.get("static")):
+            wrong.append(f"{name}: static {row['static']} in monitor, {bool(label.get('static'))} in view-frames")
         elif not row["static"]:
             # each figure monitor has is on the label, but a span on two clocks ("stamped on 2 clocks, no span")
             wrong += _differ(name, "view-frames", label, figures, IN_LABEL, required=set(IN_LABEL) - {"span"})
+        else:
+            # static to tf2, some sent on /tf too (ROS 1's tf2 holds a frame first on /tf_static static for every
+            # time: the agv's lasers): its samples, and no delay, as view-frames and report show none
+            wrong += _differ(name, "view-frames", label, figures, {"count": 0}, required={"count"})
+            wrong += [
+                f"{name} {key}: monitor {row[key]}, static" for key in ("delay_mean_s", "delay_max_s") if row[key]
+            ]
         caption = captions.get(name)
+        if row["static"] and caption is not None:
+            wrong.append(f"{name}: static in monitor, a timeline in report")
         if row["static"] or caption is None:
             wrong += [] if row["static"] or not captions else [f"{name}: no timeline in report"]
             continue

@@ -44,6 +44,8 @@ LAP = "ros2-turtlebot3-real-wifi-outage-2025-db3"
 WAFFLE_NO_TF = "turtlebot3-waffle-odom-statics-2017-bag"
 EMPTY_TF_STATIC = "ros2-turtlebot3-gazebo-amcl-empty-tf-static-2023-db3"
 CALIBRATION_2025 = "grandtour-calibration-2025-bag"
+AGV = "ros1-agv-two-lasers-mounts-on-tf-and-tf-static-replayed-2018-bag"
+NEATO_BESIDE_URDF = "ros1-neato-urdf-beside-driver-2018-bag"
 
 #: Commands and words of ROS 1 only: never said of a ROS 2 recording (and ROS 2's never of a ROS 1 one).
 ROS1_ONLY = re.compile(r"\brosrun\b|\brosbag (?:play|record|info)\b|\brostopic\b|\brosparam\b|\broslaunch\b|latched")
@@ -385,3 +387,42 @@ def test_filter_says_imu_messages_before_the_simulations_first_tf_predate_tf(cor
     assert "6 stamped before the first tf anyone published: the sensor started before tf" in text, text
     assert "6 never: before any tf 6" in text and "before recorded tf" not in text, text
     assert "nothing to record earlier" in text and "record tf from before the sensor" not in text
+
+
+# --- one figure in every command ------------------------------------------------------------------
+
+
+def _monitor_whole_and_played(tfx: Tfx, path: Path, *window: str) -> list[dict[str, Any]]:  # noqa: F811
+    """``monitor``'s JSON of ``path`` read whole, and replayed (its last table, over all that played)."""
+    whole = tfx("monitor", "-b", path, *window, "-f", "json")
+    played = tfx("monitor", "-b", path, *window, "--play", "--rate", "200", "--window", "1000", "-f", "json")
+    assert whole.code == 0 and played.code == 0, whole.stderr + played.stderr
+    return [json.loads(whole.stdout), json.loads(played.stdout.splitlines()[-1])]
+
+
+@pytest.mark.parametrize(
+    ("recording_id", "statics", "publisher"),
+    [
+        (AGV, {"back_laser_link": 104, "base_link": 104, "front_laser_link": 103}, None),
+        (NEATO_BESIDE_URDF, {"base_link": 413, "base_laser_link": 1765}, ("/neato", 0.0007, 0.0055)),
+    ],
+)
+def test_an_edge_ros1s_tf2_holds_static_has_no_delay_in_monitor_either(
+    recording_id: str,
+    statics: dict[str, int],
+    publisher: tuple[str, float, float] | None,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """Frames first on /tf_static, then on /tf too: ROS 1's tf2 holds them static for every time, view-frames and
+    report show them static without delay; monitor's JSON gave them the /tf samples' (the agv's back laser
+    -0.030 s, at most 0.350; the Neato's base_link 0.0007, its laser -0.050), whole and --play. None now; a
+    publisher's delay stays how late its messages came (the Neato's driver, 0.7 ms, at most 5.5)."""
+    _, path = _recording(corpus, recording_id)
+    for report in _monitor_whole_and_played(tfx, path):
+        shown = {e["child"]: e for e in report["edges"] if e["count"] > 1}
+        assert {child: e["count"] for child, e in shown.items() if e["static"]} == statics, shown
+        assert all(shown[child]["delay_mean_s"] is None and shown[child]["delay_max_s"] is None for child in statics)
+        if publisher is not None:
+            (node,) = (a for a in report["authorities"] if a["authority"] == publisher[0])
+            assert (node["delay_mean_s"], node["delay_max_s"]) == pytest.approx(publisher[1:], abs=1e-4), node

@@ -129,7 +129,7 @@ class EdgeStats(Edge):
 @dataclass(frozen=True)
 class AuthorityStats:
     """One publisher: its messages (``messages_in_window``) and their rate, its edges, and
-    the mean and largest delay (ns) of its dynamic transforms (tf_monitor's "Node:" line)."""
+    the mean and largest delay (ns) of its transforms on /tf (tf_monitor's "Node:" line, ``_sent_delays``)."""
 
     authority: str
     messages: int
@@ -207,7 +207,7 @@ def authority_stats(
             if sent is None:
                 arrived.append((a, hist.static, hist.record_times[mine], hist.stamps[mine]))
                 arrived += [(a, hist.static, extra[1], extra[2])] if extra is not None else []
-            measured = _delays(child, hist, mine, timeline)
+            measured = _sent_delays(child, hist, mine, timeline)
             delays.setdefault(a, []).append(measured)
             if not hist.static:
                 (timed if len(measured) else untimed).setdefault(a, []).append(child)
@@ -415,7 +415,21 @@ def _previous_stamp(hist: EdgeHistory, mine: BoolArray, rows: BoolArray) -> int 
     return int(hist.stamps[earlier[-1]]) if len(earlier) else None
 
 
-def _delays(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) -> Int64Array:
+def edge_delays(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) -> tuple[Int64Array, BoolArray]:
+    """The one definition of an edge's delays: those of its samples ``rows`` that have one (``Timeline.delays_of``),
+    and which those are; none of a history tf2 holds static. ROS 1's tf2 makes a frame static for every time once
+    it came on /tf_static, and each /tf sample of it then replaces its value for every time (the agv's lasers, the
+    Neato's laser beside its URDF): no lookup waits for one, so how late it came is no edge's delay, in ``monitor``
+    (whole and ``--play``), ``report`` and ``view-frames`` alike (a publisher's is the link's, ``_sent_delays``)."""
+    if hist.static:
+        return np.zeros(0, np.int64), np.zeros(int(np.count_nonzero(rows)), np.bool_)
+    return timeline.delays_of(child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
+
+
+def _sent_delays(child: str, hist: EdgeHistory, rows: BoolArray, timeline: Timeline) -> Int64Array:
+    """How late a publisher's transforms ``rows`` of ``child`` arrived, as tf_monitor's "Node:" line times every one
+    it hears on /tf: those of a frame tf2 holds static too (no edge's delay, ``edge_delays``; the link's all the
+    same: the Neato's driver's 413 odometries 0.7 ms late on average, its base_link static beside its URDF)."""
     return timeline.delays(child, hist.stamps[rows], hist.record_times[rows], hist.flags[rows])
 
 
@@ -443,7 +457,7 @@ def _edge(
     arrived = int(timeline.arrival(stamps, records).max())
     span = record_span(records)  # no figure across two time bases (``figures.across_clocks``)
     longest, longest_start = longest_interval(stamps if dynamic else stamps[:1], before, span, since)
-    delay_mean, delay_max = mean_max(_delays(child, hist, rows, timeline))
+    delay_mean, delay_max = mean_max(edge_delays(child, hist, rows, timeline)[0])
     return EdgeStats(
         parent=parent,
         child=child,

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, edge_rows
+from tftools.analysis.edges import Edge, edge_delays, edge_rows
 from tftools.analysis.filter.fates import LOST, UNDECIDED, Fate, FilterReport, StreamReport
 from tftools.analysis.monitor import MonitorReport
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
@@ -191,8 +191,8 @@ def local_rate(times: Int64Array, bins: Bins) -> FloatArray:
 def _delays(
     timeline: Timeline, child: str, hist: EdgeHistory, mine: BoolArray, where: IntpArray, count: int
 ) -> tuple[FloatArray, FloatArray]:
-    """Mean and largest delay (ns) of the samples ``mine`` in each bin: those that have one (``Timeline.delays_of``)."""
-    delays, measured = timeline.delays_of(child, hist.stamps[mine], hist.record_times[mine], hist.flags[mine])
+    """Mean and largest delay (ns) of the samples ``mine`` in each bin: those that have one (``edges.edge_delays``)."""
+    delays, measured = edge_delays(child, hist, mine, timeline)
     return _mean_max(where[measured], delays.astype(np.float64), count)
 
 
