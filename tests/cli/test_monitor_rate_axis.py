@@ -57,3 +57,26 @@ def test_a_message_logged_at_time_zero_is_counted_not_timed_whole_or_replayed(tf
     for report in _reports(tfx, bag):
         (publisher,) = (a for a in report["authorities"] if a["authority"] == "/tf")
         assert (publisher["messages"], publisher["rate_hz"]) == (5, pytest.approx(2.0, rel=1e-6))
+
+
+@pytest.mark.parametrize("fmt", [BagFormat.rosbag2_sqlite3, BagFormat.ros1])
+def test_a_window_of_a_simulation_recorded_without_clock_holds_one_set_whole_or_replayed(
+    tfx: Tfx, tmp_path: Path, fmt: BagFormat
+) -> None:
+    """The 0.25x simulation above, --start +0.5 --end +1.1: the replay (on the record clock moved onto the stamps by
+    the median offset, 3 s) plays odometries 18 to 20 then (+0.6, +0.8, +1.0). The whole read selected the edge's
+    samples by stamp (10 to 22: 13) beside its publisher's 3 messages counted on the replay's clock; one axis now
+    (``Timeline.window_times``): 3 samples and 3 messages, whole and replayed."""
+    wall, sim = 1_700_000_000 * NS_PER_S, 10 * NS_PER_S
+    odometry = [Transform((0.01 * k, 0, 0), (0, 0, 0, 1), sim + k * 50 * MS_NS, "odom", "base_link") for k in range(41)]
+    messages = [TfMessage("/tf", wall + k * 200 * MS_NS, [odom], "/gazebo") for k, odom in enumerate(odometry)]
+    bag = write_bag(tmp_path / "sim", messages, fmt)
+    window = ("--start", "+0.5", "--end", "+1.1")
+    whole = tfx("monitor", "-b", bag, *window, "-f", "json")
+    played = tfx("monitor", "-b", bag, *window, "--play", "--rate", "500", "--window", "100", "-f", "json")
+    assert whole.code == 0 and played.code == 0, whole.stderr + played.stderr
+    for report in (json.loads(whole.stdout), json.loads(played.stdout.splitlines()[-1])):
+        (edge,) = report["edges"]
+        (publisher,) = report["authorities"]
+        assert (edge["count"], edge["first_stamp"], edge["last_stamp"]) == (3, 10.9, 11.0), edge
+        assert publisher["messages"] == 3, publisher

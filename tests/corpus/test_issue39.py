@@ -46,6 +46,7 @@ EMPTY_TF_STATIC = "ros2-turtlebot3-gazebo-amcl-empty-tf-static-2023-db3"
 CALIBRATION_2025 = "grandtour-calibration-2025-bag"
 AGV = "ros1-agv-two-lasers-mounts-on-tf-and-tf-static-replayed-2018-bag"
 NEATO_BESIDE_URDF = "ros1-neato-urdf-beside-driver-2018-bag"
+FOXY_WALKER = "ros2-turtlebot3-walker-foxy-2022-db3"
 
 #: Commands and words of ROS 1 only: never said of a ROS 2 recording (and ROS 2's never of a ROS 1 one).
 ROS1_ONLY = re.compile(r"\brosrun\b|\brosbag (?:play|record|info)\b|\brostopic\b|\brosparam\b|\broslaunch\b|latched")
@@ -426,3 +427,34 @@ def test_an_edge_ros1s_tf2_holds_static_has_no_delay_in_monitor_either(
         if publisher is not None:
             (node,) = (a for a in report["authorities"] if a["authority"] == publisher[0])
             assert (node["delay_mean_s"], node["delay_max_s"]) == pytest.approx(publisher[1:], abs=1e-4), node
+
+
+@pytest.mark.parametrize(
+    ("recording_id", "window", "counts"),
+    [
+        # stamped over 4.25 s of a simulation at 0.067x real time: 33 samples of odom -> base_footprint stamped in
+        # its second second, 1 arrived in that second of the record clock the replay plays on
+        (SLAM_TOOLBOX, ("+1", "+2"), {("odom", "base_footprint"): 1, "/tf": 51}),
+        # at 0.97x: the whole read's 97 samples of odom -> base_footprint by stamp, the replay's 98
+        (
+            FOXY_WALKER,
+            ("+0", "+3.37"),
+            {("odom", "base_footprint"): 98, ("base_link", "wheel_left_link"): 66, "/tf": 164},
+        ),
+    ],
+)
+def test_a_window_of_a_recording_without_clock_holds_one_set_whole_or_replayed(
+    recording_id: str,
+    window: tuple[str, str],
+    counts: dict[tuple[str, str] | str, int],
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """Simulations recorded without /clock: --start/--end selected a whole read's edges by stamp, its publishers'
+    messages and the replay's edges on the record clock moved onto the stamps. One axis now
+    (``Timeline.window_times``): the same samples and messages, whole and --play."""
+    _, path = _recording(corpus, recording_id)
+    for report in _monitor_whole_and_played(tfx, path, "--start", window[0], "--end", window[1]):
+        found: dict[tuple[str, str] | str, int] = {(e["parent"], e["child"]): e["count"] for e in report["edges"]}
+        found.update({a["authority"]: a["messages"] for a in report["authorities"]})
+        assert {key: found.get(key) for key in counts} == counts, found

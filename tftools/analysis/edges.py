@@ -39,8 +39,8 @@ from tftools.values import value
 @value
 class TimeWindow:
     """Which samples a statistic counts: those stamped in ``[start, end]`` (ns; None: open), or with
-    ``by_record_time`` those that arrived then (``Timeline.arrival``; the stamp where that is unknown): what a live
-    monitor saw in its last seconds; static ones always. ``timeline`` turns record times into ROS time (a
+    ``by_record_time`` those that arrived then (``Timeline.window_times``; the stamp where that is unknown): what a
+    live monitor saw in its last seconds; static ones always. ``timeline`` turns record times into ROS time (a
     recording's); without it, record times are ROS time (a live buffer's). ``until``: the record time an open
     window's silences end at (a recording's end: ``edge_stats``)."""
 
@@ -56,8 +56,9 @@ class TimeWindow:
         return self.timeline or ON_RECORD_CLOCK
 
     def times(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
-        """The times the window selects by: stamps, or with ``by_record_time`` the arrivals."""
-        return self.clock.arrival(stamps, record_times) if self.by_record_time else stamps
+        """The times the window selects by: stamps, or with ``by_record_time`` the arrivals
+        (``Timeline.window_times``)."""
+        return self.clock.window_times(stamps, record_times) if self.by_record_time else stamps
 
     def holds(self, stamps: Int64Array, record_times: Int64Array, static: BoolArray | bool = False) -> BoolArray:
         """Which samples (stamped ``stamps``, recorded at ``record_times``) are in it: ``static`` ones always."""
@@ -277,8 +278,8 @@ class Counted:
 
 def messages_in_window(sent: SentMessages, window: TimeWindow = WHOLE) -> dict[str, Counted]:
     """The one definition of a publisher's messages in a window: those of ``sent`` in the ``window`` as
-    ``edge_stats`` selects transforms (by their first transform's stamp, or by arrival), its /tf_static messages
-    always; by publisher.
+    ``edge_stats`` selects transforms (``TimeWindow.times``: by their first transform's stamp, or on the axis of
+    arrivals, ``Timeline.window_times``), its /tf_static messages always; by publisher.
 
     They are windowed and rated (``figures.message_rate``) on the clock they arrived on (``Timeline.counted_at``),
     the same in a whole read and in its replay: a message whose arrival is unknown (a record time of 0) is
@@ -287,8 +288,7 @@ def messages_in_window(sent: SentMessages, window: TimeWindow = WHOLE) -> dict[s
     span of 55 years)."""
     timeline = window.clock
     counted_at, timed = timeline.counted_at(sent.record_time, sent.stamp)
-    arrival = np.where(timed | timeline.replayed, counted_at, sent.stamp)  # a replay played every one
-    inside = window.inside(arrival if window.by_record_time else sent.stamp, sent.static)
+    inside = window.inside(window.times(sent.stamp, sent.record_time), sent.static)
     counted = {}
     for a in _ids(sent.authority[inside]):
         mine = inside & (sent.authority == a)

@@ -78,9 +78,9 @@ def command(
     transforms arrived on it). Without -b, on the live system, and with --play on a bag's replay:
     over the last --window seconds, refreshed once a second of wall time live, once a second of the
     recording with --play (--rate 2: every 0.5 s of wall time). Where no clock of the stamps was recorded
-    (a simulation without /clock), a bag's --start/--end select by stamp, --play's by when the replay
-    (the record clock moved onto the stamps' by one offset) plays them: the two differ where the
-    simulation ran slower or faster than real time.
+    (a simulation without /clock), --start/--end select, whole and with --play, by when the replay (the
+    record clock moved onto the stamps' by one offset) plays the transforms, the clock publishers' rates
+    are counted on: a simulation slower than real time has fewer stamps in such a window than its length.
 
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]

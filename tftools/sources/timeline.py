@@ -380,9 +380,20 @@ class Timeline:
         records = np.asarray(record_times, np.int64)
         return records - self.replay_shift, records > 0
 
+    def window_times(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
+        """The one axis a window of arrivals (``monitor``'s ``--start``/``--end``, its ``--play`` and live windows)
+        selects transforms and messages on: when they arrived on the clock they are counted on (``counted_at``), in
+        a replay when they played, their stamps where that is unknown. Without a reference that is the record
+        clock moved onto the stamps, as a replay plays it, not the stamps: a whole read's window then holds what
+        its replay's does, its edges' samples and its publishers' messages alike (the JetAcker's simulation at
+        0.067x real time: 33 samples of odom -> base_footprint stamped in its +1 to +2 s, while 1 arrived in that
+        second of the replay, beside 51 /tf messages counted on it)."""
+        counted, timed = self.counted_at(record_times, stamps)
+        return np.where(timed | self.replayed, counted, stamps)
+
     def arrival(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
-        """When transforms arrived in ROS time, or their stamps where that is unknown (windows by arrival); in a
-        replay, when they played, known or not (``unknown_played``: a window of the replay holds what it played)."""
+        """When transforms arrived in ROS time, or their stamps where that is unknown (a window selects on
+        ``window_times``); in a replay, when they played, known or not (``unknown_played``)."""
         times, known = self.ros_time(record_times)
         return np.where(known | self.replayed, times, stamps)
 
