@@ -161,6 +161,24 @@ def test_a_mount_missing_from_a_bag_without_tf_static_may_never_have_been_publis
     assert "rosbag record /tf /tf_static" in found.hint and "or run their publisher if none ran" in found.hint
 
 
+def test_a_mount_missing_from_a_tf1_recording_was_never_published() -> None:
+    """A real tilting laser and Xsens IMU of 2012 (PlotJuggler's tilt_laser.bag): /tf of tf1's tf/tfMessage, its
+    mounts on /tf from tf's static_transform_publisher, the IMU's data in base_imu, which nothing names. /tf_static
+    did not exist then: recording it helps nothing; the missing mount was never sent. With tf2's TFMessage on /tf,
+    the bag cannot tell the two apart (the Pioneer's case): both remedies."""
+    rec = recording(ekf(), ros1=True)
+    (info,) = rec.contents.files
+    scene = Scene(rec, streams=[sensor("/imu_data", "base_imu", 20, 5_000_000)])
+    info.topics["/tf"] = "tf/tfMessage"
+    (found,) = [f for f in findings_of(scene) if f.code == "sensor_frame"]
+    assert found.hint.startswith("this recording's /tf is tf1's (tf/tfMessage), from before /tf_static")
+    assert "nothing published the missing ones; run their publisher" in found.hint
+    assert "rosbag record" not in found.hint and "not recorded" not in found.hint
+    info.topics["/tf"] = "tf2_msgs/TFMessage"
+    (found,) = [f for f in findings_of(scene) if f.code == "sensor_frame"]
+    assert "rosbag record /tf /tf_static" in found.hint and "or run their publisher if none ran" in found.hint
+
+
 @pytest.mark.parametrize("tf_static", ["not recorded", "recorded empty"])
 def test_sensor_data_in_a_mount_frame_without_tf_static_is_told_what_is_missing(tf_static: str) -> None:
     """A TurtleBot3 under AMCL (PabloMatilla/IR2121@25fabcf rosbag2_2023_10_21-21_16_22): map -> odom ->

@@ -297,6 +297,22 @@ def test_a_mount_nothing_published_is_not_said_to_be_unrecorded(corpus: Corpus, 
     assert code == 1
 
 
+TILT_LASER_TF1 = "ros1-tilting-laser-xsens-imu-tf1-messages-imu-frame-unjoined-2012-bag"
+
+
+def test_a_tf1_recording_s_unnamed_imu_frame_is_a_mount_never_sent(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real tilting laser and Xsens IMU of 2012: /tf is tf1's tf/tfMessage, its two mounts sent on it at 10 Hz by
+    tf's static_transform_publisher, the Xsens topics in /base_imu, which no transform names. The hint said the
+    mounts 'were not recorded' and to record /tf_static, a topic tf1 did not have (corpus25)."""
+    _, path = _recording(corpus, TILT_LASER_TF1)
+    code, _, findings = _findings(tfx, path)
+    (missing,) = [f for f in findings if f["code"] == "sensor_frame"]
+    assert missing["hint"].startswith("this recording's /tf is tf1's (tf/tfMessage), from before /tf_static")
+    assert "nothing published the missing ones" in missing["hint"]
+    assert "rosbag record" not in missing["hint"] and "not recorded" not in missing["hint"]
+    assert code == 1
+
+
 def test_spans_and_rates_a_user_compares_say_what_they_count(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """The Pioneer 3-DX: monitor's header gave its stamps' span (31.712 s), wtf's the record span (31.3 s), and
     monitor's /p2os a message rate on arrival (10.08) beside its one edge's stamp rate (9.96), each a bare "s" or

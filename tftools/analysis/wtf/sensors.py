@@ -13,7 +13,8 @@ from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, e
 from tftools.core.figures import KEEP, timeout_s, wait_in_words, within_in_words
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
-from tftools.sources.contents import is_static_topic
+from tftools.sources.codecs.types import TF1_MESSAGE
+from tftools.sources.contents import global_name, is_static_topic
 from tftools.sources.errors import record_command
 
 #: A stream "mostly needs a wait" when more than this share of its messages does.
@@ -90,6 +91,14 @@ def statics_missing(scene: Scene, what: str, also: str = "") -> str | None:
         return None
     recorded = {t for f in scene.recording.contents.files for t in f.topics}
     if not recorded & set(statics):
+        if _tf1_only(scene):
+            # PlotJuggler's tilt_laser.bag (2012): tf1's /tf carries its mounts (tf's static_transform_publisher at
+            # 10 Hz) and was recorded, /tf_static did not exist yet: the missing one was never sent
+            return (
+                f"this recording's /tf is tf1's ({TF1_MESSAGE}), from before /tf_static: {what} come on /tf (tf's "
+                "static_transform_publisher, robot_state_publisher), which was recorded: nothing published the "
+                f"missing ones; run their publisher{also}"
+            )
         record = record_command(scene.ros2)
         # A real Pioneer 3-DX (murillo-teixeira/monte-carlo-localization's test1.bag, `rosbag record -a`): no
         # /tf_static because nothing published base_link -> laser (its authors add it when they replay).
@@ -101,6 +110,13 @@ def statics_missing(scene: Scene, what: str, also: str = "") -> str | None:
         f"{and_joined(statics)} was recorded but holds no transform: its publishers (robot_state_publisher, "
         f"static_transform_publisher) sent nothing while recorded; check that they ran{also}"
     )
+
+
+def _tf1_only(scene: Scene) -> bool:
+    """Whether every moving tf topic recorded is tf1's ``tf/tfMessage`` (a ROS 1 system before Hydro)."""
+    moving = {global_name(t) for t in scene.recording.contents.topics if not is_static_topic(t)}
+    types = {kind for f in scene.recording.contents.files for t, kind in f.topics.items() if global_name(t) in moving}
+    return types == {TF1_MESSAGE}
 
 
 def _no_topic(topics: list[str], what: str, record: str) -> str:

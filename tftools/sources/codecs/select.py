@@ -6,7 +6,7 @@ import functools
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, cast
 
-from tftools.sources.codecs.types import CLOCK, TF_MESSAGE, has_header, rosidl_name
+from tftools.sources.codecs.types import CLOCK, TF1_MESSAGE, TF_MESSAGE, has_header, rosidl_name
 from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA, global_name
 from tftools.values import value
 
@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from tftools.sources.contents import MessageSink, Recorded
 
 #: ROS1's names of TFMessage (and of tf's, the same bytes), as ROS1 bags and MCAP files of ROS1 name them.
-ROS1_TF_TYPES = ("tf2_msgs/TFMessage", "tf/tfMessage")
+ROS1_TF_TYPES = ("tf2_msgs/TFMessage", TF1_MESSAGE)
 CLOCK_TYPES = (CLOCK, "rosgraph_msgs/Clock")
 FRAME_TRANSFORM = "foxglove_msgs/msg/FrameTransform"
 FRAME_TRANSFORMS = "foxglove_msgs/msg/FrameTransforms"

@@ -10,6 +10,8 @@ from typing import Any
 from tftools.values import value
 
 TF_MESSAGE = "tf2_msgs/msg/TFMessage"
+#: tf1's /tf message (the same bytes as TFMessage), from before /tf_static existed (ROS Hydro brought tf2's).
+TF1_MESSAGE = "tf/tfMessage"
 CLOCK = "rosgraph_msgs/msg/Clock"
 HEADER_TYPES = frozenset({"std_msgs/msg/Header", "std_msgs/Header"})
 #: ROS 2's definitions tftools knows: the newest first, then Humble's (the long-term release most run).
