@@ -1,9 +1,12 @@
 """Issue 39's findings that the bytes explain better (brief siblings39), each on the real recording that showed it:
-the GrandTour calibration whose one /tf_static message gives a frame two parents, repaired."""
+the GrandTour calibration whose one /tf_static message gives a frame two parents, repaired; CyberShip Voyager's IMU
+streams waiting for its motion capture."""
 
 from __future__ import annotations
 
 from pathlib import Path
+
+import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.test_issue39 import BY_ID, Corpus, _findings
@@ -29,3 +32,27 @@ def test_a_repaired_copy_of_gtbox_changes_box_base_models_parent_as_often_as_the
         (parents,) = [f for f in _findings(tfx, path)[2] if f["code"] == "multiple_parents"]
         assert parents["count"] == 1 and parents["frames"] == ["box_base_model", "stim320_imu", "box_base"], parents
         assert "it changed parent 1 time" in parents["message"] and "is now under box_base" in parents["message"]
+
+
+@pytest.mark.parametrize(
+    "recording_id", ["ros2-cybership-voyager-mocap-basin-2025-db3", "ros2-cybership-voyager-mocap-basin-2025-mcap"]
+)
+def test_cyberships_imu_streams_waiting_for_the_motion_capture_are_one_cause(
+    recording_id: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """CyberShip Voyager: its IMU, raw IMU, magnetometer and temperature (imu_link, ~62 Hz) each waited for the
+    motion capture's world -> base_link (10 Hz, recorded ~90 ms after its stamp) in four notes alike, each telling
+    a MessageFilter's queue and timeout into world. One cause now, the others beneath it (each still in JSON with
+    its own figures), and the hint says first what the bytes show: imu_link is fixed to base_link, so into
+    base_link the data transforms at once; only into world does it wait."""
+    findings = _findings(tfx, corpus(BY_ID[recording_id]))[2]
+    waits = [f for f in findings if f["code"] == "sensor_wait"]
+    topics = sorted(f["message"].split(":")[0] for f in waits)
+    assert topics == [f"/voyager/measurement/{t}" for t in ("imu", "imu_raw", "mag", "temp")], topics
+    (cause,) = [f for f in waits if not f["cause"]]
+    assert all(f["cause"] == cause["key"] and f["frames"] == ["world", "base_link"] for f in waits if f is not cause)
+    assert cause["hint"].startswith(
+        "into base_link (imu_link fixed to it) it transforms at once, with no wait; into world"
+    )
