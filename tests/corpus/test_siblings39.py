@@ -10,6 +10,8 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.test_issue39 import BY_ID, Corpus, _findings
+from tftools.analysis.wtf.scene import Scene
+from tftools.sources.recording import read_recording
 
 GTBOX_NEW = "grandtour-calibration-2025-bag"
 
@@ -55,4 +57,22 @@ def test_cyberships_imu_streams_waiting_for_the_motion_capture_are_one_cause(
     assert all(f["cause"] == cause["key"] and f["frames"] == ["world", "base_link"] for f in waits if f is not cause)
     assert cause["hint"].startswith(
         "into base_link (imu_link fixed to it) it transforms at once, with no wait; into world"
+    )
+
+
+UR5 = "ros2-ur5-two-clocks-topic-tf-2023-db3"
+
+
+def test_the_ur5s_obj_frames_are_detections_by_their_siblings_under_the_camera(corpus: Corpus) -> None:
+    """ros2_db3_ur5_topic_tf_two_clocks: base_link -> obj_1/3/49, 4 samples 2 s apart, never unseen, were no
+    detection (a name alone is none); each sample is sent 0.13-0.58 ms after one of camera_link -> cam_N, the same
+    ArUco marker in the camera's frame. They are detections now, by that sibling; cam_N (named as a camera's frames
+    are) is not said one."""
+    scene = Scene(read_recording([corpus(BY_ID[UR5])]))
+    assert set(scene.detections) == {("base_link", "obj_1"), ("base_link", "obj_3"), ("base_link", "obj_49")}
+    why, seen = scene.detections[("base_link", "obj_49")]
+    assert seen is None
+    assert why == (
+        "obj_49 is named as a detector names what it sees, and cam_49, under the camera frame camera_link, is sent "
+        "with it at each of its 4 sightings"
     )
