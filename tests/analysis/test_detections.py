@@ -183,7 +183,8 @@ def test_a_detectors_name_counts_beside_a_sibling_sent_with_it_under_a_camera_fr
     assert found == {
         ("base_link", "obj_1"): (
             "obj_1 is named as a detector names what it sees, and cam_1, under the camera frame camera_link, "
-            "is sent with it at each of its 4 sightings"
+            "is sent with it at each of its 4 sightings",
+            ("camera_link", "cam_1"),
         )
     }
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 
@@ -68,13 +69,20 @@ WITH = 10 * NS_PER_S // 1000
 _NUMBER = re.compile(r"(\d+)$")
 
 
-def by_siblings(edges: Sequence[tuple[str, str, Int64Array]]) -> dict[tuple[str, str], str]:
+class Sibling(NamedTuple):
+    """Why an edge is a detection by its sibling (``by_siblings``), and that sibling's edge (camera, child)."""
+
+    why: str
+    edge: tuple[str, str]
+
+
+def by_siblings(edges: Sequence[tuple[str, str, Int64Array]]) -> dict[tuple[str, str], Sibling]:
     """The edges (parent, child, sorted stamps) that a sibling shows are a detector's where their own bytes need not:
     a child named as a detector names what it sees (``obj_1``) under no camera frame, sent at each of its stamps
-    (within ``WITH``) with a frame of the same number under a camera frame: the UR5's base_link ->
-    obj_1, 4 samples 2 s apart, each 0.1 to 0.6 ms after camera_link -> cam_1 (the same ArUco marker in the
-    camera's frame). Why, in words, by edge. The sibling itself (``cam_1``, named as a camera's frames are) is not
-    one: its name does not say what it is."""
+    (within ``WITH``) with a frame of the same number under a camera frame: the UR5's base_link -> obj_1, 4 samples
+    2 s apart, each 0.1 to 0.6 ms after camera_link -> cam_1 (the same ArUco marker in the camera's frame). Why, in
+    words, and the sibling, by edge. The sibling itself (``cam_1``, named as a camera's frames are) is not one: its
+    name does not say what it is."""
     under_camera: dict[str, list[tuple[str, str, Int64Array]]] = {}
     for parent, child, stamps in edges:
         number = _NUMBER.search(_base(child))
@@ -88,9 +96,10 @@ def by_siblings(edges: Sequence[tuple[str, str, Int64Array]]) -> dict[tuple[str,
         number = _NUMBER.search(name)
         for camera, sibling, theirs in under_camera.get(str(int(number.group(1))) if number else "", []):
             if sibling != child and _sent_with(stamps, theirs):
-                found[(parent, child)] = (
+                found[(parent, child)] = Sibling(
                     f"{child} is named as a detector names what it sees, and {sibling}, under the camera frame "
-                    f"{camera}, is sent with it at each of its {counted(len(stamps), 'sighting')}"
+                    f"{camera}, is sent with it at each of its {counted(len(stamps), 'sighting')}",
+                    (camera, sibling),
                 )
                 break
     return found

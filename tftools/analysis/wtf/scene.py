@@ -10,7 +10,7 @@ from typing import TypeVar, cast
 import numpy as np
 
 from tftools.analysis.description import Robot
-from tftools.analysis.detections import by_siblings, detected
+from tftools.analysis.detections import Sibling, by_siblings, detected
 from tftools.analysis.edges import Edge, EdgeStats, TimeWindow, edge_rows, edge_stats, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterQuery, FilterReport, filter_streams
@@ -147,11 +147,14 @@ class Scene:
         for e in self.dynamic_edges:
             if (seen := detected(e.parent, e.child, e.stamps, record_span(e.record_times))) is not None:
                 found[e.key] = seen
-        if len(found) < len(self.dynamic_edges):
-            siblings = by_siblings([(e.parent, e.child, e.stamps) for e in self.dynamic_edges])
-            for key, why in siblings.items():  # never unseen (else ``detected`` saw it come and go): no sightings
-                found.setdefault(key, (why, None))
+        for key, sibling in self.siblings.items():  # never unseen (else ``detected`` saw it come and go): no sightings
+            found.setdefault(key, (sibling.why, None))
         return found
+
+    @cached_property
+    def siblings(self) -> dict[tuple[str, str], Sibling]:
+        """The moving edges that are a detector's by a sibling under a camera frame (``detections.by_siblings``)."""
+        return by_siblings([(e.parent, e.child, e.stamps) for e in self.dynamic_edges])
 
     # --- rows ------------------------------------------------------------------------------
 
