@@ -8,7 +8,7 @@ import pytest
 
 from tests.analysis import wtf_scenes as scenes
 from tests.bags import TfMessage
-from tftools.analysis.detections import detection
+from tftools.analysis.detections import by_siblings, detection
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.fleet import check
 from tftools.core.figures import sightings
@@ -165,3 +165,41 @@ def test_a_detections_reason_says_the_evidence_beside_its_name() -> None:
         == "obj_12 is named as a detector names what it sees, and comes and goes"
     )
     assert detection("base_link", "obj_12", steady) is None
+
+
+def _ur5(offset_ms: float = 0.2, count: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """corpus ros2_db3_ur5_topic_tf_two_clocks' shape: camera_link -> cam_N sighted every 2 s, and base_link ->
+    obj_N (the same marker in the robot's frame) sent ``offset_ms`` after each, ``count`` of them."""
+    cam = (np.arange(4) * 2 * NS_PER_S).astype(np.int64)
+    return cam, (cam + round(offset_ms * MS))[:count]
+
+
+def test_a_detectors_name_counts_beside_a_sibling_sent_with_it_under_a_camera_frame() -> None:
+    """The UR5's obj_1 under base_link, 4 samples 2 s apart, never unseen: its name alone is no evidence, but
+    cam_1 under camera_link is sent with it at each sighting (0.1 to 0.6 ms before): the ArUco node's marker in the
+    camera's frame. obj_1 is a detection; cam_1, named as a camera's frames are, is not said one."""
+    cam, obj = _ur5()
+    found = by_siblings([("camera_link", "cam_1", cam), ("base_link", "obj_1", obj), ("base_link", "obj_3", obj)])
+    assert found == {
+        ("base_link", "obj_1"): (
+            "obj_1 is named as a detector names what it sees, and cam_1, under the camera frame camera_link, "
+            "is sent with it at each of its 4 sightings",
+            ("camera_link", "cam_1"),
+        )
+    }
+
+
+@pytest.mark.parametrize(
+    ("camera", "sibling", "offset_ms", "count"),
+    [
+        ("camera_link", "cam_1", 50.0, 4),  # sent 50 ms apart: not one callback's
+        ("camera_link", "cam_1", 0.2, 3),  # a sighting of one without the other
+        ("arm_link", "cam_1", 0.2, 4),  # under no camera frame
+        ("camera_link", "cam_2", 0.2, 4),  # another marker
+    ],
+)
+def test_no_sibling_without_a_camera_frame_the_same_number_and_the_same_instants(
+    camera: str, sibling: str, offset_ms: float, count: int
+) -> None:
+    cam, obj = _ur5(offset_ms, count)
+    assert by_siblings([(camera, sibling, cam), ("base_link", "obj_1", obj)]) == {}

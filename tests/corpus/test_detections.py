@@ -128,9 +128,9 @@ def test_a_detectors_name_counts_beside_evidence_in_the_bytes(
 ) -> None:
     """Every corpus recording with a frame named as detectors name them (marker_N, tag0, obj_N): the ArUco markers
     and the AprilTag under a camera frame, the Logistic coBot's boxes under base_link seen in bursts keep their
-    detection's words; the UR5's obj_1/3/49 under base_link, 4 samples 2 s apart and never unseen, hold nothing but
-    the name that a robot's own frame may have too (a detection by its sibling cam_N under camera_link alone), so
-    no detection is said of them and none of their figures change (no finding names them)."""
+    detection's words; the UR5's obj_1/3/49 under base_link, 4 samples 2 s apart and never unseen, are detections by
+    their siblings cam_N under camera_link alone (tests/corpus/test_siblings39.py), and no finding is about them
+    (the disconnected trees' hint quotes them, as what places camera_link)."""
     path = corpus(BY_ID[recording_id])
     findings = _findings(tfx, path)
     worded = {f["frames"][-1] for f in findings if "a detection (" in f["message"]}

@@ -101,7 +101,8 @@ def test_a_ros2_bag_with_a_type_tfx_does_not_know_is_repaired_and_copied_as_reco
         } == {"TRANSIENT_LOCAL"}
     assert now["/thing"] == was["/thing"] and now["/tf"] == was["/tf"]
     repeats = len(now["/tf_static"]) - len(was["/tf_static"])
-    assert repeats == 1 + int((len(PAYLOADS) - 1) * 0.5 // REPAIR_EVERY_S)  # the start, then every 5 s
+    # every 5 s; none ahead of the start, where the recording's own /tf_static message is (its first)
+    assert repeats == int((len(PAYLOADS) - 1) * 0.5 // REPAIR_EVERY_S)
     assert check(read_recording([written])).findings == []
 
 
@@ -243,12 +244,48 @@ def test_a_repair_repeats_a_frame_also_on_tf_only_before_its_first_tf_sample(tmp
         [t.child_frame_id for t in typestore().deserialize_cdr(data, "tf2_msgs/msg/TFMessage").transforms]
         for _, data in _messages_of(written)["/tf_static"]
     ]
-    assert children == [["base_link", "laser"], ["base_link", "laser"], ["laser"]]  # start, recorded, at +5 s
+    assert children == [["base_link", "laser"], ["laser"]]  # recorded at the start (no repeat ahead of it), at +5 s
     original, copy = read_recording([bag]), read_recording([written])
     was, now = original.buffer.history("base_link"), copy.buffer.history("base_link")
     assert was is not None and now is not None and len(was.stamps) == 20
     assert np.array_equal(now.stamps, was.stamps)
     assert _figures(check(copy).findings) == _figures(check(original).findings) != set()
+
+
+def _changes_of_parent(findings: Sequence[Finding], child: str) -> int:
+    (parents,) = [f for f in findings if f.code == "multiple_parents" and f.frames[0] == child]
+    return parents.count
+
+
+def test_a_repair_repeats_a_frame_one_message_gives_two_parents_once_and_no_more_changes_of_parent(
+    tmp_path: Path,
+) -> None:
+    """corpus ros1_gtbox_tf_static_metadata_new_0.bag's shape: one /tf_static message, the recording's first, sends
+    box_base_model under stim320_imu and then under box_base (tf2 keeps box_base). Its copy repeated the message
+    ahead of itself and then as it was: 3 changes of parent where the recording has 1. Now nothing is repeated
+    ahead of a message the recording holds at its first instant, and each repeat (here at +5 s) sends the frame
+    once, under box_base: 1 change, and tf2 ends on the same parent."""
+    message = [
+        Tf("box_base", "stim320_imu", 1_700_000_000, 0, (0.1, 0.0, 0.0)),
+        Tf("stim320_imu", "box_base_model", 1_700_000_000, 0, (0.0, 0.2, 0.0)),
+        Tf("box_base", "box_base_model", 1_700_000_000, 0, (0.0, 0.0, 0.3)),
+    ]
+    bag = _statics_bag(tmp_path / "in", [message])
+    written, statics = repair_static_transforms(bag, tmp_path / "out")
+    sent = [
+        [
+            (t.header.frame_id, t.child_frame_id)
+            for t in typestore().deserialize_cdr(data, "tf2_msgs/msg/TFMessage").transforms
+        ]
+        for _, data in _messages_of(written)["/tf_static"]
+    ]
+    model = [("box_base", "stim320_imu"), ("box_base", "box_base_model")]
+    assert sent == [[model[0], ("stim320_imu", "box_base_model"), model[1]], model]  # recorded, at +5 s
+    assert [(t.frame_id, t.child_frame_id) for t in statics] == model  # what tf2 holds
+    original, copy = read_recording([bag]), read_recording([written])
+    assert _changes_of_parent(check(copy).findings, "box_base_model") == 1
+    assert _changes_of_parent(check(original).findings, "box_base_model") == 1
+    assert copy.buffer.lookup("box_base", "box_base_model").translation == (0.0, 0.0, 0.3)
 
 
 def test_a_repair_of_a_flapping_static_publisher_is_bounded(tmp_path: Path) -> None:

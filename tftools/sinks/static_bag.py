@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from tftools.analysis.wtf.replay import REPEATED_EVERY_S
-from tftools.core.arrays import BoolArray, Int32Array, Int64Array
+from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sinks.errors import CopyError
@@ -60,6 +60,9 @@ class _Plan:
     #: The frames whose transforms are repeated only before a record time (ns) (``_repeated_until``): the others
     #: always are.
     until: Mapping[str, int] = field(default_factory=dict)
+    #: When the recording holds each of ``messages`` (record times, ns; empty: it holds none of them). Where it holds
+    #: every one at its first instant, it begins with them already: ``start`` writes no repeat ahead of them.
+    recorded: Sequence[int] = ()
 
     def stamped(self, stamp: int) -> list[tuple[str, list[Transform]]]:
         """The messages with their transforms stamped ``stamp``; ``as_sent``, with their own stamps, as a
@@ -122,7 +125,10 @@ def copy_repairing(
     """``repair_static_transforms``, saying which types the copy holds no definition of."""
     source = Path(bag)
     messages, statics, until = _static_messages(source)  # read_recording says when there is no such bag
-    plan = _Plan(messages, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, as_sent=True, until=until)
+    every = round(REPAIR_EVERY_S * NS_PER_S)
+    plan = _Plan(
+        [m for m, _ in messages], every, durable=True, as_sent=True, until=until, recorded=[t for _, t in messages]
+    )
     return _write_copy(source, Path(output), plan, force), statics
 
 
@@ -136,16 +142,20 @@ REPAIR_SEQUENCE_MAX = 64
 NEVER = -(2**63)
 
 
-def _static_messages(source: Path) -> tuple[list[tuple[str, list[Transform]]], list[Transform], dict[str, int]]:
-    """The recording's /tf_static messages as the copy repeats them, the latest value of each static
-    transform (in first-seen order), and ``_Plan.until`` (``_repeated_until``). The messages are the
+def _static_messages(
+    source: Path,
+) -> tuple[list[tuple[tuple[str, list[Transform]], int]], list[Transform], dict[str, int]]:
+    """The recording's /tf_static messages as the copy repeats them, each with its record time, the value tf2 keeps
+    of each static frame (in first-seen order), and ``_Plan.until`` (``_repeated_until``). The messages are the
     recording's own sequence, each as its sender sent it, a run of re-sends of the same transforms and values
     counted once (the last of the run, stamps and all), so that a recording that names no publishers reads as
     it did: the real Neato of ``ros2_db3_neato_real_test_run_allison_2022`` sent robot_state_publisher's 10
     transforms, then the driver's laser alone, then the 10 again 680 times, and its copy repeats 10, laser, 10
     (a laser after the 10 lacks their transforms: another publisher), where the latest of each ordered by the
     latest (laser, 10) read as one broadcaster that added transforms. Every transform ends with the value tf2
-    kept either way. Beyond ``REPAIR_SEQUENCE_MAX`` messages, the first and the latest of each (sender,
+    kept either way. A frame one message sends twice is repeated once, with the later value, which tf2 keeps
+    of that message (gtbox's box_base_model, under stim320_imu then box_base: each repeat of both was 2 changes
+    of parent more). Beyond ``REPAIR_SEQUENCE_MAX`` messages, the first and the latest of each (sender,
     transforms) in that order."""
     from tftools.sources.recording import read_recording
 
@@ -160,13 +170,15 @@ def _static_messages(source: Path) -> tuple[list[tuple[str, list[Transform]]], l
         stamp = int(batch.stamp[row])
         return Transform(value[0], value[1], stamp, names[int(batch.parent[row])], names[int(batch.child[row])])
 
-    latest: dict[tuple[int, int], int] = {}
+    latest: dict[int, int] = {}  # child -> the row tf2 keeps
     sequence: list[tuple[bytes, list[int]]] = []  # (sender, transforms and values), the rows of the latest
     first: dict[bytes, list[int]] = {}  # (sender, edges) -> its first message's rows
     last: dict[bytes, list[int]] = {}  # (sender, edges) -> its latest message's rows, in the order of the latest
     message = (batch.authority[rows].astype(np.int64), batch.record_time[rows])  # one sender, one instant
     starts = np.flatnonzero(np.r_[True, (np.diff(message[0]) != 0) | (np.diff(message[1]) != 0)])
     for part in np.split(rows, starts[1:]):
+        latest.update(zip(batch.child[part].tolist(), part.tolist(), strict=True))
+        part = _kept(part, batch.child)
         mine = part.tolist()
         shape = batch.authority[part[:1]].astype(np.int64).tobytes() + batch.parent[part].tobytes()
         shape += batch.child[part].tobytes()
@@ -178,14 +190,28 @@ def _static_messages(source: Path) -> tuple[list[tuple[str, list[Transform]]], l
         first.setdefault(shape, mine)
         last.pop(shape, None)  # re-inserted last: the order of the latest messages
         last[shape] = mine
-        latest.update(zip(zip(batch.parent[part].tolist(), batch.child[part].tolist(), strict=True), mine, strict=True))
     repeated = [mine for _, mine in sequence]
     if len(repeated) > REPAIR_SEQUENCE_MAX:
         both = [*first.values(), *last.values()]
         repeated = [mine for k, mine in enumerate(both) if not k or mine != both[k - 1]]
-    messages = [(batch.authorities[int(batch.authority[mine[0]])], [transform(r) for r in mine]) for mine in repeated]
+    messages = [
+        (
+            (batch.authorities[int(batch.authority[mine[0]])], [transform(r) for r in mine]),
+            int(batch.record_time[mine[0]]),
+        )
+        for mine in repeated
+    ]
     until = _repeated_until(batch.static, batch.child, batch.record_time, len(names))
     return messages, [transform(row) for row in latest.values()], {names[c]: t for c, t in until.items()}
+
+
+def _kept(part: IntpArray, child: Int32Array) -> IntpArray:
+    """The rows of one message that tf2 keeps: of a frame sent more than once, the last (in the message's order)."""
+    children = child[part]
+    _, last_from_end = np.unique(children[::-1], return_index=True)
+    if len(last_from_end) == len(part):
+        return part
+    return part[np.sort(len(part) - 1 - last_from_end)]
 
 
 def _repeated_until(static: BoolArray, child: Int32Array, record_time: Int64Array, frames: int) -> dict[int, int]:
@@ -313,6 +339,11 @@ class _Copy:
 
     def start(self, mark: int) -> None:
         self.mark = mark
+        if self.plan.recorded and all(t == mark for t in self.plan.recorded):
+            # ahead of the recording's own messages at the same instant a repeat gives tf2 nothing it lacks, and
+            # re-sends what those messages change: gtbox's one message giving box_base_model two parents, 1
+            # change of parent in the recording, was 3 in its copy
+            return
         self._statics(mark, before=len(self.plan.messages))
 
     def channel(self, recorded: Recorded) -> None:

@@ -131,6 +131,11 @@ def _one_publisher(finding: Finding) -> tuple[tuple[str, ...]]:
     return (_publisher(finding),)
 
 
+def _same_edge(first: Finding, finding: Finding) -> bool:
+    """Findings about the same edge (each naming it alone)."""
+    return bool(first.frames) and first.frames == finding.frames
+
+
 def _under_it(first: Finding, finding: Finding) -> bool:
     """A frame under another the same finding found (one subtree: a second robot's links, each not in the
     description): the frame's parent is the cause's frame, both named with their parent."""
@@ -251,6 +256,15 @@ RULES = (
         _in_a_tree_apart,
         "sensor data whose frames tf knows, in another tree than the frame it is checked in: the trees apart, "
         "said once with the frames each holds; lookups of that data into the target fail because of it",
+    ),
+    Rule(
+        frozenset({"sensor_wait"}),
+        frozenset({"sensor_wait"}),
+        _same_edge,
+        "sensor streams that wait for one late edge (CyberShip Voyager's IMU, magnetometer and temperature, each "
+        "waiting for the motion capture's world -> base_link): that edge's lag behind their stamps, said once with "
+        "each stream beneath",
+        keys=_frames,
     ),
     Rule(
         frozenset({"stall"}),

@@ -10,7 +10,7 @@ from typing import TypeVar, cast
 import numpy as np
 
 from tftools.analysis.description import Robot
-from tftools.analysis.detections import detected
+from tftools.analysis.detections import Sibling, by_siblings, detected
 from tftools.analysis.edges import Edge, EdgeStats, TimeWindow, edge_rows, edge_stats, publishers
 from tftools.analysis.expected import TreeShape, publishers_named
 from tftools.analysis.filter import FilterQuery, FilterReport, filter_streams
@@ -141,13 +141,20 @@ class Scene:
 
     @cached_property
     def detections(self) -> dict[tuple[str, str], tuple[str, Sightings | None]]:
-        """The moving edges that are a detector's (``detections.detection``): why, and how they were seen
-        (``figures.sightings``; None where never unseen or seen fewer than 3 times)."""
+        """The moving edges that are a detector's (``detections.detection``, or ``detections.by_siblings``): why,
+        and how they were seen (``figures.sightings``; None where never unseen or seen fewer than 3 times)."""
         found = {}
         for e in self.dynamic_edges:
             if (seen := detected(e.parent, e.child, e.stamps, record_span(e.record_times))) is not None:
                 found[e.key] = seen
+        for key, sibling in self.siblings.items():  # never unseen (else ``detected`` saw it come and go): no sightings
+            found.setdefault(key, (sibling.why, None))
         return found
+
+    @cached_property
+    def siblings(self) -> dict[tuple[str, str], Sibling]:
+        """The moving edges that are a detector's by a sibling under a camera frame (``detections.by_siblings``)."""
+        return by_siblings([(e.parent, e.child, e.stamps) for e in self.dynamic_edges])
 
     # --- rows ------------------------------------------------------------------------------
 

@@ -190,12 +190,40 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
             f"{s.topic}: {s.later} of {s.messages} messages could not be transformed into {_target(scene)} when they "
             f"arrived, waiting {wait_in_words(s.wait['p50'], s.tick)} ({kept}) for "
             f"{edge(*s.late_edge) + ': ' + s.wait_made_of() if s.late_edge else 'tf'}",
-            f"a node transforming it at once fails with 'extrapolation into the future': use a tf2_ros MessageFilter "
-            f"(queue {max(s.queue_needed, 1)}) or canTransform/lookupTransform with a timeout of at least "
-            f"{timeout}, or make the late transform come sooner",
+            f"{_at_once(scene, s.frame_ids, s.late_edge)}a node transforming it at once fails with 'extrapolation "
+            f"into the future': use a tf2_ros MessageFilter (queue {max(s.queue_needed, 1)}) or "
+            f"canTransform/lookupTransform with a timeout of at least {timeout}, or make the late transform come "
+            "sooner",
             s.late_edge or (),
             count=s.later,
         )
+
+
+def _at_once(scene: Scene, frame_ids: tuple[str, ...], late: tuple[str, str] | None) -> str:
+    """Where the data's frames hang from the late edge's child by fixed transforms alone (an IMU's imu_link under
+    base_link, which the motion capture's world -> base_link moves): into that child it transforms at once, and only
+    a lookup through the late edge waits; "" otherwise (the hint then says what waiting takes)."""
+    if late is None:
+        return ""
+    frames = sorted({frame_name(f) for f in frame_ids if f})
+    if not frames or not all(_fixed_under(scene, f, late[1]) for f in frames):
+        return ""
+    fixed = [f for f in frames if f != late[1]]
+    if not fixed:  # data in the late edge's child: that edge is its own frame's, and no frame holds it still
+        return ""
+    target = scene.sensors.target
+    return f"into {late[1]} ({listed(fixed, 3)} fixed to it) it transforms at once, with no wait; into {target}, "
+
+
+def _fixed_under(scene: Scene, frame: str, above: str) -> bool:
+    """Whether ``frame`` is ``above`` or reaches it through static transforms alone."""
+    tree = scene.tree.frames
+    while frame != above:
+        summary = tree.get(frame)
+        if summary is None or summary.parent is None or not summary.static:
+            return False
+        frame = summary.parent
+    return True
 
 
 @register("sensor_lost", Severity.warning, "sensor data a MessageFilter loses for good (tf too late, or too old)")

@@ -13,6 +13,7 @@ from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.wtf.broadcasters import AtOnce, at_once, inferred_broadcasters, resent_notes
 from tftools.analysis.wtf.loops import find_loops
+from tftools.analysis.wtf.mounts import mount_between, mount_hint
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
@@ -157,11 +158,20 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         f"{len(roots)} separate trees, and no lookup between them: {trees}",
         _twin_root(roots, members, scene.tree)
         or _misspelt_root(roots, members)
+        or _mount_seen(scene, roots, members)
         or statics_missing(scene, "the fixed transforms that would join them")
         or join_hint(roots, members, scene.tree),
         tuple(roots),
         count=len(roots),
     )
+
+
+def _mount_seen(scene: Scene, roots: list[str], members: dict[str, list[str]]) -> str | None:
+    """The join a detector's markers show (``mounts.mount_between``: each sent in two of the trees), or None."""
+    if not scene.siblings:
+        return None
+    mount = mount_between(scene, {frame: root for root in roots for frame in members[root]})
+    return None if mount is None else mount_hint(mount, scene.ros2)
 
 
 #: The typo search of ``join_hint`` looks at most at this many roots, against at most this many

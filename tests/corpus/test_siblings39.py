@@ -1,0 +1,92 @@
+"""Issue 39's findings that the bytes explain better (brief siblings39), each on the real recording that showed it:
+the GrandTour calibration whose one /tf_static message gives a frame two parents, repaired; CyberShip Voyager's IMU
+streams waiting for its motion capture."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus.test_issue39 import BY_ID, Corpus, _findings
+from tftools.analysis.wtf.scene import Scene
+from tftools.sources.recording import read_recording
+
+GTBOX_NEW = "grandtour-calibration-2025-bag"
+
+
+def test_a_repaired_copy_of_gtbox_changes_box_base_models_parent_as_often_as_the_recording(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """ros1_gtbox_tf_static_metadata_new_0.bag: one /tf_static message (its first message) sends box_base_model
+    under stim320_imu and then under box_base. Its repaired copy repeated that message ahead of itself: 'it changed
+    parent 3 times' where the recording says 1. The copy now says 1, ends under box_base as the recording does,
+    and lists the 36 static transforms tf2 holds (the message's 37 less the one it loses)."""
+    bag = corpus(BY_ID[GTBOX_NEW])
+    copy = tmp_path / "repaired.bag"
+    said = tfx("static", "--repair", "-b", bag, "-o", copy)
+    assert said.code == 0 and "with its 36 static transforms" in said.stdout, said.stdout
+    assert "stim320_imu -> box_base_model" not in said.stdout
+    for path in (bag, copy):
+        (parents,) = [f for f in _findings(tfx, path)[2] if f["code"] == "multiple_parents"]
+        assert parents["count"] == 1 and parents["frames"] == ["box_base_model", "stim320_imu", "box_base"], parents
+        assert "it changed parent 1 time" in parents["message"] and "is now under box_base" in parents["message"]
+
+
+@pytest.mark.parametrize(
+    "recording_id", ["ros2-cybership-voyager-mocap-basin-2025-db3", "ros2-cybership-voyager-mocap-basin-2025-mcap"]
+)
+def test_cyberships_imu_streams_waiting_for_the_motion_capture_are_one_cause(
+    recording_id: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """CyberShip Voyager: its IMU, raw IMU, magnetometer and temperature (imu_link, ~62 Hz) each waited for the
+    motion capture's world -> base_link (10 Hz, recorded ~90 ms after its stamp) in four notes alike, each telling
+    a MessageFilter's queue and timeout into world. One cause now, the others beneath it (each still in JSON with
+    its own figures), and the hint says first what the bytes show: imu_link is fixed to base_link, so into
+    base_link the data transforms at once; only into world does it wait."""
+    findings = _findings(tfx, corpus(BY_ID[recording_id]))[2]
+    waits = [f for f in findings if f["code"] == "sensor_wait"]
+    topics = sorted(f["message"].split(":")[0] for f in waits)
+    assert topics == [f"/voyager/measurement/{t}" for t in ("imu", "imu_raw", "mag", "temp")], topics
+    (cause,) = [f for f in waits if not f["cause"]]
+    assert all(f["cause"] == cause["key"] and f["frames"] == ["world", "base_link"] for f in waits if f is not cause)
+    assert cause["hint"].startswith(
+        "into base_link (imu_link fixed to it) it transforms at once, with no wait; into world"
+    )
+
+
+UR5 = "ros2-ur5-two-clocks-topic-tf-2023-db3"
+
+
+def test_the_ur5s_obj_frames_are_detections_by_their_siblings_under_the_camera(corpus: Corpus) -> None:
+    """ros2_db3_ur5_topic_tf_two_clocks: base_link -> obj_1/3/49, 4 samples 2 s apart, never unseen, were no
+    detection (a name alone is none); each sample is sent 0.13-0.58 ms after one of camera_link -> cam_N, the same
+    ArUco marker in the camera's frame. They are detections now, by that sibling; cam_N (named as a camera's frames
+    are) is not said one."""
+    scene = Scene(read_recording([corpus(BY_ID[UR5])]))
+    assert set(scene.detections) == {("base_link", "obj_1"), ("base_link", "obj_3"), ("base_link", "obj_49")}
+    why, seen = scene.detections[("base_link", "obj_49")]
+    assert seen is None
+    assert why == (
+        "obj_49 is named as a detector names what it sees, and cam_49, under the camera frame camera_link, is sent "
+        "with it at each of its 4 sightings"
+    )
+
+
+def test_the_ur5s_trees_apart_are_joined_by_the_camera_mount_its_markers_show(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The UR5's camera_link tree (cam_1/3/49) and base_link's were two trees with a hint that /tf_static was not
+    recorded. The ArUco node sent each marker in both, at the same instants, and all 12 pairs place camera_link at
+    (-0.970, 0, 1.040) m from base_link, pitched 15 deg (obj_3's first sighting 8 mm off): the hint says so and
+    gives the static transform to publish."""
+    (apart,) = [f for f in _findings(tfx, corpus(BY_ID[UR5]))[2] if f["code"] == "disconnected"]
+    assert apart["hint"].startswith(
+        "a detector sends each of its markers twice, obj_1, obj_3 and obj_49 under base_link and cam_1, cam_3 and "
+        "cam_49 under camera_link, at the same instants: all 12 sightings place camera_link at (-0.970, 0.000, 1.040) "
+        "m from base_link, turned roll 0.0, pitch 15.0, yaw 0.0 deg (each within 8 mm): the camera's mount"
+    ), apart["hint"]
+    assert "--frame-id base_link --child-frame-id camera_link" in apart["hint"]
