@@ -308,6 +308,24 @@ def test_spans_and_rates_a_user_compares_say_what_they_count(corpus: Corpus, tfx
     assert edge[4] == "9.96" and node[2] == "10.08", (edge, node)
 
 
+LOGISTIC = "ros2-logistic-cobot-pymoveit2-no-record-clock-2024-db3"
+
+
+def test_wtfs_header_of_record_times_that_are_no_clock_gives_the_stamps_span(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The Logistic coBot's record times span 28 ns (a rosbag2_py writer's): wtf's header said "0.0 s recorded".
+    It gives the span its tf is stamped over, as monitor's header does (27.667 s from 46.230 to 73.897), and says
+    it is the stamps'; the JSON has it as ``stamped``."""
+    _, path = _recording(corpus, LOGISTIC)
+    header = tfx("wtf", path).stdout.splitlines()[0]
+    assert header.endswith(
+        "rosbag2-sqlite3, tf stamped over 27.7 s (the record times are no clock), 11669 transforms, 18 frames"
+    ), header
+    monitor = tfx("monitor", "-b", path).stdout.splitlines()[0]
+    assert monitor.endswith(": tf stamped over 27.667 s from 46.230 to 73.897"), monitor
+    _, bag, _ = _findings(tfx, path)
+    assert bag["stamped"] == {"start": 46.23, "end": 73.897} and bag["end"] - bag["start"] < 1e-6, bag
+
+
 def test_multiple_parents_on_tf_static_is_not_an_object_picked_up(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """A calibration's /tf_static message sending box_base_model under two parents: tf2 keeps the last for every
     time; no 'object picked up' (a /tf re-parenting's story)."""
