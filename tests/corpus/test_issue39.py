@@ -10,6 +10,7 @@ import html
 import itertools
 import json
 import re
+import shutil
 import xml.etree.ElementTree as ElementTree
 from collections.abc import Callable
 from pathlib import Path
@@ -171,6 +172,34 @@ def test_neato_two_static_publishers_are_one_static_conflict_in_every_form(
     assert [code for code, _ in _junit_failures(tfx, path)] == ["static_conflict"]
     exit_code, legend = _view_frames_legend(tfx, path)
     assert exit_code == 1 and "Problems: 1 error" in legend, legend
+
+
+@pytest.mark.parametrize("recording_id", NEATOS[:2])
+def test_neato_given_alone_says_its_own_file_counts_the_publishers(
+    recording_id: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The same Neatos' .db3 copied alone, and the recording written as one .mcap given alone: the publishers are
+    counted by the file's topics table or channel metadata (a QoS profile each), and the finding said "metadata.yaml
+    lists 2 publishers" of a recording without one. It names what it counted."""
+    from tests.corpus.variants import read, write_ros2
+
+    _, path = _recording(corpus, recording_id)
+    copy = tmp_path / "bag"
+    shutil.copytree(path, copy)  # read by rosbags' sqlite3 reader: a copy, never the recording
+    (db3,) = copy.glob("*.db3")
+    (tmp_path / "alone").mkdir()
+    alone_db3 = shutil.copyfile(db3, tmp_path / "alone" / db3.name)
+    (mcap,) = write_ros2(tmp_path / "as_mcap", read(copy), "mcap").glob("*.mcap")
+    alone_mcap = shutil.copyfile(mcap, tmp_path / "alone.mcap")
+    for given, source in ((alone_db3, "the .db3's topics table"), (alone_mcap, "the MCAP's channel metadata")):
+        code, _, findings = _findings(tfx, given)
+        assert code == 1 and [f["code"] for f in findings] == ["static_conflict"], findings
+        message = findings[0]["message"]
+        assert f"which differs in value from publisher 1's while {source} lists 2 publishers" in message, message
+        assert "metadata.yaml" not in message and "base_link -> base_laser_link (79.1 mm" in message
 
 
 # --- one time base per question ----------------------------------------------------------------
