@@ -202,6 +202,26 @@ def test_neato_given_alone_says_its_own_file_counts_the_publishers(
         assert "metadata.yaml" not in message and "base_link -> base_laser_link (79.1 mm" in message
 
 
+def test_a_db3_alone_keeping_no_qos_for_tf_static_says_what_its_folder_says(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """evo's tf_example as rosbag2 keeps no QoS profile for /tf_static, in its metadata.yaml as in its .db3's topics
+    table: the folder said "records no QoS for it", the .db3 alone "not checked: ... has no metadata.yaml ... and
+    its topics table no QoS profiles", one absence said two ways. Both now say what was observed, a note (the
+    JSON's ``skipped`` false: it was checked), each naming where it looked."""
+    _, path = _recording(corpus, "evo-tf-example-db3")
+    (db3,) = path.glob("*.db3")
+    alone = shutil.copyfile(db3, tmp_path / db3.name)
+    for given, source in ((path, "metadata.yaml"), (alone, "the .db3's topics table")):
+        code, _, findings = _findings(tfx, given)
+        (note,) = findings
+        assert (code, note["code"], note["severity"], note["skipped"]) == (0, "static_volatile", "info", False), note
+        assert note["message"].startswith(f"{given} records no QoS for it (/tf_static, {source}'s offered_qos"), note
+        assert "not checked" not in tfx("wtf", given).stdout
+
+
 # --- one time base per question ----------------------------------------------------------------
 
 

@@ -208,7 +208,7 @@ class OfferedQos:
     """The QoS profiles each static topic's publishers offered, as a ROS 2 bag's metadata.yaml (or, without
     one, its files: ``source``) says: what ``ros2 bag play`` publishes it with (and every topic's counts);
     ``problem``: why it does not say ("": it does); ``metadata``: False for a bag without one (a bare .db3 or
-    .mcap file) whose files keep no QoS either."""
+    .mcap file) whose files hold no static topic."""
 
     profiles: dict[str, list[object]]
     problem: str = ""

@@ -77,14 +77,8 @@ def _repeated_through(scene: Scene) -> bool:
 
 def _static_qos(path: str, qos: OfferedQos) -> dict[str, list[object]]:
     """Each static topic's offered QoS profiles, as the bag directory's metadata.yaml says (read with the bag), or
-    a bag without one its files' topics tables or channels."""
-    if not qos.metadata:
-        raise CheckSkippedError(
-            f"{path} has no metadata.yaml (beside or in it) and its topics table no QoS profiles, where rosbag2 "
-            "keeps the QoS it plays /tf_static with",
-            "give tfx the bag directory if the file has one; a bag directory without metadata.yaml was cut short "
-            "(ros2 bag reindex rebuilds it, on a copy)",
-        )
+    a bag without one its files' topics tables or channels (none: a topic they keep no QoS for, said as
+    metadata.yaml's empty ``offered_qos_profiles`` is; nothing where they hold no static topic)."""
     if qos.problem and qos.source != IN_METADATA:
         raise CheckSkippedError(
             f"{path}: {qos.source} does not say the QoS of /tf_static ({qos.problem})",
