@@ -115,9 +115,8 @@ def test_a_bare_db3_without_qos_records_none_as_a_folder_without_qos_does(tmp_pa
     assert "not checked" not in finding.message
     none = _without_static_qos(scenes.write(tmp_path, "none", BagFormat.rosbag2_sqlite3, scenes.healthy()))
     (folder,) = check(read_recording([none])).findings
-    said = finding.message.replace(str(alone / inside.name), str(none))
-    said = said.replace("the .db3's topics table", "metadata.yaml")
-    assert folder.message == said, folder.message
+    words = finding.message.replace(str(alone / inside.name), str(none))
+    assert folder.message == words.replace("the .db3's topics table", "metadata.yaml"), folder.message
     assert (folder.code, folder.severity, folder.skipped, folder.hint) == (
         finding.code,
         finding.severity,
