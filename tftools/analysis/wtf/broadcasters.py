@@ -1,6 +1,7 @@
 """Several broadcasters of one moving edge where the recording does not name publishers (ROS 2 bags,
 MCAP), told from what the edge's stream holds: its stamps, values, when each sample arrived, and how many
-publishers of its topic metadata.yaml lists. Four patterns are told apart:
+publishers of its topic metadata.yaml (or a bare file's topics table or channels) lists. Four patterns are told
+apart:
 
 - a stamp sent again with the same value, the newest stamp each time, as long after the sample before it
   as new samples come: one publisher re-sending its last value (a timer whose input did not change: a
