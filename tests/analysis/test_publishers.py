@@ -315,6 +315,10 @@ def _neato(listed: int, tmp_path: Path, sent: int = START, apart: int = 4 * MS) 
     """A Neato: a static_transform_publisher of the laser at (-0.1016, 0, 0.0889), then ``apart`` later
     robot_state_publisher's 10 fixed joints, the laser among them at (-0.084, 0, 0.166); both stamped ``sent``
     (the second 4 ms later)."""
+    return _findings(tmp_path, _neato_messages(sent, apart), {"/tf_static": listed})
+
+
+def _neato_messages(sent: int = START, apart: int = 4 * MS) -> list[TfMessage]:
     laser = TfMessage(
         "/tf_static", START + DELAY, [Transform((-0.1016, 0, 0.0889), (0, 0, 0, 1), sent, "base_link", "laser")]
     )
@@ -322,7 +326,7 @@ def _neato(listed: int, tmp_path: Path, sent: int = START, apart: int = 4 * MS) 
     joints = [Transform((0.01 * i, 0, 0), (0, 0, 0, 1), later, "base_link", f"part{i}") for i in range(9)]
     urdf_laser = Transform((-0.084, 0, 0.166), (0, 0, 0, 1), later, "base_link", "laser")
     description = TfMessage("/tf_static", START + DELAY + apart, [*joints, urdf_laser])
-    return _findings(tmp_path, [*scenes.healthy(statics=[]), laser, description], {"/tf_static": listed})
+    return sorted([*scenes.healthy(statics=[]), laser, description], key=lambda m: m.record_time)
 
 
 DELAY = scenes.DELAY
@@ -357,6 +361,35 @@ def test_a_db3_given_alone_counts_publishers_by_its_topics_table(tmp_path: Path,
     (finding,) = loud(check(read_recording([alone])).findings)
     assert finding.code == ("static_conflict" if listed == 2 else "dynamic_on_static"), finding.message
     assert finding.frames == ("base_link", "laser")
+    _count_said_by(finding, "the .db3's topics table", listed)
+
+
+def _count_said_by(finding: Finding, source: str, listed: int) -> None:
+    """The finding names where the count it gives came from: the file's own, never a metadata.yaml it lacks (a bare
+    file said "metadata.yaml lists 2 publishers")."""
+    said = f"while {source} lists 2 publishers" if listed == 2 else f"; {source} lists 1 publisher of it"
+    assert said in finding.message and "metadata.yaml" not in finding.message, finding.message
+
+
+@pytest.mark.parametrize("listed", [1, 2])
+def test_an_mcap_given_alone_counts_publishers_by_its_channels_and_says_so(tmp_path: Path, listed: int) -> None:
+    """A rosbag2 .mcap given alone: its /tf_static channel's metadata holds the offered QoS profiles, one per
+    publisher; the finding counts by them and names them (the real Neato's .mcap alone said "metadata.yaml
+    lists 2 publishers")."""
+    from tests.corpus.variants import rewrite_mcap
+
+    bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_mcap, _neato_messages())
+    (mcap,) = bag.glob("*.mcap")
+    profile = "- {history: keep_last, depth: 1, reliability: reliable, durability: transient_local}\n"
+
+    def listing(metadata: dict[str, str]) -> dict[str, str]:
+        static = "transient_local" in metadata.get("offered_qos_profiles", "")  # /tf_static's, as scenes write it
+        return {**metadata, "offered_qos_profiles": profile * listed} if static else metadata
+
+    alone = rewrite_mcap(mcap, tmp_path / "alone.mcap", listing)
+    (finding,) = loud(check(read_recording([alone])).findings)
+    assert finding.code == ("static_conflict" if listed == 2 else "dynamic_on_static"), finding.message
+    _count_said_by(finding, "the MCAP's channel metadata", listed)
 
 
 def test_statics_recorded_a_hair_before_the_first_tf_stamp_are_at_plus_zero_not_minus_zero(tmp_path: Path) -> None:

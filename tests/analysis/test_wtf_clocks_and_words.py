@@ -430,6 +430,40 @@ def test_record_times_that_are_no_clock_time_nothing() -> None:
     assert "arrival_minus_stamp_s" not in two.figures, two.figures
 
 
+def test_wtfs_header_gives_the_stamps_span_where_the_record_times_are_no_clock(tmp_path: Path) -> None:
+    """The Logistic coBot's header said "0.0 s recorded" (its record times span 28 ns): where they are no clock,
+    the header gives tf's stamps' span and says so, the JSON its ``stamped`` (null where the record times are one,
+    whose header is the record span as before), and a --resume reads it back."""
+    import io
+
+    from rich.console import Console
+
+    from tftools.analysis.wtf import Thresholds
+    from tftools.render import wtf as render
+    from tftools.render.wtf_lines import read_report, write_recording
+
+    read = recording(_no_record_clock(), ros1=False)
+    void = check(read)
+    first, last = read.timeline.tf_start, read.timeline.tf_end  # the arm's, as monitor's "tf stamped over"
+    assert void.stamped == (first, last) and last - first > 8 * NS_PER_S > read.end - read.start, void.stamped
+    healthy_report = check(recording(healthy(), ros1=False))
+    assert healthy_report.stamped is None
+    out = io.StringIO()
+    render.write_text([void, healthy_report], Console(file=out, width=400, no_color=True))
+    headers = [line for line in out.getvalue().splitlines() if "transforms," in line]
+    assert f"tf stamped over {(last - first) / NS_PER_S:.1f} s (the record times are no clock)," in headers[0], headers
+    assert "s recorded" not in headers[0]
+    recorded = (healthy_report.end - healthy_report.start) / NS_PER_S
+    assert f", {recorded:.1f} s recorded," in headers[1] and "stamped" not in headers[1], headers
+    (bag,) = render.as_dict([void], False, Thresholds(), 0)["bags"]
+    assert bag["stamped"] == {"start": first / NS_PER_S, "end": last / NS_PER_S}
+    assert render.as_dict([healthy_report], False, Thresholds(), 0)["bags"][0]["stamped"] is None
+    lines = io.StringIO()
+    write_recording(void, lines, strict=False)
+    (resumed,) = read_report(io.BytesIO(lines.getvalue().encode()), "run.jsonl").reports
+    assert resumed.stamped == void.stamped
+
+
 def test_a_silence_timed_by_no_clock_is_unknown_wherever_it_is_shown(tmp_path: Path) -> None:
     """monitor -f json on that recording said "silent_s": 0.0 for every edge, though its record times time nothing
     (RWR's last stamp is 4.75 s before FWL's): unknown, null in JSON, "unknown" in a /diagnostics status, and no

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+import yaml
 
 from tests.analysis import wtf_scenes as scenes
 from tests.bags import BagFormat, TfMessage
@@ -38,6 +39,17 @@ def _volatile(bag: Path) -> Path:
     text = metadata.read_text()
     assert text.count("durability: transient_local") == 1
     metadata.write_text(text.replace("durability: transient_local", "durability: volatile"))
+    return bag
+
+
+def _without_static_qos(bag: Path) -> Path:
+    """``bag``'s metadata.yaml keeping no QoS for /tf_static (``offered_qos_profiles: ''``, as a converted bag's)."""
+    metadata = bag / "metadata.yaml"
+    document = yaml.safe_load(metadata.read_text())
+    for entry in document["rosbag2_bagfile_information"]["topics_with_message_count"]:
+        if entry["topic_metadata"]["name"] == "/tf_static":
+            entry["topic_metadata"]["offered_qos_profiles"] = ""
+    metadata.write_text(yaml.safe_dump(document))
     return bag
 
 
@@ -83,7 +95,10 @@ def test_statics_re_sent_through_the_recording_reach_a_late_subscriber_however_o
     assert [f.code for f in check(read_recording([stopped])).findings] == ["static_volatile"]
 
 
-def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -> None:
+def test_a_bare_db3_without_qos_records_none_as_a_folder_without_qos_does(tmp_path: Path) -> None:
+    """A .db3 given alone whose topics table keeps no QoS for /tf_static: the same absence as a metadata.yaml's
+    ``offered_qos_profiles: ''``, said the same way ("records no QoS for it", a note: ros2 bag play plays it
+    volatile), where it was "not checked" (the check had run, and found that)."""
     bag = scenes.write(tmp_path, "bag", BagFormat.rosbag2_sqlite3, scenes.healthy())
     (inside,) = bag.glob("*.db3")
     assert (
@@ -95,8 +110,19 @@ def test_a_bare_db3_is_reported_as_not_checked_with_the_reason(tmp_path: Path) -
     assert check(read_recording([alone / inside.name])).findings == []  # its topics table says transient local
     _set_topics_qos(alone / inside.name, lambda text: "")  # a table without QoS (recorded with no publisher)
     (finding,) = check(read_recording([alone / inside.name])).findings
-    assert finding.skipped and finding.code == "static_volatile" and finding.severity is Severity.info
-    assert "not checked" in finding.message and "metadata.yaml" in finding.message
+    assert not finding.skipped and finding.code == "static_volatile" and finding.severity is Severity.info
+    assert "records no QoS for it (/tf_static, the .db3's topics table's offered_qos_profiles)" in finding.message
+    assert "not checked" not in finding.message
+    none = _without_static_qos(scenes.write(tmp_path, "none", BagFormat.rosbag2_sqlite3, scenes.healthy()))
+    (folder,) = check(read_recording([none])).findings
+    words = finding.message.replace(str(alone / inside.name), str(none))
+    assert folder.message == words.replace("the .db3's topics table", "metadata.yaml"), folder.message
+    assert (folder.code, folder.severity, folder.skipped, folder.hint) == (
+        finding.code,
+        finding.severity,
+        finding.skipped,
+        finding.hint,
+    )
     volatile = _volatile(bag)  # what the metadata.yaml beside it says is what is judged
     (said,) = check(read_recording([next(volatile.glob("*.db3"))])).findings
     assert (said.code, said.severity) == ("static_volatile", Severity.warning)

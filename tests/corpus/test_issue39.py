@@ -10,6 +10,7 @@ import html
 import itertools
 import json
 import re
+import shutil
 import xml.etree.ElementTree as ElementTree
 from collections.abc import Callable
 from pathlib import Path
@@ -176,6 +177,54 @@ def test_neato_two_static_publishers_are_one_static_conflict_in_every_form(
     assert exit_code == 1 and "Problems: 1 error" in legend, legend
 
 
+@pytest.mark.parametrize("recording_id", NEATOS[:2])
+def test_neato_given_alone_says_its_own_file_counts_the_publishers(
+    recording_id: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The same Neatos' .db3 copied alone, and the recording written as one .mcap given alone: the publishers are
+    counted by the file's topics table or channel metadata (a QoS profile each), and the finding said "metadata.yaml
+    lists 2 publishers" of a recording without one. It names what it counted."""
+    from tests.corpus.variants import read, write_ros2
+
+    _, path = _recording(corpus, recording_id)
+    copy = tmp_path / "bag"
+    shutil.copytree(path, copy)  # read by rosbags' sqlite3 reader: a copy, never the recording
+    (db3,) = copy.glob("*.db3")
+    (tmp_path / "alone").mkdir()
+    alone_db3 = shutil.copyfile(db3, tmp_path / "alone" / db3.name)
+    (mcap,) = write_ros2(tmp_path / "as_mcap", read(copy), "mcap").glob("*.mcap")
+    alone_mcap = shutil.copyfile(mcap, tmp_path / "alone.mcap")
+    for given, source in ((alone_db3, "the .db3's topics table"), (alone_mcap, "the MCAP's channel metadata")):
+        code, _, findings = _findings(tfx, given)
+        assert code == 1 and [f["code"] for f in findings] == ["static_conflict"], findings
+        message = findings[0]["message"]
+        assert f"which differs in value from publisher 1's while {source} lists 2 publishers" in message, message
+        assert "metadata.yaml" not in message and "base_link -> base_laser_link (79.1 mm" in message
+
+
+def test_a_db3_alone_keeping_no_qos_for_tf_static_says_what_its_folder_says(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """evo's tf_example as rosbag2 keeps no QoS profile for /tf_static, in its metadata.yaml as in its .db3's topics
+    table: the folder said "records no QoS for it", the .db3 alone "not checked: ... has no metadata.yaml ... and
+    its topics table no QoS profiles", one absence said two ways. Both now say what was observed, a note (the
+    JSON's ``skipped`` false: it was checked), each naming where it looked."""
+    _, path = _recording(corpus, "evo-tf-example-db3")
+    (db3,) = path.glob("*.db3")
+    alone = shutil.copyfile(db3, tmp_path / db3.name)
+    for given, source in ((path, "metadata.yaml"), (alone, "the .db3's topics table")):
+        code, _, findings = _findings(tfx, given)
+        (note,) = findings
+        assert (code, note["code"], note["severity"], note["skipped"]) == (0, "static_volatile", "info", False), note
+        assert note["message"].startswith(f"{given} records no QoS for it (/tf_static, {source}'s offered_qos"), note
+        assert "not checked" not in tfx("wtf", given).stdout
+
+
 # --- one time base per question ----------------------------------------------------------------
 
 
@@ -325,6 +374,24 @@ def test_spans_and_rates_a_user_compares_say_what_they_count(corpus: Corpus, tfx
     node = next(line.split() for line in monitor.splitlines() if line.split()[:1] == ["/p2os"])
     assert "Rate (stamps/s)" in monitor and "Rate (msgs/s)" in monitor
     assert edge[4] == "9.96" and node[2] == "10.08", (edge, node)
+
+
+LOGISTIC = "ros2-logistic-cobot-pymoveit2-no-record-clock-2024-db3"
+
+
+def test_wtfs_header_of_record_times_that_are_no_clock_gives_the_stamps_span(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The Logistic coBot's record times span 28 ns (a rosbag2_py writer's): wtf's header said "0.0 s recorded".
+    It gives the span its tf is stamped over, as monitor's header does (27.667 s from 46.230 to 73.897), and says
+    it is the stamps'; the JSON has it as ``stamped``."""
+    _, path = _recording(corpus, LOGISTIC)
+    header = tfx("wtf", path).stdout.splitlines()[0]
+    assert header.endswith(
+        "rosbag2-sqlite3, tf stamped over 27.7 s (the record times are no clock), 11669 transforms, 18 frames"
+    ), header
+    monitor = tfx("monitor", "-b", path).stdout.splitlines()[0]
+    assert monitor.endswith(": tf stamped over 27.667 s from 46.230 to 73.897"), monitor
+    _, bag, _ = _findings(tfx, path)
+    assert bag["stamped"] == {"start": 46.23, "end": 73.897} and bag["end"] - bag["start"] < 1e-6, bag
 
 
 def test_multiple_parents_on_tf_static_is_not_an_object_picked_up(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

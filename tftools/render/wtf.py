@@ -65,10 +65,8 @@ def _write_fleet(reports: Sequence[BagReport], console: Console) -> None:
 def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
     header = Text(printable(bag.name), style="bold")
     if bag.usable:
-        seconds = (bag.end - bag.start) / NS_PER_S
         header.append(
-            f"  {printable(', '.join(bag.formats))}, {seconds:.1f} s recorded, {bag.transforms} transforms, "
-            f"{bag.frames} frames"
+            f"  {printable(', '.join(bag.formats))}, {_span(bag)}, {bag.transforms} transforms, {bag.frames} frames"
         )
         for fetched in bag.fetched:
             header.append(f", {fetched.describe()}")
@@ -90,6 +88,15 @@ def _write_bag(bag: BagReport, console: Console, strict: bool) -> None:
             _write_finding(finding, console)
             _write_explained(finding, explained(findings, finding), console)
     console.print(_bag_line(bag, strict))
+
+
+def _span(bag: BagReport) -> str:
+    """The time the recording covers: its record span, or tf's stamps' where the record times are no clock
+    (a script's writer that recorded every message within 74 ns: "0.0 s recorded" would say nothing true)."""
+    if bag.stamped is not None:
+        first, last = bag.stamped
+        return f"tf stamped over {(last - first) / NS_PER_S:.1f} s (the record times are no clock)"
+    return f"{(bag.end - bag.start) / NS_PER_S:.1f} s recorded"
 
 
 def _write_finding(finding: Finding, console: Console) -> None:
@@ -184,6 +191,7 @@ def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
         "formats": list(bag.formats),
         "start": bag.start / NS_PER_S if bag.usable else None,
         "end": bag.end / NS_PER_S if bag.usable else None,
+        "stamped": {"start": bag.stamped[0] / NS_PER_S, "end": bag.stamped[1] / NS_PER_S} if bag.stamped else None,
         "transforms": bag.transforms,
         "frames": bag.frames,
         "fetched": [asdict(f) for f in bag.fetched] or None,

@@ -84,6 +84,7 @@ def _bag(entry: dict[str, Any], name: str, number: int) -> BagReport:
             formats=tuple(_strings(entry["formats"])),
             start=_ns(entry["start"]),
             end=_ns(entry["end"]),
+            stamped=_stamped(entry.get("stamped")),  # older reports have none
             transforms=int(entry["transforms"]),
             frames=int(entry["frames"]),
             **_sensor_data(entry["sensor_data"]),
@@ -118,6 +119,10 @@ def _sensor_data(entry: dict[str, Any] | None) -> dict[str, Any]:
         "sensor_target": str(entry["target"]),
         "sensor_target_reason": str(entry["target_reason"]),
     }
+
+
+def _stamped(entry: dict[str, Any] | None) -> tuple[int, int] | None:
+    return None if entry is None else (_ns(entry["start"]), _ns(entry["end"]))
 
 
 def _strings(values: list[Any]) -> list[str]:

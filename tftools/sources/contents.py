@@ -196,17 +196,26 @@ class Fetched:
         return line + (", .db3 files whole (SQLite reads a local file)" if self.whole else "")
 
 
+#: Where a ROS 2 recording keeps its topics' offered QoS profiles, one per publisher (``OfferedQos.source``):
+#: its metadata.yaml, or without one (a file given alone, a recording cut short) its files' own.
+IN_METADATA = "metadata.yaml"
+IN_DB3 = "the .db3's topics table"
+IN_MCAP = "the MCAP's channel metadata"
+
+
 @value
 class OfferedQos:
-    """The QoS profiles each static topic's publishers offered, as a ROS 2 bag's metadata.yaml says:
-    what ``ros2 bag play`` publishes it with (and every topic's counts); ``problem``: why metadata.yaml
-    does not say ("": it does); ``metadata``: False for a bag without one (a bare .db3 or .mcap file)."""
+    """The QoS profiles each static topic's publishers offered, as a ROS 2 bag's metadata.yaml (or, without
+    one, its files: ``source``) says: what ``ros2 bag play`` publishes it with (and every topic's counts);
+    ``problem``: why it does not say ("": it does); ``metadata``: False for a bag without one (a bare .db3 or
+    .mcap file) whose files hold no static topic."""
 
     profiles: dict[str, list[object]]
     problem: str = ""
     metadata: bool = True
-    #: Per topic, its messages and its publishers (offered QoS profiles), as metadata.yaml counts them.
+    #: Per topic, its messages and its publishers (offered QoS profiles), as ``source`` counts them.
     counts: dict[str, tuple[int, int]] = field(default_factory=dict)
+    source: str = IN_METADATA  # where the profiles are kept, in words: "metadata.yaml lists 2 publishers"
 
 
 def _megabytes(n: int) -> str:

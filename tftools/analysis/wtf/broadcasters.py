@@ -1,6 +1,7 @@
 """Several broadcasters of one moving edge where the recording does not name publishers (ROS 2 bags,
 MCAP), told from what the edge's stream holds: its stamps, values, when each sample arrived, and how many
-publishers of its topic metadata.yaml lists. Four patterns are told apart:
+publishers of its topic metadata.yaml (or a bare file's topics table or channels) lists. Four patterns are told
+apart:
 
 - a stamp sent again with the same value, the newest stamp each time, as long after the sample before it
   as new samples come: one publisher re-sending its last value (a timer whose input did not change: a
@@ -22,6 +23,7 @@ import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -235,20 +237,32 @@ def repeats_of(stamps: Int64Array, values: FloatArray, arrivals: Int64Array) -> 
     )
 
 
-def listed_publishers(scene: Scene, topic: str) -> int | None:
-    """How many publishers of ``topic`` the recording's metadata.yaml lists (one per publisher the recorder
-    found when it began: ``offered_qos_profiles``); None where no file says."""
-    found = [qos.counts[topic][1] for qos in scene.recording.qos.values() if topic in qos.counts]
+class Listed(NamedTuple):
+    """How many publishers of a topic a ROS 2 recording lists (one per publisher the recorder found when it
+    began: ``offered_qos_profiles``), and where (``OfferedQos.source``: metadata.yaml, or a bare file's own)."""
+
+    publishers: int
+    source: str
+
+    def said(self, topic: str = "it") -> str:
+        """ "metadata.yaml lists 2 publishers of /tf" (or "the .db3's topics table lists ...")."""
+        return f"{self.source} lists {counted(self.publishers, 'publisher')} of {topic}"
+
+
+def listed_publishers(scene: Scene, topic: str) -> Listed | None:
+    """How many publishers of ``topic`` the recording lists, and where (the most, where several files say);
+    None where no file says."""
+    found = [Listed(qos.counts[topic][1], qos.source) for qos in scene.recording.qos.values() if topic in qos.counts]
     return max(found) if found else None
 
 
 def _listed_said(scene: Scene, topics: tuple[str, ...]) -> tuple[str, int | None]:
-    """ "; metadata.yaml lists 2 publishers of /tf" where it does."""
-    listed_counts = [(n, t) for t in topics if (n := listed_publishers(scene, t)) is not None]
+    """ "; metadata.yaml lists 2 publishers of /tf when recording began" where it does."""
+    listed_counts = [(listing, t) for t in topics if (listing := listed_publishers(scene, t)) is not None]
     if not listed_counts:
         return "", None
-    n, topic = max(listed_counts)
-    return f"; metadata.yaml lists {counted(n, 'publisher')} of {topic} when recording began", n
+    listing, topic = max(listed_counts)
+    return f"; {listing.said(topic)} when recording began", listing.publishers
 
 
 def _infer(scene: Scene) -> list[Finding]:

@@ -36,6 +36,9 @@ class BagReport:
     sensor_target: str = ""  # the frame that data was checked in
     sensor_target_reason: str = ""
     fetched: tuple[Fetched, ...] = ()  # of each file read by URL: what was fetched of it
+    #: tf's first and last stamp (ns, ``Timeline.tf_start``/``tf_end``) where the record times are no clock
+    #: (``Timeline.record_clock_void``: ``start`` to ``end`` spans nothing); None where they are one.
+    stamped: tuple[int, int] | None = None
 
     @property
     def name(self) -> str:
@@ -61,13 +64,14 @@ def check(recording: Recording, query: CheckQuery = CHECK_DEFAULTS) -> BagReport
     every check but those ignored, its sensor data (the headers it was read with) against tf, against the
     expected tree if given, and against the robot's description (``robot_of``)."""
     scene, findings = checked_scene(recording, query)
-    streams = scene.streams
+    streams, timeline = scene.streams, scene.timeline
     checked = BagReport(
         paths=tuple(recording.paths),
         findings=findings,
         formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
         start=recording.start,
         end=recording.end,
+        stamped=(timeline.tf_start, timeline.tf_end) if timeline.record_clock_void else None,
         transforms=recording.transform_count,
         frames=len(recording.buffer.frames),
         fetched=tuple(f.fetched for f in recording.contents.files if f.fetched is not None),

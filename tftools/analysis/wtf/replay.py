@@ -11,7 +11,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import CheckSkippedError, register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
 from tftools.core.time import NS_PER_S
-from tftools.sources.contents import OfferedQos
+from tftools.sources.contents import IN_METADATA, OfferedQos
 
 #: A recording this long (s) is one people play from the middle, split or filter.
 LONG_RECORDING_S = 60.0
@@ -35,7 +35,8 @@ def repair_hint(ros2: bool) -> str:
     "static_volatile", Severity.warning, "/tf_static offered volatile: ros2 bag play never gives it to late subscribers"
 )
 def static_volatile(scene: Scene) -> Iterator[Finding]:
-    """rosbag2 plays a topic with the QoS its publishers offered (metadata.yaml's offered_qos_profiles):
+    """rosbag2 plays a topic with the QoS its publishers offered (metadata.yaml's offered_qos_profiles, or a
+    bare file's own: ``OfferedQos.source``):
     transient local only when every profile was; none recorded plays its default, volatile. Only
     recordings read from bags are replayed: one assembled in memory has no QoS to check."""
     rows = scene.rows
@@ -52,7 +53,7 @@ def static_volatile(scene: Scene) -> Iterator[Finding]:
             yield Finding(
                 Severity.warning if profiles else Severity.info,  # none recorded: a conversion, most likely
                 "static_volatile",
-                f"{file.path} {offered} ({topic}, metadata.yaml's offered_qos_profiles): ros2 bag play publishes "
+                f"{file.path} {offered} ({topic}, {qos.source}'s offered_qos_profiles): ros2 bag play publishes "
                 f"it volatile, so a node that subscribes after its first message never gets the static transforms",
                 f"{repair_hint(True)}; or play with --qos-profile-overrides-path naming {topic} "
                 "durability: transient_local",
@@ -75,13 +76,13 @@ def _repeated_through(scene: Scene) -> bool:
 
 
 def _static_qos(path: str, qos: OfferedQos) -> dict[str, list[object]]:
-    """Each static topic's offered QoS profiles, as the bag directory's metadata.yaml says (read with the bag)."""
-    if not qos.metadata:
+    """Each static topic's offered QoS profiles, as the bag directory's metadata.yaml says (read with the bag), or
+    a bag without one its files' topics tables or channels (none: a topic they keep no QoS for, said as
+    metadata.yaml's empty ``offered_qos_profiles`` is; nothing where they hold no static topic)."""
+    if qos.problem and qos.source != IN_METADATA:
         raise CheckSkippedError(
-            f"{path} has no metadata.yaml (beside or in it) and its topics table no QoS profiles, where rosbag2 "
-            "keeps the QoS it plays /tf_static with",
-            "give tfx the bag directory if the file has one; a bag directory without metadata.yaml was cut short "
-            "(ros2 bag reindex rebuilds it, on a copy)",
+            f"{path}: {qos.source} does not say the QoS of /tf_static ({qos.problem})",
+            "give tfx the bag directory, with its metadata.yaml, if the file has one",
         )
     if qos.problem:
         raise CheckSkippedError(

@@ -16,7 +16,7 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
 from tftools.core.figures import pause_rows, record_span
 from tftools.core.time import NS_PER_S, from_sec
-from tftools.sources.contents import OfferedQos, is_static_topic
+from tftools.sources.contents import IN_METADATA, OfferedQos, is_static_topic
 
 
 @dataclass(frozen=True)
@@ -30,6 +30,7 @@ class TopicTally:
     instants: int  # record times of those transforms: messages at one instant cannot be told apart
     publishers: int
     observed: int | None = None  # the messages read that held no transform, where the reader counted them
+    listed_in: str = IN_METADATA  # where ``publishers`` were counted (``OfferedQos.source``)
 
     @property
     def empty(self) -> int:
@@ -76,11 +77,13 @@ def _tallies(scene: Scene) -> Iterator[TopicTally]:
                 continue  # no metadata to judge by, and nothing empty observed
             mine = inside & (static == is_static_topic(topic))
             transforms, instants = int(mine.sum()), len(np.unique(records[mine]))
-            yield TopicTally(file.path, topic, messages, transforms, instants, publishers, observed)
+            source = qos.source if qos is not None else IN_METADATA
+            yield TopicTally(file.path, topic, messages, transforms, instants, publishers, observed, source)
 
 
 def _counts(qos: OfferedQos | None, topics: tuple[str, ...]) -> dict[str, tuple[int, int]]:
-    """Per tf topic: its messages and its publishers, as metadata.yaml has them (read with the bag; nothing
+    """Per tf topic: its messages and its publishers, as the recording lists them (metadata.yaml, or without one
+    its files' own: ``OfferedQos.source``; read with the bag; nothing
     if unreadable: ``static_volatile`` says so)."""
     counts = qos.counts if qos is not None else {}
     return {topic: counted for topic, counted in counts.items() if topic in topics}
@@ -237,7 +240,7 @@ def silent_tf(scene: Scene) -> Iterator[Finding]:
         said = []
         if tally in silent:
             said.append(
-                f"{tally.topic} had {counted(tally.publishers, 'publisher')} when recording began (metadata.yaml's "
+                f"{tally.topic} had {counted(tally.publishers, 'publisher')} when recording began ({tally.listed_in}'s "
                 "offered QoS) and not one message was recorded: nothing in this recording moves"
             )
         if tally.empty:

@@ -3,7 +3,8 @@
 static_transform_publisher's) re-sends all of its transforms in every message, so a message that lacks
 transforms of an earlier one comes from another publisher (Python's sends only those it is given: a node
 that changes one of its transforms that way is taken for two publishers, which disagree all the same);
-and metadata.yaml lists how many publishers /tf_static had when recording began, so where it lists
+and metadata.yaml (or a bare file's topics table or channels) lists how many publishers /tf_static had when
+recording began, so where it lists
 several, a message whose values differ from an earlier one's is taken for another publisher's. So is one
 that differs where both were sent long before the recording began: a late subscriber gets only the latest
 message of each static broadcaster (its history holds one, QoS depth 1), so two such messages are two
@@ -19,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.findings import counted
-from tftools.analysis.wtf.broadcasters import listed_publishers
+from tftools.analysis.wtf.broadcasters import Listed, listed_publishers
 from tftools.analysis.wtf.scene import Scene
 from tftools.core.arrays import Int32Array, IntpArray
 from tftools.core.time import NS_PER_S
@@ -105,8 +106,9 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
         distinct.add(keys[-1])
         if len(distinct) > MESSAGES_COMPARED:
             return None
-    listed = {t: listed_publishers(scene, t) for t in scene.authorities_of(static)}
-    listing = max((n or 0) for n in listed.values())
+    found = [listed_publishers(scene, t) for t in scene.authorities_of(static)]
+    listed = max((n for n in found if n is not None), default=None)
+    listing = listed.publishers if listed is not None else 0
     several = listing >= 2
     began = _recording_began(scene)
     publishers: list[_Publisher] = []
@@ -123,7 +125,7 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
             chosen[m] = seen[key]
             continue
         edges = messages.transforms(m)
-        # Where metadata.yaml lists more publishers than are told apart, the same values with other stamps
+        # Where the recording lists more publishers than are told apart, the same values with other stamps
         # are taken for one of those not yet heard, as where both were sent before the recording began.
         held = latched or len(publishers) < listing
         earlier, evidence = _publisher_of(scene, publishers, edges, several, listed, (held, low, high))
@@ -147,11 +149,11 @@ def _publisher_of(
     publishers: list[_Publisher],
     edges: dict[tuple[int, int], bytes],
     several: bool,
-    listed: dict[str, int | None],
+    listed: Listed | None,
     sent: tuple[bool, int, int],
 ) -> tuple[int | None, str]:
     """Which earlier publisher could have sent a message of ``edges`` (None: another), and if another, why.
-    A publisher's next message holds every transform of its last; where metadata.yaml lists ``several``
+    A publisher's next message holds every transform of its last; where the recording lists ``several``
     publishers, or both messages were sent before the recording began (``sent``: whether it was, and its
     earliest and latest stamps; a static broadcaster's history holds one), one whose values differ from this
     message's is taken for another, and so, both sent before, is one with the same values and other stamps."""
@@ -173,8 +175,8 @@ def _publisher_of(
         return max(could)[1], ""  # the same values first, then the latest
     if stamped and not differ:
         why = (
-            f"while metadata.yaml lists {max(n for n in listed.values() if n is not None)} publishers"
-            if several
+            f"while {listed.source} lists {listed.publishers} publishers"
+            if several and listed is not None
             else "both sent before the recording began: a late subscriber gets only the latest message of each "
             "static broadcaster, whose history holds one"
         )
@@ -182,9 +184,9 @@ def _publisher_of(
     overlapping = [k for k, p in enumerate(publishers) if p.latest.keys() & edges.keys()]
     if not overlapping:
         return None, ""
-    if differ and several:
-        n = max(n for n in listed.values() if n is not None)
-        return None, f"differs in value from publisher {differ[-1] + 1}'s while metadata.yaml lists {n} publishers"
+    if differ and several and listed is not None:
+        said = f"{listed.source} lists {listed.publishers} publishers"
+        return None, f"differs in value from publisher {differ[-1] + 1}'s while {said}"
     if differ:
         return None, (
             f"differs in value from publisher {differ[-1] + 1}'s, both sent before the recording began (a late "

@@ -153,8 +153,8 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
         who = scene.authorities_of(mine)
         evidence, hint = "", ""
         if senders.inferred:
-            n = max((c for a in who if (c := listed_publishers(scene, a)) is not None), default=None)
-            listed_said = f"; metadata.yaml lists {counted(n, 'publisher')} of it" if n is not None else ""
+            most = max((c for a in who if (c := listed_publishers(scene, a)) is not None), default=None)
+            listed_said = f"; {most.said()}" if most is not None else ""
             evidence = (
                 " (each /tf_static message holds every transform of the one before it, as one "
                 f"StaticTransformBroadcaster sends them{listed_said}: one publisher, it seems; this recording does "

@@ -178,22 +178,25 @@ def placed_among(
     return placed
 
 
-def qos_in_files(scans: list[FileScan]) -> OfferedQos | None:
+def qos_in_files(scans: list[FileScan], source: str) -> OfferedQos | None:
     """Without metadata.yaml (a recording cut short, or a .db3 or .mcap copied alone), the offered QoS of the
-    static topics as the files' own topics tables (a .db3's) or channels (an MCAP's) hold them, and each
-    topic's publishers (a profile each) and messages read, as metadata.yaml counts them; None where they hold
-    none for a static topic. Called once the scans are decoded."""
+    static topics as the files' own topics tables (a .db3's) or channels (an MCAP's) hold them (``source``:
+    ``IN_DB3`` or ``IN_MCAP``), none for a static topic they keep no QoS for (a .db3's empty column, as
+    metadata.yaml's ``offered_qos_profiles: ''``: what ``ros2 bag play`` plays with its default, volatile), and
+    each topic's publishers (a profile each) and messages read, as metadata.yaml counts them; None where they
+    hold no static topic. Called once the scans are decoded."""
     offered = {name: text for scan in scans for name, text in scan.offered_qos.items()}
-    if not any(is_static_topic(name) for name in offered):
+    static_topics = [name for scan in scans for name in scan.topics if is_static_topic(name)]
+    if not static_topics:
         return None
     try:
         profiles = {name: list(user_files.load_text(text) or []) for name, text in offered.items()}
     except user_files.UserFileError as error:
-        return OfferedQos({}, f"the bag file's topics table or channels hold unreadable QoS profiles ({error})")
+        return OfferedQos({}, f"unreadable QoS profiles ({error})", source=source)
     messages: dict[str, int] = {}
     for scan in scans:
         for topic, (count, _) in scan.messages.tf_messages.items():
             messages[topic] = messages.get(topic, 0) + count
     counts = {name: (messages.get(name, 0), len(offered_by)) for name, offered_by in profiles.items()}
-    static = {name: offered_by for name, offered_by in profiles.items() if is_static_topic(name)}
-    return OfferedQos(static, counts=counts)
+    static = {name: profiles.get(name, []) for name in static_topics}
+    return OfferedQos(static, counts=counts, source=source)

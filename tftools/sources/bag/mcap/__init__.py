@@ -14,6 +14,7 @@ from tftools.sources.bag.mcap.stream import stream
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileRead, FileScan, file_result, qos_in_files
 from tftools.sources.codecs.select import Wanted
+from tftools.sources.contents import IN_MCAP
 from tftools.sources.errors import CorruptBagError
 from tftools.sources.storage.source import ByteSource
 
@@ -42,7 +43,7 @@ class McapFile:
         scan = self.scan(wanted, progress, MessageSet(window=window))
         read = file_result(self.path, fmt, [scan])
         if self.profile == "ros2":  # a rosbag2 file given alone: ros2 bag play plays it with its channels' QoS
-            read.qos = qos_in_files([scan])
+            read.qos = qos_in_files([scan], IN_MCAP)
         return read
 
     def scan(self, wanted: Wanted, progress: ProgressCallback, messages: MessageSet) -> FileScan:

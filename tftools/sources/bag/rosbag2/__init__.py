@@ -14,7 +14,7 @@ from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileRead, FileScan, file_result, qos_in_files
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
 from tftools.sources.codecs.select import Wanted
-from tftools.sources.contents import OfferedQos, is_static_topic
+from tftools.sources.contents import IN_DB3, IN_MCAP, OfferedQos, is_static_topic
 from tftools.sources.errors import CorruptBagError
 from tftools.sources.storage.source import ByteSource, Files, FileSource
 
@@ -52,7 +52,8 @@ class Rosbag2Bag:
             scans, labels = self._scan_files(wanted, progress, window, problems)
             read = file_result(self.path, fmt, scans, labels)
             read.info.problems[:0] = problems
-        read.qos = self.bag.qos if self.bag.qos.metadata else qos_in_files(scans) or self.bag.qos
+        in_files = IN_MCAP if self.bag.storage == "mcap" else IN_DB3
+        read.qos = self.bag.qos if self.bag.qos.metadata else qos_in_files(scans, in_files) or self.bag.qos
         return read
 
     def _scan_files(
