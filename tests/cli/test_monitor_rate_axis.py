@@ -63,10 +63,12 @@ def test_a_message_logged_at_time_zero_is_counted_not_timed_whole_or_replayed(tf
 def test_a_window_of_a_simulation_recorded_without_clock_holds_one_set_whole_or_replayed(
     tfx: Tfx, tmp_path: Path, fmt: BagFormat
 ) -> None:
-    """The 0.25x simulation above, --start +0.5 --end +1.1: the replay (on the record clock moved onto the stamps by
-    the median offset, 3 s) plays odometries 18 to 20 then (+0.6, +0.8, +1.0). The whole read selected the edge's
-    samples by stamp (10 to 22: 13) beside its publisher's 3 messages counted on the replay's clock; one axis now
-    (``Timeline.window_times``): 3 samples and 3 messages, whole and replayed."""
+    """The 0.25x simulation above, --start +0.5 --end +1.1: seconds into the replay, as ``ros2 bag play`` plays it
+    (the record clock moved onto the stamps, its start at the first stamp: ``Timeline.replay_shift``), which plays
+    odometries 3 to 5 then (+0.6, +0.8, +1.0). The whole read selected the edge's samples by stamp (10 to 22: 13)
+    beside its publisher's 3 messages counted on the replay's clock; one axis now (``Timeline.arrival``): 3 samples
+    and 3 messages, whole and replayed. The replay's start was the frames' median offset (3 s) before: odometries 18
+    to 20, 3.6 s into the recording."""
     wall, sim = 1_700_000_000 * NS_PER_S, 10 * NS_PER_S
     odometry = [Transform((0.01 * k, 0, 0), (0, 0, 0, 1), sim + k * 50 * MS_NS, "odom", "base_link") for k in range(41)]
     messages = [TfMessage("/tf", wall + k * 200 * MS_NS, [odom], "/gazebo") for k, odom in enumerate(odometry)]
@@ -78,5 +80,5 @@ def test_a_window_of_a_simulation_recorded_without_clock_holds_one_set_whole_or_
     for report in (json.loads(whole.stdout), json.loads(played.stdout.splitlines()[-1])):
         (edge,) = report["edges"]
         (publisher,) = report["authorities"]
-        assert (edge["count"], edge["first_stamp"], edge["last_stamp"]) == (3, 10.9, 11.0), edge
+        assert (edge["count"], edge["first_stamp"], edge["last_stamp"]) == (3, 10.15, 10.25), edge
         assert publisher["messages"] == 3, publisher

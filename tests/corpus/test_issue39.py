@@ -516,13 +516,15 @@ def test_an_edge_ros1s_tf2_holds_static_has_no_delay_in_monitor_either(
     ("recording_id", "window", "counts"),
     [
         # stamped over 4.25 s of a simulation at 0.067x real time: 33 samples of odom -> base_footprint stamped in
-        # its second second, 1 arrived in that second of the record clock the replay plays on
-        (SLAM_TOOLBOX, ("+1", "+2"), {("odom", "base_footprint"): 1, "/tf": 51}),
-        # at 0.97x: the whole read's 97 samples of odom -> base_footprint by stamp, the replay's 98
+        # its second second; 2 arrived in the second second of the replay, with the 54 /tf messages recorded 1 to 2 s
+        # into the bag (51 and 1 when the replay started 30.7 s before the first stamp: the frames' median offset)
+        (SLAM_TOOLBOX, ("+1", "+2"), {("odom", "base_footprint"): 2, "/tf": 54}),
+        # at 0.97x: the 163 /tf messages recorded in the bag's first 3.37 s (164 from 0.011 s later, by the frames'
+        # median offset)
         (
             FOXY_WALKER,
             ("+0", "+3.37"),
-            {("odom", "base_footprint"): 98, ("base_link", "wheel_left_link"): 66, "/tf": 164},
+            {("odom", "base_footprint"): 97, ("base_link", "wheel_left_link"): 66, "/tf": 163},
         ),
     ],
 )
@@ -535,7 +537,7 @@ def test_a_window_of_a_recording_without_clock_holds_one_set_whole_or_replayed(
 ) -> None:
     """Simulations recorded without /clock: --start/--end selected a whole read's edges by stamp, its publishers'
     messages and the replay's edges on the record clock moved onto the stamps. One axis now
-    (``Timeline.window_times``): the same samples and messages, whole and --play."""
+    (``Timeline.arrival``): the same samples and messages, whole and --play."""
     _, path = _recording(corpus, recording_id)
     for report in _monitor_whole_and_played(tfx, path, "--start", window[0], "--end", window[1]):
         found: dict[tuple[str, str] | str, int] = {(e["parent"], e["child"]): e["count"] for e in report["edges"]}

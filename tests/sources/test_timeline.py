@@ -170,3 +170,38 @@ def test_without_a_record_clock_a_pause_of_one_clock_is_one_clock() -> None:
     before, after = [START + i * s // 10 for i in range(50)], [START + 17 * s + i * s // 10 for i in range(50)]
     assert _void({"arm": before + after, "gripper": before + after}) == [["arm", "gripper"]]
     assert _void({"arm": before, "late": after}) == [["arm"], ["late"]]
+
+
+def test_without_a_reference_arrivals_are_seconds_into_the_recording_and_findings_stay_on_the_stamps() -> None:
+    """A simulation at 0.25x recorded without /clock, its recording begun 1 s before its first transform: odometry
+    stamped every 50 ms from 10 s, received every 200 ms. ``arrival`` (monitor's windows, a replay) is the record
+    clock with the recording's start at the first stamp: the 6th transform arrived 2.0 s into the recording, +2.0
+    (moved by the frames' median offset, the 11th's, it read -1.5); ``arrival_on_stamps`` (a finding's
+    times, the report's timelines) keeps the stamps, for no time of arrival is on their clock. With a reference
+    (the same transforms stamped on the record clock) both are the record times."""
+    ms, sim = 10**6, 10 * 10**9
+    builder = BatchBuilder()
+    for k in range(21):
+        builder.add(
+            "odom", "base", sim + k * 50 * ms, (0, 0, 0), (0, 0, 0, 1), record_time=START + (1000 + 200 * k) * ms
+        )
+    buffer = Buffer(cache_time=None)
+    buffer.insert(builder.take())
+    history = buffer.history("base")
+    assert history is not None
+    timeline = timeline_of(buffer, ClockSamples.empty(), START, START + 5000 * ms)
+    assert not timeline.available
+    arrived = timeline.arrival(history.stamps, history.record_times)
+    assert seconds_since(timeline.origin, int(arrived[5])) == pytest.approx(2.0)
+    assert (timeline.arrival_on_stamps(history.stamps, history.record_times) == history.stamps).all()
+    clocked = Buffer(cache_time=None)
+    builder = BatchBuilder()
+    for k in range(21):
+        at = START + (1000 + 200 * k) * ms
+        builder.add("odom", "base", at - 5 * ms, (0, 0, 0), (0, 0, 0, 1), record_time=at)
+    clocked.insert(builder.take())
+    record = timeline_of(clocked, ClockSamples.empty(), START, START + 5000 * ms)
+    history = clocked.history("base")
+    assert history is not None and record.available
+    for placed in (record.arrival, record.arrival_on_stamps):
+        assert (placed(history.stamps, history.record_times) == history.record_times).all()

@@ -39,7 +39,7 @@ from tftools.values import value
 @value
 class TimeWindow:
     """Which samples a statistic counts: those stamped in ``[start, end]`` (ns; None: open), or with
-    ``by_record_time`` those that arrived then (``Timeline.window_times``; the stamp where that is unknown): what a
+    ``by_record_time`` those that arrived then (``Timeline.arrival``; the stamp where that is unknown): what a
     live monitor saw in its last seconds; static ones always. ``timeline`` turns record times into ROS time (a
     recording's); without it, record times are ROS time (a live buffer's). ``until``: the record time an open
     window's silences end at (a recording's end: ``edge_stats``)."""
@@ -57,8 +57,8 @@ class TimeWindow:
 
     def times(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
         """The times the window selects by: stamps, or with ``by_record_time`` the arrivals
-        (``Timeline.window_times``)."""
-        return self.clock.window_times(stamps, record_times) if self.by_record_time else stamps
+        (``Timeline.arrival``)."""
+        return self.clock.arrival(stamps, record_times) if self.by_record_time else stamps
 
     def holds(self, stamps: Int64Array, record_times: Int64Array, static: BoolArray | bool = False) -> BoolArray:
         """Which samples (stamped ``stamps``, recorded at ``record_times``) are in it: ``static`` ones always."""
@@ -279,7 +279,7 @@ class Counted:
 def messages_in_window(sent: SentMessages, window: TimeWindow = WHOLE) -> dict[str, Counted]:
     """The one definition of a publisher's messages in a window: those of ``sent`` in the ``window`` as
     ``edge_stats`` selects transforms (``TimeWindow.times``: by their first transform's stamp, or on the axis of
-    arrivals, ``Timeline.window_times``), its /tf_static messages always; by publisher.
+    arrivals, ``Timeline.arrival``), its /tf_static messages always; by publisher.
 
     They are windowed and rated (``figures.message_rate``) on the clock they arrived on (``Timeline.counted_at``),
     the same in a whole read and in its replay: a message whose arrival is unknown (a record time of 0) is

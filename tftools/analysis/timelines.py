@@ -141,7 +141,7 @@ def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Arra
     (made non-decreasing, as stamps are)."""
     if child not in timeline.off_reference:
         return stamps
-    return np.maximum.accumulate(timeline.arrival(stamps, records)) if len(stamps) else stamps
+    return np.maximum.accumulate(timeline.arrival_on_stamps(stamps, records)) if len(stamps) else stamps
 
 
 def _timeline(
@@ -222,7 +222,7 @@ def _reparentings(buffer: Buffer, child: str, hist: EdgeHistory, timeline: Timel
 
 def stream_axis(streams: Sequence[StampedMessages], timeline: Timeline) -> tuple[int, int] | None:
     """The span of the sensor messages' arrivals on the axis (None without any)."""
-    arrivals = [timeline.arrival(s.stamp, s.record_time) for s in streams if len(s)]
+    arrivals = [timeline.arrival_on_stamps(s.stamp, s.record_time) for s in streams if len(s)]
     return _hull([(int(axis.min()), int(axis.max())) for axis in arrivals])
 
 
@@ -234,7 +234,7 @@ def stream_timelines(
     result = []
     for report in sensors.streams:
         stream, fates = by_topic[report.topic], sensors.fates[report.topic]
-        where = bins.index(timeline.arrival(stream.stamp, stream.record_time))
+        where = bins.index(timeline.arrival_on_stamps(stream.stamp, stream.record_time))
         counts = {
             name: np.bincount(where[np.isin(fates.fate, group)], minlength=bins.count).astype(np.int64)
             for name, group in FATE_GROUPS.items()

@@ -79,8 +79,9 @@ def command(
     over the last --window seconds, refreshed once a second of wall time live, once a second of the
     recording with --play (--rate 2: every 0.5 s of wall time). Where no clock of the stamps was recorded
     (a simulation without /clock), --start/--end select, whole and with --play, by when the replay (the
-    record clock moved onto the stamps' by one offset) plays the transforms, the clock publishers' rates
-    are counted on: a simulation slower than real time has fewer stamps in such a window than its length.
+    record clock, its start at the first stamp: +S is S s into the recording, as ros2 bag play
+    --start-offset counts) plays the transforms, the clock publishers' rates are counted on: a simulation
+    slower than real time has fewer stamps in such a window than its length.
 
     Examples: [cyan]tfx monitor -b robot.bag[/], [cyan]tfx monitor map base_link -b robot.bag --play --rate 2[/],
     [cyan]tfx monitor -b robot.bag --plot rates.svg[/]

@@ -371,7 +371,7 @@ class _Summary:
     def played_arrivals(self, timeline: Timeline) -> dict[str, tuple[Int64Array, Int64Array]]:
         """Each frame's arrivals kept (at most ``PLAYED_ARRIVALS``), by stamp, and when they play on the replay
         of ``timeline``: their record times, /clock then (``unclocked_time`` before it ticked), or record times
-        less the frames' median offset, as ``Playback`` moves them."""
+        less ``Timeline.replay_shift``, as ``Playback`` moves them."""
         first = unclocked_time(timeline.clock) or 0
         played: dict[str, tuple[Int64Array, Int64Array]] = {}
         for child, arrivals in self._arrivals.items():

@@ -380,22 +380,27 @@ class Timeline:
         records = np.asarray(record_times, np.int64)
         return records - self.replay_shift, records > 0
 
-    def window_times(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
-        """The one axis a window of arrivals (``monitor``'s ``--start``/``--end``, its ``--play`` and live windows)
-        selects transforms and messages on: when they arrived on the clock they are counted on (``counted_at``), in
-        a replay when they played, their stamps where that is unknown. Without a reference that is the record
-        clock moved onto the stamps, as a replay plays it, not the stamps: a whole read's window then holds what
-        its replay's does, its edges' samples and its publishers' messages alike (the JetAcker's simulation at
-        0.067x real time: 33 samples of odom -> base_footprint stamped in its +1 to +2 s, while 1 arrived in that
-        second of the replay, beside 51 /tf messages counted on it)."""
+    def arrival(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
+        """The one axis of when transforms and messages arrived, as a replay plays them: where a window of arrivals
+        (``monitor``'s ``--start``/``--end``, its ``--play`` and live windows) selects them and a silence in it ends.
+        It is when they arrived on the clock they are counted on (``counted_at``), in a replay when they played,
+        their stamps where that is unknown. Without a reference that is the record clock moved onto the stamps
+        (``replay_shift``): +S is S seconds into the recording, as ``ros2 bag play --start-offset`` counts them, not
+        the stamps; a whole read's window holds what its replay's does (the JetAcker's simulation at 0.067x real
+        time: 33 samples of odom -> base_footprint stamped in its +1 to +2 s, 2 arrived 1 to 2 s into the replay,
+        with the 54 /tf messages recorded then). What sits on the stamps' clock: ``arrival_on_stamps``."""
         counted, timed = self.counted_at(record_times, stamps)
         return np.where(timed | self.replayed, counted, stamps)
 
-    def arrival(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
-        """When transforms arrived in ROS time, or their stamps where that is unknown (a window selects on
-        ``window_times``); in a replay, when they played, known or not (``unknown_played``)."""
-        times, known = self.ros_time(record_times)
-        return np.where(known | self.replayed, times, stamps)
+    def arrival_on_stamps(self, stamps: Int64Array, record_times: Int64Array) -> Int64Array:
+        """Where transforms that arrived sit on the stamps' clock, what a finding's times (``Finding.first_time``:
+        a key tf is looked up at) and the report's timelines place them by: ``arrival`` where the recording has
+        a reference or is a replay; else their stamps, for without a reference no time of arrival is on the
+        stamps' clock (``arrival`` is then the record clock, as a replay plays it: the JetAcker's 0.067x
+        simulation arrived over 63.4 s of it, stamped over 4.25 s)."""
+        if self.reference is Reference.NONE and not self.replayed:
+            return stamps
+        return self.arrival(stamps, record_times)
 
     def measurable(
         self, child: str, record_times: Int64Array, flags: UInt8Array, stamps: Int64Array | None = None
@@ -467,11 +472,12 @@ class Timeline:
 
     @property
     def replay_shift(self) -> int:
-        """How far a replay without a reference moves record times back onto the stamps' clock (``Playback``):
-        the frames' median offset from the record clock (an estimate); 0 with a reference."""
-        if self.reference is not Reference.NONE:
-            return 0
-        return figures.median_ns(np.array([e.offset_record for e in self.edges], np.int64))
+        """How far a replay without a reference moves record times back onto the stamps' clock (``Playback``): so
+        that the recording's start plays at the tf data's first stamp, and +S (``since_origin``) of an arrival is S
+        seconds into the replay, as ``ros2 bag play`` plays it; 0 with a reference. Not the frames' median offset: a
+        simulation slower than real time drifts from the record clock, and the JetAcker's (0.067x) put its start
+        30.7 s before its first stamp."""
+        return 0 if self.reference is not Reference.NONE else self.record_start - self.tf_start
 
     @property
     def unknown_played(self) -> int:
@@ -504,8 +510,8 @@ def unclocked_time(clock: ClockSamples) -> int | None:
 class Playback:
     """Record times moved onto the stamps' clock for a replay, never decreasing, part after part of a
     recording (all of it at once, or a stream's windows): ROS time at arrival (before the first /clock,
-    ``unclocked_time``); without a reference, shifted by the frames' median offset from the record clock
-    (an estimate: the recording kept no clock of the stamps)."""
+    ``unclocked_time``); without a reference, shifted so that the recording's start plays at the first stamp
+    (``Timeline.replay_shift``: the recording kept no clock of the stamps)."""
 
     def __init__(self, timeline: Timeline) -> None:
         self.reference = timeline.reference

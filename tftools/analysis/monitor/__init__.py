@@ -111,7 +111,7 @@ def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | N
         return first, last
     hists = [hist for child in frames if (hist := buffer.history(child)) is not None]
     stamps = np.concatenate([hist.stamps for hist in hists])
-    arrived = np.concatenate([timeline.window_times(hist.stamps, hist.record_times) for hist in hists])
+    arrived = np.concatenate([timeline.arrival(hist.stamps, hist.record_times) for hist in hists])
     after, before = (
         arrived[stamps >= first] if first is not None else arrived,
         arrived[stamps <= last] if last is not None else arrived,

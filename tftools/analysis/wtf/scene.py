@@ -164,7 +164,7 @@ class Scene:
 
     def arrival(self, rows: IntpArray) -> Int64Array:
         """When ``rows`` arrived, on the stamps' clock: ROS time at arrival, or stamps where unknown."""
-        return self.timeline.arrival(self.rows.stamp[rows], self.rows.record_time[rows])
+        return self.timeline.arrival_on_stamps(self.rows.stamp[rows], self.rows.record_time[rows])
 
     def received(self, rows: IntpArray) -> Int64Array:
         """When the recorder received ``rows``, on the record clock (stamps where unknown): their rhythm."""
