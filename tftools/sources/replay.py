@@ -158,14 +158,17 @@ class Replay:
         until the end, ``close`` or ``between`` returning True; a part that cannot be read is raised."""
         self.attach(on_batch)
         started = self._monotonic()
+
+        def now() -> int:
+            return self.begin + round((self._monotonic() - started) * self.rate * NS_PER_S)
+
         while not self._closed.is_set() and not self.finished:
-            now = self.begin + round((self._monotonic() - started) * self.rate * NS_PER_S)
             with self._turn:
-                self.advance_to(now)
+                self.advance_to(now())
             if between():
                 break
             if not self.finished:
-                self._sleep(self._pause(now))
+                self._sleep(self._pause(now()))  # after ``between``'s ticks: none when they took it past a row due
 
     def attach(self, on_batch: OnBatch) -> None:
         """Deliver to ``on_batch`` from now on, starting with the static transforms recorded
