@@ -11,7 +11,7 @@ from itertools import pairwise
 from tftools.analysis.monitor import LiveMonitor, MonitorQuery, monitor_stream
 from tftools.core.batch import BatchBuilder, TransformBatch
 from tftools.core.time import NS_PER_S
-from tftools.sources.replay import OnBatch, Replay
+from tftools.sources.replay import Replay
 
 START = 1_700_000_000 * NS_PER_S
 MS = 1_000_000
@@ -27,19 +27,26 @@ def _odometry(seconds: float) -> TransformBatch:
 
 
 class RunningAhead(Replay):
-    """A replay that has played ``ahead`` s of bag time when its first table is due, and ``during`` s more
-    while each table is drawn (``drawn``): a replay thread the tables cannot keep up with."""
+    """A replay whose first step comes ``ahead`` s of wall time after it began, and whose wall clock moves
+    ``during`` s more while each table is drawn (``drawn``): reads and tables slower than its clock. Its wall
+    clock moves only so (and by what it sleeps)."""
 
     def __init__(self, batch: TransformBatch, ahead: float, during: float) -> None:
-        super().__init__(batch)
+        super().__init__(batch, monotonic=self._wall, sleep=self._slept)
         self.ahead, self.during = ahead, during
+        self.now: float | None = None  # the wall clock, from the replay's first look at it
 
-    def start(self, on_batch: OnBatch) -> None:
-        self.attach(on_batch)
-        self.advance_to(self.begin + round(self.ahead * NS_PER_S))
+    def _wall(self) -> float:
+        if self.now is None:  # its beginning: its first step comes ``ahead`` s later
+            self.now = self.ahead
+            return 0.0
+        return self.now
+
+    def _slept(self, seconds: float) -> None:
+        self.now = (self.now or 0.0) + seconds
 
     def drawn(self) -> None:
-        self.advance_to(self.clock.now() + round(self.during * NS_PER_S))
+        self.now = (self.now or 0.0) + self.during
 
 
 def _tables(replay: RunningAhead) -> list[float]:

@@ -4,6 +4,7 @@ expected one by ``tfx diff``, and ``echo --play`` lines never repeating a moment
 
 from __future__ import annotations
 
+import itertools
 import json
 import re
 from pathlib import Path
@@ -14,7 +15,6 @@ import pytest
 from tests.bags import TfMessage, write_bag
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.test_issue39 import BY_ID, CALIBRATION_2025, LAP, Corpus
-from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording
 
@@ -148,19 +148,15 @@ def test_echo_play_outrun_by_its_replay_shows_each_moment_once(corpus: Corpus, m
     a terminal that blocks): every line due meanwhile was made at once at the same time of the replay's clock,
     1,361 lines of one moment, where monitor's tables skip a tick at a clock time already shown; now one line."""
     from tftools.analysis.echo import EchoQuery, echo_stream
-    from tftools.sources.replay import OnBatch, Replay
+    from tftools.sources.replay import Replay
     from tftools.sources.stream import StreamedRecording, stream_recording
 
     played = StreamedRecording.replay
 
     def outrun(self: StreamedRecording, **kw: Any) -> Replay:
         replay = played(self, **kw)
-
-        def start(on_batch: OnBatch) -> None:  # the whole lap played before the first line is due
-            replay.attach(on_batch)
-            replay.advance_to(replay.begin + 10_000 * NS_PER_S)
-
-        replay.start = start  # type: ignore[method-assign]  # a replay thread the lines cannot keep up with
+        # its first step 10,000 s of wall time after it began: the whole lap played before the first line is due
+        replay._monotonic = itertools.chain([0.0], itertools.repeat(10_000.0)).__next__
         return replay
 
     monkeypatch.setattr(StreamedRecording, "replay", outrun)

@@ -28,6 +28,10 @@ from tftools.sources.contents import Fetched
 from tftools.sources.errors import BagNotFoundError, CorruptBagError
 
 MAX_GAP = 16 << 10  # bytes between two wanted ranges of a local file read along with them: cheaper than one more read
+#: Bytes of cached pages the kernel maps along with a page of a file faulted in (Linux's fault-around: 64 KiB
+#: by default), on either side of it: let go with a range of a map, or they stay resident (about a page a chunk
+#: of a ROS1 bag read, 13 MB of a 4 h one's replay).
+FAULT_AROUND = 64 << 10
 
 
 class FileBytes(Protocol):
@@ -194,13 +198,14 @@ class FileSource(ByteSource):
         return self._map
 
     def release(self, start: int, end: int) -> None:
-        """Unmap the pages read: the file's pages then stay in the page cache instead of counting
-        towards this process's resident memory."""
+        """Unmap the pages read, and those the kernel mapped beside them (``FAULT_AROUND``): the file's
+        pages then stay in the page cache instead of counting towards this process's resident memory."""
         if self._map is None or not hasattr(mmap, "MADV_DONTNEED"):
             return
-        start -= start % mmap.PAGESIZE
+        start = max(0, start - start % mmap.PAGESIZE - FAULT_AROUND)
+        end = min(end + FAULT_AROUND, self.size)
         if end > start:
-            self._map.madvise(mmap.MADV_DONTNEED, start, min(end, self.size) - start)
+            self._map.madvise(mmap.MADV_DONTNEED, start, end - start)
 
     def stream(self) -> BinaryIO:
         return open(os.dup(self.fd), "rb")
