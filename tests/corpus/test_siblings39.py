@@ -10,6 +10,7 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.test_issue39 import BY_ID, Corpus, _findings
+from tests.sinks.test_static_bag import _static_changes
 from tftools.analysis.wtf.scene import Scene
 from tftools.sources.recording import read_recording
 
@@ -90,3 +91,42 @@ def test_the_ur5s_trees_apart_are_joined_by_the_camera_mount_its_markers_show(co
         "m from base_link, turned roll 0.0, pitch 15.0, yaw 0.0 deg (each within 8 mm): the camera's mount"
     ), apart["hint"]
     assert "--frame-id base_link --child-frame-id camera_link" in apart["hint"]
+
+
+#: Recordings whose /tf_static messages disagree, each with the changes of parent and of value tf2 sees on it, which
+#: its repaired copy had many more of (the recording's messages replayed at each 5 s repeat): 441 changes of value
+#: in the create3's copy, 23 in the Neato's, 16 in Allison's (both URDF and driver repeated), 2 of parent in gtbox's
+#: (its message giving box_base_model two parents, had it not come at the first instant).
+DISAGREEING = {
+    "ros2-create3-real-two-urdfs-2022-db3": (0, 21),
+    "ros2-neato-real-two-static-publishers-2023-db3": (0, 1),
+    "ros2-neato-real-lone-laser-beside-statics-20hz-allison-2022-db3": (0, 2),
+    "ros2-neato-real-static-conflict-urdf-first-2025-db3": (0, 1),
+    GTBOX_NEW: (1, 0),
+}
+
+
+@pytest.mark.parametrize("recording_id", list(DISAGREEING))
+def test_a_repaired_copy_changes_no_static_parent_or_value_more_than_its_recording(
+    recording_id: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The repair repeats what tf2 holds at each instant, not the recording's messages: its copy's changes of parent
+    and of value on /tf_static are the recording's, and wtf tells the same publishers apart, each first heard when
+    the recording first has it but the first, which the copy's start holds (the create3's second URDF was said at
+    the copy's start, 0.6 s early)."""
+    bag = corpus(BY_ID[recording_id])
+    copy = tmp_path / ("repaired.bag" if bag.suffix == ".bag" else "repaired")
+    assert tfx("static", "--repair", "-b", bag, "-o", copy).code == 0
+    assert _static_changes(bag) == _static_changes(copy) == DISAGREEING[recording_id]
+    was, now = (
+        [
+            {k: v for k, v in f["figures"].items() if k != "publisher_1_at_s"}  # the copy's start has publisher 1's
+            for f in _findings(tfx, path)[2]
+            if f["code"] == "static_conflict"
+        ]
+        for path in (bag, copy)
+    )
+    assert now == was

@@ -22,13 +22,12 @@ from rosbags.rosbag2 import Reader as Rosbag2Reader
 from rosbags.rosbag2 import Writer as Rosbag2Writer
 
 from tests.corpus.fetch import shared_dir
-from tests.sources.ros2_helpers import Tf, tf_cdr, tf_ros1, typestore
+from tests.sources.ros2_helpers import Tf, ros1_typestore, tf_cdr, tf_ros1, typestore
 from tftools.analysis.findings import Finding
 from tftools.analysis.wtf.fleet import check
 from tftools.core.transform import Transform
 from tftools.sinks.static_bag import (
     REPAIR_EVERY_S,
-    REPAIR_SEQUENCE_MAX,
     add_static_transforms,
     copy_adding,
     copy_repairing,
@@ -209,12 +208,14 @@ def _messages_of(bag: Path) -> dict[str, list[tuple[int, bytes]]]:
         return _messages(reader)
 
 
-def test_a_repair_repeats_the_recordings_sequence_of_static_messages(tmp_path: Path) -> None:
+def test_a_repair_repeats_what_tf2_holds_not_the_sequence_of_static_messages(tmp_path: Path) -> None:
     """The real Neato of corpus ros2-neato-real-lone-laser-beside-statics-20hz-allison-2022-db3: the URDF's
     transforms, the driver's lone laser 50 ms later with another value, then the URDF's again and again, each
     stamped as sent. Its repair repeated the latest of each in the order of the latest (laser, URDF): one
-    broadcaster that added transforms, so wtf said dynamic_on_static of the copy where the recording has a
-    static_conflict. The copy repeats URDF, laser, URDF, and tf2 ends on the URDF's laser in both."""
+    broadcaster that added transforms (dynamic_on_static where the recording has a static_conflict); then the
+    recording's sequence, URDF, laser, URDF: the laser's value changed twice at each repeat. The copy now sends what
+    tf2 holds, the URDF's message: at its start (the laser's first value is the URDF's) and at each repeat (the
+    URDF's latest overrode the driver's laser): its changes of value are the recording's 2."""
     urdf = [
         Tf("base_link", "caster", 1_700_000_000, 0, (-0.1, 0.0, 0.0)),
         Tf("base_link", "laser", 0, 0, (-0.08, 0, 0.17)),
@@ -223,13 +224,28 @@ def test_a_repair_repeats_the_recordings_sequence_of_static_messages(tmp_path: P
     restamped = [[Tf(t.parent, t.child, 1_700_000_000, i * S // 20, t.translation) for t in urdf] for i in range(30)]
     bag = _statics_bag(tmp_path / "in", [restamped[0], driver, *restamped[2:]])
     written, statics = repair_static_transforms(bag, tmp_path / "out")
-    assert _repeated(written, bag) == [["caster", "laser"], ["laser"], ["caster", "laser"]]
+    assert _repeated(written, bag) == [["caster", "laser"]]
     assert {t.child_frame_id: t.translation for t in statics}["laser"] == (-0.08, 0.0, 0.17)
     original, copy = read_recording([bag]), read_recording([written])
     assert copy.buffer.lookup("base_link", "laser").translation == (-0.08, 0.0, 0.17)
+    assert _static_changes(written) == _static_changes(bag) == (0, 2)
     found = {f.code for f in check(copy).findings}
     assert "static_conflict" in found and "dynamic_on_static" not in found
     assert found == {f.code for f in check(original).findings}
+
+
+def _static_changes(bag: Path) -> tuple[int, int]:
+    """The changes of parent and of value tf2 sees on /tf_static, taking its transforms in record order."""
+    batch = read_recording([bag]).transforms
+    rows = np.flatnonzero(batch.static)
+    held: dict[int, tuple[int, bytes]] = {}
+    parents = values = 0
+    for row in rows[np.argsort(batch.record_time[rows], kind="stable")].tolist():
+        value = (int(batch.parent[row]), batch.translation[row].tobytes() + batch.rotation[row].tobytes())
+        was = held.setdefault(int(batch.child[row]), value)
+        parents, values = parents + (was[0] != value[0]), values + (was[0] == value[0] and was[1] != value[1])
+        held[int(batch.child[row])] = value
+    return parents, values
 
 
 def test_a_repair_repeats_a_frame_also_on_tf_only_before_its_first_tf_sample(tmp_path: Path) -> None:
@@ -288,17 +304,83 @@ def test_a_repair_repeats_a_frame_one_message_gives_two_parents_once_and_no_more
     assert copy.buffer.lookup("box_base", "box_base_model").translation == (0.0, 0.0, 0.3)
 
 
-def test_a_repair_of_a_flapping_static_publisher_is_bounded(tmp_path: Path) -> None:
-    """A publisher whose static value flaps 200 times: the copy does not repeat 200 messages every 5 s, but the
-    first and the latest of each set of transforms (REPAIR_SEQUENCE_MAX), ending on the value tf2 kept."""
+def test_a_repair_of_a_flapping_static_publisher_repeats_its_latest_value(tmp_path: Path) -> None:
+    """A publisher whose static value flaps 200 times: the copy starts with its first value and repeats only the value
+    tf2 holds at each repeat, adding no change of value; tf2 ends on the value it kept."""
     flapping = [[Tf("base_link", "laser", 1_700_000_000, i, (0.1 * (i % 2), 0.0, 0.0))] for i in range(200)]
     bag = _statics_bag(tmp_path / "in", flapping)
-    assert REPAIR_SEQUENCE_MAX < 200
     written, statics = repair_static_transforms(bag, tmp_path / "out")
-    assert _repeated(written, bag) == [["laser"], ["laser"]]
+    assert _repeated(written, bag) == [["laser"]]
     assert statics[0].translation == (0.1, 0.0, 0.0)
     assert read_recording([written]).buffer.lookup("base_link", "laser").translation == (0.1, 0.0, 0.0)
+    assert _static_changes(written) == _static_changes(bag) == (0, 199)
     assert "dynamic_on_static" in {f.code for f in check(read_recording([written])).findings}
+
+
+def _ros1_statics(path: Path, sent: list[tuple[int, str, list[Tf]]]) -> Path:
+    """A ROS 1 bag of /tf over 20 s (from T0) and the /tf_static messages ``sent``, each (its record time from T0,
+    its callerid, its transforms)."""
+    tf_def, md5 = "geometry_msgs/TransformStamped[] transforms", "94810edda583a504dfda3829e70d7eec"
+    with Ros1Writer(path) as writer:
+        tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", msgdef=tf_def, md5sum=md5, callerid="/odom_node")
+        statics = {
+            callerid: writer.add_connection(
+                "/tf_static", "tf2_msgs/msg/TFMessage", msgdef=tf_def, md5sum=md5, callerid=callerid, latching=1
+            )
+            for callerid in dict.fromkeys(c for _, c, _ in sent)
+        }
+        written = [(time, statics[callerid], tf_ros1(message)) for time, callerid, message in sent]
+        written += [(i * S // 2 + 1, tf, tf_ros1(_odometry(i))) for i in range(40)]
+        for time, connection, data in sorted(written, key=lambda w: w[0]):
+            writer.write(connection, T0 + time, data)
+    return path
+
+
+def test_a_repair_adds_no_change_of_parent_to_a_message_giving_a_frame_two_parents_after_the_start(
+    tmp_path: Path,
+) -> None:
+    """gtbox's one /tf_static message giving box_base_model two parents (stim320_imu, then box_base), recorded 1 s
+    into the recording rather than at its first instant: the copy's start gave the frame the parent tf2 keeps at
+    the end, and the message then moved it twice (2 changes of parent against the recording's 1). It now starts
+    with the frame's first parent, as the message first gives it: 1 change, under box_base at the end."""
+    message = [
+        Tf("box_base", "stim320_imu", 1_700_000_000, 0, (0.1, 0.0, 0.0)),
+        Tf("stim320_imu", "box_base_model", 1_700_000_000, 0, (0.0, 0.2, 0.0)),
+        Tf("box_base", "box_base_model", 1_700_000_000, 0, (0.0, 0.0, 0.3)),
+    ]
+    bag = _ros1_statics(tmp_path / "in.bag", [(S, "/rsp", message)])
+    written, _ = repair_static_transforms(bag, tmp_path / "out.bag")
+    assert _static_changes(bag) == _static_changes(written) == (1, 0)
+    original, copy = read_recording([bag]), read_recording([written])
+    assert _changes_of_parent(check(copy).findings, "box_base_model") == 1
+    assert _changes_of_parent(check(original).findings, "box_base_model") == 1
+    assert copy.buffer.lookup("box_base", "box_base_model").translation == (0.0, 0.0, 0.3)
+
+
+def test_a_repair_repeats_a_frame_moved_between_static_messages_under_the_parent_tf2_holds(tmp_path: Path) -> None:
+    """A frame one /tf_static message puts under base_link and a later one, by another publisher, under mount (the
+    agv's lasers, gtbox's two calibrations): the copy replayed both messages at each repeat, 2 changes of parent every
+    5 s. It repeats what tf2 holds: each publisher's transforms that tf2 still holds, on its own connection (the
+    first's camera alone), the laser under mount only; its changes of parent are the recording's 1."""
+    first = [Tf("base_link", "laser", 1_700_000_000, 0, (0.1, 0.0, 0.0)), Tf("base_link", "camera", 1_700_000_000)]
+    second = [Tf("mount", "laser", 1_700_000_002, 0, (0.0, 0.0, 0.1)), Tf("base_link", "mount", 1_700_000_002)]
+    bag = _ros1_statics(tmp_path / "in.bag", [(0, "/urdf", first), (2 * S, "/calibration", second)])
+    written, _ = repair_static_transforms(bag, tmp_path / "out.bag")
+    assert _static_changes(bag) == _static_changes(written) == (1, 0)
+    with Ros1Reader(written) as copy:
+        connection = {c.id: _ext(c).callerid for c in copy.connections}
+        sent = [
+            (
+                time - T0,
+                connection[c.id],
+                [t.child_frame_id for t in ros1_typestore().deserialize_ros1(data, c.msgtype).transforms],
+            )
+            for c, time, data in copy.messages()
+            if c.topic == "/tf_static"
+        ]
+    at_5s = [(callerid, children) for time, callerid, children in sent if time // S == 5]
+    assert at_5s == [("/urdf", ["camera"]), ("/calibration", ["laser", "mount"])]
+    assert read_recording([written]).buffer.lookup("mount", "laser").translation == (0.0, 0.0, 0.1)
 
 
 def test_a_bare_mcap_is_copied_to_a_bare_mcap(tmp_path: Path) -> None:

@@ -19,10 +19,11 @@ from typing import Any
 import numpy as np
 
 from tftools.analysis.wtf.replay import REPEATED_EVERY_S
-from tftools.core.arrays import BoolArray, Int32Array, Int64Array, IntpArray
+from tftools.core.arrays import BoolArray, Int32Array, Int64Array
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sinks.errors import CopyError
+from tftools.sinks.static_held import HeldStatics, Messages, StaticRows
 from tftools.sources.bag.contents import RecordWindow
 from tftools.sources.bag.formats import MCAP, ROS1, Format, format_of
 from tftools.sources.bag.mcap.index import chunks_compressed
@@ -47,29 +48,22 @@ REPAIR_EVERY_S = REPEATED_EVERY_S
 
 @dataclass(frozen=True)
 class _Plan:
-    """What the copy adds: ``messages``, each (who sends it, its transforms), at the start and, with
-    ``every`` (ns), again that often; ``durable``: every /tf_static connection latched (ROS 1) or offered
-    transient local (ROS 2). A sender is who sent those transforms in the bag (its authority: a ROS 1
-    callerid, else the topic), so that the copy repeats them on that same connection, message for message
-    as they were sent, and tfx sees the publishers it saw before; ``PUBLISHER``: tfx's own."""
+    """What the copy adds: ``messages``, each (who sends it, its transforms), stamped at its start; or ``statics``, the
+    recording's own, which it sends as tf2 holds them (``HeldStatics``) at its start and, with ``every`` (ns), again
+    that often. ``durable``: every /tf_static connection latched (ROS 1) or offered transient local (ROS 2). A sender
+    is who sent those transforms in the bag (its authority: a ROS 1 callerid, else the topic), so that the copy
+    repeats them on that same connection and tfx sees the publishers it saw before; ``PUBLISHER``: tfx's own."""
 
-    messages: Sequence[tuple[str, Sequence[Transform]]]
+    messages: Sequence[tuple[str, Sequence[Transform]]] = ()
+    statics: StaticRows | None = None
     every: int = 0
     durable: bool = False
-    as_sent: bool = False
     #: The frames whose transforms are repeated only before a record time (ns) (``_repeated_until``): the others
     #: always are.
     until: Mapping[str, int] = field(default_factory=dict)
-    #: When the recording holds each of ``messages`` (record times, ns; empty: it holds none of them). Where it holds
-    #: every one at its first instant, it begins with them already: ``start`` writes no repeat ahead of them.
-    recorded: Sequence[int] = ()
 
-    def stamped(self, stamp: int) -> list[tuple[str, list[Transform]]]:
-        """The messages with their transforms stamped ``stamp``; ``as_sent``, with their own stamps, as a
-        StaticTransformBroadcaster sends its transforms again (a repeat restamped reads as another publisher's
-        message where the recording names none: the real Neatos' repaired copies told 4 publishers of 2)."""
-        if self.as_sent:
-            return [(sender, list(transforms)) for sender, transforms in self.messages]
+    def stamped(self, stamp: int) -> Messages:
+        """``messages`` with their transforms stamped ``stamp``."""
         return [(sender, [replace(t, stamp=stamp) for t in transforms]) for sender, transforms in self.messages]
 
     def repeated(self, transforms: Sequence[Transform], time: int) -> list[Transform]:
@@ -111,8 +105,8 @@ def copy_adding(
 def repair_static_transforms(
     bag: str | os.PathLike[str], output: str | os.PathLike[str], *, force: bool = False
 ) -> tuple[Path, list[Transform]]:
-    """Write ``output``: ``bag`` with its static transforms repeated (its /tf_static messages as they came,
-    ``_static_messages``) at its start and every ``REPAIR_EVERY_S`` s, and ``/tf_static`` latched (ROS 1) or
+    """Write ``output``: ``bag`` with its static transforms repeated (as tf2 holds them at each instant,
+    ``HeldStatics``) at its start and every ``REPAIR_EVERY_S`` s, and ``/tf_static`` latched (ROS 1) or
     offered transient local (ROS 2), so that ``rosbag play`` / ``ros2 bag play`` give them to late subscribers
     and a copy from any point keeps them. Returns the copy and the transforms (the latest value of each)."""
     copied, statics = copy_repairing(bag, output, force=force)
@@ -124,94 +118,41 @@ def copy_repairing(
 ) -> tuple[Copied, list[Transform]]:
     """``repair_static_transforms``, saying which types the copy holds no definition of."""
     source = Path(bag)
-    messages, statics, until = _static_messages(source)  # read_recording says when there is no such bag
-    every = round(REPAIR_EVERY_S * NS_PER_S)
-    plan = _Plan(
-        [m for m, _ in messages], every, durable=True, as_sent=True, until=until, recorded=[t for _, t in messages]
-    )
+    rows, statics, until = _static_rows(source)  # read_recording says when there is no such bag
+    plan = _Plan(statics=rows, every=round(REPAIR_EVERY_S * NS_PER_S), durable=True, until=until)
     return _write_copy(source, Path(output), plan, force), statics
-
-
-#: A repaired copy repeats the recording's sequence of /tf_static messages where it has at most this many
-#: (consecutive re-sends counted once); beyond it (a publisher flapping between values), the first and the
-#: latest message of each sender's set of transforms: at most twice as many messages as there are such sets.
-REPAIR_SEQUENCE_MAX = 64
 
 
 #: ``_Plan.until`` of a frame whose static transform is never repeated: it came on /tf before /tf_static.
 NEVER = -(2**63)
 
 
-def _static_messages(
-    source: Path,
-) -> tuple[list[tuple[tuple[str, list[Transform]], int]], list[Transform], dict[str, int]]:
-    """The recording's /tf_static messages as the copy repeats them, each with its record time, the value tf2 keeps
-    of each static frame (in first-seen order), and ``_Plan.until`` (``_repeated_until``). The messages are the
-    recording's own sequence, each as its sender sent it, a run of re-sends of the same transforms and values
-    counted once (the last of the run, stamps and all), so that a recording that names no publishers reads as
-    it did: the real Neato of ``ros2_db3_neato_real_test_run_allison_2022`` sent robot_state_publisher's 10
-    transforms, then the driver's laser alone, then the 10 again 680 times, and its copy repeats 10, laser, 10
-    (a laser after the 10 lacks their transforms: another publisher), where the latest of each ordered by the
-    latest (laser, 10) read as one broadcaster that added transforms. Every transform ends with the value tf2
-    kept either way. A frame one message sends twice is repeated once, with the later value, which tf2 keeps
-    of that message (gtbox's box_base_model, under stim320_imu then box_base: each repeat of both was 2 changes
-    of parent more). Beyond ``REPAIR_SEQUENCE_MAX`` messages, the first and the latest of each (sender,
-    transforms) in that order."""
+def _static_rows(source: Path) -> tuple[StaticRows, list[Transform], dict[str, int]]:
+    """The recording's /tf_static transforms as tf2 takes them (``StaticRows``), the value tf2 keeps at the end of
+    each static frame (in first-seen order), and ``_Plan.until`` (``_repeated_until``)."""
     from tftools.sources.recording import read_recording
 
     batch = read_recording([source]).transforms
     rows = np.flatnonzero(batch.static)
     if not len(rows):
         raise CopyError(str(source), "holds no static transforms", "no_statics")
+    rows = rows[np.argsort(batch.record_time[rows], kind="stable")]  # each message keeps its own order
     names = batch.frame_names
+    authority, times = batch.authority[rows].astype(np.int64), batch.record_time[rows]
+    messages = np.cumsum(np.r_[False, (np.diff(authority) != 0) | (np.diff(times) != 0)])  # one sender, one instant
+    starts = np.flatnonzero(np.r_[True, np.diff(messages) != 0])
 
-    def transform(row: int) -> Transform:
+    def transform(k: int) -> Transform:
+        row = int(rows[k])
         value = (tuple(batch.translation[row].tolist()), tuple(batch.rotation[row].tolist()))
         stamp = int(batch.stamp[row])
         return Transform(value[0], value[1], stamp, names[int(batch.parent[row])], names[int(batch.child[row])])
 
-    latest: dict[int, int] = {}  # child -> the row tf2 keeps
-    sequence: list[tuple[bytes, list[int]]] = []  # (sender, transforms and values), the rows of the latest
-    first: dict[bytes, list[int]] = {}  # (sender, edges) -> its first message's rows
-    last: dict[bytes, list[int]] = {}  # (sender, edges) -> its latest message's rows, in the order of the latest
-    message = (batch.authority[rows].astype(np.int64), batch.record_time[rows])  # one sender, one instant
-    starts = np.flatnonzero(np.r_[True, (np.diff(message[0]) != 0) | (np.diff(message[1]) != 0)])
-    for part in np.split(rows, starts[1:]):
-        latest.update(zip(batch.child[part].tolist(), part.tolist(), strict=True))
-        part = _kept(part, batch.child)
-        mine = part.tolist()
-        shape = batch.authority[part[:1]].astype(np.int64).tobytes() + batch.parent[part].tobytes()
-        shape += batch.child[part].tobytes()
-        sent = shape + batch.translation[part].tobytes() + batch.rotation[part].tobytes()
-        if sequence and sequence[-1][0] == sent:
-            sequence[-1] = (sent, mine)
-        else:
-            sequence.append((sent, mine))
-        first.setdefault(shape, mine)
-        last.pop(shape, None)  # re-inserted last: the order of the latest messages
-        last[shape] = mine
-    repeated = [mine for _, mine in sequence]
-    if len(repeated) > REPAIR_SEQUENCE_MAX:
-        both = [*first.values(), *last.values()]
-        repeated = [mine for k, mine in enumerate(both) if not k or mine != both[k - 1]]
-    messages = [
-        (
-            (batch.authorities[int(batch.authority[mine[0]])], [transform(r) for r in mine]),
-            int(batch.record_time[mine[0]]),
-        )
-        for mine in repeated
-    ]
+    senders = [batch.authorities[int(a)] for a in authority[starts]]
+    held = StaticRows(times, batch.child[rows], messages, senders, transform)
+    latest = dict(zip(batch.child[rows].tolist(), range(len(rows)), strict=True))  # first seen, the last of each
     until = _repeated_until(batch.static, batch.child, batch.record_time, len(names))
-    return messages, [transform(row) for row in latest.values()], {names[c]: t for c, t in until.items()}
-
-
-def _kept(part: IntpArray, child: Int32Array) -> IntpArray:
-    """The rows of one message that tf2 keeps: of a frame sent more than once, the last (in the message's order)."""
-    children = child[part]
-    _, last_from_end = np.unique(children[::-1], return_index=True)
-    if len(last_from_end) == len(part):
-        return part
-    return part[np.sort(len(part) - 1 - last_from_end)]
+    return held, [transform(k) for k in latest.values()], {names[c]: t for c, t in until.items()}
 
 
 def _repeated_until(static: BoolArray, child: Int32Array, record_time: Int64Array, frames: int) -> dict[int, int]:
@@ -326,6 +267,7 @@ class _Copy:
     def __init__(self, target: Path, plan: _Plan) -> None:
         self.target = target
         self.plan = plan
+        self.held = HeldStatics(plan.statics) if plan.statics is not None else None
         self.writer: Any = None
         self.connections: dict[tuple[str, ...], Any] = {}
         self.mark = 0
@@ -339,12 +281,10 @@ class _Copy:
 
     def start(self, mark: int) -> None:
         self.mark = mark
-        if self.plan.recorded and all(t == mark for t in self.plan.recorded):
-            # ahead of the recording's own messages at the same instant a repeat gives tf2 nothing it lacks, and
-            # re-sends what those messages change: gtbox's one message giving box_base_model two parents, 1
-            # change of parent in the recording, was 3 in its copy
+        if self.plan.statics is not None and all(t == mark for t in self.plan.statics.message_times()):
+            # the recording begins with them: a repeat ahead of its messages gives tf2 nothing it lacks
             return
-        self._statics(mark, before=len(self.plan.messages))
+        self._statics(mark, ahead=True)
 
     def channel(self, recorded: Recorded) -> None:
         try:
@@ -361,13 +301,18 @@ class _Copy:
         except Exception as error:  # the writer's, or a disk full: not the reader's to judge
             raise _CopyError(error) from None
 
-    def _statics(self, stamp: int, before: int = 0) -> None:
-        """The plan's messages stamped ``stamp``, recorded from ``before`` ns ahead of it, a nanosecond apart:
-        messages recorded at one instant on one topic read as one message, as tfx's own did beside the Webots
-        e-puck's first /tf_static message (recorded at the copy's start), told a publisher of both."""
-        for k, (sender, transforms) in enumerate(self.plan.stamped(stamp)):
-            if sent := self.plan.repeated(transforms, stamp - before + k):
-                self.writer.write(self._connection(self._sent_by(sender)), stamp - before + k, self._encode(sent))
+    def _statics(self, stamp: int, ahead: bool = False) -> None:
+        """What the plan sends at record time ``stamp``, recorded a nanosecond apart from it on, or ``ahead`` of it
+        (the copy's start, before the recording's first message): messages recorded at one instant on one topic
+        read as one message, as tfx's own did beside the Webots e-puck's first /tf_static message (recorded at the
+        copy's start), told a publisher of both. Added transforms are stamped ``stamp``; the recording's own are
+        sent as tf2 holds them, with their own stamps (restamped, a repeat reads as another publisher's message
+        where the recording names none: the real Neatos' repaired copies told 4 publishers of 2)."""
+        messages = self.held.at(stamp) if self.held is not None else self.plan.stamped(stamp)
+        first = stamp - len(messages) if ahead else stamp
+        for k, (sender, transforms) in enumerate(messages):
+            if sent := self.plan.repeated(transforms, first + k):
+                self.writer.write(self._connection(self._sent_by(sender)), first + k, self._encode(sent))
 
     def _sent_by(self, sender: str) -> Recorded:
         raise NotImplementedError
